@@ -1,0 +1,12 @@
+/*
+ * qibl.h - umbrella header: everything the core offers, for callers who do not pick modules.
+ */
+#ifndef QIBL_H
+#define QIBL_H
+
+#include "qibl/config.h"
+#include "qibl/status.h"
+#include "qibl/fixed.h"
+#include "qibl/sh.h"
+
+#endif /* QIBL_H */

@@ -1,0 +1,46 @@
+/*
+ * qibl/config.h - compile-time options: which modules are built and how big their tables are.
+ *
+ * Every option has a default here; override with -D on the compiler command line. Each option
+ * states what it costs so a port can model only what its scenes need.
+ */
+#ifndef QIBL_CONFIG_H
+#define QIBL_CONFIG_H
+
+/* QIBL_USE_SH: 1 builds the SH basis module (sh.c, about 1 KiB .text on Cortex-M4 -Os). */
+#ifndef QIBL_USE_SH
+#define QIBL_USE_SH 1
+#endif
+
+/* QIBL_SH_MAX_BANDS: largest band count the SH module accepts, 1..5 (bands 0..4, 25 coefficients).
+ * Costs nothing in RAM; callers size their output arrays as QIBL_SH_MAX_BANDS squared. */
+#ifndef QIBL_SH_MAX_BANDS
+#define QIBL_SH_MAX_BANDS 5
+#endif
+#if QIBL_SH_MAX_BANDS < 1 || QIBL_SH_MAX_BANDS > 5
+#error "QIBL_SH_MAX_BANDS must be in 1..5"
+#endif
+
+/* QIBL_CONFIG_NATIVE_MUL64: 1 if the compiler multiplies 32x32->64 bits without a library call.
+ * ARMv6-M/ARMv8-M Baseline (Cortex-M0/M0+/M23) call __aeabi_lmul, so there qibl builds the product
+ * from four 16x16 products instead. Both paths give identical results; only speed differs. */
+#ifndef QIBL_CONFIG_NATIVE_MUL64
+#if defined(__ARM_ARCH_6M__) || defined(__ARM_ARCH_8M_BASE__)
+#define QIBL_CONFIG_NATIVE_MUL64 0
+#else
+#define QIBL_CONFIG_NATIVE_MUL64 1
+#endif
+#endif
+
+/* QIBL_CONFIG_NATIVE_DIV64: 1 if 64/64-bit unsigned division is a machine instruction (64-bit
+ * hosts). Otherwise qibl divides by shift-and-subtract (64 steps) rather than call __udivdi3 or
+ * __aeabi_uldivmod, which a freestanding core may not link. Results are identical either way. */
+#ifndef QIBL_CONFIG_NATIVE_DIV64
+#if defined(__x86_64__) || defined(__aarch64__) || (defined(__riscv_xlen) && __riscv_xlen == 64 && defined(__riscv_div))
+#define QIBL_CONFIG_NATIVE_DIV64 1
+#else
+#define QIBL_CONFIG_NATIVE_DIV64 0
+#endif
+#endif
+
+#endif /* QIBL_CONFIG_H */

@@ -1,0 +1,35 @@
+/*
+ * qibl/cli.h - the subcommand table of the qibl CLI and helpers every subcommand shares.
+ *
+ * Exit status: 0 success, 1 a failure while working (I/O, a core error on good arguments),
+ * 2 bad arguments (one line on stderr).
+ */
+#ifndef QIBL_TOOLS_CLI_H
+#define QIBL_TOOLS_CLI_H
+
+#include <stdint.h>
+
+typedef struct qibl_cli_cmd {
+    const char *name;
+    const char *summary; /* one line for `qibl --help` */
+    const char *usage;   /* full text for `qibl help <cmd>` */
+    int (*run)(int argc, char **argv); /* argv[0] is the subcommand name */
+} qibl_cli_cmd;
+
+int qibl_cmd_sh(int argc, char **argv);
+int qibl_cmd_bench(int argc, char **argv);
+
+/* Prints "qibl: <message>" on stderr and returns 2 (the bad-arguments exit status). */
+int qibl_cli_usage_error(const char *fmt, ...);
+
+/* Parses a finite decimal into Q16.16, rounding to nearest; 0 on success, -1 if not a number or
+ * out of the Q16.16 range. */
+int qibl_cli_parse_q16(const char *s, int32_t *out);
+
+/* Parses a decimal integer in [lo, hi]; 0 on success, -1 otherwise. */
+int qibl_cli_parse_int(const char *s, long lo, long hi, long *out);
+
+/* Monotonic time in seconds, for benchmarks. */
+double qibl_cli_now(void);
+
+#endif

@@ -1,0 +1,117 @@
+/*
+ * main.c - the qibl command-line tool: subcommand dispatch, --help, shared argument parsing.
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "qibl/cli.h"
+
+static const qibl_cli_cmd commands[] = {
+    {"sh", "evaluate the integer SH basis for a direction",
+     "usage: qibl sh eval [--bands B] X Y Z\n"
+     "  Prints the B*B real SH basis values Y_0 .. Y_{B*B-1} (bands 0..B-1, B in 1..5, default 5),\n"
+     "  one per line as %.9f, at the direction (X, Y, Z). X, Y, Z are decimals converted to Q16.16;\n"
+     "  the vector need not be unit length but must not be zero. The values are the core's Q2.30\n"
+     "  integers divided by 2^30. Convention: Wong et al. appendix, index i = l*l + l + m,\n"
+     "  Condon-Shortley phase (Y_3 = -0.488603 at (1, 0, 0)).\n",
+     qibl_cmd_sh},
+    {"bench", "benchmarks: speed against error, with RESULT lines",
+     "usage: qibl bench [all|sh] [--quick]\n"
+     "  sh: integer SH basis against the double reference from Wong et al.'s appendix:\n"
+     "      ns per evaluation (median of 7 runs) and max |error| over a fixed-seed sweep.\n"
+     "  all: every benchmark (what `make bench` runs). --quick: fewer repetitions.\n",
+     qibl_cmd_bench},
+};
+#define NCMD (sizeof commands / sizeof commands[0])
+
+static void print_help(FILE *f)
+{
+    fprintf(f, "qibl - integer image-based lighting runtime: command-line tool\n\n"
+               "usage: qibl <command> [args]\n       qibl help <command>\n\ncommands:\n");
+    for (size_t i = 0; i < NCMD; ++i)
+        fprintf(f, "  %-8s %s\n", commands[i].name, commands[i].summary);
+}
+
+static const qibl_cli_cmd *find(const char *name)
+{
+    for (size_t i = 0; i < NCMD; ++i)
+        if (strcmp(commands[i].name, name) == 0)
+            return &commands[i];
+    return NULL;
+}
+
+int qibl_cli_usage_error(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fputs("qibl: ", stderr);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+    return 2;
+}
+
+int qibl_cli_parse_q16(const char *s, int32_t *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (end == s || *end != '\0' || errno == ERANGE || !isfinite(v))
+        return -1;
+    double q = nearbyint(v * 65536.0);
+    if (q > 2147483647.0 || q < -2147483648.0)
+        return -1;
+    *out = (int32_t)q;
+    return 0;
+}
+
+int qibl_cli_parse_int(const char *s, long lo, long hi, long *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (end == s || *end != '\0' || errno == ERANGE || v < lo || v > hi)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+double qibl_cli_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
+        print_help(stdout);
+        return argc < 2 ? 2 : 0;
+    }
+    if (strcmp(argv[1], "help") == 0) {
+        if (argc == 2) {
+            print_help(stdout);
+            return 0;
+        }
+        const qibl_cli_cmd *c = find(argv[2]);
+        if (!c)
+            return qibl_cli_usage_error("no such command '%s' (see qibl --help)", argv[2]);
+        fputs(c->usage, stdout);
+        return 0;
+    }
+    const qibl_cli_cmd *c = find(argv[1]);
+    if (!c)
+        return qibl_cli_usage_error("no such command '%s' (see qibl --help)", argv[1]);
+    for (int i = 2; i < argc; ++i)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            fputs(c->usage, stdout);
+            return 0;
+        }
+    return c->run(argc - 1, argv + 1);
+}

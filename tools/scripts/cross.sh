@@ -1,0 +1,76 @@
+#!/bin/bash
+# cross.sh - prove core/ is freestanding, integer-only and state-free on three targets.
+#
+# For Cortex-M0, Cortex-M4 (both soft-float ABI) and RV64IMAC (no FPU) it compiles every core/src/*.c
+# with -ffreestanding -fno-builtin -nostdlib -nostdinc (only the compiler's own headers), links the
+# objects into one relocatable blob and fails if the blob needs any symbol core/ does not define
+# (soft-float helpers named as such), if .data/.bss (or small-data twins, or COMMON) are non-empty,
+# or if core/ includes a header other than stdint.h, stddef.h, stdbool.h, limits.h and its own.
+# Then prints .text per module and in total for Cortex-M4 -Os.
+set -u
+cd "$(dirname "$0")/../.." || exit 1
+out=build/cross
+rm -rf "$out"; mkdir -p "$out"
+fail=0
+err() { echo "cross: FAIL: $*" >&2; fail=1; }
+
+# 1. headers: only the four freestanding ones, and quoted includes of qibl's own headers.
+bad=$(grep -rnE '^[[:space:]]*#[[:space:]]*include' core | grep -vE '<(stdint|stddef|stdbool|limits)\.h>|"qibl(/[a-z0-9_]+)?\.h"')
+[ -z "$bad" ] || err "core/ includes a header outside the freestanding four:"$'\n'"$bad"
+
+warn="-std=c99 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wundef -Wdouble-promotion -Wmissing-prototypes -Werror"
+common="-ffreestanding -fno-builtin -nostdlib -fno-common -Os $warn -Icore/include"
+
+# name | compiler prefix | target flags
+targets="cortex-m0|arm-none-eabi-|-mcpu=cortex-m0 -mthumb -mfloat-abi=soft
+cortex-m4|arm-none-eabi-|-mcpu=cortex-m4 -mthumb -mfloat-abi=soft
+rv64imac|riscv64-unknown-elf-|-march=rv64imac -mabi=lp64 -mcmodel=medany"
+
+softfloat='^(__aeabi_[fd]|__aeabi_[ui]?[23]?[fd]|__(add|sub|mul|div|neg|cmp|eq|ne|lt|le|gt|ge|unord|fix|fixuns|float|floatun|extend|trunc|pow|powi)[a-z]*[sdtx]f[0-9]*$)'
+
+while IFS='|' read -r name prefix flags; do
+    gcc="${prefix}gcc"
+    if ! command -v "$gcc" >/dev/null 2>&1; then
+        err "$gcc not found (Debian: apt-get install gcc-arm-none-eabi gcc-riscv64-unknown-elf)"
+        continue
+    fi
+    inc="-nostdinc -isystem $($gcc -print-file-name=include) -isystem $($gcc -print-file-name=include-fixed)"
+    dir="$out/$name"; mkdir -p "$dir"
+    ok=1
+    for src in core/src/*.c; do
+        # shellcheck disable=SC2086
+        $gcc $flags $common $inc -c "$src" -o "$dir/$(basename "$src" .c).o" || { err "$name: $src does not compile"; ok=0; }
+    done
+    [ $ok = 1 ] || continue
+    "${prefix}ld" -r "$dir"/*.o -o "$dir/qibl-core.o" || { err "$name: relocatable link failed"; continue; }
+    undef=$("${prefix}nm" -u "$dir/qibl-core.o" | awk '{print $2}')
+    if [ -n "$undef" ]; then
+        sf=$(echo "$undef" | grep -E "$softfloat")
+        [ -z "$sf" ] || err "$name: soft-float helpers referenced (core must be integer-only): $(echo $sf)"
+        err "$name: undefined symbols core/ does not define: $(echo $undef)"
+    fi
+    common_syms=$("${prefix}nm" "$dir/qibl-core.o" | awk '$2 == "C" || $2 == "c" {print $3}')
+    [ -z "$common_syms" ] || err "$name: COMMON symbols (mutable state): $(echo $common_syms)"
+    state=$("${prefix}size" -A "$dir/qibl-core.o" | awk '$1 ~ /^\.(s?data|s?bss|tdata|tbss)(\.|$)/ && $2 > 0 {print $1 "=" $2}')
+    [ -z "$state" ] || err "$name: mutable state in $(echo $state) (core must have none)"
+    echo "cross: $name: $(ls "$dir"/*.o | grep -vc qibl-core.o) objects linked, 0 undefined symbols, 0 bytes .data/.bss" 
+done <<< "$targets"
+
+# 2. size table for Cortex-M4 -Os
+if [ -f "$out/cortex-m4/qibl-core.o" ]; then
+    echo
+    echo "core .text on Cortex-M4 (-Os, thumb, soft-float ABI), bytes:"
+    printf '  %-12s %8s %8s\n' module .text .rodata
+    total=0; rtotal=0
+    for o in "$out"/cortex-m4/*.o; do
+        m=$(basename "$o" .o); [ "$m" = qibl-core ] && continue
+        t=$(arm-none-eabi-size -A "$o" | awk '$1 ~ /^\.text/ {s += $2} END {print s + 0}')
+        r=$(arm-none-eabi-size -A "$o" | awk '$1 ~ /^\.rodata/ {s += $2} END {print s + 0}')
+        printf '  %-12s %8d %8d\n' "$m" "$t" "$r"
+        total=$((total + t)); rtotal=$((rtotal + r))
+    done
+    printf '  %-12s %8d %8d\n' total "$total" "$rtotal"
+    echo "RESULT cross.m4_text_bytes $total"
+fi
+if [ $fail = 0 ]; then echo "cross: OK"; else echo "cross: FAILED" >&2; fi
+exit $fail
