@@ -14,7 +14,7 @@ HOST_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -Wall -Wextra -Werror $(OPT) -
 HOST_LIBS   := -lm -lpthread
 
 CORE_SRC := $(wildcard core/src/*.c)
-TOOL_LIB_SRC := $(wildcard tools/ref/*.c)
+TOOL_LIB_SRC := $(wildcard tools/ref/*.c) $(wildcard tools/io/*.c)
 QIBL_SRC := $(wildcard tools/qibl/*.c)
 TEST_SRC := $(wildcard tests/*_test.c)
 
@@ -106,7 +106,7 @@ test: test-deps
 
 # ---- proofs and measurements ----------------------------------------------------------------
 cross:
-	@bash tools/scripts/cross.sh
+	@BUILD=$(BUILD) bash tools/scripts/cross.sh
 
 warnings:
 	@for cc in gcc clang; do \

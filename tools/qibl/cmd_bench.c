@@ -75,7 +75,7 @@ static int bench_sh(int quick)
         }
     }
     printf("== bench sh: SH basis, %d directions (Q16.16 unit-ish vectors), median of %d runs\n", n, reps);
-    printf("%-34s %6s %12s %14s\n", "method", "bands", "ns/eval", "max |err|");
+    printf("%-40s %6s %12s %14s\n", "method", "bands", "ns/eval", "max |err|");
     double t_int[5] = {0}, t_unit = 0, t_ref = 0;
     for (int b = 2; b <= 5; ++b) {
         double t[9];
@@ -91,7 +91,7 @@ static int bench_sh(int quick)
             t[r] = (qibl_cli_now() - t0) / n * 1e9;
         }
         t_int[b - 1] = median(t, reps);
-        printf("%-34s %6d %12.1f %14.3e\n", "qibl_sh_eval (integer)", b, t_int[b - 1], max_err);
+        printf("%-40s %6d %12.1f %14.3e\n", "qibl_sh_eval (integer)", b, t_int[b - 1], max_err);
     }
     {
         double t[9];
@@ -107,7 +107,7 @@ static int bench_sh(int quick)
             t[r] = (qibl_cli_now() - t0) / n * 1e9;
         }
         t_unit = median(t, reps);
-        printf("%-34s %6d %12.1f %14.3e\n", "qibl_sh_eval_unit (pre-normalised)", 5, t_unit, max_err);
+        printf("%-40s %6d %12.1f %14.3e\n", "qibl_sh_eval_unit (pre-normalised)", 5, t_unit, max_err);
     }
     {
         double t[9];
@@ -123,7 +123,7 @@ static int bench_sh(int quick)
             t[r] = (qibl_cli_now() - t0) / n * 1e9;
         }
         t_ref = median(t, reps);
-        printf("%-34s %6d %12.1f %14s\n", "double reference (appendix recursion)", 5, t_ref, "(truth)");
+        printf("%-40s %6d %12.1f %14s\n", "double reference (appendix recursion)", 5, t_ref, "(truth)");
     }
     printf("mean |err| over all 25 functions: %.3e; goal max |err| <= 2^-14 = %.3e\n", sum_err / (25.0 * n),
            1.0 / 16384.0);

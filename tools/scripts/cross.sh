@@ -9,7 +9,7 @@
 # Then prints .text per module and in total for Cortex-M4 -Os.
 set -u
 cd "$(dirname "$0")/../.." || exit 1
-out=build/cross
+out="${BUILD:-build}/cross"
 rm -rf "$out"; mkdir -p "$out"
 fail=0
 err() { echo "cross: FAIL: $*" >&2; fail=1; }
