@@ -10,10 +10,13 @@ CORE_WARN   := -std=c99 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wundef -
                -Wmissing-prototypes -Werror
 CORE_CFLAGS := $(CORE_WARN) $(OPT) -g -Icore/include
 # tools/ and tests/: hosted C99 + POSIX.
-HOST_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -Wall -Wextra -Werror $(OPT) -g -Icore/include -Itools
+HOST_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -Wall -Wextra -Werror $(OPT) -g -Icore/include -Iplatform/soft/include -Itools
 HOST_LIBS   := -lm -lpthread
 
 CORE_SRC := $(wildcard core/src/*.c)
+# platform/soft: freestanding like core/, built with the core flags into the same two libraries.
+PLATFORM_SRC := $(wildcard platform/soft/*.c)
+PLATFORM_INC := -Iplatform/soft/include
 TOOL_LIB_SRC := $(wildcard tools/ref/*.c) $(wildcard tools/io/*.c)
 QIBL_SRC := $(wildcard tools/qibl/*.c)
 TEST_SRC := $(wildcard tests/*_test.c)
@@ -22,8 +25,12 @@ TEST_SRC := $(wildcard tests/*_test.c)
 # (16x16 products, shift-subtract division) on the host, so both are tested on every run.
 PORTABLE_DEFS := -DQIBL_CONFIG_NATIVE_MUL64=0 -DQIBL_CONFIG_NATIVE_DIV64=0
 
-CORE_OBJ := $(CORE_SRC:%.c=$(BUILD)/native/%.o)
-CORE_POBJ := $(CORE_SRC:%.c=$(BUILD)/portable/%.o)
+PLATFORM_OBJ := $(PLATFORM_SRC:%.c=$(BUILD)/native/%.o)
+PLATFORM_POBJ := $(PLATFORM_SRC:%.c=$(BUILD)/portable/%.o)
+CORE_OBJ := $(CORE_SRC:%.c=$(BUILD)/native/%.o) $(PLATFORM_OBJ)
+CORE_POBJ := $(CORE_SRC:%.c=$(BUILD)/portable/%.o) $(PLATFORM_POBJ)
+# only platform/ sees its own headers: core/ cannot include them
+$(PLATFORM_OBJ) $(PLATFORM_POBJ): CORE_CFLAGS += $(PLATFORM_INC)
 TOOL_LIB_OBJ := $(TOOL_LIB_SRC:%.c=$(BUILD)/host/%.o)
 QIBL_OBJ := $(QIBL_SRC:%.c=$(BUILD)/host/%.o)
 TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%) $(TEST_SRC:tests/%.c=$(BUILD)/tests/%-portable)
@@ -45,7 +52,7 @@ help:
 	@echo "make demo       run the main demo"
 	@echo "make test       build and run the CMocka suites (installs libcmocka-dev if it can)"
 	@echo "make cross      freestanding builds for Cortex-M0/M4 and RV64, checks and size table"
-	@echo "make warnings   compile core/ with gcc and clang under the strict warning set"
+	@echo "make warnings   compile core/ and platform/soft/ with gcc and clang under the strict warning set"
 	@echo "make bench      benchmarks (speed against error), RESULT lines"
 	@echo "make clean      remove $(BUILD)/ and out/"
 
@@ -111,10 +118,10 @@ cross:
 warnings:
 	@for cc in gcc clang; do \
 	  if ! command -v $$cc >/dev/null 2>&1; then echo "warnings: $$cc not found" >&2; exit 1; fi; \
-	  for o in -O0 -O2 -O3; do for f in $(CORE_SRC); do \
-	    $$cc $(CORE_WARN) $$o -Icore/include -fsyntax-only $$f || exit 1; \
-	    $$cc $(CORE_WARN) $(PORTABLE_DEFS) $$o -Icore/include -fsyntax-only $$f || exit 1; \
-	  done; done; echo "warnings: core/ clean with $$cc (-O0/-O2/-O3, native and portable paths)"; \
+	  for o in -O0 -O2 -O3; do for f in $(CORE_SRC) $(PLATFORM_SRC); do \
+	    $$cc $(CORE_WARN) $$o -Icore/include $(PLATFORM_INC) -fsyntax-only $$f || exit 1; \
+	    $$cc $(CORE_WARN) $(PORTABLE_DEFS) $$o -Icore/include $(PLATFORM_INC) -fsyntax-only $$f || exit 1; \
+	  done; done; echo "warnings: core/ and platform/soft/ clean with $$cc (-O0/-O2/-O3, native and portable paths)"; \
 	done
 
 bench: $(QIBL)

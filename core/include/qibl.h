@@ -8,5 +8,8 @@
 #include "qibl/status.h"
 #include "qibl/fixed.h"
 #include "qibl/sh.h"
+#include "qibl/srgbe.h"
+#include "qibl/asset.h"
+#include "qibl/shmap.h"
 
 #endif /* QIBL_H */

@@ -150,3 +150,82 @@ qibl_status_t qibl_vec3_normalize_q30(const int32_t v[3], qibl_q30_t out[3])
         out[i] = res[i];
     return QIBL_OK;
 }
+
+/* Seeds for qibl_rsqrt_u64: round(2^34 / sqrt(i + 0.5) / 2^16) for i = 64..255, i.e. 1/sqrt at the
+ * middle of each interval of t >> 24, in units of 2^-30 (relative error <= 2^-9). */
+static const uint16_t rsqrt_seed[192] = {
+    32641, 32391, 32146, 31907, 31673, 31445, 31221, 31002, 30787, 30577, 30371, 30169,
+    29972, 29778, 29587, 29401, 29217, 29038, 28861, 28688, 28518, 28350, 28186, 28024,
+    27866, 27709, 27556, 27405, 27256, 27110, 26966, 26825, 26686, 26548, 26413, 26280,
+    26149, 26020, 25893, 25767, 25644, 25522, 25402, 25283, 25167, 25051, 24938, 24826,
+    24715, 24606, 24498, 24392, 24287, 24184, 24081, 23980, 23881, 23782, 23685, 23589,
+    23494, 23400, 23307, 23216, 23125, 23036, 22947, 22860, 22774, 22688, 22604, 22520,
+    22437, 22356, 22275, 22195, 22116, 22037, 21960, 21883, 21808, 21732, 21658, 21585,
+    21512, 21440, 21368, 21298, 21228, 21159, 21090, 21022, 20955, 20888, 20822, 20757,
+    20692, 20628, 20564, 20501, 20439, 20377, 20316, 20255, 20195, 20135, 20076, 20017,
+    19959, 19902, 19845, 19788, 19732, 19676, 19621, 19566, 19512, 19458, 19405, 19352,
+    19299, 19247, 19196, 19144, 19093, 19043, 18993, 18943, 18894, 18845, 18797, 18749,
+    18701, 18653, 18606, 18560, 18513, 18467, 18422, 18376, 18331, 18287, 18242, 18198,
+    18155, 18111, 18068, 18025, 17983, 17941, 17899, 17857, 17816, 17775, 17734, 17694,
+    17654, 17614, 17574, 17535, 17496, 17457, 17418, 17380, 17342, 17304, 17267, 17229,
+    17192, 17155, 17119, 17082, 17046, 17010, 16974, 16939, 16904, 16869, 16834, 16799,
+    16765, 16731, 16697, 16663, 16629, 16596, 16563, 16530, 16497, 16465, 16432, 16400,
+};
+
+uint32_t qibl_rsqrt_u64(uint64_t x, unsigned *e)
+{
+    if (x == 0u) {
+        *e = 0u;
+        return 0u;
+    }
+    /* even shift so that m = x * 2^sh lies in [2^62, 2^64): constant shifts only (Cortex-M0) */
+    unsigned sh = 0u;
+    if (x < ((uint64_t)1 << 32)) { x <<= 32; sh += 32u; }
+    if (x < ((uint64_t)1 << 48)) { x <<= 16; sh += 16u; }
+    if (x < ((uint64_t)1 << 56)) { x <<= 8; sh += 8u; }
+    if (x < ((uint64_t)1 << 60)) { x <<= 4; sh += 4u; }
+    if (x < ((uint64_t)1 << 62)) { x <<= 2; sh += 2u; }
+    uint32_t t = (uint32_t)(x >> 32); /* [2^30, 2^32); dropping the low word costs <= 2^-31 */
+    uint32_t y = (uint32_t)rsqrt_seed[(t >> 24) - 64u] << 16; /* ~ 2^46 / sqrt(t) */
+    for (int it = 0; it < 2; ++it) {
+        /* Newton for 1/sqrt: y' = y (3 - t y^2) / 2, with t y^2 = 2^92 at the root */
+        uint32_t y2 = (uint32_t)(qibl_mul_u32_u64(y, y) >> 32); /* ~ 2^60 / t */
+        uint32_t h = (uint32_t)(qibl_mul_u32_u64(t, y2) >> 30);  /* ~ 2^30 */
+        uint32_t c = 0xC0000000u - h;                             /* ~ 2^31 (h < 3 * 2^30 always) */
+        y = (uint32_t)(qibl_mul_u32_u64(y, c) >> 31);
+    }
+    *e = 62u - sh / 2u;
+    return y;
+}
+
+qibl_status_t qibl_vec3_normalize_fast_q30(const int32_t v[3], qibl_q30_t out[3], uint32_t *len_y, unsigned *len_e)
+{
+    if (v == 0 || out == 0)
+        return QIBL_E_NULL_POINTER;
+    uint64_t d2 = 0u;
+    for (int i = 0; i < 3; ++i) {
+        uint32_t a = v[i] < 0 ? 0u - (uint32_t)v[i] : (uint32_t)v[i];
+        d2 += qibl_mul_u32_u64(a, a); /* <= 3 * 2^62 */
+    }
+    if (d2 == 0u)
+        return QIBL_E_ZERO_VECTOR;
+    unsigned e;
+    uint32_t y = qibl_rsqrt_u64(d2, &e); /* 1/|v| = y / 2^e, e in 31..62 */
+    qibl_q30_t r[3];
+    for (int i = 0; i < 3; ++i) {
+        /* |v_i| y / 2^(e-30), rounded to nearest (ties away from zero), sign applied after;
+         * the product is <= 2^62 and the shift e - 30 is 1..32 */
+        uint32_t a = v[i] < 0 ? 0u - (uint32_t)v[i] : (uint32_t)v[i];
+        unsigned n = e - 30u;
+        uint64_t q = qibl_shr_u64(qibl_mul_u32_u64(a, y) + qibl_shr_u64((uint64_t)1 << 63, 64u - n), n);
+        int32_t m = (int32_t)(q > 0x40000000u ? 0x40000000u : q); /* rounding may overshoot 1.0 by an LSB */
+        r[i] = v[i] < 0 ? -m : m;
+    }
+    for (int i = 0; i < 3; ++i)
+        out[i] = r[i];
+    if (len_y)
+        *len_y = y;
+    if (len_e)
+        *len_e = e;
+    return QIBL_OK;
+}

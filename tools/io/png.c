@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-uint32_t qibl_crc32(uint32_t crc, const void *data, size_t n)
+static uint32_t png_crc32(uint32_t crc, const void *data, size_t n)
 {
     const uint8_t *p = (const uint8_t *)data;
     crc = ~crc;
@@ -32,7 +32,7 @@ static int write_chunk(FILE *f, const char *type, const uint8_t *data, size_t n)
     uint8_t hdr[8];
     put32(hdr, (uint32_t)n);
     memcpy(hdr + 4, type, 4);
-    uint32_t crc = qibl_crc32(qibl_crc32(0, type, 4), data, n);
+    uint32_t crc = png_crc32(png_crc32(0, type, 4), data, n);
     uint8_t tail[4];
     put32(tail, crc);
     return fwrite(hdr, 1, 8, f) == 8 && (n == 0 || fwrite(data, 1, n, f) == n) && fwrite(tail, 1, 4, f) == 4 ? 0 : -1;

@@ -8,9 +8,6 @@
 #include <stddef.h>
 #include <stdint.h>
 
-/* CRC-32 (ISO 3309 / PNG / zip), continuing from crc (start with 0). */
-uint32_t qibl_crc32(uint32_t crc, const void *data, size_t n);
-
 /* Writes w x h 8-bit RGB pixels (rows top to bottom, 3 bytes per pixel, tightly packed) to path.
  * The file is written to "path.tmp" and renamed, so a failure leaves no partial file.
  * Returns 0, or -1 with a one-line reason in err (errlen bytes). */

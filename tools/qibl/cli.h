@@ -18,6 +18,7 @@ typedef struct qibl_cli_cmd {
 
 int qibl_cmd_sh(int argc, char **argv);
 int qibl_cmd_bench(int argc, char **argv);
+int qibl_cmd_info(int argc, char **argv);
 
 /* Prints "qibl: <message>" on stderr and returns 2 (the bad-arguments exit status). */
 int qibl_cli_usage_error(const char *fmt, ...);

@@ -29,6 +29,14 @@ static const qibl_cli_cmd commands[] = {
      "      ns per evaluation (median of 7 runs) and max |error| over a fixed-seed sweep.\n"
      "  all: every benchmark (what `make bench` runs). --quick: fewer repetitions.\n",
      qibl_cmd_bench},
+    {"info", "validate a qibl asset file and print its contents",
+     "usage: qibl info FILE\n"
+     "  Validates FILE with the core's qibl_asset_open (magic, version, chunk table, bounds, CRC-32s,\n"
+     "  chunk fields) and prints the header, the chunk table (type, offset, size, CRC) and per known\n"
+     "  chunk its fields: SHMP size, k, channels, per map and channel the Q8.24 scale and bias as\n"
+     "  decimals and the min/max byte of the plane; PMAP size and the bounding box of its points;\n"
+     "  YLUT face size and k. An invalid asset prints `qibl: FILE: <reason>` and exits 1.\n",
+     qibl_cmd_info},
 };
 #define NCMD (sizeof commands / sizeof commands[0])
 

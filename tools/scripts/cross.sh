@@ -6,7 +6,9 @@
 # objects into one relocatable blob and fails if the blob needs any symbol core/ does not define
 # (soft-float helpers named as such), if .data/.bss (or small-data twins, or COMMON) are non-empty,
 # or if core/ includes a header other than stdint.h, stddef.h, stdbool.h, limits.h and its own.
-# Then prints .text per module and in total for Cortex-M4 -Os.
+# platform/soft/*.c (the software framebuffer shim) must pass the same checks: it is compiled the
+# same way (plus its include dir) and linked with the core objects into a second blob.
+# Then prints .text per module and in total for Cortex-M4 -Os (core total, then platform/soft).
 set -u
 cd "$(dirname "$0")/../.." || exit 1
 out="${BUILD:-build}/cross"
@@ -15,8 +17,8 @@ fail=0
 err() { echo "cross: FAIL: $*" >&2; fail=1; }
 
 # 1. headers: only the four freestanding ones, and quoted includes of qibl's own headers.
-bad=$(grep -rnE '^[[:space:]]*#[[:space:]]*include' core | grep -vE '<(stdint|stddef|stdbool|limits)\.h>|"qibl(/[a-z0-9_]+)?\.h"')
-[ -z "$bad" ] || err "core/ includes a header outside the freestanding four:"$'\n'"$bad"
+bad=$(grep -rnE '^[[:space:]]*#[[:space:]]*include' core platform/soft | grep -vE '<(stdint|stddef|stdbool|limits)\.h>|"qibl(/[a-z0-9_]+)?\.h"')
+[ -z "$bad" ] || err "core/ or platform/soft/ includes a header outside the freestanding four:"$'\n'"$bad"
 
 warn="-std=c99 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wundef -Wdouble-promotion -Wmissing-prototypes -Werror"
 common="-ffreestanding -fno-builtin -nostdlib -fno-common -Os $warn -Icore/include"
@@ -54,6 +56,24 @@ while IFS='|' read -r name prefix flags; do
     state=$("${prefix}size" -A "$dir/qibl-core.o" | awk '$1 ~ /^\.(s?data|s?bss|tdata|tbss)(\.|$)/ && $2 > 0 {print $1 "=" $2}')
     [ -z "$state" ] || err "$name: mutable state in $(echo $state) (core must have none)"
     echo "cross: $name: $(ls "$dir"/*.o | grep -vc qibl-core.o) objects linked, 0 undefined symbols, 0 bytes .data/.bss" 
+
+    # platform/soft: same flags plus its include dir, linked with the core blob (its only dependency)
+    pdir="$dir/platform"; mkdir -p "$pdir"; pobjs=()
+    for src in platform/soft/*.c; do
+        po="$pdir/$(basename "$src" .c).o"; pobjs+=("$po")
+        # shellcheck disable=SC2086
+        $gcc $flags $common -Iplatform/soft/include $inc -c "$src" -o "$po" || { err "$name: $src does not compile"; ok=0; }
+    done
+    [ $ok = 1 ] || continue
+    "${prefix}ld" -r "${pobjs[@]}" "$dir/qibl-core.o" -o "$pdir/qibl-soft.o" || { err "$name: platform/soft link failed"; continue; }
+    perr=0
+    undef=$("${prefix}nm" -u "$pdir/qibl-soft.o" | awk '{print $2}')
+    [ -z "$undef" ] || { err "$name: undefined symbols in platform/soft + core: $(echo $undef)"; perr=1; }
+    common_syms=$("${prefix}nm" "$pdir/qibl-soft.o" | awk '$2 == "C" || $2 == "c" {print $3}')
+    [ -z "$common_syms" ] || { err "$name: COMMON symbols in platform/soft: $(echo $common_syms)"; perr=1; }
+    state=$("${prefix}size" -A "$pdir/qibl-soft.o" | awk '$1 ~ /^\.(s?data|s?bss|tdata|tbss)(\.|$)/ && $2 > 0 {print $1 "=" $2}')
+    [ -z "$state" ] || { err "$name: mutable state in platform/soft + core: $(echo $state)"; perr=1; }
+    [ $perr = 1 ] || echo "cross: $name: platform/soft (${#pobjs[@]} objects) + core linked, 0 undefined symbols, 0 bytes .data/.bss"
 done <<< "$targets"
 
 # 2. size table for Cortex-M4 -Os
@@ -69,8 +89,17 @@ if [ -f "$out/cortex-m4/qibl-core.o" ]; then
         printf '  %-12s %8d %8d\n' "$m" "$t" "$r"
         total=$((total + t)); rtotal=$((rtotal + r))
     done
-    printf '  %-12s %8d %8d\n' total "$total" "$rtotal"
+    printf '  %-12s %8d %8d\n' "core total" "$total" "$rtotal"
+    stotal=0; srtotal=0
+    for o in "$out"/cortex-m4/platform/*.o; do
+        m=$(basename "$o" .o); [ "$m" = qibl-soft ] && continue
+        t=$(arm-none-eabi-size -A "$o" | awk '$1 ~ /^\.text/ {s += $2} END {print s + 0}')
+        r=$(arm-none-eabi-size -A "$o" | awk '$1 ~ /^\.rodata/ {s += $2} END {print s + 0}')
+        printf '  %-12s %8d %8d   (platform/soft, not in the core total)\n' "$m" "$t" "$r"
+        stotal=$((stotal + t)); srtotal=$((srtotal + r))
+    done
     echo "RESULT cross.m4_text_bytes $total"
+    echo "RESULT cross.m4_soft_text_bytes $stotal"
 fi
 if [ $fail = 0 ]; then echo "cross: OK"; else echo "cross: FAILED" >&2; fi
 exit $fail

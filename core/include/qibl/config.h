@@ -12,6 +12,28 @@
 #define QIBL_USE_SH 1
 #endif
 
+/* QIBL_USE_SRGBE: 1 builds the sRGBE signed shared-exponent colour codec (srgbe.c, about TBD
+ * bytes .text on Cortex-M4 -Os, no .rodata, no RAM). */
+#ifndef QIBL_USE_SRGBE
+#define QIBL_USE_SRGBE 1
+#endif
+
+/* QIBL_USE_ASSET: 1 builds the asset container reader (asset.c: validation, CRC-32, chunk views;
+ * about 1.4 KiB .text and 72 bytes .rodata on Cortex-M4 -Os, no RAM beyond the caller's structs).
+ * The little-endian load helpers in asset.h stay available either way. */
+#ifndef QIBL_USE_ASSET
+#define QIBL_USE_ASSET 1
+#endif
+
+/* QIBL_USE_SHMAP: 1 builds the relighting kernels (shmap.c: weights, directional/environment and
+ * point-light spans, cube-map LUTs; about 3 KiB .text on Cortex-M4 -Os). Needs QIBL_USE_SH. */
+#ifndef QIBL_USE_SHMAP
+#define QIBL_USE_SHMAP 1
+#endif
+#if QIBL_USE_SHMAP && (!QIBL_USE_SH || !QIBL_USE_ASSET)
+#error "QIBL_USE_SHMAP needs QIBL_USE_SH and QIBL_USE_ASSET"
+#endif
+
 /* QIBL_SH_MAX_BANDS: largest band count the SH module accepts, 1..5 (bands 0..4, 25 coefficients).
  * Costs nothing in RAM; callers size their output arrays as QIBL_SH_MAX_BANDS squared. */
 #ifndef QIBL_SH_MAX_BANDS

@@ -15,6 +15,47 @@ typedef enum qibl_status {
     QIBL_E_BAD_BANDS,      /* SH band count outside 1..QIBL_SH_MAX_BANDS */
     QIBL_E_DIV_BY_ZERO,    /* a divisor (or the argument of a reciprocal) was zero */
     QIBL_E_RANGE,          /* the exact result does not fit the output format */
+    /* asset container (asset.h), in the order qibl_asset_open checks them */
+    QIBL_E_ASSET_TRUNCATED_HEADER, /* buffer shorter than the 24-byte header */
+    QIBL_E_ASSET_MAGIC,            /* not a qibl asset (or mangled by a text-mode transfer) */
+    QIBL_E_ASSET_VERSION,          /* format version this build does not read */
+    QIBL_E_ASSET_CHUNK_COUNT,      /* chunk_count outside 1..QIBL_ASSET_MAX_CHUNKS */
+    QIBL_E_ASSET_TRUNCATED_TABLE,  /* chunk table runs past the buffer or past file_size */
+    QIBL_E_ASSET_TRUNCATED,        /* buffer shorter than file_size */
+    QIBL_E_ASSET_TABLE_CRC,        /* chunk table CRC-32 mismatch */
+    QIBL_E_ASSET_CHUNK_MISALIGNED, /* chunk offset not a multiple of 4 */
+    QIBL_E_ASSET_CHUNK_PAST_END,   /* chunk starts inside header/table or ends past file_size */
+    QIBL_E_ASSET_DUPLICATE_CHUNK,  /* a known chunk type appears twice */
+    QIBL_E_ASSET_CHUNK_OVERLAP,    /* two chunk payloads share bytes */
+    QIBL_E_ASSET_MISSING_CHUNK,    /* a required (or the requested) chunk is absent */
+    QIBL_E_ASSET_CHUNK_CRC,        /* chunk payload CRC-32 mismatch */
+    QIBL_E_ASSET_BAD_DIMENSIONS,   /* width/height/face size zero or above the format's maximum */
+    QIBL_E_ASSET_BAD_K,            /* SH map count k outside 1..25 */
+    QIBL_E_ASSET_BAD_CHANNELS,     /* channels neither 1 nor 3 */
+    QIBL_E_ASSET_BAD_FLAGS,        /* reserved flags not 0 */
+    QIBL_E_ASSET_SIZE_OVERFLOW,    /* payload size implied by the fields does not fit 32 bits */
+    QIBL_E_ASSET_CHUNK_SIZE,       /* payload size differs from the size its fields imply */
+    QIBL_E_ASSET_MISMATCH,         /* PMAP/YLUT inconsistent with SHMP (size or k) */
+    /* software framebuffer (platform/soft, qibl/soft.h) */
+    QIBL_E_FB_FORMAT,              /* framebuffer format unknown, or wrong for the call */
+    QIBL_E_FB_SIZE,                /* width or height 0, or sizes that must match differ */
+    QIBL_E_FB_STRIDE,              /* stride below one row, or the buffer size overflows size_t */
+    QIBL_E_FB_BOUNDS,              /* row or span outside the framebuffer */
+    /* relighting kernels (shmap.h) */
+    QIBL_E_WORKSPACE,              /* caller workspace smaller than *_workspace_size() asked for */
+    QIBL_E_SHMAP_K,                /* SH map / light coefficient count outside 1..25 */
+    QIBL_E_SHMAP_CHANNELS,         /* SH maps with a channel count other than 1 or 3 */
+    QIBL_E_SHMAP_SIZE,             /* SH maps of zero width or height */
+    QIBL_E_SHMAP_LIGHT_K,          /* light has fewer SH coefficients than the maps */
+    QIBL_E_SHMAP_BOUNDS,           /* span outside the maps */
+    QIBL_E_SHMAP_MISMATCH,         /* weights, P map or LUT made for other maps */
+    QIBL_E_SHMAP_LIGHT,            /* point light with a negative colour or distance, or unknown falloff */
+    QIBL_E_SHMAP_LUT_SIZE,         /* cube-map LUT face size outside 1..QIBL_ASSET_MAX_LUT */
+    /* sRGBE codec (srgbe.h); each of these calls writes the code or value its header states */
+    QIBL_E_SRGBE_NAN,              /* encode: a channel is NaN (the zero code is written) */
+    QIBL_E_SRGBE_INF,              /* encode: a channel is +-Inf (saturated code written) */
+    QIBL_E_SRGBE_OVERFLOW,         /* encode: finite pixel >= 2^129, above the largest exponent */
+    QIBL_E_SRGBE_DECODE_SAT,       /* decode: a channel beyond the output format (saturated) */
     QIBL_STATUS_COUNT      /* number of status values; not a status */
 } qibl_status_t;
 

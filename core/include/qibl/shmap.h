@@ -1,0 +1,151 @@
+/*
+ * qibl/shmap.h - relighting a panorama from k 8-bit SH maps (Wong et al.), integer only.
+ *
+ * Model: each pixel stores its light-transport function as k SH coefficients per colour channel,
+ * range-packed to bytes: T_i(p) = bias_i + scale_i * c_i(p) (asset.h, SHMP). Incident light with
+ * SH coefficients L_i gives radiance sum_i T_i(p) L_i (Wong eq. 1; L_i = Y_i(L0) for a directional
+ * light of unit colour).
+ *
+ * Directional lights and environments. All per-pixel work is sum_i c_i(p) W_i + B: the per-frame
+ * weights W_i = scale_i L_i (int16, one shared power-of-two unit per channel) and B = sum_i bias_i L_i
+ * fold the range packing in, so the inner loop is bytes times int16 into int32 over planar rows,
+ * which compilers vectorise. Any number of directional lights, or an environment, only changes L.
+ * Accumulator bound: |sum| <= 25 * 255 * 32767 = 208,890,375 < 2^31 for any data and k <= 25.
+ *
+ * Point lights (Wong "Relighting by a point source"): per pixel L = S - P(p) from the P map;
+ * Y_i(L) either from cube-map LUTs (bilinear, edge-clamped per face) or from the core SH polynomials
+ * (qibl_sh_eval_unit on a qibl_rsqrt_u64-normalised L); attenuation C0/|L| (Wong) or C0/|L|^2,
+ * with distances below min_dist clamped (a light at a pixel's own position gives that pixel 0).
+ * Light behind a surface needs no special case: the transfer functions hold the cosine/visibility;
+ * the small negative values SH ringing leaves are clamped by the framebuffer writer.
+ *
+ * Units of work: spans (x0, n) of one row. A frame is any set of spans, so callers split it across
+ * threads, tiles or frames. Outputs are 3 int32 per pixel, Q16.16 linear radiance (as
+ * platform/soft expects). No heap: the caller provides the workspace each call needs.
+ */
+#ifndef QIBL_SHMAP_H
+#define QIBL_SHMAP_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "qibl/asset.h"
+#include "qibl/config.h"
+#include "qibl/fixed.h"
+#include "qibl/sh.h"
+#include "qibl/status.h"
+
+/* SH coefficients of incident light, per colour channel, Q16.16. k of the 25 are used. */
+typedef struct qibl_shlight {
+    uint32_t k;
+    qibl_q16_t c[3][QIBL_SH_MAX_COUNT];
+} qibl_shlight_t;
+
+/* Per-frame weights for qibl_shmap_relight_span (made by qibl_shmap_weights). */
+typedef struct qibl_shmap_weights {
+    uint32_t k, channels;              /* of the maps they were made for */
+    int16_t w[3][QIBL_SH_MAX_COUNT];   /* [output channel][map] */
+    int32_t shift[3];                  /* out = acc * 2^shift + bias (shift < 0: rounded right shift) */
+    int64_t bias[3];                   /* Q16.16 */
+} qibl_shmap_weights_t;
+
+/* Attenuation of a point light. 0 is the default. */
+typedef enum qibl_falloff {
+    QIBL_FALLOFF_INV_DIST = 0, /* C0 / |L|, as Wong et al. */
+    QIBL_FALLOFF_INV_DIST2     /* C0 / |L|^2, physical */
+} qibl_falloff_t;
+
+/* A point light. Zero-initialisable: rgb 0 is dark, min_dist 0 means 1/256 scene unit. */
+typedef struct qibl_pointlight {
+    qibl_q16_t pos[3];      /* S, scene units (the P map's), Q16.16 */
+    qibl_q16_t rgb[3];      /* C0 per channel, >= 0, Q16.16 */
+    qibl_falloff_t falloff;
+    qibl_q16_t min_dist;    /* distances below it count as it, Q16.16 > 0 */
+} qibl_pointlight_t;
+
+/* Prepared point-light state (qibl_shmap_point_prepare); points into the caller's workspace. */
+typedef struct qibl_shmap_point {
+    const qibl_shmaps_t *maps;
+    const qibl_pmap_t *pmap;
+    const qibl_ylut_t *lut;   /* NULL: evaluate the SH polynomials per pixel */
+    const int16_t *dec;       /* [source channel][map][256] decoded bytes, unit 2^(dec_shift - 24) */
+    int32_t dec_shift[3];
+    int64_t pos[3];
+    uint32_t rgb[3];          /* C0 per channel, Q16.16, >= 0 */
+    uint32_t falloff;
+    uint64_t min_d2;          /* min_dist^2 in (2^-16)^2 units */
+    uint32_t clamp_y;         /* 1 / min_dist = clamp_y / 2^clamp_e in 1/(2^-16) units */
+    unsigned clamp_e;
+    uint32_t bands;
+} qibl_shmap_point_t;
+
+/* ---- light coefficients ---------------------------------------------------------------------- */
+
+/* Zeroes l and sets l->k. QIBL_E_NULL_POINTER, QIBL_E_SHMAP_K (k outside 1..QIBL_SH_MAX_COUNT). */
+qibl_status_t qibl_shlight_init(qibl_shlight_t *l, uint32_t k);
+
+/* Adds a directional light of colour rgb (Q16.16) from direction dir (any non-zero length):
+ * c[ch][i] += rgb[ch] * Y_i(dir), rounded half up, saturating. Error <= 0.5 LSB + |rgb| 2^-25.
+ * QIBL_E_NULL_POINTER, QIBL_E_ZERO_VECTOR, QIBL_E_SHMAP_K (l not initialised); l untouched on error. */
+qibl_status_t qibl_shlight_add_dir(qibl_shlight_t *l, const qibl_q16_t dir[3], const qibl_q16_t rgb[3]);
+
+/* ---- directional / environment relighting ---------------------------------------------------- */
+
+/* Checks a maps view (filled by qibl_asset_shmaps or by hand): QIBL_E_NULL_POINTER, QIBL_E_SHMAP_K,
+ * QIBL_E_SHMAP_CHANNELS, QIBL_E_SHMAP_SIZE (zero width/height). */
+qibl_status_t qibl_shmap_check(const qibl_shmaps_t *m);
+
+/* Per-frame weights from maps and light (light->k must be >= maps->k; extra coefficients are
+ * ignored). Each channel's int16 weights share one power-of-two unit chosen so the largest is in
+ * [16384, 32767]: weight quantisation adds at most 0.5 weight-LSB per map, i.e. a relative error
+ * <= k * 2^-16 of the brightest map's full-scale contribution.
+ * Errors: those of qibl_shmap_check, QIBL_E_SHMAP_LIGHT_K; *out untouched on error. */
+qibl_status_t qibl_shmap_weights(const qibl_shmaps_t *m, const qibl_shlight_t *light, qibl_shmap_weights_t *out);
+
+/* Workspace bytes for a span of n pixels (directional and point kernels alike). */
+size_t qibl_shmap_span_workspace_size(uint32_t n);
+
+/* Relights pixels x0 .. x0+n-1 of row y into out (3n int32, Q16.16, RGB interleaved).
+ * out = sat32(acc * 2^shift + bias) per channel: exact integer arithmetic, so the only errors are the
+ * weights' quantisation (above) and the final rounding (<= 0.5 LSB of Q16.16).
+ * Errors: QIBL_E_NULL_POINTER, QIBL_E_SHMAP_BOUNDS (span outside the maps), QIBL_E_SHMAP_MISMATCH
+ * (weights made for other k/channels), QIBL_E_WORKSPACE (ws_size too small); nothing written. */
+qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_weights_t *w, uint32_t x0, uint32_t y,
+                                      uint32_t n, int32_t *out, void *ws, size_t ws_size);
+
+/* ---- point lights ---------------------------------------------------------------------------- */
+
+/* Workspace bytes qibl_shmap_point_prepare needs for maps m (decoded-byte tables: k * channels *
+ * 256 int16, at most 38,400 bytes). Must stay alive while the prepared state is used. */
+size_t qibl_shmap_point_workspace_size(const qibl_shmaps_t *m);
+
+/* Prepares a point light for maps m, point map p (same size) and optionally a cube-map LUT (NULL:
+ * direct SH evaluation). Errors: those of qibl_shmap_check, QIBL_E_SHMAP_MISMATCH (P map or LUT
+ * does not fit the maps), QIBL_E_SHMAP_LIGHT (negative colour or min_dist < 0, unknown falloff),
+ * QIBL_E_WORKSPACE; *out untouched on error. */
+qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t *p, const qibl_ylut_t *lut,
+                                       const qibl_pointlight_t *light, void *ws, size_t ws_size,
+                                       qibl_shmap_point_t *out);
+
+/* Relights a span under a prepared point light, into out as qibl_shmap_relight_span.
+ * Error (against sum_i T_i(p) Y_i(L/|L|) C0 att(|L|) in double, same bytes): decoded bytes rounded to
+ * 1/8192 of the largest |T| per channel, Y to 2^-14 (direct) or the LUT's bilinear error (LUT),
+ * 1/|L| to 2^-27 relative; measured in shmap_test.c and `qibl bench relight`.
+ * Errors: QIBL_E_NULL_POINTER, QIBL_E_SHMAP_BOUNDS; nothing written. */
+qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out);
+
+/* ---- cube-map Y LUTs ------------------------------------------------------------------------- */
+
+/* Bytes of the YLUT values for face size N and k maps (6 N N k int16), 0 if N or k out of range. */
+size_t qibl_ylut_values_size(uint32_t face_size, uint32_t k);
+
+/* Fills values (qibl_ylut_values_size bytes, little-endian int16 Q2.14, the asset.h YLUT layout)
+ * with Y_0..Y_{k-1} at every texel centre, rounded to nearest from the Q2.30 basis.
+ * QIBL_E_NULL_POINTER, QIBL_E_SHMAP_K, QIBL_E_SHMAP_LUT_SIZE (N outside 1..QIBL_ASSET_MAX_LUT),
+ * QIBL_E_WORKSPACE (size too small); nothing written on error. */
+qibl_status_t qibl_ylut_build(uint32_t face_size, uint32_t k, uint8_t *values, size_t size);
+
+/* Y_0..Y_{k-1} (Q2.14, bilinear between texel centres, clamped at face edges) for a Q2.30 unit
+ * direction u, from LUT t. No checks (hot path): t valid, k <= t->k. */
+void qibl_ylut_lookup(const qibl_ylut_t *t, const qibl_q30_t u[3], uint32_t k, int32_t *y14);
+
+#endif /* QIBL_SHMAP_H */

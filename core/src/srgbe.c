@@ -1,0 +1,399 @@
+/*
+ * srgbe.c - sRGBE (Granier et al. 4.2, appendix A): signed shared-exponent colour, integer only.
+ *
+ * Invariants: no floating point (binary32 values are read as bit patterns), no division, no table,
+ * no state, no library helper (products are 32-bit; 64-bit shifts by a variable go through
+ * qibl_shr_u64). The one-pixel and bulk entry points call the same static per-pixel functions, so
+ * they give identical bytes by construction.
+ *
+ * Encoding a channel. With the exponent e fixed, let y = 255 |c| 2^-e. The paper's byte is
+ * round(y' + 127.5) with y' = +-y, and y is never an integer for c != 0 (c 2^-e is dyadic, 255 is
+ * odd), so no tie occurs and
+ *     X = 128 + floor(y)   for c > 0,     X = 127 - floor(y)   for c < 0;
+ * the same two lines give the tie rule for c = +0 / -0 (X = 128 / 127). For an in-range pixel
+ * y < 127.5, so floor(y) <= 127 and X stays in 0..255.
+ *
+ * Binary32 channel c = sig * 2^(be - 150) (be = biased exponent field, sig with the hidden bit;
+ * subnormals: be = 1, no hidden bit). With E = e + 126 the exponent byte,
+ *     y = 255 sig 2^-(24 + E - be),
+ * and for the largest channel (be_max, E = be_max + 1) the shift is exactly 25: y in [63.75, 127.5).
+ * Every other channel has a larger shift, never below 23 (subnormal maxima), so sig * 255 < 2^32
+ * fits one 32-bit product and shifts >= 32 give 0.
+ *
+ * Decoding a channel: c = +-m 2^(e-1) / 255 with m = |2X - 255| odd. For m < 255 the binary
+ * expansion of m / 255 is the 8 bits of m repeated forever (1/255 = 0.00000001 00000001 ...), so
+ * m * 0x01010101 holds its first 32 bits, the bits after any position are never all zero, and the
+ * correctly rounded binary32 only needs the one bit after the kept ones: no tie, no division.
+ */
+#include "qibl/srgbe.h"
+
+#if QIBL_USE_SRGBE
+
+/* per-pixel outcome flags, folded into one status by status_of() */
+#define F_OVERFLOW 1u
+#define F_INF 2u
+#define F_NAN 4u
+#define F_DSAT 8u
+
+static qibl_status_t status_of(unsigned flags)
+{
+    /* precedence stated in srgbe.h; a pixel sets at most one encoder flag */
+    if (flags & F_NAN)
+        return QIBL_E_SRGBE_NAN;
+    if (flags & F_INF)
+        return QIBL_E_SRGBE_INF;
+    if (flags & F_OVERFLOW)
+        return QIBL_E_SRGBE_OVERFLOW;
+    if (flags & F_DSAT)
+        return QIBL_E_SRGBE_DECODE_SAT;
+    return QIBL_OK;
+}
+
+/* The zero code with the sign of each channel kept (tie rule: +0 -> 128, -0 -> 127). */
+static void put_zero(uint32_t sr, uint32_t sg, uint32_t sb, uint8_t *out)
+{
+    out[0] = (uint8_t)(128u - sr);
+    out[1] = (uint8_t)(128u - sg);
+    out[2] = (uint8_t)(128u - sb);
+    out[3] = (uint8_t)QIBL_SRGBE_ZERO_E;
+}
+
+/* ---- encode from binary32 ------------------------------------------------------------------- */
+
+/* Code byte of binary32 channel x at exponent byte xe (see the header comment: shift >= 23).
+ * Also right for an infinite channel at xe = 255: bits 7F800000 read as sig = 2^23, be = 255 give
+ * y = 127.5, floor 127, X = 255 or 0. */
+static uint8_t enc_chan_f32(uint32_t x, uint32_t xe)
+{
+    uint32_t be = (x >> 23) & 0xFFu;
+    uint32_t sig = x & 0x007FFFFFu;
+    uint32_t sh;
+    if (be != 0u) {
+        sig |= 0x00800000u;
+        sh = 24u + xe - be;
+    } else {
+        sh = 23u + xe; /* subnormal: be counts as 1 */
+    }
+    uint32_t q = sh < 32u ? (sig * 255u) >> sh : 0u;
+    return (uint8_t)((x >> 31) != 0u ? 127u - q : 128u + q);
+}
+
+static unsigned enc_px_f32(uint32_t r, uint32_t g, uint32_t b, uint8_t *out)
+{
+    /* |x| of a binary32 orders like its bit pattern without the sign */
+    uint32_t ar = r & 0x7FFFFFFFu, ag = g & 0x7FFFFFFFu, ab = b & 0x7FFFFFFFu;
+    uint32_t mx = ar > ag ? ar : ag;
+    if (ab > mx)
+        mx = ab;
+    uint32_t xe;
+    unsigned flags = 0u;
+    if (mx - 0x00800000u < 0x7F800000u - 0x00800000u) {
+        xe = (mx >> 23) + 1u; /* normal maximum: e = be - 127 + 2, E = e + 126 */
+    } else if (mx >= 0x7F800000u) {
+        if (ar > 0x7F800000u || ag > 0x7F800000u || ab > 0x7F800000u) {
+            put_zero(0u, 0u, 0u, out);
+            return F_NAN;
+        }
+        xe = 255u; /* an infinity: saturate at the largest exponent */
+        flags = F_INF;
+    } else if (mx >= 0x00400000u) {
+        xe = 1u; /* subnormal maximum in [2^-127, 2^-126): e = -125 */
+    } else if (mx >= 0x00200000u) {
+        xe = 0u; /* [2^-128, 2^-127): e = -126 */
+    } else {
+        put_zero(r >> 31, g >> 31, b >> 31, out); /* below 2^-128, or zero: flush */
+        return 0u;
+    }
+    uint8_t cr = enc_chan_f32(r, xe), cg = enc_chan_f32(g, xe), cb = enc_chan_f32(b, xe);
+    out[0] = cr;
+    out[1] = cg;
+    out[2] = cb;
+    out[3] = (uint8_t)xe;
+    return flags;
+}
+
+/* ---- encode from int32 * 2^-frac_bits ------------------------------------------------------- */
+
+/* floor(log2(x)) for x != 0 */
+static int msb_u32(uint32_t x)
+{
+    int n = 0;
+    if (x >= 0x10000u) {
+        x >>= 16;
+        n += 16;
+    }
+    if (x >= 0x100u) {
+        x >>= 8;
+        n += 8;
+    }
+    if (x >= 0x10u) {
+        x >>= 4;
+        n += 4;
+    }
+    if (x >= 0x4u) {
+        x >>= 2;
+        n += 2;
+    }
+    if (x >= 0x2u)
+        n += 1;
+    return n;
+}
+
+/* min(127, floor(255 a / 2^sh)) for any sh <= 33 (sh <= 0 only on the overflow path) */
+static uint32_t enc_quant_s32(uint32_t a, int sh)
+{
+    if (sh <= 0)
+        return a != 0u ? 127u : 0u; /* 255 a 2^-sh >= 255 a */
+    uint64_t p = qibl_mul_u32_u64(a, 255u); /* < 2^40; (a << 8) - a would become __aeabi_lmul */
+    uint64_t q = qibl_shr_u64(p, (unsigned)sh);
+    return q > 127u ? 127u : (uint32_t)q;
+}
+
+static unsigned enc_px_s32(int32_t r, int32_t g, int32_t b, int frac_bits, uint8_t *out)
+{
+    /* magnitudes in unsigned arithmetic: -INT32_MIN is not an int32 */
+    uint32_t ar = r < 0 ? 0u - (uint32_t)r : (uint32_t)r;
+    uint32_t ag = g < 0 ? 0u - (uint32_t)g : (uint32_t)g;
+    uint32_t ab = b < 0 ? 0u - (uint32_t)b : (uint32_t)b;
+    uint32_t mx = ar > ag ? ar : ag;
+    if (ab > mx)
+        mx = ab;
+    if (mx == 0u) {
+        put_zero(0u, 0u, 0u, out); /* integers have no -0 */
+        return 0u;
+    }
+    /* Clamping frac_bits to +-300 changes no result (e would still be far below -126 or above
+     * 129) and keeps k + 2 - f inside int. */
+    int f = frac_bits > 300 ? 300 : frac_bits < -300 ? -300 : frac_bits;
+    int k = msb_u32(mx);
+    int e = k + 2 - f; /* paper: floor(log2(max)) + 2 */
+    unsigned flags = 0u;
+    int sh = k + 2; /* = e + f: 255 |c| 2^-e = 255 a 2^-sh; the maximum gives y in [63.75, 127.5) */
+    if (e < QIBL_SRGBE_E_MIN) {
+        put_zero(0u, 0u, 0u, out);
+        return 0u;
+    }
+    if (e > QIBL_SRGBE_E_MAX) {
+        e = QIBL_SRGBE_E_MAX;
+        sh = QIBL_SRGBE_E_MAX + f; /* < k + 2: the largest channels clamp to 127 */
+        flags = F_OVERFLOW;
+    }
+    uint32_t qr = enc_quant_s32(ar, sh), qg = enc_quant_s32(ag, sh), qb = enc_quant_s32(ab, sh);
+    out[0] = (uint8_t)(r < 0 ? 127u - qr : 128u + qr);
+    out[1] = (uint8_t)(g < 0 ? 127u - qg : 128u + qg);
+    out[2] = (uint8_t)(b < 0 ? 127u - qb : 128u + qb);
+    out[3] = (uint8_t)(e + QIBL_SRGBE_E_BIAS);
+    return flags;
+}
+
+/* ---- decode to binary32 --------------------------------------------------------------------- */
+
+static uint32_t dec_chan_f32(uint32_t x, uint32_t xe, unsigned *flags)
+{
+    uint32_t sign = x < 128u ? 0x80000000u : 0u;
+    uint32_t m = x < 128u ? 255u - 2u * x : 2u * x - 255u; /* odd, 1..255 */
+    if (m == 255u) { /* exactly 2^(e-1) = 2^(xe - 127) */
+        if (xe == 255u) {
+            *flags |= F_DSAT;
+            return sign | 0x7F7FFFFFu; /* 2^128: saturate to FLT_MAX */
+        }
+        return sign | (xe != 0u ? xe << 23 : 0x00400000u);
+    }
+    uint32_t f = m * 0x01010101u; /* first 32 bits of m/255; the leading one is at bit 24..30 */
+    uint32_t n = 0u;
+    /* normalise the leading one to bit 31 (n <= 7, so bits 31..7 stay exact: zeros shifted in at
+     * the bottom are below every bit used) */
+    if (f < 0x10000000u) {
+        f <<= 4;
+        n = 4u;
+    }
+    if (f < 0x40000000u) {
+        f <<= 2;
+        n += 2u;
+    }
+    if (f < 0x80000000u) {
+        f <<= 1;
+        n += 1u;
+    }
+    /* |c| = (f / 2^31) * 2^(xe - 128 - n): biased binary32 exponent B = xe - 1 - n */
+    if (xe > n + 1u) /* B >= 1: normal; (B - 1) << 23 plus the 24-bit significand carries right */
+        return sign | (((xe - 2u - n) << 23) + (f >> 8) + ((f >> 7) & 1u));
+    /* B in -8..0: subnormal field round(f * 2^(B - 9)), shift 9 - B in 9..17 */
+    uint32_t s = 10u + n - xe;
+    return sign | ((f >> s) + ((f >> (s - 1u)) & 1u));
+}
+
+static unsigned dec_px_f32(const uint8_t *code, uint32_t *out)
+{
+    unsigned flags = 0u;
+    uint32_t xe = code[3];
+    uint32_t r = dec_chan_f32(code[0], xe, &flags);
+    uint32_t g = dec_chan_f32(code[1], xe, &flags);
+    uint32_t b = dec_chan_f32(code[2], xe, &flags);
+    out[0] = r; /* all code bytes are read before the first write: code and out may overlap */
+    out[1] = g;
+    out[2] = b;
+    return flags;
+}
+
+/* ---- decode to int32 * 2^-frac_bits --------------------------------------------------------- */
+
+/* round_half_up(+-m 2^s / 255) saturated to int32, s = E - 127 + frac_bits. All 32-bit: with
+ * x = m/255 and f = m * 0x01010101 = floor(x 2^32),
+ *   round(x 2^s) = floor((floor(x 2^(s+1)) + 1) / 2) = ((f >> (31 - s)) + 1) >> 1   for s in 0..31
+ * (the tail of x below f's last bit is < 1 unit, so it cannot move these floors), and since
+ * 256 x = m + x (the period-8 expansion),
+ *   round(x 2^s) = m 2^(s-8) + round(x 2^(s-8))                                     for s in 32..39. */
+static int32_t dec_chan_s32(uint32_t x, int s, unsigned *flags)
+{
+    int neg = x < 128u;
+    uint32_t m = neg ? 255u - 2u * x : 2u * x - 255u;
+    uint32_t mag = 0u; /* round(|c|) (no tie for m < 255), or exactly 2^s for m = 255 */
+    int sat = 0;
+    if (m == 255u) {
+        if (s >= 32)
+            sat = 1;
+        else if (s >= 0)
+            mag = (uint32_t)1u << s;
+        else
+            return s == -1 && !neg ? 1 : 0; /* +-1/2 LSB: ties toward +infinity; below: 0 */
+    } else if (s < 0) {
+        return 0; /* |c| 2^frac_bits < 2^s <= 1/2: rounds to 0 with either sign */
+    } else {
+        uint32_t f = m * 0x01010101u;
+        if (s <= 31) {
+            mag = ((f >> (31 - s)) + 1u) >> 1; /* <= round(253/255 2^31) < 2^31 */
+        } else if (s <= 39) {
+            unsigned t = (unsigned)s - 8u; /* 24..31 */
+            if (m >= (0x80000000u >> t))
+                sat = 1; /* m 2^t >= 2^31 and the rounded rest is >= 1: beyond either end */
+            else
+                mag = (m << t) + (((f >> (39 - s)) + 1u) >> 1);
+        } else {
+            sat = 1; /* |c| > 2^(s-8) >= 2^32 */
+        }
+    }
+    if (neg) {
+        if (sat || mag > 0x80000000u) {
+            *flags |= F_DSAT;
+            return INT32_MIN;
+        }
+        return mag == 0x80000000u ? INT32_MIN : -(int32_t)mag;
+    }
+    if (sat || mag > 0x7FFFFFFFu) {
+        *flags |= F_DSAT;
+        return INT32_MAX;
+    }
+    return (int32_t)mag;
+}
+
+static unsigned dec_px_s32(const uint8_t *code, int frac_bits, int32_t *out)
+{
+    unsigned flags = 0u;
+    /* clamping to +-300 changes no result (s stays above 39 or below -1) and keeps s inside int */
+    int f = frac_bits > 300 ? 300 : frac_bits < -300 ? -300 : frac_bits;
+    int s = (int)code[3] - 127 + f;
+    int32_t r = dec_chan_s32(code[0], s, &flags);
+    int32_t g = dec_chan_s32(code[1], s, &flags);
+    int32_t b = dec_chan_s32(code[2], s, &flags);
+    out[0] = r;
+    out[1] = g;
+    out[2] = b;
+    return flags;
+}
+
+/* ---- public entry points -------------------------------------------------------------------- */
+
+qibl_status_t qibl_srgbe_encode_f32(const uint32_t rgb[3], uint8_t code[4])
+{
+    if (rgb == 0 || code == 0)
+        return QIBL_E_NULL_POINTER;
+    return status_of(enc_px_f32(rgb[0], rgb[1], rgb[2], code));
+}
+
+qibl_status_t qibl_srgbe_encode_s32(const int32_t rgb[3], int frac_bits, uint8_t code[4])
+{
+    if (rgb == 0 || code == 0)
+        return QIBL_E_NULL_POINTER;
+    return status_of(enc_px_s32(rgb[0], rgb[1], rgb[2], frac_bits, code));
+}
+
+qibl_status_t qibl_srgbe_encode_q16(const qibl_q16_t rgb[3], uint8_t code[4])
+{
+    return qibl_srgbe_encode_s32(rgb, 16, code);
+}
+
+qibl_status_t qibl_srgbe_decode_f32(const uint8_t code[4], uint32_t rgb[3])
+{
+    if (code == 0 || rgb == 0)
+        return QIBL_E_NULL_POINTER;
+    return status_of(dec_px_f32(code, rgb));
+}
+
+qibl_status_t qibl_srgbe_decode_s32(const uint8_t code[4], int frac_bits, int32_t rgb[3])
+{
+    if (code == 0 || rgb == 0)
+        return QIBL_E_NULL_POINTER;
+    return status_of(dec_px_s32(code, frac_bits, rgb));
+}
+
+qibl_status_t qibl_srgbe_decode_q16(const uint8_t code[4], qibl_q16_t rgb[3])
+{
+    return qibl_srgbe_decode_s32(code, 16, rgb);
+}
+
+qibl_status_t qibl_srgbe_encode_f32_n(const uint32_t *restrict rgb, size_t n, uint8_t *restrict codes)
+{
+    if (rgb == 0 || codes == 0)
+        return QIBL_E_NULL_POINTER;
+    unsigned flags = 0u;
+    for (size_t i = 0; i < n; ++i, rgb += 3, codes += 4)
+        flags |= enc_px_f32(rgb[0], rgb[1], rgb[2], codes);
+    return status_of(flags);
+}
+
+qibl_status_t qibl_srgbe_encode_s32_n(const int32_t *restrict rgb, size_t n, int frac_bits,
+                                      uint8_t *restrict codes)
+{
+    if (rgb == 0 || codes == 0)
+        return QIBL_E_NULL_POINTER;
+    unsigned flags = 0u;
+    for (size_t i = 0; i < n; ++i, rgb += 3, codes += 4)
+        flags |= enc_px_s32(rgb[0], rgb[1], rgb[2], frac_bits, codes);
+    return status_of(flags);
+}
+
+qibl_status_t qibl_srgbe_encode_q16_n(const qibl_q16_t *restrict rgb, size_t n, uint8_t *restrict codes)
+{
+    return qibl_srgbe_encode_s32_n(rgb, n, 16, codes);
+}
+
+qibl_status_t qibl_srgbe_decode_f32_n(const uint8_t *restrict codes, size_t n, uint32_t *restrict rgb)
+{
+    if (codes == 0 || rgb == 0)
+        return QIBL_E_NULL_POINTER;
+    unsigned flags = 0u;
+    for (size_t i = 0; i < n; ++i, codes += 4, rgb += 3)
+        flags |= dec_px_f32(codes, rgb);
+    return status_of(flags);
+}
+
+qibl_status_t qibl_srgbe_decode_s32_n(const uint8_t *restrict codes, size_t n, int frac_bits,
+                                      int32_t *restrict rgb)
+{
+    if (codes == 0 || rgb == 0)
+        return QIBL_E_NULL_POINTER;
+    unsigned flags = 0u;
+    for (size_t i = 0; i < n; ++i, codes += 4, rgb += 3)
+        flags |= dec_px_s32(codes, frac_bits, rgb);
+    return status_of(flags);
+}
+
+qibl_status_t qibl_srgbe_decode_q16_n(const uint8_t *restrict codes, size_t n, qibl_q16_t *restrict rgb)
+{
+    return qibl_srgbe_decode_s32_n(codes, n, 16, rgb);
+}
+
+#else
+typedef int qibl_srgbe_disabled_t; /* ISO C forbids an empty translation unit */
+#endif /* QIBL_USE_SRGBE */

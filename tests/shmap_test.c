@@ -1,0 +1,539 @@
+/*
+ * shmap_test.c - relighting kernels (qibl/shmap.h) against a double-precision evaluation of
+ * sum_i T_i(p) L_i from the same 8-bit maps; light coefficients against the double SH reference;
+ * point lights (direct and cube-map LUT) against sum_i T_i(p) Y_i(L) att(|L|); accumulator bounds at
+ * the extremes; every error status with nothing written.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <math.h>
+#include <stdio.h>
+#include <cmocka.h>
+
+#include "qibl/shmap.h"
+#include "ref/sh_ref.h"
+#include "testutil.h"
+
+#define Q16 65536.0
+#define Q24 16777216.0
+
+/* ---- random maps held in memory (the qibl_shmaps_t view filled by hand) ----------------------- */
+typedef struct {
+    qibl_shmaps_t m;
+    uint8_t *params, *planes;
+} maps_buf;
+
+static void put_s32(uint8_t *p, int32_t v)
+{
+    uint32_t u = (uint32_t)v;
+    p[0] = (uint8_t)u, p[1] = (uint8_t)(u >> 8), p[2] = (uint8_t)(u >> 16), p[3] = (uint8_t)(u >> 24);
+}
+
+/* scale_mag: largest |scale| in Q8.24; biases up to 128 * scale_mag in magnitude */
+static void maps_make(maps_buf *b, uint32_t w, uint32_t h, uint32_t k, uint32_t ch, tu_rng *r, int32_t scale_mag)
+{
+    b->m.width = w, b->m.height = h, b->m.k = k, b->m.channels = ch;
+    b->params = malloc(8u * k * ch);
+    b->planes = malloc((size_t)w * h * k * ch);
+    assert_non_null(b->params);
+    assert_non_null(b->planes);
+    for (uint32_t i = 0; i < k * ch; ++i) {
+        int32_t sc = (int32_t)(tu_u32(r) % (uint32_t)scale_mag) - scale_mag / 2;
+        int32_t bi = -128 * sc + (int32_t)(tu_u32(r) % 2001u) - 1000; /* centred ranges, as packing gives */
+        put_s32(b->params + 8u * i, sc);
+        put_s32(b->params + 8u * i + 4u, bi);
+    }
+    for (size_t i = 0; i < (size_t)w * h * k * ch; ++i)
+        b->planes[i] = (uint8_t)tu_u32(r);
+    b->m.params = b->params;
+    b->m.planes = b->planes;
+}
+
+static void maps_free(maps_buf *b)
+{
+    free(b->params);
+    free(b->planes);
+}
+
+static double decoded(const qibl_shmaps_t *m, uint32_t i, uint32_t ch, uint32_t x, uint32_t y)
+{
+    uint8_t c = qibl_shmaps_plane(m, i, ch)[(size_t)y * m->width + x];
+    return (qibl_shmaps_bias(m, i, ch) + (double)qibl_shmaps_scale(m, i, ch) * c) / Q24;
+}
+
+/* ---- light coefficients ---------------------------------------------------------------------- */
+
+static void test_shlight_add_dir_matches_reference(void **state)
+{
+    (void)state;
+    tu_rng r = {41};
+    for (int it = 0; it < 2000; ++it) {
+        qibl_shlight_t l;
+        assert_int_equal(qibl_shlight_init(&l, 25), QIBL_OK);
+        qibl_q16_t d[3] = {tu_s32(&r) >> 8, tu_s32(&r) >> 8, tu_s32(&r) >> 8};
+        qibl_q16_t rgb[3] = {(int32_t)(tu_u32(&r) % (40u << 16)), (int32_t)(tu_u32(&r) % (1u << 16)), 65536};
+        if (!d[0] && !d[1] && !d[2])
+            continue;
+        assert_int_equal(qibl_shlight_add_dir(&l, d, rgb), QIBL_OK);
+        double y[25];
+        qibl_ref_sh_eval(d[0], d[1], d[2], 5, y);
+        for (int ch = 0; ch < 3; ++ch)
+            for (int i = 0; i < 25; ++i) {
+                double want = rgb[ch] * y[i]; /* in Q16.16 LSB */
+                assert_true(fabs(l.c[ch][i] - want) <= 0.5 + fabs((double)rgb[ch]) * 3e-8 + 1e-9);
+            }
+    }
+    qibl_shlight_t l;
+    assert_int_equal(qibl_shlight_init(&l, 0), QIBL_E_SHMAP_K);
+    assert_int_equal(qibl_shlight_init(&l, 26), QIBL_E_SHMAP_K);
+    assert_int_equal(qibl_shlight_init(0, 4), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_shlight_init(&l, 4), QIBL_OK);
+    const qibl_q16_t z[3] = {0, 0, 0}, one[3] = {65536, 65536, 65536};
+    assert_int_equal(qibl_shlight_add_dir(&l, z, one), QIBL_E_ZERO_VECTOR);
+    for (int i = 0; i < 4; ++i)
+        assert_int_equal(l.c[0][i], 0); /* untouched */
+}
+
+/* ---- directional / environment --------------------------------------------------------------- */
+
+/* Relights the whole image with w and compares with the double evaluation of sum_i T_i L_i.
+ * Returns the max error in units of the documented bound (must be <= 1). */
+static double check_relight(const qibl_shmaps_t *m, const qibl_shlight_t *l, double *max_abs)
+{
+    qibl_shmap_weights_t w;
+    assert_int_equal(qibl_shmap_weights(m, l, &w), QIBL_OK);
+    uint32_t n = m->width;
+    int32_t *out = malloc(sizeof(int32_t) * 3u * (n + 1u));
+    void *ws = malloc(qibl_shmap_span_workspace_size(n));
+    assert_non_null(out);
+    assert_non_null(ws);
+    double worst = 0.0, worst_abs = 0.0;
+    for (uint32_t y = 0; y < m->height; ++y) {
+        out[3u * n] = 0x7EADBEEF;
+        assert_int_equal(qibl_shmap_relight_span(m, &w, 0, y, n, out, ws, qibl_shmap_span_workspace_size(n)), QIBL_OK);
+        assert_int_equal(out[3u * n], 0x7EADBEEF);
+        for (uint32_t x = 0; x < n; ++x)
+            for (uint32_t ch = 0; ch < 3; ++ch) {
+                uint32_t src = m->channels == 3 ? ch : 0;
+                double want = 0.0;
+                for (uint32_t i = 0; i < m->k; ++i)
+                    want += decoded(m, i, src, x, y) * (l->c[ch][i] / Q16);
+                double got = out[3u * x + ch] / Q16;
+                if (fabs(want) * Q16 > 2147483000.0)
+                    continue; /* saturated by design */
+                /* bound: 0.5 weight-LSB per map times the byte, plus bias and final rounding */
+                double bound = m->k * 127.5 * ldexp(1.0, w.shift[ch] - 16) + 2.0 / Q16 + 1e-12;
+                double e = fabs(got - want);
+                if (e / bound > worst)
+                    worst = e / bound;
+                if (e > worst_abs)
+                    worst_abs = e;
+            }
+    }
+    free(out);
+    free(ws);
+    if (max_abs)
+        *max_abs = worst_abs;
+    return worst;
+}
+
+static void test_directional_against_double(void **state)
+{
+    (void)state;
+    tu_rng r = {42};
+    const uint32_t ks[] = {1, 4, 9, 10, 16, 25};
+    double worst = 0.0, worst_abs = 0.0;
+    for (size_t ki = 0; ki < sizeof ks / sizeof ks[0]; ++ki)
+        for (uint32_t ch = 1; ch <= 3; ch += 2) {
+            maps_buf b;
+            maps_make(&b, 37, 5, ks[ki], ch, &r, 1 << 16);
+            for (int it = 0; it < 8; ++it) {
+                qibl_shlight_t l;
+                qibl_shlight_init(&l, 25);
+                qibl_q16_t d[3] = {tu_s32(&r) >> 4, tu_s32(&r) >> 4, tu_s32(&r) >> 4};
+                qibl_q16_t rgb[3] = {(int32_t)(tu_u32(&r) % (8u << 16)), (int32_t)(tu_u32(&r) % (8u << 16)), 1 << 16};
+                assert_int_equal(qibl_shlight_add_dir(&l, d, rgb), QIBL_OK);
+                double a;
+                double e = check_relight(&b.m, &l, &a);
+                if (e > worst)
+                    worst = e;
+                if (a > worst_abs)
+                    worst_abs = a;
+            }
+            maps_free(&b);
+        }
+    printf("shmap: directional, max error = %.3f of the documented bound (max abs %.3e)\n", worst, worst_abs);
+    assert_true(worst <= 1.0);
+}
+
+static void test_environment_and_many_lights(void **state)
+{
+    (void)state;
+    tu_rng r = {43};
+    maps_buf b;
+    maps_make(&b, 64, 3, 16, 3, &r, 1 << 15);
+    /* an environment: arbitrary signed coefficients per channel */
+    qibl_shlight_t env;
+    qibl_shlight_init(&env, 16);
+    for (int ch = 0; ch < 3; ++ch)
+        for (int i = 0; i < 16; ++i)
+            env.c[ch][i] = (int32_t)(tu_u32(&r) % (4u << 16)) - (2 << 16);
+    assert_true(check_relight(&b.m, &env, NULL) <= 1.0);
+    /* eight directional lights at once equal their summed coefficients */
+    qibl_shlight_t many;
+    qibl_shlight_init(&many, 16);
+    for (int j = 0; j < 8; ++j) {
+        qibl_q16_t d[3] = {tu_s32(&r) >> 8, tu_s32(&r) >> 8, tu_s32(&r) >> 8};
+        qibl_q16_t rgb[3] = {1 << 15, 1 << 14, 1 << 16};
+        assert_int_equal(qibl_shlight_add_dir(&many, d, rgb), QIBL_OK);
+    }
+    assert_true(check_relight(&b.m, &many, NULL) <= 1.0);
+    maps_free(&b);
+}
+
+static void test_spans_equal_whole_rows(void **state)
+{
+    (void)state;
+    tu_rng r = {44};
+    maps_buf b;
+    maps_make(&b, 203, 4, 9, 3, &r, 1 << 16);
+    qibl_shlight_t l;
+    qibl_shlight_init(&l, 9);
+    const qibl_q16_t d[3] = {1 << 16, -(1 << 15), 3 << 14}, rgb[3] = {3 << 16, 2 << 16, 1 << 16};
+    qibl_shlight_add_dir(&l, d, rgb);
+    qibl_shmap_weights_t w;
+    assert_int_equal(qibl_shmap_weights(&b.m, &l, &w), QIBL_OK);
+    int32_t whole[203 * 3], part[203 * 3];
+    int32_t ws[203 * 3];
+    for (uint32_t y = 0; y < 4; ++y) {
+        assert_int_equal(qibl_shmap_relight_span(&b.m, &w, 0, y, 203, whole, ws, sizeof ws), QIBL_OK);
+        uint32_t x = 0;
+        while (x < 203) {
+            uint32_t n = 1 + tu_u32(&r) % 40u;
+            if (n > 203 - x)
+                n = 203 - x;
+            assert_int_equal(qibl_shmap_relight_span(&b.m, &w, x, y, n, part + 3 * x, ws, sizeof ws), QIBL_OK);
+            x += n;
+        }
+        assert_memory_equal(whole, part, sizeof whole);
+    }
+    maps_free(&b);
+}
+
+static void test_accumulator_extremes(void **state)
+{
+    (void)state;
+    /* k = 25, every byte 255, every scale at the largest magnitude of either sign: the int16 weights hit
+     * +-32767 and the accumulator its proven bound 25 * 255 * 32767 without overflow */
+    for (int sign = -1; sign <= 1; sign += 2) {
+        maps_buf b;
+        tu_rng r = {45};
+        maps_make(&b, 8, 1, 25, 1, &r, 2);
+        for (uint32_t i = 0; i < 25; ++i) {
+            put_s32(b.params + 8u * i, sign * 0x7FFF0000);
+            put_s32(b.params + 8u * i + 4u, 0);
+        }
+        for (size_t i = 0; i < 8u * 25u; ++i)
+            b.planes[i] = 255;
+        qibl_shlight_t l;
+        qibl_shlight_init(&l, 25);
+        for (int ch = 0; ch < 3; ++ch)
+            for (int i = 0; i < 25; ++i)
+                l.c[ch][i] = 1 << 4; /* tiny light so the sum stays inside Q16.16 */
+        qibl_shmap_weights_t w;
+        assert_int_equal(qibl_shmap_weights(&b.m, &l, &w), QIBL_OK);
+        for (int i = 0; i < 25; ++i)
+            assert_int_equal(abs(w.w[0][i]), 32767);
+        double e = check_relight(&b.m, &l, NULL);
+        assert_true(e <= 1.0);
+        /* and a light so bright that the result saturates cleanly instead of wrapping */
+        for (int ch = 0; ch < 3; ++ch)
+            for (int i = 0; i < 25; ++i)
+                l.c[ch][i] = INT32_MAX;
+        assert_int_equal(qibl_shmap_weights(&b.m, &l, &w), QIBL_OK);
+        int32_t out[24], ws[24];
+        assert_int_equal(qibl_shmap_relight_span(&b.m, &w, 0, 0, 8, out, ws, sizeof ws), QIBL_OK);
+        for (int i = 0; i < 24; ++i)
+            assert_int_equal(out[i], sign > 0 ? INT32_MAX : INT32_MIN);
+        maps_free(&b);
+    }
+}
+
+static void test_relight_errors_write_nothing(void **state)
+{
+    (void)state;
+    tu_rng r = {46};
+    maps_buf b;
+    maps_make(&b, 16, 2, 4, 3, &r, 1 << 16);
+    qibl_shlight_t l;
+    qibl_shlight_init(&l, 4);
+    qibl_shmap_weights_t w;
+    assert_int_equal(qibl_shmap_weights(&b.m, &l, &w), QIBL_OK);
+    int32_t out[16 * 3], ws[16 * 3];
+    tu_fill_guard(out, sizeof out);
+    assert_int_equal(qibl_shmap_relight_span(&b.m, &w, 0, 2, 16, out, ws, sizeof ws), QIBL_E_SHMAP_BOUNDS);
+    assert_int_equal(qibl_shmap_relight_span(&b.m, &w, 1, 0, 16, out, ws, sizeof ws), QIBL_E_SHMAP_BOUNDS);
+    assert_int_equal(qibl_shmap_relight_span(&b.m, &w, 17, 0, 0, out, ws, sizeof ws), QIBL_E_SHMAP_BOUNDS);
+    assert_int_equal(qibl_shmap_relight_span(&b.m, &w, 0, 0, 16, out, ws, sizeof ws - 1), QIBL_E_WORKSPACE);
+    assert_int_equal(qibl_shmap_relight_span(&b.m, &w, 0, 0, 16, out, 0, sizeof ws), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_shmap_relight_span(&b.m, 0, 0, 0, 16, out, ws, sizeof ws), QIBL_E_NULL_POINTER);
+    qibl_shmap_weights_t w2 = w;
+    w2.k = 5;
+    assert_int_equal(qibl_shmap_relight_span(&b.m, &w2, 0, 0, 16, out, ws, sizeof ws), QIBL_E_SHMAP_MISMATCH);
+    qibl_shmaps_t bad = b.m;
+    bad.k = 0;
+    assert_int_equal(qibl_shmap_relight_span(&bad, &w, 0, 0, 16, out, ws, sizeof ws), QIBL_E_SHMAP_K);
+    bad = b.m, bad.k = 26;
+    assert_int_equal(qibl_shmap_check(&bad), QIBL_E_SHMAP_K);
+    bad = b.m, bad.channels = 2;
+    assert_int_equal(qibl_shmap_relight_span(&bad, &w, 0, 0, 16, out, ws, sizeof ws), QIBL_E_SHMAP_CHANNELS);
+    bad = b.m, bad.width = 0;
+    assert_int_equal(qibl_shmap_check(&bad), QIBL_E_SHMAP_SIZE);
+    bad = b.m, bad.planes = 0;
+    assert_int_equal(qibl_shmap_check(&bad), QIBL_E_NULL_POINTER);
+    assert_true(tu_guard_intact(out, sizeof out));
+    /* weights: a light with fewer coefficients than the maps */
+    qibl_shlight_t l3;
+    qibl_shlight_init(&l3, 3);
+    qibl_shmap_weights_t wg;
+    tu_fill_guard(&wg, sizeof wg);
+    assert_int_equal(qibl_shmap_weights(&b.m, &l3, &wg), QIBL_E_SHMAP_LIGHT_K);
+    assert_true(tu_guard_intact(&wg, sizeof wg));
+    maps_free(&b);
+}
+
+/* ---- point lights ---------------------------------------------------------------------------- */
+
+typedef struct {
+    uint8_t *bytes;
+    qibl_pmap_t p;
+} pmap_buf;
+
+static void pmap_make(pmap_buf *pb, uint32_t w, uint32_t h, tu_rng *r)
+{
+    pb->bytes = malloc((size_t)w * h * 12u);
+    assert_non_null(pb->bytes);
+    for (size_t i = 0; i < (size_t)w * h * 3u; ++i) /* points within +-8 units */
+        put_s32(pb->bytes + 4u * i, (int32_t)(tu_u32(r) % (16u << 16)) - (8 << 16));
+    pb->p.width = w, pb->p.height = h, pb->p.points = pb->bytes;
+}
+
+/* double reference of one point-light pixel; y_of(u) gives Y_i at a unit direction */
+static double point_ref(const qibl_shmaps_t *m, const qibl_pmap_t *p, const qibl_pointlight_t *pl, uint32_t x,
+                        uint32_t y, uint32_t ch, const double *yv, double *dist)
+{
+    qibl_q16_t pt[3];
+    qibl_pmap_point(p, x, y, pt);
+    double l[3], d = 0.0;
+    for (int j = 0; j < 3; ++j) {
+        l[j] = (pl->pos[j] - (double)pt[j]) / Q16;
+        d += l[j] * l[j];
+    }
+    d = sqrt(d);
+    *dist = d;
+    double md = (pl->min_dist ? pl->min_dist : 256) / Q16;
+    double dd = d < md ? md : d;
+    double att = pl->falloff == QIBL_FALLOFF_INV_DIST ? 1.0 / dd : 1.0 / (dd * dd);
+    uint32_t src = m->channels == 3 ? ch : 0;
+    double t = 0.0;
+    for (uint32_t i = 0; i < m->k; ++i)
+        t += decoded(m, i, src, x, y) * yv[i];
+    return t * att * (pl->rgb[ch] / Q16);
+}
+
+static void check_point(const qibl_shmaps_t *m, const qibl_pmap_t *p, const qibl_ylut_t *lut,
+                        const qibl_pointlight_t *pl, double tol_rel, double *worst_rel)
+{
+    size_t wsn = qibl_shmap_point_workspace_size(m);
+    void *ws = malloc(wsn);
+    qibl_shmap_point_t st;
+    assert_int_equal(qibl_shmap_point_prepare(m, p, lut, pl, ws, wsn, &st), QIBL_OK);
+    int32_t *out = malloc(sizeof(int32_t) * 3u * m->width);
+    for (uint32_t y = 0; y < m->height; ++y) {
+        assert_int_equal(qibl_shmap_point_span(&st, 0, y, m->width, out), QIBL_OK);
+        for (uint32_t x = 0; x < m->width; ++x) {
+            qibl_q16_t pt[3];
+            qibl_pmap_point(p, x, y, pt);
+            double yv[25], dist;
+            if (qibl_ref_sh_eval(pl->pos[0] - (double)pt[0], pl->pos[1] - (double)pt[1], pl->pos[2] - (double)pt[2],
+                                 5, yv) != 0) {
+                assert_true(out[3 * x] == 0 && out[3 * x + 1] == 0 && out[3 * x + 2] == 0);
+                continue;
+            }
+            /* scale of the error: sum_i |T_i| |Y_i| att C0, the size of the terms that were summed */
+            for (uint32_t ch = 0; ch < 3; ++ch) {
+                double want = point_ref(m, p, pl, x, y, ch, yv, &dist);
+                double mag = 0.0;
+                uint32_t src = m->channels == 3 ? ch : 0;
+                for (uint32_t i = 0; i < m->k; ++i) {
+                    /* the largest decoded magnitude of map i sets its rounding unit */
+                    double a = fabs(qibl_shmaps_bias(m, i, src) / Q24);
+                    double bb = fabs((qibl_shmaps_bias(m, i, src) + 255.0 * qibl_shmaps_scale(m, i, src)) / Q24);
+                    mag += (a > bb ? a : bb) * 0.9;
+                }
+                double md = (pl->min_dist ? pl->min_dist : 256) / Q16, dd = dist < md ? md : dist;
+                mag *= (pl->falloff == QIBL_FALLOFF_INV_DIST ? 1.0 / dd : 1.0 / (dd * dd)) * (pl->rgb[ch] / Q16);
+                double e = fabs(out[3 * x + ch] / Q16 - want);
+                if (fabs(want) * Q16 > 2.1e9)
+                    continue;
+                double rel = e / (mag + 1e-300);
+                if (e > 2.0 / Q16 && rel > *worst_rel)
+                    *worst_rel = rel;
+                assert_true(e <= 2.0 / Q16 || rel <= tol_rel);
+            }
+        }
+    }
+    free(out);
+    free(ws);
+}
+
+static void test_point_light_direct_and_lut(void **state)
+{
+    (void)state;
+    tu_rng r = {47};
+    maps_buf b;
+    maps_make(&b, 40, 6, 16, 3, &r, 1 << 16);
+    pmap_buf pb;
+    pmap_make(&pb, 40, 6, &r);
+    qibl_pointlight_t pl = {{1 << 16, -(2 << 16), 3 << 16}, {2 << 16, 1 << 16, 1 << 15}, QIBL_FALLOFF_INV_DIST, 0};
+    double w_direct = 0.0, w_lut[3] = {0, 0, 0};
+    check_point(&b.m, &pb.p, NULL, &pl, 4e-4, &w_direct);
+    pl.falloff = QIBL_FALLOFF_INV_DIST2;
+    check_point(&b.m, &pb.p, NULL, &pl, 4e-4, &w_direct);
+    const uint32_t ns[3] = {16, 32, 64};
+    const double tol[3] = {0.05, 0.015, 0.004}; /* bilinear LUT error shrinks ~ 1/N^2 */
+    for (int li = 0; li < 3; ++li) {
+        size_t vs = qibl_ylut_values_size(ns[li], 16);
+        uint8_t *vals = malloc(vs);
+        assert_int_equal(qibl_ylut_build(ns[li], 16, vals, vs), QIBL_OK);
+        qibl_ylut_t lut = {ns[li], 16, vals};
+        check_point(&b.m, &pb.p, &lut, &pl, tol[li], &w_lut[li]);
+        free(vals);
+    }
+    printf("shmap: point light, max error / sum|T Y| att C0: direct %.2e, LUT 16^2 %.2e, 32^2 %.2e, 64^2 %.2e\n",
+           w_direct, w_lut[0], w_lut[1], w_lut[2]);
+    free(pb.bytes);
+    maps_free(&b);
+}
+
+static void test_point_light_hard_cases(void **state)
+{
+    (void)state;
+    tu_rng r = {48};
+    maps_buf b;
+    maps_make(&b, 4, 1, 9, 1, &r, 1 << 16);
+    pmap_buf pb;
+    pmap_make(&pb, 4, 1, &r);
+    /* pixel 0 exactly at the light, pixel 1 closer than min_dist, pixel 2 at the far end of int32 */
+    qibl_q16_t s[3] = {5 << 16, 6 << 16, -(7 << 16)};
+    for (int j = 0; j < 3; ++j) {
+        put_s32(pb.bytes + 4 * j, s[j]);
+        put_s32(pb.bytes + 12 + 4 * j, s[j] + (j == 0 ? 3 : 0));
+        put_s32(pb.bytes + 24 + 4 * j, j == 0 ? INT32_MIN : INT32_MAX);
+    }
+    qibl_pointlight_t pl = {{s[0], s[1], s[2]}, {1 << 16, 1 << 16, 1 << 16}, QIBL_FALLOFF_INV_DIST, 1 << 10};
+    double worst = 0.0;
+    check_point(&b.m, &pb.p, NULL, &pl, 4e-4, &worst);
+    pl.falloff = QIBL_FALLOFF_INV_DIST2;
+    check_point(&b.m, &pb.p, NULL, &pl, 4e-4, &worst);
+    /* light far outside: S at INT32_MIN corner */
+    pl.pos[0] = INT32_MIN, pl.pos[1] = INT32_MIN, pl.pos[2] = INT32_MAX;
+    check_point(&b.m, &pb.p, NULL, &pl, 4e-4, &worst);
+    /* errors */
+    size_t wsn = qibl_shmap_point_workspace_size(&b.m);
+    void *ws = malloc(wsn);
+    qibl_shmap_point_t st;
+    tu_fill_guard(&st, sizeof st);
+    qibl_pointlight_t bad = pl;
+    bad.rgb[1] = -1;
+    assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, NULL, &bad, ws, wsn, &st), QIBL_E_SHMAP_LIGHT);
+    bad = pl, bad.min_dist = -5;
+    assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, NULL, &bad, ws, wsn, &st), QIBL_E_SHMAP_LIGHT);
+    bad = pl, bad.falloff = (qibl_falloff_t)7;
+    assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, NULL, &bad, ws, wsn, &st), QIBL_E_SHMAP_LIGHT);
+    assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, NULL, &pl, ws, wsn - 1, &st), QIBL_E_WORKSPACE);
+    qibl_pmap_t p2 = pb.p;
+    p2.width = 5;
+    assert_int_equal(qibl_shmap_point_prepare(&b.m, &p2, NULL, &pl, ws, wsn, &st), QIBL_E_SHMAP_MISMATCH);
+    uint8_t lutv[6 * 4 * 8 * 2];
+    qibl_ylut_t small = {2, 8, lutv}; /* k 8 < maps' 9 */
+    assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, &small, &pl, ws, wsn, &st), QIBL_E_SHMAP_MISMATCH);
+    assert_true(tu_guard_intact(&st, sizeof st));
+    assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, NULL, &pl, ws, wsn, &st), QIBL_OK);
+    int32_t out[12];
+    tu_fill_guard(out, sizeof out);
+    assert_int_equal(qibl_shmap_point_span(&st, 2, 0, 3, out), QIBL_E_SHMAP_BOUNDS);
+    assert_int_equal(qibl_shmap_point_span(&st, 0, 1, 1, out), QIBL_E_SHMAP_BOUNDS);
+    assert_true(tu_guard_intact(out, sizeof out));
+    free(ws);
+    free(pb.bytes);
+    maps_free(&b);
+}
+
+/* ---- cube-map LUT ---------------------------------------------------------------------------- */
+
+static void test_ylut_build_and_lookup(void **state)
+{
+    (void)state;
+    const uint32_t n = 8, k = 25;
+    size_t vs = qibl_ylut_values_size(n, k);
+    assert_int_equal(vs, 6u * 8 * 8 * 25 * 2);
+    uint8_t *v = malloc(vs + 4);
+    tu_fill_guard(v, vs + 4);
+    assert_int_equal(qibl_ylut_build(n, k, v, vs), QIBL_OK);
+    assert_true(tu_guard_intact(v + vs, 4));
+    qibl_ylut_t t = {n, k, v};
+    /* at every texel centre the lookup returns the texel itself, which is Y there to 2^-14 */
+    for (uint32_t f = 0; f < 6; ++f)
+        for (uint32_t b = 0; b < n; ++b)
+            for (uint32_t a = 0; a < n; ++a) {
+                double s = (2.0 * a + 1) / n - 1, tt = (2.0 * b + 1) / n - 1, d[3];
+                switch (f) {
+                case 0: d[0] = 1, d[1] = -tt, d[2] = -s; break;
+                case 1: d[0] = -1, d[1] = -tt, d[2] = s; break;
+                case 2: d[0] = s, d[1] = 1, d[2] = tt; break;
+                case 3: d[0] = s, d[1] = -1, d[2] = -tt; break;
+                case 4: d[0] = s, d[1] = -tt, d[2] = 1; break;
+                default: d[0] = -s, d[1] = -tt, d[2] = -1; break;
+                }
+                double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]), yref[25];
+                qibl_ref_sh_eval(d[0], d[1], d[2], 5, yref);
+                qibl_q30_t u[3];
+                for (int j = 0; j < 3; ++j)
+                    u[j] = (int32_t)lrint(d[j] / len * 1073741824.0);
+                int32_t y14[25];
+                qibl_ylut_lookup(&t, u, k, y14);
+                const uint8_t *texel = v + (((size_t)f * n + b) * n + a) * k * 2;
+                for (uint32_t i = 0; i < k; ++i) {
+                    assert_true(fabs(y14[i] - yref[i] * 16384.0) <= 1.0);
+                    assert_true(abs(y14[i] - qibl_load_s16le(texel + 2 * i)) <= 1);
+                }
+            }
+    assert_int_equal(qibl_ylut_build(0, k, v, vs), QIBL_E_SHMAP_LUT_SIZE);
+    assert_int_equal(qibl_ylut_build(257, k, v, vs), QIBL_E_SHMAP_LUT_SIZE);
+    assert_int_equal(qibl_ylut_build(n, 26, v, vs), QIBL_E_SHMAP_K);
+    assert_int_equal(qibl_ylut_build(n, k, v, vs - 1), QIBL_E_WORKSPACE);
+    assert_int_equal(qibl_ylut_build(n, k, 0, vs), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_ylut_values_size(0, 4), 0);
+    free(v);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_shlight_add_dir_matches_reference),
+        cmocka_unit_test(test_directional_against_double),
+        cmocka_unit_test(test_environment_and_many_lights),
+        cmocka_unit_test(test_spans_equal_whole_rows),
+        cmocka_unit_test(test_accumulator_extremes),
+        cmocka_unit_test(test_relight_errors_write_nothing),
+        cmocka_unit_test(test_point_light_direct_and_lut),
+        cmocka_unit_test(test_point_light_hard_cases),
+        cmocka_unit_test(test_ylut_build_and_lookup),
+    };
+    return cmocka_run_group_tests_name(QIBL_CONFIG_NATIVE_MUL64 ? "shmap (native paths)" : "shmap (portable M0 paths)",
+                                       tests, NULL, NULL);
+}

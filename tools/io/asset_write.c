@@ -1,0 +1,284 @@
+/*
+ * io/asset_write.c - hosted writer of the qibl asset container (see asset_write.h).
+ *
+ * Bytes are stored one at a time with shifts, so the output is little-endian on any host; signed
+ * values go through uint32_t (a well-defined modular conversion), never through type punning.
+ */
+#include <errno.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "io/asset_write.h"
+
+static int fail(qibl_asset_builder *b, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(b->err, sizeof b->err, fmt, ap);
+    va_end(ap);
+    return -1;
+}
+
+void qibl_store_u32le(uint8_t *p, uint32_t v)
+{
+    p[0] = (uint8_t)v;
+    p[1] = (uint8_t)(v >> 8);
+    p[2] = (uint8_t)(v >> 16);
+    p[3] = (uint8_t)(v >> 24);
+}
+
+void qibl_store_s32le(uint8_t *p, int32_t v)
+{
+    qibl_store_u32le(p, (uint32_t)v);
+}
+
+void qibl_store_s16le(uint8_t *p, int16_t v)
+{
+    uint16_t u = (uint16_t)v;
+    p[0] = (uint8_t)u;
+    p[1] = (uint8_t)(u >> 8);
+}
+
+void qibl_asset_builder_init(qibl_asset_builder *b)
+{
+    memset(b, 0, sizeof *b);
+}
+
+void qibl_asset_builder_free(qibl_asset_builder *b)
+{
+    for (uint32_t i = 0; i < b->count; ++i)
+        free(b->chunks[i].data);
+    qibl_asset_builder_init(b);
+}
+
+int qibl_asset_builder_take(qibl_asset_builder *b, uint32_t type, uint8_t *data, size_t size)
+{
+    if (b->count >= QIBL_ASSET_MAX_CHUNKS) {
+        free(data);
+        return fail(b, "asset: more than %u chunks", QIBL_ASSET_MAX_CHUNKS);
+    }
+    if ((uint64_t)size > UINT32_MAX) {
+        free(data);
+        return fail(b, "asset: chunk of %zu bytes does not fit 32 bits", size);
+    }
+    b->chunks[b->count].type = type;
+    b->chunks[b->count].data = data;
+    b->chunks[b->count].size = size;
+    b->count++;
+    return 0;
+}
+
+int qibl_asset_builder_add(qibl_asset_builder *b, uint32_t type, const void *data, size_t size)
+{
+    uint8_t *copy = NULL;
+    if (size > 0) {
+        if ((uint64_t)size > UINT32_MAX)
+            return fail(b, "asset: chunk of %zu bytes does not fit 32 bits", size);
+        copy = malloc(size);
+        if (!copy)
+            return fail(b, "asset: out of memory");
+        memcpy(copy, data, size);
+    }
+    return qibl_asset_builder_take(b, type, copy, size);
+}
+
+/* header + items * item_size bytes, or -1 if it does not fit 32 bits; items given as factors */
+static int payload_alloc(qibl_asset_builder *b, const char *what, uint64_t header, uint64_t items,
+                         uint64_t item_size, uint8_t **out, size_t *size)
+{
+    /* every factor is a u32 (or small), so checking items against the limit first avoids wrap */
+    if (items > UINT32_MAX || header + items * item_size > UINT32_MAX)
+        return fail(b, "asset: %s payload does not fit 32 bits", what);
+    size_t n = (size_t)(header + items * item_size);
+    uint8_t *p = calloc(n, 1);
+    if (!p)
+        return fail(b, "asset: %s payload: out of memory", what);
+    *out = p;
+    *size = n;
+    return 0;
+}
+
+int qibl_asset_shmp_payload(qibl_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
+                            const int32_t *scale, const int32_t *bias, const uint8_t *planes,
+                            uint8_t **out, size_t *size)
+{
+    uint64_t pairs = (uint64_t)k * channels, pixels = (uint64_t)w * h;
+    if (pairs > UINT32_MAX || pixels > UINT32_MAX || pairs * pixels > UINT32_MAX)
+        return fail(b, "asset: SHMP payload does not fit 32 bits");
+    uint8_t *p = NULL;
+    size_t n = 0;
+    if (payload_alloc(b, "SHMP", 20, pairs, 8 + pixels, &p, &n) != 0)
+        return -1;
+    qibl_store_u32le(p, w);
+    qibl_store_u32le(p + 4, h);
+    qibl_store_u32le(p + 8, k);
+    qibl_store_u32le(p + 12, channels);
+    qibl_store_u32le(p + 16, 0);
+    for (uint64_t i = 0; i < pairs; ++i) {
+        qibl_store_s32le(p + 20 + 8 * i, scale[i]);
+        qibl_store_s32le(p + 24 + 8 * i, bias[i]);
+    }
+    if (pairs * pixels > 0)
+        memcpy(p + 20 + 8 * pairs, planes, (size_t)(pairs * pixels));
+    *out = p;
+    *size = n;
+    return 0;
+}
+
+int qibl_asset_pmap_payload(qibl_asset_builder *b, uint32_t w, uint32_t h, const int32_t *xyz,
+                            uint8_t **out, size_t *size)
+{
+    uint64_t pixels = (uint64_t)w * h; /* < 2^64: no wrap */
+    if (pixels > UINT32_MAX)
+        return fail(b, "asset: PMAP payload does not fit 32 bits");
+    uint64_t values = pixels * 3;
+    uint8_t *p = NULL;
+    size_t n = 0;
+    if (payload_alloc(b, "PMAP", 12, values, 4, &p, &n) != 0)
+        return -1;
+    qibl_store_u32le(p, w);
+    qibl_store_u32le(p + 4, h);
+    qibl_store_u32le(p + 8, 0);
+    for (uint64_t i = 0; i < values; ++i)
+        qibl_store_s32le(p + 12 + 4 * i, xyz[i]);
+    *out = p;
+    *size = n;
+    return 0;
+}
+
+int qibl_asset_ylut_payload(qibl_asset_builder *b, uint32_t face_size, uint32_t k, const int16_t *values,
+                            uint8_t **out, size_t *size)
+{
+    uint64_t count = (uint64_t)face_size * face_size; /* < 2^64: no wrap */
+    if (count > UINT32_MAX || 6 * count * k > UINT32_MAX)
+        return fail(b, "asset: YLUT payload does not fit 32 bits");
+    count *= 6 * (uint64_t)k;
+    uint8_t *p = NULL;
+    size_t n = 0;
+    if (payload_alloc(b, "YLUT", 12, count, 2, &p, &n) != 0)
+        return -1;
+    qibl_store_u32le(p, face_size);
+    qibl_store_u32le(p + 4, k);
+    qibl_store_u32le(p + 8, 0);
+    for (uint64_t i = 0; i < count; ++i)
+        qibl_store_s16le(p + 12 + 2 * i, values[i]);
+    *out = p;
+    *size = n;
+    return 0;
+}
+
+int qibl_asset_add_shmp(qibl_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
+                        const int32_t *scale, const int32_t *bias, const uint8_t *planes)
+{
+    uint8_t *p = NULL;
+    size_t n = 0;
+    if (qibl_asset_shmp_payload(b, w, h, k, channels, scale, bias, planes, &p, &n) != 0)
+        return -1;
+    return qibl_asset_builder_take(b, QIBL_CHUNK_SHMP, p, n);
+}
+
+int qibl_asset_add_pmap(qibl_asset_builder *b, uint32_t w, uint32_t h, const int32_t *xyz)
+{
+    uint8_t *p = NULL;
+    size_t n = 0;
+    if (qibl_asset_pmap_payload(b, w, h, xyz, &p, &n) != 0)
+        return -1;
+    return qibl_asset_builder_take(b, QIBL_CHUNK_PMAP, p, n);
+}
+
+int qibl_asset_add_ylut(qibl_asset_builder *b, uint32_t face_size, uint32_t k, const int16_t *values)
+{
+    uint8_t *p = NULL;
+    size_t n = 0;
+    if (qibl_asset_ylut_payload(b, face_size, k, values, &p, &n) != 0)
+        return -1;
+    return qibl_asset_builder_take(b, QIBL_CHUNK_YLUT, p, n);
+}
+
+int qibl_asset_serialize(qibl_asset_builder *b, uint8_t **out, size_t *size)
+{
+    if (b->count == 0)
+        return fail(b, "asset: no chunks");
+    uint64_t table_end = QIBL_ASSET_HEADER_SIZE + (uint64_t)QIBL_ASSET_ENTRY_SIZE * b->count;
+    uint64_t end = table_end, offs[QIBL_ASSET_MAX_CHUNKS];
+    for (uint32_t i = 0; i < b->count; ++i) {
+        end = (end + 3) & ~(uint64_t)3;
+        offs[i] = end;
+        end += b->chunks[i].size;
+        if (end > UINT32_MAX)
+            return fail(b, "asset: total size exceeds 4 GiB");
+    }
+    uint8_t *p = calloc((size_t)end, 1);
+    if (!p)
+        return fail(b, "asset: out of memory (%llu bytes)", (unsigned long long)end);
+    static const uint8_t magic[8] = {'Q', 'I', 'B', 'L', '\r', '\n', 0x1A, '\n'};
+    memcpy(p, magic, 8);
+    qibl_store_u32le(p + 8, QIBL_ASSET_VERSION);
+    qibl_store_u32le(p + 12, b->count);
+    qibl_store_u32le(p + 16, (uint32_t)end);
+    for (uint32_t i = 0; i < b->count; ++i) {
+        uint8_t *e = p + QIBL_ASSET_HEADER_SIZE + QIBL_ASSET_ENTRY_SIZE * i;
+        const uint8_t *d = b->chunks[i].data;
+        size_t n = b->chunks[i].size;
+        if (n > 0)
+            memcpy(p + offs[i], d, n);
+        qibl_store_u32le(e, b->chunks[i].type);
+        qibl_store_u32le(e + 4, (uint32_t)offs[i]);
+        qibl_store_u32le(e + 8, (uint32_t)n);
+        qibl_store_u32le(e + 12, qibl_crc32(0, p + offs[i], n));
+    }
+    qibl_store_u32le(p + 20, qibl_crc32(0, p + QIBL_ASSET_HEADER_SIZE, (size_t)(table_end - QIBL_ASSET_HEADER_SIZE)));
+    *out = p;
+    *size = (size_t)end;
+    return 0;
+}
+
+int qibl_asset_write_file(qibl_asset_builder *b, const char *path, int do_fsync)
+{
+    uint8_t *buf = NULL;
+    size_t n = 0;
+    if (qibl_asset_serialize(b, &buf, &n) != 0) {
+        char why[sizeof b->err];
+        snprintf(why, sizeof why, "%s", b->err);
+        return fail(b, "%s: %s", path, why);
+    }
+    qibl_asset_t a;
+    qibl_status_t st = qibl_asset_open(&a, buf, n);
+    if (st != QIBL_OK) {
+        free(buf);
+        return fail(b, "%s: refusing to write an invalid asset: %s", path, qibl_status_str(st));
+    }
+    size_t tl = strlen(path) + 5;
+    char *tmp = malloc(tl);
+    if (!tmp) {
+        free(buf);
+        return fail(b, "%s: out of memory", path);
+    }
+    snprintf(tmp, tl, "%s.tmp", path);
+    int rc = 0;
+    FILE *f = fopen(tmp, "wb");
+    if (!f) {
+        rc = fail(b, "%s: cannot create %s: %s", path, tmp, strerror(errno));
+    } else {
+        int ok = fwrite(buf, 1, n, f) == n && fflush(f) == 0;
+        if (ok && do_fsync)
+            ok = fsync(fileno(f)) == 0;
+        int e = errno;
+        if (fclose(f) != 0 && ok) {
+            ok = 0;
+            e = errno;
+        }
+        if (!ok)
+            rc = fail(b, "%s: write failed: %s", path, strerror(e));
+        else if (rename(tmp, path) != 0)
+            rc = fail(b, "%s: cannot rename from %s: %s", path, tmp, strerror(errno));
+        if (rc != 0)
+            remove(tmp);
+    }
+    free(tmp);
+    free(buf);
+    return rc;
+}

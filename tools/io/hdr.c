@@ -1,0 +1,222 @@
+/*
+ * io/hdr.c - Radiance .hdr reader: header, resolution line, new-style RLE, old-style RLE and flat
+ * scanlines (see hdr.h). Every read is bounds-checked against the buffer; a bad file gives one line
+ * of error text and no output.
+ */
+#include "io/hdr.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define HDR_MAX_DIM 65536
+#define HDR_MAX_PIXELS ((size_t)1 << 28)
+
+static int fail(char *err, size_t errlen, const char *fmt, ...)
+{
+    if (err && errlen) {
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(err, errlen, fmt, ap);
+        va_end(ap);
+    }
+    return -1;
+}
+
+/* next header line [*pos, eol) without the newline; returns its length or -1 at end of buffer */
+static long next_line(const uint8_t *buf, size_t len, size_t *pos, const char **line)
+{
+    size_t s = *pos, e = s;
+    while (e < len && buf[e] != '\n')
+        ++e;
+    if (e >= len)
+        return -1;
+    *line = (const char *)buf + s;
+    *pos = e + 1;
+    return (long)(e - s);
+}
+
+static float rgbe_channel(uint8_t m, uint8_t e)
+{
+    return e == 0 ? 0.0f : (float)ldexp((double)m, (int)e - 136);
+}
+
+/* one scanline of w RGBE pixels into px (4 bytes each); prev is the last pixel of the previous
+ * scanline (NULL for the first), for an old-style run at the start of a line */
+static int read_scanline(const uint8_t *buf, size_t len, size_t *pos, int w, uint8_t *px, const uint8_t *prev,
+                         int row, char *err, size_t errlen)
+{
+    size_t p = *pos;
+    if (p + 4 > len)
+        return fail(err, errlen, "truncated at scanline %d of the pixel data", row);
+    if (w >= 8 && w < 32768 && buf[p] == 2 && buf[p + 1] == 2 && (buf[p + 2] & 0x80) == 0) {
+        int enc_w = buf[p + 2] << 8 | buf[p + 3];
+        if (enc_w != w)
+            return fail(err, errlen, "scanline %d: RLE width %d differs from the image width %d", row, enc_w, w);
+        p += 4;
+        for (int c = 0; c < 4; ++c) {
+            int x = 0;
+            while (x < w) {
+                if (p >= len)
+                    return fail(err, errlen, "truncated in RLE scanline %d", row);
+                int count = buf[p++];
+                if (count > 128) {
+                    count -= 128;
+                    if (x + count > w)
+                        return fail(err, errlen, "scanline %d: RLE run past the end of the line", row);
+                    if (p >= len)
+                        return fail(err, errlen, "truncated in RLE scanline %d", row);
+                    uint8_t v = buf[p++];
+                    for (int k = 0; k < count; ++k)
+                        px[4 * (x++) + c] = v;
+                } else {
+                    if (count == 0)
+                        return fail(err, errlen, "scanline %d: RLE literal of length 0", row);
+                    if (x + count > w)
+                        return fail(err, errlen, "scanline %d: RLE literal past the end of the line", row);
+                    if (p + (size_t)count > len)
+                        return fail(err, errlen, "truncated in RLE scanline %d", row);
+                    for (int k = 0; k < count; ++k)
+                        px[4 * (x++) + c] = buf[p++];
+                }
+            }
+        }
+        *pos = p;
+        return 0;
+    }
+    /* flat pixels, possibly with old-style runs */
+    int x = 0, shift = 0;
+    while (x < w) {
+        if (p + 4 > len)
+            return fail(err, errlen, "truncated at scanline %d of the pixel data", row);
+        const uint8_t *q = buf + p;
+        p += 4;
+        if (q[0] == 1 && q[1] == 1 && q[2] == 1) {
+            const uint8_t *src = x > 0 ? px + 4 * (x - 1) : prev;
+            if (!src)
+                return fail(err, errlen, "scanline %d: old-style run with no pixel before it", row);
+            if (shift > 16)
+                return fail(err, errlen, "scanline %d: old-style run count too large", row);
+            long count = (long)q[3] << shift;
+            if (x + count > w)
+                return fail(err, errlen, "scanline %d: old-style run past the end of the line", row);
+            uint8_t v[4] = {src[0], src[1], src[2], src[3]};
+            for (long k = 0; k < count; ++k, ++x)
+                memcpy(px + 4 * x, v, 4);
+            shift += 8;
+        } else {
+            memcpy(px + 4 * (x++), q, 4);
+            shift = 0;
+        }
+    }
+    *pos = p;
+    return 0;
+}
+
+int qibl_hdr_decode(const uint8_t *buf, size_t len, int *w_out, int *h_out, float **rgb_out, char *err,
+                    size_t errlen)
+{
+    size_t pos = 0;
+    const char *line;
+    long n = next_line(buf, len, &pos, &line);
+    if (n < 2 || line[0] != '#' || line[1] != '?')
+        return fail(err, errlen, "not a Radiance .hdr file (no #? magic line)");
+    for (;;) {
+        n = next_line(buf, len, &pos, &line);
+        if (n < 0)
+            return fail(err, errlen, "truncated header (no blank line before the resolution)");
+        if (n == 0 || (n == 1 && line[0] == '\r'))
+            break;
+        if (n >= 7 && memcmp(line, "FORMAT=", 7) == 0) {
+            const char *v = line + 7;
+            long vn = n - 7;
+            while (vn > 0 && (v[vn - 1] == '\r' || v[vn - 1] == ' ' || v[vn - 1] == '\t'))
+                --vn;
+            if (!(vn == 15 && memcmp(v, "32-bit_rle_rgbe", 15) == 0))
+                return fail(err, errlen, "unsupported FORMAT=%.*s (only 32-bit_rle_rgbe)", (int)(vn > 40 ? 40 : vn), v);
+        }
+    }
+    n = next_line(buf, len, &pos, &line);
+    if (n < 0)
+        return fail(err, errlen, "truncated before the resolution line");
+    char res[128];
+    size_t rn = (size_t)n < sizeof res - 1 ? (size_t)n : sizeof res - 1;
+    memcpy(res, line, rn);
+    res[rn] = '\0';
+    char ya[3], xa[3];
+    long hh, ww;
+    char extra;
+    if (sscanf(res, "%2s %ld %2s %ld %c", ya, &hh, xa, &ww, &extra) != 4)
+        return fail(err, errlen, "bad resolution line '%.60s'", res);
+    if (strcmp(ya, "-Y") != 0 || strcmp(xa, "+X") != 0)
+        return fail(err, errlen, "unsupported orientation '%.60s' (only -Y H +X W)", res);
+    if (ww < 1 || hh < 1 || ww > HDR_MAX_DIM || hh > HDR_MAX_DIM || (size_t)ww * (size_t)hh > HDR_MAX_PIXELS)
+        return fail(err, errlen, "unsupported dimensions %ld x %ld", ww, hh);
+    int w = (int)ww, h = (int)hh;
+    uint8_t *px = malloc((size_t)w * 8);
+    float *rgb = malloc((size_t)w * (size_t)h * 3 * sizeof *rgb);
+    if (!px || !rgb) {
+        free(px), free(rgb);
+        return fail(err, errlen, "out of memory for %d x %d pixels", w, h);
+    }
+    uint8_t *line_px = px, *prev_px = px + 4 * (size_t)w;
+    for (int y = 0; y < h; ++y) {
+        if (read_scanline(buf, len, &pos, w, line_px, y ? prev_px + 4 * (size_t)(w - 1) : NULL, y, err, errlen)) {
+            free(px), free(rgb);
+            return -1;
+        }
+        float *o = rgb + (size_t)y * (size_t)w * 3;
+        for (int x = 0; x < w; ++x) {
+            const uint8_t *q = line_px + 4 * x;
+            o[3 * x + 0] = rgbe_channel(q[0], q[3]);
+            o[3 * x + 1] = rgbe_channel(q[1], q[3]);
+            o[3 * x + 2] = rgbe_channel(q[2], q[3]);
+        }
+        uint8_t *t = line_px;
+        line_px = prev_px;
+        prev_px = t;
+    }
+    *w_out = w;
+    *h_out = h;
+    *rgb_out = rgb;
+    free(px);
+    return 0;
+}
+
+int qibl_hdr_read(const char *path, int *w, int *h, float **rgb, char *err, size_t errlen)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return fail(err, errlen, "%s: %s", path, strerror(errno));
+    size_t cap = 1 << 20, n = 0;
+    uint8_t *buf = malloc(cap);
+    for (;;) {
+        if (!buf) {
+            fclose(f);
+            return fail(err, errlen, "%s: out of memory", path);
+        }
+        n += fread(buf + n, 1, cap - n, f);
+        if (n < cap)
+            break;
+        uint8_t *nb = realloc(buf, cap * 2);
+        if (!nb)
+            free(buf);
+        buf = nb;
+        cap *= 2;
+    }
+    int rd_err = ferror(f);
+    fclose(f);
+    if (rd_err) {
+        free(buf);
+        return fail(err, errlen, "%s: read error", path);
+    }
+    char msg[256];
+    int rc = qibl_hdr_decode(buf, n, w, h, rgb, msg, sizeof msg);
+    free(buf);
+    if (rc != 0)
+        return fail(err, errlen, "%s: %s", path, msg);
+    return 0;
+}

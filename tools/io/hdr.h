@@ -1,0 +1,32 @@
+/*
+ * io/hdr.h - minimal Radiance .hdr (RGBE) reader: float RGB out, no dependency beyond libc/libm.
+ * Hosted.
+ *
+ * Reads the "#?" magic line (any program name; a repeated magic line later in the header is an
+ * ordinary line), header lines up to the blank line (FORMAT must be 32-bit_rle_rgbe if present;
+ * GAMMA, PRIMARIES, EXPOSURE, comments and unknown lines are ignored, EXPOSURE is NOT applied), the
+ * standard "-Y H +X W" resolution line (other orientations are refused), then H scanlines each
+ * in one of three encodings, detected per scanline as Radiance does:
+ *   - new-style (adaptive) RLE: 02 02 W_hi W_lo, then each of R, G, B, E as runs (count > 128:
+ *     count - 128 copies of one byte) and literals (count 1..128 bytes); only for 8 <= W < 32768;
+ *   - old-style RLE: a pixel 01 01 01 n repeats the previous pixel n << shift times, the shift
+ *     growing by 8 for each consecutive run pixel;
+ *   - flat: W plain 4-byte pixels.
+ * Pixels become R = mantissa * 2^(E - 136) (E = 0: zero), without Radiance's +1/2 offset, which is
+ * the convention ../shared/fixtures/SOURCES.md uses for the probes' statistics.
+ */
+#ifndef QIBL_IO_HDR_H
+#define QIBL_IO_HDR_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* Reads path. On success returns 0 and sets *w, *h and *rgb: 3 * w * h floats, rows top to bottom,
+ * R G B per pixel, allocated with malloc (the caller frees). On failure returns -1, writes a one-line
+ * reason naming the file into err (errlen bytes) and sets nothing. */
+int qibl_hdr_read(const char *path, int *w, int *h, float **rgb, char *err, size_t errlen);
+
+/* The same from a file image in memory (len bytes); the error text names no file. */
+int qibl_hdr_decode(const uint8_t *buf, size_t len, int *w, int *h, float **rgb, char *err, size_t errlen);
+
+#endif

@@ -1,0 +1,135 @@
+/*
+ * cmd_info.c - `qibl info FILE`: validate an asset with the core and print what it holds.
+ */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "qibl/asset.h"
+#include "qibl/cli.h"
+
+/* Whole file into a malloc'ed buffer; NULL with errno set on failure. */
+static uint8_t *read_all(const char *path, size_t *n)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    size_t cap = 1 << 16, len = 0;
+    uint8_t *buf = malloc(cap);
+    while (buf) {
+        len += fread(buf + len, 1, cap - len, f);
+        if (len < cap)
+            break;
+        uint8_t *bigger = cap > SIZE_MAX / 2 ? NULL : realloc(buf, cap * 2);
+        if (!bigger) {
+            free(buf);
+            buf = NULL;
+            errno = ENOMEM;
+            break;
+        }
+        buf = bigger;
+        cap *= 2;
+    }
+    int e = errno;
+    if (buf && ferror(f)) {
+        free(buf);
+        buf = NULL;
+        e = EIO;
+    }
+    fclose(f);
+    errno = e;
+    *n = len;
+    return buf;
+}
+
+static const char *fourcc(uint32_t t, char s[16])
+{
+    char c[4] = {(char)(t & 0xFF), (char)(t >> 8 & 0xFF), (char)(t >> 16 & 0xFF), (char)(t >> 24)};
+    for (int i = 0; i < 4; ++i)
+        if (c[i] < 0x20 || c[i] > 0x7E) {
+            snprintf(s, 16, "0x%08x", (unsigned)t);
+            return s;
+        }
+    snprintf(s, 16, "%.4s", c);
+    return s;
+}
+
+static void print_shmaps(const qibl_shmaps_t *m)
+{
+    printf("SHMP: %u x %u pixels, k %u maps, %u channel%s\n", (unsigned)m->width, (unsigned)m->height,
+           (unsigned)m->k, (unsigned)m->channels, m->channels == 1 ? "" : "s");
+    printf("  %3s %2s %16s %16s %4s %4s\n", "map", "ch", "scale", "bias", "min", "max");
+    size_t px = (size_t)m->width * m->height;
+    for (uint32_t i = 0; i < m->k; ++i)
+        for (uint32_t ch = 0; ch < m->channels; ++ch) {
+            const uint8_t *pl = qibl_shmaps_plane(m, i, ch);
+            unsigned lo = 255, hi = 0;
+            for (size_t p = 0; p < px; ++p) {
+                lo = pl[p] < lo ? pl[p] : lo;
+                hi = pl[p] > hi ? pl[p] : hi;
+            }
+            printf("  %3u %2u %16.9f %16.9f %4u %4u\n", (unsigned)i, (unsigned)ch,
+                   (double)qibl_shmaps_scale(m, i, ch) / 16777216.0,
+                   (double)qibl_shmaps_bias(m, i, ch) / 16777216.0, lo, hi);
+        }
+}
+
+static void print_pmap(const qibl_pmap_t *p)
+{
+    int32_t lo[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, hi[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
+    for (uint32_t y = 0; y < p->height; ++y)
+        for (uint32_t x = 0; x < p->width; ++x) {
+            qibl_q16_t v[3];
+            qibl_pmap_point(p, x, y, v);
+            for (int c = 0; c < 3; ++c) {
+                lo[c] = v[c] < lo[c] ? v[c] : lo[c];
+                hi[c] = v[c] > hi[c] ? v[c] : hi[c];
+            }
+        }
+    printf("PMAP: %u x %u points (Q16.16), bounding box\n", (unsigned)p->width, (unsigned)p->height);
+    for (int c = 0; c < 3; ++c)
+        printf("  %c [%.5f, %.5f]\n", "xyz"[c], lo[c] / 65536.0, hi[c] / 65536.0);
+}
+
+int qibl_cmd_info(int argc, char **argv)
+{
+    if (argc != 2 || argv[1][0] == '-')
+        return qibl_cli_usage_error("usage: qibl info FILE");
+    const char *path = argv[1];
+    size_t n = 0;
+    uint8_t *buf = read_all(path, &n);
+    if (!buf)
+        return fprintf(stderr, "qibl: %s: %s\n", path, strerror(errno)), 1;
+    qibl_asset_t a;
+    qibl_status_t st = qibl_asset_open(&a, buf, n);
+    if (st != QIBL_OK) {
+        fprintf(stderr, "qibl: %s: %s\n", path, qibl_status_str(st));
+        free(buf);
+        return 1;
+    }
+    printf("%s: qibl asset version %u, %u bytes", path, (unsigned)qibl_load_u32le(buf + 8), (unsigned)a.size);
+    if (n > a.size)
+        printf(" (+%zu trailing bytes ignored)", n - a.size);
+    printf(", %u chunk%s, table crc 0x%08x\n", (unsigned)a.chunk_count, a.chunk_count == 1 ? "" : "s",
+           (unsigned)qibl_load_u32le(buf + 20));
+    printf("  %2s %-10s %10s %10s %10s\n", "#", "type", "offset", "size", "crc");
+    for (uint32_t i = 0; i < a.chunk_count; ++i) {
+        const uint8_t *e = buf + QIBL_ASSET_HEADER_SIZE + QIBL_ASSET_ENTRY_SIZE * i;
+        char t[16];
+        printf("  %2u %-10s %10u %10u 0x%08x\n", (unsigned)i, fourcc(qibl_load_u32le(e), t),
+               (unsigned)qibl_load_u32le(e + 4), (unsigned)qibl_load_u32le(e + 8), (unsigned)qibl_load_u32le(e + 12));
+    }
+    qibl_shmaps_t m;
+    if (qibl_asset_shmaps(&a, &m) == QIBL_OK)
+        print_shmaps(&m);
+    qibl_pmap_t p;
+    if (qibl_asset_pmap(&a, &p) == QIBL_OK)
+        print_pmap(&p);
+    qibl_ylut_t y;
+    if (qibl_asset_ylut(&a, &y) == QIBL_OK)
+        printf("YLUT: face size N %u (6 faces of %u x %u texels), k %u values per texel (Q2.14)\n",
+               (unsigned)y.face_size, (unsigned)y.face_size, (unsigned)y.face_size, (unsigned)y.k);
+    free(buf);
+    return 0;
+}
