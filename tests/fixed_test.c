@@ -404,6 +404,64 @@ static void test_normalize_errors(void **state)
     assert_true(tu_guard_intact(&u[3], sizeof u[3])); /* writes exactly three values */
 }
 
+/* qibl_rsqrt_u64: y / 2^e = 1/sqrt(x) within 2^-28 relative, checked in long double */
+static void test_rsqrt_u64(void **state)
+{
+    (void)state;
+    unsigned e = 99;
+    assert_int_equal(qibl_rsqrt_u64(0, &e), 0);
+    assert_int_equal(e, 0);
+    tu_rng r = {13};
+    long double worst = 0;
+    for (int k = 0; k < N_PROP + 70; ++k) {
+        uint64_t x = k < 64 ? (uint64_t)1 << k : k < 70 ? UINT64_MAX - (uint64_t)(k - 64) : tu_next(&r) >> (tu_next(&r) % 64u);
+        if (x == 0)
+            x = 1;
+        uint32_t y = qibl_rsqrt_u64(x, &e);
+        assert_true(e >= 31 && e <= 62);
+        assert_true(y >= (1u << 30) && y <= (1u << 31));
+        long double got = ldexpl((long double)y, -(int)e), want = 1.0L / sqrtl((long double)x);
+        long double rel = fabsl(got / want - 1.0L);
+        if (rel > worst)
+            worst = rel;
+        assert_true(rel <= ldexpl(1.0L, -28));
+    }
+    printf("fixed: rsqrt_u64 max relative error = %.3Le = 2^%.2f (bound 2^-28)\n", worst, (double)log2l(worst));
+}
+
+static void test_normalize_fast(void **state)
+{
+    (void)state;
+    tu_rng r = {14};
+    double worst = 0.0;
+    for (int k = 0; k < N_PROP; ++k) {
+        unsigned sh = (unsigned)(tu_next(&r) % 32u);
+        int32_t v[3] = {qibl_asr_s32(tu_s32(&r), sh), qibl_asr_s32(tu_s32(&r), sh), qibl_asr_s32(tu_s32(&r), sh)};
+        if (k < 8) /* extremes */
+            v[0] = k & 1 ? INT32_MIN : 1, v[1] = k & 2 ? INT32_MIN : 0, v[2] = k & 4 ? INT32_MAX : 0;
+        if (!v[0] && !v[1] && !v[2])
+            continue;
+        qibl_q30_t u[3];
+        uint32_t ly;
+        unsigned le;
+        assert_int_equal(qibl_vec3_normalize_fast_q30(v, u, &ly, &le), QIBL_OK);
+        double len = sqrt((double)v[0] * v[0] + (double)v[1] * v[1] + (double)v[2] * v[2]);
+        for (int i = 0; i < 3; ++i) {
+            double e = fabs(u[i] - v[i] / len * 1073741824.0);
+            if (e > worst)
+                worst = e;
+            assert_true(e <= 4.0);
+        }
+        assert_true(fabs(ldexp((double)ly, -(int)le) * len - 1.0) < 1e-8);
+    }
+    const int32_t zero[3] = {0, 0, 0};
+    qibl_q30_t u[3] = {7, 7, 7};
+    assert_int_equal(qibl_vec3_normalize_fast_q30(zero, u, 0, 0), QIBL_E_ZERO_VECTOR);
+    assert_true(u[0] == 7 && u[1] == 7 && u[2] == 7);
+    assert_int_equal(qibl_vec3_normalize_fast_q30(0, u, 0, 0), QIBL_E_NULL_POINTER);
+    printf("fixed: vec3_normalize_fast_q30 max |error| = %.3f LSB (bound 4)\n", worst);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -420,6 +478,8 @@ int main(void)
         cmocka_unit_test(test_recip_q16),
         cmocka_unit_test(test_normalize),
         cmocka_unit_test(test_normalize_errors),
+        cmocka_unit_test(test_rsqrt_u64),
+        cmocka_unit_test(test_normalize_fast),
     };
     return cmocka_run_group_tests_name(QIBL_CONFIG_NATIVE_MUL64 ? "fixed (native paths)" : "fixed (portable M0 paths)",
                                        tests, NULL, NULL);

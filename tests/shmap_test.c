@@ -347,13 +347,13 @@ static double point_ref(const qibl_shmaps_t *m, const qibl_pmap_t *p, const qibl
 static void check_point(const qibl_shmaps_t *m, const qibl_pmap_t *p, const qibl_ylut_t *lut,
                         const qibl_pointlight_t *pl, double tol_rel, double *worst_rel)
 {
-    size_t wsn = qibl_shmap_point_workspace_size(m);
+    size_t wsn = qibl_shmap_point_workspace_size(m->k, m->width);
     void *ws = malloc(wsn);
     qibl_shmap_point_t st;
-    assert_int_equal(qibl_shmap_point_prepare(m, p, lut, pl, ws, wsn, &st), QIBL_OK);
+    assert_int_equal(qibl_shmap_point_prepare(m, p, lut, pl, &st), QIBL_OK);
     int32_t *out = malloc(sizeof(int32_t) * 3u * m->width);
     for (uint32_t y = 0; y < m->height; ++y) {
-        assert_int_equal(qibl_shmap_point_span(&st, 0, y, m->width, out), QIBL_OK);
+        assert_int_equal(qibl_shmap_point_span(&st, 0, y, m->width, out, ws, wsn), QIBL_OK);
         for (uint32_t x = 0; x < m->width; ++x) {
             qibl_q16_t pt[3];
             qibl_pmap_point(p, x, y, pt);
@@ -398,8 +398,8 @@ static void test_point_light_direct_and_lut(void **state)
     maps_make(&b, 40, 6, 16, 3, &r, 1 << 16);
     pmap_buf pb;
     pmap_make(&pb, 40, 6, &r);
-    qibl_pointlight_t pl = {{1 << 16, -(2 << 16), 3 << 16}, {2 << 16, 1 << 16, 1 << 15}, QIBL_FALLOFF_INV_DIST, 0};
-    double w_direct = 0.0, w_lut[3] = {0, 0, 0};
+    qibl_pointlight_t pl = {{1 << 16, -(2 << 16), 3 << 16}, {2 << 16, 1 << 16, 1 << 15}, QIBL_FALLOFF_INV_DIST, 0, 0};
+    double w_direct = 0.0, w_lut[3] = {0, 0, 0}, w_near = 0.0;
     check_point(&b.m, &pb.p, NULL, &pl, 4e-4, &w_direct);
     pl.falloff = QIBL_FALLOFF_INV_DIST2;
     check_point(&b.m, &pb.p, NULL, &pl, 4e-4, &w_direct);
@@ -411,10 +411,15 @@ static void test_point_light_direct_and_lut(void **state)
         assert_int_equal(qibl_ylut_build(ns[li], 16, vals, vs), QIBL_OK);
         qibl_ylut_t lut = {ns[li], 16, vals};
         check_point(&b.m, &pb.p, &lut, &pl, tol[li], &w_lut[li]);
+        if (li == 2) { /* nearest texel: error ~ the texel's angular size */
+            pl.filter = QIBL_LUT_NEAREST;
+            check_point(&b.m, &pb.p, &lut, &pl, 0.2, &w_near);
+            pl.filter = QIBL_LUT_BILINEAR;
+        }
         free(vals);
     }
-    printf("shmap: point light, max error / sum|T Y| att C0: direct %.2e, LUT 16^2 %.2e, 32^2 %.2e, 64^2 %.2e\n",
-           w_direct, w_lut[0], w_lut[1], w_lut[2]);
+    printf("shmap: point light, max error / sum|T Y| att C0: direct %.2e, LUT 16^2 %.2e, 32^2 %.2e, 64^2 %.2e, "
+           "64^2 nearest %.2e\n", w_direct, w_lut[0], w_lut[1], w_lut[2], w_near);
     free(pb.bytes);
     maps_free(&b);
 }
@@ -434,7 +439,7 @@ static void test_point_light_hard_cases(void **state)
         put_s32(pb.bytes + 12 + 4 * j, s[j] + (j == 0 ? 3 : 0));
         put_s32(pb.bytes + 24 + 4 * j, j == 0 ? INT32_MIN : INT32_MAX);
     }
-    qibl_pointlight_t pl = {{s[0], s[1], s[2]}, {1 << 16, 1 << 16, 1 << 16}, QIBL_FALLOFF_INV_DIST, 1 << 10};
+    qibl_pointlight_t pl = {{s[0], s[1], s[2]}, {1 << 16, 1 << 16, 1 << 16}, QIBL_FALLOFF_INV_DIST, 1 << 10, 0};
     double worst = 0.0;
     check_point(&b.m, &pb.p, NULL, &pl, 4e-4, &worst);
     pl.falloff = QIBL_FALLOFF_INV_DIST2;
@@ -443,30 +448,34 @@ static void test_point_light_hard_cases(void **state)
     pl.pos[0] = INT32_MIN, pl.pos[1] = INT32_MIN, pl.pos[2] = INT32_MAX;
     check_point(&b.m, &pb.p, NULL, &pl, 4e-4, &worst);
     /* errors */
-    size_t wsn = qibl_shmap_point_workspace_size(&b.m);
+    size_t wsn = qibl_shmap_point_workspace_size(9, 4);
     void *ws = malloc(wsn);
     qibl_shmap_point_t st;
     tu_fill_guard(&st, sizeof st);
     qibl_pointlight_t bad = pl;
     bad.rgb[1] = -1;
-    assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, NULL, &bad, ws, wsn, &st), QIBL_E_SHMAP_LIGHT);
+    assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, NULL, &bad, &st), QIBL_E_SHMAP_LIGHT);
     bad = pl, bad.min_dist = -5;
-    assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, NULL, &bad, ws, wsn, &st), QIBL_E_SHMAP_LIGHT);
+    assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, NULL, &bad, &st), QIBL_E_SHMAP_LIGHT);
     bad = pl, bad.falloff = (qibl_falloff_t)7;
-    assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, NULL, &bad, ws, wsn, &st), QIBL_E_SHMAP_LIGHT);
-    assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, NULL, &pl, ws, wsn - 1, &st), QIBL_E_WORKSPACE);
+    assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, NULL, &bad, &st), QIBL_E_SHMAP_LIGHT);
+    bad = pl, bad.filter = (qibl_lut_filter_t)3;
+    assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, NULL, &bad, &st), QIBL_E_SHMAP_LIGHT);
     qibl_pmap_t p2 = pb.p;
     p2.width = 5;
-    assert_int_equal(qibl_shmap_point_prepare(&b.m, &p2, NULL, &pl, ws, wsn, &st), QIBL_E_SHMAP_MISMATCH);
+    assert_int_equal(qibl_shmap_point_prepare(&b.m, &p2, NULL, &pl, &st), QIBL_E_SHMAP_MISMATCH);
     uint8_t lutv[6 * 4 * 8 * 2];
     qibl_ylut_t small = {2, 8, lutv}; /* k 8 < maps' 9 */
-    assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, &small, &pl, ws, wsn, &st), QIBL_E_SHMAP_MISMATCH);
+    assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, &small, &pl, &st), QIBL_E_SHMAP_MISMATCH);
+    assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, NULL, &pl, 0), QIBL_E_NULL_POINTER);
     assert_true(tu_guard_intact(&st, sizeof st));
-    assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, NULL, &pl, ws, wsn, &st), QIBL_OK);
+    assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, NULL, &pl, &st), QIBL_OK);
     int32_t out[12];
     tu_fill_guard(out, sizeof out);
-    assert_int_equal(qibl_shmap_point_span(&st, 2, 0, 3, out), QIBL_E_SHMAP_BOUNDS);
-    assert_int_equal(qibl_shmap_point_span(&st, 0, 1, 1, out), QIBL_E_SHMAP_BOUNDS);
+    assert_int_equal(qibl_shmap_point_span(&st, 2, 0, 3, out, ws, wsn), QIBL_E_SHMAP_BOUNDS);
+    assert_int_equal(qibl_shmap_point_span(&st, 0, 1, 1, out, ws, wsn), QIBL_E_SHMAP_BOUNDS);
+    assert_int_equal(qibl_shmap_point_span(&st, 0, 0, 4, out, ws, wsn - 1), QIBL_E_WORKSPACE);
+    assert_int_equal(qibl_shmap_point_span(&st, 0, 0, 4, out, 0, wsn), QIBL_E_NULL_POINTER);
     assert_true(tu_guard_intact(out, sizeof out));
     free(ws);
     free(pb.bytes);

@@ -11,5 +11,6 @@
 #include "qibl/srgbe.h"
 #include "qibl/asset.h"
 #include "qibl/shmap.h"
+#include "qibl/lightprobe.h"
 
 #endif /* QIBL_H */

@@ -189,10 +189,10 @@ uint32_t qibl_rsqrt_u64(uint64_t x, unsigned *e)
     uint32_t y = (uint32_t)rsqrt_seed[(t >> 24) - 64u] << 16; /* ~ 2^46 / sqrt(t) */
     for (int it = 0; it < 2; ++it) {
         /* Newton for 1/sqrt: y' = y (3 - t y^2) / 2, with t y^2 = 2^92 at the root */
-        uint32_t y2 = (uint32_t)(qibl_mul_u32_u64(y, y) >> 32); /* ~ 2^60 / t */
-        uint32_t h = (uint32_t)(qibl_mul_u32_u64(t, y2) >> 30);  /* ~ 2^30 */
+        uint32_t y2 = (uint32_t)(qibl_mul_u32_u64(y, y) >> 31); /* ~ 2^61 / t, <= 2^31 */
+        uint32_t h = (uint32_t)(qibl_mul_u32_u64(t, y2) >> 31);  /* ~ 2^30 */
         uint32_t c = 0xC0000000u - h;                             /* ~ 2^31 (h < 3 * 2^30 always) */
-        y = (uint32_t)(qibl_mul_u32_u64(y, c) >> 31);
+        y = (uint32_t)((qibl_mul_u32_u64(y, c) + (1u << 30)) >> 31);
     }
     *e = 62u - sh / 2u;
     return y;

@@ -118,40 +118,55 @@ size_t qibl_shmap_span_workspace_size(uint32_t n)
     return (size_t)n * 3u * sizeof(int32_t);
 }
 
-/* acc[p] (+)= sum of up to four planes times their weights. Separate small loops keep the bodies
- * simple enough for auto-vectorisation (bytes widened to 16 bits, 16x16->32 products). */
-static void acc_first(int32_t *restrict acc, const uint8_t *restrict a, int32_t wa, uint32_t n)
+/* acc[p] (+)= sum of up to four planes times their int16 weights. Plain loops over restrict
+ * pointers with 16-bit operands: compilers vectorise them (bytes widened to 16 bits, 16x16->32
+ * products). Four maps per pass keeps the accumulator traffic at one load/store per four maps. */
+static void acc_set4(int32_t *restrict acc, const uint8_t *restrict a, const uint8_t *restrict b,
+                     const uint8_t *restrict c, const uint8_t *restrict d, int16_t wa, int16_t wb, int16_t wc,
+                     int16_t wd, uint32_t n)
 {
     for (uint32_t p = 0; p < n; ++p)
-        acc[p] = wa * a[p];
-}
-
-static void acc_add1(int32_t *restrict acc, const uint8_t *restrict a, int32_t wa, uint32_t n)
-{
-    for (uint32_t p = 0; p < n; ++p)
-        acc[p] += wa * a[p];
+        acc[p] = wa * (int16_t)a[p] + wb * (int16_t)b[p] + wc * (int16_t)c[p] + wd * (int16_t)d[p];
 }
 
 static void acc_add4(int32_t *restrict acc, const uint8_t *restrict a, const uint8_t *restrict b,
-                     const uint8_t *restrict c, const uint8_t *restrict d, int32_t wa, int32_t wb, int32_t wc,
-                     int32_t wd, uint32_t n)
+                     const uint8_t *restrict c, const uint8_t *restrict d, int16_t wa, int16_t wb, int16_t wc,
+                     int16_t wd, uint32_t n)
 {
     for (uint32_t p = 0; p < n; ++p)
-        acc[p] += wa * a[p] + wb * b[p] + wc * c[p] + wd * d[p];
+        acc[p] += wa * (int16_t)a[p] + wb * (int16_t)b[p] + wc * (int16_t)c[p] + wd * (int16_t)d[p];
 }
 
-/* out = sat32(acc * 2^shift + bias), interleaving one channel into the RGB output. */
-static void finish_channel(const int32_t *acc, int32_t shift, int64_t bias, int32_t *out, uint32_t n)
+/* Final pass of one channel: out = sat32(acc * 2^shift + bias) into the interleaved RGB row.
+ * The common case (small shift, bias within +-2^30) stays in int32, which vectorises:
+ * |acc| < 2^28 (shmap.h bound) so acc + 2^(n-1) and acc * 2^shift (shift <= 2) cannot overflow,
+ * and |acc * 2^shift| + |bias| < 2^31. Other cases take the exact 64-bit path. */
+static void finish_channel(const int32_t *restrict acc, int32_t shift, int64_t bias, int32_t *restrict out, uint32_t n)
 {
-    if (shift > 30) { /* any non-zero acc saturates */
+    if (bias >= -(INT64_C(1) << 30) && bias <= (INT64_C(1) << 30) && shift <= 2) {
+        const int32_t b32 = (int32_t)bias;
+        if (shift >= 0) {
+            const int32_t mul = (int32_t)1 << shift;
+            for (uint32_t p = 0; p < n; ++p)
+                out[3u * p] = acc[p] * mul + b32;
+        } else if (shift > -31) {
+            const unsigned rs = (unsigned)-shift;
+            const int32_t half = (int32_t)1 << (rs - 1u);
+            for (uint32_t p = 0; p < n; ++p)
+                out[3u * p] = qibl_asr_s32(acc[p] + half, rs) + b32;
+        } else {
+            for (uint32_t p = 0; p < n; ++p)
+                out[3u * p] = b32; /* round(acc / 2^31) = 0 for |acc| < 2^28 */
+        }
+    } else if (shift > 30) { /* any non-zero acc saturates */
         for (uint32_t p = 0; p < n; ++p)
             out[3u * p] = acc[p] > 0 ? INT32_MAX : acc[p] < 0 ? INT32_MIN : qibl_sat_s32(bias);
     } else if (shift >= 0) {
-        int32_t mul = (int32_t)1 << shift;
+        const int32_t mul = (int32_t)1 << shift;
         for (uint32_t p = 0; p < n; ++p)
             out[3u * p] = qibl_sat_s32(qibl_mul_s32_s64(acc[p], mul) + bias);
     } else {
-        unsigned rs = (unsigned)-shift;
+        const unsigned rs = (unsigned)-shift;
         for (uint32_t p = 0; p < n; ++p)
             out[3u * p] = qibl_sat_s32((int64_t)qibl_rshr_s64(acc[p], rs) + bias);
     }
@@ -179,14 +194,19 @@ qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_w
         uint32_t src = m->channels == 3u ? ch : 0u;
         const int16_t *wc = w->w[ch];
         int32_t *a = acc + (size_t)ch * n;
-        acc_first(a, qibl_shmaps_plane(m, 0, src) + off, wc[0], n);
-        uint32_t i = 1u;
-        for (; i + 4u <= m->k; i += 4u)
-            acc_add4(a, qibl_shmaps_plane(m, i, src) + off, qibl_shmaps_plane(m, i + 1u, src) + off,
-                     qibl_shmaps_plane(m, i + 2u, src) + off, qibl_shmaps_plane(m, i + 3u, src) + off, wc[i],
-                     wc[i + 1u], wc[i + 2u], wc[i + 3u], n);
-        for (; i < m->k; ++i)
-            acc_add1(a, qibl_shmaps_plane(m, i, src) + off, wc[i], n);
+        /* maps in groups of four; a missing map in the last group reads plane 0 with weight 0 */
+        for (uint32_t i = 0; i < m->k; i += 4u) {
+            const uint8_t *pl[4];
+            int16_t wt[4];
+            for (uint32_t j = 0; j < 4u; ++j) {
+                pl[j] = qibl_shmaps_plane(m, i + j < m->k ? i + j : 0u, src) + off;
+                wt[j] = i + j < m->k ? wc[i + j] : 0;
+            }
+            if (i == 0u)
+                acc_set4(a, pl[0], pl[1], pl[2], pl[3], wt[0], wt[1], wt[2], wt[3], n);
+            else
+                acc_add4(a, pl[0], pl[1], pl[2], pl[3], wt[0], wt[1], wt[2], wt[3], n);
+        }
         finish_channel(a, w->shift[ch], w->bias[ch], out + ch, n);
     }
     return QIBL_OK;
@@ -268,7 +288,9 @@ static int32_t face_coord(int32_t sc, uint32_t iy, unsigned ie, uint32_t n)
     return (int32_t)((qibl_mul_u32_u64(s1, n) + (1u << 16)) >> 17) - 128;
 }
 
-void qibl_ylut_lookup(const qibl_ylut_t *t, const qibl_q30_t u[3], uint32_t k, int32_t *y14)
+/* Samples Y_0..Y_{k-1} (Q2.14) of LUT t at unit direction u into y14[i * stride]. */
+static void lut_sample(const qibl_ylut_t *t, const qibl_q30_t u[3], uint32_t k, int nearest, int16_t *y14,
+                       size_t stride)
 {
     int32_t ax = abs32(u[0]), ay = abs32(u[1]), az = abs32(u[2]);
     uint32_t f;
@@ -293,6 +315,17 @@ void qibl_ylut_lookup(const qibl_ylut_t *t, const qibl_q30_t u[3], uint32_t k, i
     uint32_t iy = qibl_rsqrt_u64(qibl_mul_u32_u64((uint32_t)ma, (uint32_t)ma), &ie); /* 1/ma */
     const uint32_t n = t->face_size;
     int32_t fu = face_coord(sc, iy, ie, n), fv = face_coord(tc, iy, ie, n);
+    size_t tstride = (size_t)t->k * 2u;
+    if (nearest) {
+        /* the texel containing the direction: floor(fu / 256 + 1/2), clamped */
+        int32_t iu = qibl_asr_s32(fu + 128, 8), iv = qibl_asr_s32(fv + 128, 8);
+        iu = iu < 0 ? 0 : iu > (int32_t)n - 1 ? (int32_t)n - 1 : iu;
+        iv = iv < 0 ? 0 : iv > (int32_t)n - 1 ? (int32_t)n - 1 : iv;
+        const uint8_t *p = t->values + (((size_t)f * n + (uint32_t)iv) * n + (uint32_t)iu) * tstride;
+        for (uint32_t i = 0; i < k; ++i)
+            y14[i * stride] = qibl_load_s16le(p + 2u * i);
+        return;
+    }
     int32_t iu = qibl_asr_s32(fu, 8), iv = qibl_asr_s32(fv, 8);
     int32_t wu = fu - iu * 256, wv = fv - iv * 256; /* 0..255 */
     /* clamp at the face's edges (no cross-face filtering) */
@@ -305,84 +338,82 @@ void qibl_ylut_lookup(const qibl_ylut_t *t, const qibl_q30_t u[3], uint32_t k, i
     if (iv >= (int32_t)n - 1)
         iv = (int32_t)n - 1, wv = 0;
     uint32_t du = wu ? 1u : 0u, dv = wv ? (uint32_t)n : 0u;
-    size_t stride = (size_t)t->k * 2u;
-    const uint8_t *p00 = t->values + (((size_t)f * n + (uint32_t)iv) * n + (uint32_t)iu) * stride;
-    const uint8_t *p10 = p00 + du * stride, *p01 = p00 + dv * stride, *p11 = p01 + du * stride;
+    const uint8_t *p00 = t->values + (((size_t)f * n + (uint32_t)iv) * n + (uint32_t)iu) * tstride;
+    const uint8_t *p10 = p00 + du * tstride, *p01 = p00 + dv * tstride, *p11 = p01 + du * tstride;
     int32_t w00 = (256 - wu) * (256 - wv), w10 = wu * (256 - wv), w01 = (256 - wu) * wv, w11 = wu * wv;
     for (uint32_t i = 0; i < k; ++i) {
         /* |Y| <= 0.9 * 2^14 and the weights sum to 2^16: |sum| < 2^30 */
-        int32_t s = w00 * qibl_load_s16le(p00 + 2u * i) + w10 * qibl_load_s16le(p10 + 2u * i) +
-                    w01 * qibl_load_s16le(p01 + 2u * i) + w11 * qibl_load_s16le(p11 + 2u * i);
-        y14[i] = qibl_asr_s32(s + 32768, 16);
+        int32_t sm = w00 * qibl_load_s16le(p00 + 2u * i) + w10 * qibl_load_s16le(p10 + 2u * i) +
+                     w01 * qibl_load_s16le(p01 + 2u * i) + w11 * qibl_load_s16le(p11 + 2u * i);
+        y14[i * stride] = (int16_t)qibl_asr_s32(sm + 32768, 16);
     }
+}
+
+void qibl_ylut_lookup(const qibl_ylut_t *t, const qibl_q30_t u[3], uint32_t k, int32_t *y14)
+{
+    int16_t y[QIBL_SH_MAX_COUNT];
+    lut_sample(t, u, k, 0, y, 1u);
+    for (uint32_t i = 0; i < k; ++i)
+        y14[i] = y[i];
 }
 
 /* ---- point lights ---------------------------------------------------------------------------- */
 
-#define DEC_MAX 4095 /* |decoded| bound: 25 * 4095 * 0.9 * 2^14 < 2^31 */
-
-size_t qibl_shmap_point_workspace_size(const qibl_shmaps_t *m)
+/* v / 2^e as int16 with the smallest e >= 0 that keeps max |v| <= 32767 over the k values */
+static int32_t norm16(const int32_t *v, uint32_t k, size_t stride, int16_t *out)
 {
-    if (qibl_shmap_check(m) != QIBL_OK)
-        return 0u;
-    return (size_t)m->k * m->channels * 256u * sizeof(int16_t);
+    uint32_t mx = 0u;
+    for (uint32_t i = 0; i < k; ++i) {
+        int32_t x = v[i * stride];
+        uint32_t a = x < 0 ? 0u - (uint32_t)x : (uint32_t)x;
+        mx = a > mx ? a : mx;
+    }
+    unsigned e = 0u;
+    while (((mx + (e ? 1u << (e - 1u) : 0u)) >> e) > 32767u)
+        ++e;
+    for (uint32_t i = 0; i < k; ++i)
+        out[i] = (int16_t)(e ? qibl_rshr_s64(v[i * stride], e) : v[i * stride]);
+    return (int32_t)e;
 }
 
 qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t *p, const qibl_ylut_t *lut,
-                                       const qibl_pointlight_t *light, void *ws, size_t ws_size,
-                                       qibl_shmap_point_t *out)
+                                       const qibl_pointlight_t *light, qibl_shmap_point_t *out)
 {
     qibl_status_t st = qibl_shmap_check(m);
     if (st != QIBL_OK)
         return st;
-    if (p == 0 || p->points == 0 || light == 0 || ws == 0 || out == 0)
+    if (p == 0 || p->points == 0 || light == 0 || out == 0)
         return QIBL_E_NULL_POINTER;
     if (p->width != m->width || p->height != m->height)
         return QIBL_E_SHMAP_MISMATCH;
     if (lut != 0 && (lut->values == 0 || lut->k < m->k || lut->face_size < 1u || lut->face_size > QIBL_ASSET_MAX_LUT))
         return QIBL_E_SHMAP_MISMATCH;
     if (light->rgb[0] < 0 || light->rgb[1] < 0 || light->rgb[2] < 0 || light->min_dist < 0 ||
-        (light->falloff != QIBL_FALLOFF_INV_DIST && light->falloff != QIBL_FALLOFF_INV_DIST2))
+        (light->falloff != QIBL_FALLOFF_INV_DIST && light->falloff != QIBL_FALLOFF_INV_DIST2) ||
+        (light->filter != QIBL_LUT_BILINEAR && light->filter != QIBL_LUT_NEAREST))
         return QIBL_E_SHMAP_LIGHT;
-    if (ws_size < qibl_shmap_point_workspace_size(m))
-        return QIBL_E_WORKSPACE;
     /* built in place (nothing below can fail): a struct copy would be a memcpy call */
-    int16_t *dec = (int16_t *)ws;
-    for (uint32_t ch = 0; ch < m->channels; ++ch) {
-        /* one unit per channel: the largest |bias + scale c| over maps and bytes maps to <= 4095 */
-        uint64_t maxv = 0u;
+    for (uint32_t ch = 0; ch < 3u; ++ch) {
+        uint32_t src = m->channels == 3u ? ch : 0u;
+        int32_t sv[QIBL_SH_MAX_COUNT], bv[QIBL_SH_MAX_COUNT];
         for (uint32_t i = 0; i < m->k; ++i) {
-            int64_t b = qibl_shmaps_bias(m, i, ch), e = b + qibl_mul_s32_s64(qibl_shmaps_scale(m, i, ch), 255);
-            if (mag64(b) > maxv)
-                maxv = mag64(b);
-            if (mag64(e) > maxv)
-                maxv = mag64(e);
+            sv[i] = qibl_shmaps_scale(m, i, src);
+            bv[i] = qibl_shmaps_bias(m, i, src);
         }
-        unsigned s = 0u;
-        while (qibl_shr_u64(maxv, s) > DEC_MAX - 1u)
-            ++s;
-        out->dec_shift[ch] = (int32_t)s;
-        for (uint32_t i = 0; i < m->k; ++i) {
-            int64_t b = qibl_shmaps_bias(m, i, ch);
-            int32_t sc = qibl_shmaps_scale(m, i, ch);
-            int16_t *d = dec + ((size_t)ch * m->k + i) * 256u;
-            for (int32_t c = 0; c < 256; ++c) {
-                int64_t v = b + qibl_mul_s32_s64(sc, c); /* |.| < 2^40 */
-                d[c] = (int16_t)(s == 0u ? v : qibl_rshr_s64(v, s));
-            }
-        }
+        for (uint32_t i = m->k; i < (uint32_t)QIBL_SH_MAX_COUNT; ++i)
+            out->sn[ch][i] = 0, out->bn[ch][i] = 0;
+        out->es[ch] = norm16(sv, m->k, 1u, out->sn[ch]);
+        out->eb[ch] = norm16(bv, m->k, 1u, out->bn[ch]);
     }
-    for (uint32_t ch = m->channels; ch < 3u; ++ch)
-        out->dec_shift[ch] = out->dec_shift[0];
     out->maps = m;
     out->pmap = p;
     out->lut = lut;
-    out->dec = dec;
     for (int j = 0; j < 3; ++j) {
         out->pos[j] = light->pos[j];
         out->rgb[j] = (uint32_t)light->rgb[j];
     }
     out->falloff = (uint32_t)light->falloff;
+    out->filter = (uint32_t)light->filter;
     uint32_t md = light->min_dist > 0 ? (uint32_t)light->min_dist : 256u; /* default 1/256 unit */
     out->min_d2 = qibl_mul_u32_u64(md, md);
     out->clamp_y = qibl_rsqrt_u64(out->min_d2, &out->clamp_e);
@@ -390,40 +421,83 @@ qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t
     return QIBL_OK;
 }
 
-qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out)
+size_t qibl_shmap_point_workspace_size(uint32_t k, uint32_t n)
 {
-    if (pt == 0 || out == 0 || pt->maps == 0)
+    return (size_t)n * (2u * k + 32u);
+}
+
+/* x * 2^s for |x| < 2^31, saturated to +-2^62 (no 64-bit variable shift: Cortex-M0) */
+static int64_t shl_sat(int32_t x, unsigned s)
+{
+    if (x == 0)
+        return 0;
+    if (s > 31u)
+        return x > 0 ? INT64_C(1) << 62 : -(INT64_C(1) << 62);
+    int64_t v = qibl_mul_s32_s64(x, (int32_t)1 << (s > 30u ? 30u : s));
+    return s > 30u ? v + v : v;
+}
+
+/* Phase B, one map of one channel: acc[p] (+)= round(Y sn / 2^14) c, accb[p] (+)= round(Y bn / 2^14).
+ * Bounds: |Y| <= 14746, |sn|, |bn| <= 32767, so each rounded product is <= 29492 and over 25 maps
+ * |acc| <= 25 * 29492 * 255 < 2^28, |accb| < 2^20. Restrict parameters and no calls: vectorisable.
+ * The first map assigns instead of adding (no zeroing loop, which compilers turn into memset). */
+static void point_map(int32_t *restrict acc, int32_t *restrict accb, const int16_t *restrict y,
+                      const uint8_t *restrict c, int32_t sn, int32_t bn, uint32_t n, int first)
+{
+    if (first) {
+        for (uint32_t p = 0; p < n; ++p) {
+            acc[p] = (int16_t)qibl_asr_s32(y[p] * sn + 8192, 14) * (int16_t)c[p];
+            accb[p] = qibl_asr_s32(y[p] * bn + 8192, 14);
+        }
+    } else {
+        for (uint32_t p = 0; p < n; ++p) {
+            acc[p] += (int16_t)qibl_asr_s32(y[p] * sn + 8192, 14) * (int16_t)c[p];
+            accb[p] += qibl_asr_s32(y[p] * bn + 8192, 14);
+        }
+    }
+}
+
+qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out,
+                                    void *ws, size_t ws_size)
+{
+    if (pt == 0 || out == 0 || pt->maps == 0 || ws == 0)
         return QIBL_E_NULL_POINTER;
     const qibl_shmaps_t *m = pt->maps;
     if (y >= m->height || x0 > m->width || n > m->width - x0)
         return QIBL_E_SHMAP_BOUNDS;
     const uint32_t k = m->k;
+    if (ws_size < qibl_shmap_point_workspace_size(k, n))
+        return QIBL_E_WORKSPACE;
+    /* workspace: acc[n], accb[n], attm[n] (int32), atte[n] (int32), ybuf[k][n] (int16) */
+    int32_t *acc = (int32_t *)ws, *accb = acc + n, *attm = accb + n, *atte = attm + n;
+    int16_t *ybuf = (int16_t *)(atte + n);
     const size_t off = (size_t)y * m->width + x0;
     const uint8_t *pp = pt->pmap->points + off * 12u;
+
+    /* Phase A, per pixel: direction, Y_i, attenuation as attm / 2^atte (in 2^16 / scene unit) */
     for (uint32_t px = 0; px < n; ++px, pp += 12) {
-        int32_t *o = out + 3u * px;
-        /* L = S - P, halved once if it does not fit int32 (both are int32, so once is enough) */
         int64_t l64[3];
         int32_t l[3];
         unsigned r0 = 0u;
         for (int j = 0; j < 3; ++j) {
             l64[j] = pt->pos[j] - (int64_t)qibl_load_s32le(pp + 4 * j);
             if (l64[j] > INT32_MAX || l64[j] < -(int64_t)INT32_MAX)
-                r0 = 1u;
+                r0 = 1u; /* S - P needs 33 bits: halve once (both are int32, so once is enough) */
         }
-        for (int j = 0; j < 3; ++j)
-            l[j] = (int32_t)qibl_asr_s64(l64[j], r0);
         uint64_t d2 = 0u;
         for (int j = 0; j < 3; ++j) {
+            l[j] = (int32_t)qibl_asr_s64(l64[j], r0);
             uint32_t a = l[j] < 0 ? 0u - (uint32_t)l[j] : (uint32_t)l[j];
             d2 += qibl_mul_u32_u64(a, a);
         }
-        if (d2 == 0u) { /* the light sits on this pixel's surface point: no direction */
-            o[0] = o[1] = o[2] = 0;
+        if (d2 == 0u) { /* the light sits on this pixel's surface point: no direction, no light */
+            attm[px] = 0, atte[px] = 0;
+            for (uint32_t i = 0; i < k; ++i)
+                ybuf[(size_t)i * n + px] = 0;
             continue;
         }
         unsigned e;
-        uint32_t iy = qibl_rsqrt_u64(d2, &e); /* 1/|l| = iy / 2^e */
+        uint32_t iy = qibl_rsqrt_u64(d2, &e); /* 1/|l| = iy / 2^e, e in 31..62 */
         qibl_q30_t u[3];
         for (int j = 0; j < 3; ++j) {
             uint32_t a = l[j] < 0 ? 0u - (uint32_t)l[j] : (uint32_t)l[j];
@@ -432,48 +506,54 @@ qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, u
             int32_t mq = (int32_t)(q > 0x40000000u ? 0x40000000u : q);
             u[j] = l[j] < 0 ? -mq : mq;
         }
-        int32_t y14[QIBL_SH_MAX_COUNT];
         if (pt->lut) {
-            qibl_ylut_lookup(pt->lut, u, k, y14);
+            lut_sample(pt->lut, u, k, pt->filter == QIBL_LUT_NEAREST, ybuf + px, n);
         } else {
             qibl_q30_t yq[QIBL_SH_MAX_COUNT];
             (void)qibl_sh_eval_unit(u, (int)pt->bands, yq);
             for (uint32_t i = 0; i < k; ++i)
-                y14[i] = qibl_rshr_s64(yq[i], 16);
+                ybuf[(size_t)i * n + px] = (int16_t)qibl_rshr_s64(yq[i], 16);
         }
-        /* distance clamp: compare |L|^2 in (2^-16)^2 units with min_dist^2 */
+        /* distance clamp: |L|^2 against min_dist^2, both in (2^-16)^2 units */
         uint32_t ay = iy;
         unsigned ae = e, rr = r0;
-        if ((r0 ? d2 < (pt->min_d2 >> 2) : d2 < pt->min_d2)) {
+        if (r0 ? d2 < (pt->min_d2 >> 2) : d2 < pt->min_d2)
             ay = pt->clamp_y, ae = pt->clamp_e, rr = 0u;
-        }
-        int32_t s_right; /* out = T f / 2^s_right, see shmap.h for the derivation of the exponents */
-        uint32_t a;
         if (pt->falloff == QIBL_FALLOFF_INV_DIST) {
-            a = ay;
-            s_right = (int32_t)ae + (int32_t)rr - 10;
+            attm[px] = (int32_t)(ay >> 1);                 /* 1/D = ay 2^(16 - rr - ae) */
+            atte[px] = (int32_t)ae + (int32_t)rr - 16 - 1; /* attm / 2^atte, attm <= 2^30 */
         } else {
-            a = (uint32_t)(qibl_mul_u32_u64(ay, ay) >> 31);
-            s_right = 2 * (int32_t)ae + 2 * (int32_t)rr - 57;
+            attm[px] = (int32_t)(qibl_mul_u32_u64(ay, ay) >> 33);      /* 1/D^2 = ay^2 2^(32 - 2rr - 2ae) */
+            atte[px] = 2 * (int32_t)ae + 2 * (int32_t)rr - 32 - 33;
         }
-        for (uint32_t ch = 0; ch < 3u; ++ch) {
-            uint32_t src = m->channels == 3u ? ch : 0u;
-            const int16_t *dec = pt->dec + (size_t)src * k * 256u;
-            const uint8_t *plane0 = qibl_shmaps_plane(m, 0, src) + off + px;
-            size_t pstride = (size_t)m->width * m->height * m->channels;
+    }
+
+    /* Phase B per channel (vectorisable), then Phase C: out = (acc 2^es + accb 2^eb) 2^-24 att C0 */
+    for (uint32_t ch = 0; ch < 3u; ++ch) {
+        uint32_t src = m->channels == 3u ? ch : 0u;
+        for (uint32_t i = 0; i < k; ++i)
+            point_map(acc, accb, ybuf + (size_t)i * n, qibl_shmaps_plane(m, i, src) + off, pt->sn[ch][i],
+                      pt->bn[ch][i], n, i == 0u);
+        const int32_t es = pt->es[ch], eb = pt->eb[ch], e0 = es < eb ? es : eb;
+        const uint32_t rgb = pt->rgb[ch];
+        for (uint32_t px = 0; px < n; ++px) {
+            /* V 2^(e0 - 24) is the radiance before attenuation and colour */
+            int64_t v = shl_sat(acc[px], (unsigned)(es - e0)) + shl_sat(accb[px], (unsigned)(eb - e0));
             int32_t t = 0;
-            for (uint32_t i = 0; i < k; ++i)
-                t += y14[i] * dec[i * 256u + plane0[i * pstride]];
-            /* f = rgb a / 2^32 <= 2^30, so T f <= 2^61 */
-            int32_t f = (int32_t)(qibl_mul_u32_u64(pt->rgb[ch], a) >> 32);
-            int64_t prod = qibl_mul_s32_s64(t, f);
-            int32_t sr = s_right - pt->dec_shift[src];
+            while (v > INT32_MAX || v < -(int64_t)INT32_MAX) { /* rare: keep V within int32 */
+                v = qibl_asr_s64(v, 1);
+                ++t;
+            }
+            /* g = attm C0 / 2^31 <= 2^30; out = V g 2^(e0 + 7 - atte + t) in Q16.16 */
+            int32_t g = (int32_t)(qibl_mul_u32_u64((uint32_t)attm[px], rgb) >> 31);
+            int64_t prod = qibl_mul_s32_s64((int32_t)v, g); /* <= 2^61 */
+            int32_t sr = atte[px] - e0 - 7 - t;
             if (sr > 0)
-                o[ch] = sr > 62 ? 0 : qibl_rshr_s64(prod, (unsigned)sr);
+                out[3u * px + ch] = sr > 62 ? 0 : qibl_rshr_s64(prod, (unsigned)sr);
             else if (prod > INT32_MAX || prod < INT32_MIN || sr < -30)
-                o[ch] = prod > 0 ? INT32_MAX : prod < 0 ? INT32_MIN : 0;
+                out[3u * px + ch] = prod > 0 ? INT32_MAX : prod < 0 ? INT32_MIN : 0;
             else
-                o[ch] = qibl_sat_s32(qibl_mul_s32_s64((int32_t)prod, (int32_t)1 << -sr));
+                out[3u * px + ch] = qibl_sat_s32(qibl_mul_s32_s64((int32_t)prod, (int32_t)1 << -sr));
         }
     }
     return QIBL_OK;

@@ -170,7 +170,7 @@ static unsigned enc_px_s32(int32_t r, int32_t g, int32_t b, int frac_bits, uint8
     unsigned flags = 0u;
     int sh = k + 2; /* = e + f: 255 |c| 2^-e = 255 a 2^-sh; the maximum gives y in [63.75, 127.5) */
     if (e < QIBL_SRGBE_E_MIN) {
-        put_zero(0u, 0u, 0u, out);
+        put_zero(r < 0, g < 0, b < 0, out); /* flush, signs kept as for binary32 */
         return 0u;
     }
     if (e > QIBL_SRGBE_E_MAX) {

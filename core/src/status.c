@@ -50,6 +50,16 @@ const char *qibl_status_str(qibl_status_t s)
     case QIBL_E_SRGBE_INF:        return "sRGBE: infinite channel (saturated code written)";
     case QIBL_E_SRGBE_OVERFLOW:   return "sRGBE: value above the largest code (saturated code written)";
     case QIBL_E_SRGBE_DECODE_SAT: return "sRGBE: decoded value beyond the output format (saturated)";
+    case QIBL_E_PROBE_SIZE:       return "light probe: width or height zero or too large";
+    case QIBL_E_PROBE_OVERFLOW:   return "light probe: pixel count or byte size too large";
+    case QIBL_E_PROBE_FORMAT:     return "light probe: bad pixel format, frac_bits, stride or alignment";
+    case QIBL_E_PROBE_METHOD:     return "light probe: unknown or invalid method, priority or placement";
+    case QIBL_E_PROBE_NEGATIVE:   return "light probe: negative pixel";
+    case QIBL_E_PROBE_NOT_FINITE: return "light probe: NaN or infinite pixel";
+    case QIBL_E_PROBE_COUNT:      return "light probe: bad light count (0, or not a power of two for median cut)";
+    case QIBL_E_PROBE_MISMATCH:   return "light probe: built without the variance tables this call needs";
+    case QIBL_E_PROBE_BLACK:      return "light probe: all black, no lights";
+    case QIBL_E_PROBE_RECT:       return "light probe: region outside the probe";
     case QIBL_STATUS_COUNT:   break;
     }
     return "unknown status";

@@ -159,40 +159,38 @@ typedef struct expo {
     uint32_t e, vlim;
 } expo_t;
 
-static expo_t expo_make(qibl_uq16_t exposure)
+/* (passed by pointer and unpacked into scalars: a struct copy can compile to a memcpy call) */
+static void expo_make(expo_t *x, qibl_uq16_t exposure)
 {
-    expo_t x;
-    x.e = exposure == 0u ? ONE : exposure;
-    x.vlim = x.e == ONE ? 0xFFFFu : (uint32_t)qibl_udiv_u64(0xFFFFFFFFu, x.e, NULL);
-    return x;
+    x->e = exposure == 0u ? ONE : exposure;
+    x->vlim = x->e == ONE ? 0xFFFFu : (uint32_t)qibl_udiv_u64(0xFFFFFFFFu, x->e, NULL);
 }
 
-static inline uint32_t expose(int32_t v, expo_t x)
+static inline uint32_t expose(int32_t v, uint32_t e, uint32_t vlim)
 {
     if (v <= 0)
         return 0u;
-    if ((uint32_t)v > x.vlim)
+    if ((uint32_t)v > vlim)
         return ONE;
-    uint32_t p = (uint32_t)v * x.e; /* exact: v <= vlim */
+    uint32_t p = (uint32_t)v * e; /* exact: v <= vlim */
     return (p >> 16) + ((p >> 15) & 1u);
 }
 
 /* ---- dither -------------------------------------------------------------------------------------
- * The 4x4 Bayer matrix: each of the 16 thresholds once, neighbours as far apart as possible.
- * Offsets d = (2b + 1) * 2^11 are the thresholds (2b + 1) / 32 of one output LSB in Q16.16. */
-static const uint8_t bayer4[4][4] = {
-    {0, 8, 2, 10},
-    {12, 4, 14, 6},
-    {3, 11, 1, 9},
-    {15, 7, 13, 5},
+ * Rounding offsets of the RGB565 quantiser, in Q16.16 of one output LSB: rows 0..3 are the 4x4
+ * Bayer matrix b = {{0, 8, 2, 10}, {12, 4, 14, 6}, {3, 11, 1, 9}, {15, 7, 13, 5}} (each threshold
+ * once, neighbours far apart) as d = (2b + 1) * 2^11, i.e. (2b + 1) / 32; row 4 is plain rounding
+ * (1/2). A row writer takes one row of this table by pointer (filling a local array instead can
+ * compile to a memcpy call on Cortex-M0). */
+#define D(b) ((2u * (b) + 1u) << 11)
+static const uint32_t dither_offset[5][4] = {
+    {D(0), D(8), D(2), D(10)},
+    {D(12), D(4), D(14), D(6)},
+    {D(3), D(11), D(1), D(9)},
+    {D(15), D(7), D(13), D(5)},
+    {0x8000u, 0x8000u, 0x8000u, 0x8000u},
 };
-
-/* d[i] is the rounding offset of column x with x % 4 == i on row y. */
-static void dither_row(uint32_t d[4], uint32_t y, bool on)
-{
-    for (unsigned i = 0; i < 4u; ++i)
-        d[i] = on ? ((uint32_t)bayer4[y & 3u][i] * 2u + 1u) << 11 : 0x8000u;
-}
+#undef D
 
 /* ---- byte order ------------------------------------------------------------------------------- */
 
@@ -218,22 +216,26 @@ static inline int32_t s32_from_bits(uint32_t u)
 /* ---- row writers: one loop per format and transfer --------------------------------------------
  * p points at the first pixel's first byte; rgb holds 3n channels. */
 
-static void row_8888_lin(uint8_t *p, const int32_t *rgb, uint32_t n, expo_t x, unsigned ri, unsigned bi)
+static void row_8888_lin(uint8_t *p, const int32_t *rgb, uint32_t n, const expo_t *x, unsigned ri,
+                         unsigned bi)
 {
+    uint32_t e = x->e, vlim = x->vlim;
     for (uint32_t i = 0; i < n; ++i, p += 4, rgb += 3) {
-        p[ri] = (uint8_t)lin8(expose(rgb[0], x));
-        p[1] = (uint8_t)lin8(expose(rgb[1], x));
-        p[bi] = (uint8_t)lin8(expose(rgb[2], x));
+        p[ri] = (uint8_t)lin8(expose(rgb[0], e, vlim));
+        p[1] = (uint8_t)lin8(expose(rgb[1], e, vlim));
+        p[bi] = (uint8_t)lin8(expose(rgb[2], e, vlim));
         p[3] = 0xFFu;
     }
 }
 
-static void row_8888_srgb(uint8_t *p, const int32_t *rgb, uint32_t n, expo_t x, unsigned ri, unsigned bi)
+static void row_8888_srgb(uint8_t *p, const int32_t *rgb, uint32_t n, const expo_t *x, unsigned ri,
+                          unsigned bi)
 {
+    uint32_t e = x->e, vlim = x->vlim;
     for (uint32_t i = 0; i < n; ++i, p += 4, rgb += 3) {
-        p[ri] = (uint8_t)srgb8(expose(rgb[0], x));
-        p[1] = (uint8_t)srgb8(expose(rgb[1], x));
-        p[bi] = (uint8_t)srgb8(expose(rgb[2], x));
+        p[ri] = (uint8_t)srgb8(expose(rgb[0], e, vlim));
+        p[1] = (uint8_t)srgb8(expose(rgb[1], e, vlim));
+        p[bi] = (uint8_t)srgb8(expose(rgb[2], e, vlim));
         p[3] = 0xFFu;
     }
 }
@@ -244,23 +246,26 @@ static inline uint32_t pack565(uint32_t r, uint32_t g, uint32_t b, uint32_t d)
     return ((r * 31u + d) >> 16) << 11 | ((g * 63u + d) >> 16) << 5 | ((b * 31u + d) >> 16);
 }
 
-static void row_565_lin(uint8_t *p, const int32_t *rgb, uint32_t n, expo_t x, const uint32_t d[4],
-                        uint32_t x0)
+static void row_565_lin(uint8_t *p, const int32_t *rgb, uint32_t n, const expo_t *x,
+                        const uint32_t d[4], uint32_t x0)
 {
+    uint32_t e = x->e, vlim = x->vlim;
     for (uint32_t i = 0; i < n; ++i, p += 2, rgb += 3) {
-        uint32_t v = pack565(expose(rgb[0], x), expose(rgb[1], x), expose(rgb[2], x), d[(x0 + i) & 3u]);
+        uint32_t r = expose(rgb[0], e, vlim), g = expose(rgb[1], e, vlim), b = expose(rgb[2], e, vlim);
+        uint32_t v = pack565(r, g, b, d[(x0 + i) & 3u]);
         p[0] = (uint8_t)v;
         p[1] = (uint8_t)(v >> 8);
     }
 }
 
-static void row_565_srgb(uint8_t *p, const int32_t *rgb, uint32_t n, expo_t x, const uint32_t d[4],
-                         uint32_t x0)
+static void row_565_srgb(uint8_t *p, const int32_t *rgb, uint32_t n, const expo_t *x,
+                         const uint32_t d[4], uint32_t x0)
 {
+    uint32_t e = x->e, vlim = x->vlim;
     for (uint32_t i = 0; i < n; ++i, p += 2, rgb += 3) {
-        uint32_t r = code_to_q16(srgb8(expose(rgb[0], x)));
-        uint32_t g = code_to_q16(srgb8(expose(rgb[1], x)));
-        uint32_t b = code_to_q16(srgb8(expose(rgb[2], x)));
+        uint32_t r = code_to_q16(srgb8(expose(rgb[0], e, vlim)));
+        uint32_t g = code_to_q16(srgb8(expose(rgb[1], e, vlim)));
+        uint32_t b = code_to_q16(srgb8(expose(rgb[2], e, vlim)));
         uint32_t v = pack565(r, g, b, d[(x0 + i) & 3u]);
         p[0] = (uint8_t)v;
         p[1] = (uint8_t)(v >> 8);
@@ -348,9 +353,10 @@ qibl_status_t qibl_fb_check(const qibl_fb_desc_t *fb)
 
 /* ---- writing ------------------------------------------------------------------------------------ */
 
-/* The conversion for a validated fb and an in-bounds span. */
+/* The conversion for a validated fb and an in-bounds span; x = expo_make(fb->exposure), made once
+ * per call by the callers (on Cortex-M0 it costs a 64-step division). */
 static void write_span(const qibl_fb_desc_t *fb, size_t stride, uint32_t x0, uint32_t y, uint32_t n,
-                       const int32_t *rgb)
+                       const int32_t *rgb, const expo_t *x)
 {
     qibl_fb_format_t f = fb->format;
     uint8_t *p = (uint8_t *)fb->pixels + (size_t)y * stride + (size_t)x0 * qibl_fb_bytes_per_pixel(f);
@@ -358,10 +364,8 @@ static void write_span(const qibl_fb_desc_t *fb, size_t stride, uint32_t x0, uin
         row_accum(p, rgb, n);
         return;
     }
-    expo_t x = expo_make(fb->exposure);
     if (f == QIBL_FB_RGB565) {
-        uint32_t d[4];
-        dither_row(d, y, fb->dither != 0u);
+        const uint32_t *d = dither_offset[fb->dither ? (y & 3u) : 4u];
         if (fb->srgb)
             row_565_srgb(p, rgb, n, x, d, x0);
         else
@@ -386,7 +390,9 @@ qibl_status_t qibl_fb_write_row(const qibl_fb_desc_t *fb, uint32_t x0, uint32_t 
         return QIBL_E_NULL_POINTER;
     if (y >= fb->height || x0 > fb->width || n > fb->width - x0)
         return QIBL_E_FB_BOUNDS;
-    write_span(fb, stride, x0, y, n, rgb);
+    expo_t x;
+    expo_make(&x, fb->format == QIBL_FB_ACCUM32 ? 0u : fb->exposure); /* ignored there: no division */
+    write_span(fb, stride, x0, y, n, rgb, &x);
     return QIBL_OK;
 }
 
@@ -408,14 +414,16 @@ qibl_status_t qibl_fb_resolve(const qibl_fb_desc_t *dst, const qibl_fb_desc_t *s
     if (src->width != dst->width || src->height != dst->height)
         return QIBL_E_FB_SIZE;
     int32_t buf[3u * RESOLVE_CHUNK];
+    expo_t x;
+    expo_make(&x, dst->exposure);
     for (uint32_t y = 0; y < src->height; ++y) {
         const uint8_t *row = (const uint8_t *)src->pixels + (size_t)y * ss;
-        for (uint32_t x0 = 0; x0 < src->width; x0 += RESOLVE_CHUNK) {
-            uint32_t n = src->width - x0 < RESOLVE_CHUNK ? src->width - x0 : RESOLVE_CHUNK;
+        for (uint32_t x0 = 0, n; x0 < src->width; x0 += n) { /* x0 + n <= width: no wrap */
+            n = src->width - x0 < RESOLVE_CHUNK ? src->width - x0 : RESOLVE_CHUNK;
             const uint8_t *q = row + (size_t)x0 * 12u;
             for (uint32_t i = 0; i < 3u * n; ++i, q += 4)
                 buf[i] = s32_from_bits(load_u32le(q));
-            write_span(dst, ds, x0, y, n, buf);
+            write_span(dst, ds, x0, y, n, buf, &x);
         }
     }
     return QIBL_OK;

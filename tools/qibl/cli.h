@@ -18,6 +18,11 @@ typedef struct qibl_cli_cmd {
 
 int qibl_cmd_sh(int argc, char **argv);
 int qibl_cmd_bench(int argc, char **argv);
+int qibl_cmd_srgbe(int argc, char **argv);
+
+/* Benchmarks (quick: smaller sizes and fewer repetitions; csv: table as CSV). */
+int qibl_bench_relight(int quick, int csv);
+int qibl_bench_srgbe(int quick); /* bench_srgbe.c */
 int qibl_cmd_info(int argc, char **argv);
 
 /* Prints "qibl: <message>" on stderr and returns 2 (the bad-arguments exit status). */

@@ -138,16 +138,25 @@ static int bench_sh(int quick)
 int qibl_cmd_bench(int argc, char **argv)
 {
     const char *what = "all";
-    int quick = 0;
+    int quick = 0, csv = 0;
     for (int i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "--quick") == 0)
             quick = 1;
+        else if (strcmp(argv[i], "--csv") == 0)
+            csv = 1;
         else if (argv[i][0] != '-')
             what = argv[i];
         else
             return qibl_cli_usage_error("bench: unknown option '%s'", argv[i]);
     }
-    if (strcmp(what, "all") == 0 || strcmp(what, "sh") == 0)
-        return bench_sh(quick);
-    return qibl_cli_usage_error("bench: unknown benchmark '%s' (all, sh)", what);
+    int all = strcmp(what, "all") == 0, rc = 0, ran = 0;
+    if (all || strcmp(what, "sh") == 0)
+        rc |= bench_sh(quick), ran = 1;
+    if (all || strcmp(what, "relight") == 0)
+        rc |= qibl_bench_relight(quick, csv), ran = 1;
+    if (all || strcmp(what, "srgbe") == 0)
+        rc |= qibl_bench_srgbe(quick), ran = 1;
+    if (!ran)
+        return qibl_cli_usage_error("bench: unknown benchmark '%s' (all, sh, relight, srgbe)", what);
+    return rc;
 }

@@ -24,9 +24,13 @@ static const qibl_cli_cmd commands[] = {
      "  evaluated by the integer core; W is the tile width in pixels (default 128).\n",
      qibl_cmd_sh},
     {"bench", "benchmarks: speed against error, with RESULT lines",
-     "usage: qibl bench [all|sh] [--quick]\n"
+     "usage: qibl bench [all|sh|srgbe] [--quick]\n"
      "  sh: integer SH basis against the double reference from Wong et al.'s appendix:\n"
      "      ns per evaluation (median of 7 runs) and max |error| over a fixed-seed sweep.\n"
+     "  srgbe: the sRGBE codec against Ward's RGBE (frexp/ldexp), RGB9E5 and binary32 on a real\n"
+     "      probe from ../shared/fixtures/probes (QIBL_PROBE=FILE picks one; a procedural sky\n"
+     "      when absent) and on signed SH data of it: max/mean relative error of the largest\n"
+     "      channel, mean absolute error of the others, encode/decode Mpixel/s (medians).\n"
      "  all: every benchmark (what `make bench` runs). --quick: fewer repetitions.\n",
      qibl_cmd_bench},
     {"info", "validate a qibl asset file and print its contents",
@@ -37,6 +41,18 @@ static const qibl_cli_cmd commands[] = {
      "  decimals and the min/max byte of the plane; PMAP size and the bounding box of its points;\n"
      "  YLUT face size and k. An invalid asset prints `qibl: FILE: <reason>` and exits 1.\n",
      qibl_cmd_info},
+    {"srgbe", "encode/decode one sRGBE colour (signed shared-exponent RGB in 4 bytes)",
+     "usage: qibl srgbe encode R G B\n"
+     "       qibl srgbe decode HEX8\n"
+     "  encode: R G B are decimals rounded to binary32 (inf and nan accepted); prints the code as\n"
+     "  8 hex digits, bytes R G B E in memory order (Granier et al. 4.2: e = floor(log2 max|c|) + 2,\n"
+     "  X = round(255 (c 2^-e + 1/2)), E = e + 126). An infinite channel saturates (printed, with a\n"
+     "  note on stderr); a NaN channel is an error (exit 1).\n"
+     "  decode: HEX8 is 8 hex digits as printed by encode; prints the three channels\n"
+     "  (X/255 - 1/2) 2^(E-126), correctly rounded to binary32, as %.9g (E = 255 with X = 0 or 255\n"
+     "  saturates to +-FLT_MAX, with a note on stderr).\n"
+     "  Bad arguments: one line on stderr, exit status 2.\n",
+     qibl_cmd_srgbe},
 };
 #define NCMD (sizeof commands / sizeof commands[0])
 

@@ -48,8 +48,13 @@
  *    size = 12 + 12 N N k exactly
  *
  * Validation (qibl_asset_open) checks everything above once; afterwards the accessors cannot fail
- * on a validated asset. Each problem has its own status (see status.h, QIBL_E_ASSET_*). A failing
- * call writes nothing to its outputs.
+ * on a validated asset. Each problem has its own status (see status.h, QIBL_E_ASSET_*) and the
+ * first failing check is reported, in this order: header; table size and CRC; per entry its
+ * alignment and bounds, then duplicate/overlap against the earlier entries; SHMP present; every
+ * payload CRC; the fields of SHMP, then PMAP, then YLUT (a payload too short for its fixed fields
+ * is QIBL_E_ASSET_CHUNK_SIZE). A buffer or a file_size shorter than header + table is
+ * QIBL_E_ASSET_TRUNCATED_TABLE, a buffer shorter than file_size QIBL_E_ASSET_TRUNCATED. An empty
+ * payload (size 0) overlaps nothing. A failing call writes nothing to its outputs.
  */
 #ifndef QIBL_ASSET_H
 #define QIBL_ASSET_H
@@ -111,14 +116,16 @@ typedef struct qibl_ylut {
 } qibl_ylut_t;
 
 /* CRC-32 (ISO 3309 / zip / PNG polynomial 0xEDB88320, reflected, init and final xor 0xFFFFFFFF)
- * of n bytes, continuing from crc (pass 0 to start). Table-free nibble loop: 64 bytes of const. */
+ * of n bytes, continuing from crc (pass 0 to start). A nibble-at-a-time loop over a 16-entry const
+ * table (64 bytes of .rodata) instead of the usual 1 KiB byte table. */
 uint32_t qibl_crc32(uint32_t crc, const uint8_t *data, size_t n);
 
 /* Validates bytes[0..n) as an asset (every rule above, every CRC) and fills *out.
  * Errors: QIBL_E_NULL_POINTER and the QIBL_E_ASSET_* codes; *out untouched on failure. */
 qibl_status_t qibl_asset_open(qibl_asset_t *out, const void *bytes, size_t n);
 
-/* The chunk of the given type. QIBL_E_ASSET_MISSING_CHUNK if absent; *out untouched then. */
+/* The chunk of the given type (the first one, for an unknown type that appears more than once).
+ * QIBL_E_ASSET_MISSING_CHUNK if absent; *out untouched then. */
 qibl_status_t qibl_asset_find(const qibl_asset_t *a, uint32_t type, qibl_chunk_t *out);
 
 /* Typed views of the known chunks of a validated asset (missing chunk -> QIBL_E_ASSET_MISSING_CHUNK). */

@@ -25,6 +25,13 @@
 #define QIBL_USE_ASSET 1
 #endif
 
+/* QIBL_USE_LIGHTPROBE: 1 builds light-probe sampling (lightprobe.c: SATs, median cut, adaptive
+ * median cut, variance minimisation; about 6 KiB .text on Cortex-M4 -Os, no RAM beyond the caller's
+ * workspace, 8 bytes per probe pixel, 48 with the variance tables). */
+#ifndef QIBL_USE_LIGHTPROBE
+#define QIBL_USE_LIGHTPROBE 1
+#endif
+
 /* QIBL_USE_SHMAP: 1 builds the relighting kernels (shmap.c: weights, directional/environment and
  * point-light spans, cube-map LUTs; about 3 KiB .text on Cortex-M4 -Os). Needs QIBL_USE_SH. */
 #ifndef QIBL_USE_SHMAP

@@ -54,26 +54,36 @@ typedef enum qibl_falloff {
     QIBL_FALLOFF_INV_DIST2     /* C0 / |L|^2, physical */
 } qibl_falloff_t;
 
+/* How a cube-map LUT is sampled. 0 is the default. */
+typedef enum qibl_lut_filter {
+    QIBL_LUT_BILINEAR = 0, /* between the four nearest texel centres of the face, clamped at its edges */
+    QIBL_LUT_NEAREST       /* the texel the direction falls in: cheapest, error ~ texel size */
+} qibl_lut_filter_t;
+
 /* A point light. Zero-initialisable: rgb 0 is dark, min_dist 0 means 1/256 scene unit. */
 typedef struct qibl_pointlight {
-    qibl_q16_t pos[3];      /* S, scene units (the P map's), Q16.16 */
-    qibl_q16_t rgb[3];      /* C0 per channel, >= 0, Q16.16 */
+    qibl_q16_t pos[3];          /* S, scene units (the P map's), Q16.16 */
+    qibl_q16_t rgb[3];          /* C0 per channel, >= 0, Q16.16 */
     qibl_falloff_t falloff;
-    qibl_q16_t min_dist;    /* distances below it count as it, Q16.16 > 0 */
+    qibl_q16_t min_dist;        /* distances below it count as it, Q16.16 > 0 */
+    qibl_lut_filter_t filter;   /* when a LUT is used */
 } qibl_pointlight_t;
 
-/* Prepared point-light state (qibl_shmap_point_prepare); points into the caller's workspace. */
+/* Prepared point-light state (qibl_shmap_point_prepare): the light and the maps' packing folded
+ * into int16 per-map factors, so the per-pixel work is Y_i(L) (scalar) then two int16 products
+ * per map and channel over the span (vectorisable). Holds pointers to the views it was made from. */
 typedef struct qibl_shmap_point {
     const qibl_shmaps_t *maps;
     const qibl_pmap_t *pmap;
-    const qibl_ylut_t *lut;   /* NULL: evaluate the SH polynomials per pixel */
-    const int16_t *dec;       /* [source channel][map][256] decoded bytes, unit 2^(dec_shift - 24) */
-    int32_t dec_shift[3];
+    const qibl_ylut_t *lut;             /* NULL: evaluate the SH polynomials per pixel */
+    int16_t sn[3][QIBL_SH_MAX_COUNT];   /* scale_i / 2^es[ch], [output channel][map] */
+    int16_t bn[3][QIBL_SH_MAX_COUNT];   /* bias_i / 2^eb[ch] */
+    int32_t es[3], eb[3];
     int64_t pos[3];
-    uint32_t rgb[3];          /* C0 per channel, Q16.16, >= 0 */
-    uint32_t falloff;
-    uint64_t min_d2;          /* min_dist^2 in (2^-16)^2 units */
-    uint32_t clamp_y;         /* 1 / min_dist = clamp_y / 2^clamp_e in 1/(2^-16) units */
+    uint32_t rgb[3];                    /* C0 per channel, Q16.16, >= 0 */
+    uint32_t falloff, filter;
+    uint64_t min_d2;                    /* min_dist^2 in (2^-16)^2 units */
+    uint32_t clamp_y;                   /* 1 / min_dist = clamp_y / 2^clamp_e in 1/(2^-16) units */
     unsigned clamp_e;
     uint32_t bands;
 } qibl_shmap_point_t;
@@ -114,24 +124,26 @@ qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_w
 
 /* ---- point lights ---------------------------------------------------------------------------- */
 
-/* Workspace bytes qibl_shmap_point_prepare needs for maps m (decoded-byte tables: k * channels *
- * 256 int16, at most 38,400 bytes). Must stay alive while the prepared state is used. */
-size_t qibl_shmap_point_workspace_size(const qibl_shmaps_t *m);
-
 /* Prepares a point light for maps m, point map p (same size) and optionally a cube-map LUT (NULL:
- * direct SH evaluation). Errors: those of qibl_shmap_check, QIBL_E_SHMAP_MISMATCH (P map or LUT
- * does not fit the maps), QIBL_E_SHMAP_LIGHT (negative colour or min_dist < 0, unknown falloff),
- * QIBL_E_WORKSPACE; *out untouched on error. */
+ * direct SH evaluation). No workspace: the state holds all it needs (about 400 bytes).
+ * Errors: those of qibl_shmap_check, QIBL_E_SHMAP_MISMATCH (P map or LUT does not fit the maps),
+ * QIBL_E_SHMAP_LIGHT (negative colour or min_dist, unknown falloff or filter); *out untouched then. */
 qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t *p, const qibl_ylut_t *lut,
-                                       const qibl_pointlight_t *light, void *ws, size_t ws_size,
-                                       qibl_shmap_point_t *out);
+                                       const qibl_pointlight_t *light, qibl_shmap_point_t *out);
+
+/* Workspace bytes qibl_shmap_point_span needs for a span of n pixels with k maps
+ * (n * (2k + 32) bytes: per-pixel Y_i, attenuation and two int32 accumulators per channel). */
+size_t qibl_shmap_point_workspace_size(uint32_t k, uint32_t n);
 
 /* Relights a span under a prepared point light, into out as qibl_shmap_relight_span.
- * Error (against sum_i T_i(p) Y_i(L/|L|) C0 att(|L|) in double, same bytes): decoded bytes rounded to
- * 1/8192 of the largest |T| per channel, Y to 2^-14 (direct) or the LUT's bilinear error (LUT),
- * 1/|L| to 2^-27 relative; measured in shmap_test.c and `qibl bench relight`.
- * Errors: QIBL_E_NULL_POINTER, QIBL_E_SHMAP_BOUNDS; nothing written. */
-qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out);
+ * Per pixel: L = S - P(p); d = |L| (clamped below by min_dist); Y_i(L / |L|) in Q2.14 from the LUT
+ * or from qibl_sh_eval_unit; then sum_i Y_i (bias_i + scale_i c_i) C0 att(d).
+ * Error against that sum in double from the same bytes: each product Y_i scale_i and Y_i bias_i
+ * is rounded to 2^-15 of the channel's largest |scale| (|bias|), Y to 2^-15 (direct) plus the LUT's
+ * interpolation error, 1/|L| to 2^-28 relative; measured in shmap_test.c and `qibl bench relight`.
+ * Errors: QIBL_E_NULL_POINTER, QIBL_E_SHMAP_BOUNDS, QIBL_E_WORKSPACE; nothing written. */
+qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out,
+                                    void *ws, size_t ws_size);
 
 /* ---- cube-map Y LUTs ------------------------------------------------------------------------- */
 

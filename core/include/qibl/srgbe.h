@@ -54,8 +54,9 @@
  *
  * GLES: a shader that samples the RGBA8 texel t and computes (t.rgb - 0.5) * exp2(t.a * 255.0 -
  * 126.0) (better: exp2(floor(t.a * 255.0 + 0.5) - 126.0), immune to an inexact t.a * 255) gets the
- * value qibl_srgbe_decode_f32 returns, up to the GPU's own rounding of X / 255 (2^(e-25)) and
- * provided 2^e is representable in its float precision (fp32: E <= 253; mediump: far less).
+ * value qibl_srgbe_decode_f32 returns to within 2^(e-23) (the GPU's rounding of X / 255 and of the
+ * subtraction, plus the decoder's half ulp), provided 2^e is representable in the shader's float
+ * precision (fp32: E <= 253; mediump: far fewer). tests/srgbe_test.c checks this in binary32.
  *
  * Memory: no workspace, no tables. Codes are byte arrays with no alignment requirement.
  * All functions are reentrant; inputs may be any values (no precondition beyond valid pointers).

@@ -56,6 +56,17 @@ typedef enum qibl_status {
     QIBL_E_SRGBE_INF,              /* encode: a channel is +-Inf (saturated code written) */
     QIBL_E_SRGBE_OVERFLOW,         /* encode: finite pixel >= 2^129, above the largest exponent */
     QIBL_E_SRGBE_DECODE_SAT,       /* decode: a channel beyond the output format (saturated) */
+    /* light-probe sampling (lightprobe.h) */
+    QIBL_E_PROBE_SIZE,             /* probe width or height 0 or above QIBL_LIGHTPROBE_MAX_DIM */
+    QIBL_E_PROBE_OVERFLOW,         /* W * H above QIBL_LIGHTPROBE_MAX_PIXELS, or sizes beyond size_t */
+    QIBL_E_PROBE_FORMAT,           /* unknown pixel format, frac_bits out of range, bad stride/alignment */
+    QIBL_E_PROBE_METHOD,           /* unknown method, priority or placement, or an invalid mix */
+    QIBL_E_PROBE_NEGATIVE,         /* a probe pixel has a negative channel */
+    QIBL_E_PROBE_NOT_FINITE,       /* a probe pixel has a NaN or infinite channel */
+    QIBL_E_PROBE_COUNT,            /* light count 0, or not a power of two for median cut */
+    QIBL_E_PROBE_MISMATCH,         /* variance tables needed but the probe was built without them */
+    QIBL_E_PROBE_BLACK,            /* the probe has no light: zero lights */
+    QIBL_E_PROBE_RECT,             /* region outside the probe or inverted */
     QIBL_STATUS_COUNT      /* number of status values; not a status */
 } qibl_status_t;
 

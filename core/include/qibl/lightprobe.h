@@ -1,0 +1,230 @@
+/*
+ * qibl/lightprobe.h - light-probe sampling: a lat-long HDR probe turned into N directional lights
+ * (median cut, adaptive median cut, variance minimisation), integer only, no heap, deterministic.
+ *
+ * Conventions (Madsen & Laursen section 3.1; the CLI, the tests and the tools use exactly these):
+ *   - The probe is a W x H lat-long image, rows top to bottom. Pixel (u, v) (column u, row v) is
+ *     centred on theta = (v + 1/2) pi / H from the top row and phi = (u + 1/2) 2 pi / W from the
+ *     left column; its direction is w = (sin theta cos phi, sin theta sin phi, cos theta), so +z is
+ *     the top row and phi grows to the right.
+ *   - Pixel energy is Madsen's Q(u, v) = P(u, v) sin theta_v 2 pi^2 / (W H), the radiance times
+ *     the pixel's solid angle. Regions are split on luminance
+ *     L = (13933 R + 46871 G + 4732 B) / 65536 (Rec. 709 weights 0.2126, 0.7152, 0.0722 rounded
+ *     to Q16 so that they sum to exactly 1), weighted by sin theta_v.
+ *   - A light's rgb is the irradiance it delivers to a surface facing it: the sum of Q over its
+ *     region, per channel. Then E(n) = sum_i rgb_i max(0, n . d_i) approximates the probe's
+ *     irradiance E(n) = sum_(u,v) Q(u, v) max(0, n . w(u, v)) for every normal n.
+ *   - A light's direction d is a Q2.30 unit vector (error <= 2 LSB per component, |d| = 1 within
+ *     2^-29) toward the region's energy centroid: the luminance-energy-weighted mean of the pixel
+ *     centres' (u, v) inside the region, mapped to (theta, phi) as above. (Placement
+ *     QIBL_LIGHTPROBE_PLACE_CENTRE uses the region's geometric centre instead, for comparison.)
+ *
+ * Pixel formats (qibl_lightprobe_format_t), each pixel's value P = (R, G, B):
+ *   RGBE        Radiance bytes R G B E as stored in .hdr files after RLE decoding:
+ *               P = m * 2^(E - 136), E = 0 means black. No +1/2 mantissa offset (the convention of
+ *               ../shared/fixtures/SOURCES.md and of most readers).
+ *   SRGBE       Granier's sRGBE bytes X X X E (qibl/srgbe.h): P = (2X - 255) 2^(E - 126) / 510.
+ *               sRGBE has no exact zero: X = 127 and X = 128 (+-2^(E-126)/510, what the encoder
+ *               writes for a zero channel) are read as 0, as srgbe.h recommends; X < 127 is a
+ *               negative channel (QIBL_E_PROBE_NEGATIVE).
+ *   LINEAR_I32  three int32 per pixel: P = x / 2^frac_bits (frac_bits in -128..128). Negative
+ *               values are QIBL_E_PROBE_NEGATIVE.
+ *   LINEAR_F32  three IEEE-754 binary32 bit patterns per pixel, read as uint32 (no floating point
+ *               is used). +-0 and subnormals are fine; a negative value is QIBL_E_PROBE_NEGATIVE,
+ *               NaN or +-Inf is QIBL_E_PROBE_NOT_FINITE.
+ * The 32-bit formats need 4-byte aligned pixels and stride; bytes formats have no alignment needs.
+ *
+ * How it works and what it guarantees (details and proofs in core/src/lightprobe.c):
+ *   - qibl_lightprobe_build reads the probe twice (once for its largest exponent and the checks,
+ *     once to build the tables) and writes a summed-area table (SAT) of the per-pixel luminance
+ *     energy e(u, v) = floor(Y * s_v * 2^k) into the caller's workspace: Y the pixel's exact
+ *     integer luminance, s_v the integer sin theta_v table (32-bit mantissa, relative error
+ *     <= 2^-30 on every row), k one shift per probe and row chosen so that the brightest pixel has
+ *     e < 2^p, p = 64 - ceil(log2(W H)). Every SAT entry is then an exact uint64 sum (the total is
+ *     below W H 2^p <= 2^64), so region sums are exact sums of the per-pixel integers and
+ *     additive: the two halves of a split add up to their parent bit for bit. Against the real
+ *     energy sum(L sin theta) of a region holding n pixels, the only errors are the per-pixel
+ *     floor (< 1 unit each, so < n units in all) and s_v: relative error
+ *     <= n / (region energy in units) + 2^-30. With p >= 38 at the largest supported size a pixel
+ *     2^20 (10^6) times dimmer than the brightest still carries >= 18 significant bits.
+ *   - Median cut splits at the energy median found by binary search over the SAT (O(log w) region
+ *     sums per split), choosing the cut that makes the two halves closest to equal, with at least
+ *     one pixel on each side.
+ *   - Variance minimisation (Viriyothai & Debevec 2009) adds four SATs of the moments e u, e u^2,
+ *     e v, e v^2 (of e >> k_m, k_m chosen from the probe's total so that no moment overflows) and
+ *     scores every cut of a region in O(1) with exact 128-bit integer arithmetic.
+ *   - Light colours come from one more pass over the probe pixels, region by region (the final
+ *     regions tile the probe, so it reads each pixel once).
+ *
+ * Memory: qibl_lightprobe_workspace_size(W, H, method) bytes, any alignment:
+ *   8 (W + 1)(H + 1) for the SAT (40 (W + 1)(H + 1) with the four moment SATs of VARMIN)
+ *   + 16 (H + 1) for the row tables + 8 for alignment. 1024 x 512: 4.2 MB (VARMIN 21 MB);
+ *   4096 x 2048: 67 MB. The lights array doubles as the list of regions while splitting.
+ * Limits: W, H in 1..QIBL_LIGHTPROBE_MAX_DIM (32768), W H <= QIBL_LIGHTPROBE_MAX_PIXELS (2^26).
+ * All functions are reentrant; the probe pixels must stay unchanged between build and lights.
+ */
+#ifndef QIBL_LIGHTPROBE_H
+#define QIBL_LIGHTPROBE_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "qibl/config.h"
+#include "qibl/fixed.h"
+#include "qibl/status.h"
+
+#define QIBL_LIGHTPROBE_MAX_DIM 32768u
+#define QIBL_LIGHTPROBE_MAX_PIXELS ((uint32_t)1 << 26)
+
+/* Luminance weights in Q16 (sum 65536). */
+#define QIBL_LIGHTPROBE_LUMA_R 13933u
+#define QIBL_LIGHTPROBE_LUMA_G 46871u
+#define QIBL_LIGHTPROBE_LUMA_B 4732u
+
+typedef enum qibl_lightprobe_format {
+    QIBL_LIGHTPROBE_RGBE = 0,   /* 4 bytes per pixel (default) */
+    QIBL_LIGHTPROBE_SRGBE,      /* 4 bytes per pixel */
+    QIBL_LIGHTPROBE_LINEAR_I32, /* 3 int32 per pixel, frac_bits fraction bits */
+    QIBL_LIGHTPROBE_LINEAR_F32, /* 3 binary32 bit patterns (uint32) per pixel */
+    QIBL_LIGHTPROBE_FORMAT_COUNT
+} qibl_lightprobe_format_t;
+
+typedef enum qibl_lightprobe_method {
+    QIBL_LIGHTPROBE_MEDIANCUT = 0, /* Debevec: split every region K times at the energy median:
+                                    * 2^K lights (count must be a power of two) (default) */
+    QIBL_LIGHTPROBE_ADAPTIVE,      /* median cuts, any count: repeatedly split the region with the
+                                    * largest priority key (see qibl_lightprobe_priority_t) */
+    QIBL_LIGHTPROBE_VARMIN,        /* Viriyothai & Debevec: cut where the larger of the two halves'
+                                    * energy-weighted spatial variances is smallest; any count,
+                                    * repeatedly splitting the region with the largest key */
+    QIBL_LIGHTPROBE_METHOD_COUNT
+} qibl_lightprobe_method_t;
+
+/* Which region ADAPTIVE and VARMIN split next. 0 picks the method's default, the best one measured
+ * on the 11 real probes (docs/ARCHITECTURE.md, `qibl bench lights`). */
+typedef enum qibl_lightprobe_priority {
+    QIBL_LIGHTPROBE_PRIORITY_DEFAULT = 0, /* ADAPTIVE: ENERGY_SIZE; VARMIN: VARIANCE */
+    QIBL_LIGHTPROBE_PRIORITY_ENERGY,      /* the most luminance energy */
+    QIBL_LIGHTPROBE_PRIORITY_ENERGY_SIZE, /* energy times the region's diagonal on the sphere: a
+                                           * bound on how far its energy is moved to one point */
+    QIBL_LIGHTPROBE_PRIORITY_VARIANCE,    /* the largest energy-weighted angular variance
+                                           * (VARMIN only: needs the moment tables) */
+    QIBL_LIGHTPROBE_PRIORITY_LEVELS,      /* no priority: split every region once per round, as
+                                           * MEDIANCUT does (count must be a power of two) */
+    QIBL_LIGHTPROBE_PRIORITY_COUNT
+} qibl_lightprobe_priority_t;
+
+typedef enum qibl_lightprobe_place {
+    QIBL_LIGHTPROBE_PLACE_CENTROID = 0, /* the region's luminance-energy centroid (default) */
+    QIBL_LIGHTPROBE_PLACE_CENTRE,       /* the region's geometric centre (for comparison) */
+    QIBL_LIGHTPROBE_PLACE_COUNT
+} qibl_lightprobe_place_t;
+
+/* The probe. Zero-initialisable: set pixels, width, height; format 0 is RGBE, stride 0 means rows
+ * are tightly packed (4 or 12 bytes per pixel by format). */
+typedef struct qibl_lightprobe_image {
+    const void *pixels;
+    uint32_t width, height;
+    size_t stride;                   /* bytes from one row to the next, 0 = tightly packed */
+    qibl_lightprobe_format_t format;
+    int32_t frac_bits;               /* LINEAR_I32 only: P = x / 2^frac_bits, -128..128 */
+} qibl_lightprobe_image_t;
+
+/* Options for qibl_lightprobe_lights. Zero-initialisable; a NULL pointer means all defaults. */
+typedef struct qibl_lightprobe_opts {
+    qibl_lightprobe_method_t method;     /* MEDIANCUT (0), ADAPTIVE or VARMIN */
+    qibl_lightprobe_priority_t priority; /* 0: the method's default */
+    qibl_lightprobe_place_t place;       /* 0: energy centroid */
+} qibl_lightprobe_opts_t;
+
+/* One light. rgb is irradiance: rgb[c] * 2^rgb_exp (rgb_exp shared by the whole list, in the
+ * result); region: columns u0 <= u < u1, rows v0 <= v < v1. */
+typedef struct qibl_lightprobe_light {
+    qibl_q30_t dir[3];               /* unit vector toward the light, Q2.30 */
+    int32_t rgb[3];                  /* >= 0 */
+    uint32_t u0, v0, u1, v1;
+} qibl_lightprobe_light_t;
+
+typedef struct qibl_lightprobe_result {
+    uint32_t count;   /* lights written: lights[0 .. count-1], brightest (luminance) first */
+    int32_t rgb_exp;  /* every rgb value means rgb * 2^rgb_exp; the largest channel of the list is
+                       * in [2^30, 2^31) */
+} qibl_lightprobe_result_t;
+
+/* A built probe: the tables in the caller's workspace plus what is needed to read them. Filled by
+ * qibl_lightprobe_build; the fields are private except energy_exp and energy_div, which give the
+ * unit of qibl_lightprobe_region_energy: one unit = 2^energy_exp / energy_div of
+ * (luminance x sin theta) summed over pixels, in the probe's own units. */
+typedef struct qibl_lightprobe {
+    const uint8_t *pixels;
+    size_t stride;
+    uint32_t width, height;
+    qibl_lightprobe_format_t format;
+    int32_t frac_bits;
+    qibl_lightprobe_method_t built_for;
+    int32_t energy_exp;
+    uint32_t energy_div;
+    int32_t gshift;        /* k of the per-pixel energy before the row's sin exponent */
+    uint32_t mshift;       /* moment SATs hold sums of e >> mshift */
+    uint64_t *sat;         /* (W + 1) (H + 1): row 0 and column 0 are zero */
+    uint64_t *mom;         /* 4 (W + 1) (H + 1) for VARMIN: e u, e u^2, e v, e v^2; else NULL */
+    uint32_t *row_sig;     /* H: sin theta_v mantissa in [2^31, 2^32) */
+    int32_t *row_kap;      /* H: sin theta_v = row_sig * 2^-(32 + row_kap) */
+    uint64_t *row_sum;     /* H + 1: prefix sums of sin theta_v in Q31 (for widths on the sphere) */
+} qibl_lightprobe_t;
+
+/* Bytes of workspace qibl_lightprobe_build needs for a W x H probe and a method (VARMIN needs the
+ * moment tables; MEDIANCUT and ADAPTIVE the SAT only). 0 if W or H is 0 or above the limits, if
+ * W H > QIBL_LIGHTPROBE_MAX_PIXELS, if the method is unknown, or if the size does not fit size_t. */
+size_t qibl_lightprobe_workspace_size(uint32_t width, uint32_t height, qibl_lightprobe_method_t method);
+
+/* Validates img, reads every pixel and builds the tables for method in workspace; lp then refers
+ * to img->pixels and the workspace, which must outlive it unchanged.
+ * Cost: two reads of the probe, one write of the SAT (plus one read of it and four moment SAT
+ * writes for VARMIN), about 20 integer operations per pixel.
+ * Errors, in the order checked: QIBL_E_NULL_POINTER (lp, img, img->pixels or workspace),
+ * QIBL_E_PROBE_SIZE (W or H zero or above QIBL_LIGHTPROBE_MAX_DIM), QIBL_E_PROBE_OVERFLOW
+ * (W H above QIBL_LIGHTPROBE_MAX_PIXELS, or a byte size beyond size_t), QIBL_E_PROBE_FORMAT
+ * (unknown format, frac_bits outside -128..128, stride shorter than a row or misaligned),
+ * QIBL_E_PROBE_METHOD (unknown method), QIBL_E_WORKSPACE (workspace_size below what
+ * qibl_lightprobe_workspace_size asks), QIBL_E_PROBE_NEGATIVE, QIBL_E_PROBE_NOT_FINITE (found
+ * before anything is written), QIBL_E_PROBE_BLACK (no pixel has luminance energy: the tables are
+ * built, lp is filled and qibl_lightprobe_lights will report the same).
+ * On other failures lp is untouched; the workspace may have been written. */
+qibl_status_t qibl_lightprobe_build(qibl_lightprobe_t *lp, const qibl_lightprobe_image_t *img,
+                                    qibl_lightprobe_method_t method, void *workspace, size_t workspace_size);
+
+/* Samples up to max_lights lights from a built probe into lights[], brightest first, and fills
+ * *result. MEDIANCUT (and priority LEVELS) needs max_lights to be a power of two; ADAPTIVE and
+ * VARMIN take any count >= 1. Fewer lights come back when regions run out: a region of one pixel
+ * cannot split, a region with zero energy is not split and gives no light; so max_lights larger
+ * than the number of lit pixels gives one light per lit pixel.
+ * Accuracy: rgb within 1 LSB of the list's scale plus the region-sum error above; dir within
+ * 2 LSB (Q2.30) of the exact direction of the integer centroid, which is within 2^-32 pixel of the
+ * exact centroid of the region's integer energies.
+ * Cost: O(count log count) region splits, each O(log(w h)) SAT reads (MEDIANCUT, ADAPTIVE) or
+ * O(w + h) (VARMIN, each candidate cut costing a few 128-bit operations), then O(w + h) SAT reads
+ * per light for its centroid and one read of the probe pixels for the colours.
+ * Errors: QIBL_E_NULL_POINTER (lp, lights or result), QIBL_E_PROBE_METHOD (unknown method,
+ * priority or place, or priority VARIANCE without VARMIN), QIBL_E_PROBE_COUNT (max_lights 0, or
+ * not a power of two for MEDIANCUT / LEVELS), QIBL_E_PROBE_MISMATCH (VARMIN on a probe built
+ * without the moment tables), QIBL_E_PROBE_BLACK (an all-black probe: no lights).
+ * On failure lights[] and *result are untouched. */
+qibl_status_t qibl_lightprobe_lights(const qibl_lightprobe_t *lp, const qibl_lightprobe_opts_t *opts,
+                                     qibl_lightprobe_light_t *lights, uint32_t max_lights,
+                                     qibl_lightprobe_result_t *result);
+
+/* Luminance energy of the region u0 <= u < u1, v0 <= v < v1 in SAT units (see qibl_lightprobe_t):
+ * the exact sum of the per-pixel integers, from four SAT reads. An empty region (u0 == u1 or
+ * v0 == v1) gives 0. QIBL_E_NULL_POINTER, QIBL_E_PROBE_RECT (u0 > u1, v0 > v1 or past the probe);
+ * *energy untouched on failure. */
+qibl_status_t qibl_lightprobe_region_energy(const qibl_lightprobe_t *lp, uint32_t u0, uint32_t v0, uint32_t u1,
+                                            uint32_t v1, uint64_t *energy);
+
+/* The row weight table entry: sin((v + 1/2) pi / h) = *mant * 2^-(32 + *kap), *mant in
+ * [2^31, 2^32), computed from the exact rational angle with integer polynomials: relative error
+ * <= 2^-30 (the tests measure it against libm for every row of several heights). Identical bits on
+ * every port. QIBL_E_NULL_POINTER, QIBL_E_PROBE_SIZE (h 0 or above QIBL_LIGHTPROBE_MAX_DIM,
+ * v >= h); outputs untouched on failure. */
+qibl_status_t qibl_lightprobe_row_weight(uint32_t h, uint32_t v, uint32_t *mant, int32_t *kap);
+
+#endif /* QIBL_LIGHTPROBE_H */

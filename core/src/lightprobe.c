@@ -1,0 +1,1205 @@
+/*
+ * lightprobe.c - light-probe sampling: SATs of the sin-weighted luminance energy of a lat-long
+ * probe, median cut / adaptive median cut / variance minimisation, light directions and colours.
+ *
+ * Invariants: integer only, no heap, no state; no 64-bit multiply, divide or variable shift that a
+ * Cortex-M0 would turn into a library call (products through qibl_mul_u32_u64, divisions through
+ * qibl_udiv_u64, shifts through lp_shr / lp_shl); the same bits on every port.
+ *
+ * Number formats and bounds (the arguments lightprobe.h quotes):
+ *   - Every pixel is decoded exactly to channel integers m_c >= 0 and an exponent eps with
+ *     P_c = m_c 2^eps / D (D = 510 for sRGBE, else 1), and its luminance Y = sum w_c m_c (weights
+ *     Q16, so Y 2^(eps-16) / D = L exactly). RGBE and sRGBE: m_c < 2^8, Y < 2^24. LINEAR_I32:
+ *     m_c < 2^31. LINEAR_F32: the three channels are aligned to the largest one's exponent with 23
+ *     extra bits, m_c < 2^47 (a channel more than 2^-47 below the pixel's largest is truncated).
+ *   - Row weight sin theta_v = sig_v 2^-(32 + kap_v), sig_v in [2^31, 2^32), relative error
+ *     <= 2^-30 (see sin_frac).
+ *   - The first pass finds lb = max over pixels of (bitlen(max_c m_c) + eps), so every channel and
+ *     the luminance satisfy m 2^eps < 2^lb (Y <= 2^16 max m_c since the weights sum to 2^16).
+ *     With p = 64 - ceil(log2(W H)) and g = p - lb, the pixel energy
+ *         e = floor(Y sig_v 2^(eps - 16 + g - 32 - kap_v))  <  2^(lb + g) = 2^p
+ *     (sig_v 2^-(32+kap_v) <= 1), and the channel energies x_c = floor(m_c sig_v 2^(eps+g-32-kap_v))
+ *     obey the same bound. So every SAT entry and every region's channel sum is below
+ *     W H 2^p <= 2^64: exact in uint64, no overflow for any input at any supported size.
+ *     e 2^-g / D = L sin theta up to the floor (< 1 unit) and the sin error.
+ *   - VARMIN's moment SATs hold sums of em = e >> k, em u, em u^2, em v, em v^2 with
+ *     k = max(0, bitlen(T) + 2 bitlen(max(W, H) - 1) - 64), T the probe's total: then
+ *     sum em u^2 <= (T >> k) (W-1)^2 < 2^64, and the same for v. Region moments are taken about the
+ *     region's own corner with wrap-around uint64 arithmetic, exact because the true results are
+ *     below 2^64, and a region's variance sum em (x - mean)^2 = S2 - S1^2 / S0 is computed exactly
+ *     with a 128-bit square and a 128/64 division (the quotient is <= S2 by Cauchy-Schwarz).
+ */
+#include "qibl/lightprobe.h"
+
+#if QIBL_USE_LIGHTPROBE
+
+/* ---- 64- and 128-bit helpers ----------------------------------------------------------------- */
+
+typedef struct {
+    uint64_t hi, lo;
+} u128;
+
+/* x >> n, x << n for n in 0..63: native shifts where the target has them inline (all but ARMv6-M),
+ * else built from 32-bit halves so that no __aeabi_llsr / __aeabi_llsl is called. */
+static inline uint64_t lp_shr(uint64_t x, unsigned n)
+{
+#if QIBL_CONFIG_NATIVE_MUL64
+    return x >> n;
+#else
+    return qibl_shr_u64(x, n);
+#endif
+}
+
+static inline uint64_t lp_shl(uint64_t x, unsigned n)
+{
+#if QIBL_CONFIG_NATIVE_MUL64
+    return x << n;
+#else
+    uint32_t hi = (uint32_t)(x >> 32), lo = (uint32_t)x;
+    if (n == 0u)
+        return x;
+    if (n >= 32u)
+        return (uint64_t)(lo << (n - 32u)) << 32;
+    return ((uint64_t)((hi << n) | (lo >> (32u - n))) << 32) | (uint32_t)(lo << n);
+#endif
+}
+
+/* bit length: 0 for 0, floor(log2 x) + 1 otherwise (constant shifts only) */
+static unsigned bitlen64(uint64_t x)
+{
+    unsigned n = 0u;
+    if (x >> 32) { x >>= 32; n += 32u; }
+    if (x >> 16) { x >>= 16; n += 16u; }
+    if (x >> 8) { x >>= 8; n += 8u; }
+    if (x >> 4) { x >>= 4; n += 4u; }
+    if (x >> 2) { x >>= 2; n += 2u; }
+    if (x >> 1) { x >>= 1; n += 1u; }
+    return n + (unsigned)x;
+}
+
+/* a * b mod 2^64 for a 64-bit a and a 32-bit b (exact when the product fits) */
+static inline uint64_t mul_lo_u64_u32(uint64_t a, uint32_t b)
+{
+    return qibl_mul_u32_u64((uint32_t)a, b) + ((uint64_t)((uint32_t)(a >> 32) * b) << 32);
+}
+
+/* The 128-bit helpers take and give values through pointers: a 16-byte struct passed or returned
+ * by value becomes a memcpy call on some targets (Cortex-M0 at -Os). */
+
+/* *r = a * b exactly */
+static void mul64(uint64_t a, uint64_t b, u128 *r)
+{
+    uint32_t al = (uint32_t)a, ah = (uint32_t)(a >> 32), bl = (uint32_t)b, bh = (uint32_t)(b >> 32);
+    uint64_t ll = qibl_mul_u32_u64(al, bl), lh = qibl_mul_u32_u64(al, bh);
+    uint64_t hl = qibl_mul_u32_u64(ah, bl), hh = qibl_mul_u32_u64(ah, bh);
+    uint64_t mid = (ll >> 32) + (uint32_t)lh + (uint32_t)hl; /* < 3 * 2^32 */
+    r->lo = (mid << 32) | (uint32_t)ll;
+    r->hi = hh + (lh >> 32) + (hl >> 32) + (mid >> 32);
+}
+
+/* floor(a b / 2^64) */
+static uint64_t mulhi64(uint64_t a, uint64_t b)
+{
+    u128 r;
+    mul64(a, b, &r);
+    return r.hi;
+}
+
+/* *a += b */
+static inline void add128(u128 *a, const u128 *b)
+{
+    uint64_t lo = a->lo + b->lo;
+    a->hi += b->hi + (lo < b->lo);
+    a->lo = lo;
+}
+
+static inline void add128_64(u128 *a, uint64_t b)
+{
+    a->lo += b;
+    a->hi += a->lo < b;
+}
+
+static inline int cmp128(const u128 *a, const u128 *b)
+{
+    if (a->hi != b->hi)
+        return a->hi < b->hi ? -1 : 1;
+    return a->lo < b->lo ? -1 : a->lo > b->lo;
+}
+
+/* the low 64 bits of x >> n, n in 0..127 */
+static uint64_t shr128_lo(const u128 *x, unsigned n)
+{
+    if (n == 0u)
+        return x->lo;
+    if (n >= 64u)
+        return lp_shr(x->hi, n - 64u);
+    return lp_shr(x->lo, n) | lp_shl(x->hi, 64u - n);
+}
+
+/* *x <<= n, n in 0..63 (the caller knows it fits) */
+static void shl128(u128 *x, unsigned n)
+{
+    if (n == 0u)
+        return;
+    x->hi = lp_shl(x->hi, n) | lp_shr(x->lo, 64u - n);
+    x->lo = lp_shl(x->lo, n);
+}
+
+static unsigned bitlen128(const u128 *x)
+{
+    return x->hi ? 64u + bitlen64(x->hi) : bitlen64(x->lo);
+}
+
+/* floor(x 2^s) for a signed shift s, the caller knowing that the result is below 2^64 */
+static uint64_t shift128_to64(const u128 *x, int s)
+{
+    if (s >= 0) /* then x < 2^(64 - s); s >= 64 only for x = 0 */
+        return s < 64 ? lp_shl(x->lo, (unsigned)s) : 0u;
+    if (s <= -128)
+        return 0u;
+    return shr128_lo(x, (unsigned)-s);
+}
+
+/* floor(n / d) for d > 0 and n.hi < d (so the quotient fits 64 bits); *rem gets the remainder.
+ * Knuth's algorithm D with two 32-bit digits (Hacker's Delight, divlu): two 64/32 divisions, which
+ * are instructions on 64-bit hosts and qibl_udiv_u64's shift-subtract loop elsewhere. */
+static uint64_t div128(const u128 *n, uint64_t d, uint64_t *rem)
+{
+    const uint64_t b = (uint64_t)1 << 32;
+    unsigned s = 64u - bitlen64(d);
+    d = lp_shl(d, s);
+    uint64_t un32 = s ? lp_shl(n->hi, s) | lp_shr(n->lo, 64u - s) : n->hi;
+    uint64_t un10 = lp_shl(n->lo, s);
+    uint32_t vn1 = (uint32_t)(d >> 32), vn0 = (uint32_t)d;
+    uint32_t un1 = (uint32_t)(un10 >> 32), un0 = (uint32_t)un10;
+    uint64_t rhat;
+    uint64_t q1 = qibl_udiv_u64(un32, vn1, &rhat);
+    while (q1 >= b || qibl_mul_u32_u64((uint32_t)q1, vn0) > ((rhat << 32) | un1)) {
+        --q1;
+        rhat += vn1;
+        if (rhat >= b)
+            break;
+    }
+    /* q1 < 2^32 now; the true value of un21 is below d, so arithmetic mod 2^64 gives it exactly */
+    uint64_t un21 = (un32 << 32) + un1 - mul_lo_u64_u32(d, (uint32_t)q1);
+    uint64_t q0 = qibl_udiv_u64(un21, vn1, &rhat);
+    while (q0 >= b || qibl_mul_u32_u64((uint32_t)q0, vn0) > ((rhat << 32) | un0)) {
+        --q0;
+        rhat += vn1;
+        if (rhat >= b)
+            break;
+    }
+    if (rem)
+        *rem = lp_shr((un21 << 32) + un0 - mul_lo_u64_u32(d, (uint32_t)q0), s);
+    return (q1 << 32) | q0;
+}
+
+/* ---- sin and cos from exact rational angles --------------------------------------------------- */
+
+#define PI_Q62 14488038916154245685u          /* round(pi 2^62) */
+#define TWO_PI_SQ_Q58 5689439577989151081u    /* round(2 pi^2 2^58) */
+
+/* 1/3!, 1/5!, ..., 1/15! and 1/2!, 1/4!, ..., 1/16! in Q64, rounded */
+static const uint64_t sin_c[7] = {3074457345618258603u, 153722867280912930u, 3660068268593165u,
+                                  50834281508238u, 462129831893u, 2962370717u, 14106527u};
+static const uint64_t cos_c[8] = {9223372036854775808u, 768614336404564651u, 25620477880152155u,
+                                  457508533574146u, 5083428150824u, 38510819324u, 211597908u, 881658u};
+
+/* 1 - c0 z + c1 z^2 - ... in Q63 for z = beta^2 in [0, 0.62) (Q64): the Taylor series of
+ * sin(beta) / beta or cos(beta) to beta^15 / beta^16, truncation < 2^-49 at beta = pi/4. Horner
+ * from the smallest coefficient, every partial sum positive (c_k > 0.62 c_(k+1)); each step floors
+ * once, <= 1 LSB (2^-64), so the result is within 2^-60. */
+static uint64_t poly_q63(uint64_t z, const uint64_t *c, int n)
+{
+    uint64_t t = c[n - 1];
+    for (int k = n - 2; k >= 0; --k)
+        t = c[k] - mulhi64(z, t);
+    return ((uint64_t)1 << 63) - ((mulhi64(z, t) + 1u) >> 1);
+}
+
+/* floor(pi n / d 2^64) for 0 <= n / d <= 1/4 (d > 0, n, d < 2^40): the angle in Q64. */
+static uint64_t beta_q64(uint64_t n, uint64_t d)
+{
+    u128 num;
+    mul64(PI_Q62, n, &num);
+    shl128(&num, 2); /* pi n 2^64: hi < 4n <= d, so the quotient fits */
+    return div128(&num, d, 0);
+}
+
+/* sin(pi n / d) for 0 < n < d < 2^32, as *mant in [2^31, 2^32) times 2^-(32 + *kap). Reduces to an
+ * angle beta in [0, pi/4] by symmetry (exactly, in the rational n / d), then sin = beta P(beta^2)
+ * or cos(beta) = Q(beta^2): beta is good to 2^-64 absolute (>= 2^-16 relative precision is what
+ * matters: beta >= pi / 2^32), P and Q to 2^-60, the product rounded once to 32 bits. Relative
+ * error <= 2^-32 (rounding) + 2^-45 (the rest) <= 2^-31. */
+static void sin_frac(uint64_t n, uint64_t d, uint32_t *mant, int32_t *kap)
+{
+    u128 v;     /* sin = v / 2^vexp */
+    unsigned vexp;
+    if (2u * n > d)
+        n = d - n; /* sin(pi x) = sin(pi (1 - x)); now n / d <= 1/2 */
+    if (4u * n <= d) {
+        uint64_t b = beta_q64(n, d);
+        mul64(b, poly_q63(mulhi64(b, b), sin_c, 7), &v);
+        vexp = 127u;
+    } else {
+        /* sin(pi x) = cos(pi (1/2 - x)), 1/2 - x = (d - 2n) / 2d in [0, 1/4) */
+        uint64_t b = beta_q64(d - 2u * n, 2u * d);
+        v.hi = 0u;
+        v.lo = poly_q63(mulhi64(b, b), cos_c, 8);
+        vexp = 63u;
+    }
+    unsigned L = bitlen128(&v); /* >= 33: v >= 2^-16 2^vexp */
+    /* top 32 bits, round half up; a carry to 2^32 renormalises */
+    uint64_t m = (shr128_lo(&v, L - 33u) + 1u) >> 1;
+    if (m >> 32) {
+        m >>= 1;
+        ++L;
+    }
+    *mant = (uint32_t)m;
+    *kap = (int32_t)vexp - (int32_t)L;
+}
+
+/* sin and cos of pi f / 2^31 (f = angle / pi in Q31, the full circle [0, 2) in a uint32) in Q2.30,
+ * each within 1 LSB (the polynomials are exact to 2^-60; one rounding to Q30). */
+static void sincos_q30(uint32_t f, int32_t *s, int32_t *c)
+{
+    uint32_t q = f >> 30, r = f & 0x3FFFFFFFu; /* quadrant, angle in it: pi r / 2^31 < pi / 2 */
+    int swap = r > 0x20000000u;
+    if (swap)
+        r = 0x40000000u - r; /* sin(pi/2 - a) = cos(a) */
+    uint64_t b = beta_q64(r, (uint64_t)1 << 31);
+    uint64_t z = mulhi64(b, b);
+    u128 sv;
+    mul64(b, poly_q63(z, sin_c, 7), &sv);                                 /* Q127 */
+    int32_t s0 = (int32_t)((shr128_lo(&sv, 96u) + 1u) >> 1);              /* Q30, < 2^30 */
+    int32_t c0 = (int32_t)(((poly_q63(z, cos_c, 8) >> 32) + 1u) >> 1);    /* Q30, <= 2^30 */
+    if (swap) {
+        int32_t t = s0;
+        s0 = c0;
+        c0 = t;
+    }
+    switch (q) {
+    case 0: *s = s0; *c = c0; break;
+    case 1: *s = c0; *c = -s0; break;
+    case 2: *s = -s0; *c = -c0; break;
+    default: *s = -c0; *c = s0; break;
+    }
+}
+
+qibl_status_t qibl_lightprobe_row_weight(uint32_t h, uint32_t v, uint32_t *mant, int32_t *kap)
+{
+    if (mant == 0 || kap == 0)
+        return QIBL_E_NULL_POINTER;
+    if (h == 0u || h > QIBL_LIGHTPROBE_MAX_DIM || v >= h)
+        return QIBL_E_PROBE_SIZE;
+    sin_frac(2u * (uint64_t)v + 1u, 2u * (uint64_t)h, mant, kap);
+    return QIBL_OK;
+}
+
+/* ---- pixel decoding --------------------------------------------------------------------------- */
+
+#define LUMA_R QIBL_LIGHTPROBE_LUMA_R
+#define LUMA_G QIBL_LIGHTPROBE_LUMA_G
+#define LUMA_B QIBL_LIGHTPROBE_LUMA_B
+
+enum { BAD_NEGATIVE = 1, BAD_NOT_FINITE = 2 };
+
+/* A decoded pixel: P_c = m[c] 2^eps / D. */
+typedef struct {
+    uint64_t m[3];
+    int32_t eps;
+} pixel;
+
+static size_t pixel_bytes(qibl_lightprobe_format_t f)
+{
+    return f == QIBL_LIGHTPROBE_RGBE || f == QIBL_LIGHTPROBE_SRGBE ? 4u : 12u;
+}
+
+/* sRGBE channel byte -> 2X - 255, with 127 and 128 read as 0 and X < 127 flagged negative */
+static inline uint32_t srgbe_m(uint32_t x, unsigned *bad)
+{
+    if (x < 127u)
+        *bad |= BAD_NEGATIVE;
+    return x > 128u ? 2u * x - 255u : 0u;
+}
+
+/* Decodes the generic formats (sRGBE, LINEAR_I32, LINEAR_F32; RGBE has its own loops); returns
+ * the BAD_ flags. p is aligned for the 32-bit formats (checked by build). */
+static unsigned decode(qibl_lightprobe_format_t f, const uint8_t *p, int32_t frac_bits, pixel *o)
+{
+    unsigned bad = 0u;
+    if (f == QIBL_LIGHTPROBE_RGBE) {
+        o->m[0] = p[3] ? p[0] : 0u;
+        o->m[1] = p[3] ? p[1] : 0u;
+        o->m[2] = p[3] ? p[2] : 0u;
+        o->eps = (int32_t)p[3] - 136;
+    } else if (f == QIBL_LIGHTPROBE_SRGBE) {
+        for (int c = 0; c < 3; ++c)
+            o->m[c] = srgbe_m(p[c], &bad);
+        o->eps = (int32_t)p[3] - 126;
+    } else if (f == QIBL_LIGHTPROBE_LINEAR_I32) {
+        const int32_t *q = (const int32_t *)(const void *)p;
+        for (int c = 0; c < 3; ++c) {
+            if (q[c] < 0)
+                bad |= BAD_NEGATIVE;
+            o->m[c] = q[c] < 0 ? 0u : (uint32_t)q[c];
+        }
+        o->eps = -frac_bits;
+    } else {
+        const uint32_t *q = (const uint32_t *)(const void *)p;
+        uint32_t mant[3];
+        int32_t ex[3], emax = -1000;
+        for (int c = 0; c < 3; ++c) {
+            uint32_t b = q[c], e8 = (b >> 23) & 0xFFu, fr = b & 0x7FFFFFu;
+            mant[c] = 0u;
+            ex[c] = -149;
+            if (e8 == 0xFFu) {
+                bad |= BAD_NOT_FINITE;
+            } else if ((b & 0x7FFFFFFFu) != 0u) {
+                if (b >> 31) {
+                    bad |= BAD_NEGATIVE;
+                } else {
+                    mant[c] = e8 ? fr | 0x800000u : fr;
+                    ex[c] = e8 ? (int32_t)e8 - 150 : -149;
+                    if (ex[c] > emax)
+                        emax = ex[c];
+                }
+            }
+        }
+        for (int c = 0; c < 3; ++c) {
+            unsigned d = (unsigned)(emax - ex[c]);
+            o->m[c] = mant[c] && d < 48u ? lp_shr((uint64_t)mant[c] << 23, d) : 0u;
+        }
+        o->eps = emax - 23;
+    }
+    return bad;
+}
+
+static inline uint64_t max3(const uint64_t m[3])
+{
+    uint64_t a = m[0] > m[1] ? m[0] : m[1];
+    return a > m[2] ? a : m[2];
+}
+
+/* luminance Y = sum w_c m_c, exact: <= 2^16 max m_c < 2^63 */
+static inline uint64_t luma(const uint64_t m[3])
+{
+    return mul_lo_u64_u32(m[0], LUMA_R) + mul_lo_u64_u32(m[1], LUMA_G) + mul_lo_u64_u32(m[2], LUMA_B);
+}
+
+/* ---- build ------------------------------------------------------------------------------------ */
+
+static int size_ok(uint32_t w, uint32_t h)
+{
+    return w >= 1u && h >= 1u && w <= QIBL_LIGHTPROBE_MAX_DIM && h <= QIBL_LIGHTPROBE_MAX_DIM;
+}
+
+/* bytes of workspace as a uint64 (0 when the dimensions are outside the limits) */
+static uint64_t ws_bytes(uint32_t w, uint32_t h, qibl_lightprobe_method_t method)
+{
+    if (!size_ok(w, h) || qibl_mul_u32_u64(w, h) > QIBL_LIGHTPROBE_MAX_PIXELS ||
+        (unsigned)method >= QIBL_LIGHTPROBE_METHOD_COUNT)
+        return 0u;
+    uint64_t cells = qibl_mul_u32_u64(w + 1u, h + 1u); /* < 2^27 */
+    uint32_t per_cell = method == QIBL_LIGHTPROBE_VARMIN ? 48u : 8u; /* SAT (+ 5 moments) */
+    return mul_lo_u64_u32(cells, per_cell) + (((uint64_t)h + 1u) << 4) + 8u;
+}
+
+size_t qibl_lightprobe_workspace_size(uint32_t width, uint32_t height, qibl_lightprobe_method_t method)
+{
+    uint64_t n = ws_bytes(width, height, method);
+    return n > (uint64_t)SIZE_MAX ? 0u : (size_t)n;
+}
+
+/* First pass: the BAD_ flags over the whole probe (so the status does not depend on pixel order)
+ * and lb, the bound of lightprobe.c's header (INT32_MIN when every pixel is black). */
+static unsigned scan(const qibl_lightprobe_image_t *img, size_t stride, int32_t *lb_out)
+{
+    const uint8_t *base = (const uint8_t *)img->pixels;
+    unsigned bad = 0u;
+    int32_t lb = INT32_MIN;
+    if (img->format == QIBL_LIGHTPROBE_RGBE) {
+        uint32_t emax = 0u;
+        for (uint32_t v = 0; v < img->height; ++v) {
+            const uint8_t *q = base + (size_t)v * stride;
+            for (uint32_t u = 0; u < img->width; ++u, q += 4)
+                if (q[3] > emax && (q[0] | q[1] | q[2]))
+                    emax = q[3];
+        }
+        if (emax)
+            lb = (int32_t)emax - 136 + 8; /* mantissas are bytes: bitlen <= 8 */
+    } else {
+        size_t pb = pixel_bytes(img->format);
+        for (uint32_t v = 0; v < img->height; ++v) {
+            const uint8_t *q = base + (size_t)v * stride;
+            for (uint32_t u = 0; u < img->width; ++u, q += pb) {
+                pixel px;
+                bad |= decode(img->format, q, img->frac_bits, &px);
+                uint64_t mx = max3(px.m);
+                if (mx) {
+                    int32_t l = (int32_t)bitlen64(mx) + px.eps;
+                    if (l > lb)
+                        lb = l;
+                }
+            }
+        }
+    }
+    *lb_out = lb;
+    return bad;
+}
+
+/* 2^p bound of the per-pixel energy: p = 64 - ceil(log2(W H)) */
+static int32_t pixel_bits(uint32_t w, uint32_t h)
+{
+    uint64_t n = qibl_mul_u32_u64(w, h);
+    return 64 - (int32_t)bitlen64(n - 1u);
+}
+
+/* Row shift: e = floor(Y sig_v 2^(eps + rshift(v))) */
+static inline int32_t rshift(const qibl_lightprobe_t *lp, uint32_t v)
+{
+    return lp->gshift - 48 - lp->row_kap[v];
+}
+
+/* The SAT rows of an RGBE probe: the hot loop of the whole module. */
+static void sat_rgbe(qibl_lightprobe_t *lp)
+{
+    const uint32_t w = lp->width, w1 = w + 1u;
+    for (uint32_t v = 0; v < lp->height; ++v) {
+        const uint8_t *q = lp->pixels + (size_t)v * lp->stride;
+        const uint64_t *above = lp->sat + (size_t)v * w1;
+        uint64_t *row = lp->sat + (size_t)(v + 1u) * w1;
+        const uint32_t sig = lp->row_sig[v];
+        const int32_t s0 = rshift(lp, v) - 136; /* shift = E + s0 */
+        uint64_t acc = 0u;
+        row[0] = 0u;
+        if (s0 + 255 <= 0) {
+            /* every shift is to the right: the case for every probe above 512 pixels */
+            const uint32_t r0 = (uint32_t)-s0;
+            for (uint32_t u = 0; u < w; ++u, q += 4) {
+                uint32_t E = q[3], r = r0 - E;
+                uint64_t y = qibl_mul_u32_u64(LUMA_R * q[0] + LUMA_G * q[1] + LUMA_B * q[2], sig);
+                acc += E != 0u && r < 64u ? lp_shr(y, r) : 0u;
+                row[u + 1u] = above[u + 1u] + acc;
+            }
+        } else {
+            for (uint32_t u = 0; u < w; ++u, q += 4) {
+                int32_t s = (int32_t)q[3] + s0;
+                uint64_t y = qibl_mul_u32_u64(LUMA_R * q[0] + LUMA_G * q[1] + LUMA_B * q[2], sig);
+                /* s >= 64 only where y = 0: a black pixel with a large exponent */
+                uint64_t e = s >= 64 ? 0u : s >= 0 ? lp_shl(y, (unsigned)s) : s > -64 ? lp_shr(y, (unsigned)-s) : 0u;
+                acc += q[3] ? e : 0u;
+                row[u + 1u] = above[u + 1u] + acc;
+            }
+        }
+    }
+}
+
+static void sat_generic(qibl_lightprobe_t *lp)
+{
+    const uint32_t w = lp->width, w1 = w + 1u;
+    const size_t pb = pixel_bytes(lp->format);
+    for (uint32_t v = 0; v < lp->height; ++v) {
+        const uint8_t *q = lp->pixels + (size_t)v * lp->stride;
+        const uint64_t *above = lp->sat + (size_t)v * w1;
+        uint64_t *row = lp->sat + (size_t)(v + 1u) * w1;
+        const uint32_t sig = lp->row_sig[v];
+        const int32_t s0 = rshift(lp, v);
+        uint64_t acc = 0u;
+        row[0] = 0u;
+        for (uint32_t u = 0; u < w; ++u, q += pb) {
+            pixel px;
+            (void)decode(lp->format, q, lp->frac_bits, &px);
+            u128 y;
+            mul64(luma(px.m), sig, &y);
+            acc += shift128_to64(&y, px.eps + s0);
+            row[u + 1u] = above[u + 1u] + acc;
+        }
+    }
+}
+
+/* VARMIN's moment SATs, from the per-pixel energies recovered from the SAT (exact differences). */
+static void sat_moments(qibl_lightprobe_t *lp)
+{
+    const uint32_t w = lp->width, w1 = w + 1u, h = lp->height;
+    const uint64_t total = lp->sat[(size_t)h * w1 + w];
+    uint32_t m = (w > h ? w : h) - 1u;
+    int32_t k = (int32_t)bitlen64(total) + 2 * (int32_t)bitlen64(m) - 64;
+    lp->mshift = k > 0 ? (uint32_t)k : 0u;
+    uint64_t *mom = lp->mom;
+    for (uint32_t u = 0; u <= w; ++u)
+        for (int j = 0; j < 5; ++j)
+            mom[5u * u + (unsigned)j] = 0u;
+    for (uint32_t v = 0; v < h; ++v) {
+        const uint64_t *s0 = lp->sat + (size_t)v * w1, *s1 = s0 + w1;
+        const uint64_t *above = mom + (size_t)v * w1 * 5u;
+        uint64_t *row = mom + (size_t)(v + 1u) * w1 * 5u;
+        uint64_t a0 = 0u, a1 = 0u, a2 = 0u, a3 = 0u, a4 = 0u;
+        const uint32_t v2 = v * v; /* < 2^30 */
+        for (int j = 0; j < 5; ++j)
+            row[j] = 0u;
+        for (uint32_t u = 0; u < w; ++u) {
+            uint64_t e = lp_shr(s1[u + 1u] - s1[u] - s0[u + 1u] + s0[u], lp->mshift);
+            uint64_t eu = mul_lo_u64_u32(e, u);
+            a0 += e;
+            a1 += eu;
+            a2 += mul_lo_u64_u32(eu, u);
+            a3 += mul_lo_u64_u32(e, v);
+            a4 += mul_lo_u64_u32(e, v2);
+            uint64_t *o = row + 5u * (u + 1u);
+            const uint64_t *a = above + 5u * (u + 1u);
+            o[0] = a[0] + a0;
+            o[1] = a[1] + a1;
+            o[2] = a[2] + a2;
+            o[3] = a[3] + a3;
+            o[4] = a[4] + a4;
+        }
+    }
+}
+
+/* *d = *s member by member (no memcpy in a freestanding core) */
+static void copy_probe(qibl_lightprobe_t *d, const qibl_lightprobe_t *s)
+{
+    d->pixels = s->pixels, d->stride = s->stride, d->width = s->width, d->height = s->height;
+    d->format = s->format, d->frac_bits = s->frac_bits, d->built_for = s->built_for;
+    d->energy_exp = s->energy_exp, d->energy_div = s->energy_div, d->gshift = s->gshift;
+    d->mshift = s->mshift, d->sat = s->sat, d->mom = s->mom, d->row_sig = s->row_sig;
+    d->row_kap = s->row_kap, d->row_sum = s->row_sum;
+}
+
+qibl_status_t qibl_lightprobe_build(qibl_lightprobe_t *lp, const qibl_lightprobe_image_t *img,
+                                    qibl_lightprobe_method_t method, void *workspace, size_t workspace_size)
+{
+    if (lp == 0 || img == 0 || img->pixels == 0 || workspace == 0)
+        return QIBL_E_NULL_POINTER;
+    const uint32_t w = img->width, h = img->height;
+    if (!size_ok(w, h))
+        return QIBL_E_PROBE_SIZE;
+    if (qibl_mul_u32_u64(w, h) > QIBL_LIGHTPROBE_MAX_PIXELS)
+        return QIBL_E_PROBE_OVERFLOW;
+    if ((unsigned)img->format >= QIBL_LIGHTPROBE_FORMAT_COUNT || img->frac_bits < -128 || img->frac_bits > 128)
+        return QIBL_E_PROBE_FORMAT;
+    const size_t pb = pixel_bytes(img->format);
+    const uint64_t row_bytes = qibl_mul_u32_u64(w, (uint32_t)pb); /* < 2^19 */
+    const size_t stride = img->stride ? img->stride : (size_t)row_bytes;
+    if ((uint64_t)stride < row_bytes)
+        return QIBL_E_PROBE_FORMAT;
+    /* the byte span of the image, stride (h - 1) + row_bytes, must be addressable */
+    if (h > 1u && (uint64_t)stride > qibl_udiv_u64((uint64_t)SIZE_MAX - row_bytes, h - 1u, 0))
+        return QIBL_E_PROBE_OVERFLOW;
+    if (pb == 12u && (((uintptr_t)img->pixels & 3u) != 0u || (stride & 3u) != 0u))
+        return QIBL_E_PROBE_FORMAT;
+    if ((unsigned)method >= QIBL_LIGHTPROBE_METHOD_COUNT)
+        return QIBL_E_PROBE_METHOD;
+    uint64_t need = ws_bytes(w, h, method);
+    if (need == 0u || need > (uint64_t)SIZE_MAX)
+        return QIBL_E_PROBE_OVERFLOW;
+    if ((uint64_t)workspace_size < need)
+        return QIBL_E_WORKSPACE;
+
+    int32_t lb;
+    unsigned bad = scan(img, stride, &lb);
+    if (bad & BAD_NOT_FINITE)
+        return QIBL_E_PROBE_NOT_FINITE;
+    if (bad & BAD_NEGATIVE)
+        return QIBL_E_PROBE_NEGATIVE;
+
+    /* carve the workspace: 8-byte tables first, then the 4-byte row tables */
+    uint8_t *ws = (uint8_t *)workspace;
+    ws += (8u - ((uintptr_t)ws & 7u)) & 7u;
+    const size_t cells = (size_t)(w + 1u) * (h + 1u);
+    qibl_lightprobe_t t;
+    t.pixels = (const uint8_t *)img->pixels;
+    t.stride = stride;
+    t.width = w;
+    t.height = h;
+    t.format = img->format;
+    t.frac_bits = img->frac_bits;
+    t.built_for = method;
+    t.sat = (uint64_t *)(void *)ws;
+    t.mom = method == QIBL_LIGHTPROBE_VARMIN ? t.sat + cells : 0;
+    t.row_sum = t.sat + cells * (method == QIBL_LIGHTPROBE_VARMIN ? 6u : 1u);
+    t.row_sig = (uint32_t *)(void *)(t.row_sum + h + 1u);
+    t.row_kap = (int32_t *)(void *)(t.row_sig + h);
+    t.energy_div = img->format == QIBL_LIGHTPROBE_SRGBE ? 510u : 1u;
+    t.mshift = 0u;
+
+    t.row_sum[0] = 0u;
+    for (uint32_t v = 0; v < h; ++v) {
+        sin_frac(2u * (uint64_t)v + 1u, 2u * (uint64_t)h, &t.row_sig[v], &t.row_kap[v]);
+        /* sin in Q31, rounded: kap >= -1, and kap <= 15 for h <= 2^15, so the shift is 0..16 */
+        uint32_t n = (uint32_t)(t.row_kap[v] + 1);
+        t.row_sum[v + 1u] = t.row_sum[v] + (n ? ((t.row_sig[v] >> (n - 1u)) + 1u) >> 1 : t.row_sig[v]);
+    }
+    /* lb = INT32_MIN (black probe): any shift gives zeros; keep the arithmetic in range */
+    int32_t g = lb == INT32_MIN ? 0 : pixel_bits(w, h) - lb;
+    t.gshift = g;
+    t.energy_exp = -g;
+    for (uint32_t u = 0; u <= w; ++u)
+        t.sat[u] = 0u;
+    if (lb == INT32_MIN) {
+        for (size_t i = w + 1u; i < cells; ++i)
+            t.sat[i] = 0u;
+    } else if (img->format == QIBL_LIGHTPROBE_RGBE) {
+        sat_rgbe(&t);
+    } else {
+        sat_generic(&t);
+    }
+    if (t.mom)
+        sat_moments(&t);
+    copy_probe(lp, &t);
+    return QIBL_OK;
+}
+
+/* ---- regions ---------------------------------------------------------------------------------- */
+
+typedef struct {
+    uint32_t u0, v0, u1, v1;
+} rect;
+
+static inline rect light_rect(const qibl_lightprobe_light_t *l)
+{
+    rect r;
+    r.u0 = l->u0, r.v0 = l->v0, r.u1 = l->u1, r.v1 = l->v1;
+    return r;
+}
+
+static inline void set_rect(qibl_lightprobe_light_t *l, const rect *r)
+{
+    l->u0 = r->u0, l->v0 = r->v0, l->u1 = r->u1, l->v1 = r->v1;
+}
+
+/* exact energy of [u0, u1) x [v0, v1) (wrap-around arithmetic: the true value is < 2^64) */
+static inline uint64_t sat_sum(const qibl_lightprobe_t *lp, uint32_t u0, uint32_t v0, uint32_t u1, uint32_t v1)
+{
+    const size_t w1 = lp->width + 1u;
+    const uint64_t *a = lp->sat + (size_t)v0 * w1, *b = lp->sat + (size_t)v1 * w1;
+    return b[u1] - b[u0] - a[u1] + a[u0];
+}
+
+static inline uint64_t rect_energy(const qibl_lightprobe_t *lp, rect r)
+{
+    return sat_sum(lp, r.u0, r.v0, r.u1, r.v1);
+}
+
+qibl_status_t qibl_lightprobe_region_energy(const qibl_lightprobe_t *lp, uint32_t u0, uint32_t v0, uint32_t u1,
+                                            uint32_t v1, uint64_t *energy)
+{
+    if (lp == 0 || energy == 0)
+        return QIBL_E_NULL_POINTER;
+    if (u0 > u1 || v0 > v1 || u1 > lp->width || v1 > lp->height)
+        return QIBL_E_PROBE_RECT;
+    *energy = sat_sum(lp, u0, v0, u1, v1);
+    return QIBL_OK;
+}
+
+/* 2H times the mean sin theta over rows [v0, v1), in units of 2^-16, below 2^32: the factor that
+ * turns a width in pixels into the same angular unit as a height in pixels times W
+ * (angular width / angular height = w 2H mean_sin / (h W)). */
+static uint32_t width_factor(const qibl_lightprobe_t *lp, uint32_t v0, uint32_t v1)
+{
+    uint64_t s = lp->row_sum[v1] - lp->row_sum[v0]; /* Q31, < 2^46 */
+    uint64_t mean16 = qibl_udiv_u64(s, (uint64_t)(v1 - v0) << 15, 0); /* Q16, <= 2^16 */
+    if (mean16 > 0xFFFFu)
+        mean16 = 0xFFFFu;
+    return (uint32_t)mean16 * (2u * lp->height); /* < 2^16 2^16 */
+}
+
+/* Does the region's angular width exceed its angular height? (ties: yes) */
+static int wider(const qibl_lightprobe_t *lp, rect r)
+{
+    uint64_t aw = qibl_mul_u32_u64(width_factor(lp, r.v0, r.v1), r.u1 - r.u0); /* < 2^47 */
+    uint64_t bh = qibl_mul_u32_u64(lp->width, r.v1 - r.v0) << 16;                 /* < 2^46 */
+    return aw >= bh;
+}
+
+/* Variance-related quantities of a region from the moment SATs, about its own corner. */
+typedef struct {
+    uint64_t s0, su, suu, sv, svv;
+} moments;
+
+static void rect_moments(const qibl_lightprobe_t *lp, rect r, moments *m)
+{
+    const size_t w1 = lp->width + 1u;
+    const uint64_t *a = lp->mom + 5u * ((size_t)r.v0 * w1), *b = lp->mom + 5u * ((size_t)r.v1 * w1);
+    uint64_t s[5];
+    for (int j = 0; j < 5; ++j)
+        s[j] = b[5u * r.u1 + (unsigned)j] - b[5u * r.u0 + (unsigned)j] - a[5u * r.u1 + (unsigned)j] +
+               a[5u * r.u0 + (unsigned)j];
+    /* shift the origin to (u0, v0): sum e (u - u0) = S1 - u0 S0, sum e (u - u0)^2 = S2 - 2 u0 S1 + u0^2 S0,
+     * all mod 2^64, exact since the true values are below 2^64 */
+    m->s0 = s[0];
+    m->su = s[1] - mul_lo_u64_u32(s[0], r.u0);
+    m->suu = s[2] - mul_lo_u64_u32(s[1], 2u * r.u0) + mul_lo_u64_u32(mul_lo_u64_u32(s[0], r.u0), r.u0);
+    m->sv = s[3] - mul_lo_u64_u32(s[0], r.v0);
+    m->svv = s[4] - mul_lo_u64_u32(s[3], 2u * r.v0) + mul_lo_u64_u32(mul_lo_u64_u32(s[0], r.v0), r.v0);
+}
+
+/* sum e (x - mean)^2 = S2 - S1^2 / S0 (floor of the quotient), exactly */
+static uint64_t variance(uint64_t s0, uint64_t s1, uint64_t s2)
+{
+    if (s0 == 0u)
+        return 0u;
+    u128 sq;
+    mul64(s1, s1, &sq);
+    uint64_t q = div128(&sq, s0, 0);
+    return s2 > q ? s2 - q : 0u;
+}
+
+/* Energy-weighted angular variance of a region: a^2 Var_u + b^2 Var_v with a = 2H mean_sin and
+ * b = W (both in units of 2^-16), proportional to sum e d^2 with d the angular distance to the
+ * centroid measured as (sin theta dphi, dtheta). Below 2^127: Var_u <= S0 w^2 / 4 < 2^62. */
+static void rect_variance(const qibl_lightprobe_t *lp, rect r, u128 *out)
+{
+    moments m;
+    rect_moments(lp, r, &m);
+    uint64_t a = width_factor(lp, r.v0, r.v1); /* < 2^32 */
+    uint64_t b = (uint64_t)lp->width << 16;    /* <= 2^31 */
+    u128 t;
+    mul64(qibl_mul_u32_u64((uint32_t)a, (uint32_t)a), variance(m.s0, m.su, m.suu), out);
+    mul64(qibl_mul_u32_u64((uint32_t)b, (uint32_t)b), variance(m.s0, m.sv, m.svv), &t);
+    add128(out, &t);
+}
+
+/* ---- cut rules -------------------------------------------------------------------------------- */
+
+/* |F - (T - F)|: how far a cut with F on one side is from the median */
+static inline uint64_t imbalance(uint64_t f, uint64_t total)
+{
+    return f >= total - f ? f - (total - f) : (total - f) - f;
+}
+
+/* Median cut: split along the longer side on the sphere at the cut whose halves' energies are
+ * closest (ties: the smaller cut), found by binary search on the SAT. 0 if r cannot split. */
+static int cut_median(const qibl_lightprobe_t *lp, rect r, uint64_t total, rect *a, rect *b)
+{
+    uint32_t w = r.u1 - r.u0, h = r.v1 - r.v0;
+    if (w < 2u && h < 2u)
+        return 0;
+    int along_u = h < 2u || (w >= 2u && wider(lp, r));
+    uint32_t lo = (along_u ? r.u0 : r.v0) + 1u, hi = (along_u ? r.u1 : r.v1) - 1u; /* cuts lo..hi */
+    /* smallest c in [lo, hi] with F(c) >= T - F(c), else hi */
+    uint32_t l = lo, e = hi;
+    while (l < e) {
+        uint32_t c = l + (e - l) / 2u;
+        uint64_t f = along_u ? sat_sum(lp, r.u0, r.v0, c, r.v1) : sat_sum(lp, r.u0, r.v0, r.u1, c);
+        if (f >= total - f)
+            e = c;
+        else
+            l = c + 1u;
+    }
+    uint32_t c = l;
+    if (c > lo) {
+        /* the cut before may be closer to the median: keep the closer one (ties: the smaller) */
+        uint64_t f1 = along_u ? sat_sum(lp, r.u0, r.v0, c, r.v1) : sat_sum(lp, r.u0, r.v0, r.u1, c);
+        uint64_t f0 = along_u ? sat_sum(lp, r.u0, r.v0, c - 1u, r.v1) : sat_sum(lp, r.u0, r.v0, r.u1, c - 1u);
+        if (imbalance(f0, total) <= imbalance(f1, total)) {
+            --c;
+            f1 = f0;
+        }
+        /* a plateau (columns or rows without energy) gives the same imbalance all along: take its
+         * first cut, the smallest c with F(c) = F(best) */
+        l = lo;
+        e = c;
+        while (l < e) {
+            uint32_t m = l + (e - l) / 2u;
+            uint64_t f = along_u ? sat_sum(lp, r.u0, r.v0, m, r.v1) : sat_sum(lp, r.u0, r.v0, r.u1, m);
+            if (f >= f1)
+                e = m;
+            else
+                l = m + 1u;
+        }
+        c = l;
+    }
+    *a = r;
+    *b = r;
+    if (along_u)
+        a->u1 = b->u0 = c;
+    else
+        a->v1 = b->v0 = c;
+    return 1;
+}
+
+/* Variance minimisation: among all cuts of both axes, the one minimising the larger of the two
+ * halves' variances (Viriyothai & Debevec); ties: the smaller energy imbalance, then the longer
+ * side on the sphere, then the smaller cut. 0 if r cannot split. */
+static int cut_varmin(const qibl_lightprobe_t *lp, rect r, uint64_t total, rect *a, rect *b)
+{
+    uint32_t w = r.u1 - r.u0, h = r.v1 - r.v0;
+    if (w < 2u && h < 2u)
+        return 0;
+    int first_u = h < 2u || (w >= 2u && wider(lp, r));
+    int found = 0;
+    u128 best = {0u, 0u}, vx, vy;
+    uint64_t best_imb = 0u;
+    for (int pass = 0; pass < 2; ++pass) {
+        int along_u = pass == 0 ? first_u : !first_u;
+        uint32_t lo = (along_u ? r.u0 : r.v0) + 1u, hi = along_u ? r.u1 : r.v1;
+        for (uint32_t c = lo; c < hi; ++c) {
+            rect x = r, y = r;
+            if (along_u)
+                x.u1 = y.u0 = c;
+            else
+                x.v1 = y.v0 = c;
+            rect_variance(lp, x, &vx);
+            rect_variance(lp, y, &vy);
+            const u128 *score = cmp128(&vx, &vy) >= 0 ? &vx : &vy;
+            uint64_t imb = imbalance(rect_energy(lp, x), total);
+            int k = found ? cmp128(score, &best) : -1;
+            if (k < 0 || (k == 0 && imb < best_imb)) {
+                found = 1;
+                best.hi = score->hi;
+                best.lo = score->lo;
+                best_imb = imb;
+                *a = x;
+                *b = y;
+            }
+        }
+    }
+    return found;
+}
+
+/* ---- priorities ------------------------------------------------------------------------------- */
+
+/* Greedy key of a region (0: never split it). */
+static void region_key(const qibl_lightprobe_t *lp, rect r, qibl_lightprobe_priority_t pr, u128 *k)
+{
+    k->hi = k->lo = 0u;
+    if (r.u1 - r.u0 < 2u && r.v1 - r.v0 < 2u)
+        return;
+    uint64_t e = rect_energy(lp, r);
+    if (pr == QIBL_LIGHTPROBE_PRIORITY_ENERGY) {
+        k->lo = e;
+    } else if (pr == QIBL_LIGHTPROBE_PRIORITY_ENERGY_SIZE) {
+        uint64_t aw = qibl_mul_u32_u64(width_factor(lp, r.v0, r.v1), r.u1 - r.u0);
+        uint64_t bh = qibl_mul_u32_u64(lp->width, r.v1 - r.v0) << 16;
+        mul64(e, aw > bh ? aw : bh, k); /* energy times the longer side, < 2^111 */
+    } else {
+        rect_variance(lp, r, k);
+    }
+}
+
+/* Exchanges two lights member by member (a struct assignment would call memcpy on some targets,
+ * which a freestanding core does not link). */
+static void swap_lights(qibl_lightprobe_light_t *x, qibl_lightprobe_light_t *y)
+{
+    for (int c = 0; c < 3; ++c) {
+        qibl_q30_t d = x->dir[c];
+        int32_t k = x->rgb[c];
+        x->dir[c] = y->dir[c], y->dir[c] = d;
+        x->rgb[c] = y->rgb[c], y->rgb[c] = k;
+    }
+    rect r = light_rect(x), q = light_rect(y);
+    set_rect(x, &q);
+    set_rect(y, &r);
+}
+
+/* heap order: larger key first, then smaller v0, then smaller u0 (a total, deterministic order:
+ * the regions of one run never overlap) */
+static int before(const qibl_lightprobe_t *lp, qibl_lightprobe_priority_t pr, const qibl_lightprobe_light_t *x,
+                  const qibl_lightprobe_light_t *y)
+{
+    u128 kx, ky;
+    region_key(lp, light_rect(x), pr, &kx);
+    region_key(lp, light_rect(y), pr, &ky);
+    int k = cmp128(&kx, &ky);
+    if (k != 0)
+        return k > 0;
+    if (x->v0 != y->v0)
+        return x->v0 < y->v0;
+    return x->u0 < y->u0;
+}
+
+static void sift_down(const qibl_lightprobe_t *lp, qibl_lightprobe_priority_t pr, qibl_lightprobe_light_t *h,
+                      uint32_t n, uint32_t i)
+{
+    for (;;) {
+        uint32_t l = 2u * i + 1u, best = i;
+        if (l < n && before(lp, pr, &h[l], &h[best]))
+            best = l;
+        if (l + 1u < n && before(lp, pr, &h[l + 1u], &h[best]))
+            best = l + 1u;
+        if (best == i)
+            return;
+        swap_lights(&h[i], &h[best]);
+        i = best;
+    }
+}
+
+static void sift_up(const qibl_lightprobe_t *lp, qibl_lightprobe_priority_t pr, qibl_lightprobe_light_t *h,
+                    uint32_t i)
+{
+    while (i > 0u) {
+        uint32_t p = (i - 1u) / 2u;
+        if (!before(lp, pr, &h[i], &h[p]))
+            return;
+        swap_lights(&h[i], &h[p]);
+        i = p;
+    }
+}
+
+/* ---- lights ----------------------------------------------------------------------------------- */
+
+static int split(const qibl_lightprobe_t *lp, int varmin, rect r, rect *a, rect *b)
+{
+    uint64_t t = rect_energy(lp, r);
+    return varmin ? cut_varmin(lp, r, t, a, b) : cut_median(lp, r, t, a, b);
+}
+
+/* Splits until max_lights regions or nothing splits; returns the count. Halves without energy are
+ * dropped: they would be lights of power 0. */
+static uint32_t make_regions(const qibl_lightprobe_t *lp, int varmin, qibl_lightprobe_priority_t pr,
+                             qibl_lightprobe_light_t *L, uint32_t max_lights)
+{
+    rect all;
+    all.u0 = all.v0 = 0u;
+    all.u1 = lp->width;
+    all.v1 = lp->height;
+    set_rect(&L[0], &all);
+    uint32_t n = 1u;
+    if (pr == QIBL_LIGHTPROBE_PRIORITY_LEVELS) {
+        for (uint32_t round = 1u; round < max_lights; round <<= 1) {
+            uint32_t m = n;
+            for (uint32_t i = 0; i < m; ++i) {
+                rect a, b;
+                if (!split(lp, varmin, light_rect(&L[i]), &a, &b))
+                    continue;
+                int la = rect_energy(lp, a) != 0u, lb = rect_energy(lp, b) != 0u;
+                set_rect(&L[i], la ? &a : &b);
+                if (la && lb)
+                    set_rect(&L[n++], &b);
+            }
+        }
+        return n;
+    }
+    while (n < max_lights) {
+        u128 top;
+        region_key(lp, light_rect(&L[0]), pr, &top);
+        if (top.hi == 0u && top.lo == 0u)
+            break; /* the best region cannot split: none can */
+        rect a, b;
+        if (!split(lp, varmin, light_rect(&L[0]), &a, &b))
+            break;
+        int la = rect_energy(lp, a) != 0u, lb = rect_energy(lp, b) != 0u;
+        set_rect(&L[0], la ? &a : &b);
+        sift_down(lp, pr, L, n, 0u);
+        if (la && lb) {
+            set_rect(&L[n], &b);
+            sift_up(lp, pr, L, n);
+            ++n;
+        }
+    }
+    return n;
+}
+
+/* sum over cuts k in (lo, hi) of the energy beyond k: sum e (x - lo) over the region, < 2^80 */
+static void first_moment(const qibl_lightprobe_t *lp, rect r, int along_u, uint64_t total, u128 *acc)
+{
+    acc->hi = acc->lo = 0u;
+    uint32_t lo = along_u ? r.u0 : r.v0, hi = along_u ? r.u1 : r.v1;
+    for (uint32_t k = lo + 1u; k < hi; ++k) {
+        uint64_t f = along_u ? sat_sum(lp, r.u0, r.v0, k, r.v1) : sat_sum(lp, r.u0, r.v0, r.u1, k);
+        add128_64(acc, total - f);
+    }
+}
+
+/* Centroid (or centre) of the region in pixel units, Q32, measured from the left / top edge. */
+static uint64_t place_q32(const qibl_lightprobe_t *lp, rect r, int along_u, uint64_t total,
+                          qibl_lightprobe_place_t place)
+{
+    uint32_t lo = along_u ? r.u0 : r.v0, hi = along_u ? r.u1 : r.v1;
+    if (place == QIBL_LIGHTPROBE_PLACE_CENTRE)
+        return (uint64_t)(lo + hi) << 31;
+    /* mean of (x + 1/2) weighted by e = lo + 1/2 + sum e (x - lo) / T; the quotient is < 2^47 */
+    u128 m;
+    first_moment(lp, r, along_u, total, &m);
+    shl128(&m, 32);
+    uint64_t frac = div128(&m, total, 0);
+    return ((uint64_t)lo << 32) + ((uint64_t)1 << 31) + frac;
+}
+
+static void direction(const qibl_lightprobe_t *lp, rect r, uint64_t total, qibl_lightprobe_place_t place,
+                      qibl_q30_t dir[3])
+{
+    uint64_t cu = place_q32(lp, r, 1, total, place), cv = place_q32(lp, r, 0, total, place);
+    /* phi / pi = 2 cu / W and theta / pi = cv / H, in Q31 */
+    uint32_t fphi = (uint32_t)qibl_udiv_u64(cu + lp->width / 2u, lp->width, 0);
+    uint32_t fth = (uint32_t)qibl_udiv_u64(cv + lp->height, 2u * (uint64_t)lp->height, 0);
+    int32_t st, ct, sp, cp;
+    sincos_q30(fth, &st, &ct);
+    sincos_q30(fphi, &sp, &cp);
+    int32_t d[3];
+    d[0] = qibl_rshr_s64(qibl_mul_s32_s64(st, cp), 30);
+    d[1] = qibl_rshr_s64(qibl_mul_s32_s64(st, sp), 30);
+    d[2] = ct;
+    /* |d| = 1 within a few LSB; renormalise (never zero: |d| > 1/2) */
+    (void)qibl_vec3_normalize_q30(d, dir);
+}
+
+/* Per-channel energy sums of a region in SAT units: one read of its pixels. */
+static void region_rgb(const qibl_lightprobe_t *lp, rect r, uint64_t out[3])
+{
+    uint64_t a0 = 0u, a1 = 0u, a2 = 0u;
+    const size_t pb = pixel_bytes(lp->format);
+    for (uint32_t v = r.v0; v < r.v1; ++v) {
+        const uint8_t *q = lp->pixels + (size_t)v * lp->stride + (size_t)r.u0 * pb;
+        const uint32_t sig = lp->row_sig[v];
+        const int32_t s0 = rshift(lp, v) + 16; /* channels on the luminance scale: m 2^16 */
+        if (lp->format == QIBL_LIGHTPROBE_RGBE && s0 - 136 + 255 <= 0) {
+            const uint32_t r0 = (uint32_t)(136 - s0);
+            for (uint32_t u = r.u0; u < r.u1; ++u, q += 4) {
+                uint32_t E = q[3], sh = r0 - E;
+                if (E == 0u || sh >= 64u)
+                    continue;
+                a0 += lp_shr(qibl_mul_u32_u64(q[0], sig), sh);
+                a1 += lp_shr(qibl_mul_u32_u64(q[1], sig), sh);
+                a2 += lp_shr(qibl_mul_u32_u64(q[2], sig), sh);
+            }
+        } else {
+            for (uint32_t u = r.u0; u < r.u1; ++u, q += pb) {
+                pixel px;
+                (void)decode(lp->format, q, lp->frac_bits, &px);
+                u128 y;
+                mul64(px.m[0], sig, &y);
+                a0 += shift128_to64(&y, px.eps + s0);
+                mul64(px.m[1], sig, &y);
+                a1 += shift128_to64(&y, px.eps + s0);
+                mul64(px.m[2], sig, &y);
+                a2 += shift128_to64(&y, px.eps + s0);
+            }
+        }
+    }
+    out[0] = a0, out[1] = a1, out[2] = a2;
+}
+
+/* heap sort of the lights by energy, brightest first (ties: smaller v0, then u0) */
+static int brighter(const qibl_lightprobe_t *lp, const qibl_lightprobe_light_t *x, const qibl_lightprobe_light_t *y)
+{
+    uint64_t a = rect_energy(lp, light_rect(x)), b = rect_energy(lp, light_rect(y));
+    if (a != b)
+        return a > b;
+    if (x->v0 != y->v0)
+        return x->v0 < y->v0;
+    return x->u0 < y->u0;
+}
+
+static void sort_sift(const qibl_lightprobe_t *lp, qibl_lightprobe_light_t *h, uint32_t n, uint32_t i)
+{
+    /* a heap with the dimmest on top, so that the sorted array ends up brightest first */
+    for (;;) {
+        uint32_t l = 2u * i + 1u, m = i;
+        if (l < n && brighter(lp, &h[m], &h[l]))
+            m = l;
+        if (l + 1u < n && brighter(lp, &h[m], &h[l + 1u]))
+            m = l + 1u;
+        if (m == i)
+            return;
+        swap_lights(&h[i], &h[m]);
+        i = m;
+    }
+}
+
+static void sort_lights(const qibl_lightprobe_t *lp, qibl_lightprobe_light_t *L, uint32_t n)
+{
+    for (uint32_t i = n / 2u; i-- > 0u;)
+        sort_sift(lp, L, n, i);
+    for (uint32_t end = n; end > 1u; --end) {
+        swap_lights(&L[0], &L[end - 1u]);
+        sort_sift(lp, L, end - 1u, 0u);
+    }
+}
+
+qibl_status_t qibl_lightprobe_lights(const qibl_lightprobe_t *lp, const qibl_lightprobe_opts_t *opts,
+                                     qibl_lightprobe_light_t *lights, uint32_t max_lights,
+                                     qibl_lightprobe_result_t *result)
+{
+    if (lp == 0 || lights == 0 || result == 0)
+        return QIBL_E_NULL_POINTER;
+    qibl_lightprobe_opts_t o = {QIBL_LIGHTPROBE_MEDIANCUT, QIBL_LIGHTPROBE_PRIORITY_DEFAULT,
+                                QIBL_LIGHTPROBE_PLACE_CENTROID};
+    if (opts) {
+        o.method = opts->method;
+        o.priority = opts->priority;
+        o.place = opts->place;
+    }
+    if ((unsigned)o.method >= QIBL_LIGHTPROBE_METHOD_COUNT || (unsigned)o.priority >= QIBL_LIGHTPROBE_PRIORITY_COUNT ||
+        (unsigned)o.place >= QIBL_LIGHTPROBE_PLACE_COUNT)
+        return QIBL_E_PROBE_METHOD;
+    qibl_lightprobe_priority_t pr = o.priority;
+    if (o.method == QIBL_LIGHTPROBE_MEDIANCUT) {
+        if (pr != QIBL_LIGHTPROBE_PRIORITY_DEFAULT && pr != QIBL_LIGHTPROBE_PRIORITY_LEVELS)
+            return QIBL_E_PROBE_METHOD; /* a priority makes it ADAPTIVE: say so */
+        pr = QIBL_LIGHTPROBE_PRIORITY_LEVELS;
+    } else if (pr == QIBL_LIGHTPROBE_PRIORITY_DEFAULT) {
+        pr = o.method == QIBL_LIGHTPROBE_VARMIN ? QIBL_LIGHTPROBE_PRIORITY_VARIANCE
+                                                : QIBL_LIGHTPROBE_PRIORITY_ENERGY_SIZE;
+    }
+    const int varmin = o.method == QIBL_LIGHTPROBE_VARMIN;
+    if (max_lights == 0u || (pr == QIBL_LIGHTPROBE_PRIORITY_LEVELS && (max_lights & (max_lights - 1u)) != 0u))
+        return QIBL_E_PROBE_COUNT;
+    if ((varmin || pr == QIBL_LIGHTPROBE_PRIORITY_VARIANCE) && lp->mom == 0)
+        return QIBL_E_PROBE_MISMATCH;
+    const uint64_t total = sat_sum(lp, 0u, 0u, lp->width, lp->height);
+    if (total == 0u)
+        return QIBL_E_PROBE_BLACK;
+
+    /* No failure is possible from here on: lights[] is the working list of regions. */
+    uint32_t n = make_regions(lp, varmin, pr, lights, max_lights);
+    sort_lights(lp, lights, n);
+
+    /* Colours: X_c = A_c K with K = 2 pi^2 2^j / (W H D) in [2^62, 2^64), so that
+     * rgb_c = X_c 2^-(g + 58 + j). Each light is first rounded to 31 bits with its own exponent
+     * (kept in dir[0] until the directions are computed), then all to the largest exponent. */
+    const uint64_t nd = qibl_mul_u32_u64(lp->width * lp->height, lp->energy_div);
+    const unsigned j = bitlen64(nd);
+    u128 num = {0u, TWO_PI_SQ_Q58};
+    shl128(&num, j);
+    const uint64_t K = div128(&num, nd, 0);
+    int32_t smax = INT32_MIN;
+    for (uint32_t i = 0; i < n; ++i) {
+        uint64_t a[3];
+        region_rgb(lp, light_rect(&lights[i]), a);
+        u128 x[3];
+        unsigned L = 0u;
+        for (int c = 0; c < 3; ++c) {
+            mul64(a[c], K, &x[c]);
+            unsigned l = bitlen128(&x[c]);
+            if (l > L)
+                L = l;
+        }
+        int32_t s = (int32_t)L - 31;
+        for (int pass = 0; pass < 2; ++pass) {
+            uint64_t m[3], top = 0u;
+            for (int c = 0; c < 3; ++c) {
+                m[c] = s > 0 ? (shr128_lo(&x[c], (unsigned)s - 1u) + 1u) >> 1 : lp_shl(x[c].lo, (unsigned)-s);
+                if (m[c] > top)
+                    top = m[c];
+            }
+            if (top >> 31) { /* rounded up to 2^31 */
+                ++s;
+                continue;
+            }
+            for (int c = 0; c < 3; ++c)
+                lights[i].rgb[c] = (int32_t)m[c];
+            break;
+        }
+        lights[i].dir[0] = s;
+        if (s > smax)
+            smax = s;
+    }
+    for (uint32_t i = 0; i < n; ++i) {
+        uint32_t d = (uint32_t)(smax - lights[i].dir[0]);
+        for (int c = 0; c < 3; ++c) {
+            uint32_t m = (uint32_t)lights[i].rgb[c];
+            lights[i].rgb[c] = d == 0u ? (int32_t)m : d >= 32u ? 0 : (int32_t)((m + (1u << (d - 1u))) >> d);
+        }
+        direction(lp, light_rect(&lights[i]), rect_energy(lp, light_rect(&lights[i])), o.place, lights[i].dir);
+    }
+    result->count = n;
+    result->rgb_exp = smax - (lp->gshift + 58 + (int32_t)j);
+    return QIBL_OK;
+}
+
+#else
+typedef int qibl_lightprobe_disabled_t; /* ISO C forbids an empty translation unit */
+#endif /* QIBL_USE_LIGHTPROBE */
