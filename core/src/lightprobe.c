@@ -473,7 +473,7 @@ static void sat_rgbe(qibl_lightprobe_t *lp)
         const int32_t s0 = rshift(lp, v) - 136; /* shift = E + s0 */
         uint64_t acc = 0u;
         row[0] = 0u;
-        if (s0 + 255 <= 0) {
+        if (s0 + lp->emax <= 0) {
             /* every shift is to the right: the case for every probe above 512 pixels */
             const uint32_t r0 = (uint32_t)-s0;
             for (uint32_t u = 0; u < w; ++u, q += 4) {
@@ -563,7 +563,7 @@ static void copy_probe(qibl_lightprobe_t *d, const qibl_lightprobe_t *s)
     d->pixels = s->pixels, d->stride = s->stride, d->width = s->width, d->height = s->height;
     d->format = s->format, d->frac_bits = s->frac_bits, d->built_for = s->built_for;
     d->energy_exp = s->energy_exp, d->energy_div = s->energy_div, d->gshift = s->gshift;
-    d->mshift = s->mshift, d->sat = s->sat, d->mom = s->mom, d->row_sig = s->row_sig;
+    d->emax = s->emax, d->mshift = s->mshift, d->sat = s->sat, d->mom = s->mom, d->row_sig = s->row_sig;
     d->row_kap = s->row_kap, d->row_sum = s->row_sum;
 }
 
@@ -634,6 +634,7 @@ qibl_status_t qibl_lightprobe_build(qibl_lightprobe_t *lp, const qibl_lightprobe
     /* lb = INT32_MIN (black probe): any shift gives zeros; keep the arithmetic in range */
     int32_t g = lb == INT32_MIN ? 0 : pixel_bits(w, h) - lb;
     t.gshift = g;
+    t.emax = img->format == QIBL_LIGHTPROBE_RGBE && lb != INT32_MIN ? lb + 128 : 0;
     t.energy_exp = -g;
     for (uint32_t u = 0; u <= w; ++u)
         t.sat[u] = 0u;
@@ -1045,15 +1046,16 @@ static void region_rgb(const qibl_lightprobe_t *lp, rect r, uint64_t out[3])
         const uint8_t *q = lp->pixels + (size_t)v * lp->stride + (size_t)r.u0 * pb;
         const uint32_t sig = lp->row_sig[v];
         const int32_t s0 = rshift(lp, v) + 16; /* channels on the luminance scale: m 2^16 */
-        if (lp->format == QIBL_LIGHTPROBE_RGBE && s0 - 136 + 255 <= 0) {
-            const uint32_t r0 = (uint32_t)(136 - s0);
+        if (lp->format == QIBL_LIGHTPROBE_RGBE && s0 - 16 - 136 + lp->emax <= 0) {
+            /* x_c = (m_c 2^16) sig >> r, the luminance's shift: every shift is to the right */
+            const uint32_t r0 = (uint32_t)(136 + 16 - s0);
             for (uint32_t u = r.u0; u < r.u1; ++u, q += 4) {
                 uint32_t E = q[3], sh = r0 - E;
                 if (E == 0u || sh >= 64u)
                     continue;
-                a0 += lp_shr(qibl_mul_u32_u64(q[0], sig), sh);
-                a1 += lp_shr(qibl_mul_u32_u64(q[1], sig), sh);
-                a2 += lp_shr(qibl_mul_u32_u64(q[2], sig), sh);
+                a0 += lp_shr(qibl_mul_u32_u64((uint32_t)q[0] << 16, sig), sh);
+                a1 += lp_shr(qibl_mul_u32_u64((uint32_t)q[1] << 16, sig), sh);
+                a2 += lp_shr(qibl_mul_u32_u64((uint32_t)q[2] << 16, sig), sh);
             }
         } else {
             for (uint32_t u = r.u0; u < r.u1; ++u, q += pb) {

@@ -164,6 +164,7 @@ typedef struct qibl_lightprobe {
     int32_t energy_exp;
     uint32_t energy_div;
     int32_t gshift;        /* k of the per-pixel energy before the row's sin exponent */
+    int32_t emax;          /* RGBE: the largest exponent byte of a lit pixel (0: none) */
     uint32_t mshift;       /* moment SATs hold sums of e >> mshift */
     uint64_t *sat;         /* (W + 1) (H + 1): row 0 and column 0 are zero */
     uint64_t *mom;         /* 4 (W + 1) (H + 1) for VARMIN: e u, e u^2, e v, e v^2; else NULL */
