@@ -144,12 +144,20 @@ warnings:
 bench: $(QIBL)
 	$(QIBL) bench all
 
-# Until the bake-and-relight demo lands, the demo shows the core's SH basis through the CLI.
+# Until the bake-and-relight demo lands (issue "Bake pipeline"), the demo relights the procedural
+# courtyard (analytic SH maps) with the core kernels and writes PNGs to out/demo/.
 demo: $(QIBL)
+	@mkdir -p out/demo
 	@echo "== qibl demo: SH basis (bands 0..2) of the sun direction (1, 1, 2), computed in integers"
 	$(QIBL) sh eval --bands 3 1 1 2
-	@echo "== accuracy and speed of the integer SH basis against the double reference"
-	$(QIBL) bench sh
+	@echo "== bake the procedural courtyard to 8-bit SH maps (k = 16) with a P map and a 32^2 cube-map Y LUT"
+	$(QIBL) gen -o out/demo/courtyard.qibl --k 16 --lut 32
+	$(QIBL) info out/demo/courtyard.qibl | head -8
+	@echo "== relight it: a low sun, then a lamp in the courtyard (integer kernels, software framebuffer)"
+	$(QIBL) relight out/demo/courtyard.qibl --sun 0.5 0.3 0.8 --rgb 1.6 1.45 1.2 --png out/demo/sun.png
+	$(QIBL) relight out/demo/courtyard.qibl --point 1.5 -2 0.8 --rgb 4 3.4 2.6 --lut --png out/demo/lamp.png
+	$(QIBL) sh plot --png out/demo/sh_basis.png
+	@echo "== demo images are in out/demo/"
 
 clean:
 	rm -rf $(BUILD) out

@@ -419,12 +419,20 @@ static unsigned scan(const qibl_lightprobe_image_t *img, size_t stride, int32_t 
     unsigned bad = 0u;
     int32_t lb = INT32_MIN;
     if (img->format == QIBL_LIGHTPROBE_RGBE) {
+        /* tightly packed rows are one run; branch-free so that compilers vectorise it */
+        const int tight = stride == 4u * (size_t)img->width;
+        const uint32_t runs = tight ? 1u : img->height;
+        const size_t run = tight ? (size_t)img->width * img->height : img->width;
         uint32_t emax = 0u;
-        for (uint32_t v = 0; v < img->height; ++v) {
+        for (uint32_t v = 0; v < runs; ++v) {
             const uint8_t *q = base + (size_t)v * stride;
-            for (uint32_t u = 0; u < img->width; ++u, q += 4)
-                if (q[3] > emax && (q[0] | q[1] | q[2]))
-                    emax = q[3];
+            uint8_t m = 0u;
+            for (size_t i = 0; i < run; ++i) {
+                uint8_t lit = (uint8_t)(q[4 * i] | q[4 * i + 1] | q[4 * i + 2]) != 0u ? 0xFFu : 0u;
+                uint8_t e = (uint8_t)(q[4 * i + 3] & lit);
+                m = e > m ? e : m;
+            }
+            emax = m > emax ? m : emax;
         }
         if (emax)
             lb = (int32_t)emax - 136 + 8; /* mantissas are bytes: bitlen <= 8 */
@@ -477,9 +485,10 @@ static void sat_rgbe(qibl_lightprobe_t *lp)
             /* every shift is to the right: the case for every probe above 512 pixels */
             const uint32_t r0 = (uint32_t)-s0;
             for (uint32_t u = 0; u < w; ++u, q += 4) {
-                uint32_t E = q[3], r = r0 - E;
-                uint64_t y = qibl_mul_u32_u64(LUMA_R * q[0] + LUMA_G * q[1] + LUMA_B * q[2], sig);
-                acc += E != 0u && r < 64u ? lp_shr(y, r) : 0u;
+                /* branch-free as in region_rgb: y < 2^56, so a shift capped at 63 gives 0 */
+                uint32_t E = q[3], r = r0 - E, k = E ? sig : 0u;
+                r = r > 63u ? 63u : r;
+                acc += lp_shr(qibl_mul_u32_u64(LUMA_R * q[0] + LUMA_G * q[1] + LUMA_B * q[2], k), r);
                 row[u + 1u] = above[u + 1u] + acc;
             }
         } else {
@@ -1050,12 +1059,13 @@ static void region_rgb(const qibl_lightprobe_t *lp, rect r, uint64_t out[3])
             /* x_c = (m_c 2^16) sig >> r, the luminance's shift: every shift is to the right */
             const uint32_t r0 = (uint32_t)(136 + 16 - s0);
             for (uint32_t u = r.u0; u < r.u1; ++u, q += 4) {
-                uint32_t E = q[3], sh = r0 - E;
-                if (E == 0u || sh >= 64u)
-                    continue;
-                a0 += lp_shr(qibl_mul_u32_u64((uint32_t)q[0] << 16, sig), sh);
-                a1 += lp_shr(qibl_mul_u32_u64((uint32_t)q[1] << 16, sig), sh);
-                a2 += lp_shr(qibl_mul_u32_u64((uint32_t)q[2] << 16, sig), sh);
+                /* branch-free: E = 0 (black) multiplies by 0; a shift past 63 is capped, exact
+                 * since the product is below 2^56 */
+                uint32_t E = q[3], sh = r0 - E, k = E ? sig : 0u;
+                sh = sh > 63u ? 63u : sh;
+                a0 += lp_shr(qibl_mul_u32_u64((uint32_t)q[0] << 16, k), sh);
+                a1 += lp_shr(qibl_mul_u32_u64((uint32_t)q[1] << 16, k), sh);
+                a2 += lp_shr(qibl_mul_u32_u64((uint32_t)q[2] << 16, k), sh);
             }
         } else {
             for (uint32_t u = r.u0; u < r.u1; ++u, q += pb) {

@@ -18,8 +18,8 @@ typedef struct {
 static const material mats[] = {
     {{0.55, 0.50, 0.42}, 0.00, 1},   /* 0 ground: sandstone */
     {{0.70, 0.32, 0.22}, 0.00, 1},   /* 1 walls: brick */
-    {{0.80, 0.80, 0.78}, 0.25, 40},  /* 2 pillars: polished marble */
-    {{0.20, 0.35, 0.75}, 0.45, 120}, /* 3 sphere: glazed blue */
+    {{0.80, 0.80, 0.78}, 0.20, 3},   /* 2 pillars: satin marble (a lobe SH bands 0..4 can hold) */
+    {{0.20, 0.35, 0.75}, 0.35, 5},   /* 3 sphere: glazed blue */
     {{0.30, 0.60, 0.30}, 0.05, 8},   /* 4 box: painted green */
 };
 

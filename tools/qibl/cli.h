@@ -24,6 +24,8 @@ int qibl_cmd_srgbe(int argc, char **argv);
 int qibl_bench_relight(int quick, int csv);
 int qibl_bench_srgbe(int quick); /* bench_srgbe.c */
 int qibl_cmd_info(int argc, char **argv);
+int qibl_cmd_gen(int argc, char **argv);
+int qibl_cmd_relight(int argc, char **argv);
 
 /* Prints "qibl: <message>" on stderr and returns 2 (the bad-arguments exit status). */
 int qibl_cli_usage_error(const char *fmt, ...);

@@ -33,6 +33,22 @@ static const qibl_cli_cmd commands[] = {
      "      channel, mean absolute error of the others, encode/decode Mpixel/s (medians).\n"
      "  all: every benchmark (what `make bench` runs). --quick: fewer repetitions.\n",
      qibl_cmd_bench},
+    {"gen", "write the procedural courtyard's SH maps (and P map, optional Y LUT) as an asset",
+     "usage: qibl gen -o FILE [--size WxH] [--k K] [--lut N] [--pack minmax|robust] [--equirect]\n"
+     "  Renders the built-in courtyard's light-transport SH maps analytically (Lambert + glossy, no\n"
+     "  shadows; the ray-traced bake is a separate command), packs them to 8 bits per map and channel\n"
+     "  (min/max or the 0.1..99.9 percentile range) and writes SHMP + PMAP (+ YLUT with --lut N, the\n"
+     "  cube-map face size). Defaults: 1024x256 cylindrical, k = 16, min/max, no LUT.\n",
+     qibl_cmd_gen},
+    {"relight", "relight an asset with a sun or a point light into a PNG (core kernels + soft framebuffer)",
+     "usage: qibl relight FILE (--sun X Y Z | --point X Y Z) [--rgb R G B] [--lut|--nearest]\n"
+     "                    [--falloff 1|2] [--exposure E] [--linear] --png OUT\n"
+     "  --sun: directional light from direction (X, Y, Z), colour --rgb (default 1 1 1).\n"
+     "  --point: point light at (X, Y, Z) in scene units, C0 = --rgb; per-pixel Y from the asset's\n"
+     "  cube-map LUT (--lut bilinear, --nearest) or the SH polynomials (default); --falloff 1 is\n"
+     "  C0/|L| (Wong et al.), 2 is C0/|L|^2. Output RGBA8888 with sRGB transfer (or --linear),\n"
+     "  exposure E (default 1), written as an RGB PNG.\n",
+     qibl_cmd_relight},
     {"info", "validate a qibl asset file and print its contents",
      "usage: qibl info FILE\n"
      "  Validates FILE with the core's qibl_asset_open (magic, version, chunk table, bounds, CRC-32s,\n"

@@ -1,0 +1,273 @@
+/*
+ * cmd_relight.c - `qibl gen` (procedural courtyard -> asset) and `qibl relight` (asset + light ->
+ * PNG through the core kernels and the software framebuffer).
+ */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "gen/scene.h"
+#include "io/asset_write.h"
+#include "io/png.h"
+#include "qibl/asset.h"
+#include "qibl/cli.h"
+#include "qibl/shmap.h"
+#include "qibl/soft.h"
+
+/* ---- qibl gen ---------------------------------------------------------------------------------- */
+
+int qibl_cmd_gen(int argc, char **argv)
+{
+    const char *out = NULL;
+    long w = 1024, h = 256, k = 16, lut = 0;
+    qibl_pack_scheme scheme = QIBL_PACK_MINMAX;
+    qibl_pano_kind kind = QIBL_PANO_CYLINDRICAL;
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i];
+        if (strcmp(a, "-o") == 0 && i + 1 < argc)
+            out = argv[++i];
+        else if (strcmp(a, "--size") == 0 && i + 1 < argc) {
+            if (sscanf(argv[++i], "%ldx%ld", &w, &h) != 2 || w < 1 || h < 1 || w > 16384 || h > 16384)
+                return qibl_cli_usage_error("--size needs WxH with both in 1..16384");
+        } else if (strcmp(a, "--k") == 0 && i + 1 < argc) {
+            if (qibl_cli_parse_int(argv[++i], 1, 25, &k) != 0)
+                return qibl_cli_usage_error("--k needs an integer in 1..25");
+        } else if (strcmp(a, "--lut") == 0 && i + 1 < argc) {
+            if (qibl_cli_parse_int(argv[++i], 1, (long)QIBL_ASSET_MAX_LUT, &lut) != 0)
+                return qibl_cli_usage_error("--lut needs a face size in 1..%u", QIBL_ASSET_MAX_LUT);
+        } else if (strcmp(a, "--pack") == 0 && i + 1 < argc) {
+            const char *p = argv[++i];
+            if (strcmp(p, "minmax") == 0)
+                scheme = QIBL_PACK_MINMAX;
+            else if (strcmp(p, "robust") == 0)
+                scheme = QIBL_PACK_ROBUST;
+            else
+                return qibl_cli_usage_error("--pack is minmax or robust");
+        } else if (strcmp(a, "--equirect") == 0)
+            kind = QIBL_PANO_EQUIRECT;
+        else
+            return qibl_cli_usage_error("usage: qibl gen -o FILE [--size WxH] [--k K] [--lut N] [--pack minmax|robust] [--equirect]");
+    }
+    if (!out)
+        return qibl_cli_usage_error("gen: -o FILE is required");
+    qibl_gen_maps g;
+    if (qibl_gen_scene((uint32_t)w, (uint32_t)h, (uint32_t)k, kind, &g) != 0) {
+        fprintf(stderr, "qibl: gen: out of memory\n");
+        return 1;
+    }
+    size_t np = (size_t)w * (size_t)h, nplanes = (size_t)k * 3;
+    int32_t *scale = malloc(sizeof(int32_t) * nplanes), *bias = malloc(sizeof(int32_t) * nplanes);
+    uint8_t *planes = malloc(np * nplanes);
+    int16_t *lutv = NULL;
+    qibl_asset_builder b;
+    qibl_asset_builder_init(&b);
+    int rc = 1;
+    qibl_pack_stats st;
+    if (!scale || !bias || !planes || qibl_pack_maps(&g, scheme, scale, bias, planes, &st) != 0) {
+        fprintf(stderr, "qibl: gen: out of memory\n");
+        goto done;
+    }
+    if (qibl_asset_add_shmp(&b, (uint32_t)w, (uint32_t)h, (uint32_t)k, 3, scale, bias, planes) != 0 ||
+        qibl_asset_add_pmap(&b, (uint32_t)w, (uint32_t)h, g.p) != 0) {
+        fprintf(stderr, "qibl: gen: %s\n", b.err);
+        goto done;
+    }
+    if (lut) {
+        size_t vs = qibl_ylut_values_size((uint32_t)lut, (uint32_t)k);
+        uint8_t *le = malloc(vs);
+        lutv = malloc(vs);
+        if (!le || !lutv || qibl_ylut_build((uint32_t)lut, (uint32_t)k, le, vs) != QIBL_OK) {
+            free(le);
+            fprintf(stderr, "qibl: gen: out of memory\n");
+            goto done;
+        }
+        for (size_t i = 0; i < vs / 2; ++i)
+            lutv[i] = qibl_load_s16le(le + 2 * i);
+        free(le);
+        if (qibl_asset_add_ylut(&b, (uint32_t)lut, (uint32_t)k, lutv) != 0) {
+            fprintf(stderr, "qibl: gen: %s\n", b.err);
+            goto done;
+        }
+    }
+    if (qibl_asset_write_file(&b, out, 0) != 0) {
+        fprintf(stderr, "qibl: %s\n", b.err);
+        goto done;
+    }
+    printf("wrote %s: %ldx%ld %s courtyard, k = %ld, packing %s (rms %.3e, max %.3e, %llu clipped)%s\n", out, w, h,
+           kind == QIBL_PANO_CYLINDRICAL ? "cylindrical" : "equirectangular", k,
+           scheme == QIBL_PACK_MINMAX ? "min/max" : "robust", st.rms, st.max_abs, (unsigned long long)st.clipped,
+           lut ? ", with cube-map Y LUT" : "");
+    rc = 0;
+done:
+    qibl_asset_builder_free(&b);
+    free(scale), free(bias), free(planes), free(lutv);
+    qibl_gen_free(&g);
+    return rc;
+}
+
+/* ---- qibl relight ------------------------------------------------------------------------------ */
+
+static int read_file(const char *path, uint8_t **data, size_t *n)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        fprintf(stderr, "qibl: %s: %s\n", path, strerror(errno));
+        return -1;
+    }
+    size_t cap = 1 << 20, len = 0;
+    uint8_t *buf = malloc(cap);
+    while (buf) {
+        len += fread(buf + len, 1, cap - len, f);
+        if (len < cap)
+            break;
+        uint8_t *nb = realloc(buf, cap *= 2);
+        if (!nb)
+            free(buf);
+        buf = nb;
+    }
+    int bad = ferror(f);
+    fclose(f);
+    if (!buf || bad) {
+        free(buf);
+        fprintf(stderr, "qibl: %s: %s\n", path, bad ? "read error" : "out of memory");
+        return -1;
+    }
+    *data = buf, *n = len;
+    return 0;
+}
+
+static int parse3(char **argv, int i, int argc, qibl_q16_t v[3])
+{
+    if (i + 3 >= argc)
+        return -1;
+    for (int j = 0; j < 3; ++j)
+        if (qibl_cli_parse_q16(argv[i + 1 + j], &v[j]) != 0)
+            return -1;
+    return 0;
+}
+
+int qibl_cmd_relight(int argc, char **argv)
+{
+    const char *in = NULL, *png = NULL;
+    qibl_q16_t sun[3] = {0}, pos[3] = {0}, rgb[3] = {65536, 65536, 65536};
+    int have_sun = 0, have_point = 0, use_lut = 0, nearest = 0, linear = 0;
+    long falloff = 1;
+    qibl_q16_t exposure = 65536;
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i];
+        if (strcmp(a, "--sun") == 0) {
+            if (parse3(argv, i, argc, sun) != 0)
+                return qibl_cli_usage_error("--sun needs three numbers X Y Z");
+            have_sun = 1, i += 3;
+        } else if (strcmp(a, "--point") == 0) {
+            if (parse3(argv, i, argc, pos) != 0)
+                return qibl_cli_usage_error("--point needs three numbers X Y Z");
+            have_point = 1, i += 3;
+        } else if (strcmp(a, "--rgb") == 0) {
+            if (parse3(argv, i, argc, rgb) != 0 || rgb[0] < 0 || rgb[1] < 0 || rgb[2] < 0)
+                return qibl_cli_usage_error("--rgb needs three non-negative numbers");
+            i += 3;
+        } else if (strcmp(a, "--exposure") == 0 && i + 1 < argc) {
+            if (qibl_cli_parse_q16(argv[++i], &exposure) != 0 || exposure <= 0)
+                return qibl_cli_usage_error("--exposure needs a positive number");
+        } else if (strcmp(a, "--falloff") == 0 && i + 1 < argc) {
+            if (qibl_cli_parse_int(argv[++i], 1, 2, &falloff) != 0)
+                return qibl_cli_usage_error("--falloff is 1 (C0/|L|) or 2 (C0/|L|^2)");
+        } else if (strcmp(a, "--lut") == 0)
+            use_lut = 1;
+        else if (strcmp(a, "--nearest") == 0)
+            use_lut = 1, nearest = 1;
+        else if (strcmp(a, "--linear") == 0)
+            linear = 1;
+        else if (strcmp(a, "--png") == 0 && i + 1 < argc)
+            png = argv[++i];
+        else if (a[0] != '-' && !in)
+            in = a;
+        else
+            return qibl_cli_usage_error("usage: qibl relight FILE (--sun X Y Z | --point X Y Z) [--rgb R G B] "
+                                        "[--lut|--nearest] [--falloff 1|2] [--exposure E] [--linear] --png OUT");
+    }
+    if (!in || !png || have_sun == have_point)
+        return qibl_cli_usage_error("relight needs FILE, exactly one of --sun/--point, and --png OUT");
+    uint8_t *bytes;
+    size_t n;
+    if (read_file(in, &bytes, &n) != 0)
+        return 1;
+    qibl_asset_t a;
+    qibl_shmaps_t m;
+    qibl_pmap_t pm;
+    qibl_ylut_t lut;
+    qibl_status_t st = qibl_asset_open(&a, bytes, n);
+    if (st == QIBL_OK)
+        st = qibl_asset_shmaps(&a, &m);
+    if (st == QIBL_OK && have_point)
+        st = qibl_asset_pmap(&a, &pm);
+    if (st == QIBL_OK && have_point && use_lut)
+        st = qibl_asset_ylut(&a, &lut);
+    if (st != QIBL_OK) {
+        fprintf(stderr, "qibl: %s: %s\n", in, qibl_status_str(st));
+        free(bytes);
+        return 1;
+    }
+    uint32_t w = m.width, h = m.height;
+    uint8_t *pix = malloc((size_t)w * h * 4);
+    int32_t *row = malloc(sizeof(int32_t) * 3 * w);
+    size_t wsn = have_point ? qibl_shmap_point_workspace_size(m.k, w) : qibl_shmap_span_workspace_size(w);
+    void *ws = malloc(wsn);
+    if (!pix || !row || !ws) {
+        fprintf(stderr, "qibl: relight: out of memory\n");
+        free(bytes), free(pix), free(row), free(ws);
+        return 1;
+    }
+    qibl_fb_desc_t fb = {0};
+    fb.pixels = pix, fb.width = w, fb.height = h, fb.format = QIBL_FB_RGBA8888;
+    fb.exposure = (qibl_uq16_t)exposure, fb.srgb = linear ? 0 : 1;
+    double t0 = qibl_cli_now();
+    if (have_sun) {
+        qibl_shlight_t l;
+        qibl_shmap_weights_t wt;
+        st = qibl_shlight_init(&l, m.k);
+        if (st == QIBL_OK)
+            st = qibl_shlight_add_dir(&l, sun, rgb);
+        if (st == QIBL_OK)
+            st = qibl_shmap_weights(&m, &l, &wt);
+        for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {
+            st = qibl_shmap_relight_span(&m, &wt, 0, y, w, row, ws, wsn);
+            if (st == QIBL_OK)
+                st = qibl_fb_write_row(&fb, 0, y, w, row);
+        }
+    } else {
+        qibl_pointlight_t pl = {{pos[0], pos[1], pos[2]}, {rgb[0], rgb[1], rgb[2]},
+                                falloff == 1 ? QIBL_FALLOFF_INV_DIST : QIBL_FALLOFF_INV_DIST2, 0,
+                                nearest ? QIBL_LUT_NEAREST : QIBL_LUT_BILINEAR};
+        qibl_shmap_point_t pt;
+        st = qibl_shmap_point_prepare(&m, &pm, use_lut ? &lut : NULL, &pl, &pt);
+        for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {
+            st = qibl_shmap_point_span(&pt, 0, y, w, row, ws, wsn);
+            if (st == QIBL_OK)
+                st = qibl_fb_write_row(&fb, 0, y, w, row);
+        }
+    }
+    double ms = (qibl_cli_now() - t0) * 1e3;
+    int rc = 0;
+    if (st != QIBL_OK) {
+        fprintf(stderr, "qibl: relight: %s\n", qibl_status_str(st));
+        rc = 1;
+    } else {
+        /* RGBA -> RGB for the PNG writer */
+        for (size_t i = 0; i < (size_t)w * h; ++i)
+            memmove(pix + 3 * i, pix + 4 * i, 3);
+        char err[512];
+        if (qibl_png_write_rgb8(png, (int)w, (int)h, pix, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s\n", err);
+            rc = 1;
+        } else {
+            printf("wrote %s (%ux%u, k = %u, %s light, %.1f ms incl. framebuffer conversion)\n", png, w, h, m.k,
+                   have_sun ? "directional" : use_lut ? (nearest ? "point/LUT nearest" : "point/LUT") : "point/direct",
+                   ms);
+        }
+    }
+    free(bytes), free(pix), free(row), free(ws);
+    return rc;
+}
