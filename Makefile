@@ -25,7 +25,7 @@ TEST_SRC := $(wildcard tests/*_test.c)
 
 # Two flavours of the core: the native one and the "portable" one that takes the Cortex-M0 paths
 # (16x16 products, shift-subtract division) on the host, so both are tested on every run.
-PORTABLE_DEFS := -DQIBL_CONFIG_NATIVE_MUL64=0 -DQIBL_CONFIG_NATIVE_DIV64=0
+PORTABLE_DEFS := -DQIBL_CONFIG_NATIVE_MUL64=0 -DQIBL_CONFIG_NATIVE_DIV64=0 -DQIBL_CONFIG_NATIVE_SHIFT64=0
 
 PLATFORM_OBJ := $(PLATFORM_SRC:%.c=$(BUILD)/native/%.o)
 PLATFORM_POBJ := $(PLATFORM_SRC:%.c=$(BUILD)/portable/%.o)

@@ -1056,7 +1056,7 @@ static void region_rgb(const qibl_lightprobe_t *lp, rect r, uint64_t out[3])
         const uint32_t sig = lp->row_sig[v];
         const int32_t s0 = rshift(lp, v) + 16; /* channels on the luminance scale: m 2^16 */
         if (lp->format == QIBL_LIGHTPROBE_RGBE && s0 - 16 - 136 + lp->emax <= 0) {
-            /* x_c = (m_c 2^16) sig >> r, the luminance's shift: every shift is to the right */
+            /* x_c = (m_c 2^16) sig >> r with the luminance's r = r0 - E >= 0 */
             const uint32_t r0 = (uint32_t)(136 + 16 - s0);
             for (uint32_t u = r.u0; u < r.u1; ++u, q += 4) {
                 /* branch-free: E = 0 (black) multiplies by 0; a shift past 63 is capped, exact

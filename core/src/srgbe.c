@@ -1,8 +1,8 @@
 /*
  * srgbe.c - sRGBE (Granier et al. 4.2, appendix A): signed shared-exponent colour, integer only.
  *
- * Invariants: no floating point (binary32 values are read as bit patterns), no division, no table,
- * no state, no library helper (products are 32-bit; 64-bit shifts by a variable go through
+ * Invariants: no floating point (binary32 values are read as bit patterns), no division, one const
+ * table (1 KiB, decode), no state, no library helper (products are 32-bit; 64-bit shifts by a variable go through
  * qibl_shr_u64). The one-pixel and bulk entry points call the same static per-pixel functions, so
  * they give identical bytes by construction.
  *
@@ -78,7 +78,8 @@ static uint8_t enc_chan_f32(uint32_t x, uint32_t xe)
     return (uint8_t)((x >> 31) != 0u ? 127u - q : 128u + q);
 }
 
-static unsigned enc_px_f32(uint32_t r, uint32_t g, uint32_t b, uint8_t *out)
+/* The general per-pixel encoder: every binary32 input, including zero, subnormal, Inf and NaN. */
+static unsigned enc_px_f32_general(uint32_t r, uint32_t g, uint32_t b, uint8_t *out)
 {
     /* |x| of a binary32 orders like its bit pattern without the sign */
     uint32_t ar = r & 0x7FFFFFFFu, ag = g & 0x7FFFFFFFu, ab = b & 0x7FFFFFFFu;
@@ -110,6 +111,36 @@ static unsigned enc_px_f32(uint32_t r, uint32_t g, uint32_t b, uint8_t *out)
     out[2] = cb;
     out[3] = (uint8_t)xe;
     return flags;
+}
+
+/* Fast path, branch-free per channel, for a largest exponent field be_max in 7..254 (|max| in
+ * [2^-120, 2^128): every finite pixel of real data). With d = be_max - be the channel's shift is
+ * 25 + d, and floor(255 sig / 2^(25+d)) = floor(u / 2^d) for u = floor(255 sig / 2^25) (nested
+ * floors), u < 128: so q = u >> min(d, 7). Channels with be = 0 (zero, subnormal) take the hidden
+ * bit too: harmless, since there d >= 7 gives q = 0, which is also their exact result. The sign
+ * flips the byte: 127 - q = (128 + q) ^ 0xFF. */
+static uint32_t enc_chan_fast(uint32_t x, uint32_t be, uint32_t be_max)
+{
+    uint32_t u = (((x | 0x00800000u) & 0x00FFFFFFu) * 255u) >> 25;
+    uint32_t d = be_max - be;
+    d = d < 7u ? d : 7u;
+    return ((u >> d) + 128u) ^ (0u - (x >> 31));
+}
+
+static unsigned enc_px_f32(uint32_t r, uint32_t g, uint32_t b, uint8_t *out)
+{
+    uint32_t er = (r >> 23) & 0xFFu, eg = (g >> 23) & 0xFFu, eb = (b >> 23) & 0xFFu;
+    uint32_t em = er > eg ? er : eg;
+    if (eb > em)
+        em = eb;
+    if (em - 7u >= 248u) /* em < 7 (tiny, zero, subnormal) or em = 255 (Inf, NaN) */
+        return enc_px_f32_general(r, g, b, out);
+    uint32_t cr = enc_chan_fast(r, er, em), cg = enc_chan_fast(g, eg, em), cb = enc_chan_fast(b, eb, em);
+    out[0] = (uint8_t)cr;
+    out[1] = (uint8_t)cg;
+    out[2] = (uint8_t)cb;
+    out[3] = (uint8_t)(em + 1u);
+    return 0u;
 }
 
 /* ---- encode from int32 * 2^-frac_bits ------------------------------------------------------- */
@@ -223,13 +254,74 @@ static uint32_t dec_chan_f32(uint32_t x, uint32_t xe, unsigned *flags)
     return sign | ((f >> s) + ((f >> (s - 1u)) & 1u));
 }
 
+/* For E in 9..254 every channel decodes to a normal binary32 whose bits are
+ *     sign 2^31 + ((E - 2 - n) << 23) + rounded 24-bit significand      (dec_chan_f32's normal case)
+ * = (E << 23) + dec_base[X]   (mod 2^32),
+ * with dec_base[X] = sign 2^31 + significand - ((n + 2) << 23) independent of E (for X = 0 / 255:
+ * the sign bit alone, as +-2^(E-127) = sign | E << 23). So decoding is one add per channel. The
+ * table is dec_chan_f32(X, E) - (E << 23) for any such E; tests compare every (X, E) with the
+ * double reference, so table and computed path are both checked for every code. 1 KiB. */
+static const uint32_t dec_base[256] = {
+    0x80000000u, 0x7FFDFDFEu, 0x7FFBFBFCu, 0x7FF9F9FAu, 0x7FF7F7F8u, 0x7FF5F5F6u,
+    0x7FF3F3F4u, 0x7FF1F1F2u, 0x7FEFEFF0u, 0x7FEDEDEEu, 0x7FEBEBECu, 0x7FE9E9EAu,
+    0x7FE7E7E8u, 0x7FE5E5E6u, 0x7FE3E3E4u, 0x7FE1E1E2u, 0x7FDFDFE0u, 0x7FDDDDDEu,
+    0x7FDBDBDCu, 0x7FD9D9DAu, 0x7FD7D7D8u, 0x7FD5D5D6u, 0x7FD3D3D4u, 0x7FD1D1D2u,
+    0x7FCFCFD0u, 0x7FCDCDCEu, 0x7FCBCBCCu, 0x7FC9C9CAu, 0x7FC7C7C8u, 0x7FC5C5C6u,
+    0x7FC3C3C4u, 0x7FC1C1C2u, 0x7FBFBFC0u, 0x7FBDBDBEu, 0x7FBBBBBCu, 0x7FB9B9BAu,
+    0x7FB7B7B8u, 0x7FB5B5B6u, 0x7FB3B3B4u, 0x7FB1B1B2u, 0x7FAFAFB0u, 0x7FADADAEu,
+    0x7FABABACu, 0x7FA9A9AAu, 0x7FA7A7A8u, 0x7FA5A5A6u, 0x7FA3A3A4u, 0x7FA1A1A2u,
+    0x7F9F9FA0u, 0x7F9D9D9Eu, 0x7F9B9B9Cu, 0x7F99999Au, 0x7F979798u, 0x7F959596u,
+    0x7F939394u, 0x7F919192u, 0x7F8F8F90u, 0x7F8D8D8Eu, 0x7F8B8B8Cu, 0x7F89898Au,
+    0x7F878788u, 0x7F858586u, 0x7F838384u, 0x7F818182u, 0x7F7EFEFFu, 0x7F7AFAFBu,
+    0x7F76F6F7u, 0x7F72F2F3u, 0x7F6EEEEFu, 0x7F6AEAEBu, 0x7F66E6E7u, 0x7F62E2E3u,
+    0x7F5EDEDFu, 0x7F5ADADBu, 0x7F56D6D7u, 0x7F52D2D3u, 0x7F4ECECFu, 0x7F4ACACBu,
+    0x7F46C6C7u, 0x7F42C2C3u, 0x7F3EBEBFu, 0x7F3ABABBu, 0x7F36B6B7u, 0x7F32B2B3u,
+    0x7F2EAEAFu, 0x7F2AAAABu, 0x7F26A6A7u, 0x7F22A2A3u, 0x7F1E9E9Fu, 0x7F1A9A9Bu,
+    0x7F169697u, 0x7F129293u, 0x7F0E8E8Fu, 0x7F0A8A8Bu, 0x7F068687u, 0x7F028283u,
+    0x7EFCFCFDu, 0x7EF4F4F5u, 0x7EECECEDu, 0x7EE4E4E5u, 0x7EDCDCDDu, 0x7ED4D4D5u,
+    0x7ECCCCCDu, 0x7EC4C4C5u, 0x7EBCBCBDu, 0x7EB4B4B5u, 0x7EACACADu, 0x7EA4A4A5u,
+    0x7E9C9C9Du, 0x7E949495u, 0x7E8C8C8Du, 0x7E848485u, 0x7E78F8F9u, 0x7E68E8E9u,
+    0x7E58D8D9u, 0x7E48C8C9u, 0x7E38B8B9u, 0x7E28A8A9u, 0x7E189899u, 0x7E088889u,
+    0x7DF0F0F1u, 0x7DD0D0D1u, 0x7DB0B0B1u, 0x7D909091u, 0x7D60E0E1u, 0x7D20A0A1u,
+    0x7CC0C0C1u, 0x7C008081u, 0xFC008081u, 0xFCC0C0C1u, 0xFD20A0A1u, 0xFD60E0E1u,
+    0xFD909091u, 0xFDB0B0B1u, 0xFDD0D0D1u, 0xFDF0F0F1u, 0xFE088889u, 0xFE189899u,
+    0xFE28A8A9u, 0xFE38B8B9u, 0xFE48C8C9u, 0xFE58D8D9u, 0xFE68E8E9u, 0xFE78F8F9u,
+    0xFE848485u, 0xFE8C8C8Du, 0xFE949495u, 0xFE9C9C9Du, 0xFEA4A4A5u, 0xFEACACADu,
+    0xFEB4B4B5u, 0xFEBCBCBDu, 0xFEC4C4C5u, 0xFECCCCCDu, 0xFED4D4D5u, 0xFEDCDCDDu,
+    0xFEE4E4E5u, 0xFEECECEDu, 0xFEF4F4F5u, 0xFEFCFCFDu, 0xFF028283u, 0xFF068687u,
+    0xFF0A8A8Bu, 0xFF0E8E8Fu, 0xFF129293u, 0xFF169697u, 0xFF1A9A9Bu, 0xFF1E9E9Fu,
+    0xFF22A2A3u, 0xFF26A6A7u, 0xFF2AAAABu, 0xFF2EAEAFu, 0xFF32B2B3u, 0xFF36B6B7u,
+    0xFF3ABABBu, 0xFF3EBEBFu, 0xFF42C2C3u, 0xFF46C6C7u, 0xFF4ACACBu, 0xFF4ECECFu,
+    0xFF52D2D3u, 0xFF56D6D7u, 0xFF5ADADBu, 0xFF5EDEDFu, 0xFF62E2E3u, 0xFF66E6E7u,
+    0xFF6AEAEBu, 0xFF6EEEEFu, 0xFF72F2F3u, 0xFF76F6F7u, 0xFF7AFAFBu, 0xFF7EFEFFu,
+    0xFF818182u, 0xFF838384u, 0xFF858586u, 0xFF878788u, 0xFF89898Au, 0xFF8B8B8Cu,
+    0xFF8D8D8Eu, 0xFF8F8F90u, 0xFF919192u, 0xFF939394u, 0xFF959596u, 0xFF979798u,
+    0xFF99999Au, 0xFF9B9B9Cu, 0xFF9D9D9Eu, 0xFF9F9FA0u, 0xFFA1A1A2u, 0xFFA3A3A4u,
+    0xFFA5A5A6u, 0xFFA7A7A8u, 0xFFA9A9AAu, 0xFFABABACu, 0xFFADADAEu, 0xFFAFAFB0u,
+    0xFFB1B1B2u, 0xFFB3B3B4u, 0xFFB5B5B6u, 0xFFB7B7B8u, 0xFFB9B9BAu, 0xFFBBBBBCu,
+    0xFFBDBDBEu, 0xFFBFBFC0u, 0xFFC1C1C2u, 0xFFC3C3C4u, 0xFFC5C5C6u, 0xFFC7C7C8u,
+    0xFFC9C9CAu, 0xFFCBCBCCu, 0xFFCDCDCEu, 0xFFCFCFD0u, 0xFFD1D1D2u, 0xFFD3D3D4u,
+    0xFFD5D5D6u, 0xFFD7D7D8u, 0xFFD9D9DAu, 0xFFDBDBDCu, 0xFFDDDDDEu, 0xFFDFDFE0u,
+    0xFFE1E1E2u, 0xFFE3E3E4u, 0xFFE5E5E6u, 0xFFE7E7E8u, 0xFFE9E9EAu, 0xFFEBEBECu,
+    0xFFEDEDEEu, 0xFFEFEFF0u, 0xFFF1F1F2u, 0xFFF3F3F4u, 0xFFF5F5F6u, 0xFFF7F7F8u,
+    0xFFF9F9FAu, 0xFFFBFBFCu, 0xFFFDFDFEu, 0x00000000u,
+};
+
 static unsigned dec_px_f32(const uint8_t *code, uint32_t *out)
 {
-    unsigned flags = 0u;
     uint32_t xe = code[3];
-    uint32_t r = dec_chan_f32(code[0], xe, &flags);
-    uint32_t g = dec_chan_f32(code[1], xe, &flags);
-    uint32_t b = dec_chan_f32(code[2], xe, &flags);
+    uint32_t r, g, b;
+    unsigned flags = 0u;
+    if (xe - 9u < 246u) {
+        uint32_t eb = xe << 23;
+        r = dec_base[code[0]] + eb;
+        g = dec_base[code[1]] + eb;
+        b = dec_base[code[2]] + eb;
+    } else { /* subnormal results (E <= 8) or the saturating E = 255 */
+        r = dec_chan_f32(code[0], xe, &flags);
+        g = dec_chan_f32(code[1], xe, &flags);
+        b = dec_chan_f32(code[2], xe, &flags);
+    }
     out[0] = r; /* all code bytes are read before the first write: code and out may overlap */
     out[1] = g;
     out[2] = b;

@@ -61,6 +61,17 @@
 #endif
 #endif
 
+/* QIBL_CONFIG_NATIVE_SHIFT64: 1 if the compiler shifts 64-bit values by a variable count inline.
+ * ARMv6-M/ARMv8-M Baseline call __aeabi_llsr/__aeabi_llsl, so there qibl shifts 32-bit halves.
+ * Results are identical either way. */
+#ifndef QIBL_CONFIG_NATIVE_SHIFT64
+#if defined(__ARM_ARCH_6M__) || defined(__ARM_ARCH_8M_BASE__)
+#define QIBL_CONFIG_NATIVE_SHIFT64 0
+#else
+#define QIBL_CONFIG_NATIVE_SHIFT64 1
+#endif
+#endif
+
 /* QIBL_CONFIG_NATIVE_DIV64: 1 if 64/64-bit unsigned division is a machine instruction (64-bit
  * hosts). Otherwise qibl divides by shift-and-subtract (64 steps) rather than call __udivdi3 or
  * __aeabi_uldivmod, which a freestanding core may not link. Results are identical either way. */

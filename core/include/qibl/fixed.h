@@ -72,16 +72,20 @@ static inline int32_t qibl_asr_s32(int32_t x, unsigned n)
     return (int32_t)(u >> n) - (int32_t)(0x80000000u >> n);
 }
 
-/* u >> n for any uint64 u and n in 0..63, from 32-bit halves: a non-constant 64-bit shift would be
- * a call to __aeabi_llsr on Cortex-M0. With a constant n compilers fold it to one shift. */
+/* u >> n for any uint64 u and n in 0..63. Where a variable 64-bit shift would be a library call
+ * (__aeabi_llsr on Cortex-M0, QIBL_CONFIG_NATIVE_SHIFT64 = 0) it is built from 32-bit halves. */
 static inline uint64_t qibl_shr_u64(uint64_t u, unsigned n)
 {
+#if QIBL_CONFIG_NATIVE_SHIFT64
+    return u >> n;
+#else
     uint32_t hi = (uint32_t)(u >> 32), lo = (uint32_t)u;
     if (n == 0u)
         return u;
     if (n >= 32u)
         return hi >> (n - 32u);
     return ((uint64_t)(hi >> n) << 32) | (lo >> n) | (uint32_t)(hi << (32u - n));
+#endif
 }
 
 /* floor(x / 2^n) for any int64 x and n in 0..63. Same construction as qibl_asr_s32. */

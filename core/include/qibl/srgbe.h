@@ -58,7 +58,8 @@
  * subtraction, plus the decoder's half ulp), provided 2^e is representable in the shader's float
  * precision (fp32: E <= 253; mediump: far fewer). tests/srgbe_test.c checks this in binary32.
  *
- * Memory: no workspace, no tables. Codes are byte arrays with no alignment requirement.
+ * Memory: no workspace; one 1 KiB const table (binary32 decode). Codes are byte arrays with no
+ * alignment requirement.
  * All functions are reentrant; inputs may be any values (no precondition beyond valid pointers).
  */
 #ifndef QIBL_SRGBE_H
