@@ -5,22 +5,12 @@
  */
 #include "io/png.h"
 
+#include "qibl/asset.h" /* qibl_crc32: the same CRC-32 as PNG */
+
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-static uint32_t png_crc32(uint32_t crc, const void *data, size_t n)
-{
-    const uint8_t *p = (const uint8_t *)data;
-    crc = ~crc;
-    for (size_t i = 0; i < n; ++i) {
-        crc ^= p[i];
-        for (int k = 0; k < 8; ++k)
-            crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
-    }
-    return ~crc;
-}
 
 static void put32(uint8_t *p, uint32_t v)
 {
@@ -32,7 +22,7 @@ static int write_chunk(FILE *f, const char *type, const uint8_t *data, size_t n)
     uint8_t hdr[8];
     put32(hdr, (uint32_t)n);
     memcpy(hdr + 4, type, 4);
-    uint32_t crc = png_crc32(png_crc32(0, type, 4), data, n);
+    uint32_t crc = qibl_crc32(qibl_crc32(0, (const uint8_t *)type, 4), data, n);
     uint8_t tail[4];
     put32(tail, crc);
     return fwrite(hdr, 1, 8, f) == 8 && (n == 0 || fwrite(data, 1, n, f) == n) && fwrite(tail, 1, 4, f) == 4 ? 0 : -1;

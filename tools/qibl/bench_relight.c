@@ -19,18 +19,6 @@
 
 #define REPS_MAX 15
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 typedef struct {
     qibl_shmaps_t m;
     uint8_t *params, *planes;
@@ -78,7 +66,7 @@ static double time_stream(const packed *p, int reps)
         sink = acc;
         t[r] = qibl_cli_now() - t0;
     }
-    return median(t, reps);
+    return qibl_cli_median(t, reps);
 }
 
 /* 8-bit display value of a linear radiance (1.0 = 255), continuous for the reference */
@@ -166,7 +154,7 @@ int qibl_bench_relight(int quick, int csv)
                 qibl_shmap_relight_span(&p.m, &w, 0, y, W, img + 3 * (size_t)y * W, ws, qibl_shmap_span_workspace_size(W));
             t[r] = qibl_cli_now() - t0;
         }
-        double td = median(t, reps);
+        double td = qibl_cli_median(t, reps);
         for (size_t px = 0; px < np; ++px)
             for (uint32_t ch = 0; ch < 3; ++ch) {
                 double s = 0, sx = 0, lc[25];
@@ -227,7 +215,7 @@ int qibl_bench_relight(int quick, int csv)
                     qibl_shmap_point_span(&st, 0, y, W, img + 3 * (size_t)y * W, pws, pwn);
                 t[r] = qibl_cli_now() - t0;
             }
-            double tp = median(t, reps);
+            double tp = qibl_cli_median(t, reps);
             err8 pe = compare8(img, ref, 3 * np), pex = compare8(img, refx, 3 * np);
             static const char *names[4] = {"point, LUT 16^2", "point, LUT 32^2", "point, LUT 64^2", "point, direct SH"};
             rows[nrows++] = (row){names[li], k, tp * 1e3, np / tp * 1e-6, pe.psnr, pe.max_abs, pex.psnr};

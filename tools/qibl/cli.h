@@ -7,6 +7,7 @@
 #ifndef QIBL_TOOLS_CLI_H
 #define QIBL_TOOLS_CLI_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 typedef struct qibl_cli_cmd {
@@ -26,6 +27,7 @@ int qibl_bench_srgbe(int quick); /* bench_srgbe.c */
 int qibl_cmd_info(int argc, char **argv);
 int qibl_cmd_gen(int argc, char **argv);
 int qibl_cmd_relight(int argc, char **argv);
+int qibl_cmd_lights(int argc, char **argv);
 
 /* Prints "qibl: <message>" on stderr and returns 2 (the bad-arguments exit status). */
 int qibl_cli_usage_error(const char *fmt, ...);
@@ -36,6 +38,12 @@ int qibl_cli_parse_q16(const char *s, int32_t *out);
 
 /* Parses a decimal integer in [lo, hi]; 0 on success, -1 otherwise. */
 int qibl_cli_parse_int(const char *s, long lo, long hi, long *out);
+
+/* Whole file into a malloc'ed buffer (*n bytes); NULL with errno set on failure. */
+uint8_t *qibl_cli_read_all(const char *path, size_t *n);
+
+/* Median of n values (sorts v in place). */
+double qibl_cli_median(double *v, int n);
 
 /* Monotonic time in seconds, for benchmarks. */
 double qibl_cli_now(void);

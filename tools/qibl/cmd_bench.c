@@ -12,18 +12,6 @@
 #include "qibl/sh.h"
 #include "ref/sh_ref.h"
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 static uint64_t rng_next(uint64_t *s)
 {
     uint64_t z = (*s += 0x9E3779B97F4A7C15u);
@@ -90,7 +78,7 @@ static int bench_sh(int quick)
             sink_i = acc;
             t[r] = (qibl_cli_now() - t0) / n * 1e9;
         }
-        t_int[b - 1] = median(t, reps);
+        t_int[b - 1] = qibl_cli_median(t, reps);
         printf("%-40s %6d %12.1f %14.3e\n", "qibl_sh_eval (integer)", b, t_int[b - 1], max_err);
     }
     {
@@ -106,7 +94,7 @@ static int bench_sh(int quick)
             sink_i = acc;
             t[r] = (qibl_cli_now() - t0) / n * 1e9;
         }
-        t_unit = median(t, reps);
+        t_unit = qibl_cli_median(t, reps);
         printf("%-40s %6d %12.1f %14.3e\n", "qibl_sh_eval_unit (pre-normalised)", 5, t_unit, max_err);
     }
     {
@@ -122,7 +110,7 @@ static int bench_sh(int quick)
             sink_d = acc;
             t[r] = (qibl_cli_now() - t0) / n * 1e9;
         }
-        t_ref = median(t, reps);
+        t_ref = qibl_cli_median(t, reps);
         printf("%-40s %6d %12.1f %14s\n", "double reference (appendix recursion)", 5, t_ref, "(truth)");
     }
     printf("mean |err| over all 25 functions: %.3e; goal max |err| <= 2^-14 = %.3e\n", sum_err / (25.0 * n),

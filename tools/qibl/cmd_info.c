@@ -9,40 +9,6 @@
 #include "qibl/asset.h"
 #include "qibl/cli.h"
 
-/* Whole file into a malloc'ed buffer; NULL with errno set on failure. */
-static uint8_t *read_all(const char *path, size_t *n)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    size_t cap = 1 << 16, len = 0;
-    uint8_t *buf = malloc(cap);
-    while (buf) {
-        len += fread(buf + len, 1, cap - len, f);
-        if (len < cap)
-            break;
-        uint8_t *bigger = cap > SIZE_MAX / 2 ? NULL : realloc(buf, cap * 2);
-        if (!bigger) {
-            free(buf);
-            buf = NULL;
-            errno = ENOMEM;
-            break;
-        }
-        buf = bigger;
-        cap *= 2;
-    }
-    int e = errno;
-    if (buf && ferror(f)) {
-        free(buf);
-        buf = NULL;
-        e = EIO;
-    }
-    fclose(f);
-    errno = e;
-    *n = len;
-    return buf;
-}
-
 static const char *fourcc(uint32_t t, char s[16])
 {
     char c[4] = {(char)(t & 0xFF), (char)(t >> 8 & 0xFF), (char)(t >> 16 & 0xFF), (char)(t >> 24)};
@@ -98,7 +64,7 @@ int qibl_cmd_info(int argc, char **argv)
         return qibl_cli_usage_error("usage: qibl info FILE");
     const char *path = argv[1];
     size_t n = 0;
-    uint8_t *buf = read_all(path, &n);
+    uint8_t *buf = qibl_cli_read_all(path, &n);
     if (!buf)
         return fprintf(stderr, "qibl: %s: %s\n", path, strerror(errno)), 1;
     qibl_asset_t a;

@@ -108,35 +108,6 @@ done:
 
 /* ---- qibl relight ------------------------------------------------------------------------------ */
 
-static int read_file(const char *path, uint8_t **data, size_t *n)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        fprintf(stderr, "qibl: %s: %s\n", path, strerror(errno));
-        return -1;
-    }
-    size_t cap = 1 << 20, len = 0;
-    uint8_t *buf = malloc(cap);
-    while (buf) {
-        len += fread(buf + len, 1, cap - len, f);
-        if (len < cap)
-            break;
-        uint8_t *nb = realloc(buf, cap *= 2);
-        if (!nb)
-            free(buf);
-        buf = nb;
-    }
-    int bad = ferror(f);
-    fclose(f);
-    if (!buf || bad) {
-        free(buf);
-        fprintf(stderr, "qibl: %s: %s\n", path, bad ? "read error" : "out of memory");
-        return -1;
-    }
-    *data = buf, *n = len;
-    return 0;
-}
-
 static int parse3(char **argv, int i, int argc, qibl_q16_t v[3])
 {
     if (i + 3 >= argc)
@@ -190,10 +161,12 @@ int qibl_cmd_relight(int argc, char **argv)
     }
     if (!in || !png || have_sun == have_point)
         return qibl_cli_usage_error("relight needs FILE, exactly one of --sun/--point, and --png OUT");
-    uint8_t *bytes;
     size_t n;
-    if (read_file(in, &bytes, &n) != 0)
+    uint8_t *bytes = qibl_cli_read_all(in, &n);
+    if (!bytes) {
+        fprintf(stderr, "qibl: %s: %s\n", in, strerror(errno));
         return 1;
+    }
     qibl_asset_t a;
     qibl_shmaps_t m;
     qibl_pmap_t pm;

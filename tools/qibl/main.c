@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -69,6 +70,24 @@ static const qibl_cli_cmd commands[] = {
      "  saturates to +-FLT_MAX, with a note on stderr).\n"
      "  Bad arguments: one line on stderr, exit status 2.\n",
      qibl_cmd_srgbe},
+    {"lights", "sample a lat-long .hdr light probe into directional lights (median cut, varmin)",
+     "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv] [--png OUT.png]\n"
+     "                   [--priority default|energy|energy-size|variance|levels] [--place centroid|centre]\n"
+     "                   [--as rgbe|srgbe|f32] [--zoom Z] [--error]\n"
+     "  Turns a W x H lat-long probe (top row theta = 0 = +z, phi = 0 at the left edge, growing to the\n"
+     "  right) into N directional lights with the integer core (qibl/lightprobe.h): median cut\n"
+     "  (Debevec; N a power of two, default 64), adaptive median cut (any N) or variance minimisation\n"
+     "  (Viriyothai & Debevec; any N). Each light is a unit direction (to its region's energy\n"
+     "  centroid), an RGB irradiance (E(n) = sum rgb max(0, n.d) approximates the probe's) and its\n"
+     "  region, brightest first.\n"
+     "  --csv: one line per light, x,y,z,r,g,b,u0,v0,u1,v1 (region: u0 <= u < u1, v0 <= v < v1),\n"
+     "  after a header line. Otherwise a table.\n"
+     "  --png: the tone-mapped probe with the regions (green) and light directions (red), zoomed by Z\n"
+     "  (default: to about 1024 pixels wide). --error: the lights' irradiance against the probe's over\n"
+     "  1024 normals. --as: feed the core the probe as RGBE bytes (default), sRGBE or binary32.\n"
+     "  --priority / --place: which region ADAPTIVE/VARMIN split next, centroid or geometric centre.\n"
+     "  An all-black probe prints that it has no lights and exits 0.\n",
+     qibl_cmd_lights},
 };
 #define NCMD (sizeof commands / sizeof commands[0])
 
@@ -129,6 +148,52 @@ double qibl_cli_now(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* Whole file into a malloc'ed buffer; NULL with errno set on failure. */
+uint8_t *qibl_cli_read_all(const char *path, size_t *n)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    size_t cap = 1 << 16, len = 0;
+    uint8_t *buf = malloc(cap);
+    while (buf) {
+        len += fread(buf + len, 1, cap - len, f);
+        if (len < cap)
+            break;
+        uint8_t *bigger = cap > SIZE_MAX / 2 ? NULL : realloc(buf, cap * 2);
+        if (!bigger) {
+            free(buf);
+            buf = NULL;
+            errno = ENOMEM;
+            break;
+        }
+        buf = bigger;
+        cap *= 2;
+    }
+    int e = errno;
+    if (buf && ferror(f)) {
+        free(buf);
+        buf = NULL;
+        e = EIO;
+    }
+    fclose(f);
+    errno = e;
+    *n = len;
+    return buf;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+double qibl_cli_median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 int main(int argc, char **argv)
