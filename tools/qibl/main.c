@@ -25,13 +25,22 @@ static const qibl_cli_cmd commands[] = {
      "  evaluated by the integer core; W is the tile width in pixels (default 128).\n",
      qibl_cmd_sh},
     {"bench", "benchmarks: speed against error, with RESULT lines",
-     "usage: qibl bench [all|sh|srgbe] [--quick]\n"
+     "usage: qibl bench [all|sh|relight|srgbe|lights] [--quick] [--csv]\n"
      "  sh: integer SH basis against the double reference from Wong et al.'s appendix:\n"
      "      ns per evaluation (median of 7 runs) and max |error| over a fixed-seed sweep.\n"
+     "  relight: the relighting kernels on the procedural courtyard, 1024x256, k = 4, 9, 16, 25:\n"
+     "      directional and point lights (cube-map LUT 16^2/32^2/64^2, direct SH): ms/frame,\n"
+     "      Mpixel/s, PSNR and max abs error in 8-bit units, a plain read of the same map bytes, the\n"
+     "      two range-packing schemes; --csv prints the table as CSV.\n"
      "  srgbe: the sRGBE codec against Ward's RGBE (frexp/ldexp), RGB9E5 and binary32 on a real\n"
      "      probe from ../shared/fixtures/probes (QIBL_PROBE=FILE picks one; a procedural sky\n"
      "      when absent) and on signed SH data of it: max/mean relative error of the largest\n"
      "      channel, mean absolute error of the others, encode/decode Mpixel/s (medians).\n"
+     "  lights: light-probe sampling on a 1024x512 probe (QIBL_PROBE=FILE, else quarry_01_1k.hdr from\n"
+     "      ../shared/fixtures/probes, else a procedural sky) and on it upsampled to 4096x2048: SAT and\n"
+     "      cut milliseconds for median cut 64/256, adaptive 64, varmin 64, and the ratio of median cut 64\n"
+     "      (SAT included) to one plain read pass over the probe bytes (RESULT lights.sat64_over_read);\n"
+     "      then the irradiance error of every method and priority on each real probe.\n"
      "  all: every benchmark (what `make bench` runs). --quick: fewer repetitions.\n",
      qibl_cmd_bench},
     {"gen", "write the procedural courtyard's SH maps (and P map, optional Y LUT) as an asset",
