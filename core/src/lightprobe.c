@@ -39,20 +39,16 @@ typedef struct {
     uint64_t hi, lo;
 } u128;
 
-/* x >> n, x << n for n in 0..63: native shifts where the target has them inline (all but ARMv6-M),
- * else built from 32-bit halves so that no __aeabi_llsr / __aeabi_llsl is called. */
+/* x >> n and x << n for n in 0..63: native where the target shifts 64-bit values inline, else
+ * from 32-bit halves (QIBL_CONFIG_NATIVE_SHIFT64, as qibl_shr_u64 in fixed.h). */
 static inline uint64_t lp_shr(uint64_t x, unsigned n)
 {
-#if QIBL_CONFIG_NATIVE_MUL64
-    return x >> n;
-#else
     return qibl_shr_u64(x, n);
-#endif
 }
 
 static inline uint64_t lp_shl(uint64_t x, unsigned n)
 {
-#if QIBL_CONFIG_NATIVE_MUL64
+#if QIBL_CONFIG_NATIVE_SHIFT64
     return x << n;
 #else
     uint32_t hi = (uint32_t)(x >> 32), lo = (uint32_t)x;
@@ -469,10 +465,23 @@ static inline int32_t rshift(const qibl_lightprobe_t *lp, uint32_t v)
     return lp->gshift - 48 - lp->row_kap[v];
 }
 
+/* RGBE right shifts by exponent byte for a row whose energies are y >> (r0 - E): 63 where that
+ * is beyond 63 and for E = 0 (black in Radiance's convention), exact because every y = Y sig or
+ * m 2^16 sig is below 2^56. The table depends on the row only through r0, which changes with
+ * kap_v, so a handful of times per probe. */
+static void rgbe_shifts(uint32_t r0, uint8_t sh[256])
+{
+    sh[0] = 63u;
+    for (uint32_t e = 1u; e < 256u; ++e)
+        sh[e] = (uint8_t)(r0 - e > 63u ? 63u : r0 - e);
+}
+
 /* The SAT rows of an RGBE probe: the hot loop of the whole module. */
 static void sat_rgbe(qibl_lightprobe_t *lp)
 {
     const uint32_t w = lp->width, w1 = w + 1u;
+    uint8_t sh[256];
+    uint32_t sh_r0 = 0u; /* the r0 sh[] was made for (0: none yet) */
     for (uint32_t v = 0; v < lp->height; ++v) {
         const uint8_t *q = lp->pixels + (size_t)v * lp->stride;
         const uint64_t *above = lp->sat + (size_t)v * w1;
@@ -483,12 +492,10 @@ static void sat_rgbe(qibl_lightprobe_t *lp)
         row[0] = 0u;
         if (s0 + lp->emax <= 0) {
             /* every shift is to the right: the case for every probe above 512 pixels */
-            const uint32_t r0 = (uint32_t)-s0;
+            if ((uint32_t)-s0 != sh_r0)
+                rgbe_shifts(sh_r0 = (uint32_t)-s0, sh);
             for (uint32_t u = 0; u < w; ++u, q += 4) {
-                /* branch-free as in region_rgb: y < 2^56, so a shift capped at 63 gives 0 */
-                uint32_t E = q[3], r = r0 - E, k = E ? sig : 0u;
-                r = r > 63u ? 63u : r;
-                acc += lp_shr(qibl_mul_u32_u64(LUMA_R * q[0] + LUMA_G * q[1] + LUMA_B * q[2], k), r);
+                acc += lp_shr(qibl_mul_u32_u64(LUMA_R * q[0] + LUMA_G * q[1] + LUMA_B * q[2], sig), sh[q[3]]);
                 row[u + 1u] = above[u + 1u] + acc;
             }
         } else {
@@ -950,14 +957,62 @@ static void sift_up(const qibl_lightprobe_t *lp, qibl_lightprobe_priority_t pr, 
 
 /* ---- lights ----------------------------------------------------------------------------------- */
 
+/* Shrinks a lit region to the bounding box of its energy (binary searches on the SAT: energy
+ * beyond a cut only grows as the cut moves out). Dark margins carry no light, and once they are
+ * gone the first and last column and row of a region are lit, so every cut leaves energy on both
+ * sides and the place of a cut inside a dark gap makes no difference. */
+static void crop(const qibl_lightprobe_t *lp, rect *r)
+{
+    uint32_t l, e;
+    /* first lit column: smallest c with energy in [u0, c + 1) */
+    for (l = r->u0, e = r->u1 - 1u; l < e;) {
+        uint32_t c = l + (e - l) / 2u;
+        if (sat_sum(lp, r->u0, r->v0, c + 1u, r->v1) != 0u)
+            e = c;
+        else
+            l = c + 1u;
+    }
+    r->u0 = l;
+    /* end of the last lit column: largest c with energy in [c - 1, u1) */
+    for (l = r->u0 + 1u, e = r->u1; l < e;) {
+        uint32_t c = l + (e - l + 1u) / 2u;
+        if (sat_sum(lp, c - 1u, r->v0, r->u1, r->v1) != 0u)
+            l = c;
+        else
+            e = c - 1u;
+    }
+    r->u1 = l;
+    for (l = r->v0, e = r->v1 - 1u; l < e;) {
+        uint32_t c = l + (e - l) / 2u;
+        if (sat_sum(lp, r->u0, r->v0, r->u1, c + 1u) != 0u)
+            e = c;
+        else
+            l = c + 1u;
+    }
+    r->v0 = l;
+    for (l = r->v0 + 1u, e = r->v1; l < e;) {
+        uint32_t c = l + (e - l + 1u) / 2u;
+        if (sat_sum(lp, r->u0, c - 1u, r->u1, r->v1) != 0u)
+            l = c;
+        else
+            e = c - 1u;
+    }
+    r->v1 = l;
+}
+
+/* Splits a cropped region into two cropped, lit halves; 0 if it is one pixel. */
 static int split(const qibl_lightprobe_t *lp, int varmin, rect r, rect *a, rect *b)
 {
     uint64_t t = rect_energy(lp, r);
-    return varmin ? cut_varmin(lp, r, t, a, b) : cut_median(lp, r, t, a, b);
+    if (!(varmin ? cut_varmin(lp, r, t, a, b) : cut_median(lp, r, t, a, b)))
+        return 0;
+    crop(lp, a);
+    crop(lp, b);
+    return 1;
 }
 
-/* Splits until max_lights regions or nothing splits; returns the count. Halves without energy are
- * dropped: they would be lights of power 0. */
+/* Splits until max_lights regions or nothing splits; returns the count. Every region is the
+ * bounding box of its energy (see crop), so each split adds one lit region. */
 static uint32_t make_regions(const qibl_lightprobe_t *lp, int varmin, qibl_lightprobe_priority_t pr,
                              qibl_lightprobe_light_t *L, uint32_t max_lights)
 {
@@ -965,6 +1020,7 @@ static uint32_t make_regions(const qibl_lightprobe_t *lp, int varmin, qibl_light
     all.u0 = all.v0 = 0u;
     all.u1 = lp->width;
     all.v1 = lp->height;
+    crop(lp, &all);
     set_rect(&L[0], &all);
     uint32_t n = 1u;
     if (pr == QIBL_LIGHTPROBE_PRIORITY_LEVELS) {
@@ -974,10 +1030,8 @@ static uint32_t make_regions(const qibl_lightprobe_t *lp, int varmin, qibl_light
                 rect a, b;
                 if (!split(lp, varmin, light_rect(&L[i]), &a, &b))
                     continue;
-                int la = rect_energy(lp, a) != 0u, lb = rect_energy(lp, b) != 0u;
-                set_rect(&L[i], la ? &a : &b);
-                if (la && lb)
-                    set_rect(&L[n++], &b);
+                set_rect(&L[i], &a);
+                set_rect(&L[n++], &b);
             }
         }
         return n;
@@ -985,19 +1039,14 @@ static uint32_t make_regions(const qibl_lightprobe_t *lp, int varmin, qibl_light
     while (n < max_lights) {
         u128 top;
         region_key(lp, light_rect(&L[0]), pr, &top);
-        if (top.hi == 0u && top.lo == 0u)
-            break; /* the best region cannot split: none can */
         rect a, b;
-        if (!split(lp, varmin, light_rect(&L[0]), &a, &b))
-            break;
-        int la = rect_energy(lp, a) != 0u, lb = rect_energy(lp, b) != 0u;
-        set_rect(&L[0], la ? &a : &b);
+        if ((top.hi == 0u && top.lo == 0u) || !split(lp, varmin, light_rect(&L[0]), &a, &b))
+            break; /* the best region cannot split (or gains nothing from it): none can */
+        set_rect(&L[0], &a);
         sift_down(lp, pr, L, n, 0u);
-        if (la && lb) {
-            set_rect(&L[n], &b);
-            sift_up(lp, pr, L, n);
-            ++n;
-        }
+        set_rect(&L[n], &b);
+        sift_up(lp, pr, L, n);
+        ++n;
     }
     return n;
 }
@@ -1050,6 +1099,8 @@ static void direction(const qibl_lightprobe_t *lp, rect r, uint64_t total, qibl_
 static void region_rgb(const qibl_lightprobe_t *lp, rect r, uint64_t out[3])
 {
     uint64_t a0 = 0u, a1 = 0u, a2 = 0u;
+    uint8_t sh[256];
+    uint32_t sh_r0 = 0u;
     const size_t pb = pixel_bytes(lp->format);
     for (uint32_t v = r.v0; v < r.v1; ++v) {
         const uint8_t *q = lp->pixels + (size_t)v * lp->stride + (size_t)r.u0 * pb;
@@ -1057,15 +1108,13 @@ static void region_rgb(const qibl_lightprobe_t *lp, rect r, uint64_t out[3])
         const int32_t s0 = rshift(lp, v) + 16; /* channels on the luminance scale: m 2^16 */
         if (lp->format == QIBL_LIGHTPROBE_RGBE && s0 - 16 - 136 + lp->emax <= 0) {
             /* x_c = (m_c 2^16) sig >> r with the luminance's r = r0 - E >= 0 */
-            const uint32_t r0 = (uint32_t)(136 + 16 - s0);
+            if ((uint32_t)(136 + 16 - s0) != sh_r0)
+                rgbe_shifts(sh_r0 = (uint32_t)(136 + 16 - s0), sh);
             for (uint32_t u = r.u0; u < r.u1; ++u, q += 4) {
-                /* branch-free: E = 0 (black) multiplies by 0; a shift past 63 is capped, exact
-                 * since the product is below 2^56 */
-                uint32_t E = q[3], sh = r0 - E, k = E ? sig : 0u;
-                sh = sh > 63u ? 63u : sh;
-                a0 += lp_shr(qibl_mul_u32_u64((uint32_t)q[0] << 16, k), sh);
-                a1 += lp_shr(qibl_mul_u32_u64((uint32_t)q[1] << 16, k), sh);
-                a2 += lp_shr(qibl_mul_u32_u64((uint32_t)q[2] << 16, k), sh);
+                uint32_t k = sh[q[3]];
+                a0 += lp_shr(qibl_mul_u32_u64((uint32_t)q[0] << 16, sig), k);
+                a1 += lp_shr(qibl_mul_u32_u64((uint32_t)q[1] << 16, sig), k);
+                a2 += lp_shr(qibl_mul_u32_u64((uint32_t)q[2] << 16, sig), k);
             }
         } else {
             for (uint32_t u = r.u0; u < r.u1; ++u, q += pb) {

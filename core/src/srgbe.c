@@ -2,9 +2,11 @@
  * srgbe.c - sRGBE (Granier et al. 4.2, appendix A): signed shared-exponent colour, integer only.
  *
  * Invariants: no floating point (binary32 values are read as bit patterns), no division, one const
- * table (1 KiB, decode), no state, no library helper (products are 32-bit; 64-bit shifts by a variable go through
- * qibl_shr_u64). The one-pixel and bulk entry points call the same static per-pixel functions, so
- * they give identical bytes by construction.
+ * table (1 KiB, decode), no state, no library helper: products are 32-bit except one
+ * qibl_mul_u32_u64 (int32 input), and 64-bit shifts by a variable go through qibl_shr_u64.
+ * The one-pixel and bulk entry points call the same static per-pixel functions (the bulk binary32
+ * encoder only orders them differently: fast path for every pixel, then the general path over the
+ * few it does not cover), so they give identical bytes by construction.
  *
  * Encoding a channel. With the exponent e fixed, let y = 255 |c| 2^-e. The paper's byte is
  * round(y' + 127.5) with y' = +-y, and y is never an integer for c != 0 (c 2^-e is dyadic, 255 is
@@ -49,13 +51,25 @@ static qibl_status_t status_of(unsigned flags)
     return QIBL_OK;
 }
 
-/* The zero code with the sign of each channel kept (tie rule: +0 -> 128, -0 -> 127). */
-static void put_zero(uint32_t sr, uint32_t sg, uint32_t sb, uint8_t *out)
+/* A code as one word, byte k = bits 8k..8k+7 (byte 0 = R): every encoder builds it and one store
+ * site writes it, so the compiler needs no byte shuffling to merge paths. */
+static uint32_t pack(uint32_t x0, uint32_t x1, uint32_t x2, uint32_t e)
 {
-    out[0] = (uint8_t)(128u - sr);
-    out[1] = (uint8_t)(128u - sg);
-    out[2] = (uint8_t)(128u - sb);
-    out[3] = (uint8_t)QIBL_SRGBE_ZERO_E;
+    return x0 | x1 << 8 | x2 << 16 | e << 24;
+}
+
+static void put_code(uint32_t w, uint8_t *out)
+{
+    out[0] = (uint8_t)w; /* byte stores: any alignment, any byte order of the target */
+    out[1] = (uint8_t)(w >> 8);
+    out[2] = (uint8_t)(w >> 16);
+    out[3] = (uint8_t)(w >> 24);
+}
+
+/* The zero code with the sign of each channel kept (tie rule: +0 -> 128, -0 -> 127). */
+static uint32_t zero_code(uint32_t sr, uint32_t sg, uint32_t sb)
+{
+    return pack(128u - sr, 128u - sg, 128u - sb, QIBL_SRGBE_ZERO_E);
 }
 
 /* ---- encode from binary32 ------------------------------------------------------------------- */
@@ -79,7 +93,7 @@ static uint8_t enc_chan_f32(uint32_t x, uint32_t xe)
 }
 
 /* The general per-pixel encoder: every binary32 input, including zero, subnormal, Inf and NaN. */
-static unsigned enc_px_f32_general(uint32_t r, uint32_t g, uint32_t b, uint8_t *out)
+static uint32_t enc_px_f32_general(uint32_t r, uint32_t g, uint32_t b, unsigned *flags)
 {
     /* |x| of a binary32 orders like its bit pattern without the sign */
     uint32_t ar = r & 0x7FFFFFFFu, ag = g & 0x7FFFFFFFu, ab = b & 0x7FFFFFFFu;
@@ -87,60 +101,62 @@ static unsigned enc_px_f32_general(uint32_t r, uint32_t g, uint32_t b, uint8_t *
     if (ab > mx)
         mx = ab;
     uint32_t xe;
-    unsigned flags = 0u;
     if (mx - 0x00800000u < 0x7F800000u - 0x00800000u) {
         xe = (mx >> 23) + 1u; /* normal maximum: e = be - 127 + 2, E = e + 126 */
     } else if (mx >= 0x7F800000u) {
         if (ar > 0x7F800000u || ag > 0x7F800000u || ab > 0x7F800000u) {
-            put_zero(0u, 0u, 0u, out);
-            return F_NAN;
+            *flags |= F_NAN;
+            return zero_code(0u, 0u, 0u);
         }
         xe = 255u; /* an infinity: saturate at the largest exponent */
-        flags = F_INF;
+        *flags |= F_INF;
     } else if (mx >= 0x00400000u) {
         xe = 1u; /* subnormal maximum in [2^-127, 2^-126): e = -125 */
     } else if (mx >= 0x00200000u) {
         xe = 0u; /* [2^-128, 2^-127): e = -126 */
     } else {
-        put_zero(r >> 31, g >> 31, b >> 31, out); /* below 2^-128, or zero: flush */
-        return 0u;
+        return zero_code(r >> 31, g >> 31, b >> 31); /* below 2^-128, or zero: flush */
     }
-    uint8_t cr = enc_chan_f32(r, xe), cg = enc_chan_f32(g, xe), cb = enc_chan_f32(b, xe);
-    out[0] = cr;
-    out[1] = cg;
-    out[2] = cb;
-    out[3] = (uint8_t)xe;
-    return flags;
+    return pack(enc_chan_f32(r, xe), enc_chan_f32(g, xe), enc_chan_f32(b, xe), xe);
 }
 
-/* Fast path, branch-free per channel, for a largest exponent field be_max in 7..254 (|max| in
- * [2^-120, 2^128): every finite pixel of real data). With d = be_max - be the channel's shift is
- * 25 + d, and floor(255 sig / 2^(25+d)) = floor(u / 2^d) for u = floor(255 sig / 2^25) (nested
- * floors), u < 128: so q = u >> min(d, 7). Channels with be = 0 (zero, subnormal) take the hidden
- * bit too: harmless, since there d >= 7 gives q = 0, which is also their exact result. The sign
- * flips the byte: 127 - q = (128 + q) ^ 0xFF. */
-static uint32_t enc_chan_fast(uint32_t x, uint32_t be, uint32_t be_max)
+/* Fast path, branch-free, exact for a largest exponent field em in 7..254 (|max| in [2^-120, 2^128):
+ * every finite pixel of real data). With d = em - be a channel's shift is 25 + d, and
+ *     floor(255 sig / 2^(25+d)) = floor(u / 2^d),   u = floor(255 sig / 2^25) in 63..127
+ * (nested floors), with 255 sig = 255 frac + 0x7F800000 < 2^32 for sig = 2^23 + frac. For d >= 7
+ * the result is 0, so be is raised to em - 7 first. Channels with be = 0 (zero, subnormal) get the
+ * hidden bit too: harmless, as there d >= 7 gives 0, also their exact result. The three bytes are
+ * packed in one word, 128 added to each at once, and negative channels flipped by XOR with 0xFF
+ * (127 - q = (128 + q) ^ 0xFF); no byte carries into the next (128 + q <= 255).
+ * For em outside 7..254 the word is meaningless but computed without undefined behaviour (lo
+ * wraps, so d is still in 0..7); callers replace it with enc_px_f32_general's. */
+static uint32_t enc_word_fast(uint32_t r, uint32_t g, uint32_t b, uint32_t er, uint32_t eg, uint32_t eb,
+                              uint32_t em)
 {
-    uint32_t u = (((x | 0x00800000u) & 0x00FFFFFFu) * 255u) >> 25;
-    uint32_t d = be_max - be;
-    d = d < 7u ? d : 7u;
-    return ((u >> d) + 128u) ^ (0u - (x >> 31));
+    uint32_t lo = em - 7u;
+    uint32_t dr = em - (er > lo ? er : lo), dg = em - (eg > lo ? eg : lo), db = em - (eb > lo ? eb : lo);
+    uint32_t ur = ((r & 0x007FFFFFu) * 255u + 0x7F800000u) >> 25;
+    uint32_t ug = ((g & 0x007FFFFFu) * 255u + 0x7F800000u) >> 25;
+    uint32_t ub = ((b & 0x007FFFFFu) * 255u + 0x7F800000u) >> 25;
+    uint32_t neg = ((r >> 31) | (g >> 31) << 8 | (b >> 31) << 16) * 0xFFu;
+    /* E = e + 126 = (em - 127 + 2) + 126 in the top byte, which the add and the XOR leave alone */
+    return (pack(ur >> dr, ug >> dg, ub >> db, (em + 1u) & 0xFFu) + 0x00808080u) ^ neg;
+}
+
+static uint32_t max3(uint32_t a, uint32_t b, uint32_t c)
+{
+    uint32_t m = a > b ? a : b;
+    return c > m ? c : m;
 }
 
 static unsigned enc_px_f32(uint32_t r, uint32_t g, uint32_t b, uint8_t *out)
 {
     uint32_t er = (r >> 23) & 0xFFu, eg = (g >> 23) & 0xFFu, eb = (b >> 23) & 0xFFu;
-    uint32_t em = er > eg ? er : eg;
-    if (eb > em)
-        em = eb;
-    if (em - 7u >= 248u) /* em < 7 (tiny, zero, subnormal) or em = 255 (Inf, NaN) */
-        return enc_px_f32_general(r, g, b, out);
-    uint32_t cr = enc_chan_fast(r, er, em), cg = enc_chan_fast(g, eg, em), cb = enc_chan_fast(b, eb, em);
-    out[0] = (uint8_t)cr;
-    out[1] = (uint8_t)cg;
-    out[2] = (uint8_t)cb;
-    out[3] = (uint8_t)(em + 1u);
-    return 0u;
+    uint32_t em = max3(er, eg, eb);
+    unsigned flags = 0u;
+    /* em < 7 (tiny, zero, subnormal) or em = 255 (Inf, NaN) take the general path */
+    put_code(em - 7u < 248u ? enc_word_fast(r, g, b, er, eg, eb, em) : enc_px_f32_general(r, g, b, &flags), out);
+    return flags;
 }
 
 /* ---- encode from int32 * 2^-frac_bits ------------------------------------------------------- */
@@ -190,7 +206,7 @@ static unsigned enc_px_s32(int32_t r, int32_t g, int32_t b, int frac_bits, uint8
     if (ab > mx)
         mx = ab;
     if (mx == 0u) {
-        put_zero(0u, 0u, 0u, out); /* integers have no -0 */
+        put_code(zero_code(0u, 0u, 0u), out); /* integers have no -0 */
         return 0u;
     }
     /* Clamping frac_bits to +-300 changes no result (e would still be far below -126 or above
@@ -201,7 +217,7 @@ static unsigned enc_px_s32(int32_t r, int32_t g, int32_t b, int frac_bits, uint8
     unsigned flags = 0u;
     int sh = k + 2; /* = e + f: 255 |c| 2^-e = 255 a 2^-sh; the maximum gives y in [63.75, 127.5) */
     if (e < QIBL_SRGBE_E_MIN) {
-        put_zero(r < 0, g < 0, b < 0, out); /* flush, signs kept as for binary32 */
+        put_code(zero_code(r < 0, g < 0, b < 0), out); /* flush, signs kept as for binary32 */
         return 0u;
     }
     if (e > QIBL_SRGBE_E_MAX) {
@@ -210,10 +226,9 @@ static unsigned enc_px_s32(int32_t r, int32_t g, int32_t b, int frac_bits, uint8
         flags = F_OVERFLOW;
     }
     uint32_t qr = enc_quant_s32(ar, sh), qg = enc_quant_s32(ag, sh), qb = enc_quant_s32(ab, sh);
-    out[0] = (uint8_t)(r < 0 ? 127u - qr : 128u + qr);
-    out[1] = (uint8_t)(g < 0 ? 127u - qg : 128u + qg);
-    out[2] = (uint8_t)(b < 0 ? 127u - qb : 128u + qb);
-    out[3] = (uint8_t)(e + QIBL_SRGBE_E_BIAS);
+    put_code(pack(r < 0 ? 127u - qr : 128u + qr, g < 0 ? 127u - qg : 128u + qg, b < 0 ? 127u - qb : 128u + qb,
+                  (uint32_t)(e + QIBL_SRGBE_E_BIAS)),
+             out);
     return flags;
 }
 
@@ -438,9 +453,25 @@ qibl_status_t qibl_srgbe_encode_f32_n(const uint32_t *restrict rgb, size_t n, ui
 {
     if (rgb == 0 || codes == 0)
         return QIBL_E_NULL_POINTER;
+    /* Every pixel through the branch-free fast path first; the rare pixels it does not cover are
+     * rewritten by a second pass, so the hot loop has no branch and one store per pixel. The final
+     * bytes are enc_px_f32's for every pixel. */
+    uint32_t special = 0u;
+    const uint32_t *p = rgb;
+    uint8_t *c = codes;
+    for (size_t i = 0; i < n; ++i, p += 3, c += 4) {
+        uint32_t er = (p[0] >> 23) & 0xFFu, eg = (p[1] >> 23) & 0xFFu, eb = (p[2] >> 23) & 0xFFu;
+        uint32_t em = max3(er, eg, eb);
+        special |= em - 7u >= 248u;
+        put_code(enc_word_fast(p[0], p[1], p[2], er, eg, eb, em), c);
+    }
     unsigned flags = 0u;
-    for (size_t i = 0; i < n; ++i, rgb += 3, codes += 4)
-        flags |= enc_px_f32(rgb[0], rgb[1], rgb[2], codes);
+    if (special)
+        for (size_t i = 0; i < n; ++i, rgb += 3, codes += 4) {
+            uint32_t em = max3((rgb[0] >> 23) & 0xFFu, (rgb[1] >> 23) & 0xFFu, (rgb[2] >> 23) & 0xFFu);
+            if (em - 7u >= 248u)
+                put_code(enc_px_f32_general(rgb[0], rgb[1], rgb[2], &flags), codes);
+        }
     return status_of(flags);
 }
 

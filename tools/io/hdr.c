@@ -116,8 +116,8 @@ static int read_scanline(const uint8_t *buf, size_t len, size_t *pos, int w, uin
     return 0;
 }
 
-int qibl_hdr_decode(const uint8_t *buf, size_t len, int *w_out, int *h_out, float **rgb_out, char *err,
-                    size_t errlen)
+int qibl_hdr_decode_rgbe(const uint8_t *buf, size_t len, int *w_out, int *h_out, uint8_t **rgbe_out, char *err,
+                         size_t errlen)
 {
     size_t pos = 0;
     const char *line;
@@ -156,37 +156,49 @@ int qibl_hdr_decode(const uint8_t *buf, size_t len, int *w_out, int *h_out, floa
     if (ww < 1 || hh < 1 || ww > HDR_MAX_DIM || hh > HDR_MAX_DIM || (size_t)ww * (size_t)hh > HDR_MAX_PIXELS)
         return fail(err, errlen, "unsupported dimensions %ld x %ld", ww, hh);
     int w = (int)ww, h = (int)hh;
-    uint8_t *px = malloc((size_t)w * 8);
-    float *rgb = malloc((size_t)w * (size_t)h * 3 * sizeof *rgb);
-    if (!px || !rgb) {
-        free(px), free(rgb);
+    uint8_t *px = malloc((size_t)w * (size_t)h * 4);
+    if (!px)
         return fail(err, errlen, "out of memory for %d x %d pixels", w, h);
-    }
-    uint8_t *line_px = px, *prev_px = px + 4 * (size_t)w;
     for (int y = 0; y < h; ++y) {
-        if (read_scanline(buf, len, &pos, w, line_px, y ? prev_px + 4 * (size_t)(w - 1) : NULL, y, err, errlen)) {
-            free(px), free(rgb);
+        uint8_t *line_px = px + (size_t)y * (size_t)w * 4;
+        if (read_scanline(buf, len, &pos, w, line_px, y ? line_px - 4 : NULL, y, err, errlen)) {
+            free(px);
             return -1;
         }
-        float *o = rgb + (size_t)y * (size_t)w * 3;
-        for (int x = 0; x < w; ++x) {
-            const uint8_t *q = line_px + 4 * x;
-            o[3 * x + 0] = rgbe_channel(q[0], q[3]);
-            o[3 * x + 1] = rgbe_channel(q[1], q[3]);
-            o[3 * x + 2] = rgbe_channel(q[2], q[3]);
-        }
-        uint8_t *t = line_px;
-        line_px = prev_px;
-        prev_px = t;
     }
     *w_out = w;
     *h_out = h;
-    *rgb_out = rgb;
-    free(px);
+    *rgbe_out = px;
     return 0;
 }
 
-int qibl_hdr_read(const char *path, int *w, int *h, float **rgb, char *err, size_t errlen)
+int qibl_hdr_decode(const uint8_t *buf, size_t len, int *w_out, int *h_out, float **rgb_out, char *err,
+                    size_t errlen)
+{
+    int w, h;
+    uint8_t *px;
+    if (qibl_hdr_decode_rgbe(buf, len, &w, &h, &px, err, errlen) != 0)
+        return -1;
+    float *rgb = malloc((size_t)w * (size_t)h * 3 * sizeof *rgb);
+    if (!rgb) {
+        free(px);
+        return fail(err, errlen, "out of memory for %d x %d pixels", w, h);
+    }
+    for (size_t i = 0; i < (size_t)w * (size_t)h; ++i) {
+        const uint8_t *q = px + 4 * i;
+        rgb[3 * i + 0] = rgbe_channel(q[0], q[3]);
+        rgb[3 * i + 1] = rgbe_channel(q[1], q[3]);
+        rgb[3 * i + 2] = rgbe_channel(q[2], q[3]);
+    }
+    free(px);
+    *w_out = w;
+    *h_out = h;
+    *rgb_out = rgb;
+    return 0;
+}
+
+/* the whole file into a malloc'ed buffer */
+static int slurp(const char *path, uint8_t **out, size_t *len, char *err, size_t errlen)
 {
     FILE *f = fopen(path, "rb");
     if (!f)
@@ -213,8 +225,33 @@ int qibl_hdr_read(const char *path, int *w, int *h, float **rgb, char *err, size
         free(buf);
         return fail(err, errlen, "%s: read error", path);
     }
+    *out = buf;
+    *len = n;
+    return 0;
+}
+
+int qibl_hdr_read(const char *path, int *w, int *h, float **rgb, char *err, size_t errlen)
+{
+    uint8_t *buf;
+    size_t n;
+    if (slurp(path, &buf, &n, err, errlen) != 0)
+        return -1;
     char msg[256];
     int rc = qibl_hdr_decode(buf, n, w, h, rgb, msg, sizeof msg);
+    free(buf);
+    if (rc != 0)
+        return fail(err, errlen, "%s: %s", path, msg);
+    return 0;
+}
+
+int qibl_hdr_read_rgbe(const char *path, int *w, int *h, uint8_t **rgbe, char *err, size_t errlen)
+{
+    uint8_t *buf;
+    size_t n;
+    if (slurp(path, &buf, &n, err, errlen) != 0)
+        return -1;
+    char msg[256];
+    int rc = qibl_hdr_decode_rgbe(buf, n, w, h, rgbe, msg, sizeof msg);
     free(buf);
     if (rc != 0)
         return fail(err, errlen, "%s: %s", path, msg);

@@ -29,4 +29,10 @@ int qibl_hdr_read(const char *path, int *w, int *h, float **rgb, char *err, size
 /* The same from a file image in memory (len bytes); the error text names no file. */
 int qibl_hdr_decode(const uint8_t *buf, size_t len, int *w, int *h, float **rgb, char *err, size_t errlen);
 
+/* As qibl_hdr_read / qibl_hdr_decode, but the pixels are the decoded RGBE bytes themselves:
+ * 4 * w * h bytes R G B E per pixel, rows top to bottom (what qibl/lightprobe.h reads as
+ * QIBL_LIGHTPROBE_RGBE). */
+int qibl_hdr_read_rgbe(const char *path, int *w, int *h, uint8_t **rgbe, char *err, size_t errlen);
+int qibl_hdr_decode_rgbe(const uint8_t *buf, size_t len, int *w, int *h, uint8_t **rgbe, char *err, size_t errlen);
+
 #endif

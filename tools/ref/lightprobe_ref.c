@@ -133,6 +133,27 @@ static int lit(const qibl_ref_probe *p, rect r)
     return 0;
 }
 
+static int px_lit(const qibl_ref_probe *p, int u, int v)
+{
+    const double *q = p->rgb + 3 * ((size_t)v * (size_t)p->w + (size_t)u);
+    return q[0] > 0 || q[1] > 0 || q[2] > 0;
+}
+
+/* the bounding box of the lit pixels of a lit region, by plain scans */
+static void crop(const qibl_ref_probe *p, rect *r)
+{
+    int u0 = r->u1, u1 = r->u0, v0 = r->v1, v1 = r->v0;
+    for (int v = r->v0; v < r->v1; ++v)
+        for (int u = r->u0; u < r->u1; ++u)
+            if (px_lit(p, u, v)) {
+                if (u < u0) u0 = u;
+                if (u + 1 > u1) u1 = u + 1;
+                if (v < v0) v0 = v;
+                if (v + 1 > v1) v1 = v + 1;
+            }
+    r->u0 = u0, r->u1 = u1, r->v0 = v0, r->v1 = v1;
+}
+
 static double mean_sin(const qibl_ref_probe *p, int v0, int v1)
 {
     double s = 0;
@@ -279,6 +300,7 @@ int qibl_ref_lights(const qibl_ref_probe *p, int method, int priority, int centr
     if (!R)
         return -1;
     int n = 1;
+    crop(p, &all);
     R[0] = all;
     int (*cut)(const qibl_ref_probe *, rect, rect *, rect *) = method == QIBL_REF_VARMIN ? cut_varmin : cut_median;
     if (pri == QIBL_REF_PRI_LEVELS) {
@@ -288,10 +310,10 @@ int qibl_ref_lights(const qibl_ref_probe *p, int method, int priority, int centr
                 rect a, b;
                 if (!cut(p, R[i], &a, &b))
                     continue;
-                int la = lit(p, a), lb = lit(p, b);
-                R[i] = la ? a : b;
-                if (la && lb)
-                    R[n++] = b;
+                crop(p, &a);
+                crop(p, &b);
+                R[i] = a;
+                R[n++] = b;
             }
         }
     } else {
@@ -310,10 +332,10 @@ int qibl_ref_lights(const qibl_ref_probe *p, int method, int priority, int centr
             rect a, b;
             if (best < 0 || !cut(p, R[best], &a, &b))
                 break;
-            int la = lit(p, a), lb = lit(p, b);
-            R[best] = la ? a : b;
-            if (la && lb)
-                R[n++] = b;
+            crop(p, &a);
+            crop(p, &b);
+            R[best] = a;
+            R[n++] = b;
         }
     }
     for (int i = 0; i < n; ++i) {

@@ -10,8 +10,8 @@
  *     c = (X / 255 - 1/2) * 2^e = (2X - 255) * 2^e / 510,
  *
  * which is the paper's decode ([R,G,B] - 0.5) * exp2(255 * A - 126) with the texel values
- * [R,G,B] = X / 255 and A = E / 255. Codes are the odd multiples of one step 2^e / 255 halved:
- * (2X - 255) runs over -255, -253, ..., 253, 255.
+ * [R,G,B] = X / 255 and A = E / 255. A channel is an odd multiple of 2^e / 510 (half the step
+ * 2^e / 255 between codes): 2X - 255 runs over -255, -253, ..., 253, 255.
  *
  * Encoding follows the paper's rule:
  *     e = floor(log2(max(|r|, |g|, |b|))) + 2,    E = e + 126,
@@ -31,11 +31,12 @@
  *
  * Edge cases of the encoder (every input has a defined result):
  *   - zero pixel (all channels +-0): the zero code {128 or 127 by sign, ..., E = 0}; +0 everywhere
- *     gives QIBL_SRGBE_ZERO = 80 80 80 00 (hex, memory order). Returns QIBL_OK.
+ *     gives the zero code 80 80 80 00 (hex, memory order; QIBL_SRGBE_ZERO_X, _X, _X, QIBL_SRGBE_ZERO_E).
+ *     Returns QIBL_OK.
  *   - below range, max|c| < 2^-128 (e < -126): flushed to the zero code, signs kept. For binary32
  *     input exactly the subnormals with fraction field < 2^21 (and +-0); subnormals from 2^-128 up
  *     are in range and encoded normally (E = 0 or 1). Returns QIBL_OK.
- *   - above range, max|c| >= 2^129 (e > 129; reachable only from int32 input with frac_bits below
+ *   - above range, max|c| >= 2^128 (e > 129; reachable only from int32 input, with frac_bits <=
  *     -97): E = 255 and each channel is the nearest code at e = 129 clamped to X in [0, 255], so
  *     the out-of-range channels get the largest codes X = 255 / 0 (+-2^128). Returns
  *     QIBL_E_SRGBE_OVERFLOW. Every finite binary32 is in range: the largest, (2 - 2^-23) * 2^127,
@@ -43,7 +44,7 @@
  *   - +-Inf in a channel (no NaN): E = 255, infinite channels X = 255 / 0, finite ones the nearest
  *     code at e = 129. Returns QIBL_E_SRGBE_INF.
  *   - NaN in any channel (any payload, either sign; takes precedence over Inf): the code written
- *     is QIBL_SRGBE_ZERO, whatever the other channels. Returns QIBL_E_SRGBE_NAN.
+ *     is the zero code 80 80 80 00, whatever the other channels. Returns QIBL_E_SRGBE_NAN.
  *
  * Error bound (tested exhaustively, see tests/srgbe_test.c and `make check-exhaustive`): for
  * every finite channel c of an in-range pixel, with e the exponent chosen for the pixel,
@@ -91,8 +92,9 @@ qibl_status_t qibl_srgbe_encode_f32(const uint32_t rgb[3], uint8_t code[4]);
 /* Encode one pixel of int32 values rgb[i] * 2^-frac_bits. Any frac_bits is accepted (negative
  * means the integers count 2^-frac_bits units); the value is exact, so the code is the nearest one
  * as for binary32. Error <= 2^e/510 per channel when in range.
- * Returns QIBL_OK (including the flush of a pixel below 2^-128), QIBL_E_SRGBE_OVERFLOW (pixel at or
- * above 2^129, saturated code written as stated above) or QIBL_E_NULL_POINTER (nothing written).
+ * Returns QIBL_OK (including the flush of a pixel below 2^-128), QIBL_E_SRGBE_OVERFLOW (largest
+ * |channel| at or above 2^128, saturated code written as stated above) or QIBL_E_NULL_POINTER
+ * (nothing written).
  * rgb and code may overlap. */
 qibl_status_t qibl_srgbe_encode_s32(const int32_t rgb[3], int frac_bits, uint8_t code[4]);
 

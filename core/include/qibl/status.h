@@ -54,7 +54,7 @@ typedef enum qibl_status {
     /* sRGBE codec (srgbe.h); each of these calls writes the code or value its header states */
     QIBL_E_SRGBE_NAN,              /* encode: a channel is NaN (the zero code is written) */
     QIBL_E_SRGBE_INF,              /* encode: a channel is +-Inf (saturated code written) */
-    QIBL_E_SRGBE_OVERFLOW,         /* encode: finite pixel >= 2^129, above the largest exponent */
+    QIBL_E_SRGBE_OVERFLOW,         /* encode: finite channel >= 2^128, above the largest exponent */
     QIBL_E_SRGBE_DECODE_SAT,       /* decode: a channel beyond the output format (saturated) */
     /* light-probe sampling (lightprobe.h) */
     QIBL_E_PROBE_SIZE,             /* probe width or height 0 or above QIBL_LIGHTPROBE_MAX_DIM */

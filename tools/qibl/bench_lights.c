@@ -1,0 +1,369 @@
+/*
+ * bench_lights.c - `qibl bench lights`: light-probe sampling (qibl/lightprobe.h), speed and quality.
+ *
+ * Speed, on a real 1024 x 512 probe from ../shared/fixtures/probes (quarry_01_1k.hdr, else the first
+ * .hdr there; QIBL_PROBE=path overrides; a procedural sun-and-sky probe when there is none) and on
+ * the same probe upsampled to 4096 x 2048: milliseconds for the SAT build and for sampling, median
+ * of several runs with a warm workspace (as a handheld reusing its buffer would have it), and the
+ * ratio of build + 64 median-cut lights to one plain read pass over the probe's bytes (a byte sum,
+ * compiled at the tools' -O3 and so vectorised) in the same run:
+ * RESULT lights.sat64_over_read.
+ *
+ * Quality, on every real probe: the irradiance error of each method's lights against the probe's
+ * exact irradiance (tools/ref: sum over all pixels) over a Fibonacci sphere of normals, as the mean
+ * and max of |E_lights - E_probe| / mean(E_probe) (Madsen & Laursen's measure), for the methods,
+ * the split priorities and the two placements. The defaults of qibl_lightprobe_priority_t come from
+ * this table.
+ */
+#include <dirent.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "io/hdr.h"
+#include "qibl/cli.h"
+#include "qibl/lightprobe.h"
+#include "ref/lightprobe_ref.h"
+
+#define PROBE_DIR "../shared/fixtures/probes"
+#define PROBE_DEFAULT "quarry_01_1k.hdr"
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+static volatile uint64_t sink;
+
+/* the baseline: read every byte of the probe once */
+static uint64_t read_pass(const uint8_t *p, size_t n)
+{
+    uint64_t s = 0;
+    for (size_t i = 0; i < n; ++i)
+        s += p[i];
+    return s;
+}
+
+/* A procedural 1024 x 512 sun and sky as RGBE, for machines without the real probes: a sky
+ * gradient, a ground, and a sun 3 x 2 pixels 2^20 times brighter than the sky. */
+static uint8_t *procedural(int w, int h)
+{
+    uint8_t *px = malloc(4 * (size_t)w * (size_t)h);
+    if (!px)
+        return NULL;
+    for (int v = 0; v < h; ++v)
+        for (int u = 0; u < w; ++u) {
+            uint8_t *q = px + 4 * ((size_t)v * (size_t)w + (size_t)u);
+            int sky = v < h / 2;
+            q[0] = (uint8_t)(sky ? 140 + v * 60 / h : 180);
+            q[1] = (uint8_t)(sky ? 170 + v * 40 / h : 150);
+            q[2] = (uint8_t)(sky ? 250 : 120 + (u * 13 + v * 7) % 40);
+            q[3] = 128;
+        }
+    for (int v = h / 5; v < h / 5 + 2; ++v)
+        for (int u = w / 3; u < w / 3 + 3; ++u) {
+            uint8_t *q = px + 4 * ((size_t)v * (size_t)w + (size_t)u);
+            q[0] = q[1] = 255, q[2] = 230, q[3] = 148;
+        }
+    return px;
+}
+
+typedef struct {
+    const uint8_t *px;
+    int w, h;
+    void *ws;
+    size_t ws_size;
+    qibl_lightprobe_light_t *L;
+} job;
+
+/* ms of build (method) and of sampling n lights with opts, medians of reps */
+static int time_run(job *j, qibl_lightprobe_method_t build_for, const qibl_lightprobe_opts_t *o, uint32_t n, int reps,
+                    double *t_build, double *t_lights, uint32_t *count)
+{
+    qibl_lightprobe_image_t img;
+    memset(&img, 0, sizeof img);
+    img.pixels = j->px, img.width = (uint32_t)j->w, img.height = (uint32_t)j->h;
+    double tb[31], tl[31];
+    for (int r = 0; r < reps && r < 31; ++r) {
+        qibl_lightprobe_t lp;
+        qibl_lightprobe_result_t res;
+        double t0 = qibl_cli_now();
+        qibl_status_t st = qibl_lightprobe_build(&lp, &img, build_for, j->ws, j->ws_size);
+        double t1 = qibl_cli_now();
+        if (st == QIBL_OK)
+            st = qibl_lightprobe_lights(&lp, o, j->L, n, &res);
+        double t2 = qibl_cli_now();
+        if (st != QIBL_OK) {
+            fprintf(stderr, "qibl: bench lights: %s\n", qibl_status_str(st));
+            return -1;
+        }
+        tb[r] = (t1 - t0) * 1e3, tl[r] = (t2 - t1) * 1e3;
+        *count = res.count;
+    }
+    *t_build = median(tb, reps);
+    *t_lights = median(tl, reps);
+    return 0;
+}
+
+static double time_read(const uint8_t *px, size_t n, int reps)
+{
+    double t[31];
+    for (int r = 0; r < reps && r < 31; ++r) {
+        double t0 = qibl_cli_now();
+        sink = read_pass(px, n);
+        t[r] = (qibl_cli_now() - t0) * 1e3;
+    }
+    return median(t, reps);
+}
+
+/* nearest-neighbour 4x upsampling: the 4096 x 2048 case with real content */
+static uint8_t *upsample4(const uint8_t *px, int w, int h)
+{
+    uint8_t *o = malloc(4 * (size_t)w * (size_t)h * 16);
+    if (!o)
+        return NULL;
+    for (int v = 0; v < 4 * h; ++v)
+        for (int u = 0; u < 4 * w; ++u)
+            memcpy(o + 4 * ((size_t)v * 4 * (size_t)w + (size_t)u), px + 4 * ((size_t)(v / 4) * (size_t)w + (size_t)(u / 4)),
+                   4);
+    return o;
+}
+
+static int speed(int quick, const char *name, const uint8_t *px, int w, int h)
+{
+    const int reps = quick ? 3 : 15;
+    size_t bytes = 4 * (size_t)w * (size_t)h;
+    job j = {px, w, h, NULL, 0, NULL};
+    j.ws_size = qibl_lightprobe_workspace_size((uint32_t)w, (uint32_t)h, QIBL_LIGHTPROBE_VARMIN);
+    j.ws = malloc(j.ws_size);
+    j.L = malloc(sizeof *j.L * 256);
+    if (!j.ws || !j.L) {
+        free(j.ws), free(j.L);
+        return fprintf(stderr, "qibl: bench lights: out of memory\n"), 1;
+    }
+    /* touch the workspace once: timings are for a warm buffer */
+    memset(j.ws, 0, j.ws_size);
+    qibl_lightprobe_opts_t mc = {QIBL_LIGHTPROBE_MEDIANCUT, 0, 0}, ad = {QIBL_LIGHTPROBE_ADAPTIVE, 0, 0},
+                           vm = {QIBL_LIGHTPROBE_VARMIN, 0, 0};
+    double rd = time_read(px, bytes, reps);
+    double b64, l64, b256, l256, ba, la, bv, lv;
+    uint32_t n64, n256, na, nv;
+    if (time_run(&j, QIBL_LIGHTPROBE_MEDIANCUT, &mc, 64, reps, &b64, &l64, &n64) ||
+        time_run(&j, QIBL_LIGHTPROBE_MEDIANCUT, &mc, 256, reps, &b256, &l256, &n256) ||
+        time_run(&j, QIBL_LIGHTPROBE_MEDIANCUT, &ad, 64, reps, &ba, &la, &na) ||
+        time_run(&j, QIBL_LIGHTPROBE_VARMIN, &vm, 64, quick ? 1 : 5, &bv, &lv, &nv)) {
+        free(j.ws), free(j.L);
+        return 1;
+    }
+    double rd2 = time_read(px, bytes, reps); /* again after: the ratio uses the faster of the two */
+    if (rd2 < rd)
+        rd = rd2;
+    printf("== bench lights: %s, %d x %d (%.1f MB of RGBE), median of %d runs, warm workspace\n", name, w, h,
+           bytes / 1e6, reps);
+    printf("%-44s %8s %9s %9s %9s %8s\n", "run", "lights", "SAT ms", "cut ms", "total ms", "x read");
+    printf("%-44s %8s %9s %9s %9.3f %8.2f\n", "plain read pass over the probe bytes", "-", "-", "-", rd, 1.0);
+    printf("%-44s %8u %9.3f %9.3f %9.3f %8.2f\n", "median cut 64 (SAT included)", n64, b64, l64, b64 + l64,
+           (b64 + l64) / rd);
+    printf("%-44s %8u %9.3f %9.3f %9.3f %8.2f\n", "median cut 256", n256, b256, l256, b256 + l256, (b256 + l256) / rd);
+    printf("%-44s %8u %9.3f %9.3f %9.3f %8.2f\n", "adaptive median cut 64", na, ba, la, ba + la, (ba + la) / rd);
+    printf("%-44s %8u %9.3f %9.3f %9.3f %8.2f\n", "variance minimisation 64 (5 moment SATs more)", nv, bv, lv,
+           bv + lv, (bv + lv) / rd);
+    const char *tag = w >= 4096 ? "4k_" : "";
+    printf("RESULT lights.%ssat64_over_read %.2f\n", tag, (b64 + l64) / rd);
+    printf("RESULT lights.%smediancut64_ms %.3f\n", tag, b64 + l64);
+    printf("RESULT lights.%smediancut256_ms %.3f\n", tag, b256 + l256);
+    printf("RESULT lights.%sadaptive64_ms %.3f\n", tag, ba + la);
+    printf("RESULT lights.%svarmin64_ms %.3f\n", tag, bv + lv);
+    free(j.ws), free(j.L);
+    return 0;
+}
+
+/* ---- quality -------------------------------------------------------------------------------- */
+
+typedef struct {
+    const char *label;
+    qibl_lightprobe_opts_t o;
+    uint32_t n;
+} config;
+
+static const config configs[] = {
+    {"median cut 64", {QIBL_LIGHTPROBE_MEDIANCUT, 0, 0}, 64},
+    {"median cut 64, geometric centres", {QIBL_LIGHTPROBE_MEDIANCUT, 0, QIBL_LIGHTPROBE_PLACE_CENTRE}, 64},
+    {"adaptive 64, priority energy", {QIBL_LIGHTPROBE_ADAPTIVE, QIBL_LIGHTPROBE_PRIORITY_ENERGY, 0}, 64},
+    {"adaptive 64, priority energy x size", {QIBL_LIGHTPROBE_ADAPTIVE, QIBL_LIGHTPROBE_PRIORITY_ENERGY_SIZE, 0}, 64},
+    {"adaptive 64, priority variance", {QIBL_LIGHTPROBE_ADAPTIVE, QIBL_LIGHTPROBE_PRIORITY_VARIANCE, 0}, 64},
+    {"varmin 64, levels (Viriyothai-Debevec)", {QIBL_LIGHTPROBE_VARMIN, QIBL_LIGHTPROBE_PRIORITY_LEVELS, 0}, 64},
+    {"varmin 64, priority energy", {QIBL_LIGHTPROBE_VARMIN, QIBL_LIGHTPROBE_PRIORITY_ENERGY, 0}, 64},
+    {"varmin 64, priority energy x size", {QIBL_LIGHTPROBE_VARMIN, QIBL_LIGHTPROBE_PRIORITY_ENERGY_SIZE, 0}, 64},
+    {"varmin 64, priority variance", {QIBL_LIGHTPROBE_VARMIN, QIBL_LIGHTPROBE_PRIORITY_VARIANCE, 0}, 64},
+    {"varmin 64, geometric centres", {QIBL_LIGHTPROBE_VARMIN, 0, QIBL_LIGHTPROBE_PLACE_CENTRE}, 64},
+    {"median cut 16", {QIBL_LIGHTPROBE_MEDIANCUT, 0, 0}, 16},
+    {"adaptive 16 (default priority)", {QIBL_LIGHTPROBE_ADAPTIVE, 0, 0}, 16},
+    {"varmin 16 (default priority)", {QIBL_LIGHTPROBE_VARMIN, 0, 0}, 16},
+    {"median cut 256", {QIBL_LIGHTPROBE_MEDIANCUT, 0, 0}, 256},
+    {"adaptive 256 (default priority)", {QIBL_LIGHTPROBE_ADAPTIVE, 0, 0}, 256},
+    {"varmin 256 (default priority)", {QIBL_LIGHTPROBE_VARMIN, 0, 0}, 256},
+};
+#define NCONF (int)(sizeof configs / sizeof configs[0])
+
+static int quality(int quick, char names[][256], int np)
+{
+    const int nn = quick ? 256 : 1024;
+    if (quick && np > 2)
+        np = 2;
+    double (*nrm)[3] = malloc(sizeof *nrm * (size_t)nn), *E = malloc(sizeof *E * (size_t)nn);
+    double me[NCONF], mx[NCONF], sum_me[NCONF] = {0}, sum_mx[NCONF] = {0};
+    qibl_lightprobe_light_t *L = malloc(sizeof *L * 256);
+    qibl_ref_light *R = malloc(sizeof *R * 256);
+    if (!nrm || !E || !L || !R) {
+        free(nrm), free(E), free(L), free(R);
+        return fprintf(stderr, "qibl: bench lights: out of memory\n"), 1;
+    }
+    qibl_ref_sphere_dirs(nn, nrm);
+    printf("\n== bench lights: irradiance error against the full probe over %d normals, mean %% (max %%) of the "
+           "mean irradiance\n", nn);
+    printf("%-26s", "probe");
+    for (int c = 0; c < NCONF; ++c) {
+        char tag[8];
+        snprintf(tag, sizeof tag, "c%d", c);
+        printf(" %7s", tag);
+    }
+    printf("\n");
+    for (int i = 0; i < np; ++i) {
+        char path[600], err[512];
+        snprintf(path, sizeof path, "%s/%.250s", PROBE_DIR, names[i]);
+        int w, h;
+        uint8_t *px;
+        if (qibl_hdr_read_rgbe(path, &w, &h, &px, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s\n", err);
+            continue;
+        }
+        double *d = malloc(sizeof *d * 3 * (size_t)w * (size_t)h);
+        size_t wsz = qibl_lightprobe_workspace_size((uint32_t)w, (uint32_t)h, QIBL_LIGHTPROBE_VARMIN);
+        void *ws = malloc(wsz);
+        qibl_ref_probe rp;
+        if (!d || !ws) {
+            free(d), free(ws), free(px);
+            continue;
+        }
+        for (size_t k = 0; k < (size_t)w * (size_t)h; ++k)
+            for (int c = 0; c < 3; ++c)
+                d[3 * k + (size_t)c] = px[4 * k + 3] ? ldexp(px[4 * k + (size_t)c], px[4 * k + 3] - 136) : 0.0;
+        if (qibl_ref_probe_init(&rp, w, h, d) != 0) {
+            free(d), free(ws), free(px);
+            continue;
+        }
+        qibl_ref_probe_irradiance(&rp, nn, (const double (*)[3])nrm, E, 4);
+        qibl_lightprobe_image_t img;
+        memset(&img, 0, sizeof img);
+        img.pixels = px, img.width = (uint32_t)w, img.height = (uint32_t)h;
+        qibl_lightprobe_t lp;
+        if (qibl_lightprobe_build(&lp, &img, QIBL_LIGHTPROBE_VARMIN, ws, wsz) != QIBL_OK)
+            continue;
+        char shortname[27];
+        snprintf(shortname, sizeof shortname, "%.26s", names[i]);
+        printf("%-26s", shortname);
+        for (int c = 0; c < NCONF; ++c) {
+            qibl_lightprobe_result_t res;
+            if (qibl_lightprobe_lights(&lp, &configs[c].o, L, configs[c].n, &res) != QIBL_OK) {
+                me[c] = mx[c] = NAN;
+                continue;
+            }
+            for (uint32_t k = 0; k < res.count; ++k)
+                for (int ch = 0; ch < 3; ++ch) {
+                    R[k].dir[ch] = L[k].dir[ch] / 1073741824.0;
+                    R[k].rgb[ch] = ldexp(L[k].rgb[ch], res.rgb_exp);
+                }
+            qibl_ref_irradiance_error(R, (int)res.count, nn, (const double (*)[3])nrm, E, &me[c], &mx[c]);
+            sum_me[c] += me[c], sum_mx[c] += mx[c];
+            printf(" %7.3f", 100 * me[c]);
+        }
+        printf("\n");
+        qibl_ref_probe_free(&rp);
+        free(d), free(ws), free(px);
+    }
+    printf("\n%-4s %-42s %14s %14s\n", "col", "configuration", "mean error %", "max error %");
+    for (int c = 0; c < NCONF; ++c)
+        printf("c%-3d %-42s %14.3f %14.3f\n", c, configs[c].label, 100 * sum_me[c] / np, 100 * sum_mx[c] / np);
+    printf("(averages over %d probes)\n", np);
+    printf("RESULT lights.err_mean_mediancut64_pct %.3f\n", 100 * sum_me[0] / np);
+    printf("RESULT lights.err_mean_adaptive64_pct %.3f\n", 100 * sum_me[3] / np);
+    printf("RESULT lights.err_mean_varmin64_pct %.3f\n", 100 * sum_me[8] / np);
+    printf("RESULT lights.err_max_mediancut64_pct %.3f\n", 100 * sum_mx[0] / np);
+    printf("RESULT lights.err_max_varmin64_pct %.3f\n", 100 * sum_mx[8] / np);
+    free(nrm), free(E), free(L), free(R);
+    return 0;
+}
+
+static int list_probes(char names[][256], int max)
+{
+    DIR *dir = opendir(PROBE_DIR);
+    int n = 0;
+    if (!dir)
+        return 0;
+    struct dirent *de;
+    while ((de = readdir(dir)) != NULL && n < max) {
+        size_t l = strlen(de->d_name);
+        if (l > 4 && l < 250 && strcmp(de->d_name + l - 4, ".hdr") == 0)
+            snprintf(names[n++], 256, "%.250s", de->d_name);
+    }
+    closedir(dir);
+    qsort(names, (size_t)n, sizeof names[0], (int (*)(const void *, const void *))strcmp);
+    return n;
+}
+
+int qibl_bench_lights(int quick)
+{
+    static char names[64][256];
+    int np = list_probes(names, 64);
+    const char *env = getenv("QIBL_PROBE");
+    char path[600], err[512], label[600];
+    int w = 1024, h = 512;
+    uint8_t *px = NULL;
+    if (env && *env) {
+        snprintf(path, sizeof path, "%.590s", env);
+    } else if (np > 0) {
+        int pick = 0;
+        for (int i = 0; i < np; ++i)
+            if (strcmp(names[i], PROBE_DEFAULT) == 0)
+                pick = i;
+        snprintf(path, sizeof path, "%s/%.250s", PROBE_DIR, names[pick]);
+    } else {
+        path[0] = '\0';
+    }
+    if (path[0]) {
+        if (qibl_hdr_read_rgbe(path, &w, &h, &px, err, sizeof err) != 0)
+            return fprintf(stderr, "qibl: %s\n", err), 1;
+        snprintf(label, sizeof label, "%.590s", path);
+    } else {
+        px = procedural(w, h);
+        snprintf(label, sizeof label, "procedural sun and sky (no probes in %s)", PROBE_DIR);
+        if (!px)
+            return fprintf(stderr, "qibl: bench lights: out of memory\n"), 1;
+    }
+    int rc = speed(quick, label, px, w, h);
+    if (rc == 0) {
+        uint8_t *big = upsample4(px, w, h);
+        if (big) {
+            char l4[700];
+            snprintf(l4, sizeof l4, "%s upsampled 4x", label);
+            printf("\n");
+            rc = speed(quick, l4, big, 4 * w, 4 * h);
+            free(big);
+        }
+    }
+    free(px);
+    if (rc == 0 && np > 0)
+        rc = quality(quick, names, np);
+    else if (np == 0)
+        printf("SKIP bench lights quality: no probes in %s\n", PROBE_DIR);
+    return rc;
+}

@@ -1,0 +1,304 @@
+/*
+ * cmd_lights.c - `qibl lights`: a Radiance .hdr light probe turned into directional lights by the
+ * integer core (qibl/lightprobe.h), printed as a table or CSV, optionally drawn over the
+ * tone-mapped probe as a PNG (like Madsen & Laursen's Figure 3) and checked against the probe's
+ * exact irradiance.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "io/hdr.h"
+#include "io/png.h"
+#include "qibl/cli.h"
+#include "qibl/lightprobe.h"
+#include "qibl/srgbe.h"
+#include "ref/lightprobe_ref.h"
+
+#define USAGE "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv] [--png OUT.png]"
+
+static int parse_method(const char *s, qibl_lightprobe_method_t *m)
+{
+    if (strcmp(s, "mediancut") == 0)
+        *m = QIBL_LIGHTPROBE_MEDIANCUT;
+    else if (strcmp(s, "adaptive") == 0)
+        *m = QIBL_LIGHTPROBE_ADAPTIVE;
+    else if (strcmp(s, "varmin") == 0)
+        *m = QIBL_LIGHTPROBE_VARMIN;
+    else
+        return -1;
+    return 0;
+}
+
+static int parse_priority(const char *s, qibl_lightprobe_priority_t *p)
+{
+    static const char *names[] = {"default", "energy", "energy-size", "variance", "levels"};
+    for (int i = 0; i < QIBL_LIGHTPROBE_PRIORITY_COUNT; ++i)
+        if (strcmp(s, names[i]) == 0) {
+            *p = (qibl_lightprobe_priority_t)i;
+            return 0;
+        }
+    return -1;
+}
+
+static double rgbe_f(uint8_t m, uint8_t e)
+{
+    return e ? ldexp(m, e - 136) : 0.0;
+}
+
+/* pixel-space position of a direction: u = phi W / 2 pi, v = theta H / pi */
+static void dir_to_uv(const qibl_lightprobe_light_t *l, int w, int h, double *u, double *v)
+{
+    const double pi = 3.14159265358979323846;
+    double x = l->dir[0] / 1073741824.0, y = l->dir[1] / 1073741824.0, z = l->dir[2] / 1073741824.0;
+    double phi = atan2(y, x);
+    if (phi < 0)
+        phi += 2 * pi;
+    *u = phi * w / (2 * pi);
+    *v = acos(fmax(-1.0, fmin(1.0, z))) * h / pi;
+}
+
+static void put(uint8_t *img, int W, int H, int x, int y, const uint8_t c[3])
+{
+    if (x < 0 || y < 0 || x >= W || y >= H)
+        return;
+    memcpy(img + 3 * ((size_t)y * (size_t)W + (size_t)x), c, 3);
+}
+
+/* The probe tone-mapped (Reinhard's global operator at the log-average key, sRGB-ish gamma),
+ * zoomed by z, with every light's region outlined and its direction marked. */
+static int write_png(const char *path, const uint8_t *px, int w, int h, int z, const qibl_lightprobe_light_t *L,
+                     uint32_t n)
+{
+    int W = w * z, H = h * z;
+    uint8_t *img = malloc((size_t)W * (size_t)H * 3);
+    if (!img)
+        return fprintf(stderr, "qibl: lights: out of memory for the picture\n"), 1;
+    double logsum = 0;
+    for (size_t i = 0; i < (size_t)w * (size_t)h; ++i) {
+        const uint8_t *q = px + 4 * i;
+        double l = 0.2126 * rgbe_f(q[0], q[3]) + 0.7152 * rgbe_f(q[1], q[3]) + 0.0722 * rgbe_f(q[2], q[3]);
+        logsum += log(1e-6 + l);
+    }
+    double key = exp(logsum / ((double)w * h)), a = 0.18 / key;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const uint8_t *q = px + 4 * ((size_t)(y / z) * (size_t)w + (size_t)(x / z));
+            uint8_t *o = img + 3 * ((size_t)y * (size_t)W + (size_t)x);
+            for (int c = 0; c < 3; ++c) {
+                double s = a * rgbe_f(q[c], q[3]);
+                o[c] = (uint8_t)lrint(255.0 * pow(s / (1.0 + s), 1.0 / 2.2));
+            }
+        }
+    const uint8_t edge[3] = {40, 220, 60}, dot[3] = {255, 30, 20}, rim[3] = {0, 0, 0};
+    for (uint32_t i = 0; i < n; ++i) {
+        int x0 = (int)L[i].u0 * z, x1 = (int)L[i].u1 * z - 1, y0 = (int)L[i].v0 * z, y1 = (int)L[i].v1 * z - 1;
+        for (int x = x0; x <= x1; ++x)
+            put(img, W, H, x, y0, edge), put(img, W, H, x, y1, edge);
+        for (int y = y0; y <= y1; ++y)
+            put(img, W, H, x0, y, edge), put(img, W, H, x1, y, edge);
+    }
+    int r = W >= 512 ? 3 : 2;
+    for (uint32_t i = 0; i < n; ++i) {
+        double u, v;
+        dir_to_uv(&L[i], w, h, &u, &v);
+        int cx = (int)lrint(u * z - 0.5), cy = (int)lrint(v * z - 0.5);
+        for (int dy = -r - 1; dy <= r + 1; ++dy)
+            for (int dx = -r - 1; dx <= r + 1; ++dx) {
+                int d2 = dx * dx + dy * dy;
+                if (d2 <= r * r)
+                    put(img, W, H, cx + dx, cy + dy, dot);
+                else if (d2 <= (r + 1) * (r + 1))
+                    put(img, W, H, cx + dx, cy + dy, rim);
+            }
+    }
+    char err[512];
+    int rc = qibl_png_write_rgb8(path, W, H, img, err, sizeof err);
+    free(img);
+    if (rc != 0)
+        return fprintf(stderr, "qibl: %s\n", err), 1;
+    return 0;
+}
+
+/* Irradiance of the lights against the probe's own, over the sphere (tools/ref, double). */
+static void print_error(const uint8_t *px, int w, int h, const qibl_lightprobe_light_t *L, uint32_t n, int exp2)
+{
+    double *d = malloc(sizeof *d * 3 * (size_t)w * (size_t)h);
+    qibl_ref_light *R = malloc(sizeof *R * (n ? n : 1));
+    enum { NN = 1024 };
+    double (*nrm)[3] = malloc(sizeof *nrm * NN), *E = malloc(sizeof *E * NN);
+    qibl_ref_probe rp;
+    if (!d || !R || !nrm || !E) {
+        fprintf(stderr, "qibl: lights: out of memory for --error\n");
+        goto out;
+    }
+    for (size_t i = 0; i < (size_t)w * (size_t)h; ++i)
+        for (int c = 0; c < 3; ++c)
+            d[3 * i + (size_t)c] = rgbe_f(px[4 * i + (size_t)c], px[4 * i + 3]);
+    if (qibl_ref_probe_init(&rp, w, h, d) != 0) {
+        fprintf(stderr, "qibl: lights: out of memory for --error\n");
+        goto out;
+    }
+    qibl_ref_sphere_dirs(NN, nrm);
+    qibl_ref_probe_irradiance(&rp, NN, (const double (*)[3])nrm, E, 4);
+    for (uint32_t i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) {
+            R[i].dir[c] = L[i].dir[c] / 1073741824.0;
+            R[i].rgb[c] = ldexp(L[i].rgb[c], exp2);
+        }
+    double me, mx;
+    qibl_ref_irradiance_error(R, (int)n, NN, (const double (*)[3])nrm, E, &me, &mx);
+    printf("irradiance error against the full probe over %d normals (of the mean irradiance): mean %.3f%%, "
+           "max %.3f%%\n", NN, 100 * me, 100 * mx);
+    qibl_ref_probe_free(&rp);
+out:
+    free(d), free(R), free(nrm), free(E);
+}
+
+int qibl_cmd_lights(int argc, char **argv)
+{
+    const char *path = NULL, *png = NULL, *as = "rgbe";
+    qibl_lightprobe_opts_t o;
+    memset(&o, 0, sizeof o);
+    long n = 64, zoom = 0;
+    int csv = 0, error = 0;
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i];
+        int more = i + 1 < argc;
+        if (strcmp(a, "--method") == 0 && more) {
+            if (parse_method(argv[++i], &o.method) != 0)
+                return qibl_cli_usage_error("--method is mediancut, adaptive or varmin");
+        } else if ((strcmp(a, "-n") == 0 || strcmp(a, "--count") == 0) && more) {
+            if (qibl_cli_parse_int(argv[++i], 1, 1L << 24, &n) != 0)
+                return qibl_cli_usage_error("-n needs a light count in 1..16777216");
+        } else if (strcmp(a, "--priority") == 0 && more) {
+            if (parse_priority(argv[++i], &o.priority) != 0)
+                return qibl_cli_usage_error("--priority is default, energy, energy-size, variance or levels");
+        } else if (strcmp(a, "--place") == 0 && more) {
+            const char *p = argv[++i];
+            if (strcmp(p, "centroid") == 0)
+                o.place = QIBL_LIGHTPROBE_PLACE_CENTROID;
+            else if (strcmp(p, "centre") == 0 || strcmp(p, "center") == 0)
+                o.place = QIBL_LIGHTPROBE_PLACE_CENTRE;
+            else
+                return qibl_cli_usage_error("--place is centroid or centre");
+        } else if (strcmp(a, "--as") == 0 && more) {
+            as = argv[++i];
+            if (strcmp(as, "rgbe") != 0 && strcmp(as, "srgbe") != 0 && strcmp(as, "f32") != 0)
+                return qibl_cli_usage_error("--as is rgbe, srgbe or f32");
+        } else if (strcmp(a, "--png") == 0 && more) {
+            png = argv[++i];
+        } else if (strcmp(a, "--zoom") == 0 && more) {
+            if (qibl_cli_parse_int(argv[++i], 1, 64, &zoom) != 0)
+                return qibl_cli_usage_error("--zoom needs an integer in 1..64");
+        } else if (strcmp(a, "--csv") == 0) {
+            csv = 1;
+        } else if (strcmp(a, "--error") == 0) {
+            error = 1;
+        } else if (a[0] != '-' && !path) {
+            path = a;
+        } else {
+            return qibl_cli_usage_error("%s", USAGE);
+        }
+    }
+    if (!path)
+        return qibl_cli_usage_error("%s", USAGE);
+    if (o.method == QIBL_LIGHTPROBE_MEDIANCUT && (n & (n - 1)) != 0)
+        return qibl_cli_usage_error("median cut makes 2^K lights: -n must be a power of two (or use --method "
+                                    "adaptive)");
+
+    int w, h;
+    uint8_t *px;
+    char err[512];
+    if (qibl_hdr_read_rgbe(path, &w, &h, &px, err, sizeof err) != 0)
+        return fprintf(stderr, "qibl: %s\n", err), 1;
+    /* the probe as the core reads it: RGBE bytes as stored, or converted (exactly for f32) */
+    qibl_lightprobe_image_t img;
+    memset(&img, 0, sizeof img);
+    img.width = (uint32_t)w;
+    img.height = (uint32_t)h;
+    img.pixels = px;
+    void *conv = NULL;
+    size_t np = (size_t)w * (size_t)h;
+    if (strcmp(as, "rgbe") != 0) {
+        uint32_t *f = malloc(sizeof *f * 3 * np);
+        if (!f)
+            return free(px), fprintf(stderr, "qibl: lights: out of memory\n"), 1;
+        for (size_t i = 0; i < 3 * np; ++i) {
+            float x = (float)rgbe_f(px[4 * (i / 3) + i % 3], px[4 * (i / 3) + 3]);
+            memcpy(&f[i], &x, sizeof x);
+        }
+        if (strcmp(as, "f32") == 0) {
+            conv = f;
+            img.format = QIBL_LIGHTPROBE_LINEAR_F32;
+        } else {
+            uint8_t *s = malloc(4 * np);
+            if (!s || qibl_srgbe_encode_f32_n(f, np, s) != QIBL_OK) {
+                free(f), free(s), free(px);
+                return fprintf(stderr, "qibl: lights: sRGBE conversion failed\n"), 1;
+            }
+            free(f);
+            conv = s;
+            img.format = QIBL_LIGHTPROBE_SRGBE;
+        }
+        img.pixels = conv;
+    }
+    qibl_lightprobe_method_t build_for = o.method == QIBL_LIGHTPROBE_VARMIN ||
+                                                 o.priority == QIBL_LIGHTPROBE_PRIORITY_VARIANCE
+                                             ? QIBL_LIGHTPROBE_VARMIN
+                                             : QIBL_LIGHTPROBE_MEDIANCUT;
+    size_t wsz = qibl_lightprobe_workspace_size(img.width, img.height, build_for);
+    void *ws = wsz ? malloc(wsz) : NULL;
+    qibl_lightprobe_light_t *L = malloc(sizeof *L * (size_t)n);
+    int rc = 1;
+    if (!ws || !L) {
+        fprintf(stderr, "qibl: lights: %s\n",
+                wsz ? "out of memory" : "probe too large (W, H <= 32768, W H <= 2^26)");
+        goto out;
+    }
+    qibl_lightprobe_t lp;
+    qibl_lightprobe_result_t res;
+    qibl_status_t st = qibl_lightprobe_build(&lp, &img, build_for, ws, wsz);
+    if (st == QIBL_OK)
+        st = qibl_lightprobe_lights(&lp, &o, L, (uint32_t)n, &res);
+    if (st == QIBL_E_PROBE_BLACK) {
+        fprintf(stderr, "qibl: %s: %s\n", path, qibl_status_str(st));
+        rc = 0; /* a valid answer: no lights */
+        goto out;
+    }
+    if (st != QIBL_OK) {
+        fprintf(stderr, "qibl: %s: %s\n", path, qibl_status_str(st));
+        goto out;
+    }
+    if (csv) {
+        printf("x,y,z,r,g,b,u0,v0,u1,v1\n");
+        for (uint32_t i = 0; i < res.count; ++i)
+            printf("%.9f,%.9f,%.9f,%.9g,%.9g,%.9g,%u,%u,%u,%u\n", L[i].dir[0] / 1073741824.0,
+                   L[i].dir[1] / 1073741824.0, L[i].dir[2] / 1073741824.0, ldexp(L[i].rgb[0], res.rgb_exp),
+                   ldexp(L[i].rgb[1], res.rgb_exp), ldexp(L[i].rgb[2], res.rgb_exp), L[i].u0, L[i].v0, L[i].u1,
+                   L[i].v1);
+    } else {
+        static const char *mn[] = {"median cut", "adaptive median cut", "variance minimisation"};
+        printf("%s: %d x %d, %s, %u lights (asked %ld), brightest first; rgb is irradiance = integer * 2^%d\n",
+               path, w, h, mn[o.method], res.count, n, res.rgb_exp);
+        printf("%4s %11s %11s %11s %12s %12s %12s  %s\n", "#", "x", "y", "z", "r", "g", "b", "region u0 v0 u1 v1");
+        for (uint32_t i = 0; i < res.count; ++i)
+            printf("%4u %11.8f %11.8f %11.8f %12.6g %12.6g %12.6g  %u %u %u %u\n", i, L[i].dir[0] / 1073741824.0,
+                   L[i].dir[1] / 1073741824.0, L[i].dir[2] / 1073741824.0, ldexp(L[i].rgb[0], res.rgb_exp),
+                   ldexp(L[i].rgb[1], res.rgb_exp), ldexp(L[i].rgb[2], res.rgb_exp), L[i].u0, L[i].v0, L[i].u1,
+                   L[i].v1);
+    }
+    rc = 0;
+    if (error)
+        print_error(px, w, h, L, res.count, res.rgb_exp);
+    if (png) {
+        int z = zoom ? (int)zoom : (w >= 512 ? 1 : (1024 + w - 1) / w);
+        rc = write_png(png, px, w, h, z, L, res.count);
+        if (rc == 0 && !csv)
+            printf("wrote %s (%d x %d): regions in green, light directions in red\n", png, w * z, h * z);
+    }
+out:
+    free(ws), free(L), free(conv), free(px);
+    return rc;
+}
