@@ -4,7 +4,7 @@
  *
  * Invariants: integer only, no heap, no state; no 64-bit multiply, divide or variable shift that a
  * Cortex-M0 would turn into a library call (products through qibl_mul_u32_u64, divisions through
- * qibl_udiv_u64, shifts through lp_shr / lp_shl); the same bits on every port.
+ * qibl_udiv_u64, variable shifts through qibl_shr_u64 / lp_shl); the same bits on every port.
  *
  * Number formats and bounds (the arguments lightprobe.h quotes):
  *   - Every pixel is decoded exactly to channel integers m_c >= 0 and an exponent eps with
@@ -14,8 +14,9 @@
  *     extra bits, m_c < 2^47 (a channel more than 2^-47 below the pixel's largest is truncated).
  *   - Row weight sin theta_v = sig_v 2^-(32 + kap_v), sig_v in [2^31, 2^32), relative error
  *     <= 2^-30 (see sin_frac).
- *   - The first pass finds lb = max over pixels of (bitlen(max_c m_c) + eps), so every channel and
- *     the luminance satisfy m 2^eps < 2^lb (Y <= 2^16 max m_c since the weights sum to 2^16).
+ *   - The first pass finds lb = max over pixels of (bitlen(max_c m_c) + eps) (for RGBE from the
+ *     largest exponent byte alone, bitlen <= 8: at most a bit of headroom lost), so every channel
+ *     and the luminance satisfy m 2^eps < 2^lb (Y <= 2^16 max m_c since the weights sum to 2^16).
  *     With p = 64 - ceil(log2(W H)) and g = p - lb, the pixel energy
  *         e = floor(Y sig_v 2^(eps - 16 + g - 32 - kap_v))  <  2^(lb + g) = 2^p
  *     (sig_v 2^-(32+kap_v) <= 1), and the channel energies x_c = floor(m_c sig_v 2^(eps+g-32-kap_v))
@@ -39,13 +40,8 @@ typedef struct {
     uint64_t hi, lo;
 } u128;
 
-/* x >> n and x << n for n in 0..63: native where the target shifts 64-bit values inline, else
- * from 32-bit halves (QIBL_CONFIG_NATIVE_SHIFT64, as qibl_shr_u64 in fixed.h). */
-static inline uint64_t lp_shr(uint64_t x, unsigned n)
-{
-    return qibl_shr_u64(x, n);
-}
-
+/* x << n for n in 0..63: the left twin of fixed.h's qibl_shr_u64, native where the target shifts
+ * 64-bit values inline, else from 32-bit halves (QIBL_CONFIG_NATIVE_SHIFT64). */
 static inline uint64_t lp_shl(uint64_t x, unsigned n)
 {
 #if QIBL_CONFIG_NATIVE_SHIFT64
@@ -128,8 +124,8 @@ static uint64_t shr128_lo(const u128 *x, unsigned n)
     if (n == 0u)
         return x->lo;
     if (n >= 64u)
-        return lp_shr(x->hi, n - 64u);
-    return lp_shr(x->lo, n) | lp_shl(x->hi, 64u - n);
+        return qibl_shr_u64(x->hi, n - 64u);
+    return qibl_shr_u64(x->lo, n) | lp_shl(x->hi, 64u - n);
 }
 
 /* *x <<= n, n in 0..63 (the caller knows it fits) */
@@ -137,7 +133,7 @@ static void shl128(u128 *x, unsigned n)
 {
     if (n == 0u)
         return;
-    x->hi = lp_shl(x->hi, n) | lp_shr(x->lo, 64u - n);
+    x->hi = lp_shl(x->hi, n) | qibl_shr_u64(x->lo, 64u - n);
     x->lo = lp_shl(x->lo, n);
 }
 
@@ -164,7 +160,7 @@ static uint64_t div128(const u128 *n, uint64_t d, uint64_t *rem)
     const uint64_t b = (uint64_t)1 << 32;
     unsigned s = 64u - bitlen64(d);
     d = lp_shl(d, s);
-    uint64_t un32 = s ? lp_shl(n->hi, s) | lp_shr(n->lo, 64u - s) : n->hi;
+    uint64_t un32 = s ? lp_shl(n->hi, s) | qibl_shr_u64(n->lo, 64u - s) : n->hi;
     uint64_t un10 = lp_shl(n->lo, s);
     uint32_t vn1 = (uint32_t)(d >> 32), vn0 = (uint32_t)d;
     uint32_t un1 = (uint32_t)(un10 >> 32), un0 = (uint32_t)un10;
@@ -186,7 +182,7 @@ static uint64_t div128(const u128 *n, uint64_t d, uint64_t *rem)
             break;
     }
     if (rem)
-        *rem = lp_shr((un21 << 32) + un0 - mul_lo_u64_u32(d, (uint32_t)q0), s);
+        *rem = qibl_shr_u64((un21 << 32) + un0 - mul_lo_u64_u32(d, (uint32_t)q0), s);
     return (q1 << 32) | q0;
 }
 
@@ -364,7 +360,7 @@ static unsigned decode(qibl_lightprobe_format_t f, const uint8_t *p, int32_t fra
         }
         for (int c = 0; c < 3; ++c) {
             unsigned d = (unsigned)(emax - ex[c]);
-            o->m[c] = mant[c] && d < 48u ? lp_shr((uint64_t)mant[c] << 23, d) : 0u;
+            o->m[c] = mant[c] && d < 48u ? qibl_shr_u64((uint64_t)mant[c] << 23, d) : 0u;
         }
         o->eps = emax - 23;
     }
@@ -495,7 +491,7 @@ static void sat_rgbe(qibl_lightprobe_t *lp)
             if ((uint32_t)-s0 != sh_r0)
                 rgbe_shifts(sh_r0 = (uint32_t)-s0, sh);
             for (uint32_t u = 0; u < w; ++u, q += 4) {
-                acc += lp_shr(qibl_mul_u32_u64(LUMA_R * q[0] + LUMA_G * q[1] + LUMA_B * q[2], sig), sh[q[3]]);
+                acc += qibl_shr_u64(qibl_mul_u32_u64(LUMA_R * q[0] + LUMA_G * q[1] + LUMA_B * q[2], sig), sh[q[3]]);
                 row[u + 1u] = above[u + 1u] + acc;
             }
         } else {
@@ -503,7 +499,7 @@ static void sat_rgbe(qibl_lightprobe_t *lp)
                 int32_t s = (int32_t)q[3] + s0;
                 uint64_t y = qibl_mul_u32_u64(LUMA_R * q[0] + LUMA_G * q[1] + LUMA_B * q[2], sig);
                 /* s >= 64 only where y = 0: a black pixel with a large exponent */
-                uint64_t e = s >= 64 ? 0u : s >= 0 ? lp_shl(y, (unsigned)s) : s > -64 ? lp_shr(y, (unsigned)-s) : 0u;
+                uint64_t e = s >= 64 ? 0u : s >= 0 ? lp_shl(y, (unsigned)s) : s > -64 ? qibl_shr_u64(y, (unsigned)-s) : 0u;
                 acc += q[3] ? e : 0u;
                 row[u + 1u] = above[u + 1u] + acc;
             }
@@ -555,7 +551,7 @@ static void sat_moments(qibl_lightprobe_t *lp)
         for (int j = 0; j < 5; ++j)
             row[j] = 0u;
         for (uint32_t u = 0; u < w; ++u) {
-            uint64_t e = lp_shr(s1[u + 1u] - s1[u] - s0[u + 1u] + s0[u], lp->mshift);
+            uint64_t e = qibl_shr_u64(s1[u + 1u] - s1[u] - s0[u + 1u] + s0[u], lp->mshift);
             uint64_t eu = mul_lo_u64_u32(e, u);
             a0 += e;
             a1 += eu;
@@ -1112,9 +1108,9 @@ static void region_rgb(const qibl_lightprobe_t *lp, rect r, uint64_t out[3])
                 rgbe_shifts(sh_r0 = (uint32_t)(136 + 16 - s0), sh);
             for (uint32_t u = r.u0; u < r.u1; ++u, q += 4) {
                 uint32_t k = sh[q[3]];
-                a0 += lp_shr(qibl_mul_u32_u64((uint32_t)q[0] << 16, sig), k);
-                a1 += lp_shr(qibl_mul_u32_u64((uint32_t)q[1] << 16, sig), k);
-                a2 += lp_shr(qibl_mul_u32_u64((uint32_t)q[2] << 16, sig), k);
+                a0 += qibl_shr_u64(qibl_mul_u32_u64((uint32_t)q[0] << 16, sig), k);
+                a1 += qibl_shr_u64(qibl_mul_u32_u64((uint32_t)q[1] << 16, sig), k);
+                a2 += qibl_shr_u64(qibl_mul_u32_u64((uint32_t)q[2] << 16, sig), k);
             }
         } else {
             for (uint32_t u = r.u0; u < r.u1; ++u, q += pb) {

@@ -172,13 +172,9 @@ int qibl_hdr_decode_rgbe(const uint8_t *buf, size_t len, int *w_out, int *h_out,
     return 0;
 }
 
-int qibl_hdr_decode(const uint8_t *buf, size_t len, int *w_out, int *h_out, float **rgb_out, char *err,
-                    size_t errlen)
+/* RGBE pixels (freed here whatever happens) to a new float RGB array */
+static int to_float(uint8_t *px, int w, int h, float **rgb_out, char *err, size_t errlen)
 {
-    int w, h;
-    uint8_t *px;
-    if (qibl_hdr_decode_rgbe(buf, len, &w, &h, &px, err, errlen) != 0)
-        return -1;
     float *rgb = malloc((size_t)w * (size_t)h * 3 * sizeof *rgb);
     if (!rgb) {
         free(px);
@@ -191,6 +187,18 @@ int qibl_hdr_decode(const uint8_t *buf, size_t len, int *w_out, int *h_out, floa
         rgb[3 * i + 2] = rgbe_channel(q[2], q[3]);
     }
     free(px);
+    *rgb_out = rgb;
+    return 0;
+}
+
+int qibl_hdr_decode(const uint8_t *buf, size_t len, int *w_out, int *h_out, float **rgb_out, char *err,
+                    size_t errlen)
+{
+    int w, h;
+    uint8_t *px;
+    float *rgb;
+    if (qibl_hdr_decode_rgbe(buf, len, &w, &h, &px, err, errlen) != 0 || to_float(px, w, h, &rgb, err, errlen) != 0)
+        return -1;
     *w_out = w;
     *h_out = h;
     *rgb_out = rgb;
@@ -230,24 +238,23 @@ static int slurp(const char *path, uint8_t **out, size_t *len, char *err, size_t
     return 0;
 }
 
-int qibl_hdr_read(const char *path, int *w, int *h, float **rgb, char *err, size_t errlen)
+int qibl_hdr_read(const char *path, int *w_out, int *h_out, float **rgb_out, char *err, size_t errlen)
 {
-    uint8_t *buf;
-    size_t n;
-    if (slurp(path, &buf, &n, err, errlen) != 0)
+    int w, h;
+    uint8_t *px;
+    float *rgb;
+    if (qibl_hdr_read_rgbe(path, &w, &h, &px, err, errlen) != 0 || to_float(px, w, h, &rgb, err, errlen) != 0)
         return -1;
-    char msg[256];
-    int rc = qibl_hdr_decode(buf, n, w, h, rgb, msg, sizeof msg);
-    free(buf);
-    if (rc != 0)
-        return fail(err, errlen, "%s: %s", path, msg);
+    *w_out = w;
+    *h_out = h;
+    *rgb_out = rgb;
     return 0;
 }
 
 int qibl_hdr_read_rgbe(const char *path, int *w, int *h, uint8_t **rgbe, char *err, size_t errlen)
 {
-    uint8_t *buf;
-    size_t n;
+    uint8_t *buf = NULL; /* set by slurp on success; initialised for the compiler's flow analysis */
+    size_t n = 0;
     if (slurp(path, &buf, &n, err, errlen) != 0)
         return -1;
     char msg[256];

@@ -26,8 +26,8 @@
 #endif
 
 /* QIBL_USE_LIGHTPROBE: 1 builds light-probe sampling (lightprobe.c: SATs, median cut, adaptive
- * median cut, variance minimisation; about 6 KiB .text on Cortex-M4 -Os, no RAM beyond the caller's
- * workspace, 8 bytes per probe pixel, 48 with the variance tables). */
+ * median cut, variance minimisation; about 9 KiB .text on Cortex-M4 -Os, no RAM beyond the caller's
+ * workspace: 8 bytes per probe pixel, 48 with the variance tables). */
 #ifndef QIBL_USE_LIGHTPROBE
 #define QIBL_USE_LIGHTPROBE 1
 #endif

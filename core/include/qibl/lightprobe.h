@@ -14,10 +14,16 @@
  *   - A light's rgb is the irradiance it delivers to a surface facing it: the sum of Q over its
  *     region, per channel. Then E(n) = sum_i rgb_i max(0, n . d_i) approximates the probe's
  *     irradiance E(n) = sum_(u,v) Q(u, v) max(0, n . w(u, v)) for every normal n.
- *   - A light's direction d is a Q2.30 unit vector (error <= 2 LSB per component, |d| = 1 within
- *     2^-29) toward the region's energy centroid: the luminance-energy-weighted mean of the pixel
- *     centres' (u, v) inside the region, mapped to (theta, phi) as above. (Placement
- *     QIBL_LIGHTPROBE_PLACE_CENTRE uses the region's geometric centre instead, for comparison.)
+ *   - A light's direction d is a Q2.30 unit vector (error <= 3 LSB per component against the exact
+ *     direction of its integer centroid, |d| = 1 within 2 LSB) toward the region's energy centroid:
+ *     the luminance-energy-weighted mean of the pixel centres' (u, v) inside the region, mapped to
+ *     (theta, phi) as above. (Placement QIBL_LIGHTPROBE_PLACE_CENTRE uses the region's geometric
+ *     centre instead, for comparison: 4x the irradiance error on the real probes.)
+ *   - Regions are rectangles of pixels, kept cropped to the bounding box of their luminance energy
+ *     (dark margins carry no light); so every region is lit and every split adds a light.
+ *   - The longer side of a region is measured on the sphere: its angular width is
+ *     (u1 - u0) 2 pi / W times the mean of sin theta over its rows (exactly its solid angle divided
+ *     by its angular height), its height (v1 - v0) pi / H. A region near a pole is narrow.
  *
  * Pixel formats (qibl_lightprobe_format_t), each pixel's value P = (R, G, B):
  *   RGBE        Radiance bytes R G B E as stored in .hdr files after RLE decoding:
@@ -47,19 +53,22 @@
  *     floor (< 1 unit each, so < n units in all) and s_v: relative error
  *     <= n / (region energy in units) + 2^-30. With p >= 38 at the largest supported size a pixel
  *     2^20 (10^6) times dimmer than the brightest still carries >= 18 significant bits.
- *   - Median cut splits at the energy median found by binary search over the SAT (O(log w) region
- *     sums per split), choosing the cut that makes the two halves closest to equal, with at least
- *     one pixel on each side.
- *   - Variance minimisation (Viriyothai & Debevec 2009) adds four SATs of the moments e u, e u^2,
- *     e v, e v^2 (of e >> k_m, k_m chosen from the probe's total so that no moment overflows) and
- *     scores every cut of a region in O(1) with exact 128-bit integer arithmetic.
- *   - Light colours come from one more pass over the probe pixels, region by region (the final
- *     regions tile the probe, so it reads each pixel once).
+ *   - Median cut splits along the longer side at the energy median found by binary search over
+ *     the SAT (O(log w) region sums per split), choosing the cut that makes the two halves closest
+ *     to equal (ties: the smaller cut), with at least one pixel on each side.
+ *   - Variance minimisation (Viriyothai & Debevec 2009) adds five SATs of em, em u, em u^2, em v,
+ *     em v^2 (em = e >> k_m, k_m chosen from the probe's total so that no moment overflows) and
+ *     scores every cut of both axes in O(1) with exact 128-bit integer arithmetic: the larger of
+ *     the two halves' energy-weighted angular variances sum em ((sin theta dphi)^2 + dtheta^2),
+ *     sin theta taken as the half's mean, is minimised (ties: the more balanced energy).
+ *   - Light colours come from one more pass over the probe pixels, region by region (the regions
+ *     are disjoint, so it reads each lit pixel at most once).
  *
  * Memory: qibl_lightprobe_workspace_size(W, H, method) bytes, any alignment:
- *   8 (W + 1)(H + 1) for the SAT (40 (W + 1)(H + 1) with the four moment SATs of VARMIN)
- *   + 16 (H + 1) for the row tables + 8 for alignment. 1024 x 512: 4.2 MB (VARMIN 21 MB);
- *   4096 x 2048: 67 MB. The lights array doubles as the list of regions while splitting.
+ *   8 (W + 1)(H + 1) for the SAT (48 (W + 1)(H + 1) with the five moment SATs of VARMIN)
+ *   + 16 (H + 1) for the row tables + 8 for alignment. 1024 x 512: 4.2 MB (VARMIN 25 MB);
+ *   4096 x 2048: 67 MB (VARMIN 403 MB). The lights array doubles as the list of regions while
+ *   splitting; the stack use is a few hundred bytes.
  * Limits: W, H in 1..QIBL_LIGHTPROBE_MAX_DIM (32768), W H <= QIBL_LIGHTPROBE_MAX_PIXELS (2^26).
  * All functions are reentrant; the probe pixels must stay unchanged between build and lights.
  */
@@ -194,14 +203,17 @@ size_t qibl_lightprobe_workspace_size(uint32_t width, uint32_t height, qibl_ligh
 qibl_status_t qibl_lightprobe_build(qibl_lightprobe_t *lp, const qibl_lightprobe_image_t *img,
                                     qibl_lightprobe_method_t method, void *workspace, size_t workspace_size);
 
-/* Samples up to max_lights lights from a built probe into lights[], brightest first, and fills
- * *result. MEDIANCUT (and priority LEVELS) needs max_lights to be a power of two; ADAPTIVE and
- * VARMIN take any count >= 1. Fewer lights come back when regions run out: a region of one pixel
- * cannot split, a region with zero energy is not split and gives no light; so max_lights larger
- * than the number of lit pixels gives one light per lit pixel.
+/* Samples up to max_lights lights from a built probe into lights[], brightest first (luminance
+ * energy; ties: smaller v0, then u0), and fills *result. MEDIANCUT (and priority LEVELS) needs
+ * max_lights to be a power of two and splits every region once per round, log2(max_lights)
+ * rounds; ADAPTIVE and VARMIN take any count >= 1 and split one region at a time. Fewer lights
+ * come back when regions run out: a one-pixel region cannot split (nor, for priority VARIANCE, a
+ * region whose energy sits at one point), so ADAPTIVE or VARMIN with max_lights above the number
+ * of lit pixels gives one light per lit pixel, and MEDIANCUT stops at its rounds.
  * Accuracy: rgb within 1 LSB of the list's scale plus the region-sum error above; dir within
- * 2 LSB (Q2.30) of the exact direction of the integer centroid, which is within 2^-32 pixel of the
- * exact centroid of the region's integer energies.
+ * 3 LSB (Q2.30) of the exact direction of the integer centroid, which is within 2^-32 pixel of the
+ * exact centroid of the region's integer energies (and so within (n / T + 2^-29) of the region's
+ * extent of the real-valued centroid, n pixels holding T units).
  * Cost: O(count log count) region splits, each O(log(w h)) SAT reads (MEDIANCUT, ADAPTIVE) or
  * O(w + h) (VARMIN, each candidate cut costing a few 128-bit operations), then O(w + h) SAT reads
  * per light for its centroid and one read of the probe pixels for the colours.
