@@ -105,13 +105,14 @@ qibl_status_t qibl_shlight_add_dir(qibl_shlight_t *l, const qibl_q16_t dir[3], c
 qibl_status_t qibl_shmap_check(const qibl_shmaps_t *m);
 
 /* Per-frame weights from maps and light (light->k must be >= maps->k; extra coefficients are
- * ignored). Each channel's int16 weights share one power-of-two unit chosen so the largest is in
- * [16384, 32767]: weight quantisation adds at most 0.5 weight-LSB per map, i.e. a relative error
- * <= k * 2^-16 of the brightest map's full-scale contribution.
+ * ignored). Each channel's int16 weights share one power-of-two unit, the smallest that keeps the
+ * largest weight <= 32767 (so it lies in [16384, 32767] unless every product scale * L is already an
+ * exact integer below 16384 in Q40): weight quantisation adds at most 0.5 weight-LSB per map, i.e. a
+ * relative error <= k * 2^-16 of the brightest map's full-scale contribution.
  * Errors: those of qibl_shmap_check, QIBL_E_SHMAP_LIGHT_K; *out untouched on error. */
 qibl_status_t qibl_shmap_weights(const qibl_shmaps_t *m, const qibl_shlight_t *light, qibl_shmap_weights_t *out);
 
-/* Workspace bytes for a span of n pixels (directional and point kernels alike). */
+/* Workspace bytes qibl_shmap_relight_span needs for a span of n pixels (int32-aligned). */
 size_t qibl_shmap_span_workspace_size(uint32_t n);
 
 /* Relights pixels x0 .. x0+n-1 of row y into out (3n int32, Q16.16, RGB interleaved).
@@ -132,7 +133,7 @@ qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t
                                        const qibl_pointlight_t *light, qibl_shmap_point_t *out);
 
 /* Workspace bytes qibl_shmap_point_span needs for a span of n pixels with k maps
- * (n * (2k + 32) bytes: per-pixel Y_i, attenuation and two int32 accumulators per channel). */
+ * (n * (2k + 32) bytes, int32-aligned: per-pixel Y_i, attenuation and two int32 accumulators). */
 size_t qibl_shmap_point_workspace_size(uint32_t k, uint32_t n);
 
 /* Relights a span under a prepared point light, into out as qibl_shmap_relight_span.
