@@ -10,16 +10,21 @@ CORE_OPT ?= $(OPT)
 # core/: strict C99, integer-only, freestanding-clean (proven by `make cross`).
 CORE_WARN   := -std=c99 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wundef -Wdouble-promotion \
                -Wmissing-prototypes -Werror
-CORE_CFLAGS := $(CORE_WARN) $(CORE_OPT) -g -Icore/include
+# SAN: extra compile and link flags for every object and program (make test-asan sets sanitizers).
+SAN     ?=
+CORE_CFLAGS := $(CORE_WARN) $(CORE_OPT) -g -Icore/include $(SAN)
 # tools/ and tests/: hosted C99 + POSIX.
-HOST_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -Wall -Wextra -Werror $(OPT) -g -Icore/include -Iplatform/soft/include -Itools
+HOST_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -Wall -Wextra -Werror $(OPT) -g -Icore/include -Iplatform/soft/include -Itools $(SAN)
 HOST_LIBS   := -lm -lpthread
 
 CORE_SRC := $(wildcard core/src/*.c)
 # platform/soft: freestanding like core/, built with the core flags into the same two libraries.
 PLATFORM_SRC := $(wildcard platform/soft/*.c)
 PLATFORM_INC := -Iplatform/soft/include
-TOOL_LIB_SRC := $(wildcard tools/ref/*.c) $(wildcard tools/io/*.c) $(wildcard tools/gen/*.c)
+TOOL_LIB_SRC := $(wildcard tools/ref/*.c) $(wildcard tools/io/*.c) $(wildcard tools/gen/*.c) $(wildcard tools/render/*.c) $(wildcard tools/bake/*.c)
+# the golden cases (plain C, shared by the suites and the golden runner) and their CMocka-side check
+GOLDEN_CASES_SRC := $(wildcard tools/golden/cases*.c)
+TOOL_LIB_SRC += $(GOLDEN_CASES_SRC) tools/golden/check.c
 QIBL_SRC := $(wildcard tools/qibl/*.c)
 TEST_SRC := $(wildcard tests/*_test.c)
 
@@ -42,7 +47,7 @@ LIBQIBL_PORTABLE := $(BUILD)/libqibl-portable.a
 LIBTOOLS := $(BUILD)/libqibl-tools.a
 QIBL := $(BUILD)/bin/qibl
 
-.PHONY: all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive
+.PHONY: all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan
 .DEFAULT_GOAL := all
 
 all: $(LIBQIBL) $(QIBL)
@@ -51,12 +56,15 @@ qibl: $(QIBL)
 
 help:
 	@echo "make            build the core library and the qibl CLI ($(QIBL))"
-	@echo "make demo       run the main demo"
+	@echo "make demo       run the main demo (SCENE=path.obj for a mesh, DEMO_SIZE=small for the CI size)"
 	@echo "make test       build and run the CMocka suites (installs libcmocka-dev if it can)"
 	@echo "make cross      freestanding builds for Cortex-M0/M4 and RV64, checks and size table"
 	@echo "make warnings   compile core/ and platform/soft/ with gcc and clang under the strict warning set"
 	@echo "make bench      benchmarks (speed against error), RESULT lines"
 	@echo "make check-exhaustive  sweeps too long for make test (all 2^32 sRGBE codes; CI runs it)"
+	@echo "make golden     run the golden runner natively: one hash per golden case, compared with fixtures/golden"
+	@echo "make ports      the golden runner on every compiler, -O level and architecture (qemu); hashes must agree"
+	@echo "make test-asan  the suites under AddressSanitizer + UndefinedBehaviorSanitizer (in $(BUILD)/asan)"
 	@echo "make clean      remove $(BUILD)/ and out/"
 
 $(BUILD)/native/%.o: %.c
@@ -132,6 +140,44 @@ check-exhaustive: $(EXHAUSTIVE)
 cross:
 	@BUILD=$(BUILD) bash tools/scripts/cross.sh
 
+# The golden runner: plain C99 + libc (core, platform/soft, the cases, SHA-256), no CMocka, so it
+# cross-compiles anywhere. `make golden` runs it here; `make ports` builds and runs it for every
+# configuration (tools/scripts/ports.sh, builds under $(BUILD)/ports/).
+GOLDEN := $(BUILD)/bin/qibl-golden
+GOLDEN_OBJ := $(GOLDEN_CASES_SRC:%.c=$(BUILD)/host/%.o) $(BUILD)/host/tools/golden/runner.o $(BUILD)/host/tools/io/sha256.o
+
+$(GOLDEN): $(GOLDEN_OBJ) $(LIBQIBL)
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) -o $@ $(GOLDEN_OBJ) $(LIBQIBL)
+
+golden: $(GOLDEN)
+	$(GOLDEN)
+
+ports:
+	@BUILD=$(BUILD) bash tools/scripts/ports.sh
+
+# The suites (native and portable core paths) and the golden runner under ASan + UBSan, in their own
+# build dir ($(BUILD)/asan); any finding is an error. All of it takes well under a minute at -O1.
+# (GCC's flow warnings give false positives on instrumented code, so they stay warnings there; the
+# plain builds and `make warnings` keep them errors.)
+ASAN_FLAGS := -fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer \
+              -Wno-error=format-truncation -Wno-error=maybe-uninitialized -Wno-error=stringop-overflow \
+              -Wno-error=array-bounds
+test-asan: test-deps
+	@$(MAKE) --no-print-directory BUILD=$(BUILD)/asan OPT=-O1 SAN="$(ASAN_FLAGS)" $(BUILD)/asan/bin/qibl-golden
+	@printf '#include <limits.h>\nint main(int argc, char **argv) { int x = INT_MAX - 1 + argc; (void)argv; return x + argc > 0; }\n' \
+	  > $(BUILD)/asan/canary.c && $(CC) $(ASAN_FLAGS) $(BUILD)/asan/canary.c -o $(BUILD)/asan/canary
+	@if $(BUILD)/asan/canary 2>/dev/null; then echo "test-asan: UBSan let a signed overflow pass" >&2; exit 1; \
+	  else echo "test-asan: sanitizers live (a signed overflow stops a canary program)"; fi
+	@echo "== golden runner under ASan + UBSan"
+	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  $(BUILD)/asan/bin/qibl-golden --config asan-ubsan > $(BUILD)/asan/golden.txt 2>&1; \
+	  rc=$$?; grep -E ' (MISMATCH|MISSING|ERROR)|^golden: ' $(BUILD)/asan/golden.txt; \
+	  [ $$rc = 0 ] || { tail -n 30 $(BUILD)/asan/golden.txt; exit 1; }
+	@echo "== suites under ASan + UBSan"
+	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  $(MAKE) --no-print-directory BUILD=$(BUILD)/asan OPT=-O1 SAN="$(ASAN_FLAGS)" test
+
 warnings:
 	@for cc in gcc clang; do \
 	  if ! command -v $$cc >/dev/null 2>&1; then echo "warnings: $$cc not found" >&2; exit 1; fi; \
@@ -144,20 +190,16 @@ warnings:
 bench: $(QIBL)
 	$(QIBL) bench all
 
-# Until the bake-and-relight demo lands (issue "Bake pipeline"), the demo relights the procedural
-# courtyard (analytic SH maps) with the core kernels and writes PNGs to out/demo/.
+# The main demo: bake the built-in courtyard (or SCENE=path.obj) with the ray tracer, relight it with
+# the core (sun sweep, moving lamp), compare with ground truth; PNGs, APNGs, contact sheet, table and
+# RESULT lines in out/demo/. DEMO_SIZE=small is the CI version (256x64, 128 directions).
+SCENE ?= builtin
+DEMO_SIZE ?= full
+DEMO_THREADS ?= $(shell n=$$(getconf _NPROCESSORS_ONLN 2>/dev/null || echo 2); echo $$n)
 demo: $(QIBL)
 	@mkdir -p out/demo
-	@echo "== qibl demo: SH basis (bands 0..2) of the sun direction (1, 1, 2), computed in integers"
-	$(QIBL) sh eval --bands 3 1 1 2
-	@echo "== bake the procedural courtyard to 8-bit SH maps (k = 16) with a P map and a 32^2 cube-map Y LUT"
-	$(QIBL) gen -o out/demo/courtyard.qibl --k 16 --lut 32
-	$(QIBL) info out/demo/courtyard.qibl | head -8
-	@echo "== relight it: a low sun, then a lamp in the courtyard (integer kernels, software framebuffer)"
-	$(QIBL) relight out/demo/courtyard.qibl --sun 0.5 0.3 0.8 --rgb 1.6 1.45 1.2 --png out/demo/sun.png
-	$(QIBL) relight out/demo/courtyard.qibl --point 1.5 -2 0.8 --rgb 4 3.4 2.6 --lut --png out/demo/lamp.png
-	$(QIBL) sh plot --png out/demo/sh_basis.png
-	@echo "== demo images are in out/demo/"
+	$(QIBL) demo --out out/demo --scene $(SCENE) --threads $(DEMO_THREADS) $(if $(filter small,$(DEMO_SIZE)),--small)
+	$(QIBL) check out/demo/scene_k16.qibl out/demo/sun_sweep.png out/demo/lamp_sweep.png out/demo/contact_sheet.png
 
 clean:
 	rm -rf $(BUILD) out

@@ -19,6 +19,8 @@
 
 #include "qibl/lightprobe.h"
 #include "qibl/srgbe.h"
+#include "golden/cases.h"
+#include "golden/check.h"
 #include "io/golden.h"
 #include "io/hdr.h"
 #include "io/sha256.h"
@@ -156,36 +158,6 @@ static uint8_t *random_probe(tu_rng *r, int w, int h, int spots, double range)
             for (int ch = 0; ch < 3; ++ch)
                 q[ch] = (uint8_t)floor(ldexp(rad[ch], 8 - e));
             q[3] = (uint8_t)(e + 128);
-        }
-    return px;
-}
-
-/* An integer-only probe for the goldens (no libm, so the input bytes are the same everywhere):
- * a smooth base of colours from integer gradients and hash noise, and spots whose exponent rises by
- * up to 12 (4096x) towards their centres. */
-static uint8_t *int_probe(uint64_t seed, int w, int h, int spots)
-{
-    tu_rng r = {seed};
-    uint8_t *px = malloc(4 * (size_t)w * (size_t)h);
-    assert_non_null(px);
-    int su[8], sv[8];
-    for (int k = 0; k < spots && k < 8; ++k)
-        su[k] = (int)(tu_u32(&r) % (uint32_t)w), sv[k] = (int)(tu_u32(&r) % (uint32_t)h);
-    for (int v = 0; v < h; ++v)
-        for (int u = 0; u < w; ++u) {
-            uint8_t *q = px + 4 * ((size_t)v * (size_t)w + (size_t)u);
-            uint32_t n = tu_u32(&r);
-            q[0] = (uint8_t)(128 + (u * 97 / w + (int)(n & 15)) % 128);
-            q[1] = (uint8_t)(128 + (v * 89 / h + (int)((n >> 4) & 15)) % 128);
-            q[2] = (uint8_t)(128 + ((u + v) * 61 / (w + h) + (int)((n >> 8) & 31)) % 128);
-            int e = 124 + (v < h / 2);
-            for (int k = 0; k < spots && k < 8; ++k) {
-                int d2 = (u - su[k]) * (u - su[k]) + (v - sv[k]) * (v - sv[k]);
-                int b = 12 - d2 / 3;
-                if (b > e - 124)
-                    e = 124 + b;
-            }
-            q[3] = (uint8_t)e;
         }
     return px;
 }
@@ -958,86 +930,24 @@ static void test_centroid_beats_centre(void **state)
 
 /* ---- goldens: the same bytes on every compiler, optimisation level and port ----------------- */
 
-static void put32(uint8_t *p, uint32_t v)
-{
-    p[0] = (uint8_t)v, p[1] = (uint8_t)(v >> 8), p[2] = (uint8_t)(v >> 16), p[3] = (uint8_t)(v >> 24);
-}
-
-/* count, rgb_exp, then per light dir, rgb, region: little-endian 32-bit words */
-static size_t serialise(const qibl_lightprobe_light_t *L, const qibl_lightprobe_result_t *res, uint8_t *out)
-{
-    size_t n = 0;
-    put32(out + n, res->count), n += 4;
-    put32(out + n, (uint32_t)res->rgb_exp), n += 4;
-    for (uint32_t i = 0; i < res->count; ++i) {
-        for (int c = 0; c < 3; ++c)
-            put32(out + n, (uint32_t)L[i].dir[c]), n += 4;
-        for (int c = 0; c < 3; ++c)
-            put32(out + n, (uint32_t)L[i].rgb[c]), n += 4;
-        put32(out + n, L[i].u0), n += 4;
-        put32(out + n, L[i].v0), n += 4;
-        put32(out + n, L[i].u1), n += 4;
-        put32(out + n, L[i].v1), n += 4;
-    }
-    return n;
-}
-
+/* Checks the light list of n lights by method against fixtures/golden/<name>.sha256, serialised as
+ * the golden runner does (qibl_goldens_light_bytes). */
 static int check_golden(const char *name, const qibl_lightprobe_t *lp, int method, uint32_t n)
 {
     qibl_lightprobe_light_t L[256];
     qibl_lightprobe_result_t res;
     static uint8_t buf[8 + 256 * 40];
     assert_int_equal(sample(lp, method, 0, 0, n, L, &res), QIBL_OK);
-    return qibl_golden_check_bytes(name, buf, serialise(L, &res, buf));
+    return qibl_golden_check_bytes(name, buf, qibl_goldens_light_bytes(L, &res, buf));
 }
 
+/* The integer-made probes (a sun and sky, a 100 x 50 with hot spots in RGBE, sRGBE, int32 and
+ * binary32) and the row-weight table live in tools/golden/cases_lightprobe.c, shared with the
+ * golden runner that `make ports` runs on every architecture. */
 static void test_goldens(void **state)
 {
     (void)state;
-    int bad = 0;
-    /* (a) a sun and sky 256 x 128 RGBE, (b) an integer-made 100 x 50 with three hot spots, (c) the
-     * same as (b) in sRGBE, (d) int32 with 12 fraction bits; all inputs made without libm (the
-     * float and int32 copies of (b) are exact conversions) */
-    uint8_t *a = calloc(4 * 256 * 128, 1);
-    for (int v = 0; v < 128; ++v)
-        for (int u = 0; u < 256; ++u) {
-            uint8_t *q = a + 4 * (v * 256 + u);
-            q[0] = (uint8_t)(140 + (u + v) % 50), q[1] = (uint8_t)(150 + v % 40), q[2] = (uint8_t)(200 + u % 50);
-            q[3] = (uint8_t)(v < 64 ? 126 : 124);
-        }
-    a[4 * (30 * 256 + 77)] = 255, a[4 * (30 * 256 + 77) + 1] = 250, a[4 * (30 * 256 + 77) + 2] = 220;
-    a[4 * (30 * 256 + 77) + 3] = 150;
-    uint8_t *bp = int_probe(7, 100, 50, 3);
-    uint8_t *c = malloc(4 * 100 * 50);
-    uint32_t *fb = malloc(sizeof *fb * 3 * 100 * 50);
-    int32_t *ib = malloc(sizeof *ib * 3 * 100 * 50);
-    for (int i = 0; i < 3 * 100 * 50; ++i) {
-        float x = (float)rgbe_value(bp[4 * (i / 3) + i % 3], bp[4 * (i / 3) + 3]);
-        memcpy(&fb[i], &x, 4);
-        ib[i] = (int32_t)lrint(ldexp(x, 12));
-    }
-    assert_int_equal(qibl_srgbe_encode_f32_n(fb, 100 * 50, c), QIBL_OK);
-    qibl_lightprobe_image_t img[4];
-    img[0] = rgbe_image(a, 256, 128);
-    img[1] = rgbe_image(bp, 100, 50);
-    img[2] = rgbe_image(c, 100, 50), img[2].format = QIBL_LIGHTPROBE_SRGBE;
-    img[3] = rgbe_image((const uint8_t *)ib, 100, 50), img[3].format = QIBL_LIGHTPROBE_LINEAR_I32,
-    img[3].frac_bits = 12;
-    const char *names[4] = {"sunsky256", "random100", "random100_srgbe", "random100_i32q12"};
-    for (int k = 0; k < 4; ++k) {
-        built b;
-        assert_int_equal(build(&b, &img[k], QIBL_LIGHTPROBE_VARMIN), QIBL_OK);
-        char name[96];
-        snprintf(name, sizeof name, "lightprobe_%s_mediancut64", names[k]);
-        bad += check_golden(name, &b.lp, 0, 64) != 0;
-        snprintf(name, sizeof name, "lightprobe_%s_adaptive37", names[k]);
-        bad += check_golden(name, &b.lp, 1, 37) != 0;
-        snprintf(name, sizeof name, "lightprobe_%s_varmin37", names[k]);
-        bad += check_golden(name, &b.lp, 2, 37) != 0;
-        free(b.ws);
-    }
-    free(a), free(bp), free(c), free(fb), free(ib);
-    assert_int_equal(bad, 0);
+    assert_int_equal(qibl_goldens_check("lightprobe"), 0);
 }
 
 /* ---- the real probes, when present ---------------------------------------------------------- */

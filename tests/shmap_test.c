@@ -13,7 +13,7 @@
 #include <stdio.h>
 #include <cmocka.h>
 
-#include "io/golden.h"
+#include "golden/check.h"
 #include "qibl/shmap.h"
 #include "qibl/soft.h"
 #include "ref/sh_ref.h"
@@ -534,132 +534,13 @@ static void test_ylut_build_and_lookup(void **state)
 
 /* ---- goldens: fixed maps, lights and formats -> SHA-256 of the framebuffer bytes --------------- */
 
-/* Integer-only fixture (no libm: the same bytes on every port): smooth-ish planes from a PRNG,
- * scale/bias like packed maps, a P map on a cylinder around the origin. */
-static void golden_maps(maps_buf *b, pmap_buf *pb, uint32_t w, uint32_t h, uint32_t k)
-{
-    tu_rng r = {2026};
-    maps_make(b, w, h, k, 3, &r, 1 << 17);
-    for (uint32_t pl = 0; pl < k * 3; ++pl) /* replace noise by ramps + a little noise */
-        for (uint32_t y = 0; y < h; ++y)
-            for (uint32_t x = 0; x < w; ++x)
-                b->planes[((size_t)pl * h + y) * w + x] =
-                    (uint8_t)((x * (pl + 3) + y * (2 * pl + 1) + (tu_u32(&r) & 15u)) & 0xFFu);
-    pb->bytes = malloc((size_t)w * h * 12u);
-    pb->p.width = w, pb->p.height = h, pb->p.points = pb->bytes;
-    for (uint32_t y = 0; y < h; ++y)
-        for (uint32_t x = 0; x < w; ++x) {
-            uint8_t *q = pb->bytes + ((size_t)y * w + x) * 12u;
-            put_s32(q, (int32_t)(x * 40000u) - (int32_t)(w * 20000u));
-            put_s32(q + 4, (int32_t)((x * 7u + y * 3u) % 11u) * 30000 - 150000);
-            put_s32(q + 8, (int32_t)(y * 50000u) - (int32_t)(h * 25000u));
-        }
-}
-
-typedef struct {
-    const char *name;
-    qibl_fb_format_t fmt;
-    uint8_t srgb, dither;
-    qibl_uq16_t exposure;
-} golden_fb;
-
-static const golden_fb golden_fbs[] = {
-    {"rgba8888_srgb", QIBL_FB_RGBA8888, 1, 0, 0},
-    {"bgra8888_linear_exp2", QIBL_FB_BGRA8888, 0, 0, 2u << 16},
-    {"rgb565_dither", QIBL_FB_RGB565, 1, 1, 0},
-    {"accum32", QIBL_FB_ACCUM32, 0, 0, 0},
-};
-
-/* Renders rows through render(y, out) into every golden framebuffer format and checks the hashes. */
-typedef void (*row_fn)(void *ctx, uint32_t y, int32_t *out);
-
-static void check_goldens(const char *prefix, uint32_t w, uint32_t h, row_fn render, void *ctx)
-{
-    int32_t *row = malloc(sizeof(int32_t) * 3u * w);
-    for (size_t f = 0; f < sizeof golden_fbs / sizeof golden_fbs[0]; ++f) {
-        qibl_fb_desc_t fb = {0};
-        fb.width = w, fb.height = h, fb.format = golden_fbs[f].fmt;
-        fb.srgb = golden_fbs[f].srgb, fb.dither = golden_fbs[f].dither, fb.exposure = golden_fbs[f].exposure;
-        size_t bytes = (size_t)w * h * qibl_fb_bytes_per_pixel(fb.format);
-        fb.pixels = calloc(bytes, 1);
-        assert_int_equal(qibl_fb_check(&fb), QIBL_OK);
-        for (uint32_t y = 0; y < h; ++y) {
-            render(ctx, y, row);
-            assert_int_equal(qibl_fb_write_row(&fb, 0, y, w, row), QIBL_OK);
-        }
-        char name[96];
-        snprintf(name, sizeof name, "relight_%s_%s", prefix, golden_fbs[f].name);
-        assert_int_equal(qibl_golden_check_bytes(name, fb.pixels, bytes), 0);
-        free(fb.pixels);
-    }
-    free(row);
-}
-
-typedef struct {
-    const qibl_shmaps_t *m;
-    qibl_shmap_weights_t w;
-    int32_t ws[64 * 3];
-} dir_ctx;
-
-static void dir_row(void *c, uint32_t y, int32_t *out)
-{
-    dir_ctx *d = (dir_ctx *)c;
-    /* two spans per row, as a caller splitting work would */
-    assert_int_equal(qibl_shmap_relight_span(d->m, &d->w, 0, y, 23, out, d->ws, sizeof d->ws), QIBL_OK);
-    assert_int_equal(qibl_shmap_relight_span(d->m, &d->w, 23, y, 64 - 23, out + 3 * 23, d->ws, sizeof d->ws), QIBL_OK);
-}
-
-typedef struct {
-    qibl_shmap_point_t st;
-    uint8_t ws[64 * (2 * 25 + 32)];
-} point_ctx;
-
-static void point_row(void *c, uint32_t y, int32_t *out)
-{
-    point_ctx *p = (point_ctx *)c;
-    assert_int_equal(qibl_shmap_point_span(&p->st, 0, y, 64, out, p->ws, sizeof p->ws), QIBL_OK);
-}
-
+/* The fixture (integer-only maps and P map, a sun plus sky, a point light direct / LUT bilinear / LUT
+ * nearest, four framebuffer formats) lives in tools/golden/cases_relight.c, shared with the golden
+ * runner that `make ports` runs on every architecture. */
 static void test_goldens(void **state)
 {
     (void)state;
-    const uint32_t w = 64, h = 16;
-    for (uint32_t k = 9; k <= 16; k += 7) {
-        maps_buf b;
-        pmap_buf pb;
-        golden_maps(&b, &pb, w, h, k);
-        /* directional: a warm sun and a cool sky light together */
-        dir_ctx dc;
-        dc.m = &b.m;
-        qibl_shlight_t l;
-        qibl_shlight_init(&l, k);
-        const qibl_q16_t sun[3] = {40000, 25000, 52000}, sun_rgb[3] = {150000, 120000, 90000};
-        const qibl_q16_t sky[3] = {0, 0, 65536}, sky_rgb[3] = {20000, 30000, 52000};
-        assert_int_equal(qibl_shlight_add_dir(&l, sun, sun_rgb), QIBL_OK);
-        assert_int_equal(qibl_shlight_add_dir(&l, sky, sky_rgb), QIBL_OK);
-        assert_int_equal(qibl_shmap_weights(&b.m, &l, &dc.w), QIBL_OK);
-        char prefix[32];
-        snprintf(prefix, sizeof prefix, "dir_k%u", k);
-        check_goldens(prefix, w, h, dir_row, &dc);
-        /* point light: direct SH, LUT bilinear, LUT nearest; both falloffs */
-        size_t vs = qibl_ylut_values_size(16, k);
-        uint8_t *vals = malloc(vs);
-        assert_int_equal(qibl_ylut_build(16, k, vals, vs), QIBL_OK);
-        qibl_ylut_t lut = {16, k, vals};
-        const char *modes[3] = {"direct", "lut16", "lut16_nearest"};
-        for (int mode = 0; mode < 3; ++mode) {
-            point_ctx pc;
-            qibl_pointlight_t pl = {{30000, -90000, 20000}, {200000, 160000, 120000},
-                                    mode == 1 ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST, 0,
-                                    mode == 2 ? QIBL_LUT_NEAREST : QIBL_LUT_BILINEAR};
-            assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, mode ? &lut : NULL, &pl, &pc.st), QIBL_OK);
-            snprintf(prefix, sizeof prefix, "point_k%u_%s", k, modes[mode]);
-            check_goldens(prefix, w, h, point_row, &pc);
-        }
-        free(vals);
-        free(pb.bytes);
-        maps_free(&b);
-    }
+    assert_int_equal(qibl_goldens_check("relight"), 0);
 }
 
 int main(void)

@@ -2,8 +2,8 @@
  * soft_test.c - platform/soft (qibl/soft.h): pixel packing of every format, exposure, the sRGB
  * table against the exact IEC 61966-2-1 curve, RGB565 rounding and ordered dither, saturating
  * accumulation and resolve, strides and unaligned pixels, every error status (nothing written),
- * and golden SHA-256 hashes of a fixed gradient in every format (fixtures/golden/soft_*.sha256;
- * QIBL_UPDATE_GOLDEN=1 rewrites them, see tools/io/golden.h).
+ * and golden SHA-256 hashes of a fixed gradient in every format (fixtures/golden/soft_*.sha256, cases
+ * in tools/golden/cases_soft.c; QIBL_UPDATE_GOLDEN=1 rewrites them, see tools/io/golden.h).
  *
  * References are computed here in doubles or 64-bit integers from the definitions in soft.h, not
  * from soft.c's tables. Built twice like every suite (native and portable core paths): the bytes,
@@ -20,7 +20,7 @@
 #include <cmocka.h>
 
 #include "qibl/soft.h"
-#include "io/golden.h"
+#include "golden/check.h"
 #include "testutil.h"
 
 #define ONE 65536
@@ -689,85 +689,13 @@ static void test_errors_write_nothing(void **state)
 
 /* ---- goldens ------------------------------------------------------------------------------------ */
 
-enum { GW = 61, GH = 19 }; /* odd sizes: partial dither tiles and resolve chunks */
-
-/* The fixed test pattern: R a horizontal ramp from -0.125 to 1.125, G a vertical ramp 0..1, B a
- * sawtooth from -1/16 to 1, plus a few extreme values; integers only, so identical everywhere. */
-static void gradient(uint32_t x, uint32_t y, int32_t out[3])
-{
-    out[0] = -8192 + (int32_t)(x * 81920u / (GW - 1));
-    out[1] = (int32_t)(y * 65536u / (GH - 1));
-    out[2] = (int32_t)((x * 5u + y * 3u) % 17u) * 4096 - 4096;
-    if (x == 0 && y == 0)
-        out[0] = INT32_MIN, out[1] = INT32_MAX, out[2] = -1;
-    if (x == GW - 1 && y == GH - 1)
-        out[0] = 1, out[1] = ONE - 1, out[2] = ONE + 1;
-}
-
-/* writes the gradient into fb, each row as spans of 1..13 pixels (starting at a row-dependent x)
- * so that span splitting is part of what the hash covers; pass 1 shifts the pattern for a second
- * accumulation */
-static void write_gradient(const qibl_fb_desc_t *fb, int pass)
-{
-    int32_t row[3 * GW];
-    for (uint32_t y = 0; y < GH; ++y) {
-        for (uint32_t x = 0; x < GW; ++x)
-            gradient((x + (uint32_t)pass * 7u) % GW, y, row + 3 * x);
-        for (uint32_t x = 0, k = y; x < GW; ++k) {
-            uint32_t n = 1 + (k * 5u) % 13u;
-            if (n > GW - x)
-                n = GW - x;
-            assert_int_equal(qibl_fb_write_row(fb, x, y, n, row + 3 * x), QIBL_OK);
-            x += n;
-        }
-    }
-}
-
+/* The fixed gradient (extreme values, spans of 1..13 pixels, every format, two accumulation passes
+ * and the resolves) lives in tools/golden/cases_soft.c, shared with the golden runner that
+ * `make ports` runs on every architecture. */
 static void test_golden_gradient(void **state)
 {
     (void)state;
-    static uint8_t px[GW * GH * 12], acc[GW * GH * 12];
-    static const struct {
-        const char *name;
-        qibl_fb_format_t f;
-        uint8_t srgb, dither;
-        uint32_t exposure;
-    } cases[] = {
-        {"soft_gradient_rgba8888_linear", QIBL_FB_RGBA8888, 0, 0, 0},
-        {"soft_gradient_rgba8888_srgb", QIBL_FB_RGBA8888, 1, 0, 0},
-        {"soft_gradient_bgra8888_linear_exp2", QIBL_FB_BGRA8888, 0, 0, 2 * ONE},
-        {"soft_gradient_bgra8888_srgb_exp075", QIBL_FB_BGRA8888, 1, 0, ONE * 3 / 4},
-        {"soft_gradient_rgb565_linear", QIBL_FB_RGB565, 0, 0, 0},
-        {"soft_gradient_rgb565_dither", QIBL_FB_RGB565, 0, 1, 0},
-        {"soft_gradient_rgb565_srgb", QIBL_FB_RGB565, 1, 0, 0},
-        {"soft_gradient_rgb565_srgb_dither", QIBL_FB_RGB565, 1, 1, 0},
-    };
-    int failed = 0;
-    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
-        qibl_fb_desc_t fb = fb_make(px, cases[i].f, GW, GH, 0);
-        fb.srgb = cases[i].srgb;
-        fb.dither = cases[i].dither;
-        fb.exposure = cases[i].exposure;
-        assert_int_equal(qibl_fb_clear(&fb), QIBL_OK);
-        write_gradient(&fb, 0);
-        failed |= qibl_golden_check_bytes(cases[i].name, px, (size_t)GW * GH * qibl_fb_bytes_per_pixel(fb.format));
-    }
-    /* the accumulator after two passes, and its resolves */
-    qibl_fb_desc_t src = fb_make(acc, QIBL_FB_ACCUM32, GW, GH, 0);
-    assert_int_equal(qibl_fb_clear(&src), QIBL_OK);
-    write_gradient(&src, 0);
-    write_gradient(&src, 1);
-    failed |= qibl_golden_check_bytes("soft_gradient_accum32_2pass", acc, sizeof acc);
-    qibl_fb_desc_t d = fb_make(px, QIBL_FB_RGBA8888, GW, GH, 0);
-    d.srgb = 1;
-    d.exposure = ONE / 2;
-    assert_int_equal(qibl_fb_resolve(&d, &src), QIBL_OK);
-    failed |= qibl_golden_check_bytes("soft_gradient_resolve_rgba8888_srgb_exp05", px, (size_t)GW * GH * 4);
-    d.format = QIBL_FB_RGB565;
-    d.dither = 1;
-    assert_int_equal(qibl_fb_resolve(&d, &src), QIBL_OK);
-    failed |= qibl_golden_check_bytes("soft_gradient_resolve_rgb565_srgb_dither_exp05", px, (size_t)GW * GH * 2);
-    assert_int_equal(failed, 0);
+    assert_int_equal(qibl_goldens_check("soft"), 0);
 }
 
 int main(void)

@@ -163,20 +163,15 @@ static int deflate_fixed(const uint8_t *in, size_t n, bitw *w)
     return w->oom ? -1 : 0;
 }
 
-int qibl_png_write_rgb8(const char *path, int w, int h, const uint8_t *rgb, char *err, size_t errlen)
+/* zlib stream of the filtered scanlines of a w x h RGB image (filter Sub on every row). */
+static int zlib_rgb(int w, int h, const uint8_t *rgb, uint8_t **zout, size_t *zn)
 {
-    if (w <= 0 || h <= 0 || w > 65535 || h > 65535) {
-        snprintf(err, errlen, "%s: bad image size %dx%d", path, w, h);
-        return -1;
-    }
     /* raw scanlines: filter byte 1 (Sub) on every row, which suits smooth images */
     size_t row = (size_t)w * 3 + 1, raw_n = row * (size_t)h;
     uint8_t *raw = malloc(raw_n);
     bitw bw = {0};
-    if (!raw) {
-        snprintf(err, errlen, "%s: out of memory", path);
+    if (!raw)
         return -1;
-    }
     for (int y = 0; y < h; ++y) {
         uint8_t *r = raw + (size_t)y * row;
         const uint8_t *s = rgb + (size_t)y * (size_t)w * 3;
@@ -197,7 +192,6 @@ int qibl_png_write_rgb8(const char *path, int w, int h, const uint8_t *rgb, char
     bw_put(&bw, 0x01, 8);
     if (deflate_fixed(raw, raw_n, &bw) != 0) {
         free(raw), free(bw.buf);
-        snprintf(err, errlen, "%s: out of memory", path);
         return -1;
     }
     free(raw);
@@ -205,12 +199,25 @@ int qibl_png_write_rgb8(const char *path, int w, int h, const uint8_t *rgb, char
         bw_put(&bw, (((b << 16) | a) >> (8 * k)) & 0xFFu, 8);
     if (bw.oom) {
         free(bw.buf);
-        snprintf(err, errlen, "%s: out of memory", path);
         return -1;
     }
-    uint8_t *z = bw.buf;
-    size_t o = bw.n;
+    *zout = bw.buf, *zn = bw.n;
+    return 0;
+}
 
+/* PNG (frames == 1, delay ignored) or APNG (frames > 1: acTL, then per frame fcTL + IDAT/fdAT),
+ * written atomically (path.tmp, then rename). */
+static int write_png_frames(const char *path, int w, int h, int frames, const uint8_t *rgb, int delay_num,
+                            int delay_den, char *err, size_t errlen)
+{
+    if (w <= 0 || h <= 0 || w > 65535 || h > 65535) {
+        snprintf(err, errlen, "%s: bad image size %dx%d", path, w, h);
+        return -1;
+    }
+    if (frames < 1 || delay_num < 0 || delay_num > 65535 || delay_den < 0 || delay_den > 65535) {
+        snprintf(err, errlen, "%s: bad frame count %d or delay %d/%d", path, frames, delay_num, delay_den);
+        return -1;
+    }
     uint8_t ihdr[13];
     put32(ihdr, (uint32_t)w);
     put32(ihdr + 4, (uint32_t)h);
@@ -219,7 +226,6 @@ int qibl_png_write_rgb8(const char *path, int w, int h, const uint8_t *rgb, char
     size_t tl = strlen(path) + 5;
     char *tmp = malloc(tl);
     if (!tmp) {
-        free(z);
         snprintf(err, errlen, "%s: out of memory", path);
         return -1;
     }
@@ -228,22 +234,81 @@ int qibl_png_write_rgb8(const char *path, int w, int h, const uint8_t *rgb, char
     int rc = -1;
     if (!f) {
         snprintf(err, errlen, "%s: cannot create: %s", tmp, strerror(errno));
-    } else {
-        static const uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
-        int bad = fwrite(sig, 1, 8, f) != 8 || write_chunk(f, "IHDR", ihdr, 13) || write_chunk(f, "IDAT", z, o) ||
-                  write_chunk(f, "IEND", NULL, 0);
-        bad |= fclose(f) != 0;
-        if (bad) {
-            snprintf(err, errlen, "%s: write failed: %s", path, strerror(errno));
-            remove(tmp);
-        } else if (rename(tmp, path) != 0) {
-            snprintf(err, errlen, "%s: cannot rename from %s: %s", path, tmp, strerror(errno));
-            remove(tmp);
-        } else {
-            rc = 0;
+        free(tmp);
+        return -1;
+    }
+    static const uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+    int bad = fwrite(sig, 1, 8, f) != 8 || write_chunk(f, "IHDR", ihdr, 13), oom = 0;
+    uint32_t seq = 0;
+    if (frames > 1) {
+        uint8_t actl[8];
+        put32(actl, (uint32_t)frames);
+        put32(actl + 4, 0); /* loop forever */
+        bad |= write_chunk(f, "acTL", actl, 8);
+    }
+    for (int fr = 0; fr < frames && !bad; ++fr) {
+        uint8_t *z = NULL;
+        size_t zn = 0;
+        if (zlib_rgb(w, h, rgb + (size_t)fr * (size_t)w * (size_t)h * 3, &z, &zn) != 0) {
+            oom = bad = 1;
+            break;
         }
+        if (frames > 1) {
+            uint8_t fctl[26];
+            put32(fctl, seq++);
+            put32(fctl + 4, (uint32_t)w);
+            put32(fctl + 8, (uint32_t)h);
+            put32(fctl + 12, 0);
+            put32(fctl + 16, 0);
+            fctl[20] = (uint8_t)(delay_num >> 8), fctl[21] = (uint8_t)delay_num;
+            fctl[22] = (uint8_t)(delay_den >> 8), fctl[23] = (uint8_t)delay_den;
+            fctl[24] = 0, fctl[25] = 0; /* dispose none, blend source */
+            bad |= write_chunk(f, "fcTL", fctl, 26);
+        }
+        if (fr == 0) {
+            bad |= write_chunk(f, "IDAT", z, zn);
+        } else {
+            uint8_t *fd = malloc(zn + 4);
+            if (!fd) {
+                oom = bad = 1;
+            } else {
+                put32(fd, seq++);
+                memcpy(fd + 4, z, zn);
+                bad |= write_chunk(f, "fdAT", fd, zn + 4);
+                free(fd);
+            }
+        }
+        free(z);
+    }
+    bad |= write_chunk(f, "IEND", NULL, 0);
+    bad |= fclose(f) != 0;
+    if (bad) {
+        if (oom)
+            snprintf(err, errlen, "%s: out of memory", path);
+        else
+            snprintf(err, errlen, "%s: write failed: %s", path, strerror(errno));
+        remove(tmp);
+    } else if (rename(tmp, path) != 0) {
+        snprintf(err, errlen, "%s: cannot rename from %s: %s", path, tmp, strerror(errno));
+        remove(tmp);
+    } else {
+        rc = 0;
     }
     free(tmp);
-    free(z);
     return rc;
+}
+
+int qibl_png_write_rgb8(const char *path, int w, int h, const uint8_t *rgb, char *err, size_t errlen)
+{
+    return write_png_frames(path, w, h, 1, rgb, 0, 0, err, errlen);
+}
+
+int qibl_apng_write_rgb8(const char *path, int w, int h, int frames, const uint8_t *rgb, int delay_num,
+                         int delay_den, char *err, size_t errlen)
+{
+    if (frames < 2) {
+        snprintf(err, errlen, "%s: an animated PNG needs at least 2 frames, got %d", path, frames);
+        return -1;
+    }
+    return write_png_frames(path, w, h, frames, rgb, delay_num, delay_den, err, errlen);
 }

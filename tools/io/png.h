@@ -13,4 +13,19 @@
  * Returns 0, or -1 with a one-line reason in err (errlen bytes). */
 int qibl_png_write_rgb8(const char *path, int w, int h, const uint8_t *rgb, char *err, size_t errlen);
 
+/* Animated PNG (APNG: acTL, then per frame fcTL and IDAT for the first frame, fdAT for the others;
+ * viewers without APNG support show the first frame). frames >= 2 images of w x h RGB back to back;
+ * each shown delay_num / delay_den seconds; loops forever. Atomic like qibl_png_write_rgb8. */
+int qibl_apng_write_rgb8(const char *path, int w, int h, int frames, const uint8_t *rgb, int delay_num,
+                         int delay_den, char *err, size_t errlen);
+
+/* Reads a PNG as qibl's writers produce it and any viewer accepts as 8-bit RGB or RGBA, non-interlaced
+ * (every filter type; stored, fixed and dynamic Huffman deflate blocks), checking the signature, every
+ * chunk CRC, the zlib header and Adler-32. For an APNG, *frames is set to the acTL frame count and
+ * the fcTL/fdAT sequence is checked (all frames full size); the pixels returned are the first frame.
+ * 0 with *rgb (3 * w * h bytes, malloc'ed) set, or -1 with a one-line reason naming the file. */
+int qibl_png_read_rgb8(const char *path, int *w, int *h, int *frames, uint8_t **rgb, char *err, size_t errlen);
+int qibl_png_decode_rgb8(const uint8_t *buf, size_t len, int *w, int *h, int *frames, uint8_t **rgb, char *err,
+                         size_t errlen);
+
 #endif

@@ -30,6 +30,26 @@ int qibl_cmd_gen(int argc, char **argv);
 int qibl_cmd_relight(int argc, char **argv);
 int qibl_cmd_lights(int argc, char **argv);
 
+int qibl_cmd_render(int argc, char **argv); /* cmd_bake.c */
+int qibl_cmd_bake(int argc, char **argv);
+int qibl_cmd_merge(int argc, char **argv);
+int qibl_cmd_check(int argc, char **argv);
+int qibl_cmd_demo(int argc, char **argv); /* cmd_demo.c */
+
+/* Scene and panorama options shared by render, bake and demo (cmd_bake.c): --scene builtin|FILE.obj,
+ * --zup, --raw, --size WxH, --equirect, --threads N. */
+typedef struct qibl_cli_scene {
+    const char *scene;
+    int zup, raw, kind, threads;
+    uint32_t w, h;
+} qibl_cli_scene;
+void qibl_cli_scene_defaults(qibl_cli_scene *o);
+int qibl_cli_scene_opt(int argc, char **argv, int *i, qibl_cli_scene *o);
+struct qibl_rt_scene;
+int qibl_cli_scene_load(const qibl_cli_scene *o, struct qibl_rt_scene *s);
+struct qibl_rt_light;
+void qibl_cli_eval_lights(int obj_prop, int ndir, int npoint, struct qibl_rt_light *out);
+
 /* Prints "qibl: <message>" on stderr and returns 2 (the bad-arguments exit status). */
 int qibl_cli_usage_error(const char *fmt, ...);
 

@@ -1,0 +1,135 @@
+/*
+ * pfm_test.c - tools/io/pfm.c: both byte orders, colour and grey, row order, round trip through the
+ * writer, and every malformed header/truncation giving a one-line error that names the file with
+ * nothing returned.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include <cmocka.h>
+
+#include "io/pfm.h"
+
+/* builds a PFM image: header text, then samples in the given byte order, rows bottom first */
+static size_t make(uint8_t *buf, const char *hdr, const float *px, int w, int h, int ch, int little)
+{
+    size_t n = strlen(hdr);
+    memcpy(buf, hdr, n);
+    for (int y = h - 1; y >= 0; --y)
+        for (int i = 0; i < w * ch; ++i) {
+            uint32_t u;
+            memcpy(&u, &px[(size_t)y * (size_t)(w * ch) + (size_t)i], 4);
+            for (int b = 0; b < 4; ++b)
+                buf[n++] = (uint8_t)(u >> (little ? 8 * b : 24 - 8 * b));
+        }
+    return n;
+}
+
+static void test_both_endians_and_kinds(void **state)
+{
+    (void)state;
+    float rgb[2 * 3 * 3], grey[5 * 2];
+    for (int i = 0; i < 18; ++i)
+        rgb[i] = (float)i * 0.25f - 1.0f;
+    for (int i = 0; i < 10; ++i)
+        grey[i] = (float)i * 1e-3f;
+    uint8_t buf[512];
+    char err[256];
+    for (int little = 0; little < 2; ++little) {
+        int w, h, ch;
+        float *px = NULL;
+        size_t n = make(buf, little ? "PF\n2 3\n-1.0\n" : "PF\n2 3\n1.0\n", rgb, 2, 3, 3, little);
+        assert_int_equal(qibl_pfm_decode(buf, n, &w, &h, &ch, &px, err, sizeof err), 0);
+        assert_int_equal(w, 2), assert_int_equal(h, 3), assert_int_equal(ch, 3);
+        assert_memory_equal(px, rgb, sizeof rgb);
+        free(px);
+        n = make(buf, little ? "Pf 5 2 -4.5 " : "Pf\r\n5\t2\r\n+2\n", grey, 5, 2, 1, little);
+        assert_int_equal(qibl_pfm_decode(buf, n, &w, &h, &ch, &px, err, sizeof err), 0);
+        assert_int_equal(w, 5), assert_int_equal(h, 2), assert_int_equal(ch, 1);
+        assert_memory_equal(px, grey, sizeof grey);
+        free(px);
+    }
+}
+
+static void test_malformed(void **state)
+{
+    (void)state;
+    static const char *bad[] = {
+        "",                   /* empty */
+        "P6\n2 2\n255\n",     /* a PPM */
+        "PFX\n1 1\n-1\n",     /* magic not followed by whitespace */
+        "PF\n0 1\n-1\n",      /* zero width */
+        "PF\n1 -1\n-1\n",     /* negative height */
+        "PF\n1 1\n0\n",       /* zero scale */
+        "PF\n1 1\nnan\n",     /* NaN scale */
+        "PF\n1x 1\n-1\n",     /* junk in a number */
+        "PF\n1 1\n",          /* no scale */
+        "PF\n2 2\n-1\nabcd",  /* truncated samples */
+        "PF\n99999 1\n-1\n",  /* too wide */
+    };
+    char err[256];
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        int w = -7, h = -7, ch = -7;
+        float *px = (float *)&w;
+        err[0] = '\0';
+        assert_int_equal(qibl_pfm_decode((const uint8_t *)bad[i], strlen(bad[i]), &w, &h, &ch, &px, err, sizeof err), -1);
+        assert_int_equal(w, -7), assert_int_equal(h, -7), assert_int_equal(ch, -7);
+        assert_ptr_equal(px, (float *)&w);
+        assert_true(strlen(err) > 0 && strchr(err, '\n') == NULL);
+    }
+    /* the file name is in the message */
+    char path[64];
+    snprintf(path, sizeof path, "/tmp/qibl_pfm_bad_%d.pfm", (int)getpid());
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    fputs("PF\n4 4\n-1\n", f);
+    fclose(f);
+    int w, h, ch;
+    float *px;
+    assert_int_equal(qibl_pfm_read(path, &w, &h, &ch, &px, err, sizeof err), -1);
+    assert_non_null(strstr(err, path));
+    assert_non_null(strstr(err, "truncated"));
+    remove(path);
+    assert_int_equal(qibl_pfm_read("/nonexistent/x.pfm", &w, &h, &ch, &px, err, sizeof err), -1);
+    assert_non_null(strstr(err, "/nonexistent/x.pfm"));
+}
+
+static void test_write_round_trip(void **state)
+{
+    (void)state;
+    char path[64], err[256];
+    snprintf(path, sizeof path, "/tmp/qibl_pfm_rt_%d.pfm", (int)getpid());
+    float px[3 * 4 * 3];
+    for (int i = 0; i < 36; ++i)
+        px[i] = (float)(i * i) - 17.5f;
+    for (int ch = 1; ch <= 3; ch += 2) {
+        assert_int_equal(qibl_pfm_write(path, 4, 3, ch, px, err, sizeof err), 0);
+        int w, h, c;
+        float *back;
+        assert_int_equal(qibl_pfm_read(path, &w, &h, &c, &back, err, sizeof err), 0);
+        assert_int_equal(w, 4), assert_int_equal(h, 3), assert_int_equal(c, ch);
+        assert_memory_equal(back, px, sizeof(float) * 12 * (size_t)ch);
+        free(back);
+    }
+    remove(path);
+    /* bad arguments: nothing written */
+    assert_int_equal(qibl_pfm_write(path, 0, 3, 3, px, err, sizeof err), -1);
+    assert_int_equal(access(path, F_OK), -1);
+    assert_int_equal(qibl_pfm_write("/nonexistent/dir/x.pfm", 1, 1, 1, px, err, sizeof err), -1);
+    assert_non_null(strstr(err, "/nonexistent/dir/x.pfm"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_both_endians_and_kinds),
+        cmocka_unit_test(test_malformed),
+        cmocka_unit_test(test_write_round_trip),
+    };
+    return cmocka_run_group_tests_name("pfm", tests, NULL, NULL);
+}

@@ -1,0 +1,155 @@
+/*
+ * golden/cases.c - the list of golden groups and the helpers of golden/casesi.h.
+ */
+#include "golden/casesi.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "qibl/status.h"
+
+const qibl_goldens_group_t qibl_goldens_groups[] = {
+    {"fixed", "fixed-point primitives: sqrt, rsqrt, reciprocal, division, normalisation sweeps", qibl_goldens_fixed},
+    {"sh", "SH basis bands 0..4: lattice, random and hard-case directions, unit and band-count paths", qibl_goldens_sh},
+    {"srgbe", "sRGBE: encode of binary32/int32 edge cases and random patterns, decode of a code sweep", qibl_goldens_srgbe},
+    {"asset", "asset container: status and parsed fields of valid, damaged and truncated assets", qibl_goldens_asset},
+    {"relight", "shmap: directional and point-light relighting into every framebuffer format", qibl_goldens_relight},
+    {"soft", "platform/soft: a gradient in every framebuffer format, accumulation and resolve", qibl_goldens_soft},
+    {"lightprobe", "light lists: median cut, adaptive, variance minimisation on integer-made probes", qibl_goldens_lightprobe},
+};
+const size_t qibl_goldens_group_count = sizeof qibl_goldens_groups / sizeof qibl_goldens_groups[0];
+
+int qibl_goldens_run(const char *name, const qibl_goldens_sink_t *s)
+{
+    for (size_t i = 0; i < qibl_goldens_group_count; ++i)
+        if (strcmp(qibl_goldens_groups[i].name, name) == 0)
+            return qibl_goldens_groups[i].run(s);
+    return -1;
+}
+
+/* ---- byte buffer ----------------------------------------------------------------------------- */
+
+static int gbuf_reserve(gbuf *b, size_t more)
+{
+    if (b->oom)
+        return 0;
+    if (more <= b->cap - b->n)
+        return 1;
+    size_t cap = b->cap ? b->cap : 256;
+    while (cap - b->n < more) {
+        if (cap > ((size_t)-1) / 2) {
+            b->oom = 1;
+            return 0;
+        }
+        cap *= 2;
+    }
+    uint8_t *p = realloc(b->p, cap);
+    if (p == NULL) {
+        b->oom = 1;
+        return 0;
+    }
+    b->p = p, b->cap = cap;
+    return 1;
+}
+
+void gbuf_bytes(gbuf *b, const void *data, size_t n)
+{
+    if (n && gbuf_reserve(b, n)) {
+        memcpy(b->p + b->n, data, n);
+        b->n += n;
+    }
+}
+
+void gbuf_u8(gbuf *b, uint32_t v)
+{
+    uint8_t c = (uint8_t)v;
+    gbuf_bytes(b, &c, 1);
+}
+
+void gbuf_u16(gbuf *b, uint32_t v)
+{
+    uint8_t c[2] = {(uint8_t)v, (uint8_t)(v >> 8)};
+    gbuf_bytes(b, c, 2);
+}
+
+void gbuf_u32(gbuf *b, uint32_t v)
+{
+    uint8_t c[4];
+    gput_u32(c, v);
+    gbuf_bytes(b, c, 4);
+}
+
+void gbuf_s32(gbuf *b, int32_t v)
+{
+    gbuf_u32(b, (uint32_t)v);
+}
+
+void gbuf_u64(gbuf *b, uint64_t v)
+{
+    gbuf_u32(b, (uint32_t)v);
+    gbuf_u32(b, (uint32_t)(v >> 32));
+}
+
+void gbuf_free(gbuf *b)
+{
+    free(b->p);
+    b->p = NULL, b->n = b->cap = 0, b->oom = 0;
+}
+
+int gbuf_emit(const qibl_goldens_sink_t *s, const char *name, gbuf *b)
+{
+    int bad = b->oom ? gcase_oom(s, name) : gcase_emit(s, name, b->p, b->n);
+    gbuf_free(b);
+    return bad;
+}
+
+int gcase_emit(const qibl_goldens_sink_t *s, const char *name, const void *data, size_t n)
+{
+    static const uint8_t none = 0;
+    return s->emit(s->user, name, data ? data : &none, n) != 0;
+}
+
+int gcase_status_error(const qibl_goldens_sink_t *s, const char *name, const char *call, qibl_status_t st)
+{
+    char what[200];
+    snprintf(what, sizeof what, "%s returned %d (%s)", call, (int)st, qibl_status_str(st));
+    s->error(s->user, name, what);
+    return 1;
+}
+
+int gcase_oom(const qibl_goldens_sink_t *s, const char *name)
+{
+    s->error(s->user, name, "out of memory");
+    return 1;
+}
+
+void gput_u32(uint8_t *p, uint32_t v)
+{
+    p[0] = (uint8_t)v, p[1] = (uint8_t)(v >> 8), p[2] = (uint8_t)(v >> 16), p[3] = (uint8_t)(v >> 24);
+}
+
+void gput_s32(uint8_t *p, int32_t v)
+{
+    gput_u32(p, (uint32_t)v);
+}
+
+int32_t gs32(uint32_t u)
+{
+    return u <= (uint32_t)INT32_MAX ? (int32_t)u : (int32_t)(u - 0x80000000u) - INT32_MAX - 1;
+}
+
+/* ---- PRNG ------------------------------------------------------------------------------------ */
+
+uint64_t grng_next(grng *r)
+{
+    uint64_t z = (r->s += 0x9E3779B97F4A7C15u);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9u;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBu;
+    return z ^ (z >> 31);
+}
+
+uint32_t grng_u32(grng *r)
+{
+    return (uint32_t)(grng_next(r) >> 32);
+}

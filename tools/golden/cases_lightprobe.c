@@ -1,0 +1,226 @@
+/*
+ * golden/cases_lightprobe.c - lightprobe_*: light lists of integer-made probes in every pixel
+ * format (median cut 64, adaptive 37, variance minimisation 37), and the sin row-weight table.
+ * The four original probes were moved here from tests/lightprobe_test.c (same data, same hashes);
+ * their binary32 and int32 copies, made there with ldexp/lrint, are made here with integers
+ * (exact conversions either way, so the bytes are the same).
+ * The real-probe goldens (lightprobe_real_*) need ../shared/fixtures/probes and a .hdr reader, so
+ * they stay in tests/lightprobe_test.c and are not part of the runner.
+ */
+#include "golden/casesi.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "qibl/lightprobe.h"
+#include "qibl/srgbe.h"
+
+size_t qibl_goldens_light_bytes(const qibl_lightprobe_light_t *L, const qibl_lightprobe_result_t *res, uint8_t *out)
+{
+    size_t n = 0;
+    gput_u32(out + n, res->count), n += 4;
+    gput_s32(out + n, res->rgb_exp), n += 4;
+    for (uint32_t i = 0; i < res->count; ++i) {
+        for (int c = 0; c < 3; ++c)
+            gput_s32(out + n, L[i].dir[c]), n += 4;
+        for (int c = 0; c < 3; ++c)
+            gput_s32(out + n, L[i].rgb[c]), n += 4;
+        gput_u32(out + n, L[i].u0), n += 4;
+        gput_u32(out + n, L[i].v0), n += 4;
+        gput_u32(out + n, L[i].u1), n += 4;
+        gput_u32(out + n, L[i].v1), n += 4;
+    }
+    return n;
+}
+
+/* An integer-only probe: a smooth base of colours from integer gradients and hash noise, and spots
+ * whose exponent rises by up to 12 (4096x) towards their centres. RGBE bytes. */
+static uint8_t *int_probe(uint64_t seed, int w, int h, int spots)
+{
+    grng r = {seed};
+    uint8_t *px = malloc(4 * (size_t)w * (size_t)h);
+    if (px == NULL)
+        return NULL;
+    int su[8], sv[8];
+    for (int k = 0; k < spots && k < 8; ++k)
+        su[k] = (int)(grng_u32(&r) % (uint32_t)w), sv[k] = (int)(grng_u32(&r) % (uint32_t)h);
+    for (int v = 0; v < h; ++v)
+        for (int u = 0; u < w; ++u) {
+            uint8_t *q = px + 4 * ((size_t)v * (size_t)w + (size_t)u);
+            uint32_t n = grng_u32(&r);
+            q[0] = (uint8_t)(128 + (u * 97 / w + (int)(n & 15)) % 128);
+            q[1] = (uint8_t)(128 + (v * 89 / h + (int)((n >> 4) & 15)) % 128);
+            q[2] = (uint8_t)(128 + ((u + v) * 61 / (w + h) + (int)((n >> 8) & 31)) % 128);
+            int e = 124 + (v < h / 2);
+            for (int k = 0; k < spots && k < 8; ++k) {
+                int d2 = (u - su[k]) * (u - su[k]) + (v - sv[k]) * (v - sv[k]);
+                int b = 12 - d2 / 3;
+                if (b > e - 124)
+                    e = 124 + b;
+            }
+            q[3] = (uint8_t)e;
+        }
+    return px;
+}
+
+/* The sun-and-sky probe, 256 x 128 RGBE: two exponents (sky brighter than ground), one hot pixel. */
+static uint8_t *sunsky_probe(void)
+{
+    uint8_t *a = calloc(4 * 256 * 128, 1);
+    if (a == NULL)
+        return NULL;
+    for (int v = 0; v < 128; ++v)
+        for (int u = 0; u < 256; ++u) {
+            uint8_t *q = a + 4 * (v * 256 + u);
+            q[0] = (uint8_t)(140 + (u + v) % 50), q[1] = (uint8_t)(150 + v % 40), q[2] = (uint8_t)(200 + u % 50);
+            q[3] = (uint8_t)(v < 64 ? 126 : 124);
+        }
+    uint8_t *q = a + 4 * (30 * 256 + 77);
+    q[0] = 255, q[1] = 250, q[2] = 220, q[3] = 150;
+    return a;
+}
+
+static unsigned bitlen(uint32_t m)
+{
+    unsigned n = 0;
+    while (m)
+        ++n, m >>= 1;
+    return n;
+}
+
+/* The binary32 bit pattern of the RGBE value m * 2^(e - 136) (e = 0: zero), exactly: at most 8
+ * significant bits, so no rounding. */
+static uint32_t rgbe_f32_bits(uint32_t m, uint32_t e)
+{
+    if (m == 0 || e == 0)
+        return 0;
+    unsigned len = bitlen(m);
+    int biased = (int)len + (int)e - 10; /* exponent (len - 1) + (e - 136), plus 127 */
+    if (biased <= 0)                     /* subnormal: m * 2^(e - 136) in units of 2^-149 */
+        return m << (e + 13);
+    return (uint32_t)biased << 23 | ((m << (24 - len)) & 0x7FFFFFu);
+}
+
+/* round(m * 2^(e - 136 + frac)), ties to even (what lrint gives in the default rounding mode) */
+static int32_t rgbe_fixed(uint32_t m, uint32_t e, int frac)
+{
+    if (m == 0 || e == 0)
+        return 0;
+    int sh = (int)e - 136 + frac;
+    if (sh >= 0)
+        return (int32_t)(m << sh); /* callers keep this below 2^31 */
+    if (sh < -9)
+        return 0;
+    uint32_t q = m >> -sh, rem = m & ((1u << -sh) - 1u), half = 1u << (-sh - 1);
+    return (int32_t)(q + (rem > half || (rem == half && (q & 1u))));
+}
+
+static int check_lights(const qibl_goldens_sink_t *s, const char *name, const qibl_lightprobe_t *lp,
+                        qibl_lightprobe_method_t method, uint32_t n)
+{
+    static qibl_lightprobe_light_t L[256];
+    static uint8_t buf[8 + 256 * 40];
+    qibl_lightprobe_result_t res;
+    qibl_lightprobe_opts_t o;
+    memset(&o, 0, sizeof o);
+    o.method = method;
+    qibl_status_t st = qibl_lightprobe_lights(lp, &o, L, n, &res);
+    if (st != QIBL_OK)
+        return gcase_status_error(s, name, "qibl_lightprobe_lights", st);
+    return gcase_emit(s, name, buf, qibl_goldens_light_bytes(L, &res, buf));
+}
+
+static int probe_cases(const qibl_goldens_sink_t *s, const char *probe, const qibl_lightprobe_image_t *img,
+                       int with_varmin)
+{
+    char name[96];
+    size_t n = qibl_lightprobe_workspace_size(img->width, img->height, QIBL_LIGHTPROBE_VARMIN);
+    void *ws = malloc(n ? n : 1);
+    snprintf(name, sizeof name, "lightprobe_%s", probe);
+    if (ws == NULL)
+        return gcase_oom(s, name);
+    qibl_lightprobe_t lp;
+    qibl_status_t st = qibl_lightprobe_build(&lp, img, QIBL_LIGHTPROBE_VARMIN, ws, n);
+    if (st != QIBL_OK) {
+        free(ws);
+        return gcase_status_error(s, name, "qibl_lightprobe_build", st);
+    }
+    int bad = 0;
+    snprintf(name, sizeof name, "lightprobe_%s_mediancut64", probe);
+    bad += check_lights(s, name, &lp, QIBL_LIGHTPROBE_MEDIANCUT, 64);
+    snprintf(name, sizeof name, "lightprobe_%s_adaptive37", probe);
+    bad += check_lights(s, name, &lp, QIBL_LIGHTPROBE_ADAPTIVE, 37);
+    if (with_varmin) {
+        snprintf(name, sizeof name, "lightprobe_%s_varmin37", probe);
+        bad += check_lights(s, name, &lp, QIBL_LIGHTPROBE_VARMIN, 37);
+    }
+    free(ws);
+    return bad;
+}
+
+static qibl_lightprobe_image_t image(const void *px, uint32_t w, uint32_t h, qibl_lightprobe_format_t f)
+{
+    qibl_lightprobe_image_t img;
+    memset(&img, 0, sizeof img);
+    img.pixels = px, img.width = w, img.height = h, img.format = f;
+    return img;
+}
+
+/* sin row weights of a few heights (rows 0 .. h/2 - 1 plus the middle: the table is symmetric) */
+static int row_weights(const qibl_goldens_sink_t *s)
+{
+    static const uint32_t hs[] = {1, 2, 3, 5, 7, 64, 511, 512, 1000, 2048, 4096, 32768};
+    const char *name = "lightprobe_row_weights";
+    gbuf b = {0};
+    for (size_t k = 0; k < sizeof hs / sizeof hs[0]; ++k)
+        for (uint32_t v = 0; v < (hs[k] + 1) / 2; ++v) {
+            uint32_t m;
+            int32_t e;
+            qibl_status_t st = qibl_lightprobe_row_weight(hs[k], v, &m, &e);
+            if (st != QIBL_OK) {
+                gbuf_free(&b);
+                return gcase_status_error(s, name, "qibl_lightprobe_row_weight", st);
+            }
+            gbuf_u32(&b, m), gbuf_s32(&b, e);
+        }
+    return gbuf_emit(s, name, &b);
+}
+
+int qibl_goldens_lightprobe(const qibl_goldens_sink_t *s)
+{
+    int bad = row_weights(s);
+    /* (a) a sun and sky 256 x 128 RGBE, (b) an integer-made 100 x 50 with three hot spots, (c) the
+     * same as (b) in sRGBE, (d) int32 with 12 fraction bits, (e) binary32 */
+    enum { W = 100, H = 50, N = W * H };
+    uint8_t *a = sunsky_probe(), *bp = int_probe(7, W, H, 3), *c = malloc(4 * (size_t)N);
+    uint32_t *fb = malloc(sizeof *fb * 3 * (size_t)N);
+    int32_t *ib = malloc(sizeof *ib * 3 * (size_t)N);
+    if (a == NULL || bp == NULL || c == NULL || fb == NULL || ib == NULL) {
+        bad += gcase_oom(s, "lightprobe");
+    } else {
+        for (int i = 0; i < 3 * N; ++i) {
+            uint32_t m = bp[4 * (i / 3) + i % 3], e = bp[4 * (i / 3) + 3];
+            fb[i] = rgbe_f32_bits(m, e);
+            ib[i] = rgbe_fixed(m, e, 12);
+        }
+        qibl_status_t st = qibl_srgbe_encode_f32_n(fb, N, c);
+        if (st != QIBL_OK) {
+            bad += gcase_status_error(s, "lightprobe_random100_srgbe", "qibl_srgbe_encode_f32_n", st);
+        } else {
+            qibl_lightprobe_image_t img = image(a, 256, 128, QIBL_LIGHTPROBE_RGBE);
+            bad += probe_cases(s, "sunsky256", &img, 1);
+            img = image(bp, W, H, QIBL_LIGHTPROBE_RGBE);
+            bad += probe_cases(s, "random100", &img, 1);
+            img = image(c, W, H, QIBL_LIGHTPROBE_SRGBE);
+            bad += probe_cases(s, "random100_srgbe", &img, 1);
+            img = image(ib, W, H, QIBL_LIGHTPROBE_LINEAR_I32);
+            img.frac_bits = 12;
+            bad += probe_cases(s, "random100_i32q12", &img, 1);
+            img = image(fb, W, H, QIBL_LIGHTPROBE_LINEAR_F32);
+            bad += probe_cases(s, "random100_f32", &img, 1);
+        }
+    }
+    free(a), free(bp), free(c), free(fb), free(ib);
+    return bad;
+}

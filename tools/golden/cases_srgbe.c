@@ -1,0 +1,212 @@
+/*
+ * golden/cases_srgbe.c - srgbe_*: encoding of a fixed set of binary32 bit patterns (zeros,
+ * subnormals on both sides of the flush threshold, powers of two and their neighbours where the
+ * exponent or a code rounds over, the largest finite, Inf, NaNs with payloads) in every channel
+ * combination, of random binary32 and int32 inputs at many frac_bits, and decoding of a code sweep
+ * (every E with every X, plus a stride through all 2^32 codes) to binary32, Q16.16 and int32 at
+ * several frac_bits. One-pixel and bulk entry points each get their own case: the speed paths of
+ * the bulk functions must give the same bytes on every port too.
+ */
+#include "golden/casesi.h"
+
+#include <limits.h>
+#include <stdlib.h>
+
+#include "qibl/srgbe.h"
+
+/* binary32 bit patterns; the sign bit is added separately */
+static const uint32_t f32_edges[] = {
+    0x00000000u, /* +0 */
+    0x00000001u, /* smallest subnormal */
+    0x001FFFFFu, /* below 2^-128: flushed */
+    0x00200000u, /* 2^-128: the smallest encoded value */
+    0x00200001u, 0x003FFFFFu, 0x00400000u, 0x007FFFFFu, /* subnormals, E = 0 / 1 */
+    0x00800000u, /* smallest normal */
+    0x00800001u, 0x01000000u, 0x3E800000u, /* 0.25 */
+    0x3EFFFFFFu, 0x3F000000u, 0x3F7FFFFFu, 0x3F800000u, /* 1.0 */
+    0x3F800001u, 0x3FBFFFFFu, 0x3FC00000u, 0x40000000u, 0x40490FDBu, /* pi */
+    0x41200000u, 0x437F0000u, /* 255 */
+    0x477FFF00u, 0x4B800000u, 0x7EFFFFFFu, 0x7F000000u, 0x7F7FFFFFu, /* FLT_MAX */
+    0x7F800000u, /* Inf */
+    0x7F800001u, /* signalling NaN */
+    0x7FC00000u, /* quiet NaN */
+    0x7FFFFFFFu, /* NaN, all payload bits */
+};
+#define NF32 (sizeof f32_edges / sizeof f32_edges[0])
+
+/* edge pattern i, negated when neg */
+static uint32_t edge(size_t i, unsigned neg)
+{
+    return f32_edges[i] | (neg ? 0x80000000u : 0u);
+}
+
+static void put_code(gbuf *b, qibl_status_t st, const uint8_t c[4])
+{
+    gbuf_u8(b, (uint32_t)st);
+    gbuf_bytes(b, c, 4);
+}
+
+/* every triple of edge values (signs varied by position), one pixel at a time and in bulk */
+static int encode_f32_edges(const qibl_goldens_sink_t *s)
+{
+    const size_t n = NF32 * NF32 * NF32;
+    uint32_t *rgb = malloc(sizeof *rgb * 3 * n);
+    uint8_t *codes = malloc(4 * n);
+    gbuf b = {0};
+    if (rgb == NULL || codes == NULL) {
+        free(rgb), free(codes);
+        return gcase_oom(s, "srgbe_encode_f32_edges");
+    }
+    for (size_t i = 0; i < n; ++i) {
+        size_t r = i / (NF32 * NF32), g = i / NF32 % NF32, bl = i % NF32;
+        rgb[3 * i] = edge(r, (unsigned)(i & 1u));
+        rgb[3 * i + 1] = edge(g, (unsigned)(i >> 1 & 1u));
+        rgb[3 * i + 2] = edge(bl, (unsigned)(i % 3u == 0u));
+        uint8_t c[4] = {0xA5, 0xA5, 0xA5, 0xA5};
+        put_code(&b, qibl_srgbe_encode_f32(rgb + 3 * i, c), c);
+    }
+    int bad = gbuf_emit(s, "srgbe_encode_f32_edges", &b);
+    gbuf_u8(&b, (uint32_t)qibl_srgbe_encode_f32_n(rgb, n, codes));
+    gbuf_bytes(&b, codes, 4 * n);
+    bad += gbuf_emit(s, "srgbe_encode_f32_n_edges", &b);
+    free(rgb), free(codes);
+    return bad;
+}
+
+/* random bit patterns: any exponent, and clusters of nearby exponents (the common case) */
+static int encode_f32_random(const qibl_goldens_sink_t *s)
+{
+    enum { N = 20000 };
+    uint32_t *rgb = malloc(sizeof *rgb * 3 * N);
+    uint8_t *codes = malloc(4 * N);
+    gbuf b = {0};
+    grng r = {0x5E};
+    if (rgb == NULL || codes == NULL) {
+        free(rgb), free(codes);
+        return gcase_oom(s, "srgbe_encode_f32_random");
+    }
+    for (size_t i = 0; i < N; ++i) {
+        uint32_t base = grng_u32(&r);
+        for (int c = 0; c < 3; ++c) {
+            uint32_t v = grng_u32(&r);
+            if (i % 2 == 0) /* exponent within +-4 of the pixel's base */
+                v = (v & 0x807FFFFFu) | (((base >> 23 & 0xFFu) + (v >> 23 & 7u) - 4u) & 0xFFu) << 23;
+            rgb[3 * i + (size_t)c] = v;
+        }
+        uint8_t c[4];
+        put_code(&b, qibl_srgbe_encode_f32(rgb + 3 * i, c), c);
+    }
+    int bad = gbuf_emit(s, "srgbe_encode_f32_random", &b);
+    gbuf_u8(&b, (uint32_t)qibl_srgbe_encode_f32_n(rgb, N, codes));
+    gbuf_bytes(&b, codes, 4 * N);
+    bad += gbuf_emit(s, "srgbe_encode_f32_n_random", &b);
+    free(rgb), free(codes);
+    return bad;
+}
+
+/* int32 channels at frac_bits across the whole range, one pixel, Q16 and bulk */
+static int encode_s32(const qibl_goldens_sink_t *s)
+{
+    static const int32_t ev[] = {0, 1, -1, 2, 127, 255, 256, 65535, 65536, -65536, 0x3FFFFFFF, 0x40000000,
+                                 INT32_MAX, INT32_MIN, INT32_MIN + 1, -0x40000000};
+    static const int fracs[] = {-300, -128, -100, -98, -97, -96, -64, -31, -16, -1, 0, 1,
+                                12,   16,   24,   31,  32,  40,  64,  100, 149, 150, 151, 300};
+    enum { NE = sizeof ev / sizeof ev[0], NFR = sizeof fracs / sizeof fracs[0], NR = 2000 };
+    gbuf b = {0}, bq = {0};
+    grng r = {0x532};
+    int32_t *rgb = malloc(sizeof *rgb * 3 * (NE * NE * NE + NR));
+    uint8_t *codes = malloc(4 * (size_t)(NE * NE * NE + NR));
+    if (rgb == NULL || codes == NULL) {
+        free(rgb), free(codes);
+        return gcase_oom(s, "srgbe_encode_s32");
+    }
+    size_t n = 0;
+    for (int i = 0; i < NE * NE * NE; ++i, ++n)
+        rgb[3 * n] = ev[i / (NE * NE)], rgb[3 * n + 1] = ev[i / NE % NE], rgb[3 * n + 2] = ev[i % NE];
+    for (int i = 0; i < NR; ++i, ++n)
+        for (int c = 0; c < 3; ++c) {
+            uint32_t v = grng_u32(&r);
+            rgb[3 * n + (size_t)c] = gs32(v >> (grng_u32(&r) % 32u));
+        }
+    for (int f = 0; f < NFR; ++f) {
+        for (size_t i = 0; i < n; ++i) {
+            uint8_t c[4];
+            put_code(&b, qibl_srgbe_encode_s32(rgb + 3 * i, fracs[f], c), c);
+        }
+        gbuf_u8(&bq, (uint32_t)qibl_srgbe_encode_s32_n(rgb, n, fracs[f], codes));
+        gbuf_bytes(&bq, codes, 4 * n);
+    }
+    for (size_t i = 0; i < n; ++i) {
+        uint8_t c[4];
+        put_code(&b, qibl_srgbe_encode_q16(rgb + 3 * i, c), c);
+    }
+    gbuf_u8(&bq, (uint32_t)qibl_srgbe_encode_q16_n(rgb, n, codes));
+    gbuf_bytes(&bq, codes, 4 * n);
+    int bad = gbuf_emit(s, "srgbe_encode_s32", &b);
+    bad += gbuf_emit(s, "srgbe_encode_s32_n", &bq);
+    free(rgb), free(codes);
+    return bad;
+}
+
+/* codes: every E with every X in R (G, B derived), then a golden-ratio stride through 2^32 */
+static int decode_sweep(const qibl_goldens_sink_t *s)
+{
+    enum { NE = 256 * 256, NS = 16384, N = NE + NS };
+    static const int fracs[] = {-140, -20, 0, 8, 16, 30, 31, 40, 160};
+    uint8_t *codes = malloc(4 * (size_t)N);
+    uint32_t *out = malloc(sizeof *out * 3 * (size_t)N);
+    gbuf b = {0}, bn = {0};
+    if (codes == NULL || out == NULL) {
+        free(codes), free(out);
+        return gcase_oom(s, "srgbe_decode");
+    }
+    for (uint32_t i = 0; i < NE; ++i) {
+        uint8_t *c = codes + 4 * i;
+        c[0] = (uint8_t)i, c[1] = (uint8_t)(255u - (i & 0xFFu)), c[2] = (uint8_t)((i & 0xFFu) ^ 0x55u);
+        c[3] = (uint8_t)(i >> 8);
+    }
+    for (uint32_t i = 0; i < NS; ++i)
+        gput_u32(codes + 4 * (NE + i), i * 0x9E3779B9u);
+    /* binary32: every code */
+    for (size_t i = 0; i < N; ++i) {
+        uint32_t v[3] = {0xA5A5A5A5u, 0xA5A5A5A5u, 0xA5A5A5A5u};
+        gbuf_u8(&b, (uint32_t)qibl_srgbe_decode_f32(codes + 4 * i, v));
+        for (int c = 0; c < 3; ++c)
+            gbuf_u32(&b, v[c]);
+    }
+    gbuf_u8(&bn, (uint32_t)qibl_srgbe_decode_f32_n(codes, N, out));
+    for (size_t i = 0; i < 3 * (size_t)N; ++i)
+        gbuf_u32(&bn, out[i]);
+    int bad = gbuf_emit(s, "srgbe_decode_f32", &b);
+    bad += gbuf_emit(s, "srgbe_decode_f32_n", &bn);
+    /* Q16.16 and int32 at several frac_bits: every 5th code (every E, most X) */
+    int32_t *io = (int32_t *)out;
+    for (size_t i = 0; i < N; i += 5) {
+        int32_t v[3];
+        gbuf_u8(&b, (uint32_t)qibl_srgbe_decode_q16(codes + 4 * i, v));
+        for (int c = 0; c < 3; ++c)
+            gbuf_s32(&b, v[c]);
+        for (size_t f = 0; f < sizeof fracs / sizeof fracs[0]; ++f) {
+            gbuf_u8(&b, (uint32_t)qibl_srgbe_decode_s32(codes + 4 * i, fracs[f], v));
+            for (int c = 0; c < 3; ++c)
+                gbuf_s32(&b, v[c]);
+        }
+    }
+    gbuf_u8(&bn, (uint32_t)qibl_srgbe_decode_q16_n(codes, N, io));
+    for (size_t i = 0; i < 3 * (size_t)N; ++i)
+        gbuf_s32(&bn, io[i]);
+    for (size_t f = 0; f < sizeof fracs / sizeof fracs[0]; ++f) {
+        gbuf_u8(&bn, (uint32_t)qibl_srgbe_decode_s32_n(codes, N, fracs[f], io));
+        for (size_t i = 0; i < 3 * (size_t)N; i += 7)
+            gbuf_s32(&bn, io[i]);
+    }
+    bad += gbuf_emit(s, "srgbe_decode_s32", &b);
+    bad += gbuf_emit(s, "srgbe_decode_s32_n", &bn);
+    free(codes), free(out);
+    return bad;
+}
+
+int qibl_goldens_srgbe(const qibl_goldens_sink_t *s)
+{
+    return encode_f32_edges(s) + encode_f32_random(s) + encode_s32(s) + decode_sweep(s);
+}

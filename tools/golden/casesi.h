@@ -1,0 +1,59 @@
+/*
+ * golden/casesi.h - helpers shared by the cases_<module>.c files (not for other users): a growable
+ * little-endian byte buffer, the fixed-seed PRNG, status checks that report through the sink.
+ */
+#ifndef QIBL_GOLDEN_CASESI_H
+#define QIBL_GOLDEN_CASESI_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "golden/cases.h"
+#include "qibl/status.h"
+
+/* ---- output bytes ------------------------------------------------------------------------- */
+
+/* A growable byte buffer. Zero-initialise; on out-of-memory it stops growing and remembers it
+ * (gbuf_emit then reports an error instead of a hash). */
+typedef struct gbuf {
+    uint8_t *p;
+    size_t n, cap;
+    int oom;
+} gbuf;
+
+void gbuf_bytes(gbuf *b, const void *data, size_t n);
+void gbuf_u8(gbuf *b, uint32_t v);
+void gbuf_u16(gbuf *b, uint32_t v);
+void gbuf_u32(gbuf *b, uint32_t v);
+void gbuf_s32(gbuf *b, int32_t v);
+void gbuf_u64(gbuf *b, uint64_t v);
+void gbuf_free(gbuf *b);
+
+/* Emits the buffer as case name (or an error on out-of-memory) and frees it. Returns 1 if the
+ * case failed, 0 if it passed. */
+int gbuf_emit(const qibl_goldens_sink_t *s, const char *name, gbuf *b);
+
+/* Emits data as case name. Returns 1 if the case failed. */
+int gcase_emit(const qibl_goldens_sink_t *s, const char *name, const void *data, size_t n);
+
+/* Reports an error for case name ("<call>: <status text>" or "out of memory"); returns 1. */
+int gcase_status_error(const qibl_goldens_sink_t *s, const char *name, const char *call, qibl_status_t st);
+int gcase_oom(const qibl_goldens_sink_t *s, const char *name);
+
+/* Little-endian stores into a byte array. */
+void gput_u32(uint8_t *p, uint32_t v);
+void gput_s32(uint8_t *p, int32_t v);
+
+/* Two's complement reinterpretation without implementation-defined conversion. */
+int32_t gs32(uint32_t u);
+
+/* ---- fixed-seed PRNG (splitmix64, the tests' tu_rng sequence) ------------------------------ */
+
+typedef struct grng {
+    uint64_t s;
+} grng;
+
+uint64_t grng_next(grng *r);
+uint32_t grng_u32(grng *r); /* the high 32 bits of grng_next */
+
+#endif

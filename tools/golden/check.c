@@ -1,0 +1,30 @@
+/*
+ * golden/check.c - golden groups checked through io/golden.h (golden/check.h).
+ */
+#include "golden/check.h"
+
+#include <stdio.h>
+
+#include "golden/cases.h"
+#include "io/golden.h"
+
+static int emit(void *user, const char *name, const void *data, size_t n)
+{
+    (void)user;
+    return qibl_golden_check_bytes(name, data, n);
+}
+
+static void error(void *user, const char *name, const char *what)
+{
+    (void)user;
+    fprintf(stderr, "golden %s: ERROR %s\n", name, what);
+}
+
+int qibl_goldens_check(const char *group)
+{
+    qibl_goldens_sink_t s = {emit, error, NULL};
+    int bad = qibl_goldens_run(group, &s);
+    if (bad < 0)
+        fprintf(stderr, "golden: no group \"%s\"\n", group);
+    return bad;
+}

@@ -1,0 +1,294 @@
+/*
+ * io/obj.c - Wavefront OBJ reader. One pass over the lines collects positions, normals and the
+ * triangulated faces' index triples; a second computes the missing normals.
+ */
+#include "io/obj.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct {
+    double *v;
+    size_t n, cap; /* in doubles */
+} dvec;
+
+typedef struct {
+    long *v;
+    size_t n, cap;
+} lvec;
+
+static int dpush(dvec *a, double x)
+{
+    if (a->n == a->cap) {
+        size_t cap = a->cap ? a->cap * 2 : 1024;
+        double *nv = realloc(a->v, cap * sizeof *nv);
+        if (!nv)
+            return -1;
+        a->v = nv, a->cap = cap;
+    }
+    a->v[a->n++] = x;
+    return 0;
+}
+
+static int lpush(lvec *a, long x)
+{
+    if (a->n == a->cap) {
+        size_t cap = a->cap ? a->cap * 2 : 1024;
+        long *nv = realloc(a->v, cap * sizeof *nv);
+        if (!nv)
+            return -1;
+        a->v = nv, a->cap = cap;
+    }
+    a->v[a->n++] = x;
+    return 0;
+}
+
+static int fail(char *err, size_t errlen, const char *name, long line, const char *fmt, ...)
+{
+    va_list ap;
+    size_t o;
+    if (line > 0)
+        snprintf(err, errlen, "%s:%ld: ", name ? name : "obj", line);
+    else
+        snprintf(err, errlen, "%s: ", name ? name : "obj");
+    o = strlen(err);
+    va_start(ap, fmt);
+    if (o < errlen)
+        vsnprintf(err + o, errlen - o, fmt, ap);
+    va_end(ap);
+    return -1;
+}
+
+/* parses up to max finite doubles from s; returns how many, -1 on a malformed number */
+static int numbers(const char *s, double *out, int max)
+{
+    int n = 0;
+    for (;;) {
+        while (*s == ' ' || *s == '\t')
+            ++s;
+        if (!*s)
+            return n;
+        if (n == max)
+            return -1;
+        char *end;
+        errno = 0;
+        double v = strtod(s, &end);
+        if (end == s || errno == ERANGE || !isfinite(v) || (*end && *end != ' ' && *end != '\t'))
+            return -1;
+        out[n++] = v;
+        s = end;
+    }
+}
+
+/* resolves a 1-based or negative OBJ index against count; 0 on success */
+static int resolve(const char *tok, size_t count, long *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(tok, &end, 10);
+    if (end == tok || errno == ERANGE)
+        return -1;
+    if (v > 0 && (size_t)v <= count)
+        *out = v - 1;
+    else if (v < 0 && (size_t)(-v) <= count)
+        *out = (long)count + v;
+    else
+        return -2;
+    return 0;
+}
+
+int qibl_obj_parse(const char *name, const char *text, size_t len, qibl_obj_mesh *out, char *err, size_t errlen)
+{
+    dvec v = {0}, vn = {0};
+    lvec tri = {0}; /* per corner: position index, normal index or -1 */
+    size_t nv = 0, nn = 0;
+    long line = 0;
+    char buf[4096];
+    size_t pos = 0;
+    int rc = -1;
+    long poly[2 * 256];
+    while (pos < len) {
+        size_t e = pos;
+        while (e < len && text[e] != '\n')
+            ++e;
+        ++line;
+        size_t l = e - pos;
+        if (l >= sizeof buf) {
+            fail(err, errlen, name, line, "line longer than %zu bytes", sizeof buf - 1);
+            goto out;
+        }
+        memcpy(buf, text + pos, l);
+        buf[l] = '\0';
+        pos = e + 1;
+        if (l && buf[l - 1] == '\r')
+            buf[--l] = '\0';
+        for (size_t i = 0; i < l; ++i)
+            if (buf[i] == '\0') {
+                fail(err, errlen, name, line, "NUL byte (binary file?)");
+                goto out;
+            }
+        char *c = strchr(buf, '#');
+        if (c)
+            *c = '\0';
+        char *s = buf;
+        while (*s == ' ' || *s == '\t')
+            ++s;
+        char *kw = s;
+        while (*s && *s != ' ' && *s != '\t')
+            ++s;
+        if (*s)
+            *s++ = '\0';
+        if (strcmp(kw, "v") == 0 || strcmp(kw, "vn") == 0) {
+            double x[4];
+            int n = numbers(s, x, 4);
+            int isv = kw[1] == '\0';
+            if (n < 3 || (!isv && n != 3)) {
+                fail(err, errlen, name, line, "'%s' needs 3 numbers%s", kw, isv ? " (and an optional w)" : "");
+                goto out;
+            }
+            if (isv && n == 4 && x[3] == 0.0) {
+                fail(err, errlen, name, line, "vertex with w = 0");
+                goto out;
+            }
+            dvec *d = isv ? &v : &vn;
+            for (int j = 0; j < 3; ++j)
+                if (dpush(d, isv && n == 4 ? x[j] / x[3] : x[j]) != 0) {
+                    fail(err, errlen, name, 0, "out of memory");
+                    goto out;
+                }
+            if (isv)
+                ++nv;
+            else
+                ++nn;
+        } else if (strcmp(kw, "f") == 0) {
+            int nc = 0;
+            char *tok = strtok(s, " \t");
+            while (tok) {
+                if (nc == 256) {
+                    fail(err, errlen, name, line, "face with more than 256 corners");
+                    goto out;
+                }
+                char *p1 = strchr(tok, '/'), *p2 = p1 ? strchr(p1 + 1, '/') : NULL;
+                if (p1)
+                    *p1 = '\0';
+                long vi, ni = -1;
+                int r = resolve(tok, nv, &vi);
+                if (r != 0) {
+                    fail(err, errlen, name, line,
+                         r == -1 ? "bad vertex index '%s'" : "vertex index %s out of range (%zu vertices so far)", tok,
+                         nv);
+                    goto out;
+                }
+                if (p2 && p2[1]) {
+                    r = resolve(p2 + 1, nn, &ni);
+                    if (r != 0) {
+                        fail(err, errlen, name, line,
+                             r == -1 ? "bad normal index '%s'" : "normal index %s out of range (%zu normals so far)",
+                             p2 + 1, nn);
+                        goto out;
+                    }
+                }
+                poly[2 * nc] = vi, poly[2 * nc + 1] = ni;
+                ++nc;
+                tok = strtok(NULL, " \t");
+            }
+            if (nc < 3) {
+                fail(err, errlen, name, line, "face with %d corner%s (needs at least 3)", nc, nc == 1 ? "" : "s");
+                goto out;
+            }
+            for (int j = 1; j + 1 < nc; ++j) {
+                int cs[3] = {0, j, j + 1};
+                for (int q = 0; q < 3; ++q)
+                    if (lpush(&tri, poly[2 * cs[q]]) || lpush(&tri, poly[2 * cs[q] + 1])) {
+                        fail(err, errlen, name, 0, "out of memory");
+                        goto out;
+                    }
+            }
+        }
+        /* everything else (vt, vp, g, o, s, usemtl, mtllib, l, p, empty) is ignored */
+    }
+    size_t ntri = tri.n / 6;
+    if (ntri == 0) {
+        fail(err, errlen, name, 0, "no faces");
+        goto out;
+    }
+    out->pos = malloc(ntri * 9 * sizeof(double));
+    out->nrm = malloc(ntri * 9 * sizeof(double));
+    double *acc = calloc(nv * 3, sizeof(double));
+    if (!out->pos || !out->nrm || !acc) {
+        free(out->pos), free(out->nrm), free(acc);
+        out->pos = out->nrm = NULL;
+        fail(err, errlen, name, 0, "out of memory");
+        goto out;
+    }
+    for (size_t t = 0; t < ntri; ++t) {
+        const long *c = tri.v + 6 * t;
+        const double *a = v.v + 3 * c[0], *b = v.v + 3 * c[2], *d = v.v + 3 * c[4];
+        double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+        double fn[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+        for (int q = 0; q < 3; ++q)
+            for (int j = 0; j < 3; ++j) {
+                out->pos[9 * t + 3 * q + j] = v.v[3 * c[2 * q] + j];
+                acc[3 * c[2 * q] + j] += fn[j]; /* |fn| = 2 area: area-weighted */
+            }
+    }
+    for (size_t t = 0; t < ntri; ++t) {
+        const long *c = tri.v + 6 * t;
+        for (int q = 0; q < 3; ++q) {
+            const double *src = c[2 * q + 1] >= 0 ? vn.v + 3 * c[2 * q + 1] : acc + 3 * c[2 * q];
+            double l = sqrt(src[0] * src[0] + src[1] * src[1] + src[2] * src[2]);
+            for (int j = 0; j < 3; ++j)
+                out->nrm[9 * t + 3 * q + j] = l > 0 ? src[j] / l : 0.0;
+        }
+    }
+    free(acc);
+    out->ntri = ntri, out->nvert = nv, out->nnormals_given = nn;
+    rc = 0;
+out:
+    free(v.v), free(vn.v), free(tri.v);
+    return rc;
+}
+
+int qibl_obj_read(const char *path, qibl_obj_mesh *out, char *err, size_t errlen)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return fail(err, errlen, path, 0, "%s", strerror(errno));
+    size_t cap = 1 << 16, n = 0;
+    char *buf = malloc(cap);
+    while (buf) {
+        n += fread(buf + n, 1, cap - n, f);
+        if (n < cap)
+            break;
+        char *nb = realloc(buf, cap * 2);
+        if (!nb) {
+            free(buf);
+            buf = NULL;
+            break;
+        }
+        buf = nb, cap *= 2;
+    }
+    int bad = !buf || ferror(f);
+    fclose(f);
+    if (bad) {
+        free(buf);
+        return fail(err, errlen, path, 0, "read error");
+    }
+    qibl_obj_mesh m = {0};
+    int rc = qibl_obj_parse(path, buf, n, &m, err, errlen);
+    free(buf);
+    if (rc == 0)
+        *out = m;
+    return rc;
+}
+
+void qibl_obj_free(qibl_obj_mesh *m)
+{
+    free(m->pos);
+    free(m->nrm);
+    memset(m, 0, sizeof *m);
+}

@@ -1,0 +1,178 @@
+/*
+ * io/pfm.c - Portable Float Map reader and writer.
+ *
+ * Header: "PF" or "Pf", whitespace, width, whitespace, height, whitespace, scale (a non-zero finite
+ * decimal; its sign gives the byte order, its magnitude is ignored), then exactly one whitespace
+ * byte and the samples. Comments are not part of the format and are refused.
+ */
+#include "io/pfm.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int fail(char *err, size_t errlen, const char *name, const char *fmt, ...)
+{
+    va_list ap;
+    size_t o = 0;
+    if (name) {
+        snprintf(err, errlen, "%s: ", name);
+        o = strlen(err);
+    }
+    va_start(ap, fmt);
+    if (o < errlen)
+        vsnprintf(err + o, errlen - o, fmt, ap);
+    va_end(ap);
+    return -1;
+}
+
+static int is_ws(uint8_t c)
+{
+    return c == ' ' || c == '\t' || c == '\n' || c == '\r';
+}
+
+/* next whitespace-delimited token of at most 63 bytes into tok; -1 at end of data */
+static int token(const uint8_t *buf, size_t len, size_t *pos, char tok[64])
+{
+    while (*pos < len && is_ws(buf[*pos]))
+        ++*pos;
+    size_t n = 0;
+    while (*pos < len && !is_ws(buf[*pos]) && n < 63)
+        tok[n++] = (char)buf[(*pos)++];
+    tok[n] = '\0';
+    if (n == 0 || (*pos < len && !is_ws(buf[*pos])))
+        return -1;
+    return 0;
+}
+
+static int decode_impl(const char *name, const uint8_t *buf, size_t len, int *w_out, int *h_out, int *ch_out,
+                       float **px_out, char *err, size_t errlen)
+{
+    if (len < 2 || buf[0] != 'P' || (buf[1] != 'F' && buf[1] != 'f') || (len > 2 && !is_ws(buf[2])))
+        return fail(err, errlen, name, "not a PFM file (magic must be PF or Pf)");
+    int ch = buf[1] == 'F' ? 3 : 1;
+    size_t pos = 2;
+    char t[3][64];
+    for (int i = 0; i < 3; ++i)
+        if (token(buf, len, &pos, t[i]) != 0)
+            return fail(err, errlen, name, "truncated or malformed header");
+    char *end;
+    errno = 0;
+    long w = strtol(t[0], &end, 10);
+    if (*end || errno || w < 1 || w > 65535)
+        return fail(err, errlen, name, "bad width '%s' (1..65535)", t[0]);
+    long h = strtol(t[1], &end, 10);
+    if (*end || errno || h < 1 || h > 65535)
+        return fail(err, errlen, name, "bad height '%s' (1..65535)", t[1]);
+    double scale = strtod(t[2], &end);
+    if (*end || !isfinite(scale) || scale == 0.0)
+        return fail(err, errlen, name, "bad scale '%s' (a non-zero number; negative means little-endian)", t[2]);
+    if (pos >= len || !is_ws(buf[pos]))
+        return fail(err, errlen, name, "truncated header");
+    ++pos; /* the single whitespace byte before the data */
+    size_t n = (size_t)w * (size_t)h * (size_t)ch;
+    if (len - pos < n * 4)
+        return fail(err, errlen, name, "truncated: %zu bytes of samples, %zu expected", len - pos, n * 4);
+    float *px = malloc(n * sizeof(float));
+    if (!px)
+        return fail(err, errlen, name, "out of memory");
+    int little = scale < 0;
+    size_t row = (size_t)w * (size_t)ch;
+    for (long y = 0; y < h; ++y) {
+        const uint8_t *src = buf + pos + (size_t)y * row * 4;
+        float *dst = px + (size_t)(h - 1 - y) * row; /* bottom row first in the file */
+        for (size_t i = 0; i < row; ++i) {
+            const uint8_t *b = src + 4 * i;
+            uint32_t u = little ? (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24
+                                : (uint32_t)b[3] | (uint32_t)b[2] << 8 | (uint32_t)b[1] << 16 | (uint32_t)b[0] << 24;
+            float f;
+            memcpy(&f, &u, 4);
+            dst[i] = f;
+        }
+    }
+    *w_out = (int)w, *h_out = (int)h, *ch_out = ch, *px_out = px;
+    return 0;
+}
+
+int qibl_pfm_decode(const uint8_t *buf, size_t len, int *w, int *h, int *channels, float **px, char *err,
+                    size_t errlen)
+{
+    return decode_impl(NULL, buf, len, w, h, channels, px, err, errlen);
+}
+
+int qibl_pfm_read(const char *path, int *w, int *h, int *channels, float **px, char *err, size_t errlen)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return fail(err, errlen, path, "%s", strerror(errno));
+    size_t cap = 1 << 16, n = 0;
+    uint8_t *buf = malloc(cap);
+    while (buf) {
+        n += fread(buf + n, 1, cap - n, f);
+        if (n < cap)
+            break;
+        uint8_t *nb = realloc(buf, cap * 2);
+        if (!nb) {
+            free(buf);
+            buf = NULL;
+            break;
+        }
+        buf = nb, cap *= 2;
+    }
+    int bad = !buf || ferror(f);
+    fclose(f);
+    if (bad) {
+        free(buf);
+        return fail(err, errlen, path, "read error");
+    }
+    int rc = decode_impl(path, buf, n, w, h, channels, px, err, errlen);
+    free(buf);
+    return rc;
+}
+
+int qibl_pfm_write(const char *path, int w, int h, int channels, const float *px, char *err, size_t errlen)
+{
+    if (w < 1 || h < 1 || w > 65535 || h > 65535 || (channels != 1 && channels != 3))
+        return fail(err, errlen, path, "bad PFM size %dx%d or channel count %d", w, h, channels);
+    size_t tl = strlen(path) + 5;
+    char *tmp = malloc(tl);
+    if (!tmp)
+        return fail(err, errlen, path, "out of memory");
+    snprintf(tmp, tl, "%s.tmp", path);
+    FILE *f = fopen(tmp, "wb");
+    if (!f) {
+        fail(err, errlen, tmp, "cannot create: %s", strerror(errno));
+        free(tmp);
+        return -1;
+    }
+    int bad = fprintf(f, "%s\n%d %d\n-1.0\n", channels == 3 ? "PF" : "Pf", w, h) < 0;
+    size_t row = (size_t)w * (size_t)channels;
+    uint8_t *line = malloc(row * 4);
+    bad |= !line;
+    for (int y = h - 1; y >= 0 && !bad; --y) {
+        for (size_t i = 0; i < row; ++i) {
+            uint32_t u;
+            memcpy(&u, &px[(size_t)y * row + i], 4);
+            line[4 * i] = (uint8_t)u, line[4 * i + 1] = (uint8_t)(u >> 8);
+            line[4 * i + 2] = (uint8_t)(u >> 16), line[4 * i + 3] = (uint8_t)(u >> 24);
+        }
+        bad |= fwrite(line, 4, row, f) != row;
+    }
+    free(line);
+    bad |= fclose(f) != 0;
+    int rc = -1;
+    if (bad) {
+        fail(err, errlen, path, "write failed: %s", strerror(errno));
+        remove(tmp);
+    } else if (rename(tmp, path) != 0) {
+        fail(err, errlen, path, "cannot rename from %s: %s", tmp, strerror(errno));
+        remove(tmp);
+    } else {
+        rc = 0;
+    }
+    free(tmp);
+    return rc;
+}

@@ -1,0 +1,577 @@
+/*
+ * cmd_bake.c - `qibl render` (ground truth), `qibl bake` (reference renders -> SH maps -> asset,
+ * shards, --budget), `qibl merge` (shards -> asset), `qibl check` (validate PNG/APNG/PFM/asset files).
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "bake/bake.h"
+#include "io/obj.h"
+#include "io/pfm.h"
+#include "io/png.h"
+#include "qibl/asset.h"
+#include "qibl/cli.h"
+#include "qibl/shmap.h"
+#include "render/rt.h"
+
+/* ---- shared options ------------------------------------------------------------------------------ */
+
+static int parse_d3(char **argv, int i, int argc, double v[3])
+{
+    if (i + 3 >= argc)
+        return -1;
+    for (int j = 0; j < 3; ++j) {
+        char *end;
+        errno = 0;
+        v[j] = strtod(argv[i + 1 + j], &end);
+        if (end == argv[i + 1 + j] || *end || errno || !isfinite(v[j]))
+            return -1;
+    }
+    return 0;
+}
+
+/* Consumes the scene/panorama options at argv[*i]; 1 if consumed, 0 if not ours, -1 on a bad value
+ * (message printed). */
+int qibl_cli_scene_opt(int argc, char **argv, int *i, qibl_cli_scene *o)
+{
+    const char *a = argv[*i];
+    if (strcmp(a, "--scene") == 0 && *i + 1 < argc) {
+        o->scene = argv[++*i];
+    } else if (strcmp(a, "--zup") == 0) {
+        o->zup = 1;
+    } else if (strcmp(a, "--raw") == 0) {
+        o->raw = 1;
+    } else if (strcmp(a, "--equirect") == 0) {
+        o->kind = QIBL_PANO_EQUIRECT;
+    } else if (strcmp(a, "--size") == 0 && *i + 1 < argc) {
+        long w, h;
+        char tail;
+        if (sscanf(argv[++*i], "%ldx%ld%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 16384 || h > 16384) {
+            qibl_cli_usage_error("--size needs WxH with both in 1..16384");
+            return -1;
+        }
+        o->w = (uint32_t)w, o->h = (uint32_t)h;
+    } else if (strcmp(a, "--threads") == 0 && *i + 1 < argc) {
+        long t;
+        if (qibl_cli_parse_int(argv[++*i], 1, 256, &t) != 0) {
+            qibl_cli_usage_error("--threads needs an integer in 1..256");
+            return -1;
+        }
+        o->threads = (int)t;
+    } else {
+        return 0;
+    }
+    return 1;
+}
+
+void qibl_cli_scene_defaults(qibl_cli_scene *o)
+{
+    memset(o, 0, sizeof *o);
+    o->w = 1024, o->h = 256, o->kind = QIBL_PANO_CYLINDRICAL;
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    o->threads = n > 0 && n < 256 ? (int)n : 1;
+}
+
+/* Loads the scene: built-in when o->scene is NULL or "builtin". 0, or 1 after printing the error. */
+int qibl_cli_scene_load(const qibl_cli_scene *o, qibl_rt_scene *s)
+{
+    if (!o->scene || strcmp(o->scene, "builtin") == 0) {
+        if (qibl_rt_scene_builtin(s) != 0) {
+            fprintf(stderr, "qibl: out of memory building the scene\n");
+            return 1;
+        }
+        return 0;
+    }
+    qibl_obj_mesh m;
+    char err[512];
+    if (qibl_obj_read(o->scene, &m, err, sizeof err) != 0) {
+        fprintf(stderr, "qibl: %s\n", err);
+        return 1;
+    }
+    int rc = qibl_rt_scene_from_obj(s, &m, o->zup, o->raw);
+    qibl_obj_free(&m);
+    if (rc != 0) {
+        fprintf(stderr, "qibl: %s: out of memory building the scene\n", o->scene);
+        return 1;
+    }
+    return 0;
+}
+
+/* ---- qibl render --------------------------------------------------------------------------------- */
+
+int qibl_cmd_render(int argc, char **argv)
+{
+    qibl_cli_scene so;
+    qibl_cli_scene_defaults(&so);
+    qibl_rt_light l = {0, {0, 0, 1}, {0, 0, 0}, {1, 1, 1}, 1};
+    int have = 0;
+    long falloff = 1;
+    const char *png = NULL, *pfm = NULL, *depth = NULL;
+    for (int i = 1; i < argc; ++i) {
+        int r = qibl_cli_scene_opt(argc, argv, &i, &so);
+        if (r < 0)
+            return 2;
+        if (r)
+            continue;
+        const char *a = argv[i];
+        if (strcmp(a, "--sun") == 0 || strcmp(a, "--point") == 0) {
+            int pt = a[2] == 'p';
+            if (parse_d3(argv, i, argc, pt ? l.pos : l.dir) != 0)
+                return qibl_cli_usage_error("%s needs three numbers X Y Z", a);
+            if (!pt && l.dir[0] == 0 && l.dir[1] == 0 && l.dir[2] == 0)
+                return qibl_cli_usage_error("--sun needs a non-zero direction");
+            l.point = pt, have++, i += 3;
+        } else if (strcmp(a, "--rgb") == 0) {
+            if (parse_d3(argv, i, argc, l.rgb) != 0 || l.rgb[0] < 0 || l.rgb[1] < 0 || l.rgb[2] < 0)
+                return qibl_cli_usage_error("--rgb needs three non-negative numbers");
+            i += 3;
+        } else if (strcmp(a, "--falloff") == 0 && i + 1 < argc) {
+            if (qibl_cli_parse_int(argv[++i], 1, 2, &falloff) != 0)
+                return qibl_cli_usage_error("--falloff is 1 (C0/|L|) or 2 (C0/|L|^2)");
+        } else if (strcmp(a, "--png") == 0 && i + 1 < argc) {
+            png = argv[++i];
+        } else if (strcmp(a, "--pfm") == 0 && i + 1 < argc) {
+            pfm = argv[++i];
+        } else if (strcmp(a, "--depth") == 0 && i + 1 < argc) {
+            depth = argv[++i];
+        } else {
+            return qibl_cli_usage_error("render: unknown argument '%s' (see qibl help render)", a);
+        }
+    }
+    if (have != 1 || (!png && !pfm && !depth))
+        return qibl_cli_usage_error("render needs exactly one of --sun/--point and at least one of --png/--pfm/--depth");
+    l.falloff = (int)falloff;
+    qibl_rt_scene s;
+    if (qibl_cli_scene_load(&so, &s) != 0)
+        return 1;
+    size_t np = (size_t)so.w * so.h;
+    double *lin = malloc(np * 3 * sizeof(double));
+    float *dep = malloc(np * sizeof(float)), *f3 = malloc(np * 3 * sizeof(float));
+    uint8_t *rgb8 = malloc(np * 3);
+    int rc = 1;
+    char err[512];
+    if (!lin || !dep || !f3 || !rgb8) {
+        fprintf(stderr, "qibl: render: out of memory\n");
+        goto done;
+    }
+    double t0 = qibl_cli_now();
+    qibl_rt_render(&s, so.w, so.h, so.kind, &l, so.threads, lin, dep, NULL);
+    double ms = (qibl_cli_now() - t0) * 1e3;
+    if (png) {
+        qibl_bake_truth8(&s, so.w, so.h, so.kind, &l, so.threads, rgb8, NULL);
+        if (qibl_png_write_rgb8(png, (int)so.w, (int)so.h, rgb8, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s\n", err);
+            goto done;
+        }
+    }
+    if (pfm) {
+        for (size_t i = 0; i < np * 3; ++i)
+            f3[i] = (float)lin[i];
+        if (qibl_pfm_write(pfm, (int)so.w, (int)so.h, 3, f3, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s\n", err);
+            goto done;
+        }
+    }
+    if (depth && qibl_pfm_write(depth, (int)so.w, (int)so.h, 1, dep, err, sizeof err) != 0) {
+        fprintf(stderr, "qibl: %s\n", err);
+        goto done;
+    }
+    printf("rendered %ux%u %s panorama of %s, %zu triangles, %s light, %.0f ms on %d threads\n", so.w, so.h,
+           so.kind == QIBL_PANO_CYLINDRICAL ? "cylindrical" : "equirectangular", so.scene ? so.scene : "the built-in courtyard",
+           s.ntri, l.point ? "point" : "directional", ms, so.threads);
+    rc = 0;
+done:
+    free(lin), free(dep), free(f3), free(rgb8);
+    qibl_rt_scene_free(&s);
+    return rc;
+}
+
+/* ---- evaluation set ------------------------------------------------------------------------------ */
+
+/* Novel lights: suns in the upper hemisphere not in the bake's direction set, lamps in the scene. */
+void qibl_cli_eval_lights(int obj_prop, int ndir, int npoint, qibl_rt_light *out)
+{
+    for (int i = 0; i < ndir; ++i) {
+        double el = 0.35 + 1.0 * (i + 0.37) / ndir, az = 2.39996 * i + 0.61;
+        qibl_rt_light l = {0, {cos(el) * cos(az), cos(el) * sin(az), sin(el)}, {0, 0, 0}, {2.6, 2.4, 2.1}, 1};
+        out[i] = l;
+    }
+    for (int i = 0; i < npoint; ++i) {
+        double a = 2.39996 * i + 1.1, r = 1.6 + 1.2 * ((i * 7) % 5) / 5.0;
+        double cx = obj_prop ? 3.5 : 0.0;
+        qibl_rt_light l = {1, {0, 0, 1}, {cx + r * cos(a), r * sin(a), -0.6 + 0.35 * (i % 4)}, {5.0, 4.4, 3.6}, 1};
+        out[ndir + i] = l;
+    }
+}
+
+typedef struct {
+    int n, ndir;
+    qibl_rt_light *l;
+    uint8_t **truth, *mask;
+    size_t np;
+} evalset;
+
+static int eval_build(evalset *e, const qibl_rt_scene *s, const qibl_cli_scene *so, int ndir, int npoint)
+{
+    e->n = ndir + npoint, e->ndir = ndir, e->np = (size_t)so->w * so->h;
+    e->l = malloc(sizeof *e->l * (size_t)e->n);
+    e->truth = calloc((size_t)e->n, sizeof *e->truth);
+    e->mask = malloc(e->np);
+    if (!e->l || !e->truth || !e->mask)
+        return -1;
+    qibl_cli_eval_lights(so->scene && !so->raw && strcmp(so->scene, "builtin") != 0, ndir, npoint, e->l);
+    for (int i = 0; i < e->n; ++i) {
+        e->truth[i] = malloc(e->np * 3);
+        if (!e->truth[i] || qibl_bake_truth8(s, so->w, so->h, so->kind, &e->l[i], so->threads, e->truth[i], e->mask) != 0)
+            return -1;
+    }
+    return 0;
+}
+
+static void eval_free(evalset *e)
+{
+    for (int i = 0; e->truth && i < e->n; ++i)
+        free(e->truth[i]);
+    free(e->truth), free(e->l), free(e->mask);
+}
+
+/* PSNR (of the mean MSE) of an asset over the directional [0, ndir) or point [ndir, n) lights */
+static double eval_psnr(const evalset *e, const uint8_t *asset, size_t n, int point, int use_lut, uint8_t *tmp)
+{
+    double mse = 0;
+    int cnt = 0;
+    for (int i = point ? e->ndir : 0; i < (point ? e->n : e->ndir); ++i) {
+        if (qibl_bake_relight8(asset, n, &e->l[i], use_lut, tmp, NULL) != 0)
+            return -1;
+        mse += qibl_bake_mse(tmp, e->truth[i], e->mask, e->np), ++cnt;
+    }
+    mse /= cnt ? cnt : 1;
+    return mse > 0 ? 10 * log10(255.0 * 255.0 / mse) : 99.0;
+}
+
+/* ---- qibl bake / merge --------------------------------------------------------------------------- */
+
+static int write_bytes(const char *path, const uint8_t *b, size_t n)
+{
+    size_t tl = strlen(path) + 5;
+    char *tmp = malloc(tl);
+    if (!tmp)
+        return -1;
+    snprintf(tmp, tl, "%s.tmp", path);
+    FILE *f = fopen(tmp, "wb");
+    int bad = !f || fwrite(b, 1, n, f) != n;
+    if (f)
+        bad |= fclose(f) != 0;
+    if (bad || rename(tmp, path) != 0) {
+        fprintf(stderr, "qibl: %s: write failed: %s\n", path, strerror(errno));
+        remove(tmp);
+        free(tmp);
+        return -1;
+    }
+    free(tmp);
+    return 0;
+}
+
+static int finish_asset(const qibl_bake_sums *sums, uint32_t k, uint32_t lut, qibl_proj_method method,
+                        const char *out)
+{
+    qibl_gen_maps m;
+    uint8_t *bytes = NULL;
+    size_t n = 0;
+    if (qibl_bake_coeffs(sums, k, method, &m) != 0) {
+        fprintf(stderr, "qibl: %s: cannot project (out of memory, or too few directions for k = %u)\n", out, k);
+        return 1;
+    }
+    int rc = qibl_bake_asset(&m, lut, &bytes, &n);
+    qibl_gen_free(&m);
+    if (rc != 0) {
+        fprintf(stderr, "qibl: %s: cannot build the asset (out of memory)\n", out);
+        return 1;
+    }
+    rc = write_bytes(out, bytes, n);
+    free(bytes);
+    if (rc != 0)
+        return 1;
+    printf("wrote %s: %ux%u, k = %u (%s), %u light directions, %s, %zu bytes\n", out, sums->w, sums->h, k,
+           method == QIBL_PROJ_LSQ ? "least squares" : "quadrature", sums->ndirs,
+           lut ? "P map and cube-map Y LUT" : "P map", n);
+    return 0;
+}
+
+int qibl_cmd_bake(int argc, char **argv)
+{
+    qibl_cli_scene so;
+    qibl_cli_scene_defaults(&so);
+    const char *out = NULL, *sums_out = NULL;
+    long k = 16, lut = 32, ndirs = 512, shard = 0, nshards = 1;
+    double budget = 0;
+    int lsq = 0, quiet = 0;
+    for (int i = 1; i < argc; ++i) {
+        int r = qibl_cli_scene_opt(argc, argv, &i, &so);
+        if (r < 0)
+            return 2;
+        if (r)
+            continue;
+        const char *a = argv[i];
+        if (strcmp(a, "-o") == 0 && i + 1 < argc)
+            out = argv[++i];
+        else if (strcmp(a, "--k") == 0 && i + 1 < argc) {
+            if (qibl_cli_parse_int(argv[++i], 1, 25, &k) != 0)
+                return qibl_cli_usage_error("--k needs an integer in 1..25");
+        } else if (strcmp(a, "--lut") == 0 && i + 1 < argc) {
+            if (qibl_cli_parse_int(argv[++i], 0, (long)QIBL_ASSET_MAX_LUT, &lut) != 0)
+                return qibl_cli_usage_error("--lut needs a face size in 0..%u (0: none)", QIBL_ASSET_MAX_LUT);
+        } else if (strcmp(a, "--dirs") == 0 && i + 1 < argc) {
+            if (qibl_cli_parse_int(argv[++i], 16, 65536, &ndirs) != 0)
+                return qibl_cli_usage_error("--dirs needs an integer in 16..65536");
+        } else if (strcmp(a, "--shard") == 0 && i + 1 < argc) {
+            char tail;
+            if (sscanf(argv[++i], "%ld/%ld%c", &shard, &nshards, &tail) != 2 || nshards < 1 || nshards > 4096 ||
+                shard < 0 || shard >= nshards)
+                return qibl_cli_usage_error("--shard needs I/N with 0 <= I < N <= 4096");
+        } else if (strcmp(a, "--sums") == 0 && i + 1 < argc)
+            sums_out = argv[++i];
+        else if (strcmp(a, "--budget") == 0 && i + 1 < argc) {
+            char *end;
+            budget = strtod(argv[++i], &end);
+            if (*end || !(budget > 0 && budget < 99))
+                return qibl_cli_usage_error("--budget needs a PSNR in dB (0..99)");
+        } else if (strcmp(a, "--lsq") == 0)
+            lsq = 1;
+        else if (strcmp(a, "--quiet") == 0)
+            quiet = 1;
+        else
+            return qibl_cli_usage_error("bake: unknown argument '%s' (see qibl help bake)", a);
+    }
+    if (nshards > 1 && !sums_out)
+        return qibl_cli_usage_error("bake --shard needs --sums FILE (the partial sums for qibl merge)");
+    if (!out && !sums_out)
+        return qibl_cli_usage_error("bake needs -o ASSET (or --sums FILE)");
+    uint32_t nblocks = (uint32_t)((ndirs + QIBL_BAKE_BLOCK - 1) / QIBL_BAKE_BLOCK);
+    if ((uint32_t)nshards > nblocks)
+        return qibl_cli_usage_error("--shard: %ld shards but only %u blocks of %u directions", nshards, nblocks,
+                                    QIBL_BAKE_BLOCK);
+    if (out && nshards > 1)
+        return qibl_cli_usage_error("a shard writes partial sums only (--sums); qibl merge writes the asset");
+    qibl_rt_scene s;
+    if (qibl_cli_scene_load(&so, &s) != 0)
+        return 1;
+    qibl_bake_sums sums;
+    double t0 = qibl_cli_now();
+    uint32_t kacc = budget > 0 ? 25 : (uint32_t)k;
+    if (qibl_bake_run(&s, so.w, so.h, so.kind, (uint32_t)ndirs, kacc, (uint32_t)shard, (uint32_t)nshards, so.threads,
+                      !quiet, &sums) != 0) {
+        fprintf(stderr, "qibl: bake: out of memory\n");
+        qibl_rt_scene_free(&s);
+        return 1;
+    }
+    double secs = qibl_cli_now() - t0;
+    if (!quiet)
+        fprintf(stderr, "bake: %ux%u, %ld directions%s, %zu triangles, %.1f s on %d threads\n", so.w, so.h, ndirs,
+                nshards > 1 ? " (this shard's share)" : "", s.ntri, secs, so.threads);
+    int rc = 0;
+    char err[512];
+    if (sums_out && qibl_bake_sums_write(&sums, sums_out, err, sizeof err) != 0) {
+        fprintf(stderr, "qibl: %s\n", err);
+        rc = 1;
+    } else if (sums_out) {
+        printf("wrote %s: partial sums of shard %ld/%ld\n", sums_out, shard, nshards);
+    }
+    if (rc == 0 && out && budget > 0) {
+        /* smallest band-complete k (and LUT) whose held-out PSNR reaches the budget */
+        evalset e = {0};
+        uint8_t *tmp = malloc(sums.w * (size_t)sums.h * 3);
+        uint32_t chosen = 0, chosen_lut = 0;
+        double pk = 0;
+        if (!tmp || eval_build(&e, &s, &so, 8, 4) != 0) {
+            fprintf(stderr, "qibl: bake: out of memory\n");
+            rc = 1;
+        }
+        printf("budget %.2f dB: PSNR of the core's relit frames against ground truth, 8 novel suns (mean MSE):\n", budget);
+        for (uint32_t kk = 1; rc == 0 && kk <= 25 && !chosen; kk = (uint32_t)((sqrt(kk) + 1) * (sqrt(kk) + 1) + 0.5)) {
+            qibl_gen_maps m;
+            uint8_t *b = NULL;
+            size_t n = 0;
+            if (qibl_bake_coeffs(&sums, kk, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, &m) != 0 ||
+                qibl_bake_asset(&m, 0, &b, &n) != 0) {
+                rc = 1;
+                break;
+            }
+            qibl_gen_free(&m);
+            pk = eval_psnr(&e, b, n, 0, 0, tmp);
+            printf("  k = %2u: %6.2f dB %s\n", kk, pk, pk >= budget ? "<- reaches the budget" : "");
+            if (pk >= budget || kk == 25)
+                chosen = kk;
+            free(b);
+        }
+        if (rc == 0) {
+            if (pk < budget)
+                printf("  no k <= 25 reaches %.2f dB; using k = 25 (more directions or a smoother scene would be needed)\n",
+                       budget);
+            /* LUT: the smallest face size whose point-light PSNR is within 0.1 dB of direct SH evaluation */
+            qibl_gen_maps m;
+            uint8_t *b = NULL;
+            size_t n = 0;
+            qibl_bake_coeffs(&sums, chosen, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, &m);
+            qibl_bake_asset(&m, 0, &b, &n);
+            double direct = eval_psnr(&e, b, n, 1, 0, tmp);
+            free(b);
+            printf("point lights (4 lamps), k = %u: direct SH evaluation %.2f dB; cube-map LUT face size:\n", chosen, direct);
+            for (uint32_t f = 8; f <= 128; f *= 2) {
+                qibl_bake_asset(&m, f, &b, &n);
+                double p = eval_psnr(&e, b, n, 1, 1, tmp);
+                free(b);
+                printf("  %3u^2: %6.2f dB%s\n", f, p, p >= direct - 0.1 ? " <- within 0.1 dB of direct evaluation" : "");
+                if (p >= direct - 0.1 || f == 128) {
+                    chosen_lut = f;
+                    break;
+                }
+            }
+            qibl_gen_free(&m);
+            printf("chose k = %u and a %u^2 LUT: the smallest k whose novel-sun PSNR reaches %.2f dB, and the smallest LUT "
+                   "that costs point lights under 0.1 dB against evaluating the SH polynomials per pixel\n",
+                   chosen, chosen_lut, budget);
+            rc = finish_asset(&sums, chosen, chosen_lut, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, out);
+        }
+        eval_free(&e);
+        free(tmp);
+    } else if (rc == 0 && out) {
+        rc = finish_asset(&sums, (uint32_t)k, (uint32_t)lut, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, out);
+    }
+    qibl_bake_sums_free(&sums);
+    qibl_rt_scene_free(&s);
+    return rc;
+}
+
+int qibl_cmd_merge(int argc, char **argv)
+{
+    const char *out = NULL, *sums_out = NULL;
+    long k = 0, lut = 32;
+    int lsq = 0, nin = 0;
+    char **in = malloc(sizeof(char *) * (size_t)argc);
+    if (!in)
+        return 1;
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i];
+        if (strcmp(a, "-o") == 0 && i + 1 < argc)
+            out = argv[++i];
+        else if (strcmp(a, "--sums") == 0 && i + 1 < argc)
+            sums_out = argv[++i];
+        else if (strcmp(a, "--k") == 0 && i + 1 < argc) {
+            if (qibl_cli_parse_int(argv[++i], 1, 25, &k) != 0) {
+                free(in);
+                return qibl_cli_usage_error("--k needs an integer in 1..25");
+            }
+        } else if (strcmp(a, "--lut") == 0 && i + 1 < argc) {
+            if (qibl_cli_parse_int(argv[++i], 0, (long)QIBL_ASSET_MAX_LUT, &lut) != 0) {
+                free(in);
+                return qibl_cli_usage_error("--lut needs a face size in 0..%u", QIBL_ASSET_MAX_LUT);
+            }
+        } else if (strcmp(a, "--lsq") == 0)
+            lsq = 1;
+        else if (a[0] != '-')
+            in[nin++] = argv[i];
+        else {
+            free(in);
+            return qibl_cli_usage_error("merge: unknown argument '%s' (see qibl help merge)", a);
+        }
+    }
+    if (nin == 0 || (!out && !sums_out)) {
+        free(in);
+        return qibl_cli_usage_error("usage: qibl merge -o ASSET [--sums OUT] [--k K] [--lut N] [--lsq] SUMS...");
+    }
+    qibl_bake_sums total = {0}, part;
+    char err[512];
+    int rc = 1;
+    uint8_t *seen = NULL;
+    for (int i = 0; i < nin; ++i) {
+        if (qibl_bake_sums_read(in[i], &part, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s\n", err);
+            goto done;
+        }
+        if (i == 0) {
+            total = part;
+            seen = calloc(part.nshards, 1);
+            if (!seen)
+                goto done;
+            seen[part.shard] = 1;
+            continue;
+        }
+        if (qibl_bake_sums_add(&total, &part, err, sizeof err) != 0 || seen[part.shard]) {
+            fprintf(stderr, "qibl: %s: %s\n", in[i], seen[part.shard] ? "shard given twice" : err);
+            qibl_bake_sums_free(&part);
+            goto done;
+        }
+        seen[part.shard] = 1;
+        qibl_bake_sums_free(&part);
+    }
+    for (uint32_t s = 0; s < total.nshards; ++s)
+        if (!seen[s]) {
+            fprintf(stderr, "qibl: merge: shard %u/%u is missing\n", s, total.nshards);
+            goto done;
+        }
+    total.shard = 0, total.nshards = 1;
+    if (sums_out && qibl_bake_sums_write(&total, sums_out, err, sizeof err) != 0) {
+        fprintf(stderr, "qibl: %s\n", err);
+        goto done;
+    }
+    rc = out ? finish_asset(&total, k ? (uint32_t)k : (total.k < 16 ? total.k : 16), (uint32_t)lut,
+                            lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, out)
+             : 0;
+done:
+    free(seen), free(in);
+    qibl_bake_sums_free(&total);
+    return rc;
+}
+
+/* ---- qibl check ---------------------------------------------------------------------------------- */
+
+int qibl_cmd_check(int argc, char **argv)
+{
+    if (argc < 2)
+        return qibl_cli_usage_error("usage: qibl check FILE...");
+    int bad = 0;
+    for (int i = 1; i < argc; ++i) {
+        const char *p = argv[i], *ext = strrchr(p, '.');
+        char err[512];
+        if (ext && strcmp(ext, ".png") == 0) {
+            int w, h, fr;
+            uint8_t *rgb;
+            if (qibl_png_read_rgb8(p, &w, &h, &fr, &rgb, err, sizeof err) != 0) {
+                fprintf(stderr, "qibl: %s\n", err);
+                bad = 1;
+                continue;
+            }
+            free(rgb);
+            printf("%s: PNG %dx%d, %d frame%s, CRCs, zlib and Adler-32 good\n", p, w, h, fr, fr == 1 ? "" : "s");
+        } else if (ext && strcmp(ext, ".pfm") == 0) {
+            int w, h, ch;
+            float *px;
+            if (qibl_pfm_read(p, &w, &h, &ch, &px, err, sizeof err) != 0) {
+                fprintf(stderr, "qibl: %s\n", err);
+                bad = 1;
+                continue;
+            }
+            free(px);
+            printf("%s: PFM %dx%d, %d channel%s\n", p, w, h, ch, ch == 1 ? "" : "s");
+        } else {
+            size_t n;
+            uint8_t *b = qibl_cli_read_all(p, &n);
+            qibl_asset_t a;
+            qibl_status_t st = b ? qibl_asset_open(&a, b, n) : QIBL_OK;
+            if (!b || st != QIBL_OK) {
+                fprintf(stderr, "qibl: %s: %s\n", p, b ? qibl_status_str(st) : strerror(errno));
+                free(b);
+                bad = 1;
+                continue;
+            }
+            free(b);
+            printf("%s: qibl asset, %u chunks, all CRCs good\n", p, a.chunk_count);
+        }
+    }
+    return bad;
+}

@@ -1,0 +1,166 @@
+#!/bin/bash
+# ports.sh - build the golden runner (tools/golden/runner.c) for every compiler, optimisation level
+# and architecture at hand, run each build (under qemu-user for foreign ones) and prove that all of
+# them print the same hash for every golden case, and the hashes of fixtures/golden.
+#
+# Configurations: x86-64 with gcc and clang at -O0/-O2/-O3 (plus -O3 -march=native, and the
+# portable Cortex-M0 arithmetic paths); 32-bit x86 (gcc -m32 if the multilib works, else the
+# i686-linux-gnu cross gcc); armhf, aarch64 and 32-bit big-endian PowerPC with their Debian cross
+# gcc at -O0/-O2/-O3 and with clang --target at -O2, linked statically and run with qemu-arm,
+# qemu-aarch64 and qemu-ppc. Missing required tools fail with the package to install; optional
+# ones (32-bit x86, clang cross targets) are skipped with a note.
+#
+# Every build compiles core/ and platform/soft/ with the core's strict warning set and the runner
+# with -Wall -Wextra -Wpedantic, -Werror throughout. Output: the case list of the first
+# configuration, one table row per configuration, and "ports: OK" or the cases that differ.
+# Env: BUILD (build dir, default build; configurations go to $BUILD/ports/<name>), JOBS (parallel
+# builds, default: the number of CPUs).
+set -u
+cd "$(dirname "$0")/../.." || exit 1
+root=$(pwd)
+out="${BUILD:-build}/ports"
+rm -rf "$out"; mkdir -p "$out"
+jobs=${JOBS:-$(getconf _NPROCESSORS_ONLN 2>/dev/null || echo 2)}
+fail=0
+err() { echo "ports: FAIL: $*" >&2; fail=1; }
+
+core_warn="-std=c99 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wundef -Wdouble-promotion -Wmissing-prototypes -Werror"
+tool_warn="-std=c99 -Wall -Wextra -Wpedantic -Werror"
+inc="-Icore/include -Iplatform/soft/include -Itools"
+portable="-DQIBL_CONFIG_NATIVE_MUL64=0 -DQIBL_CONFIG_NATIVE_DIV64=0 -DQIBL_CONFIG_NATIVE_SHIFT64=0"
+core_src=$(ls core/src/*.c platform/soft/*.c)
+tool_src=$(ls tools/golden/cases*.c tools/golden/runner.c tools/io/sha256.c)
+
+have() { command -v "$1" >/dev/null 2>&1; }
+
+# ---- the configuration list: name|compiler|flags|runner prefix ----------------------------------
+configs=()
+need() { # need TOOL PACKAGE: a required tool
+    have "$1" || err "$1 not found (Debian: apt-get install $2)"
+}
+need gcc gcc; need clang clang
+need arm-linux-gnueabihf-gcc gcc-arm-linux-gnueabihf
+need aarch64-linux-gnu-gcc gcc-aarch64-linux-gnu
+need powerpc-linux-gnu-gcc gcc-powerpc-linux-gnu
+need qemu-arm qemu-user; need qemu-aarch64 qemu-user; need qemu-ppc qemu-user
+for cc in gcc clang; do
+    have $cc || continue
+    for o in -O0 -O2 -O3; do configs+=("x86_64-$cc$o|$cc|$o|"); done
+done
+have gcc && configs+=("x86_64-gcc-O3-native|gcc|-O3 -march=native|")
+have gcc && configs+=("x86_64-gcc-O2-portable|gcc|-O2 $portable|")
+have clang && configs+=("x86_64-clang-O3-portable|clang|-O3 $portable|")
+
+# 32-bit x86: gcc -m32 where the multilib is installed; on Debian gcc-multilib conflicts with the
+# cross compilers above, so else the i686 cross gcc (gcc-i686-linux-gnu), static, run natively.
+probe="$out/probe"; mkdir -p "$probe"; printf '#include <stdio.h>\nint main(void){return puts("")<0;}\n' > "$probe/t.c"
+if have gcc && gcc -m32 "$probe/t.c" -o "$probe/m32" 2>/dev/null && "$probe/m32" >/dev/null 2>&1; then
+    for o in -O0 -O2; do configs+=("x86_32-gcc-m32$o|gcc|-m32 $o|"); done
+    note32="x86 32-bit: gcc -m32"
+elif have i686-linux-gnu-gcc && i686-linux-gnu-gcc -static "$probe/t.c" -o "$probe/i686" 2>/dev/null; then
+    run32=""; "$probe/i686" >/dev/null 2>&1 || run32="qemu-i386"
+    for o in -O0 -O2; do configs+=("x86_32-gcc$o|i686-linux-gnu-gcc|$o -static|$run32"); done
+    note32="x86 32-bit: gcc -m32 unavailable (gcc-multilib conflicts with the cross compilers on Debian), so i686-linux-gnu-gcc -static"
+    if have clang && clang --target=i686-linux-gnu -static "$probe/t.c" -o "$probe/ci686" 2>/dev/null; then
+        configs+=("x86_32-clang-O2|clang|--target=i686-linux-gnu -O2 -static|$run32")
+    fi
+else
+    note32="x86 32-bit: SKIPPED (no working gcc -m32 and no i686-linux-gnu-gcc; apt-get install gcc-i686-linux-gnu)"
+fi
+
+# name|gcc triple|qemu
+for t in "armhf|arm-linux-gnueabihf|qemu-arm" "aarch64|aarch64-linux-gnu|qemu-aarch64" "ppc32be|powerpc-linux-gnu|qemu-ppc"; do
+    IFS='|' read -r arch triple q <<< "$t"
+    have "$triple-gcc" || continue
+    for o in -O0 -O2 -O3; do configs+=("$arch-gcc$o|$triple-gcc|$o -static|$q"); done
+    if have clang && clang --target="$triple" -static "$probe/t.c" -o "$probe/c-$arch" 2>/dev/null; then
+        configs+=("$arch-clang-O2|clang|--target=$triple -O2 -static|$q")
+    else
+        clang_skip="${clang_skip:-} $arch"
+    fi
+done
+
+# ---- build (in parallel), then run (in order) ----------------------------------------------------
+build_one() { # name cc flags -> $out/name/qibl-golden, build.log, build.time
+    local name=$1 cc=$2 flags=$3 d="$out/$1" t0 t1 ok=1
+    mkdir -p "$d/obj"
+    t0=$(date +%s.%N)
+    for f in $core_src; do
+        # shellcheck disable=SC2086
+        $cc $flags $core_warn $inc -c "$f" -o "$d/obj/$(basename "$f" .c).o" >> "$d/build.log" 2>&1 || ok=0
+    done
+    for f in $tool_src; do
+        # shellcheck disable=SC2086
+        $cc $flags $tool_warn $inc -c "$f" -o "$d/obj/t_$(basename "$f" .c).o" >> "$d/build.log" 2>&1 || ok=0
+    done
+    # shellcheck disable=SC2086
+    [ $ok = 1 ] && $cc $flags "$d"/obj/*.o -o "$d/qibl-golden" >> "$d/build.log" 2>&1 || ok=0
+    t1=$(date +%s.%N)
+    echo "$t0 $t1" | awk '{printf "%.1f", $2 - $1}' > "$d/build.time"
+    [ $ok = 1 ] || rm -f "$d/qibl-golden"
+}
+
+running=0
+for c in "${configs[@]}"; do
+    IFS='|' read -r name cc flags q <<< "$c"
+    build_one "$name" "$cc" "$flags" &
+    running=$((running + 1))
+    if [ $running -ge "$jobs" ]; then wait -n; running=$((running - 1)); fi
+done
+wait
+
+ref=""; refname=""; n=0; same=0
+printf '\n%-28s %6s %-26s %-10s %8s %8s\n' configuration cases "vs fixtures/golden" identical "build s" "run s"
+rows=()
+for c in "${configs[@]}"; do
+    IFS='|' read -r name cc flags q <<< "$c"
+    d="$out/$name"; n=$((n + 1))
+    if [ ! -x "$d/qibl-golden" ]; then
+        err "$name: build failed ($cc $flags):"$'\n'"$(tail -n 20 "$d/build.log")"
+        rows+=("$(printf '%-28s %6s %-26s %-10s %8s %8s' "$name" - "BUILD FAILED" no "$(cat "$d/build.time")" -)")
+        continue
+    fi
+    t0=$(date +%s.%N)
+    # shellcheck disable=SC2086
+    $q "$d/qibl-golden" --root "$root" --config "$name" > "$d/out.txt" 2> "$d/err.txt"
+    rc=$?
+    t1=$(date +%s.%N)
+    rt=$(echo "$t0 $t1" | awk '{printf "%.2f", $2 - $1}')
+    grep '^case ' "$d/out.txt" | awk '{print $2, $3}' > "$d/hashes.txt"
+    cases=$(wc -l < "$d/hashes.txt")
+    summary=$(grep '^golden: ' "$d/out.txt" | tail -n 1)
+    if [ -z "$summary" ]; then
+        err "$name: the runner crashed (exit $rc): $(tail -n 3 "$d/err.txt")"
+        verdict="CRASHED (exit $rc)"
+    elif [ $rc -ne 0 ]; then
+        verdict="$(echo "$summary" | sed -n 's/.* \([0-9]*\) failed.*/\1/p') FAILED"
+        err "$name: cases differ from fixtures/golden:"$'\n'"$(grep -E '^case .* (MISMATCH|MISSING|ERROR)' "$d/out.txt" | head -n 20)"
+    else
+        verdict="all ok"
+    fi
+    if [ -z "$ref" ]; then
+        ref="$d/hashes.txt"; refname=$name; ident="reference"
+        echo "== golden cases ($name; every configuration must print the same):"
+        grep -E '^(case|group) ' "$d/out.txt" | sed 's/^/  /'
+    elif cmp -s "$ref" "$d/hashes.txt"; then
+        ident="yes"
+    else
+        ident="NO"
+        err "$name: hashes differ from $refname:"$'\n'"$(diff "$ref" "$d/hashes.txt" | grep '^[<>]' | head -n 20)"
+    fi
+    [ "$ident" = NO ] || same=$((same + 1))
+    rows+=("$(printf '%-28s %6s %-26s %-10s %8s %8s' "$name" "$cases" "$verdict" "$ident" "$(cat "$d/build.time")" "$rt")")
+done
+printf '%s\n' "${rows[@]}"
+echo
+echo "$note32"
+[ -z "${clang_skip:-}" ] || echo "clang cross targets skipped (clang cannot link for them here):${clang_skip}"
+digest=$(grep '^golden: ' "$out/$refname/out.txt" 2>/dev/null | sed -n 's/.*digest //p')
+echo "RESULT ports.configurations $n"
+echo "RESULT ports.identical $same"
+if [ $fail = 0 ]; then
+    echo "ports: OK: $n configurations print identical hashes for $(wc -l < "$ref") cases (digest $digest), all as in fixtures/golden"
+else
+    echo "ports: FAILED" >&2
+fi
+exit $fail
