@@ -47,7 +47,7 @@ LIBQIBL_PORTABLE := $(BUILD)/libqibl-portable.a
 LIBTOOLS := $(BUILD)/libqibl-tools.a
 QIBL := $(BUILD)/bin/qibl
 
-.PHONY: all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan
+.PHONY: all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan examples
 .DEFAULT_GOAL := all
 
 all: $(LIBQIBL) $(QIBL)
@@ -65,6 +65,7 @@ help:
 	@echo "make golden     run the golden runner natively: one hash per golden case, compared with fixtures/golden"
 	@echo "make ports      the golden runner on every compiler, -O level and architecture (qemu); hashes must agree"
 	@echo "make test-asan  the suites under AddressSanitizer + UndefinedBehaviorSanitizer (in $(BUILD)/asan)"
+	@echo "make examples   build and run tools/examples/console_port, the integration example (docs/porting.md)"
 	@echo "make clean      remove $(BUILD)/ and out/"
 
 $(BUILD)/native/%.o: %.c
@@ -153,8 +154,24 @@ $(GOLDEN): $(GOLDEN_OBJ) $(LIBQIBL)
 golden: $(GOLDEN)
 	$(GOLDEN)
 
-ports:
+# (the CLI makes the asset the integration example runs on in every configuration)
+ports: $(QIBL)
 	@BUILD=$(BUILD) bash tools/scripts/ports.sh
+
+# The integration example for engines (docs/porting.md): core + platform/soft + libc only, plain
+# C99, built with the core's strictness; run on a small courtyard asset made by `qibl gen`.
+EXAMPLES := $(BUILD)/bin/console_port
+EXAMPLE_CFLAGS := -std=c99 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Werror $(OPT) -g -Icore/include \
+                  -Iplatform/soft/include $(SAN)
+
+$(BUILD)/bin/console_port: tools/examples/console_port.c $(LIBQIBL)
+	@mkdir -p $(dir $@)
+	$(CC) $(EXAMPLE_CFLAGS) -o $@ $< $(LIBQIBL)
+
+examples: $(EXAMPLES) $(QIBL)
+	@mkdir -p $(BUILD)/examples
+	$(QIBL) gen -o $(BUILD)/examples/courtyard.qibl --size 256x64 --k 9
+	$(BUILD)/bin/console_port $(BUILD)/examples/courtyard.qibl 4 $(BUILD)/examples/console_port.ppm
 
 # The suites (native and portable core paths) and the golden runner under ASan + UBSan, in their own
 # build dir ($(BUILD)/asan); any finding is an error. All of it takes well under a minute at -O1.

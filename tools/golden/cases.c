@@ -7,16 +7,28 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "qibl/config.h"
 #include "qibl/status.h"
 
+/* Groups of modules that config.h compiles out are left out (a reduced port still runs the rest). */
 const qibl_goldens_group_t qibl_goldens_groups[] = {
     {"fixed", "fixed-point primitives: sqrt, rsqrt, reciprocal, division, normalisation sweeps", qibl_goldens_fixed},
+#if QIBL_USE_SH
     {"sh", "SH basis bands 0..4: lattice, random and hard-case directions, unit and band-count paths", qibl_goldens_sh},
+#endif
+#if QIBL_USE_SRGBE
     {"srgbe", "sRGBE: encode of binary32/int32 edge cases and random patterns, decode of a code sweep", qibl_goldens_srgbe},
+#endif
+#if QIBL_USE_ASSET
     {"asset", "asset container: status and parsed fields of valid, damaged and truncated assets", qibl_goldens_asset},
+#endif
+#if QIBL_USE_SHMAP
     {"relight", "shmap: directional and point-light relighting into every framebuffer format", qibl_goldens_relight},
+#endif
     {"soft", "platform/soft: a gradient in every framebuffer format, accumulation and resolve", qibl_goldens_soft},
+#if QIBL_USE_LIGHTPROBE && QIBL_USE_SRGBE
     {"lightprobe", "light lists: median cut, adaptive, variance minimisation on integer-made probes", qibl_goldens_lightprobe},
+#endif
 };
 const size_t qibl_goldens_group_count = sizeof qibl_goldens_groups / sizeof qibl_goldens_groups[0];
 

@@ -102,6 +102,36 @@ if [ -f "$out/cortex-m4/qibl-core.o" ]; then
     done
     echo "RESULT cross.m4_text_bytes $total"
     echo "RESULT cross.m4_soft_text_bytes $stotal"
+
+    # 3. what config.h can compile out: the core's .text for module combinations (Cortex-M4 -Os)
+    # against the goal of 16 KiB for the whole core (docs/porting.md explains the choice).
+    goal=16384
+    echo
+    echo "core .text on Cortex-M4 -Os by config.h combination (goal: <= $goal bytes, 0 bytes .data/.bss):"
+    gcc=arm-none-eabi-gcc
+    inc="-nostdinc -isystem $($gcc -print-file-name=include) -isystem $($gcc -print-file-name=include-fixed)"
+    combos="default (every module)|all|
+runtime relighting (QIBL_USE_LIGHTPROBE=0)|relight|-DQIBL_USE_LIGHTPROBE=0
+relighting without sRGBE (QIBL_USE_LIGHTPROBE=0 QIBL_USE_SRGBE=0)|relight-nosrgbe|-DQIBL_USE_LIGHTPROBE=0 -DQIBL_USE_SRGBE=0
+light probes only (QIBL_USE_SHMAP=0 QIBL_USE_SH=0 QIBL_USE_ASSET=0)|lightprobe|-DQIBL_USE_SHMAP=0 -DQIBL_USE_SH=0 -DQIBL_USE_ASSET=0"
+    while IFS='|' read -r label tag defs; do
+        cdir="$out/cortex-m4-config-$tag"; mkdir -p "$cdir"; ctotal=0; cok=1
+        for src in core/src/*.c; do
+            o="$cdir/$(basename "$src" .c).o"
+            # shellcheck disable=SC2086
+            $gcc -mcpu=cortex-m4 -mthumb -mfloat-abi=soft $common $inc $defs -c "$src" -o "$o" || { err "config $tag: $src does not compile"; cok=0; continue; }
+            t=$(arm-none-eabi-size -A "$o" | awk '$1 ~ /^\.text/ {s += $2} END {print s + 0}')
+            ctotal=$((ctotal + t))
+        done
+        [ $cok = 1 ] || continue
+        state=$(for o in "$cdir"/*.o; do arm-none-eabi-size -A "$o"; done | awk '$1 ~ /^\.(s?data|s?bss)(\.|$)/ && $2 > 0' | wc -l)
+        [ "$state" = 0 ] || err "config $tag: mutable state"
+        if [ $ctotal -le $goal ]; then verdict="meets the goal ($((goal - ctotal)) bytes to spare)"
+        else verdict="over the goal by $((ctotal - goal)) bytes"; fi
+        printf '  %-68s %6d  %s\n' "$label" "$ctotal" "$verdict"
+        echo "RESULT cross.m4_text_bytes.$tag $ctotal" >> "$out/config-results.txt"
+    done <<< "$combos"
+    cat "$out/config-results.txt" 2>/dev/null
 fi
 if [ $fail = 0 ]; then echo "cross: OK"; else echo "cross: FAILED" >&2; fi
 exit $fail
