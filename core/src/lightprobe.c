@@ -56,6 +56,20 @@ static inline uint64_t lp_shl(uint64_t x, unsigned n)
 #endif
 }
 
+/* m 2^16 sig for a byte m (< 2^56): on 64-bit hosts (QIBL_CONFIG_NATIVE_DIV64 marks them; a
+ * 64 x 64 product is native wherever a 64-bit division is) one product by the row's 2^16 sig,
+ * else one 32 x 32 -> 64 product of m 2^16 (< 2^24) and sig. */
+static inline uint64_t mul_m_sig16(uint32_t m, uint32_t sig, uint64_t sig16)
+{
+#if QIBL_CONFIG_NATIVE_DIV64
+    (void)sig;
+    return m * sig16;
+#else
+    (void)sig16;
+    return qibl_mul_u32_u64(m << 16, sig);
+#endif
+}
+
 /* bit length: 0 for 0, floor(log2 x) + 1 otherwise (constant shifts only) */
 static unsigned bitlen64(uint64_t x)
 {
@@ -1103,14 +1117,16 @@ static void region_rgb(const qibl_lightprobe_t *lp, rect r, uint64_t out[3])
         const uint32_t sig = lp->row_sig[v];
         const int32_t s0 = rshift(lp, v) + 16; /* channels on the luminance scale: m 2^16 */
         if (lp->format == QIBL_LIGHTPROBE_RGBE && s0 - 16 - 136 + lp->emax <= 0) {
-            /* x_c = (m_c 2^16) sig >> r with the luminance's r = r0 - E >= 0 */
+            /* x_c = m_c (2^16 sig) >> r with the luminance's r = r0 - E >= 0; 2^16 sig is formed
+             * once per row, so each channel is one product (< 2^56) and one shift */
             if ((uint32_t)(136 + 16 - s0) != sh_r0)
                 rgbe_shifts(sh_r0 = (uint32_t)(136 + 16 - s0), sh);
+            const uint64_t sig16 = (uint64_t)sig << 16;
             for (uint32_t u = r.u0; u < r.u1; ++u, q += 4) {
                 uint32_t k = sh[q[3]];
-                a0 += qibl_shr_u64(qibl_mul_u32_u64((uint32_t)q[0] << 16, sig), k);
-                a1 += qibl_shr_u64(qibl_mul_u32_u64((uint32_t)q[1] << 16, sig), k);
-                a2 += qibl_shr_u64(qibl_mul_u32_u64((uint32_t)q[2] << 16, sig), k);
+                a0 += qibl_shr_u64(mul_m_sig16(q[0], sig, sig16), k);
+                a1 += qibl_shr_u64(mul_m_sig16(q[1], sig, sig16), k);
+                a2 += qibl_shr_u64(mul_m_sig16(q[2], sig, sig16), k);
             }
         } else {
             for (uint32_t u = r.u0; u < r.u1; ++u, q += pb) {

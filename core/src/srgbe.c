@@ -159,14 +159,16 @@ static unsigned enc_px_f32(uint32_t r, uint32_t g, uint32_t b, uint8_t *out)
     return flags;
 }
 
+#if QIBL_CONFIG_SRGBE_BLOCKS
 /* ---- bulk binary32 encoder: blocks of planar 16-bit lanes ------------------------------------
  *
  * The same bytes as enc_word_fast, computed so that compilers vectorise it with plain SSE2 / NEON
- * 16-bit operations (no per-lane variable shift, no 32-bit multiply, no gather): a block of BLK
- * pixels is split into planes, every stage is a fixed-trip-count loop over one or three planes.
+ * 16-bit operations (no per-lane variable shift, no 32-bit multiply): a block of BLK pixels is
+ * split into planes, every stage is a fixed-trip-count loop over one or three planes.
  *
  *   1. De-interleave: R, G, B words of the block into three uint32 planes (four pixels per step,
- *      which compilers turn into vector gathers: no compiler vectorises a stride-3 32-bit load).
+ *      which gcc turns into vector gathers; neither gcc 12 nor clang 14 vectorises a stride-3
+ *      32-bit load for SSE2).
  *   2. Split each word x into h = x >> 16 (sign, exponent field be, 7 fraction bits) and
  *      l = x & 0xFFFF, 16-bit planes.
  *   3. Per pixel em = max be, kept as em - 7 (int16: signed 16-bit max is an SSE2 instruction,
@@ -182,7 +184,9 @@ static unsigned enc_px_f32(uint32_t r, uint32_t g, uint32_t b, uint8_t *out)
  *   5. Interleave the three byte planes and E = em + 1 into the codes.
  * Pixels with em outside 7..254 get garbage here (every intermediate stays defined: k <= 7 as
  * be <= em, PL < 2^16, products < 2^23) and are rewritten by enc_px_f32 afterwards, which
- * enc_blk reports. Stack: 30 bytes per pixel of the block. */
+ * enc_blk reports. Stack: 30 bytes per pixel of the block. Compiled where config.h's
+ * QIBL_CONFIG_SRGBE_BLOCKS says the compiler has a vector unit to give this code to; elsewhere
+ * qibl_srgbe_encode_f32_n runs enc_word_fast pixel by pixel, which is smaller and faster there. */
 #define BLK 16
 
 /* step 2 for one plane */
@@ -249,6 +253,7 @@ static unsigned enc_blk(const uint32_t *restrict x, uint8_t *restrict out)
     }
     return special;
 }
+#endif /* QIBL_CONFIG_SRGBE_BLOCKS */
 
 /* ---- encode from int32 * 2^-frac_bits ------------------------------------------------------- */
 
@@ -544,10 +549,11 @@ qibl_status_t qibl_srgbe_encode_f32_n(const uint32_t *restrict rgb, size_t n, ui
 {
     if (rgb == 0 || codes == 0)
         return QIBL_E_NULL_POINTER;
+    unsigned flags = 0u;
+#if QIBL_CONFIG_SRGBE_BLOCKS
     /* Whole blocks through enc_blk; a block holding a pixel it does not cover (zero, subnormal
      * or tiny maximum, Inf, NaN) has those pixels redone by enc_px_f32, as is the tail of fewer
      * than BLK pixels. The final bytes are enc_px_f32's for every pixel. */
-    unsigned flags = 0u;
     size_t i = 0;
     for (; n - i >= BLK; i += BLK)
         if (enc_blk(rgb + 3 * i, codes + 4 * i))
@@ -558,6 +564,26 @@ qibl_status_t qibl_srgbe_encode_f32_n(const uint32_t *restrict rgb, size_t n, ui
             }
     for (; i < n; ++i)
         flags |= enc_px_f32(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2], codes + 4 * i);
+#else
+    /* Every pixel through the branch-free fast path first; the rare pixels it does not cover are
+     * rewritten by a second pass, so the hot loop has no branch and one store per pixel. The final
+     * bytes are enc_px_f32's for every pixel. */
+    uint32_t special = 0u;
+    const uint32_t *p = rgb;
+    uint8_t *c = codes;
+    for (size_t i = 0; i < n; ++i, p += 3, c += 4) {
+        uint32_t er = (p[0] >> 23) & 0xFFu, eg = (p[1] >> 23) & 0xFFu, eb = (p[2] >> 23) & 0xFFu;
+        uint32_t em = max3(er, eg, eb);
+        special |= em - 7u >= 248u;
+        put_code(enc_word_fast(p[0], p[1], p[2], er, eg, eb, em), c);
+    }
+    if (special)
+        for (size_t i = 0; i < n; ++i, rgb += 3, codes += 4) {
+            uint32_t em = max3((rgb[0] >> 23) & 0xFFu, (rgb[1] >> 23) & 0xFFu, (rgb[2] >> 23) & 0xFFu);
+            if (em - 7u >= 248u)
+                put_code(enc_px_f32_general(rgb[0], rgb[1], rgb[2], &flags), codes);
+        }
+#endif
     return status_of(flags);
 }
 

@@ -84,4 +84,18 @@
 #endif
 #endif
 
+/* QIBL_CONFIG_SRGBE_BLOCKS: 1 makes qibl_srgbe_encode_f32_n encode blocks of 16 pixels as 16-bit
+ * planes, code that compilers vectorise for SSE2, NEON, AltiVec or RVV (about 2x faster there,
+ * 480 bytes of stack; forced on for a Cortex-M4 -Os it would add about 370 bytes of .text and run
+ * slower); 0 encodes pixel by pixel. Identical bytes either way. Default: 1 where the compiler
+ * targets one of those vector units and multiplies 32x32->64 inline, so the portable flavour of
+ * `make test` (QIBL_CONFIG_NATIVE_MUL64=0) covers the other path on the host. */
+#ifndef QIBL_CONFIG_SRGBE_BLOCKS
+#if QIBL_CONFIG_NATIVE_MUL64 && (defined(__SSE2__) || defined(__ARM_NEON) || defined(__ALTIVEC__) || defined(__riscv_vector))
+#define QIBL_CONFIG_SRGBE_BLOCKS 1
+#else
+#define QIBL_CONFIG_SRGBE_BLOCKS 0
+#endif
+#endif
+
 #endif /* QIBL_CONFIG_H */

@@ -60,7 +60,8 @@
  * precision (fp32: E <= 253; mediump: far fewer). tests/srgbe_test.c checks this in binary32.
  *
  * Memory: no workspace; one 1 KiB const table (binary32 decode). Codes are byte arrays with no
- * alignment requirement.
+ * alignment requirement. qibl_srgbe_encode_f32_n uses about 480 bytes of stack where
+ * QIBL_CONFIG_SRGBE_BLOCKS is 1 (config.h: hosts with a vector unit), a few words elsewhere.
  * All functions are reentrant; inputs may be any values (no precondition beyond valid pointers).
  */
 #ifndef QIBL_SRGBE_H
