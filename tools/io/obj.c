@@ -3,6 +3,7 @@
  * triangulated faces' index triples; a second computes the missing normals.
  */
 #include "io/obj.h"
+#include "io/file.h"
 
 #include <errno.h>
 #include <math.h>
@@ -255,29 +256,10 @@ out:
 
 int qibl_obj_read(const char *path, qibl_obj_mesh *out, char *err, size_t errlen)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f)
+    size_t n;
+    char *buf = (char *)qibl_io_read_all(path, &n);
+    if (!buf)
         return fail(err, errlen, path, 0, "%s", strerror(errno));
-    size_t cap = 1 << 16, n = 0;
-    char *buf = malloc(cap);
-    while (buf) {
-        n += fread(buf + n, 1, cap - n, f);
-        if (n < cap)
-            break;
-        char *nb = realloc(buf, cap * 2);
-        if (!nb) {
-            free(buf);
-            buf = NULL;
-            break;
-        }
-        buf = nb, cap *= 2;
-    }
-    int bad = !buf || ferror(f);
-    fclose(f);
-    if (bad) {
-        free(buf);
-        return fail(err, errlen, path, 0, "read error");
-    }
     qibl_obj_mesh m = {0};
     int rc = qibl_obj_parse(path, buf, n, &m, err, errlen);
     free(buf);

@@ -6,6 +6,7 @@
  * byte and the samples. Comments are not part of the format and are refused.
  */
 #include "io/pfm.h"
+#include "io/file.h"
 
 #include <errno.h>
 #include <math.h>
@@ -105,29 +106,10 @@ int qibl_pfm_decode(const uint8_t *buf, size_t len, int *w, int *h, int *channel
 
 int qibl_pfm_read(const char *path, int *w, int *h, int *channels, float **px, char *err, size_t errlen)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f)
+    size_t n;
+    uint8_t *buf = qibl_io_read_all(path, &n);
+    if (!buf)
         return fail(err, errlen, path, "%s", strerror(errno));
-    size_t cap = 1 << 16, n = 0;
-    uint8_t *buf = malloc(cap);
-    while (buf) {
-        n += fread(buf + n, 1, cap - n, f);
-        if (n < cap)
-            break;
-        uint8_t *nb = realloc(buf, cap * 2);
-        if (!nb) {
-            free(buf);
-            buf = NULL;
-            break;
-        }
-        buf = nb, cap *= 2;
-    }
-    int bad = !buf || ferror(f);
-    fclose(f);
-    if (bad) {
-        free(buf);
-        return fail(err, errlen, path, "read error");
-    }
     int rc = decode_impl(path, buf, n, w, h, channels, px, err, errlen);
     free(buf);
     return rc;

@@ -4,6 +4,7 @@
  * the five scanline filters, APNG frame bookkeeping. 8-bit RGB/RGBA, non-interlaced only.
  */
 #include "io/png.h"
+#include "io/file.h"
 
 #include "qibl/asset.h" /* qibl_crc32 */
 
@@ -489,29 +490,10 @@ int qibl_png_decode_rgb8(const uint8_t *buf, size_t len, int *w, int *h, int *fr
 
 int qibl_png_read_rgb8(const char *path, int *w, int *h, int *frames, uint8_t **rgb, char *err, size_t errlen)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f)
+    size_t n;
+    uint8_t *buf = qibl_io_read_all(path, &n);
+    if (!buf)
         return fail(err, errlen, path, "%s", strerror(errno));
-    size_t cap = 1 << 16, n = 0;
-    uint8_t *buf = malloc(cap);
-    while (buf) {
-        n += fread(buf + n, 1, cap - n, f);
-        if (n < cap)
-            break;
-        uint8_t *nb = realloc(buf, cap * 2);
-        if (!nb) {
-            free(buf);
-            buf = NULL;
-            break;
-        }
-        buf = nb, cap *= 2;
-    }
-    int bad = !buf || ferror(f);
-    fclose(f);
-    if (bad) {
-        free(buf);
-        return fail(err, errlen, path, "read error");
-    }
     int rc = read_impl(path, buf, n, w, h, frames, rgb, err, errlen);
     free(buf);
     return rc;

@@ -60,9 +60,6 @@ int qibl_cli_parse_q16(const char *s, int32_t *out);
 /* Parses a decimal integer in [lo, hi]; 0 on success, -1 otherwise. */
 int qibl_cli_parse_int(const char *s, long lo, long hi, long *out);
 
-/* Whole file into a malloc'ed buffer (*n bytes); NULL with errno set on failure. */
-uint8_t *qibl_cli_read_all(const char *path, size_t *n);
-
 /* Median of n values (sorts v in place). */
 double qibl_cli_median(double *v, int n);
 

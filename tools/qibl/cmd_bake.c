@@ -14,6 +14,7 @@
 #include "io/pfm.h"
 #include "io/png.h"
 #include "qibl/asset.h"
+#include "io/file.h"
 #include "qibl/cli.h"
 #include "qibl/shmap.h"
 #include "render/rt.h"
@@ -560,7 +561,7 @@ int qibl_cmd_check(int argc, char **argv)
             printf("%s: PFM %dx%d, %d channel%s\n", p, w, h, ch, ch == 1 ? "" : "s");
         } else {
             size_t n;
-            uint8_t *b = qibl_cli_read_all(p, &n);
+            uint8_t *b = qibl_io_read_all(p, &n);
             qibl_asset_t a;
             qibl_status_t st = b ? qibl_asset_open(&a, b, n) : QIBL_OK;
             if (!b || st != QIBL_OK) {

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "qibl/asset.h"
+#include "io/file.h"
 #include "qibl/cli.h"
 
 static const char *fourcc(uint32_t t, char s[16])
@@ -64,7 +65,7 @@ int qibl_cmd_info(int argc, char **argv)
         return qibl_cli_usage_error("usage: qibl info FILE");
     const char *path = argv[1];
     size_t n = 0;
-    uint8_t *buf = qibl_cli_read_all(path, &n);
+    uint8_t *buf = qibl_io_read_all(path, &n);
     if (!buf)
         return fprintf(stderr, "qibl: %s: %s\n", path, strerror(errno)), 1;
     qibl_asset_t a;

@@ -11,6 +11,7 @@
 #include "io/asset_write.h"
 #include "io/png.h"
 #include "qibl/asset.h"
+#include "io/file.h"
 #include "qibl/cli.h"
 #include "qibl/shmap.h"
 #include "qibl/soft.h"
@@ -162,7 +163,7 @@ int qibl_cmd_relight(int argc, char **argv)
     if (!in || !png || have_sun == have_point)
         return qibl_cli_usage_error("relight needs FILE, exactly one of --sun/--point, and --png OUT");
     size_t n;
-    uint8_t *bytes = qibl_cli_read_all(in, &n);
+    uint8_t *bytes = qibl_io_read_all(in, &n);
     if (!bytes) {
         fprintf(stderr, "qibl: %s: %s\n", in, strerror(errno));
         return 1;
