@@ -406,7 +406,8 @@ static qibl_q16_t q16(double v)
     return (qibl_q16_t)lrint(v * 65536.0);
 }
 
-int qibl_bake_relight8(const uint8_t *asset, size_t n, const qibl_rt_light *l, int use_lut, uint8_t *rgb8, double *ms)
+int qibl_bake_relight8_ex(const uint8_t *asset, size_t n, const qibl_rt_light *l, int lut_mode, qibl_uq16_t exposure,
+                           int srgb, uint8_t *rgb8, double *ms, qibl_status_t *status)
 {
     qibl_asset_t a;
     qibl_shmaps_t m;
@@ -417,8 +418,10 @@ int qibl_bake_relight8(const uint8_t *asset, size_t n, const qibl_rt_light *l, i
         st = qibl_asset_shmaps(&a, &m);
     if (st == QIBL_OK && l->point)
         st = qibl_asset_pmap(&a, &pm);
-    if (st == QIBL_OK && l->point && use_lut)
+    if (st == QIBL_OK && l->point && lut_mode)
         st = qibl_asset_ylut(&a, &lut);
+    if (status)
+        *status = st;
     if (st != QIBL_OK)
         return -1;
     uint32_t w = m.width, h = m.height;
@@ -428,10 +431,13 @@ int qibl_bake_relight8(const uint8_t *asset, size_t n, const qibl_rt_light *l, i
     void *ws = malloc(wsn);
     if (!pix || !row || !ws) {
         free(pix), free(row), free(ws);
+        if (status)
+            *status = QIBL_E_NULL_POINTER;
         return -1;
     }
     qibl_fb_desc_t fb = {0};
-    fb.pixels = pix, fb.width = w, fb.height = h, fb.format = QIBL_FB_RGBA8888, fb.srgb = 1;
+    fb.pixels = pix, fb.width = w, fb.height = h, fb.format = QIBL_FB_RGBA8888;
+    fb.srgb = srgb ? 1 : 0, fb.exposure = exposure;
     qibl_q16_t rgb[3] = {q16(l->rgb[0]), q16(l->rgb[1]), q16(l->rgb[2])};
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
@@ -452,9 +458,9 @@ int qibl_bake_relight8(const uint8_t *asset, size_t n, const qibl_rt_light *l, i
     } else {
         qibl_pointlight_t pl = {{q16(l->pos[0]), q16(l->pos[1]), q16(l->pos[2])}, {rgb[0], rgb[1], rgb[2]},
                                 l->falloff == 2 ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST, 0,
-                                QIBL_LUT_BILINEAR};
+                                lut_mode == 2 ? QIBL_LUT_NEAREST : QIBL_LUT_BILINEAR};
         qibl_shmap_point_t pt;
-        st = qibl_shmap_point_prepare(&m, &pm, use_lut ? &lut : NULL, &pl, &pt);
+        st = qibl_shmap_point_prepare(&m, &pm, lut_mode ? &lut : NULL, &pl, &pt);
         for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {
             st = qibl_shmap_point_span(&pt, 0, y, w, row, ws, wsn);
             if (st == QIBL_OK)
@@ -467,7 +473,14 @@ int qibl_bake_relight8(const uint8_t *asset, size_t n, const qibl_rt_light *l, i
     for (size_t i = 0; st == QIBL_OK && i < (size_t)w * h; ++i)
         memcpy(rgb8 + 3 * i, pix + 4 * i, 3);
     free(pix), free(row), free(ws);
+    if (status)
+        *status = st;
     return st == QIBL_OK ? 0 : -1;
+}
+
+int qibl_bake_relight8(const uint8_t *asset, size_t n, const qibl_rt_light *l, int use_lut, uint8_t *rgb8, double *ms)
+{
+    return qibl_bake_relight8_ex(asset, n, l, use_lut ? 1 : 0, 0, 1, rgb8, ms, NULL);
 }
 
 double qibl_bake_mse(const uint8_t *a, const uint8_t *b, const uint8_t *mask, size_t npix)

@@ -20,6 +20,8 @@
 #include <stdint.h>
 
 #include "gen/scene.h"
+#include "qibl/fixed.h"
+#include "qibl/status.h"
 #include "render/rt.h"
 
 #define QIBL_BAKE_BLOCK 16u
@@ -62,6 +64,11 @@ int qibl_bake_asset(const qibl_gen_maps *m, uint32_t lut, uint8_t **bytes, size_
 int qibl_bake_truth8(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, const qibl_rt_light *l,
                      int threads, uint8_t *rgb8, uint8_t *mask);
 /* use_lut: point lights use the asset's YLUT (bilinear). 0 or -1 (bad asset / core error). */
+/* The same with every option: lut_mode 0 direct SH, 1 LUT bilinear, 2 LUT nearest; exposure UQ16.16
+ * (0 = 1.0); srgb 0 = linear output. *status (may be NULL) gets the core's status on failure
+ * (QIBL_E_NULL_POINTER stands for out of memory). rgb8 holds width * height * 3 bytes. */
+int qibl_bake_relight8_ex(const uint8_t *asset, size_t n, const qibl_rt_light *l, int lut_mode, qibl_uq16_t exposure,
+                           int srgb, uint8_t *rgb8, double *ms, qibl_status_t *status);
 int qibl_bake_relight8(const uint8_t *asset, size_t n, const qibl_rt_light *l, int use_lut, uint8_t *rgb8,
                        double *ms);
 /* PSNR in dB of a against b over the masked pixels (8-bit, all three channels); 99 if equal. */

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bake/bake.h"
 #include "gen/scene.h"
 #include "io/asset_write.h"
 #include "io/png.h"
@@ -185,53 +186,22 @@ int qibl_cmd_relight(int argc, char **argv)
         return 1;
     }
     uint32_t w = m.width, h = m.height;
-    uint8_t *pix = malloc((size_t)w * h * 4);
-    int32_t *row = malloc(sizeof(int32_t) * 3 * w);
-    size_t wsn = have_point ? qibl_shmap_point_workspace_size(m.k, w) : qibl_shmap_span_workspace_size(w);
-    void *ws = malloc(wsn);
-    if (!pix || !row || !ws) {
+    uint8_t *pix = malloc((size_t)w * h * 3);
+    if (!pix) {
         fprintf(stderr, "qibl: relight: out of memory\n");
-        free(bytes), free(pix), free(row), free(ws);
+        free(bytes);
         return 1;
     }
-    qibl_fb_desc_t fb = {0};
-    fb.pixels = pix, fb.width = w, fb.height = h, fb.format = QIBL_FB_RGBA8888;
-    fb.exposure = (qibl_uq16_t)exposure, fb.srgb = linear ? 0 : 1;
-    double t0 = qibl_cli_now();
-    if (have_sun) {
-        qibl_shlight_t l;
-        qibl_shmap_weights_t wt;
-        st = qibl_shlight_init(&l, m.k);
-        if (st == QIBL_OK)
-            st = qibl_shlight_add_dir(&l, sun, rgb);
-        if (st == QIBL_OK)
-            st = qibl_shmap_weights(&m, &l, &wt);
-        for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {
-            st = qibl_shmap_relight_span(&m, &wt, 0, y, w, row, ws, wsn);
-            if (st == QIBL_OK)
-                st = qibl_fb_write_row(&fb, 0, y, w, row);
-        }
-    } else {
-        qibl_pointlight_t pl = {{pos[0], pos[1], pos[2]}, {rgb[0], rgb[1], rgb[2]},
-                                falloff == 1 ? QIBL_FALLOFF_INV_DIST : QIBL_FALLOFF_INV_DIST2, 0,
-                                nearest ? QIBL_LUT_NEAREST : QIBL_LUT_BILINEAR};
-        qibl_shmap_point_t pt;
-        st = qibl_shmap_point_prepare(&m, &pm, use_lut ? &lut : NULL, &pl, &pt);
-        for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {
-            st = qibl_shmap_point_span(&pt, 0, y, w, row, ws, wsn);
-            if (st == QIBL_OK)
-                st = qibl_fb_write_row(&fb, 0, y, w, row);
-        }
-    }
-    double ms = (qibl_cli_now() - t0) * 1e3;
+    qibl_rt_light l = {have_point, {sun[0] / 65536.0, sun[1] / 65536.0, sun[2] / 65536.0},
+                       {pos[0] / 65536.0, pos[1] / 65536.0, pos[2] / 65536.0},
+                       {rgb[0] / 65536.0, rgb[1] / 65536.0, rgb[2] / 65536.0}, (int)falloff};
+    double ms = 0;
     int rc = 0;
-    if (st != QIBL_OK) {
-        fprintf(stderr, "qibl: relight: %s\n", qibl_status_str(st));
+    if (qibl_bake_relight8_ex(bytes, n, &l, use_lut ? (nearest ? 2 : 1) : 0, (qibl_uq16_t)exposure, !linear, pix, &ms,
+                              &st) != 0) {
+        fprintf(stderr, "qibl: relight: %s\n", st == QIBL_E_NULL_POINTER ? "out of memory" : qibl_status_str(st));
         rc = 1;
     } else {
-        /* RGBA -> RGB for the PNG writer */
-        for (size_t i = 0; i < (size_t)w * h; ++i)
-            memmove(pix + 3 * i, pix + 4 * i, 3);
         char err[512];
         if (qibl_png_write_rgb8(png, (int)w, (int)h, pix, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
@@ -242,6 +212,6 @@ int qibl_cmd_relight(int argc, char **argv)
                    ms);
         }
     }
-    free(bytes), free(pix), free(row), free(ws);
+    free(bytes), free(pix);
     return rc;
 }
