@@ -59,7 +59,8 @@ help:
 	@echo "make demo       run the main demo (SCENE=path.obj for a mesh, DEMO_SIZE=small for the CI size)"
 	@echo "make test       build and run the CMocka suites (installs libcmocka-dev if it can)"
 	@echo "make cross      freestanding builds for Cortex-M0/M4 and RV64, checks and size table"
-	@echo "make warnings   compile core/ and platform/soft/ with gcc and clang under the strict warning set"
+	@echo "make warnings   compile core/ and platform/soft/ with gcc and clang under the strict warning set;"
+	@echo "                every public header alone as C99/C11/C++98/11/17 (tools/scripts/headers.sh)"
 	@echo "make bench      benchmarks (speed against error), RESULT lines"
 	@echo "make check-exhaustive  sweeps too long for make test (all 2^32 sRGBE codes; CI runs it)"
 	@echo "make golden     run the golden runner natively: one hash per golden case, compared with fixtures/golden"
@@ -105,11 +106,20 @@ test-deps:
 
 $(BUILD)/tests/%_test: $(BUILD)/host/tests/%_test.o $(LIBTOOLS) $(LIBQIBL) | test-deps
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -o $@ $< $(LIBTOOLS) $(LIBQIBL) $(CMOCKA_LIBS) $(HOST_LIBS)
+	$(CC) $(HOST_CFLAGS) -o $@ $< $(TEST_EXTRA) $(LIBTOOLS) $(LIBQIBL) $(CMOCKA_LIBS) $(HOST_LIBS)
 
 $(BUILD)/tests/%_test-portable: $(BUILD)/host-portable/tests/%_test.o $(LIBTOOLS) $(LIBQIBL_PORTABLE) | test-deps
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -o $@ $< $(LIBTOOLS) $(LIBQIBL_PORTABLE) $(CMOCKA_LIBS) $(HOST_LIBS)
+	$(CC) $(HOST_CFLAGS) -o $@ $< $(TEST_EXTRA) $(LIBTOOLS) $(LIBQIBL_PORTABLE) $(CMOCKA_LIBS) $(HOST_LIBS)
+
+# version_test also links a TU compiled with -DQIBL_SH_MAX_BANDS=3: a caller whose config.h differs
+# from the library's must get QIBL_E_CONFIG_MISMATCH from its start-up check.
+VERSION_BANDS3 := $(BUILD)/host/tests/version_bands3.o
+$(VERSION_BANDS3): tests/version_bands3.c
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) -DQIBL_SH_MAX_BANDS=3 -MMD -MP -c $< -o $@
+$(BUILD)/tests/version_test $(BUILD)/tests/version_test-portable: $(VERSION_BANDS3)
+$(BUILD)/tests/version_test $(BUILD)/tests/version_test-portable: TEST_EXTRA = $(VERSION_BANDS3)
 
 $(BUILD)/host/tests/%.o: tests/%.c | test-deps
 	@mkdir -p $(dir $@)
@@ -203,6 +213,7 @@ warnings:
 	    $$cc $(CORE_WARN) $(PORTABLE_DEFS) $$o -Icore/include $(PLATFORM_INC) -fsyntax-only $$f || exit 1; \
 	  done; done; echo "warnings: core/ and platform/soft/ clean with $$cc (-O0/-O2/-O3, native and portable paths)"; \
 	done
+	@BUILD=$(BUILD) bash tools/scripts/headers.sh
 
 bench: $(QIBL)
 	$(QIBL) bench all

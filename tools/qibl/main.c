@@ -11,6 +11,7 @@
 #include <time.h>
 
 #include "qibl/cli.h"
+#include "qibl/version.h"
 
 static const qibl_cli_cmd commands[] = {
     {"sh", "evaluate the integer SH basis for a direction",
@@ -145,7 +146,7 @@ static const qibl_cli_cmd commands[] = {
 static void print_help(FILE *f)
 {
     fprintf(f, "qibl - integer image-based lighting runtime: command-line tool\n\n"
-               "usage: qibl <command> [args]\n       qibl help <command>\n\ncommands:\n");
+               "usage: qibl <command> [args]\n       qibl help <command>\n       qibl --version\n\ncommands:\n");
     for (size_t i = 0; i < NCMD; ++i)
         fprintf(f, "  %-8s %s\n", commands[i].name, commands[i].summary);
 }
@@ -218,6 +219,10 @@ int main(int argc, char **argv)
     if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
         print_help(stdout);
         return argc < 2 ? 2 : 0;
+    }
+    if (strcmp(argv[1], "--version") == 0) {
+        printf("qibl %s (config id %08lx)\n", qibl_version(), (unsigned long)qibl_config_id());
+        return qibl_init_check() == QIBL_OK ? 0 : 1;
     }
     if (strcmp(argv[1], "help") == 0) {
         if (argc == 2) {
