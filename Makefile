@@ -47,7 +47,8 @@ LIBQIBL_PORTABLE := $(BUILD)/libqibl-portable.a
 LIBTOOLS := $(BUILD)/libqibl-tools.a
 QIBL := $(BUILD)/bin/qibl
 
-.PHONY: all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan examples
+.PHONY: all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan examples \
+        install check-install
 .DEFAULT_GOAL := all
 
 all: $(LIBQIBL) $(QIBL)
@@ -67,6 +68,8 @@ help:
 	@echo "make ports      the golden runner on every compiler, -O level and architecture (qemu); hashes must agree"
 	@echo "make test-asan  the suites under AddressSanitizer + UndefinedBehaviorSanitizer (in $(BUILD)/asan)"
 	@echo "make examples   build and run tools/examples/console_port, the integration example (docs/porting.md)"
+	@echo "make install    headers, $(LIBQIBL) and qibl.pc into PREFIX (default /usr/local; DESTDIR honoured)"
+	@echo "make check-install  install to a temporary prefix and build the example through pkg-config and CMake"
 	@echo "make clean      remove $(BUILD)/ and out/"
 
 $(BUILD)/native/%.o: %.c
@@ -214,6 +217,25 @@ warnings:
 	  done; done; echo "warnings: core/ and platform/soft/ clean with $$cc (-O0/-O2/-O3, native and portable paths)"; \
 	done
 	@BUILD=$(BUILD) bash tools/scripts/headers.sh
+
+# ---- install: the core and platform/soft as engines link them (see also CMakeLists.txt) -------
+PREFIX ?= /usr/local
+LIBDIR ?= $(PREFIX)/lib
+INCLUDEDIR ?= $(PREFIX)/include
+QIBL_VERSION := $(shell sed -n 's/^\#define QIBL_VERSION_STRING "\(.*\)"/\1/p' core/include/qibl/version.h)
+
+install: $(LIBQIBL)
+	install -d $(DESTDIR)$(INCLUDEDIR)/qibl $(DESTDIR)$(LIBDIR)/pkgconfig
+	install -m 644 core/include/qibl.h $(DESTDIR)$(INCLUDEDIR)/qibl.h
+	install -m 644 core/include/qibl/*.h platform/soft/include/qibl/*.h $(DESTDIR)$(INCLUDEDIR)/qibl/
+	install -m 644 $(LIBQIBL) $(DESTDIR)$(LIBDIR)/libqibl.a
+	sed -e 's|@PREFIX@|$(PREFIX)|; s|@LIBDIR@|$(LIBDIR)|; s|@INCLUDEDIR@|$(INCLUDEDIR)|; s|@VERSION@|$(QIBL_VERSION)|; s|@DEFS@||' \
+	  tools/pkgconfig/qibl.pc.in > $(DESTDIR)$(LIBDIR)/pkgconfig/qibl.pc
+
+# What CI runs: make install into a temporary prefix (and a DESTDIR), the example built through
+# pkg-config and through CMake (add_subdirectory), qibl --version against version.h.
+check-install: $(QIBL) $(EXAMPLES)
+	@BUILD=$(BUILD) bash tools/scripts/check-install.sh
 
 bench: $(QIBL)
 	$(QIBL) bench all
