@@ -48,7 +48,7 @@ LIBTOOLS := $(BUILD)/libqibl-tools.a
 QIBL := $(BUILD)/bin/qibl
 
 .PHONY: all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan examples \
-        install check-install
+        install check-install amalgamate check-amalgamate
 .DEFAULT_GOAL := all
 
 all: $(LIBQIBL) $(QIBL)
@@ -70,6 +70,8 @@ help:
 	@echo "make examples   build and run tools/examples/console_port, the integration example (docs/porting.md)"
 	@echo "make install    headers, $(LIBQIBL) and qibl.pc into PREFIX (default /usr/local; DESTDIR honoured)"
 	@echo "make check-install  install to a temporary prefix and build the example through pkg-config and CMake"
+	@echo "make amalgamate the core as one qibl.h + one qibl.c in $(BUILD)/amalgamated (tools/scripts/amalgamate.sh)"
+	@echo "make check-amalgamate  that pair under the strict flags, freestanding for Cortex-M0/M4, with the goldens and the example"
 	@echo "make clean      remove $(BUILD)/ and out/"
 
 $(BUILD)/native/%.o: %.c
@@ -236,6 +238,13 @@ install: $(LIBQIBL)
 # pkg-config and through CMake (add_subdirectory), qibl --version against version.h.
 check-install: $(QIBL) $(EXAMPLES)
 	@BUILD=$(BUILD) bash tools/scripts/check-install.sh
+
+# The core as one qibl.h + one qibl.c (as SQLite ships), and its proof (CI runs check-amalgamate).
+amalgamate:
+	@BUILD=$(BUILD) bash tools/scripts/amalgamate.sh
+
+check-amalgamate: amalgamate $(QIBL) $(EXAMPLES)
+	@BUILD=$(BUILD) bash tools/scripts/check-amalgamate.sh
 
 bench: $(QIBL)
 	$(QIBL) bench all
