@@ -17,6 +17,7 @@
 #include "io/file.h"
 #include "qibl/cli.h"
 #include "qibl/shmap.h"
+#include "ref/psnr.h"
 #include "render/rt.h"
 
 /* ---- shared options ------------------------------------------------------------------------------ */
@@ -251,7 +252,7 @@ static double eval_psnr(const evalset *e, const uint8_t *asset, size_t n, int po
         mse += qibl_bake_mse(tmp, e->truth[i], e->mask, e->np), ++cnt;
     }
     mse /= cnt ? cnt : 1;
-    return mse > 0 ? 10 * log10(255.0 * 255.0 / mse) : 99.0;
+    return qibl_ref_psnr8(mse);
 }
 
 /* ---- qibl bake / merge --------------------------------------------------------------------------- */

@@ -11,6 +11,7 @@
 #include "bake/bake.h"
 #include "io/png.h"
 #include "qibl/cli.h"
+#include "ref/psnr.h"
 #include "render/rt.h"
 
 static int save_png(const char *dir, const char *name, int w, int h, const uint8_t *rgb)
@@ -131,8 +132,8 @@ int qibl_cmd_demo(int argc, char **argv)
             else
                 mse_p += e / NPT;
         }
-        psnr_dir[q] = mse_d > 0 ? 10 * log10(65025.0 / mse_d) : 99;
-        psnr_pt[q] = mse_p > 0 ? 10 * log10(65025.0 / mse_p) : 99;
+        psnr_dir[q] = qibl_ref_psnr8(mse_d);
+        psnr_pt[q] = qibl_ref_psnr8(mse_p);
         ms_dir[q] = qibl_cli_median(tms, NDIR);
         ms_pt[q] = qibl_cli_median(tms + NDIR, NPT);
     }
@@ -148,7 +149,7 @@ int qibl_cmd_demo(int argc, char **argv)
                 qibl_bake_relight8(b, n, &ev[i], 0, tmp, NULL);
                 mse += qibl_bake_mse(tmp, truth[i], mask, np) / NDIR;
             }
-            lsq_dir = mse > 0 ? 10 * log10(65025.0 / mse) : 99;
+            lsq_dir = qibl_ref_psnr8(mse);
             qibl_gen_free(&m);
         }
         free(b);
