@@ -78,6 +78,17 @@ if cmake -S tests/cmake_consumer -B "$out/cmake-consumer" "${gen[@]}" -DCMAKE_BU
 else
     err "tests/cmake_consumer does not configure or build:"; tail -n 15 "$out/cmake-consumer.log" >&2
 fi
+# QIBL_CONFIG_DEFINITIONS reach the library and its users alike (PUBLIC): the start-up check passes
+if cmake -S tests/cmake_consumer -B "$out/cmake-bands3" "${gen[@]}" -DCMAKE_BUILD_TYPE=Release \
+         -DQIBL_CONFIG_DEFINITIONS="QIBL_SH_MAX_BANDS=3;QIBL_USE_LIGHTPROBE=0" > "$out/cmake-bands3.log" 2>&1 &&
+   cmake --build "$out/cmake-bands3" -j 2 >> "$out/cmake-bands3.log" 2>&1 &&
+   "$out/cmake-bands3/cxx_consumer" > "$out/cmake-bands3.txt" &&
+   id=$(sed -n 's/.*config id \([0-9a-f]*\).*/\1/p' "$out/cmake-bands3.txt") && [ -n "$id" ] &&
+   [ $(( (0x$id >> 8) & 15 )) = 3 ] && [ $(( (0x$id >> 3) & 1 )) = 0 ]; then
+    echo "check-install: CMake with QIBL_CONFIG_DEFINITIONS=QIBL_SH_MAX_BANDS=3;QIBL_USE_LIGHTPROBE=0: $(cat "$out/cmake-bands3.txt")"
+else
+    err "CMake with QIBL_CONFIG_DEFINITIONS: library and users do not agree:"; tail -n 5 "$out/cmake-bands3.log" "$out/cmake-bands3.txt" >&2
+fi
 cprefix="$out/cmake-prefix"
 if cmake -S . -B "$out/cmake-top" "${gen[@]}" -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX="$cprefix" \
          > "$out/cmake-top.log" 2>&1 && cmake --build "$out/cmake-top" -j 2 >> "$out/cmake-top.log" 2>&1 &&
