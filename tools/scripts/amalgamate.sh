@@ -4,8 +4,9 @@
 #
 # qibl.h: every header of core/include in dependency order (from the "qibl/...h" includes, starting
 # at the umbrella qibl.h), with those includes removed; each keeps its own include guard, so code
-# that also includes a single module header still compiles. qibl.c: #include "qibl.h", then every
-# core/src/*.c with its qibl includes removed. One translation unit shares one scope, so the script
+# that also includes a single module header still compiles. qibl.c: #include "qibl.h", the core's
+# internal headers (core/src/*.h, once each, dependencies first), then every core/src/*.c with its
+# qibl and internal includes removed. One translation unit shares one scope, so the script
 # (a) renames file-local names (statics, local typedefs, enum constants) that two source files
 # define, in every file but the first (NAME -> NAME_<file>), and (b) #undefs each file's own macros
 # at the end of its section. `make check-amalgamate` compiles the result with the core's strict
@@ -51,6 +52,27 @@ strip_includes() { grep -vE '^[[:space:]]*#[[:space:]]*include[[:space:]]*"qibl(
     echo "#endif /* QIBL_AMALGAMATED_H */"
 } > "$out/qibl.h.tmp"
 
+# ---- internal headers of core/src, dependencies first --------------------------------------------
+internal=()
+ivisit() { # file name in core/src
+    local h=$1 dep seen
+    for seen in "${internal[@]+"${internal[@]}"}"; do [ "$seen" = "$h" ] && return 0; done
+    for dep in $(sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"\([a-z0-9_]*\.h\)".*/\1/p' "core/src/$h"); do
+        [ -f "core/src/$dep" ] && ivisit "$dep"
+    done
+    internal+=("$h")
+}
+for f in core/src/*.h; do [ -f "$f" ] && ivisit "$(basename "$f")"; done
+# qibl includes and includes of the internal headers, both inlined above
+strip_all() {
+    if [ ${#internal[@]} -gt 0 ]; then
+        local alt; alt=$(printf '%s|' "${internal[@]}" | sed 's/\./\\./g; s/|$//')
+        strip_includes "$1" | grep -vE "^[[:space:]]*#[[:space:]]*include[[:space:]]*\"($alt)\"" || true
+    else
+        strip_includes "$1"
+    fi
+}
+
 # ---- sources: file-local names defined in more than one file ------------------------------------
 srcs=(core/src/*.c)
 # names a file defines at file scope: static functions/objects, "} name;" of a typedef'd struct,
@@ -77,6 +99,12 @@ done
     echo " * (freestanding is fine: see docs/porting.md for the flags) with qibl.h beside it."
     echo " */"
     echo "#include \"qibl.h\""
+    for h in "${internal[@]+"${internal[@]}"}"; do
+        echo
+        echo "/* ==== core/src/$h (internal) ==== */"
+        echo "#line 1 \"core/src/$h\""
+        strip_all "core/src/$h"
+    done
     for f in "${srcs[@]}"; do
         m=$(basename "$f" .c)
         echo
@@ -84,10 +112,10 @@ done
         echo "#line 1 \"$f\""
         if [ -n "${renames[$f]:-}" ]; then
             pat=$(echo ${renames[$f]} | tr ' ' '|')
-            strip_includes "$f" | perl -pe "s/(?<![.\\w])(?<!->)($pat)(?!\\w)/\${1}_$m/g"
+            strip_all "$f" | perl -pe "s/(?<![.\\w])(?<!->)($pat)(?!\\w)/\${1}_$m/g"
             echo "amalgamate: $f: file-local names another source also defines, renamed:$(for n in ${renames[$f]}; do printf ' %s -> %s_%s' "$n" "$n" "$m"; done)" >&2
         else
-            strip_includes "$f"
+            strip_all "$f"
         fi
         # the file's own macros end with it
         for d in $(sed -n 's/^[[:space:]]*#[[:space:]]*define[[:space:]]\+\([A-Za-z_][A-Za-z_0-9]*\).*/\1/p' "$f" | sort -u); do
@@ -98,4 +126,4 @@ done
 
 mv "$out/qibl.h.tmp" "$out/qibl.h"
 mv "$out/qibl.c.tmp" "$out/qibl.c"
-echo "amalgamate: $out/qibl.h ($(wc -l < "$out/qibl.h") lines, ${#order[@]} headers), $out/qibl.c ($(wc -l < "$out/qibl.c") lines, ${#srcs[@]} sources)"
+echo "amalgamate: $out/qibl.h ($(wc -l < "$out/qibl.h") lines, ${#order[@]} headers), $out/qibl.c ($(wc -l < "$out/qibl.c") lines, ${#internal[@]} internal headers, ${#srcs[@]} sources)"

@@ -22,6 +22,15 @@ common="-Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wsign-conversion -Wundef
 cwarn="$common -Wdouble-promotion -Wmissing-prototypes -Wstrict-prototypes"
 headers=$( (echo core/include/qibl.h; ls core/include/qibl/*.h platform/soft/include/qibl/*.h) )
 
+# extern "C" in every header that declares something (config.h has macros only): a missing guard
+# compiles as C++ and fails only at link time, for whichever function a program calls first.
+for h in $headers; do
+    if grep -qE '^(typedef|struct|enum|static|const|void|unsigned|int|uint|size_t|qibl_)' "$h" &&
+       ! grep -q '^extern "C" {' "$h"; then
+        err "$h declares types or functions but has no extern \"C\" block for C++"
+    fi
+done
+
 for cc in gcc clang; do
     command -v $cc >/dev/null 2>&1 || { err "$cc not found"; continue; }
     cxx=g++; [ $cc = clang ] && cxx=clang++
