@@ -42,8 +42,9 @@ extern "C" {
  *   bits 28..31  0xA, so that 0 or a stray small integer is never a valid identity
  *
  * Not included, because they change speed only and give identical results and layouts:
- * QIBL_CONFIG_NATIVE_MUL64, _SHIFT64, _DIV64, QIBL_CONFIG_SRGBE_BLOCKS. A preprocessor constant,
- * usable in #if. An option that changes a layout must be added here when it is added to config.h. */
+ * QIBL_CONFIG_NATIVE_MUL64, _SHIFT64, _DIV64, QIBL_CONFIG_SRGBE_BLOCKS. A uint32_t constant
+ * expression (not for #if: it has casts). An option that changes a layout must be added here when
+ * it is added to config.h. */
 #define QIBL_CONFIG_ID                                                                          \
     (0xA0000000u | ((uint32_t)(QIBL_VERSION_MAJOR & 15) << 24) |                                \
      ((uint32_t)(QIBL_VERSION_MINOR & 255) << 16) | ((uint32_t)QIBL_SH_MAX_BANDS << 8) |        \
