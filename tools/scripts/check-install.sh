@@ -3,8 +3,8 @@
 #   1. make install PREFIX=... (and DESTDIR=...), then the integration example built against the
 #      installed headers and libqibl.a through pkg-config alone;
 #   2. CMake: tests/cmake_consumer takes the tree with add_subdirectory and links the example and a
-#      C++17 file through the qibl::qibl target; the top-level CMakeLists.txt installs a package
-#      that find_package(qibl) finds.
+#      C++17 file through the qibl::qibl target (also with QIBL_CONFIG_DEFINITIONS); the top-level
+#      CMakeLists.txt (with the optional CLI) installs a package that find_package(qibl) finds.
 # Every example build must print the same frames as build/bin/console_port (the Makefile's build),
 # a caller compiled with another config.h must be refused by the example's start-up check, and
 # `qibl --version` must say the version of qibl/version.h.
@@ -90,7 +90,7 @@ else
     err "CMake with QIBL_CONFIG_DEFINITIONS: library and users do not agree:"; tail -n 5 "$out/cmake-bands3.log" "$out/cmake-bands3.txt" >&2
 fi
 cprefix="$out/cmake-prefix"
-if cmake -S . -B "$out/cmake-top" "${gen[@]}" -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX="$cprefix" \
+if cmake -S . -B "$out/cmake-top" "${gen[@]}" -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX="$cprefix" -DQIBL_BUILD_TOOLS=ON \
          > "$out/cmake-top.log" 2>&1 && cmake --build "$out/cmake-top" -j 2 >> "$out/cmake-top.log" 2>&1 &&
    cmake --install "$out/cmake-top" >> "$out/cmake-top.log" 2>&1; then
     mkdir -p "$out/find-package"
@@ -110,6 +110,8 @@ CMAKE
         err "find_package(qibl) consumer does not build:"; tail -n 15 "$out/find-package.log" >&2
     fi
     PKG_CONFIG_PATH="$cprefix/lib/pkgconfig" pkg-config --exists qibl || err "cmake --install did not install qibl.pc"
+    v=$("$cprefix/bin/qibl" --version) && echo "check-install: CMake QIBL_BUILD_TOOLS=ON installs the CLI: $v" ||
+        err "the CLI built by CMake (QIBL_BUILD_TOOLS=ON) does not run"
 else
     err "the top-level CMakeLists.txt does not configure, build or install:"; tail -n 15 "$out/cmake-top.log" >&2
 fi
