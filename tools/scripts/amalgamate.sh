@@ -33,7 +33,8 @@ for h in $(sed -n 's/^#include "\(qibl\/[^"]*\.h\)".*/\1/p' core/include/qibl.h)
 # any header qibl.h does not reach is still part of the core's API
 for f in core/include/qibl/*.h; do visit "${f#core/include/}"; done
 
-strip_includes() { grep -vE '^[[:space:]]*#[[:space:]]*include[[:space:]]*"qibl(/[a-z0-9_]+)?\.h"' "$1" || true; }
+# (an inlined include becomes an empty line, so the #line numbers below stay those of the file)
+strip_includes() { sed -E 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"qibl(\/[a-z0-9_]+)?\.h".*$//' "$1"; }
 
 {
     echo "/*"
@@ -67,7 +68,7 @@ for f in core/src/*.h; do [ -f "$f" ] && ivisit "$(basename "$f")"; done
 strip_all() {
     if [ ${#internal[@]} -gt 0 ]; then
         local alt; alt=$(printf '%s|' "${internal[@]}" | sed 's/\./\\./g; s/|$//')
-        strip_includes "$1" | grep -vE "^[[:space:]]*#[[:space:]]*include[[:space:]]*\"($alt)\"" || true
+        strip_includes "$1" | sed -E "s/^[[:space:]]*#[[:space:]]*include[[:space:]]*\"($alt)\".*\$//"
     else
         strip_includes "$1"
     fi
