@@ -14,6 +14,7 @@
 #include "io/pfm.h"
 #include "io/png.h"
 #include "qibl/asset.h"
+#include "io/atomic.h"
 #include "io/file.h"
 #include "qibl/cli.h"
 #include "qibl/shmap.h"
@@ -258,22 +259,11 @@ static double eval_psnr(const evalset *e, const uint8_t *asset, size_t n, int po
 
 static int write_bytes(const char *path, const uint8_t *b, size_t n)
 {
-    size_t tl = strlen(path) + 5;
-    char *tmp = malloc(tl);
-    if (!tmp)
-        return -1;
-    snprintf(tmp, tl, "%s.tmp", path);
-    FILE *f = fopen(tmp, "wb");
-    int bad = !f || fwrite(b, 1, n, f) != n;
-    if (f)
-        bad |= fclose(f) != 0;
-    if (bad || rename(tmp, path) != 0) {
-        fprintf(stderr, "qibl: %s: write failed: %s\n", path, strerror(errno));
-        remove(tmp);
-        free(tmp);
+    char err[1200];
+    if (qibl_io_write_atomic(path, b, n, err, sizeof err) != 0) {
+        fprintf(stderr, "qibl: %s\n", err);
         return -1;
     }
-    free(tmp);
     return 0;
 }
 
@@ -284,7 +274,11 @@ static int finish_asset(const qibl_bake_sums *sums, uint32_t k, uint32_t lut, qi
     uint8_t *bytes = NULL;
     size_t n = 0;
     if (qibl_bake_coeffs(sums, k, method, &m) != 0) {
-        fprintf(stderr, "qibl: %s: cannot project (out of memory, or too few directions for k = %u)\n", out, k);
+        if (method == QIBL_PROJ_LSQ)
+            fprintf(stderr, "qibl: %s: cannot project by least squares: %u directions are too few for k = %u (or out "
+                    "of memory)\n", out, sums->ndirs, k);
+        else
+            fprintf(stderr, "qibl: %s: cannot project: out of memory\n", out);
         return 1;
     }
     int rc = qibl_bake_asset(&m, lut, &bytes, &n);
@@ -486,28 +480,43 @@ int qibl_cmd_merge(int argc, char **argv)
         return qibl_cli_usage_error("usage: qibl merge -o ASSET [--sums OUT] [--k K] [--lut N] [--lsq] SUMS...");
     }
     qibl_bake_sums total = {0}, part;
-    char err[512];
+    char err[1200];
     int rc = 1;
-    uint8_t *seen = NULL;
+    int *seen = NULL; /* per shard index: 1 + the input it came from, 0 if none yet */
     for (int i = 0; i < nin; ++i) {
+        /* every header is validated by the reader (shard < nshards <= QIBL_BAKE_MAX_SHARDS) before use */
         if (qibl_bake_sums_read(in[i], &part, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
             goto done;
         }
         if (i == 0) {
             total = part;
-            seen = calloc(part.nshards, 1);
-            if (!seen)
+            seen = calloc(part.nshards, sizeof *seen);
+            if (!seen) {
+                fprintf(stderr, "qibl: merge: out of memory\n");
                 goto done;
+            }
             seen[part.shard] = 1;
             continue;
         }
-        if (qibl_bake_sums_add(&total, &part, err, sizeof err) != 0 || seen[part.shard]) {
-            fprintf(stderr, "qibl: %s: %s\n", in[i], seen[part.shard] ? "shard given twice" : err);
+        /* same bake (and so the same shard count) first: only then is part.shard an index into seen */
+        if (qibl_bake_sums_compatible(&total, &part, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s: %s (first input %s)\n", in[i], err, in[0]);
             qibl_bake_sums_free(&part);
             goto done;
         }
-        seen[part.shard] = 1;
+        if (seen[part.shard]) {
+            fprintf(stderr, "qibl: %s: shard %u/%u given twice (also %s)\n", in[i], part.shard, part.nshards,
+                    in[seen[part.shard] - 1]);
+            qibl_bake_sums_free(&part);
+            goto done;
+        }
+        if (qibl_bake_sums_add(&total, &part, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s: %s\n", in[i], err);
+            qibl_bake_sums_free(&part);
+            goto done;
+        }
+        seen[part.shard] = i + 1;
         qibl_bake_sums_free(&part);
     }
     for (uint32_t s = 0; s < total.nshards; ++s)
@@ -515,6 +524,11 @@ int qibl_cmd_merge(int argc, char **argv)
             fprintf(stderr, "qibl: merge: shard %u/%u is missing\n", s, total.nshards);
             goto done;
         }
+    if (k > (long)total.k) {
+        rc = qibl_cli_usage_error("merge: --k %ld is above the shards' k = %u (bake with --k %ld or more)", k, total.k,
+                                  k);
+        goto done;
+    }
     total.shard = 0, total.nshards = 1;
     if (sums_out && qibl_bake_sums_write(&total, sums_out, err, sizeof err) != 0) {
         fprintf(stderr, "qibl: %s\n", err);
