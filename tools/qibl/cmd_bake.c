@@ -22,17 +22,15 @@
 
 /* ---- shared options ------------------------------------------------------------------------------ */
 
-static int parse_d3(char **argv, int i, int argc, double v[3])
+/* X Y Z after argv[i], each in lo..QIBL_CLI_Q16_MAX (render is the ground truth of what relight
+ * can take); 0, or 2 after a message naming the option and the value */
+static int parse_d3(char **argv, int i, int argc, double lo, double v[3])
 {
     if (i + 3 >= argc)
-        return -1;
-    for (int j = 0; j < 3; ++j) {
-        char *end;
-        errno = 0;
-        v[j] = strtod(argv[i + 1 + j], &end);
-        if (end == argv[i + 1 + j] || *end || errno || !isfinite(v[j]))
-            return -1;
-    }
+        return qibl_cli_usage_error("%s needs three numbers", argv[i]);
+    for (int j = 0; j < 3; ++j)
+        if (qibl_cli_parse_num(argv[i], argv[i + 1 + j], lo, QIBL_CLI_Q16_MAX, QIBL_CLI_Q16_WHY, &v[j]) != 0)
+            return 2;
     return 0;
 }
 
@@ -51,9 +49,10 @@ int qibl_cli_scene_opt(int argc, char **argv, int *i, qibl_cli_scene *o)
         o->kind = QIBL_PANO_EQUIRECT;
     } else if (strcmp(a, "--size") == 0 && *i + 1 < argc) {
         long w, h;
-        char tail;
-        if (sscanf(argv[++*i], "%ldx%ld%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 16384 || h > 16384) {
-            qibl_cli_usage_error("--size needs WxH with both in 1..16384");
+        if (qibl_cli_parse_size(a, argv[++*i], QIBL_ASSET_MAX_DIM, &w, &h) != 0)
+            return -1;
+        if (w * h > (long)QIBL_ASSET_MAX_PIXELS) {
+            qibl_cli_usage_error("--size %ldx%ld is above the asset's %u pixels", w, h, QIBL_ASSET_MAX_PIXELS);
             return -1;
         }
         o->w = (uint32_t)w, o->h = (uint32_t)h;
@@ -122,14 +121,17 @@ int qibl_cmd_render(int argc, char **argv)
         const char *a = argv[i];
         if (strcmp(a, "--sun") == 0 || strcmp(a, "--point") == 0) {
             int pt = a[2] == 'p';
-            if (parse_d3(argv, i, argc, pt ? l.pos : l.dir) != 0)
-                return qibl_cli_usage_error("%s needs three numbers X Y Z", a);
-            if (!pt && l.dir[0] == 0 && l.dir[1] == 0 && l.dir[2] == 0)
-                return qibl_cli_usage_error("--sun needs a non-zero direction");
+            double *v = pt ? l.pos : l.dir;
+            if (parse_d3(argv, i, argc, -QIBL_CLI_Q16_MAX, v) != 0)
+                return 2;
+            /* as relight sees it: a direction that rounds to 0 0 0 in Q16.16 has none */
+            if (!pt && fmax(fabs(v[0]), fmax(fabs(v[1]), fabs(v[2]))) < 0.5 / 65536)
+                return qibl_cli_usage_error("--sun needs a non-zero direction: %s %s %s is 0 0 0 in Q16.16",
+                                            argv[i + 1], argv[i + 2], argv[i + 3]);
             l.point = pt, have++, i += 3;
         } else if (strcmp(a, "--rgb") == 0) {
-            if (parse_d3(argv, i, argc, l.rgb) != 0 || l.rgb[0] < 0 || l.rgb[1] < 0 || l.rgb[2] < 0)
-                return qibl_cli_usage_error("--rgb needs three non-negative numbers");
+            if (parse_d3(argv, i, argc, 0, l.rgb) != 0)
+                return 2;
             i += 3;
         } else if (strcmp(a, "--falloff") == 0 && i + 1 < argc) {
             if (qibl_cli_parse_int(argv[++i], 1, 2, &falloff) != 0)

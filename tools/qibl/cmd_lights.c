@@ -66,6 +66,20 @@ static void put(uint8_t *img, int W, int H, int x, int y, const uint8_t c[3])
     memcpy(img + 3 * ((size_t)y * (size_t)W + (size_t)x), c, 3);
 }
 
+/* --png picture limits: the PNG writer's side limit, and 2^25 pixels (96 MB of RGB) */
+#define LIGHTS_PNG_MAX_SIDE 65535u
+#define LIGHTS_PNG_MAX_PIXELS (1u << 25)
+
+/* the largest zoom (at least 1) that keeps a w x h probe's picture within the limits */
+static uint64_t max_zoom(int w, int h)
+{
+    uint64_t z = 1;
+    while ((uint64_t)w * (z + 1) <= LIGHTS_PNG_MAX_SIDE && (uint64_t)h * (z + 1) <= LIGHTS_PNG_MAX_SIDE &&
+           (uint64_t)w * (z + 1) * (uint64_t)h * (z + 1) <= LIGHTS_PNG_MAX_PIXELS)
+        ++z;
+    return z;
+}
+
 /* The probe tone-mapped (Reinhard's global operator at the log-average key, sRGB-ish gamma),
  * zoomed by z, with every light's region outlined and its direction marked. */
 static int write_png(const char *path, const uint8_t *px, int w, int h, int z, const qibl_lightprobe_light_t *L,
@@ -213,6 +227,18 @@ int qibl_cmd_lights(int argc, char **argv)
     char err[512];
     if (qibl_hdr_read_rgbe(path, &w, &h, &px, err, sizeof err) != 0)
         return fprintf(stderr, "qibl: %s\n", err), 1;
+    /* the picture's size is known now: refuse one the PNG writer could not take before any work */
+    int z = zoom ? (int)zoom : (w >= 512 ? 1 : (1024 + w - 1) / w);
+    if (png) {
+        uint64_t pw = (uint64_t)w * (uint64_t)z, ph = (uint64_t)h * (uint64_t)z;
+        if (pw > LIGHTS_PNG_MAX_SIDE || ph > LIGHTS_PNG_MAX_SIDE || pw * ph > LIGHTS_PNG_MAX_PIXELS) {
+            free(px);
+            return qibl_cli_usage_error("--zoom %d: a %dx%d probe makes a %llux%llu picture; the limit is %u per side "
+                                        "and %u pixels (try --zoom %llu)", z, w, h, (unsigned long long)pw,
+                                        (unsigned long long)ph, LIGHTS_PNG_MAX_SIDE, LIGHTS_PNG_MAX_PIXELS,
+                                        (unsigned long long)max_zoom(w, h));
+        }
+    }
     /* the probe as the core reads it: RGBE bytes as stored, or converted (exactly for f32) */
     qibl_lightprobe_image_t img;
     memset(&img, 0, sizeof img);
@@ -293,7 +319,6 @@ int qibl_cmd_lights(int argc, char **argv)
     if (error)
         print_error(px, w, h, L, res.count, res.rgb_exp);
     if (png) {
-        int z = zoom ? (int)zoom : (w >= 512 ? 1 : (1024 + w - 1) / w);
         rc = write_png(png, px, w, h, z, L, res.count);
         if (rc == 0 && !csv)
             printf("wrote %s (%d x %d): regions in green, light directions in red\n", png, w * z, h * z);
