@@ -445,6 +445,10 @@ int qibl_bake_sums_write(const qibl_bake_sums *s, const char *path, char *err, s
 
 int qibl_bake_sums_compatible(const qibl_bake_sums *a, const qibl_bake_sums *b, char *err, size_t errlen)
 {
+    /* the split first: it is what a merge of the wrong files most often gets wrong */
+    if (a->nshards != b->nshards)
+        return efail(err, errlen, NULL, "shards of different bakes: shard %u/%u against a split into %u", b->shard,
+                     b->nshards, a->nshards);
     if (a->w != b->w || a->h != b->h)
         return efail(err, errlen, NULL, "shards of different bakes: size %ux%u against %ux%u", b->w, b->h, a->w, a->h);
     if (a->k != b->k)
@@ -453,9 +457,6 @@ int qibl_bake_sums_compatible(const qibl_bake_sums *a, const qibl_bake_sums *b, 
         return efail(err, errlen, NULL, "shards of different bakes: %u directions against %u", b->ndirs, a->ndirs);
     if (a->kind != b->kind)
         return efail(err, errlen, NULL, "shards of different bakes: panorama kind %u against %u", b->kind, a->kind);
-    if (a->nshards != b->nshards)
-        return efail(err, errlen, NULL, "shards of different bakes: shard %u/%u against a split into %u", b->shard,
-                     b->nshards, a->nshards);
     if (memcmp(a->pmap, b->pmap, (size_t)a->w * a->h * 12) != 0)
         return efail(err, errlen, NULL, "shards of different scenes (P maps differ)");
     return 0;
