@@ -55,25 +55,23 @@ static int check_out_dir(const char *dir, long frames)
         fprintf(stderr, "qibl: %s: not a directory\n", dir);
         return 1;
     }
+    static const char *fixed[] = {"scene_k9.qibl", "scene_k16.qibl",    "scene_k25.qibl", "sun_sweep.png",
+                                  "lamp_sweep.png", "contact_sheet.png", "relit_sun.png",  "truth_sun.png"};
+    enum { NFIXED = sizeof fixed / sizeof fixed[0] };
     char err[1200], name[64];
     int bad = 0;
-    for (long i = -9; i < 2 * frames && !bad; ++i) {
-        static const char *fixed[9] = {"scene_k9.qibl",     "scene_k16.qibl", "scene_k25.qibl",
-                                       "sun_sweep.png",     "lamp_sweep.png", "contact_sheet.png",
-                                       "relit_sun.png",     "truth_sun.png",  NULL};
-        if (i < 0 && !fixed[i + 9])
-            continue;
-        if (i < 0)
-            snprintf(name, sizeof name, "%s", fixed[i + 9]);
-        else
-            snprintf(name, sizeof name, "%s_%02ld.png", i < frames ? "sun" : "lamp", i % frames);
+    for (long i = 0; i < NFIXED + 2 * frames && !bad; ++i) {
+        if (i < NFIXED)
+            snprintf(name, sizeof name, "%s", fixed[i]);
+        else /* the frames: sun_00.png .. then lamp_00.png .. */
+            snprintf(name, sizeof name, "%s_%02ld.png", i - NFIXED < frames ? "sun" : "lamp", (i - NFIXED) % frames);
         char *path = join(dir, name);
         if (!path)
             return fprintf(stderr, "qibl: demo: out of memory\n"), 1;
         if (qibl_io_check_replaceable(path, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
             bad = 1;
-        } else if (i == -9) { /* one real temporary file: the directory takes new files */
+        } else if (i == 0) { /* one real temporary file: the directory takes new files */
             qibl_io_atomic a;
             if (qibl_io_atomic_open(&a, path, err, sizeof err) != 0) {
                 fprintf(stderr, "qibl: %s\n", err);

@@ -95,7 +95,7 @@ int qibl_cmd_gen(int argc, char **argv)
             goto done;
         }
     }
-    if (qibl_asset_write_file(&b, out, 0) != 0) {
+    if (qibl_asset_write_file(&b, out, 1) != 0) {
         fprintf(stderr, "qibl: %s\n", b.err);
         goto done;
     }
