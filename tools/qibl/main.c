@@ -57,7 +57,8 @@ static const qibl_cli_cmd commands[] = {
      "  The reference renderer (BVH ray tracer, hard shadows, Lambert + glossy) from the viewpoint at the\n"
      "  origin: what a light really produces, to compare relit frames with. --sun: directional light\n"
      "  from (X, Y, Z) with irradiance --rgb (default 1 1 1); --point: a lamp at (X, Y, Z) with\n"
-     "  C0 = --rgb and falloff C0/|L| (or |L|^2). --png: sRGB 8-bit through the same framebuffer code\n"
+     "  C0 = --rgb and falloff C0/|L| (or |L|^2); every number within the Q16.16 range relight takes\n"
+     "  (|v| <= 32767.99998, --rgb >= 0). --png: sRGB 8-bit through the same framebuffer code\n"
      "  as qibl relight; --pfm: linear RGB floats; --depth: depth along each pixel's ray (0 for sky).\n"
      "  Scenes: the built-in courtyard (default) or an OBJ placed as a prop on a ground plane (Y-up\n"
      "  turned to Z-up unless --zup; --raw: as given, nothing added). Default 1024x256 cylindrical.\n",
@@ -78,7 +79,10 @@ static const qibl_cli_cmd commands[] = {
     {"merge", "combine the partial sums of bake shards into an asset",
      "usage: qibl merge -o ASSET [--sums OUT] [--k K] [--lut N] [--lsq] SUMS...\n"
      "  Adds the partial sums written by `qibl bake --shard I/N --sums FILE` (every shard exactly once,\n"
-     "  same bake) and writes the asset as qibl bake would (byte-identical), and/or the total sums.\n",
+     "  same bake) and writes the asset as qibl bake would (byte-identical), and/or the total sums.\n"
+     "  Every file is checked before use (version, CRC-32s, counts within the bake's limits, exact size),\n"
+     "  then against the first (split, size, k, directions, P map); sums that would overflow 64 bits, a\n"
+     "  shard given twice or missing, and --k above the shards' k are refused by name.\n",
      qibl_cmd_merge},
     {"check", "validate PNG/APNG, PFM and qibl asset files",
      "usage: qibl check FILE...\n"
@@ -134,8 +138,9 @@ static const qibl_cli_cmd commands[] = {
      "  --csv: one line per light, x,y,z,r,g,b,u0,v0,u1,v1 (region: u0 <= u < u1, v0 <= v < v1),\n"
      "  after a header line. Otherwise a table.\n"
      "  --png: the tone-mapped probe with the regions (green) and light directions (red), zoomed by Z\n"
-     "  (default: to about 1024 pixels wide). --error: the lights' irradiance against the probe's over\n"
-     "  1024 normals. --as: feed the core the probe as RGBE bytes (default), sRGBE or binary32.\n"
+     "  (default: to about 1024 pixels wide; the picture may have at most 65535 pixels a side and 2^25\n"
+     "  in all). --error: the lights' irradiance against the probe's over 1024 normals.\n"
+     "  --as: feed the core the probe as RGBE bytes (default), sRGBE or binary32.\n"
      "  --priority / --place: which region ADAPTIVE/VARMIN split next, centroid or geometric centre.\n"
      "  An all-black probe prints that it has no lights and exits 0.\n",
      qibl_cmd_lights},
