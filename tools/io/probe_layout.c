@@ -187,17 +187,15 @@ static void pos_of(qibl_probe_layout_t l, int w, int h, const double d[3], doubl
         double ph = atan2(d[1], d[0]);
         if (ph < 0)
             ph += 2.0 * PI;
-        double z = d[2] > 1 ? 1 : d[2] < -1 ? -1 : d[2];
         *x = ph * w / (2.0 * PI);
         if (*x >= w)
             *x -= w;
-        *y = acos(z) * h / PI;
+        *y = atan2(sqrt(d[0] * d[0] + d[1] * d[1]), d[2]) * h / PI; /* acos loses bits near the poles */
         return;
     }
     double v[3] = {-d[0], -d[1], d[2]};
     if (is_disc(l)) {
-        double f = v[0] > 1 ? 1 : v[0] < -1 ? -1 : v[0];
-        double th = acos(f), s = sqrt(v[1] * v[1] + v[2] * v[2]), a, b;
+        double f = v[0], s = sqrt(v[1] * v[1] + v[2] * v[2]), th = atan2(s, f), a, b;
         double rho = l == QIBL_PROBE_LAYOUT_ANGULAR ? th / PI : sin(th / 2.0);
         if (s == 0) {
             a = f > 0 ? 0 : 1, b = 0;
@@ -246,6 +244,63 @@ static void sample_latlong(const float *img, int w, int h, double x, double y, d
     const float *p10 = img + 3 * ((size_t)y1 * (size_t)w + (size_t)x0), *p11 = img + 3 * ((size_t)y1 * (size_t)w + (size_t)x1);
     for (int c = 0; c < 3; ++c)
         out[c] = (1 - ty) * ((1 - tx) * p00[c] + tx * p01[c]) + ty * ((1 - tx) * p10[c] + tx * p11[c]);
+}
+
+/* A lat-long with per-row prefix sums, for box filtering along rows: near the poles a pixel of
+ * another layout covers many lat-long columns, and point samples there would alias (a sun near the
+ * zenith is hit or missed). */
+typedef struct ll_box {
+    const float *img;
+    int w, h;
+    double *pre; /* h rows of 3 (w + 1) prefix sums */
+} ll_box;
+
+static int ll_box_init(ll_box *b, const float *img, int w, int h)
+{
+    b->img = img, b->w = w, b->h = h;
+    b->pre = malloc(sizeof *b->pre * 3 * ((size_t)w + 1) * (size_t)h);
+    if (!b->pre)
+        return -1;
+    for (int y = 0; y < h; ++y) {
+        double *p = b->pre + 3 * ((size_t)w + 1) * (size_t)y;
+        const float *r = img + 3 * (size_t)w * (size_t)y;
+        p[0] = p[1] = p[2] = 0;
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c)
+                p[3 * (x + 1) + c] = p[3 * x + c] + r[3 * x + c];
+    }
+    return 0;
+}
+
+/* integral of channel c of a row (piecewise constant, periodic) from 0 to x, any real x */
+static double row_integral(const double *pre, int w, double x, int c)
+{
+    double k = floor(x / w), xr = x - k * w;
+    int i = (int)xr;
+    if (i >= w)
+        i = w - 1;
+    return k * pre[3 * w + c] + pre[3 * i + c] + (xr - i) * (pre[3 * (i + 1) + c] - pre[3 * i + c]);
+}
+
+/* mean over a box of span columns (>= 1) centred on x, linear between the two nearest rows; a span
+ * of one column is bilinear interpolation */
+static void sample_latlong_box(const ll_box *b, double x, double y, double span, double out[3])
+{
+    if (span < 1)
+        span = 1;
+    if (span > b->w)
+        span = b->w;
+    double fy = y - 0.5, y0f = floor(fy), ty = fy - y0f;
+    int y0 = (int)y0f, y1 = y0 + 1;
+    y0 = y0 < 0 ? 0 : y0 > b->h - 1 ? b->h - 1 : y0;
+    y1 = y1 < 0 ? 0 : y1 > b->h - 1 ? b->h - 1 : y1;
+    const double *p0 = b->pre + 3 * ((size_t)b->w + 1) * (size_t)y0, *p1 = b->pre + 3 * ((size_t)b->w + 1) * (size_t)y1;
+    for (int c = 0; c < 3; ++c) {
+        double v0 = (row_integral(p0, b->w, x + span / 2, c) - row_integral(p0, b->w, x - span / 2, c)) / span;
+        double v1 = (row_integral(p1, b->w, x + span / 2, c) - row_integral(p1, b->w, x - span / 2, c)) / span;
+        double v = (1 - ty) * v0 + ty * v1;
+        out[c] = v > 0 ? v : 0; /* rounding of the prefix differences */
+    }
 }
 
 /* bilinear sample of a disc layout, only from pixels whose centre is inside the disc */
@@ -546,29 +601,55 @@ int qibl_probe_layout_from_latlong(qibl_probe_layout_t l, int lw, int lh, const 
     if (check_samples(lw, lh, latlong, err, errlen) != 0)
         return -1;
     float *o;
+    ll_box box;
     if (alloc_rgb(w, h, &o, err, errlen) != 0)
         return -1;
+    if (ll_box_init(&box, latlong, lw, lh) != 0) {
+        free(o);
+        return fail(err, errlen, "out of memory for a %d x %d probe", lw, lh);
+    }
     int s = subsamples(lw, horizon_pixels(l, w));
+    const double col = 2.0 * PI / lw; /* radians per lat-long column on the equator */
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             float *px = o + 3 * ((size_t)y * (size_t)w + (size_t)x);
-            double acc[3] = {0, 0, 0}, v[3], d[3];
+            double acc[3] = {0, 0, 0}, v[3], d[3], c0[3], c1[3];
             int n = 0;
             if (is_disc(l) && !disc_inside(w, x, y)) {
                 px[0] = px[1] = px[2] = 0;
                 continue;
             }
+            /* the pixel's angular size, from its neighbours (either side), for the box width */
+            double size = 2.0 * PI / horizon_pixels(l, w);
+            if (qibl_probe_layout_dir(l, w, h, x + 0.5, y + 0.5, c0) == 0) {
+                double a = 0;
+                for (int k = 0; k < 4; ++k) {
+                    double ox = k == 0 ? 1 : k == 1 ? -1 : 0, oy = k == 2 ? 1 : k == 3 ? -1 : 0;
+                    if (qibl_probe_layout_dir(l, w, h, x + 0.5 + ox, y + 0.5 + oy, c1) == 0) {
+                        double cr[3] = {c0[1] * c1[2] - c0[2] * c1[1], c0[2] * c1[0] - c0[0] * c1[2],
+                                        c0[0] * c1[1] - c0[1] * c1[0]};
+                        double t = atan2(sqrt(dot3(cr, cr)), dot3(c0, c1));
+                        a = t > a ? t : a;
+                    }
+                }
+                if (a > 0)
+                    size = a;
+            }
             for (int q = 0; q < s; ++q)
                 for (int p = 0; p < s; ++p) {
                     if (qibl_probe_layout_dir(l, w, h, x + (p + 0.5) / s, y + (q + 0.5) / s, d) != 0)
                         continue;
-                    sample_dir(QIBL_PROBE_LAYOUT_LATLONG, latlong, lw, lh, d, v);
+                    double px_x, px_y, st = sqrt(d[0] * d[0] + d[1] * d[1]);
+                    pos_of(QIBL_PROBE_LAYOUT_LATLONG, lw, lh, d, &px_x, &px_y, NULL);
+                    double span = st > 0 ? size / s / (st * col) : lw;
+                    sample_latlong_box(&box, px_x, px_y, span, v);
                     acc[0] += v[0], acc[1] += v[1], acc[2] += v[2];
                     ++n;
                 }
             for (int c = 0; c < 3; ++c)
                 px[c] = n ? (float)(acc[c] / n) : 0.0f;
         }
+    free(box.pre);
     *out = o;
     return 0;
 }
