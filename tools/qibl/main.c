@@ -121,7 +121,7 @@ static const qibl_cli_cmd commands[] = {
      "  saturates to +-FLT_MAX, with a note on stderr).\n"
      "  Bad arguments: one line on stderr, exit status 2.\n",
      qibl_cmd_srgbe},
-    {"lights", "sample a lat-long .hdr light probe into directional lights (median cut, varmin)",
+    {"lights", "sample a .hdr light probe (lat-long, angular, ball, cube cross) into directional lights",
      "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv] [--png OUT.png]\n"
      "                   [--priority default|energy|energy-size|variance|levels] [--place centroid|centre]\n"
      "                   [--as rgbe|srgbe|f32] [--zoom Z] [--error]\n"
