@@ -700,6 +700,8 @@ int qibl_probe_layout_rgbe_to_latlong(qibl_probe_layout_t want, int w, int h, co
     size_t np = (size_t)w * (size_t)h;
     qibl_probe_layout_t l = want;
     float *f = NULL;
+    if (l == QIBL_PROBE_LAYOUT_AUTO && (size_t)w == 2 * (size_t)h)
+        l = QIBL_PROBE_LAYOUT_LATLONG; /* what detection says of any 2:1 image (RGBE has no NaN) */
     if (l != QIBL_PROBE_LAYOUT_LATLONG) {
         f = malloc(sizeof *f * 3 * np);
         if (!f)
