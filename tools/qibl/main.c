@@ -125,10 +125,11 @@ static const qibl_cli_cmd commands[] = {
      "  saturates to +-FLT_MAX, with a note on stderr).\n"
      "  Bad arguments: one line on stderr, exit status 2.\n",
      qibl_cmd_srgbe},
-    {"lights", "sample a lat-long .hdr light probe into directional lights (median cut, varmin)",
+    {"lights", "sample a .hdr light probe (lat-long, angular, ball, cube cross) into directional lights",
      "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv] [--png OUT.png]\n"
      "                   [--priority default|energy|energy-size|variance|levels] [--place centroid|centre]\n"
      "                   [--as rgbe|srgbe|f32] [--zoom Z] [--error]\n"
+     "                   [--layout auto|latlong|angular|ball|vcross|hcross]\n"
      "  Turns a W x H lat-long probe (top row theta = 0 = +z, phi = 0 at the left edge, growing to the\n"
      "  right) into N directional lights with the integer core (qibl/lightprobe.h): median cut\n"
      "  (Debevec; N a power of two, default 64), adaptive median cut (any N) or variance minimisation\n"
@@ -142,7 +143,10 @@ static const qibl_cli_cmd commands[] = {
      "  in all). --error: the lights' irradiance against the probe's over 1024 normals.\n"
      "  --as: feed the core the probe as RGBE bytes (default), sRGBE or binary32.\n"
      "  --priority / --place: which region ADAPTIVE/VARMIN split next, centroid or geometric centre.\n"
-     "  An all-black probe prints that it has no lights and exits 0.\n",
+     "  An all-black probe prints that it has no lights and exits 0.\n"
+     "  --layout: the probe's layout; by default it is detected (2:1 latlong, 3:4 vcross, 4:3 hcross\n"
+     "  with black empty cells) and printed; a square disc (angular map or mirror ball) needs --layout;\n"
+     "  other shapes are refused. Non-lat-long probes are resampled to lat-long (io/probe_layout.h).\n",
      qibl_cmd_lights},
 };
 #define NCMD (sizeof commands / sizeof commands[0])
