@@ -6,6 +6,7 @@
  * byte and the samples. Comments are not part of the format and are refused.
  */
 #include "io/pfm.h"
+#include "io/atomic.h"
 #include "io/file.h"
 
 #include <errno.h>
@@ -119,21 +120,21 @@ int qibl_pfm_write(const char *path, int w, int h, int channels, const float *px
 {
     if (w < 1 || h < 1 || w > 65535 || h > 65535 || (channels != 1 && channels != 3))
         return fail(err, errlen, path, "bad PFM size %dx%d or channel count %d", w, h, channels);
-    size_t tl = strlen(path) + 5;
-    char *tmp = malloc(tl);
-    if (!tmp)
+    size_t row = (size_t)w * (size_t)channels;
+    /* a non-finite sample is refused: no reader could tell it from a corrupt file */
+    for (size_t i = 0; i < row * (size_t)h; ++i)
+        if (!isfinite(px[i]))
+            return fail(err, errlen, path, "refusing to write a non-finite sample (%g at pixel %zu, channel %zu)",
+                        (double)px[i], i / (size_t)channels, i % (size_t)channels);
+    uint8_t *line = malloc(row * 4);
+    if (!line)
         return fail(err, errlen, path, "out of memory");
-    snprintf(tmp, tl, "%s.tmp", path);
-    FILE *f = fopen(tmp, "wb");
-    if (!f) {
-        fail(err, errlen, tmp, "cannot create: %s", strerror(errno));
-        free(tmp);
+    qibl_io_atomic a;
+    if (qibl_io_atomic_open(&a, path, err, errlen) != 0) {
+        free(line);
         return -1;
     }
-    int bad = fprintf(f, "%s\n%d %d\n-1.0\n", channels == 3 ? "PF" : "Pf", w, h) < 0;
-    size_t row = (size_t)w * (size_t)channels;
-    uint8_t *line = malloc(row * 4);
-    bad |= !line;
+    int bad = fprintf(a.f, "%s\n%d %d\n-1.0\n", channels == 3 ? "PF" : "Pf", w, h) < 0;
     for (int y = h - 1; y >= 0 && !bad; --y) {
         for (size_t i = 0; i < row; ++i) {
             uint32_t u;
@@ -141,20 +142,13 @@ int qibl_pfm_write(const char *path, int w, int h, int channels, const float *px
             line[4 * i] = (uint8_t)u, line[4 * i + 1] = (uint8_t)(u >> 8);
             line[4 * i + 2] = (uint8_t)(u >> 16), line[4 * i + 3] = (uint8_t)(u >> 24);
         }
-        bad |= fwrite(line, 4, row, f) != row;
+        bad |= fwrite(line, 4, row, a.f) != row;
     }
     free(line);
-    bad |= fclose(f) != 0;
-    int rc = -1;
     if (bad) {
         fail(err, errlen, path, "write failed: %s", strerror(errno));
-        remove(tmp);
-    } else if (rename(tmp, path) != 0) {
-        fail(err, errlen, path, "cannot rename from %s: %s", tmp, strerror(errno));
-        remove(tmp);
-    } else {
-        rc = 0;
+        qibl_io_atomic_abort(&a);
+        return -1;
     }
-    free(tmp);
-    return rc;
+    return qibl_io_atomic_commit(&a, err, errlen);
 }

@@ -17,7 +17,8 @@ int qibl_pfm_decode(const uint8_t *buf, size_t len, int *w, int *h, int *channel
                     size_t errlen);
 
 /* Writes channels (1 or 3) * w * h floats (rows top to bottom) as a little-endian PFM, atomically
- * (path.tmp then rename). 0, or -1 with a one-line reason naming the file. */
+ * (io/atomic.h). A NaN or infinite sample is refused (nothing written). 0, or -1 with a one-line
+ * reason naming the file. */
 int qibl_pfm_write(const char *path, int w, int h, int channels, const float *px, char *err, size_t errlen);
 
 #endif
