@@ -106,16 +106,12 @@ static int huff_decode(inf *s, const huff *h)
     return -1;
 }
 
+/* the output buffer is exactly what IHDR implies, so a stream inflating further stops at once */
 static int emit(inf *s, uint8_t b)
 {
     if (s->on == s->ocap) {
-        size_t cap = s->ocap ? s->ocap * 2 : 65536;
-        uint8_t *nb = realloc(s->out, cap);
-        if (!nb) {
-            s->why = "out of memory";
-            return -1;
-        }
-        s->out = nb, s->ocap = cap;
+        s->why = "image data inflates past the size IHDR implies";
+        return -1;
     }
     s->out[s->on++] = b;
     return 0;
@@ -279,14 +275,18 @@ static int inflate_raw(inf *s)
     return 0;
 }
 
-/* zlib stream -> malloc'ed bytes; NULL with *why set */
-static uint8_t *unzlib(const uint8_t *z, size_t n, size_t *outn, const char **why)
+/* zlib stream -> malloc'ed bytes (at most cap); NULL with *why set */
+static uint8_t *unzlib(const uint8_t *z, size_t n, size_t cap, size_t *outn, const char **why)
 {
     if (n < 6 || (z[0] & 0x0F) != 8 || ((unsigned)z[0] << 8 | z[1]) % 31 != 0 || (z[1] & 0x20)) {
         *why = "bad zlib header";
         return NULL;
     }
-    inf s = {z + 2, n - 2, 0, NULL, 0, 0, NULL};
+    inf s = {z + 2, n - 2, 0, malloc(cap ? cap : 1), 0, cap, NULL};
+    if (!s.out) {
+        *why = "out of memory";
+        return NULL;
+    }
     if (inflate_raw(&s) != 0) {
         *why = s.why;
         free(s.out);
@@ -326,7 +326,7 @@ static int read_impl(const char *name, const uint8_t *buf, size_t len, int *w_ou
     static const uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
     if (len < 8 || memcmp(buf, sig, 8) != 0)
         return fail(err, errlen, name, "not a PNG (bad signature)");
-    size_t pos = 8, idat_n = 0;
+    size_t pos = 8, idat_n = 0, idat_cap = 0;
     uint8_t *idat = NULL;
     uint32_t w = 0, h = 0, frames = 1, nfctl = 0, nfdat_frames = 0, seq = 0;
     int ch = 0, seen_ihdr = 0, seen_iend = 0, seen_actl = 0, idat_done = 0, last_fdat_frame = -1;
@@ -356,8 +356,13 @@ static int read_impl(const char *name, const uint8_t *buf, size_t len, int *w_ou
                 goto out;
             }
             w = get32(data), h = get32(data + 4);
-            if (w == 0 || h == 0 || w > 65535 || h > 65535) {
-                fail(err, errlen, name, "bad image size %ux%u", w, h);
+            if (w == 0 || h == 0 || w > QIBL_PNG_MAX_DIM || h > QIBL_PNG_MAX_DIM) {
+                fail(err, errlen, name, "bad image size %ux%u (each 1..%u)", w, h, QIBL_PNG_MAX_DIM);
+                goto out;
+            }
+            if ((uint64_t)w * h > QIBL_PNG_MAX_PIXELS) {
+                fail(err, errlen, name, "%ux%u pixels, above the %u-pixel limit (QIBL_PNG_MAX_PIXELS)", w, h,
+                     (unsigned)QIBL_PNG_MAX_PIXELS);
                 goto out;
             }
             if (data[8] != 8 || (data[9] != 2 && data[9] != 6) || data[10] || data[11] || data[12]) {
@@ -401,12 +406,17 @@ static int read_impl(const char *name, const uint8_t *buf, size_t len, int *w_ou
                 fail(err, errlen, name, "IDAT chunks are not consecutive");
                 goto out;
             }
-            uint8_t *nb = realloc(idat, idat_n + n + 1);
-            if (!nb) {
-                fail(err, errlen, name, "out of memory");
-                goto out;
+            if (idat_n + n + 1 > idat_cap) { /* doubling: many small IDATs stay linear */
+                size_t cap = idat_cap ? idat_cap : 65536;
+                while (cap < idat_n + n + 1)
+                    cap *= 2;
+                uint8_t *nb = realloc(idat, cap);
+                if (!nb) {
+                    fail(err, errlen, name, "out of memory");
+                    goto out;
+                }
+                idat = nb, idat_cap = cap;
             }
-            idat = nb;
             memcpy(idat + idat_n, data, n);
             idat_n += n;
         } else if (memcmp(type, "IEND", 4) == 0) {
@@ -436,8 +446,8 @@ static int read_impl(const char *name, const uint8_t *buf, size_t len, int *w_ou
     {
         const char *why = NULL;
         size_t rn = 0;
-        uint8_t *raw = unzlib(idat, idat_n, &rn, &why);
         size_t stride = (size_t)w * (size_t)ch;
+        uint8_t *raw = unzlib(idat, idat_n, (stride + 1) * h, &rn, &why);
         if (!raw) {
             fail(err, errlen, name, "image data: %s", why);
             goto out;
@@ -488,12 +498,19 @@ int qibl_png_decode_rgb8(const uint8_t *buf, size_t len, int *w, int *h, int *fr
     return read_impl(NULL, buf, len, w, h, frames, rgb, err, errlen);
 }
 
+static const char *png_magic(const uint8_t *b, size_t n)
+{
+    static const uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+    return n >= 8 && memcmp(b, sig, 8) == 0 ? NULL : "not a PNG (bad signature)";
+}
+
 int qibl_png_read_rgb8(const char *path, int *w, int *h, int *frames, uint8_t **rgb, char *err, size_t errlen)
 {
-    size_t n;
-    uint8_t *buf = qibl_io_read_all(path, &n);
-    if (!buf)
-        return fail(err, errlen, path, "%s", strerror(errno));
+    static const qibl_io_kind kind = {"a PNG file", 8, QIBL_PNG_MAX_FILE_BYTES, 8, png_magic};
+    size_t n = 0;
+    uint8_t *buf = NULL;
+    if (qibl_io_load(path, &kind, &buf, &n, err, errlen) != 0)
+        return -1;
     int rc = read_impl(path, buf, n, w, h, frames, rgb, err, errlen);
     free(buf);
     return rc;
