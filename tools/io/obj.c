@@ -88,12 +88,9 @@ static int numbers(const char *s, double *out, int max, const char **bad, const 
             *why = "bad number";
             return -1;
         }
+        /* an overflow comes back as an infinity; an underflow (ERANGE too) to nearly zero is harmless */
         if (!isfinite(v)) {
             *why = "non-finite number";
-            return -1;
-        }
-        if (errno == ERANGE && fabs(v) > 1.0) { /* overflow; an underflow to (nearly) zero is harmless */
-            *why = "number out of range";
             return -1;
         }
         out[n++] = v;
@@ -306,10 +303,17 @@ out:
     return rc;
 }
 
+/* OBJ has no magic; it is text, so a NUL among the first bytes marks a binary file (the parser
+ * refuses NULs anywhere, but only after the whole file is read) */
+static const char *obj_magic(const uint8_t *head, size_t n)
+{
+    return memchr(head, 0, n) ? "binary data (a NUL byte in the first bytes), not a Wavefront OBJ file" : NULL;
+}
+
 int qibl_obj_read(const char *path, qibl_obj_mesh *out, char *err, size_t errlen)
 {
-    /* no magic: OBJ is text; the size cap and the regular-file checks still come first */
-    static const qibl_io_kind kind = {"a Wavefront OBJ file", 1, QIBL_OBJ_MAX_FILE_BYTES, 0, NULL};
+    static const qibl_io_kind kind = {"a Wavefront OBJ file", 1, QIBL_OBJ_MAX_FILE_BYTES, QIBL_IO_MAX_HEAD_BYTES,
+                                      obj_magic};
     size_t n = 0;
     uint8_t *bytes = NULL;
     if (qibl_io_load(path, &kind, &bytes, &n, err, errlen) != 0)

@@ -7,7 +7,8 @@
  *
  * Limits (each a named one-line error giving the line, checked while parsing, before the output is
  * allocated):
- *   - a file: regular, at most QIBL_OBJ_MAX_FILE_BYTES, read only after stat (io/file.h);
+ *   - a file: regular, at most QIBL_OBJ_MAX_FILE_BYTES, read only after stat and only if its first
+ *     64 bytes hold no NUL (OBJ is text) (io/file.h);
  *   - a line at most 4095 bytes, a face at most QIBL_OBJ_MAX_FACE_CORNERS corners;
  *   - at most QIBL_OBJ_MAX_VERTICES v and as many vn statements, at most QIBL_OBJ_MAX_TRIANGLES
  *     triangles, and at most one triangle per QIBL_OBJ_MIN_BYTES_PER_TRIANGLE bytes of input (a
