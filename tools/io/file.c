@@ -4,6 +4,8 @@
  */
 #include "io/file.h"
 
+#include "qibl/status.h"
+
 #include <errno.h>
 #include <fcntl.h>
 #include <stdarg.h>
@@ -149,7 +151,7 @@ int qibl_io_load(const char *path, const qibl_io_kind *kind, uint8_t **buf, size
 static const char *asset_magic(const uint8_t *head, size_t n)
 {
     static const uint8_t m[8] = {'Q', 'I', 'B', 'L', '\r', '\n', 0x1A, '\n'};
-    return n >= 8 && memcmp(head, m, 8) == 0 ? NULL : "not a qibl asset (bad magic)";
+    return n >= 8 && memcmp(head, m, 8) == 0 ? NULL : qibl_status_str(QIBL_E_ASSET_MAGIC);
 }
 
 int qibl_io_read_asset(const char *path, uint8_t **buf, size_t *n, char *err, size_t errlen)
