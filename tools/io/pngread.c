@@ -110,7 +110,7 @@ static int huff_decode(inf *s, const huff *h)
 static int emit(inf *s, uint8_t b)
 {
     if (s->on == s->ocap) {
-        s->why = "image data inflates past the size IHDR implies";
+        s->why = "inflates past the size IHDR implies";
         return -1;
     }
     s->out[s->on++] = b;
