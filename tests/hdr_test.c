@@ -222,6 +222,9 @@ static void test_bad_files_fail_with_one_line(void **state)
     CASE(put_s(&f, "#?RADIANCE\n\n+Y 2 +X 3\n"), "unsupported orientation");
     CASE(put_s(&f, "#?RADIANCE\n\n-Y 0 +X 3\n"), "unsupported dimensions");
     CASE(put_s(&f, "#?RADIANCE\n\n-Y 100000 +X 3\n"), "unsupported dimensions");
+    CASE(put_s(&f, "#?RADIANCE\n\n-Y 99999999999999999999 +X 3\n"), "bad resolution line"); /* no overflow */
+    CASE(put_s(&f, "#?RADIANCE\n\n-Y 2 +X 3 4\n"), "bad resolution line");
+    CASE(put_s(&f, "#?RADIANCE\n\n-Y 2x +X 3\n"), "bad resolution line");
     CASE((header(&f, 3, 1), put_px(&f, 1, 2, 3, 4)), "truncated at scanline 0");
     CASE((header(&f, 2, 2), put_px(&f, 1, 2, 3, 4), put_px(&f, 1, 2, 3, 4)), "truncated at scanline 1");
     CASE((header(&f, 8, 1), put_bytes(&f, (const uint8_t[]){2, 2, 0, 8, 128 + 8, 7}, 6)), "truncated in RLE");

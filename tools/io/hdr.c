@@ -158,13 +158,25 @@ int qibl_hdr_decode_rgbe(const uint8_t *buf, size_t len, int *w_out, int *h_out,
     size_t rn = (size_t)n < sizeof res - 1 ? (size_t)n : sizeof res - 1;
     memcpy(res, line, rn);
     res[rn] = '\0';
-    char ya[3], xa[3];
-    long hh, ww;
-    char extra;
-    if (sscanf(res, "%2s %ld %2s %ld %c", ya, &hh, xa, &ww, &extra) != 4)
-        return fail(err, errlen, "bad resolution line '%.60s'", res);
-    if (strcmp(ya, "-Y") != 0 || strcmp(xa, "+X") != 0)
-        return fail(err, errlen, "unsupported orientation '%.60s' (only -Y H +X W)", res);
+    char line_copy[sizeof res];
+    memcpy(line_copy, res, rn + 1); /* res is cut into tokens below */
+    /* four tokens "-Y H +X W"; strtol, not sscanf, whose behaviour on a number out of range is
+     * undefined */
+    char *tok[5], *save = NULL;
+    int nt = 0;
+    for (char *t = strtok_r(res, " \t\r", &save); t && nt < 5; t = strtok_r(NULL, " \t\r", &save))
+        tok[nt++] = t;
+    long hh = 0, ww = 0;
+    char *e1 = NULL, *e2 = NULL;
+    if (nt == 4) {
+        errno = 0;
+        hh = strtol(tok[1], &e1, 10);
+        ww = strtol(tok[3], &e2, 10);
+    }
+    if (nt != 4 || e1 == tok[1] || *e1 || e2 == tok[3] || *e2 || errno == ERANGE)
+        return fail(err, errlen, "bad resolution line '%.60s'", line_copy);
+    if (strcmp(tok[0], "-Y") != 0 || strcmp(tok[2], "+X") != 0)
+        return fail(err, errlen, "unsupported orientation '%.60s' (only -Y H +X W)", line_copy);
     if (ww < 1 || hh < 1 || ww > (long)QIBL_HDR_MAX_DIM || hh > (long)QIBL_HDR_MAX_DIM)
         return fail(err, errlen, "unsupported dimensions %ld x %ld (each 1..%u, QIBL_HDR_MAX_DIM)", ww, hh,
                     (unsigned)QIBL_HDR_MAX_DIM);
