@@ -280,6 +280,28 @@ static void test_bad_coordinates_named(void **state)
     qibl_obj_free(&m);
 }
 
+/* a tiny but real triangle keeps a unit normal: its cross product (1e-320) squares to zero, so the
+ * normal is taken after scaling; huge given normals too (found by the fuzzer's normal check) */
+static void test_tiny_and_huge_normals_unit(void **state)
+{
+    (void)state;
+    const char *text = "v 0 0 0\nv 1e-160 0 0\nv 0 1e-160 0\nvn 0 1e15 1e15\nvn 0 0 1e-200\n"
+                       "f 1 2 3\nf 1//1 2//1 3//1\nf 1//2 2//2 3//2\n";
+    qibl_obj_mesh m;
+    char err[256];
+    if (qibl_obj_parse("t.obj", text, strlen(text), &m, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    assert_int_equal(m.ntri, 3);
+    double s = sqrt(0.5);
+    for (int c = 0; c < 3; ++c) {
+        const double *n0 = m.nrm + 3 * c, *n1 = m.nrm + 9 + 3 * c, *n2 = m.nrm + 18 + 3 * c;
+        assert_true(n0[0] == 0.0 && n0[1] == 0.0 && fabs(n0[2] - 1.0) < 1e-15);
+        assert_true(n1[0] == 0.0 && fabs(n1[1] - s) < 1e-15 && fabs(n1[2] - s) < 1e-15);
+        assert_true(n2[0] == 0.0 && n2[1] == 0.0 && n2[2] == 1.0);
+    }
+    qibl_obj_free(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -289,6 +311,7 @@ int main(void)
         cmocka_unit_test(test_fan_faces_bounded_by_input),
         cmocka_unit_test(test_extreme_indices_named),
         cmocka_unit_test(test_bad_coordinates_named),
+        cmocka_unit_test(test_tiny_and_huge_normals_unit),
         cmocka_unit_test(test_quad_negative_indices_and_normals),
         cmocka_unit_test(test_face_forms),
         cmocka_unit_test(test_smooth_normals_average),

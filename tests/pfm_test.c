@@ -185,6 +185,34 @@ static void test_lying_header_refused(void **state)
     decode_fails("PF\n2 2\n-1\n", 47, "truncated"); /* one byte short of 48 */
 }
 
+/* the header is text: a NUL inside a number (strtol would stop at it and accept "2") or a \v before
+ * the scale (strtod would skip it) is named with its offset (found by the fuzzer) */
+static void test_header_control_bytes_named(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *h;
+        size_t n;
+        const char *needle;
+    } bad[] = {
+        {"Pf 2\0 1 -1.0\n", 13, "byte 0x00 at offset 4"},
+        {"Pf 2 1 \v-1.0\n", 13, "byte 0x0b at offset 7"},
+        {"Pf 2 1\f -1.0\n", 13, "byte 0x0c at offset 6"},
+        {"PF 1 1 -1\x80\n", 12, "byte 0x80 at offset 9"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        uint8_t b[64] = {0};
+        memcpy(b, bad[i].h, bad[i].n);
+        int w = -7, h = -7, ch = -7;
+        float *px = NULL;
+        char err[256] = "";
+        assert_int_equal(qibl_pfm_decode(b, bad[i].n + 24, &w, &h, &ch, &px, err, sizeof err), -1);
+        assert_true(w == -7 && px == NULL);
+        if (!strstr(err, bad[i].needle))
+            fail_msg("case %zu: error '%s' does not mention '%s'", i, err, bad[i].needle);
+    }
+}
+
 /* a NaN or an infinity anywhere is refused with its value and position (qibl check used to accept
  * the infinities `render --rgb 1e308` wrote) */
 static void test_non_finite_samples_named(void **state)
@@ -230,6 +258,7 @@ int main(void)
         cmocka_unit_test(test_empty_and_one_byte_files_named),
         cmocka_unit_test(test_lying_header_refused),
         cmocka_unit_test(test_non_finite_samples_named),
+        cmocka_unit_test(test_header_control_bytes_named),
         cmocka_unit_test(test_both_endians_and_kinds),
         cmocka_unit_test(test_malformed),
         cmocka_unit_test(test_write_round_trip),

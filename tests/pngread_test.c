@@ -271,6 +271,28 @@ static void test_truncated_body_named(void **state)
     free(o.b);
 }
 
+/* chunk types are printed as letters or in hex: a raw newline in a type cannot split the one-line
+ * error (found by the fuzzer) */
+static void test_chunk_type_printed_safely(void **state)
+{
+    (void)state;
+    static const uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+    out_t o = {0};
+    put(&o, sig, 8);
+    chunk(&o, "a\nb\x01", (const uint8_t *)"", 0);
+    decode_fails(&o, "first chunk is 0x610a6201, not IHDR");
+    o.n = 0;
+    small_png(&o);
+    o.b[8 + 25 + 4 + 1] = '\n'; /* IDAT's type, its CRC now wrong */
+    decode_fails(&o, "CRC mismatch in chunk 0x490a4154");
+    free(o.b);
+    o = (out_t){0};
+    sig_ihdr(&o, 2, 2);
+    chunk(&o, "QDAT", (const uint8_t *)"x", 1);
+    decode_fails(&o, "unknown critical chunk QDAT");
+    free(o.b);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -280,6 +302,7 @@ int main(void)
         cmocka_unit_test(test_lying_ihdr_refused),
         cmocka_unit_test(test_inflate_capped_at_ihdr_size),
         cmocka_unit_test(test_truncated_body_named),
+        cmocka_unit_test(test_chunk_type_printed_safely),
     };
     return cmocka_run_group_tests_name("pngread", tests, NULL, NULL);
 }

@@ -117,6 +117,23 @@ static int resolve(const char *tok, size_t count, uint32_t *out)
     return 0;
 }
 
+/* v / |v|, or 0 for a zero vector. Far from 1 in magnitude the vector is first divided by its
+ * largest component, so that the squares neither underflow (a tiny but real triangle keeping a
+ * zero normal) nor overflow; ordinary vectors take the plain path, bit for bit as before. */
+static void unit(const double *v, double *out)
+{
+    double x = v[0], y = v[1], z = v[2];
+    double m = fmax(fabs(x), fmax(fabs(y), fabs(z)));
+    if (!(m > 0.0)) {
+        out[0] = out[1] = out[2] = 0.0;
+        return;
+    }
+    if (m < 1e-100 || m > 1e100)
+        x /= m, y /= m, z /= m;
+    double l = sqrt(x * x + y * y + z * z);
+    out[0] = x / l, out[1] = y / l, out[2] = z / l;
+}
+
 int qibl_obj_parse(const char *name, const char *text, size_t len, qibl_obj_mesh *out, char *err, size_t errlen)
 {
     dvec v = {0}, vn = {0};
@@ -290,9 +307,7 @@ int qibl_obj_parse(const char *name, const char *text, size_t len, qibl_obj_mesh
         const uint32_t *c = tri.v + 6 * t;
         for (int q = 0; q < 3; ++q) {
             const double *src = c[2 * q + 1] != NO_NORMAL ? vn.v + 3 * c[2 * q + 1] : acc + 3 * c[2 * q];
-            double l = sqrt(src[0] * src[0] + src[1] * src[1] + src[2] * src[2]);
-            for (int j = 0; j < 3; ++j)
-                out->nrm[9 * t + 3 * q + j] = l > 0 ? src[j] / l : 0.0;
+            unit(src, out->nrm + 9 * t + 3 * q);
         }
     }
     free(acc);

@@ -35,14 +35,19 @@ static int is_ws(uint8_t c)
     return c == ' ' || c == '\t' || c == '\n' || c == '\r';
 }
 
-/* next whitespace-delimited token of at most 63 bytes into tok; -1 at end of data */
+/* next whitespace-delimited token of at most 63 printable bytes into tok; -1 at end of data, -2 on
+ * a non-printable byte (a NUL would cut the number short for strtol, a \v or \f is skipped by
+ * strtod: the header is text) */
 static int token(const uint8_t *buf, size_t len, size_t *pos, char tok[64])
 {
     while (*pos < len && *pos < QIBL_PFM_MAX_HEADER_BYTES && is_ws(buf[*pos]))
         ++*pos;
     size_t n = 0;
-    while (*pos < len && !is_ws(buf[*pos]) && n < 63)
+    while (*pos < len && !is_ws(buf[*pos]) && n < 63) {
+        if (buf[*pos] < 0x21 || buf[*pos] > 0x7E)
+            return -2; /* *pos stays on the byte */
         tok[n++] = (char)buf[(*pos)++];
+    }
     tok[n] = '\0';
     if (n == 0 || (*pos < len && !is_ws(buf[*pos])))
         return -1;
@@ -57,9 +62,13 @@ static int decode_impl(const char *name, const uint8_t *buf, size_t len, int *w_
     int ch = buf[1] == 'F' ? 3 : 1;
     size_t pos = 2;
     char t[3][64];
-    for (int i = 0; i < 3; ++i)
-        if (token(buf, len, &pos, t[i]) != 0)
+    for (int i = 0; i < 3; ++i) {
+        int r = token(buf, len, &pos, t[i]);
+        if (r == -2)
+            return fail(err, errlen, name, "byte 0x%02x at offset %zu in the header (not text)", buf[pos], pos);
+        if (r != 0)
             return fail(err, errlen, name, "truncated or malformed header");
+    }
     char *end;
     errno = 0;
     long w = strtol(t[0], &end, 10);

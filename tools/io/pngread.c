@@ -320,6 +320,20 @@ static int paeth(int a, int b, int c)
     return pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
 }
 
+/* a chunk type for messages: its four letters, or its bytes in hex when they are not all letters
+ * (a raw byte such as a newline would break the one-line error) */
+static const char *type_name(const uint8_t *t, char out[16])
+{
+    int letters = 1;
+    for (int i = 0; i < 4; ++i)
+        letters &= (t[i] >= 'A' && t[i] <= 'Z') || (t[i] >= 'a' && t[i] <= 'z');
+    if (letters)
+        snprintf(out, 16, "%c%c%c%c", t[0], t[1], t[2], t[3]);
+    else
+        snprintf(out, 16, "0x%02x%02x%02x%02x", t[0], t[1], t[2], t[3]);
+    return out;
+}
+
 static int read_impl(const char *name, const uint8_t *buf, size_t len, int *w_out, int *h_out, int *frames_out,
                      uint8_t **rgb_out, char *err, size_t errlen)
 {
@@ -331,6 +345,7 @@ static int read_impl(const char *name, const uint8_t *buf, size_t len, int *w_ou
     uint32_t w = 0, h = 0, frames = 1, nfctl = 0, nfdat_frames = 0, seq = 0;
     int ch = 0, seen_ihdr = 0, seen_iend = 0, seen_actl = 0, idat_done = 0, last_fdat_frame = -1;
     int rc = -1;
+    char tn[16];
     while (pos < len) {
         if (len - pos < 12) {
             fail(err, errlen, name, "truncated chunk at byte %zu", pos);
@@ -339,15 +354,15 @@ static int read_impl(const char *name, const uint8_t *buf, size_t len, int *w_ou
         uint32_t n = get32(buf + pos);
         const uint8_t *type = buf + pos + 4, *data = buf + pos + 8;
         if (n > len - pos - 12) {
-            fail(err, errlen, name, "chunk %.4s at byte %zu runs past the end of the file", (const char *)type, pos);
+            fail(err, errlen, name, "chunk %s at byte %zu runs past the end of the file", type_name(type, tn), pos);
             goto out;
         }
         if (qibl_crc32(0, type, 4 + (size_t)n) != get32(data + n)) {
-            fail(err, errlen, name, "CRC mismatch in chunk %.4s at byte %zu", (const char *)type, pos);
+            fail(err, errlen, name, "CRC mismatch in chunk %s at byte %zu", type_name(type, tn), pos);
             goto out;
         }
         if (!seen_ihdr && memcmp(type, "IHDR", 4) != 0) {
-            fail(err, errlen, name, "first chunk is %.4s, not IHDR", (const char *)type);
+            fail(err, errlen, name, "first chunk is %s, not IHDR", type_name(type, tn));
             goto out;
         }
         if (memcmp(type, "IHDR", 4) == 0) {
@@ -381,7 +396,7 @@ static int read_impl(const char *name, const uint8_t *buf, size_t len, int *w_ou
         } else if (memcmp(type, "fcTL", 4) == 0 || memcmp(type, "fdAT", 4) == 0) {
             int is_fctl = type[1] == 'c';
             if (!seen_actl || n < 4 || get32(data) != seq) {
-                fail(err, errlen, name, "%.4s out of sequence or without acTL", (const char *)type);
+                fail(err, errlen, name, "%s out of sequence or without acTL", type_name(type, tn));
                 goto out;
             }
             seq++;
@@ -423,7 +438,7 @@ static int read_impl(const char *name, const uint8_t *buf, size_t len, int *w_ou
             seen_iend = 1;
             break;
         } else if (!(type[0] & 0x20)) {
-            fail(err, errlen, name, "unknown critical chunk %.4s", (const char *)type);
+            fail(err, errlen, name, "unknown critical chunk %s", type_name(type, tn));
             goto out;
         }
         if (idat_n && memcmp(type, "IDAT", 4) != 0)
