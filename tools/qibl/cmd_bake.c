@@ -578,11 +578,16 @@ int qibl_cmd_check(int argc, char **argv)
             printf("%s: PFM %dx%d, %d channel%s\n", p, w, h, ch, ch == 1 ? "" : "s");
         } else {
             size_t n;
-            uint8_t *b = qibl_io_read_all(p, &n);
+            uint8_t *b = NULL;
+            if (qibl_io_read_asset(p, &b, &n, err, sizeof err) != 0) {
+                fprintf(stderr, "qibl: %s\n", err);
+                bad = 1;
+                continue;
+            }
             qibl_asset_t a;
-            qibl_status_t st = b ? qibl_asset_open(&a, b, n) : QIBL_OK;
-            if (!b || st != QIBL_OK) {
-                fprintf(stderr, "qibl: %s: %s\n", p, b ? qibl_status_str(st) : strerror(errno));
+            qibl_status_t st = qibl_asset_open(&a, b, n);
+            if (st != QIBL_OK) {
+                fprintf(stderr, "qibl: %s: %s\n", p, qibl_status_str(st));
                 free(b);
                 bad = 1;
                 continue;
