@@ -89,10 +89,7 @@ int qibl_hdr_encode(int w, int h, const float *rgb, uint8_t **out, size_t *outle
         for (int x = 0; x < w; ++x)
             rgbe_of(rgb + 3 * ((size_t)y * (size_t)w + (size_t)x), px + 4 * (size_t)x);
         if (!rle) {
-            /* a flat pixel 01 01 01 n reads as an old-style run: write its equal 02 02 02 n-1 */
-            for (int x = 0; x < w; ++x)
-                if (px[4 * x] == 1 && px[4 * x + 1] == 1 && px[4 * x + 2] == 1)
-                    px[4 * x] = px[4 * x + 1] = px[4 * x + 2] = 2, px[4 * x + 3]--;
+            /* no pixel reads as an old-style run (01 01 01 n): the largest channel's byte is >= 128 */
             memcpy(buf + k, px, 4 * (size_t)w);
             k += 4 * (size_t)w;
             continue;

@@ -350,8 +350,9 @@ int qibl_ply_parse(const char *name, const uint8_t *buf, size_t len, qibl_obj_me
         if (strcmp(x->name, "vertex") == 0 || strcmp(x->name, "face") == 0) {
             int isv = x->name[0] == 'v';
             if ((isv ? vi : fi) >= 0) {
+                int r = fail(err, errlen, name, "two %s elements", x->name);
                 free(el);
-                return fail(err, errlen, name, "two %s elements", x->name);
+                return r;
             }
             *(isv ? &vi : &fi) = i;
         }
