@@ -133,8 +133,15 @@ static uint32_t be32(const uint8_t *p)
     return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3];
 }
 
-/* parses path, checks every chunk CRC, and decodes the RGB pixels into out (w*h*3) */
-static void decode_png(const char *path, int w, int h, uint8_t *out)
+static int paeth(int a, int b, int c)
+{
+    int p = a + b - c, pa = abs(p - a), pb = abs(p - b), pc = abs(p - c);
+    return pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
+}
+
+/* parses path, checks every chunk CRC, and decodes the RGB pixels into out (w*h*3); filters[y] (may
+ * be NULL) gets each row's filter type */
+static void decode_png_filters(const char *path, int w, int h, uint8_t *out, uint8_t *filters)
 {
     size_t n;
     FILE *f = fopen(path, "rb");
@@ -170,13 +177,23 @@ static void decode_png(const char *path, int w, int h, uint8_t *out)
     assert_int_equal(inflate_zlib(z, zn, raw, row * (size_t)h), (long)(row * (size_t)h));
     for (int y = 0; y < h; ++y) {
         const uint8_t *r = raw + (size_t)y * row;
-        assert_true(r[0] <= 1); /* None or Sub */
+        assert_true(r[0] <= 4); /* None, Sub, Up, Average, Paeth (PNG spec 9.2) */
+        if (filters)
+            filters[y] = r[0];
+        uint8_t *o = out + (size_t)y * w * 3;
+        const uint8_t *up = y ? o - (size_t)w * 3 : NULL;
         for (size_t x = 0; x < (size_t)w * 3; ++x) {
-            uint8_t left = x >= 3 && r[0] == 1 ? out[(size_t)y * w * 3 + x - 3] : 0;
-            out[(size_t)y * w * 3 + x] = (uint8_t)(r[1 + x] + left);
+            int a = x >= 3 ? o[x - 3] : 0, b = up ? up[x] : 0, c = up && x >= 3 ? up[x - 3] : 0;
+            int pred = r[0] == 0 ? 0 : r[0] == 1 ? a : r[0] == 2 ? b : r[0] == 3 ? (a + b) / 2 : paeth(a, b, c);
+            o[x] = (uint8_t)(r[1 + x] + pred);
         }
     }
     free(raw), free(z), free(d);
+}
+
+static void decode_png(const char *path, int w, int h, uint8_t *out)
+{
+    decode_png_filters(path, w, h, out, NULL);
 }
 
 static void roundtrip(int w, int h, uint32_t seed, int smooth)
@@ -203,6 +220,40 @@ static void test_roundtrip(void **state)
     roundtrip(300, 200, 4, 1); /* smooth: long matches, > 32 KiB window */
 }
 
+/* Rows are filtered adaptively (minimum sum of absolute differences): a row equal to the one above
+ * takes Up, a horizontal ramp Sub, flat noise None; every filter decodes back exactly. */
+static void test_adaptive_filters(void **state)
+{
+    (void)state;
+    enum { W = 64, H = 12 };
+    static uint8_t img[W * H * 3], back[W * H * 3];
+    uint8_t filters[H];
+    tu_rng r = {9};
+    for (int x = 0; x < W * 3; ++x)
+        img[x] = (uint8_t)tu_u32(&r); /* row 0: noise (the row above is zero: None or Up) */
+    for (int y = 1; y < 4; ++y)       /* rows 1..3: row 0 again */
+        memcpy(img + y * W * 3, img, W * 3);
+    for (int y = 4; y < 8; ++y) /* rows 5 and 7: a ramp along x under a row of noise: Sub */
+        for (int x = 0; x < W * 3; ++x)
+            img[y * W * 3 + x] = y % 2 ? (uint8_t)((x / 3) * 3 + y * 57) : (uint8_t)tu_u32(&r);
+    for (int y = 8; y < H; ++y) /* rows 8..11: a smooth 2-D field (Average or Paeth likely) */
+        for (int x = 0; x < W * 3; ++x)
+            img[y * W * 3 + x] = (uint8_t)((x / 3) * 2 + y * 5 + (x % 3) * 30);
+    char path[64], err[256];
+    snprintf(path, sizeof path, "/tmp/qibl_png_filters_%d.png", (int)getpid());
+    assert_int_equal(qibl_png_write_rgb8(path, W, H, img, err, sizeof err), 0);
+    decode_png_filters(path, W, H, back, filters);
+    assert_memory_equal(img, back, sizeof img);
+    for (int y = 1; y < 4; ++y)
+        assert_int_equal(filters[y], 2); /* Up: all zero */
+    for (int y = 5; y < 8; y += 2)
+        assert_int_equal(filters[y], 1); /* Sub: all 3s after the first pixel */
+    remove(path);
+    /* random sizes and contents through every filter path */
+    for (uint32_t seed = 20; seed < 26; ++seed)
+        roundtrip(3 + (int)seed % 7 * 13, 2 + (int)seed % 5, seed, (int)seed % 2);
+}
+
 static void test_errors_leave_no_file(void **state)
 {
     (void)state;
@@ -219,6 +270,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_roundtrip),
+        cmocka_unit_test(test_adaptive_filters),
         cmocka_unit_test(test_errors_leave_no_file),
     };
     return cmocka_run_group_tests_name("png", tests, NULL, NULL);
