@@ -220,6 +220,10 @@ static void test_ply_scene(void **state)
                               "property float z\nend_header\n0 0 0\n");
     check(run("render", "--scene", at("pts.ply"), "--size", "16x4", "--sun", "0", "0", "1", "--png", at("x.png"), NULL),
           1, "render --scene points.ply", 1, 'e', "no face element");
+    /* neither OBJ nor PLY: the message names the formats meshes may be */
+    write_text(at("m.stl"), "solid cube\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nendloop\nendfacet\n");
+    check(run("render", "--scene", at("m.stl"), "--size", "16x4", "--sun", "0", "0", "1", "--png", at("x.png"), NULL), 1,
+          "render --scene m.stl", 1, 'e', "meshes are Wavefront OBJ or PLY");
 }
 
 /* mean of the 8-bit RGB samples of a PNG */

@@ -97,13 +97,14 @@ int qibl_cli_scene_load(const qibl_cli_scene *o, qibl_rt_scene *s)
     uint8_t head[8] = {0};
     FILE *f = fopen(o->scene, "rb");
     size_t nh = f ? fread(head, 1, sizeof head, f) : 0;
+    int opened = f != NULL;
     if (f)
         fclose(f);
     int ply = qibl_ply_sniff(head, nh);
     if ((ply ? qibl_ply_read(o->scene, &m, err, sizeof err) : qibl_obj_read(o->scene, &m, err, sizeof err)) != 0) {
         const char *ext = strrchr(o->scene, '.');
         fprintf(stderr, "qibl: %s%s\n", err,
-                ply || (ext && strcmp(ext, ".obj") == 0) ? "" : " (read as OBJ: meshes are Wavefront OBJ or PLY)");
+                !opened || ply || (ext && strcmp(ext, ".obj") == 0) ? "" : " (read as OBJ: meshes are Wavefront OBJ or PLY)");
         return 1;
     }
     int rc = qibl_rt_scene_from_obj(s, &m, o->zup, o->raw);
