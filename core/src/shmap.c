@@ -6,6 +6,7 @@
  * shmap.h; every 64-bit product through fixed.h (no library calls on Cortex-M0).
  */
 #include "qibl/shmap.h"
+#include "qibli.h"
 
 #if QIBL_USE_SHMAP
 
@@ -46,7 +47,7 @@ qibl_status_t qibl_shlight_add_dir(qibl_shlight_t *l, const qibl_q16_t dir[3], c
         return st;
     for (int ch = 0; ch < 3; ++ch)
         for (uint32_t i = 0; i < l->k; ++i)
-            l->c[ch][i] = qibl_add_sat_s32(l->c[ch][i], qibl_rshr_s64(qibl_mul_s32_s64(rgb[ch], y[i]), 30));
+            l->c[ch][i] = qibl_add_sat_s32(l->c[ch][i], qibli_rshr_s64(qibl_mul_s32_s64(rgb[ch], y[i]), 30));
     return QIBL_OK;
 }
 
@@ -63,11 +64,6 @@ qibl_status_t qibl_shmap_check(const qibl_shmaps_t *m)
     if (m->width == 0u || m->height == 0u)
         return QIBL_E_SHMAP_SIZE;
     return QIBL_OK;
-}
-
-static uint64_t mag64(int64_t v)
-{
-    return v < 0 ? 0u - (uint64_t)v : (uint64_t)v;
 }
 
 qibl_status_t qibl_shmap_weights(const qibl_shmaps_t *m, const qibl_shlight_t *light, qibl_shmap_weights_t *out)
@@ -92,8 +88,8 @@ qibl_status_t qibl_shmap_weights(const qibl_shmaps_t *m, const qibl_shlight_t *l
         for (uint32_t i = 0; i < m->k; ++i) {
             qibl_q16_t li = light->c[ch][i];
             r[i] = qibl_mul_s32_s64(qibl_shmaps_scale(m, i, src), li);
-            if (mag64(r[i]) > maxr)
-                maxr = mag64(r[i]);
+            if (qibli_abs_u64(r[i]) > maxr)
+                maxr = qibli_abs_u64(r[i]);
             bias32 += qibl_asr_s64(qibl_mul_s32_s64(qibl_shmaps_bias(m, i, src), li), 8);
         }
         /* smallest shift s with round(max / 2^s) <= 32767 */
@@ -103,7 +99,7 @@ qibl_status_t qibl_shmap_weights(const qibl_shmaps_t *m, const qibl_shlight_t *l
         for (uint32_t i = 0; i < (uint32_t)QIBL_SH_MAX_COUNT; ++i) {
             int32_t v = 0;
             if (i < m->k)
-                v = s == 0u ? (int32_t)r[i] : qibl_rshr_s64(r[i], s);
+                v = s == 0u ? (int32_t)r[i] : qibli_rshr_s64(r[i], s);
             out->w[ch][i] = (int16_t)(v > SHMAP_MAX_W ? SHMAP_MAX_W : v < -SHMAP_MAX_W ? -SHMAP_MAX_W : v);
         }
         /* acc unit is 2^(s-40); Q16.16 output unit is 2^-16: out = acc * 2^(s-24) */
@@ -168,7 +164,7 @@ static void finish_channel(const int32_t *restrict acc, int32_t shift, int64_t b
     } else {
         const unsigned rs = (unsigned)-shift;
         for (uint32_t p = 0; p < n; ++p)
-            out[3u * p] = qibl_sat_s32((int64_t)qibl_rshr_s64(acc[p], rs) + bias);
+            out[3u * p] = qibl_sat_s32((int64_t)qibli_rshr_s64(acc[p], rs) + bias);
     }
 }
 
@@ -286,7 +282,7 @@ qibl_status_t qibl_ylut_build(uint32_t face_size, uint32_t k, uint8_t *values, s
                 texel_dir(f, u, v, face_size, d);
                 (void)qibl_sh_eval(d, bands, y); /* d is never zero: one component is +-N */
                 for (uint32_t i = 0; i < k; ++i) {
-                    int32_t q = qibl_rshr_s64(y[i], 16); /* Q2.30 -> Q2.14, |Y| < 1 */
+                    int32_t q = qibli_rshr_s64(y[i], 16); /* Q2.30 -> Q2.14, |Y| < 1 */
                     uint32_t b = (uint32_t)q;
                     *o++ = (uint8_t)b;
                     *o++ = (uint8_t)(b >> 8);
@@ -295,17 +291,12 @@ qibl_status_t qibl_ylut_build(uint32_t face_size, uint32_t k, uint8_t *values, s
     return QIBL_OK;
 }
 
-static int32_t abs32(int32_t v)
-{
-    return v < 0 ? -v : v; /* callers pass |v| <= 2^30 */
-}
-
 /* Texel coordinate in 1/256 texel from a face coordinate sc / ma (Q2.30 both, |sc| <= ma):
  * round(((sc / ma + 1) N / 2 - 0.5) * 256), via 1 / ma = iy / 2^ie. At texel centres it is exact. */
 static int32_t face_coord(int32_t sc, uint32_t iy, unsigned ie, uint32_t n)
 {
     /* s24 = sc / ma in Q24: |sc| iy / 2^(ie - 24); ie is 60..61 for ma^2 in [2^58.4, 2^60] */
-    uint32_t a = (uint32_t)abs32(sc);
+    uint32_t a = qibli_abs_u32(sc);
     uint32_t m24 = (uint32_t)qibl_shr_u64(qibl_mul_u32_u64(a, iy) + qibl_shr_u64((uint64_t)1 << 63, 88u - ie), ie - 24u);
     if (m24 > (1u << 24))
         m24 = 1u << 24;
@@ -317,9 +308,9 @@ static int32_t face_coord(int32_t sc, uint32_t iy, unsigned ie, uint32_t n)
 static void lut_sample(const qibl_ylut_t *t, const qibl_q30_t u[3], uint32_t k, int nearest, int16_t *y14,
                        size_t stride)
 {
-    int32_t ax = abs32(u[0]), ay = abs32(u[1]), az = abs32(u[2]);
-    uint32_t f;
-    int32_t sc, tc, ma;
+    uint32_t ax = qibli_abs_u32(u[0]), ay = qibli_abs_u32(u[1]), az = qibli_abs_u32(u[2]);
+    uint32_t f, ma;
+    int32_t sc, tc;
     if (ax >= ay && ax >= az) {
         ma = ax;
         f = u[0] >= 0 ? 0u : 1u;
@@ -337,7 +328,7 @@ static void lut_sample(const qibl_ylut_t *t, const qibl_q30_t u[3], uint32_t k, 
         tc = -u[1];
     }
     unsigned ie;
-    uint32_t iy = qibl_rsqrt_u64(qibl_mul_u32_u64((uint32_t)ma, (uint32_t)ma), &ie); /* 1/ma */
+    uint32_t iy = qibl_rsqrt_u64(qibl_mul_u32_u64(ma, ma), &ie); /* 1/ma */
     const uint32_t n = t->face_size;
     int32_t fu = face_coord(sc, iy, ie, n), fv = face_coord(tc, iy, ie, n);
     size_t tstride = (size_t)t->k * 2u;
@@ -389,15 +380,14 @@ static int32_t norm16(const int32_t *v, uint32_t k, size_t stride, int16_t *out)
 {
     uint32_t mx = 0u;
     for (uint32_t i = 0; i < k; ++i) {
-        int32_t x = v[i * stride];
-        uint32_t a = x < 0 ? 0u - (uint32_t)x : (uint32_t)x;
+        uint32_t a = qibli_abs_u32(v[i * stride]);
         mx = a > mx ? a : mx;
     }
     unsigned e = 0u;
     while (((mx + (e ? 1u << (e - 1u) : 0u)) >> e) > 32767u)
         ++e;
     for (uint32_t i = 0; i < k; ++i)
-        out[i] = (int16_t)(e ? qibl_rshr_s64(v[i * stride], e) : v[i * stride]);
+        out[i] = (int16_t)(e ? qibli_rshr_s64(v[i * stride], e) : v[i * stride]);
     return (int32_t)e;
 }
 
@@ -512,7 +502,7 @@ qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, u
         uint64_t d2 = 0u;
         for (int j = 0; j < 3; ++j) {
             l[j] = (int32_t)qibl_asr_s64(l64[j], r0);
-            uint32_t a = l[j] < 0 ? 0u - (uint32_t)l[j] : (uint32_t)l[j];
+            uint32_t a = qibli_abs_u32(l[j]);
             d2 += qibl_mul_u32_u64(a, a);
         }
         if (d2 == 0u) { /* the light sits on this pixel's surface point: no direction, no light */
@@ -524,20 +514,14 @@ qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, u
         unsigned e;
         uint32_t iy = qibl_rsqrt_u64(d2, &e); /* 1/|l| = iy / 2^e, e in 31..62 */
         qibl_q30_t u[3];
-        for (int j = 0; j < 3; ++j) {
-            uint32_t a = l[j] < 0 ? 0u - (uint32_t)l[j] : (uint32_t)l[j];
-            unsigned sh = e - 30u; /* 1..32 */
-            uint64_t q = qibl_shr_u64(qibl_mul_u32_u64(a, iy) + qibl_shr_u64((uint64_t)1 << 63, 64u - sh), sh);
-            int32_t mq = (int32_t)(q > 0x40000000u ? 0x40000000u : q);
-            u[j] = l[j] < 0 ? -mq : mq;
-        }
+        qibli_unit_q30(l, iy, e, u); /* as qibl_vec3_normalize_fast_q30 */
         if (pt->lut) {
             lut_sample(pt->lut, u, k, pt->filter == QIBL_LUT_NEAREST, ybuf + px, n);
         } else {
             qibl_q30_t yq[QIBL_SH_MAX_COUNT];
             (void)qibl_sh_eval_unit(u, (int)pt->bands, yq);
             for (uint32_t i = 0; i < k; ++i)
-                ybuf[(size_t)i * n + px] = (int16_t)qibl_rshr_s64(yq[i], 16);
+                ybuf[(size_t)i * n + px] = (int16_t)qibli_rshr_s64(yq[i], 16);
         }
         /* distance clamp: |L|^2 against min_dist^2, both in (2^-16)^2 units */
         uint32_t ay = iy;
@@ -574,7 +558,7 @@ qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, u
             int64_t prod = qibl_mul_s32_s64((int32_t)v, g); /* <= 2^61 */
             int32_t sr = atte[px] - e0 - 7 - t;
             if (sr > 0)
-                out[3u * px + ch] = sr > 62 ? 0 : qibl_rshr_s64(prod, (unsigned)sr);
+                out[3u * px + ch] = sr > 62 ? 0 : qibli_rshr_s64(prod, (unsigned)sr);
             else if (prod > INT32_MAX || prod < INT32_MIN || sr < -30)
                 out[3u * px + ch] = prod > 0 ? INT32_MAX : prod < 0 ? INT32_MIN : 0;
             else

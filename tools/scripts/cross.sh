@@ -17,7 +17,7 @@ fail=0
 err() { echo "cross: FAIL: $*" >&2; fail=1; }
 
 # 1. headers: only the four freestanding ones, and quoted includes of qibl's own headers.
-bad=$(grep -rnE '^[[:space:]]*#[[:space:]]*include' core platform/soft | grep -vE '<(stdint|stddef|stdbool|limits)\.h>|"qibl(/[a-z0-9_]+)?\.h"')
+bad=$(grep -rnE '^[[:space:]]*#[[:space:]]*include' core platform/soft | grep -vE '<(stdint|stddef|stdbool|limits)\.h>|"qibli?(/[a-z0-9_]+)?\.h"')
 [ -z "$bad" ] || err "core/ or platform/soft/ includes a header outside the freestanding four:"$'\n'"$bad"
 
 warn="-std=c99 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wundef -Wdouble-promotion -Wmissing-prototypes -Werror"
