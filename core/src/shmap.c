@@ -63,6 +63,8 @@ qibl_status_t qibl_shmap_check(const qibl_shmaps_t *m)
         return QIBL_E_SHMAP_CHANNELS;
     if (m->width == 0u || m->height == 0u)
         return QIBL_E_SHMAP_SIZE;
+    if (m->layout != QIBL_SHMAPS_PLANAR && m->layout != QIBL_SHMAPS_INTERLEAVED)
+        return QIBL_E_SHMAP_LAYOUT;
     return QIBL_OK;
 }
 
@@ -168,6 +170,94 @@ static void finish_channel(const int32_t *restrict acc, int32_t shift, int64_t b
     }
 }
 
+/* The final pass's per-span constants. Common case: every channel takes the int32 path (see
+ * finish_channel); finishing all three in one loop writes whole RGB pixels, which compilers
+ * vectorise better than stride-3 stores. */
+typedef struct finish {
+    int fast;
+    int32_t mu[3], h[3], b[3];
+    unsigned r[3];
+} finish_t;
+
+static void finish_prepare(const qibl_shmap_weights_t *w, finish_t *f)
+{
+    f->fast = 1;
+    for (uint32_t ch = 0; ch < 3u; ++ch) {
+        int32_t sh = w->shift[ch];
+        f->fast &= w->bias[ch] >= -(INT64_C(1) << 30) && w->bias[ch] <= (INT64_C(1) << 30) && sh > -31 && sh <= 2;
+        f->mu[ch] = sh > 0 && sh <= 2 ? (int32_t)1 << sh : 1;
+        f->r[ch] = sh < 0 && sh > -31 ? (unsigned)-sh : 0u;
+        f->h[ch] = f->r[ch] != 0u ? (int32_t)1 << (f->r[ch] - 1u) : 0;
+        f->b[ch] = f->fast ? (int32_t)w->bias[ch] : 0;
+    }
+}
+
+/* out[3p + ch] = sat32(a_ch[p] * 2^shift + bias) for the n pixels of one span piece */
+static void finish_rgb(const finish_t *f, const qibl_shmap_weights_t *w, const int32_t *restrict a0,
+                       const int32_t *restrict a1, const int32_t *restrict a2, int32_t *restrict out, uint32_t n)
+{
+    if (f->fast) {
+        const int32_t mu0 = f->mu[0], mu1 = f->mu[1], mu2 = f->mu[2], h0 = f->h[0], h1 = f->h[1], h2 = f->h[2];
+        const int32_t b0 = f->b[0], b1 = f->b[1], b2 = f->b[2];
+        const unsigned r0 = f->r[0], r1 = f->r[1], r2 = f->r[2];
+        for (uint32_t p = 0; p < n; ++p) {
+            out[3u * p] = qibl_asr_s32(a0[p] * mu0 + h0, r0) + b0;
+            out[3u * p + 1u] = qibl_asr_s32(a1[p] * mu1 + h1, r1) + b1;
+            out[3u * p + 2u] = qibl_asr_s32(a2[p] * mu2 + h2, r2) + b2;
+        }
+    } else {
+        finish_channel(a0, w->shift[0], w->bias[0], out, n);
+        finish_channel(a1, w->shift[1], w->bias[1], out + 1, n);
+        finish_channel(a2, w->shift[2], w->bias[2], out + 2, n);
+    }
+}
+
+/* One group of 16 pixels, one channel: acc[p] = sum_i w_i c[16 i + p] over the k maps' 16 adjacent
+ * bytes each (the interleaved layout). Fixed-length loops over a local accumulator: compilers keep
+ * it in vector registers, and the bytes are one sequential run of 16 k. Same integer sums as the
+ * planar passes (exact: the bound in shmap.h holds for any order). */
+static void group_acc(int32_t *restrict acc, const uint8_t *restrict c, const int16_t *restrict wc, uint32_t k)
+{
+    int32_t a[QIBL_SHMAPS_GROUP];
+    for (uint32_t p = 0; p < QIBL_SHMAPS_GROUP; ++p)
+        a[p] = wc[0] * (int16_t)c[p];
+    uint32_t i = 1u;
+    for (; i + 1u < k; i += 2u) {
+        const uint8_t *c0 = c + QIBL_SHMAPS_GROUP * i, *c1 = c0 + QIBL_SHMAPS_GROUP;
+        const int16_t w0 = wc[i], w1 = wc[i + 1u];
+        for (uint32_t p = 0; p < QIBL_SHMAPS_GROUP; ++p)
+            a[p] += w0 * (int16_t)c0[p] + w1 * (int16_t)c1[p];
+    }
+    if (i < k) {
+        const uint8_t *c0 = c + QIBL_SHMAPS_GROUP * i;
+        const int16_t w0 = wc[i];
+        for (uint32_t p = 0; p < QIBL_SHMAPS_GROUP; ++p)
+            a[p] += w0 * (int16_t)c0[p];
+    }
+    for (uint32_t p = 0; p < QIBL_SHMAPS_GROUP; ++p)
+        acc[p] = a[p];
+}
+
+/* Directional relighting on the interleaved layout: group by group, no workspace (the 16-pixel
+ * accumulators live on the stack); pixels of a partial group outside the span are computed from
+ * the row's bytes (padding included) and not written. */
+static void relight_interleaved(const qibl_shmaps_t *m, const qibl_shmap_weights_t *w, const finish_t *f,
+                                uint32_t x0, uint32_t y, uint32_t n, int32_t *out)
+{
+    const uint32_t k = m->k, gbytes = QIBL_SHMAPS_GROUP * k * m->channels;
+    const uint8_t *row = m->planes + (size_t)y * qibl_shmaps_row_size(m);
+    int32_t acc[3][QIBL_SHMAPS_GROUP];
+    for (uint32_t x = x0, end = x0 + n; x < end;) {
+        const uint32_t p0 = x % QIBL_SHMAPS_GROUP, left = QIBL_SHMAPS_GROUP - p0;
+        const uint32_t cnt = end - x < left ? end - x : left;
+        const uint8_t *grp = row + (size_t)(x / QIBL_SHMAPS_GROUP) * gbytes;
+        for (uint32_t ch = 0; ch < 3u; ++ch)
+            group_acc(acc[ch], grp + (m->channels == 3u ? ch : 0u) * QIBL_SHMAPS_GROUP * k, w->w[ch], k);
+        finish_rgb(f, w, acc[0] + p0, acc[1] + p0, acc[2] + p0, out + 3u * (x - x0), cnt);
+        x += cnt;
+    }
+}
+
 qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_weights_t *w, uint32_t x0, uint32_t y,
                                       uint32_t n, int32_t *out, void *ws, size_t ws_size)
 {
@@ -184,6 +274,12 @@ qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_w
         return QIBL_E_WORKSPACE;
     if (n == 0u)
         return QIBL_OK;
+    finish_t f;
+    finish_prepare(w, &f);
+    if (m->layout == QIBL_SHMAPS_INTERLEAVED) {
+        relight_interleaved(m, w, &f, x0, y, n, out);
+        return QIBL_OK;
+    }
     int32_t *acc = (int32_t *)ws; /* caller promises int32 alignment of the workspace */
     size_t off = (size_t)y * m->width + x0;
     for (uint32_t ch = 0; ch < 3u; ++ch) {
@@ -204,32 +300,7 @@ qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_w
                 acc_add4(a, pl[0], pl[1], pl[2], pl[3], wt[0], wt[1], wt[2], wt[3], n);
         }
     }
-    /* Common case: every channel takes the int32 path (see finish_channel); finishing all three in
-     * one loop writes whole RGB pixels, which compilers vectorise better than stride-3 stores. */
-    int fast = 1;
-    for (uint32_t ch = 0; ch < 3u; ++ch)
-        fast &= w->bias[ch] >= -(INT64_C(1) << 30) && w->bias[ch] <= (INT64_C(1) << 30) && w->shift[ch] > -31 &&
-                w->shift[ch] <= 2;
-    if (fast) {
-        const int32_t *restrict a0 = acc, *restrict a1 = acc + n, *restrict a2 = acc + 2u * n;
-        int32_t mu[3], h[3], b[3];
-        unsigned r[3];
-        for (uint32_t ch = 0; ch < 3u; ++ch) {
-            int32_t sh = w->shift[ch];
-            mu[ch] = sh > 0 ? (int32_t)1 << sh : 1;
-            r[ch] = sh < 0 ? (unsigned)-sh : 0u;
-            h[ch] = sh < 0 ? (int32_t)1 << (r[ch] - 1u) : 0;
-            b[ch] = (int32_t)w->bias[ch];
-        }
-        for (uint32_t p = 0; p < n; ++p) {
-            out[3u * p] = qibl_asr_s32(a0[p] * mu[0] + h[0], r[0]) + b[0];
-            out[3u * p + 1u] = qibl_asr_s32(a1[p] * mu[1] + h[1], r[1]) + b[1];
-            out[3u * p + 2u] = qibl_asr_s32(a2[p] * mu[2] + h[2], r[2]) + b[2];
-        }
-    } else {
-        for (uint32_t ch = 0; ch < 3u; ++ch)
-            finish_channel(acc + (size_t)ch * n, w->shift[ch], w->bias[ch], out + ch, n);
-    }
+    finish_rgb(&f, w, acc, acc + n, acc + 2u * n, out, n);
     return QIBL_OK;
 }
 
@@ -237,7 +308,7 @@ qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_w
 
 size_t qibl_ylut_values_size(uint32_t face_size, uint32_t k)
 {
-    if (face_size < 1u || face_size > QIBL_ASSET_MAX_LUT || k < 1u || k > (uint32_t)QIBL_SH_MAX_COUNT)
+    if (face_size < 1u || face_size > QIBL_YLUT_MAX_FACE || k < 1u || k > (uint32_t)QIBL_SH_MAX_COUNT)
         return 0u;
     return (size_t)6u * face_size * face_size * k * 2u;
 }
@@ -268,7 +339,7 @@ qibl_status_t qibl_ylut_build(uint32_t face_size, uint32_t k, uint8_t *values, s
         return QIBL_E_NULL_POINTER;
     if (k < 1u || k > (uint32_t)QIBL_SH_MAX_COUNT)
         return QIBL_E_SHMAP_K;
-    if (face_size < 1u || face_size > QIBL_ASSET_MAX_LUT)
+    if (face_size < 1u || face_size > QIBL_YLUT_MAX_FACE)
         return QIBL_E_SHMAP_LUT_SIZE;
     if (size < qibl_ylut_values_size(face_size, k))
         return QIBL_E_WORKSPACE;
@@ -401,7 +472,7 @@ qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t
         return QIBL_E_NULL_POINTER;
     if (p->width != m->width || p->height != m->height)
         return QIBL_E_SHMAP_MISMATCH;
-    if (lut != 0 && (lut->values == 0 || lut->k < m->k || lut->face_size < 1u || lut->face_size > QIBL_ASSET_MAX_LUT))
+    if (lut != 0 && (lut->values == 0 || lut->k < m->k || lut->face_size < 1u || lut->face_size > QIBL_YLUT_MAX_FACE))
         return QIBL_E_SHMAP_MISMATCH;
     if (light->rgb[0] < 0 || light->rgb[1] < 0 || light->rgb[2] < 0 || light->min_dist < 0 ||
         (light->falloff != QIBL_FALLOFF_INV_DIST && light->falloff != QIBL_FALLOFF_INV_DIST2) ||
@@ -540,9 +611,23 @@ qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, u
     /* Phase B per channel (vectorisable), then Phase C: out = (acc 2^es + accb 2^eb) 2^-24 att C0 */
     for (uint32_t ch = 0; ch < 3u; ++ch) {
         uint32_t src = m->channels == 3u ? ch : 0u;
-        for (uint32_t i = 0; i < k; ++i)
-            point_map(acc, accb, ybuf + (size_t)i * n, qibl_shmaps_plane(m, i, src) + off, pt->sn[ch][i],
-                      pt->bn[ch][i], n, i == 0u);
+        for (uint32_t i = 0; i < k; ++i) {
+            if (m->layout != QIBL_SHMAPS_INTERLEAVED) {
+                point_map(acc, accb, ybuf + (size_t)i * n, qibl_shmaps_plane(m, i, src) + off, pt->sn[ch][i],
+                          pt->bn[ch][i], n, i == 0u);
+                continue;
+            }
+            /* interleaved: the same per-pixel products, one piece of the span per 16-pixel group */
+            const uint8_t *row = m->planes + (size_t)y * qibl_shmaps_row_size(m) + (size_t)(src * k + i) * QIBL_SHMAPS_GROUP;
+            for (uint32_t x = x0, end = x0 + n; x < end;) {
+                const uint32_t p0 = x % QIBL_SHMAPS_GROUP, left = QIBL_SHMAPS_GROUP - p0;
+                const uint32_t cnt = end - x < left ? end - x : left, j = x - x0;
+                point_map(acc + j, accb + j, ybuf + (size_t)i * n + j,
+                          row + (size_t)(x / QIBL_SHMAPS_GROUP) * QIBL_SHMAPS_GROUP * k * m->channels + p0,
+                          pt->sn[ch][i], pt->bn[ch][i], cnt, i == 0u);
+                x += cnt;
+            }
+        }
         const int32_t es = pt->es[ch], eb = pt->eb[ch], e0 = es < eb ? es : eb;
         const uint32_t rgb = pt->rgb[ch];
         for (uint32_t px = 0; px < n; ++px) {
