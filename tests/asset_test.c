@@ -428,7 +428,7 @@ static void test_hand_filled_shmaps_view(void **state)
     }
     for (size_t i = 0; i < sizeof planes; ++i)
         planes[i] = (uint8_t)i;
-    qibl_shmaps_t m = {4, 2, 2, 3, params, planes};
+    qibl_shmaps_t m = {4, 2, 2, 3, params, planes, QIBL_SHMAPS_PLANAR};
     for (uint32_t i = 0; i < 2; ++i)
         for (uint32_t ch = 0; ch < 3; ++ch) {
             assert_int_equal(qibl_shmaps_scale(&m, i, ch), -(int32_t)(i * 3 + ch) - 1);

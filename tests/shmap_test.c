@@ -37,7 +37,7 @@ static void put_s32(uint8_t *p, int32_t v)
 /* scale_mag: largest |scale| in Q8.24; biases up to 128 * scale_mag in magnitude */
 static void maps_make(maps_buf *b, uint32_t w, uint32_t h, uint32_t k, uint32_t ch, tu_rng *r, int32_t scale_mag)
 {
-    b->m.width = w, b->m.height = h, b->m.k = k, b->m.channels = ch;
+    b->m.width = w, b->m.height = h, b->m.k = k, b->m.channels = ch, b->m.layout = QIBL_SHMAPS_PLANAR;
     b->params = malloc(8u * k * ch);
     b->planes = malloc((size_t)w * h * k * ch);
     assert_non_null(b->params);

@@ -79,6 +79,36 @@ qibl_status_t qibl_pmap_row_view(const qibl_pmap_t *p, const uint8_t *row, qibl_
     return QIBL_OK;
 }
 
+qibl_status_t qibl_shmaps_interleave(const qibl_shmaps_t *m, uint8_t *out, size_t out_size)
+{
+    if (m == 0 || out == 0 || m->planes == 0)
+        return QIBL_E_NULL_POINTER;
+    if (m->layout != QIBL_SHMAPS_PLANAR)
+        return QIBL_E_SHMAP_LAYOUT;
+    if (m->k - 1u >= 25u)
+        return QIBL_E_SHMAP_K;
+    if (m->channels != 1u && m->channels != 3u)
+        return QIBL_E_SHMAP_CHANNELS;
+    if (m->width - 1u >= 16384u || m->height - 1u >= 16384u)
+        return QIBL_E_SHMAP_SIZE;
+    const uint32_t k = m->k, C = m->channels, gw = (m->width + QIBL_SHMAPS_GROUP - 1u) / QIBL_SHMAPS_GROUP;
+    const size_t row = (size_t)gw * QIBL_SHMAPS_GROUP * k * C;
+    if (out_size / m->height < row)
+        return QIBL_E_WORKSPACE;
+    for (uint32_t y = 0; y < m->height; ++y)
+        for (uint32_t g = 0; g < gw; ++g)
+            for (uint32_t ch = 0; ch < C; ++ch)
+                for (uint32_t i = 0; i < k; ++i) {
+                    uint8_t *o = out + y * row + ((size_t)(g * C + ch) * k + i) * QIBL_SHMAPS_GROUP;
+                    const uint8_t *src = qibl_shmaps_plane(m, i, ch) + (size_t)y * m->width;
+                    for (uint32_t p = 0; p < QIBL_SHMAPS_GROUP; ++p) {
+                        uint32_t x = g * QIBL_SHMAPS_GROUP + p;
+                        o[p] = x < m->width ? src[x] : 0u; /* assignments: a zeroing loop becomes memset */
+                    }
+                }
+    return QIBL_OK;
+}
+
 #else
 typedef int qibl_shmaps_disabled_t; /* ISO C forbids an empty translation unit */
 #endif /* QIBL_USE_SHMAP || QIBL_USE_ASSET */

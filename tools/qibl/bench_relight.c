@@ -41,7 +41,7 @@ static int pack(const qibl_gen_maps *g, uint32_t k, qibl_pack_scheme sch, packed
         qibl_store_s32le(p->params + 8 * i, p->scale[i]);
         qibl_store_s32le(p->params + 8 * i + 4, p->bias[i]);
     }
-    p->m.width = g->width, p->m.height = g->height, p->m.k = k, p->m.channels = 3;
+    p->m.width = g->width, p->m.height = g->height, p->m.k = k, p->m.channels = 3, p->m.layout = QIBL_SHMAPS_PLANAR;
     p->m.params = p->params, p->m.planes = p->planes;
     return 0;
 }
