@@ -60,6 +60,9 @@ int qibl_cli_parse_q16(const char *s, int32_t *out);
 /* Parses a decimal integer in [lo, hi]; 0 on success, -1 otherwise. */
 int qibl_cli_parse_int(const char *s, long lo, long hi, long *out);
 
+/* Parses --layout's argument: "planar" or "interleaved" into a QIBL_SHMAPS_* layout; 0 or -1. */
+int qibl_cli_parse_layout(const char *s, uint32_t *layout);
+
 /* Median of n values (sorts v in place). */
 double qibl_cli_median(double *v, int n);
 

@@ -278,7 +278,7 @@ static int write_bytes(const char *path, const uint8_t *b, size_t n)
 }
 
 static int finish_asset(const qibl_bake_sums *sums, uint32_t k, uint32_t lut, qibl_proj_method method,
-                        const char *out)
+                        uint32_t layout, const char *out)
 {
     qibl_gen_maps m;
     uint8_t *bytes = NULL;
@@ -287,7 +287,7 @@ static int finish_asset(const qibl_bake_sums *sums, uint32_t k, uint32_t lut, qi
         fprintf(stderr, "qibl: %s: cannot project (out of memory, or too few directions for k = %u)\n", out, k);
         return 1;
     }
-    int rc = qibl_bake_asset(&m, lut, &bytes, &n);
+    int rc = qibl_bake_asset_layout(&m, lut, layout, &bytes, &n);
     qibl_gen_free(&m);
     if (rc != 0) {
         fprintf(stderr, "qibl: %s: cannot build the asset (out of memory)\n", out);
@@ -311,6 +311,7 @@ int qibl_cmd_bake(int argc, char **argv)
     long k = 16, lut = 32, ndirs = 512, shard = 0, nshards = 1;
     double budget = 0;
     int lsq = 0, quiet = 0;
+    uint32_t layout = QIBL_SHMAPS_PLANAR;
     for (int i = 1; i < argc; ++i) {
         int r = qibl_cli_scene_opt(argc, argv, &i, &so);
         if (r < 0)
@@ -345,7 +346,10 @@ int qibl_cmd_bake(int argc, char **argv)
             lsq = 1;
         else if (strcmp(a, "--quiet") == 0)
             quiet = 1;
-        else
+        else if (strcmp(a, "--layout") == 0 && i + 1 < argc) {
+            if (qibl_cli_parse_layout(argv[++i], &layout) != 0)
+                return qibl_cli_usage_error("--layout is planar or interleaved");
+        } else
             return qibl_cli_usage_error("bake: unknown argument '%s' (see qibl help bake)", a);
     }
     if (nshards > 1 && !sums_out)
@@ -436,12 +440,12 @@ int qibl_cmd_bake(int argc, char **argv)
             printf("chose k = %u and a %u^2 LUT: the smallest k whose novel-sun PSNR reaches %.2f dB, and the smallest LUT "
                    "that costs point lights under 0.1 dB against evaluating the SH polynomials per pixel\n",
                    chosen, chosen_lut, budget);
-            rc = finish_asset(&sums, chosen, chosen_lut, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, out);
+            rc = finish_asset(&sums, chosen, chosen_lut, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, layout, out);
         }
         eval_free(&e);
         free(tmp);
     } else if (rc == 0 && out) {
-        rc = finish_asset(&sums, (uint32_t)k, (uint32_t)lut, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, out);
+        rc = finish_asset(&sums, (uint32_t)k, (uint32_t)lut, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, layout, out);
     }
     qibl_bake_sums_free(&sums);
     qibl_rt_scene_free(&s);
@@ -453,6 +457,7 @@ int qibl_cmd_merge(int argc, char **argv)
     const char *out = NULL, *sums_out = NULL;
     long k = 0, lut = 32;
     int lsq = 0, nin = 0;
+    uint32_t layout = QIBL_SHMAPS_PLANAR;
     char **in = malloc(sizeof(char *) * (size_t)argc);
     if (!in)
         return 1;
@@ -471,6 +476,11 @@ int qibl_cmd_merge(int argc, char **argv)
             if (qibl_cli_parse_int(argv[++i], 0, (long)QIBL_ASSET_MAX_LUT, &lut) != 0) {
                 free(in);
                 return qibl_cli_usage_error("--lut needs a face size in 0..%u", QIBL_ASSET_MAX_LUT);
+            }
+        } else if (strcmp(a, "--layout") == 0 && i + 1 < argc) {
+            if (qibl_cli_parse_layout(argv[++i], &layout) != 0) {
+                free(in);
+                return qibl_cli_usage_error("--layout is planar or interleaved");
             }
         } else if (strcmp(a, "--lsq") == 0)
             lsq = 1;
@@ -521,7 +531,7 @@ int qibl_cmd_merge(int argc, char **argv)
         goto done;
     }
     rc = out ? finish_asset(&total, k ? (uint32_t)k : (total.k < 16 ? total.k : 16), (uint32_t)lut,
-                            lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, out)
+                            lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, layout, out)
              : 0;
 done:
     free(seen), free(in);

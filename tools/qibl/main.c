@@ -11,6 +11,7 @@
 #include <time.h>
 
 #include "qibl/cli.h"
+#include "qibl/shmaps.h"
 
 static const qibl_cli_cmd commands[] = {
     {"sh", "evaluate the integer SH basis for a direction",
@@ -45,10 +46,13 @@ static const qibl_cli_cmd commands[] = {
      qibl_cmd_bench},
     {"gen", "write the procedural courtyard's SH maps (and P map, optional Y LUT) as an asset",
      "usage: qibl gen -o FILE [--size WxH] [--k K] [--lut N] [--pack minmax|robust] [--equirect]\n"
+     "                [--layout planar|interleaved]\n"
      "  Renders the built-in courtyard's light-transport SH maps analytically (Lambert + glossy, no\n"
      "  shadows; the ray-traced bake is a separate command), packs them to 8 bits per map and channel\n"
      "  (min/max or the 0.1..99.9 percentile range) and writes SHMP + PMAP (+ YLUT with --lut N, the\n"
-     "  cube-map face size). Defaults: 1024x256 cylindrical, k = 16, min/max, no LUT.\n",
+     "  cube-map face size). Defaults: 1024x256 cylindrical, k = 16, min/max, no LUT.\n"
+     "  --layout interleaved: the maps' bytes row by row in groups of 16 pixels (rows stream from disc\n"
+     "  one at a time; relights to the same bytes as the default planar layout).\n",
      qibl_cmd_gen},
     {"render", "ray-trace the ground-truth panorama of a scene under one light (PNG, PFM, depth)",
      "usage: qibl render (--sun X Y Z | --point X Y Z) [--rgb R G B] [--falloff 1|2] [--png OUT] [--pfm OUT]\n"
@@ -64,6 +68,7 @@ static const qibl_cli_cmd commands[] = {
      qibl_cmd_render},
     {"bake", "bake a scene into a relightable panorama asset (ray-traced, SH-projected, 8-bit packed)",
      "usage: qibl bake -o ASSET [--k K] [--lut N] [--dirs N] [--lsq] [--budget DB] [--quiet]\n"
+     "                 [--layout planar|interleaved]\n"
      "                 [--shard I/N --sums FILE] [scene options as for render]\n"
      "  Renders the scene under N directional lights (spherical Fibonacci set, equal weights 4 pi / N,\n"
      "  default 512) with hard shadows, projects every pixel's response onto SH (k <= 25, default 16;\n"
@@ -73,10 +78,11 @@ static const qibl_cli_cmd commands[] = {
      "  --shard I/N --sums FILE: bake only the I-th of N shares of the directions, write partial sums\n"
      "  for qibl merge. --budget DB: choose the smallest band-complete k whose PSNR against ground truth\n"
      "  on 8 novel suns reaches DB, and the smallest LUT within 0.1 dB of direct SH evaluation on 4\n"
-     "  lamps, and say so. A progress bar goes to stderr when it is a terminal.\n",
+     "  lamps, and say so. A progress bar goes to stderr when it is a terminal.\n"
+     "  --layout interleaved: SH maps streamable by rows (see qibl help gen).\n",
      qibl_cmd_bake},
     {"merge", "combine the partial sums of bake shards into an asset",
-     "usage: qibl merge -o ASSET [--sums OUT] [--k K] [--lut N] [--lsq] SUMS...\n"
+     "usage: qibl merge -o ASSET [--sums OUT] [--k K] [--lut N] [--lsq] [--layout planar|interleaved] SUMS...\n"
      "  Adds the partial sums written by `qibl bake --shard I/N --sums FILE` (every shard exactly once,\n"
      "  same bake) and writes the asset as qibl bake would (byte-identical), and/or the total sums.\n",
      qibl_cmd_merge},
@@ -191,6 +197,17 @@ int qibl_cli_parse_int(const char *s, long lo, long hi, long *out)
     if (end == s || *end != '\0' || errno == ERANGE || v < lo || v > hi)
         return -1;
     *out = v;
+    return 0;
+}
+
+int qibl_cli_parse_layout(const char *s, uint32_t *layout)
+{
+    if (strcmp(s, "planar") == 0)
+        *layout = QIBL_SHMAPS_PLANAR;
+    else if (strcmp(s, "interleaved") == 0)
+        *layout = QIBL_SHMAPS_INTERLEAVED;
+    else
+        return -1;
     return 0;
 }
 
