@@ -154,8 +154,8 @@ qibl_status_t qibl_asset_find(const qibl_asset_t *a, uint32_t type, qibl_chunk_t
 
 /* ---- streaming by rows ----------------------------------------------------------------------
  * Only the head of the file is resident: header, chunk table and SHMP's fields and params. The
- * caller reads the first bytes, asks qibl_asset_head_size how many it needs (at most three rounds:
- * header, table, SHMP fields), opens the head, then loads each row it relights from the offsets
+ * caller reads the first bytes, asks qibl_asset_head_size how many it needs (at most four rounds:
+ * header, table, SHMP's fields, its params), opens the head, then loads each row it relights from the offsets
  * qibl_asset_row gives and relights through qibl_shmaps_row_view / qibl_pmap_row_view (shmaps.h).
  * Checks: those of qibl_asset_open_structure that the head holds (header, table CRC, every entry's
  * bounds, duplicates and overlaps against file_size, SHMP's fields, PMAP's and YLUT's payload sizes
