@@ -53,9 +53,11 @@ qibl_status_t qibl_shlight_add_dir(qibl_shlight_t *l, const qibl_q16_t dir[3], c
 
 /* ---- maps, weights --------------------------------------------------------------------------- */
 
-qibl_status_t qibl_shmap_check(const qibl_shmaps_t *m)
+/* The view's fields; the map bytes only when the call reads them (weights and point_prepare read
+ * only the params, so the maps view of a streamed asset's head, planes NULL, makes weights). */
+static qibl_status_t check_view(const qibl_shmaps_t *m, int need_planes)
 {
-    if (m == 0 || m->params == 0 || m->planes == 0)
+    if (m == 0 || m->params == 0 || (need_planes && m->planes == 0))
         return QIBL_E_NULL_POINTER;
     if (m->k < 1u || m->k > (uint32_t)QIBL_SH_MAX_COUNT)
         return QIBL_E_SHMAP_K;
@@ -68,9 +70,14 @@ qibl_status_t qibl_shmap_check(const qibl_shmaps_t *m)
     return QIBL_OK;
 }
 
+qibl_status_t qibl_shmap_check(const qibl_shmaps_t *m)
+{
+    return check_view(m, 1);
+}
+
 qibl_status_t qibl_shmap_weights(const qibl_shmaps_t *m, const qibl_shlight_t *light, qibl_shmap_weights_t *out)
 {
-    qibl_status_t st = qibl_shmap_check(m);
+    qibl_status_t st = check_view(m, 0);
     if (st != QIBL_OK)
         return st;
     if (light == 0 || out == 0)
@@ -546,7 +553,7 @@ static void point_map(int32_t *restrict acc, int32_t *restrict accb, const int16
 qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out,
                                     void *ws, size_t ws_size)
 {
-    if (pt == 0 || out == 0 || pt->maps == 0 || ws == 0)
+    if (pt == 0 || out == 0 || pt->maps == 0 || pt->maps->planes == 0 || ws == 0)
         return QIBL_E_NULL_POINTER;
     const qibl_shmaps_t *m = pt->maps;
     if (y >= m->height || x0 > m->width || n > m->width - x0)

@@ -109,6 +109,7 @@ qibl_status_t qibl_shmap_check(const qibl_shmaps_t *m);
  * largest weight <= 32767 (so it lies in [16384, 32767] unless every product scale * L is already an
  * exact integer below 16384 in Q40): weight quantisation adds at most 0.5 weight-LSB per map, i.e. a
  * relative error <= k * 2^-16 of the brightest map's full-scale contribution.
+ * m->planes may be NULL (only the params are read: the maps view of a streamed asset's head).
  * Errors: those of qibl_shmap_check, QIBL_E_SHMAP_LIGHT_K; *out untouched on error. */
 qibl_status_t qibl_shmap_weights(const qibl_shmaps_t *m, const qibl_shlight_t *light, qibl_shmap_weights_t *out);
 
