@@ -18,6 +18,14 @@
 #include <stdint.h>
 #include "qibl/fixed.h"
 
+/* Keeps a function out of line where the compiler supports saying so (nothing otherwise): for
+ * kernels whose vectorisation needs their restrict parameters intact. */
+#if defined(__GNUC__) || defined(__clang__)
+#define QIBLI_NOINLINE __attribute__((noinline))
+#else
+#define QIBLI_NOINLINE
+#endif
+
 /* |x| as an unsigned value: exact for every int32 / int64 including the most negative one. */
 static inline uint32_t qibli_abs_u32(int32_t x)
 {

@@ -220,47 +220,59 @@ static void finish_rgb(const finish_t *f, const qibl_shmap_weights_t *w, const i
 }
 
 /* One group of 16 pixels, one channel: acc[p] = sum_i w_i c[16 i + p] over the k maps' 16 adjacent
- * bytes each (the interleaved layout). Fixed-length loops over a local accumulator: compilers keep
- * it in vector registers, and the bytes are one sequential run of 16 k. Same integer sums as the
- * planar passes (exact: the bound in shmap.h holds for any order). */
-static void group_acc(int32_t *restrict acc, const uint8_t *restrict c, const int16_t *restrict wc, uint32_t k)
+ * bytes each (the interleaved layout), four maps per pass as the planar passes. Not inlined
+ * (QIBLI_NOINLINE): inlined, the compiler loses the restrict parameters and checks aliasing or
+ * scalarises the loops; as a call it vectorises them (one call per channel and 16 pixels). Same
+ * integer sums as the planar passes (exact: the bound in shmap.h holds for any order). */
+static QIBLI_NOINLINE void group_acc(int32_t *restrict acc, const uint8_t *restrict c, const int16_t *restrict wc,
+                                     uint32_t k)
 {
-    int32_t a[QIBL_SHMAPS_GROUP];
-    for (uint32_t p = 0; p < QIBL_SHMAPS_GROUP; ++p)
-        a[p] = wc[0] * (int16_t)c[p];
-    uint32_t i = 1u;
-    for (; i + 1u < k; i += 2u) {
-        const uint8_t *c0 = c + QIBL_SHMAPS_GROUP * i, *c1 = c0 + QIBL_SHMAPS_GROUP;
-        const int16_t w0 = wc[i], w1 = wc[i + 1u];
-        for (uint32_t p = 0; p < QIBL_SHMAPS_GROUP; ++p)
-            a[p] += w0 * (int16_t)c0[p] + w1 * (int16_t)c1[p];
+    enum { G = QIBL_SHMAPS_GROUP };
+    uint32_t i = 0;
+    for (uint32_t p = 0; p < G; ++p)
+        acc[p] = 0;
+    for (; i + 4u <= k; i += 4u) {
+        const int16_t w0 = wc[i], w1 = wc[i + 1u], w2 = wc[i + 2u], w3 = wc[i + 3u];
+        const uint8_t *m = c + G * i;
+        for (uint32_t p = 0; p < G; ++p)
+            acc[p] += w0 * (int16_t)m[p] + w1 * (int16_t)m[G + p] + w2 * (int16_t)m[2 * G + p] +
+                      w3 * (int16_t)m[3 * G + p];
     }
-    if (i < k) {
-        const uint8_t *c0 = c + QIBL_SHMAPS_GROUP * i;
+    for (; i < k; ++i) {
         const int16_t w0 = wc[i];
-        for (uint32_t p = 0; p < QIBL_SHMAPS_GROUP; ++p)
-            a[p] += w0 * (int16_t)c0[p];
+        const uint8_t *m = c + G * i;
+        for (uint32_t p = 0; p < G; ++p)
+            acc[p] += w0 * (int16_t)m[p];
     }
-    for (uint32_t p = 0; p < QIBL_SHMAPS_GROUP; ++p)
-        acc[p] = a[p];
 }
 
 /* Directional relighting on the interleaved layout: group by group, no workspace (the 16-pixel
- * accumulators live on the stack); pixels of a partial group outside the span are computed from
- * the row's bytes (padding included) and not written. */
+ * accumulators live on the stack); whole groups in the common case finish in a fixed-length loop,
+ * pixels of a partial group outside the span are computed from the row's bytes (padding included)
+ * and not written. */
 static void relight_interleaved(const qibl_shmaps_t *m, const qibl_shmap_weights_t *w, const finish_t *f,
-                                uint32_t x0, uint32_t y, uint32_t n, int32_t *out)
+                                uint32_t x0, uint32_t y, uint32_t n, int32_t *out, int32_t (*acc)[QIBL_SHMAPS_GROUP])
 {
     const uint32_t k = m->k, gbytes = QIBL_SHMAPS_GROUP * k * m->channels;
+    const uint32_t cs = m->channels == 3u ? QIBL_SHMAPS_GROUP * k : 0u; /* channel stride in a group */
     const uint8_t *row = m->planes + (size_t)y * qibl_shmaps_row_size(m);
-    int32_t acc[3][QIBL_SHMAPS_GROUP];
     for (uint32_t x = x0, end = x0 + n; x < end;) {
         const uint32_t p0 = x % QIBL_SHMAPS_GROUP, left = QIBL_SHMAPS_GROUP - p0;
         const uint32_t cnt = end - x < left ? end - x : left;
         const uint8_t *grp = row + (size_t)(x / QIBL_SHMAPS_GROUP) * gbytes;
-        for (uint32_t ch = 0; ch < 3u; ++ch)
-            group_acc(acc[ch], grp + (m->channels == 3u ? ch : 0u) * QIBL_SHMAPS_GROUP * k, w->w[ch], k);
-        finish_rgb(f, w, acc[0] + p0, acc[1] + p0, acc[2] + p0, out + 3u * (x - x0), cnt);
+        group_acc(acc[0], grp, w->w[0], k);
+        group_acc(acc[1], grp + cs, w->w[1], k);
+        group_acc(acc[2], grp + 2u * cs, w->w[2], k);
+        int32_t *o = out + 3u * (x - x0);
+        if (cnt == QIBL_SHMAPS_GROUP && f->fast) {
+            for (uint32_t p = 0; p < QIBL_SHMAPS_GROUP; ++p) {
+                o[3u * p] = qibl_asr_s32(acc[0][p] * f->mu[0] + f->h[0], f->r[0]) + f->b[0];
+                o[3u * p + 1u] = qibl_asr_s32(acc[1][p] * f->mu[1] + f->h[1], f->r[1]) + f->b[1];
+                o[3u * p + 2u] = qibl_asr_s32(acc[2][p] * f->mu[2] + f->h[2], f->r[2]) + f->b[2];
+            }
+        } else {
+            finish_rgb(f, w, acc[0] + p0, acc[1] + p0, acc[2] + p0, o, cnt);
+        }
         x += cnt;
     }
 }
@@ -284,7 +296,10 @@ qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_w
     finish_t f;
     finish_prepare(w, &f);
     if (m->layout == QIBL_SHMAPS_INTERLEAVED) {
-        relight_interleaved(m, w, &f, x0, y, n, out);
+        /* the accumulators of one group in the caller's workspace (48 int32 <= 12 n bytes for n >= 16;
+         * a smaller span uses a local array) */
+        int32_t local[3][QIBL_SHMAPS_GROUP];
+        relight_interleaved(m, w, &f, x0, y, n, out, n >= QIBL_SHMAPS_GROUP ? (int32_t(*)[QIBL_SHMAPS_GROUP])ws : local);
         return QIBL_OK;
     }
     int32_t *acc = (int32_t *)ws; /* caller promises int32 alignment of the workspace */
