@@ -251,11 +251,12 @@ static QIBLI_NOINLINE void group_acc(int32_t *restrict acc, const uint8_t *restr
  * pixels of a partial group outside the span are computed from the row's bytes (padding included)
  * and not written. */
 static void relight_interleaved(const qibl_shmaps_t *m, const qibl_shmap_weights_t *w, const finish_t *f,
-                                uint32_t x0, uint32_t y, uint32_t n, int32_t *out, int32_t (*acc)[QIBL_SHMAPS_GROUP])
+                                uint32_t x0, uint32_t y, uint32_t n, int32_t *out)
 {
     const uint32_t k = m->k, gbytes = QIBL_SHMAPS_GROUP * k * m->channels;
     const uint32_t cs = m->channels == 3u ? QIBL_SHMAPS_GROUP * k : 0u; /* channel stride in a group */
     const uint8_t *row = m->planes + (size_t)y * qibl_shmaps_row_size(m);
+    int32_t acc[3][QIBL_SHMAPS_GROUP];
     for (uint32_t x = x0, end = x0 + n; x < end;) {
         const uint32_t p0 = x % QIBL_SHMAPS_GROUP, left = QIBL_SHMAPS_GROUP - p0;
         const uint32_t cnt = end - x < left ? end - x : left;
@@ -296,10 +297,7 @@ qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_w
     finish_t f;
     finish_prepare(w, &f);
     if (m->layout == QIBL_SHMAPS_INTERLEAVED) {
-        /* the accumulators of one group in the caller's workspace (48 int32 <= 12 n bytes for n >= 16;
-         * a smaller span uses a local array) */
-        int32_t local[3][QIBL_SHMAPS_GROUP];
-        relight_interleaved(m, w, &f, x0, y, n, out, n >= QIBL_SHMAPS_GROUP ? (int32_t(*)[QIBL_SHMAPS_GROUP])ws : local);
+        relight_interleaved(m, w, &f, x0, y, n, out); /* no workspace: 192 bytes of stack */
         return QIBL_OK;
     }
     int32_t *acc = (int32_t *)ws; /* caller promises int32 alignment of the workspace */
