@@ -93,7 +93,8 @@ qibl_status_t qibl_shmaps_interleave(const qibl_shmaps_t *m, uint8_t *out, size_
         return QIBL_E_SHMAP_SIZE;
     const uint32_t k = m->k, C = m->channels, gw = (m->width + QIBL_SHMAPS_GROUP - 1u) / QIBL_SHMAPS_GROUP;
     const size_t row = (size_t)gw * QIBL_SHMAPS_GROUP * k * C;
-    if (out_size / m->height < row)
+    /* row <= 1025 * 16 * 75 < 2^21: the product is exact (and no division: Cortex-M0 has none) */
+    if (qibl_mul_u32_u64((uint32_t)row, m->height) > out_size)
         return QIBL_E_WORKSPACE;
     for (uint32_t y = 0; y < m->height; ++y)
         for (uint32_t g = 0; g < gw; ++g)
