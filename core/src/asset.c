@@ -100,7 +100,7 @@ static qibl_status_t check_shmp(const uint8_t *p, uint32_t size, uint32_t *pixel
         return QIBL_E_ASSET_BAD_K;
     if (ch != 1u && ch != 3u)
         return QIBL_E_ASSET_BAD_CHANNELS;
-    if ((flags & ~QIBL_SHMP_FLAG_INTERLEAVED) != 0u)
+    if (flags != 0u && (!QIBL_USE_INTERLEAVED || flags != QIBL_SHMP_FLAG_INTERLEAVED))
         return QIBL_E_ASSET_BAD_FLAGS;
     uint32_t planes = k * ch; /* <= 75 */
     /* interleaved rows are padded to whole groups of 16: h * padded w <= 2^14 (2^14 + 15) < 2^29 */
@@ -267,6 +267,7 @@ qibl_status_t qibl_asset_open_structure(qibl_asset_t *out, const void *bytes, si
     return open_asset(out, bytes, n, CRC_NONE, 0);
 }
 
+#if QIBL_USE_INTERLEAVED
 /* ---- streaming by rows ----------------------------------------------------------------------- */
 
 /* The head checks; *need = leading bytes needed so far. On QIBL_OK with *need <= n the whole head
@@ -365,6 +366,7 @@ qibl_status_t qibl_asset_row(const qibl_asset_head_t *h, uint32_t y, qibl_asset_
     out->pmap_size = h->pmap_offset != 0u ? 12u * h->maps.width : 0u;
     return QIBL_OK;
 }
+#endif /* QIBL_USE_INTERLEAVED */
 
 qibl_status_t qibl_asset_find(const qibl_asset_t *a, uint32_t type, qibl_chunk_t *out)
 {

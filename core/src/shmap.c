@@ -65,7 +65,7 @@ static qibl_status_t check_view(const qibl_shmaps_t *m, int need_planes)
         return QIBL_E_SHMAP_CHANNELS;
     if (m->width == 0u || m->height == 0u)
         return QIBL_E_SHMAP_SIZE;
-    if (m->layout != QIBL_SHMAPS_PLANAR && m->layout != QIBL_SHMAPS_INTERLEAVED)
+    if (m->layout != QIBL_SHMAPS_PLANAR && (!QIBL_USE_INTERLEAVED || m->layout != QIBL_SHMAPS_INTERLEAVED))
         return QIBL_E_SHMAP_LAYOUT;
     return QIBL_OK;
 }
@@ -219,6 +219,7 @@ static void finish_rgb(const finish_t *f, const qibl_shmap_weights_t *w, const i
     }
 }
 
+#if QIBL_USE_INTERLEAVED
 /* One group of 16 pixels, one channel: acc[p] = sum_i w_i c[16 i + p] over the k maps' 16 adjacent
  * bytes each (the interleaved layout), four maps per pass as the planar passes. Not inlined
  * (QIBLI_NOINLINE): inlined, the compiler loses the restrict parameters and checks aliasing or
@@ -277,6 +278,7 @@ static void relight_interleaved(const qibl_shmaps_t *m, const qibl_shmap_weights
         x += cnt;
     }
 }
+#endif /* QIBL_USE_INTERLEAVED */
 
 qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_weights_t *w, uint32_t x0, uint32_t y,
                                       uint32_t n, int32_t *out, void *ws, size_t ws_size)
@@ -296,10 +298,12 @@ qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_w
         return QIBL_OK;
     finish_t f;
     finish_prepare(w, &f);
+#if QIBL_USE_INTERLEAVED
     if (m->layout == QIBL_SHMAPS_INTERLEAVED) {
         relight_interleaved(m, w, &f, x0, y, n, out); /* no workspace: 192 bytes of stack */
         return QIBL_OK;
     }
+#endif
     int32_t *acc = (int32_t *)ws; /* caller promises int32 alignment of the workspace */
     size_t off = (size_t)y * m->width + x0;
     for (uint32_t ch = 0; ch < 3u; ++ch) {
@@ -632,21 +636,24 @@ qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, u
     for (uint32_t ch = 0; ch < 3u; ++ch) {
         uint32_t src = m->channels == 3u ? ch : 0u;
         for (uint32_t i = 0; i < k; ++i) {
-            if (m->layout != QIBL_SHMAPS_INTERLEAVED) {
-                point_map(acc, accb, ybuf + (size_t)i * n, qibl_shmaps_plane(m, i, src) + off, pt->sn[ch][i],
-                          pt->bn[ch][i], n, i == 0u);
+#if QIBL_USE_INTERLEAVED
+            if (m->layout == QIBL_SHMAPS_INTERLEAVED) {
+                /* the same per-pixel products, one piece of the span per 16-pixel group */
+                const uint8_t *row = m->planes + (size_t)y * qibl_shmaps_row_size(m) +
+                                     (size_t)(src * k + i) * QIBL_SHMAPS_GROUP;
+                for (uint32_t x = x0, end = x0 + n; x < end;) {
+                    const uint32_t p0 = x % QIBL_SHMAPS_GROUP, left = QIBL_SHMAPS_GROUP - p0;
+                    const uint32_t cnt = end - x < left ? end - x : left, j = x - x0;
+                    point_map(acc + j, accb + j, ybuf + (size_t)i * n + j,
+                              row + (size_t)(x / QIBL_SHMAPS_GROUP) * QIBL_SHMAPS_GROUP * k * m->channels + p0,
+                              pt->sn[ch][i], pt->bn[ch][i], cnt, i == 0u);
+                    x += cnt;
+                }
                 continue;
             }
-            /* interleaved: the same per-pixel products, one piece of the span per 16-pixel group */
-            const uint8_t *row = m->planes + (size_t)y * qibl_shmaps_row_size(m) + (size_t)(src * k + i) * QIBL_SHMAPS_GROUP;
-            for (uint32_t x = x0, end = x0 + n; x < end;) {
-                const uint32_t p0 = x % QIBL_SHMAPS_GROUP, left = QIBL_SHMAPS_GROUP - p0;
-                const uint32_t cnt = end - x < left ? end - x : left, j = x - x0;
-                point_map(acc + j, accb + j, ybuf + (size_t)i * n + j,
-                          row + (size_t)(x / QIBL_SHMAPS_GROUP) * QIBL_SHMAPS_GROUP * k * m->channels + p0,
-                          pt->sn[ch][i], pt->bn[ch][i], cnt, i == 0u);
-                x += cnt;
-            }
+#endif
+            point_map(acc, accb, ybuf + (size_t)i * n, qibl_shmaps_plane(m, i, src) + off, pt->sn[ch][i],
+                      pt->bn[ch][i], n, i == 0u);
         }
         const int32_t es = pt->es[ch], eb = pt->eb[ch], e0 = es < eb ? es : eb;
         const uint32_t rgb = pt->rgb[ch];

@@ -31,7 +31,7 @@ size_t qibl_shmaps_row_size(const qibl_shmaps_t *m)
     size_t per_px = (size_t)m->k * m->channels;
     if (m->layout == QIBL_SHMAPS_PLANAR)
         return per_px * m->width;
-    if (m->layout == QIBL_SHMAPS_INTERLEAVED)
+    if (QIBL_USE_INTERLEAVED && m->layout == QIBL_SHMAPS_INTERLEAVED)
         return per_px * ((m->width + QIBL_SHMAPS_GROUP - 1u) / QIBL_SHMAPS_GROUP * QIBL_SHMAPS_GROUP);
     return 0u;
 }
@@ -79,6 +79,7 @@ qibl_status_t qibl_pmap_row_view(const qibl_pmap_t *p, const uint8_t *row, qibl_
     return QIBL_OK;
 }
 
+#if QIBL_USE_INTERLEAVED
 qibl_status_t qibl_shmaps_interleave(const qibl_shmaps_t *m, uint8_t *out, size_t out_size)
 {
     if (m == 0 || out == 0 || m->planes == 0)
@@ -109,6 +110,7 @@ qibl_status_t qibl_shmaps_interleave(const qibl_shmaps_t *m, uint8_t *out, size_
                 }
     return QIBL_OK;
 }
+#endif /* QIBL_USE_INTERLEAVED */
 
 #else
 typedef int qibl_shmaps_disabled_t; /* ISO C forbids an empty translation unit */
