@@ -567,6 +567,51 @@ static void point_map(int32_t *restrict acc, int32_t *restrict accb, const int16
     }
 }
 
+#if QIBL_USE_INTERLEAVED
+/* Phase B on one whole 16-pixel group of the interleaved layout, all k maps of one channel: the
+ * products of point_map in fixed-length loops over restrict parameters (out of line, so they
+ * vectorise as group_acc does). y holds Y_i of the group's pixels at y[i * ystride + p]. */
+static QIBLI_NOINLINE void point_group(int32_t *restrict acc, int32_t *restrict accb, const int16_t *restrict y,
+                                       size_t ystride, const uint8_t *restrict c, const int16_t *restrict sn,
+                                       const int16_t *restrict bn, uint32_t k)
+{
+    for (uint32_t p = 0; p < QIBL_SHMAPS_GROUP; ++p) {
+        acc[p] = (int16_t)qibl_asr_s32(y[p] * sn[0] + 8192, 14) * (int16_t)c[p];
+        accb[p] = qibl_asr_s32(y[p] * bn[0] + 8192, 14);
+    }
+    for (uint32_t i = 1; i < k; ++i) {
+        const int16_t *yi = y + i * ystride;
+        const uint8_t *ci = c + QIBL_SHMAPS_GROUP * i;
+        const int32_t s = sn[i], b = bn[i];
+        for (uint32_t p = 0; p < QIBL_SHMAPS_GROUP; ++p) {
+            acc[p] += (int16_t)qibl_asr_s32(yi[p] * s + 8192, 14) * (int16_t)ci[p];
+            accb[p] += qibl_asr_s32(yi[p] * b + 8192, 14);
+        }
+    }
+}
+
+/* Phase B of one channel on the interleaved layout: whole groups through point_group, the pieces
+ * of partial groups at the span's ends through point_map. Same per-pixel integers as planar. */
+static void point_interleaved(const qibl_shmaps_t *m, const qibl_shmap_point_t *pt, uint32_t ch, uint32_t src,
+                              uint32_t x0, uint32_t y, uint32_t n, int32_t *acc, int32_t *accb, const int16_t *ybuf)
+{
+    const uint32_t k = m->k;
+    const uint8_t *row = m->planes + (size_t)y * qibl_shmaps_row_size(m) + (size_t)src * k * QIBL_SHMAPS_GROUP;
+    for (uint32_t x = x0, end = x0 + n; x < end;) {
+        const uint32_t p0 = x % QIBL_SHMAPS_GROUP, left = QIBL_SHMAPS_GROUP - p0;
+        const uint32_t cnt = end - x < left ? end - x : left, j = x - x0;
+        const uint8_t *g = row + (size_t)(x / QIBL_SHMAPS_GROUP) * QIBL_SHMAPS_GROUP * k * m->channels + p0;
+        if (cnt == QIBL_SHMAPS_GROUP)
+            point_group(acc + j, accb + j, ybuf + j, n, g, pt->sn[ch], pt->bn[ch], k);
+        else
+            for (uint32_t i = 0; i < k; ++i)
+                point_map(acc + j, accb + j, ybuf + (size_t)i * n + j, g + QIBL_SHMAPS_GROUP * i, pt->sn[ch][i],
+                          pt->bn[ch][i], cnt, i == 0u);
+        x += cnt;
+    }
+}
+#endif /* QIBL_USE_INTERLEAVED */
+
 qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out,
                                     void *ws, size_t ws_size)
 {
@@ -635,26 +680,14 @@ qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, u
     /* Phase B per channel (vectorisable), then Phase C: out = (acc 2^es + accb 2^eb) 2^-24 att C0 */
     for (uint32_t ch = 0; ch < 3u; ++ch) {
         uint32_t src = m->channels == 3u ? ch : 0u;
-        for (uint32_t i = 0; i < k; ++i) {
 #if QIBL_USE_INTERLEAVED
-            if (m->layout == QIBL_SHMAPS_INTERLEAVED) {
-                /* the same per-pixel products, one piece of the span per 16-pixel group */
-                const uint8_t *row = m->planes + (size_t)y * qibl_shmaps_row_size(m) +
-                                     (size_t)(src * k + i) * QIBL_SHMAPS_GROUP;
-                for (uint32_t x = x0, end = x0 + n; x < end;) {
-                    const uint32_t p0 = x % QIBL_SHMAPS_GROUP, left = QIBL_SHMAPS_GROUP - p0;
-                    const uint32_t cnt = end - x < left ? end - x : left, j = x - x0;
-                    point_map(acc + j, accb + j, ybuf + (size_t)i * n + j,
-                              row + (size_t)(x / QIBL_SHMAPS_GROUP) * QIBL_SHMAPS_GROUP * k * m->channels + p0,
-                              pt->sn[ch][i], pt->bn[ch][i], cnt, i == 0u);
-                    x += cnt;
-                }
-                continue;
-            }
+        if (m->layout == QIBL_SHMAPS_INTERLEAVED)
+            point_interleaved(m, pt, ch, src, x0, y, n, acc, accb, ybuf);
+        else
 #endif
-            point_map(acc, accb, ybuf + (size_t)i * n, qibl_shmaps_plane(m, i, src) + off, pt->sn[ch][i],
-                      pt->bn[ch][i], n, i == 0u);
-        }
+            for (uint32_t i = 0; i < k; ++i)
+                point_map(acc, accb, ybuf + (size_t)i * n, qibl_shmaps_plane(m, i, src) + off, pt->sn[ch][i],
+                          pt->bn[ch][i], n, i == 0u);
         const int32_t es = pt->es[ch], eb = pt->eb[ch], e0 = es < eb ? es : eb;
         const uint32_t rgb = pt->rgb[ch];
         for (uint32_t px = 0; px < n; ++px) {

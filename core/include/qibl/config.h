@@ -46,7 +46,7 @@
 
 /* QIBL_USE_INTERLEAVED: 1 builds the interleaved SH-map layout (shmaps.h): its relight and
  * point-light paths in shmap.c, qibl_shmaps_interleave, and streaming by rows in asset.c
- * (qibl_asset_head_size, _open_head, _row); about 1.8 KiB .text on Cortex-M4 -Os, no RAM. 0: planar
+ * (qibl_asset_head_size, _open_head, _row); about 2 KiB .text on Cortex-M4 -Os, no RAM. 0: planar
  * maps only; an interleaved view is QIBL_E_SHMAP_LAYOUT and an interleaved asset
  * QIBL_E_ASSET_BAD_FLAGS, as for a reader that predates the layout. */
 #ifndef QIBL_USE_INTERLEAVED
