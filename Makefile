@@ -40,6 +40,8 @@ CORE_POBJ := $(CORE_SRC:%.c=$(BUILD)/portable/%.o) $(PLATFORM_POBJ)
 $(PLATFORM_OBJ) $(PLATFORM_POBJ): CORE_CFLAGS += $(PLATFORM_INC)
 TOOL_LIB_OBJ := $(TOOL_LIB_SRC:%.c=$(BUILD)/host/%.o)
 QIBL_OBJ := $(QIBL_SRC:%.c=$(BUILD)/host/%.o)
+# the benchmarks name the compiler and the core's flags in their output
+$(QIBL_OBJ): HOST_CFLAGS += -DQIBL_BENCH_CORE_FLAGS='"$(CORE_OPT)"'
 TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%) $(TEST_SRC:tests/%.c=$(BUILD)/tests/%-portable)
 
 LIBQIBL := $(BUILD)/libqibl.a
@@ -48,7 +50,7 @@ LIBTOOLS := $(BUILD)/libqibl-tools.a
 QIBL := $(BUILD)/bin/qibl
 
 .PHONY: all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan examples \
-        install check-install amalgamate check-amalgamate
+        install check-install amalgamate check-amalgamate docs-memory
 .DEFAULT_GOAL := all
 
 all: $(LIBQIBL) $(QIBL)
@@ -59,6 +61,7 @@ help:
 	@echo "make            build the core library and the qibl CLI ($(QIBL))"
 	@echo "make demo       run the main demo (SCENE=path.obj for a mesh, DEMO_SIZE=small for the CI size)"
 	@echo "make test       build and run the CMocka suites (installs libcmocka-dev if it can)"
+	@echo "make docs-memory  regenerate the resident-memory table of docs/porting.md (make test checks it)"
 	@echo "make cross      freestanding builds for Cortex-M0/M4 and RV64, checks and size table"
 	@echo "make warnings   compile core/ and platform/soft/ with gcc and clang under the strict warning set;"
 	@echo "                every public header alone as C99/C11/C++98/11/17 (tools/scripts/headers.sh)"
@@ -136,7 +139,12 @@ $(BUILD)/host-portable/tests/%.o: tests/%.c | test-deps
 
 test: test-deps
 	@$(MAKE) --no-print-directory $(TESTS) $(QIBL)
+	@QIBL=$(QIBL) sh tools/scripts/memory-table.sh --check
 	@sh tools/scripts/run-tests.sh $(TESTS)
+
+# docs/porting.md's resident-memory table is generated (make test checks that it matches)
+docs-memory: $(QIBL)
+	@QIBL=$(QIBL) sh tools/scripts/memory-table.sh --update
 
 # Exhaustive sweeps: plain C + pthreads, no CMocka, too long for `make test` (CI runs them).
 EXHAUSTIVE := $(BUILD)/tests/srgbe_exhaustive

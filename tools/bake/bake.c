@@ -565,6 +565,11 @@ int qibl_bake_coeffs(const qibl_bake_sums *s, uint32_t k, qibl_proj_method metho
 
 int qibl_bake_asset(const qibl_gen_maps *m, uint32_t lut, uint8_t **bytes, size_t *n)
 {
+    return qibl_bake_asset_layout(m, lut, QIBL_SHMAPS_PLANAR, bytes, n);
+}
+
+int qibl_bake_asset_layout(const qibl_gen_maps *m, uint32_t lut, uint32_t layout, uint8_t **bytes, size_t *n)
+{
     size_t np = (size_t)m->width * m->height, nplanes = (size_t)m->k * 3;
     int32_t *scale = malloc(sizeof(int32_t) * nplanes), *bias = malloc(sizeof(int32_t) * nplanes);
     uint8_t *planes = malloc(np * nplanes);
@@ -575,7 +580,7 @@ int qibl_bake_asset(const qibl_gen_maps *m, uint32_t lut, uint8_t **bytes, size_
     int rc = -1;
     if (!scale || !bias || !planes || qibl_pack_maps(m, QIBL_PACK_MINMAX, scale, bias, planes, NULL) != 0)
         goto done;
-    if (qibl_asset_add_shmp(&b, m->width, m->height, m->k, 3, scale, bias, planes) != 0 ||
+    if (qibl_asset_add_shmp_layout(&b, m->width, m->height, m->k, 3, scale, bias, planes, layout) != 0 ||
         qibl_asset_add_pmap(&b, m->width, m->height, m->p) != 0)
         goto done;
     if (lut) {

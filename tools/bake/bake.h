@@ -81,6 +81,8 @@ int qibl_bake_coeffs(const qibl_bake_sums *s, uint32_t k, qibl_proj_method metho
 /* Packs maps (min/max) and builds the asset bytes: SHMP + PMAP (+ YLUT of face lut if lut > 0).
  * *bytes malloc'ed. 0 or -1. */
 int qibl_bake_asset(const qibl_gen_maps *m, uint32_t lut, uint8_t **bytes, size_t *n);
+/* The same with the SH maps in a chosen layout (QIBL_SHMAPS_PLANAR or QIBL_SHMAPS_INTERLEAVED). */
+int qibl_bake_asset_layout(const qibl_gen_maps *m, uint32_t lut, uint32_t layout, uint8_t **bytes, size_t *n);
 
 /* Evaluation: ground truth of a light as 8-bit sRGB (exposure 1) through platform/soft, and the
  * same light relit by the core from asset bytes. mask (w * h, may be NULL) gets 1 where the scene is

@@ -316,7 +316,7 @@ static int write_bytes(const char *path, const uint8_t *b, size_t n)
 }
 
 static int finish_asset(const qibl_bake_sums *sums, uint32_t k, uint32_t lut, qibl_proj_method method,
-                        const char *out)
+                        uint32_t layout, const char *out)
 {
     qibl_gen_maps m;
     uint8_t *bytes = NULL;
@@ -329,7 +329,7 @@ static int finish_asset(const qibl_bake_sums *sums, uint32_t k, uint32_t lut, qi
             fprintf(stderr, "qibl: %s: cannot project: out of memory\n", out);
         return 1;
     }
-    int rc = qibl_bake_asset(&m, lut, &bytes, &n);
+    int rc = qibl_bake_asset_layout(&m, lut, layout, &bytes, &n);
     qibl_gen_free(&m);
     if (rc != 0) {
         fprintf(stderr, "qibl: %s: cannot build the asset (out of memory)\n", out);
@@ -353,6 +353,7 @@ int qibl_cmd_bake(int argc, char **argv)
     long k = 16, lut = 32, ndirs = 512, shard = 0, nshards = 1;
     double budget = 0;
     int lsq = 0, quiet = 0;
+    uint32_t layout = QIBL_SHMAPS_PLANAR;
     for (int i = 1; i < argc; ++i) {
         int r = qibl_cli_scene_opt(argc, argv, &i, &so);
         if (r < 0)
@@ -387,7 +388,10 @@ int qibl_cmd_bake(int argc, char **argv)
             lsq = 1;
         else if (strcmp(a, "--quiet") == 0)
             quiet = 1;
-        else
+        else if (strcmp(a, "--layout") == 0 && i + 1 < argc) {
+            if (qibl_cli_parse_layout(argv[++i], &layout) != 0)
+                return qibl_cli_usage_error("--layout is planar or interleaved");
+        } else
             return qibl_cli_usage_error("bake: unknown argument '%s' (see qibl help bake)", a);
     }
     if (nshards > 1 && !sums_out)
@@ -487,12 +491,12 @@ int qibl_cmd_bake(int argc, char **argv)
             else
                 printf("; a %u^2 LUT: the largest tried, none within 0.1 dB of evaluating the SH polynomials per "
                        "pixel\n", chosen_lut);
-            rc = finish_asset(&sums, chosen, chosen_lut, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, out);
+            rc = finish_asset(&sums, chosen, chosen_lut, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, layout, out);
         }
         eval_free(&e);
         free(tmp);
     } else if (rc == 0 && out) {
-        rc = finish_asset(&sums, (uint32_t)k, (uint32_t)lut, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, out);
+        rc = finish_asset(&sums, (uint32_t)k, (uint32_t)lut, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, layout, out);
     }
     qibl_bake_sums_free(&sums);
     qibl_rt_scene_free(&s);
@@ -504,6 +508,7 @@ int qibl_cmd_merge(int argc, char **argv)
     const char *out = NULL, *sums_out = NULL;
     long k = 0, lut = 32;
     int lsq = 0, nin = 0, r;
+    uint32_t layout = QIBL_SHMAPS_PLANAR;
     char **in = malloc(sizeof(char *) * (size_t)argc);
     if (!in)
         return 1;
@@ -522,6 +527,11 @@ int qibl_cmd_merge(int argc, char **argv)
             if (r < 0) {
                 free(in);
                 return 2;
+            }
+        } else if (strcmp(a, "--layout") == 0 && i + 1 < argc) {
+            if (qibl_cli_parse_layout(argv[++i], &layout) != 0) {
+                free(in);
+                return qibl_cli_usage_error("--layout is planar or interleaved");
             }
         } else if (strcmp(a, "--lsq") == 0)
             lsq = 1;
@@ -592,7 +602,7 @@ int qibl_cmd_merge(int argc, char **argv)
         goto done;
     }
     rc = out ? finish_asset(&total, k ? (uint32_t)k : (total.k < 16 ? total.k : 16), (uint32_t)lut,
-                            lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, out)
+                            lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, layout, out)
              : 0;
 done:
     free(seen), free(in);
