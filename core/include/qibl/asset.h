@@ -176,7 +176,7 @@ typedef struct qibl_asset_head {
 } qibl_asset_head_t;
 
 /* Where row y lies in the file. */
-typedef struct qibl_asset_row {
+typedef struct qibl_asset_row_s {
     uint32_t maps_offset, maps_size; /* the row's map bytes (one contiguous range) */
     uint32_t pmap_offset, pmap_size; /* the row's P-map points; 0, 0 without PMAP */
 } qibl_asset_row_t;

@@ -103,7 +103,7 @@ static inline int32_t qibl_load_s32le(const uint8_t *p)
 {
     uint32_t u = qibl_load_u32le(p);
     /* two's complement without an implementation-defined conversion */
-    return u <= (uint32_t)INT32_MAX ? (int32_t)u : (int32_t)(u - 0x80000000u) - INT32_MAX - 1;
+    return u <= 0x7FFFFFFFu ? (int32_t)u : (int32_t)(u - 0x80000000u) - 0x7FFFFFFF - 1;
 }
 static inline int16_t qibl_load_s16le(const uint8_t *p)
 {
