@@ -10,7 +10,7 @@ _start:
     .option pop
     la sp, __stack_top
     la t0, bm_trap
-    csrw mtvec, t0
+    .insn i SYSTEM, 1, x0, t0, 0x305   /* csrw mtvec, t0 (without needing the zicsr spelling) */
     la t0, __bss_start
     la t1, __bss_end
 1:  bgeu t0, t1, 2f

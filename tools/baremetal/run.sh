@@ -82,7 +82,7 @@ link_elf() {
     for f in $probed; do redef+=(--redefine-sym "$f=bm_probe_$f"); done
     for o in "$dir"/tools/cases*.o; do "${prefix}objcopy" "${redef[@]}" "$o" || return 1; done
     # shellcheck disable=SC2086
-    $gcc $specs $flags $opt -nostartfiles -T "$ld" -Wl,--gc-sections -o "$elf" "$@" -lc -lgcc
+    $gcc $specs $flags $opt -nostartfiles -T "$ld" -Wl,--gc-sections,--no-warn-rwx-segments -o "$elf" "$@" -lc -lgcc
 }
 
 t_start=$(date +%s)
