@@ -85,7 +85,18 @@ link_elf() {
     $gcc $specs $flags $opt -nostartfiles -T "$ld" -Wl,--gc-sections,--no-warn-rwx-segments -o "$elf" "$@" -lc -lgcc
 }
 
+# link_bench PREFIX FLAGS OPT ELF OBJ...: bench.c with the core, no renaming
+link_bench() {
+    local prefix=$1 flags=$2 opt=$3 elf=$4; shift 4
+    local ld=tools/baremetal/cm.ld triple="${prefix%-}"
+    [ "$prefix" = riscv64-unknown-elf- ] && ld=tools/baremetal/rv32.ld
+    # shellcheck disable=SC2086
+    "${prefix}gcc" -specs=/usr/lib/picolibc/$triple/picolibc.specs $flags $opt -nostartfiles -T "$ld" \
+        -Wl,--gc-sections,--no-warn-rwx-segments -o "$elf" "$@" -lc -lgcc
+}
+
 t_start=$(date +%s)
+rm -f "$out/bench-all.txt"
 summary=()
 while IFS='|' read -r name prefix flags opt qemu; do
     dir="$out/$name"
@@ -95,8 +106,9 @@ while IFS='|' read -r name prefix flags opt qemu; do
     arch=arm; [ "$prefix" = riscv64-unknown-elf- ] && arch=riscv
     build_objs "$dir" "$prefix" "$flags" "$opt" || { err "$name: compile failed"; continue; }
     crt=tools/baremetal/crt_cm.c; [ $arch = riscv ] && crt="tools/baremetal/crt_rv.S tools/baremetal/rv_fault.c"
+    crt_objs=()
     for src in $crt; do
-        o="$dir/tools/$(basename "${src%.*}").o"; objs+=("$o")
+        o="$dir/tools/$(basename "${src%.*}").o"; objs+=("$o"); crt_objs+=("$o")
         # shellcheck disable=SC2086
         $gcc $specs $flags $opt $tool_warn -g -Itools/baremetal -c "$src" -o "$o" || { err "$name: $src"; continue 2; }
     done
@@ -142,12 +154,27 @@ while IFS='|' read -r name prefix flags opt qemu; do
     deep=$(awk '$1 == "stack" && $4 == "bound" && $3 + 0 > m {m = $3 + 0; f = $2} END {print f " " m}' "$dir/run.txt")
     hw=$(sed -n 's/^stack high-water \([0-9]*\) of.*/\1/p' "$dir/run.txt")
     text=$(awk 'NR == 2 {print $1}' "$dir/size.txt")
+    # instruction counts per relit pixel and the streaming example (bench.c), under -icount shift=0
+    if [ "${BM_NO_BENCH:-0}" != 1 ]; then
+        tag=${name#cortex-}; tag=${tag%imac}
+        # shellcheck disable=SC2086
+        $gcc $specs $flags $opt $tool_warn -g -DBM_TAG="\"$tag\"" -Icore/include -Iplatform/soft/include -Itools \
+            -Itools/baremetal -c tools/baremetal/bench.c -o "$dir/tools/bench.o" &&
+        link_bench "$prefix" "$flags" "$opt" "$dir/bench.elf" "$dir"/core/*.o "$dir/tools/bench.o" "$dir/tools/sha256.o" \
+            "$dir/tools/semi.o" "$dir/tools/stack.o" "${crt_objs[@]}" || { err "$name: bench build failed"; continue; }
+        # shellcheck disable=SC2086
+        timeout 300 $qemu $qemu_common -icount shift=0 -kernel "$dir/bench.elf" > "$dir/bench.txt" 2>&1 ||
+            err "$name: bench failed: $(grep -v '^RESULT' "$dir/bench.txt" | tail -n 2 | tr '\n' ' ')"
+        grep -E '^(RESULT|stream|bench:)' "$dir/bench.txt" | sed "s/^/baremetal: $name: /" >> "$out/bench-all.txt"
+    fi
+
     summary+=("$(printf '%-10s %4d ok %3d bad  %3ds  %3d entry points measured (deepest: %s B), run high-water %s B, .text %s B' \
         "$name" $ok $bad $secs "$probes" "$deep" "$hw" "$text")")
 done <<< "$(if [ -n "${BM_ONLY:-}" ]; then echo "$targets" | grep -E "^(${BM_ONLY// /|})\|"; else echo "$targets"; fi)"
 
 echo "baremetal: target     cases        time  stack (measured per call, and the whole run)"
 for s in "${summary[@]}"; do echo "baremetal: $s"; done
+[ -f "$out/bench-all.txt" ] && cat "$out/bench-all.txt"
 echo "baremetal: $(($(date +%s) - t_start)) s"
 if [ $fail = 0 ]; then echo "baremetal: OK (every case prints the hash of fixtures/golden on every target)"; else echo "baremetal: FAILED"; fi
 exit $fail
