@@ -78,7 +78,10 @@ static uint64_t calibrate(void)
 {
     /* 100000 iterations of a two-instruction loop */
     uint64_t t0 = bm_clock_ns();
-#if defined(__arm__)
+#if defined(__ARM_ARCH_6M__) /* GCC's Thumb-1 inline assembly is in divided syntax: sub sets flags */
+    uint32_t n = 100000u;
+    __asm__ volatile("1: sub %0, #1\n bne 1b" : "+l"(n) : : "cc");
+#elif defined(__arm__)
     uint32_t n = 100000u;
     __asm__ volatile("1: subs %0, %0, #1\n bne 1b" : "+l"(n) : : "cc");
 #else
@@ -100,6 +103,21 @@ int main(void)
         bm_puts("bench: out of memory\n");
         return 1;
     }
+    /* what a handheld-sized panorama needs, from the core's own size functions (docs/porting.md) */
+    static const uint32_t sizes[2][2] = {{320, 240}, {480, 272}};
+    for (int si = 0; si < 2; ++si)
+        for (uint32_t k = 4; k <= 16; k += k == 4 ? 5u : 7u) {
+            uint32_t w = sizes[si][0], h = sizes[si][1];
+            bm_puts("mem "), bm_putu(w), bm_puts(" "), bm_putu(h), bm_puts(" "), bm_putu(k);
+            bm_puts(" maps "), bm_putu(w * h * k * CH + 8u * k * CH);
+            bm_puts(" pmap "), bm_putu(w * h * 12u);
+            bm_puts(" ylut16 "), bm_putu((uint32_t)qibl_ylut_values_size(16, k));
+            bm_puts(" span_ws "), bm_putu((uint32_t)qibl_shmap_span_workspace_size(w));
+            bm_puts(" point_ws "), bm_putu((uint32_t)qibl_shmap_point_workspace_size(k, w));
+            bm_puts(" row "), bm_putu(3u * w * 4u);
+            bm_puts(" stream_row "), bm_putu(w * k * CH);
+            bm_puts(" fb565 "), bm_putu(w * h * 2u), bm_puts("\n");
+        }
     bm_clock_start();
     uint64_t cal = calibrate();
     bm_puts("bench: a 200000-instruction loop reads as "), bm_putu((uint32_t)cal), bm_puts(" ns (-icount shift=0: 1 ns per instruction)\n");
