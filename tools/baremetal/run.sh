@@ -153,6 +153,8 @@ while IFS='|' read -r name prefix flags opt qemu; do
     probes=$(grep -c '^stack .* bound ' "$dir/run.txt")
     deep=$(awk '$1 == "stack" && $4 == "bound" && $3 + 0 > m {m = $3 + 0; f = $2} END {print f " " m}' "$dir/run.txt")
     hw=$(sed -n 's/^stack high-water \([0-9]*\) of.*/\1/p' "$dir/run.txt")
+    size=$(sed -n 's/^stack high-water [0-9]* of \([0-9]*\)$/\1/p' "$dir/run.txt")
+    [ -n "$hw" ] && [ "$hw" -lt $((size - 1024)) ] || err "$name: stack high-water ${hw:-?} of ${size:-?} bytes: too close to the end"
     text=$(awk 'NR == 2 {print $1}' "$dir/size.txt")
     # instruction counts per relit pixel and the streaming example (bench.c), under -icount shift=0
     if [ "${BM_NO_BENCH:-0}" != 1 ]; then
