@@ -19,4 +19,9 @@ void bm_exit(int status) __attribute__((noreturn));
 void bm_clock_start(void);
 uint64_t bm_clock_ns(void);
 
+/* Instructions retired (under -icount shift=0): on ARM bm_clock_ns, quantised to the timer's
+ * 40-instruction tick; on RISC-V the instret counter, which qemu derives from the same count
+ * exactly (mtime's phase against the start of the run is not fixed, so it would jitter by a tick). */
+uint64_t bm_insn_clock(void);
+
 #endif
