@@ -47,7 +47,8 @@ LIBQIBL_PORTABLE := $(BUILD)/libqibl-portable.a
 LIBTOOLS := $(BUILD)/libqibl-tools.a
 QIBL := $(BUILD)/bin/qibl
 
-.PHONY: all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan examples
+.PHONY: all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan examples \
+        install check-install amalgamate check-amalgamate
 .PHONY: baremetal baremetal-tables
 .DEFAULT_GOAL := all
 
@@ -60,7 +61,8 @@ help:
 	@echo "make demo       run the main demo (SCENE=path.obj for a mesh, DEMO_SIZE=small for the CI size)"
 	@echo "make test       build and run the CMocka suites (installs libcmocka-dev if it can)"
 	@echo "make cross      freestanding builds for Cortex-M0/M4 and RV64, checks and size table"
-	@echo "make warnings   compile core/ and platform/soft/ with gcc and clang under the strict warning set"
+	@echo "make warnings   compile core/ and platform/soft/ with gcc and clang under the strict warning set;"
+	@echo "                every public header alone as C99/C11/C++98/11/17 (tools/scripts/headers.sh)"
 	@echo "make bench      benchmarks (speed against error), RESULT lines"
 	@echo "make check-exhaustive  sweeps too long for make test (all 2^32 sRGBE codes; CI runs it)"
 	@echo "make golden     run the golden runner natively: one hash per golden case, compared with fixtures/golden"
@@ -69,6 +71,10 @@ help:
 	@echo "make baremetal-tables  regenerate the stack and memory tables of docs/porting.md"
 	@echo "make test-asan  the suites and the CLI under AddressSanitizer + UndefinedBehaviorSanitizer (in $(BUILD)/asan)"
 	@echo "make examples   build and run tools/examples/console_port, the integration example (docs/porting.md)"
+	@echo "make install    headers, $(LIBQIBL) and qibl.pc into PREFIX (default /usr/local; DESTDIR honoured)"
+	@echo "make check-install  install to a temporary prefix and build the example through pkg-config and CMake"
+	@echo "make amalgamate the core as one qibl.h + one qibl.c in $(BUILD)/amalgamated (tools/scripts/amalgamate.sh)"
+	@echo "make check-amalgamate  that pair under the strict flags, freestanding for Cortex-M0/M4, with the goldens and the example"
 	@echo "make clean      remove $(BUILD)/ and out/"
 
 $(BUILD)/native/%.o: %.c
@@ -108,11 +114,20 @@ test-deps:
 
 $(BUILD)/tests/%_test: $(BUILD)/host/tests/%_test.o $(LIBTOOLS) $(LIBQIBL) | test-deps
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -o $@ $< $(LIBTOOLS) $(LIBQIBL) $(CMOCKA_LIBS) $(HOST_LIBS)
+	$(CC) $(HOST_CFLAGS) -o $@ $< $(TEST_EXTRA) $(LIBTOOLS) $(LIBQIBL) $(CMOCKA_LIBS) $(HOST_LIBS)
 
 $(BUILD)/tests/%_test-portable: $(BUILD)/host-portable/tests/%_test.o $(LIBTOOLS) $(LIBQIBL_PORTABLE) | test-deps
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -o $@ $< $(LIBTOOLS) $(LIBQIBL_PORTABLE) $(CMOCKA_LIBS) $(HOST_LIBS)
+	$(CC) $(HOST_CFLAGS) -o $@ $< $(TEST_EXTRA) $(LIBTOOLS) $(LIBQIBL_PORTABLE) $(CMOCKA_LIBS) $(HOST_LIBS)
+
+# version_test also links a TU compiled with -DQIBL_SH_MAX_BANDS=3: a caller whose config.h differs
+# from the library's must get QIBL_E_CONFIG_MISMATCH from its start-up check.
+VERSION_BANDS3 := $(BUILD)/host/tests/version_bands3.o
+$(VERSION_BANDS3): tests/version_bands3.c
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) -DQIBL_SH_MAX_BANDS=3 -MMD -MP -c $< -o $@
+$(BUILD)/tests/version_test $(BUILD)/tests/version_test-portable: $(VERSION_BANDS3)
+$(BUILD)/tests/version_test $(BUILD)/tests/version_test-portable: TEST_EXTRA = $(VERSION_BANDS3)
 
 $(BUILD)/host/tests/%.o: tests/%.c | test-deps
 	@mkdir -p $(dir $@)
@@ -222,6 +237,33 @@ warnings:
 	    $$cc $(CORE_WARN) $(PORTABLE_DEFS) $$o -Icore/include $(PLATFORM_INC) -fsyntax-only $$f || exit 1; \
 	  done; done; echo "warnings: core/ and platform/soft/ clean with $$cc (-O0/-O2/-O3, native and portable paths)"; \
 	done
+	@BUILD=$(BUILD) bash tools/scripts/headers.sh
+
+# ---- install: the core and platform/soft as engines link them (see also CMakeLists.txt) -------
+PREFIX ?= /usr/local
+LIBDIR ?= $(PREFIX)/lib
+INCLUDEDIR ?= $(PREFIX)/include
+QIBL_VERSION := $(shell sed -n 's/^\#define QIBL_VERSION_STRING "\(.*\)"/\1/p' core/include/qibl/version.h)
+
+install: $(LIBQIBL)
+	install -d $(DESTDIR)$(INCLUDEDIR)/qibl $(DESTDIR)$(LIBDIR)/pkgconfig
+	install -m 644 core/include/qibl.h $(DESTDIR)$(INCLUDEDIR)/qibl.h
+	install -m 644 core/include/qibl/*.h platform/soft/include/qibl/*.h $(DESTDIR)$(INCLUDEDIR)/qibl/
+	install -m 644 $(LIBQIBL) $(DESTDIR)$(LIBDIR)/libqibl.a
+	sed -e 's|@PREFIX@|$(PREFIX)|; s|@LIBDIR@|$(LIBDIR)|; s|@INCLUDEDIR@|$(INCLUDEDIR)|; s|@VERSION@|$(QIBL_VERSION)|; s|@DEFS@||' \
+	  tools/pkgconfig/qibl.pc.in > $(DESTDIR)$(LIBDIR)/pkgconfig/qibl.pc
+
+# What CI runs: make install into a temporary prefix (and a DESTDIR), the example built through
+# pkg-config and through CMake (add_subdirectory), qibl --version against version.h.
+check-install: $(QIBL) $(EXAMPLES)
+	@BUILD=$(BUILD) bash tools/scripts/check-install.sh
+
+# The core as one qibl.h + one qibl.c (as SQLite ships), and its proof (CI runs check-amalgamate).
+amalgamate:
+	@BUILD=$(BUILD) bash tools/scripts/amalgamate.sh
+
+check-amalgamate: amalgamate $(QIBL) $(EXAMPLES)
+	@BUILD=$(BUILD) bash tools/scripts/check-amalgamate.sh
 
 bench: $(QIBL)
 	$(QIBL) bench all

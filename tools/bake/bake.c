@@ -735,8 +735,3 @@ double qibl_bake_mse(const uint8_t *a, const uint8_t *b, const uint8_t *mask, si
     return n ? se / (double)n : 0;
 }
 
-double qibl_bake_psnr(const uint8_t *a, const uint8_t *b, const uint8_t *mask, size_t npix)
-{
-    double mse = qibl_bake_mse(a, b, mask, npix);
-    return mse > 0 ? 10 * log10(255.0 * 255.0 / mse) : 99.0;
-}

@@ -95,9 +95,8 @@ int qibl_bake_relight8_ex(const uint8_t *asset, size_t n, const qibl_rt_light *l
                            int srgb, uint8_t *rgb8, double *ms, qibl_status_t *status);
 int qibl_bake_relight8(const uint8_t *asset, size_t n, const qibl_rt_light *l, int use_lut, uint8_t *rgb8,
                        double *ms);
-/* PSNR in dB of a against b over the masked pixels (8-bit, all three channels); 99 if equal. */
-double qibl_bake_psnr(const uint8_t *a, const uint8_t *b, const uint8_t *mask, size_t npix);
-/* MSE of the same, for averaging over several lights */
+/* MSE of a against b over the masked pixels (8-bit, all three channels); its PSNR (averaged over
+ * several lights first, where wanted) is qibl_ref_psnr8 (ref/psnr.h). */
 double qibl_bake_mse(const uint8_t *a, const uint8_t *b, const uint8_t *mask, size_t npix);
 
 #endif

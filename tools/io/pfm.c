@@ -36,14 +36,19 @@ static int is_ws(uint8_t c)
     return c == ' ' || c == '\t' || c == '\n' || c == '\r';
 }
 
-/* next whitespace-delimited token of at most 63 bytes into tok; -1 at end of data */
+/* next whitespace-delimited token of at most 63 printable bytes into tok; -1 at end of data, -2 on
+ * a non-printable byte (a NUL would cut the number short for strtol, a \v or \f is skipped by
+ * strtod: the header is text) */
 static int token(const uint8_t *buf, size_t len, size_t *pos, char tok[64])
 {
-    while (*pos < len && is_ws(buf[*pos]))
+    while (*pos < len && *pos < QIBL_PFM_MAX_HEADER_BYTES && is_ws(buf[*pos]))
         ++*pos;
     size_t n = 0;
-    while (*pos < len && !is_ws(buf[*pos]) && n < 63)
+    while (*pos < len && !is_ws(buf[*pos]) && n < 63) {
+        if (buf[*pos] < 0x21 || buf[*pos] > 0x7E)
+            return -2; /* *pos stays on the byte */
         tok[n++] = (char)buf[(*pos)++];
+    }
     tok[n] = '\0';
     if (n == 0 || (*pos < len && !is_ws(buf[*pos])))
         return -1;
@@ -58,22 +63,30 @@ static int decode_impl(const char *name, const uint8_t *buf, size_t len, int *w_
     int ch = buf[1] == 'F' ? 3 : 1;
     size_t pos = 2;
     char t[3][64];
-    for (int i = 0; i < 3; ++i)
-        if (token(buf, len, &pos, t[i]) != 0)
+    for (int i = 0; i < 3; ++i) {
+        int r = token(buf, len, &pos, t[i]);
+        if (r == -2)
+            return fail(err, errlen, name, "byte 0x%02x at offset %zu in the header (not text)", buf[pos], pos);
+        if (r != 0)
             return fail(err, errlen, name, "truncated or malformed header");
+    }
     char *end;
     errno = 0;
     long w = strtol(t[0], &end, 10);
-    if (*end || errno || w < 1 || w > 65535)
-        return fail(err, errlen, name, "bad width '%s' (1..65535)", t[0]);
+    if (*end || errno || w < 1 || w > (long)QIBL_PFM_MAX_DIM)
+        return fail(err, errlen, name, "bad width '%s' (1..%u)", t[0], QIBL_PFM_MAX_DIM);
     long h = strtol(t[1], &end, 10);
-    if (*end || errno || h < 1 || h > 65535)
-        return fail(err, errlen, name, "bad height '%s' (1..65535)", t[1]);
+    if (*end || errno || h < 1 || h > (long)QIBL_PFM_MAX_DIM)
+        return fail(err, errlen, name, "bad height '%s' (1..%u)", t[1], QIBL_PFM_MAX_DIM);
+    if ((uint64_t)w * (uint64_t)h > QIBL_PFM_MAX_PIXELS)
+        return fail(err, errlen, name, "%ld x %ld pixels, above the %lu-pixel limit (QIBL_PFM_MAX_PIXELS)", w, h,
+                    (unsigned long)QIBL_PFM_MAX_PIXELS);
     double scale = strtod(t[2], &end);
     if (*end || !isfinite(scale) || scale == 0.0)
         return fail(err, errlen, name, "bad scale '%s' (a non-zero number; negative means little-endian)", t[2]);
     if (pos >= len || !is_ws(buf[pos]))
-        return fail(err, errlen, name, "truncated header");
+        return fail(err, errlen, name, pos >= QIBL_PFM_MAX_HEADER_BYTES ? "header longer than %u bytes" : "truncated header",
+                    QIBL_PFM_MAX_HEADER_BYTES);
     ++pos; /* the single whitespace byte before the data */
     size_t n = (size_t)w * (size_t)h * (size_t)ch;
     if (len - pos < n * 4)
@@ -92,6 +105,11 @@ static int decode_impl(const char *name, const uint8_t *buf, size_t len, int *w_
                                 : (uint32_t)b[3] | (uint32_t)b[2] << 8 | (uint32_t)b[1] << 16 | (uint32_t)b[0] << 24;
             float f;
             memcpy(&f, &u, 4);
+            if (!isfinite(f)) {
+                free(px);
+                return fail(err, errlen, name, "non-finite sample %s at column %zu, row %ld from the top, channel %zu",
+                            isnan(f) ? "nan" : f > 0 ? "inf" : "-inf", i / (size_t)ch, h - 1 - y, i % (size_t)ch);
+            }
             dst[i] = f;
         }
     }
@@ -105,12 +123,19 @@ int qibl_pfm_decode(const uint8_t *buf, size_t len, int *w, int *h, int *channel
     return decode_impl(NULL, buf, len, w, h, channels, px, err, errlen);
 }
 
+static const char *pfm_magic(const uint8_t *b, size_t n)
+{
+    return n >= 3 && b[0] == 'P' && (b[1] == 'F' || b[1] == 'f') && is_ws(b[2]) ? NULL
+                                                                               : "not a PFM file (magic must be PF or Pf)";
+}
+
 int qibl_pfm_read(const char *path, int *w, int *h, int *channels, float **px, char *err, size_t errlen)
 {
-    size_t n;
-    uint8_t *buf = qibl_io_read_all(path, &n);
-    if (!buf)
-        return fail(err, errlen, path, "%s", strerror(errno));
+    static const qibl_io_kind kind = {"a PFM file", 3, QIBL_PFM_MAX_FILE_BYTES, 3, pfm_magic};
+    size_t n = 0;
+    uint8_t *buf = NULL;
+    if (qibl_io_load(path, &kind, &buf, &n, err, errlen) != 0)
+        return -1;
     int rc = decode_impl(path, buf, n, w, h, channels, px, err, errlen);
     free(buf);
     return rc;

@@ -18,6 +18,7 @@
 #include "io/file.h"
 #include "qibl/cli.h"
 #include "qibl/shmap.h"
+#include "ref/psnr.h"
 #include "render/rt.h"
 
 /* ---- shared options ------------------------------------------------------------------------------ */
@@ -254,7 +255,7 @@ static double eval_psnr(const evalset *e, const uint8_t *asset, size_t n, int po
         mse += qibl_bake_mse(tmp, e->truth[i], e->mask, e->np), ++cnt;
     }
     mse /= cnt ? cnt : 1;
-    return mse > 0 ? 10 * log10(255.0 * 255.0 / mse) : 99.0;
+    return qibl_ref_psnr8(mse);
 }
 
 /* ---- qibl bake / merge --------------------------------------------------------------------------- */
@@ -577,11 +578,16 @@ int qibl_cmd_check(int argc, char **argv)
             printf("%s: PFM %dx%d, %d channel%s\n", p, w, h, ch, ch == 1 ? "" : "s");
         } else {
             size_t n;
-            uint8_t *b = qibl_io_read_all(p, &n);
+            uint8_t *b = NULL;
+            if (qibl_io_read_asset(p, &b, &n, err, sizeof err) != 0) {
+                fprintf(stderr, "qibl: %s\n", err);
+                bad = 1;
+                continue;
+            }
             qibl_asset_t a;
-            qibl_status_t st = b ? qibl_asset_open(&a, b, n) : QIBL_OK;
-            if (!b || st != QIBL_OK) {
-                fprintf(stderr, "qibl: %s: %s\n", p, b ? qibl_status_str(st) : strerror(errno));
+            qibl_status_t st = qibl_asset_open(&a, b, n);
+            if (st != QIBL_OK) {
+                fprintf(stderr, "qibl: %s: %s\n", p, qibl_status_str(st));
                 free(b);
                 bad = 1;
                 continue;

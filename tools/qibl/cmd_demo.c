@@ -13,6 +13,7 @@
 #include "io/atomic.h"
 #include "io/png.h"
 #include "qibl/cli.h"
+#include "ref/psnr.h"
 #include "render/rt.h"
 
 /* dir/name in a malloc'ed string (no fixed-size buffer: a long --out is never truncated); NULL if
@@ -200,8 +201,8 @@ int qibl_cmd_demo(int argc, char **argv)
             else
                 mse_p += e / NPT;
         }
-        psnr_dir[q] = mse_d > 0 ? 10 * log10(65025.0 / mse_d) : 99;
-        psnr_pt[q] = mse_p > 0 ? 10 * log10(65025.0 / mse_p) : 99;
+        psnr_dir[q] = qibl_ref_psnr8(mse_d);
+        psnr_pt[q] = qibl_ref_psnr8(mse_p);
         ms_dir[q] = qibl_cli_median(tms, NDIR);
         ms_pt[q] = qibl_cli_median(tms + NDIR, NPT);
     }
@@ -217,7 +218,7 @@ int qibl_cmd_demo(int argc, char **argv)
                 qibl_bake_relight8(b, n, &ev[i], 0, tmp, NULL);
                 mse += qibl_bake_mse(tmp, truth[i], mask, np) / NDIR;
             }
-            lsq_dir = mse > 0 ? 10 * log10(65025.0 / mse) : 99;
+            lsq_dir = qibl_ref_psnr8(mse);
             qibl_gen_free(&m);
         }
         free(b);

@@ -2,7 +2,8 @@
  * cmd_lights.c - `qibl lights`: a Radiance .hdr light probe turned into directional lights by the
  * integer core (qibl/lightprobe.h), printed as a table or CSV, optionally drawn over the
  * tone-mapped probe as a PNG (like Madsen & Laursen's Figure 3) and checked against the probe's
- * exact irradiance.
+ * exact irradiance. Probes in other layouts (angular map, mirror ball, cube crosses) are detected
+ * or named with --layout and resampled to lat-long first (io/probe_layout.h).
  */
 #include <math.h>
 #include <stdio.h>
@@ -11,12 +12,13 @@
 
 #include "io/hdr.h"
 #include "io/png.h"
+#include "io/probe_layout.h"
 #include "qibl/cli.h"
 #include "qibl/lightprobe.h"
 #include "qibl/srgbe.h"
 #include "ref/lightprobe_ref.h"
 
-#define USAGE "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv] [--png OUT.png]"
+#define USAGE "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv] [--png OUT.png] [--layout L]"
 
 static int parse_method(const char *s, qibl_lightprobe_method_t *m)
 {
@@ -177,6 +179,7 @@ int qibl_cmd_lights(int argc, char **argv)
     memset(&o, 0, sizeof o);
     long n = 64, zoom = 0;
     int csv = 0, error = 0;
+    qibl_probe_layout_t layout = QIBL_PROBE_LAYOUT_AUTO;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         int more = i + 1 < argc;
@@ -206,6 +209,9 @@ int qibl_cmd_lights(int argc, char **argv)
         } else if (strcmp(a, "--zoom") == 0 && more) {
             if (qibl_cli_parse_int(argv[++i], 1, 64, &zoom) != 0)
                 return qibl_cli_usage_error("--zoom needs an integer in 1..64");
+        } else if (strcmp(a, "--layout") == 0 && more) {
+            if (qibl_probe_layout_parse(argv[++i], &layout) != 0)
+                return qibl_cli_usage_error("--layout is auto, latlong, angular, ball, vcross or hcross");
         } else if (strcmp(a, "--csv") == 0) {
             csv = 1;
         } else if (strcmp(a, "--error") == 0) {
@@ -227,6 +233,26 @@ int qibl_cmd_lights(int argc, char **argv)
     char err[512];
     if (qibl_hdr_read_rgbe(path, &w, &h, &px, err, sizeof err) != 0)
         return fprintf(stderr, "qibl: %s\n", err), 1;
+    {
+        /* any layout to lat-long; said out loud (on stderr with --csv, which keeps stdout a table) */
+        qibl_probe_layout_t used;
+        int lw, lh;
+        uint8_t *ll;
+        if (qibl_probe_layout_rgbe_to_latlong(layout, w, h, px, &used, &lw, &lh, &ll, err, sizeof err) != 0) {
+            free(px);
+            return fprintf(stderr, "qibl: %s: %s\n", path, err), 1;
+        }
+        FILE *note = csv ? stderr : stdout;
+        fprintf(note, "%s: layout %s (%s, %s)", path, qibl_probe_layout_name(used), qibl_probe_layout_describe(used),
+                layout == QIBL_PROBE_LAYOUT_AUTO ? "detected" : "from --layout");
+        if (used != QIBL_PROBE_LAYOUT_LATLONG)
+            fprintf(note, ", %d x %d resampled to a %d x %d lat-long", w, h, lw, lh);
+        else if ((size_t)w != 2 * (size_t)h)
+            fprintf(note, ", %d x %d is not 2:1: read as lat-long as asked", w, h);
+        fprintf(note, "\n");
+        free(px);
+        px = ll, w = lw, h = lh;
+    }
     /* the picture's size is known now: refuse one the PNG writer could not take before any work */
     int z = zoom ? (int)zoom : (w >= 512 ? 1 : (1024 + w - 1) / w);
     if (png) {

@@ -177,9 +177,10 @@ int qibl_cmd_relight(int argc, char **argv)
     if (!in || !png || have_sun == have_point)
         return qibl_cli_usage_error("relight needs FILE, exactly one of --sun/--point, and --png OUT");
     size_t n;
-    uint8_t *bytes = qibl_io_read_all(in, &n);
-    if (!bytes) {
-        fprintf(stderr, "qibl: %s: %s\n", in, strerror(errno));
+    uint8_t *bytes = NULL;
+    char rerr[512];
+    if (qibl_io_read_asset(in, &bytes, &n, rerr, sizeof rerr) != 0) {
+        fprintf(stderr, "qibl: %s\n", rerr);
         return 1;
     }
     qibl_asset_t a;

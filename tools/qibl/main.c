@@ -11,6 +11,7 @@
 #include <time.h>
 
 #include "qibl/cli.h"
+#include "qibl/version.h"
 
 static const qibl_cli_cmd commands[] = {
     {"sh", "evaluate the integer SH basis for a direction",
@@ -125,10 +126,11 @@ static const qibl_cli_cmd commands[] = {
      "  saturates to +-FLT_MAX, with a note on stderr).\n"
      "  Bad arguments: one line on stderr, exit status 2.\n",
      qibl_cmd_srgbe},
-    {"lights", "sample a lat-long .hdr light probe into directional lights (median cut, varmin)",
+    {"lights", "sample a .hdr light probe (lat-long, angular, ball, cube cross) into directional lights",
      "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv] [--png OUT.png]\n"
      "                   [--priority default|energy|energy-size|variance|levels] [--place centroid|centre]\n"
      "                   [--as rgbe|srgbe|f32] [--zoom Z] [--error]\n"
+     "                   [--layout auto|latlong|angular|ball|vcross|hcross]\n"
      "  Turns a W x H lat-long probe (top row theta = 0 = +z, phi = 0 at the left edge, growing to the\n"
      "  right) into N directional lights with the integer core (qibl/lightprobe.h): median cut\n"
      "  (Debevec; N a power of two, default 64), adaptive median cut (any N) or variance minimisation\n"
@@ -142,7 +144,10 @@ static const qibl_cli_cmd commands[] = {
      "  in all). --error: the lights' irradiance against the probe's over 1024 normals.\n"
      "  --as: feed the core the probe as RGBE bytes (default), sRGBE or binary32.\n"
      "  --priority / --place: which region ADAPTIVE/VARMIN split next, centroid or geometric centre.\n"
-     "  An all-black probe prints that it has no lights and exits 0.\n",
+     "  An all-black probe prints that it has no lights and exits 0.\n"
+     "  --layout: the probe's layout; by default it is detected (2:1 latlong, 3:4 vcross, 4:3 hcross\n"
+     "  with black empty cells) and printed; a square disc (angular map or mirror ball) needs --layout;\n"
+     "  other shapes are refused. Non-lat-long probes are resampled to lat-long (io/probe_layout.h).\n",
      qibl_cmd_lights},
 };
 #define NCMD (sizeof commands / sizeof commands[0])
@@ -150,7 +155,7 @@ static const qibl_cli_cmd commands[] = {
 static void print_help(FILE *f)
 {
     fprintf(f, "qibl - integer image-based lighting runtime: command-line tool\n\n"
-               "usage: qibl <command> [args]\n       qibl help <command>\n\ncommands:\n");
+               "usage: qibl <command> [args]\n       qibl help <command>\n       qibl --version\n\ncommands:\n");
     for (size_t i = 0; i < NCMD; ++i)
         fprintf(f, "  %-8s %s\n", commands[i].name, commands[i].summary);
 }
@@ -260,6 +265,10 @@ int main(int argc, char **argv)
     if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
         print_help(stdout);
         return argc < 2 ? 2 : 0;
+    }
+    if (strcmp(argv[1], "--version") == 0) {
+        printf("qibl %s (config id %08lx)\n", qibl_version(), (unsigned long)qibl_config_id());
+        return qibl_init_check() == QIBL_OK ? 0 : 1;
     }
     if (strcmp(argv[1], "help") == 0) {
         if (argc == 2) {
