@@ -51,6 +51,7 @@ QIBL := $(BUILD)/bin/qibl
 
 .PHONY: all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan examples \
         install check-install amalgamate check-amalgamate docs-memory
+.PHONY: baremetal baremetal-tables
 .DEFAULT_GOAL := all
 
 all: $(LIBQIBL) $(QIBL)
@@ -69,6 +70,8 @@ help:
 	@echo "make check-exhaustive  sweeps too long for make test (all 2^32 sRGBE codes; CI runs it)"
 	@echo "make golden     run the golden runner natively: one hash per golden case, compared with fixtures/golden"
 	@echo "make ports      the golden runner on every compiler, -O level and architecture (qemu); hashes must agree"
+	@echo "make baremetal  the golden runner on Cortex-M0/M4 and RV32 under qemu-system (semihosting): hashes, stack, insn/px"
+	@echo "make baremetal-tables  regenerate the stack and memory tables of docs/porting.md"
 	@echo "make test-asan  the suites and the CLI under AddressSanitizer + UndefinedBehaviorSanitizer (in $(BUILD)/asan)"
 	@echo "make examples   build and run tools/examples/console_port, the integration example (docs/porting.md)"
 	@echo "make install    headers, $(LIBQIBL) and qibl.pc into PREFIX (default /usr/local; DESTDIR honoured)"
@@ -180,6 +183,17 @@ golden: $(GOLDEN)
 # (the CLI makes the asset the integration example runs on in every configuration)
 ports: $(QIBL)
 	@BUILD=$(BUILD) bash tools/scripts/ports.sh
+
+# Bare metal (tools/baremetal/run.sh): the golden runner for Cortex-M0 code on qemu's mps2-an385,
+# Cortex-M4 code on mps2-an386 and RV32IMAC on virt (picolibc, semihosting); every case must print
+# the hash of fixtures/golden, every wrapped entry point stay under its static stack bound; then the
+# instruction counts per relit pixel on the M4 (RESULT lines). baremetal-tables rewrites the
+# generated tables of docs/porting.md from the same builds.
+baremetal: $(GOLDEN)
+	@BUILD=$(BUILD) bash tools/baremetal/run.sh
+
+baremetal-tables: $(GOLDEN)
+	@BUILD=$(BUILD) BM_TABLES=docs/porting.md bash tools/baremetal/run.sh
 
 # The integration example for engines (docs/porting.md): core + platform/soft + libc only, plain
 # C99, built with the core's strictness; run on a small courtyard asset made by `qibl gen`.
