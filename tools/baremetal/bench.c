@@ -56,6 +56,7 @@ static void result(const char *name, uint64_t insns, uint32_t px)
 /* maps of W x H (planar, as the asset stores them), params like packed maps, a P map on a cylinder */
 static void make_maps(qibl_shmaps_t *m, qibl_pmap_t *p, uint32_t k, uint8_t *params, uint8_t *planes, uint8_t *points)
 {
+    memset(m, 0, sizeof *m); /* zero = the planar layout and every field yet to come */
     m->width = W, m->height = H, m->k = k, m->channels = CH;
     for (uint32_t i = 0; i < k * CH; ++i) {
         int32_t sc = (int32_t)(rnd() % 131072u) - 65536;
