@@ -33,10 +33,10 @@ const char *qibl_status_str(qibl_status_t s)
     case QIBL_E_ASSET_SIZE_OVERFLOW:    return "asset: chunk size overflows 32 bits";
     case QIBL_E_ASSET_CHUNK_SIZE:       return "asset: chunk size inconsistent with its fields";
     case QIBL_E_ASSET_MISMATCH:         return "asset: chunk inconsistent with SHMP";
-    case QIBL_E_FB_FORMAT:              return "framebuffer: unknown or unsuitable format";
-    case QIBL_E_FB_SIZE:                return "framebuffer: zero or mismatched size";
-    case QIBL_E_FB_STRIDE:              return "framebuffer: stride too small or buffer too large";
-    case QIBL_E_FB_BOUNDS:              return "framebuffer: span outside the framebuffer";
+    case QIBL_E_RESERVED_26: return "reserved status 26 (not returned)";
+    case QIBL_E_RESERVED_27: return "reserved status 27 (not returned)";
+    case QIBL_E_RESERVED_28: return "reserved status 28 (not returned)";
+    case QIBL_E_RESERVED_29: return "reserved status 29 (not returned)";
     case QIBL_E_WORKSPACE:       return "workspace too small";
     case QIBL_E_SHMAP_K:         return "SH map count k out of range 1..25";
     case QIBL_E_SHMAP_CHANNELS:  return "SH maps must have 1 or 3 channels";
@@ -61,6 +61,10 @@ const char *qibl_status_str(qibl_status_t s)
     case QIBL_E_PROBE_BLACK:      return "light probe: all black, no lights";
     case QIBL_E_PROBE_RECT:       return "light probe: region outside the probe";
     case QIBL_STATUS_COUNT:   break;
+    case QIBL_STATUS_SOFT_BASE: case QIBL_STATUS_GLES2_BASE: case QIBL_STATUS_BACKEND_END: break;
     }
+    /* unsigned compare: no assumption about the enum's signedness */
+    if ((unsigned)s >= (unsigned)QIBL_STATUS_SOFT_BASE && (unsigned)s < (unsigned)QIBL_STATUS_BACKEND_END)
+        return "platform backend status";
     return "unknown status";
 }

@@ -195,7 +195,7 @@ int qibl_cmd_relight(int argc, char **argv)
     if (st == QIBL_OK && have_point && use_lut)
         st = qibl_asset_ylut(&a, &lut);
     if (st != QIBL_OK) {
-        fprintf(stderr, "qibl: %s: %s\n", in, qibl_status_str(st));
+        fprintf(stderr, "qibl: %s: %s\n", in, qibl_soft_status_str(st));
         free(bytes);
         return 1;
     }
@@ -213,7 +213,7 @@ int qibl_cmd_relight(int argc, char **argv)
     int rc = 0;
     if (qibl_bake_relight8_ex(bytes, n, &l, use_lut ? (nearest ? 2 : 1) : 0, (qibl_uq16_t)exposure, !linear, pix, &ms,
                               &st) != 0) {
-        fprintf(stderr, "qibl: relight: %s\n", st == QIBL_E_NULL_POINTER ? "out of memory" : qibl_status_str(st));
+        fprintf(stderr, "qibl: relight: %s\n", st == QIBL_E_NULL_POINTER ? "out of memory" : qibl_soft_status_str(st));
         rc = 1;
     } else {
         char err[512];
