@@ -80,6 +80,8 @@ static const char *vs_src = "attribute vec2 a_pos;\n"
 /* highp where the platform has it (GL_FRAGMENT_PRECISION_HIGH is the standard macro) */
 static const char *fs_head = "#ifdef GL_FRAGMENT_PRECISION_HIGH\n"
                              "precision highp float;\n"
+                             "precision highp sampler2D;\n"
+                             "precision highp samplerCube;\n"
                              "#else\n"
                              "precision mediump float;\n"
                              "#endif\n";
@@ -89,7 +91,8 @@ static const char *fs_head = "#ifdef GL_FRAGMENT_PRECISION_HIGH\n"
  * X = floor(255 (c 2^-e + 1/2) + 1/2). The RGBA8 store rounds X / 255 back to X exactly. A zero
  * channel writes 128 whatever its sign (the C codec writes 127 for -0); below 2^-126 the zero code. */
 static const char *fs_srgbe = "vec3 srgbe_dec(vec4 t) {\n"
-                              "  return (t.rgb - 0.5) * exp2(floor(t.a * 255.0 + 0.5) - 126.0);\n"
+                              "  vec4 x = floor(t * 255.0 + 0.5);\n"
+                              "  return (x.rgb - 127.5) / 255.0 * exp2(x.a - 126.0);\n"
                               "}\n"
                               "vec4 srgbe_enc(vec3 c) {\n"
                               "  float m = max(max(abs(c.r), abs(c.g)), abs(c.b));\n"
@@ -113,6 +116,31 @@ static const char *fs_out = "uniform vec2 u_out;\n" /* x: exposure, y: 1 = sRGB 
                             "  }\n"
                             "  return vec4(x, 1.0);\n"
                             "}\n";
+
+/* The LUT direction as the core samples it: its face chosen as the core does (ties go to x, then
+ * y), then either the centre of the texel containing it (nearest: GPUs quantise cube coordinates,
+ * llvmpipe to 1/256 texel, so a direction near a texel edge could land in the neighbour) or its
+ * face coordinates clamped to the outer texel centres (bilinear, clamped at the face's edges, as the
+ * core and CLAMP_TO_EDGE do); rebuilt so that the major axis is unambiguous to the GPU. */
+static const char *fs_lut_dir = "uniform float u_lutn, u_lutnear;\n"
+                                    "vec3 lut_dir(vec3 u) {\n"
+                                    "  vec3 a = abs(u);\n"
+                                    "  float ma, sc, tc;\n"
+                                    "  int f = a.x >= a.y && a.x >= a.z ? 0 : a.y >= a.z ? 1 : 2;\n"
+                                    "  if (f == 0) { ma = a.x; sc = u.x >= 0.0 ? -u.z : u.z; tc = -u.y; }\n"
+                                    "  else if (f == 1) { ma = a.y; sc = u.x; tc = u.y >= 0.0 ? u.z : -u.z; }\n"
+                                    "  else { ma = a.z; sc = u.z >= 0.0 ? u.x : -u.x; tc = -u.y; }\n"
+                                    "  vec2 st = vec2(sc, tc) / ma;\n"
+                                    "  if (u_lutnear > 0.5) {\n"
+                                    "    st = floor((st + 1.0) * 0.5 * u_lutn);\n"
+                                    "    st = (clamp(st, 0.0, u_lutn - 1.0) + 0.5) / u_lutn * 2.0 - 1.0;\n"
+                                    "  } else {\n"
+                                    "    st = clamp(st, 1.0 / u_lutn - 1.0, 1.0 - 1.0 / u_lutn);\n"
+                                    "  }\n"
+                                    "  if (f == 0) return u.x >= 0.0 ? vec3(1.0, -st.y, -st.x) : vec3(-1.0, -st.y, st.x);\n"
+                                    "  if (f == 1) return u.y >= 0.0 ? vec3(st.x, 1.0, st.y) : vec3(st.x, -1.0, -st.y);\n"
+                                    "  return u.z >= 0.0 ? vec3(st.x, -st.y, 1.0) : vec3(-st.x, -st.y, -1.0);\n"
+                                    "}\n";
 
 static const char swz[4] = {'x', 'y', 'z', 'w'};
 static const char rgbc[3] = {'r', 'g', 'b'};
@@ -174,7 +202,7 @@ static void pass_cost(const qibl_gles2_t *g, int mode, uint32_t t0, uint32_t t1,
 {
     uint32_t n = t1 - t0, i0, i1;
     pass_maps(g, t0, t1, &i0, &i1);
-    *units = n + (acc ? 1u : 0u);
+    *units = n + (acc ? 2u : 0u); /* the accumulator's high and low codes */
     *uvecs = 4u; /* u_size + u_bias/u_out + slack for drivers that pack badly */
     if (mode == QIBL_GLES2_MODE_DIR) {
         *uvecs += n * (g->channels == 3u ? 1u : 3u);
@@ -235,16 +263,20 @@ static int build_fs(const qibl_gles2_t *g, int mode, uint32_t pass, sbuf *b)
     for (uint32_t j = 0; j < n; ++j)
         emit(b, "uniform sampler2D u_t%u;\n", j);
     if (!first)
-        emit(b, "uniform sampler2D u_acc;\n");
+        emit(b, "uniform sampler2D u_acc, u_acclo;\n");
+    if (!last)
+        emit(b, "uniform float u_lo;\n");
     if (mode == QIBL_GLES2_MODE_DIR) {
         emit(b, "uniform vec4 u_w[%u];\n", n * (g->channels == 3u ? 1u : 3u));
     } else {
         emit(b, "uniform vec4 u_s[%u];\nuniform vec4 u_b[%u];\n", n, n);
         emit(b, "uniform sampler2D u_p0, u_p1, u_p2;\nuniform vec3 u_poff, u_pscale, u_lpos, u_lrgb;\n"
                 "uniform vec2 u_lpar;\n"); /* x: min_dist, y: 1 = 1/d^2 */
-        if (mode == QIBL_GLES2_MODE_POINT_LUT)
+        if (mode == QIBL_GLES2_MODE_POINT_LUT) {
             for (uint32_t c = i0 / 2u; c <= (i1 - 1u) / 2u; ++c)
                 emit(b, "uniform samplerCube u_y%u;\n", c);
+            emit(b, "%s", fs_lut_dir);
+        }
     }
     emit(b, "%s%s", fs_srgbe, fs_out);
     emit(b, "void main() {\n  vec2 tc = gl_FragCoord.xy * u_size;\n  vec4 t;\n  vec3 acc = u_bias;\n");
@@ -262,12 +294,13 @@ static int build_fs(const qibl_gles2_t *g, int mode, uint32_t pass, sbuf *b)
                 "  vec3 u = length(l) > 0.0 ? l / length(l) : vec3(0.0, 0.0, 1.0);\n"
                 "  float att = u_lpar.y > 0.5 ? 1.0 / (d * d) : 1.0 / d;\n"
                 "  float y[%u];\n",
-             i1);
+             2u * ((i1 - 1u) / 2u) + 2u); /* the LUT fills pairs */
         if (mode == QIBL_GLES2_MODE_POINT_SH) {
             emit_sh(b, i1);
         } else {
+            emit(b, "  vec3 ul = lut_dir(u);\n");
             for (uint32_t c = i0 / 2u; c <= (i1 - 1u) / 2u; ++c) {
-                emit(b, "  t = textureCube(u_y%u, u);\n  t = floor(t * (255.0 * 64.0) + 0.5) / 64.0;\n", c);
+                emit(b, "  t = textureCube(u_y%u, ul);\n  t = floor(t * (255.0 * 64.0) + 0.5) / 64.0;\n", c);
                 /* bilinear filtering returns fractions of a byte: keep them (the 1/64 rounding only
                  * absorbs the 8-bit unorm's own error) */
                 emit(b, "  y[%u] = (t.y * 256.0 + t.x - 32768.0) / 16384.0;\n", 2u * c);
@@ -278,7 +311,7 @@ static int build_fs(const qibl_gles2_t *g, int mode, uint32_t pass, sbuf *b)
         emit(b, "  vec3 s = vec3(0.0);\n");
     }
     for (uint32_t j = 0; j < n; ++j) {
-        emit(b, "  t = texture2D(u_t%u, tc);\n", j);
+        emit(b, "  t = texture2D(u_t%u, tc);\n  t = floor(t * 255.0 + 0.5);\n", j); /* the bytes, exactly */
         for (uint32_t q = 0; q < 4u; ++q) {
             uint32_t p = 4u * (t0 + j) + q;
             if (p >= g->planes)
@@ -301,8 +334,11 @@ static int build_fs(const qibl_gles2_t *g, int mode, uint32_t pass, sbuf *b)
     if (mode != QIBL_GLES2_MODE_DIR)
         emit(b, "  acc += s * u_lrgb * att;\n");
     if (!first)
-        emit(b, "  t = texture2D(u_acc, tc);\n  acc += srgbe_dec(t);\n");
-    emit(b, "  gl_FragColor = %s;\n", last ? "tonemap(acc)" : "srgbe_enc(acc)");
+        emit(b, "  t = texture2D(u_acc, tc);\n  acc += srgbe_dec(t);\n  t = texture2D(u_acclo, tc);\n  acc += srgbe_dec(t);\n");
+    if (last)
+        emit(b, "  gl_FragColor = tonemap(acc);\n");
+    else /* two draws: the sRGBE code of the sum, then that of what the code leaves out */
+        emit(b, "  vec4 hi = srgbe_enc(acc);\n  gl_FragColor = u_lo > 0.5 ? srgbe_enc(acc - srgbe_dec(hi)) : hi;\n");
     emit(b, "}\n");
     return b->overflow ? -1 : 0;
 }
@@ -362,16 +398,23 @@ static void delete_upload(qibl_gles2_t *g)
                 glDeleteTextures(1, &lists[l][i]);
                 lists[l][i] = 0;
             }
-    for (int i = 0; i < 2; ++i) {
+    for (int i = 0; i < 4; ++i) {
         if (g->acc_tex[i] != 0u)
             glDeleteTextures(1, &g->acc_tex[i]);
+        g->acc_tex[i] = 0;
+    }
+    for (int i = 0; i < 2; ++i) {
         if (g->fbo[i] != 0u)
             glDeleteFramebuffers(1, &g->fbo[i]);
-        g->acc_tex[i] = g->fbo[i] = 0;
+        g->fbo[i] = 0;
     }
+    GLint cur = 0;
+    glGetIntegerv(GL_CURRENT_PROGRAM, &cur);
     for (int m = 0; m < QIBL_GLES2_MODE_COUNT; ++m) {
         for (uint32_t i = 0; i < QIBL_GLES2_MAX_PASSES; ++i)
             if (g->prog[m][i] != 0u) {
+                if ((GLuint)cur == g->prog[m][i]) /* a program in use is only flagged for deletion */
+                    glUseProgram(0);
                 glDeleteProgram(g->prog[m][i]);
                 g->prog[m][i] = 0;
             }
@@ -581,10 +624,12 @@ qibl_status_t qibl_gles2_upload(qibl_gles2_t *g, const qibl_shmaps_t *m, const q
     if (lut != NULL)
         upload_lut(g, lut), g->has_lut = 1, g->lut_n = lut->face_size, g->lut_k = lut->k;
     /* accumulation ping-pong: RGBA8 sRGBE, nearest (texel i is pixel i) */
-    for (int i = 0; i < 2; ++i) {
+    for (int i = 0; i < 4; ++i) {
         g->acc_tex[i] = new_tex(GL_TEXTURE_2D, GL_NEAREST);
         glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, (GLsizei)m->width, (GLsizei)m->height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
                      NULL);
+    }
+    for (int i = 0; i < 2; ++i) {
         GLuint fb = 0;
         glGenFramebuffers(1, &fb);
         g->fbo[i] = fb;
@@ -623,14 +668,15 @@ static void set3f(GLuint prog, const char *name, const float v[3])
 /* What a draw needs per pass besides the maps: the per-plane uniforms and the light. */
 typedef struct {
     int mode;
-    float pw[75][3]; /* directional: weight of plane p to output channel ch (t in 0..1) */
+    float pw[75][3]; /* directional: weight of plane p to output channel ch, per byte value */
     float bias[3];
-    float ps[75], pb[75]; /* point: per plane scale and bias, t in 0..1 */
+    float pass_bias[QIBL_GLES2_MAX_PASSES][3]; /* the part of bias each pass adds */
+    float ps[75], pb[75]; /* point: per plane scale and bias, per byte value */
     float lpos[3], lrgb[3], lpar[2];
     int lut_linear;
 } drawdesc;
 
-static qibl_status_t draw(qibl_gles2_t *g, const drawdesc *dd, const qibl_gles2_out_t *out)
+static qibl_status_t draw(qibl_gles2_t *g, drawdesc *dd, const qibl_gles2_out_t *out)
 {
     int mode = dd->mode;
     if (g->npass[mode] == 0u) {
@@ -649,6 +695,28 @@ static qibl_status_t draw(qibl_gles2_t *g, const drawdesc *dd, const qibl_gles2_
     glEnableVertexAttribArray(0);
     glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, NULL);
     uint32_t np = g->npass[mode];
+    /* Passes accumulate in sRGBE, whose error is relative to the pixel's largest partial sum. The
+     * core folds all the maps' range-packing biases into one B = sum bias_i L_i, which cancels
+     * the large sum of c_i W_i only at the end; so each pass adds the bias of its own planes
+     * (W_p 2^shift bias_p / scale_p) and the first pass the remainder of B, which keeps every
+     * partial sum the size of the decoded terms T_i L_i. */
+    drawdesc *dw = dd;
+    for (uint32_t pass = 0; pass < np; ++pass)
+        dw->pass_bias[pass][0] = dw->pass_bias[pass][1] = dw->pass_bias[pass][2] = 0.0f;
+    for (uint32_t ch = 0; ch < 3u; ++ch) {
+        double rest = dd->bias[ch];
+        if (mode == QIBL_GLES2_MODE_DIR && np > 1u)
+            for (uint32_t pass = 0; pass < np; ++pass)
+                for (uint32_t p = 4u * g->pass_first[mode][pass]; p < 4u * g->pass_first[mode][pass + 1u] && p < g->planes;
+                     ++p) {
+                    if (g->scale[p] == 0.0f || (g->channels == 3u && p % 3u != ch))
+                        continue;
+                    double share = (double)dd->pw[p][ch] * (double)g->bias[p] / (double)g->scale[p];
+                    dw->pass_bias[pass][ch] += (float)share;
+                    rest -= share;
+                }
+        dw->pass_bias[0][ch] += (float)rest;
+    }
     for (uint32_t pass = 0; pass < np; ++pass) {
         if (g->prog[mode][pass] == 0u) {
             char local[SRC_SIZE]; /* on the stack: a static scratch would break reentrancy */
@@ -667,24 +735,10 @@ static qibl_status_t draw(qibl_gles2_t *g, const drawdesc *dd, const qibl_gles2_
         }
         GLuint prog = g->prog[mode][pass];
         int first = pass == 0, last = pass + 1u == np;
-        /* pass i reads acc[(i + 1) % 2] and writes acc[i % 2] */
-        if (last) {
-            glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)caller_fb);
-        } else {
-            glBindFramebuffer(GL_FRAMEBUFFER, g->fbo[pass % 2u]);
-            glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, g->acc_tex[pass % 2u], 0);
-            GLenum fs = glCheckFramebufferStatus(GL_FRAMEBUFFER);
-            if (fs != GL_FRAMEBUFFER_COMPLETE) {
-                glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)caller_fb);
-                logf_(g, "glCheckFramebufferStatus 0x%04x for the RGBA8 accumulator", (unsigned)fs);
-                return QIBL_E_GLES2_FRAMEBUFFER;
-            }
-        }
         glUseProgram(prog);
         GLint loc = glGetUniformLocation(prog, "u_size");
         glUniform2f(loc, 1.0f / (float)g->width, 1.0f / (float)g->height);
-        float zero[3] = {0.0f, 0.0f, 0.0f};
-        set3f(prog, "u_bias", first ? dd->bias : zero);
+        set3f(prog, "u_bias", dd->pass_bias[pass]);
         loc = glGetUniformLocation(prog, "u_out");
         if (loc >= 0)
             glUniform2f(loc, out && out->exposure ? (float)out->exposure / 65536.0f : 1.0f,
@@ -728,6 +782,11 @@ static qibl_status_t draw(qibl_gles2_t *g, const drawdesc *dd, const qibl_gles2_
             set3f(prog, "u_lrgb", dd->lrgb);
             glUniform2f(glGetUniformLocation(prog, "u_lpar"), dd->lpar[0], dd->lpar[1]);
             if (mode == QIBL_GLES2_MODE_POINT_LUT) {
+                GLint ln = glGetUniformLocation(prog, "u_lutn"), lnear = glGetUniformLocation(prog, "u_lutnear");
+                if (ln >= 0)
+                    glUniform1f(ln, (float)g->lut_n);
+                if (lnear >= 0)
+                    glUniform1f(lnear, dd->lut_linear ? 0.0f : 1.0f);
                 uint32_t i0, i1;
                 pass_maps(g, t0, t1, &i0, &i1);
                 for (uint32_t c = i0 / 2u; c <= (i1 - 1u) / 2u; ++c) {
@@ -741,16 +800,39 @@ static qibl_status_t draw(qibl_gles2_t *g, const drawdesc *dd, const qibl_gles2_
                 }
             }
         }
+        /* pass i reads the codes pass i - 1 wrote (acc_tex[2 ((i + 1) % 2) + 0 and 1]) and writes
+         * acc_tex[2 (i % 2) + 0 and 1], high code then low code, each its own draw (GLES2 has one
+         * colour attachment) */
         if (!first) {
             glActiveTexture(GL_TEXTURE0 + unit);
-            glBindTexture(GL_TEXTURE_2D, g->acc_tex[(pass + 1u) % 2u]);
+            glBindTexture(GL_TEXTURE_2D, g->acc_tex[2u * ((pass + 1u) % 2u)]);
             set1i(prog, "u_acc", (GLint)unit++);
+            glActiveTexture(GL_TEXTURE0 + unit);
+            glBindTexture(GL_TEXTURE_2D, g->acc_tex[2u * ((pass + 1u) % 2u) + 1u]);
+            set1i(prog, "u_acclo", (GLint)unit++);
         }
-        glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
-        qibl_status_t st = gl_check(g, "a relighting pass");
-        if (st != QIBL_OK) {
-            glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)caller_fb);
-            return st;
+        GLint lo_loc = glGetUniformLocation(prog, "u_lo");
+        for (uint32_t h = 0; h < (last ? 1u : 2u); ++h) {
+            if (last) {
+                glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)caller_fb);
+            } else {
+                glBindFramebuffer(GL_FRAMEBUFFER, g->fbo[pass % 2u]);
+                glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,
+                                       g->acc_tex[2u * (pass % 2u) + h], 0);
+                GLenum fs = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+                if (fs != GL_FRAMEBUFFER_COMPLETE) {
+                    glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)caller_fb);
+                    logf_(g, "glCheckFramebufferStatus 0x%04x for the RGBA8 accumulator", (unsigned)fs);
+                    return QIBL_E_GLES2_FRAMEBUFFER;
+                }
+                glUniform1f(lo_loc, (float)h);
+            }
+            glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+            qibl_status_t st = gl_check(g, "a relighting pass");
+            if (st != QIBL_OK) {
+                glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)caller_fb);
+                return st;
+            }
         }
     }
     glActiveTexture(GL_TEXTURE0);
@@ -778,9 +860,9 @@ qibl_status_t qibl_gles2_relight(qibl_gles2_t *g, const qibl_shmap_weights_t *w,
     memset(&dd, 0, sizeof dd);
     dd.mode = QIBL_GLES2_MODE_DIR;
     /* out = acc * 2^shift + bias in Q16.16 with acc = sum c W: per plane and output channel the
-     * float weight W 2^shift / 2^16, times 255 because the shader sees c / 255 */
+     * float weight W 2^shift / 2^16 (the shader rebuilds the byte c) */
     for (uint32_t ch = 0; ch < 3u; ++ch) {
-        double unit = ldexp(255.0, w->shift[ch] - 16);
+        double unit = ldexp(1.0, w->shift[ch] - 16);
         for (uint32_t i = 0; i < g->k; ++i) {
             if (g->channels == 3u)
                 dd.pw[i * 3u + ch][ch] = (float)(w->w[ch][i] * unit);
@@ -811,7 +893,7 @@ qibl_status_t qibl_gles2_point(qibl_gles2_t *g, const qibl_shmap_point_t *pt, co
     memset(&dd, 0, sizeof dd);
     dd.mode = pt->lut != NULL ? QIBL_GLES2_MODE_POINT_LUT : QIBL_GLES2_MODE_POINT_SH;
     for (uint32_t p = 0; p < g->planes; ++p)
-        dd.ps[p] = g->scale[p] * 255.0f, dd.pb[p] = g->bias[p];
+        dd.ps[p] = g->scale[p], dd.pb[p] = g->bias[p];
     for (uint32_t c = 0; c < 3u; ++c) {
         dd.lpos[c] = (float)((double)pt->pos[c] / 65536.0);
         dd.lrgb[c] = (float)((double)pt->rgb[c] / 65536.0);

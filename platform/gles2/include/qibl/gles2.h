@@ -96,7 +96,7 @@ typedef struct qibl_gles2 {
     float scale[75], bias[75]; /* per plane, decoded Q8.24 */
     float poff[3], pscale[3];  /* P map decode: v = poff + u * pscale, scene units */
     uint32_t map_tex[QIBL_GLES2_MAX_TEX], p_tex[3], lut_tex[QIBL_GLES2_MAX_LUT_TEX];
-    uint32_t acc_tex[2], fbo[2], vbo, vs;
+    uint32_t acc_tex[4], fbo[2], vbo, vs; /* accumulators: high and low sRGBE codes, ping and pong */
     uint32_t npass[QIBL_GLES2_MODE_COUNT];
     uint8_t pass_first[QIBL_GLES2_MODE_COUNT][QIBL_GLES2_MAX_PASSES + 1]; /* map textures of each pass */
     uint32_t prog[QIBL_GLES2_MODE_COUNT][QIBL_GLES2_MAX_PASSES];
