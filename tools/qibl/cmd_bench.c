@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "qibl/cli.h"
+#include "qibl/gles_cli.h"
 #include "qibl/sh.h"
 #include "ref/sh_ref.h"
 
@@ -146,7 +147,9 @@ int qibl_cmd_bench(int argc, char **argv)
         rc |= qibl_bench_srgbe(quick), ran = 1;
     if (all || strcmp(what, "lights") == 0)
         rc |= qibl_bench_lights(quick), ran = 1;
+    if (strcmp(what, "gles") == 0) /* only when asked: a GL context is not part of `all` */
+        rc |= qibl_bench_gles(quick), ran = 1;
     if (!ran)
-        return qibl_cli_usage_error("bench: unknown benchmark '%s' (all, sh, relight, srgbe, lights)", what);
+        return qibl_cli_usage_error("bench: unknown benchmark '%s' (all, sh, relight, srgbe, lights, gles)", what);
     return rc;
 }

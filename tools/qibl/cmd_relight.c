@@ -13,6 +13,7 @@
 #include "io/asset_write.h"
 #include "io/png.h"
 #include "qibl/asset.h"
+#include "qibl/gles_cli.h"
 #include "io/file.h"
 #include "qibl/cli.h"
 #include "qibl/shmap.h"
@@ -133,6 +134,7 @@ int qibl_cmd_relight(int argc, char **argv)
     const char *in = NULL, *png = NULL;
     qibl_q16_t sun[3] = {0}, pos[3] = {0}, rgb[3] = {65536, 65536, 65536};
     int have_sun = 0, have_point = 0, use_lut = 0, nearest = 0, linear = 0;
+    int gles = 0; /* --gles: platform/gles2 instead of the core + platform/soft (relight_gles.c) */
     long falloff = 1;
     qibl_q16_t exposure = 65536;
     for (int i = 1; i < argc; ++i) {
@@ -168,11 +170,13 @@ int qibl_cmd_relight(int argc, char **argv)
             linear = 1;
         else if (strcmp(a, "--png") == 0 && i + 1 < argc)
             png = argv[++i];
+        else if (strcmp(a, "--gles") == 0)
+            gles = 1;
         else if (a[0] != '-' && !in)
             in = a;
         else
             return qibl_cli_usage_error("usage: qibl relight FILE (--sun X Y Z | --point X Y Z) [--rgb R G B] "
-                                        "[--lut|--nearest] [--falloff 1|2] [--exposure E] [--linear] --png OUT");
+                                        "[--lut|--nearest] [--falloff 1|2] [--exposure E] [--linear] [--gles] --png OUT");
     }
     if (!in || !png || have_sun == have_point)
         return qibl_cli_usage_error("relight needs FILE, exactly one of --sun/--point, and --png OUT");
@@ -211,7 +215,21 @@ int qibl_cmd_relight(int argc, char **argv)
                        {rgb[0] / 65536.0, rgb[1] / 65536.0, rgb[2] / 65536.0}, (int)falloff};
     double ms = 0;
     int rc = 0;
-    if (qibl_bake_relight8_ex(bytes, n, &l, use_lut ? (nearest ? 2 : 1) : 0, (qibl_uq16_t)exposure, !linear, pix, &ms,
+    if (gles) { /* the GPU path: same asset, same core weights, platform/gles2 */
+        qibl_gles_relight_req req = {&m, have_point ? &pm : NULL, have_point && use_lut ? &lut : NULL,
+                                     {sun[0], sun[1], sun[2]}, {pos[0], pos[1], pos[2]}, {rgb[0], rgb[1], rgb[2]},
+                                     (int)falloff, nearest, linear, (qibl_uq16_t)exposure};
+        uint32_t passes = 0;
+        char renderer[64] = "";
+        char err[512];
+        if (qibl_gles_relight(&req, pix, &passes, renderer) != 0)
+            rc = 1;
+        else if (qibl_png_write_rgb8(png, (int)w, (int)h, pix, err, sizeof err) != 0)
+            fprintf(stderr, "qibl: %s\n", err), rc = 1;
+        else
+            printf("wrote %s (%ux%u, k = %u, GLES2 on %s, %u pass%s)\n", png, w, h, m.k, renderer, passes,
+                   passes == 1 ? "" : "es");
+    } else if (qibl_bake_relight8_ex(bytes, n, &l, use_lut ? (nearest ? 2 : 1) : 0, (qibl_uq16_t)exposure, !linear, pix, &ms,
                               &st) != 0) {
         fprintf(stderr, "qibl: relight: %s\n", st == QIBL_E_NULL_POINTER ? "out of memory" : qibl_soft_status_str(st));
         rc = 1;
