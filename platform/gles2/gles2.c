@@ -704,7 +704,7 @@ static qibl_status_t draw(qibl_gles2_t *g, drawdesc *dd, const qibl_gles2_out_t 
     for (uint32_t pass = 0; pass < np; ++pass)
         dw->pass_bias[pass][0] = dw->pass_bias[pass][1] = dw->pass_bias[pass][2] = 0.0f;
     for (uint32_t ch = 0; ch < 3u; ++ch) {
-        double rest = dd->bias[ch];
+        double rest = (double)dd->bias[ch];
         if (mode == QIBL_GLES2_MODE_DIR && np > 1u)
             for (uint32_t pass = 0; pass < np; ++pass)
                 for (uint32_t p = 4u * g->pass_first[mode][pass]; p < 4u * g->pass_first[mode][pass + 1u] && p < g->planes;
