@@ -8,9 +8,22 @@
  * core's weights as uniforms (directional lights, several lights, environments: anything that is a
  * qibl_shmap_weights_t), or the point-light sum (L from the P map, Y_i by the SH polynomials or from
  * the LUT, the core's attenuation) with a prepared qibl_shmap_point_t. When the maps need more
- * texture units or uniform vectors than one pass has, passes accumulate in an RGBA8 texture holding
+ * texture units or uniform vectors than one pass has, passes accumulate in RGBA8 textures holding
  * sRGBE (Granier et al.: no float render targets in GLES2), ping-ponging two targets; the last pass
  * adds exposure and the sRGB transfer and writes RGBA into the framebuffer bound at the call.
+ *
+ * Passes. A pass binds as many map textures as fit GL_MAX_TEXTURE_IMAGE_UNITS (or desc.max_units)
+ * after its other inputs: 3 P-map textures and the LUT cube maps its maps need (point lights), 2
+ * accumulator textures (every pass but the first). Uniform vec4s: 4 + 1 per map texture
+ * (directional, 3 for grey maps) or 9 + 2 per map texture (points), against
+ * GL_MAX_FRAGMENT_UNIFORM_VECTORS. Each non-final pass draws twice, because GLES2 has a single
+ * colour attachment: once storing the sRGBE code of the running sum, once the code of what that
+ * code leaves out (sum - decode(code)). One code alone keeps a pixel to 1/510 of its largest
+ * channel, which the sRGB curve turns into up to 12 levels in a dark channel beside a bright one;
+ * the pair keeps it to about 2^-18. Each pass adds the range-packing bias of its own maps, so
+ * partial sums stay the size of the decoded terms instead of cancelling only at the end.
+ * Not done: the optional OES_texture_float / half-float accumulator (the two-code sRGBE path met
+ * the bounds below, so it was not needed to measure against).
  *
  * What it does not do: create or make current an EGL/GLES context, windows or swap chains (the
  * caller owns the context and must make it current around every call), compute anything per frame
@@ -24,11 +37,17 @@
  * array 0, and it disables GL_BLEND, GL_DEPTH_TEST, GL_SCISSOR_TEST, GL_STENCIL_TEST, GL_CULL_FACE
  * and GL_DITHER. The caller's framebuffer binding is restored before the last pass.
  *
- * Precision. The P map needs highp in the fragment shader (positions are 24-bit integers times a
- * power of two); the LUT's split bytes and the sums want it too. Without GL_FRAGMENT_PRECISION_HIGH
- * (fp16 mediump only) point lights are refused with QIBL_E_GLES2_NO_HIGHP; directional relighting
- * runs at mediump, whose 11-bit significand costs about 2^-11 of the largest term per pass (up to
- * several 8-bit levels on bright pixels). Measured errors against platform/soft: tests/gles2_test.c.
+ * Precision. Every shader asks for highp floats and samplers (GLSL ES 1.00 samplers default to
+ * lowp, and the texel then carries lowp into the arithmetic: Mesa computes that in fp16), and every
+ * byte is rebuilt exactly (floor(t * 255 + 0.5)) before use. The P map needs highp (positions are
+ * 24-bit integers times a power of two), so do the LUT's split bytes and the sums. A GPU without
+ * highp in fragment shaders (GL_FRAGMENT_PRECISION_HIGH undefined, fp16 mediump only): point lights
+ * are refused with QIBL_E_GLES2_NO_HIGHP; directional relighting still runs at mediump, whose
+ * 11-bit significand costs about 2^-11 of the largest term (several 8-bit levels on bright pixels),
+ * and the sRGBE accumulator's exponents above 2^15 overflow.
+ * Measured against platform/soft on the golden relight scenes (tests/gles2_test.c, llvmpipe): at
+ * most 1 level (RGBA8888 sRGB) in every case, one pass or up to 19, mean <= 0.012; nearest LUT
+ * texels may differ at texel edges (one pixel of the fixture).
  *
  * P map encoding: split bytes, not sRGBE. Each coordinate becomes (v - min) >> s in 24 bits (s the
  * smallest shift that fits the coordinate's range; 0 for scenes up to 256 units across), stored as
