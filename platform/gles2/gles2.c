@@ -11,7 +11,6 @@
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include <GLES2/gl2.h>
@@ -234,12 +233,12 @@ static qibl_status_t plan(qibl_gles2_t *g, int mode)
                 return QIBL_E_GLES2_UNITS;
             }
             while (t1 < g->ntex) {
-                pass_cost(g, mode, t0, t1 + 1u, t0 > 0 || t1 + 1u < g->ntex, &u, &v);
+                pass_cost(g, mode, t0, t1 + 1u, t0 > 0, &u, &v);
                 if (u > g->units || v > g->uvecs)
                     break;
                 ++t1;
             }
-            /* a first pass followed by others writes the accumulator but does not read it */
+            /* the first pass writes the accumulator but does not read it: no units for it */
         }
         if (np >= QIBL_GLES2_MAX_PASSES)
             return QIBL_E_GLES2_UNITS;
@@ -722,15 +721,16 @@ static qibl_status_t draw(qibl_gles2_t *g, drawdesc *dd, const qibl_gles2_out_t 
             char local[SRC_SIZE]; /* on the stack: a static scratch would break reentrancy */
             sbuf b = {local, 0, sizeof local, 0};
             if (build_fs(g, mode, pass, &b) != 0) {
+                glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)caller_fb);
                 logf_(g, "generated fragment shader longer than %d bytes", SRC_SIZE);
                 return QIBL_E_GLES2_COMPILE;
             }
             GLuint prog = 0;
-            if (getenv("QIBL_GLES_DUMP") != NULL)
-                fprintf(stderr, "---- mode %d pass %u\n%s", mode, pass, local);
             qibl_status_t st = link(g, local, &prog);
-            if (st != QIBL_OK)
+            if (st != QIBL_OK) {
+                glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)caller_fb);
                 return st;
+            }
             g->prog[mode][pass] = prog;
         }
         GLuint prog = g->prog[mode][pass];

@@ -46,7 +46,7 @@
  * 11-bit significand costs about 2^-11 of the largest term (several 8-bit levels on bright pixels),
  * and the sRGBE accumulator's exponents above 2^15 overflow.
  * Measured against platform/soft on the golden relight scenes (tests/gles2_test.c, llvmpipe): at
- * most 1 level (RGBA8888 sRGB) in every case, one pass or up to 19, mean <= 0.012; nearest LUT
+ * most 1 level (RGBA8888 sRGB) in every case, one pass or up to 17, mean <= 0.013; nearest LUT
  * texels may differ at texel edges (one pixel of the fixture).
  *
  * P map encoding: split bytes, not sRGBE. Each coordinate becomes (v - min) >> s in 24 bits (s the
