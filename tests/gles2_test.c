@@ -131,8 +131,8 @@ static void soft_frame(const gmaps *g, const qibl_shmap_weights_t *w, const qibl
 }
 
 /* worst figures: [0] one pass (what the GL's own limits give here), [1] the capped multipass path */
-static unsigned worst_max[2];
-static double worst_mean[2];
+static unsigned worst_max[3];
+static double worst_mean[3];
 
 /* Compares RGBA frames (alpha ignored): max 2 and mean 0.5 in 8-bit sRGB levels, one pass or many
  * (the accumulator keeps two sRGBE codes per pixel, so it adds ~2^-18 of the partial sum, not the
@@ -155,8 +155,8 @@ static void compare(const char *name, uint32_t k, uint32_t units, uint32_t passe
         sum += d;
     }
     double mean = sum / (GW * GH * 3.0);
-    int multi = passes > 1u, nearest = strstr(name, "near") != NULL;
-    printf("gles: k=%-2u %-18s units %-2u passes %u  max %u  mean %.3f\n", k, name, units, passes, mx, mean);
+    int multi = strstr(name, "float") != NULL ? 2 : passes > 1u, nearest = strstr(name, "near") != NULL;
+    printf("gles: k=%-2u %-22s units %-2u passes %-2u  max %-2u  mean %.3f\n", k, name, units, passes, mx, mean);
     if (!nearest) {
         worst_max[multi] = mx > worst_max[multi] ? mx : worst_max[multi];
         worst_mean[multi] = mean > worst_mean[multi] ? mean : worst_mean[multi];
@@ -175,7 +175,7 @@ static void test_relight_scenes_match_soft(void **state)
     NEED_GL(*state);
     static uint8_t soft[GW * GH * 4], gpu[GW * GH * 4];
     const qibl_gles2_out_t out = {0, 1};
-    memset(worst_max, 0, sizeof worst_max), worst_mean[0] = worst_mean[1] = 0.0;
+    memset(worst_max, 0, sizeof worst_max), worst_mean[0] = worst_mean[1] = worst_mean[2] = 0.0;
     for (uint32_t k = 9; k <= 25; k += k == 9 ? 7u : 9u) {
         gmaps g;
         gmaps_make(&g, GW, GH, k);
@@ -186,10 +186,10 @@ static void test_relight_scenes_match_soft(void **state)
         qibl_ylut_t lut = {16, k, vals};
         /* every GL limit, then a cap of 8 units / 16 uniform vectors (GLES2's guaranteed minimum),
          * which forces the sRGBE multipass path for points at every k and directional from k = 16 */
-        const uint32_t caps[2][2] = {{0, 0}, {8, 16}};
-        for (int c = 0; c < 2; ++c) {
+        const uint32_t caps[3][3] = {{0, 0, 0}, {8, 16, 0}, {8, 16, 1}};
+        for (int c = 0; c < 3; ++c) {
             qibl_gles2_t gl;
-            qibl_gles2_desc_t d = {caps[c][0], caps[c][1]};
+            qibl_gles2_desc_t d = {caps[c][0], caps[c][1], caps[c][2]};
             assert_int_equal(qibl_gles2_init(&gl, &d), QIBL_OK);
             qibl_status_t st = qibl_gles2_upload(&gl, &g.m, &g.p, &lut);
             if (st != QIBL_OK)
@@ -211,7 +211,12 @@ static void test_relight_scenes_match_soft(void **state)
                 fprintf(stderr, "relight: %s: %s\n", qibl_gles2_status_str(st), qibl_gles2_log(&gl));
             assert_int_equal(st, QIBL_OK);
             assert_int_equal(qt_gles_read(&ctx, gpu), 0);
-            compare("dir", k, gl.units, qibl_gles2_passes(&gl), soft, gpu);
+            if (c == 2 && !gl.float_acc) {
+                printf("gles: OES_texture_float accumulation not available here: not measured\n");
+                qibl_gles2_destroy(&gl);
+                break;
+            }
+            compare(c == 2 ? "dir float" : "dir", k, gl.units, qibl_gles2_passes(&gl), soft, gpu);
             /* point: direct SH (1/d), LUT bilinear (1/d^2), LUT nearest (1/d), as the goldens */
             const char *modes[3] = {"point_direct", "point_lut16", "point_lut16_near"};
             for (int mode = 0; mode < 3; ++mode) {
@@ -227,11 +232,13 @@ static void test_relight_scenes_match_soft(void **state)
                     fprintf(stderr, "point: %s: %s\n", qibl_gles2_status_str(st), qibl_gles2_log(&gl));
                 assert_int_equal(st, QIBL_OK);
                 assert_int_equal(qt_gles_read(&ctx, gpu), 0);
-                compare(modes[mode], k, gl.units, qibl_gles2_passes(&gl), soft, gpu);
+                char label[40];
+                snprintf(label, sizeof label, "%s%s", modes[mode], c == 2 ? " float" : "");
+                compare(label, k, gl.units, qibl_gles2_passes(&gl), soft, gpu);
             }
-            if (c == 1)
+            if (c >= 1)
                 assert_true(qibl_gles2_passes(&gl) > 1u); /* the cap really took the multipass path */
-            if (c == 1 && k > 9u) {
+            if (c >= 1 && k > 9u) {
                 glBindFramebuffer(GL_FRAMEBUFFER, ctx.fbo);
                 assert_int_equal(qibl_gles2_relight(&gl, &w, &out), QIBL_OK);
                 assert_true(qibl_gles2_passes(&gl) > 1u);
@@ -243,6 +250,7 @@ static void test_relight_scenes_match_soft(void **state)
     }
     printf("RESULT gles.max_diff %u\nRESULT gles.mean_diff %.4f\n", worst_max[0], worst_mean[0]);
     printf("RESULT gles.multipass_max_diff %u\nRESULT gles.multipass_mean_diff %.4f\n", worst_max[1], worst_mean[1]);
+    printf("RESULT gles.float_accum_max_diff %u\nRESULT gles.float_accum_mean_diff %.4f\n", worst_max[2], worst_mean[2]);
 }
 
 /* sRGBE: the GLSL decode/encode pair against the C codec over a sweep of codes. */
@@ -315,12 +323,12 @@ static void test_named_errors(void **state)
     gmaps_make(&g, GW, GH, 9);
     assert_int_equal(qibl_gles2_init(NULL, NULL), QIBL_E_NULL_POINTER);
     assert_int_equal(qibl_gles2_upload(&gl, &g.m, NULL, NULL), QIBL_E_GLES2_STATE); /* not initialised */
-    qibl_gles2_desc_t one = {1, 0};
+    qibl_gles2_desc_t one = {1, 0, 0};
     assert_int_equal(qibl_gles2_init(&gl, &one), QIBL_E_GLES2_UNITS);
     assert_true(strlen(qibl_gles2_log(&gl)) > 0);
     qibl_gles2_destroy(&gl);
     /* one unit left after the P map's three: point lights cannot run, directional can */
-    qibl_gles2_desc_t four = {4, 0};
+    qibl_gles2_desc_t four = {4, 0, 0};
     assert_int_equal(qibl_gles2_init(&gl, &four), QIBL_OK);
     qibl_shmap_weights_t w;
     qibl_shlight_t l;
@@ -367,7 +375,7 @@ static void test_nothing_leaks(void **state)
     gmaps g;
     gmaps_make(&g, GW, GH, 16);
     qibl_gles2_t gl;
-    qibl_gles2_desc_t d = {6, 0}; /* 3 P map units, 1 map texture, 2 accumulator codes */
+    qibl_gles2_desc_t d = {6, 0, 0}; /* 3 P map units, 1 map texture, 2 accumulator codes */
     assert_int_equal(qibl_gles2_init(&gl, &d), QIBL_OK);
     assert_int_equal(qibl_gles2_upload(&gl, &g.m, &g.p, NULL), QIBL_OK);
     qibl_shmap_point_t pt;

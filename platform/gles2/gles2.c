@@ -201,7 +201,7 @@ static void pass_cost(const qibl_gles2_t *g, int mode, uint32_t t0, uint32_t t1,
 {
     uint32_t n = t1 - t0, i0, i1;
     pass_maps(g, t0, t1, &i0, &i1);
-    *units = n + (acc ? 2u : 0u); /* the accumulator's high and low codes */
+    *units = n + (acc ? (g->float_acc ? 1u : 2u) : 0u); /* float, or the high and low sRGBE codes */
     *uvecs = 4u; /* u_size + u_bias/u_out + slack for drivers that pack badly */
     if (mode == QIBL_GLES2_MODE_DIR) {
         *uvecs += n * (g->channels == 3u ? 1u : 3u);
@@ -262,8 +262,8 @@ static int build_fs(const qibl_gles2_t *g, int mode, uint32_t pass, sbuf *b)
     for (uint32_t j = 0; j < n; ++j)
         emit(b, "uniform sampler2D u_t%u;\n", j);
     if (!first)
-        emit(b, "uniform sampler2D u_acc, u_acclo;\n");
-    if (!last)
+        emit(b, g->float_acc ? "uniform sampler2D u_acc;\n" : "uniform sampler2D u_acc, u_acclo;\n");
+    if (!last && !g->float_acc)
         emit(b, "uniform float u_lo;\n");
     if (mode == QIBL_GLES2_MODE_DIR) {
         emit(b, "uniform vec4 u_w[%u];\n", n * (g->channels == 3u ? 1u : 3u));
@@ -332,10 +332,14 @@ static int build_fs(const qibl_gles2_t *g, int mode, uint32_t pass, sbuf *b)
     }
     if (mode != QIBL_GLES2_MODE_DIR)
         emit(b, "  acc += s * u_lrgb * att;\n");
-    if (!first)
+    if (!first && g->float_acc)
+        emit(b, "  t = texture2D(u_acc, tc);\n  acc += t.rgb;\n");
+    else if (!first)
         emit(b, "  t = texture2D(u_acc, tc);\n  acc += srgbe_dec(t);\n  t = texture2D(u_acclo, tc);\n  acc += srgbe_dec(t);\n");
     if (last)
         emit(b, "  gl_FragColor = tonemap(acc);\n");
+    else if (g->float_acc)
+        emit(b, "  gl_FragColor = vec4(acc, 1.0);\n");
     else /* two draws: the sRGBE code of the sum, then that of what the code leaves out */
         emit(b, "  vec4 hi = srgbe_enc(acc);\n  gl_FragColor = u_lo > 0.5 ? srgbe_enc(acc - srgbe_dec(hi)) : hi;\n");
     emit(b, "}\n");
@@ -458,6 +462,10 @@ qibl_status_t qibl_gles2_init(qibl_gles2_t *g, const qibl_gles2_desc_t *d)
         g->units = d->max_units;
     if (d != NULL && d->max_uniform_vectors != 0u && d->max_uniform_vectors < g->uvecs)
         g->uvecs = d->max_uniform_vectors;
+    if (d != NULL && d->float_accum) {
+        const char *ext = (const char *)glGetString(GL_EXTENSIONS);
+        g->want_float = ext != NULL && strstr(ext, "GL_OES_texture_float") != NULL;
+    }
     g->max_tex_size = tsize > 0 ? (uint32_t)tsize : 0u;
     g->max_cube_size = csize > 0 ? (uint32_t)csize : 0u;
     g->highp = prec >= 23; /* fp32 significand; 0 when the GPU has no highp in fragment shaders */
@@ -608,6 +616,8 @@ qibl_status_t qibl_gles2_upload(qibl_gles2_t *g, const qibl_shmaps_t *m, const q
         return QIBL_E_GLES2_SIZE;
     }
     delete_upload(g);
+    GLint caller_fb = 0;
+    glGetIntegerv(GL_FRAMEBUFFER_BINDING, &caller_fb);
     g->width = m->width, g->height = m->height, g->k = m->k, g->channels = m->channels;
     g->planes = m->k * m->channels;
     g->ntex = (g->planes + 3u) / 4u;
@@ -623,15 +633,40 @@ qibl_status_t qibl_gles2_upload(qibl_gles2_t *g, const qibl_shmaps_t *m, const q
     if (lut != NULL)
         upload_lut(g, lut), g->has_lut = 1, g->lut_n = lut->face_size, g->lut_k = lut->k;
     /* accumulation ping-pong: RGBA8 sRGBE, nearest (texel i is pixel i) */
-    for (int i = 0; i < 4; ++i) {
-        g->acc_tex[i] = new_tex(GL_TEXTURE_2D, GL_NEAREST);
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, (GLsizei)m->width, (GLsizei)m->height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
-                     NULL);
-    }
     for (int i = 0; i < 2; ++i) {
         GLuint fb = 0;
         glGenFramebuffers(1, &fb);
         g->fbo[i] = fb;
+    }
+    g->float_acc = 0;
+    /* float accumulators if they can be rendered to, else the sRGBE pair. Formats tried: the
+     * GLES2 + OES_texture_float form (unsized RGBA, FLOAT), then RGBA32F (0x8814: a GLES3 context
+     * with EXT_color_buffer_float, as Mesa gives), both fp32. */
+    static const GLint fl_internal[2] = {GL_RGBA, 0x8814};
+    for (int f = 0; g->want_float && f < 2 && !g->float_acc; ++f) {
+        while (glGetError() != GL_NO_ERROR)
+            ;
+        g->float_acc = 1;
+        for (int i = 0; i < 2 && g->float_acc; ++i) {
+            g->acc_tex[i] = new_tex(GL_TEXTURE_2D, GL_NEAREST);
+            glTexImage2D(GL_TEXTURE_2D, 0, fl_internal[f], (GLsizei)m->width, (GLsizei)m->height, 0, GL_RGBA, GL_FLOAT,
+                         NULL);
+            glBindFramebuffer(GL_FRAMEBUFFER, g->fbo[i]);
+            glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, g->acc_tex[i], 0);
+            g->float_acc = glGetError() == GL_NO_ERROR && glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+        }
+        glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)caller_fb);
+        if (!g->float_acc)
+            for (int i = 0; i < 2; ++i)
+                if (g->acc_tex[i] != 0u)
+                    glDeleteTextures(1, &g->acc_tex[i]), g->acc_tex[i] = 0;
+        while (glGetError() != GL_NO_ERROR)
+            ;
+    }
+    for (int i = 0; i < 4 && !g->float_acc; ++i) {
+        g->acc_tex[i] = new_tex(GL_TEXTURE_2D, GL_NEAREST);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, (GLsizei)m->width, (GLsizei)m->height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                     NULL);
     }
     st = gl_check(g, "uploading textures");
     for (int mode = 0; st == QIBL_OK && mode < QIBL_GLES2_MODE_COUNT; ++mode)
@@ -803,29 +838,33 @@ static qibl_status_t draw(qibl_gles2_t *g, drawdesc *dd, const qibl_gles2_out_t 
         /* pass i reads the codes pass i - 1 wrote (acc_tex[2 ((i + 1) % 2) + 0 and 1]) and writes
          * acc_tex[2 (i % 2) + 0 and 1], high code then low code, each its own draw (GLES2 has one
          * colour attachment) */
+        const uint32_t per = g->float_acc ? 1u : 2u; /* accumulator textures per pass */
         if (!first) {
             glActiveTexture(GL_TEXTURE0 + unit);
-            glBindTexture(GL_TEXTURE_2D, g->acc_tex[2u * ((pass + 1u) % 2u)]);
+            glBindTexture(GL_TEXTURE_2D, g->acc_tex[per * ((pass + 1u) % 2u)]);
             set1i(prog, "u_acc", (GLint)unit++);
-            glActiveTexture(GL_TEXTURE0 + unit);
-            glBindTexture(GL_TEXTURE_2D, g->acc_tex[2u * ((pass + 1u) % 2u) + 1u]);
-            set1i(prog, "u_acclo", (GLint)unit++);
+            if (!g->float_acc) {
+                glActiveTexture(GL_TEXTURE0 + unit);
+                glBindTexture(GL_TEXTURE_2D, g->acc_tex[2u * ((pass + 1u) % 2u) + 1u]);
+                set1i(prog, "u_acclo", (GLint)unit++);
+            }
         }
         GLint lo_loc = glGetUniformLocation(prog, "u_lo");
-        for (uint32_t h = 0; h < (last ? 1u : 2u); ++h) {
+        for (uint32_t h = 0; h < (last ? 1u : per); ++h) {
             if (last) {
                 glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)caller_fb);
             } else {
                 glBindFramebuffer(GL_FRAMEBUFFER, g->fbo[pass % 2u]);
                 glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,
-                                       g->acc_tex[2u * (pass % 2u) + h], 0);
+                                       g->acc_tex[per * (pass % 2u) + h], 0);
                 GLenum fs = glCheckFramebufferStatus(GL_FRAMEBUFFER);
                 if (fs != GL_FRAMEBUFFER_COMPLETE) {
                     glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)caller_fb);
                     logf_(g, "glCheckFramebufferStatus 0x%04x for the RGBA8 accumulator", (unsigned)fs);
                     return QIBL_E_GLES2_FRAMEBUFFER;
                 }
-                glUniform1f(lo_loc, (float)h);
+                if (lo_loc >= 0)
+                    glUniform1f(lo_loc, (float)h);
             }
             glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
             qibl_status_t st = gl_check(g, "a relighting pass");
