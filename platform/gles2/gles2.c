@@ -34,7 +34,7 @@ const char *qibl_gles2_status_str(qibl_status_t s)
     return qibl_status_str(s);
 }
 
-static void logf_(qibl_gles2_t *g, const char *fmt, ...)
+static void set_log(qibl_gles2_t *g, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
@@ -49,7 +49,7 @@ static qibl_status_t gl_check(qibl_gles2_t *g, const char *what)
         return QIBL_OK;
     while (glGetError() != GL_NO_ERROR) /* drain: GL may hold several flags */
         ;
-    logf_(g, "glGetError 0x%04x after %s", (unsigned)e, what);
+    set_log(g, "glGetError 0x%04x after %s", (unsigned)e, what);
     return QIBL_E_GLES2_GL_ERROR;
 }
 
@@ -228,7 +228,7 @@ static qibl_status_t plan(qibl_gles2_t *g, int mode)
         } else {
             pass_cost(g, mode, t0, t1, t0 > 0, &u, &v);
             if (u > g->units || v > g->uvecs) {
-                logf_(g, "one map texture needs %u units and %u uniform vectors, the pass has %u and %u", u, v,
+                set_log(g, "one map texture needs %u units and %u uniform vectors, the pass has %u and %u", u, v,
                       g->units, g->uvecs);
                 return QIBL_E_GLES2_UNITS;
             }
@@ -365,7 +365,7 @@ static qibl_status_t compile(qibl_gles2_t *g, GLenum type, const char *src, GLui
     return QIBL_OK;
 }
 
-static qibl_status_t link(qibl_gles2_t *g, const char *fs_src, GLuint *out)
+static qibl_status_t link_program(qibl_gles2_t *g, const char *fs_src, GLuint *out)
 {
     GLuint fs = 0;
     qibl_status_t st = compile(g, GL_FRAGMENT_SHADER, fs_src, &fs);
@@ -445,7 +445,7 @@ qibl_status_t qibl_gles2_init(qibl_gles2_t *g, const qibl_gles2_desc_t *d)
         return QIBL_E_NULL_POINTER;
     memset(g, 0, sizeof *g);
     if (glGetString(GL_VERSION) == NULL) {
-        logf_(g, "glGetString(GL_VERSION) returned NULL: no current context");
+        set_log(g, "glGetString(GL_VERSION) returned NULL: no current context");
         return QIBL_E_GLES2_CONTEXT;
     }
     while (glGetError() != GL_NO_ERROR)
@@ -470,7 +470,7 @@ qibl_status_t qibl_gles2_init(qibl_gles2_t *g, const qibl_gles2_desc_t *d)
     g->max_cube_size = csize > 0 ? (uint32_t)csize : 0u;
     g->highp = prec >= 23; /* fp32 significand; 0 when the GPU has no highp in fragment shaders */
     if (g->units < 2u || g->uvecs < 8u) {
-        logf_(g, "%u texture units and %u uniform vectors: at least 2 and 8 are needed", g->units, g->uvecs);
+        set_log(g, "%u texture units and %u uniform vectors: at least 2 and 8 are needed", g->units, g->uvecs);
         return QIBL_E_GLES2_UNITS;
     }
     GLuint vs = 0;
@@ -487,7 +487,7 @@ qibl_status_t qibl_gles2_init(qibl_gles2_t *g, const qibl_gles2_desc_t *d)
     st = gl_check(g, "creating the quad");
     if (st != QIBL_OK) {
         qibl_gles2_destroy(g);
-        logf_(g, "glGetError after creating the quad");
+        set_log(g, "glGetError after creating the quad");
         return st;
     }
     g->ready = 1;
@@ -611,7 +611,7 @@ qibl_status_t qibl_gles2_upload(qibl_gles2_t *g, const qibl_shmaps_t *m, const q
         return QIBL_E_SHMAP_MISMATCH;
     if (m->width > g->max_tex_size || m->height > g->max_tex_size ||
         (lut != NULL && lut->face_size > g->max_cube_size)) {
-        logf_(g, "maps %ux%u (LUT faces %u) against GL_MAX_TEXTURE_SIZE %u, cube %u", m->width, m->height,
+        set_log(g, "maps %ux%u (LUT faces %u) against GL_MAX_TEXTURE_SIZE %u, cube %u", m->width, m->height,
               lut ? lut->face_size : 0u, g->max_tex_size, g->max_cube_size);
         return QIBL_E_GLES2_SIZE;
     }
@@ -757,11 +757,11 @@ static qibl_status_t draw(qibl_gles2_t *g, drawdesc *dd, const qibl_gles2_out_t 
             sbuf b = {local, 0, sizeof local, 0};
             if (build_fs(g, mode, pass, &b) != 0) {
                 glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)caller_fb);
-                logf_(g, "generated fragment shader longer than %d bytes", SRC_SIZE);
+                set_log(g, "generated fragment shader longer than %d bytes", SRC_SIZE);
                 return QIBL_E_GLES2_COMPILE;
             }
             GLuint prog = 0;
-            qibl_status_t st = link(g, local, &prog);
+            qibl_status_t st = link_program(g, local, &prog);
             if (st != QIBL_OK) {
                 glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)caller_fb);
                 return st;
@@ -860,7 +860,7 @@ static qibl_status_t draw(qibl_gles2_t *g, drawdesc *dd, const qibl_gles2_out_t 
                 GLenum fs = glCheckFramebufferStatus(GL_FRAMEBUFFER);
                 if (fs != GL_FRAMEBUFFER_COMPLETE) {
                     glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)caller_fb);
-                    logf_(g, "glCheckFramebufferStatus 0x%04x for the RGBA8 accumulator", (unsigned)fs);
+                    set_log(g, "glCheckFramebufferStatus 0x%04x for the RGBA8 accumulator", (unsigned)fs);
                     return QIBL_E_GLES2_FRAMEBUFFER;
                 }
                 if (lo_loc >= 0)
@@ -921,11 +921,11 @@ qibl_status_t qibl_gles2_point(qibl_gles2_t *g, const qibl_shmap_point_t *pt, co
     if (pt->maps == NULL || pt->maps->k != g->k || pt->maps->channels != g->channels)
         return QIBL_E_GLES2_MISMATCH;
     if (!g->has_pmap || (pt->lut != NULL && !g->has_lut)) {
-        logf_(g, "point light needs %s, not uploaded", g->has_pmap ? "the LUT" : "the P map");
+        set_log(g, "point light needs %s, not uploaded", g->has_pmap ? "the LUT" : "the P map");
         return QIBL_E_GLES2_STATE;
     }
     if (!g->highp) {
-        logf_(g, "GL_HIGH_FLOAT in fragment shaders has under 23 bits: the P map cannot be rebuilt");
+        set_log(g, "GL_HIGH_FLOAT in fragment shaders has under 23 bits: the P map cannot be rebuilt");
         return QIBL_E_GLES2_NO_HIGHP;
     }
     drawdesc dd;
@@ -969,7 +969,7 @@ qibl_status_t qibl_gles2_srgbe_check(qibl_gles2_t *g, const uint8_t *codes, uint
     GLuint prog = 0, tex[2] = {0, 0}, fb = 0;
     GLint caller_fb = 0;
     glGetIntegerv(GL_FRAMEBUFFER_BINDING, &caller_fb);
-    qibl_status_t st = link(g, src, &prog);
+    qibl_status_t st = link_program(g, src, &prog);
     if (st != QIBL_OK)
         return st;
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
