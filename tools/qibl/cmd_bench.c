@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "qibl/cli.h"
+#include "qibl/gles_cli.h"
 #include "qibl/sh.h"
 #include "ref/sh_ref.h"
 
@@ -153,7 +154,9 @@ int qibl_cmd_bench(int argc, char **argv)
     /* not timing: the resident-memory table of docs/porting.md (exact, so not part of "all") */
     if (strcmp(what, "memory") == 0)
         rc |= qibl_bench_memory(markdown), ran = 1;
+    if (strcmp(what, "gles") == 0) /* only when asked: a GL context is not part of `all` */
+        rc |= qibl_bench_gles(quick), ran = 1;
     if (!ran)
-        return qibl_cli_usage_error("bench: unknown benchmark '%s' (all, sh, relight, srgbe, lights, asset, memory)", what);
+        return qibl_cli_usage_error("bench: unknown benchmark '%s' (all, sh, relight, srgbe, lights, asset, memory, gles)", what);
     return rc;
 }
