@@ -511,7 +511,6 @@ enum { CHUNK = 1024 }; /* pixels per upload call: a 4 KiB stack buffer, no heap 
 static void upload_maps(qibl_gles2_t *g, const qibl_shmaps_t *m)
 {
     uint8_t buf[4 * CHUNK];
-    size_t plane = (size_t)m->width * m->height;
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     for (uint32_t j = 0; j < g->ntex; ++j) {
         g->map_tex[j] = new_tex(GL_TEXTURE_2D, GL_NEAREST);
@@ -522,9 +521,11 @@ static void upload_maps(qibl_gles2_t *g, const qibl_shmaps_t *m)
                 uint32_t n = m->width - x0 < CHUNK ? m->width - x0 : CHUNK;
                 for (uint32_t q = 0; q < 4u; ++q) {
                     uint32_t p = 4u * j + q;
-                    const uint8_t *src = p < g->planes ? m->planes + p * plane + (size_t)y * m->width + x0 : NULL;
+                    /* plane p is map p / channels, channel p % channels; either layout of shmaps.h */
                     for (uint32_t x = 0; x < n; ++x)
-                        buf[4u * x + q] = src ? src[x] : 0u;
+                        buf[4u * x + q] = p < g->planes ? qibl_shmaps_texel(m, p / m->channels, p % m->channels,
+                                                                            x0 + x, y)
+                                                        : 0u;
                 }
                 glTexSubImage2D(GL_TEXTURE_2D, 0, (GLint)x0, (GLint)y, (GLsizei)n, 1, GL_RGBA, GL_UNSIGNED_BYTE, buf);
             }

@@ -73,6 +73,10 @@
 #include "qibl/shmap.h"
 #include "qibl/status.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* This backend's statuses (range QIBL_STATUS_GLES2_BASE of status.h). */
 #define QIBL_E_GLES2_GL_ERROR  ((qibl_status_t)(QIBL_STATUS_GLES2_BASE + 1)) /* glGetError reported an error (log names the call) */
 #define QIBL_E_GLES2_COMPILE   ((qibl_status_t)(QIBL_STATUS_GLES2_BASE + 2)) /* a shader did not compile (log: driver's info log) */
@@ -165,5 +169,9 @@ qibl_status_t qibl_gles2_srgbe_check(qibl_gles2_t *g, const uint8_t *codes, uint
 
 /* Deletes every GL object of g and zeroes it; safe on a zeroed or failed g. */
 void qibl_gles2_destroy(qibl_gles2_t *g);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* QIBL_GLES2_H */
