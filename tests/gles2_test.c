@@ -80,6 +80,7 @@ static void gmaps_make(gmaps *g, uint32_t w, uint32_t h, uint32_t k)
     const uint32_t ch = 3;
     const int32_t scale_mag = 1 << 17;
     grng r = {2026};
+    memset(&g->m, 0, sizeof g->m); /* zero: the planar layout */
     g->m.width = w, g->m.height = h, g->m.k = k, g->m.channels = ch;
     g->params = malloc(8u * k * ch);
     g->planes = malloc((size_t)w * h * k * ch);

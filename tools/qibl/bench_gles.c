@@ -70,7 +70,7 @@ int qibl_bench_gles(int quick)
     printf("%-6s %-14s %8s %10s\n", "k", "light", "passes", "fps");
     int rc = 0;
     for (uint32_t k = 9; k <= 25 && rc == 0; k += k == 9 ? 7u : 9u) {
-        qibl_shmaps_t m = {W, H, k, 3, params, planes};
+        qibl_shmaps_t m = {W, H, k, 3, params, planes, QIBL_SHMAPS_PLANAR};
         qibl_pmap_t pm = {W, H, points};
         size_t vs = qibl_ylut_values_size(32, k);
         uint8_t *vals = malloc(vs);
