@@ -69,7 +69,7 @@ QIBL := $(BUILD)/bin/qibl
 
 .PHONY: gles all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan examples \
         install check-install amalgamate check-amalgamate docs-memory
-.PHONY: baremetal baremetal-tables
+.PHONY: baremetal baremetal-tables docs-size
 .DEFAULT_GOAL := all
 
 all: $(LIBQIBL) $(LIBSOFT) $(QIBL)
@@ -81,6 +81,7 @@ help:
 	@echo "make demo       run the main demo (SCENE=path.obj for a mesh, DEMO_SIZE=small for the CI size)"
 	@echo "make test       build and run the CMocka suites (installs libcmocka-dev if it can)"
 	@echo "make docs-memory  regenerate the resident-memory table of docs/porting.md (make test checks it)"
+	@echo "make docs-size  rewrite docs/porting.md's size tables from a make cross run (make cross checks them)"
 	@echo "make cross      freestanding builds for Cortex-M0/M4 and RV64, checks and size table"
 	@echo "make warnings   compile core/, platform/soft/ and platform/gles2/ with gcc and clang under the strict warning set;"
 	@echo "                every public header alone as C99/C11/C++98/11/17 (tools/scripts/headers.sh)"
@@ -213,6 +214,10 @@ check-exhaustive: $(EXHAUSTIVE)
 # ---- proofs and measurements ----------------------------------------------------------------
 cross:
 	@BUILD=$(BUILD) bash tools/scripts/cross.sh
+
+# rewrites the size tables of docs/porting.md from a `make cross` run (make cross checks them)
+docs-size:
+	@QIBL_SIZE_DOC=write BUILD=$(BUILD) bash tools/scripts/cross.sh
 
 # The golden runner: plain C99 + libc (core, platform/soft, the cases, SHA-256), no CMocka, so it
 # cross-compiles anywhere. `make golden` runs it here; `make ports` builds and runs it for every

@@ -91,21 +91,26 @@ if [ -f "$out/cortex-m4/qibl-core.o" ]; then
     echo
     echo "core .text on Cortex-M4 (-Os, thumb, soft-float ABI), bytes:"
     printf '  %-12s %8s %8s\n' module .text .rodata
+    md="$out/size-table.md"
+    printf '| module | .text | .rodata |\n|---|---:|---:|\n' > "$md"
     total=0; rtotal=0
     for o in "$out"/cortex-m4/*.o; do
         m=$(basename "$o" .o); [ "$m" = qibl-core ] && continue
         t=$(arm-none-eabi-size -A "$o" | awk '$1 ~ /^\.text/ {s += $2} END {print s + 0}')
         r=$(arm-none-eabi-size -A "$o" | awk '$1 ~ /^\.rodata/ {s += $2} END {print s + 0}')
         printf '  %-12s %8d %8d\n' "$m" "$t" "$r"
+        printf '| %s | %d | %d |\n' "$m" "$t" "$r" >> "$md"
         total=$((total + t)); rtotal=$((rtotal + r))
     done
     printf '  %-12s %8d %8d\n' "core total" "$total" "$rtotal"
+    printf '| **core** | **%d** | %d |\n' "$total" "$rtotal" >> "$md"
     stotal=0; srtotal=0
     for o in "$out"/cortex-m4/platform/soft/*.o; do
         m=$(basename "$o" .o); [ "$m" = qibl-soft ] && continue
         t=$(arm-none-eabi-size -A "$o" | awk '$1 ~ /^\.text/ {s += $2} END {print s + 0}')
         r=$(arm-none-eabi-size -A "$o" | awk '$1 ~ /^\.rodata/ {s += $2} END {print s + 0}')
         printf '  %-12s %8d %8d   (platform/soft, not in the core total)\n' "$m" "$t" "$r"
+        printf '| %s (platform/soft, not in the core) | %d | %d |\n' "$m" "$t" "$r" >> "$md"
         stotal=$((stotal + t)); srtotal=$((srtotal + r))
     done
     echo "RESULT cross.m4_text_bytes $total"
@@ -116,6 +121,7 @@ if [ -f "$out/cortex-m4/qibl-core.o" ]; then
     goal=16384
     echo
     echo "core .text on Cortex-M4 -Os by config.h combination (goal: <= $goal bytes, 0 bytes .data/.bss):"
+    printf '\n| config.h combination | .text | goal (%d bytes) |\n|---|---:|---|\n' "$goal" >> "$md"
     gcc=arm-none-eabi-gcc
     inc="-nostdinc -isystem $($gcc -print-file-name=include) -isystem $($gcc -print-file-name=include-fixed)"
     combos="default (every module)|all|
@@ -139,9 +145,17 @@ no asset parser (QIBL_USE_LIGHTPROBE=0 QIBL_USE_ASSET=0)|relight-noasset|-DQIBL_
         if [ $ctotal -le $goal ]; then verdict="meets the goal ($((goal - ctotal)) bytes to spare)"
         else verdict="over the goal by $((ctotal - goal)) bytes"; fi
         printf '  %-68s %6d  %s\n' "$label" "$ctotal" "$verdict"
+        printf '| %s | %d | %s |\n' "$label" "$ctotal" "$verdict" >> "$md"
         echo "RESULT cross.m4_text_bytes.$tag $ctotal" >> "$out/config-results.txt"
     done <<< "$combos"
     cat "$out/config-results.txt" 2>/dev/null
+    # the tables in docs/porting.md are this run's: `make docs-size` rewrites them, and this check
+    # fails when they drifted (GCC arm-none-eabi as installed; other versions give other bytes)
+    if [ "${QIBL_SIZE_DOC:-check}" = write ]; then
+        bash tools/scripts/doc-block.sh size-table docs/porting.md "$md" --write
+    else
+        bash tools/scripts/doc-block.sh size-table docs/porting.md "$md" --check || err "docs/porting.md size table differs from this run: make docs-size"
+    fi
 fi
 if [ $fail = 0 ]; then echo "cross: OK"; else echo "cross: FAILED" >&2; fi
 exit $fail
