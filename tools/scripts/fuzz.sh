@@ -1,0 +1,64 @@
+#!/bin/sh
+# fuzz.sh [--replay] BIN... - run each libFuzzer target for FUZZ_SECONDS, print one line per target
+# (executions, coverage, corpus size, peak RSS) and exit non-zero if any target had a finding.
+#
+# Corpora per target NAME (BIN is .../fuzz_NAME): $BUILD/fuzz/corpus/NAME (kept between runs; new
+# inputs go there), $BUILD/fuzz/seeds/NAME (made by `make fuzz` from the project's writers) and
+# tests/fuzz/corpus/NAME (hand-made, committed). A finding leaves its input in
+# $BUILD/fuzz/artifacts/NAME/ and the log in $BUILD/fuzz/logs/NAME.log.
+# --replay: run each target once over tests/fuzz/crashes-found/NAME/* (inputs that once failed) and
+# report which still fail.
+replay=0
+if [ "${1:-}" = --replay ]; then replay=1; shift; fi
+B=${BUILD:-build}/fuzz
+secs=${FUZZ_SECONDS:-60}
+limits="-rss_limit_mb=${FUZZ_RSS_MB:-2048} -malloc_limit_mb=${FUZZ_MALLOC_MB:-512} -timeout=${FUZZ_TIMEOUT:-10}"
+mkdir -p "$B/logs"
+bad=0
+for bin in "$@"; do
+    name=${bin##*/fuzz_}
+    log=$B/logs/$name.log
+    if [ $replay = 1 ]; then
+        set -- tests/fuzz/crashes-found/"$name"/*
+        [ -e "$1" ] || { printf 'fuzz-crashes: %-10s no inputs\n' "$name"; continue; }
+        for f in "$@"; do
+            # shellcheck disable=SC2086
+            if "$bin" $limits "$f" >"$log" 2>&1; then
+                printf 'fuzz-crashes: %-10s ok    %s\n' "$name" "$f"
+            else
+                printf 'fuzz-crashes: %-10s FAILS %s: %s\n' "$name" "$f" \
+                    "$(grep -m1 -E '^(==[0-9]+==ERROR|.*runtime error|==[0-9]+== ERROR)' "$log" | cut -c1-120)"
+                bad=$((bad + 1))
+            fi
+        done
+        continue
+    fi
+    mkdir -p "$B/corpus/$name" "$B/artifacts/$name" "$B/seeds/$name"
+    dirs="$B/corpus/$name $B/seeds/$name"
+    [ -d "tests/fuzz/corpus/$name" ] && dirs="$dirs tests/fuzz/corpus/$name"
+    # shellcheck disable=SC2086
+    "$bin" -max_total_time="$secs" -print_final_stats=1 -max_len="${FUZZ_MAX_LEN:-4096}" $limits \
+        -artifact_prefix="$B/artifacts/$name/" $dirs >"$log" 2>&1
+    rc=$?
+    execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)
+    rss=$(sed -n 's/^stat::peak_rss_mb: *//p' "$log" | tail -n 1)
+    # the last status line of libFuzzer ("#N DONE cov: C ft: F corp: U/S ...")
+    last=$(grep -E '^#[0-9]+' "$log" | tail -n 1)
+    cov=$(echo "$last" | sed -n 's/.* cov: \([0-9]*\).*/\1/p')
+    ft=$(echo "$last" | sed -n 's/.* ft: \([0-9]*\).*/\1/p')
+    corp=$(echo "$last" | sed -n 's/.* corp: \([0-9]*\).*/\1/p')
+    if [ $rc = 0 ]; then
+        verdict=ok
+    else
+        verdict="FINDING (exit $rc): $(grep -m1 -E 'ERROR: |runtime error|out-of-memory|timeout|deadly signal' "$log" |
+            cut -c1-140); input: $(ls -t "$B/artifacts/$name" 2>/dev/null | head -n 1); log: $log"
+        bad=$((bad + 1))
+    fi
+    printf 'fuzz: %-10s %ss  execs %-9s cov %-5s ft %-6s corpus %-5s rss %sMB  %s\n' "$name" "$secs" \
+        "${execs:-?}" "${cov:-?}" "${ft:-?}" "${corp:-?}" "${rss:-?}" "$verdict"
+done
+if [ $bad != 0 ]; then
+    echo "fuzz: $bad finding(s)" >&2
+    exit 1
+fi
+[ $replay = 1 ] || echo "fuzz: $# target(s), no finding"
