@@ -41,7 +41,18 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     ++pos;
     FUZZ_CHECK(pos <= size && size - pos >= 4 * n);
-    int little = data[tok[2]] == '-';
+    /* the header is text: an accepted number holds no control byte (NUL, \v, \f ...) */
+#ifndef FUZZ_LENIENT_TEXT
+    for (size_t i = tok[0]; i < pos - 1; ++i)
+        FUZZ_CHECK(is_ws(data[i]) || (data[i] >= 0x20 && data[i] < 0x7F));
+#endif
+    /* the reader's own reading of the scale's sign (strtod, which skips \v and \f) */
+    char scale[64];
+    size_t sl = 0;
+    for (size_t i = tok[2]; i < pos - 1 && sl < 63; ++i)
+        scale[sl++] = (char)data[i];
+    scale[sl] = '\0';
+    int little = strtod(scale, NULL) < 0;
     for (size_t y = 0; y < (size_t)h; ++y)
         for (size_t i = 0; i < row; ++i) {
             const uint8_t *b = data + pos + 4 * (y * row + i);

@@ -4,7 +4,8 @@
 #
 # Corpora per target NAME (BIN is .../fuzz_NAME): $BUILD/fuzz/corpus/NAME (kept between runs; new
 # inputs go there), $BUILD/fuzz/seeds/NAME (made by `make fuzz` from the project's writers) and
-# tests/fuzz/corpus/NAME (hand-made, committed). A finding leaves its input in
+# tests/fuzz/corpus/NAME (hand-made, committed); tests/fuzz/NAME.dict is the target's dictionary
+# when there is one. A finding leaves its input in
 # $BUILD/fuzz/artifacts/NAME/ and the log in $BUILD/fuzz/logs/NAME.log.
 # --replay: run each target once over tests/fuzz/crashes-found/NAME/* (inputs that once failed) and
 # report which still fail.
@@ -36,8 +37,10 @@ for bin in "$@"; do
     mkdir -p "$B/corpus/$name" "$B/artifacts/$name" "$B/seeds/$name"
     dirs="$B/corpus/$name $B/seeds/$name"
     [ -d "tests/fuzz/corpus/$name" ] && dirs="$dirs tests/fuzz/corpus/$name"
+    dict=
+    [ -f "tests/fuzz/$name.dict" ] && dict=-dict=tests/fuzz/$name.dict
     # shellcheck disable=SC2086
-    "$bin" -max_total_time="$secs" -print_final_stats=1 -max_len="${FUZZ_MAX_LEN:-4096}" $limits \
+    "$bin" -max_total_time="$secs" -print_final_stats=1 -max_len="${FUZZ_MAX_LEN:-4096}" $limits $dict \
         -artifact_prefix="$B/artifacts/$name/" $dirs >"$log" 2>&1
     rc=$?
     execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)
@@ -50,8 +53,10 @@ for bin in "$@"; do
     if [ $rc = 0 ]; then
         verdict=ok
     else
-        verdict="FINDING (exit $rc): $(grep -m1 -E 'ERROR: |runtime error|out-of-memory|timeout|deadly signal' "$log" |
-            cut -c1-140); input: $(ls -t "$B/artifacts/$name" 2>/dev/null | head -n 1); log: $log"
+        why=$(grep -m1 -E 'invariant broken|runtime error|Sanitizer: [a-z]|out-of-memory|libFuzzer: timeout' "$log")
+        [ -n "$why" ] || why=$(grep -m1 -E 'ERROR: ' "$log")
+        verdict="FINDING (exit $rc): $(echo "$why" | sed 's/^.*\(invariant\)/\1/' | cut -c1-140); input:\
+ $B/artifacts/$name/$(ls -t "$B/artifacts/$name" 2>/dev/null | head -n 1); log: $log"
         bad=$((bad + 1))
     fi
     printf 'fuzz: %-10s %ss  execs %-9s cov %-5s ft %-6s corpus %-5s rss %sMB  %s\n' "$name" "$secs" \
