@@ -85,6 +85,7 @@ static void relight_rows(const qibl_shmaps_t *m, const qibl_shmap_weights_t *w, 
     fb.width = n, fb.height = 1, fb.format = (qibl_fb_format_t)(f % QIBL_FB_FORMAT_COUNT);
     fb.exposure = fuzz_u32(prm), fb.srgb = f >> 2 & 1u, fb.dither = f >> 3 & 1u;
     fb.pixels = malloc((size_t)n * qibl_fb_bytes_per_pixel(fb.format));
+    FUZZ_CHECK(qibl_fb_clear(&fb) == QIBL_OK);
     FUZZ_CHECK(qibl_fb_write_row(&fb, 0, 0, n, out) == QIBL_OK);
     FUZZ_CHECK(qibl_fb_write_row(&fb, 0, 0, n, out) == QIBL_OK); /* ACCUM32 saturates */
     if (fb.format == QIBL_FB_ACCUM32) {
@@ -201,6 +202,16 @@ static void use_asset(const qibl_asset_t *a, fuzz_in *prm)
         for (uint32_t i = 0; i < t.k; ++i)
             FUZZ_CHECK(y14[i] >= -32768 && y14[i] <= 32767);
         free(y14);
+    }
+
+    /* a LUT built by the core for these maps: exact size accepted, one byte less refused */
+    {
+        const uint32_t nf = 1u + fuzz_u8(prm) % 6u;
+        const size_t lsz = qibl_ylut_values_size(nf, m.k);
+        uint8_t *vals = malloc(lsz);
+        FUZZ_CHECK(lsz > 0 && qibl_ylut_build(nf, m.k, vals, lsz - 1u) == QIBL_E_WORKSPACE);
+        FUZZ_CHECK(qibl_ylut_build(nf, m.k, vals, lsz) == QIBL_OK);
+        free(vals);
     }
 
     /* directional lights from the parameter bytes: any of them may be the zero vector */

@@ -15,6 +15,12 @@ B=${BUILD:-build}/fuzz
 secs=${FUZZ_SECONDS:-60}
 limits="-rss_limit_mb=${FUZZ_RSS_MB:-2048} -malloc_limit_mb=${FUZZ_MALLOC_MB:-512} -timeout=${FUZZ_TIMEOUT:-10}"
 mkdir -p "$B/logs"
+# the first line of a log that says what went wrong
+why() {
+    w=$(grep -a -m1 -E 'invariant broken|runtime error|Sanitizer: [a-z]|out-of-memory|libFuzzer: timeout' "$1")
+    [ -n "$w" ] || w=$(grep -a -m1 -E 'ERROR: ' "$1")
+    echo "$w" | sed 's/^.*\(invariant\)/\1/' | cut -c1-140
+}
 bad=0
 for bin in "$@"; do
     name=${bin##*/fuzz_}
@@ -27,8 +33,7 @@ for bin in "$@"; do
             if "$bin" $limits "$f" >"$log" 2>&1; then
                 printf 'fuzz-crashes: %-10s ok    %s\n' "$name" "$f"
             else
-                printf 'fuzz-crashes: %-10s FAILS %s: %s\n' "$name" "$f" \
-                    "$(grep -m1 -E '^(==[0-9]+==ERROR|.*runtime error|==[0-9]+== ERROR)' "$log" | cut -c1-120)"
+                printf 'fuzz-crashes: %-10s FAILS %s: %s\n' "$name" "$f" "$(why "$log")"
                 bad=$((bad + 1))
             fi
         done
@@ -46,16 +51,14 @@ for bin in "$@"; do
     execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)
     rss=$(sed -n 's/^stat::peak_rss_mb: *//p' "$log" | tail -n 1)
     # the last status line of libFuzzer ("#N DONE cov: C ft: F corp: U/S ...")
-    last=$(grep -E '^#[0-9]+' "$log" | tail -n 1)
+    last=$(grep -aE '^#[0-9]+' "$log" | tail -n 1)
     cov=$(echo "$last" | sed -n 's/.* cov: \([0-9]*\).*/\1/p')
     ft=$(echo "$last" | sed -n 's/.* ft: \([0-9]*\).*/\1/p')
     corp=$(echo "$last" | sed -n 's/.* corp: \([0-9]*\).*/\1/p')
     if [ $rc = 0 ]; then
         verdict=ok
     else
-        why=$(grep -m1 -E 'invariant broken|runtime error|Sanitizer: [a-z]|out-of-memory|libFuzzer: timeout' "$log")
-        [ -n "$why" ] || why=$(grep -m1 -E 'ERROR: ' "$log")
-        verdict="FINDING (exit $rc): $(echo "$why" | sed 's/^.*\(invariant\)/\1/' | cut -c1-140); input:\
+        verdict="FINDING (exit $rc): $(why "$log"); input:\
  $B/artifacts/$name/$(ls -t "$B/artifacts/$name" 2>/dev/null | head -n 1); log: $log"
         bad=$((bad + 1))
     fi
@@ -63,7 +66,7 @@ for bin in "$@"; do
         "${execs:-?}" "${cov:-?}" "${ft:-?}" "${corp:-?}" "${rss:-?}" "$verdict"
 done
 if [ $bad != 0 ]; then
-    echo "fuzz: $bad finding(s)" >&2
+    if [ $replay = 1 ]; then echo "fuzz-crashes: $bad input(s) still fail" >&2; else echo "fuzz: $bad finding(s)" >&2; fi
     exit 1
 fi
 [ $replay = 1 ] || echo "fuzz: $# target(s), no finding"
