@@ -10,6 +10,7 @@
  *               old-style runs), pixels from the reference RGBE encoder (tools/ref/ward_rgbe.c)
  *   obj         OBJ text with every face form obj.h reads
  *   srgbe       binary32 edge values (zeros, subnormals, FLT_MAX, Inf, NaN) and Q16.16 colours
+ *   fixed       the hard cases of fixed.h (INT32_MIN, 1 and 2 LSB, extremes, directions at a pole)
  *   lightprobe  small probes in each pixel format (sRGBE ones from the core's encoder)
  * Every seed stays below FUZZ_MAX_LEN (4096 bytes).
  */
@@ -244,6 +245,20 @@ static void srgbe_seeds(void)
     put("srgbe", "codes", c, sizeof c);
 }
 
+static void fixed_seeds(void)
+{
+    /* records of three u32 and one u64: the hard cases of fixed.h (INT32_MIN, 1 and 2 LSB, the
+     * largest values, the poles of the SH basis) */
+    static const uint32_t rec[][5] = {{0x80000000u, 0x80000000u, 0x80000000u, 0xFFFFFFFFu, 0xFFFFFFFFu},
+                                      {1u, 0u, 0u, 1u, 0u},
+                                      {2u, 0xFFFFFFFFu, 1u, 0u, 0x40000000u},
+                                      {0u, 0u, 0u, 0u, 0u},
+                                      {0u, 1u, 0x7FFFFFFFu, 0xFFFFFFFEu, 0x00000001u},
+                                      {26u, 0u, 0x82A7A7A7u, 4u, 0u},
+                                      {0x00010000u, 0x00010000u, 0x00010000u, 0x12345678u, 0x9ABCDEF0u}};
+    put("fixed", "hard_cases", rec, sizeof rec);
+}
+
 static void probe_seed(const char *name, uint8_t w, uint8_t h, uint8_t fmt, uint8_t method, uint8_t count,
                        uint8_t frac, uint8_t sb)
 {
@@ -293,6 +308,7 @@ int main(int argc, char **argv)
     hdr_seeds();
     obj_seeds();
     srgbe_seeds();
+    fixed_seeds();
     probe_seed("rgbe_mediancut", 16, 8, 0, 0x00, 3, 0, 0);
     probe_seed("srgbe_adaptive", 12, 6, 1, 0x01 | 2 << 2, 0x80 | 7, 0, 0x09);
     probe_seed("i32_varmin", 8, 4, 2, 0x02 | 1 << 5, 0x80 | 5, 8, 0x01);
