@@ -2,16 +2,16 @@
 # fuzz.sh [--replay] BIN... - run each libFuzzer target for FUZZ_SECONDS, print one line per target
 # (executions, coverage, corpus size, peak RSS) and exit non-zero if any target had a finding.
 #
-# Corpora per target NAME (BIN is .../fuzz_NAME): $BUILD/fuzz/corpus/NAME (kept between runs; new
-# inputs go there), $BUILD/fuzz/seeds/NAME (made by `make fuzz` from the project's writers) and
+# Corpora per target NAME (BIN is .../fuzz_NAME), B = $FUZZ_DIR (build/fuzz): $B/corpus/NAME (kept
+# between runs; new inputs go there), $B/seeds/NAME (made by `make fuzz` from the project's writers) and
 # tests/fuzz/corpus/NAME (hand-made, committed); tests/fuzz/NAME.dict is the target's dictionary
 # when there is one. A finding leaves its input in
-# $BUILD/fuzz/artifacts/NAME/ and the log in $BUILD/fuzz/logs/NAME.log.
+# $B/artifacts/NAME/ and the log in $B/logs/NAME.log.
 # --replay: run each target once over tests/fuzz/crashes-found/NAME/* (inputs that once failed) and
 # report which still fail.
 replay=0
 if [ "${1:-}" = --replay ]; then replay=1; shift; fi
-B=${BUILD:-build}/fuzz
+B=${FUZZ_DIR:-build/fuzz}
 secs=${FUZZ_SECONDS:-60}
 limits="-rss_limit_mb=${FUZZ_RSS_MB:-2048} -malloc_limit_mb=${FUZZ_MALLOC_MB:-512} -timeout=${FUZZ_TIMEOUT:-10}"
 mkdir -p "$B/logs"
