@@ -26,11 +26,12 @@ for bin in "$@"; do
     name=${bin##*/fuzz_}
     log=$B/logs/$name.log
     if [ $replay = 1 ]; then
+        mkdir -p "$B/artifacts"
         set -- tests/fuzz/crashes-found/"$name"/*
         [ -e "$1" ] || { printf 'fuzz-crashes: %-10s no inputs\n' "$name"; continue; }
         for f in "$@"; do
             # shellcheck disable=SC2086
-            if "$bin" $limits "$f" >"$log" 2>&1; then
+            if "$bin" $limits -artifact_prefix="$B/artifacts/replay-" "$f" >"$log" 2>&1; then
                 printf 'fuzz-crashes: %-10s ok    %s\n' "$name" "$f"
             else
                 printf 'fuzz-crashes: %-10s FAILS %s: %s\n' "$name" "$f" "$(why "$log")"
