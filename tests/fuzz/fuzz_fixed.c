@@ -3,7 +3,8 @@
  * (qibl/sh.h), against exact integer (__int128) or long-double references, for the stated bounds.
  *
  * Input: records of 20 bytes (three u32, one u64), each driving every function:
- *   exact:   qibl_mul_u32_u64, qibl_mul_s32_s64, qibl_asr_s32, qibl_shr_u64, qibl_asr_s64,
+ *   exact:   qibl_sat_s32, qibl_add_sat_s32, qibl_sub_sat_s32, qibl_mul_u32_u64, qibl_mul_s32_s64,
+ *            qibl_asr_s32, qibl_shr_u64, qibl_asr_s64,
  *            qibl_udiv_u64 (quotient and remainder), qibl_isqrt_u64 (with remainder), qibl_isqrt_u32;
  *   rounded: qibl_mul_q16, qibl_mul_q30, qibl_rshr_s64 (half up, saturated), qibl_sqrt_uq16,
  *            qibl_rsqrt_uq16, qibl_recip_q16 (correctly rounded: within half an LSB, checked exactly);
@@ -38,6 +39,9 @@ static int32_t sat32(i128 v)
 static void exact(uint32_t a, uint32_t b, uint32_t c, uint64_t x)
 {
     const int32_t sa = (int32_t)a, sb = (int32_t)b;
+    FUZZ_CHECK(qibl_sat_s32((int64_t)x) == sat32((int64_t)x));
+    FUZZ_CHECK(qibl_add_sat_s32(sa, sb) == sat32((i128)sa + sb));
+    FUZZ_CHECK(qibl_sub_sat_s32(sa, sb) == sat32((i128)sa - sb));
     FUZZ_CHECK(qibl_mul_u32_u64(a, b) == (uint64_t)a * b);
     FUZZ_CHECK(qibl_mul_s32_s64(sa, sb) == (int64_t)sa * sb);
     const unsigned n32 = c % 32u, n64 = c % 64u;
