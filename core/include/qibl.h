@@ -5,6 +5,7 @@
 #define QIBL_H
 
 #include "qibl/config.h"
+#include "qibl/version.h"
 #include "qibl/status.h"
 #include "qibl/fixed.h"
 #include "qibl/sh.h"

@@ -60,6 +60,7 @@ const char *qibl_status_str(qibl_status_t s)
     case QIBL_E_PROBE_MISMATCH:   return "light probe: built without the variance tables this call needs";
     case QIBL_E_PROBE_BLACK:      return "light probe: all black, no lights";
     case QIBL_E_PROBE_RECT:       return "light probe: region outside the probe";
+    case QIBL_E_CONFIG_MISMATCH:  return "caller built with other config.h options or release than the library";
     case QIBL_STATUS_COUNT:   break;
     }
     return "unknown status";

@@ -25,6 +25,10 @@
 #include "qibl/fixed.h"
 #include "qibl/status.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Number of coefficients for a band count (bands 1..5 -> 1, 4, 9, 16, 25). */
 #define QIBL_SH_COUNT(bands) ((bands) * (bands))
 #define QIBL_SH_MAX_COUNT QIBL_SH_COUNT(QIBL_SH_MAX_BANDS)
@@ -47,5 +51,9 @@ qibl_status_t qibl_sh_eval(const qibl_q16_t dir[3], int bands, qibl_q30_t *out);
  * LSB; the error bound above then holds, and out scales with |u|^l otherwise.
  * Errors: QIBL_E_NULL_POINTER, QIBL_E_BAD_BANDS; out untouched on failure. */
 qibl_status_t qibl_sh_eval_unit(const qibl_q30_t u[3], int bands, qibl_q30_t *out);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* QIBL_SH_H */

@@ -8,6 +8,10 @@
 #ifndef QIBL_STATUS_H
 #define QIBL_STATUS_H
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef enum qibl_status {
     QIBL_OK = 0,
     QIBL_E_NULL_POINTER,   /* a required pointer argument was NULL */
@@ -67,11 +71,17 @@ typedef enum qibl_status {
     QIBL_E_PROBE_MISMATCH,         /* variance tables needed but the probe was built without them */
     QIBL_E_PROBE_BLACK,            /* the probe has no light: zero lights */
     QIBL_E_PROBE_RECT,             /* region outside the probe or inverted */
+    /* library identity (version.h) */
+    QIBL_E_CONFIG_MISMATCH,        /* caller compiled with other config.h options or another release */
     QIBL_STATUS_COUNT      /* number of status values; not a status */
 } qibl_status_t;
 
 /* A short, constant, English description of s ("ok", "null pointer argument", ...). Never NULL:
  * values outside the enum give "unknown status". */
 const char *qibl_status_str(qibl_status_t s);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* QIBL_STATUS_H */
