@@ -12,6 +12,7 @@
  *   srgbe       binary32 edge values (zeros, subnormals, FLT_MAX, Inf, NaN) and Q16.16 colours
  *   fixed       the hard cases of fixed.h (INT32_MIN, 1 and 2 LSB, extremes, directions at a pole)
  *   lightprobe  small probes in each pixel format (sRGBE ones from the core's encoder)
+ *   layout      a small sky in each probe layout (qibl_probe_layout_from_latlong, _rgbe_encode)
  * Every seed stays below FUZZ_MAX_LEN (4096 bytes).
  */
 #include <errno.h>
@@ -24,6 +25,7 @@
 #include "io/asset_write.h"
 #include "io/pfm.h"
 #include "io/png.h"
+#include "io/probe_layout.h"
 #include "qibl/shmap.h"
 #include "qibl/srgbe.h"
 #include "ref/ward_rgbe.h"
@@ -259,6 +261,50 @@ static void fixed_seeds(void)
     put("fixed", "hard_cases", rec, sizeof rec);
 }
 
+/* a small sky in every probe layout (qibl_probe_layout_from_latlong), as RGBE bytes after the
+ * requested layout (0: detect) and the size */
+static void layout_seeds(void)
+{
+    enum { LW = 16, LH = 8 };
+    float sky[3 * LW * LH];
+    for (int v = 0; v < LH; ++v)
+        for (int u = 0; u < LW; ++u) {
+            float sun = (u == 5 && v == 2) ? 400.0f : 0.0f;
+            sky[3 * (v * LW + u) + 0] = sun + 0.2f + 0.05f * (float)v;
+            sky[3 * (v * LW + u) + 1] = sun + 0.3f;
+            sky[3 * (v * LW + u) + 2] = sun + (float)(LH - v) * 0.1f;
+        }
+    static const struct {
+        qibl_probe_layout_t layout;
+        int w, h;
+        const char *name;
+    } L[] = {{QIBL_PROBE_LAYOUT_LATLONG, 16, 8, "latlong"},
+             {QIBL_PROBE_LAYOUT_ANGULAR, 16, 16, "angular"},
+             {QIBL_PROBE_LAYOUT_BALL, 15, 15, "ball"},
+             {QIBL_PROBE_LAYOUT_VCROSS, 12, 16, "vcross"},
+             {QIBL_PROBE_LAYOUT_HCROSS, 16, 12, "hcross"}};
+    for (size_t k = 0; k < sizeof L / sizeof L[0]; ++k) {
+        char err[256];
+        float *img = NULL;
+        if (qibl_probe_layout_from_latlong(L[k].layout, LW, LH, sky, L[k].w, L[k].h, &img, err, sizeof err) != 0) {
+            fprintf(stderr, "fuzz-seeds: layout %s: %s\n", L[k].name, err);
+            failed = 1;
+            continue;
+        }
+        const size_t n = (size_t)L[k].w * (size_t)L[k].h;
+        uint8_t *b = malloc(3 + 4 * n);
+        /* the square ones must be named (detection refuses them), the others are detected */
+        b[0] = (uint8_t)(L[k].layout == QIBL_PROBE_LAYOUT_ANGULAR || L[k].layout == QIBL_PROBE_LAYOUT_BALL
+                             ? L[k].layout
+                             : QIBL_PROBE_LAYOUT_AUTO);
+        b[1] = (uint8_t)(L[k].w - 1), b[2] = (uint8_t)(L[k].h - 1);
+        qibl_probe_layout_rgbe_encode(img, n, b + 3);
+        put("layout", L[k].name, b, 3 + 4 * n);
+        free(b);
+        free(img);
+    }
+}
+
 static void probe_seed(const char *name, uint8_t w, uint8_t h, uint8_t fmt, uint8_t method, uint8_t count,
                        uint8_t frac, uint8_t sb)
 {
@@ -309,6 +355,7 @@ int main(int argc, char **argv)
     obj_seeds();
     srgbe_seeds();
     fixed_seeds();
+    layout_seeds();
     probe_seed("rgbe_mediancut", 16, 8, 0, 0x00, 3, 0, 0);
     probe_seed("srgbe_adaptive", 12, 6, 1, 0x01 | 2 << 2, 0x80 | 7, 0, 0x09);
     probe_seed("i32_varmin", 8, 4, 2, 0x02 | 1 << 5, 0x80 | 5, 8, 0x01);
