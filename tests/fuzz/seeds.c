@@ -13,6 +13,7 @@
  *   fixed       the hard cases of fixed.h (INT32_MIN, 1 and 2 LSB, extremes, directions at a pole)
  *   lightprobe  small probes in each pixel format (sRGBE ones from the core's encoder)
  *   layout      a small sky in each probe layout (qibl_probe_layout_from_latlong, _rgbe_encode)
+ *   shard       two shards of one bake (qibl_bake_sums_encode), as fuzz_shard.c reads them
  * Every seed stays below FUZZ_MAX_LEN (4096 bytes).
  */
 #include <errno.h>
@@ -22,6 +23,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "bake/bake.h"
 #include "io/asset_write.h"
 #include "io/pfm.h"
 #include "io/png.h"
@@ -305,6 +307,35 @@ static void layout_seeds(void)
     }
 }
 
+/* two shards of one bake (qibl_bake_sums_encode), in fuzz_shard.c's input form: flags (repair both
+ * CRCs), the split point, the two file images */
+static void shard_seeds(void)
+{
+    int32_t pmap[2 * 1 * 3] = {65536, 131072, -196608, 0, 32768, 7};
+    int64_t acc[2][2 * 1 * 3 * 4];
+    for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 24; ++i)
+            acc[j][i] = (int64_t)(next() % 100000u) * (i % 3 ? 4096 : -977) + (j ? INT64_MAX / 4 : 0);
+    uint8_t *img[2] = {NULL, NULL};
+    size_t len[2] = {0, 0};
+    for (int j = 0; j < 2; ++j) {
+        qibl_bake_sums sh = {2, 1, 4, 64, 0, (uint32_t)j, 2, pmap, acc[j]};
+        if (qibl_bake_sums_encode(&sh, &img[j], &len[j]) != 0) {
+            fprintf(stderr, "fuzz-seeds: shard: out of memory\n");
+            failed = 1;
+        }
+    }
+    if (img[0] && img[1]) {
+        uint8_t *b = malloc(5 + len[0] + len[1]);
+        b[0] = 3, b[1] = (uint8_t)len[0], b[2] = (uint8_t)(len[0] >> 8), b[3] = 0, b[4] = 0;
+        memcpy(b + 5, img[0], len[0]);
+        memcpy(b + 5 + len[0], img[1], len[1]);
+        put("shard", "two_shards", b, 5 + len[0] + len[1]);
+        free(b);
+    }
+    free(img[0]), free(img[1]);
+}
+
 static void probe_seed(const char *name, uint8_t w, uint8_t h, uint8_t fmt, uint8_t method, uint8_t count,
                        uint8_t frac, uint8_t sb)
 {
@@ -356,6 +387,7 @@ int main(int argc, char **argv)
     srgbe_seeds();
     fixed_seeds();
     layout_seeds();
+    shard_seeds();
     probe_seed("rgbe_mediancut", 16, 8, 0, 0x00, 3, 0, 0);
     probe_seed("srgbe_adaptive", 12, 6, 1, 0x01 | 2 << 2, 0x80 | 7, 0, 0x09);
     probe_seed("i32_varmin", 8, 4, 2, 0x02 | 1 << 5, 0x80 | 5, 8, 0x01);
