@@ -93,6 +93,7 @@ help:
 	@echo "make baremetal  the golden runner on Cortex-M0/M4 and RV32 under qemu-system (semihosting): hashes, stack, insn/px"
 	@echo "make baremetal-tables  regenerate the stack and memory tables of docs/porting.md"
 	@echo "make test-asan  the suites and the CLI under AddressSanitizer + UndefinedBehaviorSanitizer (in $(BUILD)/asan)"
+	@echo "make fuzz       every libFuzzer target for FUZZ_SECONDS (default 60) each; fuzz-smoke: CI's short run"
 	@echo "make examples   build and run tools/examples/console_port, the integration example (docs/porting.md)"
 	@echo "make install    headers, $(LIBQIBL), $(LIBSOFT) and qibl.pc into PREFIX (default /usr/local; DESTDIR honoured)"
 	@echo "make check-install  install to a temporary prefix and build the example through pkg-config and CMake"
@@ -288,6 +289,67 @@ test-asan: test-deps
 	@echo "== suites under ASan + UBSan"
 	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  $(MAKE) --no-print-directory BUILD=$(BUILD)/asan OPT=-O1 SAN="$(ASAN_FLAGS)" test
+
+# ---- fuzzing (docs/robustness.md) ----------------------------------------------------------
+# libFuzzer targets: every tests/fuzz/fuzz_*.c, built with clang, ASan and UBSan (any finding aborts)
+# against an instrumented copy of the core, platform/soft and the tool code, in $(BUILD)/fuzz.
+# `make fuzz` runs each target for FUZZ_SECONDS on the seeds the project's writers make
+# ($(FUZZ_DIR)/seeds, by tests/fuzz/seeds.c) plus tests/fuzz/corpus/<target>, and fails on any
+# crash, leak, timeout or allocation above FUZZ_MALLOC_MB; `make fuzz-smoke` is CI's short run;
+# `make fuzz-crashes` replays tests/fuzz/crashes-found/<target>/* (inputs that once failed).
+# FUZZ_CORE=portable builds everything with the Cortex-M0 arithmetic paths, in $(BUILD)/fuzz-portable.
+FUZZ_CC ?= clang
+FUZZ_SECONDS ?= 60
+FUZZ_SMOKE_SECONDS ?= 10
+FUZZ_RSS_MB ?= 2048
+# per allocation: well above what any fuzz-sized input (FUZZ_MAX_LEN) legitimately decodes to
+FUZZ_MALLOC_MB ?= 512
+FUZZ_MAX_LEN ?= 4096
+FUZZ_TIMEOUT ?= 10
+FUZZ_CORE ?= native
+FUZZ_DIR := $(BUILD)/fuzz$(if $(filter portable,$(FUZZ_CORE)),-portable)
+FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+FUZZ_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -O1 -g $(FUZZ_SAN) -fsanitize=fuzzer-no-link \
+               -Icore/include -Iplatform/soft/include -Itools $(if $(filter portable,$(FUZZ_CORE)),$(PORTABLE_DEFS))
+FUZZ_SRC := $(sort $(wildcard tests/fuzz/fuzz_*.c))
+FUZZ_BIN := $(FUZZ_SRC:tests/fuzz/%.c=$(FUZZ_DIR)/bin/%)
+# everything a target may call: core, platform/soft, tools (not the CMocka-side golden check) and
+# the CLI's commands, whose main() is renamed so libFuzzer's main is the only one
+FUZZ_LIB_SRC := $(CORE_SRC) $(PLATFORM_SRC) $(filter-out tools/golden/%,$(TOOL_LIB_SRC)) $(QIBL_SRC)
+FUZZ_LIB_OBJ := $(FUZZ_LIB_SRC:%.c=$(FUZZ_DIR)/obj/%.o)
+FUZZ_LIB := $(FUZZ_DIR)/libqibl-fuzz.a
+FUZZ_SEEDS := $(FUZZ_DIR)/bin/fuzz-seeds
+
+$(FUZZ_DIR)/obj/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -Wall -Wextra -MMD -MP -c $< -o $@
+$(FUZZ_DIR)/obj/tools/qibl/main.o: FUZZ_CFLAGS += -Dmain=qibl_cli_main_unused
+
+$(FUZZ_LIB): $(FUZZ_LIB_OBJ)
+	rm -f $@ && $(AR) rcs $@ $^
+
+$(FUZZ_DIR)/bin/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz.h $(FUZZ_LIB)
+	@mkdir -p $(dir $@)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -Wall -Wextra -Werror -fsanitize=fuzzer -o $@ $< $(FUZZ_LIB) -lm -lpthread
+
+$(FUZZ_SEEDS): tests/fuzz/seeds.c $(FUZZ_LIB)
+	@mkdir -p $(dir $@)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -Wall -Wextra -Werror -o $@ $< $(FUZZ_LIB) -lm -lpthread
+
+.PHONY: fuzz fuzz-smoke fuzz-build fuzz-crashes
+fuzz-build: $(FUZZ_BIN) $(FUZZ_SEEDS)
+
+fuzz: fuzz-build
+	@rm -rf $(FUZZ_DIR)/seeds && $(FUZZ_SEEDS) $(FUZZ_DIR)/seeds
+	@FUZZ_DIR=$(FUZZ_DIR) FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_RSS_MB=$(FUZZ_RSS_MB) FUZZ_MALLOC_MB=$(FUZZ_MALLOC_MB) \
+	  FUZZ_MAX_LEN=$(FUZZ_MAX_LEN) FUZZ_TIMEOUT=$(FUZZ_TIMEOUT) sh tools/scripts/fuzz.sh $(FUZZ_BIN)
+
+fuzz-smoke:
+	@$(MAKE) --no-print-directory fuzz FUZZ_SECONDS=$(FUZZ_SMOKE_SECONDS)
+
+fuzz-crashes: fuzz-build
+	@FUZZ_DIR=$(FUZZ_DIR) FUZZ_RSS_MB=$(FUZZ_RSS_MB) FUZZ_MALLOC_MB=$(FUZZ_MALLOC_MB) FUZZ_TIMEOUT=$(FUZZ_TIMEOUT) \
+	  sh tools/scripts/fuzz.sh --replay $(FUZZ_BIN)
 
 warnings:
 	@for cc in gcc clang; do \
