@@ -42,6 +42,18 @@
 #error "QIBL_USE_SHMAP needs QIBL_USE_SH and QIBL_USE_ASSET"
 #endif
 
+/* QIBL_USE_PROBE: 1 builds the SH projection of light probes (probe.c: row-by-row projection into
+ * exact wide accumulators, irradiance and windows, lights and sun-plus-sky into a qibl_shlight_t;
+ * about 4 KiB .text on Cortex-M4 -Os, no RAM beyond the caller's workspace: 4.5 KiB + 44 bytes per
+ * probe column). Needs QIBL_USE_SH and QIBL_USE_LIGHTPROBE (pixel decoding); by default on when
+ * both are. */
+#ifndef QIBL_USE_PROBE
+#define QIBL_USE_PROBE (QIBL_USE_SH && QIBL_USE_LIGHTPROBE)
+#endif
+#if QIBL_USE_PROBE && (!QIBL_USE_SH || !QIBL_USE_LIGHTPROBE)
+#error "QIBL_USE_PROBE needs QIBL_USE_SH and QIBL_USE_LIGHTPROBE"
+#endif
+
 /* QIBL_SH_MAX_BANDS: largest band count the SH module accepts, 1..5 (bands 0..4, 25 coefficients).
  * Costs nothing in RAM; callers size their output arrays as QIBL_SH_MAX_BANDS squared. */
 #ifndef QIBL_SH_MAX_BANDS

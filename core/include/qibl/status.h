@@ -67,6 +67,10 @@ typedef enum qibl_status {
     QIBL_E_PROBE_MISMATCH,         /* variance tables needed but the probe was built without them */
     QIBL_E_PROBE_BLACK,            /* the probe has no light: zero lights */
     QIBL_E_PROBE_RECT,             /* region outside the probe or inverted */
+    /* SH rotation (sh.h) and probe projection (probe.h) */
+    QIBL_E_SH_ROTATION,            /* rotation matrix not orthonormal (within 2^-16) or a reflection */
+    QIBL_E_PROBE_ROW,              /* projection: row index outside the probe, or rows missing at finish */
+    QIBL_E_PROBE_SATURATED,        /* SH coefficients do not fit the Q16.16 light (lower scale_log2) */
     QIBL_STATUS_COUNT      /* number of status values; not a status */
 } qibl_status_t;
 
