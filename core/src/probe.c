@@ -309,16 +309,21 @@ static void row_convert(const qibl_probe_sh_t *ps, const uint8_t *row, int32_t t
     const uint32_t w = ps->width;
     uint32_t *x0 = ps->x, *x1 = x0 + w, *x2 = x1 + w;
     if (ps->format == QIBL_LIGHTPROBE_RGBE) {
-        /* x = round(m 2^(E - 136 - t + 27)): a 256-entry table of rounded right shifts (or left) */
-        const int32_t k0 = XBITS - 136 - t; /* x = m 2^(E + k0), E + k0 <= 19 */
+        /* x = round(m 2^k), k = E + k0 <= 19: with d = 20 - k >= 1, x = ((m 2^20 >> (d - 1)) + 1) >> 1,
+         * branch-free from a per-row table of d - 1 (31 for E = 0 and far below: m 2^20 < 2^28
+         * then gives 0) */
+        const int32_t k0 = XBITS - 136 - t;
+        uint8_t sh[256];
+        for (int32_t e = 0; e < 256; ++e) {
+            int32_t d1 = 19 - (e + k0);
+            sh[e] = (uint8_t)(e == 0 || d1 > 31 ? 31 : d1);
+        }
         for (uint32_t u = 0; u < w; ++u) {
             const uint8_t *q = row + 4u * (size_t)u;
-            if (q[3] == 0u) {
-                x0[u] = x1[u] = x2[u] = 0u;
-                continue;
-            }
-            int32_t k = (int32_t)q[3] + k0;
-            x0[u] = quant(q[0], k), x1[u] = quant(q[1], k), x2[u] = quant(q[2], k);
+            const unsigned k = sh[q[3]];
+            x0[u] = ((((uint32_t)q[0] << 20) >> k) + 1u) >> 1;
+            x1[u] = ((((uint32_t)q[1] << 20) >> k) + 1u) >> 1;
+            x2[u] = ((((uint32_t)q[2] << 20) >> k) + 1u) >> 1;
         }
     } else {
         const size_t pb = qibli_lightprobe_pixel_bytes(ps->format);
