@@ -5,6 +5,7 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <stdlib.h>
 
 #include "ref/sh_ref.h"
 
@@ -15,24 +16,36 @@ void qibl_ref_probe_sh(int w, int h, const double *rgb, int bands, double out[3]
     for (int c = 0; c < 3; ++c)
         for (int i = 0; i < 25; ++i)
             out[c][i] = 0.0;
-    const int n = bands * bands;
+    /* Y_lm(theta, phi) = Y_l|m|(theta, 0) cos(m phi) (m > 0), Y_l|m|(theta, 0) sin(|m| phi) (m < 0):
+     * the appendix's product form, so the basis is evaluated once per row and the trig once per
+     * column (libm), in double */
+    double *trig = malloc(sizeof *trig * 9 * (size_t)w);
+    if (trig == NULL)
+        return;
+    for (int u = 0; u < w; ++u) {
+        double ph = (u + 0.5) * 2.0 * REF_PI / w;
+        trig[9 * u] = 1.0;
+        for (int m = 1; m <= 4; ++m)
+            trig[9 * u + 2 * m - 1] = cos(m * ph), trig[9 * u + 2 * m] = sin(m * ph);
+    }
     for (int v = 0; v < h; ++v) {
-        double t = (v + 0.5) * REF_PI / h, dw = (2.0 * REF_PI / w) * (REF_PI / h) * sin(t);
-        double row[3][25] = {{0}};
+        double t = (v + 0.5) * REF_PI / h, dw = (2.0 * REF_PI / w) * (REF_PI / h) * sin(t), y[25];
+        qibl_ref_sh_eval(sin(t), 0.0, cos(t), bands, y);
+        double s[3][9] = {{0}};
         for (int u = 0; u < w; ++u) {
             const double *p = rgb + 3 * ((size_t)v * (size_t)w + (size_t)u);
-            if (p[0] == 0.0 && p[1] == 0.0 && p[2] == 0.0)
-                continue;
-            double ph = (u + 0.5) * 2.0 * REF_PI / w, y[25];
-            qibl_ref_sh_eval(sin(t) * cos(ph), sin(t) * sin(ph), cos(t), bands, y);
             for (int c = 0; c < 3; ++c)
-                for (int i = 0; i < n; ++i)
-                    row[c][i] += p[c] * y[i];
+                for (int k = 0; k < 9; ++k)
+                    s[c][k] += p[c] * trig[9 * u + k];
         }
-        for (int c = 0; c < 3; ++c)
-            for (int i = 0; i < n; ++i)
-                out[c][i] += row[c][i] * dw;
+        for (int l = 0; l < bands; ++l)
+            for (int m = -l; m <= l; ++m) {
+                int am = m < 0 ? -m : m, k = m == 0 ? 0 : m > 0 ? 2 * m - 1 : 2 * am;
+                for (int c = 0; c < 3; ++c)
+                    out[c][l * l + l + m] += s[c][k] * y[l * l + l + am] * dw;
+            }
     }
+    free(trig);
 }
 
 void qibl_ref_probe_band_factors(int bands, int irradiance, int window, double f[5])
