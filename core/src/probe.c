@@ -205,7 +205,7 @@ static uint64_t ws_bytes(uint32_t w, uint32_t h)
 {
     if (!dims_ok(w, h) || qibl_mul_u32_u64(w, h) > QIBL_LIGHTPROBE_MAX_PIXELS)
         return 0u;
-    return 4u * 3u * 25u * LIMBS + 32u * (uint64_t)trig_cols(w) + 12u * (uint64_t)w + ((h + 31u) / 32u) * 4u + 4u;
+    return 4u * 3u * 25u * LIMBS + 32u * (uint64_t)trig_cols(w) + qibl_mul_u32_u64(12u, w) + ((h + 31u) / 32u) * 4u + 4u;
 }
 
 size_t qibl_probe_sh_workspace_size(uint32_t width, uint32_t height)
@@ -377,8 +377,11 @@ static void trig_at(const qibl_probe_sh_t *ps, uint32_t u, int32_t t[8])
             t[i] = ps->trig[8u * (size_t)u + (unsigned)i];
         return;
     }
-    const uint32_t q = ps->width / 4u, k = u / q;
-    const int32_t *b = ps->trig + 8u * (size_t)(u - k * q);
+    const uint32_t q = ps->width / 4u;
+    uint32_t k = 0u; /* u / q without a division (a library call on Cortex-M0) */
+    while (u >= q)
+        u -= q, ++k;
+    const int32_t *b = ps->trig + 8u * (size_t)u;
     for (uint32_t m = 1; m <= 4u; ++m) {
         int32_t c = b[2u * (m - 1u)], s = b[2u * (m - 1u) + 1u];
         /* times i^(m k): a quarter turn maps (c, s) to (-s, c) */
@@ -397,7 +400,9 @@ static void row_sums_direct(const qibl_probe_sh_t *ps, const uint32_t *x, uint32
         s[i].hi = s[i].lo = 0u;
     for (uint32_t c0 = u0; c0 < u1; c0 += CHUNK) {
         const uint32_t c1 = u1 - c0 < CHUNK ? u1 : c0 + CHUNK;
-        int64_t a[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+        int64_t a[9];
+        for (int i = 0; i < 9; ++i) /* assigned one by one: an initialiser becomes a memset call */
+            a[i] = 0;
         for (uint32_t u = c0; u < c1; ++u) {
             int32_t t[8];
             trig_at(ps, u, t);
@@ -613,8 +618,10 @@ static uint64_t acc_top(const uint32_t *acc, int *neg, int32_t *e)
     }
     /* bits bl-1 .. bl-64 into one uint64 (63 kept + 1 for rounding) */
     const unsigned lo_bit = bl - 64u, q = lo_bit >> 5, b = lo_bit & 31u;
-    const uint64_t l0 = a[q], l1 = q + 1u < LIMBS ? a[q + 1u] : 0u, l2 = q + 2u < LIMBS ? a[q + 2u] : 0u;
-    const uint64_t w = b == 0u ? l0 | (l1 << 32) : (l0 >> b) | shl64(l1, 32u - b) | shl64(l2, 64u - b);
+    const uint32_t l0 = a[q], l1 = q + 1u < LIMBS ? a[q + 1u] : 0u, l2 = q + 2u < LIMBS ? a[q + 2u] : 0u;
+    /* 32-bit shifts only (a variable 64-bit shift is a library call on Cortex-M0) */
+    const uint64_t w = b == 0u ? ((uint64_t)l1 << 32) | l0
+                               : ((uint64_t)((l2 << (32u - b)) | (l1 >> b)) << 32) | ((l1 << (32u - b)) | (l0 >> b));
     uint64_t m = (w >> 1) + (w & 1u);
     *e = (int32_t)lo_bit + 1 + ACC_LSB;
     return m;

@@ -162,7 +162,7 @@ qibl_status_t qibl_sh_rotation_init(qibl_sh_rotation_t *rot, const qibl_q30_t r[
     /* a proper rotation: det = (r0 x r1) . r2 is +-1 within 2^-14 for orthonormal rows */
     int32_t c[3];
     for (int i = 0; i < 3; ++i) {
-        int a = (i + 1) % 3, b = (i + 2) % 3;
+        int a = i == 2 ? 0 : i + 1, b = i == 0 ? 2 : i - 1; /* (i + 1) mod 3, (i + 2) mod 3 without a division */
         c[i] = qibl_rshr_s64(qibl_mul_s32_s64(r[0][a], r[1][b]) - qibl_mul_s32_s64(r[0][b], r[1][a]), 30);
     }
     int64_t det = qibl_mul_s32_s64(c[0], r[2][0]) + qibl_mul_s32_s64(c[1], r[2][1]) + qibl_mul_s32_s64(c[2], r[2][2]);
