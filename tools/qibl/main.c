@@ -25,7 +25,7 @@ static const qibl_cli_cmd commands[] = {
      "  evaluated by the integer core; W is the tile width in pixels (default 128).\n",
      qibl_cmd_sh},
     {"bench", "benchmarks: speed against error, with RESULT lines",
-     "usage: qibl bench [all|sh|relight|srgbe|lights] [--quick] [--csv]\n"
+     "usage: qibl bench [all|sh|relight|srgbe|lights|probe] [--quick] [--csv]\n"
      "  sh: integer SH basis against the double reference from Wong et al.'s appendix:\n"
      "      ns per evaluation (median of 7 runs) and max |error| over a fixed-seed sweep.\n"
      "  relight: the relighting kernels on the procedural courtyard, 1024x256, k = 4, 9, 16, 25:\n"
@@ -41,6 +41,10 @@ static const qibl_cli_cmd commands[] = {
      "      cut milliseconds for median cut 64/256, adaptive 64, varmin 64, and the ratio of median cut 64\n"
      "      (SAT included) to one plain read pass over the probe bytes (RESULT lights.sat64_over_read);\n"
      "      then the irradiance error of every method and priority on each real probe.\n"
+     "  probe: SH projection of a 1024x512 probe (quarry_01_1k.hdr, else an integer-made one) against\n"
+     "      one 64-bit read pass of its bytes (min and median of interleaved runs), the projection's\n"
+     "      error against the double reference on every fixture probe, the rotation's error, and the\n"
+     "      ringing of the irradiance with no window, Hann and Lanczos (RESULT probe.*).\n"
      "  all: every benchmark (what `make bench` runs). --quick: fewer repetitions.\n",
      qibl_cmd_bench},
     {"gen", "write the procedural courtyard's SH maps (and P map, optional Y LUT) as an asset",
