@@ -18,6 +18,7 @@ typedef struct qibl_cli_cmd {
 } qibl_cli_cmd;
 
 int qibl_cmd_sh(int argc, char **argv);
+int qibl_cmd_sh_project(int argc, char **argv); /* cmd_probe.c: `qibl sh project` */
 int qibl_cmd_bench(int argc, char **argv);
 int qibl_cmd_srgbe(int argc, char **argv);
 

@@ -16,13 +16,17 @@ static const qibl_cli_cmd commands[] = {
     {"sh", "evaluate the integer SH basis for a direction",
      "usage: qibl sh eval [--bands B] X Y Z\n"
      "       qibl sh plot --png FILE [--tile W]\n"
+     "       qibl sh project PROBE.hdr [--bands B] [--irradiance] [--window none|hann|lanczos]\n"
      "  Prints the B*B real SH basis values Y_0 .. Y_{B*B-1} (bands 0..B-1, B in 1..5, default 5),\n"
      "  one per line as %.9f, at the direction (X, Y, Z). X, Y, Z are decimals converted to Q16.16;\n"
      "  the vector need not be unit length but must not be zero. The values are the core's Q2.30\n"
      "  integers divided by 2^30. Convention: Wong et al. appendix, index i = l*l + l + m,\n"
      "  Condon-Shortley phase (Y_3 = -0.488603 at (1, 0, 0)).\n"
      "  plot: writes a PNG of every basis function as a lat-long tile (orange > 0, blue < 0),\n"
-     "  evaluated by the integer core; W is the tile width in pixels (default 128).\n",
+     "  evaluated by the integer core; W is the tile width in pixels (default 128).\n"
+     "  project: a lat-long Radiance probe projected onto bands 0..B-1 by the integer core, row by\n"
+     "  row (qibl/probe.h): radiance coefficients, or irradiance (times the clamped-cosine A_l), with\n"
+     "  an optional Hann or Lanczos window; a table of l, m, R, G, B.\n",
      qibl_cmd_sh},
     {"bench", "benchmarks: speed against error, with RESULT lines",
      "usage: qibl bench [all|sh|relight|srgbe|lights|probe] [--quick] [--csv]\n"
