@@ -589,6 +589,10 @@ static void test_shlight_add_probe_and_saturation(void **state)
     assert_int_equal(qibl_shlight_add_probe(&bad, &img, NULL, ws, n), QIBL_E_SHMAP_K);
     assert_int_equal(qibl_shlight_add_probe(NULL, &img, NULL, ws, n), QIBL_E_NULL_POINTER);
     assert_int_equal(qibl_shlight_add_coeffs(&l, NULL, 0), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_shlight_add_coeffs(&l, &c, 513), QIBL_E_RANGE);
+    assert_int_equal(qibl_shlight_add_coeffs(&l, &c, -100), QIBL_OK); /* far below 1 LSB: adds 0 */
+    c.bands = 6;
+    assert_int_equal(qibl_shlight_add_coeffs(&l, &c, 0), QIBL_E_BAD_BANDS);
     assert_int_equal(qibl_shlight_add_probe(&l, &img, NULL, ws, n - 1), QIBL_E_WORKSPACE);
     assert_memory_equal(&l, &g, sizeof l);
     free(ws);

@@ -753,8 +753,10 @@ qibl_status_t qibl_shlight_add_coeffs(qibl_shlight_t *l, const qibl_probe_coeffs
         return QIBL_E_NULL_POINTER;
     if (l->k < 1u || l->k > (uint32_t)QIBL_SH_MAX_COUNT)
         return QIBL_E_SHMAP_K;
-    if (c->bands < 1 || c->bands > QIBL_SH_MAX_BANDS || scale_log2 < -512 || scale_log2 > 512)
+    if (c->bands < 1 || c->bands > QIBL_SH_MAX_BANDS)
         return QIBL_E_BAD_BANDS;
+    if (scale_log2 < -512 || scale_log2 > 512 || c->exp < -1024 || c->exp > 1024)
+        return QIBL_E_RANGE; /* keeps exp + 16 + scale_log2 far from int32's ends */
     const uint32_t n = l->k < (uint32_t)(c->bands * c->bands) ? l->k : (uint32_t)(c->bands * c->bands);
     const int32_t s = c->exp + 16 + scale_log2;
     for (int ch = 0; ch < 3; ++ch)

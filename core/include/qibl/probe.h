@@ -126,6 +126,7 @@ qibl_status_t qibl_probe_sh_project(const qibl_lightprobe_image_t *img, int band
 
 /* l->c[ch][i] += round(c[ch][i] 2^(exp + 16 + scale_log2)) for i < min(l->k, bands^2): the
  * coefficients as Q16.16 radiance SH. QIBL_E_NULL_POINTER, QIBL_E_SHMAP_K (l not initialised),
+ * QIBL_E_BAD_BANDS (c->bands outside 1..5), QIBL_E_RANGE (|scale_log2| > 512 or |c->exp| > 1024),
  * QIBL_E_PROBE_SATURATED (a sum beyond int32: lower scale_log2); l untouched on failure. */
 qibl_status_t qibl_shlight_add_coeffs(qibl_shlight_t *l, const qibl_probe_coeffs_t *c, int32_t scale_log2);
 
