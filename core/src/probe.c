@@ -553,7 +553,8 @@ static uint32_t band_constant(const qibl_probe_sh_t *ps, int l, const qibl_probe
     ex -= 89;
     *neg = 0;
     if (o->window != QIBL_PROBE_WINDOW_NONE) {
-        const int32_t s = (o->window == QIBL_PROBE_WINDOW_HANN ? win_hann : win_lanczos)[ps->bands - 1][l];
+        const int b = ps->bands - 1;
+        const int32_t s = o->window == QIBL_PROBE_WINDOW_HANN ? win_hann[b][l] : win_lanczos[b][l];
         k = mul_norm32(k, (uint32_t)s, &e2), ex += e2 - 30;
     }
     if (o->irradiance) {
