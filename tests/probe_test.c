@@ -379,16 +379,18 @@ static void test_bad_pixels(void **state)
     free(ws);
 }
 
-/* The largest size at the largest pixel values: 2^26 pixels (32768 x 2048) of binary32 FLT_MAX in
- * every channel, streamed as one row buffer. Nothing overflows (probe.c: 480-bit accumulators,
- * every row term below 2^177 of 2^223): L_00 is the Riemann sum of a constant, L_lm (l > 0) vanish
- * within the bound. Then RGBE's largest value (255, 255) at 4096 x 2048 the same way. */
+/* The largest sizes at the largest pixel values, streamed as one row buffer: 2^26 pixels of
+ * binary32 FLT_MAX (32768 x 2048), 2^26 pixels of int32 INT32_MAX with frac_bits -128 (2^159, the
+ * largest value of any format) in the most rows a probe can have (2048 x 32768), and RGBE's largest
+ * (255, 255) at 4096 x 2048. Nothing overflows (probe.c: 480-bit accumulators, every row term below
+ * 2^177, 2^15 rows below 2^192 of 2^223): L_00 is the Riemann sum of a constant, L_lm (l > 0)
+ * vanish within the bound except the m = 0 terms the discretisation leaves, computed here. */
 static void test_largest_size_and_values(void **state)
 {
     (void)state;
-    for (int k = 0; k < 2; ++k) {
-        const uint32_t w = k == 0 ? 32768u : 4096u, h = 2048u;
-        const size_t pb = k == 0 ? 12u : 4u;
+    for (int k = 0; k < 3; ++k) {
+        const uint32_t w = k == 0 ? 32768u : k == 1 ? 2048u : 4096u, h = k == 1 ? 32768u : 2048u;
+        const size_t pb = k < 2 ? 12u : 4u;
         uint8_t *row = malloc(pb * w);
         assert_non_null(row);
         double value;
@@ -397,6 +399,11 @@ static void test_largest_size_and_values(void **state)
             for (size_t i = 0; i < 3u * w; ++i)
                 f[i] = 0x7F7FFFFFu;
             value = ldexp(16777215.0, 104);
+        } else if (k == 1) {
+            int32_t *q = (int32_t *)(void *)row;
+            for (size_t i = 0; i < 3u * w; ++i)
+                q[i] = INT32_MAX;
+            value = ldexp((double)INT32_MAX, 128);
         } else {
             memset(row, 255, pb * w);
             value = ldexp(255.0, 255 - 136);
@@ -405,8 +412,9 @@ static void test_largest_size_and_values(void **state)
         assert_true(n > 0);
         void *ws = malloc(n);
         qibl_probe_sh_t ps;
-        assert_int_equal(qibl_probe_sh_begin(&ps, w, h, k == 0 ? QIBL_LIGHTPROBE_LINEAR_F32 : QIBL_LIGHTPROBE_RGBE, 0, 5,
-                                             ws, n), QIBL_OK);
+        const qibl_lightprobe_format_t f = k == 0 ? QIBL_LIGHTPROBE_LINEAR_F32 : k == 1 ? QIBL_LIGHTPROBE_LINEAR_I32
+                                                                                      : QIBL_LIGHTPROBE_RGBE;
+        assert_int_equal(qibl_probe_sh_begin(&ps, w, h, f, k == 1 ? -128 : 0, 5, ws, n), QIBL_OK);
         for (uint32_t v = 0; v < h; ++v)
             assert_int_equal(qibl_probe_sh_add_row(&ps, v, row), QIBL_OK);
         qibl_probe_coeffs_t c;
@@ -433,7 +441,7 @@ static void test_largest_size_and_values(void **state)
                 worst = fmax(worst, fabs(ldexp(c.c[ch][i], c.exp) - want));
             }
         printf("probe: %ux%u at the largest %s value: max |err| %.3e of L_00 %.3e (bound %.3e)\n", w, h,
-               k == 0 ? "binary32" : "RGBE", worst, l00, bound);
+               k == 0 ? "binary32" : k == 1 ? "int32" : "RGBE", worst, l00, bound);
         assert_true(worst <= bound);
         free(ws), free(row);
     }
