@@ -6,13 +6,13 @@
  *
  * Per row v (width W, 3 channels):
  *   1. T_v = max over the row's channels of (bitlen(m) + eps) (lightprobe_internal.h decoding; for
- *      sRGBE the values are 510 P). Ranges over the formats: RGBE [-127, 127], sRGBE [-118, 137],
+ *      sRGBE the values are 510 P; for RGBE the bound emax - 128 of the lit exponents, see row_scan). Ranges over the formats: RGBE [-127, 127], sRGBE [-118, 137],
  *      LINEAR_I32 [-127, 159], LINEAR_F32 [-148, 128]; so s_v = T_v - 27 is in [-175, 132].
  *   2. x = round(m 2^(eps - s_v)) <= 2^27 (an exact left shift or a rounded right shift).
  *   3. S_0 = sum x, S_mc = sum x cos(m phi_u), S_ms = sum x sin(m phi_u), m = 1..4, trig Q2.30
  *      (|t| <= 2^30). Folded path (W % 4 == 0): A = x0+x1+x2+x3 <= 2^29, |B|, |C|, |D| <= 2^28,
- *      products <= 2^59, so chunks of 8 columns stay below 2^62 in int64; direct path: products
- *      <= 2^57, chunks of 8. Chunks are added into 128-bit sums; |S| <= W 2^57 <= 2^72.
+ *      every chunk sum term <= 2^59, so chunks of 15 columns stay below 2^63 in int64; direct path:
+ *      products <= 2^57, chunks of 63. Chunks are added into 128-bit sums; |S| <= W 2^57 <= 2^72.
  *   4. Row factor f_l|m| = Y_l|m|(theta_v, phi = 0) sin theta_v = f 2^-(31 + kap_v), |f| < 2^32
  *      (|Y| < 1.1, sin from the 32-bit row weight), kap_v in [-1, 15].
  *   5. S is rounded to |S'| <= 2^62 (shift r = max(0, bitlen - 62) <= 11), and S' f (< 2^94) is
@@ -32,7 +32,8 @@
 #define LIMBS QIBL_PROBE_ACC_LIMBS
 #define ACC_LSB (-256)  /* the accumulators' bit 0 is 2^-256 */
 #define XBITS 27        /* channel integers <= 2^27 */
-#define CHUNK 8u        /* columns per int64 chunk */
+#define CHUNK_FOLD 15u  /* folded columns per int64 chunk: 15 products <= 2^59 < 2^63 */
+#define CHUNK 63u       /* direct columns per int64 chunk: 63 products <= 2^57 < 2^63 */
 #define TWO_PI_SQ_Q58 5689439577989151081u /* round(2 pi^2 2^58), as lightprobe.c */
 
 /* sigma_l in Q2.30 for N = bands (rows) and l (columns) (1 + cos(pi l / N)) / 2 and
@@ -56,7 +57,6 @@ static const int32_t irr_a[5] = {1686629713, 1124419809, 421657428, 0, -70276238
 
 /* ---- small helpers ---------------------------------------------------------------------------- */
 
-static const uint8_t bl4[16] = {0, 1, 2, 2, 3, 3, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4}; /* bit length of 0..15 */
 
 typedef struct {
     uint64_t hi, lo; /* two's complement 128-bit */
@@ -266,17 +266,19 @@ static unsigned row_scan(const qibl_probe_sh_t *ps, const uint8_t *row, int32_t 
     unsigned bad = 0u;
     int32_t t = INT32_MIN;
     if (ps->format == QIBL_LIGHTPROBE_RGBE) {
-        /* top bit of m 2^(E - 136): E + bitlen(max m), 0 for a black pixel (E = 0 or m = 0) */
-        uint32_t tmax = 0u;
+        /* T = emax - 128 (emax the largest exponent of a lit pixel): m < 2^8 puts every channel below
+         * 2^T, and Radiance's encoders store the largest channel in 128..255, so the bound is tight
+         * for them (otherwise up to 7 bits of the row's precision are given up). Branch-free, so
+         * compilers vectorise it. */
+        uint8_t emax = 0u;
         for (uint32_t u = 0; u < ps->width; ++u) {
             const uint8_t *q = row + 4u * (size_t)u;
-            uint32_t m = q[0] | q[1] | q[2]; /* same bit length as the largest */
-            uint32_t bl = m >= 16u ? 4u + bl4[m >> 4] : bl4[m];
-            uint32_t top = bl && q[3] ? q[3] + bl : 0u;
-            tmax = top > tmax ? top : tmax;
+            uint8_t lit = (uint8_t)(q[0] | q[1] | q[2]) != 0u ? 0xFFu : 0u;
+            uint8_t e = (uint8_t)(q[3] & lit);
+            emax = e > emax ? e : emax;
         }
-        if (tmax)
-            t = (int32_t)tmax - 136;
+        if (emax)
+            t = (int32_t)emax - 128;
     } else {
         const size_t pb = qibli_lightprobe_pixel_bytes(ps->format);
         for (uint32_t u = 0; u < ps->width; ++u) {
@@ -343,8 +345,8 @@ static void row_sums_folded(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s
     const uint32_t q = ps->width / 4u;
     for (int i = 0; i < 9; ++i)
         s[i].hi = s[i].lo = 0u;
-    for (uint32_t u0 = 0; u0 < q; u0 += CHUNK) {
-        const uint32_t u1 = q - u0 < CHUNK ? q : u0 + CHUNK;
+    for (uint32_t u0 = 0; u0 < q; u0 += CHUNK_FOLD) {
+        const uint32_t u1 = q - u0 < CHUNK_FOLD ? q : u0 + CHUNK_FOLD;
         int64_t a0 = 0, c1 = 0, s1 = 0, c2 = 0, s2 = 0, c3 = 0, s3 = 0, c4 = 0, s4 = 0;
         for (uint32_t u = u0; u < u1; ++u) {
             const int32_t *t = ps->trig + 8u * (size_t)u;
