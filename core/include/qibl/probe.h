@@ -29,7 +29,9 @@
  * Error bound, per coefficient, against the exact Riemann sum above:
  *     |L_lm - exact| <= 2^-26 B' + 2^-29 max |L|,   B' = sum_v W M_v dw_v,
  * M_v the largest channel value of row v (B' <= 4 pi max P; for rows of even brightness it is about
- * the probe's total sum P dw). Terms: each channel's rounding to its row scale (<= 2^-27 M_v, times
+ * the probe's total sum P dw); for RGBE, M_v = 2^(emax_v - 128) from the row's largest lit exponent
+ * (the row is scaled from its exponents alone: equal to the largest value within 2x when the largest
+ * channel's mantissa is in 128..255, as Radiance's encoders write it; 7 bits lost at worst). Terms: each channel's rounding to its row scale (<= 2^-27 M_v, times
  * |Y| <= 0.85 and W pixels), the Q2.30 trig table and row factors (<= 2^-29 relative per pixel: the
  * basis of sh.h and the row weight's 32-bit sine), the 2^-62 rounding of each row sum, and in
  * finish the 32-bit constants and the output rounding (<= 2^-29 of the largest coefficient).
