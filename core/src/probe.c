@@ -10,9 +10,13 @@
  *      LINEAR_I32 [-127, 159], LINEAR_F32 [-148, 128]; so s_v = T_v - 27 is in [-175, 132].
  *   2. x = round(m 2^(eps - s_v)) <= 2^27 (an exact left shift or a rounded right shift).
  *   3. S_0 = sum x, S_mc = sum x cos(m phi_u), S_ms = sum x sin(m phi_u), m = 1..4, trig Q2.30
- *      (|t| <= 2^30). Folded path (W % 4 == 0): A = x0+x1+x2+x3 <= 2^29, |B|, |C|, |D| <= 2^28,
- *      every chunk sum term <= 2^59, so chunks of 15 columns stay below 2^63 in int64; direct path:
- *      products <= 2^57, chunks of 63. Chunks are added into 128-bit sums; |S| <= W 2^57 <= 2^72.
+ *      (|t| <= 2^30). Folded path (W % 4 == 0): the four columns u + k W/4 fold into
+ *      A = x0+x1+x2+x3 <= 2^29, B = x0-x1+x2-x3, C = x0-x2, D = x1-x3 (|.| <= 2^28), since
+ *      e^(im(phi + k pi/2)) = i^(mk) e^(im phi); then quarter column u and its mirror q-1-u
+ *      (phi' = pi/2 - phi) combine, e.g. S_1c += (C - D') cos phi - (D - C') sin phi and
+ *      S_4s += (A - A') sin 4 phi (every m written out in row_sums_folded), each update <= 2^60, so
+ *      chunks of 7 pairs stay below 2^63 in int64; direct path: products <= 2^57, chunks of 63.
+ *      Chunks are added into 128-bit sums; |S| <= W 2^57 <= 2^72.
  *   4. Row factor f_l|m| = Y_l|m|(theta_v, phi = 0) sin theta_v = f 2^-(31 + kap_v), |f| < 2^32
  *      (|Y| < 1.1, sin from the 32-bit row weight), kap_v in [-1, 15].
  *   5. S is rounded to |S'| <= 2^62 (shift r = max(0, bitlen - 62) <= 11), and S' f (< 2^94) is
@@ -32,7 +36,7 @@
 #define LIMBS QIBL_PROBE_ACC_LIMBS
 #define ACC_LSB (-256)  /* the accumulators' bit 0 is 2^-256 */
 #define XBITS 27        /* channel integers <= 2^27 */
-#define CHUNK_FOLD 15u  /* folded columns per int64 chunk: 15 products <= 2^59 < 2^63 */
+#define CHUNK_PAIR 7u   /* folded column pairs per int64 chunk: 7 updates <= 2^60 < 2^63 */
 #define CHUNK 63u       /* direct columns per int64 chunk: 63 products <= 2^57 < 2^63 */
 #define TWO_PI_SQ_Q58 5689439577989151081u /* round(2 pi^2 2^58), as lightprobe.c */
 
@@ -342,32 +346,58 @@ static void row_convert(const qibl_probe_sh_t *ps, const uint8_t *row, int32_t t
 /* Fourier sums of one channel: s[0] = S_0, s[2m - 1] = S_mc, s[2m] = S_ms (m = 1..4). */
 static void row_sums_folded(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s[9])
 {
-    const uint32_t q = ps->width / 4u;
+    const uint32_t q = ps->width / 4u, half = q / 2u;
     for (int i = 0; i < 9; ++i)
         s[i].hi = s[i].lo = 0u;
-    for (uint32_t u0 = 0; u0 < q; u0 += CHUNK_FOLD) {
-        const uint32_t u1 = q - u0 < CHUNK_FOLD ? q : u0 + CHUNK_FOLD;
+    /* Quarter column u and its mirror u' = q - 1 - u (phi' = pi/2 - phi) share u's trig values:
+     * cos m phi' and sin m phi' are +-sin m phi and +-cos m phi, so the two columns' folds combine
+     * before the products (identities in probe.c's header): 12 products per pair and channel, 1.5
+     * per pixel. Terms: |A + A'| <= 2^30, |E|, |F|, |G|, |H|, |B +- B'| <= 2^28, so each update is
+     * at most 2^60 and chunks of 7 pairs stay below 2^63. */
+    for (uint32_t u0 = 0; u0 < half; u0 += CHUNK_PAIR) {
+        const uint32_t u1 = half - u0 < CHUNK_PAIR ? half : u0 + CHUNK_PAIR;
         int64_t a0 = 0, c1 = 0, s1 = 0, c2 = 0, s2 = 0, c3 = 0, s3 = 0, c4 = 0, s4 = 0;
         for (uint32_t u = u0; u < u1; ++u) {
+            const uint32_t v = q - 1u - u;
             const int32_t *t = ps->trig + 8u * (size_t)u;
             const int32_t p0 = (int32_t)x[u], p1 = (int32_t)x[u + q], p2 = (int32_t)x[u + 2u * q],
                           p3 = (int32_t)x[u + 3u * q];
+            const int32_t r0 = (int32_t)x[v], r1 = (int32_t)x[v + q], r2 = (int32_t)x[v + 2u * q],
+                          r3 = (int32_t)x[v + 3u * q];
             const int32_t A = p0 + p1 + p2 + p3, B = p0 - p1 + p2 - p3, C = p0 - p2, D = p1 - p3;
-            a0 += A;
-            c1 += qibl_mul_s32_s64(C, t[0]) - qibl_mul_s32_s64(D, t[1]);
-            s1 += qibl_mul_s32_s64(C, t[1]) + qibl_mul_s32_s64(D, t[0]);
-            c2 += qibl_mul_s32_s64(B, t[2]);
-            s2 += qibl_mul_s32_s64(B, t[3]);
-            c3 += qibl_mul_s32_s64(C, t[4]) + qibl_mul_s32_s64(D, t[5]);
-            s3 += qibl_mul_s32_s64(C, t[5]) - qibl_mul_s32_s64(D, t[4]);
-            c4 += qibl_mul_s32_s64(A, t[6]);
-            s4 += qibl_mul_s32_s64(A, t[7]);
+            const int32_t A2 = r0 + r1 + r2 + r3, B2 = r0 - r1 + r2 - r3, C2 = r0 - r2, D2 = r1 - r3;
+            const int32_t E = C - D2, F = D - C2, G = C + D2, H = D + C2;
+            a0 += (int64_t)A + A2;
+            c1 += qibl_mul_s32_s64(E, t[0]) - qibl_mul_s32_s64(F, t[1]);
+            s1 += qibl_mul_s32_s64(G, t[1]) + qibl_mul_s32_s64(H, t[0]);
+            c2 += qibl_mul_s32_s64(B - B2, t[2]);
+            s2 += qibl_mul_s32_s64(B + B2, t[3]);
+            c3 += qibl_mul_s32_s64(E, t[4]) + qibl_mul_s32_s64(F, t[5]);
+            s3 += qibl_mul_s32_s64(G, t[5]) - qibl_mul_s32_s64(H, t[4]);
+            c4 += qibl_mul_s32_s64(A + A2, t[6]);
+            s4 += qibl_mul_s32_s64(A - A2, t[7]);
         }
         s128_add64(&s[0], a0);
         s128_add64(&s[1], c1), s128_add64(&s[2], s1);
         s128_add64(&s[3], c2), s128_add64(&s[4], s2);
         s128_add64(&s[5], c3), s128_add64(&s[6], s3);
         s128_add64(&s[7], c4), s128_add64(&s[8], s4);
+    }
+    if (q & 1u) { /* the middle quarter column is its own mirror (phi = pi/4) */
+        const uint32_t u = half;
+        const int32_t *t = ps->trig + 8u * (size_t)u;
+        const int32_t p0 = (int32_t)x[u], p1 = (int32_t)x[u + q], p2 = (int32_t)x[u + 2u * q],
+                      p3 = (int32_t)x[u + 3u * q];
+        const int32_t A = p0 + p1 + p2 + p3, B = p0 - p1 + p2 - p3, C = p0 - p2, D = p1 - p3;
+        s128_add64(&s[0], A);
+        s128_add64(&s[1], qibl_mul_s32_s64(C, t[0]) - qibl_mul_s32_s64(D, t[1]));
+        s128_add64(&s[2], qibl_mul_s32_s64(C, t[1]) + qibl_mul_s32_s64(D, t[0]));
+        s128_add64(&s[3], qibl_mul_s32_s64(B, t[2]));
+        s128_add64(&s[4], qibl_mul_s32_s64(B, t[3]));
+        s128_add64(&s[5], qibl_mul_s32_s64(C, t[4]) + qibl_mul_s32_s64(D, t[5]));
+        s128_add64(&s[6], qibl_mul_s32_s64(C, t[5]) - qibl_mul_s32_s64(D, t[4]));
+        s128_add64(&s[7], qibl_mul_s32_s64(A, t[6]));
+        s128_add64(&s[8], qibl_mul_s32_s64(A, t[7]));
     }
 }
 

@@ -20,8 +20,8 @@
  *   - Each row is quantised on its own scale: every channel becomes x = round(P 2^(27 - T_v)) <=
  *     2^27 with T_v the row's top bit (every channel of the row is below 2^T_v).
  *   - The row's Fourier sums S_m = sum_u x T_m(phi_u) (T_m = cos or sin m phi in Q2.30) are exact
- *     integer sums (int64 chunks into 128 bits; when W % 4 == 0 the four quarter-turns are folded
- *     first, 3 multiplies per pixel and channel instead of 8).
+ *     integer sums (int64 chunks into 128 bits; when W % 4 == 0 the four quarter turns and the
+ *     mirror phi -> pi/2 - phi are folded first: 1.5 multiplies per pixel and channel instead of 8).
  *   - Each row's term S_m times the row factor Y_l|m|(theta_v, 0) sin theta_v (32-bit mantissa) is
  *     added to a 480-bit fixed-point accumulator per coefficient (bits 2^-256 .. 2^223, wide enough
  *     for every row term of every format at every size, proved in probe.c): integer addition is
@@ -109,8 +109,8 @@ qibl_status_t qibl_probe_sh_begin(qibl_probe_sh_t *ps, uint32_t width, uint32_t 
  * Errors: QIBL_E_NULL_POINTER, QIBL_E_PROBE_ROW (v >= H, or row v already added),
  * QIBL_E_PROBE_FORMAT (a 32-bit format row misaligned), QIBL_E_PROBE_NOT_FINITE, QIBL_E_PROBE_NEGATIVE
  * (NaN / Inf first, found before anything is accumulated); on failure the projection is unchanged.
- * Cost: one pass over the row to find its scale and check it, one to convert it, then 3 (W % 4 == 0)
- * or 8 multiply-adds per pixel and channel, and 3 x 25 accumulator additions per row. */
+ * Cost: one pass over the row to find its scale and check it, one to convert it, then 1.5
+ * (W % 4 == 0) or 8 multiply-adds per pixel and channel, and 3 x 25 accumulator additions per row. */
 qibl_status_t qibl_probe_sh_add_row(qibl_probe_sh_t *ps, uint32_t v, const void *row);
 
 /* The coefficients of the rows added so far, with opts applied (irradiance, window).
