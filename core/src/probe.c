@@ -535,12 +535,12 @@ qibl_status_t qibl_probe_sh_add_row(qibl_probe_sh_t *ps, uint32_t v, const void 
 {
     if (ps == 0 || row == 0 || ps->acc == 0)
         return QIBL_E_NULL_POINTER;
-    if (v >= ps->height || (ps->seen[v >> 3] >> (v & 7u)) & 1u)
+    if (v >= ps->height || ((unsigned)ps->seen[v >> 3] >> (v & 7u)) & 1u)
         return QIBL_E_PROBE_ROW;
     qibl_status_t st = add_span(ps, v, row, 0u, ps->width, 0);
     if (st != QIBL_OK)
         return st;
-    ps->seen[v >> 3] = (uint8_t)(ps->seen[v >> 3] | (1u << (v & 7u)));
+    ps->seen[v >> 3] = (uint8_t)((unsigned)ps->seen[v >> 3] | (1u << (v & 7u)));
     ps->rows++;
     return QIBL_OK;
 }
