@@ -6,8 +6,9 @@
  *
  * Per row v (width W, 3 channels):
  *   1. T_v = max over the row's channels of (bitlen(m) + eps) (lightprobe_internal.h decoding; for
- *      sRGBE the values are 510 P; for RGBE the bound emax - 128 of the lit exponents, see row_scan). Ranges over the formats: RGBE [-127, 127], sRGBE [-118, 137],
- *      LINEAR_I32 [-127, 159], LINEAR_F32 [-148, 128]; so s_v = T_v - 27 is in [-175, 132].
+ *      sRGBE the values are 510 P; for RGBE the bound emax - 128 from the lit exponents, see
+ *      row_scan). Ranges over the formats: RGBE [-127, 127], sRGBE [-118, 137], LINEAR_I32
+ *      [-127, 159], LINEAR_F32 [-148, 128]; so s_v = T_v - 27 is in [-175, 132].
  *   2. x = round(m 2^(eps - s_v)) <= 2^27 (an exact left shift or a rounded right shift).
  *   3. S_0 = sum x, S_mc = sum x cos(m phi_u), S_ms = sum x sin(m phi_u), m = 1..4, trig Q2.30
  *      (|t| <= 2^30). Folded path (W % 4 == 0): the four columns u + k W/4 fold into
