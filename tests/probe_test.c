@@ -834,6 +834,36 @@ static void test_rotation_reprojection(void **state)
     free(f0), free(f1);
 }
 
+/* qibl_shlight_rotate: a directional light's coefficients move with the rotation */
+static void test_shlight_rotate(void **state)
+{
+    (void)state;
+    qibl_q30_t r[3][3] = {{0, 0, 1 << 30}, {1 << 30, 0, 0}, {0, 1 << 30, 0}}; /* x -> y -> z -> x */
+    qibl_sh_rotation_t rot;
+    assert_int_equal(qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])r, 5), QIBL_OK);
+    const int32_t d[3] = {20000, -30000, 50000}, rd[3] = {50000, 20000, -30000}; /* r d */
+    const int32_t rgb[3] = {3 << 16, 1 << 16, 1 << 15};
+    qibl_shlight_t a, b;
+    assert_int_equal(qibl_shlight_init(&a, 16), QIBL_OK);
+    assert_int_equal(qibl_shlight_init(&b, 16), QIBL_OK);
+    assert_int_equal(qibl_shlight_add_dir(&a, d, rgb), QIBL_OK);
+    assert_int_equal(qibl_shlight_add_dir(&b, rd, rgb), QIBL_OK);
+    assert_int_equal(qibl_shlight_rotate(&a, &rot), QIBL_OK);
+    for (int c = 0; c < 3; ++c)
+        for (int i = 0; i < 25; ++i)
+            assert_true(abs(a.c[c][i] - b.c[c][i]) <= 2);
+    /* errors */
+    qibl_sh_rotation_t small;
+    assert_int_equal(qibl_sh_rotation_init(&small, (const qibl_q30_t(*)[3])r, 3), QIBL_OK);
+    qibl_shlight_t g = a;
+    assert_int_equal(qibl_shlight_rotate(&a, &small), QIBL_E_BAD_BANDS); /* 16 coefficients need 4 bands */
+    assert_int_equal(qibl_shlight_rotate(&a, NULL), QIBL_E_NULL_POINTER);
+    assert_memory_equal(&a, &g, sizeof a);
+    qibl_shlight_t bad;
+    memset(&bad, 0, sizeof bad);
+    assert_int_equal(qibl_shlight_rotate(&bad, &rot), QIBL_E_SHMAP_K);
+}
+
 /* ---- goldens and the real probes ------------------------------------------------------------ */
 
 static void test_goldens(void **state)
@@ -906,6 +936,7 @@ int main(void)
         cmocka_unit_test(test_lights_to_sh),
         cmocka_unit_test(test_sun_sky),
         cmocka_unit_test(test_rotation_reprojection),
+        cmocka_unit_test(test_shlight_rotate),
         cmocka_unit_test(test_goldens),
         cmocka_unit_test(test_real_probes),
     };
