@@ -133,12 +133,252 @@ static void test_shadow_and_pmap(void **state)
     qibl_rt_scene_free(&s);
 }
 
+/* ---- partial sums files: every header field checked before use (issue 10, findings 1 and 3) ---- */
+
+/* small synthetic sums: w x h, k, ndirs, shard/nshards; acc filled from seed */
+static void make_sums(qibl_bake_sums *s, uint32_t w, uint32_t h, uint32_t k, uint32_t ndirs, uint32_t shard,
+                      uint32_t nshards, int64_t seed)
+{
+    memset(s, 0, sizeof *s);
+    s->w = w, s->h = h, s->k = k, s->ndirs = ndirs, s->shard = shard, s->nshards = nshards;
+    s->pmap = malloc(sizeof(int32_t) * w * h * 3);
+    s->acc = malloc(sizeof(int64_t) * w * h * 3 * k);
+    assert_non_null(s->pmap);
+    assert_non_null(s->acc);
+    for (size_t i = 0; i < (size_t)w * h * 3; ++i)
+        s->pmap[i] = (int32_t)(i * 977) - 5000;
+    for (size_t i = 0; i < (size_t)w * h * 3 * k; ++i)
+        s->acc[i] = seed * (int64_t)(i + 1);
+}
+
+static void put32(uint8_t *p, uint32_t v)
+{
+    p[0] = (uint8_t)v, p[1] = (uint8_t)(v >> 8), p[2] = (uint8_t)(v >> 16), p[3] = (uint8_t)(v >> 24);
+}
+
+/* recompute both CRCs after an edit, so the edit reaches the field checks */
+static void fix_crcs(uint8_t *b, size_t n)
+{
+    put32(b + 40, qibl_crc32(0, b + QIBL_BAKE_SUMS_HEADER, n - QIBL_BAKE_SUMS_HEADER));
+    put32(b + 44, qibl_crc32(0, b, 44));
+}
+
+static void expect_decode_error(const uint8_t *b, size_t n, const char *want)
+{
+    qibl_bake_sums s;
+    char err[512] = "";
+    memset(&s, 0xA5, sizeof s);
+    if (qibl_bake_sums_decode(b, n, &s, err, sizeof err) == 0)
+        fail_msg("decoded a file that should fail with '%s'", want);
+    if (strstr(err, want) == NULL)
+        fail_msg("error '%s' does not say '%s'", err, want);
+}
+
+static void test_sums_roundtrip_and_version(void **state)
+{
+    (void)state;
+    qibl_bake_sums a, b;
+    make_sums(&a, 5, 3, 4, 64, 1, 4, -123456789012345);
+    uint8_t *buf;
+    size_t n;
+    char err[512];
+    assert_int_equal(qibl_bake_sums_encode(&a, &buf, &n), 0);
+    assert_int_equal(n, QIBL_BAKE_SUMS_HEADER + 5 * 3 * 12 + 5 * 3 * 3 * 4 * 8);
+    assert_memory_equal(buf, "QIBLSUMS", 8);
+    assert_int_equal(qibl_load_u32le(buf + 8), QIBL_BAKE_SUMS_VERSION);
+    assert_int_equal(qibl_bake_sums_decode(buf, n, &b, err, sizeof err), 0);
+    assert_int_equal(b.w, 5), assert_int_equal(b.h, 3), assert_int_equal(b.k, 4);
+    assert_int_equal(b.shard, 1), assert_int_equal(b.nshards, 4), assert_int_equal(b.ndirs, 64);
+    assert_memory_equal(a.pmap, b.pmap, 5 * 3 * 12);
+    assert_memory_equal(a.acc, b.acc, 5 * 3 * 3 * 4 * 8);
+    qibl_bake_sums_free(&b);
+    /* the file writer writes the same bytes, the reader reads them back */
+    char path[64];
+    snprintf(path, sizeof path, "/tmp/qibl_sums_rt_%d", (int)getpid());
+    assert_int_equal(qibl_bake_sums_write(&a, path, err, sizeof err), 0);
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    uint8_t *disk = malloc(n + 1);
+    assert_int_equal(fread(disk, 1, n + 1, f), n);
+    fclose(f);
+    assert_memory_equal(disk, buf, n);
+    assert_int_equal(qibl_bake_sums_read(path, &b, err, sizeof err), 0);
+    assert_memory_equal(a.acc, b.acc, 5 * 3 * 3 * 4 * 8);
+    qibl_bake_sums_free(&b);
+    /* version 1 files (no checksum) and unknown versions are refused by name */
+    memcpy(disk, "QIBLSUM1", 8);
+    expect_decode_error(disk, n, "version 1");
+    memcpy(disk, "QIBLSUMS", 8);
+    put32(disk + 8, 3);
+    fix_crcs(disk, n);
+    expect_decode_error(disk, n, "unsupported partial-sums version 3");
+    remove(path);
+    free(disk), free(buf);
+    qibl_bake_sums_free(&a);
+}
+
+/* A flipped bit anywhere is caught by a checksum before the sums are used. */
+static void test_sums_checksums_catch_flips(void **state)
+{
+    (void)state;
+    qibl_bake_sums a, b;
+    make_sums(&a, 4, 2, 2, 32, 0, 2, 77);
+    uint8_t *buf;
+    size_t n;
+    char err[512];
+    assert_int_equal(qibl_bake_sums_encode(&a, &buf, &n), 0);
+    for (size_t i = 0; i < n; i += 3) {
+        buf[i] ^= (uint8_t)(1u << (i % 8));
+        int rc = qibl_bake_sums_decode(buf, n, &b, err, sizeof err);
+        if (rc == 0)
+            fail_msg("bit %zu of byte %zu flipped: decoded", i % 8, i);
+        if (i >= 12 && strstr(err, "checksum mismatch") == NULL)
+            fail_msg("byte %zu flipped: '%s' does not name a checksum mismatch", i, err);
+        buf[i] ^= (uint8_t)(1u << (i % 8));
+    }
+    assert_int_equal(qibl_bake_sums_decode(buf, n, &b, err, sizeof err), 0);
+    qibl_bake_sums_free(&b);
+    /* through the file reader too: the error names the file */
+    char path[64];
+    snprintf(path, sizeof path, "/tmp/qibl_sums_flip_%d", (int)getpid());
+    buf[n - 1] ^= 0x10;
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(buf, 1, n, f), n);
+    fclose(f);
+    assert_int_equal(qibl_bake_sums_read(path, &b, err, sizeof err), -1);
+    assert_non_null(strstr(err, path));
+    assert_non_null(strstr(err, "checksum mismatch in the sums"));
+    remove(path);
+    free(buf);
+    qibl_bake_sums_free(&a);
+}
+
+/* Every count in the header is bounded, and the file's size must be what the header claims, before
+ * anything is allocated: a 48-byte file cannot ask for gigabytes or hours. */
+static void test_sums_header_fields_bounded(void **state)
+{
+    (void)state;
+    qibl_bake_sums a;
+    make_sums(&a, 4, 2, 2, 32, 1, 2, 5);
+    uint8_t *good;
+    size_t n;
+    assert_int_equal(qibl_bake_sums_encode(&a, &good, &n), 0);
+    static const struct {
+        unsigned off;
+        uint32_t value;
+        const char *want;
+    } cases[] = {
+        {12, 0, "width 0 outside 1..16384"},
+        {12, 16385, "width 16385 outside"},
+        {16, 0, "height 0 outside"},
+        {16, 70000, "height 70000 outside"},
+        {20, 0, "k 0 outside 1..25"},
+        {20, 26, "k 26 outside 1..25"},
+        {24, 0, "direction count 0 outside"},
+        {24, 0x7FFFFFFFu, "direction count 2147483647 outside 1..65536"},
+        {24, 65537, "direction count 65537 outside"},
+        {28, 2, "panorama kind 2"},
+        {36, 0, "shard count 0 outside"},
+        {36, 4097, "shard count 4097 outside"},
+        {36, 3, "shard count 3 outside"}, /* 32 directions are 2 blocks: at most 2 shards */
+        {32, 2, "shard index 2 not below the shard count 2"},
+        {32, 0xFFFFFFFFu, "shard index 4294967295 not below"},
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+        uint8_t *b = malloc(n);
+        memcpy(b, good, n);
+        put32(b + cases[c].off, cases[c].value);
+        fix_crcs(b, n);
+        expect_decode_error(b, n, cases[c].want);
+        free(b);
+    }
+    /* w * h above the asset's pixel limit although each side is in range */
+    uint8_t hdr[QIBL_BAKE_SUMS_HEADER];
+    memcpy(hdr, good, sizeof hdr);
+    put32(hdr + 12, 16384), put32(hdr + 16, 8192);
+    fix_crcs(hdr, sizeof hdr);
+    expect_decode_error(hdr, sizeof hdr, "size 16384x8192 above 67108864 pixels");
+    /* a header that claims a large (valid) body with none behind it: truncated, nothing allocated */
+    memcpy(hdr, good, sizeof hdr);
+    put32(hdr + 12, 16384), put32(hdr + 16, 4096), put32(hdr + 20, 25), put32(hdr + 24, 65536);
+    fix_crcs(hdr, sizeof hdr);
+    expect_decode_error(hdr, sizeof hdr, "truncated: 0 bytes of sums, the header says 41070624768");
+    char path[64], err[512];
+    snprintf(path, sizeof path, "/tmp/qibl_sums_lie_%d", (int)getpid());
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(hdr, 1, sizeof hdr, f), sizeof hdr);
+    fclose(f);
+    qibl_bake_sums b;
+    assert_int_equal(qibl_bake_sums_read(path, &b, err, sizeof err), -1);
+    assert_non_null(strstr(err, "truncated: 48 bytes, the header says 41070624816"));
+    remove(path);
+    /* short, foreign, trailing */
+    expect_decode_error(good, 0, "bad magic");
+    expect_decode_error((const uint8_t *)"PNG\r\n", 5, "bad magic");
+    expect_decode_error(good, 30, "truncated header (30 of 48 bytes)");
+    expect_decode_error(good, n - 1, "truncated");
+    uint8_t *longer = calloc(n + 5, 1);
+    memcpy(longer, good, n);
+    expect_decode_error(longer, n + 5, "5 trailing bytes after the sums");
+    free(longer);
+    /* a directory is not a sums file */
+    assert_int_equal(qibl_bake_sums_read("/tmp", &b, err, sizeof err), -1);
+    assert_non_null(strstr(err, "not a regular file"));
+    free(good);
+    qibl_bake_sums_free(&a);
+}
+
+/* Adding sums that overflow 64 bits is a named error and changes nothing (no wrapped, CRC-valid
+ * garbage asset); mismatched bakes name the first difference. */
+static void test_sums_add_overflow_and_mismatch(void **state)
+{
+    (void)state;
+    qibl_bake_sums a, b, c;
+    make_sums(&a, 3, 2, 1, 32, 0, 2, 1);
+    make_sums(&b, 3, 2, 1, 32, 1, 2, 2);
+    char err[512];
+    size_t na = 3 * 2 * 3;
+    int64_t *before = malloc(sizeof(int64_t) * na);
+    a.acc[na - 1] = INT64_MAX - 5;
+    b.acc[na - 1] = 6;
+    memcpy(before, a.acc, sizeof(int64_t) * na);
+    assert_int_equal(qibl_bake_sums_add(&a, &b, err, sizeof err), -1);
+    assert_non_null(strstr(err, "overflow 64 bits at pixel (2, 1), channel 2, coefficient 0"));
+    assert_memory_equal(a.acc, before, sizeof(int64_t) * na); /* nothing half-added */
+    a.acc[na - 1] = INT64_MIN + 5, b.acc[na - 1] = -6;
+    assert_int_equal(qibl_bake_sums_add(&a, &b, err, sizeof err), -1);
+    assert_non_null(strstr(err, "overflow"));
+    a.acc[na - 1] = INT64_MAX - 6, b.acc[na - 1] = 6; /* exactly INT64_MAX: fine */
+    assert_int_equal(qibl_bake_sums_add(&a, &b, err, sizeof err), 0);
+    assert_true(a.acc[na - 1] == INT64_MAX);
+    /* each mismatch by name */
+    make_sums(&c, 3, 2, 1, 48, 1, 2, 2);
+    assert_int_equal(qibl_bake_sums_add(&a, &c, err, sizeof err), -1);
+    assert_non_null(strstr(err, "48 directions against 32"));
+    qibl_bake_sums_free(&c);
+    make_sums(&c, 3, 2, 1, 48, 2, 3, 2);
+    c.ndirs = 32;
+    assert_int_equal(qibl_bake_sums_add(&a, &c, err, sizeof err), -1);
+    assert_non_null(strstr(err, "shard 2/3 against a split into 2"));
+    c.nshards = 2, c.shard = 1, c.pmap[4] ^= 1;
+    assert_int_equal(qibl_bake_sums_add(&a, &c, err, sizeof err), -1);
+    assert_non_null(strstr(err, "P maps differ"));
+    free(before);
+    qibl_bake_sums_free(&a), qibl_bake_sums_free(&b), qibl_bake_sums_free(&c);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_determinism_threads_and_shards),
         cmocka_unit_test(test_projection_of_unshadowed_plane),
         cmocka_unit_test(test_shadow_and_pmap),
+        cmocka_unit_test(test_sums_roundtrip_and_version),
+        cmocka_unit_test(test_sums_checksums_catch_flips),
+        cmocka_unit_test(test_sums_header_fields_bounded),
+        cmocka_unit_test(test_sums_add_overflow_and_mismatch),
     };
     return cmocka_run_group_tests_name("bake", tests, NULL, NULL);
 }

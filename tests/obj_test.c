@@ -1,7 +1,10 @@
 /*
  * obj_test.c - tools/io/obj.c: the face forms, negative indices, polygon triangulation, computed
  * normals, ignored statements, malformed files (one-line error naming file and line, nothing
- * returned), and the real meshes from ../shared/fixtures/meshes when present.
+ * returned), and the real meshes from ../shared/fixtures/meshes (skipped when absent). Hostile input
+ * (tests/fileutil.h): zeros refused from the first bytes, directories, fifos and devices named,
+ * empty and one-byte files, fan faces that would amplify memory, INT64_MIN indices, non-finite and
+ * out-of-range coordinates named with the value and line.
  */
 #include <math.h>
 #include <stdarg.h>
@@ -14,6 +17,7 @@
 #include <cmocka.h>
 
 #include "io/obj.h"
+#include "fileutil.h"
 
 static int parse(const char *text, qibl_obj_mesh *m, char *err, size_t errlen)
 {
@@ -114,12 +118,14 @@ static void test_real_meshes(void **state)
         const char *file;
         size_t ntri, nvert;
     } real[] = {{"spot_triangulated.obj", 5856, 2930}, {"teapot.obj", 6320, 3644}};
+    int missing = 0;
     for (size_t i = 0; i < 2; ++i) {
         char path[256], err[512];
         snprintf(path, sizeof path, "../shared/fixtures/meshes/%s", real[i].file);
         FILE *f = fopen(path, "rb");
         if (!f) {
-            printf("SKIP obj real mesh %s: not present\n", path);
+            printf("obj: real mesh %s missing\n", path);
+            ++missing;
             continue;
         }
         fclose(f);
@@ -138,11 +144,174 @@ static void test_real_meshes(void **state)
         assert_true(zero == 0);
         qibl_obj_free(&m);
     }
+    if (missing)
+        skip();
+}
+
+/* ---- hostile input ------------------------------------------------------------------------------ */
+
+static int rd_obj(const char *path, char *err, size_t errlen)
+{
+    qibl_obj_mesh m;
+    int rc = qibl_obj_read(path, &m, err, errlen);
+    if (rc == 0)
+        qibl_obj_free(&m);
+    return rc;
+}
+
+/* first in the suite: it measures the peak memory */
+static void test_zeros_refused_before_reading(void **state)
+{
+    (void)state;
+    fu_check_zeros_not_read(rd_obj, (size_t)64 << 20, "binary data", QIBL_OBJ_MAX_FILE_BYTES);
+}
+
+static void test_not_regular_files_named(void **state)
+{
+    (void)state;
+    fu_check_not_regular(rd_obj);
+}
+
+static void test_empty_and_one_byte_files_named(void **state)
+{
+    (void)state;
+    fu_check_empty_and_one_byte(rd_obj, '\n', "no faces");
+}
+
+static void parse_fails(const char *text, size_t len, const char *needle, const char *needle2)
+{
+    qibl_obj_mesh m;
+    memset(&m, 0x5A, sizeof m);
+    char err[256] = "";
+    assert_int_equal(qibl_obj_parse("t.obj", text, len, &m, err, sizeof err), -1);
+    assert_true(m.ntri == (size_t)0x5A5A5A5A5A5A5A5Au); /* nothing returned */
+    assert_null(strchr(err, '\n'));
+    if (!strstr(err, needle) || (needle2 && !strstr(err, needle2)))
+        fail_msg("error '%s' does not mention '%s' and '%s'", err, needle, needle2 ? needle2 : "");
+}
+
+/* A face of 256 corners written with two-byte indices ("1 2 1 2 ...") fans into 254 triangles of
+ * 144 output bytes each: ~70x the input, ~245x with the old parser's bookkeeping. More than one
+ * triangle per QIBL_OBJ_MIN_BYTES_PER_TRIANGLE bytes of the whole input is refused, at the line of
+ * the face that crosses it. */
+static void test_fan_faces_bounded_by_input(void **state)
+{
+    (void)state;
+    size_t lines = 64, cap = 64 + lines * (2 + 2 * QIBL_OBJ_MAX_FACE_CORNERS + 1);
+    char *t = malloc(cap);
+    assert_non_null(t);
+    size_t n = (size_t)snprintf(t, cap, "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
+    for (size_t l = 0; l < lines; ++l) {
+        t[n++] = 'f';
+        for (int c = 0; c < QIBL_OBJ_MAX_FACE_CORNERS; ++c)
+            t[n++] = ' ', t[n++] = (char)('1' + c % 3);
+        t[n++] = '\n';
+    }
+    parse_fails(t, n, "QIBL_OBJ_MIN_BYTES_PER_TRIANGLE", "t.obj:");
+    /* the same face once, after a realistic amount of text, is a valid (if degenerate) fan */
+    qibl_obj_mesh m;
+    char err[256];
+    size_t one = (size_t)snprintf(t, cap, "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
+    t[one++] = 'f';
+    for (int c = 0; c < QIBL_OBJ_MAX_FACE_CORNERS; ++c)
+        t[one++] = ' ', t[one++] = (char)('1' + c % 3);
+    t[one++] = '\n';
+    while (one < 4 * (QIBL_OBJ_MAX_FACE_CORNERS - 2) + 16)
+        one += (size_t)snprintf(t + one, cap - one, "# a comment line\n");
+    if (qibl_obj_parse("t.obj", t, one, &m, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    assert_int_equal(m.ntri, QIBL_OBJ_MAX_FACE_CORNERS - 2);
+    qibl_obj_free(&m);
+    free(t);
+}
+
+/* every 64-bit index is refused without overflow: INT64_MIN used to be negated (undefined
+ * behaviour; make test-asan stops on it) */
+static void test_extreme_indices_named(void **state)
+{
+    (void)state;
+    static const char *idx[] = {"-9223372036854775808", "9223372036854775807", "-9223372036854775807",
+                                "-4", "4", "99999999999999999999", "-99999999999999999999"};
+    for (size_t i = 0; i < sizeof idx / sizeof idx[0]; ++i) {
+        char text[256];
+        int n = snprintf(text, sizeof text, "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 %s\n", idx[i]);
+        parse_fails(text, (size_t)n, "t.obj:4:", i < 5 ? "out of range" : "bad vertex index");
+        n = snprintf(text, sizeof text, "v 0 0 0\nv 1 0 0\nv 1 1 0\nvn 0 0 1\nf 1//1 2//1 3//%s\n", idx[i]);
+        parse_fails(text, (size_t)n, "t.obj:5:", i < 5 ? "normal index" : "bad normal index");
+    }
+}
+
+/* a coordinate that is not finite, or whose magnitude (after dividing by w) is above
+ * QIBL_OBJ_MAX_COORD, is named with its value and line: `v 1e300 0 0 1e-300` (x / w = inf) used to
+ * make the whole mesh vanish with success */
+static void test_bad_coordinates_named(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *v, *needle, *needle2;
+    } bad[] = {
+        {"v 1e300 0 0 1e-300", "x = inf", "after dividing by w"},
+        {"v 0 1e300 0 1e-300", "y = inf", NULL},
+        {"v 0 0 -1e300 1e-300", "z = -inf", NULL},
+        {"v 1e16 0 0", "x = 1e+16", "QIBL_OBJ_MAX_COORD"},
+        {"v 0 0 1 1e-16", "z = 1e+16", "after dividing by w"},
+        {"v inf 0 0", "non-finite number 'inf'", NULL},
+        {"v 0 nan 0", "non-finite number 'nan'", NULL},
+        {"v 0 0 -INF", "non-finite number '-INF'", NULL},
+        {"v 0 0 0 nan", "non-finite number 'nan'", NULL},
+        {"v 1e999 0 0", "'1e999'", NULL}, /* strtod overflows to inf */
+        {"vn 1e300 0 0", "normal coordinate x = 1e+300", NULL},
+        {"vn 0 inf 0", "non-finite number 'inf'", NULL},
+        {"v 0 0 0x", "bad number '0x'", NULL},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        char text[256];
+        int n = snprintf(text, sizeof text, "v 0 0 0\nv 1 0 0\n%s\nv 0 1 0\nf 1 2 4\n", bad[i].v);
+        parse_fails(text, (size_t)n, bad[i].needle, bad[i].needle2);
+        parse_fails(text, (size_t)n, "t.obj:3:", NULL);
+    }
+    /* the limit itself, tiny values and underflow to zero are fine */
+    const char *ok = "v 1e15 -1e15 1e-300\nv 1e-400 0 0\nv 0 1 0\nf 1 2 3\n";
+    qibl_obj_mesh m;
+    char err[256];
+    if (qibl_obj_parse("t.obj", ok, strlen(ok), &m, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    assert_true(m.pos[0] == 1e15 && m.pos[3] == 0.0);
+    qibl_obj_free(&m);
+}
+
+/* a tiny but real triangle keeps a unit normal: its cross product (1e-320) squares to zero, so the
+ * normal is taken after scaling; huge given normals too (found by the fuzzer's normal check) */
+static void test_tiny_and_huge_normals_unit(void **state)
+{
+    (void)state;
+    const char *text = "v 0 0 0\nv 1e-160 0 0\nv 0 1e-160 0\nvn 0 1e15 1e15\nvn 0 0 1e-200\n"
+                       "f 1 2 3\nf 1//1 2//1 3//1\nf 1//2 2//2 3//2\n";
+    qibl_obj_mesh m;
+    char err[256];
+    if (qibl_obj_parse("t.obj", text, strlen(text), &m, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    assert_int_equal(m.ntri, 3);
+    double s = sqrt(0.5);
+    for (int c = 0; c < 3; ++c) {
+        const double *n0 = m.nrm + 3 * c, *n1 = m.nrm + 9 + 3 * c, *n2 = m.nrm + 18 + 3 * c;
+        assert_true(n0[0] == 0.0 && n0[1] == 0.0 && fabs(n0[2] - 1.0) < 1e-15);
+        assert_true(n1[0] == 0.0 && fabs(n1[1] - s) < 1e-15 && fabs(n1[2] - s) < 1e-15);
+        assert_true(n2[0] == 0.0 && n2[1] == 0.0 && n2[2] == 1.0);
+    }
+    qibl_obj_free(&m);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_zeros_refused_before_reading),
+        cmocka_unit_test(test_not_regular_files_named),
+        cmocka_unit_test(test_empty_and_one_byte_files_named),
+        cmocka_unit_test(test_fan_faces_bounded_by_input),
+        cmocka_unit_test(test_extreme_indices_named),
+        cmocka_unit_test(test_bad_coordinates_named),
+        cmocka_unit_test(test_tiny_and_huge_normals_unit),
         cmocka_unit_test(test_quad_negative_indices_and_normals),
         cmocka_unit_test(test_face_forms),
         cmocka_unit_test(test_smooth_normals_average),

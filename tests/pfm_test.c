@@ -1,7 +1,9 @@
 /*
  * pfm_test.c - tools/io/pfm.c: both byte orders, colour and grey, row order, round trip through the
  * writer, and every malformed header/truncation giving a one-line error that names the file with
- * nothing returned.
+ * nothing returned. Hostile files (tests/fileutil.h): zeros refused by the magic before the body is
+ * read, directories, fifos and devices named, empty and one-byte files, a header claiming more
+ * pixels than the limit or than the file holds, and non-finite samples named with their position.
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -14,6 +16,7 @@
 #include <cmocka.h>
 
 #include "io/pfm.h"
+#include "fileutil.h"
 
 /* builds a PFM image: header text, then samples in the given byte order, rows bottom first */
 static size_t make(uint8_t *buf, const char *hdr, const float *px, int w, int h, int ch, int little)
@@ -124,9 +127,138 @@ static void test_write_round_trip(void **state)
     assert_non_null(strstr(err, "/nonexistent/dir/x.pfm"));
 }
 
+/* ---- hostile files ---------------------------------------------------------------------------- */
+
+static int rd_pfm(const char *path, char *err, size_t errlen)
+{
+    int w, h, ch;
+    float *px;
+    int rc = qibl_pfm_read(path, &w, &h, &ch, &px, err, errlen);
+    if (rc == 0)
+        free(px);
+    return rc;
+}
+
+/* first in the suite: it measures the peak memory */
+static void test_zeros_refused_by_magic_before_reading(void **state)
+{
+    (void)state;
+    fu_check_zeros_not_read(rd_pfm, (size_t)64 << 20, "not a PFM", QIBL_PFM_MAX_FILE_BYTES);
+}
+
+static void test_not_regular_files_named(void **state)
+{
+    (void)state;
+    fu_check_not_regular(rd_pfm);
+}
+
+static void test_empty_and_one_byte_files_named(void **state)
+{
+    (void)state;
+    fu_check_empty_and_one_byte(rd_pfm, 'P', "too short");
+}
+
+static void decode_fails(const char *hdr, size_t body, const char *needle)
+{
+    size_t n = strlen(hdr);
+    uint8_t *b = calloc(1, n + body + 1);
+    assert_non_null(b);
+    memcpy(b, hdr, n);
+    int w = -7, h = -7, ch = -7;
+    float *px = NULL;
+    char err[256] = "";
+    assert_int_equal(qibl_pfm_decode(b, n + body, &w, &h, &ch, &px, err, sizeof err), -1);
+    assert_true(w == -7 && h == -7 && ch == -7 && px == NULL);
+    if (!strstr(err, needle))
+        fail_msg("error '%s' does not mention '%s'", err, needle);
+    free(b);
+}
+
+/* dimensions past QIBL_PFM_MAX_PIXELS (the core's 2^26) are refused from the header; within it, a
+ * body shorter than the header claims is refused before allocating */
+static void test_lying_header_refused(void **state)
+{
+    (void)state;
+    decode_fails("PF\n65535 65535\n-1\n", 16, "QIBL_PFM_MAX_PIXELS");
+    decode_fails("Pf\n8193 8192\n-1\n", 16, "QIBL_PFM_MAX_PIXELS");
+    decode_fails("PF\n8192 8192\n-1\n", 16, "truncated");
+    decode_fails("PF\n2 2\n-1\n", 47, "truncated"); /* one byte short of 48 */
+}
+
+/* the header is text: a NUL inside a number (strtol would stop at it and accept "2") or a \v before
+ * the scale (strtod would skip it) is named with its offset (found by the fuzzer) */
+static void test_header_control_bytes_named(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *h;
+        size_t n;
+        const char *needle;
+    } bad[] = {
+        {"Pf 2\0 1 -1.0\n", 13, "byte 0x00 at offset 4"},
+        {"Pf 2 1 \v-1.0\n", 13, "byte 0x0b at offset 7"},
+        {"Pf 2 1\f -1.0\n", 13, "byte 0x0c at offset 6"},
+        {"PF 1 1 -1\x80\n", 12, "byte 0x80 at offset 9"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        uint8_t b[64] = {0};
+        memcpy(b, bad[i].h, bad[i].n);
+        int w = -7, h = -7, ch = -7;
+        float *px = NULL;
+        char err[256] = "";
+        assert_int_equal(qibl_pfm_decode(b, bad[i].n + 24, &w, &h, &ch, &px, err, sizeof err), -1);
+        assert_true(w == -7 && px == NULL);
+        if (!strstr(err, bad[i].needle))
+            fail_msg("case %zu: error '%s' does not mention '%s'", i, err, bad[i].needle);
+    }
+}
+
+/* a NaN or an infinity anywhere is refused with its value and position (qibl check used to accept
+ * the infinities `render --rgb 1e308` wrote) */
+static void test_non_finite_samples_named(void **state)
+{
+    (void)state;
+    static const struct {
+        uint32_t bits;
+        const char *name;
+    } bad[] = {{0x7F800000u, "inf"}, {0xFF800000u, "-inf"}, {0x7FC00000u, "nan"}, {0xFFFFFFFFu, "nan"}};
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; ++k) {
+        float px[3 * 3 * 2];
+        for (int i = 0; i < 18; ++i)
+            px[i] = (float)i;
+        memcpy(&px[3 * (3 * 1 + 2) + 1], &bad[k].bits, 4); /* column 2, row 1 from the top, green */
+        uint8_t buf[256];
+        size_t n = make(buf, "PF\n3 2\n-1\n", px, 3, 2, 3, 1);
+        int w = -7, h = -7, ch = -7;
+        float *out = NULL;
+        char err[256] = "", want[96];
+        assert_int_equal(qibl_pfm_decode(buf, n, &w, &h, &ch, &out, err, sizeof err), -1);
+        assert_true(w == -7 && h == -7 && ch == -7 && out == NULL);
+        snprintf(want, sizeof want, "sample %s at column 2, row 1 from the top, channel 1", bad[k].name);
+        if (!strstr(err, want))
+            fail_msg("error '%s' does not say '%s'", err, want);
+    }
+    /* the largest finite values are fine */
+    float big[3] = {3.4028235e38f, -3.4028235e38f, 1e-45f};
+    uint8_t buf[64];
+    size_t n = make(buf, "PF\n1 1\n-1\n", big, 1, 1, 3, 1);
+    int w, h, ch;
+    float *out;
+    char err[256];
+    assert_int_equal(qibl_pfm_decode(buf, n, &w, &h, &ch, &out, err, sizeof err), 0);
+    assert_memory_equal(out, big, sizeof big);
+    free(out);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_zeros_refused_by_magic_before_reading),
+        cmocka_unit_test(test_not_regular_files_named),
+        cmocka_unit_test(test_empty_and_one_byte_files_named),
+        cmocka_unit_test(test_lying_header_refused),
+        cmocka_unit_test(test_non_finite_samples_named),
+        cmocka_unit_test(test_header_control_bytes_named),
         cmocka_unit_test(test_both_endians_and_kinds),
         cmocka_unit_test(test_malformed),
         cmocka_unit_test(test_write_round_trip),

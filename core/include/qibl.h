@@ -5,6 +5,7 @@
 #define QIBL_H
 
 #include "qibl/config.h"
+#include "qibl/version.h"
 #include "qibl/status.h"
 #include "qibl/fixed.h"
 #include "qibl/sh.h"
@@ -12,5 +13,6 @@
 #include "qibl/asset.h"
 #include "qibl/shmap.h"
 #include "qibl/lightprobe.h"
+#include "qibl/probe.h"
 
 #endif /* QIBL_H */

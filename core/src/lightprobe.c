@@ -179,7 +179,8 @@ static uint64_t div128(const u128 *n, uint64_t d, uint64_t *rem)
     uint64_t un10 = lp_shl(n->lo, s);
     uint32_t vn1 = (uint32_t)(d >> 32), vn0 = (uint32_t)d;
     uint32_t un1 = (uint32_t)(un10 >> 32), un0 = (uint32_t)un10;
-    uint64_t rhat;
+    uint64_t rhat = 0; /* always written (vn1 != 0); set for GCC, which sees the d == 0 path when
+                        * fixed.c is inlined (the amalgamation, LTO) and warns */
     uint64_t q1 = qibl_udiv_u64(un32, vn1, &rhat);
     while (q1 >= b || qibl_mul_u32_u64((uint32_t)q1, vn0) > ((rhat << 32) | un1)) {
         --q1;

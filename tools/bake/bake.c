@@ -6,13 +6,16 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "io/asset_write.h"
+#include "io/atomic.h"
 #include "qibl/asset.h"
 #include "qibl/shmap.h"
 #include "qibl/soft.h"
@@ -97,7 +100,8 @@ static void bar(void *ctx, uint32_t done, uint32_t rows)
 int qibl_bake_run(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, uint32_t ndirs, uint32_t k,
                   uint32_t shard, uint32_t nshards, int threads, int progress, qibl_bake_sums *out)
 {
-    if (k < 1 || k > 25 || ndirs < 1 || nshards < 1 || shard >= nshards || w < 1 || h < 1)
+    if (k < 1 || k > 25 || ndirs < 1 || ndirs > QIBL_BAKE_MAX_DIRS || nshards < 1 || nshards > QIBL_BAKE_MAX_SHARDS ||
+        shard >= nshards || w < 1 || h < 1)
         return -1;
     memset(out, 0, sizeof *out);
     size_t np = (size_t)w * h;
@@ -129,119 +133,351 @@ void qibl_bake_sums_free(qibl_bake_sums *s)
 
 /* ---- partial sums files -------------------------------------------------------------------------- */
 
-int qibl_bake_sums_write(const qibl_bake_sums *s, const char *path, char *err, size_t errlen)
+/* Layout (bake.h): 48-byte header, then the body: pmap (np * 3 i32), acc (np * 3 * k i64). The
+ * header is checked (magic, version, CRC, every field against its limit) and the body's length
+ * against what the header claims before anything is allocated, so memory and time are linear in
+ * the file's size; the body CRC is checked before the sums are handed out. */
+
+static const uint8_t sums_magic[8] = {'Q', 'I', 'B', 'L', 'S', 'U', 'M', 'S'};
+
+static int efail(char *err, size_t errlen, const char *name, const char *fmt, ...)
 {
-    size_t np = (size_t)s->w * s->h, tl = strlen(path) + 5;
-    char *tmp = malloc(tl);
-    if (!tmp) {
-        snprintf(err, errlen, "%s: out of memory", path);
+    va_list ap;
+    size_t o = 0;
+    if (!err || !errlen)
         return -1;
+    err[0] = '\0';
+    if (name) {
+        snprintf(err, errlen, "%s: ", name);
+        o = strlen(err);
     }
-    snprintf(tmp, tl, "%s.tmp", path);
-    FILE *f = fopen(tmp, "wb");
-    if (!f) {
-        snprintf(err, errlen, "%s: cannot create: %s", tmp, strerror(errno));
-        free(tmp);
-        return -1;
-    }
-    uint8_t hdr[36];
-    memcpy(hdr, "QIBLSUM1", 8);
-    uint32_t f7[7] = {s->w, s->h, s->k, s->ndirs, s->kind, s->shard, s->nshards};
+    va_start(ap, fmt);
+    if (o < errlen)
+        vsnprintf(err + o, errlen - o, fmt, ap);
+    va_end(ap);
+    return -1;
+}
+
+/* body bytes the header's fields claim (fields already in range: cannot overflow 64 bits) */
+static uint64_t body_bytes(const qibl_bake_sums *s)
+{
+    uint64_t np = (uint64_t)s->w * s->h;
+    return np * 12 + np * 3 * s->k * 8;
+}
+
+/* Parses and checks the header in the avail bytes at h; fills the fields of *s (no arrays) and
+ * *body. 0 or -1 with the reason (named by name, may be NULL). */
+static int parse_header(const char *name, const uint8_t *h, size_t avail, qibl_bake_sums *s, uint64_t *body,
+                        char *err, size_t errlen)
+{
+    memset(s, 0, sizeof *s);
+    if (avail >= 8 && memcmp(h, "QIBLSUM1", 8) == 0)
+        return efail(err, errlen, name, "a version 1 partial-sums file (no checksums): re-run its bake shard");
+    if (avail < 8 || memcmp(h, sums_magic, 8) != 0)
+        return efail(err, errlen, name, "not a qibl partial-sums file (bad magic)");
+    if (avail < 12)
+        return efail(err, errlen, name, "truncated header (%zu of %u bytes)", avail, QIBL_BAKE_SUMS_HEADER);
+    uint32_t version = qibl_load_u32le(h + 8);
+    if (version != QIBL_BAKE_SUMS_VERSION)
+        return efail(err, errlen, name, "unsupported partial-sums version %u (this qibl reads version %u)", version,
+                     QIBL_BAKE_SUMS_VERSION);
+    if (avail < QIBL_BAKE_SUMS_HEADER)
+        return efail(err, errlen, name, "truncated header (%zu of %u bytes)", avail, QIBL_BAKE_SUMS_HEADER);
+    uint32_t stored = qibl_load_u32le(h + 44), crc = qibl_crc32(0, h, 44);
+    if (stored != crc)
+        return efail(err, errlen, name, "header checksum mismatch (stored %08x, computed %08x): the file is damaged",
+                     stored, crc);
+    uint32_t v[7];
     for (int i = 0; i < 7; ++i)
-        qibl_store_u32le(hdr + 8 + 4 * i, f7[i]);
-    int bad = fwrite(hdr, 1, 36, f) != 36;
-    uint8_t buf[8 * 75];
-    for (size_t p = 0; p < np && !bad; ++p) {
-        for (int c = 0; c < 3; ++c)
-            qibl_store_s32le(buf + 4 * c, s->pmap[3 * p + (size_t)c]);
-        bad |= fwrite(buf, 1, 12, f) != 12;
+        v[i] = qibl_load_u32le(h + 12 + 4 * i);
+    s->w = v[0], s->h = v[1], s->k = v[2], s->ndirs = v[3], s->kind = v[4], s->shard = v[5], s->nshards = v[6];
+    if (s->w < 1 || s->w > QIBL_ASSET_MAX_DIM)
+        return efail(err, errlen, name, "width %u outside 1..%u", s->w, QIBL_ASSET_MAX_DIM);
+    if (s->h < 1 || s->h > QIBL_ASSET_MAX_DIM)
+        return efail(err, errlen, name, "height %u outside 1..%u", s->h, QIBL_ASSET_MAX_DIM);
+    if ((uint64_t)s->w * s->h > QIBL_ASSET_MAX_PIXELS)
+        return efail(err, errlen, name, "size %ux%u above %u pixels", s->w, s->h, QIBL_ASSET_MAX_PIXELS);
+    if (s->k < 1 || s->k > 25)
+        return efail(err, errlen, name, "k %u outside 1..25", s->k);
+    if (s->ndirs < 1 || s->ndirs > QIBL_BAKE_MAX_DIRS)
+        return efail(err, errlen, name, "direction count %u outside 1..%u", s->ndirs, QIBL_BAKE_MAX_DIRS);
+    if (s->kind > 1)
+        return efail(err, errlen, name, "panorama kind %u (0 cylindrical, 1 equirectangular)", s->kind);
+    uint32_t nblocks = (s->ndirs + QIBL_BAKE_BLOCK - 1) / QIBL_BAKE_BLOCK;
+    if (s->nshards < 1 || s->nshards > QIBL_BAKE_MAX_SHARDS || s->nshards > nblocks)
+        return efail(err, errlen, name, "shard count %u outside 1..%u (and the %u blocks of %u directions)",
+                     s->nshards, QIBL_BAKE_MAX_SHARDS, nblocks, QIBL_BAKE_BLOCK);
+    if (s->shard >= s->nshards)
+        return efail(err, errlen, name, "shard index %u not below the shard count %u", s->shard, s->nshards);
+    uint64_t b = body_bytes(s);
+    if (b > SIZE_MAX - QIBL_BAKE_SUMS_HEADER)
+        return efail(err, errlen, name, "%ux%u sums do not fit this machine's address space", s->w, s->h);
+    *body = b;
+    return 0;
+}
+
+/* values [first, first + n) of pmap / acc from little-endian bytes */
+static void decode_pmap(qibl_bake_sums *s, size_t first, const uint8_t *p, size_t n)
+{
+    for (size_t i = 0; i < n; ++i)
+        s->pmap[first + i] = qibl_load_s32le(p + 4 * i);
+}
+
+static void decode_acc(qibl_bake_sums *s, size_t first, const uint8_t *p, size_t n)
+{
+    for (size_t i = 0; i < n; ++i) {
+        uint64_t u = (uint64_t)qibl_load_u32le(p + 8 * i) | (uint64_t)qibl_load_u32le(p + 8 * i + 4) << 32;
+        int64_t v;
+        memcpy(&v, &u, sizeof v); /* two's complement, no implementation-defined conversion */
+        s->acc[first + i] = v;
     }
-    size_t per = 3 * (size_t)s->k;
-    for (size_t p = 0; p < np && !bad; ++p) {
-        for (size_t i = 0; i < per; ++i) {
-            uint64_t u = (uint64_t)s->acc[p * per + i];
-            qibl_store_u32le(buf + 8 * i, (uint32_t)u);
-            qibl_store_u32le(buf + 8 * i + 4, (uint32_t)(u >> 32));
-        }
-        bad |= fwrite(buf, 8, per, f) != per;
-    }
-    bad |= fclose(f) != 0;
-    if (bad || rename(tmp, path) != 0) {
-        snprintf(err, errlen, "%s: write failed: %s", path, strerror(errno));
-        remove(tmp);
-        free(tmp);
+}
+
+static int alloc_arrays(qibl_bake_sums *s)
+{
+    size_t np = (size_t)s->w * s->h;
+    s->pmap = malloc(np * 3 * sizeof(int32_t));
+    s->acc = malloc(np * 3 * s->k * sizeof(int64_t));
+    if (!s->pmap || !s->acc) {
+        free(s->pmap), free(s->acc);
+        s->pmap = NULL, s->acc = NULL;
         return -1;
     }
-    free(tmp);
+    return 0;
+}
+
+int qibl_bake_sums_decode(const uint8_t *buf, size_t len, qibl_bake_sums *out, char *err, size_t errlen)
+{
+    qibl_bake_sums s;
+    uint64_t body;
+    if (!buf || !out)
+        return efail(err, errlen, NULL, "null argument");
+    if (parse_header(NULL, buf, len, &s, &body, err, errlen) != 0)
+        return -1;
+    size_t have = len - QIBL_BAKE_SUMS_HEADER;
+    if (have < body)
+        return efail(err, errlen, NULL, "truncated: %zu bytes of sums, the header says %llu", have,
+                     (unsigned long long)body);
+    if (have > body)
+        return efail(err, errlen, NULL, "%llu trailing bytes after the sums", (unsigned long long)(have - body));
+    const uint8_t *b = buf + QIBL_BAKE_SUMS_HEADER;
+    uint32_t stored = qibl_load_u32le(buf + 40), crc = qibl_crc32(0, b, have);
+    if (stored != crc)
+        return efail(err, errlen, NULL, "checksum mismatch in the sums (stored %08x, computed %08x): the file is damaged",
+                     stored, crc);
+    if (alloc_arrays(&s) != 0)
+        return efail(err, errlen, NULL, "out of memory");
+    size_t np = (size_t)s.w * s.h;
+    decode_pmap(&s, 0, b, np * 3);
+    decode_acc(&s, 0, b + np * 12, np * 3 * s.k);
+    *out = s;
     return 0;
 }
 
 int qibl_bake_sums_read(const char *path, qibl_bake_sums *out, char *err, size_t errlen)
 {
     FILE *f = fopen(path, "rb");
-    if (!f) {
-        snprintf(err, errlen, "%s: %s", path, strerror(errno));
-        return -1;
-    }
-    uint8_t hdr[36];
-    qibl_bake_sums s = {0};
-    if (fread(hdr, 1, 36, f) != 36 || memcmp(hdr, "QIBLSUM1", 8) != 0) {
+    if (!f)
+        return efail(err, errlen, path, "%s", strerror(errno));
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
         fclose(f);
-        snprintf(err, errlen, "%s: not a qibl partial-sums file (bad magic or too short)", path);
-        return -1;
+        return efail(err, errlen, path, "not a regular file");
     }
-    uint32_t v[7];
-    for (int i = 0; i < 7; ++i)
-        v[i] = qibl_load_u32le(hdr + 8 + 4 * i);
-    s.w = v[0], s.h = v[1], s.k = v[2], s.ndirs = v[3], s.kind = v[4], s.shard = v[5], s.nshards = v[6];
-    if (s.w < 1 || s.h < 1 || s.w > 16384 || s.h > 16384 || s.k < 1 || s.k > 25 || s.ndirs < 1 || s.kind > 1 ||
-        s.nshards < 1 || s.shard >= s.nshards) {
+    uint8_t hdr[QIBL_BAKE_SUMS_HEADER];
+    size_t got = fread(hdr, 1, sizeof hdr, f);
+    qibl_bake_sums s;
+    uint64_t body;
+    if (parse_header(path, hdr, got, &s, &body, err, errlen) != 0) {
         fclose(f);
-        snprintf(err, errlen, "%s: bad header fields (size %ux%u, k %u, %u directions, shard %u/%u)", path, s.w, s.h,
-                 s.k, s.ndirs, s.shard, s.nshards);
         return -1;
     }
-    size_t np = (size_t)s.w * s.h, per = 3 * (size_t)s.k;
-    s.pmap = malloc(np * 12);
-    s.acc = malloc(np * per * 8);
-    uint8_t *buf = malloc(np * per * 8 > np * 12 ? np * per * 8 : np * 12);
-    int bad = !s.pmap || !s.acc || !buf;
-    if (!bad && fread(buf, 12, np, f) == np)
-        for (size_t i = 0; i < np * 3; ++i)
-            s.pmap[i] = qibl_load_s32le(buf + 4 * i);
-    else
-        bad = 2;
-    if (!bad && fread(buf, 8, np * per, f) == np * per)
-        for (size_t i = 0; i < np * per; ++i)
-            s.acc[i] = (int64_t)((uint64_t)qibl_load_u32le(buf + 8 * i) | (uint64_t)qibl_load_u32le(buf + 8 * i + 4) << 32);
-    else
-        bad = bad ? bad : 2;
+    /* the size on disk must be what the header claims before a byte is allocated */
+    uint64_t size = (uint64_t)st.st_size, want = QIBL_BAKE_SUMS_HEADER + body;
+    if (size != want) {
+        fclose(f);
+        return size < want ? efail(err, errlen, path, "truncated: %llu bytes, the header says %llu",
+                                   (unsigned long long)size, (unsigned long long)want)
+                           : efail(err, errlen, path, "%llu trailing bytes after the sums",
+                                   (unsigned long long)(size - want));
+    }
+    enum { CHUNK = 8 * 3 * 4 * 1024 }; /* a multiple of 12 and of 8 */
+    uint8_t *buf = malloc(CHUNK);
+    if (!buf || alloc_arrays(&s) != 0) {
+        free(buf);
+        fclose(f);
+        return efail(err, errlen, path, "out of memory");
+    }
+    size_t nv[2] = {(size_t)s.w * s.h * 3, (size_t)s.w * s.h * 3 * s.k}, vs[2] = {4, 8};
+    uint32_t crc = 0;
+    int bad = 0;
+    for (int r = 0; r < 2 && !bad; ++r)
+        for (size_t done = 0; done < nv[r] && !bad;) {
+            size_t n = nv[r] - done < CHUNK / vs[r] ? nv[r] - done : CHUNK / vs[r];
+            if (fread(buf, vs[r], n, f) != n) {
+                bad = 1;
+                break;
+            }
+            crc = qibl_crc32(crc, buf, n * vs[r]);
+            if (r == 0)
+                decode_pmap(&s, done, buf, n);
+            else
+                decode_acc(&s, done, buf, n);
+            done += n;
+        }
     if (!bad && fgetc(f) != EOF)
-        bad = 3;
+        bad = 2;
+    int rerr = ferror(f);
     fclose(f);
     free(buf);
-    if (bad) {
-        snprintf(err, errlen, "%s: %s", path, bad == 1 ? "out of memory" : bad == 2 ? "truncated" : "trailing bytes after the sums");
+    if (bad || rerr) {
         qibl_bake_sums_free(&s);
-        return -1;
+        return efail(err, errlen, path, "%s", rerr ? "read error" : bad == 1 ? "truncated while reading" : "grew while reading");
+    }
+    uint32_t stored = qibl_load_u32le(hdr + 40);
+    if (stored != crc) {
+        qibl_bake_sums_free(&s);
+        return efail(err, errlen, path, "checksum mismatch in the sums (stored %08x, computed %08x): the file is damaged",
+                     stored, crc);
     }
     *out = s;
     return 0;
 }
 
+/* Calls sink on the body's bytes in order, a chunk at a time; 0 or the first non-zero sink result. */
+static int emit_body(const qibl_bake_sums *s, int (*sink)(void *, const uint8_t *, size_t), void *ctx)
+{
+    enum { CHUNK = 8 * 3 * 4 * 1024 };
+    uint8_t *buf = malloc(CHUNK);
+    if (!buf)
+        return -1;
+    size_t np = (size_t)s->w * s->h, nv[2] = {np * 3, np * 3 * s->k}, vs[2] = {4, 8};
+    int rc = 0;
+    for (int r = 0; r < 2 && rc == 0; ++r)
+        for (size_t done = 0; done < nv[r] && rc == 0;) {
+            size_t n = nv[r] - done < CHUNK / vs[r] ? nv[r] - done : CHUNK / vs[r];
+            for (size_t i = 0; i < n; ++i) {
+                if (r == 0) {
+                    qibl_store_s32le(buf + 4 * i, s->pmap[done + i]);
+                } else {
+                    uint64_t u = (uint64_t)s->acc[done + i];
+                    qibl_store_u32le(buf + 8 * i, (uint32_t)u);
+                    qibl_store_u32le(buf + 8 * i + 4, (uint32_t)(u >> 32));
+                }
+            }
+            rc = sink(ctx, buf, n * vs[r]);
+            done += n;
+        }
+    free(buf);
+    return rc;
+}
+
+static int sink_crc(void *ctx, const uint8_t *p, size_t n)
+{
+    uint32_t *crc = ctx;
+    *crc = qibl_crc32(*crc, p, n);
+    return 0;
+}
+
+static int sink_file(void *ctx, const uint8_t *p, size_t n)
+{
+    return fwrite(p, 1, n, (FILE *)ctx) == n ? 0 : 1;
+}
+
+typedef struct {
+    uint8_t *p;
+    size_t n;
+} membuf;
+
+static int sink_mem(void *ctx, const uint8_t *p, size_t n)
+{
+    membuf *m = ctx;
+    memcpy(m->p + m->n, p, n);
+    m->n += n;
+    return 0;
+}
+
+/* the header of s, its body CRC computed by a first pass; 0 or -1 (out of memory) */
+static int make_header(const qibl_bake_sums *s, uint8_t hdr[QIBL_BAKE_SUMS_HEADER])
+{
+    uint32_t crc = 0;
+    if (emit_body(s, sink_crc, &crc) != 0)
+        return -1;
+    memcpy(hdr, sums_magic, 8);
+    qibl_store_u32le(hdr + 8, QIBL_BAKE_SUMS_VERSION);
+    uint32_t f7[7] = {s->w, s->h, s->k, s->ndirs, s->kind, s->shard, s->nshards};
+    for (int i = 0; i < 7; ++i)
+        qibl_store_u32le(hdr + 12 + 4 * i, f7[i]);
+    qibl_store_u32le(hdr + 40, crc);
+    qibl_store_u32le(hdr + 44, qibl_crc32(0, hdr, 44));
+    return 0;
+}
+
+int qibl_bake_sums_encode(const qibl_bake_sums *s, uint8_t **buf, size_t *len)
+{
+    uint64_t body = body_bytes(s);
+    if (body > SIZE_MAX - QIBL_BAKE_SUMS_HEADER)
+        return -1;
+    membuf m = {malloc(QIBL_BAKE_SUMS_HEADER + (size_t)body), QIBL_BAKE_SUMS_HEADER};
+    if (!m.p || make_header(s, m.p) != 0 || emit_body(s, sink_mem, &m) != 0) {
+        free(m.p);
+        return -1;
+    }
+    *buf = m.p, *len = m.n;
+    return 0;
+}
+
+int qibl_bake_sums_write(const qibl_bake_sums *s, const char *path, char *err, size_t errlen)
+{
+    uint8_t hdr[QIBL_BAKE_SUMS_HEADER];
+    if (make_header(s, hdr) != 0)
+        return efail(err, errlen, path, "out of memory");
+    qibl_io_atomic a;
+    if (qibl_io_atomic_open(&a, path, err, errlen) != 0)
+        return -1;
+    if (fwrite(hdr, 1, sizeof hdr, a.f) != sizeof hdr || emit_body(s, sink_file, a.f) != 0) {
+        int e = errno;
+        qibl_io_atomic_abort(&a);
+        return efail(err, errlen, path, "write failed: %s", strerror(e));
+    }
+    return qibl_io_atomic_commit(&a, err, errlen);
+}
+
+int qibl_bake_sums_compatible(const qibl_bake_sums *a, const qibl_bake_sums *b, char *err, size_t errlen)
+{
+    /* the split first: it is what a merge of the wrong files most often gets wrong */
+    if (a->nshards != b->nshards)
+        return efail(err, errlen, NULL, "shards of different bakes: shard %u/%u against a split into %u", b->shard,
+                     b->nshards, a->nshards);
+    if (a->w != b->w || a->h != b->h)
+        return efail(err, errlen, NULL, "shards of different bakes: size %ux%u against %ux%u", b->w, b->h, a->w, a->h);
+    if (a->k != b->k)
+        return efail(err, errlen, NULL, "shards of different bakes: k %u against %u", b->k, a->k);
+    if (a->ndirs != b->ndirs)
+        return efail(err, errlen, NULL, "shards of different bakes: %u directions against %u", b->ndirs, a->ndirs);
+    if (a->kind != b->kind)
+        return efail(err, errlen, NULL, "shards of different bakes: panorama kind %u against %u", b->kind, a->kind);
+    if (memcmp(a->pmap, b->pmap, (size_t)a->w * a->h * 12) != 0)
+        return efail(err, errlen, NULL, "shards of different scenes (P maps differ)");
+    return 0;
+}
+
 int qibl_bake_sums_add(qibl_bake_sums *a, const qibl_bake_sums *b, char *err, size_t errlen)
 {
-    if (a->w != b->w || a->h != b->h || a->k != b->k || a->ndirs != b->ndirs || a->kind != b->kind ||
-        a->nshards != b->nshards) {
-        snprintf(err, errlen, "shards of different bakes (size, k, directions, panorama or shard count differ)");
+    if (qibl_bake_sums_compatible(a, b, err, errlen) != 0)
         return -1;
+    size_t n = (size_t)a->w * a->h * 3 * a->k;
+    /* check every sum first, so a failing add changes nothing */
+    for (size_t i = 0; i < n; ++i) {
+        int64_t x = a->acc[i], y = b->acc[i];
+        if ((y > 0 && x > INT64_MAX - y) || (y < 0 && x < INT64_MIN - y)) {
+            size_t per = 3 * (size_t)a->k, p = i / per;
+            return efail(err, errlen, NULL,
+                         "sums overflow 64 bits at pixel (%zu, %zu), channel %zu, coefficient %zu: not sums of one bake",
+                         p % a->w, p / a->w, i % per / a->k, i % a->k);
+        }
     }
-    size_t np = (size_t)a->w * a->h;
-    if (memcmp(a->pmap, b->pmap, np * 12) != 0) {
-        snprintf(err, errlen, "shards of different scenes (P maps differ)");
-        return -1;
-    }
-    for (size_t i = 0; i < np * 3 * a->k; ++i)
+    for (size_t i = 0; i < n; ++i)
         a->acc[i] += b->acc[i];
     return 0;
 }
@@ -499,8 +735,3 @@ double qibl_bake_mse(const uint8_t *a, const uint8_t *b, const uint8_t *mask, si
     return n ? se / (double)n : 0;
 }
 
-double qibl_bake_psnr(const uint8_t *a, const uint8_t *b, const uint8_t *mask, size_t npix)
-{
-    double mse = qibl_bake_mse(a, b, mask, npix);
-    return mse > 0 ? 10 * log10(255.0 * 255.0 / mse) : 99.0;
-}

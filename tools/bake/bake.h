@@ -42,12 +42,36 @@ int qibl_bake_run(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind
                   uint32_t shard, uint32_t nshards, int threads, int progress, qibl_bake_sums *out);
 void qibl_bake_sums_free(qibl_bake_sums *s);
 
-/* Partial sums file (little-endian): "QIBLSUM1", 7 u32 (w h k ndirs kind shard nshards), pmap i32,
- * acc i64. Write is atomic; read gives a one-line error naming the file. 0 or -1. */
+/* Partial sums file, version 2 (all little-endian):
+ *    0  "QIBLSUMS"
+ *    8  u32 version (QIBL_BAKE_SUMS_VERSION)
+ *   12  u32 w, h, k, ndirs, kind, shard, nshards
+ *   40  u32 CRC-32 (qibl_crc32) of the body
+ *   44  u32 CRC-32 of bytes 0..43
+ *   48  body: pmap, w * h * 3 i32; then acc, w * h * 3 * k i64
+ * Limits (checked at the header, before anything is allocated; the file's size must then be
+ * exactly 48 + the body the header claims): w, h in 1..QIBL_ASSET_MAX_DIM with w h <=
+ * QIBL_ASSET_MAX_PIXELS (the asset the sums become), k 1..25, ndirs 1..QIBL_BAKE_MAX_DIRS, kind 0..1,
+ * nshards 1..QIBL_BAKE_MAX_SHARDS and at most one per block of QIBL_BAKE_BLOCK directions,
+ * shard < nshards. Version 1 files ("QIBLSUM1", no checksums) are refused by name. */
+#define QIBL_BAKE_SUMS_VERSION 2u
+#define QIBL_BAKE_SUMS_HEADER 48u
+#define QIBL_BAKE_MAX_DIRS 65536u /* also bounds merge --lsq's Gram matrix: O(ndirs k^2) */
+#define QIBL_BAKE_MAX_SHARDS 4096u
+
+/* Write is atomic (io/atomic.h); read and decode give a one-line error (read's names the file).
+ * Decode takes a whole file image in memory (what a fuzzer calls). 0 or -1; *s is set only on 0. */
 int qibl_bake_sums_write(const qibl_bake_sums *s, const char *path, char *err, size_t errlen);
 int qibl_bake_sums_read(const char *path, qibl_bake_sums *s, char *err, size_t errlen);
-/* Adds b into a (same w, h, k, ndirs, kind, nshards; different shards); a->shard becomes a bitmask
- * is not kept: the caller checks the shard set. 0 or -1 with a reason. */
+int qibl_bake_sums_decode(const uint8_t *buf, size_t len, qibl_bake_sums *s, char *err, size_t errlen);
+/* The file image of s in a malloc'ed buffer (*buf, *len). 0 or -1 (out of memory). */
+int qibl_bake_sums_encode(const qibl_bake_sums *s, uint8_t **buf, size_t *len);
+/* 0 if b can be added to a (same w, h, k, ndirs, kind, nshards and P map), else -1 with the first
+ * difference named ("shards of different bakes: k 9 against 16"). Shard indices are not compared:
+ * the caller checks the shard set. */
+int qibl_bake_sums_compatible(const qibl_bake_sums *a, const qibl_bake_sums *b, char *err, size_t errlen);
+/* Adds b into a after qibl_bake_sums_compatible. Every sum is checked first: if any would overflow
+ * 64 bits, -1 with the pixel named and a unchanged. 0 or -1 with a reason. */
 int qibl_bake_sums_add(qibl_bake_sums *a, const qibl_bake_sums *b, char *err, size_t errlen);
 
 /* SH coefficient maps (the first k <= sums->k) from the sums, as qibl_gen_maps (t and p filled; dir
@@ -71,9 +95,8 @@ int qibl_bake_relight8_ex(const uint8_t *asset, size_t n, const qibl_rt_light *l
                            int srgb, uint8_t *rgb8, double *ms, qibl_status_t *status);
 int qibl_bake_relight8(const uint8_t *asset, size_t n, const qibl_rt_light *l, int use_lut, uint8_t *rgb8,
                        double *ms);
-/* PSNR in dB of a against b over the masked pixels (8-bit, all three channels); 99 if equal. */
-double qibl_bake_psnr(const uint8_t *a, const uint8_t *b, const uint8_t *mask, size_t npix);
-/* MSE of the same, for averaging over several lights */
+/* MSE of a against b over the masked pixels (8-bit, all three channels); its PSNR (averaged over
+ * several lights first, where wanted) is qibl_ref_psnr8 (ref/psnr.h). */
 double qibl_bake_mse(const uint8_t *a, const uint8_t *b, const uint8_t *mask, size_t npix);
 
 #endif

@@ -50,6 +50,14 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: console_port ASSET [FRAMES] [OUT.ppm]\n");
         return 2;
     }
+    /* ---- once, at start-up: this program was compiled with the library's config.h options and
+     *      release (else its structs may not match the library's: QIBL_E_CONFIG_MISMATCH) -------- */
+    qibl_status_t st = qibl_init_check();
+    if (st != QIBL_OK) {
+        fprintf(stderr, "console_port: qibl %s (config %08lx, ours %08lx): %s\n", qibl_version(),
+                (unsigned long)qibl_config_id(), (unsigned long)QIBL_CONFIG_ID, qibl_status_str(st));
+        return 1;
+    }
     int frames = argc > 2 ? atoi(argv[2]) : 4;
     size_t size;
     unsigned char *bytes = load_file(argv[1], &size); /* PLATFORM */
@@ -61,7 +69,7 @@ int main(int argc, char **argv)
     /* ---- the port: validate once ------------------------------------------------------------ */
     qibl_asset_t asset;
     qibl_shmaps_t maps;
-    qibl_status_t st = qibl_asset_open(&asset, bytes, size);
+    st = qibl_asset_open(&asset, bytes, size);
     if (st == QIBL_OK)
         st = qibl_asset_shmaps(&asset, &maps);
     if (st != QIBL_OK) {

@@ -9,9 +9,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "io/asset_write.h"
+#include "io/atomic.h"
 
 static int fail(qibl_asset_builder *b, const char *fmt, ...)
 {
@@ -251,34 +251,17 @@ int qibl_asset_write_file(qibl_asset_builder *b, const char *path, int do_fsync)
         free(buf);
         return fail(b, "%s: refusing to write an invalid asset: %s", path, qibl_status_str(st));
     }
-    size_t tl = strlen(path) + 5;
-    char *tmp = malloc(tl);
-    if (!tmp) {
-        free(buf);
-        return fail(b, "%s: out of memory", path);
-    }
-    snprintf(tmp, tl, "%s.tmp", path);
-    int rc = 0;
-    FILE *f = fopen(tmp, "wb");
-    if (!f) {
-        rc = fail(b, "%s: cannot create %s: %s", path, tmp, strerror(errno));
-    } else {
-        int ok = fwrite(buf, 1, n, f) == n && fflush(f) == 0;
-        if (ok && do_fsync)
-            ok = fsync(fileno(f)) == 0;
-        int e = errno;
-        if (fclose(f) != 0 && ok) {
-            ok = 0;
-            e = errno;
+    qibl_io_atomic at;
+    int rc = qibl_io_atomic_open(&at, path, b->err, sizeof b->err);
+    if (rc == 0) {
+        at.no_fsync = !do_fsync;
+        if (fwrite(buf, 1, n, at.f) != n) {
+            rc = fail(b, "%s: write failed: %s", path, strerror(errno));
+            qibl_io_atomic_abort(&at);
+        } else {
+            rc = qibl_io_atomic_commit(&at, b->err, sizeof b->err);
         }
-        if (!ok)
-            rc = fail(b, "%s: write failed: %s", path, strerror(e));
-        else if (rename(tmp, path) != 0)
-            rc = fail(b, "%s: cannot rename from %s: %s", path, tmp, strerror(errno));
-        if (rc != 0)
-            remove(tmp);
     }
-    free(tmp);
     free(buf);
     return rc;
 }

@@ -71,9 +71,9 @@ int qibl_asset_add_ylut(qibl_asset_builder *b, uint32_t face_size, uint32_t k, c
  * container limits (1..QIBL_ASSET_MAX_CHUNKS chunks, total size fits 32 bits). */
 int qibl_asset_serialize(qibl_asset_builder *b, uint8_t **out, size_t *size);
 
-/* Serialises, validates with qibl_asset_open and writes path atomically: path.tmp is written
- * (flushed, fsync'ed if do_fsync) and renamed over path; on any failure path.tmp is removed and
- * path is left as it was. */
+/* Serialises, validates with qibl_asset_open and writes path atomically (io/atomic.h: an
+ * exclusively created temporary file, flushed, fsync'ed if do_fsync, renamed over path; a path
+ * that is not a regular file is refused); on any failure path is left as it was. */
 int qibl_asset_write_file(qibl_asset_builder *b, const char *path, int do_fsync);
 
 /* Little-endian stores (the writer's counterparts of qibl_load_*le). */

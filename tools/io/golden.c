@@ -1,8 +1,9 @@
 /*
  * io/golden.c - golden hash files: compare, or rewrite under QIBL_UPDATE_GOLDEN=1 (io/golden.h).
- * Files are written to "<file>.tmp" and renamed, so an interrupted update leaves no partial file.
+ * Files are written atomically (io/atomic.h), so an interrupted update leaves no partial file.
  */
 #include "io/golden.h"
+#include "io/atomic.h"
 #include "io/sha256.h"
 
 #include <ctype.h>
@@ -41,17 +42,18 @@ static int make_dir(const char *path)
 
 static int update(const char *name, const char *root, const char *path, const char *hex)
 {
-    char dir[4096], tmp[4200];
+    char dir[4096], line[80], err[4400];
     snprintf(dir, sizeof dir, "%s/fixtures", root);
     int ok = make_dir(dir) == 0;
     snprintf(dir, sizeof dir, "%s/fixtures/golden", root);
     ok = ok && make_dir(dir) == 0;
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    FILE *f = ok ? fopen(tmp, "w") : NULL;
-    if (f == NULL || fprintf(f, "%s\n", hex) < 0 || fclose(f) != 0 || rename(tmp, path) != 0) {
+    if (!ok) {
         fprintf(stderr, "golden %s: cannot write %s: %s\n", name, path, strerror(errno));
-        if (f != NULL)
-            remove(tmp);
+        return -1;
+    }
+    int n = snprintf(line, sizeof line, "%s\n", hex);
+    if (qibl_io_write_atomic(path, line, (size_t)n, err, sizeof err) != 0) {
+        fprintf(stderr, "golden %s: cannot write: %s\n", name, err);
         return -1;
     }
     fprintf(stderr, "golden %s: wrote %s (QIBL_UPDATE_GOLDEN=1)\n", name, path);

@@ -4,6 +4,7 @@
  * of error text and no output.
  */
 #include "io/hdr.h"
+#include "io/file.h"
 
 #include <errno.h>
 #include <math.h>
@@ -12,8 +13,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define HDR_MAX_DIM 65536
-#define HDR_MAX_PIXELS ((size_t)1 << 28)
 
 static int fail(char *err, size_t errlen, const char *fmt, ...)
 {
@@ -44,10 +43,11 @@ static float rgbe_channel(uint8_t m, uint8_t e)
     return e == 0 ? 0.0f : (float)ldexp((double)m, (int)e - 136);
 }
 
-/* one scanline of w RGBE pixels into px (4 bytes each); prev is the last pixel of the previous
- * scanline (NULL for the first), for an old-style run at the start of a line */
-static int read_scanline(const uint8_t *buf, size_t len, size_t *pos, int w, uint8_t *px, const uint8_t *prev,
-                         int row, char *err, size_t errlen)
+/* one scanline of w RGBE pixels into px (4 bytes each), or, with px NULL, only walked and checked
+ * (the pass that runs before any pixel memory exists); have_prev: a scanline came before, whose
+ * last pixel is px[-4 .. -1] (for an old-style run at the start of a line) */
+static int read_scanline(const uint8_t *buf, size_t len, size_t *pos, int w, uint8_t *px, int have_prev, int row,
+                         char *err, size_t errlen)
 {
     size_t p = *pos;
     if (p + 4 > len)
@@ -70,8 +70,10 @@ static int read_scanline(const uint8_t *buf, size_t len, size_t *pos, int w, uin
                     if (p >= len)
                         return fail(err, errlen, "truncated in RLE scanline %d", row);
                     uint8_t v = buf[p++];
-                    for (int k = 0; k < count; ++k)
-                        px[4 * (x++) + c] = v;
+                    if (px)
+                        for (int k = 0; k < count; ++k)
+                            px[4 * (x + k) + c] = v;
+                    x += count;
                 } else {
                     if (count == 0)
                         return fail(err, errlen, "scanline %d: RLE literal of length 0", row);
@@ -79,8 +81,11 @@ static int read_scanline(const uint8_t *buf, size_t len, size_t *pos, int w, uin
                         return fail(err, errlen, "scanline %d: RLE literal past the end of the line", row);
                     if (p + (size_t)count > len)
                         return fail(err, errlen, "truncated in RLE scanline %d", row);
-                    for (int k = 0; k < count; ++k)
-                        px[4 * (x++) + c] = buf[p++];
+                    if (px)
+                        for (int k = 0; k < count; ++k)
+                            px[4 * (x + k) + c] = buf[p + (size_t)k];
+                    x += count;
+                    p += (size_t)count;
                 }
             }
         }
@@ -95,20 +100,25 @@ static int read_scanline(const uint8_t *buf, size_t len, size_t *pos, int w, uin
         const uint8_t *q = buf + p;
         p += 4;
         if (q[0] == 1 && q[1] == 1 && q[2] == 1) {
-            const uint8_t *src = x > 0 ? px + 4 * (x - 1) : prev;
-            if (!src)
+            if (x == 0 && !have_prev)
                 return fail(err, errlen, "scanline %d: old-style run with no pixel before it", row);
             if (shift > 16)
                 return fail(err, errlen, "scanline %d: old-style run count too large", row);
             long count = (long)q[3] << shift;
             if (x + count > w)
                 return fail(err, errlen, "scanline %d: old-style run past the end of the line", row);
-            uint8_t v[4] = {src[0], src[1], src[2], src[3]};
-            for (long k = 0; k < count; ++k, ++x)
-                memcpy(px + 4 * x, v, 4);
+            if (px) {
+                uint8_t v[4];
+                memcpy(v, px + 4 * x - 4, 4); /* x = 0: the previous scanline's last pixel */
+                for (long k = 0; k < count; ++k)
+                    memcpy(px + 4 * (x + k), v, 4);
+            }
+            x += (int)count;
             shift += 8;
         } else {
-            memcpy(px + 4 * (x++), q, 4);
+            if (px)
+                memcpy(px + 4 * x, q, 4);
+            ++x;
             shift = 0;
         }
     }
@@ -125,6 +135,8 @@ int qibl_hdr_decode_rgbe(const uint8_t *buf, size_t len, int *w_out, int *h_out,
     if (n < 2 || line[0] != '#' || line[1] != '?')
         return fail(err, errlen, "not a Radiance .hdr file (no #? magic line)");
     for (;;) {
+        if (pos > QIBL_HDR_MAX_HEADER_BYTES)
+            return fail(err, errlen, "header longer than %u bytes (QIBL_HDR_MAX_HEADER_BYTES)", QIBL_HDR_MAX_HEADER_BYTES);
         n = next_line(buf, len, &pos, &line);
         if (n < 0)
             return fail(err, errlen, "truncated header (no blank line before the resolution)");
@@ -146,26 +158,46 @@ int qibl_hdr_decode_rgbe(const uint8_t *buf, size_t len, int *w_out, int *h_out,
     size_t rn = (size_t)n < sizeof res - 1 ? (size_t)n : sizeof res - 1;
     memcpy(res, line, rn);
     res[rn] = '\0';
-    char ya[3], xa[3];
-    long hh, ww;
-    char extra;
-    if (sscanf(res, "%2s %ld %2s %ld %c", ya, &hh, xa, &ww, &extra) != 4)
-        return fail(err, errlen, "bad resolution line '%.60s'", res);
-    if (strcmp(ya, "-Y") != 0 || strcmp(xa, "+X") != 0)
-        return fail(err, errlen, "unsupported orientation '%.60s' (only -Y H +X W)", res);
-    if (ww < 1 || hh < 1 || ww > HDR_MAX_DIM || hh > HDR_MAX_DIM || (size_t)ww * (size_t)hh > HDR_MAX_PIXELS)
-        return fail(err, errlen, "unsupported dimensions %ld x %ld", ww, hh);
+    char line_copy[sizeof res];
+    memcpy(line_copy, res, rn + 1); /* res is cut into tokens below */
+    /* four tokens "-Y H +X W"; strtol, not sscanf, whose behaviour on a number out of range is
+     * undefined */
+    char *tok[5], *save = NULL;
+    int nt = 0;
+    for (char *t = strtok_r(res, " \t\r", &save); t && nt < 5; t = strtok_r(NULL, " \t\r", &save))
+        tok[nt++] = t;
+    long hh = 0, ww = 0;
+    char *e1 = NULL, *e2 = NULL;
+    if (nt == 4) {
+        errno = 0;
+        hh = strtol(tok[1], &e1, 10);
+        ww = strtol(tok[3], &e2, 10);
+    }
+    if (nt != 4 || e1 == tok[1] || *e1 || e2 == tok[3] || *e2 || errno == ERANGE)
+        return fail(err, errlen, "bad resolution line '%.60s'", line_copy);
+    if (strcmp(tok[0], "-Y") != 0 || strcmp(tok[2], "+X") != 0)
+        return fail(err, errlen, "unsupported orientation '%.60s' (only -Y H +X W)", line_copy);
+    if (ww < 1 || hh < 1 || ww > (long)QIBL_HDR_MAX_DIM || hh > (long)QIBL_HDR_MAX_DIM)
+        return fail(err, errlen, "unsupported dimensions %ld x %ld (each 1..%u, QIBL_HDR_MAX_DIM)", ww, hh,
+                    (unsigned)QIBL_HDR_MAX_DIM);
+    if ((uint64_t)ww * (uint64_t)hh > QIBL_HDR_MAX_PIXELS)
+        return fail(err, errlen, "%ld x %ld pixels, above the %lu-pixel limit (QIBL_HDR_MAX_PIXELS)", ww, hh,
+                    (unsigned long)QIBL_HDR_MAX_PIXELS);
     int w = (int)ww, h = (int)hh;
+    /* a lying header must not cost memory: every scanline is checked before the pixels exist */
+    size_t body = pos;
+    for (int y = 0; y < h; ++y)
+        if (read_scanline(buf, len, &pos, w, NULL, y > 0, y, err, errlen))
+            return -1;
+    pos = body;
     uint8_t *px = malloc((size_t)w * (size_t)h * 4);
     if (!px)
         return fail(err, errlen, "out of memory for %d x %d pixels", w, h);
-    for (int y = 0; y < h; ++y) {
-        uint8_t *line_px = px + (size_t)y * (size_t)w * 4;
-        if (read_scanline(buf, len, &pos, w, line_px, y ? line_px - 4 : NULL, y, err, errlen)) {
+    for (int y = 0; y < h; ++y)
+        if (read_scanline(buf, len, &pos, w, px + (size_t)y * (size_t)w * 4, y > 0, y, err, errlen)) {
             free(px);
             return -1;
         }
-    }
     *w_out = w;
     *h_out = h;
     *rgbe_out = px;
@@ -205,37 +237,9 @@ int qibl_hdr_decode(const uint8_t *buf, size_t len, int *w_out, int *h_out, floa
     return 0;
 }
 
-/* the whole file into a malloc'ed buffer */
-static int slurp(const char *path, uint8_t **out, size_t *len, char *err, size_t errlen)
+static const char *hdr_magic(const uint8_t *head, size_t n)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return fail(err, errlen, "%s: %s", path, strerror(errno));
-    size_t cap = 1 << 20, n = 0;
-    uint8_t *buf = malloc(cap);
-    for (;;) {
-        if (!buf) {
-            fclose(f);
-            return fail(err, errlen, "%s: out of memory", path);
-        }
-        n += fread(buf + n, 1, cap - n, f);
-        if (n < cap)
-            break;
-        uint8_t *nb = realloc(buf, cap * 2);
-        if (!nb)
-            free(buf);
-        buf = nb;
-        cap *= 2;
-    }
-    int rd_err = ferror(f);
-    fclose(f);
-    if (rd_err) {
-        free(buf);
-        return fail(err, errlen, "%s: read error", path);
-    }
-    *out = buf;
-    *len = n;
-    return 0;
+    return n >= 2 && head[0] == '#' && head[1] == '?' ? NULL : "not a Radiance .hdr file (no #? magic line)";
 }
 
 int qibl_hdr_read(const char *path, int *w_out, int *h_out, float **rgb_out, char *err, size_t errlen)
@@ -253,9 +257,10 @@ int qibl_hdr_read(const char *path, int *w_out, int *h_out, float **rgb_out, cha
 
 int qibl_hdr_read_rgbe(const char *path, int *w, int *h, uint8_t **rgbe, char *err, size_t errlen)
 {
-    uint8_t *buf = NULL; /* set by slurp on success; initialised for the compiler's flow analysis */
+    static const qibl_io_kind kind = {"a Radiance .hdr file", 2, QIBL_HDR_MAX_FILE_BYTES, 2, hdr_magic};
+    uint8_t *buf = NULL; /* set by qibl_io_load on success; initialised for the compiler's flow analysis */
     size_t n = 0;
-    if (slurp(path, &buf, &n, err, errlen) != 0)
+    if (qibl_io_load(path, &kind, &buf, &n, err, errlen) != 0)
         return -1;
     char msg[256];
     int rc = qibl_hdr_decode_rgbe(buf, n, w, h, rgbe, msg, sizeof msg);

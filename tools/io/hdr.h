@@ -14,12 +14,33 @@
  *   - flat: W plain 4-byte pixels.
  * Pixels become R = mantissa * 2^(E - 136) (E = 0: zero), without Radiance's +1/2 offset, which is
  * the convention ../shared/fixtures/SOURCES.md uses for the probes' statistics.
+ *
+ * Limits (checked in this order, each a named one-line error, before any pixel memory is taken):
+ *   - a file: regular, 2 .. QIBL_HDR_MAX_FILE_BYTES bytes, starting "#?" (io/file.h), checked
+ *     before the file is read;
+ *   - the header (magic line to the resolution line) at most QIBL_HDR_MAX_HEADER_BYTES;
+ *   - W, H in 1..QIBL_HDR_MAX_DIM and W H <= QIBL_HDR_MAX_PIXELS: the light-probe core's own
+ *     limits (qibl/lightprobe.h), so no probe is decoded that the core would refuse;
+ *   - the body is walked once without writing (every scanline complete and well formed) before the
+ *     W H 4 bytes of pixels are allocated: a header that lies about its size costs no memory.
+ * Memory: the file, plus 4 bytes per pixel (RGBE) or 4 + 12 per pixel while converting to float.
+ * Time: linear in the file plus the pixels.
  */
 #ifndef QIBL_IO_HDR_H
 #define QIBL_IO_HDR_H
 
 #include <stddef.h>
 #include <stdint.h>
+
+#include "qibl/lightprobe.h"
+
+#define QIBL_HDR_MAX_DIM QIBL_LIGHTPROBE_MAX_DIM       /* 32768 */
+#define QIBL_HDR_MAX_PIXELS QIBL_LIGHTPROBE_MAX_PIXELS /* 2^26 */
+#define QIBL_HDR_MAX_HEADER_BYTES 65536u
+/* the largest well-formed file: every pixel a new-style RLE literal (2 bytes per byte of RGBE) plus
+ * 4 bytes of scanline header per row and the header */
+#define QIBL_HDR_MAX_FILE_BYTES \
+    ((size_t)8 * QIBL_HDR_MAX_PIXELS + (size_t)4 * QIBL_HDR_MAX_DIM + QIBL_HDR_MAX_HEADER_BYTES)
 
 /* Reads path. On success returns 0 and sets *w, *h and *rgb: 3 * w * h floats, rows top to bottom,
  * R G B per pixel, allocated with malloc (the caller frees). On failure returns -1, writes a one-line

@@ -18,15 +18,15 @@ typedef struct {
 } dvec;
 
 typedef struct {
-    long *v;
+    uint32_t *v;
     size_t n, cap;
-} lvec;
+} uvec;
 
-static int dpush(dvec *a, double x)
+static int upush(uvec *a, uint32_t x)
 {
     if (a->n == a->cap) {
         size_t cap = a->cap ? a->cap * 2 : 1024;
-        double *nv = realloc(a->v, cap * sizeof *nv);
+        uint32_t *nv = realloc(a->v, cap * sizeof *nv);
         if (!nv)
             return -1;
         a->v = nv, a->cap = cap;
@@ -35,11 +35,13 @@ static int dpush(dvec *a, double x)
     return 0;
 }
 
-static int lpush(lvec *a, long x)
+#define NO_NORMAL UINT32_MAX
+
+static int dpush(dvec *a, double x)
 {
     if (a->n == a->cap) {
         size_t cap = a->cap ? a->cap * 2 : 1024;
-        long *nv = realloc(a->v, cap * sizeof *nv);
+        double *nv = realloc(a->v, cap * sizeof *nv);
         if (!nv)
             return -1;
         a->v = nv, a->cap = cap;
@@ -64,8 +66,9 @@ static int fail(char *err, size_t errlen, const char *name, long line, const cha
     return -1;
 }
 
-/* parses up to max finite doubles from s; returns how many, -1 on a malformed number */
-static int numbers(const char *s, double *out, int max)
+/* parses up to max doubles from s; returns how many, or -1 with the offending token in *bad and
+ * *why saying what is wrong with it */
+static int numbers(const char *s, double *out, int max, const char **bad, const char **why)
 {
     int n = 0;
     for (;;) {
@@ -73,45 +76,74 @@ static int numbers(const char *s, double *out, int max)
             ++s;
         if (!*s)
             return n;
-        if (n == max)
+        *bad = s;
+        if (n == max) {
+            *why = "too many numbers";
             return -1;
+        }
         char *end;
         errno = 0;
         double v = strtod(s, &end);
-        if (end == s || errno == ERANGE || !isfinite(v) || (*end && *end != ' ' && *end != '\t'))
+        if (end == s || (*end && *end != ' ' && *end != '\t')) {
+            *why = "bad number";
             return -1;
+        }
+        /* an overflow comes back as an infinity; an underflow (ERANGE too) to nearly zero is harmless */
+        if (!isfinite(v)) {
+            *why = "non-finite number";
+            return -1;
+        }
         out[n++] = v;
         s = end;
     }
 }
 
-/* resolves a 1-based or negative OBJ index against count; 0 on success */
-static int resolve(const char *tok, size_t count, long *out)
+/* resolves a 1-based or negative OBJ index against count without overflow (any long is safe);
+ * 0 on success, -1 not a number, -2 out of range */
+static int resolve(const char *tok, size_t count, uint32_t *out)
 {
     char *end;
     errno = 0;
     long v = strtol(tok, &end, 10);
-    if (end == tok || errno == ERANGE)
+    if (end == tok || *end || errno == ERANGE)
         return -1;
-    if (v > 0 && (size_t)v <= count)
-        *out = v - 1;
-    else if (v < 0 && (size_t)(-v) <= count)
-        *out = (long)count + v;
+    /* count <= QIBL_OBJ_MAX_VERTICES, so -(long)count cannot overflow; v is never negated */
+    if (v > 0 && (unsigned long)v <= count)
+        *out = (uint32_t)(v - 1);
+    else if (v < 0 && v >= -(long)count)
+        *out = (uint32_t)((long)count + v);
     else
         return -2;
     return 0;
 }
 
+/* v / |v|, or 0 for a zero vector. Far from 1 in magnitude the vector is first divided by its
+ * largest component, so that the squares neither underflow (a tiny but real triangle keeping a
+ * zero normal) nor overflow; ordinary vectors take the plain path, bit for bit as before. */
+static void unit(const double *v, double *out)
+{
+    double x = v[0], y = v[1], z = v[2];
+    double m = fmax(fabs(x), fmax(fabs(y), fabs(z)));
+    if (!(m > 0.0)) {
+        out[0] = out[1] = out[2] = 0.0;
+        return;
+    }
+    if (m < 1e-100 || m > 1e100)
+        x /= m, y /= m, z /= m;
+    double l = sqrt(x * x + y * y + z * z);
+    out[0] = x / l, out[1] = y / l, out[2] = z / l;
+}
+
 int qibl_obj_parse(const char *name, const char *text, size_t len, qibl_obj_mesh *out, char *err, size_t errlen)
 {
     dvec v = {0}, vn = {0};
-    lvec tri = {0}; /* per corner: position index, normal index or -1 */
+    uvec tri = {0}; /* per corner: position index, normal index or NO_NORMAL */
     size_t nv = 0, nn = 0;
     long line = 0;
     char buf[4096];
     size_t pos = 0;
     int rc = -1;
-    long poly[2 * 256];
+    uint32_t poly[2 * QIBL_OBJ_MAX_FACE_CORNERS];
     while (pos < len) {
         size_t e = pos;
         while (e < len && text[e] != '\n')
@@ -145,8 +177,14 @@ int qibl_obj_parse(const char *name, const char *text, size_t len, qibl_obj_mesh
             *s++ = '\0';
         if (strcmp(kw, "v") == 0 || strcmp(kw, "vn") == 0) {
             double x[4];
-            int n = numbers(s, x, 4);
+            const char *bad = NULL, *why = NULL;
+            int n = numbers(s, x, 4, &bad, &why);
             int isv = kw[1] == '\0';
+            if (n < 0 && strcmp(why, "too many numbers") != 0) {
+                size_t bl = strcspn(bad, " \t");
+                fail(err, errlen, name, line, "%s '%.*s' in '%s'", why, (int)(bl > 40 ? 40 : bl), bad, kw);
+                goto out;
+            }
             if (n < 3 || (!isv && n != 3)) {
                 fail(err, errlen, name, line, "'%s' needs 3 numbers%s", kw, isv ? " (and an optional w)" : "");
                 goto out;
@@ -155,12 +193,26 @@ int qibl_obj_parse(const char *name, const char *text, size_t len, qibl_obj_mesh
                 fail(err, errlen, name, line, "vertex with w = 0");
                 goto out;
             }
+            if ((isv ? nv : nn) >= QIBL_OBJ_MAX_VERTICES) {
+                fail(err, errlen, name, line, "more than %zu '%s' statements (QIBL_OBJ_MAX_VERTICES)",
+                     (size_t)QIBL_OBJ_MAX_VERTICES, kw);
+                goto out;
+            }
             dvec *d = isv ? &v : &vn;
-            for (int j = 0; j < 3; ++j)
-                if (dpush(d, isv && n == 4 ? x[j] / x[3] : x[j]) != 0) {
+            for (int j = 0; j < 3; ++j) {
+                double c = isv && n == 4 ? x[j] / x[3] : x[j];
+                /* also catches x / w overflowing: 1e300 / 1e-300 */
+                if (!(fabs(c) <= QIBL_OBJ_MAX_COORD)) {
+                    fail(err, errlen, name, line, "%s coordinate %c = %g%s out of range (|c| <= %g, QIBL_OBJ_MAX_COORD)",
+                         isv ? "vertex" : "normal", "xyz"[j], c, isv && n == 4 ? " (after dividing by w)" : "",
+                         QIBL_OBJ_MAX_COORD);
+                    goto out;
+                }
+                if (dpush(d, c) != 0) {
                     fail(err, errlen, name, 0, "out of memory");
                     goto out;
                 }
+            }
             if (isv)
                 ++nv;
             else
@@ -169,26 +221,27 @@ int qibl_obj_parse(const char *name, const char *text, size_t len, qibl_obj_mesh
             int nc = 0;
             char *tok = strtok(s, " \t");
             while (tok) {
-                if (nc == 256) {
-                    fail(err, errlen, name, line, "face with more than 256 corners");
+                if (nc == QIBL_OBJ_MAX_FACE_CORNERS) {
+                    fail(err, errlen, name, line, "face with more than %d corners (QIBL_OBJ_MAX_FACE_CORNERS)",
+                         QIBL_OBJ_MAX_FACE_CORNERS);
                     goto out;
                 }
                 char *p1 = strchr(tok, '/'), *p2 = p1 ? strchr(p1 + 1, '/') : NULL;
                 if (p1)
                     *p1 = '\0';
-                long vi, ni = -1;
+                uint32_t vi, ni = NO_NORMAL;
                 int r = resolve(tok, nv, &vi);
                 if (r != 0) {
                     fail(err, errlen, name, line,
-                         r == -1 ? "bad vertex index '%s'" : "vertex index %s out of range (%zu vertices so far)", tok,
-                         nv);
+                         r == -1 ? "bad vertex index '%.40s'" : "vertex index %.40s out of range (%zu vertices so far)",
+                         tok, nv);
                     goto out;
                 }
                 if (p2 && p2[1]) {
                     r = resolve(p2 + 1, nn, &ni);
                     if (r != 0) {
                         fail(err, errlen, name, line,
-                             r == -1 ? "bad normal index '%s'" : "normal index %s out of range (%zu normals so far)",
+                             r == -1 ? "bad normal index '%.40s'" : "normal index %.40s out of range (%zu normals so far)",
                              p2 + 1, nn);
                         goto out;
                     }
@@ -201,10 +254,23 @@ int qibl_obj_parse(const char *name, const char *text, size_t len, qibl_obj_mesh
                 fail(err, errlen, name, line, "face with %d corner%s (needs at least 3)", nc, nc == 1 ? "" : "s");
                 goto out;
             }
+            size_t ntri_now = tri.n / 6 + (size_t)(nc - 2);
+            if (ntri_now > QIBL_OBJ_MAX_TRIANGLES) {
+                fail(err, errlen, name, line, "more than %zu triangles (QIBL_OBJ_MAX_TRIANGLES)",
+                     (size_t)QIBL_OBJ_MAX_TRIANGLES);
+                goto out;
+            }
+            /* fans: a few bytes of "f 1 1 1 1 ..." must not become megabytes of triangles */
+            if (ntri_now > len / QIBL_OBJ_MIN_BYTES_PER_TRIANGLE) {
+                fail(err, errlen, name, line,
+                     "%zu triangles from %zu bytes of input: more than one per %u bytes (QIBL_OBJ_MIN_BYTES_PER_TRIANGLE)",
+                     ntri_now, len, QIBL_OBJ_MIN_BYTES_PER_TRIANGLE);
+                goto out;
+            }
             for (int j = 1; j + 1 < nc; ++j) {
                 int cs[3] = {0, j, j + 1};
                 for (int q = 0; q < 3; ++q)
-                    if (lpush(&tri, poly[2 * cs[q]]) || lpush(&tri, poly[2 * cs[q] + 1])) {
+                    if (upush(&tri, poly[2 * cs[q]]) || upush(&tri, poly[2 * cs[q] + 1])) {
                         fail(err, errlen, name, 0, "out of memory");
                         goto out;
                     }
@@ -227,7 +293,7 @@ int qibl_obj_parse(const char *name, const char *text, size_t len, qibl_obj_mesh
         goto out;
     }
     for (size_t t = 0; t < ntri; ++t) {
-        const long *c = tri.v + 6 * t;
+        const uint32_t *c = tri.v + 6 * t;
         const double *a = v.v + 3 * c[0], *b = v.v + 3 * c[2], *d = v.v + 3 * c[4];
         double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
         double fn[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
@@ -238,12 +304,10 @@ int qibl_obj_parse(const char *name, const char *text, size_t len, qibl_obj_mesh
             }
     }
     for (size_t t = 0; t < ntri; ++t) {
-        const long *c = tri.v + 6 * t;
+        const uint32_t *c = tri.v + 6 * t;
         for (int q = 0; q < 3; ++q) {
-            const double *src = c[2 * q + 1] >= 0 ? vn.v + 3 * c[2 * q + 1] : acc + 3 * c[2 * q];
-            double l = sqrt(src[0] * src[0] + src[1] * src[1] + src[2] * src[2]);
-            for (int j = 0; j < 3; ++j)
-                out->nrm[9 * t + 3 * q + j] = l > 0 ? src[j] / l : 0.0;
+            const double *src = c[2 * q + 1] != NO_NORMAL ? vn.v + 3 * c[2 * q + 1] : acc + 3 * c[2 * q];
+            unit(src, out->nrm + 9 * t + 3 * q);
         }
     }
     free(acc);
@@ -254,12 +318,22 @@ out:
     return rc;
 }
 
+/* OBJ has no magic; it is text, so a NUL among the first bytes marks a binary file (the parser
+ * refuses NULs anywhere, but only after the whole file is read) */
+static const char *obj_magic(const uint8_t *head, size_t n)
+{
+    return memchr(head, 0, n) ? "binary data (a NUL byte in the first bytes), not a Wavefront OBJ file" : NULL;
+}
+
 int qibl_obj_read(const char *path, qibl_obj_mesh *out, char *err, size_t errlen)
 {
-    size_t n;
-    char *buf = (char *)qibl_io_read_all(path, &n);
-    if (!buf)
-        return fail(err, errlen, path, 0, "%s", strerror(errno));
+    static const qibl_io_kind kind = {"a Wavefront OBJ file", 1, QIBL_OBJ_MAX_FILE_BYTES, QIBL_IO_MAX_HEAD_BYTES,
+                                      obj_magic};
+    size_t n = 0;
+    uint8_t *bytes = NULL;
+    if (qibl_io_load(path, &kind, &bytes, &n, err, errlen) != 0)
+        return -1;
+    char *buf = (char *)bytes;
     qibl_obj_mesh m = {0};
     int rc = qibl_obj_parse(path, buf, n, &m, err, errlen);
     free(buf);

@@ -4,12 +4,35 @@
  * their first vertex; vt, g, o, s, usemtl, mtllib, l, p and unknown statements are ignored.
  * Corners without a normal get the area-weighted average of the face normals around their position.
  * Hosted, double precision.
+ *
+ * Limits (each a named one-line error giving the line, checked while parsing, before the output is
+ * allocated):
+ *   - a file: regular, at most QIBL_OBJ_MAX_FILE_BYTES, read only after stat and only if its first
+ *     64 bytes hold no NUL (OBJ is text) (io/file.h);
+ *   - a line at most 4095 bytes, a face at most QIBL_OBJ_MAX_FACE_CORNERS corners;
+ *   - at most QIBL_OBJ_MAX_VERTICES v and as many vn statements, at most QIBL_OBJ_MAX_TRIANGLES
+ *     triangles, and at most one triangle per QIBL_OBJ_MIN_BYTES_PER_TRIANGLE bytes of input (a
+ *     plain "f 1 2 3" line is 8 bytes; real meshes spend 35-55): fan faces cannot turn a small
+ *     file into a huge mesh;
+ *   - every number finite, and every coordinate (x / w for a vertex with w) and normal component
+ *     of magnitude at most QIBL_OBJ_MAX_COORD, so that edge cross products stay finite: the value
+ *     and line are named otherwise;
+ *   - indices resolved without overflow (any 64-bit value is safely refused when out of range).
+ * Memory: the file, 24 bytes per v or vn, 24 per triangle while parsing, then the output (144 bytes
+ * per triangle): at most ~40x the input and never above the caps. Time linear in the input.
  */
 #ifndef QIBL_IO_OBJ_H
 #define QIBL_IO_OBJ_H
 
 #include <stddef.h>
 #include <stdint.h>
+
+#define QIBL_OBJ_MAX_FILE_BYTES ((size_t)1 << 28)  /* 256 MiB */
+#define QIBL_OBJ_MAX_VERTICES ((size_t)1 << 24)    /* v statements; the same for vn */
+#define QIBL_OBJ_MAX_TRIANGLES ((size_t)1 << 22)   /* 4 Mi triangles: 604 MB of output */
+#define QIBL_OBJ_MIN_BYTES_PER_TRIANGLE 4u
+#define QIBL_OBJ_MAX_FACE_CORNERS 256
+#define QIBL_OBJ_MAX_COORD 1e15
 
 typedef struct qibl_obj_mesh {
     size_t ntri;

@@ -6,6 +6,7 @@
  * byte and the samples. Comments are not part of the format and are refused.
  */
 #include "io/pfm.h"
+#include "io/atomic.h"
 #include "io/file.h"
 
 #include <errno.h>
@@ -35,14 +36,19 @@ static int is_ws(uint8_t c)
     return c == ' ' || c == '\t' || c == '\n' || c == '\r';
 }
 
-/* next whitespace-delimited token of at most 63 bytes into tok; -1 at end of data */
+/* next whitespace-delimited token of at most 63 printable bytes into tok; -1 at end of data, -2 on
+ * a non-printable byte (a NUL would cut the number short for strtol, a \v or \f is skipped by
+ * strtod: the header is text) */
 static int token(const uint8_t *buf, size_t len, size_t *pos, char tok[64])
 {
-    while (*pos < len && is_ws(buf[*pos]))
+    while (*pos < len && *pos < QIBL_PFM_MAX_HEADER_BYTES && is_ws(buf[*pos]))
         ++*pos;
     size_t n = 0;
-    while (*pos < len && !is_ws(buf[*pos]) && n < 63)
+    while (*pos < len && !is_ws(buf[*pos]) && n < 63) {
+        if (buf[*pos] < 0x21 || buf[*pos] > 0x7E)
+            return -2; /* *pos stays on the byte */
         tok[n++] = (char)buf[(*pos)++];
+    }
     tok[n] = '\0';
     if (n == 0 || (*pos < len && !is_ws(buf[*pos])))
         return -1;
@@ -57,22 +63,30 @@ static int decode_impl(const char *name, const uint8_t *buf, size_t len, int *w_
     int ch = buf[1] == 'F' ? 3 : 1;
     size_t pos = 2;
     char t[3][64];
-    for (int i = 0; i < 3; ++i)
-        if (token(buf, len, &pos, t[i]) != 0)
+    for (int i = 0; i < 3; ++i) {
+        int r = token(buf, len, &pos, t[i]);
+        if (r == -2)
+            return fail(err, errlen, name, "byte 0x%02x at offset %zu in the header (not text)", buf[pos], pos);
+        if (r != 0)
             return fail(err, errlen, name, "truncated or malformed header");
+    }
     char *end;
     errno = 0;
     long w = strtol(t[0], &end, 10);
-    if (*end || errno || w < 1 || w > 65535)
-        return fail(err, errlen, name, "bad width '%s' (1..65535)", t[0]);
+    if (*end || errno || w < 1 || w > (long)QIBL_PFM_MAX_DIM)
+        return fail(err, errlen, name, "bad width '%s' (1..%u)", t[0], QIBL_PFM_MAX_DIM);
     long h = strtol(t[1], &end, 10);
-    if (*end || errno || h < 1 || h > 65535)
-        return fail(err, errlen, name, "bad height '%s' (1..65535)", t[1]);
+    if (*end || errno || h < 1 || h > (long)QIBL_PFM_MAX_DIM)
+        return fail(err, errlen, name, "bad height '%s' (1..%u)", t[1], QIBL_PFM_MAX_DIM);
+    if ((uint64_t)w * (uint64_t)h > QIBL_PFM_MAX_PIXELS)
+        return fail(err, errlen, name, "%ld x %ld pixels, above the %lu-pixel limit (QIBL_PFM_MAX_PIXELS)", w, h,
+                    (unsigned long)QIBL_PFM_MAX_PIXELS);
     double scale = strtod(t[2], &end);
     if (*end || !isfinite(scale) || scale == 0.0)
         return fail(err, errlen, name, "bad scale '%s' (a non-zero number; negative means little-endian)", t[2]);
     if (pos >= len || !is_ws(buf[pos]))
-        return fail(err, errlen, name, "truncated header");
+        return fail(err, errlen, name, pos >= QIBL_PFM_MAX_HEADER_BYTES ? "header longer than %u bytes" : "truncated header",
+                    QIBL_PFM_MAX_HEADER_BYTES);
     ++pos; /* the single whitespace byte before the data */
     size_t n = (size_t)w * (size_t)h * (size_t)ch;
     if (len - pos < n * 4)
@@ -91,6 +105,11 @@ static int decode_impl(const char *name, const uint8_t *buf, size_t len, int *w_
                                 : (uint32_t)b[3] | (uint32_t)b[2] << 8 | (uint32_t)b[1] << 16 | (uint32_t)b[0] << 24;
             float f;
             memcpy(&f, &u, 4);
+            if (!isfinite(f)) {
+                free(px);
+                return fail(err, errlen, name, "non-finite sample %s at column %zu, row %ld from the top, channel %zu",
+                            isnan(f) ? "nan" : f > 0 ? "inf" : "-inf", i / (size_t)ch, h - 1 - y, i % (size_t)ch);
+            }
             dst[i] = f;
         }
     }
@@ -104,12 +123,19 @@ int qibl_pfm_decode(const uint8_t *buf, size_t len, int *w, int *h, int *channel
     return decode_impl(NULL, buf, len, w, h, channels, px, err, errlen);
 }
 
+static const char *pfm_magic(const uint8_t *b, size_t n)
+{
+    return n >= 3 && b[0] == 'P' && (b[1] == 'F' || b[1] == 'f') && is_ws(b[2]) ? NULL
+                                                                               : "not a PFM file (magic must be PF or Pf)";
+}
+
 int qibl_pfm_read(const char *path, int *w, int *h, int *channels, float **px, char *err, size_t errlen)
 {
-    size_t n;
-    uint8_t *buf = qibl_io_read_all(path, &n);
-    if (!buf)
-        return fail(err, errlen, path, "%s", strerror(errno));
+    static const qibl_io_kind kind = {"a PFM file", 3, QIBL_PFM_MAX_FILE_BYTES, 3, pfm_magic};
+    size_t n = 0;
+    uint8_t *buf = NULL;
+    if (qibl_io_load(path, &kind, &buf, &n, err, errlen) != 0)
+        return -1;
     int rc = decode_impl(path, buf, n, w, h, channels, px, err, errlen);
     free(buf);
     return rc;
@@ -119,21 +145,21 @@ int qibl_pfm_write(const char *path, int w, int h, int channels, const float *px
 {
     if (w < 1 || h < 1 || w > 65535 || h > 65535 || (channels != 1 && channels != 3))
         return fail(err, errlen, path, "bad PFM size %dx%d or channel count %d", w, h, channels);
-    size_t tl = strlen(path) + 5;
-    char *tmp = malloc(tl);
-    if (!tmp)
+    size_t row = (size_t)w * (size_t)channels;
+    /* a non-finite sample is refused: no reader could tell it from a corrupt file */
+    for (size_t i = 0; i < row * (size_t)h; ++i)
+        if (!isfinite(px[i]))
+            return fail(err, errlen, path, "refusing to write a non-finite sample (%g at pixel %zu, channel %zu)",
+                        (double)px[i], i / (size_t)channels, i % (size_t)channels);
+    uint8_t *line = malloc(row * 4);
+    if (!line)
         return fail(err, errlen, path, "out of memory");
-    snprintf(tmp, tl, "%s.tmp", path);
-    FILE *f = fopen(tmp, "wb");
-    if (!f) {
-        fail(err, errlen, tmp, "cannot create: %s", strerror(errno));
-        free(tmp);
+    qibl_io_atomic a;
+    if (qibl_io_atomic_open(&a, path, err, errlen) != 0) {
+        free(line);
         return -1;
     }
-    int bad = fprintf(f, "%s\n%d %d\n-1.0\n", channels == 3 ? "PF" : "Pf", w, h) < 0;
-    size_t row = (size_t)w * (size_t)channels;
-    uint8_t *line = malloc(row * 4);
-    bad |= !line;
+    int bad = fprintf(a.f, "%s\n%d %d\n-1.0\n", channels == 3 ? "PF" : "Pf", w, h) < 0;
     for (int y = h - 1; y >= 0 && !bad; --y) {
         for (size_t i = 0; i < row; ++i) {
             uint32_t u;
@@ -141,20 +167,13 @@ int qibl_pfm_write(const char *path, int w, int h, int channels, const float *px
             line[4 * i] = (uint8_t)u, line[4 * i + 1] = (uint8_t)(u >> 8);
             line[4 * i + 2] = (uint8_t)(u >> 16), line[4 * i + 3] = (uint8_t)(u >> 24);
         }
-        bad |= fwrite(line, 4, row, f) != row;
+        bad |= fwrite(line, 4, row, a.f) != row;
     }
     free(line);
-    bad |= fclose(f) != 0;
-    int rc = -1;
     if (bad) {
         fail(err, errlen, path, "write failed: %s", strerror(errno));
-        remove(tmp);
-    } else if (rename(tmp, path) != 0) {
-        fail(err, errlen, path, "cannot rename from %s: %s", tmp, strerror(errno));
-        remove(tmp);
-    } else {
-        rc = 0;
+        qibl_io_atomic_abort(&a);
+        return -1;
     }
-    free(tmp);
-    return rc;
+    return qibl_io_atomic_commit(&a, err, errlen);
 }

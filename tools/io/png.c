@@ -4,6 +4,7 @@
  * No dynamic Huffman tables: a few tens of percent larger than zlib -9, far smaller than stored.
  */
 #include "io/png.h"
+#include "io/atomic.h"
 
 #include "qibl/asset.h" /* qibl_crc32: the same CRC-32 as PNG */
 
@@ -206,7 +207,7 @@ static int zlib_rgb(int w, int h, const uint8_t *rgb, uint8_t **zout, size_t *zn
 }
 
 /* PNG (frames == 1, delay ignored) or APNG (frames > 1: acTL, then per frame fcTL + IDAT/fdAT),
- * written atomically (path.tmp, then rename). */
+ * written atomically (io/atomic.h). */
 static int write_png_frames(const char *path, int w, int h, int frames, const uint8_t *rgb, int delay_num,
                             int delay_den, char *err, size_t errlen)
 {
@@ -223,20 +224,10 @@ static int write_png_frames(const char *path, int w, int h, int frames, const ui
     put32(ihdr + 4, (uint32_t)h);
     ihdr[8] = 8, ihdr[9] = 2, ihdr[10] = 0, ihdr[11] = 0, ihdr[12] = 0; /* 8-bit RGB */
 
-    size_t tl = strlen(path) + 5;
-    char *tmp = malloc(tl);
-    if (!tmp) {
-        snprintf(err, errlen, "%s: out of memory", path);
+    qibl_io_atomic at;
+    if (qibl_io_atomic_open(&at, path, err, errlen) != 0)
         return -1;
-    }
-    snprintf(tmp, tl, "%s.tmp", path);
-    FILE *f = fopen(tmp, "wb");
-    int rc = -1;
-    if (!f) {
-        snprintf(err, errlen, "%s: cannot create: %s", tmp, strerror(errno));
-        free(tmp);
-        return -1;
-    }
+    FILE *f = at.f;
     static const uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
     int bad = fwrite(sig, 1, 8, f) != 8 || write_chunk(f, "IHDR", ihdr, 13), oom = 0;
     uint32_t seq = 0;
@@ -281,21 +272,15 @@ static int write_png_frames(const char *path, int w, int h, int frames, const ui
         free(z);
     }
     bad |= write_chunk(f, "IEND", NULL, 0);
-    bad |= fclose(f) != 0;
     if (bad) {
         if (oom)
             snprintf(err, errlen, "%s: out of memory", path);
         else
             snprintf(err, errlen, "%s: write failed: %s", path, strerror(errno));
-        remove(tmp);
-    } else if (rename(tmp, path) != 0) {
-        snprintf(err, errlen, "%s: cannot rename from %s: %s", path, tmp, strerror(errno));
-        remove(tmp);
-    } else {
-        rc = 0;
+        qibl_io_atomic_abort(&at);
+        return -1;
     }
-    free(tmp);
-    return rc;
+    return qibl_io_atomic_commit(&at, err, errlen);
 }
 
 int qibl_png_write_rgb8(const char *path, int w, int h, const uint8_t *rgb, char *err, size_t errlen)

@@ -106,16 +106,12 @@ static int huff_decode(inf *s, const huff *h)
     return -1;
 }
 
+/* the output buffer is exactly what IHDR implies, so a stream inflating further stops at once */
 static int emit(inf *s, uint8_t b)
 {
     if (s->on == s->ocap) {
-        size_t cap = s->ocap ? s->ocap * 2 : 65536;
-        uint8_t *nb = realloc(s->out, cap);
-        if (!nb) {
-            s->why = "out of memory";
-            return -1;
-        }
-        s->out = nb, s->ocap = cap;
+        s->why = "inflates past the size IHDR implies";
+        return -1;
     }
     s->out[s->on++] = b;
     return 0;
@@ -279,14 +275,18 @@ static int inflate_raw(inf *s)
     return 0;
 }
 
-/* zlib stream -> malloc'ed bytes; NULL with *why set */
-static uint8_t *unzlib(const uint8_t *z, size_t n, size_t *outn, const char **why)
+/* zlib stream -> malloc'ed bytes (at most cap); NULL with *why set */
+static uint8_t *unzlib(const uint8_t *z, size_t n, size_t cap, size_t *outn, const char **why)
 {
     if (n < 6 || (z[0] & 0x0F) != 8 || ((unsigned)z[0] << 8 | z[1]) % 31 != 0 || (z[1] & 0x20)) {
         *why = "bad zlib header";
         return NULL;
     }
-    inf s = {z + 2, n - 2, 0, NULL, 0, 0, NULL};
+    inf s = {z + 2, n - 2, 0, malloc(cap ? cap : 1), 0, cap, NULL};
+    if (!s.out) {
+        *why = "out of memory";
+        return NULL;
+    }
     if (inflate_raw(&s) != 0) {
         *why = s.why;
         free(s.out);
@@ -320,17 +320,32 @@ static int paeth(int a, int b, int c)
     return pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
 }
 
+/* a chunk type for messages: its four letters, or its bytes in hex when they are not all letters
+ * (a raw byte such as a newline would break the one-line error) */
+static const char *type_name(const uint8_t *t, char out[16])
+{
+    int letters = 1;
+    for (int i = 0; i < 4; ++i)
+        letters &= (t[i] >= 'A' && t[i] <= 'Z') || (t[i] >= 'a' && t[i] <= 'z');
+    if (letters)
+        snprintf(out, 16, "%c%c%c%c", t[0], t[1], t[2], t[3]);
+    else
+        snprintf(out, 16, "0x%02x%02x%02x%02x", t[0], t[1], t[2], t[3]);
+    return out;
+}
+
 static int read_impl(const char *name, const uint8_t *buf, size_t len, int *w_out, int *h_out, int *frames_out,
                      uint8_t **rgb_out, char *err, size_t errlen)
 {
     static const uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
     if (len < 8 || memcmp(buf, sig, 8) != 0)
         return fail(err, errlen, name, "not a PNG (bad signature)");
-    size_t pos = 8, idat_n = 0;
+    size_t pos = 8, idat_n = 0, idat_cap = 0;
     uint8_t *idat = NULL;
     uint32_t w = 0, h = 0, frames = 1, nfctl = 0, nfdat_frames = 0, seq = 0;
     int ch = 0, seen_ihdr = 0, seen_iend = 0, seen_actl = 0, idat_done = 0, last_fdat_frame = -1;
     int rc = -1;
+    char tn[16];
     while (pos < len) {
         if (len - pos < 12) {
             fail(err, errlen, name, "truncated chunk at byte %zu", pos);
@@ -339,15 +354,15 @@ static int read_impl(const char *name, const uint8_t *buf, size_t len, int *w_ou
         uint32_t n = get32(buf + pos);
         const uint8_t *type = buf + pos + 4, *data = buf + pos + 8;
         if (n > len - pos - 12) {
-            fail(err, errlen, name, "chunk %.4s at byte %zu runs past the end of the file", (const char *)type, pos);
+            fail(err, errlen, name, "chunk %s at byte %zu runs past the end of the file", type_name(type, tn), pos);
             goto out;
         }
         if (qibl_crc32(0, type, 4 + (size_t)n) != get32(data + n)) {
-            fail(err, errlen, name, "CRC mismatch in chunk %.4s at byte %zu", (const char *)type, pos);
+            fail(err, errlen, name, "CRC mismatch in chunk %s at byte %zu", type_name(type, tn), pos);
             goto out;
         }
         if (!seen_ihdr && memcmp(type, "IHDR", 4) != 0) {
-            fail(err, errlen, name, "first chunk is %.4s, not IHDR", (const char *)type);
+            fail(err, errlen, name, "first chunk is %s, not IHDR", type_name(type, tn));
             goto out;
         }
         if (memcmp(type, "IHDR", 4) == 0) {
@@ -356,8 +371,13 @@ static int read_impl(const char *name, const uint8_t *buf, size_t len, int *w_ou
                 goto out;
             }
             w = get32(data), h = get32(data + 4);
-            if (w == 0 || h == 0 || w > 65535 || h > 65535) {
-                fail(err, errlen, name, "bad image size %ux%u", w, h);
+            if (w == 0 || h == 0 || w > QIBL_PNG_MAX_DIM || h > QIBL_PNG_MAX_DIM) {
+                fail(err, errlen, name, "bad image size %ux%u (each 1..%u)", w, h, QIBL_PNG_MAX_DIM);
+                goto out;
+            }
+            if ((uint64_t)w * h > QIBL_PNG_MAX_PIXELS) {
+                fail(err, errlen, name, "%ux%u pixels, above the %u-pixel limit (QIBL_PNG_MAX_PIXELS)", w, h,
+                     (unsigned)QIBL_PNG_MAX_PIXELS);
                 goto out;
             }
             if (data[8] != 8 || (data[9] != 2 && data[9] != 6) || data[10] || data[11] || data[12]) {
@@ -376,7 +396,7 @@ static int read_impl(const char *name, const uint8_t *buf, size_t len, int *w_ou
         } else if (memcmp(type, "fcTL", 4) == 0 || memcmp(type, "fdAT", 4) == 0) {
             int is_fctl = type[1] == 'c';
             if (!seen_actl || n < 4 || get32(data) != seq) {
-                fail(err, errlen, name, "%.4s out of sequence or without acTL", (const char *)type);
+                fail(err, errlen, name, "%s out of sequence or without acTL", type_name(type, tn));
                 goto out;
             }
             seq++;
@@ -401,19 +421,24 @@ static int read_impl(const char *name, const uint8_t *buf, size_t len, int *w_ou
                 fail(err, errlen, name, "IDAT chunks are not consecutive");
                 goto out;
             }
-            uint8_t *nb = realloc(idat, idat_n + n + 1);
-            if (!nb) {
-                fail(err, errlen, name, "out of memory");
-                goto out;
+            if (idat_n + n + 1 > idat_cap) { /* doubling: many small IDATs stay linear */
+                size_t cap = idat_cap ? idat_cap : 65536;
+                while (cap < idat_n + n + 1)
+                    cap *= 2;
+                uint8_t *nb = realloc(idat, cap);
+                if (!nb) {
+                    fail(err, errlen, name, "out of memory");
+                    goto out;
+                }
+                idat = nb, idat_cap = cap;
             }
-            idat = nb;
             memcpy(idat + idat_n, data, n);
             idat_n += n;
         } else if (memcmp(type, "IEND", 4) == 0) {
             seen_iend = 1;
             break;
         } else if (!(type[0] & 0x20)) {
-            fail(err, errlen, name, "unknown critical chunk %.4s", (const char *)type);
+            fail(err, errlen, name, "unknown critical chunk %s", type_name(type, tn));
             goto out;
         }
         if (idat_n && memcmp(type, "IDAT", 4) != 0)
@@ -436,8 +461,8 @@ static int read_impl(const char *name, const uint8_t *buf, size_t len, int *w_ou
     {
         const char *why = NULL;
         size_t rn = 0;
-        uint8_t *raw = unzlib(idat, idat_n, &rn, &why);
         size_t stride = (size_t)w * (size_t)ch;
+        uint8_t *raw = unzlib(idat, idat_n, (stride + 1) * h, &rn, &why);
         if (!raw) {
             fail(err, errlen, name, "image data: %s", why);
             goto out;
@@ -488,12 +513,19 @@ int qibl_png_decode_rgb8(const uint8_t *buf, size_t len, int *w, int *h, int *fr
     return read_impl(NULL, buf, len, w, h, frames, rgb, err, errlen);
 }
 
+static const char *png_magic(const uint8_t *b, size_t n)
+{
+    static const uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+    return n >= 8 && memcmp(b, sig, 8) == 0 ? NULL : "not a PNG (bad signature)";
+}
+
 int qibl_png_read_rgb8(const char *path, int *w, int *h, int *frames, uint8_t **rgb, char *err, size_t errlen)
 {
-    size_t n;
-    uint8_t *buf = qibl_io_read_all(path, &n);
-    if (!buf)
-        return fail(err, errlen, path, "%s", strerror(errno));
+    static const qibl_io_kind kind = {"a PNG file", 8, QIBL_PNG_MAX_FILE_BYTES, 8, png_magic};
+    size_t n = 0;
+    uint8_t *buf = NULL;
+    if (qibl_io_load(path, &kind, &buf, &n, err, errlen) != 0)
+        return -1;
     int rc = read_impl(path, buf, n, w, h, frames, rgb, err, errlen);
     free(buf);
     return rc;

@@ -232,7 +232,7 @@ static int quality(int quick, char names[][256], int np)
            "mean irradiance\n", nn);
     printf("%-26s", "probe");
     for (int c = 0; c < NCONF; ++c) {
-        char tag[8];
+        char tag[16]; /* room for any int: gcc's range analysis under ASan cannot see c < NCONF */
         snprintf(tag, sizeof tag, "c%d", c);
         printf(" %7s", tag);
     }

@@ -15,6 +15,7 @@
 #include "io/asset_write.h"
 #include "qibl/cli.h"
 #include "qibl/shmap.h"
+#include "ref/psnr.h"
 #include "ref/sh_ref.h"
 
 #define REPS_MAX 15
@@ -88,7 +89,7 @@ static err8 compare8(const int32_t *img, const double *ref, size_t n)
         se += e * e;
         mx = e > mx ? e : mx;
     }
-    err8 r = {se > 0 ? 10 * log10(255.0 * 255.0 / (se / n)) : 99.0, mx};
+    err8 r = {qibl_ref_psnr8(se / n), mx};
     return r;
 }
 

@@ -59,6 +59,18 @@ int qibl_cli_usage_error(const char *fmt, ...);
  * out of the Q16.16 range. */
 int qibl_cli_parse_q16(const char *s, int32_t *out);
 
+/* Parses a finite decimal in [lo, hi] into *out; 0, or 2 (the bad-arguments exit status) after one
+ * line naming the option and the value: "qibl: --rgb: 40000 is outside 0..32767.9999847 (why)"
+ * (why may be NULL). */
+int qibl_cli_parse_num(const char *opt, const char *s, double lo, double hi, const char *why, double *out);
+
+/* The Q16.16 range the core's lights take, for options relight (and render, its ground truth) parse. */
+#define QIBL_CLI_Q16_MAX (2147483647.0 / 65536.0)
+#define QIBL_CLI_Q16_WHY "the Q16.16 range of the core's lights"
+
+/* Parses "WxH" (decimal digits only) with both in 1..max; 0, or 2 after one line naming opt. */
+int qibl_cli_parse_size(const char *opt, const char *s, long max, long *w, long *h);
+
 /* Parses a decimal integer in [lo, hi]; 0 on success, -1 otherwise. */
 int qibl_cli_parse_int(const char *s, long lo, long hi, long *out);
 

@@ -14,24 +14,24 @@
 #include "io/pfm.h"
 #include "io/png.h"
 #include "qibl/asset.h"
+#include "io/atomic.h"
 #include "io/file.h"
 #include "qibl/cli.h"
 #include "qibl/shmap.h"
+#include "ref/psnr.h"
 #include "render/rt.h"
 
 /* ---- shared options ------------------------------------------------------------------------------ */
 
-static int parse_d3(char **argv, int i, int argc, double v[3])
+/* X Y Z after argv[i], each in lo..QIBL_CLI_Q16_MAX (render is the ground truth of what relight
+ * can take); 0, or 2 after a message naming the option and the value */
+static int parse_d3(char **argv, int i, int argc, double lo, double v[3])
 {
     if (i + 3 >= argc)
-        return -1;
-    for (int j = 0; j < 3; ++j) {
-        char *end;
-        errno = 0;
-        v[j] = strtod(argv[i + 1 + j], &end);
-        if (end == argv[i + 1 + j] || *end || errno || !isfinite(v[j]))
-            return -1;
-    }
+        return qibl_cli_usage_error("%s needs three numbers", argv[i]);
+    for (int j = 0; j < 3; ++j)
+        if (qibl_cli_parse_num(argv[i], argv[i + 1 + j], lo, QIBL_CLI_Q16_MAX, QIBL_CLI_Q16_WHY, &v[j]) != 0)
+            return 2;
     return 0;
 }
 
@@ -50,9 +50,10 @@ int qibl_cli_scene_opt(int argc, char **argv, int *i, qibl_cli_scene *o)
         o->kind = QIBL_PANO_EQUIRECT;
     } else if (strcmp(a, "--size") == 0 && *i + 1 < argc) {
         long w, h;
-        char tail;
-        if (sscanf(argv[++*i], "%ldx%ld%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 16384 || h > 16384) {
-            qibl_cli_usage_error("--size needs WxH with both in 1..16384");
+        if (qibl_cli_parse_size(a, argv[++*i], QIBL_ASSET_MAX_DIM, &w, &h) != 0)
+            return -1;
+        if (w * h > (long)QIBL_ASSET_MAX_PIXELS) {
+            qibl_cli_usage_error("--size %ldx%ld is above the asset's %u pixels", w, h, QIBL_ASSET_MAX_PIXELS);
             return -1;
         }
         o->w = (uint32_t)w, o->h = (uint32_t)h;
@@ -121,14 +122,17 @@ int qibl_cmd_render(int argc, char **argv)
         const char *a = argv[i];
         if (strcmp(a, "--sun") == 0 || strcmp(a, "--point") == 0) {
             int pt = a[2] == 'p';
-            if (parse_d3(argv, i, argc, pt ? l.pos : l.dir) != 0)
-                return qibl_cli_usage_error("%s needs three numbers X Y Z", a);
-            if (!pt && l.dir[0] == 0 && l.dir[1] == 0 && l.dir[2] == 0)
-                return qibl_cli_usage_error("--sun needs a non-zero direction");
+            double *v = pt ? l.pos : l.dir;
+            if (parse_d3(argv, i, argc, -QIBL_CLI_Q16_MAX, v) != 0)
+                return 2;
+            /* as relight sees it: a direction that rounds to 0 0 0 in Q16.16 has none */
+            if (!pt && fmax(fabs(v[0]), fmax(fabs(v[1]), fabs(v[2]))) < 0.5 / 65536)
+                return qibl_cli_usage_error("--sun needs a non-zero direction: %s %s %s is 0 0 0 in Q16.16",
+                                            argv[i + 1], argv[i + 2], argv[i + 3]);
             l.point = pt, have++, i += 3;
         } else if (strcmp(a, "--rgb") == 0) {
-            if (parse_d3(argv, i, argc, l.rgb) != 0 || l.rgb[0] < 0 || l.rgb[1] < 0 || l.rgb[2] < 0)
-                return qibl_cli_usage_error("--rgb needs three non-negative numbers");
+            if (parse_d3(argv, i, argc, 0, l.rgb) != 0)
+                return 2;
             i += 3;
         } else if (strcmp(a, "--falloff") == 0 && i + 1 < argc) {
             if (qibl_cli_parse_int(argv[++i], 1, 2, &falloff) != 0)
@@ -251,29 +255,18 @@ static double eval_psnr(const evalset *e, const uint8_t *asset, size_t n, int po
         mse += qibl_bake_mse(tmp, e->truth[i], e->mask, e->np), ++cnt;
     }
     mse /= cnt ? cnt : 1;
-    return mse > 0 ? 10 * log10(255.0 * 255.0 / mse) : 99.0;
+    return qibl_ref_psnr8(mse);
 }
 
 /* ---- qibl bake / merge --------------------------------------------------------------------------- */
 
 static int write_bytes(const char *path, const uint8_t *b, size_t n)
 {
-    size_t tl = strlen(path) + 5;
-    char *tmp = malloc(tl);
-    if (!tmp)
-        return -1;
-    snprintf(tmp, tl, "%s.tmp", path);
-    FILE *f = fopen(tmp, "wb");
-    int bad = !f || fwrite(b, 1, n, f) != n;
-    if (f)
-        bad |= fclose(f) != 0;
-    if (bad || rename(tmp, path) != 0) {
-        fprintf(stderr, "qibl: %s: write failed: %s\n", path, strerror(errno));
-        remove(tmp);
-        free(tmp);
+    char err[1200];
+    if (qibl_io_write_atomic(path, b, n, err, sizeof err) != 0) {
+        fprintf(stderr, "qibl: %s\n", err);
         return -1;
     }
-    free(tmp);
     return 0;
 }
 
@@ -284,7 +277,11 @@ static int finish_asset(const qibl_bake_sums *sums, uint32_t k, uint32_t lut, qi
     uint8_t *bytes = NULL;
     size_t n = 0;
     if (qibl_bake_coeffs(sums, k, method, &m) != 0) {
-        fprintf(stderr, "qibl: %s: cannot project (out of memory, or too few directions for k = %u)\n", out, k);
+        if (method == QIBL_PROJ_LSQ)
+            fprintf(stderr, "qibl: %s: cannot project by least squares: %u directions are too few for k = %u (or out "
+                    "of memory)\n", out, sums->ndirs, k);
+        else
+            fprintf(stderr, "qibl: %s: cannot project: out of memory\n", out);
         return 1;
     }
     int rc = qibl_bake_asset(&m, lut, &bytes, &n);
@@ -486,28 +483,43 @@ int qibl_cmd_merge(int argc, char **argv)
         return qibl_cli_usage_error("usage: qibl merge -o ASSET [--sums OUT] [--k K] [--lut N] [--lsq] SUMS...");
     }
     qibl_bake_sums total = {0}, part;
-    char err[512];
+    char err[1200];
     int rc = 1;
-    uint8_t *seen = NULL;
+    int *seen = NULL; /* per shard index: 1 + the input it came from, 0 if none yet */
     for (int i = 0; i < nin; ++i) {
+        /* every header is validated by the reader (shard < nshards <= QIBL_BAKE_MAX_SHARDS) before use */
         if (qibl_bake_sums_read(in[i], &part, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
             goto done;
         }
         if (i == 0) {
             total = part;
-            seen = calloc(part.nshards, 1);
-            if (!seen)
+            seen = calloc(part.nshards, sizeof *seen);
+            if (!seen) {
+                fprintf(stderr, "qibl: merge: out of memory\n");
                 goto done;
+            }
             seen[part.shard] = 1;
             continue;
         }
-        if (qibl_bake_sums_add(&total, &part, err, sizeof err) != 0 || seen[part.shard]) {
-            fprintf(stderr, "qibl: %s: %s\n", in[i], seen[part.shard] ? "shard given twice" : err);
+        /* same bake (and so the same shard count) first: only then is part.shard an index into seen */
+        if (qibl_bake_sums_compatible(&total, &part, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s: %s (first input %s)\n", in[i], err, in[0]);
             qibl_bake_sums_free(&part);
             goto done;
         }
-        seen[part.shard] = 1;
+        if (seen[part.shard]) {
+            fprintf(stderr, "qibl: %s: shard %u/%u given twice (also %s)\n", in[i], part.shard, part.nshards,
+                    in[seen[part.shard] - 1]);
+            qibl_bake_sums_free(&part);
+            goto done;
+        }
+        if (qibl_bake_sums_add(&total, &part, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s: %s\n", in[i], err);
+            qibl_bake_sums_free(&part);
+            goto done;
+        }
+        seen[part.shard] = i + 1;
         qibl_bake_sums_free(&part);
     }
     for (uint32_t s = 0; s < total.nshards; ++s)
@@ -515,6 +527,11 @@ int qibl_cmd_merge(int argc, char **argv)
             fprintf(stderr, "qibl: merge: shard %u/%u is missing\n", s, total.nshards);
             goto done;
         }
+    if (k > (long)total.k) {
+        rc = qibl_cli_usage_error("merge: --k %ld is above the shards' k = %u (bake with --k %ld or more)", k, total.k,
+                                  k);
+        goto done;
+    }
     total.shard = 0, total.nshards = 1;
     if (sums_out && qibl_bake_sums_write(&total, sums_out, err, sizeof err) != 0) {
         fprintf(stderr, "qibl: %s\n", err);
@@ -561,11 +578,16 @@ int qibl_cmd_check(int argc, char **argv)
             printf("%s: PFM %dx%d, %d channel%s\n", p, w, h, ch, ch == 1 ? "" : "s");
         } else {
             size_t n;
-            uint8_t *b = qibl_io_read_all(p, &n);
+            uint8_t *b = NULL;
+            if (qibl_io_read_asset(p, &b, &n, err, sizeof err) != 0) {
+                fprintf(stderr, "qibl: %s\n", err);
+                bad = 1;
+                continue;
+            }
             qibl_asset_t a;
-            qibl_status_t st = b ? qibl_asset_open(&a, b, n) : QIBL_OK;
-            if (!b || st != QIBL_OK) {
-                fprintf(stderr, "qibl: %s: %s\n", p, b ? qibl_status_str(st) : strerror(errno));
+            qibl_status_t st = qibl_asset_open(&a, b, n);
+            if (st != QIBL_OK) {
+                fprintf(stderr, "qibl: %s: %s\n", p, qibl_status_str(st));
                 free(b);
                 bad = 1;
                 continue;

@@ -2,6 +2,7 @@
  * cmd_demo.c - `qibl demo`: bake -> assets for k = 9, 16, 25 -> relight by the core (sun sweep,
  * moving lamp) -> PNG frames, APNGs, contact sheet against ground truth, the results table.
  */
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -9,19 +10,80 @@
 #include <sys/stat.h>
 
 #include "bake/bake.h"
+#include "io/atomic.h"
 #include "io/png.h"
 #include "qibl/cli.h"
+#include "ref/psnr.h"
 #include "render/rt.h"
+
+/* dir/name in a malloc'ed string (no fixed-size buffer: a long --out is never truncated); NULL if
+ * out of memory */
+static char *join(const char *dir, const char *name)
+{
+    size_t a = strlen(dir), b = strlen(name);
+    char *p = malloc(a + b + 2);
+    if (p) {
+        memcpy(p, dir, a);
+        p[a] = '/';
+        memcpy(p + a + 1, name, b + 1);
+    }
+    return p;
+}
 
 static int save_png(const char *dir, const char *name, int w, int h, const uint8_t *rgb)
 {
-    char path[1024], err[1200];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    if (qibl_png_write_rgb8(path, w, h, rgb, err, sizeof err) != 0) {
-        fprintf(stderr, "qibl: %s\n", err);
+    char err[1200], *path = join(dir, name);
+    if (!path || qibl_png_write_rgb8(path, w, h, rgb, err, sizeof err) != 0) {
+        fprintf(stderr, "qibl: %s\n", path ? err : "demo: out of memory");
+        free(path);
         return -1;
     }
+    free(path);
     return 0;
+}
+
+/* Makes sure every output can be written before the bake: the directory exists (created if
+ * missing) and takes a new file, and no output name is a link, directory or other non-regular file.
+ * 0, or 1 after a message. */
+static int check_out_dir(const char *dir, long frames)
+{
+    struct stat st;
+    if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
+        fprintf(stderr, "qibl: %s: cannot create the output directory: %s\n", dir, strerror(errno));
+        return 1;
+    }
+    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
+        fprintf(stderr, "qibl: %s: not a directory\n", dir);
+        return 1;
+    }
+    static const char *fixed[] = {"scene_k9.qibl", "scene_k16.qibl",    "scene_k25.qibl", "sun_sweep.png",
+                                  "lamp_sweep.png", "contact_sheet.png", "relit_sun.png",  "truth_sun.png"};
+    enum { NFIXED = sizeof fixed / sizeof fixed[0] };
+    char err[1200], name[64];
+    int bad = 0;
+    for (long i = 0; i < NFIXED + 2 * frames && !bad; ++i) {
+        if (i < NFIXED)
+            snprintf(name, sizeof name, "%s", fixed[i]);
+        else /* the frames: sun_00.png .. then lamp_00.png .. */
+            snprintf(name, sizeof name, "%s_%02ld.png", i - NFIXED < frames ? "sun" : "lamp", (i - NFIXED) % frames);
+        char *path = join(dir, name);
+        if (!path)
+            return fprintf(stderr, "qibl: demo: out of memory\n"), 1;
+        if (qibl_io_check_replaceable(path, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s\n", err);
+            bad = 1;
+        } else if (i == 0) { /* one real temporary file: the directory takes new files */
+            qibl_io_atomic a;
+            if (qibl_io_atomic_open(&a, path, err, sizeof err) != 0) {
+                fprintf(stderr, "qibl: %s\n", err);
+                bad = 1;
+            } else {
+                qibl_io_atomic_abort(&a);
+            }
+        }
+        free(path);
+    }
+    return bad;
 }
 
 /* error heat map: max channel difference, 0 black .. 8 blue .. 24 red .. 48+ yellow-white */
@@ -71,7 +133,8 @@ int qibl_cmd_demo(int argc, char **argv)
         return qibl_cli_usage_error("demo needs --out DIR");
     if (small)
         so.w = 256, so.h = 64, ndirs = 128, frames = 6;
-    mkdir(dir, 0777);
+    if (check_out_dir(dir, frames) != 0)
+        return 1;
     qibl_rt_scene s;
     if (qibl_cli_scene_load(&so, &s) != 0)
         return 1;
@@ -95,17 +158,22 @@ int qibl_cmd_demo(int argc, char **argv)
     int prop = so.scene && !so.raw && strcmp(so.scene, "builtin") != 0;
     qibl_rt_light ev[NDIR + NPT];
     qibl_cli_eval_lights(prop, NDIR, NPT, ev);
-    uint8_t *truth[NDIR + NPT], *mask = malloc(np), *tmp = malloc(np * 3), *heatb = malloc(np * 3);
-    for (int i = 0; i < NDIR + NPT; ++i) {
-        truth[i] = malloc(np * 3);
-        qibl_bake_truth8(&s, w, h, (qibl_pano_kind)so.kind, &ev[i], so.threads, truth[i], mask);
-    }
+    uint8_t *truth[NDIR + NPT] = {0}, *mask = malloc(np), *tmp = malloc(np * 3), *heatb = malloc(np * 3);
     static const uint32_t ks[3] = {9, 16, 25};
     uint8_t *asset[3] = {0};
     size_t asize[3] = {0};
-    double psnr_dir[3], psnr_pt[3], ms_dir[3], ms_pt[3];
-    char path[1024];
     int rc = 0;
+    for (int i = 0; i < NDIR + NPT; ++i) {
+        truth[i] = malloc(np * 3);
+        if (!truth[i] || !mask || !tmp || !heatb ||
+            qibl_bake_truth8(&s, w, h, (qibl_pano_kind)so.kind, &ev[i], so.threads, truth[i], mask) != 0) {
+            fprintf(stderr, "qibl: demo: out of memory\n");
+            rc = 1;
+            goto done;
+        }
+    }
+    double psnr_dir[3], psnr_pt[3], ms_dir[3], ms_pt[3];
+    char name[64], err[1200];
     for (int q = 0; q < 3; ++q) {
         qibl_gen_maps m;
         if (qibl_bake_coeffs(&sums, ks[q], QIBL_PROJ_QUADRATURE, &m) != 0 ||
@@ -115,13 +183,15 @@ int qibl_cmd_demo(int argc, char **argv)
             goto done;
         }
         qibl_gen_free(&m);
-        snprintf(path, sizeof path, "%s/scene_k%u.qibl", dir, ks[q]);
-        FILE *f = fopen(path, "wb");
-        if (!f || fwrite(asset[q], 1, asize[q], f) != asize[q] || fclose(f) != 0) {
-            fprintf(stderr, "qibl: %s: cannot write\n", path);
+        snprintf(name, sizeof name, "scene_k%u.qibl", ks[q]);
+        char *path = join(dir, name);
+        if (!path || qibl_io_write_atomic(path, asset[q], asize[q], err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s\n", path ? err : "demo: out of memory");
+            free(path);
             rc = 1;
             goto done;
         }
+        free(path);
         double mse_d = 0, mse_p = 0, tms[NDIR + NPT];
         for (int i = 0; i < NDIR + NPT; ++i) {
             qibl_bake_relight8(asset[q], asize[q], &ev[i], 1, tmp, &tms[i]);
@@ -131,8 +201,8 @@ int qibl_cmd_demo(int argc, char **argv)
             else
                 mse_p += e / NPT;
         }
-        psnr_dir[q] = mse_d > 0 ? 10 * log10(65025.0 / mse_d) : 99;
-        psnr_pt[q] = mse_p > 0 ? 10 * log10(65025.0 / mse_p) : 99;
+        psnr_dir[q] = qibl_ref_psnr8(mse_d);
+        psnr_pt[q] = qibl_ref_psnr8(mse_p);
         ms_dir[q] = qibl_cli_median(tms, NDIR);
         ms_pt[q] = qibl_cli_median(tms + NDIR, NPT);
     }
@@ -148,7 +218,7 @@ int qibl_cmd_demo(int argc, char **argv)
                 qibl_bake_relight8(b, n, &ev[i], 0, tmp, NULL);
                 mse += qibl_bake_mse(tmp, truth[i], mask, np) / NDIR;
             }
-            lsq_dir = mse > 0 ? 10 * log10(65025.0 / mse) : 99;
+            lsq_dir = qibl_ref_psnr8(mse);
             qibl_gen_free(&m);
         }
         free(b);
@@ -175,17 +245,16 @@ int qibl_cmd_demo(int argc, char **argv)
             }
             uint8_t *fr = anim + np * 3 * (size_t)f;
             qibl_bake_relight8(asset[1], asize[1], &l, 1, fr, NULL);
-            char name[64];
             snprintf(name, sizeof name, "%s_%02ld.png", pass ? "lamp" : "sun", f);
-            if (save_png(dir, name, (int)w, (int)h, fr) != 0)
+            if (rc == 0 && save_png(dir, name, (int)w, (int)h, fr) != 0)
                 rc = 1;
         }
-        char err[1200];
-        snprintf(path, sizeof path, "%s/%s", dir, pass ? "lamp_sweep.png" : "sun_sweep.png");
-        if (rc == 0 && qibl_apng_write_rgb8(path, (int)w, (int)h, (int)frames, anim, 1, 8, err, sizeof err) != 0) {
-            fprintf(stderr, "qibl: %s\n", err);
+        char *path = join(dir, pass ? "lamp_sweep.png" : "sun_sweep.png");
+        if (rc == 0 && (!path || qibl_apng_write_rgb8(path, (int)w, (int)h, (int)frames, anim, 1, 8, err, sizeof err) != 0)) {
+            fprintf(stderr, "qibl: %s\n", path ? err : "demo: out of memory");
             rc = 1;
         }
+        free(path);
     }
     free(anim);
     /* contact sheet: relit (k = 16) | ground truth | error heat map, for 3 suns and 2 lamps */
@@ -208,8 +277,9 @@ int qibl_cmd_demo(int argc, char **argv)
         free(sheet);
         if (rc == 0) { /* the picture for the README: one relit sun frame and its lamp frame */
             qibl_bake_relight8(asset[1], asize[1], &ev[0], 1, tmp, NULL);
-            save_png(dir, "relit_sun.png", (int)w, (int)h, tmp);
-            save_png(dir, "truth_sun.png", (int)w, (int)h, truth[0]);
+            if (save_png(dir, "relit_sun.png", (int)w, (int)h, tmp) != 0 ||
+                save_png(dir, "truth_sun.png", (int)w, (int)h, truth[0]) != 0)
+                rc = 1;
         }
     }
     printf("\n%s, %ux%u, %ld directions, bake %.1f s on %d threads\n", scene_name, w, h, ndirs, bake_s, so.threads);

@@ -65,9 +65,10 @@ int qibl_cmd_info(int argc, char **argv)
         return qibl_cli_usage_error("usage: qibl info FILE");
     const char *path = argv[1];
     size_t n = 0;
-    uint8_t *buf = qibl_io_read_all(path, &n);
-    if (!buf)
-        return fprintf(stderr, "qibl: %s: %s\n", path, strerror(errno)), 1;
+    uint8_t *buf = NULL;
+    char err[512];
+    if (qibl_io_read_asset(path, &buf, &n, err, sizeof err) != 0)
+        return fprintf(stderr, "qibl: %s\n", err), 1;
     qibl_asset_t a;
     qibl_status_t st = qibl_asset_open(&a, buf, n);
     if (st != QIBL_OK) {

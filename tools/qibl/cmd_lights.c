@@ -2,7 +2,8 @@
  * cmd_lights.c - `qibl lights`: a Radiance .hdr light probe turned into directional lights by the
  * integer core (qibl/lightprobe.h), printed as a table or CSV, optionally drawn over the
  * tone-mapped probe as a PNG (like Madsen & Laursen's Figure 3) and checked against the probe's
- * exact irradiance.
+ * exact irradiance. Probes in other layouts (angular map, mirror ball, cube crosses) are detected
+ * or named with --layout and resampled to lat-long first (io/probe_layout.h).
  */
 #include <math.h>
 #include <stdio.h>
@@ -11,12 +12,13 @@
 
 #include "io/hdr.h"
 #include "io/png.h"
+#include "io/probe_layout.h"
 #include "qibl/cli.h"
 #include "qibl/lightprobe.h"
 #include "qibl/srgbe.h"
 #include "ref/lightprobe_ref.h"
 
-#define USAGE "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv] [--png OUT.png]"
+#define USAGE "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv] [--png OUT.png] [--layout L]"
 
 static int parse_method(const char *s, qibl_lightprobe_method_t *m)
 {
@@ -64,6 +66,20 @@ static void put(uint8_t *img, int W, int H, int x, int y, const uint8_t c[3])
     if (x < 0 || y < 0 || x >= W || y >= H)
         return;
     memcpy(img + 3 * ((size_t)y * (size_t)W + (size_t)x), c, 3);
+}
+
+/* --png picture limits: the PNG writer's side limit, and 2^25 pixels (96 MB of RGB) */
+#define LIGHTS_PNG_MAX_SIDE 65535u
+#define LIGHTS_PNG_MAX_PIXELS (1u << 25)
+
+/* the largest zoom (at least 1) that keeps a w x h probe's picture within the limits */
+static uint64_t max_zoom(int w, int h)
+{
+    uint64_t z = 1;
+    while ((uint64_t)w * (z + 1) <= LIGHTS_PNG_MAX_SIDE && (uint64_t)h * (z + 1) <= LIGHTS_PNG_MAX_SIDE &&
+           (uint64_t)w * (z + 1) * (uint64_t)h * (z + 1) <= LIGHTS_PNG_MAX_PIXELS)
+        ++z;
+    return z;
 }
 
 /* The probe tone-mapped (Reinhard's global operator at the log-average key, sRGB-ish gamma),
@@ -163,6 +179,7 @@ int qibl_cmd_lights(int argc, char **argv)
     memset(&o, 0, sizeof o);
     long n = 64, zoom = 0;
     int csv = 0, error = 0;
+    qibl_probe_layout_t layout = QIBL_PROBE_LAYOUT_AUTO;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         int more = i + 1 < argc;
@@ -192,6 +209,9 @@ int qibl_cmd_lights(int argc, char **argv)
         } else if (strcmp(a, "--zoom") == 0 && more) {
             if (qibl_cli_parse_int(argv[++i], 1, 64, &zoom) != 0)
                 return qibl_cli_usage_error("--zoom needs an integer in 1..64");
+        } else if (strcmp(a, "--layout") == 0 && more) {
+            if (qibl_probe_layout_parse(argv[++i], &layout) != 0)
+                return qibl_cli_usage_error("--layout is auto, latlong, angular, ball, vcross or hcross");
         } else if (strcmp(a, "--csv") == 0) {
             csv = 1;
         } else if (strcmp(a, "--error") == 0) {
@@ -213,6 +233,38 @@ int qibl_cmd_lights(int argc, char **argv)
     char err[512];
     if (qibl_hdr_read_rgbe(path, &w, &h, &px, err, sizeof err) != 0)
         return fprintf(stderr, "qibl: %s\n", err), 1;
+    {
+        /* any layout to lat-long; said out loud (on stderr with --csv, which keeps stdout a table) */
+        qibl_probe_layout_t used;
+        int lw, lh;
+        uint8_t *ll;
+        if (qibl_probe_layout_rgbe_to_latlong(layout, w, h, px, &used, &lw, &lh, &ll, err, sizeof err) != 0) {
+            free(px);
+            return fprintf(stderr, "qibl: %s: %s\n", path, err), 1;
+        }
+        FILE *note = csv ? stderr : stdout;
+        fprintf(note, "%s: layout %s (%s, %s)", path, qibl_probe_layout_name(used), qibl_probe_layout_describe(used),
+                layout == QIBL_PROBE_LAYOUT_AUTO ? "detected" : "from --layout");
+        if (used != QIBL_PROBE_LAYOUT_LATLONG)
+            fprintf(note, ", %d x %d resampled to a %d x %d lat-long", w, h, lw, lh);
+        else if ((size_t)w != 2 * (size_t)h)
+            fprintf(note, ", %d x %d is not 2:1: read as lat-long as asked", w, h);
+        fprintf(note, "\n");
+        free(px);
+        px = ll, w = lw, h = lh;
+    }
+    /* the picture's size is known now: refuse one the PNG writer could not take before any work */
+    int z = zoom ? (int)zoom : (w >= 512 ? 1 : (1024 + w - 1) / w);
+    if (png) {
+        uint64_t pw = (uint64_t)w * (uint64_t)z, ph = (uint64_t)h * (uint64_t)z;
+        if (pw > LIGHTS_PNG_MAX_SIDE || ph > LIGHTS_PNG_MAX_SIDE || pw * ph > LIGHTS_PNG_MAX_PIXELS) {
+            free(px);
+            return qibl_cli_usage_error("--zoom %d: a %dx%d probe makes a %llux%llu picture; the limit is %u per side "
+                                        "and %u pixels (try --zoom %llu)", z, w, h, (unsigned long long)pw,
+                                        (unsigned long long)ph, LIGHTS_PNG_MAX_SIDE, LIGHTS_PNG_MAX_PIXELS,
+                                        (unsigned long long)max_zoom(w, h));
+        }
+    }
     /* the probe as the core reads it: RGBE bytes as stored, or converted (exactly for f32) */
     qibl_lightprobe_image_t img;
     memset(&img, 0, sizeof img);
@@ -293,7 +345,6 @@ int qibl_cmd_lights(int argc, char **argv)
     if (error)
         print_error(px, w, h, L, res.count, res.rgb_exp);
     if (png) {
-        int z = zoom ? (int)zoom : (w >= 512 ? 1 : (1024 + w - 1) / w);
         rc = write_png(png, px, w, h, z, L, res.count);
         if (rc == 0 && !csv)
             printf("wrote %s (%d x %d): regions in green, light directions in red\n", png, w * z, h * z);

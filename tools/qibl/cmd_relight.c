@@ -3,6 +3,7 @@
  * PNG through the core kernels and the software framebuffer).
  */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -30,8 +31,10 @@ int qibl_cmd_gen(int argc, char **argv)
         if (strcmp(a, "-o") == 0 && i + 1 < argc)
             out = argv[++i];
         else if (strcmp(a, "--size") == 0 && i + 1 < argc) {
-            if (sscanf(argv[++i], "%ldx%ld", &w, &h) != 2 || w < 1 || h < 1 || w > 16384 || h > 16384)
-                return qibl_cli_usage_error("--size needs WxH with both in 1..16384");
+            if (qibl_cli_parse_size(a, argv[++i], 16384, &w, &h) != 0)
+                return 2;
+            if (w * h > (long)QIBL_ASSET_MAX_PIXELS)
+                return qibl_cli_usage_error("--size %ldx%ld is above the asset's %u pixels", w, h, QIBL_ASSET_MAX_PIXELS);
         } else if (strcmp(a, "--k") == 0 && i + 1 < argc) {
             if (qibl_cli_parse_int(argv[++i], 1, 25, &k) != 0)
                 return qibl_cli_usage_error("--k needs an integer in 1..25");
@@ -92,7 +95,7 @@ int qibl_cmd_gen(int argc, char **argv)
             goto done;
         }
     }
-    if (qibl_asset_write_file(&b, out, 0) != 0) {
+    if (qibl_asset_write_file(&b, out, 1) != 0) {
         fprintf(stderr, "qibl: %s\n", b.err);
         goto done;
     }
@@ -110,13 +113,18 @@ done:
 
 /* ---- qibl relight ------------------------------------------------------------------------------ */
 
-static int parse3(char **argv, int i, int argc, qibl_q16_t v[3])
+/* X Y Z after argv[i] into Q16.16 (rounded to nearest), each in lo..QIBL_CLI_Q16_MAX; 0, or 2 after
+ * a message naming the option and the value */
+static int parse3(char **argv, int i, int argc, double lo, qibl_q16_t v[3])
 {
     if (i + 3 >= argc)
-        return -1;
-    for (int j = 0; j < 3; ++j)
-        if (qibl_cli_parse_q16(argv[i + 1 + j], &v[j]) != 0)
-            return -1;
+        return qibl_cli_usage_error("%s needs three numbers", argv[i]);
+    for (int j = 0; j < 3; ++j) {
+        double d;
+        if (qibl_cli_parse_num(argv[i], argv[i + 1 + j], lo, QIBL_CLI_Q16_MAX, QIBL_CLI_Q16_WHY, &d) != 0)
+            return 2;
+        v[j] = (qibl_q16_t)nearbyint(d * 65536.0);
+    }
     return 0;
 }
 
@@ -130,20 +138,25 @@ int qibl_cmd_relight(int argc, char **argv)
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         if (strcmp(a, "--sun") == 0) {
-            if (parse3(argv, i, argc, sun) != 0)
-                return qibl_cli_usage_error("--sun needs three numbers X Y Z");
+            if (parse3(argv, i, argc, -QIBL_CLI_Q16_MAX, sun) != 0)
+                return 2;
+            if (sun[0] == 0 && sun[1] == 0 && sun[2] == 0)
+                return qibl_cli_usage_error("--sun needs a non-zero direction: %s %s %s is 0 0 0 in Q16.16", argv[i + 1],
+                                            argv[i + 2], argv[i + 3]);
             have_sun = 1, i += 3;
         } else if (strcmp(a, "--point") == 0) {
-            if (parse3(argv, i, argc, pos) != 0)
-                return qibl_cli_usage_error("--point needs three numbers X Y Z");
+            if (parse3(argv, i, argc, -QIBL_CLI_Q16_MAX, pos) != 0)
+                return 2;
             have_point = 1, i += 3;
         } else if (strcmp(a, "--rgb") == 0) {
-            if (parse3(argv, i, argc, rgb) != 0 || rgb[0] < 0 || rgb[1] < 0 || rgb[2] < 0)
-                return qibl_cli_usage_error("--rgb needs three non-negative numbers");
+            if (parse3(argv, i, argc, 0, rgb) != 0)
+                return 2;
             i += 3;
         } else if (strcmp(a, "--exposure") == 0 && i + 1 < argc) {
-            if (qibl_cli_parse_q16(argv[++i], &exposure) != 0 || exposure <= 0)
-                return qibl_cli_usage_error("--exposure needs a positive number");
+            double e;
+            if (qibl_cli_parse_num(a, argv[++i], 1.0 / 65536, QIBL_CLI_Q16_MAX, "a positive Q16.16 factor", &e) != 0)
+                return 2;
+            exposure = (qibl_q16_t)nearbyint(e * 65536.0);
         } else if (strcmp(a, "--falloff") == 0 && i + 1 < argc) {
             if (qibl_cli_parse_int(argv[++i], 1, 2, &falloff) != 0)
                 return qibl_cli_usage_error("--falloff is 1 (C0/|L|) or 2 (C0/|L|^2)");
@@ -164,9 +177,10 @@ int qibl_cmd_relight(int argc, char **argv)
     if (!in || !png || have_sun == have_point)
         return qibl_cli_usage_error("relight needs FILE, exactly one of --sun/--point, and --png OUT");
     size_t n;
-    uint8_t *bytes = qibl_io_read_all(in, &n);
-    if (!bytes) {
-        fprintf(stderr, "qibl: %s: %s\n", in, strerror(errno));
+    uint8_t *bytes = NULL;
+    char rerr[512];
+    if (qibl_io_read_asset(in, &bytes, &n, rerr, sizeof rerr) != 0) {
+        fprintf(stderr, "qibl: %s\n", rerr);
         return 1;
     }
     qibl_asset_t a;

@@ -11,6 +11,7 @@
 #include <time.h>
 
 #include "qibl/cli.h"
+#include "qibl/version.h"
 
 static const qibl_cli_cmd commands[] = {
     {"sh", "evaluate the integer SH basis for a direction",
@@ -65,7 +66,8 @@ static const qibl_cli_cmd commands[] = {
      "  The reference renderer (BVH ray tracer, hard shadows, Lambert + glossy) from the viewpoint at the\n"
      "  origin: what a light really produces, to compare relit frames with. --sun: directional light\n"
      "  from (X, Y, Z) with irradiance --rgb (default 1 1 1); --point: a lamp at (X, Y, Z) with\n"
-     "  C0 = --rgb and falloff C0/|L| (or |L|^2). --png: sRGB 8-bit through the same framebuffer code\n"
+     "  C0 = --rgb and falloff C0/|L| (or |L|^2); every number within the Q16.16 range relight takes\n"
+     "  (|v| <= 32767.99998, --rgb >= 0). --png: sRGB 8-bit through the same framebuffer code\n"
      "  as qibl relight; --pfm: linear RGB floats; --depth: depth along each pixel's ray (0 for sky).\n"
      "  Scenes: the built-in courtyard (default) or an OBJ placed as a prop on a ground plane (Y-up\n"
      "  turned to Z-up unless --zup; --raw: as given, nothing added). Default 1024x256 cylindrical.\n",
@@ -86,7 +88,10 @@ static const qibl_cli_cmd commands[] = {
     {"merge", "combine the partial sums of bake shards into an asset",
      "usage: qibl merge -o ASSET [--sums OUT] [--k K] [--lut N] [--lsq] SUMS...\n"
      "  Adds the partial sums written by `qibl bake --shard I/N --sums FILE` (every shard exactly once,\n"
-     "  same bake) and writes the asset as qibl bake would (byte-identical), and/or the total sums.\n",
+     "  same bake) and writes the asset as qibl bake would (byte-identical), and/or the total sums.\n"
+     "  Every file is checked before use (version, CRC-32s, counts within the bake's limits, exact size),\n"
+     "  then against the first (split, size, k, directions, P map); sums that would overflow 64 bits, a\n"
+     "  shard given twice or missing, and --k above the shards' k are refused by name.\n",
      qibl_cmd_merge},
     {"check", "validate PNG/APNG, PFM and qibl asset files",
      "usage: qibl check FILE...\n"
@@ -129,10 +134,11 @@ static const qibl_cli_cmd commands[] = {
      "  saturates to +-FLT_MAX, with a note on stderr).\n"
      "  Bad arguments: one line on stderr, exit status 2.\n",
      qibl_cmd_srgbe},
-    {"lights", "sample a lat-long .hdr light probe into directional lights (median cut, varmin)",
+    {"lights", "sample a .hdr light probe (lat-long, angular, ball, cube cross) into directional lights",
      "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv] [--png OUT.png]\n"
      "                   [--priority default|energy|energy-size|variance|levels] [--place centroid|centre]\n"
      "                   [--as rgbe|srgbe|f32] [--zoom Z] [--error]\n"
+     "                   [--layout auto|latlong|angular|ball|vcross|hcross]\n"
      "  Turns a W x H lat-long probe (top row theta = 0 = +z, phi = 0 at the left edge, growing to the\n"
      "  right) into N directional lights with the integer core (qibl/lightprobe.h): median cut\n"
      "  (Debevec; N a power of two, default 64), adaptive median cut (any N) or variance minimisation\n"
@@ -142,10 +148,14 @@ static const qibl_cli_cmd commands[] = {
      "  --csv: one line per light, x,y,z,r,g,b,u0,v0,u1,v1 (region: u0 <= u < u1, v0 <= v < v1),\n"
      "  after a header line. Otherwise a table.\n"
      "  --png: the tone-mapped probe with the regions (green) and light directions (red), zoomed by Z\n"
-     "  (default: to about 1024 pixels wide). --error: the lights' irradiance against the probe's over\n"
-     "  1024 normals. --as: feed the core the probe as RGBE bytes (default), sRGBE or binary32.\n"
+     "  (default: to about 1024 pixels wide; the picture may have at most 65535 pixels a side and 2^25\n"
+     "  in all). --error: the lights' irradiance against the probe's over 1024 normals.\n"
+     "  --as: feed the core the probe as RGBE bytes (default), sRGBE or binary32.\n"
      "  --priority / --place: which region ADAPTIVE/VARMIN split next, centroid or geometric centre.\n"
-     "  An all-black probe prints that it has no lights and exits 0.\n",
+     "  An all-black probe prints that it has no lights and exits 0.\n"
+     "  --layout: the probe's layout; by default it is detected (2:1 latlong, 3:4 vcross, 4:3 hcross\n"
+     "  with black empty cells) and printed; a square disc (angular map or mirror ball) needs --layout;\n"
+     "  other shapes are refused. Non-lat-long probes are resampled to lat-long (io/probe_layout.h).\n",
      qibl_cmd_lights},
 };
 #define NCMD (sizeof commands / sizeof commands[0])
@@ -153,7 +163,7 @@ static const qibl_cli_cmd commands[] = {
 static void print_help(FILE *f)
 {
     fprintf(f, "qibl - integer image-based lighting runtime: command-line tool\n\n"
-               "usage: qibl <command> [args]\n       qibl help <command>\n\ncommands:\n");
+               "usage: qibl <command> [args]\n       qibl help <command>\n       qibl --version\n\ncommands:\n");
     for (size_t i = 0; i < NCMD; ++i)
         fprintf(f, "  %-8s %s\n", commands[i].name, commands[i].summary);
 }
@@ -202,6 +212,43 @@ int qibl_cli_parse_int(const char *s, long lo, long hi, long *out)
     return 0;
 }
 
+int qibl_cli_parse_num(const char *opt, const char *s, double lo, double hi, const char *why, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (end == s || *end != '\0')
+        return qibl_cli_usage_error("%s: '%s' is not a number", opt, s);
+    if (!isfinite(v)) /* an overflow is HUGE_VAL; an underflow (ERANGE near 0) is taken as the tiny value */
+        return qibl_cli_usage_error("%s: '%s' is not a finite number", opt, s);
+    if (!(v >= lo && v <= hi))
+        return qibl_cli_usage_error("%s: %s is outside %.10g..%.10g%s%s%s", opt, s, lo, hi, why ? " (" : "",
+                                    why ? why : "", why ? ")" : "");
+    *out = v;
+    return 0;
+}
+
+int qibl_cli_parse_size(const char *opt, const char *s, long max, long *w, long *h)
+{
+    const char *p = s;
+    long v[2];
+    for (int i = 0; i < 2; ++i) {
+        if (*p < '0' || *p > '9')
+            return qibl_cli_usage_error("%s needs WxH with both in 1..%ld, got '%s'", opt, max, s);
+        long x = 0;
+        while (*p >= '0' && *p <= '9') {
+            x = x > max ? x : x * 10 + (*p - '0'); /* stops growing past max: no overflow */
+            ++p;
+        }
+        if (x < 1 || x > max || *p != (i == 0 ? 'x' : '\0'))
+            return qibl_cli_usage_error("%s needs WxH with both in 1..%ld, got '%s'", opt, max, s);
+        v[i] = x;
+        ++p;
+    }
+    *w = v[0], *h = v[1];
+    return 0;
+}
+
 double qibl_cli_now(void)
 {
     struct timespec ts;
@@ -226,6 +273,10 @@ int main(int argc, char **argv)
     if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
         print_help(stdout);
         return argc < 2 ? 2 : 0;
+    }
+    if (strcmp(argv[1], "--version") == 0) {
+        printf("qibl %s (config id %08lx)\n", qibl_version(), (unsigned long)qibl_config_id());
+        return qibl_init_check() == QIBL_OK ? 0 : 1;
     }
     if (strcmp(argv[1], "help") == 0) {
         if (argc == 2) {

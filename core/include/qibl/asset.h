@@ -65,6 +65,10 @@
 #include "qibl/fixed.h"
 #include "qibl/status.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #define QIBL_ASSET_VERSION 1u
 #define QIBL_ASSET_HEADER_SIZE 24u
 #define QIBL_ASSET_ENTRY_SIZE 16u
@@ -148,12 +152,16 @@ static inline int32_t qibl_load_s32le(const uint8_t *p)
 {
     uint32_t u = qibl_load_u32le(p);
     /* two's complement without an implementation-defined conversion */
-    return u <= (uint32_t)INT32_MAX ? (int32_t)u : (int32_t)(u - 0x80000000u) - INT32_MAX - 1;
+    return u <= 0x7FFFFFFFu ? (int32_t)u : (int32_t)(u - 0x80000000u) - 0x7FFFFFFF - 1;
 }
 static inline int16_t qibl_load_s16le(const uint8_t *p)
 {
     uint32_t u = (uint32_t)p[0] | (uint32_t)p[1] << 8;
     return (int16_t)(u <= 0x7FFFu ? (int32_t)u : (int32_t)u - 0x10000);
 }
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* QIBL_ASSET_H */

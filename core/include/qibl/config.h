@@ -111,4 +111,21 @@
 #endif
 #endif
 
+/* QIBL_RESTRICT: C99's `restrict` in the public headers, which C++ does not have (GCC, Clang and
+ * MSVC spell it __restrict there; other C++ compilers get nothing, which only costs speed). The
+ * core's own sources are C99 and say `restrict`; the qualifier does not change a function's type. */
+#ifndef QIBL_RESTRICT
+#if defined(__cplusplus)
+#if defined(__GNUC__) || defined(__clang__) || defined(_MSC_VER)
+#define QIBL_RESTRICT __restrict
+#else
+#define QIBL_RESTRICT
+#endif
+#elif defined(__STDC_VERSION__) && __STDC_VERSION__ >= 199901L
+#define QIBL_RESTRICT restrict
+#else
+#define QIBL_RESTRICT
+#endif
+#endif
+
 #endif /* QIBL_CONFIG_H */

@@ -29,6 +29,10 @@
 #include "qibl/config.h"
 #include "qibl/status.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef int32_t qibl_q16_t;
 typedef uint32_t qibl_uq16_t;
 typedef int32_t qibl_q30_t;
@@ -45,7 +49,8 @@ typedef int32_t qibl_q24_t;
 /* x clamped to [INT32_MIN, INT32_MAX]. Exact. */
 static inline int32_t qibl_sat_s32(int64_t x)
 {
-    return x > INT32_MAX ? INT32_MAX : x < INT32_MIN ? INT32_MIN : (int32_t)x;
+    /* literals, not INT32_MAX/INT32_MIN: C++98 <stdint.h> may hide those (__STDC_LIMIT_MACROS) */
+    return x > 0x7FFFFFFF ? (int32_t)0x7FFFFFFF : x < -0x7FFFFFFF - 1 ? (int32_t)(-0x7FFFFFFF - 1) : (int32_t)x;
 }
 
 /* a + b saturated to int32 (any Q format, both operands in the same one). Exact or saturated. */
@@ -93,8 +98,9 @@ static inline int64_t qibl_asr_s64(int64_t x, unsigned n)
 {
     if (n == 0u)
         return x;
-    uint64_t u = (uint64_t)x ^ 0x8000000000000000u;
-    return (int64_t)qibl_shr_u64(u, n) - (int64_t)qibl_shr_u64(0x8000000000000000u, n);
+    /* 2^63 spelt as a shift: a 64-bit literal is a pedantic error in C++98 where long has 32 bits */
+    uint64_t u = (uint64_t)x ^ ((uint64_t)1 << 63);
+    return (int64_t)qibl_shr_u64(u, n) - (int64_t)qibl_shr_u64((uint64_t)1 << 63, n);
 }
 
 /* round(x / 2^n), ties toward +infinity, for n in 1..62 and |x| <= 2^62, saturated to int32.
@@ -193,5 +199,9 @@ uint32_t qibl_rsqrt_u64(uint64_t x, unsigned *e);
  * QIBL_E_ZERO_VECTOR, QIBL_E_NULL_POINTER; out and the lengths untouched on failure. */
 qibl_status_t qibl_vec3_normalize_fast_q30(const int32_t v[3], qibl_q30_t out[3], uint32_t *len_y,
                                            unsigned *len_e);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* QIBL_FIXED_H */

@@ -81,6 +81,10 @@
 #include "qibl/fixed.h"
 #include "qibl/status.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #define QIBL_LIGHTPROBE_MAX_DIM 32768u
 #define QIBL_LIGHTPROBE_MAX_PIXELS ((uint32_t)1 << 26)
 
@@ -239,5 +243,9 @@ qibl_status_t qibl_lightprobe_region_energy(const qibl_lightprobe_t *lp, uint32_
  * every port. QIBL_E_NULL_POINTER, QIBL_E_PROBE_SIZE (h 0 or above QIBL_LIGHTPROBE_MAX_DIM,
  * v >= h); outputs untouched on failure. */
 qibl_status_t qibl_lightprobe_row_weight(uint32_t h, uint32_t v, uint32_t *mant, int32_t *kap);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* QIBL_LIGHTPROBE_H */

@@ -10,6 +10,10 @@
 #include <stdint.h>
 #include "qibl/lightprobe.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* flags qibli_lightprobe_decode returns */
 #define QIBLI_PROBE_BAD_NEGATIVE 1u
 #define QIBLI_PROBE_BAD_NOT_FINITE 2u
@@ -27,5 +31,9 @@ unsigned qibli_lightprobe_decode(qibl_lightprobe_format_t f, const uint8_t *p, i
 /* sin(pi n / d) for 0 < n < d < 2^32 as *mant in [2^31, 2^32) times 2^-(32 + *kap), relative error
  * <= 2^-31 (the row-weight table of lightprobe.h). */
 void qibli_lightprobe_sin_frac(uint64_t n, uint64_t d, uint32_t *mant, int32_t *kap);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -56,6 +56,10 @@
 #include "qibl/shmap.h"
 #include "qibl/status.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #define QIBL_PROBE_ACC_LIMBS 15u
 
 typedef enum qibl_probe_window {
@@ -160,5 +164,9 @@ qibl_status_t qibl_shlight_add_sun_sky(qibl_shlight_t *l, const qibl_lightprobe_
 /* Rotates the light's coefficients in place (per channel, qibl_sh_rotate): QIBL_E_NULL_POINTER,
  * QIBL_E_SHMAP_K, QIBL_E_BAD_BANDS (rot has fewer bands than l->k needs). */
 qibl_status_t qibl_shlight_rotate(qibl_shlight_t *l, const qibl_sh_rotation_t *rot);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* QIBL_PROBE_H */

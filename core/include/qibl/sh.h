@@ -25,6 +25,10 @@
 #include "qibl/fixed.h"
 #include "qibl/status.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Number of coefficients for a band count (bands 1..5 -> 1, 4, 9, 16, 25). */
 #define QIBL_SH_COUNT(bands) ((bands) * (bands))
 #define QIBL_SH_MAX_COUNT QIBL_SH_COUNT(QIBL_SH_MAX_BANDS)
@@ -80,5 +84,9 @@ qibl_status_t qibl_sh_rotation_init(qibl_sh_rotation_t *rot, const qibl_q30_t r[
  * Error: <= 0.5 LSB + sum_m' |D error| |in_lm'| <= 0.5 LSB + 3 * 2^-24 * max |in| of the band.
  * Errors: QIBL_E_NULL_POINTER, QIBL_E_BAD_BANDS (rot not initialised); out untouched on failure. */
 qibl_status_t qibl_sh_rotate(const qibl_sh_rotation_t *rot, const int32_t *in, int32_t *out);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* QIBL_SH_H */

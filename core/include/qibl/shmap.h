@@ -34,6 +34,10 @@
 #include "qibl/sh.h"
 #include "qibl/status.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* SH coefficients of incident light, per colour channel, Q16.16. k of the 25 are used. */
 typedef struct qibl_shlight {
     uint32_t k;
@@ -41,7 +45,7 @@ typedef struct qibl_shlight {
 } qibl_shlight_t;
 
 /* Per-frame weights for qibl_shmap_relight_span (made by qibl_shmap_weights). */
-typedef struct qibl_shmap_weights {
+typedef struct qibl_shmap_weights_s { /* tag != the function qibl_shmap_weights (C++ -Wshadow) */
     uint32_t k, channels;              /* of the maps they were made for */
     int16_t w[3][QIBL_SH_MAX_COUNT];   /* [output channel][map] */
     int32_t shift[3];                  /* out = acc * 2^shift + bias (shift < 0: rounded right shift) */
@@ -160,5 +164,9 @@ qibl_status_t qibl_ylut_build(uint32_t face_size, uint32_t k, uint8_t *values, s
 /* Y_0..Y_{k-1} (Q2.14, bilinear between texel centres, clamped at face edges) for a Q2.30 unit
  * direction u, from LUT t. No checks (hot path): t valid, k <= t->k. */
 void qibl_ylut_lookup(const qibl_ylut_t *t, const qibl_q30_t u[3], uint32_t k, int32_t *y14);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* QIBL_SHMAP_H */

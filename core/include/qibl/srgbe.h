@@ -73,6 +73,10 @@
 #include "qibl/fixed.h"
 #include "qibl/status.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #define QIBL_SRGBE_BYTES 4      /* bytes per code */
 #define QIBL_SRGBE_E_BIAS 126   /* E = e + 126 */
 #define QIBL_SRGBE_E_MIN (-126) /* smallest exponent, E = 0 */
@@ -133,13 +137,21 @@ qibl_status_t qibl_srgbe_decode_q16(const uint8_t code[4], qibl_q16_t rgb[3]);
  * the most severe per-pixel status over the array, independent of pixel order:
  * QIBL_E_SRGBE_NAN > QIBL_E_SRGBE_INF > QIBL_E_SRGBE_OVERFLOW > QIBL_OK for encoders,
  * QIBL_E_SRGBE_DECODE_SAT > QIBL_OK for decoders. */
-qibl_status_t qibl_srgbe_encode_f32_n(const uint32_t *restrict rgb, size_t n, uint8_t *restrict codes);
-qibl_status_t qibl_srgbe_encode_s32_n(const int32_t *restrict rgb, size_t n, int frac_bits,
-                                      uint8_t *restrict codes);
-qibl_status_t qibl_srgbe_encode_q16_n(const qibl_q16_t *restrict rgb, size_t n, uint8_t *restrict codes);
-qibl_status_t qibl_srgbe_decode_f32_n(const uint8_t *restrict codes, size_t n, uint32_t *restrict rgb);
-qibl_status_t qibl_srgbe_decode_s32_n(const uint8_t *restrict codes, size_t n, int frac_bits,
-                                      int32_t *restrict rgb);
-qibl_status_t qibl_srgbe_decode_q16_n(const uint8_t *restrict codes, size_t n, qibl_q16_t *restrict rgb);
+qibl_status_t qibl_srgbe_encode_f32_n(const uint32_t *QIBL_RESTRICT rgb, size_t n,
+                                      uint8_t *QIBL_RESTRICT codes);
+qibl_status_t qibl_srgbe_encode_s32_n(const int32_t *QIBL_RESTRICT rgb, size_t n, int frac_bits,
+                                      uint8_t *QIBL_RESTRICT codes);
+qibl_status_t qibl_srgbe_encode_q16_n(const qibl_q16_t *QIBL_RESTRICT rgb, size_t n,
+                                      uint8_t *QIBL_RESTRICT codes);
+qibl_status_t qibl_srgbe_decode_f32_n(const uint8_t *QIBL_RESTRICT codes, size_t n,
+                                      uint32_t *QIBL_RESTRICT rgb);
+qibl_status_t qibl_srgbe_decode_s32_n(const uint8_t *QIBL_RESTRICT codes, size_t n, int frac_bits,
+                                      int32_t *QIBL_RESTRICT rgb);
+qibl_status_t qibl_srgbe_decode_q16_n(const uint8_t *QIBL_RESTRICT codes, size_t n,
+                                      qibl_q16_t *QIBL_RESTRICT rgb);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* QIBL_SRGBE_H */

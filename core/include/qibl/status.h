@@ -8,6 +8,10 @@
 #ifndef QIBL_STATUS_H
 #define QIBL_STATUS_H
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef enum qibl_status {
     QIBL_OK = 0,
     QIBL_E_NULL_POINTER,   /* a required pointer argument was NULL */
@@ -67,6 +71,8 @@ typedef enum qibl_status {
     QIBL_E_PROBE_MISMATCH,         /* variance tables needed but the probe was built without them */
     QIBL_E_PROBE_BLACK,            /* the probe has no light: zero lights */
     QIBL_E_PROBE_RECT,             /* region outside the probe or inverted */
+    /* library identity (version.h) */
+    QIBL_E_CONFIG_MISMATCH,        /* caller compiled with other config.h options or another release */
     /* SH rotation (sh.h) and probe projection (probe.h) */
     QIBL_E_SH_ROTATION,            /* rotation matrix not orthonormal (within 2^-16) or a reflection */
     QIBL_E_PROBE_ROW,              /* projection: row index outside the probe, or rows missing at finish */
@@ -77,5 +83,9 @@ typedef enum qibl_status {
 /* A short, constant, English description of s ("ok", "null pointer argument", ...). Never NULL:
  * values outside the enum give "unknown status". */
 const char *qibl_status_str(qibl_status_t s);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* QIBL_STATUS_H */

@@ -54,6 +54,10 @@
 #include "qibl/fixed.h"
 #include "qibl/status.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef enum qibl_fb_format {
     QIBL_FB_RGBA8888 = 0, /* default: bytes R, G, B, A=255 */
     QIBL_FB_BGRA8888,     /* bytes B, G, R, A=255 */
@@ -103,5 +107,9 @@ qibl_status_t qibl_fb_resolve(const qibl_fb_desc_t *dst, const qibl_fb_desc_t *s
 /* Clears a framebuffer to zero (ACCUM32) or to black with alpha 255 (8-bit formats).
  * Errors: those of qibl_fb_check. */
 qibl_status_t qibl_fb_clear(const qibl_fb_desc_t *fb);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* QIBL_SOFT_H */

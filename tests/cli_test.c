@@ -1,0 +1,427 @@
+/*
+ * cli_test.c - the qibl CLI run as a program (posix_spawn) on bad inputs: exit status (2 for bad
+ * arguments, 1 for bad files), the one-line message naming the value, and no output file left
+ * behind. Covers issue 10's CLI findings: merge on crafted, damaged, overflowing and mismatched
+ * shards, absurd numbers for render/relight, gen --size with junk, lights --zoom past the picture
+ * limit, demo's output directory and long paths.
+ *
+ * The binary is ../bin/qibl next to this test's own directory (so build/asan/tests/cli_test runs
+ * build/asan/bin/qibl), or $QIBL_BIN; the tests skip when it is missing.
+ */
+#include <errno.h>
+#include <fcntl.h>
+#include <spawn.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <cmocka.h>
+
+#include "bake/bake.h"
+#include "io/file.h"
+#include "qibl/asset.h"
+
+extern char **environ;
+
+static char qibl[4096], dir[64], errlog[128];
+
+static int find_qibl(void)
+{
+    const char *env = getenv("QIBL_BIN");
+    if (env && *env) {
+        snprintf(qibl, sizeof qibl, "%s", env);
+    } else {
+        char self[3000];
+        ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+        if (n <= 0)
+            snprintf(self, sizeof self, "build/tests/cli_test");
+        else
+            self[n] = '\0';
+        char *slash = strrchr(self, '/');
+        if (slash)
+            *slash = '\0';
+        snprintf(qibl, sizeof qibl, "%s/../bin/qibl", self);
+    }
+    return access(qibl, X_OK) == 0 ? 0 : -1;
+}
+
+static int setup(void **state)
+{
+    (void)state;
+    snprintf(dir, sizeof dir, "/tmp/qibl_cli_test_XXXXXX");
+    if (!mkdtemp(dir))
+        return -1;
+    snprintf(errlog, sizeof errlog, "%s/stderr.txt", dir);
+    return 0;
+}
+
+static void rm_rf(const char *path)
+{
+    pid_t pid;
+    char *argv[] = {"rm", "-rf", (char *)path, NULL};
+    if (posix_spawnp(&pid, "rm", NULL, NULL, argv, environ) == 0)
+        waitpid(pid, NULL, 0);
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    rm_rf(dir);
+    return 0;
+}
+
+/* Runs qibl with the NULL-terminated arguments, stdout to /dev/null, stderr to errlog. The exit
+ * status, or 128 + the signal that killed it. */
+static int run_v(const char *first, va_list ap)
+{
+    char *argv[64];
+    int n = 0;
+    argv[n++] = qibl;
+    for (const char *a = first; a && n < 63; a = va_arg(ap, const char *))
+        argv[n++] = (char *)a;
+    argv[n] = NULL;
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&fa, 2, errlog, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    pid_t pid;
+    int rc = posix_spawn(&pid, qibl, &fa, NULL, argv, environ);
+    posix_spawn_file_actions_destroy(&fa);
+    if (rc != 0)
+        fail_msg("cannot run %s: %s", qibl, strerror(rc));
+    int st;
+    while (waitpid(pid, &st, 0) < 0)
+        if (errno != EINTR)
+            fail_msg("waitpid: %s", strerror(errno));
+    return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + (WIFSIGNALED(st) ? WTERMSIG(st) : 0);
+}
+
+static int run(const char *first, ...)
+{
+    va_list ap;
+    va_start(ap, first);
+    int rc = run_v(first, ap);
+    va_end(ap);
+    return rc;
+}
+
+static char *stderr_text(void)
+{
+    size_t n;
+    uint8_t *b = qibl_io_read_all(errlog, &n);
+    char *s = malloc(n + 1);
+    assert_non_null(s);
+    if (b)
+        memcpy(s, b, n);
+    s[b ? n : 0] = '\0';
+    free(b);
+    return s;
+}
+
+/* Runs qibl, then checks the exit status, that stderr says want, and that out (may be NULL) was
+ * not created. */
+static void expect(int want_rc, const char *want, const char *out, const char *first, ...)
+{
+    va_list ap;
+    va_start(ap, first);
+    int rc = run_v(first, ap);
+    va_end(ap);
+    char *msg = stderr_text();
+    if (rc != want_rc)
+        fail_msg("qibl %s ...: exit %d, want %d; stderr: %s", first, rc, want_rc, msg);
+    if (want && strstr(msg, want) == NULL)
+        fail_msg("qibl %s ...: stderr '%s' does not say '%s'", first, msg, want);
+    if (out && access(out, F_OK) == 0)
+        fail_msg("qibl %s ...: left %s behind", first, out);
+    free(msg);
+}
+
+static void need_qibl(void)
+{
+    if (find_qibl() != 0) {
+        fprintf(stderr, "SKIP: %s not built\n", qibl);
+        skip();
+    }
+}
+
+/* dir/name; the result stays valid for the next 63 calls (more than any one test makes) */
+static char *at(const char *name)
+{
+    static char buf[64][512];
+    static int i;
+    i = (i + 1) % 64;
+    snprintf(buf[i], sizeof buf[i], "%s/%s", dir, name);
+    return buf[i];
+}
+
+/* bakes shard I/N of a tiny bake with ndirs directions and k into name */
+static void shard(const char *name, const char *in, const char *dirs, const char *k)
+{
+    int rc = run("bake", "--size", "16x4", "--k", k, "--dirs", dirs, "--shard", in, "--sums", at(name), "--quiet",
+                 "--threads", "1", NULL);
+    if (rc != 0) {
+        char *m = stderr_text();
+        fail_msg("bake --shard %s: exit %d: %s", in, rc, m);
+    }
+}
+
+/* ---- merge (findings 1 and 3, and --k) ---------------------------------------------------------- */
+
+static void test_merge_shards_of_other_splits(void **state)
+{
+    (void)state;
+    need_qibl();
+    shard("a0", "0/2", "48", "4");
+    shard("a1", "1/2", "48", "4");
+    shard("b2", "2/3", "48", "4");
+    shard("b0", "0/3", "48", "4");
+    shard("c7", "7/9", "144", "4");
+    const char *out = at("m.qibl");
+    /* a plausible 2/3 after 0/2: once a heap over-read of the shard table */
+    expect(1, "shard 2/3 against a split into 2", out, "merge", "-o", out, at("a0"), at("b2"), NULL);
+    /* an index far past the first file's table: once a wild read */
+    expect(1, "shard 7/9 against a split into 2", out, "merge", "-o", out, at("a0"), at("c7"), NULL);
+    /* an in-range index of another split: once "shard given twice" */
+    expect(1, "shard 0/3 against a split into 2", out, "merge", "-o", out, at("a0"), at("b0"), NULL);
+    expect(1, "shard 0/2 given twice", out, "merge", "-o", out, at("a0"), at("a0"), NULL);
+    expect(1, "shard 1/2 is missing", out, "merge", "-o", out, at("a0"), NULL);
+    /* and the good merge still works */
+    expect(0, NULL, NULL, "merge", "-o", out, at("a0"), at("a1"), NULL);
+    expect(0, NULL, NULL, "check", out, NULL);
+}
+
+static void test_merge_k_above_shards(void **state)
+{
+    (void)state;
+    need_qibl();
+    shard("a0", "0/2", "32", "4");
+    shard("a1", "1/2", "32", "4");
+    const char *out = at("m.qibl");
+    expect(2, "--k 9 is above the shards' k = 4", out, "merge", "--k", "9", "-o", out, at("a0"), at("a1"), NULL);
+}
+
+static void flip_byte(const char *path, long off)
+{
+    FILE *f = fopen(path, "r+b");
+    assert_non_null(f);
+    assert_int_equal(fseek(f, off, off < 0 ? SEEK_END : SEEK_SET), 0);
+    int c = fgetc(f);
+    assert_int_equal(fseek(f, -1, SEEK_CUR), 0);
+    fputc(c ^ 0x04, f);
+    assert_int_equal(fclose(f), 0);
+}
+
+static void test_merge_damaged_shard(void **state)
+{
+    (void)state;
+    need_qibl();
+    shard("a0", "0/2", "32", "4");
+    shard("a1", "1/2", "32", "4");
+    const char *out = at("m.qibl");
+    flip_byte(at("a1"), -100); /* one bit of one sum */
+    expect(1, "checksum mismatch in the sums", out, "merge", "-o", out, at("a0"), at("a1"), NULL);
+    flip_byte(at("a0"), 20); /* the header's k */
+    expect(1, "header checksum mismatch", out, "merge", "-o", out, at("a0"), at("a1"), NULL);
+}
+
+static void test_merge_overflow(void **state)
+{
+    (void)state;
+    need_qibl();
+    /* two CRC-valid shards whose sums overflow 64 bits when added: once a wrapped, valid asset */
+    enum { W = 4, H = 2, K = 1 };
+    int32_t pmap[W * H * 3];
+    int64_t acc[2][W * H * 3 * K];
+    for (int i = 0; i < W * H * 3; ++i)
+        pmap[i] = (i % 3 == 2 ? -65536 : 4096 * i);
+    for (int i = 0; i < W * H * 3 * K; ++i)
+        acc[0][i] = INT64_MAX - 10, acc[1][i] = 1000;
+    for (int s = 0; s < 2; ++s) {
+        qibl_bake_sums sums = {W, H, K, 32, 0, (uint32_t)s, 2, pmap, acc[s]};
+        char err[256];
+        assert_int_equal(qibl_bake_sums_write(&sums, at(s ? "o1" : "o0"), err, sizeof err), 0);
+    }
+    const char *out = at("m.qibl");
+    expect(1, "sums overflow 64 bits at pixel (0, 0)", out, "merge", "-o", out, at("o0"), at("o1"), NULL);
+    expect(1, "overflow", at("t.sums"), "merge", "--sums", at("t.sums"), at("o0"), at("o1"), NULL);
+}
+
+static void test_merge_huge_direction_count(void **state)
+{
+    (void)state;
+    need_qibl();
+    /* a 4-pixel shard claiming 2^31 directions: once `merge --lsq` ran for hours */
+    shard("a0", "0/1", "16", "1");
+    uint8_t *b;
+    size_t n;
+    b = qibl_io_read_all(at("a0"), &n);
+    assert_non_null(b);
+    b[24] = 0, b[25] = 0, b[26] = 0, b[27] = 0x80;
+    uint32_t c = qibl_crc32(0, b, 44);
+    b[44] = (uint8_t)c, b[45] = (uint8_t)(c >> 8), b[46] = (uint8_t)(c >> 16), b[47] = (uint8_t)(c >> 24);
+    FILE *f = fopen(at("a0"), "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(b, 1, n, f), n);
+    fclose(f);
+    free(b);
+    const char *out = at("m.qibl");
+    expect(1, "direction count 2147483648 outside 1..65536", out, "merge", "--lsq", "-o", out, at("a0"), NULL);
+}
+
+/* ---- numbers (findings 6 and 8) ----------------------------------------------------------------- */
+
+static void test_render_absurd_numbers(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *png = at("r.png"), *pfm = at("r.pfm");
+    expect(2, "--sun: 1e308 is outside", png, "render", "--size", "16x4", "--sun", "1e308", "1e308", "1e308", "--png",
+           png, NULL);
+    expect(2, "--rgb: 1e308 is outside 0..32767.99998", pfm, "render", "--size", "16x4", "--sun", "0", "0", "1",
+           "--rgb", "1e308", "1", "1", "--pfm", pfm, NULL);
+    expect(2, "'inf' is not a finite number", png, "render", "--size", "16x4", "--point", "inf", "0", "0", "--png",
+           png, NULL);
+    expect(2, "--sun needs a non-zero direction", png, "render", "--size", "16x4", "--sun", "1e-300", "0", "0",
+           "--png", png, NULL);
+    expect(0, NULL, NULL, "render", "--size", "16x4", "--sun", "0", "0", "1", "--rgb", "2", "2", "2", "--pfm", pfm,
+           NULL);
+}
+
+static void test_relight_numbers(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *asset = at("g.qibl"), *png = at("r.png");
+    expect(0, NULL, NULL, "gen", "-o", asset, "--size", "16x4", "--k", "4", NULL);
+    expect(2, "--rgb: 40000 is outside 0..32767.99998", png, "relight", asset, "--sun", "0", "0", "1", "--rgb",
+           "40000", "1", "1", "--png", png, NULL);
+    expect(2, "--sun needs a non-zero direction", png, "relight", asset, "--sun", "0", "0", "0", "--png", png, NULL);
+    expect(2, "--sun: 'nan' is not a finite number", png, "relight", asset, "--sun", "nan", "0", "1", "--png", png,
+           NULL);
+    expect(2, "--exposure: -1 is outside", png, "relight", asset, "--sun", "0", "0", "1", "--exposure", "-1", "--png",
+           png, NULL);
+}
+
+static void test_gen_size_junk(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *out = at("g.qibl");
+    expect(2, "got '8x4junk'", out, "gen", "-o", out, "--size", "8x4junk", NULL);
+    expect(2, "got '8x'", out, "gen", "-o", out, "--size", "8x", NULL);
+    expect(2, "got '-8x4'", out, "gen", "-o", out, "--size", "-8x4", NULL);
+    expect(2, "got '99999999999999999999x4'", out, "gen", "-o", out, "--size", "99999999999999999999x4", NULL);
+    expect(2, "above the asset's 67108864 pixels", out, "render", "--sun", "0", "0", "1", "--size", "16384x8192",
+           "--png", out, NULL);
+}
+
+static void test_lights_zoom_capped(void **state)
+{
+    (void)state;
+    need_qibl();
+    /* a flat 256 x 128 Radiance probe; --zoom 64 would make a 16384 x 8192 picture (384 MiB) */
+    const char *hdr = at("p.hdr"), *png = at("z.png");
+    FILE *f = fopen(hdr, "wb");
+    assert_non_null(f);
+    fprintf(f, "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 128 +X 256\n");
+    for (int i = 0; i < 256 * 128; ++i)
+        fputc(128, f), fputc(100, f), fputc(60, f), fputc(129, f);
+    assert_int_equal(fclose(f), 0);
+    expect(2, "makes a 16384x8192 picture; the limit is 65535 per side and 33554432 pixels (try --zoom 32)", png,
+           "lights", hdr, "-n", "4", "--zoom", "64", "--png", png, NULL);
+    expect(0, NULL, NULL, "lights", hdr, "-n", "4", "--zoom", "2", "--png", png, NULL);
+}
+
+/* ---- demo (finding 7) and safe output ---------------------------------------------------------- */
+
+static void test_demo_checks_output_before_bake(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *file = at("plain_file");
+    FILE *f = fopen(file, "wb");
+    assert_non_null(f);
+    fclose(f);
+    expect(1, "not a directory", NULL, "demo", "--out", file, "--size", "16x4", "--dirs", "16", "--frames", "2",
+           NULL);
+    const char *d = at("o");
+    assert_int_equal(mkdir(d, 0777), 0);
+    char fifo[600];
+    snprintf(fifo, sizeof fifo, "%s/sun_01.png", d);
+    assert_int_equal(mkfifo(fifo, 0666), 0);
+    char asset[600];
+    snprintf(asset, sizeof asset, "%s/scene_k9.qibl", d);
+    expect(1, "sun_01.png: refusing to replace a FIFO", asset, "demo", "--out", d, "--size", "16x4", "--dirs", "16",
+           "--frames", "2", NULL);
+}
+
+static void test_demo_long_out(void **state)
+{
+    (void)state;
+    need_qibl();
+    /* a --out longer than the 1024 bytes the demo once built its paths in */
+    char path[2048];
+    snprintf(path, sizeof path, "%s", dir);
+    for (int i = 0; i < 6; ++i) {
+        size_t l = strlen(path);
+        path[l] = '/';
+        memset(path + l + 1, 'a' + i, 200);
+        path[l + 201] = '\0';
+        assert_int_equal(mkdir(path, 0777), 0);
+    }
+    expect(0, NULL, NULL, "demo", "--out", path, "--size", "16x4", "--dirs", "16", "--frames", "2", "--threads", "1",
+           NULL);
+    static const char *names[] = {"scene_k9.qibl", "scene_k16.qibl", "scene_k25.qibl", "sun_01.png", "lamp_01.png",
+                                  "sun_sweep.png", "lamp_sweep.png", "contact_sheet.png", "truth_sun.png"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) {
+        char p[2200];
+        snprintf(p, sizeof p, "%s/%s", path, names[i]);
+        if (access(p, F_OK) != 0)
+            fail_msg("demo with a %zu-byte --out did not write %s", strlen(path), names[i]);
+    }
+}
+
+static void test_output_to_symlink_refused(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *victim = at("victim"), *link = at("link.qibl");
+    FILE *f = fopen(victim, "wb");
+    assert_non_null(f);
+    fputs("precious", f);
+    fclose(f);
+    assert_int_equal(symlink(victim, link), 0);
+    expect(1, "refusing to replace a symbolic link", NULL, "gen", "-o", link, "--size", "16x4", NULL);
+    size_t n;
+    uint8_t *b = qibl_io_read_all(victim, &n);
+    assert_non_null(b);
+    assert_int_equal(n, 8);
+    assert_memory_equal(b, "precious", 8);
+    free(b);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup_teardown(test_merge_shards_of_other_splits, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_merge_k_above_shards, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_merge_damaged_shard, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_merge_overflow, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_merge_huge_direction_count, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_render_absurd_numbers, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_relight_numbers, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_gen_size_junk, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_lights_zoom_capped, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_demo_checks_output_before_bake, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_demo_long_out, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_output_to_symlink_refused, setup, teardown),
+    };
+    return cmocka_run_group_tests_name("cli", tests, NULL, NULL);
+}

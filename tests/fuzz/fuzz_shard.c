@@ -1,0 +1,108 @@
+/*
+ * fuzz_shard.c - libFuzzer target for the bake's partial-sums files and the merge's add
+ * (tools/bake: qibl_bake_sums_decode, qibl_bake_sums_compatible, qibl_bake_sums_add).
+ *
+ * Input: byte 0 flags (bit 0: recompute the CRCs of the first image, bit 1: of the second, so
+ * mutations reach the field checks behind the checksums), bytes 1..4 a little-endian split point
+ * (taken modulo the rest's length), then the two file images back to back.
+ * Invariants checked (abort on violation): a decoded image re-encodes to exactly its bytes; an add
+ * that succeeds equals the exact sum of every pair, an add of compatible sums fails exactly when a
+ * sum overflows 64 bits, and a failing add changes nothing.
+ */
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bake/bake.h"
+#include "qibl/asset.h"
+
+static void store32(uint8_t *p, uint32_t v)
+{
+    p[0] = (uint8_t)v, p[1] = (uint8_t)(v >> 8), p[2] = (uint8_t)(v >> 16), p[3] = (uint8_t)(v >> 24);
+}
+
+static void fix_crcs(uint8_t *b, size_t n)
+{
+    if (n < QIBL_BAKE_SUMS_HEADER)
+        return;
+    store32(b + 40, qibl_crc32(0, b + QIBL_BAKE_SUMS_HEADER, n - QIBL_BAKE_SUMS_HEADER));
+    store32(b + 44, qibl_crc32(0, b, 44));
+}
+
+/* decodes image (a private copy, CRCs fixed when asked) and checks the round trip */
+static int decode(const uint8_t *data, size_t n, int fix, qibl_bake_sums *s)
+{
+    uint8_t *b = malloc(n ? n : 1);
+    if (!b)
+        return -1;
+    memcpy(b, data, n);
+    if (fix)
+        fix_crcs(b, n);
+    char err[512];
+    int rc = qibl_bake_sums_decode(b, n, s, err, sizeof err);
+    if (rc == 0) {
+        uint8_t *again;
+        size_t m;
+        if (qibl_bake_sums_encode(s, &again, &m) != 0)
+            abort();
+        if (m != n || memcmp(again, b, n) != 0) {
+            fprintf(stderr, "fuzz_shard: a decoded image does not re-encode to its bytes\n");
+            abort();
+        }
+        free(again);
+    } else if (err[0] == '\0') {
+        fprintf(stderr, "fuzz_shard: an error without a message\n");
+        abort();
+    }
+    free(b);
+    return rc;
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    if (size < 5)
+        return 0;
+    uint8_t flags = data[0];
+    uint32_t split = (uint32_t)data[1] | (uint32_t)data[2] << 8 | (uint32_t)data[3] << 16 | (uint32_t)data[4] << 24;
+    data += 5, size -= 5;
+    size_t n1 = size ? split % (size + 1) : 0;
+    qibl_bake_sums a, b;
+    if (decode(data, n1, flags & 1, &a) != 0)
+        return 0;
+    if (decode(data + n1, size - n1, (flags >> 1) & 1, &b) != 0) {
+        qibl_bake_sums_free(&a);
+        return 0;
+    }
+    char err[512];
+    size_t nacc = (size_t)a.w * a.h * 3 * a.k;
+    int compatible = qibl_bake_sums_compatible(&a, &b, err, sizeof err) == 0;
+    int64_t *before = compatible ? malloc(sizeof(int64_t) * (nacc ? nacc : 1)) : NULL;
+    if (compatible && !before)
+        abort();
+    if (before)
+        memcpy(before, a.acc, sizeof(int64_t) * nacc);
+    int rc = qibl_bake_sums_add(&a, &b, err, sizeof err);
+    if (rc == 0 && !compatible)
+        abort();
+    if (before) {
+        int overflow = 0;
+        for (size_t i = 0; i < nacc; ++i) {
+            int64_t x = before[i], y = b.acc[i];
+            if ((y > 0 && x > INT64_MAX - y) || (y < 0 && x < INT64_MIN - y))
+                overflow = 1;
+            else if (rc == 0 && a.acc[i] != x + y)
+                abort();
+        }
+        if (overflow != (rc != 0))
+            abort(); /* overflow must be exactly what fails a compatible add */
+        if (rc != 0 && memcmp(before, a.acc, sizeof(int64_t) * nacc) != 0)
+            abort(); /* a failing add changes nothing */
+        free(before);
+    }
+    qibl_bake_sums_free(&a);
+    qibl_bake_sums_free(&b);
+    return 0;
+}

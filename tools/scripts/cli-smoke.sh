@@ -1,0 +1,70 @@
+#!/bin/sh
+# cli-smoke.sh QIBL [WORKDIR] - a short run of every qibl subcommand on tiny inputs, good and bad,
+# for the sanitizer build (make test-asan): each good run must exit 0, each bad one with its
+# documented status (2 bad arguments, 1 bad file) and leave no output. A sanitizer finding makes
+# the run exit with another status (or a signal), which fails the script.
+set -u
+q=${1:?usage: cli-smoke.sh QIBL [WORKDIR]}
+w=${2:-$(mktemp -d)}
+rm -rf "$w" && mkdir -p "$w" || exit 1
+runs=0 fails=0
+
+# want STATUS [OUTPUT|-] ARGS...: run qibl ARGS, expect STATUS and (unless -) OUTPUT not created
+want() {
+    st=$1 out=$2
+    shift 2
+    runs=$((runs + 1))
+    "$q" "$@" >"$w/stdout.txt" 2>"$w/stderr.txt"
+    rc=$?
+    if [ "$rc" != "$st" ]; then
+        fails=$((fails + 1))
+        echo "cli-smoke: FAIL: qibl $* exited $rc, want $st" >&2
+        tail -n 20 "$w/stderr.txt" >&2
+    elif [ "$out" != - ] && [ -e "$out" ]; then
+        fails=$((fails + 1))
+        echo "cli-smoke: FAIL: qibl $* left $out behind" >&2
+    fi
+}
+
+# good runs: every subcommand once
+want 0 - --help
+want 0 - sh eval 0 0 1
+want 0 - srgbe encode 1 0.5 -0.25
+want 0 - gen -o "$w/g.qibl" --size 32x8 --k 9 --lut 4
+want 0 - info "$w/g.qibl"
+want 0 - relight "$w/g.qibl" --sun 1 0.5 1 --png "$w/r.png"
+want 0 - relight "$w/g.qibl" --point 0.5 0 0 --lut --png "$w/p.png"
+want 0 - render --size 32x8 --sun 0 0 1 --png "$w/t.png" --pfm "$w/t.pfm" --depth "$w/d.pfm" --threads 2
+want 0 - bake --size 32x8 --k 4 --dirs 32 --shard 0/2 --sums "$w/s0" --quiet --threads 2
+want 0 - bake --size 32x8 --k 4 --dirs 32 --shard 1/2 --sums "$w/s1" --quiet --threads 2
+want 0 - merge -o "$w/m.qibl" --lsq "$w/s0" "$w/s1"
+want 0 - check "$w/g.qibl" "$w/m.qibl" "$w/r.png" "$w/t.pfm"
+{ printf '#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 16 +X 32\n'; i=0; while [ $i -lt 512 ]; do printf '\200\144\074\201'; i=$((i + 1)); done; } >"$w/p.hdr"
+want 0 - lights "$w/p.hdr" -n 4 --png "$w/l.png" --error
+want 0 - demo --out "$w/demo" --size 32x8 --dirs 16 --frames 2 --threads 2
+
+# bad arguments: exit 2, nothing written
+want 2 "$w/x.png" render --size 32x8 --sun 1e308 1e308 1e308 --png "$w/x.png"
+want 2 "$w/x.pfm" render --size 32x8 --sun 0 0 1 --rgb 1e308 1 1 --pfm "$w/x.pfm"
+want 2 "$w/x.png" relight "$w/g.qibl" --sun 0 0 1 --rgb 40000 1 1 --png "$w/x.png"
+want 2 "$w/x.png" relight "$w/g.qibl" --sun 0 0 0 --png "$w/x.png"
+want 2 "$w/x.qibl" gen -o "$w/x.qibl" --size 8x4junk
+want 2 "$w/x.qibl" merge -o "$w/x.qibl" --k 9 "$w/s0" "$w/s1"
+{ printf '#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 128 +X 256\n'; dd if=/dev/zero bs=4 count=32768 2>/dev/null; } >"$w/big.hdr"
+want 2 "$w/x.png" lights "$w/big.hdr" -n 4 --zoom 64 --png "$w/x.png"
+want 2 - nosuchcommand
+
+# bad files: exit 1, nothing written
+want 1 "$w/x.qibl" merge -o "$w/x.qibl" "$w/s0" "$w/s0"
+want 1 "$w/x.qibl" merge -o "$w/x.qibl" "$w/p.hdr"
+head -c 100 "$w/s1" >"$w/short"
+want 1 "$w/x.qibl" merge -o "$w/x.qibl" "$w/s0" "$w/short"
+want 1 "$w/x.png" relight "$w/s0" --sun 0 0 1 --png "$w/x.png"
+want 1 - info "$w/p.hdr"
+ln -s g.qibl "$w/link.png"
+want 1 - relight "$w/g.qibl" --sun 0 0 1 --png "$w/link.png"
+cmp -s "$w/g.qibl" "$w/link.png" || { fails=$((fails + 1)); echo "cli-smoke: FAIL: wrote through a link" >&2; }
+
+echo "cli-smoke: $runs runs of $q, $fails failed"
+[ "$fails" = 0 ] && rm -rf "$w"
+[ "$fails" = 0 ]
