@@ -175,7 +175,7 @@ static void kadd(uint32_t *acc, const uint32_t mag[3], unsigned e, int neg)
 /* sin(pi n / d) in Q2.30 for any n >= 0, 0 < d < 2^31 (within 1 LSB) */
 static int32_t sin_pi_q30(uint64_t n, uint64_t d)
 {
-    uint64_t r;
+    uint64_t r = 0u; /* (written by the division: 2d > 0) */
     (void)qibl_udiv_u64(n, 2u * d, &r);
     int neg = r >= d;
     if (neg)
