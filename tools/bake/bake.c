@@ -645,6 +645,22 @@ static qibl_q16_t q16(double v)
 int qibl_bake_relight8_ex(const uint8_t *asset, size_t n, const qibl_rt_light *l, int lut_mode, qibl_uq16_t exposure,
                            int srgb, uint8_t *rgb8, double *ms, qibl_status_t *status)
 {
+    return qibl_bake_relight8_lin(asset, n, l, lut_mode, exposure, srgb, rgb8, NULL, ms, status);
+}
+
+/* the row's Q16.16 values as linear floats, negatives clamped (what the framebuffer shows) */
+static void row_linear(float *lin, const int32_t *row, uint32_t w, uint32_t y)
+{
+    if (!lin)
+        return;
+    float *o = lin + (size_t)y * w * 3;
+    for (size_t i = 0; i < (size_t)w * 3; ++i)
+        o[i] = row[i] > 0 ? (float)(row[i] / 65536.0) : 0.0f;
+}
+
+int qibl_bake_relight8_lin(const uint8_t *asset, size_t n, const qibl_rt_light *l, int lut_mode, qibl_uq16_t exposure,
+                           int srgb, uint8_t *rgb8, float *lin, double *ms, qibl_status_t *status)
+{
     qibl_asset_t a;
     qibl_shmaps_t m;
     qibl_pmap_t pm;
@@ -690,6 +706,8 @@ int qibl_bake_relight8_ex(const uint8_t *asset, size_t n, const qibl_rt_light *l
             st = qibl_shmap_relight_span(&m, &wt, 0, y, w, row, ws, wsn);
             if (st == QIBL_OK)
                 st = qibl_fb_write_row(&fb, 0, y, w, row);
+            if (st == QIBL_OK)
+                row_linear(lin, row, w, y);
         }
     } else {
         qibl_pointlight_t pl = {{q16(l->pos[0]), q16(l->pos[1]), q16(l->pos[2])}, {rgb[0], rgb[1], rgb[2]},
@@ -701,6 +719,8 @@ int qibl_bake_relight8_ex(const uint8_t *asset, size_t n, const qibl_rt_light *l
             st = qibl_shmap_point_span(&pt, 0, y, w, row, ws, wsn);
             if (st == QIBL_OK)
                 st = qibl_fb_write_row(&fb, 0, y, w, row);
+            if (st == QIBL_OK)
+                row_linear(lin, row, w, y);
         }
     }
     clock_gettime(CLOCK_MONOTONIC, &t1);

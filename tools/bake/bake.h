@@ -93,6 +93,11 @@ int qibl_bake_truth8(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_k
  * (QIBL_E_NULL_POINTER stands for out of memory). rgb8 holds width * height * 3 bytes. */
 int qibl_bake_relight8_ex(const uint8_t *asset, size_t n, const qibl_rt_light *l, int lut_mode, qibl_uq16_t exposure,
                            int srgb, uint8_t *rgb8, double *ms, qibl_status_t *status);
+/* The same, and when lin is not NULL also the linear frame the core computed (3 floats per pixel,
+ * rows top to bottom): its Q16.16 output / 65536 before exposure and the transfer curve, with
+ * negative values (SH ringing) clamped to 0 as the framebuffer clamps them. */
+int qibl_bake_relight8_lin(const uint8_t *asset, size_t n, const qibl_rt_light *l, int lut_mode, qibl_uq16_t exposure,
+                           int srgb, uint8_t *rgb8, float *lin, double *ms, qibl_status_t *status);
 int qibl_bake_relight8(const uint8_t *asset, size_t n, const qibl_rt_light *l, int use_lut, uint8_t *rgb8,
                        double *ms);
 /* MSE of a against b over the masked pixels (8-bit, all three channels); its PSNR (averaged over

@@ -38,7 +38,7 @@ int qibl_cmd_merge(int argc, char **argv);
 int qibl_cmd_check(int argc, char **argv);
 int qibl_cmd_demo(int argc, char **argv); /* cmd_demo.c */
 
-/* Scene and panorama options shared by render, bake and demo (cmd_bake.c): --scene builtin|FILE.obj,
+/* Scene and panorama options shared by render, bake and demo (cmd_bake.c): --scene builtin|FILE.obj|FILE.ply,
  * --zup, --raw, --size WxH, --equirect, --threads N. */
 typedef struct qibl_cli_scene {
     const char *scene;
@@ -51,6 +51,19 @@ struct qibl_rt_scene;
 int qibl_cli_scene_load(const qibl_cli_scene *o, struct qibl_rt_scene *s);
 struct qibl_rt_light;
 void qibl_cli_eval_lights(int obj_prop, int ndir, int npoint, struct qibl_rt_light *out);
+
+/* --point without --rgb (point_default.c): C0 = QIBL_CLI_POINT_GREY * d^falloff, d the median
+ * distance from pos to the n scene points pts (3 doubles each; points QIBL_CLI_SKY_DIST or more from
+ * the origin are sky and skipped), so the lit scene comes out around mid-grey (Lambert, albedo 0.6,
+ * facing the lamp at that distance: 0.6/pi x 2 = 0.38 linear, 166 of 255 through sRGB; the
+ * courtyard's median pixel is about 110). *c0 is capped at
+ * QIBL_CLI_Q16_MAX, *dist is d (1 when every point is sky). 0, or -1 (out of memory). */
+#define QIBL_CLI_POINT_GREY 2.0
+#define QIBL_CLI_SKY_DIST 1000.0
+int qibl_cli_point_default(const double *pts, size_t n, const double pos[3], int falloff, double *c0, double *dist);
+/* A note on stderr when the 8-bit RGB frame written to path has a mean below QIBL_CLI_DARK_MEAN. */
+#define QIBL_CLI_DARK_MEAN 32.0
+void qibl_cli_warn_dark(const char *path, const uint8_t *rgb, size_t np);
 
 /* Prints "qibl: <message>" on stderr and returns 2 (the bad-arguments exit status). */
 int qibl_cli_usage_error(const char *fmt, ...);
@@ -70,6 +83,11 @@ int qibl_cli_parse_num(const char *opt, const char *s, double lo, double hi, con
 
 /* Parses "WxH" (decimal digits only) with both in 1..max; 0, or 2 after one line naming opt. */
 int qibl_cli_parse_size(const char *opt, const char *s, long max, long *w, long *h);
+
+/* The cube-map LUT face size of gen, bake and merge: `--lut-size N` (N in lo..QIBL_ASSET_MAX_LUT),
+ * or the old `--lut N` with a deprecation note on stderr (relight's --lut is a sampling mode).
+ * 1 if argv[*i] was one of them (*i advanced past N), 0 if not, -1 after a message on a bad N. */
+int qibl_cli_lut_size_opt(int argc, char **argv, int *i, long lo, long *out);
 
 /* Parses a decimal integer in [lo, hi]; 0 on success, -1 otherwise. */
 int qibl_cli_parse_int(const char *s, long lo, long hi, long *out);

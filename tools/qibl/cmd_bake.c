@@ -1,6 +1,7 @@
 /*
  * cmd_bake.c - `qibl render` (ground truth), `qibl bake` (reference renders -> SH maps -> asset,
- * shards, --budget), `qibl merge` (shards -> asset), `qibl check` (validate PNG/APNG/PFM/asset files).
+ * shards, --budget), `qibl merge` (shards -> asset), `qibl check` (validate PNG/APNG/PFM/HDR/asset
+ * files).
  */
 #include <errno.h>
 #include <math.h>
@@ -10,7 +11,9 @@
 #include <unistd.h>
 
 #include "bake/bake.h"
+#include "io/hdr.h"
 #include "io/obj.h"
+#include "io/ply.h"
 #include "io/pfm.h"
 #include "io/png.h"
 #include "qibl/asset.h"
@@ -78,7 +81,8 @@ void qibl_cli_scene_defaults(qibl_cli_scene *o)
     o->threads = n > 0 && n < 256 ? (int)n : 1;
 }
 
-/* Loads the scene: built-in when o->scene is NULL or "builtin". 0, or 1 after printing the error. */
+/* Loads the scene: built-in when o->scene is NULL or "builtin", else a PLY (by its first line) or
+ * OBJ mesh. 0, or 1 after printing the error. */
 int qibl_cli_scene_load(const qibl_cli_scene *o, qibl_rt_scene *s)
 {
     if (!o->scene || strcmp(o->scene, "builtin") == 0) {
@@ -89,9 +93,19 @@ int qibl_cli_scene_load(const qibl_cli_scene *o, qibl_rt_scene *s)
         return 0;
     }
     qibl_obj_mesh m;
-    char err[512];
-    if (qibl_obj_read(o->scene, &m, err, sizeof err) != 0) {
-        fprintf(stderr, "qibl: %s\n", err);
+    char err[1200];
+    /* PLY by its first line (whatever the extension), else OBJ */
+    uint8_t head[8] = {0};
+    FILE *f = fopen(o->scene, "rb");
+    size_t nh = f ? fread(head, 1, sizeof head, f) : 0;
+    int opened = f != NULL;
+    if (f)
+        fclose(f);
+    int ply = qibl_ply_sniff(head, nh);
+    if ((ply ? qibl_ply_read(o->scene, &m, err, sizeof err) : qibl_obj_read(o->scene, &m, err, sizeof err)) != 0) {
+        const char *ext = strrchr(o->scene, '.');
+        fprintf(stderr, "qibl: %s%s\n", err,
+                !opened || ply || (ext && strcmp(ext, ".obj") == 0) ? "" : " (read as OBJ: meshes are Wavefront OBJ or PLY)");
         return 1;
     }
     int rc = qibl_rt_scene_from_obj(s, &m, o->zup, o->raw);
@@ -105,12 +119,40 @@ int qibl_cli_scene_load(const qibl_cli_scene *o, qibl_rt_scene *s)
 
 /* ---- qibl render --------------------------------------------------------------------------------- */
 
+/* --point without --rgb: C0 from the distance to what the panorama sees, as relight does from the
+ * asset's P map (the same points: the primary hits, sky QIBL_CLI_SKY_DIST along the ray). 0, or 1
+ * after a message. */
+static int point_default(const qibl_rt_scene *s, const qibl_cli_scene *so, qibl_rt_light *l)
+{
+    size_t np = (size_t)so->w * so->h;
+    double *pts = malloc(np * 3 * sizeof *pts), c0, d;
+    for (uint32_t y = 0; pts && y < so->h; ++y)
+        for (uint32_t x = 0; x < so->w; ++x) {
+            double dir[3], *p = pts + 3 * ((size_t)y * so->w + x);
+            qibl_rt_hit h;
+            qibl_rt_pixel_dir(so->w, so->h, (qibl_pano_kind)so->kind, x, y, dir);
+            qibl_rt_primary(s, dir, &h);
+            for (int c = 0; c < 3; ++c)
+                p[c] = h.hit ? h.p[c] : dir[c] * QIBL_CLI_SKY_DIST;
+        }
+    if (!pts || qibl_cli_point_default(pts, np, l->pos, l->falloff, &c0, &d) != 0) {
+        free(pts);
+        fprintf(stderr, "qibl: render: out of memory\n");
+        return 1;
+    }
+    free(pts);
+    l->rgb[0] = l->rgb[1] = l->rgb[2] = c0;
+    fprintf(stderr, "qibl: note: --point without --rgb: C0 = %.4g (%.2g x d%s, d = %.3g the median distance from the "
+            "lamp to the scene); give --rgb R G B to choose\n", c0, QIBL_CLI_POINT_GREY, l->falloff == 2 ? "^2" : "", d);
+    return 0;
+}
+
 int qibl_cmd_render(int argc, char **argv)
 {
     qibl_cli_scene so;
     qibl_cli_scene_defaults(&so);
     qibl_rt_light l = {0, {0, 0, 1}, {0, 0, 0}, {1, 1, 1}, 1};
-    int have = 0;
+    int have = 0, have_rgb = 0;
     long falloff = 1;
     const char *png = NULL, *pfm = NULL, *depth = NULL;
     for (int i = 1; i < argc; ++i) {
@@ -133,7 +175,7 @@ int qibl_cmd_render(int argc, char **argv)
         } else if (strcmp(a, "--rgb") == 0) {
             if (parse_d3(argv, i, argc, 0, l.rgb) != 0)
                 return 2;
-            i += 3;
+            have_rgb = 1, i += 3;
         } else if (strcmp(a, "--falloff") == 0 && i + 1 < argc) {
             if (qibl_cli_parse_int(argv[++i], 1, 2, &falloff) != 0)
                 return qibl_cli_usage_error("--falloff is 1 (C0/|L|) or 2 (C0/|L|^2)");
@@ -163,6 +205,8 @@ int qibl_cmd_render(int argc, char **argv)
         fprintf(stderr, "qibl: render: out of memory\n");
         goto done;
     }
+    if (l.point && !have_rgb && point_default(&s, &so, &l) != 0)
+        goto done;
     double t0 = qibl_cli_now();
     qibl_rt_render(&s, so.w, so.h, so.kind, &l, so.threads, lin, dep, NULL);
     double ms = (qibl_cli_now() - t0) * 1e3;
@@ -172,6 +216,7 @@ int qibl_cmd_render(int argc, char **argv)
             fprintf(stderr, "qibl: %s\n", err);
             goto done;
         }
+        qibl_cli_warn_dark(png, rgb8, np);
     }
     if (pfm) {
         for (size_t i = 0; i < np * 3; ++i)
@@ -207,7 +252,7 @@ void qibl_cli_eval_lights(int obj_prop, int ndir, int npoint, qibl_rt_light *out
     }
     for (int i = 0; i < npoint; ++i) {
         double a = 2.39996 * i + 1.1, r = 1.6 + 1.2 * ((i * 7) % 5) / 5.0;
-        double cx = obj_prop ? 3.5 : 0.0;
+        double cx = obj_prop ? QIBL_RT_PROP_X : 0.0;
         qibl_rt_light l = {1, {0, 0, 1}, {cx + r * cos(a), r * sin(a), -0.6 + 0.35 * (i % 4)}, {5.0, 4.4, 3.6}, 1};
         out[ndir + i] = l;
     }
@@ -320,9 +365,9 @@ int qibl_cmd_bake(int argc, char **argv)
         else if (strcmp(a, "--k") == 0 && i + 1 < argc) {
             if (qibl_cli_parse_int(argv[++i], 1, 25, &k) != 0)
                 return qibl_cli_usage_error("--k needs an integer in 1..25");
-        } else if (strcmp(a, "--lut") == 0 && i + 1 < argc) {
-            if (qibl_cli_parse_int(argv[++i], 0, (long)QIBL_ASSET_MAX_LUT, &lut) != 0)
-                return qibl_cli_usage_error("--lut needs a face size in 0..%u (0: none)", QIBL_ASSET_MAX_LUT);
+        } else if ((r = qibl_cli_lut_size_opt(argc, argv, &i, 0, &lut)) != 0) {
+            if (r < 0)
+                return 2;
         } else if (strcmp(a, "--dirs") == 0 && i + 1 < argc) {
             if (qibl_cli_parse_int(argv[++i], 16, 65536, &ndirs) != 0)
                 return qibl_cli_usage_error("--dirs needs an integer in 16..65536");
@@ -384,6 +429,7 @@ int qibl_cmd_bake(int argc, char **argv)
         evalset e = {0};
         uint8_t *tmp = malloc(sums.w * (size_t)sums.h * 3);
         uint32_t chosen = 0, chosen_lut = 0;
+        int reached = 0, lut_reached = 0; /* whether the chosen k (LUT) met its target, for the summary */
         double pk = 0;
         if (!tmp || eval_build(&e, &s, &so, 8, 4) != 0) {
             fprintf(stderr, "qibl: bake: out of memory\n");
@@ -403,7 +449,7 @@ int qibl_cmd_bake(int argc, char **argv)
             pk = eval_psnr(&e, b, n, 0, 0, tmp);
             printf("  k = %2u: %6.2f dB %s\n", kk, pk, pk >= budget ? "<- reaches the budget" : "");
             if (pk >= budget || kk == 25)
-                chosen = kk;
+                chosen = kk, reached = pk >= budget;
             free(b);
         }
         if (rc == 0) {
@@ -425,14 +471,22 @@ int qibl_cmd_bake(int argc, char **argv)
                 free(b);
                 printf("  %3u^2: %6.2f dB%s\n", f, p, p >= direct - 0.1 ? " <- within 0.1 dB of direct evaluation" : "");
                 if (p >= direct - 0.1 || f == 128) {
-                    chosen_lut = f;
+                    chosen_lut = f, lut_reached = p >= direct - 0.1;
                     break;
                 }
             }
             qibl_gen_free(&m);
-            printf("chose k = %u and a %u^2 LUT: the smallest k whose novel-sun PSNR reaches %.2f dB, and the smallest LUT "
-                   "that costs point lights under 0.1 dB against evaluating the SH polynomials per pixel\n",
-                   chosen, chosen_lut, budget);
+            /* one summary that agrees with the table above: the k line says "reaches" only if it did */
+            if (reached)
+                printf("chose k = %u: the smallest k whose novel-sun PSNR reaches %.2f dB", chosen, budget);
+            else
+                printf("chose k = %u: the largest k, since none reaches %.2f dB (best %.2f dB)", chosen, budget, pk);
+            if (lut_reached)
+                printf("; a %u^2 LUT: the smallest that costs point lights under 0.1 dB against evaluating the SH "
+                       "polynomials per pixel\n", chosen_lut);
+            else
+                printf("; a %u^2 LUT: the largest tried, none within 0.1 dB of evaluating the SH polynomials per "
+                       "pixel\n", chosen_lut);
             rc = finish_asset(&sums, chosen, chosen_lut, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, out);
         }
         eval_free(&e);
@@ -449,7 +503,7 @@ int qibl_cmd_merge(int argc, char **argv)
 {
     const char *out = NULL, *sums_out = NULL;
     long k = 0, lut = 32;
-    int lsq = 0, nin = 0;
+    int lsq = 0, nin = 0, r;
     char **in = malloc(sizeof(char *) * (size_t)argc);
     if (!in)
         return 1;
@@ -464,10 +518,10 @@ int qibl_cmd_merge(int argc, char **argv)
                 free(in);
                 return qibl_cli_usage_error("--k needs an integer in 1..25");
             }
-        } else if (strcmp(a, "--lut") == 0 && i + 1 < argc) {
-            if (qibl_cli_parse_int(argv[++i], 0, (long)QIBL_ASSET_MAX_LUT, &lut) != 0) {
+        } else if ((r = qibl_cli_lut_size_opt(argc, argv, &i, 0, &lut)) != 0) {
+            if (r < 0) {
                 free(in);
-                return qibl_cli_usage_error("--lut needs a face size in 0..%u", QIBL_ASSET_MAX_LUT);
+                return 2;
             }
         } else if (strcmp(a, "--lsq") == 0)
             lsq = 1;
@@ -480,7 +534,7 @@ int qibl_cmd_merge(int argc, char **argv)
     }
     if (nin == 0 || (!out && !sums_out)) {
         free(in);
-        return qibl_cli_usage_error("usage: qibl merge -o ASSET [--sums OUT] [--k K] [--lut N] [--lsq] SUMS...");
+        return qibl_cli_usage_error("usage: qibl merge -o ASSET [--sums OUT] [--k K] [--lut-size N] [--lsq] SUMS...");
     }
     qibl_bake_sums total = {0}, part;
     char err[1200];
@@ -576,6 +630,20 @@ int qibl_cmd_check(int argc, char **argv)
             }
             free(px);
             printf("%s: PFM %dx%d, %d channel%s\n", p, w, h, ch, ch == 1 ? "" : "s");
+        } else if (ext && (strcmp(ext, ".hdr") == 0 || strcmp(ext, ".pic") == 0)) {
+            /* the Radiance probes lights reads: header, resolution line and every scanline decoded */
+            int w, h;
+            float *px;
+            if (qibl_hdr_read(p, &w, &h, &px, err, sizeof err) != 0) {
+                fprintf(stderr, "qibl: %s\n", err);
+                bad = 1;
+                continue;
+            }
+            double mx = 0;
+            for (size_t j = 0; j < (size_t)w * (size_t)h * 3; ++j)
+                mx = px[j] > mx ? px[j] : mx;
+            free(px);
+            printf("%s: Radiance HDR %dx%d, every scanline decoded, largest channel %.6g\n", p, w, h, mx);
         } else {
             size_t n;
             uint8_t *b = NULL;

@@ -239,7 +239,7 @@ int qibl_cmd_demo(int argc, char **argv)
                 qibl_rt_light sl = {0, {cos(el) * cos(a), cos(el) * sin(a), sin(el)}, {0, 0, 0}, {2.6, 2.4, 2.1}, 1};
                 l = sl;
             } else {
-                double cx = prop ? 3.5 : 0.0, r = prop ? 2.2 : 2.8;
+                double cx = prop ? QIBL_RT_PROP_X : 0.0, r = prop ? 2.2 : 2.8;
                 qibl_rt_light pl = {1, {0, 0, 1}, {cx + r * cos(a), r * sin(a), -0.5 + 0.4 * sin(2 * a)}, {5.0, 4.4, 3.6}, 1};
                 l = pl;
             }

@@ -11,6 +11,8 @@
 #include "bake/bake.h"
 #include "gen/scene.h"
 #include "io/asset_write.h"
+#include "io/hdr_write.h"
+#include "io/pfm.h"
 #include "io/png.h"
 #include "qibl/asset.h"
 #include "io/file.h"
@@ -24,6 +26,7 @@ int qibl_cmd_gen(int argc, char **argv)
 {
     const char *out = NULL;
     long w = 1024, h = 256, k = 16, lut = 0;
+    int r;
     qibl_pack_scheme scheme = QIBL_PACK_MINMAX;
     qibl_pano_kind kind = QIBL_PANO_CYLINDRICAL;
     for (int i = 1; i < argc; ++i) {
@@ -38,9 +41,9 @@ int qibl_cmd_gen(int argc, char **argv)
         } else if (strcmp(a, "--k") == 0 && i + 1 < argc) {
             if (qibl_cli_parse_int(argv[++i], 1, 25, &k) != 0)
                 return qibl_cli_usage_error("--k needs an integer in 1..25");
-        } else if (strcmp(a, "--lut") == 0 && i + 1 < argc) {
-            if (qibl_cli_parse_int(argv[++i], 1, (long)QIBL_ASSET_MAX_LUT, &lut) != 0)
-                return qibl_cli_usage_error("--lut needs a face size in 1..%u", QIBL_ASSET_MAX_LUT);
+        } else if ((r = qibl_cli_lut_size_opt(argc, argv, &i, 0, &lut)) != 0) {
+            if (r < 0)
+                return 2;
         } else if (strcmp(a, "--pack") == 0 && i + 1 < argc) {
             const char *p = argv[++i];
             if (strcmp(p, "minmax") == 0)
@@ -52,7 +55,8 @@ int qibl_cmd_gen(int argc, char **argv)
         } else if (strcmp(a, "--equirect") == 0)
             kind = QIBL_PANO_EQUIRECT;
         else
-            return qibl_cli_usage_error("usage: qibl gen -o FILE [--size WxH] [--k K] [--lut N] [--pack minmax|robust] [--equirect]");
+            return qibl_cli_usage_error("usage: qibl gen -o FILE [--size WxH] [--k K] [--lut-size N] [--pack minmax|robust] "
+                                        "[--equirect]");
     }
     if (!out)
         return qibl_cli_usage_error("gen: -o FILE is required");
@@ -128,11 +132,30 @@ static int parse3(char **argv, int i, int argc, double lo, qibl_q16_t v[3])
     return 0;
 }
 
+#define RELIGHT_USAGE                                                                                       \
+    "usage: qibl relight FILE (--sun X Y Z | --point X Y Z) [--rgb R G B] [--lut nearest|bilinear|off]   \
+[--falloff 1|2] [--exposure E] [--linear] (--png OUT | --hdr OUT.hdr | --pfm OUT.pfm)..."
+
+/* the P map's points as doubles (n * 3), for the default lamp colour; NULL when out of memory */
+static double *pmap_points(const qibl_pmap_t *pm)
+{
+    size_t np = (size_t)pm->width * pm->height;
+    double *p = malloc(np * 3 * sizeof *p);
+    for (uint32_t y = 0; p && y < pm->height; ++y)
+        for (uint32_t x = 0; x < pm->width; ++x) {
+            qibl_q16_t q[3];
+            qibl_pmap_point(pm, x, y, q);
+            for (int c = 0; c < 3; ++c)
+                p[3 * ((size_t)y * pm->width + x) + (size_t)c] = q[c] / 65536.0;
+        }
+    return p;
+}
+
 int qibl_cmd_relight(int argc, char **argv)
 {
-    const char *in = NULL, *png = NULL;
+    const char *in = NULL, *png = NULL, *hdr = NULL, *pfm = NULL;
     qibl_q16_t sun[3] = {0}, pos[3] = {0}, rgb[3] = {65536, 65536, 65536};
-    int have_sun = 0, have_point = 0, use_lut = 0, nearest = 0, linear = 0;
+    int have_sun = 0, have_point = 0, have_rgb = 0, use_lut = 0, nearest = 0, linear = 0;
     long falloff = 1;
     qibl_q16_t exposure = 65536;
     for (int i = 1; i < argc; ++i) {
@@ -151,7 +174,7 @@ int qibl_cmd_relight(int argc, char **argv)
         } else if (strcmp(a, "--rgb") == 0) {
             if (parse3(argv, i, argc, 0, rgb) != 0)
                 return 2;
-            i += 3;
+            have_rgb = 1, i += 3;
         } else if (strcmp(a, "--exposure") == 0 && i + 1 < argc) {
             double e;
             if (qibl_cli_parse_num(a, argv[++i], 1.0 / 65536, QIBL_CLI_Q16_MAX, "a positive Q16.16 factor", &e) != 0)
@@ -160,22 +183,36 @@ int qibl_cmd_relight(int argc, char **argv)
         } else if (strcmp(a, "--falloff") == 0 && i + 1 < argc) {
             if (qibl_cli_parse_int(argv[++i], 1, 2, &falloff) != 0)
                 return qibl_cli_usage_error("--falloff is 1 (C0/|L|) or 2 (C0/|L|^2)");
-        } else if (strcmp(a, "--lut") == 0)
-            use_lut = 1;
-        else if (strcmp(a, "--nearest") == 0)
+        } else if (strcmp(a, "--lut") == 0) {
+            /* --lut MODE; a bare --lut (the old on/off switch) is bilinear: the next word is then an
+             * option or the asset, never a mode name, so the two spellings cannot be confused */
+            const char *m = i + 1 < argc ? argv[i + 1] : "";
+            if (strcmp(m, "nearest") == 0 || strcmp(m, "bilinear") == 0 || strcmp(m, "off") == 0) {
+                use_lut = m[0] != 'o', nearest = m[0] == 'n', ++i;
+            } else if (m[0] != '-' && m[0] != '\0' && in) {
+                return qibl_cli_usage_error("--lut: '%s' is not a mode (nearest, bilinear or off)", m);
+            } else {
+                use_lut = 1, nearest = 0;
+                fprintf(stderr, "qibl: note: a bare --lut is deprecated; say --lut bilinear\n");
+            }
+        } else if (strcmp(a, "--nearest") == 0) {
             use_lut = 1, nearest = 1;
-        else if (strcmp(a, "--linear") == 0)
+            fprintf(stderr, "qibl: note: --nearest is deprecated; say --lut nearest\n");
+        } else if (strcmp(a, "--linear") == 0)
             linear = 1;
         else if (strcmp(a, "--png") == 0 && i + 1 < argc)
             png = argv[++i];
+        else if (strcmp(a, "--hdr") == 0 && i + 1 < argc)
+            hdr = argv[++i];
+        else if (strcmp(a, "--pfm") == 0 && i + 1 < argc)
+            pfm = argv[++i];
         else if (a[0] != '-' && !in)
             in = a;
         else
-            return qibl_cli_usage_error("usage: qibl relight FILE (--sun X Y Z | --point X Y Z) [--rgb R G B] "
-                                        "[--lut|--nearest] [--falloff 1|2] [--exposure E] [--linear] --png OUT");
+            return qibl_cli_usage_error(RELIGHT_USAGE);
     }
-    if (!in || !png || have_sun == have_point)
-        return qibl_cli_usage_error("relight needs FILE, exactly one of --sun/--point, and --png OUT");
+    if (!in || (!png && !hdr && !pfm) || have_sun == have_point)
+        return qibl_cli_usage_error("relight needs FILE, exactly one of --sun/--point, and --png, --hdr or --pfm OUT");
     size_t n;
     uint8_t *bytes = NULL;
     char rerr[512];
@@ -200,32 +237,64 @@ int qibl_cmd_relight(int argc, char **argv)
         return 1;
     }
     uint32_t w = m.width, h = m.height;
-    uint8_t *pix = malloc((size_t)w * h * 3);
-    if (!pix) {
+    size_t np = (size_t)w * h;
+    uint8_t *pix = malloc(np * 3);
+    float *lin = hdr || pfm ? malloc(np * 3 * sizeof(float)) : NULL;
+    if (!pix || ((hdr || pfm) && !lin)) {
         fprintf(stderr, "qibl: relight: out of memory\n");
-        free(bytes);
+        free(bytes), free(pix), free(lin);
         return 1;
+    }
+    if (have_point && !have_rgb) {
+        /* C0 = 1 lights a scene a few units away almost black: scale it with the scene's distance */
+        double *pts = pmap_points(&pm), c0, d;
+        double lp[3] = {pos[0] / 65536.0, pos[1] / 65536.0, pos[2] / 65536.0};
+        if (!pts || qibl_cli_point_default(pts, np, lp, (int)falloff, &c0, &d) != 0) {
+            fprintf(stderr, "qibl: relight: out of memory\n");
+            free(pts), free(bytes), free(pix), free(lin);
+            return 1;
+        }
+        free(pts);
+        rgb[0] = rgb[1] = rgb[2] = (qibl_q16_t)nearbyint(c0 * 65536.0);
+        fprintf(stderr, "qibl: note: --point without --rgb: C0 = %.4g (%.2g x d%s, d = %.3g the median distance from "
+                "the lamp to the scene); give --rgb R G B to choose\n", c0, QIBL_CLI_POINT_GREY,
+                falloff == 2 ? "^2" : "", d);
     }
     qibl_rt_light l = {have_point, {sun[0] / 65536.0, sun[1] / 65536.0, sun[2] / 65536.0},
                        {pos[0] / 65536.0, pos[1] / 65536.0, pos[2] / 65536.0},
                        {rgb[0] / 65536.0, rgb[1] / 65536.0, rgb[2] / 65536.0}, (int)falloff};
     double ms = 0;
     int rc = 0;
-    if (qibl_bake_relight8_ex(bytes, n, &l, use_lut ? (nearest ? 2 : 1) : 0, (qibl_uq16_t)exposure, !linear, pix, &ms,
-                              &st) != 0) {
+    if (qibl_bake_relight8_lin(bytes, n, &l, use_lut ? (nearest ? 2 : 1) : 0, (qibl_uq16_t)exposure, !linear, pix, lin,
+                               &ms, &st) != 0) {
         fprintf(stderr, "qibl: relight: %s\n", st == QIBL_E_NULL_POINTER ? "out of memory" : qibl_status_str(st));
         rc = 1;
     } else {
-        char err[512];
-        if (qibl_png_write_rgb8(png, (int)w, (int)h, pix, err, sizeof err) != 0) {
+        char err[1200];
+        const char *how = have_sun ? "directional" : use_lut ? (nearest ? "point/LUT nearest" : "point/LUT bilinear")
+                                                            : "point/direct";
+        if (png && qibl_png_write_rgb8(png, (int)w, (int)h, pix, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
             rc = 1;
-        } else {
-            printf("wrote %s (%ux%u, k = %u, %s light, %.1f ms incl. framebuffer conversion)\n", png, w, h, m.k,
-                   have_sun ? "directional" : use_lut ? (nearest ? "point/LUT nearest" : "point/LUT") : "point/direct",
+        } else if (png) {
+            printf("wrote %s (%ux%u, k = %u, %s light, %.1f ms incl. framebuffer conversion)\n", png, w, h, m.k, how,
                    ms);
+            qibl_cli_warn_dark(png, pix, np);
+        }
+        /* linear frames: the core's Q16.16 output before exposure and the transfer curve */
+        if (rc == 0 && hdr && qibl_hdr_write(hdr, (int)w, (int)h, lin, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s\n", err);
+            rc = 1;
+        } else if (rc == 0 && hdr) {
+            printf("wrote %s (%ux%u Radiance RGBE, linear, before exposure, %s light)\n", hdr, w, h, how);
+        }
+        if (rc == 0 && pfm && qibl_pfm_write(pfm, (int)w, (int)h, 3, lin, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s\n", err);
+            rc = 1;
+        } else if (rc == 0 && pfm) {
+            printf("wrote %s (%ux%u PFM, linear, before exposure, %s light)\n", pfm, w, h, how);
         }
     }
-    free(bytes), free(pix);
+    free(bytes), free(pix), free(lin);
     return rc;
 }

@@ -95,7 +95,9 @@ int qibl_cmd_sh(int argc, char **argv)
     qibl_status_t st = qibl_sh_eval(dir, (int)bands, y);
     if (st != QIBL_OK)
         return qibl_cli_usage_error("sh eval: %s", qibl_status_str(st));
-    for (long i = 0; i < bands * bands; ++i)
-        printf("%.9f\n", (double)y[i] / 1073741824.0);
+    /* one line per basis function, labelled: index i = l*l + l + m, band l, order m */
+    for (int l = 0; l < (int)bands; ++l)
+        for (int m = -l; m <= l; ++m)
+            printf("Y[%2d] l=%d m=%+d %12.9f\n", l * l + l + m, l, m, (double)y[l * l + l + m] / 1073741824.0);
     return 0;
 }

@@ -36,6 +36,31 @@ static int hexval(char c)
     return c >= 'A' && c <= 'F' ? c - 'A' + 10 : -1;
 }
 
+/* The codec's non-OK statuses by their enum names, so a note names the status a program would get. */
+static const char *status_name(qibl_status_t st)
+{
+    switch (st) {
+    case QIBL_E_SRGBE_NAN:
+        return "QIBL_E_SRGBE_NAN";
+    case QIBL_E_SRGBE_INF:
+        return "QIBL_E_SRGBE_INF";
+    case QIBL_E_SRGBE_OVERFLOW:
+        return "QIBL_E_SRGBE_OVERFLOW";
+    case QIBL_E_SRGBE_DECODE_SAT:
+        return "QIBL_E_SRGBE_DECODE_SAT";
+    default:
+        return "status";
+    }
+}
+
+/* Every status that still wrote a result: the result on stdout, then one line on stderr naming the
+ * status (what qibl_srgbe_* returned) and what it means. */
+static void note_status(const char *what, qibl_status_t st)
+{
+    if (st != QIBL_OK)
+        fprintf(stderr, "qibl: srgbe %s: %s: %s\n", what, status_name(st), qibl_status_str(st));
+}
+
 static int srgbe_encode(int argc, char **argv)
 {
     if (argc != 5)
@@ -46,14 +71,10 @@ static int srgbe_encode(int argc, char **argv)
             return qibl_cli_usage_error("srgbe encode: '%s' is not a binary32 number", argv[2 + i]);
     uint8_t code[4];
     qibl_status_t st = qibl_srgbe_encode_f32(in, code);
-    if (st == QIBL_E_SRGBE_NAN) {
-        fprintf(stderr, "qibl: srgbe encode: %s\n", qibl_status_str(st));
-        return 1;
-    }
+    /* the codec writes a code for every status but a NULL pointer: print it, then name the status */
     printf("%02x%02x%02x%02x\n", code[0], code[1], code[2], code[3]);
-    if (st != QIBL_OK)
-        fprintf(stderr, "qibl: note: %s\n", qibl_status_str(st));
-    return 0;
+    note_status("encode", st);
+    return st == QIBL_E_SRGBE_NAN ? 1 : 0;
 }
 
 static int srgbe_decode(int argc, char **argv)
@@ -75,8 +96,7 @@ static int srgbe_decode(int argc, char **argv)
     float f[3];
     memcpy(f, out, sizeof f);
     printf("%.9g %.9g %.9g\n", (double)f[0], (double)f[1], (double)f[2]);
-    if (st != QIBL_OK)
-        fprintf(stderr, "qibl: note: %s\n", qibl_status_str(st));
+    note_status("decode", st);
     return 0;
 }
 

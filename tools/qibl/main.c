@@ -10,6 +10,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "qibl/asset.h" /* QIBL_ASSET_MAX_LUT */
 #include "qibl/cli.h"
 #include "qibl/version.h"
 
@@ -19,10 +20,10 @@ static const qibl_cli_cmd commands[] = {
      "       qibl sh plot --png FILE [--tile W]\n"
      "       qibl sh project PROBE.hdr [--bands B] [--irradiance] [--window none|hann|lanczos]\n"
      "  Prints the B*B real SH basis values Y_0 .. Y_{B*B-1} (bands 0..B-1, B in 1..5, default 5),\n"
-     "  one per line as %.9f, at the direction (X, Y, Z). X, Y, Z are decimals converted to Q16.16;\n"
-     "  the vector need not be unit length but must not be zero. The values are the core's Q2.30\n"
-     "  integers divided by 2^30. Convention: Wong et al. appendix, index i = l*l + l + m,\n"
-     "  Condon-Shortley phase (Y_3 = -0.488603 at (1, 0, 0)).\n"
+     "  one per line as `Y[i] l=L m=M value` (value as %.9f), at the direction (X, Y, Z).\n"
+     "  X, Y, Z are decimals converted to Q16.16; the vector need not be unit length but must not\n"
+     "  be zero. The values are the core's Q2.30 integers divided by 2^30. Convention: Wong et al.\n"
+     "  appendix, index i = l*l + l + m, Condon-Shortley phase (Y_3 = -0.488603 at (1, 0, 0)).\n"
      "  plot: writes a PNG of every basis function as a lat-long tile (orange > 0, blue < 0),\n"
      "  evaluated by the integer core; W is the tile width in pixels (default 128).\n"
      "  project: a lat-long Radiance probe projected onto bands 0..B-1 by the integer core, row by\n"
@@ -53,66 +54,78 @@ static const qibl_cli_cmd commands[] = {
      "  all: every benchmark (what `make bench` runs). --quick: fewer repetitions.\n",
      qibl_cmd_bench},
     {"gen", "write the procedural courtyard's SH maps (and P map, optional Y LUT) as an asset",
-     "usage: qibl gen -o FILE [--size WxH] [--k K] [--lut N] [--pack minmax|robust] [--equirect]\n"
+     "usage: qibl gen -o FILE [--size WxH] [--k K] [--lut-size N] [--pack minmax|robust] [--equirect]\n"
      "  Renders the built-in courtyard's light-transport SH maps analytically (Lambert + glossy, no\n"
      "  shadows; the ray-traced bake is a separate command), packs them to 8 bits per map and channel\n"
-     "  (min/max or the 0.1..99.9 percentile range) and writes SHMP + PMAP (+ YLUT with --lut N, the\n"
-     "  cube-map face size). Defaults: 1024x256 cylindrical, k = 16, min/max, no LUT.\n",
+     "  (min/max or the 0.1..99.9 percentile range) and writes SHMP + PMAP (+ YLUT with --lut-size N,\n"
+     "  the cube-map face size). Defaults: 1024x256 cylindrical, k = 16, min/max, no LUT. (The old\n"
+     "  spelling --lut N still works, with a deprecation note: relight's --lut is the sampling mode.)\n",
      qibl_cmd_gen},
     {"render", "ray-trace the ground-truth panorama of a scene under one light (PNG, PFM, depth)",
      "usage: qibl render (--sun X Y Z | --point X Y Z) [--rgb R G B] [--falloff 1|2] [--png OUT] [--pfm OUT]\n"
-     "                   [--depth OUT.pfm] [--scene builtin|FILE.obj] [--zup] [--raw] [--size WxH] [--equirect]\n"
+     "                   [--depth OUT.pfm] [--scene builtin|FILE.obj|FILE.ply] [--zup] [--raw] [--size WxH] [--equirect]\n"
      "                   [--threads N]\n"
      "  The reference renderer (BVH ray tracer, hard shadows, Lambert + glossy) from the viewpoint at the\n"
      "  origin: what a light really produces, to compare relit frames with. --sun: directional light\n"
      "  from (X, Y, Z) with irradiance --rgb (default 1 1 1); --point: a lamp at (X, Y, Z) with\n"
-     "  C0 = --rgb and falloff C0/|L| (or |L|^2); every number within the Q16.16 range relight takes\n"
+     "  C0 = --rgb and falloff C0/|L| (or |L|^2); without --rgb, C0 = 2 d (or 2 d^2), d the median\n"
+     "  distance from the lamp to what the panorama sees (a note says so); every number within the Q16.16 range relight takes\n"
      "  (|v| <= 32767.99998, --rgb >= 0). --png: sRGB 8-bit through the same framebuffer code\n"
      "  as qibl relight; --pfm: linear RGB floats; --depth: depth along each pixel's ray (0 for sky).\n"
-     "  Scenes: the built-in courtyard (default) or an OBJ placed as a prop on a ground plane (Y-up\n"
-     "  turned to Z-up unless --zup; --raw: as given, nothing added). Default 1024x256 cylindrical.\n",
+     "  Scenes: the built-in courtyard (default) or an OBJ or PLY mesh placed as a prop on a ground\n"
+     "  plane, 3.5 units along -x: the middle of the panorama, away from its seam at +x (Y-up turned\n"
+     "  to Z-up unless --zup; --raw: as given, nothing added). Default 1024x256 cylindrical. A frame\n"
+     "  whose mean is below 32 of 255 gets a note that it is almost black.\n",
      qibl_cmd_render},
     {"bake", "bake a scene into a relightable panorama asset (ray-traced, SH-projected, 8-bit packed)",
-     "usage: qibl bake -o ASSET [--k K] [--lut N] [--dirs N] [--lsq] [--budget DB] [--quiet]\n"
+     "usage: qibl bake -o ASSET [--k K] [--lut-size N] [--dirs N] [--lsq] [--budget DB] [--quiet]\n"
      "                 [--shard I/N --sums FILE] [scene options as for render]\n"
      "  Renders the scene under N directional lights (spherical Fibonacci set, equal weights 4 pi / N,\n"
      "  default 512) with hard shadows, projects every pixel's response onto SH (k <= 25, default 16;\n"
      "  quadrature, or --lsq least squares), packs the maps to 8 bits (min/max per map and channel) and\n"
-     "  writes SHMP + PMAP (+ a cube-map YLUT of face N, default 32; 0 = none). Sums are exact\n"
-     "  integers: the asset is bit-identical for any --threads and any sharding.\n"
+     "  writes SHMP + PMAP (+ a cube-map YLUT of face --lut-size N, default 32; 0 = none). Sums are\n"
+     "  exact integers: the asset is bit-identical for any --threads and any sharding.\n"
      "  --shard I/N --sums FILE: bake only the I-th of N shares of the directions, write partial sums\n"
      "  for qibl merge. --budget DB: choose the smallest band-complete k whose PSNR against ground truth\n"
      "  on 8 novel suns reaches DB, and the smallest LUT within 0.1 dB of direct SH evaluation on 4\n"
      "  lamps, and say so. A progress bar goes to stderr when it is a terminal.\n",
      qibl_cmd_bake},
     {"merge", "combine the partial sums of bake shards into an asset",
-     "usage: qibl merge -o ASSET [--sums OUT] [--k K] [--lut N] [--lsq] SUMS...\n"
+     "usage: qibl merge -o ASSET [--sums OUT] [--k K] [--lut-size N] [--lsq] SUMS...\n"
      "  Adds the partial sums written by `qibl bake --shard I/N --sums FILE` (every shard exactly once,\n"
      "  same bake) and writes the asset as qibl bake would (byte-identical), and/or the total sums.\n"
      "  Every file is checked before use (version, CRC-32s, counts within the bake's limits, exact size),\n"
      "  then against the first (split, size, k, directions, P map); sums that would overflow 64 bits, a\n"
      "  shard given twice or missing, and --k above the shards' k are refused by name.\n",
      qibl_cmd_merge},
-    {"check", "validate PNG/APNG, PFM and qibl asset files",
+    {"check", "validate PNG/APNG, PFM, Radiance HDR and qibl asset files",
      "usage: qibl check FILE...\n"
      "  .png: signature, every chunk CRC, the zlib stream (inflated), Adler-32, APNG frame sequence;\n"
-     "  .pfm: header and size; anything else as a qibl asset (qibl_asset_open). Exit 1 if any is bad.\n",
+     "  .pfm: header and size; .hdr/.pic: Radiance header, resolution line and every scanline (RLE or\n"
+     "  flat) decoded, as qibl lights reads it; anything else as a qibl asset (qibl_asset_open).\n"
+     "  Exit 1 if any is bad.\n",
      qibl_cmd_check},
     {"demo", "the main demo: bake the scene, relight it by the core, compare with ground truth",
      "usage: qibl demo --out DIR [--dirs N] [--frames F] [--small] [scene options as for render]\n"
-     "  What `make demo` runs: bakes the scene (built-in courtyard, or --scene FILE.obj), writes the\n"
-     "  assets for k = 9, 16, 25, relights a sun sweep and a moving lamp with the core (PNG frames and\n"
+     "  What `make demo` runs: bakes the scene (built-in courtyard, or --scene FILE.obj|.ply), writes\n"
+     "  the assets for k = 9, 16, 25, relights a sun sweep and a moving lamp with the core (PNG frames and\n"
      "  APNG), a contact sheet (relit | ground truth | error heat map) for novel lights, and prints the\n"
      "  table of k, bytes, ms/frame and PSNR with RESULT lines. --small: the CI size.\n",
      qibl_cmd_demo},
     {"relight", "relight an asset with a sun or a point light into a PNG (core kernels + soft framebuffer)",
-     "usage: qibl relight FILE (--sun X Y Z | --point X Y Z) [--rgb R G B] [--lut|--nearest]\n"
-     "                    [--falloff 1|2] [--exposure E] [--linear] --png OUT\n"
+     "usage: qibl relight FILE (--sun X Y Z | --point X Y Z) [--rgb R G B] [--lut nearest|bilinear|off]\n"
+     "                    [--falloff 1|2] [--exposure E] [--linear] [--png OUT] [--hdr OUT.hdr] [--pfm OUT.pfm]\n"
      "  --sun: directional light from direction (X, Y, Z), colour --rgb (default 1 1 1).\n"
-     "  --point: point light at (X, Y, Z) in scene units, C0 = --rgb; per-pixel Y from the asset's\n"
-     "  cube-map LUT (--lut bilinear, --nearest) or the SH polynomials (default); --falloff 1 is\n"
-     "  C0/|L| (Wong et al.), 2 is C0/|L|^2. Output RGBA8888 with sRGB transfer (or --linear),\n"
-     "  exposure E (default 1), written as an RGB PNG.\n",
+     "  --point: point light at (X, Y, Z) in scene units, C0 = --rgb (default: 2 d, or 2 d^2 with\n"
+     "  --falloff 2, d the median distance from the lamp to the asset's P-map points, with a note);\n"
+     "  per-pixel Y from the asset's cube-map LUT (--lut nearest or bilinear) or the SH polynomials\n"
+     "  (--lut off, the default); --falloff 1 is C0/|L| (Wong et al.), 2 is C0/|L|^2. (The old\n"
+     "  spellings, a bare --lut for bilinear and --nearest, still work with a deprecation note.)\n"
+     "  --png: RGBA8888 with sRGB transfer (or --linear), exposure E (default 1), as an RGB PNG; a\n"
+     "  frame whose mean is below 32 of 255 gets a note that it is almost black.\n"
+     "  --hdr / --pfm: the same frame linear, before exposure and transfer (the core's Q16.16 output,\n"
+     "  negative SH ringing clamped to 0), as Radiance RGBE (RLE) or little-endian PFM, for other\n"
+     "  tools. At least one of --png/--hdr/--pfm.\n",
      qibl_cmd_relight},
     {"info", "validate a qibl asset file and print its contents",
      "usage: qibl info FILE\n"
@@ -127,11 +140,12 @@ static const qibl_cli_cmd commands[] = {
      "       qibl srgbe decode HEX8\n"
      "  encode: R G B are decimals rounded to binary32 (inf and nan accepted); prints the code as\n"
      "  8 hex digits, bytes R G B E in memory order (Granier et al. 4.2: e = floor(log2 max|c|) + 2,\n"
-     "  X = round(255 (c 2^-e + 1/2)), E = e + 126). An infinite channel saturates (printed, with a\n"
-     "  note on stderr); a NaN channel is an error (exit 1).\n"
+     "  X = round(255 (c 2^-e + 1/2)), E = e + 126). The code the codec wrote is always printed; a\n"
+     "  status other than QIBL_OK is named on stderr (`qibl: srgbe encode: QIBL_E_SRGBE_INF: ...`):\n"
+     "  an infinite channel saturates (exit 0); a NaN channel writes the zero code 80808000 (exit 1).\n"
      "  decode: HEX8 is 8 hex digits as printed by encode; prints the three channels\n"
      "  (X/255 - 1/2) 2^(E-126), correctly rounded to binary32, as %.9g (E = 255 with X = 0 or 255\n"
-     "  saturates to +-FLT_MAX, with a note on stderr).\n"
+     "  saturates to +-FLT_MAX, printed, with QIBL_E_SRGBE_DECODE_SAT named on stderr; exit 0).\n"
      "  Bad arguments: one line on stderr, exit status 2.\n",
      qibl_cmd_srgbe},
     {"lights", "sample a .hdr light probe (lat-long, angular, ball, cube cross) into directional lights",
@@ -226,6 +240,24 @@ int qibl_cli_parse_num(const char *opt, const char *s, double lo, double hi, con
                                     why ? why : "", why ? ")" : "");
     *out = v;
     return 0;
+}
+
+int qibl_cli_lut_size_opt(int argc, char **argv, int *i, long lo, long *out)
+{
+    const char *a = argv[*i];
+    int old = strcmp(a, "--lut") == 0;
+    if ((!old && strcmp(a, "--lut-size") != 0) || *i + 1 >= argc)
+        return 0;
+    const char *v = argv[++*i];
+    if (qibl_cli_parse_int(v, lo, (long)QIBL_ASSET_MAX_LUT, out) != 0) {
+        qibl_cli_usage_error("--lut-size: '%s' is not a face size in %ld..%u%s", v, lo, QIBL_ASSET_MAX_LUT,
+                             lo == 0 ? " (0: no LUT)" : "");
+        return -1;
+    }
+    if (old)
+        fprintf(stderr, "qibl: note: --lut N is deprecated here; say --lut-size %s (relight's --lut is the sampling "
+                        "mode)\n", v);
+    return 1;
 }
 
 int qibl_cli_parse_size(const char *opt, const char *s, long max, long *w, long *h)

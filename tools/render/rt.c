@@ -323,6 +323,17 @@ int qibl_rt_scene_builtin(qibl_rt_scene *s)
     return finish(&b);
 }
 
+/* a mesh's point or normal in the scene's frame (see qibl_rt_scene_from_obj) */
+static void to_scene(const double *p, int zup, int raw, double q[3])
+{
+    if (raw) {
+        q[0] = p[0], q[1] = p[1], q[2] = p[2];
+        return;
+    }
+    double z[3] = {p[0], zup ? p[1] : -p[2], zup ? p[2] : p[1]};
+    q[0] = -z[1], q[1] = z[0], q[2] = z[2];
+}
+
 int qibl_rt_scene_from_obj(qibl_rt_scene *s, const qibl_obj_mesh *m, int zup, int raw)
 {
     memset(s, 0, sizeof *s);
@@ -334,23 +345,25 @@ int qibl_rt_scene_from_obj(qibl_rt_scene *s, const qibl_obj_mesh *m, int zup, in
     s->nmat = 2;
     builder b = {s, 0, 0};
     double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-    /* Y-up (x, y, z) -> Z-up (x, -z, y): a rotation, so windings and normals stay right */
+    /* Y-up (x, y, z) -> Z-up (x, -z, y), then a quarter turn about z, (x, y) -> (-y, x), so the
+     * model's front (+z of a Y-up model, -y of a Z-up one) faces the viewer at the origin: rotations,
+     * so windings and normals stay right */
     for (size_t i = 0; i < m->ntri * 3; ++i) {
-        const double *p = m->pos + 3 * i;
-        double q[3] = {p[0], zup || raw ? p[1] : -p[2], zup || raw ? p[2] : p[1]};
+        double q[3];
+        to_scene(m->pos + 3 * i, zup, raw, q);
         for (int j = 0; j < 3; ++j)
             lo[j] = q[j] < lo[j] ? q[j] : lo[j], hi[j] = q[j] > hi[j] ? q[j] : hi[j];
     }
     double size = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
     double sc = raw || size <= 0 ? 1.0 : 2.5 / size;
-    double off[3] = {raw ? 0 : 3.5 - sc * (lo[0] + hi[0]) / 2, raw ? 0 : -sc * (lo[1] + hi[1]) / 2,
+    double off[3] = {raw ? 0 : QIBL_RT_PROP_X - sc * (lo[0] + hi[0]) / 2, raw ? 0 : -sc * (lo[1] + hi[1]) / 2,
                      raw ? 0 : -1.6 - sc * lo[2]};
     for (size_t t = 0; t < m->ntri; ++t) {
         double p[3][3], n[3][3];
         for (int q = 0; q < 3; ++q) {
-            const double *a = m->pos + 9 * t + 3 * q, *na = m->nrm + 9 * t + 3 * q;
-            double pa[3] = {a[0], zup || raw ? a[1] : -a[2], zup || raw ? a[2] : a[1]};
-            double pn[3] = {na[0], zup || raw ? na[1] : -na[2], zup || raw ? na[2] : na[1]};
+            double pa[3], pn[3];
+            to_scene(m->pos + 9 * t + 3 * q, zup, raw, pa);
+            to_scene(m->nrm + 9 * t + 3 * q, zup, raw, pn);
             for (int j = 0; j < 3; ++j)
                 p[q][j] = pa[j] * sc + off[j], n[q][j] = pn[j];
         }

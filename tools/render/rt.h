@@ -51,9 +51,15 @@ typedef struct qibl_rt_scene {
 /* The built-in courtyard (no files): ground, walls, two arcades of pillars and round arches, boxes
  * and spheres, z up, viewpoint at the origin 1.6 above the ground. 0 or -1 (no memory). */
 int qibl_rt_scene_builtin(qibl_rt_scene *s);
-/* A mesh as a prop: turned from Y-up to Z-up unless zup, scaled so its largest side is 2.5 units,
- * standing on the ground (z = -1.6, a 40 x 40 ground plane is added) 3.5 units along +x from the
- * viewpoint; raw: the mesh exactly as given and nothing added. 0 or -1 (no memory). */
+/* Where a mesh prop stands: on the -x axis, the centre column of every panorama (phi = pi). +x is
+ * phi = 0, the left/right edge, where a prop would be cut in half across the seam. */
+#define QIBL_RT_PROP_X (-3.5)
+
+/* A mesh as a prop: turned from Y-up to Z-up unless zup, then a quarter turn about z so the
+ * model's front (+z of a Y-up model, -y of a Z-up one) faces the viewer; scaled so its largest side
+ * is 2.5 units, standing on the ground (z = -1.6, a 40 x 40 ground plane is added) centred 3.5 units
+ * along -x from the viewpoint (QIBL_RT_PROP_X: the middle of the panorama, away from the seam at
+ * +x); raw: the mesh exactly as given and nothing added. 0 or -1 (no memory). */
 int qibl_rt_scene_from_obj(qibl_rt_scene *s, const qibl_obj_mesh *m, int zup, int raw);
 void qibl_rt_scene_free(qibl_rt_scene *s);
 

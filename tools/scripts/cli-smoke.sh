@@ -30,15 +30,18 @@ want() {
 want 0 - --help
 want 0 - sh eval 0 0 1
 want 0 - srgbe encode 1 0.5 -0.25
-want 0 - gen -o "$w/g.qibl" --size 32x8 --k 9 --lut 4
+want 0 - gen -o "$w/g.qibl" --size 32x8 --k 9 --lut-size 4
 want 0 - info "$w/g.qibl"
 want 0 - relight "$w/g.qibl" --sun 1 0.5 1 --png "$w/r.png"
-want 0 - relight "$w/g.qibl" --point 0.5 0 0 --lut --png "$w/p.png"
+want 0 - relight "$w/g.qibl" --point 0.5 0 0 --lut bilinear --png "$w/p.png" --hdr "$w/p.hdr" --pfm "$w/p2.pfm"
+want 0 - relight "$w/g.qibl" --point 0.5 0 0 --lut nearest --png "$w/p.png"
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' > "$w/t.ply"
+want 0 - render --size 32x8 --scene "$w/t.ply" --point 0 0 0 --png "$w/tp.png"
 want 0 - render --size 32x8 --sun 0 0 1 --png "$w/t.png" --pfm "$w/t.pfm" --depth "$w/d.pfm" --threads 2
 want 0 - bake --size 32x8 --k 4 --dirs 32 --shard 0/2 --sums "$w/s0" --quiet --threads 2
 want 0 - bake --size 32x8 --k 4 --dirs 32 --shard 1/2 --sums "$w/s1" --quiet --threads 2
 want 0 - merge -o "$w/m.qibl" --lsq "$w/s0" "$w/s1"
-want 0 - check "$w/g.qibl" "$w/m.qibl" "$w/r.png" "$w/t.pfm"
+want 0 - check "$w/g.qibl" "$w/m.qibl" "$w/r.png" "$w/t.pfm" "$w/p.hdr"
 { printf '#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 16 +X 32\n'; i=0; while [ $i -lt 512 ]; do printf '\200\144\074\201'; i=$((i + 1)); done; } >"$w/p.hdr"
 want 0 - lights "$w/p.hdr" -n 4 --png "$w/l.png" --error
 want 0 - sh project "$w/p.hdr" --bands 3 --irradiance --window hann

@@ -1,0 +1,57 @@
+/*
+ * point_default.c - what `--point` means without `--rgb` (render and relight), and the note on a
+ * frame that came out almost black.
+ *
+ * A lamp of C0 = 1 a few units from the scene gives C0/|L| x albedo/pi, about 0.03 linear: an
+ * almost black frame, with no hint why. The default instead scales C0 with the distance from the
+ * lamp to what the panorama sees, so that a surface at the median distance facing the lamp comes out
+ * near mid-grey whatever the scene's size or the falloff.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "qibl/cli.h"
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+int qibl_cli_point_default(const double *pts, size_t n, const double pos[3], int falloff, double *c0, double *dist)
+{
+    double *d = malloc((n ? n : 1) * sizeof *d);
+    if (!d)
+        return -1;
+    size_t m = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const double *p = pts + 3 * i;
+        /* sky pixels sit QIBL_CLI_SKY_DIST along their ray (bake.c's P map): not part of the scene */
+        if (sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) >= 0.9 * QIBL_CLI_SKY_DIST)
+            continue;
+        double dx = p[0] - pos[0], dy = p[1] - pos[1], dz = p[2] - pos[2];
+        d[m++] = sqrt(dx * dx + dy * dy + dz * dz);
+    }
+    double med = 1.0; /* all sky: a unit distance, so C0 is the grey level itself */
+    if (m > 0) {
+        qsort(d, m, sizeof *d, cmp_double);
+        med = d[m / 2] > 1e-3 ? d[m / 2] : 1e-3;
+    }
+    free(d);
+    double c = QIBL_CLI_POINT_GREY * (falloff == 2 ? med * med : med);
+    *c0 = c < QIBL_CLI_Q16_MAX ? c : QIBL_CLI_Q16_MAX;
+    *dist = med;
+    return 0;
+}
+
+void qibl_cli_warn_dark(const char *path, const uint8_t *rgb, size_t np)
+{
+    double sum = 0;
+    for (size_t i = 0; i < np * 3; ++i)
+        sum += rgb[i];
+    double mean = np ? sum / (double)(np * 3) : 0;
+    if (mean < QIBL_CLI_DARK_MEAN)
+        fprintf(stderr, "qibl: note: %s is almost black (mean %.1f of 255): try a larger --rgb or --exposure\n", path,
+                mean);
+}
