@@ -14,5 +14,6 @@
 #include "qibl/asset.h"
 #include "qibl/shmap.h"
 #include "qibl/lightprobe.h"
+#include "qibl/probe.h"
 
 #endif /* QIBL_H */

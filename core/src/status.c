@@ -65,6 +65,9 @@ const char *qibl_status_str(qibl_status_t s)
     case QIBL_E_PROBE_BLACK:      return "light probe: all black, no lights";
     case QIBL_E_PROBE_RECT:       return "light probe: region outside the probe";
     case QIBL_E_CONFIG_MISMATCH:  return "caller built with other config.h options or release than the library";
+    case QIBL_E_SH_ROTATION:      return "SH rotation: matrix not orthonormal within 2^-16, or a reflection";
+    case QIBL_E_PROBE_ROW:        return "probe projection: row outside the probe, or not every row added";
+    case QIBL_E_PROBE_SATURATED:  return "probe projection: SH coefficients beyond the Q16.16 light";
     case QIBL_STATUS_COUNT:   break;
     case QIBL_STATUS_SOFT_BASE: case QIBL_STATUS_GLES2_BASE: case QIBL_STATUS_BACKEND_END: break;
     }

@@ -129,7 +129,8 @@ runtime relighting (QIBL_USE_LIGHTPROBE=0)|relight|-DQIBL_USE_LIGHTPROBE=0
 relighting without sRGBE (QIBL_USE_LIGHTPROBE=0 QIBL_USE_SRGBE=0)|relight-nosrgbe|-DQIBL_USE_LIGHTPROBE=0 -DQIBL_USE_SRGBE=0
 light probes only (QIBL_USE_SHMAP=0 QIBL_USE_SH=0 QIBL_USE_ASSET=0)|lightprobe|-DQIBL_USE_SHMAP=0 -DQIBL_USE_SH=0 -DQIBL_USE_ASSET=0
 planar relighting (QIBL_USE_LIGHTPROBE=0 QIBL_USE_INTERLEAVED=0)|relight-planar|-DQIBL_USE_LIGHTPROBE=0 -DQIBL_USE_INTERLEAVED=0
-no asset parser (QIBL_USE_LIGHTPROBE=0 QIBL_USE_ASSET=0)|relight-noasset|-DQIBL_USE_LIGHTPROBE=0 -DQIBL_USE_ASSET=0"
+no asset parser (QIBL_USE_LIGHTPROBE=0 QIBL_USE_ASSET=0)|relight-noasset|-DQIBL_USE_LIGHTPROBE=0 -DQIBL_USE_ASSET=0
+probe SH lighting (QIBL_USE_SHMAP=0 QIBL_USE_ASSET=0 QIBL_USE_SRGBE=0)|probe|-DQIBL_USE_SHMAP=0 -DQIBL_USE_ASSET=0 -DQIBL_USE_SRGBE=0"
     while IFS='|' read -r label tag defs; do
         cdir="$out/cortex-m4-config-$tag"; mkdir -p "$cdir"; ctotal=0; cok=1
         for src in core/src/*.c; do

@@ -79,6 +79,10 @@ typedef enum qibl_status {
     QIBL_E_ASSET_LAYOUT,           /* streaming by rows needs the interleaved SHMP layout */
     QIBL_E_ASSET_ROW,              /* row index outside the maps */
     QIBL_E_SHMAP_LAYOUT,           /* SH maps view with an unknown layout (shmaps.h) */
+    /* SH rotation (sh.h) and probe projection (probe.h) */
+    QIBL_E_SH_ROTATION,            /* rotation matrix not orthonormal (within 2^-16) or a reflection */
+    QIBL_E_PROBE_ROW,              /* projection: row index outside the probe, or rows missing at finish */
+    QIBL_E_PROBE_SATURATED,        /* SH coefficients do not fit the Q16.16 light (lower scale_log2) */
     QIBL_STATUS_COUNT,     /* number of core status values; not a status */
     /* Platform backends (platform/<name>/) return qibl_status_t too, with their errors in their own
      * range of 256 values from their base, defined in the backend's header; the core never returns
