@@ -123,7 +123,8 @@ static const qibl_cli_cmd commands[] = {
      qibl_cmd_demo},
     {"relight", "relight an asset with a sun or a point light into a PNG (core kernels + soft framebuffer)",
      "usage: qibl relight FILE (--sun X Y Z | --point X Y Z) [--rgb R G B] [--lut nearest|bilinear|off]\n"
-     "                    [--falloff 1|2] [--exposure E] [--linear] [--png OUT] [--hdr OUT.hdr] [--pfm OUT.pfm]\n"
+     "                    [--falloff 1|2] [--exposure E] [--linear] [--gles] [--png OUT] [--hdr OUT.hdr]\n"
+     "                    [--pfm OUT.pfm]\n"
      "  --sun: directional light from direction (X, Y, Z), colour --rgb (default 1 1 1).\n"
      "  --point: point light at (X, Y, Z) in scene units, C0 = --rgb (default: 2 d, or 2 d^2 with\n"
      "  --falloff 2, d the median distance from the lamp to the asset's P-map points, with a note);\n"
@@ -134,7 +135,9 @@ static const qibl_cli_cmd commands[] = {
      "  frame whose mean is below 32 of 255 gets a note that it is almost black.\n"
      "  --hdr / --pfm: the same frame linear, before exposure and transfer (the core's Q16.16 output,\n"
      "  negative SH ringing clamped to 0), as Radiance RGBE (RLE) or little-endian PFM, for other\n"
-     "  tools. At least one of --png/--hdr/--pfm.\n",
+     "  tools. At least one of --png/--hdr/--pfm.\n"
+     "  --gles: relight with platform/gles2 on a headless EGL context instead (--png only; the same\n"
+     "  asset and core weights; within 1 of 255 of the CPU path on Mesa llvmpipe).\n",
      qibl_cmd_relight},
     {"info", "validate a qibl asset file and print its contents",
      "usage: qibl info FILE\n"
