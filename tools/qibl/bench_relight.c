@@ -498,3 +498,25 @@ int qibl_bench_relight(int quick, int csv)
     qibl_gen_free(&g);
     return 0;
 }
+
+/* `qibl bench baselines`: only the baselines above, on the full-size courtyard (1024x256; 256x64
+ * with --quick), for comparing builds (compilers, flags, QIBL_CONFIG_SIMD) without the error runs. */
+int qibl_bench_relight_baselines(int quick)
+{
+    const uint32_t W = quick ? 256 : 1024, H = quick ? 64 : 256;
+    qibl_gen_maps g;
+    if (qibl_gen_scene(W, H, 25, QIBL_PANO_CYLINDRICAL, &g) != 0) {
+        fprintf(stderr, "qibl: bench baselines: out of memory\n");
+        return 1;
+    }
+    int32_t *img = malloc(sizeof(int32_t) * 3 * (size_t)W * H);
+    void *ws = malloc(qibl_shmap_span_workspace_size(W));
+    const qibl_q16_t sun_dir[3] = {(int32_t)(0.55 * 65536), (int32_t)(0.35 * 65536), (int32_t)(0.76 * 65536)};
+    const qibl_q16_t sun_rgb[3] = {(int32_t)(1.6 * 65536), (int32_t)(1.45 * 65536), (int32_t)(1.2 * 65536)};
+    int rc = !img || !ws || bench_baselines(&g, W, H, quick, sun_dir, sun_rgb, img, ws) != 0;
+    if (rc)
+        fprintf(stderr, "qibl: bench baselines: out of memory\n");
+    free(img), free(ws);
+    qibl_gen_free(&g);
+    return rc;
+}
