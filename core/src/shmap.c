@@ -284,25 +284,48 @@ static void wprep_init(wprep_t *wp, const qibl_shmap_weights_t *w, const finish_
 #endif
 }
 
-/* One group of 16 pixels, one channel: acc[p] = sum_i w_i c[16 i + p] over the k maps' 16 adjacent
- * bytes each (the interleaved layout). Same integer sums on every path (exact: every partial sum
+/* One group of 16 pixels, one channel (AVX2: all three, group_acc3): acc[p] = sum_i w_i
+ * c[16 i + p] over the k maps' 16 adjacent bytes each (the interleaved layout). Same integer sums on every path (exact: every partial sum
  * is inside the int32 bound of shmap.h, whatever the order). */
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
 /* pairs of maps: bytes of map i and i+1 interleaved, widened to int16, one _mm256_madd_epi16 per
  * 8 pixels (w_i c_i + w_i+1 c_i+1 in each int32 lane); an odd k pairs its last map with itself
  * under weight 0 */
-static void group_acc(int32_t *acc, const uint8_t *c, const wprep_t *wp, uint32_t ch, uint32_t k)
+/* w_i c_i + w_i+1 c_i+1 of one channel's 16 pixels added to lo (pixels 0..7) and hi (8..15);
+ * y = zero bytes for an odd k's last map (its partner weight is 0) */
+#define SHMAP_PAIR_AVX2(lo, hi, x, y, wv)                                                              \
+    do {                                                                                               \
+        lo = _mm256_add_epi32(lo, _mm256_madd_epi16(_mm256_cvtepu8_epi16(_mm_unpacklo_epi8(x, y)), wv)); \
+        hi = _mm256_add_epi32(hi, _mm256_madd_epi16(_mm256_cvtepu8_epi16(_mm_unpackhi_epi8(x, y)), wv)); \
+    } while (0)
+#define SHMAP_LOAD16(p) _mm_loadu_si128((const __m128i *)(const void *)(p))
+
+/* the three channels in one loop (six accumulators in registers, written out so that -O2 keeps
+ * them there): one loop step per pair of maps */
+static void group_acc3(int32_t (*acc)[QIBL_SHMAPS_GROUP], const uint8_t *c, uint32_t cs, const wprep_t *wp, uint32_t k)
 {
-    __m256i a0 = _mm256_setzero_si256(), a1 = _mm256_setzero_si256();
-    for (uint32_t i = 0; i < k; i += 2u) {
-        const __m128i x = _mm_loadu_si128((const __m128i *)(const void *)(c + 16u * i));
-        const __m128i y = _mm_loadu_si128((const __m128i *)(const void *)(c + 16u * (i + 1u < k ? i + 1u : i)));
-        const __m256i wv = wp->v[ch][i / 2u];
-        a0 = _mm256_add_epi32(a0, _mm256_madd_epi16(_mm256_cvtepu8_epi16(_mm_unpacklo_epi8(x, y)), wv));
-        a1 = _mm256_add_epi32(a1, _mm256_madd_epi16(_mm256_cvtepu8_epi16(_mm_unpackhi_epi8(x, y)), wv));
+    __m256i r0 = _mm256_setzero_si256(), r1 = r0, g0 = r0, g1 = r0, b0 = r0, b1 = r0;
+    const uint8_t *c1 = c + cs, *c2 = c + 2u * cs;
+    uint32_t i = 0;
+    for (; i + 2u <= k; i += 2u) {
+        const uint32_t o = 16u * i;
+        SHMAP_PAIR_AVX2(r0, r1, SHMAP_LOAD16(c + o), SHMAP_LOAD16(c + o + 16u), wp->v[0][i / 2u]);
+        SHMAP_PAIR_AVX2(g0, g1, SHMAP_LOAD16(c1 + o), SHMAP_LOAD16(c1 + o + 16u), wp->v[1][i / 2u]);
+        SHMAP_PAIR_AVX2(b0, b1, SHMAP_LOAD16(c2 + o), SHMAP_LOAD16(c2 + o + 16u), wp->v[2][i / 2u]);
     }
-    _mm256_storeu_si256((__m256i *)(void *)acc, a0);
-    _mm256_storeu_si256((__m256i *)(void *)(acc + 8), a1);
+    if (i < k) {
+        const uint32_t o = 16u * i;
+        const __m128i z = _mm_setzero_si128();
+        SHMAP_PAIR_AVX2(r0, r1, SHMAP_LOAD16(c + o), z, wp->v[0][i / 2u]);
+        SHMAP_PAIR_AVX2(g0, g1, SHMAP_LOAD16(c1 + o), z, wp->v[1][i / 2u]);
+        SHMAP_PAIR_AVX2(b0, b1, SHMAP_LOAD16(c2 + o), z, wp->v[2][i / 2u]);
+    }
+    _mm256_storeu_si256((__m256i *)(void *)acc[0], r0);
+    _mm256_storeu_si256((__m256i *)(void *)(acc[0] + 8), r1);
+    _mm256_storeu_si256((__m256i *)(void *)acc[1], g0);
+    _mm256_storeu_si256((__m256i *)(void *)(acc[1] + 8), g1);
+    _mm256_storeu_si256((__m256i *)(void *)acc[2], b0);
+    _mm256_storeu_si256((__m256i *)(void *)(acc[2] + 8), b1);
 }
 #elif QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2
 /* as the AVX2 kernel, 4 pixels per pmaddwd */
@@ -310,15 +333,25 @@ static void group_acc(int32_t *acc, const uint8_t *c, const wprep_t *wp, uint32_
 {
     const __m128i z = _mm_setzero_si128();
     __m128i a0 = z, a1 = z, a2 = z, a3 = z;
-    for (uint32_t i = 0; i < k; i += 2u) {
-        const __m128i x = _mm_loadu_si128((const __m128i *)(const void *)(c + 16u * i));
-        const __m128i y = _mm_loadu_si128((const __m128i *)(const void *)(c + 16u * (i + 1u < k ? i + 1u : i)));
-        const __m128i wv = wp->v[ch][i / 2u];
+    const __m128i *wv = wp->v[ch];
+    const uint8_t *m = c, *end = c + 16u * (k & ~1u);
+    /* one channel per call: three channels' 12 accumulators in one loop spill the 16 registers */
+    for (; m < end; m += 32, ++wv) {
+        const __m128i x = _mm_loadu_si128((const __m128i *)(const void *)m);
+        const __m128i y = _mm_loadu_si128((const __m128i *)(const void *)(m + 16));
         const __m128i lo = _mm_unpacklo_epi8(x, y), hi = _mm_unpackhi_epi8(x, y);
-        a0 = _mm_add_epi32(a0, _mm_madd_epi16(_mm_unpacklo_epi8(lo, z), wv));
-        a1 = _mm_add_epi32(a1, _mm_madd_epi16(_mm_unpackhi_epi8(lo, z), wv));
-        a2 = _mm_add_epi32(a2, _mm_madd_epi16(_mm_unpacklo_epi8(hi, z), wv));
-        a3 = _mm_add_epi32(a3, _mm_madd_epi16(_mm_unpackhi_epi8(hi, z), wv));
+        a0 = _mm_add_epi32(a0, _mm_madd_epi16(_mm_unpacklo_epi8(lo, z), *wv));
+        a1 = _mm_add_epi32(a1, _mm_madd_epi16(_mm_unpackhi_epi8(lo, z), *wv));
+        a2 = _mm_add_epi32(a2, _mm_madd_epi16(_mm_unpacklo_epi8(hi, z), *wv));
+        a3 = _mm_add_epi32(a3, _mm_madd_epi16(_mm_unpackhi_epi8(hi, z), *wv));
+    }
+    if (k & 1u) { /* an odd k: the last map, its missing partner zero bytes under weight 0 */
+        const __m128i x = _mm_loadu_si128((const __m128i *)(const void *)m);
+        const __m128i lo = _mm_unpacklo_epi8(x, z), hi = _mm_unpackhi_epi8(x, z);
+        a0 = _mm_add_epi32(a0, _mm_madd_epi16(_mm_unpacklo_epi16(lo, z), *wv));
+        a1 = _mm_add_epi32(a1, _mm_madd_epi16(_mm_unpackhi_epi16(lo, z), *wv));
+        a2 = _mm_add_epi32(a2, _mm_madd_epi16(_mm_unpacklo_epi16(hi, z), *wv));
+        a3 = _mm_add_epi32(a3, _mm_madd_epi16(_mm_unpackhi_epi16(hi, z), *wv));
     }
     _mm_storeu_si128((__m128i *)(void *)acc, a0);
     _mm_storeu_si128((__m128i *)(void *)(acc + 4), a1);
@@ -424,9 +457,13 @@ static void relight_interleaved(const qibl_shmaps_t *m, const qibl_shmap_weights
         const uint32_t p0 = x % QIBL_SHMAPS_GROUP, left = QIBL_SHMAPS_GROUP - p0;
         const uint32_t cnt = end - x < left ? end - x : left;
         const uint8_t *grp = row + (size_t)(x / QIBL_SHMAPS_GROUP) * gbytes;
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+        group_acc3(acc, grp, cs, &wp, k);
+#else
         group_acc(acc[0], grp, &wp, 0u, k);
         group_acc(acc[1], grp + cs, &wp, 1u, k);
         group_acc(acc[2], grp + 2u * cs, &wp, 2u, k);
+#endif
         int32_t *o = out + 3u * (x - x0);
         if (cnt == QIBL_SHMAPS_GROUP && f->fast) {
 #if QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR
