@@ -46,7 +46,9 @@ GLES_LINK := $(if $(HAVE_GLES),$(LIBGLES) $(GLES_LIBS))
 
 # Two flavours of the core: the native one and the "portable" one that takes the Cortex-M0 paths
 # (16x16 products, shift-subtract division) on the host, so both are tested on every run.
-PORTABLE_DEFS := -DQIBL_CONFIG_NATIVE_MUL64=0 -DQIBL_CONFIG_NATIVE_DIV64=0 -DQIBL_CONFIG_NATIVE_SHIFT64=0
+# It also takes the scalar C kernels (QIBL_CONFIG_SIMD=0), the reference the SIMD paths must equal.
+PORTABLE_DEFS := -DQIBL_CONFIG_NATIVE_MUL64=0 -DQIBL_CONFIG_NATIVE_DIV64=0 -DQIBL_CONFIG_NATIVE_SHIFT64=0 \
+                 -DQIBL_CONFIG_SIMD=0
 
 PLATFORM_OBJ := $(PLATFORM_SRC:%.c=$(BUILD)/native/%.o)
 PLATFORM_POBJ := $(PLATFORM_SRC:%.c=$(BUILD)/portable/%.o)
@@ -59,6 +61,14 @@ QIBL_OBJ := $(QIBL_SRC:%.c=$(BUILD)/host/%.o)
 # the benchmarks name the compiler and the core's flags in their output
 $(QIBL_OBJ): HOST_CFLAGS += -DQIBL_BENCH_CORE_FLAGS='"$(CORE_OPT)"'
 TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%) $(TEST_SRC:tests/%.c=$(BUILD)/tests/%-portable)
+
+# A third flavour where the CPU has AVX2: the core built with -mavx2 (config.h then picks the AVX2
+# kernels; the native flavour has SSE2), every suite linked against it; skipped with a message elsewhere.
+AVX2_OK := $(shell grep -qw avx2 /proc/cpuinfo 2>/dev/null && echo 1)
+CORE_AOBJ := $(CORE_SRC:%.c=$(BUILD)/avx2/%.o) $(PLATFORM_SRC:%.c=$(BUILD)/avx2/%.o)
+$(PLATFORM_SRC:%.c=$(BUILD)/avx2/%.o): CORE_CFLAGS += $(PLATFORM_INC)
+LIBQIBL_AVX2 := $(BUILD)/libqibl-avx2.a
+AVX2_TESTS := $(if $(AVX2_OK),$(TEST_SRC:tests/%.c=$(BUILD)/tests/%-avx2))
 
 LIBQIBL := $(BUILD)/libqibl.a
 LIBQIBL_PORTABLE := $(BUILD)/libqibl-portable.a
@@ -117,6 +127,14 @@ $(LIBQIBL): $(CORE_OBJ)
 	@mkdir -p $(dir $@)
 	rm -f $@ && $(AR) rcs $@ $^
 
+$(BUILD)/avx2/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CORE_CFLAGS) -mavx2 -MMD -MP -c $< -o $@
+
+$(LIBQIBL_AVX2): $(CORE_AOBJ)
+	@mkdir -p $(dir $@)
+	rm -f $@ && $(AR) rcs $@ $^
+
 $(LIBQIBL_PORTABLE): $(CORE_POBJ)
 	@mkdir -p $(dir $@)
 	rm -f $@ && $(AR) rcs $@ $^
@@ -172,14 +190,18 @@ $(BUILD)/tests/%_test-portable: $(BUILD)/host-portable/tests/%_test.o $(LIBTOOLS
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -o $@ $< $(TEST_EXTRA) $(LIBTOOLS) $(LIBSOFT_PORTABLE) $(LIBQIBL_PORTABLE) $(CMOCKA_LIBS) $(HOST_LIBS)
 
+$(BUILD)/tests/%_test-avx2: $(BUILD)/host/tests/%_test.o $(LIBTOOLS) $(LIBQIBL_AVX2) | test-deps
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) -o $@ $< $(TEST_EXTRA) $(LIBTOOLS) $(LIBQIBL_AVX2) $(CMOCKA_LIBS) $(HOST_LIBS)
+
 # version_test also links a TU compiled with -DQIBL_SH_MAX_BANDS=3: a caller whose config.h differs
 # from the library's must get QIBL_E_CONFIG_MISMATCH from its start-up check.
 VERSION_BANDS3 := $(BUILD)/host/tests/version_bands3.o
 $(VERSION_BANDS3): tests/version_bands3.c
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -DQIBL_SH_MAX_BANDS=3 -MMD -MP -c $< -o $@
-$(BUILD)/tests/version_test $(BUILD)/tests/version_test-portable: $(VERSION_BANDS3)
-$(BUILD)/tests/version_test $(BUILD)/tests/version_test-portable: TEST_EXTRA = $(VERSION_BANDS3)
+$(BUILD)/tests/version_test $(BUILD)/tests/version_test-portable $(BUILD)/tests/version_test-avx2: $(VERSION_BANDS3)
+$(BUILD)/tests/version_test $(BUILD)/tests/version_test-portable $(BUILD)/tests/version_test-avx2: TEST_EXTRA = $(VERSION_BANDS3)
 
 $(BUILD)/host/tests/%.o: tests/%.c | test-deps
 	@mkdir -p $(dir $@)
@@ -190,9 +212,10 @@ $(BUILD)/host-portable/tests/%.o: tests/%.c | test-deps
 	$(CC) $(HOST_CFLAGS) $(PORTABLE_DEFS) $(CMOCKA_CFLAGS) -MMD -MP -c $< -o $@
 
 test: test-deps
-	@$(MAKE) --no-print-directory $(TESTS) $(GLES_TEST) $(QIBL)
+	@$(MAKE) --no-print-directory $(TESTS) $(AVX2_TESTS) $(GLES_TEST) $(QIBL)
 	@QIBL=$(QIBL) sh tools/scripts/memory-table.sh --check
-	@sh tools/scripts/run-tests.sh $(TESTS) $(GLES_TEST)
+	@$(if $(AVX2_OK),,echo "test: no AVX2 on this CPU: the AVX2 flavour is skipped (SSE2/NEON and scalar run)")
+	@sh tools/scripts/run-tests.sh $(TESTS) $(AVX2_TESTS) $(GLES_TEST)
 
 # docs/porting.md's resident-memory table is generated (make test checks that it matches)
 docs-memory: $(QIBL)

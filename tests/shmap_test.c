@@ -590,6 +590,71 @@ static void relight_rows(const qibl_shmaps_t *m, const qibl_shmap_weights_t *w, 
     free(ws);
 }
 
+/* The kernel path config.h chose (QIBL_CONFIG_SIMD: SSE2/AVX2/NEON in the native flavour, scalar C
+ * in the portable one) against the definition, computed here in int64 from the bytes: random maps,
+ * weights, spans and every branch of the final scaling (shift -40..38: fast int32 path with left
+ * shift, rounded right shift, the shift <= -31 constant; the exact 64-bit paths for a bias beyond
+ * +-2^30 and a shift above 2; the saturating shift above 30). */
+static int32_t exact_out(int64_t acc, int32_t shift, int64_t bias)
+{
+    int64_t v;
+    if (shift > 30)
+        return acc > 0 ? INT32_MAX : acc < 0 ? INT32_MIN : bias > INT32_MAX ? INT32_MAX : bias < INT32_MIN ? INT32_MIN : (int32_t)bias;
+    if (shift >= 0)
+        v = acc * ((int64_t)1 << shift) + bias;
+    else {
+        int64_t d = (int64_t)1 << -shift, t = acc + d / 2; /* round half up: floor((acc + d/2) / d) */
+        v = (t >= 0 ? t / d : -((-t + d - 1) / d)) + bias;
+    }
+    return v > INT32_MAX ? INT32_MAX : v < INT32_MIN ? INT32_MIN : (int32_t)v;
+}
+
+static void test_kernel_path_matches_definition(void **state)
+{
+    (void)state;
+    tu_rng r = {1606};
+    static const int64_t bmag[4] = {1000, (int64_t)1 << 30, ((int64_t)1 << 30) + 1, (int64_t)1 << 40};
+    for (int it = 0; it < 300; ++it) {
+        uint32_t w = 1 + tu_u32(&r) % 80u, h = 1 + tu_u32(&r) % 2u, k = 1 + tu_u32(&r) % 25u;
+        uint32_t ch = (it & 1) ? 3u : 1u;
+        maps_buf b, il;
+        maps_make(&b, w, h, k, ch, &r, 1 << 16);
+        interleave(&b, &il);
+        qibl_shmap_weights_t wt;
+        wt.k = k, wt.channels = ch;
+        for (uint32_t c = 0; c < 3u; ++c) {
+            for (uint32_t i = 0; i < (uint32_t)QIBL_SH_MAX_COUNT; ++i) /* extremes now and then */
+                wt.w[c][i] = i >= k ? 0 : (int16_t)(tu_u32(&r) % 8u == 0 ? ((tu_u32(&r) & 1u) ? 32767 : -32767)
+                                                                       : (int32_t)(tu_u32(&r) % 65535u) - 32767);
+            /* mostly the fast path (-30..2), else anything in -40..38 */
+            wt.shift[c] = (it % 4 != 3) ? (int32_t)(tu_u32(&r) % 33u) - 30 : (int32_t)(tu_u32(&r) % 79u) - 40;
+            int64_t bm = bmag[(it / 4) % 4], bv = (int64_t)(tu_u32(&r) % 2001u) - 1000;
+            wt.bias[c] = bm > 1000 ? ((tu_u32(&r) & 1u) ? bm : -bm) + bv : bv;
+        }
+        size_t n = (size_t)w * h * 3u;
+        int32_t *o1 = malloc(n * 4u), *o2 = malloc(n * 4u);
+        assert_non_null(o1);
+        assert_non_null(o2);
+        relight_rows(&il.m, &wt, NULL, &r, o1);
+        relight_rows(&b.m, &wt, NULL, &r, o2);
+        for (uint32_t y = 0; y < h; ++y)
+            for (uint32_t x = 0; x < w; ++x)
+                for (uint32_t c = 0; c < 3u; ++c) {
+                    uint32_t src = ch == 3u ? c : 0u;
+                    int64_t acc = 0;
+                    for (uint32_t i = 0; i < k; ++i)
+                        acc += (int64_t)wt.w[c][i] * qibl_shmaps_plane(&b.m, i, src)[(size_t)y * w + x];
+                    int32_t want = exact_out(acc, wt.shift[c], wt.bias[c]);
+                    size_t at = 3u * ((size_t)y * w + x) + c;
+                    if (o1[at] != want || o2[at] != want)
+                        fail_msg("it %d k %u x %u ch %u shift %d bias %lld: interleaved %d planar %d, want %d", it, k,
+                                 x, c, wt.shift[c], (long long)wt.bias[c], o1[at], o2[at], want);
+                }
+        free(o1), free(o2), free(il.planes);
+        maps_free(&b);
+    }
+}
+
 static void test_interleaved_equals_planar(void **state)
 {
     (void)state;
@@ -794,6 +859,7 @@ int main(void)
         cmocka_unit_test(test_point_light_hard_cases),
         cmocka_unit_test(test_ylut_build_and_lookup),
         cmocka_unit_test(test_interleaved_equals_planar),
+        cmocka_unit_test(test_kernel_path_matches_definition),
         cmocka_unit_test(test_stream_rows_from_file),
         cmocka_unit_test(test_goldens),
     };

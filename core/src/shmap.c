@@ -8,6 +8,17 @@
 #include "qibl/shmap.h"
 #include "qibli.h"
 
+/* compiler intrinsics headers only (freestanding), only on the path config.h chose */
+#if QIBL_USE_SHMAP && QIBL_USE_INTERLEAVED
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+#include <immintrin.h>
+#elif QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2
+#include <emmintrin.h>
+#elif QIBL_CONFIG_SIMD == QIBL_SIMD_NEON
+#include <arm_neon.h>
+#endif
+#endif
+
 #if QIBL_USE_SHMAP
 
 #define SHMAP_MAX_W 32767 /* int16 weights */
@@ -220,15 +231,163 @@ static void finish_rgb(const finish_t *f, const qibl_shmap_weights_t *w, const i
 }
 
 #if QIBL_USE_INTERLEAVED
-/* One group of 16 pixels, one channel: acc[p] = sum_i w_i c[16 i + p] over the k maps' 16 adjacent
- * bytes each (the interleaved layout), four maps per pass as the planar passes. Not inlined
- * (QIBLI_NOINLINE): inlined, the compiler loses the restrict parameters and checks aliasing or
- * scalarises the loops; as a call it vectorises them (one call per channel and 16 pixels). Same
- * integer sums as the planar passes (exact: the bound in shmap.h holds for any order). */
-static QIBLI_NOINLINE void group_acc(int32_t *restrict acc, const uint8_t *restrict c, const int16_t *restrict wc,
+/* The weights of one span as the group kernel takes them: SSE2/AVX2 pmaddwd multiplies pairs of
+ * maps, so the weights are int16 pairs (w_i, w_i+1) broadcast to every 32-bit lane, the pair of an
+ * odd k's last map (w, 0); scalar C and NEON take the int16 weights as they are. */
+#define SHMAP_PAIRS ((QIBL_SH_MAX_COUNT + 1) / 2)
+typedef struct wprep {
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+    __m256i v[3][SHMAP_PAIRS];
+#elif QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2
+    __m128i v[3][SHMAP_PAIRS];
+#else
+    const int16_t *w[3];
+#endif
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2 || QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2
+    __m128i sl[3], r[3], h[3], b[3]; /* the fast final scaling: shift counts and constants */
+#elif QIBL_CONFIG_SIMD == QIBL_SIMD_NEON
+    int32x4_t sl[3], r[3], h[3], b[3]; /* r negative: vshlq shifts right */
+#endif
+} wprep_t;
+
+static void wprep_init(wprep_t *wp, const qibl_shmap_weights_t *w, const finish_t *f, uint32_t k)
+{
+#if QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR
+    for (uint32_t ch = 0; ch < 3u; ++ch) {
+        /* mu = 2^sl, as finish_prepare chose it */
+        const int32_t sl = f->mu[ch] == 4 ? 2 : f->mu[ch] == 2 ? 1 : 0;
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_NEON
+        wp->sl[ch] = vdupq_n_s32(sl), wp->r[ch] = vdupq_n_s32(-(int32_t)f->r[ch]);
+        wp->h[ch] = vdupq_n_s32(f->h[ch]), wp->b[ch] = vdupq_n_s32(f->b[ch]);
+#else
+        wp->sl[ch] = _mm_cvtsi32_si128(sl), wp->r[ch] = _mm_cvtsi32_si128((int32_t)f->r[ch]);
+        wp->h[ch] = _mm_set1_epi32(f->h[ch]), wp->b[ch] = _mm_set1_epi32(f->b[ch]);
+#endif
+    }
+#else
+    (void)f;
+#endif
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2 || QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2
+    for (uint32_t ch = 0; ch < 3u; ++ch)
+        for (uint32_t i = 0; i < k; i += 2u) {
+            const int16_t a = w->w[ch][i], b = i + 1u < k ? w->w[ch][i + 1u] : 0;
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+            wp->v[ch][i / 2u] = _mm256_unpacklo_epi16(_mm256_set1_epi16(a), _mm256_set1_epi16(b));
+#else
+            wp->v[ch][i / 2u] = _mm_unpacklo_epi16(_mm_set1_epi16(a), _mm_set1_epi16(b));
+#endif
+        }
+#else
+    (void)k;
+    for (uint32_t ch = 0; ch < 3u; ++ch)
+        wp->w[ch] = w->w[ch];
+#endif
+}
+
+/* One group of 16 pixels, one channel (AVX2: all three, group_acc3): acc[p] = sum_i w_i
+ * c[16 i + p] over the k maps' 16 adjacent bytes each (the interleaved layout). Same integer sums on every path (exact: every partial sum
+ * is inside the int32 bound of shmap.h, whatever the order). */
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+/* pairs of maps: bytes of map i and i+1 interleaved, widened to int16, one _mm256_madd_epi16 per
+ * 8 pixels (w_i c_i + w_i+1 c_i+1 in each int32 lane); an odd k pairs its last map with itself
+ * under weight 0 */
+/* w_i c_i + w_i+1 c_i+1 of one channel's 16 pixels added to lo (pixels 0..7) and hi (8..15);
+ * y = zero bytes for an odd k's last map (its partner weight is 0) */
+#define SHMAP_PAIR_AVX2(lo, hi, x, y, wv)                                                              \
+    do {                                                                                               \
+        lo = _mm256_add_epi32(lo, _mm256_madd_epi16(_mm256_cvtepu8_epi16(_mm_unpacklo_epi8(x, y)), wv)); \
+        hi = _mm256_add_epi32(hi, _mm256_madd_epi16(_mm256_cvtepu8_epi16(_mm_unpackhi_epi8(x, y)), wv)); \
+    } while (0)
+#define SHMAP_LOAD16(p) _mm_loadu_si128((const __m128i *)(const void *)(p))
+
+/* the three channels in one loop (six accumulators in registers, written out so that -O2 keeps
+ * them there): one loop step per pair of maps */
+static void group_acc3(int32_t (*acc)[QIBL_SHMAPS_GROUP], const uint8_t *c, uint32_t cs, const wprep_t *wp, uint32_t k)
+{
+    __m256i r0 = _mm256_setzero_si256(), r1 = r0, g0 = r0, g1 = r0, b0 = r0, b1 = r0;
+    const uint8_t *c1 = c + cs, *c2 = c + 2u * cs;
+    uint32_t i = 0;
+    for (; i + 2u <= k; i += 2u) {
+        const uint32_t o = 16u * i;
+        SHMAP_PAIR_AVX2(r0, r1, SHMAP_LOAD16(c + o), SHMAP_LOAD16(c + o + 16u), wp->v[0][i / 2u]);
+        SHMAP_PAIR_AVX2(g0, g1, SHMAP_LOAD16(c1 + o), SHMAP_LOAD16(c1 + o + 16u), wp->v[1][i / 2u]);
+        SHMAP_PAIR_AVX2(b0, b1, SHMAP_LOAD16(c2 + o), SHMAP_LOAD16(c2 + o + 16u), wp->v[2][i / 2u]);
+    }
+    if (i < k) {
+        const uint32_t o = 16u * i;
+        const __m128i z = _mm_setzero_si128();
+        SHMAP_PAIR_AVX2(r0, r1, SHMAP_LOAD16(c + o), z, wp->v[0][i / 2u]);
+        SHMAP_PAIR_AVX2(g0, g1, SHMAP_LOAD16(c1 + o), z, wp->v[1][i / 2u]);
+        SHMAP_PAIR_AVX2(b0, b1, SHMAP_LOAD16(c2 + o), z, wp->v[2][i / 2u]);
+    }
+    _mm256_storeu_si256((__m256i *)(void *)acc[0], r0);
+    _mm256_storeu_si256((__m256i *)(void *)(acc[0] + 8), r1);
+    _mm256_storeu_si256((__m256i *)(void *)acc[1], g0);
+    _mm256_storeu_si256((__m256i *)(void *)(acc[1] + 8), g1);
+    _mm256_storeu_si256((__m256i *)(void *)acc[2], b0);
+    _mm256_storeu_si256((__m256i *)(void *)(acc[2] + 8), b1);
+}
+#elif QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2
+/* as the AVX2 kernel, 4 pixels per pmaddwd */
+static void group_acc(int32_t *acc, const uint8_t *c, const wprep_t *wp, uint32_t ch, uint32_t k)
+{
+    const __m128i z = _mm_setzero_si128();
+    __m128i a0 = z, a1 = z, a2 = z, a3 = z;
+    const __m128i *wv = wp->v[ch];
+    const uint8_t *m = c, *end = c + 16u * (k & ~1u);
+    /* one channel per call: three channels' 12 accumulators in one loop spill the 16 registers */
+    for (; m < end; m += 32, ++wv) {
+        const __m128i x = _mm_loadu_si128((const __m128i *)(const void *)m);
+        const __m128i y = _mm_loadu_si128((const __m128i *)(const void *)(m + 16));
+        const __m128i lo = _mm_unpacklo_epi8(x, y), hi = _mm_unpackhi_epi8(x, y);
+        a0 = _mm_add_epi32(a0, _mm_madd_epi16(_mm_unpacklo_epi8(lo, z), *wv));
+        a1 = _mm_add_epi32(a1, _mm_madd_epi16(_mm_unpackhi_epi8(lo, z), *wv));
+        a2 = _mm_add_epi32(a2, _mm_madd_epi16(_mm_unpacklo_epi8(hi, z), *wv));
+        a3 = _mm_add_epi32(a3, _mm_madd_epi16(_mm_unpackhi_epi8(hi, z), *wv));
+    }
+    if (k & 1u) { /* an odd k: the last map, its missing partner zero bytes under weight 0 */
+        const __m128i x = _mm_loadu_si128((const __m128i *)(const void *)m);
+        const __m128i lo = _mm_unpacklo_epi8(x, z), hi = _mm_unpackhi_epi8(x, z);
+        a0 = _mm_add_epi32(a0, _mm_madd_epi16(_mm_unpacklo_epi16(lo, z), *wv));
+        a1 = _mm_add_epi32(a1, _mm_madd_epi16(_mm_unpackhi_epi16(lo, z), *wv));
+        a2 = _mm_add_epi32(a2, _mm_madd_epi16(_mm_unpacklo_epi16(hi, z), *wv));
+        a3 = _mm_add_epi32(a3, _mm_madd_epi16(_mm_unpackhi_epi16(hi, z), *wv));
+    }
+    _mm_storeu_si128((__m128i *)(void *)acc, a0);
+    _mm_storeu_si128((__m128i *)(void *)(acc + 4), a1);
+    _mm_storeu_si128((__m128i *)(void *)(acc + 8), a2);
+    _mm_storeu_si128((__m128i *)(void *)(acc + 12), a3);
+}
+#elif QIBL_CONFIG_SIMD == QIBL_SIMD_NEON
+/* bytes widened to int16 (vmovl_u8), then int32 += int16 * weight (vmlal_n_s16), 4 pixels a lane */
+static void group_acc(int32_t *acc, const uint8_t *c, const wprep_t *wp, uint32_t ch, uint32_t k)
+{
+    int32x4_t a0 = vdupq_n_s32(0), a1 = a0, a2 = a0, a3 = a0;
+    const int16_t *wc = wp->w[ch];
+    for (uint32_t i = 0; i < k; ++i) {
+        const uint8x16_t x = vld1q_u8(c + 16u * i);
+        const int16x8_t lo = vreinterpretq_s16_u16(vmovl_u8(vget_low_u8(x)));
+        const int16x8_t hi = vreinterpretq_s16_u16(vmovl_u8(vget_high_u8(x)));
+        const int16_t wi = wc[i];
+        a0 = vmlal_n_s16(a0, vget_low_s16(lo), wi);
+        a1 = vmlal_n_s16(a1, vget_high_s16(lo), wi);
+        a2 = vmlal_n_s16(a2, vget_low_s16(hi), wi);
+        a3 = vmlal_n_s16(a3, vget_high_s16(hi), wi);
+    }
+    vst1q_s32(acc, a0);
+    vst1q_s32(acc + 4, a1);
+    vst1q_s32(acc + 8, a2);
+    vst1q_s32(acc + 12, a3);
+}
+#else
+/* Scalar reference, four maps per pass as the planar passes. Not inlined (QIBLI_NOINLINE):
+ * inlined, the compiler loses the restrict parameters and checks aliasing or scalarises the loops;
+ * as a call it vectorises them (one call per channel and 16 pixels). */
+static QIBLI_NOINLINE void group_acc(int32_t *restrict acc, const uint8_t *restrict c, const wprep_t *wp, uint32_t ch,
                                      uint32_t k)
 {
     enum { G = QIBL_SHMAPS_GROUP };
+    const int16_t *restrict wc = wp->w[ch];
     uint32_t i = 0;
     for (uint32_t p = 0; p < G; ++p)
         acc[p] = 0;
@@ -246,6 +405,40 @@ static QIBLI_NOINLINE void group_acc(int32_t *restrict acc, const uint8_t *restr
             acc[p] += w0 * (int16_t)m[p];
     }
 }
+#endif
+
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2 || QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2
+/* 4 pixels of the fast final scaling, (acc << sl + h) >> r + b per channel (as finish_rgb: the
+ * int32 products cannot overflow there), stored as RGB triples: unpacks and shuffles put
+ * r0 g0 b0 r1 | g1 b1 r2 g2 | b2 r3 g3 b3 in three stores */
+static void finish4(int32_t *o, const int32_t *a0, const int32_t *a1, const int32_t *a2, const wprep_t *wp)
+{
+    __m128i v[3];
+    const int32_t *a[3] = {a0, a1, a2};
+    for (int ch = 0; ch < 3; ++ch) {
+        const __m128i x = _mm_loadu_si128((const __m128i *)(const void *)a[ch]);
+        v[ch] = _mm_add_epi32(_mm_sra_epi32(_mm_add_epi32(_mm_sll_epi32(x, wp->sl[ch]), wp->h[ch]), wp->r[ch]),
+                              wp->b[ch]);
+    }
+    const __m128 rg = _mm_castsi128_ps(_mm_unpacklo_epi32(v[0], v[1])), rgh = _mm_castsi128_ps(_mm_unpackhi_epi32(v[0], v[1]));
+    const __m128 br = _mm_castsi128_ps(_mm_unpacklo_epi32(v[2], v[0])), brh = _mm_castsi128_ps(_mm_unpackhi_epi32(v[2], v[0]));
+    const __m128 gb = _mm_castsi128_ps(_mm_unpacklo_epi32(v[1], v[2])), gbh = _mm_castsi128_ps(_mm_unpackhi_epi32(v[1], v[2]));
+    _mm_storeu_si128((__m128i *)(void *)o, _mm_castps_si128(_mm_shuffle_ps(rg, br, _MM_SHUFFLE(3, 0, 1, 0))));
+    _mm_storeu_si128((__m128i *)(void *)(o + 4), _mm_castps_si128(_mm_shuffle_ps(gb, rgh, _MM_SHUFFLE(1, 0, 3, 2))));
+    _mm_storeu_si128((__m128i *)(void *)(o + 8), _mm_castps_si128(_mm_shuffle_ps(brh, gbh, _MM_SHUFFLE(3, 2, 3, 0))));
+}
+#elif QIBL_CONFIG_SIMD == QIBL_SIMD_NEON
+/* as above; vshlq shifts left by sl, then right by r (a negative count: an arithmetic shift, the
+ * same floor as qibl_asr_s32), and vst3q stores the RGB triples */
+static void finish4(int32_t *o, const int32_t *a0, const int32_t *a1, const int32_t *a2, const wprep_t *wp)
+{
+    int32x4x3_t v;
+    v.val[0] = vaddq_s32(vshlq_s32(vaddq_s32(vshlq_s32(vld1q_s32(a0), wp->sl[0]), wp->h[0]), wp->r[0]), wp->b[0]);
+    v.val[1] = vaddq_s32(vshlq_s32(vaddq_s32(vshlq_s32(vld1q_s32(a1), wp->sl[1]), wp->h[1]), wp->r[1]), wp->b[1]);
+    v.val[2] = vaddq_s32(vshlq_s32(vaddq_s32(vshlq_s32(vld1q_s32(a2), wp->sl[2]), wp->h[2]), wp->r[2]), wp->b[2]);
+    vst3q_s32(o, v);
+}
+#endif
 
 /* Directional relighting on the interleaved layout: group by group, no workspace (the 16-pixel
  * accumulators live on the stack); whole groups in the common case finish in a fixed-length loop,
@@ -258,20 +451,31 @@ static void relight_interleaved(const qibl_shmaps_t *m, const qibl_shmap_weights
     const uint32_t cs = m->channels == 3u ? QIBL_SHMAPS_GROUP * k : 0u; /* channel stride in a group */
     const uint8_t *row = m->planes + (size_t)y * qibl_shmaps_row_size(m);
     int32_t acc[3][QIBL_SHMAPS_GROUP];
+    wprep_t wp;
+    wprep_init(&wp, w, f, k);
     for (uint32_t x = x0, end = x0 + n; x < end;) {
         const uint32_t p0 = x % QIBL_SHMAPS_GROUP, left = QIBL_SHMAPS_GROUP - p0;
         const uint32_t cnt = end - x < left ? end - x : left;
         const uint8_t *grp = row + (size_t)(x / QIBL_SHMAPS_GROUP) * gbytes;
-        group_acc(acc[0], grp, w->w[0], k);
-        group_acc(acc[1], grp + cs, w->w[1], k);
-        group_acc(acc[2], grp + 2u * cs, w->w[2], k);
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+        group_acc3(acc, grp, cs, &wp, k);
+#else
+        group_acc(acc[0], grp, &wp, 0u, k);
+        group_acc(acc[1], grp + cs, &wp, 1u, k);
+        group_acc(acc[2], grp + 2u * cs, &wp, 2u, k);
+#endif
         int32_t *o = out + 3u * (x - x0);
         if (cnt == QIBL_SHMAPS_GROUP && f->fast) {
+#if QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR
+            for (uint32_t p = 0; p < QIBL_SHMAPS_GROUP; p += 4u)
+                finish4(o + 3u * p, acc[0] + p, acc[1] + p, acc[2] + p, &wp);
+#else
             for (uint32_t p = 0; p < QIBL_SHMAPS_GROUP; ++p) {
                 o[3u * p] = qibl_asr_s32(acc[0][p] * f->mu[0] + f->h[0], f->r[0]) + f->b[0];
                 o[3u * p + 1u] = qibl_asr_s32(acc[1][p] * f->mu[1] + f->h[1], f->r[1]) + f->b[1];
                 o[3u * p + 2u] = qibl_asr_s32(acc[2][p] * f->mu[2] + f->h[2], f->r[2]) + f->b[2];
             }
+#endif
         } else {
             finish_rgb(f, w, acc[0] + p0, acc[1] + p0, acc[2] + p0, o, cnt);
         }

@@ -24,6 +24,7 @@ int qibl_cmd_srgbe(int argc, char **argv);
 
 /* Benchmarks (quick: smaller sizes and fewer repetitions; csv: table as CSV). */
 int qibl_bench_relight(int quick, int csv);
+int qibl_bench_relight_baselines(int quick); /* the u64-read / memcpy baselines alone */
 int qibl_bench_srgbe(int quick); /* bench_srgbe.c */
 int qibl_bench_lights(int quick); /* bench_lights.c */
 int qibl_bench_asset(int quick);  /* bench_asset.c */

@@ -59,6 +59,14 @@ have gcc && configs+=("x86_64-gcc-O2-short-enums|gcc|-O2 -fshort-enums -funsigne
 have gcc && configs+=("x86_64-gcc-Os-no-lightprobe|gcc|-Os -DQIBL_USE_LIGHTPROBE=0|")
 have gcc && configs+=("x86_64-gcc-O2-portable|gcc|-O2 $portable|")
 have clang && configs+=("x86_64-clang-O3-portable|clang|-O3 $portable|")
+# the kernel paths of QIBL_CONFIG_SIMD (config.h): scalar C forced, and AVX2 where the CPU has it
+# (the plain x86-64 builds above take SSE2, the aarch64 ones NEON)
+have gcc && configs+=("x86_64-gcc-O2-scalar|gcc|-O2 -DQIBL_CONFIG_SIMD=0|")
+if grep -qw avx2 /proc/cpuinfo 2>/dev/null; then
+    for cc in gcc clang; do have $cc && for o in -O2 -O3; do configs+=("x86_64-$cc$o-avx2|$cc|$o -mavx2|"); done; done
+else
+    note_avx2="x86-64 AVX2: SKIPPED (this CPU has no AVX2)"
+fi
 # sanitizers: any finding stops the runner. clang's implicit-conversion checks also catch conversions
 # that C leaves implementation-defined (an out-of-range value into a signed type), which UBSan
 # proper does not; the i686 build runs UBSan on the 32-bit, no-native-division paths.
@@ -94,6 +102,8 @@ for t in "armhf|arm-linux-gnueabihf|qemu-arm" "aarch64|aarch64-linux-gnu|qemu-aa
     # -Os, as make cross builds; on armhf also the Cortex-M0 arithmetic paths in Thumb-2
     if [ "$arch" = armhf ]; then configs+=("$arch-gcc-Os-portable|$triple-gcc|-Os -mthumb $portable -static|$q")
     else configs+=("$arch-gcc-Os|$triple-gcc|-Os -static|$q"); fi
+    # armv7 with NEON: the NEON kernels (Debian armhf's default FPU has none, so the rows above are scalar)
+    [ "$arch" = armhf ] && configs+=("$arch-gcc-O2-neon|$triple-gcc|-O2 -mfpu=neon -static|$q")
     if have clang && clang --target="$triple" -static "$probe/t.c" -o "$probe/c-$arch" 2>/dev/null; then
         configs+=("$arch-clang-O2|clang|--target=$triple -O2 -static|$q")
     else
@@ -152,6 +162,17 @@ for c in "${configs[@]}"; do
 done
 wait
 
+# the NEON paths must really be NEON: the relight kernel's widening multiply-accumulate (smlal on
+# aarch64, vmlal on armv7) in shmap.o of every NEON build
+for c in "${configs[@]}"; do
+    IFS='|' read -r name cc flags q <<< "$c"
+    case "$name" in aarch64-gcc-O[23]|aarch64-clang-O2|armhf-gcc-O2-neon) ;; *) continue ;; esac
+    o="$out/$name/core/shmap.o"; [ -f "$o" ] || continue
+    case "$name" in aarch64*) od=aarch64-linux-gnu-objdump; ins='smlal' ;; *) od=arm-linux-gnueabihf-objdump; ins='vmlal' ;; esac
+    nn=$($od -d "$o" 2>/dev/null | grep -c "$ins")
+    if [ "${nn:-0}" -gt 0 ]; then echo "ports: $name: NEON relight kernel present ($nn $ins in shmap.o)"
+    else err "$name: no $ins in shmap.o: the NEON path was not built"; fi
+done
 ref=""; refname=""; exref=""; n=0; same=0
 fmt='%-28s %6s %-14s %-10s %-9s %8s %8s'
 rows=()
@@ -218,6 +239,7 @@ printf "$fmt\n" configuration cases "vs fixtures" identical example "build s" "r
 printf '%s\n' "${rows[@]}"
 echo
 echo "$note32"
+[ -n "${note_avx2:-}" ] && echo "$note_avx2"
 [ -z "${clang_skip:-}" ] || echo "clang cross targets skipped (clang cannot link for them here):${clang_skip}"
 if [ -n "$exref" ]; then
     echo "example: tools/examples/console_port on a 96x24 k=9 courtyard asset, 3 frames, in every configuration:"

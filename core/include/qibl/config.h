@@ -122,6 +122,34 @@
 #endif
 #endif
 
+/* QIBL_CONFIG_SIMD: the vector instructions the hot kernels use (relight on the interleaved
+ * layout), through the compiler's own intrinsics headers (<emmintrin.h>, <immintrin.h>,
+ * <arm_neon.h>: no libc, so the core stays freestanding). QIBL_SIMD_SCALAR is the portable C
+ * reference, always built and tested (the portable flavour of `make test`); every path gives the
+ * same bytes, since every partial sum is an exact int32 whatever the order. Default: the best the
+ * compiler's target macros allow (__AVX2__, __SSE2__, __ARM_NEON); a path the target lacks is an
+ * #error. Not part of QIBL_CONFIG_ID: the API and the results are the same on every path. */
+#define QIBL_SIMD_SCALAR 0
+#define QIBL_SIMD_SSE2 1
+#define QIBL_SIMD_AVX2 2
+#define QIBL_SIMD_NEON 3
+#ifndef QIBL_CONFIG_SIMD
+#if defined(__AVX2__)
+#define QIBL_CONFIG_SIMD QIBL_SIMD_AVX2
+#elif defined(__SSE2__)
+#define QIBL_CONFIG_SIMD QIBL_SIMD_SSE2
+#elif defined(__ARM_NEON)
+#define QIBL_CONFIG_SIMD QIBL_SIMD_NEON
+#else
+#define QIBL_CONFIG_SIMD QIBL_SIMD_SCALAR
+#endif
+#endif
+#if (QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2 && !defined(__AVX2__)) || \
+    (QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2 && !defined(__SSE2__)) || \
+    (QIBL_CONFIG_SIMD == QIBL_SIMD_NEON && !defined(__ARM_NEON)) || QIBL_CONFIG_SIMD < 0 || QIBL_CONFIG_SIMD > 3
+#error "QIBL_CONFIG_SIMD names a path the target does not have (0 scalar, 1 SSE2, 2 AVX2, 3 NEON)"
+#endif
+
 /* QIBL_RESTRICT: C99's `restrict` in the public headers, which C++ does not have (GCC, Clang and
  * MSVC spell it __restrict there; other C++ compilers get nothing, which only costs speed). The
  * core's own sources are C99 and say `restrict`; the qualifier does not change a function's type. */
