@@ -12,6 +12,7 @@
 #include "qibl/srgbe.h"
 #include "qibl/asset.h"
 #include "qibl/shmap.h"
+#include "qibl/lightpath.h"
 #include "qibl/lightprobe.h"
 
 #endif /* QIBL_H */

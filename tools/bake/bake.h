@@ -40,6 +40,10 @@ void qibl_bake_dir(uint32_t j, uint32_t n, double d[3]);
  * 0, or -1 (no memory). */
 int qibl_bake_run(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, uint32_t ndirs, uint32_t k,
                   uint32_t shard, uint32_t nshards, int threads, int progress, qibl_bake_sums *out);
+/* The unshadowed transfer (cosine x BRDF, no shadow test) for the SHMU chunk: the same sums, in
+ * one piece (no shards; partial-sums files and merge carry the shadowed set only). 0 or -1. */
+int qibl_bake_run_unshadowed(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, uint32_t ndirs,
+                             uint32_t k, int threads, qibl_bake_sums *out);
 void qibl_bake_sums_free(qibl_bake_sums *s);
 
 /* Partial sums file, version 2 (all little-endian):
@@ -81,6 +85,10 @@ int qibl_bake_coeffs(const qibl_bake_sums *s, uint32_t k, qibl_proj_method metho
 /* Packs maps (min/max) and builds the asset bytes: SHMP + PMAP (+ YLUT of face lut if lut > 0).
  * *bytes malloc'ed. 0 or -1. */
 int qibl_bake_asset(const qibl_gen_maps *m, uint32_t lut, uint8_t **bytes, size_t *n);
+/* The same plus, when mu is not NULL, the unshadowed maps mu (same size, own k) as SHMU, and one LPTH
+ * chunk per payload of the NULL-terminated list paths (sizes in path_sizes; paths may be NULL). */
+int qibl_bake_asset_ex(const qibl_gen_maps *m, const qibl_gen_maps *mu, uint32_t lut, uint8_t *const *paths,
+                       const size_t *path_sizes, uint8_t **bytes, size_t *n);
 
 /* Evaluation: ground truth of a light as 8-bit sRGB (exposure 1) through platform/soft, and the
  * same light relit by the core from asset bytes. mask (w * h, may be NULL) gets 1 where the scene is

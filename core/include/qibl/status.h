@@ -73,6 +73,15 @@ typedef enum qibl_status {
     QIBL_E_PROBE_RECT,             /* region outside the probe or inverted */
     /* library identity (version.h) */
     QIBL_E_CONFIG_MISMATCH,        /* caller compiled with other config.h options or another release */
+    /* light paths (lightpath.h) */
+    QIBL_E_LIGHTPATH_SIZE,         /* LPTH payload shorter than its header or other than its fields imply */
+    QIBL_E_LIGHTPATH_DIMENSIONS,   /* LPTH width/height 0, too large, or not the SH maps' */
+    QIBL_E_LIGHTPATH_KIND,         /* LPTH kind unknown or reserved flags not 0 */
+    QIBL_E_LIGHTPATH_KEYS,         /* key count outside 2..4096, t not 0 .. strictly up .. 65535, zero direction */
+    QIBL_E_LIGHTPATH_ROWS,         /* LPTH row index disagrees with the per-pixel edge counts */
+    QIBL_E_LIGHTPATH_EDGES,        /* a pixel's edges not strictly increasing */
+    QIBL_E_LIGHTPATH_PARAM,        /* path parameter t above 65535 or radius above 32767 */
+    QIBL_E_LIGHTPATH_BOUNDS,       /* span outside the path's pixels */
     QIBL_STATUS_COUNT      /* number of status values; not a status */
 } qibl_status_t;
 
