@@ -9,7 +9,7 @@
  */
 #include "qibl/lightpath.h"
 
-#if QIBL_USE_ASSET
+#if QIBL_USE_SHMAP /* path lights are relit through the SH maps */
 
 static uint32_t load_u16(const uint8_t *p)
 {
@@ -118,7 +118,9 @@ qibl_status_t qibl_lightpath_from_asset(const qibl_asset_t *a, uint32_t index, q
         return st;
     if (p.width != m.width || p.height != m.height)
         return QIBL_E_LIGHTPATH_DIMENSIONS;
-    *out = p;
+    /* field by field: a struct copy may become a memcpy call, which freestanding targets lack */
+    out->width = p.width, out->height = p.height, out->kind = p.kind, out->nkeys = p.nkeys, out->nedges = p.nedges;
+    out->keys = p.keys, out->rows = p.rows, out->counts = p.counts, out->edges = p.edges;
     return QIBL_OK;
 }
 
@@ -133,14 +135,15 @@ qibl_status_t qibl_lightpath_at(const qibl_lightpath_t *p, uint32_t t, qibl_q16_
         ++i;
     const uint8_t *a = p->keys + 16u * i, *b = a + 16;
     uint32_t ta = qibl_load_u32le(a), tb = qibl_load_u32le(b);
-    /* f = (t - ta) / (tb - ta) in UQ16 (<= 65536); keys validated: ta <= t <= tb, tb > ta */
-    uint32_t f = (uint32_t)qibl_udiv_u64((uint64_t)(t - ta) << 16, tb - ta, 0);
+    uint32_t num = t - ta, den = tb - ta; /* keys validated: ta <= t <= tb, tb > ta */
     for (unsigned c = 0; c < 3u; ++c) {
         int32_t va = qibl_load_s32le(a + 4u + 4u * c), vb = qibl_load_s32le(b + 4u + 4u * c);
-        int64_t d = (int64_t)vb - va; /* |d| < 2^32 */
-        /* va + d f / 2^16 lies between va and vb: fits int32 */
-        int64_t num = d < 0 ? -(int64_t)qibl_mul_u32_u64((uint32_t)(-d), f) : (int64_t)qibl_mul_u32_u64((uint32_t)d, f);
-        out[c] = qibl_sat_s32((int64_t)va + qibl_asr_s64(num + 32768, 16));
+        /* va + (vb - va) num / den, rounded half away from zero: |vb - va| < 2^32, num < 2^16, so the
+         * product fits 48 bits and the result lies between va and vb */
+        int64_t d = (int64_t)vb - va;
+        uint64_t mag = qibl_mul_u32_u64((uint32_t)(d < 0 ? -d : d), num);
+        int64_t q = (int64_t)qibl_udiv_u64(mag + (den >> 1), den, 0);
+        out[c] = qibl_sat_s32((int64_t)va + (d < 0 ? -q : q));
     }
     return QIBL_OK;
 }
@@ -184,15 +187,11 @@ static qibl_status_t span_args(const qibl_lightpath_t *p, uint32_t t, uint32_t r
     return QIBL_OK;
 }
 
-/* the span's visibilities (arguments checked) */
-static void visibility(const qibl_lightpath_t *p, uint32_t t, uint32_t radius, uint32_t x0, uint32_t y, uint32_t n,
-                       uint32_t *vis)
+/* visibilities of n pixels whose counts start at c and edges at index at (arguments checked);
+ * returns the edge index after them, so a caller walking a row in chunks never rescans it */
+static uint32_t visibility(const qibl_lightpath_t *p, uint32_t t, uint32_t radius, uint32_t recip, uint32_t at,
+                           const uint8_t *c, uint32_t n, uint32_t *vis)
 {
-    uint32_t at = first_edge(p, x0, y);
-    const uint8_t *c = p->counts + (size_t)y * p->width + x0;
-    uint32_t recip = 0;
-    if (radius > 0u) /* 2^32 / (2 radius), < 2^31 */
-        recip = (uint32_t)qibl_udiv_u64((uint64_t)1u << 32, 2u * radius, 0);
     for (uint32_t i = 0; i < n; ++i) {
         uint32_t m = c[i];
         const uint8_t *e = p->edges + 2u * at;
@@ -208,6 +207,13 @@ static void visibility(const qibl_lightpath_t *p, uint32_t t, uint32_t radius, u
         }
         at += m;
     }
+    return at;
+}
+
+/* 2^32 / (2 radius) (< 2^31), 0 for a hard light */
+static uint32_t window_recip(uint32_t radius)
+{
+    return radius > 0u ? (uint32_t)qibl_udiv_u64((uint64_t)1u << 32, 2u * radius, 0) : 0u;
 }
 
 qibl_status_t qibl_lightpath_visibility_span(const qibl_lightpath_t *p, uint32_t t, uint32_t radius, uint32_t x0,
@@ -218,7 +224,8 @@ qibl_status_t qibl_lightpath_visibility_span(const qibl_lightpath_t *p, uint32_t
         return st;
     if (vis == 0)
         return QIBL_E_NULL_POINTER;
-    visibility(p, t, radius, x0, y, n, vis);
+    (void)visibility(p, t, radius, window_recip(radius), first_edge(p, x0, y), p->counts + (size_t)y * p->width + x0,
+                     n, vis);
     return QIBL_OK;
 }
 
@@ -232,19 +239,20 @@ qibl_status_t qibl_lightpath_shade_span(const qibl_lightpath_t *p, uint32_t t, u
         return QIBL_E_NULL_POINTER;
     /* visibility in chunks on the stack: no workspace argument, no heap */
     enum { CHUNK = 64 };
-    uint32_t vis[CHUNK];
+    uint32_t vis[CHUNK], recip = window_recip(radius), at = first_edge(p, x0, y);
+    const uint8_t *cnt = p->counts + (size_t)y * p->width + x0;
     for (uint32_t done = 0; done < n;) {
         uint32_t m = n - done < CHUNK ? n - done : CHUNK;
-        visibility(p, t, radius, x0 + done, y, m, vis);
+        at = visibility(p, t, radius, recip, at, cnt + done, m, vis);
         for (uint32_t i = 0; i < m; ++i) {
             size_t o = 3u * (size_t)(done + i);
             uint32_t v = vis[i];
+            /* fully lit or dark (every pixel of a hard light, most of a soft one): no multiply */
+            uint32_t mask = v == 65536u ? 0xFFFFFFFFu : 0u;
             for (unsigned c = 0; c < 3u; ++c) {
                 int32_t l = light[o + c], r;
-                if (v == 65536u)
-                    r = l;
-                else if (v == 0u)
-                    r = 0;
+                if (v == 0u || v == 65536u)
+                    r = mask ? l : 0;
                 else
                     r = qibl_rshr_s64(qibl_mul_s32_s64(l, (int32_t)v), 16);
                 out[o + c] = accumulate ? qibl_add_sat_s32(out[o + c], r) : r;
@@ -257,4 +265,4 @@ qibl_status_t qibl_lightpath_shade_span(const qibl_lightpath_t *p, uint32_t t, u
 
 #else
 typedef int qibl_lightpath_disabled_t; /* ISO C forbids an empty translation unit */
-#endif /* QIBL_USE_ASSET */
+#endif /* QIBL_USE_SHMAP */

@@ -598,15 +598,16 @@ int qibl_bake_asset_ex(const qibl_gen_maps *m, const qibl_gen_maps *mu, uint32_t
     if (qibl_asset_add_shmp(&b, m->width, m->height, m->k, 3, scale, bias, planes) != 0 ||
         qibl_asset_add_pmap(&b, m->width, m->height, m->p) != 0)
         goto done;
-    if (lut) {
-        size_t vs = qibl_ylut_values_size(lut, m->k);
+    if (lut) { /* for the larger k of the two map sets: point lights read either */
+        uint32_t lk = mu && mu->k > m->k ? mu->k : m->k;
+        size_t vs = qibl_ylut_values_size(lut, lk);
         le = malloc(vs);
         lutv = malloc(vs);
-        if (!le || !lutv || qibl_ylut_build(lut, m->k, le, vs) != QIBL_OK)
+        if (!le || !lutv || qibl_ylut_build(lut, lk, le, vs) != QIBL_OK)
             goto done;
         for (size_t i = 0; i < vs / 2; ++i)
             lutv[i] = qibl_load_s16le(le + 2 * i);
-        if (qibl_asset_add_ylut(&b, lut, m->k, lutv) != 0)
+        if (qibl_asset_add_ylut(&b, lut, lk, lutv) != 0)
             goto done;
     }
     if (mu) { /* the unshadowed set, packed on its own (its own k and ranges) */

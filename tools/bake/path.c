@@ -247,34 +247,27 @@ int qibl_bake_path_chunk(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pa
         if (kt[nk - 1] != 65535u)
             kt[nk - 1] = 65535u;
     }
-    size_t size = QIBL_LIGHTPATH_HEADER + 16u * nk + 4u * ((size_t)h + 1) + np + 2 * (size_t)total;
-    uint8_t *b = malloc(size);
-    if (!b)
-        goto done;
-    qibl_store_u32le(b, w), qibl_store_u32le(b + 4, h), qibl_store_u32le(b + 8, (uint32_t)p->kind);
-    qibl_store_u32le(b + 12, 0), qibl_store_u32le(b + 16, nk), qibl_store_u32le(b + 20, (uint32_t)total);
-    uint8_t *k = b + QIBL_LIGHTPATH_HEADER;
+    int32_t kv[QIBL_LIGHTPATH_MAX_KEYS * 3];
     for (uint32_t i = 0; i < nk; ++i) {
         qibl_rt_light l;
         qibl_bake_path_light(p, kt[i] / 65535.0, &l);
-        qibl_store_u32le(k + 16 * i, kt[i]);
-        for (int c = 0; c < 3; ++c) {
-            double v = (p->kind == 0 ? l.dir[c] : l.pos[c]) * 65536.0;
-            qibl_store_u32le(k + 16 * i + 4 + 4 * (uint32_t)c, (uint32_t)(int32_t)lrint(v));
-        }
+        for (int c = 0; c < 3; ++c)
+            kv[3 * i + (uint32_t)c] = (int32_t)lrint((p->kind == 0 ? l.dir[c] : l.pos[c]) * 65536.0);
     }
-    uint8_t *rows = k + 16u * nk, *cnt = rows + 4u * ((size_t)h + 1), *ed = cnt + np;
-    uint32_t at = 0;
+    uint16_t *all = malloc(sizeof(uint16_t) * (total ? total : 1));
+    if (!all)
+        goto done;
+    size_t at = 0;
     for (uint32_t y = 0; y < h; ++y) {
-        qibl_store_u32le(rows + 4u * y, at);
-        for (uint32_t i = 0; i < j.row_n[y]; ++i) {
-            ed[2 * ((size_t)at + i)] = (uint8_t)j.row_edges[y][i];
-            ed[2 * ((size_t)at + i) + 1] = (uint8_t)(j.row_edges[y][i] >> 8);
-        }
+        memcpy(all + at, j.row_edges[y], sizeof(uint16_t) * j.row_n[y]);
         at += j.row_n[y];
     }
-    qibl_store_u32le(rows + 4u * h, at);
-    memcpy(cnt, j.counts, np);
+    uint8_t *b = NULL;
+    size_t size = 0;
+    int e = qibl_bake_path_payload(w, h, (uint32_t)p->kind, nk, kt, kv, j.counts, all, (uint32_t)total, &b, &size);
+    free(all);
+    if (e != 0)
+        goto done;
     *out = b, *n = size;
     if (stats)
         stats[0] = (double)total / (double)np, stats[1] = j.clipped;
@@ -284,6 +277,38 @@ done:
         free(j.row_edges[y]);
     free(j.counts), free(j.row_edges), free(j.row_n);
     return rc;
+}
+
+int qibl_bake_path_payload(uint32_t w, uint32_t h, uint32_t kind, uint32_t nkeys, const uint32_t *kt,
+                           const int32_t *kv, const uint8_t *counts, const uint16_t *edges, uint32_t nedges,
+                           uint8_t **out, size_t *n)
+{
+    size_t np = (size_t)w * h;
+    size_t size = QIBL_LIGHTPATH_HEADER + 16u * (size_t)nkeys + 4u * ((size_t)h + 1) + np + 2 * (size_t)nedges;
+    uint8_t *b = malloc(size);
+    if (!b)
+        return -1;
+    qibl_store_u32le(b, w), qibl_store_u32le(b + 4, h), qibl_store_u32le(b + 8, kind);
+    qibl_store_u32le(b + 12, 0), qibl_store_u32le(b + 16, nkeys), qibl_store_u32le(b + 20, nedges);
+    uint8_t *k = b + QIBL_LIGHTPATH_HEADER;
+    for (uint32_t i = 0; i < nkeys; ++i) {
+        qibl_store_u32le(k + 16 * (size_t)i, kt[i]);
+        for (uint32_t c = 0; c < 3; ++c)
+            qibl_store_u32le(k + 16 * (size_t)i + 4 + 4 * c, (uint32_t)kv[3 * (size_t)i + c]);
+    }
+    uint8_t *rows = k + 16 * (size_t)nkeys, *cnt = rows + 4 * ((size_t)h + 1), *ed = cnt + np;
+    uint32_t at = 0;
+    for (uint32_t y = 0; y < h; ++y) {
+        qibl_store_u32le(rows + 4 * (size_t)y, at);
+        for (uint32_t x = 0; x < w; ++x)
+            at += counts[(size_t)y * w + x];
+    }
+    qibl_store_u32le(rows + 4 * (size_t)h, at);
+    memcpy(cnt, counts, np);
+    for (uint32_t i = 0; i < nedges; ++i)
+        ed[2 * (size_t)i] = (uint8_t)edges[i], ed[2 * (size_t)i + 1] = (uint8_t)(edges[i] >> 8);
+    *out = b, *n = size;
+    return 0;
 }
 
 /* ---- relighting ---------------------------------------------------------------------------------- */

@@ -46,6 +46,13 @@ void qibl_bake_path_light(const qibl_bake_path *p, double t, qibl_rt_light *out)
 int qibl_bake_path_chunk(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, const qibl_bake_path *p,
                          uint32_t steps, uint32_t nkeys, int threads, uint8_t **out, size_t *n, double stats[2]);
 
+/* The LPTH payload from plain arrays (keys: nkeys t values and 3 nkeys Q16.16 coordinates; counts
+ * w h bytes; edges nedges values, pixel after pixel); the row index is computed from the counts.
+ * Checks nothing beyond memory (tests build payloads the core must reject). 0 or -1 (no memory). */
+int qibl_bake_path_payload(uint32_t w, uint32_t h, uint32_t kind, uint32_t nkeys, const uint32_t *kt,
+                           const int32_t *kv, const uint8_t *counts, const uint16_t *edges, uint32_t nedges,
+                           uint8_t **out, size_t *n);
+
 /* Relights a path light through the core: the unshadowed maps (SHMU) under l (directional or point,
  * the light at the path's t; LUT used for a point light when the asset has one) x the visibility of
  * the asset's path number path at tq (0..65535) with soft radius (0 hard). sky (may be NULL): an

@@ -77,7 +77,7 @@ uint32_t qibl_lightpath_count(const qibl_asset_t *a);
 qibl_status_t qibl_lightpath_from_asset(const qibl_asset_t *a, uint32_t index, qibl_lightpath_t *out);
 
 /* The light at parameter t, linear between keys: a direction (not normalised) or a position,
- * Q16.16, rounded to nearest. QIBL_E_NULL_POINTER, QIBL_E_LIGHTPATH_PARAM (t > 65535). */
+ * Q16.16, rounded to nearest (error <= 0.5 LSB). QIBL_E_NULL_POINTER, QIBL_E_LIGHTPATH_PARAM (t > 65535). */
 qibl_status_t qibl_lightpath_at(const qibl_lightpath_t *p, uint32_t t, qibl_q16_t out[3]);
 
 /* Visibility of pixels x0..x0+n-1 of row y at t, UQ16 (0..65536): hard (radius 0) or the fraction
