@@ -237,6 +237,30 @@ qibl_status_t qibl_lightpath_shade_span(const qibl_lightpath_t *p, uint32_t t, u
         return st;
     if (light == 0 || out == 0)
         return QIBL_E_NULL_POINTER;
+    if (radius == 0u) {
+        /* the common case in one pass: a hard light (light may be out when not accumulating) */
+        uint32_t at = first_edge(p, x0, y);
+        const uint8_t *cnt = p->counts + (size_t)y * p->width + x0;
+        for (uint32_t i = 0; i < n; ++i) {
+            uint32_t m = cnt[i], k = 0;
+            const uint8_t *e = p->edges + 2u * at;
+            while (k < m && load_u16(e + 2u * k) <= t)
+                ++k;
+            at += m;
+            bool lit = (k & 1u) != 0u;
+            size_t o = 3u * (size_t)i;
+            if (!accumulate) {
+                out[o] = lit ? light[o] : 0;
+                out[o + 1u] = lit ? light[o + 1u] : 0;
+                out[o + 2u] = lit ? light[o + 2u] : 0;
+            } else if (lit) {
+                out[o] = qibl_add_sat_s32(out[o], light[o]);
+                out[o + 1u] = qibl_add_sat_s32(out[o + 1u], light[o + 1u]);
+                out[o + 2u] = qibl_add_sat_s32(out[o + 2u], light[o + 2u]);
+            }
+        }
+        return QIBL_OK;
+    }
     /* visibility in chunks on the stack: no workspace argument, no heap */
     enum { CHUNK = 64 };
     uint32_t vis[CHUNK], recip = window_recip(radius), at = first_edge(p, x0, y);

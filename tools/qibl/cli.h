@@ -25,6 +25,7 @@ int qibl_cmd_srgbe(int argc, char **argv);
 int qibl_bench_relight(int quick, int csv);
 int qibl_bench_srgbe(int quick); /* bench_srgbe.c */
 int qibl_bench_lights(int quick); /* bench_lights.c */
+int qibl_bench_paths(int quick);  /* bench_paths.c */
 int qibl_cmd_info(int argc, char **argv);
 int qibl_cmd_gen(int argc, char **argv);
 int qibl_cmd_relight(int argc, char **argv);

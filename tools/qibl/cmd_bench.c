@@ -146,7 +146,9 @@ int qibl_cmd_bench(int argc, char **argv)
         rc |= qibl_bench_srgbe(quick), ran = 1;
     if (all || strcmp(what, "lights") == 0)
         rc |= qibl_bench_lights(quick), ran = 1;
+    if (all || strcmp(what, "paths") == 0)
+        rc |= qibl_bench_paths(quick), ran = 1;
     if (!ran)
-        return qibl_cli_usage_error("bench: unknown benchmark '%s' (all, sh, relight, srgbe, lights)", what);
+        return qibl_cli_usage_error("bench: unknown benchmark '%s' (all, sh, relight, srgbe, lights, paths)", what);
     return rc;
 }
