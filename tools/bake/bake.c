@@ -651,6 +651,11 @@ static void to_fb(const double *lin, uint32_t w, uint32_t h, uint8_t *rgb8)
     free(pix), free(row);
 }
 
+void qibl_bake_lin_to8(const double *lin, uint32_t w, uint32_t h, uint8_t *rgb8)
+{
+    to_fb(lin, w, h, rgb8);
+}
+
 int qibl_bake_truth8(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, const qibl_rt_light *l,
                      int threads, uint8_t *rgb8, uint8_t *mask)
 {

@@ -95,6 +95,8 @@ int qibl_bake_asset_ex(const qibl_gen_maps *m, const qibl_gen_maps *mu, uint32_t
  * hit (PSNR is taken over those pixels). */
 int qibl_bake_truth8(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, const qibl_rt_light *l,
                      int threads, uint8_t *rgb8, uint8_t *mask);
+/* A linear frame (3 doubles per pixel) as the truth's 8-bit sRGB (platform/soft, exposure 1). */
+void qibl_bake_lin_to8(const double *lin, uint32_t w, uint32_t h, uint8_t *rgb8);
 /* use_lut: point lights use the asset's YLUT (bilinear). 0 or -1 (bad asset / core error). */
 /* The same with every option: lut_mode 0 direct SH, 1 LUT bilinear, 2 LUT nearest; exposure UQ16.16
  * (0 = 1.0); srgb 0 = linear output. *status (may be NULL) gets the core's status on failure

@@ -14,6 +14,7 @@
 #include "qibl/asset.h"
 #include "qibl/lightpath.h"
 #include "qibl/soft.h"
+#include "ref/sh_ref.h"
 
 #define PI 3.14159265358979323846
 
@@ -450,4 +451,124 @@ int qibl_bake_classify(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano
 {
     cls_job j = {s, w, h, kind, l, cls};
     return qibl_rt_parallel(threads, h, cls_row, &j, NULL);
+}
+
+/* ---- sky ----------------------------------------------------------------------------------------- */
+
+/* the demo's sky: brighter towards the zenith, nothing below the horizon */
+static double sky_radiance(const double w[3])
+{
+    return w[2] > 0 ? 0.3 + 0.7 * w[2] : 0;
+}
+
+void qibl_bake_sky_dir(uint32_t j, uint32_t n, double d[3])
+{
+    /* upper-hemisphere Fibonacci set, turned by an irrational offset: not the bake's directions */
+    double z = 1.0 - (j + 0.5) / n, r = sqrt(fmax(0.0, 1 - z * z));
+    double phi = fmod(j * (PI * (3.0 - sqrt(5.0))) + 0.7236, 2 * PI);
+    d[0] = r * cos(phi), d[1] = r * sin(phi), d[2] = z;
+}
+
+typedef struct {
+    const qibl_rt_scene *s;
+    uint32_t w, h, ndirs;
+    qibl_pano_kind kind;
+    const double *rgb;
+    double *half[2];
+} sky_job;
+
+static void sky_row(void *ctx, uint32_t y)
+{
+    const sky_job *j = ctx;
+    double wgt = 2 * PI / (j->ndirs / 2); /* each half is an estimate on its own */
+    for (uint32_t x = 0; x < j->w; ++x) {
+        double d[3], acc[2][3] = {{0, 0, 0}, {0, 0, 0}};
+        qibl_rt_hit hit;
+        qibl_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
+        qibl_rt_primary(j->s, d, &hit);
+        for (uint32_t l = 0; hit.hit && l < j->ndirs; ++l) {
+            double wv[3], df, gl;
+            qibl_bake_sky_dir(l, j->ndirs, wv);
+            if (!qibl_rt_response(j->s, &hit, wv, 1e30, &df, &gl))
+                continue;
+            double L = sky_radiance(wv) * wgt;
+            for (int c = 0; c < 3; ++c)
+                acc[l & 1][c] += L * j->rgb[c] * (hit.m->albedo[c] * df + hit.m->ks * gl);
+        }
+        for (int hh = 0; hh < 2; ++hh)
+            for (int c = 0; c < 3; ++c)
+                j->half[hh][3 * ((size_t)y * j->w + x) + (size_t)c] = acc[hh][c];
+    }
+}
+
+int qibl_bake_sky_truth(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, const double rgb[3],
+                        uint32_t ndirs, int threads, double *half_a, double *half_b)
+{
+    if (ndirs < 2 || ndirs % 2)
+        return -1;
+    sky_job j = {s, w, h, ndirs, kind, rgb, {half_a, half_b}};
+    return qibl_rt_parallel(threads, h, sky_row, &j, NULL);
+}
+
+void qibl_bake_sky_sh(const double rgb[3], uint32_t k, qibl_shlight_t *out)
+{
+    /* L_i = integral of L(w) Y_i(w) over the sphere, by the midpoint rule on a fine latitude-longitude grid */
+    enum { NT = 256, NP = 512 };
+    double c[25] = {0};
+    for (int a = 0; a < NT / 2; ++a) { /* upper hemisphere only: the sky is 0 below */
+        double th = PI * (a + 0.5) / NT, dw = (PI / NT) * (2 * PI / NP) * sin(th);
+        for (int b = 0; b < NP; ++b) {
+            double ph = 2 * PI * (b + 0.5) / NP, wv[3] = {sin(th) * cos(ph), sin(th) * sin(ph), cos(th)}, y[25];
+            qibl_ref_sh_eval(wv[0], wv[1], wv[2], 5, y);
+            double L = sky_radiance(wv) * dw;
+            for (uint32_t i = 0; i < k; ++i)
+                c[i] += L * y[i];
+        }
+    }
+    qibl_shlight_init(out, k);
+    for (int ch = 0; ch < 3; ++ch)
+        for (uint32_t i = 0; i < k; ++i)
+            out->c[ch][i] = (qibl_q16_t)lrint(c[i] * rgb[ch] * 65536.0);
+}
+
+int qibl_bake_relight_env8(const uint8_t *asset, size_t n, const qibl_shlight_t *env, uint8_t *rgb8, double *ms,
+                           qibl_status_t *status)
+{
+    qibl_asset_t a;
+    qibl_shmaps_t m;
+    qibl_shmap_weights_t wt;
+    qibl_status_t st = qibl_asset_open(&a, asset, n);
+    if (st == QIBL_OK)
+        st = qibl_asset_shmaps(&a, &m);
+    if (st == QIBL_OK)
+        st = qibl_shmap_weights(&m, env, &wt);
+    if (status)
+        *status = st;
+    if (st != QIBL_OK)
+        return -1;
+    uint32_t w = m.width, h = m.height;
+    uint8_t *pix = malloc((size_t)w * h * 4);
+    int32_t *row = malloc(sizeof(int32_t) * 3 * w);
+    size_t wsn = qibl_shmap_span_workspace_size(w);
+    void *ws = malloc(wsn);
+    if (!pix || !row || !ws)
+        st = QIBL_E_NULL_POINTER;
+    qibl_fb_desc_t fb = {0};
+    fb.pixels = pix, fb.width = w, fb.height = h, fb.format = QIBL_FB_RGBA8888, fb.srgb = 1;
+    struct timespec t0, t1;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {
+        st = qibl_shmap_relight_span(&m, &wt, 0, y, w, row, ws, wsn);
+        if (st == QIBL_OK)
+            st = qibl_fb_write_row(&fb, 0, y, w, row);
+    }
+    clock_gettime(CLOCK_MONOTONIC, &t1);
+    if (ms)
+        *ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
+    for (size_t i = 0; st == QIBL_OK && i < (size_t)w * h; ++i)
+        memcpy(rgb8 + 3 * i, pix + 4 * i, 3);
+    free(pix), free(row), free(ws);
+    if (status)
+        *status = st;
+    return st == QIBL_OK ? 0 : -1;
 }

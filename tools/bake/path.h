@@ -62,6 +62,21 @@ int qibl_bake_relight_path8(const uint8_t *asset, size_t n, const qibl_rt_light 
                             uint32_t radius, const qibl_shlight_t *sky, uint8_t *rgb8, float *lin, double *ms,
                             qibl_status_t *status);
 
+/* The demo's sky (radiance rgb (0.3 + 0.7 z) above the horizon, 0 below), ray-traced: per pixel the
+ * integral of T(w) L(w) (hard visibility) over ndirs upper-hemisphere directions that are not the
+ * bake's, as two independent estimates from the even and the odd directions (their mean is the
+ * truth; their difference measures its noise). Linear, 3 doubles per pixel each. 0 or -1. */
+void qibl_bake_sky_dir(uint32_t j, uint32_t n, double d[3]);
+int qibl_bake_sky_truth(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, const double rgb[3],
+                        uint32_t ndirs, int threads, double *half_a, double *half_b);
+/* The same sky's SH coefficients (first k, Q16.16), integrated in double on a fine grid. */
+void qibl_bake_sky_sh(const double rgb[3], uint32_t k, qibl_shlight_t *out);
+
+/* Relights an environment (SH coefficients, k >= the maps') through the shadowed maps (SHMP), as
+ * qibl_bake_relight8_lin. 0 or -1 (*status set). */
+int qibl_bake_relight_env8(const uint8_t *asset, size_t n, const qibl_shlight_t *env, uint8_t *rgb8, double *ms,
+                           qibl_status_t *status);
+
 /* Per pixel what the truth does with light l: 0 sky, 1 lit, 2 cast shadow, 3 facing away. 0. */
 int qibl_bake_classify(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, const qibl_rt_light *l,
                        int threads, uint8_t *cls);
