@@ -57,7 +57,8 @@ static int check_out_dir(const char *dir, long frames)
         return 1;
     }
     static const char *fixed[] = {"scene_k9.qibl", "scene_k16.qibl",    "scene_k25.qibl", "sun_sweep.png",
-                                  "lamp_sweep.png", "contact_sheet.png", "relit_sun.png",  "truth_sun.png"};
+                                  "lamp_sweep.png", "contact_sheet.png", "relit_sun.png",  "truth_sun.png",
+                                  "paths_sheet.png", "paths_readme.png"};
     enum { NFIXED = sizeof fixed / sizeof fixed[0] };
     char err[1200], name[64];
     int bad = 0;

@@ -252,6 +252,67 @@ int qibl_demo_paths(const qibl_rt_scene *s, const qibl_cli_scene *so, uint32_t n
             goto done;
         }
     }
+    /* soft sun: a disc of angular radius 1.5 degrees (three times the real sun's, so the penumbrae show
+     * at this resolution); truth = mean of 8 renders over the disc; the runtime filters V along the path
+     * over the disc's extent in t (the disc's width across the path is not modelled) */
+    enum { NSOFT = 4, NDISC = 8 };
+    const double alpha = 1.5 * 3.14159265358979 / 180;
+    acc_t soft[3];
+    memset(soft, 0, sizeof soft);
+    {
+        double *lin = malloc(np * 3 * sizeof(double)), *one = malloc(np * 3 * sizeof(double));
+        uint8_t *t8 = malloc(np * 3);
+        int bad = !lin || !one || !t8;
+        for (int q = 0; !bad && q < NSOFT; ++q) {
+            int i = 2 + 4 * q;
+            const double *c = L[0][i].dir;
+            /* an orthonormal frame around the sun's direction */
+            double a[3] = {-c[1], c[0], 0}, la = sqrt(a[0] * a[0] + a[1] * a[1]);
+            for (int k = 0; k < 3; ++k)
+                a[k] /= la > 0 ? la : 1;
+            double b[3] = {c[1] * a[2] - c[2] * a[1], c[2] * a[0] - c[0] * a[2], c[0] * a[1] - c[1] * a[0]};
+            memset(lin, 0, np * 3 * sizeof(double));
+            for (int d = 0; d < NDISC; ++d) { /* sunflower points over the disc */
+                double r = alpha * sqrt((d + 0.5) / NDISC), ph = d * 2.39996323;
+                qibl_rt_light dl = L[0][i];
+                for (int k = 0; k < 3; ++k)
+                    dl.dir[k] = c[k] + r * (cos(ph) * a[k] + sin(ph) * b[k]);
+                qibl_rt_render(s, w, h, kind, &dl, so->threads, one, NULL, NULL);
+                for (size_t z = 0; z < np * 3; ++z)
+                    lin[z] += one[z] / NDISC;
+            }
+            qibl_bake_lin_to8(lin, w, h, t8);
+            /* the disc's radius in path units: alpha over the sun's angle per step of t */
+            qibl_rt_light nx;
+            qibl_bake_path_light(&sun, (tq[i] + 1) / 65535.0, &nx);
+            double dot = 0, l0 = 0, l1 = 0;
+            for (int k = 0; k < 3; ++k)
+                dot += c[k] * nx.dir[k], l0 += c[k] * c[k], l1 += nx.dir[k] * nx.dir[k];
+            double step = acos(fmin(1.0, dot / sqrt(l0 * l1)));
+            uint32_t rad = step > 0 ? (uint32_t)fmin(32767, lrint(alpha / step)) : 0;
+            double ms = 0;
+            const uint8_t *cl = cls + (size_t)i * np;
+            if (qibl_bake_relight8_lin(today, today_n, &L[0][i], 1, 0, 1, tmp, NULL, &ms, &st) != 0)
+                bad = 1;
+            else
+                acc_frame(&soft[0], tmp, t8, cl, np, ms, lut);
+            for (int v = 0; !bad && v < 2; ++v) {
+                if (qibl_bake_relight_path8(asset9, n9, &L[0][i], 0, tq[i], v ? rad : 0, NULL, tmp, NULL, &ms, &st) != 0)
+                    bad = 1;
+                else
+                    acc_frame(&soft[1 + v], tmp, t8, cl, np, ms, lut);
+            }
+        }
+        free(lin), free(one), free(t8);
+        if (bad) {
+            fprintf(stderr, "qibl: demo: soft sun failed (%s)\n", qibl_status_str(st));
+            goto done;
+        }
+    }
+    row_stats soft_rs[3];
+    finish(&soft[0], "soft sun: today, shadowed SH k16", shmp / (double)np, &soft_rs[0]);
+    finish(&soft[1], "soft sun: k9 x path, hard edges", (u9 + lpn[0]) / (double)np, &soft_rs[1]);
+    finish(&soft[2], "soft sun: k9 x path, filtered along the path", (u9 + lpn[0]) / (double)np, &soft_rs[2]);
     row_stats sky_rs[2];
     finish(&sacc[0], "sky + sun: today, one SH light, shadowed k16", shmp / (double)np, &sky_rs[0]);
     finish(&sacc[1], "sky + sun: sky SH k16 + sun k9 x path", (shmp + u9 + lpn[0]) / (double)np, &sky_rs[1]);
@@ -274,6 +335,16 @@ int qibl_demo_paths(const qibl_rt_scene *s, const qibl_cli_scene *so, uint32_t n
         int bad = !sheet || !hb || qibl_png_write_rgb8(path, (int)sw, (int)h * 2, sheet, err, sizeof err) != 0;
         if (bad)
             fprintf(stderr, "qibl: %s\n", sheet && hb ? err : "demo: out of memory");
+        /* the README picture: truth, today, path shadows of the same sun, one above the other */
+        if (!bad) {
+            const uint8_t *src[3] = {truth + 5 * np * 3, keep[0], keep[1]};
+            for (int r = 0; r < 3; ++r)
+                memcpy(sheet + (size_t)r * np * 3, src[r], np * 3);
+            snprintf(path, sizeof path, "%s/paths_readme.png", dir);
+            bad = qibl_png_write_rgb8(path, (int)w, (int)h * 3, sheet, err, sizeof err) != 0;
+            if (bad)
+                fprintf(stderr, "qibl: %s\n", err);
+        }
         free(sheet), free(hb);
         if (bad)
             goto done;
@@ -293,9 +364,12 @@ int qibl_demo_paths(const qibl_rt_scene *s, const qibl_cli_scene *so, uint32_t n
         print_row(&rs[r]);
     print_row(&sky_rs[0]);
     print_row(&sky_rs[1]);
+    for (int r = 0; r < 3; ++r)
+        print_row(&soft_rs[r]);
     printf("\nsky: radiance (0.25, 0.32, 0.45) x (0.3 + 0.7 z) above the horizon, ray-traced over %u directions "
            "(not the bake's); its two halves agree to %.2f dB (the truth, their mean, is about 6 dB less noisy)\n",
            nsky, sky_noise);
+    printf("soft sun: a disc of 1.5 degrees, truth the mean of %d renders over it, %d of the positions\n", NDISC, NSOFT);
     printf("suns off every path fall back to today's shadowed SH: the 8 novel suns above score demo.psnr_k16_dir\n");
     printf("\nRESULT demo.path_sun_psnr %.2f\nRESULT demo.path_sun_bytes_px %.1f\nRESULT demo.path_sun_cost_ratio %.3f\n",
            rs[1].psnr, rs[1].bytes_px, rs[0].ms > 0 ? rs[1].ms / rs[0].ms : 0);
@@ -307,8 +381,11 @@ int qibl_demo_paths(const qibl_rt_scene *s, const qibl_cli_scene *so, uint32_t n
            rs[4].psnr, rs[4].bright, rs[3].bright);
     printf("RESULT demo.sky_sun_psnr %.2f\nRESULT demo.sky_sun_today_psnr %.2f\nRESULT demo.sky_truth_halves_psnr %.2f\n",
            sky_rs[1].psnr, sky_rs[0].psnr, sky_noise);
+    printf("RESULT demo.soft_sun_psnr %.2f\nRESULT demo.soft_sun_hard_psnr %.2f\nRESULT demo.soft_sun_today_psnr %.2f\n",
+           soft_rs[2].psnr, soft_rs[1].psnr, soft_rs[0].psnr);
     printf("RESULT demo.paths_bake_s %.2f\n", bake_s);
-    printf("wrote %s/paths_sheet.png (rows: sun, lamp; columns: truth | today | path shadows | error 0..48)\n", dir);
+    printf("wrote %s/paths_sheet.png (rows: sun, lamp; columns: truth | today | path shadows | error 0..48) and "
+           "paths_readme.png (truth, today, path shadows of one sun)\n", dir);
     rc = 0;
 done:
     qibl_bake_sums_free(&us);
