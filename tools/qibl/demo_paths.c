@@ -204,6 +204,73 @@ int qibl_demo_paths(const qibl_rt_scene *s, const qibl_cli_scene *so, uint32_t n
     for (int r = 0; r < NROWS; ++r)
         finish(&acc[r], names[r], bytes[r] / (double)np, &rs[r]);
 
+    /* per-tile adaptive k for the unshadowed maps, simulated: each 16x16 tile keeps the fewest bands
+     * (k = 4, 9 or 16) holding all but 1 % of its coefficient energy, the rest is zeroed before the
+     * usual k = 16 packing; bytes counted as a tiled layout would store them (k x 3 per pixel) */
+    acc_t adacc[2];
+    double ad_bytes = 0, ad_tiles[3] = {0, 0, 0};
+    memset(adacc, 0, sizeof adacc);
+    {
+        qibl_gen_maps ma = mu16;
+        size_t tsz = sizeof(double) * np * 16 * 3;
+        uint8_t *ad = NULL;
+        size_t adn = 0;
+        ma.t = malloc(tsz);
+        int bad = !ma.t;
+        if (!bad)
+            memcpy(ma.t, mu16.t, tsz);
+        for (uint32_t ty = 0; !bad && ty < h; ty += 16)
+            for (uint32_t tx = 0; tx < w; tx += 16) {
+                double band[16] = {0}, tot = 0;
+                for (uint32_t y = ty; y < ty + 16 && y < h; ++y)
+                    for (uint32_t x = tx; x < tx + 16 && x < w; ++x)
+                        for (uint32_t i = 0; i < 16; ++i)
+                            for (uint32_t c = 0; c < 3; ++c) {
+                                double v = ma.t[((size_t)i * 3 + c) * np + (size_t)y * w + x];
+                                band[i] += v * v, tot += v * v;
+                            }
+                static const uint32_t kk[3] = {4, 9, 16};
+                int pick = 2;
+                for (int q = 0; q < 2; ++q) {
+                    double rest = 0;
+                    for (uint32_t i = kk[q]; i < 16; ++i)
+                        rest += band[i];
+                    if (rest <= 0.01 * tot) {
+                        pick = q;
+                        break;
+                    }
+                }
+                uint32_t tw = tx + 16 <= w ? 16 : w - tx, th = ty + 16 <= h ? 16 : h - ty;
+                ad_tiles[pick] += 1, ad_bytes += (double)kk[pick] * 3 * tw * th + 1;
+                for (uint32_t y = ty; y < ty + th; ++y)
+                    for (uint32_t x = tx; x < tx + tw; ++x)
+                        for (uint32_t i = kk[pick]; i < 16; ++i)
+                            for (uint32_t c = 0; c < 3; ++c)
+                                ma.t[((size_t)i * 3 + c) * np + (size_t)y * w + x] = 0;
+            }
+        if (!bad)
+            bad = qibl_bake_asset_ex(&msh, &ma, 32, lp, lpn, &ad, &adn) != 0;
+        for (int p = 0; !bad && p < 2; ++p)
+            for (int i = 0; i < NPOS; ++i) {
+                size_t f = (size_t)p * NPOS + (size_t)i;
+                double ms = 0;
+                if (qibl_bake_relight_path8(ad, adn, &L[p][i], (uint32_t)p, tq[i], 0, NULL, tmp, NULL, &ms, &st) != 0) {
+                    bad = 1;
+                    break;
+                }
+                acc_frame(&adacc[p], tmp, truth + f * np * 3, cls + f * np, np, ms, lut);
+            }
+        free(ma.t), free(ad);
+        if (bad) {
+            fprintf(stderr, "qibl: demo: adaptive k failed (%s)\n", qibl_status_str(st));
+            goto done;
+        }
+    }
+    row_stats ad_rs[2];
+    finish(&adacc[0], "sun: adaptive k 4/9/16 per tile x path (sim)", (ad_bytes + lpn[0]) / (double)np, &ad_rs[0]);
+    finish(&adacc[1], "lamp: adaptive k per tile x track (sim.)", (ad_bytes + pmap + ylut + lpn[1]) / (double)np,
+           &ad_rs[1]);
+
     /* sky + sun: the sky ray-traced once (two half estimates: their agreement states its noise), the sun
      * at the 16 positions; today's SH with sky and sun in one light against the hybrid */
     double sky_rgb[3] = {0.25, 0.32, 0.45}, sky_noise = 0;
@@ -366,10 +433,14 @@ int qibl_demo_paths(const qibl_rt_scene *s, const qibl_cli_scene *so, uint32_t n
     print_row(&sky_rs[1]);
     for (int r = 0; r < 3; ++r)
         print_row(&soft_rs[r]);
+    print_row(&ad_rs[0]);
+    print_row(&ad_rs[1]);
     printf("\nsky: radiance (0.25, 0.32, 0.45) x (0.3 + 0.7 z) above the horizon, ray-traced over %u directions "
            "(not the bake's); its two halves agree to %.2f dB (the truth, their mean, is about 6 dB less noisy)\n",
            nsky, sky_noise);
     printf("soft sun: a disc of 1.5 degrees, truth the mean of %d renders over it, %d of the positions\n", NDISC, NSOFT);
+    printf("adaptive k (simulated: coefficients zeroed per 16x16 tile, bytes as a tiled layout would store them): "
+           "tiles with k = 4 / 9 / 16: %.0f / %.0f / %.0f\n", ad_tiles[0], ad_tiles[1], ad_tiles[2]);
     printf("suns off every path fall back to today's shadowed SH: the 8 novel suns above score demo.psnr_k16_dir\n");
     printf("\nRESULT demo.path_sun_psnr %.2f\nRESULT demo.path_sun_bytes_px %.1f\nRESULT demo.path_sun_cost_ratio %.3f\n",
            rs[1].psnr, rs[1].bytes_px, rs[0].ms > 0 ? rs[1].ms / rs[0].ms : 0);
@@ -383,6 +454,7 @@ int qibl_demo_paths(const qibl_rt_scene *s, const qibl_cli_scene *so, uint32_t n
            sky_rs[1].psnr, sky_rs[0].psnr, sky_noise);
     printf("RESULT demo.soft_sun_psnr %.2f\nRESULT demo.soft_sun_hard_psnr %.2f\nRESULT demo.soft_sun_today_psnr %.2f\n",
            soft_rs[2].psnr, soft_rs[1].psnr, soft_rs[0].psnr);
+    printf("RESULT demo.adaptive_sun_psnr %.2f\nRESULT demo.adaptive_sun_bytes_px %.1f\n", ad_rs[0].psnr, ad_rs[0].bytes_px);
     printf("RESULT demo.paths_bake_s %.2f\n", bake_s);
     printf("wrote %s/paths_sheet.png (rows: sun, lamp; columns: truth | today | path shadows | error 0..48) and "
            "paths_readme.png (truth, today, path shadows of one sun)\n", dir);
