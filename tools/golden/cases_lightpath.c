@@ -70,6 +70,7 @@ static uint8_t *make_path(uint32_t kind, uint64_t seed, size_t *n)
 static int make_maps(qibl_shmaps_t *m, uint8_t **params, uint8_t **planes, uint64_t seed)
 {
     grng r = {seed};
+    memset(m, 0, sizeof *m); /* fields this file does not name (a layout) take their defaults */
     *params = malloc(8u * LK * 3u);
     *planes = malloc((size_t)LW * LH * LK * 3u);
     if (*params == NULL || *planes == NULL)

@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 #include "bake/path.h"
@@ -39,6 +40,7 @@ static int bmaps_make(const qibl_gen_maps *g, uint32_t k, bmaps *b)
 {
     qibl_gen_maps view = *g;
     view.k = k;
+    memset(b, 0, sizeof *b); /* fields this file does not name (a layout) take their defaults */
     size_t np = (size_t)g->width * g->height;
     int32_t *scale = malloc(sizeof(int32_t) * k * 3), *bias = malloc(sizeof(int32_t) * k * 3);
     size_t vs = qibl_ylut_values_size(32, k);

@@ -11,6 +11,7 @@
 #include "bake/bake.h"
 #include "bake/path.h"
 #include "io/png.h"
+#include "qibl/asset.h"
 #include "qibl/cli.h"
 #include "ref/psnr.h"
 #include "render/rt.h"
