@@ -40,6 +40,8 @@ CORE_POBJ := $(CORE_SRC:%.c=$(BUILD)/portable/%.o) $(PLATFORM_POBJ)
 $(PLATFORM_OBJ) $(PLATFORM_POBJ): CORE_CFLAGS += $(PLATFORM_INC)
 TOOL_LIB_OBJ := $(TOOL_LIB_SRC:%.c=$(BUILD)/host/%.o)
 QIBL_OBJ := $(QIBL_SRC:%.c=$(BUILD)/host/%.o)
+# the benchmarks name the compiler and the core's flags in their output
+$(QIBL_OBJ): HOST_CFLAGS += -DQIBL_BENCH_CORE_FLAGS='"$(CORE_OPT)"'
 TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%) $(TEST_SRC:tests/%.c=$(BUILD)/tests/%-portable)
 
 LIBQIBL := $(BUILD)/libqibl.a
@@ -48,7 +50,8 @@ LIBTOOLS := $(BUILD)/libqibl-tools.a
 QIBL := $(BUILD)/bin/qibl
 
 .PHONY: all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan examples \
-        install check-install amalgamate check-amalgamate
+        install check-install amalgamate check-amalgamate docs-memory
+.PHONY: baremetal baremetal-tables
 .DEFAULT_GOAL := all
 
 all: $(LIBQIBL) $(QIBL)
@@ -59,6 +62,7 @@ help:
 	@echo "make            build the core library and the qibl CLI ($(QIBL))"
 	@echo "make demo       run the main demo (SCENE=path.obj for a mesh, DEMO_SIZE=small for the CI size)"
 	@echo "make test       build and run the CMocka suites (installs libcmocka-dev if it can)"
+	@echo "make docs-memory  regenerate the resident-memory table of docs/porting.md (make test checks it)"
 	@echo "make cross      freestanding builds for Cortex-M0/M4 and RV64, checks and size table"
 	@echo "make warnings   compile core/ and platform/soft/ with gcc and clang under the strict warning set;"
 	@echo "                every public header alone as C99/C11/C++98/11/17 (tools/scripts/headers.sh)"
@@ -66,6 +70,8 @@ help:
 	@echo "make check-exhaustive  sweeps too long for make test (all 2^32 sRGBE codes; CI runs it)"
 	@echo "make golden     run the golden runner natively: one hash per golden case, compared with fixtures/golden"
 	@echo "make ports      the golden runner on every compiler, -O level and architecture (qemu); hashes must agree"
+	@echo "make baremetal  the golden runner on Cortex-M0/M4 and RV32 under qemu-system (semihosting): hashes, stack, insn/px"
+	@echo "make baremetal-tables  regenerate the stack and memory tables of docs/porting.md"
 	@echo "make test-asan  the suites and the CLI under AddressSanitizer + UndefinedBehaviorSanitizer (in $(BUILD)/asan)"
 	@echo "make examples   build and run tools/examples/console_port, the integration example (docs/porting.md)"
 	@echo "make install    headers, $(LIBQIBL) and qibl.pc into PREFIX (default /usr/local; DESTDIR honoured)"
@@ -136,7 +142,12 @@ $(BUILD)/host-portable/tests/%.o: tests/%.c | test-deps
 
 test: test-deps
 	@$(MAKE) --no-print-directory $(TESTS) $(QIBL)
+	@QIBL=$(QIBL) sh tools/scripts/memory-table.sh --check
 	@sh tools/scripts/run-tests.sh $(TESTS)
+
+# docs/porting.md's resident-memory table is generated (make test checks that it matches)
+docs-memory: $(QIBL)
+	@QIBL=$(QIBL) sh tools/scripts/memory-table.sh --update
 
 # Exhaustive sweeps: plain C + pthreads, no CMocka, too long for `make test` (CI runs them).
 EXHAUSTIVE := $(BUILD)/tests/srgbe_exhaustive
@@ -172,6 +183,17 @@ golden: $(GOLDEN)
 # (the CLI makes the asset the integration example runs on in every configuration)
 ports: $(QIBL)
 	@BUILD=$(BUILD) bash tools/scripts/ports.sh
+
+# Bare metal (tools/baremetal/run.sh): the golden runner for Cortex-M0 code on qemu's mps2-an385,
+# Cortex-M4 code on mps2-an386 and RV32IMAC on virt (picolibc, semihosting); every case must print
+# the hash of fixtures/golden, every wrapped entry point stay under its static stack bound; then the
+# instruction counts per relit pixel on the M4 (RESULT lines). baremetal-tables rewrites the
+# generated tables of docs/porting.md from the same builds.
+baremetal: $(GOLDEN)
+	@BUILD=$(BUILD) bash tools/baremetal/run.sh
+
+baremetal-tables: $(GOLDEN)
+	@BUILD=$(BUILD) BM_TABLES=docs/porting.md bash tools/baremetal/run.sh
 
 # The integration example for engines (docs/porting.md): core + platform/soft + libc only, plain
 # C99, built with the core's strictness; run on a small courtyard asset made by `qibl gen`.

@@ -11,9 +11,13 @@
 #include <stdlib.h>
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
+#include <unistd.h>
 #include <cmocka.h>
 
 #include "golden/check.h"
+#include "io/asset_write.h"
+#include "qibl/asset.h"
 #include "qibl/shmap.h"
 #include "qibl/soft.h"
 #include "ref/sh_ref.h"
@@ -37,7 +41,7 @@ static void put_s32(uint8_t *p, int32_t v)
 /* scale_mag: largest |scale| in Q8.24; biases up to 128 * scale_mag in magnitude */
 static void maps_make(maps_buf *b, uint32_t w, uint32_t h, uint32_t k, uint32_t ch, tu_rng *r, int32_t scale_mag)
 {
-    b->m.width = w, b->m.height = h, b->m.k = k, b->m.channels = ch;
+    b->m.width = w, b->m.height = h, b->m.k = k, b->m.channels = ch, b->m.layout = QIBL_SHMAPS_PLANAR;
     b->params = malloc(8u * k * ch);
     b->planes = malloc((size_t)w * h * k * ch);
     assert_non_null(b->params);
@@ -550,6 +554,227 @@ static void test_ylut_build_and_lookup(void **state)
 /* The fixture (integer-only maps and P map, a sun plus sky, a point light direct / LUT bilinear / LUT
  * nearest, four framebuffer formats) lives in tools/golden/cases_relight.c, shared with the golden
  * runner that `make ports` runs on every architecture. */
+/* ---- the interleaved layout ------------------------------------------------------------------ */
+
+/* The interleaved copy of planar maps b (same params). */
+static void interleave(const maps_buf *b, maps_buf *il)
+{
+    il->m = b->m;
+    il->m.layout = QIBL_SHMAPS_INTERLEAVED;
+    size_t n = qibl_shmaps_row_size(&il->m) * b->m.height;
+    il->params = NULL;
+    il->planes = malloc(n);
+    assert_non_null(il->planes);
+    assert_int_equal(qibl_shmaps_interleave(&b->m, il->planes, n), QIBL_OK);
+    il->m.planes = il->planes;
+}
+
+/* Every row of m under w (directional) or pt (point, if non-NULL) through random span splits. */
+static void relight_rows(const qibl_shmaps_t *m, const qibl_shmap_weights_t *w, const qibl_shmap_point_t *pt,
+                         tu_rng *r, int32_t *out)
+{
+    size_t wsn = qibl_shmap_point_workspace_size(25, m->width) + qibl_shmap_span_workspace_size(m->width);
+    void *ws = malloc(wsn);
+    assert_non_null(ws);
+    for (uint32_t y = 0; y < m->height; ++y)
+        for (uint32_t x = 0; x < m->width;) {
+            uint32_t n = 1 + tu_u32(r) % 37u;
+            n = n > m->width - x ? m->width - x : n;
+            int32_t *o = out + 3u * ((size_t)y * m->width + x);
+            if (pt)
+                assert_int_equal(qibl_shmap_point_span(pt, x, y, n, o, ws, wsn), QIBL_OK);
+            else
+                assert_int_equal(qibl_shmap_relight_span(m, w, x, y, n, o, ws, wsn), QIBL_OK);
+            x += n;
+        }
+    free(ws);
+}
+
+static void test_interleaved_equals_planar(void **state)
+{
+    (void)state;
+    tu_rng r = {48};
+    static const int32_t mags[4] = {2, 1 << 8, 1 << 16, 1 << 23};
+    for (int it = 0; it < 120; ++it) {
+        uint32_t w = 1 + tu_u32(&r) % 70u, h = 1 + tu_u32(&r) % 3u, k = 1 + tu_u32(&r) % 25u;
+        uint32_t ch = (it & 1) ? 3u : 1u;
+        maps_buf b, il;
+        maps_make(&b, w, h, k, ch, &r, mags[it % 4]);
+        interleave(&b, &il);
+        size_t n = (size_t)w * h * 3u;
+        int32_t *o1 = malloc(n * 4u), *o2 = malloc(n * 4u);
+        assert_non_null(o1);
+        assert_non_null(o2);
+        /* directional: a dim, a normal and a saturating light (every finishing path) */
+        qibl_shlight_t l;
+        qibl_shlight_init(&l, k);
+        for (uint32_t c = 0; c < 3; ++c)
+            for (uint32_t i = 0; i < k; ++i)
+                l.c[c][i] = it % 3 == 0 ? tu_s32(&r) >> 20 : it % 3 == 1 ? tu_s32(&r) >> 12 : tu_s32(&r);
+        qibl_shmap_weights_t wp, wi;
+        assert_int_equal(qibl_shmap_weights(&b.m, &l, &wp), QIBL_OK);
+        assert_int_equal(qibl_shmap_weights(&il.m, &l, &wi), QIBL_OK);
+        assert_memory_equal(wp.w, wi.w, sizeof wp.w);
+        assert_memory_equal(wp.shift, wi.shift, sizeof wp.shift);
+        assert_memory_equal(wp.bias, wi.bias, sizeof wp.bias);
+        relight_rows(&b.m, &wp, NULL, &r, o1);
+        relight_rows(&il.m, &wi, NULL, &r, o2);
+        assert_memory_equal(o1, o2, n * 4u);
+        /* point light: direct SH and a bilinear or nearest LUT */
+        pmap_buf pb;
+        pmap_make(&pb, w, h, &r);
+        size_t vs = qibl_ylut_values_size(8, k);
+        uint8_t *vals = malloc(vs);
+        assert_int_equal(qibl_ylut_build(8, k, vals, vs), QIBL_OK);
+        qibl_ylut_t lut = {8, k, vals};
+        qibl_pointlight_t pl = {{tu_s32(&r) >> 12, tu_s32(&r) >> 12, tu_s32(&r) >> 12}, {2 << 16, 1 << 16, 1 << 15},
+                                (it & 2) ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST, 0,
+                                (it & 4) ? QIBL_LUT_NEAREST : QIBL_LUT_BILINEAR};
+        qibl_shmap_point_t pp, pi;
+        const qibl_ylut_t *lp = (it & 8) ? &lut : NULL;
+        assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, lp, &pl, &pp), QIBL_OK);
+        assert_int_equal(qibl_shmap_point_prepare(&il.m, &pb.p, lp, &pl, &pi), QIBL_OK);
+        relight_rows(&b.m, NULL, &pp, &r, o1);
+        relight_rows(&il.m, NULL, &pi, &r, o2);
+        assert_memory_equal(o1, o2, n * 4u);
+        free(vals), free(pb.bytes), free(o1), free(o2), free(il.planes);
+        maps_free(&b);
+    }
+    /* errors: an unknown layout is named; the conversion writes nothing when it fails */
+    maps_buf b;
+    maps_make(&b, 5, 2, 4, 3, &r, 1 << 16);
+    qibl_shmaps_t bad = b.m;
+    bad.layout = 2;
+    qibl_shlight_t l;
+    qibl_shlight_init(&l, 4);
+    qibl_shmap_weights_t w;
+    assert_int_equal(qibl_shmap_check(&bad), QIBL_E_SHMAP_LAYOUT);
+    assert_int_equal(qibl_shmap_weights(&bad, &l, &w), QIBL_E_SHMAP_LAYOUT);
+    assert_int_equal(qibl_shmaps_row_size(&bad), 0u);
+    /* weights read only the params (a streamed head has no planes); the spans need the planes */
+    bad = b.m, bad.planes = NULL;
+    int32_t o[15], ws1[15];
+    assert_int_equal(qibl_shmap_weights(&bad, &l, &w), QIBL_OK);
+    assert_int_equal(qibl_shmap_relight_span(&bad, &w, 0, 0, 5, o, ws1, sizeof ws1), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_shmaps_interleave(&bad, (uint8_t *)o, sizeof o), QIBL_E_NULL_POINTER);
+    bad = b.m, bad.layout = 2;
+    uint8_t buf[2 * 16 * 12 + 1];
+    memset(buf, 0xA5, sizeof buf);
+    assert_int_equal(qibl_shmaps_interleave(&bad, buf, sizeof buf), QIBL_E_SHMAP_LAYOUT);
+    assert_int_equal(qibl_shmaps_interleave(&b.m, buf, sizeof buf - 2), QIBL_E_WORKSPACE);
+    assert_int_equal(qibl_shmaps_interleave(NULL, buf, sizeof buf), QIBL_E_NULL_POINTER);
+    bad = b.m, bad.k = 26;
+    assert_int_equal(qibl_shmaps_interleave(&bad, buf, sizeof buf), QIBL_E_SHMAP_K);
+    for (size_t i = 0; i < sizeof buf; ++i)
+        assert_int_equal(buf[i], 0xA5);
+    assert_int_equal(qibl_shmaps_interleave(&b.m, buf, sizeof buf - 1), QIBL_OK);
+    assert_int_equal(buf[sizeof buf - 1], 0xA5);
+    qibl_shmaps_t rv;
+    assert_int_equal(qibl_shmaps_row_view(NULL, buf, &rv), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_shmaps_row_view(&b.m, NULL, &rv), QIBL_E_NULL_POINTER);
+    maps_free(&b);
+}
+
+/* A frame relit while its rows stream from a file: only the head, one map row, one P-map row and
+ * the YLUT are in memory (fread into small buffers), and the bytes equal those of the whole planar
+ * asset relit in memory. */
+static void test_stream_rows_from_file(void **state)
+{
+    (void)state;
+    enum { W = 37, H = 5, K = 16 };
+    tu_rng r = {49};
+    maps_buf b;
+    maps_make(&b, W, H, K, 3, &r, 1 << 16);
+    pmap_buf pb;
+    pmap_make(&pb, W, H, &r);
+    int32_t sc[K * 3], bi[K * 3], xyz[W * H * 3];
+    for (uint32_t i = 0; i < K * 3; ++i)
+        sc[i] = qibl_load_s32le(b.params + 8 * i), bi[i] = qibl_load_s32le(b.params + 8 * i + 4);
+    for (uint32_t i = 0; i < W * H * 3; ++i)
+        xyz[i] = qibl_load_s32le(pb.bytes + 4 * i);
+    size_t vs = qibl_ylut_values_size(8, K);
+    uint8_t *vals = malloc(vs);
+    int16_t lutv[6 * 8 * 8 * K];
+    assert_int_equal(qibl_ylut_build(8, K, vals, vs), QIBL_OK);
+    for (size_t i = 0; i < vs / 2; ++i)
+        lutv[i] = qibl_load_s16le(vals + 2 * i);
+    char path[] = "/tmp/qibl_stream_test_XXXXXX";
+    int fd = mkstemp(path);
+    assert_true(fd >= 0);
+    close(fd);
+    qibl_asset_builder ab;
+    qibl_asset_builder_init(&ab);
+    assert_int_equal(qibl_asset_add_shmp_layout(&ab, W, H, K, 3, sc, bi, b.planes, QIBL_SHMAPS_INTERLEAVED), 0);
+    assert_int_equal(qibl_asset_add_pmap(&ab, W, H, xyz), 0);
+    assert_int_equal(qibl_asset_add_ylut(&ab, 8, K, lutv), 0);
+    assert_int_equal(qibl_asset_write_file(&ab, path, 0), 0);
+    qibl_asset_builder_free(&ab);
+
+    /* the reference: planar maps in memory, whole frame */
+    qibl_shlight_t l;
+    qibl_shlight_init(&l, K);
+    const qibl_q16_t d[3] = {3 << 15, -(1 << 16), 1 << 14}, rgb[3] = {3 << 16, 2 << 16, 1 << 16};
+    qibl_shlight_add_dir(&l, d, rgb);
+    qibl_shmap_weights_t w;
+    assert_int_equal(qibl_shmap_weights(&b.m, &l, &w), QIBL_OK);
+    qibl_ylut_t lut = {8, K, vals};
+    qibl_pointlight_t pl = {{1 << 16, -(2 << 16), 3 << 16}, {2 << 16, 1 << 16, 1 << 15}, QIBL_FALLOFF_INV_DIST, 0, 0};
+    qibl_shmap_point_t pt;
+    assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, &lut, &pl, &pt), QIBL_OK);
+    static int32_t want_dir[W * H * 3], want_pt[W * H * 3], got_dir[W * H * 3], got_pt[W * H * 3];
+    relight_rows(&b.m, &w, NULL, &r, want_dir);
+    relight_rows(&b.m, NULL, &pt, &r, want_pt);
+
+    /* streaming: the head in (at most four) growing reads, then one row at a time */
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    uint8_t *head = NULL;
+    size_t have = 0, need = 0;
+    for (;;) {
+        assert_int_equal(qibl_asset_head_size(head, have, &need), QIBL_OK);
+        if (need <= have)
+            break;
+        head = realloc(head, need);
+        assert_non_null(head);
+        assert_int_equal(fread(head + have, 1, need - have, f), need - have);
+        have = need;
+    }
+    qibl_asset_head_t hd;
+    assert_int_equal(qibl_asset_open_head(&hd, head, have), QIBL_OK);
+    uint8_t *ylut = malloc(hd.ylut_size), *row = malloc(hd.row_size), *prow = malloc(12u * W);
+    assert_true(ylut && row && prow);
+    assert_int_equal(fseek(f, (long)hd.ylut_offset, SEEK_SET), 0);
+    assert_int_equal(fread(ylut, 1, hd.ylut_size, f), hd.ylut_size);
+    qibl_ylut_t slut = {qibl_load_u32le(ylut), qibl_load_u32le(ylut + 4), ylut + 12};
+    qibl_shmap_weights_t sw;
+    assert_int_equal(qibl_shmap_weights(&hd.maps, &l, &sw), QIBL_OK);
+    int32_t ws[W * (2 * K + 32) / 4 + 1];
+    for (uint32_t y = 0; y < H; ++y) {
+        qibl_asset_row_t rr;
+        assert_int_equal(qibl_asset_row(&hd, y, &rr), QIBL_OK);
+        assert_int_equal(fseek(f, (long)rr.maps_offset, SEEK_SET), 0);
+        assert_int_equal(fread(row, 1, rr.maps_size, f), rr.maps_size);
+        assert_int_equal(fseek(f, (long)rr.pmap_offset, SEEK_SET), 0);
+        assert_int_equal(fread(prow, 1, rr.pmap_size, f), rr.pmap_size);
+        qibl_shmaps_t mv;
+        qibl_pmap_t pv, whole_p = {W, H, NULL};
+        assert_int_equal(qibl_shmaps_row_view(&hd.maps, row, &mv), QIBL_OK);
+        assert_int_equal(qibl_pmap_row_view(&whole_p, prow, &pv), QIBL_OK);
+        assert_int_equal(qibl_shmap_relight_span(&mv, &sw, 0, 0, W, got_dir + 3 * W * y, ws, sizeof ws), QIBL_OK);
+        qibl_shmap_point_t spt;
+        assert_int_equal(qibl_shmap_point_prepare(&mv, &pv, &slut, &pl, &spt), QIBL_OK);
+        assert_int_equal(qibl_shmap_point_span(&spt, 0, 0, W, got_pt + 3 * W * y, ws, sizeof ws), QIBL_OK);
+    }
+    fclose(f);
+    assert_memory_equal(got_dir, want_dir, sizeof want_dir);
+    assert_memory_equal(got_pt, want_pt, sizeof want_pt);
+    printf("shmap: %ux%u k %u relit from a %ld-byte file reading %zu head + %u bytes per row\n", W, H, K,
+           (long)hd.file_size, have, hd.row_size + 12u * W);
+    free(head), free(ylut), free(row), free(prow), free(vals), free(pb.bytes);
+    maps_free(&b);
+    remove(path);
+}
+
 static void test_goldens(void **state)
 {
     (void)state;
@@ -568,6 +793,8 @@ int main(void)
         cmocka_unit_test(test_point_light_direct_and_lut),
         cmocka_unit_test(test_point_light_hard_cases),
         cmocka_unit_test(test_ylut_build_and_lookup),
+        cmocka_unit_test(test_interleaved_equals_planar),
+        cmocka_unit_test(test_stream_rows_from_file),
         cmocka_unit_test(test_goldens),
     };
     return cmocka_run_group_tests_name(QIBL_CONFIG_NATIVE_MUL64 ? "shmap (native paths)" : "shmap (portable M0 paths)",

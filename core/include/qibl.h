@@ -10,6 +10,7 @@
 #include "qibl/fixed.h"
 #include "qibl/sh.h"
 #include "qibl/srgbe.h"
+#include "qibl/shmaps.h"
 #include "qibl/asset.h"
 #include "qibl/shmap.h"
 #include "qibl/lightpath.h"

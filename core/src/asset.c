@@ -33,6 +33,39 @@ uint32_t qibl_crc32(uint32_t crc, const uint8_t *data, size_t n)
     return ~crc;
 }
 
+qibl_status_t qibl_crc32_table_init(uint32_t *table, size_t words)
+{
+    if (table == 0)
+        return QIBL_E_NULL_POINTER;
+    if (words < QIBL_CRC32_TABLE_WORDS)
+        return QIBL_E_WORKSPACE;
+    /* table j, entry i: the CRC register after byte i followed by j zero bytes */
+    for (uint32_t i = 0; i < 256u; ++i) {
+        uint32_t c = i;
+        c = (c >> 4) ^ crc_nibble[c & 15u];
+        table[i] = (c >> 4) ^ crc_nibble[c & 15u];
+    }
+    for (uint32_t i = 256u; i < QIBL_CRC32_TABLE_WORDS; ++i)
+        table[i] = (table[i - 256u] >> 8) ^ table[table[i - 256u] & 255u];
+    return QIBL_OK;
+}
+
+uint32_t qibl_crc32_fast(const uint32_t *t, uint32_t crc, const uint8_t *data, size_t n)
+{
+    crc = ~crc;
+    /* eight bytes per step: the register's four bytes and the next four each look up the table
+     * that carries them past the rest of the step (byte loads: any alignment, any byte order) */
+    for (; n >= 8u; n -= 8u, data += 8) {
+        uint32_t a = crc ^ qibl_load_u32le(data), b = qibl_load_u32le(data + 4);
+        crc = t[1792u + (a & 255u)] ^ t[1536u + ((a >> 8) & 255u)] ^ t[1280u + ((a >> 16) & 255u)] ^
+              t[1024u + (a >> 24)] ^ t[768u + (b & 255u)] ^ t[512u + ((b >> 8) & 255u)] ^
+              t[256u + ((b >> 16) & 255u)] ^ t[b >> 24];
+    }
+    for (; n > 0u; --n)
+        crc = (crc >> 8) ^ t[(crc ^ *data++) & 255u];
+    return ~crc;
+}
+
 static bool known_type(uint32_t type)
 {
     return type == QIBL_CHUNK_SHMP || type == QIBL_CHUNK_PMAP || type == QIBL_CHUNK_YLUT || type == QIBL_CHUNK_SHMU;
@@ -49,13 +82,14 @@ static const uint8_t *find_entry(const uint8_t *base, uint32_t count, uint32_t t
     return 0;
 }
 
-/* SHMP fields; on success *pixels = width * height and *k = k (both validated). */
-static qibl_status_t check_shmp(const uint8_t *p, uint32_t size, uint32_t *pixels, uint32_t *k_out)
+/* SHMP fields; on success *pixels = width * height, *k = k and *layout the map layout (all
+ * validated). Reads only the 20 fixed bytes: the head of a streamed asset suffices. */
+static qibl_status_t check_shmp(const uint8_t *p, uint32_t size, uint32_t *pixels, uint32_t *k_out, uint32_t *layout)
 {
     if (size < 20u)
         return QIBL_E_ASSET_CHUNK_SIZE;
     uint32_t w = qibl_load_u32le(p), h = qibl_load_u32le(p + 4), k = qibl_load_u32le(p + 8);
-    uint32_t ch = qibl_load_u32le(p + 12);
+    uint32_t ch = qibl_load_u32le(p + 12), flags = qibl_load_u32le(p + 16);
     /* w - 1 wraps to UINT32_MAX for w == 0: one compare rejects zero and too large */
     if (w - 1u >= QIBL_ASSET_MAX_DIM || h - 1u >= QIBL_ASSET_MAX_DIM)
         return QIBL_E_ASSET_BAD_DIMENSIONS;
@@ -66,16 +100,19 @@ static qibl_status_t check_shmp(const uint8_t *p, uint32_t size, uint32_t *pixel
         return QIBL_E_ASSET_BAD_K;
     if (ch != 1u && ch != 3u)
         return QIBL_E_ASSET_BAD_CHANNELS;
-    if (qibl_load_u32le(p + 16) != 0u)
+    if (flags != 0u && (!QIBL_USE_INTERLEAVED || flags != QIBL_SHMP_FLAG_INTERLEAVED))
         return QIBL_E_ASSET_BAD_FLAGS;
     uint32_t planes = k * ch; /* <= 75 */
-    uint64_t need = 20u + 8u * planes + qibl_mul_u32_u64(px, planes);
+    /* interleaved rows are padded to whole groups of 16: h * padded w <= 2^14 (2^14 + 15) < 2^29 */
+    uint32_t cells = (flags & QIBL_SHMP_FLAG_INTERLEAVED) ? h * ((w + 15u) & ~15u) : px;
+    uint64_t need = 20u + 8u * planes + qibl_mul_u32_u64(cells, planes);
     if (need > UINT32_MAX)
         return QIBL_E_ASSET_SIZE_OVERFLOW;
     if (need != size)
         return QIBL_E_ASSET_CHUNK_SIZE;
     *pixels = px;
     *k_out = k;
+    *layout = (flags & QIBL_SHMP_FLAG_INTERLEAVED) ? QIBL_SHMAPS_INTERLEAVED : QIBL_SHMAPS_PLANAR;
     return QIBL_OK;
 }
 
@@ -115,31 +152,30 @@ static qibl_status_t check_ylut(const uint8_t *p, uint32_t size, uint32_t shmp_k
     return QIBL_OK;
 }
 
-qibl_status_t qibl_asset_open(qibl_asset_t *out, const void *bytes, size_t n)
+/* Header fields (needs n >= 24): magic, version, chunk count; *table_end and *file_size. */
+static qibl_status_t check_header(const uint8_t *b, uint32_t *count, uint32_t *table_end, uint32_t *file_size)
 {
-    const uint8_t *b = (const uint8_t *)bytes;
-    if (out == 0 || b == 0)
-        return QIBL_E_NULL_POINTER;
-
-    /* header */
-    if (n < QIBL_ASSET_HEADER_SIZE)
-        return QIBL_E_ASSET_TRUNCATED_HEADER;
     for (unsigned i = 0; i < 8u; ++i)
         if (b[i] != asset_magic[i])
             return QIBL_E_ASSET_MAGIC;
     if (qibl_load_u32le(b + 8) != QIBL_ASSET_VERSION)
         return QIBL_E_ASSET_VERSION;
-    uint32_t count = qibl_load_u32le(b + 12);
-    if (count - 1u >= QIBL_ASSET_MAX_CHUNKS)
+    uint32_t c = qibl_load_u32le(b + 12);
+    if (c - 1u >= QIBL_ASSET_MAX_CHUNKS)
         return QIBL_E_ASSET_CHUNK_COUNT;
-    uint32_t file_size = qibl_load_u32le(b + 16);
-    uint32_t table_end = QIBL_ASSET_HEADER_SIZE + QIBL_ASSET_ENTRY_SIZE * count; /* <= 1048 */
-    if (n < table_end || file_size < table_end)
+    *count = c;
+    *table_end = QIBL_ASSET_HEADER_SIZE + QIBL_ASSET_ENTRY_SIZE * c; /* <= 1048 */
+    *file_size = qibl_load_u32le(b + 16);
+    if (*file_size < *table_end)
         return QIBL_E_ASSET_TRUNCATED_TABLE;
-    if (n < file_size)
-        return QIBL_E_ASSET_TRUNCATED;
+    return QIBL_OK;
+}
 
-    /* table: CRC first, so the entries below are the ones the writer meant */
+/* Table CRC, then every entry's alignment and bounds, then duplicates and overlaps against the
+ * earlier entries (needs the whole table in b). */
+static qibl_status_t check_table(const uint8_t *b, uint32_t count, uint32_t table_end, uint32_t file_size)
+{
+    /* CRC first, so the entries below are the ones the writer meant */
     const uint8_t *table = b + QIBL_ASSET_HEADER_SIZE;
     if (qibl_crc32(0u, table, QIBL_ASSET_ENTRY_SIZE * count) != qibl_load_u32le(b + 20))
         return QIBL_E_ASSET_TABLE_CRC;
@@ -161,19 +197,46 @@ qibl_status_t qibl_asset_open(qibl_asset_t *out, const void *bytes, size_t n)
                 return QIBL_E_ASSET_CHUNK_OVERLAP;
         }
     }
-    const uint8_t *shmp_e = find_entry(b, count, QIBL_CHUNK_SHMP);
-    if (shmp_e == 0)
+    if (find_entry(b, count, QIBL_CHUNK_SHMP) == 0)
         return QIBL_E_ASSET_MISSING_CHUNK;
-    for (uint32_t i = 0; i < count; ++i) {
-        const uint8_t *e = table + QIBL_ASSET_ENTRY_SIZE * i;
-        if (qibl_crc32(0u, b + qibl_load_u32le(e + 4), qibl_load_u32le(e + 8)) != qibl_load_u32le(e + 12))
+    return QIBL_OK;
+}
+
+/* How payload CRCs are checked */
+enum { CRC_NIBBLE, CRC_TABLE, CRC_NONE };
+
+static qibl_status_t open_asset(qibl_asset_t *out, const void *bytes, size_t n, int crc_mode, const uint32_t *crc_table)
+{
+    const uint8_t *b = (const uint8_t *)bytes;
+    if (out == 0 || b == 0 || (crc_mode == CRC_TABLE && crc_table == 0))
+        return QIBL_E_NULL_POINTER;
+
+    if (n < QIBL_ASSET_HEADER_SIZE)
+        return QIBL_E_ASSET_TRUNCATED_HEADER;
+    uint32_t count = 0, table_end = 0, file_size = 0;
+    qibl_status_t st = check_header(b, &count, &table_end, &file_size);
+    if (st != QIBL_OK)
+        return st;
+    if (n < table_end)
+        return QIBL_E_ASSET_TRUNCATED_TABLE;
+    if (n < file_size)
+        return QIBL_E_ASSET_TRUNCATED;
+    if ((st = check_table(b, count, table_end, file_size)) != QIBL_OK)
+        return st;
+    for (uint32_t i = 0; i < count && crc_mode != CRC_NONE; ++i) {
+        const uint8_t *e = b + QIBL_ASSET_HEADER_SIZE + QIBL_ASSET_ENTRY_SIZE * i;
+        const uint8_t *p = b + qibl_load_u32le(e + 4);
+        uint32_t size = qibl_load_u32le(e + 8);
+        uint32_t crc = crc_mode == CRC_TABLE ? qibl_crc32_fast(crc_table, 0u, p, size) : qibl_crc32(0u, p, size);
+        if (crc != qibl_load_u32le(e + 12))
             return QIBL_E_ASSET_CHUNK_CRC;
     }
 
     /* payloads of the known chunks */
+    const uint8_t *shmp_e = find_entry(b, count, QIBL_CHUNK_SHMP);
     const uint8_t *shmp = b + qibl_load_u32le(shmp_e + 4);
-    uint32_t px = 0, k = 0;
-    qibl_status_t st = check_shmp(shmp, qibl_load_u32le(shmp_e + 8), &px, &k);
+    uint32_t px = 0, k = 0, layout = 0;
+    st = check_shmp(shmp, qibl_load_u32le(shmp_e + 8), &px, &k, &layout);
     if (st != QIBL_OK)
         return st;
     const uint8_t *e = find_entry(b, count, QIBL_CHUNK_PMAP);
@@ -185,8 +248,8 @@ qibl_status_t qibl_asset_open(qibl_asset_t *out, const void *bytes, size_t n)
     e = find_entry(b, count, QIBL_CHUNK_SHMU);
     if (e != 0) {
         const uint8_t *u = b + qibl_load_u32le(e + 4);
-        uint32_t upx = 0, uk = 0;
-        if ((st = check_shmp(u, qibl_load_u32le(e + 8), &upx, &uk)) != QIBL_OK)
+        uint32_t upx = 0, uk = 0, ulayout = 0;
+        if ((st = check_shmp(u, qibl_load_u32le(e + 8), &upx, &uk, &ulayout)) != QIBL_OK)
             return st;
         if (qibl_load_u32le(u) != qibl_load_u32le(shmp) || qibl_load_u32le(u + 4) != qibl_load_u32le(shmp + 4))
             return QIBL_E_ASSET_MISMATCH;
@@ -197,6 +260,122 @@ qibl_status_t qibl_asset_open(qibl_asset_t *out, const void *bytes, size_t n)
     out->chunk_count = count;
     return QIBL_OK;
 }
+
+qibl_status_t qibl_asset_open(qibl_asset_t *out, const void *bytes, size_t n)
+{
+    return open_asset(out, bytes, n, CRC_NIBBLE, 0);
+}
+
+qibl_status_t qibl_asset_open_crc_table(qibl_asset_t *out, const void *bytes, size_t n, const uint32_t *crc_table)
+{
+    return open_asset(out, bytes, n, CRC_TABLE, crc_table);
+}
+
+qibl_status_t qibl_asset_open_structure(qibl_asset_t *out, const void *bytes, size_t n)
+{
+    return open_asset(out, bytes, n, CRC_NONE, 0);
+}
+
+#if QIBL_USE_INTERLEAVED
+/* ---- streaming by rows ----------------------------------------------------------------------- */
+
+/* The head checks; *need = leading bytes needed so far. On QIBL_OK with *need <= n the whole head
+ * was checked and *shmp_e is SHMP's entry; px, k, layout are SHMP's. */
+static qibl_status_t parse_head(const uint8_t *b, size_t n, size_t *need, const uint8_t **shmp_e, uint32_t *px,
+                                uint32_t *k, uint32_t *layout)
+{
+    *need = QIBL_ASSET_HEADER_SIZE;
+    if (n < QIBL_ASSET_HEADER_SIZE)
+        return QIBL_OK;
+    uint32_t count = 0, table_end = 0, file_size = 0;
+    qibl_status_t st = check_header(b, &count, &table_end, &file_size);
+    if (st != QIBL_OK)
+        return st;
+    *need = table_end;
+    if (n < table_end)
+        return QIBL_OK;
+    if ((st = check_table(b, count, table_end, file_size)) != QIBL_OK)
+        return st;
+    const uint8_t *e = find_entry(b, count, QIBL_CHUNK_SHMP);
+    uint32_t off = qibl_load_u32le(e + 4), size = qibl_load_u32le(e + 8);
+    if (size < 20u)
+        return QIBL_E_ASSET_CHUNK_SIZE;
+    *need = (size_t)off + 20u;
+    if (n < *need)
+        return QIBL_OK;
+    if ((st = check_shmp(b + off, size, px, k, layout)) != QIBL_OK)
+        return st;
+    *need = (size_t)off + 20u + 8u * *k * qibl_load_u32le(b + off + 12);
+    *shmp_e = e;
+    return QIBL_OK;
+}
+
+qibl_status_t qibl_asset_head_size(const void *head, size_t n, size_t *need)
+{
+    const uint8_t *e = 0;
+    uint32_t px = 0, k = 0, layout = 0;
+    size_t nd = 0;
+    if (need == 0 || (head == 0 && n != 0u))
+        return QIBL_E_NULL_POINTER;
+    qibl_status_t st = parse_head((const uint8_t *)head, n, &nd, &e, &px, &k, &layout);
+    if (st == QIBL_OK)
+        *need = nd;
+    return st;
+}
+
+qibl_status_t qibl_asset_open_head(qibl_asset_head_t *out, const void *head, size_t n)
+{
+    const uint8_t *b = (const uint8_t *)head, *se = 0;
+    uint32_t px = 0, k = 0, layout = 0;
+    size_t need = 0;
+    if (out == 0 || b == 0)
+        return QIBL_E_NULL_POINTER;
+    qibl_status_t st = parse_head(b, n, &need, &se, &px, &k, &layout);
+    if (st != QIBL_OK)
+        return st;
+    if (need > n)
+        return QIBL_E_ASSET_HEAD_SHORT;
+    if (layout != QIBL_SHMAPS_INTERLEAVED)
+        return QIBL_E_ASSET_LAYOUT;
+    uint32_t count = qibl_load_u32le(b + 12), soff = qibl_load_u32le(se + 4);
+    const uint8_t *shmp = b + soff;
+    /* PMAP and YLUT: their sizes against SHMP, from the table (their fields are not in the head) */
+    const uint8_t *pe = find_entry(b, count, QIBL_CHUNK_PMAP), *ye = find_entry(b, count, QIBL_CHUNK_YLUT);
+    if (pe != 0 && qibl_load_u32le(pe + 8) != 12u + 12u * px)
+        return QIBL_E_ASSET_CHUNK_SIZE;
+    if (ye != 0 && qibl_load_u32le(ye + 8) < 12u)
+        return QIBL_E_ASSET_CHUNK_SIZE;
+    uint32_t ch = qibl_load_u32le(shmp + 12);
+    out->maps.width = qibl_load_u32le(shmp);
+    out->maps.height = qibl_load_u32le(shmp + 4);
+    out->maps.k = k;
+    out->maps.channels = ch;
+    out->maps.params = shmp + 20;
+    out->maps.planes = 0;
+    out->maps.layout = layout;
+    out->file_size = qibl_load_u32le(b + 16);
+    out->maps_offset = soff + 20u + 8u * k * ch;
+    out->row_size = (uint32_t)qibl_shmaps_row_size(&out->maps);
+    out->pmap_offset = pe != 0 ? qibl_load_u32le(pe + 4) + 12u : 0u;
+    out->ylut_offset = ye != 0 ? qibl_load_u32le(ye + 4) : 0u;
+    out->ylut_size = ye != 0 ? qibl_load_u32le(ye + 8) : 0u;
+    return QIBL_OK;
+}
+
+qibl_status_t qibl_asset_row(const qibl_asset_head_t *h, uint32_t y, qibl_asset_row_t *out)
+{
+    if (h == 0 || out == 0)
+        return QIBL_E_NULL_POINTER;
+    if (y >= h->maps.height)
+        return QIBL_E_ASSET_ROW;
+    /* both within the validated chunks, so below file_size < 2^32 */
+    out->maps_offset = h->maps_offset + y * h->row_size;
+    out->maps_size = h->row_size;
+    out->pmap_offset = h->pmap_offset != 0u ? h->pmap_offset + 12u * h->maps.width * y : 0u;
+    out->pmap_size = h->pmap_offset != 0u ? 12u * h->maps.width : 0u;
+    return QIBL_OK;
+}
+#endif /* QIBL_USE_INTERLEAVED */
 
 qibl_status_t qibl_asset_find(const qibl_asset_t *a, uint32_t type, qibl_chunk_t *out)
 {
@@ -254,6 +433,7 @@ static qibl_status_t shmaps_of(const qibl_asset_t *a, uint32_t type, qibl_shmaps
     out->channels = qibl_load_u32le(p + 12);
     out->params = p + 20;
     out->planes = p + 20u + 8u * out->k * out->channels;
+    out->layout = (qibl_load_u32le(p + 16) & QIBL_SHMP_FLAG_INTERLEAVED) ? QIBL_SHMAPS_INTERLEAVED : QIBL_SHMAPS_PLANAR;
     return QIBL_OK;
 }
 
@@ -295,29 +475,6 @@ qibl_status_t qibl_asset_ylut(const qibl_asset_t *a, qibl_ylut_t *out)
     out->k = qibl_load_u32le(p + 4);
     out->values = p + 12;
     return QIBL_OK;
-}
-
-qibl_q24_t qibl_shmaps_scale(const qibl_shmaps_t *m, uint32_t i, uint32_t ch)
-{
-    return qibl_load_s32le(m->params + 8u * (i * m->channels + ch));
-}
-
-qibl_q24_t qibl_shmaps_bias(const qibl_shmaps_t *m, uint32_t i, uint32_t ch)
-{
-    return qibl_load_s32le(m->params + 8u * (i * m->channels + ch) + 4u);
-}
-
-const uint8_t *qibl_shmaps_plane(const qibl_shmaps_t *m, uint32_t i, uint32_t ch)
-{
-    return m->planes + (size_t)(i * m->channels + ch) * ((size_t)m->width * m->height);
-}
-
-void qibl_pmap_point(const qibl_pmap_t *p, uint32_t x, uint32_t y, qibl_q16_t out[3])
-{
-    const uint8_t *q = p->points + 12u * ((size_t)y * p->width + x);
-    out[0] = qibl_load_s32le(q);
-    out[1] = qibl_load_s32le(q + 4);
-    out[2] = qibl_load_s32le(q + 8);
 }
 
 #else

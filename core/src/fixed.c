@@ -6,6 +6,18 @@
  * qibl_mul_u32_u64), so the file links freestanding on Cortex-M0.
  */
 #include "qibl/fixed.h"
+#include "qibli.h"
+
+/* the out-of-line copies of qibli.h (calls in size-optimised builds) */
+unsigned qibli_bitlen_u64_call(uint64_t x)
+{
+    return qibli_bitlen_u64_inline(x);
+}
+
+int32_t qibli_rshr_s64_call(int64_t x, unsigned n)
+{
+    return qibl_rshr_s64(x, n);
+}
 
 uint64_t qibl_udiv_u64(uint64_t n, uint64_t d, uint64_t *rem)
 {
@@ -99,7 +111,7 @@ qibl_status_t qibl_recip_q16(qibl_q16_t x, qibl_q16_t *out)
         return QIBL_E_NULL_POINTER;
     if (x == 0)
         return QIBL_E_DIV_BY_ZERO;
-    uint32_t m = x < 0 ? 0u - (uint32_t)x : (uint32_t)x;
+    uint32_t m = qibli_abs_u32(x);
     /* |y| = 2^32 / m; 2|y| = 2^33 / m, so q = round(|y|) <= 2^32 */
     uint64_t q = (qibl_udiv_u64((uint64_t)1 << 33, m, 0) + 1u) >> 1;
     if (x > 0) {
@@ -120,7 +132,7 @@ qibl_status_t qibl_vec3_normalize_q30(const int32_t v[3], qibl_q30_t out[3])
         return QIBL_E_NULL_POINTER;
     uint32_t a[3], max = 0u;
     for (int i = 0; i < 3; ++i) {
-        a[i] = v[i] < 0 ? 0u - (uint32_t)v[i] : (uint32_t)v[i]; /* <= 2^31 */
+        a[i] = qibli_abs_u32(v[i]); /* <= 2^31 */
         if (a[i] > max)
             max = a[i];
     }
@@ -204,7 +216,7 @@ qibl_status_t qibl_vec3_normalize_fast_q30(const int32_t v[3], qibl_q30_t out[3]
         return QIBL_E_NULL_POINTER;
     uint64_t d2 = 0u;
     for (int i = 0; i < 3; ++i) {
-        uint32_t a = v[i] < 0 ? 0u - (uint32_t)v[i] : (uint32_t)v[i];
+        uint32_t a = qibli_abs_u32(v[i]);
         d2 += qibl_mul_u32_u64(a, a); /* <= 3 * 2^62 */
     }
     if (d2 == 0u)
@@ -212,15 +224,7 @@ qibl_status_t qibl_vec3_normalize_fast_q30(const int32_t v[3], qibl_q30_t out[3]
     unsigned e;
     uint32_t y = qibl_rsqrt_u64(d2, &e); /* 1/|v| = y / 2^e, e in 31..62 */
     qibl_q30_t r[3];
-    for (int i = 0; i < 3; ++i) {
-        /* |v_i| y / 2^(e-30), rounded to nearest (ties away from zero), sign applied after;
-         * the product is <= 2^62 and the shift e - 30 is 1..32 */
-        uint32_t a = v[i] < 0 ? 0u - (uint32_t)v[i] : (uint32_t)v[i];
-        unsigned n = e - 30u;
-        uint64_t q = qibl_shr_u64(qibl_mul_u32_u64(a, y) + qibl_shr_u64((uint64_t)1 << 63, 64u - n), n);
-        int32_t m = (int32_t)(q > 0x40000000u ? 0x40000000u : q); /* rounding may overshoot 1.0 by an LSB */
-        r[i] = v[i] < 0 ? -m : m;
-    }
+    qibli_unit_q30(v, y, e, r);
     for (int i = 0; i < 3; ++i)
         out[i] = r[i];
     if (len_y)

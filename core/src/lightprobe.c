@@ -4,7 +4,7 @@
  *
  * Invariants: integer only, no heap, no state; no 64-bit multiply, divide or variable shift that a
  * Cortex-M0 would turn into a library call (products through qibl_mul_u32_u64, divisions through
- * qibl_udiv_u64, variable shifts through qibl_shr_u64 / lp_shl); the same bits on every port.
+ * qibl_udiv_u64, variable shifts through qibl_shr_u64 / qibli_shl_u64); the same bits on every port.
  *
  * Number formats and bounds (the arguments lightprobe.h quotes):
  *   - Every pixel is decoded exactly to channel integers m_c >= 0 and an exponent eps with
@@ -31,6 +31,7 @@
  *     with a 128-bit square and a 128/64 division (the quotient is <= S2 by Cauchy-Schwarz).
  */
 #include "qibl/lightprobe.h"
+#include "qibli.h"
 
 #if QIBL_USE_LIGHTPROBE
 
@@ -39,22 +40,6 @@
 typedef struct {
     uint64_t hi, lo;
 } u128;
-
-/* x << n for n in 0..63: the left twin of fixed.h's qibl_shr_u64, native where the target shifts
- * 64-bit values inline, else from 32-bit halves (QIBL_CONFIG_NATIVE_SHIFT64). */
-static inline uint64_t lp_shl(uint64_t x, unsigned n)
-{
-#if QIBL_CONFIG_NATIVE_SHIFT64
-    return x << n;
-#else
-    uint32_t hi = (uint32_t)(x >> 32), lo = (uint32_t)x;
-    if (n == 0u)
-        return x;
-    if (n >= 32u)
-        return (uint64_t)(lo << (n - 32u)) << 32;
-    return ((uint64_t)((hi << n) | (lo >> (32u - n))) << 32) | (uint32_t)(lo << n);
-#endif
-}
 
 /* m 2^16 sig for a byte m (< 2^56): on 64-bit hosts (QIBL_CONFIG_NATIVE_DIV64 marks them; a
  * 64 x 64 product is native wherever a 64-bit division is) one product by the row's 2^16 sig,
@@ -68,19 +53,6 @@ static inline uint64_t mul_m_sig16(uint32_t m, uint32_t sig, uint64_t sig16)
     (void)sig16;
     return qibl_mul_u32_u64(m << 16, sig);
 #endif
-}
-
-/* bit length: 0 for 0, floor(log2 x) + 1 otherwise (constant shifts only) */
-static unsigned bitlen64(uint64_t x)
-{
-    unsigned n = 0u;
-    if (x >> 32) { x >>= 32; n += 32u; }
-    if (x >> 16) { x >>= 16; n += 16u; }
-    if (x >> 8) { x >>= 8; n += 8u; }
-    if (x >> 4) { x >>= 4; n += 4u; }
-    if (x >> 2) { x >>= 2; n += 2u; }
-    if (x >> 1) { x >>= 1; n += 1u; }
-    return n + (unsigned)x;
 }
 
 /* a * b mod 2^64 for a 64-bit a and a 32-bit b (exact when the product fits) */
@@ -139,7 +111,7 @@ static uint64_t shr128_lo(const u128 *x, unsigned n)
         return x->lo;
     if (n >= 64u)
         return qibl_shr_u64(x->hi, n - 64u);
-    return qibl_shr_u64(x->lo, n) | lp_shl(x->hi, 64u - n);
+    return qibl_shr_u64(x->lo, n) | qibli_shl_u64(x->hi, 64u - n);
 }
 
 /* *x <<= n, n in 0..63 (the caller knows it fits) */
@@ -147,20 +119,20 @@ static void shl128(u128 *x, unsigned n)
 {
     if (n == 0u)
         return;
-    x->hi = lp_shl(x->hi, n) | qibl_shr_u64(x->lo, 64u - n);
-    x->lo = lp_shl(x->lo, n);
+    x->hi = qibli_shl_u64(x->hi, n) | qibl_shr_u64(x->lo, 64u - n);
+    x->lo = qibli_shl_u64(x->lo, n);
 }
 
 static unsigned bitlen128(const u128 *x)
 {
-    return x->hi ? 64u + bitlen64(x->hi) : bitlen64(x->lo);
+    return x->hi ? 64u + qibli_bitlen_u64(x->hi) : qibli_bitlen_u64(x->lo);
 }
 
 /* floor(x 2^s) for a signed shift s, the caller knowing that the result is below 2^64 */
 static uint64_t shift128_to64(const u128 *x, int s)
 {
     if (s >= 0) /* then x < 2^(64 - s); s >= 64 only for x = 0 */
-        return s < 64 ? lp_shl(x->lo, (unsigned)s) : 0u;
+        return s < 64 ? qibli_shl_u64(x->lo, (unsigned)s) : 0u;
     if (s <= -128)
         return 0u;
     return shr128_lo(x, (unsigned)-s);
@@ -172,10 +144,10 @@ static uint64_t shift128_to64(const u128 *x, int s)
 static uint64_t div128(const u128 *n, uint64_t d, uint64_t *rem)
 {
     const uint64_t b = (uint64_t)1 << 32;
-    unsigned s = 64u - bitlen64(d);
-    d = lp_shl(d, s);
-    uint64_t un32 = s ? lp_shl(n->hi, s) | qibl_shr_u64(n->lo, 64u - s) : n->hi;
-    uint64_t un10 = lp_shl(n->lo, s);
+    unsigned s = 64u - qibli_bitlen_u64(d);
+    d = qibli_shl_u64(d, s);
+    uint64_t un32 = s ? qibli_shl_u64(n->hi, s) | qibl_shr_u64(n->lo, 64u - s) : n->hi;
+    uint64_t un10 = qibli_shl_u64(n->lo, s);
     uint32_t vn1 = (uint32_t)(d >> 32), vn0 = (uint32_t)d;
     uint32_t un1 = (uint32_t)(un10 >> 32), un0 = (uint32_t)un10;
     uint64_t rhat = 0; /* always written (vn1 != 0); set for GCC, which sees the d == 0 path when
@@ -452,7 +424,7 @@ static unsigned scan(const qibl_lightprobe_image_t *img, size_t stride, int32_t 
                 bad |= decode(img->format, q, img->frac_bits, &px);
                 uint64_t mx = max3(px.m);
                 if (mx) {
-                    int32_t l = (int32_t)bitlen64(mx) + px.eps;
+                    int32_t l = (int32_t)qibli_bitlen_u64(mx) + px.eps;
                     if (l > lb)
                         lb = l;
                 }
@@ -467,7 +439,7 @@ static unsigned scan(const qibl_lightprobe_image_t *img, size_t stride, int32_t 
 static int32_t pixel_bits(uint32_t w, uint32_t h)
 {
     uint64_t n = qibl_mul_u32_u64(w, h);
-    return 64 - (int32_t)bitlen64(n - 1u);
+    return 64 - (int32_t)qibli_bitlen_u64(n - 1u);
 }
 
 /* Row shift: e = floor(Y sig_v 2^(eps + rshift(v))) */
@@ -514,7 +486,7 @@ static void sat_rgbe(qibl_lightprobe_t *lp)
                 int32_t s = (int32_t)q[3] + s0;
                 uint64_t y = qibl_mul_u32_u64(LUMA_R * q[0] + LUMA_G * q[1] + LUMA_B * q[2], sig);
                 /* s >= 64 only where y = 0: a black pixel with a large exponent */
-                uint64_t e = s >= 64 ? 0u : s >= 0 ? lp_shl(y, (unsigned)s) : s > -64 ? qibl_shr_u64(y, (unsigned)-s) : 0u;
+                uint64_t e = s >= 64 ? 0u : s >= 0 ? qibli_shl_u64(y, (unsigned)s) : s > -64 ? qibl_shr_u64(y, (unsigned)-s) : 0u;
                 acc += q[3] ? e : 0u;
                 row[u + 1u] = above[u + 1u] + acc;
             }
@@ -551,7 +523,7 @@ static void sat_moments(qibl_lightprobe_t *lp)
     const uint32_t w = lp->width, w1 = w + 1u, h = lp->height;
     const uint64_t total = lp->sat[(size_t)h * w1 + w];
     uint32_t m = (w > h ? w : h) - 1u;
-    int32_t k = (int32_t)bitlen64(total) + 2 * (int32_t)bitlen64(m) - 64;
+    int32_t k = (int32_t)qibli_bitlen_u64(total) + 2 * (int32_t)qibli_bitlen_u64(m) - 64;
     lp->mshift = k > 0 ? (uint32_t)k : 0u;
     uint64_t *mom = lp->mom;
     for (uint32_t u = 0; u <= w; ++u)
@@ -1099,8 +1071,8 @@ static void direction(const qibl_lightprobe_t *lp, rect r, uint64_t total, qibl_
     sincos_q30(fth, &st, &ct);
     sincos_q30(fphi, &sp, &cp);
     int32_t d[3];
-    d[0] = qibl_rshr_s64(qibl_mul_s32_s64(st, cp), 30);
-    d[1] = qibl_rshr_s64(qibl_mul_s32_s64(st, sp), 30);
+    d[0] = qibli_rshr_s64(qibl_mul_s32_s64(st, cp), 30);
+    d[1] = qibli_rshr_s64(qibl_mul_s32_s64(st, sp), 30);
     d[2] = ct;
     /* |d| = 1 within a few LSB; renormalise (never zero: |d| > 1/2) */
     (void)qibl_vec3_normalize_q30(d, dir);
@@ -1225,7 +1197,7 @@ qibl_status_t qibl_lightprobe_lights(const qibl_lightprobe_t *lp, const qibl_lig
      * rgb_c = X_c 2^-(g + 58 + j). Each light is first rounded to 31 bits with its own exponent
      * (kept in dir[0] until the directions are computed), then all to the largest exponent. */
     const uint64_t nd = qibl_mul_u32_u64(lp->width * lp->height, lp->energy_div);
-    const unsigned j = bitlen64(nd);
+    const unsigned j = qibli_bitlen_u64(nd);
     u128 num = {0u, TWO_PI_SQ_Q58};
     shl128(&num, j);
     const uint64_t K = div128(&num, nd, 0);
@@ -1245,7 +1217,7 @@ qibl_status_t qibl_lightprobe_lights(const qibl_lightprobe_t *lp, const qibl_lig
         for (int pass = 0; pass < 2; ++pass) {
             uint64_t m[3], top = 0u;
             for (int c = 0; c < 3; ++c) {
-                m[c] = s > 0 ? (shr128_lo(&x[c], (unsigned)s - 1u) + 1u) >> 1 : lp_shl(x[c].lo, (unsigned)-s);
+                m[c] = s > 0 ? (shr128_lo(&x[c], (unsigned)s - 1u) + 1u) >> 1 : qibli_shl_u64(x[c].lo, (unsigned)-s);
                 if (m[c] > top)
                     top = m[c];
             }

@@ -15,6 +15,7 @@
  * carries at most a few LSB of rounding, far inside the 2^-25 bound sh.h states.
  */
 #include "qibl/sh.h"
+#include "qibli.h"
 
 #if QIBL_USE_SH
 
@@ -48,16 +49,16 @@ qibl_status_t qibl_sh_eval_unit(const qibl_q30_t u[3], int bands, qibl_q30_t *ou
     qibl_q30_t c = QIBL_Q30_ONE, s = 0; /* T_m, T_-m for the current m */
     for (int m = 0; m < bands; ++m) {
         if (m > 0) { /* (c + is)(x + iy) */
-            qibl_q30_t c2 = qibl_rshr_s64(qibl_mul_s32_s64(x, c) - qibl_mul_s32_s64(y, s), 30);
-            s = qibl_rshr_s64(qibl_mul_s32_s64(x, s) + qibl_mul_s32_s64(y, c), 30);
+            qibl_q30_t c2 = qibli_rshr_s64(qibl_mul_s32_s64(x, c) - qibl_mul_s32_s64(y, s), 30);
+            s = qibli_rshr_s64(qibl_mul_s32_s64(x, s) + qibl_mul_s32_s64(y, c), 30);
             c = c2;
         }
         qibl_q29_t p2 = 0, p1 = sh_rec[m * (m + 1) / 2 + m][0]; /* P(l-2,m), P(l-1,m) */
         for (int l = m; l < bands; ++l) {
             if (l > m) {
                 const int32_t *k = sh_rec[l * (l + 1) / 2 + m];
-                qibl_q29_t az = qibl_rshr_s64(qibl_mul_s32_s64(k[0], z), 30); /* |A z| <= 3 */
-                qibl_q29_t p = qibl_rshr_s64(qibl_mul_s32_s64(az, p1) - qibl_mul_s32_s64(k[1], p2), 29);
+                qibl_q29_t az = qibli_rshr_s64(qibl_mul_s32_s64(k[0], z), 30); /* |A z| <= 3 */
+                qibl_q29_t p = qibli_rshr_s64(qibl_mul_s32_s64(az, p1) - qibl_mul_s32_s64(k[1], p2), 29);
                 p2 = p1;
                 p1 = p;
             }
@@ -65,8 +66,8 @@ qibl_status_t qibl_sh_eval_unit(const qibl_q30_t u[3], int bands, qibl_q30_t *ou
             if (m == 0) {
                 o[0] = qibl_sat_s32((int64_t)p1 * 2); /* Q3.29 -> Q2.30: |P(l,0)| <= 0.85 */
             } else {
-                o[m] = qibl_rshr_s64(qibl_mul_s32_s64(p1, c), 29);
-                o[-m] = qibl_rshr_s64(qibl_mul_s32_s64(p1, s), 29);
+                o[m] = qibli_rshr_s64(qibl_mul_s32_s64(p1, c), 29);
+                o[-m] = qibli_rshr_s64(qibl_mul_s32_s64(p1, s), 29);
             }
         }
     }

@@ -6,6 +6,7 @@
  * shmap.h; every 64-bit product through fixed.h (no library calls on Cortex-M0).
  */
 #include "qibl/shmap.h"
+#include "qibli.h"
 
 #if QIBL_USE_SHMAP
 
@@ -46,15 +47,17 @@ qibl_status_t qibl_shlight_add_dir(qibl_shlight_t *l, const qibl_q16_t dir[3], c
         return st;
     for (int ch = 0; ch < 3; ++ch)
         for (uint32_t i = 0; i < l->k; ++i)
-            l->c[ch][i] = qibl_add_sat_s32(l->c[ch][i], qibl_rshr_s64(qibl_mul_s32_s64(rgb[ch], y[i]), 30));
+            l->c[ch][i] = qibl_add_sat_s32(l->c[ch][i], qibli_rshr_s64(qibl_mul_s32_s64(rgb[ch], y[i]), 30));
     return QIBL_OK;
 }
 
 /* ---- maps, weights --------------------------------------------------------------------------- */
 
-qibl_status_t qibl_shmap_check(const qibl_shmaps_t *m)
+/* The view's fields; the map bytes only when the call reads them (weights and point_prepare read
+ * only the params, so the maps view of a streamed asset's head, planes NULL, makes weights). */
+static qibl_status_t check_view(const qibl_shmaps_t *m, int need_planes)
 {
-    if (m == 0 || m->params == 0 || m->planes == 0)
+    if (m == 0 || m->params == 0 || (need_planes && m->planes == 0))
         return QIBL_E_NULL_POINTER;
     if (m->k < 1u || m->k > (uint32_t)QIBL_SH_MAX_COUNT)
         return QIBL_E_SHMAP_K;
@@ -62,17 +65,19 @@ qibl_status_t qibl_shmap_check(const qibl_shmaps_t *m)
         return QIBL_E_SHMAP_CHANNELS;
     if (m->width == 0u || m->height == 0u)
         return QIBL_E_SHMAP_SIZE;
+    if (m->layout != QIBL_SHMAPS_PLANAR && (!QIBL_USE_INTERLEAVED || m->layout != QIBL_SHMAPS_INTERLEAVED))
+        return QIBL_E_SHMAP_LAYOUT;
     return QIBL_OK;
 }
 
-static uint64_t mag64(int64_t v)
+qibl_status_t qibl_shmap_check(const qibl_shmaps_t *m)
 {
-    return v < 0 ? 0u - (uint64_t)v : (uint64_t)v;
+    return check_view(m, 1);
 }
 
 qibl_status_t qibl_shmap_weights(const qibl_shmaps_t *m, const qibl_shlight_t *light, qibl_shmap_weights_t *out)
 {
-    qibl_status_t st = qibl_shmap_check(m);
+    qibl_status_t st = check_view(m, 0);
     if (st != QIBL_OK)
         return st;
     if (light == 0 || out == 0)
@@ -92,8 +97,8 @@ qibl_status_t qibl_shmap_weights(const qibl_shmaps_t *m, const qibl_shlight_t *l
         for (uint32_t i = 0; i < m->k; ++i) {
             qibl_q16_t li = light->c[ch][i];
             r[i] = qibl_mul_s32_s64(qibl_shmaps_scale(m, i, src), li);
-            if (mag64(r[i]) > maxr)
-                maxr = mag64(r[i]);
+            if (qibli_abs_u64(r[i]) > maxr)
+                maxr = qibli_abs_u64(r[i]);
             bias32 += qibl_asr_s64(qibl_mul_s32_s64(qibl_shmaps_bias(m, i, src), li), 8);
         }
         /* smallest shift s with round(max / 2^s) <= 32767 */
@@ -103,7 +108,7 @@ qibl_status_t qibl_shmap_weights(const qibl_shmaps_t *m, const qibl_shlight_t *l
         for (uint32_t i = 0; i < (uint32_t)QIBL_SH_MAX_COUNT; ++i) {
             int32_t v = 0;
             if (i < m->k)
-                v = s == 0u ? (int32_t)r[i] : qibl_rshr_s64(r[i], s);
+                v = s == 0u ? (int32_t)r[i] : qibli_rshr_s64(r[i], s);
             out->w[ch][i] = (int16_t)(v > SHMAP_MAX_W ? SHMAP_MAX_W : v < -SHMAP_MAX_W ? -SHMAP_MAX_W : v);
         }
         /* acc unit is 2^(s-40); Q16.16 output unit is 2^-16: out = acc * 2^(s-24) */
@@ -168,9 +173,112 @@ static void finish_channel(const int32_t *restrict acc, int32_t shift, int64_t b
     } else {
         const unsigned rs = (unsigned)-shift;
         for (uint32_t p = 0; p < n; ++p)
-            out[3u * p] = qibl_sat_s32((int64_t)qibl_rshr_s64(acc[p], rs) + bias);
+            out[3u * p] = qibl_sat_s32((int64_t)qibli_rshr_s64(acc[p], rs) + bias);
     }
 }
+
+/* The final pass's per-span constants. Common case: every channel takes the int32 path (see
+ * finish_channel); finishing all three in one loop writes whole RGB pixels, which compilers
+ * vectorise better than stride-3 stores. */
+typedef struct finish {
+    int fast;
+    int32_t mu[3], h[3], b[3];
+    unsigned r[3];
+} finish_t;
+
+static void finish_prepare(const qibl_shmap_weights_t *w, finish_t *f)
+{
+    f->fast = 1;
+    for (uint32_t ch = 0; ch < 3u; ++ch) {
+        int32_t sh = w->shift[ch];
+        f->fast &= w->bias[ch] >= -(INT64_C(1) << 30) && w->bias[ch] <= (INT64_C(1) << 30) && sh > -31 && sh <= 2;
+        f->mu[ch] = sh > 0 && sh <= 2 ? (int32_t)1 << sh : 1;
+        f->r[ch] = sh < 0 && sh > -31 ? (unsigned)-sh : 0u;
+        f->h[ch] = f->r[ch] != 0u ? (int32_t)1 << (f->r[ch] - 1u) : 0;
+        f->b[ch] = f->fast ? (int32_t)w->bias[ch] : 0;
+    }
+}
+
+/* out[3p + ch] = sat32(a_ch[p] * 2^shift + bias) for the n pixels of one span piece */
+static void finish_rgb(const finish_t *f, const qibl_shmap_weights_t *w, const int32_t *restrict a0,
+                       const int32_t *restrict a1, const int32_t *restrict a2, int32_t *restrict out, uint32_t n)
+{
+    if (f->fast) {
+        const int32_t mu0 = f->mu[0], mu1 = f->mu[1], mu2 = f->mu[2], h0 = f->h[0], h1 = f->h[1], h2 = f->h[2];
+        const int32_t b0 = f->b[0], b1 = f->b[1], b2 = f->b[2];
+        const unsigned r0 = f->r[0], r1 = f->r[1], r2 = f->r[2];
+        for (uint32_t p = 0; p < n; ++p) {
+            out[3u * p] = qibl_asr_s32(a0[p] * mu0 + h0, r0) + b0;
+            out[3u * p + 1u] = qibl_asr_s32(a1[p] * mu1 + h1, r1) + b1;
+            out[3u * p + 2u] = qibl_asr_s32(a2[p] * mu2 + h2, r2) + b2;
+        }
+    } else {
+        finish_channel(a0, w->shift[0], w->bias[0], out, n);
+        finish_channel(a1, w->shift[1], w->bias[1], out + 1, n);
+        finish_channel(a2, w->shift[2], w->bias[2], out + 2, n);
+    }
+}
+
+#if QIBL_USE_INTERLEAVED
+/* One group of 16 pixels, one channel: acc[p] = sum_i w_i c[16 i + p] over the k maps' 16 adjacent
+ * bytes each (the interleaved layout), four maps per pass as the planar passes. Not inlined
+ * (QIBLI_NOINLINE): inlined, the compiler loses the restrict parameters and checks aliasing or
+ * scalarises the loops; as a call it vectorises them (one call per channel and 16 pixels). Same
+ * integer sums as the planar passes (exact: the bound in shmap.h holds for any order). */
+static QIBLI_NOINLINE void group_acc(int32_t *restrict acc, const uint8_t *restrict c, const int16_t *restrict wc,
+                                     uint32_t k)
+{
+    enum { G = QIBL_SHMAPS_GROUP };
+    uint32_t i = 0;
+    for (uint32_t p = 0; p < G; ++p)
+        acc[p] = 0;
+    for (; i + 4u <= k; i += 4u) {
+        const int16_t w0 = wc[i], w1 = wc[i + 1u], w2 = wc[i + 2u], w3 = wc[i + 3u];
+        const uint8_t *m = c + G * i;
+        for (uint32_t p = 0; p < G; ++p)
+            acc[p] += w0 * (int16_t)m[p] + w1 * (int16_t)m[G + p] + w2 * (int16_t)m[2 * G + p] +
+                      w3 * (int16_t)m[3 * G + p];
+    }
+    for (; i < k; ++i) {
+        const int16_t w0 = wc[i];
+        const uint8_t *m = c + G * i;
+        for (uint32_t p = 0; p < G; ++p)
+            acc[p] += w0 * (int16_t)m[p];
+    }
+}
+
+/* Directional relighting on the interleaved layout: group by group, no workspace (the 16-pixel
+ * accumulators live on the stack); whole groups in the common case finish in a fixed-length loop,
+ * pixels of a partial group outside the span are computed from the row's bytes (padding included)
+ * and not written. */
+static void relight_interleaved(const qibl_shmaps_t *m, const qibl_shmap_weights_t *w, const finish_t *f,
+                                uint32_t x0, uint32_t y, uint32_t n, int32_t *out)
+{
+    const uint32_t k = m->k, gbytes = QIBL_SHMAPS_GROUP * k * m->channels;
+    const uint32_t cs = m->channels == 3u ? QIBL_SHMAPS_GROUP * k : 0u; /* channel stride in a group */
+    const uint8_t *row = m->planes + (size_t)y * qibl_shmaps_row_size(m);
+    int32_t acc[3][QIBL_SHMAPS_GROUP];
+    for (uint32_t x = x0, end = x0 + n; x < end;) {
+        const uint32_t p0 = x % QIBL_SHMAPS_GROUP, left = QIBL_SHMAPS_GROUP - p0;
+        const uint32_t cnt = end - x < left ? end - x : left;
+        const uint8_t *grp = row + (size_t)(x / QIBL_SHMAPS_GROUP) * gbytes;
+        group_acc(acc[0], grp, w->w[0], k);
+        group_acc(acc[1], grp + cs, w->w[1], k);
+        group_acc(acc[2], grp + 2u * cs, w->w[2], k);
+        int32_t *o = out + 3u * (x - x0);
+        if (cnt == QIBL_SHMAPS_GROUP && f->fast) {
+            for (uint32_t p = 0; p < QIBL_SHMAPS_GROUP; ++p) {
+                o[3u * p] = qibl_asr_s32(acc[0][p] * f->mu[0] + f->h[0], f->r[0]) + f->b[0];
+                o[3u * p + 1u] = qibl_asr_s32(acc[1][p] * f->mu[1] + f->h[1], f->r[1]) + f->b[1];
+                o[3u * p + 2u] = qibl_asr_s32(acc[2][p] * f->mu[2] + f->h[2], f->r[2]) + f->b[2];
+            }
+        } else {
+            finish_rgb(f, w, acc[0] + p0, acc[1] + p0, acc[2] + p0, o, cnt);
+        }
+        x += cnt;
+    }
+}
+#endif /* QIBL_USE_INTERLEAVED */
 
 qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_weights_t *w, uint32_t x0, uint32_t y,
                                       uint32_t n, int32_t *out, void *ws, size_t ws_size)
@@ -188,6 +296,14 @@ qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_w
         return QIBL_E_WORKSPACE;
     if (n == 0u)
         return QIBL_OK;
+    finish_t f;
+    finish_prepare(w, &f);
+#if QIBL_USE_INTERLEAVED
+    if (m->layout == QIBL_SHMAPS_INTERLEAVED) {
+        relight_interleaved(m, w, &f, x0, y, n, out); /* no workspace: 192 bytes of stack */
+        return QIBL_OK;
+    }
+#endif
     int32_t *acc = (int32_t *)ws; /* caller promises int32 alignment of the workspace */
     size_t off = (size_t)y * m->width + x0;
     for (uint32_t ch = 0; ch < 3u; ++ch) {
@@ -208,32 +324,7 @@ qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_w
                 acc_add4(a, pl[0], pl[1], pl[2], pl[3], wt[0], wt[1], wt[2], wt[3], n);
         }
     }
-    /* Common case: every channel takes the int32 path (see finish_channel); finishing all three in
-     * one loop writes whole RGB pixels, which compilers vectorise better than stride-3 stores. */
-    int fast = 1;
-    for (uint32_t ch = 0; ch < 3u; ++ch)
-        fast &= w->bias[ch] >= -(INT64_C(1) << 30) && w->bias[ch] <= (INT64_C(1) << 30) && w->shift[ch] > -31 &&
-                w->shift[ch] <= 2;
-    if (fast) {
-        const int32_t *restrict a0 = acc, *restrict a1 = acc + n, *restrict a2 = acc + 2u * n;
-        int32_t mu[3], h[3], b[3];
-        unsigned r[3];
-        for (uint32_t ch = 0; ch < 3u; ++ch) {
-            int32_t sh = w->shift[ch];
-            mu[ch] = sh > 0 ? (int32_t)1 << sh : 1;
-            r[ch] = sh < 0 ? (unsigned)-sh : 0u;
-            h[ch] = sh < 0 ? (int32_t)1 << (r[ch] - 1u) : 0;
-            b[ch] = (int32_t)w->bias[ch];
-        }
-        for (uint32_t p = 0; p < n; ++p) {
-            out[3u * p] = qibl_asr_s32(a0[p] * mu[0] + h[0], r[0]) + b[0];
-            out[3u * p + 1u] = qibl_asr_s32(a1[p] * mu[1] + h[1], r[1]) + b[1];
-            out[3u * p + 2u] = qibl_asr_s32(a2[p] * mu[2] + h[2], r[2]) + b[2];
-        }
-    } else {
-        for (uint32_t ch = 0; ch < 3u; ++ch)
-            finish_channel(acc + (size_t)ch * n, w->shift[ch], w->bias[ch], out + ch, n);
-    }
+    finish_rgb(&f, w, acc, acc + n, acc + 2u * n, out, n);
     return QIBL_OK;
 }
 
@@ -241,7 +332,7 @@ qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_w
 
 size_t qibl_ylut_values_size(uint32_t face_size, uint32_t k)
 {
-    if (face_size < 1u || face_size > QIBL_ASSET_MAX_LUT || k < 1u || k > (uint32_t)QIBL_SH_MAX_COUNT)
+    if (face_size < 1u || face_size > QIBL_YLUT_MAX_FACE || k < 1u || k > (uint32_t)QIBL_SH_MAX_COUNT)
         return 0u;
     return (size_t)6u * face_size * face_size * k * 2u;
 }
@@ -272,7 +363,7 @@ qibl_status_t qibl_ylut_build(uint32_t face_size, uint32_t k, uint8_t *values, s
         return QIBL_E_NULL_POINTER;
     if (k < 1u || k > (uint32_t)QIBL_SH_MAX_COUNT)
         return QIBL_E_SHMAP_K;
-    if (face_size < 1u || face_size > QIBL_ASSET_MAX_LUT)
+    if (face_size < 1u || face_size > QIBL_YLUT_MAX_FACE)
         return QIBL_E_SHMAP_LUT_SIZE;
     if (size < qibl_ylut_values_size(face_size, k))
         return QIBL_E_WORKSPACE;
@@ -286,7 +377,7 @@ qibl_status_t qibl_ylut_build(uint32_t face_size, uint32_t k, uint8_t *values, s
                 texel_dir(f, u, v, face_size, d);
                 (void)qibl_sh_eval(d, bands, y); /* d is never zero: one component is +-N */
                 for (uint32_t i = 0; i < k; ++i) {
-                    int32_t q = qibl_rshr_s64(y[i], 16); /* Q2.30 -> Q2.14, |Y| < 1 */
+                    int32_t q = qibli_rshr_s64(y[i], 16); /* Q2.30 -> Q2.14, |Y| < 1 */
                     uint32_t b = (uint32_t)q;
                     *o++ = (uint8_t)b;
                     *o++ = (uint8_t)(b >> 8);
@@ -295,17 +386,12 @@ qibl_status_t qibl_ylut_build(uint32_t face_size, uint32_t k, uint8_t *values, s
     return QIBL_OK;
 }
 
-static int32_t abs32(int32_t v)
-{
-    return v < 0 ? -v : v; /* callers pass |v| <= 2^30 */
-}
-
 /* Texel coordinate in 1/256 texel from a face coordinate sc / ma (Q2.30 both, |sc| <= ma):
  * round(((sc / ma + 1) N / 2 - 0.5) * 256), via 1 / ma = iy / 2^ie. At texel centres it is exact. */
 static int32_t face_coord(int32_t sc, uint32_t iy, unsigned ie, uint32_t n)
 {
     /* s24 = sc / ma in Q24: |sc| iy / 2^(ie - 24); ie is 60..61 for ma^2 in [2^58.4, 2^60] */
-    uint32_t a = (uint32_t)abs32(sc);
+    uint32_t a = qibli_abs_u32(sc);
     uint32_t m24 = (uint32_t)qibl_shr_u64(qibl_mul_u32_u64(a, iy) + qibl_shr_u64((uint64_t)1 << 63, 88u - ie), ie - 24u);
     if (m24 > (1u << 24))
         m24 = 1u << 24;
@@ -317,9 +403,9 @@ static int32_t face_coord(int32_t sc, uint32_t iy, unsigned ie, uint32_t n)
 static void lut_sample(const qibl_ylut_t *t, const qibl_q30_t u[3], uint32_t k, int nearest, int16_t *y14,
                        size_t stride)
 {
-    int32_t ax = abs32(u[0]), ay = abs32(u[1]), az = abs32(u[2]);
-    uint32_t f;
-    int32_t sc, tc, ma;
+    uint32_t ax = qibli_abs_u32(u[0]), ay = qibli_abs_u32(u[1]), az = qibli_abs_u32(u[2]);
+    uint32_t f, ma;
+    int32_t sc, tc;
     if (ax >= ay && ax >= az) {
         ma = ax;
         f = u[0] >= 0 ? 0u : 1u;
@@ -337,7 +423,7 @@ static void lut_sample(const qibl_ylut_t *t, const qibl_q30_t u[3], uint32_t k, 
         tc = -u[1];
     }
     unsigned ie;
-    uint32_t iy = qibl_rsqrt_u64(qibl_mul_u32_u64((uint32_t)ma, (uint32_t)ma), &ie); /* 1/ma */
+    uint32_t iy = qibl_rsqrt_u64(qibl_mul_u32_u64(ma, ma), &ie); /* 1/ma */
     const uint32_t n = t->face_size;
     int32_t fu = face_coord(sc, iy, ie, n), fv = face_coord(tc, iy, ie, n);
     size_t tstride = (size_t)t->k * 2u;
@@ -389,15 +475,14 @@ static int32_t norm16(const int32_t *v, uint32_t k, size_t stride, int16_t *out)
 {
     uint32_t mx = 0u;
     for (uint32_t i = 0; i < k; ++i) {
-        int32_t x = v[i * stride];
-        uint32_t a = x < 0 ? 0u - (uint32_t)x : (uint32_t)x;
+        uint32_t a = qibli_abs_u32(v[i * stride]);
         mx = a > mx ? a : mx;
     }
     unsigned e = 0u;
     while (((mx + (e ? 1u << (e - 1u) : 0u)) >> e) > 32767u)
         ++e;
     for (uint32_t i = 0; i < k; ++i)
-        out[i] = (int16_t)(e ? qibl_rshr_s64(v[i * stride], e) : v[i * stride]);
+        out[i] = (int16_t)(e ? qibli_rshr_s64(v[i * stride], e) : v[i * stride]);
     return (int32_t)e;
 }
 
@@ -411,7 +496,7 @@ qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t
         return QIBL_E_NULL_POINTER;
     if (p->width != m->width || p->height != m->height)
         return QIBL_E_SHMAP_MISMATCH;
-    if (lut != 0 && (lut->values == 0 || lut->k < m->k || lut->face_size < 1u || lut->face_size > QIBL_ASSET_MAX_LUT))
+    if (lut != 0 && (lut->values == 0 || lut->k < m->k || lut->face_size < 1u || lut->face_size > QIBL_YLUT_MAX_FACE))
         return QIBL_E_SHMAP_MISMATCH;
     if (light->rgb[0] < 0 || light->rgb[1] < 0 || light->rgb[2] < 0 || light->min_dist < 0 ||
         (light->falloff != QIBL_FALLOFF_INV_DIST && light->falloff != QIBL_FALLOFF_INV_DIST2) ||
@@ -482,10 +567,55 @@ static void point_map(int32_t *restrict acc, int32_t *restrict accb, const int16
     }
 }
 
+#if QIBL_USE_INTERLEAVED
+/* Phase B on one whole 16-pixel group of the interleaved layout, all k maps of one channel: the
+ * products of point_map in fixed-length loops over restrict parameters (out of line, so they
+ * vectorise as group_acc does). y holds Y_i of the group's pixels at y[i * ystride + p]. */
+static QIBLI_NOINLINE void point_group(int32_t *restrict acc, int32_t *restrict accb, const int16_t *restrict y,
+                                       size_t ystride, const uint8_t *restrict c, const int16_t *restrict sn,
+                                       const int16_t *restrict bn, uint32_t k)
+{
+    for (uint32_t p = 0; p < QIBL_SHMAPS_GROUP; ++p) {
+        acc[p] = (int16_t)qibl_asr_s32(y[p] * sn[0] + 8192, 14) * (int16_t)c[p];
+        accb[p] = qibl_asr_s32(y[p] * bn[0] + 8192, 14);
+    }
+    for (uint32_t i = 1; i < k; ++i) {
+        const int16_t *yi = y + i * ystride;
+        const uint8_t *ci = c + QIBL_SHMAPS_GROUP * i;
+        const int32_t s = sn[i], b = bn[i];
+        for (uint32_t p = 0; p < QIBL_SHMAPS_GROUP; ++p) {
+            acc[p] += (int16_t)qibl_asr_s32(yi[p] * s + 8192, 14) * (int16_t)ci[p];
+            accb[p] += qibl_asr_s32(yi[p] * b + 8192, 14);
+        }
+    }
+}
+
+/* Phase B of one channel on the interleaved layout: whole groups through point_group, the pieces
+ * of partial groups at the span's ends through point_map. Same per-pixel integers as planar. */
+static void point_interleaved(const qibl_shmaps_t *m, const qibl_shmap_point_t *pt, uint32_t ch, uint32_t src,
+                              uint32_t x0, uint32_t y, uint32_t n, int32_t *acc, int32_t *accb, const int16_t *ybuf)
+{
+    const uint32_t k = m->k;
+    const uint8_t *row = m->planes + (size_t)y * qibl_shmaps_row_size(m) + (size_t)src * k * QIBL_SHMAPS_GROUP;
+    for (uint32_t x = x0, end = x0 + n; x < end;) {
+        const uint32_t p0 = x % QIBL_SHMAPS_GROUP, left = QIBL_SHMAPS_GROUP - p0;
+        const uint32_t cnt = end - x < left ? end - x : left, j = x - x0;
+        const uint8_t *g = row + (size_t)(x / QIBL_SHMAPS_GROUP) * QIBL_SHMAPS_GROUP * k * m->channels + p0;
+        if (cnt == QIBL_SHMAPS_GROUP)
+            point_group(acc + j, accb + j, ybuf + j, n, g, pt->sn[ch], pt->bn[ch], k);
+        else
+            for (uint32_t i = 0; i < k; ++i)
+                point_map(acc + j, accb + j, ybuf + (size_t)i * n + j, g + QIBL_SHMAPS_GROUP * i, pt->sn[ch][i],
+                          pt->bn[ch][i], cnt, i == 0u);
+        x += cnt;
+    }
+}
+#endif /* QIBL_USE_INTERLEAVED */
+
 qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out,
                                     void *ws, size_t ws_size)
 {
-    if (pt == 0 || out == 0 || pt->maps == 0 || ws == 0)
+    if (pt == 0 || out == 0 || pt->maps == 0 || pt->maps->planes == 0 || ws == 0)
         return QIBL_E_NULL_POINTER;
     const qibl_shmaps_t *m = pt->maps;
     if (y >= m->height || x0 > m->width || n > m->width - x0)
@@ -512,7 +642,7 @@ qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, u
         uint64_t d2 = 0u;
         for (int j = 0; j < 3; ++j) {
             l[j] = (int32_t)qibl_asr_s64(l64[j], r0);
-            uint32_t a = l[j] < 0 ? 0u - (uint32_t)l[j] : (uint32_t)l[j];
+            uint32_t a = qibli_abs_u32(l[j]);
             d2 += qibl_mul_u32_u64(a, a);
         }
         if (d2 == 0u) { /* the light sits on this pixel's surface point: no direction, no light */
@@ -524,20 +654,14 @@ qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, u
         unsigned e;
         uint32_t iy = qibl_rsqrt_u64(d2, &e); /* 1/|l| = iy / 2^e, e in 31..62 */
         qibl_q30_t u[3];
-        for (int j = 0; j < 3; ++j) {
-            uint32_t a = l[j] < 0 ? 0u - (uint32_t)l[j] : (uint32_t)l[j];
-            unsigned sh = e - 30u; /* 1..32 */
-            uint64_t q = qibl_shr_u64(qibl_mul_u32_u64(a, iy) + qibl_shr_u64((uint64_t)1 << 63, 64u - sh), sh);
-            int32_t mq = (int32_t)(q > 0x40000000u ? 0x40000000u : q);
-            u[j] = l[j] < 0 ? -mq : mq;
-        }
+        qibli_unit_q30(l, iy, e, u); /* as qibl_vec3_normalize_fast_q30 */
         if (pt->lut) {
             lut_sample(pt->lut, u, k, pt->filter == QIBL_LUT_NEAREST, ybuf + px, n);
         } else {
             qibl_q30_t yq[QIBL_SH_MAX_COUNT];
             (void)qibl_sh_eval_unit(u, (int)pt->bands, yq);
             for (uint32_t i = 0; i < k; ++i)
-                ybuf[(size_t)i * n + px] = (int16_t)qibl_rshr_s64(yq[i], 16);
+                ybuf[(size_t)i * n + px] = (int16_t)qibli_rshr_s64(yq[i], 16);
         }
         /* distance clamp: |L|^2 against min_dist^2, both in (2^-16)^2 units */
         uint32_t ay = iy;
@@ -556,9 +680,14 @@ qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, u
     /* Phase B per channel (vectorisable), then Phase C: out = (acc 2^es + accb 2^eb) 2^-24 att C0 */
     for (uint32_t ch = 0; ch < 3u; ++ch) {
         uint32_t src = m->channels == 3u ? ch : 0u;
-        for (uint32_t i = 0; i < k; ++i)
-            point_map(acc, accb, ybuf + (size_t)i * n, qibl_shmaps_plane(m, i, src) + off, pt->sn[ch][i],
-                      pt->bn[ch][i], n, i == 0u);
+#if QIBL_USE_INTERLEAVED
+        if (m->layout == QIBL_SHMAPS_INTERLEAVED)
+            point_interleaved(m, pt, ch, src, x0, y, n, acc, accb, ybuf);
+        else
+#endif
+            for (uint32_t i = 0; i < k; ++i)
+                point_map(acc, accb, ybuf + (size_t)i * n, qibl_shmaps_plane(m, i, src) + off, pt->sn[ch][i],
+                          pt->bn[ch][i], n, i == 0u);
         const int32_t es = pt->es[ch], eb = pt->eb[ch], e0 = es < eb ? es : eb;
         const uint32_t rgb = pt->rgb[ch];
         for (uint32_t px = 0; px < n; ++px) {
@@ -574,7 +703,7 @@ qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, u
             int64_t prod = qibl_mul_s32_s64((int32_t)v, g); /* <= 2^61 */
             int32_t sr = atte[px] - e0 - 7 - t;
             if (sr > 0)
-                out[3u * px + ch] = sr > 62 ? 0 : qibl_rshr_s64(prod, (unsigned)sr);
+                out[3u * px + ch] = sr > 62 ? 0 : qibli_rshr_s64(prod, (unsigned)sr);
             else if (prod > INT32_MAX || prod < INT32_MIN || sr < -30)
                 out[3u * px + ch] = prod > 0 ? INT32_MAX : prod < 0 ? INT32_MIN : 0;
             else

@@ -28,6 +28,7 @@
  * correctly rounded binary32 only needs the one bit after the kept ones: no tie, no division.
  */
 #include "qibl/srgbe.h"
+#include "qibli.h"
 
 #if QIBL_USE_SRGBE
 
@@ -257,31 +258,6 @@ static unsigned enc_blk(const uint32_t *restrict x, uint8_t *restrict out)
 
 /* ---- encode from int32 * 2^-frac_bits ------------------------------------------------------- */
 
-/* floor(log2(x)) for x != 0 */
-static int msb_u32(uint32_t x)
-{
-    int n = 0;
-    if (x >= 0x10000u) {
-        x >>= 16;
-        n += 16;
-    }
-    if (x >= 0x100u) {
-        x >>= 8;
-        n += 8;
-    }
-    if (x >= 0x10u) {
-        x >>= 4;
-        n += 4;
-    }
-    if (x >= 0x4u) {
-        x >>= 2;
-        n += 2;
-    }
-    if (x >= 0x2u)
-        n += 1;
-    return n;
-}
-
 /* min(127, floor(255 a / 2^sh)) for any sh <= 33 (sh <= 0 only on the overflow path) */
 static uint32_t enc_quant_s32(uint32_t a, int sh)
 {
@@ -295,9 +271,9 @@ static uint32_t enc_quant_s32(uint32_t a, int sh)
 static unsigned enc_px_s32(int32_t r, int32_t g, int32_t b, int frac_bits, uint8_t *out)
 {
     /* magnitudes in unsigned arithmetic: -INT32_MIN is not an int32 */
-    uint32_t ar = r < 0 ? 0u - (uint32_t)r : (uint32_t)r;
-    uint32_t ag = g < 0 ? 0u - (uint32_t)g : (uint32_t)g;
-    uint32_t ab = b < 0 ? 0u - (uint32_t)b : (uint32_t)b;
+    uint32_t ar = qibli_abs_u32(r);
+    uint32_t ag = qibli_abs_u32(g);
+    uint32_t ab = qibli_abs_u32(b);
     uint32_t mx = ar > ag ? ar : ag;
     if (ab > mx)
         mx = ab;
@@ -308,7 +284,7 @@ static unsigned enc_px_s32(int32_t r, int32_t g, int32_t b, int frac_bits, uint8
     /* Clamping frac_bits to +-300 changes no result (e would still be far below -126 or above
      * 129) and keeps k + 2 - f inside int. */
     int f = frac_bits > 300 ? 300 : frac_bits < -300 ? -300 : frac_bits;
-    int k = msb_u32(mx);
+    int k = (int)qibli_bitlen_u32(mx) - 1;
     int e = k + 2 - f; /* paper: floor(log2(max)) + 2 */
     unsigned flags = 0u;
     int sh = k + 2; /* = e + f: 255 |c| 2^-e = 255 a 2^-sh; the maximum gives y in [63.75, 127.5) */

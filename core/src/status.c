@@ -33,6 +33,10 @@ const char *qibl_status_str(qibl_status_t s)
     case QIBL_E_ASSET_SIZE_OVERFLOW:    return "asset: chunk size overflows 32 bits";
     case QIBL_E_ASSET_CHUNK_SIZE:       return "asset: chunk size inconsistent with its fields";
     case QIBL_E_ASSET_MISMATCH:         return "asset: chunk inconsistent with SHMP";
+    case QIBL_E_ASSET_HEAD_SHORT:       return "asset: head shorter than the fields it must hold";
+    case QIBL_E_ASSET_LAYOUT:           return "asset: streaming by rows needs the interleaved layout";
+    case QIBL_E_ASSET_ROW:              return "asset: row outside the maps";
+    case QIBL_E_SHMAP_LAYOUT:           return "SH maps: unknown layout";
     case QIBL_E_FB_FORMAT:              return "framebuffer: unknown or unsuitable format";
     case QIBL_E_FB_SIZE:                return "framebuffer: zero or mismatched size";
     case QIBL_E_FB_STRIDE:              return "framebuffer: stride too small or buffer too large";

@@ -579,11 +579,22 @@ int qibl_bake_coeffs(const qibl_bake_sums *s, uint32_t k, qibl_proj_method metho
 
 int qibl_bake_asset(const qibl_gen_maps *m, uint32_t lut, uint8_t **bytes, size_t *n)
 {
-    return qibl_bake_asset_ex(m, NULL, lut, NULL, 0, bytes, n);
+    return qibl_bake_asset_layout(m, lut, QIBL_SHMAPS_PLANAR, bytes, n);
+}
+
+int qibl_bake_asset_layout(const qibl_gen_maps *m, uint32_t lut, uint32_t layout, uint8_t **bytes, size_t *n)
+{
+    return qibl_bake_asset_full(m, NULL, lut, layout, NULL, NULL, bytes, n);
 }
 
 int qibl_bake_asset_ex(const qibl_gen_maps *m, const qibl_gen_maps *mu, uint32_t lut, uint8_t *const *paths,
                        const size_t *path_sizes, uint8_t **bytes, size_t *n)
+{
+    return qibl_bake_asset_full(m, mu, lut, QIBL_SHMAPS_PLANAR, paths, path_sizes, bytes, n);
+}
+
+int qibl_bake_asset_full(const qibl_gen_maps *m, const qibl_gen_maps *mu, uint32_t lut, uint32_t layout,
+                         uint8_t *const *paths, const size_t *path_sizes, uint8_t **bytes, size_t *n)
 {
     size_t np = (size_t)m->width * m->height, nplanes = (size_t)m->k * 3;
     int32_t *scale = malloc(sizeof(int32_t) * nplanes), *bias = malloc(sizeof(int32_t) * nplanes);
@@ -595,7 +606,7 @@ int qibl_bake_asset_ex(const qibl_gen_maps *m, const qibl_gen_maps *mu, uint32_t
     int rc = -1;
     if (!scale || !bias || !planes || qibl_pack_maps(m, QIBL_PACK_MINMAX, scale, bias, planes, NULL) != 0)
         goto done;
-    if (qibl_asset_add_shmp(&b, m->width, m->height, m->k, 3, scale, bias, planes) != 0 ||
+    if (qibl_asset_add_shmp_layout(&b, m->width, m->height, m->k, 3, scale, bias, planes, layout) != 0 ||
         qibl_asset_add_pmap(&b, m->width, m->height, m->p) != 0)
         goto done;
     if (lut) { /* for the larger k of the two map sets: point lights read either */

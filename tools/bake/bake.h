@@ -89,6 +89,11 @@ int qibl_bake_asset(const qibl_gen_maps *m, uint32_t lut, uint8_t **bytes, size_
  * chunk per payload of the NULL-terminated list paths (sizes in path_sizes; paths may be NULL). */
 int qibl_bake_asset_ex(const qibl_gen_maps *m, const qibl_gen_maps *mu, uint32_t lut, uint8_t *const *paths,
                        const size_t *path_sizes, uint8_t **bytes, size_t *n);
+/* Everything: SHMP in layout + PMAP (+ YLUT) (+ SHMU, planar, when mu) (+ one LPTH per path). */
+int qibl_bake_asset_full(const qibl_gen_maps *m, const qibl_gen_maps *mu, uint32_t lut, uint32_t layout,
+                         uint8_t *const *paths, const size_t *path_sizes, uint8_t **bytes, size_t *n);
+/* The same with the SH maps in a chosen layout (QIBL_SHMAPS_PLANAR or QIBL_SHMAPS_INTERLEAVED). */
+int qibl_bake_asset_layout(const qibl_gen_maps *m, uint32_t lut, uint32_t layout, uint8_t **bytes, size_t *n);
 
 /* Evaluation: ground truth of a light as 8-bit sRGB (exposure 1) through platform/soft, and the
  * same light relit by the core from asset bytes. mask (w * h, may be NULL) gets 1 where the scene is

@@ -2,6 +2,9 @@
  * golden/cases_relight.c - relight_*: fixed 8-bit SH maps and a P map, relit by directional and
  * point lights (direct SH, cube-map LUT bilinear and nearest, both falloffs), written into every
  * framebuffer format of platform/soft. Moved here from tests/shmap_test.c (same data, same hashes).
+ * relight_il_*: the same maps in the interleaved layout (shmaps.h) through the same calls; their
+ * fixtures/golden files hold the planar cases' hashes, so the runner proves both layouts give the
+ * same bytes on every port.
  */
 #include "golden/casesi.h"
 
@@ -30,7 +33,7 @@ static int gmaps_make(gmaps *g, uint32_t w, uint32_t h, uint32_t k)
     const uint32_t ch = 3;
     const int32_t scale_mag = 1 << 17;
     grng r = {2026};
-    g->m.width = w, g->m.height = h, g->m.k = k, g->m.channels = ch;
+    g->m.width = w, g->m.height = h, g->m.k = k, g->m.channels = ch, g->m.layout = QIBL_SHMAPS_PLANAR;
     g->params = malloc(8u * k * ch);
     g->planes = malloc((size_t)w * h * k * ch);
     g->points = malloc((size_t)w * h * 12u);
@@ -138,14 +141,40 @@ static qibl_status_t point_row(void *c, uint32_t y, int32_t *out)
     return qibl_shmap_point_span(&p->st, 0, y, GW, out, p->ws, sizeof p->ws);
 }
 
+/* g's planes rewritten in the interleaved layout (same bytes, other order) */
+static int gmaps_interleave(gmaps *g)
+{
+#if !QIBL_USE_INTERLEAVED
+    (void)g;
+    return -1;
+#else
+    qibl_shmaps_t il = g->m;
+    il.layout = QIBL_SHMAPS_INTERLEAVED;
+    size_t n = qibl_shmaps_row_size(&il) * g->m.height;
+    uint8_t *b = malloc(n);
+    if (b == NULL || qibl_shmaps_interleave(&g->m, b, n) != QIBL_OK) {
+        free(b);
+        return -1;
+    }
+    free(g->planes);
+    g->planes = b;
+    g->m.planes = b;
+    g->m.layout = QIBL_SHMAPS_INTERLEAVED;
+    return 0;
+#endif
+}
+
 int qibl_goldens_relight(const qibl_goldens_sink_t *s)
 {
     int bad = 0;
-    for (uint32_t k = 9; k <= 16; k += 7) {
-        char prefix[32];
-        snprintf(prefix, sizeof prefix, "k%u", k);
+    /* the interleaved cases exist when config.h builds the layout */
+    for (uint32_t kl = 0; kl < (QIBL_USE_INTERLEAVED ? 4u : 2u); ++kl) {
+        const uint32_t k = kl % 2u ? 16u : 9u, il = kl / 2u;
+        const char *lay = il ? "il_" : "";
+        char prefix[40];
+        snprintf(prefix, sizeof prefix, "%sk%u", lay, k);
         gmaps g;
-        if (gmaps_make(&g, GW, GH, k) != 0) {
+        if (gmaps_make(&g, GW, GH, k) != 0 || (il && gmaps_interleave(&g) != 0)) {
             gmaps_free(&g);
             bad += gcase_oom(s, prefix);
             continue;
@@ -163,7 +192,7 @@ int qibl_goldens_relight(const qibl_goldens_sink_t *s)
             st = qibl_shlight_add_dir(&l, sky, sky_rgb);
         if (st == QIBL_OK)
             st = qibl_shmap_weights(&g.m, &l, &dc.w);
-        snprintf(prefix, sizeof prefix, "dir_k%u", k);
+        snprintf(prefix, sizeof prefix, "%sdir_k%u", lay, k);
         bad += st == QIBL_OK ? emit_formats(s, prefix, dir_row, &dc) : gcase_status_error(s, prefix, "weights", st);
         /* point light: direct SH, LUT bilinear, LUT nearest; both falloffs */
         size_t vs = qibl_ylut_values_size(16, k);
@@ -176,7 +205,7 @@ int qibl_goldens_relight(const qibl_goldens_sink_t *s)
             qibl_pointlight_t pl = {{30000, -90000, 20000}, {200000, 160000, 120000},
                                     mode == 1 ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST, 0,
                                     mode == 2 ? QIBL_LUT_NEAREST : QIBL_LUT_BILINEAR};
-            snprintf(prefix, sizeof prefix, "point_k%u_%s", k, modes[mode]);
+            snprintf(prefix, sizeof prefix, "%spoint_k%u_%s", lay, k, modes[mode]);
             qibl_status_t pst = st == QIBL_OK ? qibl_shmap_point_prepare(&g.m, &g.p, mode ? &lut : NULL, &pl, &pc.st) : st;
             bad += pst == QIBL_OK ? emit_formats(s, prefix, point_row, &pc)
                                   : gcase_status_error(s, prefix, "ylut_build / point_prepare", pst);

@@ -105,24 +105,44 @@ int qibl_asset_shmp_payload(qibl_asset_builder *b, uint32_t w, uint32_t h, uint3
                             const int32_t *scale, const int32_t *bias, const uint8_t *planes,
                             uint8_t **out, size_t *size)
 {
+    return qibl_asset_shmp_payload_layout(b, w, h, k, channels, scale, bias, planes, QIBL_SHMAPS_PLANAR, out, size);
+}
+
+int qibl_asset_shmp_payload_layout(qibl_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
+                                   const int32_t *scale, const int32_t *bias, const uint8_t *planes, uint32_t layout,
+                                   uint8_t **out, size_t *size)
+{
     uint64_t pairs = (uint64_t)k * channels, pixels = (uint64_t)w * h;
-    if (pairs > UINT32_MAX || pixels > UINT32_MAX || pairs * pixels > UINT32_MAX)
+    if (layout != QIBL_SHMAPS_PLANAR && layout != QIBL_SHMAPS_INTERLEAVED)
+        return fail(b, "asset: unknown SHMP layout %u", layout);
+    /* interleaved rows are padded to whole groups of 16 pixels */
+    uint64_t cells = layout == QIBL_SHMAPS_INTERLEAVED ? (uint64_t)h * ((w + 15ull) / 16 * 16) : pixels;
+    if (pairs > UINT32_MAX || cells > UINT32_MAX || pairs * cells > UINT32_MAX)
         return fail(b, "asset: SHMP payload does not fit 32 bits");
     uint8_t *p = NULL;
     size_t n = 0;
-    if (payload_alloc(b, "SHMP", 20, pairs, 8 + pixels, &p, &n) != 0)
+    if (payload_alloc(b, "SHMP", 20, pairs, 8 + cells, &p, &n) != 0)
         return -1;
     qibl_store_u32le(p, w);
     qibl_store_u32le(p + 4, h);
     qibl_store_u32le(p + 8, k);
     qibl_store_u32le(p + 12, channels);
-    qibl_store_u32le(p + 16, 0);
+    qibl_store_u32le(p + 16, layout == QIBL_SHMAPS_INTERLEAVED ? QIBL_SHMP_FLAG_INTERLEAVED : 0u);
     for (uint64_t i = 0; i < pairs; ++i) {
         qibl_store_s32le(p + 20 + 8 * i, scale[i]);
         qibl_store_s32le(p + 24 + 8 * i, bias[i]);
     }
-    if (pairs * pixels > 0)
-        memcpy(p + 20 + 8 * pairs, planes, (size_t)(pairs * pixels));
+    if (layout == QIBL_SHMAPS_INTERLEAVED && pairs * cells > 0) {
+        /* the core's own conversion (it checks k, channels and sizes; refuse what it refuses) */
+        qibl_shmaps_t m = {w, h, k, channels, p + 20, planes, QIBL_SHMAPS_PLANAR};
+        qibl_status_t st = qibl_shmaps_interleave(&m, p + 20 + 8 * pairs, (size_t)(pairs * cells));
+        if (st != QIBL_OK) {
+            free(p);
+            return fail(b, "asset: SHMP %ux%u k %u channels %u: %s", w, h, k, channels, qibl_status_str(st));
+        }
+    } else if (pairs * cells > 0) {
+        memcpy(p + 20 + 8 * pairs, planes, (size_t)(pairs * cells));
+    }
     *out = p;
     *size = n;
     return 0;
@@ -173,9 +193,15 @@ int qibl_asset_ylut_payload(qibl_asset_builder *b, uint32_t face_size, uint32_t 
 int qibl_asset_add_shmp(qibl_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
                         const int32_t *scale, const int32_t *bias, const uint8_t *planes)
 {
+    return qibl_asset_add_shmp_layout(b, w, h, k, channels, scale, bias, planes, QIBL_SHMAPS_PLANAR);
+}
+
+int qibl_asset_add_shmp_layout(qibl_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
+                               const int32_t *scale, const int32_t *bias, const uint8_t *planes, uint32_t layout)
+{
     uint8_t *p = NULL;
     size_t n = 0;
-    if (qibl_asset_shmp_payload(b, w, h, k, channels, scale, bias, planes, &p, &n) != 0)
+    if (qibl_asset_shmp_payload_layout(b, w, h, k, channels, scale, bias, planes, layout, &p, &n) != 0)
         return -1;
     return qibl_asset_builder_take(b, QIBL_CHUNK_SHMP, p, n);
 }

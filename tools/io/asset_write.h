@@ -61,12 +61,22 @@ int qibl_asset_pmap_payload(qibl_asset_builder *b, uint32_t w, uint32_t h, const
 int qibl_asset_ylut_payload(qibl_asset_builder *b, uint32_t face_size, uint32_t k, const int16_t *values,
                             uint8_t **out, size_t *size);
 
+/* SHMP in a chosen layout (QIBL_SHMAPS_PLANAR or QIBL_SHMAPS_INTERLEAVED, shmaps.h): planes are
+ * given planar as above and rewritten by qibl_shmaps_interleave for the interleaved layout (flags
+ * QIBL_SHMP_FLAG_INTERLEAVED). Fails also for an unknown layout, or k/channels/sizes the core's
+ * conversion refuses. */
+int qibl_asset_shmp_payload_layout(qibl_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
+                                   const int32_t *scale, const int32_t *bias, const uint8_t *planes, uint32_t layout,
+                                   uint8_t **out, size_t *size);
+
 /* Payload builder + qibl_asset_builder_take in one call. */
 int qibl_asset_add_shmp(qibl_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
                         const int32_t *scale, const int32_t *bias, const uint8_t *planes);
 /* SHMU (unshadowed transfer): the SHMP payload layout under its own chunk type */
 int qibl_asset_add_shmu(qibl_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
                         const int32_t *scale, const int32_t *bias, const uint8_t *planes);
+int qibl_asset_add_shmp_layout(qibl_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
+                               const int32_t *scale, const int32_t *bias, const uint8_t *planes, uint32_t layout);
 int qibl_asset_add_pmap(qibl_asset_builder *b, uint32_t w, uint32_t h, const int32_t *xyz);
 int qibl_asset_add_ylut(qibl_asset_builder *b, uint32_t face_size, uint32_t k, const int16_t *values);
 

@@ -42,7 +42,7 @@ static int pack(const qibl_gen_maps *g, uint32_t k, qibl_pack_scheme sch, packed
         qibl_store_s32le(p->params + 8 * i, p->scale[i]);
         qibl_store_s32le(p->params + 8 * i + 4, p->bias[i]);
     }
-    p->m.width = g->width, p->m.height = g->height, p->m.k = k, p->m.channels = 3;
+    p->m.width = g->width, p->m.height = g->height, p->m.k = k, p->m.channels = 3, p->m.layout = QIBL_SHMAPS_PLANAR;
     p->m.params = p->params, p->m.planes = p->planes;
     return 0;
 }
@@ -97,6 +97,96 @@ static double decoded(const qibl_shmaps_t *m, uint32_t i, uint32_t ch, size_t px
 {
     return (qibl_shmaps_bias(m, i, ch) + (double)qibl_shmaps_scale(m, i, ch) * qibl_shmaps_plane(m, i, ch)[px]) /
            16777216.0;
+}
+
+static double min_of(const double *t, int n)
+{
+    double m = t[0];
+    for (int i = 1; i < n; ++i)
+        m = t[i] < m ? t[i] : m;
+    return m;
+}
+
+/* Planar against interleaved layout (shmaps.h), same maps, same light, same run: frames alternate
+ * planar, interleaved, planar, ... so load swings hit both; min and median of each. Checks that
+ * both give the same bytes. Returns the k = 16 directional ratio interleaved / planar (min times). */
+static double bench_layouts(const qibl_gen_maps *g, uint32_t W, uint32_t H, int reps, const qibl_q16_t sun_dir[3],
+                            const qibl_q16_t sun_rgb[3], const qibl_pointlight_t *lamp, int32_t *img, void *ws)
+{
+    static const uint32_t ks[3] = {9, 16, 25};
+    const size_t np = (size_t)W * H;
+    int32_t *img2 = malloc(sizeof(int32_t) * 3 * np);
+    uint8_t *pbytes = malloc(np * 12);
+    double ratio16 = 0;
+    printf("== layouts: planar against interleaved (16-pixel groups), %ux%u, %d alternating frames each\n", W, H,
+           reps);
+    printf("   built by %s, core %s\n", QIBL_BENCH_COMPILER, QIBL_BENCH_CORE_FLAGS);
+    printf("%-22s %3s %12s %12s %12s %12s %8s %5s\n", "light", "k", "planar min", "median", "interl. min", "median",
+           "ratio", "same");
+    for (size_t i = 0; i < np * 3; ++i)
+        qibl_store_s32le(pbytes + 4 * i, g->p[i]);
+    qibl_pmap_t pm = {W, H, pbytes};
+    for (int ki = 0; ki < 3; ++ki) {
+        const uint32_t k = ks[ki];
+        packed p;
+        if (!img2 || !pbytes || pack(g, k, QIBL_PACK_MINMAX, &p) != 0)
+            break;
+        qibl_shmaps_t il = p.m;
+        il.layout = QIBL_SHMAPS_INTERLEAVED;
+        size_t isz = qibl_shmaps_row_size(&il) * H;
+        uint8_t *ib = malloc(isz);
+        if (!ib || qibl_shmaps_interleave(&p.m, ib, isz) != QIBL_OK)
+            break;
+        il.planes = ib;
+        size_t lvs = qibl_ylut_values_size(32, k), pwn = qibl_shmap_point_workspace_size(k, W);
+        uint8_t *lv = malloc(lvs);
+        void *pws = malloc(pwn);
+        qibl_ylut_build(32, k, lv, lvs);
+        qibl_ylut_t lut = {32, k, lv};
+        for (int light = 0; light < 2; ++light) {
+            double t[2][REPS_MAX];
+            int same = 1;
+            for (int r = 0; r < reps; ++r)
+                for (int lay = 0; lay < 2; ++lay) {
+                    const qibl_shmaps_t *m = lay ? &il : &p.m;
+                    int32_t *o = lay ? img2 : img;
+                    double t0 = qibl_cli_now();
+                    if (light == 0) {
+                        qibl_shlight_t sl;
+                        qibl_shlight_init(&sl, 25);
+                        qibl_shlight_add_dir(&sl, sun_dir, sun_rgb);
+                        qibl_shmap_weights_t w;
+                        qibl_shmap_weights(m, &sl, &w);
+                        for (uint32_t y = 0; y < H; ++y)
+                            qibl_shmap_relight_span(m, &w, 0, y, W, o + 3 * (size_t)y * W, ws,
+                                                    qibl_shmap_span_workspace_size(W));
+                    } else {
+                        qibl_shmap_point_t st;
+                        qibl_shmap_point_prepare(m, &pm, &lut, lamp, &st);
+                        for (uint32_t y = 0; y < H; ++y)
+                            qibl_shmap_point_span(&st, 0, y, W, o + 3 * (size_t)y * W, pws, pwn);
+                    }
+                    t[lay][r] = qibl_cli_now() - t0;
+                }
+            same = memcmp(img, img2, sizeof(int32_t) * 3 * np) == 0;
+            double mp = min_of(t[0], reps), mi = min_of(t[1], reps);
+            printf("%-22s %3u %10.3fms %10.3fms %10.3fms %10.3fms %8.3f %5s\n", light ? "point, LUT 32^2" : "directional",
+                   k, mp * 1e3, qibl_cli_median(t[0], reps) * 1e3, mi * 1e3, qibl_cli_median(t[1], reps) * 1e3, mi / mp,
+                   same ? "yes" : "NO");
+            if (!same) {
+                fprintf(stderr, "qibl: bench relight: the layouts gave different bytes (k = %u)\n", k);
+                ratio16 = -1;
+            }
+            if (light == 0 && ratio16 >= 0)
+                printf("RESULT relight.interleaved_over_planar_k%u %.3f\n", k, mi / mp);
+            if (light == 0 && k == 16 && ratio16 >= 0)
+                ratio16 = mi / mp;
+        }
+        free(lv), free(pws), free(ib);
+        unpack(&p);
+    }
+    free(img2), free(pbytes);
+    return ratio16;
 }
 
 typedef struct {
@@ -285,7 +375,12 @@ int qibl_bench_relight(int quick, int csv)
     printf("RESULT relight.pack_minmax_psnr_k16 %.2f\n", psnr_scheme[0]);
     printf("RESULT relight.pack_robust_psnr_k16 %.2f\n", psnr_scheme[1]);
     unpack(&pm), unpack(&pr);
+    double lr = bench_layouts(&g, W, H, quick ? 3 : 15, sun_dir, sun_rgb, &lamp, img, ws);
     free(img), free(ref), free(refx), free(ws);
+    if (lr < 0) {
+        qibl_gen_free(&g);
+        return 1;
+    }
     qibl_gen_free(&g);
     return 0;
 }

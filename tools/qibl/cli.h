@@ -26,6 +26,22 @@ int qibl_bench_relight(int quick, int csv);
 int qibl_bench_srgbe(int quick); /* bench_srgbe.c */
 int qibl_bench_lights(int quick); /* bench_lights.c */
 int qibl_bench_paths(int quick);  /* bench_paths.c */
+int qibl_bench_asset(int quick);  /* bench_asset.c */
+/* The courtyard asset (w x h, k maps, RGB, P map) serialised in memory; *bytes malloc'ed. 0 or -1. */
+int qibl_bench_make_asset(uint32_t w, uint32_t h, uint32_t k, uint32_t layout, uint8_t **bytes, size_t *n);
+int qibl_bench_memory(int markdown); /* bench_memory.c */
+
+/* What built the benchmarks, for their headers (the Makefile passes the core's flags). */
+#ifndef QIBL_BENCH_CORE_FLAGS
+#define QIBL_BENCH_CORE_FLAGS "(flags not recorded)"
+#endif
+#if defined(__clang__)
+#define QIBL_BENCH_COMPILER "clang " __clang_version__
+#elif defined(__GNUC__)
+#define QIBL_BENCH_COMPILER "gcc " __VERSION__
+#else
+#define QIBL_BENCH_COMPILER "an unknown compiler"
+#endif
 int qibl_cmd_info(int argc, char **argv);
 int qibl_cmd_gen(int argc, char **argv);
 int qibl_cmd_relight(int argc, char **argv);
@@ -95,6 +111,9 @@ int qibl_cli_lut_size_opt(int argc, char **argv, int *i, long lo, long *out);
 
 /* Parses a decimal integer in [lo, hi]; 0 on success, -1 otherwise. */
 int qibl_cli_parse_int(const char *s, long lo, long hi, long *out);
+
+/* Parses --layout's argument: "planar" or "interleaved" into a QIBL_SHMAPS_* layout; 0 or -1. */
+int qibl_cli_parse_layout(const char *s, uint32_t *layout);
 
 /* Median of n values (sorts v in place). */
 double qibl_cli_median(double *v, int n);

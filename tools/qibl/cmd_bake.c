@@ -325,7 +325,7 @@ typedef struct {
 } extras;
 
 static int finish_asset(const qibl_bake_sums *sums, uint32_t k, uint32_t lut, qibl_proj_method method,
-                        const char *out, const extras *x)
+                        uint32_t layout, const char *out, const extras *x)
 {
     qibl_gen_maps m;
     uint8_t *bytes = NULL;
@@ -338,7 +338,7 @@ static int finish_asset(const qibl_bake_sums *sums, uint32_t k, uint32_t lut, qi
             fprintf(stderr, "qibl: %s: cannot project: out of memory\n", out);
         return 1;
     }
-    int rc = qibl_bake_asset_ex(&m, x->mu, lut, x->paths, x->sizes, &bytes, &n);
+    int rc = qibl_bake_asset_full(&m, x->mu, lut, layout, x->paths, x->sizes, &bytes, &n);
     qibl_gen_free(&m);
     if (rc != 0) {
         fprintf(stderr, "qibl: %s: cannot build the asset (out of memory)\n", out);
@@ -367,6 +367,7 @@ int qibl_cmd_bake(int argc, char **argv)
     long k = 16, lut = 32, ndirs = 512, shard = 0, nshards = 1, uk = 9, steps = 64;
     double budget = 0;
     int lsq = 0, quiet = 0, npaths = 0;
+    uint32_t layout = QIBL_SHMAPS_PLANAR;
     qibl_bake_path paths[8];
     char perr[400];
     for (int i = 1; i < argc; ++i) {
@@ -419,7 +420,10 @@ int qibl_cmd_bake(int argc, char **argv)
             lsq = 1;
         else if (strcmp(a, "--quiet") == 0)
             quiet = 1;
-        else
+        else if (strcmp(a, "--layout") == 0 && i + 1 < argc) {
+            if (qibl_cli_parse_layout(argv[++i], &layout) != 0)
+                return qibl_cli_usage_error("--layout is planar or interleaved");
+        } else
             return qibl_cli_usage_error("bake: unknown argument '%s' (see qibl help bake)", a);
     }
     if (nshards > 1 && !sums_out)
@@ -552,12 +556,12 @@ int qibl_cmd_bake(int argc, char **argv)
             else
                 printf("; a %u^2 LUT: the largest tried, none within 0.1 dB of evaluating the SH polynomials per "
                        "pixel\n", chosen_lut);
-            rc = finish_asset(&sums, chosen, chosen_lut, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, out, &x);
+            rc = finish_asset(&sums, chosen, chosen_lut, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, layout, out, &x);
         }
         eval_free(&e);
         free(tmp);
     } else if (rc == 0 && out) {
-        rc = finish_asset(&sums, (uint32_t)k, (uint32_t)lut, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, out, &x);
+        rc = finish_asset(&sums, (uint32_t)k, (uint32_t)lut, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, layout, out, &x);
     }
     for (int p = 0; p < 8; ++p)
         free(x.paths[p]);
@@ -572,6 +576,7 @@ int qibl_cmd_merge(int argc, char **argv)
     const char *out = NULL, *sums_out = NULL;
     long k = 0, lut = 32;
     int lsq = 0, nin = 0, r;
+    uint32_t layout = QIBL_SHMAPS_PLANAR;
     char **in = malloc(sizeof(char *) * (size_t)argc);
     if (!in)
         return 1;
@@ -590,6 +595,11 @@ int qibl_cmd_merge(int argc, char **argv)
             if (r < 0) {
                 free(in);
                 return 2;
+            }
+        } else if (strcmp(a, "--layout") == 0 && i + 1 < argc) {
+            if (qibl_cli_parse_layout(argv[++i], &layout) != 0) {
+                free(in);
+                return qibl_cli_usage_error("--layout is planar or interleaved");
             }
         } else if (strcmp(a, "--lsq") == 0)
             lsq = 1;
@@ -662,7 +672,7 @@ int qibl_cmd_merge(int argc, char **argv)
     extras none;
     memset(&none, 0, sizeof none);
     rc = out ? finish_asset(&total, k ? (uint32_t)k : (total.k < 16 ? total.k : 16), (uint32_t)lut,
-                            lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, out, &none)
+                            lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, layout, out, &none)
              : 0;
 done:
     free(seen), free(in);

@@ -126,10 +126,12 @@ static int bench_sh(int quick)
 int qibl_cmd_bench(int argc, char **argv)
 {
     const char *what = "all";
-    int quick = 0, csv = 0;
+    int quick = 0, csv = 0, markdown = 0;
     for (int i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "--quick") == 0)
             quick = 1;
+        else if (strcmp(argv[i], "--markdown") == 0)
+            markdown = 1;
         else if (strcmp(argv[i], "--csv") == 0)
             csv = 1;
         else if (argv[i][0] != '-')
@@ -148,7 +150,13 @@ int qibl_cmd_bench(int argc, char **argv)
         rc |= qibl_bench_lights(quick), ran = 1;
     if (all || strcmp(what, "paths") == 0)
         rc |= qibl_bench_paths(quick), ran = 1;
+    if (all || strcmp(what, "asset") == 0)
+        rc |= qibl_bench_asset(quick), ran = 1;
+    /* not timing: the resident-memory table of docs/porting.md (exact, so not part of "all") */
+    if (strcmp(what, "memory") == 0)
+        rc |= qibl_bench_memory(markdown), ran = 1;
     if (!ran)
-        return qibl_cli_usage_error("bench: unknown benchmark '%s' (all, sh, relight, srgbe, lights, paths)", what);
+        return qibl_cli_usage_error("bench: unknown benchmark '%s' (all, sh, relight, srgbe, lights, paths, asset, memory)",
+                                    what);
     return rc;
 }

@@ -25,18 +25,19 @@ static const char *fourcc(uint32_t t, char s[16])
 
 static void print_shmaps(const qibl_shmaps_t *m)
 {
-    printf("SHMP: %u x %u pixels, k %u maps, %u channel%s\n", (unsigned)m->width, (unsigned)m->height,
-           (unsigned)m->k, (unsigned)m->channels, m->channels == 1 ? "" : "s");
+    printf("SHMP: %u x %u pixels, k %u maps, %u channel%s, %s layout (%zu bytes per row)\n", (unsigned)m->width,
+           (unsigned)m->height, (unsigned)m->k, (unsigned)m->channels, m->channels == 1 ? "" : "s",
+           m->layout == QIBL_SHMAPS_INTERLEAVED ? "interleaved" : "planar", qibl_shmaps_row_size(m));
     printf("  %3s %2s %16s %16s %4s %4s\n", "map", "ch", "scale", "bias", "min", "max");
-    size_t px = (size_t)m->width * m->height;
     for (uint32_t i = 0; i < m->k; ++i)
         for (uint32_t ch = 0; ch < m->channels; ++ch) {
-            const uint8_t *pl = qibl_shmaps_plane(m, i, ch);
             unsigned lo = 255, hi = 0;
-            for (size_t p = 0; p < px; ++p) {
-                lo = pl[p] < lo ? pl[p] : lo;
-                hi = pl[p] > hi ? pl[p] : hi;
-            }
+            for (uint32_t y = 0; y < m->height; ++y)
+                for (uint32_t x = 0; x < m->width; ++x) {
+                    unsigned v = qibl_shmaps_texel(m, i, ch, x, y);
+                    lo = v < lo ? v : lo;
+                    hi = v > hi ? v : hi;
+                }
             printf("  %3u %2u %16.9f %16.9f %4u %4u\n", (unsigned)i, (unsigned)ch,
                    (double)qibl_shmaps_scale(m, i, ch) / 16777216.0,
                    (double)qibl_shmaps_bias(m, i, ch) / 16777216.0, lo, hi);

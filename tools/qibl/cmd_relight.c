@@ -27,6 +27,7 @@ int qibl_cmd_gen(int argc, char **argv)
     const char *out = NULL;
     long w = 1024, h = 256, k = 16, lut = 0;
     int r;
+    uint32_t layout = QIBL_SHMAPS_PLANAR;
     qibl_pack_scheme scheme = QIBL_PACK_MINMAX;
     qibl_pano_kind kind = QIBL_PANO_CYLINDRICAL;
     for (int i = 1; i < argc; ++i) {
@@ -52,11 +53,14 @@ int qibl_cmd_gen(int argc, char **argv)
                 scheme = QIBL_PACK_ROBUST;
             else
                 return qibl_cli_usage_error("--pack is minmax or robust");
+        } else if (strcmp(a, "--layout") == 0 && i + 1 < argc) {
+            if (qibl_cli_parse_layout(argv[++i], &layout) != 0)
+                return qibl_cli_usage_error("--layout is planar or interleaved");
         } else if (strcmp(a, "--equirect") == 0)
             kind = QIBL_PANO_EQUIRECT;
         else
             return qibl_cli_usage_error("usage: qibl gen -o FILE [--size WxH] [--k K] [--lut-size N] [--pack minmax|robust] "
-                                        "[--equirect]");
+                                        "[--equirect] [--layout planar|interleaved]");
     }
     if (!out)
         return qibl_cli_usage_error("gen: -o FILE is required");
@@ -77,7 +81,7 @@ int qibl_cmd_gen(int argc, char **argv)
         fprintf(stderr, "qibl: gen: out of memory\n");
         goto done;
     }
-    if (qibl_asset_add_shmp(&b, (uint32_t)w, (uint32_t)h, (uint32_t)k, 3, scale, bias, planes) != 0 ||
+    if (qibl_asset_add_shmp_layout(&b, (uint32_t)w, (uint32_t)h, (uint32_t)k, 3, scale, bias, planes, layout) != 0 ||
         qibl_asset_add_pmap(&b, (uint32_t)w, (uint32_t)h, g.p) != 0) {
         fprintf(stderr, "qibl: gen: %s\n", b.err);
         goto done;
@@ -103,9 +107,9 @@ int qibl_cmd_gen(int argc, char **argv)
         fprintf(stderr, "qibl: %s\n", b.err);
         goto done;
     }
-    printf("wrote %s: %ldx%ld %s courtyard, k = %ld, packing %s (rms %.3e, max %.3e, %llu clipped)%s\n", out, w, h,
+    printf("wrote %s: %ldx%ld %s courtyard, k = %ld, %s layout, packing %s (rms %.3e, max %.3e, %llu clipped)%s\n", out, w, h,
            kind == QIBL_PANO_CYLINDRICAL ? "cylindrical" : "equirectangular", k,
-           scheme == QIBL_PACK_MINMAX ? "min/max" : "robust", st.rms, st.max_abs, (unsigned long long)st.clipped,
+           layout == QIBL_SHMAPS_INTERLEAVED ? "interleaved" : "planar", scheme == QIBL_PACK_MINMAX ? "min/max" : "robust", st.rms, st.max_abs, (unsigned long long)st.clipped,
            lut ? ", with cube-map Y LUT" : "");
     rc = 0;
 done:

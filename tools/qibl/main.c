@@ -13,6 +13,7 @@
 #include "qibl/asset.h" /* QIBL_ASSET_MAX_LUT */
 #include "qibl/cli.h"
 #include "qibl/version.h"
+#include "qibl/shmaps.h"
 
 static const qibl_cli_cmd commands[] = {
     {"sh", "evaluate the integer SH basis for a direction",
@@ -27,7 +28,7 @@ static const qibl_cli_cmd commands[] = {
      "  evaluated by the integer core; W is the tile width in pixels (default 128).\n",
      qibl_cmd_sh},
     {"bench", "benchmarks: speed against error, with RESULT lines",
-     "usage: qibl bench [all|sh|relight|srgbe|lights|paths] [--quick] [--csv]\n"
+     "usage: qibl bench [all|sh|relight|srgbe|lights|paths|asset|memory] [--quick] [--csv] [--markdown]\n"
      "  sh: integer SH basis against the double reference from Wong et al.'s appendix:\n"
      "      ns per evaluation (median of 7 runs) and max |error| over a fixed-seed sweep.\n"
      "  relight: the relighting kernels on the procedural courtyard, 1024x256, k = 4, 9, 16, 25:\n"
@@ -45,15 +46,21 @@ static const qibl_cli_cmd commands[] = {
      "      then the irradiance error of every method and priority on each real probe.\n"
      "  paths: path lights against today's SH-only relighting, 1024x256, thread CPU time: a sun as\n"
      "      unshadowed k = 9 or 16 x path visibility (hard, soft), sky + sun, lamps on a track and free.\n"
-     "  all: every benchmark (what `make bench` runs). --quick: fewer repetitions.\n",
+     "  asset: opening a 16 MB asset: nibble CRC, slicing-by-8 CRC, structure only, against a memcpy\n"
+     "      of the same bytes (min and median of interleaved repetitions).\n"
+     "  memory: not a timing: the resident-memory table of docs/porting.md (--markdown: as there).\n"
+     "  all: every timing benchmark (what `make bench` runs). --quick: fewer repetitions.\n",
      qibl_cmd_bench},
     {"gen", "write the procedural courtyard's SH maps (and P map, optional Y LUT) as an asset",
      "usage: qibl gen -o FILE [--size WxH] [--k K] [--lut-size N] [--pack minmax|robust] [--equirect]\n"
+     "                [--layout planar|interleaved]\n"
      "  Renders the built-in courtyard's light-transport SH maps analytically (Lambert + glossy, no\n"
      "  shadows; the ray-traced bake is a separate command), packs them to 8 bits per map and channel\n"
      "  (min/max or the 0.1..99.9 percentile range) and writes SHMP + PMAP (+ YLUT with --lut-size N,\n"
      "  the cube-map face size). Defaults: 1024x256 cylindrical, k = 16, min/max, no LUT. (The old\n"
-     "  spelling --lut N still works, with a deprecation note: relight's --lut is the sampling mode.)\n",
+     "  spelling --lut N still works, with a deprecation note: relight's --lut is the sampling mode.)\n"
+     "  --layout interleaved: the maps' bytes row by row in groups of 16 pixels (rows stream from disc\n"
+     "  one at a time; relights to the same bytes as the default planar layout).\n",
      qibl_cmd_gen},
     {"render", "ray-trace the ground-truth panorama of a scene under one light (PNG, PFM, depth)",
      "usage: qibl render (--sun X Y Z | --point X Y Z) [--rgb R G B] [--falloff 1|2] [--png OUT] [--pfm OUT]\n"
@@ -73,8 +80,9 @@ static const qibl_cli_cmd commands[] = {
      qibl_cmd_render},
     {"bake", "bake a scene into a relightable panorama asset (ray-traced, SH-projected, 8-bit packed)",
      "usage: qibl bake -o ASSET [--k K] [--lut-size N] [--dirs N] [--lsq] [--budget DB] [--quiet]\n"
-     "                 [--unshadowed-k K] [--sun-path LAT,DECL,T0,T1] [--lamp-track X,Y,Z;X,Y,Z;...]\n"
-     "                 [--path-steps N] [--shard I/N --sums FILE] [scene options as for render]\n"
+     "                 [--layout planar|interleaved] [--unshadowed-k K] [--sun-path LAT,DECL,T0,T1]\n"
+     "                 [--lamp-track X,Y,Z;X,Y,Z;...] [--path-steps N]\n"
+     "                 [--shard I/N --sums FILE] [scene options as for render]\n"
      "  Renders the scene under N directional lights (spherical Fibonacci set, equal weights 4 pi / N,\n"
      "  default 512) with hard shadows, projects every pixel's response onto SH (k <= 25, default 16;\n"
      "  quadrature, or --lsq least squares), packs the maps to 8 bits (min/max per map and channel) and\n"
@@ -84,16 +92,17 @@ static const qibl_cli_cmd commands[] = {
      "  for qibl merge. --budget DB: choose the smallest band-complete k whose PSNR against ground truth\n"
      "  on 8 novel suns reaches DB, and the smallest LUT within 0.1 dB of direct SH evaluation on 4\n"
      "  lamps, and say so. A progress bar goes to stderr when it is a terminal.\n"
+     "  --layout interleaved: SH maps streamable by rows (see qibl help gen).\n"
      "  --unshadowed-k K (default 9, 0 = none): also the unshadowed transfer (cosine x BRDF, no shadow\n"
-     "  test) as SHMU; free point lights use it (visibility at infinity is wrong for a lamp inside the\n"
-     "  scene). --sun-path LAT,DECL,T0,T1 (degrees, degrees, solar hours; +x east, +y north) and\n"
-     "  --lamp-track \"x,y,z;x,y,z;...\" (a polyline, t by arc length; up to 8 paths): per pixel the\n"
+     "  test) as SHMU (planar); free point lights use it (visibility at infinity is wrong for a lamp\n"
+     "  inside the scene). --sun-path LAT,DECL,T0,T1 (degrees, degrees, solar hours; +x east, +y north)\n"
+     "  and --lamp-track \"x,y,z;x,y,z;...\" (a polyline, t by arc length; up to 8 paths): per pixel the\n"
      "  light's visibility along the path (facing and shadow) as on/off edges of t in 0..65535, sampled\n"
      "  at N + 1 points (--path-steps, default 64) and bisected to one 16-bit step (LPTH chunks; relit\n"
      "  as unshadowed SH x visibility, qibl/lightpath.h). Shards and merge carry the shadowed maps only.\n",
      qibl_cmd_bake},
     {"merge", "combine the partial sums of bake shards into an asset",
-     "usage: qibl merge -o ASSET [--sums OUT] [--k K] [--lut-size N] [--lsq] SUMS...\n"
+     "usage: qibl merge -o ASSET [--sums OUT] [--k K] [--lut-size N] [--lsq] [--layout planar|interleaved] SUMS...\n"
      "  Adds the partial sums written by `qibl bake --shard I/N --sums FILE` (every shard exactly once,\n"
      "  same bake) and writes the asset as qibl bake --unshadowed-k 0 would (byte-identical), and/or the\n"
      "  total sums.\n"
@@ -281,6 +290,17 @@ int qibl_cli_parse_size(const char *opt, const char *s, long max, long *w, long 
         ++p;
     }
     *w = v[0], *h = v[1];
+    return 0;
+}
+
+int qibl_cli_parse_layout(const char *s, uint32_t *layout)
+{
+    if (strcmp(s, "planar") == 0)
+        *layout = QIBL_SHMAPS_PLANAR;
+    else if (strcmp(s, "interleaved") == 0)
+        *layout = QIBL_SHMAPS_INTERLEAVED;
+    else
+        return -1;
     return 0;
 }
 

@@ -17,7 +17,7 @@ fail=0
 err() { echo "cross: FAIL: $*" >&2; fail=1; }
 
 # 1. headers: only the four freestanding ones, and quoted includes of qibl's own headers.
-bad=$(grep -rnE '^[[:space:]]*#[[:space:]]*include' core platform/soft | grep -vE '<(stdint|stddef|stdbool|limits)\.h>|"qibl(/[a-z0-9_]+)?\.h"')
+bad=$(grep -rnE '^[[:space:]]*#[[:space:]]*include' core platform/soft | grep -vE '<(stdint|stddef|stdbool|limits)\.h>|"qibli?(/[a-z0-9_]+)?\.h"')
 [ -z "$bad" ] || err "core/ or platform/soft/ includes a header outside the freestanding four:"$'\n'"$bad"
 
 warn="-std=c99 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wundef -Wdouble-promotion -Wmissing-prototypes -Werror"
@@ -113,7 +113,9 @@ if [ -f "$out/cortex-m4/qibl-core.o" ]; then
     combos="default (every module)|all|
 runtime relighting (QIBL_USE_LIGHTPROBE=0)|relight|-DQIBL_USE_LIGHTPROBE=0
 relighting without sRGBE (QIBL_USE_LIGHTPROBE=0 QIBL_USE_SRGBE=0)|relight-nosrgbe|-DQIBL_USE_LIGHTPROBE=0 -DQIBL_USE_SRGBE=0
-light probes only (QIBL_USE_SHMAP=0 QIBL_USE_SH=0 QIBL_USE_ASSET=0)|lightprobe|-DQIBL_USE_SHMAP=0 -DQIBL_USE_SH=0 -DQIBL_USE_ASSET=0"
+light probes only (QIBL_USE_SHMAP=0 QIBL_USE_SH=0 QIBL_USE_ASSET=0)|lightprobe|-DQIBL_USE_SHMAP=0 -DQIBL_USE_SH=0 -DQIBL_USE_ASSET=0
+planar relighting (QIBL_USE_LIGHTPROBE=0 QIBL_USE_INTERLEAVED=0)|relight-planar|-DQIBL_USE_LIGHTPROBE=0 -DQIBL_USE_INTERLEAVED=0
+no asset parser (QIBL_USE_LIGHTPROBE=0 QIBL_USE_ASSET=0)|relight-noasset|-DQIBL_USE_LIGHTPROBE=0 -DQIBL_USE_ASSET=0"
     while IFS='|' read -r label tag defs; do
         cdir="$out/cortex-m4-config-$tag"; mkdir -p "$cdir"; ctotal=0; cok=1
         for src in core/src/*.c; do

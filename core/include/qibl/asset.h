@@ -26,12 +26,20 @@
  *     4  u32 height     1..QIBL_ASSET_MAX_DIM, width * height <= QIBL_ASSET_MAX_PIXELS
  *     8  u32 k          number of maps, 1..25 (bands 0..4, flat SH index i = l*l + l + m)
  *    12  u32 channels   1 (grey) or 3 (RGB)
- *    16  u32 flags      0 (reserved)
+ *    16  u32 flags      0 (planar) or QIBL_SHMP_FLAG_INTERLEAVED (0x10); other values reserved
  *    20  k * channels pairs {i32 scale, i32 bias}, Q8.24, map-major (pair index i*channels + ch):
  *        the decoded value of byte c is bias + scale * c (c in 0..255)
- *    20 + 8 * k * channels: k * channels planes of width * height bytes, row-major, top row first,
- *        plane index i * channels + ch
- *    size = 20 + 8 k channels + width height k channels exactly
+ *    20 + 8 * k * channels: the map bytes, height rows in the layout the flag names (shmaps.h):
+ *        planar (flag clear): k * channels planes of width * height bytes, row-major, top row
+ *        first, plane index i * channels + ch;
+ *        interleaved (flag set): height rows of ceil(width / 16) * 16 * k * channels bytes, each
+ *        row one contiguous range (stream it), groups of 16 pixels, [channel][map][16 bytes]
+ *    size = 20 + 8 k channels + height * row size exactly (row size: width k channels planar)
+ *
+ *   Version policy: a layout is a flag of SHMP, not a new container version. Planar assets are
+ *   byte for byte what they were (version 1, flags 0); a reader that predates the flag rejects an
+ *   interleaved asset with QIBL_E_ASSET_BAD_FLAGS (named), never misreads it. QIBL_ASSET_VERSION
+ *   changes only when a version-1 reader would misread a file; reserved bits must stay 0.
  *
  *   PMAP (optional; needed for point lights) - per-pixel scene point seen through the pixel (Wong
  *   eq. 2: depth along the pixel's viewing ray from the viewpoint E, here E = origin)
@@ -45,7 +53,7 @@
  *   lamp inside the scene); light paths (lightpath.h) multiply it by their baked visibility.
  *
  *   YLUT (optional) - cube-map look-up tables of Y_i (Wong §"Relighting by a point source")
- *     0  u32 face_size N (1..QIBL_ASSET_MAX_LUT), 4 u32 k (>= SHMP k, <= 25), 8 u32 flags 0
+ *     0  u32 face_size N (1..QIBL_YLUT_MAX_FACE), 4 u32 k (>= SHMP k, <= 25), 8 u32 flags 0
  *    12  6 * N * N * k i16 in Q2.14: [face][row v][column u][i]; faces +X -X +Y -Y +Z -Z; texel
  *        (u, v) of face f is the direction of the OpenGL cube-map convention with
  *        s = 2 (u + 0.5) / N - 1, t = 2 (v + 0.5) / N - 1:
@@ -60,6 +68,21 @@
  * is QIBL_E_ASSET_CHUNK_SIZE). A buffer or a file_size shorter than header + table is
  * QIBL_E_ASSET_TRUNCATED_TABLE, a buffer shorter than file_size QIBL_E_ASSET_TRUNCATED. An empty
  * payload (size 0) overlaps nothing. A failing call writes nothing to its outputs.
+ *
+ * Three ways to open (same checks in the same order, same statuses, except as said):
+ *   qibl_asset_open            every check and every CRC, nibble-table CRC (64 bytes of .rodata,
+ *                              about 13 instructions per byte);
+ *   qibl_asset_open_crc_table  the same result, CRCs by slicing-by-8 with an 8 KiB table the caller
+ *                              fills once with qibl_crc32_table_init (about 4x fewer instructions);
+ *   qibl_asset_open_structure  header and structure only: every check above except the payload
+ *                              CRCs (the table CRC is still checked). For assets verified at install
+ *                              time (by one of the two above, or by the installer's own hash): it
+ *                              does NOT detect bit flips inside payloads, which then relight wrongly
+ *                              but safely (every size and offset is still checked, so no access
+ *                              leaves the buffer).
+ * Streaming (qibl_asset_head_size, qibl_asset_open_head, qibl_asset_row): the same structure checks
+ * on the file's first bytes only, then the file offset of each row, for interleaved assets whose
+ * rows are loaded one at a time (from disc, cartridge, network) and relit through one-row views.
  */
 #ifndef QIBL_ASSET_H
 #define QIBL_ASSET_H
@@ -68,6 +91,7 @@
 #include <stdint.h>
 #include "qibl/config.h"
 #include "qibl/fixed.h"
+#include "qibl/shmaps.h"
 #include "qibl/status.h"
 
 #ifdef __cplusplus
@@ -81,7 +105,10 @@ extern "C" {
 #define QIBL_ASSET_MAX_DIM 16384u
 #define QIBL_ASSET_MAX_PIXELS (1u << 26) /* 64 Mpixel; sizes are computed in 64 bits and a size
                                           * that does not fit a u32 is QIBL_E_ASSET_SIZE_OVERFLOW */
-#define QIBL_ASSET_MAX_LUT 256u
+#define QIBL_ASSET_MAX_LUT QIBL_YLUT_MAX_FACE
+/* SHMP flags value 0x10 (bit 4, the group size 16): map bytes interleaved in groups of 16 pixels.
+ * Bits 0..3 stay reserved, so a later group size (0x20 for 32) can be told apart. */
+#define QIBL_SHMP_FLAG_INTERLEAVED 0x10u
 
 /* four-character chunk codes, as the u32 read little-endian from the bytes "SHMP", ... */
 #define QIBL_FOURCC(a, b, c, d) ((uint32_t)(a) | (uint32_t)(b) << 8 | (uint32_t)(c) << 16 | (uint32_t)(d) << 24)
@@ -104,39 +131,76 @@ typedef struct qibl_chunk {
     const uint8_t *data;
 } qibl_chunk_t;
 
-/* SH maps (SHMP) as a view. May also be filled by hand for maps that live elsewhere in memory:
- * params holds k*channels {scale, bias} pairs as 8 little-endian bytes each, planes the
- * k*channels planes back to back. */
-typedef struct qibl_shmaps {
-    uint32_t width, height, k, channels;
-    const uint8_t *params;
-    const uint8_t *planes;
-} qibl_shmaps_t;
-
-/* Point map (PMAP) as a view: width*height points of 3 little-endian i32 (Q16.16). */
-typedef struct qibl_pmap {
-    uint32_t width, height;
-    const uint8_t *points;
-} qibl_pmap_t;
-
-/* Cube-map Y LUT (YLUT) as a view: 6*N*N*k little-endian i16 (Q2.14), layout above. */
-typedef struct qibl_ylut {
-    uint32_t face_size, k;
-    const uint8_t *values;
-} qibl_ylut_t;
-
 /* CRC-32 (ISO 3309 / zip / PNG polynomial 0xEDB88320, reflected, init and final xor 0xFFFFFFFF)
  * of n bytes, continuing from crc (pass 0 to start). A nibble-at-a-time loop over a 16-entry const
  * table (64 bytes of .rodata) instead of the usual 1 KiB byte table. */
 uint32_t qibl_crc32(uint32_t crc, const uint8_t *data, size_t n);
 
+/* Slicing-by-8 CRC tables: 8 * 256 u32 (8 KiB) in the caller's memory, filled once. */
+#define QIBL_CRC32_TABLE_WORDS 2048u
+/* Fills table[0..QIBL_CRC32_TABLE_WORDS) (any memory the caller owns: RAM, or flash written once).
+ * QIBL_E_NULL_POINTER, QIBL_E_WORKSPACE (words < QIBL_CRC32_TABLE_WORDS); nothing written then. */
+qibl_status_t qibl_crc32_table_init(uint32_t *table, size_t words);
+/* The same CRC as qibl_crc32, eight bytes per step through a table from qibl_crc32_table_init
+ * (byte loads only: any alignment, either byte order). No checks (hot path). */
+uint32_t qibl_crc32_fast(const uint32_t *table, uint32_t crc, const uint8_t *data, size_t n);
+
 /* Validates bytes[0..n) as an asset (every rule above, every CRC) and fills *out.
  * Errors: QIBL_E_NULL_POINTER and the QIBL_E_ASSET_* codes; *out untouched on failure. */
 qibl_status_t qibl_asset_open(qibl_asset_t *out, const void *bytes, size_t n);
 
+/* qibl_asset_open with the CRCs through a qibl_crc32_table_init table: same checks, same statuses,
+ * about a quarter of the instructions. QIBL_E_NULL_POINTER for a NULL table too. */
+qibl_status_t qibl_asset_open_crc_table(qibl_asset_t *out, const void *bytes, size_t n, const uint32_t *crc_table);
+
+/* Header and structure only (see the top of this file): every check of qibl_asset_open except the
+ * payload CRCs, so it cost nothing per payload byte. For assets verified at install time; payload
+ * bit flips pass undetected. Errors as qibl_asset_open minus QIBL_E_ASSET_CHUNK_CRC. */
+qibl_status_t qibl_asset_open_structure(qibl_asset_t *out, const void *bytes, size_t n);
+
 /* The chunk of the given type (the first one, for an unknown type that appears more than once).
  * QIBL_E_ASSET_MISSING_CHUNK if absent; *out untouched then. */
 qibl_status_t qibl_asset_find(const qibl_asset_t *a, uint32_t type, qibl_chunk_t *out);
+
+/* ---- streaming by rows ----------------------------------------------------------------------
+ * Only the head of the file is resident: header, chunk table and SHMP's fields and params. The
+ * caller reads the first bytes, asks qibl_asset_head_size how many it needs (at most four rounds:
+ * header, table, SHMP's fields, its params), opens the head, then loads each row it relights from the offsets
+ * qibl_asset_row gives and relights through qibl_shmaps_row_view / qibl_pmap_row_view (shmaps.h).
+ * Checks: those of qibl_asset_open_structure that the head holds (header, table CRC, every entry's
+ * bounds, duplicates and overlaps against file_size, SHMP's fields, PMAP's and YLUT's payload sizes
+ * against SHMP from the table); no payload CRC, no PMAP/YLUT fields (not in the head). */
+
+/* A streamed asset: what the head holds and where the rows are (file offsets). */
+typedef struct qibl_asset_head {
+    qibl_shmaps_t maps;      /* params point into the caller's head bytes; planes NULL */
+    uint32_t file_size;
+    uint32_t maps_offset;    /* file offset of map row 0 */
+    uint32_t row_size;       /* bytes per map row (qibl_shmaps_row_size) */
+    uint32_t pmap_offset;    /* file offset of P-map row 0 (12 * width bytes per row); 0: no PMAP */
+    uint32_t ylut_offset, ylut_size; /* the YLUT payload (load it whole); 0, 0: no YLUT */
+} qibl_asset_head_t;
+
+/* Where row y lies in the file. */
+typedef struct qibl_asset_row_s {
+    uint32_t maps_offset, maps_size; /* the row's map bytes (one contiguous range) */
+    uint32_t pmap_offset, pmap_size; /* the row's P-map points; 0, 0 without PMAP */
+} qibl_asset_row_t;
+
+/* From the first n bytes of an asset file (n may be anything, even 0), *need = how many leading
+ * bytes qibl_asset_open_head needs; if *need > n, read that many and ask again (it may grow as the
+ * table and SHMP's fields become visible; never beyond the end of SHMP's params).
+ * Errors: QIBL_E_NULL_POINTER and the header/table/SHMP statuses of qibl_asset_open that the bytes
+ * seen so far already show; *need untouched then. */
+qibl_status_t qibl_asset_head_size(const void *head, size_t n, size_t *need);
+
+/* Opens the head (the first n bytes of the file, which must outlive *out). Errors: as above,
+ * QIBL_E_ASSET_HEAD_SHORT (n below what qibl_asset_head_size asks for), QIBL_E_ASSET_LAYOUT (planar
+ * maps: a planar row is k*channels ranges; open the whole asset instead); *out untouched then. */
+qibl_status_t qibl_asset_open_head(qibl_asset_head_t *out, const void *head, size_t n);
+
+/* File offsets and sizes of row y. QIBL_E_NULL_POINTER, QIBL_E_ASSET_ROW (y >= height). */
+qibl_status_t qibl_asset_row(const qibl_asset_head_t *h, uint32_t y, qibl_asset_row_t *out);
 
 /* Typed views of the known chunks of a validated asset (missing chunk -> QIBL_E_ASSET_MISSING_CHUNK). */
 qibl_status_t qibl_asset_shmaps(const qibl_asset_t *a, qibl_shmaps_t *out);
@@ -148,29 +212,6 @@ qibl_status_t qibl_asset_shmaps_unshadowed(const qibl_asset_t *a, qibl_shmaps_t 
 qibl_status_t qibl_asset_point_shmaps(const qibl_asset_t *a, qibl_shmaps_t *out);
 /* The index-th chunk (0-based) of the given type, for types that may repeat (light paths). */
 qibl_status_t qibl_asset_find_nth(const qibl_asset_t *a, uint32_t type, uint32_t index, qibl_chunk_t *out);
-
-/* Accessors (no checks: the view must be valid and the indices in range). */
-qibl_q24_t qibl_shmaps_scale(const qibl_shmaps_t *m, uint32_t i, uint32_t ch);
-qibl_q24_t qibl_shmaps_bias(const qibl_shmaps_t *m, uint32_t i, uint32_t ch);
-const uint8_t *qibl_shmaps_plane(const qibl_shmaps_t *m, uint32_t i, uint32_t ch);
-void qibl_pmap_point(const qibl_pmap_t *p, uint32_t x, uint32_t y, qibl_q16_t out[3]);
-
-/* Little-endian loads that need no alignment (also used by the kernels). */
-static inline uint32_t qibl_load_u32le(const uint8_t *p)
-{
-    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-}
-static inline int32_t qibl_load_s32le(const uint8_t *p)
-{
-    uint32_t u = qibl_load_u32le(p);
-    /* two's complement without an implementation-defined conversion */
-    return u <= 0x7FFFFFFFu ? (int32_t)u : (int32_t)(u - 0x80000000u) - 0x7FFFFFFF - 1;
-}
-static inline int16_t qibl_load_s16le(const uint8_t *p)
-{
-    uint32_t u = (uint32_t)p[0] | (uint32_t)p[1] << 8;
-    return (int16_t)(u <= 0x7FFFu ? (int32_t)u : (int32_t)u - 0x10000);
-}
 
 #ifdef __cplusplus
 }

@@ -20,7 +20,7 @@
 
 /* QIBL_USE_ASSET: 1 builds the asset container reader (asset.c: validation, CRC-32, chunk views;
  * about 1.4 KiB .text and 72 bytes .rodata on Cortex-M4 -Os, no RAM beyond the caller's structs).
- * The little-endian load helpers in asset.h stay available either way. */
+ * The views and little-endian load helpers of shmaps.h stay available either way. */
 #ifndef QIBL_USE_ASSET
 #define QIBL_USE_ASSET 1
 #endif
@@ -34,12 +34,23 @@
 
 /* QIBL_USE_SHMAP: 1 builds the relighting kernels (shmap.c: weights, directional/environment and
  * point-light spans, cube-map LUTs; about 4.7 KiB .text on Cortex-M4 -Os, 2.9 KiB of it for point
- * lights). Needs QIBL_USE_SH. `make cross` prints every module's size and those of combinations. */
+ * lights). Needs QIBL_USE_SH, not QIBL_USE_ASSET: the views it reads (shmaps.h, shmaps.c) are built
+ * with either module, so a game that builds or streams its maps itself leaves the parser out.
+ * `make cross` prints every module's size and those of combinations. */
 #ifndef QIBL_USE_SHMAP
 #define QIBL_USE_SHMAP 1
 #endif
-#if QIBL_USE_SHMAP && (!QIBL_USE_SH || !QIBL_USE_ASSET)
-#error "QIBL_USE_SHMAP needs QIBL_USE_SH and QIBL_USE_ASSET"
+#if QIBL_USE_SHMAP && !QIBL_USE_SH
+#error "QIBL_USE_SHMAP needs QIBL_USE_SH"
+#endif
+
+/* QIBL_USE_INTERLEAVED: 1 builds the interleaved SH-map layout (shmaps.h): its relight and
+ * point-light paths in shmap.c, qibl_shmaps_interleave, and streaming by rows in asset.c
+ * (qibl_asset_head_size, _open_head, _row); about 2 KiB .text on Cortex-M4 -Os, no RAM. 0: planar
+ * maps only; an interleaved view is QIBL_E_SHMAP_LAYOUT and an interleaved asset
+ * QIBL_E_ASSET_BAD_FLAGS, as for a reader that predates the layout. */
+#ifndef QIBL_USE_INTERLEAVED
+#define QIBL_USE_INTERLEAVED 1
 #endif
 
 /* QIBL_SH_MAX_BANDS: largest band count the SH module accepts, 1..5 (bands 0..4, 25 coefficients).

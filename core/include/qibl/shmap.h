@@ -2,7 +2,7 @@
  * qibl/shmap.h - relighting a panorama from k 8-bit SH maps (Wong et al.), integer only.
  *
  * Model: each pixel stores its light-transport function as k SH coefficients per colour channel,
- * range-packed to bytes: T_i(p) = bias_i + scale_i * c_i(p) (asset.h, SHMP). Incident light with
+ * range-packed to bytes: T_i(p) = bias_i + scale_i * c_i(p) (views and layouts: shmaps.h). Incident light with
  * SH coefficients L_i gives radiance sum_i T_i(p) L_i (Wong eq. 1; L_i = Y_i(L0) for a directional
  * light of unit colour).
  *
@@ -28,7 +28,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
-#include "qibl/asset.h"
+#include "qibl/shmaps.h"
 #include "qibl/config.h"
 #include "qibl/fixed.h"
 #include "qibl/sh.h"
@@ -113,6 +113,7 @@ qibl_status_t qibl_shmap_check(const qibl_shmaps_t *m);
  * largest weight <= 32767 (so it lies in [16384, 32767] unless every product scale * L is already an
  * exact integer below 16384 in Q40): weight quantisation adds at most 0.5 weight-LSB per map, i.e. a
  * relative error <= k * 2^-16 of the brightest map's full-scale contribution.
+ * m->planes may be NULL (only the params are read: the maps view of a streamed asset's head).
  * Errors: those of qibl_shmap_check, QIBL_E_SHMAP_LIGHT_K; *out untouched on error. */
 qibl_status_t qibl_shmap_weights(const qibl_shmaps_t *m, const qibl_shlight_t *light, qibl_shmap_weights_t *out);
 
@@ -157,7 +158,7 @@ size_t qibl_ylut_values_size(uint32_t face_size, uint32_t k);
 
 /* Fills values (qibl_ylut_values_size bytes, little-endian int16 Q2.14, the asset.h YLUT layout)
  * with Y_0..Y_{k-1} at every texel centre, rounded to nearest from the Q2.30 basis.
- * QIBL_E_NULL_POINTER, QIBL_E_SHMAP_K, QIBL_E_SHMAP_LUT_SIZE (N outside 1..QIBL_ASSET_MAX_LUT),
+ * QIBL_E_NULL_POINTER, QIBL_E_SHMAP_K, QIBL_E_SHMAP_LUT_SIZE (N outside 1..QIBL_YLUT_MAX_FACE),
  * QIBL_E_WORKSPACE (size too small); nothing written on error. */
 qibl_status_t qibl_ylut_build(uint32_t face_size, uint32_t k, uint8_t *values, size_t size);
 

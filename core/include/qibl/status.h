@@ -54,7 +54,7 @@ typedef enum qibl_status {
     QIBL_E_SHMAP_BOUNDS,           /* span outside the maps */
     QIBL_E_SHMAP_MISMATCH,         /* weights, P map or LUT made for other maps */
     QIBL_E_SHMAP_LIGHT,            /* point light with a negative colour or distance, or unknown falloff */
-    QIBL_E_SHMAP_LUT_SIZE,         /* cube-map LUT face size outside 1..QIBL_ASSET_MAX_LUT */
+    QIBL_E_SHMAP_LUT_SIZE,         /* cube-map LUT face size outside 1..QIBL_YLUT_MAX_FACE */
     /* sRGBE codec (srgbe.h); each of these calls writes the code or value its header states */
     QIBL_E_SRGBE_NAN,              /* encode: a channel is NaN (the zero code is written) */
     QIBL_E_SRGBE_INF,              /* encode: a channel is +-Inf (saturated code written) */
@@ -82,6 +82,11 @@ typedef enum qibl_status {
     QIBL_E_LIGHTPATH_EDGES,        /* a pixel's edges not strictly increasing */
     QIBL_E_LIGHTPATH_PARAM,        /* path parameter t above 65535 or radius above 32767 */
     QIBL_E_LIGHTPATH_BOUNDS,       /* span outside the path's pixels */
+    /* asset streaming by rows (asset.h, qibl_asset_open_head) */
+    QIBL_E_ASSET_HEAD_SHORT,       /* head bytes end before the fields needed (qibl_asset_head_size) */
+    QIBL_E_ASSET_LAYOUT,           /* streaming by rows needs the interleaved SHMP layout */
+    QIBL_E_ASSET_ROW,              /* row index outside the maps */
+    QIBL_E_SHMAP_LAYOUT,           /* SH maps view with an unknown layout (shmaps.h) */
     QIBL_STATUS_COUNT      /* number of status values; not a status */
 } qibl_status_t;
 

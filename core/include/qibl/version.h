@@ -34,7 +34,8 @@ extern "C" {
  * or which functions exist, plus the release's major and minor version, packed into 32 bits.
  *
  *   bits  0..4   QIBL_USE_SH, _SRGBE, _ASSET, _LIGHTPROBE, _SHMAP (one bit each)
- *   bits  5..7   reserved (0): further module switches
+ *   bit   5      QIBL_USE_INTERLEAVED
+ *   bits  6..7   reserved (0): further module switches
  *   bits  8..11  QIBL_SH_MAX_BANDS (1..5)
  *   bits 12..15  reserved (0): further size options
  *   bits 16..23  QIBL_VERSION_MINOR
@@ -50,7 +51,7 @@ extern "C" {
      ((uint32_t)(QIBL_VERSION_MINOR & 255) << 16) | ((uint32_t)QIBL_SH_MAX_BANDS << 8) |        \
      ((uint32_t)(QIBL_USE_SHMAP != 0) << 4) | ((uint32_t)(QIBL_USE_LIGHTPROBE != 0) << 3) |     \
      ((uint32_t)(QIBL_USE_ASSET != 0) << 2) | ((uint32_t)(QIBL_USE_SRGBE != 0) << 1) |          \
-     (uint32_t)(QIBL_USE_SH != 0))
+     ((uint32_t)(QIBL_USE_INTERLEAVED != 0) << 5) | (uint32_t)(QIBL_USE_SH != 0))
 
 /* QIBL_VERSION_STRING of the library as compiled ("0.1.0"). Never NULL. */
 const char *qibl_version(void);

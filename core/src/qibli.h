@@ -1,0 +1,105 @@
+/*
+ * qibli.h - internal helpers shared by the core's modules (not installed, not API: names qibli_*).
+ *
+ * One definition of each integer idiom the modules used to write out themselves: magnitudes of
+ * signed values as unsigned (defined for INT32_MIN/INT64_MIN), the left 64-bit shift that pairs
+ * with fixed.h's qibl_shr_u64, bit lengths, the rounded 64-bit shift of fixed.h, and the last step
+ * of the fast normalisation (fixed.c's qibl_vec3_normalize_fast_q30 and the point-light kernel).
+ *
+ * Code size against speed: built for size (-Os, __OPTIMIZE_SIZE__), the two larger helpers
+ * (qibli_rshr_s64, qibli_bitlen_u64) are calls to the one out-of-line copy in fixed.c, so the image
+ * holds each once (before, -Os left a private copy of qibl_rshr_s64 in sh.o and in shmap.o);
+ * otherwise they are static inline, so hot loops keep them inlined. Same bits either way.
+ * Only the freestanding headers, like every core file.
+ */
+#ifndef QIBLI_H
+#define QIBLI_H
+
+#include <stdint.h>
+#include "qibl/fixed.h"
+
+/* Keeps a function out of line where the compiler supports saying so (nothing otherwise): for
+ * kernels whose vectorisation needs their restrict parameters intact. */
+#if defined(__GNUC__) || defined(__clang__)
+#define QIBLI_NOINLINE __attribute__((noinline))
+#else
+#define QIBLI_NOINLINE
+#endif
+
+/* |x| as an unsigned value: exact for every int32 / int64 including the most negative one. */
+static inline uint32_t qibli_abs_u32(int32_t x)
+{
+    return x < 0 ? 0u - (uint32_t)x : (uint32_t)x;
+}
+static inline uint64_t qibli_abs_u64(int64_t x)
+{
+    return x < 0 ? 0u - (uint64_t)x : (uint64_t)x;
+}
+
+/* x << n for n in 0..63: the left twin of qibl_shr_u64, native where the target shifts 64-bit
+ * values inline, else from 32-bit halves (QIBL_CONFIG_NATIVE_SHIFT64; no __aeabi_llsl). */
+static inline uint64_t qibli_shl_u64(uint64_t x, unsigned n)
+{
+#if QIBL_CONFIG_NATIVE_SHIFT64
+    return x << n;
+#else
+    uint32_t hi = (uint32_t)(x >> 32), lo = (uint32_t)x;
+    if (n == 0u)
+        return x;
+    if (n >= 32u)
+        return (uint64_t)(lo << (n - 32u)) << 32;
+    return ((uint64_t)((hi << n) | (lo >> (32u - n))) << 32) | (uint32_t)(lo << n);
+#endif
+}
+
+/* bit length: 0 for 0, floor(log2 x) + 1 otherwise (constant shifts only) */
+static inline unsigned qibli_bitlen_u64_inline(uint64_t x)
+{
+    unsigned n = 0u;
+    if (x >> 32) { x >>= 32; n += 32u; }
+    if (x >> 16) { x >>= 16; n += 16u; }
+    if (x >> 8) { x >>= 8; n += 8u; }
+    if (x >> 4) { x >>= 4; n += 4u; }
+    if (x >> 2) { x >>= 2; n += 2u; }
+    if (x >> 1) { x >>= 1; n += 1u; }
+    return n + (unsigned)x;
+}
+
+/* floor(log2 x) + 1 for a 32-bit x, 0 for 0 (constant shifts only) */
+static inline unsigned qibli_bitlen_u32(uint32_t x)
+{
+    unsigned n = 0u;
+    if (x >> 16) { x >>= 16; n += 16u; }
+    if (x >> 8) { x >>= 8; n += 8u; }
+    if (x >> 4) { x >>= 4; n += 4u; }
+    if (x >> 2) { x >>= 2; n += 2u; }
+    if (x >> 1) { x >>= 1; n += 1u; }
+    return n + x;
+}
+
+/* The out-of-line copies (fixed.c), always defined so objects built with different flags link. */
+unsigned qibli_bitlen_u64_call(uint64_t x);
+int32_t qibli_rshr_s64_call(int64_t x, unsigned n);
+
+#if defined(__OPTIMIZE_SIZE__)
+#define qibli_bitlen_u64 qibli_bitlen_u64_call
+#define qibli_rshr_s64 qibli_rshr_s64_call
+#else
+#define qibli_bitlen_u64 qibli_bitlen_u64_inline
+#define qibli_rshr_s64 qibl_rshr_s64
+#endif
+
+/* u = l / |l| in Q2.30 from 1/|l| = iy / 2^e (qibl_rsqrt_u64 of |l|^2, e in 31..62): per component
+ * round(|l_j| iy / 2^(e - 30)) (ties away from zero), clamped to 1.0 (rounding may overshoot it
+ * by an LSB), sign restored. The product is <= 2^62 and the shift e - 30 is 1..32. */
+static inline void qibli_unit_q30(const int32_t l[3], uint32_t iy, unsigned e, qibl_q30_t u[3])
+{
+    const unsigned sh = e - 30u;
+    for (int j = 0; j < 3; ++j) {
+        uint64_t q = qibl_shr_u64(qibl_mul_u32_u64(qibli_abs_u32(l[j]), iy) + qibl_shr_u64((uint64_t)1 << 63, 64u - sh), sh);
+        int32_t m = (int32_t)(q > 0x40000000u ? 0x40000000u : q);
+        u[j] = l[j] < 0 ? -m : m;
+    }
+}
+
+#endif /* QIBLI_H */
