@@ -87,6 +87,17 @@ static int make_maps(qibl_shmaps_t *m, uint8_t **params, uint8_t **planes, uint6
     return 0;
 }
 
+/* a parse status as a number that does not depend on where the light-path statuses sit in the
+ * enum (other modules append theirs too): 0 OK, 1.. the QIBL_E_LIGHTPATH_* in order, 255 anything else */
+static uint32_t status_code(qibl_status_t st)
+{
+    if (st == QIBL_OK)
+        return 0;
+    if (st >= QIBL_E_LIGHTPATH_SIZE && st <= QIBL_E_LIGHTPATH_BOUNDS)
+        return 1u + (uint32_t)(st - QIBL_E_LIGHTPATH_SIZE);
+    return 255;
+}
+
 static int case_vis(const qibl_goldens_sink_t *s, const qibl_lightpath_t *p, const char *name, uint32_t radius)
 {
     gbuf g = {0};
@@ -192,10 +203,10 @@ int qibl_goldens_lightpath(const qibl_goldens_sink_t *s)
             for (size_t i = 0; i < 200u && i < n1; ++i) {
                 memcpy(c, b1, n1);
                 c[i] ^= (uint8_t)(1u << (i % 8u));
-                gbuf_u32(&g, (uint32_t)qibl_lightpath_parse(c, n1, &q));
+                gbuf_u32(&g, status_code(qibl_lightpath_parse(c, n1, &q)));
             }
             for (size_t m = 0; m < n1; m += 13u)
-                gbuf_u32(&g, (uint32_t)qibl_lightpath_parse(b1, m, &q));
+                gbuf_u32(&g, status_code(qibl_lightpath_parse(b1, m, &q)));
             free(c);
             bad += gbuf_emit(s, "lightpath_damaged", &g);
         }
