@@ -92,6 +92,7 @@ qibl_status_t qibl_lightpath_parse(const uint8_t *data, size_t size, qibl_lightp
     return QIBL_OK;
 }
 
+#if QIBL_USE_ASSET /* the asset-level helpers need the container reader; parsing a chunk does not */
 uint32_t qibl_lightpath_count(const qibl_asset_t *a)
 {
     uint32_t n = 0;
@@ -123,6 +124,7 @@ qibl_status_t qibl_lightpath_from_asset(const qibl_asset_t *a, uint32_t index, q
     out->keys = p.keys, out->rows = p.rows, out->counts = p.counts, out->edges = p.edges;
     return QIBL_OK;
 }
+#endif
 
 qibl_status_t qibl_lightpath_at(const qibl_lightpath_t *p, uint32_t t, qibl_q16_t out[3])
 {

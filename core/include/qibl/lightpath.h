@@ -69,7 +69,8 @@ typedef struct qibl_lightpath {
  * QIBL_E_LIGHTPATH_KEYS, QIBL_E_LIGHTPATH_ROWS, QIBL_E_LIGHTPATH_EDGES, checked in that order. */
 qibl_status_t qibl_lightpath_parse(const uint8_t *data, size_t size, qibl_lightpath_t *out);
 
-/* Number of LPTH chunks in a validated asset (0 when a is NULL). */
+/* Number of LPTH chunks in a validated asset (0 when a is NULL). This and the next need
+ * QIBL_USE_ASSET; the rest of the module does not. */
 uint32_t qibl_lightpath_count(const qibl_asset_t *a);
 
 /* The index-th path of a validated asset, parsed, its size checked against SHMP's
