@@ -18,15 +18,31 @@ HOST_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -Wall -Wextra -Werror $(OPT) -
 HOST_LIBS   := -lm -lpthread
 
 CORE_SRC := $(wildcard core/src/*.c)
-# platform/soft: freestanding like core/, built with the core flags into the same two libraries.
+# platform/<backend>/: each backend its own directory and library on top of the core (the backend
+# contract is in docs/ARCHITECTURE.md). platform/soft is freestanding like core/ and built with the
+# core flags (native and portable) into libqibl-soft.a; platform/gles2 is hosted (`make gles`).
 PLATFORM_SRC := $(wildcard platform/soft/*.c)
 PLATFORM_INC := -Iplatform/soft/include
-TOOL_LIB_SRC := $(wildcard tools/ref/*.c) $(wildcard tools/io/*.c) $(wildcard tools/gen/*.c) $(wildcard tools/render/*.c) $(wildcard tools/bake/*.c)
+TOOL_LIB_SRC := $(wildcard tools/ref/*.c) $(wildcard tools/io/*.c) $(wildcard tools/gles/*.c) $(wildcard tools/gen/*.c) $(wildcard tools/render/*.c) $(wildcard tools/bake/*.c)
 # the golden cases (plain C, shared by the suites and the golden runner) and their CMocka-side check
 GOLDEN_CASES_SRC := $(wildcard tools/golden/cases*.c)
 TOOL_LIB_SRC += $(GOLDEN_CASES_SRC) tools/golden/check.c
 QIBL_SRC := $(wildcard tools/qibl/*.c)
-TEST_SRC := $(wildcard tests/*_test.c)
+# tests/gles2_test.c links the GLES backend and EGL: built by its own rule below
+TEST_SRC := $(filter-out tests/gles2_test.c,$(wildcard tests/*_test.c))
+
+# platform/gles2: hosted (GL headers and libraries), its own library and target (`make gles`).
+# HAVE_GLES: the EGL and GLES2 headers compile here; without them the CLI says so and
+# tests/gles2_test skips (fails with QIBL_REQUIRE_GLES=1).
+HAVE_GLES := $(shell printf '\043include <EGL/egl.h>\n\043include <GLES2/gl2.h>\n' | $(CC) -fsyntax-only -x c - 2>/dev/null && echo 1)
+GLES_SRC := $(wildcard platform/gles2/*.c)
+GLES_INC := -Iplatform/gles2/include
+GLES_CFLAGS := $(CORE_WARN) $(OPT) -g -Icore/include $(GLES_INC) $(SAN)
+GLES_LIBS := $(shell pkg-config --libs glesv2 egl 2>/dev/null || echo -lGLESv2 -lEGL)
+GLES_OBJ := $(GLES_SRC:%.c=$(BUILD)/gles/%.o)
+LIBGLES := $(BUILD)/libqibl-gles2.a
+HOST_CFLAGS += $(GLES_INC) $(if $(HAVE_GLES),-DQIBL_HAVE_GLES2=1)
+GLES_LINK := $(if $(HAVE_GLES),$(LIBGLES) $(GLES_LIBS))
 
 # Two flavours of the core: the native one and the "portable" one that takes the Cortex-M0 paths
 # (16x16 products, shift-subtract division) on the host, so both are tested on every run.
@@ -34,8 +50,8 @@ PORTABLE_DEFS := -DQIBL_CONFIG_NATIVE_MUL64=0 -DQIBL_CONFIG_NATIVE_DIV64=0 -DQIB
 
 PLATFORM_OBJ := $(PLATFORM_SRC:%.c=$(BUILD)/native/%.o)
 PLATFORM_POBJ := $(PLATFORM_SRC:%.c=$(BUILD)/portable/%.o)
-CORE_OBJ := $(CORE_SRC:%.c=$(BUILD)/native/%.o) $(PLATFORM_OBJ)
-CORE_POBJ := $(CORE_SRC:%.c=$(BUILD)/portable/%.o) $(PLATFORM_POBJ)
+CORE_OBJ := $(CORE_SRC:%.c=$(BUILD)/native/%.o)
+CORE_POBJ := $(CORE_SRC:%.c=$(BUILD)/portable/%.o)
 # only platform/ sees its own headers: core/ cannot include them
 $(PLATFORM_OBJ) $(PLATFORM_POBJ): CORE_CFLAGS += $(PLATFORM_INC)
 TOOL_LIB_OBJ := $(TOOL_LIB_SRC:%.c=$(BUILD)/host/%.o)
@@ -46,16 +62,18 @@ TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%) $(TEST_SRC:tests/%.c=$(BUILD)/te
 
 LIBQIBL := $(BUILD)/libqibl.a
 LIBQIBL_PORTABLE := $(BUILD)/libqibl-portable.a
+LIBSOFT := $(BUILD)/libqibl-soft.a
+LIBSOFT_PORTABLE := $(BUILD)/libqibl-soft-portable.a
 LIBTOOLS := $(BUILD)/libqibl-tools.a
 QIBL := $(BUILD)/bin/qibl
 
-.PHONY: all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan examples \
+.PHONY: gles all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan examples \
         install check-install amalgamate check-amalgamate docs-memory
-.PHONY: baremetal baremetal-tables
+.PHONY: baremetal baremetal-tables docs-size
 .DEFAULT_GOAL := all
 
-all: $(LIBQIBL) $(QIBL)
-lib: $(LIBQIBL)
+all: $(LIBQIBL) $(LIBSOFT) $(QIBL)
+lib: $(LIBQIBL) $(LIBSOFT)
 qibl: $(QIBL)
 
 help:
@@ -63,9 +81,11 @@ help:
 	@echo "make demo       run the main demo (SCENE=path.obj for a mesh, DEMO_SIZE=small for the CI size)"
 	@echo "make test       build and run the CMocka suites (installs libcmocka-dev if it can)"
 	@echo "make docs-memory  regenerate the resident-memory table of docs/porting.md (make test checks it)"
+	@echo "make docs-size  rewrite docs/porting.md's size tables from a make cross run (make cross checks them)"
 	@echo "make cross      freestanding builds for Cortex-M0/M4 and RV64, checks and size table"
-	@echo "make warnings   compile core/ and platform/soft/ with gcc and clang under the strict warning set;"
+	@echo "make warnings   compile core/, platform/soft/ and platform/gles2/ with gcc and clang under the strict warning set;"
 	@echo "                every public header alone as C99/C11/C++98/11/17 (tools/scripts/headers.sh)"
+	@echo "make gles       build platform/gles2 (libqibl-gles2.a) and run its suite on EGL (Mesa llvmpipe here)"
 	@echo "make bench      benchmarks (speed against error), RESULT lines"
 	@echo "make check-exhaustive  sweeps too long for make test (all 2^32 sRGBE codes; CI runs it)"
 	@echo "make golden     run the golden runner natively: one hash per golden case, compared with fixtures/golden"
@@ -73,8 +93,9 @@ help:
 	@echo "make baremetal  the golden runner on Cortex-M0/M4 and RV32 under qemu-system (semihosting): hashes, stack, insn/px"
 	@echo "make baremetal-tables  regenerate the stack and memory tables of docs/porting.md"
 	@echo "make test-asan  the suites and the CLI under AddressSanitizer + UndefinedBehaviorSanitizer (in $(BUILD)/asan)"
+	@echo "make fuzz       every libFuzzer target for FUZZ_SECONDS (default 60) each; fuzz-smoke: CI's short run"
 	@echo "make examples   build and run tools/examples/console_port, the integration example (docs/porting.md)"
-	@echo "make install    headers, $(LIBQIBL) and qibl.pc into PREFIX (default /usr/local; DESTDIR honoured)"
+	@echo "make install    headers, $(LIBQIBL), $(LIBSOFT) and qibl.pc into PREFIX (default /usr/local; DESTDIR honoured)"
 	@echo "make check-install  install to a temporary prefix and build the example through pkg-config and CMake"
 	@echo "make amalgamate the core as one qibl.h + one qibl.c in $(BUILD)/amalgamated (tools/scripts/amalgamate.sh)"
 	@echo "make check-amalgamate  that pair under the strict flags, freestanding for Cortex-M0/M4, with the goldens and the example"
@@ -100,13 +121,41 @@ $(LIBQIBL_PORTABLE): $(CORE_POBJ)
 	@mkdir -p $(dir $@)
 	rm -f $@ && $(AR) rcs $@ $^
 
+$(LIBSOFT): $(PLATFORM_OBJ)
+	@mkdir -p $(dir $@)
+	rm -f $@ && $(AR) rcs $@ $^
+
+$(LIBSOFT_PORTABLE): $(PLATFORM_POBJ)
+	@mkdir -p $(dir $@)
+	rm -f $@ && $(AR) rcs $@ $^
+
 $(LIBTOOLS): $(TOOL_LIB_OBJ)
 	@mkdir -p $(dir $@)
 	rm -f $@ && $(AR) rcs $@ $^
 
-$(QIBL): $(QIBL_OBJ) $(LIBTOOLS) $(LIBQIBL)
+$(QIBL): $(QIBL_OBJ) $(LIBTOOLS) $(LIBSOFT) $(LIBQIBL) $(if $(HAVE_GLES),$(LIBGLES))
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -o $@ $(QIBL_OBJ) $(LIBTOOLS) $(LIBQIBL) $(HOST_LIBS)
+	$(CC) $(HOST_CFLAGS) -o $@ $(QIBL_OBJ) $(LIBTOOLS) $(GLES_LINK) $(LIBSOFT) $(LIBQIBL) $(HOST_LIBS)
+
+# ---- platform/gles2 -------------------------------------------------------------------------
+$(BUILD)/gles/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(CC) $(GLES_CFLAGS) -MMD -MP -c $< -o $@
+
+$(LIBGLES): $(GLES_OBJ)
+	@mkdir -p $(dir $@)
+	rm -f $@ && $(AR) rcs $@ $^
+
+GLES_TEST := $(BUILD)/tests/gles2_test
+$(GLES_TEST): $(BUILD)/host/tests/gles2_test.o $(LIBTOOLS) $(LIBSOFT) $(LIBQIBL) $(if $(HAVE_GLES),$(LIBGLES)) | test-deps
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) -o $@ $< $(LIBTOOLS) $(GLES_LINK) $(LIBSOFT) $(LIBQIBL) $(CMOCKA_LIBS) $(HOST_LIBS)
+
+# the backend, its suite (EGL on Mesa: llvmpipe here) and nothing else
+gles: test-deps
+	@$(if $(HAVE_GLES),,echo "gles: EGL/GLES2 headers not found (Debian: apt-get install libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri)" >&2; exit 1)
+	@$(MAKE) --no-print-directory $(LIBGLES) $(GLES_TEST)
+	@sh tools/scripts/run-tests.sh $(GLES_TEST)
 
 # ---- tests ----------------------------------------------------------------------------------
 CMOCKA_CFLAGS = $(shell pkg-config --cflags cmocka 2>/dev/null)
@@ -115,13 +164,13 @@ CMOCKA_LIBS = $(shell pkg-config --libs cmocka 2>/dev/null || echo -lcmocka)
 test-deps:
 	@sh tools/scripts/need-cmocka.sh
 
-$(BUILD)/tests/%_test: $(BUILD)/host/tests/%_test.o $(LIBTOOLS) $(LIBQIBL) | test-deps
+$(BUILD)/tests/%_test: $(BUILD)/host/tests/%_test.o $(LIBTOOLS) $(LIBSOFT) $(LIBQIBL) | test-deps
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -o $@ $< $(TEST_EXTRA) $(LIBTOOLS) $(LIBQIBL) $(CMOCKA_LIBS) $(HOST_LIBS)
+	$(CC) $(HOST_CFLAGS) -o $@ $< $(TEST_EXTRA) $(LIBTOOLS) $(LIBSOFT) $(LIBQIBL) $(CMOCKA_LIBS) $(HOST_LIBS)
 
-$(BUILD)/tests/%_test-portable: $(BUILD)/host-portable/tests/%_test.o $(LIBTOOLS) $(LIBQIBL_PORTABLE) | test-deps
+$(BUILD)/tests/%_test-portable: $(BUILD)/host-portable/tests/%_test.o $(LIBTOOLS) $(LIBSOFT_PORTABLE) $(LIBQIBL_PORTABLE) | test-deps
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -o $@ $< $(TEST_EXTRA) $(LIBTOOLS) $(LIBQIBL_PORTABLE) $(CMOCKA_LIBS) $(HOST_LIBS)
+	$(CC) $(HOST_CFLAGS) -o $@ $< $(TEST_EXTRA) $(LIBTOOLS) $(LIBSOFT_PORTABLE) $(LIBQIBL_PORTABLE) $(CMOCKA_LIBS) $(HOST_LIBS)
 
 # version_test also links a TU compiled with -DQIBL_SH_MAX_BANDS=3: a caller whose config.h differs
 # from the library's must get QIBL_E_CONFIG_MISMATCH from its start-up check.
@@ -141,9 +190,9 @@ $(BUILD)/host-portable/tests/%.o: tests/%.c | test-deps
 	$(CC) $(HOST_CFLAGS) $(PORTABLE_DEFS) $(CMOCKA_CFLAGS) -MMD -MP -c $< -o $@
 
 test: test-deps
-	@$(MAKE) --no-print-directory $(TESTS) $(QIBL)
+	@$(MAKE) --no-print-directory $(TESTS) $(GLES_TEST) $(QIBL)
 	@QIBL=$(QIBL) sh tools/scripts/memory-table.sh --check
-	@sh tools/scripts/run-tests.sh $(TESTS)
+	@sh tools/scripts/run-tests.sh $(TESTS) $(GLES_TEST)
 
 # docs/porting.md's resident-memory table is generated (make test checks that it matches)
 docs-memory: $(QIBL)
@@ -156,9 +205,9 @@ $(BUILD)/host/tests/srgbe_exhaustive.o: tests/srgbe_exhaustive.c
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -MMD -MP -c $< -o $@
 
-$(BUILD)/tests/srgbe_exhaustive: $(BUILD)/host/tests/srgbe_exhaustive.o $(LIBTOOLS) $(LIBQIBL)
+$(BUILD)/tests/srgbe_exhaustive: $(BUILD)/host/tests/srgbe_exhaustive.o $(LIBTOOLS) $(LIBSOFT) $(LIBQIBL)
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -o $@ $< $(LIBTOOLS) $(LIBQIBL) $(HOST_LIBS)
+	$(CC) $(HOST_CFLAGS) -o $@ $< $(LIBTOOLS) $(LIBSOFT) $(LIBQIBL) $(HOST_LIBS)
 
 check-exhaustive: $(EXHAUSTIVE)
 	@for t in $(EXHAUSTIVE); do ./$$t || exit 1; done
@@ -167,15 +216,19 @@ check-exhaustive: $(EXHAUSTIVE)
 cross:
 	@BUILD=$(BUILD) bash tools/scripts/cross.sh
 
+# rewrites the size tables of docs/porting.md from a `make cross` run (make cross checks them)
+docs-size:
+	@QIBL_SIZE_DOC=write BUILD=$(BUILD) bash tools/scripts/cross.sh
+
 # The golden runner: plain C99 + libc (core, platform/soft, the cases, SHA-256), no CMocka, so it
 # cross-compiles anywhere. `make golden` runs it here; `make ports` builds and runs it for every
 # configuration (tools/scripts/ports.sh, builds under $(BUILD)/ports/).
 GOLDEN := $(BUILD)/bin/qibl-golden
 GOLDEN_OBJ := $(GOLDEN_CASES_SRC:%.c=$(BUILD)/host/%.o) $(BUILD)/host/tools/golden/runner.o $(BUILD)/host/tools/io/sha256.o
 
-$(GOLDEN): $(GOLDEN_OBJ) $(LIBQIBL)
+$(GOLDEN): $(GOLDEN_OBJ) $(LIBSOFT) $(LIBQIBL)
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -o $@ $(GOLDEN_OBJ) $(LIBQIBL)
+	$(CC) $(HOST_CFLAGS) -o $@ $(GOLDEN_OBJ) $(LIBSOFT) $(LIBQIBL)
 
 golden: $(GOLDEN)
 	$(GOLDEN)
@@ -201,9 +254,9 @@ EXAMPLES := $(BUILD)/bin/console_port
 EXAMPLE_CFLAGS := -std=c99 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Werror $(OPT) -g -Icore/include \
                   -Iplatform/soft/include $(SAN)
 
-$(BUILD)/bin/console_port: tools/examples/console_port.c $(LIBQIBL)
+$(BUILD)/bin/console_port: tools/examples/console_port.c $(LIBSOFT) $(LIBQIBL)
 	@mkdir -p $(dir $@)
-	$(CC) $(EXAMPLE_CFLAGS) -o $@ $< $(LIBQIBL)
+	$(CC) $(EXAMPLE_CFLAGS) -o $@ $< $(LIBSOFT) $(LIBQIBL)
 
 examples: $(EXAMPLES) $(QIBL)
 	@mkdir -p $(BUILD)/examples
@@ -237,6 +290,67 @@ test-asan: test-deps
 	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  $(MAKE) --no-print-directory BUILD=$(BUILD)/asan OPT=-O1 SAN="$(ASAN_FLAGS)" test
 
+# ---- fuzzing (docs/robustness.md) ----------------------------------------------------------
+# libFuzzer targets: every tests/fuzz/fuzz_*.c, built with clang, ASan and UBSan (any finding aborts)
+# against an instrumented copy of the core, platform/soft and the tool code, in $(BUILD)/fuzz.
+# `make fuzz` runs each target for FUZZ_SECONDS on the seeds the project's writers make
+# ($(FUZZ_DIR)/seeds, by tests/fuzz/seeds.c) plus tests/fuzz/corpus/<target>, and fails on any
+# crash, leak, timeout or allocation above FUZZ_MALLOC_MB; `make fuzz-smoke` is CI's short run;
+# `make fuzz-crashes` replays tests/fuzz/crashes-found/<target>/* (inputs that once failed).
+# FUZZ_CORE=portable builds everything with the Cortex-M0 arithmetic paths, in $(BUILD)/fuzz-portable.
+FUZZ_CC ?= clang
+FUZZ_SECONDS ?= 60
+FUZZ_SMOKE_SECONDS ?= 10
+FUZZ_RSS_MB ?= 2048
+# per allocation: well above what any fuzz-sized input (FUZZ_MAX_LEN) legitimately decodes to
+FUZZ_MALLOC_MB ?= 512
+FUZZ_MAX_LEN ?= 4096
+FUZZ_TIMEOUT ?= 10
+FUZZ_CORE ?= native
+FUZZ_DIR := $(BUILD)/fuzz$(if $(filter portable,$(FUZZ_CORE)),-portable)
+FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+FUZZ_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -O1 -g $(FUZZ_SAN) -fsanitize=fuzzer-no-link \
+               -Icore/include -Iplatform/soft/include -Itools $(if $(filter portable,$(FUZZ_CORE)),$(PORTABLE_DEFS))
+FUZZ_SRC := $(sort $(wildcard tests/fuzz/fuzz_*.c))
+FUZZ_BIN := $(FUZZ_SRC:tests/fuzz/%.c=$(FUZZ_DIR)/bin/%)
+# everything a target may call: core, platform/soft, tools (not the CMocka-side golden check) and
+# the CLI's commands, whose main() is renamed so libFuzzer's main is the only one
+FUZZ_LIB_SRC := $(CORE_SRC) $(PLATFORM_SRC) $(filter-out tools/golden/%,$(TOOL_LIB_SRC)) $(QIBL_SRC)
+FUZZ_LIB_OBJ := $(FUZZ_LIB_SRC:%.c=$(FUZZ_DIR)/obj/%.o)
+FUZZ_LIB := $(FUZZ_DIR)/libqibl-fuzz.a
+FUZZ_SEEDS := $(FUZZ_DIR)/bin/fuzz-seeds
+
+$(FUZZ_DIR)/obj/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -Wall -Wextra -MMD -MP -c $< -o $@
+$(FUZZ_DIR)/obj/tools/qibl/main.o: FUZZ_CFLAGS += -Dmain=qibl_cli_main_unused
+
+$(FUZZ_LIB): $(FUZZ_LIB_OBJ)
+	rm -f $@ && $(AR) rcs $@ $^
+
+$(FUZZ_DIR)/bin/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz.h $(FUZZ_LIB)
+	@mkdir -p $(dir $@)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -Wall -Wextra -Werror -fsanitize=fuzzer -o $@ $< $(FUZZ_LIB) -lm -lpthread
+
+$(FUZZ_SEEDS): tests/fuzz/seeds.c $(FUZZ_LIB)
+	@mkdir -p $(dir $@)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -Wall -Wextra -Werror -o $@ $< $(FUZZ_LIB) -lm -lpthread
+
+.PHONY: fuzz fuzz-smoke fuzz-build fuzz-crashes
+fuzz-build: $(FUZZ_BIN) $(FUZZ_SEEDS)
+
+fuzz: fuzz-build
+	@rm -rf $(FUZZ_DIR)/seeds && $(FUZZ_SEEDS) $(FUZZ_DIR)/seeds
+	@FUZZ_DIR=$(FUZZ_DIR) FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_RSS_MB=$(FUZZ_RSS_MB) FUZZ_MALLOC_MB=$(FUZZ_MALLOC_MB) \
+	  FUZZ_MAX_LEN=$(FUZZ_MAX_LEN) FUZZ_TIMEOUT=$(FUZZ_TIMEOUT) sh tools/scripts/fuzz.sh $(FUZZ_BIN)
+
+fuzz-smoke:
+	@$(MAKE) --no-print-directory fuzz FUZZ_SECONDS=$(FUZZ_SMOKE_SECONDS)
+
+fuzz-crashes: fuzz-build
+	@FUZZ_DIR=$(FUZZ_DIR) FUZZ_RSS_MB=$(FUZZ_RSS_MB) FUZZ_MALLOC_MB=$(FUZZ_MALLOC_MB) FUZZ_TIMEOUT=$(FUZZ_TIMEOUT) \
+	  sh tools/scripts/fuzz.sh --replay $(FUZZ_BIN)
+
 warnings:
 	@for cc in gcc clang; do \
 	  if ! command -v $$cc >/dev/null 2>&1; then echo "warnings: $$cc not found" >&2; exit 1; fi; \
@@ -244,6 +358,10 @@ warnings:
 	    $$cc $(CORE_WARN) $$o -Icore/include $(PLATFORM_INC) -fsyntax-only $$f || exit 1; \
 	    $$cc $(CORE_WARN) $(PORTABLE_DEFS) $$o -Icore/include $(PLATFORM_INC) -fsyntax-only $$f || exit 1; \
 	  done; done; echo "warnings: core/ and platform/soft/ clean with $$cc (-O0/-O2/-O3, native and portable paths)"; \
+	  $(if $(HAVE_GLES),for o in -O0 -O2 -O3; do for f in $(GLES_SRC); do \
+	    $$cc $(CORE_WARN) $$o -Icore/include $(GLES_INC) -fsyntax-only $$f || exit 1; \
+	  done; done; echo "warnings: platform/gles2/ clean with $$cc (-O0/-O2/-O3)";, \
+	  echo "warnings: platform/gles2/ skipped: no EGL/GLES2 headers";) \
 	done
 	@BUILD=$(BUILD) bash tools/scripts/headers.sh
 
@@ -253,11 +371,12 @@ LIBDIR ?= $(PREFIX)/lib
 INCLUDEDIR ?= $(PREFIX)/include
 QIBL_VERSION := $(shell sed -n 's/^\#define QIBL_VERSION_STRING "\(.*\)"/\1/p' core/include/qibl/version.h)
 
-install: $(LIBQIBL)
+install: $(LIBQIBL) $(LIBSOFT)
 	install -d $(DESTDIR)$(INCLUDEDIR)/qibl $(DESTDIR)$(LIBDIR)/pkgconfig
 	install -m 644 core/include/qibl.h $(DESTDIR)$(INCLUDEDIR)/qibl.h
 	install -m 644 core/include/qibl/*.h platform/soft/include/qibl/*.h $(DESTDIR)$(INCLUDEDIR)/qibl/
 	install -m 644 $(LIBQIBL) $(DESTDIR)$(LIBDIR)/libqibl.a
+	install -m 644 $(LIBSOFT) $(DESTDIR)$(LIBDIR)/libqibl-soft.a
 	sed -e 's|@PREFIX@|$(PREFIX)|; s|@LIBDIR@|$(LIBDIR)|; s|@INCLUDEDIR@|$(INCLUDEDIR)|; s|@VERSION@|$(QIBL_VERSION)|; s|@DEFS@||' \
 	  tools/pkgconfig/qibl.pc.in > $(DESTDIR)$(LIBDIR)/pkgconfig/qibl.pc
 

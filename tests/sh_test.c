@@ -1,7 +1,9 @@
 /*
  * sh_test.c - qibl/sh.h against the double reference written from Wong et al.'s appendix
  * (tools/ref/sh_ref.c: theta, phi, recursive Q(l,m)), over a 10^6-direction fixed-seed sweep and the
- * hard cases; orthonormality by exact quadrature; errors and output bounds.
+ * hard cases; orthonormality by exact quadrature; errors and output bounds. Rotation (bands 0..4)
+ * against a double reference that integrates rotated basis functions (tools/ref/probe_ref.c), the
+ * sample table's left-inverse property, composition, directional lights, and its errors.
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -12,6 +14,7 @@
 #include <cmocka.h>
 
 #include "qibl/sh.h"
+#include "ref/probe_ref.h"
 #include "ref/sh_ref.h"
 #include "testutil.h"
 
@@ -260,6 +263,181 @@ static void test_unit_entry_matches(void **state)
     }
 }
 
+/* ---- rotation ------------------------------------------------------------------------------ */
+
+#define ROT_BOUND (1.0 / 16777216.0) /* sh.h: each D entry within 2^-24 */
+
+/* rotation matrix of a unit quaternion (w, x, y, z) in double and rounded to Q2.30 */
+static void quat_matrix(double w, double x, double y, double z, double r[3][3], qibl_q30_t q[3][3])
+{
+    double n = sqrt(w * w + x * x + y * y + z * z);
+    w /= n, x /= n, y /= n, z /= n;
+    double m[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)},
+                      {2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)},
+                      {2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            q[i][j] = (int32_t)lrint(m[i][j] * Q30);
+            r[i][j] = q[i][j] / Q30; /* the reference rotates by exactly what the core was given */
+        }
+}
+
+static double rotation_error(double w, double x, double y, double z)
+{
+    double r[3][3], ref[165];
+    qibl_q30_t q[3][3];
+    quat_matrix(w, x, y, z, r, q);
+    qibl_sh_rotation_t rot;
+    assert_int_equal(qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])q, 5), QIBL_OK);
+    qibl_ref_sh_rotation(r, 5, ref);
+    double worst = 0.0;
+    for (int i = 0; i < 165; ++i)
+        worst = fmax(worst, fabs(rot.d[i] / Q30 - ref[i]));
+    return worst;
+}
+
+static void test_rotation_against_reference(void **state)
+{
+    (void)state;
+    const double h = sqrt(0.5);
+    /* identity and the quarter / half turns about each axis */
+    double worst = rotation_error(1, 0, 0, 0);
+    static const double axes[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (int a = 0; a < 3; ++a) {
+        worst = fmax(worst, rotation_error(h, h * axes[a][0], h * axes[a][1], h * axes[a][2]));
+        worst = fmax(worst, rotation_error(0, axes[a][0], axes[a][1], axes[a][2]));
+        worst = fmax(worst, rotation_error(h, -h * axes[a][0], -h * axes[a][1], -h * axes[a][2]));
+    }
+    tu_rng r = {4242};
+    for (int k = 0; k < 300; ++k) {
+        double q[4];
+        for (int i = 0; i < 4; ++i)
+            q[i] = 2.0 * tu_unit(&r) - 1.0;
+        worst = fmax(worst, rotation_error(q[0], q[1], q[2], q[3]));
+    }
+    printf("sh rotation: max |D - D_ref| over 310 rotations %.3e (bound 2^-24 = %.3e)\n", worst, ROT_BOUND);
+    assert_true(worst <= ROT_BOUND);
+}
+
+/* the identity gives D = I within the bound, and rotate(in) = in within 1 LSB + the bound */
+static void test_rotation_identity_and_lights(void **state)
+{
+    (void)state;
+    double r[3][3];
+    qibl_q30_t q[3][3];
+    quat_matrix(0.8, 0.1, -0.5, 0.3, r, q);
+    qibl_sh_rotation_t rot;
+    assert_int_equal(qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])q, 5), QIBL_OK);
+    /* a directional light: Y(d) rotates to Y(r d) */
+    tu_rng g = {99};
+    double worst = 0.0;
+    for (int k = 0; k < 1000; ++k) {
+        double d[3] = {tu_unit(&g) - 0.5, tu_unit(&g) - 0.5, tu_unit(&g) - 0.5}, rd[3], y[25];
+        int32_t dq[3], in[25], out[25];
+        for (int i = 0; i < 3; ++i)
+            dq[i] = (int32_t)lrint(d[i] * 65536.0);
+        assert_int_equal(qibl_sh_eval(dq, 5, in), QIBL_OK);
+        for (int i = 0; i < 3; ++i)
+            rd[i] = r[i][0] * dq[0] + r[i][1] * dq[1] + r[i][2] * dq[2];
+        assert_int_equal(qibl_ref_sh_eval(rd[0], rd[1], rd[2], 5, y), 0);
+        assert_int_equal(qibl_sh_rotate(&rot, in, out), QIBL_OK);
+        for (int i = 0; i < 25; ++i)
+            worst = fmax(worst, fabs(out[i] / Q30 - y[i]));
+    }
+    printf("sh rotation: directional light Y(d) -> Y(r d), max error %.3e\n", worst);
+    assert_true(worst <= 3.0 * ROT_BOUND + 2.0 * BOUND);
+    /* identity: exactly the input within 1 LSB + 3 * 2^-24 of full scale */
+    quat_matrix(1, 0, 0, 0, r, q);
+    assert_int_equal(qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])q, 5), QIBL_OK);
+    int32_t in[25], out[25];
+    for (int i = 0; i < 25; ++i)
+        in[i] = tu_s32(&g) / 2;
+    assert_int_equal(qibl_sh_rotate(&rot, in, out), QIBL_OK);
+    for (int i = 0; i < 25; ++i)
+        assert_true(fabs((double)out[i] - in[i]) <= 1.0 + 3.0 * ROT_BOUND * 1073741824.0);
+}
+
+/* composition: rotating by a then by b is rotating by b a (within the bound of three rotations) */
+static void test_rotation_composition(void **state)
+{
+    (void)state;
+    double ra[3][3], rb[3][3], rc[3][3];
+    qibl_q30_t qa[3][3], qb[3][3], qc[3][3];
+    quat_matrix(0.3, 0.9, -0.2, 0.1, ra, qa);
+    quat_matrix(-0.6, 0.2, 0.7, 0.4, rb, qb);
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            rc[i][j] = rb[i][0] * ra[0][j] + rb[i][1] * ra[1][j] + rb[i][2] * ra[2][j];
+            qc[i][j] = (int32_t)lrint(rc[i][j] * Q30);
+        }
+    qibl_sh_rotation_t a, b, c;
+    assert_int_equal(qibl_sh_rotation_init(&a, (const qibl_q30_t(*)[3])qa, 5), QIBL_OK);
+    assert_int_equal(qibl_sh_rotation_init(&b, (const qibl_q30_t(*)[3])qb, 5), QIBL_OK);
+    assert_int_equal(qibl_sh_rotation_init(&c, (const qibl_q30_t(*)[3])qc, 5), QIBL_OK);
+    tu_rng g = {5};
+    int32_t in[25], t[25], o1[25], o2[25];
+    for (int i = 0; i < 25; ++i)
+        in[i] = (int32_t)(tu_s32(&g) / 4);
+    assert_int_equal(qibl_sh_rotate(&a, in, t), QIBL_OK);
+    assert_int_equal(qibl_sh_rotate(&b, t, o1), QIBL_OK);
+    assert_int_equal(qibl_sh_rotate(&c, in, o2), QIBL_OK);
+    for (int i = 0; i < 25; ++i)
+        assert_true(fabs((double)o1[i] - o2[i]) <= 2.0 + 9.0 * ROT_BOUND * 536870912.0 * 3.0);
+}
+
+/* The sample table: pinv_l is a left inverse of the band's basis at the sample directions, so
+ * sum_k pinv_l[m][k] Y_lm'(n_k) = delta within rounding. Checked through the core itself: the
+ * rotation by the identity is D = pinv Y(n), so this is the same property, measured entry by entry. */
+static void test_rotation_table_left_inverse(void **state)
+{
+    (void)state;
+    qibl_q30_t q[3][3] = {{1 << 30, 0, 0}, {0, 1 << 30, 0}, {0, 0, 1 << 30}};
+    qibl_sh_rotation_t rot;
+    assert_int_equal(qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])q, 5), QIBL_OK);
+    int off = 0;
+    double worst = 0.0;
+    for (int l = 0; l < 5; ++l) {
+        int n = 2 * l + 1;
+        for (int m = 0; m < n; ++m)
+            for (int mp = 0; mp < n; ++mp)
+                worst = fmax(worst, fabs(rot.d[off + m * n + mp] / Q30 - (m == mp)));
+        off += n * n;
+    }
+    printf("sh rotation: identity gives I within %.3e\n", worst);
+    assert_true(worst <= ROT_BOUND);
+}
+
+static void test_rotation_errors(void **state)
+{
+    (void)state;
+    qibl_q30_t q[3][3] = {{1 << 30, 0, 0}, {0, 1 << 30, 0}, {0, 0, 1 << 30}};
+    qibl_sh_rotation_t rot;
+    rot.bands = 123;
+    rot.d[0] = 77;
+    assert_int_equal(qibl_sh_rotation_init(NULL, (const qibl_q30_t(*)[3])q, 5), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_sh_rotation_init(&rot, NULL, 5), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])q, 0), QIBL_E_BAD_BANDS);
+    assert_int_equal(qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])q, 6), QIBL_E_BAD_BANDS);
+    q[1][1] = -(1 << 30); /* a reflection: orthonormal, det -1 */
+    assert_int_equal(qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])q, 5), QIBL_E_SH_ROTATION);
+    q[1][1] = (1 << 30) + (1 << 15); /* scaled by 1 + 2^-15: beyond the 2^-16 tolerance */
+    assert_int_equal(qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])q, 5), QIBL_E_SH_ROTATION);
+    q[1][1] = 1 << 30, q[0][2] = 1 << 20; /* a shear */
+    assert_int_equal(qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])q, 5), QIBL_E_SH_ROTATION);
+    q[0][2] = 1 << 12; /* within the tolerance: accepted */
+    assert_int_equal(rot.bands, 123);
+    assert_int_equal(rot.d[0], 77);
+    assert_int_equal(qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])q, 3), QIBL_OK);
+    int32_t in[25] = {0}, out[25];
+    out[9] = 0x5A5A5A5A;
+    assert_int_equal(qibl_sh_rotate(&rot, in, out), QIBL_OK);
+    assert_int_equal(out[9], 0x5A5A5A5A); /* 3 bands: 9 outputs */
+    assert_int_equal(qibl_sh_rotate(NULL, in, out), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_sh_rotate(&rot, NULL, out), QIBL_E_NULL_POINTER);
+    rot.bands = 0;
+    assert_int_equal(qibl_sh_rotate(&rot, in, out), QIBL_E_BAD_BANDS);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -270,6 +448,11 @@ int main(void)
         cmocka_unit_test(test_bands_prefix_and_output_size),
         cmocka_unit_test(test_errors_write_nothing),
         cmocka_unit_test(test_unit_entry_matches),
+        cmocka_unit_test(test_rotation_against_reference),
+        cmocka_unit_test(test_rotation_identity_and_lights),
+        cmocka_unit_test(test_rotation_composition),
+        cmocka_unit_test(test_rotation_table_left_inverse),
+        cmocka_unit_test(test_rotation_errors),
     };
     return cmocka_run_group_tests_name(QIBL_CONFIG_NATIVE_MUL64 ? "sh (native paths)" : "sh (portable M0 paths)", tests,
                                        NULL, NULL);

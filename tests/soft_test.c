@@ -698,6 +698,24 @@ static void test_golden_gradient(void **state)
     assert_int_equal(qibl_goldens_check("soft"), 0);
 }
 
+/* The backend's statuses live in its own range (status.h) and have their own texts. */
+static void test_status_range_and_names(void **state)
+{
+    (void)state;
+    const qibl_status_t fb[4] = {QIBL_E_FB_FORMAT, QIBL_E_FB_SIZE, QIBL_E_FB_STRIDE, QIBL_E_FB_BOUNDS};
+    for (int i = 0; i < 4; ++i) {
+        assert_true((unsigned)fb[i] > (unsigned)QIBL_STATUS_SOFT_BASE);
+        assert_true((unsigned)fb[i] < (unsigned)QIBL_STATUS_SOFT_BASE + 256u);
+        const char *a = qibl_soft_status_str(fb[i]);
+        assert_true(strncmp(a, "framebuffer: ", 13) == 0);
+        assert_string_equal(qibl_status_str(fb[i]), "platform backend status");
+        for (int j = 0; j < i; ++j)
+            assert_string_not_equal(a, qibl_soft_status_str(fb[j]));
+    }
+    /* the core's own values pass through */
+    assert_string_equal(qibl_soft_status_str(QIBL_E_NULL_POINTER), qibl_status_str(QIBL_E_NULL_POINTER));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -718,6 +736,7 @@ int main(void)
         cmocka_unit_test(test_clear),
         cmocka_unit_test(test_errors_write_nothing),
         cmocka_unit_test(test_golden_gradient),
+        cmocka_unit_test(test_status_range_and_names),
     };
     return cmocka_run_group_tests_name("soft", tests, NULL, NULL);
 }

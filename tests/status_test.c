@@ -31,6 +31,10 @@ static void test_out_of_range_status_is_unknown(void **state)
     (void)state;
     assert_string_equal(qibl_status_str((qibl_status_t)-1), "unknown status");
     assert_string_equal(qibl_status_str((qibl_status_t)(QIBL_STATUS_COUNT + 7)), "unknown status");
+    /* backend ranges: the core only says whose they are; the backend's *_status_str names them */
+    assert_string_equal(qibl_status_str((qibl_status_t)(QIBL_STATUS_SOFT_BASE + 1)), "platform backend status");
+    assert_string_equal(qibl_status_str((qibl_status_t)(QIBL_STATUS_BACKEND_END - 1)), "platform backend status");
+    assert_string_equal(qibl_status_str(QIBL_STATUS_BACKEND_END), "unknown status");
 }
 
 int main(void)

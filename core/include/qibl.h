@@ -15,5 +15,6 @@
 #include "qibl/shmap.h"
 #include "qibl/lightpath.h"
 #include "qibl/lightprobe.h"
+#include "qibl/probe.h"
 
 #endif /* QIBL_H */

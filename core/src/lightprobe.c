@@ -32,6 +32,7 @@
  */
 #include "qibl/lightprobe.h"
 #include "qibli.h"
+#include "qibl/lightprobe_internal.h"
 
 #if QIBL_USE_LIGHTPROBE
 
@@ -364,6 +365,28 @@ static inline uint64_t max3(const uint64_t m[3])
 static inline uint64_t luma(const uint64_t m[3])
 {
     return mul_lo_u64_u32(m[0], LUMA_R) + mul_lo_u64_u32(m[1], LUMA_G) + mul_lo_u64_u32(m[2], LUMA_B);
+}
+
+/* ---- shared with the SH projection (qibl/lightprobe_internal.h) ------------------------------ */
+
+size_t qibli_lightprobe_pixel_bytes(qibl_lightprobe_format_t f)
+{
+    return pixel_bytes(f);
+}
+
+unsigned qibli_lightprobe_decode(qibl_lightprobe_format_t f, const uint8_t *p, int32_t frac_bits, uint64_t m[3],
+                                 int32_t *eps)
+{
+    pixel px;
+    unsigned bad = decode(f, p, frac_bits, &px);
+    m[0] = px.m[0], m[1] = px.m[1], m[2] = px.m[2];
+    *eps = px.eps;
+    return (bad & BAD_NEGATIVE ? QIBLI_PROBE_BAD_NEGATIVE : 0u) | (bad & BAD_NOT_FINITE ? QIBLI_PROBE_BAD_NOT_FINITE : 0u);
+}
+
+void qibli_lightprobe_sin_frac(uint64_t n, uint64_t d, uint32_t *mant, int32_t *kap)
+{
+    sin_frac(n, d, mant, kap);
 }
 
 /* ---- build ------------------------------------------------------------------------------------ */

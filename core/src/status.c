@@ -37,10 +37,10 @@ const char *qibl_status_str(qibl_status_t s)
     case QIBL_E_ASSET_LAYOUT:           return "asset: streaming by rows needs the interleaved layout";
     case QIBL_E_ASSET_ROW:              return "asset: row outside the maps";
     case QIBL_E_SHMAP_LAYOUT:           return "SH maps: unknown layout";
-    case QIBL_E_FB_FORMAT:              return "framebuffer: unknown or unsuitable format";
-    case QIBL_E_FB_SIZE:                return "framebuffer: zero or mismatched size";
-    case QIBL_E_FB_STRIDE:              return "framebuffer: stride too small or buffer too large";
-    case QIBL_E_FB_BOUNDS:              return "framebuffer: span outside the framebuffer";
+    case QIBL_E_RESERVED_26: return "reserved status 26 (not returned)";
+    case QIBL_E_RESERVED_27: return "reserved status 27 (not returned)";
+    case QIBL_E_RESERVED_28: return "reserved status 28 (not returned)";
+    case QIBL_E_RESERVED_29: return "reserved status 29 (not returned)";
     case QIBL_E_WORKSPACE:       return "workspace too small";
     case QIBL_E_SHMAP_K:         return "SH map count k out of range 1..25";
     case QIBL_E_SHMAP_CHANNELS:  return "SH maps must have 1 or 3 channels";
@@ -73,7 +73,14 @@ const char *qibl_status_str(qibl_status_t s)
     case QIBL_E_LIGHTPATH_EDGES:      return "light path: a pixel's edges not strictly increasing";
     case QIBL_E_LIGHTPATH_PARAM:      return "light path: t above 65535 or radius above 32767";
     case QIBL_E_LIGHTPATH_BOUNDS:     return "light path: span outside the path's pixels";
+    case QIBL_E_SH_ROTATION:      return "SH rotation: matrix not orthonormal within 2^-16, or a reflection";
+    case QIBL_E_PROBE_ROW:        return "probe projection: row outside the probe, or not every row added";
+    case QIBL_E_PROBE_SATURATED:  return "probe projection: SH coefficients beyond the Q16.16 light";
     case QIBL_STATUS_COUNT:   break;
+    case QIBL_STATUS_SOFT_BASE: case QIBL_STATUS_GLES2_BASE: case QIBL_STATUS_BACKEND_END: break;
     }
+    /* unsigned compare: no assumption about the enum's signedness */
+    if ((unsigned)s >= (unsigned)QIBL_STATUS_SOFT_BASE && (unsigned)s < (unsigned)QIBL_STATUS_BACKEND_END)
+        return "platform backend status";
     return "unknown status";
 }

@@ -446,3 +446,17 @@ qibl_status_t qibl_fb_clear(const qibl_fb_desc_t *fb)
     }
     return QIBL_OK;
 }
+
+const char *qibl_soft_status_str(qibl_status_t s)
+{
+    /* if-chain, not switch: the values are macros outside the core's enumerators */
+    if (s == QIBL_E_FB_FORMAT)
+        return "framebuffer: unknown or unsuitable format";
+    if (s == QIBL_E_FB_SIZE)
+        return "framebuffer: zero or mismatched size";
+    if (s == QIBL_E_FB_STRIDE)
+        return "framebuffer: stride too small or buffer too large";
+    if (s == QIBL_E_FB_BOUNDS)
+        return "framebuffer: span outside the framebuffer";
+    return qibl_status_str(s);
+}

@@ -73,7 +73,7 @@ int main(int argc, char **argv)
     if (st == QIBL_OK)
         st = qibl_asset_shmaps(&asset, &maps);
     if (st != QIBL_OK) {
-        fprintf(stderr, "console_port: %s: %s\n", argv[1], qibl_status_str(st));
+        fprintf(stderr, "console_port: %s: %s\n", argv[1], qibl_soft_status_str(st));
         return 1;
     }
     /* memory the port owns: one row of Q16.16 RGB, the span workspace, the framebuffer */
@@ -107,7 +107,7 @@ int main(int argc, char **argv)
                 st = qibl_fb_write_row(&fb, 0, y, maps.width, row);
         }
         if (st != QIBL_OK) {
-            fprintf(stderr, "console_port: frame %d: %s\n", frame, qibl_status_str(st));
+            fprintf(stderr, "console_port: frame %d: %s\n", frame, qibl_soft_status_str(st));
             return 1;
         }
         /* PLATFORM: present the framebuffer; here its CRC-32 (the core's) stands in */

@@ -18,6 +18,7 @@ typedef struct qibl_cli_cmd {
 } qibl_cli_cmd;
 
 int qibl_cmd_sh(int argc, char **argv);
+int qibl_cmd_sh_project(int argc, char **argv); /* cmd_probe.c: `qibl sh project` */
 int qibl_cmd_bench(int argc, char **argv);
 int qibl_cmd_srgbe(int argc, char **argv);
 
@@ -42,6 +43,7 @@ int qibl_bench_memory(int markdown); /* bench_memory.c */
 #else
 #define QIBL_BENCH_COMPILER "an unknown compiler"
 #endif
+int qibl_bench_probe(int quick);  /* bench_probe.c */
 int qibl_cmd_info(int argc, char **argv);
 int qibl_cmd_gen(int argc, char **argv);
 int qibl_cmd_relight(int argc, char **argv);

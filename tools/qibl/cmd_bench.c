@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "qibl/cli.h"
+#include "qibl/gles_cli.h"
 #include "qibl/sh.h"
 #include "ref/sh_ref.h"
 
@@ -152,11 +153,15 @@ int qibl_cmd_bench(int argc, char **argv)
         rc |= qibl_bench_paths(quick), ran = 1;
     if (all || strcmp(what, "asset") == 0)
         rc |= qibl_bench_asset(quick), ran = 1;
+    if (all || strcmp(what, "probe") == 0)
+        rc |= qibl_bench_probe(quick), ran = 1;
     /* not timing: the resident-memory table of docs/porting.md (exact, so not part of "all") */
     if (strcmp(what, "memory") == 0)
         rc |= qibl_bench_memory(markdown), ran = 1;
+    if (strcmp(what, "gles") == 0) /* only when asked: a GL context is not part of `all` */
+        rc |= qibl_bench_gles(quick), ran = 1;
     if (!ran)
-        return qibl_cli_usage_error("bench: unknown benchmark '%s' (all, sh, relight, srgbe, lights, paths, asset, memory)",
+        return qibl_cli_usage_error("bench: unknown benchmark '%s' (all, sh, relight, srgbe, lights, paths, asset, probe, memory, gles)",
                                     what);
     return rc;
 }

@@ -15,6 +15,7 @@
 #include "io/pfm.h"
 #include "io/png.h"
 #include "qibl/asset.h"
+#include "qibl/gles_cli.h"
 #include "io/file.h"
 #include "qibl/cli.h"
 #include "qibl/shmap.h"
@@ -138,7 +139,7 @@ static int parse3(char **argv, int i, int argc, double lo, qibl_q16_t v[3])
 
 #define RELIGHT_USAGE                                                                                       \
     "usage: qibl relight FILE (--sun X Y Z | --point X Y Z) [--rgb R G B] [--lut nearest|bilinear|off]   \
-[--falloff 1|2] [--exposure E] [--linear] (--png OUT | --hdr OUT.hdr | --pfm OUT.pfm)..."
+[--falloff 1|2] [--exposure E] [--linear] [--gles] (--png OUT | --hdr OUT.hdr | --pfm OUT.pfm)..."
 
 /* the P map's points as doubles (n * 3), for the default lamp colour; NULL when out of memory */
 static double *pmap_points(const qibl_pmap_t *pm)
@@ -160,6 +161,7 @@ int qibl_cmd_relight(int argc, char **argv)
     const char *in = NULL, *png = NULL, *hdr = NULL, *pfm = NULL;
     qibl_q16_t sun[3] = {0}, pos[3] = {0}, rgb[3] = {65536, 65536, 65536};
     int have_sun = 0, have_point = 0, have_rgb = 0, use_lut = 0, nearest = 0, linear = 0;
+    int gles = 0; /* --gles: platform/gles2 instead of the core + platform/soft (relight_gles.c) */
     long falloff = 1;
     qibl_q16_t exposure = 65536;
     for (int i = 1; i < argc; ++i) {
@@ -210,6 +212,8 @@ int qibl_cmd_relight(int argc, char **argv)
             hdr = argv[++i];
         else if (strcmp(a, "--pfm") == 0 && i + 1 < argc)
             pfm = argv[++i];
+        else if (strcmp(a, "--gles") == 0)
+            gles = 1;
         else if (a[0] != '-' && !in)
             in = a;
         else
@@ -236,7 +240,7 @@ int qibl_cmd_relight(int argc, char **argv)
     if (st == QIBL_OK && have_point && use_lut)
         st = qibl_asset_ylut(&a, &lut);
     if (st != QIBL_OK) {
-        fprintf(stderr, "qibl: %s: %s\n", in, qibl_status_str(st));
+        fprintf(stderr, "qibl: %s: %s\n", in, qibl_soft_status_str(st));
         free(bytes);
         return 1;
     }
@@ -269,9 +273,23 @@ int qibl_cmd_relight(int argc, char **argv)
                        {rgb[0] / 65536.0, rgb[1] / 65536.0, rgb[2] / 65536.0}, (int)falloff};
     double ms = 0;
     int rc = 0;
-    if (qibl_bake_relight8_lin(bytes, n, &l, use_lut ? (nearest ? 2 : 1) : 0, (qibl_uq16_t)exposure, !linear, pix, lin,
-                               &ms, &st) != 0) {
-        fprintf(stderr, "qibl: relight: %s\n", st == QIBL_E_NULL_POINTER ? "out of memory" : qibl_status_str(st));
+    if (gles) { /* the GPU path: same asset, same core weights, platform/gles2 */
+        qibl_gles_relight_req req = {&m, have_point ? &pm : NULL, have_point && use_lut ? &lut : NULL,
+                                     {sun[0], sun[1], sun[2]}, {pos[0], pos[1], pos[2]}, {rgb[0], rgb[1], rgb[2]},
+                                     (int)falloff, nearest, linear, (qibl_uq16_t)exposure};
+        uint32_t passes = 0;
+        char renderer[64] = "";
+        char err[512];
+        if (qibl_gles_relight(&req, pix, &passes, renderer) != 0)
+            rc = 1;
+        else if (qibl_png_write_rgb8(png, (int)w, (int)h, pix, err, sizeof err) != 0)
+            fprintf(stderr, "qibl: %s\n", err), rc = 1;
+        else
+            printf("wrote %s (%ux%u, k = %u, GLES2 on %s, %u pass%s)\n", png, w, h, m.k, renderer, passes,
+                   passes == 1 ? "" : "es");
+    } else if (qibl_bake_relight8_lin(bytes, n, &l, use_lut ? (nearest ? 2 : 1) : 0, (qibl_uq16_t)exposure, !linear, pix,
+                                      lin, &ms, &st) != 0) {
+        fprintf(stderr, "qibl: relight: %s\n", st == QIBL_E_NULL_POINTER ? "out of memory" : qibl_soft_status_str(st));
         rc = 1;
     } else {
         char err[1200];

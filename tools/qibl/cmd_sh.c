@@ -67,6 +67,8 @@ int qibl_cmd_sh(int argc, char **argv)
 {
     if (argc >= 2 && strcmp(argv[1], "plot") == 0)
         return sh_plot(argc, argv);
+    if (argc >= 2 && strcmp(argv[1], "project") == 0)
+        return qibl_cmd_sh_project(argc, argv); /* cmd_probe.c */
     if (argc < 2 || strcmp(argv[1], "eval") != 0)
         return qibl_cli_usage_error("usage: qibl sh eval [--bands B] X Y Z | qibl sh plot --png FILE");
     long bands = QIBL_SH_MAX_BANDS;

@@ -19,16 +19,20 @@ static const qibl_cli_cmd commands[] = {
     {"sh", "evaluate the integer SH basis for a direction",
      "usage: qibl sh eval [--bands B] X Y Z\n"
      "       qibl sh plot --png FILE [--tile W]\n"
+     "       qibl sh project PROBE.hdr [--bands B] [--irradiance] [--window none|hann|lanczos]\n"
      "  Prints the B*B real SH basis values Y_0 .. Y_{B*B-1} (bands 0..B-1, B in 1..5, default 5),\n"
      "  one per line as `Y[i] l=L m=M value` (value as %.9f), at the direction (X, Y, Z).\n"
      "  X, Y, Z are decimals converted to Q16.16; the vector need not be unit length but must not\n"
      "  be zero. The values are the core's Q2.30 integers divided by 2^30. Convention: Wong et al.\n"
      "  appendix, index i = l*l + l + m, Condon-Shortley phase (Y_3 = -0.488603 at (1, 0, 0)).\n"
      "  plot: writes a PNG of every basis function as a lat-long tile (orange > 0, blue < 0),\n"
-     "  evaluated by the integer core; W is the tile width in pixels (default 128).\n",
+     "  evaluated by the integer core; W is the tile width in pixels (default 128).\n"
+     "  project: a lat-long Radiance probe projected onto bands 0..B-1 by the integer core, row by\n"
+     "  row (qibl/probe.h): radiance coefficients, or irradiance (times the clamped-cosine A_l), with\n"
+     "  an optional Hann or Lanczos window; a table of l, m, R, G, B.\n",
      qibl_cmd_sh},
     {"bench", "benchmarks: speed against error, with RESULT lines",
-     "usage: qibl bench [all|sh|relight|srgbe|lights|paths|asset|memory] [--quick] [--csv] [--markdown]\n"
+     "usage: qibl bench [all|sh|relight|srgbe|lights|paths|asset|probe|memory|gles] [--quick] [--csv] [--markdown]\n"
      "  sh: integer SH basis against the double reference from Wong et al.'s appendix:\n"
      "      ns per evaluation (median of 7 runs) and max |error| over a fixed-seed sweep.\n"
      "  relight: the relighting kernels on the procedural courtyard, 1024x256, k = 4, 9, 16, 25:\n"
@@ -48,6 +52,10 @@ static const qibl_cli_cmd commands[] = {
      "      unshadowed k = 9 or 16 x path visibility (hard, soft), sky + sun, lamps on a track and free.\n"
      "  asset: opening a 16 MB asset: nibble CRC, slicing-by-8 CRC, structure only, against a memcpy\n"
      "      of the same bytes (min and median of interleaved repetitions).\n"
+     "  probe: SH projection of a 1024x512 probe (quarry_01_1k.hdr, else an integer-made one) against\n"
+     "      one 64-bit read pass of its bytes (min and median of interleaved runs), the projection's\n"
+     "      error against the double reference on every fixture probe, the rotation's error, and the\n"
+     "      ringing of the irradiance with no window, Hann and Lanczos (RESULT probe.*).\n"
      "  memory: not a timing: the resident-memory table of docs/porting.md (--markdown: as there).\n"
      "  all: every timing benchmark (what `make bench` runs). --quick: fewer repetitions.\n",
      qibl_cmd_bench},
@@ -126,7 +134,8 @@ static const qibl_cli_cmd commands[] = {
      qibl_cmd_demo},
     {"relight", "relight an asset with a sun or a point light into a PNG (core kernels + soft framebuffer)",
      "usage: qibl relight FILE (--sun X Y Z | --point X Y Z) [--rgb R G B] [--lut nearest|bilinear|off]\n"
-     "                    [--falloff 1|2] [--exposure E] [--linear] [--png OUT] [--hdr OUT.hdr] [--pfm OUT.pfm]\n"
+     "                    [--falloff 1|2] [--exposure E] [--linear] [--gles] [--png OUT] [--hdr OUT.hdr]\n"
+     "                    [--pfm OUT.pfm]\n"
      "  --sun: directional light from direction (X, Y, Z), colour --rgb (default 1 1 1).\n"
      "  --point: point light at (X, Y, Z) in scene units, C0 = --rgb (default: 2 d, or 2 d^2 with\n"
      "  --falloff 2, d the median distance from the lamp to the asset's P-map points, with a note);\n"
@@ -137,7 +146,9 @@ static const qibl_cli_cmd commands[] = {
      "  frame whose mean is below 32 of 255 gets a note that it is almost black.\n"
      "  --hdr / --pfm: the same frame linear, before exposure and transfer (the core's Q16.16 output,\n"
      "  negative SH ringing clamped to 0), as Radiance RGBE (RLE) or little-endian PFM, for other\n"
-     "  tools. At least one of --png/--hdr/--pfm.\n",
+     "  tools. At least one of --png/--hdr/--pfm.\n"
+     "  --gles: relight with platform/gles2 on a headless EGL context instead (--png only; the same\n"
+     "  asset and core weights; within 1 of 255 of the CPU path on Mesa llvmpipe).\n",
      qibl_cmd_relight},
     {"info", "validate a qibl asset file and print its contents",
      "usage: qibl info FILE\n"

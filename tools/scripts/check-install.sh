@@ -38,7 +38,7 @@ same() { # name file: the example's output must equal the reference
 prefix="$out/prefix"
 make --no-print-directory BUILD="$build" install PREFIX="$prefix" > "$out/install.log" 2>&1 ||
     { err "make install failed"; tail -n 5 "$out/install.log" >&2; }
-for f in include/qibl.h include/qibl/version.h include/qibl/soft.h lib/libqibl.a lib/pkgconfig/qibl.pc; do
+for f in include/qibl.h include/qibl/version.h include/qibl/soft.h lib/libqibl.a lib/libqibl-soft.a lib/pkgconfig/qibl.pc; do
     [ -f "$prefix/$f" ] || err "make install did not install $f"
 done
 make --no-print-directory BUILD="$build" install PREFIX=/opt/qibl DESTDIR="$out/stage" > "$out/install-destdir.log" 2>&1 ||

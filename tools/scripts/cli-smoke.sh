@@ -44,6 +44,7 @@ want 0 - merge -o "$w/m.qibl" --lsq "$w/s0" "$w/s1"
 want 0 - check "$w/g.qibl" "$w/m.qibl" "$w/r.png" "$w/t.pfm" "$w/p.hdr"
 { printf '#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 16 +X 32\n'; i=0; while [ $i -lt 512 ]; do printf '\200\144\074\201'; i=$((i + 1)); done; } >"$w/p.hdr"
 want 0 - lights "$w/p.hdr" -n 4 --png "$w/l.png" --error
+want 0 - sh project "$w/p.hdr" --bands 3 --irradiance --window hann
 want 0 - demo --out "$w/demo" --size 32x8 --dirs 16 --frames 2 --threads 2
 
 # bad arguments: exit 2, nothing written
@@ -56,6 +57,7 @@ want 2 "$w/x.qibl" merge -o "$w/x.qibl" --k 9 "$w/s0" "$w/s1"
 { printf '#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 128 +X 256\n'; dd if=/dev/zero bs=4 count=32768 2>/dev/null; } >"$w/big.hdr"
 want 2 "$w/x.png" lights "$w/big.hdr" -n 4 --zoom 64 --png "$w/x.png"
 want 2 - nosuchcommand
+want 2 - sh project "$w/p.hdr" --window sharp
 
 # bad files: exit 1, nothing written
 want 1 "$w/x.qibl" merge -o "$w/x.qibl" "$w/s0" "$w/s0"
@@ -64,6 +66,7 @@ head -c 100 "$w/s1" >"$w/short"
 want 1 "$w/x.qibl" merge -o "$w/x.qibl" "$w/s0" "$w/short"
 want 1 "$w/x.png" relight "$w/s0" --sun 0 0 1 --png "$w/x.png"
 want 1 - info "$w/p.hdr"
+want 1 - sh project "$w/g.qibl"
 ln -s g.qibl "$w/link.png"
 want 1 - relight "$w/g.qibl" --sun 0 0 1 --png "$w/link.png"
 cmp -s "$w/g.qibl" "$w/link.png" || { fails=$((fails + 1)); echo "cli-smoke: FAIL: wrote through a link" >&2; }

@@ -6,19 +6,24 @@
 # objects into one relocatable blob and fails if the blob needs any symbol core/ does not define
 # (soft-float helpers named as such), if .data/.bss (or small-data twins, or COMMON) are non-empty,
 # or if core/ includes a header other than stdint.h, stddef.h, stdbool.h, limits.h and its own.
-# platform/soft/*.c (the software framebuffer shim) must pass the same checks: it is compiled the
-# same way (plus its include dir) and linked with the core objects into a second blob.
+# Every freestanding platform backend (the backend contract, docs/ARCHITECTURE.md; today
+# platform/soft, the software framebuffer shim) must pass the same checks: compiled the same way
+# (plus its include dir) and linked with the core objects into a blob of its own. Hosted backends
+# (platform/gles2: it needs GL headers) are not listed here; `make gles` and `make warnings` build them.
 # Then prints .text per module and in total for Cortex-M4 -Os (core total, then platform/soft).
 set -u
 cd "$(dirname "$0")/../.." || exit 1
 out="${BUILD:-build}/cross"
 rm -rf "$out"; mkdir -p "$out"
 fail=0
+freestanding_backends="soft"
 err() { echo "cross: FAIL: $*" >&2; fail=1; }
 
 # 1. headers: only the four freestanding ones, and quoted includes of qibl's own headers.
-bad=$(grep -rnE '^[[:space:]]*#[[:space:]]*include' core platform/soft | grep -vE '<(stdint|stddef|stdbool|limits)\.h>|"qibli?(/[a-z0-9_]+)?\.h"')
-[ -z "$bad" ] || err "core/ or platform/soft/ includes a header outside the freestanding four:"$'\n'"$bad"
+bdirs=$(for b in $freestanding_backends; do printf 'platform/%s ' "$b"; done)
+# shellcheck disable=SC2086
+bad=$(grep -rnE '^[[:space:]]*#[[:space:]]*include' core $bdirs | grep -vE '<(stdint|stddef|stdbool|limits)\.h>|"qibli?(/[a-z0-9_]+)?\.h"')
+[ -z "$bad" ] || err "core/ or a freestanding backend ($bdirs) includes a header outside the freestanding four:"$'\n'"$bad"
 
 warn="-std=c99 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wundef -Wdouble-promotion -Wmissing-prototypes -Werror"
 common="-ffreestanding -fno-builtin -nostdlib -fno-common -Os $warn -Icore/include"
@@ -59,23 +64,26 @@ while IFS='|' read -r name prefix flags; do
     [ -z "$undef$common_syms$state" ] &&
         echo "cross: $name: $(ls "$dir"/*.o | grep -vc qibl-core.o) objects linked, 0 undefined symbols, 0 bytes .data/.bss" 
 
-    # platform/soft: same flags plus its include dir, linked with the core blob (its only dependency)
-    pdir="$dir/platform"; mkdir -p "$pdir"; pobjs=()
-    for src in platform/soft/*.c; do
+    # each freestanding backend: same flags plus its include dir, linked with the core blob (its only
+    # dependency; backends never depend on each other)
+    for b in $freestanding_backends; do
+    pdir="$dir/platform/$b"; mkdir -p "$pdir"; pobjs=(); pok=1
+    for src in platform/"$b"/*.c; do
         po="$pdir/$(basename "$src" .c).o"; pobjs+=("$po")
         # shellcheck disable=SC2086
-        $gcc $flags $common -Iplatform/soft/include $inc -c "$src" -o "$po" || { err "$name: $src does not compile"; ok=0; }
+        $gcc $flags $common -Iplatform/"$b"/include $inc -c "$src" -o "$po" || { err "$name: $src does not compile"; pok=0; }
     done
-    [ $ok = 1 ] || continue
-    "${prefix}ld" -r "${pobjs[@]}" "$dir/qibl-core.o" -o "$pdir/qibl-soft.o" || { err "$name: platform/soft link failed"; continue; }
+    [ $pok = 1 ] || continue
+    "${prefix}ld" -r "${pobjs[@]}" "$dir/qibl-core.o" -o "$pdir/qibl-$b.o" || { err "$name: platform/$b link failed"; continue; }
     perr=0
-    undef=$("${prefix}nm" -u "$pdir/qibl-soft.o" | awk '{print $2}')
-    [ -z "$undef" ] || { err "$name: undefined symbols in platform/soft + core: $(echo $undef)"; perr=1; }
-    common_syms=$("${prefix}nm" "$pdir/qibl-soft.o" | awk '$2 == "C" || $2 == "c" {print $3}')
-    [ -z "$common_syms" ] || { err "$name: COMMON symbols in platform/soft: $(echo $common_syms)"; perr=1; }
-    state=$("${prefix}size" -A "$pdir/qibl-soft.o" | awk '$1 ~ /^\.(s?data|s?bss|tdata|tbss)(\.|$)/ && $2 > 0 {print $1 "=" $2}')
-    [ -z "$state" ] || { err "$name: mutable state in platform/soft + core: $(echo $state)"; perr=1; }
-    [ $perr = 1 ] || echo "cross: $name: platform/soft (${#pobjs[@]} objects) + core linked, 0 undefined symbols, 0 bytes .data/.bss"
+    undef=$("${prefix}nm" -u "$pdir/qibl-$b.o" | awk '{print $2}')
+    [ -z "$undef" ] || { err "$name: undefined symbols in platform/$b + core: $(echo $undef)"; perr=1; }
+    common_syms=$("${prefix}nm" "$pdir/qibl-$b.o" | awk '$2 == "C" || $2 == "c" {print $3}')
+    [ -z "$common_syms" ] || { err "$name: COMMON symbols in platform/$b: $(echo $common_syms)"; perr=1; }
+    state=$("${prefix}size" -A "$pdir/qibl-$b.o" | awk '$1 ~ /^\.(s?data|s?bss|tdata|tbss)(\.|$)/ && $2 > 0 {print $1 "=" $2}')
+    [ -z "$state" ] || { err "$name: mutable state in platform/$b + core: $(echo $state)"; perr=1; }
+    [ $perr = 1 ] || echo "cross: $name: platform/$b (${#pobjs[@]} objects) + core linked, 0 undefined symbols, 0 bytes .data/.bss"
+    done
 done <<< "$targets"
 
 # 2. size table for Cortex-M4 -Os
@@ -83,21 +91,26 @@ if [ -f "$out/cortex-m4/qibl-core.o" ]; then
     echo
     echo "core .text on Cortex-M4 (-Os, thumb, soft-float ABI), bytes:"
     printf '  %-12s %8s %8s\n' module .text .rodata
+    md="$out/size-table.md"
+    printf '| module | .text | .rodata |\n|---|---:|---:|\n' > "$md"
     total=0; rtotal=0
     for o in "$out"/cortex-m4/*.o; do
         m=$(basename "$o" .o); [ "$m" = qibl-core ] && continue
         t=$(arm-none-eabi-size -A "$o" | awk '$1 ~ /^\.text/ {s += $2} END {print s + 0}')
         r=$(arm-none-eabi-size -A "$o" | awk '$1 ~ /^\.rodata/ {s += $2} END {print s + 0}')
         printf '  %-12s %8d %8d\n' "$m" "$t" "$r"
+        printf '| %s | %d | %d |\n' "$m" "$t" "$r" >> "$md"
         total=$((total + t)); rtotal=$((rtotal + r))
     done
     printf '  %-12s %8d %8d\n' "core total" "$total" "$rtotal"
+    printf '| **core** | **%d** | %d |\n' "$total" "$rtotal" >> "$md"
     stotal=0; srtotal=0
-    for o in "$out"/cortex-m4/platform/*.o; do
+    for o in "$out"/cortex-m4/platform/soft/*.o; do
         m=$(basename "$o" .o); [ "$m" = qibl-soft ] && continue
         t=$(arm-none-eabi-size -A "$o" | awk '$1 ~ /^\.text/ {s += $2} END {print s + 0}')
         r=$(arm-none-eabi-size -A "$o" | awk '$1 ~ /^\.rodata/ {s += $2} END {print s + 0}')
         printf '  %-12s %8d %8d   (platform/soft, not in the core total)\n' "$m" "$t" "$r"
+        printf '| %s (platform/soft, not in the core) | %d | %d |\n' "$m" "$t" "$r" >> "$md"
         stotal=$((stotal + t)); srtotal=$((srtotal + r))
     done
     echo "RESULT cross.m4_text_bytes $total"
@@ -108,6 +121,7 @@ if [ -f "$out/cortex-m4/qibl-core.o" ]; then
     goal=16384
     echo
     echo "core .text on Cortex-M4 -Os by config.h combination (goal: <= $goal bytes, 0 bytes .data/.bss):"
+    printf '\n| config.h combination | .text | goal (%d bytes) |\n|---|---:|---|\n' "$goal" >> "$md"
     gcc=arm-none-eabi-gcc
     inc="-nostdinc -isystem $($gcc -print-file-name=include) -isystem $($gcc -print-file-name=include-fixed)"
     combos="default (every module)|all|
@@ -115,7 +129,8 @@ runtime relighting (QIBL_USE_LIGHTPROBE=0)|relight|-DQIBL_USE_LIGHTPROBE=0
 relighting without sRGBE (QIBL_USE_LIGHTPROBE=0 QIBL_USE_SRGBE=0)|relight-nosrgbe|-DQIBL_USE_LIGHTPROBE=0 -DQIBL_USE_SRGBE=0
 light probes only (QIBL_USE_SHMAP=0 QIBL_USE_SH=0 QIBL_USE_ASSET=0)|lightprobe|-DQIBL_USE_SHMAP=0 -DQIBL_USE_SH=0 -DQIBL_USE_ASSET=0
 planar relighting (QIBL_USE_LIGHTPROBE=0 QIBL_USE_INTERLEAVED=0)|relight-planar|-DQIBL_USE_LIGHTPROBE=0 -DQIBL_USE_INTERLEAVED=0
-no asset parser (QIBL_USE_LIGHTPROBE=0 QIBL_USE_ASSET=0)|relight-noasset|-DQIBL_USE_LIGHTPROBE=0 -DQIBL_USE_ASSET=0"
+no asset parser (QIBL_USE_LIGHTPROBE=0 QIBL_USE_ASSET=0)|relight-noasset|-DQIBL_USE_LIGHTPROBE=0 -DQIBL_USE_ASSET=0
+probe SH lighting (QIBL_USE_SHMAP=0 QIBL_USE_ASSET=0 QIBL_USE_SRGBE=0)|probe|-DQIBL_USE_SHMAP=0 -DQIBL_USE_ASSET=0 -DQIBL_USE_SRGBE=0"
     while IFS='|' read -r label tag defs; do
         cdir="$out/cortex-m4-config-$tag"; mkdir -p "$cdir"; ctotal=0; cok=1
         for src in core/src/*.c; do
@@ -131,9 +146,17 @@ no asset parser (QIBL_USE_LIGHTPROBE=0 QIBL_USE_ASSET=0)|relight-noasset|-DQIBL_
         if [ $ctotal -le $goal ]; then verdict="meets the goal ($((goal - ctotal)) bytes to spare)"
         else verdict="over the goal by $((ctotal - goal)) bytes"; fi
         printf '  %-68s %6d  %s\n' "$label" "$ctotal" "$verdict"
+        printf '| %s | %d | %s |\n' "$label" "$ctotal" "$verdict" >> "$md"
         echo "RESULT cross.m4_text_bytes.$tag $ctotal" >> "$out/config-results.txt"
     done <<< "$combos"
     cat "$out/config-results.txt" 2>/dev/null
+    # the tables in docs/porting.md are this run's: `make docs-size` rewrites them, and this check
+    # fails when they drifted (GCC arm-none-eabi as installed; other versions give other bytes)
+    if [ "${QIBL_SIZE_DOC:-check}" = write ]; then
+        bash tools/scripts/doc-block.sh size-table docs/porting.md "$md" --write
+    else
+        bash tools/scripts/doc-block.sh size-table docs/porting.md "$md" --check || err "docs/porting.md size table differs from this run: make docs-size"
+    fi
 fi
 if [ $fail = 0 ]; then echo "cross: OK"; else echo "cross: FAILED" >&2; fi
 exit $fail

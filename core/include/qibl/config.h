@@ -7,7 +7,8 @@
 #ifndef QIBL_CONFIG_H
 #define QIBL_CONFIG_H
 
-/* QIBL_USE_SH: 1 builds the SH basis module (sh.c, about 0.5 KiB .text on Cortex-M4 -Os). */
+/* QIBL_USE_SH: 1 builds the SH basis module (sh.c: basis and rotation, about 1.2 KiB .text and
+ * 1.8 KiB .rodata (the rotation's sample table) on Cortex-M4 -Os). */
 #ifndef QIBL_USE_SH
 #define QIBL_USE_SH 1
 #endif
@@ -51,6 +52,18 @@
  * QIBL_E_ASSET_BAD_FLAGS, as for a reader that predates the layout. */
 #ifndef QIBL_USE_INTERLEAVED
 #define QIBL_USE_INTERLEAVED 1
+#endif
+
+/* QIBL_USE_PROBE: 1 builds the SH projection of light probes (probe.c: row-by-row projection into
+ * exact wide accumulators, irradiance and windows, lights and sun-plus-sky into a qibl_shlight_t;
+ * about 6 KiB .text on Cortex-M4 -Os, no RAM beyond the caller's workspace: 4.5 KiB + 20 to 44
+ * bytes per probe column). Needs QIBL_USE_SH and QIBL_USE_LIGHTPROBE (pixel decoding); by default on when
+ * both are. */
+#ifndef QIBL_USE_PROBE
+#define QIBL_USE_PROBE (QIBL_USE_SH && QIBL_USE_LIGHTPROBE)
+#endif
+#if QIBL_USE_PROBE && (!QIBL_USE_SH || !QIBL_USE_LIGHTPROBE)
+#error "QIBL_USE_PROBE needs QIBL_USE_SH and QIBL_USE_LIGHTPROBE"
 #endif
 
 /* QIBL_SH_MAX_BANDS: largest band count the SH module accepts, 1..5 (bands 0..4, 25 coefficients).

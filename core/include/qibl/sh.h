@@ -52,6 +52,39 @@ qibl_status_t qibl_sh_eval(const qibl_q16_t dir[3], int bands, qibl_q30_t *out);
  * Errors: QIBL_E_NULL_POINTER, QIBL_E_BAD_BANDS; out untouched on failure. */
 qibl_status_t qibl_sh_eval_unit(const qibl_q30_t u[3], int bands, qibl_q30_t *out);
 
+/* ---- rotation ------------------------------------------------------------------------------ */
+
+/* A rotation of SH coefficients, bands 0..bands-1: one (2l+1) x (2l+1) matrix D^l per band, Q2.30,
+ * row-major, band after band (1 + 9 + 25 + 49 + 81 = 165 entries for 5 bands). 664 bytes. */
+#define QIBL_SH_ROT_ENTRIES 165
+typedef struct qibl_sh_rotation {
+    int32_t bands;
+    qibl_q30_t d[QIBL_SH_ROT_ENTRIES];
+} qibl_sh_rotation_t;
+
+/* Prepares the rotation of SH coefficients by the 3 x 3 rotation r (Q2.30, r[row][col]): the
+ * coefficients of f'(w) = f(r^T w), so that light arriving from direction d arrives from r d
+ * afterwards (a directional light's coefficients Y(d) become Y(r d)).
+ * Method: D^l[m][m'] = sum_k pinv_l[m][k] Y_lm'(r^T n_k) over 16 fixed sample directions n_k, with
+ * pinv_l the least-squares inverse of the band's basis at the n_k (a const table made by
+ * tools/scripts/gen-sh-rot-table.c and checked by tests/sh_test.c): exact in exact arithmetic for any
+ * rotation, because a rotated band-l function stays in band l. It reuses qibl_sh_eval_unit, so it
+ * cannot disagree with the basis convention.
+ * Error: each D entry within 2^-24 of the exact rotation matrix of r's normalised rows (bound: the
+ * sum over k of |pinv| <= 6.4 times the basis error at r^T n_k, a few LSB of Q2.30 plus the
+ * normalisation, plus one rounding; measured against a double reference in tests/sh_test.c).
+ * r must be orthonormal within 2^-16 per entry of r r^T - I (2^14 LSB) with det r > 0.
+ * Errors: QIBL_E_NULL_POINTER, QIBL_E_BAD_BANDS, QIBL_E_SH_ROTATION (not a rotation); rot untouched
+ * on failure.
+ * Cost: 16 normalisations and SH evaluations, 165 x 16 multiply-adds (once per frame). */
+qibl_status_t qibl_sh_rotation_init(qibl_sh_rotation_t *rot, const qibl_q30_t r[3][3], int bands);
+
+/* out = D in per band: bands^2 coefficients in any int32 fixed-point format (in and out the same
+ * format; in and out may not alias). out_lm = round(sum_m' D^l[m][m'] in_lm'), saturated to int32.
+ * Error: <= 0.5 LSB + sum_m' |D error| |in_lm'| <= 0.5 LSB + 3 * 2^-24 * max |in| of the band.
+ * Errors: QIBL_E_NULL_POINTER, QIBL_E_BAD_BANDS (rot not initialised); out untouched on failure. */
+qibl_status_t qibl_sh_rotate(const qibl_sh_rotation_t *rot, const int32_t *in, int32_t *out);
+
 #ifdef __cplusplus
 }
 #endif

@@ -40,11 +40,12 @@ typedef enum qibl_status {
     QIBL_E_ASSET_SIZE_OVERFLOW,    /* payload size implied by the fields does not fit 32 bits */
     QIBL_E_ASSET_CHUNK_SIZE,       /* payload size differs from the size its fields imply */
     QIBL_E_ASSET_MISMATCH,         /* PMAP/YLUT inconsistent with SHMP (size or k) */
-    /* software framebuffer (platform/soft, qibl/soft.h) */
-    QIBL_E_FB_FORMAT,              /* framebuffer format unknown, or wrong for the call */
-    QIBL_E_FB_SIZE,                /* width or height 0, or sizes that must match differ */
-    QIBL_E_FB_STRIDE,              /* stride below one row, or the buffer size overflows size_t */
-    QIBL_E_FB_BOUNDS,              /* row or span outside the framebuffer */
+    /* four values that were the software framebuffer's before it got its own range (qibl/soft.h);
+     * kept reserved so that every later value keeps its number (goldens hash statuses) */
+    QIBL_E_RESERVED_26,
+    QIBL_E_RESERVED_27,
+    QIBL_E_RESERVED_28,
+    QIBL_E_RESERVED_29,
     /* relighting kernels (shmap.h) */
     QIBL_E_WORKSPACE,              /* caller workspace smaller than *_workspace_size() asked for */
     QIBL_E_SHMAP_K,                /* SH map / light coefficient count outside 1..25 */
@@ -73,6 +74,15 @@ typedef enum qibl_status {
     QIBL_E_PROBE_RECT,             /* region outside the probe or inverted */
     /* library identity (version.h) */
     QIBL_E_CONFIG_MISMATCH,        /* caller compiled with other config.h options or another release */
+    /* asset streaming by rows (asset.h, qibl_asset_open_head) */
+    QIBL_E_ASSET_HEAD_SHORT,       /* head bytes end before the fields needed (qibl_asset_head_size) */
+    QIBL_E_ASSET_LAYOUT,           /* streaming by rows needs the interleaved SHMP layout */
+    QIBL_E_ASSET_ROW,              /* row index outside the maps */
+    QIBL_E_SHMAP_LAYOUT,           /* SH maps view with an unknown layout (shmaps.h) */
+    /* SH rotation (sh.h) and probe projection (probe.h) */
+    QIBL_E_SH_ROTATION,            /* rotation matrix not orthonormal (within 2^-16) or a reflection */
+    QIBL_E_PROBE_ROW,              /* projection: row index outside the probe, or rows missing at finish */
+    QIBL_E_PROBE_SATURATED,        /* SH coefficients do not fit the Q16.16 light (lower scale_log2) */
     /* light paths (lightpath.h) */
     QIBL_E_LIGHTPATH_SIZE,         /* LPTH payload shorter than its header or other than its fields imply */
     QIBL_E_LIGHTPATH_DIMENSIONS,   /* LPTH width/height 0, too large, or not the SH maps' */
@@ -82,16 +92,18 @@ typedef enum qibl_status {
     QIBL_E_LIGHTPATH_EDGES,        /* a pixel's edges not strictly increasing */
     QIBL_E_LIGHTPATH_PARAM,        /* path parameter t above 65535 or radius above 32767 */
     QIBL_E_LIGHTPATH_BOUNDS,       /* span outside the path's pixels */
-    /* asset streaming by rows (asset.h, qibl_asset_open_head) */
-    QIBL_E_ASSET_HEAD_SHORT,       /* head bytes end before the fields needed (qibl_asset_head_size) */
-    QIBL_E_ASSET_LAYOUT,           /* streaming by rows needs the interleaved SHMP layout */
-    QIBL_E_ASSET_ROW,              /* row index outside the maps */
-    QIBL_E_SHMAP_LAYOUT,           /* SH maps view with an unknown layout (shmaps.h) */
-    QIBL_STATUS_COUNT      /* number of status values; not a status */
+    QIBL_STATUS_COUNT,     /* number of core status values; not a status */
+    /* Platform backends (platform/<name>/) return qibl_status_t too, with their errors in their own
+     * range of 256 values from their base, defined in the backend's header; the core never returns
+     * them. The entries below reserve the ranges and make the enum wide enough to hold them. */
+    QIBL_STATUS_SOFT_BASE = 0x100,  /* platform/soft, qibl/soft.h: QIBL_E_FB_* */
+    QIBL_STATUS_GLES2_BASE = 0x200, /* platform/gles2, qibl/gles2.h: QIBL_E_GLES2_* */
+    QIBL_STATUS_BACKEND_END = 0x1000 /* first value above every backend range; not a status */
 } qibl_status_t;
 
 /* A short, constant, English description of s ("ok", "null pointer argument", ...). Never NULL:
- * values outside the enum give "unknown status". */
+ * a backend's values give "platform backend status" (the backend's own *_status_str names them),
+ * other values outside the enum "unknown status". */
 const char *qibl_status_str(qibl_status_t s);
 
 #ifdef __cplusplus

@@ -1,0 +1,399 @@
+/*
+ * fuzz/seeds.c - writes the seed corpora of the fuzz targets with the project's own writers:
+ * `fuzz-seeds DIR` fills DIR/<target>/ (run by `make fuzz`; nothing here is committed).
+ *
+ *   asset       qibl_asset_* builders (tools/io/asset_write.c): SHMP alone, + PMAP, + YLUT (built by
+ *               the core's qibl_ylut_build), an unknown chunk, grey and RGB, parameter bytes after
+ *   pfm         qibl_pfm_write (RGB and grey) and one big-endian file in the format's own words
+ *   png         qibl_png_write_rgb8 and qibl_apng_write_rgb8
+ *   hdr         small .hdr files in the three scanline encodings hdr.h reads (flat, new-style RLE,
+ *               old-style runs), pixels from the reference RGBE encoder (tools/ref/ward_rgbe.c)
+ *   obj         OBJ text with every face form obj.h reads
+ *   srgbe       binary32 edge values (zeros, subnormals, FLT_MAX, Inf, NaN) and Q16.16 colours
+ *   fixed       the hard cases of fixed.h (INT32_MIN, 1 and 2 LSB, extremes, directions at a pole)
+ *   lightprobe  small probes in each pixel format (sRGBE ones from the core's encoder)
+ *   layout      a small sky in each probe layout (qibl_probe_layout_from_latlong, _rgbe_encode)
+ *   shard       two shards of one bake (qibl_bake_sums_encode), as fuzz_shard.c reads them
+ * Every seed stays below FUZZ_MAX_LEN (4096 bytes).
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "bake/bake.h"
+#include "io/asset_write.h"
+#include "io/pfm.h"
+#include "io/png.h"
+#include "io/probe_layout.h"
+#include "qibl/shmap.h"
+#include "qibl/srgbe.h"
+#include "ref/ward_rgbe.h"
+
+static const char *root;
+static int failed;
+
+static void put(const char *target, const char *name, const void *data, size_t n)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", root, target);
+    if (mkdir(path, 0777) != 0 && errno != EEXIST) {
+        fprintf(stderr, "fuzz-seeds: %s: %s\n", path, strerror(errno));
+        failed = 1;
+        return;
+    }
+    snprintf(path, sizeof path, "%s/%s/%s", root, target, name);
+    FILE *f = fopen(path, "wb");
+    if (!f || fwrite(data, 1, n, f) != n || fclose(f) != 0) {
+        fprintf(stderr, "fuzz-seeds: %s: cannot write\n", path);
+        failed = 1;
+    }
+}
+
+static char *path_of(const char *target, const char *name)
+{
+    static char path[1024];
+    char dir[1024];
+    snprintf(dir, sizeof dir, "%s/%s", root, target);
+    mkdir(dir, 0777);
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    return path;
+}
+
+static uint32_t rng = 12345u;
+static uint32_t next(void)
+{
+    rng = rng * 1664525u + 1013904223u;
+    return rng >> 8;
+}
+
+/* ---- asset ----------------------------------------------------------------------------------- */
+
+static void asset_seed(const char *name, uint32_t w, uint32_t h, uint32_t k, uint32_t ch, int pmap, uint32_t lut,
+                       int extra)
+{
+    qibl_asset_builder b;
+    qibl_asset_builder_init(&b);
+    int32_t scale[75], bias[75];
+    uint8_t *planes = malloc((size_t)w * h * k * ch);
+    for (uint32_t i = 0; i < k * ch; ++i) {
+        scale[i] = (int32_t)(next() % (1u << 20)) - (1 << 19);
+        bias[i] = (int32_t)(next() % (1u << 22)) - (1 << 21);
+    }
+    for (size_t i = 0; i < (size_t)w * h * k * ch; ++i)
+        planes[i] = (uint8_t)next();
+    int rc = qibl_asset_add_shmp(&b, w, h, k, ch, scale, bias, planes);
+    if (rc == 0 && pmap) {
+        int32_t *xyz = malloc(12u * w * h);
+        for (size_t i = 0; i < 3u * w * h; ++i)
+            xyz[i] = (int32_t)(next() % (8u << 16)) - (4 << 16);
+        rc = qibl_asset_add_pmap(&b, w, h, xyz);
+        free(xyz);
+    }
+    if (rc == 0 && lut) {
+        size_t n = qibl_ylut_values_size(lut, k);
+        uint8_t *v = malloc(n);
+        int16_t *vals = malloc(n);
+        if (qibl_ylut_build(lut, k, v, n) != QIBL_OK)
+            rc = -1;
+        for (size_t i = 0; i < n / 2; ++i)
+            vals[i] = qibl_load_s16le(v + 2 * i);
+        if (rc == 0)
+            rc = qibl_asset_add_ylut(&b, lut, k, vals);
+        free(v), free(vals);
+    }
+    if (rc == 0 && extra)
+        rc = qibl_asset_builder_add(&b, QIBL_FOURCC('X', 'T', 'R', 'A'), "extra", 5);
+    uint8_t *out = NULL;
+    size_t n = 0;
+    if (rc == 0)
+        rc = qibl_asset_serialize(&b, &out, &n);
+    if (rc != 0) {
+        fprintf(stderr, "fuzz-seeds: asset %s: %s\n", name, b.err);
+        failed = 1;
+    } else {
+        /* parameter bytes after file_size: lights, point light, framebuffer settings */
+        uint8_t *full = malloc(n + 64);
+        memcpy(full, out, n);
+        for (size_t i = 0; i < 64; ++i)
+            full[n + i] = (uint8_t)next();
+        put("asset", name, full, extra ? n : n + 64);
+        free(full);
+    }
+    free(out);
+    free(planes);
+    qibl_asset_builder_free(&b);
+}
+
+/* ---- images ---------------------------------------------------------------------------------- */
+
+static void image_seeds(void)
+{
+    char err[512];
+    float px[3 * 4 * 3];
+    for (int i = 0; i < 36; ++i)
+        px[i] = (float)(next() % 1000) / 64.0f;
+    if (qibl_pfm_write(path_of("pfm", "rgb4x3.pfm"), 4, 3, 3, px, err, sizeof err) != 0 ||
+        qibl_pfm_write(path_of("pfm", "grey3x2.pfm"), 3, 2, 1, px, err, sizeof err) != 0) {
+        fprintf(stderr, "fuzz-seeds: %s\n", err);
+        failed = 1;
+    }
+    /* big-endian (positive scale): the byte order qibl's writer does not produce */
+    uint8_t be[64];
+    int o = snprintf((char *)be, sizeof be, "PF\n2 1\n1.0\n");
+    for (int i = 0; i < 6; ++i) {
+        uint32_t u;
+        memcpy(&u, &px[i], 4);
+        be[o++] = (uint8_t)(u >> 24), be[o++] = (uint8_t)(u >> 16), be[o++] = (uint8_t)(u >> 8), be[o++] = (uint8_t)u;
+    }
+    put("pfm", "be2x1.pfm", be, (size_t)o);
+
+    uint8_t rgb[3 * 5 * 4 * 3];
+    for (size_t i = 0; i < sizeof rgb; ++i)
+        rgb[i] = (uint8_t)(i % 7 == 0 ? next() : i * 13u);
+    if (qibl_png_write_rgb8(path_of("png", "rgb5x4.png"), 5, 4, rgb, err, sizeof err) != 0 ||
+        qibl_png_write_rgb8(path_of("png", "rgb1x1.png"), 1, 1, rgb, err, sizeof err) != 0 ||
+        qibl_apng_write_rgb8(path_of("png", "anim3.png"), 5, 4, 3, rgb, 1, 10, err, sizeof err) != 0) {
+        fprintf(stderr, "fuzz-seeds: %s\n", err);
+        failed = 1;
+    }
+}
+
+/* ---- hdr ------------------------------------------------------------------------------------- */
+
+static size_t hdr_header(uint8_t *b, int w, int h)
+{
+    return (size_t)sprintf((char *)b, "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\nEXPOSURE=1.0\n\n-Y %d +X %d\n", h, w);
+}
+
+static void hdr_seeds(void)
+{
+    uint8_t b[2048];
+    uint8_t px[4 * 16 * 4];
+    for (int i = 0; i < 64; ++i) {
+        float c[3] = {(float)(next() % 4000) / 100.0f, (float)(next() % 100) / 100.0f, (float)(i % 5)};
+        qibl_ref_rgbe_encode(c, px + 4 * i);
+    }
+    /* flat 3x2 */
+    size_t n = hdr_header(b, 3, 2);
+    memcpy(b + n, px, 24);
+    put("hdr", "flat3x2.hdr", b, n + 24);
+    /* new-style RLE 9x2: per channel a run and a literal */
+    n = hdr_header(b, 9, 2);
+    for (int y = 0; y < 2; ++y) {
+        b[n++] = 2, b[n++] = 2, b[n++] = 0, b[n++] = 9;
+        for (int c = 0; c < 4; ++c) {
+            b[n++] = 128 + 5, b[n++] = px[4 * y + c];
+            b[n++] = 4;
+            for (int x = 5; x < 9; ++x)
+                b[n++] = px[4 * (x + 9 * y) + c];
+        }
+    }
+    put("hdr", "rle9x2.hdr", b, n);
+    /* old-style runs 300x2: a pixel, a run of 42, a run continuing it (1 << 8 more), a pixel */
+    n = hdr_header(b, 300, 2);
+    for (int y = 0; y < 2; ++y) {
+        memcpy(b + n, px + 4 * y, 4), n += 4;
+        b[n++] = 1, b[n++] = 1, b[n++] = 1, b[n++] = 42;
+        b[n++] = 1, b[n++] = 1, b[n++] = 1, b[n++] = 1; /* 1 << 8 more */
+        memcpy(b + n, px + 8, 4), n += 4;
+    }
+    put("hdr", "oldrle300x2.hdr", b, n);
+}
+
+/* ---- obj ------------------------------------------------------------------------------------- */
+
+static void obj_seeds(void)
+{
+    static const char cube[] =
+        "# a unit cube with every face form\n"
+        "o cube\nmtllib none.mtl\n"
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1 1.0\n"
+        "vt 0 0\nvt 1 0\nvt 1 1\n"
+        "vn 0 0 -1\nvn 0 0 1\nvn 0 -1 0\n"
+        "g sides\nusemtl grey\ns 1\n"
+        "f 1 4 3 2\n"
+        "f 5/1 6/2 7/3 8/1\n"
+        "f 1//3 2//3 6//3 5//3\n"
+        "f 2/1/1 3/2/1 7/3/1\n"
+        "f -6 -5 -1\n"
+        "f 4 1 5 8\n"
+        "l 1 2\np 3\n";
+    put("obj", "cube.obj", cube, sizeof cube - 1);
+    static const char tri[] = "v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2 3\r\n";
+    put("obj", "tri_crlf.obj", tri, sizeof tri - 1);
+}
+
+/* ---- srgbe / lightprobe ------------------------------------------------------------------------ */
+
+static void srgbe_seeds(void)
+{
+    static const uint32_t edge[] = {0x00000000u, 0x80000000u, 0x00000001u, 0x80200000u, 0x001FFFFFu, 0x3F800000u,
+                                    0xBF800000u, 0x7F7FFFFFu, 0xFF7FFFFFu, 0x7F800000u, 0xFF800000u, 0x7FC00000u,
+                                    0xFFC00001u, 0x00800000u, 0x40490FDBu, 0x3E99999Au, 0x01000000u, 0x5F000000u};
+    uint8_t b[2 + sizeof edge];
+    b[0] = 16, b[1] = 0; /* frac_bits 16 */
+    memcpy(b + 2, edge, sizeof edge);
+    put("srgbe", "edges_fb16", b, sizeof b);
+    b[0] = 0x9F, b[1] = 0xFF; /* frac_bits -97: int32 above 2^128 */
+    put("srgbe", "edges_fbm97", b, sizeof b);
+    /* codes made by the encoder, read back as codes */
+    uint8_t c[2 + 12 * 8];
+    c[0] = 0x10, c[1] = 0;
+    for (int i = 0; i < 24; ++i) {
+        int32_t q[3] = {(int32_t)next() - (1 << 23), (int32_t)(next() >> 4), -(int32_t)(next() >> 12)};
+        qibl_srgbe_encode_q16(q, c + 2 + 4 * i);
+    }
+    put("srgbe", "codes", c, sizeof c);
+}
+
+static void fixed_seeds(void)
+{
+    /* records of three u32 and one u64: the hard cases of fixed.h (INT32_MIN, 1 and 2 LSB, the
+     * largest values, the poles of the SH basis) */
+    static const uint32_t rec[][5] = {{0x80000000u, 0x80000000u, 0x80000000u, 0xFFFFFFFFu, 0xFFFFFFFFu},
+                                      {1u, 0u, 0u, 1u, 0u},
+                                      {2u, 0xFFFFFFFFu, 1u, 0u, 0x40000000u},
+                                      {0u, 0u, 0u, 0u, 0u},
+                                      {0u, 1u, 0x7FFFFFFFu, 0xFFFFFFFEu, 0x00000001u},
+                                      {26u, 0u, 0x82A7A7A7u, 4u, 0u},
+                                      {0x00010000u, 0x00010000u, 0x00010000u, 0x12345678u, 0x9ABCDEF0u}};
+    put("fixed", "hard_cases", rec, sizeof rec);
+}
+
+/* a small sky in every probe layout (qibl_probe_layout_from_latlong), as RGBE bytes after the
+ * requested layout (0: detect) and the size */
+static void layout_seeds(void)
+{
+    enum { LW = 16, LH = 8 };
+    float sky[3 * LW * LH];
+    for (int v = 0; v < LH; ++v)
+        for (int u = 0; u < LW; ++u) {
+            float sun = (u == 5 && v == 2) ? 400.0f : 0.0f;
+            sky[3 * (v * LW + u) + 0] = sun + 0.2f + 0.05f * (float)v;
+            sky[3 * (v * LW + u) + 1] = sun + 0.3f;
+            sky[3 * (v * LW + u) + 2] = sun + (float)(LH - v) * 0.1f;
+        }
+    static const struct {
+        qibl_probe_layout_t layout;
+        int w, h;
+        const char *name;
+    } L[] = {{QIBL_PROBE_LAYOUT_LATLONG, 16, 8, "latlong"},
+             {QIBL_PROBE_LAYOUT_ANGULAR, 16, 16, "angular"},
+             {QIBL_PROBE_LAYOUT_BALL, 15, 15, "ball"},
+             {QIBL_PROBE_LAYOUT_VCROSS, 12, 16, "vcross"},
+             {QIBL_PROBE_LAYOUT_HCROSS, 16, 12, "hcross"}};
+    for (size_t k = 0; k < sizeof L / sizeof L[0]; ++k) {
+        char err[256];
+        float *img = NULL;
+        if (qibl_probe_layout_from_latlong(L[k].layout, LW, LH, sky, L[k].w, L[k].h, &img, err, sizeof err) != 0) {
+            fprintf(stderr, "fuzz-seeds: layout %s: %s\n", L[k].name, err);
+            failed = 1;
+            continue;
+        }
+        const size_t n = (size_t)L[k].w * (size_t)L[k].h;
+        uint8_t *b = malloc(3 + 4 * n);
+        /* the square ones must be named (detection refuses them), the others are detected */
+        b[0] = (uint8_t)(L[k].layout == QIBL_PROBE_LAYOUT_ANGULAR || L[k].layout == QIBL_PROBE_LAYOUT_BALL
+                             ? L[k].layout
+                             : QIBL_PROBE_LAYOUT_AUTO);
+        b[1] = (uint8_t)(L[k].w - 1), b[2] = (uint8_t)(L[k].h - 1);
+        qibl_probe_layout_rgbe_encode(img, n, b + 3);
+        put("layout", L[k].name, b, 3 + 4 * n);
+        free(b);
+        free(img);
+    }
+}
+
+/* two shards of one bake (qibl_bake_sums_encode), in fuzz_shard.c's input form: flags (repair both
+ * CRCs), the split point, the two file images */
+static void shard_seeds(void)
+{
+    int32_t pmap[2 * 1 * 3] = {65536, 131072, -196608, 0, 32768, 7};
+    int64_t acc[2][2 * 1 * 3 * 4];
+    for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 24; ++i)
+            acc[j][i] = (int64_t)(next() % 100000u) * (i % 3 ? 4096 : -977) + (j ? INT64_MAX / 4 : 0);
+    uint8_t *img[2] = {NULL, NULL};
+    size_t len[2] = {0, 0};
+    for (int j = 0; j < 2; ++j) {
+        qibl_bake_sums sh = {2, 1, 4, 64, 0, (uint32_t)j, 2, pmap, acc[j]};
+        if (qibl_bake_sums_encode(&sh, &img[j], &len[j]) != 0) {
+            fprintf(stderr, "fuzz-seeds: shard: out of memory\n");
+            failed = 1;
+        }
+    }
+    if (img[0] && img[1]) {
+        uint8_t *b = malloc(5 + len[0] + len[1]);
+        b[0] = 3, b[1] = (uint8_t)len[0], b[2] = (uint8_t)(len[0] >> 8), b[3] = 0, b[4] = 0;
+        memcpy(b + 5, img[0], len[0]);
+        memcpy(b + 5 + len[0], img[1], len[1]);
+        put("shard", "two_shards", b, 5 + len[0] + len[1]);
+        free(b);
+    }
+    free(img[0]), free(img[1]);
+}
+
+static void probe_seed(const char *name, uint8_t w, uint8_t h, uint8_t fmt, uint8_t method, uint8_t count,
+                       uint8_t frac, uint8_t sb)
+{
+    uint8_t b[8 + 24 * 16 * 12];
+    size_t n = 0;
+    b[n++] = (uint8_t)(w - 1), b[n++] = (uint8_t)(h - 1), b[n++] = fmt, b[n++] = method, b[n++] = count;
+    b[n++] = frac, b[n++] = sb, b[n++] = 0x35;
+    for (int v = 0; v < h; ++v)
+        for (int u = 0; u < w; ++u) {
+            /* a dim sky with a bright sun near the top */
+            float sun = (u == w / 3 && v == h / 4) ? 5000.0f : 0.0f;
+            float c[3] = {sun + (float)(next() % 100) / 50.0f, sun + (float)(v + 1) / 4.0f, (float)(u % 3)};
+            if (fmt == 0) {
+                qibl_ref_rgbe_encode(c, b + n), n += 4;
+            } else if (fmt == 1) {
+                uint32_t f[3];
+                memcpy(f, c, 12);
+                qibl_srgbe_encode_f32(f, b + n), n += 4;
+            } else if (fmt == 2) {
+                for (int i = 0; i < 3; ++i) {
+                    int32_t x = (int32_t)(c[i] * 256.0f);
+                    memcpy(b + n, &x, 4), n += 4;
+                }
+            } else {
+                memcpy(b + n, c, 12), n += 12;
+            }
+        }
+    put("lightprobe", name, b, n);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc != 2) {
+        fprintf(stderr, "usage: fuzz-seeds DIR\n");
+        return 2;
+    }
+    root = argv[1];
+    if (mkdir(root, 0777) != 0 && errno != EEXIST) {
+        fprintf(stderr, "fuzz-seeds: %s: %s\n", root, strerror(errno));
+        return 1;
+    }
+    asset_seed("shmp_rgb.qibl", 4, 3, 4, 3, 0, 0, 0);
+    asset_seed("shmp_grey_pmap.qibl", 5, 2, 9, 1, 1, 0, 0);
+    asset_seed("full_rgb.qibl", 3, 2, 4, 3, 1, 2, 0);
+    asset_seed("full_k9_extra.qibl", 2, 2, 9, 3, 1, 1, 1);
+    image_seeds();
+    hdr_seeds();
+    obj_seeds();
+    srgbe_seeds();
+    fixed_seeds();
+    layout_seeds();
+    shard_seeds();
+    probe_seed("rgbe_mediancut", 16, 8, 0, 0x00, 3, 0, 0);
+    probe_seed("srgbe_adaptive", 12, 6, 1, 0x01 | 2 << 2, 0x80 | 7, 0, 0x09);
+    probe_seed("i32_varmin", 8, 4, 2, 0x02 | 1 << 5, 0x80 | 5, 8, 0x01);
+    probe_seed("f32_varmin_var", 8, 8, 3, 0x02 | 3 << 2, 4, 0, 0x1A);
+    probe_seed("rgbe_levels", 24, 16, 0, 0x01 | 4 << 2, 4, 0, 0x28);
+    if (!failed)
+        printf("fuzz-seeds: seeds written to %s\n", root);
+    return failed;
+}

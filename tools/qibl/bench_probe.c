@@ -1,0 +1,294 @@
+/*
+ * bench_probe.c - `qibl bench probe`: SH projection of a 1024 x 512 probe (row by row, integer)
+ * against one plain read pass over the same bytes (64-bit words), min and median of interleaved
+ * repetitions; projection error against the double reference on every fixture probe (or an
+ * integer-made one when ../shared is absent); rotation error against the double reference; what
+ * Hann and Lanczos windows do to the ringing of a sun probe's irradiance.
+ * RESULT probe.project_over_read, probe.sh_max_rel_err, probe.rotate_max_err.
+ */
+#include <dirent.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "io/hdr.h"
+#include "qibl/cli.h"
+#include "qibl/probe.h"
+#include "ref/probe_ref.h"
+#include "ref/sh_ref.h"
+
+#define BP_PI 3.14159265358979323846
+
+static volatile uint64_t bp_sink;
+
+static const char *bp_dir(void)
+{
+    const char *d = getenv("QIBL_PROBE_DIR");
+    return d && *d ? d : "../shared/fixtures/probes";
+}
+
+/* the baseline: read every 64-bit word of the probe once */
+static uint64_t read_words(const uint8_t *p, size_t n)
+{
+    uint64_t acc = 0;
+    for (size_t i = 0; i + 8 <= n; i += 8) {
+        uint64_t w;
+        memcpy(&w, p + i, 8);
+        acc += w;
+    }
+    return acc;
+}
+
+static uint8_t *int_probe(int w, int h)
+{
+    uint8_t *px = malloc(4 * (size_t)w * (size_t)h);
+    if (!px)
+        return NULL;
+    uint64_t s = 99;
+    for (size_t i = 0; i < (size_t)w * (size_t)h; ++i) {
+        s = s * 6364136223846793005u + 1442695040888963407u;
+        px[4 * i] = (uint8_t)(s >> 24), px[4 * i + 1] = (uint8_t)(s >> 32) | 64u, px[4 * i + 2] = (uint8_t)(s >> 40);
+        px[4 * i + 3] = (uint8_t)(120 + (s >> 60));
+    }
+    px[4 * (100 * (size_t)w + 300) + 3] = 150; /* a sun */
+    return px;
+}
+
+static double *to_double(const uint8_t *px, int w, int h)
+{
+    double *d = malloc(sizeof *d * 3 * (size_t)w * (size_t)h);
+    if (!d)
+        return NULL;
+    for (size_t i = 0; i < (size_t)w * (size_t)h; ++i)
+        for (int c = 0; c < 3; ++c)
+            d[3 * i + (size_t)c] = px[4 * i + 3] ? ldexp(px[4 * i + (size_t)c], px[4 * i + 3] - 136) : 0.0;
+    return d;
+}
+
+/* max |c - ref| / max |ref| over the 75 coefficients */
+static double sh_rel_err(const uint8_t *px, int w, int h, void *ws, size_t n)
+{
+    qibl_lightprobe_image_t img = {px, (uint32_t)w, (uint32_t)h, 0, QIBL_LIGHTPROBE_RGBE, 0};
+    qibl_probe_coeffs_t c;
+    if (qibl_probe_sh_project(&img, 5, NULL, ws, n, &c) != QIBL_OK)
+        return -1.0;
+    double *d = to_double(px, w, h), ref[3][25], e = 0.0, mx = 0.0;
+    if (!d)
+        return -1.0;
+    qibl_ref_probe_sh(w, h, d, 5, ref);
+    free(d);
+    for (int ch = 0; ch < 3; ++ch)
+        for (int i = 0; i < 25; ++i)
+            e = fmax(e, fabs(ldexp(c.c[ch][i], c.exp) - ref[ch][i])), mx = fmax(mx, fabs(ref[ch][i]));
+    return e / mx;
+}
+
+/* ringing of the irradiance sum_lm E_lm Y_lm(n) over 4096 normals: min and max, and the mean
+ * relative error against the probe's true irradiance at 256 normals (double, every pixel) */
+static void ringing(const uint8_t *px, int w, int h, void *ws, size_t n, const char *name)
+{
+    double *d = to_double(px, w, h);
+    if (!d)
+        return;
+    enum { NT = 256 };
+    double truth[NT], nrm[NT][3];
+    for (int k = 0; k < NT; ++k) { /* spherical Fibonacci normals */
+        double z = 1.0 - (2.0 * k + 1.0) / NT, r = sqrt(1.0 - z * z), p = k * BP_PI * (3.0 - sqrt(5.0));
+        nrm[k][0] = r * cos(p), nrm[k][1] = r * sin(p), nrm[k][2] = z, truth[k] = 0.0;
+    }
+    for (int v = 0; v < h; ++v) {
+        double t = (v + 0.5) * BP_PI / h, dw = (2.0 * BP_PI / w) * (BP_PI / h) * sin(t);
+        for (int u = 0; u < w; ++u) {
+            const double *q = d + 3 * ((size_t)v * (size_t)w + (size_t)u);
+            double L = 0.2126 * q[0] + 0.7152 * q[1] + 0.0722 * q[2];
+            if (L == 0.0)
+                continue;
+            double ph = (u + 0.5) * 2.0 * BP_PI / w, dir[3] = {sin(t) * cos(ph), sin(t) * sin(ph), cos(t)};
+            for (int k = 0; k < NT; ++k) {
+                double c = dir[0] * nrm[k][0] + dir[1] * nrm[k][1] + dir[2] * nrm[k][2];
+                if (c > 0)
+                    truth[k] += L * c * dw;
+            }
+        }
+    }
+    free(d);
+    printf("windowing on %s (irradiance of the luminance, %dx%d):\n", name, w, h);
+    printf("  %-8s %5s %14s %14s %12s %14s\n", "window", "bands", "min E", "max E", "min/max", "mean |err|");
+    static const char *wn[3] = {"none", "hann", "lanczos"};
+    for (int bands = 3; bands <= 5; bands += 2)
+        for (int win = 0; win < 3; ++win) {
+            qibl_lightprobe_image_t img = {px, (uint32_t)w, (uint32_t)h, 0, QIBL_LIGHTPROBE_RGBE, 0};
+            qibl_probe_sh_opts_t o = {1, (qibl_probe_window_t)win, 0};
+            qibl_probe_coeffs_t c;
+            if (qibl_probe_sh_project(&img, bands, &o, ws, n, &c) != QIBL_OK)
+                return;
+            double lum[25];
+            for (int i = 0; i < bands * bands; ++i)
+                lum[i] = ldexp(0.2126 * c.c[0][i] + 0.7152 * c.c[1][i] + 0.0722 * c.c[2][i], c.exp);
+            double mn = 1e300, mx = -1e300, err = 0.0, tmean = 0.0;
+            for (int k = 0; k < 4096; ++k) {
+                double z = 1.0 - (2.0 * k + 1.0) / 4096, r = sqrt(1.0 - z * z), p = k * BP_PI * (3.0 - sqrt(5.0)), y[25];
+                qibl_ref_sh_eval(r * cos(p), r * sin(p), z, bands, y);
+                double e = 0.0;
+                for (int i = 0; i < bands * bands; ++i)
+                    e += lum[i] * y[i];
+                mn = fmin(mn, e), mx = fmax(mx, e);
+            }
+            for (int k = 0; k < NT; ++k) {
+                double y[25], e = 0.0;
+                qibl_ref_sh_eval(nrm[k][0], nrm[k][1], nrm[k][2], bands, y);
+                for (int i = 0; i < bands * bands; ++i)
+                    e += lum[i] * y[i];
+                err += fabs(e - truth[k]), tmean += truth[k];
+            }
+            printf("  %-8s %5d %14.6g %14.6g %12.4f %13.2f%%\n", wn[win], bands, mn, mx, mn / mx, 100.0 * err / tmean);
+            if (bands == 5 && strstr(name, "sun probe"))
+                printf("RESULT probe.sun_ringing_min_over_max.%s %.4f\n", wn[win], mn / mx);
+        }
+}
+
+static double rotate_err(void)
+{
+    double worst = 0.0;
+    uint64_t s = 31;
+    for (int k = 0; k < 200; ++k) {
+        double q[4], n = 0.0;
+        for (int i = 0; i < 4; ++i) {
+            s = s * 6364136223846793005u + 1442695040888963407u;
+            q[i] = (double)(s >> 11) / 9007199254740992.0 * 2.0 - 1.0, n += q[i] * q[i];
+        }
+        n = sqrt(n);
+        double a = q[0] / n, b = q[1] / n, c = q[2] / n, d = q[3] / n;
+        double m[3][3] = {{1 - 2 * (c * c + d * d), 2 * (b * c - a * d), 2 * (b * d + a * c)},
+                          {2 * (b * c + a * d), 1 - 2 * (b * b + d * d), 2 * (c * d - a * b)},
+                          {2 * (b * d - a * c), 2 * (c * d + a * b), 1 - 2 * (b * b + c * c)}};
+        qibl_q30_t r[3][3];
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+                r[i][j] = (int32_t)lrint(m[i][j] * 1073741824.0), m[i][j] = r[i][j] / 1073741824.0;
+        qibl_sh_rotation_t rot;
+        double ref[165];
+        if (qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])r, 5) != QIBL_OK)
+            return -1.0;
+        qibl_ref_sh_rotation(m, 5, ref);
+        for (int i = 0; i < 165; ++i)
+            worst = fmax(worst, fabs(rot.d[i] / 1073741824.0 - ref[i]));
+    }
+    return worst;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+int qibl_bench_probe(int quick)
+{
+    const int reps = quick ? 7 : 31;
+    char path[600], err[512];
+    snprintf(path, sizeof path, "%.500s/quarry_01_1k.hdr", bp_dir());
+    int w = 1024, h = 512;
+    uint8_t *px = NULL;
+    const char *name = "quarry_01_1k";
+    if (qibl_hdr_read_rgbe(path, &w, &h, &px, err, sizeof err) != 0) {
+        printf("(%s not found: an integer-made 1024x512 probe with a sun instead)\n", path);
+        w = 1024, h = 512, px = int_probe(w, h), name = "integer-made 1024x512 probe";
+        if (!px)
+            return fprintf(stderr, "qibl: bench probe: out of memory\n"), 1;
+    }
+    size_t n = qibl_probe_sh_workspace_size((uint32_t)w, (uint32_t)h), bytes = 4 * (size_t)w * (size_t)h;
+    void *ws = malloc(n);
+    double *tp = malloc(sizeof *tp * (size_t)reps), *tr = malloc(sizeof *tr * (size_t)reps);
+    double *tb = malloc(sizeof *tb * (size_t)reps), *tt = malloc(sizeof *tt * (size_t)reps);
+    if (!ws || !tp || !tr || !tb || !tt)
+        return fprintf(stderr, "qibl: bench probe: out of memory\n"), 1;
+    qibl_lightprobe_image_t img = {px, (uint32_t)w, (uint32_t)h, 0, QIBL_LIGHTPROBE_RGBE, 0};
+    qibl_probe_coeffs_t c;
+    bp_sink = read_words(px, bytes);
+    for (int r = 0; r < reps; ++r) { /* interleaved: read, project, begin only, read */
+        double t0 = qibl_cli_now();
+        bp_sink += read_words(px, bytes);
+        double t1 = qibl_cli_now();
+        (void)qibl_probe_sh_project(&img, 5, NULL, ws, n, &c);
+        double t2 = qibl_cli_now();
+        qibl_probe_sh_t ps;
+        (void)qibl_probe_sh_begin(&ps, (uint32_t)w, (uint32_t)h, QIBL_LIGHTPROBE_RGBE, 0, 5, ws, n);
+        double t3 = qibl_cli_now();
+        qibl_q30_t rm[3][3] = {{0, -(1 << 30), 0}, {1 << 30, 0, 0}, {0, 0, 1 << 30}};
+        qibl_sh_rotation_t rot;
+        int32_t out[25];
+        (void)qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])rm, 5);
+        for (int ch = 0; ch < 3; ++ch)
+            (void)qibl_sh_rotate(&rot, c.c[ch], out), bp_sink += (uint64_t)out[3];
+        double t4 = qibl_cli_now();
+        tr[r] = (t1 - t0) * 1e3, tp[r] = (t2 - t1) * 1e3, tb[r] = (t3 - t2) * 1e3, tt[r] = (t4 - t3) * 1e6;
+    }
+    qsort(tp, (size_t)reps, sizeof *tp, cmp_double), qsort(tr, (size_t)reps, sizeof *tr, cmp_double);
+    qsort(tb, (size_t)reps, sizeof *tb, cmp_double), qsort(tt, (size_t)reps, sizeof *tt, cmp_double);
+    printf("== bench probe: SH projection (bands 0..4, 3 channels) of %s, %d interleaved repetitions\n", name, reps);
+#ifdef __VERSION__
+    printf("compiler: %s; core built with the Makefile's CORE_CFLAGS (OPT, -O3 by default)%s\n", __VERSION__,
+           QIBL_CONFIG_NATIVE_MUL64 ? "" : ", portable M0 paths");
+#endif
+    printf("%-52s %10s %10s %8s\n", "run", "min ms", "median ms", "x read");
+    printf("%-52s %10.3f %10.3f %8.2f\n", "one read pass (64-bit words of the RGBE bytes)", tr[0], tr[reps / 2], 1.0);
+    printf("%-52s %10.3f %10.3f %8.2f\n", "qibl_probe_sh_project (begin + 512 rows + finish)", tp[0], tp[reps / 2],
+           tp[0] / tr[0]);
+    printf("%-52s %10.3f %10.3f %8.2f\n", "  of which begin (trig table)", tb[0], tb[reps / 2], tb[0] / tr[0]);
+    printf("%-52s %10.1f %10.1f %8s\n", "rotation: init + 3 channels (microseconds)", tt[0], tt[reps / 2], "-");
+    printf("goal: projection <= 2x the read pass (ratio of the minima; medians %.2f)\n", tp[reps / 2] / tr[reps / 2]);
+    printf("RESULT probe.project_over_read %.2f\n", tp[0] / tr[0]);
+    printf("RESULT probe.project_ms %.3f\n", tp[0]);
+
+    /* accuracy: every fixture probe, or the integer-made one */
+    double worst = 0.0;
+    int count = 0;
+    DIR *dir = opendir(bp_dir());
+    if (dir) {
+        struct dirent *de;
+        while ((de = readdir(dir)) != NULL) {
+            size_t l = strlen(de->d_name);
+            if (l < 5 || strcmp(de->d_name + l - 4, ".hdr") != 0)
+                continue;
+            int pw, ph;
+            uint8_t *pp;
+            snprintf(path, sizeof path, "%.300s/%.250s", bp_dir(), de->d_name);
+            if (qibl_hdr_read_rgbe(path, &pw, &ph, &pp, err, sizeof err) != 0)
+                continue;
+            size_t pn = qibl_probe_sh_workspace_size((uint32_t)pw, (uint32_t)ph);
+            void *pws = malloc(pn);
+            double e = pws ? sh_rel_err(pp, pw, ph, pws, pn) : -1.0;
+            if (!quick || count < 2)
+                printf("  %-36s max |err| / max |L| %.3e\n", de->d_name, e);
+            worst = fmax(worst, e), ++count;
+            free(pws), free(pp);
+        }
+        closedir(dir);
+    }
+    if (count == 0)
+        worst = sh_rel_err(px, w, h, ws, n), count = 1;
+    double rerr = rotate_err();
+    printf("projection against the double reference (tools/ref/probe_ref.c) on %d probe(s): max |err| / max |L| "
+           "%.3e\n", count, worst);
+    printf("rotation against the double reference (integrated rotated basis), 200 random rotations: max |D - D_ref| "
+           "%.3e (bound 2^-24 = %.3e)\n", rerr, 1.0 / 16777216.0);
+    printf("RESULT probe.sh_max_rel_err %.3e\n", worst);
+    printf("RESULT probe.rotate_max_err %.3e\n", rerr);
+    /* a sun probe: a dim uniform sky (2^-12) and a 3 x 3 sun 2^20 brighter (256), 45 degrees up */
+    uint8_t *sun = malloc(bytes);
+    if (sun) {
+        for (size_t i = 0; i < (size_t)w * (size_t)h; ++i)
+            sun[4 * i] = sun[4 * i + 1] = sun[4 * i + 2] = 128, sun[4 * i + 3] = 136 - 12 - 7;
+        for (int v = h / 4 - 1; v <= h / 4 + 1; ++v)
+            for (int u = w / 3 - 1; u <= w / 3 + 1; ++u)
+                sun[4 * ((size_t)v * (size_t)w + (size_t)u) + 3] = 136 + 8 - 7;
+        ringing(sun, w, h, ws, n, "a sun probe (3x3 sun 2^20 x a uniform sky)");
+        free(sun);
+    }
+    if (!quick)
+        ringing(px, w, h, ws, n, name);
+    free(ws), free(tp), free(tr), free(tb), free(tt), free(px);
+    return 0;
+}
