@@ -13,6 +13,7 @@
 #include "qibl/shmaps.h"
 #include "qibl/asset.h"
 #include "qibl/shmap.h"
+#include "qibl/lightpath.h"
 #include "qibl/lightprobe.h"
 #include "qibl/probe.h"
 

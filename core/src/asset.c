@@ -68,7 +68,7 @@ uint32_t qibl_crc32_fast(const uint32_t *t, uint32_t crc, const uint8_t *data, s
 
 static bool known_type(uint32_t type)
 {
-    return type == QIBL_CHUNK_SHMP || type == QIBL_CHUNK_PMAP || type == QIBL_CHUNK_YLUT;
+    return type == QIBL_CHUNK_SHMP || type == QIBL_CHUNK_PMAP || type == QIBL_CHUNK_YLUT || type == QIBL_CHUNK_SHMU;
 }
 
 /* The table entry of the first chunk of the given type, or NULL. */
@@ -245,6 +245,15 @@ static qibl_status_t open_asset(qibl_asset_t *out, const void *bytes, size_t n, 
     e = find_entry(b, count, QIBL_CHUNK_YLUT);
     if (e != 0 && (st = check_ylut(b + qibl_load_u32le(e + 4), qibl_load_u32le(e + 8), k)) != QIBL_OK)
         return st;
+    e = find_entry(b, count, QIBL_CHUNK_SHMU);
+    if (e != 0) {
+        const uint8_t *u = b + qibl_load_u32le(e + 4);
+        uint32_t upx = 0, uk = 0, ulayout = 0;
+        if ((st = check_shmp(u, qibl_load_u32le(e + 8), &upx, &uk, &ulayout)) != QIBL_OK)
+            return st;
+        if (qibl_load_u32le(u) != qibl_load_u32le(shmp) || qibl_load_u32le(u + 4) != qibl_load_u32le(shmp + 4))
+            return QIBL_E_ASSET_MISMATCH;
+    }
 
     out->base = b;
     out->size = file_size;
@@ -393,10 +402,29 @@ static qibl_status_t payload(const qibl_asset_t *a, uint32_t type, const void *o
     return st;
 }
 
-qibl_status_t qibl_asset_shmaps(const qibl_asset_t *a, qibl_shmaps_t *out)
+qibl_status_t qibl_asset_find_nth(const qibl_asset_t *a, uint32_t type, uint32_t index, qibl_chunk_t *out)
+{
+    if (a == 0 || out == 0)
+        return QIBL_E_NULL_POINTER;
+    for (uint32_t i = 0; i < a->chunk_count; ++i) {
+        const uint8_t *e = a->base + QIBL_ASSET_HEADER_SIZE + QIBL_ASSET_ENTRY_SIZE * i;
+        if (qibl_load_u32le(e) != type)
+            continue;
+        if (index-- == 0u) {
+            out->type = type;
+            out->size = qibl_load_u32le(e + 8);
+            out->data = a->base + qibl_load_u32le(e + 4);
+            return QIBL_OK;
+        }
+    }
+    return QIBL_E_ASSET_MISSING_CHUNK;
+}
+
+/* SHMP and SHMU share one layout */
+static qibl_status_t shmaps_of(const qibl_asset_t *a, uint32_t type, qibl_shmaps_t *out)
 {
     const uint8_t *p = 0;
-    qibl_status_t st = payload(a, QIBL_CHUNK_SHMP, out, &p);
+    qibl_status_t st = payload(a, type, out, &p);
     if (st != QIBL_OK)
         return st;
     out->width = qibl_load_u32le(p);
@@ -407,6 +435,22 @@ qibl_status_t qibl_asset_shmaps(const qibl_asset_t *a, qibl_shmaps_t *out)
     out->planes = p + 20u + 8u * out->k * out->channels;
     out->layout = (qibl_load_u32le(p + 16) & QIBL_SHMP_FLAG_INTERLEAVED) ? QIBL_SHMAPS_INTERLEAVED : QIBL_SHMAPS_PLANAR;
     return QIBL_OK;
+}
+
+qibl_status_t qibl_asset_shmaps(const qibl_asset_t *a, qibl_shmaps_t *out)
+{
+    return shmaps_of(a, QIBL_CHUNK_SHMP, out);
+}
+
+qibl_status_t qibl_asset_shmaps_unshadowed(const qibl_asset_t *a, qibl_shmaps_t *out)
+{
+    return shmaps_of(a, QIBL_CHUNK_SHMU, out);
+}
+
+qibl_status_t qibl_asset_point_shmaps(const qibl_asset_t *a, qibl_shmaps_t *out)
+{
+    qibl_status_t st = shmaps_of(a, QIBL_CHUNK_SHMU, out);
+    return st == QIBL_E_ASSET_MISSING_CHUNK ? shmaps_of(a, QIBL_CHUNK_SHMP, out) : st;
 }
 
 qibl_status_t qibl_asset_pmap(const qibl_asset_t *a, qibl_pmap_t *out)

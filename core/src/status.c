@@ -65,6 +65,14 @@ const char *qibl_status_str(qibl_status_t s)
     case QIBL_E_PROBE_BLACK:      return "light probe: all black, no lights";
     case QIBL_E_PROBE_RECT:       return "light probe: region outside the probe";
     case QIBL_E_CONFIG_MISMATCH:  return "caller built with other config.h options or release than the library";
+    case QIBL_E_LIGHTPATH_SIZE:       return "light path: LPTH payload size other than its fields imply";
+    case QIBL_E_LIGHTPATH_DIMENSIONS: return "light path: width/height zero, too large or not the SH maps'";
+    case QIBL_E_LIGHTPATH_KIND:       return "light path: unknown kind or reserved flags not 0";
+    case QIBL_E_LIGHTPATH_KEYS:       return "light path: bad keys (count, t not 0..65535 increasing, zero direction)";
+    case QIBL_E_LIGHTPATH_ROWS:       return "light path: row index disagrees with the edge counts";
+    case QIBL_E_LIGHTPATH_EDGES:      return "light path: a pixel's edges not strictly increasing";
+    case QIBL_E_LIGHTPATH_PARAM:      return "light path: t above 65535 or radius above 32767";
+    case QIBL_E_LIGHTPATH_BOUNDS:     return "light path: span outside the path's pixels";
     case QIBL_E_SH_ROTATION:      return "SH rotation: matrix not orthonormal within 2^-16, or a reflection";
     case QIBL_E_PROBE_ROW:        return "probe projection: row outside the probe, or not every row added";
     case QIBL_E_PROBE_SATURATED:  return "probe projection: SH coefficients beyond the Q16.16 light";

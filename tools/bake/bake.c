@@ -17,6 +17,7 @@
 #include "io/asset_write.h"
 #include "io/atomic.h"
 #include "qibl/asset.h"
+#include "qibl/lightpath.h"
 #include "qibl/shmap.h"
 #include "qibl/soft.h"
 #include "ref/sh_ref.h"
@@ -39,6 +40,7 @@ typedef struct {
     qibl_bake_sums *out;
     int progress;
     double t0;
+    int unshadowed; /* 1: cosine x BRDF without the shadow test (SHMU) */
 } bake_job;
 
 static void bake_row(void *ctx, uint32_t row)
@@ -63,7 +65,7 @@ static void bake_row(void *ctx, uint32_t row)
             memset(sum, 0, sizeof sum);
             for (uint32_t l = b * QIBL_BAKE_BLOCK; l < (b + 1) * QIBL_BAKE_BLOCK && l < j->ndirs; ++l) {
                 double df, gl;
-                if (!qibl_rt_response(j->s, &h, j->dirs + 3 * l, 1e30, &df, &gl))
+                if (!qibl_rt_response(j->s, &h, j->dirs + 3 * l, j->unshadowed ? 0 : 1e30, &df, &gl))
                     continue;
                 any = 1;
                 const double *y = j->y + 25 * (size_t)l;
@@ -97,8 +99,8 @@ static void bar(void *ctx, uint32_t done, uint32_t rows)
     fflush(stderr);
 }
 
-int qibl_bake_run(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, uint32_t ndirs, uint32_t k,
-                  uint32_t shard, uint32_t nshards, int threads, int progress, qibl_bake_sums *out)
+static int bake_run(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, uint32_t ndirs, uint32_t k,
+                    uint32_t shard, uint32_t nshards, int threads, int progress, int unshadowed, qibl_bake_sums *out)
 {
     if (k < 1 || k > 25 || ndirs < 1 || ndirs > QIBL_BAKE_MAX_DIRS || nshards < 1 || nshards > QIBL_BAKE_MAX_SHARDS ||
         shard >= nshards || w < 1 || h < 1)
@@ -108,7 +110,7 @@ int qibl_bake_run(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind
     out->pmap = malloc(np * 3 * sizeof(int32_t));
     out->acc = malloc(np * 3 * k * sizeof(int64_t));
     bake_job j = {s, w, h, k, ndirs, shard, nshards, kind, malloc(ndirs * 3 * sizeof(double)),
-                  malloc(ndirs * 25 * sizeof(double)), out, progress && isatty(2), 0};
+                  malloc(ndirs * 25 * sizeof(double)), out, progress && isatty(2), 0, unshadowed};
     if (!out->pmap || !out->acc || !j.dirs || !j.y) {
         free(j.dirs), free(j.y);
         qibl_bake_sums_free(out);
@@ -123,6 +125,18 @@ int qibl_bake_run(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind
     qibl_rt_parallel(threads, h, bake_row, &j, bar);
     free(j.dirs), free(j.y);
     return 0;
+}
+
+int qibl_bake_run(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, uint32_t ndirs, uint32_t k,
+                  uint32_t shard, uint32_t nshards, int threads, int progress, qibl_bake_sums *out)
+{
+    return bake_run(s, w, h, kind, ndirs, k, shard, nshards, threads, progress, 0, out);
+}
+
+int qibl_bake_run_unshadowed(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, uint32_t ndirs,
+                             uint32_t k, int threads, qibl_bake_sums *out)
+{
+    return bake_run(s, w, h, kind, ndirs, k, 0, 1, threads, 0, 1, out);
 }
 
 void qibl_bake_sums_free(qibl_bake_sums *s)
@@ -570,6 +584,18 @@ int qibl_bake_asset(const qibl_gen_maps *m, uint32_t lut, uint8_t **bytes, size_
 
 int qibl_bake_asset_layout(const qibl_gen_maps *m, uint32_t lut, uint32_t layout, uint8_t **bytes, size_t *n)
 {
+    return qibl_bake_asset_full(m, NULL, lut, layout, NULL, NULL, bytes, n);
+}
+
+int qibl_bake_asset_ex(const qibl_gen_maps *m, const qibl_gen_maps *mu, uint32_t lut, uint8_t *const *paths,
+                       const size_t *path_sizes, uint8_t **bytes, size_t *n)
+{
+    return qibl_bake_asset_full(m, mu, lut, QIBL_SHMAPS_PLANAR, paths, path_sizes, bytes, n);
+}
+
+int qibl_bake_asset_full(const qibl_gen_maps *m, const qibl_gen_maps *mu, uint32_t lut, uint32_t layout,
+                         uint8_t *const *paths, const size_t *path_sizes, uint8_t **bytes, size_t *n)
+{
     size_t np = (size_t)m->width * m->height, nplanes = (size_t)m->k * 3;
     int32_t *scale = malloc(sizeof(int32_t) * nplanes), *bias = malloc(sizeof(int32_t) * nplanes);
     uint8_t *planes = malloc(np * nplanes);
@@ -583,17 +609,30 @@ int qibl_bake_asset_layout(const qibl_gen_maps *m, uint32_t lut, uint32_t layout
     if (qibl_asset_add_shmp_layout(&b, m->width, m->height, m->k, 3, scale, bias, planes, layout) != 0 ||
         qibl_asset_add_pmap(&b, m->width, m->height, m->p) != 0)
         goto done;
-    if (lut) {
-        size_t vs = qibl_ylut_values_size(lut, m->k);
+    if (lut) { /* for the larger k of the two map sets: point lights read either */
+        uint32_t lk = mu && mu->k > m->k ? mu->k : m->k;
+        size_t vs = qibl_ylut_values_size(lut, lk);
         le = malloc(vs);
         lutv = malloc(vs);
-        if (!le || !lutv || qibl_ylut_build(lut, m->k, le, vs) != QIBL_OK)
+        if (!le || !lutv || qibl_ylut_build(lut, lk, le, vs) != QIBL_OK)
             goto done;
         for (size_t i = 0; i < vs / 2; ++i)
             lutv[i] = qibl_load_s16le(le + 2 * i);
-        if (qibl_asset_add_ylut(&b, lut, m->k, lutv) != 0)
+        if (qibl_asset_add_ylut(&b, lut, lk, lutv) != 0)
             goto done;
     }
+    if (mu) { /* the unshadowed set, packed on its own (its own k and ranges) */
+        size_t up = (size_t)mu->k * 3;
+        free(scale), free(bias), free(planes);
+        scale = malloc(sizeof(int32_t) * up), bias = malloc(sizeof(int32_t) * up), planes = malloc(np * up);
+        if (!scale || !bias || !planes || mu->width != m->width || mu->height != m->height ||
+            qibl_pack_maps(mu, QIBL_PACK_MINMAX, scale, bias, planes, NULL) != 0 ||
+            qibl_asset_add_shmu(&b, mu->width, mu->height, mu->k, 3, scale, bias, planes) != 0)
+            goto done;
+    }
+    for (size_t i = 0; paths && paths[i]; ++i)
+        if (qibl_asset_builder_add(&b, QIBL_CHUNK_LPTH, paths[i], path_sizes[i]) != 0)
+            goto done;
     if (qibl_asset_serialize(&b, bytes, n) != 0)
         goto done;
     rc = 0;
@@ -621,6 +660,11 @@ static void to_fb(const double *lin, uint32_t w, uint32_t h, uint8_t *rgb8)
             memcpy(rgb8 + ((size_t)y * w + x) * 3, pix + 4 * (size_t)x, 3);
     }
     free(pix), free(row);
+}
+
+void qibl_bake_lin_to8(const double *lin, uint32_t w, uint32_t h, uint8_t *rgb8)
+{
+    to_fb(lin, w, h, rgb8);
 }
 
 int qibl_bake_truth8(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, const qibl_rt_light *l,
@@ -671,8 +715,8 @@ int qibl_bake_relight8_lin(const uint8_t *asset, size_t n, const qibl_rt_light *
     qibl_pmap_t pm;
     qibl_ylut_t lut;
     qibl_status_t st = qibl_asset_open(&a, asset, n);
-    if (st == QIBL_OK)
-        st = qibl_asset_shmaps(&a, &m);
+    if (st == QIBL_OK) /* free point lights: the unshadowed set when the asset has one */
+        st = l->point && lut_mode >= 0 ? qibl_asset_point_shmaps(&a, &m) : qibl_asset_shmaps(&a, &m);
     if (st == QIBL_OK && l->point)
         st = qibl_asset_pmap(&a, &pm);
     if (st == QIBL_OK && l->point && lut_mode)

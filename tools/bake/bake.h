@@ -40,6 +40,10 @@ void qibl_bake_dir(uint32_t j, uint32_t n, double d[3]);
  * 0, or -1 (no memory). */
 int qibl_bake_run(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, uint32_t ndirs, uint32_t k,
                   uint32_t shard, uint32_t nshards, int threads, int progress, qibl_bake_sums *out);
+/* The unshadowed transfer (cosine x BRDF, no shadow test) for the SHMU chunk: the same sums, in
+ * one piece (no shards; partial-sums files and merge carry the shadowed set only). 0 or -1. */
+int qibl_bake_run_unshadowed(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, uint32_t ndirs,
+                             uint32_t k, int threads, qibl_bake_sums *out);
 void qibl_bake_sums_free(qibl_bake_sums *s);
 
 /* Partial sums file, version 2 (all little-endian):
@@ -81,6 +85,13 @@ int qibl_bake_coeffs(const qibl_bake_sums *s, uint32_t k, qibl_proj_method metho
 /* Packs maps (min/max) and builds the asset bytes: SHMP + PMAP (+ YLUT of face lut if lut > 0).
  * *bytes malloc'ed. 0 or -1. */
 int qibl_bake_asset(const qibl_gen_maps *m, uint32_t lut, uint8_t **bytes, size_t *n);
+/* The same plus, when mu is not NULL, the unshadowed maps mu (same size, own k) as SHMU, and one LPTH
+ * chunk per payload of the NULL-terminated list paths (sizes in path_sizes; paths may be NULL). */
+int qibl_bake_asset_ex(const qibl_gen_maps *m, const qibl_gen_maps *mu, uint32_t lut, uint8_t *const *paths,
+                       const size_t *path_sizes, uint8_t **bytes, size_t *n);
+/* Everything: SHMP in layout + PMAP (+ YLUT) (+ SHMU, planar, when mu) (+ one LPTH per path). */
+int qibl_bake_asset_full(const qibl_gen_maps *m, const qibl_gen_maps *mu, uint32_t lut, uint32_t layout,
+                         uint8_t *const *paths, const size_t *path_sizes, uint8_t **bytes, size_t *n);
 /* The same with the SH maps in a chosen layout (QIBL_SHMAPS_PLANAR or QIBL_SHMAPS_INTERLEAVED). */
 int qibl_bake_asset_layout(const qibl_gen_maps *m, uint32_t lut, uint32_t layout, uint8_t **bytes, size_t *n);
 
@@ -89,6 +100,8 @@ int qibl_bake_asset_layout(const qibl_gen_maps *m, uint32_t lut, uint32_t layout
  * hit (PSNR is taken over those pixels). */
 int qibl_bake_truth8(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, const qibl_rt_light *l,
                      int threads, uint8_t *rgb8, uint8_t *mask);
+/* A linear frame (3 doubles per pixel) as the truth's 8-bit sRGB (platform/soft, exposure 1). */
+void qibl_bake_lin_to8(const double *lin, uint32_t w, uint32_t h, uint8_t *rgb8);
 /* use_lut: point lights use the asset's YLUT (bilinear). 0 or -1 (bad asset / core error). */
 /* The same with every option: lut_mode 0 direct SH, 1 LUT bilinear, 2 LUT nearest; exposure UQ16.16
  * (0 = 1.0); srgb 0 = linear output. *status (may be NULL) gets the core's status on failure

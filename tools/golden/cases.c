@@ -24,6 +24,8 @@ const qibl_goldens_group_t qibl_goldens_groups[] = {
 #endif
 #if QIBL_USE_SHMAP
     {"relight", "shmap: directional and point-light relighting into every framebuffer format", qibl_goldens_relight},
+    {"lightpath", "light paths: visibility spans, key interpolation, damaged payloads, sun (+ sky) x visibility",
+     qibl_goldens_lightpath},
 #endif
     {"soft", "platform/soft: a gradient in every framebuffer format, accumulation and resolve", qibl_goldens_soft},
 #if QIBL_USE_PROBE

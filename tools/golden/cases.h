@@ -63,6 +63,7 @@ int qibl_goldens_asset(const qibl_goldens_sink_t *s);
 int qibl_goldens_relight(const qibl_goldens_sink_t *s);
 int qibl_goldens_soft(const qibl_goldens_sink_t *s);
 int qibl_goldens_lightprobe(const qibl_goldens_sink_t *s);
+int qibl_goldens_lightpath(const qibl_goldens_sink_t *s);
 int qibl_goldens_probe(const qibl_goldens_sink_t *s);
 
 /* The serialisation of a light list that the lightprobe_* goldens hash (also used by

@@ -206,6 +206,16 @@ int qibl_asset_add_shmp_layout(qibl_asset_builder *b, uint32_t w, uint32_t h, ui
     return qibl_asset_builder_take(b, QIBL_CHUNK_SHMP, p, n);
 }
 
+int qibl_asset_add_shmu(qibl_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
+                        const int32_t *scale, const int32_t *bias, const uint8_t *planes)
+{
+    uint8_t *p = NULL;
+    size_t n = 0;
+    if (qibl_asset_shmp_payload(b, w, h, k, channels, scale, bias, planes, &p, &n) != 0)
+        return -1;
+    return qibl_asset_builder_take(b, QIBL_CHUNK_SHMU, p, n);
+}
+
 int qibl_asset_add_pmap(qibl_asset_builder *b, uint32_t w, uint32_t h, const int32_t *xyz)
 {
     uint8_t *p = NULL;

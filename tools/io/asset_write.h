@@ -72,6 +72,9 @@ int qibl_asset_shmp_payload_layout(qibl_asset_builder *b, uint32_t w, uint32_t h
 /* Payload builder + qibl_asset_builder_take in one call. */
 int qibl_asset_add_shmp(qibl_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
                         const int32_t *scale, const int32_t *bias, const uint8_t *planes);
+/* SHMU (unshadowed transfer): the SHMP payload layout under its own chunk type */
+int qibl_asset_add_shmu(qibl_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
+                        const int32_t *scale, const int32_t *bias, const uint8_t *planes);
 int qibl_asset_add_shmp_layout(qibl_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
                                const int32_t *scale, const int32_t *bias, const uint8_t *planes, uint32_t layout);
 int qibl_asset_add_pmap(qibl_asset_builder *b, uint32_t w, uint32_t h, const int32_t *xyz);

@@ -27,6 +27,7 @@ int qibl_bench_relight(int quick, int csv);
 int qibl_bench_relight_baselines(int quick); /* the u64-read / memcpy baselines alone */
 int qibl_bench_srgbe(int quick); /* bench_srgbe.c */
 int qibl_bench_lights(int quick); /* bench_lights.c */
+int qibl_bench_paths(int quick);  /* bench_paths.c */
 int qibl_bench_asset(int quick);  /* bench_asset.c */
 /* The courtyard asset (w x h, k maps, RGB, P map) serialised in memory; *bytes malloc'ed. 0 or -1. */
 int qibl_bench_make_asset(uint32_t w, uint32_t h, uint32_t k, uint32_t layout, uint8_t **bytes, size_t *n);
@@ -67,6 +68,11 @@ int qibl_cli_scene_opt(int argc, char **argv, int *i, qibl_cli_scene *o);
 struct qibl_rt_scene;
 int qibl_cli_scene_load(const qibl_cli_scene *o, struct qibl_rt_scene *s);
 struct qibl_rt_light;
+/* The light-path part of `qibl demo` (demo_paths.c): its table and RESULT lines on stdout,
+ * paths_sheet.png in dir. today: the k = 16 shadowed asset (with YLUT). 0, or 1 after a message. */
+struct qibl_bake_sums;
+int qibl_demo_paths(const struct qibl_rt_scene *s, const qibl_cli_scene *so, uint32_t ndirs, int prop, int small,
+                    const struct qibl_bake_sums *sums, const uint8_t *today, size_t today_n, const char *dir);
 void qibl_cli_eval_lights(int obj_prop, int ndir, int npoint, struct qibl_rt_light *out);
 
 /* --point without --rgb (point_default.c): C0 = QIBL_CLI_POINT_GREY * d^falloff, d the median

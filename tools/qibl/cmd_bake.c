@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "bake/bake.h"
+#include "bake/path.h"
 #include "io/hdr.h"
 #include "io/obj.h"
 #include "io/ply.h"
@@ -315,8 +316,16 @@ static int write_bytes(const char *path, const uint8_t *b, size_t n)
     return 0;
 }
 
+/* what `qibl bake` adds beside the shadowed maps: unshadowed maps (SHMU) and light paths (LPTH) */
+typedef struct {
+    const qibl_gen_maps *mu; /* NULL: none */
+    uint8_t *paths[9];       /* NULL-terminated */
+    size_t sizes[9];
+    int npaths;
+} extras;
+
 static int finish_asset(const qibl_bake_sums *sums, uint32_t k, uint32_t lut, qibl_proj_method method,
-                        uint32_t layout, const char *out)
+                        uint32_t layout, const char *out, const extras *x)
 {
     qibl_gen_maps m;
     uint8_t *bytes = NULL;
@@ -329,7 +338,7 @@ static int finish_asset(const qibl_bake_sums *sums, uint32_t k, uint32_t lut, qi
             fprintf(stderr, "qibl: %s: cannot project: out of memory\n", out);
         return 1;
     }
-    int rc = qibl_bake_asset_layout(&m, lut, layout, &bytes, &n);
+    int rc = qibl_bake_asset_full(&m, x->mu, lut, layout, x->paths, x->sizes, &bytes, &n);
     qibl_gen_free(&m);
     if (rc != 0) {
         fprintf(stderr, "qibl: %s: cannot build the asset (out of memory)\n", out);
@@ -339,9 +348,14 @@ static int finish_asset(const qibl_bake_sums *sums, uint32_t k, uint32_t lut, qi
     free(bytes);
     if (rc != 0)
         return 1;
-    printf("wrote %s: %ux%u, k = %u (%s), %u light directions, %s, %zu bytes\n", out, sums->w, sums->h, k,
+    printf("wrote %s: %ux%u, k = %u (%s), %u light directions, %s", out, sums->w, sums->h, k,
            method == QIBL_PROJ_LSQ ? "least squares" : "quadrature", sums->ndirs,
-           lut ? "P map and cube-map Y LUT" : "P map", n);
+           lut ? "P map and cube-map Y LUT" : "P map");
+    if (x->mu)
+        printf(", unshadowed maps k = %u", x->mu->k);
+    if (x->npaths)
+        printf(", %d light path%s", x->npaths, x->npaths > 1 ? "s" : "");
+    printf(", %zu bytes\n", n);
     return 0;
 }
 
@@ -350,10 +364,12 @@ int qibl_cmd_bake(int argc, char **argv)
     qibl_cli_scene so;
     qibl_cli_scene_defaults(&so);
     const char *out = NULL, *sums_out = NULL;
-    long k = 16, lut = 32, ndirs = 512, shard = 0, nshards = 1;
+    long k = 16, lut = 32, ndirs = 512, shard = 0, nshards = 1, uk = 9, steps = 64;
     double budget = 0;
-    int lsq = 0, quiet = 0;
+    int lsq = 0, quiet = 0, npaths = 0;
     uint32_t layout = QIBL_SHMAPS_PLANAR;
+    qibl_bake_path paths[8];
+    char perr[400];
     for (int i = 1; i < argc; ++i) {
         int r = qibl_cli_scene_opt(argc, argv, &i, &so);
         if (r < 0)
@@ -384,6 +400,22 @@ int qibl_cmd_bake(int argc, char **argv)
             budget = strtod(argv[++i], &end);
             if (*end || !(budget > 0 && budget < 99))
                 return qibl_cli_usage_error("--budget needs a PSNR in dB (0..99)");
+        } else if (strcmp(a, "--unshadowed-k") == 0 && i + 1 < argc) {
+            if (qibl_cli_parse_int(argv[++i], 0, 25, &uk) != 0)
+                return qibl_cli_usage_error("--unshadowed-k needs an integer in 0..25 (0: no unshadowed maps)");
+        } else if (strcmp(a, "--path-steps") == 0 && i + 1 < argc) {
+            if (qibl_cli_parse_int(argv[++i], 2, 4096, &steps) != 0)
+                return qibl_cli_usage_error("--path-steps needs an integer in 2..4096");
+        } else if ((strcmp(a, "--sun-path") == 0 || strcmp(a, "--lamp-track") == 0) && i + 1 < argc) {
+            if (npaths == 8)
+                return qibl_cli_usage_error("%s: at most 8 light paths per asset", a);
+            qibl_bake_path *pp = &paths[npaths];
+            memset(pp, 0, sizeof *pp);
+            int bad = a[2] == 's' ? qibl_bake_path_parse_sun(argv[++i], pp, perr, sizeof perr)
+                                  : qibl_bake_path_parse_track(argv[++i], pp, perr, sizeof perr);
+            if (bad)
+                return qibl_cli_usage_error("%s", perr);
+            npaths++;
         } else if (strcmp(a, "--lsq") == 0)
             lsq = 1;
         else if (strcmp(a, "--quiet") == 0)
@@ -404,6 +436,8 @@ int qibl_cmd_bake(int argc, char **argv)
                                     QIBL_BAKE_BLOCK);
     if (out && nshards > 1)
         return qibl_cli_usage_error("a shard writes partial sums only (--sums); qibl merge writes the asset");
+    if (npaths && (uk == 0 || !out))
+        return qibl_cli_usage_error("light paths need the unshadowed maps (--unshadowed-k 1..25) and -o ASSET");
     qibl_rt_scene s;
     if (qibl_cli_scene_load(&so, &s) != 0)
         return 1;
@@ -422,7 +456,38 @@ int qibl_cmd_bake(int argc, char **argv)
                 nshards > 1 ? " (this shard's share)" : "", s.ntri, secs, so.threads);
     int rc = 0;
     char err[512];
-    if (sums_out && qibl_bake_sums_write(&sums, sums_out, err, sizeof err) != 0) {
+    /* the unshadowed maps and the light paths, for the asset (shards carry the shadowed sums only) */
+    extras x;
+    qibl_gen_maps mu = {0};
+    memset(&x, 0, sizeof x);
+    if (out && uk > 0) {
+        qibl_bake_sums us;
+        double t1 = qibl_cli_now();
+        if (qibl_bake_run_unshadowed(&s, so.w, so.h, so.kind, (uint32_t)ndirs, (uint32_t)uk, so.threads, &us) != 0 ||
+            qibl_bake_coeffs(&us, (uint32_t)uk, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, &mu) != 0) {
+            fprintf(stderr, "qibl: bake: out of memory (unshadowed maps)\n");
+            rc = 1;
+        }
+        qibl_bake_sums_free(&us);
+        x.mu = rc == 0 ? &mu : NULL;
+        for (int p = 0; rc == 0 && p < npaths; ++p) {
+            double st[2];
+            if (qibl_bake_path_chunk(&s, so.w, so.h, so.kind, &paths[p], (uint32_t)steps, 65, so.threads, &x.paths[p],
+                                     &x.sizes[p], st) != 0) {
+                fprintf(stderr, "qibl: bake: out of memory (light path %d)\n", p + 1);
+                rc = 1;
+            } else if (!quiet) {
+                fprintf(stderr, "bake: light path %d (%s): %.2f visibility edges per pixel%s\n", p + 1,
+                        paths[p].kind ? "lamp track" : "sun path", st[0],
+                        st[1] > 0 ? " (some pixels clipped at 255 edges)" : "");
+            }
+            x.npaths = p + 1;
+        }
+        if (!quiet && rc == 0)
+            fprintf(stderr, "bake: unshadowed maps (k = %ld) and %d light path%s: %.1f s\n", uk, npaths,
+                    npaths == 1 ? "" : "s", qibl_cli_now() - t1);
+    }
+    if (rc == 0 && sums_out && qibl_bake_sums_write(&sums, sums_out, err, sizeof err) != 0) {
         fprintf(stderr, "qibl: %s\n", err);
         rc = 1;
     } else if (sums_out) {
@@ -491,13 +556,16 @@ int qibl_cmd_bake(int argc, char **argv)
             else
                 printf("; a %u^2 LUT: the largest tried, none within 0.1 dB of evaluating the SH polynomials per "
                        "pixel\n", chosen_lut);
-            rc = finish_asset(&sums, chosen, chosen_lut, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, layout, out);
+            rc = finish_asset(&sums, chosen, chosen_lut, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, layout, out, &x);
         }
         eval_free(&e);
         free(tmp);
     } else if (rc == 0 && out) {
-        rc = finish_asset(&sums, (uint32_t)k, (uint32_t)lut, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, layout, out);
+        rc = finish_asset(&sums, (uint32_t)k, (uint32_t)lut, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, layout, out, &x);
     }
+    for (int p = 0; p < 8; ++p)
+        free(x.paths[p]);
+    qibl_gen_free(&mu);
     qibl_bake_sums_free(&sums);
     qibl_rt_scene_free(&s);
     return rc;
@@ -601,8 +669,10 @@ int qibl_cmd_merge(int argc, char **argv)
         fprintf(stderr, "qibl: %s\n", err);
         goto done;
     }
+    extras none;
+    memset(&none, 0, sizeof none);
     rc = out ? finish_asset(&total, k ? (uint32_t)k : (total.k < 16 ? total.k : 16), (uint32_t)lut,
-                            lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, layout, out)
+                            lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, layout, out, &none)
              : 0;
 done:
     free(seen), free(in);

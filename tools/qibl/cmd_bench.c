@@ -149,6 +149,8 @@ int qibl_cmd_bench(int argc, char **argv)
         rc |= qibl_bench_srgbe(quick), ran = 1;
     if (all || strcmp(what, "lights") == 0)
         rc |= qibl_bench_lights(quick), ran = 1;
+    if (all || strcmp(what, "paths") == 0)
+        rc |= qibl_bench_paths(quick), ran = 1;
     if (all || strcmp(what, "asset") == 0)
         rc |= qibl_bench_asset(quick), ran = 1;
     if (all || strcmp(what, "probe") == 0)
@@ -162,7 +164,7 @@ int qibl_cmd_bench(int argc, char **argv)
     if (strcmp(what, "gles") == 0) /* only when asked: a GL context is not part of `all` */
         rc |= qibl_bench_gles(quick), ran = 1;
     if (!ran)
-        return qibl_cli_usage_error("bench: unknown benchmark '%s' (all, sh, relight, baselines, srgbe, lights, asset, probe, "
+        return qibl_cli_usage_error("bench: unknown benchmark '%s' (all, sh, relight, baselines, srgbe, lights, paths, asset, probe, "
                                     "memory, gles)", what);
     return rc;
 }

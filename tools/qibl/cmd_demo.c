@@ -57,7 +57,8 @@ static int check_out_dir(const char *dir, long frames)
         return 1;
     }
     static const char *fixed[] = {"scene_k9.qibl", "scene_k16.qibl",    "scene_k25.qibl", "sun_sweep.png",
-                                  "lamp_sweep.png", "contact_sheet.png", "relit_sun.png",  "truth_sun.png"};
+                                  "lamp_sweep.png", "contact_sheet.png", "relit_sun.png",  "truth_sun.png",
+                                  "paths_sheet.png", "paths_readme.png"};
     enum { NFIXED = sizeof fixed / sizeof fixed[0] };
     char err[1200], name[64];
     int bad = 0;
@@ -296,6 +297,8 @@ int qibl_cmd_demo(int argc, char **argv)
                "RESULT demo.relight_ms_k%u %.3f\n",
                ks[q], psnr_dir[q], ks[q], psnr_pt[q], ks[q], asize[q], ks[q], ms_dir[q]);
     printf("RESULT demo.psnr_k16_dir_lsq %.2f\nRESULT demo.bake_s %.2f\n", lsq_dir, bake_s);
+    if (rc == 0 && qibl_demo_paths(&s, &so, (uint32_t)ndirs, prop, small, &sums, asset[1], asize[1], dir) != 0)
+        rc = 1;
     printf("\nwrote %s/: scene_k{9,16,25}.qibl, sun_NN.png and sun_sweep.png (APNG), lamp_NN.png and lamp_sweep.png "
            "(APNG), contact_sheet.png (relit | ground truth | error), relit_sun.png, truth_sun.png\n", dir);
 done:

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "qibl/asset.h"
+#include "qibl/lightpath.h"
 #include "io/file.h"
 #include "qibl/cli.h"
 
@@ -99,6 +100,19 @@ int qibl_cmd_info(int argc, char **argv)
     if (qibl_asset_ylut(&a, &y) == QIBL_OK)
         printf("YLUT: face size N %u (6 faces of %u x %u texels), k %u values per texel (Q2.14)\n",
                (unsigned)y.face_size, (unsigned)y.face_size, (unsigned)y.face_size, (unsigned)y.k);
+    if (qibl_asset_shmaps_unshadowed(&a, &m) == QIBL_OK)
+        printf("SHMU: unshadowed transfer, %u x %u pixels, k %u maps, %u channel%s (free point lights use it)\n",
+               (unsigned)m.width, (unsigned)m.height, (unsigned)m.k, (unsigned)m.channels, m.channels == 1 ? "" : "s");
+    for (uint32_t i = 0; i < qibl_lightpath_count(&a); ++i) {
+        qibl_lightpath_t lp;
+        qibl_status_t ps = qibl_lightpath_from_asset(&a, i, &lp);
+        if (ps != QIBL_OK)
+            printf("LPTH %u: not usable: %s\n", (unsigned)i, qibl_status_str(ps));
+        else
+            printf("LPTH %u: %s, %u keys, %u visibility edges (%.2f per pixel)\n", (unsigned)i,
+                   lp.kind == QIBL_LIGHTPATH_DIRECTIONS ? "sun path (directions)" : "lamp track (positions)",
+                   (unsigned)lp.nkeys, (unsigned)lp.nedges, (double)lp.nedges / ((double)lp.width * lp.height));
+    }
     free(buf);
     return 0;
 }

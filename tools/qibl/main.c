@@ -32,7 +32,7 @@ static const qibl_cli_cmd commands[] = {
      "  an optional Hann or Lanczos window; a table of l, m, R, G, B.\n",
      qibl_cmd_sh},
     {"bench", "benchmarks: speed against error, with RESULT lines",
-     "usage: qibl bench [all|sh|relight|srgbe|lights|asset|probe|memory|gles] [--quick] [--csv] [--markdown]\n"
+     "usage: qibl bench [all|sh|relight|srgbe|lights|paths|asset|probe|memory|gles] [--quick] [--csv] [--markdown]\n"
      "  sh: integer SH basis against the double reference from Wong et al.'s appendix:\n"
      "      ns per evaluation (median of 7 runs) and max |error| over a fixed-seed sweep.\n"
      "  relight: the relighting kernels on the procedural courtyard, 1024x256, k = 4, 9, 16, 25:\n"
@@ -48,6 +48,8 @@ static const qibl_cli_cmd commands[] = {
      "      cut milliseconds for median cut 64/256, adaptive 64, varmin 64, and the ratio of median cut 64\n"
      "      (SAT included) to one plain read pass over the probe bytes (RESULT lights.sat64_over_read);\n"
      "      then the irradiance error of every method and priority on each real probe.\n"
+     "  paths: path lights against today's SH-only relighting, 1024x256, thread CPU time: a sun as\n"
+     "      unshadowed k = 9 or 16 x path visibility (hard, soft), sky + sun, lamps on a track and free.\n"
      "  asset: opening a 16 MB asset: nibble CRC, slicing-by-8 CRC, structure only, against a memcpy\n"
      "      of the same bytes (min and median of interleaved repetitions).\n"
      "  probe: SH projection of a 1024x512 probe (quarry_01_1k.hdr, else an integer-made one) against\n"
@@ -86,7 +88,8 @@ static const qibl_cli_cmd commands[] = {
      qibl_cmd_render},
     {"bake", "bake a scene into a relightable panorama asset (ray-traced, SH-projected, 8-bit packed)",
      "usage: qibl bake -o ASSET [--k K] [--lut-size N] [--dirs N] [--lsq] [--budget DB] [--quiet]\n"
-     "                 [--layout planar|interleaved]\n"
+     "                 [--layout planar|interleaved] [--unshadowed-k K] [--sun-path LAT,DECL,T0,T1]\n"
+     "                 [--lamp-track X,Y,Z;X,Y,Z;...] [--path-steps N]\n"
      "                 [--shard I/N --sums FILE] [scene options as for render]\n"
      "  Renders the scene under N directional lights (spherical Fibonacci set, equal weights 4 pi / N,\n"
      "  default 512) with hard shadows, projects every pixel's response onto SH (k <= 25, default 16;\n"
@@ -97,12 +100,20 @@ static const qibl_cli_cmd commands[] = {
      "  for qibl merge. --budget DB: choose the smallest band-complete k whose PSNR against ground truth\n"
      "  on 8 novel suns reaches DB, and the smallest LUT within 0.1 dB of direct SH evaluation on 4\n"
      "  lamps, and say so. A progress bar goes to stderr when it is a terminal.\n"
-     "  --layout interleaved: SH maps streamable by rows (see qibl help gen).\n",
+     "  --layout interleaved: SH maps streamable by rows (see qibl help gen).\n"
+     "  --unshadowed-k K (default 9, 0 = none): also the unshadowed transfer (cosine x BRDF, no shadow\n"
+     "  test) as SHMU (planar); free point lights use it (visibility at infinity is wrong for a lamp\n"
+     "  inside the scene). --sun-path LAT,DECL,T0,T1 (degrees, degrees, solar hours; +x east, +y north)\n"
+     "  and --lamp-track \"x,y,z;x,y,z;...\" (a polyline, t by arc length; up to 8 paths): per pixel the\n"
+     "  light's visibility along the path (facing and shadow) as on/off edges of t in 0..65535, sampled\n"
+     "  at N + 1 points (--path-steps, default 64) and bisected to one 16-bit step (LPTH chunks; relit\n"
+     "  as unshadowed SH x visibility, qibl/lightpath.h). Shards and merge carry the shadowed maps only.\n",
      qibl_cmd_bake},
     {"merge", "combine the partial sums of bake shards into an asset",
      "usage: qibl merge -o ASSET [--sums OUT] [--k K] [--lut-size N] [--lsq] [--layout planar|interleaved] SUMS...\n"
      "  Adds the partial sums written by `qibl bake --shard I/N --sums FILE` (every shard exactly once,\n"
-     "  same bake) and writes the asset as qibl bake would (byte-identical), and/or the total sums.\n"
+     "  same bake) and writes the asset as qibl bake --unshadowed-k 0 would (byte-identical), and/or the\n"
+     "  total sums.\n"
      "  Every file is checked before use (version, CRC-32s, counts within the bake's limits, exact size),\n"
      "  then against the first (split, size, k, directions, P map); sums that would overflow 64 bits, a\n"
      "  shard given twice or missing, and --k above the shards' k are refused by name.\n",

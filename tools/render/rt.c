@@ -532,7 +532,7 @@ int qibl_rt_response(const qibl_rt_scene *s, const qibl_rt_hit *h, const double 
     double cn = h->n[0] * w[0] + h->n[1] * w[1] + h->n[2] * w[2];
     if (cg <= 0 || cn <= 0)
         return 0;
-    if (qibl_rt_occluded(s, h, w, tmax))
+    if (tmax > 0 && qibl_rt_occluded(s, h, w, tmax))
         return 0;
     *diff = cn / PI;
     if (h->m->ks > 0) {

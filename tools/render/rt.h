@@ -77,7 +77,7 @@ void qibl_rt_primary(const qibl_rt_scene *s, const double d[3], qibl_rt_hit *h);
 /* 1 if the segment from the hit point along unit w (up to tmax) is blocked */
 int qibl_rt_occluded(const qibl_rt_scene *s, const qibl_rt_hit *h, const double w[3], double tmax);
 /* Lambert and glossy factors of T for unit w (without albedo / ks); 0 when w is below the surface
- * or shadowed. Returns 1 if lit. */
+ * or shadowed (tmax <= 0: no shadow test, the unshadowed transfer). Returns 1 if lit. */
 int qibl_rt_response(const qibl_rt_scene *s, const qibl_rt_hit *h, const double w[3], double tmax, double *diff,
                      double *gloss);
 

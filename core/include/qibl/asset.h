@@ -47,6 +47,11 @@
  *    12  width * height * 3 i32: x, y, z in Q16.16 scene units, row-major
  *    size = 12 + 12 width height exactly
  *
+ *   SHMU (optional) - unshadowed transfer: k SH maps of cosine x BRDF without visibility, the
+ *   same layout and rules as SHMP (its own k and packing), width and height equal to SHMP's
+ *   (else QIBL_E_ASSET_MISMATCH). Free point lights use it (visibility at infinity is wrong for a
+ *   lamp inside the scene); light paths (lightpath.h) multiply it by their baked visibility.
+ *
  *   YLUT (optional) - cube-map look-up tables of Y_i (Wong §"Relighting by a point source")
  *     0  u32 face_size N (1..QIBL_YLUT_MAX_FACE), 4 u32 k (>= SHMP k, <= 25), 8 u32 flags 0
  *    12  6 * N * N * k i16 in Q2.14: [face][row v][column u][i]; faces +X -X +Y -Y +Z -Z; texel
@@ -59,7 +64,7 @@
  * on a validated asset. Each problem has its own status (see status.h, QIBL_E_ASSET_*) and the
  * first failing check is reported, in this order: header; table size and CRC; per entry its
  * alignment and bounds, then duplicate/overlap against the earlier entries; SHMP present; every
- * payload CRC; the fields of SHMP, then PMAP, then YLUT (a payload too short for its fixed fields
+ * payload CRC; the fields of SHMP, then PMAP, then YLUT, then SHMU (a payload too short for its fixed fields
  * is QIBL_E_ASSET_CHUNK_SIZE). A buffer or a file_size shorter than header + table is
  * QIBL_E_ASSET_TRUNCATED_TABLE, a buffer shorter than file_size QIBL_E_ASSET_TRUNCATED. An empty
  * payload (size 0) overlaps nothing. A failing call writes nothing to its outputs.
@@ -110,6 +115,7 @@ extern "C" {
 #define QIBL_CHUNK_SHMP QIBL_FOURCC('S', 'H', 'M', 'P')
 #define QIBL_CHUNK_PMAP QIBL_FOURCC('P', 'M', 'A', 'P')
 #define QIBL_CHUNK_YLUT QIBL_FOURCC('Y', 'L', 'U', 'T')
+#define QIBL_CHUNK_SHMU QIBL_FOURCC('S', 'H', 'M', 'U')
 
 /* A validated asset: a view of the caller's bytes (which must outlive it). Zero-initialisable. */
 typedef struct qibl_asset {
@@ -200,6 +206,12 @@ qibl_status_t qibl_asset_row(const qibl_asset_head_t *h, uint32_t y, qibl_asset_
 qibl_status_t qibl_asset_shmaps(const qibl_asset_t *a, qibl_shmaps_t *out);
 qibl_status_t qibl_asset_pmap(const qibl_asset_t *a, qibl_pmap_t *out);
 qibl_status_t qibl_asset_ylut(const qibl_asset_t *a, qibl_ylut_t *out);
+/* The unshadowed maps (SHMU). qibl_asset_point_shmaps: the maps a free point light should use,
+ * SHMU when present, else SHMP (older assets). */
+qibl_status_t qibl_asset_shmaps_unshadowed(const qibl_asset_t *a, qibl_shmaps_t *out);
+qibl_status_t qibl_asset_point_shmaps(const qibl_asset_t *a, qibl_shmaps_t *out);
+/* The index-th chunk (0-based) of the given type, for types that may repeat (light paths). */
+qibl_status_t qibl_asset_find_nth(const qibl_asset_t *a, uint32_t type, uint32_t index, qibl_chunk_t *out);
 
 #ifdef __cplusplus
 }

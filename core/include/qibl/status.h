@@ -83,6 +83,15 @@ typedef enum qibl_status {
     QIBL_E_SH_ROTATION,            /* rotation matrix not orthonormal (within 2^-16) or a reflection */
     QIBL_E_PROBE_ROW,              /* projection: row index outside the probe, or rows missing at finish */
     QIBL_E_PROBE_SATURATED,        /* SH coefficients do not fit the Q16.16 light (lower scale_log2) */
+    /* light paths (lightpath.h) */
+    QIBL_E_LIGHTPATH_SIZE,         /* LPTH payload shorter than its header or other than its fields imply */
+    QIBL_E_LIGHTPATH_DIMENSIONS,   /* LPTH width/height 0, too large, or not the SH maps' */
+    QIBL_E_LIGHTPATH_KIND,         /* LPTH kind unknown or reserved flags not 0 */
+    QIBL_E_LIGHTPATH_KEYS,         /* key count outside 2..4096, t not 0 .. strictly up .. 65535, zero direction */
+    QIBL_E_LIGHTPATH_ROWS,         /* LPTH row index disagrees with the per-pixel edge counts */
+    QIBL_E_LIGHTPATH_EDGES,        /* a pixel's edges not strictly increasing */
+    QIBL_E_LIGHTPATH_PARAM,        /* path parameter t above 65535 or radius above 32767 */
+    QIBL_E_LIGHTPATH_BOUNDS,       /* span outside the path's pixels */
     QIBL_STATUS_COUNT,     /* number of core status values; not a status */
     /* Platform backends (platform/<name>/) return qibl_status_t too, with their errors in their own
      * range of 256 values from their base, defined in the backend's header; the core never returns

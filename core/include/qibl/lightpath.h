@@ -1,0 +1,101 @@
+/*
+ * qibl/lightpath.h - lights that move along a known path, with exact cast shadows, integer only.
+ *
+ * A game rarely moves a light anywhere: the sun follows the time of day, a torch or a car follows a
+ * track. For such a light the bake stores, per pixel, its visibility along the path -- the light
+ * above the surface (facing term) and not blocked (cast shadow) -- as on/off edges of the path
+ * parameter t (0..65535). At run time a pixel is relit as
+ *     out = unshadowed SH relight (SHMU maps, asset.h) x V(t)
+ * so the smooth part (cosine x BRDF) comes from SH and the hard part (visibility) is exact to the
+ * bake's edge precision. A soft sun or lamp filters V along the path over [t - r, t + r].
+ * Sky plus sun: relight the environment through the shadowed maps (SHMP) into out, then add the path
+ * light with accumulate = 1 (two passes over a span, no extra memory). Lights off every path fall
+ * back to the shadowed maps (method-bound quality, see docs/ARCHITECTURE.md).
+ *
+ * Chunk LPTH (one per path; an asset may hold several, found with qibl_asset_find_nth), all
+ * little-endian:
+ *     0  u32 width, 4 u32 height     equal to the asset's SHMP (checked by qibl_lightpath_from_asset)
+ *     8  u32 kind                    0 directions (sun path: keys are directions towards the light),
+ *                                    1 positions (lamp track: keys are points, scene units)
+ *    12  u32 flags                   0 (reserved)
+ *    16  u32 nkeys                   2..QIBL_LIGHTPATH_MAX_KEYS
+ *    20  u32 nedges                  total edges, <= QIBL_LIGHTPATH_MAX_EDGES
+ *    24  nkeys keys of 16 bytes: u32 t (strictly increasing, first 0, last 65535), i32 x, y, z Q16.16
+ *        (a direction key must not be zero); the path between keys is linear in t
+ *    24 + 16 nkeys: (height + 1) u32 row starts: index of the first edge of each row; row_start[0] = 0,
+ *        row_start[y + 1] = row_start[y] + the row's counts, row_start[height] = nedges
+ *    then width * height u8 counts (edges per pixel, row-major)
+ *    then nedges u16 edges: each pixel's edges strictly increasing, in 0..65535
+ *    size = 24 + 16 nkeys + 4 (height + 1) + width height + 2 nedges exactly
+ * Visibility: V(t) = 1 when an odd number of the pixel's edges are <= t (so it starts off; an edge
+ * at 0 means visible from the start). Outside 0..65535 (soft windows) V keeps its end value.
+ * Validation reads every byte once: O(size). After it no access can leave the payload.
+ */
+#ifndef QIBL_LIGHTPATH_H
+#define QIBL_LIGHTPATH_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include "qibl/asset.h"
+#include "qibl/fixed.h"
+#include "qibl/status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define QIBL_CHUNK_LPTH QIBL_FOURCC('L', 'P', 'T', 'H')
+#define QIBL_LIGHTPATH_HEADER 24u
+#define QIBL_LIGHTPATH_MAX_KEYS 4096u
+#define QIBL_LIGHTPATH_MAX_EDGES (1u << 28) /* keeps 2 nedges and every size sum inside 32 bits */
+#define QIBL_LIGHTPATH_T_MAX 65535u
+#define QIBL_LIGHTPATH_MAX_RADIUS 32767u
+
+typedef enum qibl_lightpath_kind {
+    QIBL_LIGHTPATH_DIRECTIONS = 0, /* sun path */
+    QIBL_LIGHTPATH_POSITIONS = 1   /* lamp track */
+} qibl_lightpath_kind_t;
+
+/* A validated path as a view of the chunk bytes (which must outlive it). */
+typedef struct qibl_lightpath {
+    uint32_t width, height, kind, nkeys, nedges;
+    const uint8_t *keys, *rows, *counts, *edges;
+} qibl_lightpath_t;
+
+/* Validates an LPTH payload (layout above) and fills *out; *out untouched on failure.
+ * QIBL_E_NULL_POINTER, QIBL_E_LIGHTPATH_SIZE (shorter than the header, or size other than the
+ * fields imply), QIBL_E_LIGHTPATH_DIMENSIONS, QIBL_E_LIGHTPATH_KIND (kind or flags),
+ * QIBL_E_LIGHTPATH_KEYS, QIBL_E_LIGHTPATH_ROWS, QIBL_E_LIGHTPATH_EDGES, checked in that order. */
+qibl_status_t qibl_lightpath_parse(const uint8_t *data, size_t size, qibl_lightpath_t *out);
+
+/* Number of LPTH chunks in a validated asset (0 when a is NULL). This and the next need
+ * QIBL_USE_ASSET; the rest of the module does not. */
+uint32_t qibl_lightpath_count(const qibl_asset_t *a);
+
+/* The index-th path of a validated asset, parsed, its size checked against SHMP's
+ * (QIBL_E_LIGHTPATH_DIMENSIONS). QIBL_E_ASSET_MISSING_CHUNK past the last one. */
+qibl_status_t qibl_lightpath_from_asset(const qibl_asset_t *a, uint32_t index, qibl_lightpath_t *out);
+
+/* The light at parameter t, linear between keys: a direction (not normalised) or a position,
+ * Q16.16, rounded to nearest (error <= 0.5 LSB). QIBL_E_NULL_POINTER, QIBL_E_LIGHTPATH_PARAM (t > 65535). */
+qibl_status_t qibl_lightpath_at(const qibl_lightpath_t *p, uint32_t t, qibl_q16_t out[3]);
+
+/* Visibility of pixels x0..x0+n-1 of row y at t, UQ16 (0..65536): hard (radius 0) or the fraction
+ * of [t - radius, t + radius) lit (radius 1..32767), rounded to nearest (error <= 1 LSB).
+ * QIBL_E_NULL_POINTER, QIBL_E_LIGHTPATH_PARAM (t or radius), QIBL_E_LIGHTPATH_BOUNDS; nothing
+ * written on error. */
+qibl_status_t qibl_lightpath_visibility_span(const qibl_lightpath_t *p, uint32_t t, uint32_t radius, uint32_t x0,
+                                             uint32_t y, uint32_t n, uint32_t *vis);
+
+/* out = light x V(t) (accumulate false) or out += light x V(t) (true, saturating) for the span,
+ * 3 int32 per pixel (Q16.16 RGB, as qibl_shmap_relight_span writes them); light may equal out when
+ * not accumulating. Products rounded to nearest (<= 0.5 LSB). Errors as the visibility span. */
+qibl_status_t qibl_lightpath_shade_span(const qibl_lightpath_t *p, uint32_t t, uint32_t radius, uint32_t x0,
+                                        uint32_t y, uint32_t n, const int32_t *light, int32_t *out, bool accumulate);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* QIBL_LIGHTPATH_H */

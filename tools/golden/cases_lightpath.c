@@ -1,0 +1,225 @@
+/*
+ * golden/cases_lightpath.c - lightpath_*: an integer-made LPTH payload (random edges per pixel,
+ * some lit from the start), its hard and soft visibility spans, key interpolation, the statuses of
+ * damaged payloads, and a sun relit through integer-made k = 9 maps x visibility (alone, and added
+ * to a sky through other maps) in two framebuffer formats.
+ */
+#include "golden/casesi.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "qibl/lightpath.h"
+#include "qibl/shmap.h"
+#include "qibl/soft.h"
+
+#if QIBL_USE_SHMAP
+
+enum { LW = 48, LH = 12, LK = 9, NKEYS = 5 };
+
+/* The payload: kind, keys on a quarter circle (directions) or a line (positions), 0..6 edges per
+ * pixel. Returns a malloc'ed buffer and its size in *n, NULL on out of memory. */
+static uint8_t *make_path(uint32_t kind, uint64_t seed, size_t *n)
+{
+    grng r = {seed};
+    uint8_t counts[LW * LH];
+    uint16_t edges[LW * LH * 7];
+    uint32_t ne = 0;
+    for (uint32_t i = 0; i < LW * LH; ++i) {
+        uint32_t c = grng_u32(&r) % 7u, last = 0, m = 0;
+        if (grng_u32(&r) % 4u == 0u)
+            edges[ne++] = 0, ++m;
+        for (uint32_t j = 0; j < c; ++j) {
+            last += 1u + grng_u32(&r) % 9000u;
+            if (last > 65535u)
+                break;
+            edges[ne++] = (uint16_t)last, ++m;
+        }
+        counts[i] = (uint8_t)m;
+    }
+    *n = QIBL_LIGHTPATH_HEADER + 16u * NKEYS + 4u * (LH + 1u) + LW * LH + 2u * ne;
+    uint8_t *b = malloc(*n);
+    if (b == NULL)
+        return NULL;
+    gput_u32(b, LW), gput_u32(b + 4, LH), gput_u32(b + 8, kind), gput_u32(b + 12, 0);
+    gput_u32(b + 16, NKEYS), gput_u32(b + 20, ne);
+    static const int32_t dirs[NKEYS][3] = {
+        {65536, 0, 3000}, {46341, 20000, 46341}, {0, 26000, 65536}, {-46341, 20000, 46341}, {-65536, 0, 3000}};
+    for (uint32_t i = 0; i < NKEYS; ++i) {
+        uint8_t *k = b + QIBL_LIGHTPATH_HEADER + 16u * i;
+        gput_u32(k, i == NKEYS - 1 ? 65535u : 16384u * i - (i == 2 ? 1000u : 0u));
+        for (uint32_t c = 0; c < 3; ++c)
+            gput_s32(k + 4 + 4 * c, kind == 0 ? dirs[i][c] : (int32_t)(i * 70000u) - 140000 + (int32_t)c * 9000);
+    }
+    uint8_t *rows = b + QIBL_LIGHTPATH_HEADER + 16u * NKEYS, *cnt = rows + 4u * (LH + 1u), *ed = cnt + LW * LH;
+    uint32_t at = 0;
+    for (uint32_t y = 0; y < LH; ++y) {
+        gput_u32(rows + 4u * y, at);
+        for (uint32_t x = 0; x < LW; ++x)
+            at += counts[y * LW + x];
+    }
+    gput_u32(rows + 4u * LH, at);
+    memcpy(cnt, counts, sizeof counts);
+    for (uint32_t i = 0; i < ne; ++i)
+        ed[2 * i] = (uint8_t)edges[i], ed[2 * i + 1] = (uint8_t)(edges[i] >> 8);
+    return b;
+}
+
+/* integer-made maps: scale/bias from the PRNG, planes of ramps and noise */
+static int make_maps(qibl_shmaps_t *m, uint8_t **params, uint8_t **planes, uint64_t seed)
+{
+    grng r = {seed};
+    memset(m, 0, sizeof *m); /* fields this file does not name (a layout) take their defaults */
+    *params = malloc(8u * LK * 3u);
+    *planes = malloc((size_t)LW * LH * LK * 3u);
+    if (*params == NULL || *planes == NULL)
+        return -1;
+    for (uint32_t i = 0; i < LK * 3u; ++i) {
+        int32_t sc = (int32_t)(grng_u32(&r) % 100000u) - 30000;
+        gput_s32(*params + 8u * i, sc);
+        gput_s32(*params + 8u * i + 4u, -100 * sc + (int32_t)(grng_u32(&r) % 4001u) - 2000);
+    }
+    for (uint32_t pl = 0; pl < LK * 3u; ++pl)
+        for (uint32_t i = 0; i < LW * LH; ++i)
+            (*planes)[(size_t)pl * LW * LH + i] = (uint8_t)((i * (pl + 1u) + (grng_u32(&r) & 31u)) & 0xFFu);
+    m->width = LW, m->height = LH, m->k = LK, m->channels = 3, m->params = *params, m->planes = *planes;
+    return 0;
+}
+
+/* a parse status as a number that does not depend on where the light-path statuses sit in the
+ * enum (other modules append theirs too): 0 OK, 1.. the QIBL_E_LIGHTPATH_* in order, 255 anything else */
+static uint32_t status_code(qibl_status_t st)
+{
+    if (st == QIBL_OK)
+        return 0;
+    if (st >= QIBL_E_LIGHTPATH_SIZE && st <= QIBL_E_LIGHTPATH_BOUNDS)
+        return 1u + (uint32_t)(st - QIBL_E_LIGHTPATH_SIZE);
+    return 255;
+}
+
+static int case_vis(const qibl_goldens_sink_t *s, const qibl_lightpath_t *p, const char *name, uint32_t radius)
+{
+    gbuf g = {0};
+    uint32_t vis[LW];
+    for (uint32_t t = 0; t <= 65535u; t += 4369u)
+        for (uint32_t y = 0; y < LH; ++y) {
+            /* two spans per row */
+            qibl_status_t st = qibl_lightpath_visibility_span(p, t, radius, 0, y, 17, vis);
+            if (st == QIBL_OK)
+                st = qibl_lightpath_visibility_span(p, t, radius, 17, y, LW - 17, vis + 17);
+            if (st != QIBL_OK) {
+                gbuf_free(&g);
+                return gcase_status_error(s, name, "qibl_lightpath_visibility_span", st);
+            }
+            for (uint32_t x = 0; x < LW; ++x)
+                gbuf_u32(&g, vis[x]);
+        }
+    return gbuf_emit(s, name, &g);
+}
+
+static int case_relight(const qibl_goldens_sink_t *s, const qibl_lightpath_t *p, const qibl_shmaps_t *mu,
+                        const qibl_shmaps_t *msky, const char *name, qibl_fb_format_t fmt, int srgb)
+{
+    qibl_shlight_t sun, sky;
+    qibl_shmap_weights_t wsun, wsky;
+    const qibl_q16_t dir[3] = {20000, 30000, 52000}, rgb[3] = {150000, 120000, 90000};
+    const qibl_q16_t up[3] = {0, 0, 65536}, skyc[3] = {20000, 30000, 52000};
+    qibl_status_t st = qibl_shlight_init(&sun, LK);
+    if (st == QIBL_OK)
+        st = qibl_shlight_add_dir(&sun, dir, rgb);
+    if (st == QIBL_OK)
+        st = qibl_shlight_init(&sky, LK);
+    if (st == QIBL_OK)
+        st = qibl_shlight_add_dir(&sky, up, skyc);
+    if (st == QIBL_OK)
+        st = qibl_shmap_weights(mu, &sun, &wsun);
+    if (st == QIBL_OK && msky)
+        st = qibl_shmap_weights(msky, &sky, &wsky);
+    if (st != QIBL_OK)
+        return gcase_status_error(s, name, "weights", st);
+    qibl_fb_desc_t fb = {0};
+    fb.width = LW, fb.height = LH, fb.format = fmt, fb.srgb = srgb ? 1 : 0;
+    size_t bytes = (size_t)LW * LH * qibl_fb_bytes_per_pixel(fmt);
+    fb.pixels = calloc(bytes, 1);
+    if (fb.pixels == NULL)
+        return gcase_oom(s, name);
+    int32_t row[3 * LW], light[3 * LW], ws[3 * LW];
+    for (uint32_t y = 0; y < LH && st == QIBL_OK; ++y) {
+        uint32_t t = 9000u + 4000u * y, radius = y & 1u ? 700u : 0u;
+        if (msky)
+            st = qibl_shmap_relight_span(msky, &wsky, 0, y, LW, row, ws, sizeof ws);
+        if (st == QIBL_OK)
+            st = qibl_shmap_relight_span(mu, &wsun, 0, y, LW, light, ws, sizeof ws);
+        if (st == QIBL_OK)
+            st = qibl_lightpath_shade_span(p, t, radius, 0, y, LW, light, row, msky != NULL);
+        if (st == QIBL_OK)
+            st = qibl_fb_write_row(&fb, 0, y, LW, row);
+    }
+    int bad = st == QIBL_OK ? gcase_emit(s, name, fb.pixels, bytes) : gcase_status_error(s, name, "relight", st);
+    free(fb.pixels);
+    return bad;
+}
+
+int qibl_goldens_lightpath(const qibl_goldens_sink_t *s)
+{
+    int bad = 0;
+    size_t n0 = 0, n1 = 0;
+    uint8_t *b0 = make_path(0, 715, &n0), *b1 = make_path(1, 716, &n1);
+    uint8_t *pa = NULL, *pl = NULL, *qa = NULL, *ql = NULL;
+    qibl_shmaps_t mu, msky;
+    qibl_lightpath_t p0, p1;
+    if (b0 == NULL || b1 == NULL || make_maps(&mu, &pa, &pl, 31) != 0 || make_maps(&msky, &qa, &ql, 32) != 0) {
+        bad += gcase_oom(s, "lightpath");
+        goto done;
+    }
+    qibl_status_t st = qibl_lightpath_parse(b0, n0, &p0);
+    if (st == QIBL_OK)
+        st = qibl_lightpath_parse(b1, n1, &p1);
+    if (st != QIBL_OK) {
+        bad += gcase_status_error(s, "lightpath", "qibl_lightpath_parse", st);
+        goto done;
+    }
+    bad += case_vis(s, &p0, "lightpath_vis_hard", 0);
+    bad += case_vis(s, &p0, "lightpath_vis_soft", 1500);
+    {   /* key interpolation of both kinds */
+        gbuf g = {0};
+        for (uint32_t t = 0; t <= 65535u; t += 257u) {
+            qibl_q16_t v[3], u[3];
+            if (qibl_lightpath_at(&p0, t, v) != QIBL_OK || qibl_lightpath_at(&p1, t, u) != QIBL_OK)
+                break;
+            for (int c = 0; c < 3; ++c)
+                gbuf_s32(&g, v[c]), gbuf_s32(&g, u[c]);
+        }
+        bad += gbuf_emit(s, "lightpath_at", &g);
+    }
+    {   /* the status of damaged payloads: every single-byte change of the first 200 bytes, and truncations */
+        gbuf g = {0};
+        uint8_t *c = malloc(n1);
+        qibl_lightpath_t q;
+        if (c == NULL) {
+            bad += gcase_oom(s, "lightpath_damaged");
+        } else {
+            for (size_t i = 0; i < 200u && i < n1; ++i) {
+                memcpy(c, b1, n1);
+                c[i] ^= (uint8_t)(1u << (i % 8u));
+                gbuf_u32(&g, status_code(qibl_lightpath_parse(c, n1, &q)));
+            }
+            for (size_t m = 0; m < n1; m += 13u)
+                gbuf_u32(&g, status_code(qibl_lightpath_parse(b1, m, &q)));
+            free(c);
+            bad += gbuf_emit(s, "lightpath_damaged", &g);
+        }
+    }
+    bad += case_relight(s, &p0, &mu, NULL, "lightpath_sun_k9_rgba8888_srgb", QIBL_FB_RGBA8888, 1);
+    bad += case_relight(s, &p0, &mu, NULL, "lightpath_sun_k9_accum32", QIBL_FB_ACCUM32, 0);
+    bad += case_relight(s, &p0, &mu, &msky, "lightpath_skysun_k9_rgba8888_srgb", QIBL_FB_RGBA8888, 1);
+    bad += case_relight(s, &p0, &mu, &msky, "lightpath_skysun_k9_accum32", QIBL_FB_ACCUM32, 0);
+done:
+    free(b0), free(b1), free(pa), free(pl), free(qa), free(ql);
+    return bad;
+}
+
+#else
+typedef int qibl_goldens_lightpath_off; /* ISO C wants a declaration in every file */
+#endif /* QIBL_USE_SHMAP */
