@@ -43,7 +43,7 @@ static void test_config_id_fields(void **state)
     assert_int_equal((id >> 8) & 15u, (uint32_t)QIBL_SH_MAX_BANDS);
     assert_int_equal(id & 63u, (uint32_t)(QIBL_USE_SH | QIBL_USE_SRGBE << 1 | QIBL_USE_ASSET << 2 |
                                           QIBL_USE_LIGHTPROBE << 3 | QIBL_USE_SHMAP << 4 | QIBL_USE_PROBE << 5));
-    assert_int_equal(id & 0x0000F0C0u, 0u); /* reserved bits */
+    assert_int_equal(id & 0x0000F080u, 0u); /* reserved bits */
 }
 
 /* Any other identity is refused: every single-bit change, 0 and all ones. */

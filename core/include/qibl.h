@@ -14,5 +14,6 @@
 #include "qibl/shmap.h"
 #include "qibl/lightprobe.h"
 #include "qibl/probe.h"
+#include "qibl/hemi.h"
 
 #endif /* QIBL_H */

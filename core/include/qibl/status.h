@@ -77,6 +77,9 @@ typedef enum qibl_status {
     QIBL_E_SH_ROTATION,            /* rotation matrix not orthonormal (within 2^-16) or a reflection */
     QIBL_E_PROBE_ROW,              /* projection: row index outside the probe, or rows missing at finish */
     QIBL_E_PROBE_SATURATED,        /* SH coefficients do not fit the Q16.16 light (lower scale_log2) */
+    QIBL_E_HEMI_SIZE,              /* hemi: mask size not 16/32/64, or cube-map face not even in 2..128 */
+    QIBL_E_HEMI_RANGE,             /* hemi: a coordinate beyond QIBL_HEMI_COORD_MAX / _LOCAL_MAX */
+    QIBL_E_HEMI_INDEX,             /* hemi: a triangle index beyond the vertex count */
     QIBL_STATUS_COUNT      /* number of status values; not a status */
 } qibl_status_t;
 
