@@ -373,12 +373,35 @@ static edge lookup(const qibl_hemi_t *h, const int64_t e[3])
                                  (c[rc * wpr + k] ^ xc);                                        \
     }
 
+/* The 32 x 32 mask (one word per row) with the row count a constant, so compilers unroll and
+ * vectorise each variant (a reversed read is one shuffle per vector). */
+#define AND3_BODY32(RA, RB, RC)                                                                  \
+    for (uint32_t r = 0; r < 32u; ++r)                                                           \
+        mask[r] |= (a[(RA) ? 31u - r : r] ^ xa) & (b[(RB) ? 31u - r : r] ^ xb) &                 \
+                   (c[(RC) ? 31u - r : r] ^ xc);
+
 static void and3(uint32_t *restrict mask, const edge *ea, const edge *eb, const edge *ec, uint32_t n,
                  uint32_t wpr)
 {
     const uint32_t *restrict a = ea->m, *restrict b = eb->m, *restrict c = ec->m;
     const uint32_t xa = ea->x, xb = eb->x, xc = ec->x;
     /* if-chains, not a switch: Thumb-1 jump tables call a libgcc helper */
+    if (n == 32u) {
+        if (!ea->rev) {
+            if (!eb->rev) {
+                if (!ec->rev) AND3_BODY32(0, 0, 0) else AND3_BODY32(0, 0, 1)
+            } else {
+                if (!ec->rev) AND3_BODY32(0, 1, 0) else AND3_BODY32(0, 1, 1)
+            }
+        } else {
+            if (!eb->rev) {
+                if (!ec->rev) AND3_BODY32(1, 0, 0) else AND3_BODY32(1, 0, 1)
+            } else {
+                if (!ec->rev) AND3_BODY32(1, 1, 0) else AND3_BODY32(1, 1, 1)
+            }
+        }
+        return;
+    }
     if (!ea->rev) {
         if (!eb->rev) {
             if (!ec->rev) AND3_BODY(0, 0, 0) else AND3_BODY(0, 0, 1)
@@ -430,13 +453,14 @@ qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint
 {
     if (h == 0 || mask == 0 || (ntri != 0u && (v == 0 || tri == 0)))
         return QIBL_E_NULL_POINTER;
+    /* indices first, then every vertex once (cheaper than per reference for shared vertices) */
     for (uint32_t t = 0; t < ntri; ++t)
-        for (int k = 0; k < 3; ++k) {
-            if (tri[t][k] >= nv)
-                return QIBL_E_HEMI_INDEX;
-            if (!local_ok(v[tri[t][k]]))
+        if ((tri[t][0] >= nv) | (tri[t][1] >= nv) | (tri[t][2] >= nv))
+            return QIBL_E_HEMI_INDEX;
+    if (ntri != 0u)
+        for (uint32_t k = 0; k < nv; ++k)
+            if (!local_ok(v[k]))
                 return QIBL_E_HEMI_RANGE;
-        }
     uint32_t nr = 0, nb = 0, nt = 0;
     const uint32_t n = (uint32_t)h->n, wpr = h->wpr;
     for (uint32_t t = 0; t < ntri; ++t) {

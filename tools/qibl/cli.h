@@ -27,6 +27,7 @@ int qibl_bench_relight(int quick, int csv);
 int qibl_bench_srgbe(int quick); /* bench_srgbe.c */
 int qibl_bench_lights(int quick); /* bench_lights.c */
 int qibl_bench_probe(int quick);  /* bench_probe.c */
+int qibl_bench_hemi(int quick);   /* bench_hemi.c */
 int qibl_cmd_info(int argc, char **argv);
 int qibl_cmd_gen(int argc, char **argv);
 int qibl_cmd_relight(int argc, char **argv);

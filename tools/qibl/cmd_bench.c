@@ -148,7 +148,9 @@ int qibl_cmd_bench(int argc, char **argv)
         rc |= qibl_bench_lights(quick), ran = 1;
     if (all || strcmp(what, "probe") == 0)
         rc |= qibl_bench_probe(quick), ran = 1;
+    if (all || strcmp(what, "hemi") == 0)
+        rc |= qibl_bench_hemi(quick), ran = 1;
     if (!ran)
-        return qibl_cli_usage_error("bench: unknown benchmark '%s' (all, sh, relight, srgbe, lights, probe)", what);
+        return qibl_cli_usage_error("bench: unknown benchmark '%s' (all, sh, relight, srgbe, lights, probe, hemi)", what);
     return rc;
 }

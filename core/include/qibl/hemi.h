@@ -123,7 +123,7 @@ qibl_status_t qibl_hemi_clear(const qibl_hemi_t *h, uint32_t *mask);
 /* ORs the triangles tri[0..ntri) (indices into the frame-local vertices v[0..nv)) into mask.
  * Culling and skipping as above; a triangle is the same mask whichever way it winds.
  * Errors: QIBL_E_NULL_POINTER (h, mask, or v/tri with a non-zero count), QIBL_E_HEMI_INDEX (an
- * index >= nv), QIBL_E_HEMI_RANGE (a referenced coordinate beyond QIBL_HEMI_LOCAL_MAX); checked
+ * index >= nv), QIBL_E_HEMI_RANGE (a coordinate of v[0..nv) beyond QIBL_HEMI_LOCAL_MAX); checked
  * before anything is written: mask and stats untouched on failure. */
 qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t nv, const uint32_t (*tri)[3],
                                uint32_t ntri, uint32_t *mask, qibl_hemi_stats_t *stats);
