@@ -533,14 +533,14 @@ static void test_frame(void **state)
     qibl_hemi_frame_t fr;
     const qibl_q16_t p[3] = {0, 0, 0};
     const int32_t zero[3] = {0, 0, 0}, up[3] = {0, 0, 5}, down[3] = {0, 0, -1};
-    assert_int_equal(qibl_hemi_frame(&fr, p, zero), QIBL_E_ZERO_VECTOR);
+    assert_int_equal(qibl_hemi_frame_init(&fr, p, zero), QIBL_E_ZERO_VECTOR);
     const qibl_q16_t far[3] = {QIBL_HEMI_COORD_MAX + 1, 0, 0};
-    assert_int_equal(qibl_hemi_frame(&fr, far, up), QIBL_E_HEMI_RANGE);
-    assert_int_equal(qibl_hemi_frame(NULL, p, up), QIBL_E_NULL_POINTER);
-    assert_int_equal(qibl_hemi_frame(&fr, p, up), QIBL_OK);
+    assert_int_equal(qibl_hemi_frame_init(&fr, far, up), QIBL_E_HEMI_RANGE);
+    assert_int_equal(qibl_hemi_frame_init(NULL, p, up), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_hemi_frame_init(&fr, p, up), QIBL_OK);
     assert_int_equal(fr.axis[0][0], QIBL_Q30_ONE);
     assert_int_equal(fr.axis[2][2], QIBL_Q30_ONE);
-    assert_int_equal(qibl_hemi_frame(&fr, p, down), QIBL_OK);
+    assert_int_equal(qibl_hemi_frame_init(&fr, p, down), QIBL_OK);
     assert_int_equal(fr.axis[2][2], -QIBL_Q30_ONE);
     uint64_t s = 9;
     for (int t = 0; t < 2000; ++t) {
@@ -551,7 +551,7 @@ static void test_frame(void **state)
             n[0] = n[1] = (int32_t)(t % 3) - 1; /* near the poles */
         if (!n[0] && !n[1] && !n[2])
             continue;
-        assert_int_equal(qibl_hemi_frame(&fr, p, n), QIBL_OK);
+        assert_int_equal(qibl_hemi_frame_init(&fr, p, n), QIBL_OK);
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j) {
                 double d = 0;
@@ -577,7 +577,7 @@ static void test_transform(void **state)
     qibl_hemi_frame_t fr;
     const qibl_q16_t p[3] = {65536, -131072, 30000};
     const int32_t n[3] = {3, -4, 12};
-    assert_int_equal(qibl_hemi_frame(&fr, p, n), QIBL_OK);
+    assert_int_equal(qibl_hemi_frame_init(&fr, p, n), QIBL_OK);
     qibl_q16_t pos[4][3] = {{65536, -131072, 30000}, {QIBL_HEMI_COORD_MAX, -QIBL_HEMI_COORD_MAX, QIBL_HEMI_COORD_MAX},
                             {-QIBL_HEMI_COORD_MAX, QIBL_HEMI_COORD_MAX, -QIBL_HEMI_COORD_MAX}, {65536 + 3, -131072 - 4, 30000 + 12}};
     int32_t out[4][3];
@@ -622,7 +622,7 @@ static void test_rotation(void **state)
             continue;
         qibl_hemi_frame_t fr;
         const qibl_q16_t p[3] = {0, 0, 0};
-        assert_int_equal(qibl_hemi_frame(&fr, p, n), QIBL_OK);
+        assert_int_equal(qibl_hemi_frame_init(&fr, p, n), QIBL_OK);
         qibl_q30_t r[3][3];
         rot_from_frame(&fr, r);
         qibl_sh_rotation_t rot;
@@ -646,7 +646,7 @@ static void test_rotation(void **state)
     qibl_hemi_frame_t fr;
     const qibl_q16_t p[3] = {0, 0, 0};
     const int32_t n[3] = {1, 2, -3};
-    qibl_hemi_frame(&fr, p, n);
+    qibl_hemi_frame_init(&fr, p, n);
     int32_t light[3][25], lloc[3][25];
     qibl_q30_t v[25], vw[25];
     for (int i = 0; i < 25; ++i) {

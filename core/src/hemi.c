@@ -240,7 +240,7 @@ static int coord_ok(int32_t x)
     return x >= -QIBL_HEMI_COORD_MAX && x <= QIBL_HEMI_COORD_MAX;
 }
 
-qibl_status_t qibl_hemi_frame(qibl_hemi_frame_t *f, const qibl_q16_t p[3], const int32_t nrm[3])
+qibl_status_t qibl_hemi_frame_init(qibl_hemi_frame_t *f, const qibl_q16_t p[3], const int32_t nrm[3])
 {
     if (f == 0 || p == 0 || nrm == 0)
         return QIBL_E_NULL_POINTER;

@@ -106,7 +106,7 @@ static int frames_case(const qibl_goldens_sink_t *s, const char *name, const qib
         if (t < 3)
             n[0] = n[1] = 0, n[2] = t - 1; /* poles and the zero vector */
         qibl_hemi_frame_t fr;
-        qibl_status_t st = qibl_hemi_frame(&fr, p, n);
+        qibl_status_t st = qibl_hemi_frame_init(&fr, p, n);
         gbuf_u8(&b, (uint32_t)st);
         if (st != QIBL_OK)
             continue;

@@ -276,7 +276,7 @@ static void hemi_frame(const qibl_hemi_t *h, const scene *s, const qibl_q16_t (*
     double t0 = cpu_now(), t_tr = 0, t_ra = 0, t_in = 0, t_ot = 0;
     for (int v = 0; v < s->nv; ++v) {
         qibl_hemi_frame_t fr;
-        qibl_hemi_frame(&fr, pos[v], nrm[v]);
+        qibl_hemi_frame_init(&fr, pos[v], nrm[v]);
         for (int r = 0; r < s->nrv[v]; ++r)
             for (int k = 0; k < 3; ++k)
                 gp[ncv + r][k] = pos[s->rvf[s->rv_off[v] + (size_t)r]][k];
@@ -317,7 +317,7 @@ static double hemi_frame_time(const qibl_hemi_t *h, const scene *s, const qibl_q
             gp[c][k] = pos[s->cvert[c]][k];
     for (int v = 0; v < s->nv; ++v) {
         qibl_hemi_frame_t fr;
-        qibl_hemi_frame(&fr, pos[v], nrm[v]);
+        qibl_hemi_frame_init(&fr, pos[v], nrm[v]);
         for (int r = 0; r < s->nrv[v]; ++r)
             for (int k = 0; k < 3; ++k)
                 gp[ncv + r][k] = pos[s->rvf[s->rv_off[v] + (size_t)r]][k];
@@ -347,7 +347,7 @@ static void ref_vertex(void *vctx, uint32_t v)
 {
     refctx *c = vctx;
     qibl_hemi_frame_t fr;
-    qibl_hemi_frame(&fr, c->pos[v], c->nrm[v]);
+    qibl_hemi_frame_init(&fr, c->pos[v], c->nrm[v]);
     double ax[3][3];
     for (int i = 0; i < 3; ++i)
         for (int k = 0; k < 3; ++k)
@@ -564,6 +564,41 @@ int qibl_bench_hemi(int quick)
                cfgs[c].n, cfgs[c].face, err);
         if (cfgs[c].n == 32 && cfgs[c].face == 60)
             def_fps = fps, def_err = err, def_tm = tm;
+        free(ws);
+    }
+
+    /* which side to rotate: the transfer out of each frame (one vector) or the lighting into it
+     * (three channels), measured on frame 0's frames */
+    {
+        const size_t sz = qibl_hemi_workspace_size(16, 2);
+        void *ws = malloc(sz);
+        qibl_hemi_t h;
+        if (ws && qibl_hemi_init(&h, 16, 2, ws, sz) == QIBL_OK) {
+            qibl_hemi_frame_t *fr = malloc(sizeof *fr * nv);
+            int32_t light[3][25], out[25];
+            for (int i = 0; i < 25; ++i)
+                for (int ch = 0; ch < 3; ++ch)
+                    light[ch][i] = (i + 1) * (ch + 7) * 1000;
+            for (size_t v = 0; fr && v < nv; ++v)
+                qibl_hemi_frame_init(&fr[v], pos[v], nrm[v]);
+            double tw[9], tl[9];
+            int32_t acc = 0;
+            for (int r = 0; fr && r < reps; ++r) {
+                double t0 = cpu_now();
+                for (size_t v = 0; v < nv; ++v)
+                    qibl_hemi_to_world(&h, &fr[v], vloc[v], out), acc ^= out[24];
+                double t1 = cpu_now();
+                for (size_t v = 0; v < nv; ++v)
+                    for (int ch = 0; ch < 3; ++ch)
+                        qibl_hemi_to_frame(&h, &fr[v], light[ch], out), acc ^= out[24];
+                double t2 = cpu_now();
+                tw[r] = (t1 - t0) / (double)nv * 1e9, tl[r] = (t2 - t1) / (double)nv * 1e9;
+            }
+            if (fr)
+                printf("\nrotation per vertex: transfer out of the frame %.0f ns, lighting into it (3 channels) %.0f ns%s\n",
+                       qibl_cli_median(tw, reps), qibl_cli_median(tl, reps), acc == 12345 ? " " : "");
+            free(fr);
+        }
         free(ws);
     }
 

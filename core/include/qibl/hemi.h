@@ -33,7 +33,7 @@
  * summing the visible pixels or subtracting the blocked ones from the unblocked transfer gives the
  * same bits; the cheaper side is taken per mask.
  *
- * Frame: qibl_hemi_frame builds the tangent frame R = Rz(alpha) Ry(beta) whose z axis is the
+ * Frame: qibl_hemi_frame_init builds the tangent frame R = Rz(alpha) Ry(beta) whose z axis is the
  * normal n = (sin b cos a, sin b sin a, cos b): x axis t = (cos b cos a, cos b sin a, -sin b),
  * y axis (-sin a, cos a, 0) (alpha = 0 when n is +-z). That choice makes the SH rotation of the
  * frame cheap: D(R) = Dz(alpha) D(Rx(-90)) Dz(beta) D(Rx(90)), two constant band matrices made at
@@ -41,7 +41,7 @@
  *
  * Memory: qibl_hemi_workspace_size(N, F) bytes, any alignment: the two rotations (1328 bytes), the
  * disk mask and unblocked transfer, the basis table (100 N^2 bytes) and the LUT (2 F^2 masks of
- * 4 N max(1, N/32) bytes). N = 32: F = 60 (the default) 1001.5 KiB, F = 24 (small) 244.0 KiB.
+ * 4 N max(1, N/32) bytes). N = 32: F = 60 (the default) 1001.5 KiB, F = 24 (small) 245.5 KiB.
  * Init cost: 2 F^2 N^2 exact pixel tests and 65536 SH evaluations.
  */
 #ifndef QIBL_HEMI_H
@@ -80,7 +80,7 @@ typedef struct qibl_hemi {
     const uint32_t *lut;                       /* [2 F^2][words] */
 } qibl_hemi_t;
 
-/* A receiver's tangent frame (qibl_hemi_frame). */
+/* A receiver's tangent frame (qibl_hemi_frame_init). */
 typedef struct qibl_hemi_frame {
     qibl_q16_t p[3];       /* receiver position */
     qibl_q30_t axis[3][3]; /* rows: t, b, n (world -> local) */
@@ -107,7 +107,7 @@ qibl_status_t qibl_hemi_init(qibl_hemi_t *h, int n, int face, void *workspace, s
 /* The receiver frame at position p (Q16.16, |coordinate| <= QIBL_HEMI_COORD_MAX) with normal nrm
  * (any non-zero int32 vector). Axes within a few LSB of Q2.30 of orthonormal.
  * Errors: QIBL_E_NULL_POINTER, QIBL_E_HEMI_RANGE (p), QIBL_E_ZERO_VECTOR (nrm); *f untouched. */
-qibl_status_t qibl_hemi_frame(qibl_hemi_frame_t *f, const qibl_q16_t p[3], const int32_t nrm[3]);
+qibl_status_t qibl_hemi_frame_init(qibl_hemi_frame_t *f, const qibl_q16_t p[3], const int32_t nrm[3]);
 
 /* Blocker vertices into the frame: out[k] = R^T (pos[k] - p), Q14.18 (QIBL_HEMI_LOCAL_FRAC),
  * rounded half up; error <= 0.5 LSB + 2^-28 |pos - p| (the axes). Transform each vertex once per
