@@ -41,10 +41,11 @@ static void test_config_id_fields(void **state)
     assert_int_equal((id >> 24) & 15u, (uint32_t)QIBL_VERSION_MAJOR & 15u);
     assert_int_equal((id >> 16) & 255u, (uint32_t)QIBL_VERSION_MINOR);
     assert_int_equal((id >> 8) & 15u, (uint32_t)QIBL_SH_MAX_BANDS);
-    assert_int_equal(id & 127u, (uint32_t)(QIBL_USE_SH | QIBL_USE_SRGBE << 1 | QIBL_USE_ASSET << 2 |
+    assert_int_equal(id & 255u, (uint32_t)(QIBL_USE_SH | QIBL_USE_SRGBE << 1 | QIBL_USE_ASSET << 2 |
                                           QIBL_USE_LIGHTPROBE << 3 | QIBL_USE_SHMAP << 4 |
-                                          QIBL_USE_INTERLEAVED << 5 | QIBL_USE_PROBE << 6));
-    assert_int_equal(id & 0x0000F080u, 0u); /* reserved bits */
+                                          QIBL_USE_INTERLEAVED << 5 | QIBL_USE_PROBE << 6 |
+                                          QIBL_USE_HEMI << 7));
+    assert_int_equal(id & 0x0000F000u, 0u); /* reserved bits */
 }
 
 /* Any other identity is refused: every single-bit change, 0 and all ones. */

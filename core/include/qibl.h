@@ -16,5 +16,6 @@
 #include "qibl/lightpath.h"
 #include "qibl/lightprobe.h"
 #include "qibl/probe.h"
+#include "qibl/hemi.h"
 
 #endif /* QIBL_H */

@@ -76,6 +76,9 @@ const char *qibl_status_str(qibl_status_t s)
     case QIBL_E_SH_ROTATION:      return "SH rotation: matrix not orthonormal within 2^-16, or a reflection";
     case QIBL_E_PROBE_ROW:        return "probe projection: row outside the probe, or not every row added";
     case QIBL_E_PROBE_SATURATED:  return "probe projection: SH coefficients beyond the Q16.16 light";
+    case QIBL_E_HEMI_SIZE:        return "hemi: mask size not 16, 32 or 64, or cube-map face not even in 2..128";
+    case QIBL_E_HEMI_RANGE:       return "hemi: coordinate beyond the rasterizer's range";
+    case QIBL_E_HEMI_INDEX:       return "hemi: triangle index beyond the vertex count";
     case QIBL_STATUS_COUNT:   break;
     case QIBL_STATUS_SOFT_BASE: case QIBL_STATUS_GLES2_BASE: case QIBL_STATUS_BACKEND_END: break;
     }

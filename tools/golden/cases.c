@@ -31,6 +31,9 @@ const qibl_goldens_group_t qibl_goldens_groups[] = {
 #if QIBL_USE_PROBE
     {"probe", "probe SH projection (formats, sizes, rows in any order, irradiance, windows, bad pixels) and SH rotation", qibl_goldens_probe},
 #endif
+#if QIBL_USE_HEMI
+    {"hemi", "hemispherical rasterization: LUT and basis tables, triangle masks, transfer vectors, frames", qibl_goldens_hemi},
+#endif
 #if QIBL_USE_LIGHTPROBE && QIBL_USE_SRGBE
     {"lightprobe", "light lists: median cut, adaptive, variance minimisation on integer-made probes", qibl_goldens_lightprobe},
 #endif

@@ -65,6 +65,7 @@ int qibl_goldens_soft(const qibl_goldens_sink_t *s);
 int qibl_goldens_lightprobe(const qibl_goldens_sink_t *s);
 int qibl_goldens_lightpath(const qibl_goldens_sink_t *s);
 int qibl_goldens_probe(const qibl_goldens_sink_t *s);
+int qibl_goldens_hemi(const qibl_goldens_sink_t *s);
 
 /* The serialisation of a light list that the lightprobe_* goldens hash (also used by
  * tests/lightprobe_test.c for the real probes): count, rgb_exp, then per light dir[3], rgb[3],

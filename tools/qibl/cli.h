@@ -45,6 +45,7 @@ int qibl_bench_memory(int markdown); /* bench_memory.c */
 #define QIBL_BENCH_COMPILER "an unknown compiler"
 #endif
 int qibl_bench_probe(int quick);  /* bench_probe.c */
+int qibl_bench_hemi(int quick);   /* bench_hemi.c */
 int qibl_cmd_info(int argc, char **argv);
 int qibl_cmd_gen(int argc, char **argv);
 int qibl_cmd_relight(int argc, char **argv);

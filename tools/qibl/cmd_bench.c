@@ -155,6 +155,8 @@ int qibl_cmd_bench(int argc, char **argv)
         rc |= qibl_bench_asset(quick), ran = 1;
     if (all || strcmp(what, "probe") == 0)
         rc |= qibl_bench_probe(quick), ran = 1;
+    if (all || strcmp(what, "hemi") == 0)
+        rc |= qibl_bench_hemi(quick), ran = 1;
     /* already part of relight; alone for comparing builds */
     if (strcmp(what, "baselines") == 0)
         rc |= qibl_bench_relight_baselines(quick), ran = 1;
@@ -164,7 +166,7 @@ int qibl_cmd_bench(int argc, char **argv)
     if (strcmp(what, "gles") == 0) /* only when asked: a GL context is not part of `all` */
         rc |= qibl_bench_gles(quick), ran = 1;
     if (!ran)
-        return qibl_cli_usage_error("bench: unknown benchmark '%s' (all, sh, relight, baselines, srgbe, lights, paths, asset, probe, "
+        return qibl_cli_usage_error("bench: unknown benchmark '%s' (all, sh, relight, baselines, srgbe, lights, paths, asset, probe, hemi, "
                                     "memory, gles)", what);
     return rc;
 }

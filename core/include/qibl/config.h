@@ -75,6 +75,17 @@
 #error "QIBL_SH_MAX_BANDS must be in 1..5"
 #endif
 
+/* QIBL_USE_HEMI: 1 builds hemispherical rasterization (hemi.c: plane LUT, triangle masks, SH
+ * transfer, frame rotation; see `make cross` for its .text; no RAM beyond the caller's workspace,
+ * qibl_hemi_workspace_size: 1001.5 KiB for the default 32 x 32 mask with 60 x 60 faces, 245.5 KiB
+ * with 24 x 24 faces). Needs QIBL_USE_SH with 5 bands; by default on when that holds. */
+#ifndef QIBL_USE_HEMI
+#define QIBL_USE_HEMI (QIBL_USE_SH && QIBL_SH_MAX_BANDS == 5)
+#endif
+#if QIBL_USE_HEMI && (!QIBL_USE_SH || QIBL_SH_MAX_BANDS != 5)
+#error "QIBL_USE_HEMI needs QIBL_USE_SH and QIBL_SH_MAX_BANDS 5 (25-coefficient transfer)"
+#endif
+
 /* QIBL_CONFIG_NATIVE_MUL64: 1 if the compiler multiplies 32x32->64 bits without a library call.
  * ARMv6-M/ARMv8-M Baseline (Cortex-M0/M0+/M23) call __aeabi_lmul, so there qibl builds the product
  * from four 16x16 products instead. Both paths give identical results; only speed differs. */

@@ -92,6 +92,10 @@ typedef enum qibl_status {
     QIBL_E_LIGHTPATH_EDGES,        /* a pixel's edges not strictly increasing */
     QIBL_E_LIGHTPATH_PARAM,        /* path parameter t above 65535 or radius above 32767 */
     QIBL_E_LIGHTPATH_BOUNDS,       /* span outside the path's pixels */
+    /* hemispherical rasterization (hemi.h) */
+    QIBL_E_HEMI_SIZE,              /* hemi: mask size not 16/32/64, or cube-map face not even in 2..128 */
+    QIBL_E_HEMI_RANGE,             /* hemi: a coordinate beyond QIBL_HEMI_COORD_MAX / _LOCAL_MAX */
+    QIBL_E_HEMI_INDEX,             /* hemi: a triangle index beyond the vertex count */
     QIBL_STATUS_COUNT,     /* number of core status values; not a status */
     /* Platform backends (platform/<name>/) return qibl_status_t too, with their errors in their own
      * range of 256 values from their base, defined in the backend's header; the core never returns

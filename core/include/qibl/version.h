@@ -36,7 +36,7 @@ extern "C" {
  *   bits  0..4   QIBL_USE_SH, _SRGBE, _ASSET, _LIGHTPROBE, _SHMAP (one bit each)
  *   bit   5      QIBL_USE_INTERLEAVED
  *   bit   6      QIBL_USE_PROBE
- *   bit   7      reserved (0): a further module switch
+ *   bit   7      QIBL_USE_HEMI
  *   bits  8..11  QIBL_SH_MAX_BANDS (1..5)
  *   bits 12..15  reserved (0): further size options
  *   bits 16..23  QIBL_VERSION_MINOR
@@ -50,7 +50,7 @@ extern "C" {
 #define QIBL_CONFIG_ID                                                                          \
     (0xA0000000u | ((uint32_t)(QIBL_VERSION_MAJOR & 15) << 24) |                                \
      ((uint32_t)(QIBL_VERSION_MINOR & 255) << 16) | ((uint32_t)QIBL_SH_MAX_BANDS << 8) |        \
-     ((uint32_t)(QIBL_USE_PROBE != 0) << 6) |                                                   \
+     ((uint32_t)(QIBL_USE_HEMI != 0) << 7) | ((uint32_t)(QIBL_USE_PROBE != 0) << 6) |           \
      ((uint32_t)(QIBL_USE_SHMAP != 0) << 4) | ((uint32_t)(QIBL_USE_LIGHTPROBE != 0) << 3) |     \
      ((uint32_t)(QIBL_USE_ASSET != 0) << 2) | ((uint32_t)(QIBL_USE_SRGBE != 0) << 1) |          \
      ((uint32_t)(QIBL_USE_INTERLEAVED != 0) << 5) | (uint32_t)(QIBL_USE_SH != 0))

@@ -1,0 +1,161 @@
+/*
+ * qibl/hemi.h - hemispherical rasterization (Kautz, Lehtinen & Aila): per-vertex visibility of a
+ * deforming mesh as a 1-bit mask over the unit disk, and its SH transfer vector, integer only.
+ *
+ * The mask: the hemisphere above a receiver vertex, in the vertex's tangent frame (z = normal),
+ * projected onto the unit disk by dropping z (the Nusselt analog: area on the disk is projected
+ * solid angle, so the disk is importance-sampled by the cosine). N x N pixels, N = 16, 32 or 64;
+ * pixel (row r, column c) has its centre at x = (2c + 1 - N) / N, y = (2r + 1 - N) / N. A pixel is
+ * in the disk when its square meets the disk; its LUT sample point is its centre lifted onto the
+ * hemisphere, or, for a centre outside the disk, the nearest point of the horizon. Storage: N rows
+ * of max(1, N / 32) uint32 words, bit c % 32 of word c / 32 (16 x 16 uses the low half of a word).
+ * Set bit = blocked.
+ *
+ * Rasterization: a blocker triangle (a, b, c) seen from the receiver at the origin covers exactly
+ * the directions above its three edge planes (planes through the origin and an edge, normals
+ * a x b, b x c, c x a, oriented by det = a . (b x c)); the cone they bound is the triangle's, so a
+ * triangle crossing the horizon needs no clipping (the mask holds only the upper hemisphere). Each
+ * plane's mask comes from a look-up table indexed by a cube-map parameterisation of its normal
+ * (F x F cells per face, the cell's centre normal decides: bit set where centre . s > 0); the
+ * triangle's mask is the AND of the three and is ORed into the vertex's mask (occluder fusion).
+ * Skipped: triangles with every vertex at or below the horizon (z <= 0), and triangles whose
+ * plane passes through the receiver (det = 0, computed exactly: degenerate triangles, triangles
+ * sharing the receiver vertex, edge-on triangles).
+ * The table folds three symmetries, so it holds 2 F^2 masks instead of 6 F^2: the plane -p gives
+ * the complement of p's mask (the -x and -z faces), and mirroring p in y reverses the mask's rows
+ * (half of the +x and +z faces, all of -y); both cost nothing at run time (an XOR, an index).
+ *
+ * Transfer: V*_i = integral of Y_i(s) V(s) max(0, n.s) ds = integral over the disk of
+ * Y_i(x, y, sqrt(1 - x^2 - y^2)) V dx dy, per pixel exactly as a table: T[p][i] = the integral of Y_i
+ * over pixel p's square cut by the disk, integrated at init by (256 / N)^2 sub-samples per pixel
+ * with qibl_sh_eval_unit. V*_i is the sum of T over the visible pixels, in Q2.30, summed with
+ * wrapping uint32 arithmetic (exact: the true sum is below 2 by Cauchy-Schwarz, sqrt(pi) < 1.78), so
+ * summing the visible pixels or subtracting the blocked ones from the unblocked transfer gives the
+ * same bits; the cheaper side is taken per mask.
+ *
+ * Frame: qibl_hemi_frame_init builds the tangent frame R = Rz(alpha) Ry(beta) whose z axis is the
+ * normal n = (sin b cos a, sin b sin a, cos b): x axis t = (cos b cos a, cos b sin a, -sin b),
+ * y axis (-sin a, cos a, 0) (alpha = 0 when n is +-z). That choice makes the SH rotation of the
+ * frame cheap: D(R) = Dz(alpha) D(Rx(-90)) Dz(beta) D(Rx(90)), two constant band matrices made at
+ * init with qibl_sh_rotation_init and two z rotations (cos/sin m theta by recurrence).
+ *
+ * Memory: qibl_hemi_workspace_size(N, F) bytes, any alignment: the two rotations (1328 bytes), the
+ * disk mask and unblocked transfer, the basis table (100 N^2 bytes) and the LUT (2 F^2 masks of
+ * 4 N max(1, N/32) bytes). N = 32: F = 60 (the default) 1001.5 KiB, F = 24 (small) 245.5 KiB.
+ * Init cost: 2 F^2 N^2 exact pixel tests and 65536 SH evaluations.
+ */
+#ifndef QIBL_HEMI_H
+#define QIBL_HEMI_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "qibl/config.h"
+#include "qibl/fixed.h"
+#include "qibl/sh.h"
+#include "qibl/status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define QIBL_HEMI_COEFFS 25          /* transfer vectors: SH bands 0..4 */
+#define QIBL_HEMI_MAX_WORDS 128u     /* uint32 words of the largest mask (64 x 64) */
+#define QIBL_HEMI_MAX_FACE 128       /* largest cube-map face (even sizes 2..128) */
+#define QIBL_HEMI_COORD_MAX 0x3FFFFF /* |position coordinate| limit, Q16.16 (64 units) */
+#define QIBL_HEMI_LOCAL_FRAC 18      /* fraction bits of frame-local coordinates (Q14.18) */
+#define QIBL_HEMI_LOCAL_MAX 0x3FFFFFF /* |frame-local coordinate| limit accepted by the rasterizer */
+
+/* uint32 words of an N x N mask (N = 16, 32, 64). */
+#define QIBL_HEMI_MASK_WORDS(n) ((n) * ((n) > 32 ? (n) / 32 : 1))
+
+/* A rasterizer: mask size, face size and views into the caller's workspace (read-only after init;
+ * one instance may serve any number of threads). Fields are private. */
+typedef struct qibl_hemi {
+    int32_t n, face;
+    uint32_t wpr, words;
+    const qibl_sh_rotation_t *rx_pos, *rx_neg; /* D(Rx(+90 deg)), D(Rx(-90 deg)) */
+    const uint32_t *disk;                      /* [words] pixels meeting the disk */
+    const uint32_t *full;                      /* [25] transfer of the unblocked hemisphere (Q2.30) */
+    const uint32_t *basis;                     /* [N * N][25] per-pixel integrals (Q2.30, two's complement) */
+    const uint32_t *lut;                       /* [2 F^2][words] */
+} qibl_hemi_t;
+
+/* A receiver's tangent frame (qibl_hemi_frame_init). */
+typedef struct qibl_hemi_frame {
+    qibl_q16_t p[3];       /* receiver position */
+    qibl_q30_t axis[3][3]; /* rows: t, b, n (world -> local) */
+    qibl_q30_t ca, sa;     /* cos, sin alpha */
+    qibl_q30_t cb, sb;     /* cos, sin beta */
+} qibl_hemi_frame_t;
+
+/* Counters that qibl_hemi_raster adds to (NULL: not counted). */
+typedef struct qibl_hemi_stats {
+    uint32_t rasterized; /* triangles ANDed and ORed into the mask */
+    uint32_t below;      /* every vertex at or below the horizon */
+    uint32_t through;    /* plane through the receiver (degenerate, sharing it, edge-on) */
+} qibl_hemi_stats_t;
+
+/* Workspace bytes for mask size n (16, 32, 64) and cube-map face size face (even, 2..128);
+ * 0 for other sizes. */
+size_t qibl_hemi_workspace_size(int n, int face);
+
+/* Builds the tables into workspace (deterministic, integer; any alignment) and fills *h.
+ * Errors: QIBL_E_NULL_POINTER, QIBL_E_HEMI_SIZE (n or face), QIBL_E_WORKSPACE; *h untouched on
+ * failure (the workspace may have been written). */
+qibl_status_t qibl_hemi_init(qibl_hemi_t *h, int n, int face, void *workspace, size_t workspace_size);
+
+/* The receiver frame at position p (Q16.16, |coordinate| <= QIBL_HEMI_COORD_MAX) with normal nrm
+ * (any non-zero int32 vector). Axes within a few LSB of Q2.30 of orthonormal.
+ * Errors: QIBL_E_NULL_POINTER, QIBL_E_HEMI_RANGE (p), QIBL_E_ZERO_VECTOR (nrm); *f untouched. */
+qibl_status_t qibl_hemi_frame_init(qibl_hemi_frame_t *f, const qibl_q16_t p[3], const int32_t nrm[3]);
+
+/* Blocker vertices into the frame: out[k] = R^T (pos[k] - p), Q14.18 (QIBL_HEMI_LOCAL_FRAC),
+ * rounded half up; error <= 0.5 LSB + 2^-28 |pos - p| (the axes). Transform each vertex once per
+ * receiver, then rasterize any number of triangles that index it.
+ * Errors: QIBL_E_NULL_POINTER, QIBL_E_HEMI_RANGE (a coordinate beyond QIBL_HEMI_COORD_MAX);
+ * out untouched on failure. */
+qibl_status_t qibl_hemi_transform(const qibl_hemi_frame_t *f, const qibl_q16_t (*pos)[3], uint32_t count,
+                                  int32_t (*out)[3]);
+
+/* Clears a mask (h->words words). */
+qibl_status_t qibl_hemi_clear(const qibl_hemi_t *h, uint32_t *mask);
+
+/* ORs the triangles tri[0..ntri) (indices into the frame-local vertices v[0..nv)) into mask.
+ * Culling and skipping as above; a triangle is the same mask whichever way it winds.
+ * Errors: QIBL_E_NULL_POINTER (h, mask, or v/tri with a non-zero count), QIBL_E_HEMI_INDEX (an
+ * index >= nv), QIBL_E_HEMI_RANGE (a coordinate of v[0..nv) beyond QIBL_HEMI_LOCAL_MAX); checked
+ * before anything is written: mask and stats untouched on failure. */
+qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t nv, const uint32_t (*tri)[3],
+                               uint32_t ntri, uint32_t *mask, qibl_hemi_stats_t *stats);
+
+/* mask &= the disk (clears bits of pixels outside it: complemented table entries set them). */
+qibl_status_t qibl_hemi_clip(const qibl_hemi_t *h, uint32_t *mask);
+
+/* The local transfer vector of a mask (blocked bits outside the disk are ignored): out[i] = V*_i in
+ * Q2.30, exact sum of the per-pixel tables (each within 2^-30 plus the sub-sampling of the pixel's
+ * integral). Errors: QIBL_E_NULL_POINTER; out untouched. */
+qibl_status_t qibl_hemi_transfer(const qibl_hemi_t *h, const uint32_t *mask, qibl_q30_t out[QIBL_HEMI_COEFFS]);
+
+/* Transfer out of the frame: world = D(R) local (Q2.30 in and out; in and out may not alias).
+ * Error: a few LSB of Q2.30 times the largest |in| (four rotations, each rounded). */
+qibl_status_t qibl_hemi_to_world(const qibl_hemi_t *h, const qibl_hemi_frame_t *f, const qibl_q30_t *in,
+                                 qibl_q30_t *out);
+
+/* Lighting into the frame: local = D(R)^T world, 25 coefficients in any int32 fixed-point format
+ * (saturated), one channel per call; the alternative to qibl_hemi_to_world (costs one call per
+ * channel instead of one per vertex). in and out may not alias. */
+qibl_status_t qibl_hemi_to_frame(const qibl_hemi_t *h, const qibl_hemi_frame_t *f, const int32_t *in,
+                                 int32_t *out);
+
+/* Shading: out[ch] = sum_i light[ch][i] v[i], light in Q16.16 (radiance SH, as qibl_shlight_t), v
+ * in Q2.30 (same frame as the light), out Q16.16 (irradiance; times albedo / pi gives the diffuse
+ * exitant radiance), rounded half up, saturated. Each product is truncated by 2^-14 LSB before the
+ * sum: error <= 0.5 + 25 * 2^-14 LSB. Errors: QIBL_E_NULL_POINTER. */
+qibl_status_t qibl_hemi_shade(const int32_t light[3][QIBL_HEMI_COEFFS], const qibl_q30_t v[QIBL_HEMI_COEFFS],
+                              qibl_q16_t out[3]);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* QIBL_HEMI_H */

@@ -1,0 +1,603 @@
+/*
+ * hemi.c - hemispherical rasterization: plane LUT, triangle masks, SH transfer, frames.
+ *
+ * Invariants: integer only, no heap, no state outside the caller's workspace; every table is
+ * built from exact integer tests (plane LUT) or from qibl_sh_eval_unit at exact sub-sample points
+ * (basis table), so every port builds the same bytes. Magnitudes (proved where used):
+ *   positions |x| < 2^22 (Q16.16) -> differences < 2^23 -> local coordinates < 2^26 (Q14.18),
+ *   edge normals (cross products) < 2^53, the orientation determinant split into two exact sums.
+ */
+#include "qibl/hemi.h"
+
+#if QIBL_USE_HEMI
+
+#define NC QIBL_HEMI_COEFFS
+
+/* ---- small integer helpers (static here until the shared internal header exists) ------------ */
+
+static uint64_t abs_u64(int64_t x)
+{
+    return x < 0 ? 0u - (uint64_t)x : (uint64_t)x;
+}
+
+static int32_t s32_of_u32(uint32_t u)
+{
+    /* two's complement bits -> int32 without implementation-defined conversion */
+    return u <= 0x7FFFFFFFu ? (int32_t)u : -(int32_t)(~u) - 1;
+}
+
+/* floor(num / den) for den >= 1 and a quotient below 256 (num < 256 den): 8 shift-subtract steps
+ * where there is no divide instruction, so no library call is emitted. */
+static uint32_t small_div(uint32_t num, uint32_t den)
+{
+#if QIBL_CONFIG_NATIVE_DIV64 || defined(__ARM_FEATURE_IDIV) || defined(__riscv_div)
+    return num / den;
+#else
+    uint32_t q = 0;
+    for (int k = 7; k >= 0; --k)
+        if ((num >> k) >= den) {
+            num -= den << k;
+            q |= 1u << k;
+        }
+    return q;
+#endif
+}
+
+/* bits set in w (SWAR) */
+static uint32_t popcount32(uint32_t w)
+{
+    w = w - ((w >> 1) & 0x55555555u);
+    w = (w & 0x33333333u) + ((w >> 2) & 0x33333333u);
+    w = (w + (w >> 4)) & 0x0F0F0F0Fu;
+    return (w * 0x01010101u) >> 24;
+}
+
+/* index of the lowest set bit of w != 0 (de Bruijn) */
+static unsigned ctz32(uint32_t w)
+{
+    static const uint8_t tab[32] = {0,  1,  28, 2,  29, 14, 24, 3, 30, 22, 20, 15, 25, 17, 4,  8,
+                                    31, 27, 13, 23, 21, 19, 16, 7, 26, 12, 18, 6,  11, 5,  10, 9};
+    return tab[((w & (0u - w)) * 0x077CB531u) >> 27];
+}
+
+/* ---- layout ------------------------------------------------------------------------------------ */
+
+static int sizes_ok(int n, int face)
+{
+    return (n == 16 || n == 32 || n == 64) && face >= 2 && face <= QIBL_HEMI_MAX_FACE && (face & 1) == 0;
+}
+
+static uint64_t ws_bytes(int n, int face)
+{
+    /* 32-bit products: at most 4 * 2 * 128^2 * 128 = 2^24 bytes of LUT (no 64-bit multiply) */
+    const uint32_t words = (uint32_t)QIBL_HEMI_MASK_WORDS(n), un = (uint32_t)n, uf = (uint32_t)face;
+    return (uint64_t)(2u * (uint32_t)sizeof(qibl_sh_rotation_t) + 4u * (words + NC) + 4u * un * un * NC +
+                      8u * uf * uf * words + 4u); /* + alignment slack */
+}
+
+size_t qibl_hemi_workspace_size(int n, int face)
+{
+    if (!sizes_ok(n, face))
+        return 0u;
+    uint64_t b = ws_bytes(n, face);
+    return b > (uint64_t)SIZE_MAX ? 0u : (size_t)b;
+}
+
+/* ---- table construction ---------------------------------------------------------------------- */
+
+/* Is the pixel with centre (X, Y) / n (X, Y odd) above the plane with normal P (integers)?
+ * Exact: sign of Px X + Py Y + Pz sqrt(n^2 - X^2 - Y^2); a centre outside the disk takes the
+ * horizon point (X, Y, 0) / |(X, Y)|. Magnitudes: |P| <= 128, |X|, |Y| < 64: A^2 < 2^29. */
+static int above(const int32_t P[3], int32_t X, int32_t Y, int32_t n)
+{
+    /* 32-bit products: |A| <= 2 128 63, A^2 < 2^28, B^2 Q <= 2^14 2^12 */
+    const int32_t A = P[0] * X + P[1] * Y;
+    const int32_t Q = n * n - X * X - Y * Y;
+    const int32_t B = P[2];
+    if (Q <= 0 || B == 0)
+        return A > 0;
+    if (A >= 0 && B > 0)
+        return 1;
+    if (A <= 0 && B < 0)
+        return 0;
+    if (A > 0) /* B < 0: A > |B| sqrt(Q) */
+        return A * A > B * B * Q;
+    return B * B * Q > A * A; /* A < 0 < B */
+}
+
+/* Does pixel (X, Y) (odd centre coordinates, half-width 1, units 1/n) meet the open disk? */
+static int meets_disk(int32_t X, int32_t Y, int32_t n)
+{
+    int32_t dx = (X < 0 ? -X : X) - 1, dy = (Y < 0 ? -Y : Y) - 1;
+    if (dx < 0)
+        dx = 0;
+    if (dy < 0)
+        dy = 0;
+    return dx * dx + dy * dy < n * n;
+}
+
+static void build_mask(uint32_t *m, const int32_t P[3], int32_t n, uint32_t wpr)
+{
+    for (int32_t r = 0; r < n; ++r)
+        for (uint32_t k = 0; k < wpr; ++k) {
+            uint32_t w = 0;
+            for (int32_t b = 0; b < 32 && (int32_t)k * 32 + b < n; ++b) {
+                const int32_t c = (int32_t)k * 32 + b;
+                const int32_t X = 2 * c + 1 - n, Y = 2 * r + 1 - n;
+                if (meets_disk(X, Y, n) && above(P, X, Y, n))
+                    w |= 1u << b;
+            }
+            m[(uint32_t)r * wpr + k] = w;
+        }
+}
+
+/* The basis table: T[p][i] = sum over the pixel's S x S sub-samples inside the disk of Y_i times
+ * the sub-sample area (2/256)^2 = 2^-14. Sub-sample centres Xs / 256 with Xs odd; z =
+ * sqrt(1 - x^2 - y^2) rounded in Q2.30 from an exact integer square root. */
+static void build_basis(uint32_t *basis, uint32_t *full, int32_t n)
+{
+    const int32_t S = n == 16 ? 16 : n == 32 ? 8 : 4; /* 256 / n, without a library division */
+    for (int i = 0; i < NC; ++i)
+        full[i] = 0u;
+    for (int32_t r = 0; r < n; ++r)
+        for (int32_t c = 0; c < n; ++c) {
+            int64_t acc[NC];
+            for (int i = 0; i < NC; ++i)
+                acc[i] = 0;
+            for (int32_t k = 0; k < S; ++k)
+                for (int32_t l = 0; l < S; ++l) {
+                    const int32_t Xs = 2 * (c * S + l) + 1 - 256, Ys = 2 * (r * S + k) + 1 - 256;
+                    const int32_t q = 65536 - Xs * Xs - Ys * Ys;
+                    if (q <= 0)
+                        continue;
+                    uint64_t rem;
+                    const uint64_t q44 = (uint64_t)q << 44;
+                    uint32_t z = qibl_isqrt_u64(q44, &rem);
+                    if (rem > z) /* round: (z + 1/2)^2 = z^2 + z + 1/4 */
+                        ++z;
+                    const qibl_q30_t u[3] = {Xs * (1 << 22), Ys * (1 << 22), (qibl_q30_t)z};
+                    qibl_q30_t y[NC];
+                    (void)qibl_sh_eval_unit(u, 5, y);
+                    for (int i = 0; i < NC; ++i)
+                        acc[i] += y[i];
+                }
+            uint32_t *t = basis + ((size_t)r * (size_t)n + (size_t)c) * NC;
+            for (int i = 0; i < NC; ++i) {
+                t[i] = (uint32_t)qibl_rshr_s64(acc[i], 14); /* |acc| < 2^8 2^31: no saturation */
+                full[i] += t[i];
+            }
+        }
+}
+
+qibl_status_t qibl_hemi_init(qibl_hemi_t *h, int n, int face, void *workspace, size_t workspace_size)
+{
+    if (h == 0 || workspace == 0)
+        return QIBL_E_NULL_POINTER;
+    if (!sizes_ok(n, face))
+        return QIBL_E_HEMI_SIZE;
+    if ((uint64_t)workspace_size < ws_bytes(n, face))
+        return QIBL_E_WORKSPACE;
+    uint8_t *ws = (uint8_t *)workspace;
+    ws += (4u - ((uintptr_t)ws & 3u)) & 3u;
+    qibl_hemi_t t;
+    t.n = n, t.face = face;
+    t.wpr = n > 32 ? (uint32_t)n / 32u : 1u;
+    t.words = (uint32_t)n * t.wpr;
+    qibl_sh_rotation_t *rot = (qibl_sh_rotation_t *)(void *)ws;
+    uint32_t *disk = (uint32_t *)(void *)(rot + 2);
+    uint32_t *full = disk + t.words;
+    uint32_t *basis = full + NC;
+    uint32_t *lut = basis + (size_t)n * (size_t)n * NC;
+    /* Rx(+90): y -> z, z -> -y; Rx(-90) its transpose. Exact in Q2.30. */
+    static const qibl_q30_t rp[3][3] = {{QIBL_Q30_ONE, 0, 0}, {0, 0, -QIBL_Q30_ONE}, {0, QIBL_Q30_ONE, 0}};
+    static const qibl_q30_t rn[3][3] = {{QIBL_Q30_ONE, 0, 0}, {0, 0, QIBL_Q30_ONE}, {0, -QIBL_Q30_ONE, 0}};
+    qibl_status_t st = qibl_sh_rotation_init(&rot[0], rp, 5);
+    if (st == QIBL_OK)
+        st = qibl_sh_rotation_init(&rot[1], rn, 5);
+    if (st != QIBL_OK)
+        return st;
+    /* disk: the plane z > 0 ... every pixel meeting the disk has a sample point with z >= 0, so
+     * test with the normal (0, 0, 1) and admit horizon points explicitly */
+    for (int32_t r = 0; r < n; ++r)
+        for (uint32_t k = 0; k < t.wpr; ++k) {
+            uint32_t w = 0;
+            for (int32_t b = 0; b < 32 && (int32_t)k * 32 + b < n; ++b)
+                if (meets_disk(2 * ((int32_t)k * 32 + b) + 1 - n, 2 * r + 1 - n, n))
+                    w |= 1u << b;
+            disk[(uint32_t)r * t.wpr + k] = w;
+        }
+    build_basis(basis, full, n);
+    /* LUT: face X (normal (F, u, v), u >= 0 half), face Y (full), face Z (normal (v, u, F), u >= 0
+     * half); cell centres 2i + 1 - F in units of 1/F */
+    const int32_t F = face, H = face / 2;
+    uint32_t *m = lut;
+    for (int32_t iu = H; iu < F; ++iu)
+        for (int32_t iv = 0; iv < F; ++iv, m += t.words) {
+            const int32_t P[3] = {F, 2 * iu + 1 - F, 2 * iv + 1 - F};
+            build_mask(m, P, n, t.wpr);
+        }
+    for (int32_t iu = 0; iu < F; ++iu)
+        for (int32_t iv = 0; iv < F; ++iv, m += t.words) {
+            const int32_t P[3] = {2 * iu + 1 - F, F, 2 * iv + 1 - F};
+            build_mask(m, P, n, t.wpr);
+        }
+    for (int32_t iu = H; iu < F; ++iu)
+        for (int32_t iv = 0; iv < F; ++iv, m += t.words) {
+            const int32_t P[3] = {2 * iv + 1 - F, 2 * iu + 1 - F, F};
+            build_mask(m, P, n, t.wpr);
+        }
+    /* field by field: a struct copy may become a memcpy call, which the core cannot link */
+    h->n = t.n, h->face = t.face, h->wpr = t.wpr, h->words = t.words;
+    h->rx_pos = &rot[0], h->rx_neg = &rot[1];
+    h->disk = disk, h->full = full, h->basis = basis, h->lut = lut;
+    return QIBL_OK;
+}
+
+/* ---- frames ----------------------------------------------------------------------------------- */
+
+static int coord_ok(int32_t x)
+{
+    return x >= -QIBL_HEMI_COORD_MAX && x <= QIBL_HEMI_COORD_MAX;
+}
+
+qibl_status_t qibl_hemi_frame_init(qibl_hemi_frame_t *f, const qibl_q16_t p[3], const int32_t nrm[3])
+{
+    if (f == 0 || p == 0 || nrm == 0)
+        return QIBL_E_NULL_POINTER;
+    if (!coord_ok(p[0]) || !coord_ok(p[1]) || !coord_ok(p[2]))
+        return QIBL_E_HEMI_RANGE;
+    qibl_q30_t u[3];
+    qibl_status_t st = qibl_vec3_normalize_q30(nrm, u);
+    if (st != QIBL_OK)
+        return st;
+    qibl_q30_t ca = QIBL_Q30_ONE, sa = 0, sb = 0;
+    if (u[0] != 0 || u[1] != 0) {
+        const int32_t h2[3] = {u[0], u[1], 0};
+        qibl_q30_t a[3];
+        (void)qibl_vec3_normalize_q30(h2, a);
+        ca = a[0], sa = a[1];
+        const uint64_t r2 = (uint64_t)qibl_mul_s32_s64(u[0], u[0]) + (uint64_t)qibl_mul_s32_s64(u[1], u[1]);
+        uint64_t rem;
+        uint32_t r = qibl_isqrt_u64(r2, &rem);
+        sb = (qibl_q30_t)(r + (rem > r ? 1u : 0u));
+    }
+    const qibl_q30_t cb = u[2];
+    /* nothing can fail from here on: write *f directly (a struct copy may call memcpy) */
+    for (int k = 0; k < 3; ++k)
+        f->p[k] = p[k];
+    f->axis[0][0] = qibl_mul_q30(cb, ca), f->axis[0][1] = qibl_mul_q30(cb, sa), f->axis[0][2] = -sb;
+    f->axis[1][0] = -sa, f->axis[1][1] = ca, f->axis[1][2] = 0;
+    f->axis[2][0] = u[0], f->axis[2][1] = u[1], f->axis[2][2] = u[2];
+    f->ca = ca, f->sa = sa, f->cb = cb, f->sb = sb;
+    return QIBL_OK;
+}
+
+qibl_status_t qibl_hemi_transform(const qibl_hemi_frame_t *f, const qibl_q16_t (*pos)[3], uint32_t count,
+                                  int32_t (*out)[3])
+{
+    if (f == 0 || (count != 0u && (pos == 0 || out == 0)))
+        return QIBL_E_NULL_POINTER;
+    for (uint32_t k = 0; k < count; ++k)
+        if (!coord_ok(pos[k][0]) || !coord_ok(pos[k][1]) || !coord_ok(pos[k][2]))
+            return QIBL_E_HEMI_RANGE;
+    const unsigned sh = 30u - (QIBL_HEMI_LOCAL_FRAC - 16u); /* Q30 x Q16 -> Q14.18 */
+    for (uint32_t k = 0; k < count; ++k) {
+        /* |d| < 2^23: each product < 2^53, the sum < 2^55; the result < sqrt(3) 2^23 2^2 < 2^26 */
+        const int32_t d0 = pos[k][0] - f->p[0], d1 = pos[k][1] - f->p[1], d2 = pos[k][2] - f->p[2];
+        for (int j = 0; j < 3; ++j) {
+            const int64_t s = qibl_mul_s32_s64(f->axis[j][0], d0) + qibl_mul_s32_s64(f->axis[j][1], d1) +
+                              qibl_mul_s32_s64(f->axis[j][2], d2);
+            out[k][j] = qibl_rshr_s64(s, sh);
+        }
+    }
+    return QIBL_OK;
+}
+
+/* ---- rasterization --------------------------------------------------------------------------- */
+
+qibl_status_t qibl_hemi_clear(const qibl_hemi_t *h, uint32_t *mask)
+{
+    if (h == 0 || mask == 0)
+        return QIBL_E_NULL_POINTER;
+    for (uint32_t i = 0; i < h->words; ++i)
+        mask[i] = 0u;
+    return QIBL_OK;
+}
+
+qibl_status_t qibl_hemi_clip(const qibl_hemi_t *h, uint32_t *mask)
+{
+    if (h == 0 || mask == 0)
+        return QIBL_E_NULL_POINTER;
+    for (uint32_t i = 0; i < h->words; ++i)
+        mask[i] &= h->disk[i];
+    return QIBL_OK;
+}
+
+/* One edge plane's table entry: the stored mask, whether to complement it (XOR with all ones)
+ * and whether to read its rows in reverse. */
+typedef struct edge {
+    const uint32_t *m;
+    uint32_t x;
+    int rev;
+} edge;
+
+/* Cell index of u / m in [-1, 1] on F cells: floor((u / m + 1) F / 2), clamped. m >= 1, |u| <= m. */
+static uint32_t cell(int64_t u, uint64_t m, uint32_t F)
+{
+    /* bring m below 2^23 so (u + m) F < 2^31 fits 32 bits (F <= 128) */
+    unsigned s = 0;
+    while (qibl_shr_u64(m, s) >= (1u << 23))
+        s += 8u;
+    const uint32_t mm = (uint32_t)qibl_shr_u64(m, s);
+    const uint32_t au = (uint32_t)qibl_shr_u64(abs_u64(u), s);
+    const uint32_t num = u < 0 ? mm - au : mm + au; /* au <= mm */
+    const uint32_t i = small_div(num * F, 2u * mm);
+    return i >= F ? F - 1u : i;
+}
+
+static edge lookup(const qibl_hemi_t *h, const int64_t e[3])
+{
+    const uint64_t ax = abs_u64(e[0]), ay = abs_u64(e[1]), az = abs_u64(e[2]);
+    const uint32_t F = (uint32_t)h->face, H = F / 2u;
+    edge r;
+    size_t idx;
+    if (ax >= ay && ax >= az) { /* +-x: -x is the complement of +x at -e */
+        const int neg = e[0] < 0;
+        const int64_t u = neg ? -e[1] : e[1], v = neg ? -e[2] : e[2];
+        r.x = neg ? 0xFFFFFFFFu : 0u;
+        r.rev = u < 0;
+        idx = (size_t)(cell(u < 0 ? -u : u, ax, F) - H) * F + cell(v, ax, F);
+    } else if (ay >= az) { /* +-y: -y is +y mirrored in y (rows reversed) */
+        r.x = 0u;
+        r.rev = e[1] < 0;
+        idx = (size_t)F * H + (size_t)cell(e[0], ay, F) * F + cell(e[2], ay, F);
+    } else { /* +-z: -z is the complement of +z at -e */
+        const int neg = e[2] < 0;
+        const int64_t u = neg ? -e[1] : e[1], v = neg ? -e[0] : e[0];
+        r.x = neg ? 0xFFFFFFFFu : 0u;
+        r.rev = u < 0;
+        idx = (size_t)F * H + (size_t)F * F + (size_t)(cell(u < 0 ? -u : u, az, F) - H) * F + cell(v, az, F);
+    }
+    r.m = h->lut + idx * h->words;
+    return r;
+}
+
+/* mask |= A & B & C with per-entry complement and row reversal. The reversal flags are made
+ * compile-time constants by the switch below, so each variant is a straight loop. */
+#define AND3_BODY(RA, RB, RC)                                                                    \
+    for (uint32_t r = 0; r < n; ++r) {                                                           \
+        const uint32_t ra = (RA) ? n - 1u - r : r, rb = (RB) ? n - 1u - r : r,                   \
+                       rc = (RC) ? n - 1u - r : r;                                               \
+        for (uint32_t k = 0; k < wpr; ++k)                                                       \
+            mask[r * wpr + k] |= (a[ra * wpr + k] ^ xa) & (b[rb * wpr + k] ^ xb) &              \
+                                 (c[rc * wpr + k] ^ xc);                                        \
+    }
+
+/* The 32 x 32 mask (one word per row) with the row count a constant, so compilers unroll and
+ * vectorise each variant (a reversed read is one shuffle per vector). */
+#define AND3_BODY32(RA, RB, RC)                                                                  \
+    for (uint32_t r = 0; r < 32u; ++r)                                                           \
+        mask[r] |= (a[(RA) ? 31u - r : r] ^ xa) & (b[(RB) ? 31u - r : r] ^ xb) &                 \
+                   (c[(RC) ? 31u - r : r] ^ xc);
+
+static void and3(uint32_t *restrict mask, const edge *ea, const edge *eb, const edge *ec, uint32_t n,
+                 uint32_t wpr)
+{
+    const uint32_t *restrict a = ea->m, *restrict b = eb->m, *restrict c = ec->m;
+    const uint32_t xa = ea->x, xb = eb->x, xc = ec->x;
+    /* if-chains, not a switch: Thumb-1 jump tables call a libgcc helper */
+    if (n == 32u) {
+        if (!ea->rev) {
+            if (!eb->rev) {
+                if (!ec->rev) AND3_BODY32(0, 0, 0) else AND3_BODY32(0, 0, 1)
+            } else {
+                if (!ec->rev) AND3_BODY32(0, 1, 0) else AND3_BODY32(0, 1, 1)
+            }
+        } else {
+            if (!eb->rev) {
+                if (!ec->rev) AND3_BODY32(1, 0, 0) else AND3_BODY32(1, 0, 1)
+            } else {
+                if (!ec->rev) AND3_BODY32(1, 1, 0) else AND3_BODY32(1, 1, 1)
+            }
+        }
+        return;
+    }
+    if (!ea->rev) {
+        if (!eb->rev) {
+            if (!ec->rev) AND3_BODY(0, 0, 0) else AND3_BODY(0, 0, 1)
+        } else {
+            if (!ec->rev) AND3_BODY(0, 1, 0) else AND3_BODY(0, 1, 1)
+        }
+    } else {
+        if (!eb->rev) {
+            if (!ec->rev) AND3_BODY(1, 0, 0) else AND3_BODY(1, 0, 1)
+        } else {
+            if (!ec->rev) AND3_BODY(1, 1, 0) else AND3_BODY(1, 1, 1)
+        }
+    }
+}
+
+static void cross(const int32_t *a, const int32_t *b, int64_t out[3])
+{
+    out[0] = qibl_mul_s32_s64(a[1], b[2]) - qibl_mul_s32_s64(a[2], b[1]);
+    out[1] = qibl_mul_s32_s64(a[2], b[0]) - qibl_mul_s32_s64(a[0], b[2]);
+    out[2] = qibl_mul_s32_s64(a[0], b[1]) - qibl_mul_s32_s64(a[1], b[0]);
+}
+
+/* sign of n . c exactly for |n_i| < 2^53, |c_i| < 2^26: n = nh 2^26 + nl (nl in [0, 2^26)), so
+ * n . c = H 2^26 + L with |H| < 3 2^53, |L| < 3 2^52; then H + floor(L / 2^26) decides. */
+static int dot_sign(const int64_t n[3], const int32_t *c)
+{
+    int64_t H = 0, L = 0;
+    for (int k = 0; k < 3; ++k) {
+        const int32_t nh = (int32_t)qibl_asr_s64(n[k], 26);          /* |nh| < 2^27 */
+        const int32_t nl = (int32_t)((uint64_t)n[k] & 0x3FFFFFFu);    /* n - nh 2^26 */
+        H += qibl_mul_s32_s64(nh, c[k]);
+        L += qibl_mul_s32_s64(nl, c[k]);
+    }
+    const int64_t top = H + qibl_asr_s64(L, 26);
+    const uint32_t low = (uint32_t)((uint64_t)L & 0x3FFFFFFu); /* L - floor(L / 2^26) 2^26 */
+    return top > 0 || (top == 0 && low > 0u) ? 1 : top < 0 ? -1 : 0;
+}
+
+static int local_ok(const int32_t *p)
+{
+    for (int k = 0; k < 3; ++k)
+        if (p[k] < -QIBL_HEMI_LOCAL_MAX || p[k] > QIBL_HEMI_LOCAL_MAX)
+            return 0;
+    return 1;
+}
+
+qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t nv, const uint32_t (*tri)[3],
+                               uint32_t ntri, uint32_t *mask, qibl_hemi_stats_t *stats)
+{
+    if (h == 0 || mask == 0 || (ntri != 0u && (v == 0 || tri == 0)))
+        return QIBL_E_NULL_POINTER;
+    /* indices first, then every vertex once (cheaper than per reference for shared vertices) */
+    for (uint32_t t = 0; t < ntri; ++t)
+        if ((tri[t][0] >= nv) | (tri[t][1] >= nv) | (tri[t][2] >= nv))
+            return QIBL_E_HEMI_INDEX;
+    if (ntri != 0u)
+        for (uint32_t k = 0; k < nv; ++k)
+            if (!local_ok(v[k]))
+                return QIBL_E_HEMI_RANGE;
+    uint32_t nr = 0, nb = 0, nt = 0;
+    const uint32_t n = (uint32_t)h->n, wpr = h->wpr;
+    for (uint32_t t = 0; t < ntri; ++t) {
+        const int32_t *a = v[tri[t][0]], *b = v[tri[t][1]], *c = v[tri[t][2]];
+        if (a[2] <= 0 && b[2] <= 0 && c[2] <= 0) {
+            ++nb;
+            continue;
+        }
+        int64_t e[3][3];
+        cross(a, b, e[0]);
+        cross(b, c, e[1]);
+        cross(c, a, e[2]);
+        const int s = dot_sign(e[0], c);
+        if (s == 0) {
+            ++nt;
+            continue;
+        }
+        if (s < 0)
+            for (int i = 0; i < 3; ++i)
+                for (int k = 0; k < 3; ++k)
+                    e[i][k] = -e[i][k];
+        const edge ea = lookup(h, e[0]), eb = lookup(h, e[1]), ec = lookup(h, e[2]);
+        and3(mask, &ea, &eb, &ec, n, wpr);
+        ++nr;
+    }
+    if (stats != 0) {
+        stats->rasterized += nr;
+        stats->below += nb;
+        stats->through += nt;
+    }
+    return QIBL_OK;
+}
+
+/* ---- transfer ---------------------------------------------------------------------------------- */
+
+static void add_bits(uint32_t acc[NC], const uint32_t *basis, uint32_t base, uint32_t w)
+{
+    while (w != 0u) {
+        const uint32_t *t = basis + (size_t)(base + ctz32(w)) * NC;
+        w &= w - 1u;
+        for (int i = 0; i < NC; ++i)
+            acc[i] += t[i];
+    }
+}
+
+qibl_status_t qibl_hemi_transfer(const qibl_hemi_t *h, const uint32_t *mask, qibl_q30_t out[QIBL_HEMI_COEFFS])
+{
+    if (h == 0 || mask == 0 || out == 0)
+        return QIBL_E_NULL_POINTER;
+    uint32_t blocked = 0, inside = 0;
+    for (uint32_t i = 0; i < h->words; ++i) {
+        blocked += popcount32(mask[i] & h->disk[i]);
+        inside += popcount32(h->disk[i]);
+    }
+    uint32_t acc[NC];
+    const int sub = blocked <= inside - blocked; /* fewer blocked pixels: subtract them */
+    for (int i = 0; i < NC; ++i)
+        acc[i] = 0u;
+    const uint32_t bits = h->wpr == 1u ? (uint32_t)h->n : 32u; /* pixels per word */
+    for (uint32_t i = 0; i < h->words; ++i) {
+        const uint32_t w = sub ? (mask[i] & h->disk[i]) : (~mask[i] & h->disk[i]);
+        if (w != 0u)
+            add_bits(acc, h->basis, i * bits, w);
+    }
+    /* wrapping sums are exact modulo 2^32 and the true value fits Q2.30 */
+    for (int i = 0; i < NC; ++i)
+        out[i] = s32_of_u32(sub ? h->full[i] - acc[i] : acc[i]);
+    return QIBL_OK;
+}
+
+/* ---- rotation ---------------------------------------------------------------------------------- */
+
+/* z rotation by theta (cos, sin in Q2.30): for f'(w) = f(Rz^T w), the pair (m, -m) of band l turns
+ * by m theta: c'_m = cos c_m - sin c_-m, c'_-m = cos c_-m + sin c_m. In place. */
+static void rot_z(int32_t *c, qibl_q30_t cs, qibl_q30_t sn)
+{
+    qibl_q30_t cm[5], sm[5];
+    cm[1] = cs, sm[1] = sn;
+    for (int m = 2; m <= 4; ++m) {
+        cm[m] = qibl_rshr_s64(qibl_mul_s32_s64(cm[m - 1], cs) - qibl_mul_s32_s64(sm[m - 1], sn), 30);
+        sm[m] = qibl_rshr_s64(qibl_mul_s32_s64(sm[m - 1], cs) + qibl_mul_s32_s64(cm[m - 1], sn), 30);
+    }
+    for (int l = 1; l <= 4; ++l)
+        for (int m = 1; m <= l; ++m) {
+            const int ip = l * l + l + m, in = l * l + l - m;
+            const int32_t p = c[ip], q = c[in];
+            c[ip] = qibl_rshr_s64(qibl_mul_s32_s64(cm[m], p) - qibl_mul_s32_s64(sm[m], q), 30);
+            c[in] = qibl_rshr_s64(qibl_mul_s32_s64(cm[m], q) + qibl_mul_s32_s64(sm[m], p), 30);
+        }
+}
+
+qibl_status_t qibl_hemi_to_world(const qibl_hemi_t *h, const qibl_hemi_frame_t *f, const qibl_q30_t *in,
+                                 qibl_q30_t *out)
+{
+    if (h == 0 || f == 0 || in == 0 || out == 0)
+        return QIBL_E_NULL_POINTER;
+    int32_t t[NC];
+    /* D(R) = Dz(alpha) D(Rx(-90)) Dz(beta) D(Rx(90)), applied right to left */
+    (void)qibl_sh_rotate(h->rx_pos, in, t);
+    rot_z(t, f->cb, f->sb);
+    (void)qibl_sh_rotate(h->rx_neg, t, out);
+    rot_z(out, f->ca, f->sa);
+    return QIBL_OK;
+}
+
+qibl_status_t qibl_hemi_to_frame(const qibl_hemi_t *h, const qibl_hemi_frame_t *f, const int32_t *in,
+                                 int32_t *out)
+{
+    if (h == 0 || f == 0 || in == 0 || out == 0)
+        return QIBL_E_NULL_POINTER;
+    int32_t t[NC];
+    /* D(R)^T = D(Rx(-90)) Dz(-beta) D(Rx(90)) Dz(-alpha), applied right to left */
+    for (int i = 0; i < NC; ++i)
+        t[i] = in[i];
+    rot_z(t, f->ca, -f->sa);
+    (void)qibl_sh_rotate(h->rx_pos, t, out);
+    rot_z(out, f->cb, -f->sb);
+    for (int i = 0; i < NC; ++i)
+        t[i] = out[i];
+    (void)qibl_sh_rotate(h->rx_neg, t, out);
+    return QIBL_OK;
+}
+
+qibl_status_t qibl_hemi_shade(const int32_t light[3][QIBL_HEMI_COEFFS], const qibl_q30_t v[QIBL_HEMI_COEFFS],
+                              qibl_q16_t out[3])
+{
+    if (light == 0 || v == 0 || out == 0)
+        return QIBL_E_NULL_POINTER;
+    for (int ch = 0; ch < 3; ++ch) {
+        int64_t s = 0; /* 25 terms below 2^48 each */
+        for (int i = 0; i < NC; ++i)
+            s += qibl_asr_s64(qibl_mul_s32_s64(light[ch][i], v[i]), 14);
+        out[ch] = qibl_rshr_s64(s, 16);
+    }
+    return QIBL_OK;
+}
+
+#else
+typedef int qibl_hemi_compiled_out; /* ISO C wants a declaration in every translation unit */
+#endif /* QIBL_USE_HEMI */

@@ -1,0 +1,701 @@
+/*
+ * hemi_test.c - hemispherical rasterization: table sizes and errors, triangle masks against a
+ * double-precision cone test (mismatches only within the LUT's quantisation of the edge planes),
+ * every hard case of the issue (degenerate and sliver triangles, vertices on the horizon, huge and
+ * tiny triangles, blockers 1 LSB from the receiver, shared vertices, winding), transfer vectors
+ * against a double-precision integral, frames and SH rotation against qibl_sh_rotation_init,
+ * shading, and the golden cases.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "qibl/hemi.h"
+#include "golden/check.h"
+#include "ref/sh_ref.h"
+
+#define PI 3.14159265358979323846
+
+typedef struct fixture {
+    qibl_hemi_t h;
+    void *ws;
+} fixture;
+
+static fixture *make(int n, int face)
+{
+    fixture *f = calloc(1, sizeof *f);
+    size_t sz = qibl_hemi_workspace_size(n, face);
+    assert_true(sz > 0u);
+    f->ws = malloc(sz);
+    assert_non_null(f->ws);
+    assert_int_equal(qibl_hemi_init(&f->h, n, face, f->ws, sz), QIBL_OK);
+    return f;
+}
+
+static void drop(fixture *f)
+{
+    free(f->ws);
+    free(f);
+}
+
+static uint64_t rng(uint64_t *s)
+{
+    uint64_t z = (*s += 0x9E3779B97F4A7C15u);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9u;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBu;
+    return z ^ (z >> 31);
+}
+
+static double urand(uint64_t *s)
+{
+    return (double)(rng(s) >> 11) / 9007199254740992.0;
+}
+
+static int get_bit(const qibl_hemi_t *h, const uint32_t *m, int r, int c)
+{
+    const int wpr = h->n > 32 ? h->n / 32 : 1;
+    return (int)(m[r * wpr + c / 32] >> (c % 32)) & 1;
+}
+
+/* pixel sample point and whether it meets the disk (the header's definition) */
+static int sample(int n, int r, int c, double s[3])
+{
+    const int X = 2 * c + 1 - n, Y = 2 * r + 1 - n;
+    int dx = abs(X) - 1, dy = abs(Y) - 1;
+    dx = dx < 0 ? 0 : dx, dy = dy < 0 ? 0 : dy;
+    if (dx * dx + dy * dy >= n * n)
+        return 0;
+    const double x = (double)X / n, y = (double)Y / n, q = 1.0 - x * x - y * y;
+    if (q > 0) {
+        s[0] = x, s[1] = y, s[2] = sqrt(q);
+    } else {
+        const double l = sqrt(x * x + y * y);
+        s[0] = x / l, s[1] = y / l, s[2] = 0;
+    }
+    return 1;
+}
+
+static void dcross(const int32_t *a, const int32_t *b, double o[3])
+{
+    o[0] = (double)a[1] * b[2] - (double)a[2] * b[1];
+    o[1] = (double)a[2] * b[0] - (double)a[0] * b[2];
+    o[2] = (double)a[0] * b[1] - (double)a[1] * b[0];
+}
+
+/* Compares the mask of one triangle with the exact cone test; every mismatching pixel must lie
+ * within delta (as |n.s| with n the unit edge normal) of an edge plane. Returns the mismatches. */
+static int check_triangle(const qibl_hemi_t *h, const int32_t v[3][3], double delta, int *covered)
+{
+    uint32_t m[QIBL_HEMI_MAX_WORDS];
+    const uint32_t tri[1][3] = {{0, 1, 2}};
+    qibl_hemi_clear(h, m);
+    assert_int_equal(qibl_hemi_raster(h, v, 3, tri, 1, m, NULL), QIBL_OK);
+    qibl_hemi_clip(h, m);
+    double e[3][3];
+    dcross(v[0], v[1], e[0]);
+    dcross(v[1], v[2], e[1]);
+    dcross(v[2], v[0], e[2]);
+    const double det = e[0][0] * v[2][0] + e[0][1] * v[2][1] + e[0][2] * v[2][2];
+    for (int i = 0; i < 3; ++i) {
+        double l = sqrt(e[i][0] * e[i][0] + e[i][1] * e[i][1] + e[i][2] * e[i][2]);
+        for (int k = 0; k < 3; ++k)
+            e[i][k] = l > 0 ? e[i][k] / l * (det < 0 ? -1 : 1) : 0;
+    }
+    const int below = v[0][2] <= 0 && v[1][2] <= 0 && v[2][2] <= 0;
+    int bad = 0, cov = 0;
+    for (int r = 0; r < h->n; ++r)
+        for (int c = 0; c < h->n; ++c) {
+            double s[3];
+            if (!sample(h->n, r, c, s)) {
+                assert_int_equal(get_bit(h, m, r, c), 0);
+                continue;
+            }
+            int in = det != 0 && !below, near = 0;
+            for (int i = 0; i < 3; ++i) {
+                const double d = e[i][0] * s[0] + e[i][1] * s[1] + e[i][2] * s[2];
+                in &= d > 0;
+                near |= fabs(d) <= delta;
+            }
+            const int got = get_bit(h, m, r, c);
+            cov += got;
+            if (got != in && !near)
+                ++bad;
+        }
+    if (covered)
+        *covered = cov;
+    return bad;
+}
+
+/* ---- sizes and errors --------------------------------------------------------------------------- */
+
+static void test_sizes_and_errors(void **state)
+{
+    (void)state;
+    assert_int_equal(qibl_hemi_workspace_size(24, 60), 0u);
+    assert_int_equal(qibl_hemi_workspace_size(32, 61), 0u);
+    assert_int_equal(qibl_hemi_workspace_size(32, 0), 0u);
+    assert_int_equal(qibl_hemi_workspace_size(32, 130), 0u);
+    /* the documented budgets: default within 1 MiB, the small configuration within 256 KiB */
+    assert_true(qibl_hemi_workspace_size(32, 60) <= 1048576u);
+    assert_true(qibl_hemi_workspace_size(32, 24) <= 262144u);
+    assert_true(qibl_hemi_workspace_size(64, 128) > qibl_hemi_workspace_size(32, 128));
+    qibl_hemi_t h;
+    memset(&h, 0x5A, sizeof h);
+    const qibl_hemi_t before = h;
+    size_t sz = qibl_hemi_workspace_size(16, 8);
+    void *ws = malloc(sz);
+    assert_int_equal(qibl_hemi_init(NULL, 16, 8, ws, sz), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_hemi_init(&h, 16, 8, NULL, sz), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_hemi_init(&h, 17, 8, ws, sz), QIBL_E_HEMI_SIZE);
+    assert_int_equal(qibl_hemi_init(&h, 16, 7, ws, sz), QIBL_E_HEMI_SIZE);
+    assert_int_equal(qibl_hemi_init(&h, 16, 8, ws, sz - 1), QIBL_E_WORKSPACE);
+    assert_memory_equal(&h, &before, sizeof h);
+    /* any alignment */
+    free(ws);
+    ws = malloc(sz + 3);
+    assert_int_equal(qibl_hemi_init(&h, 16, 8, (char *)ws + 3, sz), QIBL_OK);
+    free(ws);
+    assert_string_not_equal(qibl_status_str(QIBL_E_HEMI_SIZE), "unknown status");
+    assert_string_not_equal(qibl_status_str(QIBL_E_HEMI_RANGE), "unknown status");
+    assert_string_not_equal(qibl_status_str(QIBL_E_HEMI_INDEX), "unknown status");
+}
+
+static void test_raster_errors(void **state)
+{
+    (void)state;
+    fixture *f = make(16, 8);
+    uint32_t m[QIBL_HEMI_MAX_WORDS];
+    for (int i = 0; i < 128; ++i)
+        m[i] = 0xA5A5A5A5u;
+    int32_t v[3][3] = {{100, 0, 1000}, {0, 100, 1000}, {-100, -100, 1000}};
+    const uint32_t good[2][3] = {{0, 1, 2}, {2, 1, 0}}, bad[2][3] = {{0, 1, 2}, {0, 1, 3}};
+    qibl_hemi_stats_t st = {7, 7, 7};
+    assert_int_equal(qibl_hemi_raster(&f->h, v, 3, bad, 2, m, &st), QIBL_E_HEMI_INDEX);
+    v[2][0] = QIBL_HEMI_LOCAL_MAX + 1;
+    assert_int_equal(qibl_hemi_raster(&f->h, v, 3, good, 2, m, &st), QIBL_E_HEMI_RANGE);
+    v[2][0] = -QIBL_HEMI_LOCAL_MAX - 1;
+    assert_int_equal(qibl_hemi_raster(&f->h, v, 3, good, 2, m, &st), QIBL_E_HEMI_RANGE);
+    for (int i = 0; i < 128; ++i)
+        assert_int_equal(m[i], 0xA5A5A5A5u);
+    assert_int_equal(st.rasterized + st.below + st.through, 21u);
+    assert_int_equal(qibl_hemi_raster(&f->h, NULL, 0, NULL, 0, m, NULL), QIBL_OK);
+    assert_int_equal(qibl_hemi_raster(&f->h, NULL, 3, good, 1, m, NULL), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_hemi_raster(NULL, v, 3, good, 1, m, NULL), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_hemi_raster(&f->h, v, 3, good, 1, NULL, NULL), QIBL_E_NULL_POINTER);
+    qibl_q30_t out[25];
+    assert_int_equal(qibl_hemi_transfer(&f->h, NULL, out), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_hemi_clear(NULL, m), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_hemi_clip(&f->h, NULL), QIBL_E_NULL_POINTER);
+    drop(f);
+}
+
+/* ---- masks against the cone test ----------------------------------------------------------------- */
+
+static void random_triangles(int n, int face, int count)
+{
+    fixture *f = make(n, face);
+    const double delta = 2.3 / face; /* cell half-diagonal on the cube face, as an angle bound */
+    uint64_t s = 77 + (uint64_t)n * 1000 + (uint64_t)face;
+    int total_bad = 0;
+    for (int t = 0; t < count; ++t) {
+        int32_t v[3][3];
+        const double scale = t % 3 == 0 ? 4e6 : t % 3 == 1 ? 3e5 : 2e4;
+        for (int i = 0; i < 3; ++i)
+            for (int k = 0; k < 3; ++k)
+                v[i][k] = (int32_t)((urand(&s) * 2 - 1) * scale);
+        total_bad += check_triangle(&f->h, v, delta, NULL);
+    }
+    assert_int_equal(total_bad, 0);
+    drop(f);
+}
+
+static void test_random_triangles_32(void **state)
+{
+    (void)state;
+    random_triangles(32, 60, 400);
+    random_triangles(32, 24, 200);
+}
+
+static void test_random_triangles_16_64(void **state)
+{
+    (void)state;
+    random_triangles(16, 16, 200);
+    random_triangles(64, 64, 100);
+}
+
+static void test_winding_and_fusion(void **state)
+{
+    (void)state;
+    fixture *f = make(32, 60);
+    int32_t v[4][3] = {{200000, -300000, 400000}, {-100000, 250000, 300000}, {-300000, -200000, 500000},
+                       {400000, 400000, 100000}};
+    const uint32_t t1[1][3] = {{0, 1, 2}}, t2[1][3] = {{0, 2, 1}}, t3[1][3] = {{1, 0, 3}}, both[2][3] = {{0, 1, 2}, {1, 0, 3}};
+    uint32_t a[32], b[32], c[32], d[32];
+    qibl_hemi_clear(&f->h, a), qibl_hemi_clear(&f->h, b), qibl_hemi_clear(&f->h, c), qibl_hemi_clear(&f->h, d);
+    qibl_hemi_raster(&f->h, v, 4, t1, 1, a, NULL);
+    qibl_hemi_raster(&f->h, v, 4, t2, 1, b, NULL);
+    assert_memory_equal(a, b, sizeof a); /* winding does not matter */
+    qibl_hemi_raster(&f->h, v, 4, t3, 1, c, NULL);
+    qibl_hemi_raster(&f->h, v, 4, both, 2, d, NULL);
+    for (int i = 0; i < 32; ++i)
+        assert_int_equal(d[i], a[i] | c[i]); /* occluder fusion: OR of the triangles */
+    int cov = 0;
+    for (int i = 0; i < 32; ++i)
+        cov += a[i] != 0;
+    assert_true(cov > 3);
+    drop(f);
+}
+
+/* ---- hard cases --------------------------------------------------------------------------------- */
+
+static int bits(const qibl_hemi_t *h, const uint32_t *m)
+{
+    int c = 0;
+    for (uint32_t i = 0; i < h->words; ++i)
+        for (uint32_t w = m[i] & h->disk[i]; w; w &= w - 1)
+            ++c;
+    return c;
+}
+
+static int disk_bits(const qibl_hemi_t *h)
+{
+    int c = 0;
+    for (uint32_t i = 0; i < h->words; ++i)
+        for (uint32_t w = h->disk[i]; w; w &= w - 1)
+            ++c;
+    return c;
+}
+
+static void raster1(const qibl_hemi_t *h, const int32_t v[3][3], uint32_t *m, qibl_hemi_stats_t *st)
+{
+    const uint32_t tri[1][3] = {{0, 1, 2}};
+    qibl_hemi_clear(h, m);
+    memset(st, 0, sizeof *st);
+    assert_int_equal(qibl_hemi_raster(h, v, 3, tri, 1, m, st), QIBL_OK);
+}
+
+static void test_degenerate(void **state)
+{
+    (void)state;
+    fixture *f = make(32, 60);
+    uint32_t m[32];
+    qibl_hemi_stats_t st;
+    /* collinear, repeated vertex, one point: plane through the receiver or no plane: skipped */
+    const int32_t col[3][3] = {{1000, 0, 5000}, {2000, 100, 5000}, {3000, 200, 5000}};
+    const int32_t rep[3][3] = {{1000, 0, 5000}, {1000, 0, 5000}, {0, 3000, 5000}};
+    const int32_t pt[3][3] = {{1000, 0, 5000}, {1000, 0, 5000}, {1000, 0, 5000}};
+    raster1(&f->h, col, m, &st);
+    assert_int_equal(st.through, 1u); /* collinear points span a plane through the receiver */
+    assert_int_equal(bits(&f->h, m), 0);
+    raster1(&f->h, rep, m, &st);
+    assert_int_equal(st.through, 1u);
+    assert_int_equal(bits(&f->h, m), 0);
+    raster1(&f->h, pt, m, &st);
+    assert_int_equal(st.through, 1u);
+    /* collinear with the receiver (a line through the origin): plane through it */
+    const int32_t line[3][3] = {{1000, 1000, 1000}, {2000, 2000, 2000}, {0, 5000, 3000}};
+    raster1(&f->h, line, m, &st);
+    assert_int_equal(st.through, 1u);
+    /* edge-on: the triangle's plane contains the receiver */
+    const int32_t edge_on[3][3] = {{100000, 0, 0}, {0, 100000, 100000}, {-50000, 50000, 50000}};
+    raster1(&f->h, edge_on, m, &st);
+    assert_int_equal(st.through, 1u);
+    assert_int_equal(bits(&f->h, m), 0);
+    /* sharing the receiver vertex (a vertex at the origin) */
+    const int32_t shared[3][3] = {{0, 0, 0}, {100000, 0, 50000}, {0, 100000, 50000}};
+    raster1(&f->h, shared, m, &st);
+    assert_int_equal(st.through, 1u);
+    assert_int_equal(bits(&f->h, m), 0);
+    drop(f);
+}
+
+static void test_sliver(void **state)
+{
+    (void)state;
+    fixture *f = make(32, 60);
+    const double delta = 2.3 / 60;
+    /* 1 LSB wide, long: covers at most the pixels its quantised planes allow, all near it */
+    const int32_t sl[3][3] = {{-3000000, 0, 1000000}, {3000000, 0, 1000000}, {3000000, 1, 1000000}};
+    int cov;
+    assert_int_equal(check_triangle(&f->h, sl, delta, &cov), 0);
+    assert_true(cov <= 32);
+    /* thin but not degenerate: the cone test holds */
+    const int32_t th[3][3] = {{-3000000, 0, 1000000}, {3000000, 0, 1000000}, {0, 20000, 1000000}};
+    assert_int_equal(check_triangle(&f->h, th, delta, NULL), 0);
+    drop(f);
+}
+
+static void test_horizon(void **state)
+{
+    (void)state;
+    fixture *f = make(32, 60);
+    uint32_t m[32];
+    qibl_hemi_stats_t st;
+    const double delta = 2.3 / 60;
+    /* every vertex exactly on the horizon: culled */
+    const int32_t flat[3][3] = {{100000, 0, 0}, {0, 100000, 0}, {-100000, -100000, 0}};
+    raster1(&f->h, flat, m, &st);
+    assert_int_equal(st.below, 1u);
+    /* below: culled */
+    const int32_t below[3][3] = {{100000, 0, -1}, {0, 100000, -5}, {-100000, -100000, -1}};
+    raster1(&f->h, below, m, &st);
+    assert_int_equal(st.below, 1u);
+    assert_int_equal(bits(&f->h, m), 0);
+    /* two on the horizon, one above: rasterized, as the cone test says */
+    const int32_t two[3][3] = {{400000, -100000, 0}, {400000, 100000, 0}, {400000, 0, 300000}};
+    raster1(&f->h, two, m, &st);
+    assert_int_equal(st.rasterized, 1u);
+    assert_int_equal(check_triangle(&f->h, two, delta, NULL), 0);
+    /* crossing the horizon: no clipping needed */
+    const int32_t cross_h[3][3] = {{300000, -200000, -300000}, {300000, 200000, -300000}, {300000, 0, 300000}};
+    int cov;
+    assert_int_equal(check_triangle(&f->h, cross_h, delta, &cov), 0);
+    assert_true(cov > 10);
+    drop(f);
+}
+
+static void test_huge_tiny_1lsb(void **state)
+{
+    (void)state;
+    fixture *f = make(32, 60);
+    uint32_t m[32];
+    qibl_hemi_stats_t st;
+    const double delta = 2.3 / 60;
+    const int32_t B = QIBL_HEMI_LOCAL_MAX;
+    /* huge, 1 LSB above the receiver: covers all but the horizon ring */
+    const int32_t roof[3][3] = {{-B, -B, 1}, {B, -B, 1}, {0, B, 1}};
+    raster1(&f->h, roof, m, &st);
+    assert_int_equal(st.rasterized, 1u);
+    assert_int_equal(check_triangle(&f->h, roof, delta, NULL), 0);
+    const int all = disk_bits(&f->h), got = bits(&f->h, m);
+    assert_true(got >= all - 4 * 32 && got < all);
+    /* the same at height 0 passes through the receiver; at -1 it is below */
+    const int32_t roof0[3][3] = {{-B, -B, 0}, {B, -B, 0}, {0, B, 0}};
+    raster1(&f->h, roof0, m, &st);
+    assert_int_equal(st.below, 1u);
+    const int32_t tilt0[3][3] = {{-B, -B, -B / 4}, {B, -B, -B / 4}, {0, B, B / 4}};
+    raster1(&f->h, tilt0, m, &st);
+    assert_int_equal(st.through, 1u); /* plane z B = (B / 4) y contains the receiver */
+    /* tiny: a 1 LSB triangle far away covers at most a few pixels, all near its direction */
+    const int32_t tiny[3][3] = {{300000, 200000, 500000}, {300001, 200000, 500000}, {300000, 200001, 500000}};
+    int cov;
+    assert_int_equal(check_triangle(&f->h, tiny, delta, &cov), 0);
+    assert_true(cov <= 4);
+    /* huge extents in every direction (cross products near their 2^53 bound) */
+    const int32_t big[3][3] = {{B, B, B}, {-B, B, B / 2}, {B, -B, B / 3}};
+    assert_int_equal(check_triangle(&f->h, big, delta, NULL), 0);
+    drop(f);
+}
+
+/* ---- transfer ----------------------------------------------------------------------------------- */
+
+/* double reference: integral over the disk of Y_i V, V = 1 where not blocked by the triangles
+ * (exact cone test per sample), on a g x g grid of the disk */
+static void ref_transfer(const int32_t (*v)[3], const uint32_t (*tri)[3], int ntri, int g, double out[25])
+{
+    memset(out, 0, 25 * sizeof(double));
+    double e[64][3][3];
+    int ok[64];
+    for (int t = 0; t < ntri; ++t) {
+        const int32_t *a = v[tri[t][0]], *b = v[tri[t][1]], *c = v[tri[t][2]];
+        dcross(a, b, e[t][0]), dcross(b, c, e[t][1]), dcross(c, a, e[t][2]);
+        const double det = e[t][0][0] * c[0] + e[t][0][1] * c[1] + e[t][0][2] * c[2];
+        ok[t] = det != 0;
+        for (int i = 0; i < 3; ++i)
+            for (int k = 0; k < 3; ++k)
+                e[t][i][k] *= det < 0 ? -1 : 1;
+    }
+    const double dA = (2.0 / g) * (2.0 / g);
+    for (int r = 0; r < g; ++r)
+        for (int c = 0; c < g; ++c) {
+            const double x = (2.0 * c + 1 - g) / g, y = (2.0 * r + 1 - g) / g, q = 1 - x * x - y * y;
+            if (q <= 0)
+                continue;
+            const double s[3] = {x, y, sqrt(q)};
+            int blocked = 0;
+            for (int t = 0; t < ntri && !blocked; ++t) {
+                int in = ok[t];
+                for (int i = 0; i < 3; ++i)
+                    in &= e[t][i][0] * s[0] + e[t][i][1] * s[1] + e[t][i][2] * s[2] > 0;
+                blocked = in;
+            }
+            if (blocked)
+                continue;
+            double yv[25];
+            qibl_ref_sh_eval(s[0], s[1], s[2], 5, yv);
+            for (int i = 0; i < 25; ++i)
+                out[i] += yv[i] * dA;
+        }
+}
+
+static double rel_l2(const qibl_q30_t *got, const double *ref)
+{
+    double num = 0, den = 0;
+    for (int i = 0; i < 25; ++i) {
+        const double d = got[i] / 1073741824.0 - ref[i];
+        num += d * d, den += ref[i] * ref[i];
+    }
+    return sqrt(num / den);
+}
+
+static void test_transfer_unblocked(void **state)
+{
+    (void)state;
+    /* the clamped cosine: zonal, V*_(l,0) = 2 pi int_0^1 Y_l0(z) z dz; others 0 */
+    const int sizes[3] = {16, 32, 64};
+    for (int k = 0; k < 3; ++k) {
+        fixture *f = make(sizes[k], 8);
+        uint32_t m[QIBL_HEMI_MAX_WORDS];
+        qibl_hemi_clear(&f->h, m);
+        qibl_q30_t out[25];
+        assert_int_equal(qibl_hemi_transfer(&f->h, m, out), QIBL_OK);
+        double ref[25] = {0};
+        const int steps = 200000;
+        for (int j = 0; j < steps; ++j) {
+            const double z = (j + 0.5) / steps, sxy = sqrt(1 - z * z);
+            double yv[25];
+            qibl_ref_sh_eval(sxy, 0, z, 5, yv);
+            for (int l = 0; l <= 4; ++l)
+                ref[l * l + l] += 2 * PI * yv[l * l + l] * z / steps;
+        }
+        assert_true(fabs(ref[0] - sqrt(PI) / 2) < 1e-9);
+        for (int i = 0; i < 25; ++i)
+            assert_true(fabs(out[i] / 1073741824.0 - ref[i]) < 1e-3); /* the sub-sampled disk edge */
+        drop(f);
+    }
+}
+
+static void test_transfer_blocked(void **state)
+{
+    (void)state;
+    fixture *f = make(32, 60);
+    /* a wall, a box-like pair and a random set, against the fine double integral */
+    const int32_t v[8][3] = {{200000, -4000000, -100000}, {200000, 4000000, -100000}, {200000, 0, 4000000},
+                             {-300000, 100000, 200000},  {-100000, 500000, 300000},  {-500000, 400000, 100000},
+                             {0, -300000, 150000},       {-200000, -200000, 400000}};
+    const uint32_t tri[4][3] = {{0, 1, 2}, {3, 4, 5}, {3, 6, 7}, {6, 7, 0}};
+    for (int nt = 1; nt <= 4; ++nt) {
+        uint32_t m[32];
+        qibl_hemi_clear(&f->h, m);
+        qibl_hemi_raster(&f->h, v, 8, tri, (uint32_t)nt, m, NULL);
+        qibl_q30_t out[25];
+        qibl_hemi_transfer(&f->h, m, out);
+        double ref[25];
+        ref_transfer(v, tri, nt, 1024, ref);
+        const double e = rel_l2(out, ref);
+        assert_true(e < 0.05); /* one to four triangles: 0.7 % .. 3.2 % at 32 x 32, F = 60 */
+    }
+    drop(f);
+}
+
+static void test_transfer_paths_agree(void **state)
+{
+    (void)state;
+    /* transfer(M) + transfer(disk & ~M) == transfer(empty) bit for bit: one of the two masks is
+     * more than half blocked, so both summation paths run, and wrapping sums are exact */
+    const int sizes[3] = {16, 32, 64};
+    uint64_t s = 5;
+    for (int k = 0; k < 3; ++k) {
+        fixture *f = make(sizes[k], 4);
+        for (int rep = 0; rep < 20; ++rep) {
+            uint32_t m[QIBL_HEMI_MAX_WORDS], c[QIBL_HEMI_MAX_WORDS], z[QIBL_HEMI_MAX_WORDS];
+            const uint64_t density = rng(&s) % 4;
+            for (uint32_t i = 0; i < f->h.words; ++i) {
+                uint32_t w = (uint32_t)rng(&s);
+                for (uint64_t d = 0; d < density; ++d)
+                    w &= (uint32_t)rng(&s);
+                m[i] = rep & 1 ? w : ~w;
+                c[i] = ~m[i] & f->h.disk[i];
+                z[i] = 0;
+            }
+            qibl_q30_t a[25], b[25], e[25];
+            qibl_hemi_transfer(&f->h, m, a);
+            qibl_hemi_transfer(&f->h, c, b);
+            qibl_hemi_transfer(&f->h, z, e);
+            for (int i = 0; i < 25; ++i)
+                assert_int_equal((uint32_t)a[i] + (uint32_t)b[i], (uint32_t)e[i]);
+        }
+        drop(f);
+    }
+}
+
+/* ---- frames and rotation ------------------------------------------------------------------------ */
+
+static void test_frame(void **state)
+{
+    (void)state;
+    qibl_hemi_frame_t fr;
+    const qibl_q16_t p[3] = {0, 0, 0};
+    const int32_t zero[3] = {0, 0, 0}, up[3] = {0, 0, 5}, down[3] = {0, 0, -1};
+    assert_int_equal(qibl_hemi_frame_init(&fr, p, zero), QIBL_E_ZERO_VECTOR);
+    const qibl_q16_t far[3] = {QIBL_HEMI_COORD_MAX + 1, 0, 0};
+    assert_int_equal(qibl_hemi_frame_init(&fr, far, up), QIBL_E_HEMI_RANGE);
+    assert_int_equal(qibl_hemi_frame_init(NULL, p, up), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_hemi_frame_init(&fr, p, up), QIBL_OK);
+    assert_int_equal(fr.axis[0][0], QIBL_Q30_ONE);
+    assert_int_equal(fr.axis[2][2], QIBL_Q30_ONE);
+    assert_int_equal(qibl_hemi_frame_init(&fr, p, down), QIBL_OK);
+    assert_int_equal(fr.axis[2][2], -QIBL_Q30_ONE);
+    uint64_t s = 9;
+    for (int t = 0; t < 2000; ++t) {
+        int32_t n[3];
+        for (int k = 0; k < 3; ++k)
+            n[k] = (int32_t)(rng(&s) % 2000001) - 1000000;
+        if (t % 10 == 0)
+            n[0] = n[1] = (int32_t)(t % 3) - 1; /* near the poles */
+        if (!n[0] && !n[1] && !n[2])
+            continue;
+        assert_int_equal(qibl_hemi_frame_init(&fr, p, n), QIBL_OK);
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) {
+                double d = 0;
+                for (int k = 0; k < 3; ++k)
+                    d += fr.axis[i][k] / 1073741824.0 * (fr.axis[j][k] / 1073741824.0);
+                assert_true(fabs(d - (i == j)) < 1e-8);
+            }
+        double nl = sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]);
+        for (int k = 0; k < 3; ++k)
+            assert_true(fabs(fr.axis[2][k] / 1073741824.0 - n[k] / nl) < 1e-8);
+        /* right-handed: t x b = n */
+        const double t0 = fr.axis[0][0] / 1073741824.0, t1 = fr.axis[0][1] / 1073741824.0,
+                     t2 = fr.axis[0][2] / 1073741824.0, b0 = fr.axis[1][0] / 1073741824.0,
+                     b1 = fr.axis[1][1] / 1073741824.0, b2 = fr.axis[1][2] / 1073741824.0;
+        assert_true(fabs(t1 * b2 - t2 * b1 - n[0] / nl) < 1e-8);
+        assert_true(fabs(t0 * b1 - t1 * b0 - n[2] / nl) < 1e-8);
+    }
+}
+
+static void test_transform(void **state)
+{
+    (void)state;
+    qibl_hemi_frame_t fr;
+    const qibl_q16_t p[3] = {65536, -131072, 30000};
+    const int32_t n[3] = {3, -4, 12};
+    assert_int_equal(qibl_hemi_frame_init(&fr, p, n), QIBL_OK);
+    qibl_q16_t pos[4][3] = {{65536, -131072, 30000}, {QIBL_HEMI_COORD_MAX, -QIBL_HEMI_COORD_MAX, QIBL_HEMI_COORD_MAX},
+                            {-QIBL_HEMI_COORD_MAX, QIBL_HEMI_COORD_MAX, -QIBL_HEMI_COORD_MAX}, {65536 + 3, -131072 - 4, 30000 + 12}};
+    int32_t out[4][3];
+    assert_int_equal(qibl_hemi_transform(&fr, pos, 4, out), QIBL_OK);
+    for (int k = 0; k < 4; ++k)
+        for (int j = 0; j < 3; ++j) {
+            double d = 0;
+            for (int i = 0; i < 3; ++i)
+                d += fr.axis[j][i] / 1073741824.0 * ((double)pos[k][i] - p[i]);
+            assert_true(fabs(out[k][j] - d * 4) <= 0.5 + 1e-6 * fabs(d));
+        }
+    assert_int_equal(out[0][0], 0), assert_int_equal(out[0][2], 0);
+    assert_int_equal(out[3][2], 13 * 4); /* along the normal: |(3,-4,12)| = 13 */
+    int32_t keep[4][3];
+    memcpy(keep, out, sizeof out);
+    pos[2][1] = QIBL_HEMI_COORD_MAX + 1;
+    assert_int_equal(qibl_hemi_transform(&fr, pos, 4, out), QIBL_E_HEMI_RANGE);
+    assert_memory_equal(keep, out, sizeof out);
+}
+
+static void rot_from_frame(const qibl_hemi_frame_t *fr, qibl_q30_t r[3][3])
+{
+    /* R maps local to world: its columns are t, b, n (the frame's rows) */
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            r[i][j] = fr->axis[j][i];
+}
+
+static void test_rotation(void **state)
+{
+    (void)state;
+    fixture *f = make(16, 4);
+    uint64_t s = 31;
+    double worst = 0;
+    for (int t = 0; t < 300; ++t) {
+        int32_t n[3];
+        for (int k = 0; k < 3; ++k)
+            n[k] = (int32_t)(rng(&s) % 2001) - 1000;
+        if (t < 4)
+            n[0] = n[1] = 0, n[2] = t % 2 ? 1 : -1;
+        if (!n[0] && !n[1] && !n[2])
+            continue;
+        qibl_hemi_frame_t fr;
+        const qibl_q16_t p[3] = {0, 0, 0};
+        assert_int_equal(qibl_hemi_frame_init(&fr, p, n), QIBL_OK);
+        qibl_q30_t r[3][3];
+        rot_from_frame(&fr, r);
+        qibl_sh_rotation_t rot;
+        assert_int_equal(qibl_sh_rotation_init(&rot, r, 5), QIBL_OK);
+        qibl_q30_t in[25], a[25], b[25], back[25];
+        for (int i = 0; i < 25; ++i)
+            in[i] = (int32_t)(rng(&s) % (1u << 29)) - (1 << 28);
+        assert_int_equal(qibl_hemi_to_world(&f->h, &fr, in, a), QIBL_OK);
+        qibl_sh_rotate(&rot, in, b);
+        for (int i = 0; i < 25; ++i) {
+            const double e = fabs((double)a[i] - b[i]) / (1 << 28);
+            worst = e > worst ? e : worst;
+        }
+        assert_int_equal(qibl_hemi_to_frame(&f->h, &fr, a, back), QIBL_OK);
+        for (int i = 0; i < 25; ++i)
+            assert_true(fabs((double)back[i] - in[i]) / (1 << 28) < 1e-6);
+    }
+    assert_true(worst < 1e-6);
+    /* shading is the same whichever side is rotated */
+    fixture *g = f;
+    qibl_hemi_frame_t fr;
+    const qibl_q16_t p[3] = {0, 0, 0};
+    const int32_t n[3] = {1, 2, -3};
+    qibl_hemi_frame_init(&fr, p, n);
+    int32_t light[3][25], lloc[3][25];
+    qibl_q30_t v[25], vw[25];
+    for (int i = 0; i < 25; ++i) {
+        v[i] = (int32_t)(rng(&s) % (1u << 30)) - (1 << 29);
+        for (int ch = 0; ch < 3; ++ch)
+            light[ch][i] = (int32_t)(rng(&s) % (1u << 20));
+    }
+    qibl_hemi_to_world(&g->h, &fr, v, vw);
+    for (int ch = 0; ch < 3; ++ch)
+        qibl_hemi_to_frame(&g->h, &fr, light[ch], lloc[ch]);
+    qibl_q16_t c1[3], c2[3];
+    assert_int_equal(qibl_hemi_shade(light, vw, c1), QIBL_OK);
+    assert_int_equal(qibl_hemi_shade(lloc, v, c2), QIBL_OK);
+    for (int ch = 0; ch < 3; ++ch) {
+        double d = 0;
+        for (int i = 0; i < 25; ++i)
+            d += light[ch][i] * (vw[i] / 1073741824.0);
+        assert_true(fabs(c1[ch] - d) <= 1.0);
+        assert_true(abs(c1[ch] - c2[ch]) <= 4);
+    }
+    assert_int_equal(qibl_hemi_shade(NULL, v, c1), QIBL_E_NULL_POINTER);
+    drop(f);
+}
+
+static void test_goldens(void **state)
+{
+    (void)state;
+    assert_int_equal(qibl_goldens_check("hemi"), 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_sizes_and_errors),
+        cmocka_unit_test(test_raster_errors),
+        cmocka_unit_test(test_random_triangles_32),
+        cmocka_unit_test(test_random_triangles_16_64),
+        cmocka_unit_test(test_winding_and_fusion),
+        cmocka_unit_test(test_degenerate),
+        cmocka_unit_test(test_sliver),
+        cmocka_unit_test(test_horizon),
+        cmocka_unit_test(test_huge_tiny_1lsb),
+        cmocka_unit_test(test_transfer_unblocked),
+        cmocka_unit_test(test_transfer_blocked),
+        cmocka_unit_test(test_transfer_paths_agree),
+        cmocka_unit_test(test_frame),
+        cmocka_unit_test(test_transform),
+        cmocka_unit_test(test_rotation),
+        cmocka_unit_test(test_goldens),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

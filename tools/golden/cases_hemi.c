@@ -1,0 +1,159 @@
+/*
+ * golden/cases_hemi.c - hemi_*: the plane LUT and basis table of small configurations (16 x 16,
+ * 32 x 32 and 64 x 64 masks), masks of integer-made triangles (random, crossing the horizon,
+ * degenerate, 1 LSB above the receiver), their transfer vectors, and frames with the transfer
+ * rotated out of them. Each entry records the status; outputs start as a guard pattern.
+ */
+#include "golden/casesi.h"
+
+#include <stdlib.h>
+
+#include "qibl/hemi.h"
+
+#if QIBL_USE_HEMI /* the group exists only when config.h builds the module */
+
+#define GUARD 0x5A5A5A5Au
+
+/* the whole workspace after init: tables are the module's contract with every port */
+static int tables_case(const qibl_goldens_sink_t *s, const char *name, int n, int face, qibl_hemi_t *h, void **ws)
+{
+    size_t sz = qibl_hemi_workspace_size(n, face);
+    *ws = malloc(sz);
+    if (*ws == NULL)
+        return gcase_oom(s, name);
+    qibl_status_t st = qibl_hemi_init(h, n, face, *ws, sz);
+    if (st != QIBL_OK)
+        return gcase_status_error(s, name, "qibl_hemi_init", st);
+    gbuf b = {0};
+    const uint32_t lut_words = 2u * (uint32_t)face * (uint32_t)face * h->words;
+    for (uint32_t i = 0; i < h->words; ++i)
+        gbuf_u32(&b, h->disk[i]);
+    for (uint32_t i = 0; i < 25u; ++i)
+        gbuf_u32(&b, h->full[i]);
+    for (uint32_t i = 0; i < (uint32_t)n * (uint32_t)n * 25u; ++i)
+        gbuf_u32(&b, h->basis[i]);
+    for (uint32_t i = 0; i < lut_words; ++i)
+        gbuf_u32(&b, h->lut[i]);
+    return gbuf_emit(s, name, &b);
+}
+
+static int masks_case(const qibl_goldens_sink_t *s, const char *name, const qibl_hemi_t *h, uint64_t seed)
+{
+    enum { NV = 48, NT = 40 };
+    int32_t v[NV][3];
+    uint32_t tri[NT][3];
+    grng r = {seed};
+    for (int i = 0; i < NV; ++i)
+        for (int k = 0; k < 3; ++k) {
+            /* mixed scales: near (2^12), mid (2^18), far (2^25) blockers; some below the horizon */
+            const int sc = i % 3 == 0 ? 12 : i % 3 == 1 ? 18 : 25;
+            v[i][k] = (int32_t)(grng_u32(&r) >> (31 - sc)) - (int32_t)(1u << (sc - 1));
+        }
+    for (int t = 0; t < NT; ++t)
+        for (int k = 0; k < 3; ++k)
+            tri[t][k] = grng_u32(&r) % NV;
+    /* hard cases: a vertex at the receiver, a repeated vertex, 1 LSB above, on the horizon */
+    v[0][0] = v[0][1] = v[0][2] = 0;
+    tri[0][0] = 0;
+    tri[1][1] = tri[1][0];
+    v[1][2] = 1, v[2][2] = 1, v[3][2] = 1;
+    v[1][0] = -(1 << 25), v[2][0] = 1 << 25, v[3][1] = 1 << 25, v[1][1] = v[2][1] = -(1 << 25);
+    tri[2][0] = 1, tri[2][1] = 2, tri[2][2] = 3;
+    v[4][2] = 0, v[5][2] = 0;
+    tri[3][0] = 4, tri[3][1] = 5;
+    gbuf b = {0};
+    uint32_t m[QIBL_HEMI_MAX_WORDS];
+    for (int k = 0; k < NT; k += 4) {
+        qibl_hemi_stats_t st = {0, 0, 0};
+        qibl_hemi_clear(h, m);
+        qibl_status_t rc = qibl_hemi_raster(h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])tri + k, 4, m, &st);
+        gbuf_u8(&b, (uint32_t)rc);
+        gbuf_u32(&b, st.rasterized), gbuf_u32(&b, st.below), gbuf_u32(&b, st.through);
+        qibl_hemi_clip(h, m);
+        for (uint32_t i = 0; i < h->words; ++i)
+            gbuf_u32(&b, m[i]);
+        qibl_q30_t out[25];
+        for (int i = 0; i < 25; ++i)
+            out[i] = (qibl_q30_t)GUARD;
+        rc = qibl_hemi_transfer(h, m, out);
+        gbuf_u8(&b, (uint32_t)rc);
+        for (int i = 0; i < 25; ++i)
+            gbuf_s32(&b, out[i]);
+    }
+    /* a bad index: status only, mask untouched */
+    tri[5][2] = NV;
+    for (uint32_t i = 0; i < h->words; ++i)
+        m[i] = GUARD;
+    gbuf_u8(&b, (uint32_t)qibl_hemi_raster(h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])tri, NT, m, NULL));
+    for (uint32_t i = 0; i < h->words; ++i)
+        gbuf_u32(&b, m[i]);
+    return gbuf_emit(s, name, &b);
+}
+
+static int frames_case(const qibl_goldens_sink_t *s, const char *name, const qibl_hemi_t *h)
+{
+    grng r = {4242};
+    gbuf b = {0};
+    for (int t = 0; t < 64; ++t) {
+        int32_t n[3];
+        qibl_q16_t p[3], pos[4][3];
+        for (int k = 0; k < 3; ++k) {
+            n[k] = (int32_t)(grng_u32(&r) >> 8) - (1 << 23);
+            p[k] = (int32_t)(grng_u32(&r) >> 11) - (1 << 20);
+            for (int j = 0; j < 4; ++j)
+                pos[j][k] = (int32_t)(grng_u32(&r) >> 10) - (1 << 21);
+        }
+        if (t < 3)
+            n[0] = n[1] = 0, n[2] = t - 1; /* poles and the zero vector */
+        qibl_hemi_frame_t fr;
+        qibl_status_t st = qibl_hemi_frame_init(&fr, p, n);
+        gbuf_u8(&b, (uint32_t)st);
+        if (st != QIBL_OK)
+            continue;
+        for (int i = 0; i < 3; ++i)
+            for (int k = 0; k < 3; ++k)
+                gbuf_s32(&b, fr.axis[i][k]);
+        int32_t loc[4][3];
+        gbuf_u8(&b, (uint32_t)qibl_hemi_transform(&fr, (const qibl_q16_t(*)[3])pos, 4, loc));
+        for (int j = 0; j < 4; ++j)
+            for (int k = 0; k < 3; ++k)
+                gbuf_s32(&b, loc[j][k]);
+        qibl_q30_t in[25], out[25];
+        int32_t light[25];
+        for (int i = 0; i < 25; ++i)
+            in[i] = (int32_t)(grng_u32(&r) >> 2) - (1 << 29);
+        qibl_hemi_to_world(h, &fr, in, out);
+        for (int i = 0; i < 25; ++i)
+            gbuf_s32(&b, out[i]);
+        qibl_hemi_to_frame(h, &fr, in, light);
+        for (int i = 0; i < 25; ++i)
+            gbuf_s32(&b, light[i]);
+    }
+    return gbuf_emit(s, name, &b);
+}
+
+int qibl_goldens_hemi(const qibl_goldens_sink_t *s)
+{
+    static const struct {
+        int n, face;
+        const char *tables, *masks;
+    } cfg[] = {{16, 16, "hemi_tables_16_f16", "hemi_masks_16_f16"},
+               {32, 24, "hemi_tables_32_f24", "hemi_masks_32_f24"},
+               {64, 8, "hemi_tables_64_f8", "hemi_masks_64_f8"}};
+    int fails = 0;
+    for (size_t c = 0; c < sizeof cfg / sizeof cfg[0]; ++c) {
+        qibl_hemi_t h;
+        void *ws = NULL;
+        int f = tables_case(s, cfg[c].tables, cfg[c].n, cfg[c].face, &h, &ws);
+        fails += f;
+        if (ws != NULL && h.n == cfg[c].n) {
+            fails += masks_case(s, cfg[c].masks, &h, 1000u + c);
+            if (c == 1)
+                fails += frames_case(s, "hemi_frames", &h);
+        }
+        free(ws);
+    }
+    return fails;
+}
+
+#endif
