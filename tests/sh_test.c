@@ -11,6 +11,7 @@
 #include <stdint.h>
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 #include <cmocka.h>
 
 #include "qibl/sh.h"
