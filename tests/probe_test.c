@@ -348,6 +348,33 @@ static void test_all_zero(void **state)
     free(px);
 }
 
+/* An unlit pixel (mantissas 0) whose exponent is above the row's largest lit one adds nothing and
+ * must not shift by more than the word (found by fuzz_probe: undefined behaviour in row_convert for
+ * RGBE and in quant for sRGBE, caught by make test-asan; inputs in tests/fuzz/crashes-found/probe) */
+static void test_unlit_high_exponent(void **state)
+{
+    (void)state;
+    const int w = 4, h = 2;
+    for (int f = 0; f < 2; ++f) {
+        const qibl_lightprobe_format_t fmt = f ? QIBL_LIGHTPROBE_SRGBE : QIBL_LIGHTPROBE_RGBE;
+        const uint8_t zero = f ? 128 : 0; /* a zero channel of the format */
+        uint8_t a[4 * 4 * 2], b[4 * 4 * 2];
+        for (int i = 0; i < w * h; ++i)
+            a[4 * i] = a[4 * i + 1] = a[4 * i + 2] = zero, a[4 * i + 3] = 0;
+        for (int i = 0; i < w * h; i += 2)
+            a[4 * i] = 200, a[4 * i + 1] = 140, a[4 * i + 3] = f ? 10 : 175; /* lit, below 255 - 80 */
+        memcpy(b, a, sizeof a);
+        a[4 * 1 + 3] = 255, a[4 * 7 + 3] = 250; /* unlit pixels of huge exponent */
+        qibl_lightprobe_image_t ia = image(a, w, h, fmt, 0), ib = image(b, w, h, fmt, 0);
+        qibl_probe_coeffs_t ca, cb;
+        memset(&ca, 0x5A, sizeof ca);
+        memset(&cb, 0x3C, sizeof cb);
+        assert_int_equal(project(&ia, 5, NULL, &ca), QIBL_OK);
+        assert_int_equal(project(&ib, 5, NULL, &cb), QIBL_OK);
+        assert_memory_equal(&ca, &cb, sizeof ca);
+    }
+}
+
 /* NaN, Inf, negative binary32 (including -0, which is fine, and the smallest negative subnormal),
  * negative int32, negative sRGBE: named statuses, and a failing row changes nothing */
 static void test_bad_pixels(void **state)
@@ -928,6 +955,7 @@ int main(void)
         cmocka_unit_test(test_poles),
         cmocka_unit_test(test_rgbe_small_mantissas),
         cmocka_unit_test(test_all_zero),
+        cmocka_unit_test(test_unlit_high_exponent),
         cmocka_unit_test(test_bad_pixels),
         cmocka_unit_test(test_largest_size_and_values),
         cmocka_unit_test(test_errors),

@@ -11,6 +11,7 @@
 #include <stdint.h>
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 #include <cmocka.h>
 
 #include "qibl/sh.h"
@@ -407,6 +408,24 @@ static void test_rotation_table_left_inverse(void **state)
     assert_true(worst <= ROT_BOUND);
 }
 
+/* full-range entries (found by fuzz_probe): the sum of three products overflowed int64 in the
+ * orthonormality check (undefined behaviour, caught by make test-asan); now refused, rot untouched */
+static void test_rotation_full_range_entries(void **state)
+{
+    (void)state;
+    const int32_t vals[3] = {INT32_MIN, INT32_MAX, -(1 << 30) - (1 << 16)};
+    for (int t = 0; t < 3; ++t) {
+        qibl_q30_t q[3][3];
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+                q[i][j] = vals[t];
+        qibl_sh_rotation_t rot;
+        memset(&rot, 0x5A, sizeof rot);
+        assert_int_equal(qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])q, 5), QIBL_E_SH_ROTATION);
+        assert_int_equal(rot.bands, 0x5A5A5A5A);
+    }
+}
+
 static void test_rotation_errors(void **state)
 {
     (void)state;
@@ -453,6 +472,7 @@ int main(void)
         cmocka_unit_test(test_rotation_composition),
         cmocka_unit_test(test_rotation_table_left_inverse),
         cmocka_unit_test(test_rotation_errors),
+        cmocka_unit_test(test_rotation_full_range_entries),
     };
     return cmocka_run_group_tests_name(QIBL_CONFIG_NATIVE_MUL64 ? "sh (native paths)" : "sh (portable M0 paths)", tests,
                                        NULL, NULL);

@@ -302,11 +302,12 @@ static unsigned row_scan(const qibl_probe_sh_t *ps, const uint8_t *row, int32_t 
     return bad;
 }
 
-/* round(m 2^k) for k <= 27 - bitlen(m) (so the result is <= 2^27) */
+/* round(m 2^k) for k <= 27 - bitlen(m) (so the result is <= 2^27). A zero channel may come with
+ * any k (an sRGBE 128 with exponent 255 in a dim row): k is capped, as 0 << 27 is 0 too. */
 static inline uint32_t quant(uint64_t m, int32_t k)
 {
     if (k >= 0)
-        return (uint32_t)shl64(m, (unsigned)k);
+        return (uint32_t)shl64(m, (unsigned)(k > 27 ? 27 : k));
     return (uint32_t)rshr_u64(m, (unsigned)(k < -65 ? 65 : -k));
 }
 
@@ -323,7 +324,9 @@ static void row_convert(const qibl_probe_sh_t *ps, const uint8_t *row, int32_t t
         uint8_t sh[256];
         for (int32_t e = 0; e < 256; ++e) {
             int32_t d1 = 19 - (e + k0);
-            sh[e] = (uint8_t)(e == 0 || d1 > 31 ? 31 : d1);
+            /* d1 < 0 only for exponents above the row's largest lit one, i.e. unlit pixels (all
+             * mantissas 0): a shift by (uint8_t)d1 would be undefined, 31 gives the same 0 */
+            sh[e] = (uint8_t)(e == 0 || d1 > 31 || d1 < 0 ? 31 : d1);
         }
         for (uint32_t u = 0; u < w; ++u) {
             const uint8_t *q = row + 4u * (size_t)u;

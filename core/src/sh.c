@@ -150,7 +150,13 @@ qibl_status_t qibl_sh_rotation_init(qibl_sh_rotation_t *rot, const qibl_q30_t r[
         return QIBL_E_NULL_POINTER;
     if (bands < 1 || bands > QIBL_SH_MAX_BANDS)
         return QIBL_E_BAD_BANDS;
-    /* orthonormal: |r_i . r_j - delta_ij| <= 2^-16 (|entries| < 2: each dot < 3 * 2^62, fits) */
+    /* |entries| <= 1 + 2^-15 first (no row of norm 1 within 2^-16 has a larger one): then each dot
+     * below is < 3.01 * 2^60; full-range entries would overflow int64 in the sum of three */
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (r[i][j] > QIBL_Q30_ONE + (1 << 15) || r[i][j] < -QIBL_Q30_ONE - (1 << 15))
+                return QIBL_E_SH_ROTATION;
+    /* orthonormal: |r_i . r_j - delta_ij| <= 2^-16 */
     for (int i = 0; i < 3; ++i)
         for (int j = i; j < 3; ++j) {
             int64_t d = qibl_mul_s32_s64(r[i][0], r[j][0]) + qibl_mul_s32_s64(r[i][1], r[j][1]) +
