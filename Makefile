@@ -27,7 +27,7 @@ TOOL_LIB_SRC := $(wildcard tools/ref/*.c) $(wildcard tools/io/*.c) $(wildcard to
 # the golden cases (plain C, shared by the suites and the golden runner) and their CMocka-side check
 GOLDEN_CASES_SRC := $(wildcard tools/golden/cases*.c)
 TOOL_LIB_SRC += $(GOLDEN_CASES_SRC) tools/golden/check.c
-QIBL_SRC := $(wildcard tools/qibl/*.c)
+QIBL_SRC := $(wildcard tools/cli/*.c)
 # tests/gles2_test.c links the GLES backend and EGL: built by its own rule below
 TEST_SRC := $(filter-out tests/gles2_test.c,$(wildcard tests/*_test.c))
 
@@ -346,7 +346,7 @@ FUZZ_SEEDS := $(FUZZ_DIR)/bin/fuzz-seeds
 $(FUZZ_DIR)/obj/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -Wall -Wextra -MMD -MP -c $< -o $@
-$(FUZZ_DIR)/obj/tools/qibl/main.o: FUZZ_CFLAGS += -Dmain=qibl_cli_main_unused
+$(FUZZ_DIR)/obj/tools/cli/main.o: FUZZ_CFLAGS += -Dmain=qibl_cli_main_unused
 
 $(FUZZ_LIB): $(FUZZ_LIB_OBJ)
 	rm -f $@ && $(AR) rcs $@ $^

@@ -273,7 +273,7 @@ static void test_dynamic_huffman_and_filters(void **state)
     int w, h, frames;
     uint8_t *rgb;
     char err[256];
-    assert_int_equal(qibl_png_decode_rgb8(dyn_png, sizeof dyn_png, &w, &h, &frames, &rgb, err, sizeof err), 0);
+    assert_int_equal(qtool_png_decode_rgb8(dyn_png, sizeof dyn_png, &w, &h, &frames, &rgb, err, sizeof err), 0);
     assert_int_equal(w, DYN_W), assert_int_equal(h, DYN_H), assert_int_equal(frames, 1);
     assert_memory_equal(rgb, dyn_pix, sizeof dyn_pix);
     free(rgb);
@@ -289,10 +289,10 @@ static void test_apng_round_trip(void **state)
             px[(size_t)f * W * H * 3 + (size_t)i] = (uint8_t)(i * (f + 1) + f * 50);
     char path[64], err[256];
     snprintf(path, sizeof path, "/tmp/qibl_apng_%d.png", (int)getpid());
-    assert_int_equal(qibl_apng_write_rgb8(path, W, H, F, px, 1, 12, err, sizeof err), 0);
+    assert_int_equal(qtool_apng_write_rgb8(path, W, H, F, px, 1, 12, err, sizeof err), 0);
     int w, h, frames;
     uint8_t *rgb;
-    assert_int_equal(qibl_png_read_rgb8(path, &w, &h, &frames, &rgb, err, sizeof err), 0);
+    assert_int_equal(qtool_png_read_rgb8(path, &w, &h, &frames, &rgb, err, sizeof err), 0);
     assert_int_equal(w, W), assert_int_equal(h, H), assert_int_equal(frames, F);
     assert_memory_equal(rgb, px, W * H * 3);
     free(rgb);
@@ -318,7 +318,7 @@ static void test_apng_round_trip(void **state)
             p[o + 3] = (uint8_t)crc, o += 4;
             static const uint8_t iend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xAE, 0x42, 0x60, 0x82};
             memcpy(p + o, iend, 12), o += 12;
-            assert_int_equal(qibl_png_decode_rgb8(p, o, &w, &h, &frames, &rgb, err, sizeof err), 0);
+            assert_int_equal(qtool_png_decode_rgb8(p, o, &w, &h, &frames, &rgb, err, sizeof err), 0);
             assert_memory_equal(rgb, px + (size_t)ok_frames * W * H * 3, W * H * 3);
             free(rgb), free(p);
             ++ok_frames, ++seen_fdat;
@@ -332,18 +332,18 @@ static void test_apng_round_trip(void **state)
     fwrite(b, 1, n, f);
     fclose(f);
     rgb = (uint8_t *)&w;
-    assert_int_equal(qibl_png_read_rgb8(path, &w, &h, &frames, &rgb, err, sizeof err), -1);
+    assert_int_equal(qtool_png_read_rgb8(path, &w, &h, &frames, &rgb, err, sizeof err), -1);
     assert_non_null(strstr(err, path));
     assert_non_null(strstr(err, "CRC"));
     assert_ptr_equal(rgb, (uint8_t *)&w);
     b[n - 20] ^= 0x40;
-    assert_int_equal(qibl_png_decode_rgb8(b, n - 12, &w, &h, &frames, &rgb, err, sizeof err), -1);
+    assert_int_equal(qtool_png_decode_rgb8(b, n - 12, &w, &h, &frames, &rgb, err, sizeof err), -1);
     assert_non_null(strstr(err, "IEND"));
     remove(path);
     free(b);
     /* one frame is not an animation; bad sizes write nothing */
-    assert_int_equal(qibl_apng_write_rgb8(path, W, H, 1, px, 1, 12, err, sizeof err), -1);
-    assert_int_equal(qibl_apng_write_rgb8(path, 0, H, 3, px, 1, 12, err, sizeof err), -1);
+    assert_int_equal(qtool_apng_write_rgb8(path, W, H, 1, px, 1, 12, err, sizeof err), -1);
+    assert_int_equal(qtool_apng_write_rgb8(path, 0, H, 3, px, 1, 12, err, sizeof err), -1);
     assert_int_equal(access(path, F_OK), -1);
 }
 
@@ -368,14 +368,14 @@ static void test_malformed(void **state)
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         memcpy(b, dyn_png, sizeof b);
         b[cases[i].at] ^= cases[i].x;
-        assert_int_equal(qibl_png_decode_rgb8(b, cases[i].len, &w, &h, &frames, &rgb, err, sizeof err), -1);
+        assert_int_equal(qtool_png_decode_rgb8(b, cases[i].len, &w, &h, &frames, &rgb, err, sizeof err), -1);
         if (!strstr(err, cases[i].needle))
             fail_msg("case %zu: '%s'", i, err);
         assert_null(strchr(err, '\n'));
         assert_int_equal(w, -3);
         assert_null(rgb);
     }
-    assert_int_equal(qibl_png_read_rgb8("/nonexistent/a.png", &w, &h, &frames, &rgb, err, sizeof err), -1);
+    assert_int_equal(qtool_png_read_rgb8("/nonexistent/a.png", &w, &h, &frames, &rgb, err, sizeof err), -1);
     assert_non_null(strstr(err, "/nonexistent/a.png"));
 }
 

@@ -58,24 +58,24 @@ static void fill_fixture_arrays(void)
     f_lut[3] = 0;
 }
 
-static void serialize_or_die(qibl_asset_builder *b, uint8_t **buf, size_t *n)
+static void serialize_or_die(qtool_asset_builder *b, uint8_t **buf, size_t *n)
 {
-    int rc = qibl_asset_serialize(b, buf, n);
+    int rc = qtool_asset_serialize(b, buf, n);
     if (rc != 0)
         fprintf(stderr, "%s\n", b->err);
     assert_int_equal(rc, 0);
-    qibl_asset_builder_free(b);
+    qtool_asset_builder_free(b);
 }
 
 static void build_full(uint8_t **buf, size_t *n)
 {
     fill_fixture_arrays();
-    qibl_asset_builder b;
-    qibl_asset_builder_init(&b);
-    assert_int_equal(qibl_asset_add_shmp(&b, FW, FH, FK, FC, f_scale, f_bias, f_planes), 0);
-    assert_int_equal(qibl_asset_add_pmap(&b, FW, FH, f_xyz), 0);
-    assert_int_equal(qibl_asset_add_ylut(&b, FN, FYK, f_lut), 0);
-    assert_int_equal(qibl_asset_builder_add(&b, QIBL_FOURCC('X', 'T', 'R', 'A'), "hello", 5), 0);
+    qtool_asset_builder b;
+    qtool_asset_builder_init(&b);
+    assert_int_equal(qtool_asset_add_shmp(&b, FW, FH, FK, FC, f_scale, f_bias, f_planes), 0);
+    assert_int_equal(qtool_asset_add_pmap(&b, FW, FH, f_xyz), 0);
+    assert_int_equal(qtool_asset_add_ylut(&b, FN, FYK, f_lut), 0);
+    assert_int_equal(qtool_asset_builder_add(&b, QIBL_FOURCC('X', 'T', 'R', 'A'), "hello", 5), 0);
     serialize_or_die(&b, buf, n);
 }
 
@@ -86,12 +86,12 @@ static void build_small(uint8_t **buf, size_t *n)
     const uint8_t planes[2] = {0x00, 0xFF};
     const int32_t xyz[6] = {INT32_MIN, -1, 0, 1, INT32_MAX, 65536};
     int16_t lut[6] = {INT16_MIN, -1, 0, 1, INT16_MAX, 16384};
-    qibl_asset_builder b;
-    qibl_asset_builder_init(&b);
-    assert_int_equal(qibl_asset_add_shmp(&b, 2, 1, 1, 1, scale, bias, planes), 0);
-    assert_int_equal(qibl_asset_add_pmap(&b, 2, 1, xyz), 0);
-    assert_int_equal(qibl_asset_add_ylut(&b, 1, 1, lut), 0);
-    assert_int_equal(qibl_asset_builder_add(&b, QIBL_FOURCC('X', 'T', 'R', 'A'), "abc", 3), 0);
+    qtool_asset_builder b;
+    qtool_asset_builder_init(&b);
+    assert_int_equal(qtool_asset_add_shmp(&b, 2, 1, 1, 1, scale, bias, planes), 0);
+    assert_int_equal(qtool_asset_add_pmap(&b, 2, 1, xyz), 0);
+    assert_int_equal(qtool_asset_add_ylut(&b, 1, 1, lut), 0);
+    assert_int_equal(qtool_asset_builder_add(&b, QIBL_FOURCC('X', 'T', 'R', 'A'), "abc", 3), 0);
     serialize_or_die(&b, buf, n);
 }
 
@@ -107,7 +107,7 @@ static void reseal_table(uint8_t *buf, size_t n)
     uint32_t count = rd(buf + 12);
     if (count == 0 || count > QIBL_ASSET_MAX_CHUNKS || 24u + 16u * count > n)
         return;
-    qibl_store_u32le(buf + 20, qibl_crc32(0, buf + 24, 16u * count));
+    qtool_store_u32le(buf + 20, qibl_crc32(0, buf + 24, 16u * count));
 }
 
 /* Recomputes every in-bounds chunk CRC and then the table CRC (after an edit of a payload). */
@@ -120,7 +120,7 @@ static void reseal_all(uint8_t *buf, size_t n)
         uint8_t *e = entry(buf, i);
         uint64_t off = rd(e + 4), size = rd(e + 8);
         if (off + size <= n)
-            qibl_store_u32le(e + 12, qibl_crc32(0, buf + off, (size_t)size));
+            qtool_store_u32le(e + 12, qibl_crc32(0, buf + off, (size_t)size));
     }
     reseal_table(buf, n);
 }
@@ -128,7 +128,7 @@ static void reseal_all(uint8_t *buf, size_t n)
 /* Sets the u32 at byte `at` of chunk i's payload and re-seals the CRCs. */
 static void patch_field(uint8_t *buf, size_t n, uint32_t chunk, uint32_t at, uint32_t v)
 {
-    qibl_store_u32le(payload_of(buf, chunk) + at, v);
+    qtool_store_u32le(payload_of(buf, chunk) + at, v);
     reseal_all(buf, n);
 }
 
@@ -192,9 +192,9 @@ static int is_named_asset_status(qibl_status_t st)
 /* Builds an asset from a builder-ready SHMP payload that the test edits (size, fields). */
 static void build_raw_shmp(const uint8_t *pl, size_t pl_size, uint8_t **buf, size_t *n)
 {
-    qibl_asset_builder b;
-    qibl_asset_builder_init(&b);
-    assert_int_equal(qibl_asset_builder_add(&b, QIBL_CHUNK_SHMP, pl, pl_size), 0);
+    qtool_asset_builder b;
+    qtool_asset_builder_init(&b);
+    assert_int_equal(qtool_asset_builder_add(&b, QIBL_CHUNK_SHMP, pl, pl_size), 0);
     serialize_or_die(&b, buf, n);
 }
 
@@ -284,8 +284,8 @@ static void test_load_le_edges(void **state)
     for (int i = 0; i < 100000; ++i) {
         int32_t v = tu_s32(&r);
         int16_t h = (int16_t)((int32_t)(tu_u32(&r) & 0xFFFFu) - 32768);
-        qibl_store_s32le(b + 1, v); /* odd addresses: loads need no alignment */
-        qibl_store_s16le(b + 5, h);
+        qtool_store_s32le(b + 1, v); /* odd addresses: loads need no alignment */
+        qtool_store_s16le(b + 5, h);
         assert_int_equal(qibl_load_s32le(b + 1), v);
         assert_int_equal(qibl_load_s16le(b + 5), h);
     }
@@ -400,7 +400,7 @@ static void test_unknown_chunk_ignored_but_crc_checked(void **state)
     size_t n;
     build_full(&buf, &n);
     /* unknown types may repeat: turn YLUT into a second unknown XTRA */
-    qibl_store_u32le(entry(buf, 2), QIBL_FOURCC('X', 'T', 'R', 'A'));
+    qtool_store_u32le(entry(buf, 2), QIBL_FOURCC('X', 'T', 'R', 'A'));
     reseal_table(buf, n);
     qibl_asset_t a;
     expect_ok(buf, n, &a);
@@ -419,9 +419,9 @@ static void test_optional_chunks_absent(void **state)
     (void)state;
     const int32_t s[1] = {1}, bi[1] = {2};
     const uint8_t pl[1] = {3};
-    qibl_asset_builder b;
-    qibl_asset_builder_init(&b);
-    assert_int_equal(qibl_asset_add_shmp(&b, 1, 1, 1, 1, s, bi, pl), 0);
+    qtool_asset_builder b;
+    qtool_asset_builder_init(&b);
+    assert_int_equal(qtool_asset_add_shmp(&b, 1, 1, 1, 1, s, bi, pl), 0);
     uint8_t *buf;
     size_t n;
     serialize_or_die(&b, &buf, &n);
@@ -481,8 +481,8 @@ static void test_hand_filled_shmaps_view(void **state)
     (void)state;
     uint8_t params[2 * 3 * 8], planes[2 * 3 * 4 * 2];
     for (uint32_t j = 0; j < 6; ++j) {
-        qibl_store_s32le(params + 8 * j, -(int32_t)j - 1);
-        qibl_store_s32le(params + 8 * j + 4, (int32_t)j * 1000);
+        qtool_store_s32le(params + 8 * j, -(int32_t)j - 1);
+        qtool_store_s32le(params + 8 * j + 4, (int32_t)j * 1000);
     }
     for (size_t i = 0; i < sizeof planes; ++i)
         planes[i] = (uint8_t)i;
@@ -533,7 +533,7 @@ static void test_reject_unknown_version(void **state)
     build_full(&buf, &n);
     const uint32_t bad[] = {0, 2, 0x01000000u, UINT32_MAX};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
-        qibl_store_u32le(buf + 8, bad[i]);
+        qtool_store_u32le(buf + 8, bad[i]);
         expect_reject(buf, n, QIBL_E_ASSET_VERSION);
     }
     free(buf);
@@ -547,7 +547,7 @@ static void test_reject_chunk_count(void **state)
     build_full(&buf, &n);
     const uint32_t bad[] = {0, QIBL_ASSET_MAX_CHUNKS + 1, UINT32_MAX, 0x80000000u};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
-        qibl_store_u32le(buf + 12, bad[i]);
+        qtool_store_u32le(buf + 12, bad[i]);
         expect_reject(buf, n, QIBL_E_ASSET_CHUNK_COUNT);
     }
     free(buf);
@@ -563,11 +563,11 @@ static void test_reject_truncated_table(void **state)
     expect_reject(buf, 24, QIBL_E_ASSET_TRUNCATED_TABLE);
     expect_reject(buf, table_end - 1, QIBL_E_ASSET_TRUNCATED_TABLE);
     /* a count the buffer cannot hold */
-    qibl_store_u32le(buf + 12, QIBL_ASSET_MAX_CHUNKS);
+    qtool_store_u32le(buf + 12, QIBL_ASSET_MAX_CHUNKS);
     expect_reject(buf, n, QIBL_E_ASSET_TRUNCATED_TABLE);
-    qibl_store_u32le(buf + 12, 4);
+    qtool_store_u32le(buf + 12, 4);
     /* file_size claiming less than the table */
-    qibl_store_u32le(buf + 16, (uint32_t)table_end - 1);
+    qtool_store_u32le(buf + 16, (uint32_t)table_end - 1);
     expect_reject(buf, n, QIBL_E_ASSET_TRUNCATED_TABLE);
     free(buf);
 }
@@ -580,7 +580,7 @@ static void test_reject_truncated(void **state)
     build_full(&buf, &n);
     expect_reject(buf, n - 1, QIBL_E_ASSET_TRUNCATED);
     expect_reject(buf, 24 + 16 * 4, QIBL_E_ASSET_TRUNCATED);
-    qibl_store_u32le(buf + 16, UINT32_MAX); /* file_size larger than the buffer */
+    qtool_store_u32le(buf + 16, UINT32_MAX); /* file_size larger than the buffer */
     expect_reject(buf, n, QIBL_E_ASSET_TRUNCATED);
     free(buf);
 }
@@ -609,7 +609,7 @@ static void test_reject_chunk_misaligned(void **state)
         uint8_t *buf;
         size_t n;
         build_full(&buf, &n);
-        qibl_store_u32le(entry(buf, 1) + 4, rd(entry(buf, 1) + 4) + d);
+        qtool_store_u32le(entry(buf, 1) + 4, rd(entry(buf, 1) + 4) + d);
         reseal_table(buf, n);
         expect_reject(buf, n, QIBL_E_ASSET_CHUNK_MISALIGNED);
         free(buf);
@@ -634,8 +634,8 @@ static void test_reject_chunk_past_end(void **state)
         {off, UINT32_MAX},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
-        qibl_store_u32le(e + 4, bad[i].off);
-        qibl_store_u32le(e + 8, bad[i].size);
+        qtool_store_u32le(e + 4, bad[i].off);
+        qtool_store_u32le(e + 8, bad[i].size);
         reseal_table(buf, n);
         expect_reject(buf, n, QIBL_E_ASSET_CHUNK_PAST_END);
     }
@@ -643,8 +643,8 @@ static void test_reject_chunk_past_end(void **state)
     uint8_t *big = calloc(n + 64, 1);
     assert_non_null(big);
     memcpy(big, buf, n);
-    qibl_store_u32le(entry(big, 3) + 4, off);
-    qibl_store_u32le(entry(big, 3) + 8, size + 1);
+    qtool_store_u32le(entry(big, 3) + 4, off);
+    qtool_store_u32le(entry(big, 3) + 8, size + 1);
     reseal_table(big, n);
     expect_reject(big, n + 64, QIBL_E_ASSET_CHUNK_PAST_END);
     free(big);
@@ -660,7 +660,7 @@ static void test_reject_duplicate_chunk(void **state)
         size_t n;
         build_full(&buf, &n);
         /* the unknown chunk (3) becomes a second copy of a known one */
-        qibl_store_u32le(entry(buf, 3), known[k]);
+        qtool_store_u32le(entry(buf, 3), known[k]);
         reseal_table(buf, n);
         expect_reject(buf, n, QIBL_E_ASSET_DUPLICATE_CHUNK);
         free(buf);
@@ -678,14 +678,14 @@ static void test_reject_chunk_overlap(void **state)
     /* XTRA (5 bytes) moved into SHMP, onto its last bytes, and onto PMAP's start */
     const uint32_t at[] = {off0, off0 + 4, (off0 + size0 - 1) & ~3u, off1};
     for (size_t i = 0; i < sizeof at / sizeof at[0]; ++i) {
-        qibl_store_u32le(entry(buf, 3) + 4, at[i]);
+        qtool_store_u32le(entry(buf, 3) + 4, at[i]);
         reseal_table(buf, n);
         expect_reject(buf, n, QIBL_E_ASSET_CHUNK_OVERLAP);
     }
     /* an empty payload shares no bytes: accepted anywhere in bounds, even inside another */
-    qibl_store_u32le(entry(buf, 3) + 4, off0 + 4);
-    qibl_store_u32le(entry(buf, 3) + 8, 0);
-    qibl_store_u32le(entry(buf, 3) + 12, 0); /* CRC-32 of nothing */
+    qtool_store_u32le(entry(buf, 3) + 4, off0 + 4);
+    qtool_store_u32le(entry(buf, 3) + 8, 0);
+    qtool_store_u32le(entry(buf, 3) + 12, 0); /* CRC-32 of nothing */
     reseal_table(buf, n);
     qibl_asset_t a;
     expect_ok(buf, n, &a);
@@ -698,15 +698,15 @@ static void test_reject_missing_chunk(void **state)
     uint8_t *buf;
     size_t n;
     build_full(&buf, &n);
-    qibl_store_u32le(entry(buf, 0), QIBL_FOURCC('S', 'H', 'M', 'Q')); /* SHMP renamed */
+    qtool_store_u32le(entry(buf, 0), QIBL_FOURCC('S', 'H', 'M', 'Q')); /* SHMP renamed */
     reseal_table(buf, n);
     expect_reject(buf, n, QIBL_E_ASSET_MISSING_CHUNK);
     free(buf);
     /* and an asset built without one */
-    qibl_asset_builder b;
-    qibl_asset_builder_init(&b);
+    qtool_asset_builder b;
+    qtool_asset_builder_init(&b);
     const int32_t xyz[3] = {1, 2, 3};
-    assert_int_equal(qibl_asset_add_pmap(&b, 1, 1, xyz), 0);
+    assert_int_equal(qtool_asset_add_pmap(&b, 1, 1, xyz), 0);
     serialize_or_die(&b, &buf, &n);
     expect_reject(buf, n, QIBL_E_ASSET_MISSING_CHUNK);
     free(buf);
@@ -723,7 +723,7 @@ static void test_reject_chunk_crc(void **state)
         payload_of(buf, c)[size - 1] ^= 0x40; /* last payload byte */
         expect_reject(buf, n, QIBL_E_ASSET_CHUNK_CRC);
         payload_of(buf, c)[size - 1] ^= 0x40;
-        qibl_store_u32le(entry(buf, c) + 12, rd(entry(buf, c) + 12) ^ 1u); /* stored CRC */
+        qtool_store_u32le(entry(buf, c) + 12, rd(entry(buf, c) + 12) ^ 1u); /* stored CRC */
         reseal_table(buf, n);
         expect_reject(buf, n, QIBL_E_ASSET_CHUNK_CRC);
         free(buf);
@@ -752,7 +752,7 @@ static void test_reject_bad_dimensions(void **state)
     uint8_t *buf;
     size_t n;
     build_full(&buf, &n);
-    qibl_store_u32le(payload_of(buf, 0), QIBL_ASSET_MAX_DIM);
+    qtool_store_u32le(payload_of(buf, 0), QIBL_ASSET_MAX_DIM);
     patch_field(buf, n, 0, 4, QIBL_ASSET_MAX_PIXELS / QIBL_ASSET_MAX_DIM + 1);
     expect_reject(buf, n, QIBL_E_ASSET_BAD_DIMENSIONS);
     free(buf);
@@ -811,18 +811,18 @@ static void test_reject_size_overflow(void **state)
     (void)state;
     /* 8192 x 8192 = QIBL_ASSET_MAX_PIXELS, k 25, RGB: 75 * 2^26 plane bytes > 4 GiB */
     uint8_t pl[20];
-    qibl_store_u32le(pl, 8192);
-    qibl_store_u32le(pl + 4, 8192);
-    qibl_store_u32le(pl + 8, 25);
-    qibl_store_u32le(pl + 12, 3);
-    qibl_store_u32le(pl + 16, 0);
+    qtool_store_u32le(pl, 8192);
+    qtool_store_u32le(pl + 4, 8192);
+    qtool_store_u32le(pl + 8, 25);
+    qtool_store_u32le(pl + 12, 3);
+    qtool_store_u32le(pl + 16, 0);
     uint8_t *buf;
     size_t n;
     build_raw_shmp(pl, sizeof pl, &buf, &n);
     expect_reject(buf, n, QIBL_E_ASSET_SIZE_OVERFLOW);
     free(buf);
     /* grey with k 25 fits 32 bits (25 * 2^26 < 2^32): then the size is merely wrong */
-    qibl_store_u32le(pl + 12, 1);
+    qtool_store_u32le(pl + 12, 1);
     build_raw_shmp(pl, sizeof pl, &buf, &n);
     expect_reject(buf, n, QIBL_E_ASSET_CHUNK_SIZE);
     free(buf);
@@ -832,11 +832,11 @@ static void test_reject_chunk_size(void **state)
 {
     (void)state;
     fill_fixture_arrays();
-    qibl_asset_builder b;
-    qibl_asset_builder_init(&b);
+    qtool_asset_builder b;
+    qtool_asset_builder_init(&b);
     uint8_t *pl;
     size_t pn;
-    assert_int_equal(qibl_asset_shmp_payload(&b, FW, FH, FK, FC, f_scale, f_bias, f_planes, &pl, &pn), 0);
+    assert_int_equal(qtool_asset_shmp_payload(&b, FW, FH, FK, FC, f_scale, f_bias, f_planes, &pl, &pn), 0);
     uint8_t *buf;
     size_t n;
     /* shorter than the fixed fields, one byte short, one byte long */
@@ -858,14 +858,14 @@ static void test_reject_chunk_size(void **state)
                 uint8_t *q;
                 size_t qn;
                 if (which == 0)
-                    assert_int_equal(qibl_asset_pmap_payload(&b, FW, FH, f_xyz, &q, &qn), 0);
+                    assert_int_equal(qtool_asset_pmap_payload(&b, FW, FH, f_xyz, &q, &qn), 0);
                 else
-                    assert_int_equal(qibl_asset_ylut_payload(&b, FN, FYK, f_lut, &q, &qn), 0);
+                    assert_int_equal(qtool_asset_ylut_payload(&b, FN, FYK, f_lut, &q, &qn), 0);
                 uint8_t *r = calloc(qn + 1, 1);
                 assert_non_null(r);
                 memcpy(r, q, qn);
-                assert_int_equal(qibl_asset_add_shmp(&b, FW, FH, FK, FC, f_scale, f_bias, f_planes), 0);
-                assert_int_equal(qibl_asset_builder_add(&b, which ? QIBL_CHUNK_YLUT : QIBL_CHUNK_PMAP, r,
+                assert_int_equal(qtool_asset_add_shmp(&b, FW, FH, FK, FC, f_scale, f_bias, f_planes), 0);
+                assert_int_equal(qtool_asset_builder_add(&b, which ? QIBL_CHUNK_YLUT : QIBL_CHUNK_PMAP, r,
                                                         tiny ? 11 : (size_t)((long)qn + d)), 0);
                 serialize_or_die(&b, &buf, &n);
                 expect_reject(buf, n, QIBL_E_ASSET_CHUNK_SIZE);
@@ -880,26 +880,26 @@ static void test_reject_mismatch(void **state)
     (void)state;
     fill_fixture_arrays();
     /* PMAP of the transposed size (same byte count, so only the comparison can catch it) */
-    qibl_asset_builder b;
-    qibl_asset_builder_init(&b);
-    assert_int_equal(qibl_asset_add_shmp(&b, FW, FH, FK, FC, f_scale, f_bias, f_planes), 0);
-    assert_int_equal(qibl_asset_add_pmap(&b, FH, FW, f_xyz), 0);
+    qtool_asset_builder b;
+    qtool_asset_builder_init(&b);
+    assert_int_equal(qtool_asset_add_shmp(&b, FW, FH, FK, FC, f_scale, f_bias, f_planes), 0);
+    assert_int_equal(qtool_asset_add_pmap(&b, FH, FW, f_xyz), 0);
     uint8_t *buf;
     size_t n;
     serialize_or_die(&b, &buf, &n);
     expect_reject(buf, n, QIBL_E_ASSET_MISMATCH);
     free(buf);
     /* YLUT with fewer values per texel than SHMP has maps */
-    qibl_asset_builder_init(&b);
-    assert_int_equal(qibl_asset_add_shmp(&b, FW, FH, FK, FC, f_scale, f_bias, f_planes), 0);
-    assert_int_equal(qibl_asset_add_ylut(&b, FN, FK - 1, f_lut), 0);
+    qtool_asset_builder_init(&b);
+    assert_int_equal(qtool_asset_add_shmp(&b, FW, FH, FK, FC, f_scale, f_bias, f_planes), 0);
+    assert_int_equal(qtool_asset_add_ylut(&b, FN, FK - 1, f_lut), 0);
     serialize_or_die(&b, &buf, &n);
     expect_reject(buf, n, QIBL_E_ASSET_MISMATCH);
     free(buf);
     /* YLUT k == SHMP k is fine */
-    qibl_asset_builder_init(&b);
-    assert_int_equal(qibl_asset_add_shmp(&b, FW, FH, FK, FC, f_scale, f_bias, f_planes), 0);
-    assert_int_equal(qibl_asset_add_ylut(&b, FN, FK, f_lut), 0);
+    qtool_asset_builder_init(&b);
+    assert_int_equal(qtool_asset_add_shmp(&b, FW, FH, FK, FC, f_scale, f_bias, f_planes), 0);
+    assert_int_equal(qtool_asset_add_ylut(&b, FN, FK, f_lut), 0);
     serialize_or_die(&b, &buf, &n);
     qibl_asset_t a;
     expect_ok(buf, n, &a);
@@ -1066,12 +1066,12 @@ static void test_fuzz(void **state)
 static void build_full_interleaved(uint8_t **buf, size_t *n)
 {
     fill_fixture_arrays();
-    qibl_asset_builder b;
-    qibl_asset_builder_init(&b);
-    assert_int_equal(qibl_asset_add_shmp_layout(&b, FW, FH, FK, FC, f_scale, f_bias, f_planes, QIBL_SHMAPS_INTERLEAVED), 0);
-    assert_int_equal(qibl_asset_add_pmap(&b, FW, FH, f_xyz), 0);
-    assert_int_equal(qibl_asset_add_ylut(&b, FN, FYK, f_lut), 0);
-    assert_int_equal(qibl_asset_builder_add(&b, QIBL_FOURCC('X', 'T', 'R', 'A'), "hello", 5), 0);
+    qtool_asset_builder b;
+    qtool_asset_builder_init(&b);
+    assert_int_equal(qtool_asset_add_shmp_layout(&b, FW, FH, FK, FC, f_scale, f_bias, f_planes, QIBL_SHMAPS_INTERLEAVED), 0);
+    assert_int_equal(qtool_asset_add_pmap(&b, FW, FH, f_xyz), 0);
+    assert_int_equal(qtool_asset_add_ylut(&b, FN, FYK, f_lut), 0);
+    assert_int_equal(qtool_asset_builder_add(&b, QIBL_FOURCC('X', 'T', 'R', 'A'), "hello", 5), 0);
     serialize_or_die(&b, buf, n);
 }
 
@@ -1113,11 +1113,11 @@ static void test_interleaved_round_trip(void **state)
     free(pl);
     free(buf);
     /* the writer refuses an unknown layout, naming it */
-    qibl_asset_builder b;
-    qibl_asset_builder_init(&b);
-    assert_int_equal(qibl_asset_add_shmp_layout(&b, FW, FH, FK, FC, f_scale, f_bias, f_planes, 7), -1);
+    qtool_asset_builder b;
+    qtool_asset_builder_init(&b);
+    assert_int_equal(qtool_asset_add_shmp_layout(&b, FW, FH, FK, FC, f_scale, f_bias, f_planes, 7), -1);
     assert_non_null(strstr(b.err, "layout 7"));
-    qibl_asset_builder_free(&b);
+    qtool_asset_builder_free(&b);
 }
 
 /* Reads an asset's head the way a streaming caller does: ask, read more, ask again. */
@@ -1217,7 +1217,7 @@ static void test_stream_head(void **state)
     assert_int_equal(qibl_asset_head_size(pl, ph, &need), QIBL_E_ASSET_BAD_K);
     free(pl);
     build_full_interleaved(&pl, &pn);
-    qibl_store_u32le(entry(pl, 1) + 8, rd(entry(pl, 1) + 8) - 12u); /* PMAP one row short */
+    qtool_store_u32le(entry(pl, 1) + 8, rd(entry(pl, 1) + 8) - 12u); /* PMAP one row short */
     reseal_table(pl, pn);
     assert_int_equal(qibl_asset_open_head(&hd, pl, head), QIBL_E_ASSET_CHUNK_SIZE);
     pl[0] = 'q';
@@ -1238,15 +1238,15 @@ static void test_write_file(void **state)
     snprintf(tmp, sizeof tmp, "%s.tmp", path);
 
     fill_fixture_arrays();
-    qibl_asset_builder b;
-    qibl_asset_builder_init(&b);
-    assert_int_equal(qibl_asset_add_shmp(&b, FW, FH, FK, FC, f_scale, f_bias, f_planes), 0);
-    assert_int_equal(qibl_asset_add_pmap(&b, FW, FH, f_xyz), 0);
-    assert_int_equal(qibl_asset_write_file(&b, path, 1), 0);
+    qtool_asset_builder b;
+    qtool_asset_builder_init(&b);
+    assert_int_equal(qtool_asset_add_shmp(&b, FW, FH, FK, FC, f_scale, f_bias, f_planes), 0);
+    assert_int_equal(qtool_asset_add_pmap(&b, FW, FH, f_xyz), 0);
+    assert_int_equal(qtool_asset_write_file(&b, path, 1), 0);
     uint8_t *mem;
     size_t n;
-    assert_int_equal(qibl_asset_serialize(&b, &mem, &n), 0);
-    qibl_asset_builder_free(&b);
+    assert_int_equal(qtool_asset_serialize(&b, &mem, &n), 0);
+    qtool_asset_builder_free(&b);
 
     FILE *f = fopen(path, "rb");
     assert_non_null(f);
@@ -1262,35 +1262,35 @@ static void test_write_file(void **state)
     /* an invalid asset (no SHMP) is refused and the existing file is left as it was */
     struct stat before, after;
     assert_int_equal(stat(path, &before), 0);
-    qibl_asset_builder_init(&b);
+    qtool_asset_builder_init(&b);
     const int32_t xyz[3] = {1, 2, 3};
-    assert_int_equal(qibl_asset_add_pmap(&b, 1, 1, xyz), 0);
-    assert_int_equal(qibl_asset_write_file(&b, path, 0), -1);
+    assert_int_equal(qtool_asset_add_pmap(&b, 1, 1, xyz), 0);
+    assert_int_equal(qtool_asset_write_file(&b, path, 0), -1);
     assert_non_null(strstr(b.err, path));
     assert_non_null(strstr(b.err, qibl_status_str(QIBL_E_ASSET_MISSING_CHUNK)));
     assert_int_equal(stat(path, &after), 0);
     assert_int_equal(before.st_size, after.st_size);
-    qibl_asset_builder_free(&b);
+    qtool_asset_builder_free(&b);
 
     /* an unwritable path: -1, one line naming the file */
     char bad[300];
     snprintf(bad, sizeof bad, "%s/no/such/dir/a.qibl", dir);
-    qibl_asset_builder_init(&b);
+    qtool_asset_builder_init(&b);
     const int32_t s[1] = {1}, bi[1] = {2};
     const uint8_t pl[1] = {3};
-    assert_int_equal(qibl_asset_add_shmp(&b, 1, 1, 1, 1, s, bi, pl), 0);
-    assert_int_equal(qibl_asset_write_file(&b, bad, 0), -1);
+    assert_int_equal(qtool_asset_add_shmp(&b, 1, 1, 1, 1, s, bi, pl), 0);
+    assert_int_equal(qtool_asset_write_file(&b, bad, 0), -1);
     assert_non_null(strstr(b.err, bad));
     assert_null(strchr(b.err, '\n'));
-    qibl_asset_builder_free(&b);
+    qtool_asset_builder_free(&b);
 
     /* builder limits */
-    qibl_asset_builder_init(&b);
-    assert_int_equal(qibl_asset_serialize(&b, &mem, &n), -1); /* no chunks */
+    qtool_asset_builder_init(&b);
+    assert_int_equal(qtool_asset_serialize(&b, &mem, &n), -1); /* no chunks */
     for (uint32_t i = 0; i < QIBL_ASSET_MAX_CHUNKS; ++i)
-        assert_int_equal(qibl_asset_builder_add(&b, QIBL_FOURCC('X', 'X', 'X', 'X'), "x", 1), 0);
-    assert_int_equal(qibl_asset_builder_add(&b, QIBL_FOURCC('X', 'X', 'X', 'X'), "x", 1), -1);
-    qibl_asset_builder_free(&b);
+        assert_int_equal(qtool_asset_builder_add(&b, QIBL_FOURCC('X', 'X', 'X', 'X'), "x", 1), 0);
+    assert_int_equal(qtool_asset_builder_add(&b, QIBL_FOURCC('X', 'X', 'X', 'X'), "x", 1), -1);
+    qtool_asset_builder_free(&b);
 
     remove(path);
     rmdir(dir);

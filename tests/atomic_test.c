@@ -44,7 +44,7 @@ static int w_png(const char *path, int variant, char *err, size_t errlen)
     static uint8_t px[2][PW * PH * 3];
     for (size_t i = 0; i < sizeof px[0]; ++i)
         px[variant][i] = (uint8_t)(i * (variant ? 7u : 13u) + (uint32_t)variant);
-    return qibl_png_write_rgb8(path, PW, PH, px[variant], err, errlen);
+    return qtool_png_write_rgb8(path, PW, PH, px[variant], err, errlen);
 }
 
 static int w_apng(const char *path, int variant, char *err, size_t errlen)
@@ -52,7 +52,7 @@ static int w_apng(const char *path, int variant, char *err, size_t errlen)
     static uint8_t px[2][2 * PW * PH * 3];
     for (size_t i = 0; i < sizeof px[0]; ++i)
         px[variant][i] = (uint8_t)(i * (variant ? 5u : 11u));
-    return qibl_apng_write_rgb8(path, PW, PH, 2, px[variant], 1, 8, err, errlen);
+    return qtool_apng_write_rgb8(path, PW, PH, 2, px[variant], 1, 8, err, errlen);
 }
 
 static int w_pfm(const char *path, int variant, char *err, size_t errlen)
@@ -60,29 +60,29 @@ static int w_pfm(const char *path, int variant, char *err, size_t errlen)
     static float px[2][PW * PH * 3];
     for (size_t i = 0; i < PW * PH * 3; ++i)
         px[variant][i] = (float)i * (variant ? 0.5f : 0.25f);
-    return qibl_pfm_write(path, PW, PH, 3, px[variant], err, errlen);
+    return qtool_pfm_write(path, PW, PH, 3, px[variant], err, errlen);
 }
 
 static int w_asset(const char *path, int variant, char *err, size_t errlen)
 {
-    qibl_gen_maps g;
+    qtool_gen_maps g;
     uint32_t w = variant ? 128 : 256, h = 64, k = 1;
-    if (qibl_gen_scene(w, h, k, QIBL_PANO_CYLINDRICAL, &g) != 0)
+    if (qtool_gen_scene(w, h, k, QTOOL_PANO_CYLINDRICAL, &g) != 0)
         return snprintf(err, errlen, "gen failed"), -1;
     int32_t scale[3], bias[3];
     uint8_t *planes = malloc((size_t)w * h * 3);
-    qibl_asset_builder b;
-    qibl_asset_builder_init(&b);
-    int rc = !planes || qibl_pack_maps(&g, QIBL_PACK_MINMAX, scale, bias, planes, NULL) != 0 ||
-                     qibl_asset_add_shmp(&b, w, h, k, 3, scale, bias, planes) != 0 ||
-                     qibl_asset_add_pmap(&b, w, h, g.p) != 0 || qibl_asset_write_file(&b, path, 1) != 0
+    qtool_asset_builder b;
+    qtool_asset_builder_init(&b);
+    int rc = !planes || qtool_pack_maps(&g, QTOOL_PACK_MINMAX, scale, bias, planes, NULL) != 0 ||
+                     qtool_asset_add_shmp(&b, w, h, k, 3, scale, bias, planes) != 0 ||
+                     qtool_asset_add_pmap(&b, w, h, g.p) != 0 || qtool_asset_write_file(&b, path, 1) != 0
                  ? -1
                  : 0;
     if (rc != 0)
         snprintf(err, errlen, "%s", b.err);
-    qibl_asset_builder_free(&b);
+    qtool_asset_builder_free(&b);
     free(planes);
-    qibl_gen_free(&g);
+    qtool_gen_free(&g);
     return rc;
 }
 
@@ -95,15 +95,15 @@ static int w_sums(const char *path, int variant, char *err, size_t errlen)
         pmap[variant][i] = (int32_t)i;
     for (size_t i = 0; i < SW * SH * 3 * SK; ++i)
         acc[variant][i] = (int64_t)i * (variant ? 3 : -5);
-    qibl_bake_sums s = {SW, SH, SK, 64, 0, 0, 1, pmap[variant], acc[variant]};
-    return qibl_bake_sums_write(&s, path, err, errlen);
+    qtool_bake_sums s = {SW, SH, SK, 64, 0, 0, 1, pmap[variant], acc[variant]};
+    return qtool_bake_sums_write(&s, path, err, errlen);
 }
 
 static int w_plain(const char *path, int variant, char *err, size_t errlen)
 {
     static char text[2][20000];
     memset(text[variant], variant ? 'b' : 'a', sizeof text[0]);
-    return qibl_io_write_atomic(path, text[variant], sizeof text[0], err, errlen);
+    return qtool_io_write_atomic(path, text[variant], sizeof text[0], err, errlen);
 }
 
 /* golden hash files: path is ROOT/fixtures/golden/NAME.sha256 with QIBL_ROOT=ROOT */
@@ -118,7 +118,7 @@ static int w_golden(const char *path, int variant, char *err, size_t errlen)
     *strstr(name, ".sha256") = '\0';
     setenv("QIBL_ROOT", root, 1);
     setenv("QIBL_UPDATE_GOLDEN", "1", 1);
-    int rc = qibl_golden_check(name, variant ? "bbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbb"
+    int rc = qtool_golden_check(name, variant ? "bbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbb"
                                              : "aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa");
     unsetenv("QIBL_UPDATE_GOLDEN");
     unsetenv("QIBL_ROOT");
@@ -210,7 +210,7 @@ static void put_file(const char *path, const char *text)
 static int file_is(const char *path, const char *text)
 {
     size_t n;
-    uint8_t *b = qibl_io_read_all(path, &n);
+    uint8_t *b = qtool_io_read_all(path, &n);
     int same = b && n == strlen(text) && memcmp(b, text, n) == 0;
     free(b);
     return same;
@@ -381,7 +381,7 @@ static void test_concurrent_writers(void **state)
         for (int v = 0; v < 2; ++v) { /* the two complete outputs, written alone */
             snprintf(ref[v], sizeof ref[v], "%s.ref%d", out, v);
             assert_int_equal(writers[w].fn(ref[v], v, err, sizeof err), 0);
-            rb[v] = qibl_io_read_all(ref[v], &rn[v]);
+            rb[v] = qtool_io_read_all(ref[v], &rn[v]);
             assert_non_null(rb[v]);
         }
         for (int round = 0; round < 16; ++round) {
@@ -397,7 +397,7 @@ static void test_concurrent_writers(void **state)
             if (a[0].rc != 0 && a[1].rc != 0)
                 continue;
             size_t n;
-            uint8_t *b = qibl_io_read_all(out, &n);
+            uint8_t *b = qtool_io_read_all(out, &n);
             assert_non_null(b);
             int same0 = n == rn[0] && memcmp(b, rb[0], n) == 0, same1 = n == rn[1] && memcmp(b, rb[1], n) == 0;
             free(b);
@@ -423,22 +423,22 @@ static void test_helper_errors(void **state)
 {
     (void)state;
     char err[1200];
-    assert_int_equal(qibl_io_write_atomic("", "x", 1, err, sizeof err), -1);
-    assert_int_equal(qibl_io_write_atomic("/tmp/", "x", 1, err, sizeof err), -1);
+    assert_int_equal(qtool_io_write_atomic("", "x", 1, err, sizeof err), -1);
+    assert_int_equal(qtool_io_write_atomic("/tmp/", "x", 1, err, sizeof err), -1);
     assert_non_null(strstr(err, "refusing to replace a directory"));
-    assert_int_equal(qibl_io_write_atomic("/tmp/qibl-no-such-dir-atomic/", "x", 1, err, sizeof err), -1);
+    assert_int_equal(qtool_io_write_atomic("/tmp/qibl-no-such-dir-atomic/", "x", 1, err, sizeof err), -1);
     assert_non_null(strstr(err, "no file name"));
-    assert_int_equal(qibl_io_write_atomic("/nonexistent-dir-qibl/x", "x", 1, err, sizeof err), -1);
+    assert_int_equal(qtool_io_write_atomic("/nonexistent-dir-qibl/x", "x", 1, err, sizeof err), -1);
     assert_non_null(strstr(err, "/nonexistent-dir-qibl/x"));
     char *d = dir_new(), out[600], listing[4096];
     snprintf(out, sizeof out, "%s/f", d);
     put_file(out, "old");
-    assert_int_equal(qibl_io_write_atomic(out, "new", 3, err, sizeof err), 0);
+    assert_int_equal(qtool_io_write_atomic(out, "new", 3, err, sizeof err), 0);
     assert_true(file_is(out, "new"));
-    qibl_io_atomic a;
-    assert_int_equal(qibl_io_atomic_open(&a, out, err, sizeof err), 0);
+    qtool_io_atomic a;
+    assert_int_equal(qtool_io_atomic_open(&a, out, err, sizeof err), 0);
     fputs("abandoned", a.f);
-    qibl_io_atomic_abort(&a);
+    qtool_io_atomic_abort(&a);
     assert_true(file_is(out, "new"));
     assert_int_equal(list_dir(d, listing, sizeof listing), 2); /* f and fixtures/ */
     rm_rf(d);

@@ -23,35 +23,35 @@
 static void test_determinism_threads_and_shards(void **state)
 {
     (void)state;
-    qibl_rt_scene s;
-    assert_int_equal(qibl_rt_scene_builtin(&s), 0);
-    qibl_bake_sums a, b, parts[3];
-    assert_int_equal(qibl_bake_run(&s, 32, 8, QIBL_PANO_CYLINDRICAL, 64, 16, 0, 1, 1, 0, &a), 0);
-    assert_int_equal(qibl_bake_run(&s, 32, 8, QIBL_PANO_CYLINDRICAL, 64, 16, 0, 1, 3, 0, &b), 0);
+    qtool_rt_scene s;
+    assert_int_equal(qtool_rt_scene_builtin(&s), 0);
+    qtool_bake_sums a, b, parts[3];
+    assert_int_equal(qtool_bake_run(&s, 32, 8, QTOOL_PANO_CYLINDRICAL, 64, 16, 0, 1, 1, 0, &a), 0);
+    assert_int_equal(qtool_bake_run(&s, 32, 8, QTOOL_PANO_CYLINDRICAL, 64, 16, 0, 1, 3, 0, &b), 0);
     size_t n = 32 * 8 * 3 * 16;
     assert_memory_equal(a.acc, b.acc, n * sizeof(int64_t));
     assert_memory_equal(a.pmap, b.pmap, 32 * 8 * 3 * sizeof(int32_t));
     char path[64], err[256];
     snprintf(path, sizeof path, "/tmp/qibl_bake_sums_%d", (int)getpid());
     for (uint32_t i = 0; i < 3; ++i) {
-        qibl_bake_sums p;
-        assert_int_equal(qibl_bake_run(&s, 32, 8, QIBL_PANO_CYLINDRICAL, 64, 16, i, 3, 2, 0, &p), 0);
-        assert_int_equal(qibl_bake_sums_write(&p, path, err, sizeof err), 0);
-        assert_int_equal(qibl_bake_sums_read(path, &parts[i], err, sizeof err), 0);
+        qtool_bake_sums p;
+        assert_int_equal(qtool_bake_run(&s, 32, 8, QTOOL_PANO_CYLINDRICAL, 64, 16, i, 3, 2, 0, &p), 0);
+        assert_int_equal(qtool_bake_sums_write(&p, path, err, sizeof err), 0);
+        assert_int_equal(qtool_bake_sums_read(path, &parts[i], err, sizeof err), 0);
         assert_memory_equal(parts[i].acc, p.acc, n * sizeof(int64_t));
-        qibl_bake_sums_free(&p);
+        qtool_bake_sums_free(&p);
     }
-    assert_int_equal(qibl_bake_sums_add(&parts[2], &parts[0], err, sizeof err), 0);
-    assert_int_equal(qibl_bake_sums_add(&parts[2], &parts[1], err, sizeof err), 0);
+    assert_int_equal(qtool_bake_sums_add(&parts[2], &parts[0], err, sizeof err), 0);
+    assert_int_equal(qtool_bake_sums_add(&parts[2], &parts[1], err, sizeof err), 0);
     assert_memory_equal(parts[2].acc, a.acc, n * sizeof(int64_t));
     /* assets byte-identical */
-    qibl_gen_maps m1, m2;
+    qtool_gen_maps m1, m2;
     uint8_t *b1, *b2;
     size_t n1, n2;
-    assert_int_equal(qibl_bake_coeffs(&a, 16, QIBL_PROJ_QUADRATURE, &m1), 0);
-    assert_int_equal(qibl_bake_coeffs(&parts[2], 16, QIBL_PROJ_QUADRATURE, &m2), 0);
-    assert_int_equal(qibl_bake_asset(&m1, 8, &b1, &n1), 0);
-    assert_int_equal(qibl_bake_asset(&m2, 8, &b2, &n2), 0);
+    assert_int_equal(qtool_bake_coeffs(&a, 16, QTOOL_PROJ_QUADRATURE, &m1), 0);
+    assert_int_equal(qtool_bake_coeffs(&parts[2], 16, QTOOL_PROJ_QUADRATURE, &m2), 0);
+    assert_int_equal(qtool_bake_asset(&m1, 8, &b1, &n1), 0);
+    assert_int_equal(qtool_bake_asset(&m2, 8, &b2, &n2), 0);
     assert_int_equal(n1, n2);
     assert_memory_equal(b1, b2, n1);
     qibl_asset_t as;
@@ -60,16 +60,16 @@ static void test_determinism_threads_and_shards(void **state)
     FILE *f = fopen(path, "wb");
     fputs("QIBLSUM1 short", f);
     fclose(f);
-    qibl_bake_sums bad;
-    assert_int_equal(qibl_bake_sums_read(path, &bad, err, sizeof err), -1);
+    qtool_bake_sums bad;
+    assert_int_equal(qtool_bake_sums_read(path, &bad, err, sizeof err), -1);
     assert_non_null(strstr(err, path));
     remove(path);
     free(b1), free(b2);
-    qibl_gen_free(&m1), qibl_gen_free(&m2);
+    qtool_gen_free(&m1), qtool_gen_free(&m2);
     for (int i = 0; i < 3; ++i)
-        qibl_bake_sums_free(&parts[i]);
-    qibl_bake_sums_free(&a), qibl_bake_sums_free(&b);
-    qibl_rt_scene_free(&s);
+        qtool_bake_sums_free(&parts[i]);
+    qtool_bake_sums_free(&a), qtool_bake_sums_free(&b);
+    qtool_rt_scene_free(&s);
 }
 
 /* A single ground plane (raw OBJ, nothing to shadow it): the bake's SH projection of
@@ -78,22 +78,22 @@ static void test_projection_of_unshadowed_plane(void **state)
 {
     (void)state;
     const char *text = "v -50 -50 -1\nv 50 -50 -1\nv 50 50 -1\nv -50 50 -1\nf 1 2 3 4\n";
-    qibl_obj_mesh mesh;
+    qtool_obj_mesh mesh;
     char err[256];
-    assert_int_equal(qibl_obj_parse("plane.obj", text, strlen(text), &mesh, err, sizeof err), 0);
-    qibl_rt_scene s;
-    assert_int_equal(qibl_rt_scene_from_obj(&s, &mesh, 1, 1), 0);
-    qibl_obj_free(&mesh);
+    assert_int_equal(qtool_obj_parse("plane.obj", text, strlen(text), &mesh, err, sizeof err), 0);
+    qtool_rt_scene s;
+    assert_int_equal(qtool_rt_scene_from_obj(&s, &mesh, 1, 1), 0);
+    qtool_obj_free(&mesh);
     s.mats[1].ks = 0;
-    qibl_bake_sums a;
-    assert_int_equal(qibl_bake_run(&s, 16, 8, QIBL_PANO_EQUIRECT, 1024, 9, 0, 1, 2, 0, &a), 0);
+    qtool_bake_sums a;
+    assert_int_equal(qtool_bake_run(&s, 16, 8, QTOOL_PANO_EQUIRECT, 1024, 9, 0, 1, 2, 0, &a), 0);
     /* analytic: c_00 = albedo * sqrt(pi)/2 / pi... via a_l Y_l0(n): a_0 = 1, a_1 = 2/3, a_2 = 1/4 */
     double yn[25];
-    qibl_ref_sh_eval(0, 0, 1, 3, yn);
+    qtool_ref_sh_eval(0, 0, 1, 3, yn);
     const double al[3] = {1.0, 2.0 / 3.0, 0.25};
     for (int method = 0; method < 2; ++method) {
-        qibl_gen_maps m;
-        assert_int_equal(qibl_bake_coeffs(&a, 9, (qibl_proj_method)method, &m), 0);
+        qtool_gen_maps m;
+        assert_int_equal(qtool_bake_coeffs(&a, 9, (qtool_proj_method)method, &m), 0);
         size_t np = 16 * 8, p = 7 * 16 + 3; /* a pixel looking down */
         for (int i = 0; i < 9; ++i) {
             int l = i == 0 ? 0 : i < 4 ? 1 : 2;
@@ -102,10 +102,10 @@ static void test_projection_of_unshadowed_plane(void **state)
             if (fabs(got - want) > 4e-3)
                 fail_msg("method %d, coefficient %d: %f, analytic %f", method, i, got, want);
         }
-        qibl_gen_free(&m);
+        qtool_gen_free(&m);
     }
-    qibl_bake_sums_free(&a);
-    qibl_rt_scene_free(&s);
+    qtool_bake_sums_free(&a);
+    qtool_rt_scene_free(&s);
 }
 
 static void test_shadow_and_pmap(void **state)
@@ -114,29 +114,29 @@ static void test_shadow_and_pmap(void **state)
     /* the ground under a floating square is shadowed from above, lit from the side */
     const char *text = "v -50 -50 -1\nv 50 -50 -1\nv 50 50 -1\nv -50 50 -1\nf 1 2 3 4\n"
                        "v -2 -2 1\nv 2 -2 1\nv 2 2 1\nv -2 2 1\nf 5 6 7 8\n";
-    qibl_obj_mesh mesh;
+    qtool_obj_mesh mesh;
     char err[256];
-    assert_int_equal(qibl_obj_parse("t.obj", text, strlen(text), &mesh, err, sizeof err), 0);
-    qibl_rt_scene s;
-    assert_int_equal(qibl_rt_scene_from_obj(&s, &mesh, 1, 1), 0);
-    qibl_obj_free(&mesh);
+    assert_int_equal(qtool_obj_parse("t.obj", text, strlen(text), &mesh, err, sizeof err), 0);
+    qtool_rt_scene s;
+    assert_int_equal(qtool_rt_scene_from_obj(&s, &mesh, 1, 1), 0);
+    qtool_obj_free(&mesh);
     double down[3] = {0.01, 0.0, -1.0}, up[3] = {0, 0, 1}, side[3] = {1, 0, 0.2}, df, gl;
-    qibl_rt_hit h;
-    qibl_rt_primary(&s, down, &h);
+    qtool_rt_hit h;
+    qtool_rt_primary(&s, down, &h);
     assert_true(h.hit);
     assert_true(fabs(h.p[2] + 1.0) < 1e-9 && fabs(h.t - 1.0) < 1e-9);
-    assert_int_equal(qibl_rt_response(&s, &h, up, 1e30, &df, &gl), 0);
+    assert_int_equal(qtool_rt_response(&s, &h, up, 1e30, &df, &gl), 0);
     double l = sqrt(1.04);
     side[0] /= l, side[2] /= l;
-    assert_int_equal(qibl_rt_response(&s, &h, side, 1e30, &df, &gl), 1);
+    assert_int_equal(qtool_rt_response(&s, &h, side, 1e30, &df, &gl), 1);
     assert_true(fabs(df - side[2] / 3.14159265358979) < 1e-12);
-    qibl_rt_scene_free(&s);
+    qtool_rt_scene_free(&s);
 }
 
 /* ---- partial sums files: every header field checked before use (issue 10, findings 1 and 3) ---- */
 
 /* small synthetic sums: w x h, k, ndirs, shard/nshards; acc filled from seed */
-static void make_sums(qibl_bake_sums *s, uint32_t w, uint32_t h, uint32_t k, uint32_t ndirs, uint32_t shard,
+static void make_sums(qtool_bake_sums *s, uint32_t w, uint32_t h, uint32_t k, uint32_t ndirs, uint32_t shard,
                       uint32_t nshards, int64_t seed)
 {
     memset(s, 0, sizeof *s);
@@ -159,16 +159,16 @@ static void put32(uint8_t *p, uint32_t v)
 /* recompute both CRCs after an edit, so the edit reaches the field checks */
 static void fix_crcs(uint8_t *b, size_t n)
 {
-    put32(b + 40, qibl_crc32(0, b + QIBL_BAKE_SUMS_HEADER, n - QIBL_BAKE_SUMS_HEADER));
+    put32(b + 40, qibl_crc32(0, b + QTOOL_BAKE_SUMS_HEADER, n - QTOOL_BAKE_SUMS_HEADER));
     put32(b + 44, qibl_crc32(0, b, 44));
 }
 
 static void expect_decode_error(const uint8_t *b, size_t n, const char *want)
 {
-    qibl_bake_sums s;
+    qtool_bake_sums s;
     char err[512] = "";
     memset(&s, 0xA5, sizeof s);
-    if (qibl_bake_sums_decode(b, n, &s, err, sizeof err) == 0)
+    if (qtool_bake_sums_decode(b, n, &s, err, sizeof err) == 0)
         fail_msg("decoded a file that should fail with '%s'", want);
     if (strstr(err, want) == NULL)
         fail_msg("error '%s' does not say '%s'", err, want);
@@ -177,34 +177,34 @@ static void expect_decode_error(const uint8_t *b, size_t n, const char *want)
 static void test_sums_roundtrip_and_version(void **state)
 {
     (void)state;
-    qibl_bake_sums a, b;
+    qtool_bake_sums a, b;
     make_sums(&a, 5, 3, 4, 64, 1, 4, -123456789012345);
     uint8_t *buf;
     size_t n;
     char err[512];
-    assert_int_equal(qibl_bake_sums_encode(&a, &buf, &n), 0);
-    assert_int_equal(n, QIBL_BAKE_SUMS_HEADER + 5 * 3 * 12 + 5 * 3 * 3 * 4 * 8);
+    assert_int_equal(qtool_bake_sums_encode(&a, &buf, &n), 0);
+    assert_int_equal(n, QTOOL_BAKE_SUMS_HEADER + 5 * 3 * 12 + 5 * 3 * 3 * 4 * 8);
     assert_memory_equal(buf, "QIBLSUMS", 8);
-    assert_int_equal(qibl_load_u32le(buf + 8), QIBL_BAKE_SUMS_VERSION);
-    assert_int_equal(qibl_bake_sums_decode(buf, n, &b, err, sizeof err), 0);
+    assert_int_equal(qibl_load_u32le(buf + 8), QTOOL_BAKE_SUMS_VERSION);
+    assert_int_equal(qtool_bake_sums_decode(buf, n, &b, err, sizeof err), 0);
     assert_int_equal(b.w, 5), assert_int_equal(b.h, 3), assert_int_equal(b.k, 4);
     assert_int_equal(b.shard, 1), assert_int_equal(b.nshards, 4), assert_int_equal(b.ndirs, 64);
     assert_memory_equal(a.pmap, b.pmap, 5 * 3 * 12);
     assert_memory_equal(a.acc, b.acc, 5 * 3 * 3 * 4 * 8);
-    qibl_bake_sums_free(&b);
+    qtool_bake_sums_free(&b);
     /* the file writer writes the same bytes, the reader reads them back */
     char path[64];
     snprintf(path, sizeof path, "/tmp/qibl_sums_rt_%d", (int)getpid());
-    assert_int_equal(qibl_bake_sums_write(&a, path, err, sizeof err), 0);
+    assert_int_equal(qtool_bake_sums_write(&a, path, err, sizeof err), 0);
     FILE *f = fopen(path, "rb");
     assert_non_null(f);
     uint8_t *disk = malloc(n + 1);
     assert_int_equal(fread(disk, 1, n + 1, f), n);
     fclose(f);
     assert_memory_equal(disk, buf, n);
-    assert_int_equal(qibl_bake_sums_read(path, &b, err, sizeof err), 0);
+    assert_int_equal(qtool_bake_sums_read(path, &b, err, sizeof err), 0);
     assert_memory_equal(a.acc, b.acc, 5 * 3 * 3 * 4 * 8);
-    qibl_bake_sums_free(&b);
+    qtool_bake_sums_free(&b);
     /* version 1 files (no checksum) and unknown versions are refused by name */
     memcpy(disk, "QIBLSUM1", 8);
     expect_decode_error(disk, n, "version 1");
@@ -214,30 +214,30 @@ static void test_sums_roundtrip_and_version(void **state)
     expect_decode_error(disk, n, "unsupported partial-sums version 3");
     remove(path);
     free(disk), free(buf);
-    qibl_bake_sums_free(&a);
+    qtool_bake_sums_free(&a);
 }
 
 /* A flipped bit anywhere is caught by a checksum before the sums are used. */
 static void test_sums_checksums_catch_flips(void **state)
 {
     (void)state;
-    qibl_bake_sums a, b;
+    qtool_bake_sums a, b;
     make_sums(&a, 4, 2, 2, 32, 0, 2, 77);
     uint8_t *buf;
     size_t n;
     char err[512];
-    assert_int_equal(qibl_bake_sums_encode(&a, &buf, &n), 0);
+    assert_int_equal(qtool_bake_sums_encode(&a, &buf, &n), 0);
     for (size_t i = 0; i < n; i += 3) {
         buf[i] ^= (uint8_t)(1u << (i % 8));
-        int rc = qibl_bake_sums_decode(buf, n, &b, err, sizeof err);
+        int rc = qtool_bake_sums_decode(buf, n, &b, err, sizeof err);
         if (rc == 0)
             fail_msg("bit %zu of byte %zu flipped: decoded", i % 8, i);
         if (i >= 12 && strstr(err, "checksum mismatch") == NULL)
             fail_msg("byte %zu flipped: '%s' does not name a checksum mismatch", i, err);
         buf[i] ^= (uint8_t)(1u << (i % 8));
     }
-    assert_int_equal(qibl_bake_sums_decode(buf, n, &b, err, sizeof err), 0);
-    qibl_bake_sums_free(&b);
+    assert_int_equal(qtool_bake_sums_decode(buf, n, &b, err, sizeof err), 0);
+    qtool_bake_sums_free(&b);
     /* through the file reader too: the error names the file */
     char path[64];
     snprintf(path, sizeof path, "/tmp/qibl_sums_flip_%d", (int)getpid());
@@ -246,12 +246,12 @@ static void test_sums_checksums_catch_flips(void **state)
     assert_non_null(f);
     assert_int_equal(fwrite(buf, 1, n, f), n);
     fclose(f);
-    assert_int_equal(qibl_bake_sums_read(path, &b, err, sizeof err), -1);
+    assert_int_equal(qtool_bake_sums_read(path, &b, err, sizeof err), -1);
     assert_non_null(strstr(err, path));
     assert_non_null(strstr(err, "checksum mismatch in the sums"));
     remove(path);
     free(buf);
-    qibl_bake_sums_free(&a);
+    qtool_bake_sums_free(&a);
 }
 
 /* Every count in the header is bounded, and the file's size must be what the header claims, before
@@ -259,11 +259,11 @@ static void test_sums_checksums_catch_flips(void **state)
 static void test_sums_header_fields_bounded(void **state)
 {
     (void)state;
-    qibl_bake_sums a;
+    qtool_bake_sums a;
     make_sums(&a, 4, 2, 2, 32, 1, 2, 5);
     uint8_t *good;
     size_t n;
-    assert_int_equal(qibl_bake_sums_encode(&a, &good, &n), 0);
+    assert_int_equal(qtool_bake_sums_encode(&a, &good, &n), 0);
     static const struct {
         unsigned off;
         uint32_t value;
@@ -294,7 +294,7 @@ static void test_sums_header_fields_bounded(void **state)
         free(b);
     }
     /* w * h above the asset's pixel limit although each side is in range */
-    uint8_t hdr[QIBL_BAKE_SUMS_HEADER];
+    uint8_t hdr[QTOOL_BAKE_SUMS_HEADER];
     memcpy(hdr, good, sizeof hdr);
     put32(hdr + 12, 16384), put32(hdr + 16, 8192);
     fix_crcs(hdr, sizeof hdr);
@@ -310,8 +310,8 @@ static void test_sums_header_fields_bounded(void **state)
     assert_non_null(f);
     assert_int_equal(fwrite(hdr, 1, sizeof hdr, f), sizeof hdr);
     fclose(f);
-    qibl_bake_sums b;
-    assert_int_equal(qibl_bake_sums_read(path, &b, err, sizeof err), -1);
+    qtool_bake_sums b;
+    assert_int_equal(qtool_bake_sums_read(path, &b, err, sizeof err), -1);
     assert_non_null(strstr(err, "truncated: 48 bytes, the header says 41070624816"));
     remove(path);
     /* short, foreign, trailing */
@@ -324,10 +324,10 @@ static void test_sums_header_fields_bounded(void **state)
     expect_decode_error(longer, n + 5, "5 trailing bytes after the sums");
     free(longer);
     /* a directory is not a sums file */
-    assert_int_equal(qibl_bake_sums_read("/tmp", &b, err, sizeof err), -1);
+    assert_int_equal(qtool_bake_sums_read("/tmp", &b, err, sizeof err), -1);
     assert_non_null(strstr(err, "not a regular file"));
     free(good);
-    qibl_bake_sums_free(&a);
+    qtool_bake_sums_free(&a);
 }
 
 /* Adding sums that overflow 64 bits is a named error and changes nothing (no wrapped, CRC-valid
@@ -335,7 +335,7 @@ static void test_sums_header_fields_bounded(void **state)
 static void test_sums_add_overflow_and_mismatch(void **state)
 {
     (void)state;
-    qibl_bake_sums a, b, c;
+    qtool_bake_sums a, b, c;
     make_sums(&a, 3, 2, 1, 32, 0, 2, 1);
     make_sums(&b, 3, 2, 1, 32, 1, 2, 2);
     char err[512];
@@ -344,29 +344,29 @@ static void test_sums_add_overflow_and_mismatch(void **state)
     a.acc[na - 1] = INT64_MAX - 5;
     b.acc[na - 1] = 6;
     memcpy(before, a.acc, sizeof(int64_t) * na);
-    assert_int_equal(qibl_bake_sums_add(&a, &b, err, sizeof err), -1);
+    assert_int_equal(qtool_bake_sums_add(&a, &b, err, sizeof err), -1);
     assert_non_null(strstr(err, "overflow 64 bits at pixel (2, 1), channel 2, coefficient 0"));
     assert_memory_equal(a.acc, before, sizeof(int64_t) * na); /* nothing half-added */
     a.acc[na - 1] = INT64_MIN + 5, b.acc[na - 1] = -6;
-    assert_int_equal(qibl_bake_sums_add(&a, &b, err, sizeof err), -1);
+    assert_int_equal(qtool_bake_sums_add(&a, &b, err, sizeof err), -1);
     assert_non_null(strstr(err, "overflow"));
     a.acc[na - 1] = INT64_MAX - 6, b.acc[na - 1] = 6; /* exactly INT64_MAX: fine */
-    assert_int_equal(qibl_bake_sums_add(&a, &b, err, sizeof err), 0);
+    assert_int_equal(qtool_bake_sums_add(&a, &b, err, sizeof err), 0);
     assert_true(a.acc[na - 1] == INT64_MAX);
     /* each mismatch by name */
     make_sums(&c, 3, 2, 1, 48, 1, 2, 2);
-    assert_int_equal(qibl_bake_sums_add(&a, &c, err, sizeof err), -1);
+    assert_int_equal(qtool_bake_sums_add(&a, &c, err, sizeof err), -1);
     assert_non_null(strstr(err, "48 directions against 32"));
-    qibl_bake_sums_free(&c);
+    qtool_bake_sums_free(&c);
     make_sums(&c, 3, 2, 1, 48, 2, 3, 2);
     c.ndirs = 32;
-    assert_int_equal(qibl_bake_sums_add(&a, &c, err, sizeof err), -1);
+    assert_int_equal(qtool_bake_sums_add(&a, &c, err, sizeof err), -1);
     assert_non_null(strstr(err, "shard 2/3 against a split into 2"));
     c.nshards = 2, c.shard = 1, c.pmap[4] ^= 1;
-    assert_int_equal(qibl_bake_sums_add(&a, &c, err, sizeof err), -1);
+    assert_int_equal(qtool_bake_sums_add(&a, &c, err, sizeof err), -1);
     assert_non_null(strstr(err, "P maps differ"));
     free(before);
-    qibl_bake_sums_free(&a), qibl_bake_sums_free(&b), qibl_bake_sums_free(&c);
+    qtool_bake_sums_free(&a), qtool_bake_sums_free(&b), qtool_bake_sums_free(&c);
 }
 
 int main(void)

@@ -115,7 +115,7 @@ static int run(const char *first, ...)
 static char *stderr_text(void)
 {
     size_t n;
-    uint8_t *b = qibl_io_read_all(errlog, &n);
+    uint8_t *b = qtool_io_read_all(errlog, &n);
     char *s = malloc(n + 1);
     assert_non_null(s);
     if (b)
@@ -244,9 +244,9 @@ static void test_merge_overflow(void **state)
     for (int i = 0; i < W * H * 3 * K; ++i)
         acc[0][i] = INT64_MAX - 10, acc[1][i] = 1000;
     for (int s = 0; s < 2; ++s) {
-        qibl_bake_sums sums = {W, H, K, 32, 0, (uint32_t)s, 2, pmap, acc[s]};
+        qtool_bake_sums sums = {W, H, K, 32, 0, (uint32_t)s, 2, pmap, acc[s]};
         char err[256];
-        assert_int_equal(qibl_bake_sums_write(&sums, at(s ? "o1" : "o0"), err, sizeof err), 0);
+        assert_int_equal(qtool_bake_sums_write(&sums, at(s ? "o1" : "o0"), err, sizeof err), 0);
     }
     const char *out = at("m.qibl");
     expect(1, "sums overflow 64 bits at pixel (0, 0)", out, "merge", "-o", out, at("o0"), at("o1"), NULL);
@@ -261,7 +261,7 @@ static void test_merge_huge_direction_count(void **state)
     shard("a0", "0/1", "16", "1");
     uint8_t *b;
     size_t n;
-    b = qibl_io_read_all(at("a0"), &n);
+    b = qtool_io_read_all(at("a0"), &n);
     assert_non_null(b);
     b[24] = 0, b[25] = 0, b[26] = 0, b[27] = 0x80;
     uint32_t c = qibl_crc32(0, b, 44);
@@ -400,7 +400,7 @@ static void test_output_to_symlink_refused(void **state)
     assert_int_equal(symlink(victim, link), 0);
     expect(1, "refusing to replace a symbolic link", NULL, "gen", "-o", link, "--size", "16x4", NULL);
     size_t n;
-    uint8_t *b = qibl_io_read_all(victim, &n);
+    uint8_t *b = qtool_io_read_all(victim, &n);
     assert_non_null(b);
     assert_int_equal(n, 8);
     assert_memory_equal(b, "precious", 8);

@@ -123,7 +123,7 @@ static int run(const char *first, ...)
 static char *text(const char *path)
 {
     size_t n;
-    uint8_t *b = qibl_io_read_all(path, &n);
+    uint8_t *b = qtool_io_read_all(path, &n);
     char *s = malloc(n + 1);
     assert_non_null(s);
     if (b)
@@ -183,7 +183,7 @@ static void prop_not_split(const char *mesh)
     int w, h, ch;
     float *px;
     char err[512];
-    assert_int_equal(qibl_pfm_read(d, &w, &h, &ch, &px, err, sizeof err), 0);
+    assert_int_equal(qtool_pfm_read(d, &w, &h, &ch, &px, err, sizeof err), 0);
     assert_int_equal(w, 64);
     int lo = w, hi = -1, cols = 0;
     for (int x = 0; x < w; ++x) {
@@ -232,7 +232,7 @@ static double png_mean(const char *path)
     int w, h, fr;
     uint8_t *rgb;
     char err[512];
-    if (qibl_png_read_rgb8(path, &w, &h, &fr, &rgb, err, sizeof err) != 0)
+    if (qtool_png_read_rgb8(path, &w, &h, &fr, &rgb, err, sizeof err) != 0)
         fail_msg("%s", err);
     double s = 0;
     for (size_t i = 0; i < (size_t)w * (size_t)h * 3; ++i)
@@ -331,7 +331,7 @@ static void test_check_hdr(void **state)
     check(run("check", h, NULL), 0, "check p.hdr", 1, 'o', "Radiance HDR 6x4");
     /* truncated: the reader's reason, exit 1 */
     size_t n;
-    uint8_t *b = qibl_io_read_all(h, &n);
+    uint8_t *b = qtool_io_read_all(h, &n);
     assert_non_null(b);
     f = fopen(t, "wb");
     assert_non_null(f);
@@ -367,8 +367,8 @@ static void test_relight_linear_outputs(void **state)
     int w, h, w2, h2, ch;
     float *a, *b;
     char err[512];
-    assert_int_equal(qibl_hdr_read(hp, &w, &h, &a, err, sizeof err), 0);
-    assert_int_equal(qibl_pfm_read(fp, &w2, &h2, &ch, &b, err, sizeof err), 0);
+    assert_int_equal(qtool_hdr_read(hp, &w, &h, &a, err, sizeof err), 0);
+    assert_int_equal(qtool_pfm_read(fp, &w2, &h2, &ch, &b, err, sizeof err), 0);
     assert_int_equal(w, 64), assert_int_equal(h, 16), assert_int_equal(w2, 64), assert_int_equal(h2, 16);
     assert_int_equal(ch, 3);
     double mx = 0;

@@ -1,7 +1,7 @@
 /*
  * file_test.c - tools/io/file.c, the whole-file reading every reader and the CLI share: the order
  * of its checks (stat, non-blocking open, size, first bytes, body), each refusal's named message,
- * the magic check seeing only the first bytes, and qibl_io_read_all's errno for callers that print
+ * the magic check seeing only the first bytes, and qtool_io_read_all's errno for callers that print
  * strerror (a directory used to read as "Input/output error").
  */
 #include <errno.h>
@@ -28,13 +28,13 @@ static const char *ok_magic(const uint8_t *head, size_t n)
     return n >= 2 && head[0] == 'O' && head[1] == 'K' ? NULL : "not an OK file";
 }
 
-static const qibl_io_kind ok_kind = {"an OK file", 2, 4096, 8, ok_magic};
+static const qtool_io_kind ok_kind = {"an OK file", 2, 4096, 8, ok_magic};
 
 static int rd_ok(const char *path, char *err, size_t errlen)
 {
     uint8_t *b;
     size_t n;
-    int rc = qibl_io_load(path, &ok_kind, &b, &n, err, errlen);
+    int rc = qtool_io_load(path, &ok_kind, &b, &n, err, errlen);
     if (rc == 0)
         free(b);
     return rc;
@@ -44,7 +44,7 @@ static int rd_asset(const char *path, char *err, size_t errlen)
 {
     uint8_t *b;
     size_t n;
-    int rc = qibl_io_read_asset(path, &b, &n, err, errlen);
+    int rc = qtool_io_read_asset(path, &b, &n, err, errlen);
     if (rc == 0)
         free(b);
     return rc;
@@ -54,7 +54,7 @@ static int rd_asset(const char *path, char *err, size_t errlen)
 static void test_zeros_refused_before_reading(void **state)
 {
     (void)state;
-    fu_check_zeros_not_read(rd_asset, (size_t)64 << 20, "not a qibl asset", QIBL_IO_MAX_FILE_BYTES);
+    fu_check_zeros_not_read(rd_asset, (size_t)64 << 20, "not a qibl asset", QTOOL_IO_MAX_FILE_BYTES);
 }
 
 static void test_not_regular_files_named(void **state)
@@ -86,7 +86,7 @@ static void test_sizes_and_magic_in_order(void **state)
     size_t n = 0;
     char err[256];
     magic_calls = 0;
-    assert_int_equal(qibl_io_load(p, &ok_kind, &b, &n, err, sizeof err), 0);
+    assert_int_equal(qtool_io_load(p, &ok_kind, &b, &n, err, sizeof err), 0);
     assert_int_equal(magic_calls, 1);
     assert_int_equal(magic_seen, 8);
     assert_int_equal(n, 4096);
@@ -94,7 +94,7 @@ static void test_sizes_and_magic_in_order(void **state)
     free(b);
     /* shorter than head_bytes: the magic sees what there is */
     fu_write(p, "OK!", 3);
-    assert_int_equal(qibl_io_load(p, &ok_kind, &b, &n, err, sizeof err), 0);
+    assert_int_equal(qtool_io_load(p, &ok_kind, &b, &n, err, sizeof err), 0);
     assert_int_equal(magic_seen, 3);
     assert_true(n == 3 && memcmp(b, "OK!", 3) == 0);
     free(b);
@@ -102,7 +102,7 @@ static void test_sizes_and_magic_in_order(void **state)
     fu_write(p, "NO", 2);
     b = (uint8_t *)big;
     n = 77;
-    assert_int_equal(qibl_io_load(p, &ok_kind, &b, &n, err, sizeof err), -1);
+    assert_int_equal(qtool_io_load(p, &ok_kind, &b, &n, err, sizeof err), -1);
     assert_true(b == big && n == 77);
     assert_non_null(strstr(err, "not an OK file"));
     assert_non_null(strstr(err, p));
@@ -113,7 +113,7 @@ static void test_sizes_and_magic_in_order(void **state)
     free(big);
 }
 
-/* qibl_io_read_all keeps its errno contract, with the right errno for each refusal */
+/* qtool_io_read_all keeps its errno contract, with the right errno for each refusal */
 static void test_read_all_errno(void **state)
 {
     (void)state;
@@ -121,28 +121,28 @@ static void test_read_all_errno(void **state)
     fu_tmpdir(dir);
     size_t n = 0;
     errno = 0;
-    assert_null(qibl_io_read_all(dir, &n));
+    assert_null(qtool_io_read_all(dir, &n));
     assert_int_equal(errno, EISDIR);
     snprintf(p, sizeof p, "%s/fifo", dir);
     assert_int_equal(mkfifo(p, 0600), 0);
     alarm(20);
-    assert_null(qibl_io_read_all(p, &n));
+    assert_null(qtool_io_read_all(p, &n));
     alarm(0);
     assert_int_equal(errno, EINVAL);
     unlink(p);
-    assert_null(qibl_io_read_all("/dev/null", &n));
+    assert_null(qtool_io_read_all("/dev/null", &n));
     assert_int_equal(errno, EINVAL);
-    assert_null(qibl_io_read_all("/nonexistent/qibl/f", &n));
+    assert_null(qtool_io_read_all("/nonexistent/qibl/f", &n));
     assert_int_equal(errno, ENOENT);
     /* an empty file is a zero-length buffer (the asset parser names what is wrong with it) */
     snprintf(p, sizeof p, "%s/e", dir);
     fu_write(p, "", 0);
-    uint8_t *b = qibl_io_read_all(p, &n);
+    uint8_t *b = qtool_io_read_all(p, &n);
     assert_non_null(b);
     assert_int_equal(n, 0);
     free(b);
     fu_write(p, "abc", 3);
-    b = qibl_io_read_all(p, &n);
+    b = qtool_io_read_all(p, &n);
     assert_true(b && n == 3 && memcmp(b, "abc", 3) == 0);
     free(b);
     unlink(p);

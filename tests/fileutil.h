@@ -4,8 +4,8 @@
  * reader on one of them and asserts a one-line error naming the file and the reason. Include after
  * <cmocka.h>. A fifo read must not block: an alarm turns a hang into a failed (killed) suite.
  */
-#ifndef QIBL_FILEUTIL_H
-#define QIBL_FILEUTIL_H
+#ifndef QTOOL_FILEUTIL_H
+#define QTOOL_FILEUTIL_H
 
 #include <fcntl.h>
 #include <stdio.h>

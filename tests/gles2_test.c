@@ -405,19 +405,19 @@ static void test_nothing_leaks(void **state)
  * already unloaded (so no suppression can name it). Leak checking is off for this suite only;
  * ASan and UBSan still check every access of ours. */
 #if defined(__SANITIZE_ADDRESS__)
-#define QIBL_LSAN_OFF 1
+#define QTOOL_LSAN_OFF 1
 #elif defined(__has_feature)
 #if __has_feature(address_sanitizer)
-#define QIBL_LSAN_OFF 1
+#define QTOOL_LSAN_OFF 1
 #endif
 #endif
-#ifdef QIBL_LSAN_OFF
+#ifdef QTOOL_LSAN_OFF
 void __lsan_disable(void);
 #endif
 
 int main(void)
 {
-#ifdef QIBL_LSAN_OFF
+#ifdef QTOOL_LSAN_OFF
     __lsan_disable();
 #endif
     const struct CMUnitTest tests[] = {

@@ -18,25 +18,25 @@
 static void test_fixed(void **state)
 {
     (void)state;
-    assert_int_equal(qibl_goldens_check("fixed"), 0);
+    assert_int_equal(qtool_goldens_check("fixed"), 0);
 }
 
 static void test_sh(void **state)
 {
     (void)state;
-    assert_int_equal(qibl_goldens_check("sh"), 0);
+    assert_int_equal(qtool_goldens_check("sh"), 0);
 }
 
 static void test_srgbe(void **state)
 {
     (void)state;
-    assert_int_equal(qibl_goldens_check("srgbe"), 0);
+    assert_int_equal(qtool_goldens_check("srgbe"), 0);
 }
 
 static void test_asset(void **state)
 {
     (void)state;
-    assert_int_equal(qibl_goldens_check("asset"), 0);
+    assert_int_equal(qtool_goldens_check("asset"), 0);
 }
 
 int main(void)

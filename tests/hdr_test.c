@@ -65,7 +65,7 @@ static float *decode_ok(const buf_t *f, int want_w, int want_h)
     int w = -1, h = -1;
     float *rgb = NULL;
     char err[256] = "";
-    int rc = qibl_hdr_decode(f->b, f->n, &w, &h, &rgb, err, sizeof err);
+    int rc = qtool_hdr_decode(f->b, f->n, &w, &h, &rgb, err, sizeof err);
     if (rc != 0)
         fail_msg("decode failed: %s", err);
     assert_int_equal(w, want_w);
@@ -79,7 +79,7 @@ static void decode_fails(const buf_t *f, const char *want_substring)
     int w = -7, h = -7;
     float *rgb = (float *)(uintptr_t)0x1234;
     char err[256] = "";
-    assert_int_equal(qibl_hdr_decode(f->b, f->n, &w, &h, &rgb, err, sizeof err), -1);
+    assert_int_equal(qtool_hdr_decode(f->b, f->n, &w, &h, &rgb, err, sizeof err), -1);
     assert_true(w == -7 && h == -7 && rgb == (float *)(uintptr_t)0x1234); /* nothing set */
     assert_true(strlen(err) > 0 && strchr(err, '\n') == NULL);           /* one line */
     if (strstr(err, want_substring) == NULL)
@@ -253,7 +253,7 @@ static void test_read_file_and_missing_file(void **state)
     int w, h;
     float *rgb;
     char err[512];
-    assert_int_equal(qibl_hdr_read(path, &w, &h, &rgb, err, sizeof err), 0);
+    assert_int_equal(qtool_hdr_read(path, &w, &h, &rgb, err, sizeof err), 0);
     assert_true(w == 2 && h == 1 && rgb[0] == 2.0f && rgb[4] == 4.0f);
     free(rgb);
     /* a truncated copy: the message names the file */
@@ -261,11 +261,11 @@ static void test_read_file_and_missing_file(void **state)
     assert_true(fd >= 0);
     assert_int_equal(ftruncate(fd, (off_t)f.n - 3), 0);
     close(fd);
-    assert_int_equal(qibl_hdr_read(path, &w, &h, &rgb, err, sizeof err), -1);
+    assert_int_equal(qtool_hdr_read(path, &w, &h, &rgb, err, sizeof err), -1);
     assert_non_null(strstr(err, path));
     assert_non_null(strstr(err, "truncated"));
     unlink(path);
-    assert_int_equal(qibl_hdr_read("/nonexistent/qibl.hdr", &w, &h, &rgb, err, sizeof err), -1);
+    assert_int_equal(qtool_hdr_read("/nonexistent/qibl.hdr", &w, &h, &rgb, err, sizeof err), -1);
     assert_non_null(strstr(err, "/nonexistent/qibl.hdr"));
     assert_null(strchr(err, '\n'));
 }
@@ -294,7 +294,7 @@ static void test_real_probes_when_present(void **state)
         }
         int w, h;
         float *rgb;
-        if (qibl_hdr_read(path, &w, &h, &rgb, err, sizeof err) != 0)
+        if (qtool_hdr_read(path, &w, &h, &rgb, err, sizeof err) != 0)
             fail_msg("%s", err);
         assert_true(w == 1024 && h == 512);
         double mx = 0.0;
@@ -320,7 +320,7 @@ static int rd_hdr(const char *path, char *err, size_t errlen)
 {
     int w, h;
     float *rgb;
-    int rc = qibl_hdr_read(path, &w, &h, &rgb, err, errlen);
+    int rc = qtool_hdr_read(path, &w, &h, &rgb, err, errlen);
     if (rc == 0)
         free(rgb);
     return rc;
@@ -330,7 +330,7 @@ static int rd_hdr(const char *path, char *err, size_t errlen)
 static void test_zeros_refused_by_magic_before_reading(void **state)
 {
     (void)state;
-    fu_check_zeros_not_read(rd_hdr, (size_t)64 << 20, "no #? magic", QIBL_HDR_MAX_FILE_BYTES);
+    fu_check_zeros_not_read(rd_hdr, (size_t)64 << 20, "no #? magic", QTOOL_HDR_MAX_FILE_BYTES);
 }
 
 static void test_not_regular_files_named(void **state)
@@ -374,7 +374,7 @@ static void test_lying_header_refused(void **state)
     int w, h;
     uint8_t *px;
     char err[256];
-    if (qibl_hdr_decode_rgbe(f.b, f.n, &w, &h, &px, err, sizeof err) != 0)
+    if (qtool_hdr_decode_rgbe(f.b, f.n, &w, &h, &px, err, sizeof err) != 0)
         fail_msg("%s", err);
     assert_true(w == 8192 && h == 2);
     for (size_t i = 0; i < 2 * 8192; ++i)
@@ -388,7 +388,7 @@ static void test_lying_header_refused(void **state)
     for (size_t i = 11; i < big; ++i)
         b[i] = i % 16 == 15 ? '\n' : i % 16 == 11 ? '#' : 'x';
     w = h = -7;
-    assert_int_equal(qibl_hdr_decode(b, big, &w, &h, (float **)&px, err, sizeof err), -1);
+    assert_int_equal(qtool_hdr_decode(b, big, &w, &h, (float **)&px, err, sizeof err), -1);
     assert_true(w == -7 && h == -7);
     assert_non_null(strstr(err, "QIBL_HDR_MAX_HEADER_BYTES"));
     free(b);

@@ -25,11 +25,11 @@ static size_t roundtrip(int w, int h, const float *px)
     uint8_t *b;
     size_t n;
     char err[256];
-    if (qibl_hdr_encode(w, h, px, &b, &n, err, sizeof err) != 0)
+    if (qtool_hdr_encode(w, h, px, &b, &n, err, sizeof err) != 0)
         fail_msg("%s", err);
     int w2, h2;
     float *back;
-    if (qibl_hdr_decode(b, n, &w2, &h2, &back, err, sizeof err) != 0)
+    if (qtool_hdr_decode(b, n, &w2, &h2, &back, err, sizeof err) != 0)
         fail_msg("%dx%d: %s", w, h, err);
     free(b);
     assert_int_equal(w2, w);
@@ -81,10 +81,10 @@ static void test_exact_values(void **state)
     uint8_t *b;
     size_t n;
     char err[256];
-    assert_int_equal(qibl_hdr_encode(16, 1, px, &b, &n, err, sizeof err), 0);
+    assert_int_equal(qtool_hdr_encode(16, 1, px, &b, &n, err, sizeof err), 0);
     int w, h;
     float *back;
-    assert_int_equal(qibl_hdr_decode(b, n, &w, &h, &back, err, sizeof err), 0);
+    assert_int_equal(qtool_hdr_decode(b, n, &w, &h, &back, err, sizeof err), 0);
     assert_memory_equal(back, px, sizeof px);
     free(b), free(back);
 }
@@ -111,28 +111,28 @@ static void test_bad_samples(void **state)
     uint8_t *b = NULL;
     size_t n;
     char err[256];
-    assert_int_equal(qibl_hdr_encode(2, 2, px, &b, &n, err, sizeof err), -1);
+    assert_int_equal(qtool_hdr_encode(2, 2, px, &b, &n, err, sizeof err), -1);
     assert_non_null(strstr(err, "sample nan at pixel (0, 1) channel 1"));
     assert_null(b);
     px[7] = -0.5f;
-    assert_int_equal(qibl_hdr_encode(2, 2, px, &b, &n, err, sizeof err), -1);
+    assert_int_equal(qtool_hdr_encode(2, 2, px, &b, &n, err, sizeof err), -1);
     assert_non_null(strstr(err, "sample -0.5 at pixel (0, 1) channel 1"));
     px[7] = INFINITY;
-    assert_int_equal(qibl_hdr_encode(2, 2, px, &b, &n, err, sizeof err), -1);
+    assert_int_equal(qtool_hdr_encode(2, 2, px, &b, &n, err, sizeof err), -1);
     px[7] = 1;
-    assert_int_equal(qibl_hdr_encode(0, 2, px, &b, &n, err, sizeof err), -1);
+    assert_int_equal(qtool_hdr_encode(0, 2, px, &b, &n, err, sizeof err), -1);
     assert_non_null(strstr(err, "bad image size 0x2"));
     char path[64];
     snprintf(path, sizeof path, "/tmp/qibl_hdr_write_%d.hdr", (int)getpid());
     px[0] = NAN;
-    assert_int_equal(qibl_hdr_write(path, 2, 2, px, err, sizeof err), -1);
+    assert_int_equal(qtool_hdr_write(path, 2, 2, px, err, sizeof err), -1);
     assert_non_null(strstr(err, path));
     assert_int_equal(access(path, F_OK), -1);
     px[0] = 2;
-    assert_int_equal(qibl_hdr_write(path, 2, 2, px, err, sizeof err), 0);
+    assert_int_equal(qtool_hdr_write(path, 2, 2, px, err, sizeof err), 0);
     int w, h;
     float *back;
-    assert_int_equal(qibl_hdr_read(path, &w, &h, &back, err, sizeof err), 0);
+    assert_int_equal(qtool_hdr_read(path, &w, &h, &back, err, sizeof err), 0);
     assert_true(back[0] == 2.0f && back[11] == 1.0f);
     free(back);
     remove(path);

@@ -428,7 +428,7 @@ static void ref_transfer(const int32_t (*v)[3], const uint32_t (*tri)[3], int nt
             if (blocked)
                 continue;
             double yv[25];
-            qibl_ref_sh_eval(s[0], s[1], s[2], 5, yv);
+            qtool_ref_sh_eval(s[0], s[1], s[2], 5, yv);
             for (int i = 0; i < 25; ++i)
                 out[i] += yv[i] * dA;
         }
@@ -460,7 +460,7 @@ static void test_transfer_unblocked(void **state)
         for (int j = 0; j < steps; ++j) {
             const double z = (j + 0.5) / steps, sxy = sqrt(1 - z * z);
             double yv[25];
-            qibl_ref_sh_eval(sxy, 0, z, 5, yv);
+            qtool_ref_sh_eval(sxy, 0, z, 5, yv);
             for (int l = 0; l <= 4; ++l)
                 ref[l * l + l] += 2 * PI * yv[l * l + l] * z / steps;
         }
@@ -674,7 +674,7 @@ static void test_rotation(void **state)
 static void test_goldens(void **state)
 {
     (void)state;
-    assert_int_equal(qibl_goldens_check("hemi"), 0);
+    assert_int_equal(qtool_goldens_check("hemi"), 0);
 }
 
 int main(void)

@@ -63,7 +63,7 @@ static void tpath_make(tpath *p, uint32_t w, uint32_t h, uint32_t kind, uint64_t
             p->counts[i]++;
         }
     }
-    assert_int_equal(qibl_bake_path_payload(w, h, kind, p->nkeys, p->kt, p->kv, p->counts, p->edges, p->nedges,
+    assert_int_equal(qtool_bake_path_payload(w, h, kind, p->nkeys, p->kt, p->kv, p->counts, p->edges, p->nedges,
                                             &p->buf, &p->n), 0);
 }
 
@@ -220,7 +220,7 @@ static void test_span_errors(void **state)
 
 static void put32(uint8_t *b, size_t off, uint32_t v)
 {
-    qibl_store_u32le(b + off, v);
+    qtool_store_u32le(b + off, v);
 }
 
 static qibl_status_t parse_edit(const tpath *p, size_t off, uint32_t v)
@@ -336,16 +336,16 @@ static void test_truncations_and_flips(void **state)
 
 /* ---- in an asset ----------------------------------------------------------------------------------- */
 
-static void add_shm(qibl_asset_builder *b, uint32_t type, uint32_t w, uint32_t h, uint32_t k)
+static void add_shm(qtool_asset_builder *b, uint32_t type, uint32_t w, uint32_t h, uint32_t k)
 {
     int32_t scale[78], bias[78];
     uint8_t *planes = calloc((size_t)w * h * k * 3, 1);
     for (uint32_t i = 0; i < k * 3; ++i)
         scale[i] = 1 << 16, bias[i] = 0;
     if (type == QIBL_CHUNK_SHMP)
-        assert_int_equal(qibl_asset_add_shmp(b, w, h, k, 3, scale, bias, planes), 0);
+        assert_int_equal(qtool_asset_add_shmp(b, w, h, k, 3, scale, bias, planes), 0);
     else
-        assert_int_equal(qibl_asset_add_shmu(b, w, h, k, 3, scale, bias, planes), 0);
+        assert_int_equal(qtool_asset_add_shmu(b, w, h, k, 3, scale, bias, planes), 0);
     free(planes);
 }
 
@@ -354,20 +354,20 @@ static void test_asset(void **state)
     (void)state;
     tpath p1, p2, p3;
     tpath_make(&p1, 6, 2, 0, 1), tpath_make(&p2, 6, 2, 1, 2), tpath_make(&p3, 5, 2, 1, 3);
-    qibl_asset_builder b;
+    qtool_asset_builder b;
     uint8_t *buf;
     size_t n;
     qibl_asset_t a;
     qibl_shmaps_t m;
     qibl_lightpath_t lp;
     /* SHMP k4 + SHMU k9 + two paths */
-    qibl_asset_builder_init(&b);
+    qtool_asset_builder_init(&b);
     add_shm(&b, QIBL_CHUNK_SHMP, 6, 2, 4);
     add_shm(&b, QIBL_CHUNK_SHMU, 6, 2, 9);
-    assert_int_equal(qibl_asset_builder_add(&b, QIBL_CHUNK_LPTH, p1.buf, p1.n), 0);
-    assert_int_equal(qibl_asset_builder_add(&b, QIBL_CHUNK_LPTH, p2.buf, p2.n), 0);
-    assert_int_equal(qibl_asset_serialize(&b, &buf, &n), 0);
-    qibl_asset_builder_free(&b);
+    assert_int_equal(qtool_asset_builder_add(&b, QIBL_CHUNK_LPTH, p1.buf, p1.n), 0);
+    assert_int_equal(qtool_asset_builder_add(&b, QIBL_CHUNK_LPTH, p2.buf, p2.n), 0);
+    assert_int_equal(qtool_asset_serialize(&b, &buf, &n), 0);
+    qtool_asset_builder_free(&b);
     assert_int_equal(qibl_asset_open(&a, buf, n), QIBL_OK);
     assert_int_equal(qibl_asset_shmaps(&a, &m), QIBL_OK);
     assert_int_equal(m.k, 4);
@@ -383,11 +383,11 @@ static void test_asset(void **state)
     assert_int_equal(qibl_lightpath_from_asset(NULL, 0, &lp), QIBL_E_NULL_POINTER);
     free(buf);
     /* an older asset: no SHMU, point lights get SHMP; a path of another size */
-    qibl_asset_builder_init(&b);
+    qtool_asset_builder_init(&b);
     add_shm(&b, QIBL_CHUNK_SHMP, 6, 2, 4);
-    assert_int_equal(qibl_asset_builder_add(&b, QIBL_CHUNK_LPTH, p3.buf, p3.n), 0);
-    assert_int_equal(qibl_asset_serialize(&b, &buf, &n), 0);
-    qibl_asset_builder_free(&b);
+    assert_int_equal(qtool_asset_builder_add(&b, QIBL_CHUNK_LPTH, p3.buf, p3.n), 0);
+    assert_int_equal(qtool_asset_serialize(&b, &buf, &n), 0);
+    qtool_asset_builder_free(&b);
     assert_int_equal(qibl_asset_open(&a, buf, n), QIBL_OK);
     assert_int_equal(qibl_asset_shmaps_unshadowed(&a, &m), QIBL_E_ASSET_MISSING_CHUNK);
     assert_int_equal(qibl_asset_point_shmaps(&a, &m), QIBL_OK);
@@ -396,13 +396,13 @@ static void test_asset(void **state)
     free(buf);
     /* SHMU of another size, twice SHMU, SHMU with bad fields */
     for (int v = 0; v < 3; ++v) {
-        qibl_asset_builder_init(&b);
+        qtool_asset_builder_init(&b);
         add_shm(&b, QIBL_CHUNK_SHMP, 6, 2, 4);
         add_shm(&b, QIBL_CHUNK_SHMU, v == 0 ? 5 : 6, 2, v == 2 ? 26 : 4);
         if (v == 1)
             add_shm(&b, QIBL_CHUNK_SHMU, 6, 2, 4);
-        assert_int_equal(qibl_asset_serialize(&b, &buf, &n), 0);
-        qibl_asset_builder_free(&b);
+        assert_int_equal(qtool_asset_serialize(&b, &buf, &n), 0);
+        qtool_asset_builder_free(&b);
         assert_int_equal(qibl_asset_open(&a, buf, n),
                          v == 0 ? QIBL_E_ASSET_MISMATCH : v == 1 ? QIBL_E_ASSET_DUPLICATE_CHUNK : QIBL_E_ASSET_BAD_K);
         free(buf);
@@ -415,36 +415,36 @@ static void test_asset(void **state)
 static void test_bake_edges(void **state)
 {
     (void)state;
-    qibl_rt_scene s;
-    assert_int_equal(qibl_rt_scene_builtin(&s), 0);
-    qibl_bake_path sun = {0};
+    qtool_rt_scene s;
+    assert_int_equal(qtool_rt_scene_builtin(&s), 0);
+    qtool_bake_path sun = {0};
     char err[200];
-    assert_int_equal(qibl_bake_path_parse_sun("40,15,7,17", &sun, err, sizeof err), 0);
-    assert_int_equal(qibl_bake_path_parse_sun("40,15,17,7", &sun, err, sizeof err), -1);
+    assert_int_equal(qtool_bake_path_parse_sun("40,15,7,17", &sun, err, sizeof err), 0);
+    assert_int_equal(qtool_bake_path_parse_sun("40,15,17,7", &sun, err, sizeof err), -1);
     assert_non_null(strstr(err, "T0 < T1"));
-    assert_int_equal(qibl_bake_path_parse_sun("40,15,7", &sun, err, sizeof err), -1);
-    qibl_bake_path tr = {0};
-    assert_int_equal(qibl_bake_path_parse_track("0,0,0;1,0,0;1,1,0", &tr, err, sizeof err), 0);
+    assert_int_equal(qtool_bake_path_parse_sun("40,15,7", &sun, err, sizeof err), -1);
+    qtool_bake_path tr = {0};
+    assert_int_equal(qtool_bake_path_parse_track("0,0,0;1,0,0;1,1,0", &tr, err, sizeof err), 0);
     assert_int_equal(tr.npts, 3);
-    assert_int_equal(qibl_bake_path_parse_track("0,0,0;0,0,0", &tr, err, sizeof err), -1);
-    assert_int_equal(qibl_bake_path_parse_track("0,0,0;1,x,0", &tr, err, sizeof err), -1);
+    assert_int_equal(qtool_bake_path_parse_track("0,0,0;0,0,0", &tr, err, sizeof err), -1);
+    assert_int_equal(qtool_bake_path_parse_track("0,0,0;1,x,0", &tr, err, sizeof err), -1);
     assert_non_null(strstr(err, "point 2"));
     /* t = 1/2 of the track is its arc-length midpoint */
-    assert_int_equal(qibl_bake_path_parse_track("0,0,0;1,0,0;1,1,0", &tr, err, sizeof err), 0);
-    qibl_rt_light l;
-    qibl_bake_path_light(&tr, 0.5, &l);
+    assert_int_equal(qtool_bake_path_parse_track("0,0,0;1,0,0;1,1,0", &tr, err, sizeof err), 0);
+    qtool_rt_light l;
+    qtool_bake_path_light(&tr, 0.5, &l);
     assert_true(fabs(l.pos[0] - 1) < 1e-12 && fabs(l.pos[1]) < 1e-12);
     /* noon at the equator on an equinox: straight up */
-    qibl_bake_path eq = {0};
-    assert_int_equal(qibl_bake_path_parse_sun("0,0,11,13", &eq, err, sizeof err), 0);
-    qibl_bake_path_light(&eq, 0.5, &l);
+    qtool_bake_path eq = {0};
+    assert_int_equal(qtool_bake_path_parse_sun("0,0,11,13", &eq, err, sizeof err), 0);
+    qtool_bake_path_light(&eq, 0.5, &l);
     assert_true(fabs(l.dir[2] - 1) < 1e-12);
 
     uint32_t w = 24, h = 6;
     uint8_t *buf;
     size_t n;
     double stats[2];
-    assert_int_equal(qibl_bake_path_chunk(&s, w, h, QIBL_PANO_CYLINDRICAL, &sun, 16, 9, 2, &buf, &n, stats), 0);
+    assert_int_equal(qtool_bake_path_chunk(&s, w, h, QTOOL_PANO_CYLINDRICAL, &sun, 16, 9, 2, &buf, &n, stats), 0);
     qibl_lightpath_t lp;
     assert_int_equal(qibl_lightpath_parse(buf, n, &lp), QIBL_OK);
     /* the stored visibility agrees with the ray tracer away from the edges (one 16-bit step) */
@@ -455,14 +455,14 @@ static void test_bake_edges(void **state)
             assert_int_equal(qibl_lightpath_visibility_span(&lp, t, 0, 0, y, w, vis), QIBL_OK);
             for (uint32_t x = 0; x < w; ++x) {
                 double d[3], wv[3], df, gl;
-                qibl_rt_hit hit;
-                qibl_rt_pixel_dir(w, h, QIBL_PANO_CYLINDRICAL, x, y, d);
-                qibl_rt_primary(&s, d, &hit);
-                qibl_bake_path_light(&sun, t / 65535.0, &l);
+                qtool_rt_hit hit;
+                qtool_rt_pixel_dir(w, h, QTOOL_PANO_CYLINDRICAL, x, y, d);
+                qtool_rt_primary(&s, d, &hit);
+                qtool_bake_path_light(&sun, t / 65535.0, &l);
                 double len = sqrt(l.dir[0] * l.dir[0] + l.dir[1] * l.dir[1] + l.dir[2] * l.dir[2]);
                 for (int c = 0; c < 3; ++c)
                     wv[c] = l.dir[c] / len;
-                int lit = hit.hit && qibl_rt_response(&s, &hit, wv, 1e30, &df, &gl);
+                int lit = hit.hit && qtool_rt_response(&s, &hit, wv, 1e30, &df, &gl);
                 checked++;
                 bad += (vis[x] == 65536u) != (lit != 0);
             }
@@ -471,14 +471,14 @@ static void test_bake_edges(void **state)
     /* only changes that undo themselves between two of the 16 samples may be missed */
     assert_true(bad * 50 <= checked);
     free(buf);
-    qibl_rt_scene_free(&s);
+    qtool_rt_scene_free(&s);
 }
 
 /* fixed payload, maps and lights -> SHA-256 (tools/golden/cases_lightpath.c, shared with the runner) */
 static void test_goldens(void **state)
 {
     (void)state;
-    assert_int_equal(qibl_goldens_check("lightpath"), 0);
+    assert_int_equal(qtool_goldens_check("lightpath"), 0);
 }
 
 int main(void)

@@ -93,7 +93,7 @@ static double ldir(const qibl_lightprobe_light_t *l, int c)
  * within tol_dir, colours within tol_rgb relative (of the light's largest channel) plus 1 LSB of the
  * list's scale. Returns the number of regions that differ; prints the first few. */
 static int compare_ref(const qibl_lightprobe_t *lp, const qibl_lightprobe_light_t *L,
-                       const qibl_lightprobe_result_t *res, const qibl_ref_light *R, int rn, double tol_rgb,
+                       const qibl_lightprobe_result_t *res, const qtool_ref_light *R, int rn, double tol_rgb,
                        const char *what, double *max_dir, double *max_rgb)
 {
     int diff = 0;
@@ -275,8 +275,8 @@ static void test_sat_additive_and_accurate(void **state)
         built b;
         assert_int_equal(build(&b, &img, QIBL_LIGHTPROBE_MEDIANCUT), QIBL_OK);
         double *d = rgbe_to_double(px, w, h);
-        qibl_ref_probe rp;
-        assert_int_equal(qibl_ref_probe_init(&rp, w, h, d), 0);
+        qtool_ref_probe rp;
+        assert_int_equal(qtool_ref_probe_init(&rp, w, h, d), 0);
         /* per-pixel energies through 1 x 1 regions */
         uint64_t *e = malloc(sizeof *e * (size_t)w * (size_t)h);
         for (int v = 0; v < h; ++v)
@@ -296,7 +296,7 @@ static void test_sat_additive_and_accurate(void **state)
                 for (uint32_t u = u0; u < u1; ++u)
                     sum += e[(size_t)v * (size_t)w + u];
             assert_true(got == sum); /* additive, bit for bit */
-            long double ref = qibl_ref_probe_energy(&rp, (int)u0, (int)v0, (int)u1, (int)v1);
+            long double ref = qtool_ref_probe_energy(&rp, (int)u0, (int)v0, (int)u1, (int)v1);
             long double unit = ldexpl(1, b.lp.energy_exp) / b.lp.energy_div;
             long double err = fabsl((long double)got * unit - ref);
             long double bound = (long double)((u1 - u0) * (v1 - v0)) * unit + ref * ldexpl(1, -30);
@@ -310,7 +310,7 @@ static void test_sat_additive_and_accurate(void **state)
         assert_int_equal(qibl_lightprobe_region_energy(&b.lp, 0, 0, (uint32_t)w + 1, 1, &z), QIBL_E_PROBE_RECT);
         assert_int_equal(qibl_lightprobe_region_energy(&b.lp, 1, 0, 0, 1, &z), QIBL_E_PROBE_RECT);
         assert_int_equal(qibl_lightprobe_region_energy(NULL, 0, 0, 1, 1, &z), QIBL_E_NULL_POINTER);
-        qibl_ref_probe_free(&rp);
+        qtool_ref_probe_free(&rp);
         free(d), free(e), free(px), free(b.ws);
     }
     printf("lightprobe: SAT region sums additive bit for bit; against long double on 2^60-range probes the "
@@ -465,25 +465,25 @@ static void test_samplers_match_reference(void **state)
         int w = sizes[s][0], h = sizes[s][1];
         uint8_t *px = random_probe(&r, w, h, (int)s % 4, s % 2 ? 1e4 : 30);
         double *d = rgbe_to_double(px, w, h);
-        qibl_ref_probe rp;
-        assert_int_equal(qibl_ref_probe_init(&rp, w, h, d), 0);
+        qtool_ref_probe rp;
+        assert_int_equal(qtool_ref_probe_init(&rp, w, h, d), 0);
         qibl_lightprobe_image_t img = rgbe_image(px, w, h);
         built b;
         assert_int_equal(build(&b, &img, QIBL_LIGHTPROBE_VARMIN), QIBL_OK);
         for (size_t k = 0; k < sizeof runs / sizeof runs[0]; ++k)
             for (int place = 0; place < 2; ++place) {
                 qibl_lightprobe_light_t L[64];
-                qibl_ref_light R[64];
+                qtool_ref_light R[64];
                 qibl_lightprobe_result_t res;
                 assert_int_equal(sample(&b.lp, runs[k].method, runs[k].priority, place, runs[k].n, L, &res), QIBL_OK);
-                int rn = qibl_ref_lights(&rp, runs[k].method, runs[k].priority, place, (int)runs[k].n, R);
+                int rn = qtool_ref_lights(&rp, runs[k].method, runs[k].priority, place, (int)runs[k].n, R);
                 char what[96];
                 snprintf(what, sizeof what, "%dx%d method %d priority %d n %u place %d", w, h, runs[k].method,
                          runs[k].priority, runs[k].n, place);
                 diff += compare_ref(&b.lp, L, &res, R, rn, 1e-6, what, &max_dir, &max_rgb);
                 total += rn;
             }
-        qibl_ref_probe_free(&rp);
+        qtool_ref_probe_free(&rp);
         free(d), free(px), free(b.ws);
     }
     printf("lightprobe: %d lights of 5 random probes x 13 runs x 2 placements against the double reference: %d "
@@ -556,8 +556,8 @@ static void test_formats_agree(void **state)
             int x = sr[4 * i + (size_t)c];
             ds[3 * i + (size_t)c] = x > 128 ? ldexp(2.0 * x - 255, sr[4 * i + 3] - 126) / 510 : 0.0;
         }
-    qibl_ref_probe rp;
-    assert_int_equal(qibl_ref_probe_init(&rp, w, h, ds), 0);
+    qtool_ref_probe rp;
+    assert_int_equal(qtool_ref_probe_init(&rp, w, h, ds), 0);
     qibl_lightprobe_image_t is;
     memset(&is, 0, sizeof is);
     is.pixels = sr, is.width = (uint32_t)w, is.height = (uint32_t)h, is.format = QIBL_LIGHTPROBE_SRGBE;
@@ -566,13 +566,13 @@ static void test_formats_agree(void **state)
     assert_int_equal(b.lp.energy_div, 510);
     for (int m = 0; m < 3; ++m) {
         qibl_lightprobe_light_t L[37];
-        qibl_ref_light R[37];
+        qtool_ref_light R[37];
         qibl_lightprobe_result_t res;
         assert_int_equal(sample(&b.lp, m, 0, 0, m == 0 ? 32 : 37, L, &res), QIBL_OK);
-        int rn = qibl_ref_lights(&rp, m, 0, 0, m == 0 ? 32 : 37, R);
+        int rn = qtool_ref_lights(&rp, m, 0, 0, m == 0 ? 32 : 37, R);
         assert_int_equal(compare_ref(&b.lp, L, &res, R, rn, 1e-6, "sRGBE", NULL, NULL), 0);
     }
-    qibl_ref_probe_free(&rp);
+    qtool_ref_probe_free(&rp);
     free(b.ws), free(ds), free(d), free(px), free(f), free(ii), free(sr);
 }
 
@@ -634,18 +634,18 @@ static void test_bright_pole(void **state)
     built b;
     assert_int_equal(build(&b, &img, QIBL_LIGHTPROBE_VARMIN), QIBL_OK);
     double *d = rgbe_to_double(px, w, h);
-    qibl_ref_probe rp;
-    assert_int_equal(qibl_ref_probe_init(&rp, w, h, d), 0);
+    qtool_ref_probe rp;
+    assert_int_equal(qtool_ref_probe_init(&rp, w, h, d), 0);
     enum { NN = 400 };
     double (*nrm)[3] = malloc(sizeof *nrm * NN), *E = malloc(sizeof *E * NN);
-    qibl_ref_sphere_dirs(NN, nrm);
-    qibl_ref_probe_irradiance(&rp, NN, (const double (*)[3])nrm, E, 2);
+    qtool_ref_sphere_dirs(NN, nrm);
+    qtool_ref_probe_irradiance(&rp, NN, (const double (*)[3])nrm, E, 2);
     for (int m = 0; m < 3; ++m) {
         qibl_lightprobe_light_t L[64];
-        qibl_ref_light R[64];
+        qtool_ref_light R[64];
         qibl_lightprobe_result_t res;
         assert_int_equal(sample(&b.lp, m, 0, 0, m == 0 ? 16 : 16, L, &res), QIBL_OK);
-        int rn = qibl_ref_lights(&rp, m, 0, 0, 16, R);
+        int rn = qtool_ref_lights(&rp, m, 0, 0, 16, R);
         assert_int_equal(compare_ref(&b.lp, L, &res, R, rn, 1e-6, "pole", NULL, NULL), 0);
         int in_cap = 0;
         double sx = 0, sy = 0;
@@ -662,12 +662,12 @@ static void test_bright_pole(void **state)
         for (uint32_t i = 0; i < res.count; ++i)
             for (int c = 0; c < 3; ++c)
                 R[i].dir[c] = ldir(&L[i], c), R[i].rgb[c] = ldexp(L[i].rgb[c], res.rgb_exp);
-        qibl_ref_irradiance_error(R, (int)res.count, NN, (const double (*)[3])nrm, E, &me, &mx);
+        qtool_ref_irradiance_error(R, (int)res.count, NN, (const double (*)[3])nrm, E, &me, &mx);
         printf("lightprobe: bright pole, method %d, 16 lights: %d in the cap, irradiance error mean %.2f%% max "
                "%.2f%%\n", m, in_cap, 100 * me, 100 * mx);
         assert_true(me < 0.03);
     }
-    qibl_ref_probe_free(&rp);
+    qtool_ref_probe_free(&rp);
     free(nrm), free(E), free(d), free(px), free(b.ws);
 }
 
@@ -902,12 +902,12 @@ static void test_centroid_beats_centre(void **state)
     const int w = 256, h = 128;
     uint8_t *px = random_probe(&r, w, h, 3, 3e4);
     double *d = rgbe_to_double(px, w, h);
-    qibl_ref_probe rp;
-    assert_int_equal(qibl_ref_probe_init(&rp, w, h, d), 0);
+    qtool_ref_probe rp;
+    assert_int_equal(qtool_ref_probe_init(&rp, w, h, d), 0);
     enum { NN = 600 };
     double (*nrm)[3] = malloc(sizeof *nrm * NN), *E = malloc(sizeof *E * NN);
-    qibl_ref_sphere_dirs(NN, nrm);
-    qibl_ref_probe_irradiance(&rp, NN, (const double (*)[3])nrm, E, 2);
+    qtool_ref_sphere_dirs(NN, nrm);
+    qtool_ref_probe_irradiance(&rp, NN, (const double (*)[3])nrm, E, 2);
     qibl_lightprobe_image_t img = rgbe_image(px, w, h);
     built b;
     assert_int_equal(build(&b, &img, QIBL_LIGHTPROBE_VARMIN), QIBL_OK);
@@ -915,33 +915,33 @@ static void test_centroid_beats_centre(void **state)
         double me[2], mx[2];
         for (int place = 0; place < 2; ++place) {
             qibl_lightprobe_light_t L[16];
-            qibl_ref_light R[16];
+            qtool_ref_light R[16];
             qibl_lightprobe_result_t res;
             assert_int_equal(sample(&b.lp, m, 0, place, 16, L, &res), QIBL_OK);
             for (uint32_t i = 0; i < res.count; ++i)
                 for (int c = 0; c < 3; ++c)
                     R[i].dir[c] = ldir(&L[i], c), R[i].rgb[c] = ldexp(L[i].rgb[c], res.rgb_exp);
-            qibl_ref_irradiance_error(R, (int)res.count, NN, (const double (*)[3])nrm, E, &me[place], &mx[place]);
+            qtool_ref_irradiance_error(R, (int)res.count, NN, (const double (*)[3])nrm, E, &me[place], &mx[place]);
         }
         printf("lightprobe: 16 lights, method %d: irradiance error mean/max centroid %.2f%%/%.2f%%, geometric "
                "centre %.2f%%/%.2f%%\n", m, 100 * me[0], 100 * mx[0], 100 * me[1], 100 * mx[1]);
         assert_true(me[0] < me[1]);
     }
-    qibl_ref_probe_free(&rp);
+    qtool_ref_probe_free(&rp);
     free(nrm), free(E), free(d), free(px), free(b.ws);
 }
 
 /* ---- goldens: the same bytes on every compiler, optimisation level and port ----------------- */
 
 /* Checks the light list of n lights by method against fixtures/golden/<name>.sha256, serialised as
- * the golden runner does (qibl_goldens_light_bytes). */
+ * the golden runner does (qtool_goldens_light_bytes). */
 static int check_golden(const char *name, const qibl_lightprobe_t *lp, int method, uint32_t n)
 {
     qibl_lightprobe_light_t L[256];
     qibl_lightprobe_result_t res;
     static uint8_t buf[8 + 256 * 40];
     assert_int_equal(sample(lp, method, 0, 0, n, L, &res), QIBL_OK);
-    return qibl_golden_check_bytes(name, buf, qibl_goldens_light_bytes(L, &res, buf));
+    return qtool_golden_check_bytes(name, buf, qtool_goldens_light_bytes(L, &res, buf));
 }
 
 /* The integer-made probes (a sun and sky, a 100 x 50 with hot spots in RGBE, sRGBE, int32 and
@@ -950,7 +950,7 @@ static int check_golden(const char *name, const qibl_lightprobe_t *lp, int metho
 static void test_goldens(void **state)
 {
     (void)state;
-    assert_int_equal(qibl_goldens_check("lightprobe"), 0);
+    assert_int_equal(qtool_goldens_check("lightprobe"), 0);
 }
 
 /* ---- the documented tie rules ------------------------------------------------------------------ */
@@ -1114,7 +1114,7 @@ static void test_real_probes(void **state)
             continue;
         fclose(f);
         ++np;
-        if (qibl_hdr_read_rgbe(path, &w, &h, &px, err, sizeof err) != 0) {
+        if (qtool_hdr_read_rgbe(path, &w, &h, &px, err, sizeof err) != 0) {
             printf("lightprobe: %s\n", err);
             ++bad;
             continue;
@@ -1135,18 +1135,18 @@ static void test_real_probes(void **state)
          * at row 18) */
         if (strstr(base, "quarry") || strstr(base, "royal") || strstr(base, "studio")) {
             double *d = rgbe_to_double(px, w, h);
-            qibl_ref_probe rp;
-            assert_int_equal(qibl_ref_probe_init(&rp, w, h, d), 0);
+            qtool_ref_probe rp;
+            assert_int_equal(qtool_ref_probe_init(&rp, w, h, d), 0);
             for (int m = 0; m < 3; ++m) {
                 qibl_lightprobe_light_t L[64];
-                qibl_ref_light R[64];
+                qtool_ref_light R[64];
                 qibl_lightprobe_result_t res;
                 uint32_t n = m == 1 ? 37 : 64;
                 assert_int_equal(sample(&b.lp, m, 0, 0, n, L, &res), QIBL_OK);
-                int rn = qibl_ref_lights(&rp, m, 0, 0, (int)n, R);
+                int rn = qtool_ref_lights(&rp, m, 0, 0, (int)n, R);
                 bad += compare_ref(&b.lp, L, &res, R, rn, 1e-6, base, NULL, NULL) != 0;
             }
-            qibl_ref_probe_free(&rp);
+            qtool_ref_probe_free(&rp);
             free(d);
             ++checked;
         }

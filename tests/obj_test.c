@@ -19,9 +19,9 @@
 #include "io/obj.h"
 #include "fileutil.h"
 
-static int parse(const char *text, qibl_obj_mesh *m, char *err, size_t errlen)
+static int parse(const char *text, qtool_obj_mesh *m, char *err, size_t errlen)
 {
-    return qibl_obj_parse("t.obj", text, strlen(text), m, err, errlen);
+    return qtool_obj_parse("t.obj", text, strlen(text), m, err, errlen);
 }
 
 static void test_quad_negative_indices_and_normals(void **state)
@@ -30,7 +30,7 @@ static void test_quad_negative_indices_and_normals(void **state)
     const char *text = "# a unit square in z = 0 as a quad, with a w coordinate and junk to ignore\r\n"
                        "mtllib x.mtl\no square\nv 0 0 0\nv 2 0 0 2\nv 1 1 0\nv 0 1 0\nvt 0 0\ns off\n"
                        "usemtl red\nf -4 -3 -2 -1\n";
-    qibl_obj_mesh m;
+    qtool_obj_mesh m;
     char err[256];
     assert_int_equal(parse(text, &m, err, sizeof err), 0);
     assert_int_equal(m.ntri, 2);
@@ -40,7 +40,7 @@ static void test_quad_negative_indices_and_normals(void **state)
     assert_true(m.pos[9 + 3] == 1.0 && m.pos[9 + 4] == 1.0 && m.pos[9 + 6] == 0.0);
     for (int i = 0; i < 6; ++i) /* computed normals: +z (counter-clockwise) */
         assert_true(fabs(m.nrm[3 * i + 2] - 1.0) < 1e-12);
-    qibl_obj_free(&m);
+    qtool_obj_free(&m);
 }
 
 static void test_face_forms(void **state)
@@ -48,7 +48,7 @@ static void test_face_forms(void **state)
     (void)state;
     const char *text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 2\nvn 1 0 0\nvt 0 0\n"
                        "f 1/1/1 2/1/1 3/1/1\nf 1//2 2//2 3//2\nf 1/1 2/1 3/1\n";
-    qibl_obj_mesh m;
+    qtool_obj_mesh m;
     char err[256];
     assert_int_equal(parse(text, &m, err, sizeof err), 0);
     assert_int_equal(m.ntri, 3);
@@ -56,7 +56,7 @@ static void test_face_forms(void **state)
     assert_true(fabs(m.nrm[2] - 1.0) < 1e-12);      /* given normal, normalised */
     assert_true(fabs(m.nrm[9 + 0] - 1.0) < 1e-12);  /* the second given normal */
     assert_true(fabs(m.nrm[18 + 2] - 1.0) < 1e-12); /* computed */
-    qibl_obj_free(&m);
+    qtool_obj_free(&m);
 }
 
 static void test_smooth_normals_average(void **state)
@@ -64,13 +64,13 @@ static void test_smooth_normals_average(void **state)
     (void)state;
     /* two triangles folded 90 degrees along the x axis: the shared corners average the two normals */
     const char *text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\n";
-    qibl_obj_mesh m;
+    qtool_obj_mesh m;
     char err[256];
     assert_int_equal(parse(text, &m, err, sizeof err), 0);
     double s = sqrt(0.5);
     assert_true(fabs(m.nrm[0] - 0) < 1e-12 && fabs(m.nrm[1] - s) < 1e-12 && fabs(m.nrm[2] - s) < 1e-12);
     assert_true(fabs(m.nrm[6 + 2] - 1.0) < 1e-12); /* vertex 3 only in the first triangle */
-    qibl_obj_free(&m);
+    qtool_obj_free(&m);
 }
 
 static void test_malformed(void **state)
@@ -96,7 +96,7 @@ static void test_malformed(void **state)
     };
     char err[256];
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
-        qibl_obj_mesh m;
+        qtool_obj_mesh m;
         memset(&m, 0x5A, sizeof m);
         err[0] = '\0';
         assert_int_equal(parse(bad[i].text, &m, err, sizeof err), -1);
@@ -106,8 +106,8 @@ static void test_malformed(void **state)
         assert_null(strchr(err, '\n'));
         assert_true(m.ntri == (size_t)0x5A5A5A5A5A5A5A5Au); /* nothing returned */
     }
-    qibl_obj_mesh m;
-    assert_int_equal(qibl_obj_read("/nonexistent/q.obj", &m, err, sizeof err), -1);
+    qtool_obj_mesh m;
+    assert_int_equal(qtool_obj_read("/nonexistent/q.obj", &m, err, sizeof err), -1);
     assert_non_null(strstr(err, "/nonexistent/q.obj"));
 }
 
@@ -129,8 +129,8 @@ static void test_real_meshes(void **state)
             continue;
         }
         fclose(f);
-        qibl_obj_mesh m;
-        if (qibl_obj_read(path, &m, err, sizeof err) != 0)
+        qtool_obj_mesh m;
+        if (qtool_obj_read(path, &m, err, sizeof err) != 0)
             fail_msg("%s", err);
         assert_int_equal(m.ntri, real[i].ntri);
         assert_int_equal(m.nvert, real[i].nvert);
@@ -142,7 +142,7 @@ static void test_real_meshes(void **state)
             assert_true(l < 0.5 || fabs(l - 1) < 1e-9);
         }
         assert_true(zero == 0);
-        qibl_obj_free(&m);
+        qtool_obj_free(&m);
     }
     if (missing)
         skip();
@@ -152,10 +152,10 @@ static void test_real_meshes(void **state)
 
 static int rd_obj(const char *path, char *err, size_t errlen)
 {
-    qibl_obj_mesh m;
-    int rc = qibl_obj_read(path, &m, err, errlen);
+    qtool_obj_mesh m;
+    int rc = qtool_obj_read(path, &m, err, errlen);
     if (rc == 0)
-        qibl_obj_free(&m);
+        qtool_obj_free(&m);
     return rc;
 }
 
@@ -163,7 +163,7 @@ static int rd_obj(const char *path, char *err, size_t errlen)
 static void test_zeros_refused_before_reading(void **state)
 {
     (void)state;
-    fu_check_zeros_not_read(rd_obj, (size_t)64 << 20, "binary data", QIBL_OBJ_MAX_FILE_BYTES);
+    fu_check_zeros_not_read(rd_obj, (size_t)64 << 20, "binary data", QTOOL_OBJ_MAX_FILE_BYTES);
 }
 
 static void test_not_regular_files_named(void **state)
@@ -180,10 +180,10 @@ static void test_empty_and_one_byte_files_named(void **state)
 
 static void parse_fails(const char *text, size_t len, const char *needle, const char *needle2)
 {
-    qibl_obj_mesh m;
+    qtool_obj_mesh m;
     memset(&m, 0x5A, sizeof m);
     char err[256] = "";
-    assert_int_equal(qibl_obj_parse("t.obj", text, len, &m, err, sizeof err), -1);
+    assert_int_equal(qtool_obj_parse("t.obj", text, len, &m, err, sizeof err), -1);
     assert_true(m.ntri == (size_t)0x5A5A5A5A5A5A5A5Au); /* nothing returned */
     assert_null(strchr(err, '\n'));
     if (!strstr(err, needle) || (needle2 && !strstr(err, needle2)))
@@ -197,31 +197,31 @@ static void parse_fails(const char *text, size_t len, const char *needle, const 
 static void test_fan_faces_bounded_by_input(void **state)
 {
     (void)state;
-    size_t lines = 64, cap = 64 + lines * (2 + 2 * QIBL_OBJ_MAX_FACE_CORNERS + 1);
+    size_t lines = 64, cap = 64 + lines * (2 + 2 * QTOOL_OBJ_MAX_FACE_CORNERS + 1);
     char *t = malloc(cap);
     assert_non_null(t);
     size_t n = (size_t)snprintf(t, cap, "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
     for (size_t l = 0; l < lines; ++l) {
         t[n++] = 'f';
-        for (int c = 0; c < QIBL_OBJ_MAX_FACE_CORNERS; ++c)
+        for (int c = 0; c < QTOOL_OBJ_MAX_FACE_CORNERS; ++c)
             t[n++] = ' ', t[n++] = (char)('1' + c % 3);
         t[n++] = '\n';
     }
     parse_fails(t, n, "QIBL_OBJ_MIN_BYTES_PER_TRIANGLE", "t.obj:");
     /* the same face once, after a realistic amount of text, is a valid (if degenerate) fan */
-    qibl_obj_mesh m;
+    qtool_obj_mesh m;
     char err[256];
     size_t one = (size_t)snprintf(t, cap, "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
     t[one++] = 'f';
-    for (int c = 0; c < QIBL_OBJ_MAX_FACE_CORNERS; ++c)
+    for (int c = 0; c < QTOOL_OBJ_MAX_FACE_CORNERS; ++c)
         t[one++] = ' ', t[one++] = (char)('1' + c % 3);
     t[one++] = '\n';
-    while (one < 4 * (QIBL_OBJ_MAX_FACE_CORNERS - 2) + 16)
+    while (one < 4 * (QTOOL_OBJ_MAX_FACE_CORNERS - 2) + 16)
         one += (size_t)snprintf(t + one, cap - one, "# a comment line\n");
-    if (qibl_obj_parse("t.obj", t, one, &m, err, sizeof err) != 0)
+    if (qtool_obj_parse("t.obj", t, one, &m, err, sizeof err) != 0)
         fail_msg("%s", err);
-    assert_int_equal(m.ntri, QIBL_OBJ_MAX_FACE_CORNERS - 2);
-    qibl_obj_free(&m);
+    assert_int_equal(m.ntri, QTOOL_OBJ_MAX_FACE_CORNERS - 2);
+    qtool_obj_free(&m);
     free(t);
 }
 
@@ -272,12 +272,12 @@ static void test_bad_coordinates_named(void **state)
     }
     /* the limit itself, tiny values and underflow to zero are fine */
     const char *ok = "v 1e15 -1e15 1e-300\nv 1e-400 0 0\nv 0 1 0\nf 1 2 3\n";
-    qibl_obj_mesh m;
+    qtool_obj_mesh m;
     char err[256];
-    if (qibl_obj_parse("t.obj", ok, strlen(ok), &m, err, sizeof err) != 0)
+    if (qtool_obj_parse("t.obj", ok, strlen(ok), &m, err, sizeof err) != 0)
         fail_msg("%s", err);
     assert_true(m.pos[0] == 1e15 && m.pos[3] == 0.0);
-    qibl_obj_free(&m);
+    qtool_obj_free(&m);
 }
 
 /* a tiny but real triangle keeps a unit normal: its cross product (1e-320) squares to zero, so the
@@ -287,9 +287,9 @@ static void test_tiny_and_huge_normals_unit(void **state)
     (void)state;
     const char *text = "v 0 0 0\nv 1e-160 0 0\nv 0 1e-160 0\nvn 0 1e15 1e15\nvn 0 0 1e-200\n"
                        "f 1 2 3\nf 1//1 2//1 3//1\nf 1//2 2//2 3//2\n";
-    qibl_obj_mesh m;
+    qtool_obj_mesh m;
     char err[256];
-    if (qibl_obj_parse("t.obj", text, strlen(text), &m, err, sizeof err) != 0)
+    if (qtool_obj_parse("t.obj", text, strlen(text), &m, err, sizeof err) != 0)
         fail_msg("%s", err);
     assert_int_equal(m.ntri, 3);
     double s = sqrt(0.5);
@@ -299,7 +299,7 @@ static void test_tiny_and_huge_normals_unit(void **state)
         assert_true(n1[0] == 0.0 && fabs(n1[1] - s) < 1e-15 && fabs(n1[2] - s) < 1e-15);
         assert_true(n2[0] == 0.0 && n2[1] == 0.0 && n2[2] == 1.0);
     }
-    qibl_obj_free(&m);
+    qtool_obj_free(&m);
 }
 
 int main(void)

@@ -47,12 +47,12 @@ static void test_both_endians_and_kinds(void **state)
         int w, h, ch;
         float *px = NULL;
         size_t n = make(buf, little ? "PF\n2 3\n-1.0\n" : "PF\n2 3\n1.0\n", rgb, 2, 3, 3, little);
-        assert_int_equal(qibl_pfm_decode(buf, n, &w, &h, &ch, &px, err, sizeof err), 0);
+        assert_int_equal(qtool_pfm_decode(buf, n, &w, &h, &ch, &px, err, sizeof err), 0);
         assert_int_equal(w, 2), assert_int_equal(h, 3), assert_int_equal(ch, 3);
         assert_memory_equal(px, rgb, sizeof rgb);
         free(px);
         n = make(buf, little ? "Pf 5 2 -4.5 " : "Pf\r\n5\t2\r\n+2\n", grey, 5, 2, 1, little);
-        assert_int_equal(qibl_pfm_decode(buf, n, &w, &h, &ch, &px, err, sizeof err), 0);
+        assert_int_equal(qtool_pfm_decode(buf, n, &w, &h, &ch, &px, err, sizeof err), 0);
         assert_int_equal(w, 5), assert_int_equal(h, 2), assert_int_equal(ch, 1);
         assert_memory_equal(px, grey, sizeof grey);
         free(px);
@@ -80,7 +80,7 @@ static void test_malformed(void **state)
         int w = -7, h = -7, ch = -7;
         float *px = (float *)&w;
         err[0] = '\0';
-        assert_int_equal(qibl_pfm_decode((const uint8_t *)bad[i], strlen(bad[i]), &w, &h, &ch, &px, err, sizeof err), -1);
+        assert_int_equal(qtool_pfm_decode((const uint8_t *)bad[i], strlen(bad[i]), &w, &h, &ch, &px, err, sizeof err), -1);
         assert_int_equal(w, -7), assert_int_equal(h, -7), assert_int_equal(ch, -7);
         assert_ptr_equal(px, (float *)&w);
         assert_true(strlen(err) > 0 && strchr(err, '\n') == NULL);
@@ -94,11 +94,11 @@ static void test_malformed(void **state)
     fclose(f);
     int w, h, ch;
     float *px;
-    assert_int_equal(qibl_pfm_read(path, &w, &h, &ch, &px, err, sizeof err), -1);
+    assert_int_equal(qtool_pfm_read(path, &w, &h, &ch, &px, err, sizeof err), -1);
     assert_non_null(strstr(err, path));
     assert_non_null(strstr(err, "truncated"));
     remove(path);
-    assert_int_equal(qibl_pfm_read("/nonexistent/x.pfm", &w, &h, &ch, &px, err, sizeof err), -1);
+    assert_int_equal(qtool_pfm_read("/nonexistent/x.pfm", &w, &h, &ch, &px, err, sizeof err), -1);
     assert_non_null(strstr(err, "/nonexistent/x.pfm"));
 }
 
@@ -111,19 +111,19 @@ static void test_write_round_trip(void **state)
     for (int i = 0; i < 36; ++i)
         px[i] = (float)(i * i) - 17.5f;
     for (int ch = 1; ch <= 3; ch += 2) {
-        assert_int_equal(qibl_pfm_write(path, 4, 3, ch, px, err, sizeof err), 0);
+        assert_int_equal(qtool_pfm_write(path, 4, 3, ch, px, err, sizeof err), 0);
         int w, h, c;
         float *back;
-        assert_int_equal(qibl_pfm_read(path, &w, &h, &c, &back, err, sizeof err), 0);
+        assert_int_equal(qtool_pfm_read(path, &w, &h, &c, &back, err, sizeof err), 0);
         assert_int_equal(w, 4), assert_int_equal(h, 3), assert_int_equal(c, ch);
         assert_memory_equal(back, px, sizeof(float) * 12 * (size_t)ch);
         free(back);
     }
     remove(path);
     /* bad arguments: nothing written */
-    assert_int_equal(qibl_pfm_write(path, 0, 3, 3, px, err, sizeof err), -1);
+    assert_int_equal(qtool_pfm_write(path, 0, 3, 3, px, err, sizeof err), -1);
     assert_int_equal(access(path, F_OK), -1);
-    assert_int_equal(qibl_pfm_write("/nonexistent/dir/x.pfm", 1, 1, 1, px, err, sizeof err), -1);
+    assert_int_equal(qtool_pfm_write("/nonexistent/dir/x.pfm", 1, 1, 1, px, err, sizeof err), -1);
     assert_non_null(strstr(err, "/nonexistent/dir/x.pfm"));
 }
 
@@ -133,7 +133,7 @@ static int rd_pfm(const char *path, char *err, size_t errlen)
 {
     int w, h, ch;
     float *px;
-    int rc = qibl_pfm_read(path, &w, &h, &ch, &px, err, errlen);
+    int rc = qtool_pfm_read(path, &w, &h, &ch, &px, err, errlen);
     if (rc == 0)
         free(px);
     return rc;
@@ -143,7 +143,7 @@ static int rd_pfm(const char *path, char *err, size_t errlen)
 static void test_zeros_refused_by_magic_before_reading(void **state)
 {
     (void)state;
-    fu_check_zeros_not_read(rd_pfm, (size_t)64 << 20, "not a PFM", QIBL_PFM_MAX_FILE_BYTES);
+    fu_check_zeros_not_read(rd_pfm, (size_t)64 << 20, "not a PFM", QTOOL_PFM_MAX_FILE_BYTES);
 }
 
 static void test_not_regular_files_named(void **state)
@@ -167,7 +167,7 @@ static void decode_fails(const char *hdr, size_t body, const char *needle)
     int w = -7, h = -7, ch = -7;
     float *px = NULL;
     char err[256] = "";
-    assert_int_equal(qibl_pfm_decode(b, n + body, &w, &h, &ch, &px, err, sizeof err), -1);
+    assert_int_equal(qtool_pfm_decode(b, n + body, &w, &h, &ch, &px, err, sizeof err), -1);
     assert_true(w == -7 && h == -7 && ch == -7 && px == NULL);
     if (!strstr(err, needle))
         fail_msg("error '%s' does not mention '%s'", err, needle);
@@ -206,7 +206,7 @@ static void test_header_control_bytes_named(void **state)
         int w = -7, h = -7, ch = -7;
         float *px = NULL;
         char err[256] = "";
-        assert_int_equal(qibl_pfm_decode(b, bad[i].n + 24, &w, &h, &ch, &px, err, sizeof err), -1);
+        assert_int_equal(qtool_pfm_decode(b, bad[i].n + 24, &w, &h, &ch, &px, err, sizeof err), -1);
         assert_true(w == -7 && px == NULL);
         if (!strstr(err, bad[i].needle))
             fail_msg("case %zu: error '%s' does not mention '%s'", i, err, bad[i].needle);
@@ -232,7 +232,7 @@ static void test_non_finite_samples_named(void **state)
         int w = -7, h = -7, ch = -7;
         float *out = NULL;
         char err[256] = "", want[96];
-        assert_int_equal(qibl_pfm_decode(buf, n, &w, &h, &ch, &out, err, sizeof err), -1);
+        assert_int_equal(qtool_pfm_decode(buf, n, &w, &h, &ch, &out, err, sizeof err), -1);
         assert_true(w == -7 && h == -7 && ch == -7 && out == NULL);
         snprintf(want, sizeof want, "sample %s at column 2, row 1 from the top, channel 1", bad[k].name);
         if (!strstr(err, want))
@@ -245,7 +245,7 @@ static void test_non_finite_samples_named(void **state)
     int w, h, ch;
     float *out;
     char err[256];
-    assert_int_equal(qibl_pfm_decode(buf, n, &w, &h, &ch, &out, err, sizeof err), 0);
+    assert_int_equal(qtool_pfm_decode(buf, n, &w, &h, &ch, &out, err, sizeof err), 0);
     assert_memory_equal(out, big, sizeof big);
     free(out);
 }

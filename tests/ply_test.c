@@ -93,7 +93,7 @@ static void ascii_cube(buf *b)
         put(b, "4 %d %d %d %d\n", cube_f[f][0], cube_f[f][1], cube_f[f][2], cube_f[f][3]);
 }
 
-static void check_cube(const qibl_obj_mesh *m)
+static void check_cube(const qtool_obj_mesh *m)
 {
     assert_int_equal(m->ntri, 12);
     assert_int_equal(m->nvert, 8);
@@ -115,30 +115,30 @@ static void test_cube_all_formats(void **state)
 {
     (void)state;
     buf b;
-    qibl_obj_mesh m;
+    qtool_obj_mesh m;
     char err[256];
     ascii_cube(&b);
-    assert_true(qibl_ply_sniff(b.b, b.n));
-    if (qibl_ply_parse("a.ply", b.b, b.n, &m, err, sizeof err) != 0)
+    assert_true(qtool_ply_sniff(b.b, b.n));
+    if (qtool_ply_parse("a.ply", b.b, b.n, &m, err, sizeof err) != 0)
         fail_msg("%s", err);
     check_cube(&m);
-    qibl_obj_free(&m);
+    qtool_obj_free(&m);
     for (int be = 0; be < 2; ++be) {
         binary_cube(&b, be);
-        if (qibl_ply_parse("b.ply", b.b, b.n, &m, err, sizeof err) != 0)
+        if (qtool_ply_parse("b.ply", b.b, b.n, &m, err, sizeof err) != 0)
             fail_msg("%s", err);
         check_cube(&m);
-        qibl_obj_free(&m);
+        qtool_obj_free(&m);
     }
 }
 
 /* parses text (strlen) and expects a failure whose message holds want, with nothing allocated */
 static void refused(const void *data, size_t n, const char *want)
 {
-    qibl_obj_mesh m;
+    qtool_obj_mesh m;
     char err[512];
     memset(&m, 0x5A, sizeof m);
-    if (qibl_ply_parse("h.ply", data, n, &m, err, sizeof err) == 0)
+    if (qtool_ply_parse("h.ply", data, n, &m, err, sizeof err) == 0)
         fail_msg("accepted; want '%s'", want);
     if (!strstr(err, want))
         fail_msg("message '%s' does not say '%s'", err, want);
@@ -180,7 +180,7 @@ static void test_hostile_headers(void **state)
     refused_s("ply\nformat ascii 1.0\nelement vertex 1000000\nproperty float x\nproperty float y\nproperty float z\n" FACE
               "0 0 0\n",
               "need at least 6000002 body bytes");
-    char big[QIBL_PLY_MAX_HEADER + 64];
+    char big[QTOOL_PLY_MAX_HEADER + 64];
     memset(big, 0, sizeof big);
     strcpy(big, "ply\nformat ascii 1.0\n");
     for (size_t i = strlen(big); i < sizeof big - 1; i += 10)
@@ -232,9 +232,9 @@ static void test_bunny(void **state)
         printf("SKIP ply: %s not found\n", path);
         skip();
     }
-    qibl_obj_mesh m;
+    qtool_obj_mesh m;
     char err[512];
-    if (qibl_ply_read(path, &m, err, sizeof err) != 0)
+    if (qtool_ply_read(path, &m, err, sizeof err) != 0)
         fail_msg("%s", err);
     /* the header's counts: 8171 vertices, 16301 triangles */
     assert_int_equal(m.nvert, 8171);
@@ -247,9 +247,9 @@ static void test_bunny(void **state)
         assert_true(isfinite(m.pos[3 * i]) && isfinite(m.pos[3 * i + 1]) && isfinite(m.pos[3 * i + 2]));
     }
     assert_true(unit >= m.ntri * 3 - 10); /* only corners of degenerate triangles may be 0 */
-    qibl_obj_free(&m);
+    qtool_obj_free(&m);
     refused_s("ply\n", "no end_header");
-    assert_int_equal(qibl_ply_read("/nonexistent/x.ply", &m, err, sizeof err), -1);
+    assert_int_equal(qtool_ply_read("/nonexistent/x.ply", &m, err, sizeof err), -1);
     assert_non_null(strstr(err, "/nonexistent/x.ply"));
 }
 

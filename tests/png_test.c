@@ -296,7 +296,7 @@ static void roundtrip(int w, int h, uint32_t seed, int smooth)
         img[i] = smooth ? (uint8_t)((i / 3) % (size_t)w + (i % 3) * 40) : (uint8_t)tu_u32(&r);
     char path[64], err[256];
     snprintf(path, sizeof path, "/tmp/qibl_png_test_%d.png", (int)getpid());
-    assert_int_equal(qibl_png_write_rgb8(path, w, h, img, err, sizeof err), 0);
+    assert_int_equal(qtool_png_write_rgb8(path, w, h, img, err, sizeof err), 0);
     decode_png(path, w, h, back);
     assert_memory_equal(img, back, (size_t)w * h * 3);
     remove(path);
@@ -333,7 +333,7 @@ static void test_adaptive_filters(void **state)
             img[y * W * 3 + x] = (uint8_t)((x / 3) * 2 + y * 5 + (x % 3) * 30);
     char path[64], err[256];
     snprintf(path, sizeof path, "/tmp/qibl_png_filters_%d.png", (int)getpid());
-    assert_int_equal(qibl_png_write_rgb8(path, W, H, img, err, sizeof err), 0);
+    assert_int_equal(qtool_png_write_rgb8(path, W, H, img, err, sizeof err), 0);
     decode_png_filters(path, W, H, back, filters);
     assert_memory_equal(img, back, sizeof img);
     for (int y = 1; y < 4; ++y)
@@ -373,14 +373,14 @@ static void test_dynamic_blocks(void **state)
                 img[(y * W + x) * 3 + c] = (uint8_t)(x / 2 + y + c * 20 + (tu_u32(&r) & 3));
     char path[64], err[256];
     snprintf(path, sizeof path, "/tmp/qibl_png_dyn_%d.png", (int)getpid());
-    assert_int_equal(qibl_png_write_rgb8(path, W, H, img, err, sizeof err), 0);
+    assert_int_equal(qtool_png_write_rgb8(path, W, H, img, err, sizeof err), 0);
     assert_int_equal(first_btype(path), 2);
     decode_png(path, W, H, back);
     assert_memory_equal(img, back, sizeof img);
     remove(path);
     /* a 1x1 picture: whichever block is smaller, it decodes */
     uint8_t px[3] = {7, 7, 7}, pb[3];
-    assert_int_equal(qibl_png_write_rgb8(path, 1, 1, px, err, sizeof err), 0);
+    assert_int_equal(qtool_png_write_rgb8(path, 1, 1, px, err, sizeof err), 0);
     decode_png(path, 1, 1, pb);
     assert_memory_equal(px, pb, 3);
     remove(path);
@@ -391,11 +391,11 @@ static void test_errors_leave_no_file(void **state)
     (void)state;
     uint8_t px[3] = {1, 2, 3};
     char err[256];
-    assert_int_equal(qibl_png_write_rgb8("/nonexistent-dir/x.png", 1, 1, px, err, sizeof err), -1);
+    assert_int_equal(qtool_png_write_rgb8("/nonexistent-dir/x.png", 1, 1, px, err, sizeof err), -1);
     assert_non_null(strstr(err, "/nonexistent-dir/x.png"));
-    assert_int_equal(qibl_png_write_rgb8("/tmp/qibl_bad.png", 0, 1, px, err, sizeof err), -1);
-    assert_int_equal(access("/tmp/qibl_bad.png", F_OK), -1);
-    assert_int_equal(access("/tmp/qibl_bad.png.tmp", F_OK), -1);
+    assert_int_equal(qtool_png_write_rgb8("/tmp/qtool_bad.png", 0, 1, px, err, sizeof err), -1);
+    assert_int_equal(access("/tmp/qtool_bad.png", F_OK), -1);
+    assert_int_equal(access("/tmp/qtool_bad.png.tmp", F_OK), -1);
 }
 
 int main(void)

@@ -124,7 +124,7 @@ static void zlib_bomb(out_t *z, size_t runs)
 static int decode(const out_t *o, int *w, int *h, uint8_t **rgb, char *err, size_t errlen)
 {
     int frames;
-    return qibl_png_decode_rgb8(o->b, o->n, w, h, &frames, rgb, err, errlen);
+    return qtool_png_decode_rgb8(o->b, o->n, w, h, &frames, rgb, err, errlen);
 }
 
 static void decode_fails(const out_t *o, const char *needle)
@@ -157,7 +157,7 @@ static int rd_png(const char *path, char *err, size_t errlen)
 {
     int w, h, fr;
     uint8_t *rgb;
-    int rc = qibl_png_read_rgb8(path, &w, &h, &fr, &rgb, err, errlen);
+    int rc = qtool_png_read_rgb8(path, &w, &h, &fr, &rgb, err, errlen);
     if (rc == 0)
         free(rgb);
     return rc;
@@ -167,7 +167,7 @@ static int rd_png(const char *path, char *err, size_t errlen)
 static void test_zeros_refused_by_signature_before_reading(void **state)
 {
     (void)state;
-    fu_check_zeros_not_read(rd_png, (size_t)64 << 20, "bad signature", QIBL_PNG_MAX_FILE_BYTES);
+    fu_check_zeros_not_read(rd_png, (size_t)64 << 20, "bad signature", QTOOL_PNG_MAX_FILE_BYTES);
 }
 
 static void test_not_regular_files_named(void **state)

@@ -23,16 +23,16 @@
 #include "ref/lightprobe_ref.h"
 #include "ref/sh_ref.h"
 
-#define LL QIBL_PROBE_LAYOUT_LATLONG
-#define ANG QIBL_PROBE_LAYOUT_ANGULAR
-#define BALL QIBL_PROBE_LAYOUT_BALL
-#define VX QIBL_PROBE_LAYOUT_VCROSS
-#define HX QIBL_PROBE_LAYOUT_HCROSS
+#define LL QTOOL_PROBE_LAYOUT_LATLONG
+#define ANG QTOOL_PROBE_LAYOUT_ANGULAR
+#define BALL QTOOL_PROBE_LAYOUT_BALL
+#define VX QTOOL_PROBE_LAYOUT_VCROSS
+#define HX QTOOL_PROBE_LAYOUT_HCROSS
 
-static const qibl_probe_layout_t all_layouts[] = {LL, ANG, BALL, VX, HX};
+static const qtool_probe_layout_t all_layouts[] = {LL, ANG, BALL, VX, HX};
 
 /* a w x h image of the layout for a lat-long of width lw (the sizes the round trips use) */
-static void layout_size(qibl_probe_layout_t l, int lw, int *w, int *h)
+static void layout_size(qtool_probe_layout_t l, int lw, int *w, int *h)
 {
     switch (l) {
     case LL: *w = lw, *h = lw / 2; break;
@@ -54,33 +54,33 @@ static double angle(const double a[3], const double b[3])
 static void test_names(void **state)
 {
     (void)state;
-    for (int i = 0; i < QIBL_PROBE_LAYOUT_COUNT; ++i) {
-        qibl_probe_layout_t l = QIBL_PROBE_LAYOUT_COUNT;
-        const char *n = qibl_probe_layout_name((qibl_probe_layout_t)i);
+    for (int i = 0; i < QTOOL_PROBE_LAYOUT_COUNT; ++i) {
+        qtool_probe_layout_t l = QTOOL_PROBE_LAYOUT_COUNT;
+        const char *n = qtool_probe_layout_name((qtool_probe_layout_t)i);
         assert_non_null(n);
-        assert_int_equal(qibl_probe_layout_parse(n, &l), 0);
+        assert_int_equal(qtool_probe_layout_parse(n, &l), 0);
         assert_int_equal(l, i);
         if (i != 0) /* every refusal lists every layout by the name --layout takes */
-            assert_non_null(strstr(QIBL_PROBE_LAYOUT_NAMES, n));
+            assert_non_null(strstr(QTOOL_PROBE_LAYOUT_NAMES, n));
     }
-    qibl_probe_layout_t l = HX;
-    assert_int_equal(qibl_probe_layout_parse("cube", &l), -1);
-    assert_int_equal(qibl_probe_layout_parse("", &l), -1);
-    assert_int_equal(qibl_probe_layout_parse(NULL, &l), -1);
+    qtool_probe_layout_t l = HX;
+    assert_int_equal(qtool_probe_layout_parse("cube", &l), -1);
+    assert_int_equal(qtool_probe_layout_parse("", &l), -1);
+    assert_int_equal(qtool_probe_layout_parse(NULL, &l), -1);
     assert_int_equal(l, HX);
-    assert_null(qibl_probe_layout_name(QIBL_PROBE_LAYOUT_COUNT));
-    assert_null(qibl_probe_layout_name((qibl_probe_layout_t)-1));
+    assert_null(qtool_probe_layout_name(QTOOL_PROBE_LAYOUT_COUNT));
+    assert_null(qtool_probe_layout_name((qtool_probe_layout_t)-1));
 }
 
 /* ---- geometry ------------------------------------------------------------------------------- */
 
 /* image point -> direction: one anchor per convention stated in probe_layout.h */
-static void expect_dir(qibl_probe_layout_t l, int w, int h, double x, double y, double dx, double dy, double dz)
+static void expect_dir(qtool_probe_layout_t l, int w, int h, double x, double y, double dx, double dy, double dz)
 {
     double d[3], want[3] = {dx, dy, dz};
-    assert_int_equal(qibl_probe_layout_dir(l, w, h, x, y, d), 0);
+    assert_int_equal(qtool_probe_layout_dir(l, w, h, x, y, d), 0);
     if (angle(d, want) > 1e-9)
-        fail_msg("%s %dx%d at (%g, %g): (%g %g %g), expected (%g %g %g)", qibl_probe_layout_name(l), w, h, x, y,
+        fail_msg("%s %dx%d at (%g, %g): (%g %g %g), expected (%g %g %g)", qtool_probe_layout_name(l), w, h, x, y,
                  d[0], d[1], d[2], dx, dy, dz);
 }
 
@@ -109,7 +109,7 @@ static void test_conventions(void **state)
     expect_dir(BALL, 64, 64, 32, 64, 1, 0, 0);
     /* crosses: face centres (F = 16) */
     for (int k = 0; k < 2; ++k) {
-        qibl_probe_layout_t l = k ? HX : VX;
+        qtool_probe_layout_t l = k ? HX : VX;
         int w = k ? 64 : 48, h = k ? 48 : 64;
         expect_dir(l, w, h, 24, 24, -1, 0, 0); /* front */
         expect_dir(l, w, h, 40, 24, 0, -1, 0); /* right */
@@ -129,15 +129,15 @@ static void test_conventions(void **state)
     expect_dir(HX, 64, 48, 64, 24, 1, 1, 0);
     /* unused areas have no direction */
     double d[3];
-    assert_int_equal(qibl_probe_layout_dir(ANG, 64, 64, 1, 1, d), -1);
-    assert_int_equal(qibl_probe_layout_dir(BALL, 64, 64, 63, 63, d), -1);
-    assert_int_equal(qibl_probe_layout_dir(VX, 48, 64, 8, 8, d), -1);
-    assert_int_equal(qibl_probe_layout_dir(VX, 48, 64, 40, 56, d), -1);
-    assert_int_equal(qibl_probe_layout_dir(HX, 64, 48, 56, 8, d), -1);
-    assert_int_equal(qibl_probe_layout_dir(LL, 64, 32, -0.1, 3, d), -1);
-    assert_int_equal(qibl_probe_layout_dir(LL, 64, 32, 3, 32.1, d), -1);
-    assert_int_equal(qibl_probe_layout_dir(QIBL_PROBE_LAYOUT_AUTO, 64, 32, 3, 3, d), -1);
-    assert_int_equal(qibl_probe_layout_dir(LL, 0, 32, 0, 0, d), -1);
+    assert_int_equal(qtool_probe_layout_dir(ANG, 64, 64, 1, 1, d), -1);
+    assert_int_equal(qtool_probe_layout_dir(BALL, 64, 64, 63, 63, d), -1);
+    assert_int_equal(qtool_probe_layout_dir(VX, 48, 64, 8, 8, d), -1);
+    assert_int_equal(qtool_probe_layout_dir(VX, 48, 64, 40, 56, d), -1);
+    assert_int_equal(qtool_probe_layout_dir(HX, 64, 48, 56, 8, d), -1);
+    assert_int_equal(qtool_probe_layout_dir(LL, 64, 32, -0.1, 3, d), -1);
+    assert_int_equal(qtool_probe_layout_dir(LL, 64, 32, 3, 32.1, d), -1);
+    assert_int_equal(qtool_probe_layout_dir(QTOOL_PROBE_LAYOUT_AUTO, 64, 32, 3, 3, d), -1);
+    assert_int_equal(qtool_probe_layout_dir(LL, 0, 32, 0, 0, d), -1);
 }
 
 /* direction -> position -> direction is the identity (away from a disc's rim, the one point -F) */
@@ -146,7 +146,7 @@ static void test_maps_invert(void **state)
     (void)state;
     tu_rng r = {7};
     for (size_t k = 0; k < sizeof all_layouts / sizeof all_layouts[0]; ++k) {
-        qibl_probe_layout_t l = all_layouts[k];
+        qtool_probe_layout_t l = all_layouts[k];
         int w, h;
         layout_size(l, 120, &w, &h);
         double worst = 0;
@@ -156,23 +156,23 @@ static void test_maps_invert(void **state)
             d[0] = s * cos(ph), d[1] = s * sin(ph), d[2] = z;
             if (d[0] > 0.9999)
                 continue; /* within 0.8 degrees of the back */
-            assert_int_equal(qibl_probe_layout_pos(l, w, h, d, &x, &y), 0);
+            assert_int_equal(qtool_probe_layout_pos(l, w, h, d, &x, &y), 0);
             assert_true(x >= 0 && x <= w && y >= 0 && y <= h);
-            assert_int_equal(qibl_probe_layout_dir(l, w, h, x, y, e), 0);
+            assert_int_equal(qtool_probe_layout_dir(l, w, h, x, y, e), 0);
             double a = angle(d, e);
             worst = a > worst ? a : worst;
         }
         if (worst > 1e-9)
-            fail_msg("%s: direction -> position -> direction off by %g rad", qibl_probe_layout_name(l), worst);
+            fail_msg("%s: direction -> position -> direction off by %g rad", qtool_probe_layout_name(l), worst);
     }
     double x = -1, y = -1, zero[3] = {0, 0, 0}, nan3[3] = {NAN, 0, 0}, one[3] = {1, 0, 0};
-    assert_int_equal(qibl_probe_layout_pos(LL, 64, 32, zero, &x, &y), -1);
-    assert_int_equal(qibl_probe_layout_pos(LL, 64, 32, nan3, &x, &y), -1);
-    assert_int_equal(qibl_probe_layout_pos(QIBL_PROBE_LAYOUT_AUTO, 64, 32, one, &x, &y), -1);
-    assert_int_equal(qibl_probe_layout_pos(LL, 64, 0, one, &x, &y), -1);
+    assert_int_equal(qtool_probe_layout_pos(LL, 64, 32, zero, &x, &y), -1);
+    assert_int_equal(qtool_probe_layout_pos(LL, 64, 32, nan3, &x, &y), -1);
+    assert_int_equal(qtool_probe_layout_pos(QTOOL_PROBE_LAYOUT_AUTO, 64, 32, one, &x, &y), -1);
+    assert_int_equal(qtool_probe_layout_pos(LL, 64, 0, one, &x, &y), -1);
     assert_true(x == -1 && y == -1);
     /* the back, singular on the discs, lands on the rim */
-    assert_int_equal(qibl_probe_layout_pos(BALL, 64, 64, one, &x, &y), 0);
+    assert_int_equal(qtool_probe_layout_pos(BALL, 64, 64, one, &x, &y), 0);
     assert_true(fabs(x - 64) < 1e-9 && fabs(y - 32) < 1e-9);
 }
 
@@ -213,7 +213,7 @@ static double luma3(const float *p)
  * either pole (its pixels there are slivers that no other layout resolves), and a disc's poorly
  * sampled back: within 5 degrees of the angular map's back point, within 30 degrees of the ball's
  * (where rho > sin 75 degrees). */
-static int singular(qibl_probe_layout_t l, const double d[3])
+static int singular(qtool_probe_layout_t l, const double d[3])
 {
     double back = d[0]; /* -F = +x */
     if (fabs(d[2]) > cos(10 * M_PI / 180))
@@ -231,7 +231,7 @@ typedef struct {
     double total_rel;  /* (sum Y' sin theta - sum Y sin theta) / sum Y sin theta, all pixels */
 } rt_err;
 
-static rt_err compare(qibl_probe_layout_t l, const float *a, const float *b, int w, int h)
+static rt_err compare(qtool_probe_layout_t l, const float *a, const float *b, int w, int h)
 {
     double sr = 0, sd = 0, se = 0, ta = 0, tb = 0;
     size_t n = 0;
@@ -241,7 +241,7 @@ static rt_err compare(qibl_probe_layout_t l, const float *a, const float *b, int
             size_t i = 3 * ((size_t)y * (size_t)w + (size_t)x);
             double ya = luma3(a + i), yb = luma3(b + i), d[3];
             ta += ya * st, tb += yb * st;
-            assert_int_equal(qibl_probe_layout_dir(LL, w, h, x + 0.5, y + 0.5, d), 0);
+            assert_int_equal(qtool_probe_layout_dir(LL, w, h, x + 0.5, y + 0.5, d), 0);
             if (singular(l, d) || ya <= 0)
                 continue;
             sr += fabs(yb - ya) / ya, ++n;
@@ -253,28 +253,28 @@ static rt_err compare(qibl_probe_layout_t l, const float *a, const float *b, int
 }
 
 /* lat-long -> layout -> lat-long; the result is w x h again (the size rule gives back the width) */
-static float *round_trip(qibl_probe_layout_t l, const float *ll, int w, int h)
+static float *round_trip(qtool_probe_layout_t l, const float *ll, int w, int h)
 {
     int lw, lh, ow, oh;
     float *lay = NULL, *back = NULL;
     char err[256];
     layout_size(l, w, &lw, &lh);
-    if (qibl_probe_layout_from_latlong(l, w, h, ll, lw, lh, &lay, err, sizeof err) != 0)
+    if (qtool_probe_layout_from_latlong(l, w, h, ll, lw, lh, &lay, err, sizeof err) != 0)
         fail_msg("%s", err);
     if (l != LL) { /* what was made is recognised (the discs are ambiguous and must say so) */
-        qibl_probe_layout_t got = QIBL_PROBE_LAYOUT_AUTO;
-        int rc = qibl_probe_layout_detect(lw, lh, lay, &got, err, sizeof err);
+        qtool_probe_layout_t got = QTOOL_PROBE_LAYOUT_AUTO;
+        int rc = qtool_probe_layout_detect(lw, lh, lay, &got, err, sizeof err);
         if (l == ANG || l == BALL) {
             assert_int_equal(rc, -1);
             assert_non_null(strstr(err, "--layout angular or --layout ball"));
         } else if (rc != 0 || got != l) {
-            fail_msg("made a %s, detected %s (%s)", qibl_probe_layout_name(l), qibl_probe_layout_name(got), err);
+            fail_msg("made a %s, detected %s (%s)", qtool_probe_layout_name(l), qtool_probe_layout_name(got), err);
         }
     }
-    assert_int_equal(qibl_probe_layout_latlong_size(l, lw, lh, &ow, &oh, err, sizeof err), 0);
+    assert_int_equal(qtool_probe_layout_latlong_size(l, lw, lh, &ow, &oh, err, sizeof err), 0);
     assert_int_equal(ow, w);
     assert_int_equal(oh, h);
-    if (qibl_probe_layout_to_latlong(l, lw, lh, lay, ow, oh, &back, err, sizeof err) != 0)
+    if (qtool_probe_layout_to_latlong(l, lw, lh, lay, ow, oh, &back, err, sizeof err) != 0)
         fail_msg("%s", err);
     free(lay);
     return back;
@@ -287,7 +287,7 @@ typedef struct {
     double err16[2], err64[2]; /* mean irradiance error (of the mean irradiance), mediancut / varmin */
 } lights_fig;
 
-static int core_lights(const float *ll, int w, int h, qibl_lightprobe_method_t m, uint32_t n, qibl_ref_light *out)
+static int core_lights(const float *ll, int w, int h, qibl_lightprobe_method_t m, uint32_t n, qtool_ref_light *out)
 {
     qibl_lightprobe_image_t img;
     memset(&img, 0, sizeof img);
@@ -319,19 +319,19 @@ static int core_lights(const float *ll, int w, int h, qibl_lightprobe_method_t m
 static lights_fig light_figures(const float *ll, int w, int h, const double (*nrm)[3], const double *E)
 {
     lights_fig f;
-    qibl_ref_light L[64];
+    qtool_ref_light L[64];
     memset(&f, 0, sizeof f);
     for (int k = 0; k < 4; ++k) {
         qibl_lightprobe_method_t m = k & 1 ? QIBL_LIGHTPROBE_VARMIN : QIBL_LIGHTPROBE_MEDIANCUT;
         uint32_t n = k < 2 ? 16 : 64;
         int c = core_lights(ll, w, h, m, n, L);
         double me, mx;
-        qibl_ref_irradiance_error(L, c, NNORM, nrm, E, &me, &mx);
+        qtool_ref_irradiance_error(L, c, NNORM, nrm, E, &me, &mx);
         (k < 2 ? f.err16 : f.err64)[k & 1] = me;
         if (k == 3) {
             f.total = 0;
             for (int i = 0; i < c; ++i)
-                f.total += QIBL_REF_LUMA_R * L[i].rgb[0] + QIBL_REF_LUMA_G * L[i].rgb[1] + QIBL_REF_LUMA_B * L[i].rgb[2];
+                f.total += QTOOL_REF_LUMA_R * L[i].rgb[0] + QTOOL_REF_LUMA_G * L[i].rgb[1] + QTOOL_REF_LUMA_B * L[i].rgb[2];
         }
     }
     return f;
@@ -360,7 +360,7 @@ static void sh_bands(const float *ll, int w, int h, double E[SH_BANDS])
             double ph = 2 * M_PI * (u + 0.5) / w, L = luma3(ll + 3 * ((size_t)v * (size_t)w + (size_t)u)) * dw;
             if (L == 0)
                 continue;
-            assert_int_equal(qibl_ref_sh_eval(sin(th) * cos(ph), sin(th) * sin(ph), cos(th), SH_BANDS, y), 0);
+            assert_int_equal(qtool_ref_sh_eval(sin(th) * cos(ph), sin(th) * sin(ph), cos(th), SH_BANDS, y), 0);
             for (int i = 0; i < SH_BANDS * SH_BANDS; ++i)
                 c[i] += L * y[i];
         }
@@ -393,11 +393,11 @@ static void check_probe(const char *name, const float *ll, int w, int h, const l
     assert_true(dd && nrm && E);
     for (size_t i = 0; i < 3 * (size_t)w * (size_t)h; ++i)
         dd[i] = ll[i];
-    qibl_ref_probe rp;
-    assert_int_equal(qibl_ref_probe_init(&rp, w, h, dd), 0);
-    qibl_ref_sphere_dirs(NNORM, nrm);
-    qibl_ref_probe_irradiance(&rp, NNORM, (const double(*)[3])nrm, E, 1);
-    qibl_ref_probe_free(&rp);
+    qtool_ref_probe rp;
+    assert_int_equal(qtool_ref_probe_init(&rp, w, h, dd), 0);
+    qtool_ref_sphere_dirs(NNORM, nrm);
+    qtool_ref_probe_irradiance(&rp, NNORM, (const double(*)[3])nrm, E, 1);
+    qtool_ref_probe_free(&rp);
     lights_fig base = light_figures(ll, w, h, (const double(*)[3])nrm, E);
     double shb[SH_BANDS];
     sh_bands(ll, w, h, shb);
@@ -424,7 +424,7 @@ static void check_probe(const char *name, const float *ll, int w, int h, const l
            "vm64 %.2f%%\n",
            name, w, h, 100 * base.err16[0], 100 * base.err16[1], 100 * base.err64[0], 100 * base.err64[1]);
     for (size_t k = 1; k < sizeof all_layouts / sizeof all_layouts[0]; ++k) {
-        qibl_probe_layout_t l = all_layouts[k];
+        qtool_probe_layout_t l = all_layouts[k];
         float *back = round_trip(l, ll, w, h);
         rt_err e = compare(l, ll, back, w, h);
         lights_fig f = light_figures(back, w, h, (const double(*)[3])nrm, E);
@@ -440,14 +440,14 @@ static void check_probe(const char *name, const float *ll, int w, int h, const l
         printf("probe_layout %-22s %-7s round trip: mean rel %.2f%%, energy-weighted %.2f%%, total %+.3f%%; lights: "
                "total %+.3f%%, irradiance error mc16 %.2f%% vm16 %.2f%% mc64 %.2f%% vm64 %.2f%% (worst gap to "
                "latlong %+.2f points); SH band energies 0..4 within %.3f%%\n",
-               name, qibl_probe_layout_name(l), 100 * e.mean_rel, 100 * e.energy_rel, 100 * e.total_rel, 100 * lt,
+               name, qtool_probe_layout_name(l), 100 * e.mean_rel, 100 * e.energy_rel, 100 * e.total_rel, 100 * lt,
                100 * f.err16[0], 100 * f.err16[1], 100 * f.err64[0], 100 * f.err64[1], 100 * gap, 100 * shd);
         double mean_max = lim->mean_factor * tb.mean_rel + 0.005, energy_max = lim->energy_factor * tb.energy_rel + 0.01;
         if (e.mean_rel > mean_max || e.energy_rel > energy_max || fabs(e.total_rel) > lim->total_rel ||
             fabs(lt) > lim->light_total || gap > lim->err_gap || shd > lim->sh_band)
             fail_msg("%s via %s: past the limits (mean rel %.2f%%, energy %.2f%%, total %.2f%%, lights %.2f%%, "
                      "gap %.2f points, SH bands %.2f%%)",
-                     name, qibl_probe_layout_name(l), 100 * mean_max, 100 * energy_max, 100 * lim->total_rel,
+                     name, qtool_probe_layout_name(l), 100 * mean_max, 100 * energy_max, 100 * lim->total_rel,
                      100 * lim->light_total, 100 * lim->err_gap, 100 * lim->sh_band);
         free(back);
     }
@@ -530,10 +530,10 @@ static void test_round_trip_fixtures(void **state)
         snprintf(path, sizeof path, "%.250s/%.250s", probe_dir(), names[i]);
         int w, h;
         float *p;
-        if (qibl_hdr_read(path, &w, &h, &p, err, sizeof err) != 0)
+        if (qtool_hdr_read(path, &w, &h, &p, err, sizeof err) != 0)
             fail_msg("%s", err);
-        qibl_probe_layout_t got;
-        assert_int_equal(qibl_probe_layout_detect(w, h, p, &got, err, sizeof err), 0);
+        qtool_probe_layout_t got;
+        assert_int_equal(qtool_probe_layout_detect(w, h, p, &got, err, sizeof err), 0);
         assert_int_equal(got, LL);
         for (int k = 0; k < halvings; ++k) {
             float *q = halve(p, w, h);
@@ -559,10 +559,10 @@ static float *filled(int w, int h, float v)
 
 static void detect_fails(int w, int h, const float *p, const char *want)
 {
-    qibl_probe_layout_t l = QIBL_PROBE_LAYOUT_COUNT;
+    qtool_probe_layout_t l = QTOOL_PROBE_LAYOUT_COUNT;
     char err[512] = "";
-    assert_int_equal(qibl_probe_layout_detect(w, h, p, &l, err, sizeof err), -1);
-    assert_int_equal(l, QIBL_PROBE_LAYOUT_COUNT); /* nothing written */
+    assert_int_equal(qtool_probe_layout_detect(w, h, p, &l, err, sizeof err), -1);
+    assert_int_equal(l, QTOOL_PROBE_LAYOUT_COUNT); /* nothing written */
     if (!strstr(err, want))
         fail_msg("%dx%d: \"%s\" does not say \"%s\"", w, h, err, want);
     assert_null(strchr(err, '\n'));
@@ -572,20 +572,20 @@ static void test_detect(void **state)
 {
     (void)state;
     char err[512];
-    qibl_probe_layout_t l;
+    qtool_probe_layout_t l;
     float *p = filled(64, 32, 1.0f);
-    assert_int_equal(qibl_probe_layout_detect(64, 32, p, &l, err, sizeof err), 0);
+    assert_int_equal(qtool_probe_layout_detect(64, 32, p, &l, err, sizeof err), 0);
     assert_int_equal(l, LL);
-    assert_int_equal(qibl_probe_layout_detect(2, 1, p, &l, err, sizeof err), 0); /* the smallest */
+    assert_int_equal(qtool_probe_layout_detect(2, 1, p, &l, err, sizeof err), 0); /* the smallest */
     assert_int_equal(l, LL);
     free(p);
     /* the shapes that fit nothing: every refusal names the layouts */
     p = filled(96, 48, 1.0f);
-    detect_fails(96, 32, p, QIBL_PROBE_LAYOUT_NAMES);   /* 3:1 */
-    detect_fails(33, 16, p, QIBL_PROBE_LAYOUT_NAMES);   /* almost 2:1 */
-    detect_fails(1, 2, p, QIBL_PROBE_LAYOUT_NAMES);     /* 1:2 */
+    detect_fails(96, 32, p, QTOOL_PROBE_LAYOUT_NAMES);   /* 3:1 */
+    detect_fails(33, 16, p, QTOOL_PROBE_LAYOUT_NAMES);   /* almost 2:1 */
+    detect_fails(1, 2, p, QTOOL_PROBE_LAYOUT_NAMES);     /* 1:2 */
     detect_fails(48, 48, p, "corners outside the disc are not black");
-    detect_fails(48, 48, p, QIBL_PROBE_LAYOUT_NAMES);
+    detect_fails(48, 48, p, QTOOL_PROBE_LAYOUT_NAMES);
     detect_fails(48, 64, p, "outside the vertical cross's faces are not black");
     detect_fails(64, 48, p, "outside the horizontal cross's faces are not black");
     detect_fails(0, 0, p, "empty probe image (0 x 0)");
@@ -594,21 +594,21 @@ static void test_detect(void **state)
     free(p);
     /* crosses made from a sky are recognised; a black image of cross shape is a cross */
     float *sky = make_sky(64, 32), *c = NULL;
-    assert_int_equal(qibl_probe_layout_from_latlong(HX, 64, 32, sky, 64, 48, &c, err, sizeof err), 0);
-    assert_int_equal(qibl_probe_layout_detect(64, 48, c, &l, err, sizeof err), 0);
+    assert_int_equal(qtool_probe_layout_from_latlong(HX, 64, 32, sky, 64, 48, &c, err, sizeof err), 0);
+    assert_int_equal(qtool_probe_layout_detect(64, 48, c, &l, err, sizeof err), 0);
     assert_int_equal(l, HX);
     /* a little light in the unused cells (an unclean crop) is tolerated, a lot is not */
     c[3 * (5 * 64 + 60)] = 1e-3f;
-    assert_int_equal(qibl_probe_layout_detect(64, 48, c, &l, err, sizeof err), 0);
+    assert_int_equal(qtool_probe_layout_detect(64, 48, c, &l, err, sizeof err), 0);
     c[3 * (5 * 64 + 60)] = 1e3f;
     detect_fails(64, 48, c, "not black");
     free(c);
-    assert_int_equal(qibl_probe_layout_from_latlong(BALL, 64, 32, sky, 40, 40, &c, err, sizeof err), 0);
+    assert_int_equal(qtool_probe_layout_from_latlong(BALL, 64, 32, sky, 40, 40, &c, err, sizeof err), 0);
     detect_fails(40, 40, c, "--layout angular or --layout ball");
     free(c);
     free(sky);
     p = filled(12, 16, 0.0f);
-    assert_int_equal(qibl_probe_layout_detect(12, 16, p, &l, err, sizeof err), 0);
+    assert_int_equal(qtool_probe_layout_detect(12, 16, p, &l, err, sizeof err), 0);
     assert_int_equal(l, VX);
     /* bad samples are named by pixel */
     p[3 * (2 * 12 + 5) + 1] = NAN;
@@ -618,15 +618,15 @@ static void test_detect(void **state)
     p[3 * (2 * 12 + 5) + 1] = -1e-30f;
     detect_fails(12, 16, p, "pixel (5, 2) has a negative sample");
     free(p);
-    assert_int_equal(qibl_probe_layout_detect(64, 32, NULL, &l, err, sizeof err), -1);
+    assert_int_equal(qtool_probe_layout_detect(64, 32, NULL, &l, err, sizeof err), -1);
 }
 
-static void check_fails(qibl_probe_layout_t l, int w, int h, const char *want)
+static void check_fails(qtool_probe_layout_t l, int w, int h, const char *want)
 {
     char err[512] = "";
-    assert_int_equal(qibl_probe_layout_check(l, w, h, err, sizeof err), -1);
+    assert_int_equal(qtool_probe_layout_check(l, w, h, err, sizeof err), -1);
     if (!strstr(err, want))
-        fail_msg("%s %dx%d: \"%s\" does not say \"%s\"", qibl_probe_layout_name(l), w, h, err, want);
+        fail_msg("%s %dx%d: \"%s\" does not say \"%s\"", qtool_probe_layout_name(l), w, h, err, want);
 }
 
 static void test_check(void **state)
@@ -634,12 +634,12 @@ static void test_check(void **state)
     (void)state;
     char err[256];
     /* odd and small sizes that fit */
-    assert_int_equal(qibl_probe_layout_check(LL, 7, 3, err, sizeof err), 0); /* --layout latlong: any */
-    assert_int_equal(qibl_probe_layout_check(LL, 1, 1, err, sizeof err), 0);
-    assert_int_equal(qibl_probe_layout_check(ANG, 5, 5, err, sizeof err), 0);
-    assert_int_equal(qibl_probe_layout_check(BALL, 2, 2, err, sizeof err), 0);
-    assert_int_equal(qibl_probe_layout_check(VX, 3, 4, err, sizeof err), 0);
-    assert_int_equal(qibl_probe_layout_check(HX, 12, 9, err, sizeof err), 0);
+    assert_int_equal(qtool_probe_layout_check(LL, 7, 3, err, sizeof err), 0); /* --layout latlong: any */
+    assert_int_equal(qtool_probe_layout_check(LL, 1, 1, err, sizeof err), 0);
+    assert_int_equal(qtool_probe_layout_check(ANG, 5, 5, err, sizeof err), 0);
+    assert_int_equal(qtool_probe_layout_check(BALL, 2, 2, err, sizeof err), 0);
+    assert_int_equal(qtool_probe_layout_check(VX, 3, 4, err, sizeof err), 0);
+    assert_int_equal(qtool_probe_layout_check(HX, 12, 9, err, sizeof err), 0);
     /* zero, negative, too large */
     for (size_t k = 0; k < sizeof all_layouts / sizeof all_layouts[0]; ++k) {
         check_fails(all_layouts[k], 0, 0, "empty probe image");
@@ -658,23 +658,23 @@ static void test_check(void **state)
     check_fails(HX, 9, 6, "hcross needs 4F x 3F pixels");
     check_fails(HX, 12, 12, "hcross needs 4F x 3F pixels");
     check_fails(HX, 2, 1, "hcross needs 4F x 3F pixels");
-    check_fails(QIBL_PROBE_LAYOUT_AUTO, 64, 32, QIBL_PROBE_LAYOUT_NAMES);
-    check_fails(QIBL_PROBE_LAYOUT_COUNT, 64, 32, "unknown probe layout");
+    check_fails(QTOOL_PROBE_LAYOUT_AUTO, 64, 32, QTOOL_PROBE_LAYOUT_NAMES);
+    check_fails(QTOOL_PROBE_LAYOUT_COUNT, 64, 32, "unknown probe layout");
     int ow = -1, oh = -1;
-    assert_int_equal(qibl_probe_layout_latlong_size(HX, 9, 6, &ow, &oh, err, sizeof err), -1);
+    assert_int_equal(qtool_probe_layout_latlong_size(HX, 9, 6, &ow, &oh, err, sizeof err), -1);
     assert_true(ow == -1 && oh == -1);
     /* the size rule: pixels along the horizon, even, capped */
-    assert_int_equal(qibl_probe_layout_latlong_size(ANG, 1000, 1000, &ow, &oh, err, sizeof err), 0);
+    assert_int_equal(qtool_probe_layout_latlong_size(ANG, 1000, 1000, &ow, &oh, err, sizeof err), 0);
     assert_true(ow == 1000 && oh == 500);
-    assert_int_equal(qibl_probe_layout_latlong_size(BALL, 5, 5, &ow, &oh, err, sizeof err), 0);
+    assert_int_equal(qtool_probe_layout_latlong_size(BALL, 5, 5, &ow, &oh, err, sizeof err), 0);
     assert_true(ow == 6 && oh == 3);
-    assert_int_equal(qibl_probe_layout_latlong_size(VX, 768, 1024, &ow, &oh, err, sizeof err), 0);
+    assert_int_equal(qtool_probe_layout_latlong_size(VX, 768, 1024, &ow, &oh, err, sizeof err), 0);
     assert_true(ow == 1024 && oh == 512);
-    assert_int_equal(qibl_probe_layout_latlong_size(HX, 4, 3, &ow, &oh, err, sizeof err), 0);
+    assert_int_equal(qtool_probe_layout_latlong_size(HX, 4, 3, &ow, &oh, err, sizeof err), 0);
     assert_true(ow == 4 && oh == 2);
-    assert_int_equal(qibl_probe_layout_latlong_size(ANG, 12000, 12000, &ow, &oh, err, sizeof err), 0);
-    assert_true(ow == QIBL_PROBE_LAYOUT_MAX_W && oh == QIBL_PROBE_LAYOUT_MAX_W / 2);
-    assert_int_equal(qibl_probe_layout_latlong_size(LL, 7, 3, &ow, &oh, err, sizeof err), 0);
+    assert_int_equal(qtool_probe_layout_latlong_size(ANG, 12000, 12000, &ow, &oh, err, sizeof err), 0);
+    assert_true(ow == QTOOL_PROBE_LAYOUT_MAX_W && oh == QTOOL_PROBE_LAYOUT_MAX_W / 2);
+    assert_int_equal(qtool_probe_layout_latlong_size(LL, 7, 3, &ow, &oh, err, sizeof err), 0);
     assert_true(ow == 7 && oh == 3);
 }
 
@@ -686,39 +686,39 @@ static void test_resample_malformed(void **state)
     float *sentinel = (float *)(uintptr_t)0x1234, *out = sentinel;
     float *p = filled(24, 24, 1.0f);
     for (size_t k = 0; k < sizeof all_layouts / sizeof all_layouts[0]; ++k) {
-        qibl_probe_layout_t l = all_layouts[k];
-        assert_int_equal(qibl_probe_layout_to_latlong(l, 0, 0, p, 8, 4, &out, err, sizeof err), -1);
-        assert_int_equal(qibl_probe_layout_to_latlong(l, 24, 24, NULL, 8, 4, &out, err, sizeof err), -1);
-        assert_int_equal(qibl_probe_layout_to_latlong(l, 24, 24, p, 0, 4, &out, err, sizeof err), -1);
-        assert_int_equal(qibl_probe_layout_from_latlong(l, 0, 0, p, 24, 24, &out, err, sizeof err), -1);
-        assert_int_equal(qibl_probe_layout_from_latlong(l, 24, 12, p, 0, 24, &out, err, sizeof err), -1);
+        qtool_probe_layout_t l = all_layouts[k];
+        assert_int_equal(qtool_probe_layout_to_latlong(l, 0, 0, p, 8, 4, &out, err, sizeof err), -1);
+        assert_int_equal(qtool_probe_layout_to_latlong(l, 24, 24, NULL, 8, 4, &out, err, sizeof err), -1);
+        assert_int_equal(qtool_probe_layout_to_latlong(l, 24, 24, p, 0, 4, &out, err, sizeof err), -1);
+        assert_int_equal(qtool_probe_layout_from_latlong(l, 0, 0, p, 24, 24, &out, err, sizeof err), -1);
+        assert_int_equal(qtool_probe_layout_from_latlong(l, 24, 12, p, 0, 24, &out, err, sizeof err), -1);
     }
-    assert_int_equal(qibl_probe_layout_to_latlong(ANG, 24, 23, p, 8, 4, &out, err, sizeof err), -1);
+    assert_int_equal(qtool_probe_layout_to_latlong(ANG, 24, 23, p, 8, 4, &out, err, sizeof err), -1);
     assert_non_null(strstr(err, "square"));
-    assert_int_equal(qibl_probe_layout_to_latlong(BALL, 24, 12, p, 8, 4, &out, err, sizeof err), -1);
-    assert_int_equal(qibl_probe_layout_to_latlong(VX, 20, 24, p, 8, 4, &out, err, sizeof err), -1);
+    assert_int_equal(qtool_probe_layout_to_latlong(BALL, 24, 12, p, 8, 4, &out, err, sizeof err), -1);
+    assert_int_equal(qtool_probe_layout_to_latlong(VX, 20, 24, p, 8, 4, &out, err, sizeof err), -1);
     assert_non_null(strstr(err, "vcross"));
-    assert_int_equal(qibl_probe_layout_to_latlong(HX, 24, 20, p, 8, 4, &out, err, sizeof err), -1);
+    assert_int_equal(qtool_probe_layout_to_latlong(HX, 24, 20, p, 8, 4, &out, err, sizeof err), -1);
     assert_non_null(strstr(err, "hcross"));
-    assert_int_equal(qibl_probe_layout_to_latlong(QIBL_PROBE_LAYOUT_AUTO, 24, 12, p, 8, 4, &out, err, sizeof err),
+    assert_int_equal(qtool_probe_layout_to_latlong(QTOOL_PROBE_LAYOUT_AUTO, 24, 12, p, 8, 4, &out, err, sizeof err),
                      -1);
-    assert_int_equal(qibl_probe_layout_from_latlong(VX, 24, 12, p, 23, 24, &out, err, sizeof err), -1);
+    assert_int_equal(qtool_probe_layout_from_latlong(VX, 24, 12, p, 23, 24, &out, err, sizeof err), -1);
     /* NaN and negative samples in every layout's input */
     for (size_t k = 0; k < sizeof all_layouts / sizeof all_layouts[0]; ++k) {
-        qibl_probe_layout_t l = all_layouts[k];
+        qtool_probe_layout_t l = all_layouts[k];
         int w, h;
         layout_size(l, 12, &w, &h);
         float *q = filled(w, h, 0.5f);
         q[3 * ((size_t)h / 2 * (size_t)w + (size_t)w / 2) + 2] = NAN;
-        assert_int_equal(qibl_probe_layout_to_latlong(l, w, h, q, 12, 6, &out, err, sizeof err), -1);
+        assert_int_equal(qtool_probe_layout_to_latlong(l, w, h, q, 12, 6, &out, err, sizeof err), -1);
         assert_non_null(strstr(err, "NaN"));
         q[3 * ((size_t)h / 2 * (size_t)w + (size_t)w / 2) + 2] = -2.0f;
-        assert_int_equal(qibl_probe_layout_to_latlong(l, w, h, q, 12, 6, &out, err, sizeof err), -1);
+        assert_int_equal(qtool_probe_layout_to_latlong(l, w, h, q, 12, 6, &out, err, sizeof err), -1);
         assert_non_null(strstr(err, "negative"));
         free(q);
     }
     p[7] = NAN;
-    assert_int_equal(qibl_probe_layout_from_latlong(ANG, 24, 12, p, 24, 24, &out, err, sizeof err), -1);
+    assert_int_equal(qtool_probe_layout_from_latlong(ANG, 24, 12, p, 24, 24, &out, err, sizeof err), -1);
     assert_non_null(strstr(err, "NaN"));
     assert_ptr_equal(out, sentinel);
     free(p);
@@ -727,11 +727,11 @@ static void test_resample_malformed(void **state)
     int sizes[3][3] = {{BALL, 5, 5}, {VX, 3, 4}, {LL, 7, 3}};
     for (int k = 0; k < 3; ++k) {
         float *lay = NULL, *back = NULL;
-        qibl_probe_layout_t l = (qibl_probe_layout_t)sizes[k][0];
+        qtool_probe_layout_t l = (qtool_probe_layout_t)sizes[k][0];
         int w = sizes[k][1], h = sizes[k][2], ow, oh;
-        assert_int_equal(qibl_probe_layout_from_latlong(l, 16, 8, sky, w, h, &lay, err, sizeof err), 0);
-        assert_int_equal(qibl_probe_layout_latlong_size(l, w, h, &ow, &oh, err, sizeof err), 0);
-        assert_int_equal(qibl_probe_layout_to_latlong(l, w, h, lay, ow, oh, &back, err, sizeof err), 0);
+        assert_int_equal(qtool_probe_layout_from_latlong(l, 16, 8, sky, w, h, &lay, err, sizeof err), 0);
+        assert_int_equal(qtool_probe_layout_latlong_size(l, w, h, &ow, &oh, err, sizeof err), 0);
+        assert_int_equal(qtool_probe_layout_to_latlong(l, w, h, lay, ow, oh, &back, err, sizeof err), 0);
         for (size_t i = 0; i < 3 * (size_t)ow * (size_t)oh; ++i)
             assert_true(back[i] > 0 && isfinite(back[i]));
         free(lay), free(back);
@@ -746,22 +746,22 @@ static void test_constant(void **state)
     char err[256];
     float *one = filled(64, 32, 2.5f);
     for (size_t k = 0; k < sizeof all_layouts / sizeof all_layouts[0]; ++k) {
-        qibl_probe_layout_t l = all_layouts[k];
+        qtool_probe_layout_t l = all_layouts[k];
         int w, h;
         layout_size(l, 64, &w, &h);
         float *lay = NULL, *back = NULL;
-        assert_int_equal(qibl_probe_layout_from_latlong(l, 64, 32, one, w, h, &lay, err, sizeof err), 0);
+        assert_int_equal(qtool_probe_layout_from_latlong(l, 64, 32, one, w, h, &lay, err, sizeof err), 0);
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 double d[3];
-                int used = qibl_probe_layout_dir(l, w, h, x + 0.5, y + 0.5, d) == 0;
+                int used = qtool_probe_layout_dir(l, w, h, x + 0.5, y + 0.5, d) == 0;
                 float v = lay[3 * ((size_t)y * (size_t)w + (size_t)x)];
                 if (used)
                     assert_true(fabsf(v - 2.5f) < 1e-5f);
                 else
                     assert_true(v == 0.0f);
             }
-        assert_int_equal(qibl_probe_layout_to_latlong(l, w, h, lay, 64, 32, &back, err, sizeof err), 0);
+        assert_int_equal(qtool_probe_layout_to_latlong(l, w, h, lay, 64, 32, &back, err, sizeof err), 0);
         for (size_t i = 0; i < 3 * 64 * 32; ++i)
             assert_true(fabsf(back[i] - 2.5f) < 1e-5f);
         free(lay), free(back);
@@ -790,7 +790,7 @@ static void test_rgbe_encode(void **state)
     p[0] = p[1] = p[2] = 0;                            /* black */
     p[3] = (float)ldexp(255.6, -8), p[4] = p[5] = 0;   /* rounds up to 256: next exponent */
     p[6] = (float)ldexp(1, -130), p[7] = p[8] = 0;     /* below 2^-128: black */
-    qibl_probe_layout_rgbe_encode(p, N, q);
+    qtool_probe_layout_rgbe_encode(p, N, q);
     assert_true(q[0] == 0 && q[3] == 0);
     assert_true(q[4] == 128 && q[7] == 129); /* 256 * 2^-8 = 1 = 128 * 2^(129 - 136) */
     assert_int_equal(q[11], 0);
@@ -815,11 +815,11 @@ static void test_rgbe_path(void **state)
     float *sky = make_sky(128, 64);
     uint8_t *ll8 = malloc(4 * 128 * 64), *out = NULL;
     assert_non_null(ll8);
-    qibl_probe_layout_rgbe_encode(sky, 128 * 64, ll8);
-    qibl_probe_layout_t used = QIBL_PROBE_LAYOUT_COUNT;
+    qtool_probe_layout_rgbe_encode(sky, 128 * 64, ll8);
+    qtool_probe_layout_t used = QTOOL_PROBE_LAYOUT_COUNT;
     int ow = 0, oh = 0;
     /* lat-long: the bytes as they are */
-    assert_int_equal(qibl_probe_layout_rgbe_to_latlong(QIBL_PROBE_LAYOUT_AUTO, 128, 64, ll8, &used, &ow, &oh, &out,
+    assert_int_equal(qtool_probe_layout_rgbe_to_latlong(QTOOL_PROBE_LAYOUT_AUTO, 128, 64, ll8, &used, &ow, &oh, &out,
                                                        err, sizeof err),
                      0);
     assert_int_equal(used, LL);
@@ -827,11 +827,11 @@ static void test_rgbe_path(void **state)
     free(out);
     /* a vertical cross of RGBE bytes, detected, comes back close to the sky */
     float *vx = NULL;
-    assert_int_equal(qibl_probe_layout_from_latlong(VX, 128, 64, sky, 96, 128, &vx, err, sizeof err), 0);
+    assert_int_equal(qtool_probe_layout_from_latlong(VX, 128, 64, sky, 96, 128, &vx, err, sizeof err), 0);
     uint8_t *vx8 = malloc(4 * 96 * 128);
     assert_non_null(vx8);
-    qibl_probe_layout_rgbe_encode(vx, 96 * 128, vx8);
-    assert_int_equal(qibl_probe_layout_rgbe_to_latlong(QIBL_PROBE_LAYOUT_AUTO, 96, 128, vx8, &used, &ow, &oh, &out, err,
+    qtool_probe_layout_rgbe_encode(vx, 96 * 128, vx8);
+    assert_int_equal(qtool_probe_layout_rgbe_to_latlong(QTOOL_PROBE_LAYOUT_AUTO, 96, 128, vx8, &used, &ow, &oh, &out, err,
                                                        sizeof err),
                      0);
     assert_int_equal(used, VX);
@@ -848,30 +848,30 @@ static void test_rgbe_path(void **state)
     free(out), free(back);
     /* forced layouts: the wrong shape is refused, ambiguity is resolved by --layout */
     out = (uint8_t *)(uintptr_t)0x1234;
-    assert_int_equal(qibl_probe_layout_rgbe_to_latlong(HX, 96, 128, vx8, &used, &ow, &oh, &out, err, sizeof err), -1);
+    assert_int_equal(qtool_probe_layout_rgbe_to_latlong(HX, 96, 128, vx8, &used, &ow, &oh, &out, err, sizeof err), -1);
     assert_non_null(strstr(err, "hcross needs 4F x 3F"));
-    assert_int_equal(qibl_probe_layout_rgbe_to_latlong(QIBL_PROBE_LAYOUT_AUTO, 96, 100, vx8, &used, &ow, &oh, &out,
+    assert_int_equal(qtool_probe_layout_rgbe_to_latlong(QTOOL_PROBE_LAYOUT_AUTO, 96, 100, vx8, &used, &ow, &oh, &out,
                                                        err, sizeof err),
                      -1);
-    assert_non_null(strstr(err, QIBL_PROBE_LAYOUT_NAMES));
-    assert_int_equal(qibl_probe_layout_rgbe_to_latlong(QIBL_PROBE_LAYOUT_AUTO, 0, 0, vx8, &used, &ow, &oh, &out, err,
+    assert_non_null(strstr(err, QTOOL_PROBE_LAYOUT_NAMES));
+    assert_int_equal(qtool_probe_layout_rgbe_to_latlong(QTOOL_PROBE_LAYOUT_AUTO, 0, 0, vx8, &used, &ow, &oh, &out, err,
                                                        sizeof err),
                      -1);
-    assert_int_equal(qibl_probe_layout_rgbe_to_latlong(QIBL_PROBE_LAYOUT_COUNT, 96, 128, vx8, &used, &ow, &oh, &out,
+    assert_int_equal(qtool_probe_layout_rgbe_to_latlong(QTOOL_PROBE_LAYOUT_COUNT, 96, 128, vx8, &used, &ow, &oh, &out,
                                                        err, sizeof err),
                      -1);
     assert_ptr_equal(out, (uint8_t *)(uintptr_t)0x1234);
     float *ball = NULL;
-    assert_int_equal(qibl_probe_layout_from_latlong(BALL, 128, 64, sky, 64, 64, &ball, err, sizeof err), 0);
+    assert_int_equal(qtool_probe_layout_from_latlong(BALL, 128, 64, sky, 64, 64, &ball, err, sizeof err), 0);
     uint8_t *b8 = malloc(4 * 64 * 64);
     assert_non_null(b8);
-    qibl_probe_layout_rgbe_encode(ball, 64 * 64, b8);
-    assert_int_equal(qibl_probe_layout_rgbe_to_latlong(QIBL_PROBE_LAYOUT_AUTO, 64, 64, b8, &used, &ow, &oh, &out, err,
+    qtool_probe_layout_rgbe_encode(ball, 64 * 64, b8);
+    assert_int_equal(qtool_probe_layout_rgbe_to_latlong(QTOOL_PROBE_LAYOUT_AUTO, 64, 64, b8, &used, &ow, &oh, &out, err,
                                                        sizeof err),
                      -1);
     assert_non_null(strstr(err, "--layout angular or --layout ball"));
     out = NULL;
-    assert_int_equal(qibl_probe_layout_rgbe_to_latlong(BALL, 64, 64, b8, &used, &ow, &oh, &out, err, sizeof err), 0);
+    assert_int_equal(qtool_probe_layout_rgbe_to_latlong(BALL, 64, 64, b8, &used, &ow, &oh, &out, err, sizeof err), 0);
     assert_true(used == BALL && ow == 64 && oh == 32 && out);
     free(out), free(b8), free(ball), free(vx), free(vx8), free(ll8), free(sky);
 }

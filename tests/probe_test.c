@@ -149,7 +149,7 @@ static errs check_probe(const probe *p, int bands)
     assert_int_equal(project(&img, bands, NULL, &c), QIBL_OK);
     assert_int_equal(c.bands, bands);
     double ref[3][25];
-    qibl_ref_probe_sh(p->w, p->h, p->d, bands, ref);
+    qtool_ref_probe_sh(p->w, p->h, p->d, bands, ref);
     errs e = compare(&c, ref, ones, bands, row_bound_rgbe(p->rgbe, p->w, p->h));
     if (e.abs > e.bound)
         printf("probe %dx%d bands %d: error %.3e above the bound %.3e\n", p->w, p->h, bands, e.abs, e.bound);
@@ -209,12 +209,12 @@ static void test_formats(void **state)
     img = image(i32, w, h, QIBL_LIGHTPROBE_LINEAR_I32, 12);
     assert_int_equal(project(&img, 5, NULL, &c), QIBL_OK);
     double ref[3][25];
-    qibl_ref_probe_sh(w, h, di, 5, ref);
+    qtool_ref_probe_sh(w, h, di, 5, ref);
     errs e = compare(&c, ref, ones, 5, row_bound(di, w, h));
     assert_true(e.abs <= e.bound);
     img = image(sr, w, h, QIBL_LIGHTPROBE_SRGBE, 0);
     assert_int_equal(project(&img, 5, NULL, &d), QIBL_OK);
-    qibl_ref_probe_sh(w, h, ds, 5, ref);
+    qtool_ref_probe_sh(w, h, ds, 5, ref);
     e = compare(&d, ref, ones, 5, row_bound(ds, w, h));
     printf("probe: formats: RGBE = binary32 bit for bit; int32 Q12 and sRGBE within the bound (sRGBE %.3e)\n", e.rel_max);
     assert_true(e.abs <= e.bound);
@@ -493,7 +493,7 @@ static void test_largest_size_and_values(void **state)
                     double t = 0.0, y[25];
                     for (uint32_t v = 0; v < h; ++v) {
                         double th = (v + 0.5) * M_PI / h;
-                        qibl_ref_sh_eval(sin(th), 0, cos(th), 5, y);
+                        qtool_ref_sh_eval(sin(th), 0, cos(th), 5, y);
                         t += y[i] * sin(th);
                     }
                     want = value * (2.0 * M_PI) * (M_PI / h) * t;
@@ -587,14 +587,14 @@ static void test_irradiance_and_windows(void **state)
     qibl_lightprobe_image_t img = image(p.rgbe, p.w, p.h, QIBL_LIGHTPROBE_RGBE, 0);
     double ref[3][25];
     for (int bands = 1; bands <= 5; ++bands) {
-        qibl_ref_probe_sh(p.w, p.h, p.d, bands, ref);
+        qtool_ref_probe_sh(p.w, p.h, p.d, bands, ref);
         for (int irr = 0; irr < 2; ++irr)
             for (int win = 0; win < 3; ++win) {
                 qibl_probe_sh_opts_t o = {irr, (qibl_probe_window_t)win, 0};
                 qibl_probe_coeffs_t c;
                 assert_int_equal(project(&img, bands, &o, &c), QIBL_OK);
                 double f[5];
-                qibl_ref_probe_band_factors(bands, irr, win, f);
+                qtool_ref_probe_band_factors(bands, irr, win, f);
                 errs e = compare(&c, ref, f, bands, row_bound(p.d, p.w, p.h) * M_PI);
                 assert_true(e.abs <= e.bound);
                 if (irr && bands >= 4)
@@ -613,7 +613,7 @@ static void test_irradiance_and_windows(void **state)
     qibl_probe_coeffs_t c;
     assert_int_equal(project(&img, 3, &o, &c), QIBL_OK);
     double y[25];
-    qibl_ref_sh_eval(0.3, -0.4, 0.5, 3, y);
+    qtool_ref_sh_eval(0.3, -0.4, 0.5, 3, y);
     double e = 0.0;
     for (int i = 0; i < 9; ++i)
         e += ldexp(c.c[1][i], c.exp) * y[i];
@@ -687,7 +687,7 @@ static void test_lights_to_sh(void **state)
     double ref[3][25] = {{0}}, mx = 0.0, worst = 0.0;
     for (uint32_t k = 0; k < res.count; ++k) {
         double y[25];
-        qibl_ref_sh_eval(L[k].dir[0], L[k].dir[1], L[k].dir[2], 5, y);
+        qtool_ref_sh_eval(L[k].dir[0], L[k].dir[1], L[k].dir[2], 5, y);
         for (int ch = 0; ch < 3; ++ch)
             for (int i = 0; i < 25; ++i)
                 ref[ch][i] += ldexp(L[k].rgb[ch], res.rgb_exp + scale + 16) * y[i];
@@ -830,7 +830,7 @@ static void test_rotation_reprojection(void **state)
                 else
                     for (int i = 0; i < 3; ++i)
                         e3[i] = rm[0][i] * d[0] + rm[1][i] * d[1] + rm[2][i] * d[2];
-                qibl_ref_sh_eval(e3[0], e3[1], e3[2], 5, y);
+                qtool_ref_sh_eval(e3[0], e3[1], e3[2], 5, y);
                 double val = 0.0;
                 for (int i = 0; i < 25; ++i)
                     val += a[i] * y[i];
@@ -896,7 +896,7 @@ static void test_shlight_rotate(void **state)
 static void test_goldens(void **state)
 {
     (void)state;
-    assert_int_equal(qibl_goldens_check("probe"), 0);
+    assert_int_equal(qtool_goldens_check("probe"), 0);
 }
 
 static const char *probe_dir(void)
@@ -932,7 +932,7 @@ static void test_real_probes(void **state)
         char path[512], err[512];
         snprintf(path, sizeof path, "%.250s/%.250s", probe_dir(), names[i]);
         probe p = {0, 0, NULL, NULL};
-        assert_int_equal(qibl_hdr_read_rgbe(path, &p.w, &p.h, &p.rgbe, err, sizeof err), 0);
+        assert_int_equal(qtool_hdr_read_rgbe(path, &p.w, &p.h, &p.rgbe, err, sizeof err), 0);
         fill_double(&p);
         errs e = check_probe(&p, 5);
         worst = fmax(worst, e.rel_max);

@@ -21,7 +21,7 @@
 static void check_hex(const char *msg, const char *want)
 {
     char got[65];
-    qibl_sha256_hex(msg, strlen(msg), got);
+    qtool_sha256_hex(msg, strlen(msg), got);
     assert_string_equal(got, want);
 }
 
@@ -36,7 +36,7 @@ static void test_nist_vectors(void **state)
               "mnopqrstnopqrstu",
               "cf5b16a778af8380036ce59e7b0492370b249b11e8f07a51afac45037afee9d1");
     char got[65];
-    qibl_sha256_hex(NULL, 0, got); /* NULL with n == 0 is allowed */
+    qtool_sha256_hex(NULL, 0, got); /* NULL with n == 0 is allowed */
     assert_string_equal(got, "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
 }
 
@@ -46,21 +46,21 @@ static void test_million_a_in_odd_chunks(void **state)
     static char a[1000];
     memset(a, 'a', sizeof a);
     const size_t chunks[] = {1, 3, 7, 13, 55, 56, 63, 64, 65, 127, 129, 997};
-    qibl_sha256_t s;
-    qibl_sha256_init(&s);
+    qtool_sha256_t s;
+    qtool_sha256_init(&s);
     size_t done = 0;
     for (unsigned k = 0; done < 1000000; ++k) {
         size_t n = chunks[k % (sizeof chunks / sizeof chunks[0])];
         if (n > 1000000 - done)
             n = 1000000 - done;
-        qibl_sha256_update(&s, a, n);
-        qibl_sha256_update(&s, a, 0);
+        qtool_sha256_update(&s, a, n);
+        qtool_sha256_update(&s, a, 0);
         done += n;
     }
     uint8_t d[32];
     char got[65];
-    qibl_sha256_final(&s, d);
-    qibl_sha256_to_hex(d, got);
+    qtool_sha256_final(&s, d);
+    qtool_sha256_to_hex(d, got);
     assert_string_equal(got, "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
 }
 
@@ -84,22 +84,22 @@ static void test_padding_boundaries(void **state)
         m[i] = (uint8_t)(i * 7 + 3);
     for (size_t k = 0; k < sizeof v / sizeof v[0]; ++k) {
         char got[65];
-        qibl_sha256_hex(m, v[k].n, got);
+        qtool_sha256_hex(m, v[k].n, got);
         assert_string_equal(got, v[k].hex);
     }
     /* every split point of every length up to 200 gives the one-shot digest */
     for (size_t n = 0; n <= 200; ++n) {
         char want[65];
-        qibl_sha256_hex(m, n, want);
+        qtool_sha256_hex(m, n, want);
         for (size_t cut = 0; cut <= n; ++cut) {
-            qibl_sha256_t s;
+            qtool_sha256_t s;
             uint8_t d[32];
             char got[65];
-            qibl_sha256_init(&s);
-            qibl_sha256_update(&s, m, cut);
-            qibl_sha256_update(&s, m + cut, n - cut);
-            qibl_sha256_final(&s, d);
-            qibl_sha256_to_hex(d, got);
+            qtool_sha256_init(&s);
+            qtool_sha256_update(&s, m, cut);
+            qtool_sha256_update(&s, m + cut, n - cut);
+            qtool_sha256_final(&s, d);
+            qtool_sha256_to_hex(d, got);
             assert_string_equal(got, want);
         }
     }
@@ -118,13 +118,13 @@ static void test_golden_helper(void **state)
     const char *h2 = "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855";
 
     unsetenv("QIBL_UPDATE_GOLDEN");
-    assert_int_equal(qibl_golden_check("case_a", h1), -1); /* no file yet */
+    assert_int_equal(qtool_golden_check("case_a", h1), -1); /* no file yet */
     setenv("QIBL_UPDATE_GOLDEN", "1", 1);
-    assert_int_equal(qibl_golden_check("case_a", h1), 0); /* creates fixtures/golden/case_a.sha256 */
+    assert_int_equal(qtool_golden_check("case_a", h1), 0); /* creates fixtures/golden/case_a.sha256 */
     unsetenv("QIBL_UPDATE_GOLDEN");
-    assert_int_equal(qibl_golden_check("case_a", h1), 0);
-    assert_int_equal(qibl_golden_check("case_a", h2), -1);
-    assert_int_equal(qibl_golden_check_bytes("case_a", "abc", 3), 0);
+    assert_int_equal(qtool_golden_check("case_a", h1), 0);
+    assert_int_equal(qtool_golden_check("case_a", h2), -1);
+    assert_int_equal(qtool_golden_check_bytes("case_a", "abc", 3), 0);
     /* file content: the digest and a newline */
     char path[256], line[128] = {0};
     snprintf(path, sizeof path, "%s/fixtures/golden/case_a.sha256", root);
@@ -136,10 +136,10 @@ static void test_golden_helper(void **state)
     assert_int_equal(line[64], '\n');
     /* bad names and hashes are refused, nothing written */
     setenv("QIBL_UPDATE_GOLDEN", "1", 1);
-    assert_int_equal(qibl_golden_check("../evil", h1), -1);
-    assert_int_equal(qibl_golden_check(".hidden", h1), -1);
-    assert_int_equal(qibl_golden_check("", h1), -1);
-    assert_int_equal(qibl_golden_check("case_b", "BA7816BF"), -1);
+    assert_int_equal(qtool_golden_check("../evil", h1), -1);
+    assert_int_equal(qtool_golden_check(".hidden", h1), -1);
+    assert_int_equal(qtool_golden_check("", h1), -1);
+    assert_int_equal(qtool_golden_check("case_b", "BA7816BF"), -1);
     unsetenv("QIBL_UPDATE_GOLDEN");
 
     remove(path);

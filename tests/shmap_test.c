@@ -85,7 +85,7 @@ static void test_shlight_add_dir_matches_reference(void **state)
             continue;
         assert_int_equal(qibl_shlight_add_dir(&l, d, rgb), QIBL_OK);
         double y[25];
-        qibl_ref_sh_eval(d[0], d[1], d[2], 5, y);
+        qtool_ref_sh_eval(d[0], d[1], d[2], 5, y);
         for (int ch = 0; ch < 3; ++ch)
             for (int i = 0; i < 25; ++i) {
                 double want = rgb[ch] * y[i]; /* in Q16.16 LSB */
@@ -377,7 +377,7 @@ static void check_point(const qibl_shmaps_t *m, const qibl_pmap_t *p, const qibl
             qibl_q16_t pt[3];
             qibl_pmap_point(p, x, y, pt);
             double yv[25], dist;
-            if (qibl_ref_sh_eval(pl->pos[0] - (double)pt[0], pl->pos[1] - (double)pt[1], pl->pos[2] - (double)pt[2],
+            if (qtool_ref_sh_eval(pl->pos[0] - (double)pt[0], pl->pos[1] - (double)pt[1], pl->pos[2] - (double)pt[2],
                                  5, yv) != 0) {
                 assert_true(out[3 * x] == 0 && out[3 * x + 1] == 0 && out[3 * x + 2] == 0);
                 continue;
@@ -528,7 +528,7 @@ static void test_ylut_build_and_lookup(void **state)
                 default: d[0] = -s, d[1] = -tt, d[2] = -1; break;
                 }
                 double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]), yref[25];
-                qibl_ref_sh_eval(d[0], d[1], d[2], 5, yref);
+                qtool_ref_sh_eval(d[0], d[1], d[2], 5, yref);
                 qibl_q30_t u[3];
                 for (int j = 0; j < 3; ++j)
                     u[j] = (int32_t)lrint(d[j] / len * 1073741824.0);
@@ -767,13 +767,13 @@ static void test_stream_rows_from_file(void **state)
     int fd = mkstemp(path);
     assert_true(fd >= 0);
     close(fd);
-    qibl_asset_builder ab;
-    qibl_asset_builder_init(&ab);
-    assert_int_equal(qibl_asset_add_shmp_layout(&ab, W, H, K, 3, sc, bi, b.planes, QIBL_SHMAPS_INTERLEAVED), 0);
-    assert_int_equal(qibl_asset_add_pmap(&ab, W, H, xyz), 0);
-    assert_int_equal(qibl_asset_add_ylut(&ab, 8, K, lutv), 0);
-    assert_int_equal(qibl_asset_write_file(&ab, path, 0), 0);
-    qibl_asset_builder_free(&ab);
+    qtool_asset_builder ab;
+    qtool_asset_builder_init(&ab);
+    assert_int_equal(qtool_asset_add_shmp_layout(&ab, W, H, K, 3, sc, bi, b.planes, QIBL_SHMAPS_INTERLEAVED), 0);
+    assert_int_equal(qtool_asset_add_pmap(&ab, W, H, xyz), 0);
+    assert_int_equal(qtool_asset_add_ylut(&ab, 8, K, lutv), 0);
+    assert_int_equal(qtool_asset_write_file(&ab, path, 0), 0);
+    qtool_asset_builder_free(&ab);
 
     /* the reference: planar maps in memory, whole frame */
     qibl_shlight_t l;
@@ -843,7 +843,7 @@ static void test_stream_rows_from_file(void **state)
 static void test_goldens(void **state)
 {
     (void)state;
-    assert_int_equal(qibl_goldens_check("relight"), 0);
+    assert_int_equal(qtool_goldens_check("relight"), 0);
 }
 
 int main(void)

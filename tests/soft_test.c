@@ -695,7 +695,7 @@ static void test_errors_write_nothing(void **state)
 static void test_golden_gradient(void **state)
 {
     (void)state;
-    assert_int_equal(qibl_goldens_check("soft"), 0);
+    assert_int_equal(qtool_goldens_check("soft"), 0);
 }
 
 /* The backend's statuses live in its own range (status.h) and have their own texts. */

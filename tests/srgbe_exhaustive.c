@@ -133,9 +133,9 @@ int main(int argc, char **argv)
     for (unsigned E = 0; E < 256; ++E)
         for (unsigned X = 0; X < 256; ++X) {
             int s = 0, q = 0;
-            ref_f32[E][X] = qibl_ref_srgbe_channel_f32(X, E, &s);
+            ref_f32[E][X] = qtool_ref_srgbe_channel_f32(X, E, &s);
             ref_f32_sat[E][X] = (unsigned char)s;
-            ref_q16[E][X] = qibl_ref_srgbe_channel_s32(X, E, 16, &q);
+            ref_q16[E][X] = qtool_ref_srgbe_channel_s32(X, E, 16, &q);
             ref_q16_sat[E][X] = (unsigned char)q;
         }
     for (unsigned X = 0; X < 256; ++X)

@@ -50,9 +50,9 @@ static uint32_t code_u32(const uint8_t c[4]) /* as written: R G B E, for message
 static qibl_status_t status_of_ref(int r)
 {
     switch (r) {
-    case QIBL_REF_SRGBE_NAN: return QIBL_E_SRGBE_NAN;
-    case QIBL_REF_SRGBE_INF: return QIBL_E_SRGBE_INF;
-    case QIBL_REF_SRGBE_OVERFLOW: return QIBL_E_SRGBE_OVERFLOW;
+    case QTOOL_REF_SRGBE_NAN: return QIBL_E_SRGBE_NAN;
+    case QTOOL_REF_SRGBE_INF: return QIBL_E_SRGBE_INF;
+    case QTOOL_REF_SRGBE_OVERFLOW: return QIBL_E_SRGBE_OVERFLOW;
     default: return QIBL_OK;
     }
 }
@@ -74,7 +74,7 @@ static void check_f32(const uint32_t in[3], stats *st)
     uint8_t code[4 + 4], ref[4];
     memset(code, 0xA5, sizeof code);
     double c[3] = {float_of(in[0]), float_of(in[1]), float_of(in[2])};
-    int rs = qibl_ref_srgbe_encode(c, ref);
+    int rs = qtool_ref_srgbe_encode(c, ref);
     qibl_status_t s = qibl_srgbe_encode_f32(in, code);
     if (memcmp(code, ref, 4) != 0 || s != status_of_ref(rs))
         fail_msg("encode %08x %08x %08x: core %08x status %d, reference %08x status %d", in[0], in[1], in[2],
@@ -92,7 +92,7 @@ static void check_f32(const uint32_t in[3], stats *st)
     for (int i = 0; i < 3; ++i) {
         if (isinf(c[i]))
             continue;
-        double e = qibl_ref_srgbe_err_in_bounds(c[i], code[i], code[3]);
+        double e = qtool_ref_srgbe_err_in_bounds(c[i], code[i], code[3]);
         if (e > 1.0)
             fail_msg("bound: channel %d of %08x %08x %08x: %.9g half-steps (code %08x)", i, in[0], in[1], in[2], e,
                      code_u32(code));
@@ -106,7 +106,7 @@ static void check_f32(const uint32_t in[3], stats *st)
         if (rt > st->max_rt)
             st->max_rt = rt;
         if (fabs(c[i]) == mx && s == QIBL_OK) {
-            double rel = fabs(c[i] - qibl_ref_srgbe_channel(code[i], code[3])) / mx;
+            double rel = fabs(c[i] - qtool_ref_srgbe_channel(code[i], code[3])) / mx;
             if (rel > st->max_rel)
                 st->max_rel = rel;
         }
@@ -133,7 +133,7 @@ static void test_zero_and_negative_zero(void **state)
     (void)state;
     uint8_t c[4];
     enc_f(0.0f, 0.0f, 0.0f, c, QIBL_OK);
-    assert_int_equal(code_u32(c), 0x80808000u); /* QIBL_SRGBE_ZERO */
+    assert_int_equal(code_u32(c), 0x80808000u); /* QTOOL_SRGBE_ZERO */
     enc_f(-0.0f, -0.0f, -0.0f, c, QIBL_OK);
     assert_int_equal(code_u32(c), 0x7F7F7F00u);
     enc_f(0.0f, -0.0f, 0.0f, c, QIBL_OK);
@@ -160,7 +160,7 @@ static void test_zero_and_negative_zero(void **state)
     assert_true(q[0] == 0 && q[1] == 0 && q[2] == 0);
     assert_int_equal(qibl_srgbe_decode_q16(nzero, q), QIBL_OK);
     assert_true(q[0] == 0 && q[1] == 0 && q[2] == 0);
-    /* integers have no -0: the zero pixel is QIBL_SRGBE_ZERO */
+    /* integers have no -0: the zero pixel is QTOOL_SRGBE_ZERO */
     const int32_t iz[3] = {0, 0, 0};
     assert_int_equal(qibl_srgbe_encode_q16(iz, c), QIBL_OK);
     assert_int_equal(code_u32(c), 0x80808000u);
@@ -244,7 +244,7 @@ static void test_above_range_saturates(void **state)
     assert_int_equal(qibl_srgbe_encode_s32(w, -120, c), QIBL_E_SRGBE_OVERFLOW); /* 2^150 */
     uint8_t ref[4];
     double cw[3] = {ldexp(1.0, 150), -ldexp(1.0, 140), ldexp(1.0, 130)};
-    assert_int_equal(qibl_ref_srgbe_encode(cw, ref), QIBL_REF_SRGBE_OVERFLOW);
+    assert_int_equal(qtool_ref_srgbe_encode(cw, ref), QTOOL_REF_SRGBE_OVERFLOW);
     assert_memory_equal(c, ref, 4);
     assert_int_equal(c[0], 255);
     assert_int_equal(c[2], 255); /* 2^130 > 2^128 too */
@@ -252,7 +252,7 @@ static void test_above_range_saturates(void **state)
     const int32_t x[3] = {1 << 30, 1 << 20, 1};
     assert_int_equal(qibl_srgbe_encode_s32(x, -100, c), QIBL_E_SRGBE_OVERFLOW); /* 2^130, 2^120, 2^100 */
     double cx[3] = {ldexp(1.0, 130), ldexp(1.0, 120), ldexp(1.0, 100)};
-    assert_int_equal(qibl_ref_srgbe_encode(cx, ref), QIBL_REF_SRGBE_OVERFLOW);
+    assert_int_equal(qtool_ref_srgbe_encode(cx, ref), QTOOL_REF_SRGBE_OVERFLOW);
     assert_memory_equal(c, ref, 4);
     assert_int_equal(c[1], 128 + (int)floor(255.0 * 0x1p-9)); /* 2^120 at e = 129: not saturated */
     assert_int_equal(qibl_srgbe_encode_s32(x, INT_MIN, c), QIBL_E_SRGBE_OVERFLOW); /* no overflow inside */
@@ -541,7 +541,7 @@ static void check_s32(const int32_t v[3], int f, double *max_err)
 {
     uint8_t code[4], ref[4];
     double c[3] = {ldexp(v[0], -f), ldexp(v[1], -f), ldexp(v[2], -f)};
-    int rs = qibl_ref_srgbe_encode(c, ref);
+    int rs = qtool_ref_srgbe_encode(c, ref);
     qibl_status_t s = qibl_srgbe_encode_s32(v, f, code);
     if (memcmp(code, ref, 4) != 0 || s != status_of_ref(rs))
         fail_msg("encode_s32 %d %d %d f=%d: core %08x status %d, reference %08x", v[0], v[1], v[2], f, code_u32(code),
@@ -554,7 +554,7 @@ static void check_s32(const int32_t v[3], int f, double *max_err)
     double mx = fmax(fabs(c[0]), fmax(fabs(c[1]), fabs(c[2])));
     if (s == QIBL_OK && mx >= 0x1p-128)
         for (int i = 0; i < 3; ++i) {
-            double e = qibl_ref_srgbe_err_in_bounds(c[i], code[i], code[3]);
+            double e = qtool_ref_srgbe_err_in_bounds(c[i], code[i], code[3]);
             assert_true(e <= 1.0);
             if (e > *max_err)
                 *max_err = e;
@@ -615,7 +615,7 @@ static void test_decode_every_channel_byte_and_exponent(void **state)
                 assert_int_equal(d[3], 0xDEADBEEFu);
                 int sat = 0;
                 for (int i = 0; i < 3; ++i) {
-                    uint32_t want = qibl_ref_srgbe_channel_f32(code[i], E, &sat);
+                    uint32_t want = qtool_ref_srgbe_channel_f32(code[i], E, &sat);
                     if (d[i] != want)
                         fail_msg("decode_f32 %08x channel %d: %08x, reference %08x", code_u32(code), i, d[i], want);
                 }
@@ -628,7 +628,7 @@ static void test_decode_every_channel_byte_and_exponent(void **state)
                     qibl_status_t qs = qibl_srgbe_decode_s32(code, f, q);
                     assert_int_equal(q[3], 0x5EED);
                     for (int i = 0; i < 3; ++i) {
-                        int32_t want = qibl_ref_srgbe_channel_s32(code[i], E, f, &ssat);
+                        int32_t want = qtool_ref_srgbe_channel_s32(code[i], E, f, &ssat);
                         if (q[i] != want)
                             fail_msg("decode_s32 %08x f=%d channel %d: %d, reference %d", code_u32(code), f, i, q[i],
                                      want);
@@ -699,7 +699,7 @@ static void fill_ref_table(void)
     for (unsigned E = 0; E < 256; ++E)
         for (unsigned X = 0; X < 256; ++X) {
             int sat = 0;
-            ref_table[E][X] = qibl_ref_srgbe_channel_f32(X, E, &sat);
+            ref_table[E][X] = qtool_ref_srgbe_channel_f32(X, E, &sat);
             ref_sat[E][X] = (unsigned char)sat;
         }
     done = 1;

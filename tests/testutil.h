@@ -2,8 +2,8 @@
  * testutil.h - shared helpers for the CMocka suites: a fixed-seed PRNG and guard-byte checks.
  * Include after <cmocka.h>.
  */
-#ifndef QIBL_TESTUTIL_H
-#define QIBL_TESTUTIL_H
+#ifndef QTOOL_TESTUTIL_H
+#define QTOOL_TESTUTIL_H
 
 #include <stdint.h>
 #include <string.h>

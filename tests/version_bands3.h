@@ -2,8 +2,8 @@
  * version_bands3.h - what tests/version_bands3.c (built with -DQIBL_SH_MAX_BANDS=3) exports to
  * tests/version_test.c; plain types only, so both configurations agree on these declarations.
  */
-#ifndef QIBL_TESTS_VERSION_BANDS3_H
-#define QIBL_TESTS_VERSION_BANDS3_H
+#ifndef QTOOL_TESTS_VERSION_BANDS3_H
+#define QTOOL_TESTS_VERSION_BANDS3_H
 
 #include <stddef.h>
 #include <stdint.h>

@@ -3,8 +3,8 @@
  * the fuzz input (zeros once it runs out, so every input is usable) and FUZZ_CHECK, which reports a
  * broken invariant and aborts (libFuzzer then keeps the input as a crash).
  */
-#ifndef QIBL_FUZZ_H
-#define QIBL_FUZZ_H
+#ifndef QTOOL_FUZZ_H
+#define QTOOL_FUZZ_H
 
 #include <stddef.h>
 #include <stdint.h>

@@ -190,7 +190,7 @@ static void vectors(uint32_t a, uint32_t b, uint32_t c, uint64_t x)
         long double ref[25];
         sh_cartesian(v[0] / len, v[1] / len, v[2] / len, bands, ref);
         double ref_d[25];
-        FUZZ_CHECK(qibl_ref_sh_eval((double)v[0], (double)v[1], (double)v[2], bands, ref_d) == 0);
+        FUZZ_CHECK(qtool_ref_sh_eval((double)v[0], (double)v[1], (double)v[2], bands, ref_d) == 0);
         for (int i = 0; i < bands * bands; ++i) {
             if (fabsl(v[2] / len) < 0.9L) /* the two references agree away from the poles */
                 FUZZ_CHECK(fabsl(ref[i] - ref_d[i]) <= 1e-12L);

@@ -20,8 +20,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     float *rgb = (float *)&err2;
     memset(err, 0, sizeof err);
     memset(err2, 0, sizeof err2);
-    int rc = qibl_hdr_decode_rgbe(data, size, &w, &h, &rgbe, err, sizeof err);
-    int rc2 = qibl_hdr_decode(data, size, &w2, &h2, &rgb, err2, sizeof err2);
+    int rc = qtool_hdr_decode_rgbe(data, size, &w, &h, &rgbe, err, sizeof err);
+    int rc2 = qtool_hdr_decode(data, size, &w2, &h2, &rgb, err2, sizeof err2);
     if (rc != 0) {
         FUZZ_CHECK(rc == -1 && w == -7 && h == -7 && rgbe == (uint8_t *)&err);
         FUZZ_CHECK(fuzz_one_line(err, sizeof err));

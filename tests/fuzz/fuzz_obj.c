@@ -1,5 +1,5 @@
 /*
- * fuzz_obj.c - libFuzzer target: the Wavefront OBJ reader (tools/io/obj.c, qibl_obj_parse).
+ * fuzz_obj.c - libFuzzer target: the Wavefront OBJ reader (tools/io/obj.c, qtool_obj_parse).
  *
  * Invariants: a failure leaves the mesh untouched, allocates nothing (the leak checker sees it) and
  * gives a one-line reason; a success gives at least one triangle, finite corner positions and, per
@@ -15,11 +15,11 @@
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     char err[256];
-    qibl_obj_mesh m, before;
+    qtool_obj_mesh m, before;
     memset(&m, 0xA5, sizeof m);
     memcpy(&before, &m, sizeof m);
     memset(err, 0, sizeof err);
-    int rc = qibl_obj_parse("fuzz.obj", (const char *)data, size, &m, err, sizeof err);
+    int rc = qtool_obj_parse("fuzz.obj", (const char *)data, size, &m, err, sizeof err);
     if (rc != 0) {
         FUZZ_CHECK(rc == -1 && memcmp(&m, &before, sizeof m) == 0);
         FUZZ_CHECK(fuzz_one_line(err, sizeof err));
@@ -33,6 +33,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         double len2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
         FUZZ_CHECK(isfinite(len2) && (len2 == 0.0 || fabs(len2 - 1.0) < 1e-6));
     }
-    qibl_obj_free(&m);
+    qtool_obj_free(&m);
     return 0;
 }

@@ -1,5 +1,5 @@
 /*
- * fuzz_pfm.c - libFuzzer target: the PFM reader (tools/io/pfm.c, qibl_pfm_decode).
+ * fuzz_pfm.c - libFuzzer target: the PFM reader (tools/io/pfm.c, qtool_pfm_decode).
  *
  * Invariants: a failure leaves the outputs untouched and gives a one-line reason; a success gives
  * 1 <= w, h, channels 1 or 3 (from the magic PF / Pf), and channels w h samples that are the file's
@@ -21,7 +21,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     int w = -7, h = -7, ch = -7;
     float *px = (float *)&err;
     memset(err, 0, sizeof err);
-    int rc = qibl_pfm_decode(data, size, &w, &h, &ch, &px, err, sizeof err);
+    int rc = qtool_pfm_decode(data, size, &w, &h, &ch, &px, err, sizeof err);
     if (rc != 0) {
         FUZZ_CHECK(rc == -1 && w == -7 && h == -7 && ch == -7 && px == (float *)&err);
         FUZZ_CHECK(fuzz_one_line(err, sizeof err));

@@ -1,8 +1,8 @@
 /*
- * fuzz_ply.c - libFuzzer target for the PLY mesh reader (tools/io/ply.c: qibl_ply_parse).
+ * fuzz_ply.c - libFuzzer target for the PLY mesh reader (tools/io/ply.c: qtool_ply_parse).
  *
  * Input: a PLY file image. Invariants checked (abort on violation): a refusal leaves the mesh empty
- * with a message; an accepted mesh has 1..QIBL_PLY_MAX_TRIANGLES triangles, finite corners within the
+ * with a message; an accepted mesh has 1..QTOOL_PLY_MAX_TRIANGLES triangles, finite corners within the
  * reader's coordinate bound and unit (or zero) normals.
  */
 #include <math.h>
@@ -17,15 +17,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    qibl_obj_mesh m;
+    qtool_obj_mesh m;
     char err[512];
     err[0] = '\0';
-    if (qibl_ply_parse("fuzz.ply", data, size, &m, err, sizeof err) != 0) {
+    if (qtool_ply_parse("fuzz.ply", data, size, &m, err, sizeof err) != 0) {
         if (m.pos || m.nrm || m.ntri || err[0] == '\0')
             abort();
         return 0;
     }
-    if (m.ntri == 0 || m.ntri > QIBL_PLY_MAX_TRIANGLES)
+    if (m.ntri == 0 || m.ntri > QTOOL_PLY_MAX_TRIANGLES)
         abort();
     for (size_t i = 0; i < m.ntri * 9; ++i) {
         if (!isfinite(m.pos[i]) || fabs(m.pos[i]) > 1e15)
@@ -37,6 +37,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 abort();
         }
     }
-    qibl_obj_free(&m);
+    qtool_obj_free(&m);
     return 0;
 }

@@ -1,5 +1,5 @@
 /*
- * fuzz_png.c - libFuzzer target: the PNG/APNG reader (tools/io/pngread.c, qibl_png_decode_rgb8).
+ * fuzz_png.c - libFuzzer target: the PNG/APNG reader (tools/io/pngread.c, qtool_png_decode_rgb8).
  *
  * Each input is decoded twice: as it is, and with every chunk CRC repaired, so that mutations get
  * past the CRC check to IHDR, the APNG bookkeeping and inflate.
@@ -25,7 +25,7 @@ static void decode(const uint8_t *data, size_t size, int repaired)
     int w = -7, h = -7, frames = -7;
     uint8_t *rgb = (uint8_t *)&err;
     memset(err, 0, sizeof err);
-    int rc = qibl_png_decode_rgb8(data, size, &w, &h, &frames, &rgb, err, sizeof err);
+    int rc = qtool_png_decode_rgb8(data, size, &w, &h, &frames, &rgb, err, sizeof err);
     if (rc != 0) {
         FUZZ_CHECK(rc == -1 && w == -7 && h == -7 && frames == -7 && rgb == (uint8_t *)&err);
         FUZZ_CHECK(fuzz_one_line(err, sizeof err));

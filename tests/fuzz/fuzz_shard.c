@@ -1,6 +1,6 @@
 /*
  * fuzz_shard.c - libFuzzer target for the bake's partial-sums files and the merge's add
- * (tools/bake: qibl_bake_sums_decode, qibl_bake_sums_compatible, qibl_bake_sums_add).
+ * (tools/bake: qtool_bake_sums_decode, qtool_bake_sums_compatible, qtool_bake_sums_add).
  *
  * Input: byte 0 flags (bit 0: recompute the CRCs of the first image, bit 1: of the second, so
  * mutations reach the field checks behind the checksums), bytes 1..4 a little-endian split point
@@ -24,14 +24,14 @@ static void store32(uint8_t *p, uint32_t v)
 
 static void fix_crcs(uint8_t *b, size_t n)
 {
-    if (n < QIBL_BAKE_SUMS_HEADER)
+    if (n < QTOOL_BAKE_SUMS_HEADER)
         return;
-    store32(b + 40, qibl_crc32(0, b + QIBL_BAKE_SUMS_HEADER, n - QIBL_BAKE_SUMS_HEADER));
+    store32(b + 40, qibl_crc32(0, b + QTOOL_BAKE_SUMS_HEADER, n - QTOOL_BAKE_SUMS_HEADER));
     store32(b + 44, qibl_crc32(0, b, 44));
 }
 
 /* decodes image (a private copy, CRCs fixed when asked) and checks the round trip */
-static int decode(const uint8_t *data, size_t n, int fix, qibl_bake_sums *s)
+static int decode(const uint8_t *data, size_t n, int fix, qtool_bake_sums *s)
 {
     uint8_t *b = malloc(n ? n : 1);
     if (!b)
@@ -40,11 +40,11 @@ static int decode(const uint8_t *data, size_t n, int fix, qibl_bake_sums *s)
     if (fix)
         fix_crcs(b, n);
     char err[512];
-    int rc = qibl_bake_sums_decode(b, n, s, err, sizeof err);
+    int rc = qtool_bake_sums_decode(b, n, s, err, sizeof err);
     if (rc == 0) {
         uint8_t *again;
         size_t m;
-        if (qibl_bake_sums_encode(s, &again, &m) != 0)
+        if (qtool_bake_sums_encode(s, &again, &m) != 0)
             abort();
         if (m != n || memcmp(again, b, n) != 0) {
             fprintf(stderr, "fuzz_shard: a decoded image does not re-encode to its bytes\n");
@@ -69,22 +69,22 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     uint32_t split = (uint32_t)data[1] | (uint32_t)data[2] << 8 | (uint32_t)data[3] << 16 | (uint32_t)data[4] << 24;
     data += 5, size -= 5;
     size_t n1 = size ? split % (size + 1) : 0;
-    qibl_bake_sums a, b;
+    qtool_bake_sums a, b;
     if (decode(data, n1, flags & 1, &a) != 0)
         return 0;
     if (decode(data + n1, size - n1, (flags >> 1) & 1, &b) != 0) {
-        qibl_bake_sums_free(&a);
+        qtool_bake_sums_free(&a);
         return 0;
     }
     char err[512];
     size_t nacc = (size_t)a.w * a.h * 3 * a.k;
-    int compatible = qibl_bake_sums_compatible(&a, &b, err, sizeof err) == 0;
+    int compatible = qtool_bake_sums_compatible(&a, &b, err, sizeof err) == 0;
     int64_t *before = compatible ? malloc(sizeof(int64_t) * (nacc ? nacc : 1)) : NULL;
     if (compatible && !before)
         abort();
     if (before)
         memcpy(before, a.acc, sizeof(int64_t) * nacc);
-    int rc = qibl_bake_sums_add(&a, &b, err, sizeof err);
+    int rc = qtool_bake_sums_add(&a, &b, err, sizeof err);
     if (rc == 0 && !compatible)
         abort();
     if (before) {
@@ -102,7 +102,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             abort(); /* a failing add changes nothing */
         free(before);
     }
-    qibl_bake_sums_free(&a);
-    qibl_bake_sums_free(&b);
+    qtool_bake_sums_free(&a);
+    qtool_bake_sums_free(&b);
     return 0;
 }

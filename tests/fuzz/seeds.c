@@ -4,16 +4,16 @@
  *
  *   asset       qibl_asset_* builders (tools/io/asset_write.c): SHMP alone, + PMAP, + YLUT (built by
  *               the core's qibl_ylut_build), an unknown chunk, grey and RGB, parameter bytes after
- *   pfm         qibl_pfm_write (RGB and grey) and one big-endian file in the format's own words
- *   png         qibl_png_write_rgb8 and qibl_apng_write_rgb8
+ *   pfm         qtool_pfm_write (RGB and grey) and one big-endian file in the format's own words
+ *   png         qtool_png_write_rgb8 and qtool_apng_write_rgb8
  *   hdr         small .hdr files in the three scanline encodings hdr.h reads (flat, new-style RLE,
  *               old-style runs), pixels from the reference RGBE encoder (tools/ref/ward_rgbe.c)
  *   obj         OBJ text with every face form obj.h reads
  *   srgbe       binary32 edge values (zeros, subnormals, FLT_MAX, Inf, NaN) and Q16.16 colours
  *   fixed       the hard cases of fixed.h (INT32_MIN, 1 and 2 LSB, extremes, directions at a pole)
  *   lightprobe  small probes in each pixel format (sRGBE ones from the core's encoder)
- *   layout      a small sky in each probe layout (qibl_probe_layout_from_latlong, _rgbe_encode)
- *   shard       two shards of one bake (qibl_bake_sums_encode), as fuzz_shard.c reads them
+ *   layout      a small sky in each probe layout (qtool_probe_layout_from_latlong, _rgbe_encode)
+ *   shard       two shards of one bake (qtool_bake_sums_encode), as fuzz_shard.c reads them
  * Every seed stays below FUZZ_MAX_LEN (4096 bytes).
  */
 #include <errno.h>
@@ -74,8 +74,8 @@ static uint32_t next(void)
 static void asset_seed(const char *name, uint32_t w, uint32_t h, uint32_t k, uint32_t ch, int pmap, uint32_t lut,
                        int extra)
 {
-    qibl_asset_builder b;
-    qibl_asset_builder_init(&b);
+    qtool_asset_builder b;
+    qtool_asset_builder_init(&b);
     int32_t scale[75], bias[75];
     uint8_t *planes = malloc((size_t)w * h * k * ch);
     for (uint32_t i = 0; i < k * ch; ++i) {
@@ -84,12 +84,12 @@ static void asset_seed(const char *name, uint32_t w, uint32_t h, uint32_t k, uin
     }
     for (size_t i = 0; i < (size_t)w * h * k * ch; ++i)
         planes[i] = (uint8_t)next();
-    int rc = qibl_asset_add_shmp(&b, w, h, k, ch, scale, bias, planes);
+    int rc = qtool_asset_add_shmp(&b, w, h, k, ch, scale, bias, planes);
     if (rc == 0 && pmap) {
         int32_t *xyz = malloc(12u * w * h);
         for (size_t i = 0; i < 3u * w * h; ++i)
             xyz[i] = (int32_t)(next() % (8u << 16)) - (4 << 16);
-        rc = qibl_asset_add_pmap(&b, w, h, xyz);
+        rc = qtool_asset_add_pmap(&b, w, h, xyz);
         free(xyz);
     }
     if (rc == 0 && lut) {
@@ -101,15 +101,15 @@ static void asset_seed(const char *name, uint32_t w, uint32_t h, uint32_t k, uin
         for (size_t i = 0; i < n / 2; ++i)
             vals[i] = qibl_load_s16le(v + 2 * i);
         if (rc == 0)
-            rc = qibl_asset_add_ylut(&b, lut, k, vals);
+            rc = qtool_asset_add_ylut(&b, lut, k, vals);
         free(v), free(vals);
     }
     if (rc == 0 && extra)
-        rc = qibl_asset_builder_add(&b, QIBL_FOURCC('X', 'T', 'R', 'A'), "extra", 5);
+        rc = qtool_asset_builder_add(&b, QIBL_FOURCC('X', 'T', 'R', 'A'), "extra", 5);
     uint8_t *out = NULL;
     size_t n = 0;
     if (rc == 0)
-        rc = qibl_asset_serialize(&b, &out, &n);
+        rc = qtool_asset_serialize(&b, &out, &n);
     if (rc != 0) {
         fprintf(stderr, "fuzz-seeds: asset %s: %s\n", name, b.err);
         failed = 1;
@@ -124,7 +124,7 @@ static void asset_seed(const char *name, uint32_t w, uint32_t h, uint32_t k, uin
     }
     free(out);
     free(planes);
-    qibl_asset_builder_free(&b);
+    qtool_asset_builder_free(&b);
 }
 
 /* ---- images ---------------------------------------------------------------------------------- */
@@ -135,8 +135,8 @@ static void image_seeds(void)
     float px[3 * 4 * 3];
     for (int i = 0; i < 36; ++i)
         px[i] = (float)(next() % 1000) / 64.0f;
-    if (qibl_pfm_write(path_of("pfm", "rgb4x3.pfm"), 4, 3, 3, px, err, sizeof err) != 0 ||
-        qibl_pfm_write(path_of("pfm", "grey3x2.pfm"), 3, 2, 1, px, err, sizeof err) != 0) {
+    if (qtool_pfm_write(path_of("pfm", "rgb4x3.pfm"), 4, 3, 3, px, err, sizeof err) != 0 ||
+        qtool_pfm_write(path_of("pfm", "grey3x2.pfm"), 3, 2, 1, px, err, sizeof err) != 0) {
         fprintf(stderr, "fuzz-seeds: %s\n", err);
         failed = 1;
     }
@@ -153,9 +153,9 @@ static void image_seeds(void)
     uint8_t rgb[3 * 5 * 4 * 3];
     for (size_t i = 0; i < sizeof rgb; ++i)
         rgb[i] = (uint8_t)(i % 7 == 0 ? next() : i * 13u);
-    if (qibl_png_write_rgb8(path_of("png", "rgb5x4.png"), 5, 4, rgb, err, sizeof err) != 0 ||
-        qibl_png_write_rgb8(path_of("png", "rgb1x1.png"), 1, 1, rgb, err, sizeof err) != 0 ||
-        qibl_apng_write_rgb8(path_of("png", "anim3.png"), 5, 4, 3, rgb, 1, 10, err, sizeof err) != 0) {
+    if (qtool_png_write_rgb8(path_of("png", "rgb5x4.png"), 5, 4, rgb, err, sizeof err) != 0 ||
+        qtool_png_write_rgb8(path_of("png", "rgb1x1.png"), 1, 1, rgb, err, sizeof err) != 0 ||
+        qtool_apng_write_rgb8(path_of("png", "anim3.png"), 5, 4, 3, rgb, 1, 10, err, sizeof err) != 0) {
         fprintf(stderr, "fuzz-seeds: %s\n", err);
         failed = 1;
     }
@@ -174,7 +174,7 @@ static void hdr_seeds(void)
     uint8_t px[4 * 16 * 4];
     for (int i = 0; i < 64; ++i) {
         float c[3] = {(float)(next() % 4000) / 100.0f, (float)(next() % 100) / 100.0f, (float)(i % 5)};
-        qibl_ref_rgbe_encode(c, px + 4 * i);
+        qtool_ref_rgbe_encode(c, px + 4 * i);
     }
     /* flat 3x2 */
     size_t n = hdr_header(b, 3, 2);
@@ -263,7 +263,7 @@ static void fixed_seeds(void)
     put("fixed", "hard_cases", rec, sizeof rec);
 }
 
-/* a small sky in every probe layout (qibl_probe_layout_from_latlong), as RGBE bytes after the
+/* a small sky in every probe layout (qtool_probe_layout_from_latlong), as RGBE bytes after the
  * requested layout (0: detect) and the size */
 static void layout_seeds(void)
 {
@@ -277,18 +277,18 @@ static void layout_seeds(void)
             sky[3 * (v * LW + u) + 2] = sun + (float)(LH - v) * 0.1f;
         }
     static const struct {
-        qibl_probe_layout_t layout;
+        qtool_probe_layout_t layout;
         int w, h;
         const char *name;
-    } L[] = {{QIBL_PROBE_LAYOUT_LATLONG, 16, 8, "latlong"},
-             {QIBL_PROBE_LAYOUT_ANGULAR, 16, 16, "angular"},
-             {QIBL_PROBE_LAYOUT_BALL, 15, 15, "ball"},
-             {QIBL_PROBE_LAYOUT_VCROSS, 12, 16, "vcross"},
-             {QIBL_PROBE_LAYOUT_HCROSS, 16, 12, "hcross"}};
+    } L[] = {{QTOOL_PROBE_LAYOUT_LATLONG, 16, 8, "latlong"},
+             {QTOOL_PROBE_LAYOUT_ANGULAR, 16, 16, "angular"},
+             {QTOOL_PROBE_LAYOUT_BALL, 15, 15, "ball"},
+             {QTOOL_PROBE_LAYOUT_VCROSS, 12, 16, "vcross"},
+             {QTOOL_PROBE_LAYOUT_HCROSS, 16, 12, "hcross"}};
     for (size_t k = 0; k < sizeof L / sizeof L[0]; ++k) {
         char err[256];
         float *img = NULL;
-        if (qibl_probe_layout_from_latlong(L[k].layout, LW, LH, sky, L[k].w, L[k].h, &img, err, sizeof err) != 0) {
+        if (qtool_probe_layout_from_latlong(L[k].layout, LW, LH, sky, L[k].w, L[k].h, &img, err, sizeof err) != 0) {
             fprintf(stderr, "fuzz-seeds: layout %s: %s\n", L[k].name, err);
             failed = 1;
             continue;
@@ -296,18 +296,18 @@ static void layout_seeds(void)
         const size_t n = (size_t)L[k].w * (size_t)L[k].h;
         uint8_t *b = malloc(3 + 4 * n);
         /* the square ones must be named (detection refuses them), the others are detected */
-        b[0] = (uint8_t)(L[k].layout == QIBL_PROBE_LAYOUT_ANGULAR || L[k].layout == QIBL_PROBE_LAYOUT_BALL
+        b[0] = (uint8_t)(L[k].layout == QTOOL_PROBE_LAYOUT_ANGULAR || L[k].layout == QTOOL_PROBE_LAYOUT_BALL
                              ? L[k].layout
-                             : QIBL_PROBE_LAYOUT_AUTO);
+                             : QTOOL_PROBE_LAYOUT_AUTO);
         b[1] = (uint8_t)(L[k].w - 1), b[2] = (uint8_t)(L[k].h - 1);
-        qibl_probe_layout_rgbe_encode(img, n, b + 3);
+        qtool_probe_layout_rgbe_encode(img, n, b + 3);
         put("layout", L[k].name, b, 3 + 4 * n);
         free(b);
         free(img);
     }
 }
 
-/* two shards of one bake (qibl_bake_sums_encode), in fuzz_shard.c's input form: flags (repair both
+/* two shards of one bake (qtool_bake_sums_encode), in fuzz_shard.c's input form: flags (repair both
  * CRCs), the split point, the two file images */
 static void shard_seeds(void)
 {
@@ -319,8 +319,8 @@ static void shard_seeds(void)
     uint8_t *img[2] = {NULL, NULL};
     size_t len[2] = {0, 0};
     for (int j = 0; j < 2; ++j) {
-        qibl_bake_sums sh = {2, 1, 4, 64, 0, (uint32_t)j, 2, pmap, acc[j]};
-        if (qibl_bake_sums_encode(&sh, &img[j], &len[j]) != 0) {
+        qtool_bake_sums sh = {2, 1, 4, 64, 0, (uint32_t)j, 2, pmap, acc[j]};
+        if (qtool_bake_sums_encode(&sh, &img[j], &len[j]) != 0) {
             fprintf(stderr, "fuzz-seeds: shard: out of memory\n");
             failed = 1;
         }
@@ -349,7 +349,7 @@ static void probe_seed(const char *name, uint8_t w, uint8_t h, uint8_t fmt, uint
             float sun = (u == w / 3 && v == h / 4) ? 5000.0f : 0.0f;
             float c[3] = {sun + (float)(next() % 100) / 50.0f, sun + (float)(v + 1) / 4.0f, (float)(u % 3)};
             if (fmt == 0) {
-                qibl_ref_rgbe_encode(c, b + n), n += 4;
+                qtool_ref_rgbe_encode(c, b + n), n += 4;
             } else if (fmt == 1) {
                 uint32_t f[3];
                 memcpy(f, c, 12);

@@ -25,7 +25,7 @@
 #define PI 3.14159265358979323846
 #define UNIT 4294967296.0 /* 2^32 */
 
-void qibl_bake_dir(uint32_t j, uint32_t n, double d[3])
+void qtool_bake_dir(uint32_t j, uint32_t n, double d[3])
 {
     double z = 1.0 - (2.0 * j + 1.0) / n, r = sqrt(fmax(0.0, 1 - z * z));
     double phi = fmod(j * (PI * (3.0 - sqrt(5.0))), 2 * PI);
@@ -33,11 +33,11 @@ void qibl_bake_dir(uint32_t j, uint32_t n, double d[3])
 }
 
 typedef struct {
-    const qibl_rt_scene *s;
+    const qtool_rt_scene *s;
     uint32_t w, h, k, ndirs, shard, nshards;
-    qibl_pano_kind kind;
+    qtool_pano_kind kind;
     double *dirs, *y; /* ndirs * 3, ndirs * 25 */
-    qibl_bake_sums *out;
+    qtool_bake_sums *out;
     int progress;
     double t0;
     int unshadowed; /* 1: cosine x BRDF without the shadow test (SHMU) */
@@ -46,13 +46,13 @@ typedef struct {
 static void bake_row(void *ctx, uint32_t row)
 {
     const bake_job *j = ctx;
-    uint32_t k = j->k, nblocks = (j->ndirs + QIBL_BAKE_BLOCK - 1) / QIBL_BAKE_BLOCK;
+    uint32_t k = j->k, nblocks = (j->ndirs + QTOOL_BAKE_BLOCK - 1) / QTOOL_BAKE_BLOCK;
     for (uint32_t x = 0; x < j->w; ++x) {
         size_t pi = (size_t)row * j->w + x;
         double d[3];
-        qibl_rt_hit h;
-        qibl_rt_pixel_dir(j->w, j->h, j->kind, x, row, d);
-        qibl_rt_primary(j->s, d, &h);
+        qtool_rt_hit h;
+        qtool_rt_pixel_dir(j->w, j->h, j->kind, x, row, d);
+        qtool_rt_primary(j->s, d, &h);
         for (int c = 0; c < 3; ++c)
             j->out->pmap[3 * pi + (size_t)c] = (int32_t)lrint((h.hit ? h.p[c] : d[c] * 1000.0) * 65536.0);
         int64_t *acc = j->out->acc + pi * 3 * k;
@@ -63,9 +63,9 @@ static void bake_row(void *ctx, uint32_t row)
             double sum[3][25];
             int any = 0;
             memset(sum, 0, sizeof sum);
-            for (uint32_t l = b * QIBL_BAKE_BLOCK; l < (b + 1) * QIBL_BAKE_BLOCK && l < j->ndirs; ++l) {
+            for (uint32_t l = b * QTOOL_BAKE_BLOCK; l < (b + 1) * QTOOL_BAKE_BLOCK && l < j->ndirs; ++l) {
                 double df, gl;
-                if (!qibl_rt_response(j->s, &h, j->dirs + 3 * l, j->unshadowed ? 0 : 1e30, &df, &gl))
+                if (!qtool_rt_response(j->s, &h, j->dirs + 3 * l, j->unshadowed ? 0 : 1e30, &df, &gl))
                     continue;
                 any = 1;
                 const double *y = j->y + 25 * (size_t)l;
@@ -99,10 +99,10 @@ static void bar(void *ctx, uint32_t done, uint32_t rows)
     fflush(stderr);
 }
 
-static int bake_run(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, uint32_t ndirs, uint32_t k,
-                    uint32_t shard, uint32_t nshards, int threads, int progress, int unshadowed, qibl_bake_sums *out)
+static int bake_run(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t ndirs, uint32_t k,
+                    uint32_t shard, uint32_t nshards, int threads, int progress, int unshadowed, qtool_bake_sums *out)
 {
-    if (k < 1 || k > 25 || ndirs < 1 || ndirs > QIBL_BAKE_MAX_DIRS || nshards < 1 || nshards > QIBL_BAKE_MAX_SHARDS ||
+    if (k < 1 || k > 25 || ndirs < 1 || ndirs > QTOOL_BAKE_MAX_DIRS || nshards < 1 || nshards > QTOOL_BAKE_MAX_SHARDS ||
         shard >= nshards || w < 1 || h < 1)
         return -1;
     memset(out, 0, sizeof *out);
@@ -113,33 +113,33 @@ static int bake_run(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_ki
                   malloc(ndirs * 25 * sizeof(double)), out, progress && isatty(2), 0, unshadowed};
     if (!out->pmap || !out->acc || !j.dirs || !j.y) {
         free(j.dirs), free(j.y);
-        qibl_bake_sums_free(out);
+        qtool_bake_sums_free(out);
         return -1;
     }
     for (uint32_t l = 0; l < ndirs; ++l) {
-        qibl_bake_dir(l, ndirs, j.dirs + 3 * l);
-        qibl_ref_sh_eval(j.dirs[3 * l], j.dirs[3 * l + 1], j.dirs[3 * l + 2], 5, j.y + 25 * (size_t)l);
+        qtool_bake_dir(l, ndirs, j.dirs + 3 * l);
+        qtool_ref_sh_eval(j.dirs[3 * l], j.dirs[3 * l + 1], j.dirs[3 * l + 2], 5, j.y + 25 * (size_t)l);
     }
     out->w = w, out->h = h, out->k = k, out->ndirs = ndirs, out->kind = (uint32_t)kind;
     out->shard = shard, out->nshards = nshards;
-    qibl_rt_parallel(threads, h, bake_row, &j, bar);
+    qtool_rt_parallel(threads, h, bake_row, &j, bar);
     free(j.dirs), free(j.y);
     return 0;
 }
 
-int qibl_bake_run(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, uint32_t ndirs, uint32_t k,
-                  uint32_t shard, uint32_t nshards, int threads, int progress, qibl_bake_sums *out)
+int qtool_bake_run(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t ndirs, uint32_t k,
+                  uint32_t shard, uint32_t nshards, int threads, int progress, qtool_bake_sums *out)
 {
     return bake_run(s, w, h, kind, ndirs, k, shard, nshards, threads, progress, 0, out);
 }
 
-int qibl_bake_run_unshadowed(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, uint32_t ndirs,
-                             uint32_t k, int threads, qibl_bake_sums *out)
+int qtool_bake_run_unshadowed(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t ndirs,
+                             uint32_t k, int threads, qtool_bake_sums *out)
 {
     return bake_run(s, w, h, kind, ndirs, k, 0, 1, threads, 0, 1, out);
 }
 
-void qibl_bake_sums_free(qibl_bake_sums *s)
+void qtool_bake_sums_free(qtool_bake_sums *s)
 {
     free(s->pmap), free(s->acc);
     memset(s, 0, sizeof *s);
@@ -173,7 +173,7 @@ static int efail(char *err, size_t errlen, const char *name, const char *fmt, ..
 }
 
 /* body bytes the header's fields claim (fields already in range: cannot overflow 64 bits) */
-static uint64_t body_bytes(const qibl_bake_sums *s)
+static uint64_t body_bytes(const qtool_bake_sums *s)
 {
     uint64_t np = (uint64_t)s->w * s->h;
     return np * 12 + np * 3 * s->k * 8;
@@ -181,7 +181,7 @@ static uint64_t body_bytes(const qibl_bake_sums *s)
 
 /* Parses and checks the header in the avail bytes at h; fills the fields of *s (no arrays) and
  * *body. 0 or -1 with the reason (named by name, may be NULL). */
-static int parse_header(const char *name, const uint8_t *h, size_t avail, qibl_bake_sums *s, uint64_t *body,
+static int parse_header(const char *name, const uint8_t *h, size_t avail, qtool_bake_sums *s, uint64_t *body,
                         char *err, size_t errlen)
 {
     memset(s, 0, sizeof *s);
@@ -190,13 +190,13 @@ static int parse_header(const char *name, const uint8_t *h, size_t avail, qibl_b
     if (avail < 8 || memcmp(h, sums_magic, 8) != 0)
         return efail(err, errlen, name, "not a qibl partial-sums file (bad magic)");
     if (avail < 12)
-        return efail(err, errlen, name, "truncated header (%zu of %u bytes)", avail, QIBL_BAKE_SUMS_HEADER);
+        return efail(err, errlen, name, "truncated header (%zu of %u bytes)", avail, QTOOL_BAKE_SUMS_HEADER);
     uint32_t version = qibl_load_u32le(h + 8);
-    if (version != QIBL_BAKE_SUMS_VERSION)
+    if (version != QTOOL_BAKE_SUMS_VERSION)
         return efail(err, errlen, name, "unsupported partial-sums version %u (this qibl reads version %u)", version,
-                     QIBL_BAKE_SUMS_VERSION);
-    if (avail < QIBL_BAKE_SUMS_HEADER)
-        return efail(err, errlen, name, "truncated header (%zu of %u bytes)", avail, QIBL_BAKE_SUMS_HEADER);
+                     QTOOL_BAKE_SUMS_VERSION);
+    if (avail < QTOOL_BAKE_SUMS_HEADER)
+        return efail(err, errlen, name, "truncated header (%zu of %u bytes)", avail, QTOOL_BAKE_SUMS_HEADER);
     uint32_t stored = qibl_load_u32le(h + 44), crc = qibl_crc32(0, h, 44);
     if (stored != crc)
         return efail(err, errlen, name, "header checksum mismatch (stored %08x, computed %08x): the file is damaged",
@@ -213,31 +213,31 @@ static int parse_header(const char *name, const uint8_t *h, size_t avail, qibl_b
         return efail(err, errlen, name, "size %ux%u above %u pixels", s->w, s->h, QIBL_ASSET_MAX_PIXELS);
     if (s->k < 1 || s->k > 25)
         return efail(err, errlen, name, "k %u outside 1..25", s->k);
-    if (s->ndirs < 1 || s->ndirs > QIBL_BAKE_MAX_DIRS)
-        return efail(err, errlen, name, "direction count %u outside 1..%u", s->ndirs, QIBL_BAKE_MAX_DIRS);
+    if (s->ndirs < 1 || s->ndirs > QTOOL_BAKE_MAX_DIRS)
+        return efail(err, errlen, name, "direction count %u outside 1..%u", s->ndirs, QTOOL_BAKE_MAX_DIRS);
     if (s->kind > 1)
         return efail(err, errlen, name, "panorama kind %u (0 cylindrical, 1 equirectangular)", s->kind);
-    uint32_t nblocks = (s->ndirs + QIBL_BAKE_BLOCK - 1) / QIBL_BAKE_BLOCK;
-    if (s->nshards < 1 || s->nshards > QIBL_BAKE_MAX_SHARDS || s->nshards > nblocks)
+    uint32_t nblocks = (s->ndirs + QTOOL_BAKE_BLOCK - 1) / QTOOL_BAKE_BLOCK;
+    if (s->nshards < 1 || s->nshards > QTOOL_BAKE_MAX_SHARDS || s->nshards > nblocks)
         return efail(err, errlen, name, "shard count %u outside 1..%u (and the %u blocks of %u directions)",
-                     s->nshards, QIBL_BAKE_MAX_SHARDS, nblocks, QIBL_BAKE_BLOCK);
+                     s->nshards, QTOOL_BAKE_MAX_SHARDS, nblocks, QTOOL_BAKE_BLOCK);
     if (s->shard >= s->nshards)
         return efail(err, errlen, name, "shard index %u not below the shard count %u", s->shard, s->nshards);
     uint64_t b = body_bytes(s);
-    if (b > SIZE_MAX - QIBL_BAKE_SUMS_HEADER)
+    if (b > SIZE_MAX - QTOOL_BAKE_SUMS_HEADER)
         return efail(err, errlen, name, "%ux%u sums do not fit this machine's address space", s->w, s->h);
     *body = b;
     return 0;
 }
 
 /* values [first, first + n) of pmap / acc from little-endian bytes */
-static void decode_pmap(qibl_bake_sums *s, size_t first, const uint8_t *p, size_t n)
+static void decode_pmap(qtool_bake_sums *s, size_t first, const uint8_t *p, size_t n)
 {
     for (size_t i = 0; i < n; ++i)
         s->pmap[first + i] = qibl_load_s32le(p + 4 * i);
 }
 
-static void decode_acc(qibl_bake_sums *s, size_t first, const uint8_t *p, size_t n)
+static void decode_acc(qtool_bake_sums *s, size_t first, const uint8_t *p, size_t n)
 {
     for (size_t i = 0; i < n; ++i) {
         uint64_t u = (uint64_t)qibl_load_u32le(p + 8 * i) | (uint64_t)qibl_load_u32le(p + 8 * i + 4) << 32;
@@ -247,7 +247,7 @@ static void decode_acc(qibl_bake_sums *s, size_t first, const uint8_t *p, size_t
     }
 }
 
-static int alloc_arrays(qibl_bake_sums *s)
+static int alloc_arrays(qtool_bake_sums *s)
 {
     size_t np = (size_t)s->w * s->h;
     s->pmap = malloc(np * 3 * sizeof(int32_t));
@@ -260,21 +260,21 @@ static int alloc_arrays(qibl_bake_sums *s)
     return 0;
 }
 
-int qibl_bake_sums_decode(const uint8_t *buf, size_t len, qibl_bake_sums *out, char *err, size_t errlen)
+int qtool_bake_sums_decode(const uint8_t *buf, size_t len, qtool_bake_sums *out, char *err, size_t errlen)
 {
-    qibl_bake_sums s;
+    qtool_bake_sums s;
     uint64_t body;
     if (!buf || !out)
         return efail(err, errlen, NULL, "null argument");
     if (parse_header(NULL, buf, len, &s, &body, err, errlen) != 0)
         return -1;
-    size_t have = len - QIBL_BAKE_SUMS_HEADER;
+    size_t have = len - QTOOL_BAKE_SUMS_HEADER;
     if (have < body)
         return efail(err, errlen, NULL, "truncated: %zu bytes of sums, the header says %llu", have,
                      (unsigned long long)body);
     if (have > body)
         return efail(err, errlen, NULL, "%llu trailing bytes after the sums", (unsigned long long)(have - body));
-    const uint8_t *b = buf + QIBL_BAKE_SUMS_HEADER;
+    const uint8_t *b = buf + QTOOL_BAKE_SUMS_HEADER;
     uint32_t stored = qibl_load_u32le(buf + 40), crc = qibl_crc32(0, b, have);
     if (stored != crc)
         return efail(err, errlen, NULL, "checksum mismatch in the sums (stored %08x, computed %08x): the file is damaged",
@@ -288,7 +288,7 @@ int qibl_bake_sums_decode(const uint8_t *buf, size_t len, qibl_bake_sums *out, c
     return 0;
 }
 
-int qibl_bake_sums_read(const char *path, qibl_bake_sums *out, char *err, size_t errlen)
+int qtool_bake_sums_read(const char *path, qtool_bake_sums *out, char *err, size_t errlen)
 {
     FILE *f = fopen(path, "rb");
     if (!f)
@@ -298,16 +298,16 @@ int qibl_bake_sums_read(const char *path, qibl_bake_sums *out, char *err, size_t
         fclose(f);
         return efail(err, errlen, path, "not a regular file");
     }
-    uint8_t hdr[QIBL_BAKE_SUMS_HEADER];
+    uint8_t hdr[QTOOL_BAKE_SUMS_HEADER];
     size_t got = fread(hdr, 1, sizeof hdr, f);
-    qibl_bake_sums s;
+    qtool_bake_sums s;
     uint64_t body;
     if (parse_header(path, hdr, got, &s, &body, err, errlen) != 0) {
         fclose(f);
         return -1;
     }
     /* the size on disk must be what the header claims before a byte is allocated */
-    uint64_t size = (uint64_t)st.st_size, want = QIBL_BAKE_SUMS_HEADER + body;
+    uint64_t size = (uint64_t)st.st_size, want = QTOOL_BAKE_SUMS_HEADER + body;
     if (size != want) {
         fclose(f);
         return size < want ? efail(err, errlen, path, "truncated: %llu bytes, the header says %llu",
@@ -345,12 +345,12 @@ int qibl_bake_sums_read(const char *path, qibl_bake_sums *out, char *err, size_t
     fclose(f);
     free(buf);
     if (bad || rerr) {
-        qibl_bake_sums_free(&s);
+        qtool_bake_sums_free(&s);
         return efail(err, errlen, path, "%s", rerr ? "read error" : bad == 1 ? "truncated while reading" : "grew while reading");
     }
     uint32_t stored = qibl_load_u32le(hdr + 40);
     if (stored != crc) {
-        qibl_bake_sums_free(&s);
+        qtool_bake_sums_free(&s);
         return efail(err, errlen, path, "checksum mismatch in the sums (stored %08x, computed %08x): the file is damaged",
                      stored, crc);
     }
@@ -359,7 +359,7 @@ int qibl_bake_sums_read(const char *path, qibl_bake_sums *out, char *err, size_t
 }
 
 /* Calls sink on the body's bytes in order, a chunk at a time; 0 or the first non-zero sink result. */
-static int emit_body(const qibl_bake_sums *s, int (*sink)(void *, const uint8_t *, size_t), void *ctx)
+static int emit_body(const qtool_bake_sums *s, int (*sink)(void *, const uint8_t *, size_t), void *ctx)
 {
     enum { CHUNK = 8 * 3 * 4 * 1024 };
     uint8_t *buf = malloc(CHUNK);
@@ -372,11 +372,11 @@ static int emit_body(const qibl_bake_sums *s, int (*sink)(void *, const uint8_t 
             size_t n = nv[r] - done < CHUNK / vs[r] ? nv[r] - done : CHUNK / vs[r];
             for (size_t i = 0; i < n; ++i) {
                 if (r == 0) {
-                    qibl_store_s32le(buf + 4 * i, s->pmap[done + i]);
+                    qtool_store_s32le(buf + 4 * i, s->pmap[done + i]);
                 } else {
                     uint64_t u = (uint64_t)s->acc[done + i];
-                    qibl_store_u32le(buf + 8 * i, (uint32_t)u);
-                    qibl_store_u32le(buf + 8 * i + 4, (uint32_t)(u >> 32));
+                    qtool_store_u32le(buf + 8 * i, (uint32_t)u);
+                    qtool_store_u32le(buf + 8 * i + 4, (uint32_t)(u >> 32));
                 }
             }
             rc = sink(ctx, buf, n * vs[r]);
@@ -412,27 +412,27 @@ static int sink_mem(void *ctx, const uint8_t *p, size_t n)
 }
 
 /* the header of s, its body CRC computed by a first pass; 0 or -1 (out of memory) */
-static int make_header(const qibl_bake_sums *s, uint8_t hdr[QIBL_BAKE_SUMS_HEADER])
+static int make_header(const qtool_bake_sums *s, uint8_t hdr[QTOOL_BAKE_SUMS_HEADER])
 {
     uint32_t crc = 0;
     if (emit_body(s, sink_crc, &crc) != 0)
         return -1;
     memcpy(hdr, sums_magic, 8);
-    qibl_store_u32le(hdr + 8, QIBL_BAKE_SUMS_VERSION);
+    qtool_store_u32le(hdr + 8, QTOOL_BAKE_SUMS_VERSION);
     uint32_t f7[7] = {s->w, s->h, s->k, s->ndirs, s->kind, s->shard, s->nshards};
     for (int i = 0; i < 7; ++i)
-        qibl_store_u32le(hdr + 12 + 4 * i, f7[i]);
-    qibl_store_u32le(hdr + 40, crc);
-    qibl_store_u32le(hdr + 44, qibl_crc32(0, hdr, 44));
+        qtool_store_u32le(hdr + 12 + 4 * i, f7[i]);
+    qtool_store_u32le(hdr + 40, crc);
+    qtool_store_u32le(hdr + 44, qibl_crc32(0, hdr, 44));
     return 0;
 }
 
-int qibl_bake_sums_encode(const qibl_bake_sums *s, uint8_t **buf, size_t *len)
+int qtool_bake_sums_encode(const qtool_bake_sums *s, uint8_t **buf, size_t *len)
 {
     uint64_t body = body_bytes(s);
-    if (body > SIZE_MAX - QIBL_BAKE_SUMS_HEADER)
+    if (body > SIZE_MAX - QTOOL_BAKE_SUMS_HEADER)
         return -1;
-    membuf m = {malloc(QIBL_BAKE_SUMS_HEADER + (size_t)body), QIBL_BAKE_SUMS_HEADER};
+    membuf m = {malloc(QTOOL_BAKE_SUMS_HEADER + (size_t)body), QTOOL_BAKE_SUMS_HEADER};
     if (!m.p || make_header(s, m.p) != 0 || emit_body(s, sink_mem, &m) != 0) {
         free(m.p);
         return -1;
@@ -441,23 +441,23 @@ int qibl_bake_sums_encode(const qibl_bake_sums *s, uint8_t **buf, size_t *len)
     return 0;
 }
 
-int qibl_bake_sums_write(const qibl_bake_sums *s, const char *path, char *err, size_t errlen)
+int qtool_bake_sums_write(const qtool_bake_sums *s, const char *path, char *err, size_t errlen)
 {
-    uint8_t hdr[QIBL_BAKE_SUMS_HEADER];
+    uint8_t hdr[QTOOL_BAKE_SUMS_HEADER];
     if (make_header(s, hdr) != 0)
         return efail(err, errlen, path, "out of memory");
-    qibl_io_atomic a;
-    if (qibl_io_atomic_open(&a, path, err, errlen) != 0)
+    qtool_io_atomic a;
+    if (qtool_io_atomic_open(&a, path, err, errlen) != 0)
         return -1;
     if (fwrite(hdr, 1, sizeof hdr, a.f) != sizeof hdr || emit_body(s, sink_file, a.f) != 0) {
         int e = errno;
-        qibl_io_atomic_abort(&a);
+        qtool_io_atomic_abort(&a);
         return efail(err, errlen, path, "write failed: %s", strerror(e));
     }
-    return qibl_io_atomic_commit(&a, err, errlen);
+    return qtool_io_atomic_commit(&a, err, errlen);
 }
 
-int qibl_bake_sums_compatible(const qibl_bake_sums *a, const qibl_bake_sums *b, char *err, size_t errlen)
+int qtool_bake_sums_compatible(const qtool_bake_sums *a, const qtool_bake_sums *b, char *err, size_t errlen)
 {
     /* the split first: it is what a merge of the wrong files most often gets wrong */
     if (a->nshards != b->nshards)
@@ -476,9 +476,9 @@ int qibl_bake_sums_compatible(const qibl_bake_sums *a, const qibl_bake_sums *b, 
     return 0;
 }
 
-int qibl_bake_sums_add(qibl_bake_sums *a, const qibl_bake_sums *b, char *err, size_t errlen)
+int qtool_bake_sums_add(qtool_bake_sums *a, const qtool_bake_sums *b, char *err, size_t errlen)
 {
-    if (qibl_bake_sums_compatible(a, b, err, errlen) != 0)
+    if (qtool_bake_sums_compatible(a, b, err, errlen) != 0)
         return -1;
     size_t n = (size_t)a->w * a->h * 3 * a->k;
     /* check every sum first, so a failing add changes nothing */
@@ -505,8 +505,8 @@ static int gram_inverse(uint32_t ndirs, uint32_t k, double *inv)
     memset(a, 0, sizeof a);
     for (uint32_t l = 0; l < ndirs; ++l) {
         double d[3], y[25];
-        qibl_bake_dir(l, ndirs, d);
-        qibl_ref_sh_eval(d[0], d[1], d[2], 5, y);
+        qtool_bake_dir(l, ndirs, d);
+        qtool_ref_sh_eval(d[0], d[1], d[2], 5, y);
         for (uint32_t i = 0; i < k; ++i)
             for (uint32_t m = 0; m < k; ++m)
                 a[i][m] += y[i] * y[m];
@@ -540,19 +540,19 @@ static int gram_inverse(uint32_t ndirs, uint32_t k, double *inv)
     return 0;
 }
 
-int qibl_bake_coeffs(const qibl_bake_sums *s, uint32_t k, qibl_proj_method method, qibl_gen_maps *out)
+int qtool_bake_coeffs(const qtool_bake_sums *s, uint32_t k, qtool_proj_method method, qtool_gen_maps *out)
 {
     if (k < 1 || k > s->k)
         return -1;
     size_t np = (size_t)s->w * s->h;
     double inv[625];
-    if (method == QIBL_PROJ_LSQ && gram_inverse(s->ndirs, k, inv) != 0)
+    if (method == QTOOL_PROJ_LSQ && gram_inverse(s->ndirs, k, inv) != 0)
         return -1;
     memset(out, 0, sizeof *out);
     out->t = malloc(sizeof(double) * np * k * 3);
     out->p = malloc(sizeof(int32_t) * np * 3);
     if (!out->t || !out->p) {
-        qibl_gen_free(out);
+        qtool_gen_free(out);
         return -1;
     }
     out->width = s->w, out->height = s->h, out->k = k;
@@ -563,7 +563,7 @@ int qibl_bake_coeffs(const qibl_bake_sums *s, uint32_t k, qibl_proj_method metho
             const int64_t *a = s->acc + (p * 3 + c) * s->k;
             for (uint32_t i = 0; i < k; ++i) {
                 double v;
-                if (method == QIBL_PROJ_QUADRATURE) {
+                if (method == QTOOL_PROJ_QUADRATURE) {
                     v = (double)a[i] * wq;
                 } else {
                     v = 0;
@@ -577,23 +577,23 @@ int qibl_bake_coeffs(const qibl_bake_sums *s, uint32_t k, qibl_proj_method metho
     return 0;
 }
 
-int qibl_bake_asset(const qibl_gen_maps *m, uint32_t lut, uint8_t **bytes, size_t *n)
+int qtool_bake_asset(const qtool_gen_maps *m, uint32_t lut, uint8_t **bytes, size_t *n)
 {
-    return qibl_bake_asset_layout(m, lut, QIBL_SHMAPS_PLANAR, bytes, n);
+    return qtool_bake_asset_layout(m, lut, QIBL_SHMAPS_PLANAR, bytes, n);
 }
 
-int qibl_bake_asset_layout(const qibl_gen_maps *m, uint32_t lut, uint32_t layout, uint8_t **bytes, size_t *n)
+int qtool_bake_asset_layout(const qtool_gen_maps *m, uint32_t lut, uint32_t layout, uint8_t **bytes, size_t *n)
 {
-    return qibl_bake_asset_full(m, NULL, lut, layout, NULL, NULL, bytes, n);
+    return qtool_bake_asset_full(m, NULL, lut, layout, NULL, NULL, bytes, n);
 }
 
-int qibl_bake_asset_ex(const qibl_gen_maps *m, const qibl_gen_maps *mu, uint32_t lut, uint8_t *const *paths,
+int qtool_bake_asset_ex(const qtool_gen_maps *m, const qtool_gen_maps *mu, uint32_t lut, uint8_t *const *paths,
                        const size_t *path_sizes, uint8_t **bytes, size_t *n)
 {
-    return qibl_bake_asset_full(m, mu, lut, QIBL_SHMAPS_PLANAR, paths, path_sizes, bytes, n);
+    return qtool_bake_asset_full(m, mu, lut, QIBL_SHMAPS_PLANAR, paths, path_sizes, bytes, n);
 }
 
-int qibl_bake_asset_full(const qibl_gen_maps *m, const qibl_gen_maps *mu, uint32_t lut, uint32_t layout,
+int qtool_bake_asset_full(const qtool_gen_maps *m, const qtool_gen_maps *mu, uint32_t lut, uint32_t layout,
                          uint8_t *const *paths, const size_t *path_sizes, uint8_t **bytes, size_t *n)
 {
     size_t np = (size_t)m->width * m->height, nplanes = (size_t)m->k * 3;
@@ -601,13 +601,13 @@ int qibl_bake_asset_full(const qibl_gen_maps *m, const qibl_gen_maps *mu, uint32
     uint8_t *planes = malloc(np * nplanes);
     int16_t *lutv = NULL;
     uint8_t *le = NULL;
-    qibl_asset_builder b;
-    qibl_asset_builder_init(&b);
+    qtool_asset_builder b;
+    qtool_asset_builder_init(&b);
     int rc = -1;
-    if (!scale || !bias || !planes || qibl_pack_maps(m, QIBL_PACK_MINMAX, scale, bias, planes, NULL) != 0)
+    if (!scale || !bias || !planes || qtool_pack_maps(m, QTOOL_PACK_MINMAX, scale, bias, planes, NULL) != 0)
         goto done;
-    if (qibl_asset_add_shmp_layout(&b, m->width, m->height, m->k, 3, scale, bias, planes, layout) != 0 ||
-        qibl_asset_add_pmap(&b, m->width, m->height, m->p) != 0)
+    if (qtool_asset_add_shmp_layout(&b, m->width, m->height, m->k, 3, scale, bias, planes, layout) != 0 ||
+        qtool_asset_add_pmap(&b, m->width, m->height, m->p) != 0)
         goto done;
     if (lut) { /* for the larger k of the two map sets: point lights read either */
         uint32_t lk = mu && mu->k > m->k ? mu->k : m->k;
@@ -618,7 +618,7 @@ int qibl_bake_asset_full(const qibl_gen_maps *m, const qibl_gen_maps *mu, uint32
             goto done;
         for (size_t i = 0; i < vs / 2; ++i)
             lutv[i] = qibl_load_s16le(le + 2 * i);
-        if (qibl_asset_add_ylut(&b, lut, lk, lutv) != 0)
+        if (qtool_asset_add_ylut(&b, lut, lk, lutv) != 0)
             goto done;
     }
     if (mu) { /* the unshadowed set, packed on its own (its own k and ranges) */
@@ -626,18 +626,18 @@ int qibl_bake_asset_full(const qibl_gen_maps *m, const qibl_gen_maps *mu, uint32
         free(scale), free(bias), free(planes);
         scale = malloc(sizeof(int32_t) * up), bias = malloc(sizeof(int32_t) * up), planes = malloc(np * up);
         if (!scale || !bias || !planes || mu->width != m->width || mu->height != m->height ||
-            qibl_pack_maps(mu, QIBL_PACK_MINMAX, scale, bias, planes, NULL) != 0 ||
-            qibl_asset_add_shmu(&b, mu->width, mu->height, mu->k, 3, scale, bias, planes) != 0)
+            qtool_pack_maps(mu, QTOOL_PACK_MINMAX, scale, bias, planes, NULL) != 0 ||
+            qtool_asset_add_shmu(&b, mu->width, mu->height, mu->k, 3, scale, bias, planes) != 0)
             goto done;
     }
     for (size_t i = 0; paths && paths[i]; ++i)
-        if (qibl_asset_builder_add(&b, QIBL_CHUNK_LPTH, paths[i], path_sizes[i]) != 0)
+        if (qtool_asset_builder_add(&b, QIBL_CHUNK_LPTH, paths[i], path_sizes[i]) != 0)
             goto done;
-    if (qibl_asset_serialize(&b, bytes, n) != 0)
+    if (qtool_asset_serialize(&b, bytes, n) != 0)
         goto done;
     rc = 0;
 done:
-    qibl_asset_builder_free(&b);
+    qtool_asset_builder_free(&b);
     free(scale), free(bias), free(planes), free(lutv), free(le);
     return rc;
 }
@@ -662,12 +662,12 @@ static void to_fb(const double *lin, uint32_t w, uint32_t h, uint8_t *rgb8)
     free(pix), free(row);
 }
 
-void qibl_bake_lin_to8(const double *lin, uint32_t w, uint32_t h, uint8_t *rgb8)
+void qtool_bake_lin_to8(const double *lin, uint32_t w, uint32_t h, uint8_t *rgb8)
 {
     to_fb(lin, w, h, rgb8);
 }
 
-int qibl_bake_truth8(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, const qibl_rt_light *l,
+int qtool_bake_truth8(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const qtool_rt_light *l,
                      int threads, uint8_t *rgb8, uint8_t *mask)
 {
     size_t np = (size_t)w * h;
@@ -677,7 +677,7 @@ int qibl_bake_truth8(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_k
         free(lin), free(depth);
         return -1;
     }
-    qibl_rt_render(s, w, h, kind, l, threads, lin, depth, NULL);
+    qtool_rt_render(s, w, h, kind, l, threads, lin, depth, NULL);
     to_fb(lin, w, h, rgb8);
     if (mask)
         for (size_t i = 0; i < np; ++i)
@@ -691,10 +691,10 @@ static qibl_q16_t q16(double v)
     return (qibl_q16_t)lrint(v * 65536.0);
 }
 
-int qibl_bake_relight8_ex(const uint8_t *asset, size_t n, const qibl_rt_light *l, int lut_mode, qibl_uq16_t exposure,
+int qtool_bake_relight8_ex(const uint8_t *asset, size_t n, const qtool_rt_light *l, int lut_mode, qibl_uq16_t exposure,
                            int srgb, uint8_t *rgb8, double *ms, qibl_status_t *status)
 {
-    return qibl_bake_relight8_lin(asset, n, l, lut_mode, exposure, srgb, rgb8, NULL, ms, status);
+    return qtool_bake_relight8_lin(asset, n, l, lut_mode, exposure, srgb, rgb8, NULL, ms, status);
 }
 
 /* the row's Q16.16 values as linear floats, negatives clamped (what the framebuffer shows) */
@@ -707,7 +707,7 @@ static void row_linear(float *lin, const int32_t *row, uint32_t w, uint32_t y)
         o[i] = row[i] > 0 ? (float)(row[i] / 65536.0) : 0.0f;
 }
 
-int qibl_bake_relight8_lin(const uint8_t *asset, size_t n, const qibl_rt_light *l, int lut_mode, qibl_uq16_t exposure,
+int qtool_bake_relight8_lin(const uint8_t *asset, size_t n, const qtool_rt_light *l, int lut_mode, qibl_uq16_t exposure,
                            int srgb, uint8_t *rgb8, float *lin, double *ms, qibl_status_t *status)
 {
     qibl_asset_t a;
@@ -783,12 +783,12 @@ int qibl_bake_relight8_lin(const uint8_t *asset, size_t n, const qibl_rt_light *
     return st == QIBL_OK ? 0 : -1;
 }
 
-int qibl_bake_relight8(const uint8_t *asset, size_t n, const qibl_rt_light *l, int use_lut, uint8_t *rgb8, double *ms)
+int qtool_bake_relight8(const uint8_t *asset, size_t n, const qtool_rt_light *l, int use_lut, uint8_t *rgb8, double *ms)
 {
-    return qibl_bake_relight8_ex(asset, n, l, use_lut ? 1 : 0, 0, 1, rgb8, ms, NULL);
+    return qtool_bake_relight8_ex(asset, n, l, use_lut ? 1 : 0, 0, 1, rgb8, ms, NULL);
 }
 
-double qibl_bake_mse(const uint8_t *a, const uint8_t *b, const uint8_t *mask, size_t npix)
+double qtool_bake_mse(const uint8_t *a, const uint8_t *b, const uint8_t *mask, size_t npix)
 {
     double se = 0;
     size_t n = 0;

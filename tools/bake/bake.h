@@ -5,7 +5,7 @@
  *
  * Light directions: a spherical Fibonacci set of N points (z_j = 1 - (2j + 1)/N, phi_j = j times the
  * golden angle), equal quadrature weights 4 pi / N. Directions are grouped in blocks of
- * QIBL_BAKE_BLOCK; per pixel and block the sums T_ch(l_j) Y_i(l_j) are formed in double in j order and
+ * QTOOL_BAKE_BLOCK; per pixel and block the sums T_ch(l_j) Y_i(l_j) are formed in double in j order and
  * rounded to int64 in units of 2^-32, and blocks are added as integers. Integer addition is exact and
  * associative, so the sums -- and the asset -- are bit-identical for any thread count and any split
  * into shards (a shard takes the blocks b with b % nshards == shard).
@@ -13,8 +13,8 @@
  * Projection: quadrature c = (4 pi / N) S, or least squares c = G_k^-1 S with G_k the k x k Gram
  * matrix sum_j Y(l_j) Y(l_j)^T of the directions (the best fit at the sample directions).
  */
-#ifndef QIBL_BAKE_BAKE_H
-#define QIBL_BAKE_BAKE_H
+#ifndef QTOOL_BAKE_BAKE_H
+#define QTOOL_BAKE_BAKE_H
 
 #include <stddef.h>
 #include <stdint.h>
@@ -24,99 +24,99 @@
 #include "qibl/status.h"
 #include "render/rt.h"
 
-#define QIBL_BAKE_BLOCK 16u
+#define QTOOL_BAKE_BLOCK 16u
 
-typedef struct qibl_bake_sums {
+typedef struct qtool_bake_sums {
     uint32_t w, h, k, ndirs, kind, shard, nshards;
     int32_t *pmap; /* w * h * 3, Q16.16 */
     int64_t *acc;  /* [pixel][ch][i], w * h * 3 * k, units of 2^-32 */
-} qibl_bake_sums;
+} qtool_bake_sums;
 
-typedef enum { QIBL_PROJ_QUADRATURE = 0, QIBL_PROJ_LSQ } qibl_proj_method;
+typedef enum { QTOOL_PROJ_QUADRATURE = 0, QTOOL_PROJ_LSQ } qtool_proj_method;
 
-void qibl_bake_dir(uint32_t j, uint32_t n, double d[3]);
+void qtool_bake_dir(uint32_t j, uint32_t n, double d[3]);
 
 /* Renders and accumulates (shard of nshards; 0 of 1 = everything). progress: 1 = a bar on stderr.
  * 0, or -1 (no memory). */
-int qibl_bake_run(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, uint32_t ndirs, uint32_t k,
-                  uint32_t shard, uint32_t nshards, int threads, int progress, qibl_bake_sums *out);
+int qtool_bake_run(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t ndirs, uint32_t k,
+                  uint32_t shard, uint32_t nshards, int threads, int progress, qtool_bake_sums *out);
 /* The unshadowed transfer (cosine x BRDF, no shadow test) for the SHMU chunk: the same sums, in
  * one piece (no shards; partial-sums files and merge carry the shadowed set only). 0 or -1. */
-int qibl_bake_run_unshadowed(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, uint32_t ndirs,
-                             uint32_t k, int threads, qibl_bake_sums *out);
-void qibl_bake_sums_free(qibl_bake_sums *s);
+int qtool_bake_run_unshadowed(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t ndirs,
+                             uint32_t k, int threads, qtool_bake_sums *out);
+void qtool_bake_sums_free(qtool_bake_sums *s);
 
 /* Partial sums file, version 2 (all little-endian):
  *    0  "QIBLSUMS"
- *    8  u32 version (QIBL_BAKE_SUMS_VERSION)
+ *    8  u32 version (QTOOL_BAKE_SUMS_VERSION)
  *   12  u32 w, h, k, ndirs, kind, shard, nshards
  *   40  u32 CRC-32 (qibl_crc32) of the body
  *   44  u32 CRC-32 of bytes 0..43
  *   48  body: pmap, w * h * 3 i32; then acc, w * h * 3 * k i64
  * Limits (checked at the header, before anything is allocated; the file's size must then be
  * exactly 48 + the body the header claims): w, h in 1..QIBL_ASSET_MAX_DIM with w h <=
- * QIBL_ASSET_MAX_PIXELS (the asset the sums become), k 1..25, ndirs 1..QIBL_BAKE_MAX_DIRS, kind 0..1,
- * nshards 1..QIBL_BAKE_MAX_SHARDS and at most one per block of QIBL_BAKE_BLOCK directions,
+ * QIBL_ASSET_MAX_PIXELS (the asset the sums become), k 1..25, ndirs 1..QTOOL_BAKE_MAX_DIRS, kind 0..1,
+ * nshards 1..QTOOL_BAKE_MAX_SHARDS and at most one per block of QTOOL_BAKE_BLOCK directions,
  * shard < nshards. Version 1 files ("QIBLSUM1", no checksums) are refused by name. */
-#define QIBL_BAKE_SUMS_VERSION 2u
-#define QIBL_BAKE_SUMS_HEADER 48u
-#define QIBL_BAKE_MAX_DIRS 65536u /* also bounds merge --lsq's Gram matrix: O(ndirs k^2) */
-#define QIBL_BAKE_MAX_SHARDS 4096u
+#define QTOOL_BAKE_SUMS_VERSION 2u
+#define QTOOL_BAKE_SUMS_HEADER 48u
+#define QTOOL_BAKE_MAX_DIRS 65536u /* also bounds merge --lsq's Gram matrix: O(ndirs k^2) */
+#define QTOOL_BAKE_MAX_SHARDS 4096u
 
 /* Write is atomic (io/atomic.h); read and decode give a one-line error (read's names the file).
  * Decode takes a whole file image in memory (what a fuzzer calls). 0 or -1; *s is set only on 0. */
-int qibl_bake_sums_write(const qibl_bake_sums *s, const char *path, char *err, size_t errlen);
-int qibl_bake_sums_read(const char *path, qibl_bake_sums *s, char *err, size_t errlen);
-int qibl_bake_sums_decode(const uint8_t *buf, size_t len, qibl_bake_sums *s, char *err, size_t errlen);
+int qtool_bake_sums_write(const qtool_bake_sums *s, const char *path, char *err, size_t errlen);
+int qtool_bake_sums_read(const char *path, qtool_bake_sums *s, char *err, size_t errlen);
+int qtool_bake_sums_decode(const uint8_t *buf, size_t len, qtool_bake_sums *s, char *err, size_t errlen);
 /* The file image of s in a malloc'ed buffer (*buf, *len). 0 or -1 (out of memory). */
-int qibl_bake_sums_encode(const qibl_bake_sums *s, uint8_t **buf, size_t *len);
+int qtool_bake_sums_encode(const qtool_bake_sums *s, uint8_t **buf, size_t *len);
 /* 0 if b can be added to a (same w, h, k, ndirs, kind, nshards and P map), else -1 with the first
  * difference named ("shards of different bakes: k 9 against 16"). Shard indices are not compared:
  * the caller checks the shard set. */
-int qibl_bake_sums_compatible(const qibl_bake_sums *a, const qibl_bake_sums *b, char *err, size_t errlen);
-/* Adds b into a after qibl_bake_sums_compatible. Every sum is checked first: if any would overflow
+int qtool_bake_sums_compatible(const qtool_bake_sums *a, const qtool_bake_sums *b, char *err, size_t errlen);
+/* Adds b into a after qtool_bake_sums_compatible. Every sum is checked first: if any would overflow
  * 64 bits, -1 with the pixel named and a unchanged. 0 or -1 with a reason. */
-int qibl_bake_sums_add(qibl_bake_sums *a, const qibl_bake_sums *b, char *err, size_t errlen);
+int qtool_bake_sums_add(qtool_bake_sums *a, const qtool_bake_sums *b, char *err, size_t errlen);
 
-/* SH coefficient maps (the first k <= sums->k) from the sums, as qibl_gen_maps (t and p filled; dir
+/* SH coefficient maps (the first k <= sums->k) from the sums, as qtool_gen_maps (t and p filled; dir
  * NULL). 0 or -1. */
-int qibl_bake_coeffs(const qibl_bake_sums *s, uint32_t k, qibl_proj_method method, qibl_gen_maps *out);
+int qtool_bake_coeffs(const qtool_bake_sums *s, uint32_t k, qtool_proj_method method, qtool_gen_maps *out);
 
 /* Packs maps (min/max) and builds the asset bytes: SHMP + PMAP (+ YLUT of face lut if lut > 0).
  * *bytes malloc'ed. 0 or -1. */
-int qibl_bake_asset(const qibl_gen_maps *m, uint32_t lut, uint8_t **bytes, size_t *n);
+int qtool_bake_asset(const qtool_gen_maps *m, uint32_t lut, uint8_t **bytes, size_t *n);
 /* The same plus, when mu is not NULL, the unshadowed maps mu (same size, own k) as SHMU, and one LPTH
  * chunk per payload of the NULL-terminated list paths (sizes in path_sizes; paths may be NULL). */
-int qibl_bake_asset_ex(const qibl_gen_maps *m, const qibl_gen_maps *mu, uint32_t lut, uint8_t *const *paths,
+int qtool_bake_asset_ex(const qtool_gen_maps *m, const qtool_gen_maps *mu, uint32_t lut, uint8_t *const *paths,
                        const size_t *path_sizes, uint8_t **bytes, size_t *n);
 /* Everything: SHMP in layout + PMAP (+ YLUT) (+ SHMU, planar, when mu) (+ one LPTH per path). */
-int qibl_bake_asset_full(const qibl_gen_maps *m, const qibl_gen_maps *mu, uint32_t lut, uint32_t layout,
+int qtool_bake_asset_full(const qtool_gen_maps *m, const qtool_gen_maps *mu, uint32_t lut, uint32_t layout,
                          uint8_t *const *paths, const size_t *path_sizes, uint8_t **bytes, size_t *n);
 /* The same with the SH maps in a chosen layout (QIBL_SHMAPS_PLANAR or QIBL_SHMAPS_INTERLEAVED). */
-int qibl_bake_asset_layout(const qibl_gen_maps *m, uint32_t lut, uint32_t layout, uint8_t **bytes, size_t *n);
+int qtool_bake_asset_layout(const qtool_gen_maps *m, uint32_t lut, uint32_t layout, uint8_t **bytes, size_t *n);
 
 /* Evaluation: ground truth of a light as 8-bit sRGB (exposure 1) through platform/soft, and the
  * same light relit by the core from asset bytes. mask (w * h, may be NULL) gets 1 where the scene is
  * hit (PSNR is taken over those pixels). */
-int qibl_bake_truth8(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, const qibl_rt_light *l,
+int qtool_bake_truth8(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const qtool_rt_light *l,
                      int threads, uint8_t *rgb8, uint8_t *mask);
 /* A linear frame (3 doubles per pixel) as the truth's 8-bit sRGB (platform/soft, exposure 1). */
-void qibl_bake_lin_to8(const double *lin, uint32_t w, uint32_t h, uint8_t *rgb8);
+void qtool_bake_lin_to8(const double *lin, uint32_t w, uint32_t h, uint8_t *rgb8);
 /* use_lut: point lights use the asset's YLUT (bilinear). 0 or -1 (bad asset / core error). */
 /* The same with every option: lut_mode 0 direct SH, 1 LUT bilinear, 2 LUT nearest; exposure UQ16.16
  * (0 = 1.0); srgb 0 = linear output. *status (may be NULL) gets the core's status on failure
  * (QIBL_E_NULL_POINTER stands for out of memory). rgb8 holds width * height * 3 bytes. */
-int qibl_bake_relight8_ex(const uint8_t *asset, size_t n, const qibl_rt_light *l, int lut_mode, qibl_uq16_t exposure,
+int qtool_bake_relight8_ex(const uint8_t *asset, size_t n, const qtool_rt_light *l, int lut_mode, qibl_uq16_t exposure,
                            int srgb, uint8_t *rgb8, double *ms, qibl_status_t *status);
 /* The same, and when lin is not NULL also the linear frame the core computed (3 floats per pixel,
  * rows top to bottom): its Q16.16 output / 65536 before exposure and the transfer curve, with
  * negative values (SH ringing) clamped to 0 as the framebuffer clamps them. */
-int qibl_bake_relight8_lin(const uint8_t *asset, size_t n, const qibl_rt_light *l, int lut_mode, qibl_uq16_t exposure,
+int qtool_bake_relight8_lin(const uint8_t *asset, size_t n, const qtool_rt_light *l, int lut_mode, qibl_uq16_t exposure,
                            int srgb, uint8_t *rgb8, float *lin, double *ms, qibl_status_t *status);
-int qibl_bake_relight8(const uint8_t *asset, size_t n, const qibl_rt_light *l, int use_lut, uint8_t *rgb8,
+int qtool_bake_relight8(const uint8_t *asset, size_t n, const qtool_rt_light *l, int use_lut, uint8_t *rgb8,
                        double *ms);
 /* MSE of a against b over the masked pixels (8-bit, all three channels); its PSNR (averaged over
- * several lights first, where wanted) is qibl_ref_psnr8 (ref/psnr.h). */
-double qibl_bake_mse(const uint8_t *a, const uint8_t *b, const uint8_t *mask, size_t npix);
+ * several lights first, where wanted) is qtool_ref_psnr8 (ref/psnr.h). */
+double qtool_bake_mse(const uint8_t *a, const uint8_t *b, const uint8_t *mask, size_t npix);
 
 #endif

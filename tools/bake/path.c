@@ -39,7 +39,7 @@ static int numbers(const char *s, char sep, double *v, int max, const char **end
     return n;
 }
 
-int qibl_bake_path_parse_sun(const char *s, qibl_bake_path *p, char *err, size_t errlen)
+int qtool_bake_path_parse_sun(const char *s, qtool_bake_path *p, char *err, size_t errlen)
 {
     double v[4];
     const char *end;
@@ -52,7 +52,7 @@ int qibl_bake_path_parse_sun(const char *s, qibl_bake_path *p, char *err, size_t
     return 0;
 }
 
-int qibl_bake_path_parse_track(const char *s, qibl_bake_path *p, char *err, size_t errlen)
+int qtool_bake_path_parse_track(const char *s, qtool_bake_path *p, char *err, size_t errlen)
 {
     int n = 0;
     const char *q = s;
@@ -60,8 +60,8 @@ int qibl_bake_path_parse_track(const char *s, qibl_bake_path *p, char *err, size
     for (;;) {
         double v[3];
         const char *end;
-        if (n == QIBL_BAKE_PATH_MAX_POINTS)
-            return snprintf(err, errlen, "--lamp-track: more than %d points", QIBL_BAKE_PATH_MAX_POINTS), -1;
+        if (n == QTOOL_BAKE_PATH_MAX_POINTS)
+            return snprintf(err, errlen, "--lamp-track: more than %d points", QTOOL_BAKE_PATH_MAX_POINTS), -1;
         if (numbers(q, ',', v, 3, &end) != 3 || (*end && *end != ';'))
             return snprintf(err, errlen, "--lamp-track '%s': point %d is not x,y,z (points separated by ';')", s, n + 1), -1;
         for (int c = 0; c < 3; ++c) {
@@ -84,7 +84,7 @@ int qibl_bake_path_parse_track(const char *s, qibl_bake_path *p, char *err, size
 
 /* ---- the light along the path -------------------------------------------------------------------- */
 
-void qibl_bake_path_light(const qibl_bake_path *p, double t, qibl_rt_light *out)
+void qtool_bake_path_light(const qtool_bake_path *p, double t, qtool_rt_light *out)
 {
     memset(out, 0, sizeof *out);
     memcpy(out->rgb, p->rgb, sizeof out->rgb);
@@ -95,7 +95,7 @@ void qibl_bake_path_light(const qibl_bake_path *p, double t, qibl_rt_light *out)
         out->dir[2] = sin(de) * sin(la) + cos(de) * cos(la) * cos(hr);
         return;
     }
-    double total = 0, seg[QIBL_BAKE_PATH_MAX_POINTS] = {0};
+    double total = 0, seg[QTOOL_BAKE_PATH_MAX_POINTS] = {0};
     for (int i = 1; i < p->npts; ++i) {
         seg[i] = sqrt(pow(p->pts[i][0] - p->pts[i - 1][0], 2) + pow(p->pts[i][1] - p->pts[i - 1][1], 2) +
                       pow(p->pts[i][2] - p->pts[i - 1][2], 2));
@@ -114,10 +114,10 @@ void qibl_bake_path_light(const qibl_bake_path *p, double t, qibl_rt_light *out)
 /* ---- visibility edges ---------------------------------------------------------------------------- */
 
 typedef struct {
-    const qibl_rt_scene *s;
-    const qibl_bake_path *p;
+    const qtool_rt_scene *s;
+    const qtool_bake_path *p;
     uint32_t w, h, steps;
-    qibl_pano_kind kind;
+    qtool_pano_kind kind;
     uint8_t *counts;     /* w * h */
     uint16_t **row_edges; /* per row, malloc'ed */
     uint32_t *row_n;
@@ -126,10 +126,10 @@ typedef struct {
 } path_job;
 
 /* the truth's lighting condition (rt.c render_row): facing, not shadowed, not at the lamp */
-static int vis_at(const path_job *j, const qibl_rt_hit *h, uint32_t q)
+static int vis_at(const path_job *j, const qtool_rt_hit *h, uint32_t q)
 {
-    qibl_rt_light l;
-    qibl_bake_path_light(j->p, q / 65535.0, &l);
+    qtool_rt_light l;
+    qtool_bake_path_light(j->p, q / 65535.0, &l);
     double w[3], tmax = 1e30, df, gl, len = 0;
     for (int c = 0; c < 3; ++c) {
         w[c] = l.point ? l.pos[c] - h->p[c] : l.dir[c];
@@ -142,7 +142,7 @@ static int vis_at(const path_job *j, const qibl_rt_hit *h, uint32_t q)
         w[c] /= len;
     if (l.point)
         tmax = len;
-    return qibl_rt_response(j->s, h, w, tmax, &df, &gl);
+    return qtool_rt_response(j->s, h, w, tmax, &df, &gl);
 }
 
 static void path_row(void *ctx, uint32_t y)
@@ -153,9 +153,9 @@ static void path_row(void *ctx, uint32_t y)
     uint32_t clipped = 0;
     for (uint32_t x = 0; e && x < j->w; ++x) {
         double d[3];
-        qibl_rt_hit hit;
-        qibl_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
-        qibl_rt_primary(j->s, d, &hit);
+        qtool_rt_hit hit;
+        qtool_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
+        qtool_rt_primary(j->s, d, &hit);
         size_t start = n;
         if (hit.hit) {
             uint32_t qa = 0;
@@ -209,7 +209,7 @@ static void path_row(void *ctx, uint32_t y)
         __atomic_fetch_add(&j->clipped, clipped, __ATOMIC_RELAXED);
 }
 
-int qibl_bake_path_chunk(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, const qibl_bake_path *p,
+int qtool_bake_path_chunk(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const qtool_bake_path *p,
                          uint32_t steps, uint32_t nkeys, int threads, uint8_t **out, size_t *n, double stats[2])
 {
     if (w < 1 || h < 1 || steps < 1 || steps > 65535 || nkeys < 2 || nkeys > QIBL_LIGHTPATH_MAX_KEYS)
@@ -219,7 +219,7 @@ int qibl_bake_path_chunk(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pa
     int rc = -1;
     if (!j.counts || !j.row_edges || !j.row_n)
         goto done;
-    qibl_rt_parallel(threads, h, path_row, &j, NULL);
+    qtool_rt_parallel(threads, h, path_row, &j, NULL);
     if (j.oom)
         goto done;
     uint64_t total = 0;
@@ -250,8 +250,8 @@ int qibl_bake_path_chunk(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pa
     }
     int32_t kv[QIBL_LIGHTPATH_MAX_KEYS * 3];
     for (uint32_t i = 0; i < nk; ++i) {
-        qibl_rt_light l;
-        qibl_bake_path_light(p, kt[i] / 65535.0, &l);
+        qtool_rt_light l;
+        qtool_bake_path_light(p, kt[i] / 65535.0, &l);
         for (int c = 0; c < 3; ++c)
             kv[3 * i + (uint32_t)c] = (int32_t)lrint((p->kind == 0 ? l.dir[c] : l.pos[c]) * 65536.0);
     }
@@ -265,7 +265,7 @@ int qibl_bake_path_chunk(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pa
     }
     uint8_t *b = NULL;
     size_t size = 0;
-    int e = qibl_bake_path_payload(w, h, (uint32_t)p->kind, nk, kt, kv, j.counts, all, (uint32_t)total, &b, &size);
+    int e = qtool_bake_path_payload(w, h, (uint32_t)p->kind, nk, kt, kv, j.counts, all, (uint32_t)total, &b, &size);
     free(all);
     if (e != 0)
         goto done;
@@ -280,7 +280,7 @@ done:
     return rc;
 }
 
-int qibl_bake_path_payload(uint32_t w, uint32_t h, uint32_t kind, uint32_t nkeys, const uint32_t *kt,
+int qtool_bake_path_payload(uint32_t w, uint32_t h, uint32_t kind, uint32_t nkeys, const uint32_t *kt,
                            const int32_t *kv, const uint8_t *counts, const uint16_t *edges, uint32_t nedges,
                            uint8_t **out, size_t *n)
 {
@@ -289,22 +289,22 @@ int qibl_bake_path_payload(uint32_t w, uint32_t h, uint32_t kind, uint32_t nkeys
     uint8_t *b = malloc(size);
     if (!b)
         return -1;
-    qibl_store_u32le(b, w), qibl_store_u32le(b + 4, h), qibl_store_u32le(b + 8, kind);
-    qibl_store_u32le(b + 12, 0), qibl_store_u32le(b + 16, nkeys), qibl_store_u32le(b + 20, nedges);
+    qtool_store_u32le(b, w), qtool_store_u32le(b + 4, h), qtool_store_u32le(b + 8, kind);
+    qtool_store_u32le(b + 12, 0), qtool_store_u32le(b + 16, nkeys), qtool_store_u32le(b + 20, nedges);
     uint8_t *k = b + QIBL_LIGHTPATH_HEADER;
     for (uint32_t i = 0; i < nkeys; ++i) {
-        qibl_store_u32le(k + 16 * (size_t)i, kt[i]);
+        qtool_store_u32le(k + 16 * (size_t)i, kt[i]);
         for (uint32_t c = 0; c < 3; ++c)
-            qibl_store_u32le(k + 16 * (size_t)i + 4 + 4 * c, (uint32_t)kv[3 * (size_t)i + c]);
+            qtool_store_u32le(k + 16 * (size_t)i + 4 + 4 * c, (uint32_t)kv[3 * (size_t)i + c]);
     }
     uint8_t *rows = k + 16 * (size_t)nkeys, *cnt = rows + 4 * ((size_t)h + 1), *ed = cnt + np;
     uint32_t at = 0;
     for (uint32_t y = 0; y < h; ++y) {
-        qibl_store_u32le(rows + 4 * (size_t)y, at);
+        qtool_store_u32le(rows + 4 * (size_t)y, at);
         for (uint32_t x = 0; x < w; ++x)
             at += counts[(size_t)y * w + x];
     }
-    qibl_store_u32le(rows + 4 * (size_t)h, at);
+    qtool_store_u32le(rows + 4 * (size_t)h, at);
     memcpy(cnt, counts, np);
     for (uint32_t i = 0; i < nedges; ++i)
         ed[2 * (size_t)i] = (uint8_t)edges[i], ed[2 * (size_t)i + 1] = (uint8_t)(edges[i] >> 8);
@@ -319,7 +319,7 @@ static qibl_q16_t q16(double v)
     return (qibl_q16_t)lrint(v * 65536.0);
 }
 
-int qibl_bake_relight_path8(const uint8_t *asset, size_t n, const qibl_rt_light *l, uint32_t path, uint32_t tq,
+int qtool_bake_relight_path8(const uint8_t *asset, size_t n, const qtool_rt_light *l, uint32_t path, uint32_t tq,
                             uint32_t radius, const qibl_shlight_t *sky, uint8_t *rgb8, float *lin, double *ms,
                             qibl_status_t *status)
 {
@@ -408,10 +408,10 @@ int qibl_bake_relight_path8(const uint8_t *asset, size_t n, const qibl_rt_light 
 /* ---- evaluation ---------------------------------------------------------------------------------- */
 
 typedef struct {
-    const qibl_rt_scene *s;
+    const qtool_rt_scene *s;
     uint32_t w, h;
-    qibl_pano_kind kind;
-    const qibl_rt_light *l;
+    qtool_pano_kind kind;
+    const qtool_rt_light *l;
     uint8_t *cls;
 } cls_job;
 
@@ -420,10 +420,10 @@ static void cls_row(void *ctx, uint32_t y)
     const cls_job *j = ctx;
     for (uint32_t x = 0; x < j->w; ++x) {
         double d[3], w[3], len = 0, tmax = 1e30;
-        qibl_rt_hit h;
+        qtool_rt_hit h;
         uint8_t *o = j->cls + (size_t)y * j->w + x;
-        qibl_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
-        qibl_rt_primary(j->s, d, &h);
+        qtool_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
+        qtool_rt_primary(j->s, d, &h);
         if (!h.hit) {
             *o = 0;
             continue;
@@ -442,15 +442,15 @@ static void cls_row(void *ctx, uint32_t y)
         if (cg <= 0 || cn <= 0 || len < 1.0 / 256)
             *o = 3;
         else
-            *o = qibl_rt_occluded(j->s, &h, w, tmax) ? 2 : 1;
+            *o = qtool_rt_occluded(j->s, &h, w, tmax) ? 2 : 1;
     }
 }
 
-int qibl_bake_classify(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, const qibl_rt_light *l,
+int qtool_bake_classify(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const qtool_rt_light *l,
                        int threads, uint8_t *cls)
 {
     cls_job j = {s, w, h, kind, l, cls};
-    return qibl_rt_parallel(threads, h, cls_row, &j, NULL);
+    return qtool_rt_parallel(threads, h, cls_row, &j, NULL);
 }
 
 /* ---- sky ----------------------------------------------------------------------------------------- */
@@ -461,7 +461,7 @@ static double sky_radiance(const double w[3])
     return w[2] > 0 ? 0.3 + 0.7 * w[2] : 0;
 }
 
-void qibl_bake_sky_dir(uint32_t j, uint32_t n, double d[3])
+void qtool_bake_sky_dir(uint32_t j, uint32_t n, double d[3])
 {
     /* upper-hemisphere Fibonacci set, turned by an irrational offset: not the bake's directions */
     double z = 1.0 - (j + 0.5) / n, r = sqrt(fmax(0.0, 1 - z * z));
@@ -470,9 +470,9 @@ void qibl_bake_sky_dir(uint32_t j, uint32_t n, double d[3])
 }
 
 typedef struct {
-    const qibl_rt_scene *s;
+    const qtool_rt_scene *s;
     uint32_t w, h, ndirs;
-    qibl_pano_kind kind;
+    qtool_pano_kind kind;
     const double *rgb;
     double *half[2];
 } sky_job;
@@ -483,13 +483,13 @@ static void sky_row(void *ctx, uint32_t y)
     double wgt = 2 * PI / (j->ndirs / 2); /* each half is an estimate on its own */
     for (uint32_t x = 0; x < j->w; ++x) {
         double d[3], acc[2][3] = {{0, 0, 0}, {0, 0, 0}};
-        qibl_rt_hit hit;
-        qibl_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
-        qibl_rt_primary(j->s, d, &hit);
+        qtool_rt_hit hit;
+        qtool_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
+        qtool_rt_primary(j->s, d, &hit);
         for (uint32_t l = 0; hit.hit && l < j->ndirs; ++l) {
             double wv[3], df, gl;
-            qibl_bake_sky_dir(l, j->ndirs, wv);
-            if (!qibl_rt_response(j->s, &hit, wv, 1e30, &df, &gl))
+            qtool_bake_sky_dir(l, j->ndirs, wv);
+            if (!qtool_rt_response(j->s, &hit, wv, 1e30, &df, &gl))
                 continue;
             double L = sky_radiance(wv) * wgt;
             for (int c = 0; c < 3; ++c)
@@ -501,16 +501,16 @@ static void sky_row(void *ctx, uint32_t y)
     }
 }
 
-int qibl_bake_sky_truth(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, const double rgb[3],
+int qtool_bake_sky_truth(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const double rgb[3],
                         uint32_t ndirs, int threads, double *half_a, double *half_b)
 {
     if (ndirs < 2 || ndirs % 2)
         return -1;
     sky_job j = {s, w, h, ndirs, kind, rgb, {half_a, half_b}};
-    return qibl_rt_parallel(threads, h, sky_row, &j, NULL);
+    return qtool_rt_parallel(threads, h, sky_row, &j, NULL);
 }
 
-void qibl_bake_sky_sh(const double rgb[3], uint32_t k, qibl_shlight_t *out)
+void qtool_bake_sky_sh(const double rgb[3], uint32_t k, qibl_shlight_t *out)
 {
     /* L_i = integral of L(w) Y_i(w) over the sphere, by the midpoint rule on a fine latitude-longitude grid */
     enum { NT = 256, NP = 512 };
@@ -519,7 +519,7 @@ void qibl_bake_sky_sh(const double rgb[3], uint32_t k, qibl_shlight_t *out)
         double th = PI * (a + 0.5) / NT, dw = (PI / NT) * (2 * PI / NP) * sin(th);
         for (int b = 0; b < NP; ++b) {
             double ph = 2 * PI * (b + 0.5) / NP, wv[3] = {sin(th) * cos(ph), sin(th) * sin(ph), cos(th)}, y[25];
-            qibl_ref_sh_eval(wv[0], wv[1], wv[2], 5, y);
+            qtool_ref_sh_eval(wv[0], wv[1], wv[2], 5, y);
             double L = sky_radiance(wv) * dw;
             for (uint32_t i = 0; i < k; ++i)
                 c[i] += L * y[i];
@@ -531,7 +531,7 @@ void qibl_bake_sky_sh(const double rgb[3], uint32_t k, qibl_shlight_t *out)
             out->c[ch][i] = (qibl_q16_t)lrint(c[i] * rgb[ch] * 65536.0);
 }
 
-int qibl_bake_relight_env8(const uint8_t *asset, size_t n, const qibl_shlight_t *env, uint8_t *rgb8, double *ms,
+int qtool_bake_relight_env8(const uint8_t *asset, size_t n, const qibl_shlight_t *env, uint8_t *rgb8, double *ms,
                            qibl_status_t *status)
 {
     qibl_asset_t a;

@@ -9,8 +9,8 @@
  * Lamp track: a polyline of positions, t proportional to arc length.
  * t in 0..1 maps to the stored parameter round(65535 t).
  */
-#ifndef QIBL_BAKE_PATH_H
-#define QIBL_BAKE_PATH_H
+#ifndef QTOOL_BAKE_PATH_H
+#define QTOOL_BAKE_PATH_H
 
 #include <stddef.h>
 #include <stdint.h>
@@ -19,23 +19,23 @@
 #include "qibl/status.h"
 #include "render/rt.h"
 
-#define QIBL_BAKE_PATH_MAX_POINTS 64
+#define QTOOL_BAKE_PATH_MAX_POINTS 64
 
-typedef struct qibl_bake_path {
+typedef struct qtool_bake_path {
     int kind;                  /* 0 sun path (directions), 1 lamp track (positions) */
     double lat, decl, t0, t1;  /* sun: degrees, degrees, hours, hours */
-    int npts;                  /* track: 2..QIBL_BAKE_PATH_MAX_POINTS */
-    double pts[QIBL_BAKE_PATH_MAX_POINTS][3];
+    int npts;                  /* track: 2..QTOOL_BAKE_PATH_MAX_POINTS */
+    double pts[QTOOL_BAKE_PATH_MAX_POINTS][3];
     double rgb[3];             /* the light's colour (C0 for a lamp) */
-} qibl_bake_path;
+} qtool_bake_path;
 
 /* Parses "LAT,DECL,T0,T1" (sun) or "x,y,z;x,y,z;..." (track) into p (rgb left as it was).
  * 0, or -1 with a one-line reason naming the value. */
-int qibl_bake_path_parse_sun(const char *s, qibl_bake_path *p, char *err, size_t errlen);
-int qibl_bake_path_parse_track(const char *s, qibl_bake_path *p, char *err, size_t errlen);
+int qtool_bake_path_parse_sun(const char *s, qtool_bake_path *p, char *err, size_t errlen);
+int qtool_bake_path_parse_track(const char *s, qtool_bake_path *p, char *err, size_t errlen);
 
 /* The exact light at t in [0, 1] (falloff 1 for a lamp). */
-void qibl_bake_path_light(const qibl_bake_path *p, double t, qibl_rt_light *out);
+void qtool_bake_path_light(const qtool_bake_path *p, double t, qtool_rt_light *out);
 
 /* Bakes the LPTH payload of path p for a w x h panorama: visibility sampled at steps + 1 points,
  * every change refined by bisection to one step of the 16-bit parameter (changes that undo
@@ -43,13 +43,13 @@ void qibl_bake_path_light(const qibl_bake_path *p, double t, qibl_rt_light *out)
  * (2..4096) sampled uniformly in t (sun) or the polyline's vertices (track). *out malloc'ed.
  * stats (may be NULL): [0] mean edges per pixel, [1] pixels clipped at 255 edges.
  * 0 or -1 (no memory, bad arguments). */
-int qibl_bake_path_chunk(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, const qibl_bake_path *p,
+int qtool_bake_path_chunk(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const qtool_bake_path *p,
                          uint32_t steps, uint32_t nkeys, int threads, uint8_t **out, size_t *n, double stats[2]);
 
 /* The LPTH payload from plain arrays (keys: nkeys t values and 3 nkeys Q16.16 coordinates; counts
  * w h bytes; edges nedges values, pixel after pixel); the row index is computed from the counts.
  * Checks nothing beyond memory (tests build payloads the core must reject). 0 or -1 (no memory). */
-int qibl_bake_path_payload(uint32_t w, uint32_t h, uint32_t kind, uint32_t nkeys, const uint32_t *kt,
+int qtool_bake_path_payload(uint32_t w, uint32_t h, uint32_t kind, uint32_t nkeys, const uint32_t *kt,
                            const int32_t *kv, const uint8_t *counts, const uint16_t *edges, uint32_t nedges,
                            uint8_t **out, size_t *n);
 
@@ -57,8 +57,8 @@ int qibl_bake_path_payload(uint32_t w, uint32_t h, uint32_t kind, uint32_t nkeys
  * the light at the path's t; LUT used for a point light when the asset has one) x the visibility of
  * the asset's path number path at tq (0..65535) with soft radius (0 hard). sky (may be NULL): an
  * environment relit first through the shadowed maps (SHMP) and the path light added to it.
- * Output as qibl_bake_relight8_lin (lin may be NULL; sRGB, exposure 1). 0 or -1 (*status set). */
-int qibl_bake_relight_path8(const uint8_t *asset, size_t n, const qibl_rt_light *l, uint32_t path, uint32_t tq,
+ * Output as qtool_bake_relight8_lin (lin may be NULL; sRGB, exposure 1). 0 or -1 (*status set). */
+int qtool_bake_relight_path8(const uint8_t *asset, size_t n, const qtool_rt_light *l, uint32_t path, uint32_t tq,
                             uint32_t radius, const qibl_shlight_t *sky, uint8_t *rgb8, float *lin, double *ms,
                             qibl_status_t *status);
 
@@ -66,19 +66,19 @@ int qibl_bake_relight_path8(const uint8_t *asset, size_t n, const qibl_rt_light 
  * integral of T(w) L(w) (hard visibility) over ndirs upper-hemisphere directions that are not the
  * bake's, as two independent estimates from the even and the odd directions (their mean is the
  * truth; their difference measures its noise). Linear, 3 doubles per pixel each. 0 or -1. */
-void qibl_bake_sky_dir(uint32_t j, uint32_t n, double d[3]);
-int qibl_bake_sky_truth(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, const double rgb[3],
+void qtool_bake_sky_dir(uint32_t j, uint32_t n, double d[3]);
+int qtool_bake_sky_truth(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const double rgb[3],
                         uint32_t ndirs, int threads, double *half_a, double *half_b);
 /* The same sky's SH coefficients (first k, Q16.16), integrated in double on a fine grid. */
-void qibl_bake_sky_sh(const double rgb[3], uint32_t k, qibl_shlight_t *out);
+void qtool_bake_sky_sh(const double rgb[3], uint32_t k, qibl_shlight_t *out);
 
 /* Relights an environment (SH coefficients, k >= the maps') through the shadowed maps (SHMP), as
- * qibl_bake_relight8_lin. 0 or -1 (*status set). */
-int qibl_bake_relight_env8(const uint8_t *asset, size_t n, const qibl_shlight_t *env, uint8_t *rgb8, double *ms,
+ * qtool_bake_relight8_lin. 0 or -1 (*status set). */
+int qtool_bake_relight_env8(const uint8_t *asset, size_t n, const qibl_shlight_t *env, uint8_t *rgb8, double *ms,
                            qibl_status_t *status);
 
 /* Per pixel what the truth does with light l: 0 sky, 1 lit, 2 cast shadow, 3 facing away. 0. */
-int qibl_bake_classify(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, const qibl_rt_light *l,
+int qtool_bake_classify(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const qtool_rt_light *l,
                        int threads, uint8_t *cls);
 
 #endif

@@ -196,11 +196,11 @@ int main(void)
         check(qibl_shlight_add_dir(&l, sun, sun_rgb), "add_dir");
         check(qibl_shmap_weights(&m, &l, &w), "weights");
         static uint8_t ramrow[W * 9 * CH];
-        qibl_sha256_t direct, streamed;
-        qibl_sha256_init(&direct), qibl_sha256_init(&streamed);
+        qtool_sha256_t direct, streamed;
+        qtool_sha256_init(&direct), qtool_sha256_init(&streamed);
         for (uint32_t y = 0; y < H; ++y) {
             check(qibl_shmap_relight_span(&m, &w, 0, y, W, row, ws, sizeof ws), "relight_span");
-            qibl_sha256_update(&direct, row, sizeof row);
+            qtool_sha256_update(&direct, row, sizeof row);
         }
         uint64_t total = 0, copy = 0;
         for (uint32_t y = 0; y < H; ++y) {
@@ -212,10 +212,10 @@ int main(void)
             view.height = 1, view.planes = ramrow;
             check(qibl_shmap_relight_span(&view, &w, 0, 0, W, row, ws, sizeof ws), "relight_span (row view)");
             total += bm_insn_clock() - c0, copy += c1 - c0; /* (the hash below is the check, not the work) */
-            qibl_sha256_update(&streamed, row, sizeof row);
+            qtool_sha256_update(&streamed, row, sizeof row);
         }
         uint8_t a[32], b[32];
-        qibl_sha256_final(&direct, a), qibl_sha256_final(&streamed, b);
+        qtool_sha256_final(&direct, a), qtool_sha256_final(&streamed, b);
         int same = memcmp(a, b, 32) == 0;
         bm_puts("stream: 320x240 k=9 panorama, rows through a "), bm_putu(W * 9 * CH), bm_puts("-byte RAM row: ");
         bm_puts(same ? "identical to relighting the whole map\n" : "DIFFERENT from relighting the whole map\n");

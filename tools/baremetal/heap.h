@@ -1,6 +1,6 @@
 /* baremetal/heap.h - what the golden cases hold of the heap (heap.c). */
-#ifndef QIBL_BAREMETAL_HEAP_H
-#define QIBL_BAREMETAL_HEAP_H
+#ifndef QTOOL_BAREMETAL_HEAP_H
+#define QTOOL_BAREMETAL_HEAP_H
 
 #include <stddef.h>
 

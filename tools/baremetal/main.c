@@ -26,13 +26,13 @@
 
 typedef struct {
     int cases, errors;
-    qibl_sha256_t all;
+    qtool_sha256_t all;
 } run;
 
 static void digest_line(run *r, const char *name, const char *rest, size_t n)
 {
-    qibl_sha256_update(&r->all, name, strlen(name));
-    qibl_sha256_update(&r->all, rest, n);
+    qtool_sha256_update(&r->all, name, strlen(name));
+    qtool_sha256_update(&r->all, rest, n);
 }
 
 static int emit(void *user, const char *name, const void *data, size_t n)
@@ -40,10 +40,10 @@ static int emit(void *user, const char *name, const void *data, size_t n)
     run *r = (run *)user;
     char hex[65];
     ++r->cases;
-    qibl_sha256_hex(data, n, hex);
+    qtool_sha256_hex(data, n, hex);
     digest_line(r, name, " ", 1);
-    qibl_sha256_update(&r->all, hex, 64);
-    qibl_sha256_update(&r->all, "\n", 1);
+    qtool_sha256_update(&r->all, hex, 64);
+    qtool_sha256_update(&r->all, "\n", 1);
     bm_puts("case "), bm_puts(name), bm_puts(" "), bm_puts(hex), bm_puts(" heap ");
     bm_putu((uint32_t)bm_heap_peak_reset());
     bm_puts("\n");
@@ -61,16 +61,16 @@ static void error(void *user, const char *name, const char *what)
 int main(void)
 {
     static run r;
-    qibl_sha256_init(&r.all);
-    qibl_goldens_sink_t sink = {emit, error, &r};
+    qtool_sha256_init(&r.all);
+    qtool_goldens_sink_t sink = {emit, error, &r};
     bm_clock_start();
-    for (size_t g = 0; g < qibl_goldens_group_count; ++g) {
+    for (size_t g = 0; g < qtool_goldens_group_count; ++g) {
         int before = r.cases;
         uint64_t t0 = bm_clock_ns();
         (void)bm_heap_peak_reset();
-        qibl_goldens_groups[g].run(&sink);
+        qtool_goldens_groups[g].run(&sink);
         uint64_t ns = bm_clock_ns() - t0;
-        bm_puts("group "), bm_puts(qibl_goldens_groups[g].name), bm_puts(": ");
+        bm_puts("group "), bm_puts(qtool_goldens_groups[g].name), bm_puts(": ");
         bm_putu((uint32_t)(r.cases - before)), bm_puts(" cases, ");
         bm_putu((uint32_t)(ns / 1000000u)), bm_puts(" ms emulated\n");
     }
@@ -79,8 +79,8 @@ int main(void)
     bm_puts(" of "), bm_putu((uint32_t)bm_stack_size()), bm_puts("\n");
     uint8_t d[32];
     char hex[65];
-    qibl_sha256_final(&r.all, d);
-    qibl_sha256_to_hex(d, hex);
+    qtool_sha256_final(&r.all, d);
+    qtool_sha256_to_hex(d, hex);
     bm_puts("golden: " BM_CONFIG ": "), bm_putu((uint32_t)r.cases), bm_puts(" cases, ");
     bm_putu((uint32_t)r.errors), bm_puts(" errors; digest "), bm_puts(hex), bm_puts("\n");
     return r.errors != 0;

@@ -5,8 +5,8 @@
  * deepest word it wrote. A wrapped call made from inside another is passed straight through, so
  * the outer one measures both.
  */
-#ifndef QIBL_BAREMETAL_PROBE_H
-#define QIBL_BAREMETAL_PROBE_H
+#ifndef QTOOL_BAREMETAL_PROBE_H
+#define QTOOL_BAREMETAL_PROBE_H
 
 /* prints "stack <function> <bytes>" for every wrapped function that was called */
 void bm_probe_report(void);

@@ -3,8 +3,8 @@
  * an instruction clock. Output and exit go through semihosting (ARM: BKPT 0xAB; RISC-V: the
  * slli/ebreak/srai sequence), which qemu-system-* serves with -semihosting-config enable=on.
  */
-#ifndef QIBL_BAREMETAL_SEMI_H
-#define QIBL_BAREMETAL_SEMI_H
+#ifndef QTOOL_BAREMETAL_SEMI_H
+#define QTOOL_BAREMETAL_SEMI_H
 
 #include <stddef.h>
 #include <stdint.h>

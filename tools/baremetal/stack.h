@@ -3,8 +3,8 @@
  * main; bm_stack_high_water() then finds the deepest word ever written. The wrapped entry points
  * (probe.S) repaint below their caller's stack pointer and measure what the core call alone used.
  */
-#ifndef QIBL_BAREMETAL_STACK_H
-#define QIBL_BAREMETAL_STACK_H
+#ifndef QTOOL_BAREMETAL_STACK_H
+#define QTOOL_BAREMETAL_STACK_H
 
 #include <stddef.h>
 #include <stdint.h>

@@ -146,7 +146,7 @@ static void zonal(double s, double norm, double out[5])
     }
 }
 
-int qibl_gen_scene(uint32_t width, uint32_t height, uint32_t k, qibl_pano_kind kind, qibl_gen_maps *out)
+int qtool_gen_scene(uint32_t width, uint32_t height, uint32_t k, qtool_pano_kind kind, qtool_gen_maps *out)
 {
     if (width == 0 || height == 0 || width > 16384 || height > 16384 || k < 1 || k > 25)
         return -1;
@@ -156,7 +156,7 @@ int qibl_gen_scene(uint32_t width, uint32_t height, uint32_t k, qibl_pano_kind k
     out->p = malloc(sizeof(int32_t) * np * 3);
     out->dir = malloc(sizeof(double) * np * 3);
     if (!out->t || !out->p || !out->dir) {
-        qibl_gen_free(out);
+        qtool_gen_free(out);
         return -1;
     }
     out->width = width, out->height = height, out->k = k;
@@ -168,7 +168,7 @@ int qibl_gen_scene(uint32_t width, uint32_t height, uint32_t k, qibl_pano_kind k
     for (uint32_t y = 0; y < height; ++y)
         for (uint32_t x = 0; x < width; ++x) {
             double phi = 2 * PI * (x + 0.5) / width, d[3];
-            if (kind == QIBL_PANO_CYLINDRICAL) {
+            if (kind == QTOOL_PANO_CYLINDRICAL) {
                 double hgt = (0.5 - (y + 0.5) / height) * 2 * tanv;
                 double len = sqrt(1 + hgt * hgt);
                 d[0] = cos(phi) / len, d[1] = sin(phi) / len, d[2] = hgt / len;
@@ -191,8 +191,8 @@ int qibl_gen_scene(uint32_t width, uint32_t height, uint32_t k, qibl_pano_kind k
             const material *mt = &mats[h.mat];
             double dn = d[0] * h.n[0] + d[1] * h.n[1] + d[2] * h.n[2];
             double r[3] = {d[0] - 2 * dn * h.n[0], d[1] - 2 * dn * h.n[1], d[2] - 2 * dn * h.n[2]};
-            qibl_ref_sh_eval(h.n[0], h.n[1], h.n[2], 5, yn);
-            qibl_ref_sh_eval(r[0], r[1], r[2], 5, yr);
+            qtool_ref_sh_eval(h.n[0], h.n[1], h.n[2], 5, yn);
+            qtool_ref_sh_eval(r[0], r[1], r[2], 5, yr);
             for (uint32_t i = 0; i < k; ++i) {
                 int l = (int)floor(sqrt((double)i) + 1e-9);
                 for (int ch = 0; ch < 3; ++ch)
@@ -205,7 +205,7 @@ int qibl_gen_scene(uint32_t width, uint32_t height, uint32_t k, qibl_pano_kind k
     return 0;
 }
 
-void qibl_gen_free(qibl_gen_maps *m)
+void qtool_gen_free(qtool_gen_maps *m)
 {
     free(m->t);
     free(m->p);
@@ -213,7 +213,7 @@ void qibl_gen_free(qibl_gen_maps *m)
     memset(m, 0, sizeof *m);
 }
 
-double qibl_gen_eval(const qibl_gen_maps *m, uint32_t x, uint32_t y, uint32_t ch, const double *l)
+double qtool_gen_eval(const qtool_gen_maps *m, uint32_t x, uint32_t y, uint32_t ch, const double *l)
 {
     size_t np = (size_t)m->width * m->height, pi = (size_t)y * m->width + x;
     double s = 0.0;
@@ -228,19 +228,19 @@ static int cmp_d(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-int qibl_pack_maps(const qibl_gen_maps *m, qibl_pack_scheme scheme, int32_t *scale, int32_t *bias, uint8_t *planes,
-                   qibl_pack_stats *stats)
+int qtool_pack_maps(const qtool_gen_maps *m, qtool_pack_scheme scheme, int32_t *scale, int32_t *bias, uint8_t *planes,
+                   qtool_pack_stats *stats)
 {
     size_t np = (size_t)m->width * m->height;
-    double *tmp = scheme == QIBL_PACK_ROBUST ? malloc(sizeof(double) * np) : NULL;
-    if (scheme == QIBL_PACK_ROBUST && !tmp)
+    double *tmp = scheme == QTOOL_PACK_ROBUST ? malloc(sizeof(double) * np) : NULL;
+    if (scheme == QTOOL_PACK_ROBUST && !tmp)
         return -1;
     double se = 0.0, mx = 0.0;
     uint64_t clipped = 0;
     for (uint32_t pl = 0; pl < m->k * 3; ++pl) {
         const double *t = m->t + (size_t)pl * np;
         double lo = t[0], hi = t[0];
-        if (scheme == QIBL_PACK_MINMAX) {
+        if (scheme == QTOOL_PACK_MINMAX) {
             for (size_t i = 1; i < np; ++i)
                 lo = t[i] < lo ? t[i] : lo, hi = t[i] > hi ? t[i] : hi;
         } else {

@@ -10,43 +10,43 @@
  * Funk-Hecke theorem: T_lm = a_l Y_lm(n) + g_l Y_lm(r). No shadows (the bake does those).
  * Hosted, double precision.
  */
-#ifndef QIBL_GEN_SCENE_H
-#define QIBL_GEN_SCENE_H
+#ifndef QTOOL_GEN_SCENE_H
+#define QTOOL_GEN_SCENE_H
 
 #include <stddef.h>
 #include <stdint.h>
 
-typedef enum { QIBL_PANO_CYLINDRICAL = 0, QIBL_PANO_EQUIRECT } qibl_pano_kind;
+typedef enum { QTOOL_PANO_CYLINDRICAL = 0, QTOOL_PANO_EQUIRECT } qtool_pano_kind;
 
-typedef struct qibl_gen_maps {
+typedef struct qtool_gen_maps {
     uint32_t width, height, k;
     double *t;    /* [i][ch][y * width + x]: k * 3 planes of transfer coefficients */
     int32_t *p;   /* [y * width + x][3]: hit points, Q16.16 scene units, viewpoint at the origin */
     double *dir;  /* [y * width + x][3]: unit view-ray directions */
-} qibl_gen_maps;
+} qtool_gen_maps;
 
 /* Renders the procedural scene's SH transfer maps (k <= 25). 0, or -1 on a bad size or no memory. */
-int qibl_gen_scene(uint32_t width, uint32_t height, uint32_t k, qibl_pano_kind kind, qibl_gen_maps *out);
-void qibl_gen_free(qibl_gen_maps *m);
+int qtool_gen_scene(uint32_t width, uint32_t height, uint32_t k, qtool_pano_kind kind, qtool_gen_maps *out);
+void qtool_gen_free(qtool_gen_maps *m);
 
 /* Range packing of double maps to 8-bit planes with per map and channel scale and bias in Q8.24. */
 typedef enum {
-    QIBL_PACK_MINMAX = 0, /* [min, max] of each plane maps to [0, 255] */
-    QIBL_PACK_ROBUST      /* [0.1th, 99.9th percentile]: finer steps, rare outliers clipped */
-} qibl_pack_scheme;
+    QTOOL_PACK_MINMAX = 0, /* [min, max] of each plane maps to [0, 255] */
+    QTOOL_PACK_ROBUST      /* [0.1th, 99.9th percentile]: finer steps, rare outliers clipped */
+} qtool_pack_scheme;
 
-typedef struct qibl_pack_stats {
+typedef struct qtool_pack_stats {
     double rms, max_abs;  /* of decoded - exact over every coefficient of every pixel */
     uint64_t clipped;     /* coefficients that fell outside the packed range */
-} qibl_pack_stats;
+} qtool_pack_stats;
 
 /* Packs m into scale/bias (k * 3 each, index i * 3 + ch) and planes (k * 3 * w * h bytes, plane
  * i * 3 + ch). 0, or -1 if memory runs out. */
-int qibl_pack_maps(const qibl_gen_maps *m, qibl_pack_scheme scheme, int32_t *scale, int32_t *bias, uint8_t *planes,
-                   qibl_pack_stats *stats);
+int qtool_pack_maps(const qtool_gen_maps *m, qtool_pack_scheme scheme, int32_t *scale, int32_t *bias, uint8_t *planes,
+                   qtool_pack_stats *stats);
 
 /* Exact-in-double reconstruction for checks: sum_i T_i L_i at pixel (x, y), channel ch, from the
  * unquantised maps. */
-double qibl_gen_eval(const qibl_gen_maps *m, uint32_t x, uint32_t y, uint32_t ch, const double *l);
+double qtool_gen_eval(const qtool_gen_maps *m, uint32_t x, uint32_t y, uint32_t ch, const double *l);
 
 #endif

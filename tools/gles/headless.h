@@ -3,8 +3,8 @@
  * surfaceless platform, else the default display with a pbuffer), so platform/gles2 can run
  * without a window. The backend itself never creates contexts: this is the caller's side.
  */
-#ifndef QIBL_TOOLS_GLES_HEADLESS_H
-#define QIBL_TOOLS_GLES_HEADLESS_H
+#ifndef QTOOL_TOOLS_GLES_HEADLESS_H
+#define QTOOL_TOOLS_GLES_HEADLESS_H
 
 #include <stddef.h>
 #include <stdint.h>

@@ -11,40 +11,40 @@
 #include "qibl/status.h"
 
 /* Groups of modules that config.h compiles out are left out (a reduced port still runs the rest). */
-const qibl_goldens_group_t qibl_goldens_groups[] = {
-    {"fixed", "fixed-point primitives: sqrt, rsqrt, reciprocal, division, normalisation sweeps", qibl_goldens_fixed},
+const qtool_goldens_group_t qtool_goldens_groups[] = {
+    {"fixed", "fixed-point primitives: sqrt, rsqrt, reciprocal, division, normalisation sweeps", qtool_goldens_fixed},
 #if QIBL_USE_SH
-    {"sh", "SH basis bands 0..4: lattice, random and hard-case directions, unit and band-count paths", qibl_goldens_sh},
+    {"sh", "SH basis bands 0..4: lattice, random and hard-case directions, unit and band-count paths", qtool_goldens_sh},
 #endif
 #if QIBL_USE_SRGBE
-    {"srgbe", "sRGBE: encode of binary32/int32 edge cases and random patterns, decode of a code sweep", qibl_goldens_srgbe},
+    {"srgbe", "sRGBE: encode of binary32/int32 edge cases and random patterns, decode of a code sweep", qtool_goldens_srgbe},
 #endif
 #if QIBL_USE_ASSET
-    {"asset", "asset container: status and parsed fields of valid, damaged and truncated assets", qibl_goldens_asset},
+    {"asset", "asset container: status and parsed fields of valid, damaged and truncated assets", qtool_goldens_asset},
 #endif
 #if QIBL_USE_SHMAP
-    {"relight", "shmap: directional and point-light relighting into every framebuffer format", qibl_goldens_relight},
+    {"relight", "shmap: directional and point-light relighting into every framebuffer format", qtool_goldens_relight},
     {"lightpath", "light paths: visibility spans, key interpolation, damaged payloads, sun (+ sky) x visibility",
-     qibl_goldens_lightpath},
+     qtool_goldens_lightpath},
 #endif
-    {"soft", "platform/soft: a gradient in every framebuffer format, accumulation and resolve", qibl_goldens_soft},
+    {"soft", "platform/soft: a gradient in every framebuffer format, accumulation and resolve", qtool_goldens_soft},
 #if QIBL_USE_PROBE
-    {"probe", "probe SH projection (formats, sizes, rows in any order, irradiance, windows, bad pixels) and SH rotation", qibl_goldens_probe},
+    {"probe", "probe SH projection (formats, sizes, rows in any order, irradiance, windows, bad pixels) and SH rotation", qtool_goldens_probe},
 #endif
 #if QIBL_USE_HEMI
-    {"hemi", "hemispherical rasterization: LUT and basis tables, triangle masks, transfer vectors, frames", qibl_goldens_hemi},
+    {"hemi", "hemispherical rasterization: LUT and basis tables, triangle masks, transfer vectors, frames", qtool_goldens_hemi},
 #endif
 #if QIBL_USE_LIGHTPROBE && QIBL_USE_SRGBE
-    {"lightprobe", "light lists: median cut, adaptive, variance minimisation on integer-made probes", qibl_goldens_lightprobe},
+    {"lightprobe", "light lists: median cut, adaptive, variance minimisation on integer-made probes", qtool_goldens_lightprobe},
 #endif
 };
-const size_t qibl_goldens_group_count = sizeof qibl_goldens_groups / sizeof qibl_goldens_groups[0];
+const size_t qtool_goldens_group_count = sizeof qtool_goldens_groups / sizeof qtool_goldens_groups[0];
 
-int qibl_goldens_run(const char *name, const qibl_goldens_sink_t *s)
+int qtool_goldens_run(const char *name, const qtool_goldens_sink_t *s)
 {
-    for (size_t i = 0; i < qibl_goldens_group_count; ++i)
-        if (strcmp(qibl_goldens_groups[i].name, name) == 0)
-            return qibl_goldens_groups[i].run(s);
+    for (size_t i = 0; i < qtool_goldens_group_count; ++i)
+        if (strcmp(qtool_goldens_groups[i].name, name) == 0)
+            return qtool_goldens_groups[i].run(s);
     return -1;
 }
 
@@ -117,20 +117,20 @@ void gbuf_free(gbuf *b)
     b->p = NULL, b->n = b->cap = 0, b->oom = 0;
 }
 
-int gbuf_emit(const qibl_goldens_sink_t *s, const char *name, gbuf *b)
+int gbuf_emit(const qtool_goldens_sink_t *s, const char *name, gbuf *b)
 {
     int bad = b->oom ? gcase_oom(s, name) : gcase_emit(s, name, b->p, b->n);
     gbuf_free(b);
     return bad;
 }
 
-int gcase_emit(const qibl_goldens_sink_t *s, const char *name, const void *data, size_t n)
+int gcase_emit(const qtool_goldens_sink_t *s, const char *name, const void *data, size_t n)
 {
     static const uint8_t none = 0;
     return s->emit(s->user, name, data ? data : &none, n) != 0;
 }
 
-int gcase_status_error(const qibl_goldens_sink_t *s, const char *name, const char *call, qibl_status_t st)
+int gcase_status_error(const qtool_goldens_sink_t *s, const char *name, const char *call, qibl_status_t st)
 {
     char what[200];
     snprintf(what, sizeof what, "%s returned %d (%s)", call, (int)st, qibl_status_str(st));
@@ -138,7 +138,7 @@ int gcase_status_error(const qibl_goldens_sink_t *s, const char *name, const cha
     return 1;
 }
 
-int gcase_oom(const qibl_goldens_sink_t *s, const char *name)
+int gcase_oom(const qtool_goldens_sink_t *s, const char *name)
 {
     s->error(s->user, name, "out of memory");
     return 1;

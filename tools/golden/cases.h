@@ -4,7 +4,7 @@
  * The one place golden fixtures are generated. Two consumers include it:
  *   - tools/golden/runner.c, the plain C runner that `make ports` cross-compiles and runs on every
  *     configuration (it links this code, the core, platform/soft and io/sha256.c, nothing else);
- *   - the CMocka suites, through golden/check.h (qibl_goldens_check), which compare against the
+ *   - the CMocka suites, through golden/check.h (qtool_goldens_check), which compare against the
  *     same fixtures/golden/<name>.sha256 files.
  *
  * Rules for cases (what makes a golden worth something on every port):
@@ -16,11 +16,11 @@
  * Code here is plain C99 + the C library (stdio, stdlib, string): no POSIX, no libm.
  *
  * Adding a module: write cases_<module>.c with one `int qibl_goldens_<module>(const
- * qibl_goldens_sink_t *s)`, list it in qibl_goldens_groups (cases.c), run the runner once with
+ * qtool_goldens_sink_t *s)`, list it in qtool_goldens_groups (cases.c), run the runner once with
  * --update and commit the new fixtures/golden/<case>.sha256 files.
  */
-#ifndef QIBL_GOLDEN_CASES_H
-#define QIBL_GOLDEN_CASES_H
+#ifndef QTOOL_GOLDEN_CASES_H
+#define QTOOL_GOLDEN_CASES_H
 
 #include <stddef.h>
 #include <stdint.h>
@@ -28,7 +28,7 @@
 #include "qibl/lightprobe.h"
 
 /* Where a group's cases go. */
-typedef struct qibl_goldens_sink {
+typedef struct qtool_goldens_sink {
     /* One finished case: its name (letters, digits, '_'; the fixtures file name without
      * ".sha256") and its output bytes. Returns 0 when the case passed (hash as expected). */
     int (*emit)(void *user, const char *name, const void *data, size_t n);
@@ -36,42 +36,42 @@ typedef struct qibl_goldens_sink {
      * out. what says which call and why. The case counts as failed. */
     void (*error)(void *user, const char *name, const char *what);
     void *user;
-} qibl_goldens_sink_t;
+} qtool_goldens_sink_t;
 
 /* A group runs all cases of one module and returns the number that failed (emit returned
  * non-zero, or error was called). */
-typedef int (*qibl_goldens_fn)(const qibl_goldens_sink_t *s);
+typedef int (*qtool_goldens_fn)(const qtool_goldens_sink_t *s);
 
-typedef struct qibl_goldens_group {
+typedef struct qtool_goldens_group {
     const char *name;   /* "relight", "soft", ... (the case names start with it or its module) */
     const char *about;  /* one line */
-    qibl_goldens_fn run;
-} qibl_goldens_group_t;
+    qtool_goldens_fn run;
+} qtool_goldens_group_t;
 
 /* Every group, in the order the runner runs them. */
-extern const qibl_goldens_group_t qibl_goldens_groups[];
-extern const size_t qibl_goldens_group_count;
+extern const qtool_goldens_group_t qtool_goldens_groups[];
+extern const size_t qtool_goldens_group_count;
 
 /* Runs the group called name. Returns its failure count, or -1 if there is no such group. */
-int qibl_goldens_run(const char *name, const qibl_goldens_sink_t *s);
+int qtool_goldens_run(const char *name, const qtool_goldens_sink_t *s);
 
 /* The groups (cases_<module>.c). */
-int qibl_goldens_fixed(const qibl_goldens_sink_t *s);
-int qibl_goldens_sh(const qibl_goldens_sink_t *s);
-int qibl_goldens_srgbe(const qibl_goldens_sink_t *s);
-int qibl_goldens_asset(const qibl_goldens_sink_t *s);
-int qibl_goldens_relight(const qibl_goldens_sink_t *s);
-int qibl_goldens_soft(const qibl_goldens_sink_t *s);
-int qibl_goldens_lightprobe(const qibl_goldens_sink_t *s);
-int qibl_goldens_lightpath(const qibl_goldens_sink_t *s);
-int qibl_goldens_probe(const qibl_goldens_sink_t *s);
-int qibl_goldens_hemi(const qibl_goldens_sink_t *s);
+int qtool_goldens_fixed(const qtool_goldens_sink_t *s);
+int qtool_goldens_sh(const qtool_goldens_sink_t *s);
+int qtool_goldens_srgbe(const qtool_goldens_sink_t *s);
+int qtool_goldens_asset(const qtool_goldens_sink_t *s);
+int qtool_goldens_relight(const qtool_goldens_sink_t *s);
+int qtool_goldens_soft(const qtool_goldens_sink_t *s);
+int qtool_goldens_lightprobe(const qtool_goldens_sink_t *s);
+int qtool_goldens_lightpath(const qtool_goldens_sink_t *s);
+int qtool_goldens_probe(const qtool_goldens_sink_t *s);
+int qtool_goldens_hemi(const qtool_goldens_sink_t *s);
 
 /* The serialisation of a light list that the lightprobe_* goldens hash (also used by
  * tests/lightprobe_test.c for the real probes): count, rgb_exp, then per light dir[3], rgb[3],
  * u0, v0, u1, v1, each a little-endian 32-bit word. out needs 8 + 40 * res->count bytes; returns
  * the bytes written. */
-size_t qibl_goldens_light_bytes(const qibl_lightprobe_light_t *lights, const qibl_lightprobe_result_t *res,
+size_t qtool_goldens_light_bytes(const qibl_lightprobe_light_t *lights, const qibl_lightprobe_result_t *res,
                                 uint8_t *out);
 
 #endif

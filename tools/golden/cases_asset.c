@@ -194,7 +194,7 @@ static void parse(gbuf *b, const uint8_t *bytes, size_t n)
 
 /* ---- cases ----------------------------------------------------------------------------------- */
 
-static int valid(const qibl_goldens_sink_t *s, const fixture *f, uint8_t *a, uint8_t *tmp)
+static int valid(const qtool_goldens_sink_t *s, const fixture *f, uint8_t *a, uint8_t *tmp)
 {
     gbuf b = {0};
     uint32_t n = build_full(f, a);
@@ -289,7 +289,7 @@ static const edit edits[] = {
     {3, 8, 12 + 12 * N * N * LK - 2, 2, 0}, /* YLUT short */
 };
 
-static int damaged(const qibl_goldens_sink_t *s, const fixture *f, uint8_t *a)
+static int damaged(const qtool_goldens_sink_t *s, const fixture *f, uint8_t *a)
 {
     gbuf b = {0};
     for (size_t i = 0; i < sizeof edits / sizeof edits[0]; ++i) {
@@ -323,7 +323,7 @@ static int damaged(const qibl_goldens_sink_t *s, const fixture *f, uint8_t *a)
     return gbuf_emit(s, "asset_damaged", &b);
 }
 
-static int truncations_and_flips(const qibl_goldens_sink_t *s, const fixture *f, uint8_t *a)
+static int truncations_and_flips(const qtool_goldens_sink_t *s, const fixture *f, uint8_t *a)
 {
     gbuf b = {0};
     uint32_t n = build_full(f, a);
@@ -352,7 +352,7 @@ static int truncations_and_flips(const qibl_goldens_sink_t *s, const fixture *f,
     return bad + gbuf_emit(s, "asset_bit_flips", &b);
 }
 
-static int crc_and_loads(const qibl_goldens_sink_t *s)
+static int crc_and_loads(const qtool_goldens_sink_t *s)
 {
     gbuf b = {0};
     uint8_t d[256];
@@ -375,7 +375,7 @@ static int crc_and_loads(const qibl_goldens_sink_t *s)
     return gbuf_emit(s, "asset_crc32_loads", &b);
 }
 
-int qibl_goldens_asset(const qibl_goldens_sink_t *s)
+int qtool_goldens_asset(const qtool_goldens_sink_t *s)
 {
     static fixture f;
     uint8_t *a = malloc(ABUF), *tmp = malloc(ABUF + 1);
@@ -390,5 +390,5 @@ int qibl_goldens_asset(const qibl_goldens_sink_t *s)
 }
 
 #else
-typedef int qibl_goldens_asset_off; /* ISO C wants a declaration in every file */
+typedef int qtool_goldens_asset_off; /* ISO C wants a declaration in every file */
 #endif /* QIBL_USE_ASSET */

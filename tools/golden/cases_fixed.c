@@ -35,7 +35,7 @@ static const uint64_t edges64[] = {
 #define NEDGE (sizeof edges64 / sizeof edges64[0])
 
 /* shifts, saturation and exact products from fixed.h */
-static int inline_ops(const qibl_goldens_sink_t *s)
+static int inline_ops(const qtool_goldens_sink_t *s)
 {
     gbuf b = {0};
     grng r = {0xF1DE};
@@ -62,7 +62,7 @@ static int inline_ops(const qibl_goldens_sink_t *s)
 }
 
 /* division, square roots, reciprocals */
-static int div_roots(const qibl_goldens_sink_t *s)
+static int div_roots(const qtool_goldens_sink_t *s)
 {
     gbuf b = {0};
     grng r = {0xD1F};
@@ -92,7 +92,7 @@ static int div_roots(const qibl_goldens_sink_t *s)
 }
 
 /* qibl_vec3_normalize_q30 and qibl_vec3_normalize_fast_q30 */
-static int normalize(const qibl_goldens_sink_t *s)
+static int normalize(const qtool_goldens_sink_t *s)
 {
     static const int32_t ev[] = {0, 1, -1, 2, 65536, -65536, INT32_MAX, INT32_MIN, INT32_MIN + 1, 0x40000000, 46341};
     enum { NE = sizeof ev / sizeof ev[0] };
@@ -119,7 +119,7 @@ static int normalize(const qibl_goldens_sink_t *s)
     return gbuf_emit(s, "fixed_normalize", &b);
 }
 
-int qibl_goldens_fixed(const qibl_goldens_sink_t *s)
+int qtool_goldens_fixed(const qtool_goldens_sink_t *s)
 {
     return inline_ops(s) + div_roots(s) + normalize(s);
 }

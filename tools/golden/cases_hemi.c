@@ -15,7 +15,7 @@
 #define GUARD 0x5A5A5A5Au
 
 /* the whole workspace after init: tables are the module's contract with every port */
-static int tables_case(const qibl_goldens_sink_t *s, const char *name, int n, int face, qibl_hemi_t *h, void **ws)
+static int tables_case(const qtool_goldens_sink_t *s, const char *name, int n, int face, qibl_hemi_t *h, void **ws)
 {
     size_t sz = qibl_hemi_workspace_size(n, face);
     *ws = malloc(sz);
@@ -37,7 +37,7 @@ static int tables_case(const qibl_goldens_sink_t *s, const char *name, int n, in
     return gbuf_emit(s, name, &b);
 }
 
-static int masks_case(const qibl_goldens_sink_t *s, const char *name, const qibl_hemi_t *h, uint64_t seed)
+static int masks_case(const qtool_goldens_sink_t *s, const char *name, const qibl_hemi_t *h, uint64_t seed)
 {
     enum { NV = 48, NT = 40 };
     int32_t v[NV][3];
@@ -90,7 +90,7 @@ static int masks_case(const qibl_goldens_sink_t *s, const char *name, const qibl
     return gbuf_emit(s, name, &b);
 }
 
-static int frames_case(const qibl_goldens_sink_t *s, const char *name, const qibl_hemi_t *h)
+static int frames_case(const qtool_goldens_sink_t *s, const char *name, const qibl_hemi_t *h)
 {
     grng r = {4242};
     gbuf b = {0};
@@ -132,7 +132,7 @@ static int frames_case(const qibl_goldens_sink_t *s, const char *name, const qib
     return gbuf_emit(s, name, &b);
 }
 
-int qibl_goldens_hemi(const qibl_goldens_sink_t *s)
+int qtool_goldens_hemi(const qtool_goldens_sink_t *s)
 {
     static const struct {
         int n, face;

@@ -98,7 +98,7 @@ static uint32_t status_code(qibl_status_t st)
     return 255;
 }
 
-static int case_vis(const qibl_goldens_sink_t *s, const qibl_lightpath_t *p, const char *name, uint32_t radius)
+static int case_vis(const qtool_goldens_sink_t *s, const qibl_lightpath_t *p, const char *name, uint32_t radius)
 {
     gbuf g = {0};
     uint32_t vis[LW];
@@ -118,7 +118,7 @@ static int case_vis(const qibl_goldens_sink_t *s, const qibl_lightpath_t *p, con
     return gbuf_emit(s, name, &g);
 }
 
-static int case_relight(const qibl_goldens_sink_t *s, const qibl_lightpath_t *p, const qibl_shmaps_t *mu,
+static int case_relight(const qtool_goldens_sink_t *s, const qibl_lightpath_t *p, const qibl_shmaps_t *mu,
                         const qibl_shmaps_t *msky, const char *name, qibl_fb_format_t fmt, int srgb)
 {
     qibl_shlight_t sun, sky;
@@ -161,7 +161,7 @@ static int case_relight(const qibl_goldens_sink_t *s, const qibl_lightpath_t *p,
     return bad;
 }
 
-int qibl_goldens_lightpath(const qibl_goldens_sink_t *s)
+int qtool_goldens_lightpath(const qtool_goldens_sink_t *s)
 {
     int bad = 0;
     size_t n0 = 0, n1 = 0;
@@ -221,5 +221,5 @@ done:
 }
 
 #else
-typedef int qibl_goldens_lightpath_off; /* ISO C wants a declaration in every file */
+typedef int qtool_goldens_lightpath_off; /* ISO C wants a declaration in every file */
 #endif /* QIBL_USE_SHMAP */

@@ -18,7 +18,7 @@
 
 #if QIBL_USE_LIGHTPROBE && QIBL_USE_SRGBE /* the group exists only when config.h builds the modules */
 
-size_t qibl_goldens_light_bytes(const qibl_lightprobe_light_t *L, const qibl_lightprobe_result_t *res, uint8_t *out)
+size_t qtool_goldens_light_bytes(const qibl_lightprobe_light_t *L, const qibl_lightprobe_result_t *res, uint8_t *out)
 {
     size_t n = 0;
     gput_u32(out + n, res->count), n += 4;
@@ -118,7 +118,7 @@ static int32_t rgbe_fixed(uint32_t m, uint32_t e, int frac)
     return (int32_t)(q + (rem > half || (rem == half && (q & 1u))));
 }
 
-static int check_lights(const qibl_goldens_sink_t *s, const char *name, const qibl_lightprobe_t *lp,
+static int check_lights(const qtool_goldens_sink_t *s, const char *name, const qibl_lightprobe_t *lp,
                         qibl_lightprobe_method_t method, uint32_t n)
 {
     static qibl_lightprobe_light_t L[256];
@@ -130,10 +130,10 @@ static int check_lights(const qibl_goldens_sink_t *s, const char *name, const qi
     qibl_status_t st = qibl_lightprobe_lights(lp, &o, L, n, &res);
     if (st != QIBL_OK)
         return gcase_status_error(s, name, "qibl_lightprobe_lights", st);
-    return gcase_emit(s, name, buf, qibl_goldens_light_bytes(L, &res, buf));
+    return gcase_emit(s, name, buf, qtool_goldens_light_bytes(L, &res, buf));
 }
 
-static int probe_cases(const qibl_goldens_sink_t *s, const char *probe, const qibl_lightprobe_image_t *img,
+static int probe_cases(const qtool_goldens_sink_t *s, const char *probe, const qibl_lightprobe_image_t *img,
                        int with_varmin)
 {
     char name[96];
@@ -170,7 +170,7 @@ static qibl_lightprobe_image_t image(const void *px, uint32_t w, uint32_t h, qib
 }
 
 /* sin row weights of a few heights (rows 0 .. h/2 - 1 plus the middle: the table is symmetric) */
-static int row_weights(const qibl_goldens_sink_t *s)
+static int row_weights(const qtool_goldens_sink_t *s)
 {
     static const uint32_t hs[] = {1, 2, 3, 5, 7, 64, 511, 512, 1000, 2048, 4096, 32768};
     const char *name = "lightprobe_row_weights";
@@ -189,7 +189,7 @@ static int row_weights(const qibl_goldens_sink_t *s)
     return gbuf_emit(s, name, &b);
 }
 
-int qibl_goldens_lightprobe(const qibl_goldens_sink_t *s)
+int qtool_goldens_lightprobe(const qtool_goldens_sink_t *s)
 {
     int bad = row_weights(s);
     /* (a) a sun and sky 256 x 128 RGBE, (b) an integer-made 100 x 50 with three hot spots, (c) the
@@ -228,5 +228,5 @@ int qibl_goldens_lightprobe(const qibl_goldens_sink_t *s)
 }
 
 #else
-typedef int qibl_goldens_lightprobe_off; /* ISO C wants a declaration in every file */
+typedef int qtool_goldens_lightprobe_off; /* ISO C wants a declaration in every file */
 #endif /* QIBL_USE_LIGHTPROBE */

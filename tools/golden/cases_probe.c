@@ -66,7 +66,7 @@ static uint32_t f32_bits(uint32_t m, uint32_t e)
     return ((uint32_t)((int32_t)e - 136 + (int32_t)bl + 127) << 23) | frac;
 }
 
-static int project_case(const qibl_goldens_sink_t *s, const char *name, const qibl_lightprobe_image_t *img,
+static int project_case(const qtool_goldens_sink_t *s, const char *name, const qibl_lightprobe_image_t *img,
                         int reverse)
 {
     gbuf b = {0};
@@ -104,7 +104,7 @@ static qibl_lightprobe_image_t image(const void *px, uint32_t w, uint32_t h, qib
     return img;
 }
 
-static int projections(const qibl_goldens_sink_t *s)
+static int projections(const qtool_goldens_sink_t *s)
 {
     int bad = 0;
     /* sizes: 1 x 1, odd, W % 4 == 0 and not, a 2:1 probe */
@@ -158,7 +158,7 @@ static int projections(const qibl_goldens_sink_t *s)
 }
 
 /* bad pixels, black probe, poles, argument errors: statuses and what gets written */
-static int hard_cases(const qibl_goldens_sink_t *s)
+static int hard_cases(const qtool_goldens_sink_t *s)
 {
     gbuf b = {0};
     enum { W = 8, H = 4 };
@@ -227,7 +227,7 @@ static void quat_rot(int32_t a, int32_t b, int32_t c, int32_t d, qibl_q30_t r[3]
         }
 }
 
-static int rotations(const qibl_goldens_sink_t *s)
+static int rotations(const qtool_goldens_sink_t *s)
 {
     static const int32_t quats[][4] = {
         {1, 0, 0, 0}, {1, 1, 0, 0}, {1, 0, 1, 0}, {1, 0, 0, 1}, {0, 1, 0, 0}, {0, 0, 0, 1},
@@ -269,11 +269,11 @@ static int rotations(const qibl_goldens_sink_t *s)
     return gbuf_emit(s, "probe_sh_rotate", &b);
 }
 
-int qibl_goldens_probe(const qibl_goldens_sink_t *s)
+int qtool_goldens_probe(const qtool_goldens_sink_t *s)
 {
     return projections(s) + hard_cases(s) + rotations(s);
 }
 
 #else
-typedef int qibl_goldens_probe_disabled_t; /* ISO C forbids an empty translation unit */
+typedef int qtool_goldens_probe_disabled_t; /* ISO C forbids an empty translation unit */
 #endif

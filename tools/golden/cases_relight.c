@@ -87,7 +87,7 @@ typedef qibl_status_t (*row_fn)(void *ctx, uint32_t y, int32_t *out);
 
 /* Renders every row through render into every framebuffer format and emits each as
  * relight_<prefix>_<format>. Returns the number of failed cases. */
-static int emit_formats(const qibl_goldens_sink_t *s, const char *prefix, row_fn render, void *ctx)
+static int emit_formats(const qtool_goldens_sink_t *s, const char *prefix, row_fn render, void *ctx)
 {
     int bad = 0;
     int32_t row[3 * GW];
@@ -164,7 +164,7 @@ static int gmaps_interleave(gmaps *g)
 #endif
 }
 
-int qibl_goldens_relight(const qibl_goldens_sink_t *s)
+int qtool_goldens_relight(const qtool_goldens_sink_t *s)
 {
     int bad = 0;
     /* the interleaved cases exist when config.h builds the layout */
@@ -217,5 +217,5 @@ int qibl_goldens_relight(const qibl_goldens_sink_t *s)
 }
 
 #else
-typedef int qibl_goldens_relight_off; /* ISO C wants a declaration in every file */
+typedef int qtool_goldens_relight_off; /* ISO C wants a declaration in every file */
 #endif /* QIBL_USE_SHMAP */

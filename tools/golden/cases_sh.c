@@ -27,7 +27,7 @@ static void eval(gbuf *b, const int32_t d[3], int bands)
 }
 
 /* every lattice point of [-R, R]^3 but the origin, times scale */
-static int lattice(const qibl_goldens_sink_t *s, const char *name, int32_t scale)
+static int lattice(const qtool_goldens_sink_t *s, const char *name, int32_t scale)
 {
     enum { R = 5 };
     gbuf b = {0};
@@ -50,7 +50,7 @@ static int32_t any_width_s32(grng *r)
     return grng_next(r) & 1u ? gs32(0u - u) : gs32(u);
 }
 
-static int random_dirs(const qibl_goldens_sink_t *s)
+static int random_dirs(const qtool_goldens_sink_t *s)
 {
     gbuf b = {0};
     grng r = {0x5B};
@@ -63,7 +63,7 @@ static int random_dirs(const qibl_goldens_sink_t *s)
     return gbuf_emit(s, "sh_basis_random", &b);
 }
 
-static int hard_cases(const qibl_goldens_sink_t *s)
+static int hard_cases(const qtool_goldens_sink_t *s)
 {
     static const int32_t mags[] = {1, 2, 3, 65536, 0x40000000, INT32_MAX};
     gbuf b = {0};
@@ -99,7 +99,7 @@ static int hard_cases(const qibl_goldens_sink_t *s)
 }
 
 /* qibl_sh_eval_unit on Q2.30 unit vectors from both normalisations */
-static int unit_dirs(const qibl_goldens_sink_t *s)
+static int unit_dirs(const qtool_goldens_sink_t *s)
 {
     gbuf b = {0};
     grng r = {0x0117};
@@ -119,7 +119,7 @@ static int unit_dirs(const qibl_goldens_sink_t *s)
     return gbuf_emit(s, "sh_basis_unit", &b);
 }
 
-int qibl_goldens_sh(const qibl_goldens_sink_t *s)
+int qtool_goldens_sh(const qtool_goldens_sink_t *s)
 {
     int bad = lattice(s, "sh_basis_lattice_lsb", 1);
     bad += lattice(s, "sh_basis_lattice_mid", 46341); /* about 2^15.5: inexact lengths */
@@ -128,5 +128,5 @@ int qibl_goldens_sh(const qibl_goldens_sink_t *s)
 }
 
 #else
-typedef int qibl_goldens_sh_off; /* ISO C wants a declaration in every file */
+typedef int qtool_goldens_sh_off; /* ISO C wants a declaration in every file */
 #endif /* QIBL_USE_SH */

@@ -58,7 +58,7 @@ static qibl_fb_desc_t fb_make(void *pixels, qibl_fb_format_t f)
     return fb;
 }
 
-int qibl_goldens_soft(const qibl_goldens_sink_t *s)
+int qtool_goldens_soft(const qtool_goldens_sink_t *s)
 {
     static const struct {
         const char *name;

@@ -49,7 +49,7 @@ static void put_code(gbuf *b, qibl_status_t st, const uint8_t c[4])
 }
 
 /* every triple of edge values (signs varied by position), one pixel at a time and in bulk */
-static int encode_f32_edges(const qibl_goldens_sink_t *s)
+static int encode_f32_edges(const qtool_goldens_sink_t *s)
 {
     const size_t n = NF32 * NF32 * NF32;
     uint32_t *rgb = malloc(sizeof *rgb * 3 * n);
@@ -76,7 +76,7 @@ static int encode_f32_edges(const qibl_goldens_sink_t *s)
 }
 
 /* random bit patterns: any exponent, and clusters of nearby exponents (the common case) */
-static int encode_f32_random(const qibl_goldens_sink_t *s)
+static int encode_f32_random(const qtool_goldens_sink_t *s)
 {
     enum { N = 20000 };
     uint32_t *rgb = malloc(sizeof *rgb * 3 * N);
@@ -107,7 +107,7 @@ static int encode_f32_random(const qibl_goldens_sink_t *s)
 }
 
 /* int32 channels at frac_bits across the whole range, one pixel, Q16 and bulk */
-static int encode_s32(const qibl_goldens_sink_t *s)
+static int encode_s32(const qtool_goldens_sink_t *s)
 {
     static const int32_t ev[] = {0, 1, -1, 2, 127, 255, 256, 65535, 65536, -65536, 0x3FFFFFFF, 0x40000000,
                                  INT32_MAX, INT32_MIN, INT32_MIN + 1, -0x40000000};
@@ -151,7 +151,7 @@ static int encode_s32(const qibl_goldens_sink_t *s)
 }
 
 /* codes: every E with every X in R (G, B derived), then a golden-ratio stride through 2^32 */
-static int decode_sweep(const qibl_goldens_sink_t *s)
+static int decode_sweep(const qtool_goldens_sink_t *s)
 {
     enum { NE = 256 * 256, NS = 16384, N = NE + NS };
     static const int fracs[] = {-140, -20, 0, 8, 16, 30, 31, 40, 160};
@@ -208,11 +208,11 @@ static int decode_sweep(const qibl_goldens_sink_t *s)
     return bad;
 }
 
-int qibl_goldens_srgbe(const qibl_goldens_sink_t *s)
+int qtool_goldens_srgbe(const qtool_goldens_sink_t *s)
 {
     return encode_f32_edges(s) + encode_f32_random(s) + encode_s32(s) + decode_sweep(s);
 }
 
 #else
-typedef int qibl_goldens_srgbe_off; /* ISO C wants a declaration in every file */
+typedef int qtool_goldens_srgbe_off; /* ISO C wants a declaration in every file */
 #endif /* QIBL_USE_SRGBE */

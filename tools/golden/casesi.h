@@ -2,8 +2,8 @@
  * golden/casesi.h - helpers shared by the cases_<module>.c files (not for other users): a growable
  * little-endian byte buffer, the fixed-seed PRNG, status checks that report through the sink.
  */
-#ifndef QIBL_GOLDEN_CASESI_H
-#define QIBL_GOLDEN_CASESI_H
+#ifndef QTOOL_GOLDEN_CASESI_H
+#define QTOOL_GOLDEN_CASESI_H
 
 #include <stddef.h>
 #include <stdint.h>
@@ -31,14 +31,14 @@ void gbuf_free(gbuf *b);
 
 /* Emits the buffer as case name (or an error on out-of-memory) and frees it. Returns 1 if the
  * case failed, 0 if it passed. */
-int gbuf_emit(const qibl_goldens_sink_t *s, const char *name, gbuf *b);
+int gbuf_emit(const qtool_goldens_sink_t *s, const char *name, gbuf *b);
 
 /* Emits data as case name. Returns 1 if the case failed. */
-int gcase_emit(const qibl_goldens_sink_t *s, const char *name, const void *data, size_t n);
+int gcase_emit(const qtool_goldens_sink_t *s, const char *name, const void *data, size_t n);
 
 /* Reports an error for case name ("<call>: <status text>" or "out of memory"); returns 1. */
-int gcase_status_error(const qibl_goldens_sink_t *s, const char *name, const char *call, qibl_status_t st);
-int gcase_oom(const qibl_goldens_sink_t *s, const char *name);
+int gcase_status_error(const qtool_goldens_sink_t *s, const char *name, const char *call, qibl_status_t st);
+int gcase_oom(const qtool_goldens_sink_t *s, const char *name);
 
 /* Little-endian stores into a byte array. */
 void gput_u32(uint8_t *p, uint32_t v);

@@ -11,7 +11,7 @@
 static int emit(void *user, const char *name, const void *data, size_t n)
 {
     (void)user;
-    return qibl_golden_check_bytes(name, data, n);
+    return qtool_golden_check_bytes(name, data, n);
 }
 
 static void error(void *user, const char *name, const char *what)
@@ -20,10 +20,10 @@ static void error(void *user, const char *name, const char *what)
     fprintf(stderr, "golden %s: ERROR %s\n", name, what);
 }
 
-int qibl_goldens_check(const char *group)
+int qtool_goldens_check(const char *group)
 {
-    qibl_goldens_sink_t s = {emit, error, NULL};
-    int bad = qibl_goldens_run(group, &s);
+    qtool_goldens_sink_t s = {emit, error, NULL};
+    int bad = qtool_goldens_run(group, &s);
     if (bad < 0)
         fprintf(stderr, "golden: no group \"%s\"\n", group);
     return bad;

@@ -3,11 +3,11 @@
  * goldens: each case through io/golden.h, so QIBL_ROOT and QIBL_UPDATE_GOLDEN=1 work as for every
  * other golden. Hosted (POSIX through io/golden.c); the plain runner does not use it.
  */
-#ifndef QIBL_GOLDEN_CHECK_H
-#define QIBL_GOLDEN_CHECK_H
+#ifndef QTOOL_GOLDEN_CHECK_H
+#define QTOOL_GOLDEN_CHECK_H
 
 /* Runs the group called name and checks every case. Returns the number of failed cases (each
  * named on stderr), or -1 if there is no such group. */
-int qibl_goldens_check(const char *group);
+int qtool_goldens_check(const char *group);
 
 #endif

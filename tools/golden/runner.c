@@ -26,7 +26,7 @@ typedef struct {
     const char *root;
     int update;
     int cases, failed;
-    qibl_sha256_t all; /* of every "<name> <hash>\n" */
+    qtool_sha256_t all; /* of every "<name> <hash>\n" */
     char **names;      /* seen so far, to reject a duplicate case name */
     size_t nnames, capnames;
 } run;
@@ -106,11 +106,11 @@ static int emit(void *user, const char *name, const void *data, size_t n)
     run *r = (run *)user;
     char hex[65], path[4096], want[65];
     ++r->cases;
-    qibl_sha256_hex(data, n, hex);
-    qibl_sha256_update(&r->all, name, strlen(name));
-    qibl_sha256_update(&r->all, " ", 1);
-    qibl_sha256_update(&r->all, hex, 64);
-    qibl_sha256_update(&r->all, "\n", 1);
+    qtool_sha256_hex(data, n, hex);
+    qtool_sha256_update(&r->all, name, strlen(name));
+    qtool_sha256_update(&r->all, " ", 1);
+    qtool_sha256_update(&r->all, hex, 64);
+    qtool_sha256_update(&r->all, "\n", 1);
     if (!valid_name(name) || seen_before(r, name)) {
         printf("case %s %s ERROR bad or duplicate case name\n", name, hex);
         ++r->failed;
@@ -153,8 +153,8 @@ static void error(void *user, const char *name, const char *what)
     run *r = (run *)user;
     ++r->cases;
     ++r->failed;
-    qibl_sha256_update(&r->all, name, strlen(name));
-    qibl_sha256_update(&r->all, " ERROR\n", 7);
+    qtool_sha256_update(&r->all, name, strlen(name));
+    qtool_sha256_update(&r->all, " ERROR\n", 7);
     printf("case %s - ERROR %s\n", name, what);
 }
 
@@ -186,16 +186,16 @@ int main(int argc, char **argv)
         } else if (strcmp(argv[i], "--config") == 0 && i + 1 < argc) {
             config = argv[++i];
         } else if (strcmp(argv[i], "--list") == 0) {
-            for (size_t g = 0; g < qibl_goldens_group_count; ++g)
-                printf("%-12s %s\n", qibl_goldens_groups[g].name, qibl_goldens_groups[g].about);
+            for (size_t g = 0; g < qtool_goldens_group_count; ++g)
+                printf("%-12s %s\n", qtool_goldens_groups[g].name, qtool_goldens_groups[g].about);
             return 0;
         } else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             usage(stdout);
             return 0;
         } else if (argv[i][0] != '-' && nonly < 64) {
             int found = 0;
-            for (size_t g = 0; g < qibl_goldens_group_count; ++g)
-                found |= strcmp(qibl_goldens_groups[g].name, argv[i]) == 0;
+            for (size_t g = 0; g < qtool_goldens_group_count; ++g)
+                found |= strcmp(qtool_goldens_groups[g].name, argv[i]) == 0;
             if (!found) {
                 fprintf(stderr, "qibl-golden: no group \"%s\" (--list names them)\n", argv[i]);
                 return 2;
@@ -206,24 +206,24 @@ int main(int argc, char **argv)
             return 2;
         }
     }
-    qibl_sha256_init(&r.all);
-    qibl_goldens_sink_t sink = {emit, error, &r};
-    for (size_t g = 0; g < qibl_goldens_group_count; ++g) {
+    qtool_sha256_init(&r.all);
+    qtool_goldens_sink_t sink = {emit, error, &r};
+    for (size_t g = 0; g < qtool_goldens_group_count; ++g) {
         int wanted = nonly == 0;
         for (int i = 0; i < nonly; ++i)
-            wanted |= strcmp(only[i], qibl_goldens_groups[g].name) == 0;
+            wanted |= strcmp(only[i], qtool_goldens_groups[g].name) == 0;
         if (!wanted)
             continue;
         int before = r.cases;
         clock_t t0 = clock();
-        qibl_goldens_groups[g].run(&sink);
+        qtool_goldens_groups[g].run(&sink);
         double ms = 1000.0 * (double)(clock() - t0) / CLOCKS_PER_SEC;
-        printf("group %s: %d cases, %.0f ms CPU\n", qibl_goldens_groups[g].name, r.cases - before, ms);
+        printf("group %s: %d cases, %.0f ms CPU\n", qtool_goldens_groups[g].name, r.cases - before, ms);
     }
     uint8_t d[32];
     char hex[65];
-    qibl_sha256_final(&r.all, d);
-    qibl_sha256_to_hex(d, hex);
+    qtool_sha256_final(&r.all, d);
+    qtool_sha256_to_hex(d, hex);
     printf("golden: %s: %d cases, %d failed%s; digest %s\n", config, r.cases, r.failed,
            r.update ? " (--update)" : "", hex);
     for (size_t i = 0; i < r.nnames; ++i)

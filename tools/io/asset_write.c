@@ -13,7 +13,7 @@
 #include "io/asset_write.h"
 #include "io/atomic.h"
 
-static int fail(qibl_asset_builder *b, const char *fmt, ...)
+static int fail(qtool_asset_builder *b, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
@@ -22,7 +22,7 @@ static int fail(qibl_asset_builder *b, const char *fmt, ...)
     return -1;
 }
 
-void qibl_store_u32le(uint8_t *p, uint32_t v)
+void qtool_store_u32le(uint8_t *p, uint32_t v)
 {
     p[0] = (uint8_t)v;
     p[1] = (uint8_t)(v >> 8);
@@ -30,31 +30,31 @@ void qibl_store_u32le(uint8_t *p, uint32_t v)
     p[3] = (uint8_t)(v >> 24);
 }
 
-void qibl_store_s32le(uint8_t *p, int32_t v)
+void qtool_store_s32le(uint8_t *p, int32_t v)
 {
-    qibl_store_u32le(p, (uint32_t)v);
+    qtool_store_u32le(p, (uint32_t)v);
 }
 
-void qibl_store_s16le(uint8_t *p, int16_t v)
+void qtool_store_s16le(uint8_t *p, int16_t v)
 {
     uint16_t u = (uint16_t)v;
     p[0] = (uint8_t)u;
     p[1] = (uint8_t)(u >> 8);
 }
 
-void qibl_asset_builder_init(qibl_asset_builder *b)
+void qtool_asset_builder_init(qtool_asset_builder *b)
 {
     memset(b, 0, sizeof *b);
 }
 
-void qibl_asset_builder_free(qibl_asset_builder *b)
+void qtool_asset_builder_free(qtool_asset_builder *b)
 {
     for (uint32_t i = 0; i < b->count; ++i)
         free(b->chunks[i].data);
-    qibl_asset_builder_init(b);
+    qtool_asset_builder_init(b);
 }
 
-int qibl_asset_builder_take(qibl_asset_builder *b, uint32_t type, uint8_t *data, size_t size)
+int qtool_asset_builder_take(qtool_asset_builder *b, uint32_t type, uint8_t *data, size_t size)
 {
     if (b->count >= QIBL_ASSET_MAX_CHUNKS) {
         free(data);
@@ -71,7 +71,7 @@ int qibl_asset_builder_take(qibl_asset_builder *b, uint32_t type, uint8_t *data,
     return 0;
 }
 
-int qibl_asset_builder_add(qibl_asset_builder *b, uint32_t type, const void *data, size_t size)
+int qtool_asset_builder_add(qtool_asset_builder *b, uint32_t type, const void *data, size_t size)
 {
     uint8_t *copy = NULL;
     if (size > 0) {
@@ -82,11 +82,11 @@ int qibl_asset_builder_add(qibl_asset_builder *b, uint32_t type, const void *dat
             return fail(b, "asset: out of memory");
         memcpy(copy, data, size);
     }
-    return qibl_asset_builder_take(b, type, copy, size);
+    return qtool_asset_builder_take(b, type, copy, size);
 }
 
 /* header + items * item_size bytes, or -1 if it does not fit 32 bits; items given as factors */
-static int payload_alloc(qibl_asset_builder *b, const char *what, uint64_t header, uint64_t items,
+static int payload_alloc(qtool_asset_builder *b, const char *what, uint64_t header, uint64_t items,
                          uint64_t item_size, uint8_t **out, size_t *size)
 {
     /* every factor is a u32 (or small), so checking items against the limit first avoids wrap */
@@ -101,14 +101,14 @@ static int payload_alloc(qibl_asset_builder *b, const char *what, uint64_t heade
     return 0;
 }
 
-int qibl_asset_shmp_payload(qibl_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
+int qtool_asset_shmp_payload(qtool_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
                             const int32_t *scale, const int32_t *bias, const uint8_t *planes,
                             uint8_t **out, size_t *size)
 {
-    return qibl_asset_shmp_payload_layout(b, w, h, k, channels, scale, bias, planes, QIBL_SHMAPS_PLANAR, out, size);
+    return qtool_asset_shmp_payload_layout(b, w, h, k, channels, scale, bias, planes, QIBL_SHMAPS_PLANAR, out, size);
 }
 
-int qibl_asset_shmp_payload_layout(qibl_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
+int qtool_asset_shmp_payload_layout(qtool_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
                                    const int32_t *scale, const int32_t *bias, const uint8_t *planes, uint32_t layout,
                                    uint8_t **out, size_t *size)
 {
@@ -123,14 +123,14 @@ int qibl_asset_shmp_payload_layout(qibl_asset_builder *b, uint32_t w, uint32_t h
     size_t n = 0;
     if (payload_alloc(b, "SHMP", 20, pairs, 8 + cells, &p, &n) != 0)
         return -1;
-    qibl_store_u32le(p, w);
-    qibl_store_u32le(p + 4, h);
-    qibl_store_u32le(p + 8, k);
-    qibl_store_u32le(p + 12, channels);
-    qibl_store_u32le(p + 16, layout == QIBL_SHMAPS_INTERLEAVED ? QIBL_SHMP_FLAG_INTERLEAVED : 0u);
+    qtool_store_u32le(p, w);
+    qtool_store_u32le(p + 4, h);
+    qtool_store_u32le(p + 8, k);
+    qtool_store_u32le(p + 12, channels);
+    qtool_store_u32le(p + 16, layout == QIBL_SHMAPS_INTERLEAVED ? QIBL_SHMP_FLAG_INTERLEAVED : 0u);
     for (uint64_t i = 0; i < pairs; ++i) {
-        qibl_store_s32le(p + 20 + 8 * i, scale[i]);
-        qibl_store_s32le(p + 24 + 8 * i, bias[i]);
+        qtool_store_s32le(p + 20 + 8 * i, scale[i]);
+        qtool_store_s32le(p + 24 + 8 * i, bias[i]);
     }
     if (layout == QIBL_SHMAPS_INTERLEAVED && pairs * cells > 0) {
         /* the core's own conversion (it checks k, channels and sizes; refuse what it refuses) */
@@ -148,7 +148,7 @@ int qibl_asset_shmp_payload_layout(qibl_asset_builder *b, uint32_t w, uint32_t h
     return 0;
 }
 
-int qibl_asset_pmap_payload(qibl_asset_builder *b, uint32_t w, uint32_t h, const int32_t *xyz,
+int qtool_asset_pmap_payload(qtool_asset_builder *b, uint32_t w, uint32_t h, const int32_t *xyz,
                             uint8_t **out, size_t *size)
 {
     uint64_t pixels = (uint64_t)w * h; /* < 2^64: no wrap */
@@ -159,17 +159,17 @@ int qibl_asset_pmap_payload(qibl_asset_builder *b, uint32_t w, uint32_t h, const
     size_t n = 0;
     if (payload_alloc(b, "PMAP", 12, values, 4, &p, &n) != 0)
         return -1;
-    qibl_store_u32le(p, w);
-    qibl_store_u32le(p + 4, h);
-    qibl_store_u32le(p + 8, 0);
+    qtool_store_u32le(p, w);
+    qtool_store_u32le(p + 4, h);
+    qtool_store_u32le(p + 8, 0);
     for (uint64_t i = 0; i < values; ++i)
-        qibl_store_s32le(p + 12 + 4 * i, xyz[i]);
+        qtool_store_s32le(p + 12 + 4 * i, xyz[i]);
     *out = p;
     *size = n;
     return 0;
 }
 
-int qibl_asset_ylut_payload(qibl_asset_builder *b, uint32_t face_size, uint32_t k, const int16_t *values,
+int qtool_asset_ylut_payload(qtool_asset_builder *b, uint32_t face_size, uint32_t k, const int16_t *values,
                             uint8_t **out, size_t *size)
 {
     uint64_t count = (uint64_t)face_size * face_size; /* < 2^64: no wrap */
@@ -180,61 +180,61 @@ int qibl_asset_ylut_payload(qibl_asset_builder *b, uint32_t face_size, uint32_t 
     size_t n = 0;
     if (payload_alloc(b, "YLUT", 12, count, 2, &p, &n) != 0)
         return -1;
-    qibl_store_u32le(p, face_size);
-    qibl_store_u32le(p + 4, k);
-    qibl_store_u32le(p + 8, 0);
+    qtool_store_u32le(p, face_size);
+    qtool_store_u32le(p + 4, k);
+    qtool_store_u32le(p + 8, 0);
     for (uint64_t i = 0; i < count; ++i)
-        qibl_store_s16le(p + 12 + 2 * i, values[i]);
+        qtool_store_s16le(p + 12 + 2 * i, values[i]);
     *out = p;
     *size = n;
     return 0;
 }
 
-int qibl_asset_add_shmp(qibl_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
+int qtool_asset_add_shmp(qtool_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
                         const int32_t *scale, const int32_t *bias, const uint8_t *planes)
 {
-    return qibl_asset_add_shmp_layout(b, w, h, k, channels, scale, bias, planes, QIBL_SHMAPS_PLANAR);
+    return qtool_asset_add_shmp_layout(b, w, h, k, channels, scale, bias, planes, QIBL_SHMAPS_PLANAR);
 }
 
-int qibl_asset_add_shmp_layout(qibl_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
+int qtool_asset_add_shmp_layout(qtool_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
                                const int32_t *scale, const int32_t *bias, const uint8_t *planes, uint32_t layout)
 {
     uint8_t *p = NULL;
     size_t n = 0;
-    if (qibl_asset_shmp_payload_layout(b, w, h, k, channels, scale, bias, planes, layout, &p, &n) != 0)
+    if (qtool_asset_shmp_payload_layout(b, w, h, k, channels, scale, bias, planes, layout, &p, &n) != 0)
         return -1;
-    return qibl_asset_builder_take(b, QIBL_CHUNK_SHMP, p, n);
+    return qtool_asset_builder_take(b, QIBL_CHUNK_SHMP, p, n);
 }
 
-int qibl_asset_add_shmu(qibl_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
+int qtool_asset_add_shmu(qtool_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
                         const int32_t *scale, const int32_t *bias, const uint8_t *planes)
 {
     uint8_t *p = NULL;
     size_t n = 0;
-    if (qibl_asset_shmp_payload(b, w, h, k, channels, scale, bias, planes, &p, &n) != 0)
+    if (qtool_asset_shmp_payload(b, w, h, k, channels, scale, bias, planes, &p, &n) != 0)
         return -1;
-    return qibl_asset_builder_take(b, QIBL_CHUNK_SHMU, p, n);
+    return qtool_asset_builder_take(b, QIBL_CHUNK_SHMU, p, n);
 }
 
-int qibl_asset_add_pmap(qibl_asset_builder *b, uint32_t w, uint32_t h, const int32_t *xyz)
+int qtool_asset_add_pmap(qtool_asset_builder *b, uint32_t w, uint32_t h, const int32_t *xyz)
 {
     uint8_t *p = NULL;
     size_t n = 0;
-    if (qibl_asset_pmap_payload(b, w, h, xyz, &p, &n) != 0)
+    if (qtool_asset_pmap_payload(b, w, h, xyz, &p, &n) != 0)
         return -1;
-    return qibl_asset_builder_take(b, QIBL_CHUNK_PMAP, p, n);
+    return qtool_asset_builder_take(b, QIBL_CHUNK_PMAP, p, n);
 }
 
-int qibl_asset_add_ylut(qibl_asset_builder *b, uint32_t face_size, uint32_t k, const int16_t *values)
+int qtool_asset_add_ylut(qtool_asset_builder *b, uint32_t face_size, uint32_t k, const int16_t *values)
 {
     uint8_t *p = NULL;
     size_t n = 0;
-    if (qibl_asset_ylut_payload(b, face_size, k, values, &p, &n) != 0)
+    if (qtool_asset_ylut_payload(b, face_size, k, values, &p, &n) != 0)
         return -1;
-    return qibl_asset_builder_take(b, QIBL_CHUNK_YLUT, p, n);
+    return qtool_asset_builder_take(b, QIBL_CHUNK_YLUT, p, n);
 }
 
-int qibl_asset_serialize(qibl_asset_builder *b, uint8_t **out, size_t *size)
+int qtool_asset_serialize(qtool_asset_builder *b, uint8_t **out, size_t *size)
 {
     if (b->count == 0)
         return fail(b, "asset: no chunks");
@@ -252,31 +252,31 @@ int qibl_asset_serialize(qibl_asset_builder *b, uint8_t **out, size_t *size)
         return fail(b, "asset: out of memory (%llu bytes)", (unsigned long long)end);
     static const uint8_t magic[8] = {'Q', 'I', 'B', 'L', '\r', '\n', 0x1A, '\n'};
     memcpy(p, magic, 8);
-    qibl_store_u32le(p + 8, QIBL_ASSET_VERSION);
-    qibl_store_u32le(p + 12, b->count);
-    qibl_store_u32le(p + 16, (uint32_t)end);
+    qtool_store_u32le(p + 8, QIBL_ASSET_VERSION);
+    qtool_store_u32le(p + 12, b->count);
+    qtool_store_u32le(p + 16, (uint32_t)end);
     for (uint32_t i = 0; i < b->count; ++i) {
         uint8_t *e = p + QIBL_ASSET_HEADER_SIZE + QIBL_ASSET_ENTRY_SIZE * i;
         const uint8_t *d = b->chunks[i].data;
         size_t n = b->chunks[i].size;
         if (n > 0)
             memcpy(p + offs[i], d, n);
-        qibl_store_u32le(e, b->chunks[i].type);
-        qibl_store_u32le(e + 4, (uint32_t)offs[i]);
-        qibl_store_u32le(e + 8, (uint32_t)n);
-        qibl_store_u32le(e + 12, qibl_crc32(0, p + offs[i], n));
+        qtool_store_u32le(e, b->chunks[i].type);
+        qtool_store_u32le(e + 4, (uint32_t)offs[i]);
+        qtool_store_u32le(e + 8, (uint32_t)n);
+        qtool_store_u32le(e + 12, qibl_crc32(0, p + offs[i], n));
     }
-    qibl_store_u32le(p + 20, qibl_crc32(0, p + QIBL_ASSET_HEADER_SIZE, (size_t)(table_end - QIBL_ASSET_HEADER_SIZE)));
+    qtool_store_u32le(p + 20, qibl_crc32(0, p + QIBL_ASSET_HEADER_SIZE, (size_t)(table_end - QIBL_ASSET_HEADER_SIZE)));
     *out = p;
     *size = (size_t)end;
     return 0;
 }
 
-int qibl_asset_write_file(qibl_asset_builder *b, const char *path, int do_fsync)
+int qtool_asset_write_file(qtool_asset_builder *b, const char *path, int do_fsync)
 {
     uint8_t *buf = NULL;
     size_t n = 0;
-    if (qibl_asset_serialize(b, &buf, &n) != 0) {
+    if (qtool_asset_serialize(b, &buf, &n) != 0) {
         char why[sizeof b->err];
         snprintf(why, sizeof why, "%s", b->err);
         return fail(b, "%s: %s", path, why);
@@ -287,15 +287,15 @@ int qibl_asset_write_file(qibl_asset_builder *b, const char *path, int do_fsync)
         free(buf);
         return fail(b, "%s: refusing to write an invalid asset: %s", path, qibl_status_str(st));
     }
-    qibl_io_atomic at;
-    int rc = qibl_io_atomic_open(&at, path, b->err, sizeof b->err);
+    qtool_io_atomic at;
+    int rc = qtool_io_atomic_open(&at, path, b->err, sizeof b->err);
     if (rc == 0) {
         at.no_fsync = !do_fsync;
         if (fwrite(buf, 1, n, at.f) != n) {
             rc = fail(b, "%s: write failed: %s", path, strerror(errno));
-            qibl_io_atomic_abort(&at);
+            qtool_io_atomic_abort(&at);
         } else {
-            rc = qibl_io_atomic_commit(&at, b->err, sizeof b->err);
+            rc = qtool_io_atomic_commit(&at, b->err, sizeof b->err);
         }
     }
     free(buf);

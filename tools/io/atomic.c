@@ -39,7 +39,7 @@ static const char *kind_of(mode_t m)
                          : "a non-regular file";
 }
 
-int qibl_io_check_replaceable(const char *path, char *err, size_t errlen)
+int qtool_io_check_replaceable(const char *path, char *err, size_t errlen)
 {
     struct stat st;
     if (lstat(path, &st) != 0)
@@ -75,12 +75,12 @@ static uint64_t mix(uint64_t *s)
     return z ^ (z >> 31);
 }
 
-int qibl_io_atomic_open(qibl_io_atomic *a, const char *path, char *err, size_t errlen)
+int qtool_io_atomic_open(qtool_io_atomic *a, const char *path, char *err, size_t errlen)
 {
     memset(a, 0, sizeof *a);
     if (!path || !*path)
         return fail(err, errlen, "(empty path): no file name");
-    if (qibl_io_check_replaceable(path, err, errlen) != 0)
+    if (qtool_io_check_replaceable(path, err, errlen) != 0)
         return -1;
     size_t len = strlen(path);
     const char *slash = strrchr(path, '/');
@@ -126,13 +126,13 @@ int qibl_io_atomic_open(qibl_io_atomic *a, const char *path, char *err, size_t e
     return 0;
 }
 
-static void release(qibl_io_atomic *a)
+static void release(qtool_io_atomic *a)
 {
     free(a->path), free(a->tmp);
     memset(a, 0, sizeof *a);
 }
 
-void qibl_io_atomic_abort(qibl_io_atomic *a)
+void qtool_io_atomic_abort(qtool_io_atomic *a)
 {
     if (a->f)
         fclose(a->f);
@@ -147,7 +147,7 @@ static int sync_fd(int fd)
     return fsync(fd) == 0 || errno == EINVAL || errno == ENOTSUP ? 0 : -1;
 }
 
-int qibl_io_atomic_commit(qibl_io_atomic *a, char *err, size_t errlen)
+int qtool_io_atomic_commit(qtool_io_atomic *a, char *err, size_t errlen)
 {
     if (!a->f)
         return fail(err, errlen, "%s: not open for writing", a->path ? a->path : "(null)");
@@ -167,7 +167,7 @@ int qibl_io_atomic_commit(qibl_io_atomic *a, char *err, size_t errlen)
         return -1;
     }
     /* the destination may have been replaced by a link or a FIFO while we wrote */
-    if (qibl_io_check_replaceable(a->path, err, errlen) != 0) {
+    if (qtool_io_check_replaceable(a->path, err, errlen) != 0) {
         unlink(a->tmp);
         release(a);
         return -1;
@@ -198,15 +198,15 @@ int qibl_io_atomic_commit(qibl_io_atomic *a, char *err, size_t errlen)
     return 0;
 }
 
-int qibl_io_write_atomic(const char *path, const void *data, size_t n, char *err, size_t errlen)
+int qtool_io_write_atomic(const char *path, const void *data, size_t n, char *err, size_t errlen)
 {
-    qibl_io_atomic a;
-    if (qibl_io_atomic_open(&a, path, err, errlen) != 0)
+    qtool_io_atomic a;
+    if (qtool_io_atomic_open(&a, path, err, errlen) != 0)
         return -1;
     if (n > 0 && fwrite(data, 1, n, a.f) != n) {
         int e = errno;
-        qibl_io_atomic_abort(&a);
+        qtool_io_atomic_abort(&a);
         return fail(err, errlen, "%s: write failed: %s", path, strerror(e));
     }
-    return qibl_io_atomic_commit(&a, err, errlen);
+    return qtool_io_atomic_commit(&a, err, errlen);
 }

@@ -16,44 +16,44 @@
  * never a truncated destination.
  *
  * Usage (streaming):
- *   qibl_io_atomic a;
- *   if (qibl_io_atomic_open(&a, path, err, errlen) != 0) return -1;
+ *   qtool_io_atomic a;
+ *   if (qtool_io_atomic_open(&a, path, err, errlen) != 0) return -1;
  *   fwrite(..., a.f);                        // any stdio writes
- *   if (bad) { qibl_io_atomic_abort(&a); return -1; }
- *   return qibl_io_atomic_commit(&a, err, errlen);
+ *   if (bad) { qtool_io_atomic_abort(&a); return -1; }
+ *   return qtool_io_atomic_commit(&a, err, errlen);
  */
-#ifndef QIBL_IO_ATOMIC_H
-#define QIBL_IO_ATOMIC_H
+#ifndef QTOOL_IO_ATOMIC_H
+#define QTOOL_IO_ATOMIC_H
 
 #include <stddef.h>
 #include <stdio.h>
 
-typedef struct qibl_io_atomic {
+typedef struct qtool_io_atomic {
     FILE *f;      /* the temporary file, open for writing between open and commit/abort */
     char *path;   /* copy of the destination */
     char *tmp;    /* the temporary file's name */
     int no_fsync; /* set to 1 after open to skip the fsyncs (scratch output only) */
-} qibl_io_atomic;
+} qtool_io_atomic;
 
 /* Checks that path does not exist or is a regular file (lstat: never follows a link). 0, or -1
  * with "PATH: refusing to replace a symbolic link" (directory, FIFO, device, socket, ...) or the
  * lstat error in err. */
-int qibl_io_check_replaceable(const char *path, char *err, size_t errlen);
+int qtool_io_check_replaceable(const char *path, char *err, size_t errlen);
 
 /* Checks the destination and creates the temporary file. 0, or -1 with a one-line reason naming
  * path in err; nothing is created and *a needs no cleanup on failure. */
-int qibl_io_atomic_open(qibl_io_atomic *a, const char *path, char *err, size_t errlen);
+int qtool_io_atomic_open(qtool_io_atomic *a, const char *path, char *err, size_t errlen);
 
 /* Flushes, fsyncs, closes and renames the temporary file over the destination (then fsyncs the
  * directory, best effort). Fails if any earlier write on a->f failed. 0, or -1 with a one-line
  * reason naming the destination; on failure the temporary file is removed and the destination is
  * untouched. Releases *a either way. */
-int qibl_io_atomic_commit(qibl_io_atomic *a, char *err, size_t errlen);
+int qtool_io_atomic_commit(qtool_io_atomic *a, char *err, size_t errlen);
 
 /* Closes and removes the temporary file (the destination is untouched); releases *a. */
-void qibl_io_atomic_abort(qibl_io_atomic *a);
+void qtool_io_atomic_abort(qtool_io_atomic *a);
 
 /* open + one write of n bytes + commit. */
-int qibl_io_write_atomic(const char *path, const void *data, size_t n, char *err, size_t errlen);
+int qtool_io_write_atomic(const char *path, const void *data, size_t n, char *err, size_t errlen);
 
 #endif

@@ -17,7 +17,7 @@
 #include <sys/types.h>
 #include <unistd.h>
 
-/* why load_impl failed, so qibl_io_read_all can map it to errno */
+/* why load_impl failed, so qtool_io_read_all can map it to errno */
 enum { LOAD_OK = 0, LOAD_ERRNO, LOAD_DIR, LOAD_NOT_REGULAR, LOAD_TOO_BIG, LOAD_FORMAT, LOAD_NOMEM, LOAD_IO };
 
 static int fail(int code, char *err, size_t errlen, const char *path, const char *fmt, ...)
@@ -57,7 +57,7 @@ static ssize_t read_full(int fd, uint8_t *p, size_t n)
     return (ssize_t)got;
 }
 
-static int load_impl(const char *path, const qibl_io_kind *k, uint8_t **buf_out, size_t *n_out, char *err,
+static int load_impl(const char *path, const qtool_io_kind *k, uint8_t **buf_out, size_t *n_out, char *err,
                      size_t errlen, int *eno)
 {
     struct stat st;
@@ -105,7 +105,7 @@ static int load_impl(const char *path, const qibl_io_kind *k, uint8_t **buf_out,
                   size == 1 ? "" : "s", k->what, k->min_bytes);
         goto out;
     }
-    uint8_t head[QIBL_IO_MAX_HEAD_BYTES];
+    uint8_t head[QTOOL_IO_MAX_HEAD_BYTES];
     size_t hn = k->head_bytes < sizeof head ? k->head_bytes : sizeof head;
     if (hn > size)
         hn = size;
@@ -142,7 +142,7 @@ out:
     return rc;
 }
 
-int qibl_io_load(const char *path, const qibl_io_kind *kind, uint8_t **buf, size_t *n, char *err, size_t errlen)
+int qtool_io_load(const char *path, const qtool_io_kind *kind, uint8_t **buf, size_t *n, char *err, size_t errlen)
 {
     int eno;
     return load_impl(path, kind, buf, n, err, errlen, &eno) == LOAD_OK ? 0 : -1;
@@ -154,15 +154,15 @@ static const char *asset_magic(const uint8_t *head, size_t n)
     return n >= 8 && memcmp(head, m, 8) == 0 ? NULL : qibl_status_str(QIBL_E_ASSET_MAGIC);
 }
 
-int qibl_io_read_asset(const char *path, uint8_t **buf, size_t *n, char *err, size_t errlen)
+int qtool_io_read_asset(const char *path, uint8_t **buf, size_t *n, char *err, size_t errlen)
 {
-    static const qibl_io_kind k = {"a qibl asset", 8, QIBL_IO_MAX_FILE_BYTES, 8, asset_magic};
-    return qibl_io_load(path, &k, buf, n, err, errlen);
+    static const qtool_io_kind k = {"a qibl asset", 8, QTOOL_IO_MAX_FILE_BYTES, 8, asset_magic};
+    return qtool_io_load(path, &k, buf, n, err, errlen);
 }
 
-uint8_t *qibl_io_read_all(const char *path, size_t *n)
+uint8_t *qtool_io_read_all(const char *path, size_t *n)
 {
-    static const qibl_io_kind k = {"a file", 0, QIBL_IO_MAX_FILE_BYTES, 0, NULL};
+    static const qtool_io_kind k = {"a file", 0, QTOOL_IO_MAX_FILE_BYTES, 0, NULL};
     uint8_t *buf = NULL;
     size_t len = 0;
     int eno;

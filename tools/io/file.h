@@ -12,38 +12,38 @@
  *      small read, not 1 GB);
  *   5. only then is the whole file read, into one buffer of exactly its size.
  */
-#ifndef QIBL_IO_FILE_H
-#define QIBL_IO_FILE_H
+#ifndef QTOOL_IO_FILE_H
+#define QTOOL_IO_FILE_H
 
 #include <stddef.h>
 #include <stdint.h>
 
-/* Largest file qibl_io_read_all reads: the asset container's 32-bit file size (qibl/asset.h). */
-#define QIBL_IO_MAX_FILE_BYTES ((size_t)UINT32_MAX)
+/* Largest file qtool_io_read_all reads: the asset container's 32-bit file size (qibl/asset.h). */
+#define QTOOL_IO_MAX_FILE_BYTES ((size_t)UINT32_MAX)
 /* Largest first-bytes prefix a magic check may ask for. */
-#define QIBL_IO_MAX_HEAD_BYTES 64u
+#define QTOOL_IO_MAX_HEAD_BYTES 64u
 
 /* What one reader accepts. */
-typedef struct qibl_io_kind {
+typedef struct qtool_io_kind {
     const char *what;  /* for messages: "a Radiance .hdr file" */
     size_t min_bytes;  /* shorter files are refused ("too short"), >= 1 */
     size_t max_bytes;  /* larger files are refused before anything is read */
-    size_t head_bytes; /* bytes the magic check sees (<= QIBL_IO_MAX_HEAD_BYTES; fewer if the file is shorter) */
+    size_t head_bytes; /* bytes the magic check sees (<= QTOOL_IO_MAX_HEAD_BYTES; fewer if the file is shorter) */
     /* NULL if head[0 .. n) may start a file of this kind, else the reason it cannot; may be NULL */
     const char *(*magic)(const uint8_t *head, size_t n);
-} qibl_io_kind;
+} qtool_io_kind;
 
 /* Reads the regular file at path as kind allows (the steps above). 0 with *buf (malloc'ed, *n bytes,
  * the caller frees) set; or -1 with a one-line reason naming the file in err and nothing set. */
-int qibl_io_load(const char *path, const qibl_io_kind *kind, uint8_t **buf, size_t *n, char *err, size_t errlen);
+int qtool_io_load(const char *path, const qtool_io_kind *kind, uint8_t **buf, size_t *n, char *err, size_t errlen);
 
-/* A qibl asset file (magic QIBL\r\n\x1A\n, at most QIBL_IO_MAX_FILE_BYTES): as qibl_io_load. */
-int qibl_io_read_asset(const char *path, uint8_t **buf, size_t *n, char *err, size_t errlen);
+/* A qibl asset file (magic QIBL\r\n\x1A\n, at most QTOOL_IO_MAX_FILE_BYTES): as qtool_io_load. */
+int qtool_io_read_asset(const char *path, uint8_t **buf, size_t *n, char *err, size_t errlen);
 
-/* The whole regular file (at most QIBL_IO_MAX_FILE_BYTES, no magic check) in a malloc'ed buffer of
+/* The whole regular file (at most QTOOL_IO_MAX_FILE_BYTES, no magic check) in a malloc'ed buffer of
  * *n bytes (the caller frees it); NULL with errno set on failure: from stat/open, EISDIR for a
  * directory, EINVAL for any other non-regular file, EFBIG above the limit, ENOMEM, EIO for a read
- * error. Prefer qibl_io_load, whose messages say more. */
-uint8_t *qibl_io_read_all(const char *path, size_t *n);
+ * error. Prefer qtool_io_load, whose messages say more. */
+uint8_t *qtool_io_read_all(const char *path, size_t *n);
 
 #endif

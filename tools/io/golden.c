@@ -52,7 +52,7 @@ static int update(const char *name, const char *root, const char *path, const ch
         return -1;
     }
     int n = snprintf(line, sizeof line, "%s\n", hex);
-    if (qibl_io_write_atomic(path, line, (size_t)n, err, sizeof err) != 0) {
+    if (qtool_io_write_atomic(path, line, (size_t)n, err, sizeof err) != 0) {
         fprintf(stderr, "golden %s: cannot write: %s\n", name, err);
         return -1;
     }
@@ -60,7 +60,7 @@ static int update(const char *name, const char *root, const char *path, const ch
     return 0;
 }
 
-int qibl_golden_check(const char *name, const char *hex)
+int qtool_golden_check(const char *name, const char *hex)
 {
     if (name == NULL || hex == NULL || !valid_name(name) || !valid_hex(hex)) {
         fprintf(stderr, "golden %s: bad case name or hash \"%s\"\n", name ? name : "(null)", hex ? hex : "(null)");
@@ -98,9 +98,9 @@ int qibl_golden_check(const char *name, const char *hex)
     return 0;
 }
 
-int qibl_golden_check_bytes(const char *name, const void *data, size_t n)
+int qtool_golden_check_bytes(const char *name, const void *data, size_t n)
 {
     char hex[65];
-    qibl_sha256_hex(data, n, hex);
-    return qibl_golden_check(name, hex);
+    qtool_sha256_hex(data, n, hex);
+    return qtool_golden_check(name, hex);
 }

@@ -10,8 +10,8 @@
  *                        purpose; review and commit the changed .sha256 files with the change.
  *                        Example: QIBL_UPDATE_GOLDEN=1 build/tests/soft_test
  */
-#ifndef QIBL_IO_GOLDEN_H
-#define QIBL_IO_GOLDEN_H
+#ifndef QTOOL_IO_GOLDEN_H
+#define QTOOL_IO_GOLDEN_H
 
 #include <stddef.h>
 
@@ -20,9 +20,9 @@
  * rewriting the file under QIBL_UPDATE_GOLDEN=1); -1 otherwise, after printing one line to stderr
  * naming the case, the file, the expected and the actual hash (or why the file could not be read
  * or written). */
-int qibl_golden_check(const char *name, const char *hex);
+int qtool_golden_check(const char *name, const char *hex);
 
 /* The same for n bytes at data: hashes them and checks the digest. */
-int qibl_golden_check_bytes(const char *name, const void *data, size_t n);
+int qtool_golden_check_bytes(const char *name, const void *data, size_t n);
 
 #endif

@@ -126,7 +126,7 @@ static int read_scanline(const uint8_t *buf, size_t len, size_t *pos, int w, uin
     return 0;
 }
 
-int qibl_hdr_decode_rgbe(const uint8_t *buf, size_t len, int *w_out, int *h_out, uint8_t **rgbe_out, char *err,
+int qtool_hdr_decode_rgbe(const uint8_t *buf, size_t len, int *w_out, int *h_out, uint8_t **rgbe_out, char *err,
                          size_t errlen)
 {
     size_t pos = 0;
@@ -223,13 +223,13 @@ static int to_float(uint8_t *px, int w, int h, float **rgb_out, char *err, size_
     return 0;
 }
 
-int qibl_hdr_decode(const uint8_t *buf, size_t len, int *w_out, int *h_out, float **rgb_out, char *err,
+int qtool_hdr_decode(const uint8_t *buf, size_t len, int *w_out, int *h_out, float **rgb_out, char *err,
                     size_t errlen)
 {
     int w, h;
     uint8_t *px;
     float *rgb;
-    if (qibl_hdr_decode_rgbe(buf, len, &w, &h, &px, err, errlen) != 0 || to_float(px, w, h, &rgb, err, errlen) != 0)
+    if (qtool_hdr_decode_rgbe(buf, len, &w, &h, &px, err, errlen) != 0 || to_float(px, w, h, &rgb, err, errlen) != 0)
         return -1;
     *w_out = w;
     *h_out = h;
@@ -242,12 +242,12 @@ static const char *hdr_magic(const uint8_t *head, size_t n)
     return n >= 2 && head[0] == '#' && head[1] == '?' ? NULL : "not a Radiance .hdr file (no #? magic line)";
 }
 
-int qibl_hdr_read(const char *path, int *w_out, int *h_out, float **rgb_out, char *err, size_t errlen)
+int qtool_hdr_read(const char *path, int *w_out, int *h_out, float **rgb_out, char *err, size_t errlen)
 {
     int w, h;
     uint8_t *px;
     float *rgb;
-    if (qibl_hdr_read_rgbe(path, &w, &h, &px, err, errlen) != 0 || to_float(px, w, h, &rgb, err, errlen) != 0)
+    if (qtool_hdr_read_rgbe(path, &w, &h, &px, err, errlen) != 0 || to_float(px, w, h, &rgb, err, errlen) != 0)
         return -1;
     *w_out = w;
     *h_out = h;
@@ -255,15 +255,15 @@ int qibl_hdr_read(const char *path, int *w_out, int *h_out, float **rgb_out, cha
     return 0;
 }
 
-int qibl_hdr_read_rgbe(const char *path, int *w, int *h, uint8_t **rgbe, char *err, size_t errlen)
+int qtool_hdr_read_rgbe(const char *path, int *w, int *h, uint8_t **rgbe, char *err, size_t errlen)
 {
-    static const qibl_io_kind kind = {"a Radiance .hdr file", 2, QIBL_HDR_MAX_FILE_BYTES, 2, hdr_magic};
-    uint8_t *buf = NULL; /* set by qibl_io_load on success; initialised for the compiler's flow analysis */
+    static const qtool_io_kind kind = {"a Radiance .hdr file", 2, QTOOL_HDR_MAX_FILE_BYTES, 2, hdr_magic};
+    uint8_t *buf = NULL; /* set by qtool_io_load on success; initialised for the compiler's flow analysis */
     size_t n = 0;
-    if (qibl_io_load(path, &kind, &buf, &n, err, errlen) != 0)
+    if (qtool_io_load(path, &kind, &buf, &n, err, errlen) != 0)
         return -1;
     char msg[256];
-    int rc = qibl_hdr_decode_rgbe(buf, n, w, h, rgbe, msg, sizeof msg);
+    int rc = qtool_hdr_decode_rgbe(buf, n, w, h, rgbe, msg, sizeof msg);
     free(buf);
     if (rc != 0)
         return fail(err, errlen, "%s: %s", path, msg);

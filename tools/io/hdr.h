@@ -16,7 +16,7 @@
  * the convention ../shared/fixtures/SOURCES.md uses for the probes' statistics.
  *
  * Limits (checked in this order, each a named one-line error, before any pixel memory is taken):
- *   - a file: regular, 2 .. QIBL_HDR_MAX_FILE_BYTES bytes, starting "#?" (io/file.h), checked
+ *   - a file: regular, 2 .. QTOOL_HDR_MAX_FILE_BYTES bytes, starting "#?" (io/file.h), checked
  *     before the file is read;
  *   - the header (magic line to the resolution line) at most QIBL_HDR_MAX_HEADER_BYTES;
  *   - W, H in 1..QIBL_HDR_MAX_DIM and W H <= QIBL_HDR_MAX_PIXELS: the light-probe core's own
@@ -26,8 +26,8 @@
  * Memory: the file, plus 4 bytes per pixel (RGBE) or 4 + 12 per pixel while converting to float.
  * Time: linear in the file plus the pixels.
  */
-#ifndef QIBL_IO_HDR_H
-#define QIBL_IO_HDR_H
+#ifndef QTOOL_IO_HDR_H
+#define QTOOL_IO_HDR_H
 
 #include <stddef.h>
 #include <stdint.h>
@@ -39,21 +39,21 @@
 #define QIBL_HDR_MAX_HEADER_BYTES 65536u
 /* the largest well-formed file: every pixel a new-style RLE literal (2 bytes per byte of RGBE) plus
  * 4 bytes of scanline header per row and the header */
-#define QIBL_HDR_MAX_FILE_BYTES \
+#define QTOOL_HDR_MAX_FILE_BYTES \
     ((size_t)8 * QIBL_HDR_MAX_PIXELS + (size_t)4 * QIBL_HDR_MAX_DIM + QIBL_HDR_MAX_HEADER_BYTES)
 
 /* Reads path. On success returns 0 and sets *w, *h and *rgb: 3 * w * h floats, rows top to bottom,
  * R G B per pixel, allocated with malloc (the caller frees). On failure returns -1, writes a one-line
  * reason naming the file into err (errlen bytes) and sets nothing. */
-int qibl_hdr_read(const char *path, int *w, int *h, float **rgb, char *err, size_t errlen);
+int qtool_hdr_read(const char *path, int *w, int *h, float **rgb, char *err, size_t errlen);
 
 /* The same from a file image in memory (len bytes); the error text names no file. */
-int qibl_hdr_decode(const uint8_t *buf, size_t len, int *w, int *h, float **rgb, char *err, size_t errlen);
+int qtool_hdr_decode(const uint8_t *buf, size_t len, int *w, int *h, float **rgb, char *err, size_t errlen);
 
-/* As qibl_hdr_read / qibl_hdr_decode, but the pixels are the decoded RGBE bytes themselves:
+/* As qtool_hdr_read / qtool_hdr_decode, but the pixels are the decoded RGBE bytes themselves:
  * 4 * w * h bytes R G B E per pixel, rows top to bottom (what qibl/lightprobe.h reads as
  * QIBL_LIGHTPROBE_RGBE). */
-int qibl_hdr_read_rgbe(const char *path, int *w, int *h, uint8_t **rgbe, char *err, size_t errlen);
-int qibl_hdr_decode_rgbe(const uint8_t *buf, size_t len, int *w, int *h, uint8_t **rgbe, char *err, size_t errlen);
+int qtool_hdr_read_rgbe(const char *path, int *w, int *h, uint8_t **rgbe, char *err, size_t errlen);
+int qtool_hdr_decode_rgbe(const uint8_t *buf, size_t len, int *w, int *h, uint8_t **rgbe, char *err, size_t errlen);
 
 #endif

@@ -56,10 +56,10 @@ static size_t rle_component(const uint8_t *b, size_t n, uint8_t *o)
     return k;
 }
 
-int qibl_hdr_encode(int w, int h, const float *rgb, uint8_t **out, size_t *outlen, char *err, size_t errlen)
+int qtool_hdr_encode(int w, int h, const float *rgb, uint8_t **out, size_t *outlen, char *err, size_t errlen)
 {
-    if (w < 1 || h < 1 || w > QIBL_HDR_WRITE_MAX_DIM || h > QIBL_HDR_WRITE_MAX_DIM) {
-        snprintf(err, errlen, "bad image size %dx%d (1..%d a side)", w, h, QIBL_HDR_WRITE_MAX_DIM);
+    if (w < 1 || h < 1 || w > QTOOL_HDR_WRITE_MAX_DIM || h > QTOOL_HDR_WRITE_MAX_DIM) {
+        snprintf(err, errlen, "bad image size %dx%d (1..%d a side)", w, h, QTOOL_HDR_WRITE_MAX_DIM);
         return -1;
     }
     size_t np = (size_t)w * (size_t)h;
@@ -106,16 +106,16 @@ int qibl_hdr_encode(int w, int h, const float *rgb, uint8_t **out, size_t *outle
     return 0;
 }
 
-int qibl_hdr_write(const char *path, int w, int h, const float *rgb, char *err, size_t errlen)
+int qtool_hdr_write(const char *path, int w, int h, const float *rgb, char *err, size_t errlen)
 {
     uint8_t *b;
     size_t n;
     char why[256];
-    if (qibl_hdr_encode(w, h, rgb, &b, &n, why, sizeof why) != 0) {
+    if (qtool_hdr_encode(w, h, rgb, &b, &n, why, sizeof why) != 0) {
         snprintf(err, errlen, "%s: %s", path, why);
         return -1;
     }
-    int rc = qibl_io_write_atomic(path, b, n, err, errlen);
+    int rc = qtool_io_write_atomic(path, b, n, err, errlen);
     free(b);
     return rc;
 }

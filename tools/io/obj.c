@@ -107,7 +107,7 @@ static int resolve(const char *tok, size_t count, uint32_t *out)
     long v = strtol(tok, &end, 10);
     if (end == tok || *end || errno == ERANGE)
         return -1;
-    /* count <= QIBL_OBJ_MAX_VERTICES, so -(long)count cannot overflow; v is never negated */
+    /* count <= QTOOL_OBJ_MAX_VERTICES, so -(long)count cannot overflow; v is never negated */
     if (v > 0 && (unsigned long)v <= count)
         *out = (uint32_t)(v - 1);
     else if (v < 0 && v >= -(long)count)
@@ -134,7 +134,7 @@ static void unit(const double *v, double *out)
     out[0] = x / l, out[1] = y / l, out[2] = z / l;
 }
 
-int qibl_obj_parse(const char *name, const char *text, size_t len, qibl_obj_mesh *out, char *err, size_t errlen)
+int qtool_obj_parse(const char *name, const char *text, size_t len, qtool_obj_mesh *out, char *err, size_t errlen)
 {
     dvec v = {0}, vn = {0};
     uvec tri = {0}; /* per corner: position index, normal index or NO_NORMAL */
@@ -143,7 +143,7 @@ int qibl_obj_parse(const char *name, const char *text, size_t len, qibl_obj_mesh
     char buf[4096];
     size_t pos = 0;
     int rc = -1;
-    uint32_t poly[2 * QIBL_OBJ_MAX_FACE_CORNERS];
+    uint32_t poly[2 * QTOOL_OBJ_MAX_FACE_CORNERS];
     while (pos < len) {
         size_t e = pos;
         while (e < len && text[e] != '\n')
@@ -193,9 +193,9 @@ int qibl_obj_parse(const char *name, const char *text, size_t len, qibl_obj_mesh
                 fail(err, errlen, name, line, "vertex with w = 0");
                 goto out;
             }
-            if ((isv ? nv : nn) >= QIBL_OBJ_MAX_VERTICES) {
-                fail(err, errlen, name, line, "more than %zu '%s' statements (QIBL_OBJ_MAX_VERTICES)",
-                     (size_t)QIBL_OBJ_MAX_VERTICES, kw);
+            if ((isv ? nv : nn) >= QTOOL_OBJ_MAX_VERTICES) {
+                fail(err, errlen, name, line, "more than %zu '%s' statements (QTOOL_OBJ_MAX_VERTICES)",
+                     (size_t)QTOOL_OBJ_MAX_VERTICES, kw);
                 goto out;
             }
             dvec *d = isv ? &v : &vn;
@@ -221,9 +221,9 @@ int qibl_obj_parse(const char *name, const char *text, size_t len, qibl_obj_mesh
             int nc = 0;
             char *tok = strtok(s, " \t");
             while (tok) {
-                if (nc == QIBL_OBJ_MAX_FACE_CORNERS) {
-                    fail(err, errlen, name, line, "face with more than %d corners (QIBL_OBJ_MAX_FACE_CORNERS)",
-                         QIBL_OBJ_MAX_FACE_CORNERS);
+                if (nc == QTOOL_OBJ_MAX_FACE_CORNERS) {
+                    fail(err, errlen, name, line, "face with more than %d corners (QTOOL_OBJ_MAX_FACE_CORNERS)",
+                         QTOOL_OBJ_MAX_FACE_CORNERS);
                     goto out;
                 }
                 char *p1 = strchr(tok, '/'), *p2 = p1 ? strchr(p1 + 1, '/') : NULL;
@@ -255,9 +255,9 @@ int qibl_obj_parse(const char *name, const char *text, size_t len, qibl_obj_mesh
                 goto out;
             }
             size_t ntri_now = tri.n / 6 + (size_t)(nc - 2);
-            if (ntri_now > QIBL_OBJ_MAX_TRIANGLES) {
-                fail(err, errlen, name, line, "more than %zu triangles (QIBL_OBJ_MAX_TRIANGLES)",
-                     (size_t)QIBL_OBJ_MAX_TRIANGLES);
+            if (ntri_now > QTOOL_OBJ_MAX_TRIANGLES) {
+                fail(err, errlen, name, line, "more than %zu triangles (QTOOL_OBJ_MAX_TRIANGLES)",
+                     (size_t)QTOOL_OBJ_MAX_TRIANGLES);
                 goto out;
             }
             /* fans: a few bytes of "f 1 1 1 1 ..." must not become megabytes of triangles */
@@ -325,24 +325,24 @@ static const char *obj_magic(const uint8_t *head, size_t n)
     return memchr(head, 0, n) ? "binary data (a NUL byte in the first bytes), not a Wavefront OBJ file" : NULL;
 }
 
-int qibl_obj_read(const char *path, qibl_obj_mesh *out, char *err, size_t errlen)
+int qtool_obj_read(const char *path, qtool_obj_mesh *out, char *err, size_t errlen)
 {
-    static const qibl_io_kind kind = {"a Wavefront OBJ file", 1, QIBL_OBJ_MAX_FILE_BYTES, QIBL_IO_MAX_HEAD_BYTES,
+    static const qtool_io_kind kind = {"a Wavefront OBJ file", 1, QTOOL_OBJ_MAX_FILE_BYTES, QTOOL_IO_MAX_HEAD_BYTES,
                                       obj_magic};
     size_t n = 0;
     uint8_t *bytes = NULL;
-    if (qibl_io_load(path, &kind, &bytes, &n, err, errlen) != 0)
+    if (qtool_io_load(path, &kind, &bytes, &n, err, errlen) != 0)
         return -1;
     char *buf = (char *)bytes;
-    qibl_obj_mesh m = {0};
-    int rc = qibl_obj_parse(path, buf, n, &m, err, errlen);
+    qtool_obj_mesh m = {0};
+    int rc = qtool_obj_parse(path, buf, n, &m, err, errlen);
     free(buf);
     if (rc == 0)
         *out = m;
     return rc;
 }
 
-void qibl_obj_free(qibl_obj_mesh *m)
+void qtool_obj_free(qtool_obj_mesh *m)
 {
     free(m->pos);
     free(m->nrm);

@@ -7,10 +7,10 @@
  *
  * Limits (each a named one-line error giving the line, checked while parsing, before the output is
  * allocated):
- *   - a file: regular, at most QIBL_OBJ_MAX_FILE_BYTES, read only after stat and only if its first
+ *   - a file: regular, at most QTOOL_OBJ_MAX_FILE_BYTES, read only after stat and only if its first
  *     64 bytes hold no NUL (OBJ is text) (io/file.h);
- *   - a line at most 4095 bytes, a face at most QIBL_OBJ_MAX_FACE_CORNERS corners;
- *   - at most QIBL_OBJ_MAX_VERTICES v and as many vn statements, at most QIBL_OBJ_MAX_TRIANGLES
+ *   - a line at most 4095 bytes, a face at most QTOOL_OBJ_MAX_FACE_CORNERS corners;
+ *   - at most QTOOL_OBJ_MAX_VERTICES v and as many vn statements, at most QTOOL_OBJ_MAX_TRIANGLES
  *     triangles, and at most one triangle per QIBL_OBJ_MIN_BYTES_PER_TRIANGLE bytes of input (a
  *     plain "f 1 2 3" line is 8 bytes; real meshes spend 35-55): fan faces cannot turn a small
  *     file into a huge mesh;
@@ -21,30 +21,30 @@
  * Memory: the file, 24 bytes per v or vn, 24 per triangle while parsing, then the output (144 bytes
  * per triangle): at most ~40x the input and never above the caps. Time linear in the input.
  */
-#ifndef QIBL_IO_OBJ_H
-#define QIBL_IO_OBJ_H
+#ifndef QTOOL_IO_OBJ_H
+#define QTOOL_IO_OBJ_H
 
 #include <stddef.h>
 #include <stdint.h>
 
-#define QIBL_OBJ_MAX_FILE_BYTES ((size_t)1 << 28)  /* 256 MiB */
-#define QIBL_OBJ_MAX_VERTICES ((size_t)1 << 24)    /* v statements; the same for vn */
-#define QIBL_OBJ_MAX_TRIANGLES ((size_t)1 << 22)   /* 4 Mi triangles: 604 MB of output */
+#define QTOOL_OBJ_MAX_FILE_BYTES ((size_t)1 << 28)  /* 256 MiB */
+#define QTOOL_OBJ_MAX_VERTICES ((size_t)1 << 24)    /* v statements; the same for vn */
+#define QTOOL_OBJ_MAX_TRIANGLES ((size_t)1 << 22)   /* 4 Mi triangles: 604 MB of output */
 #define QIBL_OBJ_MIN_BYTES_PER_TRIANGLE 4u
-#define QIBL_OBJ_MAX_FACE_CORNERS 256
+#define QTOOL_OBJ_MAX_FACE_CORNERS 256
 #define QIBL_OBJ_MAX_COORD 1e15
 
-typedef struct qibl_obj_mesh {
+typedef struct qtool_obj_mesh {
     size_t ntri;
     double *pos; /* ntri * 9: the three corners of each triangle, x y z */
     double *nrm; /* ntri * 9: unit normal at each corner (zero only for a degenerate triangle in isolation) */
     size_t nvert, nnormals_given; /* v and vn statements read */
-} qibl_obj_mesh;
+} qtool_obj_mesh;
 
 /* Reads path. 0, or -1 with a one-line reason naming the file and line in err (nothing allocated). */
-int qibl_obj_read(const char *path, qibl_obj_mesh *out, char *err, size_t errlen);
+int qtool_obj_read(const char *path, qtool_obj_mesh *out, char *err, size_t errlen);
 /* The same from text in memory; name is used in error messages (may be NULL). */
-int qibl_obj_parse(const char *name, const char *text, size_t len, qibl_obj_mesh *out, char *err, size_t errlen);
-void qibl_obj_free(qibl_obj_mesh *m);
+int qtool_obj_parse(const char *name, const char *text, size_t len, qtool_obj_mesh *out, char *err, size_t errlen);
+void qtool_obj_free(qtool_obj_mesh *m);
 
 #endif

@@ -41,7 +41,7 @@ static int is_ws(uint8_t c)
  * strtod: the header is text) */
 static int token(const uint8_t *buf, size_t len, size_t *pos, char tok[64])
 {
-    while (*pos < len && *pos < QIBL_PFM_MAX_HEADER_BYTES && is_ws(buf[*pos]))
+    while (*pos < len && *pos < QTOOL_PFM_MAX_HEADER_BYTES && is_ws(buf[*pos]))
         ++*pos;
     size_t n = 0;
     while (*pos < len && !is_ws(buf[*pos]) && n < 63) {
@@ -73,11 +73,11 @@ static int decode_impl(const char *name, const uint8_t *buf, size_t len, int *w_
     char *end;
     errno = 0;
     long w = strtol(t[0], &end, 10);
-    if (*end || errno || w < 1 || w > (long)QIBL_PFM_MAX_DIM)
-        return fail(err, errlen, name, "bad width '%s' (1..%u)", t[0], QIBL_PFM_MAX_DIM);
+    if (*end || errno || w < 1 || w > (long)QTOOL_PFM_MAX_DIM)
+        return fail(err, errlen, name, "bad width '%s' (1..%u)", t[0], QTOOL_PFM_MAX_DIM);
     long h = strtol(t[1], &end, 10);
-    if (*end || errno || h < 1 || h > (long)QIBL_PFM_MAX_DIM)
-        return fail(err, errlen, name, "bad height '%s' (1..%u)", t[1], QIBL_PFM_MAX_DIM);
+    if (*end || errno || h < 1 || h > (long)QTOOL_PFM_MAX_DIM)
+        return fail(err, errlen, name, "bad height '%s' (1..%u)", t[1], QTOOL_PFM_MAX_DIM);
     if ((uint64_t)w * (uint64_t)h > QIBL_PFM_MAX_PIXELS)
         return fail(err, errlen, name, "%ld x %ld pixels, above the %lu-pixel limit (QIBL_PFM_MAX_PIXELS)", w, h,
                     (unsigned long)QIBL_PFM_MAX_PIXELS);
@@ -85,8 +85,8 @@ static int decode_impl(const char *name, const uint8_t *buf, size_t len, int *w_
     if (*end || !isfinite(scale) || scale == 0.0)
         return fail(err, errlen, name, "bad scale '%s' (a non-zero number; negative means little-endian)", t[2]);
     if (pos >= len || !is_ws(buf[pos]))
-        return fail(err, errlen, name, pos >= QIBL_PFM_MAX_HEADER_BYTES ? "header longer than %u bytes" : "truncated header",
-                    QIBL_PFM_MAX_HEADER_BYTES);
+        return fail(err, errlen, name, pos >= QTOOL_PFM_MAX_HEADER_BYTES ? "header longer than %u bytes" : "truncated header",
+                    QTOOL_PFM_MAX_HEADER_BYTES);
     ++pos; /* the single whitespace byte before the data */
     size_t n = (size_t)w * (size_t)h * (size_t)ch;
     if (len - pos < n * 4)
@@ -117,7 +117,7 @@ static int decode_impl(const char *name, const uint8_t *buf, size_t len, int *w_
     return 0;
 }
 
-int qibl_pfm_decode(const uint8_t *buf, size_t len, int *w, int *h, int *channels, float **px, char *err,
+int qtool_pfm_decode(const uint8_t *buf, size_t len, int *w, int *h, int *channels, float **px, char *err,
                     size_t errlen)
 {
     return decode_impl(NULL, buf, len, w, h, channels, px, err, errlen);
@@ -129,19 +129,19 @@ static const char *pfm_magic(const uint8_t *b, size_t n)
                                                                                : "not a PFM file (magic must be PF or Pf)";
 }
 
-int qibl_pfm_read(const char *path, int *w, int *h, int *channels, float **px, char *err, size_t errlen)
+int qtool_pfm_read(const char *path, int *w, int *h, int *channels, float **px, char *err, size_t errlen)
 {
-    static const qibl_io_kind kind = {"a PFM file", 3, QIBL_PFM_MAX_FILE_BYTES, 3, pfm_magic};
+    static const qtool_io_kind kind = {"a PFM file", 3, QTOOL_PFM_MAX_FILE_BYTES, 3, pfm_magic};
     size_t n = 0;
     uint8_t *buf = NULL;
-    if (qibl_io_load(path, &kind, &buf, &n, err, errlen) != 0)
+    if (qtool_io_load(path, &kind, &buf, &n, err, errlen) != 0)
         return -1;
     int rc = decode_impl(path, buf, n, w, h, channels, px, err, errlen);
     free(buf);
     return rc;
 }
 
-int qibl_pfm_write(const char *path, int w, int h, int channels, const float *px, char *err, size_t errlen)
+int qtool_pfm_write(const char *path, int w, int h, int channels, const float *px, char *err, size_t errlen)
 {
     if (w < 1 || h < 1 || w > 65535 || h > 65535 || (channels != 1 && channels != 3))
         return fail(err, errlen, path, "bad PFM size %dx%d or channel count %d", w, h, channels);
@@ -154,8 +154,8 @@ int qibl_pfm_write(const char *path, int w, int h, int channels, const float *px
     uint8_t *line = malloc(row * 4);
     if (!line)
         return fail(err, errlen, path, "out of memory");
-    qibl_io_atomic a;
-    if (qibl_io_atomic_open(&a, path, err, errlen) != 0) {
+    qtool_io_atomic a;
+    if (qtool_io_atomic_open(&a, path, err, errlen) != 0) {
         free(line);
         return -1;
     }
@@ -172,8 +172,8 @@ int qibl_pfm_write(const char *path, int w, int h, int channels, const float *px
     free(line);
     if (bad) {
         fail(err, errlen, path, "write failed: %s", strerror(errno));
-        qibl_io_atomic_abort(&a);
+        qtool_io_atomic_abort(&a);
         return -1;
     }
-    return qibl_io_atomic_commit(&a, err, errlen);
+    return qtool_io_atomic_commit(&a, err, errlen);
 }

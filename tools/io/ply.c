@@ -31,7 +31,7 @@ typedef struct {
     char name[32];
     uint64_t count;
     int nprop;
-    prop p[QIBL_PLY_MAX_PROPS];
+    prop p[QTOOL_PLY_MAX_PROPS];
 } elem;
 
 typedef struct {
@@ -69,7 +69,7 @@ static ptype type_of(const char *s)
     return T_NONE;
 }
 
-int qibl_ply_sniff(const uint8_t *buf, size_t len)
+int qtool_ply_sniff(const uint8_t *buf, size_t len)
 {
     return len >= 4 && memcmp(buf, "ply", 3) == 0 && (buf[3] == '\n' || buf[3] == '\r');
 }
@@ -170,11 +170,11 @@ static int header(const char *name, const uint8_t *buf, size_t len, int *fmt, el
     *nel = 0;
     for (;;) {
         size_t s = pos;
-        while (pos < len && pos < QIBL_PLY_MAX_HEADER && buf[pos] != '\n')
+        while (pos < len && pos < QTOOL_PLY_MAX_HEADER && buf[pos] != '\n')
             ++pos;
-        if (pos >= len || pos >= QIBL_PLY_MAX_HEADER)
+        if (pos >= len || pos >= QTOOL_PLY_MAX_HEADER)
             return fail(err, errlen, name, "no end_header within the first %d bytes (or the file ends in the header)",
-                        QIBL_PLY_MAX_HEADER);
+                        QTOOL_PLY_MAX_HEADER);
         size_t e = pos++;
         if (e > s && buf[e - 1] == '\r')
             --e;
@@ -221,8 +221,8 @@ static int header(const char *name, const uint8_t *buf, size_t len, int *fmt, el
         } else if (strcmp(tok[0], "element") == 0) {
             if (nt != 3)
                 return fail(err, errlen, name, "header line %d: 'element NAME COUNT' expected", line);
-            if (*nel == QIBL_PLY_MAX_ELEMENTS)
-                return fail(err, errlen, name, "more than %d elements", QIBL_PLY_MAX_ELEMENTS);
+            if (*nel == QTOOL_PLY_MAX_ELEMENTS)
+                return fail(err, errlen, name, "more than %d elements", QTOOL_PLY_MAX_ELEMENTS);
             if (strlen(tok[1]) >= sizeof el->name)
                 return fail(err, errlen, name, "header line %d: element name over 31 characters", line);
             uint64_t c = 0;
@@ -240,8 +240,8 @@ static int header(const char *name, const uint8_t *buf, size_t len, int *fmt, el
             if (*nel == 0)
                 return fail(err, errlen, name, "header line %d: a property before any element", line);
             elem *x = &el[*nel - 1];
-            if (x->nprop == QIBL_PLY_MAX_PROPS)
-                return fail(err, errlen, name, "element %s has more than %d properties", x->name, QIBL_PLY_MAX_PROPS);
+            if (x->nprop == QTOOL_PLY_MAX_PROPS)
+                return fail(err, errlen, name, "element %s has more than %d properties", x->name, QTOOL_PLY_MAX_PROPS);
             prop *p = &x->p[x->nprop];
             const char *pname;
             if (nt == 5 && strcmp(tok[1], "list") == 0) {
@@ -291,7 +291,7 @@ static void unit(double n[3])
 }
 
 /* triangles (index triples) and vertices into the corner soup with area-weighted vertex normals */
-static int build(const double *v, size_t nv, const uint32_t *t, size_t ntri, qibl_obj_mesh *out)
+static int build(const double *v, size_t nv, const uint32_t *t, size_t ntri, qtool_obj_mesh *out)
 {
     double *vn = calloc(nv * 3 + 1, sizeof *vn);
     out->pos = malloc(ntri * 9 * sizeof(double));
@@ -326,12 +326,12 @@ static int build(const double *v, size_t nv, const uint32_t *t, size_t ntri, qib
     return 0;
 }
 
-int qibl_ply_parse(const char *name, const uint8_t *buf, size_t len, qibl_obj_mesh *out, char *err, size_t errlen)
+int qtool_ply_parse(const char *name, const uint8_t *buf, size_t len, qtool_obj_mesh *out, char *err, size_t errlen)
 {
     memset(out, 0, sizeof *out);
     int fmt = F_ASCII, nel = 0;
     size_t hlen = 0;
-    elem *el = malloc(sizeof *el * QIBL_PLY_MAX_ELEMENTS);
+    elem *el = malloc(sizeof *el * QTOOL_PLY_MAX_ELEMENTS);
     if (!el)
         return fail(err, errlen, name, "out of memory");
     if (header(name, buf, len, &fmt, el, &nel, &hlen, err, errlen) != 0) {
@@ -362,9 +362,9 @@ int qibl_ply_parse(const char *name, const uint8_t *buf, size_t len, qibl_obj_me
         why = "no vertex element";
     else if (fi < 0)
         why = "no face element (a point cloud, not a mesh)";
-    else if (el[vi].count > QIBL_PLY_MAX_VERTICES)
+    else if (el[vi].count > QTOOL_PLY_MAX_VERTICES)
         why = "too many vertices";
-    else if (el[fi].count > QIBL_PLY_MAX_FACES)
+    else if (el[fi].count > QTOOL_PLY_MAX_FACES)
         why = "too many faces";
     for (int j = 0; !why && j < el[vi].nprop; ++j) {
         const prop *p = &el[vi].p[j];
@@ -388,8 +388,8 @@ int qibl_ply_parse(const char *name, const uint8_t *buf, size_t len, qibl_obj_me
         why = "vertex_indices are not integers";
     if (why) {
         int r = fail(err, errlen, name, "%s (vertex %llu of at most %d, face %llu of at most %d)", why,
-                     vi >= 0 ? (unsigned long long)el[vi].count : 0ull, QIBL_PLY_MAX_VERTICES,
-                     fi >= 0 ? (unsigned long long)el[fi].count : 0ull, QIBL_PLY_MAX_FACES);
+                     vi >= 0 ? (unsigned long long)el[vi].count : 0ull, QTOOL_PLY_MAX_VERTICES,
+                     fi >= 0 ? (unsigned long long)el[fi].count : 0ull, QTOOL_PLY_MAX_FACES);
         free(el);
         return r;
     }
@@ -434,8 +434,8 @@ int qibl_ply_parse(const char *name, const uint8_t *buf, size_t len, qibl_obj_me
                 int is_face = i == fi && j == pf;
                 /* every item takes at least one byte (binary: its size): a count the rest cannot hold is bad */
                 size_t minb = fmt == F_ASCII ? 1 : tsize[p->type];
-                if (is_face && (iv < 3 || iv > QIBL_PLY_MAX_POLY)) {
-                    rc = fail(err, errlen, name, "%s: %lld vertices (a face has 3..%d)", what, iv, QIBL_PLY_MAX_POLY);
+                if (is_face && (iv < 3 || iv > QTOOL_PLY_MAX_POLY)) {
+                    rc = fail(err, errlen, name, "%s: %lld vertices (a face has 3..%d)", what, iv, QTOOL_PLY_MAX_POLY);
                     break;
                 }
                 if (iv < 0 || (uint64_t)iv > (b.n - b.pos) / minb + 1) {
@@ -443,7 +443,7 @@ int qibl_ply_parse(const char *name, const uint8_t *buf, size_t len, qibl_obj_me
                               p->name, iv);
                     break;
                 }
-                uint32_t idx[QIBL_PLY_MAX_POLY];
+                uint32_t idx[QTOOL_PLY_MAX_POLY];
                 long long cnt = iv;
                 for (long long q = 0; rc == 0 && q < cnt; ++q) {
                     if ((rc = value(&b, p->type, &d, &iv, what)) != 0)
@@ -459,8 +459,8 @@ int qibl_ply_parse(const char *name, const uint8_t *buf, size_t len, qibl_obj_me
                 }
                 if (rc != 0 || !is_face)
                     continue;
-                if (ntri + (size_t)cnt - 2 > QIBL_PLY_MAX_TRIANGLES) {
-                    rc = fail(err, errlen, name, "%s: more than %d triangles", what, QIBL_PLY_MAX_TRIANGLES);
+                if (ntri + (size_t)cnt - 2 > QTOOL_PLY_MAX_TRIANGLES) {
+                    rc = fail(err, errlen, name, "%s: more than %d triangles", what, QTOOL_PLY_MAX_TRIANGLES);
                     break;
                 }
                 if (ntri + (size_t)cnt - 2 > tcap) {
@@ -489,15 +489,15 @@ int qibl_ply_parse(const char *name, const uint8_t *buf, size_t len, qibl_obj_me
     return rc;
 }
 
-int qibl_ply_read(const char *path, qibl_obj_mesh *out, char *err, size_t errlen)
+int qtool_ply_read(const char *path, qtool_obj_mesh *out, char *err, size_t errlen)
 {
     size_t n;
-    uint8_t *b = qibl_io_read_all(path, &n);
+    uint8_t *b = qtool_io_read_all(path, &n);
     if (!b) {
         memset(out, 0, sizeof *out);
         return fail(err, errlen, path, "%s", strerror(errno));
     }
-    int rc = qibl_ply_parse(path, b, n, out, err, errlen);
+    int rc = qtool_ply_parse(path, b, n, out, err, errlen);
     free(b);
     return rc;
 }

@@ -11,40 +11,40 @@
  * average of the face normals around each vertex (PLY normals, if any, are not used).
  *
  * Hostile input: the whole header is checked before the body is read: it must end within
- * QIBL_PLY_MAX_HEADER bytes, name a known format, at most QIBL_PLY_MAX_ELEMENTS elements of at most
- * QIBL_PLY_MAX_PROPS properties, a vertex element with x, y and z and a face element with an integer
- * index list. Element counts are capped (QIBL_PLY_MAX_VERTICES, QIBL_PLY_MAX_FACES) and tied to the
+ * QTOOL_PLY_MAX_HEADER bytes, name a known format, at most QTOOL_PLY_MAX_ELEMENTS elements of at most
+ * QTOOL_PLY_MAX_PROPS properties, a vertex element with x, y and z and a face element with an integer
+ * index list. Element counts are capped (QTOOL_PLY_MAX_VERTICES, QTOOL_PLY_MAX_FACES) and tied to the
  * file's size: every instance needs at least its bytes in the body (binary: the sizes of its scalars
  * and list counts; ascii: two characters per value), so a count a file cannot hold is refused before
- * any allocation. In the body: a face of fewer than 3 or more than QIBL_PLY_MAX_POLY vertices, an
+ * any allocation. In the body: a face of fewer than 3 or more than QTOOL_PLY_MAX_POLY vertices, an
  * index outside the vertex element, a non-finite coordinate (named with its value), more than
- * QIBL_PLY_MAX_TRIANGLES triangles, a malformed ascii number and a body shorter than the header
+ * QTOOL_PLY_MAX_TRIANGLES triangles, a malformed ascii number and a body shorter than the header
  * promises are each refused with a one-line reason naming the element and instance.
  */
-#ifndef QIBL_IO_PLY_H
-#define QIBL_IO_PLY_H
+#ifndef QTOOL_IO_PLY_H
+#define QTOOL_IO_PLY_H
 
 #include <stddef.h>
 #include <stdint.h>
 
-#include "io/obj.h" /* qibl_obj_mesh, qibl_obj_free */
+#include "io/obj.h" /* qtool_obj_mesh, qtool_obj_free */
 
-#define QIBL_PLY_MAX_HEADER 65536      /* bytes up to and including "end_header\n" */
-#define QIBL_PLY_MAX_ELEMENTS 16
-#define QIBL_PLY_MAX_PROPS 64          /* per element */
-#define QIBL_PLY_MAX_VERTICES 16777216 /* 2^24 */
-#define QIBL_PLY_MAX_FACES 16777216
-#define QIBL_PLY_MAX_POLY 256          /* vertices of one face */
-#define QIBL_PLY_MAX_TRIANGLES 4194304 /* 2^22 after triangulation: 600 MiB of corners and normals */
+#define QTOOL_PLY_MAX_HEADER 65536      /* bytes up to and including "end_header\n" */
+#define QTOOL_PLY_MAX_ELEMENTS 16
+#define QTOOL_PLY_MAX_PROPS 64          /* per element */
+#define QTOOL_PLY_MAX_VERTICES 16777216 /* 2^24 */
+#define QTOOL_PLY_MAX_FACES 16777216
+#define QTOOL_PLY_MAX_POLY 256          /* vertices of one face */
+#define QTOOL_PLY_MAX_TRIANGLES 4194304 /* 2^22 after triangulation: 600 MiB of corners and normals */
 
 /* Parses a PLY file image of len bytes; name (may be NULL) is used in messages. 0, or -1 with a
- * one-line reason in err (nothing allocated). The mesh is freed with qibl_obj_free. */
-int qibl_ply_parse(const char *name, const uint8_t *buf, size_t len, qibl_obj_mesh *out, char *err, size_t errlen);
+ * one-line reason in err (nothing allocated). The mesh is freed with qtool_obj_free. */
+int qtool_ply_parse(const char *name, const uint8_t *buf, size_t len, qtool_obj_mesh *out, char *err, size_t errlen);
 
 /* Reads path. 0, or -1 with a one-line reason naming the file (nothing allocated). */
-int qibl_ply_read(const char *path, qibl_obj_mesh *out, char *err, size_t errlen);
+int qtool_ply_read(const char *path, qtool_obj_mesh *out, char *err, size_t errlen);
 
 /* 1 if the len bytes start like a PLY file ("ply" and an end of line), else 0. */
-int qibl_ply_sniff(const uint8_t *buf, size_t len);
+int qtool_ply_sniff(const uint8_t *buf, size_t len);
 
 #endif

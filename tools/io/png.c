@@ -486,8 +486,8 @@ static int write_png_frames(const char *path, int w, int h, int frames, const ui
     put32(ihdr + 4, (uint32_t)h);
     ihdr[8] = 8, ihdr[9] = 2, ihdr[10] = 0, ihdr[11] = 0, ihdr[12] = 0; /* 8-bit RGB */
 
-    qibl_io_atomic at;
-    if (qibl_io_atomic_open(&at, path, err, errlen) != 0)
+    qtool_io_atomic at;
+    if (qtool_io_atomic_open(&at, path, err, errlen) != 0)
         return -1;
     FILE *f = at.f;
     static const uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
@@ -539,18 +539,18 @@ static int write_png_frames(const char *path, int w, int h, int frames, const ui
             snprintf(err, errlen, "%s: out of memory", path);
         else
             snprintf(err, errlen, "%s: write failed: %s", path, strerror(errno));
-        qibl_io_atomic_abort(&at);
+        qtool_io_atomic_abort(&at);
         return -1;
     }
-    return qibl_io_atomic_commit(&at, err, errlen);
+    return qtool_io_atomic_commit(&at, err, errlen);
 }
 
-int qibl_png_write_rgb8(const char *path, int w, int h, const uint8_t *rgb, char *err, size_t errlen)
+int qtool_png_write_rgb8(const char *path, int w, int h, const uint8_t *rgb, char *err, size_t errlen)
 {
     return write_png_frames(path, w, h, 1, rgb, 0, 0, err, errlen);
 }
 
-int qibl_apng_write_rgb8(const char *path, int w, int h, int frames, const uint8_t *rgb, int delay_num,
+int qtool_apng_write_rgb8(const char *path, int w, int h, int frames, const uint8_t *rgb, int delay_num,
                          int delay_den, char *err, size_t errlen)
 {
     if (frames < 2) {

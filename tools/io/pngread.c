@@ -371,8 +371,8 @@ static int read_impl(const char *name, const uint8_t *buf, size_t len, int *w_ou
                 goto out;
             }
             w = get32(data), h = get32(data + 4);
-            if (w == 0 || h == 0 || w > QIBL_PNG_MAX_DIM || h > QIBL_PNG_MAX_DIM) {
-                fail(err, errlen, name, "bad image size %ux%u (each 1..%u)", w, h, QIBL_PNG_MAX_DIM);
+            if (w == 0 || h == 0 || w > QTOOL_PNG_MAX_DIM || h > QTOOL_PNG_MAX_DIM) {
+                fail(err, errlen, name, "bad image size %ux%u (each 1..%u)", w, h, QTOOL_PNG_MAX_DIM);
                 goto out;
             }
             if ((uint64_t)w * h > QIBL_PNG_MAX_PIXELS) {
@@ -507,7 +507,7 @@ out:
     return rc;
 }
 
-int qibl_png_decode_rgb8(const uint8_t *buf, size_t len, int *w, int *h, int *frames, uint8_t **rgb, char *err,
+int qtool_png_decode_rgb8(const uint8_t *buf, size_t len, int *w, int *h, int *frames, uint8_t **rgb, char *err,
                          size_t errlen)
 {
     return read_impl(NULL, buf, len, w, h, frames, rgb, err, errlen);
@@ -519,12 +519,12 @@ static const char *png_magic(const uint8_t *b, size_t n)
     return n >= 8 && memcmp(b, sig, 8) == 0 ? NULL : "not a PNG (bad signature)";
 }
 
-int qibl_png_read_rgb8(const char *path, int *w, int *h, int *frames, uint8_t **rgb, char *err, size_t errlen)
+int qtool_png_read_rgb8(const char *path, int *w, int *h, int *frames, uint8_t **rgb, char *err, size_t errlen)
 {
-    static const qibl_io_kind kind = {"a PNG file", 8, QIBL_PNG_MAX_FILE_BYTES, 8, png_magic};
+    static const qtool_io_kind kind = {"a PNG file", 8, QTOOL_PNG_MAX_FILE_BYTES, 8, png_magic};
     size_t n = 0;
     uint8_t *buf = NULL;
-    if (qibl_io_load(path, &kind, &buf, &n, err, errlen) != 0)
+    if (qtool_io_load(path, &kind, &buf, &n, err, errlen) != 0)
         return -1;
     int rc = read_impl(path, buf, n, w, h, frames, rgb, err, errlen);
     free(buf);

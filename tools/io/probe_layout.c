@@ -30,29 +30,29 @@ static int fail(char *err, size_t errlen, const char *fmt, ...)
     return -1;
 }
 
-static const char *const names[QIBL_PROBE_LAYOUT_COUNT] = {"auto", "latlong", "angular", "ball", "vcross",
+static const char *const names[QTOOL_PROBE_LAYOUT_COUNT] = {"auto", "latlong", "angular", "ball", "vcross",
                                                            "hcross"};
 
-const char *qibl_probe_layout_name(qibl_probe_layout_t layout)
+const char *qtool_probe_layout_name(qtool_probe_layout_t layout)
 {
-    return (unsigned)layout < QIBL_PROBE_LAYOUT_COUNT ? names[layout] : NULL;
+    return (unsigned)layout < QTOOL_PROBE_LAYOUT_COUNT ? names[layout] : NULL;
 }
 
-const char *qibl_probe_layout_describe(qibl_probe_layout_t layout)
+const char *qtool_probe_layout_describe(qtool_probe_layout_t layout)
 {
-    static const char *const d[QIBL_PROBE_LAYOUT_COUNT] = {
+    static const char *const d[QTOOL_PROBE_LAYOUT_COUNT] = {
         "detect", "lat-long (equirectangular)", "Debevec angular map", "mirror ball",
         "vertical cube cross (3:4)", "horizontal cube cross (4:3)"};
-    return (unsigned)layout < QIBL_PROBE_LAYOUT_COUNT ? d[layout] : "unknown layout";
+    return (unsigned)layout < QTOOL_PROBE_LAYOUT_COUNT ? d[layout] : "unknown layout";
 }
 
-int qibl_probe_layout_parse(const char *s, qibl_probe_layout_t *out)
+int qtool_probe_layout_parse(const char *s, qtool_probe_layout_t *out)
 {
     if (!s || !out)
         return -1;
-    for (int i = 0; i < QIBL_PROBE_LAYOUT_COUNT; ++i)
+    for (int i = 0; i < QTOOL_PROBE_LAYOUT_COUNT; ++i)
         if (strcmp(s, names[i]) == 0) {
-            *out = (qibl_probe_layout_t)i;
+            *out = (qtool_probe_layout_t)i;
             return 0;
         }
     return -1;
@@ -82,19 +82,19 @@ static const face hcross_faces[6] = {
     {3, 1, {-1, 0, 0}, {0, -1, 0}, {0, 0, 1}}, /* back, right of right: upright */
 };
 
-static const face *faces_of(qibl_probe_layout_t l)
+static const face *faces_of(qtool_probe_layout_t l)
 {
-    return l == QIBL_PROBE_LAYOUT_VCROSS ? vcross_faces : hcross_faces;
+    return l == QTOOL_PROBE_LAYOUT_VCROSS ? vcross_faces : hcross_faces;
 }
 
-static int is_cross(qibl_probe_layout_t l)
+static int is_cross(qtool_probe_layout_t l)
 {
-    return l == QIBL_PROBE_LAYOUT_VCROSS || l == QIBL_PROBE_LAYOUT_HCROSS;
+    return l == QTOOL_PROBE_LAYOUT_VCROSS || l == QTOOL_PROBE_LAYOUT_HCROSS;
 }
 
-static int is_disc(qibl_probe_layout_t l)
+static int is_disc(qtool_probe_layout_t l)
 {
-    return l == QIBL_PROBE_LAYOUT_ANGULAR || l == QIBL_PROBE_LAYOUT_BALL;
+    return l == QTOOL_PROBE_LAYOUT_ANGULAR || l == QTOOL_PROBE_LAYOUT_BALL;
 }
 
 static double dot3(const double a[3], const double b[3])
@@ -103,7 +103,7 @@ static double dot3(const double a[3], const double b[3])
 }
 
 /* the face holding cell (col, row), or NULL */
-static const face *face_at(qibl_probe_layout_t l, int col, int row)
+static const face *face_at(qtool_probe_layout_t l, int col, int row)
 {
     const face *f = faces_of(l);
     for (int i = 0; i < 6; ++i)
@@ -113,7 +113,7 @@ static const face *face_at(qibl_probe_layout_t l, int col, int row)
 }
 
 /* the face a viewer-frame direction v goes through (largest component along its centre) */
-static const face *face_of(qibl_probe_layout_t l, const double v[3])
+static const face *face_of(qtool_probe_layout_t l, const double v[3])
 {
     const face *f = faces_of(l), *best = &f[0];
     double bd = dot3(v, f[0].c);
@@ -125,9 +125,9 @@ static const face *face_of(qibl_probe_layout_t l, const double v[3])
     return best;
 }
 
-static int face_size(qibl_probe_layout_t l, int w)
+static int face_size(qtool_probe_layout_t l, int w)
 {
-    return l == QIBL_PROBE_LAYOUT_VCROSS ? w / 3 : w / 4;
+    return l == QTOOL_PROBE_LAYOUT_VCROSS ? w / 3 : w / 4;
 }
 
 /* is the pixel centre (i, j) of an n x n disc layout inside the disc */
@@ -137,12 +137,12 @@ static int disc_inside(int n, int i, int j)
     return a * a + b * b <= 1.0;
 }
 
-int qibl_probe_layout_dir(qibl_probe_layout_t l, int w, int h, double x, double y, double d[3])
+int qtool_probe_layout_dir(qtool_probe_layout_t l, int w, int h, double x, double y, double d[3])
 {
     if (w <= 0 || h <= 0 || !(x >= 0 && x <= w && y >= 0 && y <= h) || !d)
         return -1;
     double v[3];
-    if (l == QIBL_PROBE_LAYOUT_LATLONG) {
+    if (l == QTOOL_PROBE_LAYOUT_LATLONG) {
         double th = PI * y / h, ph = 2.0 * PI * x / w;
         d[0] = sin(th) * cos(ph), d[1] = sin(th) * sin(ph), d[2] = cos(th);
         return 0;
@@ -150,7 +150,7 @@ int qibl_probe_layout_dir(qibl_probe_layout_t l, int w, int h, double x, double 
         double a = 2.0 * x / w - 1.0, b = 1.0 - 2.0 * y / h, rho = sqrt(a * a + b * b);
         if (rho > 1.0)
             return -1;
-        double th = l == QIBL_PROBE_LAYOUT_ANGULAR ? PI * rho : 2.0 * asin(rho);
+        double th = l == QTOOL_PROBE_LAYOUT_ANGULAR ? PI * rho : 2.0 * asin(rho);
         if (rho == 0) {
             v[0] = 1, v[1] = 0, v[2] = 0;
         } else {
@@ -181,9 +181,9 @@ int qibl_probe_layout_dir(qibl_probe_layout_t l, int w, int h, double x, double 
 }
 
 /* image position of a unit world direction; for crosses also the face */
-static void pos_of(qibl_probe_layout_t l, int w, int h, const double d[3], double *x, double *y, const face **fo)
+static void pos_of(qtool_probe_layout_t l, int w, int h, const double d[3], double *x, double *y, const face **fo)
 {
-    if (l == QIBL_PROBE_LAYOUT_LATLONG) {
+    if (l == QTOOL_PROBE_LAYOUT_LATLONG) {
         double ph = atan2(d[1], d[0]);
         if (ph < 0)
             ph += 2.0 * PI;
@@ -196,7 +196,7 @@ static void pos_of(qibl_probe_layout_t l, int w, int h, const double d[3], doubl
     double v[3] = {-d[0], -d[1], d[2]};
     if (is_disc(l)) {
         double f = v[0], s = sqrt(v[1] * v[1] + v[2] * v[2]), th = atan2(s, f), a, b;
-        double rho = l == QIBL_PROBE_LAYOUT_ANGULAR ? th / PI : sin(th / 2.0);
+        double rho = l == QTOOL_PROBE_LAYOUT_ANGULAR ? th / PI : sin(th / 2.0);
         if (s == 0) {
             a = f > 0 ? 0 : 1, b = 0;
         } else {
@@ -215,9 +215,9 @@ static void pos_of(qibl_probe_layout_t l, int w, int h, const double d[3], doubl
         *fo = fc;
 }
 
-int qibl_probe_layout_pos(qibl_probe_layout_t l, int w, int h, const double d[3], double *x, double *y)
+int qtool_probe_layout_pos(qtool_probe_layout_t l, int w, int h, const double d[3], double *x, double *y)
 {
-    if (!d || !x || !y || w <= 0 || h <= 0 || !(l == QIBL_PROBE_LAYOUT_LATLONG || is_disc(l) || is_cross(l)))
+    if (!d || !x || !y || w <= 0 || h <= 0 || !(l == QTOOL_PROBE_LAYOUT_LATLONG || is_disc(l) || is_cross(l)))
         return -1;
     double n = sqrt(dot3(d, d));
     if (!(n > 0) || !isfinite(n))
@@ -360,12 +360,12 @@ static void sample_face(const float *img, int w, int F, const face *f, double x,
 }
 
 /* the layout's radiance along unit world direction d */
-static void sample_dir(qibl_probe_layout_t l, const float *img, int w, int h, const double d[3], double out[3])
+static void sample_dir(qtool_probe_layout_t l, const float *img, int w, int h, const double d[3], double out[3])
 {
     double x, y;
     const face *f = NULL;
     pos_of(l, w, h, d, &x, &y, &f);
-    if (l == QIBL_PROBE_LAYOUT_LATLONG)
+    if (l == QTOOL_PROBE_LAYOUT_LATLONG)
         sample_latlong(img, w, h, x, y, out);
     else if (is_disc(l))
         sample_disc(img, w, x, y, out);
@@ -375,27 +375,27 @@ static void sample_dir(qibl_probe_layout_t l, const float *img, int w, int h, co
 
 /* ---- checks --------------------------------------------------------------------------------- */
 
-int qibl_probe_layout_check(qibl_probe_layout_t l, int w, int h, char *err, size_t errlen)
+int qtool_probe_layout_check(qtool_probe_layout_t l, int w, int h, char *err, size_t errlen)
 {
-    const char *n = qibl_probe_layout_name(l);
-    if (!n || l == QIBL_PROBE_LAYOUT_AUTO)
-        return fail(err, errlen, "unknown probe layout %d (the layouts: %s)", (int)l, QIBL_PROBE_LAYOUT_NAMES);
+    const char *n = qtool_probe_layout_name(l);
+    if (!n || l == QTOOL_PROBE_LAYOUT_AUTO)
+        return fail(err, errlen, "unknown probe layout %d (the layouts: %s)", (int)l, QTOOL_PROBE_LAYOUT_NAMES);
     if (w <= 0 || h <= 0)
         return fail(err, errlen, "empty probe image (%d x %d)", w, h);
     if (w > MAX_DIM || h > MAX_DIM || (size_t)w * (size_t)h > MAX_PIXELS)
         return fail(err, errlen, "probe image %d x %d is too large (at most %d per side, 2^28 pixels)", w, h,
                     MAX_DIM);
     switch (l) {
-    case QIBL_PROBE_LAYOUT_LATLONG:
+    case QTOOL_PROBE_LAYOUT_LATLONG:
         return 0;
-    case QIBL_PROBE_LAYOUT_ANGULAR:
-    case QIBL_PROBE_LAYOUT_BALL:
+    case QTOOL_PROBE_LAYOUT_ANGULAR:
+    case QTOOL_PROBE_LAYOUT_BALL:
         if (w != h)
             return fail(err, errlen, "%s needs a square image, not %d x %d", n, w, h);
         if (w < 2)
             return fail(err, errlen, "%s needs at least 2 x 2 pixels, not %d x %d", n, w, h);
         return 0;
-    case QIBL_PROBE_LAYOUT_VCROSS:
+    case QTOOL_PROBE_LAYOUT_VCROSS:
         if (w % 3 != 0 || h % 4 != 0 || w / 3 != h / 4)
             return fail(err, errlen, "vcross needs 3F x 4F pixels (F x F faces), not %d x %d", w, h);
         return 0;
@@ -425,7 +425,7 @@ static double luma(const float *p)
 }
 
 /* mean luminance of the unused area over the used area's, for a layout the size fits */
-static double unused_share(qibl_probe_layout_t l, int w, int h, const float *rgb)
+static double unused_share(qtool_probe_layout_t l, int w, int h, const float *rgb)
 {
     double su = 0, sx = 0;
     size_t nu = 0, nx = 0;
@@ -454,7 +454,7 @@ static double unused_share(qibl_probe_layout_t l, int w, int h, const float *rgb
     return (sx / (double)nx) / (su / (double)nu);
 }
 
-int qibl_probe_layout_detect(int w, int h, const float *rgb, qibl_probe_layout_t *out, char *err, size_t errlen)
+int qtool_probe_layout_detect(int w, int h, const float *rgb, qtool_probe_layout_t *out, char *err, size_t errlen)
 {
     if (!rgb || !out)
         return fail(err, errlen, "no probe image");
@@ -466,57 +466,57 @@ int qibl_probe_layout_detect(int w, int h, const float *rgb, qibl_probe_layout_t
     if (check_samples(w, h, rgb, err, errlen) != 0)
         return -1;
     if ((size_t)w == 2 * (size_t)h) {
-        *out = QIBL_PROBE_LAYOUT_LATLONG;
+        *out = QTOOL_PROBE_LAYOUT_LATLONG;
         return 0;
     }
-    qibl_probe_layout_t l = QIBL_PROBE_LAYOUT_AUTO;
+    qtool_probe_layout_t l = QTOOL_PROBE_LAYOUT_AUTO;
     const char *what = NULL;
     /* 4w = 3h forces 3 | w and 4 | h: an exact 3:4 image always has whole faces (and 4:3 likewise) */
     if (4 * (size_t)w == 3 * (size_t)h) {
-        l = QIBL_PROBE_LAYOUT_VCROSS, what = "the cells outside the vertical cross's faces";
+        l = QTOOL_PROBE_LAYOUT_VCROSS, what = "the cells outside the vertical cross's faces";
     } else if (3 * (size_t)w == 4 * (size_t)h) {
-        l = QIBL_PROBE_LAYOUT_HCROSS, what = "the cells outside the horizontal cross's faces";
+        l = QTOOL_PROBE_LAYOUT_HCROSS, what = "the cells outside the horizontal cross's faces";
     } else if (w == h) {
-        l = QIBL_PROBE_LAYOUT_ANGULAR, what = "the corners outside the disc";
+        l = QTOOL_PROBE_LAYOUT_ANGULAR, what = "the corners outside the disc";
     } else {
         return fail(err, errlen, "%d x %d fits no probe layout (%s); give --layout if it is one of them", w, h,
-                    QIBL_PROBE_LAYOUT_NAMES);
+                    QTOOL_PROBE_LAYOUT_NAMES);
     }
     double share = unused_share(l, w, h, rgb);
     if (share > BLACK_SHARE)
         return fail(err, errlen,
                     "%d x %d: %s are not black (mean luminance %.3g of the picture's), so it fits no probe "
                     "layout (%s); give --layout to read it as one",
-                    w, h, what, share, QIBL_PROBE_LAYOUT_NAMES);
-    if (l == QIBL_PROBE_LAYOUT_ANGULAR)
+                    w, h, what, share, QTOOL_PROBE_LAYOUT_NAMES);
+    if (l == QTOOL_PROBE_LAYOUT_ANGULAR)
         return fail(err, errlen,
                     "%d x %d is a disc on black: an angular map or a mirror ball, which the pixels cannot tell "
                     "apart; give --layout angular or --layout ball (the layouts: %s)",
-                    w, h, QIBL_PROBE_LAYOUT_NAMES);
+                    w, h, QTOOL_PROBE_LAYOUT_NAMES);
     *out = l;
     return 0;
 }
 
 /* pixels along the horizon circle (the 360-degree line through F) */
-static int horizon_pixels(qibl_probe_layout_t l, int w)
+static int horizon_pixels(qtool_probe_layout_t l, int w)
 {
     return is_cross(l) ? 4 * face_size(l, w) : w;
 }
 
-int qibl_probe_layout_latlong_size(qibl_probe_layout_t l, int w, int h, int *ow, int *oh, char *err, size_t errlen)
+int qtool_probe_layout_latlong_size(qtool_probe_layout_t l, int w, int h, int *ow, int *oh, char *err, size_t errlen)
 {
     if (!ow || !oh)
         return fail(err, errlen, "no output size");
-    if (qibl_probe_layout_check(l, w, h, err, errlen) != 0)
+    if (qtool_probe_layout_check(l, w, h, err, errlen) != 0)
         return -1;
-    if (l == QIBL_PROBE_LAYOUT_LATLONG) {
+    if (l == QTOOL_PROBE_LAYOUT_LATLONG) {
         *ow = w, *oh = h;
         return 0;
     }
     int wi = horizon_pixels(l, w);
     wi += wi & 1;
-    if (wi > QIBL_PROBE_LAYOUT_MAX_W)
-        wi = QIBL_PROBE_LAYOUT_MAX_W;
+    if (wi > QTOOL_PROBE_LAYOUT_MAX_W)
+        wi = QTOOL_PROBE_LAYOUT_MAX_W;
     *ow = wi, *oh = wi / 2;
     return 0;
 }
@@ -534,12 +534,12 @@ static int alloc_rgb(int w, int h, float **out, char *err, size_t errlen)
     return *out ? 0 : fail(err, errlen, "out of memory for a %d x %d probe", w, h);
 }
 
-int qibl_probe_layout_to_latlong(qibl_probe_layout_t l, int w, int h, const float *rgb, int ow, int oh, float **out,
+int qtool_probe_layout_to_latlong(qtool_probe_layout_t l, int w, int h, const float *rgb, int ow, int oh, float **out,
                                  char *err, size_t errlen)
 {
     if (!rgb || !out)
         return fail(err, errlen, "no probe image");
-    if (qibl_probe_layout_check(l, w, h, err, errlen) != 0)
+    if (qtool_probe_layout_check(l, w, h, err, errlen) != 0)
         return -1;
     if (ow <= 0 || oh <= 0 || ow > 32768 || oh > 32768 || (size_t)ow * (size_t)oh > MAX_PIXELS)
         return fail(err, errlen, "lat-long output size %d x %d out of range", ow, oh);
@@ -548,7 +548,7 @@ int qibl_probe_layout_to_latlong(qibl_probe_layout_t l, int w, int h, const floa
     float *o;
     if (alloc_rgb(ow, oh, &o, err, errlen) != 0)
         return -1;
-    if (l == QIBL_PROBE_LAYOUT_LATLONG && ow == w && oh == h) {
+    if (l == QTOOL_PROBE_LAYOUT_LATLONG && ow == w && oh == h) {
         memcpy(o, rgb, sizeof *o * 3 * (size_t)w * (size_t)h);
         *out = o;
         return 0;
@@ -590,13 +590,13 @@ int qibl_probe_layout_to_latlong(qibl_probe_layout_t l, int w, int h, const floa
     return 0;
 }
 
-int qibl_probe_layout_from_latlong(qibl_probe_layout_t l, int lw, int lh, const float *latlong, int w, int h,
+int qtool_probe_layout_from_latlong(qtool_probe_layout_t l, int lw, int lh, const float *latlong, int w, int h,
                                    float **out, char *err, size_t errlen)
 {
     if (!latlong || !out)
         return fail(err, errlen, "no probe image");
-    if (qibl_probe_layout_check(QIBL_PROBE_LAYOUT_LATLONG, lw, lh, err, errlen) != 0 ||
-        qibl_probe_layout_check(l, w, h, err, errlen) != 0)
+    if (qtool_probe_layout_check(QTOOL_PROBE_LAYOUT_LATLONG, lw, lh, err, errlen) != 0 ||
+        qtool_probe_layout_check(l, w, h, err, errlen) != 0)
         return -1;
     if (check_samples(lw, lh, latlong, err, errlen) != 0)
         return -1;
@@ -621,11 +621,11 @@ int qibl_probe_layout_from_latlong(qibl_probe_layout_t l, int lw, int lh, const 
             }
             /* the pixel's angular size, from its neighbours (either side), for the box width */
             double size = 2.0 * PI / horizon_pixels(l, w);
-            if (qibl_probe_layout_dir(l, w, h, x + 0.5, y + 0.5, c0) == 0) {
+            if (qtool_probe_layout_dir(l, w, h, x + 0.5, y + 0.5, c0) == 0) {
                 double a = 0;
                 for (int k = 0; k < 4; ++k) {
                     double ox = k == 0 ? 1 : k == 1 ? -1 : 0, oy = k == 2 ? 1 : k == 3 ? -1 : 0;
-                    if (qibl_probe_layout_dir(l, w, h, x + 0.5 + ox, y + 0.5 + oy, c1) == 0) {
+                    if (qtool_probe_layout_dir(l, w, h, x + 0.5 + ox, y + 0.5 + oy, c1) == 0) {
                         double cr[3] = {c0[1] * c1[2] - c0[2] * c1[1], c0[2] * c1[0] - c0[0] * c1[2],
                                         c0[0] * c1[1] - c0[1] * c1[0]};
                         double t = atan2(sqrt(dot3(cr, cr)), dot3(c0, c1));
@@ -637,10 +637,10 @@ int qibl_probe_layout_from_latlong(qibl_probe_layout_t l, int lw, int lh, const 
             }
             for (int q = 0; q < s; ++q)
                 for (int p = 0; p < s; ++p) {
-                    if (qibl_probe_layout_dir(l, w, h, x + (p + 0.5) / s, y + (q + 0.5) / s, d) != 0)
+                    if (qtool_probe_layout_dir(l, w, h, x + (p + 0.5) / s, y + (q + 0.5) / s, d) != 0)
                         continue;
                     double px_x, px_y, st = sqrt(d[0] * d[0] + d[1] * d[1]);
-                    pos_of(QIBL_PROBE_LAYOUT_LATLONG, lw, lh, d, &px_x, &px_y, NULL);
+                    pos_of(QTOOL_PROBE_LAYOUT_LATLONG, lw, lh, d, &px_x, &px_y, NULL);
                     double span = st > 0 ? size / s / (st * col) : lw;
                     sample_latlong_box(&box, px_x, px_y, span, v);
                     acc[0] += v[0], acc[1] += v[1], acc[2] += v[2];
@@ -656,7 +656,7 @@ int qibl_probe_layout_from_latlong(qibl_probe_layout_t l, int lw, int lh, const 
 
 /* ---- RGBE ----------------------------------------------------------------------------------- */
 
-void qibl_probe_layout_rgbe_encode(const float *rgb, size_t n, uint8_t *rgbe)
+void qtool_probe_layout_rgbe_encode(const float *rgb, size_t n, uint8_t *rgbe)
 {
     for (size_t i = 0; i < n; ++i) {
         const float *p = rgb + 3 * i;
@@ -682,15 +682,15 @@ void qibl_probe_layout_rgbe_encode(const float *rgb, size_t n, uint8_t *rgbe)
     }
 }
 
-int qibl_probe_layout_rgbe_to_latlong(qibl_probe_layout_t want, int w, int h, const uint8_t *rgbe,
-                                      qibl_probe_layout_t *used, int *ow, int *oh, uint8_t **out, char *err,
+int qtool_probe_layout_rgbe_to_latlong(qtool_probe_layout_t want, int w, int h, const uint8_t *rgbe,
+                                      qtool_probe_layout_t *used, int *ow, int *oh, uint8_t **out, char *err,
                                       size_t errlen)
 {
     if (!rgbe || !used || !ow || !oh || !out)
         return fail(err, errlen, "no probe image");
-    if ((unsigned)want >= QIBL_PROBE_LAYOUT_COUNT)
-        return fail(err, errlen, "unknown probe layout %d (the layouts: %s)", (int)want, QIBL_PROBE_LAYOUT_NAMES);
-    if (want != QIBL_PROBE_LAYOUT_AUTO && qibl_probe_layout_check(want, w, h, err, errlen) != 0)
+    if ((unsigned)want >= QTOOL_PROBE_LAYOUT_COUNT)
+        return fail(err, errlen, "unknown probe layout %d (the layouts: %s)", (int)want, QTOOL_PROBE_LAYOUT_NAMES);
+    if (want != QTOOL_PROBE_LAYOUT_AUTO && qtool_probe_layout_check(want, w, h, err, errlen) != 0)
         return -1;
     if (w <= 0 || h <= 0)
         return fail(err, errlen, "empty probe image (%d x %d)", w, h);
@@ -698,11 +698,11 @@ int qibl_probe_layout_rgbe_to_latlong(qibl_probe_layout_t want, int w, int h, co
         return fail(err, errlen, "probe image %d x %d is too large (at most %d per side, 2^28 pixels)", w, h,
                     MAX_DIM);
     size_t np = (size_t)w * (size_t)h;
-    qibl_probe_layout_t l = want;
+    qtool_probe_layout_t l = want;
     float *f = NULL;
-    if (l == QIBL_PROBE_LAYOUT_AUTO && (size_t)w == 2 * (size_t)h)
-        l = QIBL_PROBE_LAYOUT_LATLONG; /* what detection says of any 2:1 image (RGBE has no NaN) */
-    if (l != QIBL_PROBE_LAYOUT_LATLONG) {
+    if (l == QTOOL_PROBE_LAYOUT_AUTO && (size_t)w == 2 * (size_t)h)
+        l = QTOOL_PROBE_LAYOUT_LATLONG; /* what detection says of any 2:1 image (RGBE has no NaN) */
+    if (l != QTOOL_PROBE_LAYOUT_LATLONG) {
         f = malloc(sizeof *f * 3 * np);
         if (!f)
             return fail(err, errlen, "out of memory for a %d x %d probe", w, h);
@@ -711,12 +711,12 @@ int qibl_probe_layout_rgbe_to_latlong(qibl_probe_layout_t want, int w, int h, co
                 const uint8_t *q = rgbe + 4 * i;
                 f[3 * i + (size_t)c] = q[3] ? (float)ldexp(q[c], q[3] - 136) : 0.0f;
             }
-        if (l == QIBL_PROBE_LAYOUT_AUTO && qibl_probe_layout_detect(w, h, f, &l, err, errlen) != 0) {
+        if (l == QTOOL_PROBE_LAYOUT_AUTO && qtool_probe_layout_detect(w, h, f, &l, err, errlen) != 0) {
             free(f);
             return -1;
         }
     }
-    if (l == QIBL_PROBE_LAYOUT_LATLONG) {
+    if (l == QTOOL_PROBE_LAYOUT_LATLONG) {
         free(f);
         uint8_t *o = malloc(4 * np);
         if (!o)
@@ -727,8 +727,8 @@ int qibl_probe_layout_rgbe_to_latlong(qibl_probe_layout_t want, int w, int h, co
     }
     int lw, lh;
     float *ll = NULL;
-    if (qibl_probe_layout_latlong_size(l, w, h, &lw, &lh, err, errlen) != 0 ||
-        qibl_probe_layout_to_latlong(l, w, h, f, lw, lh, &ll, err, errlen) != 0) {
+    if (qtool_probe_layout_latlong_size(l, w, h, &lw, &lh, err, errlen) != 0 ||
+        qtool_probe_layout_to_latlong(l, w, h, f, lw, lh, &ll, err, errlen) != 0) {
         free(f);
         return -1;
     }
@@ -738,7 +738,7 @@ int qibl_probe_layout_rgbe_to_latlong(qibl_probe_layout_t want, int w, int h, co
         free(ll);
         return fail(err, errlen, "out of memory for a %d x %d probe", lw, lh);
     }
-    qibl_probe_layout_rgbe_encode(ll, (size_t)lw * (size_t)lh, o);
+    qtool_probe_layout_rgbe_encode(ll, (size_t)lw * (size_t)lh, o);
     free(ll);
     *used = l, *ow = lw, *oh = lh, *out = o;
     return 0;

@@ -35,7 +35,7 @@
  *            top edge touches D's bottom edge). Unused cells are black.
  *   hcross   4F x 3F, the same faces, the back face to the right of R.
  *
- * Detection (qibl_probe_layout_detect) uses the aspect ratio and, for the non-lat-long layouts,
+ * Detection (qtool_probe_layout_detect) uses the aspect ratio and, for the non-lat-long layouts,
  * checks that the unused area is black: mean luminance of the unused pixels <= 1e-3 of the mean of
  * the used ones (for the disc layouts the unused pixels are those whose centre lies at least one
  * pixel outside the disc). 2:1 is latlong, 3:4 vcross, 4:3 hcross. A square with black corners is
@@ -43,95 +43,95 @@
  * --layout. Anything else is refused with the names of the layouts. Nothing is guessed silently:
  * the caller prints what was detected.
  *
- * Resampling (qibl_probe_layout_to_latlong): the output is Wo x Wo/2 with Wo the number of input
+ * Resampling (qtool_probe_layout_to_latlong): the output is Wo x Wo/2 with Wo the number of input
  * pixels along the horizon circle (the row or diameter through F that spans 360 degrees): N for
- * angular and ball, 4F for the crosses, rounded up to even and capped at QIBL_PROBE_LAYOUT_MAX_W.
+ * angular and ball, 4F for the crosses, rounded up to even and capped at QTOOL_PROBE_LAYOUT_MAX_W.
  * Each output pixel is the mean of s x s bilinear samples on a regular sub-grid, s = 2 ceil(Wi / Wo)
  * where Wi is the uncapped width (so a capped output still averages its whole footprint). Bilinear
  * taps only use pixels inside the layout: a disc's taps whose centre lies outside the disc are
  * dropped and the rest renormalised (a point closer than 1.5 pixels to the rim is first pulled in
- * radially), a cube face's taps are clamped to that face. The reverse (qibl_probe_layout_from_latlong)
+ * radially), a cube face's taps are clamped to that face. The reverse (qtool_probe_layout_from_latlong)
  * samples the lat-long the same way (wrapping in phi) and leaves the unused area at exactly 0.
  *
  * Errors: every function that can fail returns -1 with one line in err naming the value, and writes
  * no output; 0 on success.
  */
-#ifndef QIBL_IO_PROBE_LAYOUT_H
-#define QIBL_IO_PROBE_LAYOUT_H
+#ifndef QTOOL_IO_PROBE_LAYOUT_H
+#define QTOOL_IO_PROBE_LAYOUT_H
 
 #include <stddef.h>
 #include <stdint.h>
 
-typedef enum qibl_probe_layout {
-    QIBL_PROBE_LAYOUT_AUTO = 0, /* detect */
-    QIBL_PROBE_LAYOUT_LATLONG,
-    QIBL_PROBE_LAYOUT_ANGULAR,
-    QIBL_PROBE_LAYOUT_BALL,
-    QIBL_PROBE_LAYOUT_VCROSS,
-    QIBL_PROBE_LAYOUT_HCROSS,
-    QIBL_PROBE_LAYOUT_COUNT
-} qibl_probe_layout_t;
+typedef enum qtool_probe_layout {
+    QTOOL_PROBE_LAYOUT_AUTO = 0, /* detect */
+    QTOOL_PROBE_LAYOUT_LATLONG,
+    QTOOL_PROBE_LAYOUT_ANGULAR,
+    QTOOL_PROBE_LAYOUT_BALL,
+    QTOOL_PROBE_LAYOUT_VCROSS,
+    QTOOL_PROBE_LAYOUT_HCROSS,
+    QTOOL_PROBE_LAYOUT_COUNT
+} qtool_probe_layout_t;
 
 /* what every refusal lists */
-#define QIBL_PROBE_LAYOUT_NAMES "latlong (2:1), angular (square), ball (square), vcross (3:4), hcross (4:3)"
+#define QTOOL_PROBE_LAYOUT_NAMES "latlong (2:1), angular (square), ball (square), vcross (3:4), hcross (4:3)"
 
 /* largest lat-long width the resampler writes (8192 x 4096 = 2^25 pixels, within lightprobe.h) */
-#define QIBL_PROBE_LAYOUT_MAX_W 8192
+#define QTOOL_PROBE_LAYOUT_MAX_W 8192
 
 /* "auto", "latlong", "angular", "ball", "vcross", "hcross"; NULL for an unknown value */
-const char *qibl_probe_layout_name(qibl_probe_layout_t layout);
+const char *qtool_probe_layout_name(qtool_probe_layout_t layout);
 
 /* One line describing the layout, for the CLI ("Debevec angular map", ...); never NULL. */
-const char *qibl_probe_layout_describe(qibl_probe_layout_t layout);
+const char *qtool_probe_layout_describe(qtool_probe_layout_t layout);
 
-/* Parses a name as qibl_probe_layout_name gives it ("auto" included); 0, or -1 (*out untouched). */
-int qibl_probe_layout_parse(const char *s, qibl_probe_layout_t *out);
+/* Parses a name as qtool_probe_layout_name gives it ("auto" included); 0, or -1 (*out untouched). */
+int qtool_probe_layout_parse(const char *s, qtool_probe_layout_t *out);
 
 /* Whether a w x h image can hold the layout: latlong any w, h >= 1 (the CLI warns unless 2:1);
  * angular and ball square, w >= 2; vcross 3F x 4F and hcross 4F x 3F, F >= 1. */
-int qibl_probe_layout_check(qibl_probe_layout_t layout, int w, int h, char *err, size_t errlen);
+int qtool_probe_layout_check(qtool_probe_layout_t layout, int w, int h, char *err, size_t errlen);
 
 /* The layout of a w x h float RGB image (rows top first), by the rules above. Refuses non-finite or
  * negative samples (naming the pixel), a square with black corners (ambiguous: asks for --layout),
  * and every image that fits no layout (naming them). */
-int qibl_probe_layout_detect(int w, int h, const float *rgb, qibl_probe_layout_t *out, char *err, size_t errlen);
+int qtool_probe_layout_detect(int w, int h, const float *rgb, qtool_probe_layout_t *out, char *err, size_t errlen);
 
 /* The lat-long size the resampler writes for a w x h image in the layout (see above). */
-int qibl_probe_layout_latlong_size(qibl_probe_layout_t layout, int w, int h, int *ow, int *oh, char *err,
+int qtool_probe_layout_latlong_size(qtool_probe_layout_t layout, int w, int h, int *ow, int *oh, char *err,
                                    size_t errlen);
 
 /* Resamples a w x h float RGB image in the layout (not AUTO) to an ow x oh lat-long, malloc'd into
  * *out (the caller frees). latlong in, same size out: an exact copy. Samples must be finite and
  * >= 0 (else the pixel is named). */
-int qibl_probe_layout_to_latlong(qibl_probe_layout_t layout, int w, int h, const float *rgb, int ow, int oh,
+int qtool_probe_layout_to_latlong(qtool_probe_layout_t layout, int w, int h, const float *rgb, int ow, int oh,
                                  float **out, char *err, size_t errlen);
 
 /* The reverse: a lw x lh lat-long into a w x h image of the layout, malloc'd into *out. */
-int qibl_probe_layout_from_latlong(qibl_probe_layout_t layout, int lw, int lh, const float *latlong, int w, int h,
+int qtool_probe_layout_from_latlong(qtool_probe_layout_t layout, int lw, int lh, const float *latlong, int w, int h,
                                    float **out, char *err, size_t errlen);
 
 /* The world direction (unit, qibl's frame) of continuous image position (x, y) (pixel centres at
  * integer + 1/2) of a w x h image in the layout: 0, or -1 where the layout has no picture (outside
  * the disc, unused cross cells, outside the image). */
-int qibl_probe_layout_dir(qibl_probe_layout_t layout, int w, int h, double x, double y, double d[3]);
+int qtool_probe_layout_dir(qtool_probe_layout_t layout, int w, int h, double x, double y, double d[3]);
 
 /* The image position of a world direction d (any length > 0); 0, or -1 for a zero d or a layout
  * that is not one. Positions are inside the image; on a disc's rim the point chosen is
  * (rightmost, centre row). */
-int qibl_probe_layout_pos(qibl_probe_layout_t layout, int w, int h, const double d[3], double *x, double *y);
+int qtool_probe_layout_pos(qtool_probe_layout_t layout, int w, int h, const double d[3], double *x, double *y);
 
 /* Radiance RGBE bytes of n float RGB pixels, in the convention of io/hdr.h and qibl/lightprobe.h
  * (P = m 2^(E - 136), no +1/2): the largest channel rounded to nearest on 8 bits, the others on the
  * same exponent. Values below 2^-128 are 0; values are assumed finite and >= 0 (as the resampler
  * writes them), and above 2^127 saturate. */
-void qibl_probe_layout_rgbe_encode(const float *rgb, size_t n, uint8_t *rgbe);
+void qtool_probe_layout_rgbe_encode(const float *rgb, size_t n, uint8_t *rgbe);
 
-/* The CLI's path: a Radiance file's RGBE pixels (w x h, 4 bytes each, as qibl_hdr_read_rgbe gives)
+/* The CLI's path: a Radiance file's RGBE pixels (w x h, 4 bytes each, as qtool_hdr_read_rgbe gives)
  * in the layout `want` (AUTO: detect) to a lat-long of RGBE bytes. *used gets the layout read;
  * for latlong the pixels are copied as they are (bit for bit), otherwise decoded to float,
  * resampled and re-encoded. *out (malloc'd, ow x oh pixels) belongs to the caller. */
-int qibl_probe_layout_rgbe_to_latlong(qibl_probe_layout_t want, int w, int h, const uint8_t *rgbe,
-                                      qibl_probe_layout_t *used, int *ow, int *oh, uint8_t **out, char *err,
+int qtool_probe_layout_rgbe_to_latlong(qtool_probe_layout_t want, int w, int h, const uint8_t *rgbe,
+                                      qtool_probe_layout_t *used, int *ow, int *oh, uint8_t **out, char *err,
                                       size_t errlen);
 
 #endif

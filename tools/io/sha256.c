@@ -38,7 +38,7 @@ static void block(uint32_t h[8], const uint8_t *p)
     h[0] += a, h[1] += b, h[2] += c, h[3] += d, h[4] += e, h[5] += f, h[6] += g, h[7] += k;
 }
 
-void qibl_sha256_init(qibl_sha256_t *s)
+void qtool_sha256_init(qtool_sha256_t *s)
 {
     static const uint32_t h0[8] = {0x6a09e667u, 0xbb67ae85u, 0x3c6ef372u, 0xa54ff53au,
                                    0x510e527fu, 0x9b05688cu, 0x1f83d9abu, 0x5be0cd19u};
@@ -47,7 +47,7 @@ void qibl_sha256_init(qibl_sha256_t *s)
     s->fill = 0;
 }
 
-void qibl_sha256_update(qibl_sha256_t *s, const void *data, size_t n)
+void qtool_sha256_update(qtool_sha256_t *s, const void *data, size_t n)
 {
     const uint8_t *p = (const uint8_t *)data;
     if (n == 0)
@@ -69,7 +69,7 @@ void qibl_sha256_update(qibl_sha256_t *s, const void *data, size_t n)
     s->fill = n;
 }
 
-void qibl_sha256_final(qibl_sha256_t *s, uint8_t out[32])
+void qtool_sha256_final(qtool_sha256_t *s, uint8_t out[32])
 {
     uint64_t bits = s->bytes * 8u;
     s->buf[s->fill++] = 0x80;
@@ -88,7 +88,7 @@ void qibl_sha256_final(qibl_sha256_t *s, uint8_t out[32])
     s->fill = 0;
 }
 
-void qibl_sha256_to_hex(const uint8_t digest[32], char out[65])
+void qtool_sha256_to_hex(const uint8_t digest[32], char out[65])
 {
     static const char hex[] = "0123456789abcdef";
     for (int i = 0; i < 32; ++i) {
@@ -98,12 +98,12 @@ void qibl_sha256_to_hex(const uint8_t digest[32], char out[65])
     out[64] = '\0';
 }
 
-void qibl_sha256_hex(const void *data, size_t n, char out[65])
+void qtool_sha256_hex(const void *data, size_t n, char out[65])
 {
-    qibl_sha256_t s;
+    qtool_sha256_t s;
     uint8_t d[32];
-    qibl_sha256_init(&s);
-    qibl_sha256_update(&s, data, n);
-    qibl_sha256_final(&s, d);
-    qibl_sha256_to_hex(d, out);
+    qtool_sha256_init(&s);
+    qtool_sha256_update(&s, data, n);
+    qtool_sha256_final(&s, d);
+    qtool_sha256_to_hex(d, out);
 }

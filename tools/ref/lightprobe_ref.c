@@ -10,12 +10,12 @@
 
 #define PI 3.14159265358979323846
 
-static size_t cell(const qibl_ref_probe *p, int u, int v)
+static size_t cell(const qtool_ref_probe *p, int u, int v)
 {
     return (size_t)v * (size_t)(p->w + 1) + (size_t)u;
 }
 
-int qibl_ref_probe_init(qibl_ref_probe *p, int w, int h, const double *rgb)
+int qtool_ref_probe_init(qtool_ref_probe *p, int w, int h, const double *rgb)
 {
     memset(p, 0, sizeof *p);
     if (w < 1 || h < 1)
@@ -28,7 +28,7 @@ int qibl_ref_probe_init(qibl_ref_probe *p, int w, int h, const double *rgb)
     p->mom = calloc(5 * cells, sizeof *p->mom);
     p->rowsin = malloc((size_t)h * sizeof *p->rowsin);
     if (!p->rgb || !p->sat || !p->mom || !p->rowsin) {
-        qibl_ref_probe_free(p);
+        qtool_ref_probe_free(p);
         return -1;
     }
     memcpy(p->rgb, rgb, 3 * n * sizeof *p->rgb);
@@ -38,7 +38,7 @@ int qibl_ref_probe_init(qibl_ref_probe *p, int w, int h, const double *rgb)
         long double acc[5] = {0};
         for (int u = 0; u < w; ++u) {
             const double *q = rgb + 3 * ((size_t)v * (size_t)w + (size_t)u);
-            long double e = (QIBL_REF_LUMA_R * q[0] + QIBL_REF_LUMA_G * q[1] + QIBL_REF_LUMA_B * q[2]) * p->rowsin[v];
+            long double e = (QTOOL_REF_LUMA_R * q[0] + QTOOL_REF_LUMA_G * q[1] + QTOOL_REF_LUMA_B * q[2]) * p->rowsin[v];
             acc[0] += e;
             acc[1] += e * u;
             acc[2] += e * u * u;
@@ -52,13 +52,13 @@ int qibl_ref_probe_init(qibl_ref_probe *p, int w, int h, const double *rgb)
     return 0;
 }
 
-void qibl_ref_probe_free(qibl_ref_probe *p)
+void qtool_ref_probe_free(qtool_ref_probe *p)
 {
     free(p->rgb), free(p->sat), free(p->mom), free(p->rowsin);
     memset(p, 0, sizeof *p);
 }
 
-void qibl_ref_probe_dir(const qibl_ref_probe *p, double x, double y, double d[3])
+void qtool_ref_probe_dir(const qtool_ref_probe *p, double x, double y, double d[3])
 {
     double t = y * PI / p->h, f = x * 2.0 * PI / p->w;
     d[0] = sin(t) * cos(f);
@@ -66,18 +66,18 @@ void qibl_ref_probe_dir(const qibl_ref_probe *p, double x, double y, double d[3]
     d[2] = cos(t);
 }
 
-long double qibl_ref_probe_energy(const qibl_ref_probe *p, int u0, int v0, int u1, int v1)
+long double qtool_ref_probe_energy(const qtool_ref_probe *p, int u0, int v0, int u1, int v1)
 {
     long double s = 0;
     for (int v = v0; v < v1; ++v)
         for (int u = u0; u < u1; ++u) {
             const double *q = p->rgb + 3 * ((size_t)v * (size_t)p->w + (size_t)u);
-            s += (long double)(QIBL_REF_LUMA_R * q[0] + QIBL_REF_LUMA_G * q[1] + QIBL_REF_LUMA_B * q[2]) * p->rowsin[v];
+            s += (long double)(QTOOL_REF_LUMA_R * q[0] + QTOOL_REF_LUMA_G * q[1] + QTOOL_REF_LUMA_B * q[2]) * p->rowsin[v];
         }
     return s;
 }
 
-void qibl_ref_probe_rgb(const qibl_ref_probe *p, int u0, int v0, int u1, int v1, double rgb[3])
+void qtool_ref_probe_rgb(const qtool_ref_probe *p, int u0, int v0, int u1, int v1, double rgb[3])
 {
     long double s[3] = {0};
     for (int v = v0; v < v1; ++v)
@@ -89,7 +89,7 @@ void qibl_ref_probe_rgb(const qibl_ref_probe *p, int u0, int v0, int u1, int v1,
         rgb[c] = (double)s[c] * k;
 }
 
-void qibl_ref_probe_place(const qibl_ref_probe *p, int u0, int v0, int u1, int v1, int centre, double d[3])
+void qtool_ref_probe_place(const qtool_ref_probe *p, int u0, int v0, int u1, int v1, int centre, double d[3])
 {
     double x = 0.5 * (u0 + u1), y = 0.5 * (v0 + v1);
     if (!centre) {
@@ -97,7 +97,7 @@ void qibl_ref_probe_place(const qibl_ref_probe *p, int u0, int v0, int u1, int v
         for (int v = v0; v < v1; ++v)
             for (int u = u0; u < u1; ++u) {
                 const double *q = p->rgb + 3 * ((size_t)v * (size_t)p->w + (size_t)u);
-                long double e = (QIBL_REF_LUMA_R * q[0] + QIBL_REF_LUMA_G * q[1] + QIBL_REF_LUMA_B * q[2]) * p->rowsin[v];
+                long double e = (QTOOL_REF_LUMA_R * q[0] + QTOOL_REF_LUMA_G * q[1] + QTOOL_REF_LUMA_B * q[2]) * p->rowsin[v];
                 s += e;
                 sx += e * (u + 0.5);
                 sy += e * (v + 0.5);
@@ -107,7 +107,7 @@ void qibl_ref_probe_place(const qibl_ref_probe *p, int u0, int v0, int u1, int v
             y = (double)(sy / s);
         }
     }
-    qibl_ref_probe_dir(p, x, y, d);
+    qtool_ref_probe_dir(p, x, y, d);
 }
 
 /* ---- samplers -------------------------------------------------------------------------------- */
@@ -116,13 +116,13 @@ typedef struct {
     int u0, v0, u1, v1;
 } rect;
 
-static long double sat_sum(const qibl_ref_probe *p, int u0, int v0, int u1, int v1)
+static long double sat_sum(const qtool_ref_probe *p, int u0, int v0, int u1, int v1)
 {
     return p->sat[cell(p, u1, v1)] - p->sat[cell(p, u0, v1)] - p->sat[cell(p, u1, v0)] + p->sat[cell(p, u0, v0)];
 }
 
 /* exact zero test for dropping dark halves: direct, since SAT differences of long doubles are not */
-static int lit(const qibl_ref_probe *p, rect r)
+static int lit(const qtool_ref_probe *p, rect r)
 {
     for (int v = r.v0; v < r.v1; ++v)
         for (int u = r.u0; u < r.u1; ++u) {
@@ -133,14 +133,14 @@ static int lit(const qibl_ref_probe *p, rect r)
     return 0;
 }
 
-static int px_lit(const qibl_ref_probe *p, int u, int v)
+static int px_lit(const qtool_ref_probe *p, int u, int v)
 {
     const double *q = p->rgb + 3 * ((size_t)v * (size_t)p->w + (size_t)u);
     return q[0] > 0 || q[1] > 0 || q[2] > 0;
 }
 
 /* the bounding box of the lit pixels of a lit region, by plain scans */
-static void crop(const qibl_ref_probe *p, rect *r)
+static void crop(const qtool_ref_probe *p, rect *r)
 {
     int u0 = r->u1, u1 = r->u0, v0 = r->v1, v1 = r->v0;
     for (int v = r->v0; v < r->v1; ++v)
@@ -154,7 +154,7 @@ static void crop(const qibl_ref_probe *p, rect *r)
     r->u0 = u0, r->u1 = u1, r->v0 = v0, r->v1 = v1;
 }
 
-static double mean_sin(const qibl_ref_probe *p, int v0, int v1)
+static double mean_sin(const qtool_ref_probe *p, int v0, int v1)
 {
     double s = 0;
     for (int v = v0; v < v1; ++v)
@@ -163,13 +163,13 @@ static double mean_sin(const qibl_ref_probe *p, int v0, int v1)
 }
 
 /* angular width and height of a region, in radians */
-static void sides(const qibl_ref_probe *p, rect r, double *aw, double *ah)
+static void sides(const qtool_ref_probe *p, rect r, double *aw, double *ah)
 {
     *aw = (r.u1 - r.u0) * 2.0 * PI / p->w * mean_sin(p, r.v0, r.v1);
     *ah = (r.v1 - r.v0) * PI / p->h;
 }
 
-static int cut_median(const qibl_ref_probe *p, rect r, rect *a, rect *b)
+static int cut_median(const qtool_ref_probe *p, rect r, rect *a, rect *b)
 {
     int w = r.u1 - r.u0, h = r.v1 - r.v0;
     if (w < 2 && h < 2)
@@ -197,7 +197,7 @@ static int cut_median(const qibl_ref_probe *p, rect r, rect *a, rect *b)
     return 1;
 }
 
-static double variance(const qibl_ref_probe *p, rect r)
+static double variance(const qtool_ref_probe *p, rect r)
 {
     long double m[5];
     for (int j = 0; j < 5; ++j)
@@ -215,7 +215,7 @@ static double variance(const qibl_ref_probe *p, rect r)
     return (double)(vu * k * k + vv * l * l);
 }
 
-static int cut_varmin(const qibl_ref_probe *p, rect r, rect *a, rect *b)
+static int cut_varmin(const qtool_ref_probe *p, rect r, rect *a, rect *b)
 {
     int w = r.u1 - r.u0, h = r.v1 - r.v0;
     if (w < 2 && h < 2)
@@ -249,14 +249,14 @@ static int cut_varmin(const qibl_ref_probe *p, rect r, rect *a, rect *b)
     return found;
 }
 
-static double key(const qibl_ref_probe *p, rect r, int pri)
+static double key(const qtool_ref_probe *p, rect r, int pri)
 {
     if (r.u1 - r.u0 < 2 && r.v1 - r.v0 < 2)
         return 0;
     double e = (double)sat_sum(p, r.u0, r.v0, r.u1, r.v1);
-    if (pri == QIBL_REF_PRI_ENERGY)
+    if (pri == QTOOL_REF_PRI_ENERGY)
         return e;
-    if (pri == QIBL_REF_PRI_ENERGY_SIZE) {
+    if (pri == QTOOL_REF_PRI_ENERGY_SIZE) {
         double aw, ah;
         sides(p, r, &aw, &ah);
         return e * (aw > ah ? aw : ah);
@@ -264,16 +264,16 @@ static double key(const qibl_ref_probe *p, rect r, int pri)
     return variance(p, r);
 }
 
-static double light_energy(const qibl_ref_probe *p, const qibl_ref_light *l)
+static double light_energy(const qtool_ref_probe *p, const qtool_ref_light *l)
 {
     return (double)sat_sum(p, l->u0, l->v0, l->u1, l->v1);
 }
 
-static const qibl_ref_probe *sort_probe;
+static const qtool_ref_probe *sort_probe;
 
 static int cmp_bright(const void *x, const void *y)
 {
-    const qibl_ref_light *a = x, *b = y;
+    const qtool_ref_light *a = x, *b = y;
     double ea = light_energy(sort_probe, a), eb = light_energy(sort_probe, b);
     if (ea != eb)
         return ea > eb ? -1 : 1;
@@ -282,16 +282,16 @@ static int cmp_bright(const void *x, const void *y)
     return (a->u0 > b->u0) - (a->u0 < b->u0);
 }
 
-int qibl_ref_lights(const qibl_ref_probe *p, int method, int priority, int centre, int max, qibl_ref_light *out)
+int qtool_ref_lights(const qtool_ref_probe *p, int method, int priority, int centre, int max, qtool_ref_light *out)
 {
     if (max < 1 || method < 0 || method > 2)
         return -1;
     int pri = priority;
-    if (method == QIBL_REF_MEDIANCUT)
-        pri = QIBL_REF_PRI_LEVELS;
-    else if (pri == QIBL_REF_PRI_DEFAULT)
-        pri = method == QIBL_REF_VARMIN ? QIBL_REF_PRI_VARIANCE : QIBL_REF_PRI_ENERGY_SIZE;
-    if (pri == QIBL_REF_PRI_LEVELS && (max & (max - 1)) != 0)
+    if (method == QTOOL_REF_MEDIANCUT)
+        pri = QTOOL_REF_PRI_LEVELS;
+    else if (pri == QTOOL_REF_PRI_DEFAULT)
+        pri = method == QTOOL_REF_VARMIN ? QTOOL_REF_PRI_VARIANCE : QTOOL_REF_PRI_ENERGY_SIZE;
+    if (pri == QTOOL_REF_PRI_LEVELS && (max & (max - 1)) != 0)
         return -1;
     rect all = {0, 0, p->w, p->h};
     if (!lit(p, all))
@@ -302,8 +302,8 @@ int qibl_ref_lights(const qibl_ref_probe *p, int method, int priority, int centr
     int n = 1;
     crop(p, &all);
     R[0] = all;
-    int (*cut)(const qibl_ref_probe *, rect, rect *, rect *) = method == QIBL_REF_VARMIN ? cut_varmin : cut_median;
-    if (pri == QIBL_REF_PRI_LEVELS) {
+    int (*cut)(const qtool_ref_probe *, rect, rect *, rect *) = method == QTOOL_REF_VARMIN ? cut_varmin : cut_median;
+    if (pri == QTOOL_REF_PRI_LEVELS) {
         for (int round = 1; round < max; round <<= 1) {
             int m = n;
             for (int i = 0; i < m; ++i) {
@@ -339,10 +339,10 @@ int qibl_ref_lights(const qibl_ref_probe *p, int method, int priority, int centr
         }
     }
     for (int i = 0; i < n; ++i) {
-        qibl_ref_light *l = &out[i];
+        qtool_ref_light *l = &out[i];
         l->u0 = R[i].u0, l->v0 = R[i].v0, l->u1 = R[i].u1, l->v1 = R[i].v1;
-        qibl_ref_probe_rgb(p, l->u0, l->v0, l->u1, l->v1, l->rgb);
-        qibl_ref_probe_place(p, l->u0, l->v0, l->u1, l->v1, centre, l->dir);
+        qtool_ref_probe_rgb(p, l->u0, l->v0, l->u1, l->v1, l->rgb);
+        qtool_ref_probe_place(p, l->u0, l->v0, l->u1, l->v1, centre, l->dir);
     }
     free(R);
     sort_probe = p;
@@ -352,7 +352,7 @@ int qibl_ref_lights(const qibl_ref_probe *p, int method, int priority, int centr
 
 /* ---- irradiance ------------------------------------------------------------------------------ */
 
-void qibl_ref_sphere_dirs(int n, double (*d)[3])
+void qtool_ref_sphere_dirs(int n, double (*d)[3])
 {
     const double ga = PI * (3.0 - sqrt(5.0));
     for (int i = 0; i < n; ++i) {
@@ -364,7 +364,7 @@ void qibl_ref_sphere_dirs(int n, double (*d)[3])
 }
 
 typedef struct {
-    const qibl_ref_probe *p;
+    const qtool_ref_probe *p;
     const double (*normals)[3];
     double *E;
     int i0, i1;
@@ -389,7 +389,7 @@ static void *irr_run(void *arg)
     return NULL;
 }
 
-void qibl_ref_probe_irradiance(const qibl_ref_probe *p, int n, const double (*normals)[3], double *E, int threads)
+void qtool_ref_probe_irradiance(const qtool_ref_probe *p, int n, const double (*normals)[3], double *E, int threads)
 {
     size_t np = (size_t)p->w * (size_t)p->h;
     double (*pd)[3] = malloc(np * sizeof *pd);
@@ -404,9 +404,9 @@ void qibl_ref_probe_irradiance(const qibl_ref_probe *p, int n, const double (*no
     for (int v = 0; v < p->h; ++v)
         for (int u = 0; u < p->w; ++u) {
             size_t i = (size_t)v * (size_t)p->w + (size_t)u;
-            qibl_ref_probe_dir(p, u + 0.5, v + 0.5, pd[i]);
+            qtool_ref_probe_dir(p, u + 0.5, v + 0.5, pd[i]);
             const double *c = p->rgb + 3 * i;
-            q[i] = (QIBL_REF_LUMA_R * c[0] + QIBL_REF_LUMA_G * c[1] + QIBL_REF_LUMA_B * c[2]) * p->rowsin[v] * k;
+            q[i] = (QTOOL_REF_LUMA_R * c[0] + QTOOL_REF_LUMA_G * c[1] + QTOOL_REF_LUMA_B * c[2]) * p->rowsin[v] * k;
         }
     if (threads < 1)
         threads = 1;
@@ -427,18 +427,18 @@ void qibl_ref_probe_irradiance(const qibl_ref_probe *p, int n, const double (*no
     free(pd), free(q);
 }
 
-double qibl_ref_lights_irradiance(const qibl_ref_light *l, int count, const double n[3])
+double qtool_ref_lights_irradiance(const qtool_ref_light *l, int count, const double n[3])
 {
     double s = 0;
     for (int i = 0; i < count; ++i) {
         double c = n[0] * l[i].dir[0] + n[1] * l[i].dir[1] + n[2] * l[i].dir[2];
         if (c > 0)
-            s += (QIBL_REF_LUMA_R * l[i].rgb[0] + QIBL_REF_LUMA_G * l[i].rgb[1] + QIBL_REF_LUMA_B * l[i].rgb[2]) * c;
+            s += (QTOOL_REF_LUMA_R * l[i].rgb[0] + QTOOL_REF_LUMA_G * l[i].rgb[1] + QTOOL_REF_LUMA_B * l[i].rgb[2]) * c;
     }
     return s;
 }
 
-void qibl_ref_irradiance_error(const qibl_ref_light *l, int count, int n, const double (*normals)[3],
+void qtool_ref_irradiance_error(const qtool_ref_light *l, int count, int n, const double (*normals)[3],
                                const double *E_probe, double *mean_err, double *max_err)
 {
     double mean = 0, se = 0, mx = 0;
@@ -446,7 +446,7 @@ void qibl_ref_irradiance_error(const qibl_ref_light *l, int count, int n, const 
         mean += E_probe[i];
     mean /= n;
     for (int i = 0; i < n; ++i) {
-        double e = fabs(qibl_ref_lights_irradiance(l, count, normals[i]) - E_probe[i]);
+        double e = fabs(qtool_ref_lights_irradiance(l, count, normals[i]) - E_probe[i]);
         se += e;
         if (e > mx)
             mx = e;

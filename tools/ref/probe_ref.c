@@ -11,7 +11,7 @@
 
 #define REF_PI 3.14159265358979323846
 
-void qibl_ref_probe_sh(int w, int h, const double *rgb, int bands, double out[3][25])
+void qtool_ref_probe_sh(int w, int h, const double *rgb, int bands, double out[3][25])
 {
     for (int c = 0; c < 3; ++c)
         for (int i = 0; i < 25; ++i)
@@ -30,7 +30,7 @@ void qibl_ref_probe_sh(int w, int h, const double *rgb, int bands, double out[3]
     }
     for (int v = 0; v < h; ++v) {
         double t = (v + 0.5) * REF_PI / h, dw = (2.0 * REF_PI / w) * (REF_PI / h) * sin(t), y[25];
-        qibl_ref_sh_eval(sin(t), 0.0, cos(t), bands, y);
+        qtool_ref_sh_eval(sin(t), 0.0, cos(t), bands, y);
         double s[3][9] = {{0}};
         for (int u = 0; u < w; ++u) {
             const double *p = rgb + 3 * ((size_t)v * (size_t)w + (size_t)u);
@@ -48,7 +48,7 @@ void qibl_ref_probe_sh(int w, int h, const double *rgb, int bands, double out[3]
     free(trig);
 }
 
-void qibl_ref_probe_band_factors(int bands, int irradiance, int window, double f[5])
+void qtool_ref_probe_band_factors(int bands, int irradiance, int window, double f[5])
 {
     static const double a[5] = {REF_PI, 2.0 * REF_PI / 3.0, REF_PI / 4.0, 0.0, -REF_PI / 24.0};
     for (int l = 0; l < 5; ++l) {
@@ -83,7 +83,7 @@ static void gauss_legendre(int n, double *x, double *wt)
     }
 }
 
-void qibl_ref_sh_rotation(const double r[3][3], int bands, double d[165])
+void qtool_ref_sh_rotation(const double r[3][3], int bands, double d[165])
 {
     enum { NZ = 12, NP = 24 };
     double zx[NZ], zw[NZ];
@@ -96,8 +96,8 @@ void qibl_ref_sh_rotation(const double r[3][3], int bands, double d[165])
             double w[3] = {s * cos(ph), s * sin(ph), z}, q[3], y[25], yr[25];
             for (int i = 0; i < 3; ++i)
                 q[i] = r[0][i] * w[0] + r[1][i] * w[1] + r[2][i] * w[2]; /* r^T w */
-            qibl_ref_sh_eval(w[0], w[1], w[2], bands, y);
-            qibl_ref_sh_eval(q[0], q[1], q[2], bands, yr);
+            qtool_ref_sh_eval(w[0], w[1], w[2], bands, y);
+            qtool_ref_sh_eval(q[0], q[1], q[2], bands, yr);
             double wt = zw[a] * 2.0 * REF_PI / NP;
             int off = 0;
             for (int l = 0; l < bands; ++l) {
@@ -110,7 +110,7 @@ void qibl_ref_sh_rotation(const double r[3][3], int bands, double d[165])
         }
 }
 
-void qibl_ref_sh_rotate(const double d[165], int bands, const double *in, double *out)
+void qtool_ref_sh_rotate(const double d[165], int bands, const double *in, double *out)
 {
     int off = 0;
     for (int l = 0; l < bands; ++l) {

@@ -5,7 +5,7 @@
 
 #include <math.h>
 
-double qibl_ref_psnr8(double mse)
+double qtool_ref_psnr8(double mse)
 {
     return mse > 0 ? 10 * log10(255.0 * 255.0 / mse) : 99.0;
 }

@@ -3,10 +3,10 @@
  * Every table, RESULT line and budget of the CLI (demo, bake --budget, bench relight) goes through
  * it, so their figures are comparable and capped alike. Hosted (libm).
  */
-#ifndef QIBL_REF_PSNR_H
-#define QIBL_REF_PSNR_H
+#ifndef QTOOL_REF_PSNR_H
+#define QTOOL_REF_PSNR_H
 
 /* 10 log10(255^2 / mse); 99 for mse <= 0 (identical data), the cap every figure uses. */
-double qibl_ref_psnr8(double mse);
+double qtool_ref_psnr8(double mse);
 
 #endif

@@ -16,7 +16,7 @@ static double clamp_range(float x)
     return x > 0.0f ? (x < SHAREDEXP_MAX ? (double)x : SHAREDEXP_MAX) : 0.0;
 }
 
-uint32_t qibl_ref_rgb9e5_encode(const float rgb[3])
+uint32_t qtool_ref_rgb9e5_encode(const float rgb[3])
 {
     double rc = clamp_range(rgb[0]), gc = clamp_range(rgb[1]), bc = clamp_range(rgb[2]);
     double maxc = rc > gc ? rc : gc;
@@ -39,7 +39,7 @@ uint32_t qibl_ref_rgb9e5_encode(const float rgb[3])
     return rs | gs << 9 | bs << 18 | (uint32_t)exp_shared << 27;
 }
 
-void qibl_ref_rgb9e5_decode(uint32_t v, float rgb[3])
+void qtool_ref_rgb9e5_decode(uint32_t v, float rgb[3])
 {
     int e = (int)(v >> 27) - B - N;
     rgb[0] = (float)ldexp((double)(v & 511u), e);
@@ -47,14 +47,14 @@ void qibl_ref_rgb9e5_decode(uint32_t v, float rgb[3])
     rgb[2] = (float)ldexp((double)((v >> 18) & 511u), e);
 }
 
-void qibl_ref_rgb9e5_encode_n(const float *rgb, size_t n, uint32_t *out)
+void qtool_ref_rgb9e5_encode_n(const float *rgb, size_t n, uint32_t *out)
 {
     for (size_t i = 0; i < n; ++i)
-        out[i] = qibl_ref_rgb9e5_encode(rgb + 3 * i);
+        out[i] = qtool_ref_rgb9e5_encode(rgb + 3 * i);
 }
 
-void qibl_ref_rgb9e5_decode_n(const uint32_t *in, size_t n, float *rgb)
+void qtool_ref_rgb9e5_decode_n(const uint32_t *in, size_t n, float *rgb)
 {
     for (size_t i = 0; i < n; ++i)
-        qibl_ref_rgb9e5_decode(in[i], rgb + 3 * i);
+        qtool_ref_rgb9e5_decode(in[i], rgb + 3 * i);
 }

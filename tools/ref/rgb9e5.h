@@ -7,16 +7,16 @@
  * re-normalisation when the rounded maximum reaches 2^9, mantissas rounded half up.
  * Hosted (libm); the comparison point for `qibl bench srgbe`, not used by the core.
  */
-#ifndef QIBL_REF_RGB9E5_H
-#define QIBL_REF_RGB9E5_H
+#ifndef QTOOL_REF_RGB9E5_H
+#define QTOOL_REF_RGB9E5_H
 
 #include <stddef.h>
 #include <stdint.h>
 
-uint32_t qibl_ref_rgb9e5_encode(const float rgb[3]);
-void qibl_ref_rgb9e5_decode(uint32_t v, float rgb[3]);
+uint32_t qtool_ref_rgb9e5_encode(const float rgb[3]);
+void qtool_ref_rgb9e5_decode(uint32_t v, float rgb[3]);
 
-void qibl_ref_rgb9e5_encode_n(const float *rgb, size_t n, uint32_t *out);
-void qibl_ref_rgb9e5_decode_n(const uint32_t *in, size_t n, float *rgb);
+void qtool_ref_rgb9e5_encode_n(const float *rgb, size_t n, uint32_t *out);
+void qtool_ref_rgb9e5_decode_n(const uint32_t *in, size_t n, float *rgb);
 
 #endif

@@ -5,7 +5,7 @@
 
 #include <math.h>
 
-#define QIBL_REF_PI 3.14159265358979323846
+#define QTOOL_REF_PI 3.14159265358979323846
 
 static double factorial(int n)
 {
@@ -15,19 +15,19 @@ static double factorial(int n)
     return f;
 }
 
-double qibl_ref_sh_q(int l, int m, double x)
+double qtool_ref_sh_q(int l, int m, double x)
 {
     if (l == 0 && m == 0)
         return 1.0;
     if (l == m)
-        return (1 - 2 * m) * sqrt(fmax(0.0, 1.0 - x * x)) * qibl_ref_sh_q(m - 1, m - 1, x);
+        return (1 - 2 * m) * sqrt(fmax(0.0, 1.0 - x * x)) * qtool_ref_sh_q(m - 1, m - 1, x);
     if (l == m + 1)
-        return (2 * m + 1) * x * qibl_ref_sh_q(m, m, x);
-    return ((2.0 * l - 1) / (l - m)) * x * qibl_ref_sh_q(l - 1, m, x) -
-           ((double)(l + m - 1) / (l - m)) * qibl_ref_sh_q(l - 2, m, x);
+        return (2 * m + 1) * x * qtool_ref_sh_q(m, m, x);
+    return ((2.0 * l - 1) / (l - m)) * x * qtool_ref_sh_q(l - 1, m, x) -
+           ((double)(l + m - 1) / (l - m)) * qtool_ref_sh_q(l - 2, m, x);
 }
 
-int qibl_ref_sh_eval(double x, double y, double z, int bands, double *out)
+int qtool_ref_sh_eval(double x, double y, double z, int bands, double *out)
 {
     double r = sqrt(x * x + y * y + z * z);
     if (!(r > 0.0) || bands < 1 || bands > 8)
@@ -38,8 +38,8 @@ int qibl_ref_sh_eval(double x, double y, double z, int bands, double *out)
     for (int l = 0; l < bands; ++l) {
         for (int m = -l; m <= l; ++m) {
             int am = m < 0 ? -m : m;
-            double n = sqrt((2.0 * l + 1) / (2.0 * QIBL_REF_PI) * factorial(l - am) / factorial(l + am));
-            double q = qibl_ref_sh_q(l, am, ct);
+            double n = sqrt((2.0 * l + 1) / (2.0 * QTOOL_REF_PI) * factorial(l - am) / factorial(l + am));
+            double q = qtool_ref_sh_q(l, am, ct);
             double v;
             if (m > 0)
                 v = n * q * cos(m * phi);

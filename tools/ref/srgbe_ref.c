@@ -14,18 +14,18 @@ static void zero_code(const double c[3], uint8_t code[4], int keep_sign)
     code[3] = 0;
 }
 
-int qibl_ref_srgbe_encode(const double c[3], uint8_t code[4])
+int qtool_ref_srgbe_encode(const double c[3], uint8_t code[4])
 {
     for (int i = 0; i < 3; ++i)
         if (isnan(c[i])) {
             zero_code(c, code, 0);
-            return QIBL_REF_SRGBE_NAN;
+            return QTOOL_REF_SRGBE_NAN;
         }
     double mx = fmax(fabs(c[0]), fmax(fabs(c[1]), fabs(c[2])));
-    int st = QIBL_REF_SRGBE_OK, e;
+    int st = QTOOL_REF_SRGBE_OK, e;
     if (isinf(mx)) {
         e = 129;
-        st = QIBL_REF_SRGBE_INF;
+        st = QTOOL_REF_SRGBE_INF;
     } else if (mx == 0.0) {
         zero_code(c, code, 1);
         return st;
@@ -39,7 +39,7 @@ int qibl_ref_srgbe_encode(const double c[3], uint8_t code[4])
         }
         if (e > 129) {
             e = 129;
-            st = QIBL_REF_SRGBE_OVERFLOW;
+            st = QTOOL_REF_SRGBE_OVERFLOW;
         }
     }
     for (int i = 0; i < 3; ++i) {
@@ -60,14 +60,14 @@ int qibl_ref_srgbe_encode(const double c[3], uint8_t code[4])
     return st;
 }
 
-double qibl_ref_srgbe_channel(unsigned x, unsigned E)
+double qtool_ref_srgbe_channel(unsigned x, unsigned E)
 {
     return ldexp((2.0 * x - 255.0) / 510.0, (int)E - 126); /* one rounding (the quotient) */
 }
 
-uint32_t qibl_ref_srgbe_channel_f32(unsigned x, unsigned E, int *sat)
+uint32_t qtool_ref_srgbe_channel_f32(unsigned x, unsigned E, int *sat)
 {
-    double d = qibl_ref_srgbe_channel(x, E);
+    double d = qtool_ref_srgbe_channel(x, E);
     if (fabs(d) > FLT_MAX) {
         *sat = 1;
         d = d < 0 ? -FLT_MAX : FLT_MAX;
@@ -78,7 +78,7 @@ uint32_t qibl_ref_srgbe_channel_f32(unsigned x, unsigned E, int *sat)
     return u;
 }
 
-int32_t qibl_ref_srgbe_channel_s32(unsigned x, unsigned E, int frac_bits, int *sat)
+int32_t qtool_ref_srgbe_channel_s32(unsigned x, unsigned E, int frac_bits, int *sat)
 {
     double y = ldexp((2.0 * x - 255.0) / 510.0, (int)E - 126 + frac_bits);
     double r = floor(y + 0.5);
@@ -93,7 +93,7 @@ int32_t qibl_ref_srgbe_channel_s32(unsigned x, unsigned E, int frac_bits, int *s
     return (int32_t)r;
 }
 
-double qibl_ref_srgbe_err_in_bounds(double c, unsigned x, unsigned E)
+double qtool_ref_srgbe_err_in_bounds(double c, unsigned x, unsigned E)
 {
     return fabs(ldexp(c, -((int)E - 126)) * 510.0 - (2.0 * x - 255.0));
 }

@@ -5,7 +5,7 @@
 
 #include <math.h>
 
-void qibl_ref_rgbe_encode(const float rgb[3], uint8_t code[4])
+void qtool_ref_rgbe_encode(const float rgb[3], uint8_t code[4])
 {
     double r = rgb[0] > 0.0f ? rgb[0] : 0.0, g = rgb[1] > 0.0f ? rgb[1] : 0.0, b = rgb[2] > 0.0f ? rgb[2] : 0.0;
     double d = r > g ? r : g;
@@ -32,7 +32,7 @@ void qibl_ref_rgbe_encode(const float rgb[3], uint8_t code[4])
     code[3] = (uint8_t)(e + 128);
 }
 
-void qibl_ref_rgbe_decode(const uint8_t code[4], float rgb[3])
+void qtool_ref_rgbe_decode(const uint8_t code[4], float rgb[3])
 {
     if (code[3] == 0) {
         rgb[0] = rgb[1] = rgb[2] = 0.0f;
@@ -44,14 +44,14 @@ void qibl_ref_rgbe_decode(const uint8_t code[4], float rgb[3])
     rgb[2] = (float)((code[2] + 0.5) * f);
 }
 
-void qibl_ref_rgbe_encode_n(const float *rgb, size_t n, uint8_t *codes)
+void qtool_ref_rgbe_encode_n(const float *rgb, size_t n, uint8_t *codes)
 {
     for (size_t i = 0; i < n; ++i)
-        qibl_ref_rgbe_encode(rgb + 3 * i, codes + 4 * i);
+        qtool_ref_rgbe_encode(rgb + 3 * i, codes + 4 * i);
 }
 
-void qibl_ref_rgbe_decode_n(const uint8_t *codes, size_t n, float *rgb)
+void qtool_ref_rgbe_decode_n(const uint8_t *codes, size_t n, float *rgb)
 {
     for (size_t i = 0; i < n; ++i)
-        qibl_ref_rgbe_decode(codes + 4 * i, rgb + 3 * i);
+        qtool_ref_rgbe_decode(codes + 4 * i, rgb + 3 * i);
 }

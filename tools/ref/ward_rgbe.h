@@ -8,17 +8,17 @@
  * Byte order {R, G, B, E}; E = 0 is zero (largest channel <= 1e-32). The classic code never
  * checks the top of the range; here an exponent above the byte (values >= 2^128) saturates.
  */
-#ifndef QIBL_REF_WARD_RGBE_H
-#define QIBL_REF_WARD_RGBE_H
+#ifndef QTOOL_REF_WARD_RGBE_H
+#define QTOOL_REF_WARD_RGBE_H
 
 #include <stddef.h>
 #include <stdint.h>
 
-void qibl_ref_rgbe_encode(const float rgb[3], uint8_t code[4]);
-void qibl_ref_rgbe_decode(const uint8_t code[4], float rgb[3]);
+void qtool_ref_rgbe_encode(const float rgb[3], uint8_t code[4]);
+void qtool_ref_rgbe_decode(const uint8_t code[4], float rgb[3]);
 
 /* n pixels: rgb[3i..3i+2] <-> code[4i..4i+3] */
-void qibl_ref_rgbe_encode_n(const float *rgb, size_t n, uint8_t *codes);
-void qibl_ref_rgbe_decode_n(const uint8_t *codes, size_t n, float *rgb);
+void qtool_ref_rgbe_encode_n(const float *rgb, size_t n, uint8_t *codes);
+void qtool_ref_rgbe_decode_n(const uint8_t *codes, size_t n, float *rgb);
 
 #endif

@@ -13,7 +13,7 @@
 /* ---- scene building ------------------------------------------------------------------------------ */
 
 typedef struct {
-    qibl_rt_scene *s;
+    qtool_rt_scene *s;
     size_t cap;
     int oom;
 } builder;
@@ -21,7 +21,7 @@ typedef struct {
 static void add_tri(builder *b, const double a[3], const double c1[3], const double c2[3], const double na[3],
                     const double n1[3], const double n2[3], int mat)
 {
-    qibl_rt_scene *s = b->s;
+    qtool_rt_scene *s = b->s;
     if (b->oom)
         return;
     if (s->ntri == b->cap) {
@@ -153,13 +153,13 @@ static void add_arch(builder *b, double cx, double half, double r, double z0, do
 /* ---- BVH ----------------------------------------------------------------------------------------- */
 
 typedef struct {
-    qibl_rt_scene *s;
+    qtool_rt_scene *s;
     double *cent;
     uint32_t *idx;
     size_t cap;
 } bvh_build;
 
-static void tri_bounds(const qibl_rt_scene *s, uint32_t t, double lo[3], double hi[3])
+static void tri_bounds(const qtool_rt_scene *s, uint32_t t, double lo[3], double hi[3])
 {
     for (int j = 0; j < 3; ++j) {
         lo[j] = hi[j] = s->v[9 * (size_t)t + j];
@@ -184,8 +184,8 @@ static int cmp_cent(const void *a, const void *b)
 
 static void build_node(bvh_build *bb, size_t node, uint32_t first, uint32_t count)
 {
-    qibl_rt_scene *s = bb->s;
-    qibl_rt_node *nd = &s->nodes[node];
+    qtool_rt_scene *s = bb->s;
+    qtool_rt_node *nd = &s->nodes[node];
     double clo[3] = {1e300, 1e300, 1e300}, chi[3] = {-1e300, -1e300, -1e300};
     for (int j = 0; j < 3; ++j)
         nd->lo[j] = 1e300, nd->hi[j] = -1e300;
@@ -218,10 +218,10 @@ static void build_node(bvh_build *bb, size_t node, uint32_t first, uint32_t coun
     build_node(bb, left + 1, first + half, count - half);
 }
 
-static int build_bvh(qibl_rt_scene *s)
+static int build_bvh(qtool_rt_scene *s)
 {
     bvh_build bb = {s, malloc(s->ntri * 3 * sizeof(double)), malloc(s->ntri * sizeof(uint32_t)), 0};
-    s->nodes = malloc((2 * s->ntri + 1) * sizeof(qibl_rt_node));
+    s->nodes = malloc((2 * s->ntri + 1) * sizeof(qtool_rt_node));
     if (!bb.cent || !bb.idx || !s->nodes) {
         free(bb.cent), free(bb.idx);
         return -1;
@@ -264,16 +264,16 @@ static int build_bvh(qibl_rt_scene *s)
 static int finish(builder *b)
 {
     if (b->oom || b->s->ntri == 0 || build_bvh(b->s) != 0) {
-        qibl_rt_scene_free(b->s);
+        qtool_rt_scene_free(b->s);
         return -1;
     }
     return 0;
 }
 
-int qibl_rt_scene_builtin(qibl_rt_scene *s)
+int qtool_rt_scene_builtin(qtool_rt_scene *s)
 {
     memset(s, 0, sizeof *s);
-    static const qibl_rt_material mats[] = {
+    static const qtool_rt_material mats[] = {
         {{0.55, 0.50, 0.42}, 0.00, 1},  /* 0 ground: sandstone */
         {{0.70, 0.32, 0.22}, 0.00, 1},  /* 1 walls: brick */
         {{0.80, 0.80, 0.78}, 0.20, 3},  /* 2 pillars and arches: satin marble */
@@ -323,7 +323,7 @@ int qibl_rt_scene_builtin(qibl_rt_scene *s)
     return finish(&b);
 }
 
-/* a mesh's point or normal in the scene's frame (see qibl_rt_scene_from_obj) */
+/* a mesh's point or normal in the scene's frame (see qtool_rt_scene_from_obj) */
 static void to_scene(const double *p, int zup, int raw, double q[3])
 {
     if (raw) {
@@ -334,10 +334,10 @@ static void to_scene(const double *p, int zup, int raw, double q[3])
     q[0] = -z[1], q[1] = z[0], q[2] = z[2];
 }
 
-int qibl_rt_scene_from_obj(qibl_rt_scene *s, const qibl_obj_mesh *m, int zup, int raw)
+int qtool_rt_scene_from_obj(qtool_rt_scene *s, const qtool_obj_mesh *m, int zup, int raw)
 {
     memset(s, 0, sizeof *s);
-    static const qibl_rt_material mats[] = {
+    static const qtool_rt_material mats[] = {
         {{0.55, 0.50, 0.42}, 0.00, 1}, /* 0 ground */
         {{0.75, 0.72, 0.68}, 0.15, 4}, /* 1 the mesh: glazed clay */
     };
@@ -356,7 +356,7 @@ int qibl_rt_scene_from_obj(qibl_rt_scene *s, const qibl_obj_mesh *m, int zup, in
     }
     double size = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
     double sc = raw || size <= 0 ? 1.0 : 2.5 / size;
-    double off[3] = {raw ? 0 : QIBL_RT_PROP_X - sc * (lo[0] + hi[0]) / 2, raw ? 0 : -sc * (lo[1] + hi[1]) / 2,
+    double off[3] = {raw ? 0 : QTOOL_RT_PROP_X - sc * (lo[0] + hi[0]) / 2, raw ? 0 : -sc * (lo[1] + hi[1]) / 2,
                      raw ? 0 : -1.6 - sc * lo[2]};
     for (size_t t = 0; t < m->ntri; ++t) {
         double p[3][3], n[3][3];
@@ -376,7 +376,7 @@ int qibl_rt_scene_from_obj(qibl_rt_scene *s, const qibl_obj_mesh *m, int zup, in
     return finish(&b);
 }
 
-void qibl_rt_scene_free(qibl_rt_scene *s)
+void qtool_rt_scene_free(qtool_rt_scene *s)
 {
     free(s->v), free(s->n), free(s->mat), free(s->nodes);
     memset(s, 0, sizeof *s);
@@ -384,7 +384,7 @@ void qibl_rt_scene_free(qibl_rt_scene *s)
 
 /* ---- tracing ------------------------------------------------------------------------------------- */
 
-static int box_hit(const qibl_rt_node *nd, const double o[3], const double inv[3], double tmax)
+static int box_hit(const qtool_rt_node *nd, const double o[3], const double inv[3], double tmax)
 {
     double t0 = 0, t1 = tmax;
     for (int j = 0; j < 3; ++j) {
@@ -427,7 +427,7 @@ static double tri_hit(const double *v, const double o[3], const double d[3], dou
 }
 
 /* closest hit (any = 0) or any hit (any = 1) in (tmin, tmax); returns the triangle or -1 */
-static long trace(const qibl_rt_scene *s, const double o[3], const double d[3], double tmin, double tmax, int any,
+static long trace(const qtool_rt_scene *s, const double o[3], const double d[3], double tmin, double tmax, int any,
                   double *t_out, double *bu, double *bv)
 {
     double inv[3];
@@ -438,7 +438,7 @@ static long trace(const qibl_rt_scene *s, const double o[3], const double d[3], 
     long best = -1;
     stack[sp++] = 0;
     while (sp > 0) {
-        const qibl_rt_node *nd = &s->nodes[stack[--sp]];
+        const qtool_rt_node *nd = &s->nodes[stack[--sp]];
         if (!box_hit(nd, o, inv, tmax))
             continue;
         if (nd->count) {
@@ -465,10 +465,10 @@ static long trace(const qibl_rt_scene *s, const double o[3], const double d[3], 
     return best;
 }
 
-void qibl_rt_pixel_dir(uint32_t w, uint32_t h, qibl_pano_kind kind, uint32_t x, uint32_t y, double d[3])
+void qtool_rt_pixel_dir(uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t x, uint32_t y, double d[3])
 {
     double phi = 2 * PI * (x + 0.5) / w;
-    if (kind == QIBL_PANO_CYLINDRICAL) {
+    if (kind == QTOOL_PANO_CYLINDRICAL) {
         double tanv = PI * h / w;
         double hgt = (0.5 - (y + 0.5) / h) * 2 * tanv;
         double len = sqrt(1 + hgt * hgt);
@@ -479,7 +479,7 @@ void qibl_rt_pixel_dir(uint32_t w, uint32_t h, qibl_pano_kind kind, uint32_t x, 
     }
 }
 
-void qibl_rt_primary(const qibl_rt_scene *s, const double d[3], qibl_rt_hit *h)
+void qtool_rt_primary(const qtool_rt_scene *s, const double d[3], qtool_rt_hit *h)
 {
     static const double o[3] = {0, 0, 0};
     double t = 0, u = 0, v = 0;
@@ -513,7 +513,7 @@ void qibl_rt_primary(const qibl_rt_scene *s, const double d[3], qibl_rt_hit *h)
         h->r[j] = d[j] - 2 * dn * h->n[j];
 }
 
-int qibl_rt_occluded(const qibl_rt_scene *s, const qibl_rt_hit *h, const double w[3], double tmax)
+int qtool_rt_occluded(const qtool_rt_scene *s, const qtool_rt_hit *h, const double w[3], double tmax)
 {
     double eps = 1e-5 * (s->scale > 0 ? s->scale : 1) + 1e-6 * h->t;
     double o[3];
@@ -522,7 +522,7 @@ int qibl_rt_occluded(const qibl_rt_scene *s, const qibl_rt_hit *h, const double 
     return trace(s, o, w, 0, tmax, 1, NULL, NULL, NULL) >= 0;
 }
 
-int qibl_rt_response(const qibl_rt_scene *s, const qibl_rt_hit *h, const double w[3], double tmax, double *diff,
+int qtool_rt_response(const qtool_rt_scene *s, const qtool_rt_hit *h, const double w[3], double tmax, double *diff,
                      double *gloss)
 {
     *diff = *gloss = 0;
@@ -532,7 +532,7 @@ int qibl_rt_response(const qibl_rt_scene *s, const qibl_rt_hit *h, const double 
     double cn = h->n[0] * w[0] + h->n[1] * w[1] + h->n[2] * w[2];
     if (cg <= 0 || cn <= 0)
         return 0;
-    if (tmax > 0 && qibl_rt_occluded(s, h, w, tmax))
+    if (tmax > 0 && qtool_rt_occluded(s, h, w, tmax))
         return 0;
     *diff = cn / PI;
     if (h->m->ks > 0) {
@@ -545,10 +545,10 @@ int qibl_rt_response(const qibl_rt_scene *s, const qibl_rt_hit *h, const double 
 /* ---- rendering ----------------------------------------------------------------------------------- */
 
 typedef struct {
-    const qibl_rt_scene *s;
+    const qtool_rt_scene *s;
     uint32_t w, h;
-    qibl_pano_kind kind;
-    const qibl_rt_light *l;
+    qtool_pano_kind kind;
+    const qtool_rt_light *l;
     double *rgb;
     float *depth;
     int32_t *pmap;
@@ -560,9 +560,9 @@ static void render_row(void *ctx, uint32_t y)
     for (uint32_t x = 0; x < j->w; ++x) {
         size_t pi = (size_t)y * j->w + x;
         double d[3];
-        qibl_rt_hit h;
-        qibl_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
-        qibl_rt_primary(j->s, d, &h);
+        qtool_rt_hit h;
+        qtool_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
+        qtool_rt_primary(j->s, d, &h);
         if (j->pmap)
             for (int k = 0; k < 3; ++k)
                 j->pmap[3 * pi + (size_t)k] = (int32_t)lrint((h.hit ? h.p[k] : d[k] * 1000.0) * 65536.0);
@@ -591,18 +591,18 @@ static void render_row(void *ctx, uint32_t y)
             for (int k = 0; k < 3; ++k)
                 wv[k] = j->l->dir[k] / len;
         }
-        if (!qibl_rt_response(j->s, &h, wv, tmax, &df, &gl))
+        if (!qtool_rt_response(j->s, &h, wv, tmax, &df, &gl))
             continue;
         for (int c = 0; c < 3; ++c)
             o[c] = j->l->rgb[c] * att * (h.m->albedo[c] * df + h.m->ks * gl);
     }
 }
 
-int qibl_rt_render(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, const qibl_rt_light *l,
+int qtool_rt_render(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const qtool_rt_light *l,
                    int threads, double *rgb, float *depth, int32_t *pmap)
 {
     render_job j = {s, w, h, kind, l, rgb, depth, pmap};
-    return qibl_rt_parallel(threads, h, render_row, &j, NULL);
+    return qtool_rt_parallel(threads, h, render_row, &j, NULL);
 }
 
 /* ---- threads ------------------------------------------------------------------------------------- */
@@ -633,7 +633,7 @@ static void *worker(void *arg)
     }
 }
 
-int qibl_rt_parallel(int threads, uint32_t rows, void (*fn)(void *ctx, uint32_t row), void *ctx,
+int qtool_rt_parallel(int threads, uint32_t rows, void (*fn)(void *ctx, uint32_t row), void *ctx,
                      void (*progress)(void *ctx, uint32_t done, uint32_t rows))
 {
     pool p;

@@ -16,86 +16,86 @@
  * (theta = pi (y + 0.5) / H from +z); z is up. The same mapping as tools/gen/scene.c.
  * Deterministic: every pixel is computed independently, in double, whatever the thread count.
  */
-#ifndef QIBL_RENDER_RT_H
-#define QIBL_RENDER_RT_H
+#ifndef QTOOL_RENDER_RT_H
+#define QTOOL_RENDER_RT_H
 
 #include <stddef.h>
 #include <stdint.h>
 
-#include "gen/scene.h" /* qibl_pano_kind */
+#include "gen/scene.h" /* qtool_pano_kind */
 #include "io/obj.h"
 
-#define QIBL_RT_MAX_MATS 16
+#define QTOOL_RT_MAX_MATS 16
 
-typedef struct qibl_rt_material {
+typedef struct qtool_rt_material {
     double albedo[3], ks, shininess;
-} qibl_rt_material;
+} qtool_rt_material;
 
-typedef struct qibl_rt_node {
+typedef struct qtool_rt_node {
     double lo[3], hi[3];
     uint32_t first, count; /* leaf: triangles [first, first + count); inner: count 0, children first, first + 1 */
-} qibl_rt_node;
+} qtool_rt_node;
 
-typedef struct qibl_rt_scene {
+typedef struct qtool_rt_scene {
     size_t ntri;
     double *v;    /* 9 per triangle */
     double *n;    /* 9 per triangle: corner normals */
     uint8_t *mat; /* per triangle */
-    qibl_rt_material mats[QIBL_RT_MAX_MATS];
+    qtool_rt_material mats[QTOOL_RT_MAX_MATS];
     int nmat;
-    qibl_rt_node *nodes;
+    qtool_rt_node *nodes;
     size_t nnodes;
     double scale; /* scene size, for ray offsets */
-} qibl_rt_scene;
+} qtool_rt_scene;
 
 /* The built-in courtyard (no files): ground, walls, two arcades of pillars and round arches, boxes
  * and spheres, z up, viewpoint at the origin 1.6 above the ground. 0 or -1 (no memory). */
-int qibl_rt_scene_builtin(qibl_rt_scene *s);
+int qtool_rt_scene_builtin(qtool_rt_scene *s);
 /* Where a mesh prop stands: on the -x axis, the centre column of every panorama (phi = pi). +x is
  * phi = 0, the left/right edge, where a prop would be cut in half across the seam. */
-#define QIBL_RT_PROP_X (-3.5)
+#define QTOOL_RT_PROP_X (-3.5)
 
 /* A mesh as a prop: turned from Y-up to Z-up unless zup, then a quarter turn about z so the
  * model's front (+z of a Y-up model, -y of a Z-up one) faces the viewer; scaled so its largest side
  * is 2.5 units, standing on the ground (z = -1.6, a 40 x 40 ground plane is added) centred 3.5 units
- * along -x from the viewpoint (QIBL_RT_PROP_X: the middle of the panorama, away from the seam at
+ * along -x from the viewpoint (QTOOL_RT_PROP_X: the middle of the panorama, away from the seam at
  * +x); raw: the mesh exactly as given and nothing added. 0 or -1 (no memory). */
-int qibl_rt_scene_from_obj(qibl_rt_scene *s, const qibl_obj_mesh *m, int zup, int raw);
-void qibl_rt_scene_free(qibl_rt_scene *s);
+int qtool_rt_scene_from_obj(qtool_rt_scene *s, const qtool_obj_mesh *m, int zup, int raw);
+void qtool_rt_scene_free(qtool_rt_scene *s);
 
 /* What the viewing ray of a pixel sees (the light-independent part of shading). */
-typedef struct qibl_rt_hit {
+typedef struct qtool_rt_hit {
     int hit;          /* 0: sky */
     double p[3];      /* hit point (P map) */
     double n[3], ng[3], r[3];
     double t;         /* depth along the unit ray */
-    const qibl_rt_material *m;
-} qibl_rt_hit;
+    const qtool_rt_material *m;
+} qtool_rt_hit;
 
-void qibl_rt_pixel_dir(uint32_t w, uint32_t h, qibl_pano_kind kind, uint32_t x, uint32_t y, double d[3]);
-void qibl_rt_primary(const qibl_rt_scene *s, const double d[3], qibl_rt_hit *h);
+void qtool_rt_pixel_dir(uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t x, uint32_t y, double d[3]);
+void qtool_rt_primary(const qtool_rt_scene *s, const double d[3], qtool_rt_hit *h);
 /* 1 if the segment from the hit point along unit w (up to tmax) is blocked */
-int qibl_rt_occluded(const qibl_rt_scene *s, const qibl_rt_hit *h, const double w[3], double tmax);
+int qtool_rt_occluded(const qtool_rt_scene *s, const qtool_rt_hit *h, const double w[3], double tmax);
 /* Lambert and glossy factors of T for unit w (without albedo / ks); 0 when w is below the surface
  * or shadowed (tmax <= 0: no shadow test, the unshadowed transfer). Returns 1 if lit. */
-int qibl_rt_response(const qibl_rt_scene *s, const qibl_rt_hit *h, const double w[3], double tmax, double *diff,
+int qtool_rt_response(const qtool_rt_scene *s, const qtool_rt_hit *h, const double w[3], double tmax, double *diff,
                      double *gloss);
 
-/* Light for qibl_rt_render. */
-typedef struct qibl_rt_light {
+/* Light for qtool_rt_render. */
+typedef struct qtool_rt_light {
     int point;          /* 0: directional from dir; 1: point at pos */
     double dir[3], pos[3], rgb[3];
     int falloff;        /* point: 1 (C0/|L|, default when 0) or 2 */
-} qibl_rt_light;
+} qtool_rt_light;
 
 /* Renders a w x h panorama (3 doubles per pixel, linear) with threads (>= 1). rgb may be NULL;
  * depth (w * h, 0 for sky) and pmap (3 per pixel, Q16.16) may be NULL. 0 or -1 (no memory). */
-int qibl_rt_render(const qibl_rt_scene *s, uint32_t w, uint32_t h, qibl_pano_kind kind, const qibl_rt_light *l,
+int qtool_rt_render(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const qtool_rt_light *l,
                    int threads, double *rgb, float *depth, int32_t *pmap);
 
 /* Runs fn(ctx, row) for row = 0..rows-1 on threads (>= 1) pthreads, rows handed out in order.
  * progress (may be NULL) is called under a lock with the number of rows done. */
-int qibl_rt_parallel(int threads, uint32_t rows, void (*fn)(void *ctx, uint32_t row), void *ctx,
+int qtool_rt_parallel(int threads, uint32_t rows, void (*fn)(void *ctx, uint32_t row), void *ctx,
                      void (*progress)(void *ctx, uint32_t done, uint32_t rows));
 
 #endif

@@ -59,7 +59,7 @@ int main(int argc, char **argv)
         double d[3] = {r * cos(p), r * sin(p), z};
         for (int c = 0; c < 3; ++c)
             dq[k][c] = lrint(d[c] * 1073741824.0);
-        qibl_ref_sh_eval((double)dq[k][0], (double)dq[k][1], (double)dq[k][2], 5, Y[k]);
+        qtool_ref_sh_eval((double)dq[k][0], (double)dq[k][1], (double)dq[k][2], 5, Y[k]);
     }
     printf("/* sample directions, Q2.30 (spherical Fibonacci, %d points) */\n", N);
     printf("static const int32_t rot_dirs[%d][3] = {\n", N);

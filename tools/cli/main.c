@@ -11,11 +11,11 @@
 #include <time.h>
 
 #include "qibl/asset.h" /* QIBL_ASSET_MAX_LUT */
-#include "qibl/cli.h"
+#include "cli/cli.h"
 #include "qibl/version.h"
 #include "qibl/shmaps.h"
 
-static const qibl_cli_cmd commands[] = {
+static const qcli_cmd commands[] = {
     {"sh", "evaluate the integer SH basis for a direction",
      "usage: qibl sh eval [--bands B] X Y Z\n"
      "       qibl sh plot --png FILE [--tile W]\n"
@@ -30,7 +30,7 @@ static const qibl_cli_cmd commands[] = {
      "  project: a lat-long Radiance probe projected onto bands 0..B-1 by the integer core, row by\n"
      "  row (qibl/probe.h): radiance coefficients, or irradiance (times the clamped-cosine A_l), with\n"
      "  an optional Hann or Lanczos window; a table of l, m, R, G, B.\n",
-     qibl_cmd_sh},
+     qcli_cmd_sh},
     {"bench", "benchmarks: speed against error, with RESULT lines",
      "usage: qibl bench [all|sh|relight|srgbe|lights|paths|asset|probe|memory|gles] [--quick] [--csv] [--markdown]\n"
      "  sh: integer SH basis against the double reference from Wong et al.'s appendix:\n"
@@ -58,7 +58,7 @@ static const qibl_cli_cmd commands[] = {
      "      ringing of the irradiance with no window, Hann and Lanczos (RESULT probe.*).\n"
      "  memory: not a timing: the resident-memory table of docs/porting.md (--markdown: as there).\n"
      "  all: every timing benchmark (what `make bench` runs). --quick: fewer repetitions.\n",
-     qibl_cmd_bench},
+     qcli_cmd_bench},
     {"gen", "write the procedural courtyard's SH maps (and P map, optional Y LUT) as an asset",
      "usage: qibl gen -o FILE [--size WxH] [--k K] [--lut-size N] [--pack minmax|robust] [--equirect]\n"
      "                [--layout planar|interleaved]\n"
@@ -69,7 +69,7 @@ static const qibl_cli_cmd commands[] = {
      "  spelling --lut N still works, with a deprecation note: relight's --lut is the sampling mode.)\n"
      "  --layout interleaved: the maps' bytes row by row in groups of 16 pixels (rows stream from disc\n"
      "  one at a time; relights to the same bytes as the default planar layout).\n",
-     qibl_cmd_gen},
+     qcli_cmd_gen},
     {"render", "ray-trace the ground-truth panorama of a scene under one light (PNG, PFM, depth)",
      "usage: qibl render (--sun X Y Z | --point X Y Z) [--rgb R G B] [--falloff 1|2] [--png OUT] [--pfm OUT]\n"
      "                   [--depth OUT.pfm] [--scene builtin|FILE.obj|FILE.ply] [--zup] [--raw] [--size WxH] [--equirect]\n"
@@ -85,7 +85,7 @@ static const qibl_cli_cmd commands[] = {
      "  plane, 3.5 units along -x: the middle of the panorama, away from its seam at +x (Y-up turned\n"
      "  to Z-up unless --zup; --raw: as given, nothing added). Default 1024x256 cylindrical. A frame\n"
      "  whose mean is below 32 of 255 gets a note that it is almost black.\n",
-     qibl_cmd_render},
+     qcli_cmd_render},
     {"bake", "bake a scene into a relightable panorama asset (ray-traced, SH-projected, 8-bit packed)",
      "usage: qibl bake -o ASSET [--k K] [--lut-size N] [--dirs N] [--lsq] [--budget DB] [--quiet]\n"
      "                 [--layout planar|interleaved] [--unshadowed-k K] [--sun-path LAT,DECL,T0,T1]\n"
@@ -108,7 +108,7 @@ static const qibl_cli_cmd commands[] = {
      "  light's visibility along the path (facing and shadow) as on/off edges of t in 0..65535, sampled\n"
      "  at N + 1 points (--path-steps, default 64) and bisected to one 16-bit step (LPTH chunks; relit\n"
      "  as unshadowed SH x visibility, qibl/lightpath.h). Shards and merge carry the shadowed maps only.\n",
-     qibl_cmd_bake},
+     qcli_cmd_bake},
     {"merge", "combine the partial sums of bake shards into an asset",
      "usage: qibl merge -o ASSET [--sums OUT] [--k K] [--lut-size N] [--lsq] [--layout planar|interleaved] SUMS...\n"
      "  Adds the partial sums written by `qibl bake --shard I/N --sums FILE` (every shard exactly once,\n"
@@ -117,21 +117,21 @@ static const qibl_cli_cmd commands[] = {
      "  Every file is checked before use (version, CRC-32s, counts within the bake's limits, exact size),\n"
      "  then against the first (split, size, k, directions, P map); sums that would overflow 64 bits, a\n"
      "  shard given twice or missing, and --k above the shards' k are refused by name.\n",
-     qibl_cmd_merge},
+     qcli_cmd_merge},
     {"check", "validate PNG/APNG, PFM, Radiance HDR and qibl asset files",
      "usage: qibl check FILE...\n"
      "  .png: signature, every chunk CRC, the zlib stream (inflated), Adler-32, APNG frame sequence;\n"
      "  .pfm: header and size; .hdr/.pic: Radiance header, resolution line and every scanline (RLE or\n"
      "  flat) decoded, as qibl lights reads it; anything else as a qibl asset (qibl_asset_open).\n"
      "  Exit 1 if any is bad.\n",
-     qibl_cmd_check},
+     qcli_cmd_check},
     {"demo", "the main demo: bake the scene, relight it by the core, compare with ground truth",
      "usage: qibl demo --out DIR [--dirs N] [--frames F] [--small] [scene options as for render]\n"
      "  What `make demo` runs: bakes the scene (built-in courtyard, or --scene FILE.obj|.ply), writes\n"
      "  the assets for k = 9, 16, 25, relights a sun sweep and a moving lamp with the core (PNG frames and\n"
      "  APNG), a contact sheet (relit | ground truth | error heat map) for novel lights, and prints the\n"
      "  table of k, bytes, ms/frame and PSNR with RESULT lines. --small: the CI size.\n",
-     qibl_cmd_demo},
+     qcli_cmd_demo},
     {"relight", "relight an asset with a sun or a point light into a PNG (core kernels + soft framebuffer)",
      "usage: qibl relight FILE (--sun X Y Z | --point X Y Z) [--rgb R G B] [--lut nearest|bilinear|off]\n"
      "                    [--falloff 1|2] [--exposure E] [--linear] [--gles] [--png OUT] [--hdr OUT.hdr]\n"
@@ -149,7 +149,7 @@ static const qibl_cli_cmd commands[] = {
      "  tools. At least one of --png/--hdr/--pfm.\n"
      "  --gles: relight with platform/gles2 on a headless EGL context instead (--png only; the same\n"
      "  asset and core weights; within 1 of 255 of the CPU path on Mesa llvmpipe).\n",
-     qibl_cmd_relight},
+     qcli_cmd_relight},
     {"info", "validate a qibl asset file and print its contents",
      "usage: qibl info FILE\n"
      "  Validates FILE with the core's qibl_asset_open (magic, version, chunk table, bounds, CRC-32s,\n"
@@ -157,7 +157,7 @@ static const qibl_cli_cmd commands[] = {
      "  chunk its fields: SHMP size, k, channels, per map and channel the Q8.24 scale and bias as\n"
      "  decimals and the min/max byte of the plane; PMAP size and the bounding box of its points;\n"
      "  YLUT face size and k. An invalid asset prints `qibl: FILE: <reason>` and exits 1.\n",
-     qibl_cmd_info},
+     qcli_cmd_info},
     {"srgbe", "encode/decode one sRGBE colour (signed shared-exponent RGB in 4 bytes)",
      "usage: qibl srgbe encode R G B\n"
      "       qibl srgbe decode HEX8\n"
@@ -170,7 +170,7 @@ static const qibl_cli_cmd commands[] = {
      "  (X/255 - 1/2) 2^(E-126), correctly rounded to binary32, as %.9g (E = 255 with X = 0 or 255\n"
      "  saturates to +-FLT_MAX, printed, with QIBL_E_SRGBE_DECODE_SAT named on stderr; exit 0).\n"
      "  Bad arguments: one line on stderr, exit status 2.\n",
-     qibl_cmd_srgbe},
+     qcli_cmd_srgbe},
     {"lights", "sample a .hdr light probe (lat-long, angular, ball, cube cross) into directional lights",
      "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv] [--png OUT.png]\n"
      "                   [--priority default|energy|energy-size|variance|levels] [--place centroid|centre]\n"
@@ -193,7 +193,7 @@ static const qibl_cli_cmd commands[] = {
      "  --layout: the probe's layout; by default it is detected (2:1 latlong, 3:4 vcross, 4:3 hcross\n"
      "  with black empty cells) and printed; a square disc (angular map or mirror ball) needs --layout;\n"
      "  other shapes are refused. Non-lat-long probes are resampled to lat-long (io/probe_layout.h).\n",
-     qibl_cmd_lights},
+     qcli_cmd_lights},
 };
 #define NCMD (sizeof commands / sizeof commands[0])
 
@@ -205,7 +205,7 @@ static void print_help(FILE *f)
         fprintf(f, "  %-8s %s\n", commands[i].name, commands[i].summary);
 }
 
-static const qibl_cli_cmd *find(const char *name)
+static const qcli_cmd *find(const char *name)
 {
     for (size_t i = 0; i < NCMD; ++i)
         if (strcmp(commands[i].name, name) == 0)
@@ -213,7 +213,7 @@ static const qibl_cli_cmd *find(const char *name)
     return NULL;
 }
 
-int qibl_cli_usage_error(const char *fmt, ...)
+int qcli_usage_error(const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
@@ -224,7 +224,7 @@ int qibl_cli_usage_error(const char *fmt, ...)
     return 2;
 }
 
-int qibl_cli_parse_q16(const char *s, int32_t *out)
+int qcli_parse_q16(const char *s, int32_t *out)
 {
     char *end;
     errno = 0;
@@ -238,7 +238,7 @@ int qibl_cli_parse_q16(const char *s, int32_t *out)
     return 0;
 }
 
-int qibl_cli_parse_int(const char *s, long lo, long hi, long *out)
+int qcli_parse_int(const char *s, long lo, long hi, long *out)
 {
     char *end;
     errno = 0;
@@ -249,31 +249,31 @@ int qibl_cli_parse_int(const char *s, long lo, long hi, long *out)
     return 0;
 }
 
-int qibl_cli_parse_num(const char *opt, const char *s, double lo, double hi, const char *why, double *out)
+int qcli_parse_num(const char *opt, const char *s, double lo, double hi, const char *why, double *out)
 {
     char *end;
     errno = 0;
     double v = strtod(s, &end);
     if (end == s || *end != '\0')
-        return qibl_cli_usage_error("%s: '%s' is not a number", opt, s);
+        return qcli_usage_error("%s: '%s' is not a number", opt, s);
     if (!isfinite(v)) /* an overflow is HUGE_VAL; an underflow (ERANGE near 0) is taken as the tiny value */
-        return qibl_cli_usage_error("%s: '%s' is not a finite number", opt, s);
+        return qcli_usage_error("%s: '%s' is not a finite number", opt, s);
     if (!(v >= lo && v <= hi))
-        return qibl_cli_usage_error("%s: %s is outside %.10g..%.10g%s%s%s", opt, s, lo, hi, why ? " (" : "",
+        return qcli_usage_error("%s: %s is outside %.10g..%.10g%s%s%s", opt, s, lo, hi, why ? " (" : "",
                                     why ? why : "", why ? ")" : "");
     *out = v;
     return 0;
 }
 
-int qibl_cli_lut_size_opt(int argc, char **argv, int *i, long lo, long *out)
+int qcli_lut_size_opt(int argc, char **argv, int *i, long lo, long *out)
 {
     const char *a = argv[*i];
     int old = strcmp(a, "--lut") == 0;
     if ((!old && strcmp(a, "--lut-size") != 0) || *i + 1 >= argc)
         return 0;
     const char *v = argv[++*i];
-    if (qibl_cli_parse_int(v, lo, (long)QIBL_ASSET_MAX_LUT, out) != 0) {
-        qibl_cli_usage_error("--lut-size: '%s' is not a face size in %ld..%u%s", v, lo, QIBL_ASSET_MAX_LUT,
+    if (qcli_parse_int(v, lo, (long)QIBL_ASSET_MAX_LUT, out) != 0) {
+        qcli_usage_error("--lut-size: '%s' is not a face size in %ld..%u%s", v, lo, QIBL_ASSET_MAX_LUT,
                              lo == 0 ? " (0: no LUT)" : "");
         return -1;
     }
@@ -283,20 +283,20 @@ int qibl_cli_lut_size_opt(int argc, char **argv, int *i, long lo, long *out)
     return 1;
 }
 
-int qibl_cli_parse_size(const char *opt, const char *s, long max, long *w, long *h)
+int qcli_parse_size(const char *opt, const char *s, long max, long *w, long *h)
 {
     const char *p = s;
     long v[2];
     for (int i = 0; i < 2; ++i) {
         if (*p < '0' || *p > '9')
-            return qibl_cli_usage_error("%s needs WxH with both in 1..%ld, got '%s'", opt, max, s);
+            return qcli_usage_error("%s needs WxH with both in 1..%ld, got '%s'", opt, max, s);
         long x = 0;
         while (*p >= '0' && *p <= '9') {
             x = x > max ? x : x * 10 + (*p - '0'); /* stops growing past max: no overflow */
             ++p;
         }
         if (x < 1 || x > max || *p != (i == 0 ? 'x' : '\0'))
-            return qibl_cli_usage_error("%s needs WxH with both in 1..%ld, got '%s'", opt, max, s);
+            return qcli_usage_error("%s needs WxH with both in 1..%ld, got '%s'", opt, max, s);
         v[i] = x;
         ++p;
     }
@@ -304,7 +304,7 @@ int qibl_cli_parse_size(const char *opt, const char *s, long max, long *w, long 
     return 0;
 }
 
-int qibl_cli_parse_layout(const char *s, uint32_t *layout)
+int qcli_parse_layout(const char *s, uint32_t *layout)
 {
     if (strcmp(s, "planar") == 0)
         *layout = QIBL_SHMAPS_PLANAR;
@@ -315,7 +315,7 @@ int qibl_cli_parse_layout(const char *s, uint32_t *layout)
     return 0;
 }
 
-double qibl_cli_now(void)
+double qcli_now(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -328,7 +328,7 @@ static int cmp_double(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-double qibl_cli_median(double *v, int n)
+double qcli_median(double *v, int n)
 {
     qsort(v, (size_t)n, sizeof *v, cmp_double);
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
@@ -349,15 +349,15 @@ int main(int argc, char **argv)
             print_help(stdout);
             return 0;
         }
-        const qibl_cli_cmd *c = find(argv[2]);
+        const qcli_cmd *c = find(argv[2]);
         if (!c)
-            return qibl_cli_usage_error("no such command '%s' (see qibl --help)", argv[2]);
+            return qcli_usage_error("no such command '%s' (see qibl --help)", argv[2]);
         fputs(c->usage, stdout);
         return 0;
     }
-    const qibl_cli_cmd *c = find(argv[1]);
+    const qcli_cmd *c = find(argv[1]);
     if (!c)
-        return qibl_cli_usage_error("no such command '%s' (see qibl --help)", argv[1]);
+        return qcli_usage_error("no such command '%s' (see qibl --help)", argv[1]);
     for (int i = 2; i < argc; ++i)
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             fputs(c->usage, stdout);

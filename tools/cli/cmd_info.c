@@ -9,7 +9,7 @@
 #include "qibl/asset.h"
 #include "qibl/lightpath.h"
 #include "io/file.h"
-#include "qibl/cli.h"
+#include "cli/cli.h"
 
 static const char *fourcc(uint32_t t, char s[16])
 {
@@ -61,15 +61,15 @@ static void print_pmap(const qibl_pmap_t *p)
         printf("  %c [%.5f, %.5f]\n", "xyz"[c], lo[c] / 65536.0, hi[c] / 65536.0);
 }
 
-int qibl_cmd_info(int argc, char **argv)
+int qcli_cmd_info(int argc, char **argv)
 {
     if (argc != 2 || argv[1][0] == '-')
-        return qibl_cli_usage_error("usage: qibl info FILE");
+        return qcli_usage_error("usage: qibl info FILE");
     const char *path = argv[1];
     size_t n = 0;
     uint8_t *buf = NULL;
     char err[512];
-    if (qibl_io_read_asset(path, &buf, &n, err, sizeof err) != 0)
+    if (qtool_io_read_asset(path, &buf, &n, err, sizeof err) != 0)
         return fprintf(stderr, "qibl: %s\n", err), 1;
     qibl_asset_t a;
     qibl_status_t st = qibl_asset_open(&a, buf, n);

@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "io/png.h"
-#include "qibl/cli.h"
+#include "cli/cli.h"
 #include "qibl/sh.h"
 
 #define M_PI_VALUE 3.14159265358979323846
@@ -22,13 +22,13 @@ static int sh_plot(int argc, char **argv)
         if (strcmp(argv[i], "--png") == 0 && i + 1 < argc)
             path = argv[++i];
         else if (strcmp(argv[i], "--tile") == 0 && i + 1 < argc) {
-            if (qibl_cli_parse_int(argv[++i], 8, 1024, &tw) != 0)
-                return qibl_cli_usage_error("--tile needs an even width in 8..1024");
+            if (qcli_parse_int(argv[++i], 8, 1024, &tw) != 0)
+                return qcli_usage_error("--tile needs an even width in 8..1024");
         } else
-            return qibl_cli_usage_error("usage: qibl sh plot --png FILE [--tile W]");
+            return qcli_usage_error("usage: qibl sh plot --png FILE [--tile W]");
     }
     if (!path)
-        return qibl_cli_usage_error("usage: qibl sh plot --png FILE [--tile W]");
+        return qcli_usage_error("usage: qibl sh plot --png FILE [--tile W]");
     const int B = QIBL_SH_MAX_BANDS, th = (int)tw / 2, pad = 4;
     const int W = (2 * B - 1) * ((int)tw + pad) + pad, H = B * (th + pad) + pad;
     uint8_t *img = calloc((size_t)W * (size_t)H, 3);
@@ -55,7 +55,7 @@ static int sh_plot(int argc, char **argv)
                 }
         }
     char err[512];
-    int rc = qibl_png_write_rgb8(path, W, H, img, err, sizeof err);
+    int rc = qtool_png_write_rgb8(path, W, H, img, err, sizeof err);
     free(img);
     if (rc != 0)
         return fprintf(stderr, "qibl: %s\n", err), 1;
@@ -63,38 +63,38 @@ static int sh_plot(int argc, char **argv)
     return 0;
 }
 
-int qibl_cmd_sh(int argc, char **argv)
+int qcli_cmd_sh(int argc, char **argv)
 {
     if (argc >= 2 && strcmp(argv[1], "plot") == 0)
         return sh_plot(argc, argv);
     if (argc >= 2 && strcmp(argv[1], "project") == 0)
-        return qibl_cmd_sh_project(argc, argv); /* cmd_probe.c */
+        return qcli_cmd_sh_project(argc, argv); /* cmd_probe.c */
     if (argc < 2 || strcmp(argv[1], "eval") != 0)
-        return qibl_cli_usage_error("usage: qibl sh eval [--bands B] X Y Z | qibl sh plot --png FILE");
+        return qcli_usage_error("usage: qibl sh eval [--bands B] X Y Z | qibl sh plot --png FILE");
     long bands = QIBL_SH_MAX_BANDS;
     const char *xyz[3];
     int n = 0;
     for (int i = 2; i < argc; ++i) {
         if (strcmp(argv[i], "--bands") == 0) {
-            if (i + 1 >= argc || qibl_cli_parse_int(argv[i + 1], 1, QIBL_SH_MAX_BANDS, &bands) != 0)
-                return qibl_cli_usage_error("--bands needs an integer in 1..%d", QIBL_SH_MAX_BANDS);
+            if (i + 1 >= argc || qcli_parse_int(argv[i + 1], 1, QIBL_SH_MAX_BANDS, &bands) != 0)
+                return qcli_usage_error("--bands needs an integer in 1..%d", QIBL_SH_MAX_BANDS);
             ++i;
         } else if (n < 3) {
             xyz[n++] = argv[i];
         } else {
-            return qibl_cli_usage_error("sh eval takes exactly three coordinates X Y Z");
+            return qcli_usage_error("sh eval takes exactly three coordinates X Y Z");
         }
     }
     if (n != 3)
-        return qibl_cli_usage_error("sh eval takes exactly three coordinates X Y Z");
+        return qcli_usage_error("sh eval takes exactly three coordinates X Y Z");
     qibl_q16_t dir[3];
     for (int k = 0; k < 3; ++k)
-        if (qibl_cli_parse_q16(xyz[k], &dir[k]) != 0)
-            return qibl_cli_usage_error("'%s' is not a number in the Q16.16 range [-32768, 32768)", xyz[k]);
+        if (qcli_parse_q16(xyz[k], &dir[k]) != 0)
+            return qcli_usage_error("'%s' is not a number in the Q16.16 range [-32768, 32768)", xyz[k]);
     qibl_q30_t y[QIBL_SH_MAX_COUNT];
     qibl_status_t st = qibl_sh_eval(dir, (int)bands, y);
     if (st != QIBL_OK)
-        return qibl_cli_usage_error("sh eval: %s", qibl_status_str(st));
+        return qcli_usage_error("sh eval: %s", qibl_status_str(st));
     /* one line per basis function, labelled: index i = l*l + l + m, band l, order m */
     for (int l = 0; l < (int)bands; ++l)
         for (int m = -l; m <= l; ++m)

@@ -13,7 +13,7 @@
 #include <string.h>
 
 #include "io/hdr.h"
-#include "qibl/cli.h"
+#include "cli/cli.h"
 #include "qibl/probe.h"
 #include "ref/probe_ref.h"
 #include "ref/sh_ref.h"
@@ -76,7 +76,7 @@ static double sh_rel_err(const uint8_t *px, int w, int h, void *ws, size_t n)
     double *d = to_double(px, w, h), ref[3][25], e = 0.0, mx = 0.0;
     if (!d)
         return -1.0;
-    qibl_ref_probe_sh(w, h, d, 5, ref);
+    qtool_ref_probe_sh(w, h, d, 5, ref);
     free(d);
     for (int ch = 0; ch < 3; ++ch)
         for (int i = 0; i < 25; ++i)
@@ -129,7 +129,7 @@ static void ringing(const uint8_t *px, int w, int h, void *ws, size_t n, const c
             double mn = 1e300, mx = -1e300, err = 0.0, tmean = 0.0;
             for (int k = 0; k < 4096; ++k) {
                 double z = 1.0 - (2.0 * k + 1.0) / 4096, r = sqrt(1.0 - z * z), p = k * BP_PI * (3.0 - sqrt(5.0)), y[25];
-                qibl_ref_sh_eval(r * cos(p), r * sin(p), z, bands, y);
+                qtool_ref_sh_eval(r * cos(p), r * sin(p), z, bands, y);
                 double e = 0.0;
                 for (int i = 0; i < bands * bands; ++i)
                     e += lum[i] * y[i];
@@ -137,7 +137,7 @@ static void ringing(const uint8_t *px, int w, int h, void *ws, size_t n, const c
             }
             for (int k = 0; k < NT; ++k) {
                 double y[25], e = 0.0;
-                qibl_ref_sh_eval(nrm[k][0], nrm[k][1], nrm[k][2], bands, y);
+                qtool_ref_sh_eval(nrm[k][0], nrm[k][1], nrm[k][2], bands, y);
                 for (int i = 0; i < bands * bands; ++i)
                     e += lum[i] * y[i];
                 err += fabs(e - truth[k]), tmean += truth[k];
@@ -171,7 +171,7 @@ static double rotate_err(void)
         double ref[165];
         if (qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])r, 5) != QIBL_OK)
             return -1.0;
-        qibl_ref_sh_rotation(m, 5, ref);
+        qtool_ref_sh_rotation(m, 5, ref);
         for (int i = 0; i < 165; ++i)
             worst = fmax(worst, fabs(rot.d[i] / 1073741824.0 - ref[i]));
     }
@@ -184,7 +184,7 @@ static int cmp_double(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-int qibl_bench_probe(int quick)
+int qcli_bench_probe(int quick)
 {
     const int reps = quick ? 7 : 31;
     char path[600], err[512];
@@ -192,7 +192,7 @@ int qibl_bench_probe(int quick)
     int w = 1024, h = 512;
     uint8_t *px = NULL;
     const char *name = "quarry_01_1k";
-    if (qibl_hdr_read_rgbe(path, &w, &h, &px, err, sizeof err) != 0) {
+    if (qtool_hdr_read_rgbe(path, &w, &h, &px, err, sizeof err) != 0) {
         printf("(%s not found: an integer-made 1024x512 probe with a sun instead)\n", path);
         w = 1024, h = 512, px = int_probe(w, h), name = "integer-made 1024x512 probe";
         if (!px)
@@ -208,21 +208,21 @@ int qibl_bench_probe(int quick)
     qibl_probe_coeffs_t c;
     bp_sink = read_words(px, bytes);
     for (int r = 0; r < reps; ++r) { /* interleaved: read, project, begin only, read */
-        double t0 = qibl_cli_now();
+        double t0 = qcli_now();
         bp_sink += read_words(px, bytes);
-        double t1 = qibl_cli_now();
+        double t1 = qcli_now();
         (void)qibl_probe_sh_project(&img, 5, NULL, ws, n, &c);
-        double t2 = qibl_cli_now();
+        double t2 = qcli_now();
         qibl_probe_sh_t ps;
         (void)qibl_probe_sh_begin(&ps, (uint32_t)w, (uint32_t)h, QIBL_LIGHTPROBE_RGBE, 0, 5, ws, n);
-        double t3 = qibl_cli_now();
+        double t3 = qcli_now();
         qibl_q30_t rm[3][3] = {{0, -(1 << 30), 0}, {1 << 30, 0, 0}, {0, 0, 1 << 30}};
         qibl_sh_rotation_t rot;
         int32_t out[25];
         (void)qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])rm, 5);
         for (int ch = 0; ch < 3; ++ch)
             (void)qibl_sh_rotate(&rot, c.c[ch], out), bp_sink += (uint64_t)out[3];
-        double t4 = qibl_cli_now();
+        double t4 = qcli_now();
         tr[r] = (t1 - t0) * 1e3, tp[r] = (t2 - t1) * 1e3, tb[r] = (t3 - t2) * 1e3, tt[r] = (t4 - t3) * 1e6;
     }
     qsort(tp, (size_t)reps, sizeof *tp, cmp_double), qsort(tr, (size_t)reps, sizeof *tr, cmp_double);
@@ -255,7 +255,7 @@ int qibl_bench_probe(int quick)
             int pw, ph;
             uint8_t *pp;
             snprintf(path, sizeof path, "%.300s/%.250s", bp_dir(), de->d_name);
-            if (qibl_hdr_read_rgbe(path, &pw, &ph, &pp, err, sizeof err) != 0)
+            if (qtool_hdr_read_rgbe(path, &pw, &ph, &pp, err, sizeof err) != 0)
                 continue;
             size_t pn = qibl_probe_sh_workspace_size((uint32_t)pw, (uint32_t)ph);
             void *pws = malloc(pn);

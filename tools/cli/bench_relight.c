@@ -13,7 +13,7 @@
 
 #include "gen/scene.h"
 #include "io/asset_write.h"
-#include "qibl/cli.h"
+#include "cli/cli.h"
 #include "qibl/shmap.h"
 #include "ref/psnr.h"
 #include "ref/sh_ref.h"
@@ -24,23 +24,23 @@ typedef struct {
     qibl_shmaps_t m;
     uint8_t *params, *planes;
     int32_t *scale, *bias;
-    qibl_pack_stats st;
+    qtool_pack_stats st;
 } packed;
 
-static int pack(const qibl_gen_maps *g, uint32_t k, qibl_pack_scheme sch, packed *p)
+static int pack(const qtool_gen_maps *g, uint32_t k, qtool_pack_scheme sch, packed *p)
 {
-    qibl_gen_maps view = *g;
+    qtool_gen_maps view = *g;
     view.k = k;
     size_t np = (size_t)g->width * g->height;
     p->scale = malloc(sizeof(int32_t) * k * 3);
     p->bias = malloc(sizeof(int32_t) * k * 3);
     p->params = malloc(8u * k * 3);
     p->planes = malloc(np * k * 3);
-    if (!p->scale || !p->bias || !p->params || !p->planes || qibl_pack_maps(&view, sch, p->scale, p->bias, p->planes, &p->st))
+    if (!p->scale || !p->bias || !p->params || !p->planes || qtool_pack_maps(&view, sch, p->scale, p->bias, p->planes, &p->st))
         return -1;
     for (uint32_t i = 0; i < k * 3; ++i) {
-        qibl_store_s32le(p->params + 8 * i, p->scale[i]);
-        qibl_store_s32le(p->params + 8 * i + 4, p->bias[i]);
+        qtool_store_s32le(p->params + 8 * i, p->scale[i]);
+        qtool_store_s32le(p->params + 8 * i + 4, p->bias[i]);
     }
     p->m.width = g->width, p->m.height = g->height, p->m.k = k, p->m.channels = 3, p->m.layout = QIBL_SHMAPS_PLANAR;
     p->m.params = p->params, p->m.planes = p->planes;
@@ -60,7 +60,7 @@ static double time_stream(const packed *p, int reps)
     size_t n = (size_t)p->m.width * p->m.height * p->m.k * 3;
     double t[REPS_MAX];
     for (int r = 0; r < reps; ++r) {
-        double t0 = qibl_cli_now();
+        double t0 = qcli_now();
         uint64_t acc = 0; /* 64-bit words, not a byte sum (that is instruction-bound) */
         for (size_t i = 0; i + 8 <= n; i += 8) {
             uint64_t v;
@@ -68,9 +68,9 @@ static double time_stream(const packed *p, int reps)
             acc += v;
         }
         sink = (uint32_t)acc;
-        t[r] = qibl_cli_now() - t0;
+        t[r] = qcli_now() - t0;
     }
-    return qibl_cli_median(t, reps);
+    return qcli_median(t, reps);
 }
 
 /* 8-bit display value of a linear radiance (1.0 = 255), continuous for the reference */
@@ -92,7 +92,7 @@ static err8 compare8(const int32_t *img, const double *ref, size_t n)
         se += e * e;
         mx = e > mx ? e : mx;
     }
-    err8 r = {qibl_ref_psnr8(se / n), mx};
+    err8 r = {qtool_ref_psnr8(se / n), mx};
     return r;
 }
 
@@ -113,7 +113,7 @@ static double min_of(const double *t, int n)
 /* Planar against interleaved layout (shmaps.h), same maps, same light, same run: frames alternate
  * planar, interleaved, planar, ... so load swings hit both; min and median of each. Checks that
  * both give the same bytes. Returns the k = 16 directional ratio interleaved / planar (min times). */
-static double bench_layouts(const qibl_gen_maps *g, uint32_t W, uint32_t H, int reps, const qibl_q16_t sun_dir[3],
+static double bench_layouts(const qtool_gen_maps *g, uint32_t W, uint32_t H, int reps, const qibl_q16_t sun_dir[3],
                             const qibl_q16_t sun_rgb[3], const qibl_pointlight_t *lamp, int32_t *img, void *ws)
 {
     static const uint32_t ks[3] = {9, 16, 25};
@@ -123,16 +123,16 @@ static double bench_layouts(const qibl_gen_maps *g, uint32_t W, uint32_t H, int 
     double ratio16 = 0;
     printf("== layouts: planar against interleaved (16-pixel groups), %ux%u, %d alternating frames each\n", W, H,
            reps);
-    printf("   built by %s, core %s\n", QIBL_BENCH_COMPILER, QIBL_BENCH_CORE_FLAGS);
+    printf("   built by %s, core %s\n", QTOOL_BENCH_COMPILER, QIBL_BENCH_CORE_FLAGS);
     printf("%-22s %3s %12s %12s %12s %12s %8s %5s\n", "light", "k", "planar min", "median", "interl. min", "median",
            "ratio", "same");
     for (size_t i = 0; i < np * 3; ++i)
-        qibl_store_s32le(pbytes + 4 * i, g->p[i]);
+        qtool_store_s32le(pbytes + 4 * i, g->p[i]);
     qibl_pmap_t pm = {W, H, pbytes};
     for (int ki = 0; ki < 3; ++ki) {
         const uint32_t k = ks[ki];
         packed p;
-        if (!img2 || !pbytes || pack(g, k, QIBL_PACK_MINMAX, &p) != 0)
+        if (!img2 || !pbytes || pack(g, k, QTOOL_PACK_MINMAX, &p) != 0)
             break;
         qibl_shmaps_t il = p.m;
         il.layout = QIBL_SHMAPS_INTERLEAVED;
@@ -153,7 +153,7 @@ static double bench_layouts(const qibl_gen_maps *g, uint32_t W, uint32_t H, int 
                 for (int lay = 0; lay < 2; ++lay) {
                     const qibl_shmaps_t *m = lay ? &il : &p.m;
                     int32_t *o = lay ? img2 : img;
-                    double t0 = qibl_cli_now();
+                    double t0 = qcli_now();
                     if (light == 0) {
                         qibl_shlight_t sl;
                         qibl_shlight_init(&sl, 25);
@@ -169,12 +169,12 @@ static double bench_layouts(const qibl_gen_maps *g, uint32_t W, uint32_t H, int 
                         for (uint32_t y = 0; y < H; ++y)
                             qibl_shmap_point_span(&st, 0, y, W, o + 3 * (size_t)y * W, pws, pwn);
                     }
-                    t[lay][r] = qibl_cli_now() - t0;
+                    t[lay][r] = qcli_now() - t0;
                 }
             same = memcmp(img, img2, sizeof(int32_t) * 3 * np) == 0;
             double mp = min_of(t[0], reps), mi = min_of(t[1], reps);
             printf("%-22s %3u %10.3fms %10.3fms %10.3fms %10.3fms %8.3f %5s\n", light ? "point, LUT 32^2" : "directional",
-                   k, mp * 1e3, qibl_cli_median(t[0], reps) * 1e3, mi * 1e3, qibl_cli_median(t[1], reps) * 1e3, mi / mp,
+                   k, mp * 1e3, qcli_median(t[0], reps) * 1e3, mi * 1e3, qcli_median(t[1], reps) * 1e3, mi / mp,
                    same ? "yes" : "NO");
             if (!same) {
                 fprintf(stderr, "qibl: bench relight: the layouts gave different bytes (k = %u)\n", k);
@@ -212,11 +212,11 @@ static void read_u64(const uint8_t *b, size_t n)
     sink64 = s;
 }
 
-static int bench_baselines(const qibl_gen_maps *g, uint32_t W, uint32_t H, int quick, const qibl_q16_t sun_dir[3],
+static int bench_baselines(const qtool_gen_maps *g, uint32_t W, uint32_t H, int quick, const qibl_q16_t sun_dir[3],
                            const qibl_q16_t sun_rgb[3], int32_t *img, void *ws)
 {
     packed p;
-    if (pack(g, 16, QIBL_PACK_MINMAX, &p) != 0)
+    if (pack(g, 16, QTOOL_PACK_MINMAX, &p) != 0)
         return -1;
     qibl_shmaps_t il = p.m;
     il.layout = QIBL_SHMAPS_INTERLEAVED;
@@ -243,7 +243,7 @@ static int bench_baselines(const qibl_gen_maps *g, uint32_t W, uint32_t H, int q
     double tc[3][64], td[3][64];
     for (int r = 0; r < creps; ++r)
         for (int kind = 0; kind < 3; ++kind) {
-            double t0 = qibl_cli_now();
+            double t0 = qcli_now();
             for (int pass = 0; pass < cpass; ++pass) {
                 if (kind == 0)
                     for (uint32_t y = 0; y < crows; ++y)
@@ -254,7 +254,7 @@ static int bench_baselines(const qibl_gen_maps *g, uint32_t W, uint32_t H, int q
                 else
                     memcpy(dst, copies, cbytes), sink64 = dst[pass];
             }
-            tc[kind][r] = (qibl_cli_now() - t0) / cpass;
+            tc[kind][r] = (qcli_now() - t0) / cpass;
         }
     for (int r = 0; r < dreps && r < 64; ++r)
         for (int kind = 0; kind < 3; ++kind) {
@@ -262,7 +262,7 @@ static int bench_baselines(const qibl_gen_maps *g, uint32_t W, uint32_t H, int q
             const uint8_t *src = copies + (size_t)((3 * r + kind) % (int)ncopy) * asz;
             qibl_shmaps_t m = il;
             m.planes = src;
-            double t0 = qibl_cli_now();
+            double t0 = qcli_now();
             if (kind == 0)
                 for (uint32_t y = 0; y < H; ++y)
                     qibl_shmap_relight_span(&m, &w, 0, y, W, img + 3 * (size_t)y * W, ws,
@@ -271,19 +271,19 @@ static int bench_baselines(const qibl_gen_maps *g, uint32_t W, uint32_t H, int q
                 read_u64(src, asz);
             else
                 memcpy(dst, src, asz), sink64 = dst[r];
-            td[kind][r] = qibl_cli_now() - t0;
+            td[kind][r] = qcli_now() - t0;
         }
     const int nd = dreps < 64 ? dreps : 64;
     static const char *names[3] = {"directional k=16 (interleaved)", "u64 word read", "memcpy"};
     printf("== baselines: the same bytes (k=16, 3 channels, interleaved: %zu B/px), %d interleaved reps\n",
            rs / W, creps);
     printf("   built by %s, core %s; in cache: %u rows (%zu KB) x %d passes; DRAM: %zu copies (%zu MB) cycled\n",
-           QIBL_BENCH_COMPILER, QIBL_BENCH_CORE_FLAGS, crows, cbytes >> 10, cpass, ncopy, (asz * ncopy) >> 20);
+           QTOOL_BENCH_COMPILER, QIBL_BENCH_CORE_FLAGS, crows, cbytes >> 10, cpass, ncopy, (asz * ncopy) >> 20);
     printf("%-32s %12s %12s %12s %12s\n", "", "cache min", "median", "DRAM min", "median");
     double cmin[3], dmin[3];
     for (int kind = 0; kind < 3; ++kind) {
         cmin[kind] = min_of(tc[kind], creps), dmin[kind] = min_of(td[kind], nd);
-        double cmed = qibl_cli_median(tc[kind], creps), dmed = qibl_cli_median(td[kind], nd);
+        double cmed = qcli_median(tc[kind], creps), dmed = qcli_median(td[kind], nd);
         printf("%-32s %9.3fns/px %9.3fns/px %9.3fns/px %9.3fns/px\n", names[kind], cmin[kind] / cpx * 1e9,
                cmed / cpx * 1e9, dmin[kind] / ((double)W * H) * 1e9, dmed / ((double)W * H) * 1e9);
     }
@@ -305,13 +305,13 @@ typedef struct {
     double ms, mpix, psnr, maxabs, psnr_exact;
 } row;
 
-int qibl_bench_relight(int quick, int csv)
+int qcli_bench_relight(int quick, int csv)
 {
     const uint32_t W = quick ? 256 : 1024, H = quick ? 64 : 256;
     const int reps = quick ? 3 : 9;
     const size_t np = (size_t)W * H;
-    qibl_gen_maps g;
-    if (qibl_gen_scene(W, H, 25, QIBL_PANO_CYLINDRICAL, &g) != 0) {
+    qtool_gen_maps g;
+    if (qtool_gen_scene(W, H, 25, QTOOL_PANO_CYLINDRICAL, &g) != 0) {
         fprintf(stderr, "qibl: bench relight: out of memory\n");
         return 1;
     }
@@ -335,10 +335,10 @@ int qibl_bench_relight(int quick, int csv)
     double stream_k16 = 0, dir_k16 = 0, point_k16_lut32 = 0, point_k16_direct = 0, psnr_k16 = 0;
     for (int ki = 0; ki < 4; ++ki) {
         uint32_t k = ks[ki];
-        qibl_gen_maps gk = g; /* the first k maps of the unquantised set */
+        qtool_gen_maps gk = g; /* the first k maps of the unquantised set */
         gk.k = k;
         packed p;
-        if (pack(&g, k, QIBL_PACK_MINMAX, &p) != 0) {
+        if (pack(&g, k, QTOOL_PACK_MINMAX, &p) != 0) {
             fprintf(stderr, "qibl: bench relight: out of memory\n");
             return 1;
         }
@@ -348,14 +348,14 @@ int qibl_bench_relight(int quick, int csv)
         qibl_shlight_add_dir(&sl, sun_dir, sun_rgb);
         double t[REPS_MAX];
         for (int r = 0; r < reps; ++r) {
-            double t0 = qibl_cli_now();
+            double t0 = qcli_now();
             qibl_shmap_weights_t w;
             qibl_shmap_weights(&p.m, &sl, &w);
             for (uint32_t y = 0; y < H; ++y)
                 qibl_shmap_relight_span(&p.m, &w, 0, y, W, img + 3 * (size_t)y * W, ws, qibl_shmap_span_workspace_size(W));
-            t[r] = qibl_cli_now() - t0;
+            t[r] = qcli_now() - t0;
         }
-        double td = qibl_cli_median(t, reps);
+        double td = qcli_median(t, reps);
         for (size_t px = 0; px < np; ++px)
             for (uint32_t ch = 0; ch < 3; ++ch) {
                 double s = 0, sx = 0, lc[25];
@@ -363,7 +363,7 @@ int qibl_bench_relight(int quick, int csv)
                     lc[i] = sl.c[ch][i] / 65536.0;
                     s += decoded(&p.m, i, ch, px) * lc[i];
                 }
-                sx = qibl_gen_eval(&gk, (uint32_t)(px % W), (uint32_t)(px / W), ch, lc);
+                sx = qtool_gen_eval(&gk, (uint32_t)(px % W), (uint32_t)(px / W), ch, lc);
                 ref[3 * px + ch] = s, refx[3 * px + ch] = sx;
             }
         err8 e = compare8(img, ref, 3 * np), ex = compare8(img, refx, 3 * np);
@@ -377,7 +377,7 @@ int qibl_bench_relight(int quick, int csv)
         qibl_pmap_t pm = {W, H, NULL};
         uint8_t *pbytes = malloc(np * 12);
         for (size_t i = 0; i < np * 3; ++i)
-            qibl_store_s32le(pbytes + 4 * i, g.p[i]);
+            qtool_store_s32le(pbytes + 4 * i, g.p[i]);
         pm.points = pbytes;
         /* reference: sum_i T_i Y_i(L) C0 / |L| from the same bytes, in double */
         for (size_t px = 0; px < np; ++px) {
@@ -387,14 +387,14 @@ int qibl_bench_relight(int quick, int csv)
                 d2 += l[j] * l[j];
             }
             double dd = fmax(sqrt(d2), 1.0 / 256);
-            qibl_ref_sh_eval(l[0], l[1], l[2], 5, yv);
+            qtool_ref_sh_eval(l[0], l[1], l[2], 5, yv);
             for (uint32_t ch = 0; ch < 3; ++ch) {
                 double s = 0;
                 for (uint32_t i = 0; i < k; ++i)
                     s += decoded(&p.m, i, ch, px) * yv[i];
                 double c0 = lamp.rgb[ch] / 65536.0 / dd;
                 ref[3 * px + ch] = s * c0;
-                refx[3 * px + ch] = qibl_gen_eval(&gk, (uint32_t)(px % W), (uint32_t)(px / W), ch, yv) * c0;
+                refx[3 * px + ch] = qtool_gen_eval(&gk, (uint32_t)(px % W), (uint32_t)(px / W), ch, yv) * c0;
             }
         }
         size_t pwn = qibl_shmap_point_workspace_size(k, W);
@@ -409,14 +409,14 @@ int qibl_bench_relight(int quick, int csv)
                 lut.face_size = luts[li], lut.k = k, lut.values = vals;
             }
             for (int r = 0; r < reps; ++r) {
-                double t0 = qibl_cli_now();
+                double t0 = qcli_now();
                 qibl_shmap_point_t st;
                 qibl_shmap_point_prepare(&p.m, &pm, li < 3 ? &lut : NULL, &lamp, &st);
                 for (uint32_t y = 0; y < H; ++y)
                     qibl_shmap_point_span(&st, 0, y, W, img + 3 * (size_t)y * W, pws, pwn);
-                t[r] = qibl_cli_now() - t0;
+                t[r] = qcli_now() - t0;
             }
-            double tp = qibl_cli_median(t, reps);
+            double tp = qcli_median(t, reps);
             err8 pe = compare8(img, ref, 3 * np), pex = compare8(img, refx, 3 * np);
             static const char *names[4] = {"point, LUT 16^2", "point, LUT 32^2", "point, LUT 64^2", "point, direct SH"};
             rows[nrows++] = (row){names[li], k, tp * 1e3, np / tp * 1e-6, pe.psnr, pe.max_abs, pex.psnr};
@@ -432,10 +432,10 @@ int qibl_bench_relight(int quick, int csv)
     }
     /* ---- packing schemes, k = 16 */
     packed pm, pr;
-    pack(&g, 16, QIBL_PACK_MINMAX, &pm);
-    pack(&g, 16, QIBL_PACK_ROBUST, &pr);
+    pack(&g, 16, QTOOL_PACK_MINMAX, &pm);
+    pack(&g, 16, QTOOL_PACK_ROBUST, &pr);
     double psnr_scheme[2];
-    qibl_gen_maps g16 = g;
+    qtool_gen_maps g16 = g;
     g16.k = 16;
     for (int s = 0; s < 2; ++s) {
         packed *p = s ? &pr : &pm;
@@ -451,7 +451,7 @@ int qibl_bench_relight(int quick, int csv)
                 double lc[25];
                 for (uint32_t i = 0; i < 16; ++i)
                     lc[i] = sl.c[ch][i] / 65536.0;
-                refx[3 * px + ch] = qibl_gen_eval(&g16, (uint32_t)(px % W), (uint32_t)(px / W), ch, lc);
+                refx[3 * px + ch] = qtool_gen_eval(&g16, (uint32_t)(px % W), (uint32_t)(px / W), ch, lc);
             }
         psnr_scheme[s] = compare8(img, refx, 3 * np).psnr;
     }
@@ -492,20 +492,20 @@ int qibl_bench_relight(int quick, int csv)
     }
     free(img), free(ref), free(refx), free(ws);
     if (lr < 0) {
-        qibl_gen_free(&g);
+        qtool_gen_free(&g);
         return 1;
     }
-    qibl_gen_free(&g);
+    qtool_gen_free(&g);
     return 0;
 }
 
 /* `qibl bench baselines`: only the baselines above, on the full-size courtyard (1024x256; 256x64
  * with --quick), for comparing builds (compilers, flags, QIBL_CONFIG_SIMD) without the error runs. */
-int qibl_bench_relight_baselines(int quick)
+int qcli_bench_relight_baselines(int quick)
 {
     const uint32_t W = quick ? 256 : 1024, H = quick ? 64 : 256;
-    qibl_gen_maps g;
-    if (qibl_gen_scene(W, H, 25, QIBL_PANO_CYLINDRICAL, &g) != 0) {
+    qtool_gen_maps g;
+    if (qtool_gen_scene(W, H, 25, QTOOL_PANO_CYLINDRICAL, &g) != 0) {
         fprintf(stderr, "qibl: bench baselines: out of memory\n");
         return 1;
     }
@@ -517,6 +517,6 @@ int qibl_bench_relight_baselines(int quick)
     if (rc)
         fprintf(stderr, "qibl: bench baselines: out of memory\n");
     free(img), free(ws);
-    qibl_gen_free(&g);
+    qtool_gen_free(&g);
     return rc;
 }

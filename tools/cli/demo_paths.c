@@ -12,7 +12,7 @@
 #include "bake/path.h"
 #include "io/png.h"
 #include "qibl/asset.h"
-#include "qibl/cli.h"
+#include "cli/cli.h"
 #include "ref/psnr.h"
 #include "render/rt.h"
 
@@ -58,15 +58,15 @@ static void finish(const acc_t *a, const char *name, double bytes_px, row_stats 
     for (int c = 1; c < NCLS; ++c)
         se += a->se_cls[c], n += a->n_cls[c];
     r->name = name, r->bytes_px = bytes_px;
-    r->psnr = qibl_ref_psnr8(n > 0 ? se / n : 0);
+    r->psnr = qtool_ref_psnr8(n > 0 ? se / n : 0);
     for (int c = 1; c < NCLS; ++c) {
-        r->psnr_cls[c] = a->n_cls[c] > 0 ? qibl_ref_psnr8(a->se_cls[c] / a->n_cls[c]) : 0;
+        r->psnr_cls[c] = a->n_cls[c] > 0 ? qtool_ref_psnr8(a->se_cls[c] / a->n_cls[c]) : 0;
         r->share_cls[c] = se > 0 ? 100 * a->se_cls[c] / se : 0;
     }
     r->bright = a->lin_truth > 0 ? a->lin_relit / a->lin_truth : 0;
     double ms[NPOS];
     memcpy(ms, a->ms, sizeof(double) * (size_t)a->frames);
-    r->ms = qibl_cli_median(ms, a->frames);
+    r->ms = qcli_median(ms, a->frames);
 }
 
 static void print_row(const row_stats *r)
@@ -101,31 +101,31 @@ static double chunk_bytes(const uint8_t *asset, size_t n, uint32_t type, uint32_
     return c.size;
 }
 
-int qibl_demo_paths(const qibl_rt_scene *s, const qibl_cli_scene *so, uint32_t ndirs, int prop, int small,
-                    const qibl_bake_sums *sums, const uint8_t *today, size_t today_n, const char *dir)
+int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndirs, int prop, int small,
+                    const qtool_bake_sums *sums, const uint8_t *today, size_t today_n, const char *dir)
 {
     uint32_t w = so->w, h = so->h;
-    qibl_pano_kind kind = (qibl_pano_kind)so->kind;
+    qtool_pano_kind kind = (qtool_pano_kind)so->kind;
     size_t np = (size_t)w * h;
     int rc = 1;
-    double t0 = qibl_cli_now(), lut[256];
+    double t0 = qcli_now(), lut[256];
     for (int i = 0; i < 256; ++i)
         lut[i] = lin8(i);
 
     /* the paths: a summer day at 40 N from 7 to 17 h; a lamp carried round the courtyard */
-    qibl_bake_path sun = {0}, track = {0};
+    qtool_bake_path sun = {0}, track = {0};
     sun.kind = 0, sun.lat = 40, sun.decl = 15, sun.t0 = 7, sun.t1 = 17;
     sun.rgb[0] = 2.6, sun.rgb[1] = 2.4, sun.rgb[2] = 2.1;
     track.kind = 1, track.npts = 9;
-    double cx = prop ? QIBL_RT_PROP_X : 0.0, rr = prop ? 2.2 : 2.8;
+    double cx = prop ? QTOOL_RT_PROP_X : 0.0, rr = prop ? 2.2 : 2.8;
     for (int i = 0; i < track.npts; ++i) {
         double a = 2 * 3.14159265358979 * i / (track.npts - 1) + 0.3;
         track.pts[i][0] = cx + rr * cos(a), track.pts[i][1] = rr * sin(a), track.pts[i][2] = -0.5 + 0.4 * sin(2 * a);
     }
     track.rgb[0] = 5.0, track.rgb[1] = 4.4, track.rgb[2] = 3.6;
 
-    qibl_bake_sums us;
-    qibl_gen_maps msh = {0}, mu9 = {0}, mu16 = {0};
+    qtool_bake_sums us;
+    qtool_gen_maps msh = {0}, mu9 = {0}, mu16 = {0};
     uint8_t *lp[3] = {NULL, NULL, NULL}, *asset9 = NULL, *asset16 = NULL;
     size_t lpn[2] = {0, 0}, n9 = 0, n16 = 0;
     uint8_t *truth = malloc(np * 3 * NPOS * 2), *cls = malloc(np * NPOS * 2), *tmp = malloc(np * 3);
@@ -134,30 +134,30 @@ int qibl_demo_paths(const qibl_rt_scene *s, const qibl_cli_scene *so, uint32_t n
     uint32_t steps = small ? 32 : 64;
     memset(&us, 0, sizeof us);
     if (!truth || !cls || !tmp || !keep[0] || !keep[1] || !keep[2] || !keep[3] ||
-        qibl_bake_run_unshadowed(s, w, h, kind, ndirs, 16, so->threads, &us) != 0 ||
-        qibl_bake_coeffs(sums, 16, QIBL_PROJ_QUADRATURE, &msh) != 0 ||
-        qibl_bake_coeffs(&us, 9, QIBL_PROJ_QUADRATURE, &mu9) != 0 ||
-        qibl_bake_coeffs(&us, 16, QIBL_PROJ_QUADRATURE, &mu16) != 0 ||
-        qibl_bake_path_chunk(s, w, h, kind, &sun, steps, 65, so->threads, &lp[0], &lpn[0], st_sun) != 0 ||
-        qibl_bake_path_chunk(s, w, h, kind, &track, steps, 65, so->threads, &lp[1], &lpn[1], st_trk) != 0 ||
-        qibl_bake_asset_ex(&msh, &mu9, 32, lp, lpn, &asset9, &n9) != 0 ||
-        qibl_bake_asset_ex(&msh, &mu16, 32, lp, lpn, &asset16, &n16) != 0) {
+        qtool_bake_run_unshadowed(s, w, h, kind, ndirs, 16, so->threads, &us) != 0 ||
+        qtool_bake_coeffs(sums, 16, QTOOL_PROJ_QUADRATURE, &msh) != 0 ||
+        qtool_bake_coeffs(&us, 9, QTOOL_PROJ_QUADRATURE, &mu9) != 0 ||
+        qtool_bake_coeffs(&us, 16, QTOOL_PROJ_QUADRATURE, &mu16) != 0 ||
+        qtool_bake_path_chunk(s, w, h, kind, &sun, steps, 65, so->threads, &lp[0], &lpn[0], st_sun) != 0 ||
+        qtool_bake_path_chunk(s, w, h, kind, &track, steps, 65, so->threads, &lp[1], &lpn[1], st_trk) != 0 ||
+        qtool_bake_asset_ex(&msh, &mu9, 32, lp, lpn, &asset9, &n9) != 0 ||
+        qtool_bake_asset_ex(&msh, &mu16, 32, lp, lpn, &asset16, &n16) != 0) {
         fprintf(stderr, "qibl: demo: out of memory (light paths)\n");
         goto done;
     }
-    double bake_s = qibl_cli_now() - t0;
+    double bake_s = qcli_now() - t0;
 
     /* 16 positions on each path, between the baked steps; truth and pixel classes once */
-    qibl_rt_light L[2][NPOS];
+    qtool_rt_light L[2][NPOS];
     uint32_t tq[NPOS];
     for (int i = 0; i < NPOS; ++i) {
         tq[i] = (uint32_t)lrint(65535.0 * (i + 0.37) / NPOS);
-        qibl_bake_path_light(&sun, tq[i] / 65535.0, &L[0][i]);
-        qibl_bake_path_light(&track, tq[i] / 65535.0, &L[1][i]);
+        qtool_bake_path_light(&sun, tq[i] / 65535.0, &L[0][i]);
+        qtool_bake_path_light(&track, tq[i] / 65535.0, &L[1][i]);
         for (int p = 0; p < 2; ++p) {
             size_t f = (size_t)p * NPOS + (size_t)i;
-            if (qibl_bake_truth8(s, w, h, kind, &L[p][i], so->threads, truth + f * np * 3, NULL) != 0 ||
-                qibl_bake_classify(s, w, h, kind, &L[p][i], so->threads, cls + f * np) != 0)
+            if (qtool_bake_truth8(s, w, h, kind, &L[p][i], so->threads, truth + f * np * 3, NULL) != 0 ||
+                qtool_bake_classify(s, w, h, kind, &L[p][i], so->threads, cls + f * np) != 0)
                 goto done;
         }
     }
@@ -181,11 +181,11 @@ int qibl_demo_paths(const qibl_rt_scene *s, const qibl_cli_scene *so, uint32_t n
             const uint8_t *as = (r == 2 || r == 5 || r == 7) ? asset16 : asset9;
             size_t an = (r == 2 || r == 5 || r == 7) ? n16 : n9;
             if (r == 0 || r == 3)
-                e = qibl_bake_relight8_lin(today, today_n, &L[p][i], 1, 0, 1, tmp, NULL, &ms, &st);
+                e = qtool_bake_relight8_lin(today, today_n, &L[p][i], 1, 0, 1, tmp, NULL, &ms, &st);
             else if (r == 4 || r == 5) /* a free point light: qibl_asset_point_shmaps picks SHMU */
-                e = qibl_bake_relight8_lin(as, an, &L[p][i], 1, 0, 1, tmp, NULL, &ms, &st);
+                e = qtool_bake_relight8_lin(as, an, &L[p][i], 1, 0, 1, tmp, NULL, &ms, &st);
             else
-                e = qibl_bake_relight_path8(as, an, &L[p][i], (uint32_t)p, tq[i], 0, NULL, tmp, NULL, &ms, &st);
+                e = qtool_bake_relight_path8(as, an, &L[p][i], (uint32_t)p, tq[i], 0, NULL, tmp, NULL, &ms, &st);
             if (e != 0) {
                 fprintf(stderr, "qibl: demo: relight (%s) failed: %s\n", names[r], qibl_status_str(st));
                 goto done;
@@ -212,7 +212,7 @@ int qibl_demo_paths(const qibl_rt_scene *s, const qibl_cli_scene *so, uint32_t n
     double ad_bytes = 0, ad_tiles[3] = {0, 0, 0};
     memset(adacc, 0, sizeof adacc);
     {
-        qibl_gen_maps ma = mu16;
+        qtool_gen_maps ma = mu16;
         size_t tsz = sizeof(double) * np * 16 * 3;
         uint8_t *ad = NULL;
         size_t adn = 0;
@@ -250,12 +250,12 @@ int qibl_demo_paths(const qibl_rt_scene *s, const qibl_cli_scene *so, uint32_t n
                                 ma.t[((size_t)i * 3 + c) * np + (size_t)y * w + x] = 0;
             }
         if (!bad)
-            bad = qibl_bake_asset_ex(&msh, &ma, 32, lp, lpn, &ad, &adn) != 0;
+            bad = qtool_bake_asset_ex(&msh, &ma, 32, lp, lpn, &ad, &adn) != 0;
         for (int p = 0; !bad && p < 2; ++p)
             for (int i = 0; i < NPOS; ++i) {
                 size_t f = (size_t)p * NPOS + (size_t)i;
                 double ms = 0;
-                if (qibl_bake_relight_path8(ad, adn, &L[p][i], (uint32_t)p, tq[i], 0, NULL, tmp, NULL, &ms, &st) != 0) {
+                if (qtool_bake_relight_path8(ad, adn, &L[p][i], (uint32_t)p, tq[i], 0, NULL, tmp, NULL, &ms, &st) != 0) {
                     bad = 1;
                     break;
                 }
@@ -283,19 +283,19 @@ int qibl_demo_paths(const qibl_rt_scene *s, const qibl_cli_scene *so, uint32_t n
         double *lin = malloc(np * 3 * sizeof(double));
         uint8_t *t8 = malloc(np * 3), *u8 = malloc(np * 3);
         int bad = !ha || !hb || !lin || !t8 || !u8 ||
-                  qibl_bake_sky_truth(s, w, h, kind, sky_rgb, nsky, so->threads, ha, hb) != 0;
+                  qtool_bake_sky_truth(s, w, h, kind, sky_rgb, nsky, so->threads, ha, hb) != 0;
         if (!bad) {
-            qibl_bake_lin_to8(ha, w, h, t8);
-            qibl_bake_lin_to8(hb, w, h, u8);
-            sky_noise = qibl_ref_psnr8(qibl_bake_mse(t8, u8, cls, np)); /* class 0 = sky pixels left out */
+            qtool_bake_lin_to8(ha, w, h, t8);
+            qtool_bake_lin_to8(hb, w, h, u8);
+            sky_noise = qtool_ref_psnr8(qtool_bake_mse(t8, u8, cls, np)); /* class 0 = sky pixels left out */
         }
         qibl_shlight_t skysh;
-        qibl_bake_sky_sh(sky_rgb, 16, &skysh);
+        qtool_bake_sky_sh(sky_rgb, 16, &skysh);
         for (int i = 0; !bad && i < NPOS; ++i) {
-            qibl_rt_render(s, w, h, kind, &L[0][i], so->threads, lin, NULL, NULL);
+            qtool_rt_render(s, w, h, kind, &L[0][i], so->threads, lin, NULL, NULL);
             for (size_t q = 0; q < np * 3; ++q)
                 lin[q] += 0.5 * (ha[q] + hb[q]);
-            qibl_bake_lin_to8(lin, w, h, t8);
+            qtool_bake_lin_to8(lin, w, h, t8);
             /* today: sky and sun in one SH light through the shadowed maps */
             qibl_shlight_t both = skysh;
             qibl_q16_t dq[3], rq[3];
@@ -303,12 +303,12 @@ int qibl_demo_paths(const qibl_rt_scene *s, const qibl_cli_scene *so, uint32_t n
                 dq[c] = (qibl_q16_t)lrint(L[0][i].dir[c] * 65536), rq[c] = (qibl_q16_t)lrint(L[0][i].rgb[c] * 65536);
             double ms = 0;
             if (qibl_shlight_add_dir(&both, dq, rq) != QIBL_OK ||
-                qibl_bake_relight_env8(today, today_n, &both, tmp, &ms, &st) != 0) {
+                qtool_bake_relight_env8(today, today_n, &both, tmp, &ms, &st) != 0) {
                 bad = 1;
                 break;
             }
             acc_frame(&sacc[0], tmp, t8, cls + (size_t)i * np, np, ms, lut);
-            if (qibl_bake_relight_path8(asset9, n9, &L[0][i], 0, tq[i], 0, &skysh, tmp, NULL, &ms, &st) != 0) {
+            if (qtool_bake_relight_path8(asset9, n9, &L[0][i], 0, tq[i], 0, &skysh, tmp, NULL, &ms, &st) != 0) {
                 bad = 1;
                 break;
             }
@@ -342,17 +342,17 @@ int qibl_demo_paths(const qibl_rt_scene *s, const qibl_cli_scene *so, uint32_t n
             memset(lin, 0, np * 3 * sizeof(double));
             for (int d = 0; d < NDISC; ++d) { /* sunflower points over the disc */
                 double r = alpha * sqrt((d + 0.5) / NDISC), ph = d * 2.39996323;
-                qibl_rt_light dl = L[0][i];
+                qtool_rt_light dl = L[0][i];
                 for (int k = 0; k < 3; ++k)
                     dl.dir[k] = c[k] + r * (cos(ph) * a[k] + sin(ph) * b[k]);
-                qibl_rt_render(s, w, h, kind, &dl, so->threads, one, NULL, NULL);
+                qtool_rt_render(s, w, h, kind, &dl, so->threads, one, NULL, NULL);
                 for (size_t z = 0; z < np * 3; ++z)
                     lin[z] += one[z] / NDISC;
             }
-            qibl_bake_lin_to8(lin, w, h, t8);
+            qtool_bake_lin_to8(lin, w, h, t8);
             /* the disc's radius in path units: alpha over the sun's angle per step of t */
-            qibl_rt_light nx;
-            qibl_bake_path_light(&sun, (tq[i] + 1) / 65535.0, &nx);
+            qtool_rt_light nx;
+            qtool_bake_path_light(&sun, (tq[i] + 1) / 65535.0, &nx);
             double dot = 0, l0 = 0, l1 = 0;
             for (int k = 0; k < 3; ++k)
                 dot += c[k] * nx.dir[k], l0 += c[k] * c[k], l1 += nx.dir[k] * nx.dir[k];
@@ -360,12 +360,12 @@ int qibl_demo_paths(const qibl_rt_scene *s, const qibl_cli_scene *so, uint32_t n
             uint32_t rad = step > 0 ? (uint32_t)fmin(32767, lrint(alpha / step)) : 0;
             double ms = 0;
             const uint8_t *cl = cls + (size_t)i * np;
-            if (qibl_bake_relight8_lin(today, today_n, &L[0][i], 1, 0, 1, tmp, NULL, &ms, &st) != 0)
+            if (qtool_bake_relight8_lin(today, today_n, &L[0][i], 1, 0, 1, tmp, NULL, &ms, &st) != 0)
                 bad = 1;
             else
                 acc_frame(&soft[0], tmp, t8, cl, np, ms, lut);
             for (int v = 0; !bad && v < 2; ++v) {
-                if (qibl_bake_relight_path8(asset9, n9, &L[0][i], 0, tq[i], v ? rad : 0, NULL, tmp, NULL, &ms, &st) != 0)
+                if (qtool_bake_relight_path8(asset9, n9, &L[0][i], 0, tq[i], v ? rad : 0, NULL, tmp, NULL, &ms, &st) != 0)
                     bad = 1;
                 else
                     acc_frame(&soft[1 + v], tmp, t8, cl, np, ms, lut);
@@ -400,7 +400,7 @@ int qibl_demo_paths(const qibl_rt_scene *s, const qibl_cli_scene *so, uint32_t n
         }
         char err[1200], path[4096];
         snprintf(path, sizeof path, "%s/paths_sheet.png", dir);
-        int bad = !sheet || !hb || qibl_png_write_rgb8(path, (int)sw, (int)h * 2, sheet, err, sizeof err) != 0;
+        int bad = !sheet || !hb || qtool_png_write_rgb8(path, (int)sw, (int)h * 2, sheet, err, sizeof err) != 0;
         if (bad)
             fprintf(stderr, "qibl: %s\n", sheet && hb ? err : "demo: out of memory");
         /* the README picture: truth, today, path shadows of the same sun, one above the other */
@@ -409,7 +409,7 @@ int qibl_demo_paths(const qibl_rt_scene *s, const qibl_cli_scene *so, uint32_t n
             for (int r = 0; r < 3; ++r)
                 memcpy(sheet + (size_t)r * np * 3, src[r], np * 3);
             snprintf(path, sizeof path, "%s/paths_readme.png", dir);
-            bad = qibl_png_write_rgb8(path, (int)w, (int)h * 3, sheet, err, sizeof err) != 0;
+            bad = qtool_png_write_rgb8(path, (int)w, (int)h * 3, sheet, err, sizeof err) != 0;
             if (bad)
                 fprintf(stderr, "qibl: %s\n", err);
         }
@@ -461,8 +461,8 @@ int qibl_demo_paths(const qibl_rt_scene *s, const qibl_cli_scene *so, uint32_t n
            "paths_readme.png (truth, today, path shadows of one sun)\n", dir);
     rc = 0;
 done:
-    qibl_bake_sums_free(&us);
-    qibl_gen_free(&msh), qibl_gen_free(&mu9), qibl_gen_free(&mu16);
+    qtool_bake_sums_free(&us);
+    qtool_gen_free(&msh), qtool_gen_free(&mu9), qtool_gen_free(&mu16);
     free(lp[0]), free(lp[1]), free(asset9), free(asset16), free(truth), free(cls), free(tmp);
     for (int i = 0; i < 4; ++i)
         free(keep[i]);

@@ -19,7 +19,7 @@
 #include <dirent.h>
 
 #include "io/hdr.h"
-#include "qibl/cli.h"
+#include "cli/cli.h"
 #include "qibl/srgbe.h"
 #include "ref/rgb9e5.h"
 #include "ref/sh_ref.h"
@@ -83,8 +83,8 @@ static void encode_with(int codec, const dataset *d, void *buf)
 {
     switch (codec) {
     case C_SRGBE: qibl_srgbe_encode_f32_n(d->bits, d->n, buf); break;
-    case C_WARD: qibl_ref_rgbe_encode_n(d->rgb, d->n, buf); break;
-    case C_RGB9E5: qibl_ref_rgb9e5_encode_n(d->rgb, d->n, buf); break;
+    case C_WARD: qtool_ref_rgbe_encode_n(d->rgb, d->n, buf); break;
+    case C_RGB9E5: qtool_ref_rgb9e5_encode_n(d->rgb, d->n, buf); break;
     default: memcpy(buf, d->rgb, d->n * 3 * sizeof *d->rgb); break;
     }
 }
@@ -93,8 +93,8 @@ static void decode_with(int codec, const dataset *d, const void *buf, float *out
 {
     switch (codec) {
     case C_SRGBE: qibl_srgbe_decode_f32_n(buf, d->n, out_bits); break;
-    case C_WARD: qibl_ref_rgbe_decode_n(buf, d->n, out); break;
-    case C_RGB9E5: qibl_ref_rgb9e5_decode_n(buf, d->n, out); break;
+    case C_WARD: qtool_ref_rgbe_decode_n(buf, d->n, out); break;
+    case C_RGB9E5: qtool_ref_rgb9e5_decode_n(buf, d->n, out); break;
     default: memcpy(out, buf, d->n * 3 * sizeof *out); break;
     }
 }
@@ -106,11 +106,11 @@ static void run_codecs(const dataset *d, int reps, result res[NCODEC], float *ou
     double te[NCODEC][15], td[NCODEC][15];
     for (int k = 0; k <= reps && reps > 0; ++k) /* repetition 0 warms caches and is not kept */
         for (int c = 0; c < NCODEC; ++c) {
-            double t0 = qibl_cli_now();
+            double t0 = qcli_now();
             encode_with(c, d, buf);
-            double t1 = qibl_cli_now();
+            double t1 = qcli_now();
             decode_with(c, d, buf, out, out_bits);
-            double t2 = qibl_cli_now();
+            double t2 = qcli_now();
             if (k > 0) {
                 te[c][k - 1] = t1 - t0;
                 td[c][k - 1] = t2 - t1;
@@ -123,8 +123,8 @@ static void run_codecs(const dataset *d, int reps, result res[NCODEC], float *ou
             memcpy(out, out_bits, d->n * 3 * sizeof *out); /* binary32 bits to float, no arithmetic */
         memset(&res[c].err, 0, sizeof res[c].err);
         errs_add(&res[c].err, d->rgb, out, d->n);
-        res[c].enc_mpx = reps > 0 ? (double)d->n / qibl_cli_median(te[c], reps) / 1e6 : 0.0;
-        res[c].dec_mpx = reps > 0 ? (double)d->n / qibl_cli_median(td[c], reps) / 1e6 : 0.0;
+        res[c].enc_mpx = reps > 0 ? (double)d->n / qcli_median(te[c], reps) / 1e6 : 0.0;
+        res[c].dec_mpx = reps > 0 ? (double)d->n / qcli_median(td[c], reps) / 1e6 : 0.0;
     }
 }
 
@@ -159,7 +159,7 @@ static void srgbe_bound(const dataset *d, double *max_all, double *max_nz)
         if (mx < 0x1p-128)
             continue; /* flushed: no bound */
         for (int k = 0; k < 3; ++k) {
-            double e = qibl_ref_srgbe_err_in_bounds(d->rgb[3 * p + k], c[k], c[3]);
+            double e = qtool_ref_srgbe_err_in_bounds(d->rgb[3 * p + k], c[k], c[3]);
             if (e > *max_all)
                 *max_all = e;
             if (d->rgb[3 * p + k] != 0.0f && e > *max_nz)
@@ -255,7 +255,7 @@ static void sh_project(const float *rgb, int w, int h, double coef[25][3], float
         double t = (y + 0.5) * dt, dw = sin(t) * dt * dp;
         for (int x = 0; x < w; ++x) {
             double p = (x + 0.5) * dp, Y[25];
-            qibl_ref_sh_eval(sin(t) * cos(p), sin(t) * sin(p), cos(t), 5, Y);
+            qtool_ref_sh_eval(sin(t) * cos(p), sin(t) * sin(p), cos(t), 5, Y);
             size_t idx = (size_t)y * (size_t)w + (size_t)x;
             const float *L = rgb + 3 * idx;
             for (int i = 0; i < 25; ++i)
@@ -281,14 +281,14 @@ static void bench_table(const char *title, const dataset *d, int reps, result re
     printf("  sRGBE error / (2^e/510), exact decode: max %.9f (channels != 0: %.9f)\n", ba, bn);
 }
 
-int qibl_bench_srgbe(int quick)
+int qcli_bench_srgbe(int quick)
 {
     const int reps = quick ? 3 : 9;
     int w = 1024, h = 512, rc = 0, have_probe = 0;
     float *img = NULL;
     char path[1024], err[512], src[1200];
     if (find_probe(path, sizeof path) == 0) {
-        if (qibl_hdr_read(path, &w, &h, &img, err, sizeof err) != 0) {
+        if (qtool_hdr_read(path, &w, &h, &img, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: bench srgbe: %s\n", err);
             return 1;
         }

@@ -22,7 +22,7 @@
 #include <string.h>
 
 #include "io/hdr.h"
-#include "qibl/cli.h"
+#include "cli/cli.h"
 #include "qibl/lightprobe.h"
 #include "ref/lightprobe_ref.h"
 
@@ -95,12 +95,12 @@ static int time_run(job *j, qibl_lightprobe_method_t build_for, const qibl_light
     for (int r = 0; r < reps && r < 31; ++r) {
         qibl_lightprobe_t lp;
         qibl_lightprobe_result_t res;
-        double t0 = qibl_cli_now();
+        double t0 = qcli_now();
         qibl_status_t st = qibl_lightprobe_build(&lp, &img, build_for, j->ws, j->ws_size);
-        double t1 = qibl_cli_now();
+        double t1 = qcli_now();
         if (st == QIBL_OK)
             st = qibl_lightprobe_lights(&lp, o, j->L, n, &res);
-        double t2 = qibl_cli_now();
+        double t2 = qcli_now();
         if (st != QIBL_OK) {
             fprintf(stderr, "qibl: bench lights: %s\n", qibl_status_str(st));
             return -1;
@@ -117,9 +117,9 @@ static double time_read(const uint8_t *px, size_t n, int reps)
 {
     double t[31];
     for (int r = 0; r < reps && r < 31; ++r) {
-        double t0 = qibl_cli_now();
+        double t0 = qcli_now();
         sink = read_pass(px, n);
-        t[r] = (qibl_cli_now() - t0) * 1e3;
+        t[r] = (qcli_now() - t0) * 1e3;
     }
     return median(t, reps);
 }
@@ -222,12 +222,12 @@ static int quality(int quick, char names[][256], int np)
     double (*nrm)[3] = malloc(sizeof *nrm * (size_t)nn), *E = malloc(sizeof *E * (size_t)nn);
     double me[NCONF], mx[NCONF], sum_me[NCONF] = {0}, sum_mx[NCONF] = {0};
     qibl_lightprobe_light_t *L = malloc(sizeof *L * 256);
-    qibl_ref_light *R = malloc(sizeof *R * 256);
+    qtool_ref_light *R = malloc(sizeof *R * 256);
     if (!nrm || !E || !L || !R) {
         free(nrm), free(E), free(L), free(R);
         return fprintf(stderr, "qibl: bench lights: out of memory\n"), 1;
     }
-    qibl_ref_sphere_dirs(nn, nrm);
+    qtool_ref_sphere_dirs(nn, nrm);
     printf("\n== bench lights: irradiance error against the full probe over %d normals, mean %% (max %%) of the "
            "mean irradiance\n", nn);
     printf("%-26s", "probe");
@@ -242,14 +242,14 @@ static int quality(int quick, char names[][256], int np)
         snprintf(path, sizeof path, "%s/%.250s", PROBE_DIR, names[i]);
         int w, h;
         uint8_t *px;
-        if (qibl_hdr_read_rgbe(path, &w, &h, &px, err, sizeof err) != 0) {
+        if (qtool_hdr_read_rgbe(path, &w, &h, &px, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
             continue;
         }
         double *d = malloc(sizeof *d * 3 * (size_t)w * (size_t)h);
         size_t wsz = qibl_lightprobe_workspace_size((uint32_t)w, (uint32_t)h, QIBL_LIGHTPROBE_VARMIN);
         void *ws = malloc(wsz);
-        qibl_ref_probe rp;
+        qtool_ref_probe rp;
         if (!d || !ws) {
             free(d), free(ws), free(px);
             continue;
@@ -257,11 +257,11 @@ static int quality(int quick, char names[][256], int np)
         for (size_t k = 0; k < (size_t)w * (size_t)h; ++k)
             for (int c = 0; c < 3; ++c)
                 d[3 * k + (size_t)c] = px[4 * k + 3] ? ldexp(px[4 * k + (size_t)c], px[4 * k + 3] - 136) : 0.0;
-        if (qibl_ref_probe_init(&rp, w, h, d) != 0) {
+        if (qtool_ref_probe_init(&rp, w, h, d) != 0) {
             free(d), free(ws), free(px);
             continue;
         }
-        qibl_ref_probe_irradiance(&rp, nn, (const double (*)[3])nrm, E, 4);
+        qtool_ref_probe_irradiance(&rp, nn, (const double (*)[3])nrm, E, 4);
         qibl_lightprobe_image_t img;
         memset(&img, 0, sizeof img);
         img.pixels = px, img.width = (uint32_t)w, img.height = (uint32_t)h;
@@ -282,12 +282,12 @@ static int quality(int quick, char names[][256], int np)
                     R[k].dir[ch] = L[k].dir[ch] / 1073741824.0;
                     R[k].rgb[ch] = ldexp(L[k].rgb[ch], res.rgb_exp);
                 }
-            qibl_ref_irradiance_error(R, (int)res.count, nn, (const double (*)[3])nrm, E, &me[c], &mx[c]);
+            qtool_ref_irradiance_error(R, (int)res.count, nn, (const double (*)[3])nrm, E, &me[c], &mx[c]);
             sum_me[c] += me[c], sum_mx[c] += mx[c];
             printf(" %7.3f", 100 * me[c]);
         }
         printf("\n");
-        qibl_ref_probe_free(&rp);
+        qtool_ref_probe_free(&rp);
         free(d), free(ws), free(px);
     }
     printf("\n%-4s %-42s %14s %14s\n", "col", "configuration", "mean error %", "max error %");
@@ -320,7 +320,7 @@ static int list_probes(char names[][256], int max)
     return n;
 }
 
-int qibl_bench_lights(int quick)
+int qcli_bench_lights(int quick)
 {
     static char names[64][256];
     int np = list_probes(names, 64);
@@ -340,7 +340,7 @@ int qibl_bench_lights(int quick)
         path[0] = '\0';
     }
     if (path[0]) {
-        if (qibl_hdr_read_rgbe(path, &w, &h, &px, err, sizeof err) != 0)
+        if (qtool_hdr_read_rgbe(path, &w, &h, &px, err, sizeof err) != 0)
             return fprintf(stderr, "qibl: %s\n", err), 1;
         snprintf(label, sizeof label, "%.590s", path);
     } else {

@@ -15,58 +15,58 @@
 #include "io/pfm.h"
 #include "io/png.h"
 #include "qibl/asset.h"
-#include "qibl/gles_cli.h"
+#include "cli/gles_cli.h"
 #include "io/file.h"
-#include "qibl/cli.h"
+#include "cli/cli.h"
 #include "qibl/shmap.h"
 #include "qibl/soft.h"
 
 /* ---- qibl gen ---------------------------------------------------------------------------------- */
 
-int qibl_cmd_gen(int argc, char **argv)
+int qcli_cmd_gen(int argc, char **argv)
 {
     const char *out = NULL;
     long w = 1024, h = 256, k = 16, lut = 0;
     int r;
     uint32_t layout = QIBL_SHMAPS_PLANAR;
-    qibl_pack_scheme scheme = QIBL_PACK_MINMAX;
-    qibl_pano_kind kind = QIBL_PANO_CYLINDRICAL;
+    qtool_pack_scheme scheme = QTOOL_PACK_MINMAX;
+    qtool_pano_kind kind = QTOOL_PANO_CYLINDRICAL;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         if (strcmp(a, "-o") == 0 && i + 1 < argc)
             out = argv[++i];
         else if (strcmp(a, "--size") == 0 && i + 1 < argc) {
-            if (qibl_cli_parse_size(a, argv[++i], 16384, &w, &h) != 0)
+            if (qcli_parse_size(a, argv[++i], 16384, &w, &h) != 0)
                 return 2;
             if (w * h > (long)QIBL_ASSET_MAX_PIXELS)
-                return qibl_cli_usage_error("--size %ldx%ld is above the asset's %u pixels", w, h, QIBL_ASSET_MAX_PIXELS);
+                return qcli_usage_error("--size %ldx%ld is above the asset's %u pixels", w, h, QIBL_ASSET_MAX_PIXELS);
         } else if (strcmp(a, "--k") == 0 && i + 1 < argc) {
-            if (qibl_cli_parse_int(argv[++i], 1, 25, &k) != 0)
-                return qibl_cli_usage_error("--k needs an integer in 1..25");
-        } else if ((r = qibl_cli_lut_size_opt(argc, argv, &i, 0, &lut)) != 0) {
+            if (qcli_parse_int(argv[++i], 1, 25, &k) != 0)
+                return qcli_usage_error("--k needs an integer in 1..25");
+        } else if ((r = qcli_lut_size_opt(argc, argv, &i, 0, &lut)) != 0) {
             if (r < 0)
                 return 2;
         } else if (strcmp(a, "--pack") == 0 && i + 1 < argc) {
             const char *p = argv[++i];
             if (strcmp(p, "minmax") == 0)
-                scheme = QIBL_PACK_MINMAX;
+                scheme = QTOOL_PACK_MINMAX;
             else if (strcmp(p, "robust") == 0)
-                scheme = QIBL_PACK_ROBUST;
+                scheme = QTOOL_PACK_ROBUST;
             else
-                return qibl_cli_usage_error("--pack is minmax or robust");
+                return qcli_usage_error("--pack is minmax or robust");
         } else if (strcmp(a, "--layout") == 0 && i + 1 < argc) {
-            if (qibl_cli_parse_layout(argv[++i], &layout) != 0)
-                return qibl_cli_usage_error("--layout is planar or interleaved");
+            if (qcli_parse_layout(argv[++i], &layout) != 0)
+                return qcli_usage_error("--layout is planar or interleaved");
         } else if (strcmp(a, "--equirect") == 0)
-            kind = QIBL_PANO_EQUIRECT;
+            kind = QTOOL_PANO_EQUIRECT;
         else
-            return qibl_cli_usage_error("usage: qibl gen -o FILE [--size WxH] [--k K] [--lut-size N] [--pack minmax|robust] "
+            return qcli_usage_error("usage: qibl gen -o FILE [--size WxH] [--k K] [--lut-size N] [--pack minmax|robust] "
                                         "[--equirect] [--layout planar|interleaved]");
     }
     if (!out)
-        return qibl_cli_usage_error("gen: -o FILE is required");
-    qibl_gen_maps g;
-    if (qibl_gen_scene((uint32_t)w, (uint32_t)h, (uint32_t)k, kind, &g) != 0) {
+        return qcli_usage_error("gen: -o FILE is required");
+    qtool_gen_maps g;
+    if (qtool_gen_scene((uint32_t)w, (uint32_t)h, (uint32_t)k, kind, &g) != 0) {
         fprintf(stderr, "qibl: gen: out of memory\n");
         return 1;
     }
@@ -74,16 +74,16 @@ int qibl_cmd_gen(int argc, char **argv)
     int32_t *scale = malloc(sizeof(int32_t) * nplanes), *bias = malloc(sizeof(int32_t) * nplanes);
     uint8_t *planes = malloc(np * nplanes);
     int16_t *lutv = NULL;
-    qibl_asset_builder b;
-    qibl_asset_builder_init(&b);
+    qtool_asset_builder b;
+    qtool_asset_builder_init(&b);
     int rc = 1;
-    qibl_pack_stats st;
-    if (!scale || !bias || !planes || qibl_pack_maps(&g, scheme, scale, bias, planes, &st) != 0) {
+    qtool_pack_stats st;
+    if (!scale || !bias || !planes || qtool_pack_maps(&g, scheme, scale, bias, planes, &st) != 0) {
         fprintf(stderr, "qibl: gen: out of memory\n");
         goto done;
     }
-    if (qibl_asset_add_shmp_layout(&b, (uint32_t)w, (uint32_t)h, (uint32_t)k, 3, scale, bias, planes, layout) != 0 ||
-        qibl_asset_add_pmap(&b, (uint32_t)w, (uint32_t)h, g.p) != 0) {
+    if (qtool_asset_add_shmp_layout(&b, (uint32_t)w, (uint32_t)h, (uint32_t)k, 3, scale, bias, planes, layout) != 0 ||
+        qtool_asset_add_pmap(&b, (uint32_t)w, (uint32_t)h, g.p) != 0) {
         fprintf(stderr, "qibl: gen: %s\n", b.err);
         goto done;
     }
@@ -99,38 +99,38 @@ int qibl_cmd_gen(int argc, char **argv)
         for (size_t i = 0; i < vs / 2; ++i)
             lutv[i] = qibl_load_s16le(le + 2 * i);
         free(le);
-        if (qibl_asset_add_ylut(&b, (uint32_t)lut, (uint32_t)k, lutv) != 0) {
+        if (qtool_asset_add_ylut(&b, (uint32_t)lut, (uint32_t)k, lutv) != 0) {
             fprintf(stderr, "qibl: gen: %s\n", b.err);
             goto done;
         }
     }
-    if (qibl_asset_write_file(&b, out, 1) != 0) {
+    if (qtool_asset_write_file(&b, out, 1) != 0) {
         fprintf(stderr, "qibl: %s\n", b.err);
         goto done;
     }
     printf("wrote %s: %ldx%ld %s courtyard, k = %ld, %s layout, packing %s (rms %.3e, max %.3e, %llu clipped)%s\n", out, w, h,
-           kind == QIBL_PANO_CYLINDRICAL ? "cylindrical" : "equirectangular", k,
-           layout == QIBL_SHMAPS_INTERLEAVED ? "interleaved" : "planar", scheme == QIBL_PACK_MINMAX ? "min/max" : "robust", st.rms, st.max_abs, (unsigned long long)st.clipped,
+           kind == QTOOL_PANO_CYLINDRICAL ? "cylindrical" : "equirectangular", k,
+           layout == QIBL_SHMAPS_INTERLEAVED ? "interleaved" : "planar", scheme == QTOOL_PACK_MINMAX ? "min/max" : "robust", st.rms, st.max_abs, (unsigned long long)st.clipped,
            lut ? ", with cube-map Y LUT" : "");
     rc = 0;
 done:
-    qibl_asset_builder_free(&b);
+    qtool_asset_builder_free(&b);
     free(scale), free(bias), free(planes), free(lutv);
-    qibl_gen_free(&g);
+    qtool_gen_free(&g);
     return rc;
 }
 
 /* ---- qibl relight ------------------------------------------------------------------------------ */
 
-/* X Y Z after argv[i] into Q16.16 (rounded to nearest), each in lo..QIBL_CLI_Q16_MAX; 0, or 2 after
+/* X Y Z after argv[i] into Q16.16 (rounded to nearest), each in lo..QTOOL_CLI_Q16_MAX; 0, or 2 after
  * a message naming the option and the value */
 static int parse3(char **argv, int i, int argc, double lo, qibl_q16_t v[3])
 {
     if (i + 3 >= argc)
-        return qibl_cli_usage_error("%s needs three numbers", argv[i]);
+        return qcli_usage_error("%s needs three numbers", argv[i]);
     for (int j = 0; j < 3; ++j) {
         double d;
-        if (qibl_cli_parse_num(argv[i], argv[i + 1 + j], lo, QIBL_CLI_Q16_MAX, QIBL_CLI_Q16_WHY, &d) != 0)
+        if (qcli_parse_num(argv[i], argv[i + 1 + j], lo, QTOOL_CLI_Q16_MAX, QTOOL_CLI_Q16_WHY, &d) != 0)
             return 2;
         v[j] = (qibl_q16_t)nearbyint(d * 65536.0);
     }
@@ -156,7 +156,7 @@ static double *pmap_points(const qibl_pmap_t *pm)
     return p;
 }
 
-int qibl_cmd_relight(int argc, char **argv)
+int qcli_cmd_relight(int argc, char **argv)
 {
     const char *in = NULL, *png = NULL, *hdr = NULL, *pfm = NULL;
     qibl_q16_t sun[3] = {0}, pos[3] = {0}, rgb[3] = {65536, 65536, 65536};
@@ -167,14 +167,14 @@ int qibl_cmd_relight(int argc, char **argv)
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         if (strcmp(a, "--sun") == 0) {
-            if (parse3(argv, i, argc, -QIBL_CLI_Q16_MAX, sun) != 0)
+            if (parse3(argv, i, argc, -QTOOL_CLI_Q16_MAX, sun) != 0)
                 return 2;
             if (sun[0] == 0 && sun[1] == 0 && sun[2] == 0)
-                return qibl_cli_usage_error("--sun needs a non-zero direction: %s %s %s is 0 0 0 in Q16.16", argv[i + 1],
+                return qcli_usage_error("--sun needs a non-zero direction: %s %s %s is 0 0 0 in Q16.16", argv[i + 1],
                                             argv[i + 2], argv[i + 3]);
             have_sun = 1, i += 3;
         } else if (strcmp(a, "--point") == 0) {
-            if (parse3(argv, i, argc, -QIBL_CLI_Q16_MAX, pos) != 0)
+            if (parse3(argv, i, argc, -QTOOL_CLI_Q16_MAX, pos) != 0)
                 return 2;
             have_point = 1, i += 3;
         } else if (strcmp(a, "--rgb") == 0) {
@@ -183,12 +183,12 @@ int qibl_cmd_relight(int argc, char **argv)
             have_rgb = 1, i += 3;
         } else if (strcmp(a, "--exposure") == 0 && i + 1 < argc) {
             double e;
-            if (qibl_cli_parse_num(a, argv[++i], 1.0 / 65536, QIBL_CLI_Q16_MAX, "a positive Q16.16 factor", &e) != 0)
+            if (qcli_parse_num(a, argv[++i], 1.0 / 65536, QTOOL_CLI_Q16_MAX, "a positive Q16.16 factor", &e) != 0)
                 return 2;
             exposure = (qibl_q16_t)nearbyint(e * 65536.0);
         } else if (strcmp(a, "--falloff") == 0 && i + 1 < argc) {
-            if (qibl_cli_parse_int(argv[++i], 1, 2, &falloff) != 0)
-                return qibl_cli_usage_error("--falloff is 1 (C0/|L|) or 2 (C0/|L|^2)");
+            if (qcli_parse_int(argv[++i], 1, 2, &falloff) != 0)
+                return qcli_usage_error("--falloff is 1 (C0/|L|) or 2 (C0/|L|^2)");
         } else if (strcmp(a, "--lut") == 0) {
             /* --lut MODE; a bare --lut (the old on/off switch) is bilinear: the next word is then an
              * option or the asset, never a mode name, so the two spellings cannot be confused */
@@ -196,7 +196,7 @@ int qibl_cmd_relight(int argc, char **argv)
             if (strcmp(m, "nearest") == 0 || strcmp(m, "bilinear") == 0 || strcmp(m, "off") == 0) {
                 use_lut = m[0] != 'o', nearest = m[0] == 'n', ++i;
             } else if (m[0] != '-' && m[0] != '\0' && in) {
-                return qibl_cli_usage_error("--lut: '%s' is not a mode (nearest, bilinear or off)", m);
+                return qcli_usage_error("--lut: '%s' is not a mode (nearest, bilinear or off)", m);
             } else {
                 use_lut = 1, nearest = 0;
                 fprintf(stderr, "qibl: note: a bare --lut is deprecated; say --lut bilinear\n");
@@ -217,14 +217,14 @@ int qibl_cmd_relight(int argc, char **argv)
         else if (a[0] != '-' && !in)
             in = a;
         else
-            return qibl_cli_usage_error(RELIGHT_USAGE);
+            return qcli_usage_error(RELIGHT_USAGE);
     }
     if (!in || (!png && !hdr && !pfm) || have_sun == have_point)
-        return qibl_cli_usage_error("relight needs FILE, exactly one of --sun/--point, and --png, --hdr or --pfm OUT");
+        return qcli_usage_error("relight needs FILE, exactly one of --sun/--point, and --png, --hdr or --pfm OUT");
     size_t n;
     uint8_t *bytes = NULL;
     char rerr[512];
-    if (qibl_io_read_asset(in, &bytes, &n, rerr, sizeof rerr) != 0) {
+    if (qtool_io_read_asset(in, &bytes, &n, rerr, sizeof rerr) != 0) {
         fprintf(stderr, "qibl: %s\n", rerr);
         return 1;
     }
@@ -257,7 +257,7 @@ int qibl_cmd_relight(int argc, char **argv)
         /* C0 = 1 lights a scene a few units away almost black: scale it with the scene's distance */
         double *pts = pmap_points(&pm), c0, d;
         double lp[3] = {pos[0] / 65536.0, pos[1] / 65536.0, pos[2] / 65536.0};
-        if (!pts || qibl_cli_point_default(pts, np, lp, (int)falloff, &c0, &d) != 0) {
+        if (!pts || qcli_point_default(pts, np, lp, (int)falloff, &c0, &d) != 0) {
             fprintf(stderr, "qibl: relight: out of memory\n");
             free(pts), free(bytes), free(pix), free(lin);
             return 1;
@@ -265,29 +265,29 @@ int qibl_cmd_relight(int argc, char **argv)
         free(pts);
         rgb[0] = rgb[1] = rgb[2] = (qibl_q16_t)nearbyint(c0 * 65536.0);
         fprintf(stderr, "qibl: note: --point without --rgb: C0 = %.4g (%.2g x d%s, d = %.3g the median distance from "
-                "the lamp to the scene); give --rgb R G B to choose\n", c0, QIBL_CLI_POINT_GREY,
+                "the lamp to the scene); give --rgb R G B to choose\n", c0, QTOOL_CLI_POINT_GREY,
                 falloff == 2 ? "^2" : "", d);
     }
-    qibl_rt_light l = {have_point, {sun[0] / 65536.0, sun[1] / 65536.0, sun[2] / 65536.0},
+    qtool_rt_light l = {have_point, {sun[0] / 65536.0, sun[1] / 65536.0, sun[2] / 65536.0},
                        {pos[0] / 65536.0, pos[1] / 65536.0, pos[2] / 65536.0},
                        {rgb[0] / 65536.0, rgb[1] / 65536.0, rgb[2] / 65536.0}, (int)falloff};
     double ms = 0;
     int rc = 0;
     if (gles) { /* the GPU path: same asset, same core weights, platform/gles2 */
-        qibl_gles_relight_req req = {&m, have_point ? &pm : NULL, have_point && use_lut ? &lut : NULL,
+        qtool_gles_relight_req req = {&m, have_point ? &pm : NULL, have_point && use_lut ? &lut : NULL,
                                      {sun[0], sun[1], sun[2]}, {pos[0], pos[1], pos[2]}, {rgb[0], rgb[1], rgb[2]},
                                      (int)falloff, nearest, linear, (qibl_uq16_t)exposure};
         uint32_t passes = 0;
         char renderer[64] = "";
         char err[512];
-        if (qibl_gles_relight(&req, pix, &passes, renderer) != 0)
+        if (qtool_gles_relight(&req, pix, &passes, renderer) != 0)
             rc = 1;
-        else if (qibl_png_write_rgb8(png, (int)w, (int)h, pix, err, sizeof err) != 0)
+        else if (qtool_png_write_rgb8(png, (int)w, (int)h, pix, err, sizeof err) != 0)
             fprintf(stderr, "qibl: %s\n", err), rc = 1;
         else
             printf("wrote %s (%ux%u, k = %u, GLES2 on %s, %u pass%s)\n", png, w, h, m.k, renderer, passes,
                    passes == 1 ? "" : "es");
-    } else if (qibl_bake_relight8_lin(bytes, n, &l, use_lut ? (nearest ? 2 : 1) : 0, (qibl_uq16_t)exposure, !linear, pix,
+    } else if (qtool_bake_relight8_lin(bytes, n, &l, use_lut ? (nearest ? 2 : 1) : 0, (qibl_uq16_t)exposure, !linear, pix,
                                       lin, &ms, &st) != 0) {
         fprintf(stderr, "qibl: relight: %s\n", st == QIBL_E_NULL_POINTER ? "out of memory" : qibl_soft_status_str(st));
         rc = 1;
@@ -295,22 +295,22 @@ int qibl_cmd_relight(int argc, char **argv)
         char err[1200];
         const char *how = have_sun ? "directional" : use_lut ? (nearest ? "point/LUT nearest" : "point/LUT bilinear")
                                                             : "point/direct";
-        if (png && qibl_png_write_rgb8(png, (int)w, (int)h, pix, err, sizeof err) != 0) {
+        if (png && qtool_png_write_rgb8(png, (int)w, (int)h, pix, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
             rc = 1;
         } else if (png) {
             printf("wrote %s (%ux%u, k = %u, %s light, %.1f ms incl. framebuffer conversion)\n", png, w, h, m.k, how,
                    ms);
-            qibl_cli_warn_dark(png, pix, np);
+            qcli_warn_dark(png, pix, np);
         }
         /* linear frames: the core's Q16.16 output before exposure and the transfer curve */
-        if (rc == 0 && hdr && qibl_hdr_write(hdr, (int)w, (int)h, lin, err, sizeof err) != 0) {
+        if (rc == 0 && hdr && qtool_hdr_write(hdr, (int)w, (int)h, lin, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
             rc = 1;
         } else if (rc == 0 && hdr) {
             printf("wrote %s (%ux%u Radiance RGBE, linear, before exposure, %s light)\n", hdr, w, h, how);
         }
-        if (rc == 0 && pfm && qibl_pfm_write(pfm, (int)w, (int)h, 3, lin, err, sizeof err) != 0) {
+        if (rc == 0 && pfm && qtool_pfm_write(pfm, (int)w, (int)h, 3, lin, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
             rc = 1;
         } else if (rc == 0 && pfm) {

@@ -22,7 +22,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "qibl/cli.h"
+#include "cli/cli.h"
 #include "qibl/hemi.h"
 #include "io/obj.h"
 #include "ref/sh_ref.h"
@@ -335,7 +335,7 @@ static double hemi_frame_time(const qibl_hemi_t *h, const scene *s, const qibl_q
 
 typedef struct refctx {
     const scene *s;
-    const qibl_rt_scene *rt;
+    const qtool_rt_scene *rt;
     const qibl_q16_t (*pos)[3];
     const int32_t (*nrm)[3];
     double (*ref)[25];
@@ -352,7 +352,7 @@ static void ref_vertex(void *vctx, uint32_t v)
     for (int i = 0; i < 3; ++i)
         for (int k = 0; k < 3; ++k)
             ax[i][k] = fr.axis[i][k] / 1073741824.0;
-    qibl_rt_hit hit;
+    qtool_rt_hit hit;
     memset(&hit, 0, sizeof hit);
     hit.hit = 1;
     for (int k = 0; k < 3; ++k)
@@ -371,10 +371,10 @@ static void ref_vertex(void *vctx, uint32_t v)
             double w[3];
             for (int k = 0; k < 3; ++k)
                 w[k] = l[0] * ax[0][k] + l[1] * ax[1][k] + l[2] * ax[2][k];
-            if (qibl_rt_occluded(c->rt, &hit, w, 1e30))
+            if (qtool_rt_occluded(c->rt, &hit, w, 1e30))
                 continue;
             double y[25];
-            qibl_ref_sh_eval(l[0], l[1], l[2], 5, y);
+            qtool_ref_sh_eval(l[0], l[1], l[2], 5, y);
             for (int i = 0; i < 25; ++i)
                 half[(a + b) & 1][i] += y[i];
         }
@@ -388,10 +388,10 @@ static void ref_vertex(void *vctx, uint32_t v)
     c->noise[v] = n2 > 0 ? sqrt(d2) / 2 / sqrt(n2) : 0;
 }
 
-static int build_rt(const scene *s, int f, qibl_rt_scene *rt)
+static int build_rt(const scene *s, int f, qtool_rt_scene *rt)
 {
     const double *x = s->frames + 3 * (size_t)s->nv * (size_t)f;
-    qibl_obj_mesh m;
+    qtool_obj_mesh m;
     memset(&m, 0, sizeof m);
     m.ntri = (size_t)s->ntri;
     m.pos = malloc(sizeof(double) * 9 * m.ntri);
@@ -405,7 +405,7 @@ static int build_rt(const scene *s, int f, qibl_rt_scene *rt)
                 m.pos[9 * t + 3 * k + j] = lrint(x[3 * s->tri[t][k] + j] * 65536.0) / 65536.0;
                 m.nrm[9 * t + 3 * k + j] = j == 2;
             }
-    int rc = qibl_rt_scene_from_obj(rt, &m, 1, 1);
+    int rc = qtool_rt_scene_from_obj(rt, &m, 1, 1);
     free(m.pos), free(m.nrm);
     return rc;
 }
@@ -436,7 +436,7 @@ static void evaluate(const qibl_hemi_t *h, const scene *s, qibl_q16_t (*pos)[3],
         double t[9];
         for (int r = 0; r < reps; ++r)
             t[r] = hemi_frame_time(h, s, p, n, vloc, vw);
-        tsum += qibl_cli_median(t, reps);
+        tsum += qcli_median(t, reps);
         hemi_frame(h, s, p, n, vloc, vw, tm);
         for (size_t v = 0; v < nv; ++v)
             e += rel_err(vloc[v], ref[nv * (size_t)f + v]);
@@ -445,7 +445,7 @@ static void evaluate(const qibl_hemi_t *h, const scene *s, qibl_q16_t (*pos)[3],
     *fps = nframes / tsum;
 }
 
-int qibl_bench_hemi(int quick)
+int qcli_bench_hemi(int quick)
 {
     const int nframes = quick ? 2 : 6, reps = quick ? 3 : 5;
     const int threads = 2;
@@ -471,7 +471,7 @@ int qibl_bench_hemi(int quick)
     /* reference: every vertex of every frame, threads; one core's time measured on a sample */
     double noise_sum = 0, t_ref_vertex = 0;
     for (int f = 0; f < nframes; ++f) {
-        qibl_rt_scene rt;
+        qtool_rt_scene rt;
         if (build_rt(&s, f, &rt)) {
             fprintf(stderr, "qibl: bench hemi: out of memory\n");
             return 1;
@@ -484,10 +484,10 @@ int qibl_bench_hemi(int quick)
                 ref_vertex(&c, v);
             t_ref_vertex = (cpu_now() - t0) / (double)((nv + 15) / 16);
         }
-        qibl_rt_parallel(threads, (uint32_t)nv, ref_vertex, &c, NULL);
+        qtool_rt_parallel(threads, (uint32_t)nv, ref_vertex, &c, NULL);
         for (size_t v = 0; v < nv; ++v)
             noise_sum += noise[v];
-        qibl_rt_scene_free(&rt);
+        qtool_rt_scene_free(&rt);
     }
     const double ref_noise = noise_sum / (double)(nv * (size_t)nframes);
     const double t_ref_frame = t_ref_vertex * (double)nv;
@@ -596,7 +596,7 @@ int qibl_bench_hemi(int quick)
             }
             if (fr)
                 printf("\nrotation per vertex: transfer out of the frame %.0f ns, lighting into it (3 channels) %.0f ns%s\n",
-                       qibl_cli_median(tw, reps), qibl_cli_median(tl, reps), acc == 12345 ? " " : "");
+                       qcli_median(tw, reps), qcli_median(tl, reps), acc == 12345 ? " " : "");
             free(fr);
         }
         free(ws);

@@ -13,7 +13,7 @@
 #include "io/hdr.h"
 #include "io/png.h"
 #include "io/probe_layout.h"
-#include "qibl/cli.h"
+#include "cli/cli.h"
 #include "qibl/lightprobe.h"
 #include "qibl/srgbe.h"
 #include "ref/lightprobe_ref.h"
@@ -130,7 +130,7 @@ static int write_png(const char *path, const uint8_t *px, int w, int h, int z, c
             }
     }
     char err[512];
-    int rc = qibl_png_write_rgb8(path, W, H, img, err, sizeof err);
+    int rc = qtool_png_write_rgb8(path, W, H, img, err, sizeof err);
     free(img);
     if (rc != 0)
         return fprintf(stderr, "qibl: %s\n", err), 1;
@@ -141,10 +141,10 @@ static int write_png(const char *path, const uint8_t *px, int w, int h, int z, c
 static void print_error(const uint8_t *px, int w, int h, const qibl_lightprobe_light_t *L, uint32_t n, int exp2)
 {
     double *d = malloc(sizeof *d * 3 * (size_t)w * (size_t)h);
-    qibl_ref_light *R = malloc(sizeof *R * (n ? n : 1));
+    qtool_ref_light *R = malloc(sizeof *R * (n ? n : 1));
     enum { NN = 1024 };
     double (*nrm)[3] = malloc(sizeof *nrm * NN), *E = malloc(sizeof *E * NN);
-    qibl_ref_probe rp;
+    qtool_ref_probe rp;
     if (!d || !R || !nrm || !E) {
         fprintf(stderr, "qibl: lights: out of memory for --error\n");
         goto out;
@@ -152,46 +152,46 @@ static void print_error(const uint8_t *px, int w, int h, const qibl_lightprobe_l
     for (size_t i = 0; i < (size_t)w * (size_t)h; ++i)
         for (int c = 0; c < 3; ++c)
             d[3 * i + (size_t)c] = rgbe_f(px[4 * i + (size_t)c], px[4 * i + 3]);
-    if (qibl_ref_probe_init(&rp, w, h, d) != 0) {
+    if (qtool_ref_probe_init(&rp, w, h, d) != 0) {
         fprintf(stderr, "qibl: lights: out of memory for --error\n");
         goto out;
     }
-    qibl_ref_sphere_dirs(NN, nrm);
-    qibl_ref_probe_irradiance(&rp, NN, (const double (*)[3])nrm, E, 4);
+    qtool_ref_sphere_dirs(NN, nrm);
+    qtool_ref_probe_irradiance(&rp, NN, (const double (*)[3])nrm, E, 4);
     for (uint32_t i = 0; i < n; ++i)
         for (int c = 0; c < 3; ++c) {
             R[i].dir[c] = L[i].dir[c] / 1073741824.0;
             R[i].rgb[c] = ldexp(L[i].rgb[c], exp2);
         }
     double me, mx;
-    qibl_ref_irradiance_error(R, (int)n, NN, (const double (*)[3])nrm, E, &me, &mx);
+    qtool_ref_irradiance_error(R, (int)n, NN, (const double (*)[3])nrm, E, &me, &mx);
     printf("irradiance error against the full probe over %d normals (of the mean irradiance): mean %.3f%%, "
            "max %.3f%%\n", NN, 100 * me, 100 * mx);
-    qibl_ref_probe_free(&rp);
+    qtool_ref_probe_free(&rp);
 out:
     free(d), free(R), free(nrm), free(E);
 }
 
-int qibl_cmd_lights(int argc, char **argv)
+int qcli_cmd_lights(int argc, char **argv)
 {
     const char *path = NULL, *png = NULL, *as = "rgbe";
     qibl_lightprobe_opts_t o;
     memset(&o, 0, sizeof o);
     long n = 64, zoom = 0;
     int csv = 0, error = 0;
-    qibl_probe_layout_t layout = QIBL_PROBE_LAYOUT_AUTO;
+    qtool_probe_layout_t layout = QTOOL_PROBE_LAYOUT_AUTO;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         int more = i + 1 < argc;
         if (strcmp(a, "--method") == 0 && more) {
             if (parse_method(argv[++i], &o.method) != 0)
-                return qibl_cli_usage_error("--method is mediancut, adaptive or varmin");
+                return qcli_usage_error("--method is mediancut, adaptive or varmin");
         } else if ((strcmp(a, "-n") == 0 || strcmp(a, "--count") == 0) && more) {
-            if (qibl_cli_parse_int(argv[++i], 1, 1L << 24, &n) != 0)
-                return qibl_cli_usage_error("-n needs a light count in 1..16777216");
+            if (qcli_parse_int(argv[++i], 1, 1L << 24, &n) != 0)
+                return qcli_usage_error("-n needs a light count in 1..16777216");
         } else if (strcmp(a, "--priority") == 0 && more) {
             if (parse_priority(argv[++i], &o.priority) != 0)
-                return qibl_cli_usage_error("--priority is default, energy, energy-size, variance or levels");
+                return qcli_usage_error("--priority is default, energy, energy-size, variance or levels");
         } else if (strcmp(a, "--place") == 0 && more) {
             const char *p = argv[++i];
             if (strcmp(p, "centroid") == 0)
@@ -199,19 +199,19 @@ int qibl_cmd_lights(int argc, char **argv)
             else if (strcmp(p, "centre") == 0 || strcmp(p, "center") == 0)
                 o.place = QIBL_LIGHTPROBE_PLACE_CENTRE;
             else
-                return qibl_cli_usage_error("--place is centroid or centre");
+                return qcli_usage_error("--place is centroid or centre");
         } else if (strcmp(a, "--as") == 0 && more) {
             as = argv[++i];
             if (strcmp(as, "rgbe") != 0 && strcmp(as, "srgbe") != 0 && strcmp(as, "f32") != 0)
-                return qibl_cli_usage_error("--as is rgbe, srgbe or f32");
+                return qcli_usage_error("--as is rgbe, srgbe or f32");
         } else if (strcmp(a, "--png") == 0 && more) {
             png = argv[++i];
         } else if (strcmp(a, "--zoom") == 0 && more) {
-            if (qibl_cli_parse_int(argv[++i], 1, 64, &zoom) != 0)
-                return qibl_cli_usage_error("--zoom needs an integer in 1..64");
+            if (qcli_parse_int(argv[++i], 1, 64, &zoom) != 0)
+                return qcli_usage_error("--zoom needs an integer in 1..64");
         } else if (strcmp(a, "--layout") == 0 && more) {
-            if (qibl_probe_layout_parse(argv[++i], &layout) != 0)
-                return qibl_cli_usage_error("--layout is auto, latlong, angular, ball, vcross or hcross");
+            if (qtool_probe_layout_parse(argv[++i], &layout) != 0)
+                return qcli_usage_error("--layout is auto, latlong, angular, ball, vcross or hcross");
         } else if (strcmp(a, "--csv") == 0) {
             csv = 1;
         } else if (strcmp(a, "--error") == 0) {
@@ -219,33 +219,33 @@ int qibl_cmd_lights(int argc, char **argv)
         } else if (a[0] != '-' && !path) {
             path = a;
         } else {
-            return qibl_cli_usage_error("%s", USAGE);
+            return qcli_usage_error("%s", USAGE);
         }
     }
     if (!path)
-        return qibl_cli_usage_error("%s", USAGE);
+        return qcli_usage_error("%s", USAGE);
     if (o.method == QIBL_LIGHTPROBE_MEDIANCUT && (n & (n - 1)) != 0)
-        return qibl_cli_usage_error("median cut makes 2^K lights: -n must be a power of two (or use --method "
+        return qcli_usage_error("median cut makes 2^K lights: -n must be a power of two (or use --method "
                                     "adaptive)");
 
     int w, h;
     uint8_t *px;
     char err[512];
-    if (qibl_hdr_read_rgbe(path, &w, &h, &px, err, sizeof err) != 0)
+    if (qtool_hdr_read_rgbe(path, &w, &h, &px, err, sizeof err) != 0)
         return fprintf(stderr, "qibl: %s\n", err), 1;
     {
         /* any layout to lat-long; said out loud (on stderr with --csv, which keeps stdout a table) */
-        qibl_probe_layout_t used;
+        qtool_probe_layout_t used;
         int lw, lh;
         uint8_t *ll;
-        if (qibl_probe_layout_rgbe_to_latlong(layout, w, h, px, &used, &lw, &lh, &ll, err, sizeof err) != 0) {
+        if (qtool_probe_layout_rgbe_to_latlong(layout, w, h, px, &used, &lw, &lh, &ll, err, sizeof err) != 0) {
             free(px);
             return fprintf(stderr, "qibl: %s: %s\n", path, err), 1;
         }
         FILE *note = csv ? stderr : stdout;
-        fprintf(note, "%s: layout %s (%s, %s)", path, qibl_probe_layout_name(used), qibl_probe_layout_describe(used),
-                layout == QIBL_PROBE_LAYOUT_AUTO ? "detected" : "from --layout");
-        if (used != QIBL_PROBE_LAYOUT_LATLONG)
+        fprintf(note, "%s: layout %s (%s, %s)", path, qtool_probe_layout_name(used), qtool_probe_layout_describe(used),
+                layout == QTOOL_PROBE_LAYOUT_AUTO ? "detected" : "from --layout");
+        if (used != QTOOL_PROBE_LAYOUT_LATLONG)
             fprintf(note, ", %d x %d resampled to a %d x %d lat-long", w, h, lw, lh);
         else if ((size_t)w != 2 * (size_t)h)
             fprintf(note, ", %d x %d is not 2:1: read as lat-long as asked", w, h);
@@ -259,7 +259,7 @@ int qibl_cmd_lights(int argc, char **argv)
         uint64_t pw = (uint64_t)w * (uint64_t)z, ph = (uint64_t)h * (uint64_t)z;
         if (pw > LIGHTS_PNG_MAX_SIDE || ph > LIGHTS_PNG_MAX_SIDE || pw * ph > LIGHTS_PNG_MAX_PIXELS) {
             free(px);
-            return qibl_cli_usage_error("--zoom %d: a %dx%d probe makes a %llux%llu picture; the limit is %u per side "
+            return qcli_usage_error("--zoom %d: a %dx%d probe makes a %llux%llu picture; the limit is %u per side "
                                         "and %u pixels (try --zoom %llu)", z, w, h, (unsigned long long)pw,
                                         (unsigned long long)ph, LIGHTS_PNG_MAX_SIDE, LIGHTS_PNG_MAX_PIXELS,
                                         (unsigned long long)max_zoom(w, h));

@@ -8,8 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "qibl/cli.h"
-#include "qibl/gles_cli.h"
+#include "cli/cli.h"
+#include "cli/gles_cli.h"
 #include "qibl/sh.h"
 #include "ref/sh_ref.h"
 
@@ -55,7 +55,7 @@ static int bench_sh(int quick)
         qibl_q30_t y[25];
         double ref[25];
         qibl_sh_eval(dir[i], 5, y);
-        qibl_ref_sh_eval(ddir[i][0], ddir[i][1], ddir[i][2], 5, ref);
+        qtool_ref_sh_eval(ddir[i][0], ddir[i][1], ddir[i][2], 5, ref);
         for (int k = 0; k < 25; ++k) {
             double e = fabs(y[k] / 1073741824.0 - ref[k]);
             sum_err += e;
@@ -69,7 +69,7 @@ static int bench_sh(int quick)
     for (int b = 2; b <= 5; ++b) {
         double t[9];
         for (int r = 0; r < reps; ++r) {
-            double t0 = qibl_cli_now();
+            double t0 = qcli_now();
             int32_t acc = 0;
             for (int i = 0; i < n; ++i) {
                 qibl_q30_t y[25];
@@ -77,15 +77,15 @@ static int bench_sh(int quick)
                 acc ^= y[b * b - 1];
             }
             sink_i = acc;
-            t[r] = (qibl_cli_now() - t0) / n * 1e9;
+            t[r] = (qcli_now() - t0) / n * 1e9;
         }
-        t_int[b - 1] = qibl_cli_median(t, reps);
+        t_int[b - 1] = qcli_median(t, reps);
         printf("%-40s %6d %12.1f %14.3e\n", "qibl_sh_eval (integer)", b, t_int[b - 1], max_err);
     }
     {
         double t[9];
         for (int r = 0; r < reps; ++r) {
-            double t0 = qibl_cli_now();
+            double t0 = qcli_now();
             int32_t acc = 0;
             for (int i = 0; i < n; ++i) {
                 qibl_q30_t y[25];
@@ -93,25 +93,25 @@ static int bench_sh(int quick)
                 acc ^= y[24];
             }
             sink_i = acc;
-            t[r] = (qibl_cli_now() - t0) / n * 1e9;
+            t[r] = (qcli_now() - t0) / n * 1e9;
         }
-        t_unit = qibl_cli_median(t, reps);
+        t_unit = qcli_median(t, reps);
         printf("%-40s %6d %12.1f %14.3e\n", "qibl_sh_eval_unit (pre-normalised)", 5, t_unit, max_err);
     }
     {
         double t[9];
         for (int r = 0; r < reps; ++r) {
-            double t0 = qibl_cli_now();
+            double t0 = qcli_now();
             double acc = 0;
             for (int i = 0; i < n; ++i) {
                 double y[25];
-                qibl_ref_sh_eval(ddir[i][0], ddir[i][1], ddir[i][2], 5, y);
+                qtool_ref_sh_eval(ddir[i][0], ddir[i][1], ddir[i][2], 5, y);
                 acc += y[24];
             }
             sink_d = acc;
-            t[r] = (qibl_cli_now() - t0) / n * 1e9;
+            t[r] = (qcli_now() - t0) / n * 1e9;
         }
-        t_ref = qibl_cli_median(t, reps);
+        t_ref = qcli_median(t, reps);
         printf("%-40s %6d %12.1f %14s\n", "double reference (appendix recursion)", 5, t_ref, "(truth)");
     }
     printf("mean |err| over all 25 functions: %.3e; goal max |err| <= 2^-14 = %.3e\n", sum_err / (25.0 * n),
@@ -124,7 +124,7 @@ static int bench_sh(int quick)
     return 0;
 }
 
-int qibl_cmd_bench(int argc, char **argv)
+int qcli_cmd_bench(int argc, char **argv)
 {
     const char *what = "all";
     int quick = 0, csv = 0, markdown = 0;
@@ -138,35 +138,35 @@ int qibl_cmd_bench(int argc, char **argv)
         else if (argv[i][0] != '-')
             what = argv[i];
         else
-            return qibl_cli_usage_error("bench: unknown option '%s'", argv[i]);
+            return qcli_usage_error("bench: unknown option '%s'", argv[i]);
     }
     int all = strcmp(what, "all") == 0, rc = 0, ran = 0;
     if (all || strcmp(what, "sh") == 0)
         rc |= bench_sh(quick), ran = 1;
     if (all || strcmp(what, "relight") == 0)
-        rc |= qibl_bench_relight(quick, csv), ran = 1;
+        rc |= qcli_bench_relight(quick, csv), ran = 1;
     if (all || strcmp(what, "srgbe") == 0)
-        rc |= qibl_bench_srgbe(quick), ran = 1;
+        rc |= qcli_bench_srgbe(quick), ran = 1;
     if (all || strcmp(what, "lights") == 0)
-        rc |= qibl_bench_lights(quick), ran = 1;
+        rc |= qcli_bench_lights(quick), ran = 1;
     if (all || strcmp(what, "paths") == 0)
-        rc |= qibl_bench_paths(quick), ran = 1;
+        rc |= qcli_bench_paths(quick), ran = 1;
     if (all || strcmp(what, "asset") == 0)
-        rc |= qibl_bench_asset(quick), ran = 1;
+        rc |= qcli_bench_asset(quick), ran = 1;
     if (all || strcmp(what, "probe") == 0)
-        rc |= qibl_bench_probe(quick), ran = 1;
+        rc |= qcli_bench_probe(quick), ran = 1;
     if (all || strcmp(what, "hemi") == 0)
-        rc |= qibl_bench_hemi(quick), ran = 1;
+        rc |= qcli_bench_hemi(quick), ran = 1;
     /* already part of relight; alone for comparing builds */
     if (strcmp(what, "baselines") == 0)
-        rc |= qibl_bench_relight_baselines(quick), ran = 1;
+        rc |= qcli_bench_relight_baselines(quick), ran = 1;
     /* not timing: the resident-memory table of docs/porting.md (exact, so not part of "all") */
     if (strcmp(what, "memory") == 0)
-        rc |= qibl_bench_memory(markdown), ran = 1;
+        rc |= qcli_bench_memory(markdown), ran = 1;
     if (strcmp(what, "gles") == 0) /* only when asked: a GL context is not part of `all` */
-        rc |= qibl_bench_gles(quick), ran = 1;
+        rc |= qcli_bench_gles(quick), ran = 1;
     if (!ran)
-        return qibl_cli_usage_error("bench: unknown benchmark '%s' (all, sh, relight, baselines, srgbe, lights, paths, asset, probe, hemi, "
+        return qcli_usage_error("bench: unknown benchmark '%s' (all, sh, relight, baselines, srgbe, lights, paths, asset, probe, hemi, "
                                     "memory, gles)", what);
     return rc;
 }

@@ -12,7 +12,7 @@
 #include "bake/bake.h"
 #include "io/atomic.h"
 #include "io/png.h"
-#include "qibl/cli.h"
+#include "cli/cli.h"
 #include "ref/psnr.h"
 #include "render/rt.h"
 
@@ -33,7 +33,7 @@ static char *join(const char *dir, const char *name)
 static int save_png(const char *dir, const char *name, int w, int h, const uint8_t *rgb)
 {
     char err[1200], *path = join(dir, name);
-    if (!path || qibl_png_write_rgb8(path, w, h, rgb, err, sizeof err) != 0) {
+    if (!path || qtool_png_write_rgb8(path, w, h, rgb, err, sizeof err) != 0) {
         fprintf(stderr, "qibl: %s\n", path ? err : "demo: out of memory");
         free(path);
         return -1;
@@ -70,16 +70,16 @@ static int check_out_dir(const char *dir, long frames)
         char *path = join(dir, name);
         if (!path)
             return fprintf(stderr, "qibl: demo: out of memory\n"), 1;
-        if (qibl_io_check_replaceable(path, err, sizeof err) != 0) {
+        if (qtool_io_check_replaceable(path, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
             bad = 1;
         } else if (i == 0) { /* one real temporary file: the directory takes new files */
-            qibl_io_atomic a;
-            if (qibl_io_atomic_open(&a, path, err, sizeof err) != 0) {
+            qtool_io_atomic a;
+            if (qtool_io_atomic_open(&a, path, err, sizeof err) != 0) {
                 fprintf(stderr, "qibl: %s\n", err);
                 bad = 1;
             } else {
-                qibl_io_atomic_abort(&a);
+                qtool_io_atomic_abort(&a);
             }
         }
         free(path);
@@ -103,15 +103,15 @@ static void heat(const uint8_t *a, const uint8_t *b, const uint8_t *mask, size_t
     }
 }
 
-int qibl_cmd_demo(int argc, char **argv)
+int qcli_cmd_demo(int argc, char **argv)
 {
-    qibl_cli_scene so;
-    qibl_cli_scene_defaults(&so);
+    qcli_scene so;
+    qcli_scene_defaults(&so);
     const char *dir = NULL;
     long ndirs = 512, frames = 24;
     int small = 0;
     for (int i = 1; i < argc; ++i) {
-        int r = qibl_cli_scene_opt(argc, argv, &i, &so);
+        int r = qcli_scene_opt(argc, argv, &i, &so);
         if (r < 0)
             return 2;
         if (r)
@@ -119,46 +119,46 @@ int qibl_cmd_demo(int argc, char **argv)
         if (strcmp(argv[i], "--out") == 0 && i + 1 < argc)
             dir = argv[++i];
         else if (strcmp(argv[i], "--dirs") == 0 && i + 1 < argc) {
-            if (qibl_cli_parse_int(argv[++i], 16, 65536, &ndirs) != 0)
-                return qibl_cli_usage_error("--dirs needs an integer in 16..65536");
+            if (qcli_parse_int(argv[++i], 16, 65536, &ndirs) != 0)
+                return qcli_usage_error("--dirs needs an integer in 16..65536");
         } else if (strcmp(argv[i], "--frames") == 0 && i + 1 < argc) {
-            if (qibl_cli_parse_int(argv[++i], 2, 240, &frames) != 0)
-                return qibl_cli_usage_error("--frames needs an integer in 2..240");
+            if (qcli_parse_int(argv[++i], 2, 240, &frames) != 0)
+                return qcli_usage_error("--frames needs an integer in 2..240");
         } else if (strcmp(argv[i], "--small") == 0) {
             small = 1;
         } else {
-            return qibl_cli_usage_error("demo: unknown argument '%s' (see qibl help demo)", argv[i]);
+            return qcli_usage_error("demo: unknown argument '%s' (see qibl help demo)", argv[i]);
         }
     }
     if (!dir)
-        return qibl_cli_usage_error("demo needs --out DIR");
+        return qcli_usage_error("demo needs --out DIR");
     if (small)
         so.w = 256, so.h = 64, ndirs = 128, frames = 6;
     if (check_out_dir(dir, frames) != 0)
         return 1;
-    qibl_rt_scene s;
-    if (qibl_cli_scene_load(&so, &s) != 0)
+    qtool_rt_scene s;
+    if (qcli_scene_load(&so, &s) != 0)
         return 1;
     uint32_t w = so.w, h = so.h;
     size_t np = (size_t)w * h;
     const char *scene_name = so.scene ? so.scene : "the built-in courtyard";
     printf("== bake %s: %ux%u %s panorama, %ld light directions (spherical Fibonacci), %zu triangles, %d threads\n",
            scene_name, w, h, so.kind ? "equirectangular" : "cylindrical", ndirs, s.ntri, so.threads);
-    qibl_bake_sums sums;
-    double t0 = qibl_cli_now();
-    if (qibl_bake_run(&s, w, h, (qibl_pano_kind)so.kind, (uint32_t)ndirs, 25, 0, 1, so.threads, 1, &sums) != 0) {
+    qtool_bake_sums sums;
+    double t0 = qcli_now();
+    if (qtool_bake_run(&s, w, h, (qtool_pano_kind)so.kind, (uint32_t)ndirs, 25, 0, 1, so.threads, 1, &sums) != 0) {
         fprintf(stderr, "qibl: demo: out of memory\n");
-        qibl_rt_scene_free(&s);
+        qtool_rt_scene_free(&s);
         return 1;
     }
-    double bake_s = qibl_cli_now() - t0;
+    double bake_s = qcli_now() - t0;
     printf("bake: %.1f s (reference renders and SH sums for k <= 25)\n", bake_s);
 
     /* the evaluation set: 8 novel suns, 4 lamps; ground truth once */
     enum { NDIR = 8, NPT = 4 };
     int prop = so.scene && !so.raw && strcmp(so.scene, "builtin") != 0;
-    qibl_rt_light ev[NDIR + NPT];
-    qibl_cli_eval_lights(prop, NDIR, NPT, ev);
+    qtool_rt_light ev[NDIR + NPT];
+    qcli_eval_lights(prop, NDIR, NPT, ev);
     uint8_t *truth[NDIR + NPT] = {0}, *mask = malloc(np), *tmp = malloc(np * 3), *heatb = malloc(np * 3);
     static const uint32_t ks[3] = {9, 16, 25};
     uint8_t *asset[3] = {0};
@@ -167,7 +167,7 @@ int qibl_cmd_demo(int argc, char **argv)
     for (int i = 0; i < NDIR + NPT; ++i) {
         truth[i] = malloc(np * 3);
         if (!truth[i] || !mask || !tmp || !heatb ||
-            qibl_bake_truth8(&s, w, h, (qibl_pano_kind)so.kind, &ev[i], so.threads, truth[i], mask) != 0) {
+            qtool_bake_truth8(&s, w, h, (qtool_pano_kind)so.kind, &ev[i], so.threads, truth[i], mask) != 0) {
             fprintf(stderr, "qibl: demo: out of memory\n");
             rc = 1;
             goto done;
@@ -176,17 +176,17 @@ int qibl_cmd_demo(int argc, char **argv)
     double psnr_dir[3], psnr_pt[3], ms_dir[3], ms_pt[3];
     char name[64], err[1200];
     for (int q = 0; q < 3; ++q) {
-        qibl_gen_maps m;
-        if (qibl_bake_coeffs(&sums, ks[q], QIBL_PROJ_QUADRATURE, &m) != 0 ||
-            qibl_bake_asset(&m, 32, &asset[q], &asize[q]) != 0) {
+        qtool_gen_maps m;
+        if (qtool_bake_coeffs(&sums, ks[q], QTOOL_PROJ_QUADRATURE, &m) != 0 ||
+            qtool_bake_asset(&m, 32, &asset[q], &asize[q]) != 0) {
             fprintf(stderr, "qibl: demo: out of memory\n");
             rc = 1;
             goto done;
         }
-        qibl_gen_free(&m);
+        qtool_gen_free(&m);
         snprintf(name, sizeof name, "scene_k%u.qibl", ks[q]);
         char *path = join(dir, name);
-        if (!path || qibl_io_write_atomic(path, asset[q], asize[q], err, sizeof err) != 0) {
+        if (!path || qtool_io_write_atomic(path, asset[q], asize[q], err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", path ? err : "demo: out of memory");
             free(path);
             rc = 1;
@@ -195,32 +195,32 @@ int qibl_cmd_demo(int argc, char **argv)
         free(path);
         double mse_d = 0, mse_p = 0, tms[NDIR + NPT];
         for (int i = 0; i < NDIR + NPT; ++i) {
-            qibl_bake_relight8(asset[q], asize[q], &ev[i], 1, tmp, &tms[i]);
-            double e = qibl_bake_mse(tmp, truth[i], mask, np);
+            qtool_bake_relight8(asset[q], asize[q], &ev[i], 1, tmp, &tms[i]);
+            double e = qtool_bake_mse(tmp, truth[i], mask, np);
             if (i < NDIR)
                 mse_d += e / NDIR;
             else
                 mse_p += e / NPT;
         }
-        psnr_dir[q] = qibl_ref_psnr8(mse_d);
-        psnr_pt[q] = qibl_ref_psnr8(mse_p);
-        ms_dir[q] = qibl_cli_median(tms, NDIR);
-        ms_pt[q] = qibl_cli_median(tms + NDIR, NPT);
+        psnr_dir[q] = qtool_ref_psnr8(mse_d);
+        psnr_pt[q] = qtool_ref_psnr8(mse_p);
+        ms_dir[q] = qcli_median(tms, NDIR);
+        ms_pt[q] = qcli_median(tms + NDIR, NPT);
     }
     /* quadrature against least squares, k = 16 */
     double lsq_dir = 0, quad_dir = psnr_dir[1];
     {
-        qibl_gen_maps m;
+        qtool_gen_maps m;
         uint8_t *b = NULL;
         size_t n = 0;
-        if (qibl_bake_coeffs(&sums, 16, QIBL_PROJ_LSQ, &m) == 0 && qibl_bake_asset(&m, 0, &b, &n) == 0) {
+        if (qtool_bake_coeffs(&sums, 16, QTOOL_PROJ_LSQ, &m) == 0 && qtool_bake_asset(&m, 0, &b, &n) == 0) {
             double mse = 0;
             for (int i = 0; i < NDIR; ++i) {
-                qibl_bake_relight8(b, n, &ev[i], 0, tmp, NULL);
-                mse += qibl_bake_mse(tmp, truth[i], mask, np) / NDIR;
+                qtool_bake_relight8(b, n, &ev[i], 0, tmp, NULL);
+                mse += qtool_bake_mse(tmp, truth[i], mask, np) / NDIR;
             }
-            lsq_dir = qibl_ref_psnr8(mse);
-            qibl_gen_free(&m);
+            lsq_dir = qtool_ref_psnr8(mse);
+            qtool_gen_free(&m);
         }
         free(b);
     }
@@ -234,24 +234,24 @@ int qibl_cmd_demo(int argc, char **argv)
     for (int pass = 0; pass < 2 && rc == 0; ++pass) {
         for (long f = 0; f < frames; ++f) {
             double t = (double)f / frames, a = 2 * 3.14159265358979 * t;
-            qibl_rt_light l;
+            qtool_rt_light l;
             if (pass == 0) {
                 double el = 0.35 + 0.45 * sin(3.14159265358979 * t);
-                qibl_rt_light sl = {0, {cos(el) * cos(a), cos(el) * sin(a), sin(el)}, {0, 0, 0}, {2.6, 2.4, 2.1}, 1};
+                qtool_rt_light sl = {0, {cos(el) * cos(a), cos(el) * sin(a), sin(el)}, {0, 0, 0}, {2.6, 2.4, 2.1}, 1};
                 l = sl;
             } else {
-                double cx = prop ? QIBL_RT_PROP_X : 0.0, r = prop ? 2.2 : 2.8;
-                qibl_rt_light pl = {1, {0, 0, 1}, {cx + r * cos(a), r * sin(a), -0.5 + 0.4 * sin(2 * a)}, {5.0, 4.4, 3.6}, 1};
+                double cx = prop ? QTOOL_RT_PROP_X : 0.0, r = prop ? 2.2 : 2.8;
+                qtool_rt_light pl = {1, {0, 0, 1}, {cx + r * cos(a), r * sin(a), -0.5 + 0.4 * sin(2 * a)}, {5.0, 4.4, 3.6}, 1};
                 l = pl;
             }
             uint8_t *fr = anim + np * 3 * (size_t)f;
-            qibl_bake_relight8(asset[1], asize[1], &l, 1, fr, NULL);
+            qtool_bake_relight8(asset[1], asize[1], &l, 1, fr, NULL);
             snprintf(name, sizeof name, "%s_%02ld.png", pass ? "lamp" : "sun", f);
             if (rc == 0 && save_png(dir, name, (int)w, (int)h, fr) != 0)
                 rc = 1;
         }
         char *path = join(dir, pass ? "lamp_sweep.png" : "sun_sweep.png");
-        if (rc == 0 && (!path || qibl_apng_write_rgb8(path, (int)w, (int)h, (int)frames, anim, 1, 8, err, sizeof err) != 0)) {
+        if (rc == 0 && (!path || qtool_apng_write_rgb8(path, (int)w, (int)h, (int)frames, anim, 1, 8, err, sizeof err) != 0)) {
             fprintf(stderr, "qibl: %s\n", path ? err : "demo: out of memory");
             rc = 1;
         }
@@ -265,7 +265,7 @@ int qibl_cmd_demo(int argc, char **argv)
         uint8_t *sheet = malloc(sw * 3 * h * 5);
         for (int r = 0; sheet && r < 5; ++r) {
             int i = rows[r];
-            qibl_bake_relight8(asset[1], asize[1], &ev[i], 1, tmp, NULL);
+            qtool_bake_relight8(asset[1], asize[1], &ev[i], 1, tmp, NULL);
             heat(tmp, truth[i], mask, np, heatb);
             const uint8_t *src[3] = {tmp, truth[i], heatb};
             for (uint32_t y = 0; y < h; ++y)
@@ -277,7 +277,7 @@ int qibl_cmd_demo(int argc, char **argv)
             rc = 1;
         free(sheet);
         if (rc == 0) { /* the picture for the README: one relit sun frame and its lamp frame */
-            qibl_bake_relight8(asset[1], asize[1], &ev[0], 1, tmp, NULL);
+            qtool_bake_relight8(asset[1], asize[1], &ev[0], 1, tmp, NULL);
             if (save_png(dir, "relit_sun.png", (int)w, (int)h, tmp) != 0 ||
                 save_png(dir, "truth_sun.png", (int)w, (int)h, truth[0]) != 0)
                 rc = 1;
@@ -297,7 +297,7 @@ int qibl_cmd_demo(int argc, char **argv)
                "RESULT demo.relight_ms_k%u %.3f\n",
                ks[q], psnr_dir[q], ks[q], psnr_pt[q], ks[q], asize[q], ks[q], ms_dir[q]);
     printf("RESULT demo.psnr_k16_dir_lsq %.2f\nRESULT demo.bake_s %.2f\n", lsq_dir, bake_s);
-    if (rc == 0 && qibl_demo_paths(&s, &so, (uint32_t)ndirs, prop, small, &sums, asset[1], asize[1], dir) != 0)
+    if (rc == 0 && qtool_demo_paths(&s, &so, (uint32_t)ndirs, prop, small, &sums, asset[1], asize[1], dir) != 0)
         rc = 1;
     printf("\nwrote %s/: scene_k{9,16,25}.qibl, sun_NN.png and sun_sweep.png (APNG), lamp_NN.png and lamp_sweep.png "
            "(APNG), contact_sheet.png (relit | ground truth | error), relit_sun.png, truth_sun.png\n", dir);
@@ -307,7 +307,7 @@ done:
     for (int i = 0; i < NDIR + NPT; ++i)
         free(truth[i]);
     free(mask), free(tmp), free(heatb);
-    qibl_bake_sums_free(&sums);
-    qibl_rt_scene_free(&s);
+    qtool_bake_sums_free(&sums);
+    qtool_rt_scene_free(&s);
     return rc;
 }

@@ -4,13 +4,13 @@
  * EGL context gets. Here that is Mesa's llvmpipe, a CPU rasterizer: its figures say nothing about a
  * GPU, only that the path runs and how passes scale. Timing: glFinish around each frame, median.
  */
-#include "qibl/gles_cli.h"
+#include "cli/gles_cli.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "qibl/cli.h"
+#include "cli/cli.h"
 
 #if QIBL_HAVE_GLES2
 #include <GLES2/gl2.h>
@@ -38,7 +38,7 @@ static int cmp_d(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-int qibl_bench_gles(int quick)
+int qcli_bench_gles(int quick)
 {
     enum { W = 1024, H = 256 };
     const int frames = quick ? 3 : 9;
@@ -101,11 +101,11 @@ int qibl_bench_gles(int quick)
             for (int f = -1; f < frames && st == QIBL_OK; ++f) { /* frame -1 compiles the shaders */
                 glBindFramebuffer(GL_FRAMEBUFFER, c.fbo);
                 glFinish();
-                double t0 = qibl_cli_now();
+                double t0 = qcli_now();
                 st = mode == 0 ? qibl_gles2_relight(&g, &w, NULL) : qibl_gles2_point(&g, &pt, NULL);
                 glFinish();
                 if (f >= 0)
-                    t[f] = qibl_cli_now() - t0;
+                    t[f] = qcli_now() - t0;
             }
             if (st != QIBL_OK)
                 break;
@@ -128,7 +128,7 @@ int qibl_bench_gles(int quick)
     return rc;
 }
 #else
-int qibl_bench_gles(int quick)
+int qcli_bench_gles(int quick)
 {
     (void)quick;
     printf("== bench gles: SKIP (this qibl was built without the EGL/GLES2 headers)\n");

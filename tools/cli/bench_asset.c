@@ -13,7 +13,7 @@
 #include "gen/scene.h"
 #include "io/asset_write.h"
 #include "qibl/asset.h"
-#include "qibl/cli.h"
+#include "cli/cli.h"
 
 #define ASSET_REPS_MAX 41
 
@@ -26,33 +26,33 @@ static double min_of(const double *t, int n)
 }
 
 /* The courtyard asset in memory (serialised, not written): *bytes malloc'ed. 0 or -1. */
-int qibl_bench_make_asset(uint32_t w, uint32_t h, uint32_t k, uint32_t layout, uint8_t **bytes, size_t *n)
+int qcli_bench_make_asset(uint32_t w, uint32_t h, uint32_t k, uint32_t layout, uint8_t **bytes, size_t *n)
 {
-    qibl_gen_maps g;
-    if (qibl_gen_scene(w, h, k, QIBL_PANO_CYLINDRICAL, &g) != 0)
+    qtool_gen_maps g;
+    if (qtool_gen_scene(w, h, k, QTOOL_PANO_CYLINDRICAL, &g) != 0)
         return -1;
     size_t np = (size_t)w * h;
     int32_t *scale = malloc(sizeof(int32_t) * k * 3), *bias = malloc(sizeof(int32_t) * k * 3);
     uint8_t *planes = malloc(np * k * 3);
-    qibl_asset_builder b;
-    qibl_asset_builder_init(&b);
+    qtool_asset_builder b;
+    qtool_asset_builder_init(&b);
     int rc = -1;
-    if (scale && bias && planes && qibl_pack_maps(&g, QIBL_PACK_MINMAX, scale, bias, planes, NULL) == 0 &&
-        qibl_asset_add_shmp_layout(&b, w, h, k, 3, scale, bias, planes, layout) == 0 &&
-        qibl_asset_add_pmap(&b, w, h, g.p) == 0 && qibl_asset_serialize(&b, bytes, n) == 0)
+    if (scale && bias && planes && qtool_pack_maps(&g, QTOOL_PACK_MINMAX, scale, bias, planes, NULL) == 0 &&
+        qtool_asset_add_shmp_layout(&b, w, h, k, 3, scale, bias, planes, layout) == 0 &&
+        qtool_asset_add_pmap(&b, w, h, g.p) == 0 && qtool_asset_serialize(&b, bytes, n) == 0)
         rc = 0;
-    qibl_asset_builder_free(&b);
+    qtool_asset_builder_free(&b);
     free(scale), free(bias), free(planes);
-    qibl_gen_free(&g);
+    qtool_gen_free(&g);
     return rc;
 }
 
-int qibl_bench_asset(int quick)
+int qcli_bench_asset(int quick)
 {
     const int reps = quick ? 3 : ASSET_REPS_MAX;
     uint8_t *bytes = NULL;
     size_t n = 0;
-    if (qibl_bench_make_asset(1024, 256, 16, QIBL_SHMAPS_PLANAR, &bytes, &n) != 0) {
+    if (qcli_bench_make_asset(1024, 256, 16, QIBL_SHMAPS_PLANAR, &bytes, &n) != 0) {
         fprintf(stderr, "qibl: bench asset: out of memory\n");
         return 1;
     }
@@ -62,9 +62,9 @@ int qibl_bench_asset(int quick)
         fprintf(stderr, "qibl: bench asset: out of memory\n");
         return 1;
     }
-    double t_init = qibl_cli_now();
+    double t_init = qcli_now();
     qibl_crc32_table_init(table, QIBL_CRC32_TABLE_WORDS);
-    t_init = qibl_cli_now() - t_init;
+    t_init = qcli_now() - t_init;
     memcpy(copy, bytes, n); /* first touch of the destination, not timed */
     double t[4][ASSET_REPS_MAX];
     int bad = 0;
@@ -72,7 +72,7 @@ int qibl_bench_asset(int quick)
         for (int m = 0; m < 4; ++m) {
             qibl_asset_t a;
             qibl_status_t st = QIBL_OK;
-            double t0 = qibl_cli_now();
+            double t0 = qcli_now();
             if (m == 0)
                 st = qibl_asset_open(&a, bytes, n);
             else if (m == 1)
@@ -81,7 +81,7 @@ int qibl_bench_asset(int quick)
                 st = qibl_asset_open_structure(&a, bytes, n);
             else
                 memcpy(copy, bytes, n);
-            t[m][r] = qibl_cli_now() - t0;
+            t[m][r] = qcli_now() - t0;
             bad |= st != QIBL_OK || (m == 3 && copy[n / 2] != bytes[n / 2]);
         }
     if (bad) {
@@ -91,13 +91,13 @@ int qibl_bench_asset(int quick)
     double mn[4], md[4];
     for (int m = 0; m < 4; ++m) {
         mn[m] = min_of(t[m], reps);
-        md[m] = qibl_cli_median(t[m], reps);
+        md[m] = qcli_median(t[m], reps);
     }
     static const char *names[4] = {"qibl_asset_open (nibble CRC)", "qibl_asset_open_crc_table (slice-by-8)",
                                    "qibl_asset_open_structure", "memcpy of the same bytes"};
     printf("== bench asset: open a %.1f MB asset (courtyard 1024x256, k = 16, RGB, P map), %d interleaved reps\n",
            n / 1e6, reps);
-    printf("   built by %s, core %s\n", QIBL_BENCH_COMPILER, QIBL_BENCH_CORE_FLAGS);
+    printf("   built by %s, core %s\n", QTOOL_BENCH_COMPILER, QIBL_BENCH_CORE_FLAGS);
     printf("%-40s %10s %10s %10s\n", "path", "min ms", "median ms", "MB/s (min)");
     for (int m = 0; m < 4; ++m)
         printf("%-40s %10.3f %10.3f %10.0f\n", names[m], mn[m] * 1e3, md[m] * 1e3, n / mn[m] / 1e6);

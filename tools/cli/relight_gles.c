@@ -2,7 +2,7 @@
  * relight_gles.c - `qibl relight --gles`: the same light through platform/gles2 on a headless EGL
  * context, so both paths can be compared by eye or by bytes.
  */
-#include "qibl/gles_cli.h"
+#include "cli/gles_cli.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,7 +12,7 @@
 #include "gles/headless.h"
 #include "qibl/gles2.h"
 
-int qibl_gles_relight(const qibl_gles_relight_req *r, uint8_t *rgb, uint32_t *passes, char *renderer)
+int qtool_gles_relight(const qtool_gles_relight_req *r, uint8_t *rgb, uint32_t *passes, char *renderer)
 {
     const qibl_shmaps_t *m = r->maps;
     qt_gles_ctx c;
@@ -68,7 +68,7 @@ int qibl_gles_relight(const qibl_gles_relight_req *r, uint8_t *rgb, uint32_t *pa
     return rc;
 }
 #else
-int qibl_gles_relight(const qibl_gles_relight_req *r, uint8_t *rgb, uint32_t *passes, char *renderer)
+int qtool_gles_relight(const qtool_gles_relight_req *r, uint8_t *rgb, uint32_t *passes, char *renderer)
 {
     (void)r, (void)rgb, (void)passes, (void)renderer;
     fprintf(stderr, "qibl: relight --gles: this qibl was built without the EGL/GLES2 headers "

@@ -11,7 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "qibl/cli.h"
+#include "cli/cli.h"
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -19,7 +19,7 @@ static int cmp_double(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-int qibl_cli_point_default(const double *pts, size_t n, const double pos[3], int falloff, double *c0, double *dist)
+int qcli_point_default(const double *pts, size_t n, const double pos[3], int falloff, double *c0, double *dist)
 {
     double *d = malloc((n ? n : 1) * sizeof *d);
     if (!d)
@@ -27,8 +27,8 @@ int qibl_cli_point_default(const double *pts, size_t n, const double pos[3], int
     size_t m = 0;
     for (size_t i = 0; i < n; ++i) {
         const double *p = pts + 3 * i;
-        /* sky pixels sit QIBL_CLI_SKY_DIST along their ray (bake.c's P map): not part of the scene */
-        if (sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) >= 0.9 * QIBL_CLI_SKY_DIST)
+        /* sky pixels sit QTOOL_CLI_SKY_DIST along their ray (bake.c's P map): not part of the scene */
+        if (sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) >= 0.9 * QTOOL_CLI_SKY_DIST)
             continue;
         double dx = p[0] - pos[0], dy = p[1] - pos[1], dz = p[2] - pos[2];
         d[m++] = sqrt(dx * dx + dy * dy + dz * dz);
@@ -39,19 +39,19 @@ int qibl_cli_point_default(const double *pts, size_t n, const double pos[3], int
         med = d[m / 2] > 1e-3 ? d[m / 2] : 1e-3;
     }
     free(d);
-    double c = QIBL_CLI_POINT_GREY * (falloff == 2 ? med * med : med);
-    *c0 = c < QIBL_CLI_Q16_MAX ? c : QIBL_CLI_Q16_MAX;
+    double c = QTOOL_CLI_POINT_GREY * (falloff == 2 ? med * med : med);
+    *c0 = c < QTOOL_CLI_Q16_MAX ? c : QTOOL_CLI_Q16_MAX;
     *dist = med;
     return 0;
 }
 
-void qibl_cli_warn_dark(const char *path, const uint8_t *rgb, size_t np)
+void qcli_warn_dark(const char *path, const uint8_t *rgb, size_t np)
 {
     double sum = 0;
     for (size_t i = 0; i < np * 3; ++i)
         sum += rgb[i];
     double mean = np ? sum / (double)(np * 3) : 0;
-    if (mean < QIBL_CLI_DARK_MEAN)
+    if (mean < QTOOL_CLI_DARK_MEAN)
         fprintf(stderr, "qibl: note: %s is almost black (mean %.1f of 255): try a larger --rgb or --exposure\n", path,
                 mean);
 }

@@ -14,7 +14,7 @@
 #include "bake/path.h"
 #include "gen/scene.h"
 #include "io/asset_write.h"
-#include "qibl/cli.h"
+#include "cli/cli.h"
 #include "qibl/lightpath.h"
 #include "qibl/shmap.h"
 
@@ -36,9 +36,9 @@ typedef struct {
     uint8_t *lutv;
 } bmaps;
 
-static int bmaps_make(const qibl_gen_maps *g, uint32_t k, bmaps *b)
+static int bmaps_make(const qtool_gen_maps *g, uint32_t k, bmaps *b)
 {
-    qibl_gen_maps view = *g;
+    qtool_gen_maps view = *g;
     view.k = k;
     memset(b, 0, sizeof *b); /* fields this file does not name (a layout) take their defaults */
     size_t np = (size_t)g->width * g->height;
@@ -47,11 +47,11 @@ static int bmaps_make(const qibl_gen_maps *g, uint32_t k, bmaps *b)
     b->params = malloc(8u * k * 3), b->planes = malloc(np * k * 3), b->lutv = malloc(vs);
     int rc = -1;
     if (scale && bias && b->params && b->planes && b->lutv &&
-        qibl_pack_maps(&view, QIBL_PACK_MINMAX, scale, bias, b->planes, NULL) == 0 &&
+        qtool_pack_maps(&view, QTOOL_PACK_MINMAX, scale, bias, b->planes, NULL) == 0 &&
         qibl_ylut_build(32, k, b->lutv, vs) == QIBL_OK) {
         for (uint32_t i = 0; i < k * 3; ++i) {
-            qibl_store_s32le(b->params + 8 * i, scale[i]);
-            qibl_store_s32le(b->params + 8 * i + 4, bias[i]);
+            qtool_store_s32le(b->params + 8 * i, scale[i]);
+            qtool_store_s32le(b->params + 8 * i + 4, bias[i]);
         }
         b->m.width = g->width, b->m.height = g->height, b->m.k = k, b->m.channels = 3;
         b->m.params = b->params, b->m.planes = b->planes;
@@ -111,17 +111,17 @@ static double run(const bcase *c, uint32_t w, uint32_t h, int reps, int32_t *row
         }
         t[r] = cpu_now() - t0;
     }
-    return qibl_cli_median(t, reps) * 1e3;
+    return qcli_median(t, reps) * 1e3;
 }
 
-int qibl_bench_paths(int quick)
+int qcli_bench_paths(int quick)
 {
     const uint32_t W = quick ? 256 : 1024, H = quick ? 64 : 256;
     const int reps = quick ? 3 : 11;
     size_t np = (size_t)W * H;
-    qibl_gen_maps g;
+    qtool_gen_maps g;
     bmaps m9, m16;
-    if (qibl_gen_scene(W, H, 16, QIBL_PANO_CYLINDRICAL, &g) != 0 || bmaps_make(&g, 9, &m9) != 0 ||
+    if (qtool_gen_scene(W, H, 16, QTOOL_PANO_CYLINDRICAL, &g) != 0 || bmaps_make(&g, 9, &m9) != 0 ||
         bmaps_make(&g, 16, &m16) != 0) {
         fprintf(stderr, "qibl: bench paths: out of memory\n");
         return 1;
@@ -159,13 +159,13 @@ int qibl_bench_paths(int quick)
     size_t wsn = qibl_shmap_point_workspace_size(25, W);
     void *ws = malloc(wsn);
     if (!counts || !edges || !pts || !row || !lrow || !ws ||
-        qibl_bake_path_payload(W, H, 0, 2, kt, kv, counts, edges, ne, &lp, &lpn) != 0 ||
+        qtool_bake_path_payload(W, H, 0, 2, kt, kv, counts, edges, ne, &lp, &lpn) != 0 ||
         qibl_lightpath_parse(lp, lpn, &path) != QIBL_OK) {
         fprintf(stderr, "qibl: bench paths: out of memory\n");
         return 1;
     }
     for (size_t i = 0; i < np * 3; ++i)
-        qibl_store_s32le(pts + 4 * i, g.p[i]);
+        qtool_store_s32le(pts + 4 * i, g.p[i]);
     pm.points = pts;
     static const char *names[] = {"sun: today, shadowed SH k16", "sun: unshadowed k9 x path", "sun: unshadowed k16 x path",
                                   "soft sun: k9 x path, radius 600", "sky (SH k16) + sun (k9 x path)",
@@ -189,7 +189,7 @@ int qibl_bench_paths(int quick)
     printf("RESULT paths.track_lamp_k9_cost_ratio %.3f\nRESULT paths.free_lamp_k9_cost_ratio %.3f\n", ms[6] / ms[5],
            ms[7] / ms[5]);
     printf("RESULT paths.dir_k16_ms %.3f\n", ms[0]);
-    qibl_gen_free(&g);
+    qtool_gen_free(&g);
     bmaps_free(&m9), bmaps_free(&m16);
     free(counts), free(edges), free(lp), free(pts), free(row), free(lrow), free(ws);
     return 0;

@@ -8,7 +8,7 @@
 
 #include "io/asset_write.h"
 #include "qibl/asset.h"
-#include "qibl/cli.h"
+#include "cli/cli.h"
 #include "qibl/lightprobe.h"
 #include "qibl/shmap.h"
 
@@ -22,16 +22,16 @@ static size_t head_bytes(uint32_t k)
     int32_t sc[75] = {0}, bi[75] = {0}, xyz[48] = {0};
     uint8_t planes[16 * 75] = {0};
     int16_t *lut = calloc(6u * k, sizeof(int16_t));
-    qibl_asset_builder b;
-    qibl_asset_builder_init(&b);
+    qtool_asset_builder b;
+    qtool_asset_builder_init(&b);
     uint8_t *bytes = NULL;
     size_t n = 0, have = 0, need = 0;
-    if (lut && qibl_asset_add_shmp_layout(&b, 16, 1, k, 3, sc, bi, planes, QIBL_SHMAPS_INTERLEAVED) == 0 &&
-        qibl_asset_add_pmap(&b, 16, 1, xyz) == 0 && qibl_asset_add_ylut(&b, 1, k, lut) == 0 &&
-        qibl_asset_serialize(&b, &bytes, &n) == 0)
+    if (lut && qtool_asset_add_shmp_layout(&b, 16, 1, k, 3, sc, bi, planes, QIBL_SHMAPS_INTERLEAVED) == 0 &&
+        qtool_asset_add_pmap(&b, 16, 1, xyz) == 0 && qtool_asset_add_ylut(&b, 1, k, lut) == 0 &&
+        qtool_asset_serialize(&b, &bytes, &n) == 0)
         while (qibl_asset_head_size(bytes, have, &need) == QIBL_OK && need > have && need <= n)
             have = need;
-    qibl_asset_builder_free(&b);
+    qtool_asset_builder_free(&b);
     free(bytes), free(lut);
     return have;
 }
@@ -44,7 +44,7 @@ static void row(const char *what, const size_t v[NK], const char *how)
     printf(" %s |\n", how);
 }
 
-int qibl_bench_memory(int markdown)
+int qcli_bench_memory(int markdown)
 {
     size_t maps[NK], pmap[NK], lut[3][NK], ws[NK], pws[NK], out[NK], wst[NK], pst[NK], head[NK], mrow[NK], prow[NK];
     size_t crc[NK], sdir[NK], spt[NK], rdir[NK], rpt[NK];

@@ -20,28 +20,28 @@
 #include "qibl/asset.h"
 #include "io/atomic.h"
 #include "io/file.h"
-#include "qibl/cli.h"
+#include "cli/cli.h"
 #include "qibl/shmap.h"
 #include "ref/psnr.h"
 #include "render/rt.h"
 
 /* ---- shared options ------------------------------------------------------------------------------ */
 
-/* X Y Z after argv[i], each in lo..QIBL_CLI_Q16_MAX (render is the ground truth of what relight
+/* X Y Z after argv[i], each in lo..QTOOL_CLI_Q16_MAX (render is the ground truth of what relight
  * can take); 0, or 2 after a message naming the option and the value */
 static int parse_d3(char **argv, int i, int argc, double lo, double v[3])
 {
     if (i + 3 >= argc)
-        return qibl_cli_usage_error("%s needs three numbers", argv[i]);
+        return qcli_usage_error("%s needs three numbers", argv[i]);
     for (int j = 0; j < 3; ++j)
-        if (qibl_cli_parse_num(argv[i], argv[i + 1 + j], lo, QIBL_CLI_Q16_MAX, QIBL_CLI_Q16_WHY, &v[j]) != 0)
+        if (qcli_parse_num(argv[i], argv[i + 1 + j], lo, QTOOL_CLI_Q16_MAX, QTOOL_CLI_Q16_WHY, &v[j]) != 0)
             return 2;
     return 0;
 }
 
 /* Consumes the scene/panorama options at argv[*i]; 1 if consumed, 0 if not ours, -1 on a bad value
  * (message printed). */
-int qibl_cli_scene_opt(int argc, char **argv, int *i, qibl_cli_scene *o)
+int qcli_scene_opt(int argc, char **argv, int *i, qcli_scene *o)
 {
     const char *a = argv[*i];
     if (strcmp(a, "--scene") == 0 && *i + 1 < argc) {
@@ -51,20 +51,20 @@ int qibl_cli_scene_opt(int argc, char **argv, int *i, qibl_cli_scene *o)
     } else if (strcmp(a, "--raw") == 0) {
         o->raw = 1;
     } else if (strcmp(a, "--equirect") == 0) {
-        o->kind = QIBL_PANO_EQUIRECT;
+        o->kind = QTOOL_PANO_EQUIRECT;
     } else if (strcmp(a, "--size") == 0 && *i + 1 < argc) {
         long w, h;
-        if (qibl_cli_parse_size(a, argv[++*i], QIBL_ASSET_MAX_DIM, &w, &h) != 0)
+        if (qcli_parse_size(a, argv[++*i], QIBL_ASSET_MAX_DIM, &w, &h) != 0)
             return -1;
         if (w * h > (long)QIBL_ASSET_MAX_PIXELS) {
-            qibl_cli_usage_error("--size %ldx%ld is above the asset's %u pixels", w, h, QIBL_ASSET_MAX_PIXELS);
+            qcli_usage_error("--size %ldx%ld is above the asset's %u pixels", w, h, QIBL_ASSET_MAX_PIXELS);
             return -1;
         }
         o->w = (uint32_t)w, o->h = (uint32_t)h;
     } else if (strcmp(a, "--threads") == 0 && *i + 1 < argc) {
         long t;
-        if (qibl_cli_parse_int(argv[++*i], 1, 256, &t) != 0) {
-            qibl_cli_usage_error("--threads needs an integer in 1..256");
+        if (qcli_parse_int(argv[++*i], 1, 256, &t) != 0) {
+            qcli_usage_error("--threads needs an integer in 1..256");
             return -1;
         }
         o->threads = (int)t;
@@ -74,26 +74,26 @@ int qibl_cli_scene_opt(int argc, char **argv, int *i, qibl_cli_scene *o)
     return 1;
 }
 
-void qibl_cli_scene_defaults(qibl_cli_scene *o)
+void qcli_scene_defaults(qcli_scene *o)
 {
     memset(o, 0, sizeof *o);
-    o->w = 1024, o->h = 256, o->kind = QIBL_PANO_CYLINDRICAL;
+    o->w = 1024, o->h = 256, o->kind = QTOOL_PANO_CYLINDRICAL;
     long n = sysconf(_SC_NPROCESSORS_ONLN);
     o->threads = n > 0 && n < 256 ? (int)n : 1;
 }
 
 /* Loads the scene: built-in when o->scene is NULL or "builtin", else a PLY (by its first line) or
  * OBJ mesh. 0, or 1 after printing the error. */
-int qibl_cli_scene_load(const qibl_cli_scene *o, qibl_rt_scene *s)
+int qcli_scene_load(const qcli_scene *o, qtool_rt_scene *s)
 {
     if (!o->scene || strcmp(o->scene, "builtin") == 0) {
-        if (qibl_rt_scene_builtin(s) != 0) {
+        if (qtool_rt_scene_builtin(s) != 0) {
             fprintf(stderr, "qibl: out of memory building the scene\n");
             return 1;
         }
         return 0;
     }
-    qibl_obj_mesh m;
+    qtool_obj_mesh m;
     char err[1200];
     /* PLY by its first line (whatever the extension), else OBJ */
     uint8_t head[8] = {0};
@@ -102,15 +102,15 @@ int qibl_cli_scene_load(const qibl_cli_scene *o, qibl_rt_scene *s)
     int opened = f != NULL;
     if (f)
         fclose(f);
-    int ply = qibl_ply_sniff(head, nh);
-    if ((ply ? qibl_ply_read(o->scene, &m, err, sizeof err) : qibl_obj_read(o->scene, &m, err, sizeof err)) != 0) {
+    int ply = qtool_ply_sniff(head, nh);
+    if ((ply ? qtool_ply_read(o->scene, &m, err, sizeof err) : qtool_obj_read(o->scene, &m, err, sizeof err)) != 0) {
         const char *ext = strrchr(o->scene, '.');
         fprintf(stderr, "qibl: %s%s\n", err,
                 !opened || ply || (ext && strcmp(ext, ".obj") == 0) ? "" : " (read as OBJ: meshes are Wavefront OBJ or PLY)");
         return 1;
     }
-    int rc = qibl_rt_scene_from_obj(s, &m, o->zup, o->raw);
-    qibl_obj_free(&m);
+    int rc = qtool_rt_scene_from_obj(s, &m, o->zup, o->raw);
+    qtool_obj_free(&m);
     if (rc != 0) {
         fprintf(stderr, "qibl: %s: out of memory building the scene\n", o->scene);
         return 1;
@@ -121,22 +121,22 @@ int qibl_cli_scene_load(const qibl_cli_scene *o, qibl_rt_scene *s)
 /* ---- qibl render --------------------------------------------------------------------------------- */
 
 /* --point without --rgb: C0 from the distance to what the panorama sees, as relight does from the
- * asset's P map (the same points: the primary hits, sky QIBL_CLI_SKY_DIST along the ray). 0, or 1
+ * asset's P map (the same points: the primary hits, sky QTOOL_CLI_SKY_DIST along the ray). 0, or 1
  * after a message. */
-static int point_default(const qibl_rt_scene *s, const qibl_cli_scene *so, qibl_rt_light *l)
+static int point_default(const qtool_rt_scene *s, const qcli_scene *so, qtool_rt_light *l)
 {
     size_t np = (size_t)so->w * so->h;
     double *pts = malloc(np * 3 * sizeof *pts), c0, d;
     for (uint32_t y = 0; pts && y < so->h; ++y)
         for (uint32_t x = 0; x < so->w; ++x) {
             double dir[3], *p = pts + 3 * ((size_t)y * so->w + x);
-            qibl_rt_hit h;
-            qibl_rt_pixel_dir(so->w, so->h, (qibl_pano_kind)so->kind, x, y, dir);
-            qibl_rt_primary(s, dir, &h);
+            qtool_rt_hit h;
+            qtool_rt_pixel_dir(so->w, so->h, (qtool_pano_kind)so->kind, x, y, dir);
+            qtool_rt_primary(s, dir, &h);
             for (int c = 0; c < 3; ++c)
-                p[c] = h.hit ? h.p[c] : dir[c] * QIBL_CLI_SKY_DIST;
+                p[c] = h.hit ? h.p[c] : dir[c] * QTOOL_CLI_SKY_DIST;
         }
-    if (!pts || qibl_cli_point_default(pts, np, l->pos, l->falloff, &c0, &d) != 0) {
+    if (!pts || qcli_point_default(pts, np, l->pos, l->falloff, &c0, &d) != 0) {
         free(pts);
         fprintf(stderr, "qibl: render: out of memory\n");
         return 1;
@@ -144,20 +144,20 @@ static int point_default(const qibl_rt_scene *s, const qibl_cli_scene *so, qibl_
     free(pts);
     l->rgb[0] = l->rgb[1] = l->rgb[2] = c0;
     fprintf(stderr, "qibl: note: --point without --rgb: C0 = %.4g (%.2g x d%s, d = %.3g the median distance from the "
-            "lamp to the scene); give --rgb R G B to choose\n", c0, QIBL_CLI_POINT_GREY, l->falloff == 2 ? "^2" : "", d);
+            "lamp to the scene); give --rgb R G B to choose\n", c0, QTOOL_CLI_POINT_GREY, l->falloff == 2 ? "^2" : "", d);
     return 0;
 }
 
-int qibl_cmd_render(int argc, char **argv)
+int qcli_cmd_render(int argc, char **argv)
 {
-    qibl_cli_scene so;
-    qibl_cli_scene_defaults(&so);
-    qibl_rt_light l = {0, {0, 0, 1}, {0, 0, 0}, {1, 1, 1}, 1};
+    qcli_scene so;
+    qcli_scene_defaults(&so);
+    qtool_rt_light l = {0, {0, 0, 1}, {0, 0, 0}, {1, 1, 1}, 1};
     int have = 0, have_rgb = 0;
     long falloff = 1;
     const char *png = NULL, *pfm = NULL, *depth = NULL;
     for (int i = 1; i < argc; ++i) {
-        int r = qibl_cli_scene_opt(argc, argv, &i, &so);
+        int r = qcli_scene_opt(argc, argv, &i, &so);
         if (r < 0)
             return 2;
         if (r)
@@ -166,11 +166,11 @@ int qibl_cmd_render(int argc, char **argv)
         if (strcmp(a, "--sun") == 0 || strcmp(a, "--point") == 0) {
             int pt = a[2] == 'p';
             double *v = pt ? l.pos : l.dir;
-            if (parse_d3(argv, i, argc, -QIBL_CLI_Q16_MAX, v) != 0)
+            if (parse_d3(argv, i, argc, -QTOOL_CLI_Q16_MAX, v) != 0)
                 return 2;
             /* as relight sees it: a direction that rounds to 0 0 0 in Q16.16 has none */
             if (!pt && fmax(fabs(v[0]), fmax(fabs(v[1]), fabs(v[2]))) < 0.5 / 65536)
-                return qibl_cli_usage_error("--sun needs a non-zero direction: %s %s %s is 0 0 0 in Q16.16",
+                return qcli_usage_error("--sun needs a non-zero direction: %s %s %s is 0 0 0 in Q16.16",
                                             argv[i + 1], argv[i + 2], argv[i + 3]);
             l.point = pt, have++, i += 3;
         } else if (strcmp(a, "--rgb") == 0) {
@@ -178,8 +178,8 @@ int qibl_cmd_render(int argc, char **argv)
                 return 2;
             have_rgb = 1, i += 3;
         } else if (strcmp(a, "--falloff") == 0 && i + 1 < argc) {
-            if (qibl_cli_parse_int(argv[++i], 1, 2, &falloff) != 0)
-                return qibl_cli_usage_error("--falloff is 1 (C0/|L|) or 2 (C0/|L|^2)");
+            if (qcli_parse_int(argv[++i], 1, 2, &falloff) != 0)
+                return qcli_usage_error("--falloff is 1 (C0/|L|) or 2 (C0/|L|^2)");
         } else if (strcmp(a, "--png") == 0 && i + 1 < argc) {
             png = argv[++i];
         } else if (strcmp(a, "--pfm") == 0 && i + 1 < argc) {
@@ -187,14 +187,14 @@ int qibl_cmd_render(int argc, char **argv)
         } else if (strcmp(a, "--depth") == 0 && i + 1 < argc) {
             depth = argv[++i];
         } else {
-            return qibl_cli_usage_error("render: unknown argument '%s' (see qibl help render)", a);
+            return qcli_usage_error("render: unknown argument '%s' (see qibl help render)", a);
         }
     }
     if (have != 1 || (!png && !pfm && !depth))
-        return qibl_cli_usage_error("render needs exactly one of --sun/--point and at least one of --png/--pfm/--depth");
+        return qcli_usage_error("render needs exactly one of --sun/--point and at least one of --png/--pfm/--depth");
     l.falloff = (int)falloff;
-    qibl_rt_scene s;
-    if (qibl_cli_scene_load(&so, &s) != 0)
+    qtool_rt_scene s;
+    if (qcli_scene_load(&so, &s) != 0)
         return 1;
     size_t np = (size_t)so.w * so.h;
     double *lin = malloc(np * 3 * sizeof(double));
@@ -208,65 +208,65 @@ int qibl_cmd_render(int argc, char **argv)
     }
     if (l.point && !have_rgb && point_default(&s, &so, &l) != 0)
         goto done;
-    double t0 = qibl_cli_now();
-    qibl_rt_render(&s, so.w, so.h, so.kind, &l, so.threads, lin, dep, NULL);
-    double ms = (qibl_cli_now() - t0) * 1e3;
+    double t0 = qcli_now();
+    qtool_rt_render(&s, so.w, so.h, so.kind, &l, so.threads, lin, dep, NULL);
+    double ms = (qcli_now() - t0) * 1e3;
     if (png) {
-        qibl_bake_truth8(&s, so.w, so.h, so.kind, &l, so.threads, rgb8, NULL);
-        if (qibl_png_write_rgb8(png, (int)so.w, (int)so.h, rgb8, err, sizeof err) != 0) {
+        qtool_bake_truth8(&s, so.w, so.h, so.kind, &l, so.threads, rgb8, NULL);
+        if (qtool_png_write_rgb8(png, (int)so.w, (int)so.h, rgb8, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
             goto done;
         }
-        qibl_cli_warn_dark(png, rgb8, np);
+        qcli_warn_dark(png, rgb8, np);
     }
     if (pfm) {
         for (size_t i = 0; i < np * 3; ++i)
             f3[i] = (float)lin[i];
-        if (qibl_pfm_write(pfm, (int)so.w, (int)so.h, 3, f3, err, sizeof err) != 0) {
+        if (qtool_pfm_write(pfm, (int)so.w, (int)so.h, 3, f3, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
             goto done;
         }
     }
-    if (depth && qibl_pfm_write(depth, (int)so.w, (int)so.h, 1, dep, err, sizeof err) != 0) {
+    if (depth && qtool_pfm_write(depth, (int)so.w, (int)so.h, 1, dep, err, sizeof err) != 0) {
         fprintf(stderr, "qibl: %s\n", err);
         goto done;
     }
     printf("rendered %ux%u %s panorama of %s, %zu triangles, %s light, %.0f ms on %d threads\n", so.w, so.h,
-           so.kind == QIBL_PANO_CYLINDRICAL ? "cylindrical" : "equirectangular", so.scene ? so.scene : "the built-in courtyard",
+           so.kind == QTOOL_PANO_CYLINDRICAL ? "cylindrical" : "equirectangular", so.scene ? so.scene : "the built-in courtyard",
            s.ntri, l.point ? "point" : "directional", ms, so.threads);
     rc = 0;
 done:
     free(lin), free(dep), free(f3), free(rgb8);
-    qibl_rt_scene_free(&s);
+    qtool_rt_scene_free(&s);
     return rc;
 }
 
 /* ---- evaluation set ------------------------------------------------------------------------------ */
 
 /* Novel lights: suns in the upper hemisphere not in the bake's direction set, lamps in the scene. */
-void qibl_cli_eval_lights(int obj_prop, int ndir, int npoint, qibl_rt_light *out)
+void qcli_eval_lights(int obj_prop, int ndir, int npoint, qtool_rt_light *out)
 {
     for (int i = 0; i < ndir; ++i) {
         double el = 0.35 + 1.0 * (i + 0.37) / ndir, az = 2.39996 * i + 0.61;
-        qibl_rt_light l = {0, {cos(el) * cos(az), cos(el) * sin(az), sin(el)}, {0, 0, 0}, {2.6, 2.4, 2.1}, 1};
+        qtool_rt_light l = {0, {cos(el) * cos(az), cos(el) * sin(az), sin(el)}, {0, 0, 0}, {2.6, 2.4, 2.1}, 1};
         out[i] = l;
     }
     for (int i = 0; i < npoint; ++i) {
         double a = 2.39996 * i + 1.1, r = 1.6 + 1.2 * ((i * 7) % 5) / 5.0;
-        double cx = obj_prop ? QIBL_RT_PROP_X : 0.0;
-        qibl_rt_light l = {1, {0, 0, 1}, {cx + r * cos(a), r * sin(a), -0.6 + 0.35 * (i % 4)}, {5.0, 4.4, 3.6}, 1};
+        double cx = obj_prop ? QTOOL_RT_PROP_X : 0.0;
+        qtool_rt_light l = {1, {0, 0, 1}, {cx + r * cos(a), r * sin(a), -0.6 + 0.35 * (i % 4)}, {5.0, 4.4, 3.6}, 1};
         out[ndir + i] = l;
     }
 }
 
 typedef struct {
     int n, ndir;
-    qibl_rt_light *l;
+    qtool_rt_light *l;
     uint8_t **truth, *mask;
     size_t np;
 } evalset;
 
-static int eval_build(evalset *e, const qibl_rt_scene *s, const qibl_cli_scene *so, int ndir, int npoint)
+static int eval_build(evalset *e, const qtool_rt_scene *s, const qcli_scene *so, int ndir, int npoint)
 {
     e->n = ndir + npoint, e->ndir = ndir, e->np = (size_t)so->w * so->h;
     e->l = malloc(sizeof *e->l * (size_t)e->n);
@@ -274,10 +274,10 @@ static int eval_build(evalset *e, const qibl_rt_scene *s, const qibl_cli_scene *
     e->mask = malloc(e->np);
     if (!e->l || !e->truth || !e->mask)
         return -1;
-    qibl_cli_eval_lights(so->scene && !so->raw && strcmp(so->scene, "builtin") != 0, ndir, npoint, e->l);
+    qcli_eval_lights(so->scene && !so->raw && strcmp(so->scene, "builtin") != 0, ndir, npoint, e->l);
     for (int i = 0; i < e->n; ++i) {
         e->truth[i] = malloc(e->np * 3);
-        if (!e->truth[i] || qibl_bake_truth8(s, so->w, so->h, so->kind, &e->l[i], so->threads, e->truth[i], e->mask) != 0)
+        if (!e->truth[i] || qtool_bake_truth8(s, so->w, so->h, so->kind, &e->l[i], so->threads, e->truth[i], e->mask) != 0)
             return -1;
     }
     return 0;
@@ -296,12 +296,12 @@ static double eval_psnr(const evalset *e, const uint8_t *asset, size_t n, int po
     double mse = 0;
     int cnt = 0;
     for (int i = point ? e->ndir : 0; i < (point ? e->n : e->ndir); ++i) {
-        if (qibl_bake_relight8(asset, n, &e->l[i], use_lut, tmp, NULL) != 0)
+        if (qtool_bake_relight8(asset, n, &e->l[i], use_lut, tmp, NULL) != 0)
             return -1;
-        mse += qibl_bake_mse(tmp, e->truth[i], e->mask, e->np), ++cnt;
+        mse += qtool_bake_mse(tmp, e->truth[i], e->mask, e->np), ++cnt;
     }
     mse /= cnt ? cnt : 1;
-    return qibl_ref_psnr8(mse);
+    return qtool_ref_psnr8(mse);
 }
 
 /* ---- qibl bake / merge --------------------------------------------------------------------------- */
@@ -309,7 +309,7 @@ static double eval_psnr(const evalset *e, const uint8_t *asset, size_t n, int po
 static int write_bytes(const char *path, const uint8_t *b, size_t n)
 {
     char err[1200];
-    if (qibl_io_write_atomic(path, b, n, err, sizeof err) != 0) {
+    if (qtool_io_write_atomic(path, b, n, err, sizeof err) != 0) {
         fprintf(stderr, "qibl: %s\n", err);
         return -1;
     }
@@ -318,28 +318,28 @@ static int write_bytes(const char *path, const uint8_t *b, size_t n)
 
 /* what `qibl bake` adds beside the shadowed maps: unshadowed maps (SHMU) and light paths (LPTH) */
 typedef struct {
-    const qibl_gen_maps *mu; /* NULL: none */
+    const qtool_gen_maps *mu; /* NULL: none */
     uint8_t *paths[9];       /* NULL-terminated */
     size_t sizes[9];
     int npaths;
 } extras;
 
-static int finish_asset(const qibl_bake_sums *sums, uint32_t k, uint32_t lut, qibl_proj_method method,
+static int finish_asset(const qtool_bake_sums *sums, uint32_t k, uint32_t lut, qtool_proj_method method,
                         uint32_t layout, const char *out, const extras *x)
 {
-    qibl_gen_maps m;
+    qtool_gen_maps m;
     uint8_t *bytes = NULL;
     size_t n = 0;
-    if (qibl_bake_coeffs(sums, k, method, &m) != 0) {
-        if (method == QIBL_PROJ_LSQ)
+    if (qtool_bake_coeffs(sums, k, method, &m) != 0) {
+        if (method == QTOOL_PROJ_LSQ)
             fprintf(stderr, "qibl: %s: cannot project by least squares: %u directions are too few for k = %u (or out "
                     "of memory)\n", out, sums->ndirs, k);
         else
             fprintf(stderr, "qibl: %s: cannot project: out of memory\n", out);
         return 1;
     }
-    int rc = qibl_bake_asset_full(&m, x->mu, lut, layout, x->paths, x->sizes, &bytes, &n);
-    qibl_gen_free(&m);
+    int rc = qtool_bake_asset_full(&m, x->mu, lut, layout, x->paths, x->sizes, &bytes, &n);
+    qtool_gen_free(&m);
     if (rc != 0) {
         fprintf(stderr, "qibl: %s: cannot build the asset (out of memory)\n", out);
         return 1;
@@ -349,7 +349,7 @@ static int finish_asset(const qibl_bake_sums *sums, uint32_t k, uint32_t lut, qi
     if (rc != 0)
         return 1;
     printf("wrote %s: %ux%u, k = %u (%s), %u light directions, %s", out, sums->w, sums->h, k,
-           method == QIBL_PROJ_LSQ ? "least squares" : "quadrature", sums->ndirs,
+           method == QTOOL_PROJ_LSQ ? "least squares" : "quadrature", sums->ndirs,
            lut ? "P map and cube-map Y LUT" : "P map");
     if (x->mu)
         printf(", unshadowed maps k = %u", x->mu->k);
@@ -359,19 +359,19 @@ static int finish_asset(const qibl_bake_sums *sums, uint32_t k, uint32_t lut, qi
     return 0;
 }
 
-int qibl_cmd_bake(int argc, char **argv)
+int qcli_cmd_bake(int argc, char **argv)
 {
-    qibl_cli_scene so;
-    qibl_cli_scene_defaults(&so);
+    qcli_scene so;
+    qcli_scene_defaults(&so);
     const char *out = NULL, *sums_out = NULL;
     long k = 16, lut = 32, ndirs = 512, shard = 0, nshards = 1, uk = 9, steps = 64;
     double budget = 0;
     int lsq = 0, quiet = 0, npaths = 0;
     uint32_t layout = QIBL_SHMAPS_PLANAR;
-    qibl_bake_path paths[8];
+    qtool_bake_path paths[8];
     char perr[400];
     for (int i = 1; i < argc; ++i) {
-        int r = qibl_cli_scene_opt(argc, argv, &i, &so);
+        int r = qcli_scene_opt(argc, argv, &i, &so);
         if (r < 0)
             return 2;
         if (r)
@@ -380,77 +380,77 @@ int qibl_cmd_bake(int argc, char **argv)
         if (strcmp(a, "-o") == 0 && i + 1 < argc)
             out = argv[++i];
         else if (strcmp(a, "--k") == 0 && i + 1 < argc) {
-            if (qibl_cli_parse_int(argv[++i], 1, 25, &k) != 0)
-                return qibl_cli_usage_error("--k needs an integer in 1..25");
-        } else if ((r = qibl_cli_lut_size_opt(argc, argv, &i, 0, &lut)) != 0) {
+            if (qcli_parse_int(argv[++i], 1, 25, &k) != 0)
+                return qcli_usage_error("--k needs an integer in 1..25");
+        } else if ((r = qcli_lut_size_opt(argc, argv, &i, 0, &lut)) != 0) {
             if (r < 0)
                 return 2;
         } else if (strcmp(a, "--dirs") == 0 && i + 1 < argc) {
-            if (qibl_cli_parse_int(argv[++i], 16, 65536, &ndirs) != 0)
-                return qibl_cli_usage_error("--dirs needs an integer in 16..65536");
+            if (qcli_parse_int(argv[++i], 16, 65536, &ndirs) != 0)
+                return qcli_usage_error("--dirs needs an integer in 16..65536");
         } else if (strcmp(a, "--shard") == 0 && i + 1 < argc) {
             char tail;
             if (sscanf(argv[++i], "%ld/%ld%c", &shard, &nshards, &tail) != 2 || nshards < 1 || nshards > 4096 ||
                 shard < 0 || shard >= nshards)
-                return qibl_cli_usage_error("--shard needs I/N with 0 <= I < N <= 4096");
+                return qcli_usage_error("--shard needs I/N with 0 <= I < N <= 4096");
         } else if (strcmp(a, "--sums") == 0 && i + 1 < argc)
             sums_out = argv[++i];
         else if (strcmp(a, "--budget") == 0 && i + 1 < argc) {
             char *end;
             budget = strtod(argv[++i], &end);
             if (*end || !(budget > 0 && budget < 99))
-                return qibl_cli_usage_error("--budget needs a PSNR in dB (0..99)");
+                return qcli_usage_error("--budget needs a PSNR in dB (0..99)");
         } else if (strcmp(a, "--unshadowed-k") == 0 && i + 1 < argc) {
-            if (qibl_cli_parse_int(argv[++i], 0, 25, &uk) != 0)
-                return qibl_cli_usage_error("--unshadowed-k needs an integer in 0..25 (0: no unshadowed maps)");
+            if (qcli_parse_int(argv[++i], 0, 25, &uk) != 0)
+                return qcli_usage_error("--unshadowed-k needs an integer in 0..25 (0: no unshadowed maps)");
         } else if (strcmp(a, "--path-steps") == 0 && i + 1 < argc) {
-            if (qibl_cli_parse_int(argv[++i], 2, 4096, &steps) != 0)
-                return qibl_cli_usage_error("--path-steps needs an integer in 2..4096");
+            if (qcli_parse_int(argv[++i], 2, 4096, &steps) != 0)
+                return qcli_usage_error("--path-steps needs an integer in 2..4096");
         } else if ((strcmp(a, "--sun-path") == 0 || strcmp(a, "--lamp-track") == 0) && i + 1 < argc) {
             if (npaths == 8)
-                return qibl_cli_usage_error("%s: at most 8 light paths per asset", a);
-            qibl_bake_path *pp = &paths[npaths];
+                return qcli_usage_error("%s: at most 8 light paths per asset", a);
+            qtool_bake_path *pp = &paths[npaths];
             memset(pp, 0, sizeof *pp);
-            int bad = a[2] == 's' ? qibl_bake_path_parse_sun(argv[++i], pp, perr, sizeof perr)
-                                  : qibl_bake_path_parse_track(argv[++i], pp, perr, sizeof perr);
+            int bad = a[2] == 's' ? qtool_bake_path_parse_sun(argv[++i], pp, perr, sizeof perr)
+                                  : qtool_bake_path_parse_track(argv[++i], pp, perr, sizeof perr);
             if (bad)
-                return qibl_cli_usage_error("%s", perr);
+                return qcli_usage_error("%s", perr);
             npaths++;
         } else if (strcmp(a, "--lsq") == 0)
             lsq = 1;
         else if (strcmp(a, "--quiet") == 0)
             quiet = 1;
         else if (strcmp(a, "--layout") == 0 && i + 1 < argc) {
-            if (qibl_cli_parse_layout(argv[++i], &layout) != 0)
-                return qibl_cli_usage_error("--layout is planar or interleaved");
+            if (qcli_parse_layout(argv[++i], &layout) != 0)
+                return qcli_usage_error("--layout is planar or interleaved");
         } else
-            return qibl_cli_usage_error("bake: unknown argument '%s' (see qibl help bake)", a);
+            return qcli_usage_error("bake: unknown argument '%s' (see qibl help bake)", a);
     }
     if (nshards > 1 && !sums_out)
-        return qibl_cli_usage_error("bake --shard needs --sums FILE (the partial sums for qibl merge)");
+        return qcli_usage_error("bake --shard needs --sums FILE (the partial sums for qibl merge)");
     if (!out && !sums_out)
-        return qibl_cli_usage_error("bake needs -o ASSET (or --sums FILE)");
-    uint32_t nblocks = (uint32_t)((ndirs + QIBL_BAKE_BLOCK - 1) / QIBL_BAKE_BLOCK);
+        return qcli_usage_error("bake needs -o ASSET (or --sums FILE)");
+    uint32_t nblocks = (uint32_t)((ndirs + QTOOL_BAKE_BLOCK - 1) / QTOOL_BAKE_BLOCK);
     if ((uint32_t)nshards > nblocks)
-        return qibl_cli_usage_error("--shard: %ld shards but only %u blocks of %u directions", nshards, nblocks,
-                                    QIBL_BAKE_BLOCK);
+        return qcli_usage_error("--shard: %ld shards but only %u blocks of %u directions", nshards, nblocks,
+                                    QTOOL_BAKE_BLOCK);
     if (out && nshards > 1)
-        return qibl_cli_usage_error("a shard writes partial sums only (--sums); qibl merge writes the asset");
+        return qcli_usage_error("a shard writes partial sums only (--sums); qibl merge writes the asset");
     if (npaths && (uk == 0 || !out))
-        return qibl_cli_usage_error("light paths need the unshadowed maps (--unshadowed-k 1..25) and -o ASSET");
-    qibl_rt_scene s;
-    if (qibl_cli_scene_load(&so, &s) != 0)
+        return qcli_usage_error("light paths need the unshadowed maps (--unshadowed-k 1..25) and -o ASSET");
+    qtool_rt_scene s;
+    if (qcli_scene_load(&so, &s) != 0)
         return 1;
-    qibl_bake_sums sums;
-    double t0 = qibl_cli_now();
+    qtool_bake_sums sums;
+    double t0 = qcli_now();
     uint32_t kacc = budget > 0 ? 25 : (uint32_t)k;
-    if (qibl_bake_run(&s, so.w, so.h, so.kind, (uint32_t)ndirs, kacc, (uint32_t)shard, (uint32_t)nshards, so.threads,
+    if (qtool_bake_run(&s, so.w, so.h, so.kind, (uint32_t)ndirs, kacc, (uint32_t)shard, (uint32_t)nshards, so.threads,
                       !quiet, &sums) != 0) {
         fprintf(stderr, "qibl: bake: out of memory\n");
-        qibl_rt_scene_free(&s);
+        qtool_rt_scene_free(&s);
         return 1;
     }
-    double secs = qibl_cli_now() - t0;
+    double secs = qcli_now() - t0;
     if (!quiet)
         fprintf(stderr, "bake: %ux%u, %ld directions%s, %zu triangles, %.1f s on %d threads\n", so.w, so.h, ndirs,
                 nshards > 1 ? " (this shard's share)" : "", s.ntri, secs, so.threads);
@@ -458,21 +458,21 @@ int qibl_cmd_bake(int argc, char **argv)
     char err[512];
     /* the unshadowed maps and the light paths, for the asset (shards carry the shadowed sums only) */
     extras x;
-    qibl_gen_maps mu = {0};
+    qtool_gen_maps mu = {0};
     memset(&x, 0, sizeof x);
     if (out && uk > 0) {
-        qibl_bake_sums us;
-        double t1 = qibl_cli_now();
-        if (qibl_bake_run_unshadowed(&s, so.w, so.h, so.kind, (uint32_t)ndirs, (uint32_t)uk, so.threads, &us) != 0 ||
-            qibl_bake_coeffs(&us, (uint32_t)uk, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, &mu) != 0) {
+        qtool_bake_sums us;
+        double t1 = qcli_now();
+        if (qtool_bake_run_unshadowed(&s, so.w, so.h, so.kind, (uint32_t)ndirs, (uint32_t)uk, so.threads, &us) != 0 ||
+            qtool_bake_coeffs(&us, (uint32_t)uk, lsq ? QTOOL_PROJ_LSQ : QTOOL_PROJ_QUADRATURE, &mu) != 0) {
             fprintf(stderr, "qibl: bake: out of memory (unshadowed maps)\n");
             rc = 1;
         }
-        qibl_bake_sums_free(&us);
+        qtool_bake_sums_free(&us);
         x.mu = rc == 0 ? &mu : NULL;
         for (int p = 0; rc == 0 && p < npaths; ++p) {
             double st[2];
-            if (qibl_bake_path_chunk(&s, so.w, so.h, so.kind, &paths[p], (uint32_t)steps, 65, so.threads, &x.paths[p],
+            if (qtool_bake_path_chunk(&s, so.w, so.h, so.kind, &paths[p], (uint32_t)steps, 65, so.threads, &x.paths[p],
                                      &x.sizes[p], st) != 0) {
                 fprintf(stderr, "qibl: bake: out of memory (light path %d)\n", p + 1);
                 rc = 1;
@@ -485,9 +485,9 @@ int qibl_cmd_bake(int argc, char **argv)
         }
         if (!quiet && rc == 0)
             fprintf(stderr, "bake: unshadowed maps (k = %ld) and %d light path%s: %.1f s\n", uk, npaths,
-                    npaths == 1 ? "" : "s", qibl_cli_now() - t1);
+                    npaths == 1 ? "" : "s", qcli_now() - t1);
     }
-    if (rc == 0 && sums_out && qibl_bake_sums_write(&sums, sums_out, err, sizeof err) != 0) {
+    if (rc == 0 && sums_out && qtool_bake_sums_write(&sums, sums_out, err, sizeof err) != 0) {
         fprintf(stderr, "qibl: %s\n", err);
         rc = 1;
     } else if (sums_out) {
@@ -506,15 +506,15 @@ int qibl_cmd_bake(int argc, char **argv)
         }
         printf("budget %.2f dB: PSNR of the core's relit frames against ground truth, 8 novel suns (mean MSE):\n", budget);
         for (uint32_t kk = 1; rc == 0 && kk <= 25 && !chosen; kk = (uint32_t)((sqrt(kk) + 1) * (sqrt(kk) + 1) + 0.5)) {
-            qibl_gen_maps m;
+            qtool_gen_maps m;
             uint8_t *b = NULL;
             size_t n = 0;
-            if (qibl_bake_coeffs(&sums, kk, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, &m) != 0 ||
-                qibl_bake_asset(&m, 0, &b, &n) != 0) {
+            if (qtool_bake_coeffs(&sums, kk, lsq ? QTOOL_PROJ_LSQ : QTOOL_PROJ_QUADRATURE, &m) != 0 ||
+                qtool_bake_asset(&m, 0, &b, &n) != 0) {
                 rc = 1;
                 break;
             }
-            qibl_gen_free(&m);
+            qtool_gen_free(&m);
             pk = eval_psnr(&e, b, n, 0, 0, tmp);
             printf("  k = %2u: %6.2f dB %s\n", kk, pk, pk >= budget ? "<- reaches the budget" : "");
             if (pk >= budget || kk == 25)
@@ -526,16 +526,16 @@ int qibl_cmd_bake(int argc, char **argv)
                 printf("  no k <= 25 reaches %.2f dB; using k = 25 (more directions or a smoother scene would be needed)\n",
                        budget);
             /* LUT: the smallest face size whose point-light PSNR is within 0.1 dB of direct SH evaluation */
-            qibl_gen_maps m;
+            qtool_gen_maps m;
             uint8_t *b = NULL;
             size_t n = 0;
-            qibl_bake_coeffs(&sums, chosen, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, &m);
-            qibl_bake_asset(&m, 0, &b, &n);
+            qtool_bake_coeffs(&sums, chosen, lsq ? QTOOL_PROJ_LSQ : QTOOL_PROJ_QUADRATURE, &m);
+            qtool_bake_asset(&m, 0, &b, &n);
             double direct = eval_psnr(&e, b, n, 1, 0, tmp);
             free(b);
             printf("point lights (4 lamps), k = %u: direct SH evaluation %.2f dB; cube-map LUT face size:\n", chosen, direct);
             for (uint32_t f = 8; f <= 128; f *= 2) {
-                qibl_bake_asset(&m, f, &b, &n);
+                qtool_bake_asset(&m, f, &b, &n);
                 double p = eval_psnr(&e, b, n, 1, 1, tmp);
                 free(b);
                 printf("  %3u^2: %6.2f dB%s\n", f, p, p >= direct - 0.1 ? " <- within 0.1 dB of direct evaluation" : "");
@@ -544,7 +544,7 @@ int qibl_cmd_bake(int argc, char **argv)
                     break;
                 }
             }
-            qibl_gen_free(&m);
+            qtool_gen_free(&m);
             /* one summary that agrees with the table above: the k line says "reaches" only if it did */
             if (reached)
                 printf("chose k = %u: the smallest k whose novel-sun PSNR reaches %.2f dB", chosen, budget);
@@ -556,22 +556,22 @@ int qibl_cmd_bake(int argc, char **argv)
             else
                 printf("; a %u^2 LUT: the largest tried, none within 0.1 dB of evaluating the SH polynomials per "
                        "pixel\n", chosen_lut);
-            rc = finish_asset(&sums, chosen, chosen_lut, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, layout, out, &x);
+            rc = finish_asset(&sums, chosen, chosen_lut, lsq ? QTOOL_PROJ_LSQ : QTOOL_PROJ_QUADRATURE, layout, out, &x);
         }
         eval_free(&e);
         free(tmp);
     } else if (rc == 0 && out) {
-        rc = finish_asset(&sums, (uint32_t)k, (uint32_t)lut, lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, layout, out, &x);
+        rc = finish_asset(&sums, (uint32_t)k, (uint32_t)lut, lsq ? QTOOL_PROJ_LSQ : QTOOL_PROJ_QUADRATURE, layout, out, &x);
     }
     for (int p = 0; p < 8; ++p)
         free(x.paths[p]);
-    qibl_gen_free(&mu);
-    qibl_bake_sums_free(&sums);
-    qibl_rt_scene_free(&s);
+    qtool_gen_free(&mu);
+    qtool_bake_sums_free(&sums);
+    qtool_rt_scene_free(&s);
     return rc;
 }
 
-int qibl_cmd_merge(int argc, char **argv)
+int qcli_cmd_merge(int argc, char **argv)
 {
     const char *out = NULL, *sums_out = NULL;
     long k = 0, lut = 32;
@@ -587,19 +587,19 @@ int qibl_cmd_merge(int argc, char **argv)
         else if (strcmp(a, "--sums") == 0 && i + 1 < argc)
             sums_out = argv[++i];
         else if (strcmp(a, "--k") == 0 && i + 1 < argc) {
-            if (qibl_cli_parse_int(argv[++i], 1, 25, &k) != 0) {
+            if (qcli_parse_int(argv[++i], 1, 25, &k) != 0) {
                 free(in);
-                return qibl_cli_usage_error("--k needs an integer in 1..25");
+                return qcli_usage_error("--k needs an integer in 1..25");
             }
-        } else if ((r = qibl_cli_lut_size_opt(argc, argv, &i, 0, &lut)) != 0) {
+        } else if ((r = qcli_lut_size_opt(argc, argv, &i, 0, &lut)) != 0) {
             if (r < 0) {
                 free(in);
                 return 2;
             }
         } else if (strcmp(a, "--layout") == 0 && i + 1 < argc) {
-            if (qibl_cli_parse_layout(argv[++i], &layout) != 0) {
+            if (qcli_parse_layout(argv[++i], &layout) != 0) {
                 free(in);
-                return qibl_cli_usage_error("--layout is planar or interleaved");
+                return qcli_usage_error("--layout is planar or interleaved");
             }
         } else if (strcmp(a, "--lsq") == 0)
             lsq = 1;
@@ -607,20 +607,20 @@ int qibl_cmd_merge(int argc, char **argv)
             in[nin++] = argv[i];
         else {
             free(in);
-            return qibl_cli_usage_error("merge: unknown argument '%s' (see qibl help merge)", a);
+            return qcli_usage_error("merge: unknown argument '%s' (see qibl help merge)", a);
         }
     }
     if (nin == 0 || (!out && !sums_out)) {
         free(in);
-        return qibl_cli_usage_error("usage: qibl merge -o ASSET [--sums OUT] [--k K] [--lut-size N] [--lsq] SUMS...");
+        return qcli_usage_error("usage: qibl merge -o ASSET [--sums OUT] [--k K] [--lut-size N] [--lsq] SUMS...");
     }
-    qibl_bake_sums total = {0}, part;
+    qtool_bake_sums total = {0}, part;
     char err[1200];
     int rc = 1;
     int *seen = NULL; /* per shard index: 1 + the input it came from, 0 if none yet */
     for (int i = 0; i < nin; ++i) {
-        /* every header is validated by the reader (shard < nshards <= QIBL_BAKE_MAX_SHARDS) before use */
-        if (qibl_bake_sums_read(in[i], &part, err, sizeof err) != 0) {
+        /* every header is validated by the reader (shard < nshards <= QTOOL_BAKE_MAX_SHARDS) before use */
+        if (qtool_bake_sums_read(in[i], &part, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
             goto done;
         }
@@ -635,24 +635,24 @@ int qibl_cmd_merge(int argc, char **argv)
             continue;
         }
         /* same bake (and so the same shard count) first: only then is part.shard an index into seen */
-        if (qibl_bake_sums_compatible(&total, &part, err, sizeof err) != 0) {
+        if (qtool_bake_sums_compatible(&total, &part, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s: %s (first input %s)\n", in[i], err, in[0]);
-            qibl_bake_sums_free(&part);
+            qtool_bake_sums_free(&part);
             goto done;
         }
         if (seen[part.shard]) {
             fprintf(stderr, "qibl: %s: shard %u/%u given twice (also %s)\n", in[i], part.shard, part.nshards,
                     in[seen[part.shard] - 1]);
-            qibl_bake_sums_free(&part);
+            qtool_bake_sums_free(&part);
             goto done;
         }
-        if (qibl_bake_sums_add(&total, &part, err, sizeof err) != 0) {
+        if (qtool_bake_sums_add(&total, &part, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s: %s\n", in[i], err);
-            qibl_bake_sums_free(&part);
+            qtool_bake_sums_free(&part);
             goto done;
         }
         seen[part.shard] = i + 1;
-        qibl_bake_sums_free(&part);
+        qtool_bake_sums_free(&part);
     }
     for (uint32_t s = 0; s < total.nshards; ++s)
         if (!seen[s]) {
@@ -660,32 +660,32 @@ int qibl_cmd_merge(int argc, char **argv)
             goto done;
         }
     if (k > (long)total.k) {
-        rc = qibl_cli_usage_error("merge: --k %ld is above the shards' k = %u (bake with --k %ld or more)", k, total.k,
+        rc = qcli_usage_error("merge: --k %ld is above the shards' k = %u (bake with --k %ld or more)", k, total.k,
                                   k);
         goto done;
     }
     total.shard = 0, total.nshards = 1;
-    if (sums_out && qibl_bake_sums_write(&total, sums_out, err, sizeof err) != 0) {
+    if (sums_out && qtool_bake_sums_write(&total, sums_out, err, sizeof err) != 0) {
         fprintf(stderr, "qibl: %s\n", err);
         goto done;
     }
     extras none;
     memset(&none, 0, sizeof none);
     rc = out ? finish_asset(&total, k ? (uint32_t)k : (total.k < 16 ? total.k : 16), (uint32_t)lut,
-                            lsq ? QIBL_PROJ_LSQ : QIBL_PROJ_QUADRATURE, layout, out, &none)
+                            lsq ? QTOOL_PROJ_LSQ : QTOOL_PROJ_QUADRATURE, layout, out, &none)
              : 0;
 done:
     free(seen), free(in);
-    qibl_bake_sums_free(&total);
+    qtool_bake_sums_free(&total);
     return rc;
 }
 
 /* ---- qibl check ---------------------------------------------------------------------------------- */
 
-int qibl_cmd_check(int argc, char **argv)
+int qcli_cmd_check(int argc, char **argv)
 {
     if (argc < 2)
-        return qibl_cli_usage_error("usage: qibl check FILE...");
+        return qcli_usage_error("usage: qibl check FILE...");
     int bad = 0;
     for (int i = 1; i < argc; ++i) {
         const char *p = argv[i], *ext = strrchr(p, '.');
@@ -693,7 +693,7 @@ int qibl_cmd_check(int argc, char **argv)
         if (ext && strcmp(ext, ".png") == 0) {
             int w, h, fr;
             uint8_t *rgb;
-            if (qibl_png_read_rgb8(p, &w, &h, &fr, &rgb, err, sizeof err) != 0) {
+            if (qtool_png_read_rgb8(p, &w, &h, &fr, &rgb, err, sizeof err) != 0) {
                 fprintf(stderr, "qibl: %s\n", err);
                 bad = 1;
                 continue;
@@ -703,7 +703,7 @@ int qibl_cmd_check(int argc, char **argv)
         } else if (ext && strcmp(ext, ".pfm") == 0) {
             int w, h, ch;
             float *px;
-            if (qibl_pfm_read(p, &w, &h, &ch, &px, err, sizeof err) != 0) {
+            if (qtool_pfm_read(p, &w, &h, &ch, &px, err, sizeof err) != 0) {
                 fprintf(stderr, "qibl: %s\n", err);
                 bad = 1;
                 continue;
@@ -714,7 +714,7 @@ int qibl_cmd_check(int argc, char **argv)
             /* the Radiance probes lights reads: header, resolution line and every scanline decoded */
             int w, h;
             float *px;
-            if (qibl_hdr_read(p, &w, &h, &px, err, sizeof err) != 0) {
+            if (qtool_hdr_read(p, &w, &h, &px, err, sizeof err) != 0) {
                 fprintf(stderr, "qibl: %s\n", err);
                 bad = 1;
                 continue;
@@ -727,7 +727,7 @@ int qibl_cmd_check(int argc, char **argv)
         } else {
             size_t n;
             uint8_t *b = NULL;
-            if (qibl_io_read_asset(p, &b, &n, err, sizeof err) != 0) {
+            if (qtool_io_read_asset(p, &b, &n, err, sizeof err) != 0) {
                 fprintf(stderr, "qibl: %s\n", err);
                 bad = 1;
                 continue;

@@ -8,12 +8,12 @@
 #include <string.h>
 
 #include "io/hdr.h"
-#include "qibl/cli.h"
+#include "cli/cli.h"
 #include "qibl/probe.h"
 
 #define SH_PROJECT_USAGE "usage: qibl sh project PROBE.hdr [--bands B] [--irradiance] [--window none|hann|lanczos]"
 
-int qibl_cmd_sh_project(int argc, char **argv)
+int qcli_cmd_sh_project(int argc, char **argv)
 {
     const char *path = NULL;
     long bands = QIBL_SH_MAX_BANDS;
@@ -21,8 +21,8 @@ int qibl_cmd_sh_project(int argc, char **argv)
     static const char *wnames[] = {"none", "hann", "lanczos"};
     for (int i = 2; i < argc; ++i) {
         if (strcmp(argv[i], "--bands") == 0) {
-            if (i + 1 >= argc || qibl_cli_parse_int(argv[i + 1], 1, QIBL_SH_MAX_BANDS, &bands) != 0)
-                return qibl_cli_usage_error("--bands needs an integer in 1..%d", QIBL_SH_MAX_BANDS);
+            if (i + 1 >= argc || qcli_parse_int(argv[i + 1], 1, QIBL_SH_MAX_BANDS, &bands) != 0)
+                return qcli_usage_error("--bands needs an integer in 1..%d", QIBL_SH_MAX_BANDS);
             ++i;
         } else if (strcmp(argv[i], "--irradiance") == 0) {
             opts.irradiance = 1;
@@ -32,21 +32,21 @@ int qibl_cmd_sh_project(int argc, char **argv)
                 if (strcmp(argv[i + 1], wnames[j]) == 0)
                     k = j;
             if (k < 0)
-                return qibl_cli_usage_error("--window needs none, hann or lanczos");
+                return qcli_usage_error("--window needs none, hann or lanczos");
             opts.window = (qibl_probe_window_t)k;
             ++i;
         } else if (argv[i][0] == '-' || path) {
-            return qibl_cli_usage_error("sh project: unexpected '%s' (%s)", argv[i], SH_PROJECT_USAGE);
+            return qcli_usage_error("sh project: unexpected '%s' (%s)", argv[i], SH_PROJECT_USAGE);
         } else {
             path = argv[i];
         }
     }
     if (!path)
-        return qibl_cli_usage_error(SH_PROJECT_USAGE);
+        return qcli_usage_error(SH_PROJECT_USAGE);
     int w, h;
     uint8_t *px;
     char err[512];
-    if (qibl_hdr_read_rgbe(path, &w, &h, &px, err, sizeof err) != 0)
+    if (qtool_hdr_read_rgbe(path, &w, &h, &px, err, sizeof err) != 0)
         return fprintf(stderr, "qibl: %s\n", err), 1;
     if (w != 2 * h)
         fprintf(stderr, "qibl: warning: %s is %dx%d, not 2:1; read as lat-long anyway\n", path, w, h);

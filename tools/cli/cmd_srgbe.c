@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "qibl/cli.h"
+#include "cli/cli.h"
 #include "qibl/srgbe.h"
 
 #define SRGBE_USAGE "usage: qibl srgbe encode R G B | qibl srgbe decode HEX8"
@@ -64,11 +64,11 @@ static void note_status(const char *what, qibl_status_t st)
 static int srgbe_encode(int argc, char **argv)
 {
     if (argc != 5)
-        return qibl_cli_usage_error("srgbe encode needs three values R G B (" SRGBE_USAGE ")");
+        return qcli_usage_error("srgbe encode needs three values R G B (" SRGBE_USAGE ")");
     uint32_t in[3];
     for (int i = 0; i < 3; ++i)
         if (parse_f32(argv[2 + i], &in[i]) != 0)
-            return qibl_cli_usage_error("srgbe encode: '%s' is not a binary32 number", argv[2 + i]);
+            return qcli_usage_error("srgbe encode: '%s' is not a binary32 number", argv[2 + i]);
     uint8_t code[4];
     qibl_status_t st = qibl_srgbe_encode_f32(in, code);
     /* the codec writes a code for every status but a NULL pointer: print it, then name the status */
@@ -80,15 +80,15 @@ static int srgbe_encode(int argc, char **argv)
 static int srgbe_decode(int argc, char **argv)
 {
     if (argc != 3)
-        return qibl_cli_usage_error("srgbe decode needs one code HEX8 (" SRGBE_USAGE ")");
+        return qcli_usage_error("srgbe decode needs one code HEX8 (" SRGBE_USAGE ")");
     const char *h = argv[2];
     uint8_t code[4];
     if (strlen(h) != 8)
-        return qibl_cli_usage_error("srgbe decode: '%s' is not 8 hex digits", h);
+        return qcli_usage_error("srgbe decode: '%s' is not 8 hex digits", h);
     for (int i = 0; i < 4; ++i) {
         int hi = hexval(h[2 * i]), lo = hexval(h[2 * i + 1]);
         if (hi < 0 || lo < 0)
-            return qibl_cli_usage_error("srgbe decode: '%s' is not 8 hex digits", h);
+            return qcli_usage_error("srgbe decode: '%s' is not 8 hex digits", h);
         code[i] = (uint8_t)(hi << 4 | lo);
     }
     uint32_t out[3];
@@ -100,11 +100,11 @@ static int srgbe_decode(int argc, char **argv)
     return 0;
 }
 
-int qibl_cmd_srgbe(int argc, char **argv)
+int qcli_cmd_srgbe(int argc, char **argv)
 {
     if (argc >= 2 && strcmp(argv[1], "encode") == 0)
         return srgbe_encode(argc, argv);
     if (argc >= 2 && strcmp(argv[1], "decode") == 0)
         return srgbe_decode(argc, argv);
-    return qibl_cli_usage_error(SRGBE_USAGE);
+    return qcli_usage_error(SRGBE_USAGE);
 }

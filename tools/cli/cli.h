@@ -1,0 +1,128 @@
+/*
+ * qibl/cli.h - the subcommand table of the qibl CLI and helpers every subcommand shares.
+ *
+ * Exit status: 0 success, 1 a failure while working (I/O, a core error on good arguments),
+ * 2 bad arguments (one line on stderr).
+ */
+#ifndef QTOOL_TOOLS_CLI_H
+#define QTOOL_TOOLS_CLI_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct qcli_cmd {
+    const char *name;
+    const char *summary; /* one line for `qibl --help` */
+    const char *usage;   /* full text for `qibl help <cmd>` */
+    int (*run)(int argc, char **argv); /* argv[0] is the subcommand name */
+} qcli_cmd;
+
+int qcli_cmd_sh(int argc, char **argv);
+int qcli_cmd_sh_project(int argc, char **argv); /* cmd_probe.c: `qibl sh project` */
+int qcli_cmd_bench(int argc, char **argv);
+int qcli_cmd_srgbe(int argc, char **argv);
+
+/* Benchmarks (quick: smaller sizes and fewer repetitions; csv: table as CSV). */
+int qcli_bench_relight(int quick, int csv);
+int qcli_bench_relight_baselines(int quick); /* the u64-read / memcpy baselines alone */
+int qcli_bench_srgbe(int quick); /* bench_srgbe.c */
+int qcli_bench_lights(int quick); /* bench_lights.c */
+int qcli_bench_paths(int quick);  /* bench_paths.c */
+int qcli_bench_asset(int quick);  /* bench_asset.c */
+/* The courtyard asset (w x h, k maps, RGB, P map) serialised in memory; *bytes malloc'ed. 0 or -1. */
+int qcli_bench_make_asset(uint32_t w, uint32_t h, uint32_t k, uint32_t layout, uint8_t **bytes, size_t *n);
+int qcli_bench_memory(int markdown); /* bench_memory.c */
+
+/* What built the benchmarks, for their headers (the Makefile passes the core's flags). */
+#ifndef QIBL_BENCH_CORE_FLAGS
+#define QIBL_BENCH_CORE_FLAGS "(flags not recorded)"
+#endif
+#if defined(__clang__)
+#define QTOOL_BENCH_COMPILER "clang " __clang_version__
+#elif defined(__GNUC__)
+#define QTOOL_BENCH_COMPILER "gcc " __VERSION__
+#else
+#define QTOOL_BENCH_COMPILER "an unknown compiler"
+#endif
+int qcli_bench_probe(int quick);  /* bench_probe.c */
+int qcli_bench_hemi(int quick);   /* bench_hemi.c */
+int qcli_cmd_info(int argc, char **argv);
+int qcli_cmd_gen(int argc, char **argv);
+int qcli_cmd_relight(int argc, char **argv);
+int qcli_cmd_lights(int argc, char **argv);
+
+int qcli_cmd_render(int argc, char **argv); /* cmd_bake.c */
+int qcli_cmd_bake(int argc, char **argv);
+int qcli_cmd_merge(int argc, char **argv);
+int qcli_cmd_check(int argc, char **argv);
+int qcli_cmd_demo(int argc, char **argv); /* cmd_demo.c */
+
+/* Scene and panorama options shared by render, bake and demo (cmd_bake.c): --scene builtin|FILE.obj|FILE.ply,
+ * --zup, --raw, --size WxH, --equirect, --threads N. */
+typedef struct qcli_scene {
+    const char *scene;
+    int zup, raw, kind, threads;
+    uint32_t w, h;
+} qcli_scene;
+void qcli_scene_defaults(qcli_scene *o);
+int qcli_scene_opt(int argc, char **argv, int *i, qcli_scene *o);
+struct qtool_rt_scene;
+int qcli_scene_load(const qcli_scene *o, struct qtool_rt_scene *s);
+struct qtool_rt_light;
+/* The light-path part of `qibl demo` (demo_paths.c): its table and RESULT lines on stdout,
+ * paths_sheet.png in dir. today: the k = 16 shadowed asset (with YLUT). 0, or 1 after a message. */
+struct qtool_bake_sums;
+int qtool_demo_paths(const struct qtool_rt_scene *s, const qcli_scene *so, uint32_t ndirs, int prop, int small,
+                    const struct qtool_bake_sums *sums, const uint8_t *today, size_t today_n, const char *dir);
+void qcli_eval_lights(int obj_prop, int ndir, int npoint, struct qtool_rt_light *out);
+
+/* --point without --rgb (point_default.c): C0 = QTOOL_CLI_POINT_GREY * d^falloff, d the median
+ * distance from pos to the n scene points pts (3 doubles each; points QTOOL_CLI_SKY_DIST or more from
+ * the origin are sky and skipped), so the lit scene comes out around mid-grey (Lambert, albedo 0.6,
+ * facing the lamp at that distance: 0.6/pi x 2 = 0.38 linear, 166 of 255 through sRGB; the
+ * courtyard's median pixel is about 110). *c0 is capped at
+ * QTOOL_CLI_Q16_MAX, *dist is d (1 when every point is sky). 0, or -1 (out of memory). */
+#define QTOOL_CLI_POINT_GREY 2.0
+#define QTOOL_CLI_SKY_DIST 1000.0
+int qcli_point_default(const double *pts, size_t n, const double pos[3], int falloff, double *c0, double *dist);
+/* A note on stderr when the 8-bit RGB frame written to path has a mean below QTOOL_CLI_DARK_MEAN. */
+#define QTOOL_CLI_DARK_MEAN 32.0
+void qcli_warn_dark(const char *path, const uint8_t *rgb, size_t np);
+
+/* Prints "qibl: <message>" on stderr and returns 2 (the bad-arguments exit status). */
+int qcli_usage_error(const char *fmt, ...);
+
+/* Parses a finite decimal into Q16.16, rounding to nearest; 0 on success, -1 if not a number or
+ * out of the Q16.16 range. */
+int qcli_parse_q16(const char *s, int32_t *out);
+
+/* Parses a finite decimal in [lo, hi] into *out; 0, or 2 (the bad-arguments exit status) after one
+ * line naming the option and the value: "qibl: --rgb: 40000 is outside 0..32767.9999847 (why)"
+ * (why may be NULL). */
+int qcli_parse_num(const char *opt, const char *s, double lo, double hi, const char *why, double *out);
+
+/* The Q16.16 range the core's lights take, for options relight (and render, its ground truth) parse. */
+#define QTOOL_CLI_Q16_MAX (2147483647.0 / 65536.0)
+#define QTOOL_CLI_Q16_WHY "the Q16.16 range of the core's lights"
+
+/* Parses "WxH" (decimal digits only) with both in 1..max; 0, or 2 after one line naming opt. */
+int qcli_parse_size(const char *opt, const char *s, long max, long *w, long *h);
+
+/* The cube-map LUT face size of gen, bake and merge: `--lut-size N` (N in lo..QIBL_ASSET_MAX_LUT),
+ * or the old `--lut N` with a deprecation note on stderr (relight's --lut is a sampling mode).
+ * 1 if argv[*i] was one of them (*i advanced past N), 0 if not, -1 after a message on a bad N. */
+int qcli_lut_size_opt(int argc, char **argv, int *i, long lo, long *out);
+
+/* Parses a decimal integer in [lo, hi]; 0 on success, -1 otherwise. */
+int qcli_parse_int(const char *s, long lo, long hi, long *out);
+
+/* Parses --layout's argument: "planar" or "interleaved" into a QIBL_SHMAPS_* layout; 0 or -1. */
+int qcli_parse_layout(const char *s, uint32_t *layout);
+
+/* Median of n values (sorts v in place). */
+double qcli_median(double *v, int n);
+
+/* Monotonic time in seconds, for benchmarks. */
+double qcli_now(void);
+
+#endif
