@@ -33,6 +33,7 @@
 #if QIBL_USE_PROBE
 
 #include "qibl/lightprobe_internal.h"
+#include "qibli.h"
 
 #define LIMBS QIBL_PROBE_ACC_LIMBS
 #define ACC_LSB (-256)  /* the accumulators' bit 0 is 2^-256 */
@@ -67,37 +68,6 @@ typedef struct {
     uint64_t hi, lo; /* two's complement 128-bit */
 } s128;
 
-static unsigned bitlen64(uint64_t x)
-{
-    unsigned n = 0u;
-    if (x >> 32) { x >>= 32; n += 32u; }
-    if (x >> 16) { x >>= 16; n += 16u; }
-    if (x >> 8) { x >>= 8; n += 8u; }
-    if (x >> 4) { x >>= 4; n += 4u; }
-    if (x >> 2) { x >>= 2; n += 2u; }
-    if (x >> 1) { x >>= 1; n += 1u; }
-    return n + (unsigned)x;
-}
-
-static unsigned bitlen32(uint32_t x)
-{
-    return bitlen64(x);
-}
-
-/* x << n for n in 0..63 without a library call on Cortex-M0 */
-static inline uint64_t shl64(uint64_t x, unsigned n)
-{
-#if QIBL_CONFIG_NATIVE_SHIFT64
-    return x << n;
-#else
-    uint32_t hi = (uint32_t)(x >> 32), lo = (uint32_t)x;
-    if (n == 0u)
-        return x;
-    if (n >= 32u)
-        return (uint64_t)(lo << (n - 32u)) << 32;
-    return ((uint64_t)((hi << n) | (lo >> (32u - n))) << 32) | (uint32_t)(lo << n);
-#endif
-}
 
 /* round(x / 2^n) half up for n in 0..64 (0 for n = 64 unless x >= 2^63) */
 static inline uint64_t rshr_u64(uint64_t x, unsigned n)
@@ -293,7 +263,7 @@ static unsigned row_scan(const qibl_probe_sh_t *ps, const uint8_t *row, int32_t 
             uint64_t mx = m[0] > m[1] ? m[0] : m[1];
             mx = mx > m[2] ? mx : m[2];
             if (mx) {
-                int32_t b = (int32_t)bitlen64(mx) + eps;
+                int32_t b = (int32_t)qibli_bitlen_u64(mx) + eps;
                 t = b > t ? b : t;
             }
         }
@@ -307,7 +277,7 @@ static unsigned row_scan(const qibl_probe_sh_t *ps, const uint8_t *row, int32_t 
 static inline uint32_t quant(uint64_t m, int32_t k)
 {
     if (k >= 0)
-        return (uint32_t)shl64(m, (unsigned)(k > 27 ? 27 : k));
+        return (uint32_t)qibli_shl_u64(m, (unsigned)(k > 27 ? 27 : k));
     return (uint32_t)rshr_u64(m, (unsigned)(k < -65 ? 65 : -k));
 }
 
@@ -480,13 +450,13 @@ static void row_accumulate(qibl_probe_sh_t *ps, uint32_t *acc, const s128 s[9], 
         int neg = s128_abs(&s[sel], &hi, &lo);
         if ((hi | lo) == 0u)
             continue;
-        unsigned bl = hi ? 64u + bitlen64(hi) : bitlen64(lo), r = bl > 62u ? bl - 62u : 0u;
+        unsigned bl = hi ? 64u + qibli_bitlen_u64(hi) : qibli_bitlen_u64(lo), r = bl > 62u ? bl - 62u : 0u;
         uint64_t mag; /* round(|S| / 2^r), <= 2^62 */
         if (r == 0u) {
             mag = lo;
         } else {
             /* r <= 11; hi != 0 only when bl >= 65, i.e. r >= 3 */
-            uint64_t h = qibl_shr_u64(lo, r - 1u) | (hi ? shl64(hi, 65u - r) : 0u);
+            uint64_t h = qibl_shr_u64(lo, r - 1u) | (hi ? qibli_shl_u64(hi, 65u - r) : 0u);
             mag = (h >> 1) + (h & 1u);
         }
         /* sel 0: m = 0; sel 2m - 1: +m (cos); sel 2m: -m (sin) */
@@ -558,7 +528,7 @@ static uint32_t mul_norm32(uint64_t a, uint32_t b, int32_t *e)
     uint32_t p[3];
     mul_64_32(a, b, p);
     uint64_t hi = ((uint64_t)p[2] << 32) | p[1];
-    unsigned bl = hi ? 32u + bitlen64(hi) : bitlen32(p[0]);
+    unsigned bl = hi ? 32u + qibli_bitlen_u64(hi) : qibli_bitlen_u32(p[0]);
     if (bl == 0u) {
         *e = 0;
         return 0u;
@@ -567,9 +537,9 @@ static uint32_t mul_norm32(uint64_t a, uint32_t b, int32_t *e)
     uint64_t top;
     if (bl >= 33u) {
         unsigned sh = bl - 33u; /* from the 96-bit value */
-        top = sh >= 32u ? qibl_shr_u64(hi, sh - 32u) : (shl64(hi, 32u - sh) | (p[0] >> sh));
+        top = sh >= 32u ? qibl_shr_u64(hi, sh - 32u) : (qibli_shl_u64(hi, 32u - sh) | (p[0] >> sh));
     } else {
-        top = shl64(p[0], 33u - bl);
+        top = qibli_shl_u64(p[0], 33u - bl);
     }
     uint64_t m = (top >> 1) + (top & 1u);
     int32_t ex = (int32_t)bl - 32;
@@ -614,8 +584,8 @@ static uint32_t band_constant(const qibl_probe_sh_t *ps, int l, const qibl_probe
         q = (q << 28) + qibl_udiv_u64(rem << 28, den, 0);
         ex -= 28;
     }
-    unsigned bl = bitlen64(q);
-    uint64_t m = bl > 32u ? rshr_u64(q, bl - 32u) : shl64(q, 32u - bl);
+    unsigned bl = qibli_bitlen_u64(q);
+    uint64_t m = bl > 32u ? rshr_u64(q, bl - 32u) : qibli_shl_u64(q, 32u - bl);
     ex += (int32_t)bl - 32;
     if (m >> 32) {
         m >>= 1;
@@ -647,7 +617,7 @@ static uint64_t acc_top(const uint32_t *acc, int *neg, int32_t *e)
         *e = 0;
         return 0u;
     }
-    unsigned bl = 32u * (unsigned)top + bitlen32(a[top]); /* total bit length */
+    unsigned bl = 32u * (unsigned)top + qibli_bitlen_u32(a[top]); /* total bit length */
     if (bl <= 63u) {
         uint64_t v = top >= 1 ? ((uint64_t)a[1] << 32) | a[0] : a[0];
         *e = ACC_LSB;
@@ -778,7 +748,7 @@ static int64_t scale_s64(int32_t c, int32_t s)
     if (s >= 0) {
         if (s > 32)
             return c < 0 ? INT64_MIN / 2 : INT64_MAX / 2;
-        uint64_t m = shl64(c < 0 ? 0u - (uint32_t)c : (uint32_t)c, (unsigned)s); /* < 2^63 */
+        uint64_t m = qibli_shl_u64(c < 0 ? 0u - (uint32_t)c : (uint32_t)c, (unsigned)s); /* < 2^63 */
         return c < 0 ? -(int64_t)m : (int64_t)m;
     }
     return qibl_asr_s64(qibl_asr_s64(c, (unsigned)(-s - 1 > 62 ? 62 : -s - 1)) + 1, 1);
@@ -855,7 +825,7 @@ qibl_status_t qibl_shlight_add_lights(qibl_shlight_t *l, const qibl_lightprobe_l
                 v = 0;
             else if (s >= 0) /* |a| < 2^62: beyond 2^33 the sum saturates anyway */
                 v = s > 28 || qibl_shr_u64((uint64_t)(a < 0 ? -a : a), 33u - (unsigned)s) ? (a < 0 ? INT64_MIN / 4 : INT64_MAX / 4)
-                    : (a < 0 ? -(int64_t)shl64((uint64_t)-a, (unsigned)s) : (int64_t)shl64((uint64_t)a, (unsigned)s));
+                    : (a < 0 ? -(int64_t)qibli_shl_u64((uint64_t)-a, (unsigned)s) : (int64_t)qibli_shl_u64((uint64_t)a, (unsigned)s));
             else
                 v = qibl_asr_s64(qibl_asr_s64(a, (unsigned)(-s - 1 > 62 ? 62 : -s - 1)) + 1, 1);
             v += l->c[ch][i];
