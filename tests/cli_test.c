@@ -5,69 +5,17 @@
  * shards, absurd numbers for render/relight, gen --size with junk, lights --zoom past the picture
  * limit, demo's output directory and long paths.
  *
- * The binary is ../bin/qibl next to this test's own directory (so build/asan/tests/cli_test runs
- * build/asan/bin/qibl), or $QIBL_BIN; the tests skip when it is missing.
+ * The binary is found as cliutil.h says; the tests skip when it is missing.
  */
-#include <errno.h>
-#include <fcntl.h>
-#include <spawn.h>
-#include <stdarg.h>
-#include <stddef.h>
-#include <setjmp.h>
-#include <stdint.h>
-#include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
-#include <sys/stat.h>
-#include <sys/types.h>
-#include <sys/wait.h>
-#include <unistd.h>
-#include <cmocka.h>
+#include "cliutil.h"
 
 #include "bake/bake.h"
-#include "io/file.h"
 #include "qibl/asset.h"
-
-extern char **environ;
-
-static char qibl[4096], dir[64], errlog[128];
-
-static int find_qibl(void)
-{
-    const char *env = getenv("QIBL_BIN");
-    if (env && *env) {
-        snprintf(qibl, sizeof qibl, "%s", env);
-    } else {
-        char self[3000];
-        ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
-        if (n <= 0)
-            snprintf(self, sizeof self, "build/tests/cli_test");
-        else
-            self[n] = '\0';
-        char *slash = strrchr(self, '/');
-        if (slash)
-            *slash = '\0';
-        snprintf(qibl, sizeof qibl, "%s/../bin/qibl", self);
-    }
-    return access(qibl, X_OK) == 0 ? 0 : -1;
-}
 
 static int setup(void **state)
 {
     (void)state;
-    snprintf(dir, sizeof dir, "/tmp/qibl_cli_test_XXXXXX");
-    if (!mkdtemp(dir))
-        return -1;
-    snprintf(errlog, sizeof errlog, "%s/stderr.txt", dir);
-    return 0;
-}
-
-static void rm_rf(const char *path)
-{
-    pid_t pid;
-    char *argv[] = {"rm", "-rf", (char *)path, NULL};
-    if (posix_spawnp(&pid, "rm", NULL, NULL, argv, environ) == 0)
-        waitpid(pid, NULL, 0);
+    return cli_setup("/tmp/qibl_cli_test_XXXXXX");
 }
 
 static int teardown(void **state)
@@ -77,52 +25,9 @@ static int teardown(void **state)
     return 0;
 }
 
-/* Runs qibl with the NULL-terminated arguments, stdout to /dev/null, stderr to errlog. The exit
- * status, or 128 + the signal that killed it. */
-static int run_v(const char *first, va_list ap)
-{
-    char *argv[64];
-    int n = 0;
-    argv[n++] = qibl;
-    for (const char *a = first; a && n < 63; a = va_arg(ap, const char *))
-        argv[n++] = (char *)a;
-    argv[n] = NULL;
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&fa, 2, errlog, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    pid_t pid;
-    int rc = posix_spawn(&pid, qibl, &fa, NULL, argv, environ);
-    posix_spawn_file_actions_destroy(&fa);
-    if (rc != 0)
-        fail_msg("cannot run %s: %s", qibl, strerror(rc));
-    int st;
-    while (waitpid(pid, &st, 0) < 0)
-        if (errno != EINTR)
-            fail_msg("waitpid: %s", strerror(errno));
-    return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + (WIFSIGNALED(st) ? WTERMSIG(st) : 0);
-}
-
-static int run(const char *first, ...)
-{
-    va_list ap;
-    va_start(ap, first);
-    int rc = run_v(first, ap);
-    va_end(ap);
-    return rc;
-}
-
 static char *stderr_text(void)
 {
-    size_t n;
-    uint8_t *b = qtool_io_read_all(errlog, &n);
-    char *s = malloc(n + 1);
-    assert_non_null(s);
-    if (b)
-        memcpy(s, b, n);
-    s[b ? n : 0] = '\0';
-    free(b);
-    return s;
+    return text(errlog);
 }
 
 /* Runs qibl, then checks the exit status, that stderr says want, and that out (may be NULL) was
@@ -141,14 +46,6 @@ static void expect(int want_rc, const char *want, const char *out, const char *f
     if (out && access(out, F_OK) == 0)
         fail_msg("qibl %s ...: left %s behind", first, out);
     free(msg);
-}
-
-static void need_qibl(void)
-{
-    if (find_qibl() != 0) {
-        fprintf(stderr, "SKIP: %s not built\n", qibl);
-        skip();
-    }
 }
 
 /* dir/name; the result stays valid for the next 63 calls (more than any one test makes) */

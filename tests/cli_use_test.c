@@ -5,79 +5,24 @@
  * prints the code it wrote and names the status, check reads .hdr, a PLY mesh renders, sh eval labels
  * l and m, relight writes linear .hdr and .pfm.
  *
- * The binary is ../bin/qibl next to this test's own directory, or $QIBL_BIN; skipped when missing.
+ * The binary is found as cliutil.h says; skipped when missing.
  */
-#include <errno.h>
-#include <fcntl.h>
-#include <spawn.h>
-#include <stdarg.h>
-#include <stddef.h>
-#include <setjmp.h>
-#include <stdint.h>
-#include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
-#include <sys/stat.h>
-#include <sys/types.h>
-#include <sys/wait.h>
-#include <unistd.h>
-#include <cmocka.h>
+#include "cliutil.h"
 
-#include "io/file.h"
 #include "io/hdr.h"
 #include "io/pfm.h"
 #include "io/png.h"
 
-extern char **environ;
-
-static char qibl[4096], dir[64], outlog[128], errlog[128];
-
-static int find_qibl(void)
-{
-    const char *env = getenv("QIBL_BIN");
-    if (env && *env) {
-        snprintf(qibl, sizeof qibl, "%s", env);
-    } else {
-        char self[3000];
-        ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
-        if (n <= 0)
-            snprintf(self, sizeof self, "build/tests/cli_use_test");
-        else
-            self[n] = '\0';
-        char *slash = strrchr(self, '/');
-        if (slash)
-            *slash = '\0';
-        snprintf(qibl, sizeof qibl, "%s/../bin/qibl", self);
-    }
-    return access(qibl, X_OK) == 0 ? 0 : -1;
-}
-
-static void need_qibl(void)
-{
-    if (find_qibl() != 0) {
-        fprintf(stderr, "SKIP: %s not built\n", qibl);
-        skip();
-    }
-}
-
 static int setup(void **state)
 {
     (void)state;
-    snprintf(dir, sizeof dir, "/tmp/qibl_cli_use_XXXXXX");
-    if (!mkdtemp(dir))
-        return -1;
-    snprintf(outlog, sizeof outlog, "%s/stdout.txt", dir);
-    snprintf(errlog, sizeof errlog, "%s/stderr.txt", dir);
-    return 0;
+    return cli_setup("/tmp/qibl_cli_use_XXXXXX");
 }
 
 static int teardown(void **state)
 {
     (void)state;
-    pid_t pid;
-    char *argv[] = {"rm", "-rf", dir, NULL};
-    if (posix_spawnp(&pid, "rm", NULL, NULL, argv, environ) == 0)
-        waitpid(pid, NULL, 0);
+    rm_rf(dir);
     return 0;
 }
 
@@ -89,48 +34,6 @@ static char *at(const char *name)
     i = (i + 1) % 64;
     snprintf(buf[i], sizeof buf[i], "%s/%s", dir, name);
     return buf[i];
-}
-
-/* Runs qibl with the NULL-terminated arguments, stdout to outlog, stderr to errlog; the exit status */
-static int run(const char *first, ...)
-{
-    char *argv[64];
-    int n = 0;
-    argv[n++] = qibl;
-    va_list ap;
-    va_start(ap, first);
-    for (const char *a = first; a && n < 63; a = va_arg(ap, const char *))
-        argv[n++] = (char *)a;
-    va_end(ap);
-    argv[n] = NULL;
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_addopen(&fa, 1, outlog, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_addopen(&fa, 2, errlog, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    pid_t pid;
-    int rc = posix_spawn(&pid, qibl, &fa, NULL, argv, environ);
-    posix_spawn_file_actions_destroy(&fa);
-    if (rc != 0)
-        fail_msg("cannot run %s: %s", qibl, strerror(rc));
-    int st;
-    while (waitpid(pid, &st, 0) < 0)
-        if (errno != EINTR)
-            fail_msg("waitpid: %s", strerror(errno));
-    return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + (WIFSIGNALED(st) ? WTERMSIG(st) : 0);
-}
-
-/* the whole of a captured stream as a string (the caller frees) */
-static char *text(const char *path)
-{
-    size_t n;
-    uint8_t *b = qtool_io_read_all(path, &n);
-    char *s = malloc(n + 1);
-    assert_non_null(s);
-    if (b)
-        memcpy(s, b, n);
-    s[b ? n : 0] = '\0';
-    free(b);
-    return s;
 }
 
 /* exit status want, and each of the (stream, text) expectations: stream 'o' or 'e' must contain the
