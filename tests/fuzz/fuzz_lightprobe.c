@@ -22,43 +22,11 @@
 
 #include "fuzz.h"
 #include "qibl/lightprobe.h"
+#include "fuzz_probepx.h"
 
 enum { MAX_W = 24, MAX_H = 16, MAX_LIGHTS = 48 };
 
 static const double PI = 3.14159265358979323846;
-
-/* is channel value x of the format zero / negative / not finite? */
-static void classify(const uint8_t *px, qibl_lightprobe_format_t f, int *zero, int *neg, int *nonfinite)
-{
-    *zero = 1, *neg = 0, *nonfinite = 0;
-    for (int c = 0; c < 3; ++c) {
-        if (f == QIBL_LIGHTPROBE_RGBE) {
-            if (px[3] != 0 && px[c] != 0)
-                *zero = 0;
-        } else if (f == QIBL_LIGHTPROBE_SRGBE) {
-            if (px[c] < 127)
-                *neg = 1, *zero = 0;
-            else if (px[c] > 128)
-                *zero = 0;
-        } else {
-            uint32_t u;
-            memcpy(&u, px + 4 * c, 4);
-            if (f == QIBL_LIGHTPROBE_LINEAR_I32) {
-                if (u >> 31)
-                    *neg = 1;
-                if (u)
-                    *zero = 0;
-            } else {
-                if ((u & 0x7F800000u) == 0x7F800000u)
-                    *nonfinite = 1;
-                else if ((u & 0x7FFFFFFFu) && (u >> 31))
-                    *neg = 1;
-                if (u & 0x7FFFFFFFu)
-                    *zero = 0;
-            }
-        }
-    }
-}
 
 static uint64_t energy(const qibl_lightprobe_t *lp, uint32_t u0, uint32_t v0, uint32_t u1, uint32_t v1)
 {
