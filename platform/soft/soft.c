@@ -11,6 +11,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include "qibl/fixed.h"
+#include "qibl/raster.h"
 #include "qibl/soft.h"
 
 #define ONE 65536u /* 1.0 in Q16.16 */
@@ -458,5 +459,9 @@ const char *qibl_soft_status_str(qibl_status_t s)
         return "framebuffer: stride too small or buffer too large";
     if (s == QIBL_E_FB_BOUNDS)
         return "framebuffer: span outside the framebuffer";
+    if (s == QIBL_E_RASTER_RANGE)
+        return "raster: vertex beyond the coordinate or depth range";
+    if (s == QIBL_E_RASTER_INDEX)
+        return "raster: triangle index beyond the vertex count";
     return qibl_status_str(s);
 }

@@ -28,6 +28,8 @@ const qtool_goldens_group_t qtool_goldens_groups[] = {
      qtool_goldens_lightpath},
 #endif
     {"soft", "platform/soft: a gradient in every framebuffer format, accumulation and resolve", qtool_goldens_soft},
+    {"raster", "platform/soft raster: z-buffered Gouraud triangles (shared edges, guard band, culling, slivers)",
+     qtool_goldens_raster},
 #if QIBL_USE_PROBE
     {"probe", "probe SH projection (formats, sizes, rows in any order, irradiance, windows, bad pixels) and SH rotation", qtool_goldens_probe},
 #endif

@@ -62,6 +62,7 @@ int qtool_goldens_srgbe(const qtool_goldens_sink_t *s);
 int qtool_goldens_asset(const qtool_goldens_sink_t *s);
 int qtool_goldens_relight(const qtool_goldens_sink_t *s);
 int qtool_goldens_soft(const qtool_goldens_sink_t *s);
+int qtool_goldens_raster(const qtool_goldens_sink_t *s);
 int qtool_goldens_lightprobe(const qtool_goldens_sink_t *s);
 int qtool_goldens_lightpath(const qtool_goldens_sink_t *s);
 int qtool_goldens_probe(const qtool_goldens_sink_t *s);
