@@ -25,6 +25,7 @@
 #include "cli/cli.h"
 #include "qibl/hemi.h"
 #include "io/obj.h"
+#include "ref/hemi_ref.h"
 #include "ref/sh_ref.h"
 #include "render/rt.h"
 
@@ -348,44 +349,13 @@ static void ref_vertex(void *vctx, uint32_t v)
     refctx *c = vctx;
     qibl_hemi_frame_t fr;
     qibl_hemi_frame_init(&fr, c->pos[v], c->nrm[v]);
-    double ax[3][3];
+    double ax[3][3], p[3];
     for (int i = 0; i < 3; ++i)
         for (int k = 0; k < 3; ++k)
             ax[i][k] = fr.axis[i][k] / 1073741824.0;
-    qtool_rt_hit hit;
-    memset(&hit, 0, sizeof hit);
-    hit.hit = 1;
     for (int k = 0; k < 3; ++k)
-        hit.p[k] = c->pos[v][k] / 65536.0, hit.ng[k] = hit.n[k] = ax[2][k];
-    double half[2][25] = {{0}};
-    uint64_t rs = 0x1234567u + v * 0x9E3779B97F4A7C15u;
-    const int S = c->side;
-    for (int a = 0; a < S; ++a)
-        for (int b = 0; b < S; ++b) {
-            rs = rs * 6364136223846793005u + 1442695040888963407u;
-            const double u1 = (a + (double)(rs >> 40) / 16777216.0) / S;
-            rs = rs * 6364136223846793005u + 1442695040888963407u;
-            const double u2 = (b + (double)(rs >> 40) / 16777216.0) / S;
-            const double r = sqrt(u1), ph = 2 * PI * u2;
-            const double l[3] = {r * cos(ph), r * sin(ph), sqrt(fmax(0, 1 - u1))};
-            double w[3];
-            for (int k = 0; k < 3; ++k)
-                w[k] = l[0] * ax[0][k] + l[1] * ax[1][k] + l[2] * ax[2][k];
-            if (qtool_rt_occluded(c->rt, &hit, w, 1e30))
-                continue;
-            double y[25];
-            qtool_ref_sh_eval(l[0], l[1], l[2], 5, y);
-            for (int i = 0; i < 25; ++i)
-                half[(a + b) & 1][i] += y[i];
-        }
-    const double wgt = PI / (S * S);
-    double d2 = 0, n2 = 0;
-    for (int i = 0; i < 25; ++i) {
-        c->ref[v][i] = (half[0][i] + half[1][i]) * wgt;
-        const double diff = (half[0][i] - half[1][i]) * 2 * wgt; /* each half estimates the whole */
-        d2 += diff * diff, n2 += c->ref[v][i] * c->ref[v][i];
-    }
-    c->noise[v] = n2 > 0 ? sqrt(d2) / 2 / sqrt(n2) : 0;
+        p[k] = c->pos[v][k] / 65536.0;
+    qtool_hemi_ref(c->rt, p, ax, c->side, 0, 0x1234567u + v * 0x9E3779B97F4A7C15u, c->ref[v], &c->noise[v]);
 }
 
 static int build_rt(const scene *s, int f, qtool_rt_scene *rt)

@@ -49,6 +49,7 @@ int qcli_bench_hemi(int quick);   /* bench_hemi.c */
 int qcli_cmd_info(int argc, char **argv);
 int qcli_cmd_gen(int argc, char **argv);
 int qcli_cmd_relight(int argc, char **argv);
+int qcli_cmd_transfer(int argc, char **argv); /* cmd_transfer.c */
 int qcli_cmd_lights(int argc, char **argv);
 
 int qcli_cmd_render(int argc, char **argv); /* cmd_bake.c */

@@ -86,6 +86,21 @@ static const qcli_cmd commands[] = {
      "  to Z-up unless --zup; --raw: as given, nothing added). Default 1024x256 cylindrical. A frame\n"
      "  whose mean is below 32 of 255 gets a note that it is almost black.\n",
      qcli_cmd_render},
+    {"transfer", "a mesh self-shadowed by hemispherical rasterization under a probe, beside the ray-cast truth",
+     "usage: qibl transfer MESH [MESH...] --probe PROBE.hdr [--layout L] [--png OUT] [--size N] [--mask 16|32|64]\n"
+     "                     [--face F] [--rays S] [--zup] [--flip] [--view AZ,EL] [--albedo A] [--threads N]\n"
+     "  Per vertex of an OBJ or PLY mesh (welded by position, centred, largest half-extent 1, Y-up turned\n"
+     "  to Z-up unless --zup; normals point out of counter-clockwise faces, turned by --flip or when a\n"
+     "  mesh with under 2 % open edges has a negative volume), the transfer vector V*\n"
+     "  (bands 0..4) from hemispherical rasterization with every triangle a blocker (qibl/hemi.h: mask\n"
+     "  --mask, default 32, LUT face --face, default 64), turned to world space and shaded with the\n"
+     "  probe's radiance SH times albedo / pi (default 0.8). Reference: S x S stratified cosine-weighted\n"
+     "  rays per vertex (--rays, default 32; 0: none) through a BVH, shaded with the same coefficients.\n"
+     "  --png: qibl | ray cast | error (|E - E_ref| / mean E_ref, 0..10 %), drawn by platform/soft's\n"
+     "  integer z-buffer rasterizer, orthographic from azimuth / elevation --view (default 35,20);\n"
+     "  several MESH files are frames of one animation (same triangles): an animated PNG. Prints ms per\n"
+     "  frame on one core (thread CPU time of the hemi calls) and RESULT transfer.* lines.\n",
+     qcli_cmd_transfer},
     {"bake", "bake a scene into a relightable panorama asset (ray-traced, SH-projected, 8-bit packed)",
      "usage: qibl bake -o ASSET [--k K] [--lut-size N] [--dirs N] [--lsq] [--budget DB] [--quiet]\n"
      "                 [--layout planar|interleaved] [--unshadowed-k K] [--sun-path LAT,DECL,T0,T1]\n"

@@ -1,0 +1,765 @@
+/*
+ * cmd_transfer.c - `qibl transfer MESH... --probe PROBE.hdr --png OUT`: a mesh self-shadowed by
+ * hemispherical rasterization (qibl/hemi.h) under a real probe's SH, drawn by the integer z-buffer
+ * rasterizer of platform/soft (qibl/raster.h), beside the ray-cast reference and the error.
+ *
+ * Per frame: every vertex's transfer vector from ALL triangles of the mesh (no hierarchy: the
+ * figure is the method's error, not the culling's), turned to world space, shaded with the probe's
+ * radiance SH (bands 0..4, qibl_hemi_shade), times albedo / pi. The reference ray-casts the same
+ * positions (tools/ref/hemi_ref.c, stratified cosine-weighted rays) and shades with the same
+ * coefficients in double, so the error is visibility and integration only. Several MESH files are
+ * frames of one animation (same triangles in the same order, e.g. sydney_run_01..06.obj): an APNG.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "cli/cli.h"
+#include "io/hdr.h"
+#include "io/obj.h"
+#include "io/ply.h"
+#include "io/png.h"
+#include "io/probe_layout.h"
+#include "io/text.h"
+#include "qibl/hemi.h"
+#include "qibl/probe.h"
+#include "qibl/raster.h"
+#include "qibl/soft.h"
+#include "ref/hemi_ref.h"
+#include "render/rt.h"
+
+#define PI 3.14159265358979323846
+#define MAX_FRAMES 64
+#define LABEL_H 24  /* title bar, pixels */
+#define LEGEND_H 22 /* colour-scale bar under the error panel */
+#define ERR_SCALE 0.10 /* the error panel's full scale: 10 % of the mean shading */
+
+#define TRANSFER_USAGE                                                                                        \
+    "usage: qibl transfer MESH [MESH...] --probe PROBE.hdr [--layout L] [--png OUT] [--size N] [--mask 16|32|64]\n" \
+    "                     [--face F] [--rays S] [--zup] [--flip] [--skip-adjacent] [--view AZ,EL] [--albedo A] [--threads N]"
+
+typedef struct mesh {
+    uint32_t nv, nt, nframes;
+    uint32_t (*tri)[3];
+    double *pos; /* nframes * nv * 3, normalised, z up */
+} mesh;
+
+static double thread_cpu(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static int read_mesh(const char *path, qtool_obj_mesh *m, char *err, size_t errlen)
+{
+    const size_t n = strlen(path);
+    if (n > 4 && (strcmp(path + n - 4, ".ply") == 0 || strcmp(path + n - 4, ".PLY") == 0))
+        return qtool_ply_read(path, m, err, errlen);
+    return qtool_obj_read(path, m, err, errlen);
+}
+
+/* corner -> vertex by exact position (the OBJ reader gives triangle soup) */
+typedef struct corner {
+    double p[3];
+    uint32_t c;
+} corner;
+
+static int corner_cmp(const void *a, const void *b)
+{
+    const corner *x = a, *y = b;
+    for (int k = 0; k < 3; ++k)
+        if (x->p[k] != y->p[k])
+            return x->p[k] < y->p[k] ? -1 : 1;
+    return x->c < y->c ? -1 : x->c > y->c;
+}
+
+/* Loads every frame, welds on frame 0, checks the others share its topology, normalises all frames
+ * with frame 0's box (centre, largest half-extent 1) and turns Y-up to Z-up unless zup. */
+static int load_frames(char **paths, int n, int zup, mesh *out)
+{
+    char err[512];
+    qtool_obj_mesh m0;
+    memset(out, 0, sizeof *out);
+    if (read_mesh(paths[0], &m0, err, sizeof err) != 0)
+        return fprintf(stderr, "qibl: transfer: %s\n", err), -1;
+    const size_t nc = m0.ntri * 3;
+    if (m0.ntri == 0 || m0.ntri > (1u << 20)) {
+        qtool_obj_free(&m0);
+        return fprintf(stderr, "qibl: transfer: %s: %zu triangles (1 .. 1048576 supported)\n", paths[0], m0.ntri), -1;
+    }
+    corner *cs = malloc(sizeof *cs * nc);
+    uint32_t *vof = malloc(sizeof *vof * nc), *first = malloc(sizeof *first * nc);
+    if (!cs || !vof || !first) {
+        free(cs), free(vof), free(first), qtool_obj_free(&m0);
+        return fprintf(stderr, "qibl: transfer: out of memory\n"), -1;
+    }
+    for (size_t c = 0; c < nc; ++c)
+        memcpy(cs[c].p, m0.pos + 3 * c, sizeof cs[c].p), cs[c].c = (uint32_t)c;
+    qsort(cs, nc, sizeof *cs, corner_cmp);
+    uint32_t nv = 0;
+    for (size_t i = 0; i < nc; ++i) {
+        if (i == 0 || corner_cmp(&(corner){{cs[i].p[0], cs[i].p[1], cs[i].p[2]}, 0},
+                                 &(corner){{cs[i - 1].p[0], cs[i - 1].p[1], cs[i - 1].p[2]}, 0}) != 0)
+            first[nv++] = cs[i].c;
+        vof[cs[i].c] = nv - 1;
+    }
+    free(cs);
+    out->nv = nv, out->nt = (uint32_t)m0.ntri, out->nframes = (uint32_t)n;
+    out->tri = malloc(sizeof *out->tri * m0.ntri);
+    out->pos = malloc(sizeof(double) * 3 * nv * (size_t)n);
+    if (!out->tri || !out->pos) {
+        free(vof), free(first), qtool_obj_free(&m0);
+        return fprintf(stderr, "qibl: transfer: out of memory\n"), -1;
+    }
+    for (size_t t = 0; t < m0.ntri; ++t)
+        for (int k = 0; k < 3; ++k)
+            out->tri[t][k] = vof[3 * t + (size_t)k];
+    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}, ctr[3] = {0, 0, 0}, scale = 0;
+    for (int f = 0; f < n; ++f) {
+        qtool_obj_mesh mf;
+        if (f == 0) {
+            mf = m0;
+        } else if (read_mesh(paths[f], &mf, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: transfer: %s\n", err);
+            goto fail;
+        } else if (mf.ntri != m0.ntri) {
+            fprintf(stderr, "qibl: transfer: %s: %zu triangles, frame 1 (%s) has %zu: frames must share triangles\n",
+                    paths[f], mf.ntri, paths[0], m0.ntri);
+            qtool_obj_free(&mf);
+            goto fail;
+        }
+        double *P = out->pos + 3 * (size_t)nv * (size_t)f;
+        for (uint32_t v = 0; v < nv; ++v)
+            memcpy(P + 3 * v, mf.pos + 3 * (size_t)first[v], 3 * sizeof(double));
+        for (size_t c = 0; c < nc; ++c) /* corners welded in frame 0 must coincide in every frame */
+            if (memcmp(mf.pos + 3 * c, P + 3 * (size_t)vof[c], 3 * sizeof(double)) != 0) {
+                fprintf(stderr, "qibl: transfer: %s: corner %zu moved apart from its vertex in frame 1 (%s): frames "
+                        "must share topology\n", paths[f], c, paths[0]);
+                if (f)
+                    qtool_obj_free(&mf);
+                goto fail;
+            }
+        if (f)
+            qtool_obj_free(&mf);
+        if (f == 0) {
+            for (int k = 0; k < 3; ++k)
+                lo[k] = hi[k] = P[k];
+            for (uint32_t v = 0; v < nv; ++v)
+                for (int k = 0; k < 3; ++k)
+                    lo[k] = fmin(lo[k], P[3 * v + k]), hi[k] = fmax(hi[k], P[3 * v + k]);
+            for (int k = 0; k < 3; ++k)
+                ctr[k] = (lo[k] + hi[k]) / 2, scale = fmax(scale, (hi[k] - lo[k]) / 2);
+            if (!(scale > 0) || !isfinite(scale)) {
+                fprintf(stderr, "qibl: transfer: %s: the mesh has no extent\n", paths[0]);
+                goto fail;
+            }
+        }
+        for (uint32_t v = 0; v < nv; ++v) {
+            double q[3];
+            for (int k = 0; k < 3; ++k)
+                q[k] = (P[3 * v + k] - ctr[k]) / scale;
+            if (!zup) /* Y-up to Z-up: (x, y, z) -> (x, -z, y), a proper rotation */
+                P[3 * v] = q[0], P[3 * v + 1] = -q[2], P[3 * v + 2] = q[1];
+            else
+                memcpy(P + 3 * v, q, sizeof q);
+        }
+    }
+    qtool_obj_free(&m0), free(vof), free(first);
+    return 0;
+fail:
+    qtool_obj_free(&m0), free(vof), free(first), free(out->tri), free(out->pos);
+    memset(out, 0, sizeof *out);
+    return -1;
+}
+
+/* area-weighted vertex normals of one frame; flip < 0 turns them (a mesh wound clockwise) */
+static void normals(const mesh *m, const double *P, double flip, double *N)
+{
+    memset(N, 0, sizeof(double) * 3 * m->nv);
+    for (uint32_t t = 0; t < m->nt; ++t) {
+        const double *a = P + 3 * m->tri[t][0], *b = P + 3 * m->tri[t][1], *c = P + 3 * m->tri[t][2];
+        const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        const double fn[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+        for (int k = 0; k < 3; ++k)
+            for (int j = 0; j < 3; ++j)
+                N[3 * m->tri[t][k] + j] += flip * fn[j];
+    }
+}
+
+static double signed_volume(const mesh *m, const double *P)
+{
+    double vol = 0;
+    for (uint32_t t = 0; t < m->nt; ++t) {
+        const double *a = P + 3 * m->tri[t][0], *b = P + 3 * m->tri[t][1], *c = P + 3 * m->tri[t][2];
+        vol += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
+    }
+    return vol;
+}
+
+static int cmp_u64(const void *a, const void *b)
+{
+    const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* Edges used by one triangle only, and all distinct edges: a mesh with few of the former is
+ * (nearly) closed, so the sign of its volume says which way it winds. -1 without memory. */
+static long boundary_edges(const mesh *m, long *edges)
+{
+    uint64_t *e = malloc(sizeof *e * 3 * m->nt);
+    if (!e)
+        return -1;
+    for (uint32_t t = 0; t < m->nt; ++t)
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t a = m->tri[t][k], b = m->tri[t][(k + 1) % 3];
+            e[3 * t + (uint32_t)k] = a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
+        }
+    qsort(e, 3 * (size_t)m->nt, sizeof *e, cmp_u64);
+    long once = 0, distinct = 0;
+    for (size_t i = 0; i < 3 * (size_t)m->nt;) {
+        size_t j = i;
+        while (j < 3 * (size_t)m->nt && e[j] == e[i])
+            ++j;
+        once += j - i == 1, ++distinct, i = j;
+    }
+    free(e);
+    *edges = distinct;
+    return once;
+}
+
+/* a triangle listing v more than once (degenerate) counts once around v */
+static int lists_before(const uint32_t *t, int k)
+{
+    return (k > 0 && t[0] == t[k]) || (k == 2 && t[1] == t[2]);
+}
+
+/* the triangles around each vertex: (*adj)[(*off)[v] .. (*off)[v + 1]); 0 or -1 (no memory) */
+static int adjacency(const mesh *m, uint32_t **off, uint32_t **adj)
+{
+    uint32_t *o = calloc((size_t)m->nv + 1, sizeof *o), *a = malloc(sizeof *a * 3 * (size_t)m->nt);
+    if (!o || !a) {
+        free(o), free(a);
+        return -1;
+    }
+    for (uint32_t t = 0; t < m->nt; ++t)
+        for (int k = 0; k < 3; ++k)
+            if (!lists_before(m->tri[t], k))
+                ++o[m->tri[t][k] + 1];
+    for (uint32_t v = 0; v < m->nv; ++v)
+        o[v + 1] += o[v];
+    for (uint32_t t = 0; t < m->nt; ++t)
+        for (int k = 0; k < 3; ++k)
+            if (!lists_before(m->tri[t], k))
+                a[o[m->tri[t][k]]++] = t;
+    for (uint32_t v = m->nv; v > 0; --v) /* each start was advanced to the next one's */
+        o[v] = o[v - 1];
+    o[0] = 0;
+    *off = o, *adj = a;
+    return 0;
+}
+
+/* ---- per-vertex work, threaded --------------------------------------------------------------- */
+
+typedef struct job {
+    const mesh *m;
+    const qibl_hemi_t *h;
+    const qtool_rt_scene *rt;
+    const qibl_q16_t (*pos)[3];
+    const int32_t (*nrm)[3];
+    const int32_t (*light)[25];
+    int side;
+    qibl_q30_t (*vw)[25];   /* world transfer */
+    double *eq;             /* qibl shading, 3 per vertex */
+    double *er;             /* reference shading */
+    double *l2, *noise;     /* per vertex */
+    double *cpu;            /* per vertex hemi CPU seconds */
+    const uint32_t *adj_off, *adj; /* triangles around each vertex (CSR) */
+    int crease;             /* the solid behind the faces around each vertex blocks */
+} job;
+
+static void vertex_job(void *ctx, uint32_t v)
+{
+    job *j = ctx;
+    const mesh *m = j->m;
+    int32_t(*loc)[3] = malloc(sizeof *loc * (m->nv + 1)); /* + the nadir */
+    uint32_t mask[QIBL_HEMI_MAX_WORDS];
+    qibl_q30_t vl[25];
+    qibl_hemi_frame_t fr;
+    if (!loc || qibl_hemi_frame_init(&fr, j->pos[v], j->nrm[v]) != QIBL_OK) {
+        memset(j->vw[v], 0, sizeof j->vw[v]);
+        for (int c = 0; c < 3; ++c)
+            j->eq[3 * v + c] = j->er[3 * v + c] = 0;
+        j->l2[v] = j->noise[v] = j->cpu[v] = 0;
+        free(loc);
+        return;
+    }
+    const double t0 = thread_cpu();
+    qibl_status_t st = qibl_hemi_transform(&fr, j->pos, m->nv, loc);
+    if (st == QIBL_OK)
+        st = qibl_hemi_clear(j->h, mask);
+    if (st == QIBL_OK)
+        st = qibl_hemi_raster(j->h, (const int32_t(*)[3])loc, m->nv, (const uint32_t(*)[3])m->tri, m->nt, mask, NULL);
+    /* The faces around the receiver: the rasterizer skips them (their planes pass through it), yet
+     * the surface hides what lies behind them: at a crease (a box's floor meeting its walls) the
+     * averaged normal's hemisphere reaches behind a face. The solid's side of the fan of faces is
+     * the union of the wedges (nadir, b, c) of each face (v, b, c), the nadir -n being inside;
+     * at a convex vertex every wedge lies below the horizon and blocks nothing. No winding needed. */
+    if (j->crease && st == QIBL_OK) {
+        uint32_t fan[64][3], nf = 0;
+        loc[m->nv][0] = 0, loc[m->nv][1] = 0, loc[m->nv][2] = -(1 << 20); /* 4 units straight down */
+        for (uint32_t k = j->adj_off[v]; st == QIBL_OK && k < j->adj_off[v + 1]; ++k) {
+            const uint32_t *t = m->tri[j->adj[k]];
+            const int r = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+            fan[nf][0] = m->nv, fan[nf][1] = t[(r + 1) % 3], fan[nf][2] = t[(r + 2) % 3];
+            if (++nf == 64 || k + 1 == j->adj_off[v + 1]) {
+                st = qibl_hemi_raster(j->h, (const int32_t(*)[3])loc, m->nv + 1, (const uint32_t(*)[3])fan, nf,
+                                      mask, NULL);
+                nf = 0;
+            }
+        }
+    }
+    if (st == QIBL_OK)
+        st = qibl_hemi_transfer(j->h, mask, vl);
+    if (st == QIBL_OK)
+        st = qibl_hemi_to_world(j->h, &fr, vl, j->vw[v]);
+    qibl_q16_t e[3] = {0, 0, 0};
+    if (st == QIBL_OK)
+        st = qibl_hemi_shade(j->light, j->vw[v], e);
+    j->cpu[v] = thread_cpu() - t0;
+    free(loc);
+    if (st != QIBL_OK) /* cannot happen for validated inputs; shown black rather than dropped */
+        memset(j->vw[v], 0, sizeof j->vw[v]), e[0] = e[1] = e[2] = 0;
+    for (int c = 0; c < 3; ++c)
+        j->eq[3 * v + c] = e[c] / 65536.0;
+    j->l2[v] = j->noise[v] = 0;
+    if (!j->rt)
+        return;
+    double ax[3][3], p[3], ref[25];
+    for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k)
+            ax[i][k] = fr.axis[i][k] / 1073741824.0;
+    for (int k = 0; k < 3; ++k)
+        p[k] = j->pos[v][k] / 65536.0;
+    qtool_hemi_ref(j->rt, p, ax, j->side, 1, 0x5EED0000u + v * 0x9E3779B97F4A7C15u, ref, &j->noise[v]);
+    double d2 = 0, n2 = 0;
+    for (int i = 0; i < 25; ++i) {
+        const double d = j->vw[v][i] / 1073741824.0 - ref[i];
+        d2 += d * d, n2 += ref[i] * ref[i];
+    }
+    j->l2[v] = n2 > 0 ? sqrt(d2 / n2) : 0;
+    for (int c = 0; c < 3; ++c) {
+        double s = 0;
+        for (int i = 0; i < 25; ++i)
+            s += j->light[c][i] / 65536.0 * ref[i];
+        j->er[3 * v + c] = s;
+    }
+}
+
+/* ---- pictures ------------------------------------------------------------------------------- */
+
+static double lum(const double *c)
+{
+    return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* heat ramp, linear: black -> red -> yellow -> white */
+static void heat(double t, double out[3])
+{
+    t = fmin(fmax(t, 0), 1);
+    out[0] = fmin(1, 3 * t), out[1] = fmin(1, fmax(0, 3 * t - 1)), out[2] = fmin(1, fmax(0, 3 * t - 2));
+}
+
+typedef struct view {
+    double right[3], up[3], fwd[3];
+    double scale, cx, cy, zlo, zhi;
+} view;
+
+static void view_make(double az, double el, int size, const mesh *m, view *vw)
+{
+    const double a = az * PI / 180, e = el * PI / 180;
+    const double eye[3] = {cos(e) * cos(a), cos(e) * sin(a), sin(e)};
+    for (int k = 0; k < 3; ++k)
+        vw->fwd[k] = -eye[k];
+    /* right = fwd x z, up = right x fwd */
+    double r[3] = {vw->fwd[1], -vw->fwd[0], 0};
+    const double rl = sqrt(r[0] * r[0] + r[1] * r[1]);
+    if (rl < 1e-9)
+        r[0] = 1, r[1] = 0;
+    else
+        r[0] /= rl, r[1] /= rl;
+    memcpy(vw->right, r, sizeof r);
+    vw->up[0] = r[1] * vw->fwd[2] - r[2] * vw->fwd[1];
+    vw->up[1] = r[2] * vw->fwd[0] - r[0] * vw->fwd[2];
+    vw->up[2] = r[0] * vw->fwd[1] - r[1] * vw->fwd[0];
+    double rad = 0;
+    for (size_t i = 0; i < (size_t)m->nv * m->nframes; ++i) {
+        const double *p = m->pos + 3 * i;
+        rad = fmax(rad, sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]));
+    }
+    vw->scale = 0.46 * size / (rad > 0 ? rad : 1), vw->cx = vw->cy = size / 2.0;
+    vw->zlo = -rad, vw->zhi = rad;
+}
+
+/* Draws one panel: per-vertex linear colours rgb (3 per vertex), into a size x size RGB8 block of
+ * the sheet at column x0, row y0. Integer path: platform/soft's z-buffer rasterizer. */
+static int draw_panel(const mesh *m, const double *P, const view *vw, const double *rgb, int srgb, int size,
+                      uint8_t *sheet, int sw, int x0, int y0, qibl_raster_vertex_t *rv, uint8_t *fbpx, uint32_t *depth)
+{
+    for (uint32_t v = 0; v < m->nv; ++v) {
+        const double *p = P + 3 * v;
+        const double sx = vw->cx + vw->scale * (p[0] * vw->right[0] + p[1] * vw->right[1] + p[2] * vw->right[2]);
+        const double sy = vw->cy - vw->scale * (p[0] * vw->up[0] + p[1] * vw->up[1] + p[2] * vw->up[2]);
+        const double d = p[0] * vw->fwd[0] + p[1] * vw->fwd[1] + p[2] * vw->fwd[2];
+        rv[v].x = (int32_t)lrint(sx * 16), rv[v].y = (int32_t)lrint(sy * 16);
+        rv[v].z = (int32_t)lrint((d - vw->zlo) / (vw->zhi - vw->zlo + 1e-12) * 1073741823.0);
+        for (int c = 0; c < 3; ++c)
+            rv[v].rgb[c] = (qibl_q16_t)lrint(fmin(fmax(rgb[3 * v + c], 0), 2.0) * 65536.0);
+    }
+    qibl_raster_target_t t;
+    memset(&t, 0, sizeof t);
+    t.fb.pixels = fbpx, t.fb.width = (uint32_t)size, t.fb.height = (uint32_t)size, t.fb.srgb = (uint8_t)srgb;
+    t.depth = depth, t.depth_count = (size_t)size * (size_t)size;
+    qibl_status_t st = qibl_fb_clear(&t.fb);
+    if (st == QIBL_OK)
+        st = qibl_raster_clear_depth(&t);
+    if (st == QIBL_OK)
+        st = qibl_raster_triangles(&t, rv, m->nv, (const uint32_t(*)[3])m->tri, m->nt);
+    if (st != QIBL_OK)
+        return fprintf(stderr, "qibl: transfer: raster: %s\n", qibl_soft_status_str(st)), -1;
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            uint8_t *o = sheet + 3 * ((size_t)(y0 + y) * (size_t)sw + (size_t)(x0 + x));
+            const uint8_t *s = fbpx + 4 * ((size_t)y * (size_t)size + (size_t)x);
+            if (depth[(size_t)y * (size_t)size + (size_t)x] == QIBL_RASTER_DEPTH_FAR)
+                o[0] = o[1] = o[2] = 40; /* background */
+            else
+                memcpy(o, s, 3);
+        }
+    return 0;
+}
+
+static void label(uint8_t *sheet, int sw, int sh, int x0, int w, int y, const char *s)
+{
+    static const uint8_t white[3] = {235, 235, 235};
+    const int scale = w >= 300 ? 2 : 1; /* the same for every panel */
+    qtool_text_draw(sheet, sw, sh, x0 + (w - qtool_text_width(s, scale)) / 2, y, s, scale, white);
+}
+
+/* ---- the command ---------------------------------------------------------------------------- */
+
+static int parse_view(const char *s, double *az, double *el)
+{
+    char *end;
+    *az = strtod(s, &end);
+    if (end == s || *end != ',' || !isfinite(*az))
+        return -1;
+    const char *t = end + 1;
+    *el = strtod(t, &end);
+    return end == t || *end || !isfinite(*el) || fabs(*el) > 89.9 ? -1 : 0;
+}
+
+/* probe -> radiance SH (bands 0..4) as Q16.16, scaled so the largest |coefficient| is 1/2 */
+static int probe_light(const char *path, const char *layout, int32_t light[3][25], char *desc, size_t dlen)
+{
+    char err[512];
+    int w, h, ow, oh;
+    uint8_t *px, *ll;
+    qtool_probe_layout_t want = QTOOL_PROBE_LAYOUT_AUTO, used;
+    if (layout && qtool_probe_layout_parse(layout, &want) != 0)
+        return qcli_usage_error("--layout: unknown layout '%s'", layout), -1;
+    if (qtool_hdr_read_rgbe(path, &w, &h, &px, err, sizeof err) != 0)
+        return fprintf(stderr, "qibl: transfer: %s\n", err), -1;
+    int rc = qtool_probe_layout_rgbe_to_latlong(want, w, h, px, &used, &ow, &oh, &ll, err, sizeof err);
+    free(px);
+    if (rc != 0)
+        return fprintf(stderr, "qibl: transfer: %s\n", err), -1;
+    const size_t n = qibl_probe_sh_workspace_size((uint32_t)ow, (uint32_t)oh);
+    void *ws = n ? malloc(n) : NULL;
+    if (!ws) {
+        free(ll);
+        return fprintf(stderr, "qibl: transfer: %s: %dx%d is beyond the probe limits or out of memory\n", path, ow,
+                       oh), -1;
+    }
+    qibl_probe_sh_t ps;
+    qibl_probe_coeffs_t c;
+    qibl_status_t st = qibl_probe_sh_begin(&ps, (uint32_t)ow, (uint32_t)oh, QIBL_LIGHTPROBE_RGBE, 0, 5, ws, n);
+    for (int v = 0; v < oh && st == QIBL_OK; ++v)
+        st = qibl_probe_sh_add_row(&ps, (uint32_t)v, ll + 4 * (size_t)ow * (size_t)v);
+    if (st == QIBL_OK)
+        st = qibl_probe_sh_finish(&ps, NULL, &c);
+    free(ws), free(ll);
+    if (st != QIBL_OK)
+        return fprintf(stderr, "qibl: transfer: %s: %s\n", path, qibl_status_str(st)), -1;
+    /* the largest |c| is in [2^30, 2^31): shift to [2^15, 2^16) / 2, i.e. 0.25 .. 0.5 in Q16.16 */
+    for (int ch = 0; ch < 3; ++ch)
+        for (int i = 0; i < 25; ++i)
+            light[ch][i] = c.c[ch][i] / (1 << 16); /* truncation toward zero: 2^-16 relative */
+    snprintf(desc, dlen, "%dx%d %s", ow, oh, qtool_probe_layout_name(used));
+    return 0;
+}
+
+int qcli_cmd_transfer(int argc, char **argv)
+{
+    char *files[MAX_FRAMES];
+    int nfiles = 0, zup = 0, force_flip = 0, skip_adjacent = 0;
+    const char *probe = NULL, *png = NULL, *layout = NULL;
+    long size = 320, mask_n = 32, face = 64, side = 32, threads = 0;
+    double az = 35, el = 20, albedo = 0.8;
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i];
+        const int more = i + 1 < argc;
+        if (strcmp(a, "--probe") == 0 && more)
+            probe = argv[++i];
+        else if (strcmp(a, "--png") == 0 && more)
+            png = argv[++i];
+        else if (strcmp(a, "--layout") == 0 && more)
+            layout = argv[++i];
+        else if (strcmp(a, "--zup") == 0)
+            zup = 1;
+        else if (strcmp(a, "--flip") == 0)
+            force_flip = 1;
+        else if (strcmp(a, "--skip-adjacent") == 0)
+            skip_adjacent = 1;
+        else if (strcmp(a, "--size") == 0) {
+            if (!more || qcli_parse_int(argv[++i], 64, 2048, &size) != 0)
+                return qcli_usage_error("--size needs an integer in 64..2048 (pixels per panel)");
+        } else if (strcmp(a, "--mask") == 0) {
+            if (!more || qcli_parse_int(argv[++i], 16, 64, &mask_n) != 0 || (mask_n != 16 && mask_n != 32 && mask_n != 64))
+                return qcli_usage_error("--mask needs 16, 32 or 64");
+        } else if (strcmp(a, "--face") == 0) {
+            if (!more || qcli_parse_int(argv[++i], 2, QIBL_HEMI_MAX_FACE, &face) != 0 || (face & 1))
+                return qcli_usage_error("--face needs an even integer in 2..%d", QIBL_HEMI_MAX_FACE);
+        } else if (strcmp(a, "--rays") == 0) {
+            if (!more || qcli_parse_int(argv[++i], 0, 256, &side) != 0)
+                return qcli_usage_error("--rays needs S in 0..256 (S x S rays per vertex; 0: no reference)");
+        } else if (strcmp(a, "--threads") == 0) {
+            if (!more || qcli_parse_int(argv[++i], 1, 256, &threads) != 0)
+                return qcli_usage_error("--threads needs an integer in 1..256");
+        } else if (strcmp(a, "--view") == 0) {
+            if (!more || parse_view(argv[++i], &az, &el) != 0)
+                return qcli_usage_error("--view needs AZ,EL in degrees (|EL| < 90), e.g. 35,20");
+        } else if (strcmp(a, "--albedo") == 0) {
+            if (!more || qcli_parse_num("--albedo", argv[++i], 0, 1, "a reflectance", &albedo) != 0)
+                return 2;
+        } else if (a[0] == '-') {
+            return qcli_usage_error("transfer: unknown or incomplete option '%s' (%s)", a, TRANSFER_USAGE);
+        } else if (nfiles == MAX_FRAMES) {
+            return qcli_usage_error("transfer: at most %d frames", MAX_FRAMES);
+        } else {
+            files[nfiles++] = argv[i];
+        }
+    }
+    if (nfiles == 0 || !probe)
+        return qcli_usage_error(TRANSFER_USAGE);
+    if (threads == 0) {
+        qcli_scene sd;
+        qcli_scene_defaults(&sd);
+        threads = sd.threads;
+    }
+    int32_t light[3][25];
+    char pdesc[128];
+    if (probe_light(probe, layout, light, pdesc, sizeof pdesc) != 0)
+        return 1;
+    mesh m;
+    if (load_frames(files, nfiles, zup, &m) != 0)
+        return 1;
+    /* winding: turned by --flip, or when a (nearly) closed mesh has a negative volume */
+    long nedges = 0, open_edges = boundary_edges(&m, &nedges);
+    const double vol = signed_volume(&m, m.pos);
+    const int closed = open_edges >= 0 && open_edges * 50 <= nedges;
+    const double flip = force_flip || (closed && vol < 0) ? -1 : 1;
+
+    const size_t wsz = qibl_hemi_workspace_size((int)mask_n, (int)face);
+    void *ws = malloc(wsz);
+    qibl_hemi_t h;
+    const size_t nv = m.nv;
+    qibl_q16_t(*pos)[3] = malloc(sizeof *pos * nv);
+    int32_t(*nrm)[3] = malloc(sizeof *nrm * nv);
+    qibl_q30_t(*vw)[25] = malloc(sizeof *vw * nv);
+    double *eq = malloc(sizeof(double) * 3 * nv), *er = malloc(sizeof(double) * 3 * nv), *N = malloc(sizeof(double) * 3 * nv);
+    double *l2 = malloc(sizeof(double) * nv), *noise = malloc(sizeof(double) * nv), *cpu = malloc(sizeof(double) * nv);
+    double *col = malloc(sizeof(double) * 3 * nv), *tmp = malloc(sizeof(double) * nv);
+    const int panels = side > 0 ? 3 : 1, S = (int)size;
+    const int sw = panels * S, sh = LABEL_H + S + (panels == 3 ? LEGEND_H : 0);
+    uint8_t *sheet = calloc((size_t)sw * (size_t)sh * (size_t)m.nframes, 3), *fbpx = malloc((size_t)S * (size_t)S * 4);
+    uint32_t *depth = malloc(sizeof(uint32_t) * (size_t)S * (size_t)S);
+    qibl_raster_vertex_t *rv = malloc(sizeof *rv * nv);
+    uint32_t *adj_off = NULL, *adj = NULL;
+    int rc = 1;
+    if (!ws || !pos || !nrm || !vw || !eq || !er || !N || !l2 || !noise || !cpu || !col || !tmp || !sheet || !fbpx ||
+        !depth || !rv) {
+        fprintf(stderr, "qibl: transfer: out of memory\n");
+        goto done;
+    }
+    qibl_status_t st = qibl_hemi_init(&h, (int)mask_n, (int)face, ws, wsz);
+    if (st != QIBL_OK) {
+        fprintf(stderr, "qibl: transfer: hemi init: %s\n", qibl_status_str(st));
+        goto done;
+    }
+    if (adjacency(&m, &adj_off, &adj) != 0) {
+        fprintf(stderr, "qibl: transfer: out of memory\n");
+        goto done;
+    }
+    view vwp;
+    view_make(az, el, S, &m, &vwp);
+    printf("transfer: %s%s: %u vertices, %u triangles, %u frame%s; %s%s; probe %s (%s)\n", files[0],
+           nfiles > 1 ? " ..." : "", m.nv, m.nt, m.nframes, m.nframes > 1 ? "s" : "",
+           zup ? "z up" : "y up turned to z up",
+           force_flip ? ", normals turned (--flip)" : flip < 0 ? ", closed and wound clockwise (normals turned)" : "",
+           probe, pdesc);
+    printf("  hemi: %ldx%ld mask, face %ld (%.1f KiB of tables), every triangle a blocker of every vertex, %s\n",
+           mask_n, mask_n, face, wsz / 1024.0,
+           skip_adjacent ? "adjacent faces skipped (--skip-adjacent)" : "the solid behind the faces around each vertex blocks");
+    if (side > 0)
+        printf("  reference: %ld x %ld stratified cosine-weighted rays per vertex (tools/ref/hemi_ref.c)\n", side, side);
+    double sum_l2 = 0, sum_noise = 0, sum_cpu = 0, sum_err = 0, sum_e = 0;
+    for (uint32_t f = 0; f < m.nframes; ++f) {
+        const double *P = m.pos + 3 * nv * f;
+        normals(&m, P, flip, N);
+        int zero = 0;
+        for (size_t v = 0; v < nv; ++v) {
+            const double l = sqrt(N[3 * v] * N[3 * v] + N[3 * v + 1] * N[3 * v + 1] + N[3 * v + 2] * N[3 * v + 2]);
+            for (int k = 0; k < 3; ++k) {
+                pos[v][k] = (qibl_q16_t)lrint(P[3 * v + k] * 65536.0);
+                nrm[v][k] = l > 0 ? (int32_t)lrint(N[3 * v + k] / l * 1073741824.0 * 0.999) : 0;
+            }
+            zero += l == 0;
+        }
+        qtool_rt_scene rt;
+        int have_rt = 0;
+        if (side > 0) {
+            qtool_obj_mesh om;
+            memset(&om, 0, sizeof om);
+            om.ntri = m.nt;
+            om.pos = malloc(sizeof(double) * 9 * m.nt), om.nrm = malloc(sizeof(double) * 9 * m.nt);
+            if (!om.pos || !om.nrm) {
+                free(om.pos), free(om.nrm);
+                fprintf(stderr, "qibl: transfer: out of memory\n");
+                goto done;
+            }
+            for (uint32_t t = 0; t < m.nt; ++t)
+                for (int k = 0; k < 3; ++k)
+                    for (int j = 0; j < 3; ++j) {
+                        om.pos[9 * t + 3 * k + j] = pos[m.tri[t][k]][j] / 65536.0; /* what the core sees */
+                        om.nrm[9 * t + 3 * k + j] = j == 2;
+                    }
+            const int brc = qtool_rt_scene_from_obj(&rt, &om, 1, 1);
+            free(om.pos), free(om.nrm);
+            if (brc != 0) {
+                fprintf(stderr, "qibl: transfer: out of memory (BVH)\n");
+                goto done;
+            }
+            have_rt = 1;
+        }
+        job j = {&m, &h, have_rt ? &rt : NULL, (const qibl_q16_t(*)[3])pos, (const int32_t(*)[3])nrm,
+                 (const int32_t(*)[25])light, (int)side, vw, eq, er, l2, noise, cpu, adj_off, adj, !skip_adjacent};
+        qtool_rt_parallel((int)threads, m.nv, vertex_job, &j, NULL);
+        if (have_rt)
+            qtool_rt_scene_free(&rt);
+        double fcpu = 0, fl2 = 0, fnoise = 0;
+        for (size_t v = 0; v < nv; ++v)
+            fcpu += cpu[v], fl2 += l2[v], fnoise += noise[v], sum_e += lum(eq + 3 * v);
+        sum_cpu += fcpu, sum_l2 += fl2, sum_noise += fnoise;
+        if (zero)
+            printf("  frame %u: %d vertices without a normal (isolated or degenerate): shaded black\n", f + 1, zero);
+        /* exposure from frame 0's reference (or qibl's without one): its 99th percentile at 0.6 */
+        const double *base = side > 0 ? er : eq;
+        static double expo;
+        if (f == 0) {
+            for (size_t v = 0; v < nv; ++v)
+                tmp[v] = lum(base + 3 * v);
+            qsort(tmp, nv, sizeof(double), cmp_double);
+            const double p99 = tmp[(size_t)(0.99 * (double)(nv - 1))];
+            expo = p99 > 0 ? 0.6 / p99 : 1;
+        }
+        uint8_t *fs = sheet + (size_t)sw * (size_t)sh * 3 * f;
+        for (size_t v = 0; v < nv; ++v)
+            for (int c = 0; c < 3; ++c)
+                col[3 * v + c] = eq[3 * v + c] * expo;
+        if (draw_panel(&m, P, &vwp, col, 1, S, fs, sw, 0, LABEL_H, rv, fbpx, depth) != 0)
+            goto done;
+        char title[96];
+        snprintf(title, sizeof title, "QIBL HEMI %ldX%ld: %.0f MS", mask_n, mask_n, fcpu * 1e3);
+        label(fs, sw, sh, 0, S, 5, title);
+        if (side > 0) {
+            double mean = 0;
+            for (size_t v = 0; v < nv; ++v)
+                mean += lum(er + 3 * v);
+            mean /= (double)nv;
+            for (size_t v = 0; v < nv; ++v)
+                for (int c = 0; c < 3; ++c)
+                    col[3 * v + c] = er[3 * v + c] * expo;
+            if (draw_panel(&m, P, &vwp, col, 1, S, fs, sw, S, LABEL_H, rv, fbpx, depth) != 0)
+                goto done;
+            snprintf(title, sizeof title, "RAY CAST: %ld RAYS", side * side);
+            label(fs, sw, sh, S, S, 5, title);
+            double ferr = 0;
+            for (size_t v = 0; v < nv; ++v) {
+                const double e = mean > 0 ? fabs(lum(eq + 3 * v) - lum(er + 3 * v)) / mean : 0;
+                ferr += e;
+                heat(e / ERR_SCALE, col + 3 * v);
+            }
+            sum_err += ferr;
+            if (draw_panel(&m, P, &vwp, col, 0, S, fs, sw, 2 * S, LABEL_H, rv, fbpx, depth) != 0)
+                goto done;
+            snprintf(title, sizeof title, "ERROR: MEAN %.1f%%", 100 * ferr / (double)nv);
+            label(fs, sw, sh, 2 * S, S, 5, title);
+            /* the colour scale under the error panel, linear ramp drawn as sRGB-free bytes */
+            for (int x = 0; x < S - 16; ++x) {
+                double c[3];
+                heat((double)x / (S - 17), c);
+                for (int y = 0; y < 8; ++y) {
+                    uint8_t *o = fs + 3 * ((size_t)(LABEL_H + S + 2 + y) * (size_t)sw + (size_t)(2 * S + 8 + x));
+                    for (int k = 0; k < 3; ++k)
+                        o[k] = (uint8_t)lrint(255 * c[k]);
+                }
+            }
+            static const uint8_t grey[3] = {200, 200, 200};
+            char scale_txt[32];
+            snprintf(scale_txt, sizeof scale_txt, "%.0f%%", ERR_SCALE * 100);
+            qtool_text_draw(fs, sw, sh, 2 * S + 8, LABEL_H + S + 12, "0", 1, grey);
+            qtool_text_draw(fs, sw, sh, 2 * S + S / 2 - 6, LABEL_H + S + 12, "OF MEAN", 1, grey);
+            qtool_text_draw(fs, sw, sh, 2 * S + S - 8 - qtool_text_width(scale_txt, 1), LABEL_H + S + 12, scale_txt, 1,
+                            grey);
+        }
+    }
+    printf("  hemi: %.2f ms per frame on one core (%.1f us per vertex, %u blockers each)\n",
+           sum_cpu / m.nframes * 1e3, sum_cpu / (double)(nv * m.nframes) * 1e6, m.nt);
+    printf("RESULT transfer.ms_per_frame %.3f\n", sum_cpu / m.nframes * 1e3);
+    /* in the probe's units times 2^-k (the light's scaling): comparable between meshes under one probe */
+    printf("RESULT transfer.mean_irradiance %.6f\n", sum_e / (double)(nv * m.nframes));
+    if (side > 0) {
+        const double n = (double)(nv * m.nframes);
+        printf("  error of V* against the reference: mean relative L2 %.4f (reference noise %.4f, same measure)\n",
+               sum_l2 / n, sum_noise / n);
+        printf("  shading error: mean |E - E_ref| / mean E_ref = %.4f\n", sum_err / n);
+        printf("RESULT transfer.l2err %.5f\nRESULT transfer.ref_noise %.5f\nRESULT transfer.shade_err %.5f\n",
+               sum_l2 / n, sum_noise / n, sum_err / n);
+    }
+    if (png) {
+        char err[512];
+        const int wr = m.nframes > 1
+                           ? qtool_apng_write_rgb8(png, sw, sh, (int)m.nframes, sheet, 1, 8, err, sizeof err)
+                           : qtool_png_write_rgb8(png, sw, sh, sheet, err, sizeof err);
+        if (wr != 0) {
+            fprintf(stderr, "qibl: %s\n", err);
+            goto done;
+        }
+        printf("  wrote %s (%dx%d%s)\n", png, sw, sh, m.nframes > 1 ? ", animated" : "");
+    }
+    rc = 0;
+done:
+    free(ws), free(pos), free(nrm), free(vw), free(eq), free(er), free(N), free(l2), free(noise), free(cpu), free(col);
+    free(tmp), free(sheet), free(fbpx), free(depth), free(rv), free(m.tri), free(m.pos), free(adj_off), free(adj);
+    return rc;
+}
