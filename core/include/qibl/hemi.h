@@ -125,7 +125,7 @@ qibl_status_t qibl_hemi_clear(const qibl_hemi_t *h, uint32_t *mask);
  * behind them still hides part of the averaged normal's hemisphere: a caller that knows the faces
  * (v, b, c) around the receiver rasterizes the wedges (nadir, b, c) too, the nadir a vertex at
  * (0, 0, -D) (any winding; at a convex vertex the wedges lie below the horizon and cost a test
- * each). `qibl transfer` does; it cuts a box's error against the ray cast from 34 % to 3 %. */
+ * each). `qibl transfer` does; it cuts a box's error against the ray cast from 34 % to 3 %.
  * Culling and skipping as above; a triangle is the same mask whichever way it winds.
  * Errors: QIBL_E_NULL_POINTER (h, mask, or v/tri with a non-zero count), QIBL_E_HEMI_INDEX (an
  * index >= nv), QIBL_E_HEMI_RANGE (a coordinate of v[0..nv) beyond QIBL_HEMI_LOCAL_MAX); checked
