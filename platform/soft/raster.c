@@ -50,6 +50,13 @@ static int32_t clamp_nonneg(int32_t x)
     return x < 0 ? 0 : x;
 }
 
+/* width * height depth values fit size_t and the caller's count (no division: Cortex-M0 has none) */
+static bool depth_fits(const qibl_raster_target_t *t)
+{
+    const uint64_t n = qibl_mul_u32_u64(t->fb.width, t->fb.height);
+    return n <= (uint64_t)SIZE_MAX && (uint64_t)t->depth_count >= n;
+}
+
 static qibl_status_t check_target(const qibl_raster_target_t *t)
 {
     if (!t)
@@ -61,9 +68,7 @@ static qibl_status_t check_target(const qibl_raster_target_t *t)
         return QIBL_E_FB_FORMAT;
     if (!t->depth)
         return QIBL_E_NULL_POINTER;
-    if (t->fb.width > SIZE_MAX / t->fb.height || t->depth_count < (size_t)t->fb.width * t->fb.height)
-        return QIBL_E_FB_SIZE;
-    return QIBL_OK;
+    return depth_fits(t) ? QIBL_OK : QIBL_E_FB_SIZE;
 }
 
 qibl_status_t qibl_raster_clear_depth(const qibl_raster_target_t *t)
@@ -75,7 +80,7 @@ qibl_status_t qibl_raster_clear_depth(const qibl_raster_target_t *t)
         return s;
     if (!t->depth)
         return QIBL_E_NULL_POINTER;
-    if (t->fb.width > SIZE_MAX / t->fb.height || t->depth_count < (size_t)t->fb.width * t->fb.height)
+    if (!depth_fits(t))
         return QIBL_E_FB_SIZE;
     const size_t n = (size_t)t->fb.width * t->fb.height;
     for (size_t i = 0; i < n; ++i)
@@ -133,7 +138,7 @@ static void draw(const qibl_raster_target_t *t, const qibl_raster_vertex_t *a, c
     int64_t e[3], erow[3];
     int32_t estep[3], erowstep[3];
     for (int k = 0; k < 3; ++k) {
-        const qibl_raster_vertex_t *p = v[k], *q = v[(k + 1) % 3];
+        const qibl_raster_vertex_t *p = v[k], *q = v[k == 2 ? 0 : k + 1];
         const int32_t dx = q->x - p->x, dy = q->y - p->y;
         const int own = dy > 0 || (dy == 0 && dx < 0);
         erow[k] = qibl_mul_s32_s64(dx, py - p->y) - qibl_mul_s32_s64(dy, px - p->x) + own;
