@@ -401,12 +401,19 @@ static void view_make(double az, double el, int size, const mesh *m, view *vw)
     vw->up[0] = r[1] * vw->fwd[2] - r[2] * vw->fwd[1];
     vw->up[1] = r[2] * vw->fwd[0] - r[0] * vw->fwd[2];
     vw->up[2] = r[0] * vw->fwd[1] - r[1] * vw->fwd[0];
-    double rad = 0;
+    /* fit the projection of every frame: its box fills 92 % of the panel */
+    double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300}, rad = 0;
     for (size_t i = 0; i < (size_t)m->nv * m->nframes; ++i) {
         const double *p = m->pos + 3 * i;
+        const double x = p[0] * vw->right[0] + p[1] * vw->right[1] + p[2] * vw->right[2];
+        const double y = p[0] * vw->up[0] + p[1] * vw->up[1] + p[2] * vw->up[2];
+        lo[0] = fmin(lo[0], x), hi[0] = fmax(hi[0], x), lo[1] = fmin(lo[1], y), hi[1] = fmax(hi[1], y);
         rad = fmax(rad, sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]));
     }
-    vw->scale = 0.46 * size / (rad > 0 ? rad : 1), vw->cx = vw->cy = size / 2.0;
+    const double ext = fmax(hi[0] - lo[0], hi[1] - lo[1]);
+    vw->scale = 0.92 * size / (ext > 0 ? ext : 1);
+    vw->cx = size / 2.0 - vw->scale * (lo[0] + hi[0]) / 2;
+    vw->cy = size / 2.0 + vw->scale * (lo[1] + hi[1]) / 2;
     vw->zlo = -rad, vw->zhi = rad;
 }
 
