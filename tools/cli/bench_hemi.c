@@ -21,6 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "cli/cli.h"
 #include "qibl/hemi.h"
@@ -415,6 +416,57 @@ static void evaluate(const qibl_hemi_t *h, const scene *s, qibl_q16_t (*pos)[3],
     *fps = nframes / tsum;
 }
 
+/* The real meshes of ../shared/fixtures/meshes (QIBL_MESHES=DIR overrides) through `qibl transfer`'s
+ * pipeline: every triangle a blocker of every vertex, faces around a vertex blocking at creases,
+ * against the ray cast. Skipped, and said so, when the fixtures are absent. */
+static void bench_scenes(int quick)
+{
+    const char *md = getenv("QIBL_MESHES"), *pd = getenv("QIBL_PROBES");
+    md = md && *md ? md : "../shared/fixtures/meshes", pd = pd && *pd ? pd : "../shared/fixtures/probes";
+    char probe[1024], paths[8][1024];
+    snprintf(probe, sizeof probe, "%s/quarry_01_1k.hdr", pd);
+    static const struct {
+        const char *name, *files[6];
+        int nframes, zup, quick;
+    } sc[] = {
+        {"sydney_run", {"sydney_md2/sydney_run_01.obj", "sydney_md2/sydney_run_02.obj", "sydney_md2/sydney_run_03.obj",
+                        "sydney_md2/sydney_run_04.obj", "sydney_md2/sydney_run_05.obj", "sydney_md2/sydney_run_06.obj"},
+         6, 1, 1},
+        {"spot", {"spot_triangulated.obj"}, 1, 0, 0},
+        {"teapot", {"teapot.obj"}, 1, 0, 0},
+    };
+    printf("\nScenes (qibl transfer's pipeline: 32 x 32 mask, 64 x 64 faces, every triangle a blocker, crease wedges;\n"
+           "reference %d x %d rays per vertex; probe %s):\n", quick ? 16 : 32, quick ? 16 : 32, probe);
+    if (access(probe, R_OK) != 0) {
+        printf("  skipped: %s absent (the meshes and probes of ../shared/fixtures)\n", probe);
+        return;
+    }
+    printf("  %-12s %8s %9s %7s %10s %9s %10s\n", "scene", "vertices", "triangles", "frames", "fps (1 core)",
+           "L2 error", "ref noise");
+    for (size_t i = 0; i < sizeof sc / sizeof sc[0]; ++i) {
+        if (quick && !sc[i].quick)
+            continue;
+        char *files[6];
+        int ok = 1;
+        for (int f = 0; f < sc[i].nframes; ++f) {
+            snprintf(paths[f], sizeof paths[f], "%s/%s", md, sc[i].files[f]);
+            files[f] = paths[f];
+            ok &= access(paths[f], R_OK) == 0;
+        }
+        if (!ok) {
+            printf("  %-12s skipped: %s absent\n", sc[i].name, paths[0]);
+            continue;
+        }
+        qcli_transfer_stats st;
+        if (qcli_transfer_measure(files, sc[i].nframes, sc[i].zup, probe, 32, 64, quick ? 16 : 32, &st) != 0)
+            continue;
+        const double fps = st.ms_per_frame > 0 ? 1e3 / st.ms_per_frame : 0;
+        printf("  %-12s %8u %9u %7u %10.1f %8.2f %% %8.2f %%\n", sc[i].name, st.nv, st.nt, st.nframes, fps,
+               100 * st.l2err, 100 * st.ref_noise);
+        printf("RESULT hemi.%s_fps %.2f\nRESULT hemi.%s_l2err %.4f\n", sc[i].name, fps, sc[i].name, st.l2err);
+    }
+}
+
 int qcli_bench_hemi(int quick)
 {
     const int nframes = quick ? 2 : 6, reps = quick ? 3 : 5;
@@ -593,5 +645,6 @@ int qcli_bench_hemi(int quick)
     printf("RESULT hemi.ref_noise %.4f\n", ref_noise);
     free(pos), free(nrm), free(vloc), free(vw), free(ref), free(noise);
     free_scene(&s);
+    bench_scenes(quick);
     return 0;
 }

@@ -50,6 +50,16 @@ int qcli_cmd_info(int argc, char **argv);
 int qcli_cmd_gen(int argc, char **argv);
 int qcli_cmd_relight(int argc, char **argv);
 int qcli_cmd_transfer(int argc, char **argv); /* cmd_transfer.c */
+/* What `qibl transfer` measures, for the bench: vertices, triangles, frames, hemi ms per frame on
+ * one core, mean relative L2 error of V* against the ray cast, its noise, the shading error. */
+typedef struct qcli_transfer_stats {
+    uint32_t nv, nt, nframes;
+    double ms_per_frame, l2err, ref_noise, shade_err;
+} qcli_transfer_stats;
+/* `qibl transfer` without pictures or report (rays = S, S x S per vertex); 0, or 1 after printing
+ * the error. */
+int qcli_transfer_measure(char **files, int nframes, int zup, const char *probe, int mask, int face, int rays,
+                          qcli_transfer_stats *st);
 int qcli_cmd_lights(int argc, char **argv);
 
 int qcli_cmd_render(int argc, char **argv); /* cmd_bake.c */

@@ -5,8 +5,9 @@
  *
  * Per frame: every vertex's transfer vector from ALL triangles of the mesh (no hierarchy: the
  * figure is the method's error, not the culling's), turned to world space, shaded with the probe's
- * radiance SH (bands 0..4, qibl_hemi_shade), times albedo / pi. The reference ray-casts the same
- * positions (tools/ref/hemi_ref.c, stratified cosine-weighted rays) and shades with the same
+ * radiance SH (bands 0..4, qibl_hemi_shade: irradiance, shown with an automatic exposure). The
+ * reference ray-casts the same positions (tools/ref/hemi_ref.c, stratified cosine-weighted rays) and
+ * shades with the same
  * coefficients in double, so the error is visibility and integration only. Several MESH files are
  * frames of one animation (same triangles in the same order, e.g. sydney_run_01..06.obj): an APNG.
  */
@@ -38,7 +39,7 @@
 
 #define TRANSFER_USAGE                                                                                        \
     "usage: qibl transfer MESH [MESH...] --probe PROBE.hdr [--layout L] [--png OUT] [--size N] [--mask 16|32|64]\n" \
-    "                     [--face F] [--rays S] [--zup] [--flip] [--skip-adjacent] [--view AZ,EL] [--albedo A] [--threads N]"
+    "                     [--face F] [--rays S] [--zup] [--flip] [--skip-adjacent] [--view AZ,EL] [--threads N]"
 
 typedef struct mesh {
     uint32_t nv, nt, nframes;
@@ -515,59 +516,24 @@ static int probe_light(const char *path, const char *layout, int32_t light[3][25
     return 0;
 }
 
-int qcli_cmd_transfer(int argc, char **argv)
+typedef struct topts {
+    char **files;
+    int nfiles, zup, force_flip, skip_adjacent;
+    const char *probe, *png, *layout;
+    long size, mask_n, face, side, threads;
+    double az, el;
+} topts;
+
+/* The whole run; verbose prints the report (the command), otherwise only errors (the bench). */
+static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
 {
-    char *files[MAX_FRAMES];
-    int nfiles = 0, zup = 0, force_flip = 0, skip_adjacent = 0;
-    const char *probe = NULL, *png = NULL, *layout = NULL;
-    long size = 320, mask_n = 32, face = 64, side = 32, threads = 0;
-    double az = 35, el = 20, albedo = 0.8;
-    for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i];
-        const int more = i + 1 < argc;
-        if (strcmp(a, "--probe") == 0 && more)
-            probe = argv[++i];
-        else if (strcmp(a, "--png") == 0 && more)
-            png = argv[++i];
-        else if (strcmp(a, "--layout") == 0 && more)
-            layout = argv[++i];
-        else if (strcmp(a, "--zup") == 0)
-            zup = 1;
-        else if (strcmp(a, "--flip") == 0)
-            force_flip = 1;
-        else if (strcmp(a, "--skip-adjacent") == 0)
-            skip_adjacent = 1;
-        else if (strcmp(a, "--size") == 0) {
-            if (!more || qcli_parse_int(argv[++i], 64, 2048, &size) != 0)
-                return qcli_usage_error("--size needs an integer in 64..2048 (pixels per panel)");
-        } else if (strcmp(a, "--mask") == 0) {
-            if (!more || qcli_parse_int(argv[++i], 16, 64, &mask_n) != 0 || (mask_n != 16 && mask_n != 32 && mask_n != 64))
-                return qcli_usage_error("--mask needs 16, 32 or 64");
-        } else if (strcmp(a, "--face") == 0) {
-            if (!more || qcli_parse_int(argv[++i], 2, QIBL_HEMI_MAX_FACE, &face) != 0 || (face & 1))
-                return qcli_usage_error("--face needs an even integer in 2..%d", QIBL_HEMI_MAX_FACE);
-        } else if (strcmp(a, "--rays") == 0) {
-            if (!more || qcli_parse_int(argv[++i], 0, 256, &side) != 0)
-                return qcli_usage_error("--rays needs S in 0..256 (S x S rays per vertex; 0: no reference)");
-        } else if (strcmp(a, "--threads") == 0) {
-            if (!more || qcli_parse_int(argv[++i], 1, 256, &threads) != 0)
-                return qcli_usage_error("--threads needs an integer in 1..256");
-        } else if (strcmp(a, "--view") == 0) {
-            if (!more || parse_view(argv[++i], &az, &el) != 0)
-                return qcli_usage_error("--view needs AZ,EL in degrees (|EL| < 90), e.g. 35,20");
-        } else if (strcmp(a, "--albedo") == 0) {
-            if (!more || qcli_parse_num("--albedo", argv[++i], 0, 1, "a reflectance", &albedo) != 0)
-                return 2;
-        } else if (a[0] == '-') {
-            return qcli_usage_error("transfer: unknown or incomplete option '%s' (%s)", a, TRANSFER_USAGE);
-        } else if (nfiles == MAX_FRAMES) {
-            return qcli_usage_error("transfer: at most %d frames", MAX_FRAMES);
-        } else {
-            files[nfiles++] = argv[i];
-        }
-    }
-    if (nfiles == 0 || !probe)
-        return qcli_usage_error(TRANSFER_USAGE);
+    char **files = o->files;
+    const int nfiles = o->nfiles, zup = o->zup, force_flip = o->force_flip, skip_adjacent = o->skip_adjacent;
+    const char *probe = o->probe, *png = o->png, *layout = o->layout;
+    const long size = o->size, mask_n = o->mask_n, face = o->face, side = o->side;
+    long threads = o->threads;
+    const double az = o->az, el = o->el;
+    memset(stats, 0, sizeof *stats);
     if (threads == 0) {
         qcli_scene sd;
         qcli_scene_defaults(&sd);
@@ -598,7 +564,8 @@ int qcli_cmd_transfer(int argc, char **argv)
     double *col = malloc(sizeof(double) * 3 * nv), *tmp = malloc(sizeof(double) * nv);
     const int panels = side > 0 ? 3 : 1, S = (int)size;
     const int sw = panels * S, sh = LABEL_H + S + (panels == 3 ? LEGEND_H : 0);
-    uint8_t *sheet = calloc((size_t)sw * (size_t)sh * (size_t)m.nframes, 3), *fbpx = malloc((size_t)S * (size_t)S * 4);
+    uint8_t *sheet = calloc(png ? (size_t)sw * (size_t)sh * (size_t)m.nframes : 1, 3);
+    uint8_t *fbpx = malloc((size_t)S * (size_t)S * 4);
     uint32_t *depth = malloc(sizeof(uint32_t) * (size_t)S * (size_t)S);
     qibl_raster_vertex_t *rv = malloc(sizeof *rv * nv);
     uint32_t *adj_off = NULL, *adj = NULL;
@@ -619,16 +586,19 @@ int qcli_cmd_transfer(int argc, char **argv)
     }
     view vwp;
     view_make(az, el, S, &m, &vwp);
-    printf("transfer: %s%s: %u vertices, %u triangles, %u frame%s; %s%s; probe %s (%s)\n", files[0],
+    if (verbose)
+        printf("transfer: %s%s: %u vertices, %u triangles, %u frame%s; %s%s; probe %s (%s)\n", files[0],
            nfiles > 1 ? " ..." : "", m.nv, m.nt, m.nframes, m.nframes > 1 ? "s" : "",
            zup ? "z up" : "y up turned to z up",
            force_flip ? ", normals turned (--flip)" : flip < 0 ? ", closed and wound clockwise (normals turned)" : "",
            probe, pdesc);
-    printf("  hemi: %ldx%ld mask, face %ld (%.1f KiB of tables), every triangle a blocker of every vertex, %s\n",
+    if (verbose)
+        printf("  hemi: %ldx%ld mask, face %ld (%.1f KiB of tables), every triangle a blocker of every vertex, %s\n",
            mask_n, mask_n, face, wsz / 1024.0,
            skip_adjacent ? "adjacent faces skipped (--skip-adjacent)" : "the solid behind the faces around each vertex blocks");
     if (side > 0)
-        printf("  reference: %ld x %ld stratified cosine-weighted rays per vertex (tools/ref/hemi_ref.c)\n", side, side);
+        if (verbose)
+            printf("  reference: %ld x %ld stratified cosine-weighted rays per vertex (tools/ref/hemi_ref.c)\n", side, side);
     double sum_l2 = 0, sum_noise = 0, sum_cpu = 0, sum_err = 0, sum_e = 0;
     for (uint32_t f = 0; f < m.nframes; ++f) {
         const double *P = m.pos + 3 * nv * f;
@@ -678,7 +648,8 @@ int qcli_cmd_transfer(int argc, char **argv)
             fcpu += cpu[v], fl2 += l2[v], fnoise += noise[v], sum_e += lum(eq + 3 * v);
         sum_cpu += fcpu, sum_l2 += fl2, sum_noise += fnoise;
         if (zero)
-            printf("  frame %u: %d vertices without a normal (isolated or degenerate): shaded black\n", f + 1, zero);
+            if (verbose)
+                printf("  frame %u: %d vertices without a normal (isolated or degenerate): shaded black\n", f + 1, zero);
         /* exposure from frame 0's reference (or qibl's without one): its 99th percentile at 0.6 */
         const double *base = side > 0 ? er : eq;
         static double expo;
@@ -688,6 +659,18 @@ int qcli_cmd_transfer(int argc, char **argv)
             qsort(tmp, nv, sizeof(double), cmp_double);
             const double p99 = tmp[(size_t)(0.99 * (double)(nv - 1))];
             expo = p99 > 0 ? 0.6 / p99 : 1;
+        }
+        if (!png) { /* the bench: figures only */
+            if (side > 0) {
+                double mean = 0, ferr = 0;
+                for (size_t v = 0; v < nv; ++v)
+                    mean += lum(er + 3 * v);
+                mean /= (double)nv;
+                for (size_t v = 0; v < nv; ++v)
+                    ferr += mean > 0 ? fabs(lum(eq + 3 * v) - lum(er + 3 * v)) / mean : 0;
+                sum_err += ferr;
+            }
+            continue;
         }
         uint8_t *fs = sheet + (size_t)sw * (size_t)sh * 3 * f;
         for (size_t v = 0; v < nv; ++v)
@@ -740,18 +723,30 @@ int qcli_cmd_transfer(int argc, char **argv)
                             grey);
         }
     }
-    printf("  hemi: %.2f ms per frame on one core (%.1f us per vertex, %u blockers each)\n",
+    if (verbose)
+        printf("  hemi: %.2f ms per frame on one core (%.1f us per vertex, %u blockers each)\n",
            sum_cpu / m.nframes * 1e3, sum_cpu / (double)(nv * m.nframes) * 1e6, m.nt);
-    printf("RESULT transfer.ms_per_frame %.3f\n", sum_cpu / m.nframes * 1e3);
+    if (verbose)
+        printf("RESULT transfer.ms_per_frame %.3f\n", sum_cpu / m.nframes * 1e3);
     /* in the probe's units times 2^-k (the light's scaling): comparable between meshes under one probe */
-    printf("RESULT transfer.mean_irradiance %.6f\n", sum_e / (double)(nv * m.nframes));
+    if (verbose)
+        printf("RESULT transfer.mean_irradiance %.6f\n", sum_e / (double)(nv * m.nframes));
     if (side > 0) {
         const double n = (double)(nv * m.nframes);
-        printf("  error of V* against the reference: mean relative L2 %.4f (reference noise %.4f, same measure)\n",
+        if (verbose)
+            printf("  error of V* against the reference: mean relative L2 %.4f (reference noise %.4f, same measure)\n",
                sum_l2 / n, sum_noise / n);
-        printf("  shading error: mean |E - E_ref| / mean E_ref = %.4f\n", sum_err / n);
-        printf("RESULT transfer.l2err %.5f\nRESULT transfer.ref_noise %.5f\nRESULT transfer.shade_err %.5f\n",
+        if (verbose)
+            printf("  shading error: mean |E - E_ref| / mean E_ref = %.4f\n", sum_err / n);
+        if (verbose)
+            printf("RESULT transfer.l2err %.5f\nRESULT transfer.ref_noise %.5f\nRESULT transfer.shade_err %.5f\n",
                sum_l2 / n, sum_noise / n, sum_err / n);
+    }
+    stats->nv = m.nv, stats->nt = m.nt, stats->nframes = m.nframes;
+    stats->ms_per_frame = sum_cpu / m.nframes * 1e3;
+    if (side > 0) {
+        const double n = (double)(nv * m.nframes);
+        stats->l2err = sum_l2 / n, stats->ref_noise = sum_noise / n, stats->shade_err = sum_err / n;
     }
     if (png) {
         char err[512];
@@ -762,11 +757,75 @@ int qcli_cmd_transfer(int argc, char **argv)
             fprintf(stderr, "qibl: %s\n", err);
             goto done;
         }
-        printf("  wrote %s (%dx%d%s)\n", png, sw, sh, m.nframes > 1 ? ", animated" : "");
+        if (verbose)
+            printf("  wrote %s (%dx%d%s)\n", png, sw, sh, m.nframes > 1 ? ", animated" : "");
     }
     rc = 0;
 done:
     free(ws), free(pos), free(nrm), free(vw), free(eq), free(er), free(N), free(l2), free(noise), free(cpu), free(col);
     free(tmp), free(sheet), free(fbpx), free(depth), free(rv), free(m.tri), free(m.pos), free(adj_off), free(adj);
     return rc;
+}
+
+int qcli_cmd_transfer(int argc, char **argv)
+{
+    char *files[MAX_FRAMES];
+    int nfiles = 0, zup = 0, force_flip = 0, skip_adjacent = 0;
+    const char *probe = NULL, *png = NULL, *layout = NULL;
+    long size = 320, mask_n = 32, face = 64, side = 32, threads = 0;
+    double az = 35, el = 20;
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i];
+        const int more = i + 1 < argc;
+        if (strcmp(a, "--probe") == 0 && more)
+            probe = argv[++i];
+        else if (strcmp(a, "--png") == 0 && more)
+            png = argv[++i];
+        else if (strcmp(a, "--layout") == 0 && more)
+            layout = argv[++i];
+        else if (strcmp(a, "--zup") == 0)
+            zup = 1;
+        else if (strcmp(a, "--flip") == 0)
+            force_flip = 1;
+        else if (strcmp(a, "--skip-adjacent") == 0)
+            skip_adjacent = 1;
+        else if (strcmp(a, "--size") == 0) {
+            if (!more || qcli_parse_int(argv[++i], 64, 2048, &size) != 0)
+                return qcli_usage_error("--size needs an integer in 64..2048 (pixels per panel)");
+        } else if (strcmp(a, "--mask") == 0) {
+            if (!more || qcli_parse_int(argv[++i], 16, 64, &mask_n) != 0 || (mask_n != 16 && mask_n != 32 && mask_n != 64))
+                return qcli_usage_error("--mask needs 16, 32 or 64");
+        } else if (strcmp(a, "--face") == 0) {
+            if (!more || qcli_parse_int(argv[++i], 2, QIBL_HEMI_MAX_FACE, &face) != 0 || (face & 1))
+                return qcli_usage_error("--face needs an even integer in 2..%d", QIBL_HEMI_MAX_FACE);
+        } else if (strcmp(a, "--rays") == 0) {
+            if (!more || qcli_parse_int(argv[++i], 0, 256, &side) != 0)
+                return qcli_usage_error("--rays needs S in 0..256 (S x S rays per vertex; 0: no reference)");
+        } else if (strcmp(a, "--threads") == 0) {
+            if (!more || qcli_parse_int(argv[++i], 1, 256, &threads) != 0)
+                return qcli_usage_error("--threads needs an integer in 1..256");
+        } else if (strcmp(a, "--view") == 0) {
+            if (!more || parse_view(argv[++i], &az, &el) != 0)
+                return qcli_usage_error("--view needs AZ,EL in degrees (|EL| < 90), e.g. 35,20");
+        } else if (a[0] == '-') {
+            return qcli_usage_error("transfer: unknown or incomplete option '%s' (%s)", a, TRANSFER_USAGE);
+        } else if (nfiles == MAX_FRAMES) {
+            return qcli_usage_error("transfer: at most %d frames", MAX_FRAMES);
+        } else {
+            files[nfiles++] = argv[i];
+        }
+    }
+    if (nfiles == 0 || !probe)
+        return qcli_usage_error(TRANSFER_USAGE);
+    const topts o = {files, nfiles, zup, force_flip, skip_adjacent, probe, png, layout, size, mask_n, face, side,
+                     threads, az, el};
+    qcli_transfer_stats st;
+    return transfer_run(&o, &st, 1);
+}
+
+int qcli_transfer_measure(char **files, int nframes, int zup, const char *probe, int mask, int face, int rays,
+                          qcli_transfer_stats *st)
+{
+    const topts o = {files, nframes, zup, 0, 0, probe, NULL, NULL, 64, mask, face, rays, 0, 35, 20};
+    return transfer_run(&o, st, 0);
 }

@@ -88,13 +88,15 @@ static const qcli_cmd commands[] = {
      qcli_cmd_render},
     {"transfer", "a mesh self-shadowed by hemispherical rasterization under a probe, beside the ray-cast truth",
      "usage: qibl transfer MESH [MESH...] --probe PROBE.hdr [--layout L] [--png OUT] [--size N] [--mask 16|32|64]\n"
-     "                     [--face F] [--rays S] [--zup] [--flip] [--view AZ,EL] [--albedo A] [--threads N]\n"
+     "                     [--face F] [--rays S] [--zup] [--flip] [--skip-adjacent] [--view AZ,EL] [--threads N]\n"
      "  Per vertex of an OBJ or PLY mesh (welded by position, centred, largest half-extent 1, Y-up turned\n"
      "  to Z-up unless --zup; normals point out of counter-clockwise faces, turned by --flip or when a\n"
      "  mesh with under 2 % open edges has a negative volume), the transfer vector V*\n"
      "  (bands 0..4) from hemispherical rasterization with every triangle a blocker (qibl/hemi.h: mask\n"
      "  --mask, default 32, LUT face --face, default 64), turned to world space and shaded with the\n"
-     "  probe's radiance SH times albedo / pi (default 0.8). Reference: S x S stratified cosine-weighted\n"
+     "  probe's radiance SH (irradiance; pictures at an automatic exposure). --skip-adjacent: the paper's\n"
+     "  rule alone (faces around a vertex skipped) instead of also blocking the solid behind them at\n"
+     "  creases. Reference: S x S stratified cosine-weighted\n"
      "  rays per vertex (--rays, default 32; 0: none) through a BVH, shaded with the same coefficients.\n"
      "  --png: qibl | ray cast | error (|E - E_ref| / mean E_ref, 0..10 %), drawn by platform/soft's\n"
      "  integer z-buffer rasterizer, orthographic from azimuth / elevation --view (default 35,20);\n"
