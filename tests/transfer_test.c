@@ -89,13 +89,15 @@ static void test_plane_matches_reference(void **state)
     char probe[128], mesh[128], png[128];
     path_of(probe, sizeof probe, "sky.hdr"), path_of(mesh, sizeof mesh, "plane.obj"), path_of(png, sizeof png, "p.png");
     write_probe(probe, 1);
-    write_text(mesh, "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nf 1 4 3\nf 1 3 2\n");
+    /* a duplicate vertex written as -0 welds with its +0 twin */
+    write_text(mesh, "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nv 1 -0 1\nf 1 4 3\nf 1 5 2\n");
     assert_int_equal(run("transfer", mesh, "--probe", probe, "--rays", "24", "--png", png, "--size", "64", NULL), 0);
     char *out = text(outlog);
     /* nothing blocks: both sides integrate the same unblocked hemisphere; what is left is the
      * 32x32 mask's sampling of the basis (under 1 %) and the reference's noise */
     assert_true(result(out, "RESULT transfer.l2err") < 0.03);
     assert_true(result(out, "RESULT transfer.shade_err") < 0.01);
+    assert_non_null(strstr(out, "4 vertices, 2 triangles"));
     int w, h, frames;
     uint8_t *rgb;
     char err[256];

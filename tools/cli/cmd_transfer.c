@@ -136,7 +136,8 @@ static int load_frames(char **paths, int n, int zup, mesh *out)
         for (uint32_t v = 0; v < nv; ++v)
             memcpy(P + 3 * v, mf.pos + 3 * (size_t)first[v], 3 * sizeof(double));
         for (size_t c = 0; c < nc; ++c) /* corners welded in frame 0 must coincide in every frame */
-            if (memcmp(mf.pos + 3 * c, P + 3 * (size_t)vof[c], 3 * sizeof(double)) != 0) {
+            if (mf.pos[3 * c] != P[3 * (size_t)vof[c]] || mf.pos[3 * c + 1] != P[3 * (size_t)vof[c] + 1] ||
+                mf.pos[3 * c + 2] != P[3 * (size_t)vof[c] + 2]) { /* ==, not memcmp: -0 and +0 weld */
                 fprintf(stderr, "qibl: transfer: %s: corner %zu moved apart from its vertex in frame 1 (%s): frames "
                         "must share topology\n", paths[f], c, paths[0]);
                 if (f)
