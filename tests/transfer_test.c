@@ -138,6 +138,13 @@ static void test_box_floor_shadowed(void **state)
     /* walls as high as the box is wide hide much of the sky from the floor */
     assert_true(boxed < 0.8 * result(out, "RESULT transfer.mean_irradiance"));
     free(out);
+    /* the two-level hierarchy: a coarse box (its vertices the mesh's) + 4 rings of the full one (fewer
+     * rings leave out the walls near a floor vertex, see docs/ARCHITECTURE.md) */
+    assert_int_equal(run("transfer", mesh, "--probe", probe, "--rays", "24", "--coarse", "20", "--ring", "4", NULL), 0);
+    out = text(outlog);
+    assert_non_null(strstr(out, "hierarchy: coarse mesh of"));
+    assert_true(result(out, "RESULT transfer.l2err") < 0.10 + noise);
+    free(out);
 }
 
 static void test_animation_is_apng(void **state)
@@ -179,6 +186,8 @@ static void test_refusals_write_nothing(void **state)
     assert_int_equal(run("transfer", box, "--probe", probe, "--face", "7", "--png", png, NULL), 2);
     assert_int_equal(run("transfer", box, "--probe", probe, "--view", "0,95", "--png", png, NULL), 2);
     assert_int_equal(run("transfer", box, "--probe", probe, "--bogus", NULL), 2);
+    assert_int_equal(run("transfer", box, "--probe", probe, "--coarse", "10", "--ring", "0", "--png", png, NULL), 2);
+    assert_int_equal(run("transfer", box, "--probe", probe, "--coarse", "-1", "--png", png, NULL), 2);
     assert_int_equal(run("transfer", missing, "--probe", probe, "--png", png, NULL), 1);
     char *err = text(errlog);
     assert_non_null(strstr(err, "missing.obj"));

@@ -458,7 +458,7 @@ static void bench_scenes(int quick)
             continue;
         }
         qcli_transfer_stats st;
-        if (qcli_transfer_measure(files, sc[i].nframes, sc[i].zup, probe, 32, 64, quick ? 16 : 32, &st) != 0)
+        if (qcli_transfer_measure(files, sc[i].nframes, sc[i].zup, probe, 32, 64, quick ? 16 : 32, 0, 3, &st) != 0)
             continue;
         const double fps = st.ms_per_frame > 0 ? 1e3 / st.ms_per_frame : 0;
         printf("  %-12s %8u %9u %7u %10.1f %8.2f %% %8.2f %%\n", sc[i].name, st.nv, st.nt, st.nframes, fps,

@@ -56,10 +56,10 @@ typedef struct qcli_transfer_stats {
     uint32_t nv, nt, nframes;
     double ms_per_frame, l2err, ref_noise, shade_err;
 } qcli_transfer_stats;
-/* `qibl transfer` without pictures or report (rays = S, S x S per vertex); 0, or 1 after printing
- * the error. */
+/* `qibl transfer` without pictures or report (rays = S, S x S per vertex; coarse > 0: the two-level
+ * hierarchy, coarse triangles + `ring` rings of the full mesh); 0, or 1 after printing the error. */
 int qcli_transfer_measure(char **files, int nframes, int zup, const char *probe, int mask, int face, int rays,
-                          qcli_transfer_stats *st);
+                          int coarse, int ring, qcli_transfer_stats *st);
 int qcli_cmd_lights(int argc, char **argv);
 
 int qcli_cmd_render(int argc, char **argv); /* cmd_bake.c */

@@ -28,6 +28,7 @@
 #include "qibl/probe.h"
 #include "qibl/raster.h"
 #include "qibl/soft.h"
+#include "gen/simplify.h"
 #include "ref/hemi_ref.h"
 #include "render/rt.h"
 
@@ -39,7 +40,7 @@
 
 #define TRANSFER_USAGE                                                                                        \
     "usage: qibl transfer MESH [MESH...] --probe PROBE.hdr [--layout L] [--png OUT] [--size N] [--mask 16|32|64]\n" \
-    "                     [--face F] [--rays S] [--zup] [--flip] [--skip-adjacent] [--view AZ,EL] [--threads N]"
+    "                     [--face F] [--rays S] [--coarse T [--ring K]] [--zup] [--flip] [--skip-adjacent] [--view AZ,EL] [--threads N]"
 
 typedef struct mesh {
     uint32_t nv, nt, nframes;
@@ -264,6 +265,119 @@ static int adjacency(const mesh *m, uint32_t **off, uint32_t **adj)
     return 0;
 }
 
+/* The two-level hierarchy, per vertex (topology only: built once for all frames): the vertices
+ * to transform (vl, global indices: the receiver, its rings, the coarse mesh's) and the blockers
+ * in those local indices: the full mesh's triangles touching vertices fewer than `ring` edges
+ * away, the coarse triangles none of whose vertices is within `ring` edges (near the receiver
+ * they would stand in for the surface it sits on) and, with crease, the wedges (nadir, b, c) of
+ * the faces (v, b, c) around it, the nadir being local vertex number (count of vl). */
+typedef struct hier {
+    size_t *voff, *boff;
+    uint32_t *vl;
+    uint32_t (*blk)[3];
+} hier;
+
+static void hier_free(hier *h)
+{
+    free(h->voff), free(h->boff), free(h->vl), free(h->blk);
+    memset(h, 0, sizeof *h);
+}
+
+static int grow(void **p, size_t *cap, size_t need, size_t elem)
+{
+    if (need <= *cap)
+        return 0;
+    void *q = realloc(*p, (need * 2) * elem);
+    if (!q)
+        return -1;
+    *p = q, *cap = need * 2;
+    return 0;
+}
+
+static int hier_build(const mesh *m, const uint32_t *adj_off, const uint32_t *adj, const uint32_t (*ctri)[3],
+                      uint32_t nct, int ring, int crease, hier *h)
+{
+    memset(h, 0, sizeof *h);
+    int16_t *depth = malloc(sizeof *depth * m->nv);
+    uint32_t *queue = malloc(sizeof *queue * m->nv), *seen = calloc(m->nt ? m->nt : 1, sizeof *seen);
+    uint32_t *local = malloc(sizeof *local * m->nv), *lstamp = calloc(m->nv, sizeof *lstamp);
+    size_t vcap = 0, bcap = 0, nvl = 0, nb = 0;
+    h->voff = malloc(sizeof *h->voff * ((size_t)m->nv + 1)), h->boff = malloc(sizeof *h->boff * ((size_t)m->nv + 1));
+    if (!depth || !queue || !seen || !local || !lstamp || !h->voff || !h->boff)
+        goto fail;
+    for (size_t v = 0; v < m->nv; ++v)
+        depth[v] = -1;
+    for (uint32_t v = 0; v < m->nv; ++v) {
+        h->voff[v] = nvl, h->boff[v] = nb;
+        uint32_t head = 0, tail = 0, nloc = 0;
+        queue[tail++] = v, depth[v] = 0;
+        while (head < tail) { /* breadth first over the faces around each vertex */
+            const uint32_t w = queue[head++];
+            if (depth[w] >= ring)
+                continue;
+            for (uint32_t k = adj_off[w]; k < adj_off[w + 1]; ++k)
+                for (int c = 0; c < 3; ++c) {
+                    const uint32_t x = m->tri[adj[k]][c];
+                    if (depth[x] < 0)
+                        depth[x] = (int16_t)(depth[w] + 1), queue[tail++] = x;
+                }
+        }
+        if (grow((void **)&h->vl, &vcap, nvl + tail + 3 * (size_t)nct, sizeof *h->vl) != 0 ||
+            grow((void **)&h->blk, &bcap, nb + 8 * (size_t)tail + nct + (adj_off[v + 1] - adj_off[v]),
+                 sizeof *h->blk) != 0)
+            goto fail;
+#define LOCAL(x) (lstamp[x] == v + 1 ? local[x] : (lstamp[x] = v + 1, h->vl[nvl + nloc] = (x), local[x] = nloc++))
+        for (uint32_t q = 0; q < tail; ++q) { /* near field: faces of vertices inside the ring */
+            const uint32_t w = queue[q];
+            if (depth[w] >= ring)
+                continue;
+            for (uint32_t k = adj_off[w]; k < adj_off[w + 1]; ++k)
+                if (seen[adj[k]] != v + 1) {
+                    seen[adj[k]] = v + 1;
+                    for (int c = 0; c < 3; ++c)
+                        h->blk[nb][c] = LOCAL(m->tri[adj[k]][c]);
+                    ++nb;
+                }
+        }
+        for (uint32_t t = 0; t < nct; ++t) {
+            int near = 0;
+            for (int c = 0; c < 3; ++c)
+                near |= depth[ctri[t][c]] >= 0;
+            if (near)
+                continue;
+            for (int c = 0; c < 3; ++c)
+                h->blk[nb][c] = LOCAL(ctri[t][c]);
+            ++nb;
+        }
+        const uint32_t self = LOCAL(v);
+        (void)self;
+        if (crease) {
+            /* the nadir's local index is nloc, fixed after the loop: placeholder UINT32_MAX */
+            for (uint32_t k = adj_off[v]; k < adj_off[v + 1]; ++k) {
+                const uint32_t *t = m->tri[adj[k]];
+                const int r = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+                h->blk[nb][0] = UINT32_MAX;
+                h->blk[nb][1] = LOCAL(t[(r + 1) % 3]), h->blk[nb][2] = LOCAL(t[(r + 2) % 3]);
+                ++nb;
+            }
+        }
+#undef LOCAL
+        for (size_t b = h->boff[v]; b < nb; ++b)
+            if (h->blk[b][0] == UINT32_MAX)
+                h->blk[b][0] = nloc;
+        nvl += nloc;
+        for (uint32_t q = 0; q < tail; ++q)
+            depth[queue[q]] = -1;
+    }
+    h->voff[m->nv] = nvl, h->boff[m->nv] = nb;
+    free(depth), free(queue), free(seen), free(local), free(lstamp);
+    return 0;
+fail:
+    free(depth), free(queue), free(seen), free(local), free(lstamp);
+    hier_free(h);
+    return -1;
+}
+
 /* ---- per-vertex work, threaded --------------------------------------------------------------- */
 
 typedef struct job {
@@ -281,6 +395,7 @@ typedef struct job {
     double *cpu;            /* per vertex hemi CPU seconds */
     const uint32_t *adj_off, *adj; /* triangles around each vertex (CSR) */
     int crease;             /* the solid behind the faces around each vertex blocks */
+    const hier *hi;         /* with a hierarchy: each vertex's vertices and blockers (NULL: every triangle) */
 } job;
 
 static void vertex_job(void *ctx, uint32_t v)
@@ -288,29 +403,46 @@ static void vertex_job(void *ctx, uint32_t v)
     job *j = ctx;
     const mesh *m = j->m;
     int32_t(*loc)[3] = malloc(sizeof *loc * (m->nv + 1)); /* + the nadir */
+    qibl_q16_t(*gp)[3] = j->hi ? malloc(sizeof *gp * m->nv) : NULL;
     uint32_t mask[QIBL_HEMI_MAX_WORDS];
     qibl_q30_t vl[25];
     qibl_hemi_frame_t fr;
-    if (!loc || qibl_hemi_frame_init(&fr, j->pos[v], j->nrm[v]) != QIBL_OK) {
+    if (!loc || (j->hi && !gp) || qibl_hemi_frame_init(&fr, j->pos[v], j->nrm[v]) != QIBL_OK) {
         memset(j->vw[v], 0, sizeof j->vw[v]);
         for (int c = 0; c < 3; ++c)
             j->eq[3 * v + c] = j->er[3 * v + c] = 0;
         j->l2[v] = j->noise[v] = j->cpu[v] = 0;
-        free(loc);
+        free(loc), free(gp);
         return;
     }
+    qibl_status_t st = QIBL_OK;
     const double t0 = thread_cpu();
-    qibl_status_t st = qibl_hemi_transform(&fr, j->pos, m->nv, loc);
-    if (st == QIBL_OK)
-        st = qibl_hemi_clear(j->h, mask);
-    if (st == QIBL_OK)
-        st = qibl_hemi_raster(j->h, (const int32_t(*)[3])loc, m->nv, (const uint32_t(*)[3])m->tri, m->nt, mask, NULL);
+    if (j->hi) { /* the hierarchy: only this vertex's vertices, blockers in their local indices */
+        const size_t n = j->hi->voff[v + 1] - j->hi->voff[v];
+        for (size_t k = 0; k < n; ++k)
+            memcpy(gp[k], j->pos[j->hi->vl[j->hi->voff[v] + k]], sizeof gp[k]);
+        st = qibl_hemi_transform(&fr, (const qibl_q16_t(*)[3])gp, (uint32_t)n, loc);
+        loc[n][0] = 0, loc[n][1] = 0, loc[n][2] = -(1 << 20); /* the nadir of the crease wedges */
+        if (st == QIBL_OK)
+            st = qibl_hemi_clear(j->h, mask);
+        if (st == QIBL_OK)
+            st = qibl_hemi_raster(j->h, (const int32_t(*)[3])loc, (uint32_t)n + 1, j->hi->blk + j->hi->boff[v],
+                                  (uint32_t)(j->hi->boff[v + 1] - j->hi->boff[v]), mask, NULL);
+    } else {
+        st = qibl_hemi_transform(&fr, j->pos, m->nv, loc);
+        if (st == QIBL_OK)
+            st = qibl_hemi_clear(j->h, mask);
+        if (st == QIBL_OK)
+            st = qibl_hemi_raster(j->h, (const int32_t(*)[3])loc, m->nv, (const uint32_t(*)[3])m->tri, m->nt, mask,
+                                  NULL);
+    }
     /* The faces around the receiver: the rasterizer skips them (their planes pass through it), yet
      * the surface hides what lies behind them: at a crease (a box's floor meeting its walls) the
      * averaged normal's hemisphere reaches behind a face. The solid's side of the fan of faces is
      * the union of the wedges (nadir, b, c) of each face (v, b, c), the nadir -n being inside;
-     * at a convex vertex every wedge lies below the horizon and blocks nothing. No winding needed. */
-    if (j->crease && st == QIBL_OK) {
+     * at a convex vertex every wedge lies below the horizon and blocks nothing. No winding needed.
+     * (The hierarchy's lists carry these wedges already.) */
+    if (j->crease && !j->hi && st == QIBL_OK) {
         uint32_t fan[64][3], nf = 0;
         loc[m->nv][0] = 0, loc[m->nv][1] = 0, loc[m->nv][2] = -(1 << 20); /* 4 units straight down */
         for (uint32_t k = j->adj_off[v]; st == QIBL_OK && k < j->adj_off[v + 1]; ++k) {
@@ -332,7 +464,7 @@ static void vertex_job(void *ctx, uint32_t v)
     if (st == QIBL_OK)
         st = qibl_hemi_shade(j->light, j->vw[v], e);
     j->cpu[v] = thread_cpu() - t0;
-    free(loc);
+    free(loc), free(gp);
     if (st != QIBL_OK) /* cannot happen for validated inputs; shown black rather than dropped */
         memset(j->vw[v], 0, sizeof j->vw[v]), e[0] = e[1] = e[2] = 0;
     for (int c = 0; c < 3; ++c)
@@ -521,7 +653,7 @@ typedef struct topts {
     char **files;
     int nfiles, zup, force_flip, skip_adjacent;
     const char *probe, *png, *layout;
-    long size, mask_n, face, side, threads;
+    long size, mask_n, face, side, threads, coarse, ring;
     double az, el;
 } topts;
 
@@ -531,7 +663,8 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
     char **files = o->files;
     const int nfiles = o->nfiles, zup = o->zup, force_flip = o->force_flip, skip_adjacent = o->skip_adjacent;
     const char *probe = o->probe, *png = o->png, *layout = o->layout;
-    const long size = o->size, mask_n = o->mask_n, face = o->face, side = o->side;
+    const long size = o->size, mask_n = o->mask_n, face = o->face, side = o->side, coarse = o->coarse,
+               ring = o->ring;
     long threads = o->threads;
     const double az = o->az, el = o->el;
     memset(stats, 0, sizeof *stats);
@@ -569,7 +702,9 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
     uint8_t *fbpx = malloc((size_t)S * (size_t)S * 4);
     uint32_t *depth = malloc(sizeof(uint32_t) * (size_t)S * (size_t)S);
     qibl_raster_vertex_t *rv = malloc(sizeof *rv * nv);
-    uint32_t *adj_off = NULL, *adj = NULL;
+    uint32_t *adj_off = NULL, *adj = NULL, (*ctri)[3] = NULL, nct = 0;
+    hier hi;
+    memset(&hi, 0, sizeof hi);
     int rc = 1;
     if (!ws || !pos || !nrm || !vw || !eq || !er || !N || !l2 || !noise || !cpu || !col || !tmp || !sheet || !fbpx ||
         !depth || !rv) {
@@ -585,6 +720,13 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
         fprintf(stderr, "qibl: transfer: out of memory\n");
         goto done;
     }
+    if (coarse > 0) {
+        if (qtool_simplify(m.pos, m.nv, (const uint32_t(*)[3])m.tri, m.nt, (uint32_t)coarse, &ctri, &nct) != 0 ||
+            hier_build(&m, adj_off, adj, (const uint32_t(*)[3])ctri, nct, (int)ring, !skip_adjacent, &hi) != 0) {
+            fprintf(stderr, "qibl: transfer: out of memory (hierarchy)\n");
+            goto done;
+        }
+    }
     view vwp;
     view_make(az, el, S, &m, &vwp);
     if (verbose)
@@ -594,9 +736,14 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
            force_flip ? ", normals turned (--flip)" : flip < 0 ? ", closed and wound clockwise (normals turned)" : "",
            probe, pdesc);
     if (verbose)
-        printf("  hemi: %ldx%ld mask, face %ld (%.1f KiB of tables), every triangle a blocker of every vertex, %s\n",
-           mask_n, mask_n, face, wsz / 1024.0,
-           skip_adjacent ? "adjacent faces skipped (--skip-adjacent)" : "the solid behind the faces around each vertex blocks");
+        printf("  hemi: %ldx%ld mask, face %ld (%.1f KiB of tables), %s\n", mask_n, mask_n, face, wsz / 1024.0,
+               skip_adjacent ? "adjacent faces skipped (--skip-adjacent)" : "the solid behind the faces around each vertex blocks");
+    if (verbose && coarse > 0)
+        printf("  hierarchy: coarse mesh of %u triangles (QEM half-edge collapses, vertices a subset of the mesh's) +\n"
+               "  the full mesh within %ld rings of each vertex: %.1f blockers per vertex (of %u, crease wedges included)\n",
+               nct, ring, (double)hi.boff[m.nv] / (double)m.nv, m.nt);
+    else if (verbose)
+        printf("  every triangle a blocker of every vertex (--coarse T: a two-level hierarchy instead)\n");
     if (side > 0)
         if (verbose)
             printf("  reference: %ld x %ld stratified cosine-weighted rays per vertex (tools/ref/hemi_ref.c)\n", side, side);
@@ -640,7 +787,8 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
             have_rt = 1;
         }
         job j = {&m, &h, have_rt ? &rt : NULL, (const qibl_q16_t(*)[3])pos, (const int32_t(*)[3])nrm,
-                 (const int32_t(*)[25])light, (int)side, vw, eq, er, l2, noise, cpu, adj_off, adj, !skip_adjacent};
+                 (const int32_t(*)[25])light, (int)side, vw, eq, er, l2, noise, cpu, adj_off, adj, !skip_adjacent,
+                 coarse > 0 ? &hi : NULL};
         qtool_rt_parallel((int)threads, m.nv, vertex_job, &j, NULL);
         if (have_rt)
             qtool_rt_scene_free(&rt);
@@ -765,6 +913,7 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
 done:
     free(ws), free(pos), free(nrm), free(vw), free(eq), free(er), free(N), free(l2), free(noise), free(cpu), free(col);
     free(tmp), free(sheet), free(fbpx), free(depth), free(rv), free(m.tri), free(m.pos), free(adj_off), free(adj);
+    hier_free(&hi), free(ctri);
     return rc;
 }
 
@@ -773,7 +922,7 @@ int qcli_cmd_transfer(int argc, char **argv)
     char *files[MAX_FRAMES];
     int nfiles = 0, zup = 0, force_flip = 0, skip_adjacent = 0;
     const char *probe = NULL, *png = NULL, *layout = NULL;
-    long size = 320, mask_n = 32, face = 64, side = 32, threads = 0;
+    long size = 320, mask_n = 32, face = 64, side = 32, threads = 0, coarse = 0, ring = 3;
     double az = 35, el = 20;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
@@ -790,6 +939,13 @@ int qcli_cmd_transfer(int argc, char **argv)
             force_flip = 1;
         else if (strcmp(a, "--skip-adjacent") == 0)
             skip_adjacent = 1;
+        else if (strcmp(a, "--coarse") == 0) {
+            if (!more || qcli_parse_int(argv[++i], 0, 1 << 20, &coarse) != 0)
+                return qcli_usage_error("--coarse needs a triangle count in 0..1048576 (0: no hierarchy)");
+        } else if (strcmp(a, "--ring") == 0) {
+            if (!more || qcli_parse_int(argv[++i], 1, 16, &ring) != 0)
+                return qcli_usage_error("--ring needs an integer in 1..16");
+        }
         else if (strcmp(a, "--size") == 0) {
             if (!more || qcli_parse_int(argv[++i], 64, 2048, &size) != 0)
                 return qcli_usage_error("--size needs an integer in 64..2048 (pixels per panel)");
@@ -819,14 +975,14 @@ int qcli_cmd_transfer(int argc, char **argv)
     if (nfiles == 0 || !probe)
         return qcli_usage_error(TRANSFER_USAGE);
     const topts o = {files, nfiles, zup, force_flip, skip_adjacent, probe, png, layout, size, mask_n, face, side,
-                     threads, az, el};
+                     threads, coarse, ring, az, el};
     qcli_transfer_stats st;
     return transfer_run(&o, &st, 1);
 }
 
 int qcli_transfer_measure(char **files, int nframes, int zup, const char *probe, int mask, int face, int rays,
-                          qcli_transfer_stats *st)
+                          int coarse, int ring, qcli_transfer_stats *st)
 {
-    const topts o = {files, nframes, zup, 0, 0, probe, NULL, NULL, 64, mask, face, rays, 0, 35, 20};
+    const topts o = {files, nframes, zup, 0, 0, probe, NULL, NULL, 64, mask, face, rays, 0, coarse, ring, 35, 20};
     return transfer_run(&o, st, 0);
 }

@@ -88,7 +88,8 @@ static const qcli_cmd commands[] = {
      qcli_cmd_render},
     {"transfer", "a mesh self-shadowed by hemispherical rasterization under a probe, beside the ray-cast truth",
      "usage: qibl transfer MESH [MESH...] --probe PROBE.hdr [--layout L] [--png OUT] [--size N] [--mask 16|32|64]\n"
-     "                     [--face F] [--rays S] [--zup] [--flip] [--skip-adjacent] [--view AZ,EL] [--threads N]\n"
+     "                     [--face F] [--rays S] [--coarse T [--ring K]] [--zup] [--flip] [--skip-adjacent]\n"
+     "                     [--view AZ,EL] [--threads N]\n"
      "  Per vertex of an OBJ or PLY mesh (welded by position, centred, largest half-extent 1, Y-up turned\n"
      "  to Z-up unless --zup; normals point out of counter-clockwise faces, turned by --flip or when a\n"
      "  mesh with under 2 % open edges has a negative volume), the transfer vector V*\n"
@@ -98,6 +99,9 @@ static const qcli_cmd commands[] = {
      "  rule alone (faces around a vertex skipped) instead of also blocking the solid behind them at\n"
      "  creases. Reference: S x S stratified cosine-weighted\n"
      "  rays per vertex (--rays, default 32; 0: none) through a BVH, shaded with the same coefficients.\n"
+     "  --coarse T: the paper's two-level hierarchy instead of every triangle: a coarse mesh of about T\n"
+     "  triangles (quadric-error half-edge collapses, so its vertices are the mesh's and it animates with\n"
+     "  it) plus the full mesh within K edges of each vertex (--ring, default 3).\n"
      "  --png: qibl | ray cast | error (|E - E_ref| / mean E_ref, 0..10 %), drawn by platform/soft's\n"
      "  integer z-buffer rasterizer, orthographic from azimuth / elevation --view (default 35,20);\n"
      "  several MESH files are frames of one animation (same triangles): an animated PNG. Prints ms per\n"
