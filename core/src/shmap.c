@@ -458,34 +458,56 @@ static void finish4(int32_t *o, const int32_t *a0, const int32_t *a1, const int3
  * the same pixel of every plane falls in one L1 set; 16 planes read side by side evict each other
  * from an 8-way L1 before the next 16 pixels use the rest of their lines. Same integers as the
  * scalar passes (exact sums inside the int32 bound of shmap.h, in any order). */
-#define SHMAP_PASS 8u
+#define SHMAP_PASS 8u /* planar_pass writes out its 8 plane pointers (q0..q7) */
 
 /* acc[p] (+)= sum_j w_(i0+j) pl[j][p] for p < n, cnt <= SHMAP_PASS planes from map i0 (even) */
 static void planar_pass(int32_t *acc, const uint8_t *const *pl, const wprep_t *wp, uint32_t ch, uint32_t i0,
                         uint32_t cnt, uint32_t n, int first)
 {
     uint32_t p = 0;
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2 || QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2
+    /* pairs of planes, written out (a loop over a variable count costs a third at gcc -O2): np
+     * pairs; an odd count's last plane pairs with itself under its pair weights (w, 0) */
+    const uint32_t np = (cnt + 1u) / 2u;
+    const uint8_t *q[SHMAP_PASS];
+    for (uint32_t j = 0; j < SHMAP_PASS; ++j)
+        q[j] = pl[j < cnt ? j : cnt - 1u];
+    const uint8_t *q0 = q[0], *q1 = q[1], *q2 = q[2], *q3 = q[3], *q4 = q[4], *q5 = q[5], *q6 = q[6], *q7 = q[7];
+#endif
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
-    /* pairs of planes: bytes interleaved, widened to int16, one _mm256_madd_epi16 per 8 pixels */
-    const __m256i *wv = wp->v[ch] + i0 / 2u;
+    /* bytes of two planes interleaved, widened to int16, one _mm256_madd_epi16 per 8 pixels */
+    const __m256i *wv = wp->v[ch] + i0 / 2u, zw = _mm256_setzero_si256();
+    const __m256i w0 = wv[0], w1 = np > 1u ? wv[1] : zw, w2 = np > 2u ? wv[2] : zw, w3 = np > 3u ? wv[3] : zw;
     for (; p + 16u <= n; p += 16u) {
-        __m256i a0 = _mm256_setzero_si256(), a1 = a0;
+        __m256i a0 = zw, a1 = zw;
         if (!first) {
             a0 = _mm256_loadu_si256((const __m256i *)(const void *)(acc + p));
             a1 = _mm256_loadu_si256((const __m256i *)(const void *)(acc + p + 8u));
         }
-        uint32_t j = 0;
-        for (; j + 2u <= cnt; j += 2u) {
-            const __m128i x = SHMAP_LOAD16(pl[j] + p), y = SHMAP_LOAD16(pl[j + 1u] + p);
-            SHMAP_PAIR_AVX2(a0, a1, x, y, wv[j / 2u]);
-        }
-        if (j < cnt) /* an odd last plane: its partner zero bytes under weight 0 */
-            SHMAP_PAIR_AVX2(a0, a1, SHMAP_LOAD16(pl[j] + p), _mm_setzero_si128(), wv[j / 2u]);
+        SHMAP_PAIR_AVX2(a0, a1, SHMAP_LOAD16(q0 + p), SHMAP_LOAD16(q1 + p), w0);
+        if (np > 1u)
+            SHMAP_PAIR_AVX2(a0, a1, SHMAP_LOAD16(q2 + p), SHMAP_LOAD16(q3 + p), w1);
+        if (np > 2u)
+            SHMAP_PAIR_AVX2(a0, a1, SHMAP_LOAD16(q4 + p), SHMAP_LOAD16(q5 + p), w2);
+        if (np > 3u)
+            SHMAP_PAIR_AVX2(a0, a1, SHMAP_LOAD16(q6 + p), SHMAP_LOAD16(q7 + p), w3);
         _mm256_storeu_si256((__m256i *)(void *)(acc + p), a0);
         _mm256_storeu_si256((__m256i *)(void *)(acc + p + 8u), a1);
     }
 #elif QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2
     const __m128i *wv = wp->v[ch] + i0 / 2u, z = _mm_setzero_si128();
+    const __m128i w0 = wv[0], w1 = np > 1u ? wv[1] : z, w2 = np > 2u ? wv[2] : z, w3 = np > 3u ? wv[3] : z;
+/* w_j c_j + w_j+1 c_j+1 of 16 pixels into a0..a3: bytes interleaved, widened against zero */
+#define SHMAP_PAIR_SSE2(xp, yp, wpair)                                                                 \
+    do {                                                                                               \
+        const __m128i x_ = _mm_loadu_si128((const __m128i *)(const void *)(xp));                       \
+        const __m128i y_ = _mm_loadu_si128((const __m128i *)(const void *)(yp));                       \
+        const __m128i lo_ = _mm_unpacklo_epi8(x_, y_), hi_ = _mm_unpackhi_epi8(x_, y_);                \
+        a0 = _mm_add_epi32(a0, _mm_madd_epi16(_mm_unpacklo_epi8(lo_, z), wpair));                      \
+        a1 = _mm_add_epi32(a1, _mm_madd_epi16(_mm_unpackhi_epi8(lo_, z), wpair));                      \
+        a2 = _mm_add_epi32(a2, _mm_madd_epi16(_mm_unpacklo_epi8(hi_, z), wpair));                      \
+        a3 = _mm_add_epi32(a3, _mm_madd_epi16(_mm_unpackhi_epi8(hi_, z), wpair));                      \
+    } while (0)
     for (; p + 16u <= n; p += 16u) {
         __m128i a0 = z, a1 = z, a2 = z, a3 = z;
         if (!first) {
@@ -494,29 +516,19 @@ static void planar_pass(int32_t *acc, const uint8_t *const *pl, const wprep_t *w
             a2 = _mm_loadu_si128((const __m128i *)(const void *)(acc + p + 8u));
             a3 = _mm_loadu_si128((const __m128i *)(const void *)(acc + p + 12u));
         }
-        uint32_t j = 0;
-        for (; j + 2u <= cnt; j += 2u) {
-            const __m128i x = _mm_loadu_si128((const __m128i *)(const void *)(pl[j] + p));
-            const __m128i y = _mm_loadu_si128((const __m128i *)(const void *)(pl[j + 1u] + p));
-            const __m128i lo = _mm_unpacklo_epi8(x, y), hi = _mm_unpackhi_epi8(x, y), w2 = wv[j / 2u];
-            a0 = _mm_add_epi32(a0, _mm_madd_epi16(_mm_unpacklo_epi8(lo, z), w2));
-            a1 = _mm_add_epi32(a1, _mm_madd_epi16(_mm_unpackhi_epi8(lo, z), w2));
-            a2 = _mm_add_epi32(a2, _mm_madd_epi16(_mm_unpacklo_epi8(hi, z), w2));
-            a3 = _mm_add_epi32(a3, _mm_madd_epi16(_mm_unpackhi_epi8(hi, z), w2));
-        }
-        if (j < cnt) { /* an odd last plane: (byte, 0) pairs under (w, 0) */
-            const __m128i x = _mm_loadu_si128((const __m128i *)(const void *)(pl[j] + p));
-            const __m128i lo = _mm_unpacklo_epi8(x, z), hi = _mm_unpackhi_epi8(x, z), w2 = wv[j / 2u];
-            a0 = _mm_add_epi32(a0, _mm_madd_epi16(_mm_unpacklo_epi16(lo, z), w2));
-            a1 = _mm_add_epi32(a1, _mm_madd_epi16(_mm_unpackhi_epi16(lo, z), w2));
-            a2 = _mm_add_epi32(a2, _mm_madd_epi16(_mm_unpacklo_epi16(hi, z), w2));
-            a3 = _mm_add_epi32(a3, _mm_madd_epi16(_mm_unpackhi_epi16(hi, z), w2));
-        }
+        SHMAP_PAIR_SSE2(q0 + p, q1 + p, w0);
+        if (np > 1u)
+            SHMAP_PAIR_SSE2(q2 + p, q3 + p, w1);
+        if (np > 2u)
+            SHMAP_PAIR_SSE2(q4 + p, q5 + p, w2);
+        if (np > 3u)
+            SHMAP_PAIR_SSE2(q6 + p, q7 + p, w3);
         _mm_storeu_si128((__m128i *)(void *)(acc + p), a0);
         _mm_storeu_si128((__m128i *)(void *)(acc + p + 4u), a1);
         _mm_storeu_si128((__m128i *)(void *)(acc + p + 8u), a2);
         _mm_storeu_si128((__m128i *)(void *)(acc + p + 12u), a3);
     }
+#undef SHMAP_PAIR_SSE2
 #else /* NEON: bytes widened to int16, int32 += int16 * weight (vmlal_n_s16) */
     const int16_t *wc = wp->w[ch] + i0;
     for (; p + 16u <= n; p += 16u) {
