@@ -655,6 +655,49 @@ static void test_kernel_path_matches_definition(void **state)
     }
 }
 
+/* The planar SIMD passes (8 planes each, 16 pixels a step, the last n % 16 pixels apart) against the
+ * definition: every k, planes a multiple of 4 KiB apart (4096-pixel rows), whole rows and spans at
+ * odd offsets, the accumulator bound itself (all bytes 255 under +-32767) and random bytes, on
+ * the fast final scaling and a random one. */
+static void test_planar_passes_match_definition(void **state)
+{
+    (void)state;
+    tu_rng r = {2816};
+    const uint32_t w = 4096u;
+    int32_t *o = malloc((size_t)w * 3u * 4u);
+    void *ws = malloc(qibl_shmap_span_workspace_size(w));
+    assert_non_null(o);
+    assert_non_null(ws);
+    for (uint32_t k = 1; k <= (uint32_t)QIBL_SH_MAX_COUNT; ++k) {
+        maps_buf b;
+        maps_make(&b, w, 1, k, 3, &r, 1 << 16);
+        const int extreme = k % 3 == 0;
+        if (extreme)
+            memset(b.planes, 255, (size_t)w * k * 3u);
+        qibl_shmap_weights_t wt;
+        wt.k = k, wt.channels = 3;
+        for (uint32_t c = 0; c < 3u; ++c) {
+            for (uint32_t i = 0; i < (uint32_t)QIBL_SH_MAX_COUNT; ++i)
+                wt.w[c][i] = i >= k ? 0 : extreme ? (c == 1 ? -32767 : 32767) : (int16_t)((int32_t)(tu_u32(&r) % 65535u) - 32767);
+            wt.shift[c] = k % 2 ? -(int32_t)(tu_u32(&r) % 20u) : (int32_t)(tu_u32(&r) % 43u) - 40;
+            wt.bias[c] = (int64_t)(tu_u32(&r) % 2001u) - 1000;
+        }
+        const uint32_t x0 = k % 2 ? 0u : 1u + tu_u32(&r) % 37u, n = k % 2 ? w : w - x0 - tu_u32(&r) % 29u;
+        assert_int_equal(qibl_shmap_relight_span(&b.m, &wt, x0, 0, n, o, ws, qibl_shmap_span_workspace_size(w)), QIBL_OK);
+        for (uint32_t x = 0; x < n; ++x)
+            for (uint32_t c = 0; c < 3u; ++c) {
+                int64_t acc = 0;
+                for (uint32_t i = 0; i < k; ++i)
+                    acc += (int64_t)wt.w[c][i] * qibl_shmaps_plane(&b.m, i, c)[x0 + x];
+                const int32_t want = exact_out(acc, wt.shift[c], wt.bias[c]);
+                if (o[3u * x + c] != want)
+                    fail_msg("k %u x0 %u x %u ch %u shift %d: %d, want %d", k, x0, x, c, wt.shift[c], o[3u * x + c], want);
+            }
+        maps_free(&b);
+    }
+    free(o), free(ws);
+}
+
 static void test_interleaved_equals_planar(void **state)
 {
     (void)state;
@@ -860,6 +903,7 @@ int main(void)
         cmocka_unit_test(test_ylut_build_and_lookup),
         cmocka_unit_test(test_interleaved_equals_planar),
         cmocka_unit_test(test_kernel_path_matches_definition),
+        cmocka_unit_test(test_planar_passes_match_definition),
         cmocka_unit_test(test_stream_rows_from_file),
         cmocka_unit_test(test_goldens),
     };

@@ -9,7 +9,7 @@
  */
 #include "qibl/lightpath.h"
 
-#if QIBL_USE_SHMAP /* path lights are relit through the SH maps */
+#if QIBL_USE_LIGHTPATH /* config.h: needs QIBL_USE_SHMAP (path lights are relit through the SH maps) */
 
 static uint32_t load_u16(const uint8_t *p)
 {
@@ -291,4 +291,4 @@ qibl_status_t qibl_lightpath_shade_span(const qibl_lightpath_t *p, uint32_t t, u
 
 #else
 typedef int qibl_lightpath_disabled_t; /* ISO C forbids an empty translation unit */
-#endif /* QIBL_USE_SHMAP */
+#endif /* QIBL_USE_LIGHTPATH */

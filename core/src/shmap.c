@@ -9,7 +9,7 @@
 #include "qibli.h"
 
 /* compiler intrinsics headers only (freestanding), only on the path config.h chose */
-#if QIBL_USE_SHMAP && QIBL_USE_INTERLEAVED
+#if QIBL_USE_SHMAP
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
 #include <immintrin.h>
 #elif QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2
@@ -134,6 +134,7 @@ size_t qibl_shmap_span_workspace_size(uint32_t n)
     return (size_t)n * 3u * sizeof(int32_t);
 }
 
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_SCALAR
 /* acc[p] (+)= sum of up to four planes times their int16 weights. Plain loops over restrict
  * pointers with 16-bit operands: compilers vectorise them (bytes widened to 16 bits, 16x16->32
  * products). Four maps per pass keeps the accumulator traffic at one load/store per four maps. */
@@ -152,6 +153,7 @@ static void acc_add4(int32_t *restrict acc, const uint8_t *restrict a, const uin
     for (uint32_t p = 0; p < n; ++p)
         acc[p] += wa * (int16_t)a[p] + wb * (int16_t)b[p] + wc * (int16_t)c[p] + wd * (int16_t)d[p];
 }
+#endif
 
 /* Final pass of one channel: out = sat32(acc * 2^shift + bias) into the interleaved RGB row.
  * The common case (small shift, bias within +-2^30) stays in int32, which vectorises:
@@ -230,8 +232,8 @@ static void finish_rgb(const finish_t *f, const qibl_shmap_weights_t *w, const i
     }
 }
 
-#if QIBL_USE_INTERLEAVED
-/* The weights of one span as the group kernel takes them: SSE2/AVX2 pmaddwd multiplies pairs of
+#if QIBL_USE_INTERLEAVED || QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR
+/* The weights of one span as the group and planar kernels take them: SSE2/AVX2 pmaddwd multiplies pairs of
  * maps, so the weights are int16 pairs (w_i, w_i+1) broadcast to every 32-bit lane, the pair of an
  * odd k's last map (w, 0); scalar C and NEON take the int16 weights as they are. */
 #define SHMAP_PAIRS ((QIBL_SH_MAX_COUNT + 1) / 2)
@@ -244,6 +246,7 @@ typedef struct wprep {
     const int16_t *w[3];
 #endif
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2 || QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2
+    const int16_t *ws[3]; /* the int16 weights as they are (the planar kernel's last pixels) */
     __m128i sl[3], r[3], h[3], b[3]; /* the fast final scaling: shift counts and constants */
 #elif QIBL_CONFIG_SIMD == QIBL_SIMD_NEON
     int32x4_t sl[3], r[3], h[3], b[3]; /* r negative: vshlq shifts right */
@@ -277,6 +280,8 @@ static void wprep_init(wprep_t *wp, const qibl_shmap_weights_t *w, const finish_
             wp->v[ch][i / 2u] = _mm_unpacklo_epi16(_mm_set1_epi16(a), _mm_set1_epi16(b));
 #endif
         }
+    for (uint32_t ch = 0; ch < 3u; ++ch)
+        wp->ws[ch] = w->w[ch];
 #else
     (void)k;
     for (uint32_t ch = 0; ch < 3u; ++ch)
@@ -284,13 +289,7 @@ static void wprep_init(wprep_t *wp, const qibl_shmap_weights_t *w, const finish_
 #endif
 }
 
-/* One group of 16 pixels, one channel (AVX2: all three, group_acc3): acc[p] = sum_i w_i
- * c[16 i + p] over the k maps' 16 adjacent bytes each (the interleaved layout). Same integer sums on every path (exact: every partial sum
- * is inside the int32 bound of shmap.h, whatever the order). */
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
-/* pairs of maps: bytes of map i and i+1 interleaved, widened to int16, one _mm256_madd_epi16 per
- * 8 pixels (w_i c_i + w_i+1 c_i+1 in each int32 lane); an odd k pairs its last map with itself
- * under weight 0 */
 /* w_i c_i + w_i+1 c_i+1 of one channel's 16 pixels added to lo (pixels 0..7) and hi (8..15);
  * y = zero bytes for an odd k's last map (its partner weight is 0) */
 #define SHMAP_PAIR_AVX2(lo, hi, x, y, wv)                                                              \
@@ -299,6 +298,17 @@ static void wprep_init(wprep_t *wp, const qibl_shmap_weights_t *w, const finish_
         hi = _mm256_add_epi32(hi, _mm256_madd_epi16(_mm256_cvtepu8_epi16(_mm_unpackhi_epi8(x, y)), wv)); \
     } while (0)
 #define SHMAP_LOAD16(p) _mm_loadu_si128((const __m128i *)(const void *)(p))
+#endif
+#endif /* wprep */
+
+#if QIBL_USE_INTERLEAVED
+/* One group of 16 pixels, one channel (AVX2: all three, group_acc3): acc[p] = sum_i w_i
+ * c[16 i + p] over the k maps' 16 adjacent bytes each (the interleaved layout). Same integer sums on every path (exact: every partial sum
+ * is inside the int32 bound of shmap.h, whatever the order). */
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+/* pairs of maps: bytes of map i and i+1 interleaved, widened to int16, one _mm256_madd_epi16 per
+ * 8 pixels (w_i c_i + w_i+1 c_i+1 in each int32 lane); an odd k pairs its last map with itself
+ * under weight 0 */
 
 /* the three channels in one loop (six accumulators in registers, written out so that -O2 keeps
  * them there): one loop step per pair of maps */
@@ -406,6 +416,7 @@ static QIBLI_NOINLINE void group_acc(int32_t *restrict acc, const uint8_t *restr
     }
 }
 #endif
+#endif /* QIBL_USE_INTERLEAVED */
 
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2 || QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2
 /* 4 pixels of the fast final scaling, (acc << sl + h) >> r + b per channel (as finish_rgb: the
@@ -440,6 +451,146 @@ static void finish4(int32_t *o, const int32_t *a0, const int32_t *a1, const int3
 }
 #endif
 
+#if QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR
+/* Planar layout, SIMD: planes in passes of at most SHMAP_PASS, each pass adding its planes into the
+ * channel's int32 accumulators (the span workspace) 16 pixels at a time, the accumulators in
+ * registers across the pass. Why passes: the planes of an asset lie a multiple of 4 KiB apart, so
+ * the same pixel of every plane falls in one L1 set; 16 planes read side by side evict each other
+ * from an 8-way L1 before the next 16 pixels use the rest of their lines. Same integers as the
+ * scalar passes (exact sums inside the int32 bound of shmap.h, in any order). */
+#define SHMAP_PASS 8u /* planar_pass writes out its 8 plane pointers (q0..q7) */
+
+/* acc[p] (+)= sum_j w_(i0+j) pl[j][p] for p < n, cnt <= SHMAP_PASS planes from map i0 (even) */
+static void planar_pass(int32_t *acc, const uint8_t *const *pl, const wprep_t *wp, uint32_t ch, uint32_t i0,
+                        uint32_t cnt, uint32_t n, int first)
+{
+    uint32_t p = 0;
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2 || QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2
+    /* pairs of planes, written out (a loop over a variable count costs a third at gcc -O2): np
+     * pairs; an odd count's last plane pairs with itself under its pair weights (w, 0) */
+    const uint32_t np = (cnt + 1u) / 2u;
+    const uint8_t *q[SHMAP_PASS];
+    for (uint32_t j = 0; j < SHMAP_PASS; ++j)
+        q[j] = pl[j < cnt ? j : cnt - 1u];
+    const uint8_t *q0 = q[0], *q1 = q[1], *q2 = q[2], *q3 = q[3], *q4 = q[4], *q5 = q[5], *q6 = q[6], *q7 = q[7];
+#endif
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+    /* bytes of two planes interleaved, widened to int16, one _mm256_madd_epi16 per 8 pixels */
+    const __m256i *wv = wp->v[ch] + i0 / 2u, zw = _mm256_setzero_si256();
+    const __m256i w0 = wv[0], w1 = np > 1u ? wv[1] : zw, w2 = np > 2u ? wv[2] : zw, w3 = np > 3u ? wv[3] : zw;
+    for (; p + 16u <= n; p += 16u) {
+        __m256i a0 = zw, a1 = zw;
+        if (!first) {
+            a0 = _mm256_loadu_si256((const __m256i *)(const void *)(acc + p));
+            a1 = _mm256_loadu_si256((const __m256i *)(const void *)(acc + p + 8u));
+        }
+        SHMAP_PAIR_AVX2(a0, a1, SHMAP_LOAD16(q0 + p), SHMAP_LOAD16(q1 + p), w0);
+        if (np > 1u)
+            SHMAP_PAIR_AVX2(a0, a1, SHMAP_LOAD16(q2 + p), SHMAP_LOAD16(q3 + p), w1);
+        if (np > 2u)
+            SHMAP_PAIR_AVX2(a0, a1, SHMAP_LOAD16(q4 + p), SHMAP_LOAD16(q5 + p), w2);
+        if (np > 3u)
+            SHMAP_PAIR_AVX2(a0, a1, SHMAP_LOAD16(q6 + p), SHMAP_LOAD16(q7 + p), w3);
+        _mm256_storeu_si256((__m256i *)(void *)(acc + p), a0);
+        _mm256_storeu_si256((__m256i *)(void *)(acc + p + 8u), a1);
+    }
+#elif QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2
+    const __m128i *wv = wp->v[ch] + i0 / 2u, z = _mm_setzero_si128();
+    const __m128i w0 = wv[0], w1 = np > 1u ? wv[1] : z, w2 = np > 2u ? wv[2] : z, w3 = np > 3u ? wv[3] : z;
+/* w_j c_j + w_j+1 c_j+1 of 16 pixels into a0..a3: bytes interleaved, widened against zero */
+#define SHMAP_PAIR_SSE2(xp, yp, wpair)                                                                 \
+    do {                                                                                               \
+        const __m128i x_ = _mm_loadu_si128((const __m128i *)(const void *)(xp));                       \
+        const __m128i y_ = _mm_loadu_si128((const __m128i *)(const void *)(yp));                       \
+        const __m128i lo_ = _mm_unpacklo_epi8(x_, y_), hi_ = _mm_unpackhi_epi8(x_, y_);                \
+        a0 = _mm_add_epi32(a0, _mm_madd_epi16(_mm_unpacklo_epi8(lo_, z), wpair));                      \
+        a1 = _mm_add_epi32(a1, _mm_madd_epi16(_mm_unpackhi_epi8(lo_, z), wpair));                      \
+        a2 = _mm_add_epi32(a2, _mm_madd_epi16(_mm_unpacklo_epi8(hi_, z), wpair));                      \
+        a3 = _mm_add_epi32(a3, _mm_madd_epi16(_mm_unpackhi_epi8(hi_, z), wpair));                      \
+    } while (0)
+    for (; p + 16u <= n; p += 16u) {
+        __m128i a0 = z, a1 = z, a2 = z, a3 = z;
+        if (!first) {
+            a0 = _mm_loadu_si128((const __m128i *)(const void *)(acc + p));
+            a1 = _mm_loadu_si128((const __m128i *)(const void *)(acc + p + 4u));
+            a2 = _mm_loadu_si128((const __m128i *)(const void *)(acc + p + 8u));
+            a3 = _mm_loadu_si128((const __m128i *)(const void *)(acc + p + 12u));
+        }
+        SHMAP_PAIR_SSE2(q0 + p, q1 + p, w0);
+        if (np > 1u)
+            SHMAP_PAIR_SSE2(q2 + p, q3 + p, w1);
+        if (np > 2u)
+            SHMAP_PAIR_SSE2(q4 + p, q5 + p, w2);
+        if (np > 3u)
+            SHMAP_PAIR_SSE2(q6 + p, q7 + p, w3);
+        _mm_storeu_si128((__m128i *)(void *)(acc + p), a0);
+        _mm_storeu_si128((__m128i *)(void *)(acc + p + 4u), a1);
+        _mm_storeu_si128((__m128i *)(void *)(acc + p + 8u), a2);
+        _mm_storeu_si128((__m128i *)(void *)(acc + p + 12u), a3);
+    }
+#undef SHMAP_PAIR_SSE2
+#else /* NEON: bytes widened to int16, int32 += int16 * weight (vmlal_n_s16) */
+    const int16_t *wc = wp->w[ch] + i0;
+    for (; p + 16u <= n; p += 16u) {
+        int32x4_t a0 = vdupq_n_s32(0), a1 = a0, a2 = a0, a3 = a0;
+        if (!first)
+            a0 = vld1q_s32(acc + p), a1 = vld1q_s32(acc + p + 4u), a2 = vld1q_s32(acc + p + 8u),
+            a3 = vld1q_s32(acc + p + 12u);
+        for (uint32_t j = 0; j < cnt; ++j) {
+            const uint8x16_t x = vld1q_u8(pl[j] + p);
+            const int16x8_t lo = vreinterpretq_s16_u16(vmovl_u8(vget_low_u8(x)));
+            const int16x8_t hi = vreinterpretq_s16_u16(vmovl_u8(vget_high_u8(x)));
+            a0 = vmlal_n_s16(a0, vget_low_s16(lo), wc[j]);
+            a1 = vmlal_n_s16(a1, vget_high_s16(lo), wc[j]);
+            a2 = vmlal_n_s16(a2, vget_low_s16(hi), wc[j]);
+            a3 = vmlal_n_s16(a3, vget_high_s16(hi), wc[j]);
+        }
+        vst1q_s32(acc + p, a0), vst1q_s32(acc + p + 4u, a1), vst1q_s32(acc + p + 8u, a2);
+        vst1q_s32(acc + p + 12u, a3);
+    }
+#endif
+    /* the last n % 16 pixels */
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_NEON
+    const int16_t *ws = wc;
+#else
+    const int16_t *ws = wp->ws[ch] + i0;
+#endif
+    for (; p < n; ++p) {
+        int32_t a = first ? 0 : acc[p];
+        for (uint32_t j = 0; j < cnt; ++j)
+            a += ws[j] * (int32_t)pl[j][p];
+        acc[p] = a;
+    }
+}
+
+/* Directional relighting on the planar layout: per channel, passes of SHMAP_PASS planes into the
+ * workspace, then the final scaling 4 pixels at a time (finish4) in the common case. */
+static void relight_planar(const qibl_shmaps_t *m, const qibl_shmap_weights_t *w, const finish_t *f, size_t off,
+                           uint32_t n, int32_t *out, int32_t *acc)
+{
+    wprep_t wp;
+    wprep_init(&wp, w, f, m->k);
+    for (uint32_t ch = 0; ch < 3u; ++ch) {
+        const uint32_t src = m->channels == 3u ? ch : 0u;
+        for (uint32_t i0 = 0; i0 < m->k; i0 += SHMAP_PASS) {
+            const uint32_t cnt = m->k - i0 < SHMAP_PASS ? m->k - i0 : SHMAP_PASS;
+            const uint8_t *pl[SHMAP_PASS];
+            for (uint32_t j = 0; j < cnt; ++j)
+                pl[j] = qibl_shmaps_plane(m, i0 + j, src) + off;
+            planar_pass(acc + (size_t)ch * n, pl, &wp, ch, i0, cnt, n, i0 == 0u);
+        }
+    }
+    const int32_t *a0 = acc, *a1 = acc + n, *a2 = acc + 2u * n;
+    uint32_t p = 0;
+    if (f->fast)
+        for (; p + 4u <= n; p += 4u)
+            finish4(out + 3u * p, a0 + p, a1 + p, a2 + p, &wp);
+    if (p < n)
+        finish_rgb(f, w, a0 + p, a1 + p, a2 + p, out + 3u * p, n - p);
+}
+#endif /* SIMD planar */
+
+#if QIBL_USE_INTERLEAVED
 /* Directional relighting on the interleaved layout: group by group, no workspace (the 16-pixel
  * accumulators live on the stack); whole groups in the common case finish in a fixed-length loop,
  * pixels of a partial group outside the span are computed from the row's bytes (padding included)
@@ -510,6 +661,10 @@ qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_w
 #endif
     int32_t *acc = (int32_t *)ws; /* caller promises int32 alignment of the workspace */
     size_t off = (size_t)y * m->width + x0;
+#if QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR
+    relight_planar(m, w, &f, off, n, out, acc);
+    return QIBL_OK;
+#else
     for (uint32_t ch = 0; ch < 3u; ++ch) {
         uint32_t src = m->channels == 3u ? ch : 0u;
         const int16_t *wc = w->w[ch];
@@ -530,6 +685,7 @@ qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_w
     }
     finish_rgb(&f, w, acc, acc + n, acc + 2u * n, out, n);
     return QIBL_OK;
+#endif
 }
 
 /* ---- cube-map Y LUTs ------------------------------------------------------------------------- */

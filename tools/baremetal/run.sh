@@ -43,8 +43,9 @@ tool_src="$(ls tools/golden/cases*.c) tools/io/sha256.c"
 bm_src="tools/baremetal/main.c tools/baremetal/semi.c tools/baremetal/stack.c tools/baremetal/heap.c"
 
 # name | gcc prefix | target flags | -O | qemu command
-targets="cortex-m0|arm-none-eabi-|-mcpu=cortex-m0 -mthumb -mfloat-abi=soft|-Os|qemu-system-arm -M mps2-an385
-cortex-m4|arm-none-eabi-|-mcpu=cortex-m4 -mthumb -mfloat-abi=soft|-O2|qemu-system-arm -M mps2-an386
+# (Cortex-M builds default to QIBL_CONFIG_SMALL=1, config.h; here every module is built and run)
+targets="cortex-m0|arm-none-eabi-|-mcpu=cortex-m0 -mthumb -mfloat-abi=soft -DQIBL_CONFIG_SMALL=0|-Os|qemu-system-arm -M mps2-an385
+cortex-m4|arm-none-eabi-|-mcpu=cortex-m4 -mthumb -mfloat-abi=soft -DQIBL_CONFIG_SMALL=0|-O2|qemu-system-arm -M mps2-an386
 rv32imac|riscv64-unknown-elf-|-march=rv32imac -mabi=ilp32 -mcmodel=medany|-O2|qemu-system-riscv32 -M virt -bios none"
 qemu_common="-nographic -monitor none -serial none -semihosting-config enable=on,target=native"
 

@@ -193,8 +193,8 @@ static double bench_layouts(const qtool_gen_maps *g, uint32_t W, uint32_t H, int
 }
 
 /* ---- honest baselines: a plain 64-bit word read and memcpy of the same bytes ------------------
- * The directional k = 16 kernel on the interleaved layout against a u64 word read (sum) and a
- * memcpy of exactly the bytes it reads, (a) in cache: the first rows, about 400 KB, read again and
+ * The directional k = 16 kernel on the interleaved and planar layouts against a u64 word read (sum)
+ * and a memcpy of exactly the bytes it reads, (a) in cache: the first rows, about 400 KB, read again and
  * again; (b) in the DRAM regime: copies of the whole asset, 256 MB or more, cycled through so no
  * copy is in any cache when it is read again. Kernels interleaved rep by rep in one process; min
  * and median; ns per pixel beside each ratio. The machine this runs on may be shared and loaded:
@@ -212,6 +212,22 @@ static void read_u64(const uint8_t *b, size_t n)
     sink64 = s;
 }
 
+/* the same u64 read in the planar kernel's order: row by row, 8 planes side by side (what the
+ * planar layout allows a row span at best; see shmap.c's passes) */
+static void read_u64_planar(const uint8_t *b, size_t plane, size_t nplanes, size_t W, size_t rows)
+{
+    uint64_t s = 0;
+    for (size_t y = 0; y < rows; ++y)
+        for (size_t p0 = 0; p0 < nplanes; p0 += 8)
+            for (size_t i = 0; i + 8 <= W; i += 8)
+                for (size_t p = p0; p < p0 + 8 && p < nplanes; ++p) {
+                    uint64_t v;
+                    memcpy(&v, b + p * plane + y * W + i, 8);
+                    s += v;
+                }
+    sink64 = s;
+}
+
 static int bench_baselines(const qtool_gen_maps *g, uint32_t W, uint32_t H, int quick, const qibl_q16_t sun_dir[3],
                            const qibl_q16_t sun_rgb[3], int32_t *img, void *ws)
 {
@@ -223,13 +239,19 @@ static int bench_baselines(const qtool_gen_maps *g, uint32_t W, uint32_t H, int 
     const size_t rs = qibl_shmaps_row_size(&il), asz = rs * H;
     const size_t want = quick ? ((size_t)64 << 20) : ((size_t)256 << 20);
     const size_t ncopy = (want + asz - 1) / asz + 1;
-    uint8_t *copies = malloc(asz * ncopy), *dst = malloc(asz);
-    if (!copies || !dst || qibl_shmaps_interleave(&p.m, copies, asz) != QIBL_OK) {
-        free(copies), free(dst), unpack(&p);
+    /* planar copies too (same bytes per pixel: W is a multiple of the group), for the planar kernel */
+    const size_t psz = (size_t)W * H * p.m.k * 3u;
+    uint8_t *copies = malloc(asz * ncopy), *dst = malloc(asz), *pcopies = malloc(psz * ncopy);
+    if (!copies || !dst || !pcopies || qibl_shmaps_interleave(&p.m, copies, asz) != QIBL_OK) {
+        free(copies), free(dst), free(pcopies), unpack(&p);
         return -1;
     }
     for (size_t c = 1; c < ncopy; ++c)
         memcpy(copies + c * asz, copies, asz);
+    for (size_t c = 0; c < ncopy; ++c)
+        memcpy(pcopies + c * psz, p.planes, psz);
+    qibl_shmaps_t pl = p.m;
+    pl.planes = pcopies;
     qibl_shlight_t sl;
     qibl_shlight_init(&sl, 25);
     qibl_shlight_add_dir(&sl, sun_dir, sun_rgb);
@@ -240,48 +262,54 @@ static int bench_baselines(const qtool_gen_maps *g, uint32_t W, uint32_t H, int 
     const uint32_t crows = H < 8u ? H : 8u;
     const size_t cbytes = rs * crows, cpx = (size_t)W * crows;
     const int cpass = quick ? 20 : 100, creps = quick ? 5 : 31, dreps = (int)(quick ? ncopy : 2 * ncopy);
-    double tc[3][64], td[3][64];
+    double tc[5][64], td[5][64];
     for (int r = 0; r < creps; ++r)
-        for (int kind = 0; kind < 3; ++kind) {
+        for (int kind = 0; kind < 5; ++kind) {
             double t0 = qcli_now();
             for (int pass = 0; pass < cpass; ++pass) {
-                if (kind == 0)
+                if (kind == 0 || kind == 3) /* 3: planar, the first rows of every plane (same bytes) */
                     for (uint32_t y = 0; y < crows; ++y)
-                        qibl_shmap_relight_span(&il, &w, 0, y, W, img + 3 * (size_t)y * W, ws,
+                        qibl_shmap_relight_span(kind ? &pl : &il, &w, 0, y, W, img + 3 * (size_t)y * W, ws,
                                                 qibl_shmap_span_workspace_size(W));
                 else if (kind == 1)
                     read_u64(copies, cbytes);
+                else if (kind == 4)
+                    read_u64_planar(pcopies, (size_t)W * H, p.m.k * 3u, W, crows);
                 else
                     memcpy(dst, copies, cbytes), sink64 = dst[pass];
             }
             tc[kind][r] = (qcli_now() - t0) / cpass;
         }
     for (int r = 0; r < dreps && r < 64; ++r)
-        for (int kind = 0; kind < 3; ++kind) {
+        for (int kind = 0; kind < 5; ++kind) {
             /* each kind starts on a different copy, so none reads what another has just loaded */
-            const uint8_t *src = copies + (size_t)((3 * r + kind) % (int)ncopy) * asz;
-            qibl_shmaps_t m = il;
+            const size_t ci = (size_t)((5 * r + kind) % (int)ncopy);
+            const uint8_t *src = kind >= 3 ? pcopies + ci * psz : copies + ci * asz;
+            qibl_shmaps_t m = kind == 3 ? pl : il;
             m.planes = src;
             double t0 = qcli_now();
-            if (kind == 0)
+            if (kind == 0 || kind == 3)
                 for (uint32_t y = 0; y < H; ++y)
                     qibl_shmap_relight_span(&m, &w, 0, y, W, img + 3 * (size_t)y * W, ws,
                                             qibl_shmap_span_workspace_size(W));
             else if (kind == 1)
                 read_u64(src, asz);
+            else if (kind == 4)
+                read_u64_planar(src, (size_t)W * H, p.m.k * 3u, W, H);
             else
                 memcpy(dst, src, asz), sink64 = dst[r];
             td[kind][r] = qcli_now() - t0;
         }
     const int nd = dreps < 64 ? dreps : 64;
-    static const char *names[3] = {"directional k=16 (interleaved)", "u64 word read", "memcpy"};
+    static const char *names[5] = {"directional k=16 (interleaved)", "u64 word read", "memcpy",
+                                   "directional k=16 (planar)", "u64 read, planar row order"};
     printf("== baselines: the same bytes (k=16, 3 channels, interleaved: %zu B/px), %d interleaved reps\n",
            rs / W, creps);
     printf("   built by %s, core %s; in cache: %u rows (%zu KB) x %d passes; DRAM: %zu copies (%zu MB) cycled\n",
            QTOOL_BENCH_COMPILER, QIBL_BENCH_CORE_FLAGS, crows, cbytes >> 10, cpass, ncopy, (asz * ncopy) >> 20);
     printf("%-32s %12s %12s %12s %12s\n", "", "cache min", "median", "DRAM min", "median");
-    double cmin[3], dmin[3];
-    for (int kind = 0; kind < 3; ++kind) {
+    double cmin[5], dmin[5];
+    for (int kind = 0; kind < 5; ++kind) {
         cmin[kind] = min_of(tc[kind], creps), dmin[kind] = min_of(td[kind], nd);
         double cmed = qcli_median(tc[kind], creps), dmed = qcli_median(td[kind], nd);
         printf("%-32s %9.3fns/px %9.3fns/px %9.3fns/px %9.3fns/px\n", names[kind], cmin[kind] / cpx * 1e9,
@@ -295,7 +323,13 @@ static int bench_baselines(const qtool_gen_maps *g, uint32_t W, uint32_t H, int 
            dmin[0] / ((double)W * H) * 1e9, dmin[1] / ((double)W * H) * 1e9);
     printf("RESULT relight.dir_over_memcpy_dram %.3f  (memcpy %.3f ns/px, DRAM, min)\n", dmin[2] / dmin[0],
            dmin[2] / ((double)W * H) * 1e9);
-    free(copies), free(dst), unpack(&p);
+    printf("RESULT relight.dir_planar_over_read %.3f  (planar dir %.3f ns/px, in cache, min)\n", cmin[1] / cmin[3],
+           cmin[3] / cpx * 1e9);
+    printf("RESULT relight.dir_planar_over_read_dram %.3f  (planar dir %.3f ns/px, DRAM, min)\n", dmin[1] / dmin[3],
+           dmin[3] / ((double)W * H) * 1e9);
+    printf("RESULT relight.planar_order_read_over_read_dram %.3f  (u64 read in planar row order %.3f ns/px, DRAM, min:"
+           " the best any planar span kernel can do)\n", dmin[1] / dmin[4], dmin[4] / ((double)W * H) * 1e9);
+    free(copies), free(dst), free(pcopies), unpack(&p);
     return 0;
 }
 

@@ -24,6 +24,8 @@ const qtool_goldens_group_t qtool_goldens_groups[] = {
 #endif
 #if QIBL_USE_SHMAP
     {"relight", "shmap: directional and point-light relighting into every framebuffer format", qtool_goldens_relight},
+#endif
+#if QIBL_USE_LIGHTPATH
     {"lightpath", "light paths: visibility spans, key interpolation, damaged payloads, sun (+ sky) x visibility",
      qtool_goldens_lightpath},
 #endif

@@ -14,7 +14,7 @@
 #include "qibl/shmap.h"
 #include "qibl/soft.h"
 
-#if QIBL_USE_SHMAP
+#if QIBL_USE_LIGHTPATH
 
 enum { LW = 48, LH = 12, LK = 9, NKEYS = 5 };
 
@@ -222,4 +222,4 @@ done:
 
 #else
 typedef int qtool_goldens_lightpath_off; /* ISO C wants a declaration in every file */
-#endif /* QIBL_USE_SHMAP */
+#endif /* QIBL_USE_LIGHTPATH */

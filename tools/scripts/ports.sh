@@ -57,6 +57,8 @@ have gcc && configs+=("x86_64-gcc-O3-native|gcc|-O3 -march=native|")
 have gcc && configs+=("x86_64-gcc-O2-short-enums|gcc|-O2 -fshort-enums -funsigned-char|")
 # a reduced config.h (runtime relighting only): the groups it keeps must give the same hashes
 have gcc && configs+=("x86_64-gcc-Os-no-lightprobe|gcc|-Os -DQIBL_USE_LIGHTPROBE=0|")
+# the Cortex-M default (QIBL_CONFIG_SMALL=1: no light probes, probe projection, hemi, light paths)
+have gcc && configs+=("x86_64-gcc-Os-small|gcc|-Os -DQIBL_CONFIG_SMALL=1|")
 have gcc && configs+=("x86_64-gcc-O2-portable|gcc|-O2 $portable|")
 have clang && configs+=("x86_64-clang-O3-portable|clang|-O3 $portable|")
 # the kernel paths of QIBL_CONFIG_SIMD (config.h): scalar C forced, and AVX2 where the CPU has it
@@ -209,7 +211,7 @@ for c in "${configs[@]}"; do
         grep -E '^(case|group) ' "$d/out.txt" | sed 's/^/  /'
     elif cmp -s "$ref" "$d/hashes.txt"; then
         ident="yes"
-    elif [[ "$flags" == *-DQIBL_USE_* ]] && [ -s "$d/hashes.txt" ] && ! grep -qvxFf "$ref" "$d/hashes.txt"; then
+    elif [[ "$flags" == *-DQIBL_USE_* || "$flags" == *-DQIBL_CONFIG_SMALL=1* ]] && [ -s "$d/hashes.txt" ] && ! grep -qvxFf "$ref" "$d/hashes.txt"; then
         ident="subset" # modules compiled out: fewer cases, each as in the reference
     else
         ident="NO"

@@ -7,6 +7,22 @@
 #ifndef QIBL_CONFIG_H
 #define QIBL_CONFIG_H
 
+/* QIBL_CONFIG_SMALL: 1 makes the modules a microcontroller rarely runs at run time opt-in: light-probe
+ * sampling (QIBL_USE_LIGHTPROBE, and with it QIBL_USE_PROBE), hemispherical rasterization
+ * (QIBL_USE_HEMI) and light paths (QIBL_USE_LIGHTPATH) default to 0; each can still be set to 1.
+ * What stays is runtime relighting: the asset reader, SH, sRGBE, directional and point-light spans,
+ * both map layouts (about 14 KiB .text on Cortex-M4 -Os, against the goal of 16 KiB; every module is
+ * about 36 KiB: docs/porting.md). Default 1 on ARM M-profile targets (Cortex-M: the compiler
+ * defines __ARM_ARCH_PROFILE 'M'), 0 elsewhere. It only changes defaults, so QIBL_CONFIG_ID
+ * (version.h) records the modules it leaves out, not this option. */
+#ifndef QIBL_CONFIG_SMALL
+#if defined(__ARM_ARCH_PROFILE) && __ARM_ARCH_PROFILE == 'M'
+#define QIBL_CONFIG_SMALL 1
+#else
+#define QIBL_CONFIG_SMALL 0
+#endif
+#endif
+
 /* QIBL_USE_SH: 1 builds the SH basis module (sh.c: basis and rotation, about 1.2 KiB .text and
  * 1.8 KiB .rodata (the rotation's sample table) on Cortex-M4 -Os). */
 #ifndef QIBL_USE_SH
@@ -28,9 +44,9 @@
 
 /* QIBL_USE_LIGHTPROBE: 1 builds light-probe sampling (lightprobe.c: SATs, median cut, adaptive
  * median cut, variance minimisation; about 9 KiB .text on Cortex-M4 -Os, no RAM beyond the caller's
- * workspace: 8 bytes per probe pixel, 48 with the variance tables). */
+ * workspace: 8 bytes per probe pixel, 48 with the variance tables). Default 1, 0 with QIBL_CONFIG_SMALL. */
 #ifndef QIBL_USE_LIGHTPROBE
-#define QIBL_USE_LIGHTPROBE 1
+#define QIBL_USE_LIGHTPROBE (!QIBL_CONFIG_SMALL)
 #endif
 
 /* QIBL_USE_SHMAP: 1 builds the relighting kernels (shmap.c: weights, directional/environment and
@@ -43,6 +59,17 @@
 #endif
 #if QIBL_USE_SHMAP && !QIBL_USE_SH
 #error "QIBL_USE_SHMAP needs QIBL_USE_SH"
+#endif
+
+/* QIBL_USE_LIGHTPATH: 1 builds light paths (lightpath.c: LPTH chunk validation, per-pixel
+ * visibility spans, key interpolation; about 2 KiB .text on Cortex-M4 -Os, no RAM). Needs
+ * QIBL_USE_SHMAP (path lights are relit through the SH maps); by default on when that is, unless
+ * QIBL_CONFIG_SMALL. */
+#ifndef QIBL_USE_LIGHTPATH
+#define QIBL_USE_LIGHTPATH (QIBL_USE_SHMAP && !QIBL_CONFIG_SMALL)
+#endif
+#if QIBL_USE_LIGHTPATH && !QIBL_USE_SHMAP
+#error "QIBL_USE_LIGHTPATH needs QIBL_USE_SHMAP"
 #endif
 
 /* QIBL_USE_INTERLEAVED: 1 builds the interleaved SH-map layout (shmaps.h): its relight and
@@ -78,9 +105,10 @@
 /* QIBL_USE_HEMI: 1 builds hemispherical rasterization (hemi.c: plane LUT, triangle masks, SH
  * transfer, frame rotation; see `make cross` for its .text; no RAM beyond the caller's workspace,
  * qibl_hemi_workspace_size: 1001.5 KiB for the default 32 x 32 mask with 60 x 60 faces, 245.5 KiB
- * with 24 x 24 faces). Needs QIBL_USE_SH with 5 bands; by default on when that holds. */
+ * with 24 x 24 faces). Needs QIBL_USE_SH with 5 bands; by default on when that holds, unless
+ * QIBL_CONFIG_SMALL. */
 #ifndef QIBL_USE_HEMI
-#define QIBL_USE_HEMI (QIBL_USE_SH && QIBL_SH_MAX_BANDS == 5)
+#define QIBL_USE_HEMI (QIBL_USE_SH && QIBL_SH_MAX_BANDS == 5 && !QIBL_CONFIG_SMALL)
 #endif
 #if QIBL_USE_HEMI && (!QIBL_USE_SH || QIBL_SH_MAX_BANDS != 5)
 #error "QIBL_USE_HEMI needs QIBL_USE_SH and QIBL_SH_MAX_BANDS 5 (25-coefficient transfer)"
