@@ -589,6 +589,96 @@ static unsigned dec_px_f32(const uint8_t *code, uint32_t *out)
     return flags;
 }
 
+#if QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR
+/* ---- bulk decoder to binary32: intrinsics -----------------------------------------------------
+ *
+ * dec_base[X] + (E << 23) for E in 9..254 (dec_px_f32's table path) computed instead of looked up:
+ * with m = |2X - 255| (odd), n its leading zeros in 8 bits and M = m << n (128..255),
+ *     dec_base[X] = sign 2^31 + M 0x010101 + 1 - ((n + 2) << 23)   (mod 2^32),
+ * dec_chan_f32's normal case: m 0x01010101 << n = M 0x01010101, whose rounding bit (bit 7 of M)
+ * is 1 (for X = 0 / 255, M = 255 and n = 0 give the sign bit alone, as in the table).
+ * NEON counts n with vclz and shifts by it. SSE2/AVX2 have neither; there v = 2X - 255 is converted
+ * to binary32 (cvtdq2ps: exact as |v| < 2^24, so no rounding, no flag, the same bits under any
+ * rounding mode), whose bits are F = sign 2^31 + ((134 - n) << 23) + (M - 128) 2^16, so
+ *     dec_base[X] = F + 257 (M - 128) + 0x8081 - (135 << 23)   (mod 2^32),
+ * M - 128 = (F >> 16) & 0x7F: integer operations on F's bits. A code with E outside 9..254 gets
+ * meaningless words and is redone by dec_px_f32; dec_simd says whether a group has one. */
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2 || QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+#define V_F(v) _mm256_castsi256_ps(v)
+#else
+#define V_F(v) _mm_castsi128_ps(v)
+#endif
+/* one channel of VL codes: x2 = 2X, base = (E << 23) + 0x8081 - (135 << 23) */
+static vi_t dec_chan(vi_t x2, vi_t base)
+{
+    const vi_t f = V_I(V_PS(cvtepi32)(V_(sub_epi32)(x2, V_SET1(255))));
+    const vi_t lo7 = V_SI(and)(V_(srli_epi32)(f, 16), V_SET1(0x7F));
+    return V_(add_epi32)(V_(add_epi32)(f, base), V_(add_epi32)(V_(slli_epi32)(lo7, 8), lo7));
+}
+
+/* VL codes at c decoded to binary32 words at o; nonzero if one of them has E outside 9..254 */
+static unsigned dec_simd(const uint8_t *c, uint32_t *o)
+{
+    const vi_t w = V_SI(loadu)((const vi_t *)(const void *)c);
+    const vi_t e = V_(srli_epi32)(w, 24);
+    /* 0x8081 - (135 << 23) = -0x437F7F7F */
+    const vi_t base = V_(add_epi32)(V_(slli_epi32)(e, 23), V_(set1_epi32)(-0x437F7F7F));
+    const vi_t mask = V_SET1(0x1FE);
+    const vf_t r = V_F(dec_chan(V_SI(and)(V_(slli_epi32)(w, 1), mask), base));
+    const vf_t g = V_F(dec_chan(V_SI(and)(V_(srli_epi32)(w, 7), mask), base));
+    const vf_t b = V_F(dec_chan(V_SI(and)(V_(srli_epi32)(w, 15), mask), base));
+    const vi_t bad = V_SI(or)(V_(cmpgt_epi32)(V_SET1(9), e), V_(cmpgt_epi32)(e, V_SET1(254)));
+    /* R, G, B planes (bit moves) to r0 g0 b0 r1 | g1 b1 r2 g2 | b2 r3 g3 b3 per 128-bit half */
+    const vf_t rg = V_PS(shuffle)(r, g, _MM_SHUFFLE(2, 0, 2, 0)); /* r0 r2 g0 g2 */
+    const vf_t br = V_PS(shuffle)(b, r, _MM_SHUFFLE(3, 1, 2, 0)); /* b0 b2 r1 r3 */
+    const vf_t gb = V_PS(shuffle)(g, b, _MM_SHUFFLE(3, 1, 3, 1)); /* g1 g3 b1 b3 */
+    const vi_t l0 = V_I(V_PS(shuffle)(rg, br, _MM_SHUFFLE(2, 0, 2, 0)));
+    const vi_t l1 = V_I(V_PS(shuffle)(gb, rg, _MM_SHUFFLE(3, 1, 2, 0)));
+    const vi_t l2 = V_I(V_PS(shuffle)(br, gb, _MM_SHUFFLE(3, 1, 3, 1)));
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+    /* halves: pixels 0..3 (words 0..11) low, 4..7 (words 12..23) high */
+    _mm256_storeu_si256((__m256i *)(void *)o, _mm256_permute2x128_si256(l0, l1, 0x20));
+    _mm256_storeu_si256((__m256i *)(void *)(o + 8), _mm256_permute2x128_si256(l2, l0, 0x30));
+    _mm256_storeu_si256((__m256i *)(void *)(o + 16), _mm256_permute2x128_si256(l1, l2, 0x31));
+#else
+    _mm_storeu_si128((__m128i *)(void *)o, l0);
+    _mm_storeu_si128((__m128i *)(void *)(o + 4), l1);
+    _mm_storeu_si128((__m128i *)(void *)(o + 8), l2);
+#endif
+    return (unsigned)V_(movemask_epi8)(bad);
+}
+#define DEC_SIMD_PX VL
+
+#elif QIBL_CONFIG_SIMD == QIBL_SIMD_NEON
+/* 4 codes at c decoded to binary32 words at o; nonzero if one of them has E outside 9..254 */
+static unsigned dec_simd(const uint8_t *c, uint32_t *o)
+{
+    const uint32x4_t w = vreinterpretq_u32_u8(vld1q_u8(c)); /* little-endian lanes: byte 0 = R */
+    const uint32x4_t e = vshrq_n_u32(w, 24);
+    /* (E << 23) + 1 - (2 << 23) */
+    const uint32x4_t base = vaddq_u32(vshlq_n_u32(e, 23), vdupq_n_u32(1u - (2u << 23)));
+    uint32x4x3_t v;
+    for (int k = 0; k < 3; ++k) {
+        const int32x4_t x2 = vreinterpretq_s32_u32(vandq_u32(
+            k == 0 ? vshlq_n_u32(w, 1) : k == 1 ? vshrq_n_u32(w, 7) : vshrq_n_u32(w, 15), vdupq_n_u32(0x1FEu)));
+        const int32x4_t sv = vsubq_s32(x2, vdupq_n_s32(255));
+        const uint32x4_t m = vreinterpretq_u32_s32(vabsq_s32(sv));
+        const uint32x4_t n = vsubq_u32(vclzq_u32(m), vdupq_n_u32(24u));
+        const uint32x4_t mm = vshlq_u32(m, vreinterpretq_s32_u32(n)); /* M */
+        const uint32x4_t sign = vandq_u32(vreinterpretq_u32_s32(sv), vdupq_n_u32(0x80000000u));
+        const uint32x4_t t = vmlaq_n_u32(vsubq_u32(base, vshlq_n_u32(n, 23)), mm, 0x010101u);
+        v.val[k] = vaddq_u32(t, sign);
+    }
+    vst3q_u32(o, v);
+    const uint32x4_t bad = vorrq_u32(vcltq_u32(e, vdupq_n_u32(9u)), vcgtq_u32(e, vdupq_n_u32(254u)));
+    const uint32x2_t mb = vorr_u32(vget_low_u32(bad), vget_high_u32(bad));
+    return vget_lane_u32(mb, 0) | vget_lane_u32(mb, 1);
+}
+#define DEC_SIMD_PX 4
+#endif
+#endif /* QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR */
+
 /* ---- decode to int32 * 2^-frac_bits --------------------------------------------------------- */
 
 /* round_half_up(+-m 2^s / 255) saturated to int32, s = E - 127 + frac_bits. All 32-bit: with
@@ -765,6 +855,15 @@ qibl_status_t qibl_srgbe_decode_f32_n(const uint8_t *restrict codes, size_t n, u
     if (codes == 0 || rgb == 0)
         return QIBL_E_NULL_POINTER;
     unsigned flags = 0u;
+#if QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR
+    /* groups through dec_simd; codes it does not cover (E <= 8: subnormal results, E = 255:
+     * saturation) redone by dec_px_f32, which gives every pixel's final words */
+    for (; n >= DEC_SIMD_PX; n -= DEC_SIMD_PX, codes += 4 * DEC_SIMD_PX, rgb += 3 * DEC_SIMD_PX)
+        if (dec_simd(codes, rgb))
+            for (size_t j = 0; j < DEC_SIMD_PX; ++j)
+                if (codes[4 * j + 3] - 9u >= 246u)
+                    flags |= dec_px_f32(codes + 4 * j, rgb + 3 * j);
+#endif
     for (size_t i = 0; i < n; ++i, codes += 4, rgb += 3)
         flags |= dec_px_f32(codes, rgb);
     return status_of(flags);
