@@ -321,21 +321,27 @@ static void enc_load3(const uint32_t *p, vi_t *r, vi_t *g, vi_t *b)
     *b = V_I(V_PS(shuffle)(u, l2, _MM_SHUFFLE(3, 0, 3, 1)));
 }
 
+/* AVX2: the exponent field be; SSE2: be << 23 (where it is, one AND) */
 static vi_t enc_be(vi_t x)
 {
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
     return V_(srli_epi32)(V_(slli_epi32)(x, 1), 24);
+#else
+    return _mm_and_si128(x, V_SET1(0x7F800000u));
+#endif
 }
 
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2
-/* 2^k for k in 0..7 in each 32-bit lane (upper 16 bits 0), from kb = k + 127 (SRGBE_POW2_CVT: the
- * binary32 bits of 2^k converted by cvttps2dq, exact and raising no flag: an integral normal value)
- * or from k by Horner, ((1 + k2)^2 (1 + k1))^2 (1 + k0), integer products only */
-static vi_t pow2k(vi_t k)
+/* 2^k (k in 0..7) in each 32-bit lane from kb = (k + 127) << 23: the binary32 bits of 2^k,
+ * converted by cvttps2dq (exact and raising no flag: an integral normal value); SRGBE_SSE2_HORNER
+ * builds it from k's bits instead, ((1 + k2)^2 (1 + k1))^2 (1 + k0), integer products only (the
+ * slower alternative measured in the report of this kernel) */
+static vi_t pow2k(vi_t kb)
 {
 #ifndef SRGBE_SSE2_HORNER
-    return _mm_cvttps_epi32(_mm_castsi128_ps(_mm_slli_epi32(k, 23)));
+    return _mm_cvttps_epi32(_mm_castsi128_ps(kb));
 #else
-    const vi_t one = V_SET1(1);
+    const vi_t one = V_SET1(1), k = _mm_sub_epi32(_mm_srli_epi32(kb, 23), V_SET1(127));
     vi_t p = _mm_add_epi32(_mm_srli_epi32(k, 2), one);
     p = _mm_mullo_epi16(p, p);
     p = _mm_mullo_epi16(p, _mm_add_epi32(_mm_and_si128(_mm_srli_epi32(k, 1), one), one));
@@ -345,22 +351,21 @@ static vi_t pow2k(vi_t k)
 }
 #endif
 
-/* one channel: q ^ s (a signed byte) given x, its be and em - 7 (lo), em - 134 (hi) */
+/* one channel: q ^ s (a signed byte) given x, its enc_be and lo = em - 7, hi = em - 134 (SSE2:
+ * both << 23). W = 255 sig = 255 frac + 0x7F800000 < 2^32, u = W >> 25, q = u >> d = W >> (32 - k)
+ * (nested floors), which SSE2 takes as the high half of the 16-bit product (W >> 16) 2^k. */
 static vi_t enc_chan(vi_t x, vi_t be, vi_t lo, vi_t hi)
 {
     const vi_t f = V_SI(and)(x, V_SET1(0x007FFFFFu));
-    const vi_t u = V_(srli_epi32)(V_(add_epi32)(V_(sub_epi32)(V_(slli_epi32)(f, 8), f), V_SET1(0x7F800000u)), 25);
+    const vi_t w = V_(add_epi32)(V_(sub_epi32)(V_(slli_epi32)(f, 8), f), V_SET1(0x7F800000u));
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
     (void)hi;
-    const vi_t q = _mm256_srlv_epi32(u, _mm256_sub_epi32(_mm256_add_epi32(lo, V_SET1(7)), _mm256_max_epi32(be, lo)));
+    const vi_t q = _mm256_srlv_epi32(_mm256_srli_epi32(w, 25),
+                                     _mm256_sub_epi32(_mm256_add_epi32(lo, V_SET1(7)), _mm256_max_epi32(be, lo)));
 #else
-#ifndef SRGBE_SSE2_HORNER
-    const vi_t k = _mm_sub_epi32(_mm_max_epi16(be, lo), hi); /* k + 127 */
-#else
-    (void)hi;
-    const vi_t k = _mm_sub_epi32(_mm_max_epi16(be, lo), lo);
-#endif
-    const vi_t q = _mm_srli_epi32(_mm_mullo_epi16(u, pow2k(k)), 7);
+    /* (max(be, em - 7) - em + 134) << 23 = (k + 127) << 23; the signed 16-bit max is exact: the
+     * upper halves hold be << 7 >= 0 or (em - 7) << 7, the lower halves 0 */
+    const vi_t q = _mm_mulhi_epu16(_mm_srli_epi32(w, 16), pow2k(_mm_sub_epi32(_mm_max_epi16(be, lo), hi)));
 #endif
     return V_SI(xor)(q, V_(srai_epi32)(x, 31));
 }
@@ -373,8 +378,13 @@ static unsigned enc_simd(const uint32_t *p, uint8_t *o)
         vi_t r, g, b;
         enc_load3(p + 3 * VL * h, &r, &g, &b);
         const vi_t er = enc_be(r), eg = enc_be(g), eb = enc_be(b);
-        const vi_t em = V_(max_epi16)(V_(max_epi16)(er, eg), eb);
-        const vi_t lo = V_(sub_epi32)(em, V_SET1(7)), hi = V_(sub_epi32)(em, V_SET1(134));
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+        const vi_t em = _mm256_max_epi32(_mm256_max_epi32(er, eg), eb);
+        const vi_t lo = V_(sub_epi32)(em, V_SET1(7)), hi = lo;
+#else
+        const vi_t em23 = _mm_max_epi16(_mm_max_epi16(er, eg), eb), em = _mm_srli_epi32(em23, 23);
+        const vi_t lo = _mm_sub_epi32(em23, V_SET1(7u << 23)), hi = _mm_sub_epi32(em23, V_SET1(134u << 23));
+#endif
         v[h][0] = enc_chan(r, er, lo, hi);
         v[h][1] = enc_chan(g, eg, lo, hi);
         v[h][2] = enc_chan(b, eb, lo, hi);
