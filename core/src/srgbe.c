@@ -275,9 +275,10 @@ static unsigned enc_blk(const uint32_t *restrict x, uint8_t *restrict out)
  *   (q ^ s), s = x >> 31 arithmetic, is q or -q - 1, a signed byte exactly, and XOR 0x80 maps it
  *   to 128 + q or 127 - q.
  * The per-lane shift u >> d: AVX2 vpsrlvd, NEON vshl by -d. SSE2 has none, so there
- *   q = (u 2^k) >> 7, k = 7 - d = max(be, em - 7) - (em - 7) in 0..7,
- * one 16-bit product (u 2^k <= 127 * 128 < 2^16; the lanes' upper halves are 0 * 0), 2^k by
- * pow2k (below). Channels: SSE2/AVX2 separate R, G, B of 4 pixels (three loads) with five shufps
+ *   q = floor(W / 2^(32 - k)), the high half of the 16-bit product (W >> 16) 2^k (nested floors),
+ * W = 255 frac + 0x7F800000 (u = W >> 25), k = 7 - d in 0..7; the exponent fields stay in place
+ * (be << 23: the signed 16-bit max is still exact), so max(be, em - 7) - em + 134, in place, is
+ * (k + 127) << 23, the binary32 bits of 2^k (pow2k). Channels: SSE2/AVX2 separate R, G, B of 4 pixels (three loads) with five shufps
  * (bit moves), NEON with vld3q; codes: signed saturating packs (exact: every value is in
  * -128..127) and byte unpacks, NEON vst4. A pixel with em outside 7..254 gets a meaningless code
  * (every step stays defined) and is redone by the caller; enc_simd says whether a block has one. */
