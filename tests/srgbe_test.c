@@ -772,6 +772,80 @@ static void test_sign_symmetry(void **state)
     }
 }
 
+/* The bulk binary32 encoder's kernel (QIBL_CONFIG_SIMD: SSE2/AVX2/NEON in the native and AVX2
+ * flavours, enc_blk or the per-pixel loop in the portable one) against the one-pixel encoder, the
+ * scalar reference: random arrays where every pixel is built from edge values (+-0 and ties, the
+ * subnormal boundaries, +-Inf, NaNs of any payload and sign, FLT_MAX, powers of two, the largest
+ * exponent field em = 6, 7, 254, 255 around the kernel's range) or random channels with exponent
+ * fields close to one another (every shift d = 0..8), at every length and output alignment. */
+static void test_bulk_kernel_matches_one_pixel_on_edges(void **state)
+{
+    (void)state;
+    enum { N = 600 };
+    static const uint32_t edge[] = {0u, 0x80000000u, 1u, 0x80000001u, 0x001FFFFFu, 0x00200000u, 0x003FFFFFu,
+                                    0x00400000u, 0x007FFFFFu, 0x00800000u, 0x80800000u, 0x037FFFFFu, 0x03800000u,
+                                    0x03FFFFFFu, 0x04000000u, 0x3F800000u, 0xBF800000u, 0x3F7FFFFFu, 0x7EFFFFFFu,
+                                    0x7F000000u, 0x7F7FFFFFu, 0xFF7FFFFFu, 0x7F800000u, 0xFF800000u, 0x7F800001u,
+                                    0x7FC00000u, 0xFFFFFFFFu, 0xFFC00001u};
+    static uint32_t in[3 * N];
+    static uint8_t bulk[4 * N + 8];
+    uint8_t one[4];
+    tu_rng r = {1616};
+    for (int it = 0; it < 400; ++it) {
+        const uint32_t base = tu_u32(&r) % 256u; /* exponent fields near base */
+        for (int i = 0; i < 3 * N; ++i) {
+            uint32_t kind = tu_u32(&r) % 8u, x = tu_u32(&r);
+            if (kind == 0u)
+                x = edge[tu_u32(&r) % (sizeof edge / sizeof edge[0])];
+            else if (kind >= 4u) /* exponent field base - 8 .. base + 1, clamped to 0..255 */
+            {
+                int e = (int)base - 8 + (int)(tu_u32(&r) % 10u);
+                e = e < 0 ? 0 : e > 255 ? 255 : e;
+                x = (x & 0x807FFFFFu) | (uint32_t)e << 23;
+            }
+            in[i] = x;
+        }
+        const size_t n = N - tu_u32(&r) % 40u, off = tu_u32(&r) % 4u;
+        tu_fill_guard(bulk, sizeof bulk);
+        qibl_status_t st = qibl_srgbe_encode_f32_n(in, n, bulk + off), worst = QIBL_OK;
+        for (size_t i = 0; i < n; ++i) {
+            qibl_status_t s1 = qibl_srgbe_encode_f32(in + 3 * i, one);
+            if (s1 == QIBL_E_SRGBE_NAN || (s1 == QIBL_E_SRGBE_INF && worst != QIBL_E_SRGBE_NAN))
+                worst = s1;
+            assert_memory_equal(bulk + off + 4 * i, one, 4);
+        }
+        assert_int_equal(st, worst);
+        assert_true(tu_guard_intact(bulk, off) && tu_guard_intact(bulk + off + 4 * n, sizeof bulk - off - 4 * n));
+    }
+}
+
+/* Every (X, E) pair through the bulk decoder against the one-pixel one (the other channels
+ * random), all codes of one E in one call. */
+static void test_bulk_decode_every_channel_code(void **state)
+{
+    (void)state;
+    static uint8_t codes[4 * 256];
+    static uint32_t bulk[3 * 256];
+    uint32_t one[3];
+    tu_rng r = {1617};
+    for (uint32_t e = 0; e < 256u; ++e)
+        for (int ch = 0; ch < 3; ++ch) {
+            for (uint32_t x = 0; x < 256u; ++x) {
+                for (int k = 0; k < 3; ++k)
+                    codes[4 * x + (uint32_t)k] = (uint8_t)tu_u32(&r);
+                codes[4 * x + (uint32_t)ch] = (uint8_t)x;
+                codes[4 * x + 3] = (uint8_t)e;
+            }
+            qibl_status_t st = qibl_srgbe_decode_f32_n(codes, 256, bulk), worst = QIBL_OK;
+            for (uint32_t x = 0; x < 256u; ++x) {
+                if (qibl_srgbe_decode_f32(codes + 4 * x, one) != QIBL_OK)
+                    worst = QIBL_E_SRGBE_DECODE_SAT;
+                assert_memory_equal(bulk + 3 * x, one, sizeof one);
+            }
+            assert_int_equal(st, worst);
+        }
+}
+
 static void test_bulk_matches_scalar_at_every_alignment(void **state)
 {
     (void)state;
@@ -925,6 +999,8 @@ int main(void)
         cmocka_unit_test(test_decode_random_codes_and_canonical_roundtrip),
         cmocka_unit_test(test_sign_symmetry),
         cmocka_unit_test(test_bulk_matches_scalar_at_every_alignment),
+        cmocka_unit_test(test_bulk_kernel_matches_one_pixel_on_edges),
+        cmocka_unit_test(test_bulk_decode_every_channel_code),
         cmocka_unit_test(test_one_pixel_calls_may_overlap),
         cmocka_unit_test(test_gles_formula_agrees),
     };

@@ -31,6 +31,13 @@
 #include "qibli.h"
 
 #if QIBL_USE_SRGBE
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+#include <immintrin.h>
+#elif QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2
+#include <emmintrin.h>
+#elif QIBL_CONFIG_SIMD == QIBL_SIMD_NEON
+#include <arm_neon.h>
+#endif
 
 /* per-pixel outcome flags, folded into one status by status_of() */
 #define F_OVERFLOW 1u
@@ -160,7 +167,7 @@ static unsigned enc_px_f32(uint32_t r, uint32_t g, uint32_t b, uint8_t *out)
     return flags;
 }
 
-#if QIBL_CONFIG_SRGBE_BLOCKS
+#if QIBL_CONFIG_SRGBE_BLOCKS && QIBL_CONFIG_SIMD == QIBL_SIMD_SCALAR
 /* ---- bulk binary32 encoder: blocks of planar 16-bit lanes ------------------------------------
  *
  * The same bytes as enc_word_fast, computed so that compilers vectorise it with plain SSE2 / NEON
@@ -255,6 +262,184 @@ static unsigned enc_blk(const uint32_t *restrict x, uint8_t *restrict out)
     return special;
 }
 #endif /* QIBL_CONFIG_SRGBE_BLOCKS */
+
+#if QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR
+/* ---- bulk binary32 encoder: intrinsics (QIBL_CONFIG_SIMD) -----------------------------------
+ *
+ * enc_word_fast's arithmetic lane by lane in 32-bit lanes (4 pixels per SSE2 / NEON register, 8
+ * per AVX2 one). Every step is an exact integer operation on the same values, so the bytes are
+ * enc_word_fast's by construction:
+ *   be = x << 1 >> 24; em = max be (0..255: SSE2's signed 16-bit max is exact on such lanes);
+ *   d = em - max(be, em - 7) in 0..7; u = (255 frac + 0x7F800000) >> 25 in 63..127 (SSE2: 255 frac
+ *   as (frac << 8) - frac, no 32-bit multiply); q = u >> d; the byte is 128 + q or 127 - q:
+ *   (q ^ s), s = x >> 31 arithmetic, is q or -q - 1, a signed byte exactly, and XOR 0x80 maps it
+ *   to 128 + q or 127 - q.
+ * The per-lane shift u >> d: AVX2 vpsrlvd, NEON vshl by -d. SSE2 has none, so there
+ *   q = floor(W / 2^(32 - k)), the high half of the 16-bit product (W >> 16) 2^k (nested floors),
+ * W = 255 frac + 0x7F800000 (u = W >> 25), k = 7 - d in 0..7; the exponent fields stay in place
+ * (be << 23: the signed 16-bit max is still exact), so max(be, em - 7) - em + 134, in place, is
+ * (k + 127) << 23, the binary32 bits of 2^k (pow2k). Channels: SSE2/AVX2 separate R, G, B of 4 pixels (three loads) with five shufps
+ * (bit moves), NEON with vld3q; codes: signed saturating packs (exact: every value is in
+ * -128..127) and byte unpacks, NEON vst4. A pixel with em outside 7..254 gets a meaningless code
+ * (every step stays defined) and is redone by the caller; enc_simd says whether a block has one. */
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2 || QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+typedef __m256i vi_t;
+typedef __m256 vf_t;
+#define V_(op) _mm256_##op
+#define V_PS(op) _mm256_##op##_ps
+#define V_I(v) _mm256_castps_si256(v)
+#define V_SI(op) _mm256_##op##_si256
+#define VL 8
+#else
+typedef __m128i vi_t;
+typedef __m128 vf_t;
+#define V_(op) _mm_##op
+#define V_PS(op) _mm_##op##_ps
+#define V_I(v) _mm_castps_si128(v)
+#define V_SI(op) _mm_##op##_si128
+#define VL 4
+#endif
+#define V_SET1(c) V_(set1_epi32)((int32_t)(c))
+
+/* R, G, B planes of VL pixels (AVX2: pixels 0..3 in the low half, 4..7 in the high half) */
+static void enc_load3(const uint32_t *p, vi_t *r, vi_t *g, vi_t *b)
+{
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+#define LD(o)                                                                                           \
+    _mm256_castsi256_ps(_mm256_inserti128_si256(                                                        \
+        _mm256_castsi128_si256(_mm_loadu_si128((const __m128i *)(const void *)(p + (o)))),              \
+        _mm_loadu_si128((const __m128i *)(const void *)(p + 12 + (o))), 1))
+#else
+#define LD(o) _mm_castsi128_ps(_mm_loadu_si128((const __m128i *)(const void *)(p + (o))))
+#endif
+    const vf_t l0 = LD(0), l1 = LD(4), l2 = LD(8); /* r0 g0 b0 r1, g1 b1 r2 g2, b2 r3 g3 b3 */
+#undef LD
+    const vf_t t = V_PS(shuffle)(l1, l2, _MM_SHUFFLE(2, 1, 3, 2)); /* r2 g2 r3 g3 */
+    const vf_t u = V_PS(shuffle)(l0, l1, _MM_SHUFFLE(1, 0, 2, 1)); /* g0 b0 g1 b1 */
+    *r = V_I(V_PS(shuffle)(l0, t, _MM_SHUFFLE(2, 0, 3, 0)));
+    *g = V_I(V_PS(shuffle)(u, t, _MM_SHUFFLE(3, 1, 2, 0)));
+    *b = V_I(V_PS(shuffle)(u, l2, _MM_SHUFFLE(3, 0, 3, 1)));
+}
+
+/* AVX2: the exponent field be; SSE2: be << 23 (where it is, one AND) */
+static vi_t enc_be(vi_t x)
+{
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+    return V_(srli_epi32)(V_(slli_epi32)(x, 1), 24);
+#else
+    return _mm_and_si128(x, V_SET1(0x7F800000u));
+#endif
+}
+
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2
+/* 2^k (k in 0..7) in each 32-bit lane from kb = (k + 127) << 23: the binary32 bits of 2^k,
+ * converted by cvttps2dq (exact and raising no flag: an integral normal value); SRGBE_SSE2_HORNER
+ * builds it from k's bits instead, ((1 + k2)^2 (1 + k1))^2 (1 + k0), integer products only (the
+ * slower alternative measured in the report of this kernel) */
+static vi_t pow2k(vi_t kb)
+{
+#ifndef SRGBE_SSE2_HORNER
+    return _mm_cvttps_epi32(_mm_castsi128_ps(kb));
+#else
+    const vi_t one = V_SET1(1), k = _mm_sub_epi32(_mm_srli_epi32(kb, 23), V_SET1(127));
+    vi_t p = _mm_add_epi32(_mm_srli_epi32(k, 2), one);
+    p = _mm_mullo_epi16(p, p);
+    p = _mm_mullo_epi16(p, _mm_add_epi32(_mm_and_si128(_mm_srli_epi32(k, 1), one), one));
+    p = _mm_mullo_epi16(p, p);
+    return _mm_mullo_epi16(p, _mm_add_epi32(_mm_and_si128(k, one), one));
+#endif
+}
+#endif
+
+/* one channel: q ^ s (a signed byte) given x, its enc_be and lo = em - 7, hi = em - 134 (SSE2:
+ * both << 23). W = 255 sig = 255 frac + 0x7F800000 < 2^32, u = W >> 25, q = u >> d = W >> (32 - k)
+ * (nested floors), which SSE2 takes as the high half of the 16-bit product (W >> 16) 2^k. */
+static vi_t enc_chan(vi_t x, vi_t be, vi_t lo, vi_t hi)
+{
+    const vi_t f = V_SI(and)(x, V_SET1(0x007FFFFFu));
+    const vi_t w = V_(add_epi32)(V_(sub_epi32)(V_(slli_epi32)(f, 8), f), V_SET1(0x7F800000u));
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+    (void)hi;
+    const vi_t q = _mm256_srlv_epi32(_mm256_srli_epi32(w, 25),
+                                     _mm256_sub_epi32(_mm256_add_epi32(lo, V_SET1(7)), _mm256_max_epi32(be, lo)));
+#else
+    /* (max(be, em - 7) - em + 134) << 23 = (k + 127) << 23; the signed 16-bit max is exact: the
+     * upper halves hold be << 7 >= 0 or (em - 7) << 7, the lower halves 0 */
+    const vi_t q = _mm_mulhi_epu16(_mm_srli_epi32(w, 16), pow2k(_mm_sub_epi32(_mm_max_epi16(be, lo), hi)));
+#endif
+    return V_SI(xor)(q, V_(srai_epi32)(x, 31));
+}
+
+/* codes of 2 VL pixels (rgb at p, codes at o); nonzero if one of them has em outside 7..254 */
+static unsigned enc_simd(const uint32_t *p, uint8_t *o)
+{
+    vi_t v[2][4], bad = V_SI(setzero)();
+    for (int h = 0; h < 2; ++h) {
+        vi_t r, g, b;
+        enc_load3(p + 3 * VL * h, &r, &g, &b);
+        const vi_t er = enc_be(r), eg = enc_be(g), eb = enc_be(b);
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+        const vi_t em = _mm256_max_epi32(_mm256_max_epi32(er, eg), eb);
+        const vi_t lo = V_(sub_epi32)(em, V_SET1(7)), hi = lo;
+#else
+        const vi_t em23 = _mm_max_epi16(_mm_max_epi16(er, eg), eb), em = _mm_srli_epi32(em23, 23);
+        const vi_t lo = _mm_sub_epi32(em23, V_SET1(7u << 23)), hi = _mm_sub_epi32(em23, V_SET1(134u << 23));
+#endif
+        v[h][0] = enc_chan(r, er, lo, hi);
+        v[h][1] = enc_chan(g, eg, lo, hi);
+        v[h][2] = enc_chan(b, eb, lo, hi);
+        /* E = (em + 1) mod 256 as a signed byte; em outside 7..254 is exactly E <= 7 */
+        v[h][3] = V_(sub_epi32)(V_SI(and)(V_(add_epi32)(em, V_SET1(1)), V_SET1(0xFF)), V_SET1(128));
+        bad = V_SI(or)(bad, V_(cmpgt_epi32)(V_SET1(-120), v[h][3]));
+    }
+    /* AVX2: v[0] holds pixels 0..7, v[1] 8..15; packs and unpacks work per 128-bit half, which
+     * puts pixels 0..3 | 4..7 in c0 and 8..11 | 12..15 in c1 */
+    const vi_t rg = V_(packs_epi16)(V_(packs_epi32)(v[0][0], v[1][0]), V_(packs_epi32)(v[0][1], v[1][1]));
+    const vi_t be = V_(packs_epi16)(V_(packs_epi32)(v[0][2], v[1][2]), V_(packs_epi32)(v[0][3], v[1][3]));
+    const vi_t lo = V_(unpacklo_epi8)(rg, be), hi = V_(unpackhi_epi8)(rg, be); /* r b ..., g e ... */
+    const vi_t x80 = V_(set1_epi8)((char)0x80);
+    V_SI(storeu)((vi_t *)(void *)o, V_SI(xor)(V_(unpacklo_epi8)(lo, hi), x80));
+    V_SI(storeu)((vi_t *)(void *)(o + 4 * VL), V_SI(xor)(V_(unpackhi_epi8)(lo, hi), x80));
+    return (unsigned)V_(movemask_epi8)(bad);
+}
+#define ENC_SIMD_PX (2 * VL)
+
+#elif QIBL_CONFIG_SIMD == QIBL_SIMD_NEON
+/* codes of 8 pixels (rgb at p, codes at o); nonzero if one of them has em outside 7..254 */
+static unsigned enc_simd(const uint32_t *p, uint8_t *o)
+{
+    uint16x4_t n[4][2];
+    uint32x4_t bad = vdupq_n_u32(0u);
+    for (int h = 0; h < 2; ++h) {
+        const uint32x4x3_t x = vld3q_u32(p + 12 * h);
+        uint32x4_t be[3];
+        for (int c = 0; c < 3; ++c)
+            be[c] = vshrq_n_u32(vshlq_n_u32(x.val[c], 1), 24);
+        const uint32x4_t em = vmaxq_u32(vmaxq_u32(be[0], be[1]), be[2]);
+        const int32x4_t lo = vreinterpretq_s32_u32(vsubq_u32(em, vdupq_n_u32(7u)));
+        for (int c = 0; c < 3; ++c) {
+            const int32x4_t d = vsubq_s32(vreinterpretq_s32_u32(em), vmaxq_s32(vreinterpretq_s32_u32(be[c]), lo));
+            const uint32x4_t f = vandq_u32(x.val[c], vdupq_n_u32(0x007FFFFFu));
+            const uint32x4_t u = vshrq_n_u32(vmlaq_n_u32(vdupq_n_u32(0x7F800000u), f, 255u), 25);
+            const uint32x4_t q = vshlq_u32(u, vnegq_s32(d));
+            const uint32x4_t s = vreinterpretq_u32_s32(vshrq_n_s32(vreinterpretq_s32_u32(x.val[c]), 31));
+            n[c][h] = vmovn_u32(veorq_u32(q, s));
+        }
+        n[3][h] = vmovn_u32(vaddq_u32(em, vdupq_n_u32(1u))); /* E = em + 1, low byte */
+        bad = vorrq_u32(bad, vcgeq_u32(vsubq_u32(em, vdupq_n_u32(7u)), vdupq_n_u32(248u)));
+    }
+    uint8x8x4_t c;
+    for (int k = 0; k < 3; ++k)
+        c.val[k] = veor_u8(vmovn_u16(vcombine_u16(n[k][0], n[k][1])), vdup_n_u8(0x80u));
+    c.val[3] = vmovn_u16(vcombine_u16(n[3][0], n[3][1]));
+    vst4_u8(o, c);
+    const uint32x2_t m = vorr_u32(vget_low_u32(bad), vget_high_u32(bad));
+    return vget_lane_u32(m, 0) | vget_lane_u32(m, 1);
+}
+#define ENC_SIMD_PX 8
+#endif
+#endif /* QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR */
 
 /* ---- encode from int32 * 2^-frac_bits ------------------------------------------------------- */
 
@@ -415,6 +600,96 @@ static unsigned dec_px_f32(const uint8_t *code, uint32_t *out)
     return flags;
 }
 
+#if QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR
+/* ---- bulk decoder to binary32: intrinsics -----------------------------------------------------
+ *
+ * dec_base[X] + (E << 23) for E in 9..254 (dec_px_f32's table path) computed instead of looked up:
+ * with m = |2X - 255| (odd), n its leading zeros in 8 bits and M = m << n (128..255),
+ *     dec_base[X] = sign 2^31 + M 0x010101 + 1 - ((n + 2) << 23)   (mod 2^32),
+ * dec_chan_f32's normal case: m 0x01010101 << n = M 0x01010101, whose rounding bit (bit 7 of M)
+ * is 1 (for X = 0 / 255, M = 255 and n = 0 give the sign bit alone, as in the table).
+ * NEON counts n with vclz and shifts by it. SSE2/AVX2 have neither; there v = 2X - 255 is converted
+ * to binary32 (cvtdq2ps: exact as |v| < 2^24, so no rounding, no flag, the same bits under any
+ * rounding mode), whose bits are F = sign 2^31 + ((134 - n) << 23) + (M - 128) 2^16, so
+ *     dec_base[X] = F + 257 (M - 128) + 0x8081 - (135 << 23)   (mod 2^32),
+ * M - 128 = (F >> 16) & 0x7F: integer operations on F's bits. A code with E outside 9..254 gets
+ * meaningless words and is redone by dec_px_f32; dec_simd says whether a group has one. */
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2 || QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+#define V_F(v) _mm256_castsi256_ps(v)
+#else
+#define V_F(v) _mm_castsi128_ps(v)
+#endif
+/* one channel of VL codes: x2 = 2X, base = (E << 23) + 0x8081 - (135 << 23) */
+static vi_t dec_chan(vi_t x2, vi_t base)
+{
+    const vi_t f = V_I(V_PS(cvtepi32)(V_(sub_epi32)(x2, V_SET1(255))));
+    const vi_t lo7 = V_SI(and)(V_(srli_epi32)(f, 16), V_SET1(0x7F));
+    return V_(add_epi32)(V_(add_epi32)(f, base), V_(add_epi32)(V_(slli_epi32)(lo7, 8), lo7));
+}
+
+/* VL codes at c decoded to binary32 words at o; nonzero if one of them has E outside 9..254 */
+static unsigned dec_simd(const uint8_t *c, uint32_t *o)
+{
+    const vi_t w = V_SI(loadu)((const vi_t *)(const void *)c);
+    const vi_t e = V_(srli_epi32)(w, 24);
+    /* 0x8081 - (135 << 23) = -0x437F7F7F */
+    const vi_t base = V_(add_epi32)(V_(slli_epi32)(e, 23), V_(set1_epi32)(-0x437F7F7F));
+    const vi_t mask = V_SET1(0x1FE);
+    const vf_t r = V_F(dec_chan(V_SI(and)(V_(slli_epi32)(w, 1), mask), base));
+    const vf_t g = V_F(dec_chan(V_SI(and)(V_(srli_epi32)(w, 7), mask), base));
+    const vf_t b = V_F(dec_chan(V_SI(and)(V_(srli_epi32)(w, 15), mask), base));
+    const vi_t bad = V_SI(or)(V_(cmpgt_epi32)(V_SET1(9), e), V_(cmpgt_epi32)(e, V_SET1(254)));
+    /* R, G, B planes (bit moves) to r0 g0 b0 r1 | g1 b1 r2 g2 | b2 r3 g3 b3 per 128-bit half */
+    const vf_t rg = V_PS(shuffle)(r, g, _MM_SHUFFLE(2, 0, 2, 0)); /* r0 r2 g0 g2 */
+    const vf_t br = V_PS(shuffle)(b, r, _MM_SHUFFLE(3, 1, 2, 0)); /* b0 b2 r1 r3 */
+    const vf_t gb = V_PS(shuffle)(g, b, _MM_SHUFFLE(3, 1, 3, 1)); /* g1 g3 b1 b3 */
+    const vi_t l0 = V_I(V_PS(shuffle)(rg, br, _MM_SHUFFLE(2, 0, 2, 0)));
+    const vi_t l1 = V_I(V_PS(shuffle)(gb, rg, _MM_SHUFFLE(3, 1, 2, 0)));
+    const vi_t l2 = V_I(V_PS(shuffle)(br, gb, _MM_SHUFFLE(3, 1, 3, 1)));
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+    /* halves: pixels 0..3 (words 0..11) low, 4..7 (words 12..23) high */
+    _mm256_storeu_si256((__m256i *)(void *)o, _mm256_permute2x128_si256(l0, l1, 0x20));
+    _mm256_storeu_si256((__m256i *)(void *)(o + 8), _mm256_permute2x128_si256(l2, l0, 0x30));
+    _mm256_storeu_si256((__m256i *)(void *)(o + 16), _mm256_permute2x128_si256(l1, l2, 0x31));
+#else
+    _mm_storeu_si128((__m128i *)(void *)o, l0);
+    _mm_storeu_si128((__m128i *)(void *)(o + 4), l1);
+    _mm_storeu_si128((__m128i *)(void *)(o + 8), l2);
+#endif
+    return (unsigned)V_(movemask_epi8)(bad);
+}
+#define DEC_SIMD_PX VL
+
+#elif QIBL_CONFIG_SIMD == QIBL_SIMD_NEON
+/* 4 codes at c decoded to binary32 words at o; nonzero if one of them has E outside 9..254 */
+static unsigned dec_simd(const uint8_t *c, uint32_t *o)
+{
+    const uint32x4_t w = vreinterpretq_u32_u8(vld1q_u8(c)); /* little-endian lanes: byte 0 = R */
+    const uint32x4_t e = vshrq_n_u32(w, 24);
+    /* (E << 23) + 1 - (2 << 23) */
+    const uint32x4_t base = vaddq_u32(vshlq_n_u32(e, 23), vdupq_n_u32(1u - (2u << 23)));
+    uint32x4x3_t v;
+    for (int k = 0; k < 3; ++k) {
+        const int32x4_t x2 = vreinterpretq_s32_u32(vandq_u32(
+            k == 0 ? vshlq_n_u32(w, 1) : k == 1 ? vshrq_n_u32(w, 7) : vshrq_n_u32(w, 15), vdupq_n_u32(0x1FEu)));
+        const int32x4_t sv = vsubq_s32(x2, vdupq_n_s32(255));
+        const uint32x4_t m = vreinterpretq_u32_s32(vabsq_s32(sv));
+        const uint32x4_t n = vsubq_u32(vclzq_u32(m), vdupq_n_u32(24u));
+        const uint32x4_t mm = vshlq_u32(m, vreinterpretq_s32_u32(n)); /* M */
+        const uint32x4_t sign = vandq_u32(vreinterpretq_u32_s32(sv), vdupq_n_u32(0x80000000u));
+        const uint32x4_t t = vmlaq_n_u32(vsubq_u32(base, vshlq_n_u32(n, 23)), mm, 0x010101u);
+        v.val[k] = vaddq_u32(t, sign);
+    }
+    vst3q_u32(o, v);
+    const uint32x4_t bad = vorrq_u32(vcltq_u32(e, vdupq_n_u32(9u)), vcgtq_u32(e, vdupq_n_u32(254u)));
+    const uint32x2_t mb = vorr_u32(vget_low_u32(bad), vget_high_u32(bad));
+    return vget_lane_u32(mb, 0) | vget_lane_u32(mb, 1);
+}
+#define DEC_SIMD_PX 4
+#endif
+#endif /* QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR */
+
 /* ---- decode to int32 * 2^-frac_bits --------------------------------------------------------- */
 
 /* round_half_up(+-m 2^s / 255) saturated to int32, s = E - 127 + frac_bits. All 32-bit: with
@@ -526,14 +801,21 @@ qibl_status_t qibl_srgbe_encode_f32_n(const uint32_t *restrict rgb, size_t n, ui
     if (rgb == 0 || codes == 0)
         return QIBL_E_NULL_POINTER;
     unsigned flags = 0u;
-#if QIBL_CONFIG_SRGBE_BLOCKS
-    /* Whole blocks through enc_blk; a block holding a pixel it does not cover (zero, subnormal
-     * or tiny maximum, Inf, NaN) has those pixels redone by enc_px_f32, as is the tail of fewer
-     * than BLK pixels. The final bytes are enc_px_f32's for every pixel. */
+#if QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR || QIBL_CONFIG_SRGBE_BLOCKS
+#if QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR
+#define ENC_BULK_PX ENC_SIMD_PX
+#define ENC_BULK(p, c) enc_simd(p, c)
+#else
+#define ENC_BULK_PX BLK
+#define ENC_BULK(p, c) enc_blk(p, c)
+#endif
+    /* Whole blocks through enc_simd or enc_blk; a block holding a pixel they do not cover (zero,
+     * subnormal or tiny maximum, Inf, NaN) has those pixels redone by enc_px_f32, as is the tail of
+     * fewer than a block. The final bytes are enc_px_f32's for every pixel. */
     size_t i = 0;
-    for (; n - i >= BLK; i += BLK)
-        if (enc_blk(rgb + 3 * i, codes + 4 * i))
-            for (size_t j = i; j < i + BLK; ++j) {
+    for (; n - i >= ENC_BULK_PX; i += ENC_BULK_PX)
+        if (ENC_BULK(rgb + 3 * i, codes + 4 * i))
+            for (size_t j = i; j < i + ENC_BULK_PX; ++j) {
                 const uint32_t *p = rgb + 3 * j;
                 if (max3((p[0] >> 23) & 0xFFu, (p[1] >> 23) & 0xFFu, (p[2] >> 23) & 0xFFu) - 7u >= 248u)
                     flags |= enc_px_f32(p[0], p[1], p[2], codes + 4 * j);
@@ -584,6 +866,15 @@ qibl_status_t qibl_srgbe_decode_f32_n(const uint8_t *restrict codes, size_t n, u
     if (codes == 0 || rgb == 0)
         return QIBL_E_NULL_POINTER;
     unsigned flags = 0u;
+#if QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR
+    /* groups through dec_simd; codes it does not cover (E <= 8: subnormal results, E = 255:
+     * saturation) redone by dec_px_f32, which gives every pixel's final words */
+    for (; n >= DEC_SIMD_PX; n -= DEC_SIMD_PX, codes += 4 * DEC_SIMD_PX, rgb += 3 * DEC_SIMD_PX)
+        if (dec_simd(codes, rgb))
+            for (size_t j = 0; j < DEC_SIMD_PX; ++j)
+                if (codes[4 * j + 3] - 9u >= 246u)
+                    flags |= dec_px_f32(codes + 4 * j, rgb + 3 * j);
+#endif
     for (size_t i = 0; i < n; ++i, codes += 4, rgb += 3)
         flags |= dec_px_f32(codes, rgb);
     return status_of(flags);

@@ -174,6 +174,12 @@ for c in "${configs[@]}"; do
     nn=$($od -d "$o" 2>/dev/null | grep -c "$ins")
     if [ "${nn:-0}" -gt 0 ]; then echo "ports: $name: NEON relight kernel present ($nn $ins in shmap.o)"
     else err "$name: no $ins in shmap.o: the NEON path was not built"; fi
+    # the sRGBE bulk kernels: the encoder's interleaving store and the decoder's leading-zero count
+    o="$out/$name/core/srgbe.o"; [ -f "$o" ] || continue
+    case "$name" in aarch64*) pat='st4[[:space:]]|clz[[:space:]]+v' ;; *) pat='vst4\.8|vclz\.i32' ;; esac
+    nn=$($od -d "$o" 2>/dev/null | grep -cE "$pat")
+    if [ "${nn:-0}" -ge 2 ]; then echo "ports: $name: NEON sRGBE kernels present ($nn of /$pat/ in srgbe.o)"
+    else err "$name: /$pat/ found $nn times in srgbe.o: the NEON sRGBE path was not built"; fi
 done
 ref=""; refname=""; exref=""; n=0; same=0
 fmt='%-28s %6s %-14s %-10s %-9s %8s %8s'

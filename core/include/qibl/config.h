@@ -148,7 +148,8 @@
 #endif
 
 /* QIBL_CONFIG_SRGBE_BLOCKS: 1 makes qibl_srgbe_encode_f32_n encode blocks of 16 pixels as 16-bit
- * planes, code that compilers vectorise for SSE2, NEON, AltiVec or RVV (about 2x faster there,
+ * planes, code that compilers vectorise for SSE2, NEON, AltiVec or RVV (used where QIBL_CONFIG_SIMD
+ * is scalar; otherwise its intrinsics kernel runs, faster still) (about 2x faster there,
  * 480 bytes of stack; forced on for a Cortex-M4 -Os it would add about 370 bytes of .text and run
  * slower); 0 encodes pixel by pixel. Identical bytes either way. Default: 1 where the compiler
  * targets one of those vector units and multiplies 32x32->64 inline, so the portable flavour of

@@ -61,7 +61,7 @@
  *
  * Memory: no workspace; one 1 KiB const table (binary32 decode). Codes are byte arrays with no
  * alignment requirement. qibl_srgbe_encode_f32_n uses about 480 bytes of stack where
- * QIBL_CONFIG_SRGBE_BLOCKS is 1 (config.h: hosts with a vector unit), a few words elsewhere.
+ * QIBL_CONFIG_SRGBE_BLOCKS is 1 and QIBL_CONFIG_SIMD scalar (config.h), a few words elsewhere.
  * All functions are reentrant; inputs may be any values (no precondition beyond valid pointers).
  */
 #ifndef QIBL_SRGBE_H
