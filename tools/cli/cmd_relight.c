@@ -153,7 +153,7 @@ static void describe(const qcli_light_list *ll, int lut_mode, char *buf, size_t 
     if (ll->points && o < n)
         o += (size_t)snprintf(buf + o, n - o, "%s%u point%s (%s)", o ? ", " : "", ll->points,
                               ll->points == 1 ? "" : "s",
-                              lut_mode == 2 ? "LUT nearest" : lut_mode == 1 ? "LUT bilinear" : "direct");
+                              lut_mode == 2 ? "point/LUT nearest" : lut_mode == 1 ? "point/LUT bilinear" : "point/direct");
     if (ll->csv && o < n)
         o += (size_t)snprintf(buf + o, n - o, "%s%s", o ? ", " : "", ll->csv);
     if (ll->probe && o < n)

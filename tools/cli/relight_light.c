@@ -354,30 +354,32 @@ static double region_sr(const qibl_lightprobe_light_t *l, uint32_t w, uint32_t h
     return (double)(l->u1 - l->u0) * (2.0 * RL_PI / w) * (RL_PI / h) * s;
 }
 
+static double region_density(const qibl_lightprobe_light_t *l, uint32_t w, uint32_t h)
+{
+    double sr = region_sr(l, w, h);
+    return sr > 0 ? (0.2126 * l->rgb[0] + 0.7152 * l->rgb[1] + 0.0722 * l->rgb[2]) / sr : 0;
+}
+
 uint32_t qcli_probe_suns(const qibl_lightprobe_light_t *l, uint32_t count, uint32_t w, uint32_t h, uint32_t *idx)
 {
-    double best = -1;
-    for (uint32_t i = 0; i < count; ++i) {
-        double sr = region_sr(&l[i], w, h);
-        double d = sr > 0 ? (0.2126 * l[i].rgb[0] + 0.7152 * l[i].rgb[1] + 0.0722 * l[i].rgb[2]) / sr : 0;
-        best = fmax(best, d);
-    }
+    /* the regions cover every lit pixel, so their sum over 4 pi is the probe's mean radiance */
+    double total = 0;
+    for (uint32_t i = 0; i < count; ++i)
+        total += 0.2126 * l[i].rgb[0] + 0.7152 * l[i].rgb[1] + 0.0722 * l[i].rgb[2];
+    double floor_d = QCLI_SUN_CONTRAST * total / (4 * RL_PI), last = INFINITY;
     uint32_t n = 0;
-    /* densest first: repeated selection (count is small) */
-    double last = INFINITY;
-    while (n < QCLI_SUN_MAX) {
+    while (n < QCLI_SUN_MAX) { /* densest first: repeated selection (count is small) */
         double bd = -1;
         uint32_t bi = count;
         for (uint32_t i = 0; i < count; ++i) {
-            double sr = region_sr(&l[i], w, h);
-            double d = sr > 0 ? (0.2126 * l[i].rgb[0] + 0.7152 * l[i].rgb[1] + 0.0722 * l[i].rgb[2]) / sr : 0;
+            double d = region_density(&l[i], w, h);
             int taken = 0;
             for (uint32_t j = 0; j < n; ++j)
                 taken |= idx[j] == i;
             if (!taken && d <= last && d > bd)
                 bd = d, bi = i;
         }
-        if (bi == count || (n > 0 && bd * QCLI_SUN_DENSITY_DIV < best))
+        if (bi == count || bd < floor_d || bd <= 0)
             break;
         idx[n++] = bi, last = bd;
     }
@@ -460,8 +462,8 @@ static int probe_part(const qcli_light_list *ll, uint32_t k, FILE *note, qibl_sh
             if (!ws)
                 goto oom;
             st = qibl_shlight_add_sun_sky(p, &img, &opts, suns, ns, res.rgb_exp, ws, wsn);
-            fprintf(note, "%s: sun = %u of %u median-cut regions (the densest, and those at least 1/%g as dense), "
-                    "sky = SH of the rest\n", ll->probe, ns, res.count, QCLI_SUN_DENSITY_DIV);
+            fprintf(note, "%s: sun = %u of %u median-cut regions (those at least %g times the probe's mean "
+                    "radiance), sky = SH of the rest\n", ll->probe, ns, res.count, QCLI_SUN_CONTRAST);
         }
     }
     if (st == QIBL_OK && ll->rotate) {

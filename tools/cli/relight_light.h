@@ -20,8 +20,8 @@
 #define QCLI_LIGHTS_CSV_MAX 65536u       /* rows of a --lights file (qibl_shlight_add_lights' limit) */
 #define QCLI_LIGHTS_CSV_HEADER "x,y,z,r,g,b,u0,v0,u1,v1" /* what `qibl lights --csv` writes */
 #define QCLI_PROBE_DEFAULT_N 64L         /* median-cut lights of --probe-mode lights and sunsky */
-#define QCLI_SUN_DENSITY_DIV 4.0         /* sun regions: at least 1/4 the radiance of the densest */
-#define QCLI_SUN_MAX 16u
+#define QCLI_SUN_CONTRAST 32.0           /* sun regions: mean radiance >= 32 x the probe's mean */
+#define QCLI_SUN_MAX 32u
 
 typedef enum qcli_probe_mode { QCLI_PROBE_SH = 0, QCLI_PROBE_LIGHTS, QCLI_PROBE_SUNSKY } qcli_probe_mode;
 
@@ -79,9 +79,10 @@ int qcli_lights_csv_read(const char *path, qibl_lightprobe_light_t **lights, uin
 int qcli_probe_load(const char *path, qtool_probe_layout_t want, FILE *note, int *w, int *h, uint8_t **rgbe,
                     qtool_probe_layout_t *used);
 
-/* Picks the sun among median-cut lights of a w x h probe: the region of the highest mean radiance
- * (luminance / solid angle) and every region at least 1/QCLI_SUN_DENSITY_DIV of it, densest first,
- * at most QCLI_SUN_MAX. Writes their indices to idx; returns how many (0 only for count 0). */
+/* Picks the sun among the median-cut lights of a w x h probe (all of a list, so they cover the
+ * probe's energy): the regions whose mean radiance (luminance / solid angle) is at least
+ * QCLI_SUN_CONTRAST times the probe's mean radiance, densest first, at most QCLI_SUN_MAX. Writes
+ * their indices to idx; returns how many (0: no sun, e.g. an overcast sky). */
 uint32_t qcli_probe_suns(const qibl_lightprobe_light_t *l, uint32_t count, uint32_t w, uint32_t h, uint32_t *idx);
 
 /* A frame relit by the core: sh (NULL: no directional light) on the maps m, plus npoints point
