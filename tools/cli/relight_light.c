@@ -252,8 +252,16 @@ int qcli_lights_csv_read(const char *path, qibl_lightprobe_light_t **lights, uin
         char *p = line;
         for (int k = 0; k < 10; ++k) {
             char *s = p;
+            if (k > 0 && *s == '\0') {
+                snprintf(err, errlen, "%s:%lu: %d columns, want 10 (" QCLI_LIGHTS_CSV_HEADER ")", path, ln, k);
+                goto out;
+            }
             if (csv_num(&p, k == 9, &r[k]) != 0) {
                 size_t fl = strcspn(s, ",");
+                if (k < 9 && s[fl] == '\0') {
+                    snprintf(err, errlen, "%s:%lu: %d columns, want 10 (" QCLI_LIGHTS_CSV_HEADER ")", path, ln, k + 1);
+                    goto out;
+                }
                 snprintf(err, errlen, "%s:%lu: %s '%.*s' is not a number%s", path, ln, names[k], (int)(fl > 40 ? 40 : fl),
                          s, k == 9 && s[fl] == ',' ? " (more than 10 columns)" : "");
                 goto out;
