@@ -24,7 +24,8 @@
 
 #define PI_ 3.14159265358979323846
 #define NNORM 1024
-#define TIE 1.10 /* a scheme within 10 % of the best error counts as as good; the cheaper one is picked */
+#define TIE 1.10  /* a scheme within 10 % of the best error counts as as good; the cheaper one is picked */
+#define GOOD 0.01 /* so does one with a mean error of 1 % or less (a few 8-bit levels at most) */
 
 static double rgbe_f(uint8_t m, uint8_t e)
 {
@@ -265,18 +266,20 @@ int qcli_cmd_probe(int argc, char **argv)
         if (me[s] < me[best])
             best = s;
     }
-    /* the cheapest scheme whose error is within TIE of the best: the order above is by cost */
+    /* the cheapest scheme whose error is within TIE of the best or below GOOD: the order above is by cost */
     int pick = best;
+    double enough = fmax(me[best] * TIE, GOOD);
     for (int s = S_COUNT - 1; s >= 0; --s)
-        if (me[s] <= me[best] * TIE)
+        if (me[s] <= enough)
             pick = s;
     printf("advice: %s (qibl relight ... --probe %s %s): ", label[pick], path, flag[pick]);
     if (pick == S_SH)
-        printf("the light is soft enough that 9 coefficients hold its irradiance best%s\n",
-               pick != best ? " (as good as the best, and the cheapest)" : "");
+        printf("the light is soft enough that 9 coefficients hold its irradiance %s\n",
+               pick == best ? "best" : me[pick] <= me[best] * TIE ? "as well as the best, and they are the cheapest"
+                                                                : "within 1 %, and they are the cheapest");
     else if (pick == S_SUNSKY)
         printf("a small bright source dominates: light it exactly and leave the rest to SH%s\n",
-               pick != best ? " (as good as the best, and cheaper)" : "");
+               pick != best ? " (good enough, and cheaper than the best)" : "");
     else
         printf("the lowest mean irradiance error; the light is too concentrated for 9 coefficients%s\n",
                me[S_SH] > 2 * me[pick] ? "" : " (SH is close: it is cheaper)");

@@ -138,7 +138,7 @@ static const qcli_cmd commands[] = {
      "  APNG), a contact sheet (relit | ground truth | error heat map) for novel lights, and prints the\n"
      "  table of k, bytes, ms/frame and PSNR with RESULT lines. --small: the CI size.\n",
      qcli_cmd_demo},
-    {"relight", "relight an asset with suns, point lights, a light list or a whole probe into a PNG (core + soft framebuffer)",
+    {"relight", "relight an asset by suns, lamps, a light list or a whole probe into a PNG (core + soft framebuffer)",
      "usage: qibl relight FILE [--sun X Y Z [--rgb R G B]]... [--point X Y Z [--rgb R G B]]...\n"
      "                    [--lights FILE.csv] [--probe PROBE.hdr [--layout L] [--probe-mode sh|lights|sunsky]\n"
      "                    [-n N] [--yaw DEG | --rotate a,b,c,d,e,f,g,h,i]] [--lut nearest|bilinear|off]\n"
@@ -231,8 +231,8 @@ static const qcli_cmd commands[] = {
      "  normals, mean and max as a share of the mean irradiance, as qibl lights --error): its SH (9\n"
      "  coefficients, the core's projection), 16 and 64 median-cut lights (the core's), and sun plus\n"
      "  SH (the sun as relight --probe-mode sunsky picks it, lit exactly; the rest as 9 SH\n"
-     "  coefficients). Advice: the scheme with the lowest mean error, or the cheapest one (in that\n"
-     "  order) within 10 % of it, with the relight option that uses it.\n",
+     "  coefficients). Advice: the cheapest scheme (in that order) whose mean error is within 10 %\n"
+     "  of the lowest or at most 1 %, with the relight option that uses it.\n",
      qcli_cmd_probe},
 };
 #define NCMD (sizeof commands / sizeof commands[0])
