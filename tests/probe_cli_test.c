@@ -461,6 +461,14 @@ static void test_lights_json(void **state)
     assert_true(t[0] == '{');
     free(t);
     expect(2, "--csv and --json", NULL, "lights", pr, "--csv", "--json", NULL);
+    /* an all-black probe: still a JSON document, with no lights */
+    float px[3 * 8 * 4] = {0};
+    char err[256];
+    assert_int_equal(qtool_hdr_write(at("black.hdr"), 8, 4, px, err, sizeof err), 0);
+    OK("lights", at("black.hdr"), "-n", "4", "--json");
+    t = text(outlog);
+    assert_non_null(strstr(t, "\"count\": 0, \"lights\": []"));
+    free(t);
 }
 
 /* ---- probe info --------------------------------------------------------------------------------- */

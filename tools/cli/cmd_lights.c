@@ -322,6 +322,8 @@ int qcli_cmd_lights(int argc, char **argv)
         st = qibl_lightprobe_lights(&lp, &o, L, (uint32_t)n, &res);
     if (st == QIBL_E_PROBE_BLACK) {
         fprintf(stderr, "qibl: %s: %s\n", path, qibl_status_str(st));
+        if (json) /* still a document: no lights */
+            printf("{\"width\": %d, \"height\": %d, \"count\": 0, \"lights\": []}\n", w, h);
         rc = 0; /* a valid answer: no lights */
         goto out;
     }
