@@ -61,6 +61,7 @@ typedef struct qcli_transfer_stats {
 int qcli_transfer_measure(char **files, int nframes, int zup, const char *probe, int mask, int face, int rays,
                           int coarse, int ring, qcli_transfer_stats *st);
 int qcli_cmd_lights(int argc, char **argv);
+int qcli_cmd_probe(int argc, char **argv); /* cmd_probe_info.c: `qibl probe info` */
 
 int qcli_cmd_render(int argc, char **argv); /* cmd_bake.c */
 int qcli_cmd_bake(int argc, char **argv);

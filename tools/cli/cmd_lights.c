@@ -18,7 +18,7 @@
 #include "qibl/srgbe.h"
 #include "ref/lightprobe_ref.h"
 
-#define USAGE "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv] [--png OUT.png] [--layout L]"
+#define USAGE "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv | --json] [--png OUT.png] [--layout L]"
 
 static int parse_method(const char *s, qibl_lightprobe_method_t *m)
 {
@@ -178,7 +178,7 @@ int qcli_cmd_lights(int argc, char **argv)
     qibl_lightprobe_opts_t o;
     memset(&o, 0, sizeof o);
     long n = 64, zoom = 0;
-    int csv = 0, error = 0;
+    int csv = 0, json = 0, error = 0;
     qtool_probe_layout_t layout = QTOOL_PROBE_LAYOUT_AUTO;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
@@ -214,6 +214,8 @@ int qcli_cmd_lights(int argc, char **argv)
                 return qcli_usage_error("--layout is auto, latlong, angular, ball, vcross or hcross");
         } else if (strcmp(a, "--csv") == 0) {
             csv = 1;
+        } else if (strcmp(a, "--json") == 0) {
+            json = 1;
         } else if (strcmp(a, "--error") == 0) {
             error = 1;
         } else if (a[0] != '-' && !path) {
@@ -224,6 +226,10 @@ int qcli_cmd_lights(int argc, char **argv)
     }
     if (!path)
         return qcli_usage_error("%s", USAGE);
+    if (csv && json)
+        return qcli_usage_error("--csv and --json: give one");
+    if (json && error)
+        return qcli_usage_error("--error prints a line of text: it does not go with --json");
     if (o.method == QIBL_LIGHTPROBE_MEDIANCUT && (n & (n - 1)) != 0)
         return qcli_usage_error("median cut makes 2^K lights: -n must be a power of two (or use --method "
                                     "adaptive)");
@@ -242,7 +248,7 @@ int qcli_cmd_lights(int argc, char **argv)
             free(px);
             return fprintf(stderr, "qibl: %s: %s\n", path, err), 1;
         }
-        FILE *note = csv ? stderr : stdout;
+        FILE *note = csv || json ? stderr : stdout;
         fprintf(note, "%s: layout %s (%s, %s)", path, qtool_probe_layout_name(used), qtool_probe_layout_describe(used),
                 layout == QTOOL_PROBE_LAYOUT_AUTO ? "detected" : "from --layout");
         if (used != QTOOL_PROBE_LAYOUT_LATLONG)
@@ -316,6 +322,8 @@ int qcli_cmd_lights(int argc, char **argv)
         st = qibl_lightprobe_lights(&lp, &o, L, (uint32_t)n, &res);
     if (st == QIBL_E_PROBE_BLACK) {
         fprintf(stderr, "qibl: %s: %s\n", path, qibl_status_str(st));
+        if (json) /* still a document: no lights */
+            printf("{\"width\": %d, \"height\": %d, \"count\": 0, \"lights\": []}\n", w, h);
         rc = 0; /* a valid answer: no lights */
         goto out;
     }
@@ -323,7 +331,21 @@ int qcli_cmd_lights(int argc, char **argv)
         fprintf(stderr, "qibl: %s: %s\n", path, qibl_status_str(st));
         goto out;
     }
-    if (csv) {
+    if (json) {
+        static const char *jm[] = {"mediancut", "adaptive", "varmin"};
+        printf("{\"probe\": \"");
+        for (const char *q = path; *q; ++q) /* a JSON string: quotes, backslashes and control bytes escaped */
+            printf((*q == '"' || *q == '\\') ? "\\%c" : (unsigned char)*q < 0x20 ? "\\u%04x" : "%c", *q);
+        printf("\", \"width\": %d, \"height\": %d, \"method\": \"%s\", \"asked\": %ld, \"count\": %u,\n"
+               " \"rgb\": \"irradiance of each region (E(n) = sum rgb max(0, n.dir))\",\n \"lights\": [",
+               w, h, jm[o.method], n, res.count);
+        for (uint32_t i = 0; i < res.count; ++i)
+            printf("%s\n  {\"dir\": [%.9f, %.9f, %.9f], \"rgb\": [%.9g, %.9g, %.9g], \"region\": [%u, %u, %u, %u]}",
+                   i ? "," : "", L[i].dir[0] / 1073741824.0, L[i].dir[1] / 1073741824.0, L[i].dir[2] / 1073741824.0,
+                   ldexp(L[i].rgb[0], res.rgb_exp), ldexp(L[i].rgb[1], res.rgb_exp), ldexp(L[i].rgb[2], res.rgb_exp),
+                   L[i].u0, L[i].v0, L[i].u1, L[i].v1);
+        printf("\n]}\n");
+    } else if (csv) {
         printf("x,y,z,r,g,b,u0,v0,u1,v1\n");
         for (uint32_t i = 0; i < res.count; ++i)
             printf("%.9f,%.9f,%.9f,%.9g,%.9g,%.9g,%u,%u,%u,%u\n", L[i].dir[0] / 1073741824.0,
@@ -346,7 +368,7 @@ int qcli_cmd_lights(int argc, char **argv)
         print_error(px, w, h, L, res.count, res.rgb_exp);
     if (png) {
         rc = write_png(png, px, w, h, z, L, res.count);
-        if (rc == 0 && !csv)
+        if (rc == 0 && !csv && !json)
             printf("wrote %s (%d x %d): regions in green, light directions in red\n", png, w * z, h * z);
     }
 out:

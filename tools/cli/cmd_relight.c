@@ -18,6 +18,7 @@
 #include "cli/gles_cli.h"
 #include "io/file.h"
 #include "cli/cli.h"
+#include "cli/relight_light.h"
 #include "qibl/shmap.h"
 #include "qibl/soft.h"
 
@@ -122,24 +123,10 @@ done:
 
 /* ---- qibl relight ------------------------------------------------------------------------------ */
 
-/* X Y Z after argv[i] into Q16.16 (rounded to nearest), each in lo..QTOOL_CLI_Q16_MAX; 0, or 2 after
- * a message naming the option and the value */
-static int parse3(char **argv, int i, int argc, double lo, qibl_q16_t v[3])
-{
-    if (i + 3 >= argc)
-        return qcli_usage_error("%s needs three numbers", argv[i]);
-    for (int j = 0; j < 3; ++j) {
-        double d;
-        if (qcli_parse_num(argv[i], argv[i + 1 + j], lo, QTOOL_CLI_Q16_MAX, QTOOL_CLI_Q16_WHY, &d) != 0)
-            return 2;
-        v[j] = (qibl_q16_t)nearbyint(d * 65536.0);
-    }
-    return 0;
-}
-
 #define RELIGHT_USAGE                                                                                       \
-    "usage: qibl relight FILE (--sun X Y Z | --point X Y Z) [--rgb R G B] [--lut nearest|bilinear|off]   \
-[--falloff 1|2] [--exposure E] [--linear] [--gles] (--png OUT | --hdr OUT.hdr | --pfm OUT.pfm)..."
+    "usage: qibl relight FILE [--sun X Y Z [--rgb R G B]]... [--point X Y Z [--rgb R G B]]... [--lights FILE.csv] \
+[--probe PROBE.hdr [--layout L] [--probe-mode sh|lights|sunsky] [-n N] [--yaw DEG | --rotate a,b,c,d,e,f,g,h,i]] \
+[--lut nearest|bilinear|off] [--falloff 1|2] [--exposure E] [--linear] [--gles] (--png OUT | --hdr OUT.hdr | --pfm OUT.pfm)..."
 
 /* the P map's points as doubles (n * 3), for the default lamp colour; NULL when out of memory */
 static double *pmap_points(const qibl_pmap_t *pm)
@@ -156,31 +143,38 @@ static double *pmap_points(const qibl_pmap_t *pm)
     return p;
 }
 
+/* "1 sun, 2 points, lights.csv, probe.hdr (SH)" for the messages */
+static void describe(const qcli_light_list *ll, int lut_mode, char *buf, size_t n)
+{
+    size_t o = 0;
+    buf[0] = '\0';
+    if (ll->suns)
+        o += (size_t)snprintf(buf + o, n - o, "%u sun%s", ll->suns, ll->suns == 1 ? "" : "s");
+    if (ll->points && o < n)
+        o += (size_t)snprintf(buf + o, n - o, "%s%u point%s (%s)", o ? ", " : "", ll->points,
+                              ll->points == 1 ? "" : "s",
+                              lut_mode == 2 ? "point/LUT nearest" : lut_mode == 1 ? "point/LUT bilinear" : "point/direct");
+    if (ll->csv && o < n)
+        o += (size_t)snprintf(buf + o, n - o, "%s%s", o ? ", " : "", ll->csv);
+    if (ll->probe && o < n)
+        snprintf(buf + o, n - o, "%sprobe %s (%s)", o ? ", " : "", ll->probe,
+                 ll->mode == QCLI_PROBE_SH ? "SH" : ll->mode == QCLI_PROBE_LIGHTS ? "lights" : "sun plus sky");
+}
+
 int qcli_cmd_relight(int argc, char **argv)
 {
     const char *in = NULL, *png = NULL, *hdr = NULL, *pfm = NULL;
-    qibl_q16_t sun[3] = {0}, pos[3] = {0}, rgb[3] = {65536, 65536, 65536};
-    int have_sun = 0, have_point = 0, have_rgb = 0, use_lut = 0, nearest = 0, linear = 0;
+    int use_lut = 0, nearest = 0, linear = 0, r;
     int gles = 0; /* --gles: platform/gles2 instead of the core + platform/soft (relight_gles.c) */
     long falloff = 1;
     qibl_q16_t exposure = 65536;
+    qcli_light_list ll; /* --sun, --point, --rgb, --lights, --probe and its options (relight_light.c) */
+    qcli_light_list_init(&ll);
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
-        if (strcmp(a, "--sun") == 0) {
-            if (parse3(argv, i, argc, -QTOOL_CLI_Q16_MAX, sun) != 0)
+        if ((r = qcli_light_list_opt(argc, argv, &i, &ll)) != 0) {
+            if (r != 1)
                 return 2;
-            if (sun[0] == 0 && sun[1] == 0 && sun[2] == 0)
-                return qcli_usage_error("--sun needs a non-zero direction: %s %s %s is 0 0 0 in Q16.16", argv[i + 1],
-                                            argv[i + 2], argv[i + 3]);
-            have_sun = 1, i += 3;
-        } else if (strcmp(a, "--point") == 0) {
-            if (parse3(argv, i, argc, -QTOOL_CLI_Q16_MAX, pos) != 0)
-                return 2;
-            have_point = 1, i += 3;
-        } else if (strcmp(a, "--rgb") == 0) {
-            if (parse3(argv, i, argc, 0, rgb) != 0)
-                return 2;
-            have_rgb = 1, i += 3;
         } else if (strcmp(a, "--exposure") == 0 && i + 1 < argc) {
             double e;
             if (qcli_parse_num(a, argv[++i], 1.0 / 65536, QTOOL_CLI_Q16_MAX, "a positive Q16.16 factor", &e) != 0)
@@ -219,8 +213,15 @@ int qcli_cmd_relight(int argc, char **argv)
         else
             return qcli_usage_error(RELIGHT_USAGE);
     }
-    if (!in || (!png && !hdr && !pfm) || have_sun == have_point)
-        return qcli_usage_error("relight needs FILE, exactly one of --sun/--point, and --png, --hdr or --pfm OUT");
+    if (!in || (!png && !hdr && !pfm))
+        return qcli_usage_error("relight needs FILE, a light (--sun, --point, --lights or --probe), and --png, --hdr "
+                                "or --pfm OUT");
+    if (ll.count == 0 && !ll.csv && !ll.probe)
+        return qcli_usage_error("relight needs a light: --sun, --point, --lights FILE.csv or --probe PROBE.hdr");
+    if (qcli_light_list_check(&ll) != 0)
+        return 2;
+    if (gles && (ll.count != 1 || ll.csv || ll.probe))
+        return qcli_usage_error("--gles takes exactly one --sun or --point (no --lights or --probe)");
     size_t n;
     uint8_t *bytes = NULL;
     char rerr[512];
@@ -229,12 +230,15 @@ int qcli_cmd_relight(int argc, char **argv)
         return 1;
     }
     qibl_asset_t a;
-    qibl_shmaps_t m;
+    qibl_shmaps_t m, mp;
     qibl_pmap_t pm;
     qibl_ylut_t lut;
+    int have_point = ll.points > 0;
     qibl_status_t st = qibl_asset_open(&a, bytes, n);
     if (st == QIBL_OK)
         st = qibl_asset_shmaps(&a, &m);
+    if (st == QIBL_OK && have_point) /* free point lights: the unshadowed set when the asset has one */
+        st = qibl_asset_point_shmaps(&a, &mp);
     if (st == QIBL_OK && have_point)
         st = qibl_asset_pmap(&a, &pm);
     if (st == QIBL_OK && have_point && use_lut)
@@ -246,6 +250,40 @@ int qcli_cmd_relight(int argc, char **argv)
     }
     uint32_t w = m.width, h = m.height;
     size_t np = (size_t)w * h;
+    /* the directional part as one SH light (suns, --lights, --probe); notes on stdout */
+    qibl_shlight_t sl;
+    if (qcli_light_list_directional(&ll) && qcli_light_list_sh(&ll, m.k, stdout, &sl) != 0) {
+        free(bytes);
+        return 1;
+    }
+    qibl_pointlight_t pts[QCLI_RELIGHT_MAX_SOURCES];
+    uint32_t npts = 0;
+    double *pmp = NULL;
+    for (uint32_t j = 0; j < ll.count; ++j) {
+        qcli_relight_source *s = &ll.src[j];
+        if (!s->point)
+            continue;
+        if (!s->have_rgb) {
+            /* C0 = 1 lights a scene a few units away almost black: scale it with the scene's distance */
+            double c0, d, lp[3] = {s->v[0] / 65536.0, s->v[1] / 65536.0, s->v[2] / 65536.0};
+            if (!pmp)
+                pmp = pmap_points(&pm);
+            if (!pmp || qcli_point_default(pmp, np, lp, (int)falloff, &c0, &d) != 0) {
+                fprintf(stderr, "qibl: relight: out of memory\n");
+                free(pmp), free(bytes);
+                return 1;
+            }
+            s->rgb[0] = s->rgb[1] = s->rgb[2] = (qibl_q16_t)nearbyint(c0 * 65536.0);
+            fprintf(stderr, "qibl: note: --point without --rgb: C0 = %.4g (%.2g x d%s, d = %.3g the median distance "
+                    "from the lamp to the scene); give --rgb R G B to choose\n", c0, QTOOL_CLI_POINT_GREY,
+                    falloff == 2 ? "^2" : "", d);
+        }
+        qibl_pointlight_t pl = {{s->v[0], s->v[1], s->v[2]}, {s->rgb[0], s->rgb[1], s->rgb[2]},
+                                falloff == 2 ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST, 0,
+                                nearest ? QIBL_LUT_NEAREST : QIBL_LUT_BILINEAR};
+        pts[npts++] = pl;
+    }
+    free(pmp);
     uint8_t *pix = malloc(np * 3);
     float *lin = hdr || pfm ? malloc(np * 3 * sizeof(float)) : NULL;
     if (!pix || ((hdr || pfm) && !lin)) {
@@ -253,30 +291,15 @@ int qcli_cmd_relight(int argc, char **argv)
         free(bytes), free(pix), free(lin);
         return 1;
     }
-    if (have_point && !have_rgb) {
-        /* C0 = 1 lights a scene a few units away almost black: scale it with the scene's distance */
-        double *pts = pmap_points(&pm), c0, d;
-        double lp[3] = {pos[0] / 65536.0, pos[1] / 65536.0, pos[2] / 65536.0};
-        if (!pts || qcli_point_default(pts, np, lp, (int)falloff, &c0, &d) != 0) {
-            fprintf(stderr, "qibl: relight: out of memory\n");
-            free(pts), free(bytes), free(pix), free(lin);
-            return 1;
-        }
-        free(pts);
-        rgb[0] = rgb[1] = rgb[2] = (qibl_q16_t)nearbyint(c0 * 65536.0);
-        fprintf(stderr, "qibl: note: --point without --rgb: C0 = %.4g (%.2g x d%s, d = %.3g the median distance from "
-                "the lamp to the scene); give --rgb R G B to choose\n", c0, QTOOL_CLI_POINT_GREY,
-                falloff == 2 ? "^2" : "", d);
-    }
-    qtool_rt_light l = {have_point, {sun[0] / 65536.0, sun[1] / 65536.0, sun[2] / 65536.0},
-                       {pos[0] / 65536.0, pos[1] / 65536.0, pos[2] / 65536.0},
-                       {rgb[0] / 65536.0, rgb[1] / 65536.0, rgb[2] / 65536.0}, (int)falloff};
     double ms = 0;
     int rc = 0;
-    if (gles) { /* the GPU path: same asset, same core weights, platform/gles2 */
+    if (gles) { /* the GPU path: same asset, same core weights, platform/gles2 (one light) */
+        const qcli_relight_source *s = &ll.src[0];
         qtool_gles_relight_req req = {&m, have_point ? &pm : NULL, have_point && use_lut ? &lut : NULL,
-                                     {sun[0], sun[1], sun[2]}, {pos[0], pos[1], pos[2]}, {rgb[0], rgb[1], rgb[2]},
-                                     (int)falloff, nearest, linear, (qibl_uq16_t)exposure};
+                                     {s->point ? 0 : s->v[0], s->point ? 0 : s->v[1], s->point ? 0 : s->v[2]},
+                                     {s->point ? s->v[0] : 0, s->point ? s->v[1] : 0, s->point ? s->v[2] : 0},
+                                     {s->rgb[0], s->rgb[1], s->rgb[2]}, (int)falloff, nearest, linear,
+                                     (qibl_uq16_t)exposure};
         uint32_t passes = 0;
         char renderer[64] = "";
         char err[512];
@@ -287,20 +310,19 @@ int qcli_cmd_relight(int argc, char **argv)
         else
             printf("wrote %s (%ux%u, k = %u, GLES2 on %s, %u pass%s)\n", png, w, h, m.k, renderer, passes,
                    passes == 1 ? "" : "es");
-    } else if (qtool_bake_relight8_lin(bytes, n, &l, use_lut ? (nearest ? 2 : 1) : 0, (qibl_uq16_t)exposure, !linear, pix,
-                                      lin, &ms, &st) != 0) {
+    } else if (qcli_relight_frame(&m, qcli_light_list_directional(&ll) ? &sl : NULL, &mp, &pm,
+                                  use_lut ? &lut : NULL, pts, npts, (uint32_t)exposure, !linear, pix, lin, &ms,
+                                  &st) != 0) {
         fprintf(stderr, "qibl: relight: %s\n", st == QIBL_E_NULL_POINTER ? "out of memory" : qibl_soft_status_str(st));
         rc = 1;
     } else {
-        char err[1200];
-        const char *how = have_sun ? "directional" : use_lut ? (nearest ? "point/LUT nearest" : "point/LUT bilinear")
-                                                            : "point/direct";
+        char err[1200], how[600];
+        describe(&ll, use_lut ? (nearest ? 2 : 1) : 0, how, sizeof how);
         if (png && qtool_png_write_rgb8(png, (int)w, (int)h, pix, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
             rc = 1;
         } else if (png) {
-            printf("wrote %s (%ux%u, k = %u, %s light, %.1f ms incl. framebuffer conversion)\n", png, w, h, m.k, how,
-                   ms);
+            printf("wrote %s (%ux%u, k = %u, %s, %.1f ms incl. framebuffer conversion)\n", png, w, h, m.k, how, ms);
             qcli_warn_dark(png, pix, np);
         }
         /* linear frames: the core's Q16.16 output before exposure and the transfer curve */
@@ -308,13 +330,13 @@ int qcli_cmd_relight(int argc, char **argv)
             fprintf(stderr, "qibl: %s\n", err);
             rc = 1;
         } else if (rc == 0 && hdr) {
-            printf("wrote %s (%ux%u Radiance RGBE, linear, before exposure, %s light)\n", hdr, w, h, how);
+            printf("wrote %s (%ux%u Radiance RGBE, linear, before exposure, %s)\n", hdr, w, h, how);
         }
         if (rc == 0 && pfm && qtool_pfm_write(pfm, (int)w, (int)h, 3, lin, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
             rc = 1;
         } else if (rc == 0 && pfm) {
-            printf("wrote %s (%ux%u PFM, linear, before exposure, %s light)\n", pfm, w, h, how);
+            printf("wrote %s (%ux%u PFM, linear, before exposure, %s)\n", pfm, w, h, how);
         }
     }
     free(bytes), free(pix), free(lin);

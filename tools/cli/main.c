@@ -20,6 +20,7 @@ static const qcli_cmd commands[] = {
      "usage: qibl sh eval [--bands B] X Y Z\n"
      "       qibl sh plot --png FILE [--tile W]\n"
      "       qibl sh project PROBE.hdr [--bands B] [--irradiance] [--window none|hann|lanczos]\n"
+     "                       [--layout L] [--format table|json|cmgen|c] [--name ID]\n"
      "  Prints the B*B real SH basis values Y_0 .. Y_{B*B-1} (bands 0..B-1, B in 1..5, default 5),\n"
      "  one per line as `Y[i] l=L m=M value` (value as %.9f), at the direction (X, Y, Z).\n"
      "  X, Y, Z are decimals converted to Q16.16; the vector need not be unit length but must not\n"
@@ -27,9 +28,14 @@ static const qcli_cmd commands[] = {
      "  appendix, index i = l*l + l + m, Condon-Shortley phase (Y_3 = -0.488603 at (1, 0, 0)).\n"
      "  plot: writes a PNG of every basis function as a lat-long tile (orange > 0, blue < 0),\n"
      "  evaluated by the integer core; W is the tile width in pixels (default 128).\n"
-     "  project: a lat-long Radiance probe projected onto bands 0..B-1 by the integer core, row by\n"
-     "  row (qibl/probe.h): radiance coefficients, or irradiance (times the clamped-cosine A_l), with\n"
-     "  an optional Hann or Lanczos window; a table of l, m, R, G, B.\n",
+     "  project: a Radiance probe (layout detected or --layout, resampled to lat-long as qibl lights\n"
+     "  does) projected onto bands 0..B-1 by the integer core, row by row (qibl/probe.h): radiance\n"
+     "  coefficients, or irradiance (times the clamped-cosine A_l), with an optional Hann or Lanczos\n"
+     "  window. --format table (default: l, m, R, G, B), json, cmgen (the lines of the sh.txt\n"
+     "  Filament's cmgen writes: `(r, g, b); // Llm[, irradiance]`, %18.15f; the numbers are qibl's\n"
+     "  basis and z-up frame, not cmgen's pre-scaled shader form), or c (a header: ID_BANDS and\n"
+     "  `static const float ID[B*B][3]` with a band/order comment per row; --name ID, default\n"
+     "  qibl_probe_sh). The layout note goes to stderr except for the table.\n",
      qcli_cmd_sh},
     {"bench", "benchmarks: speed against error, with RESULT lines",
      "usage: qibl bench [all|sh|relight|srgbe|lights|paths|asset|probe|memory|gles] [--quick] [--csv] [--markdown]\n"
@@ -153,23 +159,44 @@ static const qcli_cmd commands[] = {
      "  APNG), a contact sheet (relit | ground truth | error heat map) for novel lights, and prints the\n"
      "  table of k, bytes, ms/frame and PSNR with RESULT lines. --small: the CI size.\n",
      qcli_cmd_demo},
-    {"relight", "relight an asset with a sun or a point light into a PNG (core kernels + soft framebuffer)",
-     "usage: qibl relight FILE (--sun X Y Z | --point X Y Z) [--rgb R G B] [--lut nearest|bilinear|off]\n"
+    {"relight", "relight an asset by suns, lamps, a light list or a whole probe into a PNG (core + soft framebuffer)",
+     "usage: qibl relight FILE [--sun X Y Z [--rgb R G B]]... [--point X Y Z [--rgb R G B]]...\n"
+     "                    [--lights FILE.csv] [--probe PROBE.hdr [--layout L] [--probe-mode sh|lights|sunsky]\n"
+     "                    [-n N] [--yaw DEG | --rotate a,b,c,d,e,f,g,h,i]] [--lut nearest|bilinear|off]\n"
      "                    [--falloff 1|2] [--exposure E] [--linear] [--gles] [--png OUT] [--hdr OUT.hdr]\n"
      "                    [--pfm OUT.pfm]\n"
+     "  Lights add up: any number of --sun and --point (at most 64 together), --lights and --probe.\n"
      "  --sun: directional light from direction (X, Y, Z), colour --rgb (default 1 1 1).\n"
      "  --point: point light at (X, Y, Z) in scene units, C0 = --rgb (default: 2 d, or 2 d^2 with\n"
      "  --falloff 2, d the median distance from the lamp to the asset's P-map points, with a note);\n"
      "  per-pixel Y from the asset's cube-map LUT (--lut nearest or bilinear) or the SH polynomials\n"
      "  (--lut off, the default); --falloff 1 is C0/|L| (Wong et al.), 2 is C0/|L|^2. (The old\n"
      "  spellings, a bare --lut for bilinear and --nearest, still work with a deprecation note.)\n"
+     "  --rgb colours the --sun or --point just before it (one given before the first light colours\n"
+     "  that light). Suns sum in SH; each point is relit on its own and the frames sum per pixel in\n"
+     "  64 bits, saturated once.\n"
+     "  --lights FILE.csv: the output of `qibl lights --csv` (header x,y,z,r,g,b,u0,v0,u1,v1; at most\n"
+     "  65536 rows), each row a directional light of colour r,g,b.\n"
+     "  --probe PROBE.hdr: the whole environment (layout detected, or --layout) as the radiance SH\n"
+     "  of the asset's k maps (no irradiance convolution: the maps already hold the cosine and the\n"
+     "  shadows). --probe-mode sh (default): the core's projection; lights: N median-cut lights\n"
+     "  (-n N, a power of two, default 64) projected to SH; sunsky: of N median-cut regions (default\n"
+     "  64) the sun (those whose mean radiance is at least 32 times the probe's; none on an overcast\n"
+     "  sky) as directional lights, the rest of the probe as its SH (qibl_shlight_add_sun_sky).\n"
+     "  --yaw DEG: turns the environment about +z (up): a light at azimuth phi (from +x toward +y)\n"
+     "  comes from phi + DEG: positive yaw turns +x toward +y (counter-clockwise seen from above in\n"
+     "  the right-handed xyz frame), and the probe's lat-long picture slides DEG/360 of its width to\n"
+     "  the right (the picture is mirrored against xyz: seen from inside, +y is left of +x).\n"
+     "  --rotate: the 3x3 rotation r row by row (orthonormal within 2^-16, det +1): light from d\n"
+     "  comes from r d.\n"
+     "  Either is applied once to the probe's SH (qibl_shlight_rotate), not by re-projecting.\n"
      "  --png: RGBA8888 with sRGB transfer (or --linear), exposure E (default 1), as an RGB PNG; a\n"
      "  frame whose mean is below 32 of 255 gets a note that it is almost black.\n"
      "  --hdr / --pfm: the same frame linear, before exposure and transfer (the core's Q16.16 output,\n"
      "  negative SH ringing clamped to 0), as Radiance RGBE (RLE) or little-endian PFM, for other\n"
      "  tools. At least one of --png/--hdr/--pfm.\n"
-     "  --gles: relight with platform/gles2 on a headless EGL context instead (--png only; the same\n"
-     "  asset and core weights; within 1 of 255 of the CPU path on Mesa llvmpipe).\n",
+     "  --gles: relight with platform/gles2 on a headless EGL context instead (one --sun or --point,\n"
+     "  --png only; the same asset and core weights; within 1 of 255 of the CPU path on Mesa llvmpipe).\n",
      qcli_cmd_relight},
     {"info", "validate a qibl asset file and print its contents",
      "usage: qibl info FILE\n"
@@ -193,7 +220,7 @@ static const qcli_cmd commands[] = {
      "  Bad arguments: one line on stderr, exit status 2.\n",
      qcli_cmd_srgbe},
     {"lights", "sample a .hdr light probe (lat-long, angular, ball, cube cross) into directional lights",
-     "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv] [--png OUT.png]\n"
+     "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv | --json] [--png OUT.png]\n"
      "                   [--priority default|energy|energy-size|variance|levels] [--place centroid|centre]\n"
      "                   [--as rgbe|srgbe|f32] [--zoom Z] [--error]\n"
      "                   [--layout auto|latlong|angular|ball|vcross|hcross]\n"
@@ -204,7 +231,8 @@ static const qcli_cmd commands[] = {
      "  centroid), an RGB irradiance (E(n) = sum rgb max(0, n.d) approximates the probe's) and its\n"
      "  region, brightest first.\n"
      "  --csv: one line per light, x,y,z,r,g,b,u0,v0,u1,v1 (region: u0 <= u < u1, v0 <= v < v1),\n"
-     "  after a header line. Otherwise a table.\n"
+     "  after a header line (what qibl relight --lights reads). --json: {\"lights\": [{\"dir\", \"rgb\",\n"
+     "  \"region\"}...]} with the probe, size, method and count. Otherwise a table.\n"
      "  --png: the tone-mapped probe with the regions (green) and light directions (red), zoomed by Z\n"
      "  (default: to about 1024 pixels wide; the picture may have at most 65535 pixels a side and 2^25\n"
      "  in all). --error: the lights' irradiance against the probe's over 1024 normals.\n"
@@ -215,6 +243,18 @@ static const qcli_cmd commands[] = {
      "  with black empty cells) and printed; a square disc (angular map or mirror ball) needs --layout;\n"
      "  other shapes are refused. Non-lat-long probes are resampled to lat-long (io/probe_layout.h).\n",
      qcli_cmd_lights},
+    {"probe", "describe a light probe and advise how to light with it: SH, N lights, or sun plus SH",
+     "usage: qibl probe info PROBE.hdr [--layout auto|latlong|angular|ball|vcross|hcross]\n"
+     "  Prints the probe's layout (detected, or --layout) and size, its luminance dynamic range\n"
+     "  (max over the smallest non-zero pixel, in stops), the share of the energy in the brightest\n"
+     "  0.1 % and 1 % of the sphere (pixels weighed by solid angle), and the irradiance error of four\n"
+     "  ways to light with it against the probe's own irradiance (exact sum over every pixel, 1024\n"
+     "  normals, mean and max as a share of the mean irradiance, as qibl lights --error): its SH (9\n"
+     "  coefficients, the core's projection), 16 and 64 median-cut lights (the core's), and sun plus\n"
+     "  SH (the sun as relight --probe-mode sunsky picks it, lit exactly; the rest as 9 SH\n"
+     "  coefficients). Advice: the cheapest scheme (in that order) whose mean error is within 10 %\n"
+     "  of the lowest or at most 1 %, with the relight option that uses it.\n",
+     qcli_cmd_probe},
 };
 #define NCMD (sizeof commands / sizeof commands[0])
 

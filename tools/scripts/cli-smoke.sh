@@ -45,6 +45,16 @@ want 0 - check "$w/g.qibl" "$w/m.qibl" "$w/r.png" "$w/t.pfm" "$w/p.hdr"
 { printf '#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 16 +X 32\n'; i=0; while [ $i -lt 512 ]; do printf '\200\144\074\201'; i=$((i + 1)); done; } >"$w/p.hdr"
 want 0 - lights "$w/p.hdr" -n 4 --png "$w/l.png" --error
 want 0 - sh project "$w/p.hdr" --bands 3 --irradiance --window hann
+want 0 - sh project "$w/p.hdr" --bands 3 --format cmgen
+want 0 - sh project "$w/p.hdr" --format json
+want 0 - sh project "$w/p.hdr" --format c --name sky
+want 0 - lights "$w/p.hdr" -n 4 --json
+want 0 - probe info "$w/p.hdr"
+printf 'x,y,z,r,g,b,u0,v0,u1,v1\n0,0,1,0.5,0.5,0.5,0,0,1,1\n' >"$w/l.csv"
+want 0 - relight "$w/g.qibl" --sun 1 0.5 1 --sun 0 0 1 --rgb 2 1 1 --point 0.5 0 0 --point 0 0.5 0 --lut bilinear --lights "$w/l.csv" --png "$w/r2.png"
+want 0 - relight "$w/g.qibl" --probe "$w/p.hdr" --yaw 30 --png "$w/r3.png"
+want 0 - relight "$w/g.qibl" --probe "$w/p.hdr" --probe-mode sunsky -n 16 --rotate 0,-1,0,1,0,0,0,0,1 --png "$w/r4.png"
+want 0 - relight "$w/g.qibl" --probe "$w/p.hdr" --probe-mode lights -n 8 --png "$w/r5.png"
 want 0 - demo --out "$w/demo" --size 32x8 --dirs 16 --frames 2 --threads 2
 
 # bad arguments: exit 2, nothing written
@@ -58,6 +68,8 @@ want 2 "$w/x.qibl" merge -o "$w/x.qibl" --k 9 "$w/s0" "$w/s1"
 want 2 "$w/x.png" lights "$w/big.hdr" -n 4 --zoom 64 --png "$w/x.png"
 want 2 - nosuchcommand
 want 2 - sh project "$w/p.hdr" --window sharp
+want 2 - sh project "$w/p.hdr" --format xml
+want 2 "$w/x.png" relight "$w/g.qibl" --probe "$w/p.hdr" --rotate 1,0,0,0,1,0,0,0,-1 --png "$w/x.png"
 
 # bad files: exit 1, nothing written
 want 1 "$w/x.qibl" merge -o "$w/x.qibl" "$w/s0" "$w/s0"
@@ -67,6 +79,9 @@ want 1 "$w/x.qibl" merge -o "$w/x.qibl" "$w/s0" "$w/short"
 want 1 "$w/x.png" relight "$w/s0" --sun 0 0 1 --png "$w/x.png"
 want 1 - info "$w/p.hdr"
 want 1 - sh project "$w/g.qibl"
+printf 'x,y,z,r,g,b,u0,v0,u1,v1\n0,0,1,nan,1,1,0,0,1,1\n' >"$w/bad.csv"
+want 1 "$w/x.png" relight "$w/g.qibl" --lights "$w/bad.csv" --png "$w/x.png"
+want 1 - probe info "$w/g.qibl"
 ln -s g.qibl "$w/link.png"
 want 1 - relight "$w/g.qibl" --sun 0 0 1 --png "$w/link.png"
 cmp -s "$w/g.qibl" "$w/link.png" || { fails=$((fails + 1)); echo "cli-smoke: FAIL: wrote through a link" >&2; }

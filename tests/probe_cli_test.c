@@ -1,0 +1,577 @@
+/*
+ * probe_cli_test.c - the probe side of the qibl CLI run as a program: relight by a probe (SH
+ * against a many-light reference, --yaw against a probe rotated by resampling, the modes),
+ * lights that add up (suns, points), --lights FILE.csv and its errors, sh project --format,
+ * lights --json, probe info's advice on procedural probes (and on fixture probes when present),
+ * and the help texts.
+ *
+ * Probes are made here (io/hdr_write.h); the binary is found as cliutil.h says (tests skip when it
+ * is missing).
+ */
+#include "cliutil.h"
+
+#include <math.h>
+
+#include "io/hdr_write.h"
+#include "io/pfm.h"
+
+#define PI_ 3.14159265358979323846
+#define FIXTURES "../shared/fixtures/probes"
+
+static int setup(void **state)
+{
+    (void)state;
+    return cli_setup("/tmp/qibl_probe_cli_test_XXXXXX");
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    rm_rf(dir);
+    return 0;
+}
+
+static char *at(const char *name)
+{
+    static char buf[64][512];
+    static int i;
+    i = (i + 1) % 64;
+    snprintf(buf[i], sizeof buf[i], "%s/%s", dir, name);
+    return buf[i];
+}
+
+/* exit status and a phrase on stderr (want may be NULL), and out (may be NULL) not created */
+static void expect(int want_rc, const char *want, const char *out, const char *first, ...)
+{
+    va_list ap;
+    va_start(ap, first);
+    int rc = run_v(first, ap);
+    va_end(ap);
+    char *msg = text(errlog);
+    if (rc != want_rc)
+        fail_msg("qibl %s ...: exit %d, want %d; stderr: %s", first, rc, want_rc, msg);
+    if (want && strstr(msg, want) == NULL)
+        fail_msg("qibl %s ...: stderr '%s' does not say '%s'", first, msg, want);
+    if (out && access(out, F_OK) == 0)
+        fail_msg("qibl %s ...: left %s behind", first, out);
+    free(msg);
+}
+
+/* runs qibl and fails the test unless it exits 0 */
+#define OK(...)                                                                                              \
+    do {                                                                                                     \
+        int rc_ = run(__VA_ARGS__, NULL);                                                                    \
+        if (rc_ != 0) {                                                                                      \
+            char *m_ = text(errlog);                                                                         \
+            fail_msg("qibl exit %d: %s", rc_, m_);                                                           \
+        }                                                                                                    \
+    } while (0)
+
+typedef void (*probe_fn)(double theta, double phi, double rgb[3], void *ctx);
+
+/* a w x h lat-long probe (qibl's directions: theta from +z, phi from +x toward +y) */
+static void make_probe(const char *path, int w, int h, probe_fn f, void *ctx)
+{
+    float *px = malloc(sizeof *px * 3 * (size_t)w * (size_t)h);
+    assert_non_null(px);
+    for (int v = 0; v < h; ++v)
+        for (int u = 0; u < w; ++u) {
+            double rgb[3];
+            f((v + 0.5) * PI_ / h, (u + 0.5) * 2 * PI_ / w, rgb, ctx);
+            for (int c = 0; c < 3; ++c)
+                px[3 * ((size_t)v * (size_t)w + (size_t)u) + (size_t)c] = (float)rgb[c];
+        }
+    char err[512];
+    if (qtool_hdr_write(path, w, h, px, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    free(px);
+}
+
+/* overcast: a bright zenith fading to the horizon, a dim grey ground (smooth: SH's case) */
+static void overcast(double t, double p, double rgb[3], void *ctx)
+{
+    (void)p, (void)ctx;
+    double z = cos(t);
+    double s = z > 0 ? 0.4 + 0.6 * z : 0.12;
+    rgb[0] = s * 0.95, rgb[1] = s, rgb[2] = s * 1.05;
+}
+
+/* a sunny sky: a bluish sky gradient, a ground, and a small sun 30 degrees up at phi = 0.6 (not
+ * symmetric about any axis, so a rotation shows) */
+static void sunny(double t, double p, double rgb[3], void *ctx)
+{
+    double big = ctx ? *(const double *)ctx : 2000.0;
+    double z = cos(t), d[3] = {sin(t) * cos(p), sin(t) * sin(p), z};
+    double st = cos(60 * PI_ / 180), s[3] = {sin(60 * PI_ / 180) * cos(0.6), sin(60 * PI_ / 180) * sin(0.6), st};
+    double c = d[0] * s[0] + d[1] * s[1] + d[2] * s[2];
+    double sky = z > 0 ? 0.05 + 0.05 * z + 0.02 * cos(p) : 0.02 + 0.01 * sin(p);
+    rgb[0] = sky * 0.7, rgb[1] = sky * 0.85, rgb[2] = sky;
+    if (c > cos(4.0 * PI_ / 180)) /* a disc of 4 degrees */
+        rgb[0] += big, rgb[1] += big * 0.95, rgb[2] += big * 0.85;
+}
+
+static float *pfm(const char *path, int *w, int *h)
+{
+    int ch;
+    float *px;
+    char err[512];
+    if (qtool_pfm_read(path, w, h, &ch, &px, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    assert_int_equal(ch, 3);
+    return px;
+}
+
+/* sum |a - b| / sum |a| and max |a - b| / max |a| of two PFMs of the same size */
+static void pfm_diff(const char *pa, const char *pb, double *rel_l1, double *rel_max)
+{
+    int w, h, w2, h2;
+    float *a = pfm(pa, &w, &h), *b = pfm(pb, &w2, &h2);
+    assert_int_equal(w, w2);
+    assert_int_equal(h, h2);
+    double s = 0, sa = 0, m = 0, ma = 0;
+    for (size_t i = 0; i < 3 * (size_t)w * (size_t)h; ++i) {
+        double d = fabs((double)a[i] - b[i]);
+        s += d, sa += fabs(a[i]), m = fmax(m, d), ma = fmax(ma, fabs(a[i]));
+    }
+    *rel_l1 = sa > 0 ? s / sa : s;
+    *rel_max = ma > 0 ? m / ma : m;
+    free(a), free(b);
+}
+
+static void asset(const char *path)
+{
+    OK("gen", "-o", path, "--size", "64x16", "--k", "9", "--lut-size", "8");
+}
+
+/* ---- relight by a probe ----------------------------------------------------------------------- */
+
+/* the probe's radiance SH against 1024 median-cut lights of the same probe (as SH of the same k),
+ * and --lights of `qibl lights --csv` against --probe-mode lights: the same lights both ways */
+static void test_relight_probe_sh_against_lights(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *g = at("g.qibl"), *pr = at("sky.hdr"), *csv = at("l.csv");
+    asset(g);
+    make_probe(pr, 64, 32, sunny, NULL);
+    OK("relight", g, "--probe", pr, "--pfm", at("sh.pfm"));
+    OK("relight", g, "--probe", pr, "--probe-mode", "lights", "-n", "1024", "--pfm", at("l1024.pfm"));
+    OK("relight", g, "--probe", pr, "--probe-mode", "sunsky", "--pfm", at("ss.pfm"));
+    OK("relight", g, "--probe", pr, "--probe-mode", "lights", "-n", "4", "--pfm", at("l4.pfm"));
+    char *o = text(outlog);
+    assert_non_null(strstr(o, "4 median-cut lights"));
+    free(o);
+    /* lights --csv to a file: stdout of the run */
+    OK("lights", pr, "-n", "1024", "--csv");
+    {
+        char *t = text(outlog);
+        FILE *f = fopen(csv, "wb");
+        assert_non_null(f);
+        fputs(t, f);
+        fclose(f);
+        free(t);
+    }
+    OK("relight", g, "--lights", csv, "--pfm", at("csv.pfm"));
+    double l1, mx;
+    pfm_diff(at("sh.pfm"), at("l1024.pfm"), &l1, &mx);
+    printf("relight: probe SH against 1024 median-cut lights: rel L1 %.2e, max %.2e of the max\n", l1, mx);
+    if (l1 > 5e-3 || mx > 5e-3)
+        fail_msg("SH and 1024 lights of one probe differ: %.3e / %.3e", l1, mx);
+    pfm_diff(at("sh.pfm"), at("ss.pfm"), &l1, &mx);
+    printf("relight: probe SH against sun plus sky: rel L1 %.2e, max %.2e\n", l1, mx);
+    if (l1 > 5e-3 || mx > 5e-3)
+        fail_msg("SH and sun plus sky of one probe differ: %.3e / %.3e", l1, mx);
+    pfm_diff(at("l1024.pfm"), at("csv.pfm"), &l1, &mx);
+    if (l1 > 1e-4 || mx > 1e-4)
+        fail_msg("--lights of lights --csv and --probe-mode lights differ: %.3e / %.3e", l1, mx);
+    /* and 4 lights is visibly coarser (the comparison can fail) */
+    pfm_diff(at("sh.pfm"), at("l4.pfm"), &l1, &mx);
+    if (l1 < 1e-3)
+        fail_msg("4 median-cut lights agree with SH to %.3e: the comparison above proves nothing", l1);
+}
+
+/* shifts a lat-long RGB float image right by s columns (a yaw of 360 s / w degrees) */
+static void shifted_probe(const char *path, int w, int h, int s)
+{
+    float *px = malloc(sizeof *px * 3 * (size_t)w * (size_t)h), *o = malloc(sizeof *o * 3 * (size_t)w * (size_t)h);
+    assert_non_null(px);
+    assert_non_null(o);
+    for (int v = 0; v < h; ++v)
+        for (int u = 0; u < w; ++u) {
+            double rgb[3];
+            sunny((v + 0.5) * PI_ / h, (u + 0.5) * 2 * PI_ / w, rgb, NULL);
+            int du = (u + s) % w;
+            for (int c = 0; c < 3; ++c)
+                o[3 * ((size_t)v * (size_t)w + (size_t)du) + (size_t)c] = (float)rgb[c];
+        }
+    char err[512];
+    if (qtool_hdr_write(path, w, h, o, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    free(px), free(o);
+}
+
+/* --yaw 90 equals the probe resampled a quarter turn to the right; -90 does not; --rotate with
+ * the same matrix equals --yaw */
+static void test_relight_yaw_sign(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *g = at("g.qibl"), *pr = at("sun.hdr"), *rot = at("sun_rot.hdr");
+    asset(g);
+    make_probe(pr, 64, 32, sunny, NULL);
+    shifted_probe(rot, 64, 32, 8);
+    OK("relight", g, "--probe", rot, "--pfm", at("resampled45.pfm"));
+    OK("relight", g, "--probe", pr, "--yaw", "45", "--pfm", at("yaw45.pfm"));
+    shifted_probe(rot, 64, 32, 16);
+    OK("relight", g, "--probe", rot, "--pfm", at("resampled.pfm"));
+    OK("relight", g, "--probe", pr, "--yaw", "90", "--pfm", at("yaw.pfm"));
+    OK("relight", g, "--probe", pr, "--yaw", "-90", "--pfm", at("yawneg.pfm"));
+    OK("relight", g, "--probe", pr, "--rotate", "0,-1,0,1,0,0,0,0,1", "--pfm", at("rot.pfm"));
+    OK("relight", g, "--probe", pr, "--probe-mode", "lights", "-n", "256", "--yaw", "90", "--pfm", at("yawl.pfm"));
+    double l1, mx;
+    pfm_diff(at("resampled.pfm"), at("yaw.pfm"), &l1, &mx);
+    printf("relight: --yaw 90 against the probe resampled by 90 degrees: rel L1 %.2e, max %.2e\n", l1, mx);
+    if (l1 > 1e-3 || mx > 1e-3)
+        fail_msg("--yaw 90 is not the probe turned 90 degrees toward +y: %.3e / %.3e", l1, mx);
+    pfm_diff(at("resampled45.pfm"), at("yaw45.pfm"), &l1, &mx);
+    printf("relight: --yaw 45 against the probe resampled by 45 degrees: rel L1 %.2e, max %.2e\n", l1, mx);
+    if (l1 > 1e-3 || mx > 1e-3)
+        fail_msg("--yaw 45 is not the probe turned 45 degrees toward +y: %.3e / %.3e", l1, mx);
+    pfm_diff(at("yaw.pfm"), at("rot.pfm"), &l1, &mx);
+    if (l1 > 1e-5 || mx > 1e-5)
+        fail_msg("--rotate of the same matrix differs from --yaw: %.3e / %.3e", l1, mx);
+    pfm_diff(at("resampled.pfm"), at("yawl.pfm"), &l1, &mx);
+    if (l1 > 2e-2)
+        fail_msg("--yaw with --probe-mode lights is not the resampled probe: %.3e", l1);
+    pfm_diff(at("resampled.pfm"), at("yawneg.pfm"), &l1, &mx);
+    if (l1 < 2e-2)
+        fail_msg("--yaw -90 matches the probe turned +90 degrees (%.3e): the sign test proves nothing", l1);
+}
+
+/* ---- lights that add up ------------------------------------------------------------------------- */
+
+static void test_relight_lights_add_up(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *g = at("g.qibl");
+    asset(g);
+    OK("relight", g, "--sun", "0.3", "0.2", "1", "--pfm", at("one.pfm"));
+    OK("relight", g, "--sun", "0.3", "0.2", "1", "--rgb", "0.5", "0.5", "0.5", "--sun", "0.3", "0.2", "1", "--rgb",
+       "0.5", "0.5", "0.5", "--pfm", at("halves.pfm"));
+    double l1, mx;
+    pfm_diff(at("one.pfm"), at("halves.pfm"), &l1, &mx);
+    if (mx > 1e-4)
+        fail_msg("two half suns differ from one sun: %.3e of the max", mx);
+    /* a second sun is no longer dropped: A + B = both, and both != A */
+    OK("relight", g, "--sun", "-1", "0.5", "0.4", "--rgb", "2", "1", "0.5", "--pfm", at("b.pfm"));
+    OK("relight", g, "--sun", "0.3", "0.2", "1", "--sun", "-1", "0.5", "0.4", "--rgb", "2", "1", "0.5", "--pfm",
+       at("both.pfm"));
+    int w, h;
+    float *a = pfm(at("one.pfm"), &w, &h), *b = pfm(at("b.pfm"), &w, &h), *ab = pfm(at("both.pfm"), &w, &h);
+    double worst = 0, differs = 0;
+    for (size_t i = 0; i < 3 * (size_t)w * (size_t)h; ++i) {
+        /* pixels where a sun's ringing went negative are clamped to 0 in the PFM: skip them */
+        if (a[i] == 0 || b[i] == 0 || ab[i] == 0)
+            continue;
+        worst = fmax(worst, fabs((double)a[i] + b[i] - ab[i]));
+        differs = fmax(differs, fabs((double)ab[i] - a[i]));
+    }
+    free(a), free(b), free(ab);
+    if (worst > 4.0 / 65536)
+        fail_msg("sun A + sun B differs from both at once by %.3e", worst);
+    if (differs < 1e-2)
+        fail_msg("the second --sun changed nothing (%.3e): dropped", differs);
+    /* points: two lamps of half C0 at one place equal one lamp */
+    OK("relight", g, "--point", "0", "0", "0", "--rgb", "4", "4", "4", "--pfm", at("p1.pfm"));
+    OK("relight", g, "--point", "0", "0", "0", "--rgb", "2", "2", "2", "--point", "0", "0", "0", "--rgb", "2", "2", "2",
+       "--pfm", at("p2.pfm"));
+    pfm_diff(at("p1.pfm"), at("p2.pfm"), &l1, &mx);
+    if (mx > 1e-4)
+        fail_msg("two half lamps differ from one lamp: %.3e of the max", mx);
+    /* a sun plus a lamp: both show */
+    OK("relight", g, "--sun", "0.3", "0.2", "1", "--point", "0", "0", "0", "--rgb", "4", "4", "4", "--pfm",
+       at("sp.pfm"));
+    pfm_diff(at("p1.pfm"), at("sp.pfm"), &l1, &mx);
+    if (l1 < 1e-2)
+        fail_msg("--sun with --point: the sun is missing (%.3e)", l1);
+}
+
+/* ---- --lights FILE.csv -------------------------------------------------------------------------- */
+
+static void write_file(const char *path, const char *s)
+{
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    fputs(s, f);
+    fclose(f);
+}
+
+static void test_lights_csv_errors(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *g = at("g.qibl"), *png = at("x.png"), *c = at("l.csv");
+    asset(g);
+    static const struct {
+        const char *body, *want;
+    } cases[] = {
+        {"", "empty: want the header line"},
+        {"x,y,z,r,g,b\n0,0,1,1,1,1\n", "header 'x,y,z,r,g,b' is not"},
+        {"x,y,z,r,g,b,u0,v0,u1,v1\n0,0,1,abc,1,1,0,0,1,1\n", "l.csv:2: r 'abc' is not a number"},
+        {"x,y,z,r,g,b,u0,v0,u1,v1\n0,0,1,nan,1,1,0,0,1,1\n", "l.csv:2: r is nan: not finite"},
+        {"x,y,z,r,g,b,u0,v0,u1,v1\n0,0,1,1,inf,1,0,0,1,1\n", "l.csv:2: g is inf: not finite"},
+        {"x,y,z,r,g,b,u0,v0,u1,v1\n0,0,1,1,1,-2,0,0,1,1\n", "l.csv:2: b is -2: negative"},
+        {"x,y,z,r,g,b,u0,v0,u1,v1\n0,0,0,1,1,1,0,0,1,1\n", "l.csv:2: direction 0,0,0"},
+        {"x,y,z,r,g,b,u0,v0,u1,v1\n0,0,1,1,1,1,0,0,1\n", "l.csv:2: 9 columns, want 10"},
+        {"x,y,z,r,g,b,u0,v0,u1,v1\n0,0,1,1,1,1,0,0,1,1,7\n", "more than 10 columns"},
+        {"x,y,z,r,g,b,u0,v0,u1,v1\n0,0,1,1,1,1,0.5,0,1,1\n", "u0 is 0.5: not a pixel index"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        write_file(c, cases[i].body);
+        expect(1, cases[i].want, png, "relight", g, "--lights", c, "--png", png, NULL);
+    }
+    expect(1, "cannot open", png, "relight", g, "--lights", at("missing.csv"), "--png", png, NULL);
+    /* too many rows: 65537 */
+    FILE *f = fopen(c, "wb");
+    assert_non_null(f);
+    fputs("x,y,z,r,g,b,u0,v0,u1,v1\n", f);
+    for (int i = 0; i < 65537; ++i)
+        fputs("0,0,1,0.001,0.001,0.001,0,0,1,1\n", f);
+    fclose(f);
+    expect(1, "l.csv:65538: more than 65536 lights", png, "relight", g, "--lights", c, "--png", png, NULL);
+    /* a good file lights the asset like the same suns do */
+    write_file(c, "x,y,z,r,g,b,u0,v0,u1,v1\n0.3,0.2,1,1,1,1,0,0,1,1\n-1,0.5,0.4,2,1,0.5,0,0,1,1\n");
+    OK("relight", g, "--lights", c, "--pfm", at("csv.pfm"));
+    OK("relight", g, "--sun", "0.3", "0.2", "1", "--sun", "-1", "0.5", "0.4", "--rgb", "2", "1", "0.5", "--pfm",
+       at("suns.pfm"));
+    double l1, mx;
+    pfm_diff(at("suns.pfm"), at("csv.pfm"), &l1, &mx);
+    if (mx > 1e-4)
+        fail_msg("--lights of two rows differs from the two --sun: %.3e", mx);
+}
+
+static void test_relight_option_errors(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *g = at("g.qibl"), *png = at("x.png"), *pr = at("p.hdr");
+    asset(g);
+    make_probe(pr, 32, 16, overcast, NULL);
+    expect(2, "--rotate: '1,0,0,0,2,0,0,0,1' is not a rotation", png, "relight", g, "--probe", pr, "--rotate",
+           "1,0,0,0,2,0,0,0,1", "--png", png, NULL);
+    expect(2, "det -1", png, "relight", g, "--probe", pr, "--rotate", "-1,0,0,0,1,0,0,0,1", "--png", png, NULL);
+    expect(2, "not nine comma-separated numbers", png, "relight", g, "--probe", pr, "--rotate", "1,0,0", "--png", png,
+           NULL);
+    expect(2, "need --probe", png, "relight", g, "--sun", "0", "0", "1", "--yaw", "10", "--png", png, NULL);
+    expect(2, "one of --yaw and --rotate", png, "relight", g, "--probe", pr, "--yaw", "10", "--rotate",
+           "1,0,0,0,1,0,0,0,1", "--png", png, NULL);
+    expect(2, "-n: '3' is not a power of two", png, "relight", g, "--probe", pr, "--probe-mode", "lights", "-n", "3",
+           "--png", png, NULL);
+    expect(2, "-n counts median-cut lights", png, "relight", g, "--probe", pr, "-n", "16", "--png", png, NULL);
+    expect(2, "--probe-mode: 'soft' is not sh, lights or sunsky", png, "relight", g, "--probe", pr, "--probe-mode",
+           "soft", "--png", png, NULL);
+    expect(2, "--layout: 'cube' is not a probe layout", png, "relight", g, "--probe", pr, "--layout", "cube", "--png",
+           png, NULL);
+    expect(2, "--gles takes exactly one", png, "relight", g, "--sun", "0", "0", "1", "--sun", "1", "0", "0", "--gles",
+           "--png", png, NULL);
+    expect(2, "there is none", png, "relight", g, "--rgb", "1", "1", "1", "--probe", pr, "--png", png, NULL);
+    expect(2, "--rgb given twice", png, "relight", g, "--sun", "0", "0", "1", "--rgb", "1", "1", "1", "--rgb", "2",
+           "2", "2", "--png", png, NULL);
+    expect(2, "relight needs a light", png, "relight", g, "--png", png, NULL);
+    expect(1, NULL, png, "relight", g, "--probe", at("missing.hdr"), "--png", png, NULL);
+    /* a probe that does not fit the layout asked for is refused, by name */
+    expect(1, "vcross needs 3F x 4F", png, "relight", g, "--probe", pr, "--layout", "vcross", "--png", png, NULL);
+    /* the old order, --rgb before --sun, still colours the sun */
+    OK("relight", g, "--rgb", "2", "2", "2", "--sun", "0", "0", "1", "--pfm", at("a.pfm"));
+    OK("relight", g, "--sun", "0", "0", "1", "--rgb", "2", "2", "2", "--pfm", at("b.pfm"));
+    double l1, mx;
+    pfm_diff(at("a.pfm"), at("b.pfm"), &l1, &mx);
+    assert_true(mx == 0.0);
+}
+
+/* ---- sh project --format, lights --json ----------------------------------------------------------- */
+
+static void test_sh_project_formats(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *pr = at("p.hdr");
+    make_probe(pr, 64, 32, sunny, NULL);
+    double tab[9][3], cm[9][3];
+    OK("sh", "project", pr, "--bands", "3", "--irradiance");
+    char *t = text(outlog);
+    int n = 0;
+    for (char *line = strtok(t, "\n"); line; line = strtok(NULL, "\n")) {
+        int l, m;
+        if (line[0] != '#' && n < 9 && sscanf(line, "%d %d %lf %lf %lf", &l, &m, &tab[n][0], &tab[n][1], &tab[n][2]) == 5)
+            ++n;
+    }
+    free(t);
+    assert_int_equal(n, 9);
+    OK("sh", "project", pr, "--bands", "3", "--irradiance", "--format", "cmgen");
+    t = text(outlog);
+    n = 0;
+    for (char *line = strtok(t, "\n"); line; line = strtok(NULL, "\n")) {
+        int l, m;
+        char lab[32];
+        if (sscanf(line, "(%lf, %lf, %lf); // L%1d%d, %31s", &cm[n][0], &cm[n][1], &cm[n][2], &l, &m, lab) != 6 ||
+            strcmp(lab, "irradiance") != 0 || l * l + l + m != n)
+            fail_msg("cmgen line %d '%s' is not '(r, g, b); // Llm, irradiance'", n, line);
+        ++n;
+    }
+    free(t);
+    assert_int_equal(n, 9);
+    for (int i = 0; i < 9; ++i)
+        for (int c = 0; c < 3; ++c)
+            if (fabs(cm[i][c] - tab[i][c]) > 1e-7 * (1 + fabs(tab[i][c])))
+                fail_msg("cmgen coefficient %d differs from the table: %.15g against %.9g", i, cm[i][c], tab[i][c]);
+    OK("sh", "project", pr, "--bands", "2", "--format", "json");
+    t = text(outlog);
+    n = 0;
+    for (char *p = t; (p = strstr(p, "{\"l\": ")) != NULL; ++p)
+        ++n;
+    assert_int_equal(n, 4);
+    assert_non_null(strstr(t, "\"irradiance\": false"));
+    assert_true(t[0] == '{' && strstr(t, "]}\n") != NULL);
+    free(t);
+    OK("sh", "project", pr, "--bands", "3", "--format", "c", "--name", "sky");
+    t = text(outlog);
+    assert_non_null(strstr(t, "#define sky_BANDS 3"));
+    assert_non_null(strstr(t, "static const float sky[9][3] = {"));
+    assert_non_null(strstr(t, "/* [8] l = 2, m = +2 */"));
+    free(t);
+    expect(2, "--format: 'xml' is not table, json, cmgen or c", NULL, "sh", "project", pr, "--format", "xml", NULL);
+    expect(2, "--name: '9x' is not a C identifier", NULL, "sh", "project", pr, "--format", "c", "--name", "9x", NULL);
+}
+
+static void test_lights_json(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *pr = at("p.hdr");
+    make_probe(pr, 64, 32, sunny, NULL);
+    OK("lights", pr, "-n", "8", "--json");
+    char *t = text(outlog);
+    int n = 0;
+    for (char *p = t; (p = strstr(p, "\"dir\": [")) != NULL; ++p)
+        ++n;
+    assert_int_equal(n, 8);
+    assert_non_null(strstr(t, "\"count\": 8"));
+    assert_true(t[0] == '{');
+    free(t);
+    expect(2, "--csv and --json", NULL, "lights", pr, "--csv", "--json", NULL);
+    /* an all-black probe: still a JSON document, with no lights */
+    float px[3 * 8 * 4] = {0};
+    char err[256];
+    assert_int_equal(qtool_hdr_write(at("black.hdr"), 8, 4, px, err, sizeof err), 0);
+    OK("lights", at("black.hdr"), "-n", "4", "--json");
+    t = text(outlog);
+    assert_non_null(strstr(t, "\"count\": 0, \"lights\": []"));
+    free(t);
+}
+
+/* ---- probe info --------------------------------------------------------------------------------- */
+
+static char *advice(const char *probe)
+{
+    OK("probe", "info", probe);
+    char *t = text(outlog);
+    char *a = strstr(t, "advice: ");
+    if (!a)
+        fail_msg("probe info %s: no advice in '%s'", probe, t);
+    char *r = strdup(a);
+    printf("%s", t);
+    free(t);
+    return r;
+}
+
+static void test_probe_info_advice(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *soft = at("overcast.hdr"), *sun = at("sun.hdr"), *blk = at("black.hdr");
+    make_probe(soft, 128, 64, overcast, NULL);
+    make_probe(sun, 128, 64, sunny, NULL);
+    char *a = advice(soft);
+    if (strncmp(a, "advice: SH", 10) != 0)
+        fail_msg("overcast probe: '%s', want SH", a);
+    free(a);
+    a = advice(sun);
+    if (strncmp(a, "advice: sun plus SH", 19) != 0 && strstr(a, "median-cut lights") == NULL)
+        fail_msg("sun probe: '%s', want lights or sun plus SH", a);
+    free(a);
+    OK("probe", "info", sun);
+    char *t = text(outlog);
+    assert_non_null(strstr(t, "layout latlong"));
+    assert_non_null(strstr(t, "dynamic range"));
+    assert_non_null(strstr(t, "brightest 0.1 %"));
+    free(t);
+    float px[3 * 8 * 4] = {0};
+    char err[256];
+    assert_int_equal(qtool_hdr_write(blk, 8, 4, px, err, sizeof err), 0);
+    OK("probe", "info", blk);
+    t = text(outlog);
+    assert_non_null(strstr(t, "all-black"));
+    free(t);
+    expect(2, "usage: qibl probe info", NULL, "probe", "show", sun, NULL);
+    expect(2, "--layout: 'disc'", NULL, "probe", "info", sun, "--layout", "disc", NULL);
+    expect(1, NULL, NULL, "probe", "info", at("missing.hdr"), NULL);
+}
+
+/* the real probes, when ../shared is there: a soft one wants SH, a sunny one does not */
+static void test_probe_info_fixtures(void **state)
+{
+    (void)state;
+    need_qibl();
+    if (access(FIXTURES "/venice_sunset_1k.hdr", R_OK) != 0 || access(FIXTURES "/quarry_01_1k.hdr", R_OK) != 0) {
+        fprintf(stderr, "SKIP: %s not present\n", FIXTURES);
+        skip();
+    }
+    char *a = advice(FIXTURES "/venice_sunset_1k.hdr");
+    if (strncmp(a, "advice: SH", 10) != 0)
+        fail_msg("venice_sunset: '%s', want SH", a);
+    free(a);
+    a = advice(FIXTURES "/quarry_01_1k.hdr");
+    if (strncmp(a, "advice: SH", 10) == 0)
+        fail_msg("quarry_01 (a sun): '%s', want lights or sun plus SH", a);
+    free(a);
+}
+
+static void test_help_texts(void **state)
+{
+    (void)state;
+    need_qibl();
+    static const struct {
+        const char *cmd, *want;
+    } h[] = {{"relight", "positive yaw turns +x toward +y"},
+             {"relight", "--lights FILE.csv"},
+             {"relight", "--probe-mode sh"},
+             {"probe", "qibl probe info PROBE.hdr"},
+             {"sh", "--format table|json|cmgen|c"},
+             {"lights", "--json"}};
+    for (size_t i = 0; i < sizeof h / sizeof h[0]; ++i) {
+        OK("help", h[i].cmd);
+        char *t = text(outlog);
+        if (!strstr(t, h[i].want))
+            fail_msg("qibl help %s does not say '%s'", h[i].cmd, h[i].want);
+        free(t);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup_teardown(test_relight_probe_sh_against_lights, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_relight_yaw_sign, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_relight_lights_add_up, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_lights_csv_errors, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_relight_option_errors, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_sh_project_formats, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_lights_json, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_probe_info_advice, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_probe_info_fixtures, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_help_texts, setup, teardown),
+    };
+    return cmocka_run_group_tests_name("probe_cli", tests, NULL, NULL);
+}
