@@ -1,0 +1,613 @@
+/*
+ * demo_probe.c - the "lit by a real probe" part of `qibl demo`: the scene under three whole probes
+ * (soft, sunny, indoor), ray-traced with every direction shadowed (render/env.h) and relit by the
+ * core three ways: the probe's SH through the shadowed maps, N median-cut lights (as SH) through
+ * the same maps, and sun plus SH (the compact bright sources as directional lights through the
+ * unshadowed maps x their baked visibility, a single-direction light path; the rest as SH).
+ */
+#include <dirent.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bake/bake.h"
+#include "bake/path.h"
+#include "cli/cli.h"
+#include "io/hdr.h"
+#include "io/png.h"
+#include "qibl/asset.h"
+#include "qibl/lightpath.h"
+#include "qibl/lightprobe.h"
+#include "qibl/probe.h"
+#include "ref/psnr.h"
+#include "render/env.h"
+
+#define PI 3.14159265358979323846
+#define PROBE_DIR "../shared/fixtures/probes"
+/* every probe is scaled so that a surface facing up receives this irradiance (the demo's sun
+ * delivers 2.6 / 2.4 / 2.1 at the zenith): the courtyard comes out mid-grey */
+#define TARGET_E_UP 1.6
+#define MAX_SUNS 3
+#define NLIGHTS 16
+
+enum { NCLS = 4 };
+enum { S_SH16, S_SH25, S_LIGHTS, S_SUN, NSCHEME };
+static const char *scheme_key[NSCHEME] = {"sh16", "sh25", "lights", "sunsh"};
+
+typedef struct {
+    const char *role, *file, *what;
+} probe_pick;
+
+static const probe_pick picks[3] = {
+    {"soft", "potsdamer_platz_1k.hdr", "overcast city square, no sun"},
+    {"sunny", "quarry_01_1k.hdr", "clear sky, small sun with 53 % of the energy"},
+    {"indoor", "studio_small_03_1k.hdr", "photo studio, small bright softboxes"},
+};
+
+typedef struct {
+    double psnr, bright, ms, bytes, psnr_cls[NCLS], share_cls[NCLS];
+} row_t;
+
+typedef struct {
+    double dir[3], rgb[3], share, radius_deg;
+} sun_t;
+
+static double lin8(int v)
+{
+    double c = v / 255.0;
+    return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
+}
+
+static void score(const uint8_t *relit, const uint8_t *truth, const uint8_t *cls, size_t np, row_t *r)
+{
+    double se[NCLS] = {0}, n[NCLS] = {0}, lr = 0, lt = 0, set = 0, nt = 0;
+    for (size_t i = 0; i < np; ++i) {
+        if (!cls[i])
+            continue;
+        for (int c = 0; c < 3; ++c) {
+            double d = (double)relit[3 * i + (size_t)c] - truth[3 * i + (size_t)c];
+            se[cls[i]] += d * d;
+            lr += lin8(relit[3 * i + (size_t)c]), lt += lin8(truth[3 * i + (size_t)c]);
+        }
+        n[cls[i]] += 3;
+    }
+    for (int c = 1; c < NCLS; ++c)
+        set += se[c], nt += n[c];
+    r->psnr = qtool_ref_psnr8(nt > 0 ? set / nt : 0);
+    for (int c = 1; c < NCLS; ++c) {
+        r->psnr_cls[c] = n[c] > 0 ? qtool_ref_psnr8(se[c] / n[c]) : 0;
+        r->share_cls[c] = set > 0 ? 100 * se[c] / set : 0;
+    }
+    r->bright = lt > 0 ? lr / lt : 0;
+}
+
+/* error heat map as the other sheets draw it: max channel difference, 0 black .. 48+ yellow-white */
+static void heat(const uint8_t *a, const uint8_t *b, const uint8_t *cls, size_t np, uint8_t *out)
+{
+    for (size_t i = 0; i < np; ++i) {
+        int d = 0;
+        for (int c = 0; c < 3; ++c) {
+            int x = abs((int)a[3 * i + (size_t)c] - (int)b[3 * i + (size_t)c]);
+            d = x > d ? x : d;
+        }
+        double t = cls[i] ? fmin(1.0, d / 48.0) : 0;
+        double r = fmin(1, fmax(0, 3 * t - 1)), g = fmin(1, fmax(0, 3 * t - 2)), bl = t < 1.0 / 3 ? 3 * t : fmax(0, 2 - 3 * t);
+        out[3 * i] = (uint8_t)lrint(255 * r), out[3 * i + 1] = (uint8_t)lrint(255 * g);
+        out[3 * i + 2] = (uint8_t)lrint(255 * fmax(bl, 0.25 * g));
+    }
+}
+
+static double chunk_bytes(const uint8_t *asset, size_t n, uint32_t type, uint32_t index)
+{
+    qibl_asset_t a;
+    qibl_chunk_t c;
+    if (qibl_asset_open(&a, asset, n) != QIBL_OK || qibl_asset_find_nth(&a, type, index, &c) != QIBL_OK)
+        return 0;
+    return c.size;
+}
+
+/* ---- probes ---------------------------------------------------------------------------------- */
+
+/* Procedural stand-ins when ../shared is absent (1024 x 512 lat-long, row v at theta (v + 1/2) pi / H). */
+static float *procedural(int role, int w, int h)
+{
+    float *p = malloc(sizeof(float) * 3 * (size_t)w * (size_t)h);
+    if (!p)
+        return NULL;
+    for (int v = 0; v < h; ++v)
+        for (int u = 0; u < w; ++u) {
+            double th = (v + 0.5) * PI / h, ph = (u + 0.5) * 2 * PI / w, z = cos(th);
+            double d[3] = {sin(th) * cos(ph), sin(th) * sin(ph), z}, c[3];
+            if (role == 0) { /* overcast: brighter towards the zenith and to one side, grey ground */
+                double k = z > 0 ? 0.6 + 0.6 * z + 0.3 * d[0] : 0.18;
+                c[0] = k * 0.95, c[1] = k, c[2] = k * 1.08;
+            } else if (role == 1) { /* clear sky, ground, a sun of 0.3 degrees at 35 degrees elevation */
+                double sd[3] = {cos(0.61) * cos(1.0), cos(0.61) * sin(1.0), sin(0.61)};
+                double cs = d[0] * sd[0] + d[1] * sd[1] + d[2] * sd[2];
+                double k = z > 0 ? 0.25 + 0.25 * (1 - z) : 0.12;
+                c[0] = k * 0.6, c[1] = k * 0.8, c[2] = k * 1.3;
+                if (cs > cos(0.3 * PI / 180 * 4)) /* 4 x the real sun's radius: a few pixels */
+                    c[0] = 9000, c[1] = 8400, c[2] = 7600;
+            } else { /* a dim room, a window on one side, a small ceiling lamp */
+                double k = 0.05;
+                c[0] = c[1] = c[2] = k;
+                if (fabs(d[1]) < 0.35 && fabs(d[2] - 0.1) < 0.25 && d[0] > 0.8)
+                    c[0] = 2.2, c[1] = 2.4, c[2] = 2.8;
+                if (d[2] > 0.985)
+                    c[0] = 300, c[1] = 260, c[2] = 200;
+            }
+            for (int q = 0; q < 3; ++q)
+                p[3 * ((size_t)v * (size_t)w + (size_t)u) + (size_t)q] = (float)c[q];
+        }
+    return p;
+}
+
+/* Compact bright sources: 8-connected components (wrapping in phi) of the pixels at least
+ * QTOOL_ENV_BRIGHT x the mean radiance, each holding >= 2 % of the energy and within 10 degrees of
+ * its centroid. Their pixels are zeroed in sky. Returns the count (<= MAX_SUNS, largest first). */
+static int find_suns(const qtool_env *e, float *sky, sun_t *suns)
+{
+    uint32_t w = e->w, h = e->h;
+    size_t np = (size_t)w * h;
+    int32_t *lab = malloc(np * sizeof(int32_t));
+    size_t *stack = malloc(np * sizeof(size_t));
+    int ns = 0;
+    if (!lab || !stack) {
+        free(lab), free(stack);
+        return 0;
+    }
+    double tot = e->e_b + e->e_r;
+    for (size_t i = 0; i < np; ++i)
+        lab[i] = -1;
+    int32_t ncomp = 0;
+    sun_t cand[64];
+    int32_t cand_lab[64];
+    int ncand = 0;
+    for (size_t s0 = 0; s0 < np; ++s0) {
+        if (!e->in_b[s0] || lab[s0] >= 0)
+            continue;
+        size_t sp = 0;
+        stack[sp++] = s0, lab[s0] = ncomp;
+        double en = 0, c[3] = {0, 0, 0}, rgb[3] = {0, 0, 0};
+        size_t first = s0;
+        /* first pass: energy, centroid, colour (midpoint solid angle, as the core's lights use) */
+        while (sp) {
+            size_t i = stack[--sp];
+            uint32_t u = (uint32_t)(i % w), v = (uint32_t)(i / w);
+            double th = (v + 0.5) * PI / h, ph = (u + 0.5) * 2 * PI / w, dw = 2 * PI * PI / ((double)w * h) * sin(th);
+            const float *L = e->rgb + 3 * i;
+            double y = (0.2126 * L[0] + 0.7152 * L[1] + 0.0722 * L[2]) * e->row_dw[v];
+            en += y;
+            c[0] += y * sin(th) * cos(ph), c[1] += y * sin(th) * sin(ph), c[2] += y * cos(th);
+            for (int q = 0; q < 3; ++q)
+                rgb[q] += L[q] * dw;
+            for (int dv = -1; dv <= 1; ++dv)
+                for (int du = -1; du <= 1; ++du) {
+                    long vv = (long)v + dv;
+                    if (vv < 0 || vv >= (long)h)
+                        continue;
+                    size_t j = (size_t)vv * w + (size_t)(((long)u + du + (long)w) % (long)w);
+                    if (e->in_b[j] && lab[j] < 0)
+                        lab[j] = ncomp, stack[sp++] = j;
+                }
+        }
+        (void)first;
+        double l = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+        if (en >= 0.02 * tot && l > 0 && ncand < 64) {
+            sun_t *s = &cand[ncand];
+            for (int q = 0; q < 3; ++q)
+                s->dir[q] = c[q] / l, s->rgb[q] = rgb[q];
+            s->share = en / tot, s->radius_deg = 0;
+            cand_lab[ncand++] = ncomp;
+        }
+        ++ncomp;
+    }
+    /* angular radius of each candidate */
+    for (size_t i = 0; i < np; ++i)
+        for (int k = 0; k < ncand; ++k)
+            if (lab[i] == cand_lab[k]) {
+                uint32_t u = (uint32_t)(i % w), v = (uint32_t)(i / w);
+                double th = (v + 0.5) * PI / h, ph = (u + 0.5) * 2 * PI / w;
+                double d = sin(th) * cos(ph) * cand[k].dir[0] + sin(th) * sin(ph) * cand[k].dir[1] + cos(th) * cand[k].dir[2];
+                double a = acos(fmin(1, fmax(-1, d))) * 180 / PI;
+                if (a > cand[k].radius_deg)
+                    cand[k].radius_deg = a;
+            }
+    /* the largest compact ones */
+    int used[64] = {0};
+    while (ns < MAX_SUNS) {
+        int best = -1;
+        for (int k = 0; k < ncand; ++k)
+            if (!used[k] && cand[k].radius_deg <= 10 && (best < 0 || cand[k].share > cand[best].share))
+                best = k;
+        if (best < 0)
+            break;
+        used[best] = 1;
+        suns[ns++] = cand[best];
+        for (size_t i = 0; i < np; ++i)
+            if (lab[i] == cand_lab[best])
+                sky[3 * i] = sky[3 * i + 1] = sky[3 * i + 2] = 0;
+    }
+    free(lab), free(stack);
+    return ns;
+}
+
+/* probe (floats) -> the core's LINEAR_F32 image (bit patterns) */
+static void f32_image(const float *p, uint32_t w, uint32_t h, uint32_t *bits, qibl_lightprobe_image_t *img)
+{
+    memcpy(bits, p, sizeof(float) * 3 * (size_t)w * h);
+    memset(img, 0, sizeof *img);
+    img->pixels = bits, img->width = w, img->height = h, img->format = QIBL_LIGHTPROBE_LINEAR_F32;
+}
+
+static int probe_sh(const float *p, uint32_t w, uint32_t h, uint32_t k, qibl_shlight_t *l, double *ms)
+{
+    uint32_t *bits = malloc(sizeof(float) * 3 * (size_t)w * h);
+    size_t wsn = qibl_probe_sh_workspace_size(w, h);
+    void *ws = malloc(wsn);
+    qibl_lightprobe_image_t img;
+    int rc = -1;
+    if (bits && ws) {
+        f32_image(p, w, h, bits, &img);
+        double t0 = qcli_now();
+        if (qibl_shlight_init(l, k) == QIBL_OK && qibl_shlight_add_probe(l, &img, NULL, ws, wsn) == QIBL_OK)
+            rc = 0;
+        if (ms)
+            *ms = (qcli_now() - t0) * 1e3;
+    }
+    free(bits), free(ws);
+    return rc;
+}
+
+static int probe_lights_sh(const float *p, uint32_t w, uint32_t h, uint32_t k, qibl_shlight_t *l, double *ms)
+{
+    uint32_t *bits = malloc(sizeof(float) * 3 * (size_t)w * h);
+    size_t wsn = qibl_lightprobe_workspace_size(w, h, QIBL_LIGHTPROBE_MEDIANCUT);
+    void *ws = malloc(wsn);
+    qibl_lightprobe_image_t img;
+    qibl_lightprobe_t lp;
+    qibl_lightprobe_light_t lights[NLIGHTS];
+    qibl_lightprobe_result_t res;
+    int rc = -1;
+    if (bits && ws) {
+        f32_image(p, w, h, bits, &img);
+        double t0 = qcli_now();
+        if (qibl_lightprobe_build(&lp, &img, QIBL_LIGHTPROBE_MEDIANCUT, ws, wsn) == QIBL_OK &&
+            qibl_lightprobe_lights(&lp, NULL, lights, NLIGHTS, &res) == QIBL_OK && qibl_shlight_init(l, k) == QIBL_OK &&
+            qibl_shlight_add_lights(l, lights, res.count, res.rgb_exp, 0) == QIBL_OK)
+            rc = 0;
+        if (ms)
+            *ms = (qcli_now() - t0) * 1e3;
+    }
+    free(bits), free(ws);
+    return rc;
+}
+
+/* LPTH payload of one fixed direction: each pixel visible (one edge at 0) or not (none) */
+static int sun_path(const qtool_rt_scene *s, const qcli_scene *so, const sun_t *sun, uint8_t *cls, uint8_t **out,
+                    size_t *n)
+{
+    uint32_t w = so->w, h = so->h;
+    size_t np = (size_t)w * h;
+    qtool_rt_light l = {0, {sun->dir[0], sun->dir[1], sun->dir[2]}, {0, 0, 0}, {1, 1, 1}, 1};
+    if (qtool_bake_classify(s, w, h, (qtool_pano_kind)so->kind, &l, so->threads, cls) != 0)
+        return -1;
+    uint8_t *counts = malloc(np);
+    uint16_t *edges = malloc(np * sizeof(uint16_t));
+    uint32_t kt[2] = {0, 65535}, ne = 0;
+    int32_t kv[6];
+    for (int c = 0; c < 3; ++c)
+        kv[c] = kv[3 + c] = (int32_t)lrint(sun->dir[c] * 65536.0);
+    int rc = -1;
+    if (counts && edges) {
+        for (size_t i = 0; i < np; ++i) {
+            counts[i] = cls[i] == 1;
+            if (counts[i])
+                edges[ne++] = 0;
+        }
+        rc = qtool_bake_path_payload(w, h, 0, 2, kt, kv, counts, edges, ne, out, n);
+    }
+    free(counts), free(edges);
+    return rc;
+}
+
+/* ---- the demo part --------------------------------------------------------------------------- */
+
+typedef struct {
+    const qtool_rt_scene *s;
+    const qcli_scene *so;
+    const uint8_t *a16, *a25;
+    size_t n16, n25;
+    const qtool_gen_maps *m25, *mu;
+    uint32_t spp;
+    double *lin, *ha, *hb;
+    uint8_t *truth, *cls, *tmp, *heatb, *best;
+} ctx_t;
+
+static double median3(double a, double b, double c)
+{
+    return a > b ? (b > c ? b : a > c ? c : a) : (a > c ? a : b > c ? c : b);
+}
+
+/* relights the environment three times (median ms) */
+static int relight_env(const uint8_t *as, size_t an, const qibl_shlight_t *l, uint8_t *out, double *ms)
+{
+    double t[3];
+    qibl_status_t st = QIBL_OK;
+    for (int r = 0; r < 3; ++r)
+        if (qtool_bake_relight_env8(as, an, l, out, &t[r], &st) != 0) {
+            fprintf(stderr, "qibl: demo: probe relight failed: %s\n", qibl_status_str(st));
+            return -1;
+        }
+    *ms = median3(t[0], t[1], t[2]);
+    return 0;
+}
+
+static int run_probe(ctx_t *c, int role, const char *label, float *probe, uint32_t pw, uint32_t ph, row_t rows[NSCHEME],
+                     double *noise, int *nsuns, sun_t *suns, double *scale_out, double *truth_s)
+{
+    const qcli_scene *so = c->so;
+    uint32_t w = so->w, h = so->h;
+    size_t np = (size_t)w * h, npp = (size_t)pw * ph;
+    char err[512];
+    /* scale: irradiance TARGET_E_UP on a surface facing up */
+    double eup = 0;
+    for (uint32_t v = 0; v < ph; ++v) {
+        double th = (v + 0.5) * PI / ph, cz = cos(th), dw = 2 * PI * PI / ((double)pw * ph) * sin(th);
+        if (cz <= 0)
+            continue;
+        for (uint32_t u = 0; u < pw; ++u) {
+            const float *L = probe + 3 * ((size_t)v * pw + u);
+            eup += (0.2126 * L[0] + 0.7152 * L[1] + 0.0722 * L[2]) * cz * dw;
+        }
+    }
+    double scale = eup > 0 ? TARGET_E_UP / eup : 1;
+    for (size_t i = 0; i < npp * 3; ++i)
+        probe[i] = (float)(probe[i] * scale);
+    *scale_out = scale;
+    qtool_env env;
+    if (qtool_env_build(&env, pw, ph, probe, err, sizeof err) != 0) {
+        fprintf(stderr, "qibl: demo: %s: %s\n", label, err);
+        return -1;
+    }
+    /* the truth: two renders with different seeds, their mean; their difference states the noise */
+    double t0 = qcli_now();
+    qtool_env_render(c->s, w, h, (qtool_pano_kind)so->kind, &env, c->spp, 2 * (uint64_t)role + 1, 1, so->threads, c->ha);
+    qtool_env_render(c->s, w, h, (qtool_pano_kind)so->kind, &env, c->spp, 2 * (uint64_t)role + 2, 1, so->threads, c->hb);
+    *truth_s = qcli_now() - t0;
+    qtool_bake_lin_to8(c->ha, w, h, c->truth);
+    qtool_bake_lin_to8(c->hb, w, h, c->tmp);
+    for (size_t i = 0; i < np * 3; ++i)
+        c->lin[i] = 0.5 * (c->ha[i] + c->hb[i]);
+    /* suns, and the classes of the brightest one's light for the error split */
+    float *sky = malloc(sizeof(float) * 3 * npp);
+    uint8_t *lp[MAX_SUNS + 1] = {NULL};
+    size_t lpn[MAX_SUNS + 1] = {0};
+    uint8_t *asset = NULL;
+    size_t an = 0;
+    int rc = -1, ns = 0;
+    if (!sky)
+        goto done;
+    memcpy(sky, probe, sizeof(float) * 3 * npp);
+    ns = find_suns(&env, sky, suns);
+    *nsuns = ns;
+    for (int i = 0; i < ns; ++i)
+        if (sun_path(c->s, so, &suns[i], c->cls, &lp[i], &lpn[i]) != 0)
+            goto done;
+    { /* the error split follows the brightest source (the zenith when there is none) */
+        sun_t up = {{0, 0, 1}, {1, 1, 1}, 0, 0};
+        if (sun_path(c->s, so, ns ? &suns[0] : &up, c->cls, &lp[MAX_SUNS], &lpn[MAX_SUNS]) != 0)
+            goto done;
+        free(lp[MAX_SUNS]), lp[MAX_SUNS] = NULL;
+    }
+    *noise = qtool_ref_psnr8(qtool_bake_mse(c->truth, c->tmp, c->cls, np));
+    qtool_bake_lin_to8(c->lin, w, h, c->truth);
+
+    double shmp16 = chunk_bytes(c->a16, c->n16, QIBL_CHUNK_SHMP, 0), shmp25 = chunk_bytes(c->a25, c->n25, QIBL_CHUNK_SHMP, 0);
+    qibl_shlight_t l16, l25, ll, lsky;
+    double prep;
+    double best_psnr = -1;
+    /* (a) the probe's SH */
+    if (probe_sh(probe, pw, ph, 16, &l16, &prep) != 0 || probe_sh(probe, pw, ph, 25, &l25, &prep) != 0)
+        goto done;
+    if (relight_env(c->a16, c->n16, &l16, c->tmp, &rows[S_SH16].ms) != 0)
+        goto done;
+    score(c->tmp, c->truth, c->cls, np, &rows[S_SH16]);
+    rows[S_SH16].bytes = shmp16;
+    if (relight_env(c->a25, c->n25, &l25, c->tmp, &rows[S_SH25].ms) != 0)
+        goto done;
+    score(c->tmp, c->truth, c->cls, np, &rows[S_SH25]);
+    rows[S_SH25].bytes = shmp25;
+    /* (b) N median-cut lights, projected to SH (what N directional lights through the maps add up to) */
+    if (probe_lights_sh(probe, pw, ph, 25, &ll, &prep) != 0 || relight_env(c->a25, c->n25, &ll, c->tmp, &rows[S_LIGHTS].ms) != 0)
+        goto done;
+    score(c->tmp, c->truth, c->cls, np, &rows[S_LIGHTS]);
+    rows[S_LIGHTS].bytes = shmp25;
+    /* (c) sun + SH: the suns through SHMU x their single-direction paths, the rest as SH k = 25 */
+    if (probe_sh(sky, pw, ph, 25, &lsky, &prep) != 0)
+        goto done;
+    if (ns == 0) {
+        rows[S_SUN] = rows[S_SH25];
+    } else {
+        if (qtool_bake_asset_ex(c->m25, c->mu, 32, lp, lpn, &asset, &an) != 0)
+            goto done;
+        double tt[3];
+        for (int r = 0; r < 3; ++r) {
+            tt[r] = 0;
+            for (size_t i = 0; i < np * 3; ++i)
+                c->lin[i] = 0;
+            for (int k = 0; k < ns; ++k) {
+                qtool_rt_light sl = {0, {suns[k].dir[0], suns[k].dir[1], suns[k].dir[2]}, {0, 0, 0},
+                                     {suns[k].rgb[0], suns[k].rgb[1], suns[k].rgb[2]}, 1};
+                float *lf = (float *)c->ha; /* scratch: np * 3 floats fit in np * 3 doubles */
+                double ms = 0;
+                qibl_status_t st = QIBL_OK;
+                if (qtool_bake_relight_path8(asset, an, &sl, (uint32_t)k, 0, 0, k == 0 ? &lsky : NULL, c->tmp, lf, &ms,
+                                             &st) != 0) {
+                    fprintf(stderr, "qibl: demo: %s: sun + SH relight failed: %s\n", label, qibl_status_str(st));
+                    goto done;
+                }
+                tt[r] += ms;
+                for (size_t i = 0; i < np * 3; ++i)
+                    c->lin[i] += lf[i];
+            }
+        }
+        rows[S_SUN].ms = median3(tt[0], tt[1], tt[2]);
+        if (ns > 1)
+            qtool_bake_lin_to8(c->lin, w, h, c->tmp);
+        score(c->tmp, c->truth, c->cls, np, &rows[S_SUN]);
+        rows[S_SUN].bytes = chunk_bytes(asset, an, QIBL_CHUNK_SHMP, 0) + chunk_bytes(asset, an, QIBL_CHUNK_SHMU, 0);
+        for (int k = 0; k < ns; ++k)
+            rows[S_SUN].bytes += (double)lpn[k];
+    }
+    /* the best scheme's frame for the sheet (ties: the cheaper) */
+    int best = 0;
+    for (int q = 0; q < NSCHEME; ++q)
+        if (rows[q].psnr > best_psnr + 0.05)
+            best_psnr = rows[q].psnr, best = q;
+    if (best == S_SUN && ns > 0) {
+        /* c->tmp holds it */
+    } else if (best == S_SH16) {
+        relight_env(c->a16, c->n16, &l16, c->tmp, &prep);
+    } else {
+        relight_env(c->a25, c->n25, best == S_LIGHTS ? &ll : &l25, c->tmp, &prep);
+    }
+    memcpy(c->best, c->tmp, np * 3);
+    rc = best;
+done:
+    for (int i = 0; i <= MAX_SUNS; ++i)
+        free(lp[i]);
+    free(sky), free(asset);
+    qtool_env_free(&env);
+    return rc;
+}
+
+int qcli_demo_probe(const qtool_rt_scene *s, const qcli_scene *so, int small, const qtool_bake_sums *sums,
+                    uint32_t ndirs, const char *dir)
+{
+    uint32_t w = so->w, h = so->h;
+    size_t np = (size_t)w * h;
+    ctx_t c;
+    memset(&c, 0, sizeof c);
+    c.s = s, c.so = so;
+    /* samples per pixel and half: the CI size (256 x 64) affords more per pixel than the full one */
+    c.spp = small ? 512 : 128;
+    qtool_gen_maps m16 = {0}, m25 = {0}, mu = {0};
+    qtool_bake_sums us;
+    uint8_t *a16 = NULL, *a25 = NULL, *sheet = NULL;
+    int rc = 1;
+    memset(&us, 0, sizeof us);
+    c.lin = malloc(np * 3 * sizeof(double)), c.ha = malloc(np * 3 * sizeof(double)), c.hb = malloc(np * 3 * sizeof(double));
+    c.truth = malloc(np * 3), c.cls = malloc(np), c.tmp = malloc(np * 3), c.heatb = malloc(np * 3), c.best = malloc(np * 3);
+    sheet = malloc(np * 3 * 3 * 3);
+    double t0 = qcli_now();
+    if (!c.lin || !c.ha || !c.hb || !c.truth || !c.cls || !c.tmp || !c.heatb || !c.best || !sheet ||
+        qtool_bake_coeffs(sums, 16, QTOOL_PROJ_QUADRATURE, &m16) != 0 ||
+        qtool_bake_coeffs(sums, 25, QTOOL_PROJ_QUADRATURE, &m25) != 0 || qtool_bake_asset(&m16, 0, &a16, &c.n16) != 0 ||
+        qtool_bake_asset(&m25, 0, &a25, &c.n25) != 0 ||
+        qtool_bake_run_unshadowed(s, w, h, (qtool_pano_kind)so->kind, ndirs, 9, so->threads, &us) != 0 ||
+        qtool_bake_coeffs(&us, 9, QTOOL_PROJ_QUADRATURE, &mu) != 0) {
+        fprintf(stderr, "qibl: demo: out of memory (probes)\n");
+        goto done;
+    }
+    c.a16 = a16, c.a25 = a25, c.m25 = &m25, c.mu = &mu;
+    int have = 0;
+    {
+        DIR *d = opendir(PROBE_DIR);
+        if (d) {
+            closedir(d);
+            have = 1;
+        }
+    }
+    row_t rows[3][NSCHEME];
+    double noise[3], scale[3], truth_s[3];
+    int best[3], nsuns[3];
+    sun_t suns[3][MAX_SUNS];
+    char label[3][300];
+    for (int p = 0; p < 3; ++p) {
+        float *probe = NULL;
+        int pw = 0, ph = 0;
+        char err[1200], path[600];
+        if (have) {
+            snprintf(path, sizeof path, "%s/%s", PROBE_DIR, picks[p].file);
+            if (qtool_hdr_read(path, &pw, &ph, &probe, err, sizeof err) != 0) {
+                fprintf(stderr, "qibl: demo: %s\n", err);
+                goto done;
+            }
+            snprintf(label[p], sizeof label[p], "%s (%s)", picks[p].file, picks[p].what);
+        } else {
+            pw = 1024, ph = 512;
+            probe = procedural(p, pw, ph);
+            snprintf(label[p], sizeof label[p], "procedural %s probe (no %s)", picks[p].role, PROBE_DIR);
+            if (!probe) {
+                fprintf(stderr, "qibl: demo: out of memory (probes)\n");
+                goto done;
+            }
+        }
+        memset(rows[p], 0, sizeof rows[p]);
+        best[p] = run_probe(&c, p, label[p], probe, (uint32_t)pw, (uint32_t)ph, rows[p], &noise[p], &nsuns[p], suns[p],
+                            &scale[p], &truth_s[p]);
+        free(probe);
+        if (best[p] < 0)
+            goto done;
+        /* sheet row: best relit | truth | error */
+        heat(c.best, c.truth, c.cls, np, c.heatb);
+        const uint8_t *src[3] = {c.best, c.truth, c.heatb};
+        size_t sw = (size_t)w * 3;
+        for (uint32_t y = 0; y < h; ++y)
+            for (int q = 0; q < 3; ++q)
+                memcpy(sheet + (((size_t)p * h + y) * sw + (size_t)q * w) * 3, src[q] + (size_t)y * w * 3, (size_t)w * 3);
+    }
+    {
+        char err[1200], path[4096];
+        snprintf(path, sizeof path, "%s/probe_sheet.png", dir);
+        if (qtool_png_write_rgb8(path, (int)w * 3, (int)h * 3, sheet, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s\n", err);
+            goto done;
+        }
+    }
+    static const char *sname[NSCHEME] = {"probe SH k16, shadowed maps", "probe SH k25, shadowed maps",
+                                         "16 median-cut lights as SH k25, shadowed", "sun + SH: sun k9 x path vis., rest SH k25"};
+    printf("\nlit by a real probe (%s): truth ray-traced with every direction shadowed, %u samples per pixel in each of "
+           "two renders (bright set + MIS of probe CDF and cosine); bake of the unshadowed maps and probes %.1f s\n",
+           have ? PROBE_DIR : "procedural probes", c.spp, qcli_now() - t0);
+    for (int p = 0; p < 3; ++p) {
+        printf("%s: %s, scaled x %.4g (irradiance %.1f facing up); truth %.1f s, halves agree to %.2f dB (the mean is "
+               "about 3 dB less noisy); %d compact source%s",
+               picks[p].role, label[p], scale[p], TARGET_E_UP, truth_s[p], noise[p], nsuns[p], nsuns[p] == 1 ? "" : "s");
+        for (int k = 0; k < nsuns[p]; ++k)
+            printf("%s %.0f %% of the energy within %.1f deg", k ? ";" : ":", 100 * suns[p][k].share, suns[p][k].radius_deg);
+        printf("\n");
+    }
+    printf("\nPSNR against the truth over scene pixels, and split by the brightest source's classes (lit / its cast "
+           "shadow / facing away) with each class's share of the squared error; bright = linear mean relit / truth; "
+           "bytes = chunks read\n\n");
+    printf("| probe  | %-42s | PSNR dB | lit            | cast shadow    | facing away    | bright | ms/frame | bytes   |\n",
+           "scheme");
+    printf("|--------|%s|--------:|---------------:|---------------:|---------------:|-------:|---------:|--------:|\n",
+           "--------------------------------------------");
+    for (int p = 0; p < 3; ++p)
+        for (int q = 0; q < NSCHEME; ++q) {
+            const row_t *r = &rows[p][q];
+            printf("| %-6s | %-42s | %7.2f | %6.2f (%4.1f%%) | %6.2f (%4.1f%%) | %6.2f (%4.1f%%) | %6.3f | %8.3f | %7.0f |\n",
+                   picks[p].role, sname[q], r->psnr, r->psnr_cls[1], r->share_cls[1], r->psnr_cls[2], r->share_cls[2],
+                   r->psnr_cls[3], r->share_cls[3], r->bright, r->ms, r->bytes);
+        }
+    printf("\n");
+    for (int p = 0; p < 3; ++p) {
+        for (int q = 0; q < NSCHEME; ++q)
+            printf("RESULT demo.probe_%s_%s_psnr %.2f\nRESULT demo.probe_%s_%s_brightness %.3f\n", picks[p].role,
+                   scheme_key[q], rows[p][q].psnr, picks[p].role, scheme_key[q], rows[p][q].bright);
+        printf("RESULT demo.probe_%s_best_psnr %.2f\nRESULT demo.probe_%s_truth_halves_psnr %.2f\n", picks[p].role,
+               rows[p][best[p]].psnr, picks[p].role, noise[p]);
+    }
+    printf("wrote %s/probe_sheet.png (rows: soft, sunny, indoor; columns: best scheme | truth | error 0..48)\n", dir);
+    rc = 0;
+done:
+    qtool_gen_free(&m16), qtool_gen_free(&m25), qtool_gen_free(&mu);
+    qtool_bake_sums_free(&us);
+    free(a16), free(a25), free(sheet);
+    free(c.lin), free(c.ha), free(c.hb), free(c.truth), free(c.cls), free(c.tmp), free(c.heatb), free(c.best);
+    return rc;
+}
