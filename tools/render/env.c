@@ -93,10 +93,10 @@ void qtool_env_lookup(const qtool_env *e, const double d[3], double rgb[3])
     rgb[0] = p[0], rgb[1] = p[1], rgb[2] = p[2];
 }
 
-/* first pixel i with cdf[i + 1] > t (t in [0, cdf[n])) */
-static size_t cdf_find(const double *cdf, size_t n, double t)
+/* first pixel i in [lo, hi) with cdf[i + 1] > t (hi - 1 if none) */
+static size_t cdf_find(const double *cdf, size_t lo, size_t hi, double t)
 {
-    size_t lo = 0, hi = n - 1;
+    --hi;
     while (lo < hi) {
         size_t mid = lo + (hi - lo) / 2;
         if (cdf[mid + 1] > t)
@@ -107,12 +107,27 @@ static size_t cdf_find(const double *cdf, size_t n, double t)
     return lo;
 }
 
-/* direction of probe pixel i at fractions (a, b) across it: uniform in phi and in cos theta */
-static void pixel_dir(const qtool_env *e, size_t i, double a, double b, double d[3])
+/* A pixel drawn proportionally to its energy from (a, b) in [0, 1)^2: a picks the row (marginal),
+ * b the pixel within it (conditional), so a stratified grid of (a, b) is stratified on the sphere. */
+static size_t cdf_sample(const double *cdf, uint32_t w, size_t np, double a, double b)
+{
+    size_t i = cdf_find(cdf, 0, np, cdf[np] * a), r0 = i / w * w, r1 = r0 + w;
+    size_t j = cdf_find(cdf, r0, r1, cdf[r0] + b * (cdf[r1] - cdf[r0]));
+    return cdf[j + 1] > cdf[j] ? j : i; /* rounding at the row's end: keep the marginal's pixel */
+}
+
+/* direction of probe pixel i at fractions (a, b) across it: uniform in phi and in cos theta; without
+ * jitter its centre (theta and phi at the middle, as lightprobe.h places pixels) */
+static void pixel_dir(const qtool_env *e, size_t i, int jitter, double a, double b, double d[3])
 {
     uint32_t u = (uint32_t)(i % e->w), v = (uint32_t)(i / e->w);
-    double ph = (u + a) * 2 * PI / e->w;
-    double z = e->row_c[v] - b * (e->row_c[v] - e->row_c[v + 1]), s = sqrt(fmax(0.0, 1 - z * z));
+    double ph = (u + (jitter ? a : 0.5)) * 2 * PI / e->w, z, s;
+    if (jitter) {
+        z = e->row_c[v] - b * (e->row_c[v] - e->row_c[v + 1]), s = sqrt(fmax(0.0, 1 - z * z));
+    } else {
+        double th = (v + 0.5) * PI / e->h;
+        z = cos(th), s = sin(th);
+    }
     d[0] = s * cos(ph), d[1] = s * sin(ph), d[2] = z;
 }
 
@@ -155,8 +170,8 @@ static void env_row(void *ctx, uint32_t y)
     const qtool_env *e = j->e;
     size_t np = (size_t)e->w * e->h;
     uint32_t spp = j->spp, nb = 0, ncos = 0, nenv = 0, g = 0;
-    /* the sample budget: B by its energy share (1 .. spp / 2), the rest half cosine (a square grid),
-     * half by R's energy */
+    /* the sample budget: B by its energy share (1 .. spp / 2), the rest half cosine, half by R's
+     * energy, each on a g x g jittered grid; B takes what the grids leave */
     double tot = e->e_b + e->e_r;
     if (e->e_r <= 0)
         nb = spp;
@@ -165,9 +180,11 @@ static void env_row(void *ctx, uint32_t y)
         nb = nb < 1 ? 1 : nb > spp / 2 ? spp / 2 : nb;
     }
     if (nb < spp) {
-        uint32_t rest = spp - nb;
-        g = (uint32_t)floor(sqrt(rest / 2.0));
-        ncos = g * g, nenv = rest - ncos;
+        g = (uint32_t)floor(sqrt((spp - nb) / 2.0));
+        ncos = nenv = g * g;
+        nb = spp - 2 * g * g;
+        if (e->e_b <= 0)
+            ncos += nb, nb = 0, nenv = g * g; /* leftovers: more cosine samples (stratified in a only) */
     }
     for (uint32_t x = 0; x < j->w; ++x) {
         size_t pi = (size_t)y * j->w + x;
@@ -182,23 +199,25 @@ static void env_row(void *ctx, uint32_t y)
         splitmix(&st);
         double wd[3];
         /* the bright set: stratified over its CDF */
-        double off = unit(&st);
+        uint32_t gb = (uint32_t)floor(sqrt((double)nb));
         for (uint32_t k = 0; k < nb; ++k) {
-            double t = e->e_b * (k + off) / nb;
-            size_t i = cdf_find(e->cdf_b, np, t);
-            double a = j->jitter ? unit(&st) : 0.5, b = j->jitter ? unit(&st) : 0.5;
-            pixel_dir(e, i, a, b, wd);
+            double a, b;
+            if (k < gb * gb)
+                a = (k % gb + unit(&st)) / gb, b = (k / gb + unit(&st)) / gb;
+            else
+                a = (k - gb * gb + unit(&st)) / (nb - gb * gb), b = unit(&st);
+            size_t i = cdf_sample(e->cdf_b, e->w, np, a, b);
+            a = unit(&st), b = unit(&st);
+            pixel_dir(e, i, j->jitter, a, b, wd);
             const float *L = e->rgb + 3 * i;
             shade(j, &hh, wd, L, e->e_b / (nb * luma(L)), o);
         }
         /* the rest: balance heuristic of R's CDF and the cosine lobe; every sample contributes
          * L T / (nenv p_env + ncos p_cos) */
-        off = unit(&st);
         for (uint32_t k = 0; k < nenv; ++k) {
-            double t = e->e_r * (k + off) / nenv;
-            size_t i = cdf_find(e->cdf_r, np, t);
-            double a = j->jitter ? unit(&st) : 0.5, b = j->jitter ? unit(&st) : 0.5;
-            pixel_dir(e, i, a, b, wd);
+            size_t i = cdf_sample(e->cdf_r, e->w, np, (k % g + unit(&st)) / g, (k / g + unit(&st)) / g);
+            double a = unit(&st), b = unit(&st);
+            pixel_dir(e, i, j->jitter, a, b, wd);
             const float *L = e->rgb + 3 * i;
             double cn = hh.n[0] * wd[0] + hh.n[1] * wd[1] + hh.n[2] * wd[2];
             if (cn <= 0)
@@ -216,7 +235,11 @@ static void env_row(void *ctx, uint32_t y)
                 t1[c] /= l;
             t2[0] = n[1] * t1[2] - n[2] * t1[1], t2[1] = n[2] * t1[0] - n[0] * t1[2], t2[2] = n[0] * t1[1] - n[1] * t1[0];
             for (uint32_t k = 0; k < ncos; ++k) {
-                double a = (k % g + unit(&st)) / g, b = (k / g + unit(&st)) / g;
+                double a, b;
+                if (k < g * g)
+                    a = (k % g + unit(&st)) / g, b = (k / g + unit(&st)) / g;
+                else
+                    a = (k - g * g + unit(&st)) / (ncos - g * g), b = unit(&st);
                 double r = sqrt(a), ph = 2 * PI * b, cz = sqrt(fmax(0.0, 1 - a));
                 for (int c = 0; c < 3; ++c)
                     wd[c] = r * cos(ph) * t1[c] + r * sin(ph) * t2[c] + cz * n[c];
