@@ -30,7 +30,12 @@
 /* every probe is scaled so that a surface facing up receives this irradiance (the demo's sun
  * delivers 2.6 / 2.4 / 2.1 at the zenith): the courtyard comes out mid-grey */
 #define TARGET_E_UP 1.6
-#define MAX_SUNS 3
+#define MAX_SUNS 4
+/* a compact source holds at least this share of the energy within SUN_RADIUS degrees */
+#define SUN_SHARE 0.01
+#define SUN_RADIUS 12.0
+/* bands of the unshadowed maps the sources are relit through */
+#define SHMU_K 16
 /* an extended source (a softbox, a sun with its glow) is split into up to this many equal-energy
  * parts, each a direction with its own baked visibility: a penumbra of that many steps */
 #define MAX_PARTS 8
@@ -200,8 +205,9 @@ static float *procedural(int role, int w, int h)
 }
 
 /* Compact bright sources: 8-connected components (wrapping in phi) of the pixels at least
- * QTOOL_ENV_BRIGHT x the mean radiance, each holding >= 2 % of the energy and within 10 degrees of
- * its centroid. Their pixels are zeroed in sky. Returns the count (<= MAX_SUNS, largest first). */
+ * QTOOL_ENV_BRIGHT x the mean radiance, each holding >= SUN_SHARE of the energy and within
+ * SUN_RADIUS degrees of its centroid; each split into kparts equal-energy parts (parts, part_src
+ * its source). Their pixels are zeroed in sky. Returns the count (<= MAX_SUNS, largest first). */
 static int find_suns(const qtool_env *e, float *sky, sun_t *suns, sun_t *parts, int *part_src, int *nparts, int kparts)
 {
     *nparts = 0;
@@ -251,7 +257,7 @@ static int find_suns(const qtool_env *e, float *sky, sun_t *suns, sun_t *parts, 
         }
         (void)first;
         double l = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-        if (en >= 0.02 * tot && l > 0 && ncand < 64) {
+        if (en >= SUN_SHARE * tot && l > 0 && ncand < 64) {
             sun_t *s = &cand[ncand];
             for (int q = 0; q < 3; ++q)
                 s->dir[q] = c[q] / l, s->rgb[q] = rgb[q];
@@ -276,7 +282,7 @@ static int find_suns(const qtool_env *e, float *sky, sun_t *suns, sun_t *parts, 
     while (ns < MAX_SUNS) {
         int best = -1;
         for (int k = 0; k < ncand; ++k)
-            if (!used[k] && cand[k].radius_deg <= 10 && (best < 0 || cand[k].share > cand[best].share))
+            if (!used[k] && cand[k].radius_deg <= SUN_RADIUS && (best < 0 || cand[k].share > cand[best].share))
                 best = k;
         if (best < 0)
             break;
@@ -667,14 +673,17 @@ int qcli_demo_probe(const qtool_rt_scene *s, const qcli_scene *so, int small, co
     memset(&us, 0, sizeof us);
     c.lin = malloc(np * 3 * sizeof(double)), c.ha = malloc(np * 3 * sizeof(double)), c.hb = malloc(np * 3 * sizeof(double));
     c.truth = malloc(np * 3), c.cls = malloc(np), c.tmp = malloc(np * 3), c.heatb = malloc(np * 3), c.best = malloc(np * 3);
-    sheet = malloc(np * 3 * 3 * 3);
+    /* the sheet: a title strip, then per probe a label strip and best | truth | error */
+    int ts = w >= 768 ? 2 : 1, strip = 10 * ts, shw = (int)w * 3, shh = strip + 3 * (strip + (int)h);
+    sheet = malloc((size_t)shw * (size_t)shh * 3);
+    static const uint8_t fg[3] = {235, 235, 235};
     double t0 = qcli_now();
     if (!c.lin || !c.ha || !c.hb || !c.truth || !c.cls || !c.tmp || !c.heatb || !c.best || !sheet ||
         qtool_bake_coeffs(sums, 16, QTOOL_PROJ_QUADRATURE, &m16) != 0 ||
         qtool_bake_coeffs(sums, 25, QTOOL_PROJ_QUADRATURE, &m25) != 0 || qtool_bake_asset(&m16, 0, &a16, &c.n16) != 0 ||
         qtool_bake_asset(&m25, 0, &a25, &c.n25) != 0 ||
-        qtool_bake_run_unshadowed(s, w, h, (qtool_pano_kind)so->kind, ndirs, 9, so->threads, &us) != 0 ||
-        qtool_bake_coeffs(&us, 9, QTOOL_PROJ_QUADRATURE, &mu) != 0) {
+        qtool_bake_run_unshadowed(s, w, h, (qtool_pano_kind)so->kind, ndirs, SHMU_K, so->threads, &us) != 0 ||
+        qtool_bake_coeffs(&us, SHMU_K, QTOOL_PROJ_QUADRATURE, &mu) != 0) {
         fprintf(stderr, "qibl: demo: out of memory (probes)\n");
         goto done;
     }
@@ -718,24 +727,51 @@ int qcli_demo_probe(const qtool_rt_scene *s, const qcli_scene *so, int small, co
         free(probe);
         if (best[p] < 0)
             goto done;
-        /* sheet row: best relit | truth | error */
+        /* sheet row: best relit | truth | error, under a label */
+        if (p == 0) {
+            memset(sheet, 24, (size_t)shw * (size_t)shh * 3);
+            qcli_draw_text(sheet, shw, shh, 4, ts, ts, "relit by the core (best scheme)", fg);
+            qcli_draw_text(sheet, shw, shh, (int)w + 4, ts, ts, "truth: ray-traced, all shadowed", fg);
+            qcli_draw_text(sheet, shw, shh, 2 * (int)w + 4, ts, ts, "error 0", fg);
+            int x0 = 2 * (int)w + 4 + 8 * 6 * ts, bw = (int)w / 3; /* the heat scale, 0 .. 48 */
+            for (int x = 0; x < bw; ++x) {
+                uint8_t a[3] = {0, 0, 0}, b[3], o[3];
+                b[0] = (uint8_t)lrint(255.0 * x / (bw - 1)), b[1] = b[2] = 0;
+                heat(b, a, (const uint8_t[]){1}, 1, o);
+                for (int y = ts; y < 8 * ts; ++y)
+                    memcpy(sheet + 3 * ((size_t)y * (size_t)shw + (size_t)(x0 + x)), o, 3);
+            }
+            qcli_draw_text(sheet, shw, shh, x0 + bw + 4, ts, ts, "48+ of 255", fg);
+        }
         heat(c.best, c.truth, c.cls, np, c.heatb);
         const uint8_t *src[3] = {c.best, c.truth, c.heatb};
-        size_t sw = (size_t)w * 3;
+        int y0 = strip + p * (strip + (int)h);
+        char lab[200];
+        static const char *sn[NSCHEME] = {"probe SH k16", "probe SH k25", "16 median-cut lights", "sun + SH"};
+        char nm[64];
+        snprintf(nm, sizeof nm, "%s", have ? picks[p].file : "procedural");
+        char *cut = strstr(nm, "_1k.hdr");
+        if (cut)
+            *cut = 0;
+        snprintf(lab, sizeof lab, "%s, %s: %s %.1f dB", picks[p].role, nm, sn[best[p]], rows[p][best[p]].psnr);
+        qcli_draw_text(sheet, shw, shh, 4, y0 + ts, ts, lab, fg);
+        snprintf(lab, sizeof lab, "(SH k25 alone: %.1f dB)", rows[p][S_SH25].psnr);
+        qcli_draw_text(sheet, shw, shh, (int)w + 4, y0 + ts, ts, lab, fg);
         for (uint32_t y = 0; y < h; ++y)
             for (int q = 0; q < 3; ++q)
-                memcpy(sheet + (((size_t)p * h + y) * sw + (size_t)q * w) * 3, src[q] + (size_t)y * w * 3, (size_t)w * 3);
+                memcpy(sheet + (((size_t)(y0 + strip) + y) * (size_t)shw + (size_t)q * w) * 3, src[q] + (size_t)y * w * 3,
+                       (size_t)w * 3);
     }
     {
         char err[1200], path[4096];
         snprintf(path, sizeof path, "%s/probe_sheet.png", dir);
-        if (qtool_png_write_rgb8(path, (int)w * 3, (int)h * 3, sheet, err, sizeof err) != 0) {
+        if (qtool_png_write_rgb8(path, shw, shh, sheet, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
             goto done;
         }
     }
     static const char *sname[NSCHEME] = {"probe SH k16, shadowed maps", "probe SH k25, shadowed maps",
-                                         "16 median-cut lights as SH k25, shadowed", "sun + SH: sun parts SHMU k9 x vis., SH k25"};
+                                         "16 median-cut lights as SH k25, shadowed", "sun + SH: parts SHMU k16 x vis., SH k25"};
     printf("\nlit by a real probe (%s): truth ray-traced with every direction shadowed, %u samples per pixel in each of "
            "two renders (bright set + MIS of probe CDF and cosine); bake of the unshadowed maps and probes %.1f s\n",
            have ? PROBE_DIR : "procedural probes", c.spp, qcli_now() - t0);
