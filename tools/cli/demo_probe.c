@@ -551,8 +551,14 @@ static int run_probe(ctx_t *c, int role, const char *label, float *probe, uint32
     }
     /* the truth: two renders with different seeds, their mean; their difference states the noise */
     double t0 = qcli_now();
-    qtool_env_render(c->s, w, h, (qtool_pano_kind)so->kind, &env, c->spp, 2 * (uint64_t)role + 1, 1, so->threads, c->ha);
-    qtool_env_render(c->s, w, h, (qtool_pano_kind)so->kind, &env, c->spp, 2 * (uint64_t)role + 2, 1, so->threads, c->hb);
+    if (qtool_env_render(c->s, w, h, (qtool_pano_kind)so->kind, &env, c->spp, 2 * (uint64_t)role + 1, 1, so->threads,
+                         c->ha) != 0 ||
+        qtool_env_render(c->s, w, h, (qtool_pano_kind)so->kind, &env, c->spp, 2 * (uint64_t)role + 2, 1, so->threads,
+                         c->hb) != 0) {
+        fprintf(stderr, "qibl: demo: %s: the ground truth failed\n", label);
+        qtool_env_free(&env);
+        return -1;
+    }
     *truth_s = qcli_now() - t0;
     qtool_bake_lin_to8(c->ha, w, h, c->truth);
     qtool_bake_lin_to8(c->hb, w, h, c->tmp);
@@ -655,8 +661,10 @@ int qcli_demo_probe(const qtool_rt_scene *s, const qcli_scene *so, int small, co
     ctx_t c;
     memset(&c, 0, sizeof c);
     c.s = s, c.so = so;
-    /* samples per pixel and half: the CI size (256 x 64) affords more per pixel than the full one */
-    c.spp = small ? 512 : 128;
+    /* samples per pixel in each of the two truth renders: at the CI size (256 x 64) 512 cost about
+     * 40 CPU seconds for the three probes (20 s on two idle cores) and leave the truth 38 to 44 dB
+     * from itself; the full size has 16 x the pixels and takes 256 (about 8 x the CPU time) */
+    c.spp = small ? 512 : 256;
     c.kparts = MAX_PARTS;
     const char *env_k = getenv("QIBL_DEMO_PROBE_PARTS"); /* for studies: parts per extended source */
     long lk;
