@@ -299,6 +299,8 @@ int qcli_cmd_demo(int argc, char **argv)
     printf("RESULT demo.psnr_k16_dir_lsq %.2f\nRESULT demo.bake_s %.2f\n", lsq_dir, bake_s);
     if (rc == 0 && qtool_demo_paths(&s, &so, (uint32_t)ndirs, prop, small, &sums, asset[1], asize[1], dir) != 0)
         rc = 1;
+    if (rc == 0 && qcli_demo_probe(&s, &so, small, &sums, (uint32_t)ndirs, dir) != 0)
+        rc = 1;
     printf("\nwrote %s/: scene_k{9,16,25}.qibl, sun_NN.png and sun_sweep.png (APNG), lamp_NN.png and lamp_sweep.png "
            "(APNG), contact_sheet.png (relit | ground truth | error), relit_sun.png, truth_sun.png\n", dir);
 done:
