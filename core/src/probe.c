@@ -124,25 +124,25 @@ static void kadd(uint32_t *acc, const uint32_t mag[3], unsigned e, int neg)
     t[1] = b ? (mag[1] << b) | (mag[0] >> (32u - b)) : mag[1];
     t[2] = b ? (mag[2] << b) | (mag[1] >> (32u - b)) : mag[2];
     t[3] = b ? mag[2] >> (32u - b) : 0u;
+    /* q + 3 < LIMBS (e <= 32 LIMBS - 97): the four limbs unrolled, then the carry (borrow) ripples */
+    uint32_t *a = acc + q;
     uint32_t carry = 0u;
     if (!neg) {
-        for (unsigned i = 0; q + i < LIMBS; ++i) {
-            uint32_t add = i < 4u ? t[i] : 0u;
-            if (i >= 4u && carry == 0u)
-                break;
-            uint64_t s = (uint64_t)acc[q + i] + add + carry;
-            acc[q + i] = (uint32_t)s;
+        for (unsigned i = 0; i < 4u; ++i) {
+            uint64_t s = (uint64_t)a[i] + t[i] + carry;
+            a[i] = (uint32_t)s;
             carry = (uint32_t)(s >> 32);
         }
+        for (unsigned i = q + 4u; carry != 0u && i < LIMBS; ++i)
+            carry = ++acc[i] == 0u;
     } else {
-        for (unsigned i = 0; q + i < LIMBS; ++i) {
-            uint32_t sub = i < 4u ? t[i] : 0u;
-            if (i >= 4u && carry == 0u)
-                break;
-            uint64_t d = (uint64_t)acc[q + i] - sub - carry;
-            acc[q + i] = (uint32_t)d;
+        for (unsigned i = 0; i < 4u; ++i) {
+            uint64_t d = (uint64_t)a[i] - t[i] - carry;
+            a[i] = (uint32_t)d;
             carry = (uint32_t)(d >> 63); /* borrow */
         }
+        for (unsigned i = q + 4u; carry != 0u && i < LIMBS; ++i)
+            carry = acc[i]-- == 0u;
     }
 }
 
@@ -250,7 +250,22 @@ static unsigned row_scan(const qibl_probe_sh_t *ps, const uint8_t *row, int32_t 
          * for them (otherwise up to 7 bits of the row's precision are given up). Branch-free, so
          * compilers vectorise it. */
         uint8_t emax = 0u;
-        for (uint32_t u = 0; u < ps->width; ++u) {
+        uint32_t u = 0;
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+        /* 8 pixels (little-endian words) at once: exponent where R, G or B is non-zero, running max */
+        const __m256i rgb = _mm256_set1_epi32(0x00FFFFFF);
+        __m256i em = _mm256_setzero_si256();
+        for (; u + 8u <= ps->width; u += 8u) {
+            const __m256i p = _mm256_loadu_si256((const __m256i *)(const void *)(row + 4u * (size_t)u));
+            const __m256i dark = _mm256_cmpeq_epi32(_mm256_and_si256(p, rgb), _mm256_setzero_si256());
+            em = _mm256_max_epu32(em, _mm256_andnot_si256(dark, _mm256_srli_epi32(p, 24)));
+        }
+        uint32_t lanes[8];
+        _mm256_storeu_si256((__m256i *)(void *)lanes, em);
+        for (int i = 0; i < 8; ++i)
+            emax = (uint8_t)lanes[i] > emax ? (uint8_t)lanes[i] : emax;
+#endif
+        for (; u < ps->width; ++u) {
             const uint8_t *q = row + 4u * (size_t)u;
             uint8_t lit = (uint8_t)(q[0] | q[1] | q[2]) != 0u ? 0xFFu : 0u;
             uint8_t e = (uint8_t)(q[3] & lit);
@@ -441,13 +456,14 @@ static void row_sums_folded(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s
      * before the products (identities in probe.c's header): 12 products per pair and channel, 1.5
      * per pixel. Terms: |A + A'| <= 2^30, |E|, |F|, |G|, |H|, |B +- B'| <= 2^28, so each update is
      * at most 2^60 and chunks of 7 pairs stay below 2^63. */
+    const int32_t *t0 = ps->trig, *t1 = t0 + q, *t2 = t1 + q, *t3 = t2 + q, *t4 = t3 + q, *t5 = t4 + q, *t6 = t5 + q,
+                  *t7 = t6 + q; /* the planar table's 8 rows */
     for (uint32_t u0 = start; u0 < half; u0 += CHUNK_PAIR) {
         const uint32_t u1 = half - u0 < CHUNK_PAIR ? half : u0 + CHUNK_PAIR;
         int64_t a0 = 0, c1 = 0, s1 = 0, c2 = 0, s2 = 0, c3 = 0, s3 = 0, c4 = 0, s4 = 0;
         for (uint32_t u = u0; u < u1; ++u) {
             const uint32_t v = q - 1u - u;
-            const int32_t *tp = ps->trig + u;
-            const int32_t t[8] = {tp[0], tp[q], tp[2u * q], tp[3u * q], tp[4u * q], tp[5u * q], tp[6u * q], tp[7u * q]};
+            const int32_t t[8] = {t0[u], t1[u], t2[u], t3[u], t4[u], t5[u], t6[u], t7[u]};
             const int32_t p0 = (int32_t)x[u], p1 = (int32_t)x[u + q], p2 = (int32_t)x[u + 2u * q],
                           p3 = (int32_t)x[u + 3u * q];
             const int32_t r0 = (int32_t)x[v], r1 = (int32_t)x[v + q], r2 = (int32_t)x[v + 2u * q],
