@@ -37,6 +37,13 @@
 
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
 #include <immintrin.h>
+/* the trig table planar (trig[i tc + u]): the vector loops load 8 columns of one entry; the scalar
+ * builds keep it by column (trig[8 u + i]), fewer live pointers on small cores */
+#define TRIG_PLANAR 1
+#define TRIG(ps, tc, i, u) ((ps)->trig[(size_t)(i) * (tc) + (u)])
+#else
+#define TRIG_PLANAR 0
+#define TRIG(ps, tc, i, u) ((ps)->trig[8u * (size_t)(u) + (i)])
 #endif
 
 #define LIMBS QIBL_PROBE_ACC_LIMBS
@@ -226,12 +233,11 @@ qibl_status_t qibl_probe_sh_begin(qibl_probe_sh_t *ps, uint32_t width, uint32_t 
     for (uint32_t i = 0; i < (height + 7u) / 8u; ++i)
         ps->seen[i] = 0u;
     /* phi_u = pi (2u + 1) / W; m phi_u = pi m (2u + 1) / W */
-    /* planar, trig[i tc + u] (i = 2 (m - 1) cos, 2 (m - 1) + 1 sin): the vector paths load 8 columns */
     for (uint32_t u = 0; u < tc; ++u) {
         for (uint32_t m = 1; m <= 4u; ++m) {
             uint64_t n = qibl_mul_u32_u64(m, 2u * u + 1u);
-            ps->trig[(2u * (m - 1u)) * (size_t)tc + u] = cos_pi_q30(n, width);
-            ps->trig[(2u * (m - 1u) + 1u) * (size_t)tc + u] = sin_pi_q30(n, width);
+            TRIG(ps, tc, 2u * (m - 1u), u) = cos_pi_q30(n, width);
+            TRIG(ps, tc, 2u * (m - 1u) + 1u, u) = sin_pi_q30(n, width);
         }
     }
     return QIBL_OK;
@@ -456,14 +462,20 @@ static void row_sums_folded(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s
      * before the products (identities in probe.c's header): 12 products per pair and channel, 1.5
      * per pixel. Terms: |A + A'| <= 2^30, |E|, |F|, |G|, |H|, |B +- B'| <= 2^28, so each update is
      * at most 2^60 and chunks of 7 pairs stay below 2^63. */
+#if TRIG_PLANAR
     const int32_t *t0 = ps->trig, *t1 = t0 + q, *t2 = t1 + q, *t3 = t2 + q, *t4 = t3 + q, *t5 = t4 + q, *t6 = t5 + q,
                   *t7 = t6 + q; /* the planar table's 8 rows */
+#endif
     for (uint32_t u0 = start; u0 < half; u0 += CHUNK_PAIR) {
         const uint32_t u1 = half - u0 < CHUNK_PAIR ? half : u0 + CHUNK_PAIR;
         int64_t a0 = 0, c1 = 0, s1 = 0, c2 = 0, s2 = 0, c3 = 0, s3 = 0, c4 = 0, s4 = 0;
         for (uint32_t u = u0; u < u1; ++u) {
             const uint32_t v = q - 1u - u;
+#if TRIG_PLANAR
             const int32_t t[8] = {t0[u], t1[u], t2[u], t3[u], t4[u], t5[u], t6[u], t7[u]};
+#else
+            const int32_t *t = ps->trig + 8u * (size_t)u;
+#endif
             const int32_t p0 = (int32_t)x[u], p1 = (int32_t)x[u + q], p2 = (int32_t)x[u + 2u * q],
                           p3 = (int32_t)x[u + 3u * q];
             const int32_t r0 = (int32_t)x[v], r1 = (int32_t)x[v + q], r2 = (int32_t)x[v + 2u * q],
@@ -489,8 +501,9 @@ static void row_sums_folded(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s
     }
     if (q & 1u) { /* the middle quarter column is its own mirror (phi = pi/4) */
         const uint32_t u = half;
-        const int32_t *tp = ps->trig + u;
-        const int32_t t[8] = {tp[0], tp[q], tp[2u * q], tp[3u * q], tp[4u * q], tp[5u * q], tp[6u * q], tp[7u * q]};
+        int32_t t[8];
+        for (uint32_t i = 0; i < 8u; ++i)
+            t[i] = TRIG(ps, q, i, u);
         const int32_t p0 = (int32_t)x[u], p1 = (int32_t)x[u + q], p2 = (int32_t)x[u + 2u * q],
                       p3 = (int32_t)x[u + 3u * q];
         const int32_t A = p0 + p1 + p2 + p3, B = p0 - p1 + p2 - p3, C = p0 - p2, D = p1 - p3;
@@ -511,16 +524,15 @@ static void trig_at(const qibl_probe_sh_t *ps, uint32_t u, int32_t t[8])
 {
     if ((ps->width & 3u) != 0u) {
         for (uint32_t i = 0; i < 8u; ++i)
-            t[i] = ps->trig[i * (size_t)ps->width + u];
+            t[i] = TRIG(ps, ps->width, i, u);
         return;
     }
     const uint32_t q = ps->width / 4u;
     uint32_t k = 0u; /* u / q without a division (a library call on Cortex-M0) */
     while (u >= q)
         u -= q, ++k;
-    const int32_t *b = ps->trig + u;
     for (uint32_t m = 1; m <= 4u; ++m) {
-        int32_t c = b[(2u * (m - 1u)) * (size_t)q], s = b[(2u * (m - 1u) + 1u) * (size_t)q];
+        int32_t c = TRIG(ps, q, 2u * (m - 1u), u), s = TRIG(ps, q, 2u * (m - 1u) + 1u, u);
         /* times i^(m k): a quarter turn maps (c, s) to (-s, c) */
         for (uint32_t r = (m * k) & 3u; r > 0u; --r) {
             int32_t c2 = -s;
