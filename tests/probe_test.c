@@ -222,6 +222,41 @@ static void test_formats(void **state)
     probe_free(&p);
 }
 
+/* Widths that take every part of the vector paths (fewer than 8 column pairs, exactly 8, several
+ * steps and flushes, a scalar tail, an odd quarter width with its middle column) and rows with black
+ * pixels (E = 0, mantissas set), unlit pixels of huge exponent and pixels far below the row's top:
+ * RGBE (vector scan and conversion where QIBL_CONFIG_SIMD has them) and the same values as binary32
+ * (the scalar decoder) give the same bits. The folded sums are checked across paths by the golden
+ * probe_sh_widths, which every flavour and port must reproduce. */
+static void test_vector_widths(void **state)
+{
+    (void)state;
+    static const int ws[] = {8, 16, 64, 68, 192, 200, 204, 1028};
+    for (size_t k = 0; k < sizeof ws / sizeof ws[0]; ++k) {
+        const int w = ws[k], h = 5;
+        probe p = random_probe(40 + k, w, h, 100, 40, 1);
+        for (int i = 3; i < w * h; i += 11) /* unlit, exponent above every lit one */
+            p.rgbe[4 * i] = p.rgbe[4 * i + 1] = p.rgbe[4 * i + 2] = 0, p.rgbe[4 * i + 3] = 255, p.d[3 * i] = 0.0,
+            p.d[3 * i + 1] = p.d[3 * i + 2] = 0.0;
+        uint32_t *f32 = malloc(12 * (size_t)w * h);
+        assert_non_null(f32);
+        for (size_t i = 0; i < 3 * (size_t)w * h; ++i) {
+            float f = (float)p.d[i]; /* m 2^(E - 136), E in 100..160: exact */
+            memcpy(&f32[i], &f, 4);
+        }
+        qibl_probe_coeffs_t a, b;
+        memset(&a, 0x5A, sizeof a);
+        memset(&b, 0x3C, sizeof b);
+        qibl_lightprobe_image_t img = image(p.rgbe, w, h, QIBL_LIGHTPROBE_RGBE, 0);
+        assert_int_equal(project(&img, 5, NULL, &a), QIBL_OK);
+        img = image(f32, w, h, QIBL_LIGHTPROBE_LINEAR_F32, 0);
+        assert_int_equal(project(&img, 5, NULL, &b), QIBL_OK);
+        assert_memory_equal(&a, &b, sizeof a);
+        free(f32);
+        probe_free(&p);
+    }
+}
+
 /* rows in any order give the same bits (exact integer accumulation) */
 static void test_row_order(void **state)
 {
@@ -950,6 +985,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_matches_reference),
         cmocka_unit_test(test_formats),
+        cmocka_unit_test(test_vector_widths),
         cmocka_unit_test(test_row_order),
         cmocka_unit_test(test_single_bright_pixel),
         cmocka_unit_test(test_poles),

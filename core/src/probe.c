@@ -35,6 +35,17 @@
 #include "qibl/lightprobe_internal.h"
 #include "qibli.h"
 
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+#include <immintrin.h>
+/* the trig table planar (trig[i tc + u]): the vector loops load 8 columns of one entry; the scalar
+ * builds keep it by column (trig[8 u + i]), fewer live pointers on small cores */
+#define TRIG_PLANAR 1
+#define TRIG(ps, tc, i, u) ((ps)->trig[(size_t)(i) * (tc) + (u)])
+#else
+#define TRIG_PLANAR 0
+#define TRIG(ps, tc, i, u) ((ps)->trig[8u * (size_t)(u) + (i)])
+#endif
+
 #define LIMBS QIBL_PROBE_ACC_LIMBS
 #define ACC_LSB (-256)  /* the accumulators' bit 0 is 2^-256 */
 #define XBITS 27        /* channel integers <= 2^27 */
@@ -120,25 +131,25 @@ static void kadd(uint32_t *acc, const uint32_t mag[3], unsigned e, int neg)
     t[1] = b ? (mag[1] << b) | (mag[0] >> (32u - b)) : mag[1];
     t[2] = b ? (mag[2] << b) | (mag[1] >> (32u - b)) : mag[2];
     t[3] = b ? mag[2] >> (32u - b) : 0u;
+    /* q + 3 < LIMBS (e <= 32 LIMBS - 97): the four limbs unrolled, then the carry (borrow) ripples */
+    uint32_t *a = acc + q;
     uint32_t carry = 0u;
     if (!neg) {
-        for (unsigned i = 0; q + i < LIMBS; ++i) {
-            uint32_t add = i < 4u ? t[i] : 0u;
-            if (i >= 4u && carry == 0u)
-                break;
-            uint64_t s = (uint64_t)acc[q + i] + add + carry;
-            acc[q + i] = (uint32_t)s;
+        for (unsigned i = 0; i < 4u; ++i) {
+            uint64_t s = (uint64_t)a[i] + t[i] + carry;
+            a[i] = (uint32_t)s;
             carry = (uint32_t)(s >> 32);
         }
+        for (unsigned i = q + 4u; carry != 0u && i < LIMBS; ++i)
+            carry = ++acc[i] == 0u;
     } else {
-        for (unsigned i = 0; q + i < LIMBS; ++i) {
-            uint32_t sub = i < 4u ? t[i] : 0u;
-            if (i >= 4u && carry == 0u)
-                break;
-            uint64_t d = (uint64_t)acc[q + i] - sub - carry;
-            acc[q + i] = (uint32_t)d;
+        for (unsigned i = 0; i < 4u; ++i) {
+            uint64_t d = (uint64_t)a[i] - t[i] - carry;
+            a[i] = (uint32_t)d;
             carry = (uint32_t)(d >> 63); /* borrow */
         }
+        for (unsigned i = q + 4u; carry != 0u && i < LIMBS; ++i)
+            carry = acc[i]-- == 0u;
     }
 }
 
@@ -223,11 +234,10 @@ qibl_status_t qibl_probe_sh_begin(qibl_probe_sh_t *ps, uint32_t width, uint32_t 
         ps->seen[i] = 0u;
     /* phi_u = pi (2u + 1) / W; m phi_u = pi m (2u + 1) / W */
     for (uint32_t u = 0; u < tc; ++u) {
-        int32_t *t = ps->trig + 8u * (size_t)u;
         for (uint32_t m = 1; m <= 4u; ++m) {
             uint64_t n = qibl_mul_u32_u64(m, 2u * u + 1u);
-            t[2u * (m - 1u)] = cos_pi_q30(n, width);
-            t[2u * (m - 1u) + 1u] = sin_pi_q30(n, width);
+            TRIG(ps, tc, 2u * (m - 1u), u) = cos_pi_q30(n, width);
+            TRIG(ps, tc, 2u * (m - 1u) + 1u, u) = sin_pi_q30(n, width);
         }
     }
     return QIBL_OK;
@@ -246,7 +256,22 @@ static unsigned row_scan(const qibl_probe_sh_t *ps, const uint8_t *row, int32_t 
          * for them (otherwise up to 7 bits of the row's precision are given up). Branch-free, so
          * compilers vectorise it. */
         uint8_t emax = 0u;
-        for (uint32_t u = 0; u < ps->width; ++u) {
+        uint32_t u = 0;
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+        /* 8 pixels (little-endian words) at once: exponent where R, G or B is non-zero, running max */
+        const __m256i rgb = _mm256_set1_epi32(0x00FFFFFF);
+        __m256i em = _mm256_setzero_si256();
+        for (; u + 8u <= ps->width; u += 8u) {
+            const __m256i p = _mm256_loadu_si256((const __m256i *)(const void *)(row + 4u * (size_t)u));
+            const __m256i dark = _mm256_cmpeq_epi32(_mm256_and_si256(p, rgb), _mm256_setzero_si256());
+            em = _mm256_max_epu32(em, _mm256_andnot_si256(dark, _mm256_srli_epi32(p, 24)));
+        }
+        uint32_t lanes[8];
+        _mm256_storeu_si256((__m256i *)(void *)lanes, em);
+        for (int i = 0; i < 8; ++i)
+            emax = (uint8_t)lanes[i] > emax ? (uint8_t)lanes[i] : emax;
+#endif
+        for (; u < ps->width; ++u) {
             const uint8_t *q = row + 4u * (size_t)u;
             uint8_t lit = (uint8_t)(q[0] | q[1] | q[2]) != 0u ? 0xFFu : 0u;
             uint8_t e = (uint8_t)(q[3] & lit);
@@ -298,7 +323,29 @@ static void row_convert(const qibl_probe_sh_t *ps, const uint8_t *row, int32_t t
              * mantissas 0): a shift by (uint8_t)d1 would be undefined, 31 gives the same 0 */
             sh[e] = (uint8_t)(e == 0 || d1 > 31 || d1 < 0 ? 31 : d1);
         }
-        for (uint32_t u = 0; u < w; ++u) {
+        uint32_t u = 0;
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+        /* 8 pixels at once, the same integers: the shift 19 - E - k0 straight from the exponent, as
+         * vpsrlvd gives 0 for a count >= 32 (the table's 31 gives 0 too: m 2^20 < 2^28 and unlit
+         * pixels have m = 0), E = 0 masked to 0; a pixel is a little-endian word (R low) on x86 */
+        const __m256i c19 = _mm256_set1_epi32(19 - k0), ff = _mm256_set1_epi32(0xFF), one = _mm256_set1_epi32(1);
+        for (; u + 8u <= w; u += 8u) {
+            const __m256i p = _mm256_loadu_si256((const __m256i *)(const void *)(row + 4u * (size_t)u));
+            const __m256i e = _mm256_srli_epi32(p, 24);
+            const __m256i k = _mm256_sub_epi32(c19, e);
+            const __m256i z = _mm256_cmpeq_epi32(e, _mm256_setzero_si256());
+            const __m256i m0 = _mm256_slli_epi32(_mm256_and_si256(p, ff), 20);
+            const __m256i m1 = _mm256_slli_epi32(_mm256_and_si256(_mm256_srli_epi32(p, 8), ff), 20);
+            const __m256i m2 = _mm256_slli_epi32(_mm256_and_si256(_mm256_srli_epi32(p, 16), ff), 20);
+            _mm256_storeu_si256((__m256i *)(void *)(x0 + u),
+                                _mm256_andnot_si256(z, _mm256_srli_epi32(_mm256_add_epi32(_mm256_srlv_epi32(m0, k), one), 1)));
+            _mm256_storeu_si256((__m256i *)(void *)(x1 + u),
+                                _mm256_andnot_si256(z, _mm256_srli_epi32(_mm256_add_epi32(_mm256_srlv_epi32(m1, k), one), 1)));
+            _mm256_storeu_si256((__m256i *)(void *)(x2 + u),
+                                _mm256_andnot_si256(z, _mm256_srli_epi32(_mm256_add_epi32(_mm256_srlv_epi32(m2, k), one), 1)));
+        }
+#endif
+        for (; u < w; ++u) {
             const uint8_t *q = row + 4u * (size_t)u;
             const unsigned k = sh[q[3]];
             x0[u] = ((((uint32_t)q[0] << 20) >> k) + 1u) >> 1;
@@ -317,23 +364,118 @@ static void row_convert(const qibl_probe_sh_t *ps, const uint8_t *row, int32_t t
     }
 }
 
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+/* (hi, lo) += v in each 64-bit lane: 128-bit two's complement sums, exact */
+static inline void v128_add(__m256i *hi, __m256i *lo, __m256i v)
+{
+    const __m256i sb = _mm256_set1_epi64x((long long)INT64_MIN);
+    const __m256i nl = _mm256_add_epi64(*lo, v);
+    const __m256i carry = _mm256_cmpgt_epi64(_mm256_xor_si256(*lo, sb), _mm256_xor_si256(nl, sb)); /* -1: lo wrapped */
+    const __m256i sgn = _mm256_cmpgt_epi64(_mm256_setzero_si256(), v);                            /* -1: v < 0 */
+    *hi = _mm256_add_epi64(*hi, _mm256_sub_epi64(sgn, carry));
+    *lo = nl;
+}
+
+/* a t for the even and the odd int32 lanes, summed per 64-bit lane (two exact products) */
+static inline __m256i mul2(__m256i a, __m256i t)
+{
+    return _mm256_add_epi64(_mm256_mul_epi32(a, t), _mm256_mul_epi32(_mm256_srli_epi64(a, 32), _mm256_srli_epi64(t, 32)));
+}
+
+/* The folded sums of row_sums_folded for pairs 0 .. 8 floor(half / 8) - 1, 8 pairs per step (the
+ * mirrors loaded backwards), added to s; returns the pairs done. Every product and sum is exact, so
+ * the totals are the scalar loop's integers. Per 64-bit lane and step an update is at most
+ * 2 2^60 (two pairs), so 3 steps stay below 2^63 before they go into the 128-bit lane sums. */
+static uint32_t row_sums_folded_avx2(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s[9])
+{
+    const uint32_t q = ps->width / 4u, half = q / 2u;
+    const int32_t *tr = ps->trig;
+    const __m256i rev = _mm256_setr_epi32(7, 6, 5, 4, 3, 2, 1, 0), lo32 = _mm256_set1_epi64x(0xFFFFFFFFll);
+    __m256i hi[9], lo[9];
+    for (int i = 0; i < 9; ++i)
+        hi[i] = lo[i] = _mm256_setzero_si256();
+#define LD(p) _mm256_loadu_si256((const __m256i *)(const void *)(p))
+    uint32_t u = 0;
+    while (half - u >= 8u) {
+        __m256i a[9];
+        for (int i = 0; i < 9; ++i)
+            a[i] = _mm256_setzero_si256();
+        for (int step = 0; step < 3 && half - u >= 8u; ++step, u += 8u) {
+            const uint32_t v = q - 8u - u; /* lanes v .. v+7 reversed: the mirrors of u .. u+7 */
+            const __m256i p0 = LD(x + u), p1 = LD(x + u + q), p2 = LD(x + u + 2u * q), p3 = LD(x + u + 3u * q);
+            const __m256i r0 = _mm256_permutevar8x32_epi32(LD(x + v), rev);
+            const __m256i r1 = _mm256_permutevar8x32_epi32(LD(x + v + q), rev);
+            const __m256i r2 = _mm256_permutevar8x32_epi32(LD(x + v + 2u * q), rev);
+            const __m256i r3 = _mm256_permutevar8x32_epi32(LD(x + v + 3u * q), rev);
+            const __m256i s02 = _mm256_add_epi32(p0, p2), s13 = _mm256_add_epi32(p1, p3);
+            const __m256i z02 = _mm256_add_epi32(r0, r2), z13 = _mm256_add_epi32(r1, r3);
+            const __m256i A = _mm256_add_epi32(s02, s13), B = _mm256_sub_epi32(s02, s13);
+            const __m256i A2 = _mm256_add_epi32(z02, z13), B2 = _mm256_sub_epi32(z02, z13);
+            const __m256i C = _mm256_sub_epi32(p0, p2), D = _mm256_sub_epi32(p1, p3);
+            const __m256i C2 = _mm256_sub_epi32(r0, r2), D2 = _mm256_sub_epi32(r1, r3);
+            const __m256i E = _mm256_sub_epi32(C, D2), F = _mm256_sub_epi32(D, C2);
+            const __m256i G = _mm256_add_epi32(C, D2), H = _mm256_add_epi32(D, C2);
+            const __m256i AA = _mm256_add_epi32(A, A2); /* <= 2^30, non-negative */
+            const __m256i t0 = LD(tr + u), t1 = LD(tr + q + u), t2 = LD(tr + 2u * q + u), t3 = LD(tr + 3u * q + u);
+            const __m256i t4 = LD(tr + 4u * q + u), t5 = LD(tr + 5u * q + u), t6 = LD(tr + 6u * q + u),
+                          t7 = LD(tr + 7u * q + u);
+            a[0] = _mm256_add_epi64(a[0], _mm256_add_epi64(_mm256_and_si256(AA, lo32), _mm256_srli_epi64(AA, 32)));
+            a[1] = _mm256_add_epi64(a[1], _mm256_sub_epi64(mul2(E, t0), mul2(F, t1)));
+            a[2] = _mm256_add_epi64(a[2], _mm256_add_epi64(mul2(G, t1), mul2(H, t0)));
+            a[3] = _mm256_add_epi64(a[3], mul2(_mm256_sub_epi32(B, B2), t2));
+            a[4] = _mm256_add_epi64(a[4], mul2(_mm256_add_epi32(B, B2), t3));
+            a[5] = _mm256_add_epi64(a[5], _mm256_add_epi64(mul2(E, t4), mul2(F, t5)));
+            a[6] = _mm256_add_epi64(a[6], _mm256_sub_epi64(mul2(G, t5), mul2(H, t4)));
+            a[7] = _mm256_add_epi64(a[7], mul2(AA, t6));
+            a[8] = _mm256_add_epi64(a[8], mul2(_mm256_sub_epi32(A, A2), t7));
+        }
+        for (int i = 0; i < 9; ++i)
+            v128_add(&hi[i], &lo[i], a[i]);
+    }
+#undef LD
+    for (int i = 0; i < 9; ++i) {
+        uint64_t h[4], l[4];
+        _mm256_storeu_si256((__m256i *)(void *)h, hi[i]);
+        _mm256_storeu_si256((__m256i *)(void *)l, lo[i]);
+        for (int j = 0; j < 4; ++j) {
+            const uint64_t nl = s[i].lo + l[j];
+            s[i].hi += h[j] + (nl < l[j]);
+            s[i].lo = nl;
+        }
+    }
+    return u;
+}
+#endif
+
 /* Fourier sums of one channel: s[0] = S_0, s[2m - 1] = S_mc, s[2m] = S_ms (m = 1..4). */
 static void row_sums_folded(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s[9])
 {
     const uint32_t q = ps->width / 4u, half = q / 2u;
     for (int i = 0; i < 9; ++i)
         s[i].hi = s[i].lo = 0u;
+    uint32_t start = 0u;
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+    start = row_sums_folded_avx2(ps, x, s);
+#endif
     /* Quarter column u and its mirror u' = q - 1 - u (phi' = pi/2 - phi) share u's trig values:
      * cos m phi' and sin m phi' are +-sin m phi and +-cos m phi, so the two columns' folds combine
      * before the products (identities in probe.c's header): 12 products per pair and channel, 1.5
      * per pixel. Terms: |A + A'| <= 2^30, |E|, |F|, |G|, |H|, |B +- B'| <= 2^28, so each update is
      * at most 2^60 and chunks of 7 pairs stay below 2^63. */
-    for (uint32_t u0 = 0; u0 < half; u0 += CHUNK_PAIR) {
+#if TRIG_PLANAR
+    const int32_t *t0 = ps->trig, *t1 = t0 + q, *t2 = t1 + q, *t3 = t2 + q, *t4 = t3 + q, *t5 = t4 + q, *t6 = t5 + q,
+                  *t7 = t6 + q; /* the planar table's 8 rows */
+#endif
+    for (uint32_t u0 = start; u0 < half; u0 += CHUNK_PAIR) {
         const uint32_t u1 = half - u0 < CHUNK_PAIR ? half : u0 + CHUNK_PAIR;
         int64_t a0 = 0, c1 = 0, s1 = 0, c2 = 0, s2 = 0, c3 = 0, s3 = 0, c4 = 0, s4 = 0;
         for (uint32_t u = u0; u < u1; ++u) {
             const uint32_t v = q - 1u - u;
+#if TRIG_PLANAR
+            const int32_t t[8] = {t0[u], t1[u], t2[u], t3[u], t4[u], t5[u], t6[u], t7[u]};
+#else
             const int32_t *t = ps->trig + 8u * (size_t)u;
+#endif
             const int32_t p0 = (int32_t)x[u], p1 = (int32_t)x[u + q], p2 = (int32_t)x[u + 2u * q],
                           p3 = (int32_t)x[u + 3u * q];
             const int32_t r0 = (int32_t)x[v], r1 = (int32_t)x[v + q], r2 = (int32_t)x[v + 2u * q],
@@ -359,7 +501,9 @@ static void row_sums_folded(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s
     }
     if (q & 1u) { /* the middle quarter column is its own mirror (phi = pi/4) */
         const uint32_t u = half;
-        const int32_t *t = ps->trig + 8u * (size_t)u;
+        int32_t t[8];
+        for (uint32_t i = 0; i < 8u; ++i)
+            t[i] = TRIG(ps, q, i, u);
         const int32_t p0 = (int32_t)x[u], p1 = (int32_t)x[u + q], p2 = (int32_t)x[u + 2u * q],
                       p3 = (int32_t)x[u + 3u * q];
         const int32_t A = p0 + p1 + p2 + p3, B = p0 - p1 + p2 - p3, C = p0 - p2, D = p1 - p3;
@@ -379,17 +523,16 @@ static void row_sums_folded(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s
 static void trig_at(const qibl_probe_sh_t *ps, uint32_t u, int32_t t[8])
 {
     if ((ps->width & 3u) != 0u) {
-        for (int i = 0; i < 8; ++i)
-            t[i] = ps->trig[8u * (size_t)u + (unsigned)i];
+        for (uint32_t i = 0; i < 8u; ++i)
+            t[i] = TRIG(ps, ps->width, i, u);
         return;
     }
     const uint32_t q = ps->width / 4u;
     uint32_t k = 0u; /* u / q without a division (a library call on Cortex-M0) */
     while (u >= q)
         u -= q, ++k;
-    const int32_t *b = ps->trig + 8u * (size_t)u;
     for (uint32_t m = 1; m <= 4u; ++m) {
-        int32_t c = b[2u * (m - 1u)], s = b[2u * (m - 1u) + 1u];
+        int32_t c = TRIG(ps, q, 2u * (m - 1u), u), s = TRIG(ps, q, 2u * (m - 1u) + 1u, u);
         /* times i^(m k): a quarter turn maps (c, s) to (-s, c) */
         for (uint32_t r = (m * k) & 3u; r > 0u; --r) {
             int32_t c2 = -s;

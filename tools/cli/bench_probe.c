@@ -1,10 +1,13 @@
 /*
  * bench_probe.c - `qibl bench probe`: SH projection of a 1024 x 512 probe (row by row, integer)
- * against one plain read pass over the same bytes (64-bit words), min and median of interleaved
- * repetitions; projection error against the double reference on every fixture probe (or an
+ * against one plain read pass over the same bytes (64-bit words, in cache: the goal's baseline,
+ * RESULT probe.project_over_read) and against loading the .hdr file (open, read, RLE decode: what a
+ * tool pays to get the probe, RESULT probe.project_over_hdr_load), min and median of interleaved
+ * repetitions, ns per pixel; projection error against the double reference on every fixture probe (or an
  * integer-made one when ../shared is absent); rotation error against the double reference; what
  * Hann and Lanczos windows do to the ringing of a sun probe's irradiance.
- * RESULT probe.project_over_read, probe.sh_max_rel_err, probe.rotate_max_err.
+ * RESULT probe.project_over_read, probe.project_over_hdr_load, probe.project_ns_per_px,
+ * probe.sh_max_rel_err, probe.rotate_max_err.
  */
 #include <dirent.h>
 #include <math.h>
@@ -189,10 +192,11 @@ int qcli_bench_probe(int quick)
     const int reps = quick ? 7 : 31;
     char path[600], err[512];
     snprintf(path, sizeof path, "%.500s/quarry_01_1k.hdr", bp_dir());
-    int w = 1024, h = 512;
+    int w = 1024, h = 512, have_file = 1;
     uint8_t *px = NULL;
     const char *name = "quarry_01_1k";
     if (qtool_hdr_read_rgbe(path, &w, &h, &px, err, sizeof err) != 0) {
+        have_file = 0;
         printf("(%s not found: an integer-made 1024x512 probe with a sun instead)\n", path);
         w = 1024, h = 512, px = int_probe(w, h), name = "integer-made 1024x512 probe";
         if (!px)
@@ -202,12 +206,23 @@ int qcli_bench_probe(int quick)
     void *ws = malloc(n);
     double *tp = malloc(sizeof *tp * (size_t)reps), *tr = malloc(sizeof *tr * (size_t)reps);
     double *tb = malloc(sizeof *tb * (size_t)reps), *tt = malloc(sizeof *tt * (size_t)reps);
-    if (!ws || !tp || !tr || !tb || !tt)
+    double *th = malloc(sizeof *th * (size_t)reps);
+    if (!ws || !tp || !tr || !tb || !tt || !th)
         return fprintf(stderr, "qibl: bench probe: out of memory\n"), 1;
     qibl_lightprobe_image_t img = {px, (uint32_t)w, (uint32_t)h, 0, QIBL_LIGHTPROBE_RGBE, 0};
     qibl_probe_coeffs_t c;
     bp_sink = read_words(px, bytes);
-    for (int r = 0; r < reps; ++r) { /* interleaved: read, project, begin only, read */
+    for (int r = 0; r < reps; ++r) { /* interleaved: load the file, read, project, begin only, rotate */
+        th[r] = 0.0;
+        if (have_file) {
+            int fw, fh;
+            uint8_t *fp = NULL;
+            double h0 = qcli_now();
+            if (qtool_hdr_read_rgbe(path, &fw, &fh, &fp, err, sizeof err) == 0)
+                bp_sink += fp[0], free(fp);
+            th[r] = (qcli_now() - h0) * 1e3;
+        }
+        bp_sink += read_words(px, bytes); /* untimed: the bytes in cache, as the baselines of `bench baselines` */
         double t0 = qcli_now();
         bp_sink += read_words(px, bytes);
         double t1 = qcli_now();
@@ -227,19 +242,34 @@ int qcli_bench_probe(int quick)
     }
     qsort(tp, (size_t)reps, sizeof *tp, cmp_double), qsort(tr, (size_t)reps, sizeof *tr, cmp_double);
     qsort(tb, (size_t)reps, sizeof *tb, cmp_double), qsort(tt, (size_t)reps, sizeof *tt, cmp_double);
+    qsort(th, (size_t)reps, sizeof *th, cmp_double);
+    const double npx = (double)w * (double)h;
     printf("== bench probe: SH projection (bands 0..4, 3 channels) of %s, %d interleaved repetitions\n", name, reps);
 #ifdef __VERSION__
-    printf("compiler: %s; core built with the Makefile's CORE_CFLAGS (OPT, -O3 by default)%s\n", __VERSION__,
+#ifndef QIBL_BENCH_CORE_FLAGS
+#define QIBL_BENCH_CORE_FLAGS "?"
+#endif
+    printf("compiler: %s; core flags: %s%s\n", __VERSION__, QIBL_BENCH_CORE_FLAGS,
            QIBL_CONFIG_NATIVE_MUL64 ? "" : ", portable M0 paths");
 #endif
-    printf("%-52s %10s %10s %8s\n", "run", "min ms", "median ms", "x read");
-    printf("%-52s %10.3f %10.3f %8.2f\n", "one read pass (64-bit words of the RGBE bytes)", tr[0], tr[reps / 2], 1.0);
-    printf("%-52s %10.3f %10.3f %8.2f\n", "qibl_probe_sh_project (begin + 512 rows + finish)", tp[0], tp[reps / 2],
-           tp[0] / tr[0]);
-    printf("%-52s %10.3f %10.3f %8.2f\n", "  of which begin (trig table)", tb[0], tb[reps / 2], tb[0] / tr[0]);
-    printf("%-52s %10.1f %10.1f %8s\n", "rotation: init + 3 channels (microseconds)", tt[0], tt[reps / 2], "-");
+    printf("%-52s %9s %9s %8s %8s %8s\n", "run", "min ms", "median ms", "min ns/px", "x read", "x load");
+#define BP_ROW(label, t, hload)                                                                                     \
+    printf("%-52s %9.3f %9.3f %9.3f %8.2f %8s\n", label, t[0], t[reps / 2], t[0] * 1e6 / npx, t[0] / tr[0], hload)
+    char xl[32];
+    BP_ROW("one read pass (64-bit words of the RGBE bytes, in cache)", tr, "-");
+    if (have_file)
+        BP_ROW("load the .hdr file (open, read, RLE decode, free)", th, "1.00");
+    snprintf(xl, sizeof xl, "%.2f", have_file ? tp[0] / th[0] : 0.0);
+    BP_ROW("qibl_probe_sh_project (begin + rows + finish)", tp, have_file ? xl : "-");
+    BP_ROW("  of which begin (trig table)", tb, "-");
+#undef BP_ROW
+    printf("%-52s %9.1f %9.1f %9s %8s %8s\n", "rotation: init + 3 channels (microseconds)", tt[0], tt[reps / 2], "-",
+           "-", "-");
     printf("goal: projection <= 2x the read pass (ratio of the minima; medians %.2f)\n", tp[reps / 2] / tr[reps / 2]);
     printf("RESULT probe.project_over_read %.2f\n", tp[0] / tr[0]);
+    if (have_file)
+        printf("RESULT probe.project_over_hdr_load %.2f\n", tp[0] / th[0]);
+    printf("RESULT probe.project_ns_per_px %.3f\n", tp[0] * 1e6 / npx);
     printf("RESULT probe.project_ms %.3f\n", tp[0]);
 
     /* accuracy: every fixture probe, or the integer-made one */
@@ -289,6 +319,6 @@ int qcli_bench_probe(int quick)
     }
     if (!quick)
         ringing(px, w, h, ws, n, name);
-    free(ws), free(tp), free(tr), free(tb), free(tt), free(px);
+    free(ws), free(tp), free(tr), free(tb), free(tt), free(th), free(px);
     return 0;
 }

@@ -125,6 +125,27 @@ static int projections(const qtool_goldens_sink_t *s)
     }
     bad += gbuf_emit(s, "probe_sh_sizes", &all);
 
+    /* widths for the vector paths (QIBL_CONFIG_SIMD): fewer than 8 column pairs, 8, several steps
+     * and flushes, a scalar tail, an odd quarter width; every path must give these bytes */
+    static const uint32_t wd[] = {16, 64, 68, 192, 200, 204, 1028};
+    gbuf wide = {0};
+    for (size_t i = 0; i < sizeof wd / sizeof wd[0]; ++i) {
+        uint8_t *px = make_rgbe(200 + i, wd[i], 3);
+        if (px == NULL)
+            return gcase_oom(s, "probe_sh_widths");
+        for (uint32_t p = 5; p < wd[i] * 3u; p += 13) /* unlit pixels of huge exponent */
+            px[4 * p] = px[4 * p + 1] = px[4 * p + 2] = 0, px[4 * p + 3] = 255;
+        qibl_lightprobe_image_t img = image(px, wd[i], 3, QIBL_LIGHTPROBE_RGBE, 0);
+        qibl_probe_coeffs_t c;
+        guard(&c);
+        size_t n = qibl_probe_sh_workspace_size(img.width, img.height);
+        void *ws = malloc(n);
+        qibl_status_t st = ws ? qibl_probe_sh_project(&img, QIBL_SH_MAX_BANDS, NULL, ws, n, &c) : QIBL_E_WORKSPACE;
+        put_coeffs(&wide, st, &c);
+        free(ws), free(px);
+    }
+    bad += gbuf_emit(s, "probe_sh_widths", &wide);
+
     const uint32_t w = 64, h = 32;
     uint8_t *px = make_rgbe(7, w, h);
     uint32_t *f32 = malloc(12 * (size_t)w * h), *i32 = malloc(12 * (size_t)w * h);
