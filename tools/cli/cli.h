@@ -50,6 +50,7 @@ int qcli_cmd_info(int argc, char **argv);
 int qcli_cmd_gen(int argc, char **argv);
 int qcli_cmd_relight(int argc, char **argv);
 int qcli_cmd_lights(int argc, char **argv);
+int qcli_cmd_study(int argc, char **argv); /* cmd_study.c */
 
 int qcli_cmd_render(int argc, char **argv); /* cmd_bake.c */
 int qcli_cmd_bake(int argc, char **argv);

@@ -194,6 +194,15 @@ static const qcli_cmd commands[] = {
      "  with black empty cells) and printed; a square disc (angular map or mirror ball) needs --layout;\n"
      "  other shapes are refused. Non-lat-long probes are resampled to lat-long (io/probe_layout.h).\n",
      qcli_cmd_lights},
+    {"study", "the light-probe approximation study: every method, error against N and time",
+     "usage: qibl study [PROBE.hdr ...] --out DIR [--quick] [--threads T]\n"
+     "  Ground-truth irradiance of each lat-long probe at 20000 spherical-Fibonacci normals (Madsen &\n"
+     "  Laursen eq. 4 over every pixel), then median cut, adaptive, variance minimisation, SH 4/9/16/25,\n"
+     "  the NNLS refit of median-cut and varmin directions, sun plus sky, LightGen-style k-means and\n"
+     "  irradiance optimisation (Levenberg-Marquardt) for N = 1..256; writes DIR/study.csv, summary.md\n"
+     "  (N to reach 10/5/2 % mean error), plot_*.svg, time_*.svg and overlay_*.png, and RESULT lines.\n"
+     "  Without probes: procedural skies (said so). --quick: half-size probes, 2000 normals, N <= 64.\n",
+     qcli_cmd_study},
 };
 #define NCMD (sizeof commands / sizeof commands[0])
 
