@@ -192,7 +192,10 @@ static const qcli_cmd commands[] = {
      "  An all-black probe prints that it has no lights and exits 0.\n"
      "  --layout: the probe's layout; by default it is detected (2:1 latlong, 3:4 vcross, 4:3 hcross\n"
      "  with black empty cells) and printed; a square disc (angular map or mirror ball) needs --layout;\n"
-     "  other shapes are refused. Non-lat-long probes are resampled to lat-long (io/probe_layout.h).\n",
+     "  other shapes are refused. Non-lat-long probes are resampled to lat-long (io/probe_layout.h).\n"
+     "  --auto --error P%: the cheapest representation with mean relative irradiance error <= P %\n"
+     "  (tools/study): SH irradiance (4/9/16/25), N varmin lights (as sampled, or RGB refitted by NNLS)\n"
+     "  or sun plus sky (k lights + SH9); counted in floats stored (6 per light, 3 per coefficient).\n",
      qcli_cmd_lights},
     {"study", "the light-probe approximation study: every method, error against N and time",
      "usage: qibl study [PROBE.hdr ...] --out DIR [--quick] [--threads T]\n"
