@@ -431,7 +431,7 @@ static int reached(int probe, int method, double thr)
 int qtool_study_run(const char *const *paths, int np, const qtool_study_opts *o)
 {
     cfg c = {o->quick, o->threads > 0 ? o->threads : 2, o->quick ? 2000 : 20000, o->quick ? 64 : 256,
-             o->quick ? 16 : 96, o->quick ? 400 : 1000, o->quick ? 25 : 50, o->quick ? 8 : 20};
+             o->quick ? 16 : 96, o->quick ? 400 : 1000, o->quick ? 100 : 100, o->quick ? 8 : 20};
     if (mkdir(o->out_dir, 0777) != 0 && errno != EEXIST)
         return fprintf(stderr, "qibl: study: cannot create %s: %s\n", o->out_dir, strerror(errno)), 1;
     double t_all = now_ms();
@@ -619,6 +619,7 @@ int qtool_study_run(const char *const *paths, int np, const qtool_study_opts *o)
     if (o->quick)
         fprintf(f, "\n--quick: probes at half size, %d normals, N <= %d, irradiance optimisation N <= %d.\n", c.m, c.nmax,
                 c.io_max);
+    fprintf(f, "\nSunny: the brightest 0.1 %% of the probe's pixels hold over a third of its energy (a sun, or lamps).\n");
     fprintf(f, "\n## Probes and the accuracy of the ground truth\n\n| probe | size | sunny | gt ms | max rel. diff. to the "
                "plain pixel sum | mean rel. diff. to the probe at half size |\n|---|---|---|---|---|---|\n");
     for (int q = 0; q <= MAXP; ++q) {
