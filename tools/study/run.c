@@ -431,7 +431,7 @@ static int reached(int probe, int method, double thr)
 int qtool_study_run(const char *const *paths, int np, const qtool_study_opts *o)
 {
     cfg c = {o->quick, o->threads > 0 ? o->threads : 2, o->quick ? 2000 : 20000, o->quick ? 64 : 256,
-             o->quick ? 16 : 96, o->quick ? 400 : 1000, o->quick ? 100 : 100, o->quick ? 8 : 20};
+             o->quick ? 16 : 96, o->quick ? 400 : 600, 100, o->quick ? 8 : 20};
     if (mkdir(o->out_dir, 0777) != 0 && errno != EEXIST)
         return fprintf(stderr, "qibl: study: cannot create %s: %s\n", o->out_dir, strerror(errno)), 1;
     double t_all = now_ms();
