@@ -428,11 +428,30 @@ static int reached(int probe, int method, double thr)
     return n_to_reach(probe, method, thr, &num) >= 0;
 }
 
+/* mkdir -p: the parents too (out/study in a fresh checkout) */
+static int mkdir_p(const char *dir)
+{
+    char buf[1024];
+    size_t n = strlen(dir);
+    if (n == 0 || n >= sizeof buf)
+        return errno = ENAMETOOLONG, -1;
+    memcpy(buf, dir, n + 1);
+    for (size_t i = 1; i <= n; ++i)
+        if (buf[i] == '/' || buf[i] == '\0') {
+            char c = buf[i];
+            buf[i] = '\0';
+            if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+                return -1;
+            buf[i] = c;
+        }
+    return 0;
+}
+
 int qtool_study_run(const char *const *paths, int np, const qtool_study_opts *o)
 {
     cfg c = {o->quick, o->threads > 0 ? o->threads : 2, o->quick ? 2000 : 20000, o->quick ? 64 : 256,
              o->quick ? 16 : 96, o->quick ? 400 : 600, 100, o->quick ? 8 : 20};
-    if (mkdir(o->out_dir, 0777) != 0 && errno != EEXIST)
+    if (mkdir_p(o->out_dir) != 0)
         return fprintf(stderr, "qibl: study: cannot create %s: %s\n", o->out_dir, strerror(errno)), 1;
     double t_all = now_ms();
     static pinfo info[MAXP + 1];
