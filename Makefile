@@ -24,6 +24,7 @@ CORE_SRC := $(wildcard core/src/*.c)
 PLATFORM_SRC := $(wildcard platform/soft/*.c)
 PLATFORM_INC := -Iplatform/soft/include
 TOOL_LIB_SRC := $(wildcard tools/ref/*.c) $(wildcard tools/io/*.c) $(wildcard tools/gles/*.c) $(wildcard tools/gen/*.c) $(wildcard tools/render/*.c) $(wildcard tools/bake/*.c)
+TOOL_LIB_SRC += $(wildcard tools/study/*.c)
 # the golden cases (plain C, shared by the suites and the golden runner) and their CMocka-side check
 GOLDEN_CASES_SRC := $(wildcard tools/golden/cases*.c)
 TOOL_LIB_SRC += $(GOLDEN_CASES_SRC) tools/golden/check.c
@@ -77,7 +78,7 @@ LIBSOFT_PORTABLE := $(BUILD)/libqibl-soft-portable.a
 LIBTOOLS := $(BUILD)/libqibl-tools.a
 QIBL := $(BUILD)/bin/qibl
 
-.PHONY: gles all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan examples \
+.PHONY: study gles all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan examples \
         install check-install amalgamate check-amalgamate docs-memory
 .PHONY: baremetal baremetal-tables docs-size
 .DEFAULT_GOAL := all
@@ -417,6 +418,11 @@ check-amalgamate: amalgamate $(QIBL) $(EXAMPLES)
 
 bench: $(QIBL)
 	$(QIBL) bench all
+
+# The light-probe approximation study (tools/study, `qibl study`): every method on every fixture
+# probe (procedural skies when ../shared is absent); CSV, plots, overlays, summary in out/study/.
+study: $(QIBL)
+	$(QIBL) study $(wildcard ../shared/fixtures/probes/*.hdr) --out out/study
 
 # The main demo: bake the built-in courtyard (or SCENE=path.obj) with the ray tracer, relight it with
 # the core (sun sweep, moving lamp), compare with ground truth; PNGs, APNGs, contact sheet, table and

@@ -671,6 +671,47 @@ static void test_bright_pole(void **state)
     free(nrm), free(E), free(d), free(px), free(b.ws);
 }
 
+/* A tiny sun (one pixel 2^20 times the sky) makes one-pixel regions early: every method still
+ * returns the N lights asked for, and N = the number of pixels gives one light per pixel. */
+static void test_tiny_sun_returns_n_lights(void **state)
+{
+    (void)state;
+    const int w = 64, h = 32;
+    uint8_t *px = malloc(4 * (size_t)w * (size_t)h);
+    for (int i = 0; i < w * h; ++i)
+        px[4 * i] = 140, px[4 * i + 1] = 160, px[4 * i + 2] = (uint8_t)(200 + i % 50), px[4 * i + 3] = 128;
+    uint8_t *sun = px + 4 * (9 * (size_t)w + 23);
+    sun[0] = sun[1] = sun[2] = 255, sun[3] = 148;
+    qibl_lightprobe_image_t img = rgbe_image(px, w, h);
+    built b;
+    assert_int_equal(build(&b, &img, QIBL_LIGHTPROBE_VARMIN), QIBL_OK);
+    const uint32_t counts[] = {64, 2, 4, 256};
+    qibl_lightprobe_light_t L[256];
+    qibl_lightprobe_result_t res;
+    for (int m = 0; m < 3; ++m)
+        for (int pr = 0; pr < 4; ++pr)
+            for (size_t k = 0; k < sizeof counts / sizeof counts[0]; ++k) {
+                if ((m == 0 && pr != 0) || (m != 2 && pr == QIBL_LIGHTPROBE_PRIORITY_VARIANCE))
+                    continue;
+                assert_int_equal(sample(&b.lp, m, pr, 0, counts[k], L, &res), QIBL_OK);
+                assert_int_equal(res.count, counts[k]);
+            }
+    free(px), free(b.ws);
+    /* N = W H for median cut (a power of two) on an 8 x 4 probe with a sun: one light per pixel */
+    const int w2 = 8, h2 = 4;
+    uint8_t px2[4 * 8 * 4];
+    for (int i = 0; i < w2 * h2; ++i)
+        px2[4 * i] = (uint8_t)(100 + i), px2[4 * i + 1] = 120, px2[4 * i + 2] = 90, px2[4 * i + 3] = 128;
+    px2[4 * 10 + 3] = 150;
+    img = rgbe_image(px2, w2, h2);
+    assert_int_equal(build(&b, &img, QIBL_LIGHTPROBE_MEDIANCUT), QIBL_OK);
+    assert_int_equal(sample(&b.lp, 0, 0, 0, 32, L, &res), QIBL_OK);
+    assert_int_equal(res.count, 32u);
+    for (uint32_t i = 0; i < res.count; ++i)
+        assert_int_equal((L[i].u1 - L[i].u0) * (L[i].v1 - L[i].v0), 1u);
+    free(b.ws);
+}
+
 /* N above the number of pixels: one light per lit pixel, the regions tile the probe. Also the
  * one-pixel-wide and one-pixel-high probes and a one-pixel-wide lit column inside a probe. */
 static void test_more_lights_than_pixels_and_thin_regions(void **state)
@@ -689,17 +730,14 @@ static void test_more_lights_than_pixels_and_thin_regions(void **state)
             qibl_lightprobe_light_t L[256];
             qibl_lightprobe_result_t res;
             assert_int_equal(sample(&b.lp, m, 0, 0, 256, L, &res), QIBL_OK);
-            /* the regions tile the probe (every pixel is lit); the greedy methods go down to one
-             * pixel per light, median cut stops after its 8 rounds (a split balances energy, not
-             * pixels, so a region can need more rounds than log2 of its size) */
-            if (m != 0)
-                assert_int_equal(res.count, (uint32_t)(w * h));
+            /* the regions tile the probe (every pixel is lit); every method goes down to one
+             * pixel per light (median cut too: after its 8 rounds it splits the regions that
+             * can still split) */
+            assert_int_equal(res.count, (uint32_t)(w * h));
             char *seen = calloc((size_t)w * (size_t)h, 1);
             for (uint32_t i = 0; i < res.count; ++i) {
-                if (m != 0) {
-                    assert_int_equal(L[i].u1, L[i].u0 + 1);
-                    assert_int_equal(L[i].v1, L[i].v0 + 1);
-                }
+                assert_int_equal(L[i].u1, L[i].u0 + 1);
+                assert_int_equal(L[i].v1, L[i].v0 + 1);
                 for (uint32_t v = L[i].v0; v < L[i].v1; ++v)
                     for (uint32_t u = L[i].u0; u < L[i].u1; ++u) {
                         assert_false(seen[v * (uint32_t)w + u]);
@@ -1172,6 +1210,7 @@ int main(void)
         cmocka_unit_test(test_all_black),
         cmocka_unit_test(test_bright_pole),
         cmocka_unit_test(test_more_lights_than_pixels_and_thin_regions),
+        cmocka_unit_test(test_tiny_sun_returns_n_lights),
         cmocka_unit_test(test_bad_pixels_named),
         cmocka_unit_test(test_argument_errors),
         cmocka_unit_test(test_tie_median_cut_takes_the_smaller_cut),

@@ -1018,7 +1018,9 @@ static int split(const qibl_lightprobe_t *lp, int varmin, rect r, rect *a, rect 
 }
 
 /* Splits until max_lights regions or nothing splits; returns the count. Every region is the
- * bounding box of its energy (see crop), so each split adds one lit region. */
+ * bounding box of its energy (see crop), so each split adds one lit region; a region that cannot
+ * split (one pixel) never stops the others, so the count is max_lights whenever the probe has
+ * that many lit pixels. */
 static uint32_t make_regions(const qibl_lightprobe_t *lp, int varmin, qibl_lightprobe_priority_t pr,
                              qibl_lightprobe_light_t *L, uint32_t max_lights)
 {
@@ -1040,21 +1042,53 @@ static uint32_t make_regions(const qibl_lightprobe_t *lp, int varmin, qibl_light
                 set_rect(&L[n++], &b);
             }
         }
+        /* One-pixel regions (a tiny sun) skipped a split: split the next splittable regions in
+         * list order instead, so that max_lights lights come back whenever the probe has that
+         * many lit pixels. */
+        for (int grew = 1; grew && n < max_lights;) {
+            grew = 0;
+            for (uint32_t i = 0; i < n && n < max_lights; ++i) {
+                rect a, b;
+                if (!split(lp, varmin, light_rect(&L[i]), &a, &b))
+                    continue;
+                set_rect(&L[i], &a);
+                set_rect(&L[n++], &b);
+                grew = 1;
+            }
+        }
         return n;
     }
-    while (n < max_lights) {
+    /* h regions in the heap L[0 .. h); d regions that cannot split set aside at the end of the
+     * array, L[max_lights - d .. max_lights), so that the next best region is split instead */
+    uint32_t h = 1u, d = 0u;
+    while (h > 0u && h + d < max_lights) {
         u128 top;
         region_key(lp, light_rect(&L[0]), pr, &top);
+        if (top.hi == 0u && top.lo == 0u)
+            break; /* the best region gains nothing from a split: none does */
         rect a, b;
-        if ((top.hi == 0u && top.lo == 0u) || !split(lp, varmin, light_rect(&L[0]), &a, &b))
-            break; /* the best region cannot split (or gains nothing from it): none can */
+        if (!split(lp, varmin, light_rect(&L[0]), &a, &b)) {
+            rect t = light_rect(&L[0]), last = light_rect(&L[h - 1u]);
+            ++d;
+            set_rect(&L[max_lights - d], &t);
+            set_rect(&L[0], &last);
+            if (--h > 0u)
+                sift_down(lp, pr, L, h, 0u);
+            continue;
+        }
         set_rect(&L[0], &a);
-        sift_down(lp, pr, L, n, 0u);
-        set_rect(&L[n], &b);
-        sift_up(lp, pr, L, n);
-        ++n;
+        sift_down(lp, pr, L, h, 0u);
+        set_rect(&L[h], &b);
+        sift_up(lp, pr, L, h);
+        ++h;
     }
-    return n;
+    /* the set-aside regions back behind the heap (ascending copy: the destination is never
+     * after the source) */
+    for (uint32_t i = 0; i < d; ++i) {
+        rect t = light_rect(&L[max_lights - d + i]);
+        set_rect(&L[h + i], &t);
+    }
+    return h + d;
 }
 
 /* sum over cuts k in (lo, hi) of the energy beyond k: sum e (x - lo) over the region, < 2^80 */

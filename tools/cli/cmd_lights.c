@@ -17,8 +17,10 @@
 #include "qibl/lightprobe.h"
 #include "qibl/srgbe.h"
 #include "ref/lightprobe_ref.h"
+#include "study/study.h"
 
-#define USAGE "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv | --json] [--png OUT.png] [--layout L]"
+#define USAGE "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv | --json] [--png OUT.png] [--layout L]\n" \
+              "       qibl lights PROBE.hdr --auto --error P%"
 
 static int parse_method(const char *s, qibl_lightprobe_method_t *m)
 {
@@ -30,6 +32,23 @@ static int parse_method(const char *s, qibl_lightprobe_method_t *m)
         *m = QIBL_LIGHTPROBE_VARMIN;
     else
         return -1;
+    return 0;
+}
+
+/* "2%" -> 0.02, "0.02" -> 0.02; a budget in (0, 1000 %) */
+static int parse_budget(const char *s, double *out)
+{
+    char *end;
+    double v = strtod(s, &end);
+    if (end == s || !(v > 0))
+        return -1;
+    if (*end == '%' && end[1] == '\0')
+        v /= 100;
+    else if (*end != '\0')
+        return -1;
+    if (!(v < 10))
+        return -1;
+    *out = v;
     return 0;
 }
 
@@ -178,7 +197,8 @@ int qcli_cmd_lights(int argc, char **argv)
     qibl_lightprobe_opts_t o;
     memset(&o, 0, sizeof o);
     long n = 64, zoom = 0;
-    int csv = 0, json = 0, error = 0;
+    int csv = 0, json = 0, error = 0, autom = 0;
+    double budget = -1;
     qtool_probe_layout_t layout = QTOOL_PROBE_LAYOUT_AUTO;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
@@ -218,6 +238,10 @@ int qcli_cmd_lights(int argc, char **argv)
             json = 1;
         } else if (strcmp(a, "--error") == 0) {
             error = 1;
+            if (more && parse_budget(argv[i + 1], &budget) == 0) /* --error 2%: the --auto budget */
+                ++i;
+        } else if (strcmp(a, "--auto") == 0) {
+            autom = 1;
         } else if (a[0] != '-' && !path) {
             path = a;
         } else {
@@ -226,6 +250,10 @@ int qcli_cmd_lights(int argc, char **argv)
     }
     if (!path)
         return qcli_usage_error("%s", USAGE);
+    if (budget >= 0 && !autom)
+        return qcli_usage_error("--error with a budget (%g%%) needs --auto", 100 * budget);
+    if (autom && budget < 0)
+        return qcli_usage_error("--auto needs a budget: --error P%% (mean relative irradiance error, e.g. 2%%)");
     if (csv && json)
         return qcli_usage_error("--csv and --json: give one");
     if (json && error)
@@ -258,6 +286,18 @@ int qcli_cmd_lights(int argc, char **argv)
         fprintf(note, "\n");
         free(px);
         px = ll, w = lw, h = lh;
+    }
+    if (autom) { /* the cheapest representation within the budget (tools/study/auto.c) */
+        qtool_study_probe sp;
+        int rc = qtool_study_probe_init(&sp, w, h, px, err, sizeof err);
+        free(px);
+        if (rc != 0)
+            return fprintf(stderr, "qibl: lights: %s: %s\n", path, err), 1;
+        rc = qtool_study_auto(&sp, budget, 2, err, sizeof err);
+        qtool_study_probe_free(&sp);
+        if (rc < 0)
+            return fprintf(stderr, "qibl: lights: %s: %s\n", path, err), 1;
+        return 0;
     }
     /* the picture's size is known now: refuse one the PNG writer could not take before any work */
     int z = zoom ? (int)zoom : (w >= 512 ? 1 : (1024 + w - 1) / w);

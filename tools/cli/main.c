@@ -241,7 +241,10 @@ static const qcli_cmd commands[] = {
      "  An all-black probe prints that it has no lights and exits 0.\n"
      "  --layout: the probe's layout; by default it is detected (2:1 latlong, 3:4 vcross, 4:3 hcross\n"
      "  with black empty cells) and printed; a square disc (angular map or mirror ball) needs --layout;\n"
-     "  other shapes are refused. Non-lat-long probes are resampled to lat-long (io/probe_layout.h).\n",
+     "  other shapes are refused. Non-lat-long probes are resampled to lat-long (io/probe_layout.h).\n"
+     "  --auto --error P%: the cheapest representation with mean relative irradiance error <= P %\n"
+     "  (tools/study): SH irradiance (4/9/16/25), N varmin lights (as sampled, or RGB refitted by NNLS)\n"
+     "  or sun plus sky (k lights + SH9); counted in floats stored (6 per light, 3 per coefficient).\n",
      qcli_cmd_lights},
     {"probe", "describe a light probe and advise how to light with it: SH, N lights, or sun plus SH",
      "usage: qibl probe info PROBE.hdr [--layout auto|latlong|angular|ball|vcross|hcross]\n"
@@ -255,6 +258,15 @@ static const qcli_cmd commands[] = {
      "  coefficients). Advice: the cheapest scheme (in that order) whose mean error is within 10 %\n"
      "  of the lowest or at most 1 %, with the relight option that uses it.\n",
      qcli_cmd_probe},
+    {"study", "the light-probe approximation study: every method, error against N and time",
+     "usage: qibl study [PROBE.hdr ...] --out DIR [--quick] [--threads T]\n"
+     "  Ground-truth irradiance of each lat-long probe at 20000 spherical-Fibonacci normals (Madsen &\n"
+     "  Laursen eq. 4 over every pixel), then median cut, adaptive, variance minimisation, SH 4/9/16/25,\n"
+     "  the NNLS refit of median-cut and varmin directions, sun plus sky, LightGen-style k-means and\n"
+     "  irradiance optimisation (Levenberg-Marquardt) for N = 1..256; writes DIR/study.csv, summary.md\n"
+     "  (N to reach 10/5/2 % mean error), plot_*.svg, time_*.svg and overlay_*.png, and RESULT lines.\n"
+     "  Without probes: procedural skies (said so). --quick: half-size probes, 2000 normals, N <= 64.\n",
+     qcli_cmd_study},
 };
 #define NCMD (sizeof commands / sizeof commands[0])
 

@@ -316,13 +316,32 @@ int qtool_ref_lights(const qtool_ref_probe *p, int method, int priority, int cen
                 R[n++] = b;
             }
         }
+        /* one-pixel regions skipped their split: split the others in list order up to max */
+        for (int grew = 1; grew && n < max;) {
+            grew = 0;
+            for (int i = 0; i < n && n < max; ++i) {
+                rect a, b;
+                if (!cut(p, R[i], &a, &b))
+                    continue;
+                crop(p, &a);
+                crop(p, &b);
+                R[i] = a;
+                R[n++] = b;
+                grew = 1;
+            }
+        }
     } else {
+        char *done = calloc((size_t)max, 1); /* regions that cannot split: the next best is split */
+        if (!done) {
+            free(R);
+            return -1;
+        }
         while (n < max) {
             int best = -1;
             double bk = 0;
             for (int i = 0; i < n; ++i) { /* linear search for the largest key, ties: (v0, u0) */
                 double k = key(p, R[i], pri);
-                if (k <= 0)
+                if (k <= 0 || done[i])
                     continue;
                 if (best < 0 || k > bk || (k == bk && (R[i].v0 < R[best].v0 || (R[i].v0 == R[best].v0 && R[i].u0 < R[best].u0)))) {
                     best = i;
@@ -330,13 +349,18 @@ int qtool_ref_lights(const qtool_ref_probe *p, int method, int priority, int cen
                 }
             }
             rect a, b;
-            if (best < 0 || !cut(p, R[best], &a, &b))
+            if (best < 0)
                 break;
+            if (!cut(p, R[best], &a, &b)) {
+                done[best] = 1;
+                continue;
+            }
             crop(p, &a);
             crop(p, &b);
             R[best] = a;
             R[n++] = b;
         }
+        free(done);
     }
     for (int i = 0; i < n; ++i) {
         qtool_ref_light *l = &out[i];

@@ -210,10 +210,12 @@ qibl_status_t qibl_lightprobe_build(qibl_lightprobe_t *lp, const qibl_lightprobe
 /* Samples up to max_lights lights from a built probe into lights[], brightest first (luminance
  * energy; ties: smaller v0, then u0), and fills *result. MEDIANCUT (and priority LEVELS) needs
  * max_lights to be a power of two and splits every region once per round, log2(max_lights)
- * rounds; ADAPTIVE and VARMIN take any count >= 1 and split one region at a time. Fewer lights
- * come back when regions run out: a one-pixel region cannot split (nor, for priority VARIANCE, a
- * region whose energy sits at one point), so ADAPTIVE or VARMIN with max_lights above the number
- * of lit pixels gives one light per lit pixel, and MEDIANCUT stops at its rounds.
+ * rounds, then (when one-pixel regions could not split) splits the other regions once more each,
+ * in list order, until max_lights; ADAPTIVE and VARMIN take any count >= 1 and split one region
+ * at a time, the next best one when the best is a single pixel. So every method returns
+ * max_lights lights whenever the probe has that many lit pixels; fewer only when regions run out
+ * (one light per lit pixel; for priority VARIANCE, also when every region's energy sits at one
+ * point).
  * Accuracy: rgb within 1 LSB of the list's scale plus the region-sum error above; dir within
  * 3 LSB (Q2.30) of the exact direction of the integer centroid, which is within 2^-32 pixel of the
  * exact centroid of the region's integer energies (and so within (n / T + 2^-29) of the region's

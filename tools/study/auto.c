@@ -1,0 +1,109 @@
+/*
+ * auto.c - `qibl lights --auto --error E`: the cheapest representation of a probe whose mean
+ * relative irradiance error is within the budget, counted in floats stored (6 per light: direction
+ * and RGB; 3 per SH coefficient). Candidates are what the runtime can use: SH irradiance
+ * (4, 9, 16, 25 coefficients), the core's variance-minimisation lights, the same directions with
+ * refitted RGB, and sun plus sky (k lights plus SH9, qibl_shlight_add_sun_sky).
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "study/study.h"
+
+#define M_AUTO 4000
+
+typedef struct {
+    char what[64];
+    int floats;
+    double err;
+} cand;
+
+static void show(const cand *c)
+{
+    printf("  %-34s %6d floats  mean error %6.2f %%\n", c->what, c->floats, 100 * c->err);
+}
+
+int qtool_study_auto(const qtool_study_probe *p, double budget, int threads, char *err, size_t errlen)
+{
+    qtool_study_gt g;
+    if (qtool_study_gt_compute(&g, p, M_AUTO, threads) != 0) {
+        snprintf(err, errlen, "out of memory for the ground truth");
+        return -1;
+    }
+    qtool_study_model *md = malloc(sizeof *md);
+    if (!md) {
+        qtool_study_gt_free(&g);
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    cand best = {"", 0, INFINITY}, closest = {"", 0, INFINITY};
+    int found = 0, rc = 0;
+    qtool_study_err e;
+    printf("auto: budget %.2f %% mean relative irradiance error over %d normals; candidates (cheapest meeting it "
+           "per kind):\n", 100 * budget, g.m);
+#define CONSIDER(c)                                                                                                  \
+    do {                                                                                                             \
+        show(&(c));                                                                                                  \
+        if ((c).err < closest.err)                                                                                   \
+            closest = (c);                                                                                           \
+        if ((c).err <= budget && (!found || (c).floats < best.floats))                                              \
+            best = (c), found = 1;                                                                                   \
+    } while (0)
+    static const int shn[4] = {4, 9, 16, 25};
+    for (int k = 0; k < 4; ++k) {
+        if (qtool_study_core_sh(p, shn[k], md, err, errlen) != 0) {
+            rc = -1;
+            goto done;
+        }
+        qtool_study_model_error(md, &g, &e);
+        cand c;
+        snprintf(c.what, sizeof c.what, "SH irradiance, %d coefficients", shn[k]);
+        c.floats = qtool_study_model_numbers(md), c.err = e.mean_rel;
+        if (e.mean_rel <= budget || k == 3) {
+            CONSIDER(c);
+            break;
+        }
+    }
+    /* lights: the smallest N of 1, 2, 3, 4, 6, 8, ... 256 meeting the budget, as sampled and refitted */
+    for (int refit = 0; refit < 2; ++refit) {
+        cand c = {"", 0, INFINITY};
+        for (int n = 1; n <= QTOOL_STUDY_MAX_LIGHTS; n = n < 4 ? n + 1 : n + n / 2) {
+            if (qtool_study_core_lights(p, 2 /* varmin */, n, md, err, errlen) != 0) {
+                rc = -1;
+                goto done;
+            }
+            if (refit && qtool_study_refit(md, &g) != 0)
+                continue;
+            qtool_study_model_error(md, &g, &e);
+            snprintf(c.what, sizeof c.what, "%d lights (varmin%s)", md->n, refit ? ", RGB refitted" : "");
+            c.floats = qtool_study_model_numbers(md), c.err = e.mean_rel;
+            if (e.mean_rel <= budget)
+                break;
+        }
+        CONSIDER(c);
+    }
+    int k;
+    int r = qtool_study_sunsky_budget(p, &g, budget, 16, md, &k, &e, err, errlen);
+    if (r < 0) {
+        rc = -1;
+        goto done;
+    }
+    cand c;
+    snprintf(c.what, sizeof c.what, "sun plus sky: %d light%s + SH9", k, k == 1 ? "" : "s");
+    c.floats = qtool_study_model_numbers(md), c.err = e.mean_rel;
+    CONSIDER(c);
+    if (found) {
+        printf("auto: choose %s: %d floats, mean error %.2f %% <= %.2f %%; the cheapest candidate within the budget\n",
+               best.what, best.floats, 100 * best.err, 100 * budget);
+    } else {
+        printf("auto: no candidate meets %.2f %%; the most accurate is %s (%d floats, %.2f %%)\n", 100 * budget,
+               closest.what, closest.floats, 100 * closest.err);
+        rc = 1;
+    }
+#undef CONSIDER
+done:
+    free(md);
+    qtool_study_gt_free(&g);
+    return rc;
+}
