@@ -690,6 +690,103 @@ static int32_t norm16(const int32_t *v, uint32_t k, size_t stride, int16_t *out)
     return (int32_t)e;
 }
 
+/* ---- QIBL_POINT_POLY: Y_i in Q2.14 from their polynomials, one-step rsqrt ------------------------
+ * The recurrences of sh.c (see there) with int16 operands: unit vector and T_m in Q2.14, P and the
+ * constants in Q3.13 (|P| <= 2.84, |A| <= 3: int16), every product int16 x int16 in int32, rounded
+ * half up once. Measured against qibl_sh_eval_unit (shmap_test.c): |Y14 - 2^14 Y| <= POLY_Y_TOL. */
+
+/* {A or K, B} in Q3.13 (round half up of sh.c's constants), at index l(l+1)/2 + m, m <= l */
+static const int16_t poly_rec[15][2] = {
+    {2311, 0},      /* l=0 m=0 K  0.282095 */
+    {14189, 0},     /* l=1 m=0 A  1.732051 */
+    {-4003, 0},     /* l=1 m=1 K -0.488603 */
+    {15864, 9159},  /* l=2 m=0 A  1.936492, B 1.118034 */
+    {18318, 0},     /* l=2 m=1 A  2.236068 */
+    {4475, 0},      /* l=2 m=2 K  0.546274 */
+    {16155, 8342},  /* l=3 m=0 A  1.972027, B 1.018350 */
+    {17135, 7663},  /* l=3 m=1 A  2.091650, B 0.935414 */
+    {21674, 0},     /* l=3 m=2 A  2.645751 */
+    {-4834, 0},     /* l=3 m=3 K -0.590044 */
+    {16255, 8243},  /* l=4 m=0 A  1.984313, B 1.006231 */
+    {16789, 8026},  /* l=4 m=1 A  2.049390, B 0.979796 */
+    {18770, 7094},  /* l=4 m=2 A  2.291288, B 0.866025 */
+    {24576, 0},     /* l=4 m=3 A  3.000000 */
+    {5127, 0},      /* l=4 m=4 K  0.625836 */
+};
+
+/* round(v / 2^s), half up, for |v| < 2^31 - 2^(s-1) */
+#define POLY_RS(v, s) qibl_asr_s32((v) + (1 << ((s) - 1)), (s))
+
+/* Y_0..Y_{bands^2-1} (Q2.14) of the unit vector (x, y, z) in Q2.14 into y[] */
+static void poly_eval(int32_t x, int32_t y, int32_t z, uint32_t bands, int16_t *out)
+{
+    int32_t c = 16384, s = 0; /* T_m, T_-m */
+    for (uint32_t m = 0; m < bands; ++m) {
+        if (m > 0u) { /* (c + is)(x + iy): |x c| + |y s| <= 2^28 */
+            const int32_t c2 = POLY_RS(x * c - y * s, 14);
+            s = POLY_RS(x * s + y * c, 14);
+            c = c2;
+        }
+        int32_t p2 = 0, p1 = poly_rec[m * (m + 1u) / 2u + m][0];
+        for (uint32_t l = m; l < bands; ++l) {
+            if (l > m) { /* |A z| <= 3 * 2^13, |az p1| + |B p2| < 2^30 */
+                const int16_t *k = poly_rec[l * (l + 1u) / 2u + m];
+                const int32_t az = POLY_RS(k[0] * z, 14);
+                const int32_t p = POLY_RS(az * p1 - k[1] * p2, 13);
+                p2 = p1;
+                p1 = p;
+            }
+            int16_t *o = out + l * l + l;
+            if (m == 0u) {
+                o[0] = (int16_t)(2 * p1); /* Q3.13 -> Q2.14 */
+            } else {
+                o[m] = (int16_t)POLY_RS(p1 * c, 13);
+                o[-(int32_t)m] = (int16_t)POLY_RS(p1 * s, 13);
+            }
+        }
+    }
+}
+
+/* The direction and attenuation of l != 0 (int32 components): l scaled by 2^-sc so that its
+ * largest |component| lies in [2^14, 2^15] (exact when scaled up, floored down), d2 = |l|^2 in
+ * [2^28, 3 2^30]; 1/sqrt(d2) from the rsqrt seed and one Newton step (relative error <= 2^-17.4,
+ * then y16 floored: <= 2^-15). Unit vector u14 (Q2.14, error <= 2 LSB) and 1/|l| = a 2^-ae,
+ * a in [2^14, 2^15] (also for the min_dist clamp, so both compare as mantissa and exponent). */
+static void poly_dir(const int32_t l[3], int32_t u14[3], int32_t *a, int32_t *ae)
+{
+    const uint32_t mx = qibli_abs_u32(l[0]) | qibli_abs_u32(l[1]) | qibli_abs_u32(l[2]);
+    const int32_t sc = (int32_t)qibli_bitlen_u32(mx) - 15; /* top bit of mx to bit 14 */
+    uint32_t v[3];
+    uint32_t d2 = 0u;
+    for (int j = 0; j < 3; ++j) {
+        const int32_t t = sc >= 0 ? qibl_asr_s32(l[j], (unsigned)sc) : l[j] * ((int32_t)1 << -sc);
+        v[j] = qibli_abs_u32(t); /* <= 2^15 */
+        d2 += v[j] * v[j];       /* <= 3 2^30: no wrap */
+    }
+    const unsigned h = d2 < (1u << 30) ? 1u : 0u; /* t = d2 4^h in [2^30, 2^32) */
+    const uint32_t t = d2 << (2u * h);
+    const uint32_t y0 = qibli_rsqrt_seed[(t >> 24) - 64u];                    /* ~ 2^30 / sqrt(t), < 2^15 */
+    const uint32_t hh = (uint32_t)(qibl_mul_u32_u64(y0 * y0, t) >> 32);       /* ~ 2^28 */
+    const uint32_t y16 = (uint32_t)(qibl_mul_u32_u64(y0, 0x30000000u - hh) >> 28); /* ~ 2^31 / sqrt(t) */
+    for (int j = 0; j < 3; ++j) { /* u = v / sqrt(d2) = v y16 2^(h - 31) in Q2.14 */
+        const unsigned r = 17u - h;
+        uint32_t q = (v[j] * y16 + (1u << (r - 1u))) >> r; /* v y16 <= 2^31 + 2^16: fits */
+        q = q > 16384u ? 16384u : q;
+        u14[j] = l[j] < 0 ? -(int32_t)q : (int32_t)q;
+    }
+    /* 1/|l| = 2^-sc / sqrt(d2) = (y16 / 2) 2^(h - 30 - sc) */
+    *a = (int32_t)(y16 >> 1);
+    *ae = 30 - (int32_t)h + sc;
+}
+
+/* v / 2^e as int16 for a given e at least norm16's (so no value exceeds 32767) */
+static int32_t norm16_at(const int32_t *v, uint32_t k, int32_t e, int16_t *out)
+{
+    for (uint32_t i = 0; i < k; ++i)
+        out[i] = (int16_t)(e ? qibli_rshr_s64(v[i], (unsigned)e) : v[i]);
+    return e;
+}
+
 qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t *p, const qibl_ylut_t *lut,
                                        const qibl_pointlight_t *light, qibl_shmap_point_t *out)
 {
@@ -704,8 +801,9 @@ qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t
         return QIBL_E_SHMAP_MISMATCH;
     if (light->rgb[0] < 0 || light->rgb[1] < 0 || light->rgb[2] < 0 || light->min_dist < 0 ||
         (light->falloff != QIBL_FALLOFF_INV_DIST && light->falloff != QIBL_FALLOFF_INV_DIST2) ||
-        (light->filter != QIBL_LUT_BILINEAR && light->filter != QIBL_LUT_NEAREST))
+        (light->filter != QIBL_LUT_BILINEAR && light->filter != QIBL_LUT_NEAREST && light->filter != QIBL_POINT_POLY))
         return QIBL_E_SHMAP_LIGHT;
+    const int poly = light->filter == QIBL_POINT_POLY;
     /* built in place (nothing below can fail): a struct copy would be a memcpy call */
     for (uint32_t ch = 0; ch < 3u; ++ch) {
         uint32_t src = m->channels == 3u ? ch : 0u;
@@ -718,7 +816,20 @@ qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t
             out->sn[ch][i] = 0, out->bn[ch][i] = 0;
         out->es[ch] = norm16(sv, m->k, 1u, out->sn[ch]);
         out->eb[ch] = norm16(bv, m->k, 1u, out->bn[ch]);
+        if (poly) { /* exponents 0 <= eb - es <= 10, so V = acc + accb 2^(eb - es) stays in int32 */
+            if (out->eb[ch] < out->es[ch])
+                out->eb[ch] = norm16_at(bv, m->k, out->es[ch], out->bn[ch]);
+            else if (out->eb[ch] > out->es[ch] + 10)
+                out->es[ch] = norm16_at(sv, m->k, out->eb[ch] - 10, out->sn[ch]);
+        }
+        out->pd[ch] = out->eb[ch] - out->es[ch];
+        /* C0 = c0m 2^ce, c0m <= 2^15 (floored) */
+        const uint32_t c0 = (uint32_t)light->rgb[ch];
+        const int32_t ce = (int32_t)qibli_bitlen_u32(c0) > 15 ? (int32_t)qibli_bitlen_u32(c0) - 15 : 0;
+        out->c0m[ch] = (int32_t)(c0 >> ce);
+        out->pk[ch] = 24 - out->es[ch] - ce;
     }
+    out->method = poly ? 1u : 0u;
     out->maps = m;
     out->pmap = p;
     out->lut = lut;
@@ -731,6 +842,9 @@ qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t
     uint32_t md = light->min_dist > 0 ? (uint32_t)light->min_dist : 256u; /* default 1/256 unit */
     out->min_d2 = qibl_mul_u32_u64(md, md);
     out->clamp_y = qibl_rsqrt_u64(out->min_d2, &out->clamp_e);
+    const int32_t mdv[3] = {(int32_t)md, 0, 0}, *mdp = mdv;
+    int32_t u14[3];
+    poly_dir(mdp, u14, &out->clamp_am, &out->clamp_ae);
     out->bands = (uint32_t)bands_for(m->k);
     return QIBL_OK;
 }
@@ -816,6 +930,69 @@ static void point_interleaved(const qibl_shmaps_t *m, const qibl_shmap_point_t *
 }
 #endif /* QIBL_USE_INTERLEAVED */
 
+/* Phase A of QIBL_POINT_POLY: per pixel Y_i (Q2.14) into ybuf[i n + px], attenuation am 2^-ae
+ * (in 2^16 / scene unit for 1/D, squared for 1/D^2) into attm, atte */
+static void poly_phase_a(const qibl_shmap_point_t *pt, const uint8_t *pp, uint32_t n, int32_t *attm, int32_t *atte,
+                         int16_t *ybuf)
+{
+    const uint32_t k = pt->maps->k, bands = pt->bands;
+    for (uint32_t px = 0; px < n; ++px, pp += 12) {
+        int32_t l[3];
+        int32_t r0 = 0;
+        int64_t l64[3];
+        for (int j = 0; j < 3; ++j) {
+            l64[j] = pt->pos[j] - (int64_t)qibl_load_s32le(pp + 4 * j);
+            if (l64[j] > INT32_MAX || l64[j] < -(int64_t)INT32_MAX)
+                r0 = 1; /* S - P needs 33 bits: halve once */
+        }
+        for (int j = 0; j < 3; ++j)
+            l[j] = (int32_t)qibl_asr_s64(l64[j], (unsigned)r0);
+        if ((l[0] | l[1] | l[2]) == 0) { /* the light sits on this pixel's surface point */
+            attm[px] = 0, atte[px] = 0;
+            for (uint32_t i = 0; i < k; ++i)
+                ybuf[(size_t)i * n + px] = 0;
+            continue;
+        }
+        int32_t u[3], a, ae;
+        poly_dir(l, u, &a, &ae);
+        ae += r0;
+        if (ae < pt->clamp_ae || (ae == pt->clamp_ae && a > pt->clamp_am))
+            a = pt->clamp_am, ae = pt->clamp_ae; /* closer than min_dist */
+        int16_t yv[QIBL_SH_MAX_COUNT];
+        poly_eval(u[0], u[1], u[2], bands, yv);
+        for (uint32_t i = 0; i < k; ++i)
+            ybuf[(size_t)i * n + px] = yv[i];
+        if (pt->falloff == QIBL_FALLOFF_INV_DIST) { /* 1/D = a 2^(16 - ae) */
+            attm[px] = a;
+            atte[px] = ae - 16;
+        } else { /* 1/D^2 = (a^2 / 2^15) 2^(15 - 2 (ae - 16)) */
+            attm[px] = (int32_t)(((uint32_t)a * (uint32_t)a) >> 15);
+            atte[px] = 2 * (ae - 16) - 15;
+        }
+    }
+}
+
+/* Phase C of QIBL_POINT_POLY, one channel: V = acc + accb 2^pd (|V| < 2^28 + 2^30), g = am C0m
+ * <= 2^30, out = round(V g / 2^(ae + pk)) saturated to int32 */
+static void poly_phase_c(const qibl_shmap_point_t *pt, uint32_t ch, const int32_t *acc, const int32_t *accb,
+                         const int32_t *attm, const int32_t *atte, int32_t *out, uint32_t n)
+{
+    const int32_t mul = (int32_t)1 << pt->pd[ch], c0m = pt->c0m[ch], pk = pt->pk[ch];
+    for (uint32_t px = 0; px < n; ++px) {
+        const int32_t v = acc[px] + accb[px] * mul;
+        const int64_t prod = qibl_mul_s32_s64(v, attm[px] * c0m);
+        const int32_t sr = atte[px] + pk;
+        int32_t o;
+        if (sr > 0)
+            o = sr > 62 ? 0 : qibli_rshr_s64(prod, (unsigned)sr);
+        else if (prod > INT32_MAX || prod < INT32_MIN || sr < -30)
+            o = prod > 0 ? INT32_MAX : prod < 0 ? INT32_MIN : 0;
+        else
+            o = qibl_sat_s32(qibl_mul_s32_s64((int32_t)prod, (int32_t)1 << -sr));
+        out[3u * px] = o;
+    }
+}
+
 qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out,
                                     void *ws, size_t ws_size)
 {
@@ -833,8 +1010,11 @@ qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, u
     const size_t off = (size_t)y * m->width + x0;
     const uint8_t *pp = pt->pmap->points + off * 12u;
 
+    const int poly = pt->method == 1u;
+    if (poly)
+        poly_phase_a(pt, pp, n, attm, atte, ybuf);
     /* Phase A, per pixel: direction, Y_i, attenuation as attm / 2^atte (in 2^16 / scene unit) */
-    for (uint32_t px = 0; px < n; ++px, pp += 12) {
+    for (uint32_t px = 0; px < (poly ? 0u : n); ++px, pp += 12) {
         int64_t l64[3];
         int32_t l[3];
         unsigned r0 = 0u;
@@ -892,6 +1072,10 @@ qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, u
             for (uint32_t i = 0; i < k; ++i)
                 point_map(acc, accb, ybuf + (size_t)i * n, qibl_shmaps_plane(m, i, src) + off, pt->sn[ch][i],
                           pt->bn[ch][i], n, i == 0u);
+        if (poly) {
+            poly_phase_c(pt, ch, acc, accb, attm, atte, out + ch, n);
+            continue;
+        }
         const int32_t es = pt->es[ch], eb = pt->eb[ch], e0 = es < eb ? es : eb;
         const uint32_t rgb = pt->rgb[ch];
         for (uint32_t px = 0; px < n; ++px) {

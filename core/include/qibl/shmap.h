@@ -61,7 +61,11 @@ typedef enum qibl_falloff {
 /* How a cube-map LUT is sampled. 0 is the default. */
 typedef enum qibl_lut_filter {
     QIBL_LUT_BILINEAR = 0, /* between the four nearest texel centres of the face, clamped at its edges */
-    QIBL_LUT_NEAREST       /* the texel the direction falls in: cheapest, error ~ texel size */
+    QIBL_LUT_NEAREST,      /* the texel the direction falls in: cheapest, error ~ texel size */
+    /* No LUT (one passed to prepare is checked, then ignored): Y_i from their polynomials with int16
+     * products in Q2.14 and 1/|L| from one table-seeded Newton step. The fastest point mode and
+     * about as accurate as LUT 64^2 (qibl bench relight); its own goldens (point_poly_*). */
+    QIBL_POINT_POLY
 } qibl_lut_filter_t;
 
 /* A point light. Zero-initialisable: rgb 0 is dark, min_dist 0 means 1/256 scene unit. */
@@ -90,6 +94,12 @@ typedef struct qibl_shmap_point {
     uint32_t clamp_y;                   /* 1 / min_dist = clamp_y / 2^clamp_e in 1/(2^-16) units */
     unsigned clamp_e;
     uint32_t bands;
+    /* QIBL_POINT_POLY only: V = acc + accb 2^pd (0 <= pd <= 10), out = V am c0m 2^-(ae + pk) with
+     * c0m <= 2^15 the colour's mantissa; the min_dist clamp as mantissa and exponent (am, ae) */
+    uint32_t method;                    /* 1: QIBL_POINT_POLY */
+    int32_t pd[3], pk[3];
+    int32_t c0m[3];
+    int32_t clamp_am, clamp_ae;
 } qibl_shmap_point_t;
 
 /* ---- light coefficients ---------------------------------------------------------------------- */
