@@ -717,34 +717,51 @@ static const int16_t poly_rec[15][2] = {
 /* round(v / 2^s), half up, for |v| < 2^31 - 2^(s-1) */
 #define POLY_RS(v, s) qibl_asr_s32((v) + (1 << ((s) - 1)), (s))
 
-/* Y_0..Y_{bands^2-1} (Q2.14) of the unit vector (x, y, z) in Q2.14 into y[] */
-static void poly_eval(int32_t x, int32_t y, int32_t z, uint32_t bands, int16_t *out)
+/* P(l,m) from P(l-1,m) and P(l-2,m): A z P1 - B P2 (|A z| <= 3 2^13, |A z P1| + |B P2| < 2^30) */
+#define POLY_REC(l, m, p1, p2)                                                                          \
+    POLY_RS(POLY_RS(poly_rec[(l) * ((l) + 1) / 2 + (m)][0] * z, 14) * (p1) - poly_rec[(l) * ((l) + 1) / 2 + (m)][1] * (p2), 13)
+/* Y(l,+-m) = P(l,m) T_+-m (Q3.13 x Q2.14 -> Q2.14) */
+#define POLY_PAIR(l, m, p)                                                                              \
+    (o[(l) * (l) + (l) + (m)] = (int16_t)POLY_RS((p) * c##m, 13), o[(l) * (l) + (l) - (m)] = (int16_t)POLY_RS((p) * s##m, 13))
+
+/* Y_0..Y_{bands^2-1} (Q2.14) of the unit vector (x, y, z) in Q2.14 into o[]: the recurrences of
+ * sh.c written out band by band (constant indices, no loops: about half the instructions) */
+static void poly_eval(int32_t x, int32_t y, int32_t z, uint32_t bands, int16_t *o)
 {
-    int32_t c = 16384, s = 0; /* T_m, T_-m */
-    for (uint32_t m = 0; m < bands; ++m) {
-        if (m > 0u) { /* (c + is)(x + iy): |x c| + |y s| <= 2^28 */
-            const int32_t c2 = POLY_RS(x * c - y * s, 14);
-            s = POLY_RS(x * s + y * c, 14);
-            c = c2;
-        }
-        int32_t p2 = 0, p1 = poly_rec[m * (m + 1u) / 2u + m][0];
-        for (uint32_t l = m; l < bands; ++l) {
-            if (l > m) { /* |A z| <= 3 * 2^13, |az p1| + |B p2| < 2^30 */
-                const int16_t *k = poly_rec[l * (l + 1u) / 2u + m];
-                const int32_t az = POLY_RS(k[0] * z, 14);
-                const int32_t p = POLY_RS(az * p1 - k[1] * p2, 13);
-                p2 = p1;
-                p1 = p;
-            }
-            int16_t *o = out + l * l + l;
-            if (m == 0u) {
-                o[0] = (int16_t)(2 * p1); /* Q3.13 -> Q2.14 */
-            } else {
-                o[m] = (int16_t)POLY_RS(p1 * c, 13);
-                o[-(int32_t)m] = (int16_t)POLY_RS(p1 * s, 13);
-            }
-        }
-    }
+    const int32_t p00 = poly_rec[0][0];
+    o[0] = (int16_t)(2 * p00); /* Q3.13 -> Q2.14 */
+    if (bands < 2u)
+        return;
+    const int32_t c1 = x, s1 = y; /* T_1 = x + iy */
+    const int32_t p10 = POLY_REC(1, 0, p00, 0), p11 = poly_rec[2][0];
+    o[2] = (int16_t)(2 * p10);
+    POLY_PAIR(1, 1, p11);
+    if (bands < 3u)
+        return;
+    const int32_t c2 = POLY_RS(x * c1 - y * s1, 14), s2 = POLY_RS(x * s1 + y * c1, 14); /* |.| <= 2^28 */
+    const int32_t p20 = POLY_REC(2, 0, p10, p00), p21 = POLY_REC(2, 1, p11, 0), p22 = poly_rec[5][0];
+    o[6] = (int16_t)(2 * p20);
+    POLY_PAIR(2, 1, p21);
+    POLY_PAIR(2, 2, p22);
+    if (bands < 4u)
+        return;
+    const int32_t c3 = POLY_RS(x * c2 - y * s2, 14), s3 = POLY_RS(x * s2 + y * c2, 14);
+    const int32_t p30 = POLY_REC(3, 0, p20, p10), p31 = POLY_REC(3, 1, p21, p11), p32 = POLY_REC(3, 2, p22, 0);
+    const int32_t p33 = poly_rec[9][0];
+    o[12] = (int16_t)(2 * p30);
+    POLY_PAIR(3, 1, p31);
+    POLY_PAIR(3, 2, p32);
+    POLY_PAIR(3, 3, p33);
+    if (bands < 5u)
+        return;
+    const int32_t c4 = POLY_RS(x * c3 - y * s3, 14), s4 = POLY_RS(x * s3 + y * c3, 14);
+    const int32_t p40 = POLY_REC(4, 0, p30, p20), p41 = POLY_REC(4, 1, p31, p21), p42 = POLY_REC(4, 2, p32, p22);
+    const int32_t p43 = POLY_REC(4, 3, p33, 0), p44 = poly_rec[14][0];
+    o[20] = (int16_t)(2 * p40);
+    POLY_PAIR(4, 1, p41);
+    POLY_PAIR(4, 2, p42);
+    POLY_PAIR(4, 3, p43);
+    POLY_PAIR(4, 4, p44);
 }
 
 /* The direction and attenuation of l != 0 (int32 components): l scaled by 2^-sc so that its
@@ -755,7 +772,11 @@ static void poly_eval(int32_t x, int32_t y, int32_t z, uint32_t bands, int16_t *
 static void poly_dir(const int32_t l[3], int32_t u14[3], int32_t *a, int32_t *ae)
 {
     const uint32_t mx = qibli_abs_u32(l[0]) | qibli_abs_u32(l[1]) | qibli_abs_u32(l[2]);
+#if defined(__GNUC__) && (defined(__ARM_FEATURE_CLZ) || defined(__x86_64__) || defined(__aarch64__))
+    const int32_t sc = 17 - __builtin_clz(mx); /* top bit of mx to bit 14 (one instruction, same value) */
+#else
     const int32_t sc = (int32_t)qibli_bitlen_u32(mx) - 15; /* top bit of mx to bit 14 */
+#endif
     uint32_t v[3];
     uint32_t d2 = 0u;
     for (int j = 0; j < 3; ++j) {
@@ -777,6 +798,20 @@ static void poly_dir(const int32_t l[3], int32_t u14[3], int32_t *a, int32_t *ae
     /* 1/|l| = 2^-sc / sqrt(d2) = (y16 / 2) 2^(h - 30 - sc) */
     *a = (int32_t)(y16 >> 1);
     *ae = 30 - (int32_t)h + sc;
+}
+
+/* the smallest e >= 0 with every |round(v / 2^e)| <= lim */
+static int32_t norm_lim(const int32_t *v, uint32_t k, uint32_t lim)
+{
+    uint32_t mx = 0u;
+    for (uint32_t i = 0; i < k; ++i) {
+        uint32_t a = qibli_abs_u32(v[i]);
+        mx = a > mx ? a : mx;
+    }
+    unsigned e = 0u;
+    while (((mx + (e ? 1u << (e - 1u) : 0u)) >> e) > lim)
+        ++e;
+    return (int32_t)e;
 }
 
 /* v / 2^e as int16 for a given e at least norm16's (so no value exceeds 32767) */
@@ -816,13 +851,20 @@ qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t
             out->sn[ch][i] = 0, out->bn[ch][i] = 0;
         out->es[ch] = norm16(sv, m->k, 1u, out->sn[ch]);
         out->eb[ch] = norm16(bv, m->k, 1u, out->bn[ch]);
-        if (poly) { /* exponents 0 <= eb - es <= 10, so V = acc + accb 2^(eb - es) stays in int32 */
-            if (out->eb[ch] < out->es[ch])
-                out->eb[ch] = norm16_at(bv, m->k, out->es[ch], out->bn[ch]);
-            else if (out->eb[ch] > out->es[ch] + 10)
-                out->es[ch] = norm16_at(sv, m->k, out->eb[ch] - 10, out->sn[ch]);
+        out->pd[ch] = 0;
+        if (poly) {
+            /* bias factors to 14 bits, so sum_i Y_i bn_i is exact in int32: sum_i |Y_i| <= k / sqrt(4 pi)
+             * (|Y|_2^2 = k / (4 pi)), so |sum| <= 25 * 4622 * 16383 < 1.9 2^30 */
+            if (norm_lim(bv, m->k, 16383u) > out->eb[ch])
+                out->eb[ch] = norm16_at(bv, m->k, out->eb[ch] + 1, out->bn[ch]);
+            /* V = acc + round(accb / 2^pd) in units of 2^es with pd = es + 14 - eb >= 1: |V| < 2^28 + 2^30 */
+            if (out->es[ch] < out->eb[ch] - 13)
+                out->es[ch] = norm16_at(sv, m->k, out->eb[ch] - 13, out->sn[ch]);
+            out->pd[ch] = out->es[ch] + 14 - out->eb[ch];
+            if (out->pd[ch] > 31) /* the bias is below 2^-31 of the scale term: dropped */
+                for (uint32_t i = 0; i < m->k; ++i)
+                    out->bn[ch][i] = 0, out->pd[ch] = 1;
         }
-        out->pd[ch] = out->eb[ch] - out->es[ch];
         /* C0 = c0m 2^ce, c0m <= 2^15 (floored) */
         const uint32_t c0 = (uint32_t)light->rgb[ch];
         const int32_t ce = (int32_t)qibli_bitlen_u32(c0) > 15 ? (int32_t)qibli_bitlen_u32(c0) - 15 : 0;
@@ -930,13 +972,27 @@ static void point_interleaved(const qibl_shmaps_t *m, const qibl_shmap_point_t *
 }
 #endif /* QIBL_USE_INTERLEAVED */
 
-/* Phase A of QIBL_POINT_POLY: per pixel Y_i (Q2.14) into ybuf[i n + px], attenuation am 2^-ae
- * (in 2^16 / scene unit for 1/D, squared for 1/D^2) into attm, atte */
-static void poly_phase_a(const qibl_shmap_point_t *pt, const uint8_t *pp, uint32_t n, int32_t *attm, int32_t *atte,
-                         int16_t *ybuf)
+/* QIBL_POINT_POLY, pixel by pixel (no workspace traffic: Y and the sums stay in registers or on
+ * the stack; the order of exact integer sums does not change them). Per pixel: l = S - P, Y_i in
+ * Q2.14 and the attenuation a 2^-ae (poly_dir, poly_eval); per channel
+ *   acc  = sum_i round(Y_i sn_i / 2^14) c_i      |acc| < 25 * 29492 * 255 < 2^28
+ *   accb = sum_i Y_i bn_i (exact)               |accb| < 1.9 2^30 (prepare)
+ *   V = acc + round(accb / 2^pd)                |V| < 2^28 + 2^30, units 2^(es - 24)
+ *   out = round(V g / 2^(ae + pk)), g = am c0m <= 2^30, saturated to int32. */
+static void poly_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out)
 {
-    const uint32_t k = pt->maps->k, bands = pt->bands;
-    for (uint32_t px = 0; px < n; ++px, pp += 12) {
+    const qibl_shmaps_t *m = pt->maps;
+    const uint32_t k = m->k, bands = pt->bands;
+    const size_t off = (size_t)y * m->width + x0;
+    const uint8_t *pp = pt->pmap->points + off * 12u;
+    const int il = QIBL_USE_INTERLEAVED && m->layout == QIBL_SHMAPS_INTERLEAVED;
+    /* map stride and the pixel's first byte per channel: planar planes (i channels + ch) W H apart,
+     * interleaved 16 bytes apart inside the pixel's group */
+    const size_t ms = il ? QIBL_SHMAPS_GROUP : (size_t)m->channels * m->width * m->height;
+    const size_t cs = il ? (size_t)QIBL_SHMAPS_GROUP * k : (size_t)m->width * m->height;
+    const size_t gbytes = (size_t)QIBL_SHMAPS_GROUP * k * m->channels;
+    const uint8_t *row = m->planes + (il ? (size_t)y * qibl_shmaps_row_size(m) : off);
+    for (uint32_t px = 0; px < n; ++px, pp += 12, out += 3) {
         int32_t l[3];
         int32_t r0 = 0;
         int64_t l64[3];
@@ -948,48 +1004,48 @@ static void poly_phase_a(const qibl_shmap_point_t *pt, const uint8_t *pp, uint32
         for (int j = 0; j < 3; ++j)
             l[j] = (int32_t)qibl_asr_s64(l64[j], (unsigned)r0);
         if ((l[0] | l[1] | l[2]) == 0) { /* the light sits on this pixel's surface point */
-            attm[px] = 0, atte[px] = 0;
-            for (uint32_t i = 0; i < k; ++i)
-                ybuf[(size_t)i * n + px] = 0;
+            out[0] = 0, out[1] = 0, out[2] = 0;
             continue;
         }
-        int32_t u[3], a, ae;
-        poly_dir(l, u, &a, &ae);
+        int32_t u[3], am, ae;
+        poly_dir(l, u, &am, &ae);
         ae += r0;
-        if (ae < pt->clamp_ae || (ae == pt->clamp_ae && a > pt->clamp_am))
-            a = pt->clamp_am, ae = pt->clamp_ae; /* closer than min_dist */
+        if (ae < pt->clamp_ae || (ae == pt->clamp_ae && am > pt->clamp_am))
+            am = pt->clamp_am, ae = pt->clamp_ae; /* closer than min_dist */
+        if (pt->falloff == QIBL_FALLOFF_INV_DIST) { /* 1/D = am 2^(16 - ae) */
+            ae -= 16;
+        } else { /* 1/D^2 = (am^2 / 2^15) 2^(15 - 2 (ae - 16)) */
+            am = (int32_t)(((uint32_t)am * (uint32_t)am) >> 15);
+            ae = 2 * ae - 47;
+        }
         int16_t yv[QIBL_SH_MAX_COUNT];
         poly_eval(u[0], u[1], u[2], bands, yv);
-        for (uint32_t i = 0; i < k; ++i)
-            ybuf[(size_t)i * n + px] = yv[i];
-        if (pt->falloff == QIBL_FALLOFF_INV_DIST) { /* 1/D = a 2^(16 - ae) */
-            attm[px] = a;
-            atte[px] = ae - 16;
-        } else { /* 1/D^2 = (a^2 / 2^15) 2^(15 - 2 (ae - 16)) */
-            attm[px] = (int32_t)(((uint32_t)a * (uint32_t)a) >> 15);
-            atte[px] = 2 * (ae - 16) - 15;
+        const uint32_t x = x0 + px;
+        const uint8_t *c0 = il ? row + (size_t)(x / QIBL_SHMAPS_GROUP) * gbytes + x % QIBL_SHMAPS_GROUP : row + px;
+        for (uint32_t ch = 0; ch < 3u; ++ch) {
+            const uint32_t src = m->channels == 3u ? ch : 0u;
+            const uint8_t *c = c0 + src * cs;
+            const int16_t *sn = pt->sn[ch], *bn = pt->bn[ch];
+            int32_t acc = 0, accb = 0;
+            for (uint32_t i = 0; i < k; ++i, c += ms) {
+                acc += qibl_asr_s32(yv[i] * sn[i] + 8192, 14) * (int32_t)c[0];
+                accb += yv[i] * bn[i];
+            }
+            const unsigned pd = (unsigned)pt->pd[ch];
+            const int32_t v = acc + qibl_asr_s32(qibl_asr_s32(accb, pd - 1u) + 1, 1);
+            const int64_t prod = qibl_mul_s32_s64(v, am * pt->c0m[ch]);
+            const int32_t sr = ae + pt->pk[ch];
+            int32_t o;
+            if (sr >= 33 && sr <= 62) /* the common case, from the high word: floor(floor(p / 2^32) / 2^j) = floor(p / 2^(32 + j)) */
+                o = qibl_asr_s32(qibl_asr_s32((int32_t)qibl_asr_s64(prod, 32u), (unsigned)sr - 33u) + 1, 1);
+            else if (sr > 0)
+                o = sr > 62 ? 0 : qibli_rshr_s64(prod, (unsigned)sr);
+            else if (prod > INT32_MAX || prod < INT32_MIN || sr < -30)
+                o = prod > 0 ? INT32_MAX : prod < 0 ? INT32_MIN : 0;
+            else
+                o = qibl_sat_s32(qibl_mul_s32_s64((int32_t)prod, (int32_t)1 << -sr));
+            out[ch] = o;
         }
-    }
-}
-
-/* Phase C of QIBL_POINT_POLY, one channel: V = acc + accb 2^pd (|V| < 2^28 + 2^30), g = am C0m
- * <= 2^30, out = round(V g / 2^(ae + pk)) saturated to int32 */
-static void poly_phase_c(const qibl_shmap_point_t *pt, uint32_t ch, const int32_t *acc, const int32_t *accb,
-                         const int32_t *attm, const int32_t *atte, int32_t *out, uint32_t n)
-{
-    const int32_t mul = (int32_t)1 << pt->pd[ch], c0m = pt->c0m[ch], pk = pt->pk[ch];
-    for (uint32_t px = 0; px < n; ++px) {
-        const int32_t v = acc[px] + accb[px] * mul;
-        const int64_t prod = qibl_mul_s32_s64(v, attm[px] * c0m);
-        const int32_t sr = atte[px] + pk;
-        int32_t o;
-        if (sr > 0)
-            o = sr > 62 ? 0 : qibli_rshr_s64(prod, (unsigned)sr);
-        else if (prod > INT32_MAX || prod < INT32_MIN || sr < -30)
-            o = prod > 0 ? INT32_MAX : prod < 0 ? INT32_MIN : 0;
-        else
-            o = qibl_sat_s32(qibl_mul_s32_s64((int32_t)prod, (int32_t)1 << -sr));
-        out[3u * px] = o;
     }
 }
 
@@ -1010,11 +1066,12 @@ qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, u
     const size_t off = (size_t)y * m->width + x0;
     const uint8_t *pp = pt->pmap->points + off * 12u;
 
-    const int poly = pt->method == 1u;
-    if (poly)
-        poly_phase_a(pt, pp, n, attm, atte, ybuf);
+    if (pt->method == 1u) { /* QIBL_POINT_POLY */
+        poly_span(pt, x0, y, n, out);
+        return QIBL_OK;
+    }
     /* Phase A, per pixel: direction, Y_i, attenuation as attm / 2^atte (in 2^16 / scene unit) */
-    for (uint32_t px = 0; px < (poly ? 0u : n); ++px, pp += 12) {
+    for (uint32_t px = 0; px < n; ++px, pp += 12) {
         int64_t l64[3];
         int32_t l[3];
         unsigned r0 = 0u;
@@ -1072,10 +1129,6 @@ qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, u
             for (uint32_t i = 0; i < k; ++i)
                 point_map(acc, accb, ybuf + (size_t)i * n, qibl_shmaps_plane(m, i, src) + off, pt->sn[ch][i],
                           pt->bn[ch][i], n, i == 0u);
-        if (poly) {
-            poly_phase_c(pt, ch, acc, accb, attm, atte, out + ch, n);
-            continue;
-        }
         const int32_t es = pt->es[ch], eb = pt->eb[ch], e0 = es < eb ? es : eb;
         const uint32_t rgb = pt->rgb[ch];
         for (uint32_t px = 0; px < n; ++px) {
