@@ -769,32 +769,43 @@ static void poly_eval(int32_t x, int32_t y, int32_t z, uint32_t bands, int16_t *
  * [2^28, 3 2^30]; 1/sqrt(d2) from the rsqrt seed and one Newton step (relative error <= 2^-17.4,
  * then y16 floored: <= 2^-15). Unit vector u14 (Q2.14, error <= 2 LSB) and 1/|l| = a 2^-ae,
  * a in [2^14, 2^15] (also for the min_dist clamp, so both compare as mantissa and exponent). */
-static void poly_dir(const int32_t l[3], int32_t u14[3], int32_t *a, int32_t *ae)
+#if defined(__GNUC__) || defined(__clang__)
+#define POLY_INLINE __attribute__((always_inline)) inline /* once per pixel: no call, u and a in registers */
+#else
+#define POLY_INLINE inline
+#endif
+static POLY_INLINE void poly_dir(int32_t l0, int32_t l1, int32_t l2, int32_t *u0, int32_t *u1, int32_t *u2, int32_t *a,
+                                 int32_t *ae)
 {
-    const uint32_t mx = qibli_abs_u32(l[0]) | qibli_abs_u32(l[1]) | qibli_abs_u32(l[2]);
+    const uint32_t mx = qibli_abs_u32(l0) | qibli_abs_u32(l1) | qibli_abs_u32(l2);
 #if defined(__GNUC__) && (defined(__ARM_FEATURE_CLZ) || defined(__x86_64__) || defined(__aarch64__))
     const int32_t sc = 17 - __builtin_clz(mx); /* top bit of mx to bit 14 (one instruction, same value) */
 #else
     const int32_t sc = (int32_t)qibli_bitlen_u32(mx) - 15; /* top bit of mx to bit 14 */
 #endif
-    uint32_t v[3];
-    uint32_t d2 = 0u;
-    for (int j = 0; j < 3; ++j) {
-        const int32_t t = sc >= 0 ? qibl_asr_s32(l[j], (unsigned)sc) : l[j] * ((int32_t)1 << -sc);
-        v[j] = qibli_abs_u32(t); /* <= 2^15 */
-        d2 += v[j] * v[j];       /* <= 3 2^30: no wrap */
+    uint32_t v0, v1, v2; /* |l| 2^-sc, <= 2^15 (written out: loops over arrays stayed loops on Cortex-M4) */
+    if (sc >= 0) {
+        v0 = qibli_abs_u32(qibl_asr_s32(l0, (unsigned)sc));
+        v1 = qibli_abs_u32(qibl_asr_s32(l1, (unsigned)sc));
+        v2 = qibli_abs_u32(qibl_asr_s32(l2, (unsigned)sc));
+    } else {
+        const unsigned ls = (unsigned)-sc;
+        v0 = qibli_abs_u32(l0) << ls, v1 = qibli_abs_u32(l1) << ls, v2 = qibli_abs_u32(l2) << ls;
     }
-    const unsigned h = d2 < (1u << 30) ? 1u : 0u; /* t = d2 4^h in [2^30, 2^32) */
+    const uint32_t d2 = v0 * v0 + v1 * v1 + v2 * v2; /* in [2^28, 3 2^30]: no wrap */
+    const unsigned h = d2 < (1u << 30) ? 1u : 0u;    /* t = d2 4^h in [2^30, 2^32) */
     const uint32_t t = d2 << (2u * h);
-    const uint32_t y0 = qibli_rsqrt_seed[(t >> 24) - 64u];                    /* ~ 2^30 / sqrt(t), < 2^15 */
-    const uint32_t hh = (uint32_t)(qibl_mul_u32_u64(y0 * y0, t) >> 32);       /* ~ 2^28 */
+    const uint32_t y0 = qibli_rsqrt_seed[(t >> 24) - 64u];                         /* ~ 2^30 / sqrt(t), < 2^15 */
+    const uint32_t hh = (uint32_t)(qibl_mul_u32_u64(y0 * y0, t) >> 32);            /* ~ 2^28 */
     const uint32_t y16 = (uint32_t)(qibl_mul_u32_u64(y0, 0x30000000u - hh) >> 28); /* ~ 2^31 / sqrt(t) */
-    for (int j = 0; j < 3; ++j) { /* u = v / sqrt(d2) = v y16 2^(h - 31) in Q2.14 */
-        const unsigned r = 17u - h;
-        uint32_t q = (v[j] * y16 + (1u << (r - 1u))) >> r; /* v y16 <= 2^31 + 2^16: fits */
-        q = q > 16384u ? 16384u : q;
-        u14[j] = l[j] < 0 ? -(int32_t)q : (int32_t)q;
-    }
+    /* u = v / sqrt(d2) = v y16 2^(h - 31) in Q2.14; v y16 <= 2^31 and the rounding term fit */
+    const unsigned r = 17u - h;
+    const uint32_t half = 1u << (r - 1u);
+    uint32_t q0 = (v0 * y16 + half) >> r, q1 = (v1 * y16 + half) >> r, q2 = (v2 * y16 + half) >> r;
+    q0 = q0 > 16384u ? 16384u : q0, q1 = q1 > 16384u ? 16384u : q1, q2 = q2 > 16384u ? 16384u : q2;
+    *u0 = l0 < 0 ? -(int32_t)q0 : (int32_t)q0;
+    *u1 = l1 < 0 ? -(int32_t)q1 : (int32_t)q1;
+    *u2 = l2 < 0 ? -(int32_t)q2 : (int32_t)q2;
     /* 1/|l| = 2^-sc / sqrt(d2) = (y16 / 2) 2^(h - 30 - sc) */
     *a = (int32_t)(y16 >> 1);
     *ae = 30 - (int32_t)h + sc;
@@ -857,13 +868,13 @@ qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t
              * (|Y|_2^2 = k / (4 pi)), so |sum| <= 25 * 4622 * 16383 < 1.9 2^30 */
             if (norm_lim(bv, m->k, 16383u) > out->eb[ch])
                 out->eb[ch] = norm16_at(bv, m->k, out->eb[ch] + 1, out->bn[ch]);
-            /* V = acc + round(accb / 2^pd) in units of 2^es with pd = es + 14 - eb >= 1: |V| < 2^28 + 2^30 */
+            /* V = (acc + accb 2^(14 - pd)) / 2^14 in units of 2^es, pd = es + 14 - eb >= 1: |V| < 2^28 + 2^30 */
             if (out->es[ch] < out->eb[ch] - 13)
                 out->es[ch] = norm16_at(sv, m->k, out->eb[ch] - 13, out->sn[ch]);
+            /* and pd <= 14: a bias below the scale term's size keeps the scale's unit */
+            if (out->eb[ch] < out->es[ch])
+                out->eb[ch] = norm16_at(bv, m->k, out->es[ch], out->bn[ch]);
             out->pd[ch] = out->es[ch] + 14 - out->eb[ch];
-            if (out->pd[ch] > 31) /* the bias is below 2^-31 of the scale term: dropped */
-                for (uint32_t i = 0; i < m->k; ++i)
-                    out->bn[ch][i] = 0, out->pd[ch] = 1;
         }
         /* C0 = c0m 2^ce, c0m <= 2^15 (floored) */
         const uint32_t c0 = (uint32_t)light->rgb[ch];
@@ -884,9 +895,8 @@ qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t
     uint32_t md = light->min_dist > 0 ? (uint32_t)light->min_dist : 256u; /* default 1/256 unit */
     out->min_d2 = qibl_mul_u32_u64(md, md);
     out->clamp_y = qibl_rsqrt_u64(out->min_d2, &out->clamp_e);
-    const int32_t mdv[3] = {(int32_t)md, 0, 0}, *mdp = mdv;
-    int32_t u14[3];
-    poly_dir(mdp, u14, &out->clamp_am, &out->clamp_ae);
+    int32_t u0, u1, u2;
+    poly_dir((int32_t)md, 0, 0, &u0, &u1, &u2, &out->clamp_am, &out->clamp_ae);
     out->bands = (uint32_t)bands_for(m->k);
     return QIBL_OK;
 }
@@ -975,9 +985,9 @@ static void point_interleaved(const qibl_shmaps_t *m, const qibl_shmap_point_t *
 /* QIBL_POINT_POLY, pixel by pixel (no workspace traffic: Y and the sums stay in registers or on
  * the stack; the order of exact integer sums does not change them). Per pixel: l = S - P, Y_i in
  * Q2.14 and the attenuation a 2^-ae (poly_dir, poly_eval); per channel
- *   acc  = sum_i round(Y_i sn_i / 2^14) c_i      |acc| < 25 * 29492 * 255 < 2^28
+ *   acc  = sum_i Y_i sn_i c_i (exact, int64)     |acc| < 25 * 14746 * 32767 * 255 < 2^42
  *   accb = sum_i Y_i bn_i (exact)               |accb| < 1.9 2^30 (prepare)
- *   V = acc + round(accb / 2^pd)                |V| < 2^28 + 2^30, units 2^(es - 24)
+ *   V = round((acc + accb 2^(14 - pd)) / 2^14)   1 <= pd <= 14, |V| < 2^28 + 2^30, units 2^(es - 24)
  *   out = round(V g / 2^(ae + pk)), g = am c0m <= 2^30, saturated to int32. */
 static void poly_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out)
 {
@@ -993,22 +1003,23 @@ static void poly_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uin
     const size_t gbytes = (size_t)QIBL_SHMAPS_GROUP * k * m->channels;
     const uint8_t *row = m->planes + (il ? (size_t)y * qibl_shmaps_row_size(m) : off);
     for (uint32_t px = 0; px < n; ++px, pp += 12, out += 3) {
-        int32_t l[3];
-        int32_t r0 = 0;
-        int64_t l64[3];
-        for (int j = 0; j < 3; ++j) {
-            l64[j] = pt->pos[j] - (int64_t)qibl_load_s32le(pp + 4 * j);
-            if (l64[j] > INT32_MAX || l64[j] < -(int64_t)INT32_MAX)
-                r0 = 1; /* S - P needs 33 bits: halve once */
-        }
-        for (int j = 0; j < 3; ++j)
-            l[j] = (int32_t)qibl_asr_s64(l64[j], (unsigned)r0);
-        if ((l[0] | l[1] | l[2]) == 0) { /* the light sits on this pixel's surface point */
+        /* L = S - P, halved once if it needs 33 bits (r0 = 1) */
+        const int64_t d0 = pt->pos[0] - (int64_t)qibl_load_s32le(pp), d1 = pt->pos[1] - (int64_t)qibl_load_s32le(pp + 4),
+                      d2 = pt->pos[2] - (int64_t)qibl_load_s32le(pp + 8);
+        /* outside [-(2^31 - 1), 2^31 - 1] */
+        const int32_t r0 = ((uint64_t)(d0 + INT32_MAX) | (uint64_t)(d1 + INT32_MAX) | (uint64_t)(d2 + INT32_MAX)) >
+                           (uint64_t)2 * INT32_MAX;
+        int32_t l0, l1, l2;
+        if (r0)
+            l0 = (int32_t)qibl_asr_s64(d0, 1u), l1 = (int32_t)qibl_asr_s64(d1, 1u), l2 = (int32_t)qibl_asr_s64(d2, 1u);
+        else
+            l0 = (int32_t)d0, l1 = (int32_t)d1, l2 = (int32_t)d2;
+        if ((l0 | l1 | l2) == 0) { /* the light sits on this pixel's surface point */
             out[0] = 0, out[1] = 0, out[2] = 0;
             continue;
         }
-        int32_t u[3], am, ae;
-        poly_dir(l, u, &am, &ae);
+        int32_t u0, u1, u2, am, ae;
+        poly_dir(l0, l1, l2, &u0, &u1, &u2, &am, &ae);
         ae += r0;
         if (ae < pt->clamp_ae || (ae == pt->clamp_ae && am > pt->clamp_am))
             am = pt->clamp_am, ae = pt->clamp_ae; /* closer than min_dist */
@@ -1019,26 +1030,40 @@ static void poly_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uin
             ae = 2 * ae - 47;
         }
         int16_t yv[QIBL_SH_MAX_COUNT];
-        poly_eval(u[0], u[1], u[2], bands, yv);
+        poly_eval(u0, u1, u2, bands, yv);
         const uint32_t x = x0 + px;
         const uint8_t *c0 = il ? row + (size_t)(x / QIBL_SHMAPS_GROUP) * gbytes + x % QIBL_SHMAPS_GROUP : row + px;
-        for (uint32_t ch = 0; ch < 3u; ++ch) {
-            const uint32_t src = m->channels == 3u ? ch : 0u;
-            const uint8_t *c = c0 + src * cs;
-            const int16_t *sn = pt->sn[ch], *bn = pt->bn[ch];
-            int32_t acc = 0, accb = 0;
-            for (uint32_t i = 0; i < k; ++i, c += ms) {
-                acc += qibl_asr_s32(yv[i] * sn[i] + 8192, 14) * (int32_t)c[0];
-                accb += yv[i] * bn[i];
+        int64_t acc3[3] = {0, 0, 0}; /* exact: no shift per product (multiply-accumulates on Cortex-M4) */
+        int32_t accb3[3] = {0, 0, 0};
+        {
+            const size_t c1 = m->channels == 3u ? cs : 0u, c2 = 2u * c1;
+            const uint8_t *c = c0;
+            int64_t a0 = 0, a1 = 0, a2 = 0;
+            int32_t b0 = 0, b1 = 0, b2 = 0;
+            for (uint32_t i = 0; i < k; ++i, c += ms) { /* maps outside, channels inside: Y_i loaded once */
+                const int32_t yi = yv[i];
+                a0 += qibl_mul_s32_s64(yi * pt->sn[0][i], c[0]);
+                b0 += yi * pt->bn[0][i];
+                a1 += qibl_mul_s32_s64(yi * pt->sn[1][i], c[c1]);
+                b1 += yi * pt->bn[1][i];
+                a2 += qibl_mul_s32_s64(yi * pt->sn[2][i], c[c2]);
+                b2 += yi * pt->bn[2][i];
             }
-            const unsigned pd = (unsigned)pt->pd[ch];
-            const int32_t v = acc + qibl_asr_s32(qibl_asr_s32(accb, pd - 1u) + 1, 1);
+            acc3[0] = a0, acc3[1] = a1, acc3[2] = a2, accb3[0] = b0, accb3[1] = b1, accb3[2] = b2;
+        }
+        for (uint32_t ch = 0; ch < 3u; ++ch) {
+            const int64_t acc = acc3[ch];
+            const int32_t accb = accb3[ch];
+            /* V = round((acc + accb 2^(14 - pd)) / 2^14), one multiply-accumulate and one rounding */
+            const int32_t v = (int32_t)qibl_asr_s64(acc + qibl_mul_s32_s64(accb, (int32_t)1 << (14 - pt->pd[ch])) + 8192, 14);
             const int64_t prod = qibl_mul_s32_s64(v, am * pt->c0m[ch]);
             const int32_t sr = ae + pt->pk[ch];
             int32_t o;
-            if (sr >= 33 && sr <= 62) /* the common case, from the high word: floor(floor(p / 2^32) / 2^j) = floor(p / 2^(32 + j)) */
-                o = qibl_asr_s32(qibl_asr_s32((int32_t)qibl_asr_s64(prod, 32u), (unsigned)sr - 33u) + 1, 1);
-            else if (sr > 0)
+            if ((uint32_t)(sr - 33) <= 29u) { /* the common case, from the high word alone: */
+                /* floor((floor(p / 2^32) + 2^j) / 2^(j+1)) = round(p / 2^(33 + j)), |hi| < 2^29 */
+                const unsigned j = (unsigned)sr - 33u;
+                o = qibl_asr_s32((int32_t)qibl_asr_s64(prod, 32u) + ((int32_t)1 << j), j + 1u);
+            } else if (sr > 0)
                 o = sr > 62 ? 0 : qibli_rshr_s64(prod, (unsigned)sr);
             else if (prod > INT32_MAX || prod < INT32_MIN || sr < -30)
                 o = prod > 0 ? INT32_MAX : prod < 0 ? INT32_MIN : 0;
