@@ -138,7 +138,7 @@ static int parse3(char **argv, int i, int argc, double lo, qibl_q16_t v[3])
 }
 
 #define RELIGHT_USAGE                                                                                       \
-    "usage: qibl relight FILE (--sun X Y Z | --point X Y Z) [--rgb R G B] [--lut nearest|bilinear|off]   \
+    "usage: qibl relight FILE (--sun X Y Z | --point X Y Z) [--rgb R G B] [--lut poly|nearest|bilinear|off]\
 [--falloff 1|2] [--exposure E] [--linear] [--gles] (--png OUT | --hdr OUT.hdr | --pfm OUT.pfm)..."
 
 /* the P map's points as doubles (n * 3), for the default lamp colour; NULL when out of memory */
@@ -160,7 +160,8 @@ int qcli_cmd_relight(int argc, char **argv)
 {
     const char *in = NULL, *png = NULL, *hdr = NULL, *pfm = NULL;
     qibl_q16_t sun[3] = {0}, pos[3] = {0}, rgb[3] = {65536, 65536, 65536};
-    int have_sun = 0, have_point = 0, have_rgb = 0, use_lut = 0, nearest = 0, linear = 0;
+    /* poly: the default point mode (QIBL_POINT_POLY, the fastest); off: direct SH in Q2.30 */
+    int have_sun = 0, have_point = 0, have_rgb = 0, use_lut = 0, nearest = 0, linear = 0, poly = 1;
     int gles = 0; /* --gles: platform/gles2 instead of the core + platform/soft (relight_gles.c) */
     long falloff = 1;
     qibl_q16_t exposure = 65536;
@@ -193,16 +194,17 @@ int qcli_cmd_relight(int argc, char **argv)
             /* --lut MODE; a bare --lut (the old on/off switch) is bilinear: the next word is then an
              * option or the asset, never a mode name, so the two spellings cannot be confused */
             const char *m = i + 1 < argc ? argv[i + 1] : "";
-            if (strcmp(m, "nearest") == 0 || strcmp(m, "bilinear") == 0 || strcmp(m, "off") == 0) {
-                use_lut = m[0] != 'o', nearest = m[0] == 'n', ++i;
+            if (strcmp(m, "nearest") == 0 || strcmp(m, "bilinear") == 0 || strcmp(m, "off") == 0 ||
+                strcmp(m, "poly") == 0) {
+                use_lut = m[0] == 'n' || m[0] == 'b', nearest = m[0] == 'n', poly = m[0] == 'p', ++i;
             } else if (m[0] != '-' && m[0] != '\0' && in) {
-                return qcli_usage_error("--lut: '%s' is not a mode (nearest, bilinear or off)", m);
+                return qcli_usage_error("--lut: '%s' is not a mode (poly, nearest, bilinear or off)", m);
             } else {
-                use_lut = 1, nearest = 0;
+                use_lut = 1, nearest = 0, poly = 0;
                 fprintf(stderr, "qibl: note: a bare --lut is deprecated; say --lut bilinear\n");
             }
         } else if (strcmp(a, "--nearest") == 0) {
-            use_lut = 1, nearest = 1;
+            use_lut = 1, nearest = 1, poly = 0;
             fprintf(stderr, "qibl: note: --nearest is deprecated; say --lut nearest\n");
         } else if (strcmp(a, "--linear") == 0)
             linear = 1;
@@ -287,14 +289,14 @@ int qcli_cmd_relight(int argc, char **argv)
         else
             printf("wrote %s (%ux%u, k = %u, GLES2 on %s, %u pass%s)\n", png, w, h, m.k, renderer, passes,
                    passes == 1 ? "" : "es");
-    } else if (qtool_bake_relight8_lin(bytes, n, &l, use_lut ? (nearest ? 2 : 1) : 0, (qibl_uq16_t)exposure, !linear, pix,
+    } else if (qtool_bake_relight8_lin(bytes, n, &l, use_lut ? (nearest ? 2 : 1) : poly ? 3 : 0, (qibl_uq16_t)exposure, !linear, pix,
                                       lin, &ms, &st) != 0) {
         fprintf(stderr, "qibl: relight: %s\n", st == QIBL_E_NULL_POINTER ? "out of memory" : qibl_soft_status_str(st));
         rc = 1;
     } else {
         char err[1200];
         const char *how = have_sun ? "directional" : use_lut ? (nearest ? "point/LUT nearest" : "point/LUT bilinear")
-                                                            : "point/direct";
+                                                            : poly ? "point/poly" : "point/direct";
         if (png && qtool_png_write_rgb8(png, (int)w, (int)h, pix, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
             rc = 1;

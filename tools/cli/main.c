@@ -133,14 +133,15 @@ static const qcli_cmd commands[] = {
      "  table of k, bytes, ms/frame and PSNR with RESULT lines. --small: the CI size.\n",
      qcli_cmd_demo},
     {"relight", "relight an asset with a sun or a point light into a PNG (core kernels + soft framebuffer)",
-     "usage: qibl relight FILE (--sun X Y Z | --point X Y Z) [--rgb R G B] [--lut nearest|bilinear|off]\n"
+     "usage: qibl relight FILE (--sun X Y Z | --point X Y Z) [--rgb R G B] [--lut poly|nearest|bilinear|off]\n"
      "                    [--falloff 1|2] [--exposure E] [--linear] [--gles] [--png OUT] [--hdr OUT.hdr]\n"
      "                    [--pfm OUT.pfm]\n"
      "  --sun: directional light from direction (X, Y, Z), colour --rgb (default 1 1 1).\n"
      "  --point: point light at (X, Y, Z) in scene units, C0 = --rgb (default: 2 d, or 2 d^2 with\n"
      "  --falloff 2, d the median distance from the lamp to the asset's P-map points, with a note);\n"
-     "  per-pixel Y from the asset's cube-map LUT (--lut nearest or bilinear) or the SH polynomials\n"
-     "  (--lut off, the default); --falloff 1 is C0/|L| (Wong et al.), 2 is C0/|L|^2. (The old\n"
+     "  per-pixel Y from the SH polynomials in Q2.14 (--lut poly, the default and the fastest), the\n"
+     "  asset's cube-map LUT (--lut nearest or bilinear) or the Q2.30 SH evaluation (--lut off);\n"
+     "  --falloff 1 is C0/|L| (Wong et al.), 2 is C0/|L|^2. (The old\n"
      "  spellings, a bare --lut for bilinear and --nearest, still work with a deprecation note.)\n"
      "  --png: RGBA8888 with sRGB transfer (or --linear), exposure E (default 1), as an RGB PNG; a\n"
      "  frame whose mean is below 32 of 255 gets a note that it is almost black.\n"
