@@ -717,6 +717,37 @@ static const int16_t poly_rec[15][2] = {
 /* round(v / 2^s), half up, for |v| < 2^31 - 2^(s-1) */
 #define POLY_RS(v, s) qibl_asr_s32((v) + (1 << ((s) - 1)), (s))
 
+#if defined(__OPTIMIZE_SIZE__)
+/* Built for size: the same recurrences as loops (the same integers as the written-out version
+ * below, which the bare-metal Cortex-M0 build at -Os checks against the poly goldens). */
+static void poly_eval(int32_t x, int32_t y, int32_t z, uint32_t bands, int16_t *o)
+{
+    int32_t c = 16384, s = 0; /* T_m, T_-m in Q2.14 */
+    for (uint32_t m = 0; m < bands; ++m) {
+        if (m > 0u) { /* (c + is)(x + iy) */
+            const int32_t c2 = POLY_RS(x * c - y * s, 14);
+            s = POLY_RS(x * s + y * c, 14);
+            c = c2;
+        }
+        int32_t p2 = 0, p1 = poly_rec[m * (m + 1u) / 2u + m][0];
+        for (uint32_t l = m; l < bands; ++l) {
+            if (l > m) {
+                const int16_t *k = poly_rec[l * (l + 1u) / 2u + m];
+                const int32_t p = POLY_RS(POLY_RS(k[0] * z, 14) * p1 - k[1] * p2, 13);
+                p2 = p1;
+                p1 = p;
+            }
+            int16_t *q = o + l * l + l;
+            if (m == 0u) {
+                q[0] = (int16_t)(2 * p1);
+            } else {
+                q[m] = (int16_t)POLY_RS(p1 * c, 13);
+                q[-(int32_t)m] = (int16_t)POLY_RS(p1 * s, 13);
+            }
+        }
+    }
+}
+#else
 /* P(l,m) from P(l-1,m) and P(l-2,m): A z P1 - B P2 (|A z| <= 3 2^13, |A z P1| + |B P2| < 2^30) */
 #define POLY_REC(l, m, p1, p2)                                                                          \
     POLY_RS(POLY_RS(poly_rec[(l) * ((l) + 1) / 2 + (m)][0] * z, 14) * (p1) - poly_rec[(l) * ((l) + 1) / 2 + (m)][1] * (p2), 13)
@@ -763,13 +794,14 @@ static void poly_eval(int32_t x, int32_t y, int32_t z, uint32_t bands, int16_t *
     POLY_PAIR(4, 3, p43);
     POLY_PAIR(4, 4, p44);
 }
+#endif
 
 /* The direction and attenuation of l != 0 (int32 components): l scaled by 2^-sc so that its
  * largest |component| lies in [2^14, 2^15] (exact when scaled up, floored down), d2 = |l|^2 in
  * [2^28, 3 2^30]; 1/sqrt(d2) from the rsqrt seed and one Newton step (relative error <= 2^-17.4,
  * then y16 floored: <= 2^-15). Unit vector u14 (Q2.14, error <= 2 LSB) and 1/|l| = a 2^-ae,
  * a in [2^14, 2^15] (also for the min_dist clamp, so both compare as mantissa and exponent). */
-#if defined(__GNUC__) || defined(__clang__)
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(__OPTIMIZE_SIZE__)
 #define POLY_INLINE __attribute__((always_inline)) inline /* once per pixel: no call, u and a in registers */
 #else
 #define POLY_INLINE inline
