@@ -437,10 +437,50 @@ static void test_point_light_direct_and_lut(void **state)
         }
         free(vals);
     }
+    /* QIBL_POINT_POLY: Q2.14 polynomials (a LUT passed is ignored), both falloffs */
+    double w_poly = 0.0;
+    pl.filter = QIBL_POINT_POLY;
+    check_point(&b.m, &pb.p, NULL, &pl, 2e-4, &w_poly);
+    pl.falloff = QIBL_FALLOFF_INV_DIST;
+    check_point(&b.m, &pb.p, NULL, &pl, 2e-4, &w_poly);
+    pl.filter = QIBL_LUT_BILINEAR;
     printf("shmap: point light, max error / sum|T Y| att C0: direct %.2e, LUT 16^2 %.2e, 32^2 %.2e, 64^2 %.2e, "
-           "64^2 nearest %.2e\n", w_direct, w_lut[0], w_lut[1], w_lut[2], w_near);
+           "64^2 nearest %.2e, poly Q2.14 %.2e\n", w_direct, w_lut[0], w_lut[1], w_lut[2], w_near, w_poly);
     free(pb.bytes);
     maps_free(&b);
+}
+
+/* QIBL_POINT_POLY's prepare-time exponents: bias much larger than scale * 2^13 (scale renormalised),
+ * bias zero or far below the scale (bias renormalised), mixed; k = 25 (the int32 bias-sum bound) */
+static void test_point_poly_exponents(void **state)
+{
+    (void)state;
+    tu_rng r = {49};
+    const int32_t bias_mul[4] = {0, 1, 1 << 14, -128};
+    for (int c = 0; c < 4; ++c) {
+        maps_buf b;
+        maps_make(&b, 24, 3, 25, 3, &r, c == 2 ? 64 : 1 << 16);
+        for (uint32_t i = 0; i < 25u * 3u; ++i) {
+            int32_t sc = (int32_t)(b.params[8u * i] | b.params[8u * i + 1u] << 8 | b.params[8u * i + 2u] << 16 |
+                                   (uint32_t)b.params[8u * i + 3u] << 24);
+            put_s32(b.params + 8u * i + 4u, c == 2 ? (int32_t)(tu_u32(&r) % 2000001u) * 1000 - 1000000000
+                                                   : sc * bias_mul[c] + (c == 3 ? 7 : 0));
+        }
+        pmap_buf pb;
+        pmap_make(&pb, 24, 3, &r);
+        qibl_pointlight_t pl = {{1 << 16, -(2 << 16), 3 << 16}, {3 << 16, 1 << 16, 1 << 14}, QIBL_FALLOFF_INV_DIST,
+                                0, QIBL_POINT_POLY};
+        double worst = 0.0;
+        check_point(&b.m, &pb.p, NULL, &pl, 2e-3, &worst);
+        pl.falloff = QIBL_FALLOFF_INV_DIST2;
+        check_point(&b.m, &pb.p, NULL, &pl, 2e-3, &worst);
+        qibl_shmap_point_t st;
+        assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, NULL, &pl, &st), QIBL_OK);
+        for (int ch = 0; ch < 3; ++ch) /* the documented range of the bias's relative exponent */
+            assert_true(st.pd[ch] >= 1 && st.pd[ch] <= 14);
+        free(pb.bytes);
+        maps_free(&b);
+    }
 }
 
 static void test_point_light_hard_cases(void **state)
@@ -463,8 +503,14 @@ static void test_point_light_hard_cases(void **state)
     check_point(&b.m, &pb.p, NULL, &pl, 4e-4, &worst);
     pl.falloff = QIBL_FALLOFF_INV_DIST2;
     check_point(&b.m, &pb.p, NULL, &pl, 4e-4, &worst);
+    pl.filter = QIBL_POINT_POLY; /* the same cases through the polynomial mode */
+    check_point(&b.m, &pb.p, NULL, &pl, 2e-3, &worst);
+    pl.falloff = QIBL_FALLOFF_INV_DIST;
+    check_point(&b.m, &pb.p, NULL, &pl, 2e-3, &worst);
     /* light far outside: S at INT32_MIN corner */
     pl.pos[0] = INT32_MIN, pl.pos[1] = INT32_MIN, pl.pos[2] = INT32_MAX;
+    check_point(&b.m, &pb.p, NULL, &pl, 2e-3, &worst);
+    pl.filter = QIBL_LUT_BILINEAR;
     check_point(&b.m, &pb.p, NULL, &pl, 4e-4, &worst);
     /* errors */
     size_t wsn = qibl_shmap_point_workspace_size(9, 4);
@@ -737,7 +783,7 @@ static void test_interleaved_equals_planar(void **state)
         qibl_ylut_t lut = {8, k, vals};
         qibl_pointlight_t pl = {{tu_s32(&r) >> 12, tu_s32(&r) >> 12, tu_s32(&r) >> 12}, {2 << 16, 1 << 16, 1 << 15},
                                 (it & 2) ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST, 0,
-                                (it & 4) ? QIBL_LUT_NEAREST : QIBL_LUT_BILINEAR};
+                                (it & 16) ? QIBL_POINT_POLY : (it & 4) ? QIBL_LUT_NEAREST : QIBL_LUT_BILINEAR};
         qibl_shmap_point_t pp, pi;
         const qibl_ylut_t *lp = (it & 8) ? &lut : NULL;
         assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, lp, &pl, &pp), QIBL_OK);
@@ -900,6 +946,7 @@ int main(void)
         cmocka_unit_test(test_relight_errors_write_nothing),
         cmocka_unit_test(test_point_light_direct_and_lut),
         cmocka_unit_test(test_point_light_hard_cases),
+        cmocka_unit_test(test_point_poly_exponents),
         cmocka_unit_test(test_ylut_build_and_lookup),
         cmocka_unit_test(test_interleaved_equals_planar),
         cmocka_unit_test(test_kernel_path_matches_definition),

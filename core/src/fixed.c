@@ -164,8 +164,9 @@ qibl_status_t qibl_vec3_normalize_q30(const int32_t v[3], qibl_q30_t out[3])
 }
 
 /* Seeds for qibl_rsqrt_u64: round(2^34 / sqrt(i + 0.5) / 2^16) for i = 64..255, i.e. 1/sqrt at the
- * middle of each interval of t >> 24, in units of 2^-30 (relative error <= 2^-9). */
-static const uint16_t rsqrt_seed[192] = {
+ * middle of each interval of t >> 24, in units of 2^-30 (relative error <= 2^-9). Also the seed of
+ * the point kernel's one-step rsqrt (shmap.c, QIBL_POINT_POLY). */
+const uint16_t qibli_rsqrt_seed[192] = {
     32641, 32391, 32146, 31907, 31673, 31445, 31221, 31002, 30787, 30577, 30371, 30169,
     29972, 29778, 29587, 29401, 29217, 29038, 28861, 28688, 28518, 28350, 28186, 28024,
     27866, 27709, 27556, 27405, 27256, 27110, 26966, 26825, 26686, 26548, 26413, 26280,
@@ -198,7 +199,7 @@ uint32_t qibl_rsqrt_u64(uint64_t x, unsigned *e)
     if (x < ((uint64_t)1 << 60)) { x <<= 4; sh += 4u; }
     if (x < ((uint64_t)1 << 62)) { x <<= 2; sh += 2u; }
     uint32_t t = (uint32_t)(x >> 32); /* [2^30, 2^32); dropping the low word costs <= 2^-31 */
-    uint32_t y = (uint32_t)rsqrt_seed[(t >> 24) - 64u] << 16; /* ~ 2^46 / sqrt(t) */
+    uint32_t y = (uint32_t)qibli_rsqrt_seed[(t >> 24) - 64u] << 16; /* ~ 2^46 / sqrt(t) */
     for (int it = 0; it < 2; ++it) {
         /* Newton for 1/sqrt: y' = y (3 - t y^2) / 2, with t y^2 = 2^92 at the root */
         uint32_t y2 = (uint32_t)(qibl_mul_u32_u64(y, y) >> 31); /* ~ 2^61 / t, <= 2^31 */

@@ -77,6 +77,9 @@ static inline unsigned qibli_bitlen_u32(uint32_t x)
     return n + x;
 }
 
+/* 1/sqrt seeds (fixed.c): round(2^30 / sqrt((i + 0.5) 2^24)) for i = 64..255, relative error <= 2^-9 */
+extern const uint16_t qibli_rsqrt_seed[192];
+
 /* The out-of-line copies (fixed.c), always defined so objects built with different flags link. */
 unsigned qibli_bitlen_u64_call(uint64_t x);
 int32_t qibli_rshr_s64_call(int64_t x, unsigned n);

@@ -846,6 +846,181 @@ static int32_t norm16(const int32_t *v, uint32_t k, size_t stride, int16_t *out)
     return (int32_t)e;
 }
 
+/* ---- QIBL_POINT_POLY: Y_i in Q2.14 from their polynomials, one-step rsqrt ------------------------
+ * The recurrences of sh.c (see there) with int16 operands: unit vector and T_m in Q2.14, P and the
+ * constants in Q3.13 (|P| <= 2.84, |A| <= 3: int16), every product int16 x int16 in int32, rounded
+ * half up once. Measured against qibl_sh_eval_unit (shmap_test.c): |Y14 - 2^14 Y| <= POLY_Y_TOL. */
+
+/* {A or K, B} in Q3.13 (round half up of sh.c's constants), at index l(l+1)/2 + m, m <= l */
+static const int16_t poly_rec[15][2] = {
+    {2311, 0},      /* l=0 m=0 K  0.282095 */
+    {14189, 0},     /* l=1 m=0 A  1.732051 */
+    {-4003, 0},     /* l=1 m=1 K -0.488603 */
+    {15864, 9159},  /* l=2 m=0 A  1.936492, B 1.118034 */
+    {18318, 0},     /* l=2 m=1 A  2.236068 */
+    {4475, 0},      /* l=2 m=2 K  0.546274 */
+    {16155, 8342},  /* l=3 m=0 A  1.972027, B 1.018350 */
+    {17135, 7663},  /* l=3 m=1 A  2.091650, B 0.935414 */
+    {21674, 0},     /* l=3 m=2 A  2.645751 */
+    {-4834, 0},     /* l=3 m=3 K -0.590044 */
+    {16255, 8243},  /* l=4 m=0 A  1.984313, B 1.006231 */
+    {16789, 8026},  /* l=4 m=1 A  2.049390, B 0.979796 */
+    {18770, 7094},  /* l=4 m=2 A  2.291288, B 0.866025 */
+    {24576, 0},     /* l=4 m=3 A  3.000000 */
+    {5127, 0},      /* l=4 m=4 K  0.625836 */
+};
+
+/* round(v / 2^s), half up, for |v| < 2^31 - 2^(s-1) */
+#define POLY_RS(v, s) qibl_asr_s32((v) + (1 << ((s) - 1)), (s))
+
+#if defined(__OPTIMIZE_SIZE__)
+/* Built for size: the same recurrences as loops (the same integers as the written-out version
+ * below, which the bare-metal Cortex-M0 build at -Os checks against the poly goldens). */
+static void poly_eval(int32_t x, int32_t y, int32_t z, uint32_t bands, int16_t *o)
+{
+    int32_t c = 16384, s = 0; /* T_m, T_-m in Q2.14 */
+    for (uint32_t m = 0; m < bands; ++m) {
+        if (m > 0u) { /* (c + is)(x + iy) */
+            const int32_t c2 = POLY_RS(x * c - y * s, 14);
+            s = POLY_RS(x * s + y * c, 14);
+            c = c2;
+        }
+        int32_t p2 = 0, p1 = poly_rec[m * (m + 1u) / 2u + m][0];
+        for (uint32_t l = m; l < bands; ++l) {
+            if (l > m) {
+                const int16_t *k = poly_rec[l * (l + 1u) / 2u + m];
+                const int32_t p = POLY_RS(POLY_RS(k[0] * z, 14) * p1 - k[1] * p2, 13);
+                p2 = p1;
+                p1 = p;
+            }
+            int16_t *q = o + l * l + l;
+            if (m == 0u) {
+                q[0] = (int16_t)(2 * p1);
+            } else {
+                q[m] = (int16_t)POLY_RS(p1 * c, 13);
+                q[-(int32_t)m] = (int16_t)POLY_RS(p1 * s, 13);
+            }
+        }
+    }
+}
+#else
+/* P(l,m) from P(l-1,m) and P(l-2,m): A z P1 - B P2 (|A z| <= 3 2^13, |A z P1| + |B P2| < 2^30) */
+#define POLY_REC(l, m, p1, p2)                                                                          \
+    POLY_RS(POLY_RS(poly_rec[(l) * ((l) + 1) / 2 + (m)][0] * z, 14) * (p1) - poly_rec[(l) * ((l) + 1) / 2 + (m)][1] * (p2), 13)
+/* Y(l,+-m) = P(l,m) T_+-m (Q3.13 x Q2.14 -> Q2.14) */
+#define POLY_PAIR(l, m, p)                                                                              \
+    (o[(l) * (l) + (l) + (m)] = (int16_t)POLY_RS((p) * c##m, 13), o[(l) * (l) + (l) - (m)] = (int16_t)POLY_RS((p) * s##m, 13))
+
+/* Y_0..Y_{bands^2-1} (Q2.14) of the unit vector (x, y, z) in Q2.14 into o[]: the recurrences of
+ * sh.c written out band by band (constant indices, no loops: about half the instructions) */
+static void poly_eval(int32_t x, int32_t y, int32_t z, uint32_t bands, int16_t *o)
+{
+    const int32_t p00 = poly_rec[0][0];
+    o[0] = (int16_t)(2 * p00); /* Q3.13 -> Q2.14 */
+    if (bands < 2u)
+        return;
+    const int32_t c1 = x, s1 = y; /* T_1 = x + iy */
+    const int32_t p10 = POLY_REC(1, 0, p00, 0), p11 = poly_rec[2][0];
+    o[2] = (int16_t)(2 * p10);
+    POLY_PAIR(1, 1, p11);
+    if (bands < 3u)
+        return;
+    const int32_t c2 = POLY_RS(x * c1 - y * s1, 14), s2 = POLY_RS(x * s1 + y * c1, 14); /* |.| <= 2^28 */
+    const int32_t p20 = POLY_REC(2, 0, p10, p00), p21 = POLY_REC(2, 1, p11, 0), p22 = poly_rec[5][0];
+    o[6] = (int16_t)(2 * p20);
+    POLY_PAIR(2, 1, p21);
+    POLY_PAIR(2, 2, p22);
+    if (bands < 4u)
+        return;
+    const int32_t c3 = POLY_RS(x * c2 - y * s2, 14), s3 = POLY_RS(x * s2 + y * c2, 14);
+    const int32_t p30 = POLY_REC(3, 0, p20, p10), p31 = POLY_REC(3, 1, p21, p11), p32 = POLY_REC(3, 2, p22, 0);
+    const int32_t p33 = poly_rec[9][0];
+    o[12] = (int16_t)(2 * p30);
+    POLY_PAIR(3, 1, p31);
+    POLY_PAIR(3, 2, p32);
+    POLY_PAIR(3, 3, p33);
+    if (bands < 5u)
+        return;
+    const int32_t c4 = POLY_RS(x * c3 - y * s3, 14), s4 = POLY_RS(x * s3 + y * c3, 14);
+    const int32_t p40 = POLY_REC(4, 0, p30, p20), p41 = POLY_REC(4, 1, p31, p21), p42 = POLY_REC(4, 2, p32, p22);
+    const int32_t p43 = POLY_REC(4, 3, p33, 0), p44 = poly_rec[14][0];
+    o[20] = (int16_t)(2 * p40);
+    POLY_PAIR(4, 1, p41);
+    POLY_PAIR(4, 2, p42);
+    POLY_PAIR(4, 3, p43);
+    POLY_PAIR(4, 4, p44);
+}
+#endif
+
+/* The direction and attenuation of l != 0 (int32 components): l scaled by 2^-sc so that its
+ * largest |component| lies in [2^14, 2^15] (exact when scaled up, floored down), d2 = |l|^2 in
+ * [2^28, 3 2^30]; 1/sqrt(d2) from the rsqrt seed and one Newton step (relative error <= 2^-17.4,
+ * then y16 floored: <= 2^-15). Unit vector u14 (Q2.14, error <= 2 LSB) and 1/|l| = a 2^-ae,
+ * a in [2^14, 2^15] (also for the min_dist clamp, so both compare as mantissa and exponent). */
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(__OPTIMIZE_SIZE__)
+#define POLY_INLINE __attribute__((always_inline)) inline /* once per pixel: no call, u and a in registers */
+#else
+#define POLY_INLINE inline
+#endif
+static POLY_INLINE void poly_dir(int32_t l0, int32_t l1, int32_t l2, int32_t *u0, int32_t *u1, int32_t *u2, int32_t *a,
+                                 int32_t *ae)
+{
+    const uint32_t mx = qibli_abs_u32(l0) | qibli_abs_u32(l1) | qibli_abs_u32(l2);
+#if defined(__GNUC__) && (defined(__ARM_FEATURE_CLZ) || defined(__x86_64__) || defined(__aarch64__))
+    const int32_t sc = 17 - __builtin_clz(mx); /* top bit of mx to bit 14 (one instruction, same value) */
+#else
+    const int32_t sc = (int32_t)qibli_bitlen_u32(mx) - 15; /* top bit of mx to bit 14 */
+#endif
+    uint32_t v0, v1, v2; /* |l| 2^-sc, <= 2^15 (written out: loops over arrays stayed loops on Cortex-M4) */
+    if (sc >= 0) {
+        v0 = qibli_abs_u32(qibl_asr_s32(l0, (unsigned)sc));
+        v1 = qibli_abs_u32(qibl_asr_s32(l1, (unsigned)sc));
+        v2 = qibli_abs_u32(qibl_asr_s32(l2, (unsigned)sc));
+    } else {
+        const unsigned ls = (unsigned)-sc;
+        v0 = qibli_abs_u32(l0) << ls, v1 = qibli_abs_u32(l1) << ls, v2 = qibli_abs_u32(l2) << ls;
+    }
+    const uint32_t d2 = v0 * v0 + v1 * v1 + v2 * v2; /* in [2^28, 3 2^30]: no wrap */
+    const unsigned h = d2 < (1u << 30) ? 1u : 0u;    /* t = d2 4^h in [2^30, 2^32) */
+    const uint32_t t = d2 << (2u * h);
+    const uint32_t y0 = qibli_rsqrt_seed[(t >> 24) - 64u];                         /* ~ 2^30 / sqrt(t), < 2^15 */
+    const uint32_t hh = (uint32_t)(qibl_mul_u32_u64(y0 * y0, t) >> 32);            /* ~ 2^28 */
+    const uint32_t y16 = (uint32_t)(qibl_mul_u32_u64(y0, 0x30000000u - hh) >> 28); /* ~ 2^31 / sqrt(t) */
+    /* u = v / sqrt(d2) = v y16 2^(h - 31) in Q2.14; v y16 <= 2^31 and the rounding term fit */
+    const unsigned r = 17u - h;
+    const uint32_t half = 1u << (r - 1u);
+    uint32_t q0 = (v0 * y16 + half) >> r, q1 = (v1 * y16 + half) >> r, q2 = (v2 * y16 + half) >> r;
+    q0 = q0 > 16384u ? 16384u : q0, q1 = q1 > 16384u ? 16384u : q1, q2 = q2 > 16384u ? 16384u : q2;
+    *u0 = l0 < 0 ? -(int32_t)q0 : (int32_t)q0;
+    *u1 = l1 < 0 ? -(int32_t)q1 : (int32_t)q1;
+    *u2 = l2 < 0 ? -(int32_t)q2 : (int32_t)q2;
+    /* 1/|l| = 2^-sc / sqrt(d2) = (y16 / 2) 2^(h - 30 - sc) */
+    *a = (int32_t)(y16 >> 1);
+    *ae = 30 - (int32_t)h + sc;
+}
+
+/* the smallest e >= 0 with every |round(v / 2^e)| <= lim */
+static int32_t norm_lim(const int32_t *v, uint32_t k, uint32_t lim)
+{
+    uint32_t mx = 0u;
+    for (uint32_t i = 0; i < k; ++i) {
+        uint32_t a = qibli_abs_u32(v[i]);
+        mx = a > mx ? a : mx;
+    }
+    unsigned e = 0u;
+    while (((mx + (e ? 1u << (e - 1u) : 0u)) >> e) > lim)
+        ++e;
+    return (int32_t)e;
+}
+
+/* v / 2^e as int16 for a given e at least norm16's (so no value exceeds 32767) */
+static int32_t norm16_at(const int32_t *v, uint32_t k, int32_t e, int16_t *out)
+{
+    for (uint32_t i = 0; i < k; ++i)
+        out[i] = (int16_t)(e ? qibli_rshr_s64(v[i], (unsigned)e) : v[i]);
+    return e;
+}
+
 qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t *p, const qibl_ylut_t *lut,
                                        const qibl_pointlight_t *light, qibl_shmap_point_t *out)
 {
@@ -860,8 +1035,9 @@ qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t
         return QIBL_E_SHMAP_MISMATCH;
     if (light->rgb[0] < 0 || light->rgb[1] < 0 || light->rgb[2] < 0 || light->min_dist < 0 ||
         (light->falloff != QIBL_FALLOFF_INV_DIST && light->falloff != QIBL_FALLOFF_INV_DIST2) ||
-        (light->filter != QIBL_LUT_BILINEAR && light->filter != QIBL_LUT_NEAREST))
+        (light->filter != QIBL_LUT_BILINEAR && light->filter != QIBL_LUT_NEAREST && light->filter != QIBL_POINT_POLY))
         return QIBL_E_SHMAP_LIGHT;
+    const int poly = light->filter == QIBL_POINT_POLY;
     /* built in place (nothing below can fail): a struct copy would be a memcpy call */
     for (uint32_t ch = 0; ch < 3u; ++ch) {
         uint32_t src = m->channels == 3u ? ch : 0u;
@@ -874,7 +1050,27 @@ qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t
             out->sn[ch][i] = 0, out->bn[ch][i] = 0;
         out->es[ch] = norm16(sv, m->k, 1u, out->sn[ch]);
         out->eb[ch] = norm16(bv, m->k, 1u, out->bn[ch]);
+        out->pd[ch] = 0;
+        if (poly) {
+            /* bias factors to 14 bits, so sum_i Y_i bn_i is exact in int32: sum_i |Y_i| <= k / sqrt(4 pi)
+             * (|Y|_2^2 = k / (4 pi)), so |sum| <= 25 * 4622 * 16383 < 1.9 2^30 */
+            if (norm_lim(bv, m->k, 16383u) > out->eb[ch])
+                out->eb[ch] = norm16_at(bv, m->k, out->eb[ch] + 1, out->bn[ch]);
+            /* V = (acc + accb 2^(14 - pd)) / 2^14 in units of 2^es, pd = es + 14 - eb >= 1: |V| < 2^28 + 2^30 */
+            if (out->es[ch] < out->eb[ch] - 13)
+                out->es[ch] = norm16_at(sv, m->k, out->eb[ch] - 13, out->sn[ch]);
+            /* and pd <= 14: a bias below the scale term's size keeps the scale's unit */
+            if (out->eb[ch] < out->es[ch])
+                out->eb[ch] = norm16_at(bv, m->k, out->es[ch], out->bn[ch]);
+            out->pd[ch] = out->es[ch] + 14 - out->eb[ch];
+        }
+        /* C0 = c0m 2^ce, c0m <= 2^15 (floored) */
+        const uint32_t c0 = (uint32_t)light->rgb[ch];
+        const int32_t ce = (int32_t)qibli_bitlen_u32(c0) > 15 ? (int32_t)qibli_bitlen_u32(c0) - 15 : 0;
+        out->c0m[ch] = (int32_t)(c0 >> ce);
+        out->pk[ch] = 24 - out->es[ch] - ce;
     }
+    out->method = poly ? 1u : 0u;
     out->maps = m;
     out->pmap = p;
     out->lut = lut;
@@ -887,6 +1083,8 @@ qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t
     uint32_t md = light->min_dist > 0 ? (uint32_t)light->min_dist : 256u; /* default 1/256 unit */
     out->min_d2 = qibl_mul_u32_u64(md, md);
     out->clamp_y = qibl_rsqrt_u64(out->min_d2, &out->clamp_e);
+    int32_t u0, u1, u2;
+    poly_dir((int32_t)md, 0, 0, &u0, &u1, &u2, &out->clamp_am, &out->clamp_ae);
     out->bands = (uint32_t)bands_for(m->k);
     return QIBL_OK;
 }
@@ -972,6 +1170,98 @@ static void point_interleaved(const qibl_shmaps_t *m, const qibl_shmap_point_t *
 }
 #endif /* QIBL_USE_INTERLEAVED */
 
+/* QIBL_POINT_POLY, pixel by pixel (no workspace traffic: Y and the sums stay in registers or on
+ * the stack; the order of exact integer sums does not change them). Per pixel: l = S - P, Y_i in
+ * Q2.14 and the attenuation a 2^-ae (poly_dir, poly_eval); per channel
+ *   acc  = sum_i Y_i sn_i c_i (exact, int64)     |acc| < 25 * 14746 * 32767 * 255 < 2^42
+ *   accb = sum_i Y_i bn_i (exact)               |accb| < 1.9 2^30 (prepare)
+ *   V = round((acc + accb 2^(14 - pd)) / 2^14)   1 <= pd <= 14, |V| < 2^28 + 2^30, units 2^(es - 24)
+ *   out = round(V g / 2^(ae + pk)), g = am c0m <= 2^30, saturated to int32. */
+static void poly_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out)
+{
+    const qibl_shmaps_t *m = pt->maps;
+    const uint32_t k = m->k, bands = pt->bands;
+    const size_t off = (size_t)y * m->width + x0;
+    const uint8_t *pp = pt->pmap->points + off * 12u;
+    const int il = QIBL_USE_INTERLEAVED && m->layout == QIBL_SHMAPS_INTERLEAVED;
+    /* map stride and the pixel's first byte per channel: planar planes (i channels + ch) W H apart,
+     * interleaved 16 bytes apart inside the pixel's group */
+    const size_t ms = il ? QIBL_SHMAPS_GROUP : (size_t)m->channels * m->width * m->height;
+    const size_t cs = il ? (size_t)QIBL_SHMAPS_GROUP * k : (size_t)m->width * m->height;
+    const size_t gbytes = (size_t)QIBL_SHMAPS_GROUP * k * m->channels;
+    const uint8_t *row = m->planes + (il ? (size_t)y * qibl_shmaps_row_size(m) : off);
+    for (uint32_t px = 0; px < n; ++px, pp += 12, out += 3) {
+        /* L = S - P, halved once if it needs 33 bits (r0 = 1) */
+        const int64_t d0 = pt->pos[0] - (int64_t)qibl_load_s32le(pp), d1 = pt->pos[1] - (int64_t)qibl_load_s32le(pp + 4),
+                      d2 = pt->pos[2] - (int64_t)qibl_load_s32le(pp + 8);
+        /* outside [-(2^31 - 1), 2^31 - 1] */
+        const int32_t r0 = ((uint64_t)(d0 + INT32_MAX) | (uint64_t)(d1 + INT32_MAX) | (uint64_t)(d2 + INT32_MAX)) >
+                           (uint64_t)2 * INT32_MAX;
+        int32_t l0, l1, l2;
+        if (r0)
+            l0 = (int32_t)qibl_asr_s64(d0, 1u), l1 = (int32_t)qibl_asr_s64(d1, 1u), l2 = (int32_t)qibl_asr_s64(d2, 1u);
+        else
+            l0 = (int32_t)d0, l1 = (int32_t)d1, l2 = (int32_t)d2;
+        if ((l0 | l1 | l2) == 0) { /* the light sits on this pixel's surface point */
+            out[0] = 0, out[1] = 0, out[2] = 0;
+            continue;
+        }
+        int32_t u0, u1, u2, am, ae;
+        poly_dir(l0, l1, l2, &u0, &u1, &u2, &am, &ae);
+        ae += r0;
+        if (ae < pt->clamp_ae || (ae == pt->clamp_ae && am > pt->clamp_am))
+            am = pt->clamp_am, ae = pt->clamp_ae; /* closer than min_dist */
+        if (pt->falloff == QIBL_FALLOFF_INV_DIST) { /* 1/D = am 2^(16 - ae) */
+            ae -= 16;
+        } else { /* 1/D^2 = (am^2 / 2^15) 2^(15 - 2 (ae - 16)) */
+            am = (int32_t)(((uint32_t)am * (uint32_t)am) >> 15);
+            ae = 2 * ae - 47;
+        }
+        int16_t yv[QIBL_SH_MAX_COUNT];
+        poly_eval(u0, u1, u2, bands, yv);
+        const uint32_t x = x0 + px;
+        const uint8_t *c0 = il ? row + (size_t)(x / QIBL_SHMAPS_GROUP) * gbytes + x % QIBL_SHMAPS_GROUP : row + px;
+        int64_t acc3[3] = {0, 0, 0}; /* exact: no shift per product (multiply-accumulates on Cortex-M4) */
+        int32_t accb3[3] = {0, 0, 0};
+        {
+            const size_t c1 = m->channels == 3u ? cs : 0u, c2 = 2u * c1;
+            const uint8_t *c = c0;
+            int64_t a0 = 0, a1 = 0, a2 = 0;
+            int32_t b0 = 0, b1 = 0, b2 = 0;
+            for (uint32_t i = 0; i < k; ++i, c += ms) { /* maps outside, channels inside: Y_i loaded once */
+                const int32_t yi = yv[i];
+                a0 += qibl_mul_s32_s64(yi * pt->sn[0][i], c[0]);
+                b0 += yi * pt->bn[0][i];
+                a1 += qibl_mul_s32_s64(yi * pt->sn[1][i], c[c1]);
+                b1 += yi * pt->bn[1][i];
+                a2 += qibl_mul_s32_s64(yi * pt->sn[2][i], c[c2]);
+                b2 += yi * pt->bn[2][i];
+            }
+            acc3[0] = a0, acc3[1] = a1, acc3[2] = a2, accb3[0] = b0, accb3[1] = b1, accb3[2] = b2;
+        }
+        for (uint32_t ch = 0; ch < 3u; ++ch) {
+            const int64_t acc = acc3[ch];
+            const int32_t accb = accb3[ch];
+            /* V = round((acc + accb 2^(14 - pd)) / 2^14), one multiply-accumulate and one rounding */
+            const int32_t v = (int32_t)qibl_asr_s64(acc + qibl_mul_s32_s64(accb, (int32_t)1 << (14 - pt->pd[ch])) + 8192, 14);
+            const int64_t prod = qibl_mul_s32_s64(v, am * pt->c0m[ch]);
+            const int32_t sr = ae + pt->pk[ch];
+            int32_t o;
+            if ((uint32_t)(sr - 33) <= 29u) { /* the common case, from the high word alone: */
+                /* floor((floor(p / 2^32) + 2^j) / 2^(j+1)) = round(p / 2^(33 + j)), |hi| < 2^29 */
+                const unsigned j = (unsigned)sr - 33u;
+                o = qibl_asr_s32((int32_t)qibl_asr_s64(prod, 32u) + ((int32_t)1 << j), j + 1u);
+            } else if (sr > 0)
+                o = sr > 62 ? 0 : qibli_rshr_s64(prod, (unsigned)sr);
+            else if (prod > INT32_MAX || prod < INT32_MIN || sr < -30)
+                o = prod > 0 ? INT32_MAX : prod < 0 ? INT32_MIN : 0;
+            else
+                o = qibl_sat_s32(qibl_mul_s32_s64((int32_t)prod, (int32_t)1 << -sr));
+            out[ch] = o;
+        }
+    }
+}
+
 qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out,
                                     void *ws, size_t ws_size)
 {
@@ -989,6 +1279,10 @@ qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, u
     const size_t off = (size_t)y * m->width + x0;
     const uint8_t *pp = pt->pmap->points + off * 12u;
 
+    if (pt->method == 1u) { /* QIBL_POINT_POLY */
+        poly_span(pt, x0, y, n, out);
+        return QIBL_OK;
+    }
     /* Phase A, per pixel: direction, Y_i, attenuation as attm / 2^atte (in 2^16 / scene unit) */
     for (uint32_t px = 0; px < n; ++px, pp += 12) {
         int64_t l64[3];

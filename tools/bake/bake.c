@@ -719,7 +719,7 @@ int qtool_bake_relight8_lin(const uint8_t *asset, size_t n, const qtool_rt_light
         st = l->point && lut_mode >= 0 ? qibl_asset_point_shmaps(&a, &m) : qibl_asset_shmaps(&a, &m);
     if (st == QIBL_OK && l->point)
         st = qibl_asset_pmap(&a, &pm);
-    if (st == QIBL_OK && l->point && lut_mode)
+    if (st == QIBL_OK && l->point && (lut_mode == 1 || lut_mode == 2))
         st = qibl_asset_ylut(&a, &lut);
     if (status)
         *status = st;
@@ -761,9 +761,9 @@ int qtool_bake_relight8_lin(const uint8_t *asset, size_t n, const qtool_rt_light
     } else {
         qibl_pointlight_t pl = {{q16(l->pos[0]), q16(l->pos[1]), q16(l->pos[2])}, {rgb[0], rgb[1], rgb[2]},
                                 l->falloff == 2 ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST, 0,
-                                lut_mode == 2 ? QIBL_LUT_NEAREST : QIBL_LUT_BILINEAR};
+                                lut_mode == 2 ? QIBL_LUT_NEAREST : lut_mode == 3 ? QIBL_POINT_POLY : QIBL_LUT_BILINEAR};
         qibl_shmap_point_t pt;
-        st = qibl_shmap_point_prepare(&m, &pm, lut_mode ? &lut : NULL, &pl, &pt);
+        st = qibl_shmap_point_prepare(&m, &pm, lut_mode == 1 || lut_mode == 2 ? &lut : NULL, &pl, &pt);
         for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {
             st = qibl_shmap_point_span(&pt, 0, y, w, row, ws, wsn);
             if (st == QIBL_OK)

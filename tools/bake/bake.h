@@ -103,7 +103,8 @@ int qtool_bake_truth8(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pan
 /* A linear frame (3 doubles per pixel) as the truth's 8-bit sRGB (platform/soft, exposure 1). */
 void qtool_bake_lin_to8(const double *lin, uint32_t w, uint32_t h, uint8_t *rgb8);
 /* use_lut: point lights use the asset's YLUT (bilinear). 0 or -1 (bad asset / core error). */
-/* The same with every option: lut_mode 0 direct SH, 1 LUT bilinear, 2 LUT nearest; exposure UQ16.16
+/* The same with every option: lut_mode 0 direct SH, 1 LUT bilinear, 2 LUT nearest, 3 QIBL_POINT_POLY
+ * (Q2.14 polynomials, no LUT); exposure UQ16.16
  * (0 = 1.0); srgb 0 = linear output. *status (may be NULL) gets the core's status on failure
  * (QIBL_E_NULL_POINTER stands for out of memory). rgb8 holds width * height * 3 bytes. */
 int qtool_bake_relight8_ex(const uint8_t *asset, size_t n, const qtool_rt_light *l, int lut_mode, qibl_uq16_t exposure,

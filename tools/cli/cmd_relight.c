@@ -126,7 +126,7 @@ done:
 #define RELIGHT_USAGE                                                                                       \
     "usage: qibl relight FILE [--sun X Y Z [--rgb R G B]]... [--point X Y Z [--rgb R G B]]... [--lights FILE.csv] \
 [--probe PROBE.hdr [--layout L] [--probe-mode sh|lights|sunsky] [-n N] [--yaw DEG | --rotate a,b,c,d,e,f,g,h,i]] \
-[--lut nearest|bilinear|off] [--falloff 1|2] [--exposure E] [--linear] [--gles] (--png OUT | --hdr OUT.hdr | --pfm OUT.pfm)..."
+[--lut poly|nearest|bilinear|off] [--falloff 1|2] [--exposure E] [--linear] [--gles] (--png OUT | --hdr OUT.hdr | --pfm OUT.pfm)..."
 
 /* the P map's points as doubles (n * 3), for the default lamp colour; NULL when out of memory */
 static double *pmap_points(const qibl_pmap_t *pm)
@@ -153,7 +153,10 @@ static void describe(const qcli_light_list *ll, int lut_mode, char *buf, size_t 
     if (ll->points && o < n)
         o += (size_t)snprintf(buf + o, n - o, "%s%u point%s (%s)", o ? ", " : "", ll->points,
                               ll->points == 1 ? "" : "s",
-                              lut_mode == 2 ? "point/LUT nearest" : lut_mode == 1 ? "point/LUT bilinear" : "point/direct");
+                              lut_mode == 2   ? "point/LUT nearest"
+                              : lut_mode == 1 ? "point/LUT bilinear"
+                              : lut_mode == 3 ? "point/poly"
+                                              : "point/direct");
     if (ll->csv && o < n)
         o += (size_t)snprintf(buf + o, n - o, "%s%s", o ? ", " : "", ll->csv);
     if (ll->probe && o < n)
@@ -164,7 +167,8 @@ static void describe(const qcli_light_list *ll, int lut_mode, char *buf, size_t 
 int qcli_cmd_relight(int argc, char **argv)
 {
     const char *in = NULL, *png = NULL, *hdr = NULL, *pfm = NULL;
-    int use_lut = 0, nearest = 0, linear = 0, r;
+    /* poly: the default point mode (QIBL_POINT_POLY, the fastest); off: direct SH in Q2.30 */
+    int use_lut = 0, nearest = 0, linear = 0, poly = 1, r;
     int gles = 0; /* --gles: platform/gles2 instead of the core + platform/soft (relight_gles.c) */
     long falloff = 1;
     qibl_q16_t exposure = 65536;
@@ -187,16 +191,17 @@ int qcli_cmd_relight(int argc, char **argv)
             /* --lut MODE; a bare --lut (the old on/off switch) is bilinear: the next word is then an
              * option or the asset, never a mode name, so the two spellings cannot be confused */
             const char *m = i + 1 < argc ? argv[i + 1] : "";
-            if (strcmp(m, "nearest") == 0 || strcmp(m, "bilinear") == 0 || strcmp(m, "off") == 0) {
-                use_lut = m[0] != 'o', nearest = m[0] == 'n', ++i;
+            if (strcmp(m, "nearest") == 0 || strcmp(m, "bilinear") == 0 || strcmp(m, "off") == 0 ||
+                strcmp(m, "poly") == 0) {
+                use_lut = m[0] == 'n' || m[0] == 'b', nearest = m[0] == 'n', poly = m[0] == 'p', ++i;
             } else if (m[0] != '-' && m[0] != '\0' && in) {
-                return qcli_usage_error("--lut: '%s' is not a mode (nearest, bilinear or off)", m);
+                return qcli_usage_error("--lut: '%s' is not a mode (poly, nearest, bilinear or off)", m);
             } else {
-                use_lut = 1, nearest = 0;
+                use_lut = 1, nearest = 0, poly = 0;
                 fprintf(stderr, "qibl: note: a bare --lut is deprecated; say --lut bilinear\n");
             }
         } else if (strcmp(a, "--nearest") == 0) {
-            use_lut = 1, nearest = 1;
+            use_lut = 1, nearest = 1, poly = 0;
             fprintf(stderr, "qibl: note: --nearest is deprecated; say --lut nearest\n");
         } else if (strcmp(a, "--linear") == 0)
             linear = 1;
@@ -280,7 +285,8 @@ int qcli_cmd_relight(int argc, char **argv)
         }
         qibl_pointlight_t pl = {{s->v[0], s->v[1], s->v[2]}, {s->rgb[0], s->rgb[1], s->rgb[2]},
                                 falloff == 2 ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST, 0,
-                                nearest ? QIBL_LUT_NEAREST : QIBL_LUT_BILINEAR};
+                                use_lut ? (nearest ? QIBL_LUT_NEAREST : QIBL_LUT_BILINEAR)
+                                        : poly ? QIBL_POINT_POLY : QIBL_LUT_BILINEAR};
         pts[npts++] = pl;
     }
     free(pmp);
@@ -317,7 +323,7 @@ int qcli_cmd_relight(int argc, char **argv)
         rc = 1;
     } else {
         char err[1200], how[600];
-        describe(&ll, use_lut ? (nearest ? 2 : 1) : 0, how, sizeof how);
+        describe(&ll, use_lut ? (nearest ? 2 : 1) : poly ? 3 : 0, how, sizeof how);
         if (png && qtool_png_write_rgb8(png, (int)w, (int)h, pix, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
             rc = 1;

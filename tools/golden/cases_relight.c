@@ -1,6 +1,6 @@
 /*
  * golden/cases_relight.c - relight_*: fixed 8-bit SH maps and a P map, relit by directional and
- * point lights (direct SH, cube-map LUT bilinear and nearest, both falloffs), written into every
+ * point lights (direct SH, cube-map LUT bilinear and nearest, Q2.14 polynomials, both falloffs), written into every
  * framebuffer format of platform/soft. Moved here from tests/shmap_test.c (same data, same hashes).
  * relight_il_*: the same maps in the interleaved layout (shmaps.h) through the same calls; their
  * fixtures/golden files hold the planar cases' hashes, so the runner proves both layouts give the
@@ -194,19 +194,19 @@ int qtool_goldens_relight(const qtool_goldens_sink_t *s)
             st = qibl_shmap_weights(&g.m, &l, &dc.w);
         snprintf(prefix, sizeof prefix, "%sdir_k%u", lay, k);
         bad += st == QIBL_OK ? emit_formats(s, prefix, dir_row, &dc) : gcase_status_error(s, prefix, "weights", st);
-        /* point light: direct SH, LUT bilinear, LUT nearest; both falloffs */
+        /* point light: direct SH, LUT bilinear, LUT nearest, Q2.14 polynomials; both falloffs */
         size_t vs = qibl_ylut_values_size(16, k);
         uint8_t *vals = malloc(vs);
         st = vals ? qibl_ylut_build(16, k, vals, vs) : QIBL_E_WORKSPACE;
         qibl_ylut_t lut = {16, k, vals};
-        const char *modes[3] = {"direct", "lut16", "lut16_nearest"};
-        for (int mode = 0; mode < 3; ++mode) {
+        const char *modes[5] = {"direct", "lut16", "lut16_nearest", "poly", "poly_d2"};
+        for (int mode = 0; mode < 5; ++mode) {
             point_ctx pc;
             qibl_pointlight_t pl = {{30000, -90000, 20000}, {200000, 160000, 120000},
-                                    mode == 1 ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST, 0,
-                                    mode == 2 ? QIBL_LUT_NEAREST : QIBL_LUT_BILINEAR};
+                                    mode == 1 || mode == 4 ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST, 0,
+                                    mode == 2 ? QIBL_LUT_NEAREST : mode >= 3 ? QIBL_POINT_POLY : QIBL_LUT_BILINEAR};
             snprintf(prefix, sizeof prefix, "%spoint_k%u_%s", lay, k, modes[mode]);
-            qibl_status_t pst = st == QIBL_OK ? qibl_shmap_point_prepare(&g.m, &g.p, mode ? &lut : NULL, &pl, &pc.st) : st;
+            qibl_status_t pst = st == QIBL_OK ? qibl_shmap_point_prepare(&g.m, &g.p, mode == 1 || mode == 2 ? &lut : NULL, &pl, &pc.st) : st;
             bad += pst == QIBL_OK ? emit_formats(s, prefix, point_row, &pc)
                                   : gcase_status_error(s, prefix, "ylut_build / point_prepare", pst);
         }
