@@ -7,6 +7,9 @@
  * refused payload leaves the view untouched and gets a light-path status; an accepted one gives, for
  * every row, visibilities in 0..65536 (exactly 0 or 65536 for a hard light), shading that is 0 where
  * the visibility is 0 and the light where it is 65536, and key interpolation that succeeds.
+ * The same bytes also go to the lamp-occlusion parser (LOCC, qibl_lightpath_occl_parse): refused
+ * leaves the view untouched with a light-path status; accepted, every row's scaled values keep their
+ * sign and never grow in magnitude.
  */
 #include <stdint.h>
 #include <stdlib.h>
@@ -21,6 +24,25 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (size < 4)
         return 0;
     uint32_t t = (uint32_t)data[0] | (uint32_t)data[1] << 8, radius = ((uint32_t)data[2] | (uint32_t)data[3] << 8) & 32767u;
+    {
+        qibl_lampocc_t o, ou;
+        memset(&o, 0x5A, sizeof o);
+        memcpy(&ou, &o, sizeof o);
+        qibl_status_t so = qibl_lightpath_occl_parse(data + 4, size - 4, &o);
+        if (so != QIBL_OK && (memcmp(&o, &ou, sizeof o) != 0 || so < QIBL_E_LIGHTPATH_SIZE || so > QIBL_E_LIGHTPATH_EDGES))
+            abort();
+        for (uint32_t y = 0; so == QIBL_OK && y < o.height && y < 64u; ++y) {
+            uint32_t n = o.width < 256u ? o.width : 256u;
+            int32_t io[768], ref[768];
+            for (uint32_t i = 0; i < 3u * n; ++i)
+                io[i] = ref[i] = (int32_t)(i * 2654435761u ^ t) - (int32_t)(i & 1u ? 0x7FFFFFFF : 0);
+            if (qibl_lightpath_occl_span(&o, o.width - n, y, n, io) != QIBL_OK)
+                abort();
+            for (uint32_t i = 0; i < 3u * n; ++i)
+                if ((ref[i] >= 0 ? io[i] < 0 || io[i] > ref[i] : io[i] > 0 || io[i] < ref[i]))
+                    abort();
+        }
+    }
     qibl_lightpath_t p, untouched;
     memset(&p, 0x5A, sizeof p);
     memcpy(&untouched, &p, sizeof p);

@@ -12,6 +12,7 @@
 #include "bake/path.h"
 #include "io/png.h"
 #include "qibl/asset.h"
+#include "qibl/lightpath.h"
 #include "cli/cli.h"
 #include "ref/psnr.h"
 #include "render/rt.h"
@@ -20,11 +21,11 @@ enum { NPOS = 16, NCLS = 4 };
 
 typedef struct {
     const char *name;
-    double bytes_px, ms, psnr, psnr_cls[NCLS], share_cls[NCLS], bright;
+    double bytes_px, ms, psnr, psnr_cls[NCLS], share_cls[NCLS], bright, excess_cls[NCLS];
 } row_stats;
 
 typedef struct {
-    double se_cls[NCLS], n_cls[NCLS], lin_relit, lin_truth, ms[NPOS];
+    double se_cls[NCLS], n_cls[NCLS], ms[NPOS], lr_cls[NCLS], lt_cls[NCLS];
     int frames;
 } acc_t;
 
@@ -43,8 +44,8 @@ static void acc_frame(acc_t *a, const uint8_t *relit, const uint8_t *truth, cons
         for (int c = 0; c < 3; ++c) {
             double d = (double)relit[3 * i + (size_t)c] - truth[3 * i + (size_t)c];
             a->se_cls[cls[i]] += d * d;
-            a->lin_relit += lut[relit[3 * i + (size_t)c]];
-            a->lin_truth += lut[truth[3 * i + (size_t)c]];
+            a->lr_cls[cls[i]] += lut[relit[3 * i + (size_t)c]];
+            a->lt_cls[cls[i]] += lut[truth[3 * i + (size_t)c]];
         }
         a->n_cls[cls[i]] += 3;
     }
@@ -63,7 +64,13 @@ static void finish(const acc_t *a, const char *name, double bytes_px, row_stats 
         r->psnr_cls[c] = a->n_cls[c] > 0 ? qtool_ref_psnr8(a->se_cls[c] / a->n_cls[c]) : 0;
         r->share_cls[c] = se > 0 ? 100 * a->se_cls[c] / se : 0;
     }
-    r->bright = a->lin_truth > 0 ? a->lin_relit / a->lin_truth : 0;
+    double lr = 0, lt = 0;
+    for (int c = 1; c < NCLS; ++c)
+        lr += a->lr_cls[c], lt += a->lt_cls[c];
+    r->bright = lt > 0 ? lr / lt : 0;
+    /* where the brightness error sits: each class's (relit - truth) as a share of the truth's total */
+    for (int c = 1; c < NCLS; ++c)
+        r->excess_cls[c] = lt > 0 ? (a->lr_cls[c] - a->lt_cls[c]) / lt : 0;
     double ms[NPOS];
     memcpy(ms, a->ms, sizeof(double) * (size_t)a->frames);
     r->ms = qcli_median(ms, a->frames);
@@ -74,6 +81,13 @@ static void print_row(const row_stats *r)
     printf("| %-44s | %8.1f | %8.3f | %7.2f | %6.2f (%4.1f%%) | %6.2f (%4.1f%%) | %6.2f (%4.1f%%) | %5.3f |\n", r->name,
            r->bytes_px, r->ms, r->psnr, r->psnr_cls[1], r->share_cls[1], r->psnr_cls[2], r->share_cls[2],
            r->psnr_cls[3], r->share_cls[3], r->bright);
+}
+
+/* the brightness error split by pixel class: (relit - truth) per class over the truth's whole sum */
+static void print_split(const row_stats *r)
+{
+    printf("| %-44s | %5.3f | %+7.4f | %+7.4f | %+7.4f |\n", r->name, r->bright, r->excess_cls[1], r->excess_cls[2],
+           r->excess_cls[3]);
 }
 
 static void heat(const uint8_t *a, const uint8_t *b, const uint8_t *cls, size_t np, uint8_t *out)
@@ -126,8 +140,8 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
 
     qtool_bake_sums us;
     qtool_gen_maps msh = {0}, mu9 = {0}, mu16 = {0};
-    uint8_t *lp[3] = {NULL, NULL, NULL}, *asset9 = NULL, *asset16 = NULL;
-    size_t lpn[2] = {0, 0}, n9 = 0, n16 = 0;
+    uint8_t *lp[3] = {NULL, NULL, NULL}, *asset9 = NULL, *asset16 = NULL, *asset9o = NULL, *asset16o = NULL;
+    size_t lpn[2] = {0, 0}, n9 = 0, n16 = 0, n9o = 0, n16o = 0;
     uint8_t *truth = malloc(np * 3 * NPOS * 2), *cls = malloc(np * NPOS * 2), *tmp = malloc(np * 3);
     uint8_t *keep[4] = {malloc(np * 3), malloc(np * 3), malloc(np * 3), malloc(np * 3)};
     double st_sun[2], st_trk[2];
@@ -147,6 +161,23 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
     }
     double bake_s = qcli_now() - t0;
 
+    /* lamp occlusion for free lamps: the region lamps move in is the track's bounding box grown by
+     * half a unit (a designer's box, not the track: the 16 free positions are not sampled) */
+    uint8_t *occ = malloc(np), *occp = NULL;
+    size_t occn = 0;
+    double box[6] = {1e30, 1e30, 1e30, -1e30, -1e30, -1e30};
+    for (int i = 0; i < track.npts; ++i)
+        for (int c = 0; c < 3; ++c)
+            box[c] = fmin(box[c], track.pts[i][c] - 0.5), box[3 + c] = fmax(box[3 + c], track.pts[i][c] + 0.5);
+    if (!occ || qtool_bake_lamp_occlusion(s, w, h, kind, box, 64, so->threads, occ) != 0 ||
+        qtool_bake_locc_payload(w, h, occ, &occp, &occn) != 0 ||
+        qtool_bake_asset_add(asset9, n9, QIBL_CHUNK_LOCC, occp, occn, &asset9o, &n9o) != 0 ||
+        qtool_bake_asset_add(asset16, n16, QIBL_CHUNK_LOCC, occp, occn, &asset16o, &n16o) != 0) {
+        fprintf(stderr, "qibl: demo: out of memory (lamp occlusion)\n");
+        free(occ), free(occp);
+        goto done;
+    }
+    free(occ), free(occp);
     /* 16 positions on each path, between the baked steps; truth and pixel classes once */
     qtool_rt_light L[2][NPOS];
     uint32_t tq[NPOS];
@@ -162,13 +193,15 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
         }
     }
 
-    /* rows: 0 today sun, 1 path k9, 2 path k16, 3 today lamp, 4 free lamp k9, 5 free lamp k16, 6 track k9, 7 track k16 */
-    enum { NROWS = 8 };
+    /* rows: 0 today sun, 1 path k9, 2 path k16, 3 today lamp, 4 free lamp k9, 5 free lamp k16 (both with the
+     * lamp occlusion), 6 track k9, 7 track k16, 8 free lamp k9 without the occlusion */
+    enum { NROWS = 9 };
     static const char *names[NROWS] = {
         "sun: today, shadowed SH k16",        "sun: unshadowed k9 x path visibility",
         "sun: unshadowed k16 x path visibility", "lamp: today, shadowed SH k16 (LUT)",
-        "lamp: free, unshadowed k9 (LUT)",    "lamp: free, unshadowed k16 (LUT)",
-        "lamp: unshadowed k9 x track visibility", "lamp: unshadowed k16 x track visibility"};
+        "lamp: free, unshadowed k9 x occlusion (LUT)", "lamp: free, unshadowed k16 x occlusion (LUT)",
+        "lamp: unshadowed k9 x track visibility", "lamp: unshadowed k16 x track visibility",
+        "lamp: free, unshadowed k9, no occlusion"};
     acc_t acc[NROWS];
     memset(acc, 0, sizeof acc);
     qibl_status_t st = QIBL_OK;
@@ -182,8 +215,11 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
             size_t an = (r == 2 || r == 5 || r == 7) ? n16 : n9;
             if (r == 0 || r == 3)
                 e = qtool_bake_relight8_lin(today, today_n, &L[p][i], 1, 0, 1, tmp, NULL, &ms, &st);
-            else if (r == 4 || r == 5) /* a free point light: qibl_asset_point_shmaps picks SHMU */
-                e = qtool_bake_relight8_lin(as, an, &L[p][i], 1, 0, 1, tmp, NULL, &ms, &st);
+            else if (r == 4 || r == 5) { /* a free point light: qibl_asset_point_shmaps picks SHMU */
+                e = qtool_bake_relight8_lin(r == 4 ? asset9o : asset16o, r == 4 ? n9o : n16o, &L[p][i], 1, 0, 1, tmp,
+                                           NULL, &ms, &st);
+            } else if (r == 8) /* the same asset without the lamp occlusion */
+                e = qtool_bake_relight8_lin(asset9, n9, &L[p][i], 1, 0, 1, tmp, NULL, &ms, &st);
             else
                 e = qtool_bake_relight_path8(as, an, &L[p][i], (uint32_t)p, tq[i], 0, NULL, tmp, NULL, &ms, &st);
             if (e != 0) {
@@ -199,8 +235,10 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
     double shmp = chunk_bytes(today, today_n, QIBL_CHUNK_SHMP, 0), pmap = chunk_bytes(asset9, n9, QIBL_CHUNK_PMAP, 0);
     double ylut = chunk_bytes(today, today_n, QIBL_CHUNK_YLUT, 0);
     double u9 = chunk_bytes(asset9, n9, QIBL_CHUNK_SHMU, 0), u16 = chunk_bytes(asset16, n16, QIBL_CHUNK_SHMU, 0);
-    double bytes[NROWS] = {shmp, u9 + lpn[0], u16 + lpn[0], shmp + pmap + ylut, u9 + pmap + ylut, u16 + pmap + ylut,
-                           u9 + pmap + ylut + lpn[1], u16 + pmap + ylut + lpn[1]};
+    double oc = (double)occn;
+    double bytes[NROWS] = {shmp, u9 + lpn[0], u16 + lpn[0], shmp + pmap + ylut, u9 + pmap + ylut + oc,
+                           u16 + pmap + ylut + oc, u9 + pmap + ylut + lpn[1], u16 + pmap + ylut + lpn[1],
+                           u9 + pmap + ylut};
     row_stats rs[NROWS];
     for (int r = 0; r < NROWS; ++r)
         finish(&acc[r], names[r], bytes[r] / (double)np, &rs[r]);
@@ -436,6 +474,12 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
         print_row(&soft_rs[r]);
     print_row(&ad_rs[0]);
     print_row(&ad_rs[1]);
+    printf("\nbrightness split: relit - truth (linear) per pixel class, as a share of the truth's total "
+           "(the three add up to bright - 1)\n\n| %-44s | bright | lit     | cast    | facing  |\n"
+           "|%s|------:|--------:|--------:|--------:|\n", "scheme", "----------------------------------------------");
+    for (int r = 0; r < NROWS; ++r)
+        print_split(&rs[r]);
+    print_split(&sky_rs[1]);
     printf("\nsky: radiance (0.25, 0.32, 0.45) x (0.3 + 0.7 z) above the horizon, ray-traced over %u directions "
            "(not the bake's); its two halves agree to %.2f dB (the truth, their mean, is about 6 dB less noisy)\n",
            nsky, sky_noise);
@@ -451,6 +495,8 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
     printf("RESULT demo.track_lamp_today_psnr %.2f\n", rs[3].psnr);
     printf("RESULT demo.free_lamp_psnr %.2f\nRESULT demo.free_lamp_brightness %.3f\nRESULT demo.today_lamp_brightness %.3f\n",
            rs[4].psnr, rs[4].bright, rs[3].bright);
+    printf("RESULT demo.free_lamp_bytes_px %.1f\nRESULT demo.free_lamp_no_occl_psnr %.2f\n"
+           "RESULT demo.free_lamp_no_occl_brightness %.3f\n", rs[4].bytes_px, rs[8].psnr, rs[8].bright);
     printf("RESULT demo.sky_sun_psnr %.2f\nRESULT demo.sky_sun_today_psnr %.2f\nRESULT demo.sky_truth_halves_psnr %.2f\n",
            sky_rs[1].psnr, sky_rs[0].psnr, sky_noise);
     printf("RESULT demo.soft_sun_psnr %.2f\nRESULT demo.soft_sun_hard_psnr %.2f\nRESULT demo.soft_sun_today_psnr %.2f\n",
@@ -463,7 +509,7 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
 done:
     qtool_bake_sums_free(&us);
     qtool_gen_free(&msh), qtool_gen_free(&mu9), qtool_gen_free(&mu16);
-    free(lp[0]), free(lp[1]), free(asset9), free(asset16), free(truth), free(cls), free(tmp);
+    free(lp[0]), free(lp[1]), free(asset9), free(asset16), free(asset9o), free(asset16o), free(truth), free(cls), free(tmp);
     for (int i = 0; i < 4; ++i)
         free(keep[i]);
     return rc;

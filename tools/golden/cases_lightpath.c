@@ -215,6 +215,27 @@ int qtool_goldens_lightpath(const qtool_goldens_sink_t *s)
     bad += case_relight(s, &p0, &mu, NULL, "lightpath_sun_k9_accum32", QIBL_FB_ACCUM32, 0);
     bad += case_relight(s, &p0, &mu, &msky, "lightpath_skysun_k9_rgba8888_srgb", QIBL_FB_RGBA8888, 1);
     bad += case_relight(s, &p0, &mu, &msky, "lightpath_skysun_k9_accum32", QIBL_FB_ACCUM32, 0);
+    {   /* lamp occlusion: an integer-made LOCC (ramps, both ends present) scaling PRNG Q16.16 rows */
+        gbuf g = {0};
+        uint8_t occ[QIBL_LAMPOCC_HEADER + LW * LH];
+        grng r = {717};
+        qibl_lampocc_t o;
+        gput_u32(occ, LW), gput_u32(occ + 4, LH);
+        for (uint32_t i = 0; i < LW * LH; ++i)
+            occ[QIBL_LAMPOCC_HEADER + i] = (uint8_t)(i % 5u == 0u ? 255u : i % 7u == 0u ? 0u : grng_u32(&r) & 0xFFu);
+        st = qibl_lightpath_occl_parse(occ, sizeof occ, &o);
+        for (uint32_t y = 0; st == QIBL_OK && y < LH; ++y) {
+            int32_t row[3 * LW];
+            for (uint32_t i = 0; i < 3u * LW; ++i)
+                row[i] = (int32_t)grng_u32(&r);
+            st = qibl_lightpath_occl_span(&o, 0, y, LW, row);
+            for (uint32_t i = 0; st == QIBL_OK && i < 3u * LW; ++i)
+                gbuf_s32(&g, row[i]);
+        }
+        gbuf_u32(&g, status_code(qibl_lightpath_occl_parse(occ, sizeof occ - 1u, &o)));
+        bad += st != QIBL_OK ? gcase_status_error(s, "lightpath_occl", "qibl_lightpath_occl_span", st)
+                             : gbuf_emit(s, "lightpath_occl", &g);
+    }
 done:
     free(b0), free(b1), free(pa), free(pl), free(qa), free(ql);
     return bad;
