@@ -304,6 +304,67 @@ static void test_output_to_symlink_refused(void **state)
     free(b);
 }
 
+/* ---- shard merges carry SHMU, LPTH and LOCC (issue 15) ----------------------------------------------- */
+
+#define PATH_ARGS "--size", "24x6", "--k", "4", "--dirs", "64", "--unshadowed-k", "4", "--sun-path", "40,15,7,17", \
+                  "--lamp-track", "1,1,-0.5;-1,1,-0.5", "--lamp-box", "-2,-2,-1,2,2,0", "--lamp-samples", "8", \
+                  "--path-steps", "8", "--quiet", "--threads", "1"
+
+static void file_eq(const char *a, const char *b)
+{
+    size_t na, nb;
+    uint8_t *x = qtool_io_read_all(a, &na), *y = qtool_io_read_all(b, &nb);
+    assert_non_null(x), assert_non_null(y);
+    assert_int_equal(na, nb);
+    assert_memory_equal(x, y, na);
+    free(x), free(y);
+}
+
+static void test_merge_paths_bit_identical(void **state)
+{
+    (void)state;
+    need_qibl();
+    assert_int_equal(run("bake", PATH_ARGS, "-o", at("whole.qibl"), NULL), 0);
+    assert_int_equal(run("bake", PATH_ARGS, "--shard", "0/2", "--sums", at("p0"), NULL), 0);
+    assert_int_equal(run("bake", PATH_ARGS, "--shard", "1/2", "--sums", at("p1"), NULL), 0);
+    assert_int_equal(access(at("p0.u"), F_OK), 0);
+    assert_int_equal(access(at("p0.x"), F_OK), 0);
+    assert_int_not_equal(access(at("p1.x"), F_OK), 0); /* the per-pixel chunks come from shard 0 only */
+    /* any input order: the asset of one bake, byte for byte (SHMU, two LPTH, LOCC) */
+    assert_int_equal(run("merge", "-o", at("merged.qibl"), "--k", "4", at("p1"), at("p0"), NULL), 0);
+    file_eq(at("whole.qibl"), at("merged.qibl"));
+    char *o = text(outlog);
+    assert_non_null(strstr(o, "2 light paths, lamp occlusion"));
+    free(o);
+    /* a damaged extras file, then a missing .u: named, nothing written */
+    size_t n;
+    uint8_t *b = qtool_io_read_all(at("p0.x"), &n);
+    assert_non_null(b);
+    b[n - 1] ^= 1;
+    FILE *f = fopen(at("p0.x"), "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(b, 1, n, f), n);
+    fclose(f);
+    expect(1, "CRC-32 mismatch", at("m2.qibl"), "merge", "-o", at("m2.qibl"), "--k", "4", at("p0"), at("p1"), NULL);
+    b[n - 1] ^= 1;
+    f = fopen(at("p0.x"), "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(b, 1, n - 3, f), n - 3);
+    fclose(f);
+    free(b);
+    expect(1, "only", at("m2.qibl"), "merge", "-o", at("m2.qibl"), "--k", "4", at("p0"), at("p1"), NULL);
+    assert_int_equal(unlink(at("p1.u")), 0);
+    expect(1, "p1.u is missing", at("m2.qibl"), "merge", "-o", at("m2.qibl"), "--k", "4", at("p0"), at("p1"), NULL);
+    /* a shard baked again without paths removes its stale extras */
+    assert_int_equal(run("bake", "--size", "24x6", "--k", "4", "--dirs", "64", "--quiet", "--threads", "1", "--shard",
+                         "0/2", "--sums", at("p0"), NULL), 0);
+    assert_int_not_equal(access(at("p0.x"), F_OK), 0);
+    expect(2, "--lamp-box needs", at("bad.qibl"), "bake", "--lamp-box", "1,1,1,0,0,0", "-o", at("bad.qibl"), NULL);
+    expect(2, "--lamp-box needs", at("bad.qibl"), "bake", "--lamp-box", "1,2,3", "-o", at("bad.qibl"), NULL);
+    expect(2, "need the unshadowed maps", at("bad.qibl"), "bake", "--lamp-box", "0,0,0,1,1,1", "--unshadowed-k", "0",
+           "-o", at("bad.qibl"), NULL);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -319,6 +380,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_demo_checks_output_before_bake, setup, teardown),
         cmocka_unit_test_setup_teardown(test_demo_long_out, setup, teardown),
         cmocka_unit_test_setup_teardown(test_output_to_symlink_refused, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_merge_paths_bit_identical, setup, teardown),
     };
     return cmocka_run_group_tests_name("cli", tests, NULL, NULL);
 }

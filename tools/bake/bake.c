@@ -139,6 +139,13 @@ int qtool_bake_run_unshadowed(const qtool_rt_scene *s, uint32_t w, uint32_t h, q
     return bake_run(s, w, h, kind, ndirs, k, 0, 1, threads, 0, 1, out);
 }
 
+int qtool_bake_run_unshadowed_shard(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind,
+                                   uint32_t ndirs, uint32_t k, uint32_t shard, uint32_t nshards, int threads,
+                                   qtool_bake_sums *out)
+{
+    return bake_run(s, w, h, kind, ndirs, k, shard, nshards, threads, 0, 1, out);
+}
+
 void qtool_bake_sums_free(qtool_bake_sums *s)
 {
     free(s->pmap), free(s->acc);
