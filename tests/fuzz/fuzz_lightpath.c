@@ -35,7 +35,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             uint32_t n = o.width < 256u ? o.width : 256u;
             int32_t io[768], ref[768];
             for (uint32_t i = 0; i < 3u * n; ++i)
-                io[i] = ref[i] = (int32_t)(i * 2654435761u ^ t) - (int32_t)(i & 1u ? 0x7FFFFFFF : 0);
+                io[i] = ref[i] = (int32_t)((i * 2654435761u ^ t) >> 1) - (int32_t)(i & 1u ? 0x7FFFFFFF : 0);
             if (qibl_lightpath_occl_span(&o, o.width - n, y, n, io) != QIBL_OK)
                 abort();
             for (uint32_t i = 0; i < 3u * n; ++i)
