@@ -8,6 +8,7 @@
  * The binary is found as cliutil.h says; the tests skip when it is missing.
  */
 #include "cliutil.h"
+#include "io/pfm.h"
 
 #include "bake/bake.h"
 #include "qibl/asset.h"
@@ -365,6 +366,52 @@ static void test_merge_paths_bit_identical(void **state)
            "-o", at("bad.qibl"), NULL);
 }
 
+/* ---- relight --path (issue 15) --------------------------------------------------------------------- */
+
+static void test_relight_path(void **state)
+{
+    (void)state;
+    need_qibl();
+    assert_int_equal(run("bake", PATH_ARGS, "-o", at("p.qibl"), NULL), 0);
+    /* the sun alone, then over the sky: the sky only adds light, and somewhere it adds some */
+    assert_int_equal(run("relight", at("p.qibl"), "--path", "sun", "--t", "0.5", "--pfm", at("s.pfm"), NULL), 0);
+    assert_int_equal(run("relight", at("p.qibl"), "--path", "0", "--t", "0.5", "--sky", "0.25", "0.32", "0.45", "--pfm",
+                         at("ss.pfm"), "--png", at("ss.png"), NULL), 0);
+    int w, h, ch, w2, h2, ch2;
+    float *a, *b;
+    char err[512];
+    assert_int_equal(qtool_pfm_read(at("s.pfm"), &w, &h, &ch, &a, err, sizeof err), 0);
+    assert_int_equal(qtool_pfm_read(at("ss.pfm"), &w2, &h2, &ch2, &b, err, sizeof err), 0);
+    assert_int_equal(w, 24), assert_int_equal(h, 6), assert_int_equal(w2, w), assert_int_equal(ch2, ch);
+    int more = 0;
+    for (int i = 0; i < w * h * ch; ++i) {
+        assert_true(b[i] >= a[i] - 1e-4f);
+        more += b[i] > a[i] + 1e-3f;
+    }
+    assert_true(more > 0);
+    free(a), free(b);
+    /* the lamp track, soft; moving t changes the frame */
+    assert_int_equal(run("relight", at("p.qibl"), "--path", "lamp", "--t", "0.1", "--soft", "0.02", "--pfm", at("l1.pfm"),
+                         NULL), 0);
+    assert_int_equal(run("relight", at("p.qibl"), "--path", "lamp", "--t", "0.9", "--pfm", at("l2.pfm"), NULL), 0);
+    assert_int_equal(qtool_pfm_read(at("l1.pfm"), &w, &h, &ch, &a, err, sizeof err), 0);
+    assert_int_equal(qtool_pfm_read(at("l2.pfm"), &w, &h, &ch, &b, err, sizeof err), 0);
+    assert_true(memcmp(a, b, sizeof(float) * (size_t)(w * h * ch)) != 0);
+    free(a), free(b);
+    /* named errors, nothing written */
+    expect(1, "--path 2, but the asset has 2 light paths", at("x.png"), "relight", at("p.qibl"), "--path", "2", "--t",
+           "0.5", "--png", at("x.png"), NULL);
+    expect(2, "--path needs an index, sun or lamp", at("x.png"), "relight", at("p.qibl"), "--path", "moon", "--t", "0.5",
+           "--png", at("x.png"), NULL);
+    expect(2, "outside 0..1", at("x.png"), "relight", at("p.qibl"), "--path", "0", "--t", "1.01", "--png", at("x.png"),
+           NULL);
+    expect(2, "needs FILE, --path", at("x.png"), "relight", at("p.qibl"), "--path", "0", "--png", at("x.png"), NULL);
+    assert_int_equal(run("bake", "--size", "16x4", "--k", "4", "--dirs", "64", "--quiet", "--threads", "1", "-o",
+                         at("plain.qibl"), NULL), 0);
+    expect(1, "no light paths", at("x.png"), "relight", at("plain.qibl"), "--path", "sun", "--t", "0.5", "--png",
+           at("x.png"), NULL);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -381,6 +428,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_demo_long_out, setup, teardown),
         cmocka_unit_test_setup_teardown(test_output_to_symlink_refused, setup, teardown),
         cmocka_unit_test_setup_teardown(test_merge_paths_bit_identical, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_relight_path, setup, teardown),
     };
     return cmocka_run_group_tests_name("cli", tests, NULL, NULL);
 }

@@ -158,6 +158,8 @@ static double *pmap_points(const qibl_pmap_t *pm)
 
 int qcli_cmd_relight(int argc, char **argv)
 {
+    if (qcli_relight_has_path(argc, argv)) /* a light on a baked path: relight_path.c */
+        return qcli_relight_path(argc, argv);
     const char *in = NULL, *png = NULL, *hdr = NULL, *pfm = NULL;
     qibl_q16_t sun[3] = {0}, pos[3] = {0}, rgb[3] = {65536, 65536, 65536};
     int have_sun = 0, have_point = 0, have_rgb = 0, use_lut = 0, nearest = 0, linear = 0;
