@@ -412,6 +412,35 @@ static void test_relight_path(void **state)
            at("x.png"), NULL);
 }
 
+/* ---- the demo's path table on a mesh (issue 15: make demo SCENE=...) -------------------------------- */
+
+static void test_demo_paths_on_mesh(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *mesh = "../shared/fixtures/meshes/teapot.obj";
+    if (access(mesh, R_OK) != 0) {
+        print_message("skip: %s absent\n", mesh);
+        skip();
+    }
+    assert_int_equal(run("demo", "--out", at("demo"), "--scene", mesh, "--size", "96x24", "--dirs", "64", "--frames", "2",
+                         "--threads", "1", NULL), 0);
+    char *o = text(outlog);
+    assert_non_null(strstr(o, "light paths (mesh)"));
+    static const char *want[] = {"path_sun_psnr", "track_lamp_psnr", "free_lamp_psnr", "free_lamp_brightness",
+                                 "sky_sun_psnr", "adaptive_sun_psnr"};
+    for (size_t i = 0; i < sizeof want / sizeof want[0]; ++i) {
+        char key[64];
+        snprintf(key, sizeof key, "RESULT demo.%s ", want[i]);
+        const char *at_ = strstr(o, key);
+        if (!at_)
+            fail_msg("demo on %s: no '%s'", mesh, key);
+        double v = atof(at_ + strlen(key));
+        assert_true(v > 0 && v < 100);
+    }
+    free(o);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -429,6 +458,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_output_to_symlink_refused, setup, teardown),
         cmocka_unit_test_setup_teardown(test_merge_paths_bit_identical, setup, teardown),
         cmocka_unit_test_setup_teardown(test_relight_path, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_demo_paths_on_mesh, setup, teardown),
     };
     return cmocka_run_group_tests_name("cli", tests, NULL, NULL);
 }
