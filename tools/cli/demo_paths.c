@@ -10,9 +10,11 @@
 
 #include "bake/bake.h"
 #include "bake/path.h"
+#include "bake/tiled.h"
 #include "io/png.h"
 #include "qibl/asset.h"
 #include "qibl/lightpath.h"
+#include "qibl/shmtile.h"
 #include "cli/cli.h"
 #include "ref/psnr.h"
 #include "render/rt.h"
@@ -141,6 +143,7 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
     qtool_bake_sums us;
     qtool_gen_maps msh = {0}, mu9 = {0}, mu16 = {0};
     uint8_t *lp[3] = {NULL, NULL, NULL}, *asset9 = NULL, *asset16 = NULL, *asset9o = NULL, *asset16o = NULL;
+    uint8_t *occv = malloc(np);
     size_t lpn[2] = {0, 0}, n9 = 0, n16 = 0, n9o = 0, n16o = 0;
     uint8_t *truth = malloc(np * 3 * NPOS * 2), *cls = malloc(np * NPOS * 2), *tmp = malloc(np * 3);
     uint8_t *keep[4] = {malloc(np * 3), malloc(np * 3), malloc(np * 3), malloc(np * 3)};
@@ -163,7 +166,7 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
 
     /* lamp occlusion for free lamps: the region lamps move in is the track's bounding box grown by
      * half a unit (a designer's box, not the track: the 16 free positions are not sampled) */
-    uint8_t *occ = malloc(np), *occp = NULL;
+    uint8_t *occ = occv, *occp = NULL;
     size_t occn = 0;
     double box[6] = {1e30, 1e30, 1e30, -1e30, -1e30, -1e30};
     for (int i = 0; i < track.npts; ++i)
@@ -174,10 +177,10 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
         qtool_bake_asset_add(asset9, n9, QIBL_CHUNK_LOCC, occp, occn, &asset9o, &n9o) != 0 ||
         qtool_bake_asset_add(asset16, n16, QIBL_CHUNK_LOCC, occp, occn, &asset16o, &n16o) != 0) {
         fprintf(stderr, "qibl: demo: out of memory (lamp occlusion)\n");
-        free(occ), free(occp);
+        free(occp);
         goto done;
     }
-    free(occ), free(occp);
+    free(occp), occp = NULL;
     /* 16 positions on each path, between the baked steps; truth and pixel classes once */
     qtool_rt_light L[2][NPOS];
     uint32_t tq[NPOS];
@@ -243,72 +246,49 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
     for (int r = 0; r < NROWS; ++r)
         finish(&acc[r], names[r], bytes[r] / (double)np, &rs[r]);
 
-    /* per-tile adaptive k for the unshadowed maps, simulated: each 16x16 tile keeps the fewest bands
-     * (k = 4, 9 or 16) holding all but 1 % of its coefficient energy, the rest is zeroed before the
-     * usual k = 16 packing; bytes counted as a tiled layout would store them (k x 3 per pixel) */
-    acc_t adacc[2];
-    double ad_bytes = 0, ad_tiles[3] = {0, 0, 0};
+    /* per-tile adaptive k for the unshadowed maps (SHMT, qibl/shmtile.h): each 16x16 tile keeps the
+     * fewest band-complete k of the k16 set whose dropped coefficients hold at most `drop` of the
+     * tile's energy; relit through the core kernels tile by tile. Bytes are the SHMT chunk's. */
+    enum { NDROP = 3 };
+    static const double drops[NDROP] = {0.003, 0.01, 0.03};
+    acc_t adacc[NDROP][2];
+    double ad_bytes[NDROP] = {0, 0, 0};
+    uint32_t ad_tiles[NDROP][26];
     memset(adacc, 0, sizeof adacc);
-    {
-        qtool_gen_maps ma = mu16;
-        size_t tsz = sizeof(double) * np * 16 * 3;
-        uint8_t *ad = NULL;
-        size_t adn = 0;
-        ma.t = malloc(tsz);
-        int bad = !ma.t;
-        if (!bad)
-            memcpy(ma.t, mu16.t, tsz);
-        for (uint32_t ty = 0; !bad && ty < h; ty += 16)
-            for (uint32_t tx = 0; tx < w; tx += 16) {
-                double band[16] = {0}, tot = 0;
-                for (uint32_t y = ty; y < ty + 16 && y < h; ++y)
-                    for (uint32_t x = tx; x < tx + 16 && x < w; ++x)
-                        for (uint32_t i = 0; i < 16; ++i)
-                            for (uint32_t c = 0; c < 3; ++c) {
-                                double v = ma.t[((size_t)i * 3 + c) * np + (size_t)y * w + x];
-                                band[i] += v * v, tot += v * v;
-                            }
-                static const uint32_t kk[3] = {4, 9, 16};
-                int pick = 2;
-                for (int q = 0; q < 2; ++q) {
-                    double rest = 0;
-                    for (uint32_t i = kk[q]; i < 16; ++i)
-                        rest += band[i];
-                    if (rest <= 0.01 * tot) {
-                        pick = q;
-                        break;
-                    }
-                }
-                uint32_t tw = tx + 16 <= w ? 16 : w - tx, th = ty + 16 <= h ? 16 : h - ty;
-                ad_tiles[pick] += 1, ad_bytes += (double)kk[pick] * 3 * tw * th + 1;
-                for (uint32_t y = ty; y < ty + th; ++y)
-                    for (uint32_t x = tx; x < tx + tw; ++x)
-                        for (uint32_t i = kk[pick]; i < 16; ++i)
-                            for (uint32_t c = 0; c < 3; ++c)
-                                ma.t[((size_t)i * 3 + c) * np + (size_t)y * w + x] = 0;
-            }
-        if (!bad)
-            bad = qtool_bake_asset_ex(&msh, &ma, 32, lp, lpn, &ad, &adn) != 0;
+    for (int d = 0; d < NDROP; ++d) {
+        uint8_t *pay = NULL, *base = NULL, *ad = NULL, *ad2 = NULL;
+        size_t payn = 0, basen = 0, adn = 0, ad2n = 0;
+        int bad = qtool_bake_shmt_payload(&mu16, drops[d], &pay, &payn, ad_tiles[d]) != 0 ||
+                  qtool_bake_asset_ex(&msh, NULL, 32, lp, lpn, &base, &basen) != 0 ||
+                  qtool_bake_asset_add(base, basen, QIBL_CHUNK_SHMT, pay, payn, &ad, &adn) != 0 ||
+                  qtool_bake_locc_payload(w, h, occv, &occp, &occn) != 0 ||
+                  qtool_bake_asset_add(ad, adn, QIBL_CHUNK_LOCC, occp, occn, &ad2, &ad2n) != 0;
+        free(occp), occp = NULL;
+        ad_bytes[d] = (double)payn;
         for (int p = 0; !bad && p < 2; ++p)
             for (int i = 0; i < NPOS; ++i) {
                 size_t f = (size_t)p * NPOS + (size_t)i;
                 double ms = 0;
-                if (qtool_bake_relight_path8(ad, adn, &L[p][i], (uint32_t)p, tq[i], 0, NULL, tmp, NULL, &ms, &st) != 0) {
+                if (qtool_bake_relight_tiled8(ad2, ad2n, &L[p][i], p, tq[i], 0, tmp, &ms, &st) != 0) {
                     bad = 1;
                     break;
                 }
-                acc_frame(&adacc[p], tmp, truth + f * np * 3, cls + f * np, np, ms, lut);
+                acc_frame(&adacc[d][p], tmp, truth + f * np * 3, cls + f * np, np, ms, lut);
             }
-        free(ma.t), free(ad);
+        free(pay), free(base), free(ad), free(ad2);
         if (bad) {
             fprintf(stderr, "qibl: demo: adaptive k failed (%s)\n", qibl_status_str(st));
             goto done;
         }
     }
-    row_stats ad_rs[2];
-    finish(&adacc[0], "sun: adaptive k 4/9/16 per tile x path (sim)", (ad_bytes + lpn[0]) / (double)np, &ad_rs[0]);
-    finish(&adacc[1], "lamp: adaptive k per tile x track (sim.)", (ad_bytes + pmap + ylut + lpn[1]) / (double)np,
-           &ad_rs[1]);
+    row_stats ad_rs[NDROP][2];
+    for (int d = 0; d < NDROP; ++d) {
+        static char names_ad[NDROP][2][64];
+        snprintf(names_ad[d][0], sizeof names_ad[d][0], "sun: SHMT adaptive k (drop %.1f%%) x path", 100 * drops[d]);
+        snprintf(names_ad[d][1], sizeof names_ad[d][1], "lamp: SHMT adaptive k (drop %.1f%%) x track", 100 * drops[d]);
+        finish(&adacc[d][0], names_ad[d][0], (ad_bytes[d] + lpn[0]) / (double)np, &ad_rs[d][0]);
+        finish(&adacc[d][1], names_ad[d][1], (ad_bytes[d] + pmap + ylut + lpn[1]) / (double)np, &ad_rs[d][1]);
+    }
 
     /* sky + sun: the sky ray-traced once (two half estimates: their agreement states its noise), the sun
      * at the 16 positions; today's SH with sky and sun in one light against the hybrid */
@@ -472,8 +452,8 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
     print_row(&sky_rs[1]);
     for (int r = 0; r < 3; ++r)
         print_row(&soft_rs[r]);
-    print_row(&ad_rs[0]);
-    print_row(&ad_rs[1]);
+    for (int d = 0; d < NDROP; ++d)
+        print_row(&ad_rs[d][0]), print_row(&ad_rs[d][1]);
     printf("\nbrightness split: relit - truth (linear) per pixel class, as a share of the truth's total "
            "(the three add up to bright - 1)\n\n| %-44s | bright | lit     | cast    | facing  |\n"
            "|%s|------:|--------:|--------:|--------:|\n", "scheme", "----------------------------------------------");
@@ -484,8 +464,13 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
            "(not the bake's); its two halves agree to %.2f dB (the truth, their mean, is about 6 dB less noisy)\n",
            nsky, sky_noise);
     printf("soft sun: a disc of 1.5 degrees, truth the mean of %d renders over it, %d of the positions\n", NDISC, NSOFT);
-    printf("adaptive k (simulated: coefficients zeroed per 16x16 tile, bytes as a tiled layout would store them): "
-           "tiles with k = 4 / 9 / 16: %.0f / %.0f / %.0f\n", ad_tiles[0], ad_tiles[1], ad_tiles[2]);
+    printf("\nadaptive k (SHMT, qibl/shmtile.h): bytes of the unshadowed maps against PSNR; k16 stored whole (SHMU) "
+           "is %.1f bytes/px\n\n| drop | tiles k=1/4/9/16 | SHMT bytes/px | sun x path dB | lamp x track dB |\n"
+           "|-----:|-----------------|--------------:|--------------:|----------------:|\n", u16 / (double)np);
+    for (int d = 0; d < NDROP; ++d)
+        printf("| %4.1f%% | %u / %u / %u / %u | %13.2f | %13.2f | %15.2f |\n", 100 * drops[d], ad_tiles[d][1],
+               ad_tiles[d][4], ad_tiles[d][9], ad_tiles[d][16], ad_bytes[d] / (double)np, ad_rs[d][0].psnr,
+               ad_rs[d][1].psnr);
     printf("suns off every path fall back to today's shadowed SH: the 8 novel suns above score demo.psnr_k16_dir\n");
     printf("\nRESULT demo.path_sun_psnr %.2f\nRESULT demo.path_sun_bytes_px %.1f\nRESULT demo.path_sun_cost_ratio %.3f\n",
            rs[1].psnr, rs[1].bytes_px, rs[0].ms > 0 ? rs[1].ms / rs[0].ms : 0);
@@ -501,7 +486,12 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
            sky_rs[1].psnr, sky_rs[0].psnr, sky_noise);
     printf("RESULT demo.soft_sun_psnr %.2f\nRESULT demo.soft_sun_hard_psnr %.2f\nRESULT demo.soft_sun_today_psnr %.2f\n",
            soft_rs[2].psnr, soft_rs[1].psnr, soft_rs[0].psnr);
-    printf("RESULT demo.adaptive_sun_psnr %.2f\nRESULT demo.adaptive_sun_bytes_px %.1f\n", ad_rs[0].psnr, ad_rs[0].bytes_px);
+    printf("RESULT demo.adaptive_sun_psnr %.2f\nRESULT demo.adaptive_sun_bytes_px %.1f\n", ad_rs[1][0].psnr,
+           ad_rs[1][0].bytes_px);
+    printf("RESULT demo.adaptive_track_psnr %.2f\nRESULT demo.adaptive_track_bytes_px %.1f\n", ad_rs[1][1].psnr,
+           ad_rs[1][1].bytes_px);
+    printf("RESULT demo.adaptive_shmt_bytes_px %.2f\nRESULT demo.shmu_k16_bytes_px %.2f\n", ad_bytes[1] / (double)np,
+           u16 / (double)np);
     printf("RESULT demo.paths_bake_s %.2f\n", bake_s);
     printf("wrote %s/paths_sheet.png (rows: sun, lamp; columns: truth | today | path shadows | error 0..48) and "
            "paths_readme.png (truth, today, path shadows of one sun)\n", dir);
@@ -509,7 +499,7 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
 done:
     qtool_bake_sums_free(&us);
     qtool_gen_free(&msh), qtool_gen_free(&mu9), qtool_gen_free(&mu16);
-    free(lp[0]), free(lp[1]), free(asset9), free(asset16), free(asset9o), free(asset16o), free(truth), free(cls), free(tmp);
+    free(lp[0]), free(lp[1]), free(asset9), free(asset16), free(asset9o), free(asset16o), free(occv), free(truth), free(cls), free(tmp);
     for (int i = 0; i < 4; ++i)
         free(keep[i]);
     return rc;
