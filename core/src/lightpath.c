@@ -300,7 +300,7 @@ qibl_status_t qibl_lightpath_occl_parse(const uint8_t *data, size_t size, qibl_l
     uint32_t w = qibl_load_u32le(data), h = qibl_load_u32le(data + 4);
     if (w - 1u >= QIBL_ASSET_MAX_DIM || h - 1u >= QIBL_ASSET_MAX_DIM || w * h > QIBL_ASSET_MAX_PIXELS)
         return QIBL_E_LIGHTPATH_DIMENSIONS;
-    if ((uint64_t)QIBL_LAMPOCC_HEADER + (uint64_t)w * h != (uint64_t)size)
+    if ((uint64_t)QIBL_LAMPOCC_HEADER + (uint64_t)(w * h) != (uint64_t)size) /* w h <= 2^26 here */
         return QIBL_E_LIGHTPATH_SIZE;
     out->width = w, out->height = h, out->values = data + QIBL_LAMPOCC_HEADER;
     return QIBL_OK;

@@ -9,13 +9,14 @@
 
 #if QIBL_USE_SHMAP
 
-/* bytes of tile (tx, ty) with k maps */
-static uint64_t tile_bytes(uint32_t w, uint32_t h, uint32_t tx, uint32_t ty, uint32_t k, uint32_t ch)
+/* bytes of tile (tx, ty) with k maps (at most 25 * 3 * 256: 32-bit products, no 64-bit multiply,
+ * which Cortex-M0 would call a library routine for) */
+static uint32_t tile_bytes(uint32_t w, uint32_t h, uint32_t tx, uint32_t ty, uint32_t k, uint32_t ch)
 {
     uint32_t x0 = tx * QIBL_SHMTILE_SIZE, y0 = ty * QIBL_SHMTILE_SIZE;
     uint32_t tw = w - x0 < QIBL_SHMTILE_SIZE ? w - x0 : QIBL_SHMTILE_SIZE;
     uint32_t th = h - y0 < QIBL_SHMTILE_SIZE ? h - y0 : QIBL_SHMTILE_SIZE;
-    return (uint64_t)k * ch * tw * th;
+    return k * ch * tw * th;
 }
 
 qibl_status_t qibl_shmtile_parse(const uint8_t *data, size_t size, qibl_shmtile_t *out)
@@ -36,7 +37,8 @@ qibl_status_t qibl_shmtile_parse(const uint8_t *data, size_t size, qibl_shmtile_
         return QIBL_E_ASSET_BAD_FLAGS;
     uint32_t tx = (w + QIBL_SHMTILE_SIZE - 1u) >> 4, ty = (h + QIBL_SHMTILE_SIZE - 1u) >> 4, nt = tx * ty;
     uint32_t kpad = (nt + 3u) & ~3u;
-    uint64_t fixed = (uint64_t)QIBL_SHMTILE_HEADER + 8u * (uint64_t)kmax * ch + kpad + 4u * (uint64_t)nt;
+    /* nt <= 2^20 and kmax * ch <= 75 after the checks above: every term fits 32 bits */
+    uint64_t fixed = (uint64_t)QIBL_SHMTILE_HEADER + 8u * kmax * ch + kpad + (uint64_t)(4u * nt);
     if ((uint64_t)size < fixed)
         return QIBL_E_ASSET_CHUNK_SIZE;
     const uint8_t *params = data + QIBL_SHMTILE_HEADER;
