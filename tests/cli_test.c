@@ -8,6 +8,7 @@
  * The binary is found as cliutil.h says; the tests skip when it is missing.
  */
 #include "cliutil.h"
+#include "io/pfm.h"
 
 #include "bake/bake.h"
 #include "qibl/asset.h"
@@ -304,6 +305,142 @@ static void test_output_to_symlink_refused(void **state)
     free(b);
 }
 
+/* ---- shard merges carry SHMU, LPTH and LOCC (issue 15) ----------------------------------------------- */
+
+#define PATH_ARGS "--size", "24x6", "--k", "4", "--dirs", "64", "--unshadowed-k", "4", "--sun-path", "40,15,7,17", \
+                  "--lamp-track", "1,1,-0.5;-1,1,-0.5", "--lamp-box", "-2,-2,-1,2,2,0", "--lamp-samples", "8", \
+                  "--path-steps", "8", "--quiet", "--threads", "1"
+
+static void file_eq(const char *a, const char *b)
+{
+    size_t na, nb;
+    uint8_t *x = qtool_io_read_all(a, &na), *y = qtool_io_read_all(b, &nb);
+    assert_non_null(x), assert_non_null(y);
+    assert_int_equal(na, nb);
+    assert_memory_equal(x, y, na);
+    free(x), free(y);
+}
+
+static void test_merge_paths_bit_identical(void **state)
+{
+    (void)state;
+    need_qibl();
+    assert_int_equal(run("bake", PATH_ARGS, "-o", at("whole.qibl"), NULL), 0);
+    assert_int_equal(run("bake", PATH_ARGS, "--shard", "0/2", "--sums", at("p0"), NULL), 0);
+    assert_int_equal(run("bake", PATH_ARGS, "--shard", "1/2", "--sums", at("p1"), NULL), 0);
+    assert_int_equal(access(at("p0.u"), F_OK), 0);
+    assert_int_equal(access(at("p0.x"), F_OK), 0);
+    assert_int_not_equal(access(at("p1.x"), F_OK), 0); /* the per-pixel chunks come from shard 0 only */
+    /* any input order: the asset of one bake, byte for byte (SHMU, two LPTH, LOCC) */
+    assert_int_equal(run("merge", "-o", at("merged.qibl"), "--k", "4", at("p1"), at("p0"), NULL), 0);
+    file_eq(at("whole.qibl"), at("merged.qibl"));
+    char *o = text(outlog);
+    assert_non_null(strstr(o, "2 light paths, lamp occlusion"));
+    free(o);
+    /* a damaged extras file, then a missing .u: named, nothing written */
+    size_t n;
+    uint8_t *b = qtool_io_read_all(at("p0.x"), &n);
+    assert_non_null(b);
+    b[n - 1] ^= 1;
+    FILE *f = fopen(at("p0.x"), "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(b, 1, n, f), n);
+    fclose(f);
+    expect(1, "CRC-32 mismatch", at("m2.qibl"), "merge", "-o", at("m2.qibl"), "--k", "4", at("p0"), at("p1"), NULL);
+    b[n - 1] ^= 1;
+    f = fopen(at("p0.x"), "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(b, 1, n - 3, f), n - 3);
+    fclose(f);
+    free(b);
+    expect(1, "only", at("m2.qibl"), "merge", "-o", at("m2.qibl"), "--k", "4", at("p0"), at("p1"), NULL);
+    assert_int_equal(unlink(at("p1.u")), 0);
+    expect(1, "p1.u is missing", at("m2.qibl"), "merge", "-o", at("m2.qibl"), "--k", "4", at("p0"), at("p1"), NULL);
+    /* a shard baked again without paths removes its stale extras */
+    assert_int_equal(run("bake", "--size", "24x6", "--k", "4", "--dirs", "64", "--quiet", "--threads", "1", "--shard",
+                         "0/2", "--sums", at("p0"), NULL), 0);
+    assert_int_not_equal(access(at("p0.x"), F_OK), 0);
+    expect(2, "--lamp-box needs", at("bad.qibl"), "bake", "--lamp-box", "1,1,1,0,0,0", "-o", at("bad.qibl"), NULL);
+    expect(2, "--lamp-box needs", at("bad.qibl"), "bake", "--lamp-box", "1,2,3", "-o", at("bad.qibl"), NULL);
+    expect(2, "need the unshadowed maps", at("bad.qibl"), "bake", "--lamp-box", "0,0,0,1,1,1", "--unshadowed-k", "0",
+           "-o", at("bad.qibl"), NULL);
+}
+
+/* ---- relight --path (issue 15) --------------------------------------------------------------------- */
+
+static void test_relight_path(void **state)
+{
+    (void)state;
+    need_qibl();
+    assert_int_equal(run("bake", PATH_ARGS, "-o", at("p.qibl"), NULL), 0);
+    /* the sun alone, then over the sky: the sky only adds light, and somewhere it adds some */
+    assert_int_equal(run("relight", at("p.qibl"), "--path", "sun", "--t", "0.5", "--pfm", at("s.pfm"), NULL), 0);
+    assert_int_equal(run("relight", at("p.qibl"), "--path", "0", "--t", "0.5", "--sky", "0.25", "0.32", "0.45", "--pfm",
+                         at("ss.pfm"), "--png", at("ss.png"), NULL), 0);
+    int w, h, ch, w2, h2, ch2;
+    float *a, *b;
+    char err[512];
+    assert_int_equal(qtool_pfm_read(at("s.pfm"), &w, &h, &ch, &a, err, sizeof err), 0);
+    assert_int_equal(qtool_pfm_read(at("ss.pfm"), &w2, &h2, &ch2, &b, err, sizeof err), 0);
+    assert_int_equal(w, 24), assert_int_equal(h, 6), assert_int_equal(w2, w), assert_int_equal(ch2, ch);
+    int more = 0;
+    for (int i = 0; i < w * h * ch; ++i) {
+        assert_true(b[i] >= a[i] - 1e-4f);
+        more += b[i] > a[i] + 1e-3f;
+    }
+    assert_true(more > 0);
+    free(a), free(b);
+    /* the lamp track, soft; moving t changes the frame */
+    assert_int_equal(run("relight", at("p.qibl"), "--path", "lamp", "--t", "0.1", "--soft", "0.02", "--pfm", at("l1.pfm"),
+                         NULL), 0);
+    assert_int_equal(run("relight", at("p.qibl"), "--path", "lamp", "--t", "0.9", "--pfm", at("l2.pfm"), NULL), 0);
+    assert_int_equal(qtool_pfm_read(at("l1.pfm"), &w, &h, &ch, &a, err, sizeof err), 0);
+    assert_int_equal(qtool_pfm_read(at("l2.pfm"), &w, &h, &ch, &b, err, sizeof err), 0);
+    assert_true(memcmp(a, b, sizeof(float) * (size_t)(w * h * ch)) != 0);
+    free(a), free(b);
+    /* named errors, nothing written */
+    expect(1, "--path 2, but the asset has 2 light paths", at("x.png"), "relight", at("p.qibl"), "--path", "2", "--t",
+           "0.5", "--png", at("x.png"), NULL);
+    expect(2, "--path needs an index, sun or lamp", at("x.png"), "relight", at("p.qibl"), "--path", "moon", "--t", "0.5",
+           "--png", at("x.png"), NULL);
+    expect(2, "outside 0..1", at("x.png"), "relight", at("p.qibl"), "--path", "0", "--t", "1.01", "--png", at("x.png"),
+           NULL);
+    expect(2, "needs FILE, --path", at("x.png"), "relight", at("p.qibl"), "--path", "0", "--png", at("x.png"), NULL);
+    assert_int_equal(run("bake", "--size", "16x4", "--k", "4", "--dirs", "64", "--quiet", "--threads", "1", "-o",
+                         at("plain.qibl"), NULL), 0);
+    expect(1, "no light paths", at("x.png"), "relight", at("plain.qibl"), "--path", "sun", "--t", "0.5", "--png",
+           at("x.png"), NULL);
+}
+
+/* ---- the demo's path table on a mesh (issue 15: make demo SCENE=...) -------------------------------- */
+
+static void test_demo_paths_on_mesh(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *mesh = "../shared/fixtures/meshes/teapot.obj";
+    if (access(mesh, R_OK) != 0) {
+        print_message("skip: %s absent\n", mesh);
+        skip();
+    }
+    assert_int_equal(run("demo", "--out", at("demo"), "--scene", mesh, "--size", "96x24", "--dirs", "64", "--frames", "2",
+                         "--threads", "1", NULL), 0);
+    char *o = text(outlog);
+    assert_non_null(strstr(o, "light paths (mesh)"));
+    static const char *want[] = {"path_sun_psnr", "track_lamp_psnr", "free_lamp_psnr", "free_lamp_brightness",
+                                 "sky_sun_psnr", "adaptive_sun_psnr"};
+    for (size_t i = 0; i < sizeof want / sizeof want[0]; ++i) {
+        char key[64];
+        snprintf(key, sizeof key, "RESULT demo.%s ", want[i]);
+        const char *at_ = strstr(o, key);
+        if (!at_)
+            fail_msg("demo on %s: no '%s'", mesh, key);
+        double v = atof(at_ + strlen(key));
+        assert_true(v > 0 && v < 100);
+    }
+    free(o);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -319,6 +456,9 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_demo_checks_output_before_bake, setup, teardown),
         cmocka_unit_test_setup_teardown(test_demo_long_out, setup, teardown),
         cmocka_unit_test_setup_teardown(test_output_to_symlink_refused, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_merge_paths_bit_identical, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_relight_path, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_demo_paths_on_mesh, setup, teardown),
     };
     return cmocka_run_group_tests_name("cli", tests, NULL, NULL);
 }

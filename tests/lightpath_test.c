@@ -410,6 +410,93 @@ static void test_asset(void **state)
     tpath_free(&p1), tpath_free(&p2), tpath_free(&p3);
 }
 
+/* ---- lamp occlusion (LOCC) ------------------------------------------------------------------------- */
+
+static void test_lampocc(void **state)
+{
+    (void)state;
+    enum { W = 7, H = 3 };
+    tu_rng r = {77};
+    uint8_t v[W * H], *pl, *buf, *b2;
+    size_t pn, n, n2;
+    for (int i = 0; i < W * H; ++i)
+        v[i] = i == 0 ? 0 : i == 1 ? 255 : (uint8_t)tu_next(&r);
+    assert_int_equal(qtool_bake_locc_payload(W, H, v, &pl, &pn), 0);
+    assert_int_equal(pn, 8 + W * H);
+    qibl_lampocc_t o, untouched;
+    memset(&untouched, 0xA5, sizeof untouched);
+    /* named errors, *out untouched */
+    o = untouched;
+    assert_int_equal(qibl_lightpath_occl_parse(NULL, pn, &o), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_lightpath_occl_parse(pl, pn, NULL), QIBL_E_NULL_POINTER);
+    for (size_t cut = 0; cut < pn; ++cut)
+        assert_int_equal(qibl_lightpath_occl_parse(pl, cut, &o), QIBL_E_LIGHTPATH_SIZE);
+    assert_memory_equal(&o, &untouched, sizeof o);
+    uint8_t bad[8 + W * H];
+    memcpy(bad, pl, pn);
+    qtool_store_u32le(bad, 0);
+    assert_int_equal(qibl_lightpath_occl_parse(bad, pn, &o), QIBL_E_LIGHTPATH_DIMENSIONS);
+    qtool_store_u32le(bad, 20000);
+    assert_int_equal(qibl_lightpath_occl_parse(bad, pn, &o), QIBL_E_LIGHTPATH_DIMENSIONS);
+    qtool_store_u32le(bad, W + 1);
+    assert_int_equal(qibl_lightpath_occl_parse(bad, pn, &o), QIBL_E_LIGHTPATH_SIZE);
+    assert_memory_equal(&o, &untouched, sizeof o);
+    assert_int_equal(qibl_lightpath_occl_parse(pl, pn, &o), QIBL_OK);
+    assert_int_equal(o.width, W);
+    /* the span against double: io * a / 255, rounded, within 1 LSB plus the factor's 2^-16 */
+    for (uint32_t y = 0; y < H; ++y) {
+        int32_t io[3 * W], ref[3 * W];
+        for (int i = 0; i < 3 * W; ++i)
+            io[i] = ref[i] = i % 5 == 0 ? INT32_MIN : i % 5 == 1 ? INT32_MAX : tu_s32(&r);
+        assert_int_equal(qibl_lightpath_occl_span(&o, 2, y, W - 2, io + 6), QIBL_OK);
+        assert_int_equal(qibl_lightpath_occl_span(&o, 0, y, 2, io), QIBL_OK);
+        for (int i = 0; i < 3 * W; ++i) {
+            double a = v[y * W + (uint32_t)i / 3], e = ref[i] * a / 255.0;
+            assert_true(fabs((double)io[i] - e) <= 1.0 + fabs((double)ref[i]) * 0x1p-16);
+            if (a == 255)
+                assert_int_equal(io[i], ref[i]);
+            if (a == 0)
+                assert_int_equal(io[i], 0);
+        }
+    }
+    int32_t io[3 * W] = {0}, keep[3 * W];
+    memcpy(keep, io, sizeof io);
+    assert_int_equal(qibl_lightpath_occl_span(&o, 0, H, 1, io), QIBL_E_LIGHTPATH_BOUNDS);
+    assert_int_equal(qibl_lightpath_occl_span(&o, W + 1, 0, 0, io), QIBL_E_LIGHTPATH_BOUNDS);
+    assert_int_equal(qibl_lightpath_occl_span(&o, 1, 0, W, io), QIBL_E_LIGHTPATH_BOUNDS);
+    assert_int_equal(qibl_lightpath_occl_span(&o, 0, 0, W, NULL), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_lightpath_occl_span(NULL, 0, 0, W, io), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_lightpath_occl_span(&o, W, 0, 0, io), QIBL_OK);
+    assert_memory_equal(io, keep, sizeof io);
+    /* in an asset: appended to a valid one, found; missing, twice, another size */
+    qtool_asset_builder b;
+    qibl_asset_t a;
+    qtool_asset_builder_init(&b);
+    add_shm(&b, QIBL_CHUNK_SHMP, W, H, 4);
+    assert_int_equal(qtool_asset_serialize(&b, &buf, &n), 0);
+    qtool_asset_builder_free(&b);
+    assert_int_equal(qibl_asset_open(&a, buf, n), QIBL_OK);
+    assert_int_equal(qibl_lightpath_occl_from_asset(&a, &o), QIBL_E_ASSET_MISSING_CHUNK);
+    assert_int_equal(qibl_lightpath_occl_from_asset(NULL, &o), QIBL_E_NULL_POINTER);
+    assert_int_equal(qtool_bake_asset_add(buf, n, QIBL_CHUNK_LOCC, pl, pn, &b2, &n2), 0);
+    assert_int_equal(qibl_asset_open(&a, b2, n2), QIBL_OK);
+    assert_int_equal(qibl_lightpath_occl_from_asset(&a, &o), QIBL_OK);
+    assert_memory_equal(o.values, v, sizeof v);
+    uint8_t *b3;
+    size_t n3;
+    assert_int_equal(qtool_bake_asset_add(b2, n2, QIBL_CHUNK_LOCC, pl, pn, &b3, &n3), 0);
+    assert_int_equal(qibl_asset_open(&a, b3, n3), QIBL_OK);
+    assert_int_equal(qibl_lightpath_occl_from_asset(&a, &o), QIBL_E_ASSET_DUPLICATE_CHUNK);
+    free(b2), free(b3);
+    uint8_t *pl2;
+    size_t pn2;
+    assert_int_equal(qtool_bake_locc_payload(W - 1, H, v, &pl2, &pn2), 0);
+    assert_int_equal(qtool_bake_asset_add(buf, n, QIBL_CHUNK_LOCC, pl2, pn2, &b2, &n2), 0);
+    assert_int_equal(qibl_asset_open(&a, b2, n2), QIBL_OK);
+    assert_int_equal(qibl_lightpath_occl_from_asset(&a, &o), QIBL_E_LIGHTPATH_DIMENSIONS);
+    free(b2), free(pl2), free(buf), free(pl);
+}
+
 /* ---- the bake: edges against brute force --------------------------------------------------------- */
 
 static void test_bake_edges(void **state)
@@ -488,7 +575,7 @@ int main(void)
         cmocka_unit_test(test_at),                   cmocka_unit_test(test_span_errors),
         cmocka_unit_test(test_named_errors),         cmocka_unit_test(test_truncations_and_flips),
         cmocka_unit_test(test_asset),                cmocka_unit_test(test_bake_edges),
-        cmocka_unit_test(test_goldens),
+        cmocka_unit_test(test_goldens),              cmocka_unit_test(test_lampocc),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -289,6 +289,67 @@ qibl_status_t qibl_lightpath_shade_span(const qibl_lightpath_t *p, uint32_t t, u
     return QIBL_OK;
 }
 
+/* ---- lamp occlusion (LOCC) ---- */
+
+qibl_status_t qibl_lightpath_occl_parse(const uint8_t *data, size_t size, qibl_lampocc_t *out)
+{
+    if (data == 0 || out == 0)
+        return QIBL_E_NULL_POINTER;
+    if (size < QIBL_LAMPOCC_HEADER)
+        return QIBL_E_LIGHTPATH_SIZE;
+    uint32_t w = qibl_load_u32le(data), h = qibl_load_u32le(data + 4);
+    if (w - 1u >= QIBL_ASSET_MAX_DIM || h - 1u >= QIBL_ASSET_MAX_DIM || w * h > QIBL_ASSET_MAX_PIXELS)
+        return QIBL_E_LIGHTPATH_DIMENSIONS;
+    if ((uint64_t)QIBL_LAMPOCC_HEADER + (uint64_t)(w * h) != (uint64_t)size) /* w h <= 2^26 here */
+        return QIBL_E_LIGHTPATH_SIZE;
+    out->width = w, out->height = h, out->values = data + QIBL_LAMPOCC_HEADER;
+    return QIBL_OK;
+}
+
+#if QIBL_USE_ASSET
+qibl_status_t qibl_lightpath_occl_from_asset(const qibl_asset_t *a, qibl_lampocc_t *out)
+{
+    qibl_chunk_t c;
+    qibl_shmaps_t m;
+    qibl_lampocc_t o;
+    if (a == 0 || out == 0)
+        return QIBL_E_NULL_POINTER;
+    qibl_status_t st = qibl_asset_find_nth(a, QIBL_CHUNK_LOCC, 0, &c);
+    if (st == QIBL_OK && qibl_asset_find_nth(a, QIBL_CHUNK_LOCC, 1, &c) == QIBL_OK)
+        return QIBL_E_ASSET_DUPLICATE_CHUNK;
+    if (st == QIBL_OK)
+        st = qibl_asset_shmaps(a, &m);
+    if (st == QIBL_OK)
+        st = qibl_lightpath_occl_parse(c.data, c.size, &o);
+    if (st != QIBL_OK)
+        return st;
+    if (o.width != m.width || o.height != m.height)
+        return QIBL_E_LIGHTPATH_DIMENSIONS;
+    out->width = o.width, out->height = o.height, out->values = o.values;
+    return QIBL_OK;
+}
+#endif
+
+qibl_status_t qibl_lightpath_occl_span(const qibl_lampocc_t *o, uint32_t x0, uint32_t y, uint32_t n, int32_t *io)
+{
+    if (o == 0 || io == 0)
+        return QIBL_E_NULL_POINTER;
+    if (y >= o->height || x0 > o->width || n > o->width - x0)
+        return QIBL_E_LIGHTPATH_BOUNDS;
+    const uint8_t *v = o->values + (size_t)y * o->width + x0;
+    for (uint32_t i = 0; i < n; ++i) {
+        /* a / 255 as f / 2^16 without a divide: f = 257 a + a / 128 maps 0 -> 0 and 255 -> 65536 */
+        uint32_t a = v[i], f = 257u * a + (a >> 7);
+        if (f == 65536u)
+            continue;
+        for (unsigned c = 0; c < 3u; ++c) {
+            size_t k = 3u * (size_t)i + c;
+            io[k] = qibl_rshr_s64(qibl_mul_s32_s64(io[k], (int32_t)f), 16);
+        }
+    }
+    return QIBL_OK;
+}
+
 #else
 typedef int qibl_lightpath_disabled_t; /* ISO C forbids an empty translation unit */
 #endif /* QIBL_USE_LIGHTPATH */

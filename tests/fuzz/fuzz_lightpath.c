@@ -7,12 +7,18 @@
  * refused payload leaves the view untouched and gets a light-path status; an accepted one gives, for
  * every row, visibilities in 0..65536 (exactly 0 or 65536 for a hard light), shading that is 0 where
  * the visibility is 0 and the light where it is 65536, and key interpolation that succeeds.
+ * The same bytes also go to the lamp-occlusion parser (LOCC, qibl_lightpath_occl_parse): refused
+ * leaves the view untouched with a light-path status; accepted, every row's scaled values keep their
+ * sign and never grow in magnitude. And to the tiled-maps parser (SHMT, qibl_shmtile_parse): refused
+ * leaves the view untouched with an asset status; accepted, every tile's view reads only its bytes
+ * (ASan checks the reads) and has a k in 1..kmax and the tile's size.
  */
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "qibl/lightpath.h"
+#include "qibl/shmtile.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -21,6 +27,45 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (size < 4)
         return 0;
     uint32_t t = (uint32_t)data[0] | (uint32_t)data[1] << 8, radius = ((uint32_t)data[2] | (uint32_t)data[3] << 8) & 32767u;
+    {
+        qibl_lampocc_t o, ou;
+        memset(&o, 0x5A, sizeof o);
+        memcpy(&ou, &o, sizeof o);
+        qibl_status_t so = qibl_lightpath_occl_parse(data + 4, size - 4, &o);
+        if (so != QIBL_OK && (memcmp(&o, &ou, sizeof o) != 0 || so < QIBL_E_LIGHTPATH_SIZE || so > QIBL_E_LIGHTPATH_EDGES))
+            abort();
+        for (uint32_t y = 0; so == QIBL_OK && y < o.height && y < 64u; ++y) {
+            uint32_t n = o.width < 256u ? o.width : 256u;
+            int32_t io[768], ref[768];
+            for (uint32_t i = 0; i < 3u * n; ++i)
+                io[i] = ref[i] = (int32_t)((i * 2654435761u ^ t) >> 1) - (int32_t)(i & 1u ? 0x7FFFFFFF : 0);
+            if (qibl_lightpath_occl_span(&o, o.width - n, y, n, io) != QIBL_OK)
+                abort();
+            for (uint32_t i = 0; i < 3u * n; ++i)
+                if ((ref[i] >= 0 ? io[i] < 0 || io[i] > ref[i] : io[i] > 0 || io[i] < ref[i]))
+                    abort();
+        }
+    }
+    {
+        qibl_shmtile_t tl, tu;
+        memset(&tl, 0x5A, sizeof tl);
+        memcpy(&tu, &tl, sizeof tl);
+        qibl_status_t s2 = qibl_shmtile_parse(data + 4, size - 4, &tl);
+        if (s2 != QIBL_OK && (memcmp(&tl, &tu, sizeof tl) != 0 || s2 < QIBL_E_ASSET_TRUNCATED_HEADER ||
+                              s2 > QIBL_E_ASSET_MISMATCH))
+            abort();
+        volatile uint32_t sink = 0;
+        for (uint32_t j = 0; s2 == QIBL_OK && j < tl.tiles_y && j < 16u; ++j)
+            for (uint32_t i = 0; i < tl.tiles_x && i < 16u; ++i) {
+                qibl_shmaps_t v;
+                if (qibl_shmtile_view(&tl, i, j, &v, NULL, NULL) != QIBL_OK || v.k < 1u || v.k > tl.kmax ||
+                    v.width < 1u || v.width > 16u || v.height < 1u || v.height > 16u)
+                    abort();
+                size_t nb = (size_t)v.k * v.channels * v.width * v.height;
+                sink += v.planes[0] + v.planes[nb - 1u] + v.params[8u * v.k * v.channels - 1u];
+            }
+        (void)sink;
+    }
     qibl_lightpath_t p, untouched;
     memset(&p, 0x5A, sizeof p);
     memcpy(&untouched, &p, sizeof p);

@@ -139,6 +139,13 @@ int qtool_bake_run_unshadowed(const qtool_rt_scene *s, uint32_t w, uint32_t h, q
     return bake_run(s, w, h, kind, ndirs, k, 0, 1, threads, 0, 1, out);
 }
 
+int qtool_bake_run_unshadowed_shard(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind,
+                                   uint32_t ndirs, uint32_t k, uint32_t shard, uint32_t nshards, int threads,
+                                   qtool_bake_sums *out)
+{
+    return bake_run(s, w, h, kind, ndirs, k, shard, nshards, threads, 0, 1, out);
+}
+
 void qtool_bake_sums_free(qtool_bake_sums *s)
 {
     free(s->pmap), free(s->acc);
@@ -763,9 +770,16 @@ int qtool_bake_relight8_lin(const uint8_t *asset, size_t n, const qtool_rt_light
                                 l->falloff == 2 ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST, 0,
                                 lut_mode == 2 ? QIBL_LUT_NEAREST : lut_mode == 3 ? QIBL_POINT_POLY : QIBL_LUT_BILINEAR};
         qibl_shmap_point_t pt;
+        qibl_lampocc_t occ;
+        qibl_chunk_t shmu;
+        /* a free lamp through the unshadowed maps gets the lamp occlusion when the asset has one */
+        int use_occ = lut_mode >= 0 && qibl_asset_find_nth(&a, QIBL_CHUNK_SHMU, 0, &shmu) == QIBL_OK &&
+                      qibl_lightpath_occl_from_asset(&a, &occ) == QIBL_OK;
         st = qibl_shmap_point_prepare(&m, &pm, lut_mode == 1 || lut_mode == 2 ? &lut : NULL, &pl, &pt);
         for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {
             st = qibl_shmap_point_span(&pt, 0, y, w, row, ws, wsn);
+            if (st == QIBL_OK && use_occ)
+                st = qibl_lightpath_occl_span(&occ, 0, y, w, row);
             if (st == QIBL_OK)
                 st = qibl_fb_write_row(&fb, 0, y, w, row);
             if (st == QIBL_OK)

@@ -41,9 +41,13 @@ void qtool_bake_dir(uint32_t j, uint32_t n, double d[3]);
 int qtool_bake_run(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t ndirs, uint32_t k,
                   uint32_t shard, uint32_t nshards, int threads, int progress, qtool_bake_sums *out);
 /* The unshadowed transfer (cosine x BRDF, no shadow test) for the SHMU chunk: the same sums, in
- * one piece (no shards; partial-sums files and merge carry the shadowed set only). 0 or -1. */
+ * one piece, or (_shard) shard of nshards split into direction blocks as qtool_bake_run (a sharded
+ * bake writes them beside its partial sums as SUMS.u; their merge is bit-identical). 0 or -1. */
 int qtool_bake_run_unshadowed(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t ndirs,
                              uint32_t k, int threads, qtool_bake_sums *out);
+int qtool_bake_run_unshadowed_shard(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind,
+                                   uint32_t ndirs, uint32_t k, uint32_t shard, uint32_t nshards, int threads,
+                                   qtool_bake_sums *out);
 void qtool_bake_sums_free(qtool_bake_sums *s);
 
 /* Partial sums file, version 2 (all little-endian):

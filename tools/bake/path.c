@@ -572,3 +572,105 @@ int qtool_bake_relight_env8(const uint8_t *asset, size_t n, const qibl_shlight_t
         *status = st;
     return st == QIBL_OK ? 0 : -1;
 }
+
+/* ---- lamp occlusion (LOCC) -------------------------------------------------------------------------- */
+
+typedef struct {
+    const qtool_rt_scene *s;
+    uint32_t w, h, n;
+    qtool_pano_kind kind;
+    const double *box;
+    uint8_t *out;
+} occ_job;
+
+/* the i-th of n lamp positions in the box: a 3-D Halton set (bases 2, 3, 5), the same for every pixel */
+static double halton(uint32_t i, uint32_t b)
+{
+    double f = 1, r = 0;
+    for (; i > 0; i /= b)
+        f /= b, r += f * (double)(i % b);
+    return r;
+}
+
+static void occ_row(void *ctx, uint32_t y)
+{
+    const occ_job *j = ctx;
+    for (uint32_t x = 0; x < j->w; ++x) {
+        double d[3], sw = 0, sv = 0;
+        qtool_rt_hit h;
+        qtool_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
+        qtool_rt_primary(j->s, d, &h);
+        for (uint32_t i = 0; h.hit && i < j->n; ++i) {
+            double p[3] = {halton(i + 1, 2), halton(i + 1, 3), halton(i + 1, 5)}, w[3], len = 0;
+            for (int c = 0; c < 3; ++c) {
+                p[c] = j->box[c] + p[c] * (j->box[3 + c] - j->box[c]);
+                w[c] = p[c] - h.p[c], len += w[c] * w[c];
+            }
+            len = sqrt(len);
+            if (len < 1.0 / 256)
+                continue;
+            for (int c = 0; c < 3; ++c)
+                w[c] /= len;
+            double df, gl;
+            /* weight: what the lamp would add unshadowed (Lambert x C0/|L|), so a(p) is the share of
+             * the pixel's expected light that reaches it */
+            if (!qtool_rt_response(j->s, &h, w, 0, &df, &gl) || df <= 0)
+                continue;
+            double wt = df / len;
+            sw += wt;
+            if (!qtool_rt_occluded(j->s, &h, w, len))
+                sv += wt;
+        }
+        j->out[(size_t)y * j->w + x] = sw > 0 ? (uint8_t)lrint(255 * sv / sw) : 255;
+    }
+}
+
+int qtool_bake_lamp_occlusion(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const double box[6],
+                             uint32_t nsamples, int threads, uint8_t *out)
+{
+    if (w < 1 || h < 1 || nsamples < 1 || !box || !out)
+        return -1;
+    occ_job j = {s, w, h, nsamples, kind, box, out};
+    return qtool_rt_parallel(threads, h, occ_row, &j, NULL);
+}
+
+int qtool_bake_locc_payload(uint32_t w, uint32_t h, const uint8_t *values, uint8_t **out, size_t *n)
+{
+    size_t np = (size_t)w * h;
+    uint8_t *b = malloc(QIBL_LAMPOCC_HEADER + np);
+    if (!b)
+        return -1;
+    qtool_store_u32le(b, w), qtool_store_u32le(b + 4, h);
+    memcpy(b + QIBL_LAMPOCC_HEADER, values, np);
+    *out = b, *n = QIBL_LAMPOCC_HEADER + np;
+    return 0;
+}
+
+int qtool_bake_asset_add(const uint8_t *asset, size_t n, uint32_t type, const uint8_t *payload, size_t size,
+                        uint8_t **out, size_t *outn)
+{
+    qibl_asset_t a;
+    qtool_asset_builder b;
+    uint32_t seen[QIBL_ASSET_MAX_CHUNKS], types[QIBL_ASSET_MAX_CHUNKS];
+    if (qibl_asset_open(&a, asset, n) != QIBL_OK)
+        return -1;
+    qtool_asset_builder_init(&b);
+    int rc = -1;
+    /* every chunk in table order (the n-th of its type), then the new one */
+    for (uint32_t i = 0; i < a.chunk_count; ++i) {
+        qibl_chunk_t c;
+        uint32_t t = qibl_load_u32le(asset + QIBL_ASSET_HEADER_SIZE + QIBL_ASSET_ENTRY_SIZE * i), nth = 0;
+        types[i] = t;
+        for (uint32_t j = 0; j < i; ++j)
+            nth += types[j] == t;
+        seen[i] = nth;
+        if (qibl_asset_find_nth(&a, t, seen[i], &c) != QIBL_OK || qtool_asset_builder_add(&b, t, c.data, c.size) != 0)
+            goto done;
+    }
+    if (qtool_asset_builder_add(&b, type, payload, size) != 0 || qtool_asset_serialize(&b, out, outn) != 0)
+        goto done;
+    rc = 0;
+done:
+    qtool_asset_builder_free(&b);
+    return rc;
+}

@@ -77,6 +77,21 @@ void qtool_bake_sky_sh(const double rgb[3], uint32_t k, qibl_shlight_t *out);
 int qtool_bake_relight_env8(const uint8_t *asset, size_t n, const qibl_shlight_t *env, uint8_t *rgb8, double *ms,
                            qibl_status_t *status);
 
+/* Lamp occlusion (the LOCC chunk's values, qibl/lightpath.h): per pixel the expected visibility of a
+ * free point lamp somewhere in the box lo = box[0..2], hi = box[3..5], weighted by what the lamp
+ * would add unshadowed (Lambert x C0/|L|), over nsamples positions of a Halton set; 255 = never
+ * shadowed (also sky pixels and pixels no sample faces). out: w h bytes, row-major. 0 or -1. */
+int qtool_bake_lamp_occlusion(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const double box[6],
+                             uint32_t nsamples, int threads, uint8_t *out);
+
+/* The LOCC payload of w h values (*out malloc'ed). 0 or -1 (no memory). */
+int qtool_bake_locc_payload(uint32_t w, uint32_t h, const uint8_t *values, uint8_t **out, size_t *n);
+
+/* A copy of a valid asset with one chunk appended (the others in their order, bytes unchanged).
+ * *out malloc'ed. 0 or -1 (invalid asset, too many chunks, no memory). */
+int qtool_bake_asset_add(const uint8_t *asset, size_t n, uint32_t type, const uint8_t *payload, size_t size,
+                        uint8_t **out, size_t *outn);
+
 /* Per pixel what the truth does with light l: 0 sky, 1 lit, 2 cast shadow, 3 facing away. 0. */
 int qtool_bake_classify(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const qtool_rt_light *l,
                        int threads, uint8_t *cls);

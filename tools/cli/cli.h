@@ -110,6 +110,10 @@ int qcli_point_default(const double *pts, size_t n, const double pos[3], int fal
 void qcli_warn_dark(const char *path, const uint8_t *rgb, size_t np);
 
 /* Prints "qibl: <message>" on stderr and returns 2 (the bad-arguments exit status). */
+/* relight_path.c: whether a relight command line names a baked light path (--path), and that relight. */
+int qcli_relight_has_path(int argc, char **argv);
+int qcli_relight_path(int argc, char **argv);
+
 int qcli_usage_error(const char *fmt, ...);
 
 /* Parses a finite decimal into Q16.16, rounding to nearest; 0 on success, -1 if not a number or

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "bake/bake.h"
+#include "bake/extras.h"
 #include "bake/path.h"
 #include "io/hdr.h"
 #include "io/obj.h"
@@ -18,6 +19,7 @@
 #include "io/pfm.h"
 #include "io/png.h"
 #include "qibl/asset.h"
+#include "qibl/lightpath.h"
 #include "io/atomic.h"
 #include "io/file.h"
 #include "cli/cli.h"
@@ -316,13 +318,22 @@ static int write_bytes(const char *path, const uint8_t *b, size_t n)
     return 0;
 }
 
-/* what `qibl bake` adds beside the shadowed maps: unshadowed maps (SHMU) and light paths (LPTH) */
+/* what `qibl bake` adds beside the shadowed maps: unshadowed maps (SHMU), light paths (LPTH) and
+ * lamp occlusion (LOCC) */
 typedef struct {
     const qtool_gen_maps *mu; /* NULL: none */
     uint8_t *paths[9];       /* NULL-terminated */
     size_t sizes[9];
     int npaths;
+    uint8_t *locc; /* NULL: none */
+    size_t locc_n;
 } extras;
+
+/* SUMS.u (the unshadowed partial sums) and SUMS.x (the extras file) beside a partial-sums file */
+static void side_name(char *buf, size_t n, const char *sums, const char *ext)
+{
+    snprintf(buf, n, "%s.%s", sums, ext);
+}
 
 static int finish_asset(const qtool_bake_sums *sums, uint32_t k, uint32_t lut, qtool_proj_method method,
                         uint32_t layout, const char *out, const extras *x)
@@ -340,6 +351,13 @@ static int finish_asset(const qtool_bake_sums *sums, uint32_t k, uint32_t lut, q
     }
     int rc = qtool_bake_asset_full(&m, x->mu, lut, layout, x->paths, x->sizes, &bytes, &n);
     qtool_gen_free(&m);
+    if (rc == 0 && x->locc) {
+        uint8_t *b2 = NULL;
+        size_t n2 = 0;
+        rc = qtool_bake_asset_add(bytes, n, QIBL_CHUNK_LOCC, x->locc, x->locc_n, &b2, &n2);
+        free(bytes);
+        bytes = b2, n = n2;
+    }
     if (rc != 0) {
         fprintf(stderr, "qibl: %s: cannot build the asset (out of memory)\n", out);
         return 1;
@@ -355,6 +373,8 @@ static int finish_asset(const qtool_bake_sums *sums, uint32_t k, uint32_t lut, q
         printf(", unshadowed maps k = %u", x->mu->k);
     if (x->npaths)
         printf(", %d light path%s", x->npaths, x->npaths > 1 ? "s" : "");
+    if (x->locc)
+        printf(", lamp occlusion");
     printf(", %zu bytes\n", n);
     return 0;
 }
@@ -364,8 +384,9 @@ int qcli_cmd_bake(int argc, char **argv)
     qcli_scene so;
     qcli_scene_defaults(&so);
     const char *out = NULL, *sums_out = NULL;
-    long k = 16, lut = 32, ndirs = 512, shard = 0, nshards = 1, uk = 9, steps = 64;
-    double budget = 0;
+    long k = 16, lut = 32, ndirs = 512, shard = 0, nshards = 1, uk = 9, steps = 64, lamp_samples = 64;
+    double budget = 0, lamp_box[6];
+    int has_box = 0;
     int lsq = 0, quiet = 0, npaths = 0;
     uint32_t layout = QIBL_SHMAPS_PLANAR;
     qtool_bake_path paths[8];
@@ -416,6 +437,18 @@ int qcli_cmd_bake(int argc, char **argv)
             if (bad)
                 return qcli_usage_error("%s", perr);
             npaths++;
+        } else if (strcmp(a, "--lamp-box") == 0 && i + 1 < argc) {
+            char tail;
+            double *b = lamp_box;
+            if (sscanf(argv[++i], "%lf,%lf,%lf,%lf,%lf,%lf%c", &b[0], &b[1], &b[2], &b[3], &b[4], &b[5], &tail) != 6 ||
+                !(b[0] <= b[3] && b[1] <= b[4] && b[2] <= b[5]) || !(fabs(b[0]) < 1e6 && fabs(b[1]) < 1e6 &&
+                fabs(b[2]) < 1e6 && fabs(b[3]) < 1e6 && fabs(b[4]) < 1e6 && fabs(b[5]) < 1e6))
+                return qcli_usage_error("--lamp-box needs X0,Y0,Z0,X1,Y1,Z1 with X0 <= X1, Y0 <= Y1, Z0 <= Z1 (|v| < 1e6): "
+                                        "'%s'", argv[i]);
+            has_box = 1;
+        } else if (strcmp(a, "--lamp-samples") == 0 && i + 1 < argc) {
+            if (qcli_parse_int(argv[++i], 1, 4096, &lamp_samples) != 0)
+                return qcli_usage_error("--lamp-samples needs an integer in 1..4096");
         } else if (strcmp(a, "--lsq") == 0)
             lsq = 1;
         else if (strcmp(a, "--quiet") == 0)
@@ -436,8 +469,8 @@ int qcli_cmd_bake(int argc, char **argv)
                                     QTOOL_BAKE_BLOCK);
     if (out && nshards > 1)
         return qcli_usage_error("a shard writes partial sums only (--sums); qibl merge writes the asset");
-    if (npaths && (uk == 0 || !out))
-        return qcli_usage_error("light paths need the unshadowed maps (--unshadowed-k 1..25) and -o ASSET");
+    if ((npaths || has_box) && uk == 0)
+        return qcli_usage_error("light paths and --lamp-box need the unshadowed maps (--unshadowed-k 1..25)");
     qtool_rt_scene s;
     if (qcli_scene_load(&so, &s) != 0)
         return 1;
@@ -460,17 +493,28 @@ int qcli_cmd_bake(int argc, char **argv)
     extras x;
     qtool_gen_maps mu = {0};
     memset(&x, 0, sizeof x);
-    if (out && uk > 0) {
+    /* a shard (partial sums, no asset) carries its share of the unshadowed sums in SUMS.u and, from
+     * shard 0, the per-pixel chunks in SUMS.x, so qibl merge makes the same asset as one bake */
+    int shard_mode = !out && sums_out;
+    char side[2][4200];
+    if (shard_mode)
+        side_name(side[0], sizeof side[0], sums_out, "u"), side_name(side[1], sizeof side[1], sums_out, "x");
+    if ((out || shard_mode) && uk > 0) {
         qtool_bake_sums us;
         double t1 = qcli_now();
-        if (qtool_bake_run_unshadowed(&s, so.w, so.h, so.kind, (uint32_t)ndirs, (uint32_t)uk, so.threads, &us) != 0 ||
-            qtool_bake_coeffs(&us, (uint32_t)uk, lsq ? QTOOL_PROJ_LSQ : QTOOL_PROJ_QUADRATURE, &mu) != 0) {
+        if (qtool_bake_run_unshadowed_shard(&s, so.w, so.h, so.kind, (uint32_t)ndirs, (uint32_t)uk, (uint32_t)shard,
+                                           (uint32_t)nshards, so.threads, &us) != 0 ||
+            (out && qtool_bake_coeffs(&us, (uint32_t)uk, lsq ? QTOOL_PROJ_LSQ : QTOOL_PROJ_QUADRATURE, &mu) != 0)) {
             fprintf(stderr, "qibl: bake: out of memory (unshadowed maps)\n");
+            rc = 1;
+        } else if (shard_mode && qtool_bake_sums_write(&us, side[0], err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s\n", err);
             rc = 1;
         }
         qtool_bake_sums_free(&us);
-        x.mu = rc == 0 ? &mu : NULL;
-        for (int p = 0; rc == 0 && p < npaths; ++p) {
+        x.mu = rc == 0 && out ? &mu : NULL;
+        int whole = out || shard == 0; /* per-pixel chunks: made once */
+        for (int p = 0; whole && rc == 0 && p < npaths; ++p) {
             double st[2];
             if (qtool_bake_path_chunk(&s, so.w, so.h, so.kind, &paths[p], (uint32_t)steps, 65, so.threads, &x.paths[p],
                                      &x.sizes[p], st) != 0) {
@@ -483,9 +527,35 @@ int qcli_cmd_bake(int argc, char **argv)
             }
             x.npaths = p + 1;
         }
+        if (whole && rc == 0 && has_box) {
+            uint8_t *occ = malloc((size_t)so.w * so.h);
+            if (!occ || qtool_bake_lamp_occlusion(&s, so.w, so.h, so.kind, lamp_box, (uint32_t)lamp_samples, so.threads,
+                                                  occ) != 0 ||
+                qtool_bake_locc_payload(so.w, so.h, occ, &x.locc, &x.locc_n) != 0) {
+                fprintf(stderr, "qibl: bake: out of memory (lamp occlusion)\n");
+                rc = 1;
+            }
+            free(occ);
+        }
+        if (shard_mode && rc == 0) {
+            qtool_extras xf;
+            memset(&xf, 0, sizeof xf);
+            for (int p = 0; p < x.npaths; ++p)
+                xf.type[xf.count] = QIBL_CHUNK_LPTH, xf.data[xf.count] = x.paths[p], xf.size[xf.count++] = x.sizes[p];
+            if (x.locc)
+                xf.type[xf.count] = QIBL_CHUNK_LOCC, xf.data[xf.count] = x.locc, xf.size[xf.count++] = x.locc_n;
+            if (xf.count && qtool_extras_write(&xf, side[1], err, sizeof err) != 0) {
+                fprintf(stderr, "qibl: %s\n", err);
+                rc = 1;
+            } else if (!xf.count) {
+                (void)unlink(side[1]); /* a stale one from an earlier bake must not reach the merge */
+            }
+        }
         if (!quiet && rc == 0)
             fprintf(stderr, "bake: unshadowed maps (k = %ld) and %d light path%s: %.1f s\n", uk, npaths,
                     npaths == 1 ? "" : "s", qcli_now() - t1);
+    } else if (shard_mode) {
+        (void)unlink(side[0]), (void)unlink(side[1]);
     }
     if (rc == 0 && sums_out && qtool_bake_sums_write(&sums, sums_out, err, sizeof err) != 0) {
         fprintf(stderr, "qibl: %s\n", err);
@@ -565,9 +635,98 @@ int qcli_cmd_bake(int argc, char **argv)
     }
     for (int p = 0; p < 8; ++p)
         free(x.paths[p]);
+    free(x.locc);
     qtool_gen_free(&mu);
     qtool_bake_sums_free(&sums);
     qtool_rt_scene_free(&s);
+    return rc;
+}
+
+static int file_exists(const char *p)
+{
+    return access(p, F_OK) == 0;
+}
+
+/* The unshadowed maps from every shard's SUMS.u (all or none: a bake writes them for every shard)
+ * and the light paths and lamp occlusion from shard 0's SUMS.x, into x. seen[s] - 1 is the input
+ * of shard s. 0, or -1 with a message naming the file. */
+static int merge_extras(char **in, const int *seen, uint32_t nsh, const qtool_bake_sums *total, int lsq,
+                        qtool_gen_maps *mu, qtool_extras *xx, extras *x)
+{
+    char name[4200], err[1200];
+    uint32_t have = 0;
+    for (uint32_t s = 0; s < nsh; ++s) {
+        side_name(name, sizeof name, in[seen[s] - 1], "u");
+        have += file_exists(name) ? 1u : 0u;
+    }
+    if (have != 0 && have != nsh) {
+        for (uint32_t s = 0; s < nsh; ++s) {
+            side_name(name, sizeof name, in[seen[s] - 1], "u");
+            if (!file_exists(name)) {
+                fprintf(stderr, "qibl: merge: %s is missing (the unshadowed sums of shard %u/%u; %u other shard%s "
+                        "have theirs)\n", name, s, nsh, have, have == 1 ? "" : "s");
+                return -1;
+            }
+        }
+    }
+    qtool_bake_sums tu = {0}, part;
+    int rc = -1;
+    for (uint32_t s = 0; have && s < nsh; ++s) {
+        side_name(name, sizeof name, in[seen[s] - 1], "u");
+        if (qtool_bake_sums_read(name, &part, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s\n", err);
+            goto done;
+        }
+        if (part.shard != s || part.nshards != nsh || part.w != total->w || part.h != total->h ||
+            part.ndirs != total->ndirs || part.kind != total->kind ||
+            memcmp(part.pmap, total->pmap, (size_t)part.w * part.h * 12) != 0) {
+            fprintf(stderr, "qibl: %s: not the unshadowed sums of %s (shard %u/%u of another bake)\n", name,
+                    in[seen[s] - 1], part.shard, part.nshards);
+            qtool_bake_sums_free(&part);
+            goto done;
+        }
+        if (s == 0) {
+            tu = part;
+            continue;
+        }
+        if (qtool_bake_sums_add(&tu, &part, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s: %s\n", name, err);
+            qtool_bake_sums_free(&part);
+            goto done;
+        }
+        qtool_bake_sums_free(&part);
+    }
+    if (have) {
+        if (qtool_bake_coeffs(&tu, tu.k, lsq ? QTOOL_PROJ_LSQ : QTOOL_PROJ_QUADRATURE, mu) != 0) {
+            fprintf(stderr, "qibl: merge: cannot project the unshadowed sums (too few directions or no memory)\n");
+            goto done;
+        }
+        x->mu = mu;
+    }
+    side_name(name, sizeof name, in[seen[0] - 1], "x");
+    if (file_exists(name)) {
+        if (!have) {
+            fprintf(stderr, "qibl: %s: light paths without the unshadowed sums (.u files)\n", name);
+            goto done;
+        }
+        if (qtool_extras_read(name, xx, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s\n", err);
+            goto done;
+        }
+        for (uint32_t i = 0; i < xx->count; ++i) {
+            if (xx->type[i] == QIBL_CHUNK_LOCC && !x->locc)
+                x->locc = xx->data[i], x->locc_n = xx->size[i];
+            else if (xx->type[i] == QIBL_CHUNK_LPTH && x->npaths < 8)
+                x->paths[x->npaths] = xx->data[i], x->sizes[x->npaths++] = xx->size[i];
+            else {
+                fprintf(stderr, "qibl: %s: more than 8 light paths or two lamp occlusions\n", name);
+                goto done;
+            }
+        }
+    }
+    rc = 0;
+done:
+    qtool_bake_sums_free(&tu);
     return rc;
 }
 
@@ -615,8 +774,12 @@ int qcli_cmd_merge(int argc, char **argv)
         return qcli_usage_error("usage: qibl merge -o ASSET [--sums OUT] [--k K] [--lut-size N] [--lsq] SUMS...");
     }
     qtool_bake_sums total = {0}, part;
+    qtool_gen_maps mu = {0};
+    qtool_extras xx;
+    extras x;
     char err[1200];
     int rc = 1;
+    memset(&xx, 0, sizeof xx), memset(&x, 0, sizeof x);
     int *seen = NULL; /* per shard index: 1 + the input it came from, 0 if none yet */
     for (int i = 0; i < nin; ++i) {
         /* every header is validated by the reader (shard < nshards <= QTOOL_BAKE_MAX_SHARDS) before use */
@@ -664,19 +827,22 @@ int qcli_cmd_merge(int argc, char **argv)
                                   k);
         goto done;
     }
+    uint32_t nsh = total.nshards;
     total.shard = 0, total.nshards = 1;
     if (sums_out && qtool_bake_sums_write(&total, sums_out, err, sizeof err) != 0) {
         fprintf(stderr, "qibl: %s\n", err);
         goto done;
     }
-    extras none;
-    memset(&none, 0, sizeof none);
+    if (merge_extras(in, seen, nsh, &total, lsq, &mu, &xx, &x) != 0)
+        goto done;
     rc = out ? finish_asset(&total, k ? (uint32_t)k : (total.k < 16 ? total.k : 16), (uint32_t)lut,
-                            lsq ? QTOOL_PROJ_LSQ : QTOOL_PROJ_QUADRATURE, layout, out, &none)
+                            lsq ? QTOOL_PROJ_LSQ : QTOOL_PROJ_QUADRATURE, layout, out, &x)
              : 0;
 done:
     free(seen), free(in);
     qtool_bake_sums_free(&total);
+    qtool_gen_free(&mu);
+    qtool_extras_free(&xx);
     return rc;
 }
 

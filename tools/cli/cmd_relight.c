@@ -166,6 +166,8 @@ static void describe(const qcli_light_list *ll, int lut_mode, char *buf, size_t 
 
 int qcli_cmd_relight(int argc, char **argv)
 {
+    if (qcli_relight_has_path(argc, argv)) /* a light on a baked path: relight_path.c */
+        return qcli_relight_path(argc, argv);
     const char *in = NULL, *png = NULL, *hdr = NULL, *pfm = NULL;
     /* poly: the default point mode (QIBL_POINT_POLY, the fastest); off: direct SH in Q2.30 */
     int use_lut = 0, nearest = 0, linear = 0, poly = 1, r;

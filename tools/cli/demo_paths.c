@@ -10,8 +10,11 @@
 
 #include "bake/bake.h"
 #include "bake/path.h"
+#include "bake/tiled.h"
 #include "io/png.h"
 #include "qibl/asset.h"
+#include "qibl/lightpath.h"
+#include "qibl/shmtile.h"
 #include "cli/cli.h"
 #include "ref/psnr.h"
 #include "render/rt.h"
@@ -20,11 +23,11 @@ enum { NPOS = 16, NCLS = 4 };
 
 typedef struct {
     const char *name;
-    double bytes_px, ms, psnr, psnr_cls[NCLS], share_cls[NCLS], bright;
+    double bytes_px, ms, psnr, psnr_cls[NCLS], share_cls[NCLS], bright, excess_cls[NCLS];
 } row_stats;
 
 typedef struct {
-    double se_cls[NCLS], n_cls[NCLS], lin_relit, lin_truth, ms[NPOS];
+    double se_cls[NCLS], n_cls[NCLS], ms[NPOS], lr_cls[NCLS], lt_cls[NCLS];
     int frames;
 } acc_t;
 
@@ -43,8 +46,8 @@ static void acc_frame(acc_t *a, const uint8_t *relit, const uint8_t *truth, cons
         for (int c = 0; c < 3; ++c) {
             double d = (double)relit[3 * i + (size_t)c] - truth[3 * i + (size_t)c];
             a->se_cls[cls[i]] += d * d;
-            a->lin_relit += lut[relit[3 * i + (size_t)c]];
-            a->lin_truth += lut[truth[3 * i + (size_t)c]];
+            a->lr_cls[cls[i]] += lut[relit[3 * i + (size_t)c]];
+            a->lt_cls[cls[i]] += lut[truth[3 * i + (size_t)c]];
         }
         a->n_cls[cls[i]] += 3;
     }
@@ -63,7 +66,13 @@ static void finish(const acc_t *a, const char *name, double bytes_px, row_stats 
         r->psnr_cls[c] = a->n_cls[c] > 0 ? qtool_ref_psnr8(a->se_cls[c] / a->n_cls[c]) : 0;
         r->share_cls[c] = se > 0 ? 100 * a->se_cls[c] / se : 0;
     }
-    r->bright = a->lin_truth > 0 ? a->lin_relit / a->lin_truth : 0;
+    double lr = 0, lt = 0;
+    for (int c = 1; c < NCLS; ++c)
+        lr += a->lr_cls[c], lt += a->lt_cls[c];
+    r->bright = lt > 0 ? lr / lt : 0;
+    /* where the brightness error sits: each class's (relit - truth) as a share of the truth's total */
+    for (int c = 1; c < NCLS; ++c)
+        r->excess_cls[c] = lt > 0 ? (a->lr_cls[c] - a->lt_cls[c]) / lt : 0;
     double ms[NPOS];
     memcpy(ms, a->ms, sizeof(double) * (size_t)a->frames);
     r->ms = qcli_median(ms, a->frames);
@@ -74,6 +83,13 @@ static void print_row(const row_stats *r)
     printf("| %-44s | %8.1f | %8.3f | %7.2f | %6.2f (%4.1f%%) | %6.2f (%4.1f%%) | %6.2f (%4.1f%%) | %5.3f |\n", r->name,
            r->bytes_px, r->ms, r->psnr, r->psnr_cls[1], r->share_cls[1], r->psnr_cls[2], r->share_cls[2],
            r->psnr_cls[3], r->share_cls[3], r->bright);
+}
+
+/* the brightness error split by pixel class: (relit - truth) per class over the truth's whole sum */
+static void print_split(const row_stats *r)
+{
+    printf("| %-44s | %5.3f | %+7.4f | %+7.4f | %+7.4f |\n", r->name, r->bright, r->excess_cls[1], r->excess_cls[2],
+           r->excess_cls[3]);
 }
 
 static void heat(const uint8_t *a, const uint8_t *b, const uint8_t *cls, size_t np, uint8_t *out)
@@ -126,8 +142,9 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
 
     qtool_bake_sums us;
     qtool_gen_maps msh = {0}, mu9 = {0}, mu16 = {0};
-    uint8_t *lp[3] = {NULL, NULL, NULL}, *asset9 = NULL, *asset16 = NULL;
-    size_t lpn[2] = {0, 0}, n9 = 0, n16 = 0;
+    uint8_t *lp[3] = {NULL, NULL, NULL}, *asset9 = NULL, *asset16 = NULL, *asset9o = NULL, *asset16o = NULL;
+    uint8_t *occv = malloc(np);
+    size_t lpn[2] = {0, 0}, n9 = 0, n16 = 0, n9o = 0, n16o = 0;
     uint8_t *truth = malloc(np * 3 * NPOS * 2), *cls = malloc(np * NPOS * 2), *tmp = malloc(np * 3);
     uint8_t *keep[4] = {malloc(np * 3), malloc(np * 3), malloc(np * 3), malloc(np * 3)};
     double st_sun[2], st_trk[2];
@@ -147,6 +164,23 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
     }
     double bake_s = qcli_now() - t0;
 
+    /* lamp occlusion for free lamps: the region lamps move in is the track's bounding box grown by
+     * half a unit (a designer's box, not the track: the 16 free positions are not sampled) */
+    uint8_t *occ = occv, *occp = NULL;
+    size_t occn = 0;
+    double box[6] = {1e30, 1e30, 1e30, -1e30, -1e30, -1e30};
+    for (int i = 0; i < track.npts; ++i)
+        for (int c = 0; c < 3; ++c)
+            box[c] = fmin(box[c], track.pts[i][c] - 0.5), box[3 + c] = fmax(box[3 + c], track.pts[i][c] + 0.5);
+    if (!occ || qtool_bake_lamp_occlusion(s, w, h, kind, box, 64, so->threads, occ) != 0 ||
+        qtool_bake_locc_payload(w, h, occ, &occp, &occn) != 0 ||
+        qtool_bake_asset_add(asset9, n9, QIBL_CHUNK_LOCC, occp, occn, &asset9o, &n9o) != 0 ||
+        qtool_bake_asset_add(asset16, n16, QIBL_CHUNK_LOCC, occp, occn, &asset16o, &n16o) != 0) {
+        fprintf(stderr, "qibl: demo: out of memory (lamp occlusion)\n");
+        free(occp);
+        goto done;
+    }
+    free(occp), occp = NULL;
     /* 16 positions on each path, between the baked steps; truth and pixel classes once */
     qtool_rt_light L[2][NPOS];
     uint32_t tq[NPOS];
@@ -162,13 +196,15 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
         }
     }
 
-    /* rows: 0 today sun, 1 path k9, 2 path k16, 3 today lamp, 4 free lamp k9, 5 free lamp k16, 6 track k9, 7 track k16 */
-    enum { NROWS = 8 };
+    /* rows: 0 today sun, 1 path k9, 2 path k16, 3 today lamp, 4 free lamp k9, 5 free lamp k16 (both with the
+     * lamp occlusion), 6 track k9, 7 track k16, 8 free lamp k9 without the occlusion */
+    enum { NROWS = 9 };
     static const char *names[NROWS] = {
         "sun: today, shadowed SH k16",        "sun: unshadowed k9 x path visibility",
         "sun: unshadowed k16 x path visibility", "lamp: today, shadowed SH k16 (LUT)",
-        "lamp: free, unshadowed k9 (LUT)",    "lamp: free, unshadowed k16 (LUT)",
-        "lamp: unshadowed k9 x track visibility", "lamp: unshadowed k16 x track visibility"};
+        "lamp: free, unshadowed k9 x occlusion (LUT)", "lamp: free, unshadowed k16 x occlusion (LUT)",
+        "lamp: unshadowed k9 x track visibility", "lamp: unshadowed k16 x track visibility",
+        "lamp: free, unshadowed k9, no occlusion"};
     acc_t acc[NROWS];
     memset(acc, 0, sizeof acc);
     qibl_status_t st = QIBL_OK;
@@ -182,8 +218,11 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
             size_t an = (r == 2 || r == 5 || r == 7) ? n16 : n9;
             if (r == 0 || r == 3)
                 e = qtool_bake_relight8_lin(today, today_n, &L[p][i], 1, 0, 1, tmp, NULL, &ms, &st);
-            else if (r == 4 || r == 5) /* a free point light: qibl_asset_point_shmaps picks SHMU */
-                e = qtool_bake_relight8_lin(as, an, &L[p][i], 1, 0, 1, tmp, NULL, &ms, &st);
+            else if (r == 4 || r == 5) { /* a free point light: qibl_asset_point_shmaps picks SHMU */
+                e = qtool_bake_relight8_lin(r == 4 ? asset9o : asset16o, r == 4 ? n9o : n16o, &L[p][i], 1, 0, 1, tmp,
+                                           NULL, &ms, &st);
+            } else if (r == 8) /* the same asset without the lamp occlusion */
+                e = qtool_bake_relight8_lin(asset9, n9, &L[p][i], 1, 0, 1, tmp, NULL, &ms, &st);
             else
                 e = qtool_bake_relight_path8(as, an, &L[p][i], (uint32_t)p, tq[i], 0, NULL, tmp, NULL, &ms, &st);
             if (e != 0) {
@@ -199,78 +238,57 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
     double shmp = chunk_bytes(today, today_n, QIBL_CHUNK_SHMP, 0), pmap = chunk_bytes(asset9, n9, QIBL_CHUNK_PMAP, 0);
     double ylut = chunk_bytes(today, today_n, QIBL_CHUNK_YLUT, 0);
     double u9 = chunk_bytes(asset9, n9, QIBL_CHUNK_SHMU, 0), u16 = chunk_bytes(asset16, n16, QIBL_CHUNK_SHMU, 0);
-    double bytes[NROWS] = {shmp, u9 + lpn[0], u16 + lpn[0], shmp + pmap + ylut, u9 + pmap + ylut, u16 + pmap + ylut,
-                           u9 + pmap + ylut + lpn[1], u16 + pmap + ylut + lpn[1]};
+    double oc = (double)occn;
+    double bytes[NROWS] = {shmp, u9 + lpn[0], u16 + lpn[0], shmp + pmap + ylut, u9 + pmap + ylut + oc,
+                           u16 + pmap + ylut + oc, u9 + pmap + ylut + lpn[1], u16 + pmap + ylut + lpn[1],
+                           u9 + pmap + ylut};
     row_stats rs[NROWS];
     for (int r = 0; r < NROWS; ++r)
         finish(&acc[r], names[r], bytes[r] / (double)np, &rs[r]);
 
-    /* per-tile adaptive k for the unshadowed maps, simulated: each 16x16 tile keeps the fewest bands
-     * (k = 4, 9 or 16) holding all but 1 % of its coefficient energy, the rest is zeroed before the
-     * usual k = 16 packing; bytes counted as a tiled layout would store them (k x 3 per pixel) */
-    acc_t adacc[2];
-    double ad_bytes = 0, ad_tiles[3] = {0, 0, 0};
+    /* per-tile adaptive k for the unshadowed maps (SHMT, qibl/shmtile.h): each 16x16 tile keeps the
+     * fewest band-complete k of the k16 set whose dropped coefficients hold at most `drop` of the
+     * tile's energy; relit through the core kernels tile by tile. Bytes are the SHMT chunk's. */
+    enum { NDROP = 3 };
+    static const double drops[NDROP] = {0.003, 0.01, 0.03};
+    acc_t adacc[NDROP][2];
+    double ad_bytes[NDROP] = {0, 0, 0};
+    uint32_t ad_tiles[NDROP][26];
     memset(adacc, 0, sizeof adacc);
-    {
-        qtool_gen_maps ma = mu16;
-        size_t tsz = sizeof(double) * np * 16 * 3;
-        uint8_t *ad = NULL;
-        size_t adn = 0;
-        ma.t = malloc(tsz);
-        int bad = !ma.t;
-        if (!bad)
-            memcpy(ma.t, mu16.t, tsz);
-        for (uint32_t ty = 0; !bad && ty < h; ty += 16)
-            for (uint32_t tx = 0; tx < w; tx += 16) {
-                double band[16] = {0}, tot = 0;
-                for (uint32_t y = ty; y < ty + 16 && y < h; ++y)
-                    for (uint32_t x = tx; x < tx + 16 && x < w; ++x)
-                        for (uint32_t i = 0; i < 16; ++i)
-                            for (uint32_t c = 0; c < 3; ++c) {
-                                double v = ma.t[((size_t)i * 3 + c) * np + (size_t)y * w + x];
-                                band[i] += v * v, tot += v * v;
-                            }
-                static const uint32_t kk[3] = {4, 9, 16};
-                int pick = 2;
-                for (int q = 0; q < 2; ++q) {
-                    double rest = 0;
-                    for (uint32_t i = kk[q]; i < 16; ++i)
-                        rest += band[i];
-                    if (rest <= 0.01 * tot) {
-                        pick = q;
-                        break;
-                    }
-                }
-                uint32_t tw = tx + 16 <= w ? 16 : w - tx, th = ty + 16 <= h ? 16 : h - ty;
-                ad_tiles[pick] += 1, ad_bytes += (double)kk[pick] * 3 * tw * th + 1;
-                for (uint32_t y = ty; y < ty + th; ++y)
-                    for (uint32_t x = tx; x < tx + tw; ++x)
-                        for (uint32_t i = kk[pick]; i < 16; ++i)
-                            for (uint32_t c = 0; c < 3; ++c)
-                                ma.t[((size_t)i * 3 + c) * np + (size_t)y * w + x] = 0;
-            }
-        if (!bad)
-            bad = qtool_bake_asset_ex(&msh, &ma, 32, lp, lpn, &ad, &adn) != 0;
+    for (int d = 0; d < NDROP; ++d) {
+        uint8_t *pay = NULL, *base = NULL, *ad = NULL, *ad2 = NULL;
+        size_t payn = 0, basen = 0, adn = 0, ad2n = 0;
+        int bad = qtool_bake_shmt_payload(&mu16, drops[d], &pay, &payn, ad_tiles[d]) != 0 ||
+                  qtool_bake_asset_ex(&msh, NULL, 32, lp, lpn, &base, &basen) != 0 ||
+                  qtool_bake_asset_add(base, basen, QIBL_CHUNK_SHMT, pay, payn, &ad, &adn) != 0 ||
+                  qtool_bake_locc_payload(w, h, occv, &occp, &occn) != 0 ||
+                  qtool_bake_asset_add(ad, adn, QIBL_CHUNK_LOCC, occp, occn, &ad2, &ad2n) != 0;
+        free(occp), occp = NULL;
+        ad_bytes[d] = (double)payn;
         for (int p = 0; !bad && p < 2; ++p)
             for (int i = 0; i < NPOS; ++i) {
                 size_t f = (size_t)p * NPOS + (size_t)i;
                 double ms = 0;
-                if (qtool_bake_relight_path8(ad, adn, &L[p][i], (uint32_t)p, tq[i], 0, NULL, tmp, NULL, &ms, &st) != 0) {
+                if (qtool_bake_relight_tiled8(ad2, ad2n, &L[p][i], p, tq[i], 0, tmp, &ms, &st) != 0) {
                     bad = 1;
                     break;
                 }
-                acc_frame(&adacc[p], tmp, truth + f * np * 3, cls + f * np, np, ms, lut);
+                acc_frame(&adacc[d][p], tmp, truth + f * np * 3, cls + f * np, np, ms, lut);
             }
-        free(ma.t), free(ad);
+        free(pay), free(base), free(ad), free(ad2);
         if (bad) {
             fprintf(stderr, "qibl: demo: adaptive k failed (%s)\n", qibl_status_str(st));
             goto done;
         }
     }
-    row_stats ad_rs[2];
-    finish(&adacc[0], "sun: adaptive k 4/9/16 per tile x path (sim)", (ad_bytes + lpn[0]) / (double)np, &ad_rs[0]);
-    finish(&adacc[1], "lamp: adaptive k per tile x track (sim.)", (ad_bytes + pmap + ylut + lpn[1]) / (double)np,
-           &ad_rs[1]);
+    row_stats ad_rs[NDROP][2];
+    for (int d = 0; d < NDROP; ++d) {
+        static char names_ad[NDROP][2][64];
+        snprintf(names_ad[d][0], sizeof names_ad[d][0], "sun: SHMT adaptive k (drop %.1f%%) x path", 100 * drops[d]);
+        snprintf(names_ad[d][1], sizeof names_ad[d][1], "lamp: SHMT adaptive k (drop %.1f%%) x track", 100 * drops[d]);
+        finish(&adacc[d][0], names_ad[d][0], (ad_bytes[d] + lpn[0]) / (double)np, &ad_rs[d][0]);
+        finish(&adacc[d][1], names_ad[d][1], (ad_bytes[d] + pmap + ylut + lpn[1]) / (double)np, &ad_rs[d][1]);
+    }
 
     /* sky + sun: the sky ray-traced once (two half estimates: their agreement states its noise), the sun
      * at the 16 positions; today's SH with sky and sun in one light against the hybrid */
@@ -434,14 +452,25 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
     print_row(&sky_rs[1]);
     for (int r = 0; r < 3; ++r)
         print_row(&soft_rs[r]);
-    print_row(&ad_rs[0]);
-    print_row(&ad_rs[1]);
+    for (int d = 0; d < NDROP; ++d)
+        print_row(&ad_rs[d][0]), print_row(&ad_rs[d][1]);
+    printf("\nbrightness split: relit - truth (linear) per pixel class, as a share of the truth's total "
+           "(the three add up to bright - 1)\n\n| %-44s | bright | lit     | cast    | facing  |\n"
+           "|%s|------:|--------:|--------:|--------:|\n", "scheme", "----------------------------------------------");
+    for (int r = 0; r < NROWS; ++r)
+        print_split(&rs[r]);
+    print_split(&sky_rs[1]);
     printf("\nsky: radiance (0.25, 0.32, 0.45) x (0.3 + 0.7 z) above the horizon, ray-traced over %u directions "
            "(not the bake's); its two halves agree to %.2f dB (the truth, their mean, is about 6 dB less noisy)\n",
            nsky, sky_noise);
     printf("soft sun: a disc of 1.5 degrees, truth the mean of %d renders over it, %d of the positions\n", NDISC, NSOFT);
-    printf("adaptive k (simulated: coefficients zeroed per 16x16 tile, bytes as a tiled layout would store them): "
-           "tiles with k = 4 / 9 / 16: %.0f / %.0f / %.0f\n", ad_tiles[0], ad_tiles[1], ad_tiles[2]);
+    printf("\nadaptive k (SHMT, qibl/shmtile.h): bytes of the unshadowed maps against PSNR; k16 stored whole (SHMU) "
+           "is %.1f bytes/px\n\n| drop | tiles k=1/4/9/16 | SHMT bytes/px | sun x path dB | lamp x track dB |\n"
+           "|-----:|-----------------|--------------:|--------------:|----------------:|\n", u16 / (double)np);
+    for (int d = 0; d < NDROP; ++d)
+        printf("| %4.1f%% | %u / %u / %u / %u | %13.2f | %13.2f | %15.2f |\n", 100 * drops[d], ad_tiles[d][1],
+               ad_tiles[d][4], ad_tiles[d][9], ad_tiles[d][16], ad_bytes[d] / (double)np, ad_rs[d][0].psnr,
+               ad_rs[d][1].psnr);
     printf("suns off every path fall back to today's shadowed SH: the 8 novel suns above score demo.psnr_k16_dir\n");
     printf("\nRESULT demo.path_sun_psnr %.2f\nRESULT demo.path_sun_bytes_px %.1f\nRESULT demo.path_sun_cost_ratio %.3f\n",
            rs[1].psnr, rs[1].bytes_px, rs[0].ms > 0 ? rs[1].ms / rs[0].ms : 0);
@@ -451,11 +480,18 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
     printf("RESULT demo.track_lamp_today_psnr %.2f\n", rs[3].psnr);
     printf("RESULT demo.free_lamp_psnr %.2f\nRESULT demo.free_lamp_brightness %.3f\nRESULT demo.today_lamp_brightness %.3f\n",
            rs[4].psnr, rs[4].bright, rs[3].bright);
+    printf("RESULT demo.free_lamp_bytes_px %.1f\nRESULT demo.free_lamp_no_occl_psnr %.2f\n"
+           "RESULT demo.free_lamp_no_occl_brightness %.3f\n", rs[4].bytes_px, rs[8].psnr, rs[8].bright);
     printf("RESULT demo.sky_sun_psnr %.2f\nRESULT demo.sky_sun_today_psnr %.2f\nRESULT demo.sky_truth_halves_psnr %.2f\n",
            sky_rs[1].psnr, sky_rs[0].psnr, sky_noise);
     printf("RESULT demo.soft_sun_psnr %.2f\nRESULT demo.soft_sun_hard_psnr %.2f\nRESULT demo.soft_sun_today_psnr %.2f\n",
            soft_rs[2].psnr, soft_rs[1].psnr, soft_rs[0].psnr);
-    printf("RESULT demo.adaptive_sun_psnr %.2f\nRESULT demo.adaptive_sun_bytes_px %.1f\n", ad_rs[0].psnr, ad_rs[0].bytes_px);
+    printf("RESULT demo.adaptive_sun_psnr %.2f\nRESULT demo.adaptive_sun_bytes_px %.1f\n", ad_rs[1][0].psnr,
+           ad_rs[1][0].bytes_px);
+    printf("RESULT demo.adaptive_track_psnr %.2f\nRESULT demo.adaptive_track_bytes_px %.1f\n", ad_rs[1][1].psnr,
+           ad_rs[1][1].bytes_px);
+    printf("RESULT demo.adaptive_shmt_bytes_px %.2f\nRESULT demo.shmu_k16_bytes_px %.2f\n", ad_bytes[1] / (double)np,
+           u16 / (double)np);
     printf("RESULT demo.paths_bake_s %.2f\n", bake_s);
     printf("wrote %s/paths_sheet.png (rows: sun, lamp; columns: truth | today | path shadows | error 0..48) and "
            "paths_readme.png (truth, today, path shadows of one sun)\n", dir);
@@ -463,7 +499,7 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
 done:
     qtool_bake_sums_free(&us);
     qtool_gen_free(&msh), qtool_gen_free(&mu9), qtool_gen_free(&mu16);
-    free(lp[0]), free(lp[1]), free(asset9), free(asset16), free(truth), free(cls), free(tmp);
+    free(lp[0]), free(lp[1]), free(asset9), free(asset16), free(asset9o), free(asset16o), free(occv), free(truth), free(cls), free(tmp);
     for (int i = 0; i < 4; ++i)
         free(keep[i]);
     return rc;

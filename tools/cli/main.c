@@ -117,6 +117,7 @@ static const qcli_cmd commands[] = {
      "usage: qibl bake -o ASSET [--k K] [--lut-size N] [--dirs N] [--lsq] [--budget DB] [--quiet]\n"
      "                 [--layout planar|interleaved] [--unshadowed-k K] [--sun-path LAT,DECL,T0,T1]\n"
      "                 [--lamp-track X,Y,Z;X,Y,Z;...] [--path-steps N]\n"
+     "                 [--lamp-box X0,Y0,Z0,X1,Y1,Z1] [--lamp-samples N]\n"
      "                 [--shard I/N --sums FILE] [scene options as for render]\n"
      "  Renders the scene under N directional lights (spherical Fibonacci set, equal weights 4 pi / N,\n"
      "  default 512) with hard shadows, projects every pixel's response onto SH (k <= 25, default 16;\n"
@@ -134,12 +135,16 @@ static const qcli_cmd commands[] = {
      "  and --lamp-track \"x,y,z;x,y,z;...\" (a polyline, t by arc length; up to 8 paths): per pixel the\n"
      "  light's visibility along the path (facing and shadow) as on/off edges of t in 0..65535, sampled\n"
      "  at N + 1 points (--path-steps, default 64) and bisected to one 16-bit step (LPTH chunks; relit\n"
-     "  as unshadowed SH x visibility, qibl/lightpath.h). Shards and merge carry the shadowed maps only.\n",
+     "  as unshadowed SH x visibility, qibl/lightpath.h). --lamp-box: the region free lamps move in;\n"
+     "  per pixel the expected visibility of a lamp there (N Halton positions, default 64), LOCC: free\n"
+     "  lamps through SHMU are scaled by it (their cast shadows on average). A shard also writes its\n"
+     "  share of the unshadowed sums (FILE.u) and, shard 0, the LPTH/LOCC chunks (FILE.x) for merge.\n",
      qcli_cmd_bake},
     {"merge", "combine the partial sums of bake shards into an asset",
      "usage: qibl merge -o ASSET [--sums OUT] [--k K] [--lut-size N] [--lsq] [--layout planar|interleaved] SUMS...\n"
      "  Adds the partial sums written by `qibl bake --shard I/N --sums FILE` (every shard exactly once,\n"
-     "  same bake) and writes the asset as qibl bake --unshadowed-k 0 would (byte-identical), and/or the\n"
+     "  same bake) and writes the asset as qibl bake would (byte-identical, with the unshadowed maps,\n"
+     "  light paths and lamp occlusion from SUMS.u / SUMS.x when the shards wrote them), and/or the\n"
      "  total sums.\n"
      "  Every file is checked before use (version, CRC-32s, counts within the bake's limits, exact size),\n"
      "  then against the first (split, size, k, directions, P map); sums that would overflow 64 bits, a\n"
@@ -197,7 +202,10 @@ static const qcli_cmd commands[] = {
      "  negative SH ringing clamped to 0), as Radiance RGBE (RLE) or little-endian PFM, for other\n"
      "  tools. At least one of --png/--hdr/--pfm.\n"
      "  --gles: relight with platform/gles2 on a headless EGL context instead (one --sun or --point,\n"
-     "  --png only; the same asset and core weights; within 1 of 255 of the CPU path on Mesa llvmpipe).\n",
+     "  --png only; the same asset and core weights; within 1 of 255 of the CPU path on Mesa llvmpipe).\n"
+     "  qibl relight FILE --path N|sun|lamp --t T [--rgb R G B] [--soft R] [--sky R G B] (--png|--pfm OUT):\n"
+     "  a light on the asset's baked path N (or its first sun path / lamp track) at T in 0..1: unshadowed\n"
+     "  SH x visibility(T), soft over [T - R, T + R]; --sky adds the demo's sky through the shadowed maps.\n",
      qcli_cmd_relight},
     {"info", "validate a qibl asset file and print its contents",
      "usage: qibl info FILE\n"

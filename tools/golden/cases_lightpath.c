@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "qibl/lightpath.h"
+#include "qibl/shmtile.h"
 #include "qibl/shmap.h"
 #include "qibl/soft.h"
 
@@ -161,6 +162,67 @@ static int case_relight(const qtool_goldens_sink_t *s, const qibl_lightpath_t *p
     return bad;
 }
 
+/* lightpath_shmt (the tiled maps of qibl/shmtile.h, kept in this group as the light paths' companion):
+ * an SHMT made from the integer maps (3 tiles of 16x12 with k 9, 4, 1), a sun relit through each
+ * tile's view, Q16.16 rows hashed, then the statuses of single-byte changes to the header and k bytes */
+static int case_shmt(const qtool_goldens_sink_t *s, const qibl_shmaps_t *mu)
+{
+    enum { NT = LW / 16 };
+    static const uint8_t ks[NT] = {9, 4, 1};
+    size_t fixed = QIBL_SHMTILE_HEADER + 8u * LK * 3u + 4u + 4u * NT, data = 0;
+    for (uint32_t i = 0; i < NT; ++i)
+        data += (size_t)ks[i] * 3u * 16u * LH;
+    uint8_t *b = malloc(fixed + data);
+    if (b == NULL)
+        return gcase_oom(s, "lightpath_shmt");
+    gput_u32(b, LW), gput_u32(b + 4, LH), gput_u32(b + 8, LK), gput_u32(b + 12, 3), gput_u32(b + 16, 16);
+    gput_u32(b + 20, 0);
+    memcpy(b + QIBL_SHMTILE_HEADER, mu->params, 8u * LK * 3u);
+    uint8_t *kp = b + QIBL_SHMTILE_HEADER + 8u * LK * 3u, *op = kp + 4, *dp = op + 4u * NT;
+    memset(kp, 0, 4);
+    size_t at = 0;
+    for (uint32_t i = 0; i < NT; ++i) {
+        kp[i] = ks[i];
+        gput_u32(op + 4u * i, (uint32_t)at);
+        for (uint32_t pl = 0; pl < ks[i] * 3u; ++pl)
+            for (uint32_t y = 0; y < LH; ++y, at += 16u)
+                memcpy(dp + at, mu->planes + (size_t)pl * LW * LH + (size_t)y * LW + 16u * i, 16u);
+    }
+    gbuf g = {0};
+    qibl_shmtile_t t;
+    qibl_shlight_t sun;
+    const qibl_q16_t dir[3] = {20000, 30000, 52000}, rgb[3] = {150000, 120000, 90000};
+    qibl_status_t st = qibl_shmtile_parse(b, fixed + data, &t);
+    if (st == QIBL_OK)
+        st = qibl_shlight_init(&sun, LK);
+    if (st == QIBL_OK)
+        st = qibl_shlight_add_dir(&sun, dir, rgb);
+    for (uint32_t i = 0; st == QIBL_OK && i < NT; ++i) {
+        qibl_shmaps_t v;
+        qibl_shmap_weights_t wt;
+        int32_t row[3 * 16], ws[3 * 16];
+        st = qibl_shmtile_view(&t, i, 0, &v, NULL, NULL);
+        if (st == QIBL_OK)
+            st = qibl_shmap_weights(&v, &sun, &wt);
+        for (uint32_t y = 0; st == QIBL_OK && y < LH; ++y) {
+            st = qibl_shmap_relight_span(&v, &wt, 0, y, v.width, row, ws, sizeof ws);
+            for (uint32_t q = 0; st == QIBL_OK && q < 3u * v.width; ++q)
+                gbuf_s32(&g, row[q]);
+        }
+    }
+    for (size_t i = 0; st == QIBL_OK && i < 24u + 4u; ++i) {
+        size_t o = i < 24u ? i : (size_t)(kp - b) + (i - 24u);
+        qibl_shmtile_t q;
+        b[o] ^= 0x11u;
+        qibl_status_t e = qibl_shmtile_parse(b, fixed + data, &q);
+        gbuf_u32(&g, e == QIBL_OK ? 0u : e >= QIBL_E_ASSET_TRUNCATED_HEADER && e <= QIBL_E_ASSET_MISMATCH
+                                              ? 1u + (uint32_t)(e - QIBL_E_ASSET_TRUNCATED_HEADER) : 255u);
+        b[o] ^= 0x11u;
+    }
+    free(b);
+    return st == QIBL_OK ? gbuf_emit(s, "lightpath_shmt", &g) : gcase_status_error(s, "lightpath_shmt", "shmtile", st);
+}
+
 int qtool_goldens_lightpath(const qtool_goldens_sink_t *s)
 {
     int bad = 0;
@@ -215,6 +277,28 @@ int qtool_goldens_lightpath(const qtool_goldens_sink_t *s)
     bad += case_relight(s, &p0, &mu, NULL, "lightpath_sun_k9_accum32", QIBL_FB_ACCUM32, 0);
     bad += case_relight(s, &p0, &mu, &msky, "lightpath_skysun_k9_rgba8888_srgb", QIBL_FB_RGBA8888, 1);
     bad += case_relight(s, &p0, &mu, &msky, "lightpath_skysun_k9_accum32", QIBL_FB_ACCUM32, 0);
+    bad += case_shmt(s, &mu);
+    {   /* lamp occlusion: an integer-made LOCC (ramps, both ends present) scaling PRNG Q16.16 rows */
+        gbuf g = {0};
+        uint8_t occ[QIBL_LAMPOCC_HEADER + LW * LH];
+        grng r = {717};
+        qibl_lampocc_t o;
+        gput_u32(occ, LW), gput_u32(occ + 4, LH);
+        for (uint32_t i = 0; i < LW * LH; ++i)
+            occ[QIBL_LAMPOCC_HEADER + i] = (uint8_t)(i % 5u == 0u ? 255u : i % 7u == 0u ? 0u : grng_u32(&r) & 0xFFu);
+        st = qibl_lightpath_occl_parse(occ, sizeof occ, &o);
+        for (uint32_t y = 0; st == QIBL_OK && y < LH; ++y) {
+            int32_t row[3 * LW];
+            for (uint32_t i = 0; i < 3u * LW; ++i)
+                row[i] = (int32_t)grng_u32(&r);
+            st = qibl_lightpath_occl_span(&o, 0, y, LW, row);
+            for (uint32_t i = 0; st == QIBL_OK && i < 3u * LW; ++i)
+                gbuf_s32(&g, row[i]);
+        }
+        gbuf_u32(&g, status_code(qibl_lightpath_occl_parse(occ, sizeof occ - 1u, &o)));
+        bad += st != QIBL_OK ? gcase_status_error(s, "lightpath_occl", "qibl_lightpath_occl_span", st)
+                             : gbuf_emit(s, "lightpath_occl", &g);
+    }
 done:
     free(b0), free(b1), free(pa), free(pl), free(qa), free(ql);
     return bad;

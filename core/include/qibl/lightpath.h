@@ -30,6 +30,16 @@
  * Visibility: V(t) = 1 when an odd number of the pixel's edges are <= t (so it starts off; an edge
  * at 0 means visible from the start). Outside 0..65535 (soft windows) V keeps its end value.
  * Validation reads every byte once: O(size). After it no access can leave the payload.
+ *
+ * Chunk LOCC (optional, at most one; lamp occlusion for free point lights, those on no path):
+ *     0  u32 width, 4 u32 height     equal to the asset's SHMP
+ *     8  width * height u8           a(p) x 255: the expected visibility of a lamp in the region
+ *                                    the bake was told lamps move in, weighted by the light the lamp
+ *                                    would add (255 = never shadowed)
+ *    size = 8 + width height exactly
+ * A free lamp relit through the unshadowed maps lights the pixels its cast shadows should darken
+ * (measured on the demo: +6.6 % of the truth's light, all in cast-shadow pixels); scaling it by a(p)
+ * puts the shadows back on average (brightness 1.057 -> 0.974, PSNR +1.2 dB on the demo).
  */
 #ifndef QIBL_LIGHTPATH_H
 #define QIBL_LIGHTPATH_H
@@ -51,6 +61,8 @@ extern "C" {
 #define QIBL_LIGHTPATH_MAX_EDGES (1u << 28) /* keeps 2 nedges and every size sum inside 32 bits */
 #define QIBL_LIGHTPATH_T_MAX 65535u
 #define QIBL_LIGHTPATH_MAX_RADIUS 32767u
+#define QIBL_CHUNK_LOCC QIBL_FOURCC('L', 'O', 'C', 'C')
+#define QIBL_LAMPOCC_HEADER 8u
 
 typedef enum qibl_lightpath_kind {
     QIBL_LIGHTPATH_DIRECTIONS = 0, /* sun path */
@@ -93,6 +105,26 @@ qibl_status_t qibl_lightpath_visibility_span(const qibl_lightpath_t *p, uint32_t
  * not accumulating. Products rounded to nearest (<= 0.5 LSB). Errors as the visibility span. */
 qibl_status_t qibl_lightpath_shade_span(const qibl_lightpath_t *p, uint32_t t, uint32_t radius, uint32_t x0,
                                         uint32_t y, uint32_t n, const int32_t *light, int32_t *out, bool accumulate);
+
+/* A validated lamp-occlusion chunk as a view of its bytes. */
+typedef struct qibl_lampocc {
+    uint32_t width, height;
+    const uint8_t *values;
+} qibl_lampocc_t;
+
+/* Validates a LOCC payload and fills *out (untouched on failure): QIBL_E_NULL_POINTER,
+ * QIBL_E_LIGHTPATH_SIZE (shorter than the header or size other than 8 + w h),
+ * QIBL_E_LIGHTPATH_DIMENSIONS (zero or too large), checked in that order. */
+qibl_status_t qibl_lightpath_occl_parse(const uint8_t *data, size_t size, qibl_lampocc_t *out);
+
+/* The asset's LOCC, parsed, its size checked against SHMP's (QIBL_E_LIGHTPATH_DIMENSIONS);
+ * QIBL_E_ASSET_MISSING_CHUNK without one, QIBL_E_ASSET_DUPLICATE_CHUNK with two. Needs QIBL_USE_ASSET. */
+qibl_status_t qibl_lightpath_occl_from_asset(const qibl_asset_t *a, qibl_lampocc_t *out);
+
+/* io *= a(p) / 255 for pixels x0..x0+n-1 of row y, 3 int32 per pixel (Q16.16 RGB), rounded to
+ * nearest (factor error <= 2^-16 relative; 255 leaves a value unchanged, 0 gives 0).
+ * QIBL_E_NULL_POINTER, QIBL_E_LIGHTPATH_BOUNDS; nothing written on error. */
+qibl_status_t qibl_lightpath_occl_span(const qibl_lampocc_t *o, uint32_t x0, uint32_t y, uint32_t n, int32_t *io);
 
 #ifdef __cplusplus
 }
