@@ -162,6 +162,12 @@ static void test_animation_is_apng(void **state)
     char err[256];
     assert_int_equal(qtool_png_read_rgb8(png, &w, &h, &frames, &rgb, err, sizeof err), 0);
     assert_int_equal(frames, 2);
+    free(rgb);
+    /* --tween 3: two key frames, two in between each (the last back to the first): 6 frames */
+    assert_int_equal(run("transfer", f1, f2, "--probe", probe, "--rays", "0", "--png", png, "--size", "64", "--tween", "3",
+                         NULL), 0);
+    assert_int_equal(qtool_png_read_rgb8(png, &w, &h, &frames, &rgb, err, sizeof err), 0);
+    assert_int_equal(frames, 6);
     assert_int_equal(w, 64), assert_int_equal(h, 24 + 64); /* no reference: one panel, no legend */
     free(rgb);
     char *out = text(outlog);

@@ -40,7 +40,7 @@
 
 #define TRANSFER_USAGE                                                                                        \
     "usage: qibl transfer MESH [MESH...] --probe PROBE.hdr [--layout L] [--png OUT] [--size N] [--mask 16|32|64]\n" \
-    "                     [--face F] [--rays S] [--coarse T [--ring K]] [--zup] [--flip] [--skip-adjacent] [--view AZ,EL] [--threads N]"
+    "                     [--face F] [--rays S] [--coarse T [--ring K]] [--tween N] [--zup] [--flip] [--skip-adjacent] [--view AZ,EL] [--threads N]"
 
 typedef struct mesh {
     uint32_t nv, nt, nframes;
@@ -176,6 +176,25 @@ fail:
     qtool_obj_free(&m0), free(vof), free(first), free(out->tri), free(out->pos);
     memset(out, 0, sizeof *out);
     return -1;
+}
+
+/* t - 1 frames between each pair of frames, linear per vertex, the last blending back into the
+ * first (an animation cycle, like the paper's interpolated keyframes). 0, or -1 (no memory). */
+static int tween_frames(mesh *m, uint32_t t)
+{
+    const uint32_t nf = m->nframes * t;
+    double *p = malloc(sizeof(double) * 3 * (size_t)m->nv * nf);
+    if (!p)
+        return fprintf(stderr, "qibl: transfer: out of memory (--tween)\n"), -1;
+    for (uint32_t f = 0; f < nf; ++f) {
+        const double *a = m->pos + 3 * (size_t)m->nv * (f / t), *b = m->pos + 3 * (size_t)m->nv * ((f / t + 1) % m->nframes);
+        const double w = (double)(f % t) / t;
+        for (size_t i = 0; i < 3 * (size_t)m->nv; ++i)
+            p[3 * (size_t)m->nv * f + i] = a[i] + w * (b[i] - a[i]);
+    }
+    free(m->pos);
+    m->pos = p, m->nframes = nf;
+    return 0;
 }
 
 /* area-weighted vertex normals of one frame; flip < 0 turns them (a mesh wound clockwise) */
@@ -653,7 +672,7 @@ typedef struct topts {
     char **files;
     int nfiles, zup, force_flip, skip_adjacent;
     const char *probe, *png, *layout;
-    long size, mask_n, face, side, threads, coarse, ring;
+    long size, mask_n, face, side, threads, coarse, ring, tween;
     double az, el;
 } topts;
 
@@ -664,7 +683,7 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
     const int nfiles = o->nfiles, zup = o->zup, force_flip = o->force_flip, skip_adjacent = o->skip_adjacent;
     const char *probe = o->probe, *png = o->png, *layout = o->layout;
     const long size = o->size, mask_n = o->mask_n, face = o->face, side = o->side, coarse = o->coarse,
-               ring = o->ring;
+               ring = o->ring, tween = o->tween;
     long threads = o->threads;
     const double az = o->az, el = o->el;
     memset(stats, 0, sizeof *stats);
@@ -678,7 +697,7 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
     if (probe_light(probe, layout, light, pdesc, sizeof pdesc) != 0)
         return 1;
     mesh m;
-    if (load_frames(files, nfiles, zup, &m) != 0)
+    if (load_frames(files, nfiles, zup, &m) != 0 || (tween > 1 && m.nframes > 1 && tween_frames(&m, (uint32_t)tween) != 0))
         return 1;
     /* winding: turned by --flip, or when a (nearly) closed mesh has a negative volume */
     long nedges = 0, open_edges = boundary_edges(&m, &nedges);
@@ -922,7 +941,7 @@ int qcli_cmd_transfer(int argc, char **argv)
     char *files[MAX_FRAMES];
     int nfiles = 0, zup = 0, force_flip = 0, skip_adjacent = 0;
     const char *probe = NULL, *png = NULL, *layout = NULL;
-    long size = 320, mask_n = 32, face = 64, side = 32, threads = 0, coarse = 0, ring = 3;
+    long size = 320, mask_n = 32, face = 64, side = 32, threads = 0, coarse = 0, ring = 3, tween = 1;
     double az = 35, el = 20;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
@@ -942,6 +961,9 @@ int qcli_cmd_transfer(int argc, char **argv)
         else if (strcmp(a, "--coarse") == 0) {
             if (!more || qcli_parse_int(argv[++i], 0, 1 << 20, &coarse) != 0)
                 return qcli_usage_error("--coarse needs a triangle count in 0..1048576 (0: no hierarchy)");
+        } else if (strcmp(a, "--tween") == 0) {
+            if (!more || qcli_parse_int(argv[++i], 1, 16, &tween) != 0)
+                return qcli_usage_error("--tween needs an integer in 1..16 (frames per key frame)");
         } else if (strcmp(a, "--ring") == 0) {
             if (!more || qcli_parse_int(argv[++i], 1, 16, &ring) != 0)
                 return qcli_usage_error("--ring needs an integer in 1..16");
@@ -975,7 +997,7 @@ int qcli_cmd_transfer(int argc, char **argv)
     if (nfiles == 0 || !probe)
         return qcli_usage_error(TRANSFER_USAGE);
     const topts o = {files, nfiles, zup, force_flip, skip_adjacent, probe, png, layout, size, mask_n, face, side,
-                     threads, coarse, ring, az, el};
+                     threads, coarse, ring, tween, az, el};
     qcli_transfer_stats st;
     return transfer_run(&o, &st, 1);
 }
@@ -983,6 +1005,6 @@ int qcli_cmd_transfer(int argc, char **argv)
 int qcli_transfer_measure(char **files, int nframes, int zup, const char *probe, int mask, int face, int rays,
                           int coarse, int ring, qcli_transfer_stats *st)
 {
-    const topts o = {files, nframes, zup, 0, 0, probe, NULL, NULL, 64, mask, face, rays, 0, coarse, ring, 35, 20};
+    const topts o = {files, nframes, zup, 0, 0, probe, NULL, NULL, 64, mask, face, rays, 0, coarse, ring, 1, 35, 20};
     return transfer_run(&o, st, 0);
 }

@@ -94,7 +94,7 @@ static const qcli_cmd commands[] = {
      qcli_cmd_render},
     {"transfer", "a mesh self-shadowed by hemispherical rasterization under a probe, beside the ray-cast truth",
      "usage: qibl transfer MESH [MESH...] --probe PROBE.hdr [--layout L] [--png OUT] [--size N] [--mask 16|32|64]\n"
-     "                     [--face F] [--rays S] [--coarse T [--ring K]] [--zup] [--flip] [--skip-adjacent]\n"
+     "                     [--face F] [--rays S] [--coarse T [--ring K]] [--tween N] [--zup] [--flip] [--skip-adjacent]\n"
      "                     [--view AZ,EL] [--threads N]\n"
      "  Per vertex of an OBJ or PLY mesh (welded by position, centred, largest half-extent 1, Y-up turned\n"
      "  to Z-up unless --zup; normals point out of counter-clockwise faces, turned by --flip or when a\n"
@@ -110,7 +110,8 @@ static const qcli_cmd commands[] = {
      "  it) plus the full mesh within K edges of each vertex (--ring, default 3).\n"
      "  --png: qibl | ray cast | error (|E - E_ref| / mean E_ref, 0..10 %), drawn by platform/soft's\n"
      "  integer z-buffer rasterizer, orthographic from azimuth / elevation --view (default 35,20);\n"
-     "  several MESH files are frames of one animation (same triangles): an animated PNG. Prints ms per\n"
+     "  several MESH files are frames of one animation (same triangles): an animated PNG (--tween N: N - 1\n"
+     "  frames interpolated between key frames, the last back into the first). Prints ms per\n"
      "  frame on one core (thread CPU time of the hemi calls) and RESULT transfer.* lines.\n",
      qcli_cmd_transfer},
     {"bake", "bake a scene into a relightable panorama asset (ray-traced, SH-projected, 8-bit packed)",
