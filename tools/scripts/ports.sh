@@ -64,6 +64,8 @@ have clang && configs+=("x86_64-clang-O3-portable|clang|-O3 $portable|")
 # the kernel paths of QIBL_CONFIG_SIMD (config.h): scalar C forced, and AVX2 where the CPU has it
 # (the plain x86-64 builds above take SSE2, the aarch64 ones NEON)
 have gcc && configs+=("x86_64-gcc-O2-scalar|gcc|-O2 -DQIBL_CONFIG_SIMD=0|")
+# the SSE2 sRGBE encoder's integer-only 2^k (srgbe.c, SRGBE_SSE2_HORNER), the measured alternative
+have gcc && configs+=("x86_64-gcc-O2-sse2-horner|gcc|-O2 -DSRGBE_SSE2_HORNER|")
 if grep -qw avx2 /proc/cpuinfo 2>/dev/null; then
     for cc in gcc clang; do have $cc && for o in -O2 -O3; do configs+=("x86_64-$cc$o-avx2|$cc|$o -mavx2|"); done; done
 else
