@@ -250,6 +250,12 @@ int qcli_cmd_relight(int argc, char **argv)
         st = qibl_asset_pmap(&a, &pm);
     if (st == QIBL_OK && have_point && use_lut)
         st = qibl_asset_ylut(&a, &lut);
+    /* lamps through the unshadowed maps get the asset's lamp occlusion (LOCC) when it has one */
+    qibl_lampocc_t occ;
+    qibl_chunk_t shmu;
+    const int use_occ = st == QIBL_OK && have_point &&
+                        qibl_asset_find_nth(&a, QIBL_CHUNK_SHMU, 0, &shmu) == QIBL_OK &&
+                        qibl_lightpath_occl_from_asset(&a, &occ) == QIBL_OK;
     if (st != QIBL_OK) {
         fprintf(stderr, "qibl: %s: %s\n", in, qibl_soft_status_str(st));
         free(bytes);
@@ -319,8 +325,8 @@ int qcli_cmd_relight(int argc, char **argv)
             printf("wrote %s (%ux%u, k = %u, GLES2 on %s, %u pass%s)\n", png, w, h, m.k, renderer, passes,
                    passes == 1 ? "" : "es");
     } else if (qcli_relight_frame(&m, qcli_light_list_directional(&ll) ? &sl : NULL, &mp, &pm,
-                                  use_lut ? &lut : NULL, pts, npts, (uint32_t)exposure, !linear, pix, lin, &ms,
-                                  &st) != 0) {
+                                  use_lut ? &lut : NULL, use_occ ? &occ : NULL, pts, npts, (uint32_t)exposure,
+                                  !linear, pix, lin, &ms, &st) != 0) {
         fprintf(stderr, "qibl: relight: %s\n", st == QIBL_E_NULL_POINTER ? "out of memory" : qibl_soft_status_str(st));
         rc = 1;
     } else {

@@ -554,9 +554,9 @@ int qcli_light_list_sh(const qcli_light_list *ll, uint32_t k, FILE *note, qibl_s
 /* ---- the frame ------------------------------------------------------------------------------------ */
 
 int qcli_relight_frame(const qibl_shmaps_t *m, const qibl_shlight_t *sh, const qibl_shmaps_t *mp,
-                       const qibl_pmap_t *pm, const qibl_ylut_t *lut, const qibl_pointlight_t *points,
-                       uint32_t npoints, uint32_t exposure, int srgb, uint8_t *rgb8, float *lin, double *ms,
-                       qibl_status_t *status)
+                       const qibl_pmap_t *pm, const qibl_ylut_t *lut, const qibl_lampocc_t *occ,
+                       const qibl_pointlight_t *points, uint32_t npoints, uint32_t exposure, int srgb, uint8_t *rgb8,
+                       float *lin, double *ms, qibl_status_t *status)
 {
     uint32_t w = m->width, h = m->height;
     size_t wsn = qibl_shmap_span_workspace_size(w);
@@ -591,6 +591,8 @@ int qcli_relight_frame(const qibl_shmaps_t *m, const qibl_shlight_t *sh, const q
         }
         for (uint32_t j = 0; st == QIBL_OK && j < npoints; ++j) {
             st = qibl_shmap_point_span(&pt[j], 0, y, w, row, ws, wsn);
+            if (st == QIBL_OK && occ)
+                st = qibl_lightpath_occl_span(occ, 0, y, w, row);
             for (size_t i = 0; st == QIBL_OK && i < (size_t)w * 3; ++i)
                 acc[i] += row[i];
         }

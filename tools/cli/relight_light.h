@@ -14,6 +14,7 @@
 
 #include "io/probe_layout.h"
 #include "qibl/lightprobe.h"
+#include "qibl/lightpath.h"
 #include "qibl/shmap.h"
 
 #define QCLI_RELIGHT_MAX_SOURCES 64u     /* --sun and --point options together */
@@ -86,14 +87,16 @@ int qcli_probe_load(const char *path, qtool_probe_layout_t want, FILE *note, int
 uint32_t qcli_probe_suns(const qibl_lightprobe_light_t *l, uint32_t count, uint32_t w, uint32_t h, uint32_t *idx);
 
 /* A frame relit by the core: sh (NULL: no directional light) on the maps m, plus npoints point
- * lights on the maps mp with the P map pm and the LUT lut (NULL: direct SH); every light's Q16.16
+ * lights on the maps mp with the P map pm and the LUT lut (NULL: direct SH), each scaled by the
+ * lamp occlusion occ when not NULL (the asset's LOCC, for lamps through its unshadowed maps, as
+ * qtool_bake_relight8_lin does); every light's Q16.16
  * output summed per pixel in 64 bits and saturated to int32 once, then written through
  * platform/soft (exposure, srgb) into rgb8 (w h 3 bytes); lin (may be NULL) gets the linear frame
  * as qtool_bake_relight8_lin gives it. One light gives the bytes qtool_bake_relight8_lin gives.
  * 0, or -1 with *status set (QIBL_E_NULL_POINTER for out of memory). */
 int qcli_relight_frame(const qibl_shmaps_t *m, const qibl_shlight_t *sh, const qibl_shmaps_t *mp,
-                       const qibl_pmap_t *pm, const qibl_ylut_t *lut, const qibl_pointlight_t *points,
-                       uint32_t npoints, uint32_t exposure, int srgb, uint8_t *rgb8, float *lin, double *ms,
-                       qibl_status_t *status);
+                       const qibl_pmap_t *pm, const qibl_ylut_t *lut, const qibl_lampocc_t *occ,
+                       const qibl_pointlight_t *points, uint32_t npoints, uint32_t exposure, int srgb, uint8_t *rgb8,
+                       float *lin, double *ms, qibl_status_t *status);
 
 #endif
