@@ -7,7 +7,9 @@
  */
 #include "qibl/shmtile.h"
 
-#if QIBL_USE_SHMAP
+/* with the light paths (QIBL_USE_LIGHTPATH): the adaptive-k unshadowed maps serve them and free lamps;
+ * a small build (QIBL_CONFIG_SMALL) without them stays within its 16 KiB */
+#if QIBL_USE_SHMAP && QIBL_USE_LIGHTPATH
 
 /* bytes of tile (tx, ty) with k maps (at most 25 * 3 * 256: 32-bit products, no 64-bit multiply,
  * which Cortex-M0 would call a library routine for) */
@@ -112,4 +114,4 @@ qibl_status_t qibl_shmtile_view(const qibl_shmtile_t *t, uint32_t tx, uint32_t t
 
 #else
 typedef int qibl_shmtile_disabled_t; /* ISO C forbids an empty translation unit */
-#endif /* QIBL_USE_SHMAP */
+#endif /* QIBL_USE_SHMAP && QIBL_USE_LIGHTPATH */

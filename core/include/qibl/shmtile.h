@@ -25,6 +25,8 @@
  * A tile is read as an ordinary planar maps view (qibl_shmtile_view): width tw, height th, k = k_t,
  * the set's params (their first k_t entries are the tile's). Any kernel that takes a qibl_shmaps_t
  * relights it; a point light needs a P-map view of the same tile (the caller copies tw x th points).
+ *
+ * Built with QIBL_USE_LIGHTPATH (config.h; off in a QIBL_CONFIG_SMALL build unless asked for).
  */
 #ifndef QIBL_SHMTILE_H
 #define QIBL_SHMTILE_H
