@@ -742,7 +742,7 @@ int qcli_demo_probe(const qtool_rt_scene *s, const qcli_scene *so, int small, co
             qcli_draw_text(sheet, shw, shh, (int)w + 4, ts, ts, "truth: ray-traced, all shadowed", fg);
             qcli_draw_text(sheet, shw, shh, 2 * (int)w + 4, ts, ts, "error 0", fg);
             int x0 = 2 * (int)w + 4 + 8 * 6 * ts, bw = (int)w / 3; /* the heat scale, 0 .. 48 */
-            for (int x = 0; x < bw; ++x) {
+            for (int x = 0; bw >= 2 && x < bw; ++x) {
                 uint8_t a[3] = {0, 0, 0}, b[3], o[3];
                 b[0] = (uint8_t)lrint(255.0 * x / (bw - 1)), b[1] = b[2] = 0;
                 heat(b, a, (const uint8_t[]){1}, 1, o);
