@@ -58,7 +58,7 @@ static int check_out_dir(const char *dir, long frames)
     }
     static const char *fixed[] = {"scene_k9.qibl", "scene_k16.qibl",    "scene_k25.qibl", "sun_sweep.png",
                                   "lamp_sweep.png", "contact_sheet.png", "relit_sun.png",  "truth_sun.png",
-                                  "paths_sheet.png", "paths_readme.png"};
+                                  "paths_sheet.png", "paths_readme.png", "probe_sheet.png"};
     enum { NFIXED = sizeof fixed / sizeof fixed[0] };
     char err[1200], name[64];
     int bad = 0;

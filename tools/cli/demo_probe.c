@@ -742,7 +742,7 @@ int qcli_demo_probe(const qtool_rt_scene *s, const qcli_scene *so, int small, co
             qcli_draw_text(sheet, shw, shh, (int)w + 4, ts, ts, "truth: ray-traced, all shadowed", fg);
             qcli_draw_text(sheet, shw, shh, 2 * (int)w + 4, ts, ts, "error 0", fg);
             int x0 = 2 * (int)w + 4 + 8 * 6 * ts, bw = (int)w / 3; /* the heat scale, 0 .. 48 */
-            for (int x = 0; x < bw; ++x) {
+            for (int x = 0; bw >= 2 && x < bw; ++x) {
                 uint8_t a[3] = {0, 0, 0}, b[3], o[3];
                 b[0] = (uint8_t)lrint(255.0 * x / (bw - 1)), b[1] = b[2] = 0;
                 heat(b, a, (const uint8_t[]){1}, 1, o);
@@ -808,11 +808,14 @@ int qcli_demo_probe(const qtool_rt_scene *s, const qcli_scene *so, int small, co
     printf("\n");
     for (int p = 0; p < 3; ++p) {
         for (int q = 0; q < NSCHEME; ++q)
-            printf("RESULT demo.probe_%s_%s_psnr %.2f\nRESULT demo.probe_%s_%s_brightness %.3f\n", picks[p].role,
-                   scheme_key[q], rows[p][q].psnr, picks[p].role, scheme_key[q], rows[p][q].bright);
+            printf("RESULT demo.probe_%s_%s_psnr %.2f\nRESULT demo.probe_%s_%s_brightness %.3f\n"
+                   "RESULT demo.probe_%s_%s_ms %.3f\nRESULT demo.probe_%s_%s_bytes %.0f\n",
+                   picks[p].role, scheme_key[q], rows[p][q].psnr, picks[p].role, scheme_key[q], rows[p][q].bright,
+                   picks[p].role, scheme_key[q], rows[p][q].ms, picks[p].role, scheme_key[q], rows[p][q].bytes);
         printf("RESULT demo.probe_%s_best_psnr %.2f\nRESULT demo.probe_%s_truth_halves_psnr %.2f\n", picks[p].role,
                rows[p][best[p]].psnr, picks[p].role, noise[p]);
     }
+    printf("RESULT demo.probe_s %.2f\n", qcli_now() - t0);
     printf("wrote %s/probe_sheet.png (rows: soft, sunny, indoor; columns: best scheme | truth | error 0..48)\n", dir);
     rc = 0;
 done:
