@@ -92,8 +92,6 @@ int qtool_demo_paths(const struct qtool_rt_scene *s, const qcli_scene *so, uint3
  * and RESULT lines on stdout, probe_sheet.png in dir. 0, or 1 after a message. */
 int qcli_demo_probe(const struct qtool_rt_scene *s, const qcli_scene *so, int small, const struct qtool_bake_sums *sums,
                     uint32_t ndirs, const char *dir);
-/* Draws s in a 5 x 7 font (demo_text.c; 6 x scale pixels a character) at (x, y) into an RGB8 image. */
-void qcli_draw_text(uint8_t *rgb, int w, int h, int x, int y, int scale, const char *s, const uint8_t col[3]);
 void qcli_eval_lights(int obj_prop, int ndir, int npoint, struct qtool_rt_light *out);
 
 /* --point without --rgb (point_default.c): C0 = QTOOL_CLI_POINT_GREY * d^falloff, d the median

@@ -15,6 +15,7 @@
 #include "bake/bake.h"
 #include "bake/path.h"
 #include "cli/cli.h"
+#include "io/text.h"
 #include "io/hdr.h"
 #include "io/png.h"
 #include "qibl/asset.h"
@@ -738,9 +739,9 @@ int qcli_demo_probe(const qtool_rt_scene *s, const qcli_scene *so, int small, co
         /* sheet row: best relit | truth | error, under a label */
         if (p == 0) {
             memset(sheet, 24, (size_t)shw * (size_t)shh * 3);
-            qcli_draw_text(sheet, shw, shh, 4, ts, ts, "relit by the core (best scheme)", fg);
-            qcli_draw_text(sheet, shw, shh, (int)w + 4, ts, ts, "truth: ray-traced, all shadowed", fg);
-            qcli_draw_text(sheet, shw, shh, 2 * (int)w + 4, ts, ts, "error 0", fg);
+            qtool_text_draw(sheet, shw, shh, 4, ts, "relit by the core (best scheme)", ts, fg);
+            qtool_text_draw(sheet, shw, shh, (int)w + 4, ts, "truth: ray-traced, all shadowed", ts, fg);
+            qtool_text_draw(sheet, shw, shh, 2 * (int)w + 4, ts, "error 0", ts, fg);
             int x0 = 2 * (int)w + 4 + 8 * 6 * ts, bw = (int)w / 3; /* the heat scale, 0 .. 48 */
             for (int x = 0; bw >= 2 && x < bw; ++x) {
                 uint8_t a[3] = {0, 0, 0}, b[3], o[3];
@@ -749,7 +750,7 @@ int qcli_demo_probe(const qtool_rt_scene *s, const qcli_scene *so, int small, co
                 for (int y = ts; y < 8 * ts; ++y)
                     memcpy(sheet + 3 * ((size_t)y * (size_t)shw + (size_t)(x0 + x)), o, 3);
             }
-            qcli_draw_text(sheet, shw, shh, x0 + bw + 4, ts, ts, "48+ of 255", fg);
+            qtool_text_draw(sheet, shw, shh, x0 + bw + 4, ts, "48+ of 255", ts, fg);
         }
         heat(c.best, c.truth, c.cls, np, c.heatb);
         const uint8_t *src[3] = {c.best, c.truth, c.heatb};
@@ -762,9 +763,9 @@ int qcli_demo_probe(const qtool_rt_scene *s, const qcli_scene *so, int small, co
         if (cut)
             *cut = 0;
         snprintf(lab, sizeof lab, "%s, %s: %s %.1f dB", picks[p].role, nm, sn[best[p]], rows[p][best[p]].psnr);
-        qcli_draw_text(sheet, shw, shh, 4, y0 + ts, ts, lab, fg);
+        qtool_text_draw(sheet, shw, shh, 4, y0 + ts, lab, ts, fg);
         snprintf(lab, sizeof lab, "(SH k25 alone: %.1f dB)", rows[p][S_SH25].psnr);
-        qcli_draw_text(sheet, shw, shh, (int)w + 4, y0 + ts, ts, lab, fg);
+        qtool_text_draw(sheet, shw, shh, (int)w + 4, y0 + ts, lab, ts, fg);
         for (uint32_t y = 0; y < h; ++y)
             for (int q = 0; q < 3; ++q)
                 memcpy(sheet + (((size_t)(y0 + strip) + y) * (size_t)shw + (size_t)q * w) * 3, src[q] + (size_t)y * w * 3,
