@@ -1194,9 +1194,9 @@ static void poly_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uin
         /* L = S - P, halved once if it needs 33 bits (r0 = 1) */
         const int64_t d0 = pt->pos[0] - (int64_t)qibl_load_s32le(pp), d1 = pt->pos[1] - (int64_t)qibl_load_s32le(pp + 4),
                       d2 = pt->pos[2] - (int64_t)qibl_load_s32le(pp + 8);
-        /* outside [-(2^31 - 1), 2^31 - 1] */
-        const int32_t r0 = ((uint64_t)(d0 + INT32_MAX) | (uint64_t)(d1 + INT32_MAX) | (uint64_t)(d2 + INT32_MAX)) >
-                           (uint64_t)2 * INT32_MAX;
+        /* some component outside int32: d + 2^31 outside [0, 2^32) (each term < 2^33, so the OR is exact) */
+        const int32_t r0 = (((uint64_t)(d0 + INT32_MAX + 1) | (uint64_t)(d1 + INT32_MAX + 1) |
+                             (uint64_t)(d2 + INT32_MAX + 1)) >> 32) != 0u;
         int32_t l0, l1, l2;
         if (r0)
             l0 = (int32_t)qibl_asr_s64(d0, 1u), l1 = (int32_t)qibl_asr_s64(d1, 1u), l2 = (int32_t)qibl_asr_s64(d2, 1u);

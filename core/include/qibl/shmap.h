@@ -64,7 +64,7 @@ typedef enum qibl_lut_filter {
     QIBL_LUT_NEAREST,      /* the texel the direction falls in: cheapest, error ~ texel size */
     /* No LUT (one passed to prepare is checked, then ignored): Y_i from the SH recurrences with int16
      * operands in Q2.14/Q3.13, 1/|L| from fixed.c's seed table and one Newton step; pixel by pixel,
-     * no workspace traffic. The fastest point mode (Cortex-M4, k = 9: 687 instructions per pixel
+     * no workspace traffic. The fastest point mode (Cortex-M4, k = 9: 679 instructions per pixel
      * against 1800 for direct SH; x86 k = 16: 1036 against 1414 for LUT 32^2) and as accurate as
      * direct SH (bounds at qibl_shmap_point_span). Its own goldens (relight_point_k*_poly*). */
     QIBL_POINT_POLY
