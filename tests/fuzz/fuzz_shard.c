@@ -7,7 +7,9 @@
  * (taken modulo the rest's length), then the two file images back to back.
  * Invariants checked (abort on violation): a decoded image re-encodes to exactly its bytes; an add
  * that succeeds equals the exact sum of every pair, an add of compatible sums fails exactly when a
- * sum overflows 64 bits, and a failing add changes nothing.
+ * sum overflows 64 bits, and a failing add changes nothing. The whole input (after the 5 bytes) also
+ * goes to the extras-file decoder (bake/extras.h, the LPTH/LOCC beside shard 0's sums): it fails with
+ * a message or re-encodes to exactly its bytes.
  */
 #include <stdint.h>
 #include <stdio.h>
@@ -15,6 +17,7 @@
 #include <string.h>
 
 #include "bake/bake.h"
+#include "bake/extras.h"
 #include "qibl/asset.h"
 
 static void store32(uint8_t *p, uint32_t v)
@@ -68,6 +71,20 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     uint8_t flags = data[0];
     uint32_t split = (uint32_t)data[1] | (uint32_t)data[2] << 8 | (uint32_t)data[3] << 16 | (uint32_t)data[4] << 24;
     data += 5, size -= 5;
+    {
+        qtool_extras x;
+        char err[512] = "";
+        if (qtool_extras_decode(data, size, "fuzz", &x, err, sizeof err) == 0) {
+            uint8_t *again;
+            size_t m;
+            if (qtool_extras_encode(&x, &again, &m) != 0 || m != size || memcmp(again, data, size) != 0)
+                abort();
+            free(again);
+            qtool_extras_free(&x);
+        } else if (err[0] == '\0') {
+            abort();
+        }
+    }
     size_t n1 = size ? split % (size + 1) : 0;
     qtool_bake_sums a, b;
     if (decode(data, n1, flags & 1, &a) != 0)
