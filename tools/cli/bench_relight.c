@@ -364,7 +364,7 @@ int qcli_bench_relight(int quick, int csv)
                               QIBL_FALLOFF_INV_DIST, 0, QIBL_LUT_BILINEAR};
     const uint32_t ks[4] = {4, 9, 16, 25};
     const uint32_t luts[3] = {16, 32, 64};
-    row rows[4 * 5];
+    row rows[4 * 6]; /* per k: directional, LUT 16^2 / 32^2 / 64^2, direct SH, poly */
     int nrows = 0;
     double stream_k16 = 0, dir_k16 = 0, point_k16_lut32 = 0, point_k16_direct = 0, psnr_k16 = 0;
     double point_k16_poly = 0, psnr_poly_k16 = 0, psnr_lut32_k16 = 0;
