@@ -212,8 +212,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     qibl_shlight_t l, l0, lx;
     FUZZ_CHECK(qibl_shlight_init(&l, k) == QIBL_OK);
     for (int ch = 0; ch < 3; ++ch) /* some big starting values, to reach saturation */
-        for (uint32_t i = 0; i < k; ++i)
-            l.c[ch][i] = (int32_t)(fuzz_u32(&in) >> (lb & 31u)) * ((lb & 0x20u) ? -1 : 1);
+        for (uint32_t i = 0; i < k; ++i) {
+            /* negated in 64 bits: -INT32_MIN would overflow int (a finding of this harness, not the core) */
+            const int64_t v = (int64_t)(int32_t)(fuzz_u32(&in) >> (lb & 31u)) * ((lb & 0x20u) ? -1 : 1);
+            l.c[ch][i] = v > INT32_MAX ? INT32_MAX : (int32_t)v;
+        }
     memset(&lx, 0, sizeof lx); /* k = 0: not initialised */
     if (pst == QIBL_OK) {
         const int32_t scale = opts.scale_log2;
