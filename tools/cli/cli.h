@@ -90,6 +90,11 @@ int qtool_demo_paths(const struct qtool_rt_scene *s, const qcli_scene *so, uint3
 /* The "lit by a real probe" part of `qibl demo` (demo_probe.c): three probes (../shared's, or
  * procedural ones), ray-traced truth, SH / median-cut lights / sun + SH relit by the core; its table
  * and RESULT lines on stdout, probe_sheet.png in dir. 0, or 1 after a message. */
+/* demo_paths.c, shared with demo_probe.c: the error heat map of a against b (max channel
+ * difference, full scale 48 of 255; pixels whose cls is 0 black), and the payload bytes of the
+ * index-th chunk of a type in an asset (0 when absent or the asset is bad). */
+void qcli_demo_heat(const uint8_t *a, const uint8_t *b, const uint8_t *cls, size_t np, uint8_t *out);
+double qcli_asset_chunk_bytes(const uint8_t *asset, size_t n, uint32_t type, uint32_t index);
 int qcli_demo_probe(const struct qtool_rt_scene *s, const qcli_scene *so, int small, const struct qtool_bake_sums *sums,
                     uint32_t ndirs, const char *dir);
 void qcli_eval_lights(int obj_prop, int ndir, int npoint, struct qtool_rt_light *out);

@@ -92,7 +92,7 @@ static void print_split(const row_stats *r)
            r->excess_cls[3]);
 }
 
-static void heat(const uint8_t *a, const uint8_t *b, const uint8_t *cls, size_t np, uint8_t *out)
+void qcli_demo_heat(const uint8_t *a, const uint8_t *b, const uint8_t *cls, size_t np, uint8_t *out)
 {
     for (size_t i = 0; i < np; ++i) {
         int d = 0;
@@ -108,7 +108,7 @@ static void heat(const uint8_t *a, const uint8_t *b, const uint8_t *cls, size_t 
 }
 
 /* chunk bytes of a type in an asset (0 if absent) */
-static double chunk_bytes(const uint8_t *asset, size_t n, uint32_t type, uint32_t index)
+double qcli_asset_chunk_bytes(const uint8_t *asset, size_t n, uint32_t type, uint32_t index)
 {
     qibl_asset_t a;
     qibl_chunk_t c;
@@ -235,9 +235,11 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
         }
     }
     /* bytes per pixel of what each scheme reads (fixed-size YLUT included, spread over the pixels) */
-    double shmp = chunk_bytes(today, today_n, QIBL_CHUNK_SHMP, 0), pmap = chunk_bytes(asset9, n9, QIBL_CHUNK_PMAP, 0);
-    double ylut = chunk_bytes(today, today_n, QIBL_CHUNK_YLUT, 0);
-    double u9 = chunk_bytes(asset9, n9, QIBL_CHUNK_SHMU, 0), u16 = chunk_bytes(asset16, n16, QIBL_CHUNK_SHMU, 0);
+    double shmp = qcli_asset_chunk_bytes(today, today_n, QIBL_CHUNK_SHMP, 0);
+    double pmap = qcli_asset_chunk_bytes(asset9, n9, QIBL_CHUNK_PMAP, 0);
+    double ylut = qcli_asset_chunk_bytes(today, today_n, QIBL_CHUNK_YLUT, 0);
+    double u9 = qcli_asset_chunk_bytes(asset9, n9, QIBL_CHUNK_SHMU, 0);
+    double u16 = qcli_asset_chunk_bytes(asset16, n16, QIBL_CHUNK_SHMU, 0);
     double oc = (double)occn;
     double bytes[NROWS] = {shmp, u9 + lpn[0], u16 + lpn[0], shmp + pmap + ylut, u9 + pmap + ylut + oc,
                            u16 + pmap + ylut + oc, u9 + pmap + ylut + lpn[1], u16 + pmap + ylut + lpn[1],
@@ -409,7 +411,7 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
         uint8_t *sheet = malloc(sw * 3 * h * 2), *hb = malloc(np * 3);
         for (int r = 0; sheet && hb && r < 2; ++r) {
             size_t f = (size_t)r * NPOS + 5;
-            heat(keep[2 * r + 1], truth + f * np * 3, cls + f * np, np, hb);
+            qcli_demo_heat(keep[2 * r + 1], truth + f * np * 3, cls + f * np, np, hb);
             const uint8_t *src[4] = {truth + f * np * 3, keep[2 * r], keep[2 * r + 1], hb};
             for (uint32_t y = 0; y < h; ++y)
                 for (int c = 0; c < 4; ++c)

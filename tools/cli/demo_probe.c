@@ -144,30 +144,6 @@ static void score(const uint8_t *relit, const uint8_t *truth, const uint8_t *cls
     r->bright = lt > 0 ? lr / lt : 0;
 }
 
-/* error heat map as the other sheets draw it: max channel difference, 0 black .. 48+ yellow-white */
-static void heat(const uint8_t *a, const uint8_t *b, const uint8_t *cls, size_t np, uint8_t *out)
-{
-    for (size_t i = 0; i < np; ++i) {
-        int d = 0;
-        for (int c = 0; c < 3; ++c) {
-            int x = abs((int)a[3 * i + (size_t)c] - (int)b[3 * i + (size_t)c]);
-            d = x > d ? x : d;
-        }
-        double t = cls[i] ? fmin(1.0, d / 48.0) : 0;
-        double r = fmin(1, fmax(0, 3 * t - 1)), g = fmin(1, fmax(0, 3 * t - 2)), bl = t < 1.0 / 3 ? 3 * t : fmax(0, 2 - 3 * t);
-        out[3 * i] = (uint8_t)lrint(255 * r), out[3 * i + 1] = (uint8_t)lrint(255 * g);
-        out[3 * i + 2] = (uint8_t)lrint(255 * fmax(bl, 0.25 * g));
-    }
-}
-
-static double chunk_bytes(const uint8_t *asset, size_t n, uint32_t type, uint32_t index)
-{
-    qibl_asset_t a;
-    qibl_chunk_t c;
-    if (qibl_asset_open(&a, asset, n) != QIBL_OK || qibl_asset_find_nth(&a, type, index, &c) != QIBL_OK)
-        return 0;
-    return c.size;
-}
 
 /* ---- probes ---------------------------------------------------------------------------------- */
 
@@ -592,7 +568,8 @@ static int run_probe(ctx_t *c, int role, const char *label, float *probe, uint32
     *noise = qtool_ref_psnr8(qtool_bake_mse(c->truth, c->tmp, c->cls, np));
     qtool_bake_lin_to8(c->lin, w, h, c->truth);
 
-    double shmp16 = chunk_bytes(c->a16, c->n16, QIBL_CHUNK_SHMP, 0), shmp25 = chunk_bytes(c->a25, c->n25, QIBL_CHUNK_SHMP, 0);
+    double shmp16 = qcli_asset_chunk_bytes(c->a16, c->n16, QIBL_CHUNK_SHMP, 0);
+    double shmp25 = qcli_asset_chunk_bytes(c->a25, c->n25, QIBL_CHUNK_SHMP, 0);
     qibl_shlight_t l16, l25, ll, lsky;
     double prep;
     double best_psnr = -1;
@@ -628,7 +605,8 @@ static int run_probe(ctx_t *c, int role, const char *label, float *probe, uint32
             rows[S_SUN].ms = fmin(rows[S_SUN].ms, ms);
         }
         score(c->tmp, c->truth, c->cls, np, &rows[S_SUN]);
-        rows[S_SUN].bytes = chunk_bytes(asset, an, QIBL_CHUNK_SHMP, 0) + chunk_bytes(asset, an, QIBL_CHUNK_SHMU, 0);
+        rows[S_SUN].bytes =
+            qcli_asset_chunk_bytes(asset, an, QIBL_CHUNK_SHMP, 0) + qcli_asset_chunk_bytes(asset, an, QIBL_CHUNK_SHMU, 0);
         for (int k = 0; k < nparts; ++k)
             rows[S_SUN].bytes += (double)lpn[k];
     }
@@ -746,13 +724,13 @@ int qcli_demo_probe(const qtool_rt_scene *s, const qcli_scene *so, int small, co
             for (int x = 0; bw >= 2 && x < bw; ++x) {
                 uint8_t a[3] = {0, 0, 0}, b[3], o[3];
                 b[0] = (uint8_t)lrint(255.0 * x / (bw - 1)), b[1] = b[2] = 0;
-                heat(b, a, (const uint8_t[]){1}, 1, o);
+                qcli_demo_heat(b, a, (const uint8_t[]){1}, 1, o);
                 for (int y = ts; y < 8 * ts; ++y)
                     memcpy(sheet + 3 * ((size_t)y * (size_t)shw + (size_t)(x0 + x)), o, 3);
             }
             qtool_text_draw(sheet, shw, shh, x0 + bw + 4, ts, "48+ of 255", ts, fg);
         }
-        heat(c.best, c.truth, c.cls, np, c.heatb);
+        qcli_demo_heat(c.best, c.truth, c.cls, np, c.heatb);
         const uint8_t *src[3] = {c.best, c.truth, c.heatb};
         int y0 = strip + p * (strip + (int)h);
         char lab[200];
