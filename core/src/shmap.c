@@ -1064,6 +1064,9 @@ qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t
                 out->eb[ch] = norm16_at(bv, m->k, out->es[ch], out->bn[ch]);
             out->pd[ch] = out->es[ch] + 14 - out->eb[ch];
         }
+        /* |bs| <= 32767 2^13 < 2^28, so sn c + bs fits int32 (poly_span's fused term) */
+        for (uint32_t i = 0; i < (uint32_t)QIBL_SH_MAX_COUNT; ++i)
+            out->bs[ch][i] = poly ? out->bn[ch][i] * ((int32_t)1 << (14 - out->pd[ch])) : 0;
         /* C0 = c0m 2^ce, c0m <= 2^15 (floored) */
         const uint32_t c0 = (uint32_t)light->rgb[ch];
         const int32_t ce = (int32_t)qibli_bitlen_u32(c0) > 15 ? (int32_t)qibli_bitlen_u32(c0) - 15 : 0;
@@ -1176,6 +1179,7 @@ static void point_interleaved(const qibl_shmaps_t *m, const qibl_shmap_point_t *
  *   acc  = sum_i Y_i sn_i c_i (exact, int64)     |acc| < 25 * 14746 * 32767 * 255 < 2^42
  *   accb = sum_i Y_i bn_i (exact)               |accb| < 1.9 2^30 (prepare)
  *   V = round((acc + accb 2^(14 - pd)) / 2^14)   1 <= pd <= 14, |V| < 2^28 + 2^30, units 2^(es - 24)
+ * (summed as one: sum_i Y_i (sn_i c_i + bs_i), bs_i = bn_i 2^(14 - pd))
  *   out = round(V g / 2^(ae + pk)), g = am c0m <= 2^30, saturated to int32. */
 static void poly_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out)
 {
@@ -1221,29 +1225,23 @@ static void poly_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uin
         poly_eval(u0, u1, u2, bands, yv);
         const uint32_t x = x0 + px;
         const uint8_t *c0 = il ? row + (size_t)(x / QIBL_SHMAPS_GROUP) * gbytes + x % QIBL_SHMAPS_GROUP : row + px;
-        int64_t acc3[3] = {0, 0, 0}; /* exact: no shift per product (multiply-accumulates on Cortex-M4) */
-        int32_t accb3[3] = {0, 0, 0};
+        /* per map and channel one multiply-add and one long multiply-accumulate on Cortex-M4:
+         * sum_i Y_i (sn_i c_i + bs_i) = acc + accb 2^(14 - pd), exact: |sn c + bs| < 2^29,
+         * |sum| < 25 * 14746 * 2^29 < 2^48 */
+        int64_t a0 = 0, a1 = 0, a2 = 0;
         {
             const size_t c1 = m->channels == 3u ? cs : 0u, c2 = 2u * c1;
             const uint8_t *c = c0;
-            int64_t a0 = 0, a1 = 0, a2 = 0;
-            int32_t b0 = 0, b1 = 0, b2 = 0;
             for (uint32_t i = 0; i < k; ++i, c += ms) { /* maps outside, channels inside: Y_i loaded once */
                 const int32_t yi = yv[i];
-                a0 += qibl_mul_s32_s64(yi * pt->sn[0][i], c[0]);
-                b0 += yi * pt->bn[0][i];
-                a1 += qibl_mul_s32_s64(yi * pt->sn[1][i], c[c1]);
-                b1 += yi * pt->bn[1][i];
-                a2 += qibl_mul_s32_s64(yi * pt->sn[2][i], c[c2]);
-                b2 += yi * pt->bn[2][i];
+                a0 += qibl_mul_s32_s64(yi, pt->sn[0][i] * (int32_t)c[0] + pt->bs[0][i]);
+                a1 += qibl_mul_s32_s64(yi, pt->sn[1][i] * (int32_t)c[c1] + pt->bs[1][i]);
+                a2 += qibl_mul_s32_s64(yi, pt->sn[2][i] * (int32_t)c[c2] + pt->bs[2][i]);
             }
-            acc3[0] = a0, acc3[1] = a1, acc3[2] = a2, accb3[0] = b0, accb3[1] = b1, accb3[2] = b2;
         }
         for (uint32_t ch = 0; ch < 3u; ++ch) {
-            const int64_t acc = acc3[ch];
-            const int32_t accb = accb3[ch];
-            /* V = round((acc + accb 2^(14 - pd)) / 2^14), one multiply-accumulate and one rounding */
-            const int32_t v = (int32_t)qibl_asr_s64(acc + qibl_mul_s32_s64(accb, (int32_t)1 << (14 - pt->pd[ch])) + 8192, 14);
+            /* V = round((acc + accb 2^(14 - pd)) / 2^14) */
+            const int32_t v = (int32_t)qibl_asr_s64((ch == 0u ? a0 : ch == 1u ? a1 : a2) + 8192, 14);
             const int64_t prod = qibl_mul_s32_s64(v, am * pt->c0m[ch]);
             const int32_t sr = ae + pt->pk[ch];
             int32_t o;

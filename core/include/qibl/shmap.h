@@ -96,12 +96,13 @@ typedef struct qibl_shmap_point {
     uint32_t clamp_y;                   /* 1 / min_dist = clamp_y / 2^clamp_e in 1/(2^-16) units */
     unsigned clamp_e;
     uint32_t bands;
-    /* QIBL_POINT_POLY only: V = acc + accb 2^pd (0 <= pd <= 10), out = V am c0m 2^-(ae + pk) with
+    /* QIBL_POINT_POLY only: V = acc + accb 2^(14 - pd) (1 <= pd <= 14), out = V am c0m 2^-(ae + pk) with
      * c0m <= 2^15 the colour's mantissa; the min_dist clamp as mantissa and exponent (am, ae) */
     uint32_t method;                    /* 1: QIBL_POINT_POLY */
     int32_t pd[3], pk[3];
     int32_t c0m[3];
     int32_t clamp_am, clamp_ae;
+    int32_t bs[3][QIBL_SH_MAX_COUNT];   /* POLY: bn 2^(14 - pd), the bias in the scale term's unit */
 } qibl_shmap_point_t;
 
 /* ---- light coefficients ---------------------------------------------------------------------- */
