@@ -152,9 +152,22 @@ $(LIBTOOLS): $(TOOL_LIB_OBJ)
 	@mkdir -p $(dir $@)
 	rm -f $@ && $(AR) rcs $@ $^
 
-$(QIBL): $(QIBL_OBJ) $(LIBTOOLS) $(LIBSOFT) $(LIBQIBL) $(if $(HAVE_GLES),$(LIBGLES))
+# tools/twin: core modules compiled again as their scalar twins (QIBL_CONFIG_SIMD=0, names renamed,
+# the core's flags), so `qibl bench` and the suites run the SIMD path and its reference in one process
+TWIN_SRC := $(wildcard tools/twin/*.c)
+TWIN_OBJ := $(TWIN_SRC:%.c=$(BUILD)/twin/%.o)
+LIBTWIN := $(BUILD)/libqibl-twin.a
+$(BUILD)/twin/%.o: %.c
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -o $@ $(QIBL_OBJ) $(LIBTOOLS) $(GLES_LINK) $(LIBSOFT) $(LIBQIBL) $(HOST_LIBS)
+	$(CC) $(CORE_CFLAGS) -Itools -MMD -MP -c $< -o $@
+
+$(LIBTWIN): $(TWIN_OBJ)
+	@mkdir -p $(dir $@)
+	rm -f $@ && $(AR) rcs $@ $^
+
+$(QIBL): $(QIBL_OBJ) $(LIBTOOLS) $(LIBSOFT) $(LIBQIBL) $(LIBTWIN) $(if $(HAVE_GLES),$(LIBGLES))
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) -o $@ $(QIBL_OBJ) $(LIBTOOLS) $(GLES_LINK) $(LIBSOFT) $(LIBTWIN) $(LIBQIBL) $(HOST_LIBS)
 
 # ---- platform/gles2 -------------------------------------------------------------------------
 $(BUILD)/gles/%.o: %.c
@@ -194,6 +207,11 @@ $(BUILD)/tests/%_test-portable: $(BUILD)/host-portable/tests/%_test.o $(LIBTOOLS
 $(BUILD)/tests/%_test-avx2: $(BUILD)/host/tests/%_test.o $(LIBTOOLS) $(LIBQIBL_AVX2) | test-deps
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -o $@ $< $(TEST_EXTRA) $(LIBTOOLS) $(LIBQIBL_AVX2) $(CMOCKA_LIBS) $(HOST_LIBS)
+
+# lightprobe_test compares the library's path with the scalar twin (tools/twin) over random probes
+LP_TESTS := $(BUILD)/tests/lightprobe_test $(BUILD)/tests/lightprobe_test-portable $(BUILD)/tests/lightprobe_test-avx2
+$(LP_TESTS): $(LIBTWIN)
+$(LP_TESTS): TEST_EXTRA = $(LIBTWIN)
 
 # version_test also links a TU compiled with -DQIBL_SH_MAX_BANDS=3: a caller whose config.h differs
 # from the library's must get QIBL_E_CONFIG_MISMATCH from its start-up check.

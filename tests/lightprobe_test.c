@@ -28,6 +28,7 @@
 #include "io/hdr.h"
 #include "io/sha256.h"
 #include "ref/lightprobe_ref.h"
+#include "twin/lightprobe_scalar.h"
 #include "testutil.h"
 
 #define Q30 1073741824.0
@@ -985,6 +986,83 @@ static int check_golden(const char *name, const qibl_lightprobe_t *lp, int metho
 /* The integer-made probes (a sun and sky, a 100 x 50 with hot spots in RGBE, sRGBE, int32 and
  * binary32) and the row-weight table live in tools/golden/cases_lightprobe.c, shared with the
  * golden runner that `make ports` runs on every architecture. */
+/* ---- the library's SIMD path against its scalar twin ------------------------------------------ */
+
+/* Bytes of the hard kinds: random, a single blazing pixel (E = 255) in black, every exponent byte,
+ * black with stray mantissas (E = 0), all zero, extreme range (E 1..255 at random) */
+static void hard_rgbe(tu_rng *r, uint8_t *px, uint32_t w, uint32_t h, size_t stride, int kind)
+{
+    for (uint32_t v = 0; v < h; ++v)
+        for (uint32_t u = 0; u < w; ++u) {
+            uint8_t *q = px + (size_t)v * stride + 4u * u;
+            uint32_t x = tu_u32(r);
+            switch (kind) {
+            case 0: q[0] = (uint8_t)x, q[1] = (uint8_t)(x >> 8), q[2] = (uint8_t)(x >> 16), q[3] = (uint8_t)(120u + (x >> 28)); break;
+            case 1: q[0] = q[1] = q[2] = q[3] = 0u; break;
+            case 2: q[0] = (uint8_t)x, q[1] = (uint8_t)(x >> 8), q[2] = (uint8_t)(x >> 16), q[3] = (uint8_t)((u + 7u * v) & 255u); break;
+            case 3: q[0] = (uint8_t)x, q[1] = (uint8_t)(x >> 8), q[2] = (uint8_t)(x >> 16), q[3] = (x >> 24) < 200u ? 0u : 128u; break;
+            default: q[0] = (uint8_t)x, q[1] = (uint8_t)(x >> 8), q[2] = (uint8_t)(x >> 16), q[3] = (uint8_t)(1u + (x >> 24) % 255u); break;
+            }
+        }
+    if (kind == 1) {
+        uint8_t *q = px + (size_t)(tu_u32(r) % h) * stride + 4u * (tu_u32(r) % w);
+        q[0] = 255u, q[1] = 7u, q[2] = 128u, q[3] = 255u;
+    }
+}
+
+static void test_simd_equals_scalar_twin(void **state)
+{
+    (void)state;
+    /* widths around the 4-pixel step, padded strides, small probes (the left-shift SAT branch) and
+     * large ones (the right-shift branch the SIMD path takes) */
+    static const uint32_t sizes[][2] = {{1, 1}, {3, 2}, {4, 1}, {5, 3}, {7, 9}, {8, 8}, {13, 5}, {33, 17},
+                                        {64, 32}, {127, 63}, {256, 128}, {1021, 3}, {3, 700}};
+    tu_rng r = {0x51D5CA1A2Bu};
+    for (size_t s = 0; s < sizeof sizes / sizeof sizes[0]; ++s)
+        for (int kind = 0; kind < 5; ++kind)
+            for (int pad = 0; pad < 2; ++pad) {
+                const uint32_t w = sizes[s][0], h = sizes[s][1];
+                const size_t stride = 4u * w + (pad ? 12u : 0u);
+                uint8_t *px = calloc(stride * h, 1);
+                assert_non_null(px);
+                hard_rgbe(&r, px, w, h, stride, kind);
+                qibl_lightprobe_image_t img = rgbe_image(px, (int)w, (int)h);
+                img.stride = stride;
+                for (int m = 0; m < 3; ++m) {
+                    const qibl_lightprobe_method_t method = (qibl_lightprobe_method_t)m;
+                    const size_t n = qibl_lightprobe_workspace_size(w, h, method);
+                    uint8_t *wa = malloc(n), *wb = malloc(n);
+                    assert_non_null(wa);
+                    assert_non_null(wb);
+                    memset(wa, 0xA5, n);
+                    memset(wb, 0xA5, n);
+                    qibl_lightprobe_t a, b;
+                    qibl_status_t sa = qibl_lightprobe_build(&a, &img, method, wa, n);
+                    qibl_status_t sb = qtool_lightprobe_build_scalar(&b, &img, method, wb, n);
+                    assert_int_equal(sa, sb);
+                    if (sa == QIBL_OK) {
+                        assert_memory_equal(wa, wb, n); /* the SATs, bit for bit */
+                        for (uint32_t count = 1u; count <= 64u; count *= 8u) {
+                            qibl_lightprobe_opts_t o;
+                            memset(&o, 0, sizeof o);
+                            o.method = method;
+                            qibl_lightprobe_light_t la[64], lb[64];
+                            qibl_lightprobe_result_t ra, rb;
+                            memset(la, 0, sizeof la), memset(lb, 0, sizeof lb);
+                            memset(&ra, 0, sizeof ra), memset(&rb, 0, sizeof rb);
+                            assert_int_equal(qibl_lightprobe_lights(&a, &o, la, count, &ra),
+                                             qtool_lightprobe_lights_scalar(&b, &o, lb, count, &rb));
+                            assert_memory_equal(&ra, &rb, sizeof ra);
+                            assert_memory_equal(la, lb, sizeof la); /* regions, colours, directions */
+                        }
+                    }
+                    free(wa);
+                    free(wb);
+                }
+                free(px);
+            }
+}
+
 static void test_goldens(void **state)
 {
     (void)state;
@@ -1201,6 +1279,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_row_weights_against_libm),
+        cmocka_unit_test(test_simd_equals_scalar_twin),
         cmocka_unit_test(test_single_hot_pixel_and_conventions),
         cmocka_unit_test(test_sat_additive_and_accurate),
         cmocka_unit_test(test_sun_sky_4096),

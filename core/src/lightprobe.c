@@ -34,6 +34,12 @@
 #include "qibli.h"
 #include "qibl/lightprobe_internal.h"
 
+/* compiler intrinsics header only (freestanding), only on the path config.h chose: the RGBE SAT
+ * and colour passes need per-lane 64-bit variable shifts (vpsrlvq), which SSE2 lacks */
+#if QIBL_USE_LIGHTPROBE && QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+#include <immintrin.h>
+#endif
+
 #if QIBL_USE_LIGHTPROBE
 
 /* ---- 64- and 128-bit helpers ----------------------------------------------------------------- */
@@ -482,6 +488,54 @@ static void rgbe_shifts(uint32_t r0, uint8_t sh[256])
         sh[e] = (uint8_t)(r0 - e > 63u ? 63u : r0 - e);
 }
 
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+/* Four RGBE pixels (16 bytes) as 64-bit lanes: the 32-bit word R | G << 8 | B << 16 | E << 24 */
+static inline __m256i rgbe4_load(const uint8_t *q)
+{
+    return _mm256_cvtepu32_epi64(_mm_loadu_si128((const __m128i *)(const void *)q));
+}
+
+/* x >> (r0 - E) per lane, 0 where E = 0: the sh[] table of rgbe_shifts as arithmetic (vpsrlvq
+ * gives 0 for counts >= 64, and every x here is below 2^56, so counts 56..63 give 0 as well) */
+static inline __m256i rgbe4_shift(__m256i x, __m256i w, __m256i vr0)
+{
+    const __m256i e = _mm256_srli_epi64(w, 24);
+    const __m256i black = _mm256_cmpeq_epi64(e, _mm256_setzero_si256());
+    return _mm256_andnot_si256(black, _mm256_srlv_epi64(x, _mm256_sub_epi64(vr0, e)));
+}
+
+/* One SAT row, right-shift case (r0 = -s0 >= every exponent byte): the energies of four pixels
+ * at a time, their prefix sum across the lanes, plus the running sum and the row above. Every
+ * sum is mod 2^64 and exact (the totals are below 2^64), so the bits are the scalar loop's.
+ * Returns the pixels done (a multiple of 4); the scalar loop finishes the row from acc. */
+static uint32_t sat_row_avx2(const uint8_t *q, const uint64_t *above, uint64_t *row, uint32_t w, uint32_t sig,
+                             uint32_t r0, uint64_t *acc_io)
+{
+    const __m256i vsig = _mm256_set1_epi64x((long long)sig), vr0 = _mm256_set1_epi64x((long long)r0);
+    const __m256i lr = _mm256_set1_epi64x(LUMA_R), lg = _mm256_set1_epi64x(LUMA_G), lb = _mm256_set1_epi64x(LUMA_B);
+    const __m256i ff = _mm256_set1_epi64x(0xFF);
+    __m256i carry = _mm256_set1_epi64x((long long)*acc_io);
+    uint32_t u = 0u;
+    for (; u + 4u <= w; u += 4u, q += 16) {
+        const __m256i px = rgbe4_load(q);
+        const __m256i r = _mm256_and_si256(px, ff), g = _mm256_and_si256(_mm256_srli_epi64(px, 8), ff),
+                      b = _mm256_and_si256(_mm256_srli_epi64(px, 16), ff);
+        const __m256i luma = _mm256_add_epi64(_mm256_add_epi64(_mm256_mul_epu32(r, lr), _mm256_mul_epu32(g, lg)),
+                                              _mm256_mul_epu32(b, lb)); /* < 2^24 */
+        const __m256i e = rgbe4_shift(_mm256_mul_epu32(luma, vsig), px, vr0);
+        /* prefix sum over the four lanes: + [0 a b c], then + [0 0 s0 s1] */
+        __m256i s = _mm256_add_epi64(e, _mm256_blend_epi32(_mm256_permute4x64_epi64(e, 0x90), _mm256_setzero_si256(), 0x03));
+        s = _mm256_add_epi64(s, _mm256_permute2x128_si256(s, s, 0x08));
+        s = _mm256_add_epi64(s, carry);
+        carry = _mm256_permute4x64_epi64(s, 0xFF);
+        const __m256i a = _mm256_loadu_si256((const __m256i *)(const void *)(above + u + 1u));
+        _mm256_storeu_si256((__m256i *)(void *)(row + u + 1u), _mm256_add_epi64(a, s));
+    }
+    *acc_io = (uint64_t)_mm256_extract_epi64(carry, 0);
+    return u;
+}
+#endif
+
 /* The SAT rows of an RGBE probe: the hot loop of the whole module. */
 static void sat_rgbe(qibl_lightprobe_t *lp)
 {
@@ -500,7 +554,12 @@ static void sat_rgbe(qibl_lightprobe_t *lp)
             /* every shift is to the right: the case for every probe above 512 pixels */
             if ((uint32_t)-s0 != sh_r0)
                 rgbe_shifts(sh_r0 = (uint32_t)-s0, sh);
-            for (uint32_t u = 0; u < w; ++u, q += 4) {
+            uint32_t u = 0u;
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+            u = sat_row_avx2(q, above, row, w, sig, (uint32_t)-s0, &acc);
+            q += 4u * (size_t)u;
+#endif
+            for (; u < w; ++u, q += 4) {
                 acc += qibl_shr_u64(qibl_mul_u32_u64(LUMA_R * q[0] + LUMA_G * q[1] + LUMA_B * q[2], sig), sh[q[3]]);
                 row[u + 1u] = above[u + 1u] + acc;
             }
@@ -1135,6 +1194,34 @@ static void direction(const qibl_lightprobe_t *lp, rect r, uint64_t total, qibl_
     (void)qibl_vec3_normalize_q30(d, dir);
 }
 
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+/* The RGBE colour sums of one row piece, four pixels at a time: x_c = (m_c sig 2^16) >> (r - E),
+ * as the scalar loop (each term below 2^56, sums mod 2^64: the same bits in any order). Returns the
+ * pixels done (a multiple of 4). */
+static uint32_t rgb_row_avx2(const uint8_t *q, uint32_t n, uint32_t sig, uint32_t r, uint64_t a[3])
+{
+    const __m256i vsig = _mm256_set1_epi64x((long long)sig), vr = _mm256_set1_epi64x((long long)r);
+    const __m256i ff = _mm256_set1_epi64x(0xFF);
+    __m256i s0 = _mm256_setzero_si256(), s1 = s0, s2 = s0;
+    uint32_t u = 0u;
+    for (; u + 4u <= n; u += 4u, q += 16) {
+        const __m256i px = rgbe4_load(q);
+        const __m256i m0 = _mm256_and_si256(px, ff), m1 = _mm256_and_si256(_mm256_srli_epi64(px, 8), ff),
+                      m2 = _mm256_and_si256(_mm256_srli_epi64(px, 16), ff);
+        s0 = _mm256_add_epi64(s0, rgbe4_shift(_mm256_slli_epi64(_mm256_mul_epu32(m0, vsig), 16), px, vr));
+        s1 = _mm256_add_epi64(s1, rgbe4_shift(_mm256_slli_epi64(_mm256_mul_epu32(m1, vsig), 16), px, vr));
+        s2 = _mm256_add_epi64(s2, rgbe4_shift(_mm256_slli_epi64(_mm256_mul_epu32(m2, vsig), 16), px, vr));
+    }
+    uint64_t t[3][4];
+    _mm256_storeu_si256((__m256i *)(void *)t[0], s0);
+    _mm256_storeu_si256((__m256i *)(void *)t[1], s1);
+    _mm256_storeu_si256((__m256i *)(void *)t[2], s2);
+    for (int c = 0; c < 3; ++c)
+        a[c] += t[c][0] + t[c][1] + t[c][2] + t[c][3];
+    return u;
+}
+#endif
+
 /* Per-channel energy sums of a region in SAT units: one read of its pixels. */
 static void region_rgb(const qibl_lightprobe_t *lp, rect r, uint64_t out[3])
 {
@@ -1152,7 +1239,14 @@ static void region_rgb(const qibl_lightprobe_t *lp, rect r, uint64_t out[3])
             if ((uint32_t)(136 + 16 - s0) != sh_r0)
                 rgbe_shifts(sh_r0 = (uint32_t)(136 + 16 - s0), sh);
             const uint64_t sig16 = (uint64_t)sig << 16;
-            for (uint32_t u = r.u0; u < r.u1; ++u, q += 4) {
+            uint32_t u = r.u0;
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+            uint64_t t[3] = {a0, a1, a2};
+            const uint32_t done = rgb_row_avx2(q, r.u1 - r.u0, sig, sh_r0, t);
+            a0 = t[0], a1 = t[1], a2 = t[2];
+            u += done, q += 4u * (size_t)done;
+#endif
+            for (; u < r.u1; ++u, q += 4) {
                 uint32_t k = sh[q[3]];
                 a0 += qibl_shr_u64(mul_m_sig16(q[0], sig, sig16), k);
                 a1 += qibl_shr_u64(mul_m_sig16(q[1], sig, sig16), k);
