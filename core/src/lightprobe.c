@@ -38,7 +38,11 @@
  * and colour passes need per-lane 64-bit variable shifts (vpsrlvq), which SSE2 lacks */
 #if QIBL_USE_LIGHTPROBE && QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
 #include <immintrin.h>
+#elif QIBL_USE_LIGHTPROBE && QIBL_CONFIG_SIMD == QIBL_SIMD_NEON
+#include <arm_neon.h>
 #endif
+/* the paths with a vector SAT row and colour sum (RGBE, right-shift case) */
+#define LP_VEC (QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2 || QIBL_CONFIG_SIMD == QIBL_SIMD_NEON)
 
 #if QIBL_USE_LIGHTPROBE
 
@@ -534,6 +538,45 @@ static uint32_t sat_row_avx2(const uint8_t *q, const uint64_t *above, uint64_t *
     *acc_io = (uint64_t)_mm256_extract_epi64(carry, 0);
     return u;
 }
+#elif QIBL_CONFIG_SIMD == QIBL_SIMD_NEON
+/* NEON twin of sat_row_avx2, two pixels per step: vmull_n_u32 for luma sig, vshlq_u64 by a
+ * negative count for the per-lane right shift (the count is the lane's low byte, so it is capped
+ * at 64 first: any cap >= 56 gives the table's result, every x being below 2^56). */
+/* all-ones 64-bit lanes where the exponent byte is 0 (black in Radiance's convention) */
+static inline uint64x2_t rgbe2_black(uint32x2_t e)
+{
+    return vreinterpretq_u64_s64(vmovl_s32(vreinterpret_s32_u32(vceq_u32(e, vdup_n_u32(0u)))));
+}
+
+/* x >> min(r0 - E, 64) per lane (r0 >= every E here), 0 where E = 0 */
+static inline uint64x2_t rgbe2_shift(uint64x2_t x, uint32x2_t e, uint32_t r0)
+{
+    const uint32x2_t k = vmin_u32(vsub_u32(vdup_n_u32(r0), e), vdup_n_u32(64u));
+    const int64x2_t cnt = vsubq_s64(vdupq_n_s64(0), vreinterpretq_s64_u64(vmovl_u32(k)));
+    return vbicq_u64(vshlq_u64(x, cnt), rgbe2_black(e));
+}
+
+static uint32_t sat_row_neon(const uint8_t *q, const uint64_t *above, uint64_t *row, uint32_t w, uint32_t sig,
+                             uint32_t r0, uint64_t *acc_io)
+{
+    const uint32x2_t ff = vdup_n_u32(0xFFu);
+    uint64x2_t carry = vdupq_n_u64(*acc_io);
+    const uint64x2_t zero = vdupq_n_u64(0u);
+    uint32_t u = 0u;
+    for (; u + 2u <= w; u += 2u, q += 8) {
+        /* the words R | G << 8 | B << 16 | E << 24 (the NEON targets qibl builds are little-endian) */
+        const uint32x2_t px = vreinterpret_u32_u8(vld1_u8(q));
+        const uint32x2_t r = vand_u32(px, ff), g = vand_u32(vshr_n_u32(px, 8), ff), b = vand_u32(vshr_n_u32(px, 16), ff);
+        const uint32x2_t luma = vmla_n_u32(vmla_n_u32(vmul_n_u32(r, LUMA_R), g, LUMA_G), b, LUMA_B); /* < 2^24 */
+        const uint64x2_t e = rgbe2_shift(vmull_n_u32(luma, sig), vshr_n_u32(px, 24), r0);
+        uint64x2_t s = vaddq_u64(e, vextq_u64(zero, e, 1)); /* [a, a + b] */
+        s = vaddq_u64(s, carry);
+        carry = vdupq_n_u64(vgetq_lane_u64(s, 1));
+        vst1q_u64(row + u + 1u, vaddq_u64(vld1q_u64(above + u + 1u), s));
+    }
+    *acc_io = vgetq_lane_u64(carry, 0);
+    return u;
+}
 #endif
 
 /* The SAT rows of an RGBE probe: the hot loop of the whole module. */
@@ -557,8 +600,10 @@ static void sat_rgbe(qibl_lightprobe_t *lp)
             uint32_t u = 0u;
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
             u = sat_row_avx2(q, above, row, w, sig, (uint32_t)-s0, &acc);
-            q += 4u * (size_t)u;
+#elif QIBL_CONFIG_SIMD == QIBL_SIMD_NEON
+            u = sat_row_neon(q, above, row, w, sig, (uint32_t)-s0, &acc);
 #endif
+            q += 4u * (size_t)u;
             for (; u < w; ++u, q += 4) {
                 acc += qibl_shr_u64(qibl_mul_u32_u64(LUMA_R * q[0] + LUMA_G * q[1] + LUMA_B * q[2], sig), sh[q[3]]);
                 row[u + 1u] = above[u + 1u] + acc;
@@ -1220,6 +1265,30 @@ static uint32_t rgb_row_avx2(const uint8_t *q, uint32_t n, uint32_t sig, uint32_
         a[c] += t[c][0] + t[c][1] + t[c][2] + t[c][3];
     return u;
 }
+#elif QIBL_CONFIG_SIMD == QIBL_SIMD_NEON
+/* NEON twin of rgb_row_avx2, two pixels per step: (m sig) shifted by 16 - (r - E) in one vshlq_u64
+ * (m sig < 2^40: the left shift is exact, and the right one floors as the scalar (m sig 2^16) >> k) */
+static uint32_t rgb_row_neon(const uint8_t *q, uint32_t n, uint32_t sig, uint32_t r, uint64_t a[3])
+{
+    const uint32x2_t ff = vdup_n_u32(0xFFu);
+    uint64x2_t s0 = vdupq_n_u64(0u), s1 = s0, s2 = s0;
+    uint32_t u = 0u;
+    for (; u + 2u <= n; u += 2u, q += 8) {
+        const uint32x2_t px = vreinterpret_u32_u8(vld1_u8(q));
+        const uint32x2_t e = vshr_n_u32(px, 24);
+        /* 16 - min(r - E, 80) (r >= every E here): 16 - 80 = -64 already gives 0 */
+        const uint32x2_t k = vmin_u32(vsub_u32(vdup_n_u32(r), e), vdup_n_u32(80u));
+        const int64x2_t cnt = vsubq_s64(vdupq_n_s64(16), vreinterpretq_s64_u64(vmovl_u32(k)));
+        const uint64x2_t black = rgbe2_black(e);
+        s0 = vaddq_u64(s0, vbicq_u64(vshlq_u64(vmull_n_u32(vand_u32(px, ff), sig), cnt), black));
+        s1 = vaddq_u64(s1, vbicq_u64(vshlq_u64(vmull_n_u32(vand_u32(vshr_n_u32(px, 8), ff), sig), cnt), black));
+        s2 = vaddq_u64(s2, vbicq_u64(vshlq_u64(vmull_n_u32(vand_u32(vshr_n_u32(px, 16), ff), sig), cnt), black));
+    }
+    a[0] += vgetq_lane_u64(s0, 0) + vgetq_lane_u64(s0, 1);
+    a[1] += vgetq_lane_u64(s1, 0) + vgetq_lane_u64(s1, 1);
+    a[2] += vgetq_lane_u64(s2, 0) + vgetq_lane_u64(s2, 1);
+    return u;
+}
 #endif
 
 /* Per-channel energy sums of a region in SAT units: one read of its pixels. */
@@ -1240,9 +1309,13 @@ static void region_rgb(const qibl_lightprobe_t *lp, rect r, uint64_t out[3])
                 rgbe_shifts(sh_r0 = (uint32_t)(136 + 16 - s0), sh);
             const uint64_t sig16 = (uint64_t)sig << 16;
             uint32_t u = r.u0;
-#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+#if LP_VEC
             uint64_t t[3] = {a0, a1, a2};
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
             const uint32_t done = rgb_row_avx2(q, r.u1 - r.u0, sig, sh_r0, t);
+#else
+            const uint32_t done = rgb_row_neon(q, r.u1 - r.u0, sig, sh_r0, t);
+#endif
             a0 = t[0], a1 = t[1], a2 = t[2];
             u += done, q += 4u * (size_t)done;
 #endif
