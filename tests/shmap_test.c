@@ -21,6 +21,7 @@
 #include "qibl/shmap.h"
 #include "qibl/soft.h"
 #include "ref/sh_ref.h"
+#include "twin/shmap_scalar.h"
 #include "testutil.h"
 
 #define Q16 65536.0
@@ -744,6 +745,72 @@ static void test_planar_passes_match_definition(void **state)
     free(o), free(ws);
 }
 
+/* ---- the point kernel's SIMD path against its scalar twin -------------------------------------- */
+
+/* qibl_shmap_point_span (the library's QIBL_CONFIG_SIMD path) and the scalar twin (tools/twin) give
+ * the same int32 outputs over random maps, lights and spans, on both layouts, both falloffs, every
+ * k, with the rare lanes in the spans: the light on a surface point, closer than min_dist, S - P
+ * needing 33 bits, and outputs that saturate or leave the final scaling's common case. */
+static void test_point_simd_equals_scalar_twin(void **state)
+{
+    (void)state;
+    tu_rng r = {0x9017};
+    static const uint32_t ks[] = {1, 4, 9, 16, 25};
+    const uint32_t w = 53, h = 2;
+    for (size_t ki = 0; ki < sizeof ks / sizeof ks[0]; ++ki)
+        for (uint32_t chn = 1; chn <= 3; chn += 2)
+            for (int mag = 0; mag < 2; ++mag) {
+                maps_buf b, il;
+                maps_make(&b, w, h, ks[ki], chn, &r, mag ? 1 << 22 : 64);
+                interleave(&b, &il);
+                pmap_buf pb;
+                pmap_make(&pb, w, h, &r);
+                for (int lt = 0; lt < 6; ++lt) {
+                    qibl_pointlight_t pl = {{(int32_t)(tu_u32(&r) % (16u << 16)) - (8 << 16),
+                                             (int32_t)(tu_u32(&r) % (16u << 16)) - (8 << 16), 3 << 16},
+                                            {(int32_t)(tu_u32(&r) % (4u << 16)), 1 << 16, 1 << 12},
+                                            (lt & 1) ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST,
+                                            (lt & 2) ? 1 << 14 : 0, QIBL_POINT_POLY};
+                    if (lt == 4) /* far corner: S - P needs 33 bits for most pixels */
+                        pl.pos[0] = INT32_MIN, pl.pos[1] = INT32_MAX, pl.pos[2] = INT32_MIN;
+                    if (lt == 5) /* huge colour: saturation and the scaling's rare branches */
+                        pl.rgb[0] = INT32_MAX, pl.rgb[1] = 1 << 30, pl.rgb[2] = 1;
+                    /* rare points: on the light, 1 LSB from it, and at the int32 corner */
+                    for (int j = 0; j < 3; ++j) {
+                        put_s32(pb.bytes + 12u * 9u + 4u * (unsigned)j, pl.pos[j]);
+                        put_s32(pb.bytes + 12u * 20u + 4u * (unsigned)j, pl.pos[j] + (j == 1));
+                        put_s32(pb.bytes + 12u * 33u + 4u * (unsigned)j, j == 1 ? INT32_MIN : INT32_MAX);
+                    }
+                    for (int lay = 0; lay < 2; ++lay) {
+                        const qibl_shmaps_t *m = lay ? &il.m : &b.m;
+                        qibl_shmap_point_t sa, sb;
+                        assert_int_equal(qibl_shmap_point_prepare(m, &pb.p, NULL, &pl, &sa), QIBL_OK);
+                        assert_int_equal(qtool_shmap_point_prepare_scalar(m, &pb.p, NULL, &pl, &sb), QIBL_OK);
+                        size_t wsn = qibl_shmap_point_workspace_size(m->k, w);
+                        void *ws = malloc(wsn);
+                        int32_t oa[3 * 53 + 3], ob[3 * 53 + 3];
+                        assert_non_null(ws);
+                        for (uint32_t y = 0; y < h; ++y)
+                            for (uint32_t x0 = 0; x0 < 11u; x0 += 1u + x0 / 3u) {
+                                const uint32_t n = w - x0 - (x0 % 4u);
+                                memset(oa, 0x5A, sizeof oa), memset(ob, 0x5A, sizeof ob);
+                                assert_int_equal(qibl_shmap_point_span(&sa, x0, y, n, oa, ws, wsn), QIBL_OK);
+                                assert_int_equal(qtool_shmap_point_span_scalar(&sb, x0, y, n, ob, ws, wsn), QIBL_OK);
+                                for (uint32_t i = 0; i < 3u * n; ++i)
+                                    if (oa[i] != ob[i])
+                                        fail_msg("k %u ch %u light %d layout %d y %u x %u ch %u: SIMD %d scalar %d",
+                                                 m->k, chn, lt, lay, y, x0 + i / 3u, i % 3u, oa[i], ob[i]);
+                                assert_int_equal(oa[3u * n], ob[3u * n]); /* nothing past the span */
+                            }
+                        free(ws);
+                    }
+                }
+                free(pb.bytes);
+                maps_free(&b);
+                free(il.planes);
+            }
+}
+
 static void test_interleaved_equals_planar(void **state)
 {
     (void)state;
@@ -947,6 +1014,7 @@ int main(void)
         cmocka_unit_test(test_point_light_direct_and_lut),
         cmocka_unit_test(test_point_light_hard_cases),
         cmocka_unit_test(test_point_poly_exponents),
+        cmocka_unit_test(test_point_simd_equals_scalar_twin),
         cmocka_unit_test(test_ylut_build_and_lookup),
         cmocka_unit_test(test_interleaved_equals_planar),
         cmocka_unit_test(test_kernel_path_matches_definition),

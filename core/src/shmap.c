@@ -1260,6 +1260,220 @@ static void poly_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uin
     }
 }
 
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+/* ---- QIBL_POINT_POLY, eight pixels at a time (AVX2) -------------------------------------------
+ * poly_span's integers lane by lane, so the bytes are the scalar twin's: int32 lanes for the
+ * direction, the one-step rsqrt (seed by gather), the attenuation and the Y recurrences; the sums
+ * sum_i Y_i (sn_i c_i + bs_i) in int64 lanes (vpmuldq on the even and the odd lanes); the final
+ * scaling's common case from the product's high words. A chunk with a rare lane (S - P needing 33
+ * bits, the light on the surface point, an output scale outside the common case) is done whole by
+ * poly_span, before anything of it is written. */
+static inline __m256i p8_rs(__m256i v, int s) /* round(v / 2^s), half up, as POLY_RS */
+{
+    return _mm256_srai_epi32(_mm256_add_epi32(v, _mm256_set1_epi32(1 << (s - 1))), s);
+}
+#define P8_MUL(a, b) _mm256_mullo_epi32((a), (b))
+#define P8_C(v) _mm256_set1_epi32(v)
+#define P8_REC(l, m, p1, p2)                                                                            \
+    p8_rs(_mm256_sub_epi32(P8_MUL(p8_rs(P8_MUL(P8_C(poly_rec[(l) * ((l) + 1) / 2 + (m)][0]), z), 14), (p1)), \
+                           P8_MUL(P8_C(poly_rec[(l) * ((l) + 1) / 2 + (m)][1]), (p2))), 13)
+#define P8_PAIR(l, m, p)                                                                                \
+    (o[(l) * (l) + (l) + (m)] = p8_rs(P8_MUL((p), c##m), 13), o[(l) * (l) + (l) - (m)] = p8_rs(P8_MUL((p), s##m), 13))
+
+/* poly_eval on eight unit vectors (Q2.14 lanes); o[i] = Y_i as int32 lanes */
+static void poly_eval8(__m256i x, __m256i y, __m256i z, uint32_t bands, __m256i *o)
+{
+    const __m256i p00 = P8_C(poly_rec[0][0]), zero = _mm256_setzero_si256();
+    o[0] = _mm256_add_epi32(p00, p00);
+    if (bands < 2u)
+        return;
+    const __m256i c1 = x, s1 = y;
+    const __m256i p10 = P8_REC(1, 0, p00, zero), p11 = P8_C(poly_rec[2][0]);
+    o[2] = _mm256_add_epi32(p10, p10);
+    P8_PAIR(1, 1, p11);
+    if (bands < 3u)
+        return;
+    const __m256i c2 = p8_rs(_mm256_sub_epi32(P8_MUL(x, c1), P8_MUL(y, s1)), 14);
+    const __m256i s2 = p8_rs(_mm256_add_epi32(P8_MUL(x, s1), P8_MUL(y, c1)), 14);
+    const __m256i p20 = P8_REC(2, 0, p10, p00), p21 = P8_REC(2, 1, p11, zero), p22 = P8_C(poly_rec[5][0]);
+    o[6] = _mm256_add_epi32(p20, p20);
+    P8_PAIR(2, 1, p21);
+    P8_PAIR(2, 2, p22);
+    if (bands < 4u)
+        return;
+    const __m256i c3 = p8_rs(_mm256_sub_epi32(P8_MUL(x, c2), P8_MUL(y, s2)), 14);
+    const __m256i s3 = p8_rs(_mm256_add_epi32(P8_MUL(x, s2), P8_MUL(y, c2)), 14);
+    const __m256i p30 = P8_REC(3, 0, p20, p10), p31 = P8_REC(3, 1, p21, p11), p32 = P8_REC(3, 2, p22, zero);
+    const __m256i p33 = P8_C(poly_rec[9][0]);
+    o[12] = _mm256_add_epi32(p30, p30);
+    P8_PAIR(3, 1, p31);
+    P8_PAIR(3, 2, p32);
+    P8_PAIR(3, 3, p33);
+    if (bands < 5u)
+        return;
+    const __m256i c4 = p8_rs(_mm256_sub_epi32(P8_MUL(x, c3), P8_MUL(y, s3)), 14);
+    const __m256i s4 = p8_rs(_mm256_add_epi32(P8_MUL(x, s3), P8_MUL(y, c3)), 14);
+    const __m256i p40 = P8_REC(4, 0, p30, p20), p41 = P8_REC(4, 1, p31, p21), p42 = P8_REC(4, 2, p32, p22);
+    const __m256i p43 = P8_REC(4, 3, p33, zero), p44 = P8_C(poly_rec[14][0]);
+    o[20] = _mm256_add_epi32(p40, p40);
+    P8_PAIR(4, 1, p41);
+    P8_PAIR(4, 2, p42);
+    P8_PAIR(4, 3, p43);
+    P8_PAIR(4, 4, p44);
+}
+
+/* (a b) >> s per uint32 lane, the 64-bit product's bits s .. s + 31 */
+static inline __m256i p8_mulshr(__m256i a, __m256i b, int s)
+{
+    const __m256i e = _mm256_srli_epi64(_mm256_mul_epu32(a, b), s);
+    const __m256i o = _mm256_srli_epi64(_mm256_mul_epu32(_mm256_srli_epi64(a, 32), _mm256_srli_epi64(b, 32)), s);
+    return _mm256_blend_epi32(e, _mm256_slli_epi64(o, 32), 0xAA);
+}
+
+/* bits 32 .. 63 of two int64 vectors (even lanes, odd lanes) as one vector of int32 lanes */
+static inline __m256i p8_hi(__m256i pe, __m256i po)
+{
+    return _mm256_blend_epi32(_mm256_srli_epi64(pe, 32), po, 0xAA);
+}
+
+/* bits 14 .. 45 of (acc + 2^13), as int32 lanes: V = round(acc / 2^14) (|V| < 2^31, so the low word
+ * of the logical shift is the arithmetic one's) */
+static inline __m256i p8_round14(__m256i ae, __m256i ao)
+{
+    const __m256i h = _mm256_set1_epi64x(8192);
+    return _mm256_blend_epi32(_mm256_srli_epi64(_mm256_add_epi64(ae, h), 14),
+                              _mm256_slli_epi64(_mm256_srli_epi64(_mm256_add_epi64(ao, h), 14), 32), 0xAA);
+}
+
+/* Eight pixels from x (their map bytes contiguous per map and channel at c0); 0 if a lane is rare
+ * (nothing written then) */
+static int poly_chunk8(const qibl_shmap_point_t *pt, const uint8_t *pp, const uint8_t *c0, size_t ms, size_t c1,
+                       const uint32_t *seed, int32_t *out)
+{
+    const __m256i idx = _mm256_setr_epi32(0, 12, 24, 36, 48, 60, 72, 84);
+    const int *pb = (const int *)(const void *)pp;
+    const __m256i P0 = _mm256_i32gather_epi32(pb, idx, 1), P1 = _mm256_i32gather_epi32(pb + 1, idx, 1),
+                  P2 = _mm256_i32gather_epi32(pb + 2, idx, 1);
+    const __m256i S0 = P8_C((int32_t)pt->pos[0]), S1 = P8_C((int32_t)pt->pos[1]), S2 = P8_C((int32_t)pt->pos[2]);
+    const __m256i l0 = _mm256_sub_epi32(S0, P0), l1 = _mm256_sub_epi32(S1, P1), l2 = _mm256_sub_epi32(S2, P2);
+    /* S - P outside int32 (overflow of the lane's subtraction), or L = 0: poly_span */
+    const __m256i ovf = _mm256_or_si256(
+        _mm256_or_si256(_mm256_and_si256(_mm256_xor_si256(S0, P0), _mm256_xor_si256(S0, l0)),
+                        _mm256_and_si256(_mm256_xor_si256(S1, P1), _mm256_xor_si256(S1, l1))),
+        _mm256_and_si256(_mm256_xor_si256(S2, P2), _mm256_xor_si256(S2, l2)));
+    const __m256i zero = _mm256_setzero_si256();
+    const __m256i lz = _mm256_cmpeq_epi32(_mm256_or_si256(_mm256_or_si256(l0, l1), l2), zero);
+    if (_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_or_si256(ovf, lz))) != 0)
+        return 0;
+    /* poly_dir: sc = bitlen(max |l|) - 15, the bit length from an exact int -> float conversion of a
+     * value below 2^24 (mx >> 8 when mx needs more bits) */
+    const __m256i a0 = _mm256_abs_epi32(l0), a1 = _mm256_abs_epi32(l1), a2 = _mm256_abs_epi32(l2);
+    const __m256i mx = _mm256_or_si256(_mm256_or_si256(a0, a1), a2);
+    const __m256i big = _mm256_cmpeq_epi32(_mm256_srli_epi32(mx, 24), zero); /* -1 where mx < 2^24 */
+    const __m256i mv = _mm256_blendv_epi8(_mm256_srli_epi32(mx, 8), mx, big);
+    const __m256i fexp = _mm256_srli_epi32(_mm256_castps_si256(_mm256_cvtepi32_ps(mv)), 23);
+    const __m256i bitlen = _mm256_add_epi32(_mm256_sub_epi32(fexp, P8_C(126)), _mm256_andnot_si256(big, P8_C(8)));
+    const __m256i sc = _mm256_sub_epi32(bitlen, P8_C(15));
+    const __m256i rs = _mm256_max_epi32(sc, zero), ls = _mm256_max_epi32(_mm256_sub_epi32(zero, sc), zero);
+    const __m256i v0 = _mm256_sllv_epi32(_mm256_abs_epi32(_mm256_srav_epi32(l0, rs)), ls);
+    const __m256i v1 = _mm256_sllv_epi32(_mm256_abs_epi32(_mm256_srav_epi32(l1, rs)), ls);
+    const __m256i v2 = _mm256_sllv_epi32(_mm256_abs_epi32(_mm256_srav_epi32(l2, rs)), ls);
+    const __m256i d2 = _mm256_add_epi32(_mm256_add_epi32(P8_MUL(v0, v0), P8_MUL(v1, v1)), P8_MUL(v2, v2));
+    const __m256i h = _mm256_and_si256(_mm256_cmpeq_epi32(_mm256_srli_epi32(d2, 30), zero), P8_C(1));
+    const __m256i t = _mm256_sllv_epi32(d2, _mm256_add_epi32(h, h));
+    const __m256i y0 = _mm256_i32gather_epi32((const int *)(const void *)seed,
+                                              _mm256_sub_epi32(_mm256_srli_epi32(t, 24), P8_C(64)), 4);
+    const __m256i hh = p8_mulshr(P8_MUL(y0, y0), t, 32);
+    const __m256i y16 = p8_mulshr(y0, _mm256_sub_epi32(P8_C(0x30000000), hh), 28);
+    const __m256i r = _mm256_sub_epi32(P8_C(17), h), half = _mm256_sllv_epi32(P8_C(1), _mm256_sub_epi32(r, P8_C(1)));
+    const __m256i lim = P8_C(16384);
+    const __m256i u0 = _mm256_sign_epi32(_mm256_min_epu32(_mm256_srlv_epi32(_mm256_add_epi32(P8_MUL(v0, y16), half), r), lim), l0);
+    const __m256i u1 = _mm256_sign_epi32(_mm256_min_epu32(_mm256_srlv_epi32(_mm256_add_epi32(P8_MUL(v1, y16), half), r), lim), l1);
+    const __m256i u2 = _mm256_sign_epi32(_mm256_min_epu32(_mm256_srlv_epi32(_mm256_add_epi32(P8_MUL(v2, y16), half), r), lim), l2);
+    __m256i am = _mm256_srli_epi32(y16, 1), ae = _mm256_add_epi32(_mm256_sub_epi32(P8_C(30), h), sc);
+    {
+        const __m256i cae = P8_C(pt->clamp_ae), cam = P8_C(pt->clamp_am);
+        const __m256i cl = _mm256_or_si256(_mm256_cmpgt_epi32(cae, ae),
+                                           _mm256_and_si256(_mm256_cmpeq_epi32(ae, cae), _mm256_cmpgt_epi32(am, cam)));
+        am = _mm256_blendv_epi8(am, cam, cl), ae = _mm256_blendv_epi8(ae, cae, cl);
+    }
+    if (pt->falloff == QIBL_FALLOFF_INV_DIST) {
+        ae = _mm256_sub_epi32(ae, P8_C(16));
+    } else {
+        am = _mm256_srli_epi32(P8_MUL(am, am), 15);
+        ae = _mm256_sub_epi32(_mm256_add_epi32(ae, ae), P8_C(47));
+    }
+    __m256i yv[QIBL_SH_MAX_COUNT];
+    poly_eval8(u0, u1, u2, pt->bands, yv);
+    const uint32_t k = pt->maps->k;
+    __m256i e0 = zero, o0 = zero, e1 = zero, o1 = zero, e2 = zero, o2 = zero;
+    const uint8_t *c = c0;
+    for (uint32_t i = 0; i < k; ++i, c += ms) {
+        const __m256i yi = yv[i], yo = _mm256_srli_epi64(yi, 32);
+        const __m256i t0 = _mm256_add_epi32(P8_MUL(P8_C(pt->sn[0][i]), _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)c))), P8_C(pt->bs[0][i]));
+        const __m256i t1 = _mm256_add_epi32(P8_MUL(P8_C(pt->sn[1][i]), _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)(c + c1)))), P8_C(pt->bs[1][i]));
+        const __m256i t2 = _mm256_add_epi32(P8_MUL(P8_C(pt->sn[2][i]), _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)(c + 2u * c1)))), P8_C(pt->bs[2][i]));
+        e0 = _mm256_add_epi64(e0, _mm256_mul_epi32(yi, t0)), o0 = _mm256_add_epi64(o0, _mm256_mul_epi32(yo, _mm256_srli_epi64(t0, 32)));
+        e1 = _mm256_add_epi64(e1, _mm256_mul_epi32(yi, t1)), o1 = _mm256_add_epi64(o1, _mm256_mul_epi32(yo, _mm256_srli_epi64(t1, 32)));
+        e2 = _mm256_add_epi64(e2, _mm256_mul_epi32(yi, t2)), o2 = _mm256_add_epi64(o2, _mm256_mul_epi32(yo, _mm256_srli_epi64(t2, 32)));
+    }
+    const __m256i V[3] = {p8_round14(e0, o0), p8_round14(e1, o1), p8_round14(e2, o2)};
+    int32_t res[3][8];
+    for (int ch = 0; ch < 3; ++ch) {
+        const __m256i g = P8_MUL(am, P8_C(pt->c0m[ch])); /* <= 2^30 */
+        const __m256i pe = _mm256_mul_epi32(V[ch], g),
+                      po = _mm256_mul_epi32(_mm256_srli_epi64(V[ch], 32), _mm256_srli_epi64(g, 32));
+        const __m256i sr = _mm256_add_epi32(ae, P8_C(pt->pk[ch]));
+        /* the common case 33 <= sr <= 62 only: round(p / 2^sr) from the high word */
+        const __m256i ok = _mm256_and_si256(_mm256_cmpgt_epi32(sr, P8_C(32)), _mm256_cmpgt_epi32(P8_C(63), sr));
+        if (_mm256_movemask_ps(_mm256_castsi256_ps(ok)) != 0xFF)
+            return 0;
+        const __m256i j = _mm256_sub_epi32(sr, P8_C(33));
+        const __m256i o = _mm256_srav_epi32(_mm256_add_epi32(p8_hi(pe, po), _mm256_sllv_epi32(P8_C(1), j)),
+                                            _mm256_add_epi32(j, P8_C(1)));
+        _mm256_storeu_si256((__m256i *)(void *)res[ch], o);
+    }
+    for (int p = 0; p < 8; ++p)
+        out[3 * p] = res[0][p], out[3 * p + 1] = res[1][p], out[3 * p + 2] = res[2][p];
+    return 1;
+}
+
+/* poly_span in chunks of eight (interleaved: chunks aligned to half groups, so their bytes are
+ * contiguous), the head, the tail and rare chunks by poly_span */
+static void poly_span_avx2(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out)
+{
+    const qibl_shmaps_t *m = pt->maps;
+    const uint32_t k = m->k;
+    const int il = QIBL_USE_INTERLEAVED && m->layout == QIBL_SHMAPS_INTERLEAVED;
+    const size_t ms = il ? QIBL_SHMAPS_GROUP : (size_t)m->channels * m->width * m->height;
+    const size_t cs = il ? (size_t)QIBL_SHMAPS_GROUP * k : (size_t)m->width * m->height;
+    const size_t c1 = m->channels == 3u ? cs : 0u;
+    const size_t gbytes = (size_t)QIBL_SHMAPS_GROUP * k * m->channels;
+    const size_t off = (size_t)y * m->width + x0;
+    const uint8_t *row = m->planes + (il ? (size_t)y * qibl_shmaps_row_size(m) : off);
+    if (pt->pos[0] != (int32_t)pt->pos[0] || pt->pos[1] != (int32_t)pt->pos[1] || pt->pos[2] != (int32_t)pt->pos[2]) {
+        poly_span(pt, x0, y, n, out);
+        return;
+    }
+    uint32_t seed[192];
+    for (uint32_t i = 0; i < 192u; ++i)
+        seed[i] = qibli_rsqrt_seed[i];
+    uint32_t px = 0u;
+    if (il && x0 % 8u != 0u) {
+        px = 8u - x0 % 8u < n ? 8u - x0 % 8u : n;
+        poly_span(pt, x0, y, px, out);
+    }
+    for (; px + 8u <= n; px += 8u) {
+        const uint32_t x = x0 + px;
+        const uint8_t *c0 = il ? row + (size_t)(x / QIBL_SHMAPS_GROUP) * gbytes + x % QIBL_SHMAPS_GROUP : row + px;
+        if (!poly_chunk8(pt, pt->pmap->points + (off + px) * 12u, c0, ms, c1, seed, out + 3u * px))
+            poly_span(pt, x, y, 8u, out + 3u * px);
+    }
+    if (px < n)
+        poly_span(pt, x0 + px, y, n - px, out + 3u * px);
+}
+#endif
+
 qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out,
                                     void *ws, size_t ws_size)
 {
@@ -1278,7 +1492,11 @@ qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, u
     const uint8_t *pp = pt->pmap->points + off * 12u;
 
     if (pt->method == 1u) { /* QIBL_POINT_POLY */
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+        poly_span_avx2(pt, x0, y, n, out);
+#else
         poly_span(pt, x0, y, n, out);
+#endif
         return QIBL_OK;
     }
     /* Phase A, per pixel: direction, Y_i, attenuation as attm / 2^atte (in 2^16 / scene unit) */
