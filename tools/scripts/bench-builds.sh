@@ -10,6 +10,7 @@ set -u
 cd "$(dirname "$0")/../.." || exit 1
 what=${1:-baselines}
 base=${BUILD:-build}
+mkdir -p "$base"
 avx2=""; grep -qw avx2 /proc/cpuinfo 2>/dev/null && avx2=avx2
 for cc in ${CCS:-gcc clang}; do
     command -v $cc >/dev/null 2>&1 || { echo "bench-builds: $cc not found, skipped"; continue; }
