@@ -229,6 +229,7 @@ int qcli_cmd_probe(int argc, char **argv)
         uint32_t idx[QCLI_SUN_MAX];
         uint32_t ns = qcli_probe_suns(L, (uint32_t)n, (uint32_t)w, (uint32_t)h, idx);
         qibl_lightprobe_light_t sun[QCLI_SUN_MAX];
+        memset(sun, 0, sizeof sun); /* gcc -O2 cannot see that to_ref reads only the ns set above */
         double sky[3][25], f[5], lum[9], sunshare = 0;
         for (uint32_t k = 0; k < ns; ++k) {
             sun[k] = L[idx[k]];
