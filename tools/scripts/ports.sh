@@ -182,6 +182,12 @@ for c in "${configs[@]}"; do
     nn=$($od -d "$o" 2>/dev/null | grep -cE "$pat")
     if [ "${nn:-0}" -ge 2 ]; then echo "ports: $name: NEON sRGBE kernels present ($nn of /$pat/ in srgbe.o)"
     else err "$name: /$pat/ found $nn times in srgbe.o: the NEON sRGBE path was not built"; fi
+    # the light-probe SAT row and colour sums: per-lane 64-bit shifts and widening multiplies
+    o="$out/$name/core/lightprobe.o"; [ -f "$o" ] || continue
+    case "$name" in aarch64*) pat='ushl[[:space:]]+v|umull[[:space:]]+v' ;; *) pat='vshl\.u64|vmull\.u32' ;; esac
+    nn=$($od -d "$o" 2>/dev/null | grep -cE "$pat")
+    if [ "${nn:-0}" -ge 2 ]; then echo "ports: $name: NEON light-probe passes present ($nn of /$pat/ in lightprobe.o)"
+    else err "$name: /$pat/ found $nn times in lightprobe.o: the NEON light-probe path was not built"; fi
 done
 ref=""; refname=""; exref=""; n=0; same=0
 fmt='%-28s %6s %-14s %-10s %-9s %8s %8s'
