@@ -265,7 +265,7 @@ typedef struct timing {
 
 /* One frame: V (world frame, Q2.30) for every vertex, and the local V for error measurement. */
 static void hemi_frame(const qibl_hemi_t *h, const scene *s, const qibl_q16_t (*pos)[3], const int32_t (*nrm)[3],
-                       qibl_q30_t (*vloc)[25], qibl_q30_t (*vw)[25], timing *tm)
+                       qibl_q30_t (*vloc)[25], qibl_q30_t (*vw)[25], timing *tm, uint32_t *masks)
 {
     static qibl_q16_t gp[LOCAL_MAX][3]; /* static: the bench is single-threaded here */
     static int32_t loc[LOCAL_MAX][3];
@@ -289,6 +289,8 @@ static void hemi_frame(const qibl_hemi_t *h, const scene *s, const qibl_q16_t (*
         qibl_hemi_raster(h, (const int32_t(*)[3])loc, (uint32_t)(ncv + s->nrv[v]),
                          (const uint32_t(*)[3])(s->ringf + s->ring_off[v]), (uint32_t)s->nring[v], mask, &st);
         double t3 = cpu_now();
+        if (masks) /* kept for the integration study */
+            memcpy(masks + (size_t)v * h->words, mask, sizeof(uint32_t) * h->words);
         qibl_hemi_transfer(h, mask, vloc[v]);
         double t4 = cpu_now();
         qibl_hemi_to_world(h, &fr, vloc[v], vw[v]);
@@ -408,7 +410,7 @@ static void evaluate(const qibl_hemi_t *h, const scene *s, qibl_q16_t (*pos)[3],
         for (int r = 0; r < reps; ++r)
             t[r] = hemi_frame_time(h, s, p, n, vloc, vw);
         tsum += qcli_median(t, reps);
-        hemi_frame(h, s, p, n, vloc, vw, tm);
+        hemi_frame(h, s, p, n, vloc, vw, tm, NULL);
         for (size_t v = 0; v < nv; ++v)
             e += rel_err(vloc[v], ref[nv * (size_t)f + v]);
     }
@@ -465,6 +467,101 @@ static void bench_scenes(int quick)
                100 * st.l2err, 100 * st.ref_noise);
         printf("RESULT hemi.%s_fps %.2f\nRESULT hemi.%s_l2err %.4f\n", sc[i].name, fps, sc[i].name, st.l2err);
     }
+}
+
+/* ---- integration: exact per pixel against the paper's 4 x 4 downsampling ----------------------- */
+
+/* The paper's downsampled integration of a 32 x 32 mask: per 4 x 4 block the fraction of its
+ * in-disk pixels that are blocked, times the block's summed basis (Q2.30, from the exact per-pixel
+ * table), subtracted from the unblocked transfer. tab[b][i] = the block's basis / its in-disk
+ * pixel count (Q2.30, rounded), nin[b] the count. */
+typedef struct down4 {
+    uint32_t tab[64][25]; /* two's complement; sums wrap as the core's (exact: the true sum is in range) */
+    uint32_t nin[64];
+} down4;
+
+static void down4_init(const qibl_hemi_t *h, down4 *d)
+{
+    int64_t sum[64][25];
+    memset(d, 0, sizeof *d);
+    memset(sum, 0, sizeof sum);
+    for (int p = 0; p < 32 * 32; ++p) {
+        const int r = p / 32, c = p % 32, b = (r / 4) * 8 + c / 4;
+        if (!((h->disk[r] >> c) & 1u))
+            continue;
+        d->nin[b]++;
+        for (int i = 0; i < 25; ++i)
+            sum[b][i] += (int32_t)h->basis[(size_t)p * 25 + (size_t)i];
+    }
+    for (int b = 0; b < 64; ++b)
+        for (int i = 0; d->nin[b] && i < 25; ++i)
+            d->tab[b][i] = (uint32_t)(int32_t)floor((double)sum[b][i] / d->nin[b] + 0.5);
+}
+
+static void down4_transfer(const qibl_hemi_t *h, const down4 *d, const uint32_t *mask, qibl_q30_t out[25])
+{
+    uint32_t acc[25];
+    for (int i = 0; i < 25; ++i)
+        acc[i] = h->full[i];
+    for (int br = 0; br < 8; ++br)
+        for (int bc = 0; bc < 8; ++bc) {
+            uint32_t cnt = 0;
+            for (int r = 4 * br; r < 4 * br + 4; ++r)
+                cnt += (uint32_t)__builtin_popcount((mask[r] & h->disk[r]) >> (4 * bc) & 0xFu);
+            if (!cnt)
+                continue;
+            const uint32_t *t = d->tab[br * 8 + bc];
+            for (int i = 0; i < 25; ++i)
+                acc[i] -= cnt * t[i];
+        }
+    for (int i = 0; i < 25; ++i)
+        out[i] = (qibl_q30_t)(int32_t)acc[i];
+}
+
+static void integration_study(const qibl_hemi_t *h, const scene *s, qibl_q16_t (*pos)[3], int32_t (*nrm)[3],
+                              double (*ref)[25], int nframes, int reps)
+{
+    const size_t nv = (size_t)s->nv;
+    uint32_t *masks = malloc(sizeof(uint32_t) * 32 * nv);
+    qibl_q30_t (*vloc)[25] = malloc(sizeof *vloc * nv), (*vw)[25] = malloc(sizeof *vw * nv), (*vd)[25] = malloc(sizeof *vd * nv);
+    down4 *d = malloc(sizeof *d);
+    if (!masks || !vloc || !vw || !vd || !d) {
+        free(masks), free(vloc), free(vw), free(vd), free(d);
+        return;
+    }
+    down4_init(h, d);
+    double e_ex = 0, e_dn = 0, t_ex = 1e30, t_dn = 1e30;
+    timing tm;
+    memset(&tm, 0, sizeof tm);
+    for (int f = 0; f < nframes; ++f) {
+        hemi_frame(h, s, (const qibl_q16_t(*)[3])(pos + nv * (size_t)f), (const int32_t(*)[3])(nrm + nv * (size_t)f),
+                   vloc, vw, &tm, masks);
+        for (int r = 0; r < reps; ++r) { /* interleaved, minimum per vertex over the whole frame */
+            int32_t sink = 0;
+            double t0 = cpu_now();
+            for (size_t v = 0; v < nv; ++v)
+                qibl_hemi_transfer(h, masks + 32 * v, vloc[v]), sink ^= vloc[v][7];
+            double t1 = cpu_now();
+            for (size_t v = 0; v < nv; ++v)
+                down4_transfer(h, d, masks + 32 * v, vd[v]), sink ^= vd[v][7];
+            double t2 = cpu_now();
+            t_ex = fmin(t_ex, (t1 - t0) / (double)nv), t_dn = fmin(t_dn, (t2 - t1) / (double)nv);
+            if (sink == 0x7FFFFFFF)
+                printf(" ");
+        }
+        for (size_t v = 0; v < nv; ++v) {
+            e_ex += rel_err(vloc[v], ref[nv * (size_t)f + v]);
+            e_dn += rel_err(vd[v], ref[nv * (size_t)f + v]);
+        }
+    }
+    const double n = (double)(nv * (size_t)nframes);
+    printf("\nintegration study (cloth, W = 6, 32 x 32 mask, 60 x 60 faces; min of %d interleaved reps per frame):\n"
+           "%-34s %14s %10s\n", reps, "integration", "ns/vertex", "L2 err");
+    printf("%-34s %14.0f %9.2f %%\n", "exact per pixel (qibl_hemi_transfer)", t_ex * 1e9, 100 * e_ex / n);
+    printf("%-34s %14.0f %9.2f %%\n", "4 x 4 downsampled (paper)", t_dn * 1e9, 100 * e_dn / n);
+    printf("RESULT hemi.integrate_exact_ns %.0f\nRESULT hemi.integrate_down4_ns %.0f\n", t_ex * 1e9, t_dn * 1e9);
+    printf("RESULT hemi.integrate_exact_l2err %.4f\nRESULT hemi.integrate_down4_l2err %.4f\n", e_ex / n, e_dn / n);
+    free(masks), free(vloc), free(vw), free(vd), free(d);
 }
 
 int qcli_bench_hemi(int quick)
@@ -586,6 +683,15 @@ int qcli_bench_hemi(int quick)
                cfgs[c].n, cfgs[c].face, err);
         if (cfgs[c].n == 32 && cfgs[c].face == 60)
             def_fps = fps, def_err = err, def_tm = tm;
+        free(ws);
+    }
+
+    {
+        const size_t sz = qibl_hemi_workspace_size(32, 60);
+        void *ws = malloc(sz);
+        qibl_hemi_t h;
+        if (ws && qibl_hemi_init(&h, 32, 60, ws, sz) == QIBL_OK)
+            integration_study(&h, &s, pos, nrm, ref, nframes, reps);
         free(ws);
     }
 
