@@ -55,6 +55,9 @@ int qcli_cmd_transfer(int argc, char **argv); /* cmd_transfer.c */
 typedef struct qcli_transfer_stats {
     uint32_t nv, nt, nframes;
     double ms_per_frame, l2err, ref_noise, shade_err;
+    double share[4];          /* of the hemi time: transform, rasterization, integration, other */
+    double ref_ms_per_frame;  /* the ray cast's CPU time (0 without one) */
+    double blockers, rasterized; /* per vertex: triangles tested, rasterized (above the horizon) */
 } qcli_transfer_stats;
 /* `qibl transfer` without pictures or report (rays = S, S x S per vertex; coarse > 0: the two-level
  * hierarchy, coarse triangles + `ring` rings of the full mesh); 0, or 1 after printing the error. */

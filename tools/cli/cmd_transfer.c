@@ -412,10 +412,14 @@ typedef struct job {
     double *er;             /* reference shading */
     double *l2, *noise;     /* per vertex */
     double *cpu;            /* per vertex hemi CPU seconds */
+    double *ph;             /* per vertex PH_N: the split of cpu, reference CPU, blockers, rasterized */
     const uint32_t *adj_off, *adj; /* triangles around each vertex (CSR) */
     int crease;             /* the solid behind the faces around each vertex blocks */
     const hier *hi;         /* with a hierarchy: each vertex's vertices and blockers (NULL: every triangle) */
 } job;
+
+/* the per-vertex figures of job.ph */
+enum { PH_TRANSFORM, PH_RASTER, PH_INTEGRATE, PH_OTHER, PH_REF, PH_BLOCKERS, PH_RASTERIZED, PH_N };
 
 static void vertex_job(void *ctx, uint32_t v)
 {
@@ -431,29 +435,37 @@ static void vertex_job(void *ctx, uint32_t v)
         for (int c = 0; c < 3; ++c)
             j->eq[3 * v + c] = j->er[3 * v + c] = 0;
         j->l2[v] = j->noise[v] = j->cpu[v] = 0;
+        memset(j->ph + PH_N * v, 0, sizeof(double) * PH_N);
         free(loc), free(gp);
         return;
     }
     qibl_status_t st = QIBL_OK;
+    qibl_hemi_stats_t hs = {0, 0, 0};
+    uint32_t nblk = 0;
     const double t0 = thread_cpu();
+    double t1 = t0;
     if (j->hi) { /* the hierarchy: only this vertex's vertices, blockers in their local indices */
         const size_t n = j->hi->voff[v + 1] - j->hi->voff[v];
         for (size_t k = 0; k < n; ++k)
             memcpy(gp[k], j->pos[j->hi->vl[j->hi->voff[v] + k]], sizeof gp[k]);
         st = qibl_hemi_transform(&fr, (const qibl_q16_t(*)[3])gp, (uint32_t)n, loc);
+        t1 = thread_cpu();
         loc[n][0] = 0, loc[n][1] = 0, loc[n][2] = -(1 << 20); /* the nadir of the crease wedges */
+        nblk = (uint32_t)(j->hi->boff[v + 1] - j->hi->boff[v]);
         if (st == QIBL_OK)
             st = qibl_hemi_clear(j->h, mask);
         if (st == QIBL_OK)
             st = qibl_hemi_raster(j->h, (const int32_t(*)[3])loc, (uint32_t)n + 1, j->hi->blk + j->hi->boff[v],
-                                  (uint32_t)(j->hi->boff[v + 1] - j->hi->boff[v]), mask, NULL);
+                                  (uint32_t)(j->hi->boff[v + 1] - j->hi->boff[v]), mask, &hs);
     } else {
         st = qibl_hemi_transform(&fr, j->pos, m->nv, loc);
+        t1 = thread_cpu();
+        nblk = m->nt;
         if (st == QIBL_OK)
             st = qibl_hemi_clear(j->h, mask);
         if (st == QIBL_OK)
             st = qibl_hemi_raster(j->h, (const int32_t(*)[3])loc, m->nv, (const uint32_t(*)[3])m->tri, m->nt, mask,
-                                  NULL);
+                                  &hs);
     }
     /* The faces around the receiver: the rasterizer skips them (their planes pass through it), yet
      * the surface hides what lies behind them: at a crease (a box's floor meeting its walls) the
@@ -469,20 +481,26 @@ static void vertex_job(void *ctx, uint32_t v)
             const int r = t[0] == v ? 0 : t[1] == v ? 1 : 2;
             fan[nf][0] = m->nv, fan[nf][1] = t[(r + 1) % 3], fan[nf][2] = t[(r + 2) % 3];
             if (++nf == 64 || k + 1 == j->adj_off[v + 1]) {
+                nblk += nf;
                 st = qibl_hemi_raster(j->h, (const int32_t(*)[3])loc, m->nv + 1, (const uint32_t(*)[3])fan, nf,
-                                      mask, NULL);
+                                      mask, &hs);
                 nf = 0;
             }
         }
     }
+    const double t2 = thread_cpu();
     if (st == QIBL_OK)
         st = qibl_hemi_transfer(j->h, mask, vl);
+    const double t3 = thread_cpu();
     if (st == QIBL_OK)
         st = qibl_hemi_to_world(j->h, &fr, vl, j->vw[v]);
     qibl_q16_t e[3] = {0, 0, 0};
     if (st == QIBL_OK)
         st = qibl_hemi_shade(j->light, j->vw[v], e);
     j->cpu[v] = thread_cpu() - t0;
+    double *ph = j->ph + PH_N * v;
+    ph[PH_TRANSFORM] = t1 - t0, ph[PH_RASTER] = t2 - t1, ph[PH_INTEGRATE] = t3 - t2, ph[PH_OTHER] = j->cpu[v] - (t3 - t0);
+    ph[PH_BLOCKERS] = nblk, ph[PH_RASTERIZED] = hs.rasterized, ph[PH_REF] = 0;
     free(loc), free(gp);
     if (st != QIBL_OK) /* cannot happen for validated inputs; shown black rather than dropped */
         memset(j->vw[v], 0, sizeof j->vw[v]), e[0] = e[1] = e[2] = 0;
@@ -497,7 +515,9 @@ static void vertex_job(void *ctx, uint32_t v)
             ax[i][k] = fr.axis[i][k] / 1073741824.0;
     for (int k = 0; k < 3; ++k)
         p[k] = j->pos[v][k] / 65536.0;
+    const double tr = thread_cpu();
     qtool_hemi_ref(j->rt, p, ax, j->side, 1, 0x5EED0000u + v * 0x9E3779B97F4A7C15u, ref, &j->noise[v]);
+    ph[PH_REF] = thread_cpu() - tr;
     double d2 = 0, n2 = 0;
     for (int i = 0; i < 25; ++i) {
         const double d = j->vw[v][i] / 1073741824.0 - ref[i];
@@ -714,6 +734,7 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
     qibl_q30_t(*vw)[25] = malloc(sizeof *vw * nv);
     double *eq = malloc(sizeof(double) * 3 * nv), *er = malloc(sizeof(double) * 3 * nv), *N = malloc(sizeof(double) * 3 * nv);
     double *l2 = malloc(sizeof(double) * nv), *noise = malloc(sizeof(double) * nv), *cpu = malloc(sizeof(double) * nv);
+    double *ph = malloc(sizeof(double) * PH_N * nv), phs[PH_N] = {0, 0, 0, 0, 0, 0, 0};
     double *col = malloc(sizeof(double) * 3 * nv), *tmp = malloc(sizeof(double) * nv);
     const int panels = side > 0 ? 3 : 1, S = (int)size;
     const int sw = panels * S, sh = LABEL_H + S + (panels == 3 ? LEGEND_H : 0);
@@ -725,7 +746,7 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
     hier hi;
     memset(&hi, 0, sizeof hi);
     int rc = 1;
-    if (!ws || !pos || !nrm || !vw || !eq || !er || !N || !l2 || !noise || !cpu || !col || !tmp || !sheet || !fbpx ||
+    if (!ws || !pos || !nrm || !vw || !eq || !er || !N || !l2 || !noise || !cpu || !ph || !col || !tmp || !sheet || !fbpx ||
         !depth || !rv) {
         fprintf(stderr, "qibl: transfer: out of memory\n");
         goto done;
@@ -806,7 +827,7 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
             have_rt = 1;
         }
         job j = {&m, &h, have_rt ? &rt : NULL, (const qibl_q16_t(*)[3])pos, (const int32_t(*)[3])nrm,
-                 (const int32_t(*)[25])light, (int)side, vw, eq, er, l2, noise, cpu, adj_off, adj, !skip_adjacent,
+                 (const int32_t(*)[25])light, (int)side, vw, eq, er, l2, noise, cpu, ph, adj_off, adj, !skip_adjacent,
                  coarse > 0 ? &hi : NULL};
         qtool_rt_parallel((int)threads, m.nv, vertex_job, &j, NULL);
         if (have_rt)
@@ -814,6 +835,9 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
         double fcpu = 0, fl2 = 0, fnoise = 0;
         for (size_t v = 0; v < nv; ++v)
             fcpu += cpu[v], fl2 += l2[v], fnoise += noise[v], sum_e += lum(eq + 3 * v);
+        for (size_t v = 0; v < nv; ++v)
+            for (int k = 0; k < PH_N; ++k)
+                phs[k] += ph[PH_N * v + (size_t)k];
         sum_cpu += fcpu, sum_l2 += fl2, sum_noise += fnoise;
         if (zero)
             if (verbose)
@@ -912,6 +936,14 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
     }
     stats->nv = m.nv, stats->nt = m.nt, stats->nframes = m.nframes;
     stats->ms_per_frame = sum_cpu / m.nframes * 1e3;
+    {
+        const double hsum = phs[PH_TRANSFORM] + phs[PH_RASTER] + phs[PH_INTEGRATE] + phs[PH_OTHER];
+        for (int k = 0; k < 4; ++k)
+            stats->share[k] = hsum > 0 ? phs[k] / hsum : 0;
+        stats->ref_ms_per_frame = phs[PH_REF] / m.nframes * 1e3;
+        stats->blockers = phs[PH_BLOCKERS] / ((double)nv * m.nframes);
+        stats->rasterized = phs[PH_RASTERIZED] / ((double)nv * m.nframes);
+    }
     if (side > 0) {
         const double n = (double)(nv * m.nframes);
         stats->l2err = sum_l2 / n, stats->ref_noise = sum_noise / n, stats->shade_err = sum_err / n;
@@ -930,7 +962,7 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
     }
     rc = 0;
 done:
-    free(ws), free(pos), free(nrm), free(vw), free(eq), free(er), free(N), free(l2), free(noise), free(cpu), free(col);
+    free(ws), free(pos), free(nrm), free(vw), free(eq), free(er), free(N), free(l2), free(noise), free(cpu), free(ph), free(col);
     free(tmp), free(sheet), free(fbpx), free(depth), free(rv), free(m.tri), free(m.pos), free(adj_off), free(adj);
     hier_free(&hi), free(ctri);
     return rc;
