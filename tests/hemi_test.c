@@ -525,6 +525,158 @@ static void test_transfer_paths_agree(void **state)
     }
 }
 
+/* ---- glossy (Phong) transfer -------------------------------------------------------------------- */
+
+/* the midpoint formula of the header in double: sum over visible pixels of T[p] max(0, r.s_p)^e */
+static void phong_mid(const qibl_hemi_t *h, const uint32_t *m, const double r[3], uint32_t e, double out[25])
+{
+    for (int i = 0; i < 25; ++i)
+        out[i] = 0;
+    for (int row = 0; row < h->n; ++row)
+        for (int c = 0; c < h->n; ++c) {
+            double s[3];
+            if (!sample(h->n, row, c, s) || get_bit(h, m, row, c))
+                continue;
+            const double d = r[0] * s[0] + r[1] * s[1] + r[2] * s[2];
+            const double w = e == 0 ? 1.0 : d > 0 ? pow(d, (double)e) : 0.0;
+            const uint32_t *t = h->basis + ((size_t)row * (size_t)h->n + (size_t)c) * 25;
+            for (int i = 0; i < 25; ++i)
+                out[i] += (int32_t)t[i] / 1073741824.0 * w;
+        }
+}
+
+/* the true integral over the disk (fine quadrature, K x K points per pixel) with the mask as V */
+static void phong_fine(const qibl_hemi_t *h, const uint32_t *m, const double r[3], uint32_t e, int K, double out[25])
+{
+    const int n = h->n;
+    for (int i = 0; i < 25; ++i)
+        out[i] = 0;
+    const double da = (2.0 / n / K) * (2.0 / n / K);
+    for (int row = 0; row < n; ++row)
+        for (int c = 0; c < n; ++c) {
+            if (get_bit(h, m, row, c))
+                continue;
+            for (int a = 0; a < K; ++a)
+                for (int b = 0; b < K; ++b) {
+                    const double x = -1 + 2.0 * (c + (b + 0.5) / K) / n, y = -1 + 2.0 * (row + (a + 0.5) / K) / n;
+                    const double q = 1 - x * x - y * y;
+                    if (q <= 0)
+                        continue;
+                    const double s[3] = {x, y, sqrt(q)};
+                    const double d = r[0] * s[0] + r[1] * s[1] + r[2] * s[2];
+                    if (d <= 0 && e > 0)
+                        continue;
+                    const double w = e == 0 ? 1.0 : pow(d, (double)e);
+                    double yv[25];
+                    qtool_ref_sh_eval(s[0], s[1], s[2], 5, yv);
+                    for (int i = 0; i < 25; ++i)
+                        out[i] += yv[i] * w * da;
+                }
+        }
+}
+
+static double rel_l2d(const qibl_q30_t *a, const double *ref)
+{
+    double d2 = 0, n2 = 0;
+    for (int i = 0; i < 25; ++i) {
+        const double d = a[i] / 1073741824.0 - ref[i];
+        d2 += d * d, n2 += ref[i] * ref[i];
+    }
+    return n2 > 0 ? sqrt(d2 / n2) : sqrt(d2);
+}
+
+static void test_transfer_phong(void **state)
+{
+    (void)state;
+    uint64_t s = 77;
+    const int sizes[3] = {16, 32, 64};
+    double worst_mid = 0, worst_fine[3] = {0, 0, 0};
+    for (int k = 0; k < 3; ++k) {
+        fixture *f = make(sizes[k], 8);
+        const qibl_hemi_t *h = &f->h;
+        for (int rep = 0; rep < 24; ++rep) {
+            uint32_t m[QIBL_HEMI_MAX_WORDS];
+            for (uint32_t i = 0; i < h->words; ++i)
+                m[i] = rep % 3 == 0 ? 0u : (uint32_t)rng(&s) & (uint32_t)rng(&s);
+            /* e = 0 is the diffuse transfer, bit for bit */
+            qibl_q30_t a[25], b[25];
+            const qibl_q30_t up[3] = {1000, -2000, 1 << 20};
+            assert_int_equal(qibl_hemi_transfer(h, m, a), QIBL_OK);
+            assert_int_equal(qibl_hemi_transfer_phong(h, m, up, 0, b), QIBL_OK);
+            for (int i = 0; i < 25; ++i)
+                assert_int_equal(a[i], b[i]);
+            /* the midpoint formula in double, any reflection direction (also below the horizon) */
+            double r[3] = {urand(&s) * 2 - 1, urand(&s) * 2 - 1, urand(&s) * 2 - (rep % 4 == 1 ? 1.2 : 0.2)};
+            const double l = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+            for (int j = 0; j < 3; ++j)
+                r[j] /= l;
+            const qibl_q30_t rq[3] = {(qibl_q30_t)(r[0] * 1073741823.0), (qibl_q30_t)(r[1] * 1073741823.0),
+                                      (qibl_q30_t)(r[2] * 1073741823.0)};
+            static const uint32_t es[] = {1, 4, 16, 100, 4096};
+            for (size_t ei = 0; ei < sizeof es / sizeof es[0]; ++ei) {
+                double ref[25], big = 0, d2 = 0;
+                phong_mid(h, m, r, es[ei], ref);
+                assert_int_equal(qibl_hemi_transfer_phong(h, m, rq, es[ei], b), QIBL_OK);
+                for (int i = 0; i < 25; ++i) {
+                    big = fmax(big, fabs(ref[i]));
+                    d2 = fmax(d2, fabs(b[i] / 1073741824.0 - ref[i]));
+                }
+                /* the weights cut to 2^-15 (and a few Q30 LSB of d^e) per pixel: at most 2^-14 of
+                 * each pixel's |T|, summed over the disk, plus 2e-4 relative */
+                double tabs = 0;
+                for (int p = 0; p < h->n * h->n; ++p) {
+                    double mx = 0;
+                    for (int i = 0; i < 25; ++i)
+                        mx = fmax(mx, fabs((int32_t)h->basis[(size_t)p * 25 + (size_t)i] / 1073741824.0));
+                    tabs += mx;
+                }
+                const double tol = 2e-4 * big + tabs / 16384.0;
+                if (d2 > tol)
+                    fail_msg("n %d e %u: |phong - midpoint| %.3g > %.3g", h->n, es[ei], d2, tol);
+                if (big > 1e-3)
+                    worst_mid = fmax(worst_mid, d2 / big);
+            }
+            /* the lobe constant per pixel against the true integral: small for low exponents */
+            if (rep < 6 && sizes[k] <= 32 && r[2] > 0.3) { /* lobes well above the horizon */
+                static const uint32_t ef[3] = {1, 8, 32};
+                for (int ei = 0; ei < 3; ++ei) {
+                    double ref[25];
+                    phong_fine(h, m, r, ef[ei], 8, ref);
+                    assert_int_equal(qibl_hemi_transfer_phong(h, m, rq, ef[ei], b), QIBL_OK);
+                    const double e = rel_l2d(b, ref);
+                    if (sizes[k] == 32)
+                        worst_fine[ei] = fmax(worst_fine[ei], e);
+                }
+            }
+        }
+        drop(f);
+    }
+    printf("hemi: phong vs its midpoint formula: worst %.2e relative; vs the true integral at 32 x 32, "
+           "exponent 1/8/32: %.2f %% / %.2f %% / %.2f %%\n", worst_mid, 100 * worst_fine[0], 100 * worst_fine[1],
+           100 * worst_fine[2]);
+    /* measured 0.20 / 0.22 / 0.34 %: the lobe taken constant per pixel costs little above the horizon */
+    for (int i = 0; i < 3; ++i)
+        assert_true(worst_fine[i] > 0 && worst_fine[i] < (i < 2 ? 0.01 : 0.02));
+    assert_true(worst_mid < 0.01);
+    /* errors, nothing written */
+    fixture *f = make(32, 8);
+    uint32_t m[32] = {0};
+    qibl_q30_t out[25];
+    for (int i = 0; i < 25; ++i)
+        out[i] = 12345;
+    const qibl_q30_t zero[3] = {0, 0, 0}, up[3] = {0, 0, 1 << 30};
+    assert_int_equal(qibl_hemi_transfer_phong(&f->h, m, up, QIBL_HEMI_MAX_EXPONENT + 1u, out), QIBL_E_HEMI_EXPONENT);
+    assert_int_equal(qibl_hemi_transfer_phong(&f->h, m, zero, 8, out), QIBL_E_ZERO_VECTOR);
+    assert_int_equal(qibl_hemi_transfer_phong(NULL, m, up, 8, out), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_hemi_transfer_phong(&f->h, NULL, up, 8, out), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_hemi_transfer_phong(&f->h, m, NULL, 8, out), QIBL_E_NULL_POINTER);
+    for (int i = 0; i < 25; ++i)
+        assert_int_equal(out[i], 12345);
+    assert_int_equal(qibl_hemi_transfer_phong(&f->h, m, up, 8, NULL), QIBL_E_NULL_POINTER);
+    assert_string_not_equal(qibl_status_str(QIBL_E_HEMI_EXPONENT), "unknown status");
+    drop(f);
+}
+
 /* ---- frames and rotation ------------------------------------------------------------------------ */
 
 static void test_frame(void **state)
@@ -692,6 +844,7 @@ int main(void)
         cmocka_unit_test(test_transfer_unblocked),
         cmocka_unit_test(test_transfer_blocked),
         cmocka_unit_test(test_transfer_paths_agree),
+        cmocka_unit_test(test_transfer_phong),
         cmocka_unit_test(test_frame),
         cmocka_unit_test(test_transform),
         cmocka_unit_test(test_rotation),

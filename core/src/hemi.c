@@ -72,7 +72,7 @@ static uint64_t ws_bytes(int n, int face)
     /* 32-bit products: at most 4 * 2 * 128^2 * 128 = 2^24 bytes of LUT (no 64-bit multiply) */
     const uint32_t words = (uint32_t)QIBL_HEMI_MASK_WORDS(n), un = (uint32_t)n, uf = (uint32_t)face;
     return (uint64_t)(2u * (uint32_t)sizeof(qibl_sh_rotation_t) + 4u * (words + NC) + 4u * un * un * NC +
-                      8u * uf * uf * words + 4u); /* + alignment slack */
+                      4u * un * un + 8u * uf * uf * words + 4u); /* + alignment slack */
 }
 
 size_t qibl_hemi_workspace_size(int n, int face)
@@ -169,6 +169,26 @@ static void build_basis(uint32_t *basis, uint32_t *full, int32_t n)
         }
 }
 
+/* z of each pixel centre lifted onto the hemisphere, Q2.30 rounded (0 for a centre outside the
+ * disk, whose direction is then the horizon point): the glossy transfer's sample directions */
+static void build_centres(uint32_t *zc, int32_t n)
+{
+    for (int32_t r = 0; r < n; ++r)
+        for (int32_t c = 0; c < n; ++c) {
+            const int32_t X = 2 * c + 1 - n, Y = 2 * r + 1 - n, q = n * n - X * X - Y * Y; /* in (1/n)^2 */
+            uint32_t z = 0u;
+            if (q > 0) { /* z = sqrt(q) / n in Q30: isqrt(q 2^60 / n^2), n a power of two */
+                /* q 2^60 / n^2 with constant shifts (no 64-bit variable shift on Cortex-M0) */
+                const uint64_t q60 = n == 16 ? (uint64_t)q << 52 : n == 32 ? (uint64_t)q << 50 : (uint64_t)q << 48;
+                uint64_t rem;
+                z = qibl_isqrt_u64(q60, &rem);
+                if (rem > z)
+                    ++z;
+            }
+            zc[r * n + c] = z;
+        }
+}
+
 qibl_status_t qibl_hemi_init(qibl_hemi_t *h, int n, int face, void *workspace, size_t workspace_size)
 {
     if (h == 0 || workspace == 0)
@@ -187,7 +207,8 @@ qibl_status_t qibl_hemi_init(qibl_hemi_t *h, int n, int face, void *workspace, s
     uint32_t *disk = (uint32_t *)(void *)(rot + 2);
     uint32_t *full = disk + t.words;
     uint32_t *basis = full + NC;
-    uint32_t *lut = basis + (size_t)n * (size_t)n * NC;
+    uint32_t *zc = basis + (size_t)n * (size_t)n * NC;
+    uint32_t *lut = zc + (size_t)n * (size_t)n;
     /* Rx(+90): y -> z, z -> -y; Rx(-90) its transpose. Exact in Q2.30. */
     static const qibl_q30_t rp[3][3] = {{QIBL_Q30_ONE, 0, 0}, {0, 0, -QIBL_Q30_ONE}, {0, QIBL_Q30_ONE, 0}};
     static const qibl_q30_t rn[3][3] = {{QIBL_Q30_ONE, 0, 0}, {0, 0, QIBL_Q30_ONE}, {0, -QIBL_Q30_ONE, 0}};
@@ -207,6 +228,7 @@ qibl_status_t qibl_hemi_init(qibl_hemi_t *h, int n, int face, void *workspace, s
             disk[(uint32_t)r * t.wpr + k] = w;
         }
     build_basis(basis, full, n);
+    build_centres(zc, n);
     /* LUT: face X (normal (F, u, v), u >= 0 half), face Y (full), face Z (normal (v, u, F), u >= 0
      * half); cell centres 2i + 1 - F in units of 1/F */
     const int32_t F = face, H = face / 2;
@@ -229,7 +251,7 @@ qibl_status_t qibl_hemi_init(qibl_hemi_t *h, int n, int face, void *workspace, s
     /* field by field: a struct copy may become a memcpy call, which the core cannot link */
     h->n = t.n, h->face = t.face, h->wpr = t.wpr, h->words = t.words;
     h->rx_pos = &rot[0], h->rx_neg = &rot[1];
-    h->disk = disk, h->full = full, h->basis = basis, h->lut = lut;
+    h->disk = disk, h->full = full, h->basis = basis, h->lut = lut, h->zc = zc;
     return QIBL_OK;
 }
 
@@ -535,6 +557,71 @@ qibl_status_t qibl_hemi_transfer(const qibl_hemi_t *h, const uint32_t *mask, qib
 
 /* z rotation by theta (cos, sin in Q2.30): for f'(w) = f(Rz^T w), the pair (m, -m) of band l turns
  * by m theta: c'_m = cos c_m - sin c_-m, c'_-m = cos c_-m + sin c_m. In place. */
+/* b^e in Q30 for b in [0, 2^30] (Q30), by squaring, each product truncated */
+static uint32_t pow_q30(uint32_t b, uint32_t e)
+{
+    uint32_t w = 1u << 30;
+    for (; e != 0u && w != 0u; e >>= 1) {
+        if (e & 1u)
+            w = (uint32_t)(qibl_mul_u32_u64(w, b) >> 30);
+        b = (uint32_t)(qibl_mul_u32_u64(b, b) >> 30);
+    }
+    return w;
+}
+
+qibl_status_t qibl_hemi_transfer_phong(const qibl_hemi_t *h, const uint32_t *mask, const qibl_q30_t refl[3],
+                                       uint32_t exponent, qibl_q30_t out[QIBL_HEMI_COEFFS])
+{
+    if (h == 0 || mask == 0 || refl == 0 || out == 0)
+        return QIBL_E_NULL_POINTER;
+    if (exponent > QIBL_HEMI_MAX_EXPONENT)
+        return QIBL_E_HEMI_EXPONENT;
+    qibl_q30_t r[3];
+    if (qibl_vec3_normalize_q30(refl, r) != QIBL_OK)
+        return QIBL_E_ZERO_VECTOR;
+    const int32_t n = h->n;
+    const unsigned lg = n == 16 ? 4u : n == 32 ? 5u : 6u;
+    int64_t acc[NC];
+    for (int i = 0; i < NC; ++i)
+        acc[i] = 0;
+    for (int32_t row = 0; row < n; ++row)
+        for (uint32_t k = 0; k < h->wpr; ++k) {
+            const uint32_t wi = (uint32_t)row * h->wpr + k;
+            uint32_t vis = ~mask[wi] & h->disk[wi];
+            if (n == 16)
+                vis &= 0xFFFFu;
+            while (vis) {
+                const int32_t c = (int32_t)(k * 32u + ctz32(vis));
+                vis &= vis - 1u;
+                const uint32_t p = (uint32_t)(row * n + c);
+                const int32_t X = 2 * c + 1 - n, Y = 2 * row + 1 - n;
+                const int64_t dxy = qibl_mul_s32_s64(r[0], X) + qibl_mul_s32_s64(r[1], Y); /* rx X + ry Y, Q30 */
+                int64_t d;
+                if (h->zc[p] != 0u) /* r . s = (rx X + ry Y) / n + rz z */
+                    d = qibl_asr_s64(dxy, lg) + qibl_asr_s64(qibl_mul_s32_s64(r[2], (int32_t)h->zc[p]), 30);
+                else if (dxy > 0) { /* the horizon point (X, Y) / |(X, Y)|: |(X, Y)| 2^20 below */
+                    uint64_t rem;
+                    const uint32_t len = qibl_isqrt_u64((uint64_t)(uint32_t)(X * X + Y * Y) << 40, &rem);
+                    d = (int64_t)qibl_udiv_u64((uint64_t)dxy << 20, len, 0); /* dxy < 2^38 */
+                }
+                else
+                    d = 0;
+                const uint32_t w = exponent == 0u ? 1u << 30
+                                   : d <= 0       ? 0u
+                                                  : pow_q30(d >= (int64_t)1 << 30 ? 1u << 30 : (uint32_t)d, exponent);
+                const int32_t w15 = (int32_t)(w >> 15);
+                if (w15 == 0)
+                    continue;
+                const uint32_t *t = h->basis + (size_t)p * NC;
+                for (int i = 0; i < NC; ++i)
+                    acc[i] += qibl_mul_s32_s64(s32_of_u32(t[i]), w15);
+            }
+        }
+    for (int i = 0; i < NC; ++i)
+        out[i] = (qibl_q30_t)qibl_rshr_s64(acc[i], 15);
+    return QIBL_OK;
+}
+
 static void rot_z(int32_t *c, qibl_q30_t cs, qibl_q30_t sn)
 {
     qibl_q30_t cm[5], sm[5];

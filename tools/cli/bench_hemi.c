@@ -546,7 +546,8 @@ static void integration_study(const qibl_hemi_t *h, const scene *s, qibl_q16_t (
         return;
     }
     down4_init(h, d);
-    double e_ex = 0, e_dn = 0, t_ex = 1e30, t_dn = 1e30;
+    double e_ex = 0, e_dn = 0, t_ex = 1e30, t_dn = 1e30, t_ph = 1e30;
+    const qibl_q30_t refl[3] = {322122547, 214748365, 998579098}; /* (0.3, 0.2, 0.93) */
     timing tm;
     memset(&tm, 0, sizeof tm);
     for (int f = 0; f < nframes; ++f) {
@@ -561,11 +562,16 @@ static void integration_study(const qibl_hemi_t *h, const scene *s, qibl_q16_t (
             for (size_t v = 0; v < nv; ++v)
                 down4_transfer(h, d, masks + 32 * v, vd[v]), sink ^= vd[v][7];
             double t2 = cpu_now();
+            for (size_t v = 0; v < nv; ++v)
+                qibl_hemi_transfer_phong(h, masks + 32 * v, refl, 16, vd[v]), sink ^= vd[v][7];
+            double t3 = cpu_now();
             t_ex = fmin(t_ex, (t1 - t0) / (double)nv), t_dn = fmin(t_dn, (t2 - t1) / (double)nv);
+            t_ph = fmin(t_ph, (t3 - t2) / (double)nv);
             if (sink == 0x7FFFFFFF)
                 printf(" ");
         }
         for (size_t v = 0; v < nv; ++v) {
+            down4_transfer(h, d, masks + 32 * v, vd[v]);
             e_ex += rel_err(vloc[v], ref[nv * (size_t)f + v]);
             e_dn += rel_err(vd[v], ref[nv * (size_t)f + v]);
         }
@@ -575,7 +581,9 @@ static void integration_study(const qibl_hemi_t *h, const scene *s, qibl_q16_t (
            "%-34s %14s %10s\n", reps, "integration", "ns/vertex", "L2 err");
     printf("%-34s %14.0f %9.2f %%\n", "exact per pixel (qibl_hemi_transfer)", t_ex * 1e9, 100 * e_ex / n);
     printf("%-34s %14.0f %9.2f %%\n", "4 x 4 downsampled (paper)", t_dn * 1e9, 100 * e_dn / n);
+    printf("%-34s %14.0f %10s\n", "glossy, Phong e = 16 (per view)", t_ph * 1e9, "-");
     printf("RESULT hemi.integrate_exact_ns %.0f\nRESULT hemi.integrate_down4_ns %.0f\n", t_ex * 1e9, t_dn * 1e9);
+    printf("RESULT hemi.integrate_phong16_ns %.0f\n", t_ph * 1e9);
     printf("RESULT hemi.integrate_exact_l2err %.4f\nRESULT hemi.integrate_down4_l2err %.4f\n", e_ex / n, e_dn / n);
     free(masks), free(vloc), free(vw), free(vd), free(d);
 }
@@ -748,7 +756,7 @@ int qcli_bench_hemi(int quick)
 
     const double tt = def_tm.transform + def_tm.raster + def_tm.transfer + def_tm.other;
     const double frames = (double)nframes;
-    printf("\nTable 1 (default: 32 x 32 mask, 60 x 60 faces, 1001.5 KiB, W = 6)   paper (Cloth, 2 CPUs)\n");
+    printf("\nTable 1 (default: 32 x 32 mask, 60 x 60 faces, 1005.5 KiB, W = 6)   paper (Cloth, 2 CPUs)\n");
     printf("  %-34s %10d %12d\n", "vertices", s.nv, 1378);
     printf("  %-34s %10d %12d\n", "triangles", s.ntri, 2560);
     printf("  %-34s %10d %12d\n", "coarse triangles", s.nct, 160);

@@ -132,14 +132,46 @@ static int frames_case(const qtool_goldens_sink_t *s, const char *name, const qi
     return gbuf_emit(s, name, &b);
 }
 
+/* The glossy transfer: random masks, reflection directions (axes, below the horizon, random) and
+ * exponents (0, small, large, the limit, one beyond: its status, output untouched) */
+static int phong_case(const qtool_goldens_sink_t *s, const char *name, const qibl_hemi_t *h, uint64_t seed)
+{
+    static const uint32_t es[] = {0u, 1u, 2u, 7u, 64u, QIBL_HEMI_MAX_EXPONENT, QIBL_HEMI_MAX_EXPONENT + 1u};
+    grng r = {seed};
+    gbuf b = {0};
+    for (int t = 0; t < 8; ++t) {
+        uint32_t m[QIBL_HEMI_MAX_WORDS];
+        for (uint32_t i = 0; i < h->words; ++i)
+            m[i] = t == 0 ? 0u : grng_u32(&r) & grng_u32(&r);
+        qibl_q30_t refl[3];
+        for (int k = 0; k < 3; ++k)
+            refl[k] = (int32_t)(grng_u32(&r) >> 1) - (1 << 30);
+        if (t == 1)
+            refl[0] = refl[1] = 0, refl[2] = 1 << 30; /* the normal */
+        if (t == 2)
+            refl[0] = 1 << 30, refl[1] = refl[2] = 0; /* along the horizon */
+        if (t == 3)
+            refl[2] = -(1 << 29); /* below */
+        for (size_t e = 0; e < sizeof es / sizeof es[0]; ++e) {
+            qibl_q30_t out[25];
+            for (int i = 0; i < 25; ++i)
+                out[i] = (qibl_q30_t)GUARD;
+            gbuf_u8(&b, (uint32_t)qibl_hemi_transfer_phong(h, m, refl, es[e], out));
+            for (int i = 0; i < 25; ++i)
+                gbuf_s32(&b, out[i]);
+        }
+    }
+    return gbuf_emit(s, name, &b);
+}
+
 int qtool_goldens_hemi(const qtool_goldens_sink_t *s)
 {
     static const struct {
         int n, face;
-        const char *tables, *masks;
-    } cfg[] = {{16, 16, "hemi_tables_16_f16", "hemi_masks_16_f16"},
-               {32, 24, "hemi_tables_32_f24", "hemi_masks_32_f24"},
-               {64, 8, "hemi_tables_64_f8", "hemi_masks_64_f8"}};
+        const char *tables, *masks, *phong;
+    } cfg[] = {{16, 16, "hemi_tables_16_f16", "hemi_masks_16_f16", "hemi_phong_16"},
+               {32, 24, "hemi_tables_32_f24", "hemi_masks_32_f24", "hemi_phong_32"},
+               {64, 8, "hemi_tables_64_f8", "hemi_masks_64_f8", "hemi_phong_64"}};
     int fails = 0;
     for (size_t c = 0; c < sizeof cfg / sizeof cfg[0]; ++c) {
         qibl_hemi_t h;
@@ -148,6 +180,7 @@ int qtool_goldens_hemi(const qtool_goldens_sink_t *s)
         fails += f;
         if (ws != NULL && h.n == cfg[c].n) {
             fails += masks_case(s, cfg[c].masks, &h, 1000u + c);
+            fails += phong_case(s, cfg[c].phong, &h, 2000u + c);
             if (c == 1)
                 fails += frames_case(s, "hemi_frames", &h);
         }

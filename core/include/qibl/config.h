@@ -104,7 +104,7 @@
 
 /* QIBL_USE_HEMI: 1 builds hemispherical rasterization (hemi.c: plane LUT, triangle masks, SH
  * transfer, frame rotation; see `make cross` for its .text; no RAM beyond the caller's workspace,
- * qibl_hemi_workspace_size: 1001.5 KiB for the default 32 x 32 mask with 60 x 60 faces, 245.5 KiB
+ * qibl_hemi_workspace_size: 1005.5 KiB for the default 32 x 32 mask with 60 x 60 faces, 249.5 KiB
  * with 24 x 24 faces). Needs QIBL_USE_SH with 5 bands; by default on when that holds, unless
  * QIBL_CONFIG_SMALL. */
 #ifndef QIBL_USE_HEMI

@@ -96,6 +96,7 @@ typedef enum qibl_status {
     QIBL_E_HEMI_SIZE,              /* hemi: mask size not 16/32/64, or cube-map face not even in 2..128 */
     QIBL_E_HEMI_RANGE,             /* hemi: a coordinate beyond QIBL_HEMI_COORD_MAX / _LOCAL_MAX */
     QIBL_E_HEMI_INDEX,             /* hemi: a triangle index beyond the vertex count */
+    QIBL_E_HEMI_EXPONENT,          /* hemi: Phong exponent beyond QIBL_HEMI_MAX_EXPONENT */
     QIBL_STATUS_COUNT,     /* number of core status values; not a status */
     /* Platform backends (platform/<name>/) return qibl_status_t too, with their errors in their own
      * range of 256 values from their base, defined in the backend's header; the core never returns
