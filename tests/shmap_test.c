@@ -778,7 +778,8 @@ static void test_point_simd_equals_scalar_twin(void **state)
                     /* rare points: on the light, 1 LSB from it, and at the int32 corner */
                     for (int j = 0; j < 3; ++j) {
                         put_s32(pb.bytes + 12u * 9u + 4u * (unsigned)j, pl.pos[j]);
-                        put_s32(pb.bytes + 12u * 20u + 4u * (unsigned)j, pl.pos[j] + (j == 1));
+                        put_s32(pb.bytes + 12u * 20u + 4u * (unsigned)j,
+                                j != 1 ? pl.pos[j] : pl.pos[j] > 0 ? pl.pos[j] - 1 : pl.pos[j] + 1);
                         put_s32(pb.bytes + 12u * 33u + 4u * (unsigned)j, j == 1 ? INT32_MIN : INT32_MAX);
                     }
                     for (int lay = 0; lay < 2; ++lay) {
