@@ -161,6 +161,26 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     FUZZ_CHECK(qibl_hemi_transfer(&h, one, tm) == QIBL_OK);
     FUZZ_CHECK(tm[0] <= tv[0] + 64);
 
+    /* the glossy transfer: any reflection vector and exponent; e = 0 is the diffuse transfer,
+     * a bad exponent or a zero vector is named and writes nothing */
+    {
+        qibl_q30_t refl[3] = {(int32_t)fuzz_u32(&in), (int32_t)fuzz_u32(&in), (int32_t)fuzz_u32(&in)};
+        const uint32_t e = fuzz_u32(&in) % (QIBL_HEMI_MAX_EXPONENT + 2u);
+        qibl_q30_t tp[QIBL_HEMI_COEFFS], tp0[QIBL_HEMI_COEFFS];
+        for (int i = 0; i < QIBL_HEMI_COEFFS; ++i)
+            tp[i] = 0x5A5A5A5A;
+        const qibl_status_t sp = qibl_hemi_transfer_phong(&h, all, refl, e, tp);
+        const int zero = refl[0] == 0 && refl[1] == 0 && refl[2] == 0;
+        FUZZ_CHECK(sp == (e > QIBL_HEMI_MAX_EXPONENT ? QIBL_E_HEMI_EXPONENT : zero ? QIBL_E_ZERO_VECTOR : QIBL_OK));
+        for (int i = 0; sp != QIBL_OK && i < QIBL_HEMI_COEFFS; ++i)
+            FUZZ_CHECK(tp[i] == 0x5A5A5A5A);
+        if (!zero) {
+            FUZZ_CHECK(qibl_hemi_transfer_phong(&h, all, refl, 0, tp0) == QIBL_OK);
+            for (int i = 0; i < QIBL_HEMI_COEFFS; ++i)
+                FUZZ_CHECK(tp0[i] == tv[i]);
+        }
+    }
+
     /* out of the frame, the lighting into it, shading: defined for any values */
     FUZZ_CHECK(qibl_hemi_to_world(&h, &f, tv, world) == QIBL_OK);
     int32_t light[3][QIBL_HEMI_COEFFS], lf[QIBL_HEMI_COEFFS];
