@@ -141,6 +141,41 @@ static void test_conventions(void **state)
 }
 
 /* direction -> position -> direction is the identity (away from a disc's rim, the one point -F) */
+/* Positions from directions at the poles and on a disc's rim stay inside the image for every
+ * size: atan2(0, -1) * h / PI is h + 1 ulp at h = 13 (found by fuzz_layout). The image's corners,
+ * edges and midlines go to a direction and back. */
+static void test_maps_edges(void **state)
+{
+    (void)state;
+    const double f[] = {0, 1e-12, 0.25, 0.5, 0.75, 1 - 1e-12, 1};
+    long tried = 0;
+    for (size_t k = 0; k < sizeof all_layouts / sizeof all_layouts[0]; ++k)
+        for (int w = 1; w <= 64; ++w)
+            for (int h = 1; h <= 64; ++h) {
+                char err[128];
+                if (qtool_probe_layout_check(all_layouts[k], w, h, err, sizeof err) != 0)
+                    continue;
+                for (size_t i = 0; i < sizeof f / sizeof f[0]; ++i)
+                    for (size_t j = 0; j < sizeof f / sizeof f[0]; ++j) {
+                        double d[3], x, y;
+                        if (qtool_probe_layout_dir(all_layouts[k], w, h, f[i] * w, f[j] * h, d) != 0)
+                            continue;
+                        assert_int_equal(qtool_probe_layout_pos(all_layouts[k], w, h, d, &x, &y), 0);
+                        if (!(x >= 0 && x <= w && y >= 0 && y <= h))
+                            fail_msg("%s %dx%d: (%g, %g) -> (%a, %a) outside the image",
+                                     qtool_probe_layout_name(all_layouts[k]), w, h, f[i] * w, f[j] * h, x, y);
+                        ++tried;
+                    }
+                const double pole[2][3] = {{0, 0, 1}, {0, 0, -1}};
+                for (int p = 0; p < 2; ++p) {
+                    double x, y;
+                    assert_int_equal(qtool_probe_layout_pos(all_layouts[k], w, h, pole[p], &x, &y), 0);
+                    assert_true(x >= 0 && x <= w && y >= 0 && y <= h);
+                }
+            }
+    assert_true(tried > 1000);
+}
+
 static void test_maps_invert(void **state)
 {
     (void)state;
@@ -882,6 +917,7 @@ int main(void)
         cmocka_unit_test(test_names),
         cmocka_unit_test(test_conventions),
         cmocka_unit_test(test_maps_invert),
+        cmocka_unit_test(test_maps_edges),
         cmocka_unit_test(test_detect),
         cmocka_unit_test(test_check),
         cmocka_unit_test(test_resample_malformed),

@@ -180,6 +180,13 @@ int qtool_probe_layout_dir(qtool_probe_layout_t l, int w, int h, double x, doubl
     return 0;
 }
 
+/* x into [0, hi]: atan2 at a pole or a disc's rim can land an ulp outside the image (atan2(0, -1) *
+ * h / PI is h + 1 ulp), and callers index pixels with the result */
+static double clamp_to(double x, double hi)
+{
+    return x < 0 ? 0 : x > hi ? hi : x;
+}
+
 /* image position of a unit world direction; for crosses also the face */
 static void pos_of(qtool_probe_layout_t l, int w, int h, const double d[3], double *x, double *y, const face **fo)
 {
@@ -190,7 +197,7 @@ static void pos_of(qtool_probe_layout_t l, int w, int h, const double d[3], doub
         *x = ph * w / (2.0 * PI);
         if (*x >= w)
             *x -= w;
-        *y = atan2(sqrt(d[0] * d[0] + d[1] * d[1]), d[2]) * h / PI; /* acos loses bits near the poles */
+        *y = clamp_to(atan2(sqrt(d[0] * d[0] + d[1] * d[1]), d[2]) * h / PI, h); /* acos loses bits near the poles */
         return;
     }
     double v[3] = {-d[0], -d[1], d[2]};
@@ -202,7 +209,7 @@ static void pos_of(qtool_probe_layout_t l, int w, int h, const double d[3], doub
         } else {
             a = -v[1] / s * rho, b = v[2] / s * rho;
         }
-        *x = (a + 1.0) * w / 2.0, *y = (1.0 - b) * h / 2.0;
+        *x = clamp_to((a + 1.0) * w / 2.0, w), *y = clamp_to((1.0 - b) * h / 2.0, h);
         return;
     }
     const face *fc = face_of(l, v);
