@@ -208,9 +208,10 @@ $(BUILD)/tests/%_test-avx2: $(BUILD)/host/tests/%_test.o $(LIBTOOLS) $(LIBQIBL_A
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -o $@ $< $(TEST_EXTRA) $(LIBTOOLS) $(LIBQIBL_AVX2) $(CMOCKA_LIBS) $(HOST_LIBS)
 
-# lightprobe_test and shmap_test compare the library's path with the scalar twin (tools/twin)
+# lightprobe_test, shmap_test and hemi_test compare the library's path with the scalar twin (tools/twin)
 LP_TESTS := $(BUILD)/tests/lightprobe_test $(BUILD)/tests/lightprobe_test-portable $(BUILD)/tests/lightprobe_test-avx2 \
-            $(BUILD)/tests/shmap_test $(BUILD)/tests/shmap_test-portable $(BUILD)/tests/shmap_test-avx2
+            $(BUILD)/tests/shmap_test $(BUILD)/tests/shmap_test-portable $(BUILD)/tests/shmap_test-avx2 \
+            $(BUILD)/tests/hemi_test $(BUILD)/tests/hemi_test-portable $(BUILD)/tests/hemi_test-avx2
 $(LP_TESTS): $(LIBTWIN)
 $(LP_TESTS): TEST_EXTRA = $(LIBTWIN)
 

@@ -19,6 +19,7 @@
 #include "qibl/hemi.h"
 #include "golden/check.h"
 #include "ref/sh_ref.h"
+#include "twin/hemi_scalar.h"
 
 #define PI 3.14159265358979323846
 
@@ -227,6 +228,65 @@ static void test_random_triangles_16_64(void **state)
     (void)state;
     random_triangles(16, 16, 200);
     random_triangles(64, 64, 100);
+}
+
+/* The library's rasterizer (x86: the double look-up lanes; elsewhere the same code as the twin)
+ * against the scalar twin, bit for bit: random meshes at every magnitude from 1 LSB to the full
+ * local range, vertices on the horizon, shared and repeated vertices, every mask size and several
+ * face sizes (odd cell counts, the smallest and the largest face), in batches that do not fill the
+ * look-up lanes. */
+static void test_lanes_match_twin(void **state)
+{
+    (void)state;
+    const int cfg[][2] = {{32, 60}, {32, 24}, {32, 2}, {16, 16}, {64, 128}, {32, 126}, {16, 6}};
+    uint64_t seed = 0x51DEu;
+    for (size_t c = 0; c < sizeof cfg / sizeof cfg[0]; ++c) {
+        fixture *f = make(cfg[c][0], cfg[c][1]);
+        for (int round = 0; round < 60; ++round) {
+            enum { NV = 40, NT = 150 };
+            int32_t v[NV][3];
+            uint32_t tri[NT][3];
+            /* magnitude: 2^1 .. 2^26 - 1 */
+            const int bitsz = 1 + (int)(rng(&seed) % 26u);
+            const int32_t lim = bitsz >= 26 ? QIBL_HEMI_LOCAL_MAX : (int32_t)((1u << bitsz) - 1u);
+            for (int i = 0; i < NV; ++i)
+                for (int k = 0; k < 3; ++k) {
+                    const uint64_t r = rng(&seed);
+                    int32_t x = (int32_t)(r % (2u * (uint32_t)lim + 1u)) - lim;
+                    if (k == 2 && (r >> 40) % 5u == 0u)
+                        x = 0; /* on the horizon */
+                    if ((r >> 44) % 7u == 0u)
+                        x = (r >> 50) & 1u ? lim : -lim; /* at the limit */
+                    v[i][k] = x;
+                }
+            const uint32_t nt = 1u + (uint32_t)(rng(&seed) % NT);
+            for (uint32_t t = 0; t < nt; ++t)
+                for (int k = 0; k < 3; ++k)
+                    tri[t][k] = (uint32_t)(rng(&seed) % NV); /* repeats make degenerate triangles */
+            uint32_t m1[QIBL_HEMI_MAX_WORDS], m2[QIBL_HEMI_MAX_WORDS];
+            qibl_hemi_stats_t s1 = {0, 0, 0}, s2 = {0, 0, 0};
+            qibl_hemi_clear(&f->h, m1);
+            qibl_hemi_clear(&f->h, m2);
+            assert_int_equal(qibl_hemi_raster(&f->h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])tri, nt, m1, &s1),
+                             QIBL_OK);
+            assert_int_equal(
+                qtool_hemi_raster_scalar(&f->h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])tri, nt, m2, &s2),
+                QIBL_OK);
+            assert_memory_equal(m1, m2, sizeof(uint32_t) * f->h.words);
+            assert_int_equal(s1.rasterized, s2.rasterized);
+            assert_int_equal(s1.below, s2.below);
+            assert_int_equal(s1.through, s2.through);
+            /* one triangle at a time too: each mask alone, not hidden by the union */
+            for (uint32_t t = 0; t < nt && t < 12u; ++t) {
+                qibl_hemi_clear(&f->h, m1);
+                qibl_hemi_clear(&f->h, m2);
+                qibl_hemi_raster(&f->h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])(tri + t), 1, m1, NULL);
+                qtool_hemi_raster_scalar(&f->h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])(tri + t), 1, m2, NULL);
+                assert_memory_equal(m1, m2, sizeof(uint32_t) * f->h.words);
+            }
+        }
+        drop(f);
+    }
 }
 
 static void test_winding_and_fusion(void **state)
@@ -836,6 +896,7 @@ int main(void)
         cmocka_unit_test(test_raster_errors),
         cmocka_unit_test(test_random_triangles_32),
         cmocka_unit_test(test_random_triangles_16_64),
+        cmocka_unit_test(test_lanes_match_twin),
         cmocka_unit_test(test_winding_and_fusion),
         cmocka_unit_test(test_degenerate),
         cmocka_unit_test(test_sliver),

@@ -11,14 +11,18 @@
 
 #if QIBL_USE_HEMI
 
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+#include <immintrin.h>
+#elif QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2
+#include <emmintrin.h>
+#endif
+/* the LUT look-ups in double lanes (x86, below); elsewhere the scalar look-up */
+#define HEMI_LANES (QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2 || QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2)
+
 #define NC QIBL_HEMI_COEFFS
 
 /* ---- small integer helpers (static here until the shared internal header exists) ------------ */
 
-static uint64_t abs_u64(int64_t x)
-{
-    return x < 0 ? 0u - (uint64_t)x : (uint64_t)x;
-}
 
 static int32_t s32_of_u32(uint32_t u)
 {
@@ -26,22 +30,6 @@ static int32_t s32_of_u32(uint32_t u)
     return u <= 0x7FFFFFFFu ? (int32_t)u : -(int32_t)(~u) - 1;
 }
 
-/* floor(num / den) for den >= 1 and a quotient below 256 (num < 256 den): 8 shift-subtract steps
- * where there is no divide instruction, so no library call is emitted. */
-static uint32_t small_div(uint32_t num, uint32_t den)
-{
-#if QIBL_CONFIG_NATIVE_DIV64 || defined(__ARM_FEATURE_IDIV) || defined(__riscv_div)
-    return num / den;
-#else
-    uint32_t q = 0;
-    for (int k = 7; k >= 0; --k)
-        if ((num >> k) >= den) {
-            num -= den << k;
-            q |= 1u << k;
-        }
-    return q;
-#endif
-}
 
 /* bits set in w (SWAR) */
 static uint32_t popcount32(uint32_t w)
@@ -343,6 +331,29 @@ typedef struct edge {
     int rev;
 } edge;
 
+#if !HEMI_LANES
+static uint64_t abs_u64(int64_t x)
+{
+    return x < 0 ? 0u - (uint64_t)x : (uint64_t)x;
+}
+
+/* floor(num / den) for den >= 1 and a quotient below 256 (num < 256 den): 8 shift-subtract steps
+ * where there is no divide instruction, so no library call is emitted. */
+static uint32_t small_div(uint32_t num, uint32_t den)
+{
+#if QIBL_CONFIG_NATIVE_DIV64 || defined(__ARM_FEATURE_IDIV) || defined(__riscv_div)
+    return num / den;
+#else
+    uint32_t q = 0;
+    for (int k = 7; k >= 0; --k)
+        if ((num >> k) >= den) {
+            num -= den << k;
+            q |= 1u << k;
+        }
+    return q;
+#endif
+}
+
 /* The shift s that brings m below 2^23 in steps of 8 (so (u + m) F < 2^31 fits 32 bits for
  * F <= 128): the smallest multiple of 8 with m >> s < 2^23. Edge normals are below 2^53 (local
  * coordinates below 2^26), so one constant shift and three compares find it; the loop is kept
@@ -408,6 +419,8 @@ static edge lookup(const qibl_hemi_t *h, const int64_t e[3])
     r.m = h->lut + idx * h->words;
     return r;
 }
+
+#endif /* !HEMI_LANES */
 
 /* mask |= A & B & C with per-entry complement and row reversal. The reversal flags are made
  * compile-time constants by the switch below, so each variant is a straight loop. */
@@ -495,6 +508,151 @@ static int local_ok(const int32_t *p)
     return 1;
 }
 
+#if HEMI_LANES
+/* ---- x86: LUT entries of several edge planes at once, in double lanes, exactly ---------------
+ *
+ * The scalar lookup above, four (AVX2) or two (SSE2) normals at a time, with no branch and one
+ * divide instruction per cell pair instead of two integer divides per normal. Every lane holds an
+ * integer and every operation but the divide is exact: |e| < 2^53 converts exactly, |e|, compares,
+ * selects and the scaling by 2^-s are exact, floor(m 2^-s) < 2^23 is a truncation to int32 and
+ * back, num F < 2^31 and 2 mm < 2^24 are exact. For the divide, floor(fl(N / D)) = floor(N / D) in
+ * any rounding mode: when N / D is an integer it is exact, otherwise it is at least 1/D > 2^-24 below
+ * the next integer, while the rounding error is below ulp(256) = 2^-44. So the entries are the
+ * scalar path's bit for bit (tests/hemi_test.c runs both on the same masks, and the goldens run
+ * every path); docs/ARCHITECTURE.md records this use of the FPU. */
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+typedef __m256d hemi_vd;
+#define HEMI_VL 4
+#define VD_LOAD(p) _mm256_loadu_pd(p)
+#define VD_SET1(x) _mm256_set1_pd(x)
+#define VD_ADD(a, b) _mm256_add_pd(a, b)
+#define VD_MUL(a, b) _mm256_mul_pd(a, b)
+#define VD_DIV(a, b) _mm256_div_pd(a, b)
+#define VD_MIN(a, b) _mm256_min_pd(a, b)
+#define VD_MAX(a, b) _mm256_max_pd(a, b)
+#define VD_AND(a, b) _mm256_and_pd(a, b)
+#define VD_ANDNOT(a, b) _mm256_andnot_pd(a, b)
+#define VD_OR(a, b) _mm256_or_pd(a, b)
+#define VD_XOR(a, b) _mm256_xor_pd(a, b)
+#define VD_GE(a, b) _mm256_cmp_pd(a, b, _CMP_GE_OQ)
+#define VD_LT(a, b) _mm256_cmp_pd(a, b, _CMP_LT_OQ)
+#define VD_SEL(m, a, b) _mm256_blendv_pd(b, a, m) /* m ? a : b */
+#define VD_TRUNC(a) _mm256_cvtepi32_pd(_mm256_cvttpd_epi32(a)) /* toward zero, |a| < 2^31 */
+#define VD_MASK(a) _mm256_movemask_pd(a)
+#define VD_STORE_I32(p, a) _mm_storeu_si128((__m128i *)(void *)(p), _mm256_cvttpd_epi32(a))
+#else
+typedef __m128d hemi_vd;
+#define HEMI_VL 2
+#define VD_LOAD(p) _mm_loadu_pd(p)
+#define VD_SET1(x) _mm_set1_pd(x)
+#define VD_ADD(a, b) _mm_add_pd(a, b)
+#define VD_MUL(a, b) _mm_mul_pd(a, b)
+#define VD_DIV(a, b) _mm_div_pd(a, b)
+#define VD_MIN(a, b) _mm_min_pd(a, b)
+#define VD_MAX(a, b) _mm_max_pd(a, b)
+#define VD_AND(a, b) _mm_and_pd(a, b)
+#define VD_ANDNOT(a, b) _mm_andnot_pd(a, b)
+#define VD_OR(a, b) _mm_or_pd(a, b)
+#define VD_XOR(a, b) _mm_xor_pd(a, b)
+#define VD_GE(a, b) _mm_cmpge_pd(a, b)
+#define VD_LT(a, b) _mm_cmplt_pd(a, b)
+#define VD_SEL(m, a, b) _mm_or_pd(_mm_and_pd(m, a), _mm_andnot_pd(m, b))
+#define VD_TRUNC(a) _mm_cvtepi32_pd(_mm_cvttpd_epi32(a))
+#define VD_MASK(a) _mm_movemask_pd(a)
+#define VD_STORE_I32(p, a) _mm_storel_epi64((__m128i *)(void *)(p), _mm_cvttpd_epi32(a))
+#endif
+#define HEMI_BATCH 64u /* triangles set up before their masks are read */
+
+/* The scalar lookup's cells with signs folded in: with s = norm_shift(m), mm = m >> s and
+ * au = |u| >> s, "neg ? mm - au : mm + au" is mm + trunc(u 2^-s) for the signed u, a truncation
+ * toward zero, which is what cvttpd does. Per face (scalar lookup): first cell u = |e1| (x, z) or
+ * e0 (y), second v = e2 (x, y) or e0 (z), negated on the complemented faces (-x, -z), whose row
+ * reversal is the sign of +-e1; the face base minus the half-face offset of x and z is folded into
+ * one constant per face. */
+static void lookup_lanes(const qibl_hemi_t *h, const double *e0, const double *e1, const double *e2, uint32_t n,
+                         uint32_t *idx, uint32_t *neg, uint32_t *rev)
+{
+    const int32_t F = h->face, H = F / 2;
+    const hemi_vd zero = VD_SET1(0.0), one = VD_SET1(1.0), sign = VD_SET1(-0.0), vF = VD_SET1((double)F);
+    const hemi_vd vF1 = VD_SET1((double)(F - 1));
+    const hemi_vd bX = VD_SET1((double)(-H * F)), bY = VD_SET1((double)(F * H)), bZ = VD_SET1((double)(F * F));
+    const hemi_vd t23 = VD_SET1(8388608.0), t31 = VD_SET1(2147483648.0), t39 = VD_SET1(549755813888.0),
+                  t47 = VD_SET1(140737488355328.0);
+    const hemi_vd s8 = VD_SET1(1.0 / 256.0), s16 = VD_SET1(1.0 / 65536.0), s24 = VD_SET1(1.0 / 16777216.0),
+                  s32 = VD_SET1(1.0 / 4294967296.0);
+    for (uint32_t j = 0; j < n; j += HEMI_VL) {
+        const hemi_vd E0 = VD_LOAD(e0 + j), E1 = VD_LOAD(e1 + j), E2 = VD_LOAD(e2 + j);
+        const hemi_vd AX = VD_ANDNOT(sign, E0), AY = VD_ANDNOT(sign, E1), AZ = VD_ANDNOT(sign, E2);
+        const hemi_vd isx = VD_AND(VD_GE(AX, AY), VD_GE(AX, AZ));
+        const hemi_vd isy = VD_ANDNOT(isx, VD_GE(AY, AZ)), isz = VD_ANDNOT(isx, VD_LT(AY, AZ));
+        const hemi_vd M = VD_MAX(VD_MAX(AX, AY), AZ);
+        hemi_vd sc = VD_SEL(VD_GE(M, t23), s8, one); /* 2^-norm_shift(m) */
+        sc = VD_SEL(VD_GE(M, t31), s16, sc);
+        sc = VD_SEL(VD_GE(M, t39), s24, sc);
+        sc = VD_SEL(VD_GE(M, t47), s32, sc);
+        const hemi_vd MM = VD_TRUNC(VD_MUL(M, sc));
+        const hemi_vd ng = VD_AND(VD_OR(VD_AND(isx, E0), VD_AND(isz, E2)), sign); /* sign bit: -x, -z */
+        const hemi_vd U = VD_SEL(isy, E0, AY), V = VD_XOR(VD_SEL(isz, E0, E2), ng);
+        const hemi_vd NU = VD_ADD(MM, VD_TRUNC(VD_MUL(U, sc))), NV = VD_ADD(MM, VD_TRUNC(VD_MUL(V, sc)));
+        const hemi_vd D = VD_ADD(MM, MM);
+        const hemi_vd C1 = VD_MIN(VD_TRUNC(VD_DIV(VD_MUL(NU, vF), D)), vF1);
+        const hemi_vd C2 = VD_MIN(VD_TRUNC(VD_DIV(VD_MUL(NV, vF), D)), vF1);
+        const hemi_vd base = VD_SEL(isx, bX, VD_SEL(isy, bY, bZ));
+        VD_STORE_I32(idx + j, VD_ADD(VD_ADD(base, VD_MUL(C1, vF)), C2));
+        const int mn = VD_MASK(ng), mr = VD_MASK(VD_LT(VD_XOR(E1, ng), zero));
+        for (uint32_t l = 0; l < HEMI_VL; ++l)
+            neg[j + l] = (uint32_t)(mn >> l) & 1u, rev[j + l] = (uint32_t)(mr >> l) & 1u;
+    }
+}
+
+/* The triangles in batches: culling, edge normals and orientation in exact integers, then every
+ * normal's LUT entry in lanes, then the masks. Same mask and counts as the scalar loop. */
+static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], const uint32_t (*tri)[3], uint32_t ntri,
+                           uint32_t *mask, uint32_t *nr, uint32_t *nb, uint32_t *nt)
+{
+    double E[3][3][HEMI_BATCH + HEMI_VL]; /* [edge][component][triangle] */
+    uint32_t li[3][HEMI_BATCH + HEMI_VL], ln[3][HEMI_BATCH + HEMI_VL], lr[3][HEMI_BATCH + HEMI_VL];
+    const uint32_t n = (uint32_t)h->n, wpr = h->wpr;
+    uint32_t t = 0;
+    while (t < ntri) {
+        uint32_t k = 0;
+        for (; t < ntri && k < HEMI_BATCH; ++t) {
+            const int32_t *a = v[tri[t][0]], *b = v[tri[t][1]], *c = v[tri[t][2]];
+            if (a[2] <= 0 && b[2] <= 0 && c[2] <= 0) {
+                ++*nb;
+                continue;
+            }
+            int64_t e[3][3];
+            cross(a, b, e[0]);
+            cross(b, c, e[1]);
+            cross(c, a, e[2]);
+            const int s = dot_sign(e[0], c);
+            if (s == 0) {
+                ++*nt;
+                continue;
+            }
+            for (int i = 0; i < 3; ++i)
+                for (int q = 0; q < 3; ++q)
+                    E[i][q][k] = (double)(s < 0 ? -e[i][q] : e[i][q]); /* |e| < 2^53: exact */
+            ++k;
+        }
+        uint32_t kp = k;
+        for (; kp % HEMI_VL != 0u; ++kp) /* pad with a harmless normal */
+            for (int i = 0; i < 3; ++i)
+                E[i][0][kp] = 1.0, E[i][1][kp] = 0.0, E[i][2][kp] = 0.0;
+        for (int i = 0; i < 3; ++i)
+            lookup_lanes(h, E[i][0], E[i][1], E[i][2], kp, li[i], ln[i], lr[i]);
+        for (uint32_t j = 0; j < k; ++j) {
+            edge ed[3];
+            for (int i = 0; i < 3; ++i)
+                ed[i].m = h->lut + (size_t)li[i][j] * h->words, ed[i].x = 0u - ln[i][j], ed[i].rev = (int)lr[i][j];
+            and3(mask, &ed[0], &ed[1], &ed[2], n, wpr);
+        }
+        *nr += k;
+    }
+}
+#endif
+
 qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t nv, const uint32_t (*tri)[3],
                                uint32_t ntri, uint32_t *mask, qibl_hemi_stats_t *stats)
 {
@@ -509,6 +667,9 @@ qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint
             if (!local_ok(v[k]))
                 return QIBL_E_HEMI_RANGE;
     uint32_t nr = 0, nb = 0, nt = 0;
+#if HEMI_LANES
+    raster_batches(h, v, tri, ntri, mask, &nr, &nb, &nt);
+#else
     const uint32_t n = (uint32_t)h->n, wpr = h->wpr;
     for (uint32_t t = 0; t < ntri; ++t) {
         const int32_t *a = v[tri[t][0]], *b = v[tri[t][1]], *c = v[tri[t][2]];
@@ -533,6 +694,7 @@ qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint
         and3(mask, &ea, &eb, &ec, n, wpr);
         ++nr;
     }
+#endif
     if (stats != 0) {
         stats->rasterized += nr;
         stats->below += nb;

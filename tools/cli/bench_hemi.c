@@ -29,6 +29,11 @@
 #include "ref/hemi_ref.h"
 #include "ref/sh_ref.h"
 #include "render/rt.h"
+#include "twin/hemi_scalar.h"
+
+#ifndef QIBL_BENCH_CORE_FLAGS
+#define QIBL_BENCH_CORE_FLAGS "?"
+#endif
 
 #define PI 3.14159265358979323846
 
@@ -588,6 +593,88 @@ static void integration_study(const qibl_hemi_t *h, const scene *s, qibl_q16_t (
     free(masks), free(vloc), free(vw), free(vd), free(d);
 }
 
+/* The rasterizer's look-up paths on one cloth frame (W = 6): the library's (x86: double lanes)
+ * against the scalar twin, the raster calls alone over every vertex, interleaved repetitions in one
+ * process; prints min and median ns per vertex and per rasterized triangle. */
+typedef qibl_status_t (*raster_fn)(const qibl_hemi_t *, const int32_t (*)[3], uint32_t, const uint32_t (*)[3], uint32_t,
+                                   uint32_t *, qibl_hemi_stats_t *);
+
+static double raster_pass(const qibl_hemi_t *h, const scene *s, const int32_t (*loc)[3], const size_t *loc_off,
+                          raster_fn fn, uint32_t *hash)
+{
+    uint32_t mask[QIBL_HEMI_MAX_WORDS], x = 0;
+    const double t0 = cpu_now();
+    for (int v = 0; v < s->nv; ++v) {
+        qibl_hemi_clear(h, mask);
+        fn(h, loc + loc_off[v], (uint32_t)(loc_off[v + 1] - loc_off[v]), (const uint32_t(*)[3])(s->ringf + s->ring_off[v]),
+           (uint32_t)s->nring[v], mask, NULL);
+        for (uint32_t k = 0; k < h->words; ++k)
+            x = x * 31u + mask[k];
+    }
+    const double t = cpu_now() - t0;
+    *hash = x;
+    return t;
+}
+
+static void raster_paths(const qibl_hemi_t *h, const scene *s, const qibl_q16_t (*pos)[3], const int32_t (*nrm)[3],
+                         int reps)
+{
+    size_t *off = malloc(sizeof(size_t) * ((size_t)s->nv + 1));
+    if (!off)
+        return;
+    off[0] = 0;
+    for (int v = 0; v < s->nv; ++v)
+        off[v + 1] = off[v] + (size_t)(s->ncv + s->nrv[v]);
+    int32_t (*loc)[3] = malloc(sizeof *loc * off[s->nv]);
+    qibl_q16_t (*gp)[3] = malloc(sizeof *gp * (size_t)LOCAL_MAX);
+    double *ta = malloc(sizeof(double) * (size_t)reps), *tb = malloc(sizeof(double) * (size_t)reps);
+    if (!loc || !gp || !ta || !tb) {
+        free(off), free(loc), free(gp), free(ta), free(tb);
+        return;
+    }
+    qibl_hemi_stats_t st = {0, 0, 0};
+    uint32_t mask[QIBL_HEMI_MAX_WORDS];
+    for (int v = 0; v < s->nv; ++v) {
+        qibl_hemi_frame_t fr;
+        qibl_hemi_frame_init(&fr, pos[v], nrm[v]);
+        for (int c = 0; c < s->ncv; ++c)
+            for (int k = 0; k < 3; ++k)
+                gp[c][k] = pos[s->cvert[c]][k];
+        for (int r = 0; r < s->nrv[v]; ++r)
+            for (int k = 0; k < 3; ++k)
+                gp[s->ncv + r][k] = pos[s->rvf[s->rv_off[v] + (size_t)r]][k];
+        qibl_hemi_transform(&fr, (const qibl_q16_t(*)[3])gp, (uint32_t)(off[v + 1] - off[v]), loc + off[v]);
+        qibl_hemi_clear(h, mask);
+        qibl_hemi_raster(h, (const int32_t(*)[3])(loc + off[v]), (uint32_t)(off[v + 1] - off[v]),
+                         (const uint32_t(*)[3])(s->ringf + s->ring_off[v]), (uint32_t)s->nring[v], mask, &st);
+    }
+    uint32_t ha = 0, hb = 0;
+    for (int r = 0; r < reps; ++r) {
+        ta[r] = raster_pass(h, s, (const int32_t(*)[3])loc, off, qibl_hemi_raster, &ha);
+        tb[r] = raster_pass(h, s, (const int32_t(*)[3])loc, off, qtool_hemi_raster_scalar, &hb);
+    }
+    double mina = ta[0], minb = tb[0];
+    for (int r = 1; r < reps; ++r)
+        mina = ta[r] < mina ? ta[r] : mina, minb = tb[r] < minb ? tb[r] : minb;
+    const double meda = qcli_median(ta, reps), medb = qcli_median(tb, reps), nvd = (double)s->nv;
+    const double nr = (double)st.rasterized;
+#if defined(__x86_64__) || defined(__i386__)
+    /* the tools are built without -mavx2; the core's flags say which lanes the library has */
+    const char *lib = strstr(QIBL_BENCH_CORE_FLAGS, "avx2") ? "AVX2 double lanes (4)" : "SSE2 double lanes (2)";
+#else
+    const char *lib = "library (scalar look-ups here)";
+#endif
+    printf("\nraster look-up paths (cloth frame 0, W = 6, %.1f rasterized per vertex; min / median of %d interleaved reps;\n"
+           "  built by %s, core %s):\n", nr / nvd, reps, QTOOL_BENCH_COMPILER, QIBL_BENCH_CORE_FLAGS);
+    printf("  %-34s %9.0f / %-9.0f ns per vertex  %6.1f ns per rasterized triangle\n", lib, mina / nvd * 1e9,
+           meda / nvd * 1e9, mina / nr * 1e9);
+    printf("  %-34s %9.0f / %-9.0f ns per vertex  %6.1f ns per rasterized triangle\n", "scalar twin (integer look-ups)",
+           minb / nvd * 1e9, medb / nvd * 1e9, minb / nr * 1e9);
+    printf("  masks %s\n", ha == hb ? "identical" : "DIFFER");
+    printf("RESULT hemi.raster_lanes_speedup %.2f\n", minb / mina);
+    free(off), free(loc), free(gp), free(ta), free(tb);
+}
+
 int qcli_bench_hemi(int quick)
 {
     const int nframes = quick ? 2 : 6, reps = quick ? 3 : 5;
@@ -746,6 +833,7 @@ int qcli_bench_hemi(int quick)
                 double t2 = cpu_now();
                 tw[r] = (t1 - t0) / (double)nv * 1e9, tl[r] = (t2 - t1) / (double)nv * 1e9;
             }
+            raster_paths(&h, &s, (const qibl_q16_t(*)[3])pos, (const int32_t(*)[3])nrm, quick ? 9 : 31);
             if (fr)
                 printf("\nrotation per vertex: transfer out of the frame %.0f ns, lighting into it (3 channels) %.0f ns%s\n",
                        qcli_median(tw, reps), qcli_median(tl, reps), acc == 12345 ? " " : "");

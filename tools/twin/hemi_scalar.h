@@ -1,0 +1,16 @@
+/*
+ * twin/hemi_scalar.h - the hemispherical rasterizer's scalar twin (core/src/hemi.c with
+ * QIBL_CONFIG_SIMD=0, names renamed, the core's flags), linked beside the library so that a suite
+ * or a benchmark runs the x86 look-up lanes and the integer look-ups in one process. A qibl_hemi_t
+ * made by either init serves both (the workspace bytes are the same).
+ */
+#ifndef QTOOL_HEMI_SCALAR_H
+#define QTOOL_HEMI_SCALAR_H
+
+#include "qibl/hemi.h"
+
+qibl_status_t qtool_hemi_raster_scalar(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t nv,
+                                       const uint32_t (*tri)[3], uint32_t ntri, uint32_t *mask,
+                                       qibl_hemi_stats_t *stats);
+
+#endif /* QTOOL_HEMI_SCALAR_H */
