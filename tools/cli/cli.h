@@ -58,11 +58,13 @@ typedef struct qcli_transfer_stats {
     double share[4];          /* of the hemi time: transform, rasterization, integration, other */
     double ref_ms_per_frame;  /* the ray cast's CPU time (0 without one) */
     double blockers, rasterized; /* per vertex: triangles tested, rasterized (above the horizon) */
+    double pvs_blockers, pvs_ms_per_frame, pvs_diff; /* with pvs: per vertex, hemi time, masks that differed */
 } qcli_transfer_stats;
 /* `qibl transfer` without pictures or report (rays = S, S x S per vertex; coarse > 0: the two-level
- * hierarchy, coarse triangles + `ring` rings of the full mesh); 0, or 1 after printing the error. */
+ * hierarchy, coarse triangles + `ring` rings of the full mesh; pvs: also timed from each vertex's PVS over the
+ * frames, masks compared); 0, or 1 after printing the error. */
 int qcli_transfer_measure(char **files, int nframes, int zup, const char *probe, int mask, int face, int rays,
-                          int coarse, int ring, qcli_transfer_stats *st);
+                          int coarse, int ring, int pvs, qcli_transfer_stats *st);
 int qcli_cmd_lights(int argc, char **argv);
 int qcli_cmd_probe(int argc, char **argv); /* cmd_probe_info.c: `qibl probe info` */
 int qcli_cmd_study(int argc, char **argv); /* cmd_study.c */

@@ -40,7 +40,7 @@
 
 #define TRANSFER_USAGE                                                                                        \
     "usage: qibl transfer MESH [MESH...] --probe PROBE.hdr [--layout L] [--png OUT] [--size N] [--mask 16|32|64]\n" \
-    "                     [--face F] [--rays S] [--coarse T [--ring K]] [--tween N] [--zup] [--flip] [--skip-adjacent] [--view AZ,EL] [--threads N]"
+    "                     [--face F] [--rays S] [--coarse T [--ring K]] [--pvs] [--tween N] [--zup] [--flip] [--skip-adjacent] [--view AZ,EL] [--threads N]"
 
 typedef struct mesh {
     uint32_t nv, nt, nframes;
@@ -397,6 +397,169 @@ fail:
     return -1;
 }
 
+/* One frame's integer inputs: positions Q16.16, unit normals Q2.30 (zero where a vertex has none);
+ * returns how many vertices have no normal. N: 3 nv doubles of scratch. */
+static int frame_ints(const mesh *m, uint32_t f, double flip, double *N, qibl_q16_t (*pos)[3], int32_t (*nrm)[3])
+{
+    const double *P = m->pos + 3 * (size_t)m->nv * f;
+    normals(m, P, flip, N);
+    int zero = 0;
+    for (size_t v = 0; v < m->nv; ++v) {
+        const double l = sqrt(N[3 * v] * N[3 * v] + N[3 * v + 1] * N[3 * v + 1] + N[3 * v + 2] * N[3 * v + 2]);
+        for (int k = 0; k < 3; ++k) {
+            pos[v][k] = (qibl_q16_t)lrint(P[3 * v + k] * 65536.0);
+            nrm[v][k] = l > 0 ? (int32_t)lrint(N[3 * v + k] / l * 1073741824.0 * 0.999) : 0;
+        }
+        zero += l == 0;
+    }
+    return zero;
+}
+
+/* ---- PVS ------------------------------------------------------------------------------------ */
+
+/* Per vertex, the blockers that are ever above its horizon in the sequence's frames (the paper's
+ * static PVS, for an animation known in advance): a blocker whose vertices are all at or below the
+ * horizon in every frame (z <= 0 after the same qibl_hemi_transform the rasterizer's caller makes,
+ * so exactly what qibl_hemi_raster culls), or that has a vertex on the receiver (its plane passes
+ * through it: skipped), never reaches the mask. So the PVS gives the very same masks on those frames
+ * (`qibl transfer --pvs` checks every one) with fewer blockers and fewer vertices to transform.
+ * Source lists: the hierarchy's, or every triangle plus the crease wedges. */
+typedef struct pvs_ctx {
+    const mesh *m;
+    const hier *src;                 /* NULL: every triangle (+ crease wedges) */
+    const qibl_q16_t (*pos)[3];      /* nframes * nv */
+    const int32_t (*nrm)[3];
+    const uint32_t *adj_off, *adj;
+    int crease;
+    uint32_t **vl, (**blk)[3];       /* per vertex, allocated by the job */
+    uint32_t *nvl, *nblk;            /* nvl[v] = UINT32_MAX: out of memory */
+} pvs_ctx;
+
+static void pvs_job(void *ctx, uint32_t v)
+{
+    pvs_ctx *c = ctx;
+    const mesh *m = c->m;
+    const int all = c->src == NULL;
+    const uint32_t nwedge = c->crease && all ? c->adj_off[v + 1] - c->adj_off[v] : 0;
+    const size_t n = all ? m->nv : c->src->voff[v + 1] - c->src->voff[v];
+    const size_t nb = all ? (size_t)m->nt + nwedge : c->src->boff[v + 1] - c->src->boff[v];
+    const uint32_t nadir = (uint32_t)n;
+    uint32_t (*cand)[3] = malloc(sizeof *cand * (nb ? nb : 1));
+    uint8_t *alive = calloc(nb ? nb : 1, 1);
+    int32_t (*loc)[3] = malloc(sizeof *loc * (n + 1));
+    qibl_q16_t (*gp)[3] = malloc(sizeof *gp * (n + 1));
+    uint32_t *newid = malloc(sizeof *newid * (n + 1));
+    c->vl[v] = NULL, c->blk[v] = NULL, c->nvl[v] = c->nblk[v] = 0;
+    if (!cand || !alive || !loc || !gp || !newid) {
+        c->nvl[v] = UINT32_MAX;
+        goto out;
+    }
+    if (all) {
+        memcpy(cand, m->tri, sizeof *cand * m->nt);
+        for (uint32_t k = 0; k < nwedge; ++k) {
+            const uint32_t *t = m->tri[c->adj[c->adj_off[v] + k]];
+            const int r = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+            cand[m->nt + k][0] = nadir, cand[m->nt + k][1] = t[(r + 1) % 3], cand[m->nt + k][2] = t[(r + 2) % 3];
+        }
+    } else {
+        memcpy(cand, c->src->blk + c->src->boff[v], sizeof *cand * nb);
+    }
+    for (uint32_t f = 0; f < m->nframes; ++f) {
+        const qibl_q16_t (*P)[3] = c->pos + (size_t)m->nv * f;
+        qibl_hemi_frame_t fr;
+        if (qibl_hemi_frame_init(&fr, P[v], c->nrm[(size_t)m->nv * f + v]) != QIBL_OK) {
+            memset(alive, 1, nb); /* no normal in this frame: keep everything */
+            break;
+        }
+        for (size_t k = 0; k < n; ++k)
+            memcpy(gp[k], P[all ? (uint32_t)k : c->src->vl[c->src->voff[v] + k]], sizeof gp[k]);
+        if (qibl_hemi_transform(&fr, (const qibl_q16_t(*)[3])gp, (uint32_t)n, loc) != QIBL_OK) {
+            memset(alive, 1, nb);
+            break;
+        }
+        loc[n][0] = 0, loc[n][1] = 0, loc[n][2] = -(1 << 20);
+        for (size_t b = 0; b < nb; ++b) {
+            if (alive[b])
+                continue;
+            int up = 0, on = 0;
+            for (int k = 0; k < 3; ++k) {
+                const int32_t *q = loc[cand[b][k]];
+                up |= q[2] > 0;
+                on |= q[0] == 0 && q[1] == 0 && q[2] == 0;
+            }
+            alive[b] = (uint8_t)(up && !on);
+        }
+    }
+    /* compact: the vertices the kept blockers use, renumbered; the nadir after them */
+    for (size_t k = 0; k <= n; ++k)
+        newid[k] = UINT32_MAX;
+    size_t kept = 0, nloc = 0;
+    for (size_t b = 0; b < nb; ++b)
+        if (alive[b]) {
+            ++kept;
+            for (int k = 0; k < 3; ++k)
+                if (cand[b][k] != nadir && newid[cand[b][k]] == UINT32_MAX)
+                    newid[cand[b][k]] = (uint32_t)nloc++;
+        }
+    c->vl[v] = malloc(sizeof(uint32_t) * (nloc ? nloc : 1));
+    c->blk[v] = malloc(sizeof *c->blk[v] * (kept ? kept : 1));
+    if (!c->vl[v] || !c->blk[v]) {
+        c->nvl[v] = UINT32_MAX;
+        goto out;
+    }
+    for (size_t k = 0; k < n; ++k)
+        if (newid[k] != UINT32_MAX)
+            c->vl[v][newid[k]] = all ? (uint32_t)k : c->src->vl[c->src->voff[v] + k];
+    size_t o = 0;
+    for (size_t b = 0; b < nb; ++b)
+        if (alive[b]) {
+            for (int k = 0; k < 3; ++k)
+                c->blk[v][o][k] = cand[b][k] == nadir ? (uint32_t)nloc : newid[cand[b][k]];
+            ++o;
+        }
+    c->nvl[v] = (uint32_t)nloc, c->nblk[v] = (uint32_t)kept;
+out:
+    free(cand), free(alive), free(loc), free(gp), free(newid);
+}
+
+/* Builds *out (hierarchy-style lists) from every frame's integer positions and normals. */
+static int pvs_build(const mesh *m, const hier *src, const qibl_q16_t (*pos)[3], const int32_t (*nrm)[3],
+                     const uint32_t *adj_off, const uint32_t *adj, int crease, int threads, hier *out)
+{
+    memset(out, 0, sizeof *out);
+    pvs_ctx c = {m, src, pos, nrm, adj_off, adj, crease, calloc(m->nv, sizeof(uint32_t *)),
+                 calloc(m->nv, sizeof(uint32_t(*)[3])), calloc(m->nv, sizeof(uint32_t)), calloc(m->nv, sizeof(uint32_t))};
+    int rc = -1;
+    if (!c.vl || !c.blk || !c.nvl || !c.nblk)
+        goto done;
+    qtool_rt_parallel(threads, m->nv, pvs_job, &c, NULL);
+    for (uint32_t v = 0; v < m->nv; ++v)
+        if (c.nvl[v] == UINT32_MAX)
+            goto done;
+    out->voff = malloc(sizeof *out->voff * ((size_t)m->nv + 1)), out->boff = malloc(sizeof *out->boff * ((size_t)m->nv + 1));
+    if (!out->voff || !out->boff)
+        goto done;
+    out->voff[0] = out->boff[0] = 0;
+    for (uint32_t v = 0; v < m->nv; ++v)
+        out->voff[v + 1] = out->voff[v] + c.nvl[v], out->boff[v + 1] = out->boff[v] + c.nblk[v];
+    out->vl = malloc(sizeof *out->vl * (out->voff[m->nv] ? out->voff[m->nv] : 1));
+    out->blk = malloc(sizeof *out->blk * (out->boff[m->nv] ? out->boff[m->nv] : 1));
+    if (!out->vl || !out->blk)
+        goto done;
+    for (uint32_t v = 0; v < m->nv; ++v) {
+        memcpy(out->vl + out->voff[v], c.vl[v], sizeof(uint32_t) * c.nvl[v]);
+        memcpy(out->blk + out->boff[v], c.blk[v], sizeof *out->blk * c.nblk[v]);
+    }
+    rc = 0;
+done:
+    for (uint32_t v = 0; c.vl && c.blk && v < m->nv; ++v)
+        free(c.vl[v]), free(c.blk[v]);
+    free(c.vl), free(c.blk), free(c.nvl), free(c.nblk);
+    if (rc != 0)
+        hier_free(out);
+    return rc;
+}
+
 /* ---- per-vertex work, threaded --------------------------------------------------------------- */
 
 typedef struct job {
@@ -416,21 +579,44 @@ typedef struct job {
     const uint32_t *adj_off, *adj; /* triangles around each vertex (CSR) */
     int crease;             /* the solid behind the faces around each vertex blocks */
     const hier *hi;         /* with a hierarchy: each vertex's vertices and blockers (NULL: every triangle) */
+    const hier *pvs;        /* with --pvs: the same vertex again from its PVS, timed, masks compared */
 } job;
 
 /* the per-vertex figures of job.ph */
-enum { PH_TRANSFORM, PH_RASTER, PH_INTEGRATE, PH_OTHER, PH_REF, PH_BLOCKERS, PH_RASTERIZED, PH_N };
+enum { PH_TRANSFORM, PH_RASTER, PH_INTEGRATE, PH_OTHER, PH_REF, PH_BLOCKERS, PH_RASTERIZED, PH_PVS_CPU, PH_PVS_BLOCKERS,
+       PH_PVS_DIFF, PH_N };
+
+/* The hemi work of one vertex from hierarchy-style lists (its vertices, its blockers in local
+ * indices, local index n the nadir of the crease wedges): the mask and the phase times. */
+static qibl_status_t mask_from_lists(const job *j, const hier *L, const qibl_hemi_frame_t *fr, uint32_t v,
+                                     int32_t (*loc)[3], qibl_q16_t (*gp)[3], uint32_t *mask, qibl_hemi_stats_t *hs,
+                                     double *t_transform)
+{
+    const double t0 = thread_cpu();
+    const size_t n = L->voff[v + 1] - L->voff[v];
+    for (size_t k = 0; k < n; ++k)
+        memcpy(gp[k], j->pos[L->vl[L->voff[v] + k]], sizeof gp[k]);
+    qibl_status_t st = qibl_hemi_transform(fr, (const qibl_q16_t(*)[3])gp, (uint32_t)n, loc);
+    *t_transform = thread_cpu() - t0;
+    loc[n][0] = 0, loc[n][1] = 0, loc[n][2] = -(1 << 20); /* the nadir of the crease wedges */
+    if (st == QIBL_OK)
+        st = qibl_hemi_clear(j->h, mask);
+    if (st == QIBL_OK)
+        st = qibl_hemi_raster(j->h, (const int32_t(*)[3])loc, (uint32_t)n + 1, L->blk + L->boff[v],
+                              (uint32_t)(L->boff[v + 1] - L->boff[v]), mask, hs);
+    return st;
+}
 
 static void vertex_job(void *ctx, uint32_t v)
 {
     job *j = ctx;
     const mesh *m = j->m;
     int32_t(*loc)[3] = malloc(sizeof *loc * (m->nv + 1)); /* + the nadir */
-    qibl_q16_t(*gp)[3] = j->hi ? malloc(sizeof *gp * m->nv) : NULL;
+    qibl_q16_t(*gp)[3] = j->hi || j->pvs ? malloc(sizeof *gp * m->nv) : NULL;
     uint32_t mask[QIBL_HEMI_MAX_WORDS];
     qibl_q30_t vl[25];
     qibl_hemi_frame_t fr;
-    if (!loc || (j->hi && !gp) || qibl_hemi_frame_init(&fr, j->pos[v], j->nrm[v]) != QIBL_OK) {
+    if (!loc || ((j->hi || j->pvs) && !gp) || qibl_hemi_frame_init(&fr, j->pos[v], j->nrm[v]) != QIBL_OK) {
         memset(j->vw[v], 0, sizeof j->vw[v]);
         for (int c = 0; c < 3; ++c)
             j->eq[3 * v + c] = j->er[3 * v + c] = 0;
@@ -445,18 +631,10 @@ static void vertex_job(void *ctx, uint32_t v)
     const double t0 = thread_cpu();
     double t1 = t0;
     if (j->hi) { /* the hierarchy: only this vertex's vertices, blockers in their local indices */
-        const size_t n = j->hi->voff[v + 1] - j->hi->voff[v];
-        for (size_t k = 0; k < n; ++k)
-            memcpy(gp[k], j->pos[j->hi->vl[j->hi->voff[v] + k]], sizeof gp[k]);
-        st = qibl_hemi_transform(&fr, (const qibl_q16_t(*)[3])gp, (uint32_t)n, loc);
-        t1 = thread_cpu();
-        loc[n][0] = 0, loc[n][1] = 0, loc[n][2] = -(1 << 20); /* the nadir of the crease wedges */
+        double tt = 0;
+        st = mask_from_lists(j, j->hi, &fr, v, loc, gp, mask, &hs, &tt);
+        t1 = t0 + tt;
         nblk = (uint32_t)(j->hi->boff[v + 1] - j->hi->boff[v]);
-        if (st == QIBL_OK)
-            st = qibl_hemi_clear(j->h, mask);
-        if (st == QIBL_OK)
-            st = qibl_hemi_raster(j->h, (const int32_t(*)[3])loc, (uint32_t)n + 1, j->hi->blk + j->hi->boff[v],
-                                  (uint32_t)(j->hi->boff[v + 1] - j->hi->boff[v]), mask, &hs);
     } else {
         st = qibl_hemi_transform(&fr, j->pos, m->nv, loc);
         t1 = thread_cpu();
@@ -501,6 +679,25 @@ static void vertex_job(void *ctx, uint32_t v)
     double *ph = j->ph + PH_N * v;
     ph[PH_TRANSFORM] = t1 - t0, ph[PH_RASTER] = t2 - t1, ph[PH_INTEGRATE] = t3 - t2, ph[PH_OTHER] = j->cpu[v] - (t3 - t0);
     ph[PH_BLOCKERS] = nblk, ph[PH_RASTERIZED] = hs.rasterized, ph[PH_REF] = 0;
+    ph[PH_PVS_CPU] = ph[PH_PVS_BLOCKERS] = ph[PH_PVS_DIFF] = 0;
+    if (j->pvs && st == QIBL_OK) { /* the same vertex from its PVS: same work after the mask */
+        uint32_t pm[QIBL_HEMI_MAX_WORDS];
+        qibl_q30_t pl[25], pw[25];
+        qibl_q16_t pe[3];
+        qibl_hemi_stats_t ps = {0, 0, 0};
+        double tt = 0;
+        const double p0 = thread_cpu();
+        qibl_status_t s2 = mask_from_lists(j, j->pvs, &fr, v, loc, gp, pm, &ps, &tt);
+        if (s2 == QIBL_OK)
+            s2 = qibl_hemi_transfer(j->h, pm, pl);
+        if (s2 == QIBL_OK)
+            s2 = qibl_hemi_to_world(j->h, &fr, pl, pw);
+        if (s2 == QIBL_OK)
+            s2 = qibl_hemi_shade(j->light, pw, pe);
+        ph[PH_PVS_CPU] = thread_cpu() - p0;
+        ph[PH_PVS_BLOCKERS] = (double)(j->pvs->boff[v + 1] - j->pvs->boff[v]);
+        ph[PH_PVS_DIFF] = s2 != QIBL_OK || memcmp(pm, mask, sizeof(uint32_t) * j->h->words) != 0;
+    }
     free(loc), free(gp);
     if (st != QIBL_OK) /* cannot happen for validated inputs; shown black rather than dropped */
         memset(j->vw[v], 0, sizeof j->vw[v]), e[0] = e[1] = e[2] = 0;
@@ -690,7 +887,7 @@ static int probe_light(const char *path, const char *layout, int32_t light[3][25
 
 typedef struct topts {
     char **files;
-    int nfiles, zup, force_flip, skip_adjacent;
+    int nfiles, zup, force_flip, skip_adjacent, pvs;
     const char *probe, *png, *layout;
     long size, mask_n, face, side, threads, coarse, ring, tween;
     double az, el;
@@ -701,6 +898,7 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
 {
     char **files = o->files;
     const int nfiles = o->nfiles, zup = o->zup, force_flip = o->force_flip, skip_adjacent = o->skip_adjacent;
+    const int use_pvs = o->pvs;
     const char *probe = o->probe, *png = o->png, *layout = o->layout;
     const long size = o->size, mask_n = o->mask_n, face = o->face, side = o->side, coarse = o->coarse,
                ring = o->ring, tween = o->tween;
@@ -734,7 +932,7 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
     qibl_q30_t(*vw)[25] = malloc(sizeof *vw * nv);
     double *eq = malloc(sizeof(double) * 3 * nv), *er = malloc(sizeof(double) * 3 * nv), *N = malloc(sizeof(double) * 3 * nv);
     double *l2 = malloc(sizeof(double) * nv), *noise = malloc(sizeof(double) * nv), *cpu = malloc(sizeof(double) * nv);
-    double *ph = malloc(sizeof(double) * PH_N * nv), phs[PH_N] = {0, 0, 0, 0, 0, 0, 0};
+    double *ph = malloc(sizeof(double) * PH_N * nv), phs[PH_N] = {0};
     double *col = malloc(sizeof(double) * 3 * nv), *tmp = malloc(sizeof(double) * nv);
     const int panels = side > 0 ? 3 : 1, S = (int)size;
     const int sw = panels * S, sh = LABEL_H + S + (panels == 3 ? LEGEND_H : 0);
@@ -743,8 +941,11 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
     uint32_t *depth = malloc(sizeof(uint32_t) * (size_t)S * (size_t)S);
     qibl_raster_vertex_t *rv = malloc(sizeof *rv * nv);
     uint32_t *adj_off = NULL, *adj = NULL, (*ctri)[3] = NULL, nct = 0;
-    hier hi;
+    hier hi, pv;
     memset(&hi, 0, sizeof hi);
+    memset(&pv, 0, sizeof pv);
+    qibl_q16_t(*apos)[3] = NULL; /* --pvs: every frame's integer inputs */
+    int32_t(*anrm)[3] = NULL;
     int rc = 1;
     if (!ws || !pos || !nrm || !vw || !eq || !er || !N || !l2 || !noise || !cpu || !ph || !col || !tmp || !sheet || !fbpx ||
         !depth || !rv) {
@@ -764,6 +965,20 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
         if (qtool_simplify(m.pos, m.nv, (const uint32_t(*)[3])m.tri, m.nt, (uint32_t)coarse, &ctri, &nct) != 0 ||
             hier_build(&m, adj_off, adj, (const uint32_t(*)[3])ctri, nct, (int)ring, !skip_adjacent, &hi) != 0) {
             fprintf(stderr, "qibl: transfer: out of memory (hierarchy)\n");
+            goto done;
+        }
+    }
+    if (use_pvs) {
+        apos = malloc(sizeof *apos * nv * m.nframes), anrm = malloc(sizeof *anrm * nv * m.nframes);
+        if (!apos || !anrm) {
+            fprintf(stderr, "qibl: transfer: out of memory (PVS)\n");
+            goto done;
+        }
+        for (uint32_t f = 0; f < m.nframes; ++f)
+            (void)frame_ints(&m, f, flip, N, apos + nv * f, anrm + nv * f);
+        if (pvs_build(&m, coarse > 0 ? &hi : NULL, (const qibl_q16_t(*)[3])apos, (const int32_t(*)[3])anrm, adj_off, adj,
+                      !skip_adjacent, (int)threads, &pv) != 0) {
+            fprintf(stderr, "qibl: transfer: out of memory (PVS)\n");
             goto done;
         }
     }
@@ -790,16 +1005,7 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
     double sum_l2 = 0, sum_noise = 0, sum_cpu = 0, sum_err = 0, sum_e = 0;
     for (uint32_t f = 0; f < m.nframes; ++f) {
         const double *P = m.pos + 3 * nv * f;
-        normals(&m, P, flip, N);
-        int zero = 0;
-        for (size_t v = 0; v < nv; ++v) {
-            const double l = sqrt(N[3 * v] * N[3 * v] + N[3 * v + 1] * N[3 * v + 1] + N[3 * v + 2] * N[3 * v + 2]);
-            for (int k = 0; k < 3; ++k) {
-                pos[v][k] = (qibl_q16_t)lrint(P[3 * v + k] * 65536.0);
-                nrm[v][k] = l > 0 ? (int32_t)lrint(N[3 * v + k] / l * 1073741824.0 * 0.999) : 0;
-            }
-            zero += l == 0;
-        }
+        const int zero = frame_ints(&m, f, flip, N, pos, nrm);
         qtool_rt_scene rt;
         int have_rt = 0;
         if (side > 0) {
@@ -828,7 +1034,7 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
         }
         job j = {&m, &h, have_rt ? &rt : NULL, (const qibl_q16_t(*)[3])pos, (const int32_t(*)[3])nrm,
                  (const int32_t(*)[25])light, (int)side, vw, eq, er, l2, noise, cpu, ph, adj_off, adj, !skip_adjacent,
-                 coarse > 0 ? &hi : NULL};
+                 coarse > 0 ? &hi : NULL, use_pvs ? &pv : NULL};
         qtool_rt_parallel((int)threads, m.nv, vertex_job, &j, NULL);
         if (have_rt)
             qtool_rt_scene_free(&rt);
@@ -920,6 +1126,24 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
            sum_cpu / m.nframes * 1e3, sum_cpu / (double)(nv * m.nframes) * 1e6, m.nt);
     if (verbose)
         printf("RESULT transfer.ms_per_frame %.3f\n", sum_cpu / m.nframes * 1e3);
+    if (use_pvs) {
+        const double n = (double)(nv * m.nframes);
+        if (verbose)
+            printf("  PVS over the %u frame%s: %.1f blockers per vertex (of %.1f), %.2f ms per frame (of %.2f); masks "
+                   "identical on %.0f of %.0f vertex-frames\n",
+                   m.nframes, m.nframes > 1 ? "s" : "", phs[PH_PVS_BLOCKERS] / n, phs[PH_BLOCKERS] / n,
+                   phs[PH_PVS_CPU] / m.nframes * 1e3, sum_cpu / m.nframes * 1e3, n - phs[PH_PVS_DIFF], n);
+        if (verbose)
+            printf("RESULT transfer.pvs_ms_per_frame %.3f\nRESULT transfer.pvs_blockers %.1f\n",
+                   phs[PH_PVS_CPU] / m.nframes * 1e3, phs[PH_PVS_BLOCKERS] / n);
+        stats->pvs_ms_per_frame = phs[PH_PVS_CPU] / m.nframes * 1e3;
+        stats->pvs_blockers = phs[PH_PVS_BLOCKERS] / n;
+        stats->pvs_diff = phs[PH_PVS_DIFF];
+        if (phs[PH_PVS_DIFF] > 0) {
+            fprintf(stderr, "qibl: transfer: the PVS changed %.0f masks (a bug)\n", phs[PH_PVS_DIFF]);
+            goto done;
+        }
+    }
     /* in the probe's units times 2^-k (the light's scaling): comparable between meshes under one probe */
     if (verbose)
         printf("RESULT transfer.mean_irradiance %.6f\n", sum_e / (double)(nv * m.nframes));
@@ -964,14 +1188,14 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
 done:
     free(ws), free(pos), free(nrm), free(vw), free(eq), free(er), free(N), free(l2), free(noise), free(cpu), free(ph), free(col);
     free(tmp), free(sheet), free(fbpx), free(depth), free(rv), free(m.tri), free(m.pos), free(adj_off), free(adj);
-    hier_free(&hi), free(ctri);
+    hier_free(&hi), hier_free(&pv), free(ctri), free(apos), free(anrm);
     return rc;
 }
 
 int qcli_cmd_transfer(int argc, char **argv)
 {
     char *files[MAX_FRAMES];
-    int nfiles = 0, zup = 0, force_flip = 0, skip_adjacent = 0;
+    int nfiles = 0, zup = 0, force_flip = 0, skip_adjacent = 0, pvs = 0;
     const char *probe = NULL, *png = NULL, *layout = NULL;
     long size = 320, mask_n = 32, face = 64, side = 32, threads = 0, coarse = 0, ring = 3, tween = 1;
     double az = 35, el = 20;
@@ -990,6 +1214,8 @@ int qcli_cmd_transfer(int argc, char **argv)
             force_flip = 1;
         else if (strcmp(a, "--skip-adjacent") == 0)
             skip_adjacent = 1;
+        else if (strcmp(a, "--pvs") == 0)
+            pvs = 1;
         else if (strcmp(a, "--coarse") == 0) {
             if (!more || qcli_parse_int(argv[++i], 0, 1 << 20, &coarse) != 0)
                 return qcli_usage_error("--coarse needs a triangle count in 0..1048576 (0: no hierarchy)");
@@ -1028,15 +1254,15 @@ int qcli_cmd_transfer(int argc, char **argv)
     }
     if (nfiles == 0 || !probe)
         return qcli_usage_error(TRANSFER_USAGE);
-    const topts o = {files, nfiles, zup, force_flip, skip_adjacent, probe, png, layout, size, mask_n, face, side,
+    const topts o = {files, nfiles, zup, force_flip, skip_adjacent, pvs, probe, png, layout, size, mask_n, face, side,
                      threads, coarse, ring, tween, az, el};
     qcli_transfer_stats st;
     return transfer_run(&o, &st, 1);
 }
 
 int qcli_transfer_measure(char **files, int nframes, int zup, const char *probe, int mask, int face, int rays,
-                          int coarse, int ring, qcli_transfer_stats *st)
+                          int coarse, int ring, int pvs, qcli_transfer_stats *st)
 {
-    const topts o = {files, nframes, zup, 0, 0, probe, NULL, NULL, 64, mask, face, rays, 0, coarse, ring, 1, 35, 20};
+    const topts o = {files, nframes, zup, 0, 0, pvs, probe, NULL, NULL, 64, mask, face, rays, 0, coarse, ring, 1, 35, 20};
     return transfer_run(&o, st, 0);
 }
