@@ -176,6 +176,35 @@ static void test_animation_is_apng(void **state)
     free(out);
 }
 
+/* --pvs: each vertex's blockers over the frames, which must give the very same masks (the command
+ * compares every one and fails otherwise) with fewer blockers; with and without the hierarchy. */
+static void test_pvs(void **state)
+{
+    (void)state;
+    need_qibl();
+    char probe[128], f1[128], f2[128];
+    path_of(probe, sizeof probe, "sky.hdr"), path_of(f1, sizeof f1, "p1.obj"), path_of(f2, sizeof f2, "p2.obj");
+    write_probe(probe, 1);
+    write_box(f1, 1.0, 0, 0), write_box(f2, 0.5, 0.25, 0);
+    for (int hier = 0; hier < 2; ++hier) {
+        if (hier)
+            assert_int_equal(run("transfer", f1, f2, "--probe", probe, "--rays", "0", "--pvs", "--coarse", "20", "--ring",
+                                 "4", NULL), 0);
+        else
+            assert_int_equal(run("transfer", f1, f2, "--probe", probe, "--rays", "0", "--pvs", NULL), 0);
+        char *out = text(outlog);
+        /* 29 vertices, 2 frames */
+        assert_non_null(strstr(out, "masks identical on 58 of 58 vertex-frames"));
+        const char *p = strstr(out, "PVS over the 2 frames: ");
+        assert_non_null(p);
+        double pvs = 0, all = 0;
+        assert_int_equal(sscanf(p, "PVS over the 2 frames: %lf blockers per vertex (of %lf)", &pvs, &all), 2);
+        assert_true(pvs > 0 && pvs < 0.8 * all);
+        assert_true(result(out, "RESULT transfer.pvs_ms_per_frame") > 0);
+        free(out);
+    }
+}
+
 static void test_refusals_write_nothing(void **state)
 {
     (void)state;
@@ -215,6 +244,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(test_plane_matches_reference, setup, teardown),
         cmocka_unit_test_setup_teardown(test_box_floor_shadowed, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_pvs, setup, teardown),
         cmocka_unit_test_setup_teardown(test_animation_is_apng, setup, teardown),
         cmocka_unit_test_setup_teardown(test_refusals_write_nothing, setup, teardown),
     };
