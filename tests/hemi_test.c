@@ -289,6 +289,97 @@ static void test_lanes_match_twin(void **state)
     }
 }
 
+/* Group bounds: every vertex inside, the radius tight to one LSB, the named errors; and the
+ * culling test sound against the rasterizer: whenever a group is reported at or below a receiver's
+ * tangent plane, rasterizing its triangles after the transform culls every one (the mask stays
+ * empty); groups clearly above are kept. Random receivers, normals and groups at every scale,
+ * groups grazing the plane included. */
+static void test_group_bounds(void **state)
+{
+    (void)state;
+    fixture *f = make(32, 24);
+    uint64_t seed = 0xB0D5u;
+    qibl_hemi_bound_t b = {{7, 7, 7}, 7};
+    const qibl_q16_t far[1][3] = {{QIBL_HEMI_COORD_MAX + 1, 0, 0}};
+    const uint32_t bad_idx[1] = {3};
+    assert_int_equal(qibl_hemi_bound(NULL, 1, NULL, 1, &b), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_hemi_bound(far, 1, NULL, 1, NULL), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_hemi_bound(far, 1, NULL, 1, &b), QIBL_E_HEMI_RANGE);
+    assert_int_equal(qibl_hemi_bound(far, 1, bad_idx, 1, &b), QIBL_E_HEMI_INDEX);
+    assert_int_equal(b.r, 7); /* untouched */
+    assert_int_equal(qibl_hemi_bound(NULL, 0, NULL, 0, &b), QIBL_OK);
+    assert_int_equal(b.r, -1);
+    qibl_hemi_frame_t fr;
+    const qibl_q16_t o[3] = {0, 0, 0};
+    const int32_t up[3] = {0, 0, 1};
+    assert_int_equal(qibl_hemi_frame_init(&fr, o, up), QIBL_OK);
+    assert_int_equal(qibl_hemi_bound_above(&fr, &b), 0); /* empty */
+    assert_int_equal(qibl_hemi_bound_above(NULL, &b), 0);
+    int culled_groups = 0, kept_groups = 0;
+    for (int round = 0; round < 3000; ++round) {
+        enum { NV = 12, NT = 10 };
+        const int bitsz = 4 + (int)(rng(&seed) % 16u); /* group size 2^4 .. 2^19 LSB (within the coordinate range) */
+        const int32_t span = (int32_t)(1u << bitsz);
+        qibl_q16_t p[3], pos[NV][3];
+        int32_t nrm[3];
+        for (int k = 0; k < 3; ++k) {
+            p[k] = (qibl_q16_t)(rng(&seed) % (2u * 0x100000u)) - 0x100000;
+            nrm[k] = (int32_t)(rng(&seed) % 2001u) - 1000;
+        }
+        if (nrm[0] == 0 && nrm[1] == 0 && nrm[2] == 0)
+            nrm[2] = 1;
+        assert_int_equal(qibl_hemi_frame_init(&fr, p, nrm), QIBL_OK);
+        /* the group around a point at a signed height near the plane: often grazing it */
+        const double nl = sqrt((double)nrm[0] * nrm[0] + (double)nrm[1] * nrm[1] + (double)nrm[2] * nrm[2]);
+        const double hgt = ((double)(rng(&seed) % 2001u) - 1000.0) / 1000.0 * 1.5 * span;
+        qibl_q16_t c0[3];
+        for (int k = 0; k < 3; ++k)
+            c0[k] = (qibl_q16_t)(p[k] + (int32_t)((double)(rng(&seed) % 2001u) - 1000.0) * (span / 1000) +
+                                 (int32_t)lrint(hgt * nrm[k] / nl));
+        for (int i = 0; i < NV; ++i)
+            for (int k = 0; k < 3; ++k)
+                pos[i][k] = c0[k] + (qibl_q16_t)(rng(&seed) % (uint32_t)span) - span / 2;
+        assert_int_equal(qibl_hemi_bound((const qibl_q16_t(*)[3])pos, NV, NULL, NV, &b), QIBL_OK);
+        double worst = 0;
+        for (int i = 0; i < NV; ++i) {
+            double d2 = 0;
+            for (int k = 0; k < 3; ++k)
+                d2 += ((double)pos[i][k] - b.c[k]) * ((double)pos[i][k] - b.c[k]);
+            worst = sqrt(d2) > worst ? sqrt(d2) : worst;
+        }
+        assert_true(b.r >= worst && b.r <= worst + 1.0);
+        uint32_t tri[NT][3];
+        for (int t = 0; t < NT; ++t)
+            for (int k = 0; k < 3; ++k)
+                tri[t][k] = (uint32_t)(rng(&seed) % NV);
+        int32_t loc[NV][3];
+        assert_int_equal(qibl_hemi_transform(&fr, (const qibl_q16_t(*)[3])pos, NV, loc), QIBL_OK);
+        int any_up = 0;
+        for (int i = 0; i < NV; ++i)
+            any_up |= loc[i][2] > 0;
+        if (!qibl_hemi_bound_above(&fr, &b)) {
+            ++culled_groups;
+            assert_false(any_up);
+            uint32_t m[QIBL_HEMI_MAX_WORDS];
+            qibl_hemi_stats_t st = {0, 0, 0};
+            qibl_hemi_clear(&f->h, m);
+            assert_int_equal(qibl_hemi_raster(&f->h, (const int32_t(*)[3])loc, NV, (const uint32_t(*)[3])tri, NT, m, &st),
+                             QIBL_OK);
+            assert_int_equal(st.rasterized, 0u);
+            assert_int_equal(st.below, (uint32_t)NT);
+        } else {
+            ++kept_groups;
+            /* kept only when the sphere reaches above the plane: its lowest point is within r */
+            double s = 0;
+            for (int k = 0; k < 3; ++k)
+                s += fr.axis[2][k] / 1073741824.0 * ((double)b.c[k] - p[k]);
+            assert_true(s + b.r * 1.000001 > -2.0);
+        }
+    }
+    assert_true(culled_groups > 500 && kept_groups > 500);
+    drop(f);
+}
+
 static void test_winding_and_fusion(void **state)
 {
     (void)state;
@@ -897,6 +988,7 @@ int main(void)
         cmocka_unit_test(test_random_triangles_32),
         cmocka_unit_test(test_random_triangles_16_64),
         cmocka_unit_test(test_lanes_match_twin),
+        cmocka_unit_test(test_group_bounds),
         cmocka_unit_test(test_winding_and_fusion),
         cmocka_unit_test(test_degenerate),
         cmocka_unit_test(test_sliver),

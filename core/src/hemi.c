@@ -303,6 +303,74 @@ qibl_status_t qibl_hemi_transform(const qibl_hemi_frame_t *f, const qibl_q16_t (
     return QIBL_OK;
 }
 
+/* ---- group culling ------------------------------------------------------------------------------ */
+
+qibl_status_t qibl_hemi_bound(const qibl_q16_t (*pos)[3], uint32_t nv, const uint32_t *idx, uint32_t n,
+                              qibl_hemi_bound_t *out)
+{
+    if (out == 0 || (n != 0u && pos == 0))
+        return QIBL_E_NULL_POINTER;
+    int32_t lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    for (uint32_t k = 0; k < n; ++k) {
+        const uint32_t i = idx ? idx[k] : k;
+        if (i >= nv)
+            return QIBL_E_HEMI_INDEX;
+        for (int j = 0; j < 3; ++j) {
+            const int32_t x = pos[i][j];
+            if (!coord_ok(x))
+                return QIBL_E_HEMI_RANGE;
+            if (k == 0 || x < lo[j])
+                lo[j] = x;
+            if (k == 0 || x > hi[j])
+                hi[j] = x;
+        }
+    }
+    if (n == 0u) {
+        out->c[0] = out->c[1] = out->c[2] = 0, out->r = -1;
+        return QIBL_OK;
+    }
+    qibl_q16_t c[3];
+    for (int j = 0; j < 3; ++j) /* |lo + hi| < 2^23: floor of the half by an arithmetic shift helper */
+        c[j] = qibl_asr_s32(lo[j] + hi[j], 1);
+    uint64_t d2max = 0; /* |v - c| < 2^23 per axis: the squared distance < 3 2^46 */
+    for (uint32_t k = 0; k < n; ++k) {
+        const uint32_t i = idx ? idx[k] : k;
+        uint64_t d2 = 0;
+        for (int j = 0; j < 3; ++j) {
+            const int32_t d = pos[i][j] - c[j];
+            d2 += (uint64_t)qibl_mul_s32_s64(d, d);
+        }
+        d2max = d2 > d2max ? d2 : d2max;
+    }
+    uint64_t rem;
+    const uint32_t r = qibl_isqrt_u64(d2max, &rem);
+    for (int j = 0; j < 3; ++j)
+        out->c[j] = c[j];
+    out->r = (int32_t)(r + (rem != 0u ? 1u : 0u)); /* < 2^24 */
+    return QIBL_OK;
+}
+
+int qibl_hemi_bound_above(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b)
+{
+    if (f == 0 || b == 0 || b->r < 0)
+        return 0;
+    const int32_t *u = f->axis[2];
+    /* |u| rounded up: 2^30 + 256 covers the normaliser's few LSB; otherwise the exact root + 1 */
+    const uint64_t u2 = (uint64_t)qibl_mul_s32_s64(u[0], u[0]) + (uint64_t)qibl_mul_s32_s64(u[1], u[1]) +
+                        (uint64_t)qibl_mul_s32_s64(u[2], u[2]);
+    const uint32_t nb = (1u << 30) + 256u;
+    uint32_t ul = nb;
+    if (u2 > qibl_mul_u32_u64(nb, nb)) {
+        uint64_t rem;
+        ul = qibl_isqrt_u64(u2, &rem) + 1u;
+    }
+    /* s = u . (c - p): |c - p| < 2^23, |u_k| <= 2^30 + 256: |s| < 3 2^53; r ul < 2^24 2^31 */
+    int64_t s = 0;
+    for (int k = 0; k < 3; ++k)
+        s += qibl_mul_s32_s64(u[k], b->c[k] - f->p[k]);
+    return s + (int64_t)qibl_mul_u32_u64((uint32_t)b->r, ul) > 0 ? 1 : 0;
+}
+
 /* ---- rasterization --------------------------------------------------------------------------- */
 
 qibl_status_t qibl_hemi_clear(const qibl_hemi_t *h, uint32_t *mask)

@@ -132,6 +132,51 @@ static int frames_case(const qtool_goldens_sink_t *s, const char *name, const qi
     return gbuf_emit(s, name, &b);
 }
 
+/* Group bounds of integer-made vertex sets (one vertex, a flat set, random sets, an index list,
+ * the empty group, an index and a range refusal) and the culling test against random frames. */
+static int bounds_case(const qtool_goldens_sink_t *s, const char *name)
+{
+    grng r = {777};
+    gbuf b = {0};
+    for (int t = 0; t < 48; ++t) {
+        enum { NV = 9 };
+        qibl_q16_t pos[NV][3], p[3];
+        int32_t n[3];
+        const uint32_t span = 1u << (4 + t % 18);
+        for (int k = 0; k < 3; ++k) {
+            const int32_t c = (int32_t)(grng_u32(&r) >> 12) - (1 << 19);
+            for (int j = 0; j < NV; ++j)
+                pos[j][k] = c + (int32_t)(grng_u32(&r) % span) - (int32_t)(span / 2u);
+            p[k] = (int32_t)(grng_u32(&r) >> 12) - (1 << 19);
+            n[k] = (int32_t)(grng_u32(&r) >> 8) - (1 << 23);
+        }
+        if (t % 8 == 3)
+            for (int j = 0; j < NV; ++j)
+                pos[j][2] = pos[0][2]; /* flat */
+        const uint32_t idx[4] = {1, 3, 5, (uint32_t)(t == 7 ? NV : 7)};
+        qibl_hemi_bound_t bd = {{(int32_t)GUARD, (int32_t)GUARD, (int32_t)GUARD}, (int32_t)GUARD};
+        const uint32_t cnt = t % 6 == 0 ? 1u : t == 5 ? 0u : (uint32_t)NV;
+        gbuf_u8(&b, (uint32_t)(t % 3 == 1 ? qibl_hemi_bound((const qibl_q16_t(*)[3])pos, NV, idx, 4, &bd)
+                                          : qibl_hemi_bound((const qibl_q16_t(*)[3])pos, NV, NULL, cnt, &bd)));
+        for (int k = 0; k < 3; ++k)
+            gbuf_s32(&b, bd.c[k]);
+        gbuf_s32(&b, bd.r);
+        qibl_hemi_frame_t fr;
+        if (qibl_hemi_frame_init(&fr, p, n) == QIBL_OK)
+            for (int q = 0; q < 4; ++q) { /* the frame moved onto the group's centre and off it */
+                qibl_hemi_frame_t g = fr;
+                for (int k = 0; k < 3; ++k)
+                    g.p[k] = bd.c[k] + (q - 1) * (int32_t)(span / 4u) * (fr.axis[2][k] / (1 << 28));
+                gbuf_u8(&b, (uint32_t)qibl_hemi_bound_above(&g, &bd));
+            }
+    }
+    const qibl_q16_t far[1][3] = {{QIBL_HEMI_COORD_MAX + 1, 0, 0}};
+    qibl_hemi_bound_t bd = {{1, 2, 3}, 4};
+    gbuf_u8(&b, (uint32_t)qibl_hemi_bound(far, 1, NULL, 1, &bd));
+    gbuf_s32(&b, bd.r);
+    return gbuf_emit(s, name, &b);
+}
+
 /* The glossy transfer: random masks, reflection directions (axes, below the horizon, random) and
  * exponents (0, small, large, the limit, one beyond: its status, output untouched) */
 static int phong_case(const qtool_goldens_sink_t *s, const char *name, const qibl_hemi_t *h, uint64_t seed)
@@ -182,7 +227,7 @@ int qtool_goldens_hemi(const qtool_goldens_sink_t *s)
             fails += masks_case(s, cfg[c].masks, &h, 1000u + c);
             fails += phong_case(s, cfg[c].phong, &h, 2000u + c);
             if (c == 1)
-                fails += frames_case(s, "hemi_frames", &h);
+                fails += frames_case(s, "hemi_frames", &h) + bounds_case(s, "hemi_bounds");
         }
         free(ws);
     }

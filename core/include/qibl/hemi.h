@@ -136,6 +136,26 @@ qibl_status_t qibl_hemi_clear(const qibl_hemi_t *h, uint32_t *mask);
 qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t nv, const uint32_t (*tri)[3],
                                uint32_t ntri, uint32_t *mask, qibl_hemi_stats_t *stats);
 
+/* Group culling (the paper's hierarchical culling): a bounding sphere per group of blocker
+ * triangles, remade each frame from the group's vertices, tested against each receiver's tangent
+ * plane before the group's vertices are transformed. */
+typedef struct qibl_hemi_bound {
+    qibl_q16_t c[3]; /* centre: the middle of the vertices' box (rounded down), Q16.16 */
+    int32_t r;       /* radius, Q16.16, rounded up (>= every vertex's distance); -1: empty group */
+} qibl_hemi_bound_t;
+
+/* The bound of pos[idx[0..n)] (idx NULL: pos[0..n)); n = 0 gives the empty group.
+ * Errors: QIBL_E_NULL_POINTER, QIBL_E_HEMI_INDEX (idx[k] >= nv), QIBL_E_HEMI_RANGE (a coordinate
+ * beyond QIBL_HEMI_COORD_MAX); *out untouched on failure. */
+qibl_status_t qibl_hemi_bound(const qibl_q16_t (*pos)[3], uint32_t nv, const uint32_t *idx, uint32_t n,
+                              qibl_hemi_bound_t *out);
+
+/* 0 when every point of the sphere is at or below the tangent plane of f's receiver, so every
+ * triangle of the group would be culled by qibl_hemi_raster after qibl_hemi_transform (their local
+ * z <= 0): skipping the group changes no mask. 1 otherwise (conservative: the normal's length is
+ * rounded up). Exact integer test, |normal . (c - p)| + r |normal| < 2^56. NULL or empty: 0. */
+int qibl_hemi_bound_above(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b);
+
 /* mask &= the disk (clears bits of pixels outside it: complemented table entries set them). */
 qibl_status_t qibl_hemi_clip(const qibl_hemi_t *h, uint32_t *mask);
 
