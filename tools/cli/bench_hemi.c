@@ -341,6 +341,103 @@ static double hemi_frame_time(const qibl_hemi_t *h, const scene *s, const qibl_q
     return cpu_now() - t0;
 }
 
+/* ---- group culling (the paper's hierarchical culling) ----------------------------------------- */
+
+/* Groups of the cloth: per coarse cell, its 32 full-resolution triangles (the near field's group)
+ * and its 2 coarse triangles (the far field's). Their bounds are remade once per frame; a receiver
+ * takes, cell by cell, the near group inside its window and the coarse group outside it, skips
+ * groups whose bound is at or below its tangent plane (qibl_hemi_bound_above) and transforms only
+ * the vertices of the groups it keeps. The same blockers as make_rings' lists minus whole groups the
+ * rasterizer would cull: the same masks (checked). */
+#define NCELL ((CG - 1) * (CG - 1))
+
+typedef struct groups {
+    qibl_hemi_bound_t nearb[NCELL], farb[NCELL];
+    uint32_t nearv[NCELL][(CSTEP + 1) * (CSTEP + 1)], farv[NCELL][4]; /* full-mesh vertex ids */
+} groups;
+
+static void groups_make(const scene *s, const qibl_q16_t (*pos)[3], groups *g)
+{
+    for (int cj = 0; cj + 1 < CG; ++cj)
+        for (int ci = 0; ci + 1 < CG; ++ci) {
+            const int c = cj * (CG - 1) + ci;
+            int k = 0;
+            for (int j = 0; j <= CSTEP; ++j)
+                for (int i = 0; i <= CSTEP; ++i)
+                    g->nearv[c][k++] = (uint32_t)((cj * CSTEP + j) * G + ci * CSTEP + i);
+            g->farv[c][0] = g->nearv[c][0], g->farv[c][1] = g->nearv[c][CSTEP];
+            g->farv[c][2] = g->nearv[c][CSTEP * (CSTEP + 1)], g->farv[c][3] = g->nearv[c][(CSTEP + 1) * (CSTEP + 1) - 1];
+            qibl_hemi_bound(pos, (uint32_t)s->nv, g->nearv[c], (CSTEP + 1) * (CSTEP + 1), &g->nearb[c]);
+            qibl_hemi_bound(pos, (uint32_t)s->nv, g->farv[c], 4, &g->farb[c]);
+        }
+}
+
+/* One receiver: the kept groups' vertices (local), triangles and the mask. Returns the blockers. */
+static uint32_t groups_mask(const qibl_hemi_t *h, const scene *s, const groups *g, const qibl_q16_t (*pos)[3],
+                            const qibl_hemi_frame_t *fr, int v, uint32_t *stamp, uint32_t *local, uint32_t *mask,
+                            qibl_hemi_stats_t *st)
+{
+    static qibl_q16_t gp[G * G][3]; /* static: the bench is single-threaded here */
+    static int32_t loc[G * G][3];
+    static uint32_t tri[2 * (G - 1) * (G - 1) + 2 * NCELL][3];
+    int c0, c1, r0, r1;
+    ring_window(v, s->near, &c0, &c1, &r0, &r1);
+    uint32_t nl = 0, nt = 0;
+#define LOC(x) (stamp[x] == (uint32_t)v + 1u ? local[x] : (stamp[x] = (uint32_t)v + 1u, memcpy(gp[nl], pos[x], sizeof gp[nl]), local[x] = nl++))
+    for (int cj = 0; cj + 1 < CG; ++cj)
+        for (int ci = 0; ci + 1 < CG; ++ci) {
+            const int c = cj * (CG - 1) + ci, in = ci >= c0 && ci <= c1 && cj >= r0 && cj <= r1;
+            if (!qibl_hemi_bound_above(fr, in ? &g->nearb[c] : &g->farb[c]))
+                continue;
+            if (in) {
+                for (int j = 0; j < CSTEP; ++j)
+                    for (int i = 0; i < CSTEP; ++i) {
+                        const uint32_t *q = g->nearv[c];
+                        const int a = j * (CSTEP + 1) + i, b = a + 1, d = a + CSTEP + 1, e = d + 1;
+                        tri[nt][0] = LOC(q[a]), tri[nt][1] = LOC(q[b]), tri[nt][2] = LOC(q[e]), ++nt;
+                        tri[nt][0] = LOC(q[a]), tri[nt][1] = LOC(q[e]), tri[nt][2] = LOC(q[d]), ++nt;
+                    }
+            } else {
+                const uint32_t *q = g->farv[c];
+                tri[nt][0] = LOC(q[0]), tri[nt][1] = LOC(q[1]), tri[nt][2] = LOC(q[3]), ++nt;
+                tri[nt][0] = LOC(q[0]), tri[nt][1] = LOC(q[3]), tri[nt][2] = LOC(q[2]), ++nt;
+            }
+        }
+#undef LOC
+    qibl_hemi_transform(fr, (const qibl_q16_t(*)[3])gp, nl, loc);
+    qibl_hemi_clear(h, mask);
+    qibl_hemi_raster(h, (const int32_t(*)[3])loc, nl, (const uint32_t(*)[3])tri, nt, mask, st);
+    return nt;
+}
+
+/* A frame with group culling: seconds (bounds included); vloc filled; blockers added to *blk. */
+static double groups_frame(const qibl_hemi_t *h, const scene *s, const qibl_q16_t (*pos)[3], const int32_t (*nrm)[3],
+                           qibl_q30_t (*vloc)[25], double *blk, double *rasterized)
+{
+    static groups g;
+    static uint32_t stamp[G * G], local[G * G];
+    memset(stamp, 0, sizeof stamp);
+    uint32_t mask[QIBL_HEMI_MAX_WORDS];
+    qibl_hemi_stats_t st = {0, 0, 0};
+    const double t0 = cpu_now();
+    groups_make(s, pos, &g);
+    double b = 0;
+    for (int v = 0; v < s->nv; ++v) {
+        qibl_hemi_frame_t fr;
+        qibl_hemi_frame_init(&fr, pos[v], nrm[v]);
+        b += groups_mask(h, s, &g, pos, &fr, v, stamp, local, mask, &st);
+        qibl_hemi_transfer(h, mask, vloc[v]);
+        qibl_q30_t w[25];
+        qibl_hemi_to_world(h, &fr, vloc[v], w);
+    }
+    const double t = cpu_now() - t0;
+    if (blk)
+        *blk += b;
+    if (rasterized)
+        *rasterized += st.rasterized;
+    return t;
+}
+
 /* ---- reference ---------------------------------------------------------------------------------- */
 
 typedef struct refctx {
@@ -814,11 +911,37 @@ int qcli_bench_hemi(int quick)
                    tm.rasterized / nframes / (double)nv, fps, 100 * err);
             printf("RESULT hemi.cloth_near%d_fps %.1f\nRESULT hemi.cloth_near%d_l2err %.4f\n", wins[w], fps, wins[w], err);
         }
-        free(ws);
         if (make_rings(&s, 6)) {
             fprintf(stderr, "qibl: bench hemi: out of memory\n");
             return 1;
         }
+        /* W = 6 with group culling: same blockers minus whole groups below the tangent plane */
+        qibl_q30_t (*vg)[25] = malloc(sizeof *vg * nv);
+        if (vg) {
+            double tsum = 0, e = 0, blk = 0, ras = 0;
+            size_t same = 0;
+            for (int f = 0; f < nframes; ++f) {
+                const qibl_q16_t(*p)[3] = (const qibl_q16_t(*)[3])(pos + nv * (size_t)f);
+                const int32_t(*n)[3] = (const int32_t(*)[3])(nrm + nv * (size_t)f);
+                double t[9];
+                for (int r = 0; r < reps; ++r)
+                    t[r] = groups_frame(&h, &s, p, n, vg, r == 0 ? &blk : NULL, r == 0 ? &ras : NULL);
+                tsum += qcli_median(t, reps);
+                hemi_frame_time(&h, &s, p, n, vloc, vw);
+                for (size_t v = 0; v < nv; ++v) {
+                    same += memcmp(vg[v], vloc[v], sizeof vg[v]) == 0;
+                    e += rel_err(vg[v], ref[nv * (size_t)f + v]);
+                }
+            }
+            const double fps = nframes / tsum, err = e / (double)(nv * (size_t)nframes);
+            printf("%-26s %10.1f %12.1f %10.1f %9.2f %%   (transfer identical on %zu of %zu vertex-frames)\n",
+                   "W = 6, group culling", blk / nframes / (double)nv, ras / nframes / (double)nv, fps, 100 * err, same,
+                   nv * (size_t)nframes);
+            printf("RESULT hemi.cloth_groups_fps %.1f\nRESULT hemi.cloth_groups_blockers %.1f\n", fps,
+                   blk / nframes / (double)nv);
+            free(vg);
+        }
+        free(ws);
     }
 
     /* the LUT / mask study: every configuration on the same frames */
