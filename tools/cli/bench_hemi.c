@@ -372,41 +372,51 @@ static void groups_make(const scene *s, const qibl_q16_t (*pos)[3], groups *g)
         }
 }
 
-/* One receiver: the kept groups' vertices (local), triangles and the mask. Returns the blockers. */
+/* One receiver: the kept groups' vertices copied side by side (a vertex on a cell border is
+ * transformed once per group that keeps it), one transform, then each group rasterized with its
+ * fixed index template at its offset: no per-triangle remapping. Returns the blockers. */
 static uint32_t groups_mask(const qibl_hemi_t *h, const scene *s, const groups *g, const qibl_q16_t (*pos)[3],
-                            const qibl_hemi_frame_t *fr, int v, uint32_t *stamp, uint32_t *local, uint32_t *mask,
-                            qibl_hemi_stats_t *st)
+                            const qibl_hemi_frame_t *fr, int v, uint32_t *mask, qibl_hemi_stats_t *st)
 {
-    static qibl_q16_t gp[G * G][3]; /* static: the bench is single-threaded here */
-    static int32_t loc[G * G][3];
-    static uint32_t tri[2 * (G - 1) * (G - 1) + 2 * NCELL][3];
+    enum { NEARV = (CSTEP + 1) * (CSTEP + 1), NEART = 2 * CSTEP * CSTEP };
+    static qibl_q16_t gp[NCELL * NEARV][3]; /* static: the bench is single-threaded here */
+    static int32_t loc[NCELL * NEARV][3];
+    static uint32_t tn[NEART][3], tf[2][3] = {{0, 1, 3}, {0, 3, 2}};
+    static int init;
+    if (!init) {
+        int k = 0;
+        for (int j = 0; j < CSTEP; ++j)
+            for (int i = 0; i < CSTEP; ++i) {
+                const uint32_t a = (uint32_t)(j * (CSTEP + 1) + i), b = a + 1, d = a + CSTEP + 1, e = d + 1;
+                tn[k][0] = a, tn[k][1] = b, tn[k][2] = e, ++k;
+                tn[k][0] = a, tn[k][1] = e, tn[k][2] = d, ++k;
+            }
+        init = 1;
+    }
     int c0, c1, r0, r1;
     ring_window(v, s->near, &c0, &c1, &r0, &r1);
-    uint32_t nl = 0, nt = 0;
-#define LOC(x) (stamp[x] == (uint32_t)v + 1u ? local[x] : (stamp[x] = (uint32_t)v + 1u, memcpy(gp[nl], pos[x], sizeof gp[nl]), local[x] = nl++))
+    uint32_t nl = 0, ng = 0, nt = 0;
+    static uint32_t gbase[NCELL];
+    static uint8_t gnear[NCELL];
     for (int cj = 0; cj + 1 < CG; ++cj)
         for (int ci = 0; ci + 1 < CG; ++ci) {
             const int c = cj * (CG - 1) + ci, in = ci >= c0 && ci <= c1 && cj >= r0 && cj <= r1;
             if (!qibl_hemi_bound_above(fr, in ? &g->nearb[c] : &g->farb[c]))
                 continue;
-            if (in) {
-                for (int j = 0; j < CSTEP; ++j)
-                    for (int i = 0; i < CSTEP; ++i) {
-                        const uint32_t *q = g->nearv[c];
-                        const int a = j * (CSTEP + 1) + i, b = a + 1, d = a + CSTEP + 1, e = d + 1;
-                        tri[nt][0] = LOC(q[a]), tri[nt][1] = LOC(q[b]), tri[nt][2] = LOC(q[e]), ++nt;
-                        tri[nt][0] = LOC(q[a]), tri[nt][1] = LOC(q[e]), tri[nt][2] = LOC(q[d]), ++nt;
-                    }
-            } else {
-                const uint32_t *q = g->farv[c];
-                tri[nt][0] = LOC(q[0]), tri[nt][1] = LOC(q[1]), tri[nt][2] = LOC(q[3]), ++nt;
-                tri[nt][0] = LOC(q[0]), tri[nt][1] = LOC(q[3]), tri[nt][2] = LOC(q[2]), ++nt;
-            }
+            const uint32_t *q = in ? g->nearv[c] : g->farv[c];
+            const int nq = in ? NEARV : 4;
+            gbase[ng] = nl, gnear[ng++] = (uint8_t)in;
+            for (int k = 0; k < nq; ++k, ++nl)
+                gp[nl][0] = pos[q[k]][0], gp[nl][1] = pos[q[k]][1], gp[nl][2] = pos[q[k]][2];
         }
-#undef LOC
     qibl_hemi_transform(fr, (const qibl_q16_t(*)[3])gp, nl, loc);
     qibl_hemi_clear(h, mask);
-    qibl_hemi_raster(h, (const int32_t(*)[3])loc, nl, (const uint32_t(*)[3])tri, nt, mask, st);
+    for (uint32_t k = 0; k < ng; ++k) {
+        const uint32_t nv = gnear[k] ? NEARV : 4, ntri = gnear[k] ? NEART : 2;
+        qibl_hemi_raster(h, (const int32_t(*)[3])(loc + gbase[k]), nv, gnear[k] ? (const uint32_t(*)[3])tn : (const uint32_t(*)[3])tf,
+                         ntri, mask, st);
+        nt += ntri;
+    }
     return nt;
 }
 
@@ -415,8 +425,6 @@ static double groups_frame(const qibl_hemi_t *h, const scene *s, const qibl_q16_
                            qibl_q30_t (*vloc)[25], double *blk, double *rasterized)
 {
     static groups g;
-    static uint32_t stamp[G * G], local[G * G];
-    memset(stamp, 0, sizeof stamp);
     uint32_t mask[QIBL_HEMI_MAX_WORDS];
     qibl_hemi_stats_t st = {0, 0, 0};
     const double t0 = cpu_now();
@@ -425,7 +433,7 @@ static double groups_frame(const qibl_hemi_t *h, const scene *s, const qibl_q16_
     for (int v = 0; v < s->nv; ++v) {
         qibl_hemi_frame_t fr;
         qibl_hemi_frame_init(&fr, pos[v], nrm[v]);
-        b += groups_mask(h, s, &g, pos, &fr, v, stamp, local, mask, &st);
+        b += groups_mask(h, s, &g, pos, &fr, v, mask, &st);
         qibl_hemi_transfer(h, mask, vloc[v]);
         qibl_q30_t w[25];
         qibl_hemi_to_world(h, &fr, vloc[v], w);
