@@ -7,6 +7,8 @@
 # tests/fuzz/corpus/NAME (hand-made, committed); tests/fuzz/NAME.dict is the target's dictionary
 # when there is one. A finding leaves its input in
 # $B/artifacts/NAME/ and the log in $B/logs/NAME.log.
+# FUZZ_SEED: libFuzzer's -seed (the CI smoke run fixes it, so a CI finding reproduces on the same
+# machine; `make fuzz` leaves it random to explore).
 # --replay: run each target once over tests/fuzz/crashes-found/NAME/* (inputs that once failed) and
 # report which still fail.
 replay=0
@@ -46,7 +48,10 @@ for bin in "$@"; do
     dict=
     [ -f "tests/fuzz/$name.dict" ] && dict=-dict=tests/fuzz/$name.dict
     # shellcheck disable=SC2086
-    "$bin" -max_total_time="$secs" -print_final_stats=1 -max_len="${FUZZ_MAX_LEN:-4096}" $limits $dict \
+    seed=
+    [ -n "${FUZZ_SEED:-}" ] && seed=-seed=$FUZZ_SEED
+    # shellcheck disable=SC2086
+    "$bin" -max_total_time="$secs" -print_final_stats=1 -max_len="${FUZZ_MAX_LEN:-4096}" $limits $dict $seed \
         -artifact_prefix="$B/artifacts/$name/" $dirs >"$log" 2>&1
     rc=$?
     execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)
