@@ -302,12 +302,12 @@ static void test_group_bounds(void **state)
     qibl_hemi_bound_t b = {{7, 7, 7}, 7};
     const qibl_q16_t far[1][3] = {{QIBL_HEMI_COORD_MAX + 1, 0, 0}};
     const uint32_t bad_idx[1] = {3};
-    assert_int_equal(qibl_hemi_bound(NULL, 1, NULL, 1, &b), QIBL_E_NULL_POINTER);
-    assert_int_equal(qibl_hemi_bound(far, 1, NULL, 1, NULL), QIBL_E_NULL_POINTER);
-    assert_int_equal(qibl_hemi_bound(far, 1, NULL, 1, &b), QIBL_E_HEMI_RANGE);
-    assert_int_equal(qibl_hemi_bound(far, 1, bad_idx, 1, &b), QIBL_E_HEMI_INDEX);
+    assert_int_equal(qibl_hemi_bound_fit(NULL, 1, NULL, 1, &b), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_hemi_bound_fit(far, 1, NULL, 1, NULL), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_hemi_bound_fit(far, 1, NULL, 1, &b), QIBL_E_HEMI_RANGE);
+    assert_int_equal(qibl_hemi_bound_fit(far, 1, bad_idx, 1, &b), QIBL_E_HEMI_INDEX);
     assert_int_equal(b.r, 7); /* untouched */
-    assert_int_equal(qibl_hemi_bound(NULL, 0, NULL, 0, &b), QIBL_OK);
+    assert_int_equal(qibl_hemi_bound_fit(NULL, 0, NULL, 0, &b), QIBL_OK);
     assert_int_equal(b.r, -1);
     qibl_hemi_frame_t fr;
     const qibl_q16_t o[3] = {0, 0, 0};
@@ -339,7 +339,7 @@ static void test_group_bounds(void **state)
         for (int i = 0; i < NV; ++i)
             for (int k = 0; k < 3; ++k)
                 pos[i][k] = c0[k] + (qibl_q16_t)(rng(&seed) % (uint32_t)span) - span / 2;
-        assert_int_equal(qibl_hemi_bound((const qibl_q16_t(*)[3])pos, NV, NULL, NV, &b), QIBL_OK);
+        assert_int_equal(qibl_hemi_bound_fit((const qibl_q16_t(*)[3])pos, NV, NULL, NV, &b), QIBL_OK);
         double worst = 0;
         for (int i = 0; i < NV; ++i) {
             double d2 = 0;

@@ -305,7 +305,7 @@ qibl_status_t qibl_hemi_transform(const qibl_hemi_frame_t *f, const qibl_q16_t (
 
 /* ---- group culling ------------------------------------------------------------------------------ */
 
-qibl_status_t qibl_hemi_bound(const qibl_q16_t (*pos)[3], uint32_t nv, const uint32_t *idx, uint32_t n,
+qibl_status_t qibl_hemi_bound_fit(const qibl_q16_t (*pos)[3], uint32_t nv, const uint32_t *idx, uint32_t n,
                               qibl_hemi_bound_t *out)
 {
     if (out == 0 || (n != 0u && pos == 0))

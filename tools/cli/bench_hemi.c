@@ -367,8 +367,8 @@ static void groups_make(const scene *s, const qibl_q16_t (*pos)[3], groups *g)
                     g->nearv[c][k++] = (uint32_t)((cj * CSTEP + j) * G + ci * CSTEP + i);
             g->farv[c][0] = g->nearv[c][0], g->farv[c][1] = g->nearv[c][CSTEP];
             g->farv[c][2] = g->nearv[c][CSTEP * (CSTEP + 1)], g->farv[c][3] = g->nearv[c][(CSTEP + 1) * (CSTEP + 1) - 1];
-            qibl_hemi_bound(pos, (uint32_t)s->nv, g->nearv[c], (CSTEP + 1) * (CSTEP + 1), &g->nearb[c]);
-            qibl_hemi_bound(pos, (uint32_t)s->nv, g->farv[c], 4, &g->farb[c]);
+            qibl_hemi_bound_fit(pos, (uint32_t)s->nv, g->nearv[c], (CSTEP + 1) * (CSTEP + 1), &g->nearb[c]);
+            qibl_hemi_bound_fit(pos, (uint32_t)s->nv, g->farv[c], 4, &g->farb[c]);
         }
 }
 

@@ -156,8 +156,8 @@ static int bounds_case(const qtool_goldens_sink_t *s, const char *name)
         const uint32_t idx[4] = {1, 3, 5, (uint32_t)(t == 7 ? NV : 7)};
         qibl_hemi_bound_t bd = {{(int32_t)GUARD, (int32_t)GUARD, (int32_t)GUARD}, (int32_t)GUARD};
         const uint32_t cnt = t % 6 == 0 ? 1u : t == 5 ? 0u : (uint32_t)NV;
-        gbuf_u8(&b, (uint32_t)(t % 3 == 1 ? qibl_hemi_bound((const qibl_q16_t(*)[3])pos, NV, idx, 4, &bd)
-                                          : qibl_hemi_bound((const qibl_q16_t(*)[3])pos, NV, NULL, cnt, &bd)));
+        gbuf_u8(&b, (uint32_t)(t % 3 == 1 ? qibl_hemi_bound_fit((const qibl_q16_t(*)[3])pos, NV, idx, 4, &bd)
+                                          : qibl_hemi_bound_fit((const qibl_q16_t(*)[3])pos, NV, NULL, cnt, &bd)));
         for (int k = 0; k < 3; ++k)
             gbuf_s32(&b, bd.c[k]);
         gbuf_s32(&b, bd.r);
@@ -172,7 +172,7 @@ static int bounds_case(const qtool_goldens_sink_t *s, const char *name)
     }
     const qibl_q16_t far[1][3] = {{QIBL_HEMI_COORD_MAX + 1, 0, 0}};
     qibl_hemi_bound_t bd = {{1, 2, 3}, 4};
-    gbuf_u8(&b, (uint32_t)qibl_hemi_bound(far, 1, NULL, 1, &bd));
+    gbuf_u8(&b, (uint32_t)qibl_hemi_bound_fit(far, 1, NULL, 1, &bd));
     gbuf_s32(&b, bd.r);
     return gbuf_emit(s, name, &b);
 }

@@ -12,7 +12,7 @@
 #define qibl_hemi_transform qtool_hemi_transform_scalar
 #define qibl_hemi_clear qtool_hemi_clear_scalar
 #define qibl_hemi_clip qtool_hemi_clip_scalar
-#define qibl_hemi_bound qtool_hemi_bound_scalar
+#define qibl_hemi_bound_fit qtool_hemi_bound_fit_scalar
 #define qibl_hemi_bound_above qtool_hemi_bound_above_scalar
 #define qibl_hemi_raster qtool_hemi_raster_scalar
 #define qibl_hemi_transfer qtool_hemi_transfer_scalar

@@ -147,7 +147,7 @@ typedef struct qibl_hemi_bound {
 /* The bound of pos[idx[0..n)] (idx NULL: pos[0..n)); n = 0 gives the empty group.
  * Errors: QIBL_E_NULL_POINTER, QIBL_E_HEMI_INDEX (idx[k] >= nv), QIBL_E_HEMI_RANGE (a coordinate
  * beyond QIBL_HEMI_COORD_MAX); *out untouched on failure. */
-qibl_status_t qibl_hemi_bound(const qibl_q16_t (*pos)[3], uint32_t nv, const uint32_t *idx, uint32_t n,
+qibl_status_t qibl_hemi_bound_fit(const qibl_q16_t (*pos)[3], uint32_t nv, const uint32_t *idx, uint32_t n,
                               qibl_hemi_bound_t *out);
 
 /* 0 when every point of the sphere is at or below the tangent plane of f's receiver, so every
