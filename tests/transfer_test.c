@@ -145,6 +145,21 @@ static void test_box_floor_shadowed(void **state)
     assert_non_null(strstr(out, "hierarchy: coarse mesh of"));
     assert_true(result(out, "RESULT transfer.l2err") < 0.10 + noise);
     free(out);
+    /* with the whole mesh as its own coarse mesh the hierarchy holds every triangle exactly once
+     * (near field or far field, no hole between them), so it shades like every triangle, ring 1
+     * to 3 (the near field once missed the triangles whose three vertices lie on the ring's edge) */
+    assert_int_equal(run("transfer", mesh, "--probe", probe, "--rays", "0", NULL), 0);
+    out = text(outlog);
+    const double all = result(out, "RESULT transfer.mean_irradiance");
+    free(out);
+    for (int r = 1; r <= 3; ++r) {
+        char rs[8];
+        snprintf(rs, sizeof rs, "%d", r);
+        assert_int_equal(run("transfer", mesh, "--probe", probe, "--rays", "0", "--coarse", "1000", "--ring", rs, NULL), 0);
+        out = text(outlog);
+        assert_true(fabs(result(out, "RESULT transfer.mean_irradiance") - all) <= 1e-6 * all);
+        free(out);
+    }
 }
 
 static void test_animation_is_apng(void **state)

@@ -346,10 +346,13 @@ static int hier_build(const mesh *m, const uint32_t *adj_off, const uint32_t *ad
                  sizeof *h->blk) != 0)
             goto fail;
 #define LOCAL(x) (lstamp[x] == v + 1 ? local[x] : (lstamp[x] = v + 1, h->vl[nvl + nloc] = (x), local[x] = nloc++))
-        for (uint32_t q = 0; q < tail; ++q) { /* near field: faces of vertices inside the ring */
+        /* near field: the faces of every vertex within `ring` edges, the ring's edge included: a
+         * triangle whose three vertices all lie on the edge of the ring is no face of an inner
+         * vertex, and the coarse rule below leaves it out too (it has a vertex within the ring),
+         * so faces of inner vertices only left holes (the teapot: 6.2 % against 5.5 % with the
+         * full mesh as its own coarse mesh) */
+        for (uint32_t q = 0; q < tail; ++q) {
             const uint32_t w = queue[q];
-            if (depth[w] >= ring)
-                continue;
             for (uint32_t k = adj_off[w]; k < adj_off[w + 1]; ++k)
                 if (seen[adj[k]] != v + 1) {
                     seen[adj[k]] = v + 1;
