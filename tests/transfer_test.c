@@ -153,7 +153,7 @@ static void test_box_floor_shadowed(void **state)
     const double all = result(out, "RESULT transfer.mean_irradiance");
     free(out);
     for (int r = 1; r <= 3; ++r) {
-        char rs[8];
+        char rs[16];
         snprintf(rs, sizeof rs, "%d", r);
         assert_int_equal(run("transfer", mesh, "--probe", probe, "--rays", "0", "--coarse", "1000", "--ring", rs, NULL), 0);
         out = text(outlog);
