@@ -576,6 +576,28 @@ static int local_ok(const int32_t *p)
     return 1;
 }
 
+/* The setup every path shares: TRI_BELOW (every vertex at or below the horizon), TRI_THROUGH (the
+ * plane passes through the receiver, exactly), or TRI_DRAW with e the three edge normals oriented
+ * so the triangle's cone lies on their positive sides. */
+enum { TRI_BELOW, TRI_THROUGH, TRI_DRAW };
+
+static int tri_setup(const int32_t *a, const int32_t *b, const int32_t *c, int64_t e[3][3])
+{
+    if (a[2] <= 0 && b[2] <= 0 && c[2] <= 0)
+        return TRI_BELOW;
+    cross(a, b, e[0]);
+    cross(b, c, e[1]);
+    cross(c, a, e[2]);
+    const int s = dot_sign(e[0], c);
+    if (s == 0)
+        return TRI_THROUGH;
+    if (s < 0)
+        for (int i = 0; i < 3; ++i)
+            for (int k = 0; k < 3; ++k)
+                e[i][k] = -e[i][k];
+    return TRI_DRAW;
+}
+
 #if HEMI_LANES
 /* ---- x86: LUT entries of several edge planes at once, in double lanes, exactly ---------------
  *
@@ -685,23 +707,15 @@ static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], const ui
     while (t < ntri) {
         uint32_t k = 0;
         for (; t < ntri && k < HEMI_BATCH; ++t) {
-            const int32_t *a = v[tri[t][0]], *b = v[tri[t][1]], *c = v[tri[t][2]];
-            if (a[2] <= 0 && b[2] <= 0 && c[2] <= 0) {
-                ++*nb;
-                continue;
-            }
             int64_t e[3][3];
-            cross(a, b, e[0]);
-            cross(b, c, e[1]);
-            cross(c, a, e[2]);
-            const int s = dot_sign(e[0], c);
-            if (s == 0) {
-                ++*nt;
+            const int r = tri_setup(v[tri[t][0]], v[tri[t][1]], v[tri[t][2]], e);
+            if (r != TRI_DRAW) {
+                ++*(r == TRI_BELOW ? nb : nt);
                 continue;
             }
             for (int i = 0; i < 3; ++i)
                 for (int q = 0; q < 3; ++q)
-                    E[i][q][k] = (double)(s < 0 ? -e[i][q] : e[i][q]); /* |e| < 2^53: exact */
+                    E[i][q][k] = (double)e[i][q]; /* |e| < 2^53: exact */
             ++k;
         }
         uint32_t kp = k;
@@ -740,24 +754,15 @@ qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint
 #else
     const uint32_t n = (uint32_t)h->n, wpr = h->wpr;
     for (uint32_t t = 0; t < ntri; ++t) {
-        const int32_t *a = v[tri[t][0]], *b = v[tri[t][1]], *c = v[tri[t][2]];
-        if (a[2] <= 0 && b[2] <= 0 && c[2] <= 0) {
-            ++nb;
-            continue;
-        }
         int64_t e[3][3];
-        cross(a, b, e[0]);
-        cross(b, c, e[1]);
-        cross(c, a, e[2]);
-        const int s = dot_sign(e[0], c);
-        if (s == 0) {
-            ++nt;
+        const int r = tri_setup(v[tri[t][0]], v[tri[t][1]], v[tri[t][2]], e);
+        if (r != TRI_DRAW) {
+            if (r == TRI_BELOW)
+                ++nb;
+            else
+                ++nt;
             continue;
         }
-        if (s < 0)
-            for (int i = 0; i < 3; ++i)
-                for (int k = 0; k < 3; ++k)
-                    e[i][k] = -e[i][k];
         const edge ea = lookup(h, e[0]), eb = lookup(h, e[1]), ec = lookup(h, e[2]);
         and3(mask, &ea, &eb, &ec, n, wpr);
         ++nr;
