@@ -143,8 +143,9 @@ static void test_sizes_and_errors(void **state)
     assert_int_equal(qibl_hemi_workspace_size(32, 0), 0u);
     assert_int_equal(qibl_hemi_workspace_size(32, 130), 0u);
     /* the documented budgets: default within 1 MiB, the small configuration within 256 KiB */
-    assert_true(qibl_hemi_workspace_size(32, 60) <= 1048576u);
-    assert_true(qibl_hemi_workspace_size(32, 24) <= 262144u);
+    assert_true(qibl_hemi_workspace_size(32, 48) <= 1048576u); /* the default */
+    assert_true(qibl_hemi_workspace_size(32, 50) > 1048576u);
+    assert_true(qibl_hemi_workspace_size(32, 20) <= 262144u); /* the small configuration */
     assert_true(qibl_hemi_workspace_size(64, 128) > qibl_hemi_workspace_size(32, 128));
     qibl_hemi_t h;
     memset(&h, 0x5A, sizeof h);
@@ -278,6 +279,67 @@ static void test_lanes_match_twin(void **state)
             assert_int_equal(s1.through, s2.through);
             /* one triangle at a time too: each mask alone, not hidden by the union */
             for (uint32_t t = 0; t < nt && t < 12u; ++t) {
+                qibl_hemi_clear(&f->h, m1);
+                qibl_hemi_clear(&f->h, m2);
+                qibl_hemi_raster(&f->h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])(tri + t), 1, m1, NULL);
+                qtool_hemi_raster_scalar(&f->h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])(tri + t), 1, m2, NULL);
+                assert_memory_equal(m1, m2, sizeof(uint32_t) * f->h.words);
+            }
+        }
+        drop(f);
+    }
+}
+
+/* Nearly edge-on triangles with large coordinates: det = a . (b x c) is -B or 0 while the products
+ * of the lanes' determinant reach 2^76, so its sign is not certain in doubles and the lanes fall
+ * back to the exact integer setup (tests the filter and the fallback, both orientations, the plane
+ * through the receiver, mixed in one batch with ordinary triangles). */
+static void test_lanes_edge_on(void **state)
+{
+    (void)state;
+    const int cfg[][2] = {{32, 48}, {16, 6}, {64, 8}};
+    uint64_t seed = 0xED6Eu;
+    for (size_t c = 0; c < sizeof cfg / sizeof cfg[0]; ++c) {
+        fixture *f = make(cfg[c][0], cfg[c][1]);
+        for (int round = 0; round < 40; ++round) {
+            enum { NV = 60, NT = 90 };
+            int32_t v[NV][3];
+            uint32_t tri[NT][3];
+            for (int i = 0; i < NV; i += 3) {
+                const int32_t A = (int32_t)(0x800000u + (uint32_t)(rng(&seed) % 0x800000u));
+                const int32_t B = (int32_t)(0x800000u + (uint32_t)(rng(&seed) % 0x800000u));
+                const int32_t C = (int32_t)(0x800000u + (uint32_t)(rng(&seed) % 0x800000u));
+                const int32_t dx = (int32_t)(rng(&seed) % 3u); /* 0: through the receiver */
+                const int32_t sa = rng(&seed) & 1u ? -1 : 1, sb = rng(&seed) & 1u ? -1 : 1;
+                v[i][0] = sa * A, v[i][1] = 0, v[i][2] = 1;
+                v[i + 1][0] = 0, v[i + 1][1] = sb * B, v[i + 1][2] = C;
+                v[i + 2][0] = sa * A + dx, v[i + 2][1] = sb * B, v[i + 2][2] = C + 1;
+            }
+            for (uint32_t t = 0; t < NT; ++t) {
+                const uint32_t g = 3u * (uint32_t)(rng(&seed) % (NV / 3));
+                if (t % 3u == 2u) { /* an ordinary triangle across groups */
+                    for (int k = 0; k < 3; ++k)
+                        tri[t][k] = (uint32_t)(rng(&seed) % NV);
+                } else if (rng(&seed) & 1u) {
+                    tri[t][0] = g, tri[t][1] = g + 1u, tri[t][2] = g + 2u;
+                } else {
+                    tri[t][0] = g, tri[t][1] = g + 2u, tri[t][2] = g + 1u;
+                }
+            }
+            uint32_t m1[QIBL_HEMI_MAX_WORDS], m2[QIBL_HEMI_MAX_WORDS];
+            qibl_hemi_stats_t s1 = {0, 0, 0}, s2 = {0, 0, 0};
+            qibl_hemi_clear(&f->h, m1);
+            qibl_hemi_clear(&f->h, m2);
+            assert_int_equal(qibl_hemi_raster(&f->h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])tri, NT, m1, &s1),
+                             QIBL_OK);
+            assert_int_equal(
+                qtool_hemi_raster_scalar(&f->h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])tri, NT, m2, &s2),
+                QIBL_OK);
+            assert_memory_equal(m1, m2, sizeof(uint32_t) * f->h.words);
+            assert_int_equal(s1.rasterized, s2.rasterized);
+            assert_int_equal(s1.through, s2.through);
+            assert_true(s1.through > 0u);
+            for (uint32_t t = 0; t < 12u; ++t) { /* each mask alone */
                 qibl_hemi_clear(&f->h, m1);
                 qibl_hemi_clear(&f->h, m2);
                 qibl_hemi_raster(&f->h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])(tri + t), 1, m1, NULL);
@@ -988,6 +1050,7 @@ int main(void)
         cmocka_unit_test(test_random_triangles_32),
         cmocka_unit_test(test_random_triangles_16_64),
         cmocka_unit_test(test_lanes_match_twin),
+        cmocka_unit_test(test_lanes_edge_on),
         cmocka_unit_test(test_group_bounds),
         cmocka_unit_test(test_winding_and_fusion),
         cmocka_unit_test(test_degenerate),

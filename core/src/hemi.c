@@ -57,10 +57,10 @@ static int sizes_ok(int n, int face)
 
 static uint64_t ws_bytes(int n, int face)
 {
-    /* 32-bit products: at most 4 * 2 * 128^2 * 128 = 2^24 bytes of LUT (no 64-bit multiply) */
+    /* 32-bit products: at most 4 * 3 * 128^2 * 128 = 3 2^23 bytes of LUT (no 64-bit multiply) */
     const uint32_t words = (uint32_t)QIBL_HEMI_MASK_WORDS(n), un = (uint32_t)n, uf = (uint32_t)face;
     return (uint64_t)(2u * (uint32_t)sizeof(qibl_sh_rotation_t) + 4u * (words + NC) + 4u * un * un * NC +
-                      4u * un * un + 8u * uf * uf * words + 4u); /* + alignment slack */
+                      4u * un * un + 12u * uf * uf * words + 4u); /* + alignment slack */
 }
 
 size_t qibl_hemi_workspace_size(int n, int face)
@@ -217,11 +217,11 @@ qibl_status_t qibl_hemi_init(qibl_hemi_t *h, int n, int face, void *workspace, s
         }
     build_basis(basis, full, n);
     build_centres(zc, n);
-    /* LUT: face X (normal (F, u, v), u >= 0 half), face Y (full), face Z (normal (v, u, F), u >= 0
-     * half); cell centres 2i + 1 - F in units of 1/F */
-    const int32_t F = face, H = face / 2;
+    /* LUT: faces +X (normal (F, u, v)), +Y (normal (u, F, v)), +Z (normal (v, u, F)); cell
+     * centres 2i + 1 - F in units of 1/F; the - faces are complements */
+    const int32_t F = face;
     uint32_t *m = lut;
-    for (int32_t iu = H; iu < F; ++iu)
+    for (int32_t iu = 0; iu < F; ++iu)
         for (int32_t iv = 0; iv < F; ++iv, m += t.words) {
             const int32_t P[3] = {F, 2 * iu + 1 - F, 2 * iv + 1 - F};
             build_mask(m, P, n, t.wpr);
@@ -231,7 +231,7 @@ qibl_status_t qibl_hemi_init(qibl_hemi_t *h, int n, int face, void *workspace, s
             const int32_t P[3] = {2 * iu + 1 - F, F, 2 * iv + 1 - F};
             build_mask(m, P, n, t.wpr);
         }
-    for (int32_t iu = H; iu < F; ++iu)
+    for (int32_t iu = 0; iu < F; ++iu)
         for (int32_t iv = 0; iv < F; ++iv, m += t.words) {
             const int32_t P[3] = {2 * iv + 1 - F, 2 * iu + 1 - F, F};
             build_mask(m, P, n, t.wpr);
@@ -391,12 +391,11 @@ qibl_status_t qibl_hemi_clip(const qibl_hemi_t *h, uint32_t *mask)
     return QIBL_OK;
 }
 
-/* One edge plane's table entry: the stored mask, whether to complement it (XOR with all ones)
- * and whether to read its rows in reverse. */
+/* One edge plane's table entry: the stored mask and whether to complement it (XOR with all
+ * ones: the - faces). */
 typedef struct edge {
     const uint32_t *m;
     uint32_t x;
-    int rev;
 } edge;
 
 #if !HEMI_LANES
@@ -451,98 +450,52 @@ static uint32_t cell(int neg, uint32_t au, uint32_t mm, uint32_t F)
 }
 
 /* The LUT entry of the plane with normal e (not zero): the face of its largest component, the
- * two cells, and the symmetry folded into the entry (complement, row reversal). Branches, not
- * selects: neighbouring triangles mostly share a face, and the select form measured 15 % slower. */
+ * two cells, and the complement for a - face (its u and v change sign). Branches, not selects:
+ * neighbouring triangles mostly share a face, and the select form measured 15 % slower. */
 static edge lookup(const qibl_hemi_t *h, const int64_t e[3])
 {
     const uint64_t ax = abs_u64(e[0]), ay = abs_u64(e[1]), az = abs_u64(e[2]);
-    const uint32_t F = (uint32_t)h->face, H = F / 2u;
+    const uint32_t F = (uint32_t)h->face;
+    int neg;
+    uint64_t m, au, av;
+    int64_t u, v;
+    size_t base;
+    if (ax >= ay && ax >= az) /* +-x: u = e1, v = e2 */
+        neg = e[0] < 0, m = ax, au = ay, av = az, u = e[1], v = e[2], base = 0u;
+    else if (ay >= az) /* +-y: u = e0, v = e2 */
+        neg = e[1] < 0, m = ay, au = ax, av = az, u = e[0], v = e[2], base = (size_t)F * F;
+    else /* +-z: u = e1, v = e0 */
+        neg = e[2] < 0, m = az, au = ay, av = ax, u = e[1], v = e[0], base = 2u * (size_t)F * F;
+    /* the - face is the complement of the + face at -e: u and v change sign */
+    const unsigned sh = norm_shift(m);
+    const uint32_t mm = (uint32_t)qibl_shr_u64(m, sh);
+    const uint32_t su = (uint32_t)qibl_shr_u64(au, sh), sv = (uint32_t)qibl_shr_u64(av, sh);
     edge r;
-    size_t idx;
-    if (ax >= ay && ax >= az) { /* +-x: -x is the complement of +x at -e; u = +-e1, v = +-e2 */
-        const int neg = e[0] < 0;
-        const unsigned s = norm_shift(ax);
-        const uint32_t mm = (uint32_t)qibl_shr_u64(ax, s);
-        const uint32_t au = (uint32_t)qibl_shr_u64(ay, s), av = (uint32_t)qibl_shr_u64(az, s);
-        r.x = neg ? 0xFFFFFFFFu : 0u;
-        r.rev = neg ? e[1] > 0 : e[1] < 0; /* u < 0 */
-        idx = (size_t)(cell(0, au, mm, F) - H) * F + cell(neg ? e[2] > 0 : e[2] < 0, av, mm, F);
-    } else if (ay >= az) { /* +-y: -y is +y mirrored in y (rows reversed); u = e0, v = e2 */
-        const unsigned s = norm_shift(ay);
-        const uint32_t mm = (uint32_t)qibl_shr_u64(ay, s);
-        const uint32_t au = (uint32_t)qibl_shr_u64(ax, s), av = (uint32_t)qibl_shr_u64(az, s);
-        r.x = 0u;
-        r.rev = e[1] < 0;
-        idx = (size_t)F * H + (size_t)cell(e[0] < 0, au, mm, F) * F + cell(e[2] < 0, av, mm, F);
-    } else { /* +-z: -z is the complement of +z at -e; u = +-e1, v = +-e0 */
-        const int neg = e[2] < 0;
-        const unsigned s = norm_shift(az);
-        const uint32_t mm = (uint32_t)qibl_shr_u64(az, s);
-        const uint32_t au = (uint32_t)qibl_shr_u64(ay, s), av = (uint32_t)qibl_shr_u64(ax, s);
-        r.x = neg ? 0xFFFFFFFFu : 0u;
-        r.rev = neg ? e[1] > 0 : e[1] < 0;
-        idx = (size_t)F * H + (size_t)F * F + (size_t)(cell(0, au, mm, F) - H) * F +
-              cell(neg ? e[0] > 0 : e[0] < 0, av, mm, F);
-    }
+    r.x = neg ? 0xFFFFFFFFu : 0u;
+    const size_t idx = base + (size_t)cell(neg ? u > 0 : u < 0, su, mm, F) * F + cell(neg ? v > 0 : v < 0, sv, mm, F);
     r.m = h->lut + idx * h->words;
     return r;
 }
 
 #endif /* !HEMI_LANES */
 
-/* mask |= A & B & C with per-entry complement and row reversal. The reversal flags are made
- * compile-time constants by the switch below, so each variant is a straight loop. */
-#define AND3_BODY(RA, RB, RC)                                                                    \
-    for (uint32_t r = 0; r < n; ++r) {                                                           \
-        const uint32_t ra = (RA) ? n - 1u - r : r, rb = (RB) ? n - 1u - r : r,                   \
-                       rc = (RC) ? n - 1u - r : r;                                               \
-        for (uint32_t k = 0; k < wpr; ++k)                                                       \
-            mask[r * wpr + k] |= (a[ra * wpr + k] ^ xa) & (b[rb * wpr + k] ^ xb) &              \
-                                 (c[rc * wpr + k] ^ xc);                                        \
-    }
+/* mask |= A & B & C with per-entry complement: one straight loop, no branch on the entries
+ * (the table folds only the complement, an XOR, so no entry is read in another row order); the
+ * word count a constant per mask size, so compilers unroll and vectorise it. */
+#define AND3_BODY(W)                                                                             \
+    for (uint32_t i = 0; i < (W); ++i)                                                           \
+        mask[i] |= (a[i] ^ xa) & (b[i] ^ xb) & (c[i] ^ xc);
 
-/* The 32 x 32 mask (one word per row) with the row count a constant, so compilers unroll and
- * vectorise each variant (a reversed read is one shuffle per vector). */
-#define AND3_BODY32(RA, RB, RC)                                                                  \
-    for (uint32_t r = 0; r < 32u; ++r)                                                           \
-        mask[r] |= (a[(RA) ? 31u - r : r] ^ xa) & (b[(RB) ? 31u - r : r] ^ xb) &                 \
-                   (c[(RC) ? 31u - r : r] ^ xc);
-
-static void and3(uint32_t *restrict mask, const edge *ea, const edge *eb, const edge *ec, uint32_t n,
-                 uint32_t wpr)
+static void and3(uint32_t *restrict mask, const edge *ea, const edge *eb, const edge *ec, uint32_t words)
 {
     const uint32_t *restrict a = ea->m, *restrict b = eb->m, *restrict c = ec->m;
     const uint32_t xa = ea->x, xb = eb->x, xc = ec->x;
-    /* if-chains, not a switch: Thumb-1 jump tables call a libgcc helper */
-    if (n == 32u) {
-        if (!ea->rev) {
-            if (!eb->rev) {
-                if (!ec->rev) AND3_BODY32(0, 0, 0) else AND3_BODY32(0, 0, 1)
-            } else {
-                if (!ec->rev) AND3_BODY32(0, 1, 0) else AND3_BODY32(0, 1, 1)
-            }
-        } else {
-            if (!eb->rev) {
-                if (!ec->rev) AND3_BODY32(1, 0, 0) else AND3_BODY32(1, 0, 1)
-            } else {
-                if (!ec->rev) AND3_BODY32(1, 1, 0) else AND3_BODY32(1, 1, 1)
-            }
-        }
-        return;
-    }
-    if (!ea->rev) {
-        if (!eb->rev) {
-            if (!ec->rev) AND3_BODY(0, 0, 0) else AND3_BODY(0, 0, 1)
-        } else {
-            if (!ec->rev) AND3_BODY(0, 1, 0) else AND3_BODY(0, 1, 1)
-        }
-    } else {
-        if (!eb->rev) {
-            if (!ec->rev) AND3_BODY(1, 0, 0) else AND3_BODY(1, 0, 1)
-        } else {
-            if (!ec->rev) AND3_BODY(1, 1, 0) else AND3_BODY(1, 1, 1)
-        }
-    }
+    if (words == 32u)
+        AND3_BODY(32u)
+    else if (words == 16u)
+        AND3_BODY(16u)
+    else
+        AND3_BODY(words)
 }
 
 static void cross(const int32_t *a, const int32_t *b, int64_t out[3])
@@ -566,14 +519,6 @@ static int dot_sign(const int64_t n[3], const int32_t *c)
     const int64_t top = H + qibl_asr_s64(L, 26);
     const uint32_t low = (uint32_t)((uint64_t)L & 0x3FFFFFFu); /* L - floor(L / 2^26) 2^26 */
     return top > 0 || (top == 0 && low > 0u) ? 1 : top < 0 ? -1 : 0;
-}
-
-static int local_ok(const int32_t *p)
-{
-    for (int k = 0; k < 3; ++k)
-        if (p[k] < -QIBL_HEMI_LOCAL_MAX || p[k] > QIBL_HEMI_LOCAL_MAX)
-            return 0;
-    return 1;
 }
 
 /* The setup every path shares: TRI_BELOW (every vertex at or below the horizon), TRI_THROUGH (the
@@ -616,6 +561,8 @@ typedef __m256d hemi_vd;
 #define VD_LOAD(p) _mm256_loadu_pd(p)
 #define VD_SET1(x) _mm256_set1_pd(x)
 #define VD_ADD(a, b) _mm256_add_pd(a, b)
+#define VD_SUB(a, b) _mm256_sub_pd(a, b)
+#define VD_STORE(p, a) _mm256_storeu_pd(p, a)
 #define VD_MUL(a, b) _mm256_mul_pd(a, b)
 #define VD_DIV(a, b) _mm256_div_pd(a, b)
 #define VD_MIN(a, b) _mm256_min_pd(a, b)
@@ -636,6 +583,8 @@ typedef __m128d hemi_vd;
 #define VD_LOAD(p) _mm_loadu_pd(p)
 #define VD_SET1(x) _mm_set1_pd(x)
 #define VD_ADD(a, b) _mm_add_pd(a, b)
+#define VD_SUB(a, b) _mm_sub_pd(a, b)
+#define VD_STORE(p, a) _mm_storeu_pd(p, a)
 #define VD_MUL(a, b) _mm_mul_pd(a, b)
 #define VD_DIV(a, b) _mm_div_pd(a, b)
 #define VD_MIN(a, b) _mm_min_pd(a, b)
@@ -655,17 +604,15 @@ typedef __m128d hemi_vd;
 
 /* The scalar lookup's cells with signs folded in: with s = norm_shift(m), mm = m >> s and
  * au = |u| >> s, "neg ? mm - au : mm + au" is mm + trunc(u 2^-s) for the signed u, a truncation
- * toward zero, which is what cvttpd does. Per face (scalar lookup): first cell u = |e1| (x, z) or
- * e0 (y), second v = e2 (x, y) or e0 (z), negated on the complemented faces (-x, -z), whose row
- * reversal is the sign of +-e1; the face base minus the half-face offset of x and z is folded into
- * one constant per face. */
+ * toward zero, which is what cvttpd does. Per face (scalar lookup): first cell u = e1 (x, z) or
+ * e0 (y), second v = e2 (x, y) or e0 (z), both negated on the complemented faces (-x, -y, -z). */
 static void lookup_lanes(const qibl_hemi_t *h, const double *e0, const double *e1, const double *e2, uint32_t n,
-                         uint32_t *idx, uint32_t *neg, uint32_t *rev)
+                         uint32_t *idx, uint32_t *neg)
 {
-    const int32_t F = h->face, H = F / 2;
-    const hemi_vd zero = VD_SET1(0.0), one = VD_SET1(1.0), sign = VD_SET1(-0.0), vF = VD_SET1((double)F);
+    const int32_t F = h->face;
+    const hemi_vd one = VD_SET1(1.0), sign = VD_SET1(-0.0), vF = VD_SET1((double)F);
     const hemi_vd vF1 = VD_SET1((double)(F - 1));
-    const hemi_vd bX = VD_SET1((double)(-H * F)), bY = VD_SET1((double)(F * H)), bZ = VD_SET1((double)(F * F));
+    const hemi_vd bX = VD_SET1(0.0), bY = VD_SET1((double)(F * F)), bZ = VD_SET1((double)(2 * F * F));
     const hemi_vd t23 = VD_SET1(8388608.0), t31 = VD_SET1(2147483648.0), t39 = VD_SET1(549755813888.0),
                   t47 = VD_SET1(140737488355328.0);
     const hemi_vd s8 = VD_SET1(1.0 / 256.0), s16 = VD_SET1(1.0 / 65536.0), s24 = VD_SET1(1.0 / 16777216.0),
@@ -681,56 +628,107 @@ static void lookup_lanes(const qibl_hemi_t *h, const double *e0, const double *e
         sc = VD_SEL(VD_GE(M, t39), s24, sc);
         sc = VD_SEL(VD_GE(M, t47), s32, sc);
         const hemi_vd MM = VD_TRUNC(VD_MUL(M, sc));
-        const hemi_vd ng = VD_AND(VD_OR(VD_AND(isx, E0), VD_AND(isz, E2)), sign); /* sign bit: -x, -z */
-        const hemi_vd U = VD_SEL(isy, E0, AY), V = VD_XOR(VD_SEL(isz, E0, E2), ng);
+        /* sign bit of the face's own component: the - faces, whose u and v change sign */
+        const hemi_vd ng = VD_AND(VD_OR(VD_OR(VD_AND(isx, E0), VD_AND(isy, E1)), VD_AND(isz, E2)), sign);
+        const hemi_vd U = VD_XOR(VD_SEL(isy, E0, E1), ng), V = VD_XOR(VD_SEL(isz, E0, E2), ng);
         const hemi_vd NU = VD_ADD(MM, VD_TRUNC(VD_MUL(U, sc))), NV = VD_ADD(MM, VD_TRUNC(VD_MUL(V, sc)));
         const hemi_vd D = VD_ADD(MM, MM);
         const hemi_vd C1 = VD_MIN(VD_TRUNC(VD_DIV(VD_MUL(NU, vF), D)), vF1);
         const hemi_vd C2 = VD_MIN(VD_TRUNC(VD_DIV(VD_MUL(NV, vF), D)), vF1);
         const hemi_vd base = VD_SEL(isx, bX, VD_SEL(isy, bY, bZ));
         VD_STORE_I32(idx + j, VD_ADD(VD_ADD(base, VD_MUL(C1, vF)), C2));
-        const int mn = VD_MASK(ng), mr = VD_MASK(VD_LT(VD_XOR(E1, ng), zero));
+        const int mn = VD_MASK(ng);
         for (uint32_t l = 0; l < HEMI_VL; ++l)
-            neg[j + l] = (uint32_t)(mn >> l) & 1u, rev[j + l] = (uint32_t)(mr >> l) & 1u;
+            neg[j + l] = (uint32_t)(mn >> l) & 1u;
     }
 }
 
-/* The triangles in batches: culling, edge normals and orientation in exact integers, then every
- * normal's LUT entry in lanes, then the masks. Same mask and counts as the scalar loop. */
+/* The triangles in batches, each step over every triangle of the batch with no branch on the
+ * data: (1) the horizon cull as a compaction (the kept triangles' numbers are written and the
+ * count advances by "not below"); (2) the edge normals and the orientation in double lanes;
+ * (3) every normal's LUT entry in lanes; (4) the masks. Exact: the coordinates are integers below
+ * 2^26, so each product of the cross products is below 2^52 and their difference below 2^53, the
+ * integer edge normals of the scalar path, bit for bit. The determinant e0 . c (up to 2^80) is
+ * not exact in doubles, so its sign is taken only where it is certain: the sum of three rounded
+ * products is within 3 2^-52 (1 + 2^-50) sum |p| of the exact one in any rounding mode, far below
+ * the filter's 2^-48 sum |p|; a triangle within the filter (nearly edge-on, in practice never
+ * met) falls back to the exact integer setup, which also finds the planes through the receiver.
+ * Same masks and counts as the scalar loop. */
 static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], const uint32_t (*tri)[3], uint32_t ntri,
                            uint32_t *mask, uint32_t *nr, uint32_t *nb, uint32_t *nt)
 {
+    double P[9][HEMI_BATCH + HEMI_VL];    /* a, b, c of the kept triangles: [vertex * 3 + axis][triangle] */
     double E[3][3][HEMI_BATCH + HEMI_VL]; /* [edge][component][triangle] */
-    uint32_t li[3][HEMI_BATCH + HEMI_VL], ln[3][HEMI_BATCH + HEMI_VL], lr[3][HEMI_BATCH + HEMI_VL];
-    const uint32_t n = (uint32_t)h->n, wpr = h->wpr;
+    uint32_t keep[HEMI_BATCH + 1], li[3][HEMI_BATCH + HEMI_VL], ln[3][HEMI_BATCH + HEMI_VL];
+    uint32_t skip[HEMI_BATCH + HEMI_VL];
+    const uint32_t words = h->words;
+    const hemi_vd sign = VD_SET1(-0.0), eps = VD_SET1(1.0 / 281474976710656.0); /* 2^-48 */
     uint32_t t = 0;
     while (t < ntri) {
-        uint32_t k = 0;
-        for (; t < ntri && k < HEMI_BATCH; ++t) {
-            int64_t e[3][3];
-            const int r = tri_setup(v[tri[t][0]], v[tri[t][1]], v[tri[t][2]], e);
-            if (r != TRI_DRAW) {
-                ++*(r == TRI_BELOW ? nb : nt);
-                continue;
-            }
-            for (int i = 0; i < 3; ++i)
-                for (int q = 0; q < 3; ++q)
-                    E[i][q][k] = (double)e[i][q]; /* |e| < 2^53: exact */
-            ++k;
+        uint32_t k = 0, seen = 0;
+        for (; t < ntri && k < HEMI_BATCH; ++t, ++seen) { /* (1) */
+            const uint32_t *q = tri[t];
+            keep[k] = t;
+            k += (uint32_t)((v[q[0]][2] > 0) | (v[q[1]][2] > 0) | (v[q[2]][2] > 0));
         }
+        *nb += seen - k;
         uint32_t kp = k;
-        for (; kp % HEMI_VL != 0u; ++kp) /* pad with a harmless normal */
-            for (int i = 0; i < 3; ++i)
-                E[i][0][kp] = 1.0, E[i][1][kp] = 0.0, E[i][2][kp] = 0.0;
-        for (int i = 0; i < 3; ++i)
-            lookup_lanes(h, E[i][0], E[i][1], E[i][2], kp, li[i], ln[i], lr[i]);
         for (uint32_t j = 0; j < k; ++j) {
+            const uint32_t *q = tri[keep[j]];
+            for (int w = 0; w < 3; ++w)
+                for (int c = 0; c < 3; ++c)
+                    P[3 * w + c][j] = (double)v[q[w]][c];
+            skip[j] = 0u;
+        }
+        for (; kp % HEMI_VL != 0u; ++kp) /* pad with a harmless triangle: (1, 0, 1), (0, 1, 1), (0, 0, 1) */
+            for (int r = 0; r < 9; ++r)
+                P[r][kp] = (r == 0 || r == 2 || r == 4 || r == 5 || r == 8) ? 1.0 : 0.0;
+        for (uint32_t j = 0; j < kp; j += HEMI_VL) { /* (2) */
+            const hemi_vd ax = VD_LOAD(P[0] + j), ay = VD_LOAD(P[1] + j), az = VD_LOAD(P[2] + j);
+            const hemi_vd bx = VD_LOAD(P[3] + j), by = VD_LOAD(P[4] + j), bz = VD_LOAD(P[5] + j);
+            const hemi_vd cx = VD_LOAD(P[6] + j), cy = VD_LOAD(P[7] + j), cz = VD_LOAD(P[8] + j);
+            const hemi_vd e00 = VD_SUB(VD_MUL(ay, bz), VD_MUL(az, by)), e01 = VD_SUB(VD_MUL(az, bx), VD_MUL(ax, bz)),
+                          e02 = VD_SUB(VD_MUL(ax, by), VD_MUL(ay, bx));
+            const hemi_vd e10 = VD_SUB(VD_MUL(by, cz), VD_MUL(bz, cy)), e11 = VD_SUB(VD_MUL(bz, cx), VD_MUL(bx, cz)),
+                          e12 = VD_SUB(VD_MUL(bx, cy), VD_MUL(by, cx));
+            const hemi_vd e20 = VD_SUB(VD_MUL(cy, az), VD_MUL(cz, ay)), e21 = VD_SUB(VD_MUL(cz, ax), VD_MUL(cx, az)),
+                          e22 = VD_SUB(VD_MUL(cx, ay), VD_MUL(cy, ax));
+            const hemi_vd p0 = VD_MUL(e00, cx), p1 = VD_MUL(e01, cy), p2 = VD_MUL(e02, cz);
+            const hemi_vd d = VD_ADD(VD_ADD(p0, p1), p2);
+            const hemi_vd bound = VD_MUL(VD_ADD(VD_ADD(VD_ANDNOT(sign, p0), VD_ANDNOT(sign, p1)), VD_ANDNOT(sign, p2)), eps);
+            const hemi_vd sg = VD_AND(d, sign); /* orient: every normal negated when det < 0 */
+            VD_STORE(E[0][0] + j, VD_XOR(e00, sg)), VD_STORE(E[0][1] + j, VD_XOR(e01, sg)), VD_STORE(E[0][2] + j, VD_XOR(e02, sg));
+            VD_STORE(E[1][0] + j, VD_XOR(e10, sg)), VD_STORE(E[1][1] + j, VD_XOR(e11, sg)), VD_STORE(E[1][2] + j, VD_XOR(e12, sg));
+            VD_STORE(E[2][0] + j, VD_XOR(e20, sg)), VD_STORE(E[2][1] + j, VD_XOR(e21, sg)), VD_STORE(E[2][2] + j, VD_XOR(e22, sg));
+            const int unsure = VD_MASK(VD_GE(bound, VD_ANDNOT(sign, d))) & ((1 << HEMI_VL) - 1);
+            if (unsure != 0) /* the exact integer setup for those lanes */
+                for (uint32_t l = 0; l < HEMI_VL; ++l) {
+                    if (!((unsure >> l) & 1) || j + l >= k)
+                        continue;
+                    const uint32_t *q = tri[keep[j + l]];
+                    int64_t e[3][3];
+                    const int r = tri_setup(v[q[0]], v[q[1]], v[q[2]], e);
+                    if (r != TRI_DRAW) { /* the plane through the receiver (kept: not below) */
+                        skip[j + l] = 1u;
+                        ++*nt;
+                        e[0][0] = e[1][0] = e[2][0] = 1, e[0][1] = e[0][2] = e[1][1] = e[1][2] = e[2][1] = e[2][2] = 0;
+                    }
+                    for (int i = 0; i < 3; ++i)
+                        for (int c = 0; c < 3; ++c)
+                            E[i][c][j + l] = (double)e[i][c]; /* |e| < 2^53: exact */
+                }
+        }
+        for (int i = 0; i < 3; ++i) /* (3) */
+            lookup_lanes(h, E[i][0], E[i][1], E[i][2], kp, li[i], ln[i]);
+        for (uint32_t j = 0; j < k; ++j) { /* (4) */
+            if (skip[j])
+                continue;
             edge ed[3];
             for (int i = 0; i < 3; ++i)
-                ed[i].m = h->lut + (size_t)li[i][j] * h->words, ed[i].x = 0u - ln[i][j], ed[i].rev = (int)lr[i][j];
-            and3(mask, &ed[0], &ed[1], &ed[2], n, wpr);
+                ed[i].m = h->lut + (size_t)li[i][j] * words, ed[i].x = 0u - ln[i][j];
+            and3(mask, &ed[0], &ed[1], &ed[2], words);
+            ++*nr;
         }
-        *nr += k;
     }
 }
 #endif
@@ -740,19 +738,28 @@ qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint
 {
     if (h == 0 || mask == 0 || (ntri != 0u && (v == 0 || tri == 0)))
         return QIBL_E_NULL_POINTER;
-    /* indices first, then every vertex once (cheaper than per reference for shared vertices) */
-    for (uint32_t t = 0; t < ntri; ++t)
-        if ((tri[t][0] >= nv) | (tri[t][1] >= nv) | (tri[t][2] >= nv))
-            return QIBL_E_HEMI_INDEX;
-    if (ntri != 0u)
-        for (uint32_t k = 0; k < nv; ++k)
-            if (!local_ok(v[k]))
-                return QIBL_E_HEMI_RANGE;
+    /* indices first, then every vertex once (cheaper than per reference for shared vertices);
+     * flat loops with no early exit, which compilers vectorise: |x| <= MAX is (uint32)(x + MAX) <= 2 MAX */
+    uint32_t bad = 0;
+    if (ntri != 0u) {
+        const uint32_t *ix = &tri[0][0];
+        for (uint32_t k = 0; k < 3u * ntri; ++k)
+            bad |= (uint32_t)(ix[k] >= nv);
+    }
+    if (bad)
+        return QIBL_E_HEMI_INDEX;
+    if (ntri != 0u) {
+        const int32_t *c = &v[0][0];
+        for (uint32_t k = 0; k < 3u * nv; ++k)
+            bad |= (uint32_t)((uint32_t)c[k] + (uint32_t)QIBL_HEMI_LOCAL_MAX > 2u * (uint32_t)QIBL_HEMI_LOCAL_MAX);
+        if (bad)
+            return QIBL_E_HEMI_RANGE;
+    }
     uint32_t nr = 0, nb = 0, nt = 0;
 #if HEMI_LANES
     raster_batches(h, v, tri, ntri, mask, &nr, &nb, &nt);
 #else
-    const uint32_t n = (uint32_t)h->n, wpr = h->wpr;
+    const uint32_t words = h->words;
     for (uint32_t t = 0; t < ntri; ++t) {
         int64_t e[3][3];
         const int r = tri_setup(v[tri[t][0]], v[tri[t][1]], v[tri[t][2]], e);
@@ -764,7 +771,7 @@ qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint
             continue;
         }
         const edge ea = lookup(h, e[0]), eb = lookup(h, e[1]), ec = lookup(h, e[2]);
-        and3(mask, &ea, &eb, &ec, n, wpr);
+        and3(mask, &ea, &eb, &ec, words);
         ++nr;
     }
 #endif

@@ -47,6 +47,9 @@ static double cpu_now(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 #define G 37        /* cloth grid */
+#ifndef DEF_FACE
+#define DEF_FACE 48 /* the default tables' face size (the largest within 1 MiB) */
+#endif
 #define CSTEP 4     /* coarse grid step */
 #define CG (G / CSTEP + 1)
 #define LOCAL_MAX (CG * CG + G * G) /* local vertices of a receiver, at most */
@@ -551,7 +554,7 @@ static void bench_scenes(int quick)
         {"chess", {"-"}, 6, 1, 1, 400, 2}, /* gen/chess.c, written to a temporary directory */
     };
     const int rs = quick ? 16 : 32;
-    printf("\nScenes (qibl transfer's pipeline: 32 x 32 mask, 64 x 64 faces, crease wedges; reference %d x %d rays per\n"
+    printf("\nScenes (qibl transfer's pipeline: 32 x 32 mask, 48 x 48 faces, crease wedges; reference %d x %d rays per\n"
            "vertex; probe %s). Blockers: every triangle, or the hierarchy (QEM coarse mesh of C triangles +\n"
            "R rings of the full mesh); PVS: each vertex's blockers ever above its horizon over the scene's frames\n"
            "(the paper's static PVS; the masks are checked identical), timed on the same vertices:\n", rs, rs, probe);
@@ -749,8 +752,8 @@ static void integration_study(const qibl_hemi_t *h, const scene *s, qibl_q16_t (
         }
     }
     const double n = (double)(nv * (size_t)nframes);
-    printf("\nintegration study (cloth, W = 6, 32 x 32 mask, 60 x 60 faces; min of %d interleaved reps per frame):\n"
-           "%-34s %14s %10s\n", reps, "integration", "ns/vertex", "L2 err");
+    printf("\nintegration study (cloth, W = 6, 32 x 32 mask, %d x %d faces; min of %d interleaved reps per frame):\n"
+           "%-34s %14s %10s\n", h->face, h->face, reps, "integration", "ns/vertex", "L2 err");
     printf("%-34s %14.0f %9.2f %%\n", "exact per pixel (qibl_hemi_transfer)", t_ex * 1e9, 100 * e_ex / n);
     printf("%-34s %14.0f %9.2f %%\n", "4 x 4 downsampled (paper)", t_dn * 1e9, 100 * e_dn / n);
     printf("%-34s %14.0f %10s\n", "glossy, Phong e = 16 (per view)", t_ph * 1e9, "-");
@@ -831,8 +834,8 @@ static void raster_paths(const qibl_hemi_t *h, const scene *s, const qibl_q16_t 
 #else
     const char *lib = "library (scalar look-ups here)";
 #endif
-    printf("\nraster look-up paths (cloth frame 0, W = 6, %.1f rasterized per vertex; min / median of %d interleaved reps;\n"
-           "  built by %s, core %s):\n", nr / nvd, reps, QTOOL_BENCH_COMPILER, QIBL_BENCH_CORE_FLAGS);
+    printf("\nraster look-up paths (cloth frame 0, W = 6, %d x %d mask, %d x %d faces, %.1f rasterized per vertex;\n"
+           "  min / median of %d interleaved reps; built by %s, core %s):\n", h->n, h->n, h->face, h->face, nr / nvd, reps, QTOOL_BENCH_COMPILER, QIBL_BENCH_CORE_FLAGS);
     printf("  %-34s %9.0f / %-9.0f ns per vertex  %6.1f ns per rasterized triangle\n", lib, mina / nvd * 1e9,
            meda / nvd * 1e9, mina / nr * 1e9);
     printf("  %-34s %9.0f / %-9.0f ns per vertex  %6.1f ns per rasterized triangle\n", "scalar twin (integer look-ups)",
@@ -896,17 +899,17 @@ int qcli_bench_hemi(int quick)
 
     /* the hierarchy: how large the full-resolution near field is (the default LUT) */
     {
-        const size_t sz = qibl_hemi_workspace_size(32, 60);
+        const size_t sz = qibl_hemi_workspace_size(32, DEF_FACE);
         void *ws = malloc(sz);
         qibl_hemi_t h;
-        if (!ws || qibl_hemi_init(&h, 32, 60, ws, sz) != QIBL_OK) {
+        if (!ws || qibl_hemi_init(&h, 32, DEF_FACE, ws, sz) != QIBL_OK) {
             fprintf(stderr, "qibl: bench hemi: out of memory\n");
             return 1;
         }
         static const int wins[] = {2, 4, 6, G};
-        printf("\nhierarchy (32 x 32 mask, 60 x 60 faces): coarse 10 x 10 grid (162 triangles) + full-resolution\n"
+        printf("\nhierarchy (32 x 32 mask, %d x %d faces): coarse 10 x 10 grid (162 triangles) + full-resolution\n"
                "triangles of the coarse cells within W grid steps of the vertex (W = 2: the two-ring)\n"
-               "%-26s %10s %12s %10s %10s\n", "near field", "blockers", "rasterized", "fps", "L2 err");
+               "%-26s %10s %12s %10s %10s\n", DEF_FACE, DEF_FACE, "near field", "blockers", "rasterized", "fps", "L2 err");
         for (size_t w = 0; w < sizeof wins / sizeof wins[0]; ++w) {
             if (quick && wins[w] == 4)
                 continue;
@@ -959,7 +962,7 @@ int qcli_bench_hemi(int quick)
     /* the LUT / mask study: every configuration on the same frames */
     static const struct {
         int n, face;
-    } cfgs[] = {{16, 16}, {16, 32}, {32, 24}, {32, 32}, {32, 48}, {32, 60}, {32, 128}, {64, 64}, {64, 128}};
+    } cfgs[] = {{16, 16}, {16, 32}, {32, 20}, {32, 24}, {32, 32}, {32, 48}, {32, 60}, {32, 128}, {64, 48}, {64, 128}};
     const int ncfg = (int)(sizeof cfgs / sizeof cfgs[0]);
     double def_fps = 0, def_err = 0;
     timing def_tm = {0, 0, 0, 0, 0, 0};
@@ -985,16 +988,16 @@ int qcli_bench_hemi(int quick)
                100 * err, init_ms);
         printf("RESULT hemi.study_%d_f%d_fps %.1f\nRESULT hemi.study_%d_f%d_l2err %.4f\n", cfgs[c].n, cfgs[c].face, fps,
                cfgs[c].n, cfgs[c].face, err);
-        if (cfgs[c].n == 32 && cfgs[c].face == 60)
+        if (cfgs[c].n == 32 && cfgs[c].face == DEF_FACE)
             def_fps = fps, def_err = err, def_tm = tm;
         free(ws);
     }
 
     {
-        const size_t sz = qibl_hemi_workspace_size(32, 60);
+        const size_t sz = qibl_hemi_workspace_size(32, DEF_FACE);
         void *ws = malloc(sz);
         qibl_hemi_t h;
-        if (ws && qibl_hemi_init(&h, 32, 60, ws, sz) == QIBL_OK)
+        if (ws && qibl_hemi_init(&h, 32, DEF_FACE, ws, sz) == QIBL_OK)
             integration_study(&h, &s, pos, nrm, ref, nframes, reps);
         free(ws);
     }
@@ -1026,7 +1029,6 @@ int qcli_bench_hemi(int quick)
                 double t2 = cpu_now();
                 tw[r] = (t1 - t0) / (double)nv * 1e9, tl[r] = (t2 - t1) / (double)nv * 1e9;
             }
-            raster_paths(&h, &s, (const qibl_q16_t(*)[3])pos, (const int32_t(*)[3])nrm, quick ? 9 : 31);
             if (fr)
                 printf("\nrotation per vertex: transfer out of the frame %.0f ns, lighting into it (3 channels) %.0f ns%s\n",
                        qcli_median(tw, reps), qcli_median(tl, reps), acc == 12345 ? " " : "");
@@ -1035,9 +1037,19 @@ int qcli_bench_hemi(int quick)
         free(ws);
     }
 
+    { /* the raster paths on the default tables (their size decides the cache misses) */
+        const size_t sz = qibl_hemi_workspace_size(32, DEF_FACE);
+        void *ws = malloc(sz);
+        qibl_hemi_t h;
+        if (ws && qibl_hemi_init(&h, 32, DEF_FACE, ws, sz) == QIBL_OK)
+            raster_paths(&h, &s, (const qibl_q16_t(*)[3])pos, (const int32_t(*)[3])nrm, quick ? 9 : 31);
+        free(ws);
+    }
+
     const double tt = def_tm.transform + def_tm.raster + def_tm.transfer + def_tm.other;
     const double frames = (double)nframes;
-    printf("\nTable 1 (default: 32 x 32 mask, 60 x 60 faces, 1005.5 KiB, W = 6)   paper (Cloth, 2 CPUs)\n");
+    printf("\nTable 1 (default: 32 x 32 mask, %d x %d faces, %.1f KiB, W = 6)   paper (Cloth, 2 CPUs)\n", DEF_FACE, DEF_FACE,
+           qibl_hemi_workspace_size(32, DEF_FACE) / 1024.0);
     printf("  %-34s %10d %12d\n", "vertices", s.nv, 1378);
     printf("  %-34s %10d %12d\n", "triangles", s.ntri, 2560);
     printf("  %-34s %10d %12d\n", "coarse triangles", s.nct, 160);

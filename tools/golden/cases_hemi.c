@@ -25,7 +25,7 @@ static int tables_case(const qtool_goldens_sink_t *s, const char *name, int n, i
     if (st != QIBL_OK)
         return gcase_status_error(s, name, "qibl_hemi_init", st);
     gbuf b = {0};
-    const uint32_t lut_words = 2u * (uint32_t)face * (uint32_t)face * h->words;
+    const uint32_t lut_words = 3u * (uint32_t)face * (uint32_t)face * h->words;
     for (uint32_t i = 0; i < h->words; ++i)
         gbuf_u32(&b, h->disk[i]);
     for (uint32_t i = 0; i < 25u; ++i)

@@ -104,8 +104,8 @@
 
 /* QIBL_USE_HEMI: 1 builds hemispherical rasterization (hemi.c: plane LUT, triangle masks, SH
  * transfer, frame rotation; see `make cross` for its .text; no RAM beyond the caller's workspace,
- * qibl_hemi_workspace_size: 1005.5 KiB for the default 32 x 32 mask with 60 x 60 faces, 249.5 KiB
- * with 24 x 24 faces). Needs QIBL_USE_SH with 5 bands; by default on when that holds, unless
+ * qibl_hemi_workspace_size: 969.5 KiB for the default 32 x 32 mask with 48 x 48 faces, 255.5 KiB
+ * with 20 x 20 faces). Needs QIBL_USE_SH with 5 bands; by default on when that holds, unless
  * QIBL_CONFIG_SMALL. */
 #ifndef QIBL_USE_HEMI
 #define QIBL_USE_HEMI (QIBL_USE_SH && QIBL_SH_MAX_BANDS == 5 && !QIBL_CONFIG_SMALL)

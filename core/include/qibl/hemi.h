@@ -21,9 +21,10 @@
  * Skipped: triangles with every vertex at or below the horizon (z <= 0), and triangles whose
  * plane passes through the receiver (det = 0, computed exactly: degenerate triangles, triangles
  * sharing the receiver vertex, edge-on triangles).
- * The table folds three symmetries, so it holds 2 F^2 masks instead of 6 F^2: the plane -p gives
- * the complement of p's mask (the -x and -z faces), and mirroring p in y reverses the mask's rows
- * (half of the +x and +z faces, all of -y); both cost nothing at run time (an XOR, an index).
+ * The table folds one symmetry, so it holds 3 F^2 masks instead of 6 F^2: the plane -p gives the
+ * complement of p's mask (the -x, -y and -z faces), an XOR at run time. The disk's mirror
+ * symmetries (row reversals) would halve it again but are not folded: a mirrored entry is read in
+ * another row order, a branch or shuffle per triangle that measured slower (docs/ARCHITECTURE.md).
  *
  * Transfer: V*_i = integral of Y_i(s) V(s) max(0, n.s) ds = integral over the disk of
  * Y_i(x, y, sqrt(1 - x^2 - y^2)) V dx dy, per pixel exactly as a table: T[p][i] = the integral of Y_i
@@ -41,9 +42,9 @@
  *
  * Memory: qibl_hemi_workspace_size(N, F) bytes, any alignment: the two rotations (1328 bytes), the
  * disk mask and unblocked transfer, the basis table (100 N^2 bytes), the pixel centres (4 N^2
- * bytes) and the LUT (2 F^2 masks of 4 N max(1, N/32) bytes). N = 32: F = 60 (the default)
- * 1005.5 KiB, F = 24 (small) 249.5 KiB.
- * Init cost: 2 F^2 N^2 exact pixel tests and 65536 SH evaluations.
+ * bytes) and the LUT (3 F^2 masks of 4 N max(1, N/32) bytes). N = 32: F = 48 (the default, the
+ * largest within 1 MiB) 969.5 KiB, F = 20 (small, within 256 KiB) 255.5 KiB, F = 60 1455.5 KiB.
+ * Init cost: 3 F^2 N^2 exact pixel tests and 65536 SH evaluations.
  */
 #ifndef QIBL_HEMI_H
 #define QIBL_HEMI_H
@@ -79,7 +80,7 @@ typedef struct qibl_hemi {
     const uint32_t *disk;                      /* [words] pixels meeting the disk */
     const uint32_t *full;                      /* [25] transfer of the unblocked hemisphere (Q2.30) */
     const uint32_t *basis;                     /* [N * N][25] per-pixel integrals (Q2.30, two's complement) */
-    const uint32_t *lut;                       /* [2 F^2][words] */
+    const uint32_t *lut;                       /* [3 F^2][words]: faces +x, +y, +z */
     const uint32_t *zc;                        /* [N * N] z of the pixel centres on the hemisphere (Q2.30) */
 } qibl_hemi_t;
 
