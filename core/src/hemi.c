@@ -287,17 +287,28 @@ qibl_status_t qibl_hemi_transform(const qibl_hemi_frame_t *f, const qibl_q16_t (
 {
     if (f == 0 || (count != 0u && (pos == 0 || out == 0)))
         return QIBL_E_NULL_POINTER;
-    for (uint32_t k = 0; k < count; ++k)
-        if (!coord_ok(pos[k][0]) || !coord_ok(pos[k][1]) || !coord_ok(pos[k][2]))
-            return QIBL_E_HEMI_RANGE;
-    const unsigned sh = 30u - (QIBL_HEMI_LOCAL_FRAC - 16u); /* Q30 x Q16 -> Q14.18 */
+    /* one flat pass with no early exit (vectorised): |x| <= MAX is (uint32)(x + MAX) <= 2 MAX */
+    uint32_t bad = 0;
+    if (count != 0u) {
+        const int32_t *c = &pos[0][0];
+        for (uint32_t k = 0; k < 3u * count; ++k)
+            bad |= (uint32_t)((uint32_t)c[k] + (uint32_t)QIBL_HEMI_COORD_MAX > 2u * (uint32_t)QIBL_HEMI_COORD_MAX);
+    }
+    if (bad)
+        return QIBL_E_HEMI_RANGE;
+    /* Q30 x Q16 -> Q14.18: a rounding shift by SH = 28, written with a constant shift on an offset
+     * unsigned value (no saturation needed: |result| < 2^26) */
+    enum { SH = 30 - (QIBL_HEMI_LOCAL_FRAC - 16) };
+    const uint64_t bias = ((uint64_t)1 << (SH - 1)) + ((uint64_t)1 << 62);
+    const int64_t unbias = (int64_t)1 << (62 - SH);
     for (uint32_t k = 0; k < count; ++k) {
-        /* |d| < 2^23: each product < 2^53, the sum < 2^55; the result < sqrt(3) 2^23 2^2 < 2^26 */
+        /* |d| < 2^23: each product < 2^53, the sum < 2^55; the result < sqrt(3) 2^23 2^2 < 2^26;
+         * s + 2^27 + 2^62 is positive and below 2^63, so the shift is floor((s + 2^27) / 2^28) */
         const int32_t d0 = pos[k][0] - f->p[0], d1 = pos[k][1] - f->p[1], d2 = pos[k][2] - f->p[2];
         for (int j = 0; j < 3; ++j) {
             const int64_t s = qibl_mul_s32_s64(f->axis[j][0], d0) + qibl_mul_s32_s64(f->axis[j][1], d1) +
                               qibl_mul_s32_s64(f->axis[j][2], d2);
-            out[k][j] = qibl_rshr_s64(s, sh);
+            out[k][j] = (int32_t)((int64_t)(((uint64_t)s + bias) >> SH) - unbias);
         }
     }
     return QIBL_OK;

@@ -509,27 +509,34 @@ static double rel_err(const qibl_q30_t *v, const double *ref)
 
 /* ---- the bench ---------------------------------------------------------------------------------- */
 
-/* fps (median of reps per frame, summed over frames) and mean relative L2 error of one setup */
+/* fps (the fastest of the repetitions per frame, summed over frames; the median-based rate in
+ * g_fps_median) and mean relative L2 error of one setup */
+static double g_fps_median; /* evaluate's frame rate from the median of the repetitions */
+
 static void evaluate(const qibl_hemi_t *h, const scene *s, qibl_q16_t (*pos)[3], int32_t (*nrm)[3], double (*ref)[25],
                      int nframes, int reps, qibl_q30_t (*vloc)[25], qibl_q30_t (*vw)[25], double *fps, double *err,
                      timing *tm)
 {
     const size_t nv = (size_t)s->nv;
-    double e = 0, tsum = 0;
+    double e = 0, tsum = 0, tmed = 0;
     memset(tm, 0, sizeof *tm);
     for (int f = 0; f < nframes; ++f) {
         const qibl_q16_t(*p)[3] = (const qibl_q16_t(*)[3])(pos + nv * (size_t)f);
         const int32_t(*n)[3] = (const int32_t(*)[3])(nrm + nv * (size_t)f);
-        double t[9];
-        for (int r = 0; r < reps; ++r)
+        double t[9], tmin = 1e30;
+        for (int r = 0; r < reps; ++r) {
             t[r] = hemi_frame_time(h, s, p, n, vloc, vw);
-        tsum += qcli_median(t, reps);
+            tmin = t[r] < tmin ? t[r] : tmin;
+        }
+        tsum += tmin; /* the minimum of the repetitions: the machine's own speed; the median beside it */
+        tmed += qcli_median(t, reps);
         hemi_frame(h, s, p, n, vloc, vw, tm, NULL);
         for (size_t v = 0; v < nv; ++v)
             e += rel_err(vloc[v], ref[nv * (size_t)f + v]);
     }
     *err = e / (double)(nv * (size_t)nframes);
     *fps = nframes / tsum;
+    g_fps_median = nframes / tmed;
 }
 
 /* The real meshes of ../shared/fixtures/meshes (QIBL_MESHES=DIR overrides) through `qibl transfer`'s
@@ -604,7 +611,7 @@ static void bench_scenes(int quick)
         const char *best_cfg = "";
         for (int hier = 0; hier <= (sc[i].coarse > 0); ++hier) {
             qcli_transfer_stats st;
-            if (qcli_transfer_measure(files, sc[i].nframes, sc[i].zup, probe, 32, 64, rs, hier ? sc[i].coarse : 0,
+            if (qcli_transfer_measure(files, sc[i].nframes, sc[i].zup, probe, 32, DEF_FACE, rs, hier ? sc[i].coarse : 0,
                                       hier ? sc[i].ring : 3, 1, &st) != 0)
                 continue;
             const double fps = st.ms_per_frame > 0 ? 1e3 / st.ms_per_frame : 0;
@@ -938,10 +945,12 @@ int qcli_bench_hemi(int quick)
             for (int f = 0; f < nframes; ++f) {
                 const qibl_q16_t(*p)[3] = (const qibl_q16_t(*)[3])(pos + nv * (size_t)f);
                 const int32_t(*n)[3] = (const int32_t(*)[3])(nrm + nv * (size_t)f);
-                double t[9];
-                for (int r = 0; r < reps; ++r)
-                    t[r] = groups_frame(&h, &s, p, n, vg, r == 0 ? &blk : NULL, r == 0 ? &ras : NULL);
-                tsum += qcli_median(t, reps);
+                double tmin = 1e30;
+                for (int r = 0; r < reps; ++r) {
+                    const double t = groups_frame(&h, &s, p, n, vg, r == 0 ? &blk : NULL, r == 0 ? &ras : NULL);
+                    tmin = t < tmin ? t : tmin;
+                }
+                tsum += tmin;
                 hemi_frame_time(&h, &s, p, n, vloc, vw);
                 for (size_t v = 0; v < nv; ++v) {
                     same += memcmp(vg[v], vloc[v], sizeof vg[v]) == 0;
@@ -964,7 +973,7 @@ int qcli_bench_hemi(int quick)
         int n, face;
     } cfgs[] = {{16, 16}, {16, 32}, {32, 20}, {32, 24}, {32, 32}, {32, 48}, {32, 60}, {32, 128}, {64, 48}, {64, 128}};
     const int ncfg = (int)(sizeof cfgs / sizeof cfgs[0]);
-    double def_fps = 0, def_err = 0;
+    double def_fps = 0, def_err = 0, def_fps_med = 0;
     timing def_tm = {0, 0, 0, 0, 0, 0};
     printf("\nmask / LUT study (cloth, W = 6):\n%-10s %-6s %12s %10s %10s %12s\n", "mask", "face", "workspace", "fps", "L2 err",
            "init ms");
@@ -989,7 +998,7 @@ int qcli_bench_hemi(int quick)
         printf("RESULT hemi.study_%d_f%d_fps %.1f\nRESULT hemi.study_%d_f%d_l2err %.4f\n", cfgs[c].n, cfgs[c].face, fps,
                cfgs[c].n, cfgs[c].face, err);
         if (cfgs[c].n == 32 && cfgs[c].face == DEF_FACE)
-            def_fps = fps, def_err = err, def_tm = tm;
+            def_fps = fps, def_err = err, def_tm = tm, def_fps_med = g_fps_median;
         free(ws);
     }
 
@@ -1056,6 +1065,7 @@ int qcli_bench_hemi(int quick)
     printf("  %-34s %10.1f %12.1f\n", "blockers per vertex", def_tm.blockers / frames / (double)nv, 236.4);
     printf("  %-34s %10.1f %12s\n", "  of them rasterized (above horizon)", def_tm.rasterized / frames / (double)nv, "-");
     printf("  %-34s %10.1f %12.1f\n", "frames per second (one core)", def_fps, 15.5);
+    printf("  %-34s %10.1f %12s\n", "  (from the median repetition)", def_fps_med, "-");
     printf("  %-34s %9.2f %% %11.2f %%\n", "average relative L2 error of V*", 100 * def_err, 2.47);
     printf("Table 2 (share of the shadow loop)   this   paper\n");
     printf("  rasterization  %5.1f %%  48.0 %%\n  integration    %5.1f %%  23.5 %%\n"
