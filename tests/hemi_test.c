@@ -290,10 +290,10 @@ static void test_lanes_match_twin(void **state)
     }
 }
 
-/* Nearly edge-on triangles with large coordinates: det = a . (b x c) is -B or 0 while the products
- * of the lanes' determinant reach 2^76, so its sign is not certain in doubles and the lanes fall
- * back to the exact integer setup (tests the filter and the fallback, both orientations, the plane
- * through the receiver, mixed in one batch with ordinary triangles). */
+/* Nearly edge-on triangles with large coordinates: det = a . (b x c) is -dx B (dx in 0..2, B near
+ * 2^23) while the products of the lanes' determinant reach 2^72, so its sign is often not certain
+ * in doubles and the lanes fall back to the exact integer setup (tests the filter and the fallback,
+ * both orientations, the plane through the receiver, mixed in one batch with ordinary triangles). */
 static void test_lanes_edge_on(void **state)
 {
     (void)state;

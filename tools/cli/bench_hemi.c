@@ -475,6 +475,32 @@ static void ref_vertex(void *vctx, uint32_t v)
     qtool_hemi_ref(c->rt, p, ax, c->side, 0, 0x1234567u + v * 0x9E3779B97F4A7C15u, c->ref[v], &c->noise[v]);
 }
 
+/* the glossy reference of every STRIDE-th vertex (qtool_hemi_ref_phong, the lobe about LREFL in
+ * the vertex frame, the same direction qibl_hemi_transfer_phong is given) */
+static const double LREFL[3] = {0.3, 0.2, 0.93};
+typedef struct glossctx {
+    refctx c;
+    uint32_t stride;
+    double e;
+    double (*out)[25], *noise;
+} glossctx;
+
+static void ref_vertex_phong(void *vctx, uint32_t k)
+{
+    glossctx *g = vctx;
+    const uint32_t v = k * g->stride;
+    qibl_hemi_frame_t fr;
+    qibl_hemi_frame_init(&fr, g->c.pos[v], g->c.nrm[v]);
+    double ax[3][3], p[3];
+    for (int i = 0; i < 3; ++i)
+        for (int q = 0; q < 3; ++q)
+            ax[i][q] = fr.axis[i][q] / 1073741824.0;
+    for (int q = 0; q < 3; ++q)
+        p[q] = g->c.pos[v][q] / 65536.0;
+    qtool_hemi_ref_phong(g->c.rt, p, ax, g->c.side, LREFL, g->e, 0x7654321u + v * 0x9E3779B97F4A7C15u, g->out[k],
+                         &g->noise[k]);
+}
+
 static int build_rt(const scene *s, int f, qtool_rt_scene *rt)
 {
     const double *x = s->frames + 3 * (size_t)s->nv * (size_t)f;
@@ -717,7 +743,7 @@ static void down4_transfer(const qibl_hemi_t *h, const down4 *d, const uint32_t 
 }
 
 static void integration_study(const qibl_hemi_t *h, const scene *s, qibl_q16_t (*pos)[3], int32_t (*nrm)[3],
-                              double (*ref)[25], int nframes, int reps)
+                              double (*ref)[25], int nframes, int reps, int quick)
 {
     const size_t nv = (size_t)s->nv;
     uint32_t *masks = malloc(sizeof(uint32_t) * 32 * nv);
@@ -758,12 +784,41 @@ static void integration_study(const qibl_hemi_t *h, const scene *s, qibl_q16_t (
             e_dn += rel_err(vd[v], ref[nv * (size_t)f + v]);
         }
     }
+    /* glossy: frame 0's masks against the ray cast weighted by the same lobe, every stride-th vertex */
+    const uint32_t stride = quick ? 16u : 4u, ng = (uint32_t)((nv + stride - 1) / stride);
+    const int gside = quick ? 64 : 128;
+    double e_gl = -1, gl_noise = 0, e_gd = 0;
+    {
+        double (*gref)[25] = malloc(sizeof *gref * ng), *gnoise = malloc(sizeof(double) * ng);
+        qtool_rt_scene rt;
+        if (gref && gnoise && build_rt(s, 0, &rt) == 0) {
+            const qibl_q16_t(*p0)[3] = (const qibl_q16_t(*)[3])pos;
+            const int32_t(*n0)[3] = (const int32_t(*)[3])nrm;
+            glossctx g = {{s, &rt, p0, n0, NULL, NULL, gside}, stride, 16.0, gref, gnoise};
+            qtool_rt_parallel(2, ng, ref_vertex_phong, &g, NULL);
+            qtool_rt_scene_free(&rt);
+            hemi_frame(h, s, p0, n0, vloc, vw, NULL, masks);
+            e_gl = 0;
+            for (uint32_t k = 0; k < ng; ++k) {
+                const uint32_t v = k * stride;
+                qibl_hemi_transfer_phong(h, masks + 32 * (size_t)v, refl, 16, vd[v]);
+                e_gl += rel_err(vd[v], gref[k]), gl_noise += gnoise[k];
+                e_gd += rel_err(vloc[v], ref[v]);
+            }
+            e_gl /= ng, gl_noise /= ng, e_gd /= ng;
+        }
+        free(gref), free(gnoise);
+    }
     const double n = (double)(nv * (size_t)nframes);
     printf("\nintegration study (cloth, W = 6, 32 x 32 mask, %d x %d faces; min of %d interleaved reps per frame):\n"
            "%-34s %14s %10s\n", h->face, h->face, reps, "integration", "ns/vertex", "L2 err");
     printf("%-34s %14.0f %9.2f %%\n", "exact per pixel (qibl_hemi_transfer)", t_ex * 1e9, 100 * e_ex / n);
     printf("%-34s %14.0f %9.2f %%\n", "4 x 4 downsampled (paper)", t_dn * 1e9, 100 * e_dn / n);
-    printf("%-34s %14.0f %10s\n", "glossy, Phong e = 16 (per view)", t_ph * 1e9, "-");
+    printf("%-34s %14.0f %9.2f %%   (frame 0, every %u-th vertex, against %d x %d rays weighted by the lobe,\n"
+           "%-34s %14s %10s     noise %.2f %%; the diffuse error on those vertices: %.2f %%)\n",
+           "glossy, Phong e = 16 (per view)", t_ph * 1e9, 100 * e_gl, stride, gside, gside, "", "", "", 100 * gl_noise,
+           100 * e_gd);
+    printf("RESULT hemi.integrate_phong16_l2err %.4f\nRESULT hemi.integrate_phong16_ref_noise %.4f\n", e_gl, gl_noise);
     printf("RESULT hemi.integrate_exact_ns %.0f\nRESULT hemi.integrate_down4_ns %.0f\n", t_ex * 1e9, t_dn * 1e9);
     printf("RESULT hemi.integrate_phong16_ns %.0f\n", t_ph * 1e9);
     printf("RESULT hemi.integrate_exact_l2err %.4f\nRESULT hemi.integrate_down4_l2err %.4f\n", e_ex / n, e_dn / n);
@@ -1007,7 +1062,7 @@ int qcli_bench_hemi(int quick)
         void *ws = malloc(sz);
         qibl_hemi_t h;
         if (ws && qibl_hemi_init(&h, 32, DEF_FACE, ws, sz) == QIBL_OK)
-            integration_study(&h, &s, pos, nrm, ref, nframes, reps);
+            integration_study(&h, &s, pos, nrm, ref, nframes, reps, quick);
         free(ws);
     }
 

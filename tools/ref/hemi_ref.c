@@ -10,8 +10,9 @@
 
 #define PI 3.14159265358979323846
 
-void qtool_hemi_ref(const qtool_rt_scene *rt, const double p[3], const double ax[3][3], int side, int world,
-                    uint64_t seed, double out[25], double *noise)
+/* the estimator of both: each cosine-weighted ray weighted by max(0, refl . l)^e when refl is set */
+static void ref_rays(const qtool_rt_scene *rt, const double p[3], const double ax[3][3], int side, int world,
+                     const double *refl, double e, uint64_t seed, double out[25], double *noise)
 {
     qtool_rt_hit hit;
     memset(&hit, 0, sizeof hit);
@@ -34,13 +35,19 @@ void qtool_hemi_ref(const qtool_rt_scene *rt, const double p[3], const double ax
                 w[k] = l[0] * ax[0][k] + l[1] * ax[1][k] + l[2] * ax[2][k];
             if (qtool_rt_occluded(rt, &hit, w, 1e30))
                 continue;
-            double y[25];
+            double y[25], g = 1;
+            if (refl) {
+                const double c = refl[0] * l[0] + refl[1] * l[1] + refl[2] * l[2];
+                if (c <= 0)
+                    continue;
+                g = pow(c, e);
+            }
             if (world)
                 qtool_ref_sh_eval(w[0], w[1], w[2], 5, y);
             else
                 qtool_ref_sh_eval(l[0], l[1], l[2], 5, y);
             for (int i = 0; i < 25; ++i)
-                half[(a + b) & 1][i] += y[i];
+                half[(a + b) & 1][i] += g * y[i];
         }
     const double wgt = PI / (S * S);
     double d2 = 0, n2 = 0;
@@ -51,4 +58,18 @@ void qtool_hemi_ref(const qtool_rt_scene *rt, const double p[3], const double ax
     }
     if (noise)
         *noise = n2 > 0 ? sqrt(d2) / 2 / sqrt(n2) : 0;
+}
+
+void qtool_hemi_ref(const qtool_rt_scene *rt, const double p[3], const double ax[3][3], int side, int world,
+                    uint64_t seed, double out[25], double *noise)
+{
+    ref_rays(rt, p, ax, side, world, NULL, 0, seed, out, noise);
+}
+
+void qtool_hemi_ref_phong(const qtool_rt_scene *rt, const double p[3], const double ax[3][3], int side,
+                          const double refl[3], double e, uint64_t seed, double out[25], double *noise)
+{
+    const double l = sqrt(refl[0] * refl[0] + refl[1] * refl[1] + refl[2] * refl[2]);
+    const double r[3] = {refl[0] / l, refl[1] / l, refl[2] / l};
+    ref_rays(rt, p, ax, side, 0, r, e, seed, out, noise);
 }

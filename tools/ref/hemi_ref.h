@@ -18,4 +18,10 @@
 void qtool_hemi_ref(const qtool_rt_scene *rt, const double p[3], const double ax[3][3], int side, int world,
                     uint64_t seed, double out[25], double *noise);
 
+/* The glossy transfer of qibl_hemi_transfer_phong: the integral of Y_i(s) V(s) max(0, n.s)
+ * max(0, r.s)^e ds, the basis in the frame's coordinates, refl = r in the frame (any length). Each
+ * cosine-weighted ray weighted by the lobe; the noise as above. */
+void qtool_hemi_ref_phong(const qtool_rt_scene *rt, const double p[3], const double ax[3][3], int side,
+                          const double refl[3], double e, uint64_t seed, double out[25], double *noise);
+
 #endif
