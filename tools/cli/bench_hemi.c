@@ -353,6 +353,8 @@ static double hemi_frame_time(const qibl_hemi_t *h, const scene *s, const qibl_q
  * the vertices of the groups it keeps. The same blockers as make_rings' lists minus whole groups the
  * rasterizer would cull: the same masks (checked). */
 #define NCELL ((CG - 1) * (CG - 1))
+static double g_lod; /* > 0: also refine every cell whose bound is within g_lod radii of the receiver */
+static double g_fps_median; /* evaluate's frame rate from the median of the repetitions */
 
 typedef struct groups {
     qibl_hemi_bound_t nearb[NCELL], farb[NCELL];
@@ -379,8 +381,9 @@ static void groups_make(const scene *s, const qibl_q16_t (*pos)[3], groups *g)
  * transformed once per group that keeps it), one transform, then each group rasterized with its
  * fixed index template at its offset: no per-triangle remapping. Returns the blockers. */
 static uint32_t groups_mask(const qibl_hemi_t *h, const scene *s, const groups *g, const qibl_q16_t (*pos)[3],
-                            const qibl_hemi_frame_t *fr, int v, uint32_t *mask, qibl_hemi_stats_t *st)
+                            const qibl_hemi_frame_t *fr, int v, uint32_t *mask, qibl_hemi_stats_t *st, timing *tm)
 {
+    const double t0 = tm ? cpu_now() : 0;
     enum { NEARV = (CSTEP + 1) * (CSTEP + 1), NEART = 2 * CSTEP * CSTEP };
     static qibl_q16_t gp[NCELL * NEARV][3]; /* static: the bench is single-threaded here */
     static int32_t loc[NCELL * NEARV][3];
@@ -399,11 +402,18 @@ static uint32_t groups_mask(const qibl_hemi_t *h, const scene *s, const groups *
     int c0, c1, r0, r1;
     ring_window(v, s->near, &c0, &c1, &r0, &r1);
     uint32_t nl = 0, ng = 0, nt = 0;
+    const double px = pos[v][0], py = pos[v][1], pz = pos[v][2];
     static uint32_t gbase[NCELL];
     static uint8_t gnear[NCELL];
     for (int cj = 0; cj + 1 < CG; ++cj)
         for (int ci = 0; ci + 1 < CG; ++ci) {
-            const int c = cj * (CG - 1) + ci, in = ci >= c0 && ci <= c1 && cj >= r0 && cj <= r1;
+            const int c = cj * (CG - 1) + ci;
+            int in = s->near > 0 && ci >= c0 && ci <= c1 && cj >= r0 && cj <= r1;
+            if (!in && g_lod > 0) { /* a cell that subtends a wide angle from the receiver, in 3D */
+                const double dx = g->nearb[c].c[0] - px, dy = g->nearb[c].c[1] - py, dz = g->nearb[c].c[2] - pz;
+                const double rr = g_lod * g->nearb[c].r;
+                in = dx * dx + dy * dy + dz * dz < rr * rr;
+            }
             if (!qibl_hemi_bound_above(fr, in ? &g->nearb[c] : &g->farb[c]))
                 continue;
             const uint32_t *q = in ? g->nearv[c] : g->farv[c];
@@ -412,7 +422,9 @@ static uint32_t groups_mask(const qibl_hemi_t *h, const scene *s, const groups *
             for (int k = 0; k < nq; ++k, ++nl)
                 gp[nl][0] = pos[q[k]][0], gp[nl][1] = pos[q[k]][1], gp[nl][2] = pos[q[k]][2];
         }
+    const double t1 = tm ? cpu_now() : 0;
     qibl_hemi_transform(fr, (const qibl_q16_t(*)[3])gp, nl, loc);
+    const double t2 = tm ? cpu_now() : 0;
     qibl_hemi_clear(h, mask);
     for (uint32_t k = 0; k < ng; ++k) {
         const uint32_t nv = gnear[k] ? NEARV : 4, ntri = gnear[k] ? NEART : 2;
@@ -420,12 +432,16 @@ static uint32_t groups_mask(const qibl_hemi_t *h, const scene *s, const groups *
                          ntri, mask, st);
         nt += ntri;
     }
+    if (tm) {
+        const double t3 = cpu_now();
+        tm->other += t1 - t0, tm->transform += t2 - t1, tm->raster += t3 - t2;
+    }
     return nt;
 }
 
 /* A frame with group culling: seconds (bounds included); vloc filled; blockers added to *blk. */
 static double groups_frame(const qibl_hemi_t *h, const scene *s, const qibl_q16_t (*pos)[3], const int32_t (*nrm)[3],
-                           qibl_q30_t (*vloc)[25], double *blk, double *rasterized)
+                           qibl_q30_t (*vloc)[25], double *blk, double *rasterized, timing *tm)
 {
     static groups g;
     uint32_t mask[QIBL_HEMI_MAX_WORDS];
@@ -434,20 +450,29 @@ static double groups_frame(const qibl_hemi_t *h, const scene *s, const qibl_q16_
     groups_make(s, pos, &g);
     double b = 0;
     for (int v = 0; v < s->nv; ++v) {
+        const double ta = tm ? cpu_now() : 0;
         qibl_hemi_frame_t fr;
         qibl_hemi_frame_init(&fr, pos[v], nrm[v]);
-        b += groups_mask(h, s, &g, pos, &fr, v, mask, &st);
+        const double tb = tm ? cpu_now() : 0;
+        b += groups_mask(h, s, &g, pos, &fr, v, mask, &st, tm);
+        const double tc = tm ? cpu_now() : 0;
         qibl_hemi_transfer(h, mask, vloc[v]);
+        const double td = tm ? cpu_now() : 0;
         qibl_q30_t w[25];
         qibl_hemi_to_world(h, &fr, vloc[v], w);
+        if (tm)
+            tm->other += (tb - ta) + (cpu_now() - td), tm->transfer += td - tc;
     }
     const double t = cpu_now() - t0;
+    if (tm)
+        tm->other += 0, tm->blockers += b, tm->rasterized += st.rasterized;
     if (blk)
         *blk += b;
     if (rasterized)
         *rasterized += st.rasterized;
     return t;
 }
+
 
 /* ---- reference ---------------------------------------------------------------------------------- */
 
@@ -537,7 +562,6 @@ static double rel_err(const qibl_q30_t *v, const double *ref)
 
 /* fps (the fastest of the repetitions per frame, summed over frames; the median-based rate in
  * g_fps_median) and mean relative L2 error of one setup */
-static double g_fps_median; /* evaluate's frame rate from the median of the repetitions */
 
 static void evaluate(const qibl_hemi_t *h, const scene *s, qibl_q16_t (*pos)[3], int32_t (*nrm)[3], double (*ref)[25],
                      int nframes, int reps, qibl_q30_t (*vloc)[25], qibl_q30_t (*vw)[25], double *fps, double *err,
@@ -560,6 +584,37 @@ static void evaluate(const qibl_hemi_t *h, const scene *s, qibl_q16_t (*pos)[3],
         for (size_t v = 0; v < nv; ++v)
             e += rel_err(vloc[v], ref[nv * (size_t)f + v]);
     }
+    *err = e / (double)(nv * (size_t)nframes);
+    *fps = nframes / tsum;
+    g_fps_median = nframes / tmed;
+}
+
+/* evaluate() for the per-frame 3D refinement: a coarse cell is replaced by its full-resolution
+ * triangles when the receiver lies within k radii of the cell's bound (remade every frame, so it
+ * follows the cloth's folds), with group culling; fps from the fastest repetition per frame */
+static void evaluate_lod(const qibl_hemi_t *h, scene *s, qibl_q16_t (*pos)[3], int32_t (*nrm)[3], double (*ref)[25],
+                         int nframes, int reps, double k, qibl_q30_t (*vloc)[25], double *fps, double *err, timing *tm)
+{
+    const size_t nv = (size_t)s->nv;
+    const int near = s->near;
+    double e = 0, tsum = 0, tmed = 0;
+    memset(tm, 0, sizeof *tm);
+    g_lod = k;
+    s->near = 0; /* no window: the cells of the receiver's own grid position come in by distance */
+    for (int f = 0; f < nframes; ++f) {
+        const qibl_q16_t(*p)[3] = (const qibl_q16_t(*)[3])(pos + nv * (size_t)f);
+        const int32_t(*n)[3] = (const int32_t(*)[3])(nrm + nv * (size_t)f);
+        double t[9], tmin = 1e30;
+        for (int r = 0; r < reps; ++r) {
+            t[r] = groups_frame(h, s, p, n, vloc, NULL, NULL, NULL);
+            tmin = t[r] < tmin ? t[r] : tmin;
+        }
+        tsum += tmin, tmed += qcli_median(t, reps);
+        groups_frame(h, s, p, n, vloc, NULL, NULL, tm);
+        for (size_t v = 0; v < nv; ++v)
+            e += rel_err(vloc[v], ref[nv * (size_t)f + v]);
+    }
+    g_lod = 0, s->near = near;
     *err = e / (double)(nv * (size_t)nframes);
     *fps = nframes / tsum;
     g_fps_median = nframes / tmed;
@@ -798,14 +853,19 @@ static void integration_study(const qibl_hemi_t *h, const scene *s, qibl_q16_t (
             qtool_rt_parallel(2, ng, ref_vertex_phong, &g, NULL);
             qtool_rt_scene_free(&rt);
             hemi_frame(h, s, p0, n0, vloc, vw, NULL, masks);
-            e_gl = 0;
+            /* relative L2 over the sampled vertices together: a lobe hidden in a fold has a transfer
+             * near zero, whose per-vertex relative error would say nothing */
+            double dg = 0, ng2 = 0, dd = 0, nd2 = 0;
             for (uint32_t k = 0; k < ng; ++k) {
                 const uint32_t v = k * stride;
                 qibl_hemi_transfer_phong(h, masks + 32 * (size_t)v, refl, 16, vd[v]);
-                e_gl += rel_err(vd[v], gref[k]), gl_noise += gnoise[k];
-                e_gd += rel_err(vloc[v], ref[v]);
+                for (int i = 0; i < 25; ++i) {
+                    const double a = vd[v][i] / 1073741824.0 - gref[k][i], b = vloc[v][i] / 1073741824.0 - ref[v][i];
+                    dg += a * a, ng2 += gref[k][i] * gref[k][i], dd += b * b, nd2 += ref[v][i] * ref[v][i];
+                }
+                gl_noise += gnoise[k];
             }
-            e_gl /= ng, gl_noise /= ng, e_gd /= ng;
+            e_gl = sqrt(dg / ng2), e_gd = sqrt(dd / nd2), gl_noise /= ng;
         }
         free(gref), free(gnoise);
     }
@@ -814,8 +874,8 @@ static void integration_study(const qibl_hemi_t *h, const scene *s, qibl_q16_t (
            "%-34s %14s %10s\n", h->face, h->face, reps, "integration", "ns/vertex", "L2 err");
     printf("%-34s %14.0f %9.2f %%\n", "exact per pixel (qibl_hemi_transfer)", t_ex * 1e9, 100 * e_ex / n);
     printf("%-34s %14.0f %9.2f %%\n", "4 x 4 downsampled (paper)", t_dn * 1e9, 100 * e_dn / n);
-    printf("%-34s %14.0f %9.2f %%   (frame 0, every %u-th vertex, against %d x %d rays weighted by the lobe,\n"
-           "%-34s %14s %10s     noise %.2f %%; the diffuse error on those vertices: %.2f %%)\n",
+    printf("%-34s %14.0f %9.2f %%   (frame 0, every %u-th vertex, relative L2 over them all, against %d x %d\n"
+           "%-34s %14s %10s     rays weighted by the lobe, noise %.2f %%; the diffuse transfer's the same way: %.2f %%)\n",
            "glossy, Phong e = 16 (per view)", t_ph * 1e9, 100 * e_gl, stride, gside, gside, "", "", "", 100 * gl_noise,
            100 * e_gd);
     printf("RESULT hemi.integrate_phong16_l2err %.4f\nRESULT hemi.integrate_phong16_ref_noise %.4f\n", e_gl, gl_noise);
@@ -960,6 +1020,9 @@ int qcli_bench_hemi(int quick)
            threads, 100 * ref_noise, t_ref_frame);
 
     /* the hierarchy: how large the full-resolution near field is (the default LUT) */
+    double lod_k = 0, lod_fps = 0, lod_err = 1e9, lod_fps_med = 0;
+    timing lod_tm;
+    memset(&lod_tm, 0, sizeof lod_tm);
     {
         const size_t sz = qibl_hemi_workspace_size(32, DEF_FACE);
         void *ws = malloc(sz);
@@ -969,6 +1032,7 @@ int qcli_bench_hemi(int quick)
             return 1;
         }
         static const int wins[] = {2, 4, 6, G};
+
         printf("\nhierarchy (32 x 32 mask, %d x %d faces): coarse 10 x 10 grid (162 triangles) + full-resolution\n"
                "triangles of the coarse cells within W grid steps of the vertex (W = 2: the two-ring)\n"
                "%-26s %10s %12s %10s %10s\n", DEF_FACE, DEF_FACE, "near field", "blockers", "rasterized", "fps", "L2 err");
@@ -988,6 +1052,25 @@ int qcli_bench_hemi(int quick)
                    tm.rasterized / nframes / (double)nv, fps, 100 * err);
             printf("RESULT hemi.cloth_near%d_fps %.1f\nRESULT hemi.cloth_near%d_l2err %.4f\n", wins[w], fps, wins[w], err);
         }
+        /* per frame, in 3D: a coarse cell refined when the receiver is within k radii of its bound */
+        static const double ks[] = {1.25, 1.5, 2, 3};
+        for (size_t w = 0; w < sizeof ks / sizeof ks[0]; ++w) {
+            if (quick && (ks[w] == 1.5 || ks[w] == 3))
+                continue;
+            double fps, err;
+            timing tm;
+            evaluate_lod(&h, &s, pos, nrm, ref, nframes, reps, ks[w], vloc, &fps, &err, &tm);
+            char label[40];
+            snprintf(label, sizeof label, "3D refinement, k = %.2f", ks[w]);
+            printf("%-26s %10.1f %12.1f %10.1f %9.2f %%\n", label, tm.blockers / nframes / (double)nv,
+                   tm.rasterized / nframes / (double)nv, fps, 100 * err);
+            printf("RESULT hemi.cloth_lod%03d_fps %.1f\nRESULT hemi.cloth_lod%03d_l2err %.4f\n", (int)(ks[w] * 100 + 0.5), fps,
+                   (int)(ks[w] * 100 + 0.5), err);
+            /* the headline: the fastest within the goal's 2 %, else the most accurate */
+            const int ok = err <= 0.02, bok = lod_err <= 0.02;
+            if (lod_k == 0 || (ok && (!bok || fps > lod_fps)) || (!ok && !bok && err < lod_err))
+                lod_k = ks[w], lod_fps = fps, lod_err = err, lod_tm = tm, lod_fps_med = g_fps_median;
+        }
         if (make_rings(&s, 6)) {
             fprintf(stderr, "qibl: bench hemi: out of memory\n");
             return 1;
@@ -1002,7 +1085,7 @@ int qcli_bench_hemi(int quick)
                 const int32_t(*n)[3] = (const int32_t(*)[3])(nrm + nv * (size_t)f);
                 double tmin = 1e30;
                 for (int r = 0; r < reps; ++r) {
-                    const double t = groups_frame(&h, &s, p, n, vg, r == 0 ? &blk : NULL, r == 0 ? &ras : NULL);
+                    const double t = groups_frame(&h, &s, p, n, vg, r == 0 ? &blk : NULL, r == 0 ? &ras : NULL, NULL);
                     tmin = t < tmin ? t : tmin;
                 }
                 tsum += tmin;
@@ -1111,25 +1194,36 @@ int qcli_bench_hemi(int quick)
     }
 
     const double tt = def_tm.transform + def_tm.raster + def_tm.transfer + def_tm.other;
+    const double lt = lod_tm.transform + lod_tm.raster + lod_tm.transfer + lod_tm.other;
     const double frames = (double)nframes;
-    printf("\nTable 1 (default: 32 x 32 mask, %d x %d faces, %.1f KiB, W = 6)   paper (Cloth, 2 CPUs)\n", DEF_FACE, DEF_FACE,
-           qibl_hemi_workspace_size(32, DEF_FACE) / 1024.0);
-    printf("  %-34s %10d %12d\n", "vertices", s.nv, 1378);
-    printf("  %-34s %10d %12d\n", "triangles", s.ntri, 2560);
-    printf("  %-34s %10d %12d\n", "coarse triangles", s.nct, 160);
-    printf("  %-34s %10.1f %12.1f\n", "blockers per vertex", def_tm.blockers / frames / (double)nv, 236.4);
-    printf("  %-34s %10.1f %12s\n", "  of them rasterized (above horizon)", def_tm.rasterized / frames / (double)nv, "-");
-    printf("  %-34s %10.1f %12.1f\n", "frames per second (one core)", def_fps, 15.5);
-    printf("  %-34s %10.1f %12s\n", "  (from the median repetition)", def_fps_med, "-");
-    printf("  %-34s %9.2f %% %11.2f %%\n", "average relative L2 error of V*", 100 * def_err, 2.47);
-    printf("Table 2 (share of the shadow loop)   this   paper\n");
-    printf("  rasterization  %5.1f %%  48.0 %%\n  integration    %5.1f %%  23.5 %%\n"
-           "  transform      %5.1f %%  26.5 %%\n  other          %5.1f %%   2.0 %%  (frame, rotation out)\n",
-           100 * def_tm.raster / tt, 100 * def_tm.transfer / tt, 100 * def_tm.transform / tt, 100 * def_tm.other / tt);
-    printf("speed-up over the ray-cast reference (one core each): %.0fx\n", def_fps * t_ref_frame);
-    printf("RESULT hemi.cloth_fps %.1f\n", def_fps);
-    printf("RESULT hemi.cloth_l2err %.4f\n", def_err);
-    printf("RESULT hemi.ref_speedup %.0f\n", def_fps * t_ref_frame);
+    printf("\nTable 1 (default tables: 32 x 32 mask, %d x %d faces, %.1f KiB; coarse 10 x 10 grid; near field:\n"
+           "  3D refinement within k = %.2f radii (per frame) / the static window W = 6)\n"
+           "  %-34s %10s %10s %12s\n", DEF_FACE, DEF_FACE, qibl_hemi_workspace_size(32, DEF_FACE) / 1024.0, lod_k, "",
+           "3D k", "W = 6", "paper (2 CPUs)");
+    printf("  %-34s %10d %10d %12d\n", "vertices", s.nv, s.nv, 1378);
+    printf("  %-34s %10d %10d %12d\n", "triangles", s.ntri, s.ntri, 2560);
+    printf("  %-34s %10d %10d %12d\n", "coarse triangles", s.nct, s.nct, 160);
+    printf("  %-34s %10.1f %10.1f %12.1f\n", "blockers per vertex", lod_tm.blockers / frames / (double)nv,
+           def_tm.blockers / frames / (double)nv, 236.4);
+    printf("  %-34s %10.1f %10.1f %12s\n", "  of them rasterized (above horizon)", lod_tm.rasterized / frames / (double)nv,
+           def_tm.rasterized / frames / (double)nv, "-");
+    printf("  %-34s %10.1f %10.1f %12.1f\n", "frames per second (one core)", lod_fps, def_fps, 15.5);
+    printf("  %-34s %10.1f %10.1f %12s\n", "  (from the median repetition)", lod_fps_med, def_fps_med, "-");
+    printf("  %-34s %8.2f %% %8.2f %% %10.2f %%\n", "average relative L2 error of V*", 100 * lod_err, 100 * def_err, 2.47);
+    printf("Table 2 (share of the shadow loop)   3D k    W = 6   paper\n");
+    printf("  rasterization                    %5.1f %%  %5.1f %%  48.0 %%\n"
+           "  integration                      %5.1f %%  %5.1f %%  23.5 %%\n"
+           "  transform                        %5.1f %%  %5.1f %%  26.5 %%\n"
+           "  other                            %5.1f %%  %5.1f %%   2.0 %%  (frame, rotation out; 3D k: the lists, the bounds)\n",
+           100 * lod_tm.raster / lt, 100 * def_tm.raster / tt, 100 * lod_tm.transfer / lt, 100 * def_tm.transfer / tt,
+           100 * lod_tm.transform / lt, 100 * def_tm.transform / tt, 100 * lod_tm.other / lt, 100 * def_tm.other / tt);
+    printf("speed-up over the ray-cast reference (one core each): %.0fx (3D k), %.0fx (W = 6)\n", lod_fps * t_ref_frame,
+           def_fps * t_ref_frame);
+    printf("RESULT hemi.cloth_fps %.1f\n", lod_fps);
+    printf("RESULT hemi.cloth_l2err %.4f\n", lod_err);
+    printf("RESULT hemi.cloth_lod_k %.2f\n", lod_k);
+    printf("RESULT hemi.ref_speedup %.0f\n", lod_fps * t_ref_frame);
+    printf("RESULT hemi.cloth_w6_fps %.1f\nRESULT hemi.cloth_w6_l2err %.4f\n", def_fps, def_err);
     printf("RESULT hemi.ref_noise %.4f\n", ref_noise);
     free(pos), free(nrm), free(vloc), free(vw), free(ref), free(noise);
     free_scene(&s);
