@@ -351,6 +351,59 @@ static void test_lanes_edge_on(void **state)
     }
 }
 
+/* The refinement test against its definition in doubles, away from ties: receivers and bounds at
+ * every scale up to the coordinate limit, k from 1/256 to 255; the empty group, k = 0, NULL, a
+ * radius large enough for k r to pass 2^32, and a centre beyond the limit (refined). */
+static void test_bound_near(void **state)
+{
+    (void)state;
+    uint64_t seed = 0xB0u;
+    const int32_t up[3] = {0, 0, 1 << 30};
+    int near = 0, far = 0;
+    for (int round = 0; round < 20000; ++round) {
+        const int bits = 1 + (int)(rng(&seed) % 22u);
+        const int32_t lim = bits >= 22 ? QIBL_HEMI_COORD_MAX : (int32_t)((1u << bits) - 1u);
+        qibl_q16_t p[3];
+        qibl_hemi_bound_t b;
+        for (int k = 0; k < 3; ++k) {
+            p[k] = (int32_t)(rng(&seed) % (2u * (uint32_t)lim + 1u)) - lim;
+            b.c[k] = (int32_t)(rng(&seed) % (2u * (uint32_t)lim + 1u)) - lim;
+        }
+        b.r = (int32_t)(rng(&seed) % ((uint32_t)lim + 1u));
+        const uint32_t kq = 1u + (uint32_t)(rng(&seed) % 65279u);
+        qibl_hemi_frame_t fr;
+        assert_int_equal(qibl_hemi_frame_init(&fr, p, up), QIBL_OK);
+        double d2 = 0;
+        for (int k = 0; k < 3; ++k)
+            d2 += ((double)b.c[k] - p[k]) * ((double)b.c[k] - p[k]);
+        const double kr = (double)kq / 256.0 * b.r, lhs = sqrt(d2);
+        if (fabs(lhs - kr) <= 1e-6 * (lhs + kr) + 1.0)
+            continue; /* a tie within doubles' reach */
+        const int want = lhs < kr;
+        assert_int_equal(qibl_hemi_bound_near(&fr, &b, kq), want);
+        near += want, far += !want;
+    }
+    assert_true(near > 1000 && far > 1000);
+    qibl_hemi_frame_t fr;
+    const qibl_q16_t o[3] = {0, 0, 0};
+    assert_int_equal(qibl_hemi_frame_init(&fr, o, up), QIBL_OK);
+    qibl_hemi_bound_t b = {{QIBL_HEMI_COORD_MAX, -QIBL_HEMI_COORD_MAX, QIBL_HEMI_COORD_MAX}, 0x7FFFFFFF};
+    assert_int_equal(qibl_hemi_bound_near(&fr, &b, 65535u), 1); /* k r > 2^32 */
+    assert_int_equal(qibl_hemi_bound_near(&fr, &b, 0u), 0);
+    assert_int_equal(qibl_hemi_bound_near(NULL, &b, 256u), 0);
+    assert_int_equal(qibl_hemi_bound_near(&fr, NULL, 256u), 0);
+    b.r = 1;
+    assert_int_equal(qibl_hemi_bound_near(&fr, &b, 256u), 0);
+    b.r = -1; /* empty */
+    assert_int_equal(qibl_hemi_bound_near(&fr, &b, 65535u), 0);
+    b.r = 1, b.c[0] = 0x7FFFFFFF; /* not a fitted bound: refined, and kept by the culling test */
+    assert_int_equal(qibl_hemi_bound_near(&fr, &b, 256u), 1);
+    assert_int_equal(qibl_hemi_bound_above(&fr, &b), 1);
+    b.c[0] = -0x7FFFFFFF - 1;
+    assert_int_equal(qibl_hemi_bound_near(&fr, &b, 256u), 1);
+    assert_int_equal(qibl_hemi_bound_above(&fr, &b), 1);
+}
+
 /* Group bounds: every vertex inside, the radius tight to one LSB, the named errors; and the
  * culling test sound against the rasterizer: whenever a group is reported at or below a receiver's
  * tangent plane, rasterizing its triangles after the transform culls every one (the mask stays
@@ -1052,6 +1105,7 @@ int main(void)
         cmocka_unit_test(test_lanes_match_twin),
         cmocka_unit_test(test_lanes_edge_on),
         cmocka_unit_test(test_group_bounds),
+        cmocka_unit_test(test_bound_near),
         cmocka_unit_test(test_winding_and_fusion),
         cmocka_unit_test(test_degenerate),
         cmocka_unit_test(test_sliver),

@@ -365,6 +365,8 @@ int qibl_hemi_bound_above(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b
 {
     if (f == 0 || b == 0 || b->r < 0)
         return 0;
+    if (!coord_ok(b->c[0]) || !coord_ok(b->c[1]) || !coord_ok(b->c[2])) /* not a qibl_hemi_bound_fit bound: */
+        return 1;                                                        /* kept, the safe side */
     const int32_t *u = f->axis[2];
     /* |u| rounded up: 2^30 + 256 covers the normaliser's few LSB; otherwise the exact root + 1 */
     const uint64_t u2 = (uint64_t)qibl_mul_s32_s64(u[0], u[0]) + (uint64_t)qibl_mul_s32_s64(u[1], u[1]) +
@@ -383,6 +385,25 @@ int qibl_hemi_bound_above(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b
 }
 
 /* ---- rasterization --------------------------------------------------------------------------- */
+
+int qibl_hemi_bound_near(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b, uint32_t k_q8)
+{
+    if (f == 0 || b == 0 || b->r < 0 || k_q8 == 0u)
+        return 0;
+    if (!coord_ok(b->c[0]) || !coord_ok(b->c[1]) || !coord_ok(b->c[2])) /* not a qibl_hemi_bound_fit bound: */
+        return 1;                                                        /* refine, the safe side */
+    /* |c - p| <= 2^23 per axis (both within QIBL_HEMI_COORD_MAX): d2 < 3 2^46, d2 2^16 < 2^64 */
+    uint64_t d2 = 0;
+    for (int k = 0; k < 3; ++k) {
+        const int32_t d = b->c[k] - f->p[k];
+        d2 += (uint64_t)qibl_mul_s32_s64(d, d);
+    }
+    const uint64_t kr = qibl_mul_u32_u64((uint32_t)b->r, k_q8); /* Q16.16 x Q8.8 */
+    if (kr >= ((uint64_t)1 << 32))                              /* (k r)^2 >= 2^64 > d2 2^16 */
+        return 1;
+    const uint32_t k32 = (uint32_t)kr;
+    return (d2 << 16) < qibl_mul_u32_u64(k32, k32) ? 1 : 0;
+}
 
 qibl_status_t qibl_hemi_clear(const qibl_hemi_t *h, uint32_t *mask)
 {

@@ -402,18 +402,14 @@ static uint32_t groups_mask(const qibl_hemi_t *h, const scene *s, const groups *
     int c0, c1, r0, r1;
     ring_window(v, s->near, &c0, &c1, &r0, &r1);
     uint32_t nl = 0, ng = 0, nt = 0;
-    const double px = pos[v][0], py = pos[v][1], pz = pos[v][2];
     static uint32_t gbase[NCELL];
     static uint8_t gnear[NCELL];
     for (int cj = 0; cj + 1 < CG; ++cj)
         for (int ci = 0; ci + 1 < CG; ++ci) {
             const int c = cj * (CG - 1) + ci;
             int in = s->near > 0 && ci >= c0 && ci <= c1 && cj >= r0 && cj <= r1;
-            if (!in && g_lod > 0) { /* a cell that subtends a wide angle from the receiver, in 3D */
-                const double dx = g->nearb[c].c[0] - px, dy = g->nearb[c].c[1] - py, dz = g->nearb[c].c[2] - pz;
-                const double rr = g_lod * g->nearb[c].r;
-                in = dx * dx + dy * dy + dz * dz < rr * rr;
-            }
+            if (!in && g_lod > 0) /* a cell that subtends a wide angle from the receiver, in 3D */
+                in = qibl_hemi_bound_near(fr, &g->nearb[c], (uint32_t)(g_lod * 256.0 + 0.5));
             if (!qibl_hemi_bound_above(fr, in ? &g->nearb[c] : &g->farb[c]))
                 continue;
             const uint32_t *q = in ? g->nearv[c] : g->farv[c];
@@ -1053,9 +1049,9 @@ int qcli_bench_hemi(int quick)
             printf("RESULT hemi.cloth_near%d_fps %.1f\nRESULT hemi.cloth_near%d_l2err %.4f\n", wins[w], fps, wins[w], err);
         }
         /* per frame, in 3D: a coarse cell refined when the receiver is within k radii of its bound */
-        static const double ks[] = {1.25, 1.5, 2, 3};
+        static const double ks[] = {1.25, 1.5, 1.75, 2, 3};
         for (size_t w = 0; w < sizeof ks / sizeof ks[0]; ++w) {
-            if (quick && (ks[w] == 1.5 || ks[w] == 3))
+            if (quick && (ks[w] == 1.5 || ks[w] == 1.75 || ks[w] == 3))
                 continue;
             double fps, err;
             timing tm;

@@ -133,7 +133,8 @@ static int frames_case(const qtool_goldens_sink_t *s, const char *name, const qi
 }
 
 /* Group bounds of integer-made vertex sets (one vertex, a flat set, random sets, an index list,
- * the empty group, an index and a range refusal) and the culling test against random frames. */
+ * the empty group, an index and a range refusal), the culling test and the refinement test at
+ * k = 0.75 .. 4 against random frames. */
 static int bounds_case(const qtool_goldens_sink_t *s, const char *name)
 {
     grng r = {777};
@@ -168,6 +169,8 @@ static int bounds_case(const qtool_goldens_sink_t *s, const char *name)
                 for (int k = 0; k < 3; ++k)
                     g.p[k] = bd.c[k] + (q - 1) * (int32_t)(span / 4u) * (fr.axis[2][k] / (1 << 28));
                 gbuf_u8(&b, (uint32_t)qibl_hemi_bound_above(&g, &bd));
+                for (uint32_t kq = 192u; kq <= 1024u; kq += 208u) /* k = 0.75 .. 4 */
+                    gbuf_u8(&b, (uint32_t)qibl_hemi_bound_near(&g, &bd, kq));
             }
     }
     const qibl_q16_t far[1][3] = {{QIBL_HEMI_COORD_MAX + 1, 0, 0}};

@@ -154,8 +154,16 @@ qibl_status_t qibl_hemi_bound_fit(const qibl_q16_t (*pos)[3], uint32_t nv, const
 /* 0 when every point of the sphere is at or below the tangent plane of f's receiver, so every
  * triangle of the group would be culled by qibl_hemi_raster after qibl_hemi_transform (their local
  * z <= 0): skipping the group changes no mask. 1 otherwise (conservative: the normal's length is
- * rounded up). Exact integer test, |normal . (c - p)| + r |normal| < 2^56. NULL or empty: 0. */
+ * rounded up). Exact integer test, |normal . (c - p)| + r |normal| < 2^56. NULL or empty: 0; a
+ * centre beyond QIBL_HEMI_COORD_MAX (no bound of qibl_hemi_bound_fit): 1. */
 int qibl_hemi_bound_above(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b);
+
+/* 1 when f's receiver is closer to the bound's centre than k radii (k in Q8.8: 512 = 2), i.e. the
+ * group may subtend more than 2 asin(1 / k) from it: refine such a group (rasterize its
+ * full-resolution triangles, its coarse ones elsewhere) so that a fold of a deforming mesh that
+ * comes close is seen at full resolution. Exact integer test: |c - p|^2 2^16 < (k r)^2. NULL,
+ * empty or k = 0: 0; a centre beyond QIBL_HEMI_COORD_MAX: 1. */
+int qibl_hemi_bound_near(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b, uint32_t k_q8);
 
 /* mask &= the disk (clears bits of pixels outside it: complemented table entries set them). */
 qibl_status_t qibl_hemi_clip(const qibl_hemi_t *h, uint32_t *mask);
