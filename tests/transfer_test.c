@@ -3,7 +3,8 @@
  * transfer of a mesh under a probe against the ray-cast reference, on meshes and probes the test
  * writes itself: a plane (nothing blocks: qibl and the reference agree to the mask's resolution),
  * an open box whose floor is shadowed by its walls, a two-frame animation (an animated PNG of the
- * documented size), and every refusal by name with nothing written.
+ * documented size), the probe's median-cut lights as the lighting, and every refusal by name with
+ * nothing written.
  */
 #include <math.h>
 
@@ -220,6 +221,62 @@ static void test_pvs(void **state)
     }
 }
 
+/* --lights N: the probe's median-cut lights projected to SH light the mesh instead of the probe's
+ * own projection. The shading follows the ray cast as closely, and how much the box's walls hide
+ * (a ratio, free of the lighting's scale) matches the probe's SH within a few per cent. */
+static double irradiance_of(const char *mesh, const char *probe, const char *lights)
+{
+    if (lights)
+        assert_int_equal(run("transfer", mesh, "--probe", probe, "--rays", "0", "--lights", lights, NULL), 0);
+    else
+        assert_int_equal(run("transfer", mesh, "--probe", probe, "--rays", "0", NULL), 0);
+    char *out = text(outlog);
+    if (lights)
+        assert_non_null(strstr(out, "median-cut lights as SH"));
+    const double e = result(out, "RESULT transfer.mean_irradiance");
+    free(out);
+    return e;
+}
+
+/* the lights' SH against the probe's own projection (relative L2, each scaled by its DC) */
+static double lights_sh_err(const char *mesh, const char *probe, const char *lights)
+{
+    assert_int_equal(run("transfer", mesh, "--probe", probe, "--rays", "0", "--lights", lights, NULL), 0);
+    char *out = text(outlog);
+    const double e = result(out, "median-cut lights as SH: relative L2 ");
+    free(out);
+    return e;
+}
+
+static void test_lights(void **state)
+{
+    (void)state;
+    need_qibl();
+    char probe[128], mesh[128], flat[128];
+    path_of(probe, sizeof probe, "sun.hdr"), path_of(mesh, sizeof mesh, "box.obj"), path_of(flat, sizeof flat, "flat.obj");
+    write_probe(probe, 1);
+    write_box(mesh, 1.0, 0, 0);
+    write_box(flat, 1e-6, 0, 0);
+    assert_int_equal(run("transfer", mesh, "--probe", probe, "--rays", "24", "--lights", "64", NULL), 0);
+    char *out = text(outlog);
+    assert_true(result(out, "RESULT transfer.shade_err") < 0.08);
+    free(out);
+    const double sh = irradiance_of(mesh, probe, NULL) / irradiance_of(flat, probe, NULL);
+    const double l64 = irradiance_of(mesh, probe, "64") / irradiance_of(flat, probe, "64");
+    assert_true(sh > 0.1 && sh < 0.9);
+    assert_true(fabs(l64 - sh) < 0.05 * sh);
+    /* more lights come closer to the projection: on this 64 x 32 sky 0.2 or more with 4 lights */
+    const double e4 = lights_sh_err(mesh, probe, "4"), e64 = lights_sh_err(mesh, probe, "64");
+    assert_true(e64 < 0.1);
+    assert_true(e4 > 2 * e64);
+    char png[128];
+    path_of(png, sizeof png, "never.png");
+    assert_int_equal(run("transfer", mesh, "--probe", probe, "--lights", "3", "--png", png, NULL), 2);
+    assert_int_equal(run("transfer", mesh, "--probe", probe, "--lights", "0", "--png", png, NULL), 2);
+    assert_int_equal(run("transfer", mesh, "--probe", probe, "--lights", "2048", "--png", png, NULL), 2);
+    assert_int_not_equal(access(png, F_OK), 0);
+}
+
 static void test_refusals_write_nothing(void **state)
 {
     (void)state;
@@ -261,6 +318,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_box_floor_shadowed, setup, teardown),
         cmocka_unit_test_setup_teardown(test_pvs, setup, teardown),
         cmocka_unit_test_setup_teardown(test_animation_is_apng, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_lights, setup, teardown),
         cmocka_unit_test_setup_teardown(test_refusals_write_nothing, setup, teardown),
     };
     return cmocka_run_group_tests_name("transfer", tests, NULL, NULL);

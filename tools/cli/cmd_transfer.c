@@ -25,6 +25,7 @@
 #include "io/probe_layout.h"
 #include "io/text.h"
 #include "qibl/hemi.h"
+#include "qibl/lightprobe.h"
 #include "qibl/probe.h"
 #include "qibl/raster.h"
 #include "qibl/soft.h"
@@ -40,7 +41,7 @@
 
 #define TRANSFER_USAGE                                                                                        \
     "usage: qibl transfer MESH [MESH...] --probe PROBE.hdr [--layout L] [--png OUT] [--size N] [--mask 16|32|64]\n" \
-    "                     [--face F] [--rays S] [--coarse T [--ring K]] [--pvs] [--tween N] [--zup] [--flip] [--skip-adjacent] [--view AZ,EL] [--threads N]"
+    "                     [--face F] [--rays S] [--coarse T [--ring K]] [--pvs] [--lights N] [--tween N] [--zup] [--flip] [--skip-adjacent] [--view AZ,EL] [--threads N]"
 
 typedef struct mesh {
     uint32_t nv, nt, nframes;
@@ -848,8 +849,56 @@ static int parse_view(const char *s, double *az, double *el)
     return end == t || *end || !isfinite(*el) || fabs(*el) > 89.9 ? -1 : 0;
 }
 
-/* probe -> radiance SH (bands 0..4) as Q16.16, scaled so the largest |coefficient| is 1/2 */
-static int probe_light(const char *path, const char *layout, int32_t light[3][25], char *desc, size_t dlen)
+/* A light list from median cut, projected to SH (qibl_shlight_add_lights), the same Q16.16 radiance
+ * SH as the probe's own projection; 0 or -1 */
+static int lights_light(const uint8_t *ll, int ow, int oh, long nlights, int32_t light[3][25])
+{
+    const size_t n = qibl_lightprobe_workspace_size((uint32_t)ow, (uint32_t)oh, QIBL_LIGHTPROBE_MEDIANCUT);
+    void *ws = n ? malloc(n) : NULL;
+    qibl_lightprobe_light_t *lt = malloc(sizeof *lt * (size_t)nlights);
+    int rc = -1;
+    if (ws && lt) {
+        const qibl_lightprobe_image_t img = {ll, (uint32_t)ow, (uint32_t)oh, 0, QIBL_LIGHTPROBE_RGBE, 0};
+        qibl_lightprobe_t lp;
+        qibl_lightprobe_result_t res;
+        qibl_shlight_t sl;
+        qibl_status_t st = qibl_lightprobe_build(&lp, &img, QIBL_LIGHTPROBE_MEDIANCUT, ws, n);
+        if (st == QIBL_OK)
+            st = qibl_lightprobe_lights(&lp, NULL, lt, (uint32_t)nlights, &res);
+        if (st == QIBL_OK)
+            st = qibl_shlight_init(&sl, 25);
+        /* the brightest channel's rgb is in [2^30, 2^31): 2^-16 of it per light keeps the sum of up
+         * to 1024 lights within Q16.16 */
+        if (st == QIBL_OK)
+            st = qibl_shlight_add_lights(&sl, lt, res.count, res.rgb_exp, -16 - res.rgb_exp);
+        if (st == QIBL_OK) {
+            /* the probe path's scale: the largest |coefficient| in [1/4, 1/2) (the image's exposure
+             * is automatic; this keeps the shading sums as far from int32 as the probe's) */
+            int32_t mx = 0;
+            for (int ch = 0; ch < 3; ++ch)
+                for (int i = 0; i < 25; ++i)
+                    mx = abs(sl.c[ch][i]) > mx ? abs(sl.c[ch][i]) : mx;
+            int sh = 0;
+            while (mx > 0 && (mx >> sh) >= (1 << 15))
+                ++sh;
+            for (int ch = 0; ch < 3; ++ch)
+                for (int i = 0; i < 25; ++i)
+                    light[ch][i] = sl.c[ch][i] / (1 << sh);
+            rc = 0;
+        } else {
+            fprintf(stderr, "qibl: transfer: --lights %ld: %s\n", nlights, qibl_status_str(st));
+        }
+    } else {
+        fprintf(stderr, "qibl: transfer: --lights: out of memory\n");
+    }
+    free(ws), free(lt);
+    return rc;
+}
+
+/* probe -> radiance SH (bands 0..4) as Q16.16, scaled so the largest |coefficient| is 1/2; with
+ * nlights > 0, the probe's median-cut lights projected to SH instead */
+static int probe_light(const char *path, const char *layout, long nlights, int32_t light[3][25], char *desc,
+                       size_t dlen)
 {
     char err[512];
     int w, h, ow, oh;
@@ -863,6 +912,9 @@ static int probe_light(const char *path, const char *layout, int32_t light[3][25
     free(px);
     if (rc != 0)
         return fprintf(stderr, "qibl: transfer: %s\n", err), -1;
+    int32_t ml[3][25];
+    if (nlights > 0 && lights_light(ll, ow, oh, nlights, ml) != 0)
+        return free(ll), -1;
     const size_t n = qibl_probe_sh_workspace_size((uint32_t)ow, (uint32_t)oh);
     void *ws = n ? malloc(n) : NULL;
     if (!ws) {
@@ -885,6 +937,19 @@ static int probe_light(const char *path, const char *layout, int32_t light[3][25
         for (int i = 0; i < 25; ++i)
             light[ch][i] = c.c[ch][i] / (1 << 16); /* truncation toward zero: 2^-16 relative */
     snprintf(desc, dlen, "%dx%d %s", ow, oh, qtool_probe_layout_name(used));
+    if (nlights > 0) { /* the lights replace the projection; how far apart, each scaled by its own DC */
+        double d2 = 0, n2 = 0;
+        for (int ch = 0; ch < 3 && ml[1][0] != 0 && light[1][0] != 0; ++ch)
+            for (int i = 0; i < 25; ++i) {
+                const double a = (double)ml[ch][i] / ml[1][0], b = (double)light[ch][i] / light[1][0];
+                d2 += (a - b) * (a - b), n2 += b * b;
+            }
+        for (int ch = 0; ch < 3; ++ch)
+            for (int i = 0; i < 25; ++i)
+                light[ch][i] = ml[ch][i];
+        snprintf(desc, dlen, "%dx%d %s, %ld median-cut lights as SH: relative L2 %.4f from its own projection", ow, oh,
+                 qtool_probe_layout_name(used), nlights, n2 > 0 ? sqrt(d2 / n2) : 0.0);
+    }
     return 0;
 }
 
@@ -894,6 +959,7 @@ typedef struct topts {
     const char *probe, *png, *layout;
     long size, mask_n, face, side, threads, coarse, ring, tween;
     double az, el;
+    long lights; /* > 0: the probe's median-cut lights projected to SH light the mesh */
 } topts;
 
 /* The whole run; verbose prints the report (the command), otherwise only errors (the bench). */
@@ -915,7 +981,7 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
     }
     int32_t light[3][25];
     char pdesc[128];
-    if (probe_light(probe, layout, light, pdesc, sizeof pdesc) != 0)
+    if (probe_light(probe, layout, o->lights, light, pdesc, sizeof pdesc) != 0)
         return 1;
     mesh m;
     if (load_frames(files, nfiles, zup, &m) != 0 || (tween > 1 && m.nframes > 1 && tween_frames(&m, (uint32_t)tween) != 0))
@@ -1200,7 +1266,7 @@ int qcli_cmd_transfer(int argc, char **argv)
     char *files[MAX_FRAMES];
     int nfiles = 0, zup = 0, force_flip = 0, skip_adjacent = 0, pvs = 0;
     const char *probe = NULL, *png = NULL, *layout = NULL;
-    long size = 320, mask_n = 32, face = 48, side = 32, threads = 0, coarse = 0, ring = 3, tween = 1;
+    long size = 320, mask_n = 32, face = 48, side = 32, threads = 0, coarse = 0, ring = 3, tween = 1, lights = 0;
     double az = 35, el = 20;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
@@ -1222,6 +1288,9 @@ int qcli_cmd_transfer(int argc, char **argv)
         else if (strcmp(a, "--coarse") == 0) {
             if (!more || qcli_parse_int(argv[++i], 0, 1 << 20, &coarse) != 0)
                 return qcli_usage_error("--coarse needs a triangle count in 0..1048576 (0: no hierarchy)");
+        } else if (strcmp(a, "--lights") == 0) {
+            if (!more || qcli_parse_int(argv[++i], 1, 1024, &lights) != 0 || (lights & (lights - 1)) != 0)
+                return qcli_usage_error("--lights needs a power of two in 1..1024 (median-cut lights of the probe)");
         } else if (strcmp(a, "--tween") == 0) {
             if (!more || qcli_parse_int(argv[++i], 1, 16, &tween) != 0)
                 return qcli_usage_error("--tween needs an integer in 1..16 (frames per key frame)");
@@ -1258,7 +1327,7 @@ int qcli_cmd_transfer(int argc, char **argv)
     if (nfiles == 0 || !probe)
         return qcli_usage_error(TRANSFER_USAGE);
     const topts o = {files, nfiles, zup, force_flip, skip_adjacent, pvs, probe, png, layout, size, mask_n, face, side,
-                     threads, coarse, ring, tween, az, el};
+                     threads, coarse, ring, tween, az, el, lights};
     qcli_transfer_stats st;
     return transfer_run(&o, &st, 1);
 }
@@ -1266,6 +1335,6 @@ int qcli_cmd_transfer(int argc, char **argv)
 int qcli_transfer_measure(char **files, int nframes, int zup, const char *probe, int mask, int face, int rays,
                           int coarse, int ring, int pvs, qcli_transfer_stats *st)
 {
-    const topts o = {files, nframes, zup, 0, 0, pvs, probe, NULL, NULL, 64, mask, face, rays, 0, coarse, ring, 1, 35, 20};
+    const topts o = {files, nframes, zup, 0, 0, pvs, probe, NULL, NULL, 64, mask, face, rays, 0, coarse, ring, 1, 35, 20, 0};
     return transfer_run(&o, st, 0);
 }
