@@ -45,7 +45,7 @@ int qcli_bench_memory(int markdown); /* bench_memory.c */
 #define QTOOL_BENCH_COMPILER "an unknown compiler"
 #endif
 int qcli_bench_probe(int quick);  /* bench_probe.c */
-int qcli_bench_hemi(int quick);   /* bench_hemi.c */
+int qcli_bench_hemi(int quick, const char *svg); /* bench_hemi.c; svg: the cloth's error against fps */
 int qcli_cmd_info(int argc, char **argv);
 int qcli_cmd_gen(int argc, char **argv);
 int qcli_cmd_relight(int argc, char **argv);

@@ -128,9 +128,12 @@ int qcli_cmd_bench(int argc, char **argv)
 {
     const char *what = "all";
     int quick = 0, csv = 0, markdown = 0;
+    const char *svg = NULL;
     for (int i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "--quick") == 0)
             quick = 1;
+        else if (strcmp(argv[i], "--svg") == 0 && i + 1 < argc)
+            svg = argv[++i];
         else if (strcmp(argv[i], "--markdown") == 0)
             markdown = 1;
         else if (strcmp(argv[i], "--csv") == 0)
@@ -156,7 +159,7 @@ int qcli_cmd_bench(int argc, char **argv)
     if (all || strcmp(what, "probe") == 0)
         rc |= qcli_bench_probe(quick), ran = 1;
     if (all || strcmp(what, "hemi") == 0)
-        rc |= qcli_bench_hemi(quick), ran = 1;
+        rc |= qcli_bench_hemi(quick, svg), ran = 1;
     /* already part of relight; alone for comparing builds */
     if (strcmp(what, "baselines") == 0)
         rc |= qcli_bench_relight_baselines(quick), ran = 1;

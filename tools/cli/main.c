@@ -38,7 +38,8 @@ static const qcli_cmd commands[] = {
      "  qibl_probe_sh). The layout note goes to stderr except for the table.\n",
      qcli_cmd_sh},
     {"bench", "benchmarks: speed against error, with RESULT lines",
-     "usage: qibl bench [all|sh|relight|srgbe|lights|paths|asset|probe|memory|gles] [--quick] [--csv] [--markdown]\n"
+     "usage: qibl bench [all|sh|relight|baselines|srgbe|lights|paths|asset|probe|hemi|memory|gles] [--quick] [--csv] [--markdown]\n"
+     "                  [--svg PATH]  (hemi: the cloth's error against frames per second, as an SVG plot)\n"
      "  sh: integer SH basis against the double reference from Wong et al.'s appendix:\n"
      "      ns per evaluation (median of 7 runs) and max |error| over a fixed-seed sweep.\n"
      "  relight: the relighting kernels on the procedural courtyard, 1024x256, k = 4, 9, 16, 25:\n"
