@@ -378,17 +378,18 @@ static void groups_make(const scene *s, const qibl_q16_t (*pos)[3], groups *g)
         }
 }
 
-/* One receiver: the kept groups' vertices copied side by side (a vertex on a cell border is
- * transformed once per group that keeps it), one transform, then each group rasterized with its
- * fixed index template at its offset: no per-triangle remapping. Returns the blockers. */
+/* One receiver: the coarse vertices first (transformed once, every coarse triangle indexes them),
+ * then the vertices of each kept full-resolution group; one triangle list (the kept coarse
+ * cells' 2 triangles, each kept group's fixed template at its offset), one transform, one raster
+ * call. Returns the blockers. */
 static uint32_t groups_mask(const qibl_hemi_t *h, const scene *s, const groups *g, const qibl_q16_t (*pos)[3],
                             const qibl_hemi_frame_t *fr, int v, uint32_t *mask, qibl_hemi_stats_t *st, timing *tm)
 {
     const double t0 = tm ? cpu_now() : 0;
     enum { NEARV = (CSTEP + 1) * (CSTEP + 1), NEART = 2 * CSTEP * CSTEP };
-    static qibl_q16_t gp[NCELL * NEARV][3]; /* static: the bench is single-threaded here */
-    static int32_t loc[NCELL * NEARV][3];
-    static uint32_t tn[NEART][3], tf[2][3] = {{0, 1, 3}, {0, 3, 2}};
+    static qibl_q16_t gp[CG * CG + NCELL * NEARV][3]; /* static: the bench is single-threaded here */
+    static int32_t loc[CG * CG + NCELL * NEARV][3];
+    static uint32_t tl[NCELL * NEART][3], tn[NEART][3];
     static int init;
     if (!init) {
         int k = 0;
@@ -402,9 +403,10 @@ static uint32_t groups_mask(const qibl_hemi_t *h, const scene *s, const groups *
     }
     int c0, c1, r0, r1;
     ring_window(v, s->near, &c0, &c1, &r0, &r1);
-    uint32_t nl = 0, ng = 0, nt = 0;
-    static uint32_t gbase[NCELL];
-    static uint8_t gnear[NCELL];
+    const uint32_t ncv = (uint32_t)s->ncv;
+    for (uint32_t c = 0; c < ncv; ++c)
+        gp[c][0] = pos[s->cvert[c]][0], gp[c][1] = pos[s->cvert[c]][1], gp[c][2] = pos[s->cvert[c]][2];
+    uint32_t nl = ncv, nt = 0;
     for (int cj = 0; cj + 1 < CG; ++cj)
         for (int ci = 0; ci + 1 < CG; ++ci) {
             const int c = cj * (CG - 1) + ci;
@@ -413,22 +415,24 @@ static uint32_t groups_mask(const qibl_hemi_t *h, const scene *s, const groups *
                 in = qibl_hemi_bound_near(fr, &g->nearb[c], (uint32_t)(g_lod * 256.0 + 0.5));
             if (!qibl_hemi_bound_above(fr, in ? &g->nearb[c] : &g->farb[c]))
                 continue;
-            const uint32_t *q = in ? g->nearv[c] : g->farv[c];
-            const int nq = in ? NEARV : 4;
-            gbase[ng] = nl, gnear[ng++] = (uint8_t)in;
-            for (int k = 0; k < nq; ++k, ++nl)
-                gp[nl][0] = pos[q[k]][0], gp[nl][1] = pos[q[k]][1], gp[nl][2] = pos[q[k]][2];
+            if (!in) {
+                for (int q = 0; q < 2; ++q, ++nt)
+                    tl[nt][0] = s->ctri[2 * c + q][0], tl[nt][1] = s->ctri[2 * c + q][1], tl[nt][2] = s->ctri[2 * c + q][2];
+                continue;
+            }
+            for (int k = 0; k < NEARV; ++k) {
+                const uint32_t q = g->nearv[c][k];
+                gp[nl + (uint32_t)k][0] = pos[q][0], gp[nl + (uint32_t)k][1] = pos[q][1], gp[nl + (uint32_t)k][2] = pos[q][2];
+            }
+            for (int k = 0; k < NEART; ++k, ++nt)
+                tl[nt][0] = tn[k][0] + nl, tl[nt][1] = tn[k][1] + nl, tl[nt][2] = tn[k][2] + nl;
+            nl += NEARV;
         }
     const double t1 = tm ? cpu_now() : 0;
     qibl_hemi_transform(fr, (const qibl_q16_t(*)[3])gp, nl, loc);
     const double t2 = tm ? cpu_now() : 0;
     qibl_hemi_clear(h, mask);
-    for (uint32_t k = 0; k < ng; ++k) {
-        const uint32_t nv = gnear[k] ? NEARV : 4, ntri = gnear[k] ? NEART : 2;
-        qibl_hemi_raster(h, (const int32_t(*)[3])(loc + gbase[k]), nv, gnear[k] ? (const uint32_t(*)[3])tn : (const uint32_t(*)[3])tf,
-                         ntri, mask, st);
-        nt += ntri;
-    }
+    qibl_hemi_raster(h, (const int32_t(*)[3])loc, nl, (const uint32_t(*)[3])tl, nt, mask, st);
     if (tm) {
         const double t3 = cpu_now();
         tm->other += t1 - t0, tm->transform += t2 - t1, tm->raster += t3 - t2;
