@@ -231,6 +231,32 @@ static void test_random_triangles_16_64(void **state)
     random_triangles(64, 64, 100);
 }
 
+/* The library's raster call against the scalar twin on the same triangles: the same mask and
+ * counts, and for the first 12 triangles each mask alone (not hidden by the union); the counts
+ * returned. */
+static qibl_hemi_stats_t raster_both(const fixture *f, const int32_t (*v)[3], uint32_t nv, const uint32_t (*tri)[3],
+                                     uint32_t nt)
+{
+    uint32_t m1[QIBL_HEMI_MAX_WORDS], m2[QIBL_HEMI_MAX_WORDS];
+    qibl_hemi_stats_t s1 = {0, 0, 0}, s2 = {0, 0, 0};
+    qibl_hemi_clear(&f->h, m1);
+    qibl_hemi_clear(&f->h, m2);
+    assert_int_equal(qibl_hemi_raster(&f->h, v, nv, tri, nt, m1, &s1), QIBL_OK);
+    assert_int_equal(qtool_hemi_raster_scalar(&f->h, v, nv, tri, nt, m2, &s2), QIBL_OK);
+    assert_memory_equal(m1, m2, sizeof(uint32_t) * f->h.words);
+    assert_int_equal(s1.rasterized, s2.rasterized);
+    assert_int_equal(s1.below, s2.below);
+    assert_int_equal(s1.through, s2.through);
+    for (uint32_t t = 0; t < nt && t < 12u; ++t) {
+        qibl_hemi_clear(&f->h, m1);
+        qibl_hemi_clear(&f->h, m2);
+        qibl_hemi_raster(&f->h, v, nv, tri + t, 1, m1, NULL);
+        qtool_hemi_raster_scalar(&f->h, v, nv, tri + t, 1, m2, NULL);
+        assert_memory_equal(m1, m2, sizeof(uint32_t) * f->h.words);
+    }
+    return s1;
+}
+
 /* The library's rasterizer (x86: the double look-up lanes; elsewhere the same code as the twin)
  * against the scalar twin, bit for bit: random meshes at every magnitude from 1 LSB to the full
  * local range, vertices on the horizon, shared and repeated vertices, every mask size and several
@@ -264,27 +290,7 @@ static void test_lanes_match_twin(void **state)
             for (uint32_t t = 0; t < nt; ++t)
                 for (int k = 0; k < 3; ++k)
                     tri[t][k] = (uint32_t)(rng(&seed) % NV); /* repeats make degenerate triangles */
-            uint32_t m1[QIBL_HEMI_MAX_WORDS], m2[QIBL_HEMI_MAX_WORDS];
-            qibl_hemi_stats_t s1 = {0, 0, 0}, s2 = {0, 0, 0};
-            qibl_hemi_clear(&f->h, m1);
-            qibl_hemi_clear(&f->h, m2);
-            assert_int_equal(qibl_hemi_raster(&f->h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])tri, nt, m1, &s1),
-                             QIBL_OK);
-            assert_int_equal(
-                qtool_hemi_raster_scalar(&f->h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])tri, nt, m2, &s2),
-                QIBL_OK);
-            assert_memory_equal(m1, m2, sizeof(uint32_t) * f->h.words);
-            assert_int_equal(s1.rasterized, s2.rasterized);
-            assert_int_equal(s1.below, s2.below);
-            assert_int_equal(s1.through, s2.through);
-            /* one triangle at a time too: each mask alone, not hidden by the union */
-            for (uint32_t t = 0; t < nt && t < 12u; ++t) {
-                qibl_hemi_clear(&f->h, m1);
-                qibl_hemi_clear(&f->h, m2);
-                qibl_hemi_raster(&f->h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])(tri + t), 1, m1, NULL);
-                qtool_hemi_raster_scalar(&f->h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])(tri + t), 1, m2, NULL);
-                assert_memory_equal(m1, m2, sizeof(uint32_t) * f->h.words);
-            }
+            raster_both(f, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])tri, nt);
         }
         drop(f);
     }
@@ -326,26 +332,8 @@ static void test_lanes_edge_on(void **state)
                     tri[t][0] = g, tri[t][1] = g + 2u, tri[t][2] = g + 1u;
                 }
             }
-            uint32_t m1[QIBL_HEMI_MAX_WORDS], m2[QIBL_HEMI_MAX_WORDS];
-            qibl_hemi_stats_t s1 = {0, 0, 0}, s2 = {0, 0, 0};
-            qibl_hemi_clear(&f->h, m1);
-            qibl_hemi_clear(&f->h, m2);
-            assert_int_equal(qibl_hemi_raster(&f->h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])tri, NT, m1, &s1),
-                             QIBL_OK);
-            assert_int_equal(
-                qtool_hemi_raster_scalar(&f->h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])tri, NT, m2, &s2),
-                QIBL_OK);
-            assert_memory_equal(m1, m2, sizeof(uint32_t) * f->h.words);
-            assert_int_equal(s1.rasterized, s2.rasterized);
-            assert_int_equal(s1.through, s2.through);
+            const qibl_hemi_stats_t s1 = raster_both(f, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])tri, NT);
             assert_true(s1.through > 0u);
-            for (uint32_t t = 0; t < 12u; ++t) { /* each mask alone */
-                qibl_hemi_clear(&f->h, m1);
-                qibl_hemi_clear(&f->h, m2);
-                qibl_hemi_raster(&f->h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])(tri + t), 1, m1, NULL);
-                qtool_hemi_raster_scalar(&f->h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])(tri + t), 1, m2, NULL);
-                assert_memory_equal(m1, m2, sizeof(uint32_t) * f->h.words);
-            }
         }
         drop(f);
     }

@@ -245,6 +245,16 @@ qibl_status_t qibl_hemi_init(qibl_hemi_t *h, int n, int face, void *workspace, s
 
 /* ---- frames ----------------------------------------------------------------------------------- */
 
+/* Is any of c[0..n) beyond [-max, max]? One flat pass with no early exit, which compilers
+ * vectorise: |x| <= max is (uint32)(x + max) <= 2 max. */
+static uint32_t beyond(const int32_t *c, uint32_t n, int32_t max)
+{
+    uint32_t bad = 0;
+    for (uint32_t k = 0; k < n; ++k)
+        bad |= (uint32_t)((uint32_t)c[k] + (uint32_t)max > 2u * (uint32_t)max);
+    return bad;
+}
+
 static int coord_ok(int32_t x)
 {
     return x >= -QIBL_HEMI_COORD_MAX && x <= QIBL_HEMI_COORD_MAX;
@@ -287,14 +297,7 @@ qibl_status_t qibl_hemi_transform(const qibl_hemi_frame_t *f, const qibl_q16_t (
 {
     if (f == 0 || (count != 0u && (pos == 0 || out == 0)))
         return QIBL_E_NULL_POINTER;
-    /* one flat pass with no early exit (vectorised): |x| <= MAX is (uint32)(x + MAX) <= 2 MAX */
-    uint32_t bad = 0;
-    if (count != 0u) {
-        const int32_t *c = &pos[0][0];
-        for (uint32_t k = 0; k < 3u * count; ++k)
-            bad |= (uint32_t)((uint32_t)c[k] + (uint32_t)QIBL_HEMI_COORD_MAX > 2u * (uint32_t)QIBL_HEMI_COORD_MAX);
-    }
-    if (bad)
+    if (count != 0u && beyond(&pos[0][0], 3u * count, QIBL_HEMI_COORD_MAX))
         return QIBL_E_HEMI_RANGE;
     /* Q30 x Q16 -> Q14.18: a rounding shift by SH = 28, written with a constant shift on an offset
      * unsigned value (no saturation needed: |result| < 2^26) */
@@ -770,8 +773,8 @@ qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint
 {
     if (h == 0 || mask == 0 || (ntri != 0u && (v == 0 || tri == 0)))
         return QIBL_E_NULL_POINTER;
-    /* indices first, then every vertex once (cheaper than per reference for shared vertices);
-     * flat loops with no early exit, which compilers vectorise: |x| <= MAX is (uint32)(x + MAX) <= 2 MAX */
+    /* indices first, then every vertex once (cheaper than per reference for shared vertices), each
+     * a flat loop with no early exit */
     uint32_t bad = 0;
     if (ntri != 0u) {
         const uint32_t *ix = &tri[0][0];
@@ -780,13 +783,8 @@ qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint
     }
     if (bad)
         return QIBL_E_HEMI_INDEX;
-    if (ntri != 0u) {
-        const int32_t *c = &v[0][0];
-        for (uint32_t k = 0; k < 3u * nv; ++k)
-            bad |= (uint32_t)((uint32_t)c[k] + (uint32_t)QIBL_HEMI_LOCAL_MAX > 2u * (uint32_t)QIBL_HEMI_LOCAL_MAX);
-        if (bad)
-            return QIBL_E_HEMI_RANGE;
-    }
+    if (ntri != 0u && beyond(&v[0][0], 3u * nv, QIBL_HEMI_LOCAL_MAX))
+        return QIBL_E_HEMI_RANGE;
     uint32_t nr = 0, nb = 0, nt = 0;
 #if HEMI_LANES
     raster_batches(h, v, tri, ntri, mask, &nr, &nb, &nt);
