@@ -50,6 +50,7 @@ static double cpu_now(void)
 #define G 37        /* cloth grid */
 #ifndef DEF_FACE
 #define DEF_FACE 48 /* the default tables' face size (the largest within 1 MiB) */
+#define SCENE_FACE 64 /* qibl transfer's (the real meshes' small curved triangles want the finer cells) */
 #endif
 #define CSTEP 4     /* coarse grid step */
 #define CG (G / CSTEP + 1)
@@ -643,10 +644,12 @@ static void bench_scenes(int quick)
         {"chess", {"-"}, 6, 1, 1, 400, 2}, /* gen/chess.c, written to a temporary directory */
     };
     const int rs = quick ? 16 : 32;
-    printf("\nScenes (qibl transfer's pipeline: 32 x 32 mask, 48 x 48 faces, crease wedges; reference %d x %d rays per\n"
+    printf("\nScenes (qibl transfer's pipeline: 32 x 32 mask, %d x %d faces (%.1f KiB of tables), crease wedges;\n"
+           "reference %d x %d rays per\n"
            "vertex; probe %s). Blockers: every triangle, or the hierarchy (QEM coarse mesh of C triangles +\n"
            "R rings of the full mesh); PVS: each vertex's blockers ever above its horizon over the scene's frames\n"
-           "(the paper's static PVS; the masks are checked identical), timed on the same vertices:\n", rs, rs, probe);
+           "(the paper's static PVS; the masks are checked identical), timed on the same vertices:\n", SCENE_FACE,
+           SCENE_FACE, qibl_hemi_workspace_size(32, SCENE_FACE) / 1024.0, rs, rs, probe);
     if (access(probe, R_OK) != 0) {
         printf("  skipped: %s absent (the meshes and probes of ../shared/fixtures)\n", probe);
         return;
@@ -693,7 +696,7 @@ static void bench_scenes(int quick)
         const char *best_cfg = "";
         for (int hier = 0; hier <= (sc[i].coarse > 0); ++hier) {
             qcli_transfer_stats st;
-            if (qcli_transfer_measure(files, sc[i].nframes, sc[i].zup, probe, 32, DEF_FACE, rs, hier ? sc[i].coarse : 0,
+            if (qcli_transfer_measure(files, sc[i].nframes, sc[i].zup, probe, 32, SCENE_FACE, rs, hier ? sc[i].coarse : 0,
                                       hier ? sc[i].ring : 3, 1, &st) != 0)
                 continue;
             const double fps = st.ms_per_frame > 0 ? 1e3 / st.ms_per_frame : 0;

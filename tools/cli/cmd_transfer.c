@@ -1266,7 +1266,7 @@ int qcli_cmd_transfer(int argc, char **argv)
     char *files[MAX_FRAMES];
     int nfiles = 0, zup = 0, force_flip = 0, skip_adjacent = 0, pvs = 0;
     const char *probe = NULL, *png = NULL, *layout = NULL;
-    long size = 320, mask_n = 32, face = 48, side = 32, threads = 0, coarse = 0, ring = 3, tween = 1, lights = 0;
+    long size = 320, mask_n = 32, face = 64, side = 32, threads = 0, coarse = 0, ring = 3, tween = 1, lights = 0;
     double az = 35, el = 20;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
