@@ -645,10 +645,10 @@ static void bench_scenes(int quick)
     };
     const int rs = quick ? 16 : 32;
     printf("\nScenes (qibl transfer's pipeline: 32 x 32 mask, %d x %d faces (%.1f KiB of tables), crease wedges;\n"
-           "reference %d x %d rays per\n"
-           "vertex; probe %s). Blockers: every triangle, or the hierarchy (QEM coarse mesh of C triangles +\n"
-           "R rings of the full mesh); PVS: each vertex's blockers ever above its horizon over the scene's frames\n"
-           "(the paper's static PVS; the masks are checked identical), timed on the same vertices:\n", SCENE_FACE,
+           "reference %d x %d rays per vertex; probe %s).\n"
+           "Blockers: every triangle, or the hierarchy (QEM coarse mesh of C triangles + R rings of the full mesh);\n"
+           "PVS: each vertex's blockers ever above its horizon over the scene's frames (the paper's static PVS;\n"
+           "the masks are checked identical), timed on the same vertices:\n", SCENE_FACE,
            SCENE_FACE, qibl_hemi_workspace_size(32, SCENE_FACE) / 1024.0, rs, rs, probe);
     if (access(probe, R_OK) != 0) {
         printf("  skipped: %s absent (the meshes and probes of ../shared/fixtures)\n", probe);
