@@ -694,19 +694,20 @@ static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], const ui
 {
     double P[9][HEMI_BATCH + HEMI_VL];    /* a, b, c of the kept triangles: [vertex * 3 + axis][triangle] */
     double E[3][3][HEMI_BATCH + HEMI_VL]; /* [edge][component][triangle] */
-    uint32_t keep[HEMI_BATCH + 1], li[3][HEMI_BATCH + HEMI_VL], ln[3][HEMI_BATCH + HEMI_VL];
+    uint32_t keep[HEMI_BATCH], li[3][HEMI_BATCH + HEMI_VL], ln[3][HEMI_BATCH + HEMI_VL];
     uint32_t skip[HEMI_BATCH + HEMI_VL];
     const uint32_t words = h->words;
     const hemi_vd sign = VD_SET1(-0.0), eps = VD_SET1(1.0 / 281474976710656.0); /* 2^-48 */
     uint32_t t = 0;
     while (t < ntri) {
-        uint32_t k = 0, seen = 0;
-        for (; t < ntri && k < HEMI_BATCH; ++t, ++seen) { /* (1) */
+        const uint32_t t0 = t;
+        uint32_t k = 0;
+        for (; t < ntri && k < HEMI_BATCH; ++t) { /* (1) */
             const uint32_t *q = tri[t];
             keep[k] = t;
             k += (uint32_t)((v[q[0]][2] > 0) | (v[q[1]][2] > 0) | (v[q[2]][2] > 0));
         }
-        *nb += seen - k;
+        *nb += (t - t0) - k;
         uint32_t kp = k;
         for (uint32_t j = 0; j < k; ++j) {
             const uint32_t *q = tri[keep[j]];

@@ -404,7 +404,7 @@ static uint32_t groups_mask(const qibl_hemi_t *h, const scene *s, const groups *
     }
     int c0, c1, r0, r1;
     ring_window(v, s->near, &c0, &c1, &r0, &r1);
-    const uint32_t ncv = (uint32_t)s->ncv;
+    const uint32_t ncv = (uint32_t)s->ncv, kq8 = (uint32_t)(g_lod * 256.0 + 0.5); /* Q8.8 */
     for (uint32_t c = 0; c < ncv; ++c)
         gp[c][0] = pos[s->cvert[c]][0], gp[c][1] = pos[s->cvert[c]][1], gp[c][2] = pos[s->cvert[c]][2];
     uint32_t nl = ncv, nt = 0;
@@ -412,8 +412,8 @@ static uint32_t groups_mask(const qibl_hemi_t *h, const scene *s, const groups *
         for (int ci = 0; ci + 1 < CG; ++ci) {
             const int c = cj * (CG - 1) + ci;
             int in = s->near > 0 && ci >= c0 && ci <= c1 && cj >= r0 && cj <= r1;
-            if (!in && g_lod > 0) /* a cell that subtends a wide angle from the receiver, in 3D */
-                in = qibl_hemi_bound_near(fr, &g->nearb[c], (uint32_t)(g_lod * 256.0 + 0.5));
+            if (!in && kq8 > 0u) /* a cell that subtends a wide angle from the receiver, in 3D */
+                in = qibl_hemi_bound_near(fr, &g->nearb[c], kq8);
             if (!qibl_hemi_bound_above(fr, in ? &g->nearb[c] : &g->farb[c]))
                 continue;
             if (!in) {
