@@ -1,5 +1,12 @@
 # qibl - top-level build (GNU make). `make help` lists the targets.
 
+# A parallel build by default, one job per core, unless the caller chose -j (or JOBS=1).
+NPROC := $(shell getconf _NPROCESSORS_ONLN 2>/dev/null || echo 2)
+JOBS  ?= $(NPROC)
+ifeq ($(filter -j%,$(MAKEFLAGS)),)
+MAKEFLAGS += -j$(JOBS)
+endif
+
 CC      ?= cc
 AR      ?= ar
 BUILD   ?= build
@@ -89,7 +96,7 @@ qibl: $(QIBL)
 
 help:
 	@echo "make            build the core library and the qibl CLI ($(QIBL))"
-	@echo "make demo       run the main demo (SCENE=path.obj for a mesh, DEMO_SIZE=small for the CI size)"
+	@echo "make demo       run the main demo (SCENE=path.obj for a mesh, DEMO_SIZE=small for the CI size, FULL=1 for the README size)"
 	@echo "make test       build and run the CMocka suites (installs libcmocka-dev if it can)"
 	@echo "make docs-memory  regenerate the resident-memory table of docs/porting.md (make test checks it)"
 	@echo "make docs-size  rewrite docs/porting.md's size tables from a make cross run (make cross checks them)"
@@ -447,13 +454,15 @@ study: $(QIBL)
 
 # The main demo: bake the built-in courtyard (or SCENE=path.obj) with the ray tracer, relight it with
 # the core (sun sweep, moving lamp), compare with ground truth; PNGs, APNGs, contact sheet, table and
-# RESULT lines in out/demo/. DEMO_SIZE=small is the CI version (256x64, 128 directions).
+# RESULT lines in out/demo/. Sizes (tools/cli/cmd_demo.c): the default 512x128 fits a newcomer's 90 s;
+# DEMO_SIZE=small is the CI version (256x64, 128 directions); FULL=1 (or DEMO_SIZE=full) the README's
+# pictures at 1024x256 with the full probe-lit truths (minutes of CPU).
 SCENE ?= builtin
-DEMO_SIZE ?= full
+DEMO_SIZE ?= $(if $(FULL),full,default)
 DEMO_THREADS ?= $(shell n=$$(getconf _NPROCESSORS_ONLN 2>/dev/null || echo 2); echo $$n)
 demo: $(QIBL)
 	@mkdir -p out/demo
-	$(QIBL) demo --out out/demo --scene $(SCENE) --threads $(DEMO_THREADS) $(if $(filter small,$(DEMO_SIZE)),--small)
+	$(QIBL) demo --out out/demo --scene $(SCENE) --threads $(DEMO_THREADS) $(if $(filter small,$(DEMO_SIZE)),--small)$(if $(filter full,$(DEMO_SIZE)),--full)
 	$(QIBL) check out/demo/scene_k16.qibl out/demo/sun_sweep.png out/demo/lamp_sweep.png out/demo/contact_sheet.png out/demo/probe_sheet.png
 
 clean:

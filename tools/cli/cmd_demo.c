@@ -12,6 +12,7 @@
 #include "bake/bake.h"
 #include "io/atomic.h"
 #include "io/png.h"
+#include "io/text.h"
 #include "cli/cli.h"
 #include "ref/psnr.h"
 #include "render/rt.h"
@@ -40,6 +41,15 @@ static int save_png(const char *dir, const char *name, int w, int h, const uint8
     }
     free(path);
     return 0;
+}
+
+/* qtool_bake_relight8 with its failure said: 0, or -1 after a message */
+static int relight(const uint8_t *asset, size_t n, const qtool_rt_light *l, int use_lut, uint8_t *rgb8, double *ms)
+{
+    if (qtool_bake_relight8(asset, n, l, use_lut, rgb8, ms) == 0)
+        return 0;
+    fprintf(stderr, "qibl: demo: relighting the baked asset failed (%zu bytes)\n", n);
+    return -1;
 }
 
 /* Makes sure every output can be written before the bake: the directory exists (created if
@@ -103,13 +113,28 @@ static void heat(const uint8_t *a, const uint8_t *b, const uint8_t *mask, size_t
     }
 }
 
+/* The demo's three sizes (cli.h): small for CI, default for `make demo`, full for the README. */
+static const qcli_demo_size demo_sizes[] = {
+    {.name = "small", .w = 256, .h = 64, .ndirs = 128, .frames = 6, .path_steps = 32, .sky_dirs = 128, .probe_spp = 512},
+    {.name = "default", .w = 512, .h = 128, .ndirs = 256, .frames = 12, .path_steps = 32, .sky_dirs = 128, .probe_spp = 256},
+    {.name = "full", .w = 1024, .h = 256, .ndirs = 512, .frames = 24, .path_steps = 64, .sky_dirs = 256, .probe_spp = 256},
+};
+
 int qcli_cmd_demo(int argc, char **argv)
 {
+    /* the size first: --size WxH, --dirs and --frames given on the line override its values */
+    const qcli_demo_size *sz = &demo_sizes[1];
+    for (int i = 1; i < argc; ++i) {
+        if (strcmp(argv[i], "--small") == 0)
+            sz = &demo_sizes[0];
+        else if (strcmp(argv[i], "--full") == 0)
+            sz = &demo_sizes[2];
+    }
     qcli_scene so;
     qcli_scene_defaults(&so);
+    so.w = sz->w, so.h = sz->h;
     const char *dir = NULL;
-    long ndirs = 512, frames = 24;
-    int small = 0;
+    long ndirs = sz->ndirs, frames = sz->frames;
     for (int i = 1; i < argc; ++i) {
         int r = qcli_scene_opt(argc, argv, &i, &so);
         if (r < 0)
@@ -124,16 +149,12 @@ int qcli_cmd_demo(int argc, char **argv)
         } else if (strcmp(argv[i], "--frames") == 0 && i + 1 < argc) {
             if (qcli_parse_int(argv[++i], 2, 240, &frames) != 0)
                 return qcli_usage_error("--frames needs an integer in 2..240");
-        } else if (strcmp(argv[i], "--small") == 0) {
-            small = 1;
-        } else {
+        } else if (strcmp(argv[i], "--small") != 0 && strcmp(argv[i], "--full") != 0) {
             return qcli_usage_error("demo: unknown argument '%s' (see qibl help demo)", argv[i]);
         }
     }
     if (!dir)
         return qcli_usage_error("demo needs --out DIR");
-    if (small)
-        so.w = 256, so.h = 64, ndirs = 128, frames = 6;
     if (check_out_dir(dir, frames) != 0)
         return 1;
     qtool_rt_scene s;
@@ -142,8 +163,9 @@ int qcli_cmd_demo(int argc, char **argv)
     uint32_t w = so.w, h = so.h;
     size_t np = (size_t)w * h;
     const char *scene_name = so.scene ? so.scene : "the built-in courtyard";
-    printf("== bake %s: %ux%u %s panorama, %ld light directions (spherical Fibonacci), %zu triangles, %d threads\n",
-           scene_name, w, h, so.kind ? "equirectangular" : "cylindrical", ndirs, s.ntri, so.threads);
+    printf("== bake %s (demo size %s): %ux%u %s panorama, %ld light directions (spherical Fibonacci), %zu triangles, "
+           "%d threads\n",
+           scene_name, sz->name, w, h, so.kind ? "equirectangular" : "cylindrical", ndirs, s.ntri, so.threads);
     qtool_bake_sums sums;
     double t0 = qcli_now();
     if (qtool_bake_run(&s, w, h, (qtool_pano_kind)so.kind, (uint32_t)ndirs, 25, 0, 1, so.threads, 1, &sums) != 0) {
@@ -195,7 +217,10 @@ int qcli_cmd_demo(int argc, char **argv)
         free(path);
         double mse_d = 0, mse_p = 0, tms[NDIR + NPT];
         for (int i = 0; i < NDIR + NPT; ++i) {
-            qtool_bake_relight8(asset[q], asize[q], &ev[i], 1, tmp, &tms[i]);
+            if (relight(asset[q], asize[q], &ev[i], 1, tmp, &tms[i]) != 0) {
+                rc = 1;
+                goto done;
+            }
             double e = qtool_bake_mse(tmp, truth[i], mask, np);
             if (i < NDIR)
                 mse_d += e / NDIR;
@@ -215,11 +240,13 @@ int qcli_cmd_demo(int argc, char **argv)
         size_t n = 0;
         if (qtool_bake_coeffs(&sums, 16, QTOOL_PROJ_LSQ, &m) == 0 && qtool_bake_asset(&m, 0, &b, &n) == 0) {
             double mse = 0;
-            for (int i = 0; i < NDIR; ++i) {
-                qtool_bake_relight8(b, n, &ev[i], 0, tmp, NULL);
+            int ok = 1;
+            for (int i = 0; i < NDIR && ok; ++i) {
+                ok = relight(b, n, &ev[i], 0, tmp, NULL) == 0;
                 mse += qtool_bake_mse(tmp, truth[i], mask, np) / NDIR;
             }
-            lsq_dir = qtool_ref_psnr8(mse);
+            lsq_dir = ok ? qtool_ref_psnr8(mse) : 0;
+            rc = ok ? rc : 1;
             qtool_gen_free(&m);
         }
         free(b);
@@ -245,9 +272,8 @@ int qcli_cmd_demo(int argc, char **argv)
                 l = pl;
             }
             uint8_t *fr = anim + np * 3 * (size_t)f;
-            qtool_bake_relight8(asset[1], asize[1], &l, 1, fr, NULL);
             snprintf(name, sizeof name, "%s_%02ld.png", pass ? "lamp" : "sun", f);
-            if (rc == 0 && save_png(dir, name, (int)w, (int)h, fr) != 0)
+            if (rc == 0 && (relight(asset[1], asize[1], &l, 1, fr, NULL) != 0 || save_png(dir, name, (int)w, (int)h, fr) != 0))
                 rc = 1;
         }
         char *path = join(dir, pass ? "lamp_sweep.png" : "sun_sweep.png");
@@ -258,27 +284,44 @@ int qcli_cmd_demo(int argc, char **argv)
         free(path);
     }
     free(anim);
-    /* contact sheet: relit (k = 16) | ground truth | error heat map, for 3 suns and 2 lamps */
-    {
+    /* contact sheet: relit (k = 16) | ground truth | error heat map, for 3 suns and 2 lamps, each column
+     * and row under a label */
+    if (rc == 0) {
         static const int rows[5] = {0, 3, 6, NDIR, NDIR + 2};
-        size_t sw = (size_t)w * 3;
-        uint8_t *sheet = malloc(sw * 3 * h * 5);
-        for (int r = 0; sheet && r < 5; ++r) {
+        static const char *cols[3] = {"relit by the core, k = 16", "truth: ray-traced", "error, 0 .. 48+ of 255"};
+        static const uint8_t fg[3] = {235, 235, 235};
+        int ts = w >= 512 ? 2 : 1, strip = (QTOOL_TEXT_HEIGHT + 3) * ts;
+        size_t sw = (size_t)w * 3, shh = ((size_t)h + (size_t)strip) * 5;
+        uint8_t *sheet = malloc(sw * 3 * shh);
+        if (sheet)
+            memset(sheet, 24, sw * 3 * shh);
+        for (int r = 0; sheet && r < 5 && rc == 0; ++r) {
             int i = rows[r];
-            qtool_bake_relight8(asset[1], asize[1], &ev[i], 1, tmp, NULL);
+            size_t y0 = (size_t)r * (h + (size_t)strip);
+            if (relight(asset[1], asize[1], &ev[i], 1, tmp, NULL) != 0) {
+                rc = 1;
+                break;
+            }
             heat(tmp, truth[i], mask, np, heatb);
             const uint8_t *src[3] = {tmp, truth[i], heatb};
+            char lab[120];
+            for (int c = 0; c < 3; ++c) {
+                if (c == 0)
+                    snprintf(lab, sizeof lab, "%s %d: %s", i < NDIR ? "sun" : "lamp", i < NDIR ? i + 1 : i - NDIR + 1,
+                             cols[0]);
+                qtool_text_draw(sheet, (int)sw, (int)shh, c * (int)w + 4, (int)y0 + ts, c == 0 ? lab : cols[c], ts, fg);
+            }
             for (uint32_t y = 0; y < h; ++y)
                 for (int c = 0; c < 3; ++c)
-                    memcpy(sheet + (((size_t)r * h + y) * sw + (size_t)c * w) * 3, src[c] + (size_t)y * w * 3,
+                    memcpy(sheet + ((y0 + (size_t)strip + y) * sw + (size_t)c * w) * 3, src[c] + (size_t)y * w * 3,
                            (size_t)w * 3);
         }
-        if (!sheet || save_png(dir, "contact_sheet.png", (int)sw, (int)h * 5, sheet) != 0)
+        if (!sheet || rc != 0 || save_png(dir, "contact_sheet.png", (int)sw, (int)shh, sheet) != 0)
             rc = 1;
         free(sheet);
         if (rc == 0) { /* the picture for the README: one relit sun frame and its lamp frame */
-            qtool_bake_relight8(asset[1], asize[1], &ev[0], 1, tmp, NULL);
-            if (save_png(dir, "relit_sun.png", (int)w, (int)h, tmp) != 0 ||
+            if (relight(asset[1], asize[1], &ev[0], 1, tmp, NULL) != 0 ||
+                save_png(dir, "relit_sun.png", (int)w, (int)h, tmp) != 0 ||
                 save_png(dir, "truth_sun.png", (int)w, (int)h, truth[0]) != 0)
                 rc = 1;
         }
@@ -297,12 +340,15 @@ int qcli_cmd_demo(int argc, char **argv)
                "RESULT demo.relight_ms_k%u %.3f\n",
                ks[q], psnr_dir[q], ks[q], psnr_pt[q], ks[q], asize[q], ks[q], ms_dir[q]);
     printf("RESULT demo.psnr_k16_dir_lsq %.2f\nRESULT demo.bake_s %.2f\n", lsq_dir, bake_s);
-    if (rc == 0 && qtool_demo_paths(&s, &so, (uint32_t)ndirs, prop, small, &sums, asset[1], asize[1], dir) != 0)
+    if (rc == 0 && qtool_demo_paths(&s, &so, (uint32_t)ndirs, prop, sz, &sums, asset[1], asize[1], dir) != 0)
         rc = 1;
-    if (rc == 0 && qcli_demo_probe(&s, &so, small, &sums, (uint32_t)ndirs, dir) != 0)
+    if (rc == 0 && qcli_demo_probe(&s, &so, sz, &sums, (uint32_t)ndirs, dir) != 0)
         rc = 1;
-    printf("\nwrote %s/: scene_k{9,16,25}.qibl, sun_NN.png and sun_sweep.png (APNG), lamp_NN.png and lamp_sweep.png "
-           "(APNG), contact_sheet.png (relit | ground truth | error), relit_sun.png, truth_sun.png\n", dir);
+    if (rc == 0)
+        printf("\nwrote %s/: scene_k{9,16,25}.qibl, sun_NN.png and sun_sweep.png (APNG), lamp_NN.png and lamp_sweep.png "
+               "(APNG), contact_sheet.png (relit | ground truth | error), relit_sun.png, truth_sun.png, paths_sheet.png, "
+               "paths_readme.png, probe_sheet.png\n",
+               dir);
 done:
     for (int q = 0; q < 3; ++q)
         free(asset[q]);

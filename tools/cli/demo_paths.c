@@ -12,6 +12,7 @@
 #include "bake/path.h"
 #include "bake/tiled.h"
 #include "io/png.h"
+#include "io/text.h"
 #include "qibl/asset.h"
 #include "qibl/lightpath.h"
 #include "qibl/shmtile.h"
@@ -117,7 +118,7 @@ double qcli_asset_chunk_bytes(const uint8_t *asset, size_t n, uint32_t type, uin
     return c.size;
 }
 
-int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndirs, int prop, int small,
+int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndirs, int prop, const qcli_demo_size *sz,
                     const qtool_bake_sums *sums, const uint8_t *today, size_t today_n, const char *dir)
 {
     uint32_t w = so->w, h = so->h;
@@ -148,7 +149,7 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
     uint8_t *truth = malloc(np * 3 * NPOS * 2), *cls = malloc(np * NPOS * 2), *tmp = malloc(np * 3);
     uint8_t *keep[4] = {malloc(np * 3), malloc(np * 3), malloc(np * 3), malloc(np * 3)};
     double st_sun[2], st_trk[2];
-    uint32_t steps = small ? 32 : 64;
+    uint32_t steps = sz->path_steps;
     memset(&us, 0, sizeof us);
     if (!truth || !cls || !tmp || !keep[0] || !keep[1] || !keep[2] || !keep[3] ||
         qtool_bake_run_unshadowed(s, w, h, kind, ndirs, 16, so->threads, &us) != 0 ||
@@ -295,7 +296,7 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
     /* sky + sun: the sky ray-traced once (two half estimates: their agreement states its noise), the sun
      * at the 16 positions; today's SH with sky and sun in one light against the hybrid */
     double sky_rgb[3] = {0.25, 0.32, 0.45}, sky_noise = 0;
-    uint32_t nsky = small ? 128 : 256;
+    uint32_t nsky = sz->sky_dirs;
     acc_t sacc[2];
     memset(sacc, 0, sizeof sacc);
     {
@@ -405,22 +406,35 @@ int qtool_demo_paths(const qtool_rt_scene *s, const qcli_scene *so, uint32_t ndi
     finish(&sacc[0], "sky + sun: today, one SH light, shadowed k16", shmp / (double)np, &sky_rs[0]);
     finish(&sacc[1], "sky + sun: sky SH k16 + sun k9 x path", (shmp + u9 + lpn[0]) / (double)np, &sky_rs[1]);
 
-    /* contact sheet: truth | today | path shadows | error of the path frame, one sun and one lamp row */
+    /* contact sheet: truth | today | path shadows | error of the path frame, one sun and one lamp row,
+     * each under a label strip */
+    int ts = w >= 512 ? 2 : 1, strip = (QTOOL_TEXT_HEIGHT + 3) * ts;
+    size_t shh = 2 * ((size_t)h + (size_t)strip);
     {
+        static const char *cols[4] = {"truth: ray-traced", "today: shadowed SH k16", "SHMU k9 x path visibility",
+                                      "error, 0 .. 48+ of 255"};
+        static const uint8_t fg[3] = {235, 235, 235};
         size_t sw = (size_t)w * 4;
-        uint8_t *sheet = malloc(sw * 3 * h * 2), *hb = malloc(np * 3);
+        uint8_t *sheet = malloc(sw * 3 * shh), *hb = malloc(np * 3);
+        if (sheet)
+            memset(sheet, 24, sw * 3 * shh);
         for (int r = 0; sheet && hb && r < 2; ++r) {
-            size_t f = (size_t)r * NPOS + 5;
+            size_t f = (size_t)r * NPOS + 5, y0 = (size_t)r * (h + (size_t)strip);
             qcli_demo_heat(keep[2 * r + 1], truth + f * np * 3, cls + f * np, np, hb);
             const uint8_t *src[4] = {truth + f * np * 3, keep[2 * r], keep[2 * r + 1], hb};
+            for (int c = 0; c < 4; ++c) {
+                char lab[96];
+                snprintf(lab, sizeof lab, "%s: %s", r ? "lamp" : "sun", cols[c]);
+                qtool_text_draw(sheet, (int)sw, (int)shh, c * (int)w + 4, (int)y0 + ts, lab, ts, fg);
+            }
             for (uint32_t y = 0; y < h; ++y)
                 for (int c = 0; c < 4; ++c)
-                    memcpy(sheet + (((size_t)r * h + y) * sw + (size_t)c * w) * 3, src[c] + (size_t)y * w * 3,
+                    memcpy(sheet + ((y0 + (size_t)strip + y) * sw + (size_t)c * w) * 3, src[c] + (size_t)y * w * 3,
                            (size_t)w * 3);
         }
         char err[1200], path[4096];
         snprintf(path, sizeof path, "%s/paths_sheet.png", dir);
-        int bad = !sheet || !hb || qtool_png_write_rgb8(path, (int)sw, (int)h * 2, sheet, err, sizeof err) != 0;
+        int bad = !sheet || !hb || qtool_png_write_rgb8(path, (int)sw, (int)shh, sheet, err, sizeof err) != 0;
         if (bad)
             fprintf(stderr, "qibl: %s\n", sheet && hb ? err : "demo: out of memory");
         /* the README picture: truth, today, path shadows of the same sun, one above the other */

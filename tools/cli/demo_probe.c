@@ -632,18 +632,15 @@ done:
     return rc;
 }
 
-int qcli_demo_probe(const qtool_rt_scene *s, const qcli_scene *so, int small, const qtool_bake_sums *sums,
-                    uint32_t ndirs, const char *dir)
+int qcli_demo_probe(const qtool_rt_scene *s, const qcli_scene *so, const qcli_demo_size *sz,
+                    const qtool_bake_sums *sums, uint32_t ndirs, const char *dir)
 {
     uint32_t w = so->w, h = so->h;
     size_t np = (size_t)w * h;
     ctx_t c;
     memset(&c, 0, sizeof c);
     c.s = s, c.so = so;
-    /* samples per pixel in each of the two truth renders: at the CI size (256 x 64) 512 cost about
-     * 40 CPU seconds for the three probes (20 s on two idle cores) and leave the truth 38 to 44 dB
-     * from itself; the full size has 16 x the pixels and takes 256 (about 8 x the CPU time) */
-    c.spp = small ? 512 : 256;
+    c.spp = sz->probe_spp; /* the truth's cost is pixels x spp: cmd_demo.c's sizes */
     c.kparts = MAX_PARTS;
     const char *env_k = getenv("QIBL_DEMO_PROBE_PARTS"); /* for studies: parts per extended source */
     long lk;

@@ -160,11 +160,14 @@ static const qcli_cmd commands[] = {
      "  Exit 1 if any is bad.\n",
      qcli_cmd_check},
     {"demo", "the main demo: bake the scene, relight it by the core, compare with ground truth",
-     "usage: qibl demo --out DIR [--dirs N] [--frames F] [--small] [scene options as for render]\n"
+     "usage: qibl demo --out DIR [--small | --full] [--dirs N] [--frames F] [scene options as for render]\n"
      "  What `make demo` runs: bakes the scene (built-in courtyard, or --scene FILE.obj|.ply), writes\n"
      "  the assets for k = 9, 16, 25, relights a sun sweep and a moving lamp with the core (PNG frames and\n"
      "  APNG), a contact sheet (relit | ground truth | error heat map) for novel lights, and prints the\n"
-     "  table of k, bytes, ms/frame and PSNR with RESULT lines. --small: the CI size.\n",
+     "  table of k, bytes, ms/frame and PSNR with RESULT lines, then the light paths and the probe-lit rows.\n"
+     "  Sizes: default 512x128, 256 directions, 12 frames (`make demo`); --small 256x64, 128 directions,\n"
+     "  6 frames (CI); --full 1024x256, 512 directions, 24 frames and the full probe-lit truths (`make demo\n"
+     "  FULL=1`, minutes of CPU). --size WxH, --dirs and --frames override the size's values.\n",
      qcli_cmd_demo},
     {"relight", "relight an asset by suns, lamps, a light list or a whole probe into a PNG (core + soft framebuffer)",
      "usage: qibl relight FILE [--sun X Y Z [--rgb R G B]]... [--point X Y Z [--rgb R G B]]...\n"
@@ -420,6 +423,8 @@ double qcli_median(double *v, int n)
 
 int main(int argc, char **argv)
 {
+    /* line by line into a pipe or a log too: a farm or `make demo | tee` sees each step as it ends */
+    setvbuf(stdout, NULL, _IOLBF, 0);
     if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
         print_help(stdout);
         return argc < 2 ? 2 : 0;

@@ -1,13 +1,19 @@
 #!/bin/sh
 # run-tests.sh TEST... - run CMocka suites, then print one closing line with the totals.
+# Each suite is named as it starts and its output streams as it runs, then its time is printed.
 # Exit status is non-zero if any suite failed or crashed.
 passed=0; failed=0; skipped=0; bad=0
 log=$(mktemp) || exit 1
 trap 'rm -f "$log"' EXIT
+rcf=$(mktemp) || exit 1
+trap 'rm -f "$log" "$rcf"' EXIT
+now() { date +%s.%N 2>/dev/null || date +%s; }
 for t in "$@"; do
-    "$t" >"$log" 2>&1
-    rc=$?
-    cat "$log"
+    echo "== suite ${t##*/}"
+    t0=$(now)
+    { "$t" 2>&1; echo $? >"$rcf"; } | tee "$log"
+    rc=$(cat "$rcf")
+    echo "== suite ${t##*/}: $(awk -v a="$t0" -v b="$(now)" 'BEGIN { printf "%.1f", b - a }') s"
     p=$(sed -n 's/^\[  PASSED  \] \([0-9]*\) test.*/\1/p' "$log" | tail -n 1)
     f=$(sed -n 's/^\[  FAILED  \] \([0-9]*\) test.*/\1/p' "$log" | tail -n 1)
     s=$(sed -n 's/^\[  SKIPPED \] \([0-9]*\) test.*/\1/p' "$log" | tail -n 1)
