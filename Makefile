@@ -113,7 +113,7 @@ help:
 	@echo "make test-asan  the suites and the CLI under AddressSanitizer + UndefinedBehaviorSanitizer (in $(BUILD)/asan)"
 	@echo "make fuzz       every libFuzzer target for FUZZ_SECONDS (default 60) each; fuzz-smoke: CI's short run"
 	@echo "make examples   build and run tools/examples/console_port, the integration example (docs/porting.md)"
-	@echo "make install    headers, $(LIBQIBL), $(LIBSOFT) and qibl.pc into PREFIX (default /usr/local; DESTDIR honoured)"
+	@echo "make install    headers, the libraries, the CLI, qibl.pc and the CMake package into PREFIX (default /usr/local; DESTDIR honoured)"
 	@echo "make check-install  install to a temporary prefix and build the example through pkg-config and CMake"
 	@echo "make amalgamate the core as one qibl.h + one qibl.c in $(BUILD)/amalgamated (tools/scripts/amalgamate.sh)"
 	@echo "make check-amalgamate  that pair under the strict flags, freestanding for Cortex-M0/M4, with the goldens and the example"
@@ -421,16 +421,26 @@ warnings:
 PREFIX ?= /usr/local
 LIBDIR ?= $(PREFIX)/lib
 INCLUDEDIR ?= $(PREFIX)/include
+BINDIR ?= $(PREFIX)/bin
 QIBL_VERSION := $(shell sed -n 's/^\#define QIBL_VERSION_STRING "\(.*\)"/\1/p' core/include/qibl/version.h)
 
-install: $(LIBQIBL) $(LIBSOFT)
-	install -d $(DESTDIR)$(INCLUDEDIR)/qibl $(DESTDIR)$(LIBDIR)/pkgconfig
+# One layout with the CMake install (CMakeLists.txt): headers, libqibl.a, libqibl-soft.a, the CLI,
+# libqibl-gles2.a and its header where EGL/GLES2 exist, and the package files (qibl.pc,
+# qiblConfig.cmake, qiblConfigVersion.cmake) from tools/pkgconfig's templates, relocatable.
+# Internal headers (core/src) are never installed.
+SIZEOF_VOID_P := $(shell printf '__SIZEOF_POINTER__\n' | $(CC) -E -P -x c - 2>/dev/null | tail -n 1)
+install: $(LIBQIBL) $(LIBSOFT) $(QIBL) $(if $(HAVE_GLES),$(LIBGLES))
+	install -d $(DESTDIR)$(INCLUDEDIR)/qibl $(DESTDIR)$(LIBDIR)/pkgconfig $(DESTDIR)$(LIBDIR)/cmake/qibl $(DESTDIR)$(BINDIR)
 	install -m 644 core/include/qibl.h $(DESTDIR)$(INCLUDEDIR)/qibl.h
 	install -m 644 core/include/qibl/*.h platform/soft/include/qibl/*.h $(DESTDIR)$(INCLUDEDIR)/qibl/
 	install -m 644 $(LIBQIBL) $(DESTDIR)$(LIBDIR)/libqibl.a
 	install -m 644 $(LIBSOFT) $(DESTDIR)$(LIBDIR)/libqibl-soft.a
-	sed -e 's|@PREFIX@|$(PREFIX)|; s|@LIBDIR@|$(LIBDIR)|; s|@INCLUDEDIR@|$(INCLUDEDIR)|; s|@VERSION@|$(QIBL_VERSION)|; s|@DEFS@||' \
-	  tools/pkgconfig/qibl.pc.in > $(DESTDIR)$(LIBDIR)/pkgconfig/qibl.pc
+	$(if $(HAVE_GLES),install -m 644 $(LIBGLES) $(DESTDIR)$(LIBDIR)/libqibl-gles2.a)
+	$(if $(HAVE_GLES),install -m 644 platform/gles2/include/qibl/*.h $(DESTDIR)$(INCLUDEDIR)/qibl/)
+	install -m 755 $(QIBL) $(DESTDIR)$(BINDIR)/qibl
+	sh tools/scripts/pkg-files.sh $(BUILD)/pkg "$(PREFIX)" "$(LIBDIR)" "$(INCLUDEDIR)" $(QIBL_VERSION) "$(SIZEOF_VOID_P)"
+	install -m 644 $(BUILD)/pkg/qibl.pc $(DESTDIR)$(LIBDIR)/pkgconfig/qibl.pc
+	install -m 644 $(BUILD)/pkg/qiblConfig.cmake $(BUILD)/pkg/qiblConfigVersion.cmake $(DESTDIR)$(LIBDIR)/cmake/qibl/
 
 # What CI runs: make install into a temporary prefix (and a DESTDIR), the example built through
 # pkg-config and through CMake (add_subdirectory), qibl --version against version.h.

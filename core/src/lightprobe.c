@@ -32,7 +32,7 @@
  */
 #include "qibl/lightprobe.h"
 #include "qibli.h"
-#include "qibl/lightprobe_internal.h"
+#include "lightprobe_internal.h"
 
 /* compiler intrinsics header only (freestanding), only on the path config.h chose: the RGBE SAT
  * and colour passes need per-lane 64-bit variable shifts (vpsrlvq), which SSE2 lacks */
@@ -377,7 +377,7 @@ static inline uint64_t luma(const uint64_t m[3])
     return mul_lo_u64_u32(m[0], LUMA_R) + mul_lo_u64_u32(m[1], LUMA_G) + mul_lo_u64_u32(m[2], LUMA_B);
 }
 
-/* ---- shared with the SH projection (qibl/lightprobe_internal.h) ------------------------------ */
+/* ---- shared with the SH projection (lightprobe_internal.h) ------------------------------ */
 
 size_t qibli_lightprobe_pixel_bytes(qibl_lightprobe_format_t f)
 {

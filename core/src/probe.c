@@ -32,7 +32,7 @@
 
 #if QIBL_USE_PROBE
 
-#include "qibl/lightprobe_internal.h"
+#include "lightprobe_internal.h"
 #include "qibli.h"
 
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2

@@ -1,5 +1,5 @@
 /*
- * qibl/lightprobe_internal.h - internal to the core (qibli_*): the light-probe module's exact pixel
+ * lightprobe_internal.h - internal to the core (qibli_*): the light-probe module's exact pixel
  * decoding and rational-angle sine, shared with the SH projection (probe.c) so that both read a
  * probe the same way. Not a public API: it may change with lightprobe.c.
  */
