@@ -39,6 +39,9 @@
 #define LABEL_H 24  /* title bar, pixels */
 #define LEGEND_H 22 /* colour-scale bar under the error panel */
 #define ERR_SCALE 0.10 /* the error panel's full scale: 10 % of the mean shading */
+/* what a run may hold for its frames: the --png sheet of every frame (the APNG writer takes them
+ * all at once) and --pvs's integer positions of every frame; refused up front beyond it */
+#define QCLI_TRANSFER_MAX_HELD ((uint64_t)256 << 20)
 
 #define TRANSFER_USAGE                                                                                        \
     "usage: qibl transfer MESH [MESH...] --probe PROBE.hdr [--layout L] [--png OUT] [--size N] [--mask 16|32|64]\n" \
@@ -59,8 +62,8 @@ static int read_mesh(const char *path, qtool_obj_mesh *m, char *err, size_t errl
 {
     const size_t n = strlen(path);
     if (n > 4 && (strcmp(path + n - 4, ".ply") == 0 || strcmp(path + n - 4, ".PLY") == 0))
-        return qtool_ply_read(path, m, err, errlen);
-    return qtool_obj_read(path, m, err, errlen);
+        return qtool_ply_read_max(path, QTOOL_TRANSFER_MAX_TRIANGLES, m, err, errlen);
+    return qtool_obj_read_max(path, QTOOL_TRANSFER_MAX_TRIANGLES, m, err, errlen);
 }
 
 /* Loads every frame, welds on frame 0, checks the others share its topology, normalises all frames
@@ -152,23 +155,20 @@ fail:
     return -1;
 }
 
-/* t - 1 frames between each pair of frames, linear per vertex, the last blending back into the
- * first (an animation cycle, like the paper's interpolated keyframes). 0, or -1 (no memory). */
-static int tween_frames(mesh *m, uint32_t t)
+/* Frame f's positions: with t > 1, t - 1 frames between each pair of the nkeys key frames, linear
+ * per vertex, the last blending back into the first (an animation cycle, like the paper's
+ * interpolated keyframes), made one at a time into buf (3 nv doubles): only the key frames are
+ * held, so --tween costs one frame of memory, not t times the animation. */
+static const double *frame_pos(const mesh *m, uint32_t nkeys, uint32_t t, uint32_t f, double *buf)
 {
-    const uint32_t nf = m->nframes * t;
-    double *p = malloc(sizeof(double) * 3 * (size_t)m->nv * nf);
-    if (!p)
-        return fprintf(stderr, "qibl: transfer: out of memory (--tween)\n"), -1;
-    for (uint32_t f = 0; f < nf; ++f) {
-        const double *a = m->pos + 3 * (size_t)m->nv * (f / t), *b = m->pos + 3 * (size_t)m->nv * ((f / t + 1) % m->nframes);
-        const double w = (double)(f % t) / t;
-        for (size_t i = 0; i < 3 * (size_t)m->nv; ++i)
-            p[3 * (size_t)m->nv * f + i] = a[i] + w * (b[i] - a[i]);
-    }
-    free(m->pos);
-    m->pos = p, m->nframes = nf;
-    return 0;
+    const size_t n = 3 * (size_t)m->nv;
+    if (t <= 1)
+        return m->pos + n * f;
+    const double *a = m->pos + n * (f / t), *b = m->pos + n * ((f / t + 1) % nkeys);
+    const double w = (double)(f % t) / t;
+    for (size_t i = 0; i < n; ++i)
+        buf[i] = a[i] + w * (b[i] - a[i]);
+    return buf;
 }
 
 /* area-weighted vertex normals of one frame; flip < 0 turns them (a mesh wound clockwise) */
@@ -187,9 +187,8 @@ static void normals(const mesh *m, const double *P, double flip, double *N)
 
 /* One frame's integer inputs: positions Q16.16, unit normals Q2.30 (zero where a vertex has none);
  * returns how many vertices have no normal. N: 3 nv doubles of scratch. */
-static int frame_ints(const mesh *m, uint32_t f, double flip, double *N, qibl_q16_t (*pos)[3], int32_t (*nrm)[3])
+static int frame_ints(const mesh *m, const double *P, double flip, double *N, qibl_q16_t (*pos)[3], int32_t (*nrm)[3])
 {
-    const double *P = m->pos + 3 * (size_t)m->nv * f;
     normals(m, P, flip, N);
     int zero = 0;
     for (size_t v = 0; v < m->nv; ++v) {
@@ -618,13 +617,34 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
         qcli_scene_defaults(&sd);
         threads = sd.threads;
     }
+    if (png) { /* the sheet of every frame, from the request alone, before anything is read */
+        const uint64_t frames = nfiles > 1 ? (uint64_t)nfiles * (uint64_t)tween : 1, panels = side > 0 ? 3 : 1;
+        const uint64_t fw = panels * (uint64_t)size, fh = LABEL_H + (uint64_t)size + (panels == 3 ? LEGEND_H : 0);
+        if (frames * fw * fh * 3 > QCLI_TRANSFER_MAX_HELD) {
+            fprintf(stderr, "qibl: transfer: --png of %llu frames of %llux%llu is %.0f MiB of frames held for the "
+                    "APNG (at most %d MiB): fewer frames or --tween, a smaller --size, or --rays 0 (one panel)\n",
+                    (unsigned long long)frames, (unsigned long long)fw, (unsigned long long)fh,
+                    (double)(frames * fw * fh * 3) / 1048576.0, (int)(QCLI_TRANSFER_MAX_HELD >> 20));
+            return 1;
+        }
+    }
     int32_t light[3][25];
     char pdesc[128];
     if (probe_light(probe, layout, o->lights, light, pdesc, sizeof pdesc) != 0)
         return 1;
     mesh m;
-    if (load_frames(files, nfiles, zup, &m) != 0 || (tween > 1 && m.nframes > 1 && tween_frames(&m, (uint32_t)tween) != 0))
+    if (load_frames(files, nfiles, zup, &m) != 0)
         return 1;
+    /* from here m.nframes counts every frame drawn; the key frames alone are held (frame_pos) */
+    const uint32_t nkeys = m.nframes, tw = tween > 1 && nkeys > 1 ? (uint32_t)tween : 1;
+    m.nframes = nkeys * tw;
+    if (use_pvs && (uint64_t)m.nv * m.nframes * (sizeof(qibl_q16_t[3]) + sizeof(int32_t[3])) > QCLI_TRANSFER_MAX_HELD) {
+        fprintf(stderr, "qibl: transfer: --pvs over %u frames of %u vertices needs %.0f MiB of integer positions and "
+                "normals (at most %d MiB): fewer frames or --tween\n", m.nframes, m.nv,
+                (double)m.nv * m.nframes * 24 / 1048576.0, (int)(QCLI_TRANSFER_MAX_HELD >> 20));
+        free(m.tri), free(m.pos);
+        return 1;
+    }
     /* winding: turned by --flip, or when a (nearly) closed mesh has a negative volume */
     long nedges = 0, open_edges = qtool_transfer_boundary_edges(&m, &nedges);
     const double vol = qtool_transfer_signed_volume(&m, m.pos);
@@ -642,6 +662,7 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
     double *l2 = malloc(sizeof(double) * nv), *noise = malloc(sizeof(double) * nv), *cpu = malloc(sizeof(double) * nv);
     double *ph = malloc(sizeof(double) * PH_N * nv), phs[PH_N] = {0};
     double *col = malloc(sizeof(double) * 3 * nv), *tmp = malloc(sizeof(double) * nv);
+    double *fbuf = malloc(sizeof(double) * 3 * nv); /* a tweened frame */
     const int panels = side > 0 ? 3 : 1, S = (int)size;
     const int sw = panels * S, sh = LABEL_H + S + (panels == 3 ? LEGEND_H : 0);
     uint8_t *sheet = calloc(png ? (size_t)sw * (size_t)sh * (size_t)m.nframes : 1, 3);
@@ -656,7 +677,7 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
     int32_t(*anrm)[3] = NULL;
     int rc = 1;
     if (!ws || !pos || !nrm || !vw || !eq || !er || !N || !l2 || !noise || !cpu || !ph || !col || !tmp || !sheet || !fbpx ||
-        !depth || !rv) {
+        !depth || !rv || !fbuf) {
         fprintf(stderr, "qibl: transfer: out of memory\n");
         goto done;
     }
@@ -689,7 +710,7 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
             goto done;
         }
         for (uint32_t f = 0; f < m.nframes; ++f)
-            (void)frame_ints(&m, f, flip, N, apos + nv * f, anrm + nv * f);
+            (void)frame_ints(&m, frame_pos(&m, nkeys, tw, f, fbuf), flip, N, apos + nv * f, anrm + nv * f);
         ts = qtool_transfer_pvs_build(&m, coarse > 0 ? &hi : NULL, (const qibl_q16_t(*)[3])apos,
                                       (const int32_t(*)[3])anrm, adj_off, adj, !skip_adjacent, (int)threads, &pv);
         if (ts != QTOOL_TRANSFER_OK) {
@@ -698,7 +719,9 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
         }
     }
     view vwp;
-    view_make(az, el, S, &m, &vwp);
+    mesh keys = m; /* a linear projection's box and the largest radius are reached at the key frames */
+    keys.nframes = nkeys;
+    view_make(az, el, S, &keys, &vwp);
     if (verbose)
         printf("transfer: %s%s: %u vertices, %u triangles, %u frame%s; %s%s; probe %s (%s)\n", files[0],
            nfiles > 1 ? " ..." : "", m.nv, m.nt, m.nframes, m.nframes > 1 ? "s" : "",
@@ -719,8 +742,8 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
             printf("  reference: %ld x %ld stratified cosine-weighted rays per vertex (tools/ref/hemi_ref.c)\n", side, side);
     double sum_l2 = 0, sum_noise = 0, sum_cpu = 0, sum_err = 0, sum_e = 0;
     for (uint32_t f = 0; f < m.nframes; ++f) {
-        const double *P = m.pos + 3 * nv * f;
-        const int zero = frame_ints(&m, f, flip, N, pos, nrm);
+        const double *P = frame_pos(&m, nkeys, tw, f, fbuf);
+        const int zero = frame_ints(&m, P, flip, N, pos, nrm);
         qtool_rt_scene rt;
         int have_rt = 0;
         if (side > 0) {
@@ -902,7 +925,7 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
     rc = 0;
 done:
     free(ws), free(pos), free(nrm), free(vw), free(eq), free(er), free(N), free(l2), free(noise), free(cpu), free(ph), free(col);
-    free(tmp), free(sheet), free(fbpx), free(depth), free(rv), free(m.tri), free(m.pos), free(adj_off), free(adj);
+    free(tmp), free(fbuf), free(sheet), free(fbpx), free(depth), free(rv), free(m.tri), free(m.pos), free(adj_off), free(adj);
     qtool_transfer_hier_free(&hi), qtool_transfer_hier_free(&pv), free(ctri), free(apos), free(anrm);
     return rc;
 }
