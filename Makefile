@@ -30,7 +30,7 @@ CORE_SRC := $(wildcard core/src/*.c)
 # core flags (native and portable) into libqibl-soft.a; platform/gles2 is hosted (`make gles`).
 PLATFORM_SRC := $(wildcard platform/soft/*.c)
 PLATFORM_INC := -Iplatform/soft/include
-TOOL_LIB_SRC := $(wildcard tools/ref/*.c) $(wildcard tools/io/*.c) $(wildcard tools/gles/*.c) $(wildcard tools/gen/*.c) $(wildcard tools/render/*.c) $(wildcard tools/bake/*.c)
+TOOL_LIB_SRC := $(wildcard tools/ref/*.c) $(wildcard tools/io/*.c) $(wildcard tools/gles/*.c) $(wildcard tools/gen/*.c) $(wildcard tools/render/*.c) $(wildcard tools/bake/*.c) $(wildcard tools/transfer/*.c)
 TOOL_LIB_SRC += $(wildcard tools/study/*.c)
 # the golden cases (plain C, shared by the suites and the golden runner) and their CMocka-side check
 GOLDEN_CASES_SRC := $(wildcard tools/golden/cases*.c)

@@ -24,6 +24,28 @@ static int parse(const char *text, qtool_obj_mesh *m, char *err, size_t errlen)
     return qtool_obj_parse("t.obj", text, strlen(text), m, err, errlen);
 }
 
+/* a caller's triangle cap: the face that crosses it is refused on its line, the mesh untouched; a cap
+ * above the reader's own is the reader's own */
+static void test_caller_triangle_cap(void **state)
+{
+    (void)state;
+    static const char text[] = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 2 0\nf 1 2 3 4 5\nf 1 2 3\n";
+    qtool_obj_mesh m;
+    char err[256];
+    memset(&m, 0x5A, sizeof m);
+    assert_int_equal(qtool_obj_parse_max("cap.obj", text, strlen(text), 3, &m, err, sizeof err), -1);
+    assert_non_null(strstr(err, "cap.obj:7: more than 3 triangles (this command's limit)"));
+    qtool_obj_mesh untouched;
+    memset(&untouched, 0x5A, sizeof untouched);
+    assert_memory_equal(&m, &untouched, sizeof m); /* a refusal leaves the mesh as it was */
+    assert_int_equal(qtool_obj_parse_max("cap.obj", text, strlen(text), 4, &m, err, sizeof err), 0);
+    assert_int_equal(m.ntri, 4);
+    qtool_obj_free(&m);
+    assert_int_equal(qtool_obj_parse_max("cap.obj", text, strlen(text), (size_t)-1, &m, err, sizeof err), 0);
+    assert_int_equal(m.ntri, 4);
+    qtool_obj_free(&m);
+}
+
 static void test_quad_negative_indices_and_normals(void **state)
 {
     (void)state;
@@ -306,6 +328,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_zeros_refused_before_reading),
+        cmocka_unit_test(test_caller_triangle_cap),
         cmocka_unit_test(test_not_regular_files_named),
         cmocka_unit_test(test_empty_and_one_byte_files_named),
         cmocka_unit_test(test_fan_faces_bounded_by_input),

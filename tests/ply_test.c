@@ -224,6 +224,30 @@ static void test_hostile_bodies(void **state)
     refused(b.b, b.n, "list texcoord of 2130706434 items runs past the end of the file");
 }
 
+/* A caller's cap is checked against the exact count of fan triangles, from a first pass over the
+ * body: the message gives that count (two hexagons and a pentagon: 4 + 4 + 3), nothing allocated;
+ * at the count itself the mesh is read. A cap above the reader's own is the reader's own. */
+static void test_triangle_cap(void **state)
+{
+    (void)state;
+    static const char ply[] = "ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\nproperty float y\n"
+                              "property float z\nelement face 3\nproperty list uchar int vertex_indices\nend_header\n"
+                              "0 0 0\n1 0 0\n2 1 0\n1 2 0\n0 2 0\n-1 1 0\n"
+                              "6 0 1 2 3 4 5\n6 5 4 3 2 1 0\n5 0 1 2 3 4\n";
+    qtool_obj_mesh m;
+    char err[512];
+    memset(&m, 0x5A, sizeof m);
+    assert_int_equal(qtool_ply_parse_max("cap.ply", (const uint8_t *)ply, sizeof ply - 1, 10, &m, err, sizeof err), -1);
+    assert_non_null(strstr(err, "cap.ply: 11 triangles after fan triangulation of 3 faces (at most 10)"));
+    assert_null(m.pos), assert_null(m.nrm), assert_int_equal(m.ntri, 0);
+    assert_int_equal(qtool_ply_parse_max("cap.ply", (const uint8_t *)ply, sizeof ply - 1, 11, &m, err, sizeof err), 0);
+    assert_int_equal(m.ntri, 11);
+    qtool_obj_free(&m);
+    assert_int_equal(qtool_ply_parse_max("cap.ply", (const uint8_t *)ply, sizeof ply - 1, (size_t)-1, &m, err, sizeof err), 0);
+    assert_int_equal(m.ntri, 11);
+    qtool_obj_free(&m);
+}
+
 static void test_bunny(void **state)
 {
     (void)state;
@@ -259,6 +283,7 @@ int main(void)
         cmocka_unit_test(test_cube_all_formats),
         cmocka_unit_test(test_hostile_headers),
         cmocka_unit_test(test_hostile_bodies),
+        cmocka_unit_test(test_triangle_cap),
         cmocka_unit_test(test_bunny),
     };
     return cmocka_run_group_tests_name("ply", tests, NULL, NULL);

@@ -277,6 +277,98 @@ static void test_lights(void **state)
     assert_int_not_equal(access(png, F_OK), 0);
 }
 
+/* a binary PLY of one 256-vertex disc and nf faces fanning 255 of them: 253 triangles a face, about
+ * one triangle per byte of file */
+static void write_fan_ply(const char *path, int nf)
+{
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    fprintf(f, "ply\nformat binary_little_endian 1.0\nelement vertex 256\nproperty float x\nproperty float y\n"
+               "property float z\nelement face %d\nproperty list uchar uint8 vertex_indices\nend_header\n", nf);
+    for (int i = 0; i < 256; ++i) {
+        const float p[3] = {(float)cos(i * 0.0245436926), (float)sin(i * 0.0245436926), i ? 0.0f : 0.5f};
+        assert_int_equal(fwrite(p, sizeof p, 1, f), 1); /* little-endian host (x86, ARM) */
+    }
+    uint8_t face[256];
+    face[0] = 255;
+    for (int i = 0; i < 255; ++i)
+        face[1 + i] = (uint8_t)i;
+    for (int i = 0; i < nf; ++i)
+        assert_int_equal(fwrite(face, sizeof face, 1, f), 1);
+    fclose(f);
+}
+
+/* issue 24, class 4: a PLY of fans is checked against the triangle cap from its exact fan count
+ * before the mesh is allocated, and the message gives that count (it said 0); render --scene gets
+ * the same cap (it read and rendered 4 million triangles, 1.3 GB) */
+static void test_mesh_caps(void **state)
+{
+    (void)state;
+    need_qibl();
+    char probe[128], fan[128], png[128];
+    path_of(probe, sizeof probe, "sky.hdr"), path_of(fan, sizeof fan, "fan.ply"), path_of(png, sizeof png, "never.png");
+    write_probe(probe, 0);
+    write_fan_ply(fan, 4145); /* 4145 * 253 = 1048685 triangles, 109 past 2^20 */
+    assert_int_equal(run("transfer", fan, "--probe", probe, "--rays", "0", "--png", png, NULL), 1);
+    char *err = text(errlog);
+    assert_non_null(strstr(err, "1048685 triangles after fan triangulation of 4145 faces (at most 1048576)"));
+    free(err);
+    assert_int_equal(run("render", "--scene", fan, "--sun", "0.3", "0.8", "0.5", "--size", "64x32", "--png", png, NULL), 1);
+    err = text(errlog);
+    assert_non_null(strstr(err, "1048685 triangles after fan triangulation of 4145 faces (at most 1048576)"));
+    free(err);
+    assert_int_not_equal(access(png, F_OK), 0);
+}
+
+/* issue 24, class 4: --tween held every frame raw. The frames' sheet for --png is computed from the
+ * request and refused past 256 MiB before anything is read; --pvs's integer positions of every
+ * frame likewise; tweened positions are made one frame at a time. */
+static void test_tween_caps(void **state)
+{
+    (void)state;
+    need_qibl();
+    char probe[128], f1[128], f2[128], png[128], grid[128];
+    path_of(probe, sizeof probe, "sky.hdr"), path_of(f1, sizeof f1, "t1.obj"), path_of(f2, sizeof f2, "t2.obj");
+    path_of(png, sizeof png, "never.png"), path_of(grid, sizeof grid, "grid.obj");
+    write_probe(probe, 0);
+    write_box(f1, 1.0, 0, 0), write_box(f2, 0.5, 0.25, 0);
+    /* 2 key frames x 16 = 32 frames of 2048 x 2072 (one panel): 388.5 MiB */
+    assert_int_equal(run("transfer", f1, f2, "--probe", probe, "--rays", "0", "--tween", "16", "--size", "2048", "--png",
+                         png, NULL), 1);
+    char *err = text(errlog);
+    assert_non_null(strstr(err, "--png of 32 frames of 2048x2072 is 388 MiB of frames held for the APNG (at most 256 MiB)"));
+    free(err);
+    /* three panels (the reference) at 128: 16 frames of 384 x 174, well under the cap: drawn */
+    assert_int_equal(run("transfer", f1, f2, "--probe", probe, "--rays", "1", "--tween", "8", "--size", "128", "--png",
+                         png, "--mask", "16", "--face", "2", NULL), 0);
+    int w, h, frames;
+    uint8_t *rgb;
+    char perr[256];
+    assert_int_equal(qtool_png_read_rgb8(png, &w, &h, &frames, &rgb, perr, sizeof perr), 0);
+    assert_int_equal(frames, 16), assert_int_equal(w, 384), assert_int_equal(h, 24 + 128 + 22);
+    free(rgb);
+    remove(png);
+    /* --pvs over 16 key frames x 16 of a 210 x 210 grid: 44100 vertices x 256 frames x 24 bytes */
+    FILE *f = fopen(grid, "w");
+    assert_non_null(f);
+    for (int j = 0; j < 210; ++j)
+        for (int i = 0; i < 210; ++i)
+            fprintf(f, "v %d %d %d\n", i, (i * j) % 3, j);
+    for (int j = 0; j < 209; ++j)
+        for (int i = 0; i < 209; ++i) {
+            const int a = 1 + j * 210 + i;
+            fprintf(f, "f %d %d %d\nf %d %d %d\n", a, a + 210, a + 211, a, a + 211, a + 1);
+        }
+    fclose(f);
+    const char *g = grid;
+    assert_int_equal(run("transfer", g, g, g, g, g, g, g, g, g, g, g, g, g, g, g, g, "--probe", probe, "--rays", "0",
+                         "--pvs", "--tween", "16", NULL),
+                     1);
+    err = text(errlog);
+    assert_non_null(strstr(err, "--pvs over 256 frames of 44100 vertices needs 258 MiB"));
+    free(err);
+}
+
 static void test_refusals_write_nothing(void **state)
 {
     (void)state;
@@ -320,6 +412,8 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_animation_is_apng, setup, teardown),
         cmocka_unit_test_setup_teardown(test_lights, setup, teardown),
         cmocka_unit_test_setup_teardown(test_refusals_write_nothing, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_mesh_caps, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_tween_caps, setup, teardown),
     };
     return cmocka_run_group_tests_name("transfer", tests, NULL, NULL);
 }

@@ -3,7 +3,8 @@
  *
  * Input: a PLY file image. Invariants checked (abort on violation): a refusal leaves the mesh empty
  * with a message; an accepted mesh has 1..QTOOL_PLY_MAX_TRIANGLES triangles, finite corners within the
- * reader's coordinate bound and unit (or zero) normals.
+ * reader's coordinate bound and unit (or zero) normals; a triangle cap one below the count is refused
+ * with the exact count and nothing allocated, a cap at the count gives the same triangles.
  */
 #include <math.h>
 #include <stdint.h>
@@ -37,6 +38,17 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 abort();
         }
     }
+    /* a caller's cap: one below the count is refused with the exact count and nothing allocated,
+     * the count itself gives the same mesh */
+    const size_t ntri = m.ntri;
+    qtool_obj_free(&m);
+    char want[64];
+    snprintf(want, sizeof want, "%zu triangles after fan triangulation", ntri);
+    if (qtool_ply_parse_max("fuzz.ply", data, size, ntri - 1, &m, err, sizeof err) == 0 || m.pos || m.nrm || m.ntri ||
+        !strstr(err, want))
+        abort();
+    if (qtool_ply_parse_max("fuzz.ply", data, size, ntri, &m, err, sizeof err) != 0 || m.ntri != ntri)
+        abort();
     qtool_obj_free(&m);
     return 0;
 }

@@ -366,6 +366,61 @@ static void probe_seed(const char *name, uint8_t w, uint8_t h, uint8_t fmt, uint
     put("lightprobe", name, b, n);
 }
 
+/* ---- transfer: fuzz_transfer's layout (flags, coarse target, motion, vertex count, int8 x y z on a
+ * 1/8 grid, index triples); closed meshes that make the hierarchy's rings reach far --------------- */
+
+static void transfer_seed(const char *name, uint8_t flags, uint8_t target, uint8_t motion, const int8_t (*v)[3],
+                          int nv, const uint8_t (*t)[3], int nt)
+{
+    uint8_t b[4 + 3 * 40 + 3 * 64];
+    size_t n = 0;
+    b[n++] = flags, b[n++] = target, b[n++] = motion, b[n++] = (uint8_t)(nv - 3);
+    for (int i = 0; i < nv; ++i)
+        for (int k = 0; k < 3; ++k)
+            b[n++] = (uint8_t)v[i][k];
+    for (int i = 0; i < nt; ++i)
+        for (int k = 0; k < 3; ++k)
+            b[n++] = t[i][k];
+    put("transfer", name, b, n);
+}
+
+static void transfer_seeds(void)
+{
+    static const int8_t tet_v[4][3] = {{0, 0, 8}, {8, 0, -4}, {-4, 7, -4}, {-4, -7, -4}};
+    static const uint8_t tet_t[4][3] = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {1, 3, 2}};
+    transfer_seed("tetra_ring1_crease.bin", 0x04, 1, 0x38, tet_v, 4, tet_t, 4);
+    /* a cone of 30 sides: apex 0, base centre 1, rim 2..31 (the hub of a fan at both ends: the
+     * near field of a rim vertex reaches every other rim vertex through the hubs) */
+    int8_t cone_v[32][3] = {{0, 0, 16}, {0, 0, 0}};
+    uint8_t cone_t[60][3];
+    for (int k = 0; k < 30; ++k) {
+        const double a = 6.283185307179586 * k / 30;
+        cone_v[2 + k][0] = (int8_t)lrint(16 * cos(a)), cone_v[2 + k][1] = (int8_t)lrint(16 * sin(a)), cone_v[2 + k][2] = 0;
+        const uint8_t r0 = (uint8_t)(2 + k), r1 = (uint8_t)(2 + (k + 1) % 30);
+        cone_t[2 * k][0] = 0, cone_t[2 * k][1] = r0, cone_t[2 * k][2] = r1;
+        cone_t[2 * k + 1][0] = 1, cone_t[2 * k + 1][1] = r1, cone_t[2 * k + 1][2] = r0;
+    }
+    transfer_seed("cone30_coarse1_ring1.bin", 0x04, 1, 0x5A, (const int8_t(*)[3])cone_v, 32,
+                  (const uint8_t(*)[3])cone_t, 60);
+    transfer_seed("cone30_coarse8_ring3.bin", 0x06, 8, 0xA3, (const int8_t(*)[3])cone_v, 32,
+                  (const uint8_t(*)[3])cone_t, 60);
+    /* a 4 x 4 grid of quads (open), split into triangles, one corner index past the vertices */
+    int8_t grid_v[25][3];
+    uint8_t grid_t[32][3];
+    for (int j = 0; j < 5; ++j)
+        for (int i = 0; i < 5; ++i)
+            grid_v[5 * j + i][0] = (int8_t)(8 * i), grid_v[5 * j + i][1] = (int8_t)(8 * j), grid_v[5 * j + i][2] = (int8_t)((i * j) % 3);
+    for (int j = 0, n = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i, n += 2) {
+            const uint8_t a = (uint8_t)(5 * j + i), b = (uint8_t)(a + 1), c = (uint8_t)(a + 5), d = (uint8_t)(c + 1);
+            grid_t[n][0] = a, grid_t[n][1] = b, grid_t[n][2] = d, grid_t[n + 1][0] = a, grid_t[n + 1][1] = d, grid_t[n + 1][2] = c;
+        }
+    transfer_seed("grid4_ring2.bin", 0x01, 4, 0x11, (const int8_t(*)[3])grid_v, 25, (const uint8_t(*)[3])grid_t, 32);
+    grid_t[31][2] = 26;
+    transfer_seed("grid4_bad_index_ring17.bin", 0xE5, 4, 0x11, (const int8_t(*)[3])grid_v, 25,
+                  (const uint8_t(*)[3])grid_t, 32);
+}
+
 int main(int argc, char **argv)
 {
     if (argc != 2) {
@@ -388,6 +443,7 @@ int main(int argc, char **argv)
     fixed_seeds();
     layout_seeds();
     shard_seeds();
+    transfer_seeds();
     probe_seed("rgbe_mediancut", 16, 8, 0, 0x00, 3, 0, 0);
     probe_seed("srgbe_adaptive", 12, 6, 1, 0x01 | 2 << 2, 0x80 | 7, 0, 0x09);
     probe_seed("i32_varmin", 8, 4, 2, 0x02 | 1 << 5, 0x80 | 5, 8, 0x01);

@@ -85,6 +85,9 @@ typedef struct qcli_scene {
 void qcli_scene_defaults(qcli_scene *o);
 int qcli_scene_opt(int argc, char **argv, int *i, qcli_scene *o);
 struct qtool_rt_scene;
+/* triangles of a --scene mesh (render, bake, demo), checked before the mesh is allocated: the mesh
+ * (144 bytes a triangle) and its BVH stay near 0.3 GiB (docs/robustness.md) */
+#define QCLI_SCENE_MAX_TRIANGLES ((size_t)1 << 20)
 int qcli_scene_load(const qcli_scene *o, struct qtool_rt_scene *s);
 struct qtool_rt_light;
 /* The light-path part of `qibl demo` (demo_paths.c): its table and RESULT lines on stdout,

@@ -105,7 +105,9 @@ int qcli_scene_load(const qcli_scene *o, qtool_rt_scene *s)
     if (f)
         fclose(f);
     int ply = qtool_ply_sniff(head, nh);
-    if ((ply ? qtool_ply_read(o->scene, &m, err, sizeof err) : qtool_obj_read(o->scene, &m, err, sizeof err)) != 0) {
+    /* the scene cap before the mesh is allocated (the PLY reader counts fan triangles first) */
+    if ((ply ? qtool_ply_read_max(o->scene, QCLI_SCENE_MAX_TRIANGLES, &m, err, sizeof err)
+             : qtool_obj_read_max(o->scene, QCLI_SCENE_MAX_TRIANGLES, &m, err, sizeof err)) != 0) {
         const char *ext = strrchr(o->scene, '.');
         fprintf(stderr, "qibl: %s%s\n", err,
                 !opened || ply || (ext && strcmp(ext, ".obj") == 0) ? "" : " (read as OBJ: meshes are Wavefront OBJ or PLY)");

@@ -30,6 +30,7 @@
 #include "qibl/raster.h"
 #include "qibl/soft.h"
 #include "gen/simplify.h"
+#include "transfer/transfer.h"
 #include "ref/hemi_ref.h"
 #include "render/rt.h"
 
@@ -38,16 +39,17 @@
 #define LABEL_H 24  /* title bar, pixels */
 #define LEGEND_H 22 /* colour-scale bar under the error panel */
 #define ERR_SCALE 0.10 /* the error panel's full scale: 10 % of the mean shading */
+/* what a run may hold for its frames: the --png sheet of every frame (the APNG writer takes them
+ * all at once) and --pvs's integer positions of every frame; refused up front beyond it */
+#define QCLI_TRANSFER_MAX_HELD ((uint64_t)256 << 20)
 
 #define TRANSFER_USAGE                                                                                        \
     "usage: qibl transfer MESH [MESH...] --probe PROBE.hdr [--layout L] [--png OUT] [--size N] [--mask 16|32|64]\n" \
     "                     [--face F] [--rays S] [--coarse T [--ring K]] [--pvs] [--lights N] [--tween N] [--zup] [--flip] [--skip-adjacent] [--view AZ,EL] [--threads N]"
 
-typedef struct mesh {
-    uint32_t nv, nt, nframes;
-    uint32_t (*tri)[3];
-    double *pos; /* nframes * nv * 3, normalised, z up */
-} mesh;
+/* the mesh: positions nframes * nv * 3, normalised, z up */
+typedef qtool_transfer_mesh mesh;
+typedef qtool_transfer_hier hier;
 
 static double thread_cpu(void)
 {
@@ -60,23 +62,8 @@ static int read_mesh(const char *path, qtool_obj_mesh *m, char *err, size_t errl
 {
     const size_t n = strlen(path);
     if (n > 4 && (strcmp(path + n - 4, ".ply") == 0 || strcmp(path + n - 4, ".PLY") == 0))
-        return qtool_ply_read(path, m, err, errlen);
-    return qtool_obj_read(path, m, err, errlen);
-}
-
-/* corner -> vertex by exact position (the OBJ reader gives triangle soup) */
-typedef struct corner {
-    double p[3];
-    uint32_t c;
-} corner;
-
-static int corner_cmp(const void *a, const void *b)
-{
-    const corner *x = a, *y = b;
-    for (int k = 0; k < 3; ++k)
-        if (x->p[k] != y->p[k])
-            return x->p[k] < y->p[k] ? -1 : 1;
-    return x->c < y->c ? -1 : x->c > y->c;
+        return qtool_ply_read_max(path, QTOOL_TRANSFER_MAX_TRIANGLES, m, err, errlen);
+    return qtool_obj_read_max(path, QTOOL_TRANSFER_MAX_TRIANGLES, m, err, errlen);
 }
 
 /* Loads every frame, welds on frame 0, checks the others share its topology, normalises all frames
@@ -89,37 +76,26 @@ static int load_frames(char **paths, int n, int zup, mesh *out)
     if (read_mesh(paths[0], &m0, err, sizeof err) != 0)
         return fprintf(stderr, "qibl: transfer: %s\n", err), -1;
     const size_t nc = m0.ntri * 3;
-    if (m0.ntri == 0 || m0.ntri > (1u << 20)) {
+    if (m0.ntri == 0 || m0.ntri > QTOOL_TRANSFER_MAX_TRIANGLES) {
         qtool_obj_free(&m0);
-        return fprintf(stderr, "qibl: transfer: %s: %zu triangles (1 .. 1048576 supported)\n", paths[0], m0.ntri), -1;
+        return fprintf(stderr, "qibl: transfer: %s: %zu triangles (1 .. %u supported)\n", paths[0], m0.ntri,
+                       QTOOL_TRANSFER_MAX_TRIANGLES), -1;
     }
-    corner *cs = malloc(sizeof *cs * nc);
-    uint32_t *vof = malloc(sizeof *vof * nc), *first = malloc(sizeof *first * nc);
-    if (!cs || !vof || !first) {
-        free(cs), free(vof), free(first), qtool_obj_free(&m0);
-        return fprintf(stderr, "qibl: transfer: out of memory\n"), -1;
-    }
-    for (size_t c = 0; c < nc; ++c)
-        memcpy(cs[c].p, m0.pos + 3 * c, sizeof cs[c].p), cs[c].c = (uint32_t)c;
-    qsort(cs, nc, sizeof *cs, corner_cmp);
-    uint32_t nv = 0;
-    for (size_t i = 0; i < nc; ++i) {
-        if (i == 0 || corner_cmp(&(corner){{cs[i].p[0], cs[i].p[1], cs[i].p[2]}, 0},
-                                 &(corner){{cs[i - 1].p[0], cs[i - 1].p[1], cs[i - 1].p[2]}, 0}) != 0)
-            first[nv++] = cs[i].c;
-        vof[cs[i].c] = nv - 1;
-    }
-    free(cs);
-    out->nv = nv, out->nt = (uint32_t)m0.ntri, out->nframes = (uint32_t)n;
+    uint32_t *vof = malloc(sizeof *vof * nc), *first = malloc(sizeof *first * nc), nv = 0;
     out->tri = malloc(sizeof *out->tri * m0.ntri);
-    out->pos = malloc(sizeof(double) * 3 * nv * (size_t)n);
-    if (!out->tri || !out->pos) {
-        free(vof), free(first), qtool_obj_free(&m0);
-        return fprintf(stderr, "qibl: transfer: out of memory\n"), -1;
+    qtool_transfer_status ws = vof && first && out->tri ? QTOOL_TRANSFER_OK : QTOOL_TRANSFER_E_NOMEM;
+    if (ws == QTOOL_TRANSFER_OK)
+        ws = qtool_transfer_weld(m0.pos, m0.ntri, out->tri, first, vof, &nv);
+    if (ws == QTOOL_TRANSFER_OK) {
+        out->nv = nv, out->nt = (uint32_t)m0.ntri, out->nframes = (uint32_t)n;
+        out->pos = malloc(sizeof(double) * 3 * nv * (size_t)n);
+        ws = out->pos ? QTOOL_TRANSFER_OK : QTOOL_TRANSFER_E_NOMEM;
     }
-    for (size_t t = 0; t < m0.ntri; ++t)
-        for (int k = 0; k < 3; ++k)
-            out->tri[t][k] = vof[3 * t + (size_t)k];
+    if (ws != QTOOL_TRANSFER_OK) {
+        free(vof), free(first), free(out->tri), free(out->pos), qtool_obj_free(&m0);
+        memset(out, 0, sizeof *out);
+        return fprintf(stderr, "qibl: transfer: %s: %s\n", paths[0], qtool_transfer_status_str(ws)), -1;
+    }
     double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}, ctr[3] = {0, 0, 0}, scale = 0;
     for (int f = 0; f < n; ++f) {
         qtool_obj_mesh mf;
@@ -179,23 +155,20 @@ fail:
     return -1;
 }
 
-/* t - 1 frames between each pair of frames, linear per vertex, the last blending back into the
- * first (an animation cycle, like the paper's interpolated keyframes). 0, or -1 (no memory). */
-static int tween_frames(mesh *m, uint32_t t)
+/* Frame f's positions: with t > 1, t - 1 frames between each pair of the nkeys key frames, linear
+ * per vertex, the last blending back into the first (an animation cycle, like the paper's
+ * interpolated keyframes), made one at a time into buf (3 nv doubles): only the key frames are
+ * held, so --tween costs one frame of memory, not t times the animation. */
+static const double *frame_pos(const mesh *m, uint32_t nkeys, uint32_t t, uint32_t f, double *buf)
 {
-    const uint32_t nf = m->nframes * t;
-    double *p = malloc(sizeof(double) * 3 * (size_t)m->nv * nf);
-    if (!p)
-        return fprintf(stderr, "qibl: transfer: out of memory (--tween)\n"), -1;
-    for (uint32_t f = 0; f < nf; ++f) {
-        const double *a = m->pos + 3 * (size_t)m->nv * (f / t), *b = m->pos + 3 * (size_t)m->nv * ((f / t + 1) % m->nframes);
-        const double w = (double)(f % t) / t;
-        for (size_t i = 0; i < 3 * (size_t)m->nv; ++i)
-            p[3 * (size_t)m->nv * f + i] = a[i] + w * (b[i] - a[i]);
-    }
-    free(m->pos);
-    m->pos = p, m->nframes = nf;
-    return 0;
+    const size_t n = 3 * (size_t)m->nv;
+    if (t <= 1)
+        return m->pos + n * f;
+    const double *a = m->pos + n * (f / t), *b = m->pos + n * ((f / t + 1) % nkeys);
+    const double w = (double)(f % t) / t;
+    for (size_t i = 0; i < n; ++i)
+        buf[i] = a[i] + w * (b[i] - a[i]);
+    return buf;
 }
 
 /* area-weighted vertex normals of one frame; flip < 0 turns them (a mesh wound clockwise) */
@@ -212,200 +185,10 @@ static void normals(const mesh *m, const double *P, double flip, double *N)
     }
 }
 
-static double signed_volume(const mesh *m, const double *P)
-{
-    double vol = 0;
-    for (uint32_t t = 0; t < m->nt; ++t) {
-        const double *a = P + 3 * m->tri[t][0], *b = P + 3 * m->tri[t][1], *c = P + 3 * m->tri[t][2];
-        vol += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-                a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
-    }
-    return vol;
-}
-
-static int cmp_u64(const void *a, const void *b)
-{
-    const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return x < y ? -1 : x > y;
-}
-
-/* Edges used by one triangle only, and all distinct edges: a mesh with few of the former is
- * (nearly) closed, so the sign of its volume says which way it winds. -1 without memory. */
-static long boundary_edges(const mesh *m, long *edges)
-{
-    uint64_t *e = malloc(sizeof *e * 3 * m->nt);
-    if (!e)
-        return -1;
-    for (uint32_t t = 0; t < m->nt; ++t)
-        for (int k = 0; k < 3; ++k) {
-            const uint32_t a = m->tri[t][k], b = m->tri[t][(k + 1) % 3];
-            e[3 * t + (uint32_t)k] = a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
-        }
-    qsort(e, 3 * (size_t)m->nt, sizeof *e, cmp_u64);
-    long once = 0, distinct = 0;
-    for (size_t i = 0; i < 3 * (size_t)m->nt;) {
-        size_t j = i;
-        while (j < 3 * (size_t)m->nt && e[j] == e[i])
-            ++j;
-        once += j - i == 1, ++distinct, i = j;
-    }
-    free(e);
-    *edges = distinct;
-    return once;
-}
-
-/* a triangle listing v more than once (degenerate) counts once around v */
-static int lists_before(const uint32_t *t, int k)
-{
-    return (k > 0 && t[0] == t[k]) || (k == 2 && t[1] == t[2]);
-}
-
-/* the triangles around each vertex: (*adj)[(*off)[v] .. (*off)[v + 1]); 0 or -1 (no memory) */
-static int adjacency(const mesh *m, uint32_t **off, uint32_t **adj)
-{
-    uint32_t *o = calloc((size_t)m->nv + 1, sizeof *o), *a = malloc(sizeof *a * 3 * (size_t)m->nt);
-    if (!o || !a) {
-        free(o), free(a);
-        return -1;
-    }
-    for (uint32_t t = 0; t < m->nt; ++t)
-        for (int k = 0; k < 3; ++k)
-            if (!lists_before(m->tri[t], k))
-                ++o[m->tri[t][k] + 1];
-    for (uint32_t v = 0; v < m->nv; ++v)
-        o[v + 1] += o[v];
-    for (uint32_t t = 0; t < m->nt; ++t)
-        for (int k = 0; k < 3; ++k)
-            if (!lists_before(m->tri[t], k))
-                a[o[m->tri[t][k]]++] = t;
-    for (uint32_t v = m->nv; v > 0; --v) /* each start was advanced to the next one's */
-        o[v] = o[v - 1];
-    o[0] = 0;
-    *off = o, *adj = a;
-    return 0;
-}
-
-/* The two-level hierarchy, per vertex (topology only: built once for all frames): the vertices
- * to transform (vl, global indices: the receiver, its rings, the coarse mesh's) and the blockers
- * in those local indices: the full mesh's triangles touching vertices fewer than `ring` edges
- * away, the coarse triangles none of whose vertices is within `ring` edges (near the receiver
- * they would stand in for the surface it sits on) and, with crease, the wedges (nadir, b, c) of
- * the faces (v, b, c) around it, the nadir being local vertex number (count of vl). */
-typedef struct hier {
-    size_t *voff, *boff;
-    uint32_t *vl;
-    uint32_t (*blk)[3];
-} hier;
-
-static void hier_free(hier *h)
-{
-    free(h->voff), free(h->boff), free(h->vl), free(h->blk);
-    memset(h, 0, sizeof *h);
-}
-
-static int grow(void **p, size_t *cap, size_t need, size_t elem)
-{
-    if (need <= *cap)
-        return 0;
-    void *q = realloc(*p, (need * 2) * elem);
-    if (!q)
-        return -1;
-    *p = q, *cap = need * 2;
-    return 0;
-}
-
-static int hier_build(const mesh *m, const uint32_t *adj_off, const uint32_t *adj, const uint32_t (*ctri)[3],
-                      uint32_t nct, int ring, int crease, hier *h)
-{
-    memset(h, 0, sizeof *h);
-    int16_t *depth = malloc(sizeof *depth * m->nv);
-    uint32_t *queue = malloc(sizeof *queue * m->nv), *seen = calloc(m->nt ? m->nt : 1, sizeof *seen);
-    uint32_t *local = malloc(sizeof *local * m->nv), *lstamp = calloc(m->nv, sizeof *lstamp);
-    size_t vcap = 0, bcap = 0, nvl = 0, nb = 0;
-    h->voff = malloc(sizeof *h->voff * ((size_t)m->nv + 1)), h->boff = malloc(sizeof *h->boff * ((size_t)m->nv + 1));
-    if (!depth || !queue || !seen || !local || !lstamp || !h->voff || !h->boff)
-        goto fail;
-    for (size_t v = 0; v < m->nv; ++v)
-        depth[v] = -1;
-    for (uint32_t v = 0; v < m->nv; ++v) {
-        h->voff[v] = nvl, h->boff[v] = nb;
-        uint32_t head = 0, tail = 0, nloc = 0;
-        queue[tail++] = v, depth[v] = 0;
-        while (head < tail) { /* breadth first over the faces around each vertex */
-            const uint32_t w = queue[head++];
-            if (depth[w] >= ring)
-                continue;
-            for (uint32_t k = adj_off[w]; k < adj_off[w + 1]; ++k)
-                for (int c = 0; c < 3; ++c) {
-                    const uint32_t x = m->tri[adj[k]][c];
-                    if (depth[x] < 0)
-                        depth[x] = (int16_t)(depth[w] + 1), queue[tail++] = x;
-                }
-        }
-        if (grow((void **)&h->vl, &vcap, nvl + tail + 3 * (size_t)nct, sizeof *h->vl) != 0 ||
-            grow((void **)&h->blk, &bcap, nb + 8 * (size_t)tail + nct + (adj_off[v + 1] - adj_off[v]),
-                 sizeof *h->blk) != 0)
-            goto fail;
-#define LOCAL(x) (lstamp[x] == v + 1 ? local[x] : (lstamp[x] = v + 1, h->vl[nvl + nloc] = (x), local[x] = nloc++))
-        /* near field: the faces of every vertex within `ring` edges, the ring's edge included: a
-         * triangle whose three vertices all lie on the edge of the ring is no face of an inner
-         * vertex, and the coarse rule below leaves it out too (it has a vertex within the ring),
-         * so faces of inner vertices only left holes (the teapot: 6.2 % against 5.5 % with the
-         * full mesh as its own coarse mesh) */
-        for (uint32_t q = 0; q < tail; ++q) {
-            const uint32_t w = queue[q];
-            for (uint32_t k = adj_off[w]; k < adj_off[w + 1]; ++k)
-                if (seen[adj[k]] != v + 1) {
-                    seen[adj[k]] = v + 1;
-                    for (int c = 0; c < 3; ++c)
-                        h->blk[nb][c] = LOCAL(m->tri[adj[k]][c]);
-                    ++nb;
-                }
-        }
-        for (uint32_t t = 0; t < nct; ++t) {
-            int near = 0;
-            for (int c = 0; c < 3; ++c)
-                near |= depth[ctri[t][c]] >= 0;
-            if (near)
-                continue;
-            for (int c = 0; c < 3; ++c)
-                h->blk[nb][c] = LOCAL(ctri[t][c]);
-            ++nb;
-        }
-        const uint32_t self = LOCAL(v);
-        (void)self;
-        if (crease) {
-            /* the nadir's local index is nloc, fixed after the loop: placeholder UINT32_MAX */
-            for (uint32_t k = adj_off[v]; k < adj_off[v + 1]; ++k) {
-                const uint32_t *t = m->tri[adj[k]];
-                const int r = t[0] == v ? 0 : t[1] == v ? 1 : 2;
-                h->blk[nb][0] = UINT32_MAX;
-                h->blk[nb][1] = LOCAL(t[(r + 1) % 3]), h->blk[nb][2] = LOCAL(t[(r + 2) % 3]);
-                ++nb;
-            }
-        }
-#undef LOCAL
-        for (size_t b = h->boff[v]; b < nb; ++b)
-            if (h->blk[b][0] == UINT32_MAX)
-                h->blk[b][0] = nloc;
-        nvl += nloc;
-        for (uint32_t q = 0; q < tail; ++q)
-            depth[queue[q]] = -1;
-    }
-    h->voff[m->nv] = nvl, h->boff[m->nv] = nb;
-    free(depth), free(queue), free(seen), free(local), free(lstamp);
-    return 0;
-fail:
-    free(depth), free(queue), free(seen), free(local), free(lstamp);
-    hier_free(h);
-    return -1;
-}
-
 /* One frame's integer inputs: positions Q16.16, unit normals Q2.30 (zero where a vertex has none);
  * returns how many vertices have no normal. N: 3 nv doubles of scratch. */
-static int frame_ints(const mesh *m, uint32_t f, double flip, double *N, qibl_q16_t (*pos)[3], int32_t (*nrm)[3])
+static int frame_ints(const mesh *m, const double *P, double flip, double *N, qibl_q16_t (*pos)[3], int32_t (*nrm)[3])
 {
-    const double *P = m->pos + 3 * (size_t)m->nv * f;
     normals(m, P, flip, N);
     int zero = 0;
     for (size_t v = 0; v < m->nv; ++v) {
@@ -417,151 +200,6 @@ static int frame_ints(const mesh *m, uint32_t f, double flip, double *N, qibl_q1
         zero += l == 0;
     }
     return zero;
-}
-
-/* ---- PVS ------------------------------------------------------------------------------------ */
-
-/* Per vertex, the blockers that are ever above its horizon in the sequence's frames (the paper's
- * static PVS, for an animation known in advance): a blocker whose vertices are all at or below the
- * horizon in every frame (z <= 0 after the same qibl_hemi_transform the rasterizer's caller makes,
- * so exactly what qibl_hemi_raster culls), or that has a vertex on the receiver (its plane passes
- * through it: skipped), never reaches the mask. So the PVS gives the very same masks on those frames
- * (`qibl transfer --pvs` checks every one) with fewer blockers and fewer vertices to transform.
- * Source lists: the hierarchy's, or every triangle plus the crease wedges. */
-typedef struct pvs_ctx {
-    const mesh *m;
-    const hier *src;                 /* NULL: every triangle (+ crease wedges) */
-    const qibl_q16_t (*pos)[3];      /* nframes * nv */
-    const int32_t (*nrm)[3];
-    const uint32_t *adj_off, *adj;
-    int crease;
-    uint32_t **vl, (**blk)[3];       /* per vertex, allocated by the job */
-    uint32_t *nvl, *nblk;            /* nvl[v] = UINT32_MAX: out of memory */
-} pvs_ctx;
-
-static void pvs_job(void *ctx, uint32_t v)
-{
-    pvs_ctx *c = ctx;
-    const mesh *m = c->m;
-    const int all = c->src == NULL;
-    const uint32_t nwedge = c->crease && all ? c->adj_off[v + 1] - c->adj_off[v] : 0;
-    const size_t n = all ? m->nv : c->src->voff[v + 1] - c->src->voff[v];
-    const size_t nb = all ? (size_t)m->nt + nwedge : c->src->boff[v + 1] - c->src->boff[v];
-    const uint32_t nadir = (uint32_t)n;
-    uint32_t (*cand)[3] = malloc(sizeof *cand * (nb ? nb : 1));
-    uint8_t *alive = calloc(nb ? nb : 1, 1);
-    int32_t (*loc)[3] = malloc(sizeof *loc * (n + 1));
-    qibl_q16_t (*gp)[3] = malloc(sizeof *gp * (n + 1));
-    uint32_t *newid = malloc(sizeof *newid * (n + 1));
-    c->vl[v] = NULL, c->blk[v] = NULL, c->nvl[v] = c->nblk[v] = 0;
-    if (!cand || !alive || !loc || !gp || !newid) {
-        c->nvl[v] = UINT32_MAX;
-        goto out;
-    }
-    if (all) {
-        memcpy(cand, m->tri, sizeof *cand * m->nt);
-        for (uint32_t k = 0; k < nwedge; ++k) {
-            const uint32_t *t = m->tri[c->adj[c->adj_off[v] + k]];
-            const int r = t[0] == v ? 0 : t[1] == v ? 1 : 2;
-            cand[m->nt + k][0] = nadir, cand[m->nt + k][1] = t[(r + 1) % 3], cand[m->nt + k][2] = t[(r + 2) % 3];
-        }
-    } else {
-        memcpy(cand, c->src->blk + c->src->boff[v], sizeof *cand * nb);
-    }
-    for (uint32_t f = 0; f < m->nframes; ++f) {
-        const qibl_q16_t (*P)[3] = c->pos + (size_t)m->nv * f;
-        qibl_hemi_frame_t fr;
-        if (qibl_hemi_frame_init(&fr, P[v], c->nrm[(size_t)m->nv * f + v]) != QIBL_OK) {
-            memset(alive, 1, nb); /* no normal in this frame: keep everything */
-            break;
-        }
-        for (size_t k = 0; k < n; ++k)
-            memcpy(gp[k], P[all ? (uint32_t)k : c->src->vl[c->src->voff[v] + k]], sizeof gp[k]);
-        if (qibl_hemi_transform(&fr, (const qibl_q16_t(*)[3])gp, (uint32_t)n, loc) != QIBL_OK) {
-            memset(alive, 1, nb);
-            break;
-        }
-        loc[n][0] = 0, loc[n][1] = 0, loc[n][2] = -(1 << 20);
-        for (size_t b = 0; b < nb; ++b) {
-            if (alive[b])
-                continue;
-            int up = 0, on = 0;
-            for (int k = 0; k < 3; ++k) {
-                const int32_t *q = loc[cand[b][k]];
-                up |= q[2] > 0;
-                on |= q[0] == 0 && q[1] == 0 && q[2] == 0;
-            }
-            alive[b] = (uint8_t)(up && !on);
-        }
-    }
-    /* compact: the vertices the kept blockers use, renumbered; the nadir after them */
-    for (size_t k = 0; k <= n; ++k)
-        newid[k] = UINT32_MAX;
-    size_t kept = 0, nloc = 0;
-    for (size_t b = 0; b < nb; ++b)
-        if (alive[b]) {
-            ++kept;
-            for (int k = 0; k < 3; ++k)
-                if (cand[b][k] != nadir && newid[cand[b][k]] == UINT32_MAX)
-                    newid[cand[b][k]] = (uint32_t)nloc++;
-        }
-    c->vl[v] = malloc(sizeof(uint32_t) * (nloc ? nloc : 1));
-    c->blk[v] = malloc(sizeof *c->blk[v] * (kept ? kept : 1));
-    if (!c->vl[v] || !c->blk[v]) {
-        c->nvl[v] = UINT32_MAX;
-        goto out;
-    }
-    for (size_t k = 0; k < n; ++k)
-        if (newid[k] != UINT32_MAX)
-            c->vl[v][newid[k]] = all ? (uint32_t)k : c->src->vl[c->src->voff[v] + k];
-    size_t o = 0;
-    for (size_t b = 0; b < nb; ++b)
-        if (alive[b]) {
-            for (int k = 0; k < 3; ++k)
-                c->blk[v][o][k] = cand[b][k] == nadir ? (uint32_t)nloc : newid[cand[b][k]];
-            ++o;
-        }
-    c->nvl[v] = (uint32_t)nloc, c->nblk[v] = (uint32_t)kept;
-out:
-    free(cand), free(alive), free(loc), free(gp), free(newid);
-}
-
-/* Builds *out (hierarchy-style lists) from every frame's integer positions and normals. */
-static int pvs_build(const mesh *m, const hier *src, const qibl_q16_t (*pos)[3], const int32_t (*nrm)[3],
-                     const uint32_t *adj_off, const uint32_t *adj, int crease, int threads, hier *out)
-{
-    memset(out, 0, sizeof *out);
-    pvs_ctx c = {m, src, pos, nrm, adj_off, adj, crease, calloc(m->nv, sizeof(uint32_t *)),
-                 calloc(m->nv, sizeof(uint32_t(*)[3])), calloc(m->nv, sizeof(uint32_t)), calloc(m->nv, sizeof(uint32_t))};
-    int rc = -1;
-    if (!c.vl || !c.blk || !c.nvl || !c.nblk)
-        goto done;
-    qtool_rt_parallel(threads, m->nv, pvs_job, &c, NULL);
-    for (uint32_t v = 0; v < m->nv; ++v)
-        if (c.nvl[v] == UINT32_MAX)
-            goto done;
-    out->voff = malloc(sizeof *out->voff * ((size_t)m->nv + 1)), out->boff = malloc(sizeof *out->boff * ((size_t)m->nv + 1));
-    if (!out->voff || !out->boff)
-        goto done;
-    out->voff[0] = out->boff[0] = 0;
-    for (uint32_t v = 0; v < m->nv; ++v)
-        out->voff[v + 1] = out->voff[v] + c.nvl[v], out->boff[v + 1] = out->boff[v] + c.nblk[v];
-    out->vl = malloc(sizeof *out->vl * (out->voff[m->nv] ? out->voff[m->nv] : 1));
-    out->blk = malloc(sizeof *out->blk * (out->boff[m->nv] ? out->boff[m->nv] : 1));
-    if (!out->vl || !out->blk)
-        goto done;
-    for (uint32_t v = 0; v < m->nv; ++v) {
-        memcpy(out->vl + out->voff[v], c.vl[v], sizeof(uint32_t) * c.nvl[v]);
-        memcpy(out->blk + out->boff[v], c.blk[v], sizeof *out->blk * c.nblk[v]);
-    }
-    rc = 0;
-done:
-    for (uint32_t v = 0; c.vl && c.blk && v < m->nv; ++v)
-        free(c.vl[v]), free(c.blk[v]);
-    free(c.vl), free(c.blk), free(c.nvl), free(c.nblk);
-    if (rc != 0)
-        hier_free(out);
-    return rc;
 }
 
 /* ---- per-vertex work, threaded --------------------------------------------------------------- */
@@ -979,16 +617,37 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
         qcli_scene_defaults(&sd);
         threads = sd.threads;
     }
+    if (png) { /* the sheet of every frame, from the request alone, before anything is read */
+        const uint64_t frames = nfiles > 1 ? (uint64_t)nfiles * (uint64_t)tween : 1, panels = side > 0 ? 3 : 1;
+        const uint64_t fw = panels * (uint64_t)size, fh = LABEL_H + (uint64_t)size + (panels == 3 ? LEGEND_H : 0);
+        if (frames * fw * fh * 3 > QCLI_TRANSFER_MAX_HELD) {
+            fprintf(stderr, "qibl: transfer: --png of %llu frames of %llux%llu is %.0f MiB of frames held for the "
+                    "APNG (at most %d MiB): fewer frames or --tween, a smaller --size, or --rays 0 (one panel)\n",
+                    (unsigned long long)frames, (unsigned long long)fw, (unsigned long long)fh,
+                    (double)(frames * fw * fh * 3) / 1048576.0, (int)(QCLI_TRANSFER_MAX_HELD >> 20));
+            return 1;
+        }
+    }
     int32_t light[3][25];
     char pdesc[128];
     if (probe_light(probe, layout, o->lights, light, pdesc, sizeof pdesc) != 0)
         return 1;
     mesh m;
-    if (load_frames(files, nfiles, zup, &m) != 0 || (tween > 1 && m.nframes > 1 && tween_frames(&m, (uint32_t)tween) != 0))
+    if (load_frames(files, nfiles, zup, &m) != 0)
         return 1;
+    /* from here m.nframes counts every frame drawn; the key frames alone are held (frame_pos) */
+    const uint32_t nkeys = m.nframes, tw = tween > 1 && nkeys > 1 ? (uint32_t)tween : 1;
+    m.nframes = nkeys * tw;
+    if (use_pvs && (uint64_t)m.nv * m.nframes * (sizeof(qibl_q16_t[3]) + sizeof(int32_t[3])) > QCLI_TRANSFER_MAX_HELD) {
+        fprintf(stderr, "qibl: transfer: --pvs over %u frames of %u vertices needs %.0f MiB of integer positions and "
+                "normals (at most %d MiB): fewer frames or --tween\n", m.nframes, m.nv,
+                (double)m.nv * m.nframes * 24 / 1048576.0, (int)(QCLI_TRANSFER_MAX_HELD >> 20));
+        free(m.tri), free(m.pos);
+        return 1;
+    }
     /* winding: turned by --flip, or when a (nearly) closed mesh has a negative volume */
-    long nedges = 0, open_edges = boundary_edges(&m, &nedges);
-    const double vol = signed_volume(&m, m.pos);
+    long nedges = 0, open_edges = qtool_transfer_boundary_edges(&m, &nedges);
+    const double vol = qtool_transfer_signed_volume(&m, m.pos);
     const int closed = open_edges >= 0 && open_edges * 50 <= nedges;
     const double flip = force_flip || (closed && vol < 0) ? -1 : 1;
 
@@ -1003,6 +662,7 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
     double *l2 = malloc(sizeof(double) * nv), *noise = malloc(sizeof(double) * nv), *cpu = malloc(sizeof(double) * nv);
     double *ph = malloc(sizeof(double) * PH_N * nv), phs[PH_N] = {0};
     double *col = malloc(sizeof(double) * 3 * nv), *tmp = malloc(sizeof(double) * nv);
+    double *fbuf = malloc(sizeof(double) * 3 * nv); /* a tweened frame */
     const int panels = side > 0 ? 3 : 1, S = (int)size;
     const int sw = panels * S, sh = LABEL_H + S + (panels == 3 ? LEGEND_H : 0);
     uint8_t *sheet = calloc(png ? (size_t)sw * (size_t)sh * (size_t)m.nframes : 1, 3);
@@ -1017,7 +677,7 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
     int32_t(*anrm)[3] = NULL;
     int rc = 1;
     if (!ws || !pos || !nrm || !vw || !eq || !er || !N || !l2 || !noise || !cpu || !ph || !col || !tmp || !sheet || !fbpx ||
-        !depth || !rv) {
+        !depth || !rv || !fbuf) {
         fprintf(stderr, "qibl: transfer: out of memory\n");
         goto done;
     }
@@ -1026,14 +686,20 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
         fprintf(stderr, "qibl: transfer: hemi init: %s\n", qibl_status_str(st));
         goto done;
     }
-    if (adjacency(&m, &adj_off, &adj) != 0) {
-        fprintf(stderr, "qibl: transfer: out of memory\n");
+    qtool_transfer_status ts = qtool_transfer_adjacency(&m, &adj_off, &adj);
+    if (ts != QTOOL_TRANSFER_OK) {
+        fprintf(stderr, "qibl: transfer: %s\n", qtool_transfer_status_str(ts));
         goto done;
     }
     if (coarse > 0) {
-        if (qtool_simplify(m.pos, m.nv, (const uint32_t(*)[3])m.tri, m.nt, (uint32_t)coarse, &ctri, &nct) != 0 ||
-            hier_build(&m, adj_off, adj, (const uint32_t(*)[3])ctri, nct, (int)ring, !skip_adjacent, &hi) != 0) {
-            fprintf(stderr, "qibl: transfer: out of memory (hierarchy)\n");
+        if (qtool_simplify(m.pos, m.nv, (const uint32_t(*)[3])m.tri, m.nt, (uint32_t)coarse, &ctri, &nct) != 0) {
+            fprintf(stderr, "qibl: transfer: out of memory (coarse mesh)\n");
+            goto done;
+        }
+        ts = qtool_transfer_hier_build(&m, adj_off, adj, (const uint32_t(*)[3])ctri, nct, (int)ring, !skip_adjacent, &hi);
+        if (ts != QTOOL_TRANSFER_OK) {
+            fprintf(stderr, "qibl: transfer: hierarchy (--coarse %ld --ring %ld): %s\n", coarse, ring,
+                    qtool_transfer_status_str(ts));
             goto done;
         }
     }
@@ -1044,15 +710,18 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
             goto done;
         }
         for (uint32_t f = 0; f < m.nframes; ++f)
-            (void)frame_ints(&m, f, flip, N, apos + nv * f, anrm + nv * f);
-        if (pvs_build(&m, coarse > 0 ? &hi : NULL, (const qibl_q16_t(*)[3])apos, (const int32_t(*)[3])anrm, adj_off, adj,
-                      !skip_adjacent, (int)threads, &pv) != 0) {
-            fprintf(stderr, "qibl: transfer: out of memory (PVS)\n");
+            (void)frame_ints(&m, frame_pos(&m, nkeys, tw, f, fbuf), flip, N, apos + nv * f, anrm + nv * f);
+        ts = qtool_transfer_pvs_build(&m, coarse > 0 ? &hi : NULL, (const qibl_q16_t(*)[3])apos,
+                                      (const int32_t(*)[3])anrm, adj_off, adj, !skip_adjacent, (int)threads, &pv);
+        if (ts != QTOOL_TRANSFER_OK) {
+            fprintf(stderr, "qibl: transfer: PVS: %s\n", qtool_transfer_status_str(ts));
             goto done;
         }
     }
     view vwp;
-    view_make(az, el, S, &m, &vwp);
+    mesh keys = m; /* a linear projection's box and the largest radius are reached at the key frames */
+    keys.nframes = nkeys;
+    view_make(az, el, S, &keys, &vwp);
     if (verbose)
         printf("transfer: %s%s: %u vertices, %u triangles, %u frame%s; %s%s; probe %s (%s)\n", files[0],
            nfiles > 1 ? " ..." : "", m.nv, m.nt, m.nframes, m.nframes > 1 ? "s" : "",
@@ -1073,8 +742,8 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
             printf("  reference: %ld x %ld stratified cosine-weighted rays per vertex (tools/ref/hemi_ref.c)\n", side, side);
     double sum_l2 = 0, sum_noise = 0, sum_cpu = 0, sum_err = 0, sum_e = 0;
     for (uint32_t f = 0; f < m.nframes; ++f) {
-        const double *P = m.pos + 3 * nv * f;
-        const int zero = frame_ints(&m, f, flip, N, pos, nrm);
+        const double *P = frame_pos(&m, nkeys, tw, f, fbuf);
+        const int zero = frame_ints(&m, P, flip, N, pos, nrm);
         qtool_rt_scene rt;
         int have_rt = 0;
         if (side > 0) {
@@ -1256,8 +925,8 @@ static int transfer_run(const topts *o, qcli_transfer_stats *stats, int verbose)
     rc = 0;
 done:
     free(ws), free(pos), free(nrm), free(vw), free(eq), free(er), free(N), free(l2), free(noise), free(cpu), free(ph), free(col);
-    free(tmp), free(sheet), free(fbpx), free(depth), free(rv), free(m.tri), free(m.pos), free(adj_off), free(adj);
-    hier_free(&hi), hier_free(&pv), free(ctri), free(apos), free(anrm);
+    free(tmp), free(fbuf), free(sheet), free(fbpx), free(depth), free(rv), free(m.tri), free(m.pos), free(adj_off), free(adj);
+    qtool_transfer_hier_free(&hi), qtool_transfer_hier_free(&pv), free(ctri), free(apos), free(anrm);
     return rc;
 }
 

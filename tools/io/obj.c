@@ -136,6 +136,14 @@ static void unit(const double *v, double *out)
 
 int qtool_obj_parse(const char *name, const char *text, size_t len, qtool_obj_mesh *out, char *err, size_t errlen)
 {
+    return qtool_obj_parse_max(name, text, len, QTOOL_OBJ_MAX_TRIANGLES, out, err, errlen);
+}
+
+int qtool_obj_parse_max(const char *name, const char *text, size_t len, size_t max_triangles, qtool_obj_mesh *out,
+                        char *err, size_t errlen)
+{
+    if (max_triangles > QTOOL_OBJ_MAX_TRIANGLES)
+        max_triangles = QTOOL_OBJ_MAX_TRIANGLES;
     dvec v = {0}, vn = {0};
     uvec tri = {0}; /* per corner: position index, normal index or NO_NORMAL */
     size_t nv = 0, nn = 0;
@@ -255,9 +263,9 @@ int qtool_obj_parse(const char *name, const char *text, size_t len, qtool_obj_me
                 goto out;
             }
             size_t ntri_now = tri.n / 6 + (size_t)(nc - 2);
-            if (ntri_now > QTOOL_OBJ_MAX_TRIANGLES) {
-                fail(err, errlen, name, line, "more than %zu triangles (QTOOL_OBJ_MAX_TRIANGLES)",
-                     (size_t)QTOOL_OBJ_MAX_TRIANGLES);
+            if (ntri_now > max_triangles) { /* refused as it is crossed: the lists never outgrow the cap */
+                fail(err, errlen, name, line, "more than %zu triangles (%s)", max_triangles,
+                     max_triangles == QTOOL_OBJ_MAX_TRIANGLES ? "QTOOL_OBJ_MAX_TRIANGLES" : "this command's limit");
                 goto out;
             }
             /* fans: a few bytes of "f 1 1 1 1 ..." must not become megabytes of triangles */
@@ -327,6 +335,11 @@ static const char *obj_magic(const uint8_t *head, size_t n)
 
 int qtool_obj_read(const char *path, qtool_obj_mesh *out, char *err, size_t errlen)
 {
+    return qtool_obj_read_max(path, QTOOL_OBJ_MAX_TRIANGLES, out, err, errlen);
+}
+
+int qtool_obj_read_max(const char *path, size_t max_triangles, qtool_obj_mesh *out, char *err, size_t errlen)
+{
     static const qtool_io_kind kind = {"a Wavefront OBJ file", 1, QTOOL_OBJ_MAX_FILE_BYTES, QTOOL_IO_MAX_HEAD_BYTES,
                                       obj_magic};
     size_t n = 0;
@@ -335,7 +348,7 @@ int qtool_obj_read(const char *path, qtool_obj_mesh *out, char *err, size_t errl
         return -1;
     char *buf = (char *)bytes;
     qtool_obj_mesh m = {0};
-    int rc = qtool_obj_parse(path, buf, n, &m, err, errlen);
+    int rc = qtool_obj_parse_max(path, buf, n, max_triangles, &m, err, errlen);
     free(buf);
     if (rc == 0)
         *out = m;

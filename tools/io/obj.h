@@ -45,6 +45,12 @@ typedef struct qtool_obj_mesh {
 int qtool_obj_read(const char *path, qtool_obj_mesh *out, char *err, size_t errlen);
 /* The same from text in memory; name is used in error messages (may be NULL). */
 int qtool_obj_parse(const char *name, const char *text, size_t len, qtool_obj_mesh *out, char *err, size_t errlen);
+/* The same with a caller's triangle cap (at most QTOOL_OBJ_MAX_TRIANGLES): a face that takes the
+ * count past it is refused on its line ("more than N triangles (this command's limit)"), so the
+ * triangle lists never grow past the cap. */
+int qtool_obj_read_max(const char *path, size_t max_triangles, qtool_obj_mesh *out, char *err, size_t errlen);
+int qtool_obj_parse_max(const char *name, const char *text, size_t len, size_t max_triangles, qtool_obj_mesh *out,
+                        char *err, size_t errlen);
 void qtool_obj_free(qtool_obj_mesh *m);
 
 #endif

@@ -326,8 +326,85 @@ static int build(const double *v, size_t nv, const uint32_t *t, size_t ntri, qto
     return 0;
 }
 
-int qtool_ply_parse(const char *name, const uint8_t *buf, size_t len, qtool_obj_mesh *out, char *err, size_t errlen)
+/* One pass over the body: every value checked; with v and tri NULL it only counts the triangles
+ * the faces fan into (*ntri, exact, even past max_tri: the message names the right count), else it
+ * stores the coordinates and the triangles (the counting pass sized them). 0, or -1 with the reason. */
+static int body_pass(const char *name, body b, const elem *el, int nel, int vi, int fi, int px, int py, int pz, int pf,
+                     size_t nv, double *v, uint32_t *tri, size_t *ntri_out, char *err, size_t errlen)
 {
+    size_t ntri = 0;
+    int rc = 0;
+    for (int i = 0; rc == 0 && i < nel; ++i) {
+        const elem *x = &el[i];
+        for (uint64_t k = 0; rc == 0 && k < x->count; ++k) {
+            char what[96];
+            snprintf(what, sizeof what, "%s %llu", x->name, (unsigned long long)k);
+            for (int j = 0; rc == 0 && j < x->nprop; ++j) {
+                const prop *p = &x->p[j];
+                double d;
+                long long iv;
+                if (!p->count_type) {
+                    if ((rc = value(&b, p->type, &d, &iv, what)) != 0)
+                        break;
+                    if (i == vi && (j == px || j == py || j == pz)) {
+                        if (!isfinite(d) || fabs(d) > COORD_MAX) {
+                            rc = fail(err, errlen, name, "%s: %s = %g is not a finite coordinate within +-1e15", what,
+                                      p->name, d);
+                            break;
+                        }
+                        if (v)
+                            v[3 * k + (j == px ? 0 : j == py ? 1 : 2)] = d;
+                    }
+                    continue;
+                }
+                if ((rc = value(&b, p->count_type, &d, &iv, what)) != 0)
+                    break;
+                int is_face = i == fi && j == pf;
+                /* every item takes at least one byte (binary: its size): a count the rest cannot hold is bad */
+                size_t minb = b.fmt == F_ASCII ? 1 : tsize[p->type];
+                if (is_face && (iv < 3 || iv > QTOOL_PLY_MAX_POLY)) {
+                    rc = fail(err, errlen, name, "%s: %lld vertices (a face has 3..%d)", what, iv, QTOOL_PLY_MAX_POLY);
+                    break;
+                }
+                if (iv < 0 || (uint64_t)iv > (b.n - b.pos) / minb + 1) {
+                    rc = fail(err, errlen, name, "%s: list %s of %lld items runs past the end of the file", what,
+                              p->name, iv);
+                    break;
+                }
+                uint32_t idx[QTOOL_PLY_MAX_POLY];
+                long long cnt = iv;
+                for (long long q = 0; rc == 0 && q < cnt; ++q) {
+                    if ((rc = value(&b, p->type, &d, &iv, what)) != 0)
+                        break;
+                    if (is_face) {
+                        if (iv < 0 || (uint64_t)iv >= nv) {
+                            rc = fail(err, errlen, name, "%s: vertex index %lld outside 0..%lld", what, iv,
+                                      (long long)nv - 1);
+                            break;
+                        }
+                        idx[q] = (uint32_t)iv;
+                    }
+                }
+                if (rc != 0 || !is_face)
+                    continue;
+                if (!tri) { /* counting: at most 254 per face, 2^32 faces: no overflow */
+                    ntri += (size_t)cnt - 2;
+                    continue;
+                }
+                for (long long q = 1; q + 1 < cnt; ++q, ++ntri)
+                    tri[3 * ntri] = idx[0], tri[3 * ntri + 1] = idx[q], tri[3 * ntri + 2] = idx[q + 1];
+            }
+        }
+    }
+    *ntri_out = ntri;
+    return rc;
+}
+
+int qtool_ply_parse_max(const char *name, const uint8_t *buf, size_t len, size_t max_triangles, qtool_obj_mesh *out,
+                        char *err, size_t errlen)
+{
+    if (max_triangles > QTOOL_PLY_MAX_TRIANGLES)
+        max_triangles = QTOOL_PLY_MAX_TRIANGLES;
     memset(out, 0, sizeof *out);
     int fmt = F_ASCII, nel = 0;
     size_t hlen = 0;
@@ -401,86 +478,26 @@ int qtool_ply_parse(const char *name, const uint8_t *buf, size_t len, qtool_obj_
         free(el);
         return r;
     }
-    size_t nv = (size_t)el[vi].count;
-    double *v = malloc((nv ? nv : 1) * 3 * sizeof *v);
-    uint32_t *tri = NULL;
-    size_t ntri = 0, tcap = 0;
+    size_t nv = (size_t)el[vi].count, ntri = 0;
     body b = {buf + hlen, blen, 0, fmt, name, err, errlen};
-    int rc = v ? 0 : fail(err, errlen, name, "out of memory");
-    for (int i = 0; rc == 0 && i < nel; ++i) {
-        const elem *x = &el[i];
-        for (uint64_t k = 0; rc == 0 && k < x->count; ++k) {
-            char what[96];
-            snprintf(what, sizeof what, "%s %llu", x->name, (unsigned long long)k);
-            for (int j = 0; rc == 0 && j < x->nprop; ++j) {
-                const prop *p = &x->p[j];
-                double d;
-                long long iv;
-                if (!p->count_type) {
-                    if ((rc = value(&b, p->type, &d, &iv, what)) != 0)
-                        break;
-                    if (i == vi && (j == px || j == py || j == pz)) {
-                        if (!isfinite(d) || fabs(d) > COORD_MAX) {
-                            rc = fail(err, errlen, name, "%s: %s = %g is not a finite coordinate within +-1e15", what,
-                                      p->name, d);
-                            break;
-                        }
-                        v[3 * k + (j == px ? 0 : j == py ? 1 : 2)] = d;
-                    }
-                    continue;
-                }
-                if ((rc = value(&b, p->count_type, &d, &iv, what)) != 0)
-                    break;
-                int is_face = i == fi && j == pf;
-                /* every item takes at least one byte (binary: its size): a count the rest cannot hold is bad */
-                size_t minb = fmt == F_ASCII ? 1 : tsize[p->type];
-                if (is_face && (iv < 3 || iv > QTOOL_PLY_MAX_POLY)) {
-                    rc = fail(err, errlen, name, "%s: %lld vertices (a face has 3..%d)", what, iv, QTOOL_PLY_MAX_POLY);
-                    break;
-                }
-                if (iv < 0 || (uint64_t)iv > (b.n - b.pos) / minb + 1) {
-                    rc = fail(err, errlen, name, "%s: list %s of %lld items runs past the end of the file", what,
-                              p->name, iv);
-                    break;
-                }
-                uint32_t idx[QTOOL_PLY_MAX_POLY];
-                long long cnt = iv;
-                for (long long q = 0; rc == 0 && q < cnt; ++q) {
-                    if ((rc = value(&b, p->type, &d, &iv, what)) != 0)
-                        break;
-                    if (is_face) {
-                        if (iv < 0 || (uint64_t)iv >= nv) {
-                            rc = fail(err, errlen, name, "%s: vertex index %lld outside 0..%lld", what, iv,
-                                      (long long)nv - 1);
-                            break;
-                        }
-                        idx[q] = (uint32_t)iv;
-                    }
-                }
-                if (rc != 0 || !is_face)
-                    continue;
-                if (ntri + (size_t)cnt - 2 > QTOOL_PLY_MAX_TRIANGLES) {
-                    rc = fail(err, errlen, name, "%s: more than %d triangles", what, QTOOL_PLY_MAX_TRIANGLES);
-                    break;
-                }
-                if (ntri + (size_t)cnt - 2 > tcap) {
-                    size_t nc = tcap ? tcap * 2 : 1024;
-                    while (nc < ntri + (size_t)cnt - 2)
-                        nc *= 2;
-                    uint32_t *nt = realloc(tri, nc * 3 * sizeof *nt);
-                    if (!nt) {
-                        rc = fail(err, errlen, name, "out of memory");
-                        break;
-                    }
-                    tri = nt, tcap = nc;
-                }
-                for (long long q = 1; q + 1 < cnt; ++q, ++ntri)
-                    tri[3 * ntri] = idx[0], tri[3 * ntri + 1] = idx[q], tri[3 * ntri + 2] = idx[q + 1];
-            }
-        }
-    }
+    /* the counting pass checks the whole body and counts the fan triangles: the cap is applied to
+     * the exact count before anything is allocated for the mesh */
+    int rc = body_pass(name, b, el, nel, vi, fi, px, py, pz, pf, nv, NULL, NULL, &ntri, err, errlen);
     if (rc == 0 && ntri == 0)
         rc = fail(err, errlen, name, "no faces (the face element is empty)");
+    if (rc == 0 && ntri > max_triangles)
+        rc = fail(err, errlen, name, "%zu triangles after fan triangulation of %llu faces (at most %zu)", ntri,
+                  (unsigned long long)el[fi].count, max_triangles);
+    double *v = NULL;
+    uint32_t *tri = NULL;
+    if (rc == 0) {
+        v = malloc((nv ? nv : 1) * 3 * sizeof *v), tri = malloc(ntri * 3 * sizeof *tri);
+        if (!v || !tri)
+            rc = fail(err, errlen, name, "out of memory");
+    }
+    size_t filled = 0;
+    if (rc == 0)
+        rc = body_pass(name, b, el, nel, vi, fi, px, py, pz, pf, nv, v, tri, &filled, err, errlen);
     if (rc == 0 && build(v, nv, tri, ntri, out) != 0)
         rc = fail(err, errlen, name, "out of memory");
     free(v), free(tri), free(el);
@@ -489,7 +506,17 @@ int qtool_ply_parse(const char *name, const uint8_t *buf, size_t len, qtool_obj_
     return rc;
 }
 
+int qtool_ply_parse(const char *name, const uint8_t *buf, size_t len, qtool_obj_mesh *out, char *err, size_t errlen)
+{
+    return qtool_ply_parse_max(name, buf, len, QTOOL_PLY_MAX_TRIANGLES, out, err, errlen);
+}
+
 int qtool_ply_read(const char *path, qtool_obj_mesh *out, char *err, size_t errlen)
+{
+    return qtool_ply_read_max(path, QTOOL_PLY_MAX_TRIANGLES, out, err, errlen);
+}
+
+int qtool_ply_read_max(const char *path, size_t max_triangles, qtool_obj_mesh *out, char *err, size_t errlen)
 {
     size_t n;
     uint8_t *b = qtool_io_read_all(path, &n);
@@ -497,7 +524,7 @@ int qtool_ply_read(const char *path, qtool_obj_mesh *out, char *err, size_t errl
         memset(out, 0, sizeof *out);
         return fail(err, errlen, path, "%s", strerror(errno));
     }
-    int rc = qtool_ply_parse(path, b, n, out, err, errlen);
+    int rc = qtool_ply_parse_max(path, b, n, max_triangles, out, err, errlen);
     free(b);
     return rc;
 }

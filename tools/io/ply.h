@@ -17,9 +17,11 @@
  * file's size: every instance needs at least its bytes in the body (binary: the sizes of its scalars
  * and list counts; ascii: two characters per value), so a count a file cannot hold is refused before
  * any allocation. In the body: a face of fewer than 3 or more than QTOOL_PLY_MAX_POLY vertices, an
- * index outside the vertex element, a non-finite coordinate (named with its value), more than
- * QTOOL_PLY_MAX_TRIANGLES triangles, a malformed ascii number and a body shorter than the header
- * promises are each refused with a one-line reason naming the element and instance.
+ * index outside the vertex element, a non-finite coordinate (named with its value), a malformed ascii
+ * number and a body shorter than the header promises are each refused with a one-line reason naming
+ * the element and instance. The triangles (fan triangulation) are counted by a first pass over the
+ * body and checked against QTOOL_PLY_MAX_TRIANGLES (or a caller's lower cap) before the mesh is
+ * allocated: memory is the file plus the mesh, never a mesh above the cap.
  */
 #ifndef QTOOL_IO_PLY_H
 #define QTOOL_IO_PLY_H
@@ -43,6 +45,14 @@ int qtool_ply_parse(const char *name, const uint8_t *buf, size_t len, qtool_obj_
 
 /* Reads path. 0, or -1 with a one-line reason naming the file (nothing allocated). */
 int qtool_ply_read(const char *path, qtool_obj_mesh *out, char *err, size_t errlen);
+
+/* The same with a caller's triangle cap (at most QTOOL_PLY_MAX_TRIANGLES, which the two above use): a
+ * first pass over the body checks every value and counts the triangles the faces fan into; a count
+ * above the cap is refused with the exact count ("N triangles after fan triangulation of M faces
+ * (at most CAP)") before anything is allocated for the mesh. */
+int qtool_ply_parse_max(const char *name, const uint8_t *buf, size_t len, size_t max_triangles, qtool_obj_mesh *out,
+                        char *err, size_t errlen);
+int qtool_ply_read_max(const char *path, size_t max_triangles, qtool_obj_mesh *out, char *err, size_t errlen);
 
 /* 1 if the len bytes start like a PLY file ("ply" and an end of line), else 0. */
 int qtool_ply_sniff(const uint8_t *buf, size_t len);
