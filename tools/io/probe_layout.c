@@ -3,7 +3,9 @@
  * ball and the two cube crosses, detection, and bilinear resampling between them (see
  * probe_layout.h for the conventions, the figure of the crosses and the size rule).
  *
- * Every map goes through the viewer frame (f, r, u) of probe_layout.h: world w = (-f, -r, u).
+ * Every map goes through the viewer frame (f, r, u) of probe_layout.h: world w = (-f, -r, u). Every
+ * layout's picture has image right r and image up u (the discs were mirrored, image right -r, until
+ * issue 24: a reflection of the frame Ramamoorthi & Hanrahan's table is in).
  */
 #include "io/probe_layout.h"
 
@@ -155,7 +157,7 @@ int qtool_probe_layout_dir(qtool_probe_layout_t l, int w, int h, double x, doubl
             v[0] = 1, v[1] = 0, v[2] = 0;
         } else {
             double s = sin(th) / rho;
-            v[0] = cos(th), v[1] = -a * s, v[2] = b * s; /* image right is -R: the probe is mirrored */
+            v[0] = cos(th), v[1] = a * s, v[2] = b * s; /* image right is R, as in the lat-long */
         }
     } else if (is_cross(l)) {
         int F = face_size(l, w);
@@ -207,7 +209,7 @@ static void pos_of(qtool_probe_layout_t l, int w, int h, const double d[3], doub
         if (s == 0) {
             a = f > 0 ? 0 : 1, b = 0;
         } else {
-            a = -v[1] / s * rho, b = v[2] / s * rho;
+            a = v[1] / s * rho, b = v[2] / s * rho;
         }
         *x = clamp_to((a + 1.0) * w / 2.0, w), *y = clamp_to((1.0 - b) * h / 2.0, h);
         return;
