@@ -891,6 +891,21 @@ static void test_detect(void **state)
     free(c);
     assert_int_equal(qtool_probe_layout_from_latlong(BALL, 64, 32, sky, 40, 40, &c, err, sizeof err), 0);
     detect_fails(40, 40, c, "--layout angular or --layout ball");
+    detect_fails(40, 40, c, "could be angular (an angular map) or ball (a mirror ball)");
+    free(c);
+    /* Debevec's angular probes carry a bright caption in a corner: a disc whose outside is black but
+     * for 4.5 % of its pixels is still a disc on black (ambiguous, both layouts named); 13.6 % lit is
+     * not black (and the refusal names what a square could be) */
+    assert_int_equal(qtool_probe_layout_from_latlong(ANG, 64, 32, sky, 128, 128, &c, err, sizeof err), 0);
+    for (int y = 122; y < 128; ++y)
+        for (int x = 104; x < 128; ++x)
+            c[3 * (y * 128 + x)] = c[3 * (y * 128 + x) + 1] = 100.0f;
+    detect_fails(128, 128, c, "is a disc on black (4.5 % of the outside lit): it could be angular");
+    for (int y = 0; y < 12; ++y)
+        for (int x = 0; x < 24; ++x)
+            c[3 * (y * 128 + x) + 2] = 1.0f;
+    detect_fails(128, 128, c, "could be angular or ball, but the corners outside the disc are not black (13.6 %");
+    detect_fails(128, 128, c, "--layout angular, --layout ball or --layout latlong");
     free(c);
     free(sky);
     p = filled(12, 16, 0.0f);

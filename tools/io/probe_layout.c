@@ -20,6 +20,9 @@
 #define MAX_PIXELS ((size_t)1 << 28)
 /* an unused area is black when its mean luminance is at most this share of the used area's */
 #define BLACK_SHARE 1e-3
+/* a disc's outside may hold this share of lit pixels (brighter than BLACK_SHARE of the disc's mean):
+ * Debevec's angular probes carry a copyright caption in a corner, a few per cent of the corners */
+#define DISC_LIT_SHARE 0.05
 
 static int fail(char *err, size_t errlen, const char *fmt, ...)
 {
@@ -433,27 +436,40 @@ static double luma(const float *p)
     return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
 }
 
-/* mean luminance of the unused area over the used area's, for a layout the size fits */
+/* the share of a square image's outside-the-disc pixels (centre more than a pixel outside) that are
+ * lit: luminance above BLACK_SHARE of the disc's mean (any light at all when the disc is black) */
+static double disc_lit_share(int w, const float *rgb)
+{
+    double su = 0;
+    size_t nu = 0, nx = 0, lit = 0;
+    for (int pass = 0; pass < 2; ++pass) {
+        double thr = pass ? (nu ? BLACK_SHARE * su / (double)nu : 0) : 0;
+        for (int j = 0; j < w; ++j)
+            for (int i = 0; i < w; ++i) {
+                double a = 2.0 * (i + 0.5) / w - 1.0, b = 2.0 * (j + 0.5) / w - 1.0, r = sqrt(a * a + b * b);
+                double y = luma(rgb + 3 * ((size_t)j * (size_t)w + (size_t)i));
+                if (!pass && r <= 1.0)
+                    su += y, ++nu;
+                else if (pass && r > 1.0 + 2.0 / w)
+                    ++nx, lit += y > thr;
+            }
+    }
+    return nx ? (double)lit / (double)nx : 0;
+}
+
+/* mean luminance of a cross's unused cells over its faces' (crosses keep the strict mean rule: 4:3
+ * is a common photo shape, and a cross's cells leave no corner for a caption) */
 static double unused_share(qtool_probe_layout_t l, int w, int h, const float *rgb)
 {
     double su = 0, sx = 0;
     size_t nu = 0, nx = 0;
-    int F = is_cross(l) ? face_size(l, w) : 1;
+    int F = face_size(l, w);
     for (int j = 0; j < h; ++j)
         for (int i = 0; i < w; ++i) {
             const float *p = rgb + 3 * ((size_t)j * (size_t)w + (size_t)i);
-            int used, unused;
-            if (is_disc(l)) {
-                double a = 2.0 * (i + 0.5) / w - 1.0, b = 2.0 * (j + 0.5) / w - 1.0, r = sqrt(a * a + b * b);
-                used = r <= 1.0;
-                unused = r > 1.0 + 2.0 / w; /* a pixel of slack for an anti-aliased rim */
-            } else {
-                used = face_at(l, i / F, j / F) != NULL;
-                unused = !used;
-            }
-            if (used)
+            if (face_at(l, i / F, j / F) != NULL)
                 su += luma(p), ++nu;
-            else if (unused)
+            else
                 sx += luma(p), ++nx;
         }
     if (nx == 0 || sx == 0)
@@ -486,7 +502,21 @@ int qtool_probe_layout_detect(int w, int h, const float *rgb, qtool_probe_layout
     } else if (3 * (size_t)w == 4 * (size_t)h) {
         l = QTOOL_PROBE_LAYOUT_HCROSS, what = "the cells outside the horizontal cross's faces";
     } else if (w == h) {
-        l = QTOOL_PROBE_LAYOUT_ANGULAR, what = "the corners outside the disc";
+        /* a disc on black, a caption or a few stray pixels allowed (a share of lit pixels, not a mean:
+         * a bright caption would outweigh the black corners' mean) */
+        double lit = disc_lit_share(w, rgb);
+        if (lit > DISC_LIT_SHARE)
+            return fail(err, errlen,
+                        "%d x %d: a square image could be angular or ball, but the corners outside the disc are "
+                        "not black (%.1f %% of their pixels lit, at most %.0f %% may be, for a caption), so it fits "
+                        "no probe layout by itself; give --layout angular, --layout ball or --layout latlong to "
+                        "read it as one (the layouts: %s)",
+                        w, h, 100 * lit, 100 * DISC_LIT_SHARE, QTOOL_PROBE_LAYOUT_NAMES);
+        return fail(err, errlen,
+                    "%d x %d is a disc on black (%.1f %% of the outside lit): it could be angular (an angular "
+                    "map) or ball (a mirror ball), which the pixels cannot tell apart; give --layout angular or "
+                    "--layout ball (the layouts: %s)",
+                    w, h, 100 * lit, QTOOL_PROBE_LAYOUT_NAMES);
     } else {
         return fail(err, errlen, "%d x %d fits no probe layout (%s); give --layout if it is one of them", w, h,
                     QTOOL_PROBE_LAYOUT_NAMES);
@@ -497,11 +527,6 @@ int qtool_probe_layout_detect(int w, int h, const float *rgb, qtool_probe_layout
                     "%d x %d: %s are not black (mean luminance %.3g of the picture's), so it fits no probe "
                     "layout (%s); give --layout to read it as one",
                     w, h, what, share, QTOOL_PROBE_LAYOUT_NAMES);
-    if (l == QTOOL_PROBE_LAYOUT_ANGULAR)
-        return fail(err, errlen,
-                    "%d x %d is a disc on black: an angular map or a mirror ball, which the pixels cannot tell "
-                    "apart; give --layout angular or --layout ball (the layouts: %s)",
-                    w, h, QTOOL_PROBE_LAYOUT_NAMES);
     *out = l;
     return 0;
 }
