@@ -1174,7 +1174,34 @@ static void test_rgbe_path(void **state)
     out = NULL;
     assert_int_equal(qtool_probe_layout_rgbe_to_latlong(BALL, 64, 64, b8, &used, &ow, &oh, &out, err, sizeof err), 0);
     assert_true(used == BALL && ow == 64 && oh == 32 && out);
-    free(out), free(b8), free(ball), free(vx), free(vx8), free(ll8), free(sky);
+    free(out);
+    /* The bytes are sampled in place (no float copy of the input) and the lat-long is encoded row
+     * by row: bit for bit what decoding to float, resampling and encoding gives, in every layout. */
+    for (int k = 1; k < 5; ++k) {
+        qtool_probe_layout_t l = all_layouts[k];
+        int w, h, lw, lh;
+        layout_size(l, 64, &w, &h);
+        float *img = NULL, *ll = NULL;
+        assert_int_equal(qtool_probe_layout_from_latlong(l, 128, 64, sky, w, h, &img, err, sizeof err), 0);
+        uint8_t *i8 = malloc(4 * (size_t)w * (size_t)h), *want = NULL;
+        assert_non_null(i8);
+        qtool_probe_layout_rgbe_encode(img, (size_t)w * (size_t)h, i8);
+        for (size_t i = 0; i < (size_t)w * (size_t)h; ++i)
+            for (int c = 0; c < 3; ++c)
+                img[3 * i + (size_t)c] = (float)rgbe_f(i8[4 * i + (size_t)c], i8[4 * i + 3]);
+        assert_int_equal(qtool_probe_layout_latlong_size(l, w, h, &lw, &lh, err, sizeof err), 0);
+        assert_int_equal(qtool_probe_layout_to_latlong(l, w, h, img, lw, lh, &ll, err, sizeof err), 0);
+        want = malloc(4 * (size_t)lw * (size_t)lh);
+        assert_non_null(want);
+        qtool_probe_layout_rgbe_encode(ll, (size_t)lw * (size_t)lh, want);
+        out = NULL;
+        assert_int_equal(qtool_probe_layout_rgbe_to_latlong(l, w, h, i8, &used, &ow, &oh, &out, err, sizeof err), 0);
+        assert_true(used == l && ow == lw && oh == lh);
+        if (memcmp(out, want, 4 * (size_t)lw * (size_t)lh) != 0)
+            fail_msg("%s: the RGBE path differs from decode, resample, encode", qtool_probe_layout_name(l));
+        free(out), free(want), free(ll), free(i8), free(img);
+    }
+    free(b8), free(ball), free(vx), free(vx8), free(ll8), free(sky);
 }
 
 int main(void)
