@@ -548,6 +548,13 @@ static void test_probe_info_advice(void **state)
     expect(2, "usage: qibl probe info", NULL, "probe", "show", sun, NULL);
     expect(2, "--layout: 'disc'", NULL, "probe", "info", sun, "--layout", "disc", NULL);
     expect(1, NULL, NULL, "probe", "info", at("missing.hdr"), NULL);
+    /* a lat-long that is not 2:1 (read as lat-long on request) is refused by name, stdout empty */
+    const char *odd = at("odd.hdr");
+    make_probe(odd, 64, 40, overcast, NULL);
+    expect(1, "64 x 40 is not a 2:1 lat-long", NULL, "probe", "info", odd, "--layout", "latlong", NULL);
+    t = text(outlog);
+    assert_string_equal(t, "");
+    free(t);
 }
 
 /* the figure on the line of stdout that starts (after spaces) with label, the first number after
