@@ -445,6 +445,37 @@ static void test_sh_project_formats(void **state)
     expect(2, "--name: '9x' is not a C identifier", NULL, "sh", "project", pr, "--format", "c", "--name", "9x", NULL);
 }
 
+/* A refused probe leaves stdout empty: sh project printed "# " before loading, so a refusal left a
+ * stray "# " on stdout (issue 24); probe info printed its first lines before later failures. */
+static void test_probe_refusal_stdout_empty(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *sq = at("square.hdr"), *bad = at("bad.hdr");
+    make_probe(sq, 48, 48, overcast, NULL); /* square, corners lit: no layout by itself */
+    FILE *f = fopen(bad, "wb");
+    assert_non_null(f);
+    fputs("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4 +X 8\n", f); /* no pixels */
+    fclose(f);
+    const char *files[2] = {sq, bad}, *why[2] = {"could be angular or ball", bad};
+    for (int k = 0; k < 2; ++k) {
+        for (int c = 0; c < 2; ++c) {
+            int rc = c ? run("probe", "info", files[k], NULL) : run("sh", "project", files[k], NULL);
+            char *o = text(outlog), *e = text(errlog);
+            if (rc != 1 || o[0] != '\0' || !strstr(e, why[k]))
+                fail_msg("%s %s: exit %d, stdout '%s', stderr '%s'", c ? "probe info" : "sh project", files[k], rc, o, e);
+            free(o), free(e);
+        }
+    }
+    /* and a good probe still gets its note as the table's first comment line */
+    const char *pr = at("p.hdr");
+    make_probe(pr, 64, 32, overcast, NULL);
+    OK("sh", "project", pr, "--bands", "2");
+    char *o = text(outlog);
+    assert_true(strncmp(o, "# ", 2) == 0 && strstr(o, "layout latlong") != NULL);
+    free(o);
+}
+
 static void test_lights_json(void **state)
 {
     (void)state;
@@ -517,6 +548,60 @@ static void test_probe_info_advice(void **state)
     expect(2, "usage: qibl probe info", NULL, "probe", "show", sun, NULL);
     expect(2, "--layout: 'disc'", NULL, "probe", "info", sun, "--layout", "disc", NULL);
     expect(1, NULL, NULL, "probe", "info", at("missing.hdr"), NULL);
+    /* a lat-long that is not 2:1 (read as lat-long on request) is refused by name, stdout empty */
+    const char *odd = at("odd.hdr");
+    make_probe(odd, 64, 40, overcast, NULL);
+    expect(1, "64 x 40 is not a 2:1 lat-long", NULL, "probe", "info", odd, "--layout", "latlong", NULL);
+    t = text(outlog);
+    assert_string_equal(t, "");
+    free(t);
+}
+
+/* the figure on the line of stdout that starts (after spaces) with label, the first number after
+ * skip (a phrase on that line); NAN when absent */
+static double figure_after(const char *out, const char *label, const char *skip)
+{
+    for (const char *l = out; l && *l; l = strchr(l, '\n') ? strchr(l, '\n') + 1 : NULL) {
+        const char *b = l;
+        while (*b == ' ')
+            ++b;
+        if (strncmp(b, label, strlen(label)) != 0)
+            continue;
+        const char *k = strstr(b, skip);
+        const char *nl = strchr(b, '\n');
+        double v;
+        if (k && (!nl || k < nl) && sscanf(k + strlen(skip), "%lf", &v) == 1)
+            return v;
+    }
+    return NAN;
+}
+
+/* probe info and lights --auto print one irradiance error, the same number for the same
+ * representation (they printed 9.4 % and 3.47 % for Grace's SH9: two measures), and both say
+ * what it is */
+static void test_probe_info_auto_same_measure(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *pr = at("sun.hdr");
+    make_probe(pr, 128, 64, sunny, NULL);
+    OK("probe", "info", pr);
+    char *t = text(outlog);
+    double info = figure_after(t, "SH, 9 coefficients", "coefficients");
+    assert_non_null(strstr(t, "|E - E_probe| / max(E_probe, mean E_probe / 10)"));
+    free(t);
+    if (!isfinite(info))
+        fail_msg("probe info printed no SH9 error");
+    /* a budget SH9 just meets (auto lists the cheapest SH that meets it; SH4 is far worse here) */
+    char budget[64];
+    snprintf(budget, sizeof budget, "%.3f%%", info + 0.0005);
+    OK("lights", pr, "--auto", "--error", budget);
+    t = text(outlog);
+    double aut = figure_after(t, "SH irradiance, 9 coefficients", "mean error");
+    assert_non_null(strstr(t, "|E - E_probe| / max(E_probe, mean E_probe / 10)"));
+    if (!(fabs(aut - info) < 1e-9))
+        fail_msg("SH9: probe info %.3f %%, lights --auto %.3f %%\n%s", info, aut, t);
+    free(t);
 }
 
 /* the real probes, when ../shared is there: a soft one wants SH, a sunny one does not */
@@ -569,8 +654,10 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_relight_option_errors, setup, teardown),
         cmocka_unit_test_setup_teardown(test_sh_project_formats, setup, teardown),
         cmocka_unit_test_setup_teardown(test_lights_json, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_probe_refusal_stdout_empty, setup, teardown),
         cmocka_unit_test_setup_teardown(test_probe_info_advice, setup, teardown),
         cmocka_unit_test_setup_teardown(test_probe_info_fixtures, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_probe_info_auto_same_measure, setup, teardown),
         cmocka_unit_test_setup_teardown(test_help_texts, setup, teardown),
     };
     return cmocka_run_group_tests_name("probe_cli", tests, NULL, NULL);

@@ -298,6 +298,48 @@ static void test_svg_well_formed_and_errors(void **state)
     assert_non_null(strstr(err, "/nonexistent-dir/x.svg"));
 }
 
+/* The one irradiance error measure has a floor: a probe whose lower half is 1e-13 of its upper
+ * half leaves the downward normals near black, where SH9's ringing is a few per cent of the mean
+ * irradiance. Divided by E_gt (no floor) that read ~10^13 %; floored at a tenth of the mean it is
+ * a bounded, meaningful figure. */
+static void test_error_measure_floor(void **state)
+{
+    (void)state;
+    const int w = 64, h = 32;
+    uint8_t *px = flat_rgbe(w, h, 128, 129); /* 1 */
+    for (int v = h / 2; v < h; ++v)
+        for (int u = 0; u < w; ++u) {
+            uint8_t *q = px + 4 * ((size_t)v * (size_t)w + (size_t)u);
+            q[0] = q[1] = q[2] = 225, q[3] = 128 + 8 - 43; /* 225 2^-51 ~ 1e-13 */
+        }
+    char err[256];
+    qtool_study_probe p;
+    qtool_study_gt g;
+    assert_int_equal(qtool_study_probe_init(&p, w, h, px, err, sizeof err), 0);
+    assert_int_equal(qtool_study_gt_compute(&g, &p, 2000, 1), 0);
+    double emin = INFINITY;
+    for (int k = 0; k < g.m; ++k)
+        emin = fmin(emin, g.E[3 * k]);
+    assert_true(emin < 1e-9 * g.mean[0]); /* some normals are near black indeed */
+    qtool_study_model *md = malloc(sizeof *md);
+    assert_non_null(md);
+    assert_int_equal(qtool_study_core_sh(&p, 9, md, err, sizeof err), 0);
+    qtool_study_err e;
+    qtool_study_model_error(md, &g, &e);
+    print_message("near-black normals: SH9 mean %.3f %%, max %.3f %% (floored at %.2f of the mean)\n",
+                  100 * e.mean_rel, 100 * e.max_rel, QTOOL_STUDY_ERR_FLOOR);
+    assert_true(isfinite(e.mean_rel) && e.mean_rel < 0.5 && e.max_rel < 3.0);
+    /* bounded for any model that is no brighter than the probe: the zero model reads exactly
+     * 100 % wherever the probe lights the normal above the floor, and less below it */
+    memset(md, 0, sizeof *md);
+    qtool_study_model_error(md, &g, &e);
+    assert_true(fabs(e.max_rel - 1.0) < 1e-12 && e.mean_rel <= 1.0 && e.mean_rel > 0.5);
+    free(md);
+    qtool_study_gt_free(&g);
+    qtool_study_probe_free(&p);
+    free(px);
+}
+
 static void test_malformed_input_named(void **state)
 {
     (void)state;
@@ -352,6 +394,7 @@ int main(void)
         cmocka_unit_test(test_sunsky_budget_respected_and_minimal),
         cmocka_unit_test(test_svg_well_formed_and_errors),
         cmocka_unit_test(test_malformed_input_named),
+        cmocka_unit_test(test_error_measure_floor),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

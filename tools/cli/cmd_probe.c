@@ -114,10 +114,10 @@ int qcli_cmd_sh_project(int argc, char **argv)
     int w, h;
     uint8_t *px;
     qtool_probe_layout_t used;
-    /* the layout note: on stdout as a comment for the table, on stderr otherwise (stdout stays parseable) */
-    if (fmt == FMT_TABLE)
-        printf("# ");
-    if (qcli_probe_load(path, layout, fmt == FMT_TABLE ? stdout : stderr, &w, &h, &px, &used) != 0)
+    /* the layout note: on stdout as a comment for the table, on stderr otherwise (stdout stays parseable);
+     * printed only once the projection has succeeded, so a failure leaves stdout empty */
+    char note[4200 + 256];
+    if (qcli_probe_load_note(path, layout, note, sizeof note, &w, &h, &px, &used) != 0)
         return 1;
     size_t n = qibl_probe_sh_workspace_size((uint32_t)w, (uint32_t)h);
     void *ws = n ? malloc(n) : NULL;
@@ -136,6 +136,10 @@ int qcli_cmd_sh_project(int argc, char **argv)
     free(ws), free(px);
     if (st != QIBL_OK)
         return fprintf(stderr, "qibl: sh project: %s: %s\n", path, qibl_status_str(st)), 1;
+    if (fmt == FMT_TABLE)
+        printf("# %s", note);
+    else
+        fputs(note, stderr);
     const char *kind = opts.irradiance ? "irradiance (clamped cosine, A_l)" : "radiance";
     if (fmt == FMT_JSON) {
         printf("{\"probe\": \"");

@@ -324,8 +324,8 @@ out:
 
 /* ---- probes ------------------------------------------------------------------------------------- */
 
-int qcli_probe_load(const char *path, qtool_probe_layout_t want, FILE *note, int *w, int *h, uint8_t **rgbe,
-                    qtool_probe_layout_t *used)
+int qcli_probe_load_note(const char *path, qtool_probe_layout_t want, char *note, size_t notelen, int *w, int *h,
+                         uint8_t **rgbe, qtool_probe_layout_t *used)
 {
     int iw, ih, lw, lh;
     uint8_t *px, *ll;
@@ -333,23 +333,44 @@ int qcli_probe_load(const char *path, qtool_probe_layout_t want, FILE *note, int
     qtool_probe_layout_t u;
     if (qtool_hdr_read_rgbe(path, &iw, &ih, &px, err, sizeof err) != 0)
         return fprintf(stderr, "qibl: %s\n", err), 1;
-    if (qtool_probe_layout_rgbe_to_latlong(want, iw, ih, px, &u, &lw, &lh, &ll, err, sizeof err) != 0) {
+    if (want == QTOOL_PROBE_LAYOUT_LATLONG || (want == QTOOL_PROBE_LAYOUT_AUTO && (size_t)iw == 2 * (size_t)ih)) {
+        u = QTOOL_PROBE_LAYOUT_LATLONG, lw = iw, lh = ih, ll = px; /* as it is: no copy of the input */
+    } else {
+        if (qtool_probe_layout_rgbe_to_latlong(want, iw, ih, px, &u, &lw, &lh, &ll, err, sizeof err) != 0) {
+            free(px);
+            return fprintf(stderr, "qibl: %s: %s\n", path, err), 1;
+        }
         free(px);
-        return fprintf(stderr, "qibl: %s: %s\n", path, err), 1;
     }
-    free(px);
-    if (note) {
-        fprintf(note, "%s: layout %s (%s, %s)", path, qtool_probe_layout_name(u), qtool_probe_layout_describe(u),
-                want == QTOOL_PROBE_LAYOUT_AUTO ? "detected" : "from --layout");
+    if (note && notelen) {
+        int k = snprintf(note, notelen, "%s: layout %s (%s, %s)", path, qtool_probe_layout_name(u),
+                         qtool_probe_layout_describe(u), want == QTOOL_PROBE_LAYOUT_AUTO ? "detected" : "from --layout");
+        size_t at = k < 0 ? 0 : (size_t)k < notelen ? (size_t)k : notelen - 1;
         if (u != QTOOL_PROBE_LAYOUT_LATLONG)
-            fprintf(note, ", %d x %d resampled to a %d x %d lat-long", iw, ih, lw, lh);
+            k = snprintf(note + at, notelen - at, ", %d x %d resampled to a %d x %d lat-long\n", iw, ih, lw, lh);
         else if ((size_t)iw != 2 * (size_t)ih)
-            fprintf(note, ", %d x %d is not 2:1: read as lat-long as asked", iw, ih);
-        fprintf(note, "\n");
+            k = snprintf(note + at, notelen - at, ", %d x %d is not 2:1: read as lat-long as asked\n", iw, ih);
+        else
+            k = snprintf(note + at, notelen - at, "\n");
+        size_t len = strlen(note);
+        if (len && note[len - 1] != '\n') /* a path too long for the buffer: the line still ends */
+            note[len - 1] = '\n';
+        (void)k;
     }
     *w = lw, *h = lh, *rgbe = ll;
     if (used)
         *used = u;
+    return 0;
+}
+
+int qcli_probe_load(const char *path, qtool_probe_layout_t want, FILE *note, int *w, int *h, uint8_t **rgbe,
+                    qtool_probe_layout_t *used)
+{
+    char buf[4200 + 256]; /* a path of PATH_MAX and the rest of the line */
+    if (qcli_probe_load_note(path, want, buf, sizeof buf, w, h, rgbe, used) != 0)
+        return 1;
+    if (note)
+        fputs(buf, note);
     return 0;
 }
 

@@ -80,6 +80,11 @@ int qcli_lights_csv_read(const char *path, qibl_lightprobe_light_t **lights, uin
 int qcli_probe_load(const char *path, qtool_probe_layout_t want, FILE *note, int *w, int *h, uint8_t **rgbe,
                     qtool_probe_layout_t *used);
 
+/* The same with the note (one line, with its newline) written to a buffer instead, so a command can
+ * print it only once everything after the load has succeeded (output all or nothing). */
+int qcli_probe_load_note(const char *path, qtool_probe_layout_t want, char *note, size_t notelen, int *w, int *h,
+                         uint8_t **rgbe, qtool_probe_layout_t *used);
+
 /* Picks the sun among the median-cut lights of a w x h probe (all of a list, so they cover the
  * probe's energy): the regions whose mean radiance (luminance / solid angle) is at least
  * QCLI_SUN_CONTRAST times the probe's mean radiance, densest first, at most QCLI_SUN_MAX. Writes

@@ -3,7 +3,9 @@
  * ball and the two cube crosses, detection, and bilinear resampling between them (see
  * probe_layout.h for the conventions, the figure of the crosses and the size rule).
  *
- * Every map goes through the viewer frame (f, r, u) of probe_layout.h: world w = (-f, -r, u).
+ * Every map goes through the viewer frame (f, r, u) of probe_layout.h: world w = (-f, -r, u). Every
+ * layout's picture has image right r and image up u (the discs were mirrored, image right -r, until
+ * issue 24: a reflection of the frame Ramamoorthi & Hanrahan's table is in).
  */
 #include "io/probe_layout.h"
 
@@ -18,6 +20,9 @@
 #define MAX_PIXELS ((size_t)1 << 28)
 /* an unused area is black when its mean luminance is at most this share of the used area's */
 #define BLACK_SHARE 1e-3
+/* a disc's outside may hold this share of lit pixels (brighter than BLACK_SHARE of the disc's mean):
+ * Debevec's angular probes carry a copyright caption in a corner, a few per cent of the corners */
+#define DISC_LIT_SHARE 0.05
 
 static int fail(char *err, size_t errlen, const char *fmt, ...)
 {
@@ -155,7 +160,7 @@ int qtool_probe_layout_dir(qtool_probe_layout_t l, int w, int h, double x, doubl
             v[0] = 1, v[1] = 0, v[2] = 0;
         } else {
             double s = sin(th) / rho;
-            v[0] = cos(th), v[1] = -a * s, v[2] = b * s; /* image right is -R: the probe is mirrored */
+            v[0] = cos(th), v[1] = a * s, v[2] = b * s; /* image right is R, as in the lat-long */
         }
     } else if (is_cross(l)) {
         int F = face_size(l, w);
@@ -202,12 +207,16 @@ static void pos_of(qtool_probe_layout_t l, int w, int h, const double d[3], doub
     }
     double v[3] = {-d[0], -d[1], d[2]};
     if (is_disc(l)) {
-        double f = v[0], s = sqrt(v[1] * v[1] + v[2] * v[2]), th = atan2(s, f), a, b;
-        double rho = l == QTOOL_PROBE_LAYOUT_ANGULAR ? th / PI : sin(th / 2.0);
+        double f = v[0], s = sqrt(v[1] * v[1] + v[2] * v[2]), a, b, rho;
+        if (l == QTOOL_PROBE_LAYOUT_ANGULAR)
+            rho = atan2(s, f) / PI;
+        else /* sin(theta / 2) without trigonometry (a third of the resampling time): s / (2 cos(theta / 2))
+              * on the front half, where 1 - f would cancel, sqrt((1 - f) / 2) on the back half */
+            rho = f >= 0 ? s / sqrt(2.0 * (1.0 + f)) : sqrt(0.5 * (1.0 - f));
         if (s == 0) {
             a = f > 0 ? 0 : 1, b = 0;
         } else {
-            a = -v[1] / s * rho, b = v[2] / s * rho;
+            a = v[1] / s * rho, b = v[2] / s * rho;
         }
         *x = clamp_to((a + 1.0) * w / 2.0, w), *y = clamp_to((1.0 - b) * h / 2.0, h);
         return;
@@ -236,8 +245,42 @@ int qtool_probe_layout_pos(qtool_probe_layout_t l, int w, int h, const double d[
 
 /* ---- sampling ------------------------------------------------------------------------------- */
 
+/* A layout's pixels as float RGB or as the RGBE bytes they were read as: the RGBE path samples the
+ * bytes where they lie (no float copy of the input, which was 3 times its size) */
+typedef struct src {
+    const float *f;   /* 3 floats a pixel, or NULL */
+    const uint8_t *e; /* 4 RGBE bytes a pixel (when f is NULL) */
+    double scale[256]; /* 2^(E - 136), 0 for E = 0 (lightprobe.h's decoding) */
+} src;
+
+static void src_float(src *s, const float *f)
+{
+    s->f = f, s->e = NULL;
+}
+
+static void src_rgbe(src *s, const uint8_t *e)
+{
+    s->f = NULL, s->e = e;
+    s->scale[0] = 0;
+    for (int k = 1; k < 256; ++k)
+        s->scale[k] = ldexp(1.0, k - 136);
+}
+
+/* pixel i's RGB */
+static void fetch(const src *s, size_t i, double out[3])
+{
+    if (s->f) {
+        const float *p = s->f + 3 * i;
+        out[0] = p[0], out[1] = p[1], out[2] = p[2];
+    } else {
+        const uint8_t *q = s->e + 4 * i;
+        double k = s->scale[q[3]];
+        out[0] = q[0] * k, out[1] = q[1] * k, out[2] = q[2] * k;
+    }
+}
+
 /* bilinear lat-long sample: wraps in phi, clamps in theta */
-static void sample_latlong(const float *img, int w, int h, double x, double y, double out[3])
+static void sample_latlong(const src *img, int w, int h, double x, double y, double out[3])
 {
     double fx = x - 0.5, fy = y - 0.5;
     double x0f = floor(fx), y0f = floor(fy), tx = fx - x0f, ty = fy - y0f;
@@ -247,8 +290,9 @@ static void sample_latlong(const float *img, int w, int h, double x, double y, d
     int x1 = x0 + 1 == w ? 0 : x0 + 1, y1 = y0 + 1;
     y0 = y0 < 0 ? 0 : y0 > h - 1 ? h - 1 : y0;
     y1 = y1 < 0 ? 0 : y1 > h - 1 ? h - 1 : y1;
-    const float *p00 = img + 3 * ((size_t)y0 * (size_t)w + (size_t)x0), *p01 = img + 3 * ((size_t)y0 * (size_t)w + (size_t)x1);
-    const float *p10 = img + 3 * ((size_t)y1 * (size_t)w + (size_t)x0), *p11 = img + 3 * ((size_t)y1 * (size_t)w + (size_t)x1);
+    double p00[3], p01[3], p10[3], p11[3];
+    fetch(img, (size_t)y0 * (size_t)w + (size_t)x0, p00), fetch(img, (size_t)y0 * (size_t)w + (size_t)x1, p01);
+    fetch(img, (size_t)y1 * (size_t)w + (size_t)x0, p10), fetch(img, (size_t)y1 * (size_t)w + (size_t)x1, p11);
     for (int c = 0; c < 3; ++c)
         out[c] = (1 - ty) * ((1 - tx) * p00[c] + tx * p01[c]) + ty * ((1 - tx) * p10[c] + tx * p11[c]);
 }
@@ -311,7 +355,7 @@ static void sample_latlong_box(const ll_box *b, double x, double y, double span,
 }
 
 /* bilinear sample of a disc layout, only from pixels whose centre is inside the disc */
-static void sample_disc(const float *img, int n, double x, double y, double out[3])
+static void sample_disc(const src *img, int n, double x, double y, double out[3])
 {
     double a = 2.0 * x / n - 1.0, b = 1.0 - 2.0 * y / n, rho = sqrt(a * a + b * b);
     double rmax = 1.0 - 3.0 / n; /* 1.5 pixels inside the rim: the nearest tap is then inside */
@@ -331,7 +375,8 @@ static void sample_disc(const float *img, int n, double x, double y, double out[
             double wt = (i ? tx : 1 - tx) * (j ? ty : 1 - ty);
             if (xi < 0 || yj < 0 || xi >= n || yj >= n || wt <= 0 || !disc_inside(n, xi, yj))
                 continue;
-            const float *p = img + 3 * ((size_t)yj * (size_t)n + (size_t)xi);
+            double p[3];
+            fetch(img, (size_t)yj * (size_t)n + (size_t)xi, p);
             for (int c = 0; c < 3; ++c)
                 acc[c] += wt * p[c];
             ws += wt;
@@ -340,9 +385,7 @@ static void sample_disc(const float *img, int n, double x, double y, double out[
         int xi = (int)x, yj = (int)y;
         xi = xi < 0 ? 0 : xi >= n ? n - 1 : xi;
         yj = yj < 0 ? 0 : yj >= n ? n - 1 : yj;
-        const float *p = img + 3 * ((size_t)yj * (size_t)n + (size_t)xi);
-        for (int c = 0; c < 3; ++c)
-            out[c] = p[c];
+        fetch(img, (size_t)yj * (size_t)n + (size_t)xi, out);
         return;
     }
     for (int c = 0; c < 3; ++c)
@@ -350,7 +393,7 @@ static void sample_disc(const float *img, int n, double x, double y, double out[
 }
 
 /* bilinear sample of one cube face, taps clamped to the face */
-static void sample_face(const float *img, int w, int F, const face *f, double x, double y, double out[3])
+static void sample_face(const src *img, int w, int F, const face *f, double x, double y, double out[3])
 {
     double fx = x - f->col * F - 0.5, fy = y - f->row * F - 0.5;
     fx = fx < 0 ? 0 : fx > F - 1 ? F - 1 : fx;
@@ -358,16 +401,17 @@ static void sample_face(const float *img, int w, int F, const face *f, double x,
     double x0f = floor(fx), y0f = floor(fy), tx = fx - x0f, ty = fy - y0f;
     int x0 = (int)x0f, y0 = (int)y0f, x1 = x0 + 1 < F ? x0 + 1 : x0, y1 = y0 + 1 < F ? y0 + 1 : y0;
     size_t bx = (size_t)f->col * (size_t)F, by = (size_t)f->row * (size_t)F, W = (size_t)w;
-    const float *p00 = img + 3 * ((by + (size_t)y0) * W + bx + (size_t)x0);
-    const float *p01 = img + 3 * ((by + (size_t)y0) * W + bx + (size_t)x1);
-    const float *p10 = img + 3 * ((by + (size_t)y1) * W + bx + (size_t)x0);
-    const float *p11 = img + 3 * ((by + (size_t)y1) * W + bx + (size_t)x1);
+    double p00[3], p01[3], p10[3], p11[3];
+    fetch(img, (by + (size_t)y0) * W + bx + (size_t)x0, p00);
+    fetch(img, (by + (size_t)y0) * W + bx + (size_t)x1, p01);
+    fetch(img, (by + (size_t)y1) * W + bx + (size_t)x0, p10);
+    fetch(img, (by + (size_t)y1) * W + bx + (size_t)x1, p11);
     for (int c = 0; c < 3; ++c)
         out[c] = (1 - ty) * ((1 - tx) * p00[c] + tx * p01[c]) + ty * ((1 - tx) * p10[c] + tx * p11[c]);
 }
 
 /* the layout's radiance along unit world direction d */
-static void sample_dir(qtool_probe_layout_t l, const float *img, int w, int h, const double d[3], double out[3])
+static void sample_dir(qtool_probe_layout_t l, const src *img, int w, int h, const double d[3], double out[3])
 {
     double x, y;
     const face *f = NULL;
@@ -426,39 +470,98 @@ static int check_samples(int w, int h, const float *rgb, char *err, size_t errle
     return 0;
 }
 
-static double luma(const float *p)
+static double luma(const src *s, size_t i)
 {
+    double p[3];
+    fetch(s, i, p);
     return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
 }
 
-/* mean luminance of the unused area over the used area's, for a layout the size fits */
-static double unused_share(qtool_probe_layout_t l, int w, int h, const float *rgb)
+/* the share of a square image's outside-the-disc pixels (centre more than a pixel outside) that are
+ * lit: luminance above BLACK_SHARE of the disc's mean (any light at all when the disc is black) */
+static double disc_lit_share(int w, const src *rgb)
+{
+    double su = 0;
+    size_t nu = 0, nx = 0, lit = 0;
+    for (int pass = 0; pass < 2; ++pass) {
+        double thr = pass ? (nu ? BLACK_SHARE * su / (double)nu : 0) : 0;
+        for (int j = 0; j < w; ++j)
+            for (int i = 0; i < w; ++i) {
+                double a = 2.0 * (i + 0.5) / w - 1.0, b = 2.0 * (j + 0.5) / w - 1.0, r = sqrt(a * a + b * b);
+                double y = luma(rgb, (size_t)j * (size_t)w + (size_t)i);
+                if (!pass && r <= 1.0)
+                    su += y, ++nu;
+                else if (pass && r > 1.0 + 2.0 / w)
+                    ++nx, lit += y > thr;
+            }
+    }
+    return nx ? (double)lit / (double)nx : 0;
+}
+
+/* mean luminance of a cross's unused cells over its faces' (crosses keep the strict mean rule: 4:3
+ * is a common photo shape, and a cross's cells leave no corner for a caption) */
+static double unused_share(qtool_probe_layout_t l, int w, int h, const src *rgb)
 {
     double su = 0, sx = 0;
     size_t nu = 0, nx = 0;
-    int F = is_cross(l) ? face_size(l, w) : 1;
+    int F = face_size(l, w);
     for (int j = 0; j < h; ++j)
         for (int i = 0; i < w; ++i) {
-            const float *p = rgb + 3 * ((size_t)j * (size_t)w + (size_t)i);
-            int used, unused;
-            if (is_disc(l)) {
-                double a = 2.0 * (i + 0.5) / w - 1.0, b = 2.0 * (j + 0.5) / w - 1.0, r = sqrt(a * a + b * b);
-                used = r <= 1.0;
-                unused = r > 1.0 + 2.0 / w; /* a pixel of slack for an anti-aliased rim */
-            } else {
-                used = face_at(l, i / F, j / F) != NULL;
-                unused = !used;
-            }
-            if (used)
-                su += luma(p), ++nu;
-            else if (unused)
-                sx += luma(p), ++nx;
+            size_t p = (size_t)j * (size_t)w + (size_t)i;
+            if (face_at(l, i / F, j / F) != NULL)
+                su += luma(rgb, p), ++nu;
+            else
+                sx += luma(rgb, p), ++nx;
         }
     if (nx == 0 || sx == 0)
         return 0;
     if (su == 0)
         return HUGE_VAL;
     return (sx / (double)nx) / (su / (double)nu);
+}
+
+/* detection once the size is checked and the samples are valid */
+static int detect_src(int w, int h, const src *rgb, qtool_probe_layout_t *out, char *err, size_t errlen)
+{
+    if ((size_t)w == 2 * (size_t)h) {
+        *out = QTOOL_PROBE_LAYOUT_LATLONG;
+        return 0;
+    }
+    qtool_probe_layout_t l = QTOOL_PROBE_LAYOUT_AUTO;
+    const char *what = NULL;
+    /* 4w = 3h forces 3 | w and 4 | h: an exact 3:4 image always has whole faces (and 4:3 likewise) */
+    if (4 * (size_t)w == 3 * (size_t)h) {
+        l = QTOOL_PROBE_LAYOUT_VCROSS, what = "the cells outside the vertical cross's faces";
+    } else if (3 * (size_t)w == 4 * (size_t)h) {
+        l = QTOOL_PROBE_LAYOUT_HCROSS, what = "the cells outside the horizontal cross's faces";
+    } else if (w == h) {
+        /* a disc on black, a caption or a few stray pixels allowed (a share of lit pixels, not a mean:
+         * a bright caption would outweigh the black corners' mean) */
+        double lit = disc_lit_share(w, rgb);
+        if (lit > DISC_LIT_SHARE)
+            return fail(err, errlen,
+                        "%d x %d: a square image could be angular or ball, but the corners outside the disc are "
+                        "not black (%.1f %% of their pixels lit, at most %.0f %% may be, for a caption), so it fits "
+                        "no probe layout by itself; give --layout angular, --layout ball or --layout latlong to "
+                        "read it as one (the layouts: %s)",
+                        w, h, 100 * lit, 100 * DISC_LIT_SHARE, QTOOL_PROBE_LAYOUT_NAMES);
+        return fail(err, errlen,
+                    "%d x %d is a disc on black (%.1f %% of the outside lit): it could be angular (an angular "
+                    "map) or ball (a mirror ball), which the pixels cannot tell apart; give --layout angular or "
+                    "--layout ball (the layouts: %s)",
+                    w, h, 100 * lit, QTOOL_PROBE_LAYOUT_NAMES);
+    } else {
+        return fail(err, errlen, "%d x %d fits no probe layout (%s); give --layout if it is one of them", w, h,
+                    QTOOL_PROBE_LAYOUT_NAMES);
+    }
+    double share = unused_share(l, w, h, rgb);
+    if (share > BLACK_SHARE)
+        return fail(err, errlen,
+                    "%d x %d: %s are not black (mean luminance %.3g of the picture's), so it fits no probe "
+                    "layout (%s); give --layout to read it as one",
+                    w, h, what, share, QTOOL_PROBE_LAYOUT_NAMES);
+    *out = l;
+    return 0;
 }
 
 int qtool_probe_layout_detect(int w, int h, const float *rgb, qtool_probe_layout_t *out, char *err, size_t errlen)
@@ -472,36 +575,9 @@ int qtool_probe_layout_detect(int w, int h, const float *rgb, qtool_probe_layout
                     MAX_DIM);
     if (check_samples(w, h, rgb, err, errlen) != 0)
         return -1;
-    if ((size_t)w == 2 * (size_t)h) {
-        *out = QTOOL_PROBE_LAYOUT_LATLONG;
-        return 0;
-    }
-    qtool_probe_layout_t l = QTOOL_PROBE_LAYOUT_AUTO;
-    const char *what = NULL;
-    /* 4w = 3h forces 3 | w and 4 | h: an exact 3:4 image always has whole faces (and 4:3 likewise) */
-    if (4 * (size_t)w == 3 * (size_t)h) {
-        l = QTOOL_PROBE_LAYOUT_VCROSS, what = "the cells outside the vertical cross's faces";
-    } else if (3 * (size_t)w == 4 * (size_t)h) {
-        l = QTOOL_PROBE_LAYOUT_HCROSS, what = "the cells outside the horizontal cross's faces";
-    } else if (w == h) {
-        l = QTOOL_PROBE_LAYOUT_ANGULAR, what = "the corners outside the disc";
-    } else {
-        return fail(err, errlen, "%d x %d fits no probe layout (%s); give --layout if it is one of them", w, h,
-                    QTOOL_PROBE_LAYOUT_NAMES);
-    }
-    double share = unused_share(l, w, h, rgb);
-    if (share > BLACK_SHARE)
-        return fail(err, errlen,
-                    "%d x %d: %s are not black (mean luminance %.3g of the picture's), so it fits no probe "
-                    "layout (%s); give --layout to read it as one",
-                    w, h, what, share, QTOOL_PROBE_LAYOUT_NAMES);
-    if (l == QTOOL_PROBE_LAYOUT_ANGULAR)
-        return fail(err, errlen,
-                    "%d x %d is a disc on black: an angular map or a mirror ball, which the pixels cannot tell "
-                    "apart; give --layout angular or --layout ball (the layouts: %s)",
-                    w, h, QTOOL_PROBE_LAYOUT_NAMES);
-    *out = l;
-    return 0;
+    src sr;
+    src_float(&sr, rgb);
+    return detect_src(w, h, &sr, out, err, errlen);
 }
 
 /* pixels along the horizon circle (the 360-degree line through F) */
@@ -541,6 +617,51 @@ static int alloc_rgb(int w, int h, float **out, char *err, size_t errlen)
     return *out ? 0 : fail(err, errlen, "out of memory for a %d x %d probe", w, h);
 }
 
+/* Resamples img (a w x h image in layout l, checked) to an ow x oh lat-long one row at a time, into
+ * float RGB (of) or RGBE bytes (oe): nothing but the output and one row is allocated. 0, or -1. */
+static int resample(qtool_probe_layout_t l, int w, int h, const src *img, int ow, int oh, float *of, uint8_t *oe,
+                    char *err, size_t errlen)
+{
+    int s = subsamples(horizon_pixels(l, w), ow);
+    /* per sub-column and sub-row trigonometry, once */
+    double *cs = malloc(sizeof *cs * 2 * (size_t)ow * (size_t)s), *st = malloc(sizeof *st * 2 * (size_t)oh * (size_t)s);
+    float *row = oe ? malloc(sizeof *row * 3 * (size_t)ow) : NULL;
+    if (!cs || !st || (oe && !row)) {
+        free(cs), free(st), free(row);
+        return fail(err, errlen, "out of memory for a %d x %d probe", ow, oh);
+    }
+    for (int i = 0; i < ow * s; ++i) {
+        double ph = 2.0 * PI * (i + 0.5) / ((double)ow * s);
+        cs[2 * i] = cos(ph), cs[2 * i + 1] = sin(ph);
+    }
+    for (int j = 0; j < oh * s; ++j) {
+        double th = PI * (j + 0.5) / ((double)oh * s);
+        st[2 * j] = sin(th), st[2 * j + 1] = cos(th);
+    }
+    double inv = 1.0 / ((double)s * s);
+    for (int y = 0; y < oh; ++y) {
+        float *r = oe ? row : of + 3 * (size_t)y * (size_t)ow;
+        for (int x = 0; x < ow; ++x) {
+            double acc[3] = {0, 0, 0}, v[3];
+            for (int q = 0; q < s; ++q) {
+                const double *t = st + 2 * ((size_t)y * (size_t)s + (size_t)q);
+                for (int p = 0; p < s; ++p) {
+                    const double *c = cs + 2 * ((size_t)x * (size_t)s + (size_t)p);
+                    double d[3] = {t[0] * c[0], t[0] * c[1], t[1]};
+                    sample_dir(l, img, w, h, d, v);
+                    acc[0] += v[0], acc[1] += v[1], acc[2] += v[2];
+                }
+            }
+            for (int c = 0; c < 3; ++c)
+                r[3 * x + c] = (float)(acc[c] * inv);
+        }
+        if (oe)
+            qtool_probe_layout_rgbe_encode(row, (size_t)ow, oe + 4 * (size_t)y * (size_t)ow);
+    }
+    free(cs), free(st), free(row);
+    return 0;
+}
+
 int qtool_probe_layout_to_latlong(qtool_probe_layout_t l, int w, int h, const float *rgb, int ow, int oh, float **out,
                                  char *err, size_t errlen)
 {
@@ -560,39 +681,12 @@ int qtool_probe_layout_to_latlong(qtool_probe_layout_t l, int w, int h, const fl
         *out = o;
         return 0;
     }
-    int s = subsamples(horizon_pixels(l, w), ow);
-    /* per sub-column and sub-row trigonometry, once */
-    double *cs = malloc(sizeof *cs * 2 * (size_t)ow * (size_t)s), *st = malloc(sizeof *st * 2 * (size_t)oh * (size_t)s);
-    if (!cs || !st) {
-        free(cs), free(st), free(o);
-        return fail(err, errlen, "out of memory for a %d x %d probe", ow, oh);
+    src sr;
+    src_float(&sr, rgb);
+    if (resample(l, w, h, &sr, ow, oh, o, NULL, err, errlen) != 0) {
+        free(o);
+        return -1;
     }
-    for (int i = 0; i < ow * s; ++i) {
-        double ph = 2.0 * PI * (i + 0.5) / ((double)ow * s);
-        cs[2 * i] = cos(ph), cs[2 * i + 1] = sin(ph);
-    }
-    for (int j = 0; j < oh * s; ++j) {
-        double th = PI * (j + 0.5) / ((double)oh * s);
-        st[2 * j] = sin(th), st[2 * j + 1] = cos(th);
-    }
-    double inv = 1.0 / ((double)s * s);
-    for (int y = 0; y < oh; ++y)
-        for (int x = 0; x < ow; ++x) {
-            double acc[3] = {0, 0, 0}, v[3];
-            for (int q = 0; q < s; ++q) {
-                const double *t = st + 2 * ((size_t)y * (size_t)s + (size_t)q);
-                for (int p = 0; p < s; ++p) {
-                    const double *c = cs + 2 * ((size_t)x * (size_t)s + (size_t)p);
-                    double d[3] = {t[0] * c[0], t[0] * c[1], t[1]};
-                    sample_dir(l, rgb, w, h, d, v);
-                    acc[0] += v[0], acc[1] += v[1], acc[2] += v[2];
-                }
-            }
-            float *px = o + 3 * ((size_t)y * (size_t)ow + (size_t)x);
-            for (int c = 0; c < 3; ++c)
-                px[c] = (float)(acc[c] * inv);
-        }
-    free(cs), free(st);
     *out = o;
     return 0;
 }
@@ -706,25 +800,17 @@ int qtool_probe_layout_rgbe_to_latlong(qtool_probe_layout_t want, int w, int h, 
                     MAX_DIM);
     size_t np = (size_t)w * (size_t)h;
     qtool_probe_layout_t l = want;
-    float *f = NULL;
-    if (l == QTOOL_PROBE_LAYOUT_AUTO && (size_t)w == 2 * (size_t)h)
-        l = QTOOL_PROBE_LAYOUT_LATLONG; /* what detection says of any 2:1 image (RGBE has no NaN) */
-    if (l != QTOOL_PROBE_LAYOUT_LATLONG) {
-        f = malloc(sizeof *f * 3 * np);
-        if (!f)
-            return fail(err, errlen, "out of memory for a %d x %d probe", w, h);
-        for (size_t i = 0; i < np; ++i)
-            for (int c = 0; c < 3; ++c) {
-                const uint8_t *q = rgbe + 4 * i;
-                f[3 * i + (size_t)c] = q[3] ? (float)ldexp(q[c], q[3] - 136) : 0.0f;
-            }
-        if (l == QTOOL_PROBE_LAYOUT_AUTO && qtool_probe_layout_detect(w, h, f, &l, err, errlen) != 0) {
-            free(f);
-            return -1;
-        }
+    /* the bytes are sampled where they lie (RGBE has no NaN or negative sample to check) */
+    src *sr = malloc(sizeof *sr);
+    if (!sr)
+        return fail(err, errlen, "out of memory for a %d x %d probe", w, h);
+    src_rgbe(sr, rgbe);
+    if (l == QTOOL_PROBE_LAYOUT_AUTO && detect_src(w, h, sr, &l, err, errlen) != 0) {
+        free(sr);
+        return -1;
     }
     if (l == QTOOL_PROBE_LAYOUT_LATLONG) {
-        free(f);
+        free(sr);
         uint8_t *o = malloc(4 * np);
         if (!o)
             return fail(err, errlen, "out of memory for a %d x %d probe", w, h);
@@ -732,21 +818,21 @@ int qtool_probe_layout_rgbe_to_latlong(qtool_probe_layout_t want, int w, int h, 
         *used = l, *ow = w, *oh = h, *out = o;
         return 0;
     }
-    int lw, lh;
-    float *ll = NULL;
-    if (qtool_probe_layout_latlong_size(l, w, h, &lw, &lh, err, errlen) != 0 ||
-        qtool_probe_layout_to_latlong(l, w, h, f, lw, lh, &ll, err, errlen) != 0) {
-        free(f);
+    int lw = 0, lh = 0;
+    if (qtool_probe_layout_latlong_size(l, w, h, &lw, &lh, err, errlen) != 0) {
+        free(sr);
         return -1;
     }
-    free(f);
     uint8_t *o = malloc(4 * (size_t)lw * (size_t)lh);
     if (!o) {
-        free(ll);
+        free(sr);
         return fail(err, errlen, "out of memory for a %d x %d probe", lw, lh);
     }
-    qtool_probe_layout_rgbe_encode(ll, (size_t)lw * (size_t)lh, o);
-    free(ll);
+    if (resample(l, w, h, sr, lw, lh, NULL, o, err, errlen) != 0) {
+        free(sr), free(o);
+        return -1;
+    }
+    free(sr);
     *used = l, *ow = lw, *oh = lh, *out = o;
     return 0;
 }

@@ -3,7 +3,9 @@
  * ball or a cube cross to the lat-long layout that qibl/lightprobe.h reads (and back, so tests can
  * make probes in every layout). Hosted, double precision.
  *
- * One world, five pictures of it. Directions are qibl's (lightprobe.h): a lat-long pixel at
+ * One world, five pictures of it, one frame (the frame convention): every layout pictures the world
+ * with (image right, image up, the picture's forward) = (R, U, F) a right-handed triple, so the same
+ * scene in any layout reads to the same directions. Directions are qibl's (lightprobe.h): a lat-long pixel at
  * continuous position (x, y) looks along theta = pi y / H from +z (the top row), phi = 2 pi x / W,
  * w = (sin theta cos phi, sin theta sin phi, cos theta). Every other layout is tied to it through
  * the "viewer frame" of a standard panorama: forward F = the centre of the lat-long image (phi = pi,
@@ -11,12 +13,18 @@
  *   latlong  W x H, normally 2:1 (W = 2H); any size when --layout latlong is given.
  *   angular  N x N, Debevec's angular map: the disc's centre is F, a point at normalised radius
  *            rho (1 at the disc's edge) is theta = pi rho away from F, image up is U and image right
- *            is -R (a light probe is seen mirrored, as in the ball it is made from: Debevec's
- *            (u, v) = (Dx r, Dy r), r = acos(Dz) / (pi sqrt(Dx^2 + Dy^2)) with D = (-R, U, F)).
- *            The whole rim is the one direction -F.
+ *            is R, as in the lat-long (its horizon row runs left to right in the lat-long's order).
+ *            Debevec's (u, v) = (Dx r, Dy r), r = acos(Dz) / (pi sqrt(Dx^2 + Dy^2)), u right and
+ *            v up, read with D = (R, U, F): (image right, image up, centre) is right-handed, as
+ *            in Ramamoorthi & Hanrahan's reading of the same pictures (prefilter.c: x = u right,
+ *            y = v up, z the centre), so their published coefficients are qibl's turned by a
+ *            rotation (x_RH = R = -y, y_RH = U = +z, z_RH = F = -x), never mirrored (tested
+ *            against their Grace Cathedral table). The whole rim is the one direction -F.
  *   ball     N x N, a chrome ball photographed from far away (orthographic): same frame as angular,
  *            radius rho = sin(theta / 2) (the ball's normal is halfway between F and the
- *            reflected direction). The rim (-F, behind the ball) is singular and poorly sampled.
+ *            reflected direction; a camera on F looking back with image right R and up U sees the
+ *            view ray reflected, a right-handed picture). The rim (-F, behind the ball) is
+ *            singular and poorly sampled.
  *   vcross   3F x 4F, cube faces of F x F pixels, each the view from the cube's centre through that
  *            face as seen from inside (not mirrored), unfolded as HDRShop and Debevec's crosses are:
  *                 +---+                 +---+

@@ -11,7 +11,6 @@
 
 #include "study/study.h"
 
-#define M_AUTO 4000
 
 typedef struct {
     char what[64];
@@ -21,13 +20,13 @@ typedef struct {
 
 static void show(const cand *c)
 {
-    printf("  %-34s %6d floats  mean error %6.2f %%\n", c->what, c->floats, 100 * c->err);
+    printf("  %-34s %6d floats  mean error %7.3f %%\n", c->what, c->floats, 100 * c->err);
 }
 
 int qtool_study_auto(const qtool_study_probe *p, double budget, int threads, char *err, size_t errlen)
 {
     qtool_study_gt g;
-    if (qtool_study_gt_compute(&g, p, M_AUTO, threads) != 0) {
+    if (qtool_study_gt_compute(&g, p, QTOOL_STUDY_ERR_NORMALS, threads) != 0) {
         snprintf(err, errlen, "out of memory for the ground truth");
         return -1;
     }
@@ -40,8 +39,11 @@ int qtool_study_auto(const qtool_study_probe *p, double budget, int threads, cha
     cand best = {"", 0, INFINITY}, closest = {"", 0, INFINITY};
     int found = 0, rc = 0;
     qtool_study_err e;
-    printf("auto: budget %.2f %% mean relative irradiance error over %d normals; candidates (cheapest meeting it "
-           "per kind):\n", 100 * budget, g.m);
+    printf("auto: budget %.2f %% mean irradiance error (" QTOOL_STUDY_ERR_WHAT ") over %d normals", 100 * budget,
+           g.m);
+    if (p->w != p->src_w)
+        printf(", the %d x %d probe box-averaged to %d x %d", p->src_w, p->src_h, p->w, p->h);
+    printf("; candidates (cheapest meeting it per kind):\n");
 #define CONSIDER(c)                                                                                                  \
     do {                                                                                                             \
         show(&(c));                                                                                                  \
@@ -94,10 +96,10 @@ int qtool_study_auto(const qtool_study_probe *p, double budget, int threads, cha
     c.floats = qtool_study_model_numbers(md), c.err = e.mean_rel;
     CONSIDER(c);
     if (found) {
-        printf("auto: choose %s: %d floats, mean error %.2f %% <= %.2f %%; the cheapest candidate within the budget\n",
+        printf("auto: choose %s: %d floats, mean error %.3f %% <= %.2f %%; the cheapest candidate within the budget\n",
                best.what, best.floats, 100 * best.err, 100 * budget);
     } else {
-        printf("auto: no candidate meets %.2f %%; the most accurate is %s (%d floats, %.2f %%)\n", 100 * budget,
+        printf("auto: no candidate meets %.2f %%; the most accurate is %s (%d floats, %.3f %%)\n", 100 * budget,
                closest.what, closest.floats, 100 * closest.err);
         rc = 1;
     }

@@ -13,11 +13,54 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/probe_layout.h"
 #include "ref/lightprobe_ref.h"
 #include "ref/sh_ref.h"
 #include "study/study.h"
 
 #define PI 3.14159265358979323846
+
+/* P of RGBE bytes (lightprobe.h: m 2^(E - 136), no +1/2) */
+static double rgbe_p(const uint8_t *px, int c)
+{
+    return px[3] ? ldexp(px[c], px[3] - 136) : 0.0;
+}
+
+/* A lat-long wider than QTOOL_STUDY_MAX_W, box-averaged to QTOOL_STUDY_MAX_W x QTOOL_STUDY_MAX_W / 2
+ * RGBE: every input pixel's Q = P sin theta dw goes whole to the output pixel holding its centre
+ * (energy kept exactly), divided by that pixel's solid angle. One pass over the input; the sums are
+ * the output's size (3 doubles a pixel), not the input's. NULL when out of memory. */
+static uint8_t *box_down(int w, int h, const uint8_t *rgbe, int ow, int oh)
+{
+    double *acc = calloc(3 * (size_t)ow * (size_t)oh, sizeof *acc);
+    uint8_t *out = malloc(4 * (size_t)ow * (size_t)oh);
+    float *row = malloc(sizeof *row * 3 * (size_t)ow);
+    if (!acc || !out || !row) {
+        free(acc), free(out), free(row);
+        return NULL;
+    }
+    for (int v = 0; v < h; ++v) {
+        double s = sin((v + 0.5) * PI / h) / ((double)w * h);
+        double *a = acc + 3 * (size_t)ow * (size_t)((long long)v * oh / h);
+        for (int u = 0; u < w; ++u) {
+            const uint8_t *px = rgbe + 4 * ((size_t)v * (size_t)w + (size_t)u);
+            if (!px[3])
+                continue;
+            double *o = a + 3 * (size_t)((long long)u * ow / w);
+            for (int c = 0; c < 3; ++c)
+                o[c] += rgbe_p(px, c) * s;
+        }
+    }
+    for (int v = 0; v < oh; ++v) {
+        double s = sin((v + 0.5) * PI / oh) / ((double)ow * oh);
+        for (int u = 0; u < ow; ++u)
+            for (int c = 0; c < 3; ++c)
+                row[3 * u + c] = (float)(acc[3 * ((size_t)v * (size_t)ow + (size_t)u) + (size_t)c] / s);
+        qtool_probe_layout_rgbe_encode(row, (size_t)ow, out + 4 * (size_t)ow * (size_t)v);
+    }
+    free(acc), free(row);
+    return out;
+}
 
 int qtool_study_probe_init(qtool_study_probe *p, int w, int h, const uint8_t *rgbe, char *err, size_t errlen)
 {
@@ -26,24 +69,36 @@ int qtool_study_probe_init(qtool_study_probe *p, int w, int h, const uint8_t *rg
         snprintf(err, errlen, "%d x %d is not a 2:1 lat-long probe", w, h);
         return -1;
     }
+    p->src_w = w, p->src_h = h;
+    if (w > QTOOL_STUDY_MAX_W) {
+        int ow = QTOOL_STUDY_MAX_W, oh = QTOOL_STUDY_MAX_W / 2;
+        p->rgbe = box_down(w, h, rgbe, ow, oh);
+        if (!p->rgbe) {
+            snprintf(err, errlen, "out of memory for a %d x %d probe", ow, oh);
+            return -1;
+        }
+        w = ow, h = oh, rgbe = p->rgbe;
+    }
     size_t np = (size_t)w * (size_t)h;
-    p->rgbe = malloc(4 * np);
+    if (!p->rgbe)
+        p->rgbe = malloc(4 * np);
     p->q = malloc(3 * np * sizeof *p->q);
     if (!p->rgbe || !p->q) {
         free(p->rgbe), free(p->q);
         snprintf(err, errlen, "out of memory for a %d x %d probe", w, h);
         return -1;
     }
-    memcpy(p->rgbe, rgbe, 4 * np);
+    if (p->rgbe != rgbe)
+        memcpy(p->rgbe, rgbe, 4 * np);
     p->w = w, p->h = h;
     const double k = 2.0 * PI * PI / ((double)w * h);
     for (int v = 0; v < h; ++v) {
         double s = sin((v + 0.5) * PI / h) * k;
         for (int u = 0; u < w; ++u) {
             size_t i = (size_t)v * (size_t)w + (size_t)u;
-            const uint8_t *px = rgbe + 4 * i;
+            const uint8_t *px = p->rgbe + 4 * i;
             for (int c = 0; c < 3; ++c)
-                p->q[3 * i + (size_t)c] = px[3] ? ldexp(px[c], px[3] - 136) * s : 0.0;
+                p->q[3 * i + (size_t)c] = rgbe_p(px, c) * s;
         }
     }
     return 0;

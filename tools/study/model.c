@@ -1,7 +1,7 @@
 /*
  * model.c - a study model (directional lights plus optional SH irradiance), its irradiance at the
- * ground-truth normals and its error there (Madsen & Laursen's per-normal measure, and the same
- * normalised by the mean irradiance, robust where E_gt is near zero).
+ * ground-truth normals and its error there (Madsen & Laursen's per-normal relative measure, floored
+ * at a tenth of the mean irradiance, and the same normalised by the mean irradiance).
  */
 #include <math.h>
 
@@ -39,12 +39,10 @@ void qtool_study_model_error(const qtool_study_model *md, const qtool_study_gt *
             if (!(g->mean[c] > 0))
                 continue;
             double d = fabs(E[c] - g->E[3 * k + c]);
-            if (g->E[3 * k + c] > 0) {
-                double r = d / g->E[3 * k + c];
-                sr += r, ++nr;
-                if (r > mr)
-                    mr = r;
-            }
+            double r = d / fmax(g->E[3 * k + c], QTOOL_STUDY_ERR_FLOOR * g->mean[c]);
+            sr += r, ++nr;
+            if (r > mr)
+                mr = r;
             double q = d / g->mean[c];
             sn += q, ++nn;
             if (q > mn)

@@ -630,7 +630,8 @@ int qtool_study_run(const char *const *paths, int np, const qtool_study_opts *o)
         return fprintf(stderr, "qibl: study: cannot write %s\n", path), 1;
     fprintf(f, "# Light-probe approximation study%s\n\n", o->quick ? " (--quick)" : "");
     fprintf(f, "Ground truth: Madsen & Laursen eq. 4 over every pixel at %d spherical-Fibonacci normals, per channel.\n"
-               "Error: per-normal relative irradiance error |E - E_gt| / E_gt, mean over normals and RGB "
+               "Error: per-normal relative irradiance error |E - E_gt| / max(E_gt, mean E_gt / 10) (floored: "
+               "near-black normals cannot blow it up), mean over normals and RGB "
                "(study.csv also has the max and the error normalised by the mean irradiance).\n",
             c.m);
     if (procedural)

@@ -20,13 +20,21 @@
 
 /* ---- probe and ground truth (gt.c) ----------------------------------------------------------- */
 
+/* The widest probe the study evaluates: a wider lat-long is box-averaged to QTOOL_STUDY_MAX_W x
+ * QTOOL_STUDY_MAX_W / 2 first (energy kept), so ground truth, SH and lights cost O(input pixels) to
+ * read plus a fixed amount, whatever the input's size (irradiance is smooth: a 1024 x 512 probe
+ * holds it to a fraction of a per cent, see qtool_study_gt_accuracy). */
+#define QTOOL_STUDY_MAX_W 1024
+
 typedef struct qtool_study_probe {
-    int w, h;
+    int w, h;        /* the size evaluated (at most QTOOL_STUDY_MAX_W wide) */
+    int src_w, src_h; /* the size given */
     uint8_t *rgbe;   /* the RGBE bytes the core samples (w h 4) */
     double *q;       /* 3 w h: Q per channel */
 } qtool_study_probe;
 
-/* From RGBE bytes (copied). 0, or -1 with a one-line reason (size not 2:1 / too small / memory). */
+/* From RGBE bytes (copied, or box-averaged when wider than QTOOL_STUDY_MAX_W). 0, or -1 with a
+ * one-line reason (size not 2:1 / too small / memory). */
 int qtool_study_probe_init(qtool_study_probe *p, int w, int h, const uint8_t *rgbe, char *err, size_t errlen);
 void qtool_study_probe_free(qtool_study_probe *p);
 
@@ -65,8 +73,18 @@ typedef struct qtool_study_model {
     double sh[3][QTOOL_STUDY_SH_MAX];
 } qtool_study_model;
 
+/* The irradiance error of qibl (one measure, printed by `qibl lights --auto`, `qibl probe info` and
+ * `qibl study`): per normal and channel |E - E_gt| / max(E_gt, QTOOL_STUDY_ERR_FLOOR mean(E_gt)),
+ * its mean and max over the normals and channels. Relative where the probe lights the normal, and
+ * floored at a tenth of the mean irradiance where it leaves it near black, so a dark side cannot
+ * blow the figure up (without the floor 1e-13 of light on a normal gave 10^13 %). Over
+ * QTOOL_STUDY_ERR_NORMALS Fibonacci normals. */
+#define QTOOL_STUDY_ERR_FLOOR 0.1
+#define QTOOL_STUDY_ERR_NORMALS 4000
+#define QTOOL_STUDY_ERR_WHAT "|E - E_probe| / max(E_probe, mean E_probe / 10), per normal and channel"
+
 typedef struct qtool_study_err {
-    double mean_rel, max_rel;   /* |E - E_gt| / E_gt per normal and channel (E_gt > 0) */
+    double mean_rel, max_rel;   /* the measure above */
     double mean_norm, max_norm; /* |E - E_gt| / mean(E_gt) of the channel */
 } qtool_study_err;
 
