@@ -12,6 +12,7 @@
 
 #include <math.h>
 
+#include "engine/engine.h"
 #include "io/hdr_write.h"
 #include "io/pfm.h"
 
@@ -398,7 +399,7 @@ static void test_sh_project_formats(void **state)
     need_qibl();
     const char *pr = at("p.hdr");
     make_probe(pr, 64, 32, sunny, NULL);
-    double tab[9][3], cm[9][3];
+    double tab[9][3];
     OK("sh", "project", pr, "--bands", "3", "--irradiance");
     char *t = text(outlog);
     int n = 0;
@@ -409,23 +410,8 @@ static void test_sh_project_formats(void **state)
     }
     free(t);
     assert_int_equal(n, 9);
-    OK("sh", "project", pr, "--bands", "3", "--irradiance", "--format", "cmgen");
-    t = text(outlog);
-    n = 0;
-    for (char *line = strtok(t, "\n"); line; line = strtok(NULL, "\n")) {
-        int l, m;
-        char lab[32];
-        if (sscanf(line, "(%lf, %lf, %lf); // L%1d%d, %31s", &cm[n][0], &cm[n][1], &cm[n][2], &l, &m, lab) != 6 ||
-            strcmp(lab, "irradiance") != 0 || l * l + l + m != n)
-            fail_msg("cmgen line %d '%s' is not '(r, g, b); // Llm, irradiance'", n, line);
-        ++n;
-    }
-    free(t);
-    assert_int_equal(n, 9);
-    for (int i = 0; i < 9; ++i)
-        for (int c = 0; c < 3; ++c)
-            if (fabs(cm[i][c] - tab[i][c]) > 1e-7 * (1 + fabs(tab[i][c])))
-                fail_msg("cmgen coefficient %d differs from the table: %.15g against %.9g", i, cm[i][c], tab[i][c]);
+    /* --format cmgen wrote qibl's radiance in cmgen's line layout: refused, pointing to the preset */
+    expect(2, "--preset filament writes cmgen's sh.txt", NULL, "sh", "project", pr, "--format", "cmgen", NULL);
     OK("sh", "project", pr, "--bands", "2", "--format", "json");
     t = text(outlog);
     n = 0;
@@ -441,7 +427,7 @@ static void test_sh_project_formats(void **state)
     assert_non_null(strstr(t, "static const float sky[9][3] = {"));
     assert_non_null(strstr(t, "/* [8] l = 2, m = +2 */"));
     free(t);
-    expect(2, "--format: 'xml' is not table, json, cmgen or c", NULL, "sh", "project", pr, "--format", "xml", NULL);
+    expect(2, "--format: 'xml' is not table, json or c", NULL, "sh", "project", pr, "--format", "xml", NULL);
     expect(2, "--name: '9x' is not a C identifier", NULL, "sh", "project", pr, "--format", "c", "--name", "9x", NULL);
 }
 
@@ -474,6 +460,103 @@ static void test_probe_refusal_stdout_empty(void **state)
     char *o = text(outlog);
     assert_true(strncmp(o, "# ", 2) == 0 && strstr(o, "layout latlong") != NULL);
     free(o);
+}
+
+/* the table's 9 coefficients of `sh project ARGS...` (radiance unless the args say otherwise) */
+static void table9(double t9[9][3], const char *pr, const char *a1, const char *a2)
+{
+    OK("sh", "project", pr, "--bands", "3", a1, a2);
+    char *t = text(outlog);
+    int n = 0;
+    for (char *line = strtok(t, "\n"); line; line = strtok(NULL, "\n")) {
+        int l, m;
+        if (line[0] != '#' && n < 9 && sscanf(line, "%d %d %lf %lf %lf", &l, &m, &t9[n][0], &t9[n][1], &t9[n][2]) == 5)
+            ++n;
+    }
+    free(t);
+    assert_int_equal(n, 9);
+}
+
+/* --preset: the CLI writes what tools/engine computes from the table's radiance (the formulas
+ * themselves are tests/engine_test's); --yaw and --frame turn the table as relight turns light */
+static void test_sh_project_presets(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *pr = at("p.hdr");
+    make_probe(pr, 64, 32, sunny, NULL);
+    double t9[9][3], yaw[9][3], yup[9][3];
+    table9(t9, pr, "--format", "table");
+    qtool_engine_sh e = {.bands = 3};
+    memcpy(e.c, t9, sizeof t9);
+    double want[9][3], big = 0;
+    assert_int_equal(qtool_engine_filament(&e, QTOOL_ENGINE_WINDOW_AUTO, want, NULL, NULL, 0), 0);
+    OK("sh", "project", pr, "--preset", "filament");
+    char *t = text(outlog);
+    int n = 0;
+    for (char *line = strtok(t, "\n"); line; line = strtok(NULL, "\n"), ++n) {
+        double v[3];
+        int l, m;
+        if (n >= 9 || sscanf(line, "(%lf, %lf, %lf); // L%1d%d, irradiance, pre-scaled base", &v[0], &v[1], &v[2], &l,
+                             &m) != 5 || l * l + l + m != n)
+            fail_msg("--preset filament line %d '%s' is not cmgen's sh.txt line", n, line);
+        for (int c = 0; c < 3; ++c)
+            big = fmax(big, fabs(want[n][c]));
+        for (int c = 0; c < 3; ++c)
+            if (fabs(v[c] - want[n][c]) > 1e-6 * big)
+                fail_msg("--preset filament coefficient %d: %.15g, the library gives %.15g", n, v[c], want[n][c]);
+    }
+    free(t);
+    assert_int_equal(n, 9);
+    OK("sh", "project", pr, "--preset", "filament", "--window", "no");
+    OK("sh", "project", pr, "--preset", "unity");
+    t = text(outlog);
+    assert_non_null(strstr(t, "var sh = new UnityEngine.Rendering.SphericalHarmonicsL2();"));
+    assert_non_null(strstr(t, "SH9 truncation error"));
+    assert_non_null(strstr(t, "var unity_SHC = new Vector4("));
+    free(t);
+    OK("sh", "project", pr, "--preset", "gltf", "--name", "sky", "--yaw", "30");
+    t = text(outlog);
+    assert_non_null(strstr(t, "\"irradianceCoefficients\": ["));
+    assert_non_null(strstr(t, "\"name\": \"sky\""));
+    free(t);
+    /* raw, turned: --yaw 90 brings light from +x to +y (Y11 = -c x, Y1-1 = -c y) */
+    table9(yaw, pr, "--yaw", "90");
+    table9(yup, pr, "--frame", "yup");
+    for (int c = 0; c < 3; ++c) {
+        double s = 1e-6 * (fabs(t9[0][c]) + fabs(t9[1][c]) + fabs(t9[3][c]));
+        assert_true(fabs(yaw[0][c] - t9[0][c]) <= s && fabs(yaw[2][c] - t9[2][c]) <= s);
+        assert_true(fabs(yaw[1][c] - t9[3][c]) <= s && fabs(yaw[3][c] + t9[1][c]) <= s);
+        /* y up: (x, z, -y) of qibl's */
+        assert_true(fabs(yup[2][c] - t9[1][c]) <= s && fabs(yup[1][c] + t9[2][c]) <= s && fabs(yup[3][c] - t9[3][c]) <= s);
+    }
+    expect(2, "--preset: 'unreal' is not filament, unity, gltf or raw", NULL, "sh", "project", pr, "--preset", "unreal",
+           NULL);
+    expect(2, "the unity preset is not windowed", NULL, "sh", "project", pr, "--preset", "unity", "--window", "auto", NULL);
+    expect(2, "--window: '0' is not auto, no or a cutoff", NULL, "sh", "project", pr, "--preset", "filament", "--window",
+           "0", NULL);
+    expect(2, "--irradiance: the filament preset has its own scale", NULL, "sh", "project", pr, "--preset", "filament",
+           "--irradiance", NULL);
+    expect(2, "--frame is for --preset raw", NULL, "sh", "project", pr, "--preset", "gltf", "--frame", "yup", NULL);
+    expect(2, "--frame: 'xup' is not zup or yup", NULL, "sh", "project", pr, "--frame", "xup", NULL);
+    expect(2, "--bands 2: the unity preset needs 3 bands", NULL, "sh", "project", pr, "--preset", "unity", "--bands", "2",
+           NULL);
+    expect(2, "--format is for --preset raw", NULL, "sh", "project", pr, "--preset", "gltf", "--format", "json", NULL);
+    expect(2, "--yaw: give one of --yaw and --rotate, once", NULL, "sh", "project", pr, "--yaw", "1", "--yaw", "2", NULL);
+    expect(2, "is not a rotation", NULL, "sh", "project", pr, "--rotate", "1,0,0,0,1,0,0,0,-1", NULL);
+    /* lights as KHR_lights_punctual */
+    OK("lights", pr, "-n", "4", "--preset", "gltf");
+    t = text(outlog);
+    n = 0;
+    for (char *q = t; (q = strstr(q, "\"type\": \"directional\"")) != NULL; ++q)
+        ++n;
+    assert_int_equal(n, 4);
+    assert_true(strncmp(t, "{\"extensionsUsed\": [\"KHR_lights_punctual\"]", 40) == 0);
+    free(t);
+    OK("lights", pr, "-n", "4", "--preset", "gltf", "--yaw", "45");
+    expect(2, "--preset gltf writes its own JSON: it does not go with --csv or --json", NULL, "lights", pr, "--preset", "gltf", "--csv", NULL);
+    expect(2, "lights are written for gltf", NULL, "lights", pr, "--preset", "unity", NULL);
+    expect(2, "--yaw and --rotate turn the lights of --preset gltf", NULL, "lights", pr, "--yaw", "10", NULL);
 }
 
 static void test_lights_json(void **state)
@@ -633,7 +716,9 @@ static void test_help_texts(void **state)
              {"relight", "--lights FILE.csv"},
              {"relight", "--probe-mode sh"},
              {"probe", "qibl probe info PROBE.hdr"},
-             {"sh", "--format table|json|cmgen|c"},
+             {"sh", "--format table|json|c"},
+             {"sh", "--preset filament|unity|gltf|raw"},
+             {"lights", "--preset gltf"},
              {"lights", "--json"}};
     for (size_t i = 0; i < sizeof h / sizeof h[0]; ++i) {
         OK("help", h[i].cmd);
@@ -653,6 +738,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_lights_csv_errors, setup, teardown),
         cmocka_unit_test_setup_teardown(test_relight_option_errors, setup, teardown),
         cmocka_unit_test_setup_teardown(test_sh_project_formats, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_sh_project_presets, setup, teardown),
         cmocka_unit_test_setup_teardown(test_lights_json, setup, teardown),
         cmocka_unit_test_setup_teardown(test_probe_refusal_stdout_empty, setup, teardown),
         cmocka_unit_test_setup_teardown(test_probe_info_advice, setup, teardown),

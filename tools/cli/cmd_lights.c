@@ -14,12 +14,15 @@
 #include "io/png.h"
 #include "io/probe_layout.h"
 #include "cli/cli.h"
+#include "cli/relight_light.h"
+#include "engine/engine.h"
 #include "qibl/lightprobe.h"
 #include "qibl/srgbe.h"
 #include "ref/lightprobe_ref.h"
 #include "study/study.h"
 
-#define USAGE "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv | --json] [--png OUT.png] [--layout L]\n" \
+#define USAGE "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv | --json | --preset gltf] [--png OUT.png] [--layout L]\n" \
+              "                  [--yaw DEG | --rotate a,b,c,d,e,f,g,h,i] (with --preset gltf)\n" \
               "       qibl lights PROBE.hdr --auto --error P%"
 
 static int parse_method(const char *s, qibl_lightprobe_method_t *m)
@@ -197,7 +200,9 @@ int qcli_cmd_lights(int argc, char **argv)
     qibl_lightprobe_opts_t o;
     memset(&o, 0, sizeof o);
     long n = 64, zoom = 0;
-    int csv = 0, json = 0, error = 0, autom = 0;
+    int csv = 0, json = 0, error = 0, autom = 0, gltf = 0;
+    qcli_light_list rl; /* only its --yaw / --rotate (relight's parser) */
+    qcli_light_list_init(&rl);
     double budget = -1;
     qtool_probe_layout_t layout = QTOOL_PROBE_LAYOUT_AUTO;
     for (int i = 1; i < argc; ++i) {
@@ -242,6 +247,16 @@ int qcli_cmd_lights(int argc, char **argv)
                 ++i;
         } else if (strcmp(a, "--auto") == 0) {
             autom = 1;
+        } else if (strcmp(a, "--preset") == 0 && more) { /* tools/engine: KHR_lights_punctual */
+            qtool_engine_preset p;
+            if (qtool_engine_preset_parse(argv[++i], &p) != 0 || (p != QTOOL_ENGINE_GLTF && p != QTOOL_ENGINE_RAW))
+                return qcli_usage_error("--preset: '%s': lights are written for gltf (KHR_lights_punctual) or raw",
+                                        argv[i]);
+            gltf = p == QTOOL_ENGINE_GLTF;
+        } else if ((strcmp(a, "--yaw") == 0 || strcmp(a, "--rotate") == 0) && more) {
+            int rc = qcli_light_list_opt(argc, argv, &i, &rl);
+            if (rc != 1)
+                return rc == 2 ? 2 : qcli_usage_error("%s", USAGE);
         } else if (a[0] != '-' && !path) {
             path = a;
         } else {
@@ -256,6 +271,12 @@ int qcli_cmd_lights(int argc, char **argv)
         return qcli_usage_error("--auto needs a budget: --error P%% (mean relative irradiance error, e.g. 2%%)");
     if (csv && json)
         return qcli_usage_error("--csv and --json: give one");
+    if (gltf && (csv || json))
+        return qcli_usage_error("--preset gltf writes its own JSON: it does not go with --csv or --json");
+    if (rl.rotate && !gltf)
+        return qcli_usage_error("--yaw and --rotate turn the lights of --preset gltf");
+    if (gltf && (autom || error))
+        return qcli_usage_error("--preset gltf writes JSON: it does not go with --auto or --error");
     if (json && error)
         return qcli_usage_error("--error prints a line of text: it does not go with --json");
     if (o.method == QIBL_LIGHTPROBE_MEDIANCUT && (n & (n - 1)) != 0)
@@ -276,7 +297,7 @@ int qcli_cmd_lights(int argc, char **argv)
             free(px);
             return fprintf(stderr, "qibl: %s: %s\n", path, err), 1;
         }
-        FILE *note = csv || json ? stderr : stdout;
+        FILE *note = csv || json || gltf ? stderr : stdout;
         fprintf(note, "%s: layout %s (%s, %s)", path, qtool_probe_layout_name(used), qtool_probe_layout_describe(used),
                 layout == QTOOL_PROBE_LAYOUT_AUTO ? "detected" : "from --layout");
         if (used != QTOOL_PROBE_LAYOUT_LATLONG)
@@ -364,6 +385,8 @@ int qcli_cmd_lights(int argc, char **argv)
         fprintf(stderr, "qibl: %s: %s\n", path, qibl_status_str(st));
         if (json) /* still a document: no lights */
             printf("{\"width\": %d, \"height\": %d, \"count\": 0, \"lights\": []}\n", w, h);
+        if (gltf)
+            qtool_engine_gltf_lights_write(stdout, NULL, NULL, 0, NULL, 0);
         rc = 0; /* a valid answer: no lights */
         goto out;
     }
@@ -371,7 +394,30 @@ int qcli_cmd_lights(int argc, char **argv)
         fprintf(stderr, "qibl: %s: %s\n", path, qibl_status_str(st));
         goto out;
     }
-    if (json) {
+    if (gltf) {
+        double (*d)[3] = malloc(sizeof *d * (res.count ? res.count : 1)), (*c)[3] = malloc(sizeof *c * (res.count ? res.count : 1));
+        char eerr[256];
+        if (!d || !c) {
+            free(d), free(c);
+            fprintf(stderr, "qibl: lights: out of memory\n");
+            goto out;
+        }
+        for (uint32_t i = 0; i < res.count; ++i)
+            for (int k = 0; k < 3; ++k) { /* turned as relight turns the probe: light from d comes from r d */
+                double v = 0.0;
+                for (int j = 0; j < 3; ++j)
+                    v += (rl.rotate ? rl.r[k][j] : (double)(k == j)) * (L[i].dir[j] / 1073741824.0);
+                d[i][k] = v;
+                c[i][k] = ldexp(L[i].rgb[k], res.rgb_exp);
+            }
+        int bad = qtool_engine_gltf_lights_write(stdout, (const double(*)[3])d, (const double(*)[3])c, res.count, eerr,
+                                                 sizeof eerr);
+        free(d), free(c);
+        if (bad) {
+            fprintf(stderr, "qibl: lights: %s: %s\n", path, eerr);
+            goto out;
+        }
+    } else if (json) {
         static const char *jm[] = {"mediancut", "adaptive", "varmin"};
         printf("{\"probe\": \"");
         for (const char *q = path; *q; ++q) /* a JSON string: quotes, backslashes and control bytes escaped */
@@ -408,7 +454,7 @@ int qcli_cmd_lights(int argc, char **argv)
         print_error(px, w, h, L, res.count, res.rgb_exp);
     if (png) {
         rc = write_png(png, px, w, h, z, L, res.count);
-        if (rc == 0 && !csv && !json)
+        if (rc == 0 && !csv && !json && !gltf)
             printf("wrote %s (%d x %d): regions in green, light directions in red\n", png, w * z, h * z);
     }
 out:

@@ -45,7 +45,12 @@ want 0 - check "$w/g.qibl" "$w/m.qibl" "$w/r.png" "$w/t.pfm" "$w/p.hdr"
 { printf '#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 16 +X 32\n'; i=0; while [ $i -lt 512 ]; do printf '\200\144\074\201'; i=$((i + 1)); done; } >"$w/p.hdr"
 want 0 - lights "$w/p.hdr" -n 4 --png "$w/l.png" --error
 want 0 - sh project "$w/p.hdr" --bands 3 --irradiance --window hann
-want 0 - sh project "$w/p.hdr" --bands 3 --format cmgen
+want 0 - sh project "$w/p.hdr" --preset filament
+want 0 - sh project "$w/p.hdr" --preset filament --window 4 --yaw 30
+want 0 - sh project "$w/p.hdr" --preset unity
+want 0 - sh project "$w/p.hdr" --preset gltf --rotate 0,-1,0,1,0,0,0,0,1
+want 0 - sh project "$w/p.hdr" --frame yup --format json
+want 0 - lights "$w/p.hdr" -n 4 --preset gltf --yaw 45
 want 0 - sh project "$w/p.hdr" --format json
 want 0 - sh project "$w/p.hdr" --format c --name sky
 want 0 - lights "$w/p.hdr" -n 4 --json
@@ -69,6 +74,10 @@ want 2 "$w/x.png" lights "$w/big.hdr" -n 4 --zoom 64 --png "$w/x.png"
 want 2 - nosuchcommand
 want 2 - sh project "$w/p.hdr" --window sharp
 want 2 - sh project "$w/p.hdr" --format xml
+want 2 - sh project "$w/p.hdr" --format cmgen
+want 2 - sh project "$w/p.hdr" --preset unreal
+want 2 - sh project "$w/p.hdr" --preset filament --window 0
+want 2 - lights "$w/p.hdr" --preset gltf --csv
 want 2 "$w/x.png" relight "$w/g.qibl" --probe "$w/p.hdr" --rotate 1,0,0,0,1,0,0,0,-1 --png "$w/x.png"
 
 # bad files: exit 1, nothing written
