@@ -117,6 +117,9 @@ void gba_reset(void) __attribute__((noreturn));
 
 void gba_reset(void)
 {
+    /* cartridge wait states 3/1 with the prefetch buffer (the power-on 4/2 without it makes Thumb
+     * code in ROM half as fast); what every GBA game sets first */
+    *(volatile uint16_t *)0x04000204u = 0x4317;
     for (uint32_t *s = __data_load, *d = __data_start; d < __data_end;)
         *d++ = *s++;
     for (uint32_t *s = __iwram_load, *d = __iwram_start; d < __iwram_end;)

@@ -2,9 +2,10 @@
  * gba/host.c - qibl-gba-run: runs a Game Boy Advance ROM headless over libmgba (mGBA's core) and
  * prints what the ROM writes to mGBA's debug port, until the ROM exits or a cycle limit.
  *
- * usage: qibl-gba-run [--seconds S] [--screenshot OUT.ppm] ROM.gba
+ * usage: qibl-gba-run [--seconds S] [--screenshot OUT.ppm] [--select] ROM.gba
  *   --seconds S        the limit in emulated seconds (default 600; 16 777 216 cycles each)
  *   --screenshot FILE  the screen as a binary PPM (240x160, 8 bits per channel) when the ROM exits
+ *   --select           hold the SELECT button the whole run (the demo ROM's cue to exit, demo.c)
  * Protocol (tools/gba/gba_io.c): an INFO message of the "GBA Debug" category is one line, a DEBUG
  * one the first part of a longer line, a WARN "exit <n>" the exit status. Other categories' errors
  * (bad memory accesses and the like) go to stderr as "mgba: ...". Exit status: the ROM's; 124 when
@@ -94,6 +95,7 @@ int main(int argc, char **argv)
 {
     double seconds = 600;
     const char *shot = NULL, *rom = NULL;
+    int select = 0;
     for (int i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "--seconds") == 0 && i + 1 < argc) {
             char *end;
@@ -104,15 +106,17 @@ int main(int argc, char **argv)
             }
         } else if (strcmp(argv[i], "--screenshot") == 0 && i + 1 < argc) {
             shot = argv[++i];
+        } else if (strcmp(argv[i], "--select") == 0) {
+            select = 1;
         } else if (argv[i][0] != '-' && rom == NULL) {
             rom = argv[i];
         } else {
-            fprintf(stderr, "usage: qibl-gba-run [--seconds S] [--screenshot OUT.ppm] ROM.gba\n");
+            fprintf(stderr, "usage: qibl-gba-run [--seconds S] [--screenshot OUT.ppm] [--select] ROM.gba\n");
             return 2;
         }
     }
     if (rom == NULL) {
-        fprintf(stderr, "usage: qibl-gba-run [--seconds S] [--screenshot OUT.ppm] ROM.gba\n");
+        fprintf(stderr, "usage: qibl-gba-run [--seconds S] [--screenshot OUT.ppm] [--select] ROM.gba\n");
         return 2;
     }
     char why[120];
@@ -145,6 +149,8 @@ int main(int argc, char **argv)
         return 2;
     }
     core->reset(core);
+    if (select)
+        core->setKeys(core, 1u << 2); /* GBA_KEY_SELECT */
 
     uint64_t limit = (uint64_t)(seconds * GBA_HZ), frames = 0;
     while (!log.exited && frames * FRAME_CYCLES < limit) {

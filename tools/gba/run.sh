@@ -7,8 +7,11 @@
 # memory are hashed as produced (the streaming mode of tools/golden/cases.c). As on the MCU boards
 # (tools/baremetal/run.sh, whose main.c, heap.c, stack.c and probes this reuses): the static stack
 # bound of every public entry point, the measured stack of each wrapped one against it, and the
-# run's high-water mark. Ends with the RESULT lines gba.golden_match and gba.golden_total.
-# Env: BUILD (default build; output in $BUILD/gba), GBA_SECONDS (the emulated-time limit, 3600).
+# run's high-water mark. Then the relighting demo ROM (demo.c) in two placements, its cycles per
+# pixel (RESULT gba.sun_*), its frames against the host's. Ends with the RESULT lines
+# gba.golden_match and gba.golden_total.
+# Env: BUILD (default build; output in $BUILD/gba), GBA_SECONDS (the emulated-time limit, 3600),
+# GBA_TABLES (a file whose generated block to rewrite: make gba-tables passes docs/porting.md).
 set -u
 cd "$(dirname "$0")/../.." || exit 1
 out="${BUILD:-build}/gba"
@@ -132,10 +135,102 @@ fi
 [ -f "$dir/nofit.txt" ] && cat "$dir/nofit.txt"
 echo "gba: $ok ok, $bad bad, $nofit do not fit of $total cases; ${emu:-?} s emulated in ${secs} s; deepest entry point ${deep} B of $probes measured;" \
      "run stack high-water ${hw:-?} of ${size:-?} B (IWRAM); largest case heap $heap (EWRAM)"
+
+# ---- the relighting demo (demo.c): the courtyard at 240 x 160 from `qibl gen`, k = 4 and k = 9,
+# in two placements of the core's relight (shmap.c): Thumb in cartridge ROM, as the golden ROM,
+# and ARM in IWRAM (compiled -marm as iwram_shmap.o, which gba.ld places there); buffers in IWRAM
+# for both. Each frame's CRC-32 must be the host's (demo_ref.c, same code), and mGBA's screen
+# after the run must be the host frame at the GBA's 5 bits per channel.
+demo="$out/demo"
+rm -rf "$demo"; mkdir -p "$demo"
+qibl="${BUILD:-build}/bin/qibl"
+[ -x "$qibl" ] || err "$qibl missing (make qibl builds it)"
+for k in 4 9; do
+    "$qibl" gen -o "$demo/courtyard_k$k.qibl" --size 240x160 --k $k > /dev/null || err "qibl gen k = $k"
+done
+${CC:-cc} -std=c99 -D_POSIX_C_SOURCE=200809L -O2 -Wall -Wextra -Werror -Icore/include -Iplatform/soft/include \
+    -Itools/gba tools/gba/demo_ref.c tools/gba/demo_frame.c "${BUILD:-build}/libqibl-soft.a" "${BUILD:-build}/libqibl.a" \
+    -o "$demo/demo-ref" || err "demo_ref.c: build failed"
+for k in 4 9; do
+    "$demo/demo-ref" "$demo/courtyard_k$k.qibl" 10 "$demo/ref_k$k.ppm" > "$demo/ref_k$k.txt" || err "demo_ref k = $k"
+done
+dflags="$flags $opt -Icore/include -Iplatform/soft/include -Itools/gba -Itools/baremetal"
+# shellcheck disable=SC2086
+$gcc $specs $dflags $tool_warn -c tools/gba/demo.c -o "$demo/demo.o" &&
+$gcc $specs $dflags $tool_warn -c tools/gba/demo_frame.c -o "$demo/demo_frame.o" &&
+$gcc $flags -Wa,-I"$demo" -c tools/gba/demo_asset.S -o "$demo/demo_asset.o" &&
+$gcc ${flags/-mthumb/-marm} $opt $core_warn -ffreestanding -fno-builtin -fno-tree-loop-distribute-patterns \
+    -ffunction-sections -Icore/include -c core/src/shmap.c -o "$demo/iwram_shmap.o" || err "demo: compile failed"
+demo_objs=("$dir/tools/crt_gba.o" "$dir/tools/gba_io.o" "$dir/tools/stack.o" "$demo/demo.o" "$demo/demo_frame.o" "$demo/demo_asset.o")
+core_thumb=("$dir"/core/*.o)
+core_arm=("$demo/iwram_shmap.o")
+for o in "$dir"/core/*.o; do [ "$(basename "$o")" = shmap.o ] || core_arm+=("$o"); done
+table_rows=()
+for place in thumb-rom arm-iwram; do
+    if [ $place = thumb-rom ]; then core_objs=("${core_thumb[@]}"); else core_objs=("${core_arm[@]}"); fi
+    delf="$demo/qibl-demo-$place.elf" drom="$demo/qibl-demo-$place.gba"
+    # shellcheck disable=SC2086
+    $gcc $specs $flags $opt -nostartfiles -T tools/gba/gba.ld -Wl,--gc-sections,--no-warn-rwx-segments \
+        -o "$delf" "${demo_objs[@]}" "${core_objs[@]}" -lc -lgcc &&
+    arm-none-eabi-objcopy -O binary "$delf" "$drom" && python3 tools/gba/fix_header.py "$drom" > /dev/null ||
+        { err "demo $place: link failed"; continue; }
+    "$out/qibl-gba-run" --select --seconds 120 --screenshot "$demo/shot-$place.ppm" "$drom" > "$demo/run-$place.txt" 2>&1 ||
+        err "demo $place: the run failed: $(tail -n 2 "$demo/run-$place.txt" | tr '\n' ' ')"
+    for k in 4 9; do
+        want=$(awk '{print $5}' "$demo/ref_k$k.txt")
+        got=$(awk -v t="k$k" '$1 == "frame" && $2 == t {print $6}' "$demo/run-$place.txt")
+        [ -n "$got" ] && [ "$got" = "$want" ] || err "demo $place k = $k: frame crc32 ${got:-missing}, the host's $want"
+    done
+    python3 - "$demo/shot-$place.ppm" "$demo/ref_k9.ppm" <<'PY' || err "demo $place: mGBA's screen differs from the host frame"
+import sys
+def ppm(p):
+    b = open(p, "rb").read().split(b"\n", 3)
+    return b[1], b[3]
+(sa, a), (sb, b) = ppm(sys.argv[1]), ppm(sys.argv[2])
+bad = sum(1 for x, y in zip(a, b) if x >> 3 != y >> 3)
+print("gba: screenshot %s: %d of %d channels differ from the host frame at 5 bits" % (sys.argv[1], bad, len(b)))
+sys.exit(0 if sa == sb and len(a) == len(b) and bad == 0 else 1)
+PY
+    r() { awk -v n="RESULT gba.sun_$1" '$1 " " $2 == n {print $3}' "$demo/run-$place.txt"; }
+    iw=$(arm-none-eabi-size -A "$delf" | awk '$1 == ".iwram" {print $2}')
+    table_rows+=("| $place | $(r k4_cycles_per_px) | $(r k9_cycles_per_px) | $(r k9_write_cycles_per_px) | $(r k4_frame_ms) | $(r k9_frame_ms) | $iw |")
+    if [ $place = arm-iwram ]; then
+        grep '^RESULT ' "$demo/run-$place.txt"
+    else
+        grep '^RESULT ' "$demo/run-$place.txt" | sed 's/^\(RESULT gba\.[a-z0-9_]*\)/\1_thumb_rom/'
+    fi
+done
+cp "$demo/shot-arm-iwram.ppm" "$out/qibl-demo.ppm" 2>/dev/null
+cp "$demo/qibl-demo-arm-iwram.gba" "$out/qibl-demo.gba" 2>/dev/null && echo "gba: the demo ROM: $out/qibl-demo.gba (mgba-qt $out/qibl-demo.gba)"
+
+# ---- the generated block of docs/porting.md (GBA_TABLES=docs/porting.md rewrites it there)
+{
+    echo "<!-- make gba: generated, do not edit -->"
+    echo "| GBA golden ROM | cases matching fixtures/golden | too big for 256 KiB | ROM bytes | .data+.bss (EWRAM) | largest case heap | stack high-water (IWRAM) | deepest entry point |"
+    echo "|---|---:|---:|---:|---:|---|---:|---|"
+    echo "| Thumb -O2, ROM | $ok of $total | $nofit | $(stat -c %s "$rom") | $(( $(sec .data) + $(sec .bss) )) | $heap | $hw of $size | $deep |"
+    echo
+    echo "| demo relight (240 x 160 courtyard, sun) | k = 4 cycles/px | k = 9 cycles/px | RGB565 write cycles/px | k = 4 frame ms | k = 9 frame ms | .iwram bytes |"
+    echo "|---|---:|---:|---:|---:|---:|---:|"
+    for row in "${table_rows[@]}"; do echo "$row"; done
+    echo "<!-- end make gba -->"
+} > "$out/tables.md"
+cat "$out/tables.md"
+if [ -n "${GBA_TABLES:-}" ] && [ $fail = 0 ]; then
+    python3 - "$GBA_TABLES" "$out/tables.md" <<'PY' || err "cannot rewrite the block of $GBA_TABLES"
+import sys
+doc, block = open(sys.argv[1]).read(), open(sys.argv[2]).read().rstrip("\n")
+a, b = doc.find("<!-- make gba: generated"), doc.find("<!-- end make gba -->")
+if a < 0 or b < a:
+    sys.exit("no generated block (<!-- make gba: generated ... <!-- end make gba -->) in " + sys.argv[1])
+open(sys.argv[1], "w").write(doc[:a] + block + doc[b + len("<!-- end make gba -->"):])
+PY
+fi
+
+[ $((ok + nofit)) = "$total" ] || err "$ok match and $nofit do not fit of $total cases"
+echo "gba: $(($(date +%s) - t_start)) s"
+if [ $fail = 0 ]; then echo "gba: OK (every case that fits the GBA's memory prints the hash of fixtures/golden; the demo's frames are the host's)"; else echo "gba: FAILED"; fi
 echo "RESULT gba.golden_match $ok"
 echo "RESULT gba.golden_nofit $nofit"
 echo "RESULT gba.golden_total $total"
-echo "gba: $(($(date +%s) - t_start)) s"
-[ $((ok + nofit)) = "$total" ] || err "$ok match and $nofit do not fit of $total cases"
-if [ $fail = 0 ]; then echo "gba: OK (every case that fits the GBA's memory prints the hash of fixtures/golden)"; else echo "gba: FAILED"; fi
 exit $fail
