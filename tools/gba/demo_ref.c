@@ -5,6 +5,7 @@
  * also checks demo_frame's four-row framebuffer against one of the whole frame (same bytes).
  *
  * usage: qibl-gba-demo-ref ASSET STEP OUT.ppm     prints "frame step <s> crc32 <8 hex>"
+ * (ASSET at most 4 MiB, at most 240 pixels wide: the GBA's screen)
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -34,10 +35,14 @@ int main(int argc, char **argv)
         return 2;
     }
     FILE *f = fopen(argv[1], "rb");
-    static uint8_t bytes[4 << 20];
+    static uint8_t bytes[(4 << 20) + 1]; /* the demo's assets are 1-2 MiB; 4 MiB is the cap */
     size_t n = f ? fread(bytes, 1, sizeof bytes, f) : 0;
     if (f)
         fclose(f);
+    if (f == NULL || n == sizeof bytes) {
+        fprintf(stderr, "qibl-gba-demo-ref: %s: %s\n", argv[1], f ? "larger than the 4 MiB cap" : "cannot open");
+        return 1;
+    }
     qibl_asset_t asset;
     qibl_shmaps_t m;
     qibl_status_t st = qibl_asset_open(&asset, bytes, n);

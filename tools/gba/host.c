@@ -160,7 +160,7 @@ int main(int argc, char **argv)
     fflush(stdout);
     int rc = log.exited ? log.status : 124;
     if (!log.exited)
-        fprintf(stderr, "qibl-gba-run: %s: no exit after %.0f emulated seconds (the limit)\n", rom, seconds);
+        fprintf(stderr, "qibl-gba-run: %s: no exit after %g emulated seconds (the limit)\n", rom, seconds);
     fprintf(stderr, "qibl-gba-run: %s: %.1f emulated seconds (%llu frames)\n", rom,
             (double)(frames * FRAME_CYCLES) / GBA_HZ, (unsigned long long)frames);
     if (shot != NULL && write_ppm(shot, screen) != 0) {
