@@ -217,6 +217,14 @@ cp "$demo/qibl-demo-arm-iwram.gba" "$out/qibl-demo.gba" 2>/dev/null && echo "gba
     echo "| demo relight (240 x 160 courtyard, sun) | k = 4 cycles/px | k = 9 cycles/px | RGB565 write cycles/px | k = 4 frame ms | k = 9 frame ms | k = 9 updates/s (1/32 of the rows) | .iwram bytes |"
     echo "|---|---:|---:|---:|---:|---:|---:|---:|"
     for row in "${table_rows[@]}"; do echo "$row"; done
+    echo
+    echo "<details><summary>Stack per core entry point on the GBA (bytes: the static bound of stack.py, and the deepest use measured in the golden run)</summary>"
+    echo
+    echo "| entry point | bound | measured |"
+    echo "|---|---:|---:|"
+    awk '$1 == "stack" && $4 == "bound" {printf "| `%s` | %s | %s |\n", $2, $5, $3}' "$dir/run.txt" | sort
+    echo
+    echo "</details>"
     echo "<!-- end make gba -->"
 } > "$out/tables.md"
 cat "$out/tables.md"
