@@ -87,7 +87,7 @@ QIBL := $(BUILD)/bin/qibl
 
 .PHONY: study gles all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan examples \
         install check-install amalgamate check-amalgamate docs-memory
-.PHONY: baremetal baremetal-tables docs-size
+.PHONY: baremetal baremetal-tables docs-size gba gba-tables
 .DEFAULT_GOAL := all
 
 all: $(LIBQIBL) $(LIBSOFT) $(QIBL)
@@ -110,6 +110,8 @@ help:
 	@echo "make ports      the golden runner on every compiler, -O level and architecture (qemu); hashes must agree"
 	@echo "make baremetal  the golden runner on Cortex-M0/M4 and RV32 under qemu-system (semihosting): hashes, stack, insn/px"
 	@echo "make baremetal-tables  regenerate the stack and memory tables of docs/porting.md"
+	@echo "make gba        the golden runner and the relight demo on the Game Boy Advance (ROMs run headless over"
+	@echo "                libmgba): hashes, stack, cycles per pixel; gba-tables rewrites docs/porting.md's GBA block"
 	@echo "make test-asan  the suites and the CLI under AddressSanitizer + UndefinedBehaviorSanitizer (in $(BUILD)/asan)"
 	@echo "make fuzz       every libFuzzer target for FUZZ_SECONDS (default 60) each; fuzz-smoke: CI's short run"
 	@echo "make examples   build and run tools/examples/console_port, the integration example (docs/porting.md)"
@@ -298,6 +300,17 @@ baremetal: $(GOLDEN)
 
 baremetal-tables: $(GOLDEN)
 	@BUILD=$(BUILD) BM_TABLES=docs/porting.md bash tools/baremetal/run.sh
+
+# Game Boy Advance (tools/gba/run.sh): the golden runner as a cartridge ROM for the ARM7TDMI
+# (Thumb, ROM / IWRAM / EWRAM, crt_gba.S, gba.ld), run headless over libmgba (tools/gba/host.c,
+# the qibl-gba-run program); every case that fits the 256 KiB EWRAM must print the hash of
+# fixtures/golden, the rest must say how much they need; stack bounds as on the MCU boards; then
+# the relighting demo ROM (courtyard, moving sun, mode 3) in two placements, cycles per pixel.
+gba: $(GOLDEN) $(QIBL) $(LIBQIBL) $(LIBSOFT)
+	@BUILD=$(BUILD) bash tools/gba/run.sh
+
+gba-tables: $(GOLDEN) $(QIBL) $(LIBQIBL) $(LIBSOFT)
+	@BUILD=$(BUILD) GBA_TABLES=docs/porting.md bash tools/gba/run.sh
 
 # The integration example for engines (docs/porting.md): core + platform/soft + libc only, plain
 # C99, built with the core's strictness; run on a small courtyard asset made by `qibl gen`.

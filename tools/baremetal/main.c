@@ -35,12 +35,11 @@ static void digest_line(run *r, const char *name, const char *rest, size_t n)
     qtool_sha256_update(&r->all, rest, n);
 }
 
-static int emit(void *user, const char *name, const void *data, size_t n)
+static int emit(void *user, const char *name, const char *hex, uint64_t n)
 {
     run *r = (run *)user;
-    char hex[65];
+    (void)n;
     ++r->cases;
-    qtool_sha256_hex(data, n, hex);
     digest_line(r, name, " ", 1);
     qtool_sha256_update(&r->all, hex, 64);
     qtool_sha256_update(&r->all, "\n", 1);

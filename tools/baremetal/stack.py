@@ -4,7 +4,11 @@
 call). The bound of a function is its own frame plus the largest bound among its callees; a call
 through a pointer, a recursion or a frame of dynamic size makes the bound unknown, and is named.
 
-usage: stack.py [--objdump PROG] DIR...            prints "<function> <bytes>" for every public (qibl_*, non-static)
+A call to a run-time helper outside the core (libgcc's __aeabi_lmul on ARMv4T Thumb, for instance)
+is bounded when --helpers LIB names the library that defines it and its code calls nothing: every
+push and sp decrement in it is summed (an upper bound).
+
+usage: stack.py [--objdump PROG] [--helpers LIB] DIR...            prints "<function> <bytes>" for every public (qibl_*, non-static)
                                   function defined in DIR/*.ci, or "<function> unbounded <why>"
        stack.py --table NAME=OBJDUMP=DIR ...   a markdown table, one column per target
 """
@@ -35,7 +39,33 @@ def pretend(objdump, obj):
     return out
 
 
-def load(dirs, objdump=None):
+def helper_frames(objdump, lib):
+    """{function: bytes} of the leaf functions of lib: the sum of its pushes and sp decrements"""
+    out, fn, calls = {}, None, False
+    text = subprocess.run([objdump, "-d", lib], check=True, capture_output=True, text=True).stdout
+    for line in text.splitlines() + ["0 <end>:"]:
+        m = re.match(r'^[0-9a-f]+ <([^>]+)>:$', line)
+        if m:
+            if fn is not None and calls:
+                out.pop(fn, None)
+            fn, calls = m.group(1), False
+            out[fn] = 0
+            continue
+        if fn is None or "\t" not in line:
+            continue
+        if re.search(r'\t(bl|blx)\t', line):
+            calls = True
+        p = re.search(r'\t(push|stmdb)\t(?:sp!, )?\{([^}]*)\}', line)
+        if p:
+            out[fn] += 4 * len(p.group(2).split(","))
+        p = re.search(r'\tsub(?:s|\.w)?\tsp, (?:sp, )?#(\d+)', line)
+        if p:
+            out[fn] += int(p.group(1))
+    out.pop("end", None)
+    return out
+
+
+def load(dirs, objdump=None, helpers=None):
     frames, quals, calls = {}, {}, {}
     for d in dirs:
         for path in sorted(glob.glob(os.path.join(d, "*.ci"))):
@@ -57,6 +87,10 @@ def load(dirs, objdump=None):
                     m = EDGE.match(line)
                     if m:
                         calls.setdefault(m.group(1), []).append(m.group(2))
+    if helpers:
+        for fn, b in helper_frames(objdump or "objdump", helpers).items():
+            if fn not in frames and fn in calls:
+                frames[fn], quals[fn], calls[fn] = b, "static", []
     return frames, quals, calls
 
 
@@ -97,6 +131,10 @@ def main(argv):
     if len(argv) >= 3 and argv[1] == "--objdump":
         objdump = argv[2]
         argv = argv[:1] + argv[3:]
+    helpers = None
+    if len(argv) >= 3 and argv[1] == "--helpers":
+        helpers = argv[2]
+        argv = argv[:1] + argv[3:]
     if len(argv) >= 2 and argv[1] == "--table":
         cols = [a.split("=", 2) for a in argv[2:]]  # NAME=OBJDUMP=DIR
         res = [bounds(*load([d], od)) for _, od, d in cols]
@@ -115,7 +153,7 @@ def main(argv):
     if len(argv) < 2:
         sys.stderr.write(__doc__)
         return 2
-    res = bounds(*load(argv[1:], objdump))
+    res = bounds(*load(argv[1:], objdump, helpers))
     bad = 0
     for n in sorted(res):
         b, why = res[n]

@@ -52,37 +52,16 @@ int qtool_goldens_run(const char *name, const qtool_goldens_sink_t *s)
     return -1;
 }
 
-/* ---- byte buffer ----------------------------------------------------------------------------- */
-
-static int gbuf_reserve(gbuf *b, size_t more)
-{
-    if (b->oom)
-        return 0;
-    if (more <= b->cap - b->n)
-        return 1;
-    size_t cap = b->cap ? b->cap : 256;
-    while (cap - b->n < more) {
-        if (cap > ((size_t)-1) / 2) {
-            b->oom = 1;
-            return 0;
-        }
-        cap *= 2;
-    }
-    uint8_t *p = realloc(b->p, cap);
-    if (p == NULL) {
-        b->oom = 1;
-        return 0;
-    }
-    b->p = p, b->cap = cap;
-    return 1;
-}
+/* ---- output bytes, hashed as produced --------------------------------------------------------- */
 
 void gbuf_bytes(gbuf *b, const void *data, size_t n)
 {
-    if (n && gbuf_reserve(b, n)) {
-        memcpy(b->p + b->n, data, n);
-        b->n += n;
+    if (!b->started) {
+        qtool_sha256_init(&b->sha);
+        b->started = 1;
     }
+    qtool_sha256_update(&b->sha, data, n);
+    b->n += n;
 }
 
 void gbuf_u8(gbuf *b, uint32_t v)
@@ -117,21 +96,28 @@ void gbuf_u64(gbuf *b, uint64_t v)
 
 void gbuf_free(gbuf *b)
 {
-    free(b->p);
-    b->p = NULL, b->n = b->cap = 0, b->oom = 0;
+    b->n = 0, b->started = 0;
 }
 
 int gbuf_emit(const qtool_goldens_sink_t *s, const char *name, gbuf *b)
 {
-    int bad = b->oom ? gcase_oom(s, name) : gcase_emit(s, name, b->p, b->n);
+    uint8_t d[32];
+    char hex[65];
+    if (!b->started)
+        qtool_sha256_init(&b->sha);
+    qtool_sha256_final(&b->sha, d);
+    qtool_sha256_to_hex(d, hex);
+    uint64_t n = b->n;
     gbuf_free(b);
-    return bad;
+    return s->emit(s->user, name, hex, n) != 0;
 }
 
 int gcase_emit(const qtool_goldens_sink_t *s, const char *name, const void *data, size_t n)
 {
     static const uint8_t none = 0;
-    return s->emit(s->user, name, data ? data : &none, n) != 0;
+    char hex[65];
+    qtool_sha256_hex(data ? data : &none, n, hex);
+    return s->emit(s->user, name, hex, n) != 0;
 }
 
 int gcase_status_error(const qtool_goldens_sink_t *s, const char *name, const char *call, qibl_status_t st)
@@ -145,6 +131,17 @@ int gcase_status_error(const qtool_goldens_sink_t *s, const char *name, const ch
 int gcase_oom(const qtool_goldens_sink_t *s, const char *name)
 {
     s->error(s->user, name, "out of memory");
+    return 1;
+}
+
+int gcase_oom_size(const qtool_goldens_sink_t *s, const char *name, size_t bytes)
+{
+    char what[80];
+    if (bytes == 0)
+        snprintf(what, sizeof what, "out of memory: needs more bytes than size_t holds");
+    else
+        snprintf(what, sizeof what, "out of memory: needs %lu bytes", (unsigned long)bytes);
+    s->error(s->user, name, what);
     return 1;
 }
 

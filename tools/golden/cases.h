@@ -30,8 +30,11 @@
 /* Where a group's cases go. */
 typedef struct qtool_goldens_sink {
     /* One finished case: its name (letters, digits, '_'; the fixtures file name without
-     * ".sha256") and its output bytes. Returns 0 when the case passed (hash as expected). */
-    int (*emit)(void *user, const char *name, const void *data, size_t n);
+     * ".sha256"), the SHA-256 of its output bytes as 64 lowercase hex digits and their count.
+     * Returns 0 when the case passed (hash as expected). The bytes themselves are not handed over:
+     * a case's output is hashed as it is produced (casesi.h: gbuf), so it needs no memory of its
+     * size; some outputs exceed a handheld's whole RAM (the GBA's 256 KiB). */
+    int (*emit)(void *user, const char *name, const char *hex, uint64_t n);
     /* A case that could not be produced: a core call returned an unexpected status, or memory ran
      * out. what says which call and why. The case counts as failed. */
     void (*error)(void *user, const char *name, const char *what);

@@ -133,31 +133,39 @@ static int check_lights(const qtool_goldens_sink_t *s, const char *name, const q
     return gcase_emit(s, name, buf, qtool_goldens_light_bytes(L, &res, buf));
 }
 
-static int probe_cases(const qtool_goldens_sink_t *s, const char *probe, const qibl_lightprobe_image_t *img,
-                       int with_varmin)
+/* One light-list case: the probe's tables built for method alone (the least workspace a method
+ * needs; the lights depend on the method, not on what else the tables hold), then the lights. */
+static int lights_case(const qtool_goldens_sink_t *s, const char *name, const qibl_lightprobe_image_t *img,
+                       qibl_lightprobe_method_t method, uint32_t n)
 {
-    char name[96];
-    size_t n = qibl_lightprobe_workspace_size(img->width, img->height, QIBL_LIGHTPROBE_VARMIN);
-    void *ws = malloc(n ? n : 1);
-    snprintf(name, sizeof name, "lightprobe_%s", probe);
+    size_t wn = qibl_lightprobe_workspace_size(img->width, img->height, method);
+    void *ws = wn ? malloc(wn) : NULL;
     if (ws == NULL)
-        return gcase_oom(s, name);
+        return gcase_oom_size(s, name, wn);
     qibl_lightprobe_t lp;
-    qibl_status_t st = qibl_lightprobe_build(&lp, img, QIBL_LIGHTPROBE_VARMIN, ws, n);
-    if (st != QIBL_OK) {
-        free(ws);
-        return gcase_status_error(s, name, "qibl_lightprobe_build", st);
-    }
-    int bad = 0;
-    snprintf(name, sizeof name, "lightprobe_%s_mediancut64", probe);
-    bad += check_lights(s, name, &lp, QIBL_LIGHTPROBE_MEDIANCUT, 64);
-    snprintf(name, sizeof name, "lightprobe_%s_adaptive37", probe);
-    bad += check_lights(s, name, &lp, QIBL_LIGHTPROBE_ADAPTIVE, 37);
-    if (with_varmin) {
-        snprintf(name, sizeof name, "lightprobe_%s_varmin37", probe);
-        bad += check_lights(s, name, &lp, QIBL_LIGHTPROBE_VARMIN, 37);
-    }
+    qibl_status_t st = qibl_lightprobe_build(&lp, img, method, ws, wn);
+    int bad = st != QIBL_OK ? gcase_status_error(s, name, "qibl_lightprobe_build", st)
+                            : check_lights(s, name, &lp, method, n);
     free(ws);
+    return bad;
+}
+
+static int probe_cases(const qtool_goldens_sink_t *s, const char *probe, const qibl_lightprobe_image_t *img)
+{
+    static const struct {
+        const char *suffix;
+        qibl_lightprobe_method_t method;
+        uint32_t n;
+    } m[] = {{"mediancut64", QIBL_LIGHTPROBE_MEDIANCUT, 64},
+             {"adaptive37", QIBL_LIGHTPROBE_ADAPTIVE, 37},
+             {"varmin37", QIBL_LIGHTPROBE_VARMIN, 37}};
+    char name[96];
+    int bad = 0;
+    for (size_t i = 0; i < sizeof m / sizeof m[0]; ++i) {
+        snprintf(name, sizeof name, "lightprobe_%s_%s", probe, m[i].suffix);
+        bad += img->pixels != NULL ? lights_case(s, name, img, m[i].method, m[i].n)
+                                   : gcase_oom_size(s, name, img->stride * img->height);
+    }
     return bad;
 }
 
@@ -189,41 +197,58 @@ static int row_weights(const qtool_goldens_sink_t *s)
     return gbuf_emit(s, name, &b);
 }
 
+/* img over px, or, when px is NULL (its allocation failed), an image whose stride * height says
+ * how many bytes it needed (probe_cases reports that for each of its cases) */
+static qibl_lightprobe_image_t probe_image(const void *px, uint32_t w, uint32_t h, qibl_lightprobe_format_t f,
+                                           size_t bytes_per_px)
+{
+    qibl_lightprobe_image_t img = image(px, w, h, f);
+    if (px == NULL)
+        img.stride = bytes_per_px * w;
+    return img;
+}
+
+/* The probes are made one at a time and each case builds only the tables its method needs, so
+ * the group runs where a few hundred KiB is all there is (a probe that cannot fit reports each
+ * of its cases as out of memory, with the bytes it needed). */
 int qtool_goldens_lightprobe(const qtool_goldens_sink_t *s)
 {
     int bad = row_weights(s);
     /* (a) a sun and sky 256 x 128 RGBE, (b) an integer-made 100 x 50 with three hot spots, (c) the
      * same as (b) in sRGBE, (d) int32 with 12 fraction bits, (e) binary32 */
     enum { W = 100, H = 50, N = W * H };
-    uint8_t *a = sunsky_probe(), *bp = int_probe(7, W, H, 3), *c = malloc(4 * (size_t)N);
-    uint32_t *fb = malloc(sizeof *fb * 3 * (size_t)N);
-    int32_t *ib = malloc(sizeof *ib * 3 * (size_t)N);
-    if (a == NULL || bp == NULL || c == NULL || fb == NULL || ib == NULL) {
-        bad += gcase_oom(s, "lightprobe");
+    uint8_t *a = sunsky_probe();
+    qibl_lightprobe_image_t img = probe_image(a, 256, 128, QIBL_LIGHTPROBE_RGBE, 4);
+    bad += probe_cases(s, "sunsky256", &img);
+    free(a);
+
+    uint8_t *bp = int_probe(7, W, H, 3);
+    uint32_t *fb = bp ? malloc(sizeof *fb * 3 * (size_t)N) : NULL;
+    img = probe_image(bp, W, H, QIBL_LIGHTPROBE_RGBE, 4);
+    bad += probe_cases(s, "random100", &img);
+    if (fb != NULL)
+        for (int i = 0; i < 3 * N; ++i)
+            fb[i] = rgbe_f32_bits(bp[4 * (i / 3) + i % 3], bp[4 * (i / 3) + 3]);
+    uint8_t *c = fb ? malloc(4 * (size_t)N) : NULL;
+    qibl_status_t st = c ? qibl_srgbe_encode_f32_n(fb, N, c) : QIBL_OK;
+    if (st != QIBL_OK) {
+        bad += gcase_status_error(s, "lightprobe_random100_srgbe", "qibl_srgbe_encode_f32_n", st);
     } else {
-        for (int i = 0; i < 3 * N; ++i) {
-            uint32_t m = bp[4 * (i / 3) + i % 3], e = bp[4 * (i / 3) + 3];
-            fb[i] = rgbe_f32_bits(m, e);
-            ib[i] = rgbe_fixed(m, e, 12);
-        }
-        qibl_status_t st = qibl_srgbe_encode_f32_n(fb, N, c);
-        if (st != QIBL_OK) {
-            bad += gcase_status_error(s, "lightprobe_random100_srgbe", "qibl_srgbe_encode_f32_n", st);
-        } else {
-            qibl_lightprobe_image_t img = image(a, 256, 128, QIBL_LIGHTPROBE_RGBE);
-            bad += probe_cases(s, "sunsky256", &img, 1);
-            img = image(bp, W, H, QIBL_LIGHTPROBE_RGBE);
-            bad += probe_cases(s, "random100", &img, 1);
-            img = image(c, W, H, QIBL_LIGHTPROBE_SRGBE);
-            bad += probe_cases(s, "random100_srgbe", &img, 1);
-            img = image(ib, W, H, QIBL_LIGHTPROBE_LINEAR_I32);
-            img.frac_bits = 12;
-            bad += probe_cases(s, "random100_i32q12", &img, 1);
-            img = image(fb, W, H, QIBL_LIGHTPROBE_LINEAR_F32);
-            bad += probe_cases(s, "random100_f32", &img, 1);
-        }
+        img = probe_image(c, W, H, QIBL_LIGHTPROBE_SRGBE, 4);
+        bad += probe_cases(s, "random100_srgbe", &img);
     }
-    free(a), free(bp), free(c), free(fb), free(ib);
+    free(c);
+    int32_t *ib = bp ? malloc(sizeof *ib * 3 * (size_t)N) : NULL;
+    if (ib != NULL)
+        for (int i = 0; i < 3 * N; ++i)
+            ib[i] = rgbe_fixed(bp[4 * (i / 3) + i % 3], bp[4 * (i / 3) + 3], 12);
+    img = probe_image(ib, W, H, QIBL_LIGHTPROBE_LINEAR_I32, 12);
+    img.frac_bits = 12;
+    bad += probe_cases(s, "random100_i32q12", &img);
+    free(ib);
+    img = probe_image(fb, W, H, QIBL_LIGHTPROBE_LINEAR_F32, 12);
+    bad += probe_cases(s, "random100_f32", &img);
+    free(fb), free(bp);
     return bad;
 }
 

@@ -48,59 +48,125 @@ static void put_code(gbuf *b, qibl_status_t st, const uint8_t c[4])
     gbuf_bytes(b, c, 4);
 }
 
+/* The bulk cases run their arrays in chunks of CHUNK pixels, the inputs of each chunk made again
+ * from the pixel index (or the replayed PRNG), so that a case needs memory for one chunk, not for
+ * its whole array (the GBA's 256 KiB could not hold them). The bytes are those of one call over
+ * the whole array: the bulk functions are per pixel, and their status is the most severe per-pixel
+ * one whatever the order (srgbe.h), so the whole array's is the most severe of the chunks'. It
+ * precedes the pixels in a case's bytes, so each bulk case runs its chunks twice: once for the
+ * status, once for the pixels. */
+enum { CHUNK = 1024 };
+
+static unsigned severity(qibl_status_t st)
+{
+    switch (st) {
+    case QIBL_E_SRGBE_NAN:
+        return 3;
+    case QIBL_E_SRGBE_INF:
+        return 2;
+    case QIBL_E_SRGBE_OVERFLOW:
+    case QIBL_E_SRGBE_DECODE_SAT:
+        return 1;
+    default:
+        return st == QIBL_OK ? 0 : 4; /* anything else is a failure the case records as is */
+    }
+}
+
+static qibl_status_t worse(qibl_status_t a, qibl_status_t b)
+{
+    return severity(b) > severity(a) ? b : a;
+}
+
+/* the edge triple of pixel i (signs varied by position) */
+static void edges_pixel(size_t i, uint32_t rgb[3])
+{
+    size_t r = i / (NF32 * NF32), g = i / NF32 % NF32, bl = i % NF32;
+    rgb[0] = edge(r, (unsigned)(i & 1u));
+    rgb[1] = edge(g, (unsigned)(i >> 1 & 1u));
+    rgb[2] = edge(bl, (unsigned)(i % 3u == 0u));
+}
+
 /* every triple of edge values (signs varied by position), one pixel at a time and in bulk */
 static int encode_f32_edges(const qtool_goldens_sink_t *s)
 {
     const size_t n = NF32 * NF32 * NF32;
-    uint32_t *rgb = malloc(sizeof *rgb * 3 * n);
-    uint8_t *codes = malloc(4 * n);
+    uint32_t *rgb = malloc(sizeof *rgb * 3 * CHUNK);
+    uint8_t *codes = malloc(4 * CHUNK);
     gbuf b = {0};
     if (rgb == NULL || codes == NULL) {
         free(rgb), free(codes);
         return gcase_oom(s, "srgbe_encode_f32_edges");
     }
-    for (size_t i = 0; i < n; ++i) {
-        size_t r = i / (NF32 * NF32), g = i / NF32 % NF32, bl = i % NF32;
-        rgb[3 * i] = edge(r, (unsigned)(i & 1u));
-        rgb[3 * i + 1] = edge(g, (unsigned)(i >> 1 & 1u));
-        rgb[3 * i + 2] = edge(bl, (unsigned)(i % 3u == 0u));
-        uint8_t c[4] = {0xA5, 0xA5, 0xA5, 0xA5};
-        put_code(&b, qibl_srgbe_encode_f32(rgb + 3 * i, c), c);
+    qibl_status_t st = QIBL_OK;
+    for (size_t i0 = 0; i0 < n; i0 += CHUNK) {
+        size_t m = n - i0 < CHUNK ? n - i0 : CHUNK;
+        for (size_t i = 0; i < m; ++i) {
+            edges_pixel(i0 + i, rgb + 3 * i);
+            uint8_t c[4] = {0xA5, 0xA5, 0xA5, 0xA5};
+            put_code(&b, qibl_srgbe_encode_f32(rgb + 3 * i, c), c);
+        }
+        st = worse(st, qibl_srgbe_encode_f32_n(rgb, m, codes));
     }
     int bad = gbuf_emit(s, "srgbe_encode_f32_edges", &b);
-    gbuf_u8(&b, (uint32_t)qibl_srgbe_encode_f32_n(rgb, n, codes));
-    gbuf_bytes(&b, codes, 4 * n);
+    gbuf_u8(&b, (uint32_t)st);
+    for (size_t i0 = 0; i0 < n; i0 += CHUNK) {
+        size_t m = n - i0 < CHUNK ? n - i0 : CHUNK;
+        for (size_t i = 0; i < m; ++i)
+            edges_pixel(i0 + i, rgb + 3 * i);
+        (void)qibl_srgbe_encode_f32_n(rgb, m, codes);
+        gbuf_bytes(&b, codes, 4 * m);
+    }
     bad += gbuf_emit(s, "srgbe_encode_f32_n_edges", &b);
     free(rgb), free(codes);
     return bad;
 }
 
-/* random bit patterns: any exponent, and clusters of nearby exponents (the common case) */
+/* the next m random pixels of r: any exponent, and clusters of nearby exponents (the common case)
+ * at even pixel indices (i0 + i) */
+static void random_pixels(grng *r, size_t i0, size_t m, uint32_t *rgb)
+{
+    for (size_t i = 0; i < m; ++i) {
+        uint32_t base = grng_u32(r);
+        for (int c = 0; c < 3; ++c) {
+            uint32_t v = grng_u32(r);
+            if ((i0 + i) % 2 == 0) /* exponent within +-4 of the pixel's base */
+                v = (v & 0x807FFFFFu) | (((base >> 23 & 0xFFu) + (v >> 23 & 7u) - 4u) & 0xFFu) << 23;
+            rgb[3 * i + (size_t)c] = v;
+        }
+    }
+}
+
+/* random bit patterns, one pixel at a time and in bulk */
 static int encode_f32_random(const qtool_goldens_sink_t *s)
 {
     enum { N = 20000 };
-    uint32_t *rgb = malloc(sizeof *rgb * 3 * N);
-    uint8_t *codes = malloc(4 * N);
+    uint32_t *rgb = malloc(sizeof *rgb * 3 * CHUNK);
+    uint8_t *codes = malloc(4 * CHUNK);
     gbuf b = {0};
-    grng r = {0x5E};
     if (rgb == NULL || codes == NULL) {
         free(rgb), free(codes);
         return gcase_oom(s, "srgbe_encode_f32_random");
     }
-    for (size_t i = 0; i < N; ++i) {
-        uint32_t base = grng_u32(&r);
-        for (int c = 0; c < 3; ++c) {
-            uint32_t v = grng_u32(&r);
-            if (i % 2 == 0) /* exponent within +-4 of the pixel's base */
-                v = (v & 0x807FFFFFu) | (((base >> 23 & 0xFFu) + (v >> 23 & 7u) - 4u) & 0xFFu) << 23;
-            rgb[3 * i + (size_t)c] = v;
+    grng r = {0x5E};
+    qibl_status_t st = QIBL_OK;
+    for (size_t i0 = 0; i0 < N; i0 += CHUNK) {
+        size_t m = N - i0 < CHUNK ? N - i0 : CHUNK;
+        random_pixels(&r, i0, m, rgb);
+        for (size_t i = 0; i < m; ++i) {
+            uint8_t c[4];
+            put_code(&b, qibl_srgbe_encode_f32(rgb + 3 * i, c), c);
         }
-        uint8_t c[4];
-        put_code(&b, qibl_srgbe_encode_f32(rgb + 3 * i, c), c);
+        st = worse(st, qibl_srgbe_encode_f32_n(rgb, m, codes));
     }
     int bad = gbuf_emit(s, "srgbe_encode_f32_random", &b);
-    gbuf_u8(&b, (uint32_t)qibl_srgbe_encode_f32_n(rgb, N, codes));
-    gbuf_bytes(&b, codes, 4 * N);
+    gbuf_u8(&b, (uint32_t)st);
+    r.s = 0x5E; /* the same pixels again */
+    for (size_t i0 = 0; i0 < N; i0 += CHUNK) {
+        size_t m = N - i0 < CHUNK ? N - i0 : CHUNK;
+        random_pixels(&r, i0, m, rgb);
+        (void)qibl_srgbe_encode_f32_n(rgb, m, codes);
+        gbuf_bytes(&b, codes, 4 * m);
+    }
     bad += gbuf_emit(s, "srgbe_encode_f32_n_random", &b);
     free(rgb), free(codes);
     return bad;
@@ -150,58 +216,95 @@ static int encode_s32(const qtool_goldens_sink_t *s)
     return bad;
 }
 
-/* codes: every E with every X in R (G, B derived), then a golden-ratio stride through 2^32 */
+/* code i of the sweep: every E with every X in R (G, B derived) for i < 2^16, then a golden-ratio
+ * stride through 2^32 */
+enum { DEC_NE = 256 * 256, DEC_NS = 16384, DEC_N = DEC_NE + DEC_NS };
+
+static void sweep_code(uint32_t i, uint8_t c[4])
+{
+    if (i < DEC_NE) {
+        c[0] = (uint8_t)i, c[1] = (uint8_t)(255u - (i & 0xFFu)), c[2] = (uint8_t)((i & 0xFFu) ^ 0x55u);
+        c[3] = (uint8_t)(i >> 8);
+    } else {
+        gput_u32(c, (i - DEC_NE) * 0x9E3779B9u);
+    }
+}
+
+/* which bulk decoder a pass runs */
+typedef enum { DEC_F32, DEC_Q16, DEC_S32 } dec_kind;
+
+static qibl_status_t decode_chunk(dec_kind k, const uint8_t *codes, size_t m, int frac, uint32_t *out)
+{
+    int32_t *io = (int32_t *)out;
+    return k == DEC_F32 ? qibl_srgbe_decode_f32_n(codes, m, out)
+         : k == DEC_Q16 ? qibl_srgbe_decode_q16_n(codes, m, io)
+                        : qibl_srgbe_decode_s32_n(codes, m, frac, io);
+}
+
+/* one bulk decode over the whole sweep, in chunks: its status, then every step-th output word
+ * (counted over the whole array) */
+static void decode_bulk(gbuf *b, dec_kind k, int frac, size_t step, uint8_t *codes, uint32_t *out)
+{
+    qibl_status_t st = QIBL_OK;
+    for (int pass = 0; pass < 2; ++pass) {
+        if (pass == 1)
+            gbuf_u8(b, (uint32_t)st);
+        for (size_t i0 = 0; i0 < DEC_N; i0 += CHUNK) {
+            size_t m = DEC_N - i0 < CHUNK ? DEC_N - i0 : CHUNK;
+            for (size_t i = 0; i < m; ++i)
+                sweep_code((uint32_t)(i0 + i), codes + 4 * i);
+            qibl_status_t cs = decode_chunk(k, codes, m, frac, out);
+            if (pass == 0) {
+                st = worse(st, cs);
+                continue;
+            }
+            size_t w0 = 3 * i0, first = (w0 + step - 1) / step * step;
+            for (size_t w = first; w < w0 + 3 * m; w += step)
+                gbuf_u32(b, out[w - w0]);
+        }
+    }
+}
+
+/* the sweep decoded to binary32, Q16.16 and int32 at several frac_bits, one pixel and in bulk */
 static int decode_sweep(const qtool_goldens_sink_t *s)
 {
-    enum { NE = 256 * 256, NS = 16384, N = NE + NS };
     static const int fracs[] = {-140, -20, 0, 8, 16, 30, 31, 40, 160};
-    uint8_t *codes = malloc(4 * (size_t)N);
-    uint32_t *out = malloc(sizeof *out * 3 * (size_t)N);
+    uint8_t *codes = malloc(4 * (size_t)CHUNK);
+    uint32_t *out = malloc(sizeof *out * 3 * (size_t)CHUNK);
     gbuf b = {0}, bn = {0};
     if (codes == NULL || out == NULL) {
         free(codes), free(out);
         return gcase_oom(s, "srgbe_decode");
     }
-    for (uint32_t i = 0; i < NE; ++i) {
-        uint8_t *c = codes + 4 * i;
-        c[0] = (uint8_t)i, c[1] = (uint8_t)(255u - (i & 0xFFu)), c[2] = (uint8_t)((i & 0xFFu) ^ 0x55u);
-        c[3] = (uint8_t)(i >> 8);
-    }
-    for (uint32_t i = 0; i < NS; ++i)
-        gput_u32(codes + 4 * (NE + i), i * 0x9E3779B9u);
     /* binary32: every code */
-    for (size_t i = 0; i < N; ++i) {
+    for (uint32_t i = 0; i < DEC_N; ++i) {
+        uint8_t c[4];
         uint32_t v[3] = {0xA5A5A5A5u, 0xA5A5A5A5u, 0xA5A5A5A5u};
-        gbuf_u8(&b, (uint32_t)qibl_srgbe_decode_f32(codes + 4 * i, v));
-        for (int c = 0; c < 3; ++c)
-            gbuf_u32(&b, v[c]);
+        sweep_code(i, c);
+        gbuf_u8(&b, (uint32_t)qibl_srgbe_decode_f32(c, v));
+        for (int k = 0; k < 3; ++k)
+            gbuf_u32(&b, v[k]);
     }
-    gbuf_u8(&bn, (uint32_t)qibl_srgbe_decode_f32_n(codes, N, out));
-    for (size_t i = 0; i < 3 * (size_t)N; ++i)
-        gbuf_u32(&bn, out[i]);
+    decode_bulk(&bn, DEC_F32, 0, 1, codes, out);
     int bad = gbuf_emit(s, "srgbe_decode_f32", &b);
     bad += gbuf_emit(s, "srgbe_decode_f32_n", &bn);
     /* Q16.16 and int32 at several frac_bits: every 5th code (every E, most X) */
-    int32_t *io = (int32_t *)out;
-    for (size_t i = 0; i < N; i += 5) {
+    for (uint32_t i = 0; i < DEC_N; i += 5) {
+        uint8_t c[4];
         int32_t v[3];
-        gbuf_u8(&b, (uint32_t)qibl_srgbe_decode_q16(codes + 4 * i, v));
-        for (int c = 0; c < 3; ++c)
-            gbuf_s32(&b, v[c]);
+        sweep_code(i, c);
+        gbuf_u8(&b, (uint32_t)qibl_srgbe_decode_q16(c, v));
+        for (int k = 0; k < 3; ++k)
+            gbuf_s32(&b, v[k]);
         for (size_t f = 0; f < sizeof fracs / sizeof fracs[0]; ++f) {
-            gbuf_u8(&b, (uint32_t)qibl_srgbe_decode_s32(codes + 4 * i, fracs[f], v));
-            for (int c = 0; c < 3; ++c)
-                gbuf_s32(&b, v[c]);
+            gbuf_u8(&b, (uint32_t)qibl_srgbe_decode_s32(c, fracs[f], v));
+            for (int k = 0; k < 3; ++k)
+                gbuf_s32(&b, v[k]);
         }
     }
-    gbuf_u8(&bn, (uint32_t)qibl_srgbe_decode_q16_n(codes, N, io));
-    for (size_t i = 0; i < 3 * (size_t)N; ++i)
-        gbuf_s32(&bn, io[i]);
-    for (size_t f = 0; f < sizeof fracs / sizeof fracs[0]; ++f) {
-        gbuf_u8(&bn, (uint32_t)qibl_srgbe_decode_s32_n(codes, N, fracs[f], io));
-        for (size_t i = 0; i < 3 * (size_t)N; i += 7)
-            gbuf_s32(&bn, io[i]);
-    }
+    decode_bulk(&bn, DEC_Q16, 0, 1, codes, out);
+    for (size_t f = 0; f < sizeof fracs / sizeof fracs[0]; ++f)
+        decode_bulk(&bn, DEC_S32, fracs[f], 7, codes, out);
     bad += gbuf_emit(s, "srgbe_decode_s32", &b);
     bad += gbuf_emit(s, "srgbe_decode_s32_n", &bn);
     free(codes), free(out);

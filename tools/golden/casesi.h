@@ -9,16 +9,18 @@
 #include <stdint.h>
 
 #include "golden/cases.h"
+#include "io/sha256.h"
 #include "qibl/status.h"
 
 /* ---- output bytes ------------------------------------------------------------------------- */
 
-/* A growable byte buffer. Zero-initialise; on out-of-memory it stops growing and remembers it
- * (gbuf_emit then reports an error instead of a hash). */
+/* A case's output bytes, hashed as they are produced (SHA-256, streamed): no buffer, so a case
+ * needs no memory for its output however long it is. Zero-initialise; gbuf_emit reports the hash
+ * and the count. */
 typedef struct gbuf {
-    uint8_t *p;
-    size_t n, cap;
-    int oom;
+    qtool_sha256_t sha;
+    uint64_t n;  /* bytes so far */
+    int started; /* sha initialised */
 } gbuf;
 
 void gbuf_bytes(gbuf *b, const void *data, size_t n);
@@ -29,16 +31,20 @@ void gbuf_s32(gbuf *b, int32_t v);
 void gbuf_u64(gbuf *b, uint64_t v);
 void gbuf_free(gbuf *b);
 
-/* Emits the buffer as case name (or an error on out-of-memory) and frees it. Returns 1 if the
- * case failed, 0 if it passed. */
+/* Emits the hash of the bytes as case name and resets b. Returns 1 if the case failed, 0 if it
+ * passed. */
 int gbuf_emit(const qtool_goldens_sink_t *s, const char *name, gbuf *b);
 
-/* Emits data as case name. Returns 1 if the case failed. */
+/* Emits the hash of n bytes at data as case name. Returns 1 if the case failed. */
 int gcase_emit(const qtool_goldens_sink_t *s, const char *name, const void *data, size_t n);
 
 /* Reports an error for case name ("<call>: <status text>" or "out of memory"); returns 1. */
 int gcase_status_error(const qtool_goldens_sink_t *s, const char *name, const char *call, qibl_status_t st);
 int gcase_oom(const qtool_goldens_sink_t *s, const char *name);
+/* The same for a case whose working set of bytes (held at once) could not be allocated:
+ * "out of memory: needs <bytes> bytes", so that a runner can tell a case that cannot fit its
+ * machine's memory from one that should have (tools/gba/run.sh). bytes 0: beyond size_t. */
+int gcase_oom_size(const qtool_goldens_sink_t *s, const char *name, size_t bytes);
 
 /* Little-endian stores into a byte array. */
 void gput_u32(uint8_t *p, uint32_t v);

@@ -101,12 +101,12 @@ static int write_expected(const char *path, const char *hex)
     return 0;
 }
 
-static int emit(void *user, const char *name, const void *data, size_t n)
+static int emit(void *user, const char *name, const char *hex, uint64_t n)
 {
     run *r = (run *)user;
-    char hex[65], path[4096], want[65];
+    char path[4096], want[65];
+    (void)n;
     ++r->cases;
-    qtool_sha256_hex(data, n, hex);
     qtool_sha256_update(&r->all, name, strlen(name));
     qtool_sha256_update(&r->all, " ", 1);
     qtool_sha256_update(&r->all, hex, 64);
