@@ -1031,8 +1031,12 @@ qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t
         return QIBL_E_NULL_POINTER;
     if (p->width != m->width || p->height != m->height)
         return QIBL_E_SHMAP_MISMATCH;
-    if (lut != 0 && (lut->values == 0 || lut->k < m->k || lut->face_size < 1u || lut->face_size > QIBL_YLUT_MAX_FACE))
+    if (lut != 0 && (lut->values == 0 || lut->k < m->k || lut->k > (uint32_t)QIBL_SH_MAX_COUNT ||
+                     lut->face_size < 1u || lut->face_size > QIBL_YLUT_MAX_FACE))
         return QIBL_E_SHMAP_MISMATCH;
+    /* the view's fields may come from a file: the lookups reach 12 N N k bytes, which must be there */
+    if (lut != 0 && lut->size < qibl_ylut_values_size(lut->face_size, lut->k))
+        return QIBL_E_SHMAP_LUT_SHORT;
     if (light->rgb[0] < 0 || light->rgb[1] < 0 || light->rgb[2] < 0 || light->min_dist < 0 ||
         (light->falloff != QIBL_FALLOFF_INV_DIST && light->falloff != QIBL_FALLOFF_INV_DIST2) ||
         (light->filter != QIBL_LUT_BILINEAR && light->filter != QIBL_LUT_NEAREST && light->filter != QIBL_POINT_POLY))

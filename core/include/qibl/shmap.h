@@ -145,8 +145,10 @@ qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_w
 
 /* Prepares a point light for maps m, point map p (same size) and optionally a cube-map LUT (NULL:
  * direct SH evaluation). No workspace: the state holds all it needs (about 400 bytes).
- * Errors: those of qibl_shmap_check, QIBL_E_SHMAP_MISMATCH (P map or LUT does not fit the maps),
- * QIBL_E_SHMAP_LIGHT (negative colour or min_dist, unknown falloff or filter); *out untouched then. */
+ * Errors: those of qibl_shmap_check, QIBL_E_SHMAP_MISMATCH (P map or LUT does not fit the maps: LUT
+ * k below the maps' or above 25, face size outside 1..QIBL_YLUT_MAX_FACE), QIBL_E_SHMAP_LUT_SHORT
+ * (lut->size below the 12 N N k bytes its fields need), QIBL_E_SHMAP_LIGHT (negative colour or
+ * min_dist, unknown falloff or filter); *out untouched then. */
 qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t *p, const qibl_ylut_t *lut,
                                        const qibl_pointlight_t *light, qibl_shmap_point_t *out);
 
