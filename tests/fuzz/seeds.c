@@ -14,6 +14,9 @@
  *   lightprobe  small probes in each pixel format (sRGBE ones from the core's encoder)
  *   layout      a small sky in each probe layout (qtool_probe_layout_from_latlong, _rgbe_encode)
  *   shard       two shards of one bake (qtool_bake_sums_encode), as fuzz_shard.c reads them
+ *   stream      interleaved assets (the asset builders with QIBL_SHMAPS_INTERLEAVED): maps alone, +
+ *               PMAP, + YLUT, an unknown chunk, an SHMU, grey and RGB, width past one group of 16;
+ *               one planar asset
  * Every seed stays below FUZZ_MAX_LEN (4096 bytes).
  */
 #include <errno.h>
@@ -71,8 +74,11 @@ static uint32_t next(void)
 
 /* ---- asset ----------------------------------------------------------------------------------- */
 
-static void asset_seed(const char *name, uint32_t w, uint32_t h, uint32_t k, uint32_t ch, int pmap, uint32_t lut,
-                       int extra)
+/* flags: ASSET_INTERLEAVED (SHMP in the interleaved layout), ASSET_SHMU (an unshadowed copy too) */
+enum { ASSET_INTERLEAVED = 1, ASSET_SHMU = 2 };
+
+static void asset_seed_to(const char *target, const char *name, uint32_t w, uint32_t h, uint32_t k, uint32_t ch,
+                          int pmap, uint32_t lut, int extra, int flags)
 {
     qtool_asset_builder b;
     qtool_asset_builder_init(&b);
@@ -84,7 +90,10 @@ static void asset_seed(const char *name, uint32_t w, uint32_t h, uint32_t k, uin
     }
     for (size_t i = 0; i < (size_t)w * h * k * ch; ++i)
         planes[i] = (uint8_t)next();
-    int rc = qtool_asset_add_shmp(&b, w, h, k, ch, scale, bias, planes);
+    int rc = qtool_asset_add_shmp_layout(&b, w, h, k, ch, scale, bias, planes,
+                                         (flags & ASSET_INTERLEAVED) ? QIBL_SHMAPS_INTERLEAVED : QIBL_SHMAPS_PLANAR);
+    if (rc == 0 && (flags & ASSET_SHMU))
+        rc = qtool_asset_add_shmu(&b, w, h, k, ch, scale, bias, planes);
     if (rc == 0 && pmap) {
         int32_t *xyz = malloc(12u * w * h);
         for (size_t i = 0; i < 3u * w * h; ++i)
@@ -119,12 +128,18 @@ static void asset_seed(const char *name, uint32_t w, uint32_t h, uint32_t k, uin
         memcpy(full, out, n);
         for (size_t i = 0; i < 64; ++i)
             full[n + i] = (uint8_t)next();
-        put("asset", name, full, extra ? n : n + 64);
+        put(target, name, full, extra ? n : n + 64);
         free(full);
     }
     free(out);
     free(planes);
     qtool_asset_builder_free(&b);
+}
+
+static void asset_seed(const char *name, uint32_t w, uint32_t h, uint32_t k, uint32_t ch, int pmap, uint32_t lut,
+                       int extra)
+{
+    asset_seed_to("asset", name, w, h, k, ch, pmap, lut, extra, 0);
 }
 
 /* ---- images ---------------------------------------------------------------------------------- */
@@ -381,6 +396,13 @@ int main(int argc, char **argv)
     asset_seed("shmp_grey_pmap.qibl", 5, 2, 9, 1, 1, 0, 0);
     asset_seed("full_rgb.qibl", 3, 2, 4, 3, 1, 2, 0);
     asset_seed("full_k9_extra.qibl", 2, 2, 9, 3, 1, 1, 1);
+    /* stream: interleaved assets (the layout rows stream in), one planar (refused by layout) */
+    asset_seed_to("stream", "il_rgb.qibl", 4, 3, 4, 3, 0, 0, 0, ASSET_INTERLEAVED);
+    asset_seed_to("stream", "il_full_rgb.qibl", 3, 2, 4, 3, 1, 2, 0, ASSET_INTERLEAVED);
+    asset_seed_to("stream", "il_full_k9_extra.qibl", 17, 2, 9, 3, 1, 1, 1, ASSET_INTERLEAVED);
+    asset_seed_to("stream", "il_grey_k16_pmap.qibl", 5, 2, 16, 1, 1, 3, 0, ASSET_INTERLEAVED);
+    asset_seed_to("stream", "il_shmu.qibl", 2, 2, 4, 3, 1, 1, 0, ASSET_INTERLEAVED | ASSET_SHMU);
+    asset_seed_to("stream", "planar_full.qibl", 3, 2, 4, 3, 1, 2, 0, 0);
     image_seeds();
     hdr_seeds();
     obj_seeds();
