@@ -1335,6 +1335,7 @@ static void test_stream_lying_fields(void **state)
     static const uint32_t faces[][2] = {{FN, FYK}, {256, FYK}, {FN, 25}, {3, FYK}};
     for (size_t i = 0; i < sizeof faces / sizeof faces[0]; ++i) {
         qibl_ylut_t hand = {faces[i][0], faces[i][1], ycopy + 12, hd.ylut_size - 12u};
+        assert_int_equal(qibl_ylut_check(&hand), QIBL_E_SHMAP_LUT_SHORT);
         tu_fill_guard(&pt, sizeof pt);
         assert_int_equal(qibl_shmap_point_prepare(&mv, &pv, &hand, &light, &pt), QIBL_E_SHMAP_LUT_SHORT);
         assert_true(tu_guard_intact(&pt, sizeof pt));
@@ -1344,6 +1345,21 @@ static void test_stream_lying_fields(void **state)
     /* k above 25 is out of every LUT's range, whatever the size says */
     qibl_ylut_t big = {FN, 26, ycopy + 12, (size_t)-1};
     assert_int_equal(qibl_shmap_point_prepare(&mv, &pv, &big, &light, &pt), QIBL_E_SHMAP_MISMATCH);
+    /* qibl_ylut_check, for callers of qibl_ylut_lookup: each field named */
+    assert_int_equal(qibl_ylut_check(&big), QIBL_E_SHMAP_K);
+    big.k = 0;
+    assert_int_equal(qibl_ylut_check(&big), QIBL_E_SHMAP_K);
+    big.k = FYK, big.face_size = 0;
+    assert_int_equal(qibl_ylut_check(&big), QIBL_E_SHMAP_LUT_SIZE);
+    big.face_size = QIBL_YLUT_MAX_FACE + 1u;
+    assert_int_equal(qibl_ylut_check(&big), QIBL_E_SHMAP_LUT_SIZE);
+    big.face_size = FN, big.size = 12u * FN * FN * FYK;
+    assert_int_equal(qibl_ylut_check(&big), QIBL_OK);
+    big.size--;
+    assert_int_equal(qibl_ylut_check(&big), QIBL_E_SHMAP_LUT_SHORT);
+    big.values = NULL;
+    assert_int_equal(qibl_ylut_check(&big), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_ylut_check(NULL), QIBL_E_NULL_POINTER);
     free(ycopy), free(row), free(prow), free(c);
 
     /* the honest file: the streamed views equal the full open's, and the LUT relights row 0 alike */
@@ -1356,6 +1372,8 @@ static void test_stream_lying_fields(void **state)
     assert_int_equal(qibl_asset_pmap(&a, &fp), QIBL_OK);
     assert_true(yl.face_size == fy.face_size && yl.k == fy.k && yl.size == fy.size);
     assert_int_equal(fy.size, 12u * FN * FN * FYK);
+    assert_int_equal(qibl_ylut_check(&yl), QIBL_OK);
+    assert_int_equal(qibl_ylut_check(&fy), QIBL_OK);
     assert_memory_equal(yl.values, fy.values, fy.size);
     assert_true(pm.width == fp.width && pm.height == fp.height && pm.points == NULL);
     qibl_asset_head_t h2;

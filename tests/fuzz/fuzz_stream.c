@@ -184,6 +184,7 @@ static void stream(const uint8_t *b, size_t n, int repaired)
             } else {
                 FUZZ_CHECK(lut.k >= hd.maps.k && lut.k <= 25u && lut.values == lutb + 12);
                 FUZZ_CHECK(lut.size == qibl_ylut_values_size(lut.face_size, lut.k) && lut.size == hd.ylut_size - 12u);
+                FUZZ_CHECK(qibl_ylut_check(&lut) == QIBL_OK);
             }
         }
     }
@@ -268,6 +269,7 @@ static void stream(const uint8_t *b, size_t n, int repaired)
                     /* refused only for what the fields say */
                     FUZZ_CHECK(ps == QIBL_E_SHMAP_MISMATCH || ps == QIBL_E_SHMAP_LUT_SHORT);
                     FUZZ_CHECK(ps != QIBL_E_SHMAP_LUT_SHORT || hand.size < qibl_ylut_values_size(hand.face_size, hand.k));
+                    FUZZ_CHECK(qibl_ylut_check(&hand) != QIBL_OK);
                     continue;
                 }
                 FUZZ_CHECK(qibl_shmap_point_span(&pt, 0, 0, W, out, ws, psz) == QIBL_OK);

@@ -183,8 +183,15 @@ size_t qibl_ylut_values_size(uint32_t face_size, uint32_t k);
  * QIBL_E_WORKSPACE (size too small); nothing written on error. */
 qibl_status_t qibl_ylut_build(uint32_t face_size, uint32_t k, uint8_t *values, size_t size);
 
+/* Whether view t may be read: QIBL_OK, or QIBL_E_NULL_POINTER (t or its values NULL), QIBL_E_SHMAP_K
+ * (k outside 1..25), QIBL_E_SHMAP_LUT_SIZE (face size outside 1..QIBL_YLUT_MAX_FACE),
+ * QIBL_E_SHMAP_LUT_SHORT (t->size below the 12 N N k bytes the fields need). The views of
+ * qibl_asset_ylut / qibl_asset_head_ylut always pass; check a view built any other way before
+ * qibl_ylut_lookup (qibl_shmap_point_prepare checks its LUT itself). */
+qibl_status_t qibl_ylut_check(const qibl_ylut_t *t);
+
 /* Y_0..Y_{k-1} (Q2.14, bilinear between texel centres, clamped at face edges) for a Q2.30 unit
- * direction u, from LUT t. No checks (hot path): t valid, k <= t->k. */
+ * direction u, from LUT t. No checks (hot path): t must pass qibl_ylut_check, k <= t->k. */
 void qibl_ylut_lookup(const qibl_ylut_t *t, const qibl_q30_t u[3], uint32_t k, int32_t *y14);
 
 #ifdef __cplusplus
