@@ -265,11 +265,15 @@ static void stream(const uint8_t *b, size_t n, int repaired)
                 qibl_status_t ps = qibl_shmap_point_prepare(&mv, &pv, luts[li], &pl, &pt);
                 if (li < 2)
                     FUZZ_CHECK(ps == QIBL_OK);
-                else if (ps != QIBL_OK) {
+                else if (ps == QIBL_OK)
+                    FUZZ_CHECK(qibl_ylut_check(&hand) == QIBL_OK && hand.k >= mv.k);
+                if (li == 2 && ps != QIBL_OK) {
                     /* refused only for what the fields say */
                     FUZZ_CHECK(ps == QIBL_E_SHMAP_MISMATCH || ps == QIBL_E_SHMAP_LUT_SHORT);
                     FUZZ_CHECK(ps != QIBL_E_SHMAP_LUT_SHORT || hand.size < qibl_ylut_values_size(hand.face_size, hand.k));
-                    FUZZ_CHECK(qibl_ylut_check(&hand) != QIBL_OK);
+                    /* the maps-independent part is qibl_ylut_check's; k below the maps' is prepare's own */
+                    FUZZ_CHECK(ps != QIBL_E_SHMAP_LUT_SHORT || qibl_ylut_check(&hand) == QIBL_E_SHMAP_LUT_SHORT);
+                    FUZZ_CHECK(ps != QIBL_E_SHMAP_MISMATCH || qibl_ylut_check(&hand) != QIBL_OK || hand.k < mv.k);
                     continue;
                 }
                 FUZZ_CHECK(qibl_shmap_point_span(&pt, 0, 0, W, out, ws, psz) == QIBL_OK);
