@@ -20,6 +20,7 @@
 
 #include "io/asset_write.h"
 #include "qibl/asset.h"
+#include "qibl/shmap.h"
 #include "testutil.h"
 
 /* ---- fixtures ------------------------------------------------------------------------------- */
@@ -1226,6 +1227,187 @@ static void test_stream_head(void **state)
     free(buf);
 }
 
+/* The streamed views of one file (buf, n: the whole file, the head its first bytes): the head, then
+ * the P map from its 12 field bytes and the Y LUT from an exact-size copy of its payload (so ASan sees
+ * any read past it). Returns the first failing status; *yl, *pm written only on success. */
+static qibl_status_t stream_views(const uint8_t *buf, size_t n, qibl_ylut_t *yl, qibl_pmap_t *pm, uint8_t **ycopy)
+{
+    size_t rounds, head = head_rounds(buf, &rounds);
+    qibl_asset_head_t hd;
+    qibl_status_t st = qibl_asset_open_head(&hd, buf, head);
+    if (st != QIBL_OK)
+        return st;
+    assert_true(hd.pmap_offset >= 12u && hd.ylut_size >= 12u && (size_t)hd.ylut_offset + hd.ylut_size <= n);
+    qibl_pmap_t p;
+    tu_fill_guard(&p, sizeof p);
+    st = qibl_asset_head_pmap(&hd, buf + hd.pmap_offset - 12u, 12u, &p);
+    if (st != QIBL_OK) {
+        assert_true(tu_guard_intact(&p, sizeof p));
+        return st;
+    }
+    uint8_t *y = malloc(hd.ylut_size);
+    assert_non_null(y);
+    memcpy(y, buf + hd.ylut_offset, hd.ylut_size);
+    qibl_ylut_t t;
+    tu_fill_guard(&t, sizeof t);
+    assert_int_equal(qibl_asset_head_ylut(&hd, y, hd.ylut_size - 1u, &t), QIBL_E_ASSET_HEAD_SHORT);
+    assert_true(tu_guard_intact(&t, sizeof t));
+    st = qibl_asset_head_ylut(&hd, y, hd.ylut_size, &t);
+    if (st != QIBL_OK) {
+        assert_true(tu_guard_intact(&t, sizeof t));
+        free(y);
+        return st;
+    }
+    *yl = t, *pm = p, *ycopy = y;
+    return QIBL_OK;
+}
+
+/* Issue 24 class 2: a streamed head must refuse the YLUT (and P map) fields qibl_asset_open refuses,
+ * with the same status, and a LUT view whose fields lie must never reach past its bytes. */
+static void test_stream_lying_fields(void **state)
+{
+    (void)state;
+    uint8_t *buf;
+    size_t n;
+    build_full_interleaved(&buf, &n);
+    assert_int_equal(rd(entry(buf, 1)), QIBL_CHUNK_PMAP);
+    assert_int_equal(rd(entry(buf, 2)), QIBL_CHUNK_YLUT);
+    /* {chunk, field offset, value, the status both paths must give} */
+    static const struct { uint32_t chunk, at, v; qibl_status_t want; } lies[] = {
+        {2, 0, 256, QIBL_E_ASSET_CHUNK_SIZE},   /* face size 256 in a 2x2 payload */
+        {2, 0, 3, QIBL_E_ASSET_CHUNK_SIZE},
+        {2, 0, 0, QIBL_E_ASSET_BAD_DIMENSIONS},
+        {2, 0, 257, QIBL_E_ASSET_BAD_DIMENSIONS},
+        {2, 0, 0xFFFFFFFFu, QIBL_E_ASSET_BAD_DIMENSIONS},
+        {2, 4, 25, QIBL_E_ASSET_CHUNK_SIZE},    /* k 25 in a k 5 payload */
+        {2, 4, 26, QIBL_E_ASSET_BAD_K},
+        {2, 4, 0, QIBL_E_ASSET_BAD_K},
+        {2, 4, FK - 1u, QIBL_E_ASSET_MISMATCH}, /* fewer than the maps' k */
+        {2, 8, 1, QIBL_E_ASSET_BAD_FLAGS},
+        {1, 0, FW + 1u, QIBL_E_ASSET_MISMATCH},  /* P map of another width */
+        {1, 4, FH - 1u, QIBL_E_ASSET_MISMATCH},
+        {1, 0, 0, QIBL_E_ASSET_BAD_DIMENSIONS},
+        {1, 4, QIBL_ASSET_MAX_DIM + 1u, QIBL_E_ASSET_BAD_DIMENSIONS},
+        {1, 8, 2, QIBL_E_ASSET_BAD_FLAGS},
+    };
+    for (size_t i = 0; i < sizeof lies / sizeof lies[0]; ++i) {
+        uint8_t *c = malloc(n);
+        assert_non_null(c);
+        memcpy(c, buf, n);
+        patch_field(c, n, lies[i].chunk, lies[i].at, lies[i].v);
+        expect_reject(c, n, lies[i].want);
+        qibl_ylut_t yl;
+        qibl_pmap_t pm;
+        uint8_t *y = NULL;
+        assert_int_equal(stream_views(c, n, &yl, &pm, &y), lies[i].want);
+        free(c);
+    }
+    /* the YLUT's table size lies instead (a whole 2x2 k 4 LUT short of the fields' k 5) */
+    uint8_t *c = malloc(n);
+    assert_non_null(c);
+    memcpy(c, buf, n);
+    qtool_store_u32le(entry(c, 2) + 8, rd(entry(c, 2) + 8) - 12u * FN * FN);
+    reseal_all(c, n);
+    expect_reject(c, n, QIBL_E_ASSET_CHUNK_SIZE);
+    qibl_ylut_t yl;
+    qibl_pmap_t pm;
+    uint8_t *y = NULL;
+    assert_int_equal(stream_views(c, n, &yl, &pm, &y), QIBL_E_ASSET_CHUNK_SIZE);
+
+    /* the LUT view built by hand from those fields, as a caller reading asset.h's layout would:
+     * relighting through it must be refused before any lookup (ASan: no read past the copy) */
+    size_t rounds, head = head_rounds(c, &rounds);
+    qibl_asset_head_t hd;
+    assert_int_equal(qibl_asset_open_head(&hd, c, head), QIBL_OK);
+    uint8_t *ycopy = malloc(hd.ylut_size), *row = malloc(hd.row_size), *prow = malloc(12u * FW);
+    assert_true(ycopy && row && prow);
+    memcpy(ycopy, c + hd.ylut_offset, hd.ylut_size);
+    qibl_asset_row_t rr;
+    assert_int_equal(qibl_asset_row(&hd, 0, &rr), QIBL_OK);
+    memcpy(row, c + rr.maps_offset, rr.maps_size);
+    memcpy(prow, c + rr.pmap_offset, rr.pmap_size);
+    qibl_shmaps_t mv;
+    qibl_pmap_t whole = {FW, FH, NULL}, pv;
+    assert_int_equal(qibl_shmaps_row_view(&hd.maps, row, &mv), QIBL_OK);
+    assert_int_equal(qibl_pmap_row_view(&whole, prow, &pv), QIBL_OK);
+    const qibl_pointlight_t light = {{1 << 16, 2 << 16, 3 << 16}, {1 << 16, 1 << 16, 1 << 16}, QIBL_FALLOFF_INV_DIST, 0, 0};
+    qibl_shmap_point_t pt;
+    static const uint32_t faces[][2] = {{FN, FYK}, {256, FYK}, {FN, 25}, {3, FYK}};
+    for (size_t i = 0; i < sizeof faces / sizeof faces[0]; ++i) {
+        qibl_ylut_t hand = {faces[i][0], faces[i][1], ycopy + 12, hd.ylut_size - 12u};
+        assert_int_equal(qibl_ylut_check(&hand), QIBL_E_SHMAP_LUT_SHORT);
+        tu_fill_guard(&pt, sizeof pt);
+        assert_int_equal(qibl_shmap_point_prepare(&mv, &pv, &hand, &light, &pt), QIBL_E_SHMAP_LUT_SHORT);
+        assert_true(tu_guard_intact(&pt, sizeof pt));
+        hand.size = 0; /* a view whose size was never set */
+        assert_int_equal(qibl_shmap_point_prepare(&mv, &pv, &hand, &light, &pt), QIBL_E_SHMAP_LUT_SHORT);
+    }
+    /* k above 25 is out of every LUT's range, whatever the size says */
+    qibl_ylut_t big = {FN, 26, ycopy + 12, (size_t)-1};
+    assert_int_equal(qibl_shmap_point_prepare(&mv, &pv, &big, &light, &pt), QIBL_E_SHMAP_MISMATCH);
+    /* qibl_ylut_check, for callers of qibl_ylut_lookup: each field named */
+    assert_int_equal(qibl_ylut_check(&big), QIBL_E_SHMAP_K);
+    big.k = 0;
+    assert_int_equal(qibl_ylut_check(&big), QIBL_E_SHMAP_K);
+    big.k = FYK, big.face_size = 0;
+    assert_int_equal(qibl_ylut_check(&big), QIBL_E_SHMAP_LUT_SIZE);
+    big.face_size = QIBL_YLUT_MAX_FACE + 1u;
+    assert_int_equal(qibl_ylut_check(&big), QIBL_E_SHMAP_LUT_SIZE);
+    big.face_size = FN, big.size = 12u * FN * FN * FYK;
+    assert_int_equal(qibl_ylut_check(&big), QIBL_OK);
+    big.size--;
+    assert_int_equal(qibl_ylut_check(&big), QIBL_E_SHMAP_LUT_SHORT);
+    big.values = NULL;
+    assert_int_equal(qibl_ylut_check(&big), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_ylut_check(NULL), QIBL_E_NULL_POINTER);
+    free(ycopy), free(row), free(prow), free(c);
+
+    /* the honest file: the streamed views equal the full open's, and the LUT relights row 0 alike */
+    assert_int_equal(stream_views(buf, n, &yl, &pm, &y), QIBL_OK);
+    qibl_asset_t a;
+    expect_ok(buf, n, &a);
+    qibl_ylut_t fy;
+    qibl_pmap_t fp;
+    assert_int_equal(qibl_asset_ylut(&a, &fy), QIBL_OK);
+    assert_int_equal(qibl_asset_pmap(&a, &fp), QIBL_OK);
+    assert_true(yl.face_size == fy.face_size && yl.k == fy.k && yl.size == fy.size);
+    assert_int_equal(fy.size, 12u * FN * FN * FYK);
+    assert_int_equal(qibl_ylut_check(&yl), QIBL_OK);
+    assert_int_equal(qibl_ylut_check(&fy), QIBL_OK);
+    assert_memory_equal(yl.values, fy.values, fy.size);
+    assert_true(pm.width == fp.width && pm.height == fp.height && pm.points == NULL);
+    qibl_asset_head_t h2;
+    head = head_rounds(buf, &rounds);
+    assert_int_equal(qibl_asset_open_head(&h2, buf, head), QIBL_OK);
+    assert_int_equal(qibl_asset_head_ylut(NULL, y, 1000, &fy), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_asset_head_ylut(&h2, NULL, 1000, &fy), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_asset_head_ylut(&h2, y, 1000, NULL), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_asset_head_pmap(&h2, y, 11, &fp), QIBL_E_ASSET_HEAD_SHORT);
+    assert_int_equal(qibl_asset_head_pmap(NULL, y, 12, &fp), QIBL_E_NULL_POINTER);
+    h2.ylut_offset = 0, h2.ylut_size = 0, h2.pmap_offset = 0;
+    assert_int_equal(qibl_asset_head_ylut(&h2, y, 1000, &fy), QIBL_E_ASSET_MISSING_CHUNK);
+    assert_int_equal(qibl_asset_head_pmap(&h2, y, 12, &fp), QIBL_E_ASSET_MISSING_CHUNK);
+    free(y);
+
+    /* a sweep of face sizes and k around the honest ones, every status the full open's */
+    for (uint32_t nn = 0; nn <= 5u; ++nn)
+        for (uint32_t kk = 0; kk <= 26u; ++kk) {
+            c = malloc(n);
+            assert_non_null(c);
+            memcpy(c, buf, n);
+            qtool_store_u32le(payload_of(c, 2), nn);
+            qtool_store_u32le(payload_of(c, 2) + 4, kk);
+            reseal_all(c, n);
+            qibl_asset_t fa;
+            qibl_status_t full = qibl_asset_open(&fa, c, n);
+            y = NULL;
+            assert_int_equal(stream_views(c, n, &yl, &pm, &y), full);
+            free(y);
+            free(c);
+        }
+    free(buf);
+}
+
 /* ---- the file writer ------------------------------------------------------------------------ */
 
 static void test_write_file(void **state)
@@ -1334,6 +1516,7 @@ int main(void)
         cmocka_unit_test(test_fuzz),
         cmocka_unit_test(test_interleaved_round_trip),
         cmocka_unit_test(test_stream_head),
+        cmocka_unit_test(test_stream_lying_fields),
         cmocka_unit_test(test_write_file),
     };
     assert_int_equal(qibl_crc32_table_init(crc_table, QIBL_CRC32_TABLE_WORDS), QIBL_OK);

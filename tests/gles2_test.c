@@ -184,7 +184,7 @@ static void test_relight_scenes_match_soft(void **state)
         uint8_t *vals = malloc(vs);
         assert_non_null(vals);
         assert_int_equal(qibl_ylut_build(16, k, vals, vs), QIBL_OK);
-        qibl_ylut_t lut = {16, k, vals};
+        qibl_ylut_t lut = {16, k, vals, vs};
         /* every GL limit, then a cap of 8 units / 16 uniform vectors (GLES2's guaranteed minimum),
          * which forces the sRGBE multipass path for points at every k and directional from k = 16 */
         const uint32_t caps[3][3] = {{0, 0, 0}, {8, 16, 0}, {8, 16, 1}};

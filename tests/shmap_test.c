@@ -429,7 +429,7 @@ static void test_point_light_direct_and_lut(void **state)
         size_t vs = qibl_ylut_values_size(ns[li], 16);
         uint8_t *vals = malloc(vs);
         assert_int_equal(qibl_ylut_build(ns[li], 16, vals, vs), QIBL_OK);
-        qibl_ylut_t lut = {ns[li], 16, vals};
+        qibl_ylut_t lut = {ns[li], 16, vals, vs};
         check_point(&b.m, &pb.p, &lut, &pl, tol[li], &w_lut[li]);
         if (li == 2) { /* nearest texel: error ~ the texel's angular size */
             pl.filter = QIBL_LUT_NEAREST;
@@ -531,7 +531,7 @@ static void test_point_light_hard_cases(void **state)
     p2.width = 5;
     assert_int_equal(qibl_shmap_point_prepare(&b.m, &p2, NULL, &pl, &st), QIBL_E_SHMAP_MISMATCH);
     uint8_t lutv[6 * 4 * 8 * 2];
-    qibl_ylut_t small = {2, 8, lutv}; /* k 8 < maps' 9 */
+    qibl_ylut_t small = {2, 8, lutv, sizeof lutv}; /* k 8 < maps' 9 */
     assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, &small, &pl, &st), QIBL_E_SHMAP_MISMATCH);
     assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, NULL, &pl, 0), QIBL_E_NULL_POINTER);
     assert_true(tu_guard_intact(&st, sizeof st));
@@ -560,7 +560,7 @@ static void test_ylut_build_and_lookup(void **state)
     tu_fill_guard(v, vs + 4);
     assert_int_equal(qibl_ylut_build(n, k, v, vs), QIBL_OK);
     assert_true(tu_guard_intact(v + vs, 4));
-    qibl_ylut_t t = {n, k, v};
+    qibl_ylut_t t = {n, k, v, vs};
     /* at every texel centre the lookup returns the texel itself, which is Y there to 2^-14 */
     for (uint32_t f = 0; f < 6; ++f)
         for (uint32_t b = 0; b < n; ++b)
@@ -848,7 +848,7 @@ static void test_interleaved_equals_planar(void **state)
         size_t vs = qibl_ylut_values_size(8, k);
         uint8_t *vals = malloc(vs);
         assert_int_equal(qibl_ylut_build(8, k, vals, vs), QIBL_OK);
-        qibl_ylut_t lut = {8, k, vals};
+        qibl_ylut_t lut = {8, k, vals, vs};
         qibl_pointlight_t pl = {{tu_s32(&r) >> 12, tu_s32(&r) >> 12, tu_s32(&r) >> 12}, {2 << 16, 1 << 16, 1 << 15},
                                 (it & 2) ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST, 0,
                                 (it & 16) ? QIBL_POINT_POLY : (it & 4) ? QIBL_LUT_NEAREST : QIBL_LUT_BILINEAR};
@@ -939,7 +939,7 @@ static void test_stream_rows_from_file(void **state)
     qibl_shlight_add_dir(&l, d, rgb);
     qibl_shmap_weights_t w;
     assert_int_equal(qibl_shmap_weights(&b.m, &l, &w), QIBL_OK);
-    qibl_ylut_t lut = {8, K, vals};
+    qibl_ylut_t lut = {8, K, vals, vs};
     qibl_pointlight_t pl = {{1 << 16, -(2 << 16), 3 << 16}, {2 << 16, 1 << 16, 1 << 15}, QIBL_FALLOFF_INV_DIST, 0, 0};
     qibl_shmap_point_t pt;
     assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, &lut, &pl, &pt), QIBL_OK);
@@ -967,7 +967,13 @@ static void test_stream_rows_from_file(void **state)
     assert_true(ylut && row && prow);
     assert_int_equal(fseek(f, (long)hd.ylut_offset, SEEK_SET), 0);
     assert_int_equal(fread(ylut, 1, hd.ylut_size, f), hd.ylut_size);
-    qibl_ylut_t slut = {qibl_load_u32le(ylut), qibl_load_u32le(ylut + 4), ylut + 12};
+    qibl_ylut_t slut;
+    assert_int_equal(qibl_asset_head_ylut(&hd, ylut, hd.ylut_size, &slut), QIBL_OK);
+    uint8_t pfields[12];
+    assert_int_equal(fseek(f, (long)hd.pmap_offset - 12, SEEK_SET), 0);
+    assert_int_equal(fread(pfields, 1, 12, f), 12u);
+    qibl_pmap_t whole_p;
+    assert_int_equal(qibl_asset_head_pmap(&hd, pfields, sizeof pfields, &whole_p), QIBL_OK);
     qibl_shmap_weights_t sw;
     assert_int_equal(qibl_shmap_weights(&hd.maps, &l, &sw), QIBL_OK);
     int32_t ws[W * (2 * K + 32) / 4 + 1];
@@ -979,7 +985,7 @@ static void test_stream_rows_from_file(void **state)
         assert_int_equal(fseek(f, (long)rr.pmap_offset, SEEK_SET), 0);
         assert_int_equal(fread(prow, 1, rr.pmap_size, f), rr.pmap_size);
         qibl_shmaps_t mv;
-        qibl_pmap_t pv, whole_p = {W, H, NULL};
+        qibl_pmap_t pv;
         assert_int_equal(qibl_shmaps_row_view(&hd.maps, row, &mv), QIBL_OK);
         assert_int_equal(qibl_pmap_row_view(&whole_p, prow, &pv), QIBL_OK);
         assert_int_equal(qibl_shmap_relight_span(&mv, &sw, 0, 0, W, got_dir + 3 * W * y, ws, sizeof ws), QIBL_OK);

@@ -116,24 +116,31 @@ static qibl_status_t check_shmp(const uint8_t *p, uint32_t size, uint32_t *pixel
     return QIBL_OK;
 }
 
-/* PMAP fields against SHMP's width and height (whose product px <= 2^26 was validated). */
-static qibl_status_t check_pmap(const uint8_t *p, uint32_t size, const uint8_t *shmp, uint32_t px)
+/* PMAP payload bytes for px pixels (px <= 2^26 validated: 12 + 12 * 2^26 < 2^30). */
+static uint32_t pmap_size(uint32_t px)
+{
+    return 12u + 12u * px;
+}
+
+/* PMAP fields against SHMP's width sw and height sh (validated, so sw * sh <= 2^26). The full open
+ * and the streamed head (qibl_asset_head_pmap) both check through here. */
+static qibl_status_t check_pmap(const uint8_t *p, uint32_t size, uint32_t sw, uint32_t sh)
 {
     if (size < 12u)
         return QIBL_E_ASSET_CHUNK_SIZE;
     uint32_t w = qibl_load_u32le(p), h = qibl_load_u32le(p + 4);
     if (w - 1u >= QIBL_ASSET_MAX_DIM || h - 1u >= QIBL_ASSET_MAX_DIM)
         return QIBL_E_ASSET_BAD_DIMENSIONS;
-    if (w != qibl_load_u32le(shmp) || h != qibl_load_u32le(shmp + 4))
+    if (w != sw || h != sh)
         return QIBL_E_ASSET_MISMATCH;
     if (qibl_load_u32le(p + 8) != 0u)
         return QIBL_E_ASSET_BAD_FLAGS;
-    if (size != 12u + 12u * px) /* <= 12 + 12 * 2^26 < 2^30 */
+    if (size != pmap_size(sw * sh))
         return QIBL_E_ASSET_CHUNK_SIZE;
     return QIBL_OK;
 }
 
-/* YLUT fields against SHMP's k. */
+/* YLUT fields against SHMP's k; the full open and qibl_asset_head_ylut both check through here. */
 static qibl_status_t check_ylut(const uint8_t *p, uint32_t size, uint32_t shmp_k)
 {
     if (size < 12u)
@@ -150,6 +157,15 @@ static qibl_status_t check_ylut(const uint8_t *p, uint32_t size, uint32_t shmp_k
     if (size != 12u + 12u * n * n * k) /* <= 12 + 12 * 256^2 * 25 < 2^25 */
         return QIBL_E_ASSET_CHUNK_SIZE;
     return QIBL_OK;
+}
+
+/* The view of a checked YLUT payload of size bytes (check_ylut passed: size = 12 + 12 N N k). */
+static void ylut_view(const uint8_t *p, uint32_t size, qibl_ylut_t *out)
+{
+    out->face_size = qibl_load_u32le(p);
+    out->k = qibl_load_u32le(p + 4);
+    out->values = p + 12;
+    out->size = size - 12u;
 }
 
 /* Header fields (needs n >= 24): magic, version, chunk count; *table_end and *file_size. */
@@ -240,7 +256,8 @@ static qibl_status_t open_asset(qibl_asset_t *out, const void *bytes, size_t n, 
     if (st != QIBL_OK)
         return st;
     const uint8_t *e = find_entry(b, count, QIBL_CHUNK_PMAP);
-    if (e != 0 && (st = check_pmap(b + qibl_load_u32le(e + 4), qibl_load_u32le(e + 8), shmp, px)) != QIBL_OK)
+    if (e != 0 && (st = check_pmap(b + qibl_load_u32le(e + 4), qibl_load_u32le(e + 8), qibl_load_u32le(shmp),
+                                   qibl_load_u32le(shmp + 4))) != QIBL_OK)
         return st;
     e = find_entry(b, count, QIBL_CHUNK_YLUT);
     if (e != 0 && (st = check_ylut(b + qibl_load_u32le(e + 4), qibl_load_u32le(e + 8), k)) != QIBL_OK)
@@ -339,9 +356,10 @@ qibl_status_t qibl_asset_open_head(qibl_asset_head_t *out, const void *head, siz
         return QIBL_E_ASSET_LAYOUT;
     uint32_t count = qibl_load_u32le(b + 12), soff = qibl_load_u32le(se + 4);
     const uint8_t *shmp = b + soff;
-    /* PMAP and YLUT: their sizes against SHMP, from the table (their fields are not in the head) */
+    /* PMAP and YLUT: their sizes against SHMP, from the table; their fields are not in the head and
+     * are checked when loaded (qibl_asset_head_pmap, qibl_asset_head_ylut: the same checks) */
     const uint8_t *pe = find_entry(b, count, QIBL_CHUNK_PMAP), *ye = find_entry(b, count, QIBL_CHUNK_YLUT);
-    if (pe != 0 && qibl_load_u32le(pe + 8) != 12u + 12u * px)
+    if (pe != 0 && qibl_load_u32le(pe + 8) != pmap_size(px))
         return QIBL_E_ASSET_CHUNK_SIZE;
     if (ye != 0 && qibl_load_u32le(ye + 8) < 12u)
         return QIBL_E_ASSET_CHUNK_SIZE;
@@ -374,6 +392,40 @@ qibl_status_t qibl_asset_row(const qibl_asset_head_t *h, uint32_t y, qibl_asset_
     out->pmap_offset = h->pmap_offset != 0u ? h->pmap_offset + 12u * h->maps.width * y : 0u;
     out->pmap_size = h->pmap_offset != 0u ? 12u * h->maps.width : 0u;
     return QIBL_OK;
+}
+
+qibl_status_t qibl_asset_head_pmap(const qibl_asset_head_t *h, const void *fields, size_t n, qibl_pmap_t *out)
+{
+    const uint8_t *p = (const uint8_t *)fields;
+    if (h == 0 || p == 0 || out == 0)
+        return QIBL_E_NULL_POINTER;
+    if (h->pmap_offset == 0u)
+        return QIBL_E_ASSET_MISSING_CHUNK;
+    if (n < 12u)
+        return QIBL_E_ASSET_HEAD_SHORT;
+    /* the payload size was checked against SHMP by qibl_asset_open_head */
+    qibl_status_t st = check_pmap(p, pmap_size(h->maps.width * h->maps.height), h->maps.width, h->maps.height);
+    if (st != QIBL_OK)
+        return st;
+    out->width = h->maps.width;
+    out->height = h->maps.height;
+    out->points = 0; /* rows stream: qibl_pmap_row_view */
+    return QIBL_OK;
+}
+
+qibl_status_t qibl_asset_head_ylut(const qibl_asset_head_t *h, const void *payload, size_t n, qibl_ylut_t *out)
+{
+    const uint8_t *p = (const uint8_t *)payload;
+    if (h == 0 || p == 0 || out == 0)
+        return QIBL_E_NULL_POINTER;
+    if (h->ylut_size == 0u)
+        return QIBL_E_ASSET_MISSING_CHUNK;
+    if (n < h->ylut_size)
+        return QIBL_E_ASSET_HEAD_SHORT;
+    qibl_status_t st = check_ylut(p, h->ylut_size, h->maps.k);
+    if (st == QIBL_OK)
+        ylut_view(p, h->ylut_size, out);
+    return st;
 }
 #endif /* QIBL_USE_INTERLEAVED */
 
@@ -467,14 +519,13 @@ qibl_status_t qibl_asset_pmap(const qibl_asset_t *a, qibl_pmap_t *out)
 
 qibl_status_t qibl_asset_ylut(const qibl_asset_t *a, qibl_ylut_t *out)
 {
-    const uint8_t *p = 0;
-    qibl_status_t st = payload(a, QIBL_CHUNK_YLUT, out, &p);
-    if (st != QIBL_OK)
-        return st;
-    out->face_size = qibl_load_u32le(p);
-    out->k = qibl_load_u32le(p + 4);
-    out->values = p + 12;
-    return QIBL_OK;
+    qibl_chunk_t c;
+    if (out == 0)
+        return QIBL_E_NULL_POINTER;
+    qibl_status_t st = qibl_asset_find(a, QIBL_CHUNK_YLUT, &c);
+    if (st == QIBL_OK)
+        ylut_view(c.data, c.size, out);
+    return st;
 }
 
 #else

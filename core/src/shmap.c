@@ -717,6 +717,19 @@ static void texel_dir(uint32_t f, uint32_t u, uint32_t v, uint32_t n, int32_t d[
         d[j] = face_basis[f][j][0] * one + face_basis[f][j][1] * s + face_basis[f][j][2] * t;
 }
 
+qibl_status_t qibl_ylut_check(const qibl_ylut_t *t)
+{
+    if (t == 0 || t->values == 0)
+        return QIBL_E_NULL_POINTER;
+    if (t->k < 1u || t->k > (uint32_t)QIBL_SH_MAX_COUNT)
+        return QIBL_E_SHMAP_K;
+    if (t->face_size < 1u || t->face_size > QIBL_YLUT_MAX_FACE)
+        return QIBL_E_SHMAP_LUT_SIZE;
+    if (t->size < qibl_ylut_values_size(t->face_size, t->k))
+        return QIBL_E_SHMAP_LUT_SHORT;
+    return QIBL_OK;
+}
+
 qibl_status_t qibl_ylut_build(uint32_t face_size, uint32_t k, uint8_t *values, size_t size)
 {
     if (values == 0)
@@ -1031,8 +1044,13 @@ qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t
         return QIBL_E_NULL_POINTER;
     if (p->width != m->width || p->height != m->height)
         return QIBL_E_SHMAP_MISMATCH;
-    if (lut != 0 && (lut->values == 0 || lut->k < m->k || lut->face_size < 1u || lut->face_size > QIBL_YLUT_MAX_FACE))
+    if (lut != 0 && (lut->values == 0 || lut->k < m->k || lut->k > (uint32_t)QIBL_SH_MAX_COUNT ||
+                     lut->face_size < 1u || lut->face_size > QIBL_YLUT_MAX_FACE))
         return QIBL_E_SHMAP_MISMATCH;
+    /* the view's fields may come from a file: the lookups reach 12 N N k bytes, which must be there
+     * (after the checks above only QIBL_E_SHMAP_LUT_SHORT remains) */
+    if (lut != 0 && (st = qibl_ylut_check(lut)) != QIBL_OK)
+        return st;
     if (light->rgb[0] < 0 || light->rgb[1] < 0 || light->rgb[2] < 0 || light->min_dist < 0 ||
         (light->falloff != QIBL_FALLOFF_INV_DIST && light->falloff != QIBL_FALLOFF_INV_DIST2) ||
         (light->filter != QIBL_LUT_BILINEAR && light->filter != QIBL_LUT_NEAREST && light->filter != QIBL_POINT_POLY))

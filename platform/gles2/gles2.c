@@ -608,8 +608,12 @@ qibl_status_t qibl_gles2_upload(qibl_gles2_t *g, const qibl_shmaps_t *m, const q
     if ((p != NULL && (p->points == NULL)) || (lut != NULL && lut->values == NULL))
         return QIBL_E_NULL_POINTER;
     if ((p != NULL && (p->width != m->width || p->height != m->height)) ||
-        (lut != NULL && (lut->k < m->k || lut->face_size == 0u || lut->face_size > QIBL_ASSET_MAX_LUT)))
+        (lut != NULL && (lut->k < m->k || lut->k > (uint32_t)QIBL_SH_MAX_COUNT || lut->face_size == 0u ||
+                         lut->face_size > QIBL_ASSET_MAX_LUT)))
         return QIBL_E_SHMAP_MISMATCH;
+    /* upload_lut reads 12 N N k bytes: the view must hold them */
+    if (lut != NULL && (st = qibl_ylut_check(lut)) != QIBL_OK)
+        return st;
     if (m->width > g->max_tex_size || m->height > g->max_tex_size ||
         (lut != NULL && lut->face_size > g->max_cube_size)) {
         set_log(g, "maps %ux%u (LUT faces %u) against GL_MAX_TEXTURE_SIZE %u, cube %u", m->width, m->height,

@@ -185,6 +185,8 @@ static void use_asset(const qibl_asset_t *a, fuzz_in *prm)
     if (have_t) {
         FUZZ_CHECK(t.face_size >= 1u && t.face_size <= QIBL_ASSET_MAX_LUT && t.k >= m.k && t.k <= 25u);
         FUZZ_CHECK(inside(a, t.values, qibl_ylut_values_size(t.face_size, t.k)));
+        FUZZ_CHECK(t.size == qibl_ylut_values_size(t.face_size, t.k)); /* the view states what it covers */
+        FUZZ_CHECK(qibl_ylut_check(&t) == QIBL_OK);
         /* a fuzzed direction of small integers, normalised in Q2.30 */
         int32_t d[3];
         int64_t l2 = 0;

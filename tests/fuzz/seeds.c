@@ -14,6 +14,20 @@
  *   lightprobe  small probes in each pixel format (sRGBE ones from the core's encoder)
  *   layout      a small sky in each probe layout (qtool_probe_layout_from_latlong, _rgbe_encode)
  *   shard       two shards of one bake (qtool_bake_sums_encode), as fuzz_shard.c reads them
+ *   lightpath   t and radius, then LPTH payloads baked by the path baker (qtool_bake_path_chunk: a sun
+ *               path and a lamp track over the built-in courtyard), a LOCC payload
+ *               (qtool_bake_lamp_occlusion, qtool_bake_locc_payload) and an SHMT payload
+ *               (qtool_gen_scene, qtool_bake_shmt_payload), as fuzz_lightpath.c reads them
+ *   probe       fuzz_probe.c's parameter bytes, then a small sky (dim, with a sun) in each pixel format
+ *               (RGBE from the reference encoder, sRGBE from the core's), then row order and lights
+ *   hemi        fuzz_hemi.c's bytes for a receiver under a roof, in a box (the cube's 8 corners and 12
+ *               triangles) and tilted against a wall (triangles below its horizon); no file writer exists
+ *   ply         a cube (8 vertices, 6 quads) in ascii, binary little- and big-endian, with other scalar
+ *               types, the int8..float64 names, skipped properties, lists and elements (no PLY writer
+ *               exists in the project: written here from the same geometry)
+ *   stream      interleaved assets (the asset builders with QIBL_SHMAPS_INTERLEAVED): maps alone, +
+ *               PMAP, + YLUT, an unknown chunk, an SHMU, grey and RGB, width past one group of 16;
+ *               one planar asset
  * Every seed stays below FUZZ_MAX_LEN (4096 bytes).
  */
 #include <errno.h>
@@ -24,10 +38,16 @@
 #include <sys/stat.h>
 
 #include "bake/bake.h"
+#include "bake/path.h"
+#include "bake/tiled.h"
+#include "gen/scene.h"
+#include "render/rt.h"
 #include "io/asset_write.h"
 #include "io/pfm.h"
 #include "io/png.h"
 #include "io/probe_layout.h"
+#include "qibl/hemi.h"
+#include "qibl/lightpath.h"
 #include "qibl/shmap.h"
 #include "qibl/srgbe.h"
 #include "ref/ward_rgbe.h"
@@ -71,8 +91,11 @@ static uint32_t next(void)
 
 /* ---- asset ----------------------------------------------------------------------------------- */
 
-static void asset_seed(const char *name, uint32_t w, uint32_t h, uint32_t k, uint32_t ch, int pmap, uint32_t lut,
-                       int extra)
+/* flags: ASSET_INTERLEAVED (SHMP in the interleaved layout), ASSET_SHMU (an unshadowed copy too) */
+enum { ASSET_INTERLEAVED = 1, ASSET_SHMU = 2 };
+
+static void asset_seed_to(const char *target, const char *name, uint32_t w, uint32_t h, uint32_t k, uint32_t ch,
+                          int pmap, uint32_t lut, int extra, int flags)
 {
     qtool_asset_builder b;
     qtool_asset_builder_init(&b);
@@ -84,7 +107,10 @@ static void asset_seed(const char *name, uint32_t w, uint32_t h, uint32_t k, uin
     }
     for (size_t i = 0; i < (size_t)w * h * k * ch; ++i)
         planes[i] = (uint8_t)next();
-    int rc = qtool_asset_add_shmp(&b, w, h, k, ch, scale, bias, planes);
+    int rc = qtool_asset_add_shmp_layout(&b, w, h, k, ch, scale, bias, planes,
+                                         (flags & ASSET_INTERLEAVED) ? QIBL_SHMAPS_INTERLEAVED : QIBL_SHMAPS_PLANAR);
+    if (rc == 0 && (flags & ASSET_SHMU))
+        rc = qtool_asset_add_shmu(&b, w, h, k, ch, scale, bias, planes);
     if (rc == 0 && pmap) {
         int32_t *xyz = malloc(12u * w * h);
         for (size_t i = 0; i < 3u * w * h; ++i)
@@ -119,12 +145,18 @@ static void asset_seed(const char *name, uint32_t w, uint32_t h, uint32_t k, uin
         memcpy(full, out, n);
         for (size_t i = 0; i < 64; ++i)
             full[n + i] = (uint8_t)next();
-        put("asset", name, full, extra ? n : n + 64);
+        put(target, name, full, extra ? n : n + 64);
         free(full);
     }
     free(out);
     free(planes);
     qtool_asset_builder_free(&b);
+}
+
+static void asset_seed(const char *name, uint32_t w, uint32_t h, uint32_t k, uint32_t ch, int pmap, uint32_t lut,
+                       int extra)
+{
+    asset_seed_to("asset", name, w, h, k, ch, pmap, lut, extra, 0);
 }
 
 /* ---- images ---------------------------------------------------------------------------------- */
@@ -421,6 +453,304 @@ static void transfer_seeds(void)
                   (const uint8_t(*)[3])grid_t, 32);
 }
 
+/* ---- lightpath ------------------------------------------------------------------------------- */
+
+static void lightpath_put(const char *name, uint16_t t, uint16_t radius, const uint8_t *payload, size_t n)
+{
+    if (4 + n > 4096) {
+        fprintf(stderr, "fuzz-seeds: lightpath %s: %zu bytes, above FUZZ_MAX_LEN\n", name, 4 + n);
+        failed = 1;
+        return;
+    }
+    uint8_t *b = malloc(4 + n);
+    b[0] = (uint8_t)t, b[1] = (uint8_t)(t >> 8), b[2] = (uint8_t)radius, b[3] = (uint8_t)(radius >> 8);
+    memcpy(b + 4, payload, n);
+    put("lightpath", name, b, 4 + n);
+    free(b);
+}
+
+static void lightpath_seeds(void)
+{
+    qtool_rt_scene sc;
+    if (qtool_rt_scene_builtin(&sc) != 0) {
+        fprintf(stderr, "fuzz-seeds: lightpath: no scene\n");
+        failed = 1;
+        return;
+    }
+    char err[256];
+    static const struct {
+        const char *name, *spec;
+        int kind;
+        uint16_t t, radius;
+    } P[] = {{"lpth_sun_12x6", "40,15,6,18", 0, 30000, 0},
+             {"lpth_sun_soft_12x6", "52,-10,7,17", 0, 21000, 900},
+             {"lpth_track_12x6", "-3,2,1.2;0,3,2.5;3,2,1.2", 1, 40000, 0}};
+    for (size_t i = 0; i < sizeof P / sizeof P[0]; ++i) {
+        qtool_bake_path bp;
+        memset(&bp, 0, sizeof bp);
+        bp.rgb[0] = bp.rgb[1] = bp.rgb[2] = 1.0;
+        int rc = P[i].kind == 0 ? qtool_bake_path_parse_sun(P[i].spec, &bp, err, sizeof err)
+                                : qtool_bake_path_parse_track(P[i].spec, &bp, err, sizeof err);
+        uint8_t *pl = NULL;
+        size_t n = 0;
+        if (rc == 0)
+            rc = qtool_bake_path_chunk(&sc, 12, 6, QTOOL_PANO_EQUIRECT, &bp, 64, 6, 1, &pl, &n, NULL);
+        if (rc != 0) {
+            fprintf(stderr, "fuzz-seeds: lightpath %s: %s\n", P[i].name, rc ? "bake failed" : err);
+            failed = 1;
+        } else {
+            lightpath_put(P[i].name, P[i].t, P[i].radius, pl, n);
+        }
+        free(pl);
+    }
+    /* lamp occlusion over a box in the courtyard */
+    uint8_t occ[10 * 5];
+    const double box[6] = {-2, -2, 1, 2, 2, 3};
+    uint8_t *pl = NULL;
+    size_t n = 0;
+    if (qtool_bake_lamp_occlusion(&sc, 10, 5, QTOOL_PANO_EQUIRECT, box, 16, 1, occ) != 0 ||
+        qtool_bake_locc_payload(10, 5, occ, &pl, &n) != 0) {
+        fprintf(stderr, "fuzz-seeds: lightpath: lamp occlusion failed\n");
+        failed = 1;
+    } else {
+        lightpath_put("locc_10x5", 0, 0, pl, n);
+    }
+    free(pl);
+    qtool_rt_scene_free(&sc);
+    /* tiled maps: 20x4 (two tiles across, the second partial), k 9 */
+    qtool_gen_maps gm;
+    pl = NULL;
+    if (qtool_gen_scene(20, 4, 9, QTOOL_PANO_EQUIRECT, &gm) != 0) {
+        fprintf(stderr, "fuzz-seeds: lightpath: gen_scene failed\n");
+        failed = 1;
+        return;
+    }
+    if (qtool_bake_shmt_payload(&gm, 0.02, &pl, &n, NULL) != 0) {
+        fprintf(stderr, "fuzz-seeds: lightpath: SHMT payload failed\n");
+        failed = 1;
+    } else {
+        lightpath_put("shmt_20x4_k9", 0, 0, pl, n);
+    }
+    free(pl);
+    qtool_gen_free(&gm);
+}
+
+/* ---- probe (SH projection) --------------------------------------------------------------------- */
+
+/* fuzz_probe.c's input: w-1, h-1, format, bands, frac_bits/2, options (irradiance, window),
+ * scale_log2/5, stride byte; the pixels; then the row order, the lights and the rotation (zeros) */
+static void sh_probe_seed(const char *name, uint8_t w, uint8_t h, uint8_t fmt, uint8_t bands, int8_t frac2, uint8_t ob,
+                          int8_t scale5, uint8_t sb)
+{
+    uint8_t b[8 + 16 * 8 * 12 + 64];
+    size_t n = 0;
+    b[n++] = (uint8_t)(w - 1), b[n++] = (uint8_t)(h - 1), b[n++] = fmt, b[n++] = bands;
+    b[n++] = (uint8_t)frac2, b[n++] = ob, b[n++] = (uint8_t)scale5, b[n++] = sb;
+    const size_t pb = fmt <= 1 ? 4u : 12u;
+    for (int v = 0; v < h; ++v)
+        for (int u = 0; u < w; ++u) {
+            float sun = (u == w / 4 && v == h / 4) ? 900.0f : 0.0f;
+            float c[3] = {sun + 0.4f + 0.1f * (float)v, sun + 0.5f, sun + 0.2f * (float)(h - v)};
+            if (fmt == 0) {
+                qtool_ref_rgbe_encode(c, b + n);
+            } else if (fmt == 1) {
+                uint32_t f[3];
+                memcpy(f, c, 12);
+                qibl_srgbe_encode_f32(f, b + n);
+            } else if (fmt == 2) {
+                for (int i = 0; i < 3; ++i) {
+                    int32_t x = (int32_t)(c[i] * (float)(1 << (2 * frac2 > 0 ? 2 * frac2 : 0)));
+                    memcpy(b + n + 4 * i, &x, 4);
+                }
+            } else {
+                memcpy(b + n, c, 12);
+            }
+            n += pb;
+        }
+    /* the row order (a reversal), no extra rows, then light k 9 and rotation bytes */
+    for (int v = 0; v + 1 < h; ++v)
+        b[n++] = 0;
+    b[n++] = 0;
+    for (int i = 0; i < 16; ++i)
+        b[n++] = (uint8_t)(i * 37 + 9);
+    put("probe", name, b, n);
+}
+
+static void probe_sh_seeds(void)
+{
+    sh_probe_seed("rgbe_16x8_b3", 16, 8, 0, 3, 0, 0x00, 0, 0x00);
+    sh_probe_seed("srgbe_12x6_b5_irr_hann", 12, 6, 1, 5, 0, 0x01 | 1 << 1, 0, 0x05);
+    sh_probe_seed("i32_8x4_b2_lanczos", 8, 4, 2, 2, 4, 2 << 1, -2, 0x02);
+    sh_probe_seed("f32_6x3_b4_irr", 6, 3, 3, 4, 0, 0x01, 1, 0x03);
+}
+
+/* ---- hemi ------------------------------------------------------------------------------------ */
+
+typedef struct seedbuf {
+    uint8_t b[1200];
+    size_t n;
+} seedbuf;
+
+static void sb_u8(seedbuf *s, uint32_t v) { s->b[s->n++] = (uint8_t)v; }
+static void sb_u16(seedbuf *s, uint32_t v) { sb_u8(s, v), sb_u8(s, v >> 8); }
+static void sb_u32(seedbuf *s, uint32_t v) { sb_u16(s, v), sb_u16(s, v >> 16); }
+
+/* fuzz_hemi.c's input: size byte; receiver (offset u32 + shift byte per axis, then the normal);
+ * vertices as raw Q16.16 (flag 0x80, an unused u16, the u32); triangles; no extra mask bits; a
+ * reflection vector and exponent; the light */
+static void hemi_seed(const char *name, uint8_t size_byte, const double p[3], const int32_t nrm[3], uint32_t nv,
+                      const double (*v)[3], uint32_t nt, const uint8_t (*t)[3], uint32_t exponent)
+{
+    seedbuf s = {{0}, 0};
+    sb_u8(&s, size_byte);
+    for (int i = 0; i < 3; ++i) {
+        sb_u32(&s, (uint32_t)(int32_t)lrint(p[i] * 65536.0) + 0x80000000u);
+        sb_u8(&s, 0);
+    }
+    for (int i = 0; i < 3; ++i)
+        sb_u32(&s, (uint32_t)nrm[i]);
+    sb_u8(&s, nv - 1u);
+    for (uint32_t k = 0; k < nv; ++k)
+        for (int i = 0; i < 3; ++i) {
+            sb_u8(&s, 0x80);
+            sb_u16(&s, 0);
+            sb_u32(&s, (uint32_t)(int32_t)lrint(v[k][i] * 65536.0));
+        }
+    sb_u8(&s, nt);
+    for (uint32_t k = 0; k < nt; ++k)
+        for (int i = 0; i < 3; ++i)
+            sb_u8(&s, t[k][i]);
+    static const uint32_t sizes[3] = {16, 32, 64};
+    const uint32_t words = QIBL_HEMI_MASK_WORDS(sizes[size_byte % 3u]); /* zeros: no extra bits */
+    for (uint32_t i = 0; i < words; ++i)
+        sb_u32(&s, 0);
+    sb_u32(&s, 0), sb_u32(&s, 0), sb_u32(&s, 1u << 30); /* reflection +z */
+    sb_u32(&s, exponent);
+    for (int c = 0; c < 3; ++c)
+        for (int i = 0; i < QIBL_HEMI_COEFFS && s.n + 4 <= sizeof s.b; ++i)
+            sb_u32(&s, (uint32_t)((c + 1) * (1 << 14) / (i + 1)));
+    put("hemi", name, s.b, s.n);
+}
+
+static void hemi_seeds(void)
+{
+    /* size byte sb: mask {16, 32, 64}[sb % 3], face 2 (1 + (sb >> 2) % 8) */
+    const double origin[3] = {0, 0, 0};
+    const int32_t up[3] = {0, 0, 1 << 16};
+    const double roof[4][3] = {{-1, -1, 1}, {1, -1, 1}, {1, 1, 1.5}, {-1, 1, 1.5}};
+    const uint8_t roof_t[2][3] = {{0, 1, 2}, {0, 2, 3}};
+    hemi_seed("roof_m16_f4", 6, origin, up, 4, roof, 2, roof_t, 8);
+    /* the receiver on the floor of a closed box: every direction blocked */
+    const double box[8][3] = {{-1, -1, -0.5}, {1, -1, -0.5}, {1, 1, -0.5}, {-1, 1, -0.5},
+                              {-1, -1, 2},    {1, -1, 2},    {1, 1, 2},    {-1, 1, 2}};
+    const uint8_t box_t[12][3] = {{0, 1, 2}, {0, 2, 3}, {4, 6, 5}, {4, 7, 6}, {0, 4, 5}, {0, 5, 1},
+                                  {1, 5, 6}, {1, 6, 2}, {2, 6, 7}, {2, 7, 3}, {3, 7, 4}, {3, 4, 0}};
+    hemi_seed("box_m32_f8", 13, origin, up, 8, box, 12, box_t, 0);
+    /* a tilted receiver beside a wall that crosses its horizon, far from the origin */
+    const double at[3] = {120.5, -40.25, 3};
+    const int32_t tilt[3] = {40000, -12000, 30000};
+    const double wall[4][3] = {{121.5, -42, 0}, {121.5, -38, 0}, {121.5, -38, 8}, {121.5, -42, 8}};
+    const uint8_t wall_t[3][3] = {{0, 1, 2}, {0, 2, 3}, {0, 2, 4}}; /* the last one names a missing vertex */
+    hemi_seed("wall_m64_f16", 29, at, tilt, 4, wall, 3, wall_t, 40);
+}
+
+/* ---- ply ------------------------------------------------------------------------------------- */
+
+static const double cube_v[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                    {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+static const int cube_f[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+
+/* one scalar of PLY type name (char uchar short ushort int uint float double) in the byte order */
+static size_t ply_scalar(uint8_t *o, const char *type, double v, int big)
+{
+    uint8_t raw[8];
+    size_t n;
+    if (!strcmp(type, "char") || !strcmp(type, "int8")) {
+        int8_t x = (int8_t)v;
+        memcpy(raw, &x, n = 1);
+    } else if (!strcmp(type, "uchar") || !strcmp(type, "uint8")) {
+        uint8_t x = (uint8_t)v;
+        memcpy(raw, &x, n = 1);
+    } else if (!strcmp(type, "short") || !strcmp(type, "int16")) {
+        int16_t x = (int16_t)v;
+        memcpy(raw, &x, n = 2);
+    } else if (!strcmp(type, "ushort") || !strcmp(type, "uint16")) {
+        uint16_t x = (uint16_t)v;
+        memcpy(raw, &x, n = 2);
+    } else if (!strcmp(type, "int") || !strcmp(type, "int32")) {
+        int32_t x = (int32_t)v;
+        memcpy(raw, &x, n = 4);
+    } else if (!strcmp(type, "uint") || !strcmp(type, "uint32")) {
+        uint32_t x = (uint32_t)v;
+        memcpy(raw, &x, n = 4);
+    } else if (!strcmp(type, "float") || !strcmp(type, "float32")) {
+        float x = (float)v;
+        memcpy(raw, &x, n = 4);
+    } else {
+        memcpy(raw, &v, n = 8);
+    }
+    const uint16_t one = 1;
+    const int host_big = *(const uint8_t *)&one == 0;
+    for (size_t i = 0; i < n; ++i)
+        o[i] = raw[big != host_big ? n - 1 - i : i];
+    return n;
+}
+
+/* the cube in format fmt ("ascii", "binary_little_endian", "binary_big_endian"): vertex x y z of
+ * type ct plus an extra property of type xt (skipped), faces as list cnt idx, then an element "edge"
+ * of two ints the reader skips */
+static void ply_seed(const char *name, const char *fmt, const char *ct, const char *xt, const char *cnt,
+                     const char *idx, double scale)
+{
+    uint8_t b[4096];
+    int ascii = !strcmp(fmt, "ascii"), big = !strcmp(fmt, "binary_big_endian");
+    size_t n = (size_t)snprintf((char *)b, sizeof b,
+                                "ply\nformat %s 1.0\ncomment made by fuzz-seeds\nobj_info a unit cube\n"
+                                "element vertex 8\nproperty %s x\nproperty %s y\nproperty %s z\nproperty %s quality\n"
+                                "element face 6\nproperty list %s %s vertex_indices\nproperty uchar flags\n"
+                                "element edge 2\nproperty int vertex1\nproperty int vertex2\nend_header\n",
+                                fmt, ct, ct, ct, xt, cnt, idx);
+    for (int i = 0; i < 8; ++i) {
+        if (ascii) {
+            n += (size_t)snprintf((char *)b + n, sizeof b - n, "%g %g %g %d\n", cube_v[i][0] * scale,
+                                  cube_v[i][1] * scale, cube_v[i][2] * scale, i);
+        } else {
+            for (int j = 0; j < 3; ++j)
+                n += ply_scalar(b + n, ct, cube_v[i][j] * scale, big);
+            n += ply_scalar(b + n, xt, i, big);
+        }
+    }
+    for (int f = 0; f < 6; ++f) {
+        if (ascii) {
+            n += (size_t)snprintf((char *)b + n, sizeof b - n, "4 %d %d %d %d 0\n", cube_f[f][0], cube_f[f][1],
+                                  cube_f[f][2], cube_f[f][3]);
+        } else {
+            n += ply_scalar(b + n, cnt, 4, big);
+            for (int j = 0; j < 4; ++j)
+                n += ply_scalar(b + n, idx, cube_f[f][j], big);
+            n += ply_scalar(b + n, "uchar", 0, big);
+        }
+    }
+    for (int e = 0; e < 2; ++e) {
+        if (ascii) {
+            n += (size_t)snprintf((char *)b + n, sizeof b - n, "%d %d\n", e, e + 1);
+        } else {
+            n += ply_scalar(b + n, "int", e, big);
+            n += ply_scalar(b + n, "int", e + 1, big);
+        }
+    }
+    put("ply", name, b, n);
+}
+
+static void ply_seeds(void)
+{
+    ply_seed("cube_ascii.ply", "ascii", "float", "uchar", "uchar", "int", 1.0);
+    ply_seed("cube_le_float.ply", "binary_little_endian", "float", "uchar", "uchar", "int", 2.5);
+    ply_seed("cube_be_double.ply", "binary_big_endian", "double", "ushort", "ushort", "uint", -1.0);
+    ply_seed("cube_le_short.ply", "binary_little_endian", "short", "float", "uint8", "uint16", 100.0);
+    ply_seed("cube_be_int8.ply", "binary_big_endian", "int8", "float64", "int32", "int32", 3.0);
+}
+
 int main(int argc, char **argv)
 {
     if (argc != 2) {
@@ -436,6 +766,13 @@ int main(int argc, char **argv)
     asset_seed("shmp_grey_pmap.qibl", 5, 2, 9, 1, 1, 0, 0);
     asset_seed("full_rgb.qibl", 3, 2, 4, 3, 1, 2, 0);
     asset_seed("full_k9_extra.qibl", 2, 2, 9, 3, 1, 1, 1);
+    /* stream: interleaved assets (the layout rows stream in), one planar (refused by layout) */
+    asset_seed_to("stream", "il_rgb.qibl", 4, 3, 4, 3, 0, 0, 0, ASSET_INTERLEAVED);
+    asset_seed_to("stream", "il_full_rgb.qibl", 3, 2, 4, 3, 1, 2, 0, ASSET_INTERLEAVED);
+    asset_seed_to("stream", "il_full_k9_extra.qibl", 17, 2, 9, 3, 1, 1, 1, ASSET_INTERLEAVED);
+    asset_seed_to("stream", "il_grey_k16_pmap.qibl", 5, 2, 16, 1, 1, 3, 0, ASSET_INTERLEAVED);
+    asset_seed_to("stream", "il_shmu.qibl", 2, 2, 4, 3, 1, 1, 0, ASSET_INTERLEAVED | ASSET_SHMU);
+    asset_seed_to("stream", "planar_full.qibl", 3, 2, 4, 3, 1, 2, 0, 0);
     image_seeds();
     hdr_seeds();
     obj_seeds();
@@ -449,6 +786,10 @@ int main(int argc, char **argv)
     probe_seed("i32_varmin", 8, 4, 2, 0x02 | 1 << 5, 0x80 | 5, 8, 0x01);
     probe_seed("f32_varmin_var", 8, 8, 3, 0x02 | 3 << 2, 4, 0, 0x1A);
     probe_seed("rgbe_levels", 24, 16, 0, 0x01 | 4 << 2, 4, 0, 0x28);
+    lightpath_seeds();
+    probe_sh_seeds();
+    hemi_seeds();
+    ply_seeds();
     if (!failed)
         printf("fuzz-seeds: seeds written to %s\n", root);
     return failed;

@@ -153,7 +153,7 @@ int main(void)
         uint64_t fbw = bm_insn_clock() - t0;
         /* point light: direct SH, a 16x16-per-face LUT bilinear and nearest, then Q2.14 polynomials */
         check(qibl_ylut_build(16, k, vals, vs), "ylut_build");
-        qibl_ylut_t lut = {16, k, vals};
+        qibl_ylut_t lut = {16, k, vals, vs};
         uint64_t pt[4];
         for (int mode = 0; mode < 4; ++mode) {
             qibl_pointlight_t pl = {{30000, -90000, 20000}, {200000, 160000, 120000}, QIBL_FALLOFF_INV_DIST2, 0,

@@ -5,6 +5,7 @@
  * runner.c. No file system here: tools/baremetal/run.sh compares the hashes with fixtures/golden.
  *
  * Output:
+ *   tls ok: ...                            (tls.c: a failed malloc set errno inside the TLS block)
  *   case <name> <64 hex> heap <bytes>      |  case <name> - ERROR <why>
  *   group <name>: <n> cases, <ms> ms emulated
  *   stack <entry point> <bytes>            (deepest use of one call, measured by painting)
@@ -19,6 +20,7 @@
 #include "probe.h"
 #include "semi.h"
 #include "stack.h"
+#include "tls.h"
 
 #ifndef BM_CONFIG
 #define BM_CONFIG "baremetal"
@@ -60,6 +62,8 @@ static void error(void *user, const char *name, const char *what)
 int main(void)
 {
     static run r;
+    if (bm_tls_check() != 0) /* errno must land in TLS, not in low memory */
+        return 1;
     qtool_sha256_init(&r.all);
     qtool_goldens_sink_t sink = {emit, error, &r};
     bm_clock_start();

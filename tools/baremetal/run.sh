@@ -40,7 +40,7 @@ core_warn="-std=c99 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wundef -Wdou
 tool_warn="-std=c99 -Wall -Wextra -Wpedantic -Werror -Wno-format"
 core_src=$(ls core/src/*.c platform/soft/*.c)
 tool_src="$(ls tools/golden/cases*.c) tools/io/sha256.c"
-bm_src="tools/baremetal/main.c tools/baremetal/semi.c tools/baremetal/stack.c tools/baremetal/heap.c"
+bm_src="tools/baremetal/main.c tools/baremetal/semi.c tools/baremetal/stack.c tools/baremetal/heap.c tools/baremetal/tls.c"
 
 # name | gcc prefix | target flags | -O | qemu command
 # (Cortex-M builds default to QIBL_CONFIG_SMALL=1, config.h; here every module is built and run)
@@ -135,6 +135,8 @@ while IFS='|' read -r name prefix flags opt qemu; do
     timeout 600 $qemu $qemu_common -kernel "$dir/qibl-golden.elf" > "$dir/run.txt" 2>&1 # (semihosting writes to stderr)
     rc=$? secs=$(( $(date +%s) - t0 ))
     [ $rc = 0 ] || err "$name: the run exited with $rc ($(tail -n 2 "$dir/run.txt" | tr '\n' ' '))"
+    # the crt set up picolibc's TLS: a forced failed malloc put errno inside the TLS block (tls.c)
+    grep -q '^tls ok' "$dir/run.txt" || err "$name: no TLS check line ($(grep -m1 'TLS' "$dir/run.txt"))"
 
     # every case: the hash of fixtures/golden; the set of cases: the hosted runner's
     ok=0 bad=0

@@ -74,7 +74,7 @@ int qcli_bench_gles(int quick)
         qibl_pmap_t pm = {W, H, points};
         size_t vs = qibl_ylut_values_size(32, k);
         uint8_t *vals = malloc(vs);
-        qibl_ylut_t lut = {32, k, vals};
+        qibl_ylut_t lut = {32, k, vals, vs};
         qibl_gles2_t g;
         qibl_status_t st = vals ? qibl_ylut_build(32, k, vals, vs) : QIBL_E_NULL_POINTER;
         if (st == QIBL_OK)

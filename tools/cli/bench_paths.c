@@ -55,7 +55,7 @@ static int bmaps_make(const qtool_gen_maps *g, uint32_t k, bmaps *b)
         }
         b->m.width = g->width, b->m.height = g->height, b->m.k = k, b->m.channels = 3;
         b->m.params = b->params, b->m.planes = b->planes;
-        b->lut.face_size = 32, b->lut.k = k, b->lut.values = b->lutv;
+        b->lut.face_size = 32, b->lut.k = k, b->lut.values = b->lutv, b->lut.size = vs;
         rc = 0;
     }
     free(scale), free(bias);

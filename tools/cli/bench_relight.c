@@ -145,7 +145,7 @@ static double bench_layouts(const qtool_gen_maps *g, uint32_t W, uint32_t H, int
         uint8_t *lv = malloc(lvs);
         void *pws = malloc(pwn);
         qibl_ylut_build(32, k, lv, lvs);
-        qibl_ylut_t lut = {32, k, lv};
+        qibl_ylut_t lut = {32, k, lv, lvs};
         for (int light = 0; light < 2; ++light) {
             double t[2][REPS_MAX];
             int same = 1;
@@ -435,7 +435,7 @@ int qcli_bench_relight(int quick, int csv)
         size_t pwn = qibl_shmap_point_workspace_size(k, W);
         void *pws = malloc(pwn);
         for (int li = 0; li <= 4; ++li) {
-            qibl_ylut_t lut = {0, 0, NULL};
+            qibl_ylut_t lut = {0, 0, NULL, 0};
             qibl_pointlight_t lamp_li = lamp;
             if (li == 4)
                 lamp_li.filter = QIBL_POINT_POLY; /* Q2.14 polynomials, no LUT */
@@ -444,7 +444,7 @@ int qcli_bench_relight(int quick, int csv)
                 size_t vs = qibl_ylut_values_size(luts[li], k);
                 vals = malloc(vs);
                 qibl_ylut_build(luts[li], k, vals, vs); /* bake-time work, not timed */
-                lut.face_size = luts[li], lut.k = k, lut.values = vals;
+                lut.face_size = luts[li], lut.k = k, lut.values = vals, lut.size = vs;
             }
             for (int r = 0; r < reps; ++r) {
                 double t0 = qcli_now();

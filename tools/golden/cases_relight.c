@@ -198,7 +198,7 @@ int qtool_goldens_relight(const qtool_goldens_sink_t *s)
         size_t vs = qibl_ylut_values_size(16, k);
         uint8_t *vals = malloc(vs);
         st = vals ? qibl_ylut_build(16, k, vals, vs) : QIBL_E_WORKSPACE;
-        qibl_ylut_t lut = {16, k, vals};
+        qibl_ylut_t lut = {16, k, vals, vs};
         const char *modes[5] = {"direct", "lut16", "lut16_nearest", "poly", "poly_d2"};
         for (int mode = 0; mode < 5; ++mode) {
             point_ctx pc;

@@ -13,6 +13,7 @@
 #define qibl_shmap_relight_span qtool_shmap_relight_span_scalar
 #define qibl_ylut_values_size qtool_ylut_values_size_scalar
 #define qibl_ylut_build qtool_ylut_build_scalar
+#define qibl_ylut_check qtool_ylut_check_scalar
 #define qibl_ylut_lookup qtool_ylut_lookup_scalar
 #define qibl_shmap_point_prepare qtool_shmap_point_prepare_scalar
 #define qibl_shmap_point_workspace_size qtool_shmap_point_workspace_size_scalar

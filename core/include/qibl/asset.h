@@ -83,6 +83,8 @@
  * Streaming (qibl_asset_head_size, qibl_asset_open_head, qibl_asset_row): the same structure checks
  * on the file's first bytes only, then the file offset of each row, for interleaved assets whose
  * rows are loaded one at a time (from disc, cartridge, network) and relit through one-row views.
+ * The PMAP and YLUT fields lie outside the head: qibl_asset_head_pmap and qibl_asset_head_ylut check
+ * them, when loaded, with the very checks qibl_asset_open applies, and build the views.
  */
 #ifndef QIBL_ASSET_H
 #define QIBL_ASSET_H
@@ -169,7 +171,12 @@ qibl_status_t qibl_asset_find(const qibl_asset_t *a, uint32_t type, qibl_chunk_t
  * qibl_asset_row gives and relights through qibl_shmaps_row_view / qibl_pmap_row_view (shmaps.h).
  * Checks: those of qibl_asset_open_structure that the head holds (header, table CRC, every entry's
  * bounds, duplicates and overlaps against file_size, SHMP's fields, PMAP's and YLUT's payload sizes
- * against SHMP from the table); no payload CRC, no PMAP/YLUT fields (not in the head). */
+ * against SHMP from the table); no payload CRC. PMAP's and YLUT's fields are not in the head: build
+ * their views with qibl_asset_head_pmap and qibl_asset_head_ylut, which apply qibl_asset_open's
+ * checks of those fields (never read the fields by hand: a YLUT whose fields lie about its size
+ * would make relighting read past the loaded bytes; qibl_shmap_point_prepare refuses a LUT view
+ * whose size does not cover its fields with QIBL_E_SHMAP_LUT_SHORT). SHMU is not streamed (the head
+ * names no offset for it) and its fields are not checked here. */
 
 /* A streamed asset: what the head holds and where the rows are (file offsets). */
 typedef struct qibl_asset_head {
@@ -201,6 +208,22 @@ qibl_status_t qibl_asset_open_head(qibl_asset_head_t *out, const void *head, siz
 
 /* File offsets and sizes of row y. QIBL_E_NULL_POINTER, QIBL_E_ASSET_ROW (y >= height). */
 qibl_status_t qibl_asset_row(const qibl_asset_head_t *h, uint32_t y, qibl_asset_row_t *out);
+
+/* The P map of an opened head: fields are the PMAP payload's first n bytes (its 12 field bytes lie
+ * at file offset h->pmap_offset - 12), checked as qibl_asset_open checks them. *out = the whole
+ * image's view with points NULL (rows stream in: qibl_pmap_row_view). Errors: QIBL_E_NULL_POINTER,
+ * QIBL_E_ASSET_MISSING_CHUNK (no PMAP), QIBL_E_ASSET_HEAD_SHORT (n < 12), QIBL_E_ASSET_BAD_DIMENSIONS,
+ * QIBL_E_ASSET_MISMATCH (not SHMP's width and height), QIBL_E_ASSET_BAD_FLAGS; *out untouched then. */
+qibl_status_t qibl_asset_head_pmap(const qibl_asset_head_t *h, const void *fields, size_t n, qibl_pmap_t *out);
+
+/* The Y LUT of an opened head: payload holds the n >= h->ylut_size bytes loaded from
+ * h->ylut_offset (the whole YLUT payload), checked as qibl_asset_open checks them; *out's values
+ * point into payload (which must outlive it) and out->size covers them. Errors: QIBL_E_NULL_POINTER,
+ * QIBL_E_ASSET_MISSING_CHUNK (no YLUT), QIBL_E_ASSET_HEAD_SHORT (n < ylut_size),
+ * QIBL_E_ASSET_BAD_DIMENSIONS, QIBL_E_ASSET_BAD_K, QIBL_E_ASSET_MISMATCH (k below SHMP's),
+ * QIBL_E_ASSET_BAD_FLAGS, QIBL_E_ASSET_CHUNK_SIZE (ylut_size other than 12 + 12 N N k);
+ * *out untouched then. */
+qibl_status_t qibl_asset_head_ylut(const qibl_asset_head_t *h, const void *payload, size_t n, qibl_ylut_t *out);
 
 /* Typed views of the known chunks of a validated asset (missing chunk -> QIBL_E_ASSET_MISSING_CHUNK). */
 qibl_status_t qibl_asset_shmaps(const qibl_asset_t *a, qibl_shmaps_t *out);

@@ -145,8 +145,10 @@ qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_w
 
 /* Prepares a point light for maps m, point map p (same size) and optionally a cube-map LUT (NULL:
  * direct SH evaluation). No workspace: the state holds all it needs (about 400 bytes).
- * Errors: those of qibl_shmap_check, QIBL_E_SHMAP_MISMATCH (P map or LUT does not fit the maps),
- * QIBL_E_SHMAP_LIGHT (negative colour or min_dist, unknown falloff or filter); *out untouched then. */
+ * Errors: those of qibl_shmap_check, QIBL_E_SHMAP_MISMATCH (P map or LUT does not fit the maps: LUT
+ * k below the maps' or above 25, face size outside 1..QIBL_YLUT_MAX_FACE), QIBL_E_SHMAP_LUT_SHORT
+ * (lut->size below the 12 N N k bytes its fields need), QIBL_E_SHMAP_LIGHT (negative colour or
+ * min_dist, unknown falloff or filter); *out untouched then. */
 qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t *p, const qibl_ylut_t *lut,
                                        const qibl_pointlight_t *light, qibl_shmap_point_t *out);
 
@@ -181,8 +183,15 @@ size_t qibl_ylut_values_size(uint32_t face_size, uint32_t k);
  * QIBL_E_WORKSPACE (size too small); nothing written on error. */
 qibl_status_t qibl_ylut_build(uint32_t face_size, uint32_t k, uint8_t *values, size_t size);
 
+/* Whether view t may be read: QIBL_OK, or QIBL_E_NULL_POINTER (t or its values NULL), QIBL_E_SHMAP_K
+ * (k outside 1..25), QIBL_E_SHMAP_LUT_SIZE (face size outside 1..QIBL_YLUT_MAX_FACE),
+ * QIBL_E_SHMAP_LUT_SHORT (t->size below the 12 N N k bytes the fields need). The views of
+ * qibl_asset_ylut / qibl_asset_head_ylut always pass; check a view built any other way before
+ * qibl_ylut_lookup (qibl_shmap_point_prepare checks its LUT itself). */
+qibl_status_t qibl_ylut_check(const qibl_ylut_t *t);
+
 /* Y_0..Y_{k-1} (Q2.14, bilinear between texel centres, clamped at face edges) for a Q2.30 unit
- * direction u, from LUT t. No checks (hot path): t valid, k <= t->k. */
+ * direction u, from LUT t. No checks (hot path): t must pass qibl_ylut_check, k <= t->k. */
 void qibl_ylut_lookup(const qibl_ylut_t *t, const qibl_q30_t u[3], uint32_t k, int32_t *y14);
 
 #ifdef __cplusplus

@@ -58,10 +58,14 @@ typedef struct qibl_pmap {
 } qibl_pmap_t;
 
 /* Cube-map Y LUT as a view: 6*N*N*k little-endian i16 (Q2.14), [face][row v][column u][i]
- * (asset.h, YLUT, has the face convention). */
+ * (asset.h, YLUT, has the face convention). size is the bytes the caller has at values: every
+ * consumer (qibl_shmap_point_prepare, the gles2 upload) refuses a view whose face_size and k need
+ * more (QIBL_E_SHMAP_LUT_SHORT), so fields read from a file cannot make it read past the buffer.
+ * qibl_asset_ylut and qibl_asset_head_ylut (asset.h) fill it from a checked YLUT payload. */
 typedef struct qibl_ylut {
     uint32_t face_size, k;
     const uint8_t *values;
+    size_t size; /* bytes at values, >= qibl_ylut_values_size(face_size, k) (12 N N k) */
 } qibl_ylut_t;
 
 /* Accessors (no checks: the view must be valid and the indices in range). */

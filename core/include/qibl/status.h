@@ -97,6 +97,8 @@ typedef enum qibl_status {
     QIBL_E_HEMI_RANGE,             /* hemi: a coordinate beyond QIBL_HEMI_COORD_MAX / _LOCAL_MAX */
     QIBL_E_HEMI_INDEX,             /* hemi: a triangle index beyond the vertex count */
     QIBL_E_HEMI_EXPONENT,          /* hemi: Phong exponent beyond QIBL_HEMI_MAX_EXPONENT */
+    /* cube-map LUT views (shmaps.h) */
+    QIBL_E_SHMAP_LUT_SHORT,        /* LUT view's size below the 6 N N k int16 its face size and k need */
     QIBL_STATUS_COUNT,     /* number of core status values; not a status */
     /* Platform backends (platform/<name>/) return qibl_status_t too, with their errors in their own
      * range of 256 values from their base, defined in the backend's header; the core never returns

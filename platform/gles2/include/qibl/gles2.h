@@ -140,7 +140,8 @@ qibl_status_t qibl_gles2_init(qibl_gles2_t *g, const qibl_gles2_desc_t *d);
 
 /* Uploads maps (planar layout, as qibl_asset_shmaps gives), and optionally the P map and the LUT
  * (NULL: none), replacing an earlier upload. Errors: QIBL_E_NULL_POINTER, QIBL_E_GLES2_STATE (not
- * initialised), those of qibl_shmap_check, QIBL_E_SHMAP_MISMATCH (P map size or LUT k), QIBL_E_GLES2_SIZE,
+ * initialised), those of qibl_shmap_check, QIBL_E_SHMAP_MISMATCH (P map size or LUT k), QIBL_E_SHMAP_LUT_SHORT
+ * (lut->size below its 12 N N k bytes), QIBL_E_GLES2_SIZE,
  * QIBL_E_GLES2_GL_ERROR. On error nothing stays uploaded. */
 qibl_status_t qibl_gles2_upload(qibl_gles2_t *g, const qibl_shmaps_t *m, const qibl_pmap_t *p, const qibl_ylut_t *lut);
 
