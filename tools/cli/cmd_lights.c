@@ -38,20 +38,23 @@ static int parse_method(const char *s, qibl_lightprobe_method_t *m)
     return 0;
 }
 
-/* "2%" -> 0.02, "0.02" -> 0.02; a budget in (0, 1000 %) */
+/* The --auto budget is a percentage, with or without the sign: "2%" and "2" are both 2 %, so
+ * 0.02 (as a fraction would be written) is 0.02 %. 0 with the fraction in *out; -1: not a number
+ * (the argument is something else: --error alone asks for the error line); -2: a number outside
+ * (0, 100] %, refused by name (above 100 % any representation, even none, meets it). */
 static int parse_budget(const char *s, double *out)
 {
     char *end;
     double v = strtod(s, &end);
-    if (end == s || !(v > 0))
+    if (end == s || !((s[0] >= '0' && s[0] <= '9') || s[0] == '.' || s[0] == '-' || s[0] == '+'))
         return -1;
-    if (*end == '%' && end[1] == '\0')
-        v /= 100;
-    else if (*end != '\0')
+    if (*end == '%')
+        ++end;
+    if (*end != '\0')
         return -1;
-    if (!(v < 10))
-        return -1;
-    *out = v;
+    if (!(v > 0 && v <= 100))
+        return -2;
+    *out = v / 100;
     return 0;
 }
 
@@ -243,7 +246,10 @@ int qcli_cmd_lights(int argc, char **argv)
             json = 1;
         } else if (strcmp(a, "--error") == 0) {
             error = 1;
-            if (more && parse_budget(argv[i + 1], &budget) == 0) /* --error 2%: the --auto budget */
+            int pb = more ? parse_budget(argv[i + 1], &budget) : -1;
+            if (pb == -2)
+                return qcli_usage_error("--error %s: the budget is a percentage in (0, 100] (e.g. 2%% or 2)", argv[i + 1]);
+            if (pb == 0) /* --error 2%: the --auto budget */
                 ++i;
         } else if (strcmp(a, "--auto") == 0) {
             autom = 1;

@@ -101,6 +101,25 @@ int qtool_study_probe_init(qtool_study_probe *p, int w, int h, const uint8_t *rg
                 p->q[3 * i + (size_t)c] = rgbe_p(px, c) * s;
         }
     }
+    /* the errors are relative, per channel: a channel with no light makes every one 0 / 0 */
+    static const char *const cname[3] = {"red", "green", "blue"};
+    int dark = 0, which = 0;
+    for (int c = 0; c < 3; ++c) {
+        int any = 0;
+        for (size_t i = 0; i < np && !any; ++i)
+            any = p->q[3 * i + (size_t)c] > 0;
+        if (!any)
+            which = dark++ ? which : c;
+    }
+    if (dark) {
+        if (dark == 3)
+            snprintf(err, errlen, "the probe is black everywhere: no light, so no relative error to measure");
+        else
+            snprintf(err, errlen, "the probe's %s channel is black everywhere: its relative error is 0 / 0",
+                     cname[which]);
+        qtool_study_probe_free(p);
+        return -1;
+    }
     return 0;
 }
 

@@ -10,6 +10,7 @@
 #include <sys/stat.h>
 #include <time.h>
 
+#include "io/atomic.h"
 #include "io/hdr.h"
 #include "io/png.h"
 #include "io/probe_layout.h"
@@ -276,12 +277,13 @@ static const int ov_methods[] = {QTOOL_STUDY_MEDIANCUT, QTOOL_STUDY_ADAPTIVE, QT
                                  QTOOL_STUDY_KMEANS,    QTOOL_STUDY_IRROPT,   QTOOL_STUDY_SUNSKY};
 #define NOV (int)(sizeof ov_methods / sizeof ov_methods[0])
 
-static void write_overlay(const char *path, const qtool_study_probe *p, const overlay *ov)
+/* 0, or -1 with the reason said on stderr */
+static int write_overlay(const char *path, const qtool_study_probe *p, const overlay *ov)
 {
     const int W = 512, H = 256;
     uint8_t *img = malloc(3 * (size_t)W * (size_t)H * NOV);
     if (!img)
-        return;
+        return fprintf(stderr, "qibl: study: %s: out of memory for the overlay\n", path), -1;
     /* tone map: luminance scaled so the mean maps to 0.3, Reinhard, gamma 2.2 */
     double mean = 0;
     for (int v = 0; v < p->h; ++v)
@@ -330,15 +332,17 @@ static void write_overlay(const char *path, const qtool_study_probe *p, const ov
         }
     }
     char err[512];
-    if (qtool_png_write_rgb8(path, W, H * NOV, img, err, sizeof err) != 0)
+    int rc = qtool_png_write_rgb8(path, W, H * NOV, img, err, sizeof err);
+    if (rc != 0)
         fprintf(stderr, "qibl: study: %s\n", err);
     free(img);
+    return rc != 0 ? -1 : 0;
 }
 
 /* ---- plots ----------------------------------------------------------------------------------- */
 
 /* mean (solid) and max (dashed) relative error against N for every method; probe -1 = averaged */
-static void plot_n(const char *path, const char *title, int probe, int np)
+static int plot_n(const char *path, const char *title, int probe, int np)
 {
     qtool_study_series s[2 * QTOOL_STUDY_METHOD_COUNT];
     static double X[2 * QTOOL_STUDY_METHOD_COUNT][NLIST + SUNSKY_KMAX + 1], Y[2 * QTOOL_STUDY_METHOD_COUNT][NLIST + SUNSKY_KMAX + 1];
@@ -380,10 +384,11 @@ static void plot_n(const char *path, const char *title, int probe, int np)
     char err[512];
     if (qtool_study_svg_plot(path, title, "N (lights; SH: coefficients; sun+sky: lights besides SH9)",
                              "relative irradiance error % (solid mean, dashed max)", 1, 1, 1, s, ns, err, sizeof err) != 0)
-        fprintf(stderr, "qibl: study: %s\n", err);
+        return fprintf(stderr, "qibl: study: %s\n", err), -1;
+    return 0;
 }
 
-static void plot_time(const char *path, const char *title, int probe)
+static int plot_time(const char *path, const char *title, int probe)
 {
     qtool_study_series s[QTOOL_STUDY_METHOD_COUNT];
     static double X[QTOOL_STUDY_METHOD_COUNT][NLIST + SUNSKY_KMAX + 1], Y[QTOOL_STUDY_METHOD_COUNT][NLIST + SUNSKY_KMAX + 1];
@@ -402,7 +407,8 @@ static void plot_time(const char *path, const char *title, int probe)
     char err[512];
     if (qtool_study_svg_plot(path, title, "wall time ms (one thread; core build included)", "mean relative error %", 1, 0,
                              1, s, ns, err, sizeof err) != 0)
-        fprintf(stderr, "qibl: study: %s\n", err);
+        return fprintf(stderr, "qibl: study: %s\n", err), -1;
+    return 0;
 }
 
 /* ---- summary --------------------------------------------------------------------------------- */
@@ -447,7 +453,26 @@ static int mkdir_p(const char *dir)
     return 0;
 }
 
-int qtool_study_run(const char *const *paths, int np, const qtool_study_opts *o)
+static overlay ovs[MAXP + 1];
+
+/* writes text through the atomic writer (io/atomic.h); 0, or -1 with the reason on stderr */
+static int open_out(qtool_io_atomic *a, const char *path)
+{
+    char err[1200];
+    if (qtool_io_atomic_open(a, path, err, sizeof err) != 0)
+        return fprintf(stderr, "qibl: study: %s\n", err), -1;
+    return 0;
+}
+
+static int commit_out(qtool_io_atomic *a)
+{
+    char err[1200];
+    if (qtool_io_atomic_commit(a, err, sizeof err) != 0)
+        return fprintf(stderr, "qibl: study: %s\n", err), -1;
+    return 0;
+}
+
+static int run_all(const char *const *paths, int np, const qtool_study_opts *o)
 {
     cfg c = {o->quick, o->threads > 0 ? o->threads : 2, o->quick ? 2000 : 20000, o->quick ? 64 : 256,
              o->quick ? 16 : 96, o->quick ? 400 : 600, 100, o->quick ? 8 : 20};
@@ -455,7 +480,6 @@ int qtool_study_run(const char *const *paths, int np, const qtool_study_opts *o)
         return fprintf(stderr, "qibl: study: cannot create %s: %s\n", o->out_dir, strerror(errno)), 1;
     double t_all = now_ms();
     static pinfo info[MAXP + 1];
-    static overlay ovs[MAXP + 1];
     int count = 0, procedural = np == 0;
     if (np > MAXP)
         return fprintf(stderr, "qibl: study: %d probes (at most %d)\n", np, MAXP), 1;
@@ -502,11 +526,15 @@ int qtool_study_run(const char *const *paths, int np, const qtool_study_opts *o)
         if (run_probe(count, &p, &c, &info[count], &ovs[count]) == 0) {
             char path[1024];
             snprintf(path, sizeof path, "%s/overlay_%s.png", o->out_dir, info[count].name);
-            write_overlay(path, &p, &ovs[count]);
-            snprintf(path, sizeof path, "%s/plot_%s.svg", o->out_dir, info[count].name);
             char title[256];
             snprintf(title, sizeof title, "%s (%d x %d): irradiance error against N", info[count].name, w, h);
-            plot_n(path, title, count, count + 1);
+            int bad = write_overlay(path, &p, &ovs[count]);
+            snprintf(path, sizeof path, "%s/plot_%s.svg", o->out_dir, info[count].name);
+            if (bad || plot_n(path, title, count, count + 1) != 0) {
+                qtool_study_probe_free(&p);
+                free(px);
+                return 1;
+            }
             ++count;
         }
         /* the speed case: the first probe at 4x (4096 x 2048 for a 1k probe), full runs only */
@@ -531,9 +559,10 @@ int qtool_study_run(const char *const *paths, int np, const qtool_study_opts *o)
     /* CSV */
     char path[1024];
     snprintf(path, sizeof path, "%s/study.csv", o->out_dir);
-    FILE *f = fopen(path, "w");
-    if (!f)
-        return fprintf(stderr, "qibl: study: cannot write %s\n", path), 1;
+    qtool_io_atomic at;
+    if (open_out(&at, path) != 0)
+        return 1;
+    FILE *f = at.f;
     fprintf(f, "probe,width,height,method,n_requested,n,floats,mean_rel,max_rel,mean_norm,max_norm,ms,converged,iterations\n");
     for (int i = 0; i < nrows; ++i) {
         const row *r = &rows[i];
@@ -542,18 +571,22 @@ int qtool_study_run(const char *const *paths, int np, const qtool_study_opts *o)
                 qtool_study_method_name(r->method), r->nreq, r->n, r->numbers, r->e.mean_rel, r->e.max_rel, r->e.mean_norm,
                 r->e.max_norm, r->ms, r->conv < 0 ? "" : r->conv ? "yes" : "no", r->iters);
     }
-    fclose(f);
+    if (commit_out(&at) != 0)
+        return 1;
     snprintf(path, sizeof path, "%s/plot_average.svg", o->out_dir);
     char title[256];
     snprintf(title, sizeof title, "irradiance error against N, averaged over %d probe%s", count, count > 1 ? "s" : "");
-    plot_n(path, title, -1, count);
+    if (plot_n(path, title, -1, count) != 0)
+        return 1;
     snprintf(path, sizeof path, "%s/time_%s.svg", o->out_dir, info[0].name);
     snprintf(title, sizeof title, "%s (%d x %d): error against time", info[0].name, info[0].w, info[0].h);
-    plot_time(path, title, 0);
+    if (plot_time(path, title, 0) != 0)
+        return 1;
     if (info[MAXP].w) {
         snprintf(path, sizeof path, "%s/time_%s.svg", o->out_dir, info[MAXP].name);
         snprintf(title, sizeof title, "%s (%d x %d): error against time", info[MAXP].name, info[MAXP].w, info[MAXP].h);
-        plot_time(path, title, MAXP);
+        if (plot_time(path, title, MAXP) != 0)
+            return 1;
     }
 
     /* figures for the words and the RESULT lines */
@@ -625,9 +658,9 @@ int qtool_study_run(const char *const *paths, int np, const qtool_study_opts *o)
     }
 
     snprintf(path, sizeof path, "%s/summary.md", o->out_dir);
-    f = fopen(path, "w");
-    if (!f)
-        return fprintf(stderr, "qibl: study: cannot write %s\n", path), 1;
+    if (open_out(&at, path) != 0)
+        return 1;
+    f = at.f;
     fprintf(f, "# Light-probe approximation study%s\n\n", o->quick ? " (--quick)" : "");
     fprintf(f, "Ground truth: Madsen & Laursen eq. 4 over every pixel at %d spherical-Fibonacci normals, per channel.\n"
                "Error: per-normal relative irradiance error |E - E_gt| / max(E_gt, mean E_gt / 10) (floored: "
@@ -721,7 +754,8 @@ int qtool_study_run(const char *const *paths, int np, const qtool_study_opts *o)
             OVERLAY_N, SUNSKY_KMAX);
     double wall = (now_ms() - t_all) / 1e3;
     fprintf(f, "\nWall time of the study: %.1f s.\n", wall);
-    fclose(f);
+    if (commit_out(&at) != 0)
+        return 1;
     printf("study: %d probe%s, %d rows, wall %.1f s; wrote %s/study.csv, summary.md, plot_*.svg, time_*.svg, overlay_*.png\n",
            count, count > 1 ? "s" : "", nrows, wall, o->out_dir);
     printf("RESULT study.refit_over_mc_n16 %.4f\n", nr16 ? ratio16 / nr16 : NAN);
@@ -729,11 +763,17 @@ int qtool_study_run(const char *const *paths, int np, const qtool_study_opts *o)
     printf("RESULT study.sunsky_numbers_at_2pct %.1f\n", ss_cnt ? ss_num / ss_cnt : NAN);
     printf("RESULT study.io_lights_factor_vs_mc %.2f\n", io_factor);
     printf("RESULT study.wall_s %.1f\n", wall);
+    return 0;
+}
+
+int qtool_study_run(const char *const *paths, int np, const qtool_study_opts *o)
+{
+    int rc = run_all(paths, np, o);
     for (int q = 0; q <= MAXP; ++q) {
         for (int m = 0; m < QTOOL_STUDY_METHOD_COUNT; ++m)
             free(ovs[q].ov[m]), ovs[q].ov[m] = NULL;
     }
     free(rows);
     rows = NULL, nrows = caprows = 0;
-    return 0;
+    return rc;
 }

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "io/atomic.h"
 #include "study/study.h"
 
 static const char *palette[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
@@ -58,11 +59,11 @@ int qtool_study_svg_plot(const char *path, const char *title, const char *xlabel
         x0 -= 0.5, x1 += 0.5;
     if (y1 - y0 < 1e-12)
         y0 -= 0.5, y1 += 0.5;
-    FILE *f = fopen(path, "w");
-    if (!f) {
-        snprintf(err, errlen, "%s: cannot write", path);
+    /* atomic: a planted link is refused, a full disc leaves no truncated plot */
+    qtool_io_atomic at;
+    if (qtool_io_atomic_open(&at, path, err, errlen) != 0)
         return -1;
-    }
+    FILE *f = at.f;
     const double W = 760, H = 480, L = 70, R = 190, T = 40, B = 50, pw = W - L - R, ph = H - T - B;
 #define PX(v) (L + ((v) - x0) / (x1 - x0) * pw)
 #define PY(v) (T + ph - ((v) - y0) / (y1 - y0) * ph)
@@ -134,9 +135,5 @@ int qtool_study_svg_plot(const char *path, const char *title, const char *xlabel
     fprintf(f, "</svg>\n");
 #undef PX
 #undef PY
-    if (fclose(f) != 0) {
-        snprintf(err, errlen, "%s: write failed", path);
-        return -1;
-    }
-    return 0;
+    return qtool_io_atomic_commit(&at, err, errlen);
 }

@@ -1,0 +1,227 @@
+/*
+ * cli_silent_test.c - issue 24, classes 3 and 5: the qibl CLI run as a program on inputs that used
+ * to give a wrong result without a word, or to write through a planted link or leave a truncated
+ * file on a full disc. Each case checks the exit status and the one-line message (or note) that
+ * names the problem.
+ *
+ * The binary is found as cliutil.h says; the tests skip when it is missing.
+ */
+#include <dirent.h>
+#include <math.h>
+#include <signal.h>
+#include <sys/resource.h>
+
+#include "cliutil.h"
+#include "io/hdr_write.h"
+
+static int setup(void **state)
+{
+    (void)state;
+    return cli_setup("/tmp/qibl_silent_test_XXXXXX");
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    rm_rf(dir);
+    return 0;
+}
+
+/* dir/name; the result stays valid for the next 63 calls */
+static char *at(const char *name)
+{
+    static char buf[64][512];
+    static int i;
+    i = (i + 1) % 64;
+    snprintf(buf[i], sizeof buf[i], "%s/%s", dir, name);
+    return buf[i];
+}
+
+static int has(const char *log, const char *want)
+{
+    char *m = text(log);
+    int ok = strstr(m, want) != NULL;
+    free(m);
+    return ok;
+}
+
+/* has, and prints the log when it does not */
+static int says(const char *log, const char *want)
+{
+    if (has(log, want))
+        return 1;
+    char *m = text(log);
+    fprintf(stderr, "%s says: %s\n(wanted '%s')\n", log, m, want);
+    free(m);
+    return 0;
+}
+
+static void put(const char *path, const char *s)
+{
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    fputs(s, f);
+    assert_int_equal(fclose(f), 0);
+}
+
+static int file_is(const char *path, const char *s)
+{
+    size_t n;
+    uint8_t *b = qtool_io_read_all(path, &n);
+    int ok = b && n == strlen(s) && memcmp(b, s, n) == 0;
+    free(b);
+    return ok;
+}
+
+/* a 64 x 32 lat-long probe: a bright upper half in rgb (scaled by k), a dim lower half */
+static void probe(const char *path, float r, float g, float b, float k)
+{
+    enum { W = 64, H = 32 };
+    static float px[W * H * 3];
+    for (int v = 0; v < H; ++v)
+        for (int u = 0; u < W; ++u) {
+            float *p = px + 3 * (v * W + u);
+            float s = v < H / 2 ? 1.0f : 0.25f;
+            p[0] = r * s * k, p[1] = g * s * k, p[2] = b * s * k;
+        }
+    char err[512];
+    if (qtool_hdr_write(path, W, H, px, err, sizeof err) != 0)
+        fail_msg("%s", err);
+}
+
+/* the names in a directory besides . and .., joined by spaces; their count */
+static int listing(const char *d, char *out, size_t n)
+{
+    DIR *dd = opendir(d);
+    int c = 0;
+    out[0] = '\0';
+    if (!dd)
+        return -1;
+    struct dirent *e;
+    while ((e = readdir(dd)) != NULL) {
+        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0)
+            continue;
+        size_t l = strlen(out);
+        snprintf(out + l, n - l, "%s ", e->d_name);
+        ++c;
+    }
+    closedir(dd);
+    return c;
+}
+
+/* ---- study writes every file through the atomic writer (class 3) ---------------------------- */
+
+/* A link planted at any of study's output names is refused by name, the link's target keeps its
+ * bytes, and the study exits 1 (it used to write through the link and exit 0). */
+static void test_study_refuses_planted_links(void **state)
+{
+    (void)state;
+    need_qibl();
+    probe(at("p.hdr"), 1.0f, 0.8f, 0.6f, 1.0f);
+    static const char *names[] = {"overlay_p.png", "plot_p.svg", "study.csv", "plot_average.svg", "time_p.svg",
+                                  "summary.md"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) {
+        char od[64], link[600], victim[600];
+        snprintf(od, sizeof od, "out%zu", i);
+        assert_int_equal(mkdir(at(od), 0777), 0);
+        snprintf(link, sizeof link, "%s/%s/%s", dir, od, names[i]);
+        snprintf(victim, sizeof victim, "%s/victim%zu", dir, i);
+        put(victim, "precious");
+        assert_int_equal(symlink(victim, link), 0);
+        int rc = run("study", "--quick", "--threads", "1", "--out", at(od), at("p.hdr"), NULL);
+        if (rc != 1)
+            fail_msg("study with a link at %s: exit %d, want 1", names[i], rc);
+        assert_true(says(errlog, "refusing to replace a symbolic link"));
+        assert_true(says(errlog, names[i]));
+        if (!file_is(victim, "precious"))
+            fail_msg("study wrote through the link at %s", names[i]);
+        struct stat st;
+        assert_int_equal(lstat(link, &st), 0);
+        assert_true(S_ISLNK(st.st_mode));
+    }
+}
+
+/* On a full disc (here: the file size limit, inherited by the child) the study says which file it
+ * could not write, exits 1 and leaves no temporary and no truncated file behind. */
+static void test_study_full_disc(void **state)
+{
+    (void)state;
+    need_qibl();
+    probe(at("p.hdr"), 1.0f, 0.8f, 0.6f, 1.0f);
+    assert_int_equal(mkdir(at("out"), 0777), 0);
+    struct rlimit old, lim;
+    assert_int_equal(getrlimit(RLIMIT_FSIZE, &old), 0);
+    void (*prev)(int) = signal(SIGXFSZ, SIG_IGN);
+    lim = old;
+    lim.rlim_cur = 1500; /* every file study writes is larger; stdout and stderr are smaller */
+    assert_int_equal(setrlimit(RLIMIT_FSIZE, &lim), 0);
+    int rc = run("study", "--quick", "--threads", "1", "--out", at("out"), at("p.hdr"), NULL);
+    assert_int_equal(setrlimit(RLIMIT_FSIZE, &old), 0);
+    signal(SIGXFSZ, prev);
+    if (rc != 1)
+        fail_msg("study on a full disc: exit %d, want 1", rc);
+    assert_true(says(errlog, "write failed"));
+    char names[4096];
+    int n = listing(at("out"), names, sizeof names);
+    if (n != 0)
+        fail_msg("study on a full disc left: %s", names);
+    assert_false(has(outlog, "wrote"));
+}
+
+/* ---- class 5: silent wrong results ------------------------------------------------------------- */
+
+/* --auto's budget is a percentage (the sign optional): 5 is 5 %, not 500 %; out of (0, 100] it is
+ * refused by name, never read as a path or a fraction. */
+static void test_lights_auto_budget_is_a_percentage(void **state)
+{
+    (void)state;
+    need_qibl();
+    probe(at("p.hdr"), 1.0f, 0.8f, 0.6f, 1.0f);
+    assert_int_equal(run("lights", at("p.hdr"), "--auto", "--error", "5", NULL), 0);
+    assert_true(says(outlog, "<= 5.00 %"));
+    assert_int_equal(run("lights", at("p.hdr"), "--auto", "--error", "5%", NULL), 0);
+    assert_true(says(outlog, "<= 5.00 %"));
+    static const char *bad[] = {"500", "500%", "100.5", "0", "-2", "1e9"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        int rc = run("lights", at("p.hdr"), "--auto", "--error", bad[i], NULL);
+        if (rc != 2)
+            fail_msg("--error %s: exit %d, want 2", bad[i], rc);
+        assert_true(says(errlog, "percentage in (0, 100]"));
+        assert_true(says(errlog, bad[i]));
+    }
+}
+
+/* An all-black probe (or one with a black channel) has no relative error: study and --auto refuse
+ * it by name instead of printing NaN. */
+static void test_black_probe_refused(void **state)
+{
+    (void)state;
+    need_qibl();
+    probe(at("black.hdr"), 0, 0, 0, 1);
+    probe(at("red.hdr"), 1, 0, 0, 1);
+    int rc = run("lights", at("black.hdr"), "--auto", "--error", "2%", NULL);
+    assert_int_equal(rc, 1);
+    assert_true(says(errlog, "black everywhere"));
+    assert_false(has(outlog, "nan"));
+    rc = run("lights", at("red.hdr"), "--auto", "--error", "2%", NULL);
+    assert_int_equal(rc, 1);
+    assert_true(says(errlog, "green channel is black everywhere"));
+    assert_int_equal(mkdir(at("out"), 0777), 0);
+    rc = run("study", "--quick", "--threads", "1", "--out", at("out"), at("black.hdr"), NULL);
+    assert_int_equal(rc, 1);
+    assert_true(says(errlog, "black everywhere"));
+    assert_false(has(outlog, "nan"));
+    char names[4096];
+    assert_int_equal(listing(at("out"), names, sizeof names), 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup_teardown(test_study_refuses_planted_links, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_study_full_disc, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_lights_auto_budget_is_a_percentage, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_black_probe_refused, setup, teardown),
+    };
+    return cmocka_run_group_tests_name("cli_silent", tests, NULL, NULL);
+}
