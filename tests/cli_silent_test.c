@@ -215,6 +215,71 @@ static void test_black_probe_refused(void **state)
     assert_int_equal(listing(at("out"), names, sizeof names), 0);
 }
 
+/* CSV light directions are normalised after scaling by the largest component: 1e-300 and 1e200
+ * components light the frame as 1 does (they used to square to 0 or inf: a black frame); a NUL byte
+ * is named as one, not as an over-long line. */
+static void test_csv_directions_and_nul(void **state)
+{
+    (void)state;
+    need_qibl();
+    assert_int_equal(run("gen", "-o", at("g.qibl"), "--size", "32x8", NULL), 0);
+    static const char *rows[][2] = {{"1,1,1", "-2,0,1"}, {"1e-300,1e-300,1e-300", "-2e-300,0,1e-300"},
+                                    {"1e200,1e200,1e200", "-2e200,0,1e200"}, {"4e-320,4e-320,4e-320", "-2e-310,0,1e-310"}};
+    char first[600] = "";
+    for (size_t i = 0; i < sizeof rows / sizeof rows[0]; ++i) {
+        char csv[64], png[64], body[400];
+        snprintf(csv, sizeof csv, "l%zu.csv", i);
+        snprintf(png, sizeof png, "l%zu.png", i);
+        snprintf(body, sizeof body, "x,y,z,r,g,b,u0,v0,u1,v1\n%s,3,2,1,0,0,1,1\r\n%s,1,1,1,0,0,1,1\n", rows[i][0],
+                 rows[i][1]);
+        put(at(csv), body);
+        int rc = run("relight", at("g.qibl"), "--lights", at(csv), "--png", at(png), NULL);
+        if (rc != 0) {
+            char *m = text(errlog);
+            fail_msg("relight --lights with %s: exit %d: %s", rows[i][0], rc, m);
+        }
+        if (i == 0) {
+            snprintf(first, sizeof first, "%s", at(png));
+            continue;
+        }
+        size_t na, nb;
+        uint8_t *a = qtool_io_read_all(first, &na), *b = qtool_io_read_all(at(png), &nb);
+        assert_non_null(a), assert_non_null(b);
+        if (na != nb || memcmp(a, b, na) != 0)
+            fail_msg("directions %s / %s light the frame differently from %s / %s", rows[i][0], rows[i][1],
+                     rows[0][0], rows[0][1]);
+        free(a), free(b);
+    }
+    /* a NUL byte, early in a line or after 1100 bytes */
+    static const char head[] = "x,y,z,r,g,b,u0,v0,u1,v1\n0,0";
+    FILE *f = fopen(at("nul.csv"), "wb");
+    assert_non_null(f);
+    fwrite(head, 1, sizeof head - 1, f);
+    fputc('\0', f);
+    fputs(",1,1,1,1,0,0,1,1\n", f);
+    assert_int_equal(fclose(f), 0);
+    assert_int_equal(run("relight", at("g.qibl"), "--lights", at("nul.csv"), "--png", at("n.png"), NULL), 1);
+    assert_true(says(errlog, "nul.csv:2: a NUL byte at column 4"));
+    f = fopen(at("nul2.csv"), "wb");
+    assert_non_null(f);
+    fputs("x,y,z,r,g,b,u0,v0,u1,v1\n", f);
+    for (int i = 0; i < 1100; ++i)
+        fputc('1', f);
+    fputc('\0', f);
+    fputs("\n", f);
+    assert_int_equal(fclose(f), 0);
+    assert_int_equal(run("relight", at("g.qibl"), "--lights", at("nul2.csv"), "--png", at("n.png"), NULL), 1);
+    assert_true(says(errlog, "nul2.csv:2: a NUL byte at column 1101"));
+    /* a true zero is refused by name, as before; so is a value beyond double range */
+    put(at("z.csv"), "x,y,z,r,g,b,u0,v0,u1,v1\n0,-0,0,1,1,1,0,0,1,1\n");
+    assert_int_equal(run("relight", at("g.qibl"), "--lights", at("z.csv"), "--png", at("n.png"), NULL), 1);
+    assert_true(says(errlog, "direction 0,0,0 is not a direction"));
+    put(at("big.csv"), "x,y,z,r,g,b,u0,v0,u1,v1\n0,1e999,0,1,1,1,0,0,1,1\n");
+    assert_int_equal(run("relight", at("g.qibl"), "--lights", at("big.csv"), "--png", at("n.png"), NULL), 1);
+    assert_true(says(errlog, "y '1e999' is beyond double range"));
+    assert_int_equal(access(at("n.png"), F_OK), -1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -222,6 +287,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_study_full_disc, setup, teardown),
         cmocka_unit_test_setup_teardown(test_lights_auto_budget_is_a_percentage, setup, teardown),
         cmocka_unit_test_setup_teardown(test_black_probe_refused, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_csv_directions_and_nul, setup, teardown),
     };
     return cmocka_run_group_tests_name("cli_silent", tests, NULL, NULL);
 }

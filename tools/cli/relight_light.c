@@ -12,6 +12,7 @@
 #include "cli/cli.h"
 #include "cli/relight_light.h"
 #include "io/hdr.h"
+#include "io/lightcsv.h"
 #include "qibl/probe.h"
 #include "qibl/soft.h"
 
@@ -182,144 +183,6 @@ int qcli_light_list_check(const qcli_light_list *ll)
 int qcli_light_list_directional(const qcli_light_list *ll)
 {
     return ll->suns > 0 || ll->csv || ll->probe;
-}
-
-/* ---- --lights FILE.csv ---------------------------------------------------------------------------- */
-
-/* one field ending at ',' (or at the end of the line for the last); 0 or -1 */
-static int csv_num(char **p, int last, double *out)
-{
-    char *s = *p, *end;
-    if (*s == ',' || *s == '\0' || *s == ' ')
-        return -1;
-    errno = 0;
-    *out = strtod(s, &end);
-    if (end == s || errno == ERANGE || (last ? *end != '\0' : *end != ','))
-        return -1;
-    *p = last ? end : end + 1;
-    return 0;
-}
-
-int qcli_lights_csv_read(const char *path, qibl_lightprobe_light_t **lights, uint32_t *count, int32_t *rgb_exp,
-                         char *err, size_t errlen)
-{
-    static const char *names[10] = {"x", "y", "z", "r", "g", "b", "u0", "v0", "u1", "v1"};
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
-        return -1;
-    }
-    char line[1024];
-    size_t cap = 0, n = 0;
-    double *v = NULL; /* 10 per row */
-    unsigned long ln = 0;
-    int rc = -1;
-    if (!fgets(line, sizeof line, f)) {
-        snprintf(err, errlen, "%s: empty: want the header line '%s' (qibl lights --csv)", path, QCLI_LIGHTS_CSV_HEADER);
-        goto out;
-    }
-    ln = 1;
-    line[strcspn(line, "\r\n")] = '\0';
-    if (strcmp(line, QCLI_LIGHTS_CSV_HEADER) != 0) {
-        snprintf(err, errlen, "%s:1: header '%.60s' is not '%s' (qibl lights --csv)", path, line,
-                 QCLI_LIGHTS_CSV_HEADER);
-        goto out;
-    }
-    while (fgets(line, sizeof line, f)) {
-        ++ln;
-        size_t len = strcspn(line, "\r\n");
-        if (line[len] == '\0' && !feof(f)) {
-            snprintf(err, errlen, "%s:%lu: line longer than %zu bytes", path, ln, sizeof line - 2);
-            goto out;
-        }
-        line[len] = '\0';
-        if (len == 0)
-            continue; /* a trailing empty line */
-        if (n >= QCLI_LIGHTS_CSV_MAX) {
-            snprintf(err, errlen, "%s:%lu: more than %u lights", path, ln, QCLI_LIGHTS_CSV_MAX);
-            goto out;
-        }
-        if (n == cap) {
-            size_t nc = cap ? 2 * cap : 64;
-            double *nv = realloc(v, sizeof *v * 10 * nc);
-            if (!nv) {
-                snprintf(err, errlen, "%s: out of memory", path);
-                goto out;
-            }
-            v = nv, cap = nc;
-        }
-        double *r = v + 10 * n;
-        char *p = line;
-        for (int k = 0; k < 10; ++k) {
-            char *s = p;
-            if (k > 0 && *s == '\0') {
-                snprintf(err, errlen, "%s:%lu: %d columns, want 10 (" QCLI_LIGHTS_CSV_HEADER ")", path, ln, k);
-                goto out;
-            }
-            if (csv_num(&p, k == 9, &r[k]) != 0) {
-                size_t fl = strcspn(s, ",");
-                if (k < 9 && s[fl] == '\0') {
-                    snprintf(err, errlen, "%s:%lu: %d columns, want 10 (" QCLI_LIGHTS_CSV_HEADER ")", path, ln, k + 1);
-                    goto out;
-                }
-                snprintf(err, errlen, "%s:%lu: %s '%.*s' is not a number%s", path, ln, names[k], (int)(fl > 40 ? 40 : fl),
-                         s, k == 9 && s[fl] == ',' ? " (more than 10 columns)" : "");
-                goto out;
-            }
-            if (!isfinite(r[k])) {
-                snprintf(err, errlen, "%s:%lu: %s is %g: not finite", path, ln, names[k], r[k]);
-                goto out;
-            }
-            if (k >= 3 && r[k] < 0) {
-                snprintf(err, errlen, "%s:%lu: %s is %g: negative", path, ln, names[k], r[k]);
-                goto out;
-            }
-            if (k >= 6 && (r[k] != floor(r[k]) || r[k] > 4294967295.0)) {
-                snprintf(err, errlen, "%s:%lu: %s is %g: not a pixel index", path, ln, names[k], r[k]);
-                goto out;
-            }
-            if (k >= 3 && k < 6 && r[k] > 1e30) {
-                snprintf(err, errlen, "%s:%lu: %s is %g: above 1e30", path, ln, names[k], r[k]);
-                goto out;
-            }
-        }
-        if (r[0] == 0 && r[1] == 0 && r[2] == 0) {
-            snprintf(err, errlen, "%s:%lu: direction 0,0,0 is not a direction", path, ln);
-            goto out;
-        }
-        ++n;
-    }
-    if (ferror(f)) {
-        snprintf(err, errlen, "%s: read error", path);
-        goto out;
-    }
-    double mx = 0;
-    for (size_t i = 0; i < n; ++i)
-        for (int c = 3; c < 6; ++c)
-            mx = fmax(mx, v[10 * i + (size_t)c]);
-    int e = 0;
-    if (mx > 0)
-        (void)frexp(mx, &e), e -= 30; /* the largest channel below 2^30 */
-    qibl_lightprobe_light_t *L = malloc(sizeof *L * (n ? n : 1));
-    if (!L) {
-        snprintf(err, errlen, "%s: out of memory", path);
-        goto out;
-    }
-    for (size_t i = 0; i < n; ++i) {
-        const double *r = v + 10 * i;
-        double len = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
-        for (int c = 0; c < 3; ++c) {
-            L[i].dir[c] = (int32_t)lrint(r[c] / len * 1073741824.0);
-            L[i].rgb[c] = (int32_t)lrint(ldexp(r[3 + c], -e));
-        }
-        L[i].u0 = (uint32_t)r[6], L[i].v0 = (uint32_t)r[7], L[i].u1 = (uint32_t)r[8], L[i].v1 = (uint32_t)r[9];
-    }
-    *lights = L, *count = (uint32_t)n, *rgb_exp = e;
-    rc = 0;
-out:
-    free(v);
-    fclose(f);
-    return rc;
 }
 
 /* ---- probes ------------------------------------------------------------------------------------- */
@@ -550,7 +413,7 @@ int qcli_light_list_sh(const qcli_light_list *ll, uint32_t k, FILE *note, qibl_s
         uint32_t n;
         int32_t e;
         char err[600];
-        if (qcli_lights_csv_read(ll->csv, &L, &n, &e, err, sizeof err) != 0)
+        if (qtool_lightcsv_read(ll->csv, &L, &n, &e, err, sizeof err) != 0)
             return fprintf(stderr, "qibl: %s\n", err), 1;
         st = qibl_shlight_init(&part, k);
         if (st == QIBL_OK)

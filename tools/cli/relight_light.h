@@ -18,8 +18,6 @@
 #include "qibl/shmap.h"
 
 #define QCLI_RELIGHT_MAX_SOURCES 64u     /* --sun and --point options together */
-#define QCLI_LIGHTS_CSV_MAX 65536u       /* rows of a --lights file (qibl_shlight_add_lights' limit) */
-#define QCLI_LIGHTS_CSV_HEADER "x,y,z,r,g,b,u0,v0,u1,v1" /* what `qibl lights --csv` writes */
 #define QCLI_PROBE_DEFAULT_N 64L         /* median-cut lights of --probe-mode lights and sunsky */
 #define QCLI_SUN_CONTRAST 32.0           /* sun regions: mean radiance >= 32 x the probe's mean */
 #define QCLI_SUN_MAX 32u
@@ -66,14 +64,6 @@ int qcli_light_list_directional(const qcli_light_list *ll);
  * (rotated once with qibl_shlight_rotate). Notes (the probe's layout, the sun regions) go to note.
  * 0, or 1 after a message (an unreadable file, a core error, a sum beyond Q16.16). */
 int qcli_light_list_sh(const qcli_light_list *ll, uint32_t k, FILE *note, qibl_shlight_t *out);
-
-/* Reads a `qibl lights --csv` file: the header line exactly, then one light per row
- * (x,y,z a non-zero direction, r,g,b >= 0 finite, u0,v0,u1,v1 non-negative integers), at most
- * QCLI_LIGHTS_CSV_MAX rows. *lights (malloc'd, the caller frees): unit directions in Q2.30 and rgb
- * integers (largest channel < 2^30) times 2^*rgb_exp. 0, or -1 with one line in err naming the
- * file, the line and the value; nothing allocated then. */
-int qcli_lights_csv_read(const char *path, qibl_lightprobe_light_t **lights, uint32_t *count, int32_t *rgb_exp,
-                         char *err, size_t errlen);
 
 /* A probe file in any layout (want: AUTO detects) as lat-long RGBE bytes (*rgbe malloc'd), with
  * one line on note (may be NULL) saying the layout and how it was found. 0, or 1 after a message. */
