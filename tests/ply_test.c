@@ -154,6 +154,7 @@ static void refused_s(const char *s, const char *want)
 
 #define HEAD "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
 #define FACE "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+#define FACE_NO_END "element face 1\nproperty list uchar int vertex_indices\n"
 
 static void test_hostile_headers(void **state)
 {
@@ -186,6 +187,14 @@ static void test_hostile_headers(void **state)
     for (size_t i = strlen(big); i < sizeof big - 1; i += 10)
         memcpy(big + i, "comment x\n", 10 < sizeof big - 1 - i ? 10 : sizeof big - 1 - i);
     refused(big, strlen(big), "no end_header within the first 65536 bytes");
+    /* a repeated property (issue 24): which x is the vertex's x was the reader's guess */
+    refused_s(HEAD "property float x\n" FACE "0 0 0 5\n1 0 0 5\n0 1 0 5\n3 0 1 2\n",
+              "header line 7: element vertex has property x twice");
+    refused_s(HEAD "element face 1\nproperty list uchar int vertex_indices\nproperty list uchar int vertex_indices\n"
+              "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 3 0 2 1\n",
+              "element face has property vertex_indices twice");
+    refused_s(HEAD FACE_NO_END "element extra 1\nproperty uchar a\nproperty float a\nend_header\n",
+              "element extra has property a twice");
     char nul[] = HEAD "comment\0zz\n";
     refused(nul, sizeof nul - 1, "header line 7 holds a NUL byte");
 }

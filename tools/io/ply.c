@@ -260,6 +260,10 @@ static int header(const char *name, const uint8_t *buf, size_t len, int *fmt, el
                             p->count_type ? tok[3] : tok[1]);
             if (strlen(pname) >= sizeof p->name)
                 return fail(err, errlen, name, "header line %d: property name over 31 characters", line);
+            for (int j = 0; j < x->nprop; ++j) /* which of two x's would be the vertex's x? */
+                if (strcmp(x->p[j].name, pname) == 0)
+                    return fail(err, errlen, name, "header line %d: element %s has property %s twice", line, x->name,
+                                pname);
             strcpy(p->name, pname);
             x->nprop++;
         } else {
