@@ -280,6 +280,25 @@ static void test_csv_directions_and_nul(void **state)
     assert_int_equal(access(at("n.png"), F_OK), -1);
 }
 
+/* sh project --format c never prints a literal beyond float range: a coefficient above FLT_MAX
+ * is refused by name before anything is printed (json and table still write it). */
+static void test_sh_format_c_float_range(void **state)
+{
+    (void)state;
+    need_qibl();
+    probe(at("huge.hdr"), 1.0f, 1.0f, 0.5f, 1.6e38f); /* c[0] about 3.5 x the radiance */
+    assert_int_equal(run("sh", "project", at("huge.hdr"), "--format", "c", NULL), 1);
+    assert_true(says(errlog, "coefficient [0] (l = 0, m = +0) R is"));
+    assert_true(says(errlog, "beyond float range"));
+    char *o = text(outlog);
+    assert_string_equal(o, "");
+    free(o);
+    assert_int_equal(run("sh", "project", at("huge.hdr"), "--format", "json", NULL), 0);
+    probe(at("p.hdr"), 1.0f, 0.8f, 0.6f, 1.0f);
+    assert_int_equal(run("sh", "project", at("p.hdr"), "--format", "c", NULL), 0);
+    assert_true(says(outlog, "static const float"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -288,6 +307,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_lights_auto_budget_is_a_percentage, setup, teardown),
         cmocka_unit_test_setup_teardown(test_black_probe_refused, setup, teardown),
         cmocka_unit_test_setup_teardown(test_csv_directions_and_nul, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_sh_format_c_float_range, setup, teardown),
     };
     return cmocka_run_group_tests_name("cli_silent", tests, NULL, NULL);
 }

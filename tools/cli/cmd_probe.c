@@ -6,6 +6,7 @@
  * SphericalHarmonicsL2 and ShadeSH9 constants, EXT_lights_image_based).
  */
 #include <ctype.h>
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -42,6 +43,8 @@ static void json_str(const char *s)
 static void c_float(double v)
 {
     char b[64];
+    if ((float)v == 0) /* below float range: the caller noted it */
+        v = 0;
     snprintf(b, sizeof b, "%.9g", v);
     printf("%s%sf", b, strpbrk(b, ".e") ? "" : ".0");
 }
@@ -278,6 +281,26 @@ int qcli_cmd_sh_project(int argc, char **argv)
         return 0;
     }
     if (fmt == FMT_C) {
+        /* a float literal beyond FLT_MAX is inf (or a compile error): refused before anything is
+         * printed; one below half the smallest subnormal is written as 0 with a note */
+        static const char rgbn[3] = {'R', 'G', 'B'};
+        int tiny = 0;
+        for (int i = 0; i < (int)(bands * bands); ++i)
+            for (int ch = 0; ch < 3; ++ch) {
+                double v = ldexp(c.c[ch][i], c.exp);
+                if (isinf((float)v)) {
+                    int l = 0;
+                    while ((l + 1) * (l + 1) <= i)
+                        ++l;
+                    return fprintf(stderr, "qibl: sh project: %s: coefficient [%d] (l = %d, m = %+d) %c is %.9g, beyond "
+                                   "float range (FLT_MAX %.9g): --format c cannot write it (--format json or table "
+                                   "can)\n", path, i, l, i - l * l - l, rgbn[ch], v, (double)FLT_MAX), 1;
+                }
+                tiny += v != 0 && (float)v == 0;
+            }
+        if (tiny)
+            fprintf(stderr, "qibl: sh project: note: %d coefficient%s below float range (under %.3g) written as 0\n",
+                    tiny, tiny > 1 ? "s" : "", ldexp(1, -150));
         printf("/* ");
         c_comment_str(path);
         printf(": %dx%d, layout %s, bands %ld, %s, window %s.\n * Made by `qibl sh project --format c`; "
