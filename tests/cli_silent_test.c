@@ -299,6 +299,22 @@ static void test_sh_format_c_float_range(void **state)
     assert_true(says(outlog, "static const float"));
 }
 
+/* bake --shard: a shard whose side file could not be written exits 1 and never says "wrote" */
+static void test_bake_shard_failure_not_wrote(void **state)
+{
+    (void)state;
+    need_qibl();
+    put(at("victim"), "precious");
+    assert_int_equal(symlink(at("victim"), at("s0.u")), 0);
+    int rc = run("bake", "--size", "16x4", "--k", "4", "--dirs", "48", "--unshadowed-k", "4", "--shard", "0/2", "--sums",
+                 at("s0"), "--quiet", "--threads", "1", NULL);
+    assert_int_equal(rc, 1);
+    assert_true(says(errlog, "refusing to replace a symbolic link"));
+    assert_false(has(outlog, "wrote"));
+    assert_int_equal(access(at("s0"), F_OK), -1);
+    assert_true(file_is(at("victim"), "precious"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -308,6 +324,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_black_probe_refused, setup, teardown),
         cmocka_unit_test_setup_teardown(test_csv_directions_and_nul, setup, teardown),
         cmocka_unit_test_setup_teardown(test_sh_format_c_float_range, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_bake_shard_failure_not_wrote, setup, teardown),
     };
     return cmocka_run_group_tests_name("cli_silent", tests, NULL, NULL);
 }

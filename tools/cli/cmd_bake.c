@@ -559,11 +559,13 @@ int qcli_cmd_bake(int argc, char **argv)
     } else if (shard_mode) {
         (void)unlink(side[0]), (void)unlink(side[1]);
     }
-    if (rc == 0 && sums_out && qtool_bake_sums_write(&sums, sums_out, err, sizeof err) != 0) {
-        fprintf(stderr, "qibl: %s\n", err);
-        rc = 1;
-    } else if (sums_out) {
-        printf("wrote %s: partial sums of shard %ld/%ld\n", sums_out, shard, nshards);
+    if (rc == 0 && sums_out) { /* "wrote" only for sums that were written (not after a failure) */
+        if (qtool_bake_sums_write(&sums, sums_out, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s\n", err);
+            rc = 1;
+        } else {
+            printf("wrote %s: partial sums of shard %ld/%ld\n", sums_out, shard, nshards);
+        }
     }
     if (rc == 0 && out && budget > 0) {
         /* smallest band-complete k (and LUT) whose held-out PSNR reaches the budget */
