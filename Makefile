@@ -378,8 +378,9 @@ FUZZ_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -O1 -g $(FUZZ_SAN) -fsanitize=
 FUZZ_SRC := $(sort $(wildcard tests/fuzz/fuzz_*.c))
 FUZZ_BIN := $(FUZZ_SRC:tests/fuzz/%.c=$(FUZZ_DIR)/bin/%)
 # everything a target may call: core, platform/soft, tools (not the CMocka-side golden check) and
-# the CLI's commands, whose main() is renamed so libFuzzer's main is the only one
-FUZZ_LIB_SRC := $(CORE_SRC) $(PLATFORM_SRC) $(filter-out tools/golden/%,$(TOOL_LIB_SRC)) $(QIBL_SRC)
+# the CLI's commands, whose main() is renamed so libFuzzer's main is the only one, and the scalar
+# twins the CLI's benchmarks link (fuzz_cliopts reaches the command table, and so cmd_bench.o)
+FUZZ_LIB_SRC := $(CORE_SRC) $(PLATFORM_SRC) $(filter-out tools/golden/%,$(TOOL_LIB_SRC)) $(QIBL_SRC) $(TWIN_SRC)
 FUZZ_LIB_OBJ := $(FUZZ_LIB_SRC:%.c=$(FUZZ_DIR)/obj/%.o)
 FUZZ_LIB := $(FUZZ_DIR)/libqibl-fuzz.a
 FUZZ_SEEDS := $(FUZZ_DIR)/bin/fuzz-seeds

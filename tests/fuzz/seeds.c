@@ -28,6 +28,10 @@
  *   stream      interleaved assets (the asset builders with QIBL_SHMAPS_INTERLEAVED): maps alone, +
  *               PMAP, + YLUT, an unknown chunk, an SHMU, grey and RGB, width past one group of 16;
  *               one planar asset
+ *   lightcsv    light lists in the line format `qibl lights --csv` prints (cmd_lights.c), with CRLF,
+ *               tiny and huge directions, an empty line
+ *   cliopts     argv lines (NUL-separated, the command's name first) for every command, from the
+ *               suites' own invocations (tests/cli_test.c, cli_use_test.c, cli_silent_test.c)
  * Every seed stays below FUZZ_MAX_LEN (4096 bytes).
  */
 #include <errno.h>
@@ -749,6 +753,85 @@ static void ply_seeds(void)
     ply_seed("cube_be_double.ply", "binary_big_endian", "double", "ushort", "ushort", "uint", -1.0);
     ply_seed("cube_le_short.ply", "binary_little_endian", "short", "float", "uint8", "uint16", 100.0);
     ply_seed("cube_be_int8.ply", "binary_big_endian", "int8", "float64", "int32", "int32", 3.0);
+/* ---- lightcsv, cliopts ------------------------------------------------------------------------ */
+
+static void lightcsv_seeds(void)
+{
+    /* the line format of cmd_lights.c's --csv */
+    static const double d[4][3] = {{0, 0, 1}, {0.6, 0.8, 0}, {-0.57735027, 0.57735027, -0.57735027}, {1, 0, 0}};
+    char b[2048];
+    size_t n = (size_t)snprintf(b, sizeof b, "x,y,z,r,g,b,u0,v0,u1,v1\n");
+    for (int i = 0; i < 4; ++i)
+        n += (size_t)snprintf(b + n, sizeof b - n, "%.9f,%.9f,%.9f,%.9g,%.9g,%.9g,%u,%u,%u,%u\n", d[i][0], d[i][1],
+                              d[i][2], 1.5 * (i + 1), 0.25 * i, 1e-3 * i, 4u * (unsigned)i, 0u, 4u * (unsigned)i + 4, 8u);
+    put("lightcsv", "four.csv", b, n);
+    static const char crlf[] = "x,y,z,r,g,b,u0,v0,u1,v1\r\n1e-300,2e-300,-1e-300,1,2,3,0,0,1,1\r\n\r\n"
+                               "0,1e200,-1e200,1e30,0,4e-320,0,0,4294967295,1\r\n";
+    put("lightcsv", "extremes_crlf.csv", crlf, sizeof crlf - 1);
+    static const char one[] = "x,y,z,r,g,b,u0,v0,u1,v1\n0,0,-1,0,0,0,0,0,0,0";
+    put("lightcsv", "one_no_newline.csv", one, sizeof one - 1);
+}
+
+static void cliopts_seed(const char *name, const char *const *args)
+{
+    char b[1024];
+    size_t n = 0;
+    for (int i = 0; args[i]; ++i) {
+        size_t l = strlen(args[i]);
+        if (n + l + 1 > sizeof b)
+            break;
+        memcpy(b + n, args[i], l);
+        n += l;
+        if (args[i + 1])
+            b[n++] = '\0';
+    }
+    put("cliopts", name, b, n);
+}
+
+static void cliopts_seeds(void)
+{
+#define SEED(name, ...)                                    \
+    do {                                                   \
+        static const char *const a[] = {__VA_ARGS__, NULL}; \
+        cliopts_seed(name, a);                             \
+    } while (0)
+    SEED("bake_shard", "bake", "--size", "16x4", "--k", "4", "--dirs", "48", "--shard", "0/2", "--sums", "s0", "--quiet",
+         "--threads", "1");
+    SEED("bake_paths", "bake", "-o", "a.qibl", "--size", "24x6", "--k", "4", "--dirs", "64", "--unshadowed-k", "4",
+         "--sun-path", "40,15,7,17", "--lamp-track", "1,1,-0.5;-1,1,-0.5", "--lamp-box", "-2,-2,-1,2,2,0",
+         "--lamp-samples", "8", "--path-steps", "8", "--lut-size", "8", "--layout", "interleaved");
+    SEED("merge", "merge", "-o", "m.qibl", "--sums", "all", "--k", "9", "--lut", "4", "--lsq", "s0", "s1");
+    SEED("render", "render", "--size", "32x8", "--sun", "0.3", "0.2", "1", "--rgb", "1", "1", "1", "--png", "r.png",
+         "--pfm", "r.pfm", "--depth", "d.pfm", "--equirect");
+    SEED("render_point", "render", "--point", "1", "2", "0.5", "--falloff", "2", "--png", "r.png", "--scene", "x.obj",
+         "--zup", "--raw");
+    SEED("gen", "gen", "-o", "g.qibl", "--size", "64x16", "--k", "9", "--lut-size", "8", "--pack", "robust",
+         "--equirect", "--layout", "planar");
+    SEED("relight", "relight", "g.qibl", "--sun", "0", "0", "1", "--rgb", "2", "1", "1", "--point", "1", "1", "1",
+         "--png", "o.png", "--exposure", "1.5", "--lut", "bilinear");
+    SEED("relight_probe", "relight", "g.qibl", "--probe", "p.hdr", "--probe-mode", "sunsky", "-n", "16", "--rotate",
+         "0,0,90", "--layout", "angular", "--hdr", "o.hdr");
+    SEED("relight_path", "relight", "g.qibl", "--path", "0", "--frames", "8", "--png", "o.png", "--lights", "l.csv");
+    SEED("lights", "lights", "p.hdr", "--method", "varmin", "-n", "16", "--priority", "energy-size", "--place",
+         "centre", "--as", "srgbe", "--png", "o.png", "--zoom", "2", "--error");
+    SEED("lights_auto", "lights", "p.hdr", "--auto", "--error", "2%", "--layout", "latlong");
+    SEED("lights_json", "lights", "p.hdr", "--json", "--csv", "-n", "3");
+    SEED("sh_eval", "sh", "eval", "--bands", "3", "0.5", "-0.5", "0.7071");
+    SEED("sh_project", "sh", "project", "p.hdr", "--bands", "3", "--irradiance", "--window", "hanning", "--format", "c",
+         "--name", "grace_sh");
+    SEED("sh_plot", "sh", "plot", "--png", "o.png", "--tile", "16");
+    SEED("srgbe", "srgbe", "encode", "1.5", "-0.25", "1e-30");
+    SEED("srgbe_decode", "srgbe", "decode", "7f80ff01");
+    SEED("probe", "probe", "info", "p.hdr", "--layout", "ball");
+    SEED("study", "study", "--quick", "--out", "d", "--threads", "2", "a.hdr", "b.hdr");
+    SEED("transfer", "transfer", "m.obj", "--probe", "p.hdr", "--png", "o.png", "--size", "64", "--mask", "32", "--face",
+         "8", "--rays", "4", "--coarse", "1", "--ring", "1", "--tween", "4", "--pvs", "--view", "35,20", "--zup",
+         "--flip", "--skip-adjacent");
+    SEED("demo", "demo", "--out", "d", "--small", "--scene", "x.obj", "--threads", "2");
+    SEED("check", "check", "a.png", "b.pfm", "c.hdr", "d.qibl");
+    SEED("info", "info", "a.qibl");
+    SEED("bench", "bench", "relight", "--quick", "--csv");
+#undef SEED
 }
 
 int main(int argc, char **argv)
@@ -781,6 +864,8 @@ int main(int argc, char **argv)
     layout_seeds();
     shard_seeds();
     transfer_seeds();
+    lightcsv_seeds();
+    cliopts_seeds();
     probe_seed("rgbe_mediancut", 16, 8, 0, 0x00, 3, 0, 0);
     probe_seed("srgbe_adaptive", 12, 6, 1, 0x01 | 2 << 2, 0x80 | 7, 0, 0x09);
     probe_seed("i32_varmin", 8, 4, 2, 0x02 | 1 << 5, 0x80 | 5, 8, 0x01);

@@ -10,6 +10,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* Set by the option-parsing fuzz target (tests/fuzz/fuzz_cliopts.c) only: every command returns 0
+ * once its options are parsed and checked, before it reads, computes or writes anything. */
+extern int qcli_parse_only;
+
 typedef struct qcli_cmd {
     const char *name;
     const char *summary; /* one line for `qibl --help` */

@@ -196,6 +196,8 @@ int qcli_cmd_render(int argc, char **argv)
     }
     if (have != 1 || (!png && !pfm && !depth))
         return qcli_usage_error("render needs exactly one of --sun/--point and at least one of --png/--pfm/--depth");
+    if (qcli_parse_only) /* fuzz_cliopts: the options only */
+        return 0;
     l.falloff = (int)falloff;
     qtool_rt_scene s;
     if (qcli_scene_load(&so, &s) != 0)
@@ -473,6 +475,8 @@ int qcli_cmd_bake(int argc, char **argv)
         return qcli_usage_error("a shard writes partial sums only (--sums); qibl merge writes the asset");
     if ((npaths || has_box) && uk == 0)
         return qcli_usage_error("light paths and --lamp-box need the unshadowed maps (--unshadowed-k 1..25)");
+    if (qcli_parse_only) /* fuzz_cliopts: the options only */
+        return 0;
     qtool_rt_scene s;
     if (qcli_scene_load(&so, &s) != 0)
         return 1;
@@ -777,6 +781,10 @@ int qcli_cmd_merge(int argc, char **argv)
         free(in);
         return qcli_usage_error("usage: qibl merge -o ASSET [--sums OUT] [--k K] [--lut-size N] [--lsq] SUMS...");
     }
+    if (qcli_parse_only) { /* fuzz_cliopts: the options only */
+        free(in);
+        return 0;
+    }
     qtool_bake_sums total = {0}, part;
     qtool_gen_maps mu = {0};
     qtool_extras xx;
@@ -856,6 +864,8 @@ int qcli_cmd_check(int argc, char **argv)
 {
     if (argc < 2)
         return qcli_usage_error("usage: qibl check FILE...");
+    if (qcli_parse_only) /* fuzz_cliopts: the options only */
+        return 0;
     int bad = 0;
     for (int i = 1; i < argc; ++i) {
         const char *p = argv[i], *ext = strrchr(p, '.');

@@ -143,6 +143,16 @@ int qcli_cmd_bench(int argc, char **argv)
         else
             return qcli_usage_error("bench: unknown option '%s'", argv[i]);
     }
+    static const char *const known[] = {"all", "sh", "relight", "baselines", "srgbe", "lights", "paths", "asset",
+                                        "probe", "hemi", "memory", "gles"};
+    int is_known = 0;
+    for (size_t j = 0; j < sizeof known / sizeof known[0]; ++j)
+        is_known |= strcmp(what, known[j]) == 0;
+    if (!is_known)
+        return qcli_usage_error("bench: unknown benchmark '%s' (all, sh, relight, baselines, srgbe, lights, paths, asset, probe, hemi, "
+                                    "memory, gles)", what);
+    if (qcli_parse_only) /* fuzz_cliopts: the options only */
+        return 0;
     int all = strcmp(what, "all") == 0, rc = 0, ran = 0;
     if (all || strcmp(what, "sh") == 0)
         rc |= bench_sh(quick), ran = 1;

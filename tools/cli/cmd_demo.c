@@ -155,6 +155,8 @@ int qcli_cmd_demo(int argc, char **argv)
     }
     if (!dir)
         return qcli_usage_error("demo needs --out DIR");
+    if (qcli_parse_only) /* fuzz_cliopts: the options only */
+        return 0;
     if (check_out_dir(dir, frames) != 0)
         return 1;
     qtool_rt_scene s;

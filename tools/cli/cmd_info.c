@@ -67,6 +67,8 @@ int qcli_cmd_info(int argc, char **argv)
         return qcli_usage_error("usage: qibl info FILE");
     const char *path = argv[1];
     size_t n = 0;
+    if (qcli_parse_only) /* fuzz_cliopts: the options only */
+        return 0;
     uint8_t *buf = NULL;
     char err[512];
     if (qtool_io_read_asset(path, &buf, &n, err, sizeof err) != 0)

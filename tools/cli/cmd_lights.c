@@ -289,6 +289,8 @@ int qcli_cmd_lights(int argc, char **argv)
         return qcli_usage_error("median cut makes 2^K lights: -n must be a power of two (or use --method "
                                     "adaptive)");
 
+    if (qcli_parse_only) /* fuzz_cliopts: the options only */
+        return 0;
     int w, h;
     uint8_t *px;
     char err[512];

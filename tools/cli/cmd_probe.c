@@ -213,6 +213,8 @@ int qcli_cmd_sh_project(int argc, char **argv)
             return qcli_usage_error("--window needs none, hann or lanczos");
         opts.window = (qibl_probe_window_t)k;
     }
+    if (qcli_parse_only) /* fuzz_cliopts: the options only */
+        return 0;
     int w, h;
     uint8_t *px;
     qtool_probe_layout_t used;

@@ -93,6 +93,8 @@ int qcli_cmd_probe(int argc, char **argv)
     }
     if (!path)
         return qcli_usage_error("usage: qibl probe info PROBE.hdr [--layout L]");
+    if (qcli_parse_only) /* fuzz_cliopts: the options only */
+        return 0;
     /* Nothing is printed until everything has been computed: a failure leaves stdout empty. */
     char note[4200 + 256], err[512];
     int w, h;

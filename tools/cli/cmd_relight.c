@@ -66,6 +66,8 @@ int qcli_cmd_gen(int argc, char **argv)
     }
     if (!out)
         return qcli_usage_error("gen: -o FILE is required");
+    if (qcli_parse_only) /* fuzz_cliopts: the options only */
+        return 0;
     qtool_gen_maps g;
     if (qtool_gen_scene((uint32_t)w, (uint32_t)h, (uint32_t)k, kind, &g) != 0) {
         fprintf(stderr, "qibl: gen: out of memory\n");
@@ -229,6 +231,8 @@ int qcli_cmd_relight(int argc, char **argv)
         return 2;
     if (gles && (ll.count != 1 || ll.csv || ll.probe))
         return qcli_usage_error("--gles takes exactly one --sun or --point (no --lights or --probe)");
+    if (qcli_parse_only) /* fuzz_cliopts: the options only */
+        return 0;
     size_t n;
     uint8_t *bytes = NULL;
     char rerr[512];

@@ -29,6 +29,8 @@ static int sh_plot(int argc, char **argv)
     }
     if (!path)
         return qcli_usage_error("usage: qibl sh plot --png FILE [--tile W]");
+    if (qcli_parse_only) /* fuzz_cliopts: the options only */
+        return 0;
     const int B = QIBL_SH_MAX_BANDS, th = (int)tw / 2, pad = 4;
     const int W = (2 * B - 1) * ((int)tw + pad) + pad, H = B * (th + pad) + pad;
     uint8_t *img = calloc((size_t)W * (size_t)H, 3);

@@ -36,5 +36,7 @@ int qcli_cmd_study(int argc, char **argv)
     }
     if (!o.out_dir)
         return qcli_usage_error("--out DIR is required");
+    if (qcli_parse_only) /* fuzz_cliopts: the options only */
+        return 0;
     return qtool_study_run(paths, np, &o);
 }

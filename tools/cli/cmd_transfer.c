@@ -995,6 +995,8 @@ int qcli_cmd_transfer(int argc, char **argv)
     }
     if (nfiles == 0 || !probe)
         return qcli_usage_error(TRANSFER_USAGE);
+    if (qcli_parse_only) /* fuzz_cliopts: the options only */
+        return 0;
     const topts o = {files, nfiles, zup, force_flip, skip_adjacent, pvs, probe, png, layout, size, mask_n, face, side,
                      threads, coarse, ring, tween, az, el, lights};
     qcli_transfer_stats st;

@@ -15,6 +15,8 @@
 #include "qibl/version.h"
 #include "qibl/shmaps.h"
 
+int qcli_parse_only; /* see cli.h */
+
 static const qcli_cmd commands[] = {
     {"sh", "evaluate the integer SH basis for a direction",
      "usage: qibl sh eval [--bands B] X Y Z\n"

@@ -1,0 +1,82 @@
+/*
+ * fuzz_cliopts.c - libFuzzer target: the qibl CLI's option parsing. The input is an argv (arguments
+ * separated by NUL bytes; the first byte picks the command), handed to the command with
+ * qcli_parse_only set, so every command returns once its options are parsed and checked and
+ * never reads a file, bakes or writes (cli.h); `sh eval` and `srgbe`, which only print a few
+ * numbers, run whole. When the first argument is a command's name (as the seeds write it) that
+ * command runs; otherwise the first byte picks one and every argument goes to it.
+ *
+ * Invariants: no crash, leak or undefined behaviour; the exit status is 0, 1 or 2; a refusal
+ * (non-zero) says why on stderr in a first line that starts "qibl: " and is not empty; the
+ * parsers' work is bounded (libFuzzer's timeout).
+ */
+#include <string.h>
+
+#include "fuzz.h"
+#include "cli/cli.h"
+
+static const struct {
+    const char *name;
+    int (*run)(int, char **);
+} cmds[] = {
+    {"bench", qcli_cmd_bench},     {"sh", qcli_cmd_sh},           {"gen", qcli_cmd_gen},       {"render", qcli_cmd_render},
+    {"transfer", qcli_cmd_transfer}, {"bake", qcli_cmd_bake},   {"merge", qcli_cmd_merge},
+    {"check", qcli_cmd_check},     {"demo", qcli_cmd_demo},     {"relight", qcli_cmd_relight},
+    {"info", qcli_cmd_info},       {"srgbe", qcli_cmd_srgbe},   {"lights", qcli_cmd_lights},
+    {"probe", qcli_cmd_probe},     {"study", qcli_cmd_study},
+};
+#define NCMDS (sizeof cmds / sizeof cmds[0])
+#define MAX_ARGS 48
+#define MAX_ARG 256
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    static char args[MAX_ARGS][MAX_ARG + 1];
+    static char errbuf[4096], outbuf[4096];
+    char *argv[MAX_ARGS + 1];
+    if (size == 0)
+        return 0;
+    qcli_parse_only = 1;
+    size_t c = data[0] % NCMDS, pos = 0;
+    int argc = 1;
+    while (pos < size && argc < MAX_ARGS) { /* NUL-separated arguments, each cut at MAX_ARG bytes */
+        const uint8_t *e = memchr(data + pos, 0, size - pos);
+        size_t len = e ? (size_t)(e - (data + pos)) : size - pos;
+        size_t k = len < MAX_ARG ? len : MAX_ARG;
+        memcpy(args[argc], data + pos, k);
+        args[argc][k] = '\0';
+        argv[argc] = args[argc];
+        ++argc;
+        pos += len + 1;
+    }
+    int named = 0;
+    for (size_t j = 0; argc > 1 && j < NCMDS && !named; ++j)
+        if (strcmp(args[1], cmds[j].name) == 0)
+            c = j, named = 1;
+    if (named) { /* the name is argv[0] */
+        for (int j = 1; j < argc; ++j)
+            argv[j - 1] = argv[j];
+        --argc;
+    } else {
+        snprintf(args[0], sizeof args[0], "%s", cmds[c].name);
+        argv[0] = args[0];
+    }
+    argv[argc] = NULL;
+    /* the command's stdout and stderr into bounded buffers (writes past the end are dropped) */
+    memset(errbuf, 0, sizeof errbuf);
+    FILE *err = fmemopen(errbuf, sizeof errbuf - 1, "w"), *out = fmemopen(outbuf, sizeof outbuf - 1, "w");
+    FUZZ_CHECK(err && out);
+    FILE *saved_err = stderr, *saved_out = stdout;
+    stderr = err, stdout = out;
+    int rc = cmds[c].run(argc, argv);
+    fflush(err), fflush(out);
+    stderr = saved_err, stdout = saved_out;
+    fclose(err), fclose(out);
+    FUZZ_CHECK(rc == 0 || rc == 1 || rc == 2);
+    if (rc != 0) {
+        if (!(strncmp(errbuf, "qibl: ", 6) == 0 && errbuf[6] != '\0' && errbuf[6] != '\n'))
+            fprintf(stderr, "%s: exit %d with stderr '%.200s'\n", cmds[c].name, rc, errbuf);
+        FUZZ_CHECK(strncmp(errbuf, "qibl: ", 6) == 0 && errbuf[6] != '\0' && errbuf[6] != '\n');
+    }
+    return 0;
+}
