@@ -12,7 +12,10 @@
 #include <sys/resource.h>
 
 #include "cliutil.h"
+#include "bake/path.h"
+#include "io/atomic.h"
 #include "io/hdr_write.h"
+#include "qibl/lightpath.h"
 
 static int setup(void **state)
 {
@@ -315,6 +318,45 @@ static void test_bake_shard_failure_not_wrote(void **state)
     assert_true(file_is(at("victim"), "precious"));
 }
 
+/* the asset at src with a LOCC chunk of w x h (all 128) appended, written to dst */
+static void with_locc(const char *src, const char *dst, uint32_t w, uint32_t h)
+{
+    size_t n, pn, on;
+    uint8_t *a = qtool_io_read_all(src, &n), *vals = malloc((size_t)w * h), *pay = NULL, *out = NULL;
+    assert_non_null(a), assert_non_null(vals);
+    memset(vals, 128, (size_t)w * h);
+    assert_int_equal(qtool_bake_locc_payload(w, h, vals, &pay, &pn), 0);
+    assert_int_equal(qtool_bake_asset_add(a, n, QIBL_CHUNK_LOCC, pay, pn, &out, &on), 0);
+    char err[1200];
+    if (qtool_io_write_atomic(dst, out, on, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    free(a), free(vals), free(pay), free(out);
+}
+
+/* A LOCC chunk relight cannot use is said (it used to be dropped without a word), and info lists
+ * LOCC, usable or not. */
+static void test_locc_said(void **state)
+{
+    (void)state;
+    need_qibl();
+    int rc = run("bake", "-o", at("b.qibl"), "--size", "16x4", "--k", "4", "--dirs", "48", "--unshadowed-k", "4",
+                 "--quiet", "--threads", "1", NULL);
+    if (rc != 0) {
+        char *m = text(errlog);
+        fail_msg("bake: exit %d: %s", rc, m);
+    }
+    with_locc(at("b.qibl"), at("good.qibl"), 16, 4);
+    with_locc(at("b.qibl"), at("bad.qibl"), 8, 4); /* not SHMP's size */
+    assert_int_equal(run("info", at("good.qibl"), NULL), 0);
+    assert_true(says(outlog, "LOCC: lamp occlusion, 16 x 4 pixels"));
+    assert_int_equal(run("info", at("bad.qibl"), NULL), 0);
+    assert_true(says(outlog, "LOCC: not usable"));
+    assert_int_equal(run("relight", at("good.qibl"), "--point", "0", "0", "1", "--png", at("g.png"), NULL), 0);
+    assert_false(has(errlog, "LOCC"));
+    assert_int_equal(run("relight", at("bad.qibl"), "--point", "0", "0", "1", "--png", at("b.png"), NULL), 0);
+    assert_true(says(errlog, "its LOCC chunk is not usable"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -325,6 +367,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_csv_directions_and_nul, setup, teardown),
         cmocka_unit_test_setup_teardown(test_sh_format_c_float_range, setup, teardown),
         cmocka_unit_test_setup_teardown(test_bake_shard_failure_not_wrote, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_locc_said, setup, teardown),
     };
     return cmocka_run_group_tests_name("cli_silent", tests, NULL, NULL);
 }

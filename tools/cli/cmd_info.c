@@ -115,6 +115,16 @@ int qcli_cmd_info(int argc, char **argv)
                    lp.kind == QIBL_LIGHTPATH_DIRECTIONS ? "sun path (directions)" : "lamp track (positions)",
                    (unsigned)lp.nkeys, (unsigned)lp.nedges, (double)lp.nedges / ((double)lp.width * lp.height));
     }
+    qibl_chunk_t lc;
+    if (qibl_asset_find_nth(&a, QIBL_CHUNK_LOCC, 0, &lc) == QIBL_OK) {
+        qibl_lampocc_t occ;
+        qibl_status_t os = qibl_lightpath_occl_from_asset(&a, &occ);
+        if (os != QIBL_OK)
+            printf("LOCC: not usable: %s (relight draws lamps without it)\n", qibl_status_str(os));
+        else
+            printf("LOCC: lamp occlusion, %u x %u pixels (free lamps through SHMU are scaled by it)\n",
+                   (unsigned)occ.width, (unsigned)occ.height);
+    }
     free(buf);
     return 0;
 }

@@ -256,10 +256,14 @@ int qcli_cmd_relight(int argc, char **argv)
         st = qibl_asset_ylut(&a, &lut);
     /* lamps through the unshadowed maps get the asset's lamp occlusion (LOCC) when it has one */
     qibl_lampocc_t occ;
-    qibl_chunk_t shmu;
-    const int use_occ = st == QIBL_OK && have_point &&
-                        qibl_asset_find_nth(&a, QIBL_CHUNK_SHMU, 0, &shmu) == QIBL_OK &&
-                        qibl_lightpath_occl_from_asset(&a, &occ) == QIBL_OK;
+    qibl_chunk_t shmu, locc;
+    const int has_shmu = qibl_asset_find_nth(&a, QIBL_CHUNK_SHMU, 0, &shmu) == QIBL_OK;
+    const int has_locc = qibl_asset_find_nth(&a, QIBL_CHUNK_LOCC, 0, &locc) == QIBL_OK;
+    const qibl_status_t occ_st = has_locc ? qibl_lightpath_occl_from_asset(&a, &occ) : QIBL_E_ASSET_MISSING_CHUNK;
+    const int use_occ = st == QIBL_OK && have_point && has_shmu && occ_st == QIBL_OK;
+    if (st == QIBL_OK && have_point && has_shmu && has_locc && occ_st != QIBL_OK) /* never dropped without a word */
+        fprintf(stderr, "qibl: note: %s: its LOCC chunk is not usable (%s): the lamps are drawn without lamp "
+                        "occlusion\n", in, qibl_soft_status_str(occ_st));
     if (st != QIBL_OK) {
         fprintf(stderr, "qibl: %s: %s\n", in, qibl_soft_status_str(st));
         free(bytes);
