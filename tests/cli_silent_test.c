@@ -357,6 +357,29 @@ static void test_locc_said(void **state)
     assert_true(says(errlog, "its LOCC chunk is not usable"));
 }
 
+/* --path frames get the almost-black note every other relight gets; a sun path that never rises
+ * is refused by name before anything is baked */
+static void test_path_dark_and_never_rising(void **state)
+{
+    (void)state;
+    need_qibl();
+    int rc = run("bake", "-o", at("p.qibl"), "--size", "24x6", "--k", "4", "--dirs", "64", "--unshadowed-k", "4",
+                 "--sun-path", "40,15,7,17", "--path-steps", "8", "--quiet", "--threads", "1", NULL);
+    if (rc != 0) {
+        char *m = text(errlog);
+        fail_msg("bake: exit %d: %s", rc, m);
+    }
+    assert_int_equal(run("relight", at("p.qibl"), "--path", "sun", "--t", "0.5", "--rgb", "0.0001", "0.0001", "0.0001",
+                         "--png", at("d.png"), NULL),
+                     0);
+    assert_true(says(errlog, "almost black"));
+    rc = run("bake", "-o", at("n.qibl"), "--size", "24x6", "--k", "4", "--dirs", "64", "--unshadowed-k", "4",
+             "--sun-path", "80,-20,0,24", "--quiet", "--threads", "1", NULL);
+    assert_int_equal(rc, 2);
+    assert_true(says(errlog, "the sun never rises"));
+    assert_int_equal(access(at("n.qibl"), F_OK), -1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -368,6 +391,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_sh_format_c_float_range, setup, teardown),
         cmocka_unit_test_setup_teardown(test_bake_shard_failure_not_wrote, setup, teardown),
         cmocka_unit_test_setup_teardown(test_locc_said, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_path_dark_and_never_rising, setup, teardown),
     };
     return cmocka_run_group_tests_name("cli_silent", tests, NULL, NULL);
 }

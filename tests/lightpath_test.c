@@ -510,6 +510,32 @@ static void test_bake_edges(void **state)
     assert_int_equal(qtool_bake_path_parse_sun("40,15,17,7", &sun, err, sizeof err), -1);
     assert_non_null(strstr(err, "T0 < T1"));
     assert_int_equal(qtool_bake_path_parse_sun("40,15,7", &sun, err, sizeof err), -1);
+    /* a sun that never rises is refused by name (issue 24): polar night, and the hours after dusk */
+    static const char *never[] = {"80,-20,0,24", "40,15,20,24", "-60,23,0,6", "90,-0.5,0,24"};
+    for (int i = 0; i < 4; ++i) {
+        if (qtool_bake_path_parse_sun(never[i], &sun, err, sizeof err) != -1)
+            fail_msg("--sun-path %s: accepted, but the sun never rises", never[i]);
+        assert_non_null(strstr(err, "the sun never rises"));
+    }
+    /* ... against brute force: each accepted path has a sample above the horizon, each refused none */
+    for (int lat = -90; lat <= 90; lat += 15)
+        for (int de = -23; de <= 23; de += 23)
+            for (int t0 = 0; t0 < 24; t0 += 5)
+                for (int t1 = t0 + 1; t1 <= 24; t1 += 7) {
+                    char spec[64];
+                    snprintf(spec, sizeof spec, "%d,%d,%d,%d", lat, de, t0, t1);
+                    qtool_bake_path q = {0};
+                    int ok = qtool_bake_path_parse_sun(spec, &q, err, sizeof err) == 0;
+                    q.kind = 0, q.lat = lat, q.decl = de, q.t0 = t0, q.t1 = t1;
+                    double zmax = -2;
+                    for (int k = 0; k <= 2000; ++k) {
+                        qtool_rt_light sl;
+                        qtool_bake_path_light(&q, k / 2000.0, &sl);
+                        zmax = fmax(zmax, sl.dir[2]);
+                    }
+                    if (fabs(zmax) > 1e-3 && ok != (zmax > 0))
+                        fail_msg("--sun-path %s: %s, highest sample z %.4f", spec, ok ? "accepted" : "refused", zmax);
+                }
     qtool_bake_path tr = {0};
     assert_int_equal(qtool_bake_path_parse_track("0,0,0;1,0,0;1,1,0", &tr, err, sizeof err), 0);
     assert_int_equal(tr.npts, 3);

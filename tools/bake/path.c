@@ -48,6 +48,15 @@ int qtool_bake_path_parse_sun(const char *s, qtool_bake_path *p, char *err, size
     if (fabs(v[0]) > 90 || fabs(v[1]) > 23.5 || v[2] < 0 || v[3] > 24 || v[3] <= v[2])
         return snprintf(err, errlen,
                         "--sun-path '%s': latitude in -90..90, declination in -23.5..23.5, 0 <= T0 < T1 <= 24", s), -1;
+    /* the highest the sun gets: elevation falls with |hour angle|, so at the hour angle nearest
+     * noon within T0..T1; a path wholly below the horizon would bake frames that are all black */
+    double h0 = (v[2] - 12) * 15, h1 = (v[3] - 12) * 15, hn = h0 > 0 ? h0 : h1 < 0 ? h1 : 0;
+    double la = v[0] * PI / 180, de = v[1] * PI / 180;
+    double zmax = sin(de) * sin(la) + cos(de) * cos(la) * cos(hn * PI / 180);
+    if (!(zmax > 0))
+        return snprintf(err, errlen, "--sun-path '%s': the sun never rises between %gh and %gh (highest elevation "
+                        "%.1f degrees): every frame would be unlit", s, v[2], v[3], asin(fmax(-1, fmin(1, zmax))) * 180 / PI),
+               -1;
     p->kind = 0, p->lat = v[0], p->decl = v[1], p->t0 = v[2], p->t1 = v[3];
     return 0;
 }

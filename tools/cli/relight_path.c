@@ -99,6 +99,8 @@ int qcli_relight_path(int argc, char **argv)
     }
     if (!in || !spec || t < 0 || (!png && !pfm))
         return qcli_usage_error("relight --path needs FILE, --path N|sun|lamp, --t T and --png or --pfm OUT");
+    if (qcli_parse_only) /* fuzz_cliopts: the options only */
+        return 0;
     size_t n;
     uint8_t *bytes = NULL;
     char err[1200];
@@ -167,6 +169,7 @@ int qcli_relight_path(int argc, char **argv)
         } else if (png) {
             printf("wrote %s (%ux%u, %s on path %u at t = %.4f (%u/65535)%s%s, %.1f ms)\n", png, m.width, m.height, what,
                    index, t, tq, radius ? ", soft" : "", have_sky ? ", over the sky" : "", ms);
+            qcli_warn_dark(png, pix, np); /* as every other relight does */
         }
         if (rc == 0 && pfm && qtool_pfm_write(pfm, (int)m.width, (int)m.height, 3, lin, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
