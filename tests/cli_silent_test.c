@@ -380,6 +380,27 @@ static void test_path_dark_and_never_rising(void **state)
     assert_int_equal(access(at("n.qibl"), F_OK), -1);
 }
 
+/* A probe whose light is below the SH light's Q16.16 resolution relights to exact zero: a note
+ * says so, whatever the output (it used to be silent with --hdr) */
+static void test_tiny_probe_noted(void **state)
+{
+    (void)state;
+    need_qibl();
+    assert_int_equal(run("gen", "-o", at("g.qibl"), "--size", "32x8", NULL), 0);
+    probe(at("tiny.hdr"), 1.0f, 0.8f, 0.6f, 1e-30f);
+    probe(at("p.hdr"), 1.0f, 0.8f, 0.6f, 1.0f);
+    static const char *modes[] = {"sh", "lights", "sunsky"};
+    for (int i = 0; i < 3; ++i) {
+        assert_int_equal(run("relight", at("g.qibl"), "--probe", at("tiny.hdr"), "--probe-mode", modes[i], "--hdr",
+                             at("t.hdr"), NULL),
+                         0);
+        if (!has(errlog, "relights to exact zero"))
+            fail_msg("--probe-mode %s: no note for a 1e-30 probe", modes[i]);
+    }
+    assert_int_equal(run("relight", at("g.qibl"), "--probe", at("p.hdr"), "--hdr", at("t.hdr"), NULL), 0);
+    assert_false(has(errlog, "exact zero"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -392,6 +413,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_bake_shard_failure_not_wrote, setup, teardown),
         cmocka_unit_test_setup_teardown(test_locc_said, setup, teardown),
         cmocka_unit_test_setup_teardown(test_path_dark_and_never_rising, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_tiny_probe_noted, setup, teardown),
     };
     return cmocka_run_group_tests_name("cli_silent", tests, NULL, NULL);
 }

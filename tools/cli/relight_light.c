@@ -380,6 +380,19 @@ static int probe_part(const qcli_light_list *ll, uint32_t k, FILE *note, qibl_sh
     if (note && ll->rotate)
         fprintf(note, "%s: %s, rotated once in SH (%s)\n", ll->probe, mode_name(ll->mode),
                 ll->rotate == 1 ? "--yaw" : "--rotate");
+    {
+        /* a probe with light whose SH rounds to nothing in Q16.16 relights to exact zero: say so
+         * (no exposure brings such a frame back) */
+        int lit = 0, any = 0;
+        for (size_t i = 0; i < (size_t)w * (size_t)h && !lit; ++i)
+            lit = px[4 * i + 3] != 0 && (px[4 * i] | px[4 * i + 1] | px[4 * i + 2]) != 0;
+        for (int c = 0; c < 3; ++c)
+            for (uint32_t i = 0; i < p->k; ++i)
+                any |= p->c[c][i] != 0;
+        if (lit && !any)
+            fprintf(stderr, "qibl: note: %s: its light is below the resolution of the core's SH light (2^-16 in "
+                            "Q16.16): it relights to exact zero; scale the probe up\n", ll->probe);
+    }
     rc = 0;
     goto out;
 oom:
