@@ -401,6 +401,45 @@ static void test_tiny_probe_noted(void **state)
     assert_false(has(errlog, "exact zero"));
 }
 
+static void bake_shard(const char *size, const char *in, const char *sums)
+{
+    int rc = run("bake", "--size", size, "--k", "4", "--dirs", "64", "--unshadowed-k", "4", "--sun-path", "40,15,7,17",
+                 "--lamp-box", "-2,-2,-1,2,2,0", "--lamp-samples", "4", "--path-steps", "8", "--shard", in, "--sums",
+                 at(sums), "--quiet", "--threads", "1", NULL);
+    if (rc != 0) {
+        char *m = text(errlog);
+        fail_msg("bake --shard %s: exit %d: %s", in, rc, m);
+    }
+}
+
+static void copy_file(const char *from, const char *to)
+{
+    size_t n;
+    uint8_t *b = qtool_io_read_all(from, &n);
+    assert_non_null(b);
+    char err[1200];
+    if (qtool_io_write_atomic(to, b, n, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    free(b);
+}
+
+/* merge refuses shard 0's side file (LPTH, LOCC) from a bake of another size by name; it used to
+ * write an asset whose light path no relight could use */
+static void test_merge_extras_of_another_size(void **state)
+{
+    (void)state;
+    need_qibl();
+    bake_shard("24x6", "0/2", "s0");
+    bake_shard("24x6", "1/2", "s1");
+    bake_shard("16x6", "0/2", "b0");
+    assert_int_equal(run("merge", "-o", at("ok.qibl"), at("s0"), at("s1"), NULL), 0);
+    assert_int_equal(run("relight", at("ok.qibl"), "--path", "sun", "--t", "0.5", "--png", at("ok.png"), NULL), 0);
+    copy_file(at("b0.x"), at("s0.x"));
+    assert_int_equal(run("merge", "-o", at("m.qibl"), at("s0"), at("s1"), NULL), 1);
+    assert_true(says(errlog, "is for a 16 x 6 bake, the shards are 24 x 6"));
+    assert_int_equal(access(at("m.qibl"), F_OK), -1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -414,6 +453,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_locc_said, setup, teardown),
         cmocka_unit_test_setup_teardown(test_path_dark_and_never_rising, setup, teardown),
         cmocka_unit_test_setup_teardown(test_tiny_probe_noted, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_merge_extras_of_another_size, setup, teardown),
     };
     return cmocka_run_group_tests_name("cli_silent", tests, NULL, NULL);
 }

@@ -722,6 +722,32 @@ static int merge_extras(char **in, const int *seen, uint32_t nsh, const qtool_ba
             goto done;
         }
         for (uint32_t i = 0; i < xx->count; ++i) {
+            /* shard 0's chunks must be of this bake's size: a .x of another bake would make an
+             * asset whose path or occlusion no relight can use */
+            uint32_t cw = 0, chh = 0;
+            qibl_status_t cs;
+            if (xx->type[i] == QIBL_CHUNK_LPTH) {
+                qibl_lightpath_t lp;
+                if ((cs = qibl_lightpath_parse(xx->data[i], xx->size[i], &lp)) == QIBL_OK)
+                    cw = lp.width, chh = lp.height;
+            } else if (xx->type[i] == QIBL_CHUNK_LOCC) {
+                qibl_lampocc_t lo;
+                if ((cs = qibl_lightpath_occl_parse(xx->data[i], xx->size[i], &lo)) == QIBL_OK)
+                    cw = lo.width, chh = lo.height;
+            } else {
+                cs = QIBL_OK, cw = total->w, chh = total->h; /* refused below */
+            }
+            if (cs != QIBL_OK) {
+                fprintf(stderr, "qibl: %s: chunk %u (%s) is not usable: %s\n", name, i,
+                        xx->type[i] == QIBL_CHUNK_LPTH ? "LPTH" : "LOCC", qibl_status_str(cs));
+                goto done;
+            }
+            if (cw != total->w || chh != total->h) {
+                fprintf(stderr, "qibl: %s: chunk %u (%s) is for a %u x %u bake, the shards are %u x %u (the side file "
+                        "of another bake)\n", name, i, xx->type[i] == QIBL_CHUNK_LPTH ? "LPTH" : "LOCC", cw, chh,
+                        total->w, total->h);
+                goto done;
+            }
             if (xx->type[i] == QIBL_CHUNK_LOCC && !x->locc)
                 x->locc = xx->data[i], x->locc_n = xx->size[i];
             else if (xx->type[i] == QIBL_CHUNK_LPTH && x->npaths < 8)
