@@ -9,7 +9,7 @@
  * most QTOOL_LIGHTCSV_LINE_MAX bytes, files of at most QTOOL_LIGHTCSV_MAX_BYTES; a NUL byte (this
  * is text) is named as one.
  * Work and memory: one pass over the bytes; 80 bytes of doubles per light while parsing, then
- * the result (28 bytes a light).
+ * the result (40 bytes a light); the file is read whole (at most QTOOL_LIGHTCSV_MAX_BYTES).
  */
 #ifndef QTOOL_IO_LIGHTCSV_H
 #define QTOOL_IO_LIGHTCSV_H
