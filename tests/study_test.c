@@ -363,6 +363,21 @@ static void test_malformed_input_named(void **state)
     assert_non_null(strstr(err, "7 coefficients"));
     assert_int_equal(qtool_study_kmeans(&p, 4, 5, &md), -1); /* nothing to cluster */
     assert_int_equal(qtool_study_kmeans(&p, 0, 5, &md), -1);
+    /* ... and refused by name before the study or --auto measures a 0 / 0 error (issue 24) */
+    assert_int_equal(qtool_study_probe_lit(&p, err, sizeof err), -1);
+    assert_non_null(strstr(err, "black everywhere"));
+    assert_int_equal(qtool_study_auto(&p, 0.02, 1, err, sizeof err), -1);
+    assert_non_null(strstr(err, "the probe is black everywhere"));
+    qtool_study_probe_free(&p);
+    for (int i = 0; i < 8 * 4; ++i) /* red and blue light, no green */
+        blk[4 * i] = 200, blk[4 * i + 2] = 90, blk[4 * i + 3] = 128;
+    assert_int_equal(qtool_study_probe_init(&p, 8, 4, blk, err, sizeof err), 0);
+    assert_int_equal(qtool_study_probe_lit(&p, err, sizeof err), -1);
+    assert_non_null(strstr(err, "green channel is black everywhere"));
+    blk[4 * 5 + 1] = 1;
+    qtool_study_probe_free(&p);
+    assert_int_equal(qtool_study_probe_init(&p, 8, 4, blk, err, sizeof err), 0);
+    assert_int_equal(qtool_study_probe_lit(&p, err, sizeof err), 0);
     qtool_study_probe_free(&p);
     free(blk);
     /* refit and irradiance optimisation refuse a model with SH or without lights */

@@ -182,7 +182,11 @@ int qtool_lightcsv_read(const char *path, qibl_lightprobe_light_t **lights, uint
     uint8_t *b;
     size_t n;
     struct stat st;
-    if (stat(path, &st) == 0 && S_ISREG(st.st_mode) && st.st_size == 0) /* the parser's own message */
+    if (stat(path, &st) != 0) {
+        snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+        return -1;
+    }
+    if (S_ISREG(st.st_mode) && st.st_size == 0) /* the parser's own message */
         return qtool_lightcsv_parse(path, "", 0, lights, count, rgb_exp, err, errlen);
     if (qtool_io_load(path, &kind, &b, &n, err, errlen) != 0)
         return -1;

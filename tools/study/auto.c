@@ -25,6 +25,8 @@ static void show(const cand *c)
 
 int qtool_study_auto(const qtool_study_probe *p, double budget, int threads, char *err, size_t errlen)
 {
+    if (qtool_study_probe_lit(p, err, errlen) != 0)
+        return -1;
     qtool_study_gt g;
     if (qtool_study_gt_compute(&g, p, QTOOL_STUDY_ERR_NORMALS, threads) != 0) {
         snprintf(err, errlen, "out of memory for the ground truth");

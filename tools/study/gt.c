@@ -101,8 +101,14 @@ int qtool_study_probe_init(qtool_study_probe *p, int w, int h, const uint8_t *rg
                 p->q[3 * i + (size_t)c] = rgbe_p(px, c) * s;
         }
     }
+    return 0;
+}
+
+int qtool_study_probe_lit(const qtool_study_probe *p, char *err, size_t errlen)
+{
     /* the errors are relative, per channel: a channel with no light makes every one 0 / 0 */
     static const char *const cname[3] = {"red", "green", "blue"};
+    size_t np = (size_t)p->w * (size_t)p->h;
     int dark = 0, which = 0;
     for (int c = 0; c < 3; ++c) {
         int any = 0;
@@ -111,16 +117,11 @@ int qtool_study_probe_init(qtool_study_probe *p, int w, int h, const uint8_t *rg
         if (!any)
             which = dark++ ? which : c;
     }
-    if (dark) {
-        if (dark == 3)
-            snprintf(err, errlen, "the probe is black everywhere: no light, so no relative error to measure");
-        else
-            snprintf(err, errlen, "the probe's %s channel is black everywhere: its relative error is 0 / 0",
-                     cname[which]);
-        qtool_study_probe_free(p);
-        return -1;
-    }
-    return 0;
+    if (dark == 3)
+        snprintf(err, errlen, "the probe is black everywhere: no light, so no relative error to measure");
+    else if (dark)
+        snprintf(err, errlen, "the probe's %s channel is black everywhere: its relative error is 0 / 0", cname[which]);
+    return dark ? -1 : 0;
 }
 
 void qtool_study_probe_free(qtool_study_probe *p)

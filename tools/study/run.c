@@ -522,6 +522,11 @@ static int run_all(const char *const *paths, int np, const qtool_study_opts *o)
             free(px);
             return fprintf(stderr, "qibl: study: %s: %s\n", info[count].name, err), 1;
         }
+        if (qtool_study_probe_lit(&p, err, sizeof err) != 0) {
+            qtool_study_probe_free(&p);
+            free(px);
+            return fprintf(stderr, "qibl: study: %s: %s\n", info[count].name, err), 1;
+        }
         info[count].w = w, info[count].h = h;
         if (run_probe(count, &p, &c, &info[count], &ovs[count]) == 0) {
             char path[1024];

@@ -36,6 +36,11 @@ typedef struct qtool_study_probe {
 /* From RGBE bytes (copied, or box-averaged when wider than QTOOL_STUDY_MAX_W). 0, or -1 with a
  * one-line reason (size not 2:1 / too small / memory). */
 int qtool_study_probe_init(qtool_study_probe *p, int w, int h, const uint8_t *rgbe, char *err, size_t errlen);
+
+/* 0 when every channel of the probe has light somewhere; -1 with "the probe is black everywhere: …"
+ * or "the probe's green channel is black everywhere: …" in err (the study's errors are relative,
+ * per channel: such a probe would make them 0 / 0, printed as NaN). */
+int qtool_study_probe_lit(const qtool_study_probe *p, char *err, size_t errlen);
 void qtool_study_probe_free(qtool_study_probe *p);
 
 /* Ground truth: m normals, their irradiance E[3 m] (channel-major per normal: E[3 k + c]), the
