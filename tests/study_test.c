@@ -369,13 +369,8 @@ static void test_malformed_input_named(void **state)
     assert_int_equal(qtool_study_auto(&p, 0.02, 1, err, sizeof err), -1);
     assert_non_null(strstr(err, "the probe is black everywhere"));
     qtool_study_probe_free(&p);
-    for (int i = 0; i < 8 * 4; ++i) /* red and blue light, no green */
+    for (int i = 0; i < 8 * 4; ++i) /* red and blue light, no green: measured on red and blue */
         blk[4 * i] = 200, blk[4 * i + 2] = 90, blk[4 * i + 3] = 128;
-    assert_int_equal(qtool_study_probe_init(&p, 8, 4, blk, err, sizeof err), 0);
-    assert_int_equal(qtool_study_probe_lit(&p, err, sizeof err), -1);
-    assert_non_null(strstr(err, "green channel is black everywhere"));
-    blk[4 * 5 + 1] = 1;
-    qtool_study_probe_free(&p);
     assert_int_equal(qtool_study_probe_init(&p, 8, 4, blk, err, sizeof err), 0);
     assert_int_equal(qtool_study_probe_lit(&p, err, sizeof err), 0);
     qtool_study_probe_free(&p);

@@ -280,7 +280,7 @@ static const qcli_cmd commands[] = {
      "  measure of qibl probe info: |E - E_probe| / max(E_probe, mean E_probe / 10) per normal and\n"
      "  channel, floored so near-black normals cannot blow it up; probes box-averaged to <= 1024 wide)\n"
      "  P is a percentage in (0, 100], the sign optional: --error 2 is 2 %, not 200 %. An all-black\n"
-     "  probe, or one with a black channel, is refused: its error would be 0 / 0.\n"
+     "  probe is refused: its error would be 0 / 0.\n"
      "  (tools/study): SH irradiance (4/9/16/25), N varmin lights (as sampled, or RGB refitted by NNLS)\n"
      "  or sun plus sky (k lights + SH9); counted in floats stored (6 per light, 3 per coefficient).\n",
      qcli_cmd_lights},

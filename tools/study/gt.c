@@ -106,22 +106,14 @@ int qtool_study_probe_init(qtool_study_probe *p, int w, int h, const uint8_t *rg
 
 int qtool_study_probe_lit(const qtool_study_probe *p, char *err, size_t errlen)
 {
-    /* the errors are relative, per channel: a channel with no light makes every one 0 / 0 */
-    static const char *const cname[3] = {"red", "green", "blue"};
-    size_t np = (size_t)p->w * (size_t)p->h;
-    int dark = 0, which = 0;
-    for (int c = 0; c < 3; ++c) {
-        int any = 0;
-        for (size_t i = 0; i < np && !any; ++i)
-            any = p->q[3 * i + (size_t)c] > 0;
-        if (!any)
-            which = dark++ ? which : c;
-    }
-    if (dark == 3)
-        snprintf(err, errlen, "the probe is black everywhere: no light, so no relative error to measure");
-    else if (dark)
-        snprintf(err, errlen, "the probe's %s channel is black everywhere: its relative error is 0 / 0", cname[which]);
-    return dark ? -1 : 0;
+    /* the error measure (model.c) skips a channel without light, but with none at all every error
+     * is 0 / 0 */
+    size_t n = 3 * (size_t)p->w * (size_t)p->h;
+    for (size_t i = 0; i < n; ++i)
+        if (p->q[i] > 0)
+            return 0;
+    snprintf(err, errlen, "the probe is black everywhere: no light, so no relative error to measure");
+    return -1;
 }
 
 void qtool_study_probe_free(qtool_study_probe *p)

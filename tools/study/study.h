@@ -37,9 +37,8 @@ typedef struct qtool_study_probe {
  * one-line reason (size not 2:1 / too small / memory). */
 int qtool_study_probe_init(qtool_study_probe *p, int w, int h, const uint8_t *rgbe, char *err, size_t errlen);
 
-/* 0 when every channel of the probe has light somewhere; -1 with "the probe is black everywhere: …"
- * or "the probe's green channel is black everywhere: …" in err (the study's errors are relative,
- * per channel: such a probe would make them 0 / 0, printed as NaN). */
+/* 0 when the probe has light somewhere; -1 with "the probe is black everywhere: …" in err (the
+ * study's errors are relative: such a probe would make every one 0 / 0, printed as NaN). */
 int qtool_study_probe_lit(const qtool_study_probe *p, char *err, size_t errlen);
 void qtool_study_probe_free(qtool_study_probe *p);
 
