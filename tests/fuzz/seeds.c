@@ -753,6 +753,8 @@ static void ply_seeds(void)
     ply_seed("cube_be_double.ply", "binary_big_endian", "double", "ushort", "ushort", "uint", -1.0);
     ply_seed("cube_le_short.ply", "binary_little_endian", "short", "float", "uint8", "uint16", 100.0);
     ply_seed("cube_be_int8.ply", "binary_big_endian", "int8", "float64", "int32", "int32", 3.0);
+}
+
 /* ---- lightcsv, cliopts ------------------------------------------------------------------------ */
 
 static void lightcsv_seeds(void)
