@@ -822,6 +822,7 @@ static void cliopts_seeds(void)
     SEED("sh_project", "sh", "project", "p.hdr", "--bands", "3", "--irradiance", "--window", "hanning", "--format", "c",
          "--name", "grace_sh");
     SEED("sh_plot", "sh", "plot", "--png", "o.png", "--tile", "16");
+    SEED("sh_preset", "sh", "project", "p.hdr", "--preset", "filament", "--window", "auto", "--yaw", "30");
     SEED("srgbe", "srgbe", "encode", "1.5", "-0.25", "1e-30");
     SEED("srgbe_decode", "srgbe", "decode", "7f80ff01");
     SEED("probe", "probe", "info", "p.hdr", "--layout", "ball");
