@@ -6,6 +6,7 @@
  */
 #include "io/png.h"
 #include "io/atomic.h"
+#include "io/zlib.h"
 
 #include "qibl/asset.h" /* qibl_crc32: the same CRC-32 as PNG */
 
@@ -376,7 +377,7 @@ static void emit_block(bitw *w, const uint32_t *tok, size_t nt, int final)
 /* The deflate stream of the input: LZ77, then blocks of BLOCK_TOKENS tokens. 0 or -1 (no memory). */
 static int deflate_stream(const uint8_t *in, size_t n, bitw *w)
 {
-    uint32_t *tok = malloc(sizeof *tok * (n ? n : 1));
+    uint32_t *tok = calloc(n ? n : 1, sizeof *tok); /* zeroed: gcc cannot see lz77 fills what emit_block reads */
     long nt = tok ? lz77(in, n, tok) : -1;
     if (nt < 0) {
         free(tok);
@@ -423,7 +424,6 @@ static int zlib_rgb(int w, int h, const uint8_t *rgb, uint8_t **zout, size_t *zn
 {
     size_t row = (size_t)w * 3 + 1, raw_n = row * (size_t)h, n = (size_t)w * 3;
     uint8_t *raw = malloc(raw_n), *tmp = malloc(n);
-    bitw bw = {0};
     if (!raw || !tmp) {
         free(raw), free(tmp);
         return -1;
@@ -442,9 +442,17 @@ static int zlib_rgb(int w, int h, const uint8_t *rgb, uint8_t **zout, size_t *zn
         }
     }
     free(tmp);
-    uint32_t a = 1, b = 0; /* Adler-32 of the raw scanlines */
-    for (size_t i = 0; i < raw_n; ++i) {
-        a += raw[i];
+    int rc = qtool_zlib_deflate(raw, raw_n, zout, zn);
+    free(raw);
+    return rc;
+}
+
+int qtool_zlib_deflate(const uint8_t *in, size_t n, uint8_t **out, size_t *outn)
+{
+    bitw bw = {0};
+    uint32_t a = 1, b = 0; /* Adler-32 of the input */
+    for (size_t i = 0; i < n; ++i) {
+        a += in[i];
         if (a >= 65521u)
             a -= 65521u;
         b += a;
@@ -453,18 +461,17 @@ static int zlib_rgb(int w, int h, const uint8_t *rgb, uint8_t **zout, size_t *zn
     }
     bw_put(&bw, 0x78, 8); /* zlib header: deflate, 32 KiB window; 0x7801 is a multiple of 31 */
     bw_put(&bw, 0x01, 8);
-    if (deflate_stream(raw, raw_n, &bw) != 0) {
-        free(raw), free(bw.buf);
+    if (deflate_stream(in, n, &bw) != 0) {
+        free(bw.buf);
         return -1;
     }
-    free(raw);
     for (int k = 3; k >= 0; --k)
         bw_put(&bw, (((b << 16) | a) >> (8 * k)) & 0xFFu, 8);
     if (bw.oom) {
         free(bw.buf);
         return -1;
     }
-    *zout = bw.buf, *zn = bw.n;
+    *out = bw.buf, *outn = bw.n;
     return 0;
 }
 
