@@ -4,7 +4,9 @@
  * of error text and no output.
  */
 #include "io/hdr.h"
+#include "io/exr.h"
 #include "io/file.h"
+#include "io/probe_layout.h"
 
 #include <errno.h>
 #include <math.h>
@@ -242,11 +244,27 @@ static const char *hdr_magic(const uint8_t *head, size_t n)
     return n >= 2 && head[0] == '#' && head[1] == '?' ? NULL : "not a Radiance .hdr file (no #? magic line)";
 }
 
+/* An OpenEXR file given where a probe or image is read: its data window as RGB floats (io/exr.h),
+ * negative samples (which light cannot have and RGBE cannot hold) made 0. */
+static int read_exr(const char *path, int *w, int *h, float **rgb, char *err, size_t errlen)
+{
+    qtool_exr_info info;
+    if (qtool_exr_read(path, &info, rgb, err, errlen) != 0)
+        return -1;
+    for (size_t i = 0; i < (size_t)info.w * (size_t)info.h * 3; ++i)
+        if ((*rgb)[i] < 0.0f)
+            (*rgb)[i] = 0.0f;
+    *w = info.w, *h = info.h;
+    return 0;
+}
+
 int qtool_hdr_read(const char *path, int *w_out, int *h_out, float **rgb_out, char *err, size_t errlen)
 {
     int w, h;
     uint8_t *px;
     float *rgb;
+    if (qtool_exr_sniff(path))
+        return read_exr(path, w_out, h_out, rgb_out, err, errlen);
     if (qtool_hdr_read_rgbe(path, &w, &h, &px, err, errlen) != 0 || to_float(px, w, h, &rgb, err, errlen) != 0)
         return -1;
     *w_out = w;
@@ -260,6 +278,21 @@ int qtool_hdr_read_rgbe(const char *path, int *w, int *h, uint8_t **rgbe, char *
     static const qtool_io_kind kind = {"a Radiance .hdr file", 2, QTOOL_HDR_MAX_FILE_BYTES, 2, hdr_magic};
     uint8_t *buf = NULL; /* set by qtool_io_load on success; initialised for the compiler's flow analysis */
     size_t n = 0;
+    if (qtool_exr_sniff(path)) {
+        float *rgb;
+        int ew, eh;
+        if (read_exr(path, &ew, &eh, &rgb, err, errlen) != 0)
+            return -1;
+        uint8_t *px = malloc((size_t)ew * (size_t)eh * 4);
+        if (!px) {
+            free(rgb);
+            return fail(err, errlen, "%s: out of memory for %d x %d pixels", path, ew, eh);
+        }
+        qtool_probe_layout_rgbe_encode(rgb, (size_t)ew * (size_t)eh, px);
+        free(rgb);
+        *w = ew, *h = eh, *rgbe = px;
+        return 0;
+    }
     if (qtool_io_load(path, &kind, &buf, &n, err, errlen) != 0)
         return -1;
     char msg[256];

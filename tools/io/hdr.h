@@ -42,6 +42,12 @@
 #define QTOOL_HDR_MAX_FILE_BYTES \
     ((size_t)8 * QIBL_HDR_MAX_PIXELS + (size_t)4 * QIBL_HDR_MAX_DIM + QIBL_HDR_MAX_HEADER_BYTES)
 
+/* A file starting with the OpenEXR magic (76 2f 31 01) is read by io/exr.h instead, whatever its name:
+ * its data window's R G B (or Y), negative samples made 0; qtool_hdr_read_rgbe encodes them as
+ * qtool_probe_layout_rgbe_encode does (largest channel rounded to nearest on 8 bits). This is how
+ * every probe and image input of the CLI (relight --probe, sh project, probe info, lights, study,
+ * bake, transfer, bench, demo) accepts .exr. The qtool_hdr_decode* functions read Radiance only. */
+
 /* Reads path. On success returns 0 and sets *w, *h and *rgb: 3 * w * h floats, rows top to bottom,
  * R G B per pixel, allocated with malloc (the caller frees). On failure returns -1, writes a one-line
  * reason naming the file into err (errlen bytes) and sets nothing. */
