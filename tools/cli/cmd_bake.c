@@ -13,6 +13,7 @@
 #include "bake/bake.h"
 #include "bake/extras.h"
 #include "bake/path.h"
+#include "io/exr.h"
 #include "io/hdr.h"
 #include "io/obj.h"
 #include "io/ply.h"
@@ -159,7 +160,7 @@ int qcli_cmd_render(int argc, char **argv)
     qtool_rt_light l = {0, {0, 0, 1}, {0, 0, 0}, {1, 1, 1}, 1};
     int have = 0, have_rgb = 0;
     long falloff = 1;
-    const char *png = NULL, *pfm = NULL, *depth = NULL;
+    const char *png = NULL, *pfm = NULL, *exr = NULL, *depth = NULL;
     for (int i = 1; i < argc; ++i) {
         int r = qcli_scene_opt(argc, argv, &i, &so);
         if (r < 0)
@@ -188,14 +189,16 @@ int qcli_cmd_render(int argc, char **argv)
             png = argv[++i];
         } else if (strcmp(a, "--pfm") == 0 && i + 1 < argc) {
             pfm = argv[++i];
+        } else if (strcmp(a, "--exr") == 0 && i + 1 < argc) {
+            exr = argv[++i];
         } else if (strcmp(a, "--depth") == 0 && i + 1 < argc) {
             depth = argv[++i];
         } else {
             return qcli_usage_error("render: unknown argument '%s' (see qibl help render)", a);
         }
     }
-    if (have != 1 || (!png && !pfm && !depth))
-        return qcli_usage_error("render needs exactly one of --sun/--point and at least one of --png/--pfm/--depth");
+    if (have != 1 || (!png && !pfm && !exr && !depth))
+        return qcli_usage_error("render needs exactly one of --sun/--point and at least one of --png/--pfm/--exr/--depth");
     if (qcli_parse_only) /* fuzz_cliopts: the options only */
         return 0;
     l.falloff = (int)falloff;
@@ -225,10 +228,11 @@ int qcli_cmd_render(int argc, char **argv)
         }
         qcli_warn_dark(png, rgb8, np);
     }
-    if (pfm) {
+    if (pfm || exr) {
         for (size_t i = 0; i < np * 3; ++i)
             f3[i] = (float)lin[i];
-        if (qtool_pfm_write(pfm, (int)so.w, (int)so.h, 3, f3, err, sizeof err) != 0) {
+        if ((pfm && qtool_pfm_write(pfm, (int)so.w, (int)so.h, 3, f3, err, sizeof err) != 0) ||
+            (exr && qtool_exr_write(exr, (int)so.w, (int)so.h, f3, QTOOL_EXR_FLOAT, QTOOL_EXR_ZIP, err, sizeof err) != 0)) {
             fprintf(stderr, "qibl: %s\n", err);
             goto done;
         }

@@ -11,6 +11,7 @@
 #include "bake/bake.h"
 #include "gen/scene.h"
 #include "io/asset_write.h"
+#include "io/exr.h"
 #include "io/hdr_write.h"
 #include "io/pfm.h"
 #include "io/png.h"
@@ -128,7 +129,7 @@ done:
 #define RELIGHT_USAGE                                                                                       \
     "usage: qibl relight FILE [--sun X Y Z [--rgb R G B]]... [--point X Y Z [--rgb R G B]]... [--lights FILE.csv] \
 [--probe PROBE.hdr [--layout L] [--probe-mode sh|lights|sunsky] [-n N] [--yaw DEG | --rotate a,b,c,d,e,f,g,h,i]] \
-[--lut poly|nearest|bilinear|off] [--falloff 1|2] [--exposure E] [--linear] [--gles] (--png OUT | --hdr OUT.hdr | --pfm OUT.pfm)..."
+[--lut poly|nearest|bilinear|off] [--falloff 1|2] [--exposure E] [--linear] [--gles] (--png OUT | --hdr OUT.hdr | --pfm OUT.pfm | --exr OUT.exr)..."
 
 /* the P map's points as doubles (n * 3), for the default lamp colour; NULL when out of memory */
 static double *pmap_points(const qibl_pmap_t *pm)
@@ -170,7 +171,7 @@ int qcli_cmd_relight(int argc, char **argv)
 {
     if (qcli_relight_has_path(argc, argv)) /* a light on a baked path: relight_path.c */
         return qcli_relight_path(argc, argv);
-    const char *in = NULL, *png = NULL, *hdr = NULL, *pfm = NULL;
+    const char *in = NULL, *png = NULL, *hdr = NULL, *pfm = NULL, *exr = NULL;
     /* poly: the default point mode (QIBL_POINT_POLY, the fastest); off: direct SH in Q2.30 */
     int use_lut = 0, nearest = 0, linear = 0, poly = 1, r;
     int gles = 0; /* --gles: platform/gles2 instead of the core + platform/soft (relight_gles.c) */
@@ -215,6 +216,8 @@ int qcli_cmd_relight(int argc, char **argv)
             hdr = argv[++i];
         else if (strcmp(a, "--pfm") == 0 && i + 1 < argc)
             pfm = argv[++i];
+        else if (strcmp(a, "--exr") == 0 && i + 1 < argc)
+            exr = argv[++i];
         else if (strcmp(a, "--gles") == 0)
             gles = 1;
         else if (a[0] != '-' && !in)
@@ -222,9 +225,9 @@ int qcli_cmd_relight(int argc, char **argv)
         else
             return qcli_usage_error(RELIGHT_USAGE);
     }
-    if (!in || (!png && !hdr && !pfm))
-        return qcli_usage_error("relight needs FILE, a light (--sun, --point, --lights or --probe), and --png, --hdr "
-                                "or --pfm OUT");
+    if (!in || (!png && !hdr && !pfm && !exr))
+        return qcli_usage_error("relight needs FILE, a light (--sun, --point, --lights or --probe), and --png, --hdr, "
+                                "--pfm or --exr OUT");
     if (ll.count == 0 && !ll.csv && !ll.probe)
         return qcli_usage_error("relight needs a light: --sun, --point, --lights FILE.csv or --probe PROBE.hdr");
     if (qcli_light_list_check(&ll) != 0)
@@ -307,8 +310,8 @@ int qcli_cmd_relight(int argc, char **argv)
     }
     free(pmp);
     uint8_t *pix = malloc(np * 3);
-    float *lin = hdr || pfm ? malloc(np * 3 * sizeof(float)) : NULL;
-    if (!pix || ((hdr || pfm) && !lin)) {
+    float *lin = hdr || pfm || exr ? malloc(np * 3 * sizeof(float)) : NULL;
+    if (!pix || ((hdr || pfm || exr) && !lin)) {
         fprintf(stderr, "qibl: relight: out of memory\n");
         free(bytes), free(pix), free(lin);
         return 1;
@@ -359,6 +362,12 @@ int qcli_cmd_relight(int argc, char **argv)
             rc = 1;
         } else if (rc == 0 && pfm) {
             printf("wrote %s (%ux%u PFM, linear, before exposure, %s)\n", pfm, w, h, how);
+        }
+        if (rc == 0 && exr && qtool_exr_write(exr, (int)w, (int)h, lin, QTOOL_EXR_FLOAT, QTOOL_EXR_ZIP, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s\n", err);
+            rc = 1;
+        } else if (rc == 0 && exr) {
+            printf("wrote %s (%ux%u OpenEXR FLOAT ZIP, linear, before exposure, %s)\n", exr, w, h, how);
         }
     }
     free(bytes), free(pix), free(lin);

@@ -13,6 +13,7 @@
 #include "bake/path.h"
 #include "cli/cli.h"
 #include "io/file.h"
+#include "io/exr.h"
 #include "io/pfm.h"
 #include "io/png.h"
 #include "qibl/asset.h"
@@ -21,7 +22,7 @@
 
 #define PATH_USAGE                                                                                            \
     "usage: qibl relight FILE --path N|sun|lamp --t T [--rgb R G B] [--soft R] [--sky R G B] (--png OUT | " \
-    "--pfm OUT.pfm)..."
+    "--pfm OUT.pfm | --exr OUT.exr)..."
 
 int qcli_relight_has_path(int argc, char **argv)
 {
@@ -68,7 +69,7 @@ static int pick_path(const qibl_asset_t *a, const char *in, const char *spec, ui
 
 int qcli_relight_path(int argc, char **argv)
 {
-    const char *in = NULL, *png = NULL, *pfm = NULL, *spec = NULL;
+    const char *in = NULL, *png = NULL, *pfm = NULL, *exr = NULL, *spec = NULL;
     double t = -1, rgb[3] = {1, 1, 1}, sky[3] = {0, 0, 0}, soft = 0;
     int have_sky = 0;
     for (int i = 1; i < argc; ++i) {
@@ -92,13 +93,15 @@ int qcli_relight_path(int argc, char **argv)
             png = argv[++i];
         else if (strcmp(a, "--pfm") == 0 && i + 1 < argc)
             pfm = argv[++i];
+        else if (strcmp(a, "--exr") == 0 && i + 1 < argc)
+            exr = argv[++i];
         else if (a[0] != '-' && !in)
             in = a;
         else
             return qcli_usage_error(PATH_USAGE);
     }
-    if (!in || !spec || t < 0 || (!png && !pfm))
-        return qcli_usage_error("relight --path needs FILE, --path N|sun|lamp, --t T and --png or --pfm OUT");
+    if (!in || !spec || t < 0 || (!png && !pfm && !exr))
+        return qcli_usage_error("relight --path needs FILE, --path N|sun|lamp, --t T and --png, --pfm or --exr OUT");
     if (qcli_parse_only) /* fuzz_cliopts: the options only */
         return 0;
     size_t n;
@@ -150,10 +153,10 @@ int qcli_relight_path(int argc, char **argv)
         qtool_bake_sky_sh(sky, QIBL_SH_MAX_COUNT, &skysh);
     size_t np = (size_t)m.width * m.height;
     uint8_t *pix = malloc(np * 3);
-    float *lin = pfm ? malloc(np * 3 * sizeof(float)) : NULL;
+    float *lin = pfm || exr ? malloc(np * 3 * sizeof(float)) : NULL;
     double ms = 0;
     int rc = 0;
-    if (!pix || (pfm && !lin)) {
+    if (!pix || ((pfm || exr) && !lin)) {
         fprintf(stderr, "qibl: relight: out of memory\n");
         rc = 1;
     } else if (qtool_bake_relight_path8(bytes, n, &l, index, tq, radius, have_sky ? &skysh : NULL, pix, lin, &ms, &st) !=
@@ -176,6 +179,13 @@ int qcli_relight_path(int argc, char **argv)
             rc = 1;
         } else if (rc == 0 && pfm) {
             printf("wrote %s (%ux%u PFM, linear, %s on path %u)\n", pfm, m.width, m.height, what, index);
+        }
+        if (rc == 0 && exr &&
+            qtool_exr_write(exr, (int)m.width, (int)m.height, lin, QTOOL_EXR_FLOAT, QTOOL_EXR_ZIP, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s\n", err);
+            rc = 1;
+        } else if (rc == 0 && exr) {
+            printf("wrote %s (%ux%u OpenEXR FLOAT ZIP, linear, %s on path %u)\n", exr, m.width, m.height, what, index);
         }
     }
     free(bytes), free(pix), free(lin);

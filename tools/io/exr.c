@@ -397,10 +397,6 @@ static const char *unpiz(piz_work *wk, const uint8_t *in, size_t n, const channe
     const char *why = huf_decode(wk, in + p, hl, tmp, nw);
     if (why)
         return why;
-    for (size_t i = 0; i < nw; ++i) {
-        if (tmp[i] > maxv)
-            return "PIZ value beyond the bitmap's values";
-    }
     /* each channel's block: ny rows of nx samples of (2 or 4 bytes) = size 16-bit words */
     size_t at = 0;
     for (int c = 0; c < nch; ++c) {
@@ -409,8 +405,11 @@ static const char *unpiz(piz_work *wk, const uint8_t *in, size_t n, const channe
             wav_decode(tmp + at + j, nx, size, ny, nx * size, maxv < (1u << 14));
         at += nx * ny * size;
     }
-    for (size_t i = 0; i < nw; ++i)
+    for (size_t i = 0; i < nw; ++i) {
+        if (tmp[i] > maxv) /* the wavelet gives back the renumbered values: one past them is damage */
+            return "PIZ value beyond the bitmap's values";
         tmp[i] = wk->lut[tmp[i]];
+    }
     /* back to line-interleaved order, little-endian bytes */
     size_t o = 0, cstart = 0;
     for (size_t y = 0; y < ny; ++y) {
