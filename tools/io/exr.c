@@ -503,7 +503,7 @@ static int parse_header(exr_file *f, qtool_exr_info *info, char *err, size_t err
         if (sz > len - pos)
             return fail(err, errlen, "attribute %s: %u bytes, past the end of the file", shown(name, sh), (unsigned)sz);
         const uint8_t *v = buf + pos;
-#define ATTR(n_, t_) (strcmp(name, n_) == 0 && (strcmp(type, t_) == 0 ? 1 : -1))
+#define ATTR(n_, t_) (strcmp(name, n_) != 0 ? 0 : strcmp(type, t_) == 0 ? 1 : -1) /* -1: known name, wrong type */
         int a;
         if ((a = ATTR("channels", "chlist")) != 0) {
             if (a < 0 || have_ch)
