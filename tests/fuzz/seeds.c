@@ -32,6 +32,8 @@
  *               tiny and huge directions, an empty line
  *   cliopts     argv lines (NUL-separated, the command's name first) for every command, from the
  *               suites' own invocations (tests/cli_test.c, cli_use_test.c, cli_silent_test.c)
+ *   exr         qtool_exr_encode: HALF and FLOAT, NONE, ZIPS and ZIP (RLE, PIZ and tiled files written
+ *               by OpenEXR itself are in tests/fuzz/corpus/exr)
  * Every seed stays below FUZZ_MAX_LEN (4096 bytes).
  */
 #include <errno.h>
@@ -47,6 +49,7 @@
 #include "gen/scene.h"
 #include "render/rt.h"
 #include "io/asset_write.h"
+#include "io/exr.h"
 #include "io/pfm.h"
 #include "io/png.h"
 #include "io/probe_layout.h"
@@ -237,6 +240,31 @@ static void hdr_seeds(void)
         memcpy(b + n, px + 8, 4), n += 4;
     }
     put("hdr", "oldrle300x2.hdr", b, n);
+}
+
+/* ---- exr ------------------------------------------------------------------------------------- */
+
+static void exr_seeds(void)
+{
+    static const int comps[3] = {QTOOL_EXR_NONE, QTOOL_EXR_ZIPS, QTOOL_EXR_ZIP};
+    float px[3 * 12 * 5];
+    for (int i = 0; i < 3 * 12 * 5; ++i)
+        px[i] = (float)(next() % 4000) / 64.0f - (i % 11 == 0 ? 3.0f : 0.0f);
+    for (int t = QTOOL_EXR_HALF; t <= QTOOL_EXR_FLOAT; ++t)
+        for (int c = 0; c < 3; ++c) {
+            uint8_t *b;
+            size_t n;
+            char err[256], name[64];
+            if (qtool_exr_encode(12, 5, px, t, comps[c], &b, &n, err, sizeof err) != 0) {
+                fprintf(stderr, "fuzz-seeds: exr: %s\n", err);
+                failed = 1;
+                continue;
+            }
+            snprintf(name, sizeof name, "%s_%s.exr", t == QTOOL_EXR_HALF ? "half" : "float",
+                     comps[c] == QTOOL_EXR_NONE ? "none" : comps[c] == QTOOL_EXR_ZIPS ? "zips" : "zip");
+            put("exr", name, b, n);
+            free(b);
+        }
 }
 
 /* ---- obj ------------------------------------------------------------------------------------- */
@@ -861,6 +889,7 @@ int main(int argc, char **argv)
     asset_seed_to("stream", "planar_full.qibl", 3, 2, 4, 3, 1, 2, 0, 0);
     image_seeds();
     hdr_seeds();
+    exr_seeds();
     obj_seeds();
     srgbe_seeds();
     fixed_seeds();

@@ -920,6 +920,17 @@ int qcli_cmd_check(int argc, char **argv)
             }
             free(px);
             printf("%s: PFM %dx%d, %d channel%s\n", p, w, h, ch, ch == 1 ? "" : "s");
+        } else if ((ext && strcmp(ext, ".exr") == 0) || qtool_exr_sniff(p)) {
+            qtool_exr_info in;
+            float *px;
+            if (qtool_exr_read(p, &in, &px, err, sizeof err) != 0) {
+                fprintf(stderr, "qibl: %s\n", err);
+                bad = 1;
+                continue;
+            }
+            free(px);
+            printf("%s: OpenEXR %dx%d (data window), %s, compression %d, every chunk decoded\n", p, in.w, in.h,
+                   in.tiled ? "tiled" : "scanline", in.compression);
         } else if (ext && (strcmp(ext, ".hdr") == 0 || strcmp(ext, ".pic") == 0)) {
             /* the Radiance probes lights reads: header, resolution line and every scanline decoded */
             int w, h;

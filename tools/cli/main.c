@@ -167,11 +167,12 @@ static const qcli_cmd commands[] = {
      "  then against the first (split, size, k, directions, P map); sums that would overflow 64 bits, a\n"
      "  shard given twice or missing, and --k above the shards' k are refused by name.\n",
      qcli_cmd_merge},
-    {"check", "validate PNG/APNG, PFM, Radiance HDR and qibl asset files",
+    {"check", "validate PNG/APNG, PFM, Radiance HDR, OpenEXR and qibl asset files",
      "usage: qibl check FILE...\n"
      "  .png: signature, every chunk CRC, the zlib stream (inflated), Adler-32, APNG frame sequence;\n"
      "  .pfm: header and size; .hdr/.pic: Radiance header, resolution line and every scanline (RLE or\n"
-     "  flat) decoded, as qibl lights reads it; anything else as a qibl asset (qibl_asset_open).\n"
+     "  flat) decoded, as qibl lights reads it; .exr (or the EXR magic): header and every chunk decoded;\n"
+     "  anything else as a qibl asset (qibl_asset_open).\n"
      "  Exit 1 if any is bad.\n",
      qcli_cmd_check},
     {"demo", "the main demo: bake the scene, relight it by the core, compare with ground truth",
