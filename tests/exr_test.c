@@ -442,7 +442,7 @@ typedef struct {
 static uint32_t sample_bits(const spec_t *s, int c, int x, int y)
 {
     /* smooth enough to compress, with some noise and extremes; a function of (c, x, y) */
-    uint32_t hsh = (uint32_t)(x * 73856093) ^ (uint32_t)(y * 19349663) ^ (uint32_t)(c * 83492791);
+    uint32_t hsh = (uint32_t)x * 73856093u ^ (uint32_t)y * 19349663u ^ (uint32_t)c * 83492791u;
     int t = s->ch[c].type;
     if (t == QTOOL_EXR_UINT)
         return (uint32_t)(x * 3 + y * 1000 + c) + ((hsh & 63) == 0 ? 16777217u : 0); /* one past 2^24: rounds */
