@@ -252,7 +252,7 @@ static int read_exr(const char *path, int *w, int *h, float **rgb, char *err, si
     if (qtool_exr_read(path, &info, rgb, err, errlen) != 0)
         return -1;
     for (size_t i = 0; i < (size_t)info.w * (size_t)info.h * 3; ++i)
-        if ((*rgb)[i] < 0.0f)
+        if (!((*rgb)[i] > 0.0f)) /* negatives and -0 */
             (*rgb)[i] = 0.0f;
     *w = info.w, *h = info.h;
     return 0;
