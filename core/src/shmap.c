@@ -134,27 +134,6 @@ size_t qibl_shmap_span_workspace_size(uint32_t n)
     return (size_t)n * 3u * sizeof(int32_t);
 }
 
-#if QIBL_CONFIG_SIMD == QIBL_SIMD_SCALAR
-/* acc[p] (+)= sum of up to four planes times their int16 weights. Plain loops over restrict
- * pointers with 16-bit operands: compilers vectorise them (bytes widened to 16 bits, 16x16->32
- * products). Four maps per pass keeps the accumulator traffic at one load/store per four maps. */
-static void acc_set4(int32_t *restrict acc, const uint8_t *restrict a, const uint8_t *restrict b,
-                     const uint8_t *restrict c, const uint8_t *restrict d, int16_t wa, int16_t wb, int16_t wc,
-                     int16_t wd, uint32_t n)
-{
-    for (uint32_t p = 0; p < n; ++p)
-        acc[p] = wa * (int16_t)a[p] + wb * (int16_t)b[p] + wc * (int16_t)c[p] + wd * (int16_t)d[p];
-}
-
-static void acc_add4(int32_t *restrict acc, const uint8_t *restrict a, const uint8_t *restrict b,
-                     const uint8_t *restrict c, const uint8_t *restrict d, int16_t wa, int16_t wb, int16_t wc,
-                     int16_t wd, uint32_t n)
-{
-    for (uint32_t p = 0; p < n; ++p)
-        acc[p] += wa * (int16_t)a[p] + wb * (int16_t)b[p] + wc * (int16_t)c[p] + wd * (int16_t)d[p];
-}
-#endif
-
 /* Final pass of one channel: out = sat32(acc * 2^shift + bias) into the interleaved RGB row.
  * The common case (small shift, bias within +-2^30) stays in int32, which vectorises:
  * |acc| < 2^28 (shmap.h bound) so acc + 2^(n-1) and acc * 2^shift (shift <= 2) cannot overflow,
@@ -231,6 +210,150 @@ static void finish_rgb(const finish_t *f, const qibl_shmap_weights_t *w, const i
         finish_channel(a2, w->shift[2], w->bias[2], out + 2, n);
     }
 }
+
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_SCALAR
+/* ---- planar relight, portable scalar kernel (the SIMD paths are further down) ---------------
+ * One channel at a time, four adjacent pixels per step: the k maps' bytes of those pixels (one
+ * 32-bit word per plane where alignment allows) go into four int32-sized accumulators held in
+ * registers, every map in one pass (no workspace round trip, no k padded to a multiple); the final
+ * scaling follows at once. Made for 32-bit cores without SIMD (ARM7TDMI, Cortex-M): the products
+ * are 32x32->32 multiply-accumulates with the map byte as the multiplier (ARMv4T's early
+ * termination: bits 8..31 zero). Same integer sums as every other path: each product
+ * w * c has |.| <= 32767 * 255 < 2^23 and any partial sum of at most 25 of them is < 2^28. */
+
+/* A plane's four bytes at p as one little-endian word. With GCC or Clang on a little-endian
+ * target, one aligned 32-bit load: the caller proves the alignment (SHMAP_ALIGNED) and
+ * may_alias makes the uint32 read of map bytes defined; elsewhere four byte loads and shifts. */
+#if (defined(__GNUC__) || defined(__clang__)) && defined(__BYTE_ORDER__) && defined(__ORDER_LITTLE_ENDIAN__) && \
+    __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+#define SHMAP_WORD_LOADS 1
+typedef uint32_t __attribute__((__may_alias__)) shmap_word_t;
+typedef uint64_t __attribute__((__may_alias__)) shmap_dword_t;
+#define SHMAP_ALIGNED(p) (((uintptr_t)(const void *)(p) & 3u) == 0u)
+#else
+#define SHMAP_WORD_LOADS 0
+#define SHMAP_ALIGNED(p) 0
+#endif
+
+static inline uint32_t load4(const uint8_t *p, int word)
+{
+#if SHMAP_WORD_LOADS
+    if (word)
+        return *(const shmap_word_t *)(const void *)p;
+#else
+    (void)word;
+#endif
+    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+
+/* One channel's span piece. The sums run in uint32 from a start value u0 (wrapping arithmetic is
+ * defined there; the true value u0 + sum stays inside 0..2^32-1, see the callers), and each pixel's
+ * result is (int32_t)(u >> r) + bb (chan_fast). */
+typedef struct chan {
+    const uint8_t *q; /* map 0's plane at the span's first pixel */
+    size_t stride;    /* bytes from one map's plane to the next of the same channel */
+    const int16_t *w; /* the channel's k weights */
+    uint32_t k;
+} chan_t;
+
+static inline uint32_t px_sum(const chan_t *c, uint32_t p, uint32_t u0)
+{
+    const uint8_t *s = c->q + p;
+    uint32_t a = u0;
+    for (uint32_t i = 0; i < c->k; ++i, s += c->stride)
+        a += (uint32_t)(int32_t)c->w[i] * *s;
+    return a;
+}
+
+#if SHMAP_WORD_LOADS
+/* out[3p] = (int32_t)(u_p >> r) + bb for p from p on, eight pixels at a time, two aligned 32-bit
+ * loads per plane; returns the first pixel not done. Eight, not four: the weight and loop overhead
+ * of a plane is shared by eight pixels, and the plane's two words are one sequential burst. The
+ * first map starts the sums (no separate clearing) and the rest go two per loop step. */
+#define SHMAP_MAP8(s, m)                                                                               \
+    do {                                                                                               \
+        const uint32_t v_ = *(const shmap_word_t *)(const void *)(s);                                  \
+        const uint32_t x_ = *(const shmap_word_t *)(const void *)((s) + 4);                            \
+        a0 += (m) * (v_ & 255u), a1 += (m) * (v_ >> 8 & 255u);                                         \
+        a2 += (m) * (v_ >> 16 & 255u), a3 += (m) * (v_ >> 24);                                         \
+        a4 += (m) * (x_ & 255u), a5 += (m) * (x_ >> 8 & 255u);                                         \
+        a6 += (m) * (x_ >> 16 & 255u), a7 += (m) * (x_ >> 24);                                         \
+    } while (0)
+static uint32_t chan_words(const chan_t *c, uint32_t p, uint32_t n, uint32_t u0, unsigned r, int32_t bb,
+                           int32_t *out)
+{
+    const size_t stride = c->stride;
+    const int16_t *w = c->w, *wend = c->w + c->k;
+    for (; p + 8u <= n; p += 8u) {
+        const uint8_t *s = c->q + p;
+        uint32_t a0 = u0, a1 = u0, a2 = u0, a3 = u0, a4 = u0, a5 = u0, a6 = u0, a7 = u0;
+        for (const int16_t *wi = w; wi < wend; ++wi, s += stride) {
+            const uint32_t m = (uint32_t)(int32_t)*wi;
+            SHMAP_MAP8(s, m);
+        }
+        int32_t *o = out + 3u * p;
+        o[0] = (int32_t)(a0 >> r) + bb, o[3] = (int32_t)(a1 >> r) + bb;
+        o[6] = (int32_t)(a2 >> r) + bb, o[9] = (int32_t)(a3 >> r) + bb;
+        o[12] = (int32_t)(a4 >> r) + bb, o[15] = (int32_t)(a5 >> r) + bb;
+        o[18] = (int32_t)(a6 >> r) + bb, o[21] = (int32_t)(a7 >> r) + bb;
+    }
+    return p;
+}
+#undef SHMAP_MAP8
+#endif
+
+/* The same four pixels at a time with byte loads (no alignment known): a loop over the maps. */
+static uint32_t chan_bytes(const chan_t *c, uint32_t p, uint32_t n, uint32_t u0, unsigned r, int32_t bb, int32_t *out)
+{
+    const size_t stride = c->stride;
+    for (; p + 4u <= n; p += 4u) {
+        const uint8_t *s = c->q + p;
+        uint32_t a0 = u0, a1 = u0, a2 = u0, a3 = u0;
+        for (uint32_t i = 0; i < c->k; ++i, s += stride) {
+            const uint32_t m = (uint32_t)(int32_t)c->w[i];
+            a0 += m * s[0], a1 += m * s[1], a2 += m * s[2], a3 += m * s[3];
+        }
+        int32_t *o = out + 3u * p;
+        o[0] = (int32_t)(a0 >> r) + bb, o[3] = (int32_t)(a1 >> r) + bb;
+        o[6] = (int32_t)(a2 >> r) + bb, o[9] = (int32_t)(a3 >> r) + bb;
+    }
+    return p;
+}
+
+/* The fast final scaling of one channel straight into the RGB row (out: the channel's first
+ * value, stride 3): u0 = h + 2^31 with h = 2^(r-1), so u0 + sum = sum + h + 2^31 is in
+ * (2^31 - 2^28, 2^31 + 2^30 + 2^28) and u >> r = floor((sum + h) / 2^r) + 2^(31-r); bb = b -
+ * 2^(31-r) is in [-2^30 - 2^30, 2^30] for r >= 1, and the int32 result is the finish_rgb one. */
+static void chan_fast(const chan_t *c, uint32_t n, unsigned r, int32_t h, int32_t b, int32_t *out)
+{
+    const uint32_t u0 = (uint32_t)h + 0x80000000u;
+    const int32_t bb = b - (int32_t)(0x80000000u >> r);
+    uint32_t p = 0;
+#if SHMAP_WORD_LOADS
+    if (c->stride % 4u == 0u) {
+        /* pixels one at a time up to the first aligned word; every plane is then aligned too */
+        for (; p < n && !SHMAP_ALIGNED(c->q + p); ++p)
+            out[3u * p] = (int32_t)(px_sum(c, p, u0) >> r) + bb;
+        p = chan_words(c, p, n, u0, r, bb, out);
+    }
+#endif
+    p = chan_bytes(c, p, n, u0, r, bb, out);
+    for (; p < n; ++p)
+        out[3u * p] = (int32_t)(px_sum(c, p, u0) >> r) + bb;
+}
+/* The raw sums of one channel into acc (the workspace) for the general final scaling: int32 sums
+ * inside the bound above, one pixel at a time (the rare case: a large shift or bias). */
+static void chan_raw(const chan_t *c, uint32_t n, int32_t *acc)
+{
+    for (uint32_t p = 0; p < n; ++p) {
+        const uint8_t *s = c->q + p;
+        int32_t a = 0;
+        for (uint32_t i = 0; i < c->k; ++i, s += c->stride)
+            a += c->w[i] * (int32_t)*s;
+        acc[p] = a;
+    }
+}
+#endif /* scalar planar kernel */
 
 #if QIBL_USE_INTERLEAVED || QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR
 /* The weights of one span as the group and planar kernels take them: SSE2/AVX2 pmaddwd multiplies pairs of
@@ -665,25 +788,24 @@ qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_w
     relight_planar(m, w, &f, off, n, out, acc);
     return QIBL_OK;
 #else
+    /* per channel: the fast final scaling inside the kernel (chan_fast) when this channel's shift
+     * and bias allow it (then finish_channel's first branch gives the same integers), else the raw
+     * sums into the workspace and finish_channel */
+    const size_t plane = (size_t)m->width * m->height;
     for (uint32_t ch = 0; ch < 3u; ++ch) {
-        uint32_t src = m->channels == 3u ? ch : 0u;
-        const int16_t *wc = w->w[ch];
-        int32_t *a = acc + (size_t)ch * n;
-        /* maps in groups of four; a missing map in the last group reads plane 0 with weight 0 */
-        for (uint32_t i = 0; i < m->k; i += 4u) {
-            const uint8_t *pl[4];
-            int16_t wt[4];
-            for (uint32_t j = 0; j < 4u; ++j) {
-                pl[j] = qibl_shmaps_plane(m, i + j < m->k ? i + j : 0u, src) + off;
-                wt[j] = i + j < m->k ? wc[i + j] : 0;
-            }
-            if (i == 0u)
-                acc_set4(a, pl[0], pl[1], pl[2], pl[3], wt[0], wt[1], wt[2], wt[3], n);
-            else
-                acc_add4(a, pl[0], pl[1], pl[2], pl[3], wt[0], wt[1], wt[2], wt[3], n);
+        const uint32_t src = m->channels == 3u ? ch : 0u;
+        const chan_t c = {qibl_shmaps_plane(m, 0u, src) + off, plane * m->channels, w->w[ch], m->k};
+        const int32_t sh = w->shift[ch];
+        const int64_t bias = w->bias[ch];
+        if (sh < 0 && sh > -31 && bias >= -(INT64_C(1) << 30) && bias <= (INT64_C(1) << 30)) {
+            const unsigned r = (unsigned)-sh;
+            chan_fast(&c, n, r, (int32_t)1 << (r - 1u), (int32_t)bias, out + ch);
+        } else {
+            chan_raw(&c, n, acc);
+            finish_channel(acc, sh, bias, out + ch, n);
         }
     }
-    finish_rgb(&f, w, acc, acc + n, acc + 2u * n, out, n);
+    (void)f;
     return QIBL_OK;
 #endif
 }
