@@ -213,42 +213,37 @@ static void finish_rgb(const finish_t *f, const qibl_shmap_weights_t *w, const i
 
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_SCALAR
 /* ---- planar relight, portable scalar kernel (the SIMD paths are further down) ---------------
- * One channel at a time, four adjacent pixels per step: the k maps' bytes of those pixels (one
- * 32-bit word per plane where alignment allows) go into four int32-sized accumulators held in
- * registers, every map in one pass (no workspace round trip, no k padded to a multiple); the final
- * scaling follows at once. Made for 32-bit cores without SIMD (ARM7TDMI, Cortex-M): the products
- * are 32x32->32 multiply-accumulates with the map byte as the multiplier (ARMv4T's early
- * termination: bits 8..31 zero). Same integer sums as every other path: each product
- * w * c has |.| <= 32767 * 255 < 2^23 and any partial sum of at most 25 of them is < 2^28. */
+ * One channel at a time, eight adjacent pixels per step: the k maps' bytes of
+ * those pixels (aligned 32-bit words where the target and the alignment allow) go into one
+ * accumulator per pixel held in registers, every map in one pass (no workspace round trip, no k
+ * padded to a multiple), and the final scaling follows at once. Made for 32-bit cores without
+ * SIMD (ARM7TDMI, Cortex-M): the products are 32x32->32 multiply-accumulates with the map byte as
+ * the multiplier (ARMv4T's early termination: bits 8..31 zero). Same integers as every other path:
+ * each product w * c has |.| <= 32767 * 255 < 2^23 and any partial sum of at most 25 of them is
+ * below 2^28 in magnitude, so the sums are exact in any order. */
 
-/* A plane's four bytes at p as one little-endian word. With GCC or Clang on a little-endian
- * target, one aligned 32-bit load: the caller proves the alignment (SHMAP_ALIGNED) and
- * may_alias makes the uint32 read of map bytes defined; elsewhere four byte loads and shifts. */
+/* Word loads: with GCC or Clang on a little-endian target, the four bytes of a plane at an
+ * aligned address are one 32-bit load, byte j in bits 8j..8j+7 (may_alias: the uint32 read of
+ * map bytes is defined there); the caller proves the alignment (SHMAP_ALIGNED). Elsewhere bytes. */
 #if (defined(__GNUC__) || defined(__clang__)) && defined(__BYTE_ORDER__) && defined(__ORDER_LITTLE_ENDIAN__) && \
     __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
 #define SHMAP_WORD_LOADS 1
 typedef uint32_t __attribute__((__may_alias__)) shmap_word_t;
-typedef uint64_t __attribute__((__may_alias__)) shmap_dword_t;
 #define SHMAP_ALIGNED(p) (((uintptr_t)(const void *)(p) & 3u) == 0u)
+#define SHMAP_WORD(p) (*(const shmap_word_t *)(const void *)(p))
 #else
 #define SHMAP_WORD_LOADS 0
-#define SHMAP_ALIGNED(p) 0
 #endif
 
-static inline uint32_t load4(const uint8_t *p, int word)
-{
-#if SHMAP_WORD_LOADS
-    if (word)
-        return *(const shmap_word_t *)(const void *)p;
-#else
-    (void)word;
+/* Pixels per step of the word kernel (8: measured best on ARM7TDMI ARM code, Cortex-M4 and, even
+ * with its spills to the stack, Cortex-M0; 4 is kept for targets with few registers). */
+#ifndef SHMAP_STEP
+#define SHMAP_STEP 8u
 #endif
-    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-}
 
-/* One channel's span piece. The sums run in uint32 from a start value u0 (wrapping arithmetic is
- * defined there; the true value u0 + sum stays inside 0..2^32-1, see the callers), and each pixel's
- * result is (int32_t)(u >> r) + bb (chan_fast). */
+/* One channel's span piece: map i of the channel at pixel p is q[i * stride + p]. The sums run
+ * in uint32 from a start value u0 (wrapping arithmetic is defined there, and the true value
+ * u0 + sum stays inside 0..2^32-1, see chan_fast); a pixel's result is (int32_t)(u >> r) + bb. */
 typedef struct chan {
     const uint8_t *q; /* map 0's plane at the span's first pixel */
     size_t stride;    /* bytes from one map's plane to the next of the same channel */
@@ -266,43 +261,41 @@ static inline uint32_t px_sum(const chan_t *c, uint32_t p, uint32_t u0)
 }
 
 #if SHMAP_WORD_LOADS
-/* out[3p] = (int32_t)(u_p >> r) + bb for p from p on, eight pixels at a time, two aligned 32-bit
- * loads per plane; returns the first pixel not done. Eight, not four: the weight and loop overhead
- * of a plane is shared by eight pixels, and the plane's two words are one sequential burst. The
- * first map starts the sums (no separate clearing) and the rest go two per loop step. */
-#define SHMAP_MAP8(s, m)                                                                               \
-    do {                                                                                               \
-        const uint32_t v_ = *(const shmap_word_t *)(const void *)(s);                                  \
-        const uint32_t x_ = *(const shmap_word_t *)(const void *)((s) + 4);                            \
-        a0 += (m) * (v_ & 255u), a1 += (m) * (v_ >> 8 & 255u);                                         \
-        a2 += (m) * (v_ >> 16 & 255u), a3 += (m) * (v_ >> 24);                                         \
-        a4 += (m) * (x_ & 255u), a5 += (m) * (x_ >> 8 & 255u);                                         \
-        a6 += (m) * (x_ >> 16 & 255u), a7 += (m) * (x_ >> 24);                                         \
-    } while (0)
+/* out[3p] = (int32_t)(u_p >> r) + bb from pixel p on, SHMAP_STEP pixels at a time, one aligned
+ * 32-bit load per plane and four pixels (eight: the plane's two words are one sequential burst,
+ * and its weight load and loop step serve eight pixels); returns the first pixel not done. */
 static uint32_t chan_words(const chan_t *c, uint32_t p, uint32_t n, uint32_t u0, unsigned r, int32_t bb,
                            int32_t *out)
 {
     const size_t stride = c->stride;
     const int16_t *w = c->w, *wend = c->w + c->k;
-    for (; p + 8u <= n; p += 8u) {
+    for (; p + SHMAP_STEP <= n; p += SHMAP_STEP) {
         const uint8_t *s = c->q + p;
-        uint32_t a0 = u0, a1 = u0, a2 = u0, a3 = u0, a4 = u0, a5 = u0, a6 = u0, a7 = u0;
+        uint32_t a0 = u0, a1 = u0, a2 = u0, a3 = u0;
+#if SHMAP_STEP == 8u
+        uint32_t a4 = u0, a5 = u0, a6 = u0, a7 = u0;
+#endif
         for (const int16_t *wi = w; wi < wend; ++wi, s += stride) {
-            const uint32_t m = (uint32_t)(int32_t)*wi;
-            SHMAP_MAP8(s, m);
+            const uint32_t m = (uint32_t)(int32_t)*wi, v = SHMAP_WORD(s);
+            a0 += m * (v & 255u), a1 += m * (v >> 8 & 255u), a2 += m * (v >> 16 & 255u), a3 += m * (v >> 24);
+#if SHMAP_STEP == 8u
+            const uint32_t x = SHMAP_WORD(s + 4);
+            a4 += m * (x & 255u), a5 += m * (x >> 8 & 255u), a6 += m * (x >> 16 & 255u), a7 += m * (x >> 24);
+#endif
         }
         int32_t *o = out + 3u * p;
         o[0] = (int32_t)(a0 >> r) + bb, o[3] = (int32_t)(a1 >> r) + bb;
         o[6] = (int32_t)(a2 >> r) + bb, o[9] = (int32_t)(a3 >> r) + bb;
+#if SHMAP_STEP == 8u
         o[12] = (int32_t)(a4 >> r) + bb, o[15] = (int32_t)(a5 >> r) + bb;
         o[18] = (int32_t)(a6 >> r) + bb, o[21] = (int32_t)(a7 >> r) + bb;
+#endif
     }
     return p;
 }
-#undef SHMAP_MAP8
 #endif
 
-/* The same four pixels at a time with byte loads (no alignment known): a loop over the maps. */
+/* The same four pixels at a time from bytes (no alignment known, or no word loads). */
 static uint32_t chan_bytes(const chan_t *c, uint32_t p, uint32_t n, uint32_t u0, unsigned r, int32_t bb, int32_t *out)
 {
     const size_t stride = c->stride;
@@ -321,9 +314,10 @@ static uint32_t chan_bytes(const chan_t *c, uint32_t p, uint32_t n, uint32_t u0,
 }
 
 /* The fast final scaling of one channel straight into the RGB row (out: the channel's first
- * value, stride 3): u0 = h + 2^31 with h = 2^(r-1), so u0 + sum = sum + h + 2^31 is in
- * (2^31 - 2^28, 2^31 + 2^30 + 2^28) and u >> r = floor((sum + h) / 2^r) + 2^(31-r); bb = b -
- * 2^(31-r) is in [-2^30 - 2^30, 2^30] for r >= 1, and the int32 result is the finish_rgb one. */
+ * value, stride 3), for -31 < shift < 0 and |bias| <= 2^30 (finish_channel's first branch, same
+ * integers): r = -shift, h = 2^(r-1), u0 = h + 2^31, so u = u0 + sum lies in (2^31 - 2^28,
+ * 2^31 + 2^29 + 2^28) and u >> r = floor((sum + h) / 2^r) + 2^(31-r) < 2^31; bb = b - 2^(31-r)
+ * is in [-2^31, 2^30] as r >= 1, and (int32_t)(u >> r) + bb = floor((sum + h) / 2^r) + b. */
 static void chan_fast(const chan_t *c, uint32_t n, unsigned r, int32_t h, int32_t b, int32_t *out)
 {
     const uint32_t u0 = (uint32_t)h + 0x80000000u;
@@ -341,6 +335,7 @@ static void chan_fast(const chan_t *c, uint32_t n, unsigned r, int32_t h, int32_
     for (; p < n; ++p)
         out[3u * p] = (int32_t)(px_sum(c, p, u0) >> r) + bb;
 }
+
 /* The raw sums of one channel into acc (the workspace) for the general final scaling: int32 sums
  * inside the bound above, one pixel at a time (the rare case: a large shift or bias). */
 static void chan_raw(const chan_t *c, uint32_t n, int32_t *acc)
