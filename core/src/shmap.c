@@ -134,6 +134,27 @@ size_t qibl_shmap_span_workspace_size(uint32_t n)
     return (size_t)n * 3u * sizeof(int32_t);
 }
 
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_SCALAR && !QIBL_CONFIG_SHMAP_BLOCKS
+/* acc[p] (+)= sum of up to four planes times their int16 weights. Plain loops over restrict
+ * pointers with 16-bit operands: compilers vectorise them (bytes widened to 16 bits, 16x16->32
+ * products). Four maps per pass keeps the accumulator traffic at one load/store per four maps. */
+static void acc_set4(int32_t *restrict acc, const uint8_t *restrict a, const uint8_t *restrict b,
+                     const uint8_t *restrict c, const uint8_t *restrict d, int16_t wa, int16_t wb, int16_t wc,
+                     int16_t wd, uint32_t n)
+{
+    for (uint32_t p = 0; p < n; ++p)
+        acc[p] = wa * (int16_t)a[p] + wb * (int16_t)b[p] + wc * (int16_t)c[p] + wd * (int16_t)d[p];
+}
+
+static void acc_add4(int32_t *restrict acc, const uint8_t *restrict a, const uint8_t *restrict b,
+                     const uint8_t *restrict c, const uint8_t *restrict d, int16_t wa, int16_t wb, int16_t wc,
+                     int16_t wd, uint32_t n)
+{
+    for (uint32_t p = 0; p < n; ++p)
+        acc[p] += wa * (int16_t)a[p] + wb * (int16_t)b[p] + wc * (int16_t)c[p] + wd * (int16_t)d[p];
+}
+#endif
+
 /* Final pass of one channel: out = sat32(acc * 2^shift + bias) into the interleaved RGB row.
  * The common case (small shift, bias within +-2^30) stays in int32, which vectorises:
  * |acc| < 2^28 (shmap.h bound) so acc + 2^(n-1) and acc * 2^shift (shift <= 2) cannot overflow,
@@ -211,8 +232,8 @@ static void finish_rgb(const finish_t *f, const qibl_shmap_weights_t *w, const i
     }
 }
 
-#if QIBL_CONFIG_SIMD == QIBL_SIMD_SCALAR
-/* ---- planar relight, portable scalar kernel (the SIMD paths are further down) ---------------
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_SCALAR && QIBL_CONFIG_SHMAP_BLOCKS
+/* ---- planar relight, portable scalar kernel (QIBL_CONFIG_SHMAP_BLOCKS, config.h) (the SIMD paths are further down) ---------------
  * One channel at a time, eight adjacent pixels per step: the k maps' bytes of
  * those pixels (aligned 32-bit words where the target and the alignment allow) go into one
  * accumulator per pixel held in registers, every map in one pass (no workspace round trip, no k
@@ -782,7 +803,7 @@ qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_w
 #if QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR
     relight_planar(m, w, &f, off, n, out, acc);
     return QIBL_OK;
-#else
+#elif QIBL_CONFIG_SHMAP_BLOCKS
     /* per channel: the fast final scaling inside the kernel (chan_fast) when this channel's shift
      * and bias allow it (then finish_channel's first branch gives the same integers), else the raw
      * sums into the workspace and finish_channel */
@@ -801,6 +822,27 @@ qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_w
         }
     }
     (void)f;
+    return QIBL_OK;
+#else
+    for (uint32_t ch = 0; ch < 3u; ++ch) {
+        uint32_t src = m->channels == 3u ? ch : 0u;
+        const int16_t *wc = w->w[ch];
+        int32_t *a = acc + (size_t)ch * n;
+        /* maps in groups of four; a missing map in the last group reads plane 0 with weight 0 */
+        for (uint32_t i = 0; i < m->k; i += 4u) {
+            const uint8_t *pl[4];
+            int16_t wt[4];
+            for (uint32_t j = 0; j < 4u; ++j) {
+                pl[j] = qibl_shmaps_plane(m, i + j < m->k ? i + j : 0u, src) + off;
+                wt[j] = i + j < m->k ? wc[i + j] : 0;
+            }
+            if (i == 0u)
+                acc_set4(a, pl[0], pl[1], pl[2], pl[3], wt[0], wt[1], wt[2], wt[3], n);
+            else
+                acc_add4(a, pl[0], pl[1], pl[2], pl[3], wt[0], wt[1], wt[2], wt[3], n);
+        }
+    }
+    finish_rgb(&f, w, acc, acc + n, acc + 2u * n, out, n);
     return QIBL_OK;
 #endif
 }
