@@ -212,6 +212,7 @@ static void finish_prepare(const qibl_shmap_weights_t *w, finish_t *f)
     }
 }
 
+#if QIBL_USE_INTERLEAVED || QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR || !QIBL_CONFIG_SHMAP_BLOCKS
 /* out[3p + ch] = sat32(a_ch[p] * 2^shift + bias) for the n pixels of one span piece */
 static void finish_rgb(const finish_t *f, const qibl_shmap_weights_t *w, const int32_t *restrict a0,
                        const int32_t *restrict a1, const int32_t *restrict a2, int32_t *restrict out, uint32_t n)
@@ -231,6 +232,7 @@ static void finish_rgb(const finish_t *f, const qibl_shmap_weights_t *w, const i
         finish_channel(a2, w->shift[2], w->bias[2], out + 2, n);
     }
 }
+#endif
 
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_SCALAR && QIBL_CONFIG_SHMAP_BLOCKS
 /* ---- planar relight, portable scalar kernel (QIBL_CONFIG_SHMAP_BLOCKS, config.h) (the SIMD paths are further down) ---------------
@@ -316,7 +318,9 @@ static uint32_t chan_words(const chan_t *c, uint32_t p, uint32_t n, uint32_t u0,
 }
 #endif
 
-/* The same four pixels at a time from bytes (no alignment known, or no word loads). */
+/* The same four pixels at a time from bytes (no alignment known, or no word loads). Built for
+ * size (-Os: the Cortex-M .text goal), those spans go one pixel at a time instead. */
+#if !defined(__OPTIMIZE_SIZE__)
 static uint32_t chan_bytes(const chan_t *c, uint32_t p, uint32_t n, uint32_t u0, unsigned r, int32_t bb, int32_t *out)
 {
     const size_t stride = c->stride;
@@ -333,6 +337,7 @@ static uint32_t chan_bytes(const chan_t *c, uint32_t p, uint32_t n, uint32_t u0,
     }
     return p;
 }
+#endif
 
 /* The fast final scaling of one channel straight into the RGB row (out: the channel's first
  * value, stride 3), for -31 < shift < 0 and |bias| <= 2^30 (finish_channel's first branch, same
@@ -352,7 +357,9 @@ static void chan_fast(const chan_t *c, uint32_t n, unsigned r, int32_t h, int32_
         p = chan_words(c, p, n, u0, r, bb, out);
     }
 #endif
+#if !defined(__OPTIMIZE_SIZE__)
     p = chan_bytes(c, p, n, u0, r, bb, out);
+#endif
     for (; p < n; ++p)
         out[3u * p] = (int32_t)(px_sum(c, p, u0) >> r) + bb;
 }
