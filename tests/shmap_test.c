@@ -745,6 +745,72 @@ static void test_planar_passes_match_definition(void **state)
     free(o), free(ws);
 }
 
+/* The portable planar kernel (QIBL_CONFIG_SIMD=0, the -portable flavour of this suite; the SIMD
+ * flavours run it as their planar path's twin too): eight pixels a step from aligned 32-bit words,
+ * one pixel at a time up to the first aligned word, four-pixel byte steps when the plane stride is
+ * not a multiple of 4, the last pixels one by one, the fast final scaling in the kernel and the raw
+ * sums for any other shift or bias. Plane bases 0..3 bytes past an aligned address, strides
+ * w * h * channels both multiples of 4 and not, spans at every offset, the accumulator bound (all
+ * bytes 255 under +-32767), against the definition; the values around the span stay untouched. */
+static void test_planar_kernel_alignment_and_strides(void **state)
+{
+    (void)state;
+    tu_rng r = {8421};
+    static const uint32_t dims[][2] = {{24, 2}, {13, 3}, {40, 1}, {37, 2}, {64, 3}, {9, 1}};
+    for (int it = 0; it < 240; ++it) {
+        const uint32_t w = dims[it % 6][0], h = dims[it % 6][1], k = 1u + tu_u32(&r) % 25u;
+        const uint32_t ch = (it / 6) % 2 ? 3u : 1u, lead = (uint32_t)(it / 12) % 4u;
+        maps_buf b;
+        maps_make(&b, w, h, k, ch, &r, 1 << 16);
+        const size_t bytes = (size_t)w * h * k * ch;
+        const int extreme = it % 5 == 4;
+        if (extreme)
+            memset(b.planes, 255, bytes);
+        /* the same bytes lead bytes past an aligned base */
+        uint32_t *store = malloc(bytes + 8u);
+        assert_non_null(store);
+        uint8_t *moved = (uint8_t *)store + lead;
+        memcpy(moved, b.planes, bytes);
+        qibl_shmaps_t m = b.m;
+        m.planes = moved;
+        qibl_shmap_weights_t wt;
+        wt.k = k, wt.channels = ch;
+        for (uint32_t c = 0; c < 3u; ++c) {
+            for (uint32_t i = 0; i < (uint32_t)QIBL_SH_MAX_COUNT; ++i)
+                wt.w[c][i] = i >= k ? 0
+                             : extreme ? (c == 1u ? -32767 : 32767)
+                                       : (int16_t)((int32_t)(tu_u32(&r) % 65535u) - 32767);
+            /* shifts -31..3 (fast path -30..-1, raw path otherwise), biases in and out of +-2^30 */
+            wt.shift[c] = (int32_t)(tu_u32(&r) % 35u) - 31;
+            const int64_t big = (int64_t)1 << 30;
+            wt.bias[c] = it % 7 == 6 ? ((tu_u32(&r) & 1u) ? big + 1 : -big - 1) : (int64_t)(tu_u32(&r) % 2001u) - 1000;
+        }
+        const uint32_t y = tu_u32(&r) % h, x0 = tu_u32(&r) % w, n = tu_u32(&r) % (w - x0 + 1u);
+        int32_t out[3 * 64 + 6];
+        int32_t ws[3 * 64];
+        for (size_t i = 0; i < sizeof out / sizeof out[0]; ++i)
+            out[i] = 0x5EED;
+        assert_int_equal(qibl_shmap_relight_span(&m, &wt, x0, y, n, out + 3, ws, sizeof ws), QIBL_OK);
+        for (uint32_t x = 0; x < n; ++x)
+            for (uint32_t c = 0; c < 3u; ++c) {
+                const uint32_t src = ch == 3u ? c : 0u;
+                int64_t acc = 0;
+                for (uint32_t i = 0; i < k; ++i)
+                    acc += (int64_t)wt.w[c][i] * qibl_shmaps_plane(&m, i, src)[(size_t)y * w + x0 + x];
+                const int32_t want = exact_out(acc, wt.shift[c], wt.bias[c]);
+                if (out[3u + 3u * x + c] != want)
+                    fail_msg("it %d %ux%u k %u ch %u lead %u x0 %u x %u c %u shift %d bias %lld: %d, want %d", it, w, h,
+                             k, ch, lead, x0, x, c, wt.shift[c], (long long)wt.bias[c], out[3u + 3u * x + c], want);
+            }
+        for (uint32_t i = 0; i < 3u; ++i)
+            assert_int_equal(out[i], 0x5EED);
+        for (size_t i = 3u + 3u * n; i < sizeof out / sizeof out[0]; ++i)
+            assert_int_equal(out[i], 0x5EED);
+        free(store);
+        maps_free(&b);
+    }
+}
+
 /* ---- the point kernel's SIMD path against its scalar twin -------------------------------------- */
 
 /* qibl_shmap_point_span (the library's QIBL_CONFIG_SIMD path) and the scalar twin (tools/twin) give
@@ -1026,6 +1092,7 @@ int main(void)
         cmocka_unit_test(test_interleaved_equals_planar),
         cmocka_unit_test(test_kernel_path_matches_definition),
         cmocka_unit_test(test_planar_passes_match_definition),
+        cmocka_unit_test(test_planar_kernel_alignment_and_strides),
         cmocka_unit_test(test_stream_rows_from_file),
         cmocka_unit_test(test_goldens),
     };

@@ -134,7 +134,7 @@ size_t qibl_shmap_span_workspace_size(uint32_t n)
     return (size_t)n * 3u * sizeof(int32_t);
 }
 
-#if QIBL_CONFIG_SIMD == QIBL_SIMD_SCALAR
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_SCALAR && !QIBL_CONFIG_SHMAP_BLOCKS
 /* acc[p] (+)= sum of up to four planes times their int16 weights. Plain loops over restrict
  * pointers with 16-bit operands: compilers vectorise them (bytes widened to 16 bits, 16x16->32
  * products). Four maps per pass keeps the accumulator traffic at one load/store per four maps. */
@@ -212,6 +212,7 @@ static void finish_prepare(const qibl_shmap_weights_t *w, finish_t *f)
     }
 }
 
+#if QIBL_USE_INTERLEAVED || QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR || !QIBL_CONFIG_SHMAP_BLOCKS
 /* out[3p + ch] = sat32(a_ch[p] * 2^shift + bias) for the n pixels of one span piece */
 static void finish_rgb(const finish_t *f, const qibl_shmap_weights_t *w, const int32_t *restrict a0,
                        const int32_t *restrict a1, const int32_t *restrict a2, int32_t *restrict out, uint32_t n)
@@ -231,6 +232,151 @@ static void finish_rgb(const finish_t *f, const qibl_shmap_weights_t *w, const i
         finish_channel(a2, w->shift[2], w->bias[2], out + 2, n);
     }
 }
+#endif
+
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_SCALAR && QIBL_CONFIG_SHMAP_BLOCKS
+/* ---- planar relight, portable scalar kernel (QIBL_CONFIG_SHMAP_BLOCKS, config.h) (the SIMD paths are further down) ---------------
+ * One channel at a time, eight adjacent pixels per step: the k maps' bytes of
+ * those pixels (aligned 32-bit words where the target and the alignment allow) go into one
+ * accumulator per pixel held in registers, every map in one pass (no workspace round trip, no k
+ * padded to a multiple), and the final scaling follows at once. Made for 32-bit cores without
+ * SIMD (ARM7TDMI, Cortex-M): the products are 32x32->32 multiply-accumulates with the map byte as
+ * the multiplier (ARMv4T's early termination: bits 8..31 zero). Same integers as every other path:
+ * each product w * c has |.| <= 32767 * 255 < 2^23 and any partial sum of at most 25 of them is
+ * below 2^28 in magnitude, so the sums are exact in any order. */
+
+/* Word loads: with GCC or Clang on a little-endian target, the four bytes of a plane at an
+ * aligned address are one 32-bit load, byte j in bits 8j..8j+7 (may_alias: the uint32 read of
+ * map bytes is defined there); the caller proves the alignment (SHMAP_ALIGNED). Elsewhere bytes. */
+#if (defined(__GNUC__) || defined(__clang__)) && defined(__BYTE_ORDER__) && defined(__ORDER_LITTLE_ENDIAN__) && \
+    __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+#define SHMAP_WORD_LOADS 1
+typedef uint32_t __attribute__((__may_alias__)) shmap_word_t;
+#define SHMAP_ALIGNED(p) (((uintptr_t)(const void *)(p) & 3u) == 0u)
+#define SHMAP_WORD(p) (*(const shmap_word_t *)(const void *)(p))
+#else
+#define SHMAP_WORD_LOADS 0
+#endif
+
+/* Pixels per step of the word kernel (8: measured best on ARM7TDMI ARM code, Cortex-M4 and, even
+ * with its spills to the stack, Cortex-M0; 4 is kept for targets with few registers). */
+#ifndef SHMAP_STEP
+#define SHMAP_STEP 8u
+#endif
+
+/* One channel's span piece: map i of the channel at pixel p is q[i * stride + p]. The sums run
+ * in uint32 from a start value u0 (wrapping arithmetic is defined there, and the true value
+ * u0 + sum stays inside 0..2^32-1, see chan_fast); a pixel's result is (int32_t)(u >> r) + bb. */
+typedef struct chan {
+    const uint8_t *q; /* map 0's plane at the span's first pixel */
+    size_t stride;    /* bytes from one map's plane to the next of the same channel */
+    const int16_t *w; /* the channel's k weights */
+    uint32_t k;
+} chan_t;
+
+static inline uint32_t px_sum(const chan_t *c, uint32_t p, uint32_t u0)
+{
+    const uint8_t *s = c->q + p;
+    uint32_t a = u0;
+    for (uint32_t i = 0; i < c->k; ++i, s += c->stride)
+        a += (uint32_t)(int32_t)c->w[i] * *s;
+    return a;
+}
+
+#if SHMAP_WORD_LOADS
+/* out[3p] = (int32_t)(u_p >> r) + bb from pixel p on, SHMAP_STEP pixels at a time, one aligned
+ * 32-bit load per plane and four pixels (eight: the plane's two words are one sequential burst,
+ * and its weight load and loop step serve eight pixels); returns the first pixel not done. */
+static uint32_t chan_words(const chan_t *c, uint32_t p, uint32_t n, uint32_t u0, unsigned r, int32_t bb,
+                           int32_t *out)
+{
+    const size_t stride = c->stride;
+    const int16_t *w = c->w, *wend = c->w + c->k;
+    for (; p + SHMAP_STEP <= n; p += SHMAP_STEP) {
+        const uint8_t *s = c->q + p;
+        uint32_t a0 = u0, a1 = u0, a2 = u0, a3 = u0;
+#if SHMAP_STEP == 8u
+        uint32_t a4 = u0, a5 = u0, a6 = u0, a7 = u0;
+#endif
+        for (const int16_t *wi = w; wi < wend; ++wi, s += stride) {
+            const uint32_t m = (uint32_t)(int32_t)*wi, v = SHMAP_WORD(s);
+            a0 += m * (v & 255u), a1 += m * (v >> 8 & 255u), a2 += m * (v >> 16 & 255u), a3 += m * (v >> 24);
+#if SHMAP_STEP == 8u
+            const uint32_t x = SHMAP_WORD(s + 4);
+            a4 += m * (x & 255u), a5 += m * (x >> 8 & 255u), a6 += m * (x >> 16 & 255u), a7 += m * (x >> 24);
+#endif
+        }
+        int32_t *o = out + 3u * p;
+        o[0] = (int32_t)(a0 >> r) + bb, o[3] = (int32_t)(a1 >> r) + bb;
+        o[6] = (int32_t)(a2 >> r) + bb, o[9] = (int32_t)(a3 >> r) + bb;
+#if SHMAP_STEP == 8u
+        o[12] = (int32_t)(a4 >> r) + bb, o[15] = (int32_t)(a5 >> r) + bb;
+        o[18] = (int32_t)(a6 >> r) + bb, o[21] = (int32_t)(a7 >> r) + bb;
+#endif
+    }
+    return p;
+}
+#endif
+
+/* The same four pixels at a time from bytes (no alignment known, or no word loads). Built for
+ * size (-Os: the Cortex-M .text goal), those spans go one pixel at a time instead. */
+#if !defined(__OPTIMIZE_SIZE__)
+static uint32_t chan_bytes(const chan_t *c, uint32_t p, uint32_t n, uint32_t u0, unsigned r, int32_t bb, int32_t *out)
+{
+    const size_t stride = c->stride;
+    for (; p + 4u <= n; p += 4u) {
+        const uint8_t *s = c->q + p;
+        uint32_t a0 = u0, a1 = u0, a2 = u0, a3 = u0;
+        for (uint32_t i = 0; i < c->k; ++i, s += stride) {
+            const uint32_t m = (uint32_t)(int32_t)c->w[i];
+            a0 += m * s[0], a1 += m * s[1], a2 += m * s[2], a3 += m * s[3];
+        }
+        int32_t *o = out + 3u * p;
+        o[0] = (int32_t)(a0 >> r) + bb, o[3] = (int32_t)(a1 >> r) + bb;
+        o[6] = (int32_t)(a2 >> r) + bb, o[9] = (int32_t)(a3 >> r) + bb;
+    }
+    return p;
+}
+#endif
+
+/* The fast final scaling of one channel straight into the RGB row (out: the channel's first
+ * value, stride 3), for -31 < shift < 0 and |bias| <= 2^30 (finish_channel's first branch, same
+ * integers): r = -shift, h = 2^(r-1), u0 = h + 2^31, so u = u0 + sum lies in (2^31 - 2^28,
+ * 2^31 + 2^29 + 2^28) and u >> r = floor((sum + h) / 2^r) + 2^(31-r) < 2^31; bb = b - 2^(31-r)
+ * is in [-2^31, 2^30] as r >= 1, and (int32_t)(u >> r) + bb = floor((sum + h) / 2^r) + b. */
+static void chan_fast(const chan_t *c, uint32_t n, unsigned r, int32_t h, int32_t b, int32_t *out)
+{
+    const uint32_t u0 = (uint32_t)h + 0x80000000u;
+    const int32_t bb = b - (int32_t)(0x80000000u >> r);
+    uint32_t p = 0;
+#if SHMAP_WORD_LOADS
+    if (c->stride % 4u == 0u) {
+        /* pixels one at a time up to the first aligned word; every plane is then aligned too */
+        for (; p < n && !SHMAP_ALIGNED(c->q + p); ++p)
+            out[3u * p] = (int32_t)(px_sum(c, p, u0) >> r) + bb;
+        p = chan_words(c, p, n, u0, r, bb, out);
+    }
+#endif
+#if !defined(__OPTIMIZE_SIZE__)
+    p = chan_bytes(c, p, n, u0, r, bb, out);
+#endif
+    for (; p < n; ++p)
+        out[3u * p] = (int32_t)(px_sum(c, p, u0) >> r) + bb;
+}
+
+/* The raw sums of one channel into acc (the workspace) for the general final scaling: int32 sums
+ * inside the bound above, one pixel at a time (the rare case: a large shift or bias). */
+static void chan_raw(const chan_t *c, uint32_t n, int32_t *acc)
+{
+    for (uint32_t p = 0; p < n; ++p) {
+        const uint8_t *s = c->q + p;
+        int32_t a = 0;
+        for (uint32_t i = 0; i < c->k; ++i, s += c->stride)
+            a += c->w[i] * (int32_t)*s;
+        acc[p] = a;
+    }
+}
+#endif /* scalar planar kernel */
 
 #if QIBL_USE_INTERLEAVED || QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR
 /* The weights of one span as the group and planar kernels take them: SSE2/AVX2 pmaddwd multiplies pairs of
@@ -663,6 +809,26 @@ qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_w
     size_t off = (size_t)y * m->width + x0;
 #if QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR
     relight_planar(m, w, &f, off, n, out, acc);
+    return QIBL_OK;
+#elif QIBL_CONFIG_SHMAP_BLOCKS
+    /* per channel: the fast final scaling inside the kernel (chan_fast) when this channel's shift
+     * and bias allow it (then finish_channel's first branch gives the same integers), else the raw
+     * sums into the workspace and finish_channel */
+    const size_t plane = (size_t)m->width * m->height;
+    for (uint32_t ch = 0; ch < 3u; ++ch) {
+        const uint32_t src = m->channels == 3u ? ch : 0u;
+        const chan_t c = {qibl_shmaps_plane(m, 0u, src) + off, plane * m->channels, w->w[ch], m->k};
+        const int32_t sh = w->shift[ch];
+        const int64_t bias = w->bias[ch];
+        if (sh < 0 && sh > -31 && bias >= -(INT64_C(1) << 30) && bias <= (INT64_C(1) << 30)) {
+            const unsigned r = (unsigned)-sh;
+            chan_fast(&c, n, r, (int32_t)1 << (r - 1u), (int32_t)bias, out + ch);
+        } else {
+            chan_raw(&c, n, acc);
+            finish_channel(acc, sh, bias, out + ch, n);
+        }
+    }
+    (void)f;
     return QIBL_OK;
 #else
     for (uint32_t ch = 0; ch < 3u; ++ch) {

@@ -4,7 +4,8 @@
  * pointer at 0 and a failed allocation stores ENOMEM at address 0 + the TLS offset (8 on ARM: the
  * NMI vector of an MPS2 board, in writable RAM). The runner forces a failed malloc first thing and
  * refuses to go on unless errno was set, lives inside the TLS block the linker script reserves
- * (__tls_base .. __tls_end) and, on Cortex-M, the vector table is byte for byte what it was.
+ * (__tls_base .. __tls_end) and, on Cortex-M, the vector table is byte for byte what it was (the
+ * Game Boy Advance, ARMv4T, has its vectors in the BIOS: no table to compare).
  */
 #include <errno.h>
 #include <stdint.h>
@@ -15,9 +16,12 @@
 #include "tls.h"
 
 extern char __tls_base[], __tls_end[], __heap_start[], __heap_end[];
-#if defined(__arm__)
+#if defined(__ARM_ARCH_PROFILE) && __ARM_ARCH_PROFILE == 'M' /* crt_cm.c's vector table */
+#define BM_VECTORS 1
 extern char __vectors_start[];
 enum { VECTOR_BYTES = 7 * 4 }; /* the entries crt_cm.c installs */
+#else
+#define BM_VECTORS 0
 #endif
 
 static int fail(const char *why)
@@ -28,7 +32,7 @@ static int fail(const char *why)
 
 int bm_tls_check(void)
 {
-#if defined(__arm__)
+#if BM_VECTORS
     uint8_t vectors[VECTOR_BYTES];
     memcpy(vectors, __vectors_start, sizeof vectors);
 #endif
@@ -46,7 +50,7 @@ int bm_tls_check(void)
     const char *at = (const char *)&errno;
     if (at < __tls_base || at + sizeof errno > __tls_end)
         return fail("errno lies outside the TLS block (the thread pointer was never set: _set_tls)");
-#if defined(__arm__)
+#if BM_VECTORS
     if (memcmp(vectors, __vectors_start, sizeof vectors) != 0)
         return fail("the failed malloc wrote into the vector table");
 #endif

@@ -44,7 +44,7 @@ specs="-specs=$specs_file"
 gcc=arm-none-eabi-gcc
 core_src=$(ls core/src/*.c platform/soft/*.c)
 tool_src="$(ls tools/golden/cases*.c) tools/io/sha256.c"
-bm_src="tools/baremetal/main.c tools/baremetal/stack.c tools/baremetal/heap.c tools/gba/gba_io.c"
+bm_src="tools/baremetal/main.c tools/baremetal/stack.c tools/baremetal/heap.c tools/baremetal/tls.c tools/gba/gba_io.c"
 
 t_start=$(date +%s)
 dir="$out/golden"

@@ -162,6 +162,23 @@
 #endif
 #endif
 
+/* QIBL_CONFIG_SHMAP_BLOCKS: the portable (QIBL_CONFIG_SIMD scalar) directional kernel on the
+ * planar layout. 1: eight pixels a step with all k maps' products summed in registers from
+ * aligned 32-bit words (core/src/shmap.c chan_words), made for 32-bit cores without vector units:
+ * ARM7TDMI (Game Boy Advance) 233 instead of 486 cycles per pixel at k = 9, Cortex-M4 98 instead
+ * of 152 and Cortex-M0 239 instead of 310 instructions. 0: passes of four planes over the span
+ * through the int32 workspace, loops that compilers vectorise for SSE2, NEON, AltiVec or RVV
+ * (on x86-64 about two thirds of the instructions of 1). Identical bytes either way. Default: 0
+ * where the compiler targets one of those vector units and multiplies 32x32->64 inline, so the
+ * portable flavour of `make test` (QIBL_CONFIG_NATIVE_MUL64=0) covers 1 on the host. */
+#ifndef QIBL_CONFIG_SHMAP_BLOCKS
+#if QIBL_CONFIG_NATIVE_MUL64 && (defined(__SSE2__) || defined(__ARM_NEON) || defined(__ALTIVEC__) || defined(__riscv_vector))
+#define QIBL_CONFIG_SHMAP_BLOCKS 0
+#else
+#define QIBL_CONFIG_SHMAP_BLOCKS 1
+#endif
+#endif
+
 /* QIBL_CONFIG_SIMD: the vector instructions the hot kernels use (relight on the interleaved
  * layout), through the compiler's own intrinsics headers (<emmintrin.h>, <immintrin.h>,
  * <arm_neon.h>: no libc, so the core stays freestanding). QIBL_SIMD_SCALAR is the portable C
