@@ -80,8 +80,7 @@ void qcli_scene_defaults(qcli_scene *o)
 {
     memset(o, 0, sizeof *o);
     o->w = 1024, o->h = 256, o->kind = QTOOL_PANO_CYLINDRICAL;
-    long n = sysconf(_SC_NPROCESSORS_ONLN);
-    o->threads = n > 0 && n < 256 ? (int)n : 1;
+    o->threads = qcli_default_threads(); /* the job's CPUs (affinity, SLURM_CPUS_PER_TASK), not the machine's */
 }
 
 /* Loads the scene: built-in when o->scene is NULL or "builtin", else a PLY (by its first line) or
@@ -383,6 +382,13 @@ static int finish_asset(const qtool_bake_sums *sums, uint32_t k, uint32_t lut, q
     return 0;
 }
 
+/* --progress=lines for a stage without rows (a light path, the lamp occlusion): done of total */
+static void progress_line(const char *stage, uint32_t done, uint32_t total)
+{
+    fprintf(stderr, "progress: stage=%s done=%u total=%u fraction=%.4f\n", stage, done, total, (double)done / total);
+    fflush(stderr);
+}
+
 int qcli_cmd_bake(int argc, char **argv)
 {
     qcli_scene so;
@@ -391,7 +397,7 @@ int qcli_cmd_bake(int argc, char **argv)
     long k = 16, lut = 32, ndirs = 512, shard = 0, nshards = 1, uk = 9, steps = 64, lamp_samples = 64;
     double budget = 0, lamp_box[6];
     int has_box = 0;
-    int lsq = 0, quiet = 0, npaths = 0;
+    int lsq = 0, quiet = 0, npaths = 0, progress = -1; /* -1: bar on a terminal, lines elsewhere */
     uint32_t layout = QIBL_SHMAPS_PLANAR;
     qtool_bake_path paths[8];
     char perr[400];
@@ -457,12 +463,21 @@ int qcli_cmd_bake(int argc, char **argv)
             lsq = 1;
         else if (strcmp(a, "--quiet") == 0)
             quiet = 1;
-        else if (strcmp(a, "--layout") == 0 && i + 1 < argc) {
+        else if (strncmp(a, "--progress=", 11) == 0 || (strcmp(a, "--progress") == 0 && i + 1 < argc)) {
+            const char *m = a[10] == '=' ? a + 11 : argv[++i];
+            progress = strcmp(m, "none") == 0 ? 0 : strcmp(m, "bar") == 0 ? 1 : strcmp(m, "lines") == 0 ? 2 : -2;
+            if (progress == -2)
+                return qcli_usage_error("--progress is bar, lines or none: '%s'", m);
+        } else if (strcmp(a, "--layout") == 0 && i + 1 < argc) {
             if (qcli_parse_layout(argv[++i], &layout) != 0)
                 return qcli_usage_error("--layout is planar or interleaved");
         } else
             return qcli_usage_error("bake: unknown argument '%s' (see qibl help bake)", a);
     }
+    if (quiet)
+        progress = 0;
+    else if (progress < 0)
+        progress = isatty(2) ? 1 : 2;
     if (nshards > 1 && !sums_out)
         return qcli_usage_error("bake --shard needs --sums FILE (the partial sums for qibl merge)");
     if (!out && !sums_out)
@@ -483,8 +498,8 @@ int qcli_cmd_bake(int argc, char **argv)
     qtool_bake_sums sums;
     double t0 = qcli_now();
     uint32_t kacc = budget > 0 ? 25 : (uint32_t)k;
-    if (qtool_bake_run(&s, so.w, so.h, so.kind, (uint32_t)ndirs, kacc, (uint32_t)shard, (uint32_t)nshards, so.threads,
-                      !quiet, &sums) != 0) {
+    if (qtool_bake_run_progress(&s, so.w, so.h, so.kind, (uint32_t)ndirs, kacc, (uint32_t)shard, (uint32_t)nshards,
+                                so.threads, progress, 0, &sums) != 0) {
         fprintf(stderr, "qibl: bake: out of memory\n");
         qtool_rt_scene_free(&s);
         return 1;
@@ -508,8 +523,8 @@ int qcli_cmd_bake(int argc, char **argv)
     if ((out || shard_mode) && uk > 0) {
         qtool_bake_sums us;
         double t1 = qcli_now();
-        if (qtool_bake_run_unshadowed_shard(&s, so.w, so.h, so.kind, (uint32_t)ndirs, (uint32_t)uk, (uint32_t)shard,
-                                           (uint32_t)nshards, so.threads, &us) != 0 ||
+        if (qtool_bake_run_progress(&s, so.w, so.h, so.kind, (uint32_t)ndirs, (uint32_t)uk, (uint32_t)shard,
+                                    (uint32_t)nshards, so.threads, progress == 2 ? 2 : 0, 1, &us) != 0 ||
             (out && qtool_bake_coeffs(&us, (uint32_t)uk, lsq ? QTOOL_PROJ_LSQ : QTOOL_PROJ_QUADRATURE, &mu) != 0)) {
             fprintf(stderr, "qibl: bake: out of memory (unshadowed maps)\n");
             rc = 1;
@@ -519,42 +534,47 @@ int qcli_cmd_bake(int argc, char **argv)
         }
         qtool_bake_sums_free(&us);
         x.mu = rc == 0 && out ? &mu : NULL;
-        int whole = out || shard == 0; /* per-pixel chunks: made once */
-        for (int p = 0; whole && rc == 0 && p < npaths; ++p) {
+        /* per-pixel chunks: each shard bakes its rows (y % nshards == shard), merge joins them */
+        for (int p = 0; rc == 0 && p < npaths; ++p) {
             double st[2];
-            if (qtool_bake_path_chunk(&s, so.w, so.h, so.kind, &paths[p], (uint32_t)steps, 65, so.threads, &x.paths[p],
-                                     &x.sizes[p], st) != 0) {
+            if (qtool_bake_path_chunk_shard(&s, so.w, so.h, so.kind, &paths[p], (uint32_t)steps, 65, (uint32_t)shard,
+                                           (uint32_t)nshards, so.threads, &x.paths[p], &x.sizes[p], st) != 0) {
                 fprintf(stderr, "qibl: bake: out of memory (light path %d)\n", p + 1);
                 rc = 1;
             } else if (!quiet) {
-                fprintf(stderr, "bake: light path %d (%s): %.2f visibility edges per pixel%s\n", p + 1,
-                        paths[p].kind ? "lamp track" : "sun path", st[0],
+                fprintf(stderr, "bake: light path %d (%s): %.2f visibility edges per pixel%s%s\n", p + 1,
+                        paths[p].kind ? "lamp track" : "sun path", st[0], nshards > 1 ? " (this shard's rows)" : "",
                         st[1] > 0 ? " (some pixels clipped at 255 edges)" : "");
+                if (progress == 2)
+                    progress_line("path", (uint32_t)p + 1, (uint32_t)npaths);
             }
             x.npaths = p + 1;
         }
-        if (whole && rc == 0 && has_box) {
+        if (rc == 0 && has_box) {
             uint8_t *occ = malloc((size_t)so.w * so.h);
-            if (!occ || qtool_bake_lamp_occlusion(&s, so.w, so.h, so.kind, lamp_box, (uint32_t)lamp_samples, so.threads,
-                                                  occ) != 0 ||
+            if (!occ || qtool_bake_lamp_occlusion_shard(&s, so.w, so.h, so.kind, lamp_box, (uint32_t)lamp_samples,
+                                                        (uint32_t)shard, (uint32_t)nshards, so.threads, occ) != 0 ||
                 qtool_bake_locc_payload(so.w, so.h, occ, &x.locc, &x.locc_n) != 0) {
                 fprintf(stderr, "qibl: bake: out of memory (lamp occlusion)\n");
                 rc = 1;
             }
             free(occ);
+            if (rc == 0 && progress == 2)
+                progress_line("occlusion", 1, 1);
         }
         if (shard_mode && rc == 0) {
             qtool_extras xf;
             memset(&xf, 0, sizeof xf);
+            xf.shard = (uint32_t)shard, xf.nshards = (uint32_t)nshards;
             for (int p = 0; p < x.npaths; ++p)
                 xf.type[xf.count] = QIBL_CHUNK_LPTH, xf.data[xf.count] = x.paths[p], xf.size[xf.count++] = x.sizes[p];
             if (x.locc)
                 xf.type[xf.count] = QIBL_CHUNK_LOCC, xf.data[xf.count] = x.locc, xf.size[xf.count++] = x.locc_n;
-            if (xf.count && qtool_extras_write(&xf, side[1], err, sizeof err) != 0) {
+            /* written also with no chunk: a shard baked without --sun-path is then refused by name at
+             * the merge instead of its rows (or the whole path) going missing */
+            if (qtool_extras_write(&xf, side[1], err, sizeof err) != 0) {
                 fprintf(stderr, "qibl: %s\n", err);
                 rc = 1;
-            } else if (!xf.count) {
-                (void)unlink(side[1]); /* a stale one from an earlier bake must not reach the merge */
             }
         }
         if (!quiet && rc == 0)
@@ -711,38 +731,67 @@ static int merge_extras(char **in, const int *seen, uint32_t nsh, const qtool_ba
         }
         x->mu = mu;
     }
-    side_name(name, sizeof name, in[seen[0] - 1], "x");
-    if (file_exists(name)) {
-        if (!have) {
-            fprintf(stderr, "qibl: %s: light paths without the unshadowed sums (.u files)\n", name);
-            goto done;
-        }
-        if (qtool_extras_read(name, xx, err, sizeof err) != 0) {
-            fprintf(stderr, "qibl: %s\n", err);
-            goto done;
-        }
-        for (uint32_t i = 0; i < xx->count; ++i) {
-            /* shard 0's chunks must be of this bake's size: a .x of another bake would make an
-             * asset whose path or occlusion no relight can use */
-            uint32_t cw = 0, chh = 0;
-            qibl_status_t cs;
-            if (xx->type[i] == QIBL_CHUNK_LPTH) {
-                qibl_lightpath_t lp;
-                if ((cs = qibl_lightpath_parse(xx->data[i], xx->size[i], &lp)) == QIBL_OK)
-                    cw = lp.width, chh = lp.height;
-            } else if (xx->type[i] == QIBL_CHUNK_LOCC) {
-                qibl_lampocc_t lo;
-                if ((cs = qibl_lightpath_occl_parse(xx->data[i], xx->size[i], &lo)) == QIBL_OK)
-                    cw = lo.width, chh = lo.height;
-            } else {
-                cs = QIBL_OK, cw = total->w, chh = total->h; /* refused below */
-            }
-            if (cs != QIBL_OK) {
-                fprintf(stderr, "qibl: %s: chunk %u (%s) is not usable: %s\n", name, i,
-                        xx->type[i] == QIBL_CHUNK_LPTH ? "LPTH" : "LOCC", qibl_status_str(cs));
+    /* every shard's extras (its rows of the light paths and lamp occlusion): all or none */
+    uint32_t hx = 0;
+    for (uint32_t s = 0; s < nsh; ++s) {
+        side_name(name, sizeof name, in[seen[s] - 1], "x");
+        hx += file_exists(name) ? 1u : 0u;
+    }
+    if (hx != 0 && !have) {
+        fprintf(stderr, "qibl: merge: light paths (.x files) without the unshadowed sums (.u files)\n");
+        goto done;
+    }
+    if (hx != 0 && hx != nsh) {
+        for (uint32_t s = 0; s < nsh; ++s) {
+            side_name(name, sizeof name, in[seen[s] - 1], "x");
+            if (!file_exists(name)) {
+                fprintf(stderr, "qibl: merge: %s is missing (the light paths and lamp occlusion of shard %u/%u; %u other "
+                        "shard%s have theirs)\n", name, s, nsh, hx, hx == 1 ? "" : "s");
                 goto done;
             }
+        }
+    }
+    if (hx) {
+        qtool_extras *parts = calloc(nsh, sizeof *parts);
+        char **names = calloc(nsh, sizeof *names);
+        int bad = !parts || !names;
+        if (bad)
+            fprintf(stderr, "qibl: merge: out of memory\n");
+        for (uint32_t s = 0; !bad && s < nsh; ++s) {
+            side_name(name, sizeof name, in[seen[s] - 1], "x");
+            names[s] = malloc(strlen(name) + 1);
+            if (!names[s]) {
+                fprintf(stderr, "qibl: merge: out of memory\n");
+                bad = 1;
+            } else if (strcpy(names[s], name), qtool_extras_read(name, &parts[s], err, sizeof err) != 0) {
+                fprintf(stderr, "qibl: %s\n", err);
+                bad = 1;
+            }
+        }
+        if (!bad && qtool_extras_join(parts, (const char *const *)names, nsh, xx, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s\n", err);
+            bad = 1;
+        }
+        for (uint32_t s = 0; parts && names && s < nsh; ++s)
+            qtool_extras_free(&parts[s]), free(names[s]);
+        free(parts), free(names);
+        if (bad)
+            goto done;
+        for (uint32_t i = 0; i < xx->count; ++i) {
+            /* the chunks must be of this bake's size: the side files of another bake would make an
+             * asset whose path or occlusion no relight can use */
+            uint32_t cw = 0, chh = 0;
+            if (xx->type[i] == QIBL_CHUNK_LPTH) {
+                qibl_lightpath_t lp;
+                if (qibl_lightpath_parse(xx->data[i], xx->size[i], &lp) == QIBL_OK)
+                    cw = lp.width, chh = lp.height;
+            } else {
+                qibl_lampocc_t lo;
+                if (qibl_lightpath_occl_parse(xx->data[i], xx->size[i], &lo) == QIBL_OK)
+                    cw = lo.width, chh = lo.height;
+            }
             if (cw != total->w || chh != total->h) {
+                side_name(name, sizeof name, in[seen[0] - 1], "x");
                 fprintf(stderr, "qibl: %s: chunk %u (%s) is for a %u x %u bake, the shards are %u x %u (the side file "
                         "of another bake)\n", name, i, xx->type[i] == QIBL_CHUNK_LPTH ? "LPTH" : "LOCC", cw, chh,
                         total->w, total->h);
@@ -753,7 +802,7 @@ static int merge_extras(char **in, const int *seen, uint32_t nsh, const qtool_ba
             else if (xx->type[i] == QIBL_CHUNK_LPTH && x->npaths < 8)
                 x->paths[x->npaths] = xx->data[i], x->sizes[x->npaths++] = xx->size[i];
             else {
-                fprintf(stderr, "qibl: %s: more than 8 light paths or two lamp occlusions\n", name);
+                fprintf(stderr, "qibl: merge: more than 8 light paths or two lamp occlusions\n");
                 goto done;
             }
         }
@@ -805,7 +854,7 @@ int qcli_cmd_merge(int argc, char **argv)
     }
     if (nin == 0 || (!out && !sums_out)) {
         free(in);
-        return qcli_usage_error("usage: qibl merge -o ASSET [--sums OUT] [--k K] [--lut-size N] [--lsq] SUMS...");
+        return qcli_usage_error("usage: qibl merge (-o ASSET | --sums OUT | both) [--k K] [--lut-size N] [--lsq] SUMS...");
     }
     if (qcli_parse_only) { /* fuzz_cliopts: the options only */
         free(in);
