@@ -134,7 +134,8 @@ static const char *extras_magic(const uint8_t *head, size_t n)
 
 int qtool_extras_read(const char *path, qtool_extras *x, char *err, size_t errlen)
 {
-    static const qtool_io_kind k = {"a qibl bake extras file", HEAD, QTOOL_IO_MAX_FILE_BYTES, 8, extras_magic};
+    /* 12: a version 1 file's header, so it reaches decode and is refused by name */
+    static const qtool_io_kind k = {"a qibl bake extras file", 12, QTOOL_IO_MAX_FILE_BYTES, 8, extras_magic};
     uint8_t *b;
     size_t n;
     if (qtool_io_load(path, &k, &b, &n, err, errlen) != 0)
@@ -150,8 +151,8 @@ static const char *chunk_name(uint32_t type)
 }
 
 /* chunk i of every part joined row by row into *out (malloc'ed); 0 or -1 with the reason */
-static int join_chunk(const qtool_extras *parts, const char *const *names, uint32_t n, uint32_t i, uint8_t **out,
-                      size_t *outn, char *err, size_t errlen)
+static int join_chunk(const qtool_extras *parts, const char *const *names, uint32_t n, uint32_t i, uint32_t bw,
+                      uint32_t bh, uint8_t **out, size_t *outn, char *err, size_t errlen)
 {
     uint32_t type = parts[0].type[i], w = 0, h = 0, nkeys = 0;
     uint64_t nedges = 0;
@@ -187,6 +188,9 @@ static int join_chunk(const qtool_extras *parts, const char *const *names, uint3
                 return fail(err, errlen, names[s], "chunk %u (LOCC) is not usable: %s", i + 1, qibl_status_str(st));
             pw = lo.width, ph = lo.height;
         }
+        if (bw && (pw != bw || ph != bh))
+            return fail(err, errlen, names[s], "chunk %u (%s) is for a %u x %u bake, the shards are %u x %u (the side "
+                        "file of another bake)", i + 1, chunk_name(type), pw, ph, bw, bh);
         if (s == 0)
             w = pw, h = ph;
         else if (pw != w || ph != h)
@@ -230,8 +234,8 @@ static int join_chunk(const qtool_extras *parts, const char *const *names, uint3
     return 0;
 }
 
-int qtool_extras_join(const qtool_extras *parts, const char *const *names, uint32_t nshards, qtool_extras *out,
-                      char *err, size_t errlen)
+int qtool_extras_join(const qtool_extras *parts, const char *const *names, uint32_t nshards, uint32_t w, uint32_t h,
+                      qtool_extras *out, char *err, size_t errlen)
 {
     if (nshards < 1)
         return fail(err, errlen, "merge", "no shards to join");
@@ -248,7 +252,7 @@ int qtool_extras_join(const qtool_extras *parts, const char *const *names, uint3
     memset(&t, 0, sizeof t);
     t.shard = 0, t.nshards = 1;
     for (uint32_t i = 0; i < parts[0].count; ++i) {
-        if (join_chunk(parts, names, nshards, i, &t.data[i], &t.size[i], err, errlen) != 0) {
+        if (join_chunk(parts, names, nshards, i, w, h, &t.data[i], &t.size[i], err, errlen) != 0) {
             qtool_extras_free(&t);
             return -1;
         }

@@ -44,10 +44,11 @@ void qtool_extras_free(qtool_extras *x);
 
 /* Joins the shards' chunks: parts[s] is shard s of nshards (every one given, same count), chunk i of
  * each of the same type, size and header (LPTH: size, kind, keys; LOCC: size); row y comes from
- * part y % nshards. On success out holds whole chunks (shard 0 of 1); names[s] name the files in
- * messages ("a.x (shard 1/4) has 2 chunks, b.x (shard 0/4) 1: shards of different bakes ...").
- * 0, or -1 with the reason in err and out untouched. */
-int qtool_extras_join(const qtool_extras *parts, const char *const *names, uint32_t nshards, qtool_extras *out,
-                      char *err, size_t errlen);
+ * part y % nshards; w x h (0 x 0: shard 0's) is the bake's size every chunk must have. On success
+ * out holds whole chunks (shard 0 of 1); names[s] name the files in messages ("b.x: 3 light
+ * path/occlusion chunks, shard 0's a.x has 0: shards of different bakes ..."). 0, or -1 with the
+ * reason in err and out untouched. */
+int qtool_extras_join(const qtool_extras *parts, const char *const *names, uint32_t nshards, uint32_t w, uint32_t h,
+                      qtool_extras *out, char *err, size_t errlen);
 
 #endif

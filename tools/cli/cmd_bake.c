@@ -768,7 +768,7 @@ static int merge_extras(char **in, const int *seen, uint32_t nsh, const qtool_ba
                 bad = 1;
             }
         }
-        if (!bad && qtool_extras_join(parts, (const char *const *)names, nsh, xx, err, sizeof err) != 0) {
+        if (!bad && qtool_extras_join(parts, (const char *const *)names, nsh, total->w, total->h, xx, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
             bad = 1;
         }
