@@ -2,7 +2,7 @@
  * farm_test.c - the bake on a render farm (issue 31), through the qibl program: shards of any split
  * merge to the single bake byte for byte with light paths and lamp occlusion baked by every shard
  * (its rows only), a shard baked without the others' --sun-path refused by name, version 1 extras
- * refused by name, the thread count from the CPU affinity and SLURM_CPUS_PER_TASK, and
+ * refused by name, tree merges of partial sets, the thread count from the CPU affinity and SLURM_CPUS_PER_TASK, and
  * --progress=lines.
  *
  * The binary is found as cliutil.h says; the tests skip when it is missing.
@@ -152,7 +152,7 @@ static void test_shard_without_path_refused(void **state)
     assert_int_equal(run("bake", "--size", "20x7", "--k", "4", "--dirs", "80", "--unshadowed-k", "4", "--quiet",
                          "--threads", "1", "--shard", "0/2", "--sums", at("s0"), NULL), 0);
     assert_int_equal(run("merge", "-o", at("m.qibl"), at("s0"), at("s1"), NULL), 1);
-    assert_true(says(errlog, "s1.x: 3 light path/occlusion chunks, shard 0's"));
+    assert_true(says(errlog, "s1.x: 3 light path/occlusion chunks")), assert_true(says(errlog, "s0.x has 0"));
     assert_true(says(errlog, "shards of different bakes"));
     assert_int_equal(access(at("m.qibl"), F_OK), -1);
     /* another sun path on shard 0: named too */
@@ -161,7 +161,7 @@ static void test_shard_without_path_refused(void **state)
                          "--lamp-samples", "6", "--path-steps", "8", "--quiet", "--threads", "1", "--shard", "0/2",
                          "--sums", at("s0"), NULL), 0);
     assert_int_equal(run("merge", "-o", at("m.qibl"), at("s0"), at("s1"), NULL), 1);
-    assert_true(says(errlog, "light path 1 is not shard 0's"));
+    assert_true(says(errlog, "light path 1 is not the one of"));
     assert_int_equal(access(at("m.qibl"), F_OK), -1);
     /* a missing side file of one shard: named */
     shard(0, 2, "s0");
@@ -184,6 +184,41 @@ static void test_extras_v1_refused(void **state)
     assert_int_equal(run("merge", "-o", at("m.qibl"), at("s0"), at("s1"), NULL), 1);
     assert_true(says(errlog, "a version 1 extras file"));
     assert_int_equal(access(at("m.qibl"), F_OK), -1);
+}
+
+/* tree merges: a partial set of shards I, I+M, ... of N merges (--sums only) into shard I of M with
+ * its side files, and the tree's root is the single bake byte for byte; a set that is no shard of
+ * a coarser split, or a partial set with -o, is refused by name and writes nothing */
+static void test_tree_merge(void **state)
+{
+    (void)state;
+    need_qibl();
+    assert_int_equal(run("bake", FARM_ARGS, "-o", at("whole.qibl"), NULL), 0);
+    for (uint32_t i = 0; i < 4; ++i) {
+        char nm[8];
+        snprintf(nm, sizeof nm, "s%u", i);
+        shard(i, 4, nm);
+    }
+    assert_int_equal(run("merge", "--sums", at("a"), at("s2"), at("s0"), NULL), 0);
+    assert_true(says(outlog, "partial sums of shard 0/2 (2 inputs)"));
+    assert_int_equal(run("merge", "--sums", at("b"), at("s1"), at("s3"), NULL), 0);
+    assert_true(says(outlog, "partial sums of shard 1/2 (2 inputs)"));
+    assert_int_equal(access(at("a.u"), F_OK), 0), assert_int_equal(access(at("b.x"), F_OK), 0);
+    assert_int_equal(run("merge", "-o", at("tree.qibl"), at("b"), at("a"), NULL), 0);
+    file_eq(at("whole.qibl"), at("tree.qibl"));
+    /* the total as sums, then the asset from it alone */
+    assert_int_equal(run("merge", "--sums", at("t"), at("a"), at("b"), NULL), 0);
+    assert_true(says(outlog, "the total sums"));
+    assert_int_equal(run("merge", "-o", at("t.qibl"), at("t"), NULL), 0);
+    file_eq(at("whole.qibl"), at("t.qibl"));
+    /* 0 and 1 of 4 are no shard of a split into 2 */
+    assert_int_equal(run("merge", "--sums", at("bad"), at("s0"), at("s1"), NULL), 1);
+    assert_true(says(errlog, "shards 0, 1 of 4 are not one shard of a coarser split"));
+    assert_int_equal(access(at("bad"), F_OK), -1), assert_int_equal(access(at("bad.u"), F_OK), -1);
+    /* an asset needs every shard */
+    assert_int_equal(run("merge", "-o", at("bad.qibl"), at("s0"), at("s2"), NULL), 1);
+    assert_true(says(errlog, "shard 1/4 is missing (an asset needs every shard"));
+    assert_int_equal(access(at("bad.qibl"), F_OK), -1);
 }
 
 /* the thread count "on N threads" of a bake's summary line */
@@ -283,6 +318,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_every_split_identical_and_balanced, setup, teardown),
         cmocka_unit_test_setup_teardown(test_shard_without_path_refused, setup, teardown),
         cmocka_unit_test_setup_teardown(test_extras_v1_refused, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_tree_merge, setup, teardown),
         cmocka_unit_test_setup_teardown(test_threads_from_allocation, setup, teardown),
         cmocka_unit_test_setup_teardown(test_progress_lines, setup, teardown),
         cmocka_unit_test_setup_teardown(test_usage_lines, setup, teardown),

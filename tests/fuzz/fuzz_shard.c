@@ -86,8 +86,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if (x.nshards == 1) {
                 qtool_extras j;
                 const char *names[1] = {"fuzz"};
+                const qtool_extras *one[1] = {&x};
                 err[0] = '\0';
-                if (qtool_extras_join(&x, names, 1, 0, 0, &j, err, sizeof err) == 0) {
+                if (qtool_extras_join(one, names, 1, 0, 0, &j, err, sizeof err) == 0) {
                     if (j.count != x.count)
                         abort();
                     for (uint32_t i = 0; i < j.count; ++i) {

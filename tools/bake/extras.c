@@ -150,28 +150,32 @@ static const char *chunk_name(uint32_t type)
     return type == QIBL_CHUNK_LPTH ? "LPTH" : "LOCC";
 }
 
-/* chunk i of every part joined row by row into *out (malloc'ed); 0 or -1 with the reason */
-static int join_chunk(const qtool_extras *parts, const char *const *names, uint32_t n, uint32_t i, uint32_t bw,
-                      uint32_t bh, uint8_t **out, size_t *outn, char *err, size_t errlen)
+/* chunk i of every given part joined row by row into *out (malloc'ed): row y from part y % n, empty
+ * (0 edges, occlusion 0) where that part is absent; r is the first given part. 0 or -1 with the reason */
+static int join_chunk(const qtool_extras *const *parts, const char *const *names, uint32_t n, uint32_t r, uint32_t i,
+                      uint32_t bw, uint32_t bh, uint8_t **out, size_t *outn, char *err, size_t errlen)
 {
-    uint32_t type = parts[0].type[i], w = 0, h = 0, nkeys = 0;
+    uint32_t type = parts[r]->type[i], w = 0, h = 0, nkeys = 0;
     uint64_t nedges = 0;
-    for (uint32_t s = 0; s < n; ++s) {
-        const qtool_extras *p = &parts[s];
-        uint32_t pw, ph;
+    qibl_lightpath_t l0 = {0};
+    for (uint32_t s = r; s < n; ++s) {
+        const qtool_extras *p = parts[s];
+        uint32_t pw = 0, ph = 0;
+        if (!p)
+            continue;
         if (p->type[i] != type)
-            return fail(err, errlen, names[s], "chunk %u is %s, shard 0's (%s) is %s: shards of different bakes", i + 1,
-                        chunk_name(p->type[i]), names[0], chunk_name(type));
+            return fail(err, errlen, names[s], "chunk %u is %s, %s's is %s: shards of different bakes", i + 1,
+                        chunk_name(p->type[i]), names[r], chunk_name(type));
         if (type == QIBL_CHUNK_LPTH) {
-            qibl_lightpath_t lp, l0;
+            qibl_lightpath_t lp;
             qibl_status_t st = qibl_lightpath_parse(p->data[i], p->size[i], &lp);
             if (st != QIBL_OK)
                 return fail(err, errlen, names[s], "chunk %u (LPTH) is not usable: %s", i + 1, qibl_status_str(st));
-            (void)qibl_lightpath_parse(parts[0].data[i], parts[0].size[i], &l0); /* checked at s == 0 */
-            pw = lp.width, ph = lp.height;
-            if (s > 0 && (lp.kind != l0.kind || lp.nkeys != l0.nkeys || memcmp(lp.keys, l0.keys, 16u * lp.nkeys) != 0))
-                return fail(err, errlen, names[s], "light path %u is not shard 0's (%s): another --sun-path or "
-                            "--lamp-track (shards of different bakes)", i + 1, names[0]);
+            if (s == r)
+                l0 = lp;
+            else if (lp.kind != l0.kind || lp.nkeys != l0.nkeys || memcmp(lp.keys, l0.keys, 16u * lp.nkeys) != 0)
+                return fail(err, errlen, names[s], "light path %u is not the one of %s: another --sun-path or "
+                            "--lamp-track (shards of different bakes)", i + 1, names[r]);
             for (uint32_t y = 0; y < lp.height; ++y) {
                 uint32_t a = qibl_load_u32le(lp.rows + 4 * (size_t)y), b = qibl_load_u32le(lp.rows + 4 * (size_t)y + 4);
                 if (y % n == s)
@@ -188,43 +192,52 @@ static int join_chunk(const qtool_extras *parts, const char *const *names, uint3
                 return fail(err, errlen, names[s], "chunk %u (LOCC) is not usable: %s", i + 1, qibl_status_str(st));
             pw = lo.width, ph = lo.height;
         }
+        if (type == QIBL_CHUNK_LPTH) {
+            qibl_lightpath_t lp;
+            (void)qibl_lightpath_parse(p->data[i], p->size[i], &lp); /* checked above */
+            pw = lp.width, ph = lp.height;
+        }
         if (bw && (pw != bw || ph != bh))
             return fail(err, errlen, names[s], "chunk %u (%s) is for a %u x %u bake, the shards are %u x %u (the side "
                         "file of another bake)", i + 1, chunk_name(type), pw, ph, bw, bh);
-        if (s == 0)
+        if (s == r)
             w = pw, h = ph;
         else if (pw != w || ph != h)
-            return fail(err, errlen, names[s], "chunk %u (%s) is for a %u x %u bake, shard 0's (%s) for %u x %u "
-                        "(shards of different bakes)", i + 1, chunk_name(type), pw, ph, names[0], w, h);
+            return fail(err, errlen, names[s], "chunk %u (%s) is for a %u x %u bake, %s's for %u x %u (shards of "
+                        "different bakes)", i + 1, chunk_name(type), pw, ph, names[r], w, h);
     }
     size_t np = (size_t)w * h;
     if (type == QIBL_CHUNK_LOCC) {
-        uint8_t *b = malloc(QIBL_LAMPOCC_HEADER + np);
+        uint8_t *b = calloc(QIBL_LAMPOCC_HEADER + np, 1);
         if (!b)
-            return fail(err, errlen, names[0], "out of memory joining the lamp occlusion");
-        memcpy(b, parts[0].data[i], QIBL_LAMPOCC_HEADER);
+            return fail(err, errlen, names[r], "out of memory joining the lamp occlusion");
+        memcpy(b, parts[r]->data[i], QIBL_LAMPOCC_HEADER);
         for (uint32_t y = 0; y < h; ++y)
-            memcpy(b + QIBL_LAMPOCC_HEADER + (size_t)y * w, parts[y % n].data[i] + QIBL_LAMPOCC_HEADER + (size_t)y * w, w);
+            if (parts[y % n])
+                memcpy(b + QIBL_LAMPOCC_HEADER + (size_t)y * w,
+                       parts[y % n]->data[i] + QIBL_LAMPOCC_HEADER + (size_t)y * w, w);
         *out = b, *outn = QIBL_LAMPOCC_HEADER + np;
         return 0;
     }
     if (nedges > QIBL_LIGHTPATH_MAX_EDGES)
-        return fail(err, errlen, names[0], "light path %u: %llu edges joined (at most %u)", i + 1,
+        return fail(err, errlen, names[r], "light path %u: %llu edges joined (at most %u)", i + 1,
                     (unsigned long long)nedges, QIBL_LIGHTPATH_MAX_EDGES);
     size_t head = QIBL_LIGHTPATH_HEADER + 16u * (size_t)nkeys;
     size_t size = head + 4u * ((size_t)h + 1) + np + 2u * (size_t)nedges;
-    uint8_t *b = malloc(size);
+    uint8_t *b = calloc(size, 1);
     if (!b)
-        return fail(err, errlen, names[0], "out of memory joining light path %u", i + 1);
-    memcpy(b, parts[0].data[i], head); /* size, kind, keys: the same in every part (checked) */
+        return fail(err, errlen, names[r], "out of memory joining light path %u", i + 1);
+    memcpy(b, parts[r]->data[i], head); /* size, kind, keys: the same in every part (checked) */
     qtool_store_u32le(b + 20, (uint32_t)nedges);
     uint8_t *rows = b + head, *cnt = rows + 4u * ((size_t)h + 1), *ed = cnt + np;
     uint32_t at = 0;
     for (uint32_t y = 0; y < h; ++y) {
-        qibl_lightpath_t lp;
-        (void)qibl_lightpath_parse(parts[y % n].data[i], parts[y % n].size[i], &lp); /* checked above */
-        uint32_t a = qibl_load_u32le(lp.rows + 4 * (size_t)y), e = qibl_load_u32le(lp.rows + 4 * (size_t)y + 4);
         qtool_store_u32le(rows + 4 * (size_t)y, at);
+        if (!parts[y % n])
+            continue; /* an absent shard's row: no edges (counts stay 0) */
+        qibl_lightpath_t lp;
+        (void)qibl_lightpath_parse(parts[y % n]->data[i], parts[y % n]->size[i], &lp); /* checked above */
+        uint32_t a = qibl_load_u32le(lp.rows + 4 * (size_t)y), e = qibl_load_u32le(lp.rows + 4 * (size_t)y + 4);
         memcpy(cnt + (size_t)y * w, lp.counts + (size_t)y * w, w);
         memcpy(ed + 2 * (size_t)at, lp.edges + 2 * (size_t)a, 2 * (size_t)(e - a));
         at += e - a;
@@ -234,29 +247,34 @@ static int join_chunk(const qtool_extras *parts, const char *const *names, uint3
     return 0;
 }
 
-int qtool_extras_join(const qtool_extras *parts, const char *const *names, uint32_t nshards, uint32_t w, uint32_t h,
-                      qtool_extras *out, char *err, size_t errlen)
+int qtool_extras_join(const qtool_extras *const *parts, const char *const *names, uint32_t nshards, uint32_t w,
+                      uint32_t h, qtool_extras *out, char *err, size_t errlen)
 {
-    if (nshards < 1)
+    uint32_t r = 0;
+    while (r < nshards && !parts[r])
+        ++r;
+    if (r == nshards)
         return fail(err, errlen, "merge", "no shards to join");
-    for (uint32_t s = 0; s < nshards; ++s) {
-        if (parts[s].shard != s || parts[s].nshards != nshards)
+    for (uint32_t s = r; s < nshards; ++s) {
+        if (!parts[s])
+            continue;
+        if (parts[s]->shard != s || parts[s]->nshards != nshards)
             return fail(err, errlen, names[s], "the extras of shard %u/%u where shard %u/%u was expected (side file "
-                        "of another split)", parts[s].shard, parts[s].nshards, s, nshards);
-        if (parts[s].count != parts[0].count)
-            return fail(err, errlen, names[s], "%u light path/occlusion chunk%s, shard 0's %s has %u: shards of "
-                        "different bakes (give every shard the same --sun-path, --lamp-track and --lamp-box)",
-                        parts[s].count, parts[s].count == 1 ? "" : "s", names[0], parts[0].count);
+                        "of another split)", parts[s]->shard, parts[s]->nshards, s, nshards);
+        if (parts[s]->count != parts[r]->count)
+            return fail(err, errlen, names[s], "%u light path/occlusion chunk%s, %s has %u: shards of different "
+                        "bakes (give every shard the same --sun-path, --lamp-track and --lamp-box)",
+                        parts[s]->count, parts[s]->count == 1 ? "" : "s", names[r], parts[r]->count);
     }
     qtool_extras t;
     memset(&t, 0, sizeof t);
     t.shard = 0, t.nshards = 1;
-    for (uint32_t i = 0; i < parts[0].count; ++i) {
-        if (join_chunk(parts, names, nshards, i, w, h, &t.data[i], &t.size[i], err, errlen) != 0) {
+    for (uint32_t i = 0; i < parts[r]->count; ++i) {
+        if (join_chunk(parts, names, nshards, r, i, w, h, &t.data[i], &t.size[i], err, errlen) != 0) {
             qtool_extras_free(&t);
             return -1;
         }
-        t.type[i] = parts[0].type[i], t.count = i + 1;
+        t.type[i] = parts[r]->type[i], t.count = i + 1;
     }
     *out = t;
     return 0;

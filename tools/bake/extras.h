@@ -42,13 +42,14 @@ int qtool_extras_write(const qtool_extras *x, const char *path, char *err, size_
 int qtool_extras_read(const char *path, qtool_extras *x, char *err, size_t errlen);
 void qtool_extras_free(qtool_extras *x);
 
-/* Joins the shards' chunks: parts[s] is shard s of nshards (every one given, same count), chunk i of
- * each of the same type, size and header (LPTH: size, kind, keys; LOCC: size); row y comes from
- * part y % nshards; w x h (0 x 0: shard 0's) is the bake's size every chunk must have. On success
- * out holds whole chunks (shard 0 of 1); names[s] name the files in messages ("b.x: 3 light
- * path/occlusion chunks, shard 0's a.x has 0: shards of different bakes ..."). 0, or -1 with the
- * reason in err and out untouched. */
-int qtool_extras_join(const qtool_extras *parts, const char *const *names, uint32_t nshards, uint32_t w, uint32_t h,
-                      qtool_extras *out, char *err, size_t errlen);
+/* Joins the shards' chunks: parts[s] is shard s of nshards, or NULL when that shard is absent (a
+ * partial merge); every given part has the same count, chunk i of each of the same type and header
+ * (LPTH: size, kind, keys; LOCC: size). Row y comes from part y % nshards, empty (no edges,
+ * occlusion 0) when that part is absent. w x h (0 x 0: the first part's) is the bake's size every
+ * chunk must have. out gets the joined chunks with shard 0 of 1 (the caller sets the shard of a
+ * partial join); names[s] name the files in messages ("b.x: 3 light path/occlusion chunks, a.x has
+ * 0: shards of different bakes ..."). 0, or -1 with the reason in err and out untouched. */
+int qtool_extras_join(const qtool_extras *const *parts, const char *const *names, uint32_t nshards, uint32_t w,
+                      uint32_t h, qtool_extras *out, char *err, size_t errlen);
 
 #endif

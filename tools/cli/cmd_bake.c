@@ -675,20 +675,28 @@ static int file_exists(const char *p)
     return access(p, F_OK) == 0;
 }
 
-/* The unshadowed maps from every shard's SUMS.u (all or none: a bake writes them for every shard)
- * and the light paths and lamp occlusion from shard 0's SUMS.x, into x. seen[s] - 1 is the input
- * of shard s. 0, or -1 with a message naming the file. */
+/* The unshadowed maps from the given shards' SUMS.u (all or none: a bake writes them for every
+ * shard) and their light paths and lamp occlusion joined from every SUMS.x, into x. seen[s] - 1 is the
+ * input of shard s, 0 when absent (a partial merge). partial_out (a partial merge's --sums, NULL
+ * otherwise): instead of projecting, the unshadowed partial sums and the joined extras are written
+ * beside it (.u, .x) as shard total->shard of total->nshards. 0, or -1 with a message naming the file. */
 static int merge_extras(char **in, const int *seen, uint32_t nsh, const qtool_bake_sums *total, int lsq,
-                        qtool_gen_maps *mu, qtool_extras *xx, extras *x)
+                        const char *partial_out, qtool_gen_maps *mu, qtool_extras *xx, extras *x)
 {
     char name[4200], err[1200];
-    uint32_t have = 0;
+    uint32_t have = 0, given = 0, first = nsh;
     for (uint32_t s = 0; s < nsh; ++s) {
+        if (!seen[s])
+            continue;
+        first = first < s ? first : s;
+        given++;
         side_name(name, sizeof name, in[seen[s] - 1], "u");
         have += file_exists(name) ? 1u : 0u;
     }
-    if (have != 0 && have != nsh) {
+    if (have != 0 && have != given) {
         for (uint32_t s = 0; s < nsh; ++s) {
+            if (!seen[s])
+                continue;
             side_name(name, sizeof name, in[seen[s] - 1], "u");
             if (!file_exists(name)) {
                 fprintf(stderr, "qibl: merge: %s is missing (the unshadowed sums of shard %u/%u; %u other shard%s "
@@ -700,6 +708,8 @@ static int merge_extras(char **in, const int *seen, uint32_t nsh, const qtool_ba
     qtool_bake_sums tu = {0}, part;
     int rc = -1;
     for (uint32_t s = 0; have && s < nsh; ++s) {
+        if (!seen[s])
+            continue;
         side_name(name, sizeof name, in[seen[s] - 1], "u");
         if (qtool_bake_sums_read(name, &part, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
@@ -713,7 +723,7 @@ static int merge_extras(char **in, const int *seen, uint32_t nsh, const qtool_ba
             qtool_bake_sums_free(&part);
             goto done;
         }
-        if (s == 0) {
+        if (s == first) {
             tu = part;
             continue;
         }
@@ -724,16 +734,18 @@ static int merge_extras(char **in, const int *seen, uint32_t nsh, const qtool_ba
         }
         qtool_bake_sums_free(&part);
     }
-    if (have) {
+    if (have && !partial_out) {
         if (qtool_bake_coeffs(&tu, tu.k, lsq ? QTOOL_PROJ_LSQ : QTOOL_PROJ_QUADRATURE, mu) != 0) {
             fprintf(stderr, "qibl: merge: cannot project the unshadowed sums (too few directions or no memory)\n");
             goto done;
         }
         x->mu = mu;
     }
-    /* every shard's extras (its rows of the light paths and lamp occlusion): all or none */
+    /* every given shard's extras (its rows of the light paths and lamp occlusion): all or none */
     uint32_t hx = 0;
     for (uint32_t s = 0; s < nsh; ++s) {
+        if (!seen[s])
+            continue;
         side_name(name, sizeof name, in[seen[s] - 1], "x");
         hx += file_exists(name) ? 1u : 0u;
     }
@@ -741,8 +753,10 @@ static int merge_extras(char **in, const int *seen, uint32_t nsh, const qtool_ba
         fprintf(stderr, "qibl: merge: light paths (.x files) without the unshadowed sums (.u files)\n");
         goto done;
     }
-    if (hx != 0 && hx != nsh) {
+    if (hx != 0 && hx != given) {
         for (uint32_t s = 0; s < nsh; ++s) {
+            if (!seen[s])
+                continue;
             side_name(name, sizeof name, in[seen[s] - 1], "x");
             if (!file_exists(name)) {
                 fprintf(stderr, "qibl: merge: %s is missing (the light paths and lamp occlusion of shard %u/%u; %u other "
@@ -753,11 +767,14 @@ static int merge_extras(char **in, const int *seen, uint32_t nsh, const qtool_ba
     }
     if (hx) {
         qtool_extras *parts = calloc(nsh, sizeof *parts);
+        const qtool_extras **byshard = calloc(nsh, sizeof *byshard);
         char **names = calloc(nsh, sizeof *names);
-        int bad = !parts || !names;
+        int bad = !parts || !names || !byshard;
         if (bad)
             fprintf(stderr, "qibl: merge: out of memory\n");
         for (uint32_t s = 0; !bad && s < nsh; ++s) {
+            if (!seen[s])
+                continue;
             side_name(name, sizeof name, in[seen[s] - 1], "x");
             names[s] = malloc(strlen(name) + 1);
             if (!names[s]) {
@@ -766,37 +783,21 @@ static int merge_extras(char **in, const int *seen, uint32_t nsh, const qtool_ba
             } else if (strcpy(names[s], name), qtool_extras_read(name, &parts[s], err, sizeof err) != 0) {
                 fprintf(stderr, "qibl: %s\n", err);
                 bad = 1;
+            } else {
+                byshard[s] = &parts[s];
             }
         }
-        if (!bad && qtool_extras_join(parts, (const char *const *)names, nsh, total->w, total->h, xx, err, sizeof err) != 0) {
+        if (!bad && qtool_extras_join(byshard, (const char *const *)names, nsh, total->w, total->h, xx, err,
+                                      sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
             bad = 1;
         }
         for (uint32_t s = 0; parts && names && s < nsh; ++s)
             qtool_extras_free(&parts[s]), free(names[s]);
-        free(parts), free(names);
+        free(parts), free(names), free(byshard);
         if (bad)
             goto done;
         for (uint32_t i = 0; i < xx->count; ++i) {
-            /* the chunks must be of this bake's size: the side files of another bake would make an
-             * asset whose path or occlusion no relight can use */
-            uint32_t cw = 0, chh = 0;
-            if (xx->type[i] == QIBL_CHUNK_LPTH) {
-                qibl_lightpath_t lp;
-                if (qibl_lightpath_parse(xx->data[i], xx->size[i], &lp) == QIBL_OK)
-                    cw = lp.width, chh = lp.height;
-            } else {
-                qibl_lampocc_t lo;
-                if (qibl_lightpath_occl_parse(xx->data[i], xx->size[i], &lo) == QIBL_OK)
-                    cw = lo.width, chh = lo.height;
-            }
-            if (cw != total->w || chh != total->h) {
-                side_name(name, sizeof name, in[seen[0] - 1], "x");
-                fprintf(stderr, "qibl: %s: chunk %u (%s) is for a %u x %u bake, the shards are %u x %u (the side file "
-                        "of another bake)\n", name, i, xx->type[i] == QIBL_CHUNK_LPTH ? "LPTH" : "LOCC", cw, chh,
-                        total->w, total->h);
-                goto done;
-            }
             if (xx->type[i] == QIBL_CHUNK_LOCC && !x->locc)
                 x->locc = xx->data[i], x->locc_n = xx->size[i];
             else if (xx->type[i] == QIBL_CHUNK_LPTH && x->npaths < 8)
@@ -805,6 +806,29 @@ static int merge_extras(char **in, const int *seen, uint32_t nsh, const qtool_ba
                 fprintf(stderr, "qibl: merge: more than 8 light paths or two lamp occlusions\n");
                 goto done;
             }
+        }
+    }
+    if (partial_out) { /* a partial sum: its side files as one shard of the coarser split */
+        char side[4200];
+        side_name(side, sizeof side, partial_out, "u");
+        if (have) {
+            tu.shard = total->shard, tu.nshards = total->nshards;
+            if (qtool_bake_sums_write(&tu, side, err, sizeof err) != 0) {
+                fprintf(stderr, "qibl: %s\n", err);
+                goto done;
+            }
+        } else {
+            (void)unlink(side); /* a stale one must not reach the next merge */
+        }
+        side_name(side, sizeof side, partial_out, "x");
+        if (hx) {
+            xx->shard = total->shard, xx->nshards = total->nshards;
+            if (qtool_extras_write(xx, side, err, sizeof err) != 0) {
+                fprintf(stderr, "qibl: %s\n", err);
+                goto done;
+            }
+        } else {
+            (void)unlink(side);
         }
     }
     rc = 0;
@@ -904,24 +928,59 @@ int qcli_cmd_merge(int argc, char **argv)
         seen[part.shard] = i + 1;
         qtool_bake_sums_free(&part);
     }
-    for (uint32_t s = 0; s < total.nshards; ++s)
-        if (!seen[s]) {
-            fprintf(stderr, "qibl: merge: shard %u/%u is missing\n", s, total.nshards);
+    uint32_t nsh = total.nshards, given = 0, first = nsh;
+    for (uint32_t s = 0; s < nsh; ++s)
+        if (seen[s])
+            given++, first = first < s ? first : s;
+    /* A partial set (tree merges): the shards I, I + M, I + 2M, ... of N (M dividing N) hold exactly the
+     * direction blocks and rows of shard I of M, so their sum is written as that shard (--sums only). */
+    uint32_t newn = 1, news = 0;
+    if (given < nsh) {
+        uint32_t m = nsh % given == 0 ? nsh / given : 0;
+        for (uint32_t s = 0; m && s < nsh; ++s)
+            if (!seen[s] != (s % m != first % m))
+                m = 0;
+        if (out || !sums_out) {
+            for (uint32_t s = 0; s < nsh; ++s)
+                if (!seen[s]) {
+                    fprintf(stderr, "qibl: merge: shard %u/%u is missing (%s)\n", s, nsh,
+                            out ? "an asset needs every shard; a partial merge writes --sums only"
+                                : "a partial merge needs --sums OUT");
+                    goto done;
+                }
+        }
+        if (!m) {
+            char list[200] = "";
+            size_t at = 0;
+            for (uint32_t s = 0; s < nsh && at < sizeof list - 16; ++s)
+                if (seen[s])
+                    at += (size_t)snprintf(list + at, sizeof list - at, "%s%u", at ? ", " : "", s);
+            fprintf(stderr, "qibl: merge: shards %s%s of %u are not one shard of a coarser split: a partial merge takes "
+                    "the shards I, I+M, I+2M, ... of N for an M dividing N (e.g. 0/4 and 2/4 make 0/2)\n", list,
+                    at >= sizeof list - 16 ? ", ..." : "", nsh);
             goto done;
         }
+        newn = m, news = first % m;
+    }
     if (k > (long)total.k) {
         rc = qcli_usage_error("merge: --k %ld is above the shards' k = %u (bake with --k %ld or more)", k, total.k,
                                   k);
         goto done;
     }
-    uint32_t nsh = total.nshards;
-    total.shard = 0, total.nshards = 1;
+    total.shard = news, total.nshards = newn;
     if (sums_out && qtool_bake_sums_write(&total, sums_out, err, sizeof err) != 0) {
         fprintf(stderr, "qibl: %s\n", err);
         goto done;
     }
-    if (merge_extras(in, seen, nsh, &total, lsq, &mu, &xx, &x) != 0)
+    if (merge_extras(in, seen, nsh, &total, lsq, sums_out && !out ? sums_out : NULL, &mu, &xx, &x) != 0) {
+        if (sums_out && !out)
+            (void)unlink(sums_out); /* nothing half-done: the sums without their side files would merge wrongly */
         goto done;
+    }
+    if (sums_out && !out)
+        printf(newn == 1 ? "wrote %s: the total sums (shard %u/%u, %u input%s)\n"
+                         : "wrote %s: partial sums of shard %u/%u (%u input%s)\n", sums_out, news, newn, given,
+               given == 1 ? "" : "s");
     rc = out ? finish_asset(&total, k ? (uint32_t)k : (total.k < 16 ? total.k : 16), (uint32_t)lut,
                             lsq ? QTOOL_PROJ_LSQ : QTOOL_PROJ_QUADRATURE, layout, out, &x)
              : 0;
