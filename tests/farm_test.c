@@ -221,6 +221,38 @@ static void test_tree_merge(void **state)
     assert_int_equal(access(at("bad.qibl"), F_OK), -1);
 }
 
+/* --manifest: every shard's files named (side files under other names), I/N checked per line */
+static void test_manifest(void **state)
+{
+    (void)state;
+    need_qibl();
+    assert_int_equal(run("bake", FARM_ARGS, "-o", at("whole.qibl"), NULL), 0);
+    shard(0, 2, "s0");
+    shard(1, 2, "s1");
+    assert_int_equal(rename(at("s1.u"), at("unshadowed1")), 0);
+    assert_int_equal(rename(at("s1.x"), at("extras1")), 0);
+    FILE *f = fopen(at("m.txt"), "w");
+    assert_non_null(f);
+    fprintf(f, "# the farm's shards\nshard 1/2 %s %s %s\n\nshard 0/2 %s\n", at("s1"), at("unshadowed1"),
+            at("extras1"), at("s0"));
+    fclose(f);
+    assert_int_equal(run("merge", "-o", at("m.qibl"), "--manifest", at("m.txt"), NULL), 0);
+    file_eq(at("whole.qibl"), at("m.qibl"));
+    f = fopen(at("bad.txt"), "w");
+    assert_non_null(f);
+    fprintf(f, "shard 0/2 %s\nshard 0/2 %s\n", at("s1"), at("s0"));
+    fclose(f);
+    assert_int_equal(run("merge", "-o", at("b.qibl"), "--manifest", at("bad.txt"), NULL), 1);
+    assert_true(says(errlog, "the manifest names it shard 0/2, the file is shard 1/2"));
+    f = fopen(at("bad.txt"), "w");
+    assert_non_null(f);
+    fprintf(f, "shard 0/2\n");
+    fclose(f);
+    assert_int_equal(run("merge", "-o", at("b.qibl"), "--manifest", at("bad.txt"), NULL), 1);
+    assert_true(says(errlog, "bad.txt:1: not \"shard I/N SUMS"));
+    assert_int_equal(access(at("b.qibl"), F_OK), -1);
+}
+
 /* the thread count "on N threads" of a bake's summary line */
 static int bake_threads(void)
 {
@@ -319,6 +351,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_shard_without_path_refused, setup, teardown),
         cmocka_unit_test_setup_teardown(test_extras_v1_refused, setup, teardown),
         cmocka_unit_test_setup_teardown(test_tree_merge, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_manifest, setup, teardown),
         cmocka_unit_test_setup_teardown(test_threads_from_allocation, setup, teardown),
         cmocka_unit_test_setup_teardown(test_progress_lines, setup, teardown),
         cmocka_unit_test_setup_teardown(test_usage_lines, setup, teardown),

@@ -672,7 +672,81 @@ int qcli_cmd_bake(int argc, char **argv)
 
 static int file_exists(const char *p)
 {
-    return access(p, F_OK) == 0;
+    return *p && access(p, F_OK) == 0;
+}
+
+/* input i's side file: the one its manifest line names (side[i], "" for none), else SUMS.ext */
+static void side_of(char *buf, size_t n, char *const *in, char *const *side, int i, const char *ext)
+{
+    if (side && side[i])
+        snprintf(buf, n, "%s", side[i]);
+    else
+        side_name(buf, n, in[i], ext);
+}
+
+/* A manifest (qibl merge --manifest): one line per shard, "shard I/N SUMS [SUMS.u [SUMS.x]]" ("-"
+ * for a side file the shard does not have; blank lines and lines from '#' skipped; names without
+ * blanks). At most QCLI_MANIFEST_MAX_BYTES and QTOOL_BAKE_MAX_SHARDS lines, checked before use. The
+ * entries are appended to in/side_u/side_x/want (want[i] = I * 65536 + N, -1 for a plain argument),
+ * pointing into *buf (kept until the merge ends). 0, or -1 after a message naming the line. */
+#define QCLI_MANIFEST_MAX_BYTES ((size_t)16 << 20)
+static int read_manifest(const char *path, uint8_t **buf, char **in, char **side_u, char **side_x, long *want, int *nin,
+                         int cap)
+{
+    static const qtool_io_kind kind = {"a shard manifest", 1, QCLI_MANIFEST_MAX_BYTES, 0, NULL};
+    char err[1200];
+    size_t n;
+    if (qtool_io_load(path, &kind, buf, &n, err, sizeof err) != 0) {
+        fprintf(stderr, "qibl: %s\n", err);
+        return -1;
+    }
+    uint8_t *grown = realloc(*buf, n + 1);
+    if (!grown) {
+        fprintf(stderr, "qibl: %s: out of memory\n", path);
+        return -1;
+    }
+    *buf = grown;
+    char *t = (char *)grown;
+    t[n] = '\0';
+    if (strlen(t) != n) {
+        fprintf(stderr, "qibl: %s: a NUL byte: not a text manifest\n", path);
+        return -1;
+    }
+    int line = 0, shards = 0;
+    for (char *l = t, *next; l; l = next) {
+        next = strchr(l, '\n');
+        if (next)
+            *next++ = '\0';
+        ++line;
+        char *tok[6];
+        int nt = 0;
+        for (char *w = strtok(l, " \t\r"); w && nt < 6; w = strtok(NULL, " \t\r"))
+            tok[nt++] = w;
+        if (nt == 0 || tok[0][0] == '#')
+            continue;
+        long i, nn;
+        char tail;
+        if (nt < 3 || nt > 5 || strcmp(tok[0], "shard") != 0 || sscanf(tok[1], "%ld/%ld%c", &i, &nn, &tail) != 2 ||
+            nn < 1 || nn > (long)QTOOL_BAKE_MAX_SHARDS || i < 0 || i >= nn) {
+            fprintf(stderr, "qibl: %s:%d: not \"shard I/N SUMS [SUMS.u [SUMS.x]]\" with 0 <= I < N <= %u\n", path, line,
+                    QTOOL_BAKE_MAX_SHARDS);
+            return -1;
+        }
+        if (++shards > (int)QTOOL_BAKE_MAX_SHARDS || *nin >= cap) {
+            fprintf(stderr, "qibl: %s:%d: more than %u shards\n", path, line, QTOOL_BAKE_MAX_SHARDS);
+            return -1;
+        }
+        in[*nin] = tok[2];
+        side_u[*nin] = nt > 3 ? (strcmp(tok[3], "-") == 0 ? (char *)"" : tok[3]) : NULL;
+        side_x[*nin] = nt > 4 ? (strcmp(tok[4], "-") == 0 ? (char *)"" : tok[4]) : NULL;
+        want[*nin] = i * 65536 + nn;
+        ++*nin;
+    }
+    if (shards == 0) {
+        fprintf(stderr, "qibl: %s: no shard line\n", path);
+        return -1;
+    }
+    return 0;
 }
 
 /* The unshadowed maps from the given shards' SUMS.u (all or none: a bake writes them for every
@@ -680,8 +754,9 @@ static int file_exists(const char *p)
  * input of shard s, 0 when absent (a partial merge). partial_out (a partial merge's --sums, NULL
  * otherwise): instead of projecting, the unshadowed partial sums and the joined extras are written
  * beside it (.u, .x) as shard total->shard of total->nshards. 0, or -1 with a message naming the file. */
-static int merge_extras(char **in, const int *seen, uint32_t nsh, const qtool_bake_sums *total, int lsq,
-                        const char *partial_out, qtool_gen_maps *mu, qtool_extras *xx, extras *x)
+static int merge_extras(char **in, char *const *side_u, char *const *side_x, const int *seen, uint32_t nsh,
+                        const qtool_bake_sums *total, int lsq, const char *partial_out, qtool_gen_maps *mu,
+                        qtool_extras *xx, extras *x)
 {
     char name[4200], err[1200];
     uint32_t have = 0, given = 0, first = nsh;
@@ -690,14 +765,14 @@ static int merge_extras(char **in, const int *seen, uint32_t nsh, const qtool_ba
             continue;
         first = first < s ? first : s;
         given++;
-        side_name(name, sizeof name, in[seen[s] - 1], "u");
+        side_of(name, sizeof name, in, side_u, seen[s] - 1, "u");
         have += file_exists(name) ? 1u : 0u;
     }
     if (have != 0 && have != given) {
         for (uint32_t s = 0; s < nsh; ++s) {
             if (!seen[s])
                 continue;
-            side_name(name, sizeof name, in[seen[s] - 1], "u");
+            side_of(name, sizeof name, in, side_u, seen[s] - 1, "u");
             if (!file_exists(name)) {
                 fprintf(stderr, "qibl: merge: %s is missing (the unshadowed sums of shard %u/%u; %u other shard%s "
                         "have theirs)\n", name, s, nsh, have, have == 1 ? "" : "s");
@@ -710,7 +785,7 @@ static int merge_extras(char **in, const int *seen, uint32_t nsh, const qtool_ba
     for (uint32_t s = 0; have && s < nsh; ++s) {
         if (!seen[s])
             continue;
-        side_name(name, sizeof name, in[seen[s] - 1], "u");
+        side_of(name, sizeof name, in, side_u, seen[s] - 1, "u");
         if (qtool_bake_sums_read(name, &part, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
             goto done;
@@ -746,7 +821,7 @@ static int merge_extras(char **in, const int *seen, uint32_t nsh, const qtool_ba
     for (uint32_t s = 0; s < nsh; ++s) {
         if (!seen[s])
             continue;
-        side_name(name, sizeof name, in[seen[s] - 1], "x");
+        side_of(name, sizeof name, in, side_x, seen[s] - 1, "x");
         hx += file_exists(name) ? 1u : 0u;
     }
     if (hx != 0 && !have) {
@@ -757,7 +832,7 @@ static int merge_extras(char **in, const int *seen, uint32_t nsh, const qtool_ba
         for (uint32_t s = 0; s < nsh; ++s) {
             if (!seen[s])
                 continue;
-            side_name(name, sizeof name, in[seen[s] - 1], "x");
+            side_of(name, sizeof name, in, side_x, seen[s] - 1, "x");
             if (!file_exists(name)) {
                 fprintf(stderr, "qibl: merge: %s is missing (the light paths and lamp occlusion of shard %u/%u; %u other "
                         "shard%s have theirs)\n", name, s, nsh, hx, hx == 1 ? "" : "s");
@@ -775,7 +850,7 @@ static int merge_extras(char **in, const int *seen, uint32_t nsh, const qtool_ba
         for (uint32_t s = 0; !bad && s < nsh; ++s) {
             if (!seen[s])
                 continue;
-            side_name(name, sizeof name, in[seen[s] - 1], "x");
+            side_of(name, sizeof name, in, side_x, seen[s] - 1, "x");
             names[s] = malloc(strlen(name) + 1);
             if (!names[s]) {
                 fprintf(stderr, "qibl: merge: out of memory\n");
@@ -839,7 +914,7 @@ done:
 
 int qcli_cmd_merge(int argc, char **argv)
 {
-    const char *out = NULL, *sums_out = NULL;
+    const char *out = NULL, *sums_out = NULL, *manifest = NULL;
     long k = 0, lut = 32;
     int lsq = 0, nin = 0, r;
     uint32_t layout = QIBL_SHMAPS_PLANAR;
@@ -852,6 +927,8 @@ int qcli_cmd_merge(int argc, char **argv)
             out = argv[++i];
         else if (strcmp(a, "--sums") == 0 && i + 1 < argc)
             sums_out = argv[++i];
+        else if (strcmp(a, "--manifest") == 0 && i + 1 < argc)
+            manifest = argv[++i];
         else if (strcmp(a, "--k") == 0 && i + 1 < argc) {
             if (qcli_parse_int(argv[++i], 1, 25, &k) != 0) {
                 free(in);
@@ -876,13 +953,34 @@ int qcli_cmd_merge(int argc, char **argv)
             return qcli_usage_error("merge: unknown argument '%s' (see qibl help merge)", a);
         }
     }
-    if (nin == 0 || (!out && !sums_out)) {
+    if ((nin == 0 && !manifest) || (!out && !sums_out)) {
         free(in);
-        return qcli_usage_error("usage: qibl merge (-o ASSET | --sums OUT | both) [--k K] [--lut-size N] [--lsq] SUMS...");
+        return qcli_usage_error("usage: qibl merge (-o ASSET | --sums OUT | both) [--k K] [--lut-size N] [--lsq] "
+                                "(--manifest FILE | SUMS...)");
     }
     if (qcli_parse_only) { /* fuzz_cliopts: the options only */
         free(in);
         return 0;
+    }
+    /* the manifest's shards after the plain arguments, with their side files and I/N named */
+    int cap = nin + (int)QTOOL_BAKE_MAX_SHARDS;
+    char **all = malloc(sizeof(char *) * (size_t)cap), **side_u = calloc((size_t)cap, sizeof(char *)),
+         **side_x = calloc((size_t)cap, sizeof(char *));
+    long *want = malloc(sizeof(long) * (size_t)cap);
+    uint8_t *mbuf = NULL;
+    if (!all || !side_u || !side_x || !want) {
+        fprintf(stderr, "qibl: merge: out of memory\n");
+        free(all), free(side_u), free(side_x), free(want), free(in);
+        return 1;
+    }
+    memcpy(all, in, sizeof(char *) * (size_t)nin);
+    free(in);
+    in = all;
+    for (int i = 0; i < nin; ++i)
+        want[i] = -1;
+    if (manifest && read_manifest(manifest, &mbuf, in, side_u, side_x, want, &nin, cap) != 0) {
+        free(in), free(side_u), free(side_x), free(want), free(mbuf);
+        return 1;
     }
     qtool_bake_sums total = {0}, part;
     qtool_gen_maps mu = {0};
@@ -896,6 +994,12 @@ int qcli_cmd_merge(int argc, char **argv)
         /* every header is validated by the reader (shard < nshards <= QTOOL_BAKE_MAX_SHARDS) before use */
         if (qtool_bake_sums_read(in[i], &part, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
+            goto done;
+        }
+        if (want[i] >= 0 && (part.shard != (uint32_t)(want[i] / 65536) || part.nshards != (uint32_t)(want[i] % 65536))) {
+            fprintf(stderr, "qibl: %s: the manifest names it shard %ld/%ld, the file is shard %u/%u\n", in[i],
+                    want[i] / 65536, want[i] % 65536, part.shard, part.nshards);
+            qtool_bake_sums_free(&part);
             goto done;
         }
         if (i == 0) {
@@ -972,7 +1076,7 @@ int qcli_cmd_merge(int argc, char **argv)
         fprintf(stderr, "qibl: %s\n", err);
         goto done;
     }
-    if (merge_extras(in, seen, nsh, &total, lsq, sums_out && !out ? sums_out : NULL, &mu, &xx, &x) != 0) {
+    if (merge_extras(in, side_u, side_x, seen, nsh, &total, lsq, sums_out && !out ? sums_out : NULL, &mu, &xx, &x) != 0) {
         if (sums_out && !out)
             (void)unlink(sums_out); /* nothing half-done: the sums without their side files would merge wrongly */
         goto done;
@@ -985,7 +1089,7 @@ int qcli_cmd_merge(int argc, char **argv)
                             lsq ? QTOOL_PROJ_LSQ : QTOOL_PROJ_QUADRATURE, layout, out, &x)
              : 0;
 done:
-    free(seen), free(in);
+    free(seen), free(in), free(side_u), free(side_x), free(want), free(mbuf);
     qtool_bake_sums_free(&total);
     qtool_gen_free(&mu);
     qtool_extras_free(&xx);

@@ -165,7 +165,7 @@ static const qcli_cmd commands[] = {
      qcli_cmd_bake},
     {"merge", "combine the partial sums of bake shards into an asset",
      "usage: qibl merge (-o ASSET | --sums OUT | both) [--k K] [--lut-size N] [--lsq]\n"
-     "                  [--layout planar|interleaved] SUMS...\n"
+     "                  [--layout planar|interleaved] [--manifest FILE] SUMS...\n"
      "  Adds the partial sums written by `qibl bake --shard I/N --sums FILE` (every shard exactly once,\n"
      "  same bake) and writes the asset as qibl bake would (byte-identical, with the unshadowed maps,\n"
      "  light paths and lamp occlusion joined from every SUMS.u / SUMS.x when the shards wrote them), and/or the\n"
@@ -174,6 +174,10 @@ static const qcli_cmd commands[] = {
      "  then against the first (split, size, k, directions, P map); sums that would overflow 64 bits, a\n"
      "  shard given twice or missing, and --k above the shards' k are refused by name; so are shards whose\n"
      "  light paths or lamp occlusion (SUMS.x) differ (one baked without the others' --sun-path).\n"
+     "  --manifest FILE: the shards named one per line, \"shard I/N SUMS [SUMS.u [SUMS.x]]\" ('-' for a\n"
+     "  side file the shard has not; '#' comments), each file's I/N checked against the line.\n"
+     "  A partial set (tree merges, --sums OUT without -o): shards I, I+M, I+2M, ... of N (M dividing N)\n"
+     "  are written as shard I/M with OUT.u and OUT.x, for a later merge; any other partial set is refused.\n"
      "  Exit status: 0 written, 1 refused or failed (named on stderr, nothing written), 2 bad arguments.\n",
      qcli_cmd_merge},
     {"check", "validate PNG/APNG, PFM, Radiance HDR and qibl asset files",

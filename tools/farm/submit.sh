@@ -27,7 +27,7 @@ mkdir -p "$work"
 work=$(cd "$work" && pwd)
 case $asset in /*) ;; *) asset=$(pwd)/$asset ;; esac
 
-# the manifest: every shard's files, named (merge takes the sums; the side files sit beside them)
+# the manifest: every shard's files, named (qibl merge --manifest reads it and checks each I/N)
 : > "$work/manifest.txt"
 for ((i = 0; i < n; ++i)); do
     echo "shard $i/$n $work/shard-$i.sums $work/shard-$i.sums.u $work/shard-$i.sums.x" >> "$work/manifest.txt"
@@ -44,7 +44,7 @@ JOB
 cat > "$work/merge.sbatch" <<JOB
 #!/usr/bin/env bash
 set -euo pipefail
-exec "$qibl" merge -o "$asset" \$(awk '{print \$3}' "$work/manifest.txt")
+exec "$qibl" merge -o "$asset" --manifest "$work/manifest.txt"
 JOB
 # shellcheck disable=SC2086 # SBATCH_ARGS is a list of options
 array=$(sbatch --parsable ${SBATCH_ARGS:-} --job-name=qibl-bake --array=0-$((n - 1)) --cpus-per-task="${CPUS:-1}" \
