@@ -211,6 +211,12 @@ static void test_tree_merge(void **state)
     assert_true(says(outlog, "the total sums"));
     assert_int_equal(run("merge", "-o", at("t.qibl"), at("t"), NULL), 0);
     file_eq(at("whole.qibl"), at("t.qibl"));
+    /* -o and --sums at once: the total sums carry their side files too (a later merge of them alone
+     * used to lose the unshadowed maps, light paths and occlusion) */
+    assert_int_equal(run("merge", "-o", at("both.qibl"), "--sums", at("t2"), at("a"), at("b"), NULL), 0);
+    file_eq(at("whole.qibl"), at("both.qibl"));
+    assert_int_equal(run("merge", "-o", at("t2.qibl"), at("t2"), NULL), 0);
+    file_eq(at("whole.qibl"), at("t2.qibl"));
     /* 0 and 1 of 4 are no shard of a split into 2 */
     assert_int_equal(run("merge", "--sums", at("bad"), at("s0"), at("s1"), NULL), 1);
     assert_true(says(errlog, "shards 0, 1 of 4 are not one shard of a coarser split"));

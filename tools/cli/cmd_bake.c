@@ -751,12 +751,13 @@ static int read_manifest(const char *path, uint8_t **buf, char **in, char **side
 
 /* The unshadowed maps from the given shards' SUMS.u (all or none: a bake writes them for every
  * shard) and their light paths and lamp occlusion joined from every SUMS.x, into x. seen[s] - 1 is the
- * input of shard s, 0 when absent (a partial merge). partial_out (a partial merge's --sums, NULL
- * otherwise): instead of projecting, the unshadowed partial sums and the joined extras are written
- * beside it (.u, .x) as shard total->shard of total->nshards. 0, or -1 with a message naming the file. */
+ * input of shard s, 0 when absent (a partial merge). partial_out (the merge's --sums, may be NULL): the
+ * unshadowed sums and the joined extras are also written beside it (.u, .x) as shard total->shard of
+ * total->nshards, so a later merge of it alone loses nothing; project: the unshadowed maps into mu
+ * (for an asset). 0, or -1 with a message naming the file. */
 static int merge_extras(char **in, char *const *side_u, char *const *side_x, const int *seen, uint32_t nsh,
-                        const qtool_bake_sums *total, int lsq, const char *partial_out, qtool_gen_maps *mu,
-                        qtool_extras *xx, extras *x)
+                        const qtool_bake_sums *total, int lsq, const char *partial_out, int project,
+                        qtool_gen_maps *mu, qtool_extras *xx, extras *x)
 {
     char name[4200], err[1200];
     uint32_t have = 0, given = 0, first = nsh;
@@ -809,7 +810,7 @@ static int merge_extras(char **in, char *const *side_u, char *const *side_x, con
         }
         qtool_bake_sums_free(&part);
     }
-    if (have && !partial_out) {
+    if (have && project) {
         if (qtool_bake_coeffs(&tu, tu.k, lsq ? QTOOL_PROJ_LSQ : QTOOL_PROJ_QUADRATURE, mu) != 0) {
             fprintf(stderr, "qibl: merge: cannot project the unshadowed sums (too few directions or no memory)\n");
             goto done;
@@ -1076,8 +1077,8 @@ int qcli_cmd_merge(int argc, char **argv)
         fprintf(stderr, "qibl: %s\n", err);
         goto done;
     }
-    if (merge_extras(in, side_u, side_x, seen, nsh, &total, lsq, sums_out && !out ? sums_out : NULL, &mu, &xx, &x) != 0) {
-        if (sums_out && !out)
+    if (merge_extras(in, side_u, side_x, seen, nsh, &total, lsq, sums_out, out != NULL, &mu, &xx, &x) != 0) {
+        if (sums_out)
             (void)unlink(sums_out); /* nothing half-done: the sums without their side files would merge wrongly */
         goto done;
     }
