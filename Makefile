@@ -86,7 +86,7 @@ LIBTOOLS := $(BUILD)/libqibl-tools.a
 QIBL := $(BUILD)/bin/qibl
 
 .PHONY: study gles all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan examples \
-        install check-install amalgamate check-amalgamate docs-memory
+        install check-install check-farm amalgamate check-amalgamate docs-memory
 .PHONY: baremetal baremetal-tables docs-size gba gba-tables
 .DEFAULT_GOAL := all
 
@@ -117,6 +117,7 @@ help:
 	@echo "make examples   build and run tools/examples/console_port, the integration example (docs/porting.md)"
 	@echo "make install    headers, the libraries, the CLI, qibl.pc and the CMake package into PREFIX (default /usr/local; DESTDIR honoured)"
 	@echo "make check-install  install to a temporary prefix and build the example through pkg-config and CMake"
+	@echo "make check-farm     a one-node Slurm cluster here: a bake as an array of 4 shards + merge == one bake"
 	@echo "make amalgamate the core as one qibl.h + one qibl.c in $(BUILD)/amalgamated (tools/scripts/amalgamate.sh)"
 	@echo "make check-amalgamate  that pair under the strict flags, freestanding for Cortex-M0/M4, with the goldens and the example"
 	@echo "make clean      remove $(BUILD)/ and out/"
@@ -460,6 +461,12 @@ install: $(LIBQIBL) $(LIBSOFT) $(QIBL) $(if $(HAVE_GLES),$(LIBGLES))
 # pkg-config and through CMake (add_subdirectory), qibl --version against version.h.
 check-install: $(QIBL) $(EXAMPLES)
 	@BUILD=$(BUILD) bash tools/scripts/check-install.sh
+
+# What CI runs: a one-node Slurm cluster on this machine (slurm-wlm + munge, configured in a temporary
+# directory), a bake as a job array of 4 shards plus the afterok merge, the asset byte for byte the
+# single-machine bake's; RESULT farm.shard_balance. Bounded waits (FARM_TIMEOUT, default 240 s).
+check-farm: $(QIBL)
+	@BUILD=$(BUILD) bash tools/farm/check.sh
 
 # The core as one qibl.h + one qibl.c (as SQLite ships), and its proof (CI runs check-amalgamate).
 amalgamate:

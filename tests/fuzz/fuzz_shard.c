@@ -8,8 +8,10 @@
  * Invariants checked (abort on violation): a decoded image re-encodes to exactly its bytes; an add
  * that succeeds equals the exact sum of every pair, an add of compatible sums fails exactly when a
  * sum overflows 64 bits, and a failing add changes nothing. The whole input (after the 5 bytes) also
- * goes to the extras-file decoder (bake/extras.h, the LPTH/LOCC beside shard 0's sums): it fails with
- * a message or re-encodes to exactly its bytes.
+ * goes to the extras-file decoder (bake/extras.h, version 2: each shard's rows of the LPTH/LOCC
+ * beside its sums): it fails with a message or re-encodes to exactly its bytes; a decoded file of a
+ * split into one shard goes through qtool_extras_join, which fails with a message or gives chunks
+ * the core's parsers accept, of the same count and types.
  */
 #include <stdint.h>
 #include <stdio.h>
@@ -19,6 +21,7 @@
 #include "bake/bake.h"
 #include "bake/extras.h"
 #include "qibl/asset.h"
+#include "qibl/lightpath.h"
 
 static void store32(uint8_t *p, uint32_t v)
 {
@@ -80,6 +83,27 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if (qtool_extras_encode(&x, &again, &m) != 0 || m != size || memcmp(again, data, size) != 0)
                 abort();
             free(again);
+            if (x.nshards == 1) {
+                qtool_extras j;
+                const char *names[1] = {"fuzz"};
+                const qtool_extras *one[1] = {&x};
+                err[0] = '\0';
+                if (qtool_extras_join(one, names, 1, 0, 0, &j, err, sizeof err) == 0) {
+                    if (j.count != x.count)
+                        abort();
+                    for (uint32_t i = 0; i < j.count; ++i) {
+                        qibl_lightpath_t lp;
+                        qibl_lampocc_t lo;
+                        if (j.type[i] != x.type[i] ||
+                            (j.type[i] == QIBL_CHUNK_LPTH ? qibl_lightpath_parse(j.data[i], j.size[i], &lp)
+                                                          : qibl_lightpath_occl_parse(j.data[i], j.size[i], &lo)) != QIBL_OK)
+                            abort();
+                    }
+                    qtool_extras_free(&j);
+                } else if (err[0] == '\0') {
+                    abort();
+                }
+            }
             qtool_extras_free(&x);
         } else if (err[0] == '\0') {
             abort();

@@ -38,7 +38,7 @@ typedef struct {
     qtool_pano_kind kind;
     double *dirs, *y; /* ndirs * 3, ndirs * 25 */
     qtool_bake_sums *out;
-    int progress;
+    int progress; /* 0 none, 1 bar, 2 lines */
     double t0;
     int unshadowed; /* 1: cosine x BRDF without the shadow test (SHMU) */
 } bake_job;
@@ -88,6 +88,14 @@ static void bar(void *ctx, uint32_t done, uint32_t rows)
     const bake_job *j = ctx;
     if (!j->progress)
         return;
+    if (j->progress == 2) { /* a farm's log: one line per percent, flushed (called under the pool's lock) */
+        if (done == rows || (uint64_t)done * 100 / rows != ((uint64_t)done - 1) * 100 / rows) {
+            fprintf(stderr, "progress: stage=%s done=%u total=%u fraction=%.4f\n",
+                    j->unshadowed ? "unshadowed" : "shadowed", done, rows, (double)done / rows);
+            fflush(stderr);
+        }
+        return;
+    }
     int n = (int)(40.0 * done / rows);
     char b[41];
     for (int i = 0; i < 40; ++i)
@@ -110,7 +118,7 @@ static int bake_run(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_
     out->pmap = malloc(np * 3 * sizeof(int32_t));
     out->acc = malloc(np * 3 * k * sizeof(int64_t));
     bake_job j = {s, w, h, k, ndirs, shard, nshards, kind, malloc(ndirs * 3 * sizeof(double)),
-                  malloc(ndirs * 25 * sizeof(double)), out, progress && isatty(2), 0, unshadowed};
+                  malloc(ndirs * 25 * sizeof(double)), out, progress == 2 ? 2 : progress && isatty(2), 0, unshadowed};
     if (!out->pmap || !out->acc || !j.dirs || !j.y) {
         free(j.dirs), free(j.y);
         qtool_bake_sums_free(out);
@@ -144,6 +152,13 @@ int qtool_bake_run_unshadowed_shard(const qtool_rt_scene *s, uint32_t w, uint32_
                                    qtool_bake_sums *out)
 {
     return bake_run(s, w, h, kind, ndirs, k, shard, nshards, threads, 0, 1, out);
+}
+
+int qtool_bake_run_progress(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t ndirs,
+                            uint32_t k, uint32_t shard, uint32_t nshards, int threads, int progress, int unshadowed,
+                            qtool_bake_sums *out)
+{
+    return bake_run(s, w, h, kind, ndirs, k, shard, nshards, threads, progress, unshadowed ? 1 : 0, out);
 }
 
 void qtool_bake_sums_free(qtool_bake_sums *s)

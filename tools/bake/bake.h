@@ -48,6 +48,12 @@ int qtool_bake_run_unshadowed(const qtool_rt_scene *s, uint32_t w, uint32_t h, q
 int qtool_bake_run_unshadowed_shard(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind,
                                    uint32_t ndirs, uint32_t k, uint32_t shard, uint32_t nshards, int threads,
                                    qtool_bake_sums *out);
+/* Either of the two (unshadowed 0 or 1) with progress 0 none, 1 a bar on stderr when it is a
+ * terminal, 2 lines for a farm's log: "progress: stage=shadowed|unshadowed done=D total=T
+ * fraction=F" (rows; one line per percent and the last, each flushed). 0 or -1. */
+int qtool_bake_run_progress(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t ndirs,
+                            uint32_t k, uint32_t shard, uint32_t nshards, int threads, int progress, int unshadowed,
+                            qtool_bake_sums *out);
 void qtool_bake_sums_free(qtool_bake_sums *s);
 
 /* Partial sums file, version 2 (all little-endian):

@@ -132,6 +132,7 @@ typedef struct {
     uint32_t *row_n;
     uint32_t clipped;
     int oom;
+    uint32_t shard, nshards; /* the rows y % nshards == shard; the others stay empty */
 } path_job;
 
 /* the truth's lighting condition (rt.c render_row): facing, not shadowed, not at the lamp */
@@ -218,17 +219,34 @@ static void path_row(void *ctx, uint32_t y)
         __atomic_fetch_add(&j->clipped, clipped, __ATOMIC_RELAXED);
 }
 
+/* the i-th row this shard owns */
+static void path_row_shard(void *ctx, uint32_t i)
+{
+    path_job *j = ctx;
+    path_row(ctx, j->shard + i * j->nshards);
+}
+
 int qtool_bake_path_chunk(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const qtool_bake_path *p,
                          uint32_t steps, uint32_t nkeys, int threads, uint8_t **out, size_t *n, double stats[2])
 {
-    if (w < 1 || h < 1 || steps < 1 || steps > 65535 || nkeys < 2 || nkeys > QIBL_LIGHTPATH_MAX_KEYS)
+    return qtool_bake_path_chunk_shard(s, w, h, kind, p, steps, nkeys, 0, 1, threads, out, n, stats);
+}
+
+int qtool_bake_path_chunk_shard(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind,
+                               const qtool_bake_path *p, uint32_t steps, uint32_t nkeys, uint32_t shard, uint32_t nshards,
+                               int threads, uint8_t **out, size_t *n, double stats[2])
+{
+    if (w < 1 || h < 1 || steps < 1 || steps > 65535 || nkeys < 2 || nkeys > QIBL_LIGHTPATH_MAX_KEYS || nshards < 1 ||
+        shard >= nshards)
         return -1;
     size_t np = (size_t)w * h;
-    path_job j = {s, p, w, h, steps, kind, malloc(np), calloc(h, sizeof(uint16_t *)), calloc(h, sizeof(uint32_t)), 0, 0};
+    path_job j = {s, p, w, h, steps, kind, calloc(np, 1), calloc(h, sizeof(uint16_t *)), calloc(h, sizeof(uint32_t)), 0, 0,
+                  shard, nshards};
     int rc = -1;
     if (!j.counts || !j.row_edges || !j.row_n)
         goto done;
-    qtool_rt_parallel(threads, h, path_row, &j, NULL);
+    if (shard < h) /* rows of other shards stay empty: counts 0, no edges */
+        qtool_rt_parallel(threads, (h - shard + nshards - 1) / nshards, path_row_shard, &j, NULL);
     if (j.oom)
         goto done;
     uint64_t total = 0;
@@ -269,7 +287,8 @@ int qtool_bake_path_chunk(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool
         goto done;
     size_t at = 0;
     for (uint32_t y = 0; y < h; ++y) {
-        memcpy(all + at, j.row_edges[y], sizeof(uint16_t) * j.row_n[y]);
+        if (j.row_n[y])
+            memcpy(all + at, j.row_edges[y], sizeof(uint16_t) * j.row_n[y]);
         at += j.row_n[y];
     }
     uint8_t *b = NULL;
@@ -590,6 +609,7 @@ typedef struct {
     qtool_pano_kind kind;
     const double *box;
     uint8_t *out;
+    uint32_t shard, nshards;
 } occ_job;
 
 /* the i-th of n lamp positions in the box: a 3-D Halton set (bases 2, 3, 5), the same for every pixel */
@@ -634,13 +654,29 @@ static void occ_row(void *ctx, uint32_t y)
     }
 }
 
+static void occ_row_shard(void *ctx, uint32_t i)
+{
+    const occ_job *j = ctx;
+    occ_row(ctx, j->shard + i * j->nshards);
+}
+
 int qtool_bake_lamp_occlusion(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const double box[6],
                              uint32_t nsamples, int threads, uint8_t *out)
 {
-    if (w < 1 || h < 1 || nsamples < 1 || !box || !out)
+    return qtool_bake_lamp_occlusion_shard(s, w, h, kind, box, nsamples, 0, 1, threads, out);
+}
+
+int qtool_bake_lamp_occlusion_shard(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind,
+                                   const double box[6], uint32_t nsamples, uint32_t shard, uint32_t nshards, int threads,
+                                   uint8_t *out)
+{
+    if (w < 1 || h < 1 || nsamples < 1 || !box || !out || nshards < 1 || shard >= nshards)
         return -1;
-    occ_job j = {s, w, h, nsamples, kind, box, out};
-    return qtool_rt_parallel(threads, h, occ_row, &j, NULL);
+    occ_job j = {s, w, h, nsamples, kind, box, out, shard, nshards};
+    memset(out, 0, (size_t)w * h); /* rows of other shards: 0 */
+    if (shard >= h)
+        return 0;
+    return qtool_rt_parallel(threads, (h - shard + nshards - 1) / nshards, occ_row_shard, &j, NULL);
 }
 
 int qtool_bake_locc_payload(uint32_t w, uint32_t h, const uint8_t *values, uint8_t **out, size_t *n)

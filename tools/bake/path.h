@@ -46,6 +46,13 @@ void qtool_bake_path_light(const qtool_bake_path *p, double t, qtool_rt_light *o
 int qtool_bake_path_chunk(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const qtool_bake_path *p,
                          uint32_t steps, uint32_t nkeys, int threads, uint8_t **out, size_t *n, double stats[2]);
 
+/* The same for shard `shard` of nshards: only the rows y % nshards == shard are baked, the others
+ * left empty (0 edges); qtool_extras_join puts the shards' rows together, byte for byte the
+ * whole chunk. */
+int qtool_bake_path_chunk_shard(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind,
+                               const qtool_bake_path *p, uint32_t steps, uint32_t nkeys, uint32_t shard, uint32_t nshards,
+                               int threads, uint8_t **out, size_t *n, double stats[2]);
+
 /* The LPTH payload from plain arrays (keys: nkeys t values and 3 nkeys Q16.16 coordinates; counts
  * w h bytes; edges nedges values, pixel after pixel); the row index is computed from the counts.
  * Checks nothing beyond memory (tests build payloads the core must reject). 0 or -1 (no memory). */
@@ -83,6 +90,11 @@ int qtool_bake_relight_env8(const uint8_t *asset, size_t n, const qibl_shlight_t
  * shadowed (also sky pixels and pixels no sample faces). out: w h bytes, row-major. 0 or -1. */
 int qtool_bake_lamp_occlusion(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const double box[6],
                              uint32_t nsamples, int threads, uint8_t *out);
+
+/* The same for shard `shard` of nshards: the rows y % nshards == shard; the others are set to 0. */
+int qtool_bake_lamp_occlusion_shard(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind,
+                                   const double box[6], uint32_t nsamples, uint32_t shard, uint32_t nshards, int threads,
+                                   uint8_t *out);
 
 /* The LOCC payload of w h values (*out malloc'ed). 0 or -1 (no memory). */
 int qtool_bake_locc_payload(uint32_t w, uint32_t h, const uint8_t *values, uint8_t **out, size_t *n);

@@ -87,6 +87,11 @@ typedef struct qcli_scene {
     uint32_t w, h;
 } qcli_scene;
 void qcli_scene_defaults(qcli_scene *o);
+/* The default --threads (threads.c): the CPUs of the process's affinity mask (a job's allocation),
+ * lowered to SLURM_CPUS_PER_TASK when that is set and smaller; 1..256. _from is the rule on given
+ * figures (online CPUs, affinity count or 0 if unknown, the variable or NULL), for tests. */
+int qcli_default_threads(void);
+int qcli_threads_from(long online, long affinity, const char *slurm);
 int qcli_scene_opt(int argc, char **argv, int *i, qcli_scene *o);
 struct qtool_rt_scene;
 /* triangles of a --scene mesh (render, bake, demo), checked before the mesh is allocated: the mesh

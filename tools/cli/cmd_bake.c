@@ -81,8 +81,7 @@ void qcli_scene_defaults(qcli_scene *o)
 {
     memset(o, 0, sizeof *o);
     o->w = 1024, o->h = 256, o->kind = QTOOL_PANO_CYLINDRICAL;
-    long n = sysconf(_SC_NPROCESSORS_ONLN);
-    o->threads = n > 0 && n < 256 ? (int)n : 1;
+    o->threads = qcli_default_threads(); /* the job's CPUs (affinity, SLURM_CPUS_PER_TASK), not the machine's */
 }
 
 /* Loads the scene: built-in when o->scene is NULL or "builtin", else a PLY (by its first line) or
@@ -387,6 +386,13 @@ static int finish_asset(const qtool_bake_sums *sums, uint32_t k, uint32_t lut, q
     return 0;
 }
 
+/* --progress=lines for a stage without rows (a light path, the lamp occlusion): done of total */
+static void progress_line(const char *stage, uint32_t done, uint32_t total)
+{
+    fprintf(stderr, "progress: stage=%s done=%u total=%u fraction=%.4f\n", stage, done, total, (double)done / total);
+    fflush(stderr);
+}
+
 int qcli_cmd_bake(int argc, char **argv)
 {
     qcli_scene so;
@@ -395,7 +401,7 @@ int qcli_cmd_bake(int argc, char **argv)
     long k = 16, lut = 32, ndirs = 512, shard = 0, nshards = 1, uk = 9, steps = 64, lamp_samples = 64;
     double budget = 0, lamp_box[6];
     int has_box = 0;
-    int lsq = 0, quiet = 0, npaths = 0;
+    int lsq = 0, quiet = 0, npaths = 0, progress = -1; /* -1: bar on a terminal, lines elsewhere */
     uint32_t layout = QIBL_SHMAPS_PLANAR;
     qtool_bake_path paths[8];
     char perr[400];
@@ -461,12 +467,21 @@ int qcli_cmd_bake(int argc, char **argv)
             lsq = 1;
         else if (strcmp(a, "--quiet") == 0)
             quiet = 1;
-        else if (strcmp(a, "--layout") == 0 && i + 1 < argc) {
+        else if (strncmp(a, "--progress=", 11) == 0 || (strcmp(a, "--progress") == 0 && i + 1 < argc)) {
+            const char *m = a[10] == '=' ? a + 11 : argv[++i];
+            progress = strcmp(m, "none") == 0 ? 0 : strcmp(m, "bar") == 0 ? 1 : strcmp(m, "lines") == 0 ? 2 : -2;
+            if (progress == -2)
+                return qcli_usage_error("--progress is bar, lines or none: '%s'", m);
+        } else if (strcmp(a, "--layout") == 0 && i + 1 < argc) {
             if (qcli_parse_layout(argv[++i], &layout) != 0)
                 return qcli_usage_error("--layout is planar or interleaved");
         } else
             return qcli_usage_error("bake: unknown argument '%s' (see qibl help bake)", a);
     }
+    if (quiet)
+        progress = 0;
+    else if (progress < 0)
+        progress = isatty(2) ? 1 : 2;
     if (nshards > 1 && !sums_out)
         return qcli_usage_error("bake --shard needs --sums FILE (the partial sums for qibl merge)");
     if (!out && !sums_out)
@@ -487,8 +502,8 @@ int qcli_cmd_bake(int argc, char **argv)
     qtool_bake_sums sums;
     double t0 = qcli_now();
     uint32_t kacc = budget > 0 ? 25 : (uint32_t)k;
-    if (qtool_bake_run(&s, so.w, so.h, so.kind, (uint32_t)ndirs, kacc, (uint32_t)shard, (uint32_t)nshards, so.threads,
-                      !quiet, &sums) != 0) {
+    if (qtool_bake_run_progress(&s, so.w, so.h, so.kind, (uint32_t)ndirs, kacc, (uint32_t)shard, (uint32_t)nshards,
+                                so.threads, progress, 0, &sums) != 0) {
         fprintf(stderr, "qibl: bake: out of memory\n");
         qtool_rt_scene_free(&s);
         return 1;
@@ -512,8 +527,8 @@ int qcli_cmd_bake(int argc, char **argv)
     if ((out || shard_mode) && uk > 0) {
         qtool_bake_sums us;
         double t1 = qcli_now();
-        if (qtool_bake_run_unshadowed_shard(&s, so.w, so.h, so.kind, (uint32_t)ndirs, (uint32_t)uk, (uint32_t)shard,
-                                           (uint32_t)nshards, so.threads, &us) != 0 ||
+        if (qtool_bake_run_progress(&s, so.w, so.h, so.kind, (uint32_t)ndirs, (uint32_t)uk, (uint32_t)shard,
+                                    (uint32_t)nshards, so.threads, progress == 2 ? 2 : 0, 1, &us) != 0 ||
             (out && qtool_bake_coeffs(&us, (uint32_t)uk, lsq ? QTOOL_PROJ_LSQ : QTOOL_PROJ_QUADRATURE, &mu) != 0)) {
             fprintf(stderr, "qibl: bake: out of memory (unshadowed maps)\n");
             rc = 1;
@@ -523,42 +538,47 @@ int qcli_cmd_bake(int argc, char **argv)
         }
         qtool_bake_sums_free(&us);
         x.mu = rc == 0 && out ? &mu : NULL;
-        int whole = out || shard == 0; /* per-pixel chunks: made once */
-        for (int p = 0; whole && rc == 0 && p < npaths; ++p) {
+        /* per-pixel chunks: each shard bakes its rows (y % nshards == shard), merge joins them */
+        for (int p = 0; rc == 0 && p < npaths; ++p) {
             double st[2];
-            if (qtool_bake_path_chunk(&s, so.w, so.h, so.kind, &paths[p], (uint32_t)steps, 65, so.threads, &x.paths[p],
-                                     &x.sizes[p], st) != 0) {
+            if (qtool_bake_path_chunk_shard(&s, so.w, so.h, so.kind, &paths[p], (uint32_t)steps, 65, (uint32_t)shard,
+                                           (uint32_t)nshards, so.threads, &x.paths[p], &x.sizes[p], st) != 0) {
                 fprintf(stderr, "qibl: bake: out of memory (light path %d)\n", p + 1);
                 rc = 1;
             } else if (!quiet) {
-                fprintf(stderr, "bake: light path %d (%s): %.2f visibility edges per pixel%s\n", p + 1,
-                        paths[p].kind ? "lamp track" : "sun path", st[0],
+                fprintf(stderr, "bake: light path %d (%s): %.2f visibility edges per pixel%s%s\n", p + 1,
+                        paths[p].kind ? "lamp track" : "sun path", st[0], nshards > 1 ? " (this shard's rows)" : "",
                         st[1] > 0 ? " (some pixels clipped at 255 edges)" : "");
+                if (progress == 2)
+                    progress_line("path", (uint32_t)p + 1, (uint32_t)npaths);
             }
             x.npaths = p + 1;
         }
-        if (whole && rc == 0 && has_box) {
+        if (rc == 0 && has_box) {
             uint8_t *occ = malloc((size_t)so.w * so.h);
-            if (!occ || qtool_bake_lamp_occlusion(&s, so.w, so.h, so.kind, lamp_box, (uint32_t)lamp_samples, so.threads,
-                                                  occ) != 0 ||
+            if (!occ || qtool_bake_lamp_occlusion_shard(&s, so.w, so.h, so.kind, lamp_box, (uint32_t)lamp_samples,
+                                                        (uint32_t)shard, (uint32_t)nshards, so.threads, occ) != 0 ||
                 qtool_bake_locc_payload(so.w, so.h, occ, &x.locc, &x.locc_n) != 0) {
                 fprintf(stderr, "qibl: bake: out of memory (lamp occlusion)\n");
                 rc = 1;
             }
             free(occ);
+            if (rc == 0 && progress == 2)
+                progress_line("occlusion", 1, 1);
         }
         if (shard_mode && rc == 0) {
             qtool_extras xf;
             memset(&xf, 0, sizeof xf);
+            xf.shard = (uint32_t)shard, xf.nshards = (uint32_t)nshards;
             for (int p = 0; p < x.npaths; ++p)
                 xf.type[xf.count] = QIBL_CHUNK_LPTH, xf.data[xf.count] = x.paths[p], xf.size[xf.count++] = x.sizes[p];
             if (x.locc)
                 xf.type[xf.count] = QIBL_CHUNK_LOCC, xf.data[xf.count] = x.locc, xf.size[xf.count++] = x.locc_n;
-            if (xf.count && qtool_extras_write(&xf, side[1], err, sizeof err) != 0) {
+            /* written also with no chunk: a shard baked without --sun-path is then refused by name at
+             * the merge instead of its rows (or the whole path) going missing */
+            if (qtool_extras_write(&xf, side[1], err, sizeof err) != 0) {
                 fprintf(stderr, "qibl: %s\n", err);
                 rc = 1;
-            } else if (!xf.count) {
-                (void)unlink(side[1]); /* a stale one from an earlier bake must not reach the merge */
             }
         }
         if (!quiet && rc == 0)
@@ -656,24 +676,108 @@ int qcli_cmd_bake(int argc, char **argv)
 
 static int file_exists(const char *p)
 {
-    return access(p, F_OK) == 0;
+    return *p && access(p, F_OK) == 0;
 }
 
-/* The unshadowed maps from every shard's SUMS.u (all or none: a bake writes them for every shard)
- * and the light paths and lamp occlusion from shard 0's SUMS.x, into x. seen[s] - 1 is the input
- * of shard s. 0, or -1 with a message naming the file. */
-static int merge_extras(char **in, const int *seen, uint32_t nsh, const qtool_bake_sums *total, int lsq,
+/* input i's side file: the one its manifest line names (side[i], "" for none), else SUMS.ext */
+static void side_of(char *buf, size_t n, char *const *in, char *const *side, int i, const char *ext)
+{
+    if (side && side[i])
+        snprintf(buf, n, "%s", side[i]);
+    else
+        side_name(buf, n, in[i], ext);
+}
+
+/* A manifest (qibl merge --manifest): one line per shard, "shard I/N SUMS [SUMS.u [SUMS.x]]" ("-"
+ * for a side file the shard does not have; blank lines and lines from '#' skipped; names without
+ * blanks). At most QCLI_MANIFEST_MAX_BYTES and QTOOL_BAKE_MAX_SHARDS lines, checked before use. The
+ * entries are appended to in/side_u/side_x/want (want[i] = I * 65536 + N, -1 for a plain argument),
+ * pointing into *buf (kept until the merge ends). 0, or -1 after a message naming the line. */
+#define QCLI_MANIFEST_MAX_BYTES ((size_t)16 << 20)
+static int read_manifest(const char *path, uint8_t **buf, char **in, char **side_u, char **side_x, long *want, int *nin,
+                         int cap)
+{
+    static const qtool_io_kind kind = {"a shard manifest", 1, QCLI_MANIFEST_MAX_BYTES, 0, NULL};
+    char err[1200];
+    size_t n;
+    if (qtool_io_load(path, &kind, buf, &n, err, sizeof err) != 0) {
+        fprintf(stderr, "qibl: %s\n", err);
+        return -1;
+    }
+    uint8_t *grown = realloc(*buf, n + 1);
+    if (!grown) {
+        fprintf(stderr, "qibl: %s: out of memory\n", path);
+        return -1;
+    }
+    *buf = grown;
+    char *t = (char *)grown;
+    t[n] = '\0';
+    if (strlen(t) != n) {
+        fprintf(stderr, "qibl: %s: a NUL byte: not a text manifest\n", path);
+        return -1;
+    }
+    int line = 0, shards = 0;
+    for (char *l = t, *next; l; l = next) {
+        next = strchr(l, '\n');
+        if (next)
+            *next++ = '\0';
+        ++line;
+        char *tok[6];
+        int nt = 0;
+        for (char *w = strtok(l, " \t\r"); w && nt < 6; w = strtok(NULL, " \t\r"))
+            tok[nt++] = w;
+        if (nt == 0 || tok[0][0] == '#')
+            continue;
+        long i, nn;
+        char tail;
+        if (nt < 3 || nt > 5 || strcmp(tok[0], "shard") != 0 || sscanf(tok[1], "%ld/%ld%c", &i, &nn, &tail) != 2 ||
+            nn < 1 || nn > (long)QTOOL_BAKE_MAX_SHARDS || i < 0 || i >= nn) {
+            fprintf(stderr, "qibl: %s:%d: not \"shard I/N SUMS [SUMS.u [SUMS.x]]\" with 0 <= I < N <= %u\n", path, line,
+                    QTOOL_BAKE_MAX_SHARDS);
+            return -1;
+        }
+        if (++shards > (int)QTOOL_BAKE_MAX_SHARDS || *nin >= cap) {
+            fprintf(stderr, "qibl: %s:%d: more than %u shards\n", path, line, QTOOL_BAKE_MAX_SHARDS);
+            return -1;
+        }
+        in[*nin] = tok[2];
+        side_u[*nin] = nt > 3 ? (strcmp(tok[3], "-") == 0 ? (char *)"" : tok[3]) : NULL;
+        side_x[*nin] = nt > 4 ? (strcmp(tok[4], "-") == 0 ? (char *)"" : tok[4]) : NULL;
+        want[*nin] = i * 65536 + nn;
+        ++*nin;
+    }
+    if (shards == 0) {
+        fprintf(stderr, "qibl: %s: no shard line\n", path);
+        return -1;
+    }
+    return 0;
+}
+
+/* The unshadowed maps from the given shards' SUMS.u (all or none: a bake writes them for every
+ * shard) and their light paths and lamp occlusion joined from every SUMS.x, into x. seen[s] - 1 is the
+ * input of shard s, 0 when absent (a partial merge). partial_out (the merge's --sums, may be NULL): the
+ * unshadowed sums and the joined extras are also written beside it (.u, .x) as shard total->shard of
+ * total->nshards, so a later merge of it alone loses nothing; project: the unshadowed maps into mu
+ * (for an asset). 0, or -1 with a message naming the file. */
+static int merge_extras(char **in, char *const *side_u, char *const *side_x, const int *seen, uint32_t nsh,
+                        const qtool_bake_sums *total, int lsq, const char *partial_out, int project,
                         qtool_gen_maps *mu, qtool_extras *xx, extras *x)
 {
     char name[4200], err[1200];
-    uint32_t have = 0;
+    uint32_t have = 0, given = 0, first = nsh;
     for (uint32_t s = 0; s < nsh; ++s) {
-        side_name(name, sizeof name, in[seen[s] - 1], "u");
+        if (!seen[s])
+            continue;
+        first = first < s ? first : s;
+        given++;
+        side_of(name, sizeof name, in, side_u, seen[s] - 1, "u");
         have += file_exists(name) ? 1u : 0u;
     }
-    if (have != 0 && have != nsh) {
+    if (have != 0 && have != given) {
         for (uint32_t s = 0; s < nsh; ++s) {
-            side_name(name, sizeof name, in[seen[s] - 1], "u");
+            if (!seen[s])
+                continue;
+            side_of(name, sizeof name, in, side_u, seen[s] - 1, "u");
             if (!file_exists(name)) {
                 fprintf(stderr, "qibl: merge: %s is missing (the unshadowed sums of shard %u/%u; %u other shard%s "
                         "have theirs)\n", name, s, nsh, have, have == 1 ? "" : "s");
@@ -684,7 +788,9 @@ static int merge_extras(char **in, const int *seen, uint32_t nsh, const qtool_ba
     qtool_bake_sums tu = {0}, part;
     int rc = -1;
     for (uint32_t s = 0; have && s < nsh; ++s) {
-        side_name(name, sizeof name, in[seen[s] - 1], "u");
+        if (!seen[s])
+            continue;
+        side_of(name, sizeof name, in, side_u, seen[s] - 1, "u");
         if (qtool_bake_sums_read(name, &part, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
             goto done;
@@ -697,7 +803,7 @@ static int merge_extras(char **in, const int *seen, uint32_t nsh, const qtool_ba
             qtool_bake_sums_free(&part);
             goto done;
         }
-        if (s == 0) {
+        if (s == first) {
             tu = part;
             continue;
         }
@@ -708,58 +814,101 @@ static int merge_extras(char **in, const int *seen, uint32_t nsh, const qtool_ba
         }
         qtool_bake_sums_free(&part);
     }
-    if (have) {
+    if (have && project) {
         if (qtool_bake_coeffs(&tu, tu.k, lsq ? QTOOL_PROJ_LSQ : QTOOL_PROJ_QUADRATURE, mu) != 0) {
             fprintf(stderr, "qibl: merge: cannot project the unshadowed sums (too few directions or no memory)\n");
             goto done;
         }
         x->mu = mu;
     }
-    side_name(name, sizeof name, in[seen[0] - 1], "x");
-    if (file_exists(name)) {
-        if (!have) {
-            fprintf(stderr, "qibl: %s: light paths without the unshadowed sums (.u files)\n", name);
-            goto done;
+    /* every given shard's extras (its rows of the light paths and lamp occlusion): all or none */
+    uint32_t hx = 0;
+    for (uint32_t s = 0; s < nsh; ++s) {
+        if (!seen[s])
+            continue;
+        side_of(name, sizeof name, in, side_x, seen[s] - 1, "x");
+        hx += file_exists(name) ? 1u : 0u;
+    }
+    if (hx != 0 && !have) {
+        fprintf(stderr, "qibl: merge: light paths (.x files) without the unshadowed sums (.u files)\n");
+        goto done;
+    }
+    if (hx != 0 && hx != given) {
+        for (uint32_t s = 0; s < nsh; ++s) {
+            if (!seen[s])
+                continue;
+            side_of(name, sizeof name, in, side_x, seen[s] - 1, "x");
+            if (!file_exists(name)) {
+                fprintf(stderr, "qibl: merge: %s is missing (the light paths and lamp occlusion of shard %u/%u; %u other "
+                        "shard%s have theirs)\n", name, s, nsh, hx, hx == 1 ? "" : "s");
+                goto done;
+            }
         }
-        if (qtool_extras_read(name, xx, err, sizeof err) != 0) {
-            fprintf(stderr, "qibl: %s\n", err);
-            goto done;
-        }
-        for (uint32_t i = 0; i < xx->count; ++i) {
-            /* shard 0's chunks must be of this bake's size: a .x of another bake would make an
-             * asset whose path or occlusion no relight can use */
-            uint32_t cw = 0, chh = 0;
-            qibl_status_t cs;
-            if (xx->type[i] == QIBL_CHUNK_LPTH) {
-                qibl_lightpath_t lp;
-                if ((cs = qibl_lightpath_parse(xx->data[i], xx->size[i], &lp)) == QIBL_OK)
-                    cw = lp.width, chh = lp.height;
-            } else if (xx->type[i] == QIBL_CHUNK_LOCC) {
-                qibl_lampocc_t lo;
-                if ((cs = qibl_lightpath_occl_parse(xx->data[i], xx->size[i], &lo)) == QIBL_OK)
-                    cw = lo.width, chh = lo.height;
+    }
+    if (hx) {
+        qtool_extras *parts = calloc(nsh, sizeof *parts);
+        const qtool_extras **byshard = calloc(nsh, sizeof *byshard);
+        char **names = calloc(nsh, sizeof *names);
+        int bad = !parts || !names || !byshard;
+        if (bad)
+            fprintf(stderr, "qibl: merge: out of memory\n");
+        for (uint32_t s = 0; !bad && s < nsh; ++s) {
+            if (!seen[s])
+                continue;
+            side_of(name, sizeof name, in, side_x, seen[s] - 1, "x");
+            names[s] = malloc(strlen(name) + 1);
+            if (!names[s]) {
+                fprintf(stderr, "qibl: merge: out of memory\n");
+                bad = 1;
+            } else if (strcpy(names[s], name), qtool_extras_read(name, &parts[s], err, sizeof err) != 0) {
+                fprintf(stderr, "qibl: %s\n", err);
+                bad = 1;
             } else {
-                cs = QIBL_OK, cw = total->w, chh = total->h; /* refused below */
+                byshard[s] = &parts[s];
             }
-            if (cs != QIBL_OK) {
-                fprintf(stderr, "qibl: %s: chunk %u (%s) is not usable: %s\n", name, i,
-                        xx->type[i] == QIBL_CHUNK_LPTH ? "LPTH" : "LOCC", qibl_status_str(cs));
-                goto done;
-            }
-            if (cw != total->w || chh != total->h) {
-                fprintf(stderr, "qibl: %s: chunk %u (%s) is for a %u x %u bake, the shards are %u x %u (the side file "
-                        "of another bake)\n", name, i, xx->type[i] == QIBL_CHUNK_LPTH ? "LPTH" : "LOCC", cw, chh,
-                        total->w, total->h);
-                goto done;
-            }
+        }
+        if (!bad && qtool_extras_join(byshard, (const char *const *)names, nsh, total->w, total->h, xx, err,
+                                      sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s\n", err);
+            bad = 1;
+        }
+        for (uint32_t s = 0; parts && names && s < nsh; ++s)
+            qtool_extras_free(&parts[s]), free(names[s]);
+        free(parts), free(names), free(byshard);
+        if (bad)
+            goto done;
+        for (uint32_t i = 0; i < xx->count; ++i) {
             if (xx->type[i] == QIBL_CHUNK_LOCC && !x->locc)
                 x->locc = xx->data[i], x->locc_n = xx->size[i];
             else if (xx->type[i] == QIBL_CHUNK_LPTH && x->npaths < 8)
                 x->paths[x->npaths] = xx->data[i], x->sizes[x->npaths++] = xx->size[i];
             else {
-                fprintf(stderr, "qibl: %s: more than 8 light paths or two lamp occlusions\n", name);
+                fprintf(stderr, "qibl: merge: more than 8 light paths or two lamp occlusions\n");
                 goto done;
             }
+        }
+    }
+    if (partial_out) { /* a partial sum: its side files as one shard of the coarser split */
+        char side[4200];
+        side_name(side, sizeof side, partial_out, "u");
+        if (have) {
+            tu.shard = total->shard, tu.nshards = total->nshards;
+            if (qtool_bake_sums_write(&tu, side, err, sizeof err) != 0) {
+                fprintf(stderr, "qibl: %s\n", err);
+                goto done;
+            }
+        } else {
+            (void)unlink(side); /* a stale one must not reach the next merge */
+        }
+        side_name(side, sizeof side, partial_out, "x");
+        if (hx) {
+            xx->shard = total->shard, xx->nshards = total->nshards;
+            if (qtool_extras_write(xx, side, err, sizeof err) != 0) {
+                fprintf(stderr, "qibl: %s\n", err);
+                goto done;
+            }
+        } else {
+            (void)unlink(side);
         }
     }
     rc = 0;
@@ -770,7 +919,7 @@ done:
 
 int qcli_cmd_merge(int argc, char **argv)
 {
-    const char *out = NULL, *sums_out = NULL;
+    const char *out = NULL, *sums_out = NULL, *manifest = NULL;
     long k = 0, lut = 32;
     int lsq = 0, nin = 0, r;
     uint32_t layout = QIBL_SHMAPS_PLANAR;
@@ -783,6 +932,8 @@ int qcli_cmd_merge(int argc, char **argv)
             out = argv[++i];
         else if (strcmp(a, "--sums") == 0 && i + 1 < argc)
             sums_out = argv[++i];
+        else if (strcmp(a, "--manifest") == 0 && i + 1 < argc)
+            manifest = argv[++i];
         else if (strcmp(a, "--k") == 0 && i + 1 < argc) {
             if (qcli_parse_int(argv[++i], 1, 25, &k) != 0) {
                 free(in);
@@ -807,13 +958,34 @@ int qcli_cmd_merge(int argc, char **argv)
             return qcli_usage_error("merge: unknown argument '%s' (see qibl help merge)", a);
         }
     }
-    if (nin == 0 || (!out && !sums_out)) {
+    if ((nin == 0 && !manifest) || (!out && !sums_out)) {
         free(in);
-        return qcli_usage_error("usage: qibl merge -o ASSET [--sums OUT] [--k K] [--lut-size N] [--lsq] SUMS...");
+        return qcli_usage_error("usage: qibl merge (-o ASSET | --sums OUT | both) [--k K] [--lut-size N] [--lsq] "
+                                "(--manifest FILE | SUMS...)");
     }
     if (qcli_parse_only) { /* fuzz_cliopts: the options only */
         free(in);
         return 0;
+    }
+    /* the manifest's shards after the plain arguments, with their side files and I/N named */
+    int cap = nin + (int)QTOOL_BAKE_MAX_SHARDS;
+    char **all = malloc(sizeof(char *) * (size_t)cap), **side_u = calloc((size_t)cap, sizeof(char *)),
+         **side_x = calloc((size_t)cap, sizeof(char *));
+    long *want = malloc(sizeof(long) * (size_t)cap);
+    uint8_t *mbuf = NULL;
+    if (!all || !side_u || !side_x || !want) {
+        fprintf(stderr, "qibl: merge: out of memory\n");
+        free(all), free(side_u), free(side_x), free(want), free(in);
+        return 1;
+    }
+    memcpy(all, in, sizeof(char *) * (size_t)nin);
+    free(in);
+    in = all;
+    for (int i = 0; i < nin; ++i)
+        want[i] = -1;
+    if (manifest && read_manifest(manifest, &mbuf, in, side_u, side_x, want, &nin, cap) != 0) {
+        free(in), free(side_u), free(side_x), free(want), free(mbuf);
+        return 1;
     }
     qtool_bake_sums total = {0}, part;
     qtool_gen_maps mu = {0};
@@ -827,6 +999,12 @@ int qcli_cmd_merge(int argc, char **argv)
         /* every header is validated by the reader (shard < nshards <= QTOOL_BAKE_MAX_SHARDS) before use */
         if (qtool_bake_sums_read(in[i], &part, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
+            goto done;
+        }
+        if (want[i] >= 0 && (part.shard != (uint32_t)(want[i] / 65536) || part.nshards != (uint32_t)(want[i] % 65536))) {
+            fprintf(stderr, "qibl: %s: the manifest names it shard %ld/%ld, the file is shard %u/%u\n", in[i],
+                    want[i] / 65536, want[i] % 65536, part.shard, part.nshards);
+            qtool_bake_sums_free(&part);
             goto done;
         }
         if (i == 0) {
@@ -859,29 +1037,64 @@ int qcli_cmd_merge(int argc, char **argv)
         seen[part.shard] = i + 1;
         qtool_bake_sums_free(&part);
     }
-    for (uint32_t s = 0; s < total.nshards; ++s)
-        if (!seen[s]) {
-            fprintf(stderr, "qibl: merge: shard %u/%u is missing\n", s, total.nshards);
+    uint32_t nsh = total.nshards, given = 0, first = nsh;
+    for (uint32_t s = 0; s < nsh; ++s)
+        if (seen[s])
+            given++, first = first < s ? first : s;
+    /* A partial set (tree merges): the shards I, I + M, I + 2M, ... of N (M dividing N) hold exactly the
+     * direction blocks and rows of shard I of M, so their sum is written as that shard (--sums only). */
+    uint32_t newn = 1, news = 0;
+    if (given < nsh) {
+        uint32_t m = nsh % given == 0 ? nsh / given : 0;
+        for (uint32_t s = 0; m && s < nsh; ++s)
+            if (!seen[s] != (s % m != first % m))
+                m = 0;
+        if (out || !sums_out) {
+            for (uint32_t s = 0; s < nsh; ++s)
+                if (!seen[s]) {
+                    fprintf(stderr, "qibl: merge: shard %u/%u is missing (%s)\n", s, nsh,
+                            out ? "an asset needs every shard; a partial merge writes --sums only"
+                                : "a partial merge needs --sums OUT");
+                    goto done;
+                }
+        }
+        if (!m) {
+            char list[200] = "";
+            size_t at = 0;
+            for (uint32_t s = 0; s < nsh && at < sizeof list - 16; ++s)
+                if (seen[s])
+                    at += (size_t)snprintf(list + at, sizeof list - at, "%s%u", at ? ", " : "", s);
+            fprintf(stderr, "qibl: merge: shards %s%s of %u are not one shard of a coarser split: a partial merge takes "
+                    "the shards I, I+M, I+2M, ... of N for an M dividing N (e.g. 0/4 and 2/4 make 0/2)\n", list,
+                    at >= sizeof list - 16 ? ", ..." : "", nsh);
             goto done;
         }
+        newn = m, news = first % m;
+    }
     if (k > (long)total.k) {
         rc = qcli_usage_error("merge: --k %ld is above the shards' k = %u (bake with --k %ld or more)", k, total.k,
                                   k);
         goto done;
     }
-    uint32_t nsh = total.nshards;
-    total.shard = 0, total.nshards = 1;
+    total.shard = news, total.nshards = newn;
     if (sums_out && qtool_bake_sums_write(&total, sums_out, err, sizeof err) != 0) {
         fprintf(stderr, "qibl: %s\n", err);
         goto done;
     }
-    if (merge_extras(in, seen, nsh, &total, lsq, &mu, &xx, &x) != 0)
+    if (merge_extras(in, side_u, side_x, seen, nsh, &total, lsq, sums_out, out != NULL, &mu, &xx, &x) != 0) {
+        if (sums_out)
+            (void)unlink(sums_out); /* nothing half-done: the sums without their side files would merge wrongly */
         goto done;
+    }
+    if (sums_out && !out)
+        printf(newn == 1 ? "wrote %s: the total sums (shard %u/%u, %u input%s)\n"
+                         : "wrote %s: partial sums of shard %u/%u (%u input%s)\n", sums_out, news, newn, given,
+               given == 1 ? "" : "s");
     rc = out ? finish_asset(&total, k ? (uint32_t)k : (total.k < 16 ? total.k : 16), (uint32_t)lut,
                             lsq ? QTOOL_PROJ_LSQ : QTOOL_PROJ_QUADRATURE, layout, out, &x)
              : 0;
 done:
-    free(seen), free(in);
+    free(seen), free(in), free(side_u), free(side_x), free(want), free(mbuf);
     qtool_bake_sums_free(&total);
     qtool_gen_free(&mu);
     qtool_extras_free(&xx);

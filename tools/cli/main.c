@@ -131,20 +131,24 @@ static const qcli_cmd commands[] = {
      "  frame on one core (thread CPU time of the hemi calls) and RESULT transfer.* lines.\n",
      qcli_cmd_transfer},
     {"bake", "bake a scene into a relightable panorama asset (ray-traced, SH-projected, 8-bit packed)",
-     "usage: qibl bake -o ASSET [--k K] [--lut-size N] [--dirs N] [--lsq] [--budget DB] [--quiet]\n"
+     "usage: qibl bake (-o ASSET | --shard I/N --sums FILE) [--k K] [--lut-size N] [--dirs N] [--lsq]\n"
+     "                 [--budget DB] [--quiet] [--progress=bar|lines|none]\n"
      "                 [--layout planar|interleaved] [--unshadowed-k K] [--sun-path LAT,DECL,T0,T1]\n"
      "                 [--lamp-track X,Y,Z;X,Y,Z;...] [--path-steps N]\n"
-     "                 [--lamp-box X0,Y0,Z0,X1,Y1,Z1] [--lamp-samples N]\n"
-     "                 [--shard I/N --sums FILE] [scene options as for render]\n"
+     "                 [--lamp-box X0,Y0,Z0,X1,Y1,Z1] [--lamp-samples N] [scene options as for render]\n"
      "  Renders the scene under N directional lights (spherical Fibonacci set, equal weights 4 pi / N,\n"
      "  default 512) with hard shadows, projects every pixel's response onto SH (k <= 25, default 16;\n"
      "  quadrature, or --lsq least squares), packs the maps to 8 bits (min/max per map and channel) and\n"
      "  writes SHMP + PMAP (+ a cube-map YLUT of face --lut-size N, default 32; 0 = none). Sums are\n"
      "  exact integers: the asset is bit-identical for any --threads and any sharding.\n"
-     "  --shard I/N --sums FILE: bake only the I-th of N shares of the directions, write partial sums\n"
-     "  for qibl merge. --budget DB: choose the smallest band-complete k whose PSNR against ground truth\n"
+     "  --shard I/N --sums FILE (no -o): bake only the I-th of N shares of the directions (and of the\n"
+     "  rows of the light paths and lamp occlusion), write partial sums for qibl merge (a render farm:\n"
+     "  docs/farm.md). --budget DB: choose the smallest band-complete k whose PSNR against ground truth\n"
      "  on 8 novel suns reaches DB, and the smallest LUT within 0.1 dB of direct SH evaluation on 4\n"
-     "  lamps, and say so. A progress bar goes to stderr when it is a terminal.\n"
+     "  lamps, and say so. --progress: a bar on stderr (the default on a terminal), or lines (the\n"
+     "  default elsewhere: one flushed line per step, \"progress: stage=S done=D total=T fraction=F\"),\n"
+     "  or none (also --quiet). --threads defaults to the CPUs the process may run on (its affinity:\n"
+     "  taskset, a job's cgroup), lowered to SLURM_CPUS_PER_TASK where that is set.\n"
      "  --layout interleaved: SH maps streamable by rows (see qibl help gen).\n"
      "  --unshadowed-k K (default 9, 0 = none): also the unshadowed transfer (cosine x BRDF, no shadow\n"
      "  test) as SHMU (planar); free point lights use it (visibility at infinity is wrong for a lamp\n"
@@ -155,17 +159,27 @@ static const qcli_cmd commands[] = {
      "  as unshadowed SH x visibility, qibl/lightpath.h). --lamp-box: the region free lamps move in;\n"
      "  per pixel the expected visibility of a lamp there (N Halton positions, default 64), LOCC: free\n"
      "  lamps through SHMU are scaled by it (their cast shadows on average). A shard also writes its\n"
-     "  share of the unshadowed sums (FILE.u) and, shard 0, the LPTH/LOCC chunks (FILE.x) for merge.\n",
+     "  share of the unshadowed sums (FILE.u) and its rows of the LPTH/LOCC chunks (FILE.x, also when\n"
+     "  there are none, so merge can refuse a shard baked without the others' paths).\n"
+     "  Exit status: 0 done, 1 failed (a file, memory; named on stderr, nothing half-written), 2 bad\n"
+     "  arguments.\n",
      qcli_cmd_bake},
     {"merge", "combine the partial sums of bake shards into an asset",
-     "usage: qibl merge -o ASSET [--sums OUT] [--k K] [--lut-size N] [--lsq] [--layout planar|interleaved] SUMS...\n"
+     "usage: qibl merge (-o ASSET | --sums OUT | both) [--k K] [--lut-size N] [--lsq]\n"
+     "                  [--layout planar|interleaved] [--manifest FILE] SUMS...\n"
      "  Adds the partial sums written by `qibl bake --shard I/N --sums FILE` (every shard exactly once,\n"
      "  same bake) and writes the asset as qibl bake would (byte-identical, with the unshadowed maps,\n"
-     "  light paths and lamp occlusion from SUMS.u / SUMS.x when the shards wrote them), and/or the\n"
+     "  light paths and lamp occlusion joined from every SUMS.u / SUMS.x when the shards wrote them), and/or the\n"
      "  total sums.\n"
      "  Every file is checked before use (version, CRC-32s, counts within the bake's limits, exact size),\n"
      "  then against the first (split, size, k, directions, P map); sums that would overflow 64 bits, a\n"
-     "  shard given twice or missing, and --k above the shards' k are refused by name.\n",
+     "  shard given twice or missing, and --k above the shards' k are refused by name; so are shards whose\n"
+     "  light paths or lamp occlusion (SUMS.x) differ (one baked without the others' --sun-path).\n"
+     "  --manifest FILE: the shards named one per line, \"shard I/N SUMS [SUMS.u [SUMS.x]]\" ('-' for a\n"
+     "  side file the shard has not; '#' comments), each file's I/N checked against the line.\n"
+     "  A partial set (tree merges, --sums OUT without -o): shards I, I+M, I+2M, ... of N (M dividing N)\n"
+     "  are written as shard I/M with OUT.u and OUT.x, for a later merge; any other partial set is refused.\n"
+     "  Exit status: 0 written, 1 refused or failed (named on stderr, nothing written), 2 bad arguments.\n",
      qcli_cmd_merge},
     {"check", "validate PNG/APNG, PFM, Radiance HDR, OpenEXR and qibl asset files",
      "usage: qibl check FILE...\n"

@@ -1,0 +1,366 @@
+/*
+ * farm_test.c - the bake on a render farm (issue 31), through the qibl program: shards of any split
+ * merge to the single bake byte for byte with light paths and lamp occlusion baked by every shard
+ * (its rows only), a shard baked without the others' --sun-path refused by name, version 1 extras
+ * refused by name, tree merges of partial sets, the thread count from the CPU affinity and SLURM_CPUS_PER_TASK, and
+ * --progress=lines.
+ *
+ * The binary is found as cliutil.h says; the tests skip when it is missing.
+ */
+#define _GNU_SOURCE /* sched_setaffinity for the affinity test */
+#include <math.h>
+#include <sched.h>
+
+#include "cliutil.h"
+
+#include "bake/extras.h"
+#include "io/atomic.h"
+#include "qibl/asset.h"
+#include "qibl/lightpath.h"
+
+static int setup(void **state)
+{
+    (void)state;
+    return cli_setup("/tmp/qibl_farm_test_XXXXXX");
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    rm_rf(dir);
+    return 0;
+}
+
+/* dir/name; the result stays valid for the next 63 calls */
+static char *at(const char *name)
+{
+    static char buf[64][512];
+    static int i;
+    i = (i + 1) % 64;
+    snprintf(buf[i], sizeof buf[i], "%s/%s", dir, name);
+    return buf[i];
+}
+
+static int says(const char *log, const char *want)
+{
+    char *m = text(log);
+    int ok = strstr(m, want) != NULL;
+    if (!ok)
+        fprintf(stderr, "%s says: %s\n(wanted '%s')\n", log, m, want);
+    free(m);
+    return ok;
+}
+
+/* 7 rows and 5 direction blocks: no split of 2..5 divides the rows evenly */
+#define FARM_ARGS "--size", "20x7", "--k", "4", "--dirs", "80", "--unshadowed-k", "4", "--sun-path", "40,15,7,17", \
+                  "--lamp-track", "1,1,-0.5;-1,1,-0.5", "--lamp-box", "-2,-2,-1,2,2,0", "--lamp-samples", "6", \
+                  "--path-steps", "8", "--quiet", "--threads", "1"
+
+static void file_eq(const char *a, const char *b)
+{
+    size_t na, nb;
+    uint8_t *x = qtool_io_read_all(a, &na), *y = qtool_io_read_all(b, &nb);
+    assert_non_null(x), assert_non_null(y);
+    assert_int_equal(na, nb);
+    assert_memory_equal(x, y, na);
+    free(x), free(y);
+}
+
+static void shard(uint32_t i, uint32_t n, const char *name)
+{
+    char in[32];
+    snprintf(in, sizeof in, "%u/%u", i, n);
+    int rc = run("bake", FARM_ARGS, "--shard", in, "--sums", at(name), NULL);
+    if (rc != 0) {
+        char *m = text(errlog);
+        fail_msg("bake --shard %s: exit %d: %s", in, rc, m);
+    }
+}
+
+/* every split of 1..5 shards (merged in reverse order) is the single bake byte for byte, and each
+ * shard's extras hold the light paths and occlusion of its own rows only (rows y % n == i): the
+ * per-pixel work is spread over the shards instead of all on shard 0 */
+static void test_every_split_identical_and_balanced(void **state)
+{
+    (void)state;
+    need_qibl();
+    assert_int_equal(run("bake", FARM_ARGS, "-o", at("whole.qibl"), NULL), 0);
+    for (uint32_t n = 1; n <= 5; ++n) {
+        char name[5][16];
+        for (uint32_t i = 0; i < n; ++i) {
+            snprintf(name[i], sizeof name[i], "n%u_%u", n, i);
+            shard(i, n, name[i]);
+            char xn[32];
+            snprintf(xn, sizeof xn, "%s.x", name[i]);
+            qtool_extras x;
+            char err[1200];
+            if (qtool_extras_read(at(xn), &x, err, sizeof err) != 0)
+                fail_msg("%s", err);
+            assert_int_equal(x.shard, i), assert_int_equal(x.nshards, n);
+            assert_int_equal(x.count, 3); /* sun path, lamp track, occlusion */
+            for (uint32_t c = 0; c < x.count; ++c) {
+                if (x.type[c] == QIBL_CHUNK_LPTH) {
+                    qibl_lightpath_t lp;
+                    assert_int_equal(qibl_lightpath_parse(x.data[c], x.size[c], &lp), QIBL_OK);
+                    for (uint32_t y = 0; y < lp.height; ++y) {
+                        uint32_t a = qibl_load_u32le(lp.rows + 4 * y), b = qibl_load_u32le(lp.rows + 4 * y + 4);
+                        if (y % n != i && b != a)
+                            fail_msg("shard %u/%u: light path %u has edges in row %u", i, n, c, y);
+                    }
+                } else {
+                    qibl_lampocc_t lo;
+                    assert_int_equal(qibl_lightpath_occl_parse(x.data[c], x.size[c], &lo), QIBL_OK);
+                    uint32_t set = 0;
+                    for (uint32_t y = 0; y < lo.height; ++y)
+                        for (uint32_t px = 0; px < lo.width; ++px) {
+                            uint8_t v = lo.values[y * lo.width + px];
+                            if (y % n != i && v != 0)
+                                fail_msg("shard %u/%u: occlusion set in row %u", i, n, y);
+                            set += y % n == i && v != 0;
+                        }
+                    if (set == 0)
+                        fail_msg("shard %u/%u baked no occlusion in its rows", i, n);
+                }
+            }
+            qtool_extras_free(&x);
+        }
+        char *m[5];
+        for (uint32_t i = 0; i < n; ++i)
+            m[i] = at(name[n - 1 - i]);
+        char out[32];
+        snprintf(out, sizeof out, "m%u.qibl", n);
+        int rc = n == 1 ? run("merge", "-o", at(out), m[0], NULL)
+               : n == 2 ? run("merge", "-o", at(out), m[0], m[1], NULL)
+               : n == 3 ? run("merge", "-o", at(out), m[0], m[1], m[2], NULL)
+               : n == 4 ? run("merge", "-o", at(out), m[0], m[1], m[2], m[3], NULL)
+                        : run("merge", "-o", at(out), m[0], m[1], m[2], m[3], m[4], NULL);
+        if (rc != 0) {
+            char *e = text(errlog);
+            fail_msg("merge of %u shards: exit %d: %s", n, rc, e);
+        }
+        file_eq(at("whole.qibl"), at(out));
+    }
+}
+
+/* a shard baked without the others' --sun-path (or --lamp-box) is refused by name, nothing written;
+ * it used to merge silently into an asset without the light path */
+static void test_shard_without_path_refused(void **state)
+{
+    (void)state;
+    need_qibl();
+    shard(1, 2, "s1");
+    assert_int_equal(run("bake", "--size", "20x7", "--k", "4", "--dirs", "80", "--unshadowed-k", "4", "--quiet",
+                         "--threads", "1", "--shard", "0/2", "--sums", at("s0"), NULL), 0);
+    assert_int_equal(run("merge", "-o", at("m.qibl"), at("s0"), at("s1"), NULL), 1);
+    assert_true(says(errlog, "s1.x: 3 light path/occlusion chunks")), assert_true(says(errlog, "s0.x has 0"));
+    assert_true(says(errlog, "shards of different bakes"));
+    assert_int_equal(access(at("m.qibl"), F_OK), -1);
+    /* another sun path on shard 0: named too */
+    assert_int_equal(run("bake", "--size", "20x7", "--k", "4", "--dirs", "80", "--unshadowed-k", "4", "--sun-path",
+                         "30,15,7,17", "--lamp-track", "1,1,-0.5;-1,1,-0.5", "--lamp-box", "-2,-2,-1,2,2,0",
+                         "--lamp-samples", "6", "--path-steps", "8", "--quiet", "--threads", "1", "--shard", "0/2",
+                         "--sums", at("s0"), NULL), 0);
+    assert_int_equal(run("merge", "-o", at("m.qibl"), at("s0"), at("s1"), NULL), 1);
+    assert_true(says(errlog, "light path 1 is not the one of"));
+    assert_int_equal(access(at("m.qibl"), F_OK), -1);
+    /* a missing side file of one shard: named */
+    shard(0, 2, "s0");
+    assert_int_equal(unlink(at("s1.x")), 0);
+    assert_int_equal(run("merge", "-o", at("m.qibl"), at("s0"), at("s1"), NULL), 1);
+    assert_true(says(errlog, "s1.x is missing"));
+    assert_int_equal(access(at("m.qibl"), F_OK), -1);
+}
+
+/* a version 1 extras file (whole chunks from shard 0 alone) is refused by name */
+static void test_extras_v1_refused(void **state)
+{
+    (void)state;
+    need_qibl();
+    shard(0, 2, "s0");
+    shard(1, 2, "s1");
+    static const uint8_t v1[12] = {'Q', 'I', 'B', 'L', 'X', 'T', 'R', '1', 0, 0, 0, 0};
+    char err[1200];
+    assert_int_equal(qtool_io_write_atomic(at("s0.x"), v1, sizeof v1, err, sizeof err), 0);
+    assert_int_equal(run("merge", "-o", at("m.qibl"), at("s0"), at("s1"), NULL), 1);
+    assert_true(says(errlog, "a version 1 extras file"));
+    assert_int_equal(access(at("m.qibl"), F_OK), -1);
+}
+
+/* tree merges: a partial set of shards I, I+M, ... of N merges (--sums only) into shard I of M with
+ * its side files, and the tree's root is the single bake byte for byte; a set that is no shard of
+ * a coarser split, or a partial set with -o, is refused by name and writes nothing */
+static void test_tree_merge(void **state)
+{
+    (void)state;
+    need_qibl();
+    assert_int_equal(run("bake", FARM_ARGS, "-o", at("whole.qibl"), NULL), 0);
+    for (uint32_t i = 0; i < 4; ++i) {
+        char nm[8];
+        snprintf(nm, sizeof nm, "s%u", i);
+        shard(i, 4, nm);
+    }
+    assert_int_equal(run("merge", "--sums", at("a"), at("s2"), at("s0"), NULL), 0);
+    assert_true(says(outlog, "partial sums of shard 0/2 (2 inputs)"));
+    assert_int_equal(run("merge", "--sums", at("b"), at("s1"), at("s3"), NULL), 0);
+    assert_true(says(outlog, "partial sums of shard 1/2 (2 inputs)"));
+    assert_int_equal(access(at("a.u"), F_OK), 0), assert_int_equal(access(at("b.x"), F_OK), 0);
+    assert_int_equal(run("merge", "-o", at("tree.qibl"), at("b"), at("a"), NULL), 0);
+    file_eq(at("whole.qibl"), at("tree.qibl"));
+    /* the total as sums, then the asset from it alone */
+    assert_int_equal(run("merge", "--sums", at("t"), at("a"), at("b"), NULL), 0);
+    assert_true(says(outlog, "the total sums"));
+    assert_int_equal(run("merge", "-o", at("t.qibl"), at("t"), NULL), 0);
+    file_eq(at("whole.qibl"), at("t.qibl"));
+    /* -o and --sums at once: the total sums carry their side files too (a later merge of them alone
+     * used to lose the unshadowed maps, light paths and occlusion) */
+    assert_int_equal(run("merge", "-o", at("both.qibl"), "--sums", at("t2"), at("a"), at("b"), NULL), 0);
+    file_eq(at("whole.qibl"), at("both.qibl"));
+    assert_int_equal(run("merge", "-o", at("t2.qibl"), at("t2"), NULL), 0);
+    file_eq(at("whole.qibl"), at("t2.qibl"));
+    /* 0 and 1 of 4 are no shard of a split into 2 */
+    assert_int_equal(run("merge", "--sums", at("bad"), at("s0"), at("s1"), NULL), 1);
+    assert_true(says(errlog, "shards 0, 1 of 4 are not one shard of a coarser split"));
+    assert_int_equal(access(at("bad"), F_OK), -1), assert_int_equal(access(at("bad.u"), F_OK), -1);
+    /* an asset needs every shard */
+    assert_int_equal(run("merge", "-o", at("bad.qibl"), at("s0"), at("s2"), NULL), 1);
+    assert_true(says(errlog, "shard 1/4 is missing (an asset needs every shard"));
+    assert_int_equal(access(at("bad.qibl"), F_OK), -1);
+}
+
+/* --manifest: every shard's files named (side files under other names), I/N checked per line */
+static void test_manifest(void **state)
+{
+    (void)state;
+    need_qibl();
+    assert_int_equal(run("bake", FARM_ARGS, "-o", at("whole.qibl"), NULL), 0);
+    shard(0, 2, "s0");
+    shard(1, 2, "s1");
+    assert_int_equal(rename(at("s1.u"), at("unshadowed1")), 0);
+    assert_int_equal(rename(at("s1.x"), at("extras1")), 0);
+    FILE *f = fopen(at("m.txt"), "w");
+    assert_non_null(f);
+    fprintf(f, "# the farm's shards\nshard 1/2 %s %s %s\n\nshard 0/2 %s\n", at("s1"), at("unshadowed1"),
+            at("extras1"), at("s0"));
+    fclose(f);
+    assert_int_equal(run("merge", "-o", at("m.qibl"), "--manifest", at("m.txt"), NULL), 0);
+    file_eq(at("whole.qibl"), at("m.qibl"));
+    f = fopen(at("bad.txt"), "w");
+    assert_non_null(f);
+    fprintf(f, "shard 0/2 %s\nshard 0/2 %s\n", at("s1"), at("s0"));
+    fclose(f);
+    assert_int_equal(run("merge", "-o", at("b.qibl"), "--manifest", at("bad.txt"), NULL), 1);
+    assert_true(says(errlog, "the manifest names it shard 0/2, the file is shard 1/2"));
+    f = fopen(at("bad.txt"), "w");
+    assert_non_null(f);
+    fprintf(f, "shard 0/2\n");
+    fclose(f);
+    assert_int_equal(run("merge", "-o", at("b.qibl"), "--manifest", at("bad.txt"), NULL), 1);
+    assert_true(says(errlog, "bad.txt:1: not \"shard I/N SUMS"));
+    assert_int_equal(access(at("b.qibl"), F_OK), -1);
+}
+
+/* the thread count "on N threads" of a bake's summary line */
+static int bake_threads(void)
+{
+    int rc = run("bake", "--size", "8x2", "--k", "1", "--dirs", "16", "--unshadowed-k", "0", "--progress=none",
+                 "--sums", at("t.sums"), NULL);
+    assert_int_equal(rc, 0);
+    char *m = text(errlog), *p = strstr(m, " s on ");
+    int n = p ? atoi(p + 6) : -1;
+    free(m);
+    return n;
+}
+
+/* threads from the job's allocation: the CPU affinity (taskset, cgroups) and SLURM_CPUS_PER_TASK;
+ * both used to be ignored for the machine's CPU count */
+static void test_threads_from_allocation(void **state)
+{
+    (void)state;
+    need_qibl();
+    cpu_set_t all, one;
+    assert_int_equal(sched_getaffinity(0, sizeof all, &all), 0);
+    int ncpu = CPU_COUNT(&all);
+    unsetenv("SLURM_CPUS_PER_TASK");
+    assert_int_equal(bake_threads(), ncpu > 256 ? 256 : ncpu);
+    setenv("SLURM_CPUS_PER_TASK", "1", 1);
+    assert_int_equal(bake_threads(), 1);
+    setenv("SLURM_CPUS_PER_TASK", "junk", 1); /* ignored, not trusted */
+    assert_int_equal(bake_threads(), ncpu > 256 ? 256 : ncpu);
+    setenv("SLURM_CPUS_PER_TASK", "100000", 1); /* more than the mask: the mask wins */
+    assert_int_equal(bake_threads(), ncpu > 256 ? 256 : ncpu);
+    unsetenv("SLURM_CPUS_PER_TASK");
+    if (ncpu < 2) {
+        fprintf(stderr, "SKIP (part): one CPU in the affinity mask, no narrower mask to try\n");
+        return;
+    }
+    CPU_ZERO(&one);
+    for (int c = 0; c < CPU_SETSIZE; ++c)
+        if (CPU_ISSET(c, &all)) {
+            CPU_SET(c, &one);
+            break;
+        }
+    assert_int_equal(sched_setaffinity(0, sizeof one, &one), 0); /* inherited by the spawned qibl */
+    int n = bake_threads();
+    assert_int_equal(sched_setaffinity(0, sizeof all, &all), 0);
+    assert_int_equal(n, 1);
+}
+
+/* --progress=lines: one parseable line per step with the fraction done (the default off a
+ * terminal, as here); none and --quiet print none; a bad mode is a usage error */
+static void test_progress_lines(void **state)
+{
+    (void)state;
+    need_qibl();
+    assert_int_equal(run("bake", "--size", "8x5", "--k", "1", "--dirs", "16", "--unshadowed-k", "1", "--sun-path",
+                         "40,15,7,17", "--threads", "1", "--shard", "0/1", "--sums", at("p.sums"), NULL), 0);
+    char *m = text(errlog);
+    int rows = 0, last = 0;
+    for (char *l = m; l && *l; l = strchr(l, '\n') ? strchr(l, '\n') + 1 : NULL) {
+        unsigned d, t;
+        char stage[32];
+        double f;
+        if (sscanf(l, "progress: stage=%31s done=%u total=%u fraction=%lf", stage, &d, &t, &f) == 4) {
+            assert_true(d <= t && t > 0);
+            assert_true(f >= 0 && f <= 1 && fabs(f - (double)d / t) < 1e-4);
+            if (strcmp(stage, "shadowed") == 0)
+                rows++, last = d == t;
+        }
+    }
+    free(m);
+    assert_int_equal(rows, 5), assert_true(last);
+    assert_true(says(errlog, "progress: stage=unshadowed done=5 total=5 fraction=1.0000"));
+    assert_true(says(errlog, "progress: stage=path done=1 total=1 fraction=1.0000"));
+    assert_int_equal(run("bake", "--size", "8x5", "--k", "1", "--dirs", "16", "--threads", "1", "--progress=none",
+                         "--sums", at("p.sums"), NULL), 0);
+    m = text(errlog);
+    assert_null(strstr(m, "progress:"));
+    free(m);
+    assert_int_equal(run("bake", "--progress=loud", "--sums", at("p.sums"), NULL), 2);
+    assert_true(says(errlog, "--progress is bar, lines or none: 'loud'"));
+}
+
+/* the usage lines: a shard refuses -o, so -o is not marked as required */
+static void test_usage_lines(void **state)
+{
+    (void)state;
+    need_qibl();
+    assert_int_equal(run("merge", NULL), 2);
+    assert_true(says(errlog, "qibl merge (-o ASSET | --sums OUT"));
+    assert_int_equal(run("help", "bake", NULL), 0);
+    assert_true(says(outlog, "usage: qibl bake (-o ASSET | --shard I/N --sums FILE)"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup_teardown(test_every_split_identical_and_balanced, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_shard_without_path_refused, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_extras_v1_refused, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_tree_merge, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_manifest, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_threads_from_allocation, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_progress_lines, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_usage_lines, setup, teardown),
+    };
+    return cmocka_run_group_tests_name("farm", tests, NULL, NULL);
+}
