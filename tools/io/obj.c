@@ -359,5 +359,11 @@ void qtool_obj_free(qtool_obj_mesh *m)
 {
     free(m->pos);
     free(m->nrm);
+    free(m->albedo);
+    free(m->uv);
+    free(m->tex);
+    for (size_t i = 0; m->texs && i < m->ntex; ++i)
+        free(m->texs[i].rgb);
+    free(m->texs);
     memset(m, 0, sizeof *m);
 }

@@ -34,11 +34,28 @@
 #define QTOOL_OBJ_MAX_FACE_CORNERS 256
 #define QIBL_OBJ_MAX_COORD 1e15
 
+/* An 8-bit sRGB texture (a material's base colour / map_Kd), rows top to bottom. */
+typedef struct qtool_mesh_texture {
+    int w, h;
+    uint8_t *rgb; /* 3 * w * h bytes */
+} qtool_mesh_texture;
+
 typedef struct qtool_obj_mesh {
     size_t ntri;
     double *pos; /* ntri * 9: the three corners of each triangle, x y z */
     double *nrm; /* ntri * 9: unit normal at each corner (zero only for a degenerate triangle in isolation) */
     size_t nvert, nnormals_given; /* v and vn statements read */
+    /* Materials, all optional (NULL / 0 when the file has none: a plain grey mesh, as before).
+     * albedo: ntri * 3 linear base colours (OBJ Kd, glTF baseColorFactor); NULL means the
+     * renderer's default. tex: ntri texture indices (-1: none) into texs[0 .. ntex); uv: ntri * 6
+     * texture coordinates per corner (u, v), glTF's convention: (0, 0) the image's top-left corner,
+     * v downwards, repeating (an OBJ vt's v is stored as 1 - v). uv and tex are both set or both
+     * NULL; a texel's sRGB colour (decoded to linear) multiplies the triangle's albedo. */
+    double *albedo;
+    double *uv;
+    int32_t *tex;
+    qtool_mesh_texture *texs;
+    size_t ntex;
 } qtool_obj_mesh;
 
 /* Reads path. 0, or -1 with a one-line reason naming the file and line in err (nothing allocated). */
