@@ -8,6 +8,7 @@
 #include "io/file.h"
 #include "io/json.h"
 #include "io/png.h"
+#include "io/relpath.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -243,27 +244,11 @@ static int uri_path(G *g, tok *u, const char *ctx, size_t ci, char *path, size_t
         rel[o++] = c;
     }
     rel[o] = '\0';
-    const char *colon = strchr(rel, ':'), *slash = strchr(rel, '/');
-    if (colon && (!slash || colon < slash))
-        return fail(g, "%s[%zu].uri '%.60s': a URI scheme (only data: and relative paths are read)", ctx, ci, rel);
-    if (rel[0] == '/' || strchr(rel, '\\'))
-        return fail(g, "%s[%zu].uri '%.60s': an absolute path or a backslash (only paths inside the file's folder)",
-                    ctx, ci, rel);
-    for (const char *p = rel; *p;) {
-        size_t l = strcspn(p, "/");
-        if (l == 2 && p[0] == '.' && p[1] == '.')
-            return fail(g, "%s[%zu].uri '%.60s': a '..' (only paths inside the file's folder)", ctx, ci, rel);
-        p += l;
-        if (*p)
-            ++p;
-    }
-    if (!rel[0])
-        return fail(g, "%s[%zu].uri: empty", ctx, ci);
+    const char *why;
+    if (qtool_io_relpath(g->dir ? g->dir : ".", rel, path, cap, &why) != 0)
+        return fail(g, "%s[%zu].uri '%.60s': %s (only paths inside the file's folder are read)", ctx, ci, rel, why);
     if (!g->dir)
         return fail(g, "%s[%zu].uri '%.60s': an external file, and no folder to read it from", ctx, ci, rel);
-    int w = snprintf(path, cap, "%s/%s", g->dir, rel);
-    if (w < 0 || (size_t)w >= cap)
-        return fail(g, "%s[%zu].uri: path too long", ctx, ci);
     return 0;
 }
 
@@ -1140,13 +1125,11 @@ int qtool_gltf_read(const char *path, size_t max_triangles, qtool_gltf_scene *ou
     if (qtool_io_load(path, &kind, &bytes, &n, err, errlen) != 0)
         return -1;
     char dir[MAX_PATH_BYTES];
-    const char *sl = strrchr(path, '/');
-    if (!sl)
-        snprintf(dir, sizeof dir, ".");
-    else if (sl == path)
-        snprintf(dir, sizeof dir, "/");
-    else
-        snprintf(dir, sizeof dir, "%.*s", (int)(sl - path < MAX_PATH_BYTES - 1 ? sl - path : MAX_PATH_BYTES - 1), path);
+    if (qtool_io_dirname(path, dir, sizeof dir) != 0) {
+        free(bytes);
+        snprintf(err, errlen, "%s: path too long", path);
+        return -1;
+    }
     qtool_gltf_scene s = {0};
     int rc = qtool_gltf_parse(path, dir, bytes, n, max_triangles, &s, err, errlen);
     free(bytes);
