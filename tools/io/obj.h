@@ -1,7 +1,15 @@
 /*
- * io/obj.h - Wavefront OBJ reader (geometry only): v (x y z [w]), vn, f with any of the forms
+ * io/obj.h - Wavefront OBJ reader: v (x y z [w]), vn, vt, f with any of the forms
  * v, v/vt, v//vn, v/vt/vn, 1-based or negative (relative) indices; polygons fan-triangulated from
- * their first vertex; vt, g, o, s, usemtl, mtllib, l, p and unknown statements are ignored.
+ * their first vertex; g, o, s, l, p and unknown statements are ignored.
+ * Materials (qtool_obj_read*, and qtool_obj_parse_dir with a folder; ignored by the in-memory
+ * parsers without one): "mtllib a.mtl [b.mtl ...]" reads material libraries beside the .obj
+ * (io/relpath.h: no absolute path, no ".."); in them "newmtl NAME", "Kd r g b" (0..1, default
+ * QTOOL_OBJ_DEFAULT_KD) and "map_Kd [options] FILE.png" (the last word is the file, a PNG read by
+ * io/pngread.c); every other statement is ignored. "usemtl NAME" gives the following faces that
+ * material (a name no library read so far defines is refused). Triangles then carry the albedo Kd
+ * (QTOOL_OBJ_DEFAULT_KD before any usemtl) and, for a map_Kd material with vt on all three
+ * corners, the texture and the corners' (u, 1 - v).
  * Corners without a normal get the area-weighted average of the face normals around their position.
  * Hosted, double precision.
  *
@@ -33,6 +41,13 @@
 #define QIBL_OBJ_MIN_BYTES_PER_TRIANGLE 4u
 #define QTOOL_OBJ_MAX_FACE_CORNERS 256
 #define QIBL_OBJ_MAX_COORD 1e15
+#define QTOOL_OBJ_MAX_MTL_BYTES ((size_t)1 << 24)       /* one .mtl: 16 MiB */
+#define QTOOL_OBJ_MAX_MTLLIBS 16                        /* material libraries per .obj */
+#define QTOOL_OBJ_MAX_MATERIALS 1024                    /* newmtl in all of them */
+#define QTOOL_OBJ_MAX_NAME 255                          /* material and texture file names, bytes */
+#define QTOOL_OBJ_MAX_TEXTURES 16                       /* distinct map_Kd files */
+#define QTOOL_OBJ_MAX_TEXTURE_PIXELS ((size_t)1 << 26)  /* all textures together: 192 MiB of RGB */
+#define QTOOL_OBJ_DEFAULT_KD 0.8
 
 /* An 8-bit sRGB texture (a material's base colour / map_Kd), rows top to bottom. */
 typedef struct qtool_mesh_texture {
@@ -68,6 +83,10 @@ int qtool_obj_parse(const char *name, const char *text, size_t len, qtool_obj_me
 int qtool_obj_read_max(const char *path, size_t max_triangles, qtool_obj_mesh *out, char *err, size_t errlen);
 int qtool_obj_parse_max(const char *name, const char *text, size_t len, size_t max_triangles, qtool_obj_mesh *out,
                         char *err, size_t errlen);
+/* The same, reading materials: dir is the folder mtllib files are resolved against (NULL: mtllib
+ * and usemtl ignored, as the parsers above). */
+int qtool_obj_parse_dir(const char *name, const char *dir, const char *text, size_t len, size_t max_triangles,
+                        qtool_obj_mesh *out, char *err, size_t errlen);
 void qtool_obj_free(qtool_obj_mesh *m);
 
 #endif
