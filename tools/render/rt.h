@@ -46,6 +46,15 @@ typedef struct qtool_rt_scene {
     qtool_rt_node *nodes;
     size_t nnodes;
     double scale; /* scene size, for ray offsets */
+    /* Optional per-triangle colour (NULL: every triangle takes mats[mat].albedo): alb 3 linear
+     * values per triangle replace the material's albedo; tex (-1: none) and uv (6 per triangle)
+     * point into texs, whose texel at the hit's interpolated uv (bilinear, repeating, sRGB decoded)
+     * multiplies it. ks and shininess stay the material's. */
+    double *alb;
+    double *uv;
+    int32_t *tex;
+    qtool_mesh_texture *texs;
+    size_t ntex;
 } qtool_rt_scene;
 
 /* The built-in courtyard (no files): ground, walls, two arcades of pillars and round arches, boxes
@@ -55,7 +64,8 @@ int qtool_rt_scene_builtin(qtool_rt_scene *s);
  * phi = 0, the left/right edge, where a prop would be cut in half across the seam. */
 #define QTOOL_RT_PROP_X (-3.5)
 
-/* A mesh as a prop: turned from Y-up to Z-up unless zup, then a quarter turn about z so the
+/* A mesh as a prop (its albedo, uv and textures, when it has them, carried per triangle; the ground
+ * keeps its material): turned from Y-up to Z-up unless zup, then a quarter turn about z so the
  * model's front (+z of a Y-up model, -y of a Z-up one) faces the viewer; scaled so its largest side
  * is 2.5 units, standing on the ground (z = -1.6, a 40 x 40 ground plane is added) centred 3.5 units
  * along -x from the viewpoint (QTOOL_RT_PROP_X: the middle of the panorama, away from the seam at
@@ -70,6 +80,7 @@ typedef struct qtool_rt_hit {
     double n[3], ng[3], r[3];
     double t;         /* depth along the unit ray */
     const qtool_rt_material *m;
+    double albedo[3]; /* m->albedo, or the triangle's own colour times its texel (see qtool_rt_scene) */
 } qtool_rt_hit;
 
 void qtool_rt_pixel_dir(uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t x, uint32_t y, double d[3]);
