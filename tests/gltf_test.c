@@ -545,6 +545,21 @@ static void test_hostile(void **state)
         if (!strstr(err, uris[i][1]))
             fail_msg("uri %s: error '%s' does not say '%s'", uris[i][0], err, uris[i][1]);
     }
+    /* an object with more than QTOOL_GLTF_MAX_MEMBERS keys is refused; inside extras it is not read */
+    {
+        static char body[16384];
+        int o = snprintf(body, sizeof body, VIEWS ACCS MESH "\"nodes\":[{\"mesh\":0");
+        for (int i = 0; i < QTOOL_GLTF_MAX_MEMBERS; ++i)
+            o += snprintf(body + o, sizeof body - (size_t)o, ",\"k%d\":0", i);
+        snprintf(body + o, sizeof body - (size_t)o, "}]");
+        refused(body, bin, n, "an object of 257 members at byte");
+        o = snprintf(body, sizeof body, VIEWS ACCS MESH "\"nodes\":[{\"mesh\":0,\"extras\":{\"a\":0");
+        for (int i = 0; i < QTOOL_GLTF_MAX_MEMBERS; ++i)
+            o += snprintf(body + o, sizeof body - (size_t)o, ",\"k%d\":0", i);
+        snprintf(body + o, sizeof body - (size_t)o, "}}]");
+        assert_int_equal(parse_json(body, bin, n, &s, err, sizeof err), 0);
+        qtool_gltf_free(&s);
+    }
     /* the version, the JSON itself, and a caller's cap */
     const char *v1 = "{\"asset\":{\"version\":\"1.0\"}}";
     assert_int_equal(qtool_gltf_parse("t.gltf", NULL, (const uint8_t *)v1, strlen(v1), 10, &s, err, sizeof err), -1);

@@ -954,6 +954,48 @@ static int scene_roots(G *g, size_t **roots, size_t *n)
     return 0;
 }
 
+/* Every object the reader looks into (any outside "extras" and "extensions", which are never read)
+ * has at most QTOOL_GLTF_MAX_MEMBERS members, so each key lookup is O(1) and the work stays linear
+ * in the file however often an accessor or node is consulted. */
+static int check_members(G *g)
+{
+    struct {
+        tok *c, *child;
+        uint32_t left;
+    } st[QTOOL_JSON_MAX_DEPTH + 1];
+    int sp = 0;
+    tok *t = g->d.tok;
+    for (;;) {
+        if (t->type == QTOOL_JSON_OBJECT && t->count > QTOOL_GLTF_MAX_MEMBERS)
+            return fail(g, "an object of %u members at byte %zu (at most %d outside extras, QTOOL_GLTF_MAX_MEMBERS)",
+                        t->count, t->start, QTOOL_GLTF_MAX_MEMBERS);
+        if ((t->type == QTOOL_JSON_OBJECT || t->type == QTOOL_JSON_ARRAY) && t->count && sp <= QTOOL_JSON_MAX_DEPTH) {
+            st[sp].c = t, st[sp].child = qtool_json_first(&g->d, t), st[sp].left = t->count;
+            ++sp;
+        }
+        for (;;) { /* the next value to look at */
+            if (sp == 0)
+                return 0;
+            if (st[sp - 1].left == 0 || !st[sp - 1].child) {
+                --sp;
+                continue;
+            }
+            tok *c = st[sp - 1].child;
+            --st[sp - 1].left;
+            if (st[sp - 1].c->type == QTOOL_JSON_OBJECT) {
+                st[sp - 1].child = qtool_json_skip(&g->d, c + 1);
+                if (qtool_json_str_eq(&g->d, c, "extras") || qtool_json_str_eq(&g->d, c, "extensions"))
+                    continue;
+                t = c + 1;
+            } else {
+                st[sp - 1].child = qtool_json_skip(&g->d, c);
+                t = c;
+            }
+            break;
+        }
+    }
+}
+
 static uint32_t le32(const uint8_t *p)
 {
     return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
@@ -1011,6 +1053,8 @@ int qtool_gltf_parse(const char *name, const char *dir, const uint8_t *buf, size
         fail(&g, "the JSON is not an object");
         goto out;
     }
+    if (check_members(&g) != 0)
+        goto out;
     tok *asset = qtool_json_get(&g.d, g.root, "asset");
     tok *ver = qtool_json_get(&g.d, asset, "version");
     char vs[32];

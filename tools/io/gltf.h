@@ -26,7 +26,9 @@
  * Limits (each a named one-line error naming the file and the offending object, e.g.
  * "accessors[3]: byteOffset 64 + 24 elements x stride 12 = 352 bytes past bufferViews[1]'s 288";
  * nothing is allocated for the mesh before every check has passed):
- *   - the .gltf / .glb at most QTOOL_GLTF_MAX_FILE_BYTES; the JSON within io/json.h's limits;
+ *   - the .gltf / .glb at most QTOOL_GLTF_MAX_FILE_BYTES; the JSON within io/json.h's limits; every
+ *     object outside "extras" and "extensions" at most QTOOL_GLTF_MAX_MEMBERS keys (each lookup
+ *     then costs O(1), so work stays linear however often an accessor or node is consulted);
  *   - at most QTOOL_GLTF_MAX_NODES nodes, a node tree at most QTOOL_GLTF_MAX_DEPTH deep, each node
  *     reached at most once (a cycle or a shared child is refused);
  *   - buffers: at most QTOOL_GLTF_MAX_BUFFERS, each at most QTOOL_GLTF_MAX_BUFFER_BYTES, the data
@@ -56,6 +58,7 @@
 #define QTOOL_GLTF_MAX_CAMERAS 256
 #define QTOOL_GLTF_MAX_TRIANGLES ((size_t)1 << 22)
 #define QTOOL_GLTF_MAX_INSTANCE_RATIO 64
+#define QTOOL_GLTF_MAX_MEMBERS 256 /* keys of any object the reader looks into (extras excepted) */
 
 typedef struct qtool_gltf_camera {
     int perspective;          /* 1 perspective, 0 orthographic */
