@@ -27,6 +27,10 @@ static int read_fixture(const char *name, qtool_gltf_scene *s, char *err, size_t
 {
     char path[512];
     snprintf(path, sizeof path, "%s/fixtures/gltf/%s", QIBL_SOURCE_DIR, name);
+    if (access(path, R_OK) != 0) {
+        print_message("skip: %s absent (suites run from the source root)\n", path);
+        skip();
+    }
     return qtool_gltf_read(path, QTOOL_GLTF_MAX_TRIANGLES, s, err, errlen);
 }
 
