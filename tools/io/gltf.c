@@ -110,6 +110,8 @@ static int get_uint(G *g, tok *obj, const char *key, double max, long long def, 
             snprintf(where, sizeof where, "%s[%zu]", ctx, ci);
         if (t->type != QTOOL_JSON_NUMBER)
             return fail(g, "%s.%s: not a number", where, key);
+        if (max < 0) /* an index into an array the file does not have */
+            return fail(g, "%s.%s: %.17g refers to an empty or missing array", where, key, t->num);
         return fail(g, "%s.%s: %.17g is not an integer in 0..%.0f", where, key, t->num, max);
     }
     *out = (size_t)t->num;

@@ -218,7 +218,7 @@ static int mtl_read(mtl_set *ms, const char *objname, long objline, const char *
     size_t len;
     char e2[600];
     if (qtool_io_load(path, &kind, &bytes, &len, e2, sizeof e2) != 0)
-        return fail(err, errlen, objname, objline, "mtllib: %s", e2);
+        return fail(err, errlen, objname, objline, "mtllib: %s (without the mtllib line the mesh loads uncoloured)", e2);
     const char *text = (const char *)bytes;
     char buf[4096];
     size_t pos = 0;
