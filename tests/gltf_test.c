@@ -142,6 +142,24 @@ static void test_cameras(void **state)
     qtool_gltf_free(&s);
 }
 
+/* SimpleSparseAccessor: 14 vertices (a 7 x 2 grid, x 0..6, y 0..1), 36 indices -> 12 triangles; the
+ * sparse part moves vertices 8, 10 and 12 to (1, 2, 0), (3, 3, 0), (5, 4, 0): POSITION max (6, 4, 0) */
+static void test_sparse_accessor(void **state)
+{
+    (void)state;
+    qtool_gltf_scene s;
+    char err[512];
+    if (read_fixture("SimpleSparseAccessor.gltf", &s, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    assert_int_equal(s.mesh.ntri, 12);
+    double lo[3], hi[3];
+    bounds(&s.mesh, lo, hi);
+    assert_true(lo[0] == 0 && lo[1] == 0 && lo[2] == 0 && hi[0] == 6 && hi[1] == 4 && hi[2] == 0);
+    /* triangle 0 is indices (0, 8, 7): its second corner is the moved vertex 8 */
+    assert_true(s.mesh.pos[3] == 1 && s.mesh.pos[4] == 2 && s.mesh.pos[5] == 0);
+    qtool_gltf_free(&s);
+}
+
 /* ---- synthetic files ------------------------------------------------------------------------------ */
 
 static void b64enc(const uint8_t *b, size_t n, char *out)
@@ -488,10 +506,41 @@ static void test_hostile(void **state)
     refused("\"bufferViews\":[{\"buffer\":0,\"byteLength\":48,\"byteStride\":8},{\"buffer\":0,\"byteOffset\":48,"
             "\"byteLength\":12}]," ACCS MESH "\"nodes\":[{\"mesh\":0}]",
             bin, n, "byteStride 8 is below the element's 12 bytes");
-    refused(VIEWS "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":4,\"type\":\"VEC3\","
-                  "\"sparse\":{}},{\"bufferView\":1,\"componentType\":5123,\"count\":6,\"type\":\"SCALAR\"}]," MESH
+    /* sparse parts: missing, out of order, past the count, past their views; a zero accessor too big */
+    static const char *const sparse[][2] = {
+        {"{}", "sparse: no count"},
+        {"{\"count\":2,\"indices\":{\"bufferView\":1,\"componentType\":5123},\"values\":{\"bufferView\":0}}",
+         "sparse: index 1 is 1 (increasing"}, /* indices 0, 1, 2, 0, 2, 3 read as 0, 1: fine; then values */
+        {"{\"count\":3,\"indices\":{\"bufferView\":1,\"componentType\":5123},\"values\":{\"bufferView\":0,"
+         "\"byteOffset\":24}}",
+         "sparse.values: byteOffset 24 + 3 x 12 bytes past bufferViews[0]'s 48"},
+        {"{\"count\":4,\"indices\":{\"bufferView\":1,\"componentType\":5123},\"values\":{\"bufferView\":0}}",
+         "sparse: index 3 is 0 (increasing, below the count 4)"},
+        {"{\"count\":1,\"indices\":{\"bufferView\":1,\"componentType\":5126},\"values\":{\"bufferView\":0}}",
+         "sparse.indices.componentType: 5126"},
+        {"{\"count\":9,\"indices\":{\"bufferView\":1,\"componentType\":5123},\"values\":{\"bufferView\":0}}",
+         "sparse.count: 9 is not an integer in 0..4"},
+    };
+    for (size_t k = 0; k < sizeof sparse / sizeof sparse[0]; ++k) {
+        char body[2048];
+        snprintf(body, sizeof body,
+                 VIEWS "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":4,\"type\":\"VEC3\","
+                       "\"sparse\":%s},{\"bufferView\":1,\"componentType\":5123,\"count\":6,\"type\":\"SCALAR\"}]," MESH
+                       "\"nodes\":[{\"mesh\":0}]",
+                 sparse[k][0]);
+        if (k == 1) /* two increasing indices (0, 1) are fine: the square's first two corners rewritten in place */
+        {
+            assert_int_equal(parse_json(body, bin, n, &s, err, sizeof err), 0);
+            check_square(&s, 2);
+            qtool_gltf_free(&s);
+            continue;
+        }
+        refused(body, bin, n, sparse[k][1]);
+    }
+    refused(VIEWS "\"accessors\":[{\"componentType\":5126,\"count\":100000,\"type\":\"VEC3\"},"
+                  "{\"bufferView\":1,\"componentType\":5123,\"count\":6,\"type\":\"SCALAR\"}]," MESH
                   "\"nodes\":[{\"mesh\":0}]",
-            bin, n, "a sparse accessor");
+            bin, n, "sparse or zero-filled elements, 1200000 bytes: more than");
     refused(VIEWS "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":4,\"type\":\"VEC3\"},"
                   "{\"bufferView\":1,\"componentType\":5126,\"count\":3,\"type\":\"SCALAR\"}]," MESH
                   "\"nodes\":[{\"mesh\":0}]",
@@ -605,6 +654,7 @@ int main(void)
         cmocka_unit_test(test_box),
         cmocka_unit_test(test_triangle),
         cmocka_unit_test(test_cameras),
+        cmocka_unit_test(test_sparse_accessor),
         cmocka_unit_test(test_index_types),
         cmocka_unit_test(test_strip_fan_nonindexed),
         cmocka_unit_test(test_trs_hierarchy_mirror_normalized),

@@ -62,7 +62,8 @@ typedef struct {
     size_t binlen;
     int glb;
     bufdata *bufs;
-    size_t total_bytes;
+    size_t total_bytes, inlen;
+    uint8_t **accmat; /* per accessor: its sparse or zero-filled values written out, or NULL */
     int *image_tex; /* per image: -2 not loaded, else index into texs */
     qtool_mesh_texture texs[QTOOL_GLTF_MAX_IMAGES];
     size_t ntex, texpix;
@@ -335,20 +336,129 @@ static int csize(int ct)
     }
 }
 
+static double acc_get(const acc *a, size_t i, int c);
+
+static void put32(uint8_t *p, uint32_t u)
+{
+    p[0] = (uint8_t)u, p[1] = (uint8_t)(u >> 8), p[2] = (uint8_t)(u >> 16), p[3] = (uint8_t)(u >> 24);
+}
+
+/* n tightly packed elements of esz bytes from byteOffset in a sparse part's bufferView */
+static int sparse_view(G *g, size_t i, tok *o, const char *part, size_t n, size_t esz, const uint8_t **p)
+{
+    size_t vi, off, vlen, st;
+    char ctx[64];
+    snprintf(ctx, sizeof ctx, "accessors[%zu].sparse.%s", i, part);
+    if (get_uint(g, o, "bufferView", 4294967295.0, -1, ctx, NOI, &vi) != 0 ||
+        get_uint(g, o, "byteOffset", 9007199254740991.0, 0, ctx, NOI, &off) != 0 || view_bytes(g, vi, p, &vlen, &st) != 0)
+        return -1;
+    /* n <= 2^32, esz <= 64: no overflow */
+    if (off > vlen || (unsigned long long)n * esz > vlen - off)
+        return fail(g, "%s: byteOffset %zu + %zu x %zu bytes past bufferViews[%zu]'s %zu", ctx, off, n, esz, vi, vlen);
+    *p += off;
+    return 0;
+}
+
+/* A sparse accessor, or one without a bufferView (zeros), written out once into a cached array of
+ * 32-bit values (UNSIGNED_INT kept as integers, everything else as the float acc_get gives), its
+ * bytes counted against the buffers' budget and at most 64 times the input read so far. */
+static int materialize(G *g, size_t i, tok *o, acc *a, const acc *dense, int has_view)
+{
+    if (g->accmat[i]) {
+        a->base = g->accmat[i], a->stride = 4 * (size_t)a->ncomp;
+        a->ctype = a->ctype == 5125 ? 5125 : 5126, a->norm = 0;
+        return 0;
+    }
+    size_t esz = 4 * (size_t)a->ncomp;
+    unsigned long long bytes = (unsigned long long)a->count * esz;
+    unsigned long long budget = 64ull * (g->inlen + g->total_bytes);
+    if (bytes > MAX_TOTAL_BUFFER_BYTES - g->total_bytes || bytes > budget)
+        return fail(g, "accessors[%zu]: %zu sparse or zero-filled elements, %llu bytes: more than the %zu bytes of "
+                       "buffers in all or 64 times the input",
+                    i, a->count, bytes, MAX_TOTAL_BUFFER_BYTES);
+    int ot = a->ctype == 5125 ? 5125 : 5126;
+    uint8_t *m = calloc((size_t)bytes, 1);
+    if (!m)
+        return fail(g, "out of memory");
+    for (size_t k = 0; has_view && k < a->count; ++k)
+        for (int c = 0; c < a->ncomp; ++c) {
+            double v = acc_get(dense, k, c);
+            uint32_t u;
+            if (ot == 5125) {
+                u = (uint32_t)v;
+            } else {
+                float f = (float)v;
+                memcpy(&u, &f, 4);
+            }
+            put32(m + k * esz + 4 * (size_t)c, u);
+        }
+    tok *sp = qtool_json_get(&g->d, o, "sparse");
+    if (sp) {
+        size_t n, ict;
+        tok *io = qtool_json_get(&g->d, sp, "indices"), *vo = qtool_json_get(&g->d, sp, "values");
+        const uint8_t *ip, *vp;
+        char ctx[64];
+        snprintf(ctx, sizeof ctx, "accessors[%zu].sparse", i);
+        if (get_uint(g, sp, "count", (double)a->count, -1, ctx, NOI, &n) != 0)
+            goto bad;
+        if (n == 0 || !io || !vo) {
+            fail(g, "accessors[%zu].sparse: a count of 0, or no indices or values", i);
+            goto bad;
+        }
+        snprintf(ctx, sizeof ctx, "accessors[%zu].sparse.indices", i);
+        if (get_uint(g, io, "componentType", 65535, -1, ctx, NOI, &ict) != 0)
+            goto bad;
+        if (ict != 5121 && ict != 5123 && ict != 5125) {
+            fail(g, "accessors[%zu].sparse.indices.componentType: %zu (5121, 5123 or 5125)", i, ict);
+            goto bad;
+        }
+        size_t vesz = (size_t)csize(a->ctype) * (size_t)a->ncomp;
+        if (sparse_view(g, i, io, "indices", n, (size_t)csize((int)ict), &ip) != 0 ||
+            sparse_view(g, i, vo, "values", n, vesz, &vp) != 0)
+            goto bad;
+        acc ia = {.base = ip, .count = n, .stride = (size_t)csize((int)ict), .ctype = (int)ict, .ncomp = 1};
+        acc va = {.base = vp, .count = n, .stride = vesz, .ctype = a->ctype, .ncomp = a->ncomp, .norm = a->norm};
+        double prev = -1;
+        for (size_t k = 0; k < n; ++k) {
+            double ix = acc_get(&ia, k, 0);
+            if (ix >= (double)a->count || ix <= prev) {
+                fail(g, "accessors[%zu].sparse: index %zu is %.0f (increasing, below the count %zu)", i, k, ix, a->count);
+                goto bad;
+            }
+            prev = ix;
+            for (int c = 0; c < a->ncomp; ++c) {
+                double v = acc_get(&va, k, c);
+                uint32_t u;
+                if (ot == 5125) {
+                    u = (uint32_t)v;
+                } else {
+                    float f = (float)v;
+                    memcpy(&u, &f, 4);
+                }
+                put32(m + (size_t)ix * esz + 4 * (size_t)c, u);
+            }
+        }
+    }
+    g->total_bytes += (size_t)bytes;
+    g->accmat[i] = m;
+    a->base = m, a->stride = esz, a->ctype = ot, a->norm = 0;
+    return 0;
+bad:
+    free(m);
+    return -1;
+}
+
 static int load_acc(G *g, size_t i, acc *a, const char *what)
 {
     if (i >= g->accessors.n)
         return fail(g, "%s: accessors[%zu]: no such accessor (%zu)", what, i, g->accessors.n);
     tok *o = g->accessors.t[i];
-    size_t ct, cnt, off, vi;
-    if (qtool_json_get(&g->d, o, "sparse"))
-        return fail(g, "accessors[%zu]: a sparse accessor (not read)", i);
-    if (!qtool_json_get(&g->d, o, "bufferView"))
-        return fail(g, "accessors[%zu]: no bufferView (accessors of zeros are not read)", i);
+    size_t ct, cnt, off, vi = 0;
+    int has_view = qtool_json_get(&g->d, o, "bufferView") != NULL, sparse = qtool_json_get(&g->d, o, "sparse") != NULL;
     if (get_uint(g, o, "componentType", 65535, -1, "accessors", i, &ct) != 0 ||
         get_uint(g, o, "count", 4294967295.0, -1, "accessors", i, &cnt) != 0 ||
         get_uint(g, o, "byteOffset", 9007199254740991.0, 0, "accessors", i, &off) != 0 ||
-        get_uint(g, o, "bufferView", 4294967295.0, -1, "accessors", i, &vi) != 0)
+        (has_view && get_uint(g, o, "bufferView", 4294967295.0, -1, "accessors", i, &vi) != 0))
         return -1;
     int cs = csize((int)ct);
     if (!cs)
@@ -365,6 +475,9 @@ static int load_acc(G *g, size_t i, acc *a, const char *what)
     if (!nc)
         return fail(g, "accessors[%zu].type: missing or not SCALAR, VEC2, VEC3, VEC4, MAT2, MAT3 or MAT4", i);
     tok *nm = qtool_json_get(&g->d, o, "normalized");
+    a->count = cnt, a->ctype = (int)ct, a->ncomp = nc, a->norm = nm && nm->type == QTOOL_JSON_TRUE;
+    if (!has_view) /* zeros, and the sparse values if any */
+        return materialize(g, i, o, a, NULL, 0);
     const uint8_t *p;
     size_t vlen, st;
     if (view_bytes(g, vi, &p, &vlen, &st) != 0)
@@ -380,9 +493,11 @@ static int load_acc(G *g, size_t i, acc *a, const char *what)
     if (need > vlen)
         return fail(g, "accessors[%zu]: byteOffset %zu + %zu elements x stride %zu = %llu bytes, past bufferViews[%zu]'s %zu",
                     i, off, cnt, st, need, vi, vlen);
-    a->base = p + off, a->count = cnt, a->stride = st, a->ctype = (int)ct, a->ncomp = nc;
-    a->norm = nm && nm->type == QTOOL_JSON_TRUE;
-    return 0;
+    a->base = p + off, a->stride = st;
+    if (!sparse)
+        return 0;
+    acc dense = *a;
+    return materialize(g, i, o, a, &dense, 1);
 }
 
 static double acc_get(const acc *a, size_t i, int c)
@@ -1011,7 +1126,7 @@ int qtool_gltf_sniff_glb(const uint8_t *buf, size_t len)
 int qtool_gltf_parse(const char *name, const char *dir, const uint8_t *buf, size_t len, size_t max_triangles,
                      qtool_gltf_scene *out, char *err, size_t errlen)
 {
-    G g = {.name = name, .dir = dir, .err = err, .errlen = errlen};
+    G g = {.name = name, .dir = dir, .err = err, .errlen = errlen, .inlen = len};
     g.max_tri = max_triangles < QTOOL_GLTF_MAX_TRIANGLES ? max_triangles : QTOOL_GLTF_MAX_TRIANGLES;
     const char *json = (const char *)buf;
     size_t jlen = len;
@@ -1083,8 +1198,9 @@ int qtool_gltf_parse(const char *name, const char *dir, const uint8_t *buf, size
     g.image_tex = malloc((g.images.n + 1) * sizeof *g.image_tex);
     g.mats = calloc(g.materials.n + 1, sizeof *g.mats);
     g.mesh_tri = malloc((g.meshes.n + 1) * sizeof *g.mesh_tri);
+    g.accmat = calloc(g.accessors.n + 1, sizeof *g.accmat);
     g.visited = malloc(g.nodes.n + 1);
-    if (!g.bufs || !g.image_tex || !g.mats || !g.mesh_tri || !g.visited) {
+    if (!g.bufs || !g.image_tex || !g.mats || !g.mesh_tri || !g.visited || !g.accmat) {
         fail(&g, "out of memory");
         goto out;
     }
@@ -1140,6 +1256,9 @@ out:
     free(roots);
     for (size_t i = 0; g.bufs && i < g.buffers.n; ++i)
         free(g.bufs[i].own);
+    for (size_t i = 0; g.accmat && i < g.accessors.n; ++i)
+        free(g.accmat[i]);
+    free(g.accmat);
     for (size_t i = 0; i < g.ntex; ++i)
         free(g.texs[i].rgb);
     free(g.bufs), free(g.image_tex), free(g.mats), free(g.mesh_tri), free(g.visited);

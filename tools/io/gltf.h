@@ -13,9 +13,11 @@
  * uri or a bufferView) into qtool_obj_mesh's albedo / uv / tex. A node whose matrix has a negative
  * determinant has its triangles' winding reversed (the spec's rule). Cameras on the scene's nodes
  * (perspective and orthographic) come back with their world eye point and axes.
+ * Sparse accessors (indices of UNSIGNED_BYTE/SHORT/INT, strictly increasing, below the count) and
+ * accessors without a bufferView (zeros, then the sparse values) are written out once per accessor;
+ * those bytes count against the buffers' budget and may not exceed 64 times the input read.
  * Not read (ignored): skins, morph targets, animations, every extension, samplers (textures
- * repeat), texCoord transforms. Sparse accessors and accessors without a bufferView are refused
- * by name, never read as zeros.
+ * repeat), texCoord transforms.
  *
  * Files: a buffer or image uri is either a data: URI (base64) or a relative path, resolved against
  * the directory of the .gltf, after percent escapes are decoded. Absolute paths, a ".." component,
