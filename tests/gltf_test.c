@@ -160,6 +160,71 @@ static void test_sparse_accessor(void **state)
     qtool_gltf_free(&s);
 }
 
+static int read_fixture_at(const char *name, double t, qtool_gltf_scene *s, char *err, size_t errlen)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/fixtures/gltf/%s", QIBL_SOURCE_DIR, name);
+    if (access(path, R_OK) != 0) {
+        print_message("skip: %s absent (suites run from the source root)\n", path);
+        skip();
+    }
+    return qtool_gltf_read_at(path, QTOOL_GLTF_MAX_TRIANGLES, t, s, err, errlen);
+}
+
+/* AnimatedTriangle: the triangle (0,0,0) (1,0,0) (0,1,0) turned about z by animation 0, keys at
+ * 0, 0.25, 0.5, 0.75, 1 s with rotations 0, 90, 180, 270, 360 degrees (LINEAR: slerp) */
+static void test_animation(void **state)
+{
+    (void)state;
+    qtool_gltf_scene s;
+    char err[512];
+    static const double ts[] = {-1, 0.25, 0.125, 0.6, 7.0};
+    static const double deg[] = {0, 90, 45, 216, 0}; /* 7 s is clamped to the last key */
+    for (int k = 0; k < 5; ++k) {
+        if (read_fixture_at("AnimatedTriangle.gltf", ts[k], &s, err, sizeof err) != 0)
+            fail_msg("%s", err);
+        assert_int_equal(s.has_anim, 1);
+        assert_true(s.anim_start == 0 && s.anim_end == 1);
+        double a = deg[k] * 3.14159265358979323846 / 180, c = cos(a), sn = sin(a);
+        double want[9] = {0, 0, 0, c, sn, 0, -sn, c, 0};
+        for (int i = 0; i < 9; ++i)
+            if (fabs(s.mesh.pos[i] - want[i]) > 1e-6)
+                fail_msg("t = %g: corner coordinate %d is %.9f, want %.9f", ts[k], i, s.mesh.pos[i], want[i]);
+        qtool_gltf_free(&s);
+    }
+}
+
+/* SimpleSkin: a strip of 10 vertices (x = -0.5, 0.5; y = 0, 0.5 ... 2), joints node 1 (at y = 1)
+ * and its child node 2, both inverse bind matrices T(0, -1, 0); weights (1, 0), (0.75, 0.25),
+ * (0.5, 0.5), (0.25, 0.75), (0, 1) up the strip. At rest the mesh is as given; at t = 1 s node 2
+ * is turned 90 degrees about z (key 2, (0, 0, 0.707, 0.707)), so a vertex v moves to
+ * sum w_j J_j v with J_0 = I and J_1 = T(0,1,0) R T(0,-1,0), composed here by hand. */
+static void test_skin(void **state)
+{
+    (void)state;
+    qtool_gltf_scene s;
+    char err[512];
+    for (int k = 0; k < 2; ++k) {
+        if (read_fixture_at("SimpleSkin.gltf", k ? 1.0 : -1.0, &s, err, sizeof err) != 0)
+            fail_msg("%s", err);
+        assert_int_equal(s.mesh.ntri, 8);
+        assert_true(s.anim_start == 0 && s.anim_end == 5.5);
+        /* triangle 7 is indices (6, 9, 8): vertices (-0.5, 1.5), (0.5, 2), (-0.5, 2) */
+        static const double v[3][2] = {{-0.5, 1.5}, {0.5, 2.0}, {-0.5, 2.0}};
+        static const double w1[3] = {0.75, 1.0, 1.0};
+        for (int q = 0; q < 3; ++q) {
+            double x = v[q][0], y = v[q][1];
+            /* J_1 v: down by 1, turn 90 degrees ((x, y) -> (-y, x)), up by 1 */
+            double rx = k ? -(y - 1) : x, ry = k ? x + 1 : y;
+            double wx = (1 - w1[q]) * x + w1[q] * rx, wy = (1 - w1[q]) * y + w1[q] * ry;
+            const double *p = s.mesh.pos + 9 * 7 + 3 * q;
+            if (fabs(p[0] - wx) > 1e-6 || fabs(p[1] - wy) > 1e-6 || p[2] != 0)
+                fail_msg("t %d: corner %d at (%g, %g, %g), want (%g, %g, 0)", k, q, p[0], p[1], p[2], wx, wy);
+        }
+        qtool_gltf_free(&s);
+    }
+}
+
 /* ---- synthetic files ------------------------------------------------------------------------------ */
 
 static void b64enc(const uint8_t *b, size_t n, char *out)
@@ -655,6 +720,8 @@ int main(void)
         cmocka_unit_test(test_triangle),
         cmocka_unit_test(test_cameras),
         cmocka_unit_test(test_sparse_accessor),
+        cmocka_unit_test(test_animation),
+        cmocka_unit_test(test_skin),
         cmocka_unit_test(test_index_types),
         cmocka_unit_test(test_strip_fan_nonindexed),
         cmocka_unit_test(test_trs_hierarchy_mirror_normalized),

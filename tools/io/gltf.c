@@ -70,6 +70,14 @@ typedef struct {
     mat *mats;
     long long *mesh_tri; /* per mesh: -1 not checked yet */
     uint8_t *visited;
+    double *world;       /* per node: its world matrix from the first walk */
+    uint8_t *inscene;    /* per node: reached by the first walk */
+    double *anim;        /* per node: animated translation (3), rotation (4), scale (3) */
+    uint8_t *animmask;   /* per node: bit 0 T, 1 R, 2 S animated */
+    double time;         /* < 0: no animation */
+    double anim_start, anim_end;
+    int has_anim;
+    arr animations, skins;
     size_t unique_tri, total_tri, max_tri, ncam, nvert, nnorm;
     int any_mat, any_tex;
     /* output (second walk) */
@@ -620,8 +628,8 @@ static int load_material(G *g, size_t i)
 /* ---- meshes ------------------------------------------------------------------------------------- */
 
 typedef struct {
-    acc pos, nrm, uv, idx;
-    int has_nrm, has_uv, has_idx, mode, mat;
+    acc pos, nrm, uv, idx, jnt, wgt;
+    int has_nrm, has_uv, has_idx, has_skin, mode, mat;
     size_t n, ntri;
 } prim;
 
@@ -660,6 +668,22 @@ static int load_prim(G *g, size_t mi, size_t pi, tok *p, prim *r, int check)
                 if (!(fabs(acc_get(&r->nrm, v, c)) <= QIBL_OBJ_MAX_COORD))
                     return fail(g, "%s: NORMAL accessors[%zu] vertex %zu: not finite", what, ai, v);
         r->has_nrm = 1;
+    }
+    if (qtool_json_get(&g->d, at, "JOINTS_0") || qtool_json_get(&g->d, at, "WEIGHTS_0")) {
+        size_t aj, aw;
+        if (get_uint(g, at, "JOINTS_0", 4294967295.0, -1, what, NOI, &aj) != 0 ||
+            get_uint(g, at, "WEIGHTS_0", 4294967295.0, -1, what, NOI, &aw) != 0 || load_acc(g, aj, &r->jnt, what) != 0 ||
+            load_acc(g, aw, &r->wgt, what) != 0)
+            return -1;
+        if (r->jnt.ncomp != 4 || r->wgt.ncomp != 4 || r->jnt.count != r->pos.count || r->wgt.count != r->pos.count ||
+            r->jnt.norm || (r->jnt.ctype != 5121 && r->jnt.ctype != 5123))
+            return fail(g, "%s: JOINTS_0 / WEIGHTS_0 not VEC4 (UNSIGNED_BYTE or _SHORT joints) of the POSITION count %zu",
+                        what, r->pos.count);
+        for (size_t v = 0; check && v < r->wgt.count; ++v)
+            for (int c = 0; c < 4; ++c)
+                if (!(acc_get(&r->wgt, v, c) >= 0 && acc_get(&r->wgt, v, c) <= 1))
+                    return fail(g, "%s: WEIGHTS_0 accessors[%zu] vertex %zu: a weight outside 0..1", what, aw, v);
+        r->has_skin = 1;
     }
     if (qtool_json_get(&g->d, p, "material")) {
         size_t mt;
@@ -762,6 +786,15 @@ static int local_matrix(G *g, size_t ni, double *m)
     if (get_nums(g, o, "translation", t, 3, "nodes", ni) != 0 || get_nums(g, o, "rotation", q, 4, "nodes", ni) != 0 ||
         get_nums(g, o, "scale", s, 3, "nodes", ni) != 0)
         return -1;
+    if (g->animmask && g->animmask[ni]) { /* the animation's values at g->time replace the node's */
+        const double *a = g->anim + 10 * ni;
+        if (g->animmask[ni] & 1)
+            memcpy(t, a, sizeof t);
+        if (g->animmask[ni] & 2)
+            memcpy(q, a + 3, sizeof q);
+        if (g->animmask[ni] & 4)
+            memcpy(s, a + 7, sizeof s);
+    }
     double l = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
     if (!(l > 1e-12) || !isfinite(l))
         return fail(g, "nodes[%zu].rotation: not a unit quaternion", ni);
@@ -800,6 +833,149 @@ static void unit3(double *v)
     v[0] /= l, v[1] /= l, v[2] /= l;
 }
 
+
+/* ---- animation ---------------------------------------------------------------------------------- */
+
+/* slerp of the keys made unit first (files write 0.707 for sqrt(1/2)) */
+static void slerp(const double *a0, const double *b0, double u, double *o)
+{
+    double la = sqrt(a0[0] * a0[0] + a0[1] * a0[1] + a0[2] * a0[2] + a0[3] * a0[3]);
+    double lb = sqrt(b0[0] * b0[0] + b0[1] * b0[1] + b0[2] * b0[2] + b0[3] * b0[3]);
+    if (!(la > 1e-12) || !(lb > 1e-12)) { /* local_matrix names a zero quaternion */
+        memcpy(o, u < 0.5 ? a0 : b0, 4 * sizeof *o);
+        return;
+    }
+    double a[4] = {a0[0] / la, a0[1] / la, a0[2] / la, a0[3] / la};
+    double b[4] = {b0[0] / lb, b0[1] / lb, b0[2] / lb, b0[3] / lb};
+    double d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
+    if (d < 0) /* the shorter way round */
+        d = -d, b[0] = -b[0], b[1] = -b[1], b[2] = -b[2], b[3] = -b[3];
+    double wa = 1 - u, wb = u;
+    if (d < 0.9995) {
+        double th = acos(d), sn = sin(th);
+        wa = sin((1 - u) * th) / sn, wb = sin(u * th) / sn;
+    }
+    for (int k = 0; k < 4; ++k)
+        o[k] = wa * a[k] + wb * b[k];
+}
+
+static int channels(G *g, tok *chs, tok *sms, tok **smv);
+
+/* Animation 0 sampled at g->time (clamped to each sampler's keys) into the nodes' translation,
+ * rotation and scale; STEP, LINEAR (slerp for rotations) and CUBICSPLINE; "weights" ignored.
+ * Every sampler's key range also widens [anim_start, anim_end]. */
+static int apply_animation(G *g)
+{
+    if (g->animations.n == 0)
+        return 0;
+    tok *an = g->animations.t[0], *chs = qtool_json_get(&g->d, an, "channels"),
+        *sms = qtool_json_get(&g->d, an, "samplers");
+    if (!chs || chs->type != QTOOL_JSON_ARRAY || !sms || sms->type != QTOOL_JSON_ARRAY)
+        return fail(g, "animations[0]: no channels or samplers array");
+    g->has_anim = 1;
+    g->anim_start = 1e300, g->anim_end = -1e300;
+    /* the samplers indexed once, so each channel finds its own in O(1) */
+    tok **smv = malloc((sms->count + 1) * sizeof *smv);
+    if (!smv)
+        return fail(g, "out of memory");
+    tok *e = qtool_json_first(&g->d, sms);
+    for (uint32_t k = 0; k < sms->count; ++k, e = qtool_json_skip(&g->d, e))
+        smv[k] = e;
+    int rc = channels(g, chs, sms, smv);
+    free(smv);
+    return rc;
+}
+
+static int channels(G *g, tok *chs, tok *sms, tok **smv)
+{
+    tok *c = qtool_json_first(&g->d, chs);
+    for (uint32_t k = 0; k < chs->count; ++k, c = qtool_json_skip(&g->d, c)) {
+        char ctx[64];
+        snprintf(ctx, sizeof ctx, "animations[0].channels[%u]", k);
+        if (!c || c->type != QTOOL_JSON_OBJECT)
+            return fail(g, "%s: not an object", ctx);
+        tok *tg = qtool_json_get(&g->d, c, "target"), *path = qtool_json_get(&g->d, tg, "path");
+        size_t si, ni;
+        int kind = qtool_json_str_eq(&g->d, path, "translation") ? 0 : qtool_json_str_eq(&g->d, path, "rotation") ? 1
+                   : qtool_json_str_eq(&g->d, path, "scale")     ? 2
+                                                                  : -1;
+        if (get_uint(g, c, "sampler", (double)sms->count - 1, -1, ctx, NOI, &si) != 0)
+            return -1;
+        if (kind < 0 || !qtool_json_get(&g->d, tg, "node"))
+            continue; /* weights, or a channel for an extension */
+        if (get_uint(g, tg, "node", (double)g->nodes.n - 1, -1, ctx, NOI, &ni) != 0)
+            return -1;
+        tok *sm = smv[si];
+        if (!sm || sm->type != QTOOL_JSON_OBJECT)
+            return fail(g, "animations[0].samplers[%zu]: not an object", si);
+        size_t ia, oa;
+        acc in, out;
+        snprintf(ctx, sizeof ctx, "animations[0].samplers[%zu]", si);
+        if (get_uint(g, sm, "input", 4294967295.0, -1, ctx, NOI, &ia) != 0 ||
+            get_uint(g, sm, "output", 4294967295.0, -1, ctx, NOI, &oa) != 0 || load_acc(g, ia, &in, ctx) != 0 ||
+            load_acc(g, oa, &out, ctx) != 0)
+            return -1;
+        tok *ip = qtool_json_get(&g->d, sm, "interpolation");
+        int mode = !ip || qtool_json_str_eq(&g->d, ip, "LINEAR") ? 0 : qtool_json_str_eq(&g->d, ip, "STEP") ? 1
+                   : qtool_json_str_eq(&g->d, ip, "CUBICSPLINE")                                         ? 2
+                                                                                                           : -1;
+        int nc = kind == 1 ? 4 : 3;
+        size_t n = in.count, per = mode == 2 ? 3 : 1;
+        if (mode < 0)
+            return fail(g, "%s.interpolation: not LINEAR, STEP or CUBICSPLINE", ctx);
+        if (in.ncomp != 1 || out.ncomp != nc || out.count != n * per)
+            return fail(g, "%s: input not SCALAR, or output not %u x VEC%d of the %zu keys", ctx, (unsigned)per, nc, n);
+        /* the keys' times increase (binary search below relies on it); checked once per channel */
+        double t0 = acc_get(&in, 0, 0), t1 = acc_get(&in, n - 1, 0);
+        for (size_t q = 1; q < n; ++q)
+            if (!(acc_get(&in, q, 0) > acc_get(&in, q - 1, 0)))
+                return fail(g, "%s: input times not increasing at key %zu", ctx, q);
+        if (!isfinite(t0) || !isfinite(t1))
+            return fail(g, "%s: input times not finite", ctx);
+        g->anim_start = fmin(g->anim_start, t0), g->anim_end = fmax(g->anim_end, t1);
+        if (g->time < 0)
+            continue; /* the rest pose: keys checked, nothing applied */
+        double t = g->time < t0 ? t0 : g->time > t1 ? t1 : g->time;
+        size_t lo = 0, hi = n - 1; /* the last key at or before t */
+        while (lo < hi) {
+            size_t mid = (lo + hi + 1) / 2;
+            if (acc_get(&in, mid, 0) <= t)
+                lo = mid;
+            else
+                hi = mid - 1;
+        }
+        size_t k1 = lo + 1 < n ? lo + 1 : lo;
+        double ta = acc_get(&in, lo, 0), tb = acc_get(&in, k1, 0), td = tb - ta, u = td > 0 ? (t - ta) / td : 0;
+        double v[4], a[4], b[4];
+        /* CUBICSPLINE keys are (in-tangent, value, out-tangent) */
+        for (int j = 0; j < nc; ++j)
+            a[j] = acc_get(&out, lo * per + (per == 3), j), b[j] = acc_get(&out, k1 * per + (per == 3), j);
+        if (mode == 1 || k1 == lo) {
+            memcpy(v, a, sizeof a);
+        } else if (mode == 0) {
+            if (kind == 1)
+                slerp(a, b, u, v);
+            else
+                for (int j = 0; j < nc; ++j)
+                    v[j] = a[j] + u * (b[j] - a[j]);
+        } else {
+            double u2 = u * u, u3 = u2 * u;
+            for (int j = 0; j < nc; ++j) {
+                double m0 = td * acc_get(&out, lo * 3 + 2, j), m1 = td * acc_get(&out, k1 * 3, j);
+                v[j] = (2 * u3 - 3 * u2 + 1) * a[j] + (u3 - 2 * u2 + u) * m0 + (-2 * u3 + 3 * u2) * b[j] + (u3 - u2) * m1;
+            }
+        }
+        for (int j = 0; j < nc; ++j)
+            if (!(fabs(v[j]) <= QIBL_OBJ_MAX_COORD))
+                return fail(g, "%s: a value out of range", ctx);
+        memcpy(g->anim + 10 * ni + (kind == 0 ? 0 : kind == 1 ? 3 : 7), v, (size_t)nc * sizeof(double));
+        g->animmask[ni] |= (uint8_t)(1 << kind);
+    }
+    if (g->anim_start > g->anim_end)
+        g->anim_start = g->anim_end = 0;
+    return 0;
+}
+
 /* ---- the walks ---------------------------------------------------------------------------------- */
 
 static size_t corner(const prim *r, size_t t, int q, int flip)
@@ -819,30 +995,108 @@ static size_t corner(const prim *r, size_t t, int q, int flip)
     return r->has_idx ? (size_t)acc_get(&r->idx, k, 0) : k;
 }
 
-static int emit_mesh(G *g, size_t mi, const double *M)
+/* the cofactor matrix of m's upper 3x3 (row-major) and its determinant: normals go by cof n */
+static double cofactors(const double *M, double cof[9])
+{
+    double a = M[0], b = M[4], c = M[8], d = M[1], e = M[5], f = M[9], h = M[2], i = M[6], k = M[10];
+    cof[0] = e * k - f * i, cof[1] = -(d * k - f * h), cof[2] = d * i - e * h;
+    cof[3] = -(b * k - c * i), cof[4] = a * k - c * h, cof[5] = -(a * i - b * h);
+    cof[6] = b * f - c * e, cof[7] = -(a * f - c * d), cof[8] = a * e - b * d;
+    return a * cof[0] + b * cof[1] + c * cof[2];
+}
+
+/* Skin si's joint matrices (world of each joint x its inverse bind matrix) into *J (malloc'ed,
+ * 16 per joint); every joint a node of the scene. */
+static int skin_matrices(G *g, size_t si, double **J, size_t *nj)
+{
+    tok *o = g->skins.t[si], *js = qtool_json_get(&g->d, o, "joints");
+    *J = NULL, *nj = 0;
+    if (!js || js->type != QTOOL_JSON_ARRAY || js->count == 0 || js->count > QTOOL_GLTF_MAX_JOINTS)
+        return fail(g, "skins[%zu].joints: not an array of 1..%d node indices (QTOOL_GLTF_MAX_JOINTS)", si,
+                    QTOOL_GLTF_MAX_JOINTS);
+    acc ibm = {0};
+    int has_ibm = qtool_json_get(&g->d, o, "inverseBindMatrices") != NULL;
+    if (has_ibm) {
+        size_t ai;
+        if (get_uint(g, o, "inverseBindMatrices", 4294967295.0, -1, "skins", si, &ai) != 0 ||
+            load_acc(g, ai, &ibm, "skins") != 0)
+            return -1;
+        if (ibm.ncomp != 16 || ibm.count < js->count)
+            return fail(g, "skins[%zu].inverseBindMatrices: not MAT4 for each of the %u joints", si, js->count);
+    }
+    double *m = malloc(js->count * 16 * sizeof *m);
+    if (!m)
+        return fail(g, "out of memory");
+    tok *e = qtool_json_first(&g->d, js);
+    for (uint32_t k = 0; k < js->count; ++k, e = qtool_json_skip(&g->d, e)) {
+        if (!e || e->type != QTOOL_JSON_NUMBER || !(e->num >= 0) || e->num != floor(e->num) ||
+            e->num >= (double)g->nodes.n || !g->inscene[(size_t)e->num]) {
+            free(m);
+            return fail(g, "skins[%zu].joints[%u]: not a node of the scene", si, k);
+        }
+        double B[16];
+        for (int c = 0; c < 16; ++c)
+            B[c] = has_ibm ? acc_get(&ibm, k, c) : (c % 5 == 0);
+        mul(g->world + 16 * (size_t)e->num, B, m + 16 * (size_t)k);
+        for (int c = 0; c < 16; ++c)
+            if (!(fabs(m[16 * (size_t)k + (size_t)c]) <= QIBL_OBJ_MAX_COORD)) {
+                free(m);
+                return fail(g, "skins[%zu]: joint %u's matrix out of range", si, k);
+            }
+    }
+    *J = m, *nj = js->count;
+    return 0;
+}
+
+/* the triangles of mesh mi under world matrix M, or skinned by joint matrices J (nj of them:
+ * each vertex by the weighted sum of its four joints' matrices, the node's own M ignored) */
+static int emit_mesh(G *g, size_t mi, const double *M, const double *J, size_t nj)
 {
     qtool_obj_mesh *out = g->m;
     /* normals by the inverse transpose: the cofactor matrix, signed by the determinant */
-    double a = M[0], b = M[4], c = M[8], d = M[1], e = M[5], f = M[9], h = M[2], i = M[6], k = M[10];
-    double cof[9] = {e * k - f * i, -(d * k - f * h), d * i - e * h, -(b * k - c * i), a * k - c * h,
-                     -(a * i - b * h), b * f - c * e, -(a * f - c * d), a * e - b * d}; /* row-major cofactors */
-    double det = a * cof[0] + b * cof[1] + c * cof[2];
-    int flip = det < 0;
+    double cof[9];
+    double det = cofactors(M, cof);
+    int flip = !J && det < 0;
     tok *ps = qtool_json_get(&g->d, g->meshes.t[mi], "primitives");
     tok *p = qtool_json_first(&g->d, ps);
     for (uint32_t pk = 0; pk < ps->count; ++pk, p = qtool_json_skip(&g->d, p)) {
         prim r;
         if (load_prim(g, mi, pk, p, &r, 0) != 0)
             return -1;
+        int skinned = J && r.has_skin;
         g->nvert += r.ntri ? r.pos.count : 0;
         g->nnorm += r.ntri && r.has_nrm ? r.nrm.count : 0;
         for (size_t t = 0; t < r.ntri; ++t, ++g->t) {
             double *P = out->pos + 9 * g->t, *N = out->nrm + 9 * g->t;
             size_t vi[3];
+            double Mc[3][16], cofc[3][9], detc[3];
             for (int q = 0; q < 3; ++q) {
                 vi[q] = corner(&r, t, q, flip);
+                const double *Mq = M;
+                if (skinned) {
+                    double wsum = 0;
+                    memset(Mc[q], 0, sizeof Mc[q]);
+                    for (int k = 0; k < 4; ++k) {
+                        double w = acc_get(&r.wgt, vi[q], k);
+                        size_t jk = (size_t)acc_get(&r.jnt, vi[q], k);
+                        if (w == 0)
+                            continue;
+                        if (jk >= nj)
+                            return fail(g, "meshes[%zu]: JOINTS_0 of vertex %zu is %zu, past the skin's %zu joints", mi,
+                                        vi[q], jk, nj);
+                        for (int c = 0; c < 16; ++c)
+                            Mc[q][c] += w * J[16 * jk + (size_t)c];
+                        wsum += w;
+                    }
+                    if (!(wsum > 0))
+                        return fail(g, "meshes[%zu]: vertex %zu has all its WEIGHTS_0 zero", mi, vi[q]);
+                    for (int c = 0; c < 16; ++c)
+                        Mc[q][c] /= wsum; /* weights that do not sum to 1 are normalised */
+                    Mq = Mc[q];
+                    detc[q] = cofactors(Mq, cofc[q]);
+                }
                 double v[3] = {acc_get(&r.pos, vi[q], 0), acc_get(&r.pos, vi[q], 1), acc_get(&r.pos, vi[q], 2)};
-                xform_point(M, v, P + 3 * q);
+                xform_point(Mq, v, P + 3 * q);
                 for (int j = 0; j < 3; ++j)
                     if (!(fabs(P[3 * q + j]) <= QIBL_OBJ_MAX_COORD))
                         return fail(g, "meshes[%zu]: a vertex transformed out of range (|c| <= %g, QIBL_OBJ_MAX_COORD)",
@@ -856,11 +1110,13 @@ static int emit_mesh(G *g, size_t mi, const double *M)
             unit3(fn);
             for (int q = 0; q < 3; ++q) {
                 double *n = N + 3 * q;
-                if (r.has_nrm && det != 0) {
+                const double *cq = skinned ? cofc[q] : cof;
+                double dq = skinned ? detc[q] : det;
+                if (r.has_nrm && dq != 0) {
                     double v[3] = {acc_get(&r.nrm, vi[q], 0), acc_get(&r.nrm, vi[q], 1), acc_get(&r.nrm, vi[q], 2)};
-                    double sg = det < 0 ? -1 : 1;
+                    double sg = dq < 0 ? -1 : 1;
                     for (int j = 0; j < 3; ++j)
-                        n[j] = sg * (cof[3 * j] * v[0] + cof[3 * j + 1] * v[1] + cof[3 * j + 2] * v[2]);
+                        n[j] = sg * (cq[3 * j] * v[0] + cq[3 * j + 1] * v[1] + cq[3 * j + 2] * v[2]);
                     unit3(n);
                 } else {
                     memcpy(n, fn, sizeof fn);
@@ -898,8 +1154,20 @@ static int visit(G *g, size_t ni, const double *M, int emit)
             if (g->total_tri > g->max_tri)
                 return fail(g, "more than %zu triangles in the scene (%s)", g->max_tri,
                             g->max_tri == QTOOL_GLTF_MAX_TRIANGLES ? "QTOOL_GLTF_MAX_TRIANGLES" : "this command's limit");
-        } else if (emit_mesh(g, mi, M) != 0) {
-            return -1;
+        } else {
+            /* a skinned mesh: placed by its joints (the first walk gave every node's world matrix) */
+            double *J = NULL;
+            size_t nj = 0;
+            if (qtool_json_get(&g->d, o, "skin")) {
+                size_t si;
+                if (get_uint(g, o, "skin", (double)g->skins.n - 1, -1, "nodes", ni, &si) != 0 ||
+                    skin_matrices(g, si, &J, &nj) != 0)
+                    return -1;
+            }
+            int rc = emit_mesh(g, mi, M, J, nj);
+            free(J);
+            if (rc != 0)
+                return -1;
         }
     }
     if (qtool_json_get(&g->d, o, "camera")) {
@@ -985,6 +1253,8 @@ static int walk(G *g, size_t *roots, size_t nroots, int emit)
             if (local_matrix(g, ni, L) != 0)
                 goto out;
             mul(parent, L, f->M);
+            if (!emit)
+                memcpy(g->world + 16 * ni, f->M, sizeof f->M);
             f->node = ni;
             if (visit(g, ni, f->M, emit) != 0)
                 goto out;
@@ -1126,7 +1396,13 @@ int qtool_gltf_sniff_glb(const uint8_t *buf, size_t len)
 int qtool_gltf_parse(const char *name, const char *dir, const uint8_t *buf, size_t len, size_t max_triangles,
                      qtool_gltf_scene *out, char *err, size_t errlen)
 {
-    G g = {.name = name, .dir = dir, .err = err, .errlen = errlen, .inlen = len};
+    return qtool_gltf_parse_at(name, dir, buf, len, max_triangles, -1.0, out, err, errlen);
+}
+
+int qtool_gltf_parse_at(const char *name, const char *dir, const uint8_t *buf, size_t len, size_t max_triangles,
+                        double time, qtool_gltf_scene *out, char *err, size_t errlen)
+{
+    G g = {.name = name, .dir = dir, .err = err, .errlen = errlen, .inlen = len, .time = isfinite(time) ? time : -1.0};
     g.max_tri = max_triangles < QTOOL_GLTF_MAX_TRIANGLES ? max_triangles : QTOOL_GLTF_MAX_TRIANGLES;
     const char *json = (const char *)buf;
     size_t jlen = len;
@@ -1192,7 +1468,9 @@ int qtool_gltf_parse(const char *name, const char *dir, const uint8_t *buf, size
         index_array(&g, "textures", &g.textures, QTOOL_JSON_MAX_TOKENS) != 0 ||
         index_array(&g, "images", &g.images, QTOOL_JSON_MAX_TOKENS) != 0 ||
         index_array(&g, "cameras", &g.cameras, QTOOL_JSON_MAX_TOKENS) != 0 ||
-        index_array(&g, "scenes", &g.scenes, QTOOL_JSON_MAX_TOKENS) != 0)
+        index_array(&g, "scenes", &g.scenes, QTOOL_JSON_MAX_TOKENS) != 0 ||
+        index_array(&g, "animations", &g.animations, QTOOL_JSON_MAX_TOKENS) != 0 ||
+        index_array(&g, "skins", &g.skins, QTOOL_JSON_MAX_TOKENS) != 0)
         goto out;
     g.bufs = calloc(g.buffers.n + 1, sizeof *g.bufs);
     g.image_tex = malloc((g.images.n + 1) * sizeof *g.image_tex);
@@ -1200,7 +1478,12 @@ int qtool_gltf_parse(const char *name, const char *dir, const uint8_t *buf, size
     g.mesh_tri = malloc((g.meshes.n + 1) * sizeof *g.mesh_tri);
     g.accmat = calloc(g.accessors.n + 1, sizeof *g.accmat);
     g.visited = malloc(g.nodes.n + 1);
-    if (!g.bufs || !g.image_tex || !g.mats || !g.mesh_tri || !g.visited || !g.accmat) {
+    g.inscene = calloc(g.nodes.n + 1, 1);
+    g.world = malloc((g.nodes.n + 1) * 16 * sizeof *g.world);
+    g.anim = malloc((g.nodes.n + 1) * 10 * sizeof *g.anim);
+    g.animmask = calloc(g.nodes.n + 1, 1);
+    if (!g.bufs || !g.image_tex || !g.mats || !g.mesh_tri || !g.visited || !g.accmat || !g.inscene || !g.world ||
+        !g.anim || !g.animmask) {
         fail(&g, "out of memory");
         goto out;
     }
@@ -1208,8 +1491,9 @@ int qtool_gltf_parse(const char *name, const char *dir, const uint8_t *buf, size
         g.image_tex[i] = -2;
     for (size_t i = 0; i < g.meshes.n; ++i)
         g.mesh_tri[i] = -1;
-    if (scene_roots(&g, &roots, &nroots) != 0 || walk(&g, roots, nroots, 0) != 0)
+    if (apply_animation(&g) != 0 || scene_roots(&g, &roots, &nroots) != 0 || walk(&g, roots, nroots, 0) != 0)
         goto out;
+    memcpy(g.inscene, g.visited, g.nodes.n);
     if (g.total_tri == 0) {
         fail(&g, "no triangles in the scene");
         goto out;
@@ -1247,6 +1531,7 @@ int qtool_gltf_parse(const char *name, const char *dir, const uint8_t *buf, size
     }
     out->mesh = m;
     out->cams = g.cams, out->ncam = g.ncam;
+    out->has_anim = g.has_anim, out->anim_start = g.anim_start, out->anim_end = g.anim_end;
     g.cams = NULL;
     memset(&m, 0, sizeof m);
     rc = 0;
@@ -1262,6 +1547,7 @@ out:
     for (size_t i = 0; i < g.ntex; ++i)
         free(g.texs[i].rgb);
     free(g.bufs), free(g.image_tex), free(g.mats), free(g.mesh_tri), free(g.visited);
+    free(g.inscene), free(g.world), free(g.anim), free(g.animmask), free(g.animations.t), free(g.skins.t);
     free(g.nodes.t), free(g.meshes.t), free(g.accessors.t), free(g.views.t), free(g.buffers.t);
     free(g.materials.t), free(g.textures.t), free(g.images.t), free(g.cameras.t), free(g.scenes.t);
     qtool_json_free(&g.d);
@@ -1284,6 +1570,12 @@ static const char *gltf_magic(const uint8_t *head, size_t n)
 
 int qtool_gltf_read(const char *path, size_t max_triangles, qtool_gltf_scene *out, char *err, size_t errlen)
 {
+    return qtool_gltf_read_at(path, max_triangles, -1.0, out, err, errlen);
+}
+
+int qtool_gltf_read_at(const char *path, size_t max_triangles, double time, qtool_gltf_scene *out, char *err,
+                       size_t errlen)
+{
     static const qtool_io_kind kind = {"a glTF file", 2, QTOOL_GLTF_MAX_FILE_BYTES, QTOOL_IO_MAX_HEAD_BYTES, gltf_magic};
     uint8_t *bytes = NULL;
     size_t n = 0;
@@ -1296,7 +1588,7 @@ int qtool_gltf_read(const char *path, size_t max_triangles, qtool_gltf_scene *ou
         return -1;
     }
     qtool_gltf_scene s = {0};
-    int rc = qtool_gltf_parse(path, dir, bytes, n, max_triangles, &s, err, errlen);
+    int rc = qtool_gltf_parse_at(path, dir, bytes, n, max_triangles, time, &s, err, errlen);
     free(bytes);
     if (rc == 0)
         *out = s;

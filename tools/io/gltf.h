@@ -16,8 +16,13 @@
  * Sparse accessors (indices of UNSIGNED_BYTE/SHORT/INT, strictly increasing, below the count) and
  * accessors without a bufferView (zeros, then the sparse values) are written out once per accessor;
  * those bytes count against the buffers' budget and may not exceed 64 times the input read.
- * Not read (ignored): skins, morph targets, animations, every extension, samplers (textures
- * repeat), texCoord transforms.
+ * Skins: a node with a mesh and a skin is placed by its joints (each vertex by the weighted sum of
+ * its JOINTS_0 joints' world x inverseBindMatrices, WEIGHTS_0 normalised; the node's own transform
+ * ignored, as the spec says). Animation 0, sampled at a time (the _at calls; keys clamped; STEP,
+ * LINEAR with slerp for rotations, CUBICSPLINE), replaces the translation, rotation and scale of the
+ * nodes it targets before the tree is composed: `qibl transfer FILE.gltf@T` frames. Its key range
+ * is returned. Not read (ignored): morph targets and "weights" channels, JOINTS_1 / WEIGHTS_1,
+ * other animations, every extension, samplers (textures repeat), texCoord transforms.
  *
  * Files: a buffer or image uri is either a data: URI (base64) or a relative path, resolved against
  * the directory of the .gltf, after percent escapes are decoded. Absolute paths, a ".." component,
@@ -60,6 +65,7 @@
 #define QTOOL_GLTF_MAX_CAMERAS 256
 #define QTOOL_GLTF_MAX_TRIANGLES ((size_t)1 << 22)
 #define QTOOL_GLTF_MAX_INSTANCE_RATIO 64
+#define QTOOL_GLTF_MAX_JOINTS 1024 /* joints of one skin */
 #define QTOOL_GLTF_MAX_MEMBERS 256 /* keys of any object the reader looks into (extras excepted) */
 
 typedef struct qtool_gltf_camera {
@@ -77,6 +83,8 @@ typedef struct qtool_gltf_scene {
     qtool_obj_mesh mesh;      /* world space, Y up as glTF; nvert = vertices read, nnormals_given the NORMAL ones */
     qtool_gltf_camera *cams;  /* in node order of the traversal; NULL when none */
     size_t ncam;
+    int has_anim;                  /* the file has an animation (animation 0 is the one sampled) */
+    double anim_start, anim_end;   /* its keys' time range, seconds */
 } qtool_gltf_scene;
 
 /* Reads a .gltf or .glb (told apart by the GLB magic, whatever the extension). 0, or -1 with a
@@ -86,6 +94,12 @@ int qtool_gltf_read(const char *path, size_t max_triangles, qtool_gltf_scene *ou
  * uris are resolved against (NULL: external files are refused, only GLB and data: buffers read). */
 int qtool_gltf_parse(const char *name, const char *dir, const uint8_t *buf, size_t len, size_t max_triangles,
                      qtool_gltf_scene *out, char *err, size_t errlen);
+/* The same with animation 0 sampled at time seconds (clamped to its keys); time < 0: the nodes'
+ * own transforms (the calls above). */
+int qtool_gltf_read_at(const char *path, size_t max_triangles, double time, qtool_gltf_scene *out, char *err,
+                       size_t errlen);
+int qtool_gltf_parse_at(const char *name, const char *dir, const uint8_t *buf, size_t len, size_t max_triangles,
+                        double time, qtool_gltf_scene *out, char *err, size_t errlen);
 void qtool_gltf_free(qtool_gltf_scene *s);
 
 /* 1 if the bytes start like a GLB ("glTF" magic). */
