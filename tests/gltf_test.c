@@ -16,6 +16,7 @@
 #include <cmocka.h>
 
 #include "io/gltf.h"
+#include "io/mesh.h"
 #include "io/png.h"
 #include "fileutil.h"
 
@@ -192,6 +193,27 @@ static void test_animation(void **state)
                 fail_msg("t = %g: corner coordinate %d is %.9f, want %.9f", ts[k], i, s.mesh.pos[i], want[i]);
         qtool_gltf_free(&s);
     }
+}
+
+/* io/mesh.h: "FILE.gltf@T" is the file's animation at T seconds (the frames of `qibl transfer`) */
+static void test_mesh_read_at_time(void **state)
+{
+    (void)state;
+    char path[512], err[512];
+    snprintf(path, sizeof path, "%s/fixtures/gltf/AnimatedTriangle.gltf", QIBL_SOURCE_DIR);
+    if (access(path, R_OK) != 0)
+        skip();
+    strcat(path, "@0.25");
+    qtool_obj_mesh m;
+    assert_int_equal(qtool_mesh_is_gltf_name(path), 1);
+    if (qtool_mesh_read_max(path, 100, &m, NULL, NULL, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    assert_true(fabs(m.pos[3]) < 1e-6 && fabs(m.pos[4] - 1) < 1e-6); /* (1, 0, 0) turned to (0, 1, 0) */
+    qtool_obj_free(&m);
+    /* not a time: the whole name is the path, refused as a missing file */
+    snprintf(path, sizeof path, "%s/fixtures/gltf/AnimatedTriangle.gltf@later", QIBL_SOURCE_DIR);
+    assert_int_equal(qtool_mesh_read_max(path, 100, &m, NULL, NULL, err, sizeof err), -1);
+    assert_non_null(strstr(err, "AnimatedTriangle.gltf@later"));
 }
 
 /* SimpleSkin: a strip of 10 vertices (x = -0.5, 0.5; y = 0, 0.5 ... 2), joints node 1 (at y = 1)
@@ -722,6 +744,7 @@ int main(void)
         cmocka_unit_test(test_sparse_accessor),
         cmocka_unit_test(test_animation),
         cmocka_unit_test(test_skin),
+        cmocka_unit_test(test_mesh_read_at_time),
         cmocka_unit_test(test_index_types),
         cmocka_unit_test(test_strip_fan_nonindexed),
         cmocka_unit_test(test_trs_hierarchy_mirror_normalized),
