@@ -671,6 +671,8 @@ static void test_hostile(void **state)
         {"a\\\\b.bin", "a backslash"},
         {"b.bin", "no folder to read it from"},
         {"b%zz.bin", "bad percent escape"},
+        {"a\\nb.bin", "a control character"},
+        {"%0a.bin", "a control character"},
     };
     for (size_t i = 0; i < sizeof uris / sizeof uris[0]; ++i) {
         char text[1024];
@@ -684,6 +686,7 @@ static void test_hostile(void **state)
                          -1);
         if (!strstr(err, uris[i][1]))
             fail_msg("uri %s: error '%s' does not say '%s'", uris[i][0], err, uris[i][1]);
+        assert_null(strchr(err, '\n')); /* the file's own bytes never break the line */
     }
     /* an object with more than QTOOL_GLTF_MAX_MEMBERS keys is refused; inside extras it is not read */
     {

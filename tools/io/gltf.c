@@ -232,6 +232,16 @@ static int data_uri(G *g, tok *u, const char *ctx, size_t ci, uint8_t **out, siz
     return 0;
 }
 
+/* a file's string made safe for a one-line message: control bytes become '?', at most 60 bytes */
+static const char *shown(const char *in, char out[64])
+{
+    size_t i = 0;
+    for (; in[i] && i < 60; ++i)
+        out[i] = (unsigned char)in[i] < 0x20 || in[i] == 0x7f ? '?' : in[i];
+    out[i] = '\0';
+    return out;
+}
+
 static int hexd(char c)
 {
     return c >= '0' && c <= '9' ? c - '0' : c >= 'a' && c <= 'f' ? c - 'a' + 10 : c >= 'A' && c <= 'F' ? c - 'A' + 10 : -1;
@@ -240,7 +250,7 @@ static int hexd(char c)
 /* a relative uri made a path under g->dir, or a named refusal */
 static int uri_path(G *g, tok *u, const char *ctx, size_t ci, char *path, size_t cap)
 {
-    char raw[MAX_PATH_BYTES], rel[MAX_PATH_BYTES];
+    char raw[MAX_PATH_BYTES], rel[MAX_PATH_BYTES], sh[64];
     if (qtool_json_str(&g->d, u, raw, sizeof raw) < 0)
         return fail(g, "%s[%zu].uri: longer than %d bytes or holds a NUL", ctx, ci, MAX_PATH_BYTES - 1);
     size_t o = 0;
@@ -257,9 +267,10 @@ static int uri_path(G *g, tok *u, const char *ctx, size_t ci, char *path, size_t
     rel[o] = '\0';
     const char *why;
     if (qtool_io_relpath(g->dir ? g->dir : ".", rel, path, cap, &why) != 0)
-        return fail(g, "%s[%zu].uri '%.60s': %s (only paths inside the file's folder are read)", ctx, ci, rel, why);
+        return fail(g, "%s[%zu].uri '%s': %s (only paths inside the file's folder are read)", ctx, ci, shown(rel, sh),
+                    why);
     if (!g->dir)
-        return fail(g, "%s[%zu].uri '%.60s': an external file, and no folder to read it from", ctx, ci, rel);
+        return fail(g, "%s[%zu].uri '%s': an external file, and no folder to read it from", ctx, ci, shown(rel, sh));
     return 0;
 }
 
@@ -1456,7 +1467,8 @@ int qtool_gltf_parse_at(const char *name, const char *dir, const uint8_t *buf, s
         goto out;
     }
     if (strncmp(vs, "2.", 2) != 0) {
-        fail(&g, "asset.version %s (only glTF 2.x is read)", vs);
+        char sh[64];
+        fail(&g, "asset.version %s (only glTF 2.x is read)", shown(vs, sh));
         goto out;
     }
     if (index_array(&g, "nodes", &g.nodes, QTOOL_GLTF_MAX_NODES) != 0 ||

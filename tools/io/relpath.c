@@ -17,6 +17,9 @@ int qtool_io_relpath(const char *dir, const char *rel, char *out, size_t cap, co
         *why = "an absolute path";
     else if (strchr(rel, '\\'))
         *why = "a backslash";
+    else if (strpbrk(rel, "\x01\x02\x03\x04\x05\x06\x07\x08\x09\x0a\x0b\x0c\x0d\x0e\x0f\x10\x11\x12\x13\x14\x15\x16"
+                          "\x17\x18\x19\x1a\x1b\x1c\x1d\x1e\x1f\x7f"))
+        *why = "a control character";
     else
         *why = NULL;
     for (const char *p = rel; !*why && *p;) {
