@@ -191,7 +191,7 @@ static int mtl_texture(mtl_set *ms, const char *mtlname, long line, const char *
     }
     ms->texpix += px;
     ms->tex[ms->ntex] = (qtool_mesh_texture){.w = w, .h = h, .rgb = rgb};
-    snprintf(ms->texpath[ms->ntex], sizeof ms->texpath[0], "%s", file);
+    memcpy(ms->texpath[ms->ntex], file, strlen(file) + 1); /* at most QTOOL_OBJ_MAX_NAME: checked by the caller */
     *out = (int)ms->ntex++;
     return 0;
 }
@@ -271,7 +271,7 @@ static int mtl_read(mtl_set *ms, const char *objname, long objline, const char *
                 goto out;
             }
             cur = &ms->m[ms->n++];
-            snprintf(cur->name, sizeof cur->name, "%s", s);
+            memcpy(cur->name, s, strlen(s) + 1); /* at most QTOOL_OBJ_MAX_NAME: checked above */
             cur->kd[0] = cur->kd[1] = cur->kd[2] = QTOOL_OBJ_DEFAULT_KD;
             cur->tex = -1;
         } else if (strcmp(kw, "Kd") == 0 || strcmp(kw, "map_Kd") == 0) {
