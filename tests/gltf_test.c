@@ -19,6 +19,7 @@
 #include "io/mesh.h"
 #include "io/png.h"
 #include "fileutil.h"
+#include "qibl/asset.h" /* qibl_crc32 */
 
 #ifndef QIBL_SOURCE_DIR
 #define QIBL_SOURCE_DIR "."
@@ -528,6 +529,94 @@ static void test_external_files_and_texture(void **state)
     rmdir(dir);
 }
 
+static void refused(const char *body, const uint8_t *bin, size_t n, const char *needle);
+
+/* a PNG of colour type ct (0 grey, 3 palette, 4 grey + alpha), 8-bit, w x 1, zlib stored block */
+static size_t tiny_png(uint8_t *o, int ct, const uint8_t *px, int w, const uint8_t *plte, int nplte)
+{
+    size_t n = 0;
+    static const uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+    memcpy(o, sig, 8), n = 8;
+    uint8_t ihdr[13] = {0, 0, 0, (uint8_t)w, 0, 0, 0, 1, 8, (uint8_t)ct, 0, 0, 0};
+    uint8_t raw[64], z[96];
+    int ch = ct == 4 ? 2 : 1, rl = 1 + w * ch;
+    raw[0] = 0;
+    memcpy(raw + 1, px, (size_t)(w * ch));
+    uint32_t a = 1, b = 0;
+    for (int i = 0; i < rl; ++i)
+        a = (a + raw[i]) % 65521, b = (b + a) % 65521;
+    size_t zn = 0;
+    z[zn++] = 0x78, z[zn++] = 0x01, z[zn++] = 1, z[zn++] = (uint8_t)rl, z[zn++] = 0, z[zn++] = (uint8_t)~rl, z[zn++] = 0xFF;
+    memcpy(z + zn, raw, (size_t)rl), zn += (size_t)rl;
+    uint32_t ad = b << 16 | a;
+    z[zn++] = (uint8_t)(ad >> 24), z[zn++] = (uint8_t)(ad >> 16), z[zn++] = (uint8_t)(ad >> 8), z[zn++] = (uint8_t)ad;
+    const struct {
+        const char *t;
+        const uint8_t *d;
+        size_t n;
+    } ck[4] = {{"IHDR", ihdr, 13}, {"PLTE", plte, (size_t)nplte * 3}, {"IDAT", z, zn}, {"IEND", NULL, 0}};
+    for (int k = 0; k < 4; ++k) {
+        if (k == 1 && !nplte)
+            continue;
+        uint8_t *c = o + n;
+        c[0] = (uint8_t)(ck[k].n >> 24), c[1] = (uint8_t)(ck[k].n >> 16), c[2] = (uint8_t)(ck[k].n >> 8), c[3] = (uint8_t)ck[k].n;
+        memcpy(c + 4, ck[k].t, 4);
+        if (ck[k].n)
+            memcpy(c + 8, ck[k].d, ck[k].n);
+        uint32_t crc = qibl_crc32(0, c + 4, 4 + ck[k].n);
+        c[8 + ck[k].n] = (uint8_t)(crc >> 24), c[9 + ck[k].n] = (uint8_t)(crc >> 16);
+        c[10 + ck[k].n] = (uint8_t)(crc >> 8), c[11 + ck[k].n] = (uint8_t)crc;
+        n += 12 + ck[k].n;
+    }
+    return n;
+}
+
+/* textures as exporters write them: palette (BoxTextured's), grey and grey + alpha PNGs, from a
+ * bufferView, come back as RGB */
+static void test_texture_colour_types(void **state)
+{
+    (void)state;
+    static const uint8_t plte[9] = {10, 20, 30, 200, 100, 50, 1, 2, 3};
+    static const uint8_t idx[2] = {1, 2}, grey[2] = {77, 200}, ga[4] = {77, 255, 200, 0};
+    static const uint8_t want[3][6] = {{200, 100, 50, 1, 2, 3}, {77, 77, 77, 200, 200, 200}, {77, 77, 77, 200, 200, 200}};
+    for (int k = 0; k < 4; ++k) {
+        uint8_t bin[512] = {0};
+        static const float v[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+        for (int i = 0; i < 9; ++i)
+            putf(bin + 4 * i, v[i]);
+        for (int i = 0; i < 6; ++i)
+            putf(bin + 36 + 4 * i, 0.25f);
+        /* k = 3: a palette index past the PLTE (2 entries) */
+        size_t pn = k == 0 ? tiny_png(bin + 60, 3, idx, 2, plte, 3)
+                    : k == 1 ? tiny_png(bin + 60, 0, grey, 2, NULL, 0)
+                    : k == 2 ? tiny_png(bin + 60, 4, ga, 2, NULL, 0)
+                             : tiny_png(bin + 60, 3, idx, 2, plte, 2);
+        char body[2048];
+        snprintf(body, sizeof body,
+                 "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36},{\"buffer\":0,\"byteOffset\":36,\"byteLength\":24},"
+                 "{\"buffer\":0,\"byteOffset\":60,\"byteLength\":%zu}],"
+                 "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"},"
+                 "{\"bufferView\":1,\"componentType\":5126,\"count\":3,\"type\":\"VEC2\"}],"
+                 "\"images\":[{\"bufferView\":2,\"mimeType\":\"image/png\"}],\"textures\":[{\"source\":0}],"
+                 "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}],"
+                 "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1},\"material\":0}]}],"
+                 "\"nodes\":[{\"mesh\":0}]",
+                 pn);
+        if (k == 3) {
+            refused(body, bin, 60 + pn, "palette index 2 past the 2 PLTE entries");
+            continue;
+        }
+        qtool_gltf_scene s;
+        char err[512];
+        if (parse_json(body, bin, 60 + pn, &s, err, sizeof err) != 0)
+            fail_msg("colour type case %d: %s", k, err);
+        assert_int_equal(s.mesh.ntex, 1);
+        assert_true(s.mesh.texs[0].w == 2 && s.mesh.texs[0].h == 1);
+        assert_memory_equal(s.mesh.texs[0].rgb, want[k], 6);
+        qtool_gltf_free(&s);
+    }
+}
+
 /* ---- hostile files ----------------------------------------------------------------------------- */
 
 static void refused(const char *body, const uint8_t *bin, size_t n, const char *needle)
@@ -754,6 +843,7 @@ int main(void)
         cmocka_unit_test(test_glb),
         cmocka_unit_test(test_external_files_and_texture),
         cmocka_unit_test(test_hostile),
+        cmocka_unit_test(test_texture_colour_types),
         cmocka_unit_test(test_hostile_paths),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -587,7 +587,7 @@ static int load_image(G *g, size_t i, int *tex)
     int rc = qtool_png_decode_rgb8(p, len, &w, &h, &frames, &rgb, err, sizeof err);
     free(own);
     if (rc != 0)
-        return fail(g, "images[%zu]: %s (textures are read as 8-bit RGB or RGBA PNG)", i, err);
+        return fail(g, "images[%zu]: %s (textures are read as 8-bit PNG)", i, err);
     size_t px = (size_t)w * (size_t)h;
     if (px > MAX_TEXTURE_PIXELS - g->texpix) {
         free(rgb);

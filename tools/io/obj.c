@@ -182,7 +182,7 @@ static int mtl_texture(mtl_set *ms, const char *mtlname, long line, const char *
     int w, h, frames;
     uint8_t *rgb;
     if (qtool_png_read_rgb8(path, &w, &h, &frames, &rgb, e2, sizeof e2) != 0)
-        return fail(err, errlen, mtlname, line, "map_Kd: %s (textures are read as 8-bit RGB or RGBA PNG)", e2);
+        return fail(err, errlen, mtlname, line, "map_Kd: %s (textures are read as 8-bit PNG)", e2);
     size_t px = (size_t)w * (size_t)h;
     if (px > QTOOL_OBJ_MAX_TEXTURE_PIXELS - ms->texpix) {
         free(rgb);
