@@ -1394,6 +1394,29 @@ static int check_members(G *g)
     }
 }
 
+/* extensionsRequired: a file that needs an extension the reader does not know (Draco, meshopt,
+ * texture transforms ...) would come out wrong (no geometry, wrong uvs), so it is refused by name.
+ * Known: KHR_mesh_quantization (any component type is read) and the KHR_materials_ family (the
+ * base colour stays right without them). */
+static int check_required(G *g)
+{
+    tok *r = qtool_json_get(&g->d, g->root, "extensionsRequired");
+    if (!r)
+        return 0;
+    if (r->type != QTOOL_JSON_ARRAY)
+        return fail(g, "extensionsRequired: not an array");
+    tok *e = qtool_json_first(&g->d, r);
+    for (uint32_t k = 0; k < r->count; ++k, e = qtool_json_skip(&g->d, e)) {
+        char name[96], sh[64];
+        if (qtool_json_str(&g->d, e, name, sizeof name) < 0)
+            return fail(g, "extensionsRequired[%u]: not an extension name", k);
+        if (strcmp(name, "KHR_mesh_quantization") != 0 && strncmp(name, "KHR_materials_", 14) != 0)
+            return fail(g, "extensionsRequired: %s (not read: only KHR_mesh_quantization and KHR_materials_*)",
+                        shown(name, sh));
+    }
+    return 0;
+}
+
 static uint32_t le32(const uint8_t *p)
 {
     return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
@@ -1434,6 +1457,8 @@ int qtool_gltf_parse_at(const char *name, const char *dir, const uint8_t *buf, s
         if (cl > total - 20)
             return fail(&g, "GLB: JSON chunk of %u bytes past the file's %u", cl, total);
         json = (const char *)buf + 20, jlen = cl;
+        while (jlen && json[jlen - 1] == '\0') /* some exporters pad the JSON chunk with NULs, not spaces */
+            --jlen;
         size_t at = 20 + (size_t)cl;
         g.glb = 1;
         while (at + 8 <= total) { /* the BIN chunk, if any; other chunks are skipped */
@@ -1457,7 +1482,7 @@ int qtool_gltf_parse_at(const char *name, const char *dir, const uint8_t *buf, s
         fail(&g, "the JSON is not an object");
         goto out;
     }
-    if (check_members(&g) != 0)
+    if (check_members(&g) != 0 || check_required(&g) != 0)
         goto out;
     tok *asset = qtool_json_get(&g.d, g.root, "asset");
     tok *ver = qtool_json_get(&g.d, asset, "version");
