@@ -339,7 +339,7 @@ static int read_in(const char *dir, const char *name, qtool_obj_mesh *m, char *e
 {
     char p[256];
     snprintf(p, sizeof p, "%s/%s", dir, name);
-    return qtool_obj_read(p, m, err, errlen);
+    return qtool_obj_read_materials(p, QTOOL_OBJ_MAX_TRIANGLES, m, err, errlen);
 }
 
 /* two materials, one textured; faces before any usemtl get QTOOL_OBJ_DEFAULT_KD; vt stored as
@@ -378,6 +378,12 @@ static void test_materials(void **state)
     assert_int_equal(read_in(dir, "b.obj", &m, err, sizeof err), 0);
     assert_null(m.albedo);
     assert_null(m.tex);
+    qtool_obj_free(&m);
+    /* the geometry-only reader (transfer's) ignores them too: no materials, nothing else read */
+    char ap[256];
+    snprintf(ap, sizeof ap, "%s/a.obj", dir);
+    assert_int_equal(qtool_obj_read(ap, &m, err, sizeof err), 0);
+    assert_true(m.ntri == 4 && !m.albedo && !m.tex);
     qtool_obj_free(&m);
     /* the in-memory parser without a folder ignores mtllib and usemtl, as before */
     const char *t = "mtllib nothere.mtl\nusemtl nothing\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";

@@ -77,5 +77,5 @@ int qtool_mesh_read_max(const char *path, size_t max_triangles, qtool_obj_mesh *
     }
     if (qtool_ply_sniff(head, nh))
         return qtool_ply_read_max(path, max_triangles, out, err, errlen);
-    return qtool_obj_read_max(path, max_triangles, out, err, errlen);
+    return qtool_obj_read_materials(path, max_triangles, out, err, errlen);
 }

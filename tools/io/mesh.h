@@ -13,7 +13,7 @@
 
 /* Reads path as glTF when its name ends in .gltf or .glb (any case) or it starts with the GLB magic
  * ("FILE.gltf@T" or "FILE.glb@T": its animation 0 at T seconds, io/gltf.h),
- * as PLY when it starts like one, else as OBJ; at most max_triangles (each reader's own cap is the
+ * as PLY when it starts like one, else as OBJ with its materials (qtool_obj_read_materials); at most max_triangles (each reader's own cap is the
  * ceiling). cams / ncam (may be NULL) receive a glTF file's cameras (NULL / 0 for the others; free
  * with free()). 0, or -1 with the reader's one-line reason naming the file (nothing allocated). */
 int qtool_mesh_read_max(const char *path, size_t max_triangles, qtool_obj_mesh *out, qtool_gltf_camera **cams,

@@ -632,7 +632,21 @@ int qtool_obj_read(const char *path, qtool_obj_mesh *out, char *err, size_t errl
     return qtool_obj_read_max(path, QTOOL_OBJ_MAX_TRIANGLES, out, err, errlen);
 }
 
+static int read_impl(const char *path, size_t max_triangles, int materials, qtool_obj_mesh *out, char *err,
+                     size_t errlen);
+
 int qtool_obj_read_max(const char *path, size_t max_triangles, qtool_obj_mesh *out, char *err, size_t errlen)
+{
+    return read_impl(path, max_triangles, 0, out, err, errlen);
+}
+
+int qtool_obj_read_materials(const char *path, size_t max_triangles, qtool_obj_mesh *out, char *err, size_t errlen)
+{
+    return read_impl(path, max_triangles, 1, out, err, errlen);
+}
+
+static int read_impl(const char *path, size_t max_triangles, int materials, qtool_obj_mesh *out, char *err,
+                     size_t errlen)
 {
     static const qtool_io_kind kind = {"a Wavefront OBJ file", 1, QTOOL_OBJ_MAX_FILE_BYTES, QTOOL_IO_MAX_HEAD_BYTES,
                                       obj_magic};
@@ -647,7 +661,7 @@ int qtool_obj_read_max(const char *path, size_t max_triangles, qtool_obj_mesh *o
         free(buf);
         return fail(err, errlen, path, 0, "path too long");
     }
-    int rc = qtool_obj_parse_dir(path, dir, buf, n, max_triangles, &m, err, errlen);
+    int rc = qtool_obj_parse_dir(path, materials ? dir : NULL, buf, n, max_triangles, &m, err, errlen);
     free(buf);
     if (rc == 0)
         *out = m;

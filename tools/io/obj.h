@@ -2,8 +2,8 @@
  * io/obj.h - Wavefront OBJ reader: v (x y z [w]), vn, vt, f with any of the forms
  * v, v/vt, v//vn, v/vt/vn, 1-based or negative (relative) indices; polygons fan-triangulated from
  * their first vertex; g, o, s, l, p and unknown statements are ignored.
- * Materials (qtool_obj_read*, and qtool_obj_parse_dir with a folder; ignored by the in-memory
- * parsers without one): "mtllib a.mtl [b.mtl ...]" reads material libraries beside the .obj
+ * Materials (qtool_obj_read_materials, and qtool_obj_parse_dir with a folder; ignored by the other
+ * readers, which take geometry only, as before): "mtllib a.mtl [b.mtl ...]" reads material libraries beside the .obj
  * (io/relpath.h: no absolute path, no ".."); in them "newmtl NAME", "Kd r g b" (0..1, default
  * QTOOL_OBJ_DEFAULT_KD) and "map_Kd [options] FILE.png" (the last word is the file, a PNG read by
  * io/pngread.c); every other statement is ignored. "usemtl NAME" gives the following faces that
@@ -83,7 +83,10 @@ int qtool_obj_parse(const char *name, const char *text, size_t len, qtool_obj_me
 int qtool_obj_read_max(const char *path, size_t max_triangles, qtool_obj_mesh *out, char *err, size_t errlen);
 int qtool_obj_parse_max(const char *name, const char *text, size_t len, size_t max_triangles, qtool_obj_mesh *out,
                         char *err, size_t errlen);
-/* The same, reading materials: dir is the folder mtllib files are resolved against (NULL: mtllib
+/* The same with materials: reads path and the material libraries and textures its mtllib lines
+ * name beside it (the scene loader's call; transfer and the others read geometry only). */
+int qtool_obj_read_materials(const char *path, size_t max_triangles, qtool_obj_mesh *out, char *err, size_t errlen);
+/* The same from text in memory: dir is the folder mtllib files are resolved against (NULL: mtllib
  * and usemtl ignored, as the parsers above). */
 int qtool_obj_parse_dir(const char *name, const char *dir, const char *text, size_t len, size_t max_triangles,
                         qtool_obj_mesh *out, char *err, size_t errlen);
