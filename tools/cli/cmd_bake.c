@@ -112,7 +112,7 @@ int qcli_scene_load(const qcli_scene *o, qtool_rt_scene *s)
         fprintf(stderr, "qibl: %s%s\n", err,
                 !opened || known || (ext && strcmp(ext, ".obj") == 0)
                     ? ""
-                    : " (read as OBJ: meshes are glTF 2.0 (.gltf, .glb), Wavefront OBJ or PLY)");
+                    : " (read as OBJ: meshes are Wavefront OBJ or PLY, or glTF 2.0 .gltf/.glb)");
         return 1;
     }
     int rc = qtool_rt_scene_from_obj(s, &m, o->zup, o->raw);
