@@ -201,6 +201,35 @@ static void test_per_triangle_albedo_and_texture(void **state)
     qtool_rt_scene_free(&s);
 }
 
+/* qtool_rt_prop_place puts a mesh point exactly where the prop's triangles put it (a glTF camera's
+ * eye goes through it to the scene the bake renders) and only turns directions */
+static void test_prop_place(void **state)
+{
+    (void)state;
+    const char *text = "v 3 0 1\nv 5 0 1\nv 3 4 2\nf 1 2 3\n";
+    qtool_obj_mesh mesh;
+    char err[256];
+    assert_int_equal(qtool_obj_parse("t.obj", text, strlen(text), &mesh, err, sizeof err), 0);
+    for (int zup = 0; zup < 2; ++zup) {
+        qtool_rt_scene s;
+        assert_int_equal(qtool_rt_scene_from_obj(&s, &mesh, zup, 0), 0);
+        for (int q = 0; q < 3; ++q) {
+            double w[3];
+            qtool_rt_prop_place(&mesh, zup, 0, mesh.pos + 3 * q, 0, w);
+            int found = 0;
+            for (size_t i = 0; i < 3 * s.ntri; ++i)
+                found |= s.v[3 * i] == w[0] && s.v[3 * i + 1] == w[1] && s.v[3 * i + 2] == w[2];
+            assert_true(found);
+        }
+        double up[3] = {0, 1, 0}, d[3];
+        qtool_rt_prop_place(&mesh, zup, 0, up, 1, d);
+        /* Y-up: +y becomes +z; Z-up: +y is turned a quarter about z to -x */
+        assert_true(zup ? (d[0] == -1 && d[1] == 0 && d[2] == 0) : (d[0] == 0 && d[1] == 0 && d[2] == 1));
+        qtool_rt_scene_free(&s);
+    }
+    qtool_obj_free(&mesh);
+}
+
 /* ---- partial sums files: every header field checked before use (issue 10, findings 1 and 3) ---- */
 
 /* small synthetic sums: w x h, k, ndirs, shard/nshards; acc filled from seed */
@@ -444,6 +473,7 @@ int main(void)
         cmocka_unit_test(test_projection_of_unshadowed_plane),
         cmocka_unit_test(test_shadow_and_pmap),
         cmocka_unit_test(test_per_triangle_albedo_and_texture),
+        cmocka_unit_test(test_prop_place),
         cmocka_unit_test(test_sums_roundtrip_and_version),
         cmocka_unit_test(test_sums_checksums_catch_flips),
         cmocka_unit_test(test_sums_header_fields_bounded),

@@ -344,6 +344,35 @@ static void to_scene(const double *p, int zup, int raw, double q[3])
     q[0] = -z[1], q[1] = z[0], q[2] = z[2];
 }
 
+/* Y-up (x, y, z) -> Z-up (x, -z, y), then a quarter turn about z, (x, y) -> (-y, x), so the
+ * model's front (+z of a Y-up model, -y of a Z-up one) faces the viewer at the origin: rotations,
+ * so windings and normals stay right; then the scale and offset that stand the prop */
+static void placement(const qtool_obj_mesh *m, int zup, int raw, double *sc_out, double off[3])
+{
+    double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+    for (size_t i = 0; i < m->ntri * 3; ++i) {
+        double q[3];
+        to_scene(m->pos + 3 * i, zup, raw, q);
+        for (int j = 0; j < 3; ++j)
+            lo[j] = q[j] < lo[j] ? q[j] : lo[j], hi[j] = q[j] > hi[j] ? q[j] : hi[j];
+    }
+    double size = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
+    double sc = raw || size <= 0 ? 1.0 : 2.5 / size;
+    off[0] = raw ? 0 : QTOOL_RT_PROP_X - sc * (lo[0] + hi[0]) / 2;
+    off[1] = raw ? 0 : -sc * (lo[1] + hi[1]) / 2;
+    off[2] = raw ? 0 : -1.6 - sc * lo[2];
+    *sc_out = sc;
+}
+
+void qtool_rt_prop_place(const qtool_obj_mesh *m, int zup, int raw, const double p[3], int direction, double out[3])
+{
+    double sc, off[3], q[3];
+    placement(m, zup, raw, &sc, off);
+    to_scene(p, zup, raw, q);
+    for (int j = 0; j < 3; ++j)
+        out[j] = direction ? q[j] : q[j] * sc + off[j];
+}
+
 /* the mesh's colours per triangle: its triangles come first, the ground after them */
 static int carry_materials(qtool_rt_scene *s, const qtool_obj_mesh *m)
 {
@@ -388,20 +417,8 @@ int qtool_rt_scene_from_obj(qtool_rt_scene *s, const qtool_obj_mesh *m, int zup,
     memcpy(s->mats, mats, sizeof mats);
     s->nmat = 2;
     builder b = {s, 0, 0};
-    double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-    /* Y-up (x, y, z) -> Z-up (x, -z, y), then a quarter turn about z, (x, y) -> (-y, x), so the
-     * model's front (+z of a Y-up model, -y of a Z-up one) faces the viewer at the origin: rotations,
-     * so windings and normals stay right */
-    for (size_t i = 0; i < m->ntri * 3; ++i) {
-        double q[3];
-        to_scene(m->pos + 3 * i, zup, raw, q);
-        for (int j = 0; j < 3; ++j)
-            lo[j] = q[j] < lo[j] ? q[j] : lo[j], hi[j] = q[j] > hi[j] ? q[j] : hi[j];
-    }
-    double size = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
-    double sc = raw || size <= 0 ? 1.0 : 2.5 / size;
-    double off[3] = {raw ? 0 : QTOOL_RT_PROP_X - sc * (lo[0] + hi[0]) / 2, raw ? 0 : -sc * (lo[1] + hi[1]) / 2,
-                     raw ? 0 : -1.6 - sc * lo[2]};
+    double sc, off[3];
+    placement(m, zup, raw, &sc, off);
     for (size_t t = 0; t < m->ntri; ++t) {
         double p[3][3], n[3][3];
         for (int q = 0; q < 3; ++q) {

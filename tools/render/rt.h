@@ -71,6 +71,10 @@ int qtool_rt_scene_builtin(qtool_rt_scene *s);
  * along -x from the viewpoint (QTOOL_RT_PROP_X: the middle of the panorama, away from the seam at
  * +x); raw: the mesh exactly as given and nothing added. 0 or -1 (no memory). */
 int qtool_rt_scene_from_obj(qtool_rt_scene *s, const qtool_obj_mesh *m, int zup, int raw);
+/* Where qtool_rt_scene_from_obj(s, m, zup, raw) puts the mesh-space point p (direction 0) or
+ * turns the direction p (direction 1: rotated only), e.g. a glTF camera's eye, forward and up
+ * (io/gltf.h) for a fixed-camera render of the same scene. Bit for bit the prop's own arithmetic. */
+void qtool_rt_prop_place(const qtool_obj_mesh *m, int zup, int raw, const double p[3], int direction, double out[3]);
 void qtool_rt_scene_free(qtool_rt_scene *s);
 
 /* What the viewing ray of a pixel sees (the light-independent part of shading). */
