@@ -379,6 +379,32 @@ static void test_strip_fan_nonindexed(void **state)
     qtool_gltf_free(&s);
 }
 
+/* COLOR_0 (normalized UNSIGNED_BYTE VEC4) times baseColorFactor, averaged over each triangle */
+static void test_vertex_colours(void **state)
+{
+    (void)state;
+    uint8_t bin[64] = {0};
+    static const float v[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    for (int i = 0; i < 9; ++i)
+        putf(bin + 4 * i, v[i]);
+    static const uint8_t col[12] = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255};
+    memcpy(bin + 36, col, 12);
+    const char *body = "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36},{\"buffer\":0,\"byteOffset\":36,\"byteLength\":12}],"
+                       "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"},"
+                       "{\"bufferView\":1,\"componentType\":5121,\"normalized\":true,\"count\":3,\"type\":\"VEC4\"}],"
+                       "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.5,1,1,1]}}],"
+                       "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"COLOR_0\":1},\"material\":0}]}],"
+                       "\"nodes\":[{\"mesh\":0}]";
+    qtool_gltf_scene s;
+    char err[512];
+    if (parse_json(body, bin, 48, &s, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    assert_non_null(s.mesh.albedo);
+    assert_true(fabs(s.mesh.albedo[0] - 0.5 / 3) < 1e-12 && fabs(s.mesh.albedo[1] - 1.0 / 3) < 1e-12 &&
+                fabs(s.mesh.albedo[2] - 1.0 / 3) < 1e-12);
+    qtool_gltf_free(&s);
+}
+
 /* A TRS hierarchy: root T(10,0,0) R(90 deg about z) S(2,2,2) -> child T(0,1,0) with a mirror S(-1,1,1).
  * The triangle (0,0,0) (1,0,0) (0,1,0) composed by hand: child: (x, y, z) -> (-x, y + 1, z); root:
  * (x, y, z) -> (10 - 2y, 2x, 2z). The mirror flips the winding back to CCW (normal +z). Normalized
@@ -850,6 +876,7 @@ int main(void)
         cmocka_unit_test(test_index_types),
         cmocka_unit_test(test_strip_fan_nonindexed),
         cmocka_unit_test(test_trs_hierarchy_mirror_normalized),
+        cmocka_unit_test(test_vertex_colours),
         cmocka_unit_test(test_glb),
         cmocka_unit_test(test_external_files_and_texture),
         cmocka_unit_test(test_hostile),

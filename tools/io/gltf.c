@@ -639,8 +639,8 @@ static int load_material(G *g, size_t i)
 /* ---- meshes ------------------------------------------------------------------------------------- */
 
 typedef struct {
-    acc pos, nrm, uv, idx, jnt, wgt;
-    int has_nrm, has_uv, has_idx, has_skin, mode, mat;
+    acc pos, nrm, uv, idx, jnt, wgt, col;
+    int has_nrm, has_uv, has_idx, has_skin, has_col, mode, mat;
     size_t n, ntri;
 } prim;
 
@@ -679,6 +679,18 @@ static int load_prim(G *g, size_t mi, size_t pi, tok *p, prim *r, int check)
                 if (!(fabs(acc_get(&r->nrm, v, c)) <= QIBL_OBJ_MAX_COORD))
                     return fail(g, "%s: NORMAL accessors[%zu] vertex %zu: not finite", what, ai, v);
         r->has_nrm = 1;
+    }
+    if (qtool_json_get(&g->d, at, "COLOR_0")) { /* vertex colours multiply the base colour */
+        if (get_uint(g, at, "COLOR_0", 4294967295.0, -1, what, NOI, &ai) != 0 || load_acc(g, ai, &r->col, what) != 0)
+            return -1;
+        if ((r->col.ncomp != 3 && r->col.ncomp != 4) || r->col.count != r->pos.count)
+            return fail(g, "%s: COLOR_0 accessors[%zu] is not VEC3 or VEC4 of the POSITION count %zu", what, ai,
+                        r->pos.count);
+        for (size_t v = 0; check && v < r->col.count; ++v)
+            for (int c = 0; c < 3; ++c)
+                if (!(acc_get(&r->col, v, c) >= 0 && acc_get(&r->col, v, c) <= 1))
+                    return fail(g, "%s: COLOR_0 accessors[%zu] vertex %zu: a colour outside 0..1", what, ai, v);
+        r->has_col = 1;
     }
     if (qtool_json_get(&g->d, at, "JOINTS_0") || qtool_json_get(&g->d, at, "WEIGHTS_0")) {
         size_t aj, aw;
@@ -762,7 +774,7 @@ static int check_mesh(G *g, size_t mi)
         if (total > QTOOL_GLTF_MAX_TRIANGLES)
             return fail(g, "meshes[%zu]: more than %zu triangles (QTOOL_GLTF_MAX_TRIANGLES)", mi,
                         (size_t)QTOOL_GLTF_MAX_TRIANGLES);
-        if (r.ntri && r.mat >= 0)
+        if (r.ntri && (r.mat >= 0 || r.has_col))
             g->any_mat = 1;
         if (r.ntri && r.has_uv)
             g->any_tex = 1;
@@ -1135,8 +1147,12 @@ static int emit_mesh(G *g, size_t mi, const double *M, const double *J, size_t n
             }
             if (out->albedo) {
                 const double *rgb = r.mat >= 0 ? g->mats[r.mat].rgb : NULL;
-                for (int j = 0; j < 3; ++j)
-                    out->albedo[3 * g->t + j] = rgb ? rgb[j] : 1.0;
+                for (int j = 0; j < 3; ++j) {
+                    double a = rgb ? rgb[j] : 1.0;
+                    if (r.has_col) /* per triangle: the mean of its corners' colours */
+                        a *= (acc_get(&r.col, vi[0], j) + acc_get(&r.col, vi[1], j) + acc_get(&r.col, vi[2], j)) / 3;
+                    out->albedo[3 * g->t + j] = a;
+                }
             }
             if (out->tex) {
                 out->tex[g->t] = r.has_uv ? g->mats[r.mat].tex : -1;

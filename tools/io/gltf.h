@@ -10,7 +10,8 @@
  * component type UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT, or none; accessors of any component
  * type, normalized or not, with their bufferView's byteOffset and byteStride; the material's
  * pbrMetallicRoughness baseColorFactor (rgb, linear) and baseColorTexture (a PNG image, from a
- * uri or a bufferView) into qtool_obj_mesh's albedo / uv / tex. A node whose matrix has a negative
+ * uri or a bufferView) into qtool_obj_mesh's albedo / uv / tex; COLOR_0 (VEC3 or VEC4, 0..1)
+ * multiplies the albedo by the mean of each triangle's three corner colours (per-triangle albedo). A node whose matrix has a negative
  * determinant has its triangles' winding reversed (the spec's rule). Cameras on the scene's nodes
  * (perspective and orthographic) come back with their world eye point and axes.
  * Sparse accessors (indices of UNSIGNED_BYTE/SHORT/INT, strictly increasing, below the count) and
