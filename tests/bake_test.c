@@ -133,6 +133,103 @@ static void test_shadow_and_pmap(void **state)
     qtool_rt_scene_free(&s);
 }
 
+/* per-triangle albedo and texture (glTF baseColorFactor / OBJ Kd, base-colour textures): what the
+ * primary hit reports and what the renderer multiplies; the ground keeps its material */
+static double srgb_dec(int c)
+{
+    double x = c / 255.0;
+    return x <= 0.04045 ? x / 12.92 : pow((x + 0.055) / 1.055, 2.4);
+}
+
+static void test_per_triangle_albedo_and_texture(void **state)
+{
+    (void)state;
+    /* two triangles of the plane z = -1: x < 0 (triangle 0) and x > 0 (triangle 1) */
+    const char *text = "v -50 -50 -1\nv 0 -50 -1\nv 0 50 -1\nv 50 -50 -1\nf 1 2 3\nf 2 4 3\n";
+    qtool_obj_mesh mesh;
+    char err[256];
+    assert_int_equal(qtool_obj_parse("plane.obj", text, strlen(text), &mesh, err, sizeof err), 0);
+    assert_int_equal(mesh.ntri, 2);
+    mesh.albedo = malloc(6 * sizeof(double));
+    mesh.uv = malloc(12 * sizeof(double));
+    mesh.tex = malloc(2 * sizeof(int32_t));
+    mesh.texs = calloc(1, sizeof *mesh.texs);
+    assert_true(mesh.albedo && mesh.uv && mesh.tex && mesh.texs);
+    static const double alb[6] = {0.2, 0.4, 0.6, 1.0, 0.5, 0.25};
+    memcpy(mesh.albedo, alb, sizeof alb);
+    mesh.tex[0] = -1, mesh.tex[1] = 0;
+    for (int i = 0; i < 12; ++i) /* triangle 1's corners all at u = 0.75, v = 0.5: texel (1, 0) exactly */
+        mesh.uv[i] = i % 2 ? 0.5 : 0.75;
+    mesh.texs[0].w = 2, mesh.texs[0].h = 1, mesh.ntex = 1;
+    mesh.texs[0].rgb = malloc(6);
+    static const uint8_t px[6] = {255, 255, 255, 255, 128, 0};
+    memcpy(mesh.texs[0].rgb, px, 6);
+    qtool_rt_scene s;
+    assert_int_equal(qtool_rt_scene_from_obj(&s, &mesh, 1, 1), 0);
+    qtool_obj_free(&mesh);
+    s.mats[1].ks = 0; /* Lambert only, for the analytic check below */
+    double left[3] = {-0.3, 0.01, -1.0}, right[3] = {0.3, 0.01, -1.0};
+    qtool_rt_hit h;
+    qtool_rt_primary(&s, left, &h);
+    assert_true(h.hit);
+    for (int c = 0; c < 3; ++c)
+        assert_true(h.albedo[c] == alb[c]);
+    qtool_rt_primary(&s, right, &h);
+    assert_true(h.hit);
+    double want[3] = {1.0 * srgb_dec(255), 0.5 * srgb_dec(128), 0.25 * srgb_dec(0)};
+    for (int c = 0; c < 3; ++c)
+        assert_true(fabs(h.albedo[c] - want[c]) < 1e-12);
+    /* the renderer: a sun from straight above gives E albedo / pi on the plane */
+    qtool_rt_light l = {.dir = {0, 0, 1}, .rgb = {1, 1, 1}};
+    double rgb[3 * 64 * 32];
+    assert_int_equal(qtool_rt_render(&s, 64, 32, QTOOL_PANO_EQUIRECT, &l, 1, rgb, NULL, NULL), 0);
+    int seen_left = 0;
+    for (uint32_t y = 16; y < 32; ++y)
+        for (uint32_t x = 0; x < 64; ++x) {
+            double d[3];
+            qtool_rt_pixel_dir(64, 32, QTOOL_PANO_EQUIRECT, x, y, d);
+            qtool_rt_primary(&s, d, &h);
+            if (!h.hit)
+                continue;
+            const double *o = rgb + 3 * (y * 64 + x);
+            const double *a = h.p[0] < 0 ? alb : want;
+            seen_left += h.p[0] < 0;
+            for (int c = 0; c < 3; ++c)
+                assert_true(fabs(o[c] - a[c] / 3.14159265358979323846) < 1e-9);
+        }
+    assert_true(seen_left > 0);
+    qtool_rt_scene_free(&s);
+}
+
+/* qtool_rt_prop_place puts a mesh point exactly where the prop's triangles put it (a glTF camera's
+ * eye goes through it to the scene the bake renders) and only turns directions */
+static void test_prop_place(void **state)
+{
+    (void)state;
+    const char *text = "v 3 0 1\nv 5 0 1\nv 3 4 2\nf 1 2 3\n";
+    qtool_obj_mesh mesh;
+    char err[256];
+    assert_int_equal(qtool_obj_parse("t.obj", text, strlen(text), &mesh, err, sizeof err), 0);
+    for (int zup = 0; zup < 2; ++zup) {
+        qtool_rt_scene s;
+        assert_int_equal(qtool_rt_scene_from_obj(&s, &mesh, zup, 0), 0);
+        for (int q = 0; q < 3; ++q) {
+            double w[3];
+            qtool_rt_prop_place(&mesh, zup, 0, mesh.pos + 3 * q, 0, w);
+            int found = 0;
+            for (size_t i = 0; i < 3 * s.ntri; ++i)
+                found |= s.v[3 * i] == w[0] && s.v[3 * i + 1] == w[1] && s.v[3 * i + 2] == w[2];
+            assert_true(found);
+        }
+        double up[3] = {0, 1, 0}, d[3];
+        qtool_rt_prop_place(&mesh, zup, 0, up, 1, d);
+        /* Y-up: +y becomes +z; Z-up: +y is turned a quarter about z to -x */
+        assert_true(zup ? (d[0] == -1 && d[1] == 0 && d[2] == 0) : (d[0] == 0 && d[1] == 0 && d[2] == 1));
+        qtool_rt_scene_free(&s);
+    }
+    qtool_obj_free(&mesh);
+}
+
 /* ---- partial sums files: every header field checked before use (issue 10, findings 1 and 3) ---- */
 
 /* small synthetic sums: w x h, k, ndirs, shard/nshards; acc filled from seed */
@@ -375,6 +472,8 @@ int main(void)
         cmocka_unit_test(test_determinism_threads_and_shards),
         cmocka_unit_test(test_projection_of_unshadowed_plane),
         cmocka_unit_test(test_shadow_and_pmap),
+        cmocka_unit_test(test_per_triangle_albedo_and_texture),
+        cmocka_unit_test(test_prop_place),
         cmocka_unit_test(test_sums_roundtrip_and_version),
         cmocka_unit_test(test_sums_checksums_catch_flips),
         cmocka_unit_test(test_sums_header_fields_bounded),

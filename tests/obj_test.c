@@ -324,6 +324,108 @@ static void test_tiny_and_huge_normals_unit(void **state)
     qtool_obj_free(&m);
 }
 
+/* ---- materials: mtllib, usemtl, Kd, map_Kd, vt ------------------------------------------------- */
+
+#include "io/png.h"
+
+static void put(const char *dir, const char *name, const char *text)
+{
+    char p[256];
+    snprintf(p, sizeof p, "%s/%s", dir, name);
+    fu_write(p, text, strlen(text));
+}
+
+static int read_in(const char *dir, const char *name, qtool_obj_mesh *m, char *err, size_t errlen)
+{
+    char p[256];
+    snprintf(p, sizeof p, "%s/%s", dir, name);
+    return qtool_obj_read_materials(p, QTOOL_OBJ_MAX_TRIANGLES, m, err, errlen);
+}
+
+/* two materials, one textured; faces before any usemtl get QTOOL_OBJ_DEFAULT_KD; vt stored as
+ * (u, 1 - v); a textured material's face without vt keeps its Kd and no texture */
+static void test_materials(void **state)
+{
+    (void)state;
+    char dir[64], err[512], p[256];
+    fu_tmpdir(dir);
+    uint8_t px[12] = {10, 20, 30, 40, 50, 60, 70, 80, 90, 100, 110, 120};
+    snprintf(p, sizeof p, "%s/wood.png", dir);
+    assert_int_equal(qtool_png_write_rgb8(p, 2, 2, px, err, sizeof err), 0);
+    put(dir, "m.mtl", "# two\nnewmtl red\nKd 0.9 0.1 0.2\nKs 1 1 1\nnewmtl wood\r\nKd 1 1 0.5\nmap_Kd -s 1 1 1 wood.png\n");
+    put(dir, "a.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.25 0.25\nvt 1 0\nvt 0 1\n"
+                      "f 1 2 3\nusemtl red\nf 1 2 3\nusemtl wood\nf 1/1 2/2 3/3\nf 1 2 3\n");
+    qtool_obj_mesh m;
+    if (read_in(dir, "a.obj", &m, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    assert_int_equal(m.ntri, 4);
+    assert_non_null(m.albedo);
+    static const double kd[4][3] = {{0.8, 0.8, 0.8}, {0.9, 0.1, 0.2}, {1, 1, 0.5}, {1, 1, 0.5}};
+    for (int t = 0; t < 4; ++t)
+        for (int j = 0; j < 3; ++j)
+            assert_true(m.albedo[3 * t + j] == kd[t][j]);
+    assert_non_null(m.tex);
+    assert_int_equal(m.ntex, 1);
+    assert_true(m.tex[0] == -1 && m.tex[1] == -1 && m.tex[2] == 0 && m.tex[3] == -1);
+    static const double uv[6] = {0.25, 0.75, 1, 1, 0, 0};
+    for (int i = 0; i < 6; ++i)
+        assert_true(m.uv[12 + i] == uv[i]);
+    assert_true(m.texs[0].w == 2 && m.texs[0].h == 2);
+    assert_memory_equal(m.texs[0].rgb, px, 12);
+    qtool_obj_free(&m);
+    /* no usemtl: no materials at all, the renderer's default colour */
+    put(dir, "b.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    assert_int_equal(read_in(dir, "b.obj", &m, err, sizeof err), 0);
+    assert_null(m.albedo);
+    assert_null(m.tex);
+    qtool_obj_free(&m);
+    /* the geometry-only reader (transfer's) ignores them too: no materials, nothing else read */
+    char ap[256];
+    snprintf(ap, sizeof ap, "%s/a.obj", dir);
+    assert_int_equal(qtool_obj_read(ap, &m, err, sizeof err), 0);
+    assert_true(m.ntri == 4 && !m.albedo && !m.tex);
+    qtool_obj_free(&m);
+    /* the in-memory parser without a folder ignores mtllib and usemtl, as before */
+    const char *t = "mtllib nothere.mtl\nusemtl nothing\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    assert_int_equal(qtool_obj_parse("t.obj", t, strlen(t), &m, err, sizeof err), 0);
+    assert_null(m.albedo);
+    qtool_obj_free(&m);
+    /* refusals, each named with the file and line */
+    static const char *const bad[][3] = {
+        {"mtllib nothere.mtl\n", NULL, "c.obj:1: mtllib:"},
+        {"mtllib ../m.mtl\n", NULL, "c.obj:1: mtllib '../m.mtl': a '..'"},
+        {"mtllib /etc/passwd\n", NULL, "an absolute path"},
+        {"mtllib m.mtl\nusemtl blue\n", NULL, "c.obj:2: usemtl 'blue': no such material"},
+        {"mtllib x.mtl\n", "newmtl a\nKd 1.5 0 0\n", "x.mtl:2: Kd r = 1.5 out of range (0..1)"},
+        {"mtllib x.mtl\n", "Kd 1 0 0\n", "x.mtl:1: 'Kd' before any newmtl"},
+        {"mtllib x.mtl\n", "newmtl a\nmap_Kd /etc/passwd\n", "x.mtl:2: map_Kd '/etc/passwd': an absolute path"},
+        {"mtllib x.mtl\n", "newmtl a\nmap_Kd missing.png\n", "x.mtl:2: map_Kd:"},
+        {"mtllib x.mtl\n", "newmtl a\nmap_Kd m.mtl\n", "x.mtl:2: map_Kd:"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/2 3/1\n", NULL, "c.obj:5: texture index 2 out of range (1 vt so far)"},
+        {"vt\n", NULL, "c.obj:1: 'vt' needs 1 to 3 numbers"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        if (bad[i][1])
+            put(dir, "x.mtl", bad[i][1]);
+        char text[256];
+        snprintf(text, sizeof text, "%sv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", bad[i][0]);
+        put(dir, "c.obj", text);
+        memset(&m, 0x5A, sizeof m);
+        qtool_obj_mesh before = m;
+        assert_int_equal(read_in(dir, "c.obj", &m, err, sizeof err), -1);
+        if (!strstr(err, bad[i][2]))
+            fail_msg("case %zu: '%s' lacks '%s'", i, err, bad[i][2]);
+        assert_null(strchr(err, '\n'));
+        assert_memory_equal(&m, &before, sizeof m);
+    }
+    static const char *const files[] = {"wood.png", "m.mtl", "a.obj", "b.obj", "c.obj", "x.mtl"};
+    for (size_t i = 0; i < 6; ++i) {
+        snprintf(p, sizeof p, "%s/%s", dir, files[i]);
+        remove(p);
+    }
+    rmdir(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -340,6 +442,7 @@ int main(void)
         cmocka_unit_test(test_smooth_normals_average),
         cmocka_unit_test(test_malformed),
         cmocka_unit_test(test_real_meshes),
+        cmocka_unit_test(test_materials),
     };
     return cmocka_run_group_tests_name("obj", tests, NULL, NULL);
 }

@@ -70,7 +70,7 @@ static void bake_row(void *ctx, uint32_t row)
                 any = 1;
                 const double *y = j->y + 25 * (size_t)l;
                 for (int c = 0; c < 3; ++c) {
-                    double t = h.m->albedo[c] * df + h.m->ks * gl;
+                    double t = h.albedo[c] * df + h.m->ks * gl;
                     for (uint32_t i = 0; i < k; ++i)
                         sum[c][i] += t * y[i];
                 }

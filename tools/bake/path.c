@@ -521,7 +521,7 @@ static void sky_row(void *ctx, uint32_t y)
                 continue;
             double L = sky_radiance(wv) * wgt;
             for (int c = 0; c < 3; ++c)
-                acc[l & 1][c] += L * j->rgb[c] * (hit.m->albedo[c] * df + hit.m->ks * gl);
+                acc[l & 1][c] += L * j->rgb[c] * (hit.albedo[c] * df + hit.m->ks * gl);
         }
         for (int hh = 0; hh < 2; ++hh)
             for (int c = 0; c < 3; ++c)

@@ -15,6 +15,7 @@
 #include "bake/path.h"
 #include "io/exr.h"
 #include "io/hdr.h"
+#include "io/mesh.h"
 #include "io/obj.h"
 #include "io/ply.h"
 #include "io/pfm.h"
@@ -84,8 +85,8 @@ void qcli_scene_defaults(qcli_scene *o)
     o->threads = qcli_default_threads(); /* the job's CPUs (affinity, SLURM_CPUS_PER_TASK), not the machine's */
 }
 
-/* Loads the scene: built-in when o->scene is NULL or "builtin", else a PLY (by its first line) or
- * OBJ mesh. 0, or 1 after printing the error. */
+/* Loads the scene: built-in when o->scene is NULL or "builtin", else a glTF (by its name or GLB
+ * magic), PLY (by its first line) or OBJ mesh, with its materials (io/mesh.h). 0, or 1 after printing the error. */
 int qcli_scene_load(const qcli_scene *o, qtool_rt_scene *s)
 {
     if (!o->scene || strcmp(o->scene, "builtin") == 0) {
@@ -97,20 +98,21 @@ int qcli_scene_load(const qcli_scene *o, qtool_rt_scene *s)
     }
     qtool_obj_mesh m;
     char err[1200];
-    /* PLY by its first line (whatever the extension), else OBJ */
+    /* glTF by its name or GLB magic, PLY by its first line (whatever the extension), else OBJ */
     uint8_t head[8] = {0};
     FILE *f = fopen(o->scene, "rb");
     size_t nh = f ? fread(head, 1, sizeof head, f) : 0;
     int opened = f != NULL;
     if (f)
         fclose(f);
-    int ply = qtool_ply_sniff(head, nh);
-    /* the scene cap before the mesh is allocated (the PLY reader counts fan triangles first) */
-    if ((ply ? qtool_ply_read_max(o->scene, QCLI_SCENE_MAX_TRIANGLES, &m, err, sizeof err)
-             : qtool_obj_read_max(o->scene, QCLI_SCENE_MAX_TRIANGLES, &m, err, sizeof err)) != 0) {
+    int known = qtool_ply_sniff(head, nh) || qtool_gltf_sniff_glb(head, nh) || qtool_mesh_is_gltf_name(o->scene);
+    /* the scene cap before the mesh is allocated (each reader counts its triangles first) */
+    if (qtool_mesh_read_max(o->scene, QCLI_SCENE_MAX_TRIANGLES, &m, NULL, NULL, err, sizeof err) != 0) {
         const char *ext = strrchr(o->scene, '.');
         fprintf(stderr, "qibl: %s%s\n", err,
-                !opened || ply || (ext && strcmp(ext, ".obj") == 0) ? "" : " (read as OBJ: meshes are Wavefront OBJ or PLY)");
+                !opened || known || (ext && strcmp(ext, ".obj") == 0)
+                    ? ""
+                    : " (read as OBJ: meshes are Wavefront OBJ or PLY, or glTF 2.0 .gltf/.glb)");
         return 1;
     }
     int rc = qtool_rt_scene_from_obj(s, &m, o->zup, o->raw);

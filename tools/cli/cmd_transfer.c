@@ -19,6 +19,7 @@
 
 #include "cli/cli.h"
 #include "io/hdr.h"
+#include "io/mesh.h"
 #include "io/obj.h"
 #include "io/ply.h"
 #include "io/png.h"
@@ -63,6 +64,8 @@ static int read_mesh(const char *path, qtool_obj_mesh *m, char *err, size_t errl
     const size_t n = strlen(path);
     if (n > 4 && (strcmp(path + n - 4, ".ply") == 0 || strcmp(path + n - 4, ".PLY") == 0))
         return qtool_ply_read_max(path, QTOOL_TRANSFER_MAX_TRIANGLES, m, err, errlen);
+    if (qtool_mesh_is_gltf_name(path)) /* glTF: the scene's meshes in world space (io/gltf.h) */
+        return qtool_mesh_read_max(path, QTOOL_TRANSFER_MAX_TRIANGLES, m, NULL, NULL, err, errlen);
     return qtool_obj_read_max(path, QTOOL_TRANSFER_MAX_TRIANGLES, m, err, errlen);
 }
 

@@ -93,8 +93,8 @@ static const qcli_cmd commands[] = {
      qcli_cmd_gen},
     {"render", "ray-trace the ground-truth panorama of a scene under one light (PNG, PFM, depth)",
      "usage: qibl render (--sun X Y Z | --point X Y Z) [--rgb R G B] [--falloff 1|2] [--png OUT] [--pfm OUT]\n"
-     "                   [--exr OUT.exr] [--depth OUT.pfm] [--scene builtin|FILE.obj|FILE.ply] [--zup] [--raw] [--size WxH] [--equirect]\n"
-     "                   [--threads N]\n"
+     "                   [--exr OUT.exr] [--depth OUT.pfm] [--scene builtin|FILE.gltf|FILE.glb|FILE.obj|FILE.ply] [--zup]\n"
+     "                   [--raw] [--size WxH] [--equirect] [--threads N]\n"
      "  The reference renderer (BVH ray tracer, hard shadows, Lambert + glossy) from the viewpoint at the\n"
      "  origin: what a light really produces, to compare relit frames with. --sun: directional light\n"
      "  from (X, Y, Z) with irradiance --rgb (default 1 1 1); --point: a lamp at (X, Y, Z) with\n"
@@ -103,16 +103,20 @@ static const qcli_cmd commands[] = {
      "  (|v| <= 32767.99998, --rgb >= 0). --png: sRGB 8-bit through the same framebuffer code\n"
      "  as qibl relight; --pfm: linear RGB floats; --exr: the same floats as OpenEXR (scanline, ZIP, FLOAT\n"
      "  channels, bit for bit); --depth: depth along each pixel's ray (0 for sky).\n"
-     "  Scenes: the built-in courtyard (default) or an OBJ or PLY mesh placed as a prop on a ground\n"
-     "  plane, 3.5 units along -x: the middle of the panorama, away from its seam at +x (Y-up turned\n"
-     "  to Z-up unless --zup; --raw: as given, nothing added). Default 1024x256 cylindrical. A frame\n"
-     "  whose mean is below 32 of 255 gets a note that it is almost black.\n",
+     "  Scenes: the built-in courtyard (default) or a glTF 2.0 (.gltf, .glb), OBJ or PLY mesh placed as a\n"
+     "  prop on a ground plane, 3.5 units along -x: the middle of the panorama, away from its seam at +x\n"
+     "  (Y-up turned to Z-up unless --zup; --raw: as given, nothing added). Materials colour the\n"
+     "  triangles: glTF baseColorFactor and PNG baseColorTexture, OBJ mtllib/usemtl with Kd and map_Kd\n"
+     "  (PNG) and vt. Default 1024x256 cylindrical. A frame whose mean is below 32 of 255 gets a note\n"
+     "  that it is almost black.\n",
      qcli_cmd_render},
     {"transfer", "a mesh self-shadowed by hemispherical rasterization under a probe, beside the ray-cast truth",
      "usage: qibl transfer MESH [MESH...] --probe PROBE.hdr [--layout L] [--png OUT] [--size N] [--mask 16|32|64]\n"
      "                     [--face F] [--rays S] [--coarse T [--ring K]] [--tween N] [--zup] [--flip] [--skip-adjacent]\n"
      "                     [--view AZ,EL] [--threads N]\n"
-     "  Per vertex of an OBJ or PLY mesh (welded by position, centred, largest half-extent 1, Y-up turned\n"
+     "  Per vertex of a glTF (.gltf, .glb: the scene's meshes in world space, skinned; FILE.gltf@T: its\n"
+     "  animation at T seconds, so FILE.gltf@0 FILE.gltf@0.5 ... are frames), OBJ or PLY mesh\n"
+     "  (welded by position, centred, largest half-extent 1, Y-up turned\n"
      "  to Z-up unless --zup; normals point out of counter-clockwise faces, turned by --flip or when a\n"
      "  mesh with under 2 % open edges has a negative volume), the transfer vector V*\n"
      "  (bands 0..4) from hemispherical rasterization with every triangle a blocker (qibl/hemi.h: mask\n"
@@ -191,7 +195,7 @@ static const qcli_cmd commands[] = {
      qcli_cmd_check},
     {"demo", "the main demo: bake the scene, relight it by the core, compare with ground truth",
      "usage: qibl demo --out DIR [--small | --full] [--dirs N] [--frames F] [scene options as for render]\n"
-     "  What `make demo` runs: bakes the scene (built-in courtyard, or --scene FILE.obj|.ply), writes\n"
+     "  What `make demo` runs: bakes the scene (built-in courtyard, or --scene FILE.gltf|.glb|.obj|.ply), writes\n"
      "  the assets for k = 9, 16, 25, relights a sun sweep and a moving lamp with the core (PNG frames and\n"
      "  APNG), a contact sheet (relit | ground truth | error heat map) for novel lights, and prints the\n"
      "  table of k, bytes, ms/frame and PSNR with RESULT lines, then the light paths and the probe-lit rows.\n"

@@ -4,6 +4,8 @@
  */
 #include "io/obj.h"
 #include "io/file.h"
+#include "io/png.h"
+#include "io/relpath.h"
 
 #include <errno.h>
 #include <math.h>
@@ -134,6 +136,182 @@ static void unit(const double *v, double *out)
     out[0] = x / l, out[1] = y / l, out[2] = z / l;
 }
 
+
+/* ---- materials (mtllib / usemtl) ------------------------------------------------------------------ */
+
+typedef struct {
+    char name[QTOOL_OBJ_MAX_NAME + 1];
+    double kd[3];
+    int tex; /* index into the texture list, or -1 */
+} obj_mat;
+
+typedef struct {
+    const char *dir;
+    obj_mat *m;
+    size_t n;
+    qtool_mesh_texture tex[QTOOL_OBJ_MAX_TEXTURES];
+    char texpath[QTOOL_OBJ_MAX_TEXTURES][QTOOL_OBJ_MAX_NAME + 1];
+    size_t ntex, texpix;
+    int libs;
+} mtl_set;
+
+static void mtl_free(mtl_set *ms)
+{
+    for (size_t i = 0; i < ms->ntex; ++i)
+        free(ms->tex[i].rgb);
+    free(ms->m);
+    ms->m = NULL, ms->n = ms->ntex = 0;
+}
+
+/* a texture by its name in the .mtl, decoded once */
+static int mtl_texture(mtl_set *ms, const char *mtlname, long line, const char *file, int *out, char *err, size_t errlen)
+{
+    for (size_t i = 0; i < ms->ntex; ++i)
+        if (strcmp(ms->texpath[i], file) == 0) {
+            *out = (int)i;
+            return 0;
+        }
+    if (ms->ntex == QTOOL_OBJ_MAX_TEXTURES)
+        return fail(err, errlen, mtlname, line, "more than %d map_Kd textures (QTOOL_OBJ_MAX_TEXTURES)",
+                    QTOOL_OBJ_MAX_TEXTURES);
+    char path[2048], e2[600];
+    const char *why;
+    if (qtool_io_relpath(ms->dir, file, path, sizeof path, &why) != 0)
+        return fail(err, errlen, mtlname, line, "map_Kd '%.60s': %s (only paths inside the .obj's folder are read)", file,
+                    why);
+    int w, h, frames;
+    uint8_t *rgb;
+    if (qtool_png_read_rgb8(path, &w, &h, &frames, &rgb, e2, sizeof e2) != 0)
+        return fail(err, errlen, mtlname, line, "map_Kd: %s (textures are read as 8-bit PNG)", e2);
+    size_t px = (size_t)w * (size_t)h;
+    if (px > QTOOL_OBJ_MAX_TEXTURE_PIXELS - ms->texpix) {
+        free(rgb);
+        return fail(err, errlen, mtlname, line, "more than %zu texture pixels in all (QTOOL_OBJ_MAX_TEXTURE_PIXELS)",
+                    (size_t)QTOOL_OBJ_MAX_TEXTURE_PIXELS);
+    }
+    ms->texpix += px;
+    ms->tex[ms->ntex] = (qtool_mesh_texture){.w = w, .h = h, .rgb = rgb};
+    memcpy(ms->texpath[ms->ntex], file, strlen(file) + 1); /* at most QTOOL_OBJ_MAX_NAME: checked by the caller */
+    *out = (int)ms->ntex++;
+    return 0;
+}
+
+static const char *mtl_magic(const uint8_t *head, size_t n)
+{
+    return memchr(head, 0, n) ? "binary data (a NUL byte in the first bytes), not a material library" : NULL;
+}
+
+/* reads one material library: newmtl, Kd, map_Kd (its last word: the file); the rest is ignored */
+static int mtl_read(mtl_set *ms, const char *objname, long objline, const char *file, char *err, size_t errlen)
+{
+    static const qtool_io_kind kind = {"a material library (.mtl)", 1, QTOOL_OBJ_MAX_MTL_BYTES, QTOOL_IO_MAX_HEAD_BYTES,
+                                      mtl_magic};
+    char path[2048];
+    const char *why;
+    if (++ms->libs > QTOOL_OBJ_MAX_MTLLIBS)
+        return fail(err, errlen, objname, objline, "more than %d material libraries (QTOOL_OBJ_MAX_MTLLIBS)",
+                    QTOOL_OBJ_MAX_MTLLIBS);
+    if (qtool_io_relpath(ms->dir, file, path, sizeof path, &why) != 0)
+        return fail(err, errlen, objname, objline, "mtllib '%.60s': %s (only paths inside the .obj's folder are read)",
+                    file, why);
+    uint8_t *bytes;
+    size_t len;
+    char e2[600];
+    if (qtool_io_load(path, &kind, &bytes, &len, e2, sizeof e2) != 0)
+        return fail(err, errlen, objname, objline, "mtllib: %s (without the mtllib line the mesh loads uncoloured)", e2);
+    const char *text = (const char *)bytes;
+    char buf[4096];
+    size_t pos = 0;
+    long line = 0;
+    int rc = -1;
+    obj_mat *cur = NULL;
+    while (pos < len) {
+        size_t e = pos;
+        while (e < len && text[e] != '\n')
+            ++e;
+        ++line;
+        size_t l = e - pos;
+        if (l >= sizeof buf) {
+            fail(err, errlen, path, line, "line longer than %zu bytes", sizeof buf - 1);
+            goto out;
+        }
+        memcpy(buf, text + pos, l);
+        buf[l] = '\0';
+        pos = e + 1;
+        if (strlen(buf) != l) {
+            fail(err, errlen, path, line, "NUL byte (binary file?)");
+            goto out;
+        }
+        char *c = strchr(buf, '#');
+        if (c)
+            *c = '\0';
+        while (l && (buf[l - 1] == '\r' || buf[l - 1] == ' ' || buf[l - 1] == '\t'))
+            buf[--l] = '\0';
+        char *s = buf;
+        while (*s == ' ' || *s == '\t')
+            ++s;
+        char *kw = s;
+        while (*s && *s != ' ' && *s != '\t')
+            ++s;
+        if (*s)
+            *s++ = '\0';
+        while (*s == ' ' || *s == '\t')
+            ++s;
+        if (strcmp(kw, "newmtl") == 0) {
+            if (!*s || strlen(s) > QTOOL_OBJ_MAX_NAME) {
+                fail(err, errlen, path, line, "newmtl needs a name of 1..%d bytes", QTOOL_OBJ_MAX_NAME);
+                goto out;
+            }
+            if (ms->n == QTOOL_OBJ_MAX_MATERIALS) {
+                fail(err, errlen, path, line, "more than %d materials (QTOOL_OBJ_MAX_MATERIALS)", QTOOL_OBJ_MAX_MATERIALS);
+                goto out;
+            }
+            if (!ms->m && !(ms->m = malloc(QTOOL_OBJ_MAX_MATERIALS * sizeof *ms->m))) {
+                fail(err, errlen, path, 0, "out of memory");
+                goto out;
+            }
+            cur = &ms->m[ms->n++];
+            memcpy(cur->name, s, strlen(s) + 1); /* at most QTOOL_OBJ_MAX_NAME: checked above */
+            cur->kd[0] = cur->kd[1] = cur->kd[2] = QTOOL_OBJ_DEFAULT_KD;
+            cur->tex = -1;
+        } else if (strcmp(kw, "Kd") == 0 || strcmp(kw, "map_Kd") == 0) {
+            if (!cur) {
+                fail(err, errlen, path, line, "'%s' before any newmtl", kw);
+                goto out;
+            }
+            if (kw[0] == 'K') {
+                double x[3];
+                const char *bad = NULL, *why2 = NULL;
+                int n = numbers(s, x, 3, &bad, &why2);
+                if (n != 3) {
+                    fail(err, errlen, path, line, "Kd needs 3 numbers (r g b)");
+                    goto out;
+                }
+                for (int j = 0; j < 3; ++j)
+                    if (!(x[j] >= 0 && x[j] <= 1)) {
+                        fail(err, errlen, path, line, "Kd %c = %g out of range (0..1)", "rgb"[j], x[j]);
+                        goto out;
+                    }
+                memcpy(cur->kd, x, sizeof x);
+            } else {
+                /* options (-s, -o, ...) may precede the file: its name is the last word */
+                char *f = strrchr(s, ' '), *t = strrchr(s, '\t');
+                f = f && (!t || f > t) ? f + 1 : t ? t + 1 : s;
+                if (!*f || strlen(f) > QTOOL_OBJ_MAX_NAME) {
+                    fail(err, errlen, path, line, "map_Kd needs a file name of 1..%d bytes", QTOOL_OBJ_MAX_NAME);
+                    goto out;
+                }
+                if (mtl_texture(ms, path, line, f, &cur->tex, err, errlen) != 0)
+                    goto out;
+            }
+        }
+    }
+    rc = 0;
+out:
+    free(bytes);
+    return rc;
+}
+
 int qtool_obj_parse(const char *name, const char *text, size_t len, qtool_obj_mesh *out, char *err, size_t errlen)
 {
     return qtool_obj_parse_max(name, text, len, QTOOL_OBJ_MAX_TRIANGLES, out, err, errlen);
@@ -142,16 +320,28 @@ int qtool_obj_parse(const char *name, const char *text, size_t len, qtool_obj_me
 int qtool_obj_parse_max(const char *name, const char *text, size_t len, size_t max_triangles, qtool_obj_mesh *out,
                         char *err, size_t errlen)
 {
+    return qtool_obj_parse_dir(name, NULL, text, len, max_triangles, out, err, errlen);
+}
+
+int qtool_obj_parse_dir(const char *name, const char *dir, const char *text, size_t len, size_t max_triangles,
+                        qtool_obj_mesh *out, char *err, size_t errlen)
+{
     if (max_triangles > QTOOL_OBJ_MAX_TRIANGLES)
         max_triangles = QTOOL_OBJ_MAX_TRIANGLES;
-    dvec v = {0}, vn = {0};
-    uvec tri = {0}; /* per corner: position index, normal index or NO_NORMAL */
-    size_t nv = 0, nn = 0;
+    dvec v = {0}, vn = {0}, vt = {0};
+    uvec tri = {0};    /* per corner: position index, normal index or NO_NORMAL, vt index or NO_NORMAL */
+    uvec trimat = {0}; /* per triangle: material index or NO_NORMAL (dir given only) */
+    mtl_set ms = {.dir = dir};
+    uint32_t curmat = NO_NORMAL;
+    double *albedo = NULL, *uvs = NULL;
+    int32_t *texi = NULL;
+    qtool_mesh_texture *texs = NULL;
+    size_t nv = 0, nn = 0, nt = 0;
     long line = 0;
     char buf[4096];
     size_t pos = 0;
     int rc = -1;
-    uint32_t poly[2 * QTOOL_OBJ_MAX_FACE_CORNERS];
+    uint32_t poly[3 * QTOOL_OBJ_MAX_FACE_CORNERS];
     while (pos < len) {
         size_t e = pos;
         while (e < len && text[e] != '\n')
@@ -183,7 +373,53 @@ int qtool_obj_parse_max(const char *name, const char *text, size_t len, size_t m
             ++s;
         if (*s)
             *s++ = '\0';
-        if (strcmp(kw, "v") == 0 || strcmp(kw, "vn") == 0) {
+        if (strcmp(kw, "vt") == 0) {
+            /* u [v [w]]: kept for textured materials, stored as (u, 1 - v) (image rows top down) */
+            double x[3] = {0, 0, 0};
+            const char *bad = NULL, *why = NULL;
+            int n = numbers(s, x, 3, &bad, &why);
+            if (n < 1) {
+                fail(err, errlen, name, line, "'vt' needs 1 to 3 numbers");
+                goto out;
+            }
+            if (!(fabs(x[0]) <= 1e9 && fabs(x[1]) <= 1e9)) {
+                fail(err, errlen, name, line, "texture coordinate out of range (|c| <= 1e9)");
+                goto out;
+            }
+            if (nt >= QTOOL_OBJ_MAX_VERTICES) {
+                fail(err, errlen, name, line, "more than %zu 'vt' statements (QTOOL_OBJ_MAX_VERTICES)",
+                     (size_t)QTOOL_OBJ_MAX_VERTICES);
+                goto out;
+            }
+            if (dpush(&vt, x[0]) != 0 || dpush(&vt, 1.0 - x[1]) != 0) {
+                fail(err, errlen, name, 0, "out of memory");
+                goto out;
+            }
+            ++nt;
+        } else if (dir && strcmp(kw, "mtllib") == 0) {
+            char *f = strtok(s, " \t");
+            if (!f) {
+                fail(err, errlen, name, line, "mtllib needs a file name");
+                goto out;
+            }
+            for (; f; f = strtok(NULL, " \t"))
+                if (mtl_read(&ms, name, line, f, err, errlen) != 0)
+                    goto out;
+        } else if (dir && strcmp(kw, "usemtl") == 0) {
+            while (*s == ' ' || *s == '\t')
+                ++s;
+            size_t sl = strlen(s);
+            while (sl && (s[sl - 1] == ' ' || s[sl - 1] == '\t' || s[sl - 1] == '\r'))
+                s[--sl] = '\0';
+            curmat = NO_NORMAL;
+            for (size_t k = 0; k < ms.n; ++k)
+                if (strcmp(ms.m[k].name, s) == 0)
+                    curmat = (uint32_t)k;
+            if (curmat == NO_NORMAL) {
+                fail(err, errlen, name, line, "usemtl '%.60s': no such material in the mtllib files read so far", s);
+                goto out;
+            }
+        } else if (strcmp(kw, "v") == 0 || strcmp(kw, "vn") == 0) {
             double x[4];
             const char *bad = NULL, *why = NULL;
             int n = numbers(s, x, 4, &bad, &why);
@@ -237,13 +473,24 @@ int qtool_obj_parse_max(const char *name, const char *text, size_t len, size_t m
                 char *p1 = strchr(tok, '/'), *p2 = p1 ? strchr(p1 + 1, '/') : NULL;
                 if (p1)
                     *p1 = '\0';
-                uint32_t vi, ni = NO_NORMAL;
+                uint32_t vi, ni = NO_NORMAL, ti = NO_NORMAL;
                 int r = resolve(tok, nv, &vi);
                 if (r != 0) {
                     fail(err, errlen, name, line,
                          r == -1 ? "bad vertex index '%.40s'" : "vertex index %.40s out of range (%zu vertices so far)",
                          tok, nv);
                     goto out;
+                }
+                if (p2)
+                    *p2 = '\0';
+                if (p1 && p1[1]) {
+                    r = resolve(p1 + 1, nt, &ti);
+                    if (r != 0) {
+                        fail(err, errlen, name, line,
+                             r == -1 ? "bad texture index '%.40s'" : "texture index %.40s out of range (%zu vt so far)",
+                             p1 + 1, nt);
+                        goto out;
+                    }
                 }
                 if (p2 && p2[1]) {
                     r = resolve(p2 + 1, nn, &ni);
@@ -254,7 +501,7 @@ int qtool_obj_parse_max(const char *name, const char *text, size_t len, size_t m
                         goto out;
                     }
                 }
-                poly[2 * nc] = vi, poly[2 * nc + 1] = ni;
+                poly[3 * nc] = vi, poly[3 * nc + 1] = ni, poly[3 * nc + 2] = ti;
                 ++nc;
                 tok = strtok(NULL, " \t");
             }
@@ -262,7 +509,7 @@ int qtool_obj_parse_max(const char *name, const char *text, size_t len, size_t m
                 fail(err, errlen, name, line, "face with %d corner%s (needs at least 3)", nc, nc == 1 ? "" : "s");
                 goto out;
             }
-            size_t ntri_now = tri.n / 6 + (size_t)(nc - 2);
+            size_t ntri_now = tri.n / 9 + (size_t)(nc - 2);
             if (ntri_now > max_triangles) { /* refused as it is crossed: the lists never outgrow the cap */
                 fail(err, errlen, name, line, "more than %zu triangles (%s)", max_triangles,
                      max_triangles == QTOOL_OBJ_MAX_TRIANGLES ? "QTOOL_OBJ_MAX_TRIANGLES" : "this command's limit");
@@ -278,18 +525,56 @@ int qtool_obj_parse_max(const char *name, const char *text, size_t len, size_t m
             for (int j = 1; j + 1 < nc; ++j) {
                 int cs[3] = {0, j, j + 1};
                 for (int q = 0; q < 3; ++q)
-                    if (upush(&tri, poly[2 * cs[q]]) || upush(&tri, poly[2 * cs[q] + 1])) {
+                    if (upush(&tri, poly[3 * cs[q]]) || upush(&tri, poly[3 * cs[q] + 1]) ||
+                        upush(&tri, poly[3 * cs[q] + 2])) {
                         fail(err, errlen, name, 0, "out of memory");
                         goto out;
                     }
+                if (dir && upush(&trimat, curmat)) {
+                    fail(err, errlen, name, 0, "out of memory");
+                    goto out;
+                }
             }
         }
-        /* everything else (vt, vp, g, o, s, usemtl, mtllib, l, p, empty) is ignored */
+        /* everything else (vp, g, o, s, l, p, empty; usemtl and mtllib without a folder) is ignored */
     }
-    size_t ntri = tri.n / 6;
+    size_t ntri = tri.n / 9;
     if (ntri == 0) {
         fail(err, errlen, name, 0, "no faces");
         goto out;
+    }
+    /* materials: albedo when any triangle has one; uv and textures when any textured triangle has
+     * vt on all three corners (others get tex -1) */
+    int any_mat = 0, any_tex = 0;
+    for (size_t t = 0; dir && t < ntri; ++t) {
+        uint32_t mi = trimat.v[t];
+        if (mi == NO_NORMAL)
+            continue;
+        any_mat = 1;
+        const uint32_t *c = tri.v + 9 * t;
+        any_tex |= ms.m[mi].tex >= 0 && c[2] != NO_NORMAL && c[5] != NO_NORMAL && c[8] != NO_NORMAL;
+    }
+    if (any_mat && !(albedo = malloc(ntri * 3 * sizeof(double)))) {
+        fail(err, errlen, name, 0, "out of memory");
+        goto out;
+    }
+    if (any_tex && (!(uvs = malloc(ntri * 6 * sizeof(double))) || !(texi = malloc(ntri * sizeof(int32_t))) ||
+                    !(texs = malloc(ms.ntex * sizeof *texs)))) {
+        fail(err, errlen, name, 0, "out of memory");
+        goto out;
+    }
+    for (size_t t = 0; any_mat && t < ntri; ++t) {
+        uint32_t mi = trimat.v[t];
+        const uint32_t *c = tri.v + 9 * t;
+        for (int j = 0; j < 3; ++j)
+            albedo[3 * t + j] = mi == NO_NORMAL ? QTOOL_OBJ_DEFAULT_KD : ms.m[mi].kd[j];
+        if (!any_tex)
+            continue;
+        int textured = mi != NO_NORMAL && ms.m[mi].tex >= 0 && c[2] != NO_NORMAL && c[5] != NO_NORMAL && c[8] != NO_NORMAL;
+        texi[t] = textured ? ms.m[mi].tex : -1;
+        for (int q = 0; q < 3; ++q)
+            for (int j = 0; j < 2; ++j)
+                uvs[6 * t + 2 * q + j] = textured ? vt.v[2 * c[3 * q + 2] + j] : 0.0;
     }
     out->pos = malloc(ntri * 9 * sizeof(double));
     out->nrm = malloc(ntri * 9 * sizeof(double));
@@ -301,28 +586,37 @@ int qtool_obj_parse_max(const char *name, const char *text, size_t len, size_t m
         goto out;
     }
     for (size_t t = 0; t < ntri; ++t) {
-        const uint32_t *c = tri.v + 6 * t;
-        const double *a = v.v + 3 * c[0], *b = v.v + 3 * c[2], *d = v.v + 3 * c[4];
+        const uint32_t *c = tri.v + 9 * t;
+        const double *a = v.v + 3 * c[0], *b = v.v + 3 * c[3], *d = v.v + 3 * c[6];
         double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
         double fn[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
         for (int q = 0; q < 3; ++q)
             for (int j = 0; j < 3; ++j) {
-                out->pos[9 * t + 3 * q + j] = v.v[3 * c[2 * q] + j];
-                acc[3 * c[2 * q] + j] += fn[j]; /* |fn| = 2 area: area-weighted */
+                out->pos[9 * t + 3 * q + j] = v.v[3 * c[3 * q] + j];
+                acc[3 * c[3 * q] + j] += fn[j]; /* |fn| = 2 area: area-weighted */
             }
     }
     for (size_t t = 0; t < ntri; ++t) {
-        const uint32_t *c = tri.v + 6 * t;
+        const uint32_t *c = tri.v + 9 * t;
         for (int q = 0; q < 3; ++q) {
-            const double *src = c[2 * q + 1] != NO_NORMAL ? vn.v + 3 * c[2 * q + 1] : acc + 3 * c[2 * q];
+            const double *src = c[3 * q + 1] != NO_NORMAL ? vn.v + 3 * c[3 * q + 1] : acc + 3 * c[3 * q];
             unit(src, out->nrm + 9 * t + 3 * q);
         }
     }
     free(acc);
     out->ntri = ntri, out->nvert = nv, out->nnormals_given = nn;
+    out->albedo = albedo, out->uv = uvs, out->tex = texi, out->texs = texs, out->ntex = 0;
+    if (any_tex) { /* the textures move to the mesh */
+        memcpy(texs, ms.tex, ms.ntex * sizeof *texs);
+        out->ntex = ms.ntex;
+        ms.ntex = 0;
+    }
+    albedo = uvs = NULL, texi = NULL, texs = NULL;
     rc = 0;
 out:
-    free(v.v), free(vn.v), free(tri.v);
+    free(v.v), free(vn.v), free(vt.v), free(tri.v), free(trimat.v);
+    free(albedo), free(uvs), free(texi), free(texs);
+    mtl_free(&ms);
     return rc;
 }
 
@@ -338,7 +632,21 @@ int qtool_obj_read(const char *path, qtool_obj_mesh *out, char *err, size_t errl
     return qtool_obj_read_max(path, QTOOL_OBJ_MAX_TRIANGLES, out, err, errlen);
 }
 
+static int read_impl(const char *path, size_t max_triangles, int materials, qtool_obj_mesh *out, char *err,
+                     size_t errlen);
+
 int qtool_obj_read_max(const char *path, size_t max_triangles, qtool_obj_mesh *out, char *err, size_t errlen)
+{
+    return read_impl(path, max_triangles, 0, out, err, errlen);
+}
+
+int qtool_obj_read_materials(const char *path, size_t max_triangles, qtool_obj_mesh *out, char *err, size_t errlen)
+{
+    return read_impl(path, max_triangles, 1, out, err, errlen);
+}
+
+static int read_impl(const char *path, size_t max_triangles, int materials, qtool_obj_mesh *out, char *err,
+                     size_t errlen)
 {
     static const qtool_io_kind kind = {"a Wavefront OBJ file", 1, QTOOL_OBJ_MAX_FILE_BYTES, QTOOL_IO_MAX_HEAD_BYTES,
                                       obj_magic};
@@ -348,7 +656,12 @@ int qtool_obj_read_max(const char *path, size_t max_triangles, qtool_obj_mesh *o
         return -1;
     char *buf = (char *)bytes;
     qtool_obj_mesh m = {0};
-    int rc = qtool_obj_parse_max(path, buf, n, max_triangles, &m, err, errlen);
+    char dir[1024];
+    if (qtool_io_dirname(path, dir, sizeof dir) != 0) {
+        free(buf);
+        return fail(err, errlen, path, 0, "path too long");
+    }
+    int rc = qtool_obj_parse_dir(path, materials ? dir : NULL, buf, n, max_triangles, &m, err, errlen);
     free(buf);
     if (rc == 0)
         *out = m;
@@ -359,5 +672,11 @@ void qtool_obj_free(qtool_obj_mesh *m)
 {
     free(m->pos);
     free(m->nrm);
+    free(m->albedo);
+    free(m->uv);
+    free(m->tex);
+    for (size_t i = 0; m->texs && i < m->ntex; ++i)
+        free(m->texs[i].rgb);
+    free(m->texs);
     memset(m, 0, sizeof *m);
 }

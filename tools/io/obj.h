@@ -1,7 +1,15 @@
 /*
- * io/obj.h - Wavefront OBJ reader (geometry only): v (x y z [w]), vn, f with any of the forms
+ * io/obj.h - Wavefront OBJ reader: v (x y z [w]), vn, vt, f with any of the forms
  * v, v/vt, v//vn, v/vt/vn, 1-based or negative (relative) indices; polygons fan-triangulated from
- * their first vertex; vt, g, o, s, usemtl, mtllib, l, p and unknown statements are ignored.
+ * their first vertex; g, o, s, l, p and unknown statements are ignored.
+ * Materials (qtool_obj_read_materials, and qtool_obj_parse_dir with a folder; ignored by the other
+ * readers, which take geometry only, as before): "mtllib a.mtl [b.mtl ...]" reads material libraries beside the .obj
+ * (io/relpath.h: no absolute path, no ".."); in them "newmtl NAME", "Kd r g b" (0..1, default
+ * QTOOL_OBJ_DEFAULT_KD) and "map_Kd [options] FILE.png" (the last word is the file, a PNG read by
+ * io/pngread.c); every other statement is ignored. "usemtl NAME" gives the following faces that
+ * material (a name no library read so far defines is refused). Triangles then carry the albedo Kd
+ * (QTOOL_OBJ_DEFAULT_KD before any usemtl) and, for a map_Kd material with vt on all three
+ * corners, the texture and the corners' (u, 1 - v).
  * Corners without a normal get the area-weighted average of the face normals around their position.
  * Hosted, double precision.
  *
@@ -33,12 +41,36 @@
 #define QIBL_OBJ_MIN_BYTES_PER_TRIANGLE 4u
 #define QTOOL_OBJ_MAX_FACE_CORNERS 256
 #define QIBL_OBJ_MAX_COORD 1e15
+#define QTOOL_OBJ_MAX_MTL_BYTES ((size_t)1 << 24)       /* one .mtl: 16 MiB */
+#define QTOOL_OBJ_MAX_MTLLIBS 16                        /* material libraries per .obj */
+#define QTOOL_OBJ_MAX_MATERIALS 1024                    /* newmtl in all of them */
+#define QTOOL_OBJ_MAX_NAME 255                          /* material and texture file names, bytes */
+#define QTOOL_OBJ_MAX_TEXTURES 16                       /* distinct map_Kd files */
+#define QTOOL_OBJ_MAX_TEXTURE_PIXELS ((size_t)1 << 26)  /* all textures together: 192 MiB of RGB */
+#define QTOOL_OBJ_DEFAULT_KD 0.8
+
+/* An 8-bit sRGB texture (a material's base colour / map_Kd), rows top to bottom. */
+typedef struct qtool_mesh_texture {
+    int w, h;
+    uint8_t *rgb; /* 3 * w * h bytes */
+} qtool_mesh_texture;
 
 typedef struct qtool_obj_mesh {
     size_t ntri;
     double *pos; /* ntri * 9: the three corners of each triangle, x y z */
     double *nrm; /* ntri * 9: unit normal at each corner (zero only for a degenerate triangle in isolation) */
     size_t nvert, nnormals_given; /* v and vn statements read */
+    /* Materials, all optional (NULL / 0 when the file has none: a plain grey mesh, as before).
+     * albedo: ntri * 3 linear base colours (OBJ Kd, glTF baseColorFactor); NULL means the
+     * renderer's default. tex: ntri texture indices (-1: none) into texs[0 .. ntex); uv: ntri * 6
+     * texture coordinates per corner (u, v), glTF's convention: (0, 0) the image's top-left corner,
+     * v downwards, repeating (an OBJ vt's v is stored as 1 - v). uv and tex are both set or both
+     * NULL; a texel's sRGB colour (decoded to linear) multiplies the triangle's albedo. */
+    double *albedo;
+    double *uv;
+    int32_t *tex;
+    qtool_mesh_texture *texs;
+    size_t ntex;
 } qtool_obj_mesh;
 
 /* Reads path. 0, or -1 with a one-line reason naming the file and line in err (nothing allocated). */
@@ -51,6 +83,13 @@ int qtool_obj_parse(const char *name, const char *text, size_t len, qtool_obj_me
 int qtool_obj_read_max(const char *path, size_t max_triangles, qtool_obj_mesh *out, char *err, size_t errlen);
 int qtool_obj_parse_max(const char *name, const char *text, size_t len, size_t max_triangles, qtool_obj_mesh *out,
                         char *err, size_t errlen);
+/* The same with materials: reads path and the material libraries and textures its mtllib lines
+ * name beside it (the scene loader's call; transfer and the others read geometry only). */
+int qtool_obj_read_materials(const char *path, size_t max_triangles, qtool_obj_mesh *out, char *err, size_t errlen);
+/* The same from text in memory: dir is the folder mtllib files are resolved against (NULL: mtllib
+ * and usemtl ignored, as the parsers above). */
+int qtool_obj_parse_dir(const char *name, const char *dir, const char *text, size_t len, size_t max_triangles,
+                        qtool_obj_mesh *out, char *err, size_t errlen);
 void qtool_obj_free(qtool_obj_mesh *m);
 
 #endif

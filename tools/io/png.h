@@ -19,7 +19,8 @@ int qtool_png_write_rgb8(const char *path, int w, int h, const uint8_t *rgb, cha
 int qtool_apng_write_rgb8(const char *path, int w, int h, int frames, const uint8_t *rgb, int delay_num,
                          int delay_den, char *err, size_t errlen);
 
-/* Reads a PNG as qibl's writers produce it and any viewer accepts as 8-bit RGB or RGBA, non-interlaced
+/* Reads a PNG as qibl's writers produce it and any viewer accepts as 8-bit RGB or RGBA (and, for
+ * textures, 8-bit grey, grey + alpha and palette images, returned as RGB), non-interlaced
  * (every filter type; stored, fixed and dynamic Huffman deflate blocks), checking the signature, every
  * chunk CRC, the zlib header and Adler-32. For an APNG, *frames is set to the acTL frame count and
  * the fcTL/fdAT sequence is checked (all frames full size); the pixels returned are the first frame.

@@ -81,6 +81,8 @@ static int read_impl(const char *name, const uint8_t *buf, size_t len, int *w_ou
     size_t pos = 8, idat_n = 0, idat_cap = 0;
     uint8_t *idat = NULL;
     uint32_t w = 0, h = 0, frames = 1, nfctl = 0, nfdat_frames = 0, seq = 0;
+    uint8_t plte[768];
+    unsigned nplte = 0, ctype = 0;
     int ch = 0, seen_ihdr = 0, seen_iend = 0, seen_actl = 0, idat_done = 0, last_fdat_frame = -1;
     int rc = -1;
     char tn[16];
@@ -118,13 +120,24 @@ static int read_impl(const char *name, const uint8_t *buf, size_t len, int *w_ou
                      (unsigned)QIBL_PNG_MAX_PIXELS);
                 goto out;
             }
-            if (data[8] != 8 || (data[9] != 2 && data[9] != 6) || data[10] || data[11] || data[12]) {
-                fail(err, errlen, name, "unsupported format (bit depth %u, colour type %u, interlace %u): only 8-bit RGB/RGBA",
+            /* 8-bit RGB and RGBA (what qibl writes), and for textures 8-bit grey, grey + alpha and
+             * palette images (returned as RGB) */
+            if (data[8] != 8 || (data[9] != 0 && data[9] != 2 && data[9] != 3 && data[9] != 4 && data[9] != 6) ||
+                data[10] || data[11] || data[12]) {
+                fail(err, errlen, name, "unsupported format (bit depth %u, colour type %u, interlace %u): only 8-bit grey, RGB, palette, grey+alpha or RGBA",
                      data[8], data[9], data[12]);
                 goto out;
             }
-            ch = data[9] == 2 ? 3 : 4;
+            ctype = data[9];
+            ch = ctype == 2 ? 3 : ctype == 6 ? 4 : ctype == 4 ? 2 : 1;
             seen_ihdr = 1;
+        } else if (memcmp(type, "PLTE", 4) == 0) {
+            if (nplte || n == 0 || n % 3 || n > 768 || idat_n) {
+                fail(err, errlen, name, "bad PLTE (%u bytes)", n);
+                goto out;
+            }
+            memcpy(plte, data, n);
+            nplte = n / 3;
         } else if (memcmp(type, "acTL", 4) == 0) {
             if (n != 8 || idat_n || get32(data) == 0) {
                 fail(err, errlen, name, "bad acTL");
@@ -191,6 +204,10 @@ static int read_impl(const char *name, const uint8_t *buf, size_t len, int *w_ou
         fail(err, errlen, name, "no image data (IDAT)");
         goto out;
     }
+    if (ctype == 3 && !nplte) {
+        fail(err, errlen, name, "a palette image without PLTE");
+        goto out;
+    }
     if (seen_actl && (nfctl != frames || nfdat_frames + 1 != frames)) {
         fail(err, errlen, name, "acTL says %u frames but the file holds %u fcTL and %u fdAT frames", frames, nfctl,
              nfdat_frames + 1);
@@ -232,8 +249,22 @@ static int read_impl(const char *name, const uint8_t *buf, size_t len, int *w_ou
                 o[x] = (uint8_t)(r[x] + p);
             }
         }
-        for (size_t i = 0; i < (size_t)w * h; ++i)
-            memcpy(rgb + 3 * i, img + (size_t)ch * i, 3);
+        for (size_t i = 0; i < (size_t)w * h; ++i) {
+            const uint8_t *px = img + (size_t)ch * i;
+            if (ctype == 3) {
+                if (px[0] >= nplte) {
+                    unsigned bad = px[0];
+                    free(raw), free(img), free(rgb);
+                    fail(err, errlen, name, "palette index %u past the %u PLTE entries (pixel %zu)", bad, nplte, i);
+                    goto out;
+                }
+                memcpy(rgb + 3 * i, plte + 3 * (size_t)px[0], 3);
+            } else if (ch <= 2) {
+                rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = px[0];
+            } else {
+                memcpy(rgb + 3 * i, px, 3);
+            }
+        }
         free(raw), free(img);
         *w_out = (int)w, *h_out = (int)h, *rgb_out = rgb;
         if (frames_out)

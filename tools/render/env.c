@@ -161,7 +161,7 @@ static void shade(const env_job *j, const qtool_rt_hit *hh, const double d[3], c
     if (!qtool_rt_response(j->s, hh, d, 1e30, &df, &gl))
         return;
     for (int c = 0; c < 3; ++c)
-        o[c] += wgt * L[c] * (hh->m->albedo[c] * df + hh->m->ks * gl);
+        o[c] += wgt * L[c] * (hh->albedo[c] * df + hh->m->ks * gl);
 }
 
 static void env_row(void *ctx, uint32_t y)

@@ -246,17 +246,27 @@ static int build_bvh(qtool_rt_scene *s)
     /* reorder the triangles into BVH order so leaves index them directly */
     double *v = malloc(s->ntri * 9 * sizeof(double)), *n = malloc(s->ntri * 9 * sizeof(double));
     uint8_t *m = malloc(s->ntri);
-    if (!v || !n || !m) {
-        free(v), free(n), free(m), free(bb.cent), free(bb.idx);
+    double *alb = s->alb ? malloc(s->ntri * 3 * sizeof(double)) : NULL;
+    double *uv = s->uv ? malloc(s->ntri * 6 * sizeof(double)) : NULL;
+    int32_t *tx = s->tex ? malloc(s->ntri * sizeof(int32_t)) : NULL;
+    if (!v || !n || !m || (s->alb && !alb) || (s->uv && !uv) || (s->tex && !tx)) {
+        free(v), free(n), free(m), free(alb), free(uv), free(tx), free(bb.cent), free(bb.idx);
         return -1;
     }
     for (size_t t = 0; t < s->ntri; ++t) {
-        memcpy(v + 9 * t, s->v + 9 * (size_t)bb.idx[t], 9 * sizeof(double));
-        memcpy(n + 9 * t, s->n + 9 * (size_t)bb.idx[t], 9 * sizeof(double));
-        m[t] = s->mat[bb.idx[t]];
+        size_t k = bb.idx[t];
+        memcpy(v + 9 * t, s->v + 9 * k, 9 * sizeof(double));
+        memcpy(n + 9 * t, s->n + 9 * k, 9 * sizeof(double));
+        m[t] = s->mat[k];
+        if (alb)
+            memcpy(alb + 3 * t, s->alb + 3 * k, 3 * sizeof(double));
+        if (uv)
+            memcpy(uv + 6 * t, s->uv + 6 * k, 6 * sizeof(double));
+        if (tx)
+            tx[t] = s->tex[k];
     }
-    free(s->v), free(s->n), free(s->mat);
-    s->v = v, s->n = n, s->mat = m;
+    free(s->v), free(s->n), free(s->mat), free(s->alb), free(s->uv), free(s->tex);
+    s->v = v, s->n = n, s->mat = m, s->alb = alb, s->uv = uv, s->tex = tx;
     free(bb.cent), free(bb.idx);
     return 0;
 }
@@ -334,6 +344,69 @@ static void to_scene(const double *p, int zup, int raw, double q[3])
     q[0] = -z[1], q[1] = z[0], q[2] = z[2];
 }
 
+/* Y-up (x, y, z) -> Z-up (x, -z, y), then a quarter turn about z, (x, y) -> (-y, x), so the
+ * model's front (+z of a Y-up model, -y of a Z-up one) faces the viewer at the origin: rotations,
+ * so windings and normals stay right; then the scale and offset that stand the prop */
+static void placement(const qtool_obj_mesh *m, int zup, int raw, double *sc_out, double off[3])
+{
+    double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+    for (size_t i = 0; i < m->ntri * 3; ++i) {
+        double q[3];
+        to_scene(m->pos + 3 * i, zup, raw, q);
+        for (int j = 0; j < 3; ++j)
+            lo[j] = q[j] < lo[j] ? q[j] : lo[j], hi[j] = q[j] > hi[j] ? q[j] : hi[j];
+    }
+    double size = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
+    double sc = raw || size <= 0 ? 1.0 : 2.5 / size;
+    off[0] = raw ? 0 : QTOOL_RT_PROP_X - sc * (lo[0] + hi[0]) / 2;
+    off[1] = raw ? 0 : -sc * (lo[1] + hi[1]) / 2;
+    off[2] = raw ? 0 : -1.6 - sc * lo[2];
+    *sc_out = sc;
+}
+
+void qtool_rt_prop_place(const qtool_obj_mesh *m, int zup, int raw, const double p[3], int direction, double out[3])
+{
+    double sc, off[3], q[3];
+    placement(m, zup, raw, &sc, off);
+    to_scene(p, zup, raw, q);
+    for (int j = 0; j < 3; ++j)
+        out[j] = direction ? q[j] : q[j] * sc + off[j];
+}
+
+/* the mesh's colours per triangle: its triangles come first, the ground after them */
+static int carry_materials(qtool_rt_scene *s, const qtool_obj_mesh *m)
+{
+    s->alb = malloc(s->ntri * 3 * sizeof(double));
+    if (!s->alb)
+        return -1;
+    for (size_t t = 0; t < s->ntri; ++t)
+        for (int j = 0; j < 3; ++j)
+            s->alb[3 * t + j] = t < m->ntri && m->albedo ? m->albedo[3 * t + j] : s->mats[s->mat[t]].albedo[j];
+    if (!m->tex || !m->uv || !m->ntex)
+        return 0;
+    s->uv = calloc(s->ntri * 6, sizeof(double));
+    s->tex = malloc(s->ntri * sizeof(int32_t));
+    s->texs = calloc(m->ntex, sizeof *s->texs);
+    if (!s->uv || !s->tex || !s->texs)
+        return -1;
+    for (size_t t = 0; t < s->ntri; ++t) {
+        int32_t k = t < m->ntri ? m->tex[t] : -1;
+        s->tex[t] = k >= 0 && (size_t)k < m->ntex ? k : -1;
+        if (t < m->ntri)
+            memcpy(s->uv + 6 * t, m->uv + 6 * t, 6 * sizeof(double));
+    }
+    for (size_t i = 0; i < m->ntex; ++i) {
+        size_t nb = (size_t)m->texs[i].w * (size_t)m->texs[i].h * 3;
+        s->texs[i].rgb = malloc(nb ? nb : 1);
+        if (!s->texs[i].rgb)
+            return -1;
+        memcpy(s->texs[i].rgb, m->texs[i].rgb, nb);
+        s->texs[i].w = m->texs[i].w, s->texs[i].h = m->texs[i].h;
+        s->ntex = i + 1;
+    }
+    return 0;
+}
+
 int qtool_rt_scene_from_obj(qtool_rt_scene *s, const qtool_obj_mesh *m, int zup, int raw)
 {
     memset(s, 0, sizeof *s);
@@ -344,20 +417,8 @@ int qtool_rt_scene_from_obj(qtool_rt_scene *s, const qtool_obj_mesh *m, int zup,
     memcpy(s->mats, mats, sizeof mats);
     s->nmat = 2;
     builder b = {s, 0, 0};
-    double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-    /* Y-up (x, y, z) -> Z-up (x, -z, y), then a quarter turn about z, (x, y) -> (-y, x), so the
-     * model's front (+z of a Y-up model, -y of a Z-up one) faces the viewer at the origin: rotations,
-     * so windings and normals stay right */
-    for (size_t i = 0; i < m->ntri * 3; ++i) {
-        double q[3];
-        to_scene(m->pos + 3 * i, zup, raw, q);
-        for (int j = 0; j < 3; ++j)
-            lo[j] = q[j] < lo[j] ? q[j] : lo[j], hi[j] = q[j] > hi[j] ? q[j] : hi[j];
-    }
-    double size = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
-    double sc = raw || size <= 0 ? 1.0 : 2.5 / size;
-    double off[3] = {raw ? 0 : QTOOL_RT_PROP_X - sc * (lo[0] + hi[0]) / 2, raw ? 0 : -sc * (lo[1] + hi[1]) / 2,
-                     raw ? 0 : -1.6 - sc * lo[2]};
+    double sc, off[3];
+    placement(m, zup, raw, &sc, off);
     for (size_t t = 0; t < m->ntri; ++t) {
         double p[3][3], n[3][3];
         for (int q = 0; q < 3; ++q) {
@@ -373,12 +434,18 @@ int qtool_rt_scene_from_obj(qtool_rt_scene *s, const qtool_obj_mesh *m, int zup,
         double g0[3] = {-20, -20, -1.6}, g1[3] = {20, -20, -1.6}, g2[3] = {20, 20, -1.6}, g3[3] = {-20, 20, -1.6};
         add_quad(&b, g0, g1, g2, g3, 0);
     }
+    if (!b.oom && (m->albedo || m->tex) && carry_materials(s, m) != 0)
+        b.oom = 1;
     return finish(&b);
 }
 
 void qtool_rt_scene_free(qtool_rt_scene *s)
 {
     free(s->v), free(s->n), free(s->mat), free(s->nodes);
+    free(s->alb), free(s->uv), free(s->tex);
+    for (size_t i = 0; s->texs && i < s->ntex; ++i)
+        free(s->texs[i].rgb);
+    free(s->texs);
     memset(s, 0, sizeof *s);
 }
 
@@ -479,6 +546,37 @@ void qtool_rt_pixel_dir(uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t x
     }
 }
 
+static double srgb_linear(uint8_t c)
+{
+    double x = c / 255.0;
+    return x <= 0.04045 ? x / 12.92 : pow((x + 0.055) / 1.055, 2.4);
+}
+
+/* the triangle's albedo, times its texture bilinearly sampled (repeating) at the barycentric uv */
+static void hit_albedo(const qtool_rt_scene *s, size_t tri, double u, double v, double out[3])
+{
+    const double *a = s->alb ? s->alb + 3 * tri : s->mats[s->mat[tri]].albedo;
+    out[0] = a[0], out[1] = a[1], out[2] = a[2];
+    if (!s->tex || s->tex[tri] < 0)
+        return;
+    const qtool_mesh_texture *tx = &s->texs[s->tex[tri]];
+    const double *c = s->uv + 6 * tri;
+    double tu = (1 - u - v) * c[0] + u * c[2] + v * c[4], tv = (1 - u - v) * c[1] + u * c[3] + v * c[5];
+    double fx = (tu - floor(tu)) * tx->w - 0.5, fy = (tv - floor(tv)) * tx->h - 0.5;
+    double x0 = floor(fx), y0 = floor(fy), wx = fx - x0, wy = fy - y0;
+    double acc[3] = {0, 0, 0};
+    for (int k = 0; k < 4; ++k) {
+        long xi = (long)x0 + (k & 1), yi = (long)y0 + (k >> 1);
+        xi = ((xi % tx->w) + tx->w) % tx->w, yi = ((yi % tx->h) + tx->h) % tx->h;
+        double wgt = ((k & 1) ? wx : 1 - wx) * ((k >> 1) ? wy : 1 - wy);
+        const uint8_t *p = tx->rgb + 3 * ((size_t)yi * (size_t)tx->w + (size_t)xi);
+        for (int j = 0; j < 3; ++j)
+            acc[j] += wgt * srgb_linear(p[j]);
+    }
+    for (int j = 0; j < 3; ++j)
+        out[j] *= acc[j];
+}
+
 void qtool_rt_primary(const qtool_rt_scene *s, const double d[3], qtool_rt_hit *h)
 {
     static const double o[3] = {0, 0, 0};
@@ -490,6 +588,7 @@ void qtool_rt_primary(const qtool_rt_scene *s, const double d[3], qtool_rt_hit *
     const double *vv = s->v + 9 * (size_t)tri, *nn = s->n + 9 * (size_t)tri;
     h->hit = 1, h->t = t;
     h->m = &s->mats[s->mat[tri]];
+    hit_albedo(s, (size_t)tri, u, v, h->albedo);
     flat_normal(vv, vv + 3, vv + 6, h->ng);
     double l = 0;
     for (int j = 0; j < 3; ++j) {
@@ -594,7 +693,7 @@ static void render_row(void *ctx, uint32_t y)
         if (!qtool_rt_response(j->s, &h, wv, tmax, &df, &gl))
             continue;
         for (int c = 0; c < 3; ++c)
-            o[c] = j->l->rgb[c] * att * (h.m->albedo[c] * df + h.m->ks * gl);
+            o[c] = j->l->rgb[c] * att * (h.albedo[c] * df + h.m->ks * gl);
     }
 }
 

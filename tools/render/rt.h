@@ -46,6 +46,15 @@ typedef struct qtool_rt_scene {
     qtool_rt_node *nodes;
     size_t nnodes;
     double scale; /* scene size, for ray offsets */
+    /* Optional per-triangle colour (NULL: every triangle takes mats[mat].albedo): alb 3 linear
+     * values per triangle replace the material's albedo; tex (-1: none) and uv (6 per triangle)
+     * point into texs, whose texel at the hit's interpolated uv (bilinear, repeating, sRGB decoded)
+     * multiplies it. ks and shininess stay the material's. */
+    double *alb;
+    double *uv;
+    int32_t *tex;
+    qtool_mesh_texture *texs;
+    size_t ntex;
 } qtool_rt_scene;
 
 /* The built-in courtyard (no files): ground, walls, two arcades of pillars and round arches, boxes
@@ -55,12 +64,17 @@ int qtool_rt_scene_builtin(qtool_rt_scene *s);
  * phi = 0, the left/right edge, where a prop would be cut in half across the seam. */
 #define QTOOL_RT_PROP_X (-3.5)
 
-/* A mesh as a prop: turned from Y-up to Z-up unless zup, then a quarter turn about z so the
+/* A mesh as a prop (its albedo, uv and textures, when it has them, carried per triangle; the ground
+ * keeps its material): turned from Y-up to Z-up unless zup, then a quarter turn about z so the
  * model's front (+z of a Y-up model, -y of a Z-up one) faces the viewer; scaled so its largest side
  * is 2.5 units, standing on the ground (z = -1.6, a 40 x 40 ground plane is added) centred 3.5 units
  * along -x from the viewpoint (QTOOL_RT_PROP_X: the middle of the panorama, away from the seam at
  * +x); raw: the mesh exactly as given and nothing added. 0 or -1 (no memory). */
 int qtool_rt_scene_from_obj(qtool_rt_scene *s, const qtool_obj_mesh *m, int zup, int raw);
+/* Where qtool_rt_scene_from_obj(s, m, zup, raw) puts the mesh-space point p (direction 0) or
+ * turns the direction p (direction 1: rotated only), e.g. a glTF camera's eye, forward and up
+ * (io/gltf.h) for a fixed-camera render of the same scene. Bit for bit the prop's own arithmetic. */
+void qtool_rt_prop_place(const qtool_obj_mesh *m, int zup, int raw, const double p[3], int direction, double out[3]);
 void qtool_rt_scene_free(qtool_rt_scene *s);
 
 /* What the viewing ray of a pixel sees (the light-independent part of shading). */
@@ -70,6 +84,7 @@ typedef struct qtool_rt_hit {
     double n[3], ng[3], r[3];
     double t;         /* depth along the unit ray */
     const qtool_rt_material *m;
+    double albedo[3]; /* m->albedo, or the triangle's own colour times its texel (see qtool_rt_scene) */
 } qtool_rt_hit;
 
 void qtool_rt_pixel_dir(uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t x, uint32_t y, double d[3]);
