@@ -321,6 +321,22 @@ static const qcli_cmd commands[] = {
      "  coefficients). Advice: the cheapest scheme (in that order) whose mean error is within 10 %\n"
      "  of the lowest or at most 1 %, with the relight option that uses it.\n",
      qcli_cmd_probe},
+    {"ies", "an IES LM-63 photometric file: header facts, candela range, integrated lumens, polar curves",
+     "usage: qibl ies info FILE.ies [--png OUT.png]\n"
+     "  Reads an IES LM-63 file (1986 unlabelled, 1991, 1995, 2002 or 2019 header; keywords with [MORE];\n"
+     "  TILT=NONE or INCLUDE, TILT=<file> refused by name; photometric type C, B or A; every type C\n"
+     "  symmetry: axial, quadrilateral 0..90, bilateral 0..180, 90..270, full 0..360) and prints its header\n"
+     "  facts, candela_min/candela_max (multiplier applied) and the line `lumens <value>`: the candela\n"
+     "  (times the ballast factor, and up to 1995 the ballast-lamp factor) integrated over the sphere.\n"
+     "  Quadrature: intensity linear between grid angles, zero outside the vertical range; along the\n"
+     "  latitude-like angle (C: vertical from the nadir, weight sin; A: vertical, weight cos; B:\n"
+     "  horizontal, weight cos) each linear segment times its weight is integrated exactly; along the\n"
+     "  plane angle the trapezoid rule over the grid expanded by its symmetry (axial 2 pi, quadrilateral\n"
+     "  4 x, bilateral 2 x). An isotropic lamp of I cd gives 4 pi I exactly. A keyword stating the\n"
+     "  luminaire flux ([LUMINAIREOUTPUT], [_ABSOLUTELUMENS]...) is printed beside it (stated_lumens).\n"
+     "  --png OUT.png: the polar curves of the two principal planes (type C: C0-C180 red, C90-C270 blue),\n"
+     "  nadir down, rings at 25 % of the maximum, labelled. Limits: io/ies.h (docs/robustness.md).\n",
+     qcli_cmd_ies},
     {"study", "the light-probe approximation study: every method, error against N and time",
      "usage: qibl study [PROBE.hdr ...] --out DIR [--quick] [--threads T]\n"
      "  Ground-truth irradiance of each lat-long probe at 20000 spherical-Fibonacci normals (Madsen &\n"
