@@ -143,9 +143,9 @@ int qcli_cmd_ies(int argc, char **argv)
     printf("horizontal_angles %u (%g..%g)\n", e.nh, e.h[0], e.h[e.nh - 1]);
     printf("lamps %d\n", e.nlamps);
     if (e.lumens_per_lamp < 0)
-        printf("lumens_per_lamp -1 (absolute photometry)\n");
+        printf("lamp_lumens -1 (absolute photometry)\n");
     else
-        printf("lumens_per_lamp %g (relative photometry: rated lamp flux %g lm)\n", e.lumens_per_lamp,
+        printf("lamp_lumens %g per lamp (relative photometry: rated lamp flux %g lm)\n", e.lumens_per_lamp,
                e.lumens_per_lamp * e.nlamps);
     printf("multiplier %g\n", e.multiplier);
     printf("ballast_factor %g\n", e.ballast_factor);
