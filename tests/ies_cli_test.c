@@ -2,6 +2,10 @@
  * ies_cli_test.c - `qibl ies info`: the report of a synthetic file (lumens = 4 pi I for an isotropic
  * lamp, the header facts), --png writing a readable picture, a refused file giving exit 1, one
  * line on stderr naming it and nothing on stdout (and no picture), bad arguments exit 2.
+ * `qibl relight --ies`: an isotropic profile gives exactly the isotropic lamp's bytes (every point
+ * mode, any aim); a profile of 1 below the lamp and 1/2 above scales every pixel by 1, 1/2 or in
+ * between; the refusals (no --point, --aim alone, zero aim, bad size, --gles, up parallel to the
+ * aim, a bad file) with nothing written.
  */
 #include "cliutil.h"
 
@@ -15,9 +19,9 @@
 
 static const char *at(const char *name)
 {
-    static char p[4][256];
+    static char p[32][256];
     static int k;
-    k = (k + 1) % 4;
+    k = (k + 1) % 32;
     snprintf(p[k], sizeof p[k], "%s/%s", dir, name);
     return p[k];
 }
@@ -91,11 +95,104 @@ static void test_refusals(void **state)
     rm_rf(dir);
 }
 
+/* the PFM the relight writes: w h and the linear floats (rows top first), malloc'ed */
+static float *read_pfm(const char *path, int *w, int *h)
+{
+    size_t n;
+    uint8_t *b = qtool_io_read_all(path, &n);
+    assert_non_null(b);
+    char magic[3];
+    double sc;
+    int off = 0;
+    assert_int_equal(sscanf((const char *)b, "%2s %d %d %lf%n", magic, w, h, &sc, &off), 4);
+    off += 1;
+    size_t np = (size_t)*w * (size_t)*h * 3;
+    assert_true((size_t)off + 4 * np <= n);
+    float *f = malloc(4 * np);
+    assert_non_null(f);
+    memcpy(f, b + off, 4 * np); /* little-endian host (the writer's order), as the suite's machines */
+    free(b);
+    return f;
+}
+
+static void test_relight_ies(void **state)
+{
+    (void)state;
+    need_qibl();
+    assert_int_equal(cli_setup("/tmp/qibl_iescli_XXXXXX"), 0);
+    const char *asset = at("g.qibl"), *iso = at("iso.ies"), *half = at("half.ies");
+    assert_int_equal(run("gen", "-o", asset, "--size", "128x32", "--k", "9", "--lut-size", "8", NULL), 0);
+    put(iso, "IESNA:LM-63-2002\nTILT=NONE\n1 -1 1 3 1 1 2 0 0 0\n1 1 10\n0 90 180\n0\n7 7 7\n");
+    /* the lower hemisphere (toward the aim) at full intensity, the upper at half */
+    put(half, "IESNA:LM-63-2002\nTILT=NONE\n1 -1 1 4 1 1 2 0 0 0\n1 1 10\n0 90 91 180\n0\n10 10 5 5\n");
+    /* an isotropic profile: exactly today's isotropic lamp, in every point mode */
+    static const char *modes[] = {"poly", "bilinear", "off"};
+    const char *a = at("a.png"), *b = at("b.png");
+    for (int k = 0; k < 3; ++k) {
+        assert_int_equal(run("relight", asset, "--point", "0.3", "-0.2", "0.4", "--rgb", "2", "1.5", "1", "--lut",
+                             modes[k], "--png", a, NULL), 0);
+        assert_int_equal(run("relight", asset, "--point", "0.3", "-0.2", "0.4", "--rgb", "2", "1.5", "1", "--lut",
+                             modes[k], "--ies", iso, "--aim", "0.3", "1", "-2", "--up", "0", "0", "1", "--png", b, NULL),
+                         0);
+        size_t na, nb;
+        uint8_t *pa = qtool_io_read_all(a, &na), *pb = qtool_io_read_all(b, &nb);
+        assert_non_null(pa), assert_non_null(pb);
+        assert_int_equal(na, nb);
+        assert_memory_equal(pa, pb, na);
+        free(pa), free(pb);
+    }
+    /* the half profile: every pixel's light is the isotropic lamp's times 1 (below the lamp), 1/2
+     * (above) or in between (within a table texel of the horizon); both kinds present */
+    const char *fa = at("a.pfm"), *fb = at("b.pfm");
+    assert_int_equal(run("relight", asset, "--point", "0", "0", "0.5", "--rgb", "2", "2", "2", "--pfm", fa, NULL), 0);
+    assert_int_equal(run("relight", asset, "--point", "0", "0", "0.5", "--rgb", "2", "2", "2", "--ies", half,
+                         "--ies-size", "128", "--pfm", fb, NULL), 0);
+    int w, h, w2, h2;
+    float *A = read_pfm(fa, &w, &h), *B = read_pfm(fb, &w2, &h2);
+    assert_int_equal(w, w2), assert_int_equal(h, h2);
+    int ones = 0, halves = 0, lit = 0;
+    for (size_t i = 0; i < (size_t)w * h * 3; ++i) {
+        if (A[i] < 0.02f)
+            continue;
+        ++lit;
+        double r = B[i] / A[i];
+        if (r < 0.5 - 0.01 || r > 1 + 0.01)
+            fail_msg("pixel value %zu: ratio %.4f outside [0.5, 1]", i, r);
+        ones += r > 0.99, halves += r < 0.51;
+    }
+    printf("  half profile: %d lit values, %d at 1, %d at 1/2\n", lit, ones, halves);
+    assert_true(ones > lit / 10 && halves > lit / 10);
+    free(A), free(B);
+    /* refusals: no --point, --aim without --ies, --gles, a bad profile (nothing written) */
+    const char *x = at("x.png");
+    assert_int_equal(run("relight", asset, "--sun", "0", "0", "1", "--ies", iso, "--png", x, NULL), 2);
+    assert_int_equal(run("relight", asset, "--point", "0", "0", "1", "--aim", "0", "0", "-1", "--png", x, NULL), 2);
+    assert_int_equal(run("relight", asset, "--point", "0", "0", "1", "--ies", iso, "--aim", "0", "0", "0", "--png", x,
+                         NULL), 2);
+    assert_int_equal(run("relight", asset, "--point", "0", "0", "1", "--ies", iso, "--ies-size", "1", "--png", x,
+                         NULL), 2);
+    assert_int_equal(run("relight", asset, "--point", "0", "0", "1", "--ies", iso, "--gles", "--png", x, NULL), 2);
+    assert_int_equal(run("relight", asset, "--point", "0", "0", "1", "--ies", iso, "--aim", "0", "0", "1", "--up", "0",
+                         "0", "-3", "--png", x, NULL), 1);
+    char *e = text(errlog);
+    assert_non_null(strstr(e, "parallel"));
+    free(e);
+    const char *bad = at("bad.ies");
+    put(bad, "IESNA:LM-63-2002\nTILT=NONE\n1 -1 1 3 1 1 2 0 0 0\n1 1 10\n0 90 180\n0\n7 7\n");
+    assert_int_equal(run("relight", asset, "--point", "0", "0", "1", "--ies", bad, "--png", x, NULL), 1);
+    e = text(errlog);
+    assert_non_null(strstr(e, bad));
+    free(e);
+    assert_int_equal(access(x, F_OK), -1);
+    rm_rf(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_info_report_and_png),
         cmocka_unit_test(test_refusals),
+        cmocka_unit_test(test_relight_ies),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

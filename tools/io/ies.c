@@ -8,6 +8,7 @@
  */
 #include "io/ies.h"
 #include "io/file.h"
+#include "qibl/gonio.h"
 
 #include <errno.h>
 #include <math.h>
@@ -576,4 +577,29 @@ double qtool_ies_candela(const qtool_ies *e, const double d[3])
     const double *r0 = e->cd + (size_t)j0 * e->nv, *r1 = e->cd + (size_t)j1 * e->nv;
     double a = r0[i] + (r0[i + 1] - r0[i]) * tv, b = r1[i] + (r1[i + 1] - r1[i]) * tv;
     return (a + (b - a) * th) * factors(e);
+}
+
+/* ---- the core's table ----------------------------------------------------------------------- */
+
+int qtool_ies_gonio_table(const qtool_ies *e, uint32_t n, uint16_t *table, double *peak_cd)
+{
+    double peak = e->cd_max * factors(e);
+    if (n < QIBL_GONIO_MIN_N || n > QIBL_GONIO_MAX_N || !(peak > 0))
+        return -1;
+    for (uint32_t j = 0; j < n; ++j)
+        for (uint32_t i = 0; i < n; ++i) {
+            /* the texel centre's direction: the octahedral map of gonio.h, inverted */
+            double u = (2.0 * i + 1) / n - 1, v = (2.0 * j + 1) / n - 1, z = 1 - fabs(u) - fabs(v);
+            if (z < 0) {
+                double uu = (1 - fabs(v)) * (u < 0 ? -1 : 1), vv = (1 - fabs(u)) * (v < 0 ? -1 : 1);
+                u = uu, v = vv;
+            }
+            double l = sqrt(u * u + v * v + z * z), d[3] = {u / l, v / l, z / l};
+            double q = qtool_ies_candela(e, d) / peak * QIBL_GONIO_ONE;
+            q = q < 0 ? 0 : q > QIBL_GONIO_ONE ? QIBL_GONIO_ONE : q;
+            table[(size_t)j * n + i] = (uint16_t)lround(q);
+        }
+    if (peak_cd)
+        *peak_cd = peak;
+    return 0;
 }

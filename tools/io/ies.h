@@ -109,4 +109,11 @@ double qtool_ies_lumens(const qtool_ies *ies);
  * Callers build x = y cross z from an aim (z) and an up (y, made orthogonal to z). */
 double qtool_ies_candela(const qtool_ies *ies, const double d[3]);
 
+/* The core's goniometric table (qibl/gonio.h: n x n octahedral texels in the lamp frame above,
+ * Q1.15) from the profile: each texel centre's candela over the file's peak (cd_max times the
+ * factors), rounded to nearest, so the peak is 32768 and an isotropic file gives 32768 everywhere.
+ * table holds n n entries; n in QIBL_GONIO_MIN_N .. QIBL_GONIO_MAX_N (2..256). 0, or -1 for a bad n
+ * or a file whose peak is 0 (nothing written then). *peak_cd (may be NULL): that peak. */
+int qtool_ies_gonio_table(const qtool_ies *ies, uint32_t n, uint16_t *table, double *peak_cd);
+
 #endif
