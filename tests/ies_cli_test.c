@@ -5,7 +5,8 @@
  * `qibl relight --ies`: an isotropic profile gives exactly the isotropic lamp's bytes (every point
  * mode, any aim); a profile of 1 below the lamp and 1/2 above scales every pixel by 1, 1/2 or in
  * between; the refusals (no --point, --aim alone, zero aim, bad size, --gles, up parallel to the
- * aim, a bad file) with nothing written.
+ * aim, a bad file) with nothing written. Against the ray tracer's goniometric lamp (qibl render --ies,
+ * the profile in double): the per-pixel ratio ies / isotropic agrees with the truth's.
  */
 #include "cliutil.h"
 
@@ -187,12 +188,87 @@ static void test_relight_ies(void **state)
     rm_rf(dir);
 }
 
+/* a smooth asymmetric type C profile (5-degree grid, full 0..360) */
+static void write_profile(const char *path)
+{
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    fputs("IESNA:LM-63-2002\n[TEST] smooth\nTILT=NONE\n1 -1 1 37 73 1 2 0 0 0\n1 1 10\n", f);
+    for (int i = 0; i <= 36; ++i)
+        fprintf(f, "%d ", 5 * i);
+    fputs("\n", f);
+    for (int j = 0; j <= 72; ++j)
+        fprintf(f, "%d ", 5 * j);
+    fputs("\n", f);
+    for (int j = 0; j <= 72; ++j) {
+        for (int i = 0; i <= 36; ++i) {
+            double v = 5 * i * M_PI / 180, hh = 5 * j * M_PI / 180;
+            fprintf(f, "%.4f ", 100 + 80 * cos(v) + 40 * sin(v) * cos(hh) + 20 * sin(v) * sin(2 * hh));
+        }
+        fputs("\n", f);
+    }
+    fclose(f);
+}
+
+/* The core's goniometric lamp against the ray tracer's (the same profile in double precision,
+ * qibl render --ies): per pixel, relit(ies) / relit(isotropic) must match truth(ies) / truth(isotropic),
+ * since both scale the same lamp's light by the profile toward the pixel's point; and the relit frame
+ * must be as close to its truth as the isotropic lamp's is to its own. */
+static void test_relight_ies_against_truth(void **state)
+{
+    (void)state;
+    need_qibl();
+    assert_int_equal(cli_setup("/tmp/qibl_iescli_XXXXXX"), 0);
+    const char *asset = at("bk.qibl"), *prof = at("p.ies");
+    write_profile(prof);
+    assert_int_equal(run("bake", "--size", "128x32", "--k", "16", "--dirs", "256", "-o", asset, "--quiet", "--threads",
+                         "2", NULL), 0);
+    const char *ti = at("ti.pfm"), *tg = at("tg.pfm"), *ri = at("ri.pfm"), *rg = at("rg.pfm");
+    const char *pos[3] = {"1.2", "0.8", "0.3"};
+    assert_int_equal(run("render", "--size", "128x32", "--point", pos[0], pos[1], pos[2], "--rgb", "3", "3", "3",
+                         "--pfm", ti, NULL), 0);
+    assert_int_equal(run("render", "--size", "128x32", "--point", pos[0], pos[1], pos[2], "--rgb", "3", "3", "3",
+                         "--ies", prof, "--aim", "0.2", "0.1", "-1", "--up", "0", "1", "0", "--pfm", tg, NULL), 0);
+    assert_int_equal(run("relight", asset, "--point", pos[0], pos[1], pos[2], "--rgb", "3", "3", "3", "--pfm", ri,
+                         NULL), 0);
+    assert_int_equal(run("relight", asset, "--point", pos[0], pos[1], pos[2], "--rgb", "3", "3", "3", "--ies", prof,
+                         "--aim", "0.2", "0.1", "-1", "--up", "0", "1", "0", "--ies-size", "128", "--pfm", rg, NULL), 0);
+    int w, h, w2, h2;
+    float *TI = read_pfm(ti, &w, &h), *TG = read_pfm(tg, &w2, &h2), *RI, *RG;
+    assert_int_equal(w, w2);
+    RI = read_pfm(ri, &w2, &h2);
+    assert_int_equal(w, w2);
+    RG = read_pfm(rg, &w2, &h2);
+    assert_int_equal(w, w2);
+    size_t n = (size_t)w * h * 3, used = 0, bad = 0;
+    double worst = 0, se_g = 0, se_i = 0;
+    for (size_t i = 0; i < n; ++i) {
+        se_g += (TG[i] - RG[i]) * (double)(TG[i] - RG[i]);
+        se_i += (TI[i] - RI[i]) * (double)(TI[i] - RI[i]);
+        if (TI[i] < 0.05f || RI[i] < 0.05f)
+            continue;
+        double rt = TG[i] / TI[i], rc = RG[i] / RI[i], e = fabs(rt - rc);
+        ++used;
+        bad += e > 0.01;
+        worst = e > worst ? e : worst;
+    }
+    printf("  ratio relit/truth: %zu values, worst |difference| %.4f, %zu above 0.01; rms error ies %.4g, "
+           "isotropic %.4g\n", used, worst, bad, sqrt(se_g / n), sqrt(se_i / n));
+    assert_true(used > n / 4);
+    assert_true(bad <= used / 100 && worst < 0.05);
+    /* the profile (peak 1, 0.3 .. 1 elsewhere) only dims: no worse than the isotropic lamp's error */
+    assert_true(sqrt(se_g / n) <= sqrt(se_i / n) * 1.05);
+    free(TI), free(TG), free(RI), free(RG);
+    rm_rf(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_info_report_and_png),
         cmocka_unit_test(test_refusals),
         cmocka_unit_test(test_relight_ies),
+        cmocka_unit_test(test_relight_ies_against_truth),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

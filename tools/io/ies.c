@@ -603,3 +603,38 @@ int qtool_ies_gonio_table(const qtool_ies *e, uint32_t n, uint16_t *table, doubl
         *peak_cd = peak;
     return 0;
 }
+
+/* ---- a profile in the world (double) -------------------------------------------------------- */
+
+int qtool_ies_lamp_init(qtool_ies_lamp *l, const qtool_ies *ies, const double aim[3], const double up[3])
+{
+    double za = sqrt(aim[0] * aim[0] + aim[1] * aim[1] + aim[2] * aim[2]);
+    double peak = ies->cd_max * factors(ies);
+    if (!(za > 0) || !(peak > 0))
+        return -1;
+    double z[3] = {aim[0] / za, aim[1] / za, aim[2] / za};
+    double d = up[0] * z[0] + up[1] * z[1] + up[2] * z[2];
+    double y[3] = {up[0] - d * z[0], up[1] - d * z[1], up[2] - d * z[2]};
+    double ul = sqrt(up[0] * up[0] + up[1] * up[1] + up[2] * up[2]);
+    double yl = sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+    if (!(ul > 0) || yl < ul * ldexp(1, -10))
+        return -1;
+    for (int k = 0; k < 3; ++k)
+        y[k] /= yl;
+    l->ies = ies;
+    l->peak = peak;
+    for (int k = 0; k < 3; ++k)
+        l->z[k] = z[k], l->y[k] = y[k];
+    l->x[0] = y[1] * z[2] - y[2] * z[1];
+    l->x[1] = y[2] * z[0] - y[0] * z[2];
+    l->x[2] = y[0] * z[1] - y[1] * z[0];
+    return 0;
+}
+
+double qtool_ies_lamp_scale(const void *ctx, const double d[3])
+{
+    const qtool_ies_lamp *l = ctx;
+    double loc[3] = {d[0] * l->x[0] + d[1] * l->x[1] + d[2] * l->x[2], d[0] * l->y[0] + d[1] * l->y[1] + d[2] * l->y[2],
+                     d[0] * l->z[0] + d[1] * l->z[1] + d[2] * l->z[2]};
+    return qtool_ies_candela(l->ies, loc) / l->peak;
+}

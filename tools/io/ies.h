@@ -116,4 +116,16 @@ double qtool_ies_candela(const qtool_ies *ies, const double d[3]);
  * or a file whose peak is 0 (nothing written then). *peak_cd (may be NULL): that peak. */
 int qtool_ies_gonio_table(const qtool_ies *ies, uint32_t n, uint16_t *table, double *peak_cd);
 
+/* A profile placed in the world, in double precision (the ray tracer's goniometric lamp, the truth
+ * of qibl/gonio.h's tables): the frame as qibl_gonio_init makes it (z = aim, y = up made orthogonal,
+ * x = y cross z) and the peak qtool_ies_gonio_table divides by. */
+typedef struct qtool_ies_lamp {
+    const qtool_ies *ies;
+    double x[3], y[3], z[3], peak;
+} qtool_ies_lamp;
+/* 0, or -1 for a zero aim, an up (anti)parallel to it, or a dark profile. */
+int qtool_ies_lamp_init(qtool_ies_lamp *l, const qtool_ies *ies, const double aim[3], const double up[3]);
+/* I(d) / I_peak toward unit world direction d (ctx: a qtool_ies_lamp; tools/render/rt.h's gonio). */
+double qtool_ies_lamp_scale(const void *ctx, const double d[3]);
+
 #endif
