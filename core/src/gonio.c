@@ -9,6 +9,8 @@
 #include "qibl/gonio.h"
 #include "qibli.h"
 
+#if QIBL_USE_GONIO /* config.h: needs QIBL_USE_SHMAP (it scales point-light spans through the P map) */
+
 size_t qibl_gonio_table_size(uint32_t n)
 {
     if (n < QIBL_GONIO_MIN_N || n > QIBL_GONIO_MAX_N)
@@ -151,3 +153,5 @@ qibl_status_t qibl_gonio_scale_span(const qibl_gonio_t *g, const qibl_pmap_t *p,
     }
     return QIBL_OK;
 }
+
+#endif /* QIBL_USE_GONIO */

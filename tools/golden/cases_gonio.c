@@ -9,6 +9,8 @@
 
 #include "qibl/gonio.h"
 
+#if QIBL_USE_GONIO
+
 #define GN 17u
 
 static void make_table(uint16_t *t, uint32_t n, uint64_t seed)
@@ -124,3 +126,5 @@ int qtool_goldens_gonio(const qtool_goldens_sink_t *s)
 {
     return lookup_case(s, "gonio_lookup") + refusals_case(s, "gonio_refusals") + span_case(s, "gonio_span");
 }
+
+#endif /* QIBL_USE_GONIO */
