@@ -211,13 +211,13 @@ int qcli_cmd_render(int argc, char **argv)
     }
     if (have != 1 || (!png && !pfm && !exr && !depth))
         return qcli_usage_error("render needs exactly one of --sun/--point and at least one of --png/--pfm/--exr/--depth");
-    if (qcli_parse_only) /* fuzz_cliopts: the options only */
-        return 0;
-    l.falloff = (int)falloff;
     if ((ies || have_aim) && !l.point)
         return qcli_usage_error("render: --ies, --aim and --up shape a --point lamp");
     if (have_aim && !ies)
         return qcli_usage_error("render: --aim and --up orient an --ies lamp: give --ies FILE.ies");
+    if (qcli_parse_only) /* fuzz_cliopts: the options only */
+        return 0;
+    l.falloff = (int)falloff;
     qtool_ies prof;
     qtool_ies_lamp lamp;
     if (ies) {

@@ -110,6 +110,8 @@ int qcli_cmd_ies(int argc, char **argv)
     }
     if (!path)
         return qcli_usage_error("usage: qibl ies info FILE.ies [--png OUT.png]");
+    if (qcli_parse_only) /* fuzz_cliopts: the options only */
+        return 0;
     qtool_ies e;
     char err[512];
     if (qtool_ies_read(path, &e, err, sizeof err) != 0) {
