@@ -138,7 +138,7 @@ static int inum(numstream *s, int *out, long lo, long hi, const char *what, char
     if (num(s, &x, what, err, errlen) != 0)
         return -1;
     if (x != floor(x) || x < (double)lo || x > (double)hi)
-        return fail(err, errlen, "%s %g is not an integer in %ld..%ld", what, x, lo, hi);
+        return fail(err, errlen, "%s %.15g is not an integer in %ld..%ld", what, x, lo, hi);
     *out = (int)x;
     return 0;
 }
