@@ -255,8 +255,10 @@ static const qcli_cmd commands[] = {
      "  and an isotropic file gives exactly the isotropic lamp. --aim: the profile's axis (type C nadir,\n"
      "  types A/B the beam centre), default 0 0 -1 (a downlight in the z-up scene); --up: the direction\n"
      "  of horizontal angle 0 (types A/B: vertical angle 90), made orthogonal to the aim, default 1 0 0.\n"
-     "  Soft framebuffer only (not --gles, not --path).\n"
-     "  qibl relight FILE --path N|sun|lamp --t T [--rgb R G B] [--soft R] [--sky R G B] (--png|--pfm|--exr OUT):\n"
+     "  Soft framebuffer only (not --gles). With --path lamp (below) the same options make the track's\n"
+     "  lamp goniometric (its light scaled before the track's visibility).\n"
+     "  qibl relight FILE --path N|sun|lamp --t T [--rgb R G B] [--soft R] [--sky R G B]\n"
+     "               [--ies FILE.ies [--aim X Y Z] [--up X Y Z] [--ies-size N]] (--png|--pfm|--exr OUT):\n"
      "  a light on the asset's baked path N (or its first sun path / lamp track) at T in 0..1: unshadowed\n"
      "  SH x visibility(T), soft over [T - R, T + R]; --sky adds the demo's sky through the shadowed maps.\n",
      qcli_cmd_relight},

@@ -99,6 +99,9 @@ want 2 - ies info "$w/l.ies" --frob
 want 0 - relight "$w/g.qibl" --point 0.5 0 0.3 --ies "$w/l.ies" --aim 0 0 -1 --up 1 0 0 --ies-size 16 --png "$w/ies_r.png"
 want 1 "$w/x.png" relight "$w/g.qibl" --point 0.5 0 0.3 --ies "$w/bad.ies" --png "$w/x.png"
 want 2 "$w/x.png" relight "$w/g.qibl" --point 0.5 0 0.3 --aim 0 0 -1 --png "$w/x.png"
+want 0 - bake -o "$w/lt.qibl" --size 32x8 --k 4 --dirs 32 --quiet --threads 2 --lamp-track "1,1,0.3;-1,1,0.3" --path-steps 4
+want 0 - relight "$w/lt.qibl" --path lamp --t 0.5 --ies "$w/l.ies" --ies-size 8 --png "$w/lt.png"
+want 1 "$w/x.png" relight "$w/lt.qibl" --path lamp --t 0.5 --ies "$w/bad.ies" --png "$w/x.png"
 ln -s g.qibl "$w/link.png"
 want 1 - relight "$w/g.qibl" --sun 0 0 1 --png "$w/link.png"
 cmp -s "$w/g.qibl" "$w/link.png" || { fails=$((fails + 1)); echo "cli-smoke: FAIL: wrote through a link" >&2; }
