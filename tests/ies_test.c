@@ -198,6 +198,14 @@ static void test_headers_and_keywords(void **state)
         }
         qtool_ies_free(&e);
     }
+    /* line breaks of every kind, a byte-order mark, lamp lumens 0 (not stated) */
+    b.n = 0;
+    put(&b, "\xEF\xBB\xBFIESNA:LM-63-2002\r[TEST] mac\rTILT=NONE\r1 0 1 2 1 1 2 0 0 0\r1 1 10\r0 180\r0\r10 10\r");
+    qtool_ies e0 = parse_ok(&b);
+    assert_int_equal(e0.version, 2002);
+    assert_string_equal(e0.test, "mac");
+    assert_true(fabs(qtool_ies_lumens(&e0) - 40 * M_PI) < 1e-9);
+    qtool_ies_free(&e0);
     /* TILT=INCLUDE: the block is read and checked */
     make(&b, "IESNA:LM-63-1995\nTILT=INCLUDE\n1\n3\n0 45 90\n1 0.95 0.9\n", 1, 0, 180, 19, 0, 0, 1, iso, 1);
     qtool_ies e = parse_ok(&b);
@@ -284,7 +292,7 @@ static void test_bad_inputs_named(void **state)
     refused("IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 1000 1 1 2 0 0 0\n1 1 10\n0 1 2\n", "more numbers than the file");
     refused("IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 1 1 1 2 0 0 0\n1 1 10\n0\n0\n1\n", "at least 2");
     refused("IESNA:LM-63-2002\nTILT=NONE\n1.5 1000 1 3 1 1 2 0 0 0\n1 1 10\n0 90 180\n0\n1 2 3\n", "number of lamps");
-    refused("IESNA:LM-63-2002\nTILT=NONE\n1 0 1 3 1 1 2 0 0 0\n1 1 10\n0 90 180\n0\n1 2 3\n", "lumens per lamp");
+    refused("IESNA:LM-63-2002\nTILT=NONE\n1 -2 1 3 1 1 2 0 0 0\n1 1 10\n0 90 180\n0\n1 2 3\n", "lumens per lamp");
     refused("IESNA:LM-63-2002\nTILT=NONE\n1 1000 0 3 1 1 2 0 0 0\n1 1 10\n0 90 180\n0\n1 2 3\n", "multiplier");
     refused("IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 3 1 1 2 0 0 0\n0 1 10\n0 90 180\n0\n1 2 3\n", "ballast factor");
     refused("IESNA:LM-63-2002\nTILT=INCLUDE\n1\n5000\n", "tilt angle count");

@@ -146,6 +146,8 @@ int qcli_cmd_ies(int argc, char **argv)
     printf("lamps %d\n", e.nlamps);
     if (e.lumens_per_lamp < 0)
         printf("lamp_lumens -1 (absolute photometry)\n");
+    else if (e.lumens_per_lamp == 0)
+        printf("lamp_lumens 0 (not stated)\n");
     else
         printf("lamp_lumens %g per lamp (relative photometry: rated lamp flux %g lm)\n", e.lumens_per_lamp,
                e.lumens_per_lamp * e.nlamps);

@@ -31,16 +31,19 @@ static int fail(char *err, size_t errlen, const char *fmt, ...)
 
 /* ---- header lines ------------------------------------------------------------------------- */
 
-/* [*pos, end of line) without the \r\n; advances *pos past the line break */
+/* [*pos, end of line) without its break (LF, CR LF, or a lone CR as old Mac files have); advances
+ * *pos past the break */
 static size_t next_line(const uint8_t *buf, size_t len, size_t *pos, size_t *start)
 {
     size_t s = *pos, e = s;
-    while (e < len && buf[e] != '\n')
+    while (e < len && buf[e] != '\n' && buf[e] != '\r')
         ++e;
     *start = s;
-    *pos = e < len ? e + 1 : e;
-    while (e > s && (buf[e - 1] == '\r'))
-        --e;
+    *pos = e;
+    if (*pos < len && buf[*pos] == '\r')
+        ++*pos;
+    if (*pos < len && buf[*pos] == '\n')
+        ++*pos;
     return e - s;
 }
 
@@ -174,6 +177,8 @@ static int decode_impl(const uint8_t *buf, size_t len, qtool_ies *o, char *err, 
     o->version = 1986;
     o->stated_lumens = -1;
     size_t pos = 0, start, n;
+    if (len >= 3 && buf[0] == 0xEF && buf[1] == 0xBB && buf[2] == 0xBF)
+        pos = 3; /* a UTF-8 byte-order mark some editors write */
     uint32_t lines = 0;
     int have_tilt = 0;
     size_t tilt_at = 0, tilt_n = 0;
@@ -289,9 +294,8 @@ static int decode_impl(const uint8_t *buf, size_t len, qtool_ies *o, char *err, 
         num(&s, &o->factor2, "the ballast-lamp factor (future use / file generation type)", err, errlen) != 0 ||
         num(&s, &o->watts, "the input watts", err, errlen) != 0)
         return -1;
-    if (!(o->lumens_per_lamp > 0) && o->lumens_per_lamp != -1)
-        return fail(err, errlen, "lumens per lamp %g is neither positive nor -1 (absolute photometry)",
-                    o->lumens_per_lamp);
+    if (o->lumens_per_lamp < 0 && o->lumens_per_lamp != -1)
+        return fail(err, errlen, "lumens per lamp %g is negative but not -1 (absolute photometry)", o->lumens_per_lamp);
     if (!(o->multiplier > 0))
         return fail(err, errlen, "candela multiplier %g is not positive", o->multiplier);
     if (!(o->ballast_factor > 0))

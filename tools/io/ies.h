@@ -7,7 +7,8 @@
  * [MORE] continuations) or the 1986 free text before TILT=; TILT=NONE and TILT=INCLUDE (the tilt
  * block inline, read and checked, not applied: the data are for the luminaire as photometered);
  * TILT=<file> is refused by name (no file beside the .ies is ever opened: inline it as INCLUDE).
- * Photometric types C (1), B (2) and A (3); numbers separated by blanks, commas or line breaks.
+ * Photometric types C (1), B (2) and A (3); numbers separated by blanks, commas or line breaks
+ * (LF, CR LF or CR; a UTF-8 byte-order mark before the first line is skipped).
  *
  * Angle grids (degrees), checked strictly increasing and within range:
  *   type C: vertical 0..180 (any sub-range; zero intensity outside it); horizontal one of
@@ -62,7 +63,7 @@ typedef struct qtool_ies {
     uint32_t ntilt;               /* INCLUDE: tilt angle count, else 0 */
     double *tilt_angle, *tilt_factor; /* INCLUDE: ntilt each (malloc'ed), else NULL */
     int nlamps;
-    double lumens_per_lamp;       /* -1: absolute photometry */
+    double lumens_per_lamp;       /* -1: absolute photometry; 0: not stated */
     double multiplier;            /* candela multiplier (already applied to cd) */
     uint32_t nv, nh;              /* vertical, horizontal angle counts */
     int type;                     /* QTOOL_IES_TYPE_* */
