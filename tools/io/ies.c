@@ -434,19 +434,13 @@ static double factors(const qtool_ies *e)
     return e->ballast_factor * (e->version <= 1995 ? e->factor2 : 1.0);
 }
 
-/* exact integral over [a, b] (radians) of the linear segment (ia at a, ib at b) times sin t (sin_w)
- * or cos t */
+/* one zone [a, b] (radians) of the latitude-like angle with intensities ia at a and ib at b: the
+ * zonal-lumen rule, the zone's mean intensity (ia + ib) / 2 times its solid angle per unit plane
+ * angle, cos a - cos b (type C, angle from the nadir) or sin b - sin a (A, B, from the equator);
+ * exact for an intensity linear in cos (sin) of the angle, so for isotropic and cosine lamps */
 static double seg(double a, double b, double ia, double ib, int sin_w)
 {
-    double w = b - a;
-    if (sin_w) {
-        double m0 = cos(a) - cos(b);                     /* int sin */
-        double m1 = sin(b) - sin(a) - w * cos(b);        /* int (t - a) sin */
-        return ia * m0 + (ib - ia) / w * m1;
-    }
-    double m0 = sin(b) - sin(a);                         /* int cos */
-    double m1 = w * sin(b) + cos(b) - cos(a);            /* int (t - a) cos */
-    return ia * m0 + (ib - ia) / w * m1;
+    return 0.5 * (ia + ib) * (sin_w ? cos(a) - cos(b) : sin(b) - sin(a));
 }
 
 double qtool_ies_lumens(const qtool_ies *e)

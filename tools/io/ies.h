@@ -92,12 +92,14 @@ void qtool_ies_free(qtool_ies *ies);
 const char *qtool_ies_sym_name(qtool_ies_sym s);
 
 /* Total luminous flux, lumens: the candela (times the ballast factor, and for files up to 1995 the
- * ballast-lamp photometric factor) integrated over the sphere. Quadrature: intensity linear in each
- * angle between grid angles (zero outside the vertical range); along the latitude-like angle
- * (type C vertical, type A vertical, type B horizontal) the linear segment times sin (C) or cos
- * (A, B) is integrated exactly; along the plane angle the trapezoid rule, the grid expanded by its
- * symmetry (axial: times 2 pi; quadrilateral: 4 x 0..90; bilateral: 2 x 0..180). An isotropic lamp
- * of I cd gives 4 pi I exactly on any grid covering 0..180. */
+ * ballast-lamp photometric factor) integrated over the sphere, zone by zone as photometric software
+ * does (the zonal-lumen method): along the latitude-like angle (type C vertical from the nadir,
+ * type A vertical and type B horizontal from the equator) each zone between two grid angles a, b
+ * counts its mean intensity (I_a + I_b) / 2 times cos a - cos b (C) or sin b - sin a (A, B), nothing
+ * outside the vertical range; along the plane angle the trapezoid rule over the grid expanded by its
+ * symmetry (axial: times 2 pi; quadrilateral: 4 x 0..90; bilateral: 2 x 0..180; a full grid stopping
+ * short of 360 wraps to the 0 plane). Exact for isotropic (4 pi I) and cosine (pi I0) lamps; equal
+ * to Photometric Toolbox's figure to 0.01 lm on fixtures/ies/SOURCES.md's files. */
 double qtool_ies_lumens(const qtool_ies *ies);
 
 /* Candela (same factors as qtool_ies_lumens) toward the unit direction d in the lamp's frame,
