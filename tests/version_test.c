@@ -46,7 +46,8 @@ static void test_config_id_fields(void **state)
                                           QIBL_USE_INTERLEAVED << 5 | QIBL_USE_PROBE << 6 |
                                           QIBL_USE_HEMI << 7));
     assert_int_equal((id >> 12) & 1u, (uint32_t)QIBL_USE_LIGHTPATH);
-    assert_int_equal(id & 0x0000E000u, 0u); /* reserved bits */
+    assert_int_equal((id >> 13) & 1u, (uint32_t)QIBL_USE_GONIO);
+    assert_int_equal(id & 0x0000C000u, 0u); /* reserved bits */
 }
 
 /* Any other identity is refused: every single-bit change, 0 and all ones. */

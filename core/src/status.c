@@ -81,6 +81,11 @@ const char *qibl_status_str(qibl_status_t s)
     case QIBL_E_HEMI_INDEX:       return "hemi: triangle index beyond the vertex count";
     case QIBL_E_HEMI_EXPONENT:    return "hemi: Phong exponent beyond QIBL_HEMI_MAX_EXPONENT";
     case QIBL_E_SHMAP_LUT_SHORT:  return "cube-map LUT view shorter than its face size and k need";
+    case QIBL_E_GONIO_SIZE:       return "gonio: table size outside 2..256";
+    case QIBL_E_GONIO_TABLE:      return "gonio: a table entry above 32768 (1.0 in Q1.15)";
+    case QIBL_E_GONIO_AIM:        return "gonio: aim vector is zero";
+    case QIBL_E_GONIO_UP:         return "gonio: up vector zero or parallel to the aim";
+    case QIBL_E_GONIO_BOUNDS:     return "gonio: span outside the P map";
     case QIBL_STATUS_COUNT:   break;
     case QIBL_STATUS_SOFT_BASE: case QIBL_STATUS_GLES2_BASE: case QIBL_STATUS_BACKEND_END: break;
     }

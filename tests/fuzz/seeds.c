@@ -862,6 +862,13 @@ static void cliopts_seeds(void)
     SEED("check", "check", "a.png", "b.pfm", "c.hdr", "d.qibl");
     SEED("info", "info", "a.qibl");
     SEED("bench", "bench", "relight", "--quick", "--csv");
+    SEED("ies_info", "ies", "info", "l.ies", "--png", "o.png");
+    SEED("relight_ies", "relight", "g.qibl", "--point", "1", "1", "0.5", "--ies", "l.ies", "--aim", "0", "0", "-1", "--up",
+         "1", "0", "0", "--ies-size", "32", "--png", "o.png");
+    SEED("relight_path_ies", "relight", "g.qibl", "--path", "lamp", "--t", "0.5", "--ies", "l.ies", "--aim", "0", "0",
+         "-1", "--up", "1", "0", "0", "--ies-size", "16", "--png", "o.png");
+    SEED("render_ies", "render", "--point", "1", "1", "0.5", "--ies", "l.ies", "--aim", "0.2", "0", "-1", "--up", "0",
+         "1", "0", "--pfm", "r.pfm");
 #undef SEED
 }
 

@@ -351,6 +351,13 @@ int qtool_bake_relight_path8(const uint8_t *asset, size_t n, const qtool_rt_ligh
                             uint32_t radius, const qibl_shlight_t *sky, uint8_t *rgb8, float *lin, double *ms,
                             qibl_status_t *status)
 {
+    return qtool_bake_relight_path8_gonio(asset, n, l, NULL, path, tq, radius, sky, rgb8, lin, ms, status);
+}
+
+int qtool_bake_relight_path8_gonio(const uint8_t *asset, size_t n, const qtool_rt_light *l, const qibl_gonio_t *gonio,
+                                  uint32_t path, uint32_t tq, uint32_t radius, const qibl_shlight_t *sky,
+                                  uint8_t *rgb8, float *lin, double *ms, qibl_status_t *status)
+{
     qibl_asset_t a;
     qibl_shmaps_t mu, ms_sh;
     qibl_pmap_t pm;
@@ -393,6 +400,7 @@ int qtool_bake_relight_path8(const uint8_t *asset, size_t n, const qtool_rt_ligh
     clock_gettime(CLOCK_MONOTONIC, &t0);
     qibl_shmap_weights_t wt, wsky;
     qibl_shmap_point_t pt;
+    const qibl_q16_t lpos[3] = {q16(l->pos[0]), q16(l->pos[1]), q16(l->pos[2])};
     if (!l->point) {
         qibl_q16_t dir[3] = {q16(l->dir[0]), q16(l->dir[1]), q16(l->dir[2])};
         qibl_shlight_t sl;
@@ -414,6 +422,9 @@ int qtool_bake_relight_path8(const uint8_t *asset, size_t n, const qtool_rt_ligh
         if (st == QIBL_OK)
             st = l->point ? qibl_shmap_point_span(&pt, 0, y, w, prow, ws, wsn)
                           : qibl_shmap_relight_span(&mu, &wt, 0, y, w, prow, ws, wsn);
+        /* a goniometric lamp: its intensity toward each pixel's point, before the visibility */
+        if (st == QIBL_OK && l->point && gonio)
+            st = qibl_gonio_scale_span(gonio, &pm, lpos, 0, y, w, prow);
         if (st == QIBL_OK)
             st = qibl_lightpath_shade_span(&lp, tq, radius, 0, y, w, prow, row, sky != NULL);
         if (st == QIBL_OK)

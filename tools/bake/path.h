@@ -15,6 +15,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "qibl/gonio.h"
 #include "qibl/shmap.h"
 #include "qibl/status.h"
 #include "render/rt.h"
@@ -68,6 +69,11 @@ int qtool_bake_path_payload(uint32_t w, uint32_t h, uint32_t kind, uint32_t nkey
 int qtool_bake_relight_path8(const uint8_t *asset, size_t n, const qtool_rt_light *l, uint32_t path, uint32_t tq,
                             uint32_t radius, const qibl_shlight_t *sky, uint8_t *rgb8, float *lin, double *ms,
                             qibl_status_t *status);
+/* The same with a goniometric lamp (gonio may be NULL; used for a point light only): the lamp's
+ * light toward each pixel's point scaled by qibl_gonio_scale_span before the path's visibility. */
+int qtool_bake_relight_path8_gonio(const uint8_t *asset, size_t n, const qtool_rt_light *l, const qibl_gonio_t *gonio,
+                                  uint32_t path, uint32_t tq, uint32_t radius, const qibl_shlight_t *sky,
+                                  uint8_t *rgb8, float *lin, double *ms, qibl_status_t *status);
 
 /* The demo's sky (radiance rgb (0.3 + 0.7 z) above the horizon, 0 below), ray-traced: per pixel the
  * integral of T(w) L(w) (hard visibility) over ndirs upper-hemisphere directions that are not the

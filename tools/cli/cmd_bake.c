@@ -19,6 +19,7 @@
 #include "io/obj.h"
 #include "io/ply.h"
 #include "io/pfm.h"
+#include "io/ies.h"
 #include "io/png.h"
 #include "qibl/asset.h"
 #include "qibl/lightpath.h"
@@ -162,6 +163,10 @@ int qcli_cmd_render(int argc, char **argv)
     int have = 0, have_rgb = 0;
     long falloff = 1;
     const char *png = NULL, *pfm = NULL, *exr = NULL, *depth = NULL;
+    /* --ies: a goniometric lamp (io/ies.h), oriented as relight --ies orients it */
+    const char *ies = NULL;
+    double aim[3] = {0, 0, -1}, up[3] = {1, 0, 0};
+    int have_aim = 0;
     for (int i = 1; i < argc; ++i) {
         int r = qcli_scene_opt(argc, argv, &i, &so);
         if (r < 0)
@@ -194,18 +199,45 @@ int qcli_cmd_render(int argc, char **argv)
             exr = argv[++i];
         } else if (strcmp(a, "--depth") == 0 && i + 1 < argc) {
             depth = argv[++i];
+        } else if (strcmp(a, "--ies") == 0 && i + 1 < argc) {
+            ies = argv[++i];
+        } else if (strcmp(a, "--aim") == 0 || strcmp(a, "--up") == 0) {
+            if (parse_d3(argv, i, argc, -QTOOL_CLI_Q16_MAX, a[2] == 'a' ? aim : up) != 0)
+                return 2;
+            have_aim = 1, i += 3;
         } else {
             return qcli_usage_error("render: unknown argument '%s' (see qibl help render)", a);
         }
     }
     if (have != 1 || (!png && !pfm && !exr && !depth))
         return qcli_usage_error("render needs exactly one of --sun/--point and at least one of --png/--pfm/--exr/--depth");
+    if ((ies || have_aim) && !l.point)
+        return qcli_usage_error("render: --ies, --aim and --up shape a --point lamp");
+    if (have_aim && !ies)
+        return qcli_usage_error("render: --aim and --up orient an --ies lamp: give --ies FILE.ies");
     if (qcli_parse_only) /* fuzz_cliopts: the options only */
         return 0;
     l.falloff = (int)falloff;
+    qtool_ies prof;
+    qtool_ies_lamp lamp;
+    if (ies) {
+        char ierr[512];
+        if (qtool_ies_read(ies, &prof, ierr, sizeof ierr) != 0) {
+            fprintf(stderr, "qibl: render: %s\n", ierr);
+            return 1;
+        }
+        if (qtool_ies_lamp_init(&lamp, &prof, aim, up) != 0) {
+            fprintf(stderr, "qibl: render: %s: a zero --aim, an --up parallel to it, or a dark profile\n", ies);
+            qtool_ies_free(&prof);
+            return 1;
+        }
+    }
     qtool_rt_scene s;
-    if (qcli_scene_load(&so, &s) != 0)
+    if (qcli_scene_load(&so, &s) != 0) {
+        if (ies)
+            qtool_ies_free(&prof);
         return 1;
+    }
     size_t np = (size_t)so.w * so.h;
     double *lin = malloc(np * 3 * sizeof(double));
     float *dep = malloc(np * sizeof(float)), *f3 = malloc(np * 3 * sizeof(float));
@@ -219,10 +251,14 @@ int qcli_cmd_render(int argc, char **argv)
     if (l.point && !have_rgb && point_default(&s, &so, &l) != 0)
         goto done;
     double t0 = qcli_now();
-    qtool_rt_render(&s, so.w, so.h, so.kind, &l, so.threads, lin, dep, NULL);
+    qtool_rt_render_gonio(&s, so.w, so.h, so.kind, &l, ies ? qtool_ies_lamp_scale : NULL, ies ? &lamp : NULL,
+                          so.threads, lin, dep, NULL);
     double ms = (qcli_now() - t0) * 1e3;
     if (png) {
-        qtool_bake_truth8(&s, so.w, so.h, so.kind, &l, so.threads, rgb8, NULL);
+        if (ies) /* the frame just rendered, through the same framebuffer code as truth8 */
+            qtool_bake_lin_to8(lin, so.w, so.h, rgb8);
+        else
+            qtool_bake_truth8(&s, so.w, so.h, so.kind, &l, so.threads, rgb8, NULL);
         if (qtool_png_write_rgb8(png, (int)so.w, (int)so.h, rgb8, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
             goto done;
@@ -249,6 +285,8 @@ int qcli_cmd_render(int argc, char **argv)
 done:
     free(lin), free(dep), free(f3), free(rgb8);
     qtool_rt_scene_free(&s);
+    if (ies)
+        qtool_ies_free(&prof);
     return rc;
 }
 

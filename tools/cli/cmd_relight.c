@@ -13,6 +13,7 @@
 #include "io/asset_write.h"
 #include "io/exr.h"
 #include "io/hdr_write.h"
+#include "io/ies.h"
 #include "io/pfm.h"
 #include "io/png.h"
 #include "qibl/asset.h"
@@ -20,6 +21,7 @@
 #include "io/file.h"
 #include "cli/cli.h"
 #include "cli/relight_light.h"
+#include "qibl/gonio.h"
 #include "qibl/shmap.h"
 #include "qibl/soft.h"
 
@@ -129,7 +131,8 @@ done:
 #define RELIGHT_USAGE                                                                                       \
     "usage: qibl relight FILE [--sun X Y Z [--rgb R G B]]... [--point X Y Z [--rgb R G B]]... [--lights FILE.csv] \
 [--probe PROBE.hdr [--layout L] [--probe-mode sh|lights|sunsky] [-n N] [--yaw DEG | --rotate a,b,c,d,e,f,g,h,i]] \
-[--lut poly|nearest|bilinear|off] [--falloff 1|2] [--exposure E] [--linear] [--gles] (--png OUT | --hdr OUT.hdr | --pfm OUT.pfm | --exr OUT.exr)..."
+[--lut poly|nearest|bilinear|off] [--falloff 1|2] [--exposure E] [--linear] [--gles] \
+[--ies FILE.ies [--aim X Y Z] [--up X Y Z] [--ies-size N]] (--png OUT | --hdr OUT.hdr | --pfm OUT.pfm | --exr OUT.exr)..."
 
 /* the P map's points as doubles (n * 3), for the default lamp colour; NULL when out of memory */
 static double *pmap_points(const qibl_pmap_t *pm)
@@ -177,6 +180,11 @@ int qcli_cmd_relight(int argc, char **argv)
     int gles = 0; /* --gles: platform/gles2 instead of the core + platform/soft (relight_gles.c) */
     long falloff = 1;
     qibl_q16_t exposure = 65536;
+    /* --ies: goniometric lamps (qibl/gonio.h); aim and up in Q16.16, the table's size */
+    const char *ies = NULL;
+    int have_aim = 0, have_up = 0;
+    int32_t aim[3] = {0, 0, -65536}, up[3] = {65536, 0, 0};
+    long ies_n = 64;
     qcli_light_list ll; /* --sun, --point, --rgb, --lights, --probe and its options (relight_light.c) */
     qcli_light_list_init(&ll);
     for (int i = 1; i < argc; ++i) {
@@ -220,6 +228,21 @@ int qcli_cmd_relight(int argc, char **argv)
             exr = argv[++i];
         else if (strcmp(a, "--gles") == 0)
             gles = 1;
+        else if (strcmp(a, "--ies") == 0 && i + 1 < argc)
+            ies = argv[++i];
+        else if (strcmp(a, "--ies-size") == 0 && i + 1 < argc) {
+            if (qcli_parse_int(argv[++i], QIBL_GONIO_MIN_N, QIBL_GONIO_MAX_N, &ies_n) != 0)
+                return qcli_usage_error("--ies-size is a table size in %u..%u", QIBL_GONIO_MIN_N, QIBL_GONIO_MAX_N);
+        } else if ((strcmp(a, "--aim") == 0 || strcmp(a, "--up") == 0) && i + 3 < argc) {
+            int32_t *v = a[2] == 'a' ? aim : up;
+            for (int k = 0; k < 3; ++k)
+                if (qcli_parse_q16(argv[i + 1 + k], &v[k]) != 0)
+                    return qcli_usage_error("%s: '%s' is not a number in the Q16.16 range", a, argv[i + 1 + k]);
+            if (v[0] == 0 && v[1] == 0 && v[2] == 0)
+                return qcli_usage_error("%s: the zero vector has no direction", a);
+            *(a[2] == 'a' ? &have_aim : &have_up) = 1;
+            i += 3;
+        }
         else if (a[0] != '-' && !in)
             in = a;
         else
@@ -234,13 +257,50 @@ int qcli_cmd_relight(int argc, char **argv)
         return 2;
     if (gles && (ll.count != 1 || ll.csv || ll.probe))
         return qcli_usage_error("--gles takes exactly one --sun or --point (no --lights or --probe)");
+    if ((have_aim || have_up) && !ies)
+        return qcli_usage_error("--aim and --up orient an --ies lamp: give --ies FILE.ies");
+    if (ies && ll.points == 0)
+        return qcli_usage_error("--ies shapes the --point lamps: give at least one --point X Y Z");
+    if (ies && gles)
+        return qcli_usage_error("--ies: goniometric lamps are relit on the soft framebuffer only (not --gles)");
     if (qcli_parse_only) /* fuzz_cliopts: the options only */
         return 0;
+    /* the profile first: a bad file costs no asset read; its table and the lamp's frame */
+    qibl_gonio_t gon;
+    uint16_t *gtab = NULL;
+    if (ies) {
+        qtool_ies prof;
+        char ierr[512];
+        if (qtool_ies_read(ies, &prof, ierr, sizeof ierr) != 0) {
+            fprintf(stderr, "qibl: relight: %s\n", ierr);
+            return 1;
+        }
+        double peak = 0, lm = qtool_ies_lumens(&prof);
+        gtab = malloc(qibl_gonio_table_size((uint32_t)ies_n));
+        int bad = !gtab || qtool_ies_gonio_table(&prof, (uint32_t)ies_n, gtab, &peak) != 0;
+        if (bad)
+            fprintf(stderr, "qibl: relight: %s: %s\n", ies, gtab ? "the profile is dark (peak 0 cd)" : "out of memory");
+        qibl_status_t gs = bad ? QIBL_OK : qibl_gonio_init(&gon, (uint32_t)ies_n, gtab, aim, up);
+        if (!bad && gs != QIBL_OK) {
+            fprintf(stderr, "qibl: relight: --aim/--up: %s\n", qibl_status_str(gs));
+            bad = 1;
+        }
+        if (!bad)
+            fprintf(stderr, "qibl: note: %s: type %c, %s, peak %.6g cd, %.2f lm; each --point lamp scaled by "
+                    "I / I_peak (%ldx%ld table)\n", ies, prof.type == QTOOL_IES_TYPE_C ? 'C' :
+                    prof.type == QTOOL_IES_TYPE_B ? 'B' : 'A', qtool_ies_sym_name(prof.sym), peak, lm, ies_n, ies_n);
+        qtool_ies_free(&prof);
+        if (bad) {
+            free(gtab);
+            return 1;
+        }
+    }
     size_t n;
     uint8_t *bytes = NULL;
     char rerr[512];
     if (qtool_io_read_asset(in, &bytes, &n, rerr, sizeof rerr) != 0) {
         fprintf(stderr, "qibl: %s\n", rerr);
+        free(gtab);
         return 1;
     }
     qibl_asset_t a;
@@ -269,7 +329,7 @@ int qcli_cmd_relight(int argc, char **argv)
                         "occlusion\n", in, qibl_soft_status_str(occ_st));
     if (st != QIBL_OK) {
         fprintf(stderr, "qibl: %s: %s\n", in, qibl_soft_status_str(st));
-        free(bytes);
+        free(bytes), free(gtab);
         return 1;
     }
     uint32_t w = m.width, h = m.height;
@@ -277,7 +337,7 @@ int qcli_cmd_relight(int argc, char **argv)
     /* the directional part as one SH light (suns, --lights, --probe); notes on stdout */
     qibl_shlight_t sl;
     if (qcli_light_list_directional(&ll) && qcli_light_list_sh(&ll, m.k, stdout, &sl) != 0) {
-        free(bytes);
+        free(bytes), free(gtab);
         return 1;
     }
     qibl_pointlight_t pts[QCLI_RELIGHT_MAX_SOURCES];
@@ -294,7 +354,7 @@ int qcli_cmd_relight(int argc, char **argv)
                 pmp = pmap_points(&pm);
             if (!pmp || qcli_point_default(pmp, np, lp, (int)falloff, &c0, &d) != 0) {
                 fprintf(stderr, "qibl: relight: out of memory\n");
-                free(pmp), free(bytes);
+                free(pmp), free(bytes), free(gtab);
                 return 1;
             }
             s->rgb[0] = s->rgb[1] = s->rgb[2] = (qibl_q16_t)nearbyint(c0 * 65536.0);
@@ -309,11 +369,15 @@ int qcli_cmd_relight(int argc, char **argv)
         pts[npts++] = pl;
     }
     free(pmp);
+    const qibl_gonio_t *gl[QCLI_RELIGHT_MAX_SOURCES];
+    for (uint32_t j = 0; j < npts; ++j)
+        gl[j] = ies ? &gon : NULL;
+    const qibl_gonio_t *const *gptr = ies ? gl : NULL;
     uint8_t *pix = malloc(np * 3);
     float *lin = hdr || pfm || exr ? malloc(np * 3 * sizeof(float)) : NULL;
     if (!pix || ((hdr || pfm || exr) && !lin)) {
         fprintf(stderr, "qibl: relight: out of memory\n");
-        free(bytes), free(pix), free(lin);
+        free(bytes), free(pix), free(lin), free(gtab);
         return 1;
     }
     double ms = 0;
@@ -335,9 +399,9 @@ int qcli_cmd_relight(int argc, char **argv)
         else
             printf("wrote %s (%ux%u, k = %u, GLES2 on %s, %u pass%s)\n", png, w, h, m.k, renderer, passes,
                    passes == 1 ? "" : "es");
-    } else if (qcli_relight_frame(&m, qcli_light_list_directional(&ll) ? &sl : NULL, &mp, &pm,
-                                  use_lut ? &lut : NULL, use_occ ? &occ : NULL, pts, npts, (uint32_t)exposure,
-                                  !linear, pix, lin, &ms, &st) != 0) {
+    } else if (qcli_relight_frame_gonio(&m, qcli_light_list_directional(&ll) ? &sl : NULL, &mp, &pm,
+                                        use_lut ? &lut : NULL, use_occ ? &occ : NULL, pts, gptr, npts,
+                                        (uint32_t)exposure, !linear, pix, lin, &ms, &st) != 0) {
         fprintf(stderr, "qibl: relight: %s\n", st == QIBL_E_NULL_POINTER ? "out of memory" : qibl_soft_status_str(st));
         rc = 1;
     } else {
@@ -370,6 +434,6 @@ int qcli_cmd_relight(int argc, char **argv)
             printf("wrote %s (%ux%u OpenEXR FLOAT ZIP, linear, before exposure, %s)\n", exr, w, h, how);
         }
     }
-    free(bytes), free(pix), free(lin);
+    free(bytes), free(pix), free(lin), free(gtab);
     return rc;
 }

@@ -94,7 +94,7 @@ static const qcli_cmd commands[] = {
     {"render", "ray-trace the ground-truth panorama of a scene under one light (PNG, PFM, depth)",
      "usage: qibl render (--sun X Y Z | --point X Y Z) [--rgb R G B] [--falloff 1|2] [--png OUT] [--pfm OUT]\n"
      "                   [--exr OUT.exr] [--depth OUT.pfm] [--scene builtin|FILE.gltf|FILE.glb|FILE.obj|FILE.ply] [--zup]\n"
-     "                   [--raw] [--size WxH] [--equirect] [--threads N]\n"
+     "                   [--raw] [--size WxH] [--equirect] [--threads N] [--ies FILE.ies [--aim X Y Z] [--up X Y Z]]\n"
      "  The reference renderer (BVH ray tracer, hard shadows, Lambert + glossy) from the viewpoint at the\n"
      "  origin: what a light really produces, to compare relit frames with. --sun: directional light\n"
      "  from (X, Y, Z) with irradiance --rgb (default 1 1 1); --point: a lamp at (X, Y, Z) with\n"
@@ -108,7 +108,10 @@ static const qcli_cmd commands[] = {
      "  (Y-up turned to Z-up unless --zup; --raw: as given, nothing added). Materials colour the\n"
      "  triangles: glTF baseColorFactor and PNG baseColorTexture, OBJ mtllib/usemtl with Kd and map_Kd\n"
      "  (PNG) and vt. Default 1024x256 cylindrical. A frame whose mean is below 32 of 255 gets a note\n"
-     "  that it is almost black.\n",
+     "  that it is almost black.\n"
+     "  --ies FILE.ies: the --point lamp is goniometric: C0 times I(direction) / I_peak from the IES\n"
+     "  profile in double precision (bilinear in its angle grid), oriented by --aim (default 0 0 -1)\n"
+     "  and --up (default 1 0 0) as relight --ies orients it: the truth of relight's tables.\n",
      qcli_cmd_render},
     {"transfer", "a mesh self-shadowed by hemispherical rasterization under a probe, beside the ray-cast truth",
      "usage: qibl transfer MESH [MESH...] --probe PROBE.hdr [--layout L] [--png OUT] [--size N] [--mask 16|32|64]\n"
@@ -245,7 +248,17 @@ static const qcli_cmd commands[] = {
      "  --png/--hdr/--pfm/--exr.\n"
      "  --gles: relight with platform/gles2 on a headless EGL context instead (one --sun or --point,\n"
      "  --png only; the same asset and core weights; within 1 of 255 of the CPU path on Mesa llvmpipe).\n"
-     "  qibl relight FILE --path N|sun|lamp --t T [--rgb R G B] [--soft R] [--sky R G B] (--png|--pfm|--exr OUT):\n"
+     "  --ies FILE.ies [--aim X Y Z] [--up X Y Z] [--ies-size N]: every --point becomes a goniometric\n"
+     "  lamp with the IES LM-63 file's profile (see `qibl ies info`): its light toward each pixel's point\n"
+     "  of the P map is scaled by I(direction) / I_peak (qibl/gonio.h: the profile resampled into an\n"
+     "  N x N octahedral Q1.15 table, default 64, 2..256, bilinear), so --rgb (C0) is the lamp's peak\n"
+     "  and an isotropic file gives exactly the isotropic lamp. --aim: the profile's axis (type C nadir,\n"
+     "  types A/B the beam centre), default 0 0 -1 (a downlight in the z-up scene); --up: the direction\n"
+     "  of horizontal angle 0 (types A/B: vertical angle 90), made orthogonal to the aim, default 1 0 0.\n"
+     "  Soft framebuffer only (not --gles). With --path lamp (below) the same options make the track's\n"
+     "  lamp goniometric (its light scaled before the track's visibility).\n"
+     "  qibl relight FILE --path N|sun|lamp --t T [--rgb R G B] [--soft R] [--sky R G B]\n"
+     "               [--ies FILE.ies [--aim X Y Z] [--up X Y Z] [--ies-size N]] (--png|--pfm|--exr OUT):\n"
      "  a light on the asset's baked path N (or its first sun path / lamp track) at T in 0..1: unshadowed\n"
      "  SH x visibility(T), soft over [T - R, T + R]; --sky adds the demo's sky through the shadowed maps.\n",
      qcli_cmd_relight},
@@ -321,6 +334,23 @@ static const qcli_cmd commands[] = {
      "  coefficients). Advice: the cheapest scheme (in that order) whose mean error is within 10 %\n"
      "  of the lowest or at most 1 %, with the relight option that uses it.\n",
      qcli_cmd_probe},
+    {"ies", "an IES LM-63 photometric file: header facts, candela range, integrated lumens, polar curves",
+     "usage: qibl ies info FILE.ies [--png OUT.png]\n"
+     "  Reads an IES LM-63 file (1986 unlabelled, 1991, 1995, 2002 or 2019 header; keywords with [MORE];\n"
+     "  TILT=NONE or INCLUDE, TILT=<file> refused by name; photometric type C, B or A; every type C\n"
+     "  symmetry: axial, quadrilateral 0..90, bilateral 0..180, 90..270, full 0..360) and prints its header\n"
+     "  facts, candela_min/candela_max (multiplier applied) and the line `lumens <value>`: the candela\n"
+     "  (times the ballast factor, and up to 1995 the ballast-lamp factor) integrated over the sphere.\n"
+     "  Quadrature (the zonal-lumen method of photometric software): along the latitude-like angle\n"
+     "  (C: vertical from the nadir; A: vertical, B: horizontal, from the equator) each zone between\n"
+     "  two grid angles a, b counts its mean intensity (I_a + I_b) / 2 times cos a - cos b (C) or\n"
+     "  sin b - sin a (A, B), nothing outside the vertical range; along the plane angle the trapezoid\n"
+     "  rule over the grid expanded by its symmetry (axial 2 pi, quadrilateral 4 x, bilateral 2 x).\n"
+     "  Isotropic (4 pi I) and cosine (pi I0) lamps come out exactly. A keyword stating the\n"
+     "  luminaire flux ([LUMINAIREOUTPUT], [_ABSOLUTELUMENS]...) is printed beside it (stated_lumens).\n"
+     "  --png OUT.png: the polar curves of the two principal planes (type C: C0-C180 red, C90-C270 blue),\n"
+     "  nadir down, rings at 25 % of the maximum, labelled. Limits: io/ies.h (docs/robustness.md).\n",
+     qcli_cmd_ies},
     {"study", "the light-probe approximation study: every method, error against N and time",
      "usage: qibl study [PROBE.hdr ...] --out DIR [--quick] [--threads T]\n"
      "  Ground-truth irradiance of each lat-long probe at 20000 spherical-Fibonacci normals (Madsen &\n"

@@ -455,6 +455,16 @@ int qcli_relight_frame(const qibl_shmaps_t *m, const qibl_shlight_t *sh, const q
                        const qibl_pointlight_t *points, uint32_t npoints, uint32_t exposure, int srgb, uint8_t *rgb8,
                        float *lin, double *ms, qibl_status_t *status)
 {
+    return qcli_relight_frame_gonio(m, sh, mp, pm, lut, occ, points, NULL, npoints, exposure, srgb, rgb8, lin, ms,
+                                    status);
+}
+
+int qcli_relight_frame_gonio(const qibl_shmaps_t *m, const qibl_shlight_t *sh, const qibl_shmaps_t *mp,
+                             const qibl_pmap_t *pm, const qibl_ylut_t *lut, const qibl_lampocc_t *occ,
+                             const qibl_pointlight_t *points, const qibl_gonio_t *const *gonio, uint32_t npoints,
+                             uint32_t exposure, int srgb, uint8_t *rgb8, float *lin, double *ms,
+                             qibl_status_t *status)
+{
     uint32_t w = m->width, h = m->height;
     size_t wsn = qibl_shmap_span_workspace_size(w);
     if (npoints && qibl_shmap_point_workspace_size(mp->k, w) > wsn)
@@ -488,6 +498,9 @@ int qcli_relight_frame(const qibl_shmaps_t *m, const qibl_shlight_t *sh, const q
         }
         for (uint32_t j = 0; st == QIBL_OK && j < npoints; ++j) {
             st = qibl_shmap_point_span(&pt[j], 0, y, w, row, ws, wsn);
+            /* a goniometric lamp: its intensity toward each pixel's point (qibl/gonio.h) */
+            if (st == QIBL_OK && gonio && gonio[j])
+                st = qibl_gonio_scale_span(gonio[j], pm, points[j].pos, 0, y, w, row);
             if (st == QIBL_OK && occ)
                 st = qibl_lightpath_occl_span(occ, 0, y, w, row);
             for (size_t i = 0; st == QIBL_OK && i < (size_t)w * 3; ++i)

@@ -13,6 +13,7 @@
 #include <stdio.h>
 
 #include "io/probe_layout.h"
+#include "qibl/gonio.h"
 #include "qibl/lightprobe.h"
 #include "qibl/lightpath.h"
 #include "qibl/shmap.h"
@@ -93,5 +94,13 @@ int qcli_relight_frame(const qibl_shmaps_t *m, const qibl_shlight_t *sh, const q
                        const qibl_pmap_t *pm, const qibl_ylut_t *lut, const qibl_lampocc_t *occ,
                        const qibl_pointlight_t *points, uint32_t npoints, uint32_t exposure, int srgb, uint8_t *rgb8,
                        float *lin, double *ms, qibl_status_t *status);
+/* The same with goniometric lamps: gonio (may be NULL) holds npoints entries, each NULL for an
+ * isotropic lamp or the lamp's table and frame; its scale multiplies the lamp's light toward each
+ * pixel (qibl_gonio_scale_span) before the lamp occlusion. All NULL gives qcli_relight_frame's bytes. */
+int qcli_relight_frame_gonio(const qibl_shmaps_t *m, const qibl_shlight_t *sh, const qibl_shmaps_t *mp,
+                             const qibl_pmap_t *pm, const qibl_ylut_t *lut, const qibl_lampocc_t *occ,
+                             const qibl_pointlight_t *points, const qibl_gonio_t *const *gonio, uint32_t npoints,
+                             uint32_t exposure, int srgb, uint8_t *rgb8, float *lin, double *ms,
+                             qibl_status_t *status);
 
 #endif

@@ -14,15 +14,17 @@
 #include "cli/cli.h"
 #include "io/file.h"
 #include "io/exr.h"
+#include "io/ies.h"
 #include "io/pfm.h"
 #include "io/png.h"
 #include "qibl/asset.h"
+#include "qibl/gonio.h"
 #include "qibl/lightpath.h"
 #include "qibl/soft.h"
 
 #define PATH_USAGE                                                                                            \
-    "usage: qibl relight FILE --path N|sun|lamp --t T [--rgb R G B] [--soft R] [--sky R G B] (--png OUT | " \
-    "--pfm OUT.pfm | --exr OUT.exr)..."
+    "usage: qibl relight FILE --path N|sun|lamp --t T [--rgb R G B] [--soft R] [--sky R G B] " \
+    "[--ies FILE.ies [--aim X Y Z] [--up X Y Z] [--ies-size N]] (--png OUT | --pfm OUT.pfm | --exr OUT.exr)..."
 
 int qcli_relight_has_path(int argc, char **argv)
 {
@@ -72,10 +74,29 @@ int qcli_relight_path(int argc, char **argv)
     const char *in = NULL, *png = NULL, *pfm = NULL, *exr = NULL, *spec = NULL;
     double t = -1, rgb[3] = {1, 1, 1}, sky[3] = {0, 0, 0}, soft = 0;
     int have_sky = 0;
+    /* --ies: a goniometric lamp on the track (as relight --ies) */
+    const char *ies = NULL;
+    int have_aim = 0;
+    int32_t aim[3] = {0, 0, -65536}, up[3] = {65536, 0, 0};
+    long ies_n = 64;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         if (strcmp(a, "--path") == 0 && i + 1 < argc)
             spec = argv[++i];
+        else if (strcmp(a, "--ies") == 0 && i + 1 < argc)
+            ies = argv[++i];
+        else if (strcmp(a, "--ies-size") == 0 && i + 1 < argc) {
+            if (qcli_parse_int(argv[++i], QIBL_GONIO_MIN_N, QIBL_GONIO_MAX_N, &ies_n) != 0)
+                return qcli_usage_error("--ies-size is a table size in %u..%u", QIBL_GONIO_MIN_N, QIBL_GONIO_MAX_N);
+        } else if ((strcmp(a, "--aim") == 0 || strcmp(a, "--up") == 0) && i + 3 < argc) {
+            int32_t *v = a[2] == 'a' ? aim : up;
+            for (int k = 0; k < 3; ++k)
+                if (qcli_parse_q16(argv[i + 1 + k], &v[k]) != 0)
+                    return qcli_usage_error("%s: '%s' is not a number in the Q16.16 range", a, argv[i + 1 + k]);
+            if (v[0] == 0 && v[1] == 0 && v[2] == 0)
+                return qcli_usage_error("%s: the zero vector has no direction", a);
+            have_aim = 1, i += 3;
+        }
         else if (strcmp(a, "--t") == 0 && i + 1 < argc) {
             if (qcli_parse_num(a, argv[++i], 0, 1, "a path parameter in 0..1", &t) != 0)
                 return 2;
@@ -102,13 +123,40 @@ int qcli_relight_path(int argc, char **argv)
     }
     if (!in || !spec || t < 0 || (!png && !pfm && !exr))
         return qcli_usage_error("relight --path needs FILE, --path N|sun|lamp, --t T and --png, --pfm or --exr OUT");
+    if (have_aim && !ies)
+        return qcli_usage_error("--aim and --up orient an --ies lamp: give --ies FILE.ies");
     if (qcli_parse_only) /* fuzz_cliopts: the options only */
         return 0;
+    qibl_gonio_t gon;
+    uint16_t *gtab = NULL;
+    if (ies) {
+        qtool_ies prof;
+        char ierr[512];
+        if (qtool_ies_read(ies, &prof, ierr, sizeof ierr) != 0) {
+            fprintf(stderr, "qibl: relight: %s\n", ierr);
+            return 1;
+        }
+        gtab = malloc(qibl_gonio_table_size((uint32_t)ies_n));
+        qibl_status_t gs = QIBL_E_NULL_POINTER;
+        if (gtab && qtool_ies_gonio_table(&prof, (uint32_t)ies_n, gtab, NULL) == 0)
+            gs = qibl_gonio_init(&gon, (uint32_t)ies_n, gtab, aim, up);
+        else if (gtab)
+            gs = QIBL_E_GONIO_TABLE;
+        qtool_ies_free(&prof);
+        if (gs != QIBL_OK) {
+            fprintf(stderr, "qibl: relight: %s: %s\n", ies,
+                    gs == QIBL_E_GONIO_TABLE ? "the profile is dark (peak 0 cd)"
+                    : gs == QIBL_E_NULL_POINTER ? "out of memory" : qibl_status_str(gs));
+            free(gtab);
+            return 1;
+        }
+    }
     size_t n;
     uint8_t *bytes = NULL;
     char err[1200];
     if (qtool_io_read_asset(in, &bytes, &n, err, sizeof err) != 0) {
         fprintf(stderr, "qibl: %s\n", err);
+        free(gtab);
         return 1;
     }
     qibl_asset_t a;
@@ -120,12 +168,12 @@ int qcli_relight_path(int argc, char **argv)
         st = qibl_asset_shmaps(&a, &m);
     if (st != QIBL_OK) {
         fprintf(stderr, "qibl: %s: %s\n", in, qibl_soft_status_str(st));
-        free(bytes);
+        free(bytes), free(gtab);
         return 1;
     }
     int r = pick_path(&a, in, spec, &index);
     if (r != 0) {
-        free(bytes);
+        free(bytes), free(gtab);
         return r == -2 ? 2 : 1;
     }
     /* the light at t as the asset stores it (the core's interpolation of the keys) */
@@ -136,7 +184,7 @@ int qcli_relight_path(int argc, char **argv)
         st = qibl_lightpath_at(&p, tq, v);
     if (st != QIBL_OK) {
         fprintf(stderr, "qibl: %s: light path %u: %s\n", in, index, qibl_soft_status_str(st));
-        free(bytes);
+        free(bytes), free(gtab);
         return 1;
     }
     if (radius > QIBL_LIGHTPATH_MAX_RADIUS)
@@ -159,8 +207,11 @@ int qcli_relight_path(int argc, char **argv)
     if (!pix || ((pfm || exr) && !lin)) {
         fprintf(stderr, "qibl: relight: out of memory\n");
         rc = 1;
-    } else if (qtool_bake_relight_path8(bytes, n, &l, index, tq, radius, have_sky ? &skysh : NULL, pix, lin, &ms, &st) !=
-               0) {
+    } else if (ies && !l.point) {
+        fprintf(stderr, "qibl: relight: --ies shapes a lamp: path %u of %s is a sun path\n", index, in);
+        rc = 1;
+    } else if (qtool_bake_relight_path8_gonio(bytes, n, &l, ies ? &gon : NULL, index, tq, radius,
+                                              have_sky ? &skysh : NULL, pix, lin, &ms, &st) != 0) {
         fprintf(stderr, "qibl: relight: %s: %s\n", in,
                 st == QIBL_E_NULL_POINTER ? "out of memory" : qibl_soft_status_str(st));
         rc = 1;
@@ -188,6 +239,6 @@ int qcli_relight_path(int argc, char **argv)
             printf("wrote %s (%ux%u OpenEXR FLOAT ZIP, linear, %s on path %u)\n", exr, m.width, m.height, what, index);
         }
     }
-    free(bytes), free(pix), free(lin);
+    free(bytes), free(pix), free(lin), free(gtab);
     return rc;
 }

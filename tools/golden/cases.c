@@ -29,6 +29,10 @@ const qtool_goldens_group_t qtool_goldens_groups[] = {
     {"lightpath", "light paths: visibility spans, key interpolation, damaged payloads, sun (+ sky) x visibility",
      qtool_goldens_lightpath},
 #endif
+#if QIBL_USE_GONIO
+    {"gonio", "goniometric lamps: table lookups in several frames, refusals, P-map spans scaled per pixel",
+     qtool_goldens_gonio},
+#endif
     {"soft", "platform/soft: a gradient in every framebuffer format, accumulation and resolve", qtool_goldens_soft},
     {"raster", "platform/soft raster: z-buffered Gouraud triangles (shared edges, guard band, culling, slivers)",
      qtool_goldens_raster},

@@ -70,6 +70,7 @@ int qtool_goldens_lightprobe(const qtool_goldens_sink_t *s);
 int qtool_goldens_lightpath(const qtool_goldens_sink_t *s);
 int qtool_goldens_probe(const qtool_goldens_sink_t *s);
 int qtool_goldens_hemi(const qtool_goldens_sink_t *s);
+int qtool_goldens_gonio(const qtool_goldens_sink_t *s);
 
 /* The serialisation of a light list that the lightprobe_* goldens hash (also used by
  * tests/lightprobe_test.c for the real probes): count, rgb_exp, then per light dir[3], rgb[3],

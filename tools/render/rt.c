@@ -651,6 +651,8 @@ typedef struct {
     double *rgb;
     float *depth;
     int32_t *pmap;
+    double (*gonio)(const void *ctx, const double d[3]); /* NULL: isotropic */
+    const void *gonio_ctx;
 } render_job;
 
 static void render_row(void *ctx, uint32_t y)
@@ -685,6 +687,10 @@ static void render_row(void *ctx, uint32_t y)
                 wv[k] /= len;
             tmax = len;
             att = j->l->falloff == 2 ? 1 / (len * len) : 1 / len;
+            if (j->gonio) {
+                double out_dir[3] = {-wv[0], -wv[1], -wv[2]};
+                att *= j->gonio(j->gonio_ctx, out_dir);
+            }
         } else {
             double len = sqrt(j->l->dir[0] * j->l->dir[0] + j->l->dir[1] * j->l->dir[1] + j->l->dir[2] * j->l->dir[2]);
             for (int k = 0; k < 3; ++k)
@@ -700,7 +706,15 @@ static void render_row(void *ctx, uint32_t y)
 int qtool_rt_render(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const qtool_rt_light *l,
                    int threads, double *rgb, float *depth, int32_t *pmap)
 {
-    render_job j = {s, w, h, kind, l, rgb, depth, pmap};
+    render_job j = {s, w, h, kind, l, rgb, depth, pmap, NULL, NULL};
+    return qtool_rt_parallel(threads, h, render_row, &j, NULL);
+}
+
+int qtool_rt_render_gonio(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind,
+                         const qtool_rt_light *l, double (*gonio)(const void *ctx, const double d[3]),
+                         const void *ctx, int threads, double *rgb, float *depth, int32_t *pmap)
+{
+    render_job j = {s, w, h, kind, l, rgb, depth, pmap, gonio, ctx};
     return qtool_rt_parallel(threads, h, render_row, &j, NULL);
 }
 

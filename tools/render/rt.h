@@ -107,6 +107,11 @@ typedef struct qtool_rt_light {
  * depth (w * h, 0 for sky) and pmap (3 per pixel, Q16.16) may be NULL. 0 or -1 (no memory). */
 int qtool_rt_render(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const qtool_rt_light *l,
                    int threads, double *rgb, float *depth, int32_t *pmap);
+/* The same with a goniometric point lamp: C0 times gonio(ctx, d) for the unit world direction d from
+ * the lamp to the shaded point (e.g. qtool_ies_lamp_scale, io/ies.h); gonio NULL: qtool_rt_render. */
+int qtool_rt_render_gonio(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind,
+                         const qtool_rt_light *l, double (*gonio)(const void *ctx, const double d[3]),
+                         const void *ctx, int threads, double *rgb, float *depth, int32_t *pmap);
 
 /* Runs fn(ctx, row) for row = 0..rows-1 on threads (>= 1) pthreads, rows handed out in order.
  * progress (may be NULL) is called under a lock with the number of rows done. */

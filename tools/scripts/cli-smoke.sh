@@ -91,6 +91,17 @@ want 1 - sh project "$w/g.qibl"
 printf 'x,y,z,r,g,b,u0,v0,u1,v1\n0,0,1,nan,1,1,0,0,1,1\n' >"$w/bad.csv"
 want 1 "$w/x.png" relight "$w/g.qibl" --lights "$w/bad.csv" --png "$w/x.png"
 want 1 - probe info "$w/g.qibl"
+printf 'IESNA:LM-63-2002\n[TEST] smoke\nTILT=NONE\n1 -1 1 3 2 1 2 0 0 0\n1 1 10\n0 90 180\n0 90\n5 4 0 5 3 0\n' >"$w/l.ies"
+want 0 - ies info "$w/l.ies" --png "$w/ies.png"
+printf 'IESNA:LM-63-2002\nTILT=NONE\n1 -1 1 3 2 1 2 0 0 0\n1 1 10\n0 90 180\n0 90\n5 4 0 5 3\n' >"$w/bad.ies"
+want 1 "$w/x.png" ies info "$w/bad.ies" --png "$w/x.png"
+want 2 - ies info "$w/l.ies" --frob
+want 0 - relight "$w/g.qibl" --point 0.5 0 0.3 --ies "$w/l.ies" --aim 0 0 -1 --up 1 0 0 --ies-size 16 --png "$w/ies_r.png"
+want 1 "$w/x.png" relight "$w/g.qibl" --point 0.5 0 0.3 --ies "$w/bad.ies" --png "$w/x.png"
+want 2 "$w/x.png" relight "$w/g.qibl" --point 0.5 0 0.3 --aim 0 0 -1 --png "$w/x.png"
+want 0 - bake -o "$w/lt.qibl" --size 32x8 --k 4 --dirs 32 --quiet --threads 2 --lamp-track "1,1,0.3;-1,1,0.3" --path-steps 4
+want 0 - relight "$w/lt.qibl" --path lamp --t 0.5 --ies "$w/l.ies" --ies-size 8 --png "$w/lt.png"
+want 1 "$w/x.png" relight "$w/lt.qibl" --path lamp --t 0.5 --ies "$w/bad.ies" --png "$w/x.png"
 ln -s g.qibl "$w/link.png"
 want 1 - relight "$w/g.qibl" --sun 0 0 1 --png "$w/link.png"
 cmp -s "$w/g.qibl" "$w/link.png" || { fails=$((fails + 1)); echo "cli-smoke: FAIL: wrote through a link" >&2; }

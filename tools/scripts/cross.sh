@@ -132,7 +132,7 @@ if [ -f "$out/cortex-m4/qibl-core.o" ]; then
     inc="-nostdinc -isystem $($gcc -print-file-name=include) -isystem $($gcc -print-file-name=include-fixed)"
     # the first row is the default of a Cortex-M build (config.h: QIBL_CONFIG_SMALL=1 on M-profile
     # targets); the others start from every module (QIBL_CONFIG_SMALL=0) and leave some out
-    combos="default on Cortex-M (QIBL_CONFIG_SMALL=1: no lightprobe, probe, hemi, lightpath)|default|
+    combos="default on Cortex-M (QIBL_CONFIG_SMALL=1: no lightprobe, probe, hemi, lightpath, gonio)|default|
 default on Cortex-M plus light paths (QIBL_USE_LIGHTPATH=1)|small-lightpath|-DQIBL_USE_LIGHTPATH=1
 every module (QIBL_CONFIG_SMALL=0)|all|-DQIBL_CONFIG_SMALL=0
 runtime relighting (QIBL_CONFIG_SMALL=0 QIBL_USE_LIGHTPROBE=0)|relight|-DQIBL_CONFIG_SMALL=0 -DQIBL_USE_LIGHTPROBE=0

@@ -9,7 +9,8 @@
 
 /* QIBL_CONFIG_SMALL: 1 makes the modules a microcontroller rarely runs at run time opt-in: light-probe
  * sampling (QIBL_USE_LIGHTPROBE, and with it QIBL_USE_PROBE), hemispherical rasterization
- * (QIBL_USE_HEMI) and light paths (QIBL_USE_LIGHTPATH) default to 0; each can still be set to 1.
+ * (QIBL_USE_HEMI), light paths (QIBL_USE_LIGHTPATH) and goniometric lamps (QIBL_USE_GONIO) default
+ * to 0; each can still be set to 1.
  * What stays is runtime relighting: the asset reader, SH, sRGBE, directional and point-light spans,
  * both map layouts (about 14 KiB .text on Cortex-M4 -Os, against the goal of 16 KiB; every module is
  * about 36 KiB: docs/porting.md). Default 1 on ARM M-profile targets (Cortex-M: the compiler
@@ -70,6 +71,17 @@
 #endif
 #if QIBL_USE_LIGHTPATH && !QIBL_USE_SHMAP
 #error "QIBL_USE_LIGHTPATH needs QIBL_USE_SHMAP"
+#endif
+
+/* QIBL_USE_GONIO: 1 builds goniometric lamps (gonio.c: the octahedral intensity table's lookup and
+ * the per-span scale after a point light; about 1.4 KiB .text on Cortex-M4 -Os, no RAM; the table is
+ * the caller's, 2 n^2 bytes). Needs QIBL_USE_SHMAP (it scales point-light spans through the P map);
+ * by default on when that is, unless QIBL_CONFIG_SMALL. */
+#ifndef QIBL_USE_GONIO
+#define QIBL_USE_GONIO (QIBL_USE_SHMAP && !QIBL_CONFIG_SMALL)
+#endif
+#if QIBL_USE_GONIO && !QIBL_USE_SHMAP
+#error "QIBL_USE_GONIO needs QIBL_USE_SHMAP"
 #endif
 
 /* QIBL_USE_INTERLEAVED: 1 builds the interleaved SH-map layout (shmaps.h): its relight and

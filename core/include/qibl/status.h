@@ -99,6 +99,12 @@ typedef enum qibl_status {
     QIBL_E_HEMI_EXPONENT,          /* hemi: Phong exponent beyond QIBL_HEMI_MAX_EXPONENT */
     /* cube-map LUT views (shmaps.h) */
     QIBL_E_SHMAP_LUT_SHORT,        /* LUT view's size below the 6 N N k int16 its face size and k need */
+    /* goniometric lamps (gonio.h) */
+    QIBL_E_GONIO_SIZE,             /* gonio: table size n outside QIBL_GONIO_MIN_N .. QIBL_GONIO_MAX_N */
+    QIBL_E_GONIO_TABLE,            /* gonio: a table entry above 32768 (1.0 in Q1.15) */
+    QIBL_E_GONIO_AIM,              /* gonio: the aim vector is zero */
+    QIBL_E_GONIO_UP,               /* gonio: the up vector is zero or (within 2^-10 rad) parallel to the aim */
+    QIBL_E_GONIO_BOUNDS,           /* gonio: span outside the P map */
     QIBL_STATUS_COUNT,     /* number of core status values; not a status */
     /* Platform backends (platform/<name>/) return qibl_status_t too, with their errors in their own
      * range of 256 values from their base, defined in the backend's header; the core never returns

@@ -39,7 +39,8 @@ extern "C" {
  *   bit   7      QIBL_USE_HEMI
  *   bits  8..11  QIBL_SH_MAX_BANDS (1..5)
  *   bit  12      QIBL_USE_LIGHTPATH
- *   bits 13..15  reserved (0): further size options
+ *   bit  13      QIBL_USE_GONIO
+ *   bits 14..15  reserved (0): further size options
  *   bits 16..23  QIBL_VERSION_MINOR
  *   bits 24..27  QIBL_VERSION_MAJOR (mod 16)
  *   bits 28..31  0xA, so that 0 or a stray small integer is never a valid identity
@@ -55,7 +56,7 @@ extern "C" {
      ((uint32_t)(QIBL_USE_SHMAP != 0) << 4) | ((uint32_t)(QIBL_USE_LIGHTPROBE != 0) << 3) |     \
      ((uint32_t)(QIBL_USE_ASSET != 0) << 2) | ((uint32_t)(QIBL_USE_SRGBE != 0) << 1) |          \
      ((uint32_t)(QIBL_USE_INTERLEAVED != 0) << 5) | (uint32_t)(QIBL_USE_SH != 0) |           \
-     ((uint32_t)(QIBL_USE_LIGHTPATH != 0) << 12))
+     ((uint32_t)(QIBL_USE_LIGHTPATH != 0) << 12) | ((uint32_t)(QIBL_USE_GONIO != 0) << 13))
 
 /* QIBL_VERSION_STRING of the library as compiled ("0.1.0"). Never NULL. */
 const char *qibl_version(void);
