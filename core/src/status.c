@@ -81,6 +81,7 @@ const char *qibl_status_str(qibl_status_t s)
     case QIBL_E_HEMI_INDEX:       return "hemi: triangle index beyond the vertex count";
     case QIBL_E_HEMI_EXPONENT:    return "hemi: Phong exponent beyond QIBL_HEMI_MAX_EXPONENT";
     case QIBL_E_SHMAP_LUT_SHORT:  return "cube-map LUT view shorter than its face size and k need";
+    case QIBL_E_WORKSPACE_ALIGN:  return "workspace not 4-byte aligned (declare it as uint32_t or int32_t)";
     case QIBL_STATUS_COUNT:   break;
     case QIBL_STATUS_SOFT_BASE: case QIBL_STATUS_GLES2_BASE: case QIBL_STATUS_BACKEND_END: break;
     }

@@ -99,6 +99,8 @@ typedef enum qibl_status {
     QIBL_E_HEMI_EXPONENT,          /* hemi: Phong exponent beyond QIBL_HEMI_MAX_EXPONENT */
     /* cube-map LUT views (shmaps.h) */
     QIBL_E_SHMAP_LUT_SHORT,        /* LUT view's size below the 6 N N k int16 its face size and k need */
+    /* workspaces (appended last so no earlier value moves) */
+    QIBL_E_WORKSPACE_ALIGN,        /* caller workspace not on the 4-byte boundary the call needs */
     QIBL_STATUS_COUNT,     /* number of core status values; not a status */
     /* Platform backends (platform/<name>/) return qibl_status_t too, with their errors in their own
      * range of 256 values from their base, defined in the backend's header; the core never returns
