@@ -118,8 +118,8 @@ help:
 	@echo "make install    headers, the libraries, the CLI, qibl.pc and the CMake package into PREFIX (default /usr/local; DESTDIR honoured)"
 	@echo "make check-install  install to a temporary prefix and build the example through pkg-config and CMake"
 	@echo "make check-farm     a one-node Slurm cluster here: a bake as an array of 4 shards + merge == one bake"
-	@echo "make amalgamate the core as one qibl.h + one qibl.c in $(BUILD)/amalgamated (tools/scripts/amalgamate.sh)"
-	@echo "make check-amalgamate  that pair under the strict flags, freestanding for Cortex-M0/M4, with the goldens and the example"
+	@echo "make amalgamate the core as one qibl.h + one qibl.c in $(BUILD)/amalgamated, platform/soft as qibl_soft.h + qibl_soft.c (tools/scripts/amalgamate.sh)"
+	@echo "make check-amalgamate  those pairs under the strict flags as C and C++, freestanding for Cortex-M0/M4, with the goldens and the example on the C and C++ builds"
 	@echo "make clean      remove $(BUILD)/ and out/"
 
 $(BUILD)/native/%.o: %.c
@@ -468,7 +468,8 @@ check-install: $(QIBL) $(EXAMPLES)
 check-farm: $(QIBL)
 	@BUILD=$(BUILD) bash tools/farm/check.sh
 
-# The core as one qibl.h + one qibl.c (as SQLite ships), and its proof (CI runs check-amalgamate).
+# The core as one qibl.h + one qibl.c (as SQLite ships), platform/soft as qibl_soft.h + qibl_soft.c,
+# and their proof as C and as C++ (CI runs check-amalgamate).
 amalgamate:
 	@BUILD=$(BUILD) bash tools/scripts/amalgamate.sh
 

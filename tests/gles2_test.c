@@ -122,7 +122,7 @@ static void soft_frame(const gmaps *g, const qibl_shmap_weights_t *w, const qibl
     qibl_fb_desc_t fb = {0};
     fb.pixels = rgba, fb.width = GW, fb.height = GH, fb.srgb = 1;
     int32_t row[3 * GW];
-    static uint8_t ws[GW * (2 * 25 + 32)];
+    static int32_t ws[(GW * (2 * 25 + 32) + 3) / 4]; /* 4-byte aligned, as the span calls need */
     for (uint32_t y = 0; y < GH; ++y) {
         qibl_status_t st = w ? qibl_shmap_relight_span(&g->m, w, 0, y, GW, row, ws, sizeof ws)
                              : qibl_shmap_point_span(pt, 0, y, GW, row, ws, sizeof ws);

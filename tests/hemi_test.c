@@ -161,7 +161,8 @@ static void test_sizes_and_errors(void **state)
     /* any alignment */
     free(ws);
     ws = malloc(sz + 3);
-    assert_int_equal(qibl_hemi_init(&h, 16, 8, (char *)ws + 3, sz), QIBL_OK);
+    for (int off = 1; off <= 3; ++off) /* the init aligns its tables itself (slack in the size) */
+        assert_int_equal(qibl_hemi_init(&h, 16, 8, (char *)ws + off, sz), QIBL_OK);
     free(ws);
     assert_string_not_equal(qibl_status_str(QIBL_E_HEMI_SIZE), "unknown status");
     assert_string_not_equal(qibl_status_str(QIBL_E_HEMI_RANGE), "unknown status");

@@ -901,10 +901,12 @@ static void test_argument_errors(void **state)
     qibl_lightprobe_result_t ra, rb;
     assert_int_equal(qibl_lightprobe_build(&lp, &img, QIBL_LIGHTPROBE_VARMIN, W, ws), QIBL_OK);
     assert_int_equal(sample(&lp, 2, 0, 0, 8, A, &ra), QIBL_OK);
-    assert_int_equal(qibl_lightprobe_build(&lp, &img, QIBL_LIGHTPROBE_VARMIN, (char *)W + 3, ws), QIBL_OK);
-    assert_int_equal(sample(&lp, 2, 0, 0, 8, B, &rb), QIBL_OK);
-    assert_memory_equal(A, B, sizeof A);
-    assert_memory_equal(&ra, &rb, sizeof ra);
+    for (int off = 1; off <= 7; ++off) { /* uint64 tables: the build aligns them itself (8 bytes of slack) */
+        assert_int_equal(qibl_lightprobe_build(&lp, &img, QIBL_LIGHTPROBE_VARMIN, (char *)W + off, ws), QIBL_OK);
+        assert_int_equal(sample(&lp, 2, 0, 0, 8, B, &rb), QIBL_OK);
+        assert_memory_equal(A, B, sizeof A);
+        assert_memory_equal(&ra, &rb, sizeof ra);
+    }
     /* lights(): each error writes nothing */
     qibl_lightprobe_light_t L[8];
     qibl_lightprobe_result_t res;

@@ -13,8 +13,10 @@
 #include <math.h>
 
 #include "engine/engine.h"
+#include "io/hdr.h"
 #include "io/hdr_write.h"
 #include "io/pfm.h"
+#include "study/study.h"
 
 #define PI_ 3.14159265358979323846
 #define FIXTURES "../shared/fixtures/probes"
@@ -687,6 +689,122 @@ static void test_probe_info_auto_same_measure(void **state)
     free(t);
 }
 
+/* up to per numbers after each occurrence of key in s (up to max in all), in order; how many */
+static int numbers_after(const char *s, const char *key, int per, double *v, int max)
+{
+    int n = 0;
+    for (const char *q = strstr(s, key); q && n < max; q = strstr(q + 1, key)) {
+        q += strlen(key);
+        char *e;
+        for (int k = 0; k < per && n < max; ++k) {
+            while (*q == ' ' || *q == '[' || *q == ',' || *q == '\n' || *q == ']')
+                ++q;
+            double x = strtod(q, &e);
+            if (e == q)
+                break;
+            v[n++] = x, q = e;
+        }
+    }
+    return n;
+}
+
+/* lights --auto writes what it picks: the JSON's lights (their refitted colours where the pick
+ * refits) and SH coefficients, put back into the study's model, give the mean error --auto
+ * printed, measured again here from the probe's own bytes; --csv and --format c carry the same
+ * numbers; a budget nothing meets still writes the most accurate, marked so. */
+static void test_lights_auto_writes_pick(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *pr = at("sun.hdr");
+    double big = 300.0;
+    make_probe(pr, 128, 64, sunny, &big);
+    static const char *const budgets[] = {"3%", "0.5%", "40%", "0.0001%"};
+    int kinds = 0;
+    for (int b = 0; b < 4; ++b) {
+        OK("lights", pr, "--auto", "--error", budgets[b], "--json");
+        char *t = text(outlog), *log = text(errlog);
+        const char *lights = strstr(t, "\"lights\": ["), *sh = strstr(t, "\"sh\": [");
+        if (!lights || !sh || !strstr(log, "auto: "))
+            fail_msg("--json: no lights/sh arrays on stdout or no table on stderr\n%s\n%s", t, log);
+        qtool_study_model md;
+        memset(&md, 0, sizeof md);
+        double v[6 * QTOOL_STUDY_MAX_LIGHTS], err = NAN;
+        numbers_after(t, "\"mean_error\": ", 1, &err, 1);
+        char *shpart = strdup(sh);
+        ((char *)sh)[0] = '\0'; /* the lights part ends where the SH part starts */
+        int nd = numbers_after(lights, "\"dir\": ", 3, v, 3 * QTOOL_STUDY_MAX_LIGHTS);
+        md.n = nd / 3;
+        for (int i = 0; i < md.n; ++i)
+            for (int c = 0; c < 3; ++c)
+                md.dir[i][c] = v[3 * i + c];
+        int nr = numbers_after(lights, "\"rgb\": ", 3, v, 3 * QTOOL_STUDY_MAX_LIGHTS);
+        assert_int_equal(nr, 3 * md.n);
+        for (int i = 0; i < md.n; ++i)
+            for (int c = 0; c < 3; ++c)
+                md.rgb[i][c] = v[3 * i + c];
+        double s[3 * QTOOL_STUDY_SH_MAX];
+        int ns = numbers_after(shpart, "\"sh\": [", 3 * QTOOL_STUDY_SH_MAX, s, 3 * QTOOL_STUDY_SH_MAX);
+        md.sh_n = ns / 3;
+        assert_int_equal(ns % 3, 0);
+        for (int i = 0; i < md.sh_n; ++i)
+            for (int c = 0; c < 3; ++c)
+                md.sh[c][i] = s[3 * i + c];
+        kinds |= (md.n > 0) << 0 | (md.sh_n > 0) << 1;
+        /* the error again, from the exported numbers */
+        int w, h;
+        uint8_t *rgbe;
+        char e2[256];
+        assert_int_equal(qtool_hdr_read_rgbe(pr, &w, &h, &rgbe, e2, sizeof e2), 0);
+        qtool_study_probe p;
+        assert_int_equal(qtool_study_probe_init(&p, w, h, rgbe, e2, sizeof e2), 0);
+        qtool_study_gt g;
+        assert_int_equal(qtool_study_gt_compute(&g, &p, QTOOL_STUDY_ERR_NORMALS, 1), 0);
+        qtool_study_err e;
+        qtool_study_model_error(&md, &g, &e);
+        if (!(fabs(e.mean_rel - err) <= 1e-6 * err + 1e-9))
+            fail_msg("budget %s: the exported model gives %.9g, --auto printed %.9g\n%s", budgets[b], e.mean_rel, err, t);
+        const int met = strstr(t, "\"met\": true") != NULL;
+        assert_int_equal(met, b != 3); /* 0.0001 % is beyond every candidate */
+        qtool_study_gt_free(&g);
+        qtool_study_probe_free(&p);
+        free(rgbe);
+        /* --csv: rows light,i,x,y,z,r,g,b then sh,i,,,,r,g,b; the same numbers */
+        OK("lights", pr, "--auto", "--error", budgets[b], "--csv");
+        char *csv = text(outlog);
+        assert_non_null(strstr(csv, "kind,index,x,y,z,r,g,b\n"));
+        int rows = 0;
+        for (const char *q = strchr(csv, '\n') + 1; *q; q = strchr(q, '\n') + 1, ++rows) {
+            int i;
+            double x[6];
+            if (sscanf(q, "light,%d,%lf,%lf,%lf,%lf,%lf,%lf", &i, &x[0], &x[1], &x[2], &x[3], &x[4], &x[5]) == 7) {
+                assert_true(i == rows && i < md.n);
+                for (int c = 0; c < 3; ++c)
+                    assert_true(fabs(x[c] - md.dir[i][c]) < 1e-8 && fabs(x[3 + c] - md.rgb[i][c]) <= 1e-8 * fabs(md.rgb[i][c]));
+            } else if (sscanf(q, "sh,%d,,,,%lf,%lf,%lf", &i, &x[0], &x[1], &x[2]) == 4) {
+                assert_true(i == rows - md.n && i < md.sh_n);
+                for (int c = 0; c < 3; ++c)
+                    assert_true(fabs(x[c] - md.sh[c][i]) <= 1e-8 * fabs(md.sh[c][i]));
+            } else {
+                fail_msg("--csv row %d: %.60s", rows, q);
+            }
+        }
+        assert_int_equal(rows, md.n + md.sh_n);
+        /* --format c: the counts and the arrays */
+        OK("lights", pr, "--auto", "--error", budgets[b], "--format", "c");
+        char *cf = text(outlog);
+        char want[128];
+        snprintf(want, sizeof want, "QIBL_AUTO_LIGHT_COUNT = %d, QIBL_AUTO_SH_COUNT = %d", md.n, md.sh_n);
+        if (!strstr(cf, want) || !strstr(cf, "static const float qibl_auto_lights[") ||
+            !strstr(cf, "static const float qibl_auto_sh["))
+            fail_msg("--format c: no '%s' or arrays\n%s", want, cf);
+        free(cf), free(csv), free(shpart), free(t), free(log);
+    }
+    assert_int_equal(kinds, 3); /* some pick had lights, some SH (the budgets span both) */
+    expect(2, "--format c writes the pick of --auto", NULL, "lights", pr, "--format", "c", NULL);
+    expect(2, "--format is c, csv or json", NULL, "lights", pr, "--auto", "--error", "3%", "--format", "yaml", NULL);
+}
+
 /* the real probes, when ../shared is there: a soft one wants SH, a sunny one does not */
 static void test_probe_info_fixtures(void **state)
 {
@@ -744,6 +862,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_probe_info_advice, setup, teardown),
         cmocka_unit_test_setup_teardown(test_probe_info_fixtures, setup, teardown),
         cmocka_unit_test_setup_teardown(test_probe_info_auto_same_measure, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_lights_auto_writes_pick, setup, teardown),
         cmocka_unit_test_setup_teardown(test_help_texts, setup, teardown),
     };
     return cmocka_run_group_tests_name("probe_cli", tests, NULL, NULL);

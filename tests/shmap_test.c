@@ -1069,6 +1069,73 @@ static void test_stream_rows_from_file(void **state)
     remove(path);
 }
 
+/* Both span calls keep int32 tables in ws: a workspace off the 4-byte boundary (a uint8_t array, or
+ * a pointer into one) is refused with QIBL_E_WORKSPACE_ALIGN whatever the layout or method (even
+ * where this path would not touch ws, so a port cannot pass on one layout and fault on another),
+ * and neither out nor ws is written. At offset 4 the same bytes relight exactly as aligned storage. */
+static void test_workspace_alignment(void **state)
+{
+    (void)state;
+    enum { W = 13, K = 9 };
+    tu_rng r = {57};
+    maps_buf b, il;
+    maps_make(&b, W, 2, K, 3, &r, 1 << 16);
+    interleave(&b, &il);
+    pmap_buf pb;
+    pmap_make(&pb, W, 2, &r);
+    qibl_shlight_t l;
+    qibl_shlight_init(&l, K);
+    const qibl_q16_t d[3] = {1 << 16, 1 << 15, -(1 << 14)}, rgb[3] = {1 << 16, 2 << 16, 3 << 16};
+    qibl_shlight_add_dir(&l, d, rgb);
+    qibl_shmap_weights_t w;
+    assert_int_equal(qibl_shmap_weights(&b.m, &l, &w), QIBL_OK);
+    const size_t dn = qibl_shmap_span_workspace_size(W), pn = qibl_shmap_point_workspace_size(K, W);
+    const size_t big = (dn > pn ? dn : pn) + 8u;
+    uint32_t *store = malloc(big); /* malloc: aligned for any type, so store + off is off bytes from 4 */
+    int32_t ref[3 * W], out[3 * W];
+    assert_non_null(store);
+    for (int kind = 0; kind < 4; ++kind) {
+        /* 0: directional planar, 1: directional interleaved, 2: point direct SH, 3: point polynomial */
+        qibl_shmap_point_t pt;
+        qibl_pointlight_t pl = {{1 << 18, -(1 << 17), 3 << 16}, {1 << 16, 1 << 16, 1 << 16}, QIBL_FALLOFF_INV_DIST,
+                                1 << 10, kind == 3 ? QIBL_POINT_POLY : QIBL_LUT_BILINEAR};
+        if (kind >= 2)
+            assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, NULL, &pl, &pt), QIBL_OK);
+        const qibl_shmaps_t *m = kind == 1 ? &il.m : &b.m;
+        const size_t need = kind < 2 ? dn : pn;
+        int32_t *aligned = (int32_t *)(void *)store;
+        assert_int_equal(kind < 2 ? qibl_shmap_relight_span(m, &w, 0, 1, W, ref, aligned, need)
+                                  : qibl_shmap_point_span(&pt, 0, 1, W, ref, aligned, need),
+                         QIBL_OK);
+        for (size_t off = 1; off <= 4; ++off) {
+            void *ws = (uint8_t *)(void *)store + off;
+            memset(store, 0x5A, big);
+            tu_fill_guard(out, sizeof out);
+            qibl_status_t st = kind < 2 ? qibl_shmap_relight_span(m, &w, 0, 1, W, out, ws, need)
+                                        : qibl_shmap_point_span(&pt, 0, 1, W, out, ws, need);
+            if (off < 4) {
+                assert_int_equal(st, QIBL_E_WORKSPACE_ALIGN);
+                assert_true(tu_guard_intact(out, sizeof out));
+                for (size_t i = 0; i < big; ++i)
+                    assert_int_equal(((const uint8_t *)(const void *)store)[i], 0x5A);
+                /* a zero-length span is refused the same way: the contract does not depend on n */
+                st = kind < 2 ? qibl_shmap_relight_span(m, &w, 0, 1, 0, out, ws, need)
+                              : qibl_shmap_point_span(&pt, 0, 1, 0, out, ws, need);
+                assert_int_equal(st, QIBL_E_WORKSPACE_ALIGN);
+            } else {
+                assert_int_equal(st, QIBL_OK);
+                assert_memory_equal(out, ref, sizeof ref);
+            }
+        }
+    }
+    assert_string_equal(qibl_status_str(QIBL_E_WORKSPACE_ALIGN),
+                        "workspace not 4-byte aligned (declare it as uint32_t or int32_t)");
+    free(store);
+    free(pb.bytes);
+    maps_free(&il);
+    maps_free(&b);
+}
+
 static void test_goldens(void **state)
 {
     (void)state;
@@ -1084,6 +1151,7 @@ int main(void)
         cmocka_unit_test(test_spans_equal_whole_rows),
         cmocka_unit_test(test_accumulator_extremes),
         cmocka_unit_test(test_relight_errors_write_nothing),
+        cmocka_unit_test(test_workspace_alignment),
         cmocka_unit_test(test_point_light_direct_and_lut),
         cmocka_unit_test(test_point_light_hard_cases),
         cmocka_unit_test(test_point_poly_exponents),

@@ -366,7 +366,7 @@ static void test_malformed_input_named(void **state)
     /* ... and refused by name before the study or --auto measures a 0 / 0 error (issue 24) */
     assert_int_equal(qtool_study_probe_lit(&p, err, sizeof err), -1);
     assert_non_null(strstr(err, "black everywhere"));
-    assert_int_equal(qtool_study_auto(&p, 0.02, 1, err, sizeof err), -1);
+    assert_int_equal(qtool_study_auto(&p, 0.02, 1, stdout, NULL, err, sizeof err), -1);
     assert_non_null(strstr(err, "the probe is black everywhere"));
     qtool_study_probe_free(&p);
     for (int i = 0; i < 8 * 4; ++i) /* red and blue light, no green: measured on red and blue */

@@ -268,7 +268,7 @@ qibl_status_t qibl_lightpath_shade_span(const qibl_lightpath_t *p, uint32_t t, u
     uint32_t vis[CHUNK], recip = window_recip(radius), at = first_edge(p, x0, y);
     const uint8_t *cnt = p->counts + (size_t)y * p->width + x0;
     for (uint32_t done = 0; done < n;) {
-        uint32_t m = n - done < CHUNK ? n - done : CHUNK;
+        uint32_t m = n - done < CHUNK ? n - done : (uint32_t)CHUNK; /* one type in both arms (C++: enum vs uint32_t) */
         at = visibility(p, t, radius, recip, at, cnt + done, m, vis);
         for (uint32_t i = 0; i < m; ++i) {
             size_t o = 3u * (size_t)(done + i);

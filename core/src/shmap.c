@@ -795,6 +795,8 @@ qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_w
         return QIBL_E_SHMAP_BOUNDS;
     if (ws_size < qibl_shmap_span_workspace_size(n))
         return QIBL_E_WORKSPACE;
+    if (((uintptr_t)ws & 3u) != 0u) /* int32 accumulators: a uint8_t array faults on Cortex-M0 */
+        return QIBL_E_WORKSPACE_ALIGN;
     if (n == 0u)
         return QIBL_OK;
     finish_t f;
@@ -805,7 +807,7 @@ qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_w
         return QIBL_OK;
     }
 #endif
-    int32_t *acc = (int32_t *)ws; /* caller promises int32 alignment of the workspace */
+    int32_t *acc = (int32_t *)ws; /* 4-byte aligned: checked above */
     size_t off = (size_t)y * m->width + x0;
 #if QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR
     relight_planar(m, w, &f, off, n, out, acc);
@@ -1669,6 +1671,8 @@ qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, u
     const uint32_t k = m->k;
     if (ws_size < qibl_shmap_point_workspace_size(k, n))
         return QIBL_E_WORKSPACE;
+    if (((uintptr_t)ws & 3u) != 0u) /* int32 tables: a uint8_t array faults on Cortex-M0 */
+        return QIBL_E_WORKSPACE_ALIGN;
     /* workspace: acc[n], accb[n], attm[n] (int32), atte[n] (int32), ybuf[k][n] (int16) */
     int32_t *acc = (int32_t *)ws, *accb = acc + n, *attm = accb + n, *atte = attm + n;
     int16_t *ybuf = (int16_t *)(atte + n);

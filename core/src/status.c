@@ -86,6 +86,7 @@ const char *qibl_status_str(qibl_status_t s)
     case QIBL_E_GONIO_AIM:        return "gonio: aim vector is zero";
     case QIBL_E_GONIO_UP:         return "gonio: up vector zero or parallel to the aim";
     case QIBL_E_GONIO_BOUNDS:     return "gonio: span outside the P map";
+    case QIBL_E_WORKSPACE_ALIGN:  return "workspace not 4-byte aligned (declare it as uint32_t or int32_t)";
     case QIBL_STATUS_COUNT:   break;
     case QIBL_STATUS_SOFT_BASE: case QIBL_STATUS_GLES2_BASE: case QIBL_STATUS_BACKEND_END: break;
     }

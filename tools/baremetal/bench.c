@@ -95,7 +95,7 @@ static uint64_t calibrate(void)
 int main(void)
 {
     static int32_t row[3 * W];
-    static uint8_t ws[W * (2 * 25 + 32)];
+    static int32_t ws[(W * (2 * 25 + 32) + 3) / 4]; /* int32 storage: the span calls need 4-byte alignment */
     static uint16_t fb565[W * BENCH_ROWS];
     uint8_t *params = malloc(8u * 16u * CH), *planes = malloc((size_t)W * H * 16u * CH), *points = malloc((size_t)W * H * 12u);
     size_t vs = qibl_ylut_values_size(16, 16);

@@ -23,7 +23,7 @@
 
 #define USAGE "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv | --json | --preset gltf] [--png OUT.png] [--layout L]\n" \
               "                  [--yaw DEG | --rotate a,b,c,d,e,f,g,h,i] (with --preset gltf)\n" \
-              "       qibl lights PROBE.hdr --auto --error P%"
+              "       qibl lights PROBE.hdr --auto --error P% [--csv | --json | --format c]"
 
 static int parse_method(const char *s, qibl_lightprobe_method_t *m)
 {
@@ -36,6 +36,61 @@ static int parse_method(const char *s, qibl_lightprobe_method_t *m)
     else
         return -1;
     return 0;
+}
+
+/* JSON string body: quotes, backslashes and control bytes escaped */
+static void json_str(FILE *f, const char *s)
+{
+    for (const char *q = s; *q; ++q)
+        fprintf(f, (*q == '"' || *q == '\\') ? "\\%c" : (unsigned char)*q < 0x20 ? "\\u%04x" : "%c", *q);
+}
+
+/* --auto's pick as a document on stdout: what was chosen and every number it needs, the lights
+ * (unit direction, RGB irradiance facing the light: the refitted colours where the pick refits)
+ * and the SH irradiance coefficients (qibl's real basis, qibl/sh.h order, z-up), together:
+ * E(n) = sum_j rgb_j max(0, n . dir_j) + sum_i sh_i Y_i(n). fmt: 1 CSV, 2 JSON, 3 C. */
+static void write_pick(int fmt, const char *path, double budget, const qtool_study_pick *pk)
+{
+    const qtool_study_model *m = &pk->model;
+    if (fmt == 1) {
+        printf("kind,index,x,y,z,r,g,b\n");
+        for (int i = 0; i < m->n; ++i)
+            printf("light,%d,%.9f,%.9f,%.9f,%.9g,%.9g,%.9g\n", i, m->dir[i][0], m->dir[i][1], m->dir[i][2],
+                   m->rgb[i][0], m->rgb[i][1], m->rgb[i][2]);
+        for (int i = 0; i < m->sh_n; ++i)
+            printf("sh,%d,,,,%.9g,%.9g,%.9g\n", i, m->sh[0][i], m->sh[1][i], m->sh[2][i]);
+    } else if (fmt == 2) {
+        printf("{\"probe\": \"");
+        json_str(stdout, path);
+        printf("\", \"choice\": \"");
+        json_str(stdout, pk->what);
+        printf("\", \"met\": %s, \"budget\": %.9g, \"mean_error\": %.9g, \"floats\": %d,\n"
+               " \"irradiance\": \"E(n) = sum_j rgb_j max(0, n.dir_j) + sum_i sh_i Y_i(n); qibl's real SH basis, "
+               "qibl/sh.h order, z up\",\n \"lights\": [",
+               pk->met ? "true" : "false", budget, pk->err, pk->floats);
+        for (int i = 0; i < m->n; ++i)
+            printf("%s\n  {\"dir\": [%.9f, %.9f, %.9f], \"rgb\": [%.9g, %.9g, %.9g]}", i ? "," : "", m->dir[i][0],
+                   m->dir[i][1], m->dir[i][2], m->rgb[i][0], m->rgb[i][1], m->rgb[i][2]);
+        printf("%s],\n \"sh\": [", m->n ? "\n " : "");
+        for (int i = 0; i < m->sh_n; ++i)
+            printf("%s\n  [%.9g, %.9g, %.9g]", i ? "," : "", m->sh[0][i], m->sh[1][i], m->sh[2][i]);
+        printf("%s]}\n", m->sh_n ? "\n " : "");
+    } else {
+        /* a C fragment: arrays of at least one element (C has no empty ones), the counts beside */
+        printf("/* qibl lights --auto: %s (%d floats, mean irradiance error %.3f %%, budget %g %%%s).\n"
+               " * E(n) = sum_j rgb_j max(0, n . dir_j) + sum_i sh_i Y_i(n): qibl's real SH basis, qibl/sh.h order, z up. */\n",
+               pk->what, pk->floats, 100 * pk->err, 100 * budget, pk->met ? "" : ", NOT met: the most accurate");
+        printf("enum { QIBL_AUTO_LIGHT_COUNT = %d, QIBL_AUTO_SH_COUNT = %d };\n", m->n, m->sh_n);
+        printf("static const float qibl_auto_lights[%d][6] = { /* dir x, y, z, rgb r, g, b */", m->n ? m->n : 1);
+        for (int i = 0; i < m->n; ++i)
+            printf("%s\n    {%.9ef, %.9ef, %.9ef, %.9ef, %.9ef, %.9ef}", i ? "," : "", m->dir[i][0], m->dir[i][1],
+                   m->dir[i][2], m->rgb[i][0], m->rgb[i][1], m->rgb[i][2]);
+        printf("%s};\n", m->n ? "\n" : "{0}");
+        printf("static const float qibl_auto_sh[%d][3] = { /* r, g, b */", m->sh_n ? m->sh_n : 1);
+        for (int i = 0; i < m->sh_n; ++i)
+            printf("%s\n    {%.9ef, %.9ef, %.9ef}", i ? "," : "", m->sh[0][i], m->sh[1][i], m->sh[2][i]);
+        printf("%s};\n", m->sh_n ? "\n" : "{0}");
+    }
 }
 
 /* The --auto budget is a percentage, with or without the sign: "2%" and "2" are both 2 %, so
@@ -203,7 +258,7 @@ int qcli_cmd_lights(int argc, char **argv)
     qibl_lightprobe_opts_t o;
     memset(&o, 0, sizeof o);
     long n = 64, zoom = 0;
-    int csv = 0, json = 0, error = 0, autom = 0, gltf = 0;
+    int csv = 0, json = 0, error = 0, autom = 0, gltf = 0, cfmt = 0;
     qcli_light_list rl; /* only its --yaw / --rotate (relight's parser) */
     qcli_light_list_init(&rl);
     double budget = -1;
@@ -244,6 +299,16 @@ int qcli_cmd_lights(int argc, char **argv)
             csv = 1;
         } else if (strcmp(a, "--json") == 0) {
             json = 1;
+        } else if (strcmp(a, "--format") == 0 && more) { /* --auto's pick as a C fragment (or csv/json) */
+            const char *f = argv[++i];
+            if (strcmp(f, "c") == 0)
+                cfmt = 1;
+            else if (strcmp(f, "csv") == 0)
+                csv = 1;
+            else if (strcmp(f, "json") == 0)
+                json = 1;
+            else
+                return qcli_usage_error("--format is c, csv or json");
         } else if (strcmp(a, "--error") == 0) {
             error = 1;
             int pb = more ? parse_budget(argv[i + 1], &budget) : -1;
@@ -277,13 +342,17 @@ int qcli_cmd_lights(int argc, char **argv)
         return qcli_usage_error("--auto needs a budget: --error P%% (mean relative irradiance error, e.g. 2%%)");
     if (csv && json)
         return qcli_usage_error("--csv and --json: give one");
+    if (cfmt && (csv || json))
+        return qcli_usage_error("--format c and --csv/--json: give one");
+    if (cfmt && !autom)
+        return qcli_usage_error("--format c writes the pick of --auto: add --auto --error P%%");
     if (gltf && (csv || json))
         return qcli_usage_error("--preset gltf writes its own JSON: it does not go with --csv or --json");
     if (rl.rotate && !gltf)
         return qcli_usage_error("--yaw and --rotate turn the lights of --preset gltf");
     if (gltf && (autom || error))
         return qcli_usage_error("--preset gltf writes JSON: it does not go with --auto or --error");
-    if (json && error)
+    if (json && error && !autom)
         return qcli_usage_error("--error prints a line of text: it does not go with --json");
     if (o.method == QIBL_LIGHTPROBE_MEDIANCUT && (n & (n - 1)) != 0)
         return qcli_usage_error("median cut makes 2^K lights: -n must be a power of two (or use --method "
@@ -305,7 +374,7 @@ int qcli_cmd_lights(int argc, char **argv)
             free(px);
             return fprintf(stderr, "qibl: %s: %s\n", path, err), 1;
         }
-        FILE *note = csv || json || gltf ? stderr : stdout;
+        FILE *note = csv || json || gltf || cfmt ? stderr : stdout;
         fprintf(note, "%s: layout %s (%s, %s)", path, qtool_probe_layout_name(used), qtool_probe_layout_describe(used),
                 layout == QTOOL_PROBE_LAYOUT_AUTO ? "detected" : "from --layout");
         if (used != QTOOL_PROBE_LAYOUT_LATLONG)
@@ -322,10 +391,22 @@ int qcli_cmd_lights(int argc, char **argv)
         free(px);
         if (rc != 0)
             return fprintf(stderr, "qibl: lights: %s: %s\n", path, err), 1;
-        rc = qtool_study_auto(&sp, budget, 2, err, sizeof err);
+        /* with a document asked for, the table and the choice go to stderr and the pick to stdout */
+        const int fmt = csv ? 1 : json ? 2 : cfmt ? 3 : 0;
+        qtool_study_pick *pk = fmt ? malloc(sizeof *pk) : NULL;
+        if (fmt && !pk) {
+            qtool_study_probe_free(&sp);
+            return fprintf(stderr, "qibl: lights: out of memory\n"), 1;
+        }
+        rc = qtool_study_auto(&sp, budget, 2, fmt ? stderr : stdout, pk, err, sizeof err);
         qtool_study_probe_free(&sp);
-        if (rc < 0)
+        if (rc < 0) {
+            free(pk);
             return fprintf(stderr, "qibl: lights: %s: %s\n", path, err), 1;
+        }
+        if (fmt)
+            write_pick(fmt, path, budget, pk);
+        free(pk);
         return 0;
     }
     /* the picture's size is known now: refuse one the PNG writer could not take before any work */

@@ -132,7 +132,7 @@ static qibl_status_t dir_row(void *c, uint32_t y, int32_t *out)
 
 typedef struct {
     qibl_shmap_point_t st;
-    uint8_t ws[GW * (2 * 25 + 32)];
+    int32_t ws[(GW * (2 * 25 + 32) + 3) / 4]; /* int32 storage: the span calls need 4-byte alignment */
 } point_ctx;
 
 static qibl_status_t point_row(void *c, uint32_t y, int32_t *out)

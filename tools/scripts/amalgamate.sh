@@ -9,8 +9,12 @@
 # qibl and internal includes removed. One translation unit shares one scope, so the script
 # (a) renames file-local names (statics, local typedefs, enum constants) that two source files
 # define, in every file but the first (NAME -> NAME_<file>), and (b) #undefs each file's own macros
-# at the end of its section. `make check-amalgamate` compiles the result with the core's strict
-# flags, cross-compiles it for Cortex-M0, and runs the golden cases and the example on it.
+# at the end of its section. qibl.c compiles as C99 and as C++98/11/17 (the core's C99 `restrict`
+# becomes QIBL_RESTRICT under C++, config.h). platform/soft, the software framebuffer backend,
+# comes as a second pair made the same way: qibl_soft.h (platform/soft/include/qibl/*.h, including
+# qibl.h) and qibl_soft.c (platform/soft/*.c), so a core-only build still copies two files.
+# `make check-amalgamate` compiles the result with the core's strict flags as C and as C++,
+# cross-compiles it for Cortex-M0, and runs the golden cases and the example on the C and C++ builds.
 set -eu
 cd "$(dirname "$0")/../.." || exit 1
 out="${1:-${BUILD:-build}/amalgamated}"
@@ -53,6 +57,34 @@ strip_includes() { sed -E 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"qibl(
     echo "#endif /* QIBL_AMALGAMATED_H */"
 } > "$out/qibl.h.tmp"
 
+# ---- platform/soft's headers (raster.h includes soft.h), the core's replaced by qibl.h ----------
+sorder=()
+svisit() { # header path relative to platform/soft/include
+    local h=$1 dep seen
+    for seen in "${sorder[@]+"${sorder[@]}"}"; do [ "$seen" = "$h" ] && return 0; done
+    for dep in $(sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"\(qibl\/[^"]*\.h\)".*/\1/p' "platform/soft/include/$h"); do
+        [ -f "platform/soft/include/$dep" ] && svisit "$dep"
+    done
+    sorder+=("$h")
+}
+for f in platform/soft/include/qibl/*.h; do svisit "${f#platform/soft/include/}"; done
+{
+    echo "/*"
+    echo " * qibl_soft.h - amalgamated header of qibl's platform/soft backend $version (git $rev), made by"
+    echo " * tools/scripts/amalgamate.sh from platform/soft/include; do not edit. Pair with qibl_soft.c; needs qibl.h."
+    echo " */"
+    echo "#ifndef QIBL_SOFT_AMALGAMATED_H"
+    echo "#define QIBL_SOFT_AMALGAMATED_H"
+    echo "#include \"qibl.h\""
+    for h in "${sorder[@]}"; do
+        echo
+        echo "/* ==== platform/soft/include/$h ==== */"
+        strip_includes "platform/soft/include/$h"
+    done
+    echo
+    echo "#endif /* QIBL_SOFT_AMALGAMATED_H */"
+} > "$out/qibl_soft.h.tmp"
+
 # ---- internal headers of core/src, dependencies first --------------------------------------------
 internal=()
 ivisit() { # file name in core/src
@@ -92,39 +124,73 @@ for f in "${srcs[@]}"; do
         if [ -n "${owner[$n]:-}" ]; then renames[$f]+=" $n"; else owner[$n]=$f; fi
     done
 done
+# platform/soft's sources: one translation unit of their own (qibl_soft.c), renamed among themselves
+ssrcs=(platform/soft/*.c)
+declare -A sowner
+for f in "${ssrcs[@]}"; do
+    for n in $(locals "$f"); do
+        if [ -n "${sowner[$n]:-}" ]; then renames[$f]+=" $n"; else sowner[$n]=$f; fi
+    done
+done
+
+# one source file: its section, file-local names renamed where needed, its macros undefined after it
+emit_source() {
+    local f=$1 m pat d
+    m=$(basename "$f" .c)
+    echo
+    echo "/* ==== $f ==== */"
+    echo "#line 1 \"$f\""
+    if [ -n "${renames[$f]:-}" ]; then
+        pat=$(echo ${renames[$f]} | tr ' ' '|')
+        strip_all "$f" | perl -pe "s/(?<![.\\w])(?<!->)($pat)(?!\\w)/\${1}_$m/g"
+        echo "amalgamate: $f: file-local names another source also defines, renamed:$(for n in ${renames[$f]}; do printf ' %s -> %s_%s' "$n" "$n" "$m"; done)" >&2
+    else
+        strip_all "$f"
+    fi
+    for d in $(sed -n 's/^[[:space:]]*#[[:space:]]*define[[:space:]]\+\([A-Za-z_][A-Za-z_0-9]*\).*/\1/p' "$f" | sort -u); do
+        echo "#undef $d"
+    done
+}
 
 {
     echo "/*"
     echo " * qibl.c - amalgamated source of the qibl core $version (git $rev), made by"
     echo " * tools/scripts/amalgamate.sh from core/src; do not edit, edit those files. Compile it as C99"
-    echo " * (freestanding is fine: see docs/porting.md for the flags) with qibl.h beside it."
+    echo " * (freestanding is fine: see docs/porting.md for the flags) or as C++98/11/17, with qibl.h beside it."
     echo " */"
     echo "#include \"qibl.h\""
+    echo "/* C++ has no restrict: the compiler's own spelling (config.h's QIBL_RESTRICT) */"
+    echo "#if defined(__cplusplus) && !defined(restrict)"
+    echo "#define restrict QIBL_RESTRICT"
+    echo "#define QIBL_AMALGAMATED_RESTRICT_"
+    echo "#endif"
     for h in "${internal[@]+"${internal[@]}"}"; do
         echo
         echo "/* ==== core/src/$h (internal) ==== */"
         echo "#line 1 \"core/src/$h\""
         strip_all "core/src/$h"
     done
-    for f in "${srcs[@]}"; do
-        m=$(basename "$f" .c)
-        echo
-        echo "/* ==== $f ==== */"
-        echo "#line 1 \"$f\""
-        if [ -n "${renames[$f]:-}" ]; then
-            pat=$(echo ${renames[$f]} | tr ' ' '|')
-            strip_all "$f" | perl -pe "s/(?<![.\\w])(?<!->)($pat)(?!\\w)/\${1}_$m/g"
-            echo "amalgamate: $f: file-local names another source also defines, renamed:$(for n in ${renames[$f]}; do printf ' %s -> %s_%s' "$n" "$n" "$m"; done)" >&2
-        else
-            strip_all "$f"
-        fi
-        # the file's own macros end with it
-        for d in $(sed -n 's/^[[:space:]]*#[[:space:]]*define[[:space:]]\+\([A-Za-z_][A-Za-z_0-9]*\).*/\1/p' "$f" | sort -u); do
-            echo "#undef $d"
-        done
-    done
+    for f in "${srcs[@]}"; do emit_source "$f"; done
+    echo
+    echo "#ifdef QIBL_AMALGAMATED_RESTRICT_"
+    echo "#undef restrict"
+    echo "#undef QIBL_AMALGAMATED_RESTRICT_"
+    echo "#endif"
 } > "$out/qibl.c.tmp"
+
+{
+    echo "/*"
+    echo " * qibl_soft.c - amalgamated source of qibl's platform/soft backend $version (git $rev), made by"
+    echo " * tools/scripts/amalgamate.sh from platform/soft; do not edit. Compile it as C99 or C++ with"
+    echo " * qibl.h and qibl_soft.h beside it; link it with qibl.c."
+    echo " */"
+    echo "#include \"qibl_soft.h\""
+    for f in "${ssrcs[@]}"; do emit_source "$f"; done
+} > "$out/qibl_soft.c.tmp"
 
 mv "$out/qibl.h.tmp" "$out/qibl.h"
 mv "$out/qibl.c.tmp" "$out/qibl.c"
+mv "$out/qibl_soft.h.tmp" "$out/qibl_soft.h"
+mv "$out/qibl_soft.c.tmp" "$out/qibl_soft.c"
 echo "amalgamate: $out/qibl.h ($(wc -l < "$out/qibl.h") lines, ${#order[@]} headers), $out/qibl.c ($(wc -l < "$out/qibl.c") lines, ${#internal[@]} internal headers, ${#srcs[@]} sources)"
+echo "amalgamate: $out/qibl_soft.h ($(wc -l < "$out/qibl_soft.h") lines, ${#sorder[@]} headers), $out/qibl_soft.c ($(wc -l < "$out/qibl_soft.c") lines, ${#ssrcs[@]} sources)"

@@ -1,12 +1,15 @@
 #!/bin/bash
-# check-amalgamate.sh - prove the amalgamated core (make amalgamate: qibl.h + qibl.c) is the core:
+# check-amalgamate.sh - prove the amalgamated core (make amalgamate: qibl.h + qibl.c, and
+# platform/soft as qibl_soft.h + qibl_soft.c) is the core:
 #   1. qibl.c compiles with gcc and clang under the core's strict warnings at -O0/-O2/-O3/-Os, native
-#      and portable arithmetic paths; qibl.h alone compiles as C99/C11 and C++98/11/17;
+#      and portable arithmetic paths; qibl.h alone compiles as C99/C11 and C++98/11/17; qibl.c and
+#      qibl_soft.c compile as C++98/11/17 with g++ and clang++ (strict warnings, both paths);
 #   2. cross-compiled freestanding for Cortex-M0 and Cortex-M4 (and RV64IMAC if present): no
 #      undefined symbol, no .data/.bss, as make cross requires of core/;
-#   3. the golden runner built on it (the cases see only the amalgamated header, through -include)
-#      prints every hash of fixtures/golden, and the integration example built on it prints the
-#      same frames as build/bin/console_port.
+#   3. the golden runner built on it (the cases see only the amalgamated headers, through -include;
+#      platform/soft from qibl_soft.c) prints every hash of fixtures/golden, and the integration
+#      example built on it prints the same frames as build/bin/console_port: once with the pair
+#      compiled as C, once compiled by g++ as C++11 and once as C++17.
 set -u
 cd "$(dirname "$0")/../.." || exit 1
 build="${BUILD:-build}"
@@ -15,24 +18,39 @@ out="$build/check-amalgamate"
 rm -rf "$out"; mkdir -p "$out"
 fail=0
 err() { echo "check-amalgamate: FAIL: $*" >&2; fail=1; }
-[ -f "$am/qibl.c" ] && [ -f "$am/qibl.h" ] || { echo "check-amalgamate: run make amalgamate first" >&2; exit 1; }
+for f in qibl.c qibl.h qibl_soft.c qibl_soft.h; do
+    [ -f "$am/$f" ] || { echo "check-amalgamate: $am/$f missing: run make amalgamate first" >&2; exit 1; }
+done
 
 warn="-std=c99 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wundef -Wdouble-promotion -Wmissing-prototypes -Werror"
 portable="-DQIBL_CONFIG_NATIVE_MUL64=0 -DQIBL_CONFIG_NATIVE_DIV64=0 -DQIBL_CONFIG_NATIVE_SHIFT64=0"
+cxxwarn="-Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wundef -Werror"
 
 # ---- 1. strict warnings, both compilers, both arithmetic paths; the header in five modes --------
 for cc in gcc clang; do
     for o in -O0 -O2 -O3 -Os; do
         $cc $warn $o -I"$am" -c "$am/qibl.c" -o "$out/qibl-$cc$o.o" || err "qibl.c with $cc $o"
         $cc $warn $portable $o -I"$am" -c "$am/qibl.c" -o "$out/qibl-$cc$o-portable.o" || err "qibl.c with $cc $o (portable paths)"
+        $cc $warn $o -I"$am" -c "$am/qibl_soft.c" -o "$out/soft-$cc$o.o" || err "qibl_soft.c with $cc $o"
     done
     cxx=g++; [ $cc = clang ] && cxx=clang++
+    # the pair as C++ (unity builds of C++ engines): the same strict warnings bar the C-only ones
+    for std in c++98 c++11 c++17; do
+        for o in -O0 -O2; do
+            $cxx -x c++ -std=$std $cxxwarn $o -I"$am" -c "$am/qibl.c" -o "$out/qibl-$cxx-$std$o.o" ||
+                err "qibl.c as $std with $cxx $o"
+            $cxx -x c++ -std=$std $cxxwarn $portable $o -I"$am" -c "$am/qibl.c" -o "$out/qibl-$cxx-$std$o-portable.o" ||
+                err "qibl.c as $std with $cxx $o (portable paths)"
+            $cxx -x c++ -std=$std $cxxwarn $o -I"$am" -c "$am/qibl_soft.c" -o "$out/soft-$cxx-$std$o.o" ||
+                err "qibl_soft.c as $std with $cxx $o"
+        done
+    done
     printf '#include "qibl.h"\ntypedef int check_nonempty;\n' > "$out/h.c"
     printf '#include "qibl.h"\n' > "$out/h.cpp"
     for std in c99 c11; do $cc -std=$std -Wall -Wextra -Wpedantic -Werror -I"$am" -fsyntax-only "$out/h.c" || err "qibl.h as $std ($cc)"; done
     for std in c++98 c++11 c++17; do $cxx -std=$std -Wall -Wextra -Wpedantic -Werror -I"$am" -fsyntax-only "$out/h.cpp" || err "qibl.h as $std ($cxx)"; done
 done
-[ $fail = 0 ] && echo "check-amalgamate: qibl.c clean with gcc and clang (-O0/-O2/-O3/-Os, native and portable paths); qibl.h as C99/C11/C++98/11/17"
+[ $fail = 0 ] && echo "check-amalgamate: qibl.c clean with gcc and clang (-O0/-O2/-O3/-Os, native and portable paths); qibl.h as C99/C11/C++98/11/17; qibl.c and qibl_soft.c as C and as C++98/11/17 (g++, clang++, -O0/-O2)"
 
 # ---- 2. freestanding cross builds ------------------------------------------------------------
 targets="cortex-m0|arm-none-eabi-|-mcpu=cortex-m0 -mthumb -mfloat-abi=soft
@@ -60,39 +78,50 @@ while IFS='|' read -r name prefix flags; do
 done <<< "$targets"
 
 # ---- 3. the golden cases and the example on the amalgamation ----------------------------------
-# -include makes the amalgamated header come first: its guards then hide core/include's headers.
-host="-std=c99 -D_POSIX_C_SOURCE=200809L -Wall -Wextra -Werror -O2 -include $am/qibl.h -Icore/include -Iplatform/soft/include -Itools"
+# -include makes the amalgamated headers come first: their guards then hide core/include's and
+# platform/soft's headers. The cases, the runner and the example stay C; the pair under them is
+# built as C (gcc) and as C++11 and C++17 (g++, linked by g++).
+host="-std=c99 -D_POSIX_C_SOURCE=200809L -Wall -Wextra -Werror -O2 -include $am/qibl.h -include $am/qibl_soft.h -Icore/include -Iplatform/soft/include -Itools"
 objs=()
-for src in tools/golden/cases*.c tools/golden/runner.c tools/io/sha256.c platform/soft/*.c; do
+for src in tools/golden/cases*.c tools/golden/runner.c tools/io/sha256.c; do
     o="$out/$(echo "$src" | tr '/' '_' | sed 's/\.c$/.o/')"
     # shellcheck disable=SC2086
-    gcc $host -c "$src" -o "$o" || err "$src does not compile against the amalgamated header"
+    gcc $host -c "$src" -o "$o" || err "$src does not compile against the amalgamated headers"
     objs+=("$o")
 done
-if gcc -o "$out/qibl-golden" "${objs[@]}" "$out/qibl-gcc-O2.o"; then
-    if "$out/qibl-golden" --root . --config amalgamated > "$out/golden.txt" 2>&1; then
-        echo "check-amalgamate: $(tail -n 1 "$out/golden.txt")"
-    else
-        err "the golden runner on the amalgamation: $(grep -E ' (MISMATCH|MISSING|ERROR)' "$out/golden.txt" | head -n 5)"
-    fi
-else
-    err "the golden runner does not link with the amalgamated core"
-fi
 asset="$out/courtyard.qibl"
+have_ref=0
 if "$build/bin/qibl" gen -o "$asset" --size 96x24 --k 9 > /dev/null &&
    "$build/bin/console_port" "$asset" 3 > "$out/ref.txt"; then
-    soft=$(printf '%s\n' "${objs[@]}" | grep platform_soft)
-    # shellcheck disable=SC2086
-    if gcc -std=c99 -Wall -Wextra -Wpedantic -Wconversion -Werror -O2 -I"$am" -Iplatform/soft/include -Icore/include \
-           -include "$am/qibl.h" tools/examples/console_port.c $soft "$out/qibl-gcc-O2.o" -o "$out/console_port" &&
-       "$out/console_port" "$asset" 3 > "$out/example.txt" && cmp -s "$out/ref.txt" "$out/example.txt"; then
-        echo "check-amalgamate: tools/examples/console_port on the amalgamation: same frames as build/bin/console_port"
-    else
-        err "tools/examples/console_port on the amalgamation does not build, run or print the same frames"
-    fi
+    have_ref=1
 else
     err "no reference: $build/bin/qibl gen or $build/bin/console_port failed"
 fi
+# name | linker | core object | soft object
+builds="C|gcc|$out/qibl-gcc-O2.o|$out/soft-gcc-O2.o
+C++11|g++|$out/qibl-g++-c++11-O2.o|$out/soft-g++-c++11-O2.o
+C++17|g++|$out/qibl-g++-c++17-O2.o|$out/soft-g++-c++17-O2.o"
+while IFS='|' read -r lang ld core soft; do
+    if $ld -o "$out/qibl-golden-$lang" "${objs[@]}" "$soft" "$core"; then
+        if "$out/qibl-golden-$lang" --root . --config "amalgamated-$lang" > "$out/golden-$lang.txt" 2>&1; then
+            echo "check-amalgamate: the pair built as $lang: $(tail -n 1 "$out/golden-$lang.txt")"
+        else
+            err "the golden runner on the amalgamation built as $lang: $(grep -E ' (MISMATCH|MISSING|ERROR)' "$out/golden-$lang.txt" | head -n 5)"
+        fi
+    else
+        err "the golden runner does not link with the amalgamated core built as $lang"
+    fi
+    [ $have_ref = 1 ] || continue
+    # shellcheck disable=SC2086
+    if gcc -std=c99 -Wall -Wextra -Wpedantic -Wconversion -Werror -O2 -I"$am" -Iplatform/soft/include -Icore/include \
+           -include "$am/qibl.h" -include "$am/qibl_soft.h" -c tools/examples/console_port.c -o "$out/console_port.o" &&
+       $ld "$out/console_port.o" "$soft" "$core" -o "$out/console_port-$lang" &&
+       "$out/console_port-$lang" "$asset" 3 > "$out/example-$lang.txt" && cmp -s "$out/ref.txt" "$out/example-$lang.txt"; then
+        echo "check-amalgamate: tools/examples/console_port on the pair built as $lang: same frames as build/bin/console_port"
+    else
+        err "tools/examples/console_port on the amalgamation built as $lang does not build, run or print the same frames"
+    fi
+done <<< "$builds"
 
 if [ $fail = 0 ]; then echo "check-amalgamate: OK"; else echo "check-amalgamate: FAILED" >&2; fi
 exit $fail

@@ -3,13 +3,16 @@
 # with gcc and clang, warning-free, and that a C++ program links against the C library.
 #
 # Engines include qibl from C++ and from C; each public header (core/include/qibl.h,
-# core/include/qibl/*.h, platform/soft/include/qibl/soft.h) is compiled alone in a tiny TU in every
+# core/include/qibl/*.h, platform/soft/include/qibl/*.h, platform/gles2/include/qibl/gles2.h) is compiled alone in a tiny TU in every
 # language mode with each compiler (-Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wsign-conversion
 # -Wundef -Werror), so a header that needs another first, uses `restrict` in C++ or a C-only
 # construct fails here. Then the umbrella headers in C++ are compiled for a 32-bit target too
 # (arm-none-eabi-g++, clang --target=armv6m-none-eabi -ffreestanding: long is 32 bits there and
 # newlib's <stdint.h> hides INT32_MAX from C++98), and a C++ TU calling the core (extern "C") is
 # linked with the core built by the C compiler and run.
+# The C++ builds add what C++ engines turn on: -Wold-style-cast and -Wzero-as-null-pointer-constant
+# (both compilers) and -Wuseless-cast (g++), for the inline functions and for the macros, which a
+# second TU per header expands in C++ code outside any extern "C" block.
 set -u
 cd "$(dirname "$0")/../.." || exit 1
 out="${BUILD:-build}/headers"
@@ -17,10 +20,28 @@ rm -rf "$out"; mkdir -p "$out"
 fail=0
 err() { echo "headers: FAIL: $*" >&2; fail=1; }
 
-inc="-Icore/include -Iplatform/soft/include"
+inc="-Icore/include -Iplatform/soft/include -Iplatform/gles2/include"
 common="-Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wsign-conversion -Wundef -Werror"
 cwarn="$common -Wdouble-promotion -Wmissing-prototypes -Wstrict-prototypes"
-headers=$( (echo core/include/qibl.h; ls core/include/qibl/*.h platform/soft/include/qibl/*.h) )
+cxxwarn_clang="$common -Wold-style-cast -Wzero-as-null-pointer-constant"
+cxxwarn_gcc="$cxxwarn_clang -Wuseless-cast"
+# the public macros that expand to expressions, used from C++ (each from the header that defines it)
+cat > "$out/macros.cpp" <<'CPP'
+#include "qibl.h"
+#include "qibl/soft.h"
+#include "qibl/raster.h"
+#include "qibl/gles2.h"
+int macros_check(int i);
+int macros_check(int i)
+{
+    const qibl_q16_t q[4] = {QIBL_Q16_ONE, QIBL_Q30_ONE, QIBL_Q29_ONE, QIBL_Q24_ONE};
+    const uint32_t id = QIBL_CONFIG_ID, cc = QIBL_FOURCC('S', 'H', 'M', 'P'), mp = QIBL_LIGHTPROBE_MAX_PIXELS;
+    const qibl_status_t st[6] = {QIBL_E_FB_FORMAT, QIBL_E_FB_SIZE, QIBL_E_FB_STRIDE, QIBL_E_FB_BOUNDS,
+                                 QIBL_E_RASTER_RANGE, QIBL_E_GLES2_SIZE};
+    return (q[i & 3] != 0 && id != cc && mp != 0u && st[i % 6] != QIBL_OK && qibl_init_check() == QIBL_OK) ? 1 : 0;
+}
+CPP
+headers=$( (echo core/include/qibl.h; ls core/include/qibl/*.h platform/soft/include/qibl/*.h platform/gles2/include/qibl/*.h) )
 
 # extern "C" in every header that declares something (config.h has macros only): a missing guard
 # compiles as C++ and fails only at link time, for whichever function a program calls first.
@@ -33,7 +54,8 @@ done
 
 for cc in gcc clang; do
     command -v $cc >/dev/null 2>&1 || { err "$cc not found"; continue; }
-    cxx=g++; [ $cc = clang ] && cxx=clang++
+    cxx=g++; cxxwarn=$cxxwarn_gcc
+    [ $cc = clang ] && cxx=clang++ && cxxwarn=$cxxwarn_clang
     command -v $cxx >/dev/null 2>&1 || { err "$cxx not found"; continue; }
     n=0
     for h in $headers; do
@@ -46,11 +68,14 @@ for cc in gcc clang; do
             n=$((n + 1))
         done
         for std in c++98 c++11 c++17; do
-            $cxx -std=$std $common $inc -fsyntax-only "$out/$tag.cpp" || err "$h as $std with $cxx"
+            $cxx -std=$std $cxxwarn $inc -fsyntax-only "$out/$tag.cpp" || err "$h as $std with $cxx"
             n=$((n + 1))
         done
     done
-    echo "headers: $(echo "$headers" | wc -l) public headers, each alone: $n compiles with $cc/$cxx (C99, C11, C++98/11/17) clean"
+    for std in c++98 c++11 c++17; do
+        $cxx -std=$std $cxxwarn $inc -fsyntax-only "$out/macros.cpp" || err "the public macros in C++ as $std with $cxx"
+    done
+    echo "headers: $(echo "$headers" | wc -l) public headers, each alone: $n compiles with $cc/$cxx (C99, C11, C++98/11/17; C++ also ${cxxwarn#"$common "}) clean, and the macros in C++"
 done
 
 # 32-bit targets: long has 32 bits (a 64-bit literal is a C++98 pedantic error there), and
@@ -58,15 +83,17 @@ done
 printf '#include "qibl.h"\n#include "qibl/soft.h"\n' > "$out/all32.cpp"
 if command -v arm-none-eabi-g++ >/dev/null 2>&1; then
     for std in c++98 c++11 c++17; do
-        arm-none-eabi-g++ -mcpu=cortex-m0 -mthumb -std=$std $common $inc -fsyntax-only "$out/all32.cpp" ||
+        arm-none-eabi-g++ -mcpu=cortex-m0 -mthumb -std=$std $cxxwarn_gcc $inc -fsyntax-only "$out/all32.cpp" ||
             err "qibl.h + qibl/soft.h as $std with arm-none-eabi-g++"
+        arm-none-eabi-g++ -mcpu=cortex-m0 -mthumb -std=$std $cxxwarn_gcc $inc -fsyntax-only "$out/macros.cpp" ||
+            err "the public macros in C++ as $std with arm-none-eabi-g++"
     done
     echo "headers: qibl.h + qibl/soft.h clean with arm-none-eabi-g++ -mcpu=cortex-m0 (C++98/11/17)"
 else
     echo "headers: arm-none-eabi-g++ not found, 32-bit newlib C++ check skipped (Debian: libstdc++-arm-none-eabi-newlib)"
 fi
 for std in c++98 c++11 c++17; do
-    clang++ --target=armv6m-none-eabi -ffreestanding -std=$std $common $inc -fsyntax-only "$out/all32.cpp" ||
+    clang++ --target=armv6m-none-eabi -ffreestanding -std=$std $cxxwarn_clang $inc -fsyntax-only "$out/all32.cpp" ||
         err "qibl.h + qibl/soft.h as $std with clang++ --target=armv6m-none-eabi -ffreestanding"
 done
 echo "headers: qibl.h + qibl/soft.h clean with clang++ --target=armv6m-none-eabi -ffreestanding (C++98/11/17)"

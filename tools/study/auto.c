@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "study/study.h"
 
@@ -18,12 +19,13 @@ typedef struct {
     double err;
 } cand;
 
-static void show(const cand *c)
+static void show(FILE *log, const cand *c)
 {
-    printf("  %-34s %6d floats  mean error %7.3f %%\n", c->what, c->floats, 100 * c->err);
+    fprintf(log, "  %-34s %6d floats  mean error %7.3f %%\n", c->what, c->floats, 100 * c->err);
 }
 
-int qtool_study_auto(const qtool_study_probe *p, double budget, int threads, char *err, size_t errlen)
+int qtool_study_auto(const qtool_study_probe *p, double budget, int threads, FILE *log, qtool_study_pick *pick,
+                     char *err, size_t errlen)
 {
     if (qtool_study_probe_lit(p, err, errlen) != 0)
         return -1;
@@ -32,7 +34,10 @@ int qtool_study_auto(const qtool_study_probe *p, double budget, int threads, cha
         snprintf(err, errlen, "out of memory for the ground truth");
         return -1;
     }
-    qtool_study_model *md = malloc(sizeof *md);
+    /* md: the candidate being evaluated; lm: the last lights candidate measured (a refit that fails
+     * leaves md unlike it); bm, cm: the models of best and closest, so the pick can be written */
+    qtool_study_model *md = malloc(4 * sizeof *md);
+    qtool_study_model *lm = md + 1, *bm = md + 2, *cm = md + 3;
     if (!md) {
         qtool_study_gt_free(&g);
         snprintf(err, errlen, "out of memory");
@@ -41,18 +46,19 @@ int qtool_study_auto(const qtool_study_probe *p, double budget, int threads, cha
     cand best = {"", 0, INFINITY}, closest = {"", 0, INFINITY};
     int found = 0, rc = 0;
     qtool_study_err e;
-    printf("auto: budget %.2f %% mean irradiance error (" QTOOL_STUDY_ERR_WHAT ") over %d normals", 100 * budget,
-           g.m);
+    fprintf(log, "auto: budget %.2f %% mean irradiance error (" QTOOL_STUDY_ERR_WHAT ") over %d normals",
+            100 * budget, g.m);
     if (p->w != p->src_w)
-        printf(", the %d x %d probe box-averaged to %d x %d", p->src_w, p->src_h, p->w, p->h);
-    printf("; candidates (cheapest meeting it per kind):\n");
-#define CONSIDER(c)                                                                                                  \
+        fprintf(log, ", the %d x %d probe box-averaged to %d x %d", p->src_w, p->src_h, p->w, p->h);
+    fprintf(log, "; candidates (cheapest meeting it per kind):\n");
+    memset(lm, 0, 3 * sizeof *lm); /* lm, bm, cm */
+#define CONSIDER(c, m)                                                                                               \
     do {                                                                                                             \
-        show(&(c));                                                                                                  \
+        show(log, &(c));                                                                                             \
         if ((c).err < closest.err)                                                                                   \
-            closest = (c);                                                                                           \
+            closest = (c), *cm = *(m);                                                                               \
         if ((c).err <= budget && (!found || (c).floats < best.floats))                                              \
-            best = (c), found = 1;                                                                                   \
+            best = (c), *bm = *(m), found = 1;                                                                       \
     } while (0)
     static const int shn[4] = {4, 9, 16, 25};
     for (int k = 0; k < 4; ++k) {
@@ -65,7 +71,7 @@ int qtool_study_auto(const qtool_study_probe *p, double budget, int threads, cha
         snprintf(c.what, sizeof c.what, "SH irradiance, %d coefficients", shn[k]);
         c.floats = qtool_study_model_numbers(md), c.err = e.mean_rel;
         if (e.mean_rel <= budget || k == 3) {
-            CONSIDER(c);
+            CONSIDER(c, md);
             break;
         }
     }
@@ -82,10 +88,11 @@ int qtool_study_auto(const qtool_study_probe *p, double budget, int threads, cha
             qtool_study_model_error(md, &g, &e);
             snprintf(c.what, sizeof c.what, "%d lights (varmin%s)", md->n, refit ? ", RGB refitted" : "");
             c.floats = qtool_study_model_numbers(md), c.err = e.mean_rel;
+            *lm = *md;
             if (e.mean_rel <= budget)
                 break;
         }
-        CONSIDER(c);
+        CONSIDER(c, lm);
     }
     int k;
     int r = qtool_study_sunsky_budget(p, &g, budget, 16, md, &k, &e, err, errlen);
@@ -96,14 +103,21 @@ int qtool_study_auto(const qtool_study_probe *p, double budget, int threads, cha
     cand c;
     snprintf(c.what, sizeof c.what, "sun plus sky: %d light%s + SH9", k, k == 1 ? "" : "s");
     c.floats = qtool_study_model_numbers(md), c.err = e.mean_rel;
-    CONSIDER(c);
+    CONSIDER(c, md);
     if (found) {
-        printf("auto: choose %s: %d floats, mean error %.3f %% <= %.2f %%; the cheapest candidate within the budget\n",
-               best.what, best.floats, 100 * best.err, 100 * budget);
+        fprintf(log,
+                "auto: choose %s: %d floats, mean error %.3f %% <= %.2f %%; the cheapest candidate within the budget\n",
+                best.what, best.floats, 100 * best.err, 100 * budget);
     } else {
-        printf("auto: no candidate meets %.2f %%; the most accurate is %s (%d floats, %.3f %%)\n", 100 * budget,
-               closest.what, closest.floats, 100 * closest.err);
+        fprintf(log, "auto: no candidate meets %.2f %%; the most accurate is %s (%d floats, %.3f %%)\n", 100 * budget,
+                closest.what, closest.floats, 100 * closest.err);
         rc = 1;
+    }
+    if (pick) {
+        const cand *w = found ? &best : &closest;
+        memcpy(pick->what, w->what, sizeof pick->what);
+        pick->floats = w->floats, pick->err = w->err, pick->met = found;
+        pick->model = found ? *bm : *cm;
     }
 #undef CONSIDER
 done:

@@ -13,6 +13,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #define QTOOL_STUDY_MAX_LIGHTS 256
 #define QTOOL_STUDY_SH_MAX 25
@@ -194,10 +195,25 @@ int qtool_study_run(const char *const *paths, int np, const qtool_study_opts *o)
 /* A procedural sky as RGBE (sunny = 1: a sun 2^14 times the sky; 0: overcast), w x h (2:1). */
 uint8_t *qtool_study_procedural(int w, int h, int sunny);
 
+/* What qtool_study_auto picked: the cheapest candidate within the budget (met = 1) or, when none
+ * meets it, the most accurate (met = 0); its name, floats stored, mean error (the measure above) and
+ * the model itself: lights (unit dir, rgb = irradiance facing the light; refitted RGB where the
+ * name says so) plus sh_n SH irradiance coefficients of qibl's real basis (qibl/sh.h order, z-up),
+ * E(n) = sum_j rgb_j max(0, n . dir_j) + sum_i sh[c][i] Y_i(n). */
+typedef struct qtool_study_pick {
+    char what[64];
+    int floats;
+    double err;
+    int met;
+    qtool_study_model model;
+} qtool_study_pick;
+
 /* The cheapest representation with mean relative error <= budget: SH (4/9/16/25), the core's
  * variance-minimisation lights and their refit (N = 1..256), or sun plus sky. Prints a table of
- * the candidates and the choice with its reason to stdout. 0 (found), 1 (none meets it: the most
- * accurate is named), -1 on error. */
-int qtool_study_auto(const qtool_study_probe *p, double budget, int threads, char *err, size_t errlen);
+ * the candidates and the choice with its reason to log (stdout for the text output, stderr when
+ * stdout carries the pick as a document); fills *pick (may be NULL). 0 (found), 1 (none meets it:
+ * the most accurate is named and picked), -1 on error (*pick untouched). */
+int qtool_study_auto(const qtool_study_probe *p, double budget, int threads, FILE *log, qtool_study_pick *pick,
+                     char *err, size_t errlen);
 
 #endif

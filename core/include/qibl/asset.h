@@ -113,7 +113,8 @@ extern "C" {
 #define QIBL_SHMP_FLAG_INTERLEAVED 0x10u
 
 /* four-character chunk codes, as the u32 read little-endian from the bytes "SHMP", ... */
-#define QIBL_FOURCC(a, b, c, d) ((uint32_t)(a) | (uint32_t)(b) << 8 | (uint32_t)(c) << 16 | (uint32_t)(d) << 24)
+#define QIBL_FOURCC(a, b, c, d)                                                                          \
+    (QIBL_CAST(uint32_t, a) | QIBL_CAST(uint32_t, b) << 8 | QIBL_CAST(uint32_t, c) << 16 | QIBL_CAST(uint32_t, d) << 24)
 #define QIBL_CHUNK_SHMP QIBL_FOURCC('S', 'H', 'M', 'P')
 #define QIBL_CHUNK_PMAP QIBL_FOURCC('P', 'M', 'A', 'P')
 #define QIBL_CHUNK_YLUT QIBL_FOURCC('Y', 'L', 'U', 'T')

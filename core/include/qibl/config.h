@@ -236,4 +236,21 @@
 #endif
 #endif
 
+/* QIBL_CAST(T, x): the conversions in the public headers' inline functions and macros, which C++
+ * engines compile with -Wold-style-cast: static_cast there, a plain cast in C (the same
+ * conversion). The headers never cast where T may already be x's type on some target (int32_t is
+ * int on one, long on another), which g++ -Wuseless-cast reports; QIBL_I32_C gives an int32_t
+ * literal without a cast in C++ (the compiler's own __INT32_C, which has int32_t's type). */
+#ifdef __cplusplus
+#define QIBL_CAST(T, x) (static_cast<T>(x))
+#if defined(__INT32_C)
+#define QIBL_I32_C(v) __INT32_C(v)
+#else
+#define QIBL_I32_C(v) QIBL_CAST(int32_t, v)
+#endif
+#else
+#define QIBL_CAST(T, x) ((T)(x))
+#define QIBL_I32_C(v) ((int32_t)(v))
+#endif
+
 #endif /* QIBL_CONFIG_H */

@@ -39,10 +39,11 @@ typedef int32_t qibl_q30_t;
 typedef int32_t qibl_q29_t;
 typedef int32_t qibl_q24_t;
 
-#define QIBL_Q16_ONE ((qibl_q16_t)0x00010000)
-#define QIBL_Q30_ONE ((qibl_q30_t)0x40000000)
-#define QIBL_Q29_ONE ((qibl_q29_t)0x20000000)
-#define QIBL_Q24_ONE ((qibl_q24_t)0x01000000)
+/* int32_t constants (every Q type is int32_t); QIBL_I32_C: no cast for C++ warnings (config.h) */
+#define QIBL_Q16_ONE QIBL_I32_C(0x00010000)
+#define QIBL_Q30_ONE QIBL_I32_C(0x40000000)
+#define QIBL_Q29_ONE QIBL_I32_C(0x20000000)
+#define QIBL_Q24_ONE QIBL_I32_C(0x01000000)
 
 /* ---- saturation and shifts ------------------------------------------------------------------ */
 
@@ -50,19 +51,23 @@ typedef int32_t qibl_q24_t;
 static inline int32_t qibl_sat_s32(int64_t x)
 {
     /* literals, not INT32_MAX/INT32_MIN: C++98 <stdint.h> may hide those (__STDC_LIMIT_MACROS) */
-    return x > 0x7FFFFFFF ? (int32_t)0x7FFFFFFF : x < -0x7FFFFFFF - 1 ? (int32_t)(-0x7FFFFFFF - 1) : (int32_t)x;
+    if (x > 0x7FFFFFFF)
+        return 0x7FFFFFFF;
+    if (x < -0x7FFFFFFF - 1)
+        return -0x7FFFFFFF - 1;
+    return QIBL_CAST(int32_t, x);
 }
 
 /* a + b saturated to int32 (any Q format, both operands in the same one). Exact or saturated. */
 static inline int32_t qibl_add_sat_s32(int32_t a, int32_t b)
 {
-    return qibl_sat_s32((int64_t)a + b);
+    return qibl_sat_s32(QIBL_CAST(int64_t, a) + b);
 }
 
 /* a - b saturated to int32. Exact or saturated. */
 static inline int32_t qibl_sub_sat_s32(int32_t a, int32_t b)
 {
-    return qibl_sat_s32((int64_t)a - b);
+    return qibl_sat_s32(QIBL_CAST(int64_t, a) - b);
 }
 
 /* floor(x / 2^n) for any int32 x and n in 0..31: the arithmetic right shift C99 leaves
@@ -73,8 +78,8 @@ static inline int32_t qibl_asr_s32(int32_t x, unsigned n)
 {
     if (n == 0u)
         return x; /* u >> 0 would not fit int32 */
-    uint32_t u = (uint32_t)x ^ 0x80000000u; /* = x + 2^31, in 0..2^32-1 */
-    return (int32_t)(u >> n) - (int32_t)(0x80000000u >> n);
+    uint32_t u = QIBL_CAST(uint32_t, x) ^ 0x80000000u; /* = x + 2^31, in 0..2^32-1 */
+    return QIBL_CAST(int32_t, u >> n) - QIBL_CAST(int32_t, 0x80000000u >> n);
 }
 
 /* u >> n for any uint64 u and n in 0..63. Where a variable 64-bit shift would be a library call
@@ -84,12 +89,13 @@ static inline uint64_t qibl_shr_u64(uint64_t u, unsigned n)
 #if QIBL_CONFIG_NATIVE_SHIFT64
     return u >> n;
 #else
-    uint32_t hi = (uint32_t)(u >> 32), lo = (uint32_t)u;
+    uint32_t hi = QIBL_CAST(uint32_t, u >> 32), lo = QIBL_CAST(uint32_t, u);
     if (n == 0u)
         return u;
     if (n >= 32u)
         return hi >> (n - 32u);
-    return ((uint64_t)(hi >> n) << 32) | (lo >> n) | (uint32_t)(hi << (32u - n));
+    /* hi << (32 - n) is already uint32_t (no cast: -Wuseless-cast) and drops the bits above 32 */
+    return (QIBL_CAST(uint64_t, hi >> n) << 32) | (lo >> n) | (hi << (32u - n));
 #endif
 }
 
@@ -99,8 +105,8 @@ static inline int64_t qibl_asr_s64(int64_t x, unsigned n)
     if (n == 0u)
         return x;
     /* 2^63 spelt as a shift: a 64-bit literal is a pedantic error in C++98 where long has 32 bits */
-    uint64_t u = (uint64_t)x ^ ((uint64_t)1 << 63);
-    return (int64_t)qibl_shr_u64(u, n) - (int64_t)qibl_shr_u64((uint64_t)1 << 63, n);
+    uint64_t u = QIBL_CAST(uint64_t, x) ^ (QIBL_CAST(uint64_t, 1) << 63);
+    return QIBL_CAST(int64_t, qibl_shr_u64(u, n)) - QIBL_CAST(int64_t, qibl_shr_u64(QIBL_CAST(uint64_t, 1) << 63, n));
 }
 
 /* round(x / 2^n), ties toward +infinity, for n in 1..62 and |x| <= 2^62, saturated to int32.
@@ -118,11 +124,11 @@ static inline int32_t qibl_rshr_s64(int64_t x, unsigned n)
 static inline uint64_t qibl_mul_u32_u64(uint32_t a, uint32_t b)
 {
 #if QIBL_CONFIG_NATIVE_MUL64
-    return (uint64_t)a * b;
+    return QIBL_CAST(uint64_t, a) * b;
 #else
     uint32_t al = a & 0xFFFFu, ah = a >> 16, bl = b & 0xFFFFu, bh = b >> 16;
-    uint64_t mid = (uint64_t)(al * bh) + (ah * bl); /* < 2^33 */
-    return ((uint64_t)(ah * bh) << 32) + (mid << 16) + (al * bl);
+    uint64_t mid = QIBL_CAST(uint64_t, al * bh) + (ah * bl); /* < 2^33 */
+    return (QIBL_CAST(uint64_t, ah * bh) << 32) + (mid << 16) + (al * bl);
 #endif
 }
 
@@ -130,12 +136,12 @@ static inline uint64_t qibl_mul_u32_u64(uint32_t a, uint32_t b)
 static inline int64_t qibl_mul_s32_s64(int32_t a, int32_t b)
 {
 #if QIBL_CONFIG_NATIVE_MUL64
-    return (int64_t)a * b;
+    return QIBL_CAST(int64_t, a) * b;
 #else
     /* magnitudes in unsigned arithmetic: -INT32_MIN does not exist as an int32 */
-    uint32_t ua = a < 0 ? 0u - (uint32_t)a : (uint32_t)a;
-    uint32_t ub = b < 0 ? 0u - (uint32_t)b : (uint32_t)b;
-    int64_t p = (int64_t)qibl_mul_u32_u64(ua, ub); /* <= 2^62: conversion is exact */
+    uint32_t ua = a < 0 ? 0u - QIBL_CAST(uint32_t, a) : QIBL_CAST(uint32_t, a);
+    uint32_t ub = b < 0 ? 0u - QIBL_CAST(uint32_t, b) : QIBL_CAST(uint32_t, b);
+    int64_t p = QIBL_CAST(int64_t, qibl_mul_u32_u64(ua, ub)); /* <= 2^62: conversion is exact */
     return (a < 0) != (b < 0) ? -p : p;
 #endif
 }

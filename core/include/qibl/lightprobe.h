@@ -86,7 +86,7 @@ extern "C" {
 #endif
 
 #define QIBL_LIGHTPROBE_MAX_DIM 32768u
-#define QIBL_LIGHTPROBE_MAX_PIXELS ((uint32_t)1 << 26)
+#define QIBL_LIGHTPROBE_MAX_PIXELS (QIBL_CAST(uint32_t, 1) << 26)
 
 /* Luminance weights in Q16 (sum 65536). */
 #define QIBL_LIGHTPROBE_LUMA_R 13933u

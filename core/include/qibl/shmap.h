@@ -130,14 +130,16 @@ qibl_status_t qibl_shmap_check(const qibl_shmaps_t *m);
  * Errors: those of qibl_shmap_check, QIBL_E_SHMAP_LIGHT_K; *out untouched on error. */
 qibl_status_t qibl_shmap_weights(const qibl_shmaps_t *m, const qibl_shlight_t *light, qibl_shmap_weights_t *out);
 
-/* Workspace bytes qibl_shmap_relight_span needs for a span of n pixels (int32-aligned). */
+/* Workspace bytes qibl_shmap_relight_span needs for a span of n pixels (4-byte aligned storage). */
 size_t qibl_shmap_span_workspace_size(uint32_t n);
 
 /* Relights pixels x0 .. x0+n-1 of row y into out (3n int32, Q16.16, RGB interleaved).
  * out = sat32(acc * 2^shift + bias) per channel: exact integer arithmetic, so the only errors are the
  * weights' quantisation (above) and the final rounding (<= 0.5 LSB of Q16.16).
  * Errors: QIBL_E_NULL_POINTER, QIBL_E_SHMAP_BOUNDS (span outside the maps), QIBL_E_SHMAP_MISMATCH
- * (weights made for other k/channels), QIBL_E_WORKSPACE (ws_size too small); nothing written. */
+ * (weights made for other k/channels), QIBL_E_WORKSPACE (ws_size too small), QIBL_E_WORKSPACE_ALIGN
+ * (ws not on a 4-byte boundary: declare it as int32_t/uint32_t storage, whatever the layout);
+ * nothing written. */
 qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_weights_t *w, uint32_t x0, uint32_t y,
                                       uint32_t n, int32_t *out, void *ws, size_t ws_size);
 
@@ -153,7 +155,7 @@ qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t
                                        const qibl_pointlight_t *light, qibl_shmap_point_t *out);
 
 /* Workspace bytes qibl_shmap_point_span needs for a span of n pixels with k maps
- * (n * (2k + 32) bytes, int32-aligned: per-pixel Y_i, attenuation and two int32 accumulators). */
+ * (n * (2k + 32) bytes, 4-byte aligned storage: per-pixel Y_i, attenuation and two int32 accumulators). */
 size_t qibl_shmap_point_workspace_size(uint32_t k, uint32_t n);
 
 /* Relights a span under a prepared point light, into out as qibl_shmap_relight_span.
@@ -168,7 +170,8 @@ size_t qibl_shmap_point_workspace_size(uint32_t k, uint32_t n);
  * to 2^-15 and 2^-14 of the channel's largest, then every product summed exactly (int64 for
  * Y scale c, int32 for Y bias: sum |Y_i| <= k / sqrt(4 pi)) and rounded once; C0 and the attenuation
  * to 15 bits. Measured: max error / sum|T Y| att C0 about 1e-5 (direct SH 2e-5, LUT 32^2 1.3e-3).
- * Errors: QIBL_E_NULL_POINTER, QIBL_E_SHMAP_BOUNDS, QIBL_E_WORKSPACE; nothing written. */
+ * Errors: QIBL_E_NULL_POINTER, QIBL_E_SHMAP_BOUNDS, QIBL_E_WORKSPACE, QIBL_E_WORKSPACE_ALIGN (ws not on a
+ * 4-byte boundary, whatever the method); nothing written. */
 qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out,
                                     void *ws, size_t ws_size);
 

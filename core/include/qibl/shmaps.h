@@ -101,18 +101,19 @@ qibl_status_t qibl_shmaps_interleave(const qibl_shmaps_t *m, uint8_t *out, size_
 /* Little-endian loads that need no alignment (also used by the kernels). */
 static inline uint32_t qibl_load_u32le(const uint8_t *p)
 {
-    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+    return QIBL_CAST(uint32_t, p[0]) | QIBL_CAST(uint32_t, p[1]) << 8 | QIBL_CAST(uint32_t, p[2]) << 16 |
+           QIBL_CAST(uint32_t, p[3]) << 24;
 }
 static inline int32_t qibl_load_s32le(const uint8_t *p)
 {
     uint32_t u = qibl_load_u32le(p);
     /* two's complement without an implementation-defined conversion */
-    return u <= 0x7FFFFFFFu ? (int32_t)u : (int32_t)(u - 0x80000000u) - 0x7FFFFFFF - 1;
+    return u <= 0x7FFFFFFFu ? QIBL_CAST(int32_t, u) : QIBL_CAST(int32_t, u - 0x80000000u) - 0x7FFFFFFF - 1;
 }
 static inline int16_t qibl_load_s16le(const uint8_t *p)
 {
-    uint32_t u = (uint32_t)p[0] | (uint32_t)p[1] << 8;
-    return (int16_t)(u <= 0x7FFFu ? (int32_t)u : (int32_t)u - 0x10000);
+    uint32_t u = QIBL_CAST(uint32_t, p[0]) | QIBL_CAST(uint32_t, p[1]) << 8;
+    return QIBL_CAST(int16_t, u <= 0x7FFFu ? QIBL_CAST(int32_t, u) : QIBL_CAST(int32_t, u) - 0x10000);
 }
 
 #ifdef __cplusplus

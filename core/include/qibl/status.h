@@ -105,6 +105,8 @@ typedef enum qibl_status {
     QIBL_E_GONIO_AIM,              /* gonio: the aim vector is zero */
     QIBL_E_GONIO_UP,               /* gonio: the up vector is zero or (within 2^-10 rad) parallel to the aim */
     QIBL_E_GONIO_BOUNDS,           /* gonio: span outside the P map */
+    /* workspaces (appended last so no earlier value moves) */
+    QIBL_E_WORKSPACE_ALIGN,        /* caller workspace not on the 4-byte boundary the call needs */
     QIBL_STATUS_COUNT,     /* number of core status values; not a status */
     /* Platform backends (platform/<name>/) return qibl_status_t too, with their errors in their own
      * range of 256 values from their base, defined in the backend's header; the core never returns

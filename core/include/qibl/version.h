@@ -47,16 +47,20 @@ extern "C" {
  *
  * Not included, because they change speed only and give identical results and layouts:
  * QIBL_CONFIG_NATIVE_MUL64, _SHIFT64, _DIV64, QIBL_CONFIG_SRGBE_BLOCKS. A uint32_t constant
- * expression (not for #if: it has casts). An option that changes a layout must be added here when
- * it is added to config.h. */
-#define QIBL_CONFIG_ID                                                                          \
-    (0xA0000000u | ((uint32_t)(QIBL_VERSION_MAJOR & 15) << 24) |                                \
-     ((uint32_t)(QIBL_VERSION_MINOR & 255) << 16) | ((uint32_t)QIBL_SH_MAX_BANDS << 8) |        \
-     ((uint32_t)(QIBL_USE_HEMI != 0) << 7) | ((uint32_t)(QIBL_USE_PROBE != 0) << 6) |           \
-     ((uint32_t)(QIBL_USE_SHMAP != 0) << 4) | ((uint32_t)(QIBL_USE_LIGHTPROBE != 0) << 3) |     \
-     ((uint32_t)(QIBL_USE_ASSET != 0) << 2) | ((uint32_t)(QIBL_USE_SRGBE != 0) << 1) |          \
-     ((uint32_t)(QIBL_USE_INTERLEAVED != 0) << 5) | (uint32_t)(QIBL_USE_SH != 0) |           \
-     ((uint32_t)(QIBL_USE_LIGHTPATH != 0) << 12) | ((uint32_t)(QIBL_USE_GONIO != 0) << 13))
+ * expression (not for #if: it has casts, static_cast in C++). An option that changes a layout
+ * must be added here when it is added to config.h. */
+#define QIBL_CONFIG_ID \
+    (0xA0000000u | (QIBL_CAST(uint32_t, QIBL_VERSION_MAJOR & 15) << 24) | \
+     (QIBL_CAST(uint32_t, QIBL_VERSION_MINOR & 255) << 16) | \
+     (QIBL_CAST(uint32_t, QIBL_SH_MAX_BANDS) << 8) | (QIBL_CAST(uint32_t, QIBL_USE_HEMI != 0) << 7) | \
+     (QIBL_CAST(uint32_t, QIBL_USE_PROBE != 0) << 6) | \
+     (QIBL_CAST(uint32_t, QIBL_USE_SHMAP != 0) << 4) | \
+     (QIBL_CAST(uint32_t, QIBL_USE_LIGHTPROBE != 0) << 3) | \
+     (QIBL_CAST(uint32_t, QIBL_USE_ASSET != 0) << 2) | \
+     (QIBL_CAST(uint32_t, QIBL_USE_SRGBE != 0) << 1) | \
+     (QIBL_CAST(uint32_t, QIBL_USE_INTERLEAVED != 0) << 5) | QIBL_CAST(uint32_t, QIBL_USE_SH != 0) | \
+     (QIBL_CAST(uint32_t, QIBL_USE_LIGHTPATH != 0) << 12) | \
+     (QIBL_CAST(uint32_t, QIBL_USE_GONIO != 0) << 13))
 
 /* QIBL_VERSION_STRING of the library as compiled ("0.1.0"). Never NULL. */
 const char *qibl_version(void);

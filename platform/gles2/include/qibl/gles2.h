@@ -78,16 +78,16 @@ extern "C" {
 #endif
 
 /* This backend's statuses (range QIBL_STATUS_GLES2_BASE of status.h). */
-#define QIBL_E_GLES2_GL_ERROR  ((qibl_status_t)(QIBL_STATUS_GLES2_BASE + 1)) /* glGetError reported an error (log names the call) */
-#define QIBL_E_GLES2_COMPILE   ((qibl_status_t)(QIBL_STATUS_GLES2_BASE + 2)) /* a shader did not compile (log: driver's info log) */
-#define QIBL_E_GLES2_LINK      ((qibl_status_t)(QIBL_STATUS_GLES2_BASE + 3)) /* a program did not link (log: driver's info log) */
-#define QIBL_E_GLES2_FRAMEBUFFER ((qibl_status_t)(QIBL_STATUS_GLES2_BASE + 4)) /* accumulation framebuffer incomplete */
-#define QIBL_E_GLES2_UNITS     ((qibl_status_t)(QIBL_STATUS_GLES2_BASE + 5)) /* too few texture units or uniform vectors for one texture per pass */
-#define QIBL_E_GLES2_SIZE      ((qibl_status_t)(QIBL_STATUS_GLES2_BASE + 6)) /* maps or LUT larger than GL_MAX_TEXTURE_SIZE / cube size */
-#define QIBL_E_GLES2_NO_HIGHP  ((qibl_status_t)(QIBL_STATUS_GLES2_BASE + 7)) /* point lights need highp fragment floats */
-#define QIBL_E_GLES2_STATE     ((qibl_status_t)(QIBL_STATUS_GLES2_BASE + 8)) /* not initialised, nothing uploaded, or no P map for a point light */
-#define QIBL_E_GLES2_MISMATCH  ((qibl_status_t)(QIBL_STATUS_GLES2_BASE + 9)) /* weights or point light made for other maps than uploaded */
-#define QIBL_E_GLES2_CONTEXT   ((qibl_status_t)(QIBL_STATUS_GLES2_BASE + 10)) /* no current context (glGetString failed) */
+#define QIBL_E_GLES2_GL_ERROR  QIBL_CAST(qibl_status_t, QIBL_STATUS_GLES2_BASE + 1) /* glGetError reported an error (log names the call) */
+#define QIBL_E_GLES2_COMPILE   QIBL_CAST(qibl_status_t, QIBL_STATUS_GLES2_BASE + 2) /* a shader did not compile (log: driver's info log) */
+#define QIBL_E_GLES2_LINK      QIBL_CAST(qibl_status_t, QIBL_STATUS_GLES2_BASE + 3) /* a program did not link (log: driver's info log) */
+#define QIBL_E_GLES2_FRAMEBUFFER QIBL_CAST(qibl_status_t, QIBL_STATUS_GLES2_BASE + 4) /* accumulation framebuffer incomplete */
+#define QIBL_E_GLES2_UNITS     QIBL_CAST(qibl_status_t, QIBL_STATUS_GLES2_BASE + 5) /* too few texture units or uniform vectors for one texture per pass */
+#define QIBL_E_GLES2_SIZE      QIBL_CAST(qibl_status_t, QIBL_STATUS_GLES2_BASE + 6) /* maps or LUT larger than GL_MAX_TEXTURE_SIZE / cube size */
+#define QIBL_E_GLES2_NO_HIGHP  QIBL_CAST(qibl_status_t, QIBL_STATUS_GLES2_BASE + 7) /* point lights need highp fragment floats */
+#define QIBL_E_GLES2_STATE     QIBL_CAST(qibl_status_t, QIBL_STATUS_GLES2_BASE + 8) /* not initialised, nothing uploaded, or no P map for a point light */
+#define QIBL_E_GLES2_MISMATCH  QIBL_CAST(qibl_status_t, QIBL_STATUS_GLES2_BASE + 9) /* weights or point light made for other maps than uploaded */
+#define QIBL_E_GLES2_CONTEXT   QIBL_CAST(qibl_status_t, QIBL_STATUS_GLES2_BASE + 10) /* no current context (glGetString failed) */
 
 /* qibl_status_str for this backend's statuses too; never NULL. */
 const char *qibl_gles2_status_str(qibl_status_t s);

@@ -45,8 +45,8 @@ extern "C" {
 #endif
 
 /* This module's statuses, in the soft backend's range (qibl_soft_status_str names them). */
-#define QIBL_E_RASTER_RANGE ((qibl_status_t)(QIBL_STATUS_SOFT_BASE + 5)) /* a vertex beyond the coordinate or depth range */
-#define QIBL_E_RASTER_INDEX ((qibl_status_t)(QIBL_STATUS_SOFT_BASE + 6)) /* a triangle index >= the vertex count */
+#define QIBL_E_RASTER_RANGE QIBL_CAST(qibl_status_t, QIBL_STATUS_SOFT_BASE + 5) /* a vertex beyond the coordinate or depth range */
+#define QIBL_E_RASTER_INDEX QIBL_CAST(qibl_status_t, QIBL_STATUS_SOFT_BASE + 6) /* a triangle index >= the vertex count */
 
 #define QIBL_RASTER_SUBPIXEL 4                /* fraction bits of vertex x, y */
 #define QIBL_RASTER_COORD_MAX (8192 * 16)     /* |x|, |y| limit, 1/16 pixel */

@@ -60,10 +60,10 @@ extern "C" {
 /* This backend's statuses, in its own range (status.h: QIBL_STATUS_SOFT_BASE); its calls also
  * return the core's QIBL_E_NULL_POINTER. Macros with the enum type, so a switch or a comparison on
  * qibl_status_t takes them as it takes the core's. */
-#define QIBL_E_FB_FORMAT ((qibl_status_t)(QIBL_STATUS_SOFT_BASE + 1)) /* format unknown, or wrong for the call */
-#define QIBL_E_FB_SIZE   ((qibl_status_t)(QIBL_STATUS_SOFT_BASE + 2)) /* width or height 0, or sizes that must match differ */
-#define QIBL_E_FB_STRIDE ((qibl_status_t)(QIBL_STATUS_SOFT_BASE + 3)) /* stride below one row, or the size overflows size_t */
-#define QIBL_E_FB_BOUNDS ((qibl_status_t)(QIBL_STATUS_SOFT_BASE + 4)) /* row or span outside the framebuffer */
+#define QIBL_E_FB_FORMAT QIBL_CAST(qibl_status_t, QIBL_STATUS_SOFT_BASE + 1) /* format unknown, or wrong for the call */
+#define QIBL_E_FB_SIZE   QIBL_CAST(qibl_status_t, QIBL_STATUS_SOFT_BASE + 2) /* width or height 0, or sizes that must match differ */
+#define QIBL_E_FB_STRIDE QIBL_CAST(qibl_status_t, QIBL_STATUS_SOFT_BASE + 3) /* stride below one row, or the size overflows size_t */
+#define QIBL_E_FB_BOUNDS QIBL_CAST(qibl_status_t, QIBL_STATUS_SOFT_BASE + 4) /* row or span outside the framebuffer */
 
 /* qibl_status_str for this backend's statuses too: a short constant description, never NULL. */
 const char *qibl_soft_status_str(qibl_status_t s);
