@@ -226,6 +226,21 @@ static const qcli_cmd commands[] = {
      "  a light on the asset's baked path N (or its first sun path / lamp track) at T in 0..1: unshadowed\n"
      "  SH x visibility(T), soft over [T - R, T + R]; --sky adds the demo's sky through the shadowed maps.\n",
      qcli_cmd_relight},
+    {"view", "a live viewer: drag the sun over the relit asset, step probes, yaw, exposure and k (X11 window)",
+     "usage: qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--exposure E] [--truth FRAME.png] [--gles]\n"
+     "                 [--bench [--frames N] [--headless]]\n"
+     "  A window (X11) showing the asset relit by the core through platform/soft (--gles: platform/gles2\n"
+     "  on a headless EGL context, read back; the sun only), with an overlay under the frame: scheme,\n"
+     "  light, k, exposure, ms per frame, fps and, with --truth (a `qibl render` PNG of the same size),\n"
+     "  the PSNR against it. Mouse: drag with the left button to move the sun (a window width turns it\n"
+     "  once around, its height sweeps 180 degrees of elevation). Keys: s scheme (sun, probe SH, sun +\n"
+     "  SH), p next probe, y / Y yaw -/+15 degrees, + / - exposure x2 / /2, k fewer SH terms (cycles),\n"
+     "  l linear / sRGB, q or Escape quits. Every settled change prints `view: sun X Y Z | ...` on\n"
+     "  stdout: `qibl relight FILE --sun X Y Z --png OUT` gives the same frame. --probe (up to 8): each\n"
+     "  probe's SH as `qibl relight --probe` makes it. --bench: --frames N (default 600) frames with the\n"
+     "  sun dragged 4 pixels a frame, then `RESULT view.fps F` (--headless: no window, the framebuffer\n"
+     "  and overlay only). Needs a build with X11 (Debian: apt-get install libx11-dev) for the window.\n",
+     qcli_cmd_view},
     {"info", "validate a qibl asset file and print its contents",
      "usage: qibl info FILE\n"
      "  Validates FILE with the core's qibl_asset_open (magic, version, chunk table, bounds, CRC-32s,\n"

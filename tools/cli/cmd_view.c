@@ -1,0 +1,178 @@
+/*
+ * cmd_view.c - `qibl view`: the live viewer (tools/view). Parses the options, loads the asset,
+ * the probes' SH (relight_light.c, as `qibl relight --probe` makes it) and the truth, then hands
+ * over to qtool_view_run.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/cli.h"
+#include "cli/gles_cli.h"
+#include "cli/relight_light.h"
+#include "io/file.h"
+#include "io/png.h"
+#include "qibl/asset.h"
+#include "qibl/soft.h"
+#include "view/view.h"
+
+#define VIEW_USAGE                                                                                                   \
+    "usage: qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--exposure E] [--truth FRAME.png] [--gles]\n"         \
+    "                 [--bench [--frames N] [--headless]]"
+
+#define VIEW_BENCH_DEFAULT 600L
+#define VIEW_BENCH_MAX 1000000L
+
+/* --gles: platform/gles2 on a headless EGL context, read back into the window's buffer */
+static int gles_frame(void *user, qtool_view *v, uint8_t *bgrx, size_t stride)
+{
+    uint8_t *rgb = user;
+    qibl_q16_t d[3];
+    qtool_view_sun_q16(v, d);
+    qtool_gles_relight_req req = {.maps = &v->maps, .sun = {d[0], d[1], d[2]},
+                                  .rgb = {v->sun_rgb[0], v->sun_rgb[1], v->sun_rgb[2]}, .falloff = 1,
+                                  .linear = v->linear, .exposure = v->exposure};
+    uint32_t passes = 0;
+    char renderer[64];
+    if (qtool_gles_relight(&req, rgb, &passes, renderer) != 0)
+        return -1;
+    for (uint32_t y = 0; y < v->maps.height; ++y)
+        for (uint32_t x = 0; x < v->maps.width; ++x) {
+            const uint8_t *p = rgb + 3 * ((size_t)y * v->maps.width + x);
+            uint8_t *o = bgrx + (size_t)y * stride + 4 * (size_t)x;
+            o[0] = p[2], o[1] = p[1], o[2] = p[0], o[3] = 255;
+        }
+    return 0;
+}
+
+int qcli_cmd_view(int argc, char **argv)
+{
+    const char *in = NULL, *truth = NULL;
+    const char *probes[QTOOL_VIEW_MAX_PROBES];
+    uint32_t nprobes = 0;
+    int gles = 0, bench = 0, headless = 0, have_sun = 0;
+    long frames = VIEW_BENCH_DEFAULT;
+    int32_t sun[3] = {0, 0, 0};
+    double exposure = 1.0;
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i];
+        if (strcmp(a, "--sun") == 0 && i + 3 < argc) {
+            for (int c = 0; c < 3; ++c)
+                if (qcli_parse_q16(argv[i + 1 + c], &sun[c]) != 0)
+                    return qcli_usage_error("--sun: '%s' is not a number in the Q16.16 range", argv[i + 1 + c]);
+            if (sun[0] == 0 && sun[1] == 0 && sun[2] == 0)
+                return qcli_usage_error("--sun needs a non-zero direction");
+            have_sun = 1, i += 3;
+        } else if (strcmp(a, "--probe") == 0 && i + 1 < argc) {
+            if (nprobes >= QTOOL_VIEW_MAX_PROBES)
+                return qcli_usage_error("--probe: at most %u probes", QTOOL_VIEW_MAX_PROBES);
+            probes[nprobes++] = argv[++i];
+        } else if (strcmp(a, "--exposure") == 0 && i + 1 < argc) {
+            if (qcli_parse_num(a, argv[++i], QTOOL_VIEW_EXPOSURE_MIN / 65536.0, QTOOL_VIEW_EXPOSURE_MAX / 65536.0,
+                               "the viewer's exposure range", &exposure) != 0)
+                return 2;
+        } else if (strcmp(a, "--truth") == 0 && i + 1 < argc)
+            truth = argv[++i];
+        else if (strcmp(a, "--gles") == 0)
+            gles = 1;
+        else if (strcmp(a, "--bench") == 0)
+            bench = 1;
+        else if (strcmp(a, "--headless") == 0)
+            headless = 1;
+        else if (strcmp(a, "--frames") == 0 && i + 1 < argc) {
+            if (qcli_parse_int(argv[++i], 1, VIEW_BENCH_MAX, &frames) != 0)
+                return qcli_usage_error("--frames needs an integer in 1..%ld", VIEW_BENCH_MAX);
+        } else if (a[0] != '-' && !in)
+            in = a;
+        else
+            return qcli_usage_error(VIEW_USAGE);
+    }
+    if (!in)
+        return qcli_usage_error("view needs an asset FILE (qibl gen or qibl bake makes one)");
+    if (headless && !bench)
+        return qcli_usage_error("--headless is for --bench (a window needs a display)");
+    if (gles && nprobes)
+        return qcli_usage_error("--gles shows the sun only (no --probe)");
+    if (qcli_parse_only)
+        return 0;
+    if (!bench && !qtool_view_have_window()) {
+        fprintf(stderr, "qibl: view: this qibl was built without X11 (Debian: apt-get install libx11-dev, then "
+                        "rebuild); --bench --headless still runs\n");
+        return 1;
+    }
+    uint8_t *bytes = NULL, *truth_rgb = NULL, *gles_rgb = NULL;
+    size_t n;
+    char err[600];
+    if (qtool_io_read_asset(in, &bytes, &n, err, sizeof err) != 0) {
+        fprintf(stderr, "qibl: %s\n", err);
+        return 1;
+    }
+    int rc = 1;
+    qibl_asset_t as;
+    qibl_shmaps_t m;
+    qtool_view v;
+    qibl_status_t st = qibl_asset_open(&as, bytes, n);
+    if (st == QIBL_OK)
+        st = qibl_asset_shmaps(&as, &m);
+    if (st != QIBL_OK) {
+        fprintf(stderr, "qibl: %s: %s\n", in, qibl_soft_status_str(st));
+        goto out;
+    }
+    if (qtool_view_init(&v, &m) != 0) {
+        fprintf(stderr, "qibl: %s: its maps are not usable\n", in);
+        goto out;
+    }
+    v.exposure = (uint32_t)lrint(exposure * 65536.0);
+    if (have_sun) {
+        double x = sun[0], y = sun[1], z = sun[2], r = sqrt(x * x + y * y);
+        v.az = fmod(atan2(y, x) * 180.0 / 3.14159265358979323846 + 360.0, 360.0);
+        v.el = atan2(z, r) * 180.0 / 3.14159265358979323846;
+        v.el = v.el > QTOOL_VIEW_EL_MAX ? QTOOL_VIEW_EL_MAX : v.el < -QTOOL_VIEW_EL_MAX ? -QTOOL_VIEW_EL_MAX : v.el;
+    }
+    for (uint32_t j = 0; j < nprobes; ++j) { /* each probe's SH as `qibl relight --probe P` makes it */
+        qcli_light_list ll;
+        qcli_light_list_init(&ll);
+        ll.probe = probes[j];
+        if (qcli_light_list_sh(&ll, m.k, stdout, &v.probe[j]) != 0)
+            goto out;
+        v.probe_name[j] = probes[j];
+    }
+    v.nprobes = nprobes;
+    if (nprobes)
+        v.scheme = QTOOL_VIEW_SUN_SH;
+    if (truth) {
+        int tw, th, tf;
+        if (qtool_png_read_rgb8(truth, &tw, &th, &tf, &truth_rgb, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: %s\n", err);
+            goto out;
+        }
+        if ((uint32_t)tw != m.width || (uint32_t)th != m.height) {
+            fprintf(stderr, "qibl: --truth %s is %dx%d, the asset %ux%u: not the same frame\n", truth, tw, th, m.width,
+                    m.height);
+            goto out;
+        }
+    }
+    if (gles && !(gles_rgb = malloc((size_t)m.width * m.height * 3))) {
+        fprintf(stderr, "qibl: view: out of memory\n");
+        goto out;
+    }
+    double fps = 0;
+    qtool_view_run_opts o = {.title = "qibl view", .frame = gles ? gles_frame : NULL, .user = gles_rgb,
+                             .truth = truth_rgb, .bench_frames = bench ? frames : 0, .bench_fps = &fps,
+                             .headless = headless, .log = stdout};
+    if (qtool_view_run(&v, &o, err, sizeof err) != 0) {
+        fprintf(stderr, "qibl: %s\n", err);
+        goto out;
+    }
+    if (bench) {
+        printf("view bench: %ux%u, k = %u, %s, %ld frames with the sun dragged, %s: %.2f ms per frame (last)\n",
+               m.width, m.height, m.k, gles ? "platform/gles2" : "core + platform/soft", frames,
+               headless ? "headless (framebuffer and overlay)" : "shown in an X11 window", v.ms);
+        printf("RESULT view.fps %.1f\n", fps);
+    }
+    rc = 0;
+out:
+    free(bytes), free(truth_rgb), free(gles_rgb);
+    return rc;
+}
