@@ -231,6 +231,9 @@ LP_TESTS := $(BUILD)/tests/lightprobe_test $(BUILD)/tests/lightprobe_test-portab
 $(LP_TESTS): $(LIBTWIN)
 $(LP_TESTS): TEST_EXTRA = $(LIBTWIN)
 
+# view_test grabs the viewer's window with Xlib
+$(BUILD)/tests/view_test $(BUILD)/tests/view_test-portable $(BUILD)/tests/view_test-avx2: TEST_EXTRA = $(X11_LIBS)
+
 # version_test also links a TU compiled with -DQIBL_SH_MAX_BANDS=3: a caller whose config.h differs
 # from the library's must get QIBL_E_CONFIG_MISMATCH from its start-up check.
 VERSION_BANDS3 := $(BUILD)/host/tests/version_bands3.o

@@ -1,0 +1,301 @@
+/*
+ * view_test.c - `qibl view` (tools/view) in a real window system: an Xvfb server on a free display,
+ * the viewer opened on a small courtyard, the sun dragged with xdotool (XTEST pointer events), the
+ * window grabbed with XGetImage and compared with `qibl relight --sun` of the light the viewer
+ * reports: equal bytes (both are the core's weights through platform/soft's sRGB conversion). Plus
+ * the state functions without a window (drag, keys, overlay).
+ *
+ * Skipped (CMocka skip) where this build has no X11 or Xvfb / xdotool are not installed;
+ * QIBL_REQUIRE_VIEW=1 (CI) turns a skip into a failure.
+ */
+#include "cliutil.h"
+
+#include <math.h>
+#include <signal.h>
+#include <time.h>
+
+#include "io/png.h"
+#include "view/view.h"
+#include "qibl/asset.h"
+
+#if QIBL_HAVE_X11
+#include <X11/Xlib.h>
+#include <X11/Xutil.h>
+#endif
+
+#define VIEW_W 256
+#define VIEW_H 64
+
+static void need(int ok, const char *what)
+{
+    if (ok)
+        return;
+    const char *r = getenv("QIBL_REQUIRE_VIEW");
+    if (r && strcmp(r, "1") == 0)
+        fail_msg("QIBL_REQUIRE_VIEW=1 but %s", what);
+    fprintf(stderr, "SKIP: %s\n", what);
+    skip();
+}
+
+static int on_path(const char *prog)
+{
+    char cmd[256];
+    snprintf(cmd, sizeof cmd, "command -v %s >/dev/null 2>&1", prog);
+    return system(cmd) == 0;
+}
+
+static void sleep_ms(long ms)
+{
+    struct timespec t = {ms / 1000, (ms % 1000) * 1000000L};
+    nanosleep(&t, NULL);
+}
+
+/* spawns argv with stdout/stderr to out (NULL: /dev/null) and extra environment `env` (may be NULL) */
+static pid_t spawn(char **argv, const char *out, const char *env)
+{
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_addopen(&fa, 1, out ? out : "/dev/null", O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
+    char *envp[256];
+    int n = 0;
+    for (char **e = environ; *e && n < 250; ++e)
+        if (!env || strncmp(*e, "DISPLAY=", 8) != 0)
+            envp[n++] = *e;
+    if (env)
+        envp[n++] = (char *)env;
+    envp[n] = NULL;
+    pid_t pid;
+    int rc = posix_spawnp(&pid, argv[0], &fa, NULL, argv, envp);
+    posix_spawn_file_actions_destroy(&fa);
+    return rc == 0 ? pid : -1;
+}
+
+/* the number of "view: sun" lines in the log, and the last one's direction */
+static int log_lines(const char *path, double sun[3])
+{
+    char *t = text(path), *p = t;
+    int n = 0;
+    while ((p = strstr(p, "view: sun ")) != NULL) {
+        if (sscanf(p, "view: sun %lf %lf %lf", &sun[0], &sun[1], &sun[2]) == 3)
+            ++n;
+        p += 10;
+    }
+    free(t);
+    return n;
+}
+
+static int wait_lines(const char *path, int want, double sun[3])
+{
+    for (int i = 0; i < 200; ++i) { /* 10 s */
+        if (log_lines(path, sun) >= want)
+            return 1;
+        sleep_ms(50);
+    }
+    return 0;
+}
+
+static int xdo(const char *display, const char *args)
+{
+    char cmd[512];
+    snprintf(cmd, sizeof cmd, "DISPLAY=%s xdotool %s >/dev/null 2>&1", display, args);
+    return system(cmd);
+}
+
+static void test_drag_matches_relight(void **state)
+{
+    (void)state;
+#if !QIBL_HAVE_X11
+    need(0, "qibl was built without X11 (libx11-dev)");
+#else
+    need_qibl();
+    need(on_path("Xvfb"), "Xvfb is not installed (Debian: xvfb)");
+    need(on_path("xdotool"), "xdotool is not installed (Debian: xdotool)");
+    assert_int_equal(cli_setup("/tmp/qibl-view-XXXXXX"), 0);
+    char asset[128], png[128], vlog[128], sun_s[3][40], display[16] = "";
+    snprintf(asset, sizeof asset, "%s/a.qibl", dir);
+    snprintf(png, sizeof png, "%s/relight.png", dir);
+    snprintf(vlog, sizeof vlog, "%s/view.log", dir);
+    assert_int_equal(run("gen", "-o", asset, "--size", "256x64", "--k", "9", NULL), 0);
+
+    /* a display number nobody holds (no lock file, no socket) */
+    int dn = -1;
+    for (int d = 90 + (int)(getpid() % 97); d < 400 && dn < 0; ++d) {
+        char lock[64], sock[64];
+        snprintf(lock, sizeof lock, "/tmp/.X%d-lock", d);
+        snprintf(sock, sizeof sock, "/tmp/.X11-unix/X%d", d);
+        if (access(lock, F_OK) != 0 && access(sock, F_OK) != 0)
+            dn = d;
+    }
+    assert_true(dn >= 0);
+    snprintf(display, sizeof display, ":%d", dn);
+    char *xargv[] = {"Xvfb", display, "-screen", "0", "640x480x24", "-nolisten", "tcp", NULL};
+    pid_t xvfb = spawn(xargv, NULL, NULL);
+    assert_true(xvfb > 0);
+    Display *dpy = NULL;
+    for (int i = 0; i < 100 && !dpy; ++i) { /* 5 s for the server to come up */
+        sleep_ms(50);
+        dpy = XOpenDisplay(display);
+    }
+    pid_t viewer = -1;
+    int ok = 0;
+    if (!dpy) {
+        print_error("view_test: Xvfb on %s did not start\n", display);
+        goto out;
+    }
+    char denv[32];
+    snprintf(denv, sizeof denv, "DISPLAY=%s", display);
+    char *vargv[] = {qibl, "view", asset, "--sun", "1", "0", "0.5", NULL};
+    viewer = spawn(vargv, vlog, denv);
+    double sun[3];
+    if (viewer <= 0 || !wait_lines(vlog, 1, sun)) {
+        print_error("view_test: the viewer showed no first frame\n");
+        goto out;
+    }
+    /* drag: 60 pixels left-to-right, 10 up, in three moves (motion events in between) */
+    char cmd[256];
+    snprintf(cmd, sizeof cmd, "search --sync --name 'qibl view' windowfocus --sync "
+                              "mousemove --window %%1 100 40 mousedown 1 mousemove --window %%1 130 35 "
+                              "mousemove --window %%1 160 30 mouseup 1");
+    if (xdo(display, cmd) != 0 || !wait_lines(vlog, 2, sun)) {
+        print_error("view_test: the drag did not reach the viewer\n");
+        goto out;
+    }
+    /* the drag's meaning: the start sun (az 0, el atan(1/2)) turned by -360 * 60/256 in azimuth and
+     * raised by 180 * 10/64 in elevation (qtool_view_drag) */
+    {
+        const double pi = 3.14159265358979323846;
+        double az = -360.0 * 60 / VIEW_W * pi / 180.0, el = atan(0.5) + 180.0 * 10 / VIEW_H * pi / 180.0;
+        double want[3] = {cos(el) * cos(az), cos(el) * sin(az), sin(el)};
+        for (int c = 0; c < 3; ++c)
+            if (fabs(sun[c] - want[c]) > 1e-3) {
+                print_error("view_test: after the drag the sun is %g %g %g, not %g %g %g\n", sun[0], sun[1], sun[2],
+                            want[0], want[1], want[2]);
+                goto out;
+            }
+    }
+    /* the window as the X server holds it */
+    Window root = DefaultRootWindow(dpy), r2, parent, *kids = NULL;
+    unsigned nk = 0;
+    Window win = 0;
+    if (XQueryTree(dpy, root, &r2, &parent, &kids, &nk))
+        for (unsigned i = 0; i < nk && !win; ++i) {
+            char *name = NULL;
+            if (XFetchName(dpy, kids[i], &name) && name && strcmp(name, "qibl view") == 0)
+                win = kids[i];
+            if (name)
+                XFree(name);
+        }
+    if (kids)
+        XFree(kids);
+    if (!win) {
+        print_error("view_test: no 'qibl view' window\n");
+        goto out;
+    }
+    XImage *img = XGetImage(dpy, win, 0, 0, VIEW_W, VIEW_H, AllPlanes, ZPixmap);
+    if (!img) {
+        print_error("view_test: XGetImage failed\n");
+        goto out;
+    }
+    for (int c = 0; c < 3; ++c)
+        snprintf(sun_s[c], sizeof sun_s[c], "%.17g", sun[c]);
+    if (run("relight", asset, "--sun", sun_s[0], sun_s[1], sun_s[2], "--png", png, NULL) != 0) {
+        XDestroyImage(img);
+        print_error("view_test: qibl relight failed\n");
+        goto out;
+    }
+    int w, h, fr;
+    uint8_t *ref = NULL;
+    char err[256];
+    if (qtool_png_read_rgb8(png, &w, &h, &fr, &ref, err, sizeof err) != 0 || w != VIEW_W || h != VIEW_H) {
+        XDestroyImage(img);
+        print_error("view_test: %s\n", err);
+        goto out;
+    }
+    long diff = 0, maxd = 0;
+    for (int y = 0; y < VIEW_H; ++y)
+        for (int x = 0; x < VIEW_W; ++x) {
+            unsigned long p = XGetPixel(img, x, y);
+            long got[3] = {(long)((p >> 16) & 255), (long)((p >> 8) & 255), (long)(p & 255)};
+            for (int c = 0; c < 3; ++c) {
+                long d = labs(got[c] - ref[3 * (y * VIEW_W + x) + c]);
+                diff += d != 0, maxd = d > maxd ? d : maxd;
+            }
+        }
+    XDestroyImage(img);
+    free(ref);
+    if (diff) {
+        print_error("view_test: the window differs from qibl relight in %ld channel values (max %ld)\n", diff, maxd);
+        goto out;
+    }
+    /* q quits the viewer with status 0 */
+    xdo(display, "search --name 'qibl view' key --window %1 q");
+    for (int i = 0; i < 100; ++i) {
+        int st;
+        if (waitpid(viewer, &st, WNOHANG) == viewer) {
+            viewer = -1;
+            ok = WIFEXITED(st) && WEXITSTATUS(st) == 0;
+            break;
+        }
+        sleep_ms(50);
+    }
+    if (!ok)
+        print_error("view_test: q did not end the viewer cleanly\n");
+out:
+    if (viewer > 0)
+        kill(viewer, SIGTERM), waitpid(viewer, NULL, 0);
+    if (dpy)
+        XCloseDisplay(dpy);
+    kill(xvfb, SIGTERM), waitpid(xvfb, NULL, 0);
+    if (ok)
+        rm_rf(dir);
+    else
+        fprintf(stderr, "view_test: scratch files kept in %s\n", dir);
+    assert_true(ok);
+#endif
+}
+
+/* the state without a window: drags wrap the azimuth and clamp the elevation; keys name their limits */
+static void test_state(void **state)
+{
+    (void)state;
+    static uint8_t planes[4 * 2 * 9 * 3], params[9 * 3 * 8];
+    qibl_shmaps_t m = {.width = 4, .height = 2, .k = 9, .channels = 3, .params = params, .planes = planes};
+    qtool_view v;
+    assert_int_equal(qtool_view_init(&v, &m), 0);
+    qtool_view_drag(&v, 0, -1000, 4, 2);
+    assert_true(v.el == QTOOL_VIEW_EL_MAX);
+    qtool_view_drag(&v, 0, 1000, 4, 2);
+    assert_true(v.el == -QTOOL_VIEW_EL_MAX);
+    qtool_view_drag(&v, 2, 0, 4, 2); /* half a width: 180 degrees */
+    assert_true(fabs(v.az - 225.0) < 1e-9);
+    assert_int_equal(qtool_view_key(&v, 's'), 0); /* no probe: the sun is the only scheme */
+    assert_int_equal(qtool_view_key(&v, 'k'), 1);
+    assert_int_equal(v.k, 4);
+    assert_int_equal(qtool_view_key(&v, 'k'), 1);
+    assert_int_equal(v.k, 1);
+    assert_int_equal(qtool_view_key(&v, 'k'), 1);
+    assert_int_equal(v.k, 9);
+    int n = 0;
+    while (qtool_view_key(&v, '+'))
+        ++n;
+    assert_int_equal(v.exposure, QTOOL_VIEW_EXPOSURE_MAX);
+    assert_int_equal(n, 8);
+    while (qtool_view_key(&v, '-'))
+        ;
+    assert_int_equal(v.exposure, QTOOL_VIEW_EXPOSURE_MIN);
+    char l1[160], l2[160];
+    qtool_view_describe(&v, 60.0, l1, l2, sizeof l1);
+    assert_non_null(strstr(l1, "SUN"));
+    assert_non_null(strstr(l2, "K 9"));
+    assert_non_null(strstr(l2, "60 FPS"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_state),
+        cmocka_unit_test(test_drag_matches_relight),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
