@@ -19,7 +19,7 @@
 
 #define VIEW_USAGE                                                                                                   \
     "usage: qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--exposure E] [--truth FRAME.png] [--gles]\n"         \
-    "                 [--bench [--frames N] [--headless]]"
+    "                 [--bench [--frames N] [--headless] [--record OUT.png [--turn]]]"
 
 #define VIEW_BENCH_DEFAULT 600L
 #define VIEW_BENCH_MAX 1000000L
@@ -48,10 +48,10 @@ static int gles_frame(void *user, qtool_view *v, uint8_t *bgrx, size_t stride)
 
 int qcli_cmd_view(int argc, char **argv)
 {
-    const char *in = NULL, *truth = NULL;
+    const char *in = NULL, *truth = NULL, *record = NULL;
     const char *probes[QTOOL_VIEW_MAX_PROBES];
     uint32_t nprobes = 0;
-    int gles = 0, bench = 0, headless = 0, have_sun = 0;
+    int gles = 0, bench = 0, headless = 0, have_sun = 0, turn = 0;
     long frames = VIEW_BENCH_DEFAULT;
     int32_t sun[3] = {0, 0, 0};
     double exposure = 1.0;
@@ -80,6 +80,10 @@ int qcli_cmd_view(int argc, char **argv)
             bench = 1;
         else if (strcmp(a, "--headless") == 0)
             headless = 1;
+        else if (strcmp(a, "--record") == 0 && i + 1 < argc)
+            record = argv[++i];
+        else if (strcmp(a, "--turn") == 0)
+            turn = 1;
         else if (strcmp(a, "--frames") == 0 && i + 1 < argc) {
             if (qcli_parse_int(argv[++i], 1, VIEW_BENCH_MAX, &frames) != 0)
                 return qcli_usage_error("--frames needs an integer in 1..%ld", VIEW_BENCH_MAX);
@@ -92,6 +96,10 @@ int qcli_cmd_view(int argc, char **argv)
         return qcli_usage_error("view needs an asset FILE (qibl gen or qibl bake makes one)");
     if (headless && !bench)
         return qcli_usage_error("--headless is for --bench (a window needs a display)");
+    if (record && !bench)
+        return qcli_usage_error("--record needs --bench (it records the frames the bench sweeps)");
+    if (turn && !bench)
+        return qcli_usage_error("--turn is for --bench (one turn of the sun over the frames)");
     if (gles && nprobes)
         return qcli_usage_error("--gles shows the sun only (no --probe)");
     if (qcli_parse_only)
@@ -160,7 +168,8 @@ int qcli_cmd_view(int argc, char **argv)
     double fps = 0;
     qtool_view_run_opts o = {.title = "qibl view", .frame = gles ? gles_frame : NULL, .user = gles_rgb,
                              .truth = truth_rgb, .bench_frames = bench ? frames : 0, .bench_fps = &fps,
-                             .headless = headless, .log = stdout};
+                             .headless = headless, .log = bench ? NULL : stdout, .record = record,
+                             .drag_dx = turn ? (int)((m.width + (uint32_t)frames - 1) / (uint32_t)frames) : 0};
     if (qtool_view_run(&v, &o, err, sizeof err) != 0) {
         fprintf(stderr, "qibl: %s\n", err);
         goto out;
@@ -170,6 +179,9 @@ int qcli_cmd_view(int argc, char **argv)
                m.width, m.height, m.k, gles ? "platform/gles2" : "core + platform/soft", frames,
                headless ? "headless (framebuffer and overlay)" : "shown in an X11 window", v.ms);
         printf("RESULT view.fps %.1f\n", fps);
+        if (record)
+            printf("wrote %s (%ld frames, %ux%u, the viewer's window with its overlay)\n", record, frames, m.width,
+                   m.height + QTOOL_VIEW_OVERLAY_H);
     }
     rc = 0;
 out:

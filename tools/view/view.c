@@ -178,17 +178,17 @@ void qtool_view_describe(const qtool_view *v, double fps, char *line1, char *lin
     qtool_view_sun_q16(v, d);
     char probe[96] = "";
     if (v->scheme != QTOOL_VIEW_SUN && v->nprobes)
-        snprintf(probe, sizeof probe, " PROBE %u/%u %.40s YAW %.0f", v->cur_probe + 1, v->nprobes,
+        snprintf(probe, sizeof probe, " | PROBE %u/%u %.40s YAW %.0f", v->cur_probe + 1, v->nprobes,
                  v->probe_name[v->cur_probe] ? v->probe_name[v->cur_probe] : "", v->yaw);
     if (v->scheme == QTOOL_VIEW_SH)
         snprintf(line1, n, "%s%s", scheme_name(v->scheme), probe);
     else
-        snprintf(line1, n, "%s SUN %.4f %.4f %.4f (AZ %.1f EL %.1f)%s", scheme_name(v->scheme), d[0] / 65536.0,
+        snprintf(line1, n, "%s | DIR %.3f %.3f %.3f AZ %.1f EL %.1f%s", scheme_name(v->scheme), d[0] / 65536.0,
                  d[1] / 65536.0, d[2] / 65536.0, fmod(v->az + v->yaw, 360.0), v->el, probe);
     char ps[48] = "";
     if (v->psnr >= 0)
-        snprintf(ps, sizeof ps, " PSNR %.2f DB", v->psnr);
-    snprintf(line2, n, "K %u EXP %.4g %s %.2f MS %.0f FPS%s", v->k, v->exposure / 65536.0, v->linear ? "LINEAR" : "SRGB",
+        snprintf(ps, sizeof ps, " | PSNR %.2f DB", v->psnr);
+    snprintf(line2, n, "K %u | EXP %.4g %s | %.2f MS %.0f FPS%s", v->k, v->exposure / 65536.0, v->linear ? "LINEAR" : "SRGB",
              v->ms, fps, ps);
 }
 
@@ -203,7 +203,10 @@ void qtool_view_overlay(const qtool_view *v, double fps, uint8_t *bgrx, uint32_t
     uint32_t ww = w < MAXW ? w : MAXW;
     for (int line = 0; line < 2; ++line) {
         memset(rgb, 24, sizeof rgb);
-        qtool_text_draw(rgb, (int)ww, QTOOL_VIEW_LINE_H, 4, 2, line ? l2 : l1, QTOOL_VIEW_OVERLAY_SCALE, fg);
+        /* scale 2 where the window is wide enough for it, else 1 */
+        const int sc = w >= 1000 ? QTOOL_VIEW_OVERLAY_SCALE : 1;
+        qtool_text_draw(rgb, (int)ww, QTOOL_VIEW_LINE_H, 4, 2 + (QTOOL_VIEW_LINE_H - 4 - 7 * sc) / 2, line ? l2 : l1, sc,
+                        fg);
         for (uint32_t y = 0; y < QTOOL_VIEW_LINE_H; ++y) {
             uint8_t *o = bgrx + (size_t)(2 + line * QTOOL_VIEW_LINE_H + y) * stride;
             for (uint32_t x = 0; x < w; ++x) {

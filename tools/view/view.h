@@ -92,7 +92,15 @@ typedef struct qtool_view_run_opts {
     double *bench_fps;         /* out: the bench's frames per second */
     int headless;              /* bench without a window (the framebuffer and overlay only) */
     void *log;                 /* FILE *: one "view: ..." line per settled change (NULL: none) */
+    int drag_dx;               /* the bench's drag per frame, pixels (0: 4) */
+    const char *record;        /* with bench_frames: every frame shown (overlay included) into this APNG */
 } qtool_view_run_opts;
+
+/* --record's cap: frames x width x (height + overlay) x 3 bytes held until the APNG is written */
+#define QTOOL_VIEW_RECORD_MAX_BYTES ((size_t)256 << 20)
+
+/* Checks a recording's size against QTOOL_VIEW_RECORD_MAX_BYTES: 0, or -1 with a one-line reason. */
+int qtool_view_record_check(const qtool_view *v, long frames, char *err, size_t errlen);
 
 /* 1 if this build can open a window (X11 found at build time). */
 int qtool_view_have_window(void);

@@ -6,6 +6,8 @@
  */
 #include "view/view.h"
 
+#include "io/png.h"
+
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -58,15 +60,43 @@ static void log_state(const qtool_view *v, const qtool_view_run_opts *o)
     fflush((FILE *)o->log);
 }
 
+int qtool_view_record_check(const qtool_view *v, long frames, char *err, size_t errlen)
+{
+    const size_t one = (size_t)v->maps.width * (v->maps.height + QTOOL_VIEW_OVERLAY_H) * 3;
+    if (frames < 2 || (size_t)frames > QTOOL_VIEW_RECORD_MAX_BYTES / one)
+        return snprintf(err, errlen, "view: --record: %ld frames of %ux%u are %s the recording's %zu MiB (at least 2 "
+                        "frames, at most %zu)", frames, v->maps.width, v->maps.height + QTOOL_VIEW_OVERLAY_H,
+                        frames < 2 ? "too few for" : "beyond", QTOOL_VIEW_RECORD_MAX_BYTES >> 20,
+                        QTOOL_VIEW_RECORD_MAX_BYTES / one), -1;
+    return 0;
+}
+
+/* frame i of the recording: the shown BGRX buffer as RGB */
+static void record_frame(const qtool_view *v, const uint8_t *buf, uint8_t *rec, long i)
+{
+    const size_t np = (size_t)v->maps.width * (v->maps.height + QTOOL_VIEW_OVERLAY_H);
+    uint8_t *o = rec + (size_t)i * np * 3;
+    for (size_t p = 0; p < np; ++p)
+        o[3 * p] = buf[4 * p + 2], o[3 * p + 1] = buf[4 * p + 1], o[3 * p + 2] = buf[4 * p];
+}
+
+static int drag_dx(const qtool_view_run_opts *o)
+{
+    return o->drag_dx ? o->drag_dx : 4;
+}
+
 /* the headless bench: the sun dragged 4 pixels a frame, frame and overlay each time */
-static int bench_headless(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void *ws, char *err, size_t n)
+static int bench_headless(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void *ws, uint8_t *rec,
+                          char *err, size_t n)
 {
     double t0 = view_now(), fps = 0;
     for (long i = 0; i < o->bench_frames; ++i) {
-        qtool_view_drag(v, 4, (i / 64) % 2 ? 1 : -1, v->maps.width, v->maps.height);
+        qtool_view_drag(v, drag_dx(o), (i / 64) % 2 ? 1 : -1, v->maps.width, v->maps.height);
         if (draw(v, o, buf, ws, fps, err, n) != 0)
             return -1;
         fps = (double)(i + 1) / (view_now() - t0);
+        if (rec)
+            record_frame(v, buf, rec, i);
     }
     if (o->bench_fps)
         *o->bench_fps = fps;
@@ -79,7 +109,8 @@ int qtool_view_have_window(void)
     return 1;
 }
 
-static int x_run(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void *ws, char *err, size_t n)
+static int x_run(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void *ws, uint8_t *rec, char *err,
+                 size_t n)
 {
     const uint32_t w = v->maps.width, h = v->maps.height, wh = h + QTOOL_VIEW_OVERLAY_H;
     Display *dpy = XOpenDisplay(NULL);
@@ -157,7 +188,7 @@ static int x_run(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void
             if (!running)
                 break;
             if (o->bench_frames) {
-                qtool_view_drag(v, 4, (frames / 64) % 2 ? 1 : -1, w, h);
+                qtool_view_drag(v, drag_dx(o), (frames / 64) % 2 ? 1 : -1, w, h);
                 dirty = 1;
             }
             if (dirty) {
@@ -167,6 +198,8 @@ static int x_run(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void
                 }
                 XPutImage(dpy, win, gc, img, 0, 0, 0, 0, w, wh);
                 XSync(dpy, False); /* the frame is on the server before it is logged */
+                if (rec && o->bench_frames)
+                    record_frame(v, buf, rec, frames);
                 double t = view_now();
                 ++frames;
                 fps = o->bench_frames ? frames / (t - t0) : 1.0 / (t - t_last > 1e-6 ? t - t_last : 1e-6);
@@ -203,19 +236,33 @@ int qtool_view_run(qtool_view *v, const qtool_view_run_opts *o, char *err, size_
         return snprintf(err, errlen, "view: %ux%u is too large a window", w, h), -1;
     uint8_t *buf = calloc((size_t)w * (h + QTOOL_VIEW_OVERLAY_H), 4);
     void *ws = malloc(qtool_view_workspace_size(v));
+    uint8_t *rec = NULL;
     int rc;
-    if (!buf || !ws)
+    if (o->record && (o->bench_frames <= 0 || qtool_view_record_check(v, o->bench_frames, err, errlen) != 0)) {
+        if (o->bench_frames <= 0)
+            snprintf(err, errlen, "view: --record needs --bench (the frames it sweeps)");
+        free(buf), free(ws);
+        return -1;
+    }
+    if (o->record)
+        rec = malloc((size_t)o->bench_frames * w * (h + QTOOL_VIEW_OVERLAY_H) * 3);
+    if (!buf || !ws || (o->record && !rec))
         rc = -1, snprintf(err, errlen, "view: out of memory");
     else if (o->headless && o->bench_frames > 0)
-        rc = bench_headless(v, o, buf, ws, err, errlen);
+        rc = bench_headless(v, o, buf, ws, rec, err, errlen);
     else {
 #if QIBL_HAVE_X11
-        rc = x_run(v, o, buf, ws, err, errlen);
+        rc = x_run(v, o, buf, ws, rec, err, errlen);
 #else
         rc = -1, snprintf(err, errlen, "view: this qibl was built without X11 (Debian: apt-get install libx11-dev, "
                                        "then rebuild); --bench --headless still runs");
 #endif
     }
-    free(buf), free(ws);
+    /* the recording is written only when every frame was drawn (atomically: no partial file) */
+    if (rc == 0 && rec &&
+        qtool_apng_write_rgb8(o->record, (int)w, (int)(h + QTOOL_VIEW_OVERLAY_H), (int)o->bench_frames, rec, 1, 15,
+                              err, errlen) != 0)
+        rc = -1;
+    free(buf), free(ws), free(rec);
     return rc;
 }
