@@ -14,6 +14,7 @@
 #include <signal.h>
 #include <time.h>
 
+#include "io/hdr_write.h"
 #include "io/png.h"
 #include "view/view.h"
 #include "qibl/asset.h"
@@ -102,22 +103,31 @@ static int xdo(const char *display, const char *args)
     return system(cmd);
 }
 
-static void test_drag_matches_relight(void **state)
+#if QIBL_HAVE_X11
+/* one Xvfb server and one viewer on it */
+typedef struct session {
+    char display[16], asset[128], vlog[128];
+    pid_t xvfb, viewer;
+    Display *dpy;
+} session;
+
+static void need_tools(void)
 {
-    (void)state;
-#if !QIBL_HAVE_X11
-    need(0, "qibl was built without X11 (libx11-dev)");
-#else
     need_qibl();
     need(on_path("Xvfb"), "Xvfb is not installed (Debian: xvfb)");
     need(on_path("xdotool"), "xdotool is not installed (Debian: xdotool)");
-    assert_int_equal(cli_setup("/tmp/qibl-view-XXXXXX"), 0);
-    char asset[128], png[128], vlog[128], sun_s[3][40], display[16] = "";
-    snprintf(asset, sizeof asset, "%s/a.qibl", dir);
-    snprintf(png, sizeof png, "%s/relight.png", dir);
-    snprintf(vlog, sizeof vlog, "%s/view.log", dir);
-    assert_int_equal(run("gen", "-o", asset, "--size", "256x64", "--k", "9", NULL), 0);
+}
 
+/* a scratch dir, a 256x64 courtyard, Xvfb on a free display, the viewer with extra arguments
+ * (NULL-terminated) showing its first frame; 0, or -1 after a message */
+static int session_start(session *ss, char **extra)
+{
+    memset(ss, 0, sizeof *ss);
+    ss->xvfb = ss->viewer = -1;
+    assert_int_equal(cli_setup("/tmp/qibl-view-XXXXXX"), 0);
+    snprintf(ss->asset, sizeof ss->asset, "%s/a.qibl", dir);
+    snprintf(ss->vlog, sizeof ss->vlog, "%s/view.log", dir);
+    assert_int_equal(run("gen", "-o", ss->asset, "--size", "256x64", "--k", "9", NULL), 0);
     /* a display number nobody holds (no lock file, no socket) */
     int dn = -1;
     for (int d = 90 + (int)(getpid() % 97); d < 400 && dn < 0; ++d) {
@@ -128,36 +138,126 @@ static void test_drag_matches_relight(void **state)
             dn = d;
     }
     assert_true(dn >= 0);
-    snprintf(display, sizeof display, ":%d", dn);
-    char *xargv[] = {"Xvfb", display, "-screen", "0", "640x480x24", "-nolisten", "tcp", NULL};
-    pid_t xvfb = spawn(xargv, NULL, NULL);
-    assert_true(xvfb > 0);
-    Display *dpy = NULL;
-    for (int i = 0; i < 100 && !dpy; ++i) { /* 5 s for the server to come up */
+    snprintf(ss->display, sizeof ss->display, ":%d", dn);
+    char *xargv[] = {"Xvfb", ss->display, "-screen", "0", "640x480x24", "-nolisten", "tcp", NULL};
+    ss->xvfb = spawn(xargv, NULL, NULL);
+    assert_true(ss->xvfb > 0);
+    for (int i = 0; i < 100 && !ss->dpy; ++i) { /* 5 s for the server to come up */
         sleep_ms(50);
-        dpy = XOpenDisplay(display);
+        ss->dpy = XOpenDisplay(ss->display);
     }
-    pid_t viewer = -1;
-    int ok = 0;
-    if (!dpy) {
-        print_error("view_test: Xvfb on %s did not start\n", display);
-        goto out;
-    }
+    if (!ss->dpy)
+        return print_error("view_test: Xvfb on %s did not start\n", ss->display), -1;
     char denv[32];
-    snprintf(denv, sizeof denv, "DISPLAY=%s", display);
-    char *vargv[] = {qibl, "view", asset, "--sun", "1", "0", "0.5", NULL};
-    viewer = spawn(vargv, vlog, denv);
+    snprintf(denv, sizeof denv, "DISPLAY=%s", ss->display);
+    char *vargv[32] = {qibl, "view", ss->asset};
+    int n = 3;
+    for (char **e = extra; e && *e && n < 31; ++e)
+        vargv[n++] = *e;
+    vargv[n] = NULL;
+    ss->viewer = spawn(vargv, ss->vlog, denv);
     double sun[3];
-    if (viewer <= 0 || !wait_lines(vlog, 1, sun)) {
-        print_error("view_test: the viewer showed no first frame\n");
-        goto out;
+    if (ss->viewer <= 0 || !wait_lines(ss->vlog, 1, sun))
+        return print_error("view_test: the viewer showed no first frame\n"), -1;
+    return 0;
+}
+
+/* the viewer's frame as the X server holds it, compared with a PNG: differing channel values (-1: no window) */
+static long grab_compare(session *ss, const char *png)
+{
+    Window root = DefaultRootWindow(ss->dpy), r2, parent, *kids = NULL, win = 0;
+    unsigned nk = 0;
+    if (XQueryTree(ss->dpy, root, &r2, &parent, &kids, &nk))
+        for (unsigned i = 0; i < nk && !win; ++i) {
+            char *name = NULL;
+            if (XFetchName(ss->dpy, kids[i], &name) && name && strcmp(name, "qibl view") == 0)
+                win = kids[i];
+            if (name)
+                XFree(name);
+        }
+    if (kids)
+        XFree(kids);
+    if (!win)
+        return print_error("view_test: no 'qibl view' window\n"), -1;
+    XImage *img = XGetImage(ss->dpy, win, 0, 0, VIEW_W, VIEW_H, AllPlanes, ZPixmap);
+    if (!img)
+        return print_error("view_test: XGetImage failed\n"), -1;
+    int w, h, fr;
+    uint8_t *ref = NULL;
+    char err[256];
+    if (qtool_png_read_rgb8(png, &w, &h, &fr, &ref, err, sizeof err) != 0 || w != VIEW_W || h != VIEW_H) {
+        XDestroyImage(img);
+        return print_error("view_test: %s\n", err), -1;
     }
+    long diff = 0, maxd = 0;
+    for (int y = 0; y < VIEW_H; ++y)
+        for (int x = 0; x < VIEW_W; ++x) {
+            unsigned long p = XGetPixel(img, x, y);
+            long got[3] = {(long)((p >> 16) & 255), (long)((p >> 8) & 255), (long)(p & 255)};
+            for (int c = 0; c < 3; ++c) {
+                long d = labs(got[c] - ref[3 * (y * VIEW_W + x) + c]);
+                diff += d != 0, maxd = d > maxd ? d : maxd;
+            }
+        }
+    XDestroyImage(img);
+    free(ref);
+    if (diff)
+        print_error("view_test: the window differs from qibl relight in %ld channel values (max %ld)\n", diff, maxd);
+    return diff;
+}
+
+/* q quits the viewer with status 0; then everything is stopped; ok: keep no scratch files */
+static int session_end(session *ss, int ok)
+{
+    if (ok && ss->viewer > 0) {
+        ok = 0;
+        xdo(ss->display, "search --name 'qibl view' key --window %1 q");
+        for (int i = 0; i < 100; ++i) {
+            int st;
+            if (waitpid(ss->viewer, &st, WNOHANG) == ss->viewer) {
+                ss->viewer = -1;
+                ok = WIFEXITED(st) && WEXITSTATUS(st) == 0;
+                break;
+            }
+            sleep_ms(50);
+        }
+        if (!ok)
+            print_error("view_test: q did not end the viewer cleanly\n");
+    }
+    if (ss->viewer > 0)
+        kill(ss->viewer, SIGTERM), waitpid(ss->viewer, NULL, 0);
+    if (ss->dpy)
+        XCloseDisplay(ss->dpy);
+    if (ss->xvfb > 0)
+        kill(ss->xvfb, SIGTERM), waitpid(ss->xvfb, NULL, 0);
+    if (ok)
+        rm_rf(dir);
+    else
+        fprintf(stderr, "view_test: scratch files kept in %s\n", dir);
+    return ok;
+}
+#endif
+
+static void test_drag_matches_relight(void **state)
+{
+    (void)state;
+#if !QIBL_HAVE_X11
+    need(0, "qibl was built without X11 (libx11-dev)");
+#else
+    need_tools();
+    session ss;
+    char *extra[] = {"--sun", "1", "0", "0.5", NULL};
+    int ok = 0;
+    double sun[3];
+    char png[128], sun_s[3][40];
+    if (session_start(&ss, extra) != 0)
+        goto out;
+    snprintf(png, sizeof png, "%s/relight.png", dir);
     /* drag: 60 pixels left-to-right, 10 up, in three moves (motion events in between) */
-    char cmd[256];
-    snprintf(cmd, sizeof cmd, "search --sync --name 'qibl view' windowfocus --sync "
-                              "mousemove --window %%1 100 40 mousedown 1 mousemove --window %%1 130 35 "
-                              "mousemove --window %%1 160 30 mouseup 1");
-    if (xdo(display, cmd) != 0 || !wait_lines(vlog, 2, sun)) {
+    if (xdo(ss.display, "search --sync --name 'qibl view' windowfocus --sync "
+                        "mousemove --window %1 100 40 mousedown 1 mousemove --window %1 130 35 "
+                        "mousemove --window %1 160 30 mouseup 1") != 0 ||
+        !wait_lines(ss.vlog, 2, sun)) {
         print_error("view_test: the drag did not reach the viewer\n");
         goto out;
     }
@@ -174,84 +274,75 @@ static void test_drag_matches_relight(void **state)
                 goto out;
             }
     }
-    /* the window as the X server holds it */
-    Window root = DefaultRootWindow(dpy), r2, parent, *kids = NULL;
-    unsigned nk = 0;
-    Window win = 0;
-    if (XQueryTree(dpy, root, &r2, &parent, &kids, &nk))
-        for (unsigned i = 0; i < nk && !win; ++i) {
-            char *name = NULL;
-            if (XFetchName(dpy, kids[i], &name) && name && strcmp(name, "qibl view") == 0)
-                win = kids[i];
-            if (name)
-                XFree(name);
-        }
-    if (kids)
-        XFree(kids);
-    if (!win) {
-        print_error("view_test: no 'qibl view' window\n");
-        goto out;
-    }
-    XImage *img = XGetImage(dpy, win, 0, 0, VIEW_W, VIEW_H, AllPlanes, ZPixmap);
-    if (!img) {
-        print_error("view_test: XGetImage failed\n");
-        goto out;
-    }
     for (int c = 0; c < 3; ++c)
         snprintf(sun_s[c], sizeof sun_s[c], "%.17g", sun[c]);
-    if (run("relight", asset, "--sun", sun_s[0], sun_s[1], sun_s[2], "--png", png, NULL) != 0) {
-        XDestroyImage(img);
+    if (run("relight", ss.asset, "--sun", sun_s[0], sun_s[1], sun_s[2], "--png", png, NULL) != 0) {
         print_error("view_test: qibl relight failed\n");
         goto out;
     }
-    int w, h, fr;
-    uint8_t *ref = NULL;
-    char err[256];
-    if (qtool_png_read_rgb8(png, &w, &h, &fr, &ref, err, sizeof err) != 0 || w != VIEW_W || h != VIEW_H) {
-        XDestroyImage(img);
-        print_error("view_test: %s\n", err);
-        goto out;
-    }
-    long diff = 0, maxd = 0;
-    for (int y = 0; y < VIEW_H; ++y)
-        for (int x = 0; x < VIEW_W; ++x) {
-            unsigned long p = XGetPixel(img, x, y);
-            long got[3] = {(long)((p >> 16) & 255), (long)((p >> 8) & 255), (long)(p & 255)};
-            for (int c = 0; c < 3; ++c) {
-                long d = labs(got[c] - ref[3 * (y * VIEW_W + x) + c]);
-                diff += d != 0, maxd = d > maxd ? d : maxd;
-            }
-        }
-    XDestroyImage(img);
-    free(ref);
-    if (diff) {
-        print_error("view_test: the window differs from qibl relight in %ld channel values (max %ld)\n", diff, maxd);
-        goto out;
-    }
-    /* q quits the viewer with status 0 */
-    xdo(display, "search --name 'qibl view' key --window %1 q");
-    for (int i = 0; i < 100; ++i) {
-        int st;
-        if (waitpid(viewer, &st, WNOHANG) == viewer) {
-            viewer = -1;
-            ok = WIFEXITED(st) && WEXITSTATUS(st) == 0;
-            break;
-        }
-        sleep_ms(50);
-    }
-    if (!ok)
-        print_error("view_test: q did not end the viewer cleanly\n");
+    ok = grab_compare(&ss, png) == 0;
 out:
-    if (viewer > 0)
-        kill(viewer, SIGTERM), waitpid(viewer, NULL, 0);
-    if (dpy)
-        XCloseDisplay(dpy);
-    kill(xvfb, SIGTERM), waitpid(xvfb, NULL, 0);
-    if (ok)
-        rm_rf(dir);
-    else
-        fprintf(stderr, "view_test: scratch files kept in %s\n", dir);
-    assert_true(ok);
+    assert_true(session_end(&ss, ok));
+#endif
+}
+
+/* keys: s twice (sun + SH -> sun -> the probe's SH alone), Y (yaw +15 degrees): the window equals
+ * `qibl relight --probe P --yaw 15` */
+static void test_probe_yaw_matches_relight(void **state)
+{
+    (void)state;
+#if !QIBL_HAVE_X11
+    need(0, "qibl was built without X11 (libx11-dev)");
+#else
+    need_tools();
+    /* a small probe: a warm bright patch over a dim blue sky and a dark ground */
+    char probe[160], png[128];
+    char tmpl[] = "/tmp/qibl-viewprobe-XXXXXX";
+    assert_non_null(mkdtemp(tmpl));
+    snprintf(probe, sizeof probe, "%s/p.hdr", tmpl);
+    {
+        enum { PW = 64, PH = 32 };
+        static float px[PW * PH * 3];
+        for (int y = 0; y < PH; ++y)
+            for (int x = 0; x < PW; ++x) {
+                float *o = px + 3 * (y * PW + x);
+                int sunp = abs(x - 20) < 3 && abs(y - 8) < 3;
+                o[0] = sunp ? 40.0f : y < PH / 2 ? 0.3f : 0.05f;
+                o[1] = sunp ? 30.0f : y < PH / 2 ? 0.4f : 0.05f;
+                o[2] = sunp ? 20.0f : y < PH / 2 ? 0.8f : 0.04f;
+            }
+        char err[256];
+        assert_int_equal(qtool_hdr_write(probe, PW, PH, px, err, sizeof err), 0);
+    }
+    session ss;
+    char *extra[] = {"--probe", probe, NULL};
+    int ok = 0;
+    double sun[3];
+    if (session_start(&ss, extra) != 0)
+        goto out;
+    snprintf(png, sizeof png, "%s/relight.png", dir);
+    if (xdo(ss.display, "search --sync --name 'qibl view' windowfocus --sync key --window %1 s s Y") != 0 ||
+        !wait_lines(ss.vlog, 4, sun)) {
+        print_error("view_test: the keys did not reach the viewer\n");
+        goto out;
+    }
+    {
+        char *t = text(ss.vlog);
+        int seen = strstr(t, "SH | PROBE 1/1 p.hdr YAW 15") != NULL;
+        if (!seen)
+            print_error("view_test: the log does not show the SH scheme at yaw 15:\n%s", t);
+        free(t);
+        if (!seen)
+            goto out;
+    }
+    if (run("relight", ss.asset, "--probe", probe, "--yaw", "15", "--png", png, NULL) != 0) {
+        print_error("view_test: qibl relight failed\n");
+        goto out;
+    }
+    ok = grab_compare(&ss, png) == 0;
+out:
+    rm_rf(tmpl);
+    assert_true(session_end(&ss, ok));
 #endif
 }
 
@@ -296,6 +387,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_state),
         cmocka_unit_test(test_drag_matches_relight),
+        cmocka_unit_test(test_probe_yaw_matches_relight),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

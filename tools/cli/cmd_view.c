@@ -144,7 +144,8 @@ int qcli_cmd_view(int argc, char **argv)
         ll.probe = probes[j];
         if (qcli_light_list_sh(&ll, m.k, stdout, &v.probe[j]) != 0)
             goto out;
-        v.probe_name[j] = probes[j];
+        const char *slash = strrchr(probes[j], '/');
+        v.probe_name[j] = slash ? slash + 1 : probes[j]; /* the overlay shows the file's name */
     }
     v.nprobes = nprobes;
     if (nprobes)
