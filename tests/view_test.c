@@ -382,10 +382,66 @@ static void test_state(void **state)
     assert_non_null(strstr(l2, "60 FPS"));
 }
 
+/* the command's options and limits without a window: each bad one a named one-line error, nothing written */
+static void test_cli(void **state)
+{
+    (void)state;
+    need_qibl();
+    assert_int_equal(cli_setup("/tmp/qibl-viewcli-XXXXXX"), 0);
+    char asset[128], rec[128], small[128];
+    snprintf(asset, sizeof asset, "%s/a.qibl", dir);
+    snprintf(rec, sizeof rec, "%s/rec.png", dir);
+    snprintf(small, sizeof small, "%s/small.png", dir);
+    assert_int_equal(run("gen", "-o", asset, "--size", "256x64", "--k", "9", NULL), 0);
+    struct { int rc; const char *msg; const char *args[12]; } cases[] = {
+        {2, "view needs an asset FILE", {"view", NULL}},
+        {2, "--record needs --bench", {"view", asset, "--record", rec, NULL}},
+        {2, "--record needs --frames of at least 2", {"view", asset, "--bench", "--headless", "--frames", "1", "--record", rec, NULL}},
+        {2, "--exposure", {"view", asset, "--exposure", "1000", NULL}},
+        {2, "--headless is for --bench", {"view", asset, "--headless", NULL}},
+        {2, "--gles shows the sun only", {"view", asset, "--gles", "--probe", "p.hdr", NULL}},
+        {1, "beyond the recording's 256 MiB", {"view", asset, "--bench", "--headless", "--frames", "4000", "--record", rec, NULL}},
+        {1, "not the same frame", {"view", asset, "--bench", "--headless", "--truth", small, NULL}},
+        {1, "nonexistent", {"view", "nonexistent.qibl", "--bench", "--headless", NULL}},
+    };
+    /* a truth of another size */
+    assert_int_equal(run("relight", asset, "--sun", "0", "0", "1", "--png", rec, NULL), 0);
+    {
+        uint8_t px[3 * 8 * 4] = {0};
+        char err[128];
+        assert_int_equal(qtool_png_write_rgb8(small, 8, 4, px, err, sizeof err), 0);
+    }
+    unlink(rec);
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        const char **a = cases[i].args;
+        int rc = run(a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7], a[8], a[9], a[10], NULL);
+        char *e = text(errlog);
+        if (rc != cases[i].rc || strstr(e, cases[i].msg) == NULL || strncmp(e, "qibl: ", 6) != 0)
+            fail_msg("case %zu: exit %d, stderr '%s' (want %d and '%s')", i, rc, e, cases[i].rc, cases[i].msg);
+        free(e);
+        assert_int_equal(access(rec, F_OK), -1); /* nothing recorded by a refused command */
+    }
+    /* the headless bench and its recording */
+    assert_int_equal(run("view", asset, "--bench", "--headless", "--frames", "4", "--turn", "--record", rec, NULL), 0);
+    char *o = text(outlog);
+    assert_non_null(strstr(o, "RESULT view.fps "));
+    free(o);
+    int w, h, fr;
+    uint8_t *px = NULL;
+    char err[256];
+    assert_int_equal(qtool_png_read_rgb8(rec, &w, &h, &fr, &px, err, sizeof err), 0);
+    assert_int_equal(w, 256);
+    assert_int_equal(h, 64 + QTOOL_VIEW_OVERLAY_H);
+    assert_int_equal(fr, 4);
+    free(px);
+    rm_rf(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_state),
+        cmocka_unit_test(test_cli),
         cmocka_unit_test(test_drag_matches_relight),
         cmocka_unit_test(test_probe_yaw_matches_relight),
     };

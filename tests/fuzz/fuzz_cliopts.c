@@ -23,7 +23,7 @@ static const struct {
     {"transfer", qcli_cmd_transfer}, {"bake", qcli_cmd_bake},   {"merge", qcli_cmd_merge},
     {"check", qcli_cmd_check},     {"demo", qcli_cmd_demo},     {"relight", qcli_cmd_relight},
     {"info", qcli_cmd_info},       {"srgbe", qcli_cmd_srgbe},   {"lights", qcli_cmd_lights},
-    {"probe", qcli_cmd_probe},     {"study", qcli_cmd_study},
+    {"probe", qcli_cmd_probe},     {"study", qcli_cmd_study},   {"view", qcli_cmd_view},
 };
 #define NCMDS (sizeof cmds / sizeof cmds[0])
 #define MAX_ARGS 48

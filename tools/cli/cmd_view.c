@@ -98,6 +98,8 @@ int qcli_cmd_view(int argc, char **argv)
         return qcli_usage_error("--headless is for --bench (a window needs a display)");
     if (record && !bench)
         return qcli_usage_error("--record needs --bench (it records the frames the bench sweeps)");
+    if (record && frames < 2)
+        return qcli_usage_error("--record needs --frames of at least 2 (an animated PNG)");
     if (turn && !bench)
         return qcli_usage_error("--turn is for --bench (one turn of the sun over the frames)");
     if (gles && nprobes)
