@@ -38,6 +38,7 @@ static void need(int ok, const char *what)
     skip();
 }
 
+#if QIBL_HAVE_X11
 static int on_path(const char *prog)
 {
     char cmd[256];
@@ -103,7 +104,6 @@ static int xdo(const char *display, const char *args)
     return system(cmd);
 }
 
-#if QIBL_HAVE_X11
 /* one Xvfb server and one viewer on it */
 typedef struct session {
     char display[16], asset[128], vlog[128];

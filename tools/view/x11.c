@@ -46,20 +46,6 @@ static int draw(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void 
     return 0;
 }
 
-static void log_state(const qtool_view *v, const qtool_view_run_opts *o)
-{
-    if (!o->log)
-        return;
-    qibl_q16_t d[3];
-    char l1[160], l2[160];
-    qtool_view_sun_q16(v, d);
-    qtool_view_describe(v, 0, l1, l2, sizeof l1);
-    /* the sun exactly (decimal of the Q16.16 values), so `qibl relight --sun` gives the same light */
-    fprintf((FILE *)o->log, "view: sun %.17g %.17g %.17g | %s | %s\n", d[0] / 65536.0, d[1] / 65536.0, d[2] / 65536.0, l1,
-            l2);
-    fflush((FILE *)o->log);
-}
-
 int qtool_view_record_check(const qtool_view *v, long frames, char *err, size_t errlen)
 {
     const size_t one = (size_t)v->maps.width * (v->maps.height + QTOOL_VIEW_OVERLAY_H) * 3;
@@ -104,6 +90,20 @@ static int bench_headless(qtool_view *v, const qtool_view_run_opts *o, uint8_t *
 }
 
 #if QIBL_HAVE_X11
+static void log_state(const qtool_view *v, const qtool_view_run_opts *o)
+{
+    if (!o->log)
+        return;
+    qibl_q16_t d[3];
+    char l1[160], l2[160];
+    qtool_view_sun_q16(v, d);
+    qtool_view_describe(v, 0, l1, l2, sizeof l1);
+    /* the sun exactly (decimal of the Q16.16 values), so `qibl relight --sun` gives the same light */
+    fprintf((FILE *)o->log, "view: sun %.17g %.17g %.17g | %s | %s\n", d[0] / 65536.0, d[1] / 65536.0, d[2] / 65536.0, l1,
+            l2);
+    fflush((FILE *)o->log);
+}
+
 int qtool_view_have_window(void)
 {
     return 1;
