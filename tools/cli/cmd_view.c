@@ -9,7 +9,6 @@
 #include <string.h>
 
 #include "cli/cli.h"
-#include "cli/gles_cli.h"
 #include "cli/relight_light.h"
 #include "io/file.h"
 #include "io/png.h"
@@ -23,28 +22,6 @@
 
 #define VIEW_BENCH_DEFAULT 600L
 #define VIEW_BENCH_MAX 1000000L
-
-/* --gles: platform/gles2 on a headless EGL context, read back into the window's buffer */
-static int gles_frame(void *user, qtool_view *v, uint8_t *bgrx, size_t stride)
-{
-    uint8_t *rgb = user;
-    qibl_q16_t d[3];
-    qtool_view_sun_q16(v, d);
-    qtool_gles_relight_req req = {.maps = &v->maps, .sun = {d[0], d[1], d[2]},
-                                  .rgb = {v->sun_rgb[0], v->sun_rgb[1], v->sun_rgb[2]}, .falloff = 1,
-                                  .linear = v->linear, .exposure = v->exposure};
-    uint32_t passes = 0;
-    char renderer[64];
-    if (qtool_gles_relight(&req, rgb, &passes, renderer) != 0)
-        return -1;
-    for (uint32_t y = 0; y < v->maps.height; ++y)
-        for (uint32_t x = 0; x < v->maps.width; ++x) {
-            const uint8_t *p = rgb + 3 * ((size_t)y * v->maps.width + x);
-            uint8_t *o = bgrx + (size_t)y * stride + 4 * (size_t)x;
-            o[0] = p[2], o[1] = p[1], o[2] = p[0], o[3] = 255;
-        }
-    return 0;
-}
 
 int qcli_cmd_view(int argc, char **argv)
 {
@@ -102,8 +79,6 @@ int qcli_cmd_view(int argc, char **argv)
         return qcli_usage_error("--record needs --frames of at least 2 (an animated PNG)");
     if (turn && !bench)
         return qcli_usage_error("--turn is for --bench (one turn of the sun over the frames)");
-    if (gles && nprobes)
-        return qcli_usage_error("--gles shows the sun only (no --probe)");
     if (qcli_parse_only)
         return 0;
     if (!bench && !qtool_view_have_window()) {
@@ -111,7 +86,8 @@ int qcli_cmd_view(int argc, char **argv)
                         "rebuild); --bench --headless still runs\n");
         return 1;
     }
-    uint8_t *bytes = NULL, *truth_rgb = NULL, *gles_rgb = NULL;
+    uint8_t *bytes = NULL, *truth_rgb = NULL;
+    qtool_view_gles *vg = NULL;
     size_t n;
     char err[600];
     if (qtool_io_read_asset(in, &bytes, &n, err, sizeof err) != 0) {
@@ -164,12 +140,12 @@ int qcli_cmd_view(int argc, char **argv)
             goto out;
         }
     }
-    if (gles && !(gles_rgb = malloc((size_t)m.width * m.height * 3))) {
-        fprintf(stderr, "qibl: view: out of memory\n");
+    if (gles && !(vg = qtool_view_gles_open(&v, err, sizeof err))) {
+        fprintf(stderr, "qibl: %s\n", err);
         goto out;
     }
     double fps = 0;
-    qtool_view_run_opts o = {.title = "qibl view", .frame = gles ? gles_frame : NULL, .user = gles_rgb,
+    qtool_view_run_opts o = {.title = "qibl view", .frame = gles ? qtool_view_gles_frame : NULL, .user = vg,
                              .truth = truth_rgb, .bench_frames = bench ? frames : 0, .bench_fps = &fps,
                              .headless = headless, .log = bench ? NULL : stdout, .record = record,
                              .drag_dx = turn ? (int)((m.width + (uint32_t)frames - 1) / (uint32_t)frames) : 0};
@@ -188,6 +164,7 @@ int qcli_cmd_view(int argc, char **argv)
     }
     rc = 0;
 out:
-    free(bytes), free(truth_rgb), free(gles_rgb);
+    qtool_view_gles_close(vg);
+    free(bytes), free(truth_rgb);
     return rc;
 }

@@ -107,8 +107,7 @@ size_t qtool_view_workspace_size(const qtool_view *v)
     return ((qibl_shmap_span_workspace_size(v->maps.width) + 7) & ~(size_t)7) + sizeof(int32_t) * 3 * v->maps.width;
 }
 
-/* the SH light of the current scheme, truncated to v->k terms */
-static qibl_status_t view_light(const qtool_view *v, qibl_shlight_t *l)
+qibl_status_t qtool_view_light(const qtool_view *v, qibl_shlight_t *l)
 {
     qibl_status_t st = qibl_shlight_init(l, v->maps.k);
     if (st == QIBL_OK && v->scheme != QTOOL_VIEW_SUN && v->nprobes) {
@@ -152,7 +151,7 @@ int qtool_view_render(qtool_view *v, uint8_t *bgrx, size_t stride, void *ws, qib
     qibl_shmap_weights_t wt;
     qibl_fb_desc_t fb = {.pixels = bgrx, .width = w, .height = h, .stride = stride, .format = QIBL_FB_BGRA8888,
                          .exposure = v->exposure, .srgb = (uint8_t)(v->linear ? 0 : 1)};
-    qibl_status_t st = view_light(v, &l);
+    qibl_status_t st = qtool_view_light(v, &l);
     if (st == QIBL_OK)
         st = qibl_shmap_weights(&v->maps, &l, &wt);
     for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {

@@ -62,6 +62,10 @@ void qtool_view_drag(qtool_view *v, int dx, int dy, uint32_t w, uint32_t h);
  * nothing here (including S with no probe for SH). */
 int qtool_view_key(qtool_view *v, int key);
 
+/* The SH light of the current scheme (sun, the probe turned by the yaw, or both), its terms past
+ * v->k zeroed: what the frame is relit by. QIBL_OK or the core's status. */
+qibl_status_t qtool_view_light(const qtool_view *v, qibl_shlight_t *l);
+
 /* Relights the frame into bgrx (w x h 4-byte pixels B, G, R, 255 at row stride `stride` bytes;
  * w, h the maps'), times it into v->ms. ws: qtool_view_workspace_size bytes. 0, or -1 with *st. */
 size_t qtool_view_workspace_size(const qtool_view *v);
@@ -101,6 +105,14 @@ typedef struct qtool_view_run_opts {
 
 /* Checks a recording's size against QTOOL_VIEW_RECORD_MAX_BYTES: 0, or -1 with a one-line reason. */
 int qtool_view_record_check(const qtool_view *v, long frames, char *err, size_t errlen);
+
+/* --gles (view/gles.c): platform/gles2 on a headless EGL context kept for the whole run, the frame
+ * read back into the window's buffer. open: 0, or -1 with a one-line reason (no EGL in this build,
+ * no context, the upload failed); frame: a qtool_view_frame_fn with user = the qtool_view_gles. */
+typedef struct qtool_view_gles qtool_view_gles;
+qtool_view_gles *qtool_view_gles_open(const qtool_view *v, char *err, size_t errlen);
+int qtool_view_gles_frame(void *user, qtool_view *v, uint8_t *bgrx, size_t stride);
+void qtool_view_gles_close(qtool_view_gles *g);
 
 /* 1 if this build can open a window (X11 found at build time). */
 int qtool_view_have_window(void);
