@@ -287,7 +287,7 @@ out:
 }
 
 /* keys: s twice (sun + SH -> sun -> the probe's SH alone), Y (yaw +15 degrees): the window equals
- * `qibl relight --probe P --yaw 15` */
+ * `qibl relight --probe P --yaw 15`; s again (its median-cut lights): `--probe-mode lights` */
 static void test_probe_yaw_matches_relight(void **state)
 {
     (void)state;
@@ -336,6 +336,17 @@ static void test_probe_yaw_matches_relight(void **state)
             goto out;
     }
     if (run("relight", ss.asset, "--probe", probe, "--yaw", "15", "--png", png, NULL) != 0) {
+        print_error("view_test: qibl relight failed\n");
+        goto out;
+    }
+    if (grab_compare(&ss, png) != 0)
+        goto out;
+    /* s once more: the probe's median-cut lights, as relight --probe-mode lights */
+    if (xdo(ss.display, "search --sync --name 'qibl view' key --window %1 s") != 0 || !wait_lines(ss.vlog, 5, sun)) {
+        print_error("view_test: the key did not reach the viewer\n");
+        goto out;
+    }
+    if (run("relight", ss.asset, "--probe", probe, "--probe-mode", "lights", "--yaw", "15", "--png", png, NULL) != 0) {
         print_error("view_test: qibl relight failed\n");
         goto out;
     }

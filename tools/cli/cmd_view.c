@@ -122,10 +122,13 @@ int qcli_cmd_view(int argc, char **argv)
         ll.probe = probes[j];
         if (qcli_light_list_sh(&ll, m.k, stdout, &v.probe[j]) != 0)
             goto out;
+        ll.mode = QCLI_PROBE_LIGHTS; /* and its median-cut lights, as relight --probe-mode lights */
+        if (qcli_light_list_sh(&ll, m.k, stdout, &v.probe_lights[j]) != 0)
+            goto out;
         const char *slash = strrchr(probes[j], '/');
         v.probe_name[j] = slash ? slash + 1 : probes[j]; /* the overlay shows the file's name */
     }
-    v.nprobes = nprobes;
+    v.nprobes = nprobes, v.have_lights = nprobes > 0;
     if (nprobes)
         v.scheme = QTOOL_VIEW_SUN_SH;
     if (truth) {

@@ -61,7 +61,7 @@ int qtool_view_key(qtool_view *v, int key)
     case 's': /* the next scheme this view can show */
         for (int i = 1; i < QTOOL_VIEW_SCHEME_COUNT; ++i) {
             qtool_view_scheme s = (qtool_view_scheme)(((int)v->scheme + i) % QTOOL_VIEW_SCHEME_COUNT);
-            if (s == QTOOL_VIEW_SUN || v->nprobes) {
+            if (s == QTOOL_VIEW_SUN || (v->nprobes && (s != QTOOL_VIEW_LIGHTS || v->have_lights))) {
                 v->scheme = s;
                 return 1;
             }
@@ -111,7 +111,8 @@ qibl_status_t qtool_view_light(const qtool_view *v, qibl_shlight_t *l)
 {
     qibl_status_t st = qibl_shlight_init(l, v->maps.k);
     if (st == QIBL_OK && v->scheme != QTOOL_VIEW_SUN && v->nprobes) {
-        qibl_shlight_t p = v->probe[v->cur_probe];
+        qibl_shlight_t p = v->scheme == QTOOL_VIEW_LIGHTS && v->have_lights ? v->probe_lights[v->cur_probe]
+                                                                             : v->probe[v->cur_probe];
         if (v->yaw != 0.0) {
             double t = v->yaw * VIEW_PI / 180.0, c = cos(t), s = sin(t);
             double r[3][3] = {{c, -s, 0}, {s, c, 0}, {0, 0, 1}}; /* about +z, as relight's --yaw */
@@ -129,7 +130,7 @@ qibl_status_t qtool_view_light(const qtool_view *v, qibl_shlight_t *l)
         }
         *l = p;
     }
-    if (st == QIBL_OK && v->scheme != QTOOL_VIEW_SH) {
+    if (st == QIBL_OK && (v->scheme == QTOOL_VIEW_SUN || v->scheme == QTOOL_VIEW_SUN_SH)) {
         qibl_q16_t d[3];
         qtool_view_sun_q16(v, d);
         st = qibl_shlight_add_dir(l, d, v->sun_rgb);
@@ -168,7 +169,7 @@ int qtool_view_render(qtool_view *v, uint8_t *bgrx, size_t stride, void *ws, qib
 
 static const char *scheme_name(qtool_view_scheme s)
 {
-    return s == QTOOL_VIEW_SUN ? "SUN" : s == QTOOL_VIEW_SH ? "SH" : "SUN+SH";
+    return s == QTOOL_VIEW_SUN ? "SUN" : s == QTOOL_VIEW_SH ? "SH" : s == QTOOL_VIEW_LIGHTS ? "LIGHTS" : "SUN+SH";
 }
 
 void qtool_view_describe(const qtool_view *v, double fps, char *line1, char *line2, size_t n)
@@ -179,7 +180,7 @@ void qtool_view_describe(const qtool_view *v, double fps, char *line1, char *lin
     if (v->scheme != QTOOL_VIEW_SUN && v->nprobes)
         snprintf(probe, sizeof probe, " | PROBE %u/%u %.40s YAW %.0f", v->cur_probe + 1, v->nprobes,
                  v->probe_name[v->cur_probe] ? v->probe_name[v->cur_probe] : "", v->yaw);
-    if (v->scheme == QTOOL_VIEW_SH)
+    if (v->scheme == QTOOL_VIEW_SH || v->scheme == QTOOL_VIEW_LIGHTS)
         snprintf(line1, n, "%s%s", scheme_name(v->scheme), probe);
     else
         snprintf(line1, n, "%s | DIR %.3f %.3f %.3f AZ %.1f EL %.1f%s", scheme_name(v->scheme), d[0] / 65536.0,

@@ -26,11 +26,19 @@
 #define QTOOL_VIEW_EXPOSURE_MAX (256u * 65536u)
 
 /* The lighting schemes the keys switch through (S). SH needs a probe. */
-typedef enum qtool_view_scheme { QTOOL_VIEW_SUN = 0, QTOOL_VIEW_SH, QTOOL_VIEW_SUN_SH, QTOOL_VIEW_SCHEME_COUNT } qtool_view_scheme;
+typedef enum qtool_view_scheme {
+    QTOOL_VIEW_SUN = 0, /* the dragged sun alone */
+    QTOOL_VIEW_SH,      /* the probe's SH */
+    QTOOL_VIEW_LIGHTS,  /* the probe's median-cut lights (in SH, as relight --probe-mode lights) */
+    QTOOL_VIEW_SUN_SH,  /* the dragged sun plus the probe's SH */
+    QTOOL_VIEW_SCHEME_COUNT
+} qtool_view_scheme;
 
 typedef struct qtool_view {
     qibl_shmaps_t maps;                          /* the asset's shadowed maps (caller-owned bytes) */
     qibl_shlight_t probe[QTOOL_VIEW_MAX_PROBES]; /* each probe's radiance SH, k = maps.k */
+    qibl_shlight_t probe_lights[QTOOL_VIEW_MAX_PROBES]; /* its median-cut lights as SH (have_lights) */
+    int have_lights;
     const char *probe_name[QTOOL_VIEW_MAX_PROBES];
     uint32_t nprobes, cur_probe;
     qtool_view_scheme scheme;
@@ -57,7 +65,8 @@ void qtool_view_sun_q16(const qtool_view *v, qibl_q16_t dir[3]);
  * degrees of elevation (up is up); the elevation is clamped to +-QTOOL_VIEW_EL_MAX. */
 void qtool_view_drag(qtool_view *v, int dx, int dy, uint32_t w, uint32_t h);
 
-/* A key (an X11 keysym's Latin-1 value): s scheme, p probe, y / Y yaw -/+, + / - exposure x2 / /2,
+/* A key (an X11 keysym's Latin-1 value): s scheme (sun, SH, lights, sun + SH; those needing a probe
+ * or its lights skipped without one), p probe, y / Y yaw -/+, + / - exposure x2 / /2,
  * k fewer SH terms (cycling back to all), l linear/sRGB. 1 if the state changed, 0 if the key means
  * nothing here (including S with no probe for SH). */
 int qtool_view_key(qtool_view *v, int key);
