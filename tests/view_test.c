@@ -286,7 +286,7 @@ out:
 #endif
 }
 
-/* keys: s twice (sun + SH -> sun -> the probe's SH alone), Y (yaw +15 degrees): the window equals
+/* keys: s three times (sun + SH -> lamp -> sun -> the probe's SH alone), Y (yaw +15 degrees): the window equals
  * `qibl relight --probe P --yaw 15`; s again (its median-cut lights): `--probe-mode lights` */
 static void test_probe_yaw_matches_relight(void **state)
 {
@@ -321,8 +321,8 @@ static void test_probe_yaw_matches_relight(void **state)
     if (session_start(&ss, extra) != 0)
         goto out;
     snprintf(png, sizeof png, "%s/relight.png", dir);
-    if (xdo(ss.display, "search --sync --name 'qibl view' windowfocus --sync key --window %1 s s Y") != 0 ||
-        !wait_lines(ss.vlog, 4, sun)) {
+    if (xdo(ss.display, "search --sync --name 'qibl view' windowfocus --sync key --window %1 s s s Y") != 0 ||
+        !wait_lines(ss.vlog, 5, sun)) {
         print_error("view_test: the keys did not reach the viewer\n");
         goto out;
     }
@@ -342,7 +342,7 @@ static void test_probe_yaw_matches_relight(void **state)
     if (grab_compare(&ss, png) != 0)
         goto out;
     /* s once more: the probe's median-cut lights, as relight --probe-mode lights */
-    if (xdo(ss.display, "search --sync --name 'qibl view' key --window %1 s") != 0 || !wait_lines(ss.vlog, 5, sun)) {
+    if (xdo(ss.display, "search --sync --name 'qibl view' key --window %1 s") != 0 || !wait_lines(ss.vlog, 6, sun)) {
         print_error("view_test: the key did not reach the viewer\n");
         goto out;
     }
@@ -391,6 +391,74 @@ static void test_state(void **state)
     assert_non_null(strstr(l1, "SUN"));
     assert_non_null(strstr(l2, "K 9"));
     assert_non_null(strstr(l2, "60 FPS"));
+}
+
+/* the last "lamp X Y Z rgb R G B" of the log; 1 if found */
+static int last_lamp(const char *path, double lamp[6])
+{
+    char *t = text(path), *p = t;
+    int found = 0;
+    while ((p = strstr(p, " lamp ")) != NULL) {
+        found |= sscanf(p, " lamp %lf %lf %lf rgb %lf %lf %lf", &lamp[0], &lamp[1], &lamp[2], &lamp[3], &lamp[4],
+                        &lamp[5]) == 6;
+        p += 6;
+    }
+    free(t);
+    return found;
+}
+
+/* s (the lamp), then a drag: the lamp follows the P map under the pointer (1/10 of the way toward
+ * the viewpoint), and the window equals `qibl relight --point X Y Z --rgb R G B` */
+static void test_lamp_pick_matches_relight(void **state)
+{
+    (void)state;
+#if !QIBL_HAVE_X11
+    need(0, "qibl was built without X11 (libx11-dev)");
+#else
+    need_tools();
+    session ss;
+    int ok = 0;
+    double sun[3], lamp[6];
+    char png[128], ls[6][40];
+    if (session_start(&ss, NULL) != 0)
+        goto out;
+    snprintf(png, sizeof png, "%s/relight.png", dir);
+    if (xdo(ss.display, "search --sync --name 'qibl view' windowfocus --sync key --window %1 s "
+                        "mousemove --window %1 128 50 mousedown 1 mousemove --window %1 90 49 "
+                        "mousemove --window %1 60 48 mouseup 1") != 0 ||
+        !wait_lines(ss.vlog, 3, sun) || !last_lamp(ss.vlog, lamp)) {
+        print_error("view_test: the lamp drag did not reach the viewer\n");
+        goto out;
+    }
+    { /* the P map's point under (60, 48), 1/10 of the way toward the origin */
+        uint8_t *bytes = NULL;
+        size_t n;
+        char err[256];
+        qibl_asset_t a;
+        qibl_pmap_t pm;
+        qibl_q16_t q[3];
+        assert_int_equal(qtool_io_read_asset(ss.asset, &bytes, &n, err, sizeof err), 0);
+        assert_int_equal(qibl_asset_open(&a, bytes, n), QIBL_OK);
+        assert_int_equal(qibl_asset_pmap(&a, &pm), QIBL_OK);
+        qibl_pmap_point(&pm, 60, 48, q);
+        free(bytes);
+        for (int c = 0; c < 3; ++c)
+            if (lamp[c] * 65536.0 != (double)(q[c] - q[c] / 10)) {
+                print_error("view_test: the lamp is at %.17g %.17g %.17g, not 9/10 of the picked point %g %g %g\n",
+                            lamp[0], lamp[1], lamp[2], q[0] / 65536.0, q[1] / 65536.0, q[2] / 65536.0);
+                goto out;
+            }
+    }
+    for (int c = 0; c < 6; ++c)
+        snprintf(ls[c], sizeof ls[c], "%.17g", lamp[c]);
+    if (run("relight", ss.asset, "--point", ls[0], ls[1], ls[2], "--rgb", ls[3], ls[4], ls[5], "--png", png, NULL) != 0) {
+        print_error("view_test: qibl relight --point failed\n");
+        goto out;
+    }
+    ok = grab_compare(&ss, png) == 0;
+out:
+    assert_true(session_end(&ss, ok));
+#endif
 }
 
 /* --gles: the window shows platform/gles2's frame, equal to `qibl relight --gles` of the same sun */
@@ -495,6 +563,7 @@ int main(void)
         cmocka_unit_test(test_cli),
         cmocka_unit_test(test_drag_matches_relight),
         cmocka_unit_test(test_probe_yaw_matches_relight),
+        cmocka_unit_test(test_lamp_pick_matches_relight),
         cmocka_unit_test(test_gles_matches_relight_gles),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -13,11 +13,13 @@
 #include "io/file.h"
 #include "io/png.h"
 #include "qibl/asset.h"
+#include "qibl/lightpath.h"
 #include "qibl/soft.h"
 #include "view/view.h"
 
 #define VIEW_USAGE                                                                                                   \
-    "usage: qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--exposure E] [--truth FRAME.png] [--gles]\n"         \
+    "usage: qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--lamp-rgb C0] [--exposure E] [--truth FRAME.png]\n"  \
+    "                 [--gles]\n"                                                                              \
     "                 [--bench [--frames N] [--headless] [--record OUT.png [--turn]]]"
 
 #define VIEW_BENCH_DEFAULT 600L
@@ -31,7 +33,7 @@ int qcli_cmd_view(int argc, char **argv)
     int gles = 0, bench = 0, headless = 0, have_sun = 0, turn = 0;
     long frames = VIEW_BENCH_DEFAULT;
     int32_t sun[3] = {0, 0, 0};
-    double exposure = 1.0;
+    double exposure = 1.0, lamp_c0 = 0; /* 0: the lamp's default C0 (as relight's --point) */
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         if (strcmp(a, "--sun") == 0 && i + 3 < argc) {
@@ -48,6 +50,9 @@ int qcli_cmd_view(int argc, char **argv)
         } else if (strcmp(a, "--exposure") == 0 && i + 1 < argc) {
             if (qcli_parse_num(a, argv[++i], QTOOL_VIEW_EXPOSURE_MIN / 65536.0, QTOOL_VIEW_EXPOSURE_MAX / 65536.0,
                                "the viewer's exposure range", &exposure) != 0)
+                return 2;
+        } else if (strcmp(a, "--lamp-rgb") == 0 && i + 1 < argc) {
+            if (qcli_parse_num(a, argv[++i], 1.0 / 65536, QTOOL_CLI_Q16_MAX, QTOOL_CLI_Q16_WHY, &lamp_c0) != 0)
                 return 2;
         } else if (strcmp(a, "--truth") == 0 && i + 1 < argc)
             truth = argv[++i];
@@ -110,6 +115,52 @@ int qcli_cmd_view(int argc, char **argv)
         goto out;
     }
     v.exposure = (uint32_t)lrint(exposure * 65536.0);
+    /* the lamp scheme where the asset has a P map: relight --point's maps, P map and lamp occlusion */
+    if (qibl_asset_pmap(&as, &v.pmap) == QIBL_OK && qibl_asset_point_shmaps(&as, &v.point_maps) == QIBL_OK &&
+        v.pmap.width == m.width && v.pmap.height == m.height) {
+        qibl_chunk_t shmu, locc;
+        v.have_lamp = 1;
+        if (qibl_asset_find_nth(&as, QIBL_CHUNK_SHMU, 0, &shmu) == QIBL_OK &&
+            qibl_asset_find_nth(&as, QIBL_CHUNK_LOCC, 0, &locc) == QIBL_OK) {
+            qibl_status_t ost = qibl_lightpath_occl_from_asset(&as, &v.occ);
+            v.have_occ = ost == QIBL_OK;
+            if (ost != QIBL_OK)
+                fprintf(stderr, "qibl: note: %s: its LOCC chunk is not usable (%s): the lamp is drawn without lamp "
+                                "occlusion\n", in, qibl_soft_status_str(ost));
+        }
+        /* the lamp starts over the middle of the frame's lower half (the ground), else anywhere not sky */
+        int placed = qtool_view_pick(&v, (int)m.width / 2, (int)(m.height * 3 / 4));
+        for (uint32_t y = m.height; !placed && y-- > 0;)
+            for (uint32_t x = 0; x < m.width && !placed; x += 7)
+                placed = qtool_view_pick(&v, (int)x, (int)y);
+        if (!placed)
+            v.have_lamp = 0; /* all sky: nowhere to put it */
+    }
+    if (v.have_lamp) {
+        double c0 = lamp_c0, d = 1;
+        if (c0 == 0) { /* relight --point's default C0 for the starting position (point_default.c) */
+            size_t np = (size_t)m.width * m.height;
+            double *pts = malloc(np * 3 * sizeof *pts), lp[3];
+            for (int c = 0; c < 3; ++c)
+                lp[c] = v.lamp_pos[c] / 65536.0;
+            for (uint32_t y = 0; pts && y < m.height; ++y)
+                for (uint32_t x = 0; x < m.width; ++x) {
+                    qibl_q16_t q[3];
+                    qibl_pmap_point(&v.pmap, x, y, q);
+                    for (int c = 0; c < 3; ++c)
+                        pts[3 * ((size_t)y * m.width + x) + (size_t)c] = q[c] / 65536.0;
+                }
+            int prc = pts ? qcli_point_default(pts, np, lp, 1, &c0, &d) : -1;
+            free(pts);
+            if (prc != 0) {
+                fprintf(stderr, "qibl: view: out of memory\n");
+                goto out;
+            }
+        }
+        v.lamp_rgb[0] = v.lamp_rgb[1] = v.lamp_rgb[2] = (qibl_q16_t)nearbyint(c0 * 65536.0);
+    } else if (lamp_c0 != 0) {
+        fprintf(stderr, "qibl: note: %s has no P map to place a lamp in: --lamp-rgb is ignored\n", in);
+    }
     if (have_sun) {
         double x = sun[0], y = sun[1], z = sun[2], r = sqrt(x * x + y * y);
         v.az = fmod(atan2(y, x) * 180.0 / 3.14159265358979323846 + 360.0, 360.0);

@@ -61,7 +61,9 @@ int qtool_view_key(qtool_view *v, int key)
     case 's': /* the next scheme this view can show */
         for (int i = 1; i < QTOOL_VIEW_SCHEME_COUNT; ++i) {
             qtool_view_scheme s = (qtool_view_scheme)(((int)v->scheme + i) % QTOOL_VIEW_SCHEME_COUNT);
-            if (s == QTOOL_VIEW_SUN || (v->nprobes && (s != QTOOL_VIEW_LIGHTS || v->have_lights))) {
+            int ok = s == QTOOL_VIEW_SUN || (s == QTOOL_VIEW_LAMP && v->have_lamp) ||
+                     (s != QTOOL_VIEW_LAMP && v->nprobes && (s != QTOOL_VIEW_LIGHTS || v->have_lights));
+            if (ok) {
                 v->scheme = s;
                 return 1;
             }
@@ -102,9 +104,32 @@ int qtool_view_key(qtool_view *v, int key)
     }
 }
 
+/* the span workspace: the larger of the SH and the lamp kernels' */
+static size_t span_ws(const qtool_view *v)
+{
+    size_t n = qibl_shmap_span_workspace_size(v->maps.width);
+    if (v->have_lamp && qibl_shmap_point_workspace_size(v->point_maps.k, v->maps.width) > n)
+        n = qibl_shmap_point_workspace_size(v->point_maps.k, v->maps.width);
+    return (n + 7) & ~(size_t)7;
+}
+
 size_t qtool_view_workspace_size(const qtool_view *v)
 {
-    return ((qibl_shmap_span_workspace_size(v->maps.width) + 7) & ~(size_t)7) + sizeof(int32_t) * 3 * v->maps.width;
+    return span_ws(v) + sizeof(int32_t) * 3 * v->maps.width;
+}
+
+int qtool_view_pick(qtool_view *v, int x, int y)
+{
+    if (!v->have_lamp || x < 0 || y < 0 || (uint32_t)x >= v->pmap.width || (uint32_t)y >= v->pmap.height)
+        return 0;
+    qibl_q16_t p[3];
+    qibl_pmap_point(&v->pmap, (uint32_t)x, (uint32_t)y, p);
+    for (int c = 0; c < 3; ++c)
+        if (p[c] >= QTOOL_VIEW_SKY_DIST * 65536 || p[c] <= -QTOOL_VIEW_SKY_DIST * 65536)
+            return 0;
+    for (int c = 0; c < 3; ++c) /* |p| < 1000 units: p - p/10 cannot overflow */
+        v->lamp_pos[c] = p[c] - p[c] / 10;
+    return 1;
 }
 
 qibl_status_t qtool_view_light(const qtool_view *v, qibl_shlight_t *l)
@@ -144,19 +169,35 @@ qibl_status_t qtool_view_light(const qtool_view *v, qibl_shlight_t *l)
 int qtool_view_render(qtool_view *v, uint8_t *bgrx, size_t stride, void *ws, qibl_status_t *status)
 {
     const uint32_t w = v->maps.width, h = v->maps.height;
-    const size_t wsn = qibl_shmap_span_workspace_size(w);
-    int32_t *row = (int32_t *)(void *)((uint8_t *)ws + ((wsn + 7) & ~(size_t)7)); /* after the span workspace, aligned */
+    const size_t wsn = span_ws(v);
+    int32_t *row = (int32_t *)(void *)((uint8_t *)ws + wsn); /* after the span workspace, aligned */
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
     qibl_shlight_t l;
     qibl_shmap_weights_t wt;
     qibl_fb_desc_t fb = {.pixels = bgrx, .width = w, .height = h, .stride = stride, .format = QIBL_FB_BGRA8888,
                          .exposure = v->exposure, .srgb = (uint8_t)(v->linear ? 0 : 1)};
-    qibl_status_t st = qtool_view_light(v, &l);
-    if (st == QIBL_OK)
-        st = qibl_shmap_weights(&v->maps, &l, &wt);
+    const int lamp = v->scheme == QTOOL_VIEW_LAMP && v->have_lamp;
+    qibl_shmap_point_t pt;
+    qibl_status_t st = QIBL_OK;
+    if (lamp) { /* as relight --point: poly Y, falloff 1/d, default min_dist */
+        qibl_pointlight_t pl = {.pos = {v->lamp_pos[0], v->lamp_pos[1], v->lamp_pos[2]},
+                                .rgb = {v->lamp_rgb[0], v->lamp_rgb[1], v->lamp_rgb[2]},
+                                .falloff = QIBL_FALLOFF_INV_DIST, .filter = QIBL_POINT_POLY};
+        st = qibl_shmap_point_prepare(&v->point_maps, &v->pmap, NULL, &pl, &pt);
+    } else {
+        st = qtool_view_light(v, &l);
+        if (st == QIBL_OK)
+            st = qibl_shmap_weights(&v->maps, &l, &wt);
+    }
     for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {
-        st = qibl_shmap_relight_span(&v->maps, &wt, 0, y, w, row, ws, wsn);
+        if (lamp) {
+            st = qibl_shmap_point_span(&pt, 0, y, w, row, ws, wsn);
+            if (st == QIBL_OK && v->have_occ)
+                st = qibl_lightpath_occl_span(&v->occ, 0, y, w, row);
+        } else {
+            st = qibl_shmap_relight_span(&v->maps, &wt, 0, y, w, row, ws, wsn);
+        }
         if (st == QIBL_OK)
             st = qibl_fb_write_row(&fb, 0, y, w, row);
     }
@@ -169,7 +210,11 @@ int qtool_view_render(qtool_view *v, uint8_t *bgrx, size_t stride, void *ws, qib
 
 static const char *scheme_name(qtool_view_scheme s)
 {
-    return s == QTOOL_VIEW_SUN ? "SUN" : s == QTOOL_VIEW_SH ? "SH" : s == QTOOL_VIEW_LIGHTS ? "LIGHTS" : "SUN+SH";
+    return s == QTOOL_VIEW_SUN      ? "SUN"
+           : s == QTOOL_VIEW_SH     ? "SH"
+           : s == QTOOL_VIEW_LIGHTS ? "LIGHTS"
+           : s == QTOOL_VIEW_LAMP   ? "LAMP"
+                                    : "SUN+SH";
 }
 
 void qtool_view_describe(const qtool_view *v, double fps, char *line1, char *line2, size_t n)
@@ -182,6 +227,9 @@ void qtool_view_describe(const qtool_view *v, double fps, char *line1, char *lin
                  v->probe_name[v->cur_probe] ? v->probe_name[v->cur_probe] : "", v->yaw);
     if (v->scheme == QTOOL_VIEW_SH || v->scheme == QTOOL_VIEW_LIGHTS)
         snprintf(line1, n, "%s%s", scheme_name(v->scheme), probe);
+    else if (v->scheme == QTOOL_VIEW_LAMP)
+        snprintf(line1, n, "LAMP | AT %.3f %.3f %.3f C0 %.3g%s", v->lamp_pos[0] / 65536.0, v->lamp_pos[1] / 65536.0,
+                 v->lamp_pos[2] / 65536.0, v->lamp_rgb[0] / 65536.0, v->have_occ ? " | LAMP OCCLUSION" : "");
     else
         snprintf(line1, n, "%s | DIR %.3f %.3f %.3f AZ %.1f EL %.1f%s", scheme_name(v->scheme), d[0] / 65536.0,
                  d[1] / 65536.0, d[2] / 65536.0, fmod(v->az + v->yaw, 360.0), v->el, probe);

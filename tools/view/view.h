@@ -14,6 +14,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "qibl/lightpath.h"
 #include "qibl/shmap.h"
 
 #define QTOOL_VIEW_MAX_PROBES 8u      /* --probe options (each an SH light, 3 x 25 Q16.16) */
@@ -31,6 +32,7 @@ typedef enum qtool_view_scheme {
     QTOOL_VIEW_SH,      /* the probe's SH */
     QTOOL_VIEW_LIGHTS,  /* the probe's median-cut lights (in SH, as relight --probe-mode lights) */
     QTOOL_VIEW_SUN_SH,  /* the dragged sun plus the probe's SH */
+    QTOOL_VIEW_LAMP,    /* a point lamp placed by picking the P map under the pointer (have_lamp) */
     QTOOL_VIEW_SCHEME_COUNT
 } qtool_view_scheme;
 
@@ -50,8 +52,21 @@ typedef struct qtool_view {
     int linear;             /* 1: no sRGB curve */
     double ms;              /* the last frame's relight time */
     double psnr;            /* against the truth (< 0: none) */
-    char truth_name[64];
+    /* the lamp (qtool_view_set_lamp): as `qibl relight --point X Y Z --rgb R G B` draws it (poly Y,
+     * falloff 1/d, the asset's lamp occlusion when it has one) */
+    int have_lamp;
+    qibl_shmaps_t point_maps;   /* qibl_asset_point_shmaps */
+    qibl_pmap_t pmap;
+    qibl_lampocc_t occ;
+    int have_occ;
+    qibl_q16_t lamp_pos[3], lamp_rgb[3];
 } qtool_view;
+
+/* The lamp set 1/10 of the way from the P map's point under pixel (x, y) toward the viewpoint (the
+ * origin), so it hangs in front of what was picked. 1 if moved; 0 outside the frame, without a
+ * lamp, or on the sky (a point QTOOL_VIEW_SKY_DIST or more away). */
+#define QTOOL_VIEW_SKY_DIST 1000
+int qtool_view_pick(qtool_view *v, int x, int y);
 
 /* Fills v for the maps m (checked with qibl_shmap_check): sun at 45 deg azimuth, 30 deg up, k = m's
  * k, exposure 1, scheme sun. 0, or -1 (bad maps). */

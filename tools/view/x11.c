@@ -99,8 +99,13 @@ static void log_state(const qtool_view *v, const qtool_view_run_opts *o)
     qtool_view_sun_q16(v, d);
     qtool_view_describe(v, 0, l1, l2, sizeof l1);
     /* the sun exactly (decimal of the Q16.16 values), so `qibl relight --sun` gives the same light */
-    fprintf((FILE *)o->log, "view: sun %.17g %.17g %.17g | %s | %s\n", d[0] / 65536.0, d[1] / 65536.0, d[2] / 65536.0, l1,
+    fprintf((FILE *)o->log, "view: sun %.17g %.17g %.17g | %s | %s", d[0] / 65536.0, d[1] / 65536.0, d[2] / 65536.0, l1,
             l2);
+    if (v->scheme == QTOOL_VIEW_LAMP) /* the lamp exactly, for `qibl relight --point X Y Z --rgb R G B` */
+        fprintf((FILE *)o->log, " | lamp %.17g %.17g %.17g rgb %.17g %.17g %.17g", v->lamp_pos[0] / 65536.0,
+                v->lamp_pos[1] / 65536.0, v->lamp_pos[2] / 65536.0, v->lamp_rgb[0] / 65536.0, v->lamp_rgb[1] / 65536.0,
+                v->lamp_rgb[2] / 65536.0);
+    fputc('\n', (FILE *)o->log);
     fflush((FILE *)o->log);
 }
 
@@ -175,11 +180,19 @@ static int x_run(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void
                         dirty = 1, moved = 1;
                 } else if (e.type == ButtonPress && e.xbutton.button == Button1) {
                     dragging = 1, lx = e.xbutton.x, ly = e.xbutton.y;
+                    if (v->scheme == QTOOL_VIEW_LAMP) /* the lamp: picked under the pointer */
+                        dirty |= qtool_view_pick(v, lx, ly);
                 } else if (e.type == MotionNotify && dragging) {
-                    qtool_view_drag(v, e.xmotion.x - lx, e.xmotion.y - ly, w, h);
-                    lx = e.xmotion.x, ly = e.xmotion.y, dirty = 1;
+                    if (v->scheme == QTOOL_VIEW_LAMP)
+                        dirty |= qtool_view_pick(v, e.xmotion.x, e.xmotion.y);
+                    else
+                        qtool_view_drag(v, e.xmotion.x - lx, e.xmotion.y - ly, w, h), dirty = 1;
+                    lx = e.xmotion.x, ly = e.xmotion.y;
                 } else if (e.type == ButtonRelease && e.xbutton.button == Button1 && dragging) {
-                    qtool_view_drag(v, e.xbutton.x - lx, e.xbutton.y - ly, w, h);
+                    if (v->scheme == QTOOL_VIEW_LAMP)
+                        qtool_view_pick(v, e.xbutton.x, e.xbutton.y);
+                    else
+                        qtool_view_drag(v, e.xbutton.x - lx, e.xbutton.y - ly, w, h);
                     dragging = 0, dirty = 1, moved = 1;
                 }
                 if (!running)
