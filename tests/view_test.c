@@ -120,14 +120,18 @@ static void need_tools(void)
 
 /* a scratch dir, a 256x64 courtyard, Xvfb on a free display, the viewer with extra arguments
  * (NULL-terminated) showing its first frame; 0, or -1 after a message */
-static int session_start(session *ss, char **extra)
+static int session_start_asset(session *ss, char **extra, int baked)
 {
     memset(ss, 0, sizeof *ss);
     ss->xvfb = ss->viewer = -1;
     assert_int_equal(cli_setup("/tmp/qibl-view-XXXXXX"), 0);
     snprintf(ss->asset, sizeof ss->asset, "%s/a.qibl", dir);
     snprintf(ss->vlog, sizeof ss->vlog, "%s/view.log", dir);
-    assert_int_equal(run("gen", "-o", ss->asset, "--size", "256x64", "--k", "9", NULL), 0);
+    if (baked) /* ray-traced, with a sun path (LPTH) */
+        assert_int_equal(run("bake", "-o", ss->asset, "--size", "256x64", "--dirs", "16", "--k", "9", "--sun-path",
+                             "40,10,8,16", "--path-steps", "8", NULL), 0);
+    else
+        assert_int_equal(run("gen", "-o", ss->asset, "--size", "256x64", "--k", "9", NULL), 0);
     /* a display number nobody holds (no lock file, no socket) */
     int dn = -1;
     for (int d = 90 + (int)(getpid() % 97); d < 400 && dn < 0; ++d) {
@@ -160,6 +164,11 @@ static int session_start(session *ss, char **extra)
     if (ss->viewer <= 0 || !wait_lines(ss->vlog, 1, sun))
         return print_error("view_test: the viewer showed no first frame\n"), -1;
     return 0;
+}
+
+static int session_start(session *ss, char **extra)
+{
+    return session_start_asset(ss, extra, 0);
 }
 
 /* the viewer's frame as the X server holds it, compared with a PNG: differing channel values (-1: no window) */
@@ -461,6 +470,53 @@ out:
 #endif
 }
 
+/* s s (sun -> lamp -> path), t t (2 steps), a drag of a quarter width (scrubs a quarter of the
+ * path): the window equals `qibl relight --path 0 --t T` of the reported t */
+static void test_path_scrub_matches_relight(void **state)
+{
+    (void)state;
+#if !QIBL_HAVE_X11
+    need(0, "qibl was built without X11 (libx11-dev)");
+#else
+    need_tools();
+    session ss;
+    int ok = 0;
+    double sun[3];
+    char png[128], ts[40];
+    if (session_start_asset(&ss, NULL, 1) != 0)
+        goto out;
+    snprintf(png, sizeof png, "%s/relight.png", dir);
+    if (xdo(ss.display, "search --sync --name 'qibl view' windowfocus --sync key --window %1 s s t t "
+                        "mousemove --window %1 100 30 mousedown 1 mousemove --window %1 130 31 "
+                        "mousemove --window %1 164 32 mouseup 1") != 0 ||
+        !wait_lines(ss.vlog, 6, sun)) {
+        print_error("view_test: the keys and the scrub did not reach the viewer\n");
+        goto out;
+    }
+    unsigned idx = 99, tq = 0;
+    {
+        char *t = text(ss.vlog), *p = t, *last = NULL;
+        while ((p = strstr(p, " | path ")) != NULL)
+            last = p++;
+        int got = last && sscanf(last, " | path %u tq %u", &idx, &tq) == 2;
+        free(t);
+        /* 2 steps of 2048 and a quarter of 65535 (rounded per motion event) */
+        if (!got || idx != 0 || tq + 2 < 2 * 2048 + 16384 || tq > 2 * 2048 + 16384 + 2) {
+            print_error("view_test: path %u at tq %u, want path 0 near tq %u\n", idx, tq, 2 * 2048 + 16384);
+            goto out;
+        }
+    }
+    snprintf(ts, sizeof ts, "%.17g", tq / 65535.0);
+    if (run("relight", ss.asset, "--path", "0", "--t", ts, "--png", png, NULL) != 0) {
+        print_error("view_test: qibl relight --path failed\n");
+        goto out;
+    }
+    ok = grab_compare(&ss, png) == 0;
+out:
+    assert_true(session_end(&ss, ok));
+#endif
+}
+
 /* --gles: the window shows platform/gles2's frame, equal to `qibl relight --gles` of the same sun */
 static void test_gles_matches_relight_gles(void **state)
 {
@@ -564,6 +620,7 @@ int main(void)
         cmocka_unit_test(test_drag_matches_relight),
         cmocka_unit_test(test_probe_yaw_matches_relight),
         cmocka_unit_test(test_lamp_pick_matches_relight),
+        cmocka_unit_test(test_path_scrub_matches_relight),
         cmocka_unit_test(test_gles_matches_relight_gles),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -115,6 +115,7 @@ int qcli_cmd_view(int argc, char **argv)
         goto out;
     }
     v.exposure = (uint32_t)lrint(exposure * 65536.0);
+    v.asset = bytes, v.asset_n = n, v.npaths = qibl_lightpath_count(&as); /* the path scheme (LPTH) */
     /* the lamp scheme where the asset has a P map: relight --point's maps, P map and lamp occlusion */
     if (qibl_asset_pmap(&as, &v.pmap) == QIBL_OK && qibl_asset_point_shmaps(&as, &v.point_maps) == QIBL_OK &&
         v.pmap.width == m.width && v.pmap.height == m.height) {

@@ -9,6 +9,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "bake/path.h"
 #include "io/text.h"
 #include "qibl/probe.h"
 #include "qibl/sh.h"
@@ -61,14 +62,27 @@ int qtool_view_key(qtool_view *v, int key)
     case 's': /* the next scheme this view can show */
         for (int i = 1; i < QTOOL_VIEW_SCHEME_COUNT; ++i) {
             qtool_view_scheme s = (qtool_view_scheme)(((int)v->scheme + i) % QTOOL_VIEW_SCHEME_COUNT);
-            int ok = s == QTOOL_VIEW_SUN || (s == QTOOL_VIEW_LAMP && v->have_lamp) ||
-                     (s != QTOOL_VIEW_LAMP && v->nprobes && (s != QTOOL_VIEW_LIGHTS || v->have_lights));
+            int ok = s == QTOOL_VIEW_SUN || (s == QTOOL_VIEW_LAMP && v->have_lamp) || (s == QTOOL_VIEW_PATH && v->npaths) ||
+                     (s != QTOOL_VIEW_LAMP && s != QTOOL_VIEW_PATH && v->nprobes &&
+                      (s != QTOOL_VIEW_LIGHTS || v->have_lights));
             if (ok) {
                 v->scheme = s;
                 return 1;
             }
         }
         return 0;
+    case 't':
+    case 'T':
+        if (!v->npaths)
+            return 0;
+        v->path_t = (v->path_t + (key == 't' ? QTOOL_VIEW_PATH_STEP : QIBL_LIGHTPATH_T_MAX + 1 - QTOOL_VIEW_PATH_STEP)) %
+                    (QIBL_LIGHTPATH_T_MAX + 1);
+        return 1;
+    case 'P':
+        if (v->npaths < 2)
+            return 0;
+        v->path_index = (v->path_index + 1) % v->npaths;
+        return 1;
     case 'p':
         if (v->nprobes < 2)
             return 0;
@@ -115,7 +129,44 @@ static size_t span_ws(const qtool_view *v)
 
 size_t qtool_view_workspace_size(const qtool_view *v)
 {
-    return span_ws(v) + sizeof(int32_t) * 3 * v->maps.width;
+    /* the path scheme's RGB8 frame after the row */
+    return span_ws(v) + sizeof(int32_t) * 3 * v->maps.width + (v->npaths ? (size_t)v->maps.width * v->maps.height * 3 : 0);
+}
+
+void qtool_view_scrub(qtool_view *v, int dx, uint32_t w)
+{
+    if (w == 0)
+        return;
+    double t = v->path_t + (double)dx * QIBL_LIGHTPATH_T_MAX / w;
+    v->path_t = t < 0 ? 0 : t > QIBL_LIGHTPATH_T_MAX ? QIBL_LIGHTPATH_T_MAX : (uint32_t)lrint(t);
+}
+
+/* the path scheme: relight --path's frame (qtool_bake_relight_path8) into BGRX */
+static qibl_status_t render_path(const qtool_view *v, uint8_t *bgrx, size_t stride, uint8_t *rgb)
+{
+    qibl_asset_t a;
+    qibl_lightpath_t p;
+    qibl_q16_t q[3];
+    qibl_status_t st = qibl_asset_open(&a, v->asset, v->asset_n);
+    if (st == QIBL_OK)
+        st = qibl_lightpath_from_asset(&a, v->path_index, &p);
+    if (st == QIBL_OK)
+        st = qibl_lightpath_at(&p, v->path_t, q);
+    if (st != QIBL_OK)
+        return st;
+    qtool_rt_light l = {.point = p.kind == QIBL_LIGHTPATH_POSITIONS, .rgb = {1, 1, 1}, .falloff = 1};
+    for (int c = 0; c < 3; ++c)
+        (l.point ? l.pos : l.dir)[c] = q[c] / 65536.0;
+    double ms;
+    if (qtool_bake_relight_path8(v->asset, v->asset_n, &l, v->path_index, v->path_t, 0, NULL, rgb, NULL, &ms, &st) != 0)
+        return st;
+    for (uint32_t y = 0; y < v->maps.height; ++y)
+        for (uint32_t x = 0; x < v->maps.width; ++x) {
+            const uint8_t *i = rgb + 3 * ((size_t)y * v->maps.width + x);
+            uint8_t *o = bgrx + (size_t)y * stride + 4 * (size_t)x;
+            o[0] = i[2], o[1] = i[1], o[2] = i[0], o[3] = 255;
+        }
+    return QIBL_OK;
 }
 
 int qtool_view_pick(qtool_view *v, int x, int y)
@@ -177,6 +228,14 @@ int qtool_view_render(qtool_view *v, uint8_t *bgrx, size_t stride, void *ws, qib
     qibl_shmap_weights_t wt;
     qibl_fb_desc_t fb = {.pixels = bgrx, .width = w, .height = h, .stride = stride, .format = QIBL_FB_BGRA8888,
                          .exposure = v->exposure, .srgb = (uint8_t)(v->linear ? 0 : 1)};
+    if (v->scheme == QTOOL_VIEW_PATH && v->npaths) {
+        qibl_status_t pst = render_path(v, bgrx, stride, (uint8_t *)(row + 3 * (size_t)w));
+        clock_gettime(CLOCK_MONOTONIC, &t1);
+        v->ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
+        if (status)
+            *status = pst;
+        return pst == QIBL_OK ? 0 : -1;
+    }
     const int lamp = v->scheme == QTOOL_VIEW_LAMP && v->have_lamp;
     qibl_shmap_point_t pt;
     qibl_status_t st = QIBL_OK;
@@ -214,6 +273,7 @@ static const char *scheme_name(qtool_view_scheme s)
            : s == QTOOL_VIEW_SH     ? "SH"
            : s == QTOOL_VIEW_LIGHTS ? "LIGHTS"
            : s == QTOOL_VIEW_LAMP   ? "LAMP"
+           : s == QTOOL_VIEW_PATH   ? "PATH"
                                     : "SUN+SH";
 }
 
@@ -227,6 +287,9 @@ void qtool_view_describe(const qtool_view *v, double fps, char *line1, char *lin
                  v->probe_name[v->cur_probe] ? v->probe_name[v->cur_probe] : "", v->yaw);
     if (v->scheme == QTOOL_VIEW_SH || v->scheme == QTOOL_VIEW_LIGHTS)
         snprintf(line1, n, "%s%s", scheme_name(v->scheme), probe);
+    else if (v->scheme == QTOOL_VIEW_PATH)
+        snprintf(line1, n, "PATH %u/%u | T %.4f (T / SHIFT-T STEP, DRAG SCRUBS) | SRGB, EXPOSURE 1", v->path_index + 1,
+                 v->npaths, v->path_t / (double)QIBL_LIGHTPATH_T_MAX);
     else if (v->scheme == QTOOL_VIEW_LAMP)
         snprintf(line1, n, "LAMP | AT %.3f %.3f %.3f C0 %.3g%s", v->lamp_pos[0] / 65536.0, v->lamp_pos[1] / 65536.0,
                  v->lamp_pos[2] / 65536.0, v->lamp_rgb[0] / 65536.0, v->have_occ ? " | LAMP OCCLUSION" : "");

@@ -33,6 +33,7 @@ typedef enum qtool_view_scheme {
     QTOOL_VIEW_LIGHTS,  /* the probe's median-cut lights (in SH, as relight --probe-mode lights) */
     QTOOL_VIEW_SUN_SH,  /* the dragged sun plus the probe's SH */
     QTOOL_VIEW_LAMP,    /* a point lamp placed by picking the P map under the pointer (have_lamp) */
+    QTOOL_VIEW_PATH,    /* a light on one of the asset's baked paths (LPTH) at path_t, as relight --path */
     QTOOL_VIEW_SCHEME_COUNT
 } qtool_view_scheme;
 
@@ -60,7 +61,15 @@ typedef struct qtool_view {
     qibl_lampocc_t occ;
     int have_occ;
     qibl_q16_t lamp_pos[3], lamp_rgb[3];
+    /* the baked light paths (qibl_lightpath_count of the asset): relit by qtool_bake_relight_path8
+     * (sRGB, exposure 1: the exposure, k and linear keys do not apply to this scheme) */
+    const uint8_t *asset;       /* the asset's bytes (caller-owned), for the path scheme */
+    size_t asset_n;
+    uint32_t npaths, path_index;
+    uint32_t path_t;            /* 0..QIBL_LIGHTPATH_T_MAX */
 } qtool_view;
+
+#define QTOOL_VIEW_PATH_STEP 2048u /* t per t / T key (1/32 of a path) */
 
 /* The lamp set 1/10 of the way from the P map's point under pixel (x, y) toward the viewpoint (the
  * origin), so it hangs in front of what was picked. 1 if moved; 0 outside the frame, without a
@@ -80,8 +89,12 @@ void qtool_view_sun_q16(const qtool_view *v, qibl_q16_t dir[3]);
  * degrees of elevation (up is up); the elevation is clamped to +-QTOOL_VIEW_EL_MAX. */
 void qtool_view_drag(qtool_view *v, int dx, int dy, uint32_t w, uint32_t h);
 
-/* A key (an X11 keysym's Latin-1 value): s scheme (sun, SH, lights, sun + SH; those needing a probe
- * or its lights skipped without one), p probe, y / Y yaw -/+, + / - exposure x2 / /2,
+/* A pointer drag in the path scheme: a full window width scrubs t over the whole path (clamped). */
+void qtool_view_scrub(qtool_view *v, int dx, uint32_t w);
+
+/* A key (an X11 keysym's Latin-1 value): s scheme (sun, SH, lights, sun + SH, lamp, path; those
+ * needing a probe, its lights, a P map or a baked path skipped without one), t / T the path's t
+ * +/- QTOOL_VIEW_PATH_STEP (wrapping), P the next path, p probe, y / Y yaw -/+, + / - exposure x2 / /2,
  * k fewer SH terms (cycling back to all), l linear/sRGB. 1 if the state changed, 0 if the key means
  * nothing here (including S with no probe for SH). */
 int qtool_view_key(qtool_view *v, int key);

@@ -101,6 +101,8 @@ static void log_state(const qtool_view *v, const qtool_view_run_opts *o)
     /* the sun exactly (decimal of the Q16.16 values), so `qibl relight --sun` gives the same light */
     fprintf((FILE *)o->log, "view: sun %.17g %.17g %.17g | %s | %s", d[0] / 65536.0, d[1] / 65536.0, d[2] / 65536.0, l1,
             l2);
+    if (v->scheme == QTOOL_VIEW_PATH) /* `qibl relight --path N --t T` with T = tq / 65535 */
+        fprintf((FILE *)o->log, " | path %u tq %u", v->path_index, v->path_t);
     if (v->scheme == QTOOL_VIEW_LAMP) /* the lamp exactly, for `qibl relight --point X Y Z --rgb R G B` */
         fprintf((FILE *)o->log, " | lamp %.17g %.17g %.17g rgb %.17g %.17g %.17g", v->lamp_pos[0] / 65536.0,
                 v->lamp_pos[1] / 65536.0, v->lamp_pos[2] / 65536.0, v->lamp_rgb[0] / 65536.0, v->lamp_rgb[1] / 65536.0,
@@ -185,12 +187,16 @@ static int x_run(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void
                 } else if (e.type == MotionNotify && dragging) {
                     if (v->scheme == QTOOL_VIEW_LAMP)
                         dirty |= qtool_view_pick(v, e.xmotion.x, e.xmotion.y);
+                    else if (v->scheme == QTOOL_VIEW_PATH)
+                        qtool_view_scrub(v, e.xmotion.x - lx, w), dirty = 1;
                     else
                         qtool_view_drag(v, e.xmotion.x - lx, e.xmotion.y - ly, w, h), dirty = 1;
                     lx = e.xmotion.x, ly = e.xmotion.y;
                 } else if (e.type == ButtonRelease && e.xbutton.button == Button1 && dragging) {
                     if (v->scheme == QTOOL_VIEW_LAMP)
                         qtool_view_pick(v, e.xbutton.x, e.xbutton.y);
+                    else if (v->scheme == QTOOL_VIEW_PATH)
+                        qtool_view_scrub(v, e.xbutton.x - lx, w);
                     else
                         qtool_view_drag(v, e.xbutton.x - lx, e.xbutton.y - ly, w, h);
                     dragging = 0, dirty = 1, moved = 1;
