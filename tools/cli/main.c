@@ -226,20 +226,25 @@ static const qcli_cmd commands[] = {
      "  a light on the asset's baked path N (or its first sun path / lamp track) at T in 0..1: unshadowed\n"
      "  SH x visibility(T), soft over [T - R, T + R]; --sky adds the demo's sky through the shadowed maps.\n",
      qcli_cmd_relight},
-    {"view", "a live viewer: drag the sun over the relit asset, step probes, yaw, exposure and k (X11 window)",
-     "usage: qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--exposure E] [--truth FRAME.png] [--gles]\n"
-     "                 [--bench [--frames N] [--headless]]\n"
+    {"view", "a live viewer: drag the sun or a lamp, scrub a baked light path, step probes, yaw, exposure, k (X11)",
+     "usage: qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--lamp-rgb C0] [--exposure E] [--truth FRAME.png]\n"
+     "                 [--gles] [--bench [--frames N] [--headless] [--record OUT.png [--turn]]]\n"
      "  A window (X11) showing the asset relit by the core through platform/soft (--gles: platform/gles2\n"
-     "  on a headless EGL context, read back; the sun only), with an overlay under the frame: scheme,\n"
-     "  light, k, exposure, ms per frame, fps and, with --truth (a `qibl render` PNG of the same size),\n"
-     "  the PSNR against it. Mouse: drag with the left button to move the sun (a window width turns it\n"
-     "  once around, its height sweeps 180 degrees of elevation). Keys: s scheme (sun, probe SH, sun +\n"
-     "  SH), p next probe, y / Y yaw -/+15 degrees, + / - exposure x2 / /2, k fewer SH terms (cycles),\n"
-     "  l linear / sRGB, q or Escape quits. Every settled change prints `view: sun X Y Z | ...` on\n"
-     "  stdout: `qibl relight FILE --sun X Y Z --png OUT` gives the same frame. --probe (up to 8): each\n"
-     "  probe's SH as `qibl relight --probe` makes it. --bench: --frames N (default 600) frames with the\n"
-     "  sun dragged 4 pixels a frame, then `RESULT view.fps F` (--headless: no window, the framebuffer\n"
-     "  and overlay only). Needs a build with X11 (Debian: apt-get install libx11-dev) for the window.\n",
+     "  on a headless EGL context, read back), with an overlay under the frame: scheme, light, k,\n"
+     "  exposure, ms per frame, fps and, with --truth (a `qibl render` PNG of the same size), the PSNR\n"
+     "  against it. Schemes (s cycles; those the asset or options cannot show are skipped): SUN (drag\n"
+     "  with the left button: a window width turns the sun once around, its height sweeps 180 degrees of\n"
+     "  elevation), SH / LIGHTS (each --probe's SH or its median-cut lights, as relight --probe and\n"
+     "  --probe-mode lights; p next probe, y / Y yaw -/+15 degrees), SUN+SH, LAMP (a point lamp: the\n"
+     "  drag picks the P map under the pointer and hangs the lamp 1/10 of the way toward the viewpoint;\n"
+     "  C0 --lamp-rgb, default relight --point's), PATH (a baked light path: t / T step 1/32, a drag\n"
+     "  scrubs, P next path; sRGB at exposure 1). Keys: + / - exposure x2 / /2, k fewer SH terms\n"
+     "  (cycles), l linear / sRGB, q or Escape quits. Every settled change prints `view: sun X Y Z | ...`\n"
+     "  (with `| lamp X Y Z rgb R G B` or `| path N tq T`) on stdout: relight with those values gives\n"
+     "  the same frame. --bench: --frames N (default 600) frames with the sun dragged 4 pixels a frame\n"
+     "  (--turn: one turn over the frames), then `RESULT view.fps F` (--headless: no window, the\n"
+     "  framebuffer and overlay only); --record OUT.png: those frames, overlay included, as an APNG.\n"
+     "  The window needs a build with X11 (Debian: apt-get install libx11-dev).\n",
      qcli_cmd_view},
     {"info", "validate a qibl asset file and print its contents",
      "usage: qibl info FILE\n"
