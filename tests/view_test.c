@@ -596,6 +596,32 @@ static void test_cli(void **state)
         free(e);
         assert_int_equal(access(rec, F_OK), -1); /* nothing recorded by a refused command */
     }
+    /* a ninth probe (refused while parsing: the files are never read) */
+    assert_int_equal(run("view", asset, "--probe", "p", "--probe", "p", "--probe", "p", "--probe", "p", "--probe", "p",
+                         "--probe", "p", "--probe", "p", "--probe", "p", "--probe", "p", NULL), 2);
+    char *e9 = text(errlog);
+    assert_non_null(strstr(e9, "qibl: --probe: at most 8 probes"));
+    free(e9);
+    assert_int_equal(run("view", asset, "--bench", "--frames", "0", NULL), 2);
+    e9 = text(errlog);
+    assert_non_null(strstr(e9, "--frames needs an integer in 1..1000000"));
+    free(e9);
+#if QIBL_HAVE_X11
+    { /* no display: named, exit 1 */
+        const char *d = getenv("DISPLAY");
+        char *saved = d ? strdup(d) : NULL;
+        setenv("DISPLAY", "", 1);
+        int rc = run("view", asset, NULL);
+        if (saved)
+            setenv("DISPLAY", saved, 1), free(saved);
+        else
+            unsetenv("DISPLAY");
+        assert_int_equal(rc, 1);
+        e9 = text(errlog);
+        assert_non_null(strstr(e9, "qibl: view: cannot open the X display"));
+        free(e9);
+    }
+#endif
     /* the headless bench and its recording */
     assert_int_equal(run("view", asset, "--bench", "--headless", "--frames", "4", "--turn", "--record", rec, NULL), 0);
     char *o = text(outlog);
