@@ -460,7 +460,8 @@ static void test_lamp_pick_matches_relight(void **state)
     }
     for (int c = 0; c < 6; ++c)
         snprintf(ls[c], sizeof ls[c], "%.17g", lamp[c]);
-    if (run("relight", ss.asset, "--point", ls[0], ls[1], ls[2], "--rgb", ls[3], ls[4], ls[5], "--png", png, NULL) != 0) {
+    if (run("relight", ss.asset, "--point", ls[0], ls[1], ls[2], "--rgb", ls[3], ls[4], ls[5], "--png", png, NULL) !=
+        0) {
         print_error("view_test: qibl relight --point failed\n");
         goto out;
     }
@@ -572,10 +573,12 @@ static void test_cli(void **state)
     struct { int rc; const char *msg; const char *args[12]; } cases[] = {
         {2, "view needs an asset FILE", {"view", NULL}},
         {2, "--record needs --bench", {"view", asset, "--record", rec, NULL}},
-        {2, "--record needs --frames of at least 2", {"view", asset, "--bench", "--headless", "--frames", "1", "--record", rec, NULL}},
+        {2, "--record needs --frames of at least 2",
+         {"view", asset, "--bench", "--headless", "--frames", "1", "--record", rec, NULL}},
         {2, "--exposure", {"view", asset, "--exposure", "1000", NULL}},
         {2, "--headless is for --bench", {"view", asset, "--headless", NULL}},
-        {1, "beyond the recording's 256 MiB", {"view", asset, "--bench", "--headless", "--frames", "4000", "--record", rec, NULL}},
+        {1, "beyond the recording's 256 MiB",
+         {"view", asset, "--bench", "--headless", "--frames", "4000", "--record", rec, NULL}},
         {1, "not the same frame", {"view", asset, "--bench", "--headless", "--truth", small, NULL}},
         {1, "nonexistent", {"view", "nonexistent.qibl", "--bench", "--headless", NULL}},
     };

@@ -62,7 +62,8 @@ int qtool_view_key(qtool_view *v, int key)
     case 's': /* the next scheme this view can show */
         for (int i = 1; i < QTOOL_VIEW_SCHEME_COUNT; ++i) {
             qtool_view_scheme s = (qtool_view_scheme)(((int)v->scheme + i) % QTOOL_VIEW_SCHEME_COUNT);
-            int ok = s == QTOOL_VIEW_SUN || (s == QTOOL_VIEW_LAMP && v->have_lamp) || (s == QTOOL_VIEW_PATH && v->npaths) ||
+            int ok = s == QTOOL_VIEW_SUN || (s == QTOOL_VIEW_LAMP && v->have_lamp) ||
+                     (s == QTOOL_VIEW_PATH && v->npaths) ||
                      (s != QTOOL_VIEW_LAMP && s != QTOOL_VIEW_PATH && v->nprobes &&
                       (s != QTOOL_VIEW_LIGHTS || v->have_lights));
             if (ok) {
@@ -75,7 +76,8 @@ int qtool_view_key(qtool_view *v, int key)
     case 'T':
         if (!v->npaths)
             return 0;
-        v->path_t = (v->path_t + (key == 't' ? QTOOL_VIEW_PATH_STEP : QIBL_LIGHTPATH_T_MAX + 1 - QTOOL_VIEW_PATH_STEP)) %
+        v->path_t = (v->path_t + (key == 't' ? QTOOL_VIEW_PATH_STEP
+                                             : QIBL_LIGHTPATH_T_MAX + 1 - QTOOL_VIEW_PATH_STEP)) %
                     (QIBL_LIGHTPATH_T_MAX + 1);
         return 1;
     case 'P':
@@ -130,7 +132,8 @@ static size_t span_ws(const qtool_view *v)
 size_t qtool_view_workspace_size(const qtool_view *v)
 {
     /* the path scheme's RGB8 frame after the row */
-    return span_ws(v) + sizeof(int32_t) * 3 * v->maps.width + (v->npaths ? (size_t)v->maps.width * v->maps.height * 3 : 0);
+    return span_ws(v) + sizeof(int32_t) * 3 * v->maps.width +
+           (v->npaths ? (size_t)v->maps.width * v->maps.height * 3 : 0);
 }
 
 void qtool_view_scrub(qtool_view *v, int dx, uint32_t w)
@@ -299,7 +302,8 @@ void qtool_view_describe(const qtool_view *v, double fps, char *line1, char *lin
     char ps[48] = "";
     if (v->psnr >= 0)
         snprintf(ps, sizeof ps, " | PSNR %.2f DB", v->psnr);
-    snprintf(line2, n, "K %u | EXP %.4g %s | %.2f MS %.0f FPS%s", v->k, v->exposure / 65536.0, v->linear ? "LINEAR" : "SRGB",
+    snprintf(line2, n, "K %u | EXP %.4g %s | %.2f MS %.0f FPS%s", v->k, v->exposure / 65536.0,
+             v->linear ? "LINEAR" : "SRGB",
              v->ms, fps, ps);
 }
 
@@ -316,8 +320,8 @@ void qtool_view_overlay(const qtool_view *v, double fps, uint8_t *bgrx, uint32_t
         memset(rgb, 24, sizeof rgb);
         /* scale 2 where the window is wide enough for it, else 1 */
         const int sc = w >= 1000 ? QTOOL_VIEW_OVERLAY_SCALE : 1;
-        qtool_text_draw(rgb, (int)ww, QTOOL_VIEW_LINE_H, 4, 2 + (QTOOL_VIEW_LINE_H - 4 - 7 * sc) / 2, line ? l2 : l1, sc,
-                        fg);
+        qtool_text_draw(rgb, (int)ww, QTOOL_VIEW_LINE_H, 4, 2 + (QTOOL_VIEW_LINE_H - 4 - 7 * sc) / 2,
+                        line ? l2 : l1, sc, fg);
         for (uint32_t y = 0; y < QTOOL_VIEW_LINE_H; ++y) {
             uint8_t *o = bgrx + (size_t)(2 + line * QTOOL_VIEW_LINE_H + y) * stride;
             for (uint32_t x = 0; x < w; ++x) {
