@@ -594,6 +594,38 @@ out:
 #endif
 }
 
+/* PSNR against a truth (8-bit RGB of the BGRX frame) and the overlay strip (text on a dark ground,
+ * every pixel opaque, nothing written past the strip) */
+static void test_psnr_overlay(void **state)
+{
+    (void)state;
+    uint8_t frame[2 * 4] = {30, 20, 10, 255, 60, 50, 40, 255}; /* B G R X: RGB 10 20 30 and 40 50 60 */
+    uint8_t truth[6] = {10, 20, 30, 40, 50, 60};
+    assert_true(qtool_view_psnr(frame, 8, 2, 1, truth) == 99.0);
+    truth[5] = 61; /* one value off by 1 in 6: MSE 1/6 */
+    assert_true(fabs(qtool_view_psnr(frame, 8, 2, 1, truth) - 10.0 * log10(255.0 * 255.0 * 6.0)) < 1e-9);
+
+    static uint8_t planes[4 * 2 * 9 * 3], params[9 * 3 * 8];
+    qibl_shmaps_t m = {.width = 4, .height = 2, .k = 9, .channels = 3, .params = params, .planes = planes};
+    qtool_view v;
+    assert_int_equal(qtool_view_init(&v, &m), 0);
+    enum { W = 320, H = QTOOL_VIEW_OVERLAY_H };
+    static uint8_t strip[(H + 1) * W * 4];
+    memset(strip, 0xA5, sizeof strip);
+    qtool_view_overlay(&v, 61.0, strip, W, W * 4);
+    long text = 0, ground = 0;
+    for (size_t i = 0; i < (size_t)H * W; ++i) {
+        assert_int_equal(strip[4 * i + 3], 255);
+        if (strip[4 * i] == 24 && strip[4 * i + 1] == 24 && strip[4 * i + 2] == 24)
+            ++ground;
+        else
+            ++text;
+    }
+    assert_true(text > 200 && ground > text);
+    for (size_t i = (size_t)H * W * 4; i < sizeof strip; ++i) /* the guard row untouched */
+        assert_int_equal(strip[i], 0xA5);
+}
+
 /* the command's options and limits without a window: each bad one a named one-line error, nothing written */
 static void test_cli(void **state)
 {
@@ -680,6 +712,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_state),
+        cmocka_unit_test(test_psnr_overlay),
         cmocka_unit_test(test_cli),
         cmocka_unit_test(test_drag_matches_relight),
         cmocka_unit_test(test_probe_yaw_matches_relight),

@@ -330,9 +330,10 @@ void qtool_view_overlay(const qtool_view *v, double fps, uint8_t *bgrx, uint32_t
             }
         }
     }
-    for (uint32_t y = 0; y < 2; ++y) { /* the border rows above and below the lines */
-        memset(bgrx + (size_t)y * stride, 24, (size_t)w * 4);
-        memset(bgrx + (size_t)(QTOOL_VIEW_OVERLAY_H - 1 - y) * stride, 24, (size_t)w * 4);
+    for (uint32_t y = 0; y < 4; ++y) { /* the border rows above and below the lines, opaque as the rest */
+        uint8_t *o = bgrx + (size_t)(y < 2 ? y : QTOOL_VIEW_OVERLAY_H - 1 - (y - 2)) * stride;
+        for (uint32_t x = 0; x < w; ++x)
+            o[4 * x] = o[4 * x + 1] = o[4 * x + 2] = 24, o[4 * x + 3] = 255;
     }
 }
 
