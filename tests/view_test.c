@@ -485,6 +485,42 @@ out:
 #endif
 }
 
+/* --truth DIR: the frame of the nearest sun is compared (PSNR in the overlay and the log) */
+static void test_truth_dir(void **state)
+{
+    (void)state;
+#if !QIBL_HAVE_X11
+    need(0, "qibl was built without X11 (libx11-dev)");
+#else
+    need_tools();
+    /* the truths: frames of the same courtyard (gen is deterministic) under two suns */
+    char tdir[] = "/tmp/qibl-viewtruth-XXXXXX", a[160], f1[200], f2[200];
+    assert_non_null(mkdtemp(tdir));
+    snprintf(a, sizeof a, "%s/a.qibl", tdir);
+    snprintf(f1, sizeof f1, "%s/sun_2_0_1.png", tdir); /* the viewer's sun (1 0 0.5), named with integers */
+    snprintf(f2, sizeof f2, "%s/sun_0_0_1.png", tdir);
+    assert_int_equal(cli_setup("/tmp/qibl-view-XXXXXX"), 0);
+    assert_int_equal(run("gen", "-o", a, "--size", "256x64", "--k", "9", NULL), 0);
+    assert_int_equal(run("relight", a, "--sun", "1", "0", "0.5", "--png", f1, NULL), 0);
+    assert_int_equal(run("relight", a, "--sun", "0", "0", "1", "--png", f2, NULL), 0);
+    unlink(a);
+    rm_rf(dir);
+    session ss;
+    char *extra[] = {"--sun", "1", "0", "0.5", "--truth", tdir, NULL};
+    int ok = 0;
+    if (session_start(&ss, extra) == 0) {
+        char *t = text(ss.vlog), *p = strstr(t, "PSNR ");
+        double db = 0;
+        ok = p && sscanf(p, "PSNR %lf DB VS sun_2_0_1 (", &db) == 1 && db > 50.0 && strstr(p, "sun_2_0_1 (0.0 DEG)");
+        if (!ok)
+            print_error("view_test: want a PSNR above 50 dB against sun_2_0_1 at 0.0 degrees in: %s", t);
+        free(t);
+    }
+    rm_rf(tdir);
+    assert_true(session_end(&ss, ok));
+#endif
+}
+
 /* s s (sun -> lamp -> path), t t (2 steps), a drag of a quarter width (scrubs a quarter of the
  * path): the window equals `qibl relight --path 0 --t T` of the reported t */
 static void test_path_scrub_matches_relight(void **state)
@@ -666,6 +702,27 @@ static void test_cli(void **state)
         free(e);
         assert_int_equal(access(rec, F_OK), -1); /* nothing recorded by a refused command */
     }
+    { /* --truth DIR refusals: no frames, a zero direction, another size */
+        char td[160], f[200];
+        snprintf(td, sizeof td, "%s/truths", dir);
+        assert_int_equal(mkdir(td, 0755), 0);
+        const char *want[] = {"no sun_X_Y_Z.png frames", "not a sun direction", "not the same frame"};
+        for (int k = 0; k < 3; ++k) {
+            if (k == 1) {
+                snprintf(f, sizeof f, "%s/sun_0_0_0.png", td);
+                assert_int_equal(link(small, f), 0);
+            } else if (k == 2) {
+                unlink(f);
+                snprintf(f, sizeof f, "%s/sun_0_0_1.png", td);
+                assert_int_equal(link(small, f), 0);
+            }
+            assert_int_equal(run("view", asset, "--bench", "--headless", "--truth", td, NULL), 1);
+            char *e = text(errlog);
+            if (!strstr(e, want[k]) || strncmp(e, "qibl: ", 6) != 0)
+                fail_msg("--truth DIR case %d: '%s' (want '%s')", k, e, want[k]);
+            free(e);
+        }
+    }
     /* a ninth probe (refused while parsing: the files are never read) */
     assert_int_equal(run("view", asset, "--probe", "p", "--probe", "p", "--probe", "p", "--probe", "p", "--probe", "p",
                          "--probe", "p", "--probe", "p", "--probe", "p", "--probe", "p", NULL), 2);
@@ -718,6 +775,7 @@ int main(void)
         cmocka_unit_test(test_probe_yaw_matches_relight),
         cmocka_unit_test(test_lamp_pick_matches_relight),
         cmocka_unit_test(test_path_scrub_matches_relight),
+        cmocka_unit_test(test_truth_dir),
         cmocka_unit_test(test_gles_matches_relight_gles),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

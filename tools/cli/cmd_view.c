@@ -3,10 +3,13 @@
  * the probes' SH (relight_light.c, as `qibl relight --probe` makes it) and the truth, then hands
  * over to qtool_view_run.
  */
+#include <dirent.h>
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "cli/cli.h"
 #include "cli/relight_light.h"
@@ -18,12 +21,93 @@
 #include "view/view.h"
 
 #define VIEW_USAGE                                                                                                   \
-    "usage: qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--lamp-rgb C0] [--exposure E] [--truth FRAME.png]\n"  \
+    "usage: qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--lamp-rgb C0] [--exposure E] [--truth FRAME.png|DIR]\n"  \
     "                 [--gles]\n"                                                                              \
     "                 [--bench [--frames N] [--headless] [--record OUT.png [--turn]]]"
 
 #define VIEW_BENCH_DEFAULT 600L
 #define VIEW_BENCH_MAX 1000000L
+
+/* --truth DIR: the `qibl render --sun X Y Z --png DIR/sun_X_Y_Z.png` frames of a directory */
+typedef struct truth_set {
+    uint32_t n;
+    uint8_t *rgb[QTOOL_VIEW_MAX_TRUTHS];
+    double dir[QTOOL_VIEW_MAX_TRUTHS][3];
+    char *name[QTOOL_VIEW_MAX_TRUTHS];
+} truth_set;
+
+static void truth_set_free(truth_set *t)
+{
+    for (uint32_t i = 0; i < t->n; ++i)
+        free(t->rgb[i]), free(t->name[i]);
+    t->n = 0;
+}
+
+/* 0, or 1 after a one-line message (nothing kept) */
+static int load_truths(const char *path, uint32_t w, uint32_t h, truth_set *t)
+{
+    DIR *d = opendir(path);
+    if (!d)
+        return fprintf(stderr, "qibl: --truth %s: %s\n", path, strerror(errno)), 1;
+    struct dirent *e;
+    int rc = 0;
+    while (rc == 0 && (e = readdir(d)) != NULL) {
+        double v[3];
+        int end = 0;
+        size_t len = strlen(e->d_name);
+        char stem[256];
+        if (len < 8 || len >= sizeof stem || strcmp(e->d_name + len - 4, ".png") != 0)
+            continue;
+        memcpy(stem, e->d_name, len - 4), stem[len - 4] = '\0'; /* "sun_0_0_1.png": strtod would take "1." */
+        if (sscanf(stem, "sun_%lf_%lf_%lf%n", &v[0], &v[1], &v[2], &end) != 3 || (size_t)end != len - 4)
+            continue; /* not a truth frame's name */
+        double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        if (!(l > 0) || !isfinite(l)) {
+            fprintf(stderr, "qibl: --truth %s/%s: not a sun direction\n", path, e->d_name);
+            rc = 1;
+        } else if (t->n >= QTOOL_VIEW_MAX_TRUTHS ||
+                   (size_t)(t->n + 1) * w * h * 3 > QTOOL_VIEW_TRUTH_MAX_BYTES) {
+            fprintf(stderr, "qibl: --truth %s: more than %u sun_X_Y_Z.png frames of %ux%u (at most %u, %zu MiB)\n",
+                    path, t->n, w, h, QTOOL_VIEW_MAX_TRUTHS, QTOOL_VIEW_TRUTH_MAX_BYTES >> 20);
+            rc = 1;
+        } else {
+            char file[4096], err[600];
+            int tw, th, tf;
+            uint8_t *rgb = NULL;
+            snprintf(file, sizeof file, "%s/%s", path, e->d_name);
+            if (qtool_png_read_rgb8(file, &tw, &th, &tf, &rgb, err, sizeof err) != 0) {
+                fprintf(stderr, "qibl: %s\n", err);
+                rc = 1;
+            } else if ((uint32_t)tw != w || (uint32_t)th != h) {
+                fprintf(stderr, "qibl: --truth %s is %dx%d, the asset %ux%u: not the same frame\n", file, tw, th, w, h);
+                free(rgb);
+                rc = 1;
+            } else {
+                char *nm = strdup(e->d_name);
+                if (!nm) {
+                    free(rgb);
+                    fprintf(stderr, "qibl: view: out of memory\n");
+                    rc = 1;
+                } else {
+                    nm[len - 4] = '\0';
+                    t->rgb[t->n] = rgb, t->name[t->n] = nm;
+                    for (int c = 0; c < 3; ++c)
+                        t->dir[t->n][c] = v[c] / l;
+                    ++t->n;
+                }
+            }
+        }
+    }
+    closedir(d);
+    if (rc == 0 && t->n == 0) {
+        fprintf(stderr, "qibl: --truth %s: no sun_X_Y_Z.png frames (qibl render --sun X Y Z --png DIR/sun_X_Y_Z.png)\n",
+                path);
+        rc = 1;
+    }
+    if (rc != 0)
+        truth_set_free(t);
+    return rc;
+}
 
 int qcli_cmd_view(int argc, char **argv)
 {
@@ -92,6 +176,7 @@ int qcli_cmd_view(int argc, char **argv)
         return 1;
     }
     uint8_t *bytes = NULL, *truth_rgb = NULL;
+    truth_set tset = {0};
     qtool_view_gles *vg = NULL;
     size_t n;
     char err[600];
@@ -183,7 +268,11 @@ int qcli_cmd_view(int argc, char **argv)
     v.nprobes = nprobes, v.have_lights = nprobes > 0;
     if (nprobes)
         v.scheme = QTOOL_VIEW_SUN_SH;
-    if (truth) {
+    struct stat tst;
+    if (truth && stat(truth, &tst) == 0 && S_ISDIR(tst.st_mode)) { /* a directory of sun_X_Y_Z.png frames */
+        if (load_truths(truth, m.width, m.height, &tset) != 0)
+            goto out;
+    } else if (truth) {
         int tw, th, tf;
         if (qtool_png_read_rgb8(truth, &tw, &th, &tf, &truth_rgb, err, sizeof err) != 0) {
             fprintf(stderr, "qibl: %s\n", err);
@@ -201,7 +290,9 @@ int qcli_cmd_view(int argc, char **argv)
     }
     double fps = 0;
     qtool_view_run_opts o = {.title = "qibl view", .frame = gles ? qtool_view_gles_frame : NULL, .user = vg,
-                             .truth = truth_rgb, .bench_frames = bench ? frames : 0, .bench_fps = &fps,
+                             .truth = truth_rgb, .ntruths = tset.n, .truths = (const uint8_t *const *)tset.rgb,
+                             .truth_dirs = (const double(*)[3])tset.dir, .truth_names = (const char *const *)tset.name,
+                             .bench_frames = bench ? frames : 0, .bench_fps = &fps,
                              .headless = headless, .log = bench ? NULL : stdout, .record = record,
                              .drag_dx = turn ? (int)((m.width + (uint32_t)frames - 1) / (uint32_t)frames) : 0};
     if (qtool_view_run(&v, &o, err, sizeof err) != 0) {
@@ -220,6 +311,7 @@ int qcli_cmd_view(int argc, char **argv)
     rc = 0;
 out:
     qtool_view_gles_close(vg);
+    truth_set_free(&tset);
     free(bytes), free(truth_rgb);
     return rc;
 }

@@ -299,9 +299,14 @@ void qtool_view_describe(const qtool_view *v, double fps, char *line1, char *lin
     else
         snprintf(line1, n, "%s | DIR %.3f %.3f %.3f AZ %.1f EL %.1f%s", scheme_name(v->scheme), d[0] / 65536.0,
                  d[1] / 65536.0, d[2] / 65536.0, fmod(v->az + v->yaw, 360.0), v->el, probe);
-    char ps[48] = "";
+    char ps[80] = "";
     if (v->psnr >= 0)
-        snprintf(ps, sizeof ps, " | PSNR %.2f DB", v->psnr);
+    {
+        if (v->truth_label)
+            snprintf(ps, sizeof ps, " | PSNR %.2f DB VS %.24s (%.1f DEG)", v->psnr, v->truth_label, v->truth_angle);
+        else
+            snprintf(ps, sizeof ps, " | PSNR %.2f DB", v->psnr);
+    }
     snprintf(line2, n, "K %u | EXP %.4g %s | %.2f MS %.0f FPS%s", v->k, v->exposure / 65536.0,
              v->linear ? "LINEAR" : "SRGB",
              v->ms, fps, ps);

@@ -53,6 +53,8 @@ typedef struct qtool_view {
     int linear;             /* 1: no sRGB curve */
     double ms;              /* the last frame's relight time */
     double psnr;            /* against the truth (< 0: none) */
+    const char *truth_label; /* the truth frame compared (a --truth DIR's file name; NULL: the one file) */
+    double truth_angle;      /* degrees between the sun and that frame's sun */
     /* the lamp (qtool_view_set_lamp): as `qibl relight --point X Y Z --rgb R G B` draws it (poly Y,
      * falloff 1/d, the asset's lamp occlusion when it has one) */
     int have_lamp;
@@ -129,6 +131,12 @@ typedef struct qtool_view_run_opts {
     qtool_view_frame_fn frame; /* NULL: qtool_view_render */
     void *user;
     const uint8_t *truth;      /* w x h RGB8 (NULL: no PSNR) */
+    /* or a set of truth frames, each of a sun direction (--truth DIR): in the sun scheme the PSNR is
+     * against the frame whose sun is nearest the dragged one */
+    uint32_t ntruths;
+    const uint8_t *const *truths;
+    const double (*truth_dirs)[3]; /* unit vectors */
+    const char *const *truth_names;
     long bench_frames;         /* > 0: --bench, that many frames with the sun dragged, then return */
     double *bench_fps;         /* out: the bench's frames per second */
     int headless;              /* bench without a window (the framebuffer and overlay only) */
@@ -139,6 +147,9 @@ typedef struct qtool_view_run_opts {
 
 /* --record's cap: frames x width x (height + overlay) x 3 bytes held until the APNG is written */
 #define QTOOL_VIEW_RECORD_MAX_BYTES ((size_t)256 << 20)
+/* --truth DIR: at most this many sun_X_Y_Z.png frames, and their RGB8 bytes at most this many */
+#define QTOOL_VIEW_MAX_TRUTHS 64u
+#define QTOOL_VIEW_TRUTH_MAX_BYTES ((size_t)256 << 20)
 
 /* Checks a recording's size against QTOOL_VIEW_RECORD_MAX_BYTES: 0, or -1 with a one-line reason. */
 int qtool_view_record_check(const qtool_view *v, long frames, char *err, size_t errlen);

@@ -8,6 +8,7 @@
 
 #include "io/png.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -40,8 +41,25 @@ static int draw(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void 
     } else if (qtool_view_render(v, buf, stride, ws, &st) != 0) {
         return snprintf(err, n, "view: relight: %s", qibl_status_str(st)), -1;
     }
-    if (o->truth)
-        v->psnr = qtool_view_psnr(buf, stride, w, h, o->truth);
+    if (o->truth) {
+        v->psnr = qtool_view_psnr(buf, stride, w, h, o->truth), v->truth_label = NULL;
+    } else if (o->ntruths) {
+        v->psnr = -1.0, v->truth_label = NULL;
+        if (v->scheme == QTOOL_VIEW_SUN) { /* the frame of the nearest sun */
+            qibl_q16_t d[3];
+            qtool_view_sun_q16(v, d);
+            double u[3] = {d[0], d[1], d[2]}, len = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]), best = -2;
+            uint32_t bi = 0;
+            for (uint32_t i = 0; i < o->ntruths; ++i) {
+                double dot = (u[0] * o->truth_dirs[i][0] + u[1] * o->truth_dirs[i][1] + u[2] * o->truth_dirs[i][2]) / len;
+                if (dot > best)
+                    best = dot, bi = i;
+            }
+            v->psnr = qtool_view_psnr(buf, stride, w, h, o->truths[bi]);
+            v->truth_label = o->truth_names[bi];
+            v->truth_angle = acos(best > 1 ? 1 : best < -1 ? -1 : best) * 180.0 / 3.14159265358979323846;
+        }
+    }
     qtool_view_overlay(v, fps, buf + (size_t)h * stride, w, stride);
     return 0;
 }
