@@ -227,12 +227,13 @@ static const qcli_cmd commands[] = {
      "  SH x visibility(T), soft over [T - R, T + R]; --sky adds the demo's sky through the shadowed maps.\n",
      qcli_cmd_relight},
     {"view", "a live viewer: drag the sun or a lamp, scrub a baked light path, step probes, yaw, exposure, k (X11)",
-     "usage: qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--lamp-rgb C0] [--exposure E] [--truth FRAME.png]\n"
+     "usage: qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--lamp-rgb C0] [--exposure E] [--truth PNG|DIR]\n"
      "                 [--gles] [--bench [--frames N] [--headless] [--record OUT.png [--turn]]]\n"
      "  A window (X11) showing the asset relit by the core through platform/soft (--gles: platform/gles2\n"
      "  on a headless EGL context, read back), with an overlay under the frame: scheme, light, k,\n"
-     "  exposure, ms per frame, fps and, with --truth (a `qibl render` PNG of the same size), the PSNR\n"
-     "  against it. Schemes (s cycles; those the asset or options cannot show are skipped): SUN (drag\n"
+     "  exposure, ms per frame, fps and, with --truth, the PSNR against a `qibl render` PNG of the same\n"
+     "  size, or (a directory) against the one of its sun_X_Y_Z.png frames (`qibl render --sun X Y Z`;\n"
+     "  at most 64) whose sun is nearest the dragged one, named with the angle between them. Schemes (s cycles; those the asset or options cannot show are skipped): SUN (drag\n"
      "  with the left button: a window width turns the sun once around, its height sweeps 180 degrees of\n"
      "  elevation), SH / LIGHTS (each --probe's SH or its median-cut lights, as relight --probe and\n"
      "  --probe-mode lights; p next probe, y / Y yaw -/+15 degrees), SUN+SH, LAMP (a point lamp: the\n"
