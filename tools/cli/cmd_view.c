@@ -20,10 +20,9 @@
 #include "qibl/soft.h"
 #include "view/view.h"
 
-#define VIEW_USAGE                                                                                                   \
-    "usage: qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--lamp-rgb C0] [--exposure E] [--truth FRAME.png|DIR]\n"  \
-    "                 [--gles]\n"                                                                              \
-    "                 [--bench [--frames N] [--headless] [--record OUT.png [--turn]]]"
+#define VIEW_USAGE                                                                                    \
+    "usage: qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--lamp-rgb C0] [--exposure E]\n"          \
+    "                 [--truth PNG|DIR] [--gles] [--bench [--frames N] [--headless] [--record OUT.png [--turn]]]"
 
 #define VIEW_BENCH_DEFAULT 600L
 #define VIEW_BENCH_MAX 1000000L
