@@ -11,6 +11,7 @@
 #include "cliutil.h"
 
 #include <math.h>
+#include <poll.h>
 #include <signal.h>
 #include <time.h>
 
@@ -69,6 +70,20 @@ static pid_t spawn(char **argv, const char *out, const char *env)
     envp[n] = NULL;
     pid_t pid;
     int rc = posix_spawnp(&pid, argv[0], &fa, NULL, argv, envp);
+    posix_spawn_file_actions_destroy(&fa);
+    return rc == 0 ? pid : -1;
+}
+
+/* Xvfb with its -displayfd pipe: the read end `closefd` closed in the child, output to /dev/null */
+static pid_t spawn_keep(char **argv, int closefd)
+{
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_addclose(&fa, closefd);
+    posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
+    pid_t pid;
+    int rc = posix_spawnp(&pid, argv[0], &fa, NULL, argv, environ);
     posix_spawn_file_actions_destroy(&fa);
     return rc == 0 ? pid : -1;
 }
@@ -146,20 +161,29 @@ static int session_start_asset(session *ss, char **extra, int baked)
                              "40,10,8,16", "--path-steps", "8", NULL), 0);
     else
         assert_int_equal(run("gen", "-o", ss->asset, "--size", "256x64", "--k", "9", NULL), 0);
-    /* a display number nobody holds (no lock file, no socket) */
-    int dn = -1;
-    for (int d = 90 + (int)(getpid() % 97); d < 400 && dn < 0; ++d) {
-        char lock[64], sock[64];
-        snprintf(lock, sizeof lock, "/tmp/.X%d-lock", d);
-        snprintf(sock, sizeof sock, "/tmp/.X11-unix/X%d", d);
-        if (access(lock, F_OK) != 0 && access(sock, F_OK) != 0)
-            dn = d;
-    }
-    assert_true(dn >= 0);
-    snprintf(ss->display, sizeof ss->display, ":%d", dn);
-    char *xargv[] = {"Xvfb", ss->display, "-screen", "0", "640x480x24", "-nolisten", "tcp", NULL};
-    ss->xvfb = spawn(xargv, NULL, NULL);
+    /* Xvfb picks a free display itself and writes its number to a pipe (-displayfd): no race with
+     * other suites or helpers choosing at the same time */
+    int fds[2];
+    assert_int_equal(pipe(fds), 0);
+    char fdarg[16];
+    snprintf(fdarg, sizeof fdarg, "%d", fds[1]);
+    char *xargv[] = {"Xvfb", "-displayfd", fdarg, "-screen", "0", "640x480x24", "-nolisten", "tcp", NULL};
+    ss->xvfb = spawn_keep(xargv, fds[0]);
+    close(fds[1]);
     assert_true(ss->xvfb > 0);
+    char num[16] = "";
+    size_t got = 0;
+    struct pollfd pf = {.fd = fds[0], .events = POLLIN};
+    while (got < sizeof num - 1 && !strchr(num, '\n') && poll(&pf, 1, 10000) > 0) { /* 10 s at most */
+        ssize_t r = read(fds[0], num + got, sizeof num - 1 - got);
+        if (r <= 0)
+            break;
+        got += (size_t)r, num[got] = '\0';
+    }
+    close(fds[0]);
+    if (!strchr(num, '\n'))
+        return print_error("view_test: Xvfb did not say its display\n"), -1;
+    snprintf(ss->display, sizeof ss->display, ":%d", atoi(num));
     for (int i = 0; i < 100 && !ss->dpy; ++i) { /* 5 s for the server to come up */
         sleep_ms(50);
         ss->dpy = XOpenDisplay(ss->display);
