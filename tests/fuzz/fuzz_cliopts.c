@@ -19,11 +19,12 @@ static const struct {
     const char *name;
     int (*run)(int, char **);
 } cmds[] = {
+    {"view", qcli_cmd_view},
     {"bench", qcli_cmd_bench},     {"sh", qcli_cmd_sh},           {"gen", qcli_cmd_gen},       {"render", qcli_cmd_render},
     {"transfer", qcli_cmd_transfer}, {"bake", qcli_cmd_bake},   {"merge", qcli_cmd_merge},
     {"check", qcli_cmd_check},     {"demo", qcli_cmd_demo},     {"relight", qcli_cmd_relight},
     {"info", qcli_cmd_info},       {"srgbe", qcli_cmd_srgbe},   {"lights", qcli_cmd_lights},
-    {"probe", qcli_cmd_probe},     {"study", qcli_cmd_study},   {"view", qcli_cmd_view},
+    {"probe", qcli_cmd_probe},     {"study", qcli_cmd_study},
 };
 #define NCMDS (sizeof cmds / sizeof cmds[0])
 #define MAX_ARGS 48
