@@ -31,7 +31,7 @@ CORE_SRC := $(wildcard core/src/*.c)
 PLATFORM_SRC := $(wildcard platform/soft/*.c)
 PLATFORM_INC := -Iplatform/soft/include
 TOOL_LIB_SRC := $(wildcard tools/ref/*.c) $(wildcard tools/io/*.c) $(wildcard tools/gles/*.c) $(wildcard tools/gen/*.c) $(wildcard tools/render/*.c) $(wildcard tools/bake/*.c) $(wildcard tools/transfer/*.c)
-TOOL_LIB_SRC += $(wildcard tools/study/*.c) $(wildcard tools/engine/*.c)
+TOOL_LIB_SRC += $(wildcard tools/study/*.c) $(wildcard tools/engine/*.c) $(wildcard tools/view/*.c)
 # the golden cases (plain C, shared by the suites and the golden runner) and their CMocka-side check
 GOLDEN_CASES_SRC := $(wildcard tools/golden/cases*.c)
 TOOL_LIB_SRC += $(GOLDEN_CASES_SRC) tools/golden/check.c
@@ -51,6 +51,13 @@ GLES_OBJ := $(GLES_SRC:%.c=$(BUILD)/gles/%.o)
 LIBGLES := $(BUILD)/libqibl-gles2.a
 HOST_CFLAGS += $(GLES_INC) $(if $(HAVE_GLES),-DQIBL_HAVE_GLES2=1)
 GLES_LINK := $(if $(HAVE_GLES),$(LIBGLES) $(GLES_LIBS))
+
+# tools/view (`qibl view`): the window is X11 (Xlib). HAVE_X11: its headers compile here; without
+# them the qibl binary still builds and `qibl view` says so (tests/view_test skips; QIBL_REQUIRE_VIEW=1
+# fails instead). Only the programs that show a window link -lX11.
+HAVE_X11 := $(shell printf '\043include <X11/Xlib.h>\n' | $(CC) -fsyntax-only -x c - 2>/dev/null && echo 1)
+X11_LIBS := $(if $(HAVE_X11),$(shell pkg-config --libs x11 2>/dev/null || echo -lX11))
+HOST_CFLAGS += $(if $(HAVE_X11),-DQIBL_HAVE_X11=1)
 
 # Two flavours of the core: the native one and the "portable" one that takes the Cortex-M0 paths
 # (16x16 products, shift-subtract division) on the host, so both are tested on every run.
@@ -177,7 +184,7 @@ $(LIBTWIN): $(TWIN_OBJ)
 
 $(QIBL): $(QIBL_OBJ) $(LIBTOOLS) $(LIBSOFT) $(LIBQIBL) $(LIBTWIN) $(if $(HAVE_GLES),$(LIBGLES))
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -o $@ $(QIBL_OBJ) $(LIBTOOLS) $(GLES_LINK) $(LIBSOFT) $(LIBTWIN) $(LIBQIBL) $(HOST_LIBS)
+	$(CC) $(HOST_CFLAGS) -o $@ $(QIBL_OBJ) $(LIBTOOLS) $(GLES_LINK) $(LIBSOFT) $(LIBTWIN) $(LIBQIBL) $(X11_LIBS) $(HOST_LIBS)
 
 # ---- platform/gles2 -------------------------------------------------------------------------
 $(BUILD)/gles/%.o: %.c
@@ -224,6 +231,9 @@ LP_TESTS := $(BUILD)/tests/lightprobe_test $(BUILD)/tests/lightprobe_test-portab
             $(BUILD)/tests/hemi_test $(BUILD)/tests/hemi_test-portable $(BUILD)/tests/hemi_test-avx2
 $(LP_TESTS): $(LIBTWIN)
 $(LP_TESTS): TEST_EXTRA = $(LIBTWIN)
+
+# view_test grabs the viewer's window with Xlib
+$(BUILD)/tests/view_test $(BUILD)/tests/view_test-portable $(BUILD)/tests/view_test-avx2: TEST_EXTRA = $(X11_LIBS)
 
 # version_test also links a TU compiled with -DQIBL_SH_MAX_BANDS=3: a caller whose config.h differs
 # from the library's must get QIBL_E_CONFIG_MISMATCH from its start-up check.

@@ -19,6 +19,7 @@ static const struct {
     const char *name;
     int (*run)(int, char **);
 } cmds[] = {
+    {"view", qcli_cmd_view},
     {"bench", qcli_cmd_bench},     {"sh", qcli_cmd_sh},           {"gen", qcli_cmd_gen},       {"render", qcli_cmd_render},
     {"transfer", qcli_cmd_transfer}, {"bake", qcli_cmd_bake},   {"merge", qcli_cmd_merge},
     {"check", qcli_cmd_check},     {"demo", qcli_cmd_demo},     {"relight", qcli_cmd_relight},

@@ -841,6 +841,8 @@ static void cliopts_seeds(void)
          "--png", "o.png", "--exposure", "1.5", "--lut", "bilinear");
     SEED("relight_probe", "relight", "g.qibl", "--probe", "p.hdr", "--probe-mode", "sunsky", "-n", "16", "--rotate",
          "0,0,90", "--layout", "angular", "--hdr", "o.hdr");
+    SEED("view", "view", "g.qibl", "--sun", "0", "1", "1", "--probe", "p.hdr", "--exposure", "2", "--truth", "t.png",
+         "--lamp-rgb", "3", "--bench", "--frames", "8", "--headless", "--record", "o.png", "--turn");
     SEED("relight_path", "relight", "g.qibl", "--path", "0", "--frames", "8", "--png", "o.png", "--lights", "l.csv");
     SEED("lights", "lights", "p.hdr", "--method", "varmin", "-n", "16", "--priority", "energy-size", "--place",
          "centre", "--as", "srgbe", "--png", "o.png", "--zoom", "2", "--error");

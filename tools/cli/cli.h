@@ -53,6 +53,7 @@ int qcli_bench_hemi(int quick, const char *svg); /* bench_hemi.c; svg: the cloth
 int qcli_cmd_info(int argc, char **argv);
 int qcli_cmd_gen(int argc, char **argv);
 int qcli_cmd_relight(int argc, char **argv);
+int qcli_cmd_view(int argc, char **argv); /* cmd_view.c */
 int qcli_cmd_transfer(int argc, char **argv); /* cmd_transfer.c */
 /* What `qibl transfer` measures, for the bench: vertices, triangles, frames, hemi ms per frame on
  * one core, mean relative L2 error of V* against the ray cast, its noise, the shading error. */

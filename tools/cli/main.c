@@ -262,6 +262,27 @@ static const qcli_cmd commands[] = {
      "  a light on the asset's baked path N (or its first sun path / lamp track) at T in 0..1: unshadowed\n"
      "  SH x visibility(T), soft over [T - R, T + R]; --sky adds the demo's sky through the shadowed maps.\n",
      qcli_cmd_relight},
+    {"view", "a live viewer: drag the sun or a lamp, scrub a baked light path, step probes, yaw, exposure, k (X11)",
+     "usage: qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--lamp-rgb C0] [--exposure E] [--truth PNG|DIR]\n"
+     "                 [--gles] [--bench [--frames N] [--headless] [--record OUT.png [--turn]]]\n"
+     "  A window (X11) showing the asset relit by the core through platform/soft (--gles: platform/gles2\n"
+     "  on a headless EGL context, read back), with an overlay under the frame: scheme, light, k,\n"
+     "  exposure, ms per frame, fps and, with --truth, the PSNR against a `qibl render` PNG of the same\n"
+     "  size, or (a directory) against the one of its sun_X_Y_Z.png frames (`qibl render --sun X Y Z`;\n"
+     "  at most 64) whose sun is nearest the dragged one, named with the angle between them. Schemes (s cycles; those the asset or options cannot show are skipped): SUN (drag\n"
+     "  with the left button: a window width turns the sun once around, its height sweeps 180 degrees of\n"
+     "  elevation), SH / LIGHTS (each --probe's SH or its median-cut lights, as relight --probe and\n"
+     "  --probe-mode lights; p next probe, y / Y yaw -/+15 degrees), SUN+SH, LAMP (a point lamp: the\n"
+     "  drag picks the P map under the pointer and hangs the lamp 1/10 of the way toward the viewpoint;\n"
+     "  C0 --lamp-rgb, default relight --point's), PATH (a baked light path: t / T step 1/32, a drag\n"
+     "  scrubs, P next path; sRGB at exposure 1). Keys: + / - exposure x2 / /2, k fewer SH terms\n"
+     "  (cycles), l linear / sRGB, q or Escape quits. Every settled change prints `view: sun X Y Z | ...`\n"
+     "  (with `| lamp X Y Z rgb R G B` or `| path N tq T`) on stdout: relight with those values gives\n"
+     "  the same frame. --bench: --frames N (default 600) frames with the sun dragged 4 pixels a frame\n"
+     "  (--turn: one turn over the frames), then `RESULT view.fps F` (--headless: no window, the\n"
+     "  framebuffer and overlay only); --record OUT.png: those frames, overlay included, as an APNG.\n"
+     "  The window needs a build with X11 (Debian: apt-get install libx11-dev).\n",
+     qcli_cmd_view},
     {"info", "validate a qibl asset file and print its contents",
      "usage: qibl info FILE\n"
      "  Validates FILE with the core's qibl_asset_open (magic, version, chunk table, bounds, CRC-32s,\n"

@@ -58,6 +58,7 @@ want 0 - probe info "$w/p.hdr"
 printf 'x,y,z,r,g,b,u0,v0,u1,v1\n0,0,1,0.5,0.5,0.5,0,0,1,1\n' >"$w/l.csv"
 want 0 - relight "$w/g.qibl" --sun 1 0.5 1 --sun 0 0 1 --rgb 2 1 1 --point 0.5 0 0 --point 0 0.5 0 --lut bilinear --lights "$w/l.csv" --png "$w/r2.png"
 want 0 - relight "$w/g.qibl" --probe "$w/p.hdr" --yaw 30 --png "$w/r3.png"
+want 0 - view "$w/g.qibl" --probe "$w/p.hdr" --bench --headless --frames 3 --turn --record "$w/v.png"
 want 0 - relight "$w/g.qibl" --probe "$w/p.hdr" --probe-mode sunsky -n 16 --rotate 0,-1,0,1,0,0,0,0,1 --png "$w/r4.png"
 want 0 - relight "$w/g.qibl" --probe "$w/p.hdr" --probe-mode lights -n 8 --png "$w/r5.png"
 want 0 - demo --out "$w/demo" --size 32x8 --dirs 16 --frames 2 --threads 2
@@ -67,6 +68,11 @@ want 2 "$w/x.png" render --size 32x8 --sun 1e308 1e308 1e308 --png "$w/x.png"
 want 2 "$w/x.pfm" render --size 32x8 --sun 0 0 1 --rgb 1e308 1 1 --pfm "$w/x.pfm"
 want 2 "$w/x.png" relight "$w/g.qibl" --sun 0 0 1 --rgb 40000 1 1 --png "$w/x.png"
 want 2 "$w/x.png" relight "$w/g.qibl" --sun 0 0 0 --png "$w/x.png"
+want 2 "$w/x.png" view "$w/g.qibl" --record "$w/x.png"
+want 2 "$w/x.png" view "$w/g.qibl" --bench --headless --frames 1 --record "$w/x.png"
+want 2 - view "$w/g.qibl" --exposure 1000
+want 2 - view "$w/g.qibl" --headless
+want 1 - view "$w/nonexistent.qibl" --bench --headless
 want 2 "$w/x.qibl" gen -o "$w/x.qibl" --size 8x4junk
 want 2 "$w/x.qibl" merge -o "$w/x.qibl" --k 9 "$w/s0" "$w/s1"
 { printf '#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 128 +X 256\n'; dd if=/dev/zero bs=4 count=32768 2>/dev/null; } >"$w/big.hdr"
