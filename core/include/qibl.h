@@ -17,5 +17,6 @@
 #include "qibl/lightprobe.h"
 #include "qibl/probe.h"
 #include "qibl/hemi.h"
+#include "qibl/isa.h"
 
 #endif /* QIBL_H */

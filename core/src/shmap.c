@@ -638,6 +638,7 @@ static void relight_interleaved(const qibl_shmaps_t *m, const qibl_shmap_weights
 qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_weights_t *w, uint32_t x0, uint32_t y,
                                       uint32_t n, int32_t *out, void *ws, size_t ws_size)
 {
+    QIBLI_DISPATCH(qibl_shmap_relight_span, (m, w, x0, y, n, out, ws, ws_size));
     qibl_status_t st = qibl_shmap_check(m);
     if (st != QIBL_OK)
         return st;
@@ -732,6 +733,7 @@ qibl_status_t qibl_ylut_check(const qibl_ylut_t *t)
 
 qibl_status_t qibl_ylut_build(uint32_t face_size, uint32_t k, uint8_t *values, size_t size)
 {
+    QIBLI_DISPATCH(qibl_ylut_build, (face_size, k, values, size));
     if (values == 0)
         return QIBL_E_NULL_POINTER;
     if (k < 1u || k > (uint32_t)QIBL_SH_MAX_COUNT)
@@ -1037,6 +1039,7 @@ static int32_t norm16_at(const int32_t *v, uint32_t k, int32_t e, int16_t *out)
 qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t *p, const qibl_ylut_t *lut,
                                        const qibl_pointlight_t *light, qibl_shmap_point_t *out)
 {
+    QIBLI_DISPATCH(qibl_shmap_point_prepare, (m, p, lut, light, out));
     qibl_status_t st = qibl_shmap_check(m);
     if (st != QIBL_OK)
         return st;
@@ -1495,6 +1498,7 @@ static void poly_span_avx2(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y
 qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out,
                                     void *ws, size_t ws_size)
 {
+    QIBLI_DISPATCH(qibl_shmap_point_span, (pt, x0, y, n, out, ws, ws_size));
     if (pt == 0 || out == 0 || pt->maps == 0 || pt->maps->planes == 0 || ws == 0)
         return QIBL_E_NULL_POINTER;
     const qibl_shmaps_t *m = pt->maps;
