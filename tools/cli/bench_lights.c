@@ -101,12 +101,12 @@ static int time_run(job *j, qibl_lightprobe_method_t build_for, const qibl_light
     for (int r = 0; r < reps && r < 31; ++r) {
         qibl_lightprobe_t lp;
         qibl_lightprobe_result_t res;
-        double t0 = qcli_now();
+        double t0 = qcli_cpu_now();
         qibl_status_t st = qibl_lightprobe_build(&lp, &img, build_for, j->ws, j->ws_size);
-        double t1 = qcli_now();
+        double t1 = qcli_cpu_now();
         if (st == QIBL_OK)
             st = qibl_lightprobe_lights(&lp, o, j->L, n, &res);
-        double t2 = qcli_now();
+        double t2 = qcli_cpu_now();
         if (st != QIBL_OK) {
             fprintf(stderr, "qibl: bench lights: %s\n", qibl_status_str(st));
             return -1;
@@ -123,9 +123,9 @@ static double time_read(const uint8_t *px, size_t n, int reps)
 {
     double t[31];
     for (int r = 0; r < reps && r < 31; ++r) {
-        double t0 = qcli_now();
+        double t0 = qcli_cpu_now();
         sink = read_pass(px, n);
-        t[r] = (qcli_now() - t0) * 1e3;
+        t[r] = (qcli_cpu_now() - t0) * 1e3;
     }
     return median(t, reps);
 }
@@ -218,14 +218,14 @@ static int simd_vs_scalar(int quick, const char *name, const uint8_t *px, int w,
     for (int r = 0; r < reps; ++r)
         for (int p = 0; p < 2; ++p) {
             qibl_lightprobe_t lp;
-            double t0 = qcli_now();
+            double t0 = qcli_cpu_now();
             qibl_status_t st = p == 0 ? qibl_lightprobe_build(&lp, &img, QIBL_LIGHTPROBE_MEDIANCUT, ws[p], n)
                                       : qtool_lightprobe_build_scalar(&lp, &img, QIBL_LIGHTPROBE_MEDIANCUT, ws[p], n);
-            double t1 = qcli_now();
+            double t1 = qcli_cpu_now();
             if (st == QIBL_OK)
                 st = p == 0 ? qibl_lightprobe_lights(&lp, &mc, L[p], 64, &res[p])
                             : qtool_lightprobe_lights_scalar(&lp, &mc, L[p], 64, &res[p]);
-            double t2 = qcli_now();
+            double t2 = qcli_cpu_now();
             if (st != QIBL_OK) {
                 free(ws[0]), free(ws[1]);
                 return fprintf(stderr, "qibl: bench lights: %s\n", qibl_status_str(st)), 1;

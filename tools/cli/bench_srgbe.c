@@ -115,11 +115,11 @@ static void run_codecs(const dataset *d, int reps, result res[NCODEC], float *ou
     double te[NCODEC][15], td[NCODEC][15];
     for (int k = 0; k <= reps && reps > 0; ++k) /* repetition 0 warms caches and is not kept */
         for (int c = 0; c < NCODEC; ++c) {
-            double t0 = qcli_now();
+            double t0 = qcli_cpu_now();
             encode_with(c, d, buf);
-            double t1 = qcli_now();
+            double t1 = qcli_cpu_now();
             decode_with(c, d, buf, out, out_bits);
-            double t2 = qcli_now();
+            double t2 = qcli_cpu_now();
             if (k > 0) {
                 te[c][k - 1] = t1 - t0;
                 td[c][k - 1] = t2 - t1;

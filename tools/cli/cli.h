@@ -172,4 +172,8 @@ double qcli_median(double *v, int n);
 /* Monotonic time in seconds, for benchmarks. */
 double qcli_now(void);
 
+/* CPU time of the calling thread in seconds: what the benchmarks' ratios are timed with, so that a
+ * shared, loaded machine (time slices given to other processes) does not enter them. */
+double qcli_cpu_now(void);
+
 #endif
