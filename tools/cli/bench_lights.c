@@ -9,8 +9,8 @@
  * compiled at the tools' -O3 and so vectorised) in the same run:
  * RESULT lights.sat64_over_read.
  *
- * SIMD against scalar: the library (its QIBL_CONFIG_SIMD path: AVX2 where the core is built with
- * -mavx2) against the scalar twin of the same source (tools/twin, the core's flags, forced scalar),
+ * SIMD against scalar: the library (the kernel set qibl_isa_active() picks: AVX2 where the CPU has
+ * it, on a dispatching build; QIBL_ISA restricts it) against the scalar twin of the same source (tools/twin, the core's flags, forced scalar),
  * build + 64 median-cut lights, interleaved repetitions in one process, minimum and median:
  * RESULT lights.simd_speedup (scalar time / library time, of the minima).
  *
@@ -28,6 +28,7 @@
 
 #include "io/hdr.h"
 #include "cli/cli.h"
+#include "qibl/isa.h"
 #include "qibl/lightprobe.h"
 #include "ref/lightprobe_ref.h"
 #include "twin/lightprobe_scalar.h"
@@ -252,7 +253,7 @@ static int simd_vs_scalar(int quick, const char *name, const uint8_t *px, int w,
     printf("\n== bench lights: SIMD path against the scalar twin, %s, %d x %d, build + median cut 64, %d interleaved reps\n",
            name, w, h, reps);
     printf("   built by %s, core %s; library path: %s\n", QTOOL_BENCH_COMPILER, QIBL_BENCH_CORE_FLAGS,
-           strstr(QIBL_BENCH_CORE_FLAGS, "avx2") ? "AVX2" : "the build's default (AVX2 kernels need -mavx2)");
+           qibl_isa_name(qibl_isa_active()));
     printf("%-22s %16s %16s %16s %10s\n", "path", "SAT ns/px", "cut ns/px", "total ms", "");
     printf("%-22s %7.2f (%6.2f) %7.2f (%6.2f) %7.3f (%6.3f)   min (median)\n", "library", 1e6 * mn[0][0] / px_n,
            1e6 * md[0][0] / px_n, 1e6 * mn[0][1] / px_n, 1e6 * md[0][1] / px_n, mn[0][2], md[0][2]);
