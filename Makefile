@@ -86,7 +86,8 @@ AVX2_TESTS := $(if $(AVX2_OK),$(TEST_SRC:tests/%.c=$(BUILD)/tests/%-avx2))
 DISPATCH ?= $(shell $(CC) -dumpmachine 2>/dev/null | grep -q '^x86_64' && echo 1)
 DISPATCH_MODS := shmap srgbe probe lightprobe hemi
 ifeq ($(DISPATCH),1)
-DISPATCH_OBJ := $(foreach m,$(DISPATCH_MODS),$(BUILD)/native/core/src/x86/$(m)_scalar.o $(BUILD)/native/core/src/x86/$(m)_avx2.o)
+DISPATCH_SRC := $(foreach m,$(DISPATCH_MODS),core/src/x86/$(m)_scalar.c core/src/x86/$(m)_avx2.c)
+DISPATCH_OBJ := $(DISPATCH_SRC:%.c=$(BUILD)/native/%.o)
 $(CORE_OBJ) $(DISPATCH_OBJ): CORE_CFLAGS += -DQIBL_CONFIG_DISPATCH=1
 $(filter %_avx2.o,$(DISPATCH_OBJ)): CORE_CFLAGS += -mavx2
 CORE_OBJ += $(DISPATCH_OBJ)
@@ -94,7 +95,7 @@ endif
 # the tools' qibl_isa_allowed (io/isa_env.c) is linked into every host program, referenced or not
 HOST_LDFLAGS := -Wl,-u,qibl_isa_allowed
 # the suites whose kernels dispatch: `make test` runs them again under each QIBL_ISA the CPU has
-ISA_SUITES := shmap srgbe probe lightprobe hemi golden lightpath raster transfer isa
+ISA_SUITES := shmap shmtile srgbe probe lightprobe hemi golden lightpath transfer isa
 
 LIBQIBL := $(BUILD)/libqibl.a
 LIBQIBL_PORTABLE := $(BUILD)/libqibl-portable.a
@@ -445,6 +446,10 @@ warnings:
 	    $$cc $(CORE_WARN) $$o -Icore/include $(PLATFORM_INC) -fsyntax-only $$f || exit 1; \
 	    $$cc $(CORE_WARN) $(PORTABLE_DEFS) $$o -Icore/include $(PLATFORM_INC) -fsyntax-only $$f || exit 1; \
 	  done; done; echo "warnings: core/ and platform/soft/ clean with $$cc (-O0/-O2/-O3, native and portable paths)"; \
+	  $(if $(filter 1,$(DISPATCH)),for o in -O0 -O2 -O3; do for f in $(CORE_SRC) $(DISPATCH_SRC); do \
+	    $$cc $(CORE_WARN) $$o -Icore/include -DQIBL_CONFIG_DISPATCH=1 $$(case $$f in *_avx2.c) echo -mavx2;; esac) \
+	      -fsyntax-only $$f || exit 1; \
+	  done; done; echo "warnings: core/ with run-time dispatch (core/src/x86/) clean with $$cc (-O0/-O2/-O3)";,) \
 	  $(if $(HAVE_GLES),for o in -O0 -O2 -O3; do for f in $(GLES_SRC); do \
 	    $$cc $(CORE_WARN) $$o -Icore/include $(GLES_INC) -fsyntax-only $$f || exit 1; \
 	  done; done; echo "warnings: platform/gles2/ clean with $$cc (-O0/-O2/-O3)";, \
