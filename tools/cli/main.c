@@ -433,6 +433,15 @@ double qcli_now(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
+double qcli_paired_ratio(const double *num, const double *den, int n)
+{
+    double r[64];
+    n = n > 64 ? 64 : n;
+    for (int i = 0; i < n; ++i)
+        r[i] = num[i] / den[i];
+    return n > 0 ? qcli_median(r, n) : 0.0;
+}
+
 double qcli_cpu_now(void)
 {
     struct timespec ts;
