@@ -85,6 +85,25 @@ $(PLATFORM_SRC:%.c=$(BUILD)/avx2/%.o): CORE_CFLAGS += $(PLATFORM_INC)
 LIBQIBL_AVX2 := $(BUILD)/libqibl-avx2.a
 AVX2_TESTS := $(if $(AVX2_OK),$(TEST_SRC:tests/%.c=$(BUILD)/tests/%-avx2))
 
+# Run-time dispatch on hosted x86-64 (qibl/isa.h, config.h's QIBL_CONFIG_DISPATCH): the native
+# library carries the scalar and AVX2 copies of the SIMD modules (core/src/x86/, the AVX2 ones built
+# with -mavx2) beside their SSE2 build, and each kernel call picks one from the CPU; QIBL_ISA
+# (tools/io/isa_env.h) restricts the choice for the suites and benches. DISPATCH=0: compile-time
+# selection, as on every other target.
+DISPATCH ?= $(shell $(CC) -dumpmachine 2>/dev/null | grep -q '^x86_64' && echo 1)
+DISPATCH_MODS := shmap srgbe probe lightprobe hemi
+ifeq ($(DISPATCH),1)
+DISPATCH_SRC := $(foreach m,$(DISPATCH_MODS),core/src/x86/$(m)_scalar.c core/src/x86/$(m)_avx2.c)
+DISPATCH_OBJ := $(DISPATCH_SRC:%.c=$(BUILD)/native/%.o)
+$(CORE_OBJ) $(DISPATCH_OBJ): CORE_CFLAGS += -DQIBL_CONFIG_DISPATCH=1
+$(filter %_avx2.o,$(DISPATCH_OBJ)): CORE_CFLAGS += -mavx2
+CORE_OBJ += $(DISPATCH_OBJ)
+endif
+# the tools' qibl_isa_allowed (io/isa_env.c) is linked into every host program, referenced or not
+HOST_LDFLAGS := -Wl,-u,qibl_isa_allowed
+# the suites whose kernels dispatch: `make test` runs them again under each QIBL_ISA the CPU has
+ISA_SUITES := shmap shmtile srgbe probe lightprobe hemi golden lightpath transfer isa
+
 LIBQIBL := $(BUILD)/libqibl.a
 LIBQIBL_PORTABLE := $(BUILD)/libqibl-portable.a
 LIBSOFT := $(BUILD)/libqibl-soft.a
@@ -184,7 +203,7 @@ $(LIBTWIN): $(TWIN_OBJ)
 
 $(QIBL): $(QIBL_OBJ) $(LIBTOOLS) $(LIBSOFT) $(LIBQIBL) $(LIBTWIN) $(if $(HAVE_GLES),$(LIBGLES))
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -o $@ $(QIBL_OBJ) $(LIBTOOLS) $(GLES_LINK) $(LIBSOFT) $(LIBTWIN) $(LIBQIBL) $(X11_LIBS) $(HOST_LIBS)
+	$(CC) $(HOST_CFLAGS) $(HOST_LDFLAGS) -o $@ $(QIBL_OBJ) $(LIBTOOLS) $(GLES_LINK) $(LIBSOFT) $(LIBTWIN) $(LIBQIBL) $(X11_LIBS) $(HOST_LIBS)
 
 # ---- platform/gles2 -------------------------------------------------------------------------
 $(BUILD)/gles/%.o: %.c
@@ -198,7 +217,7 @@ $(LIBGLES): $(GLES_OBJ)
 GLES_TEST := $(BUILD)/tests/gles2_test
 $(GLES_TEST): $(BUILD)/host/tests/gles2_test.o $(LIBTOOLS) $(LIBSOFT) $(LIBQIBL) $(if $(HAVE_GLES),$(LIBGLES)) | test-deps
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -o $@ $< $(LIBTOOLS) $(GLES_LINK) $(LIBSOFT) $(LIBQIBL) $(CMOCKA_LIBS) $(HOST_LIBS)
+	$(CC) $(HOST_CFLAGS) $(HOST_LDFLAGS) -o $@ $< $(LIBTOOLS) $(GLES_LINK) $(LIBSOFT) $(LIBQIBL) $(CMOCKA_LIBS) $(HOST_LIBS)
 
 # the backend, its suite (EGL on Mesa: llvmpipe here) and nothing else
 gles: test-deps
@@ -215,15 +234,15 @@ test-deps:
 
 $(BUILD)/tests/%_test: $(BUILD)/host/tests/%_test.o $(LIBTOOLS) $(LIBSOFT) $(LIBQIBL) | test-deps
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -o $@ $< $(TEST_EXTRA) $(LIBTOOLS) $(LIBSOFT) $(LIBQIBL) $(CMOCKA_LIBS) $(HOST_LIBS)
+	$(CC) $(HOST_CFLAGS) $(HOST_LDFLAGS) -o $@ $< $(TEST_EXTRA) $(LIBTOOLS) $(LIBSOFT) $(LIBQIBL) $(CMOCKA_LIBS) $(HOST_LIBS)
 
 $(BUILD)/tests/%_test-portable: $(BUILD)/host-portable/tests/%_test.o $(LIBTOOLS) $(LIBSOFT_PORTABLE) $(LIBQIBL_PORTABLE) | test-deps
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -o $@ $< $(TEST_EXTRA) $(LIBTOOLS) $(LIBSOFT_PORTABLE) $(LIBQIBL_PORTABLE) $(CMOCKA_LIBS) $(HOST_LIBS)
+	$(CC) $(HOST_CFLAGS) $(HOST_LDFLAGS) -o $@ $< $(TEST_EXTRA) $(LIBTOOLS) $(LIBSOFT_PORTABLE) $(LIBQIBL_PORTABLE) $(CMOCKA_LIBS) $(HOST_LIBS)
 
 $(BUILD)/tests/%_test-avx2: $(BUILD)/host/tests/%_test.o $(LIBTOOLS) $(LIBQIBL_AVX2) | test-deps
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -o $@ $< $(TEST_EXTRA) $(LIBTOOLS) $(LIBQIBL_AVX2) $(CMOCKA_LIBS) $(HOST_LIBS)
+	$(CC) $(HOST_CFLAGS) $(HOST_LDFLAGS) -o $@ $< $(TEST_EXTRA) $(LIBTOOLS) $(LIBQIBL_AVX2) $(CMOCKA_LIBS) $(HOST_LIBS)
 
 # lightprobe_test, shmap_test and hemi_test compare the library's path with the scalar twin (tools/twin)
 LP_TESTS := $(BUILD)/tests/lightprobe_test $(BUILD)/tests/lightprobe_test-portable $(BUILD)/tests/lightprobe_test-avx2 \
@@ -253,10 +272,12 @@ $(BUILD)/host-portable/tests/%.o: tests/%.c | test-deps
 	$(CC) $(HOST_CFLAGS) $(PORTABLE_DEFS) $(CMOCKA_CFLAGS) -MMD -MP -c $< -o $@
 
 test: test-deps
-	@$(MAKE) --no-print-directory $(TESTS) $(AVX2_TESTS) $(GLES_TEST) $(QIBL)
+	@$(MAKE) --no-print-directory $(TESTS) $(GLES_TEST) $(QIBL)
 	@QIBL=$(QIBL) sh tools/scripts/memory-table.sh --check
-	@$(if $(AVX2_OK),,echo "test: no AVX2 on this CPU: the AVX2 flavour is skipped (SSE2/NEON and scalar run)")
-	@sh tools/scripts/run-tests.sh $(TESTS) $(AVX2_TESTS) $(GLES_TEST)
+	@sh tools/scripts/run-tests.sh $(TESTS) $(GLES_TEST)
+	@for isa in $$($(QIBL) --isa-list); do [ "$$isa" = "$$($(QIBL) --isa-list | tail -n 1)" ] && continue; \
+	    echo "== QIBL_ISA=$$isa: the suites whose kernels dispatch"; \
+	    QIBL_ISA=$$isa sh tools/scripts/run-tests.sh $(ISA_SUITES:%=$(BUILD)/tests/%_test) || exit 1; done
 
 # docs/porting.md's resident-memory table is generated (make test checks that it matches)
 docs-memory: $(QIBL)
@@ -271,7 +292,7 @@ $(BUILD)/host/tests/srgbe_exhaustive.o: tests/srgbe_exhaustive.c
 
 $(BUILD)/tests/srgbe_exhaustive: $(BUILD)/host/tests/srgbe_exhaustive.o $(LIBTOOLS) $(LIBSOFT) $(LIBQIBL)
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -o $@ $< $(LIBTOOLS) $(LIBSOFT) $(LIBQIBL) $(HOST_LIBS)
+	$(CC) $(HOST_CFLAGS) $(HOST_LDFLAGS) -o $@ $< $(LIBTOOLS) $(LIBSOFT) $(LIBQIBL) $(HOST_LIBS)
 
 check-exhaustive: $(EXHAUSTIVE)
 	@for t in $(EXHAUSTIVE); do ./$$t || exit 1; done
@@ -288,14 +309,16 @@ docs-size:
 # cross-compiles anywhere. `make golden` runs it here; `make ports` builds and runs it for every
 # configuration (tools/scripts/ports.sh, builds under $(BUILD)/ports/).
 GOLDEN := $(BUILD)/bin/qibl-golden
-GOLDEN_OBJ := $(GOLDEN_CASES_SRC:%.c=$(BUILD)/host/%.o) $(BUILD)/host/tools/golden/runner.o $(BUILD)/host/tools/io/sha256.o
+GOLDEN_OBJ := $(GOLDEN_CASES_SRC:%.c=$(BUILD)/host/%.o) $(BUILD)/host/tools/golden/runner.o $(BUILD)/host/tools/io/sha256.o \
+              $(BUILD)/host/tools/io/isa_env.o
 
 $(GOLDEN): $(GOLDEN_OBJ) $(LIBSOFT) $(LIBQIBL)
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -o $@ $(GOLDEN_OBJ) $(LIBSOFT) $(LIBQIBL)
 
-golden: $(GOLDEN)
-	$(GOLDEN)
+# under every kernel set this CPU runs (QIBL_ISA): the same hashes each time
+golden: $(GOLDEN) $(QIBL)
+	@for isa in $$($(QIBL) --isa-list); do echo "golden: QIBL_ISA=$$isa"; QIBL_ISA=$$isa $(GOLDEN) || exit 1; done
 
 # (the CLI makes the asset the integration example runs on in every configuration)
 ports: $(QIBL)
@@ -435,6 +458,10 @@ warnings:
 	    $$cc $(CORE_WARN) $$o -Icore/include $(PLATFORM_INC) -fsyntax-only $$f || exit 1; \
 	    $$cc $(CORE_WARN) $(PORTABLE_DEFS) $$o -Icore/include $(PLATFORM_INC) -fsyntax-only $$f || exit 1; \
 	  done; done; echo "warnings: core/ and platform/soft/ clean with $$cc (-O0/-O2/-O3, native and portable paths)"; \
+	  $(if $(filter 1,$(DISPATCH)),for o in -O0 -O2 -O3; do for f in $(CORE_SRC) $(DISPATCH_SRC); do \
+	    $$cc $(CORE_WARN) $$o -Icore/include -DQIBL_CONFIG_DISPATCH=1 $$(case $$f in *_avx2.c) echo -mavx2;; esac) \
+	      -fsyntax-only $$f || exit 1; \
+	  done; done; echo "warnings: core/ with run-time dispatch (core/src/x86/) clean with $$cc (-O0/-O2/-O3)";,) \
 	  $(if $(HAVE_GLES),for o in -O0 -O2 -O3; do for f in $(GLES_SRC); do \
 	    $$cc $(CORE_WARN) $$o -Icore/include $(GLES_INC) -fsyntax-only $$f || exit 1; \
 	  done; done; echo "warnings: platform/gles2/ clean with $$cc (-O0/-O2/-O3)";, \

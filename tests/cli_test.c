@@ -13,6 +13,7 @@
 
 #include "bake/bake.h"
 #include "qibl/asset.h"
+#include "qibl/isa.h"
 
 static int setup(void **state)
 {
@@ -447,6 +448,44 @@ static void test_demo_paths_on_mesh(void **state)
     free(o);
 }
 
+/* QIBL_ISA: each kernel set this CPU runs is named by --version when forced; a name that is no
+ * set, or a set the CPU lacks, is refused by name with status 2 before any command runs */
+static void test_isa_env(void **state)
+{
+    (void)state;
+    need_qibl();
+    static const char *const names[] = {"scalar", "sse2", "avx2", "neon"};
+    const uint32_t have = qibl_isa_available();
+    const char *missing = NULL;
+    for (unsigned i = 0; i < QIBL_ISA_COUNT; ++i) {
+        if (!(have & QIBL_ISA_BIT(i))) {
+            missing = missing ? missing : names[i];
+            continue;
+        }
+        assert_int_equal(setenv("QIBL_ISA", names[i], 1), 0);
+        assert_int_equal(run("--version", NULL), 0);
+        char *o = text(outlog), want[64];
+        snprintf(want, sizeof want, "kernels: %s (", qibl_isa_dispatches() ? names[i] : qibl_isa_name(qibl_isa_active()));
+        assert_non_null(strstr(o, want));
+        free(o);
+    }
+    assert_int_equal(setenv("QIBL_ISA", "avx512", 1), 0);
+    assert_int_equal(run("--version", NULL), 2);
+    char *e = text(errlog);
+    assert_non_null(strstr(e, "QIBL_ISA: unknown value 'avx512' (scalar, sse2, avx2, neon, auto)"));
+    free(e);
+    assert_int_equal(run("info", "/nonexistent", NULL), 2); /* refused before the command */
+    if (missing) {
+        assert_int_equal(setenv("QIBL_ISA", missing, 1), 0);
+        assert_int_equal(run("--version", NULL), 2);
+        char *e2 = text(errlog), want[64];
+        snprintf(want, sizeof want, "QIBL_ISA: %s: not available here", missing);
+        assert_non_null(strstr(e2, want));
+        free(e2);
+    }
+    unsetenv("QIBL_ISA");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -465,6 +504,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_merge_paths_bit_identical, setup, teardown),
         cmocka_unit_test_setup_teardown(test_relight_path, setup, teardown),
         cmocka_unit_test_setup_teardown(test_demo_paths_on_mesh, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_isa_env, setup, teardown),
     };
     return cmocka_run_group_tests_name("cli", tests, NULL, NULL);
 }

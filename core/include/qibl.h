@@ -18,5 +18,6 @@
 #include "qibl/probe.h"
 #include "qibl/hemi.h"
 #include "qibl/gonio.h"
+#include "qibl/isa.h"
 
 #endif /* QIBL_H */

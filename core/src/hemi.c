@@ -8,6 +8,7 @@
  *   edge normals (cross products) < 2^53, the orientation determinant split into two exact sums.
  */
 #include "qibl/hemi.h"
+#include "qibli.h"
 
 #if QIBL_USE_HEMI
 
@@ -179,6 +180,7 @@ static void build_centres(uint32_t *zc, int32_t n)
 
 qibl_status_t qibl_hemi_init(qibl_hemi_t *h, int n, int face, void *workspace, size_t workspace_size)
 {
+    QIBLI_DISPATCH(qibl_hemi_init, (h, n, face, workspace, workspace_size));
     if (h == 0 || workspace == 0)
         return QIBL_E_NULL_POINTER;
     if (!sizes_ok(n, face))
@@ -295,6 +297,7 @@ qibl_status_t qibl_hemi_frame_init(qibl_hemi_frame_t *f, const qibl_q16_t p[3], 
 qibl_status_t qibl_hemi_transform(const qibl_hemi_frame_t *f, const qibl_q16_t (*pos)[3], uint32_t count,
                                   int32_t (*out)[3])
 {
+    QIBLI_DISPATCH(qibl_hemi_transform, (f, pos, count, out));
     if (f == 0 || (count != 0u && (pos == 0 || out == 0)))
         return QIBL_E_NULL_POINTER;
     if (count != 0u && beyond(&pos[0][0], 3u * count, QIBL_HEMI_COORD_MAX))
@@ -419,6 +422,7 @@ qibl_status_t qibl_hemi_clear(const qibl_hemi_t *h, uint32_t *mask)
 
 qibl_status_t qibl_hemi_clip(const qibl_hemi_t *h, uint32_t *mask)
 {
+    QIBLI_DISPATCH(qibl_hemi_clip, (h, mask));
     if (h == 0 || mask == 0)
         return QIBL_E_NULL_POINTER;
     for (uint32_t i = 0; i < h->words; ++i)
@@ -772,6 +776,7 @@ static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], const ui
 qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t nv, const uint32_t (*tri)[3],
                                uint32_t ntri, uint32_t *mask, qibl_hemi_stats_t *stats)
 {
+    QIBLI_DISPATCH(qibl_hemi_raster, (h, v, nv, tri, ntri, mask, stats));
     if (h == 0 || mask == 0 || (ntri != 0u && (v == 0 || tri == 0)))
         return QIBL_E_NULL_POINTER;
     /* indices first, then every vertex once (cheaper than per reference for shared vertices), each
@@ -828,6 +833,7 @@ static void add_bits(uint32_t acc[NC], const uint32_t *basis, uint32_t base, uin
 
 qibl_status_t qibl_hemi_transfer(const qibl_hemi_t *h, const uint32_t *mask, qibl_q30_t out[QIBL_HEMI_COEFFS])
 {
+    QIBLI_DISPATCH(qibl_hemi_transfer, (h, mask, out));
     if (h == 0 || mask == 0 || out == 0)
         return QIBL_E_NULL_POINTER;
     uint32_t blocked = 0, inside = 0;
@@ -870,6 +876,7 @@ static uint32_t pow_q30(uint32_t b, uint32_t e)
 qibl_status_t qibl_hemi_transfer_phong(const qibl_hemi_t *h, const uint32_t *mask, const qibl_q30_t refl[3],
                                        uint32_t exponent, qibl_q30_t out[QIBL_HEMI_COEFFS])
 {
+    QIBLI_DISPATCH(qibl_hemi_transfer_phong, (h, mask, refl, exponent, out));
     if (h == 0 || mask == 0 || refl == 0 || out == 0)
         return QIBL_E_NULL_POINTER;
     if (exponent > QIBL_HEMI_MAX_EXPONENT)
@@ -940,6 +947,7 @@ static void rot_z(int32_t *c, qibl_q30_t cs, qibl_q30_t sn)
 qibl_status_t qibl_hemi_to_world(const qibl_hemi_t *h, const qibl_hemi_frame_t *f, const qibl_q30_t *in,
                                  qibl_q30_t *out)
 {
+    QIBLI_DISPATCH(qibl_hemi_to_world, (h, f, in, out));
     if (h == 0 || f == 0 || in == 0 || out == 0)
         return QIBL_E_NULL_POINTER;
     int32_t t[NC];
@@ -954,6 +962,7 @@ qibl_status_t qibl_hemi_to_world(const qibl_hemi_t *h, const qibl_hemi_frame_t *
 qibl_status_t qibl_hemi_to_frame(const qibl_hemi_t *h, const qibl_hemi_frame_t *f, const int32_t *in,
                                  int32_t *out)
 {
+    QIBLI_DISPATCH(qibl_hemi_to_frame, (h, f, in, out));
     if (h == 0 || f == 0 || in == 0 || out == 0)
         return QIBL_E_NULL_POINTER;
     int32_t t[NC];

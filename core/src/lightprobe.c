@@ -696,6 +696,7 @@ static void copy_probe(qibl_lightprobe_t *d, const qibl_lightprobe_t *s)
 qibl_status_t qibl_lightprobe_build(qibl_lightprobe_t *lp, const qibl_lightprobe_image_t *img,
                                     qibl_lightprobe_method_t method, void *workspace, size_t workspace_size)
 {
+    QIBLI_DISPATCH(qibl_lightprobe_build, (lp, img, method, workspace, workspace_size));
     if (lp == 0 || img == 0 || img->pixels == 0 || workspace == 0)
         return QIBL_E_NULL_POINTER;
     const uint32_t w = img->width, h = img->height;
@@ -1383,6 +1384,7 @@ qibl_status_t qibl_lightprobe_lights(const qibl_lightprobe_t *lp, const qibl_lig
                                      qibl_lightprobe_light_t *lights, uint32_t max_lights,
                                      qibl_lightprobe_result_t *result)
 {
+    QIBLI_DISPATCH(qibl_lightprobe_lights, (lp, opts, lights, max_lights, result));
     if (lp == 0 || lights == 0 || result == 0)
         return QIBL_E_NULL_POINTER;
     qibl_lightprobe_opts_t o = {QIBL_LIGHTPROBE_MEDIANCUT, QIBL_LIGHTPROBE_PRIORITY_DEFAULT,

@@ -204,6 +204,7 @@ qibl_status_t qibl_probe_sh_begin(qibl_probe_sh_t *ps, uint32_t width, uint32_t 
                                   qibl_lightprobe_format_t format, int32_t frac_bits, int bands, void *workspace,
                                   size_t workspace_size)
 {
+    QIBLI_DISPATCH(qibl_probe_sh_begin, (ps, width, height, format, frac_bits, bands, workspace, workspace_size));
     if (ps == 0 || workspace == 0)
         return QIBL_E_NULL_POINTER;
     if (bands < 1 || bands > QIBL_SH_MAX_BANDS)
@@ -650,6 +651,7 @@ static qibl_status_t add_span(qibl_probe_sh_t *ps, uint32_t v, const void *row, 
 
 qibl_status_t qibl_probe_sh_add_row(qibl_probe_sh_t *ps, uint32_t v, const void *row)
 {
+    QIBLI_DISPATCH(qibl_probe_sh_add_row, (ps, v, row));
     if (ps == 0 || row == 0 || ps->acc == 0)
         return QIBL_E_NULL_POINTER;
     if (v >= ps->height || ((unsigned)ps->seen[v >> 3] >> (v & 7u)) & 1u)
@@ -780,6 +782,7 @@ static uint64_t acc_top(const uint32_t *acc, int *neg, int32_t *e)
 qibl_status_t qibl_probe_sh_finish(const qibl_probe_sh_t *ps, const qibl_probe_sh_opts_t *opts,
                                    qibl_probe_coeffs_t *out)
 {
+    QIBLI_DISPATCH(qibl_probe_sh_finish, (ps, opts, out));
     if (ps == 0 || out == 0 || ps->acc == 0)
         return QIBL_E_NULL_POINTER;
     qibl_probe_sh_opts_t o = {0, QIBL_PROBE_WINDOW_NONE, 0};
@@ -867,6 +870,7 @@ static qibl_status_t project(const qibl_lightprobe_image_t *img, int bands, void
 qibl_status_t qibl_probe_sh_project(const qibl_lightprobe_image_t *img, int bands, const qibl_probe_sh_opts_t *opts,
                                     void *workspace, size_t workspace_size, qibl_probe_coeffs_t *out)
 {
+    QIBLI_DISPATCH(qibl_probe_sh_project, (img, bands, opts, workspace, workspace_size, out));
     if (out == 0)
         return QIBL_E_NULL_POINTER;
     qibl_probe_sh_t ps;
@@ -924,6 +928,7 @@ qibl_status_t qibl_shlight_add_coeffs(qibl_shlight_t *l, const qibl_probe_coeffs
 qibl_status_t qibl_shlight_add_probe(qibl_shlight_t *l, const qibl_lightprobe_image_t *img,
                                      const qibl_probe_sh_opts_t *opts, void *workspace, size_t workspace_size)
 {
+    QIBLI_DISPATCH(qibl_shlight_add_probe, (l, img, opts, workspace, workspace_size));
     if (l == 0)
         return QIBL_E_NULL_POINTER;
     if (l->k < 1u || l->k > (uint32_t)QIBL_SH_MAX_COUNT)
@@ -986,6 +991,7 @@ qibl_status_t qibl_shlight_add_sun_sky(qibl_shlight_t *l, const qibl_lightprobe_
                                        const qibl_probe_sh_opts_t *opts, const qibl_lightprobe_light_t *sun,
                                        uint32_t count, int32_t rgb_exp, void *workspace, size_t workspace_size)
 {
+    QIBLI_DISPATCH(qibl_shlight_add_sun_sky, (l, img, opts, sun, count, rgb_exp, workspace, workspace_size));
     if (l == 0 || (sun == 0 && count))
         return QIBL_E_NULL_POINTER;
     if (l->k < 1u || l->k > (uint32_t)QIBL_SH_MAX_COUNT)

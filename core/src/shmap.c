@@ -784,6 +784,7 @@ static void relight_interleaved(const qibl_shmaps_t *m, const qibl_shmap_weights
 qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_weights_t *w, uint32_t x0, uint32_t y,
                                       uint32_t n, int32_t *out, void *ws, size_t ws_size)
 {
+    QIBLI_DISPATCH(qibl_shmap_relight_span, (m, w, x0, y, n, out, ws, ws_size));
     qibl_status_t st = qibl_shmap_check(m);
     if (st != QIBL_OK)
         return st;
@@ -900,6 +901,7 @@ qibl_status_t qibl_ylut_check(const qibl_ylut_t *t)
 
 qibl_status_t qibl_ylut_build(uint32_t face_size, uint32_t k, uint8_t *values, size_t size)
 {
+    QIBLI_DISPATCH(qibl_ylut_build, (face_size, k, values, size));
     if (values == 0)
         return QIBL_E_NULL_POINTER;
     if (k < 1u || k > (uint32_t)QIBL_SH_MAX_COUNT)
@@ -1205,6 +1207,7 @@ static int32_t norm16_at(const int32_t *v, uint32_t k, int32_t e, int16_t *out)
 qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t *p, const qibl_ylut_t *lut,
                                        const qibl_pointlight_t *light, qibl_shmap_point_t *out)
 {
+    QIBLI_DISPATCH(qibl_shmap_point_prepare, (m, p, lut, light, out));
     qibl_status_t st = qibl_shmap_check(m);
     if (st != QIBL_OK)
         return st;
@@ -1534,7 +1537,7 @@ static inline __m256i p8_round14(__m256i ae, __m256i ao)
 /* Eight pixels from x (their map bytes contiguous per map and channel at c0); 0 if a lane is rare
  * (nothing written then) */
 static int poly_chunk8(const qibl_shmap_point_t *pt, const uint8_t *pp, const uint8_t *c0, size_t ms, size_t c1,
-                       const uint32_t *seed, int32_t *out)
+                       const uint32_t *seed, const __m256i *sn16, int32_t *out)
 {
     const __m256i idx = _mm256_setr_epi32(0, 12, 24, 36, 48, 60, 72, 84);
     const int *pb = (const int *)(const void *)pp;
@@ -1594,11 +1597,14 @@ static int poly_chunk8(const qibl_shmap_point_t *pt, const uint8_t *pp, const ui
     const uint32_t k = pt->maps->k;
     __m256i e0 = zero, o0 = zero, e1 = zero, o1 = zero, e2 = zero, o2 = zero;
     const uint8_t *c = c0;
+    /* sn_i c: one vpmaddwd (c in the low int16 of each lane, sn_i there and 0 above: c sn_i + 0,
+     * exact, |sn_i c| < 2^23) instead of a two-uop vpmulld */
+    const __m256i *sn0 = sn16, *sn1 = sn16 + QIBL_SH_MAX_COUNT, *sn2 = sn16 + 2 * QIBL_SH_MAX_COUNT;
     for (uint32_t i = 0; i < k; ++i, c += ms) {
         const __m256i yi = yv[i], yo = _mm256_srli_epi64(yi, 32);
-        const __m256i t0 = _mm256_add_epi32(P8_MUL(P8_C(pt->sn[0][i]), _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)c))), P8_C(pt->bs[0][i]));
-        const __m256i t1 = _mm256_add_epi32(P8_MUL(P8_C(pt->sn[1][i]), _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)(c + c1)))), P8_C(pt->bs[1][i]));
-        const __m256i t2 = _mm256_add_epi32(P8_MUL(P8_C(pt->sn[2][i]), _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)(c + 2u * c1)))), P8_C(pt->bs[2][i]));
+        const __m256i t0 = _mm256_add_epi32(_mm256_madd_epi16(_mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)c)), sn0[i]), P8_C(pt->bs[0][i]));
+        const __m256i t1 = _mm256_add_epi32(_mm256_madd_epi16(_mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)(c + c1))), sn1[i]), P8_C(pt->bs[1][i]));
+        const __m256i t2 = _mm256_add_epi32(_mm256_madd_epi16(_mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)(c + 2u * c1))), sn2[i]), P8_C(pt->bs[2][i]));
         e0 = _mm256_add_epi64(e0, _mm256_mul_epi32(yi, t0)), o0 = _mm256_add_epi64(o0, _mm256_mul_epi32(yo, _mm256_srli_epi64(t0, 32)));
         e1 = _mm256_add_epi64(e1, _mm256_mul_epi32(yi, t1)), o1 = _mm256_add_epi64(o1, _mm256_mul_epi32(yo, _mm256_srli_epi64(t1, 32)));
         e2 = _mm256_add_epi64(e2, _mm256_mul_epi32(yi, t2)), o2 = _mm256_add_epi64(o2, _mm256_mul_epi32(yo, _mm256_srli_epi64(t2, 32)));
@@ -1644,6 +1650,10 @@ static void poly_span_avx2(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y
     uint32_t seed[192];
     for (uint32_t i = 0; i < 192u; ++i)
         seed[i] = qibli_rsqrt_seed[i];
+    __m256i sn16[3 * QIBL_SH_MAX_COUNT]; /* sn_i as the low int16 of every int32 lane, 0 above */
+    for (uint32_t ch = 0; ch < 3u; ++ch)
+        for (uint32_t i = 0; i < k; ++i)
+            sn16[ch * QIBL_SH_MAX_COUNT + i] = _mm256_set1_epi32((int32_t)(uint16_t)pt->sn[ch][i]);
     uint32_t px = 0u;
     if (il && x0 % 8u != 0u) {
         px = 8u - x0 % 8u < n ? 8u - x0 % 8u : n;
@@ -1652,7 +1662,7 @@ static void poly_span_avx2(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y
     for (; px + 8u <= n; px += 8u) {
         const uint32_t x = x0 + px;
         const uint8_t *c0 = il ? row + (size_t)(x / QIBL_SHMAPS_GROUP) * gbytes + x % QIBL_SHMAPS_GROUP : row + px;
-        if (!poly_chunk8(pt, pt->pmap->points + (off + px) * 12u, c0, ms, c1, seed, out + 3u * px))
+        if (!poly_chunk8(pt, pt->pmap->points + (off + px) * 12u, c0, ms, c1, seed, sn16, out + 3u * px))
             poly_span(pt, x, y, 8u, out + 3u * px);
     }
     if (px < n)
@@ -1663,6 +1673,7 @@ static void poly_span_avx2(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y
 qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out,
                                     void *ws, size_t ws_size)
 {
+    QIBLI_DISPATCH(qibl_shmap_point_span, (pt, x0, y, n, out, ws, ws_size));
     if (pt == 0 || out == 0 || pt->maps == 0 || pt->maps->planes == 0 || ws == 0)
         return QIBL_E_NULL_POINTER;
     const qibl_shmaps_t *m = pt->maps;

@@ -798,6 +798,7 @@ qibl_status_t qibl_srgbe_decode_q16(const uint8_t code[4], qibl_q16_t rgb[3])
 
 qibl_status_t qibl_srgbe_encode_f32_n(const uint32_t *restrict rgb, size_t n, uint8_t *restrict codes)
 {
+    QIBLI_DISPATCH(qibl_srgbe_encode_f32_n, (rgb, n, codes));
     if (rgb == 0 || codes == 0)
         return QIBL_E_NULL_POINTER;
     unsigned flags = 0u;
@@ -848,6 +849,7 @@ qibl_status_t qibl_srgbe_encode_f32_n(const uint32_t *restrict rgb, size_t n, ui
 qibl_status_t qibl_srgbe_encode_s32_n(const int32_t *restrict rgb, size_t n, int frac_bits,
                                       uint8_t *restrict codes)
 {
+    QIBLI_DISPATCH(qibl_srgbe_encode_s32_n, (rgb, n, frac_bits, codes));
     if (rgb == 0 || codes == 0)
         return QIBL_E_NULL_POINTER;
     unsigned flags = 0u;
@@ -858,11 +860,13 @@ qibl_status_t qibl_srgbe_encode_s32_n(const int32_t *restrict rgb, size_t n, int
 
 qibl_status_t qibl_srgbe_encode_q16_n(const qibl_q16_t *restrict rgb, size_t n, uint8_t *restrict codes)
 {
+    QIBLI_DISPATCH(qibl_srgbe_encode_q16_n, (rgb, n, codes));
     return qibl_srgbe_encode_s32_n(rgb, n, 16, codes);
 }
 
 qibl_status_t qibl_srgbe_decode_f32_n(const uint8_t *restrict codes, size_t n, uint32_t *restrict rgb)
 {
+    QIBLI_DISPATCH(qibl_srgbe_decode_f32_n, (codes, n, rgb));
     if (codes == 0 || rgb == 0)
         return QIBL_E_NULL_POINTER;
     unsigned flags = 0u;
@@ -883,6 +887,7 @@ qibl_status_t qibl_srgbe_decode_f32_n(const uint8_t *restrict codes, size_t n, u
 qibl_status_t qibl_srgbe_decode_s32_n(const uint8_t *restrict codes, size_t n, int frac_bits,
                                       int32_t *restrict rgb)
 {
+    QIBLI_DISPATCH(qibl_srgbe_decode_s32_n, (codes, n, frac_bits, rgb));
     if (codes == 0 || rgb == 0)
         return QIBL_E_NULL_POINTER;
     unsigned flags = 0u;
@@ -893,6 +898,7 @@ qibl_status_t qibl_srgbe_decode_s32_n(const uint8_t *restrict codes, size_t n, i
 
 qibl_status_t qibl_srgbe_decode_q16_n(const uint8_t *restrict codes, size_t n, qibl_q16_t *restrict rgb)
 {
+    QIBLI_DISPATCH(qibl_srgbe_decode_q16_n, (codes, n, rgb));
     return qibl_srgbe_decode_s32_n(codes, n, 16, rgb);
 }
 

@@ -24,6 +24,7 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
+#include "qibl/isa.h"
 #include "qibl/hemi.h"
 #include "gen/chess.h"
 #include "io/obj.h"
@@ -955,8 +956,11 @@ static void raster_paths(const qibl_hemi_t *h, const scene *s, const qibl_q16_t 
     const double meda = qcli_median(ta, reps), medb = qcli_median(tb, reps), nvd = (double)s->nv;
     const double nr = (double)st.rasterized;
 #if defined(__x86_64__) || defined(__i386__)
-    /* the tools are built without -mavx2; the core's flags say which lanes the library has */
-    const char *lib = strstr(QIBL_BENCH_CORE_FLAGS, "avx2") ? "AVX2 double lanes (4)" : "SSE2 double lanes (2)";
+    /* the kernel set the library picks now (qibl/isa.h: from the CPU, QIBL_ISA restricts it) */
+    const qibl_isa_t isa = qibl_isa_active();
+    const char *lib = isa == QIBL_ISA_AVX2   ? "AVX2 double lanes (4)"
+                      : isa == QIBL_ISA_SSE2 ? "SSE2 double lanes (2)"
+                                             : "library, scalar (integer look-ups)";
 #else
     const char *lib = "library (scalar look-ups here)";
 #endif

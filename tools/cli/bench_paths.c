@@ -176,18 +176,56 @@ int qcli_bench_paths(int quick)
                      {NULL, &m9, &path, &pm, 0},    {NULL, &m9, NULL, &pm, 0},   {NULL, &m9, NULL, NULL, 0}};
     enum { NC = sizeof cases / sizeof cases[0] };
     double ms[NC];
-    printf("== bench paths: %ux%u, core spans only (no framebuffer), thread CPU time, median of %d frames; visibility %.2f edges/pixel\n",
+    /* Every scheme and its baseline in one loop: per repetition each scheme's frame right after its
+     * baseline's (both run twice in a row, the second timed: their own warm caches), the order of
+     * the schemes rotated; a ratio is the median over repetitions of scheme / baseline of the same
+     * repetition (qcli_paired_ratio), so load changes between repetitions cancel. ms: medians. */
+    double tt[NC][REPS_MAX], xr[NC];
+    for (int r = 0; r < reps; ++r)
+        for (int j = 0; j < NC; ++j) {
+            const int i = (j + r) % NC, base = i < 5 || i == 8 ? 0 : 5;
+            const int seq[2] = {base, i};
+            for (int q = 0; q < (i == base ? 1 : 2); ++q) {
+                run(&cases[seq[q]], W, H, 1, row, lrow, ws, wsn);
+                const double t = run(&cases[seq[q]], W, H, 1, row, lrow, ws, wsn);
+                if (q == 1 || i == base)
+                    tt[i][r] = t;
+                else
+                    xr[i] = t;
+            }
+            if (i != base)
+                tt[i][r] = tt[i][r] / xr[i]; /* the paired ratio of this repetition */
+        }
+    for (int i = 0; i < NC; ++i) {
+        const int base = i < 5 || i == 8 ? 0 : 5;
+        double v[REPS_MAX];
+        for (int r = 0; r < reps; ++r)
+            v[r] = tt[i][r];
+        xr[i] = i == base ? 1.0 : qcli_median(v, reps);
+    }
+    for (int i = 0; i < NC; ++i) {
+        const int base = i < 5 || i == 8 ? 0 : 5;
+        if (i == base) {
+            double v[REPS_MAX];
+            for (int r = 0; r < reps; ++r)
+                v[r] = tt[i][r];
+            ms[i] = qcli_median(v, reps);
+        }
+    }
+    for (int i = 0; i < NC; ++i) {
+        const int base = i < 5 || i == 8 ? 0 : 5;
+        if (i != base)
+            ms[i] = ms[base] * xr[i];
+    }
+    printf("== bench paths: %ux%u, core spans only (no framebuffer), thread CPU time, %d interleaved repetitions, "
+           "each scheme paired with its baseline (ratios: median of the pairs); visibility %.2f edges/pixel\n",
            W, H, reps, (double)ne / (double)np);
     printf("%-36s %10s %8s\n", "scheme", "ms/frame", "x today");
-    for (int i = 0; i < NC; ++i) {
-        ms[i] = run(&cases[i], W, H, reps, row, lrow, ws, wsn);
-        double base = i < 5 || i == 8 ? ms[0] : ms[5];
-        printf("%-36s %10.3f %8.3f\n", names[i], ms[i], ms[i] / base);
-    }
-    printf("RESULT paths.sun_k9_cost_ratio %.3f\nRESULT paths.sun_k16_cost_ratio %.3f\n", ms[1] / ms[0], ms[2] / ms[0]);
-    printf("RESULT paths.soft_sun_k9_cost_ratio %.3f\nRESULT paths.sky_sun_cost_ratio %.3f\n", ms[3] / ms[0], ms[4] / ms[0]);
-    printf("RESULT paths.track_lamp_k9_cost_ratio %.3f\nRESULT paths.free_lamp_k9_cost_ratio %.3f\n", ms[6] / ms[5],
-           ms[7] / ms[5]);
+    for (int i = 0; i < NC; ++i)
+        printf("%-36s %10.3f %8.3f\n", names[i], ms[i], xr[i]);
+    printf("RESULT paths.sun_k9_cost_ratio %.3f\nRESULT paths.sun_k16_cost_ratio %.3f\n", xr[1], xr[2]);
+    printf("RESULT paths.soft_sun_k9_cost_ratio %.3f\nRESULT paths.sky_sun_cost_ratio %.3f\n", xr[3], xr[4]);
+    printf("RESULT paths.track_lamp_k9_cost_ratio %.3f\nRESULT paths.free_lamp_k9_cost_ratio %.3f\n", xr[6], xr[7]);
     printf("RESULT paths.dir_k16_ms %.3f\n", ms[0]);
     qtool_gen_free(&g);
     bmaps_free(&m9), bmaps_free(&m16);

@@ -217,27 +217,27 @@ int qcli_bench_probe(int quick)
         if (have_file) {
             int fw, fh;
             uint8_t *fp = NULL;
-            double h0 = qcli_now();
+            double h0 = qcli_cpu_now();
             if (qtool_hdr_read_rgbe(path, &fw, &fh, &fp, err, sizeof err) == 0)
                 bp_sink += fp[0], free(fp);
-            th[r] = (qcli_now() - h0) * 1e3;
+            th[r] = (qcli_cpu_now() - h0) * 1e3;
         }
         bp_sink += read_words(px, bytes); /* untimed: the bytes in cache, as the baselines of `bench baselines` */
-        double t0 = qcli_now();
+        double t0 = qcli_cpu_now();
         bp_sink += read_words(px, bytes);
-        double t1 = qcli_now();
+        double t1 = qcli_cpu_now();
         (void)qibl_probe_sh_project(&img, 5, NULL, ws, n, &c);
-        double t2 = qcli_now();
+        double t2 = qcli_cpu_now();
         qibl_probe_sh_t ps;
         (void)qibl_probe_sh_begin(&ps, (uint32_t)w, (uint32_t)h, QIBL_LIGHTPROBE_RGBE, 0, 5, ws, n);
-        double t3 = qcli_now();
+        double t3 = qcli_cpu_now();
         qibl_q30_t rm[3][3] = {{0, -(1 << 30), 0}, {1 << 30, 0, 0}, {0, 0, 1 << 30}};
         qibl_sh_rotation_t rot;
         int32_t out[25];
         (void)qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])rm, 5);
         for (int ch = 0; ch < 3; ++ch)
             (void)qibl_sh_rotate(&rot, c.c[ch], out), bp_sink += (uint64_t)out[3];
-        double t4 = qcli_now();
+        double t4 = qcli_cpu_now();
         tr[r] = (t1 - t0) * 1e3, tp[r] = (t2 - t1) * 1e3, tb[r] = (t3 - t2) * 1e3, tt[r] = (t4 - t3) * 1e6;
     }
     qsort(tp, (size_t)reps, sizeof *tp, cmp_double), qsort(tr, (size_t)reps, sizeof *tr, cmp_double);

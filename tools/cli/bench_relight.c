@@ -14,6 +14,7 @@
 #include "gen/scene.h"
 #include "io/asset_write.h"
 #include "cli/cli.h"
+#include "qibl/isa.h"
 #include "qibl/shmap.h"
 #include "ref/psnr.h"
 #include "ref/sh_ref.h"
@@ -60,7 +61,7 @@ static double time_stream(const packed *p, int reps)
     size_t n = (size_t)p->m.width * p->m.height * p->m.k * 3;
     double t[REPS_MAX];
     for (int r = 0; r < reps; ++r) {
-        double t0 = qcli_now();
+        double t0 = qcli_cpu_now();
         uint64_t acc = 0; /* 64-bit words, not a byte sum (that is instruction-bound) */
         for (size_t i = 0; i + 8 <= n; i += 8) {
             uint64_t v;
@@ -68,7 +69,7 @@ static double time_stream(const packed *p, int reps)
             acc += v;
         }
         sink = (uint32_t)acc;
-        t[r] = qcli_now() - t0;
+        t[r] = qcli_cpu_now() - t0;
     }
     return qcli_median(t, reps);
 }
@@ -153,7 +154,7 @@ static double bench_layouts(const qtool_gen_maps *g, uint32_t W, uint32_t H, int
                 for (int lay = 0; lay < 2; ++lay) {
                     const qibl_shmaps_t *m = lay ? &il : &p.m;
                     int32_t *o = lay ? img2 : img;
-                    double t0 = qcli_now();
+                    double t0 = qcli_cpu_now();
                     if (light == 0) {
                         qibl_shlight_t sl;
                         qibl_shlight_init(&sl, 25);
@@ -169,7 +170,7 @@ static double bench_layouts(const qtool_gen_maps *g, uint32_t W, uint32_t H, int
                         for (uint32_t y = 0; y < H; ++y)
                             qibl_shmap_point_span(&st, 0, y, W, o + 3 * (size_t)y * W, pws, pwn);
                     }
-                    t[lay][r] = qcli_now() - t0;
+                    t[lay][r] = qcli_cpu_now() - t0;
                 }
             same = memcmp(img, img2, sizeof(int32_t) * 3 * np) == 0;
             double mp = min_of(t[0], reps), mi = min_of(t[1], reps);
@@ -265,7 +266,7 @@ static int bench_baselines(const qtool_gen_maps *g, uint32_t W, uint32_t H, int 
     double tc[5][64], td[5][64];
     for (int r = 0; r < creps; ++r)
         for (int kind = 0; kind < 5; ++kind) {
-            double t0 = qcli_now();
+            double t0 = qcli_cpu_now();
             for (int pass = 0; pass < cpass; ++pass) {
                 if (kind == 0 || kind == 3) /* 3: planar, the first rows of every plane (same bytes) */
                     for (uint32_t y = 0; y < crows; ++y)
@@ -278,7 +279,7 @@ static int bench_baselines(const qtool_gen_maps *g, uint32_t W, uint32_t H, int 
                 else
                     memcpy(dst, copies, cbytes), sink64 = dst[pass];
             }
-            tc[kind][r] = (qcli_now() - t0) / cpass;
+            tc[kind][r] = (qcli_cpu_now() - t0) / cpass;
         }
     for (int r = 0; r < dreps && r < 64; ++r)
         for (int kind = 0; kind < 5; ++kind) {
@@ -287,7 +288,7 @@ static int bench_baselines(const qtool_gen_maps *g, uint32_t W, uint32_t H, int 
             const uint8_t *src = kind >= 3 ? pcopies + ci * psz : copies + ci * asz;
             qibl_shmaps_t m = kind == 3 ? pl : il;
             m.planes = src;
-            double t0 = qcli_now();
+            double t0 = qcli_cpu_now();
             if (kind == 0 || kind == 3)
                 for (uint32_t y = 0; y < H; ++y)
                     qibl_shmap_relight_span(&m, &w, 0, y, W, img + 3 * (size_t)y * W, ws,
@@ -298,7 +299,7 @@ static int bench_baselines(const qtool_gen_maps *g, uint32_t W, uint32_t H, int 
                 read_u64_planar(src, (size_t)W * H, p.m.k * 3u, W, H);
             else
                 memcpy(dst, src, asz), sink64 = dst[r];
-            td[kind][r] = qcli_now() - t0;
+            td[kind][r] = qcli_cpu_now() - t0;
         }
     const int nd = dreps < 64 ? dreps : 64;
     static const char *names[5] = {"directional k=16 (interleaved)", "u64 word read", "memcpy",
@@ -308,6 +309,11 @@ static int bench_baselines(const qtool_gen_maps *g, uint32_t W, uint32_t H, int 
     printf("   built by %s, core %s; in cache: %u rows (%zu KB) x %d passes; DRAM: %zu copies (%zu MB) cycled\n",
            QTOOL_BENCH_COMPILER, QIBL_BENCH_CORE_FLAGS, crows, cbytes >> 10, cpass, ncopy, (asz * ncopy) >> 20);
     printf("%-32s %12s %12s %12s %12s\n", "", "cache min", "median", "DRAM min", "median");
+    /* DRAM ratios paired by repetition (the kinds of one repetition run back to back while the
+     * memory bus is shared with whatever else runs): the median of those ratios, taken before the
+     * medians below sort the times in place */
+    const double dx_read = qcli_paired_ratio(td[1], td[0], nd), dx_memcpy = qcli_paired_ratio(td[2], td[0], nd);
+    const double dx_planar = qcli_paired_ratio(td[1], td[3], nd), dx_order = qcli_paired_ratio(td[1], td[4], nd);
     double cmin[5], dmin[5];
     for (int kind = 0; kind < 5; ++kind) {
         cmin[kind] = min_of(tc[kind], creps), dmin[kind] = min_of(td[kind], nd);
@@ -319,16 +325,16 @@ static int bench_baselines(const qtool_gen_maps *g, uint32_t W, uint32_t H, int 
            cmin[0] / cpx * 1e9, cmin[1] / cpx * 1e9);
     printf("RESULT relight.dir_over_memcpy %.3f  (memcpy %.3f ns/px, in cache, min)\n", cmin[2] / cmin[0],
            cmin[2] / cpx * 1e9);
-    printf("RESULT relight.dir_over_read_dram %.3f  (dir %.3f ns/px, read %.3f ns/px, DRAM, min)\n", dmin[1] / dmin[0],
+    printf("RESULT relight.dir_over_read_dram %.3f  (dir %.3f ns/px, read %.3f ns/px, DRAM, min; ratio paired)\n", dx_read,
            dmin[0] / ((double)W * H) * 1e9, dmin[1] / ((double)W * H) * 1e9);
-    printf("RESULT relight.dir_over_memcpy_dram %.3f  (memcpy %.3f ns/px, DRAM, min)\n", dmin[2] / dmin[0],
+    printf("RESULT relight.dir_over_memcpy_dram %.3f  (memcpy %.3f ns/px, DRAM, min; ratio paired)\n", dx_memcpy,
            dmin[2] / ((double)W * H) * 1e9);
     printf("RESULT relight.dir_planar_over_read %.3f  (planar dir %.3f ns/px, in cache, min)\n", cmin[1] / cmin[3],
            cmin[3] / cpx * 1e9);
-    printf("RESULT relight.dir_planar_over_read_dram %.3f  (planar dir %.3f ns/px, DRAM, min)\n", dmin[1] / dmin[3],
+    printf("RESULT relight.dir_planar_over_read_dram %.3f  (planar dir %.3f ns/px, DRAM, min; ratio paired)\n", dx_planar,
            dmin[3] / ((double)W * H) * 1e9);
     printf("RESULT relight.planar_order_read_over_read_dram %.3f  (u64 read in planar row order %.3f ns/px, DRAM, min:"
-           " the best any planar span kernel can do)\n", dmin[1] / dmin[4], dmin[4] / ((double)W * H) * 1e9);
+           " the best any planar span kernel can do; ratio paired)\n", dx_order, dmin[4] / ((double)W * H) * 1e9);
     free(copies), free(dst), free(pcopies), unpack(&p);
     return 0;
 }
@@ -338,6 +344,75 @@ typedef struct {
     uint32_t k;
     double ms, mpix, psnr, maxabs, psnr_exact;
 } row;
+
+/* The k = 16 ratios (RESULT relight.point_over_dir and the others) from interleaved minima: one
+ * loop times a plain read of the map bytes, the directional frame (weights + every row) and the
+ * three point modes (poly, LUT 32^2, direct SH; prepare + every row) in turn, rep after rep, the
+ * order rotated each rep, each kind run twice in a row and the second run timed (its own warm caches), so that load swings and frequency changes hit every kind alike; each
+ * ratio is a minimum over the minimum of its baseline from the same loop. */
+enum { IK_READ, IK_DIR, IK_POLY, IK_LUT32, IK_DIRECT, IK_N };
+
+static int k16_interleaved(const packed *p, const qibl_shlight_t *sl, const qibl_pmap_t *pm,
+                           const qibl_pointlight_t *lamp, int32_t *img, void *ws, int reps, double mn[IK_N],
+                           double *read_over_dir)
+{
+    double tr[64], tdir[64]; /* the read and the directional frame of each repetition, paired */
+    reps = reps > 64 ? 64 : reps;
+    const uint32_t W = p->m.width, H = p->m.height, k = p->m.k;
+    const size_t pwn = qibl_shmap_point_workspace_size(k, W), vs = qibl_ylut_values_size(32, k);
+    void *pws = malloc(pwn);
+    uint8_t *vals = malloc(vs);
+    if (!pws || !vals || qibl_ylut_build(32, k, vals, vs) != QIBL_OK) {
+        free(pws), free(vals);
+        return -1;
+    }
+    const qibl_ylut_t lut = {32, k, vals, vs};
+    qibl_pointlight_t modes[3] = {*lamp, *lamp, *lamp};
+    modes[0].filter = QIBL_POINT_POLY;
+    for (int i = 0; i < IK_N; ++i)
+        mn[i] = 1e30;
+    for (int r = 0; r < reps; ++r)
+        for (int j = 0; j < 2 * IK_N; ++j) {
+            /* each kind twice in a row, the second timed: every kind from its own warm caches */
+            const int kind = (j / 2 + r) % IK_N;
+            double t0 = qcli_cpu_now();
+            if (kind == IK_READ) {
+                size_t n = (size_t)W * H * k * 3;
+                uint64_t acc = 0;
+                for (size_t i = 0; i + 8 <= n; i += 8) {
+                    uint64_t v;
+                    memcpy(&v, p->planes + i, 8);
+                    acc += v;
+                }
+                sink = (uint32_t)acc;
+            } else if (kind == IK_DIR) {
+                qibl_shmap_weights_t w;
+                qibl_shmap_weights(&p->m, sl, &w);
+                for (uint32_t y = 0; y < H; ++y)
+                    qibl_shmap_relight_span(&p->m, &w, 0, y, W, img + 3 * (size_t)y * W, ws,
+                                            qibl_shmap_span_workspace_size(W));
+            } else {
+                const int m = kind - IK_POLY; /* 0 poly, 1 LUT 32^2, 2 direct SH */
+                qibl_shmap_point_t st;
+                qibl_shmap_point_prepare(&p->m, pm, m == 1 ? &lut : NULL, &modes[m], &st);
+                for (uint32_t y = 0; y < H; ++y)
+                    qibl_shmap_point_span(&st, 0, y, W, img + 3 * (size_t)y * W, pws, pwn);
+            }
+            const double dt = qcli_cpu_now() - t0;
+            if (j % 2 == 1) {
+                mn[kind] = dt < mn[kind] ? dt : mn[kind];
+                if (kind == IK_READ)
+                    tr[r] = dt;
+                else if (kind == IK_DIR)
+                    tdir[r] = dt;
+            }
+        }
+    /* the read pass is memory-bound: its minima moved by 19 % between runs on the shared host, the
+     * ratio of each repetition's pair does not */
+    *read_over_dir = qcli_paired_ratio(tr, tdir, reps);
+    free(pws), free(vals);
+    return 0;
+}
 
 int qcli_bench_relight(int quick, int csv)
 {
@@ -368,6 +443,8 @@ int qcli_bench_relight(int quick, int csv)
     int nrows = 0;
     double stream_k16 = 0, dir_k16 = 0, point_k16_lut32 = 0, point_k16_direct = 0, psnr_k16 = 0;
     double point_k16_poly = 0, psnr_poly_k16 = 0, psnr_lut32_k16 = 0;
+    double ik[IK_N] = {0}; /* k = 16 minima of the interleaved loop (k16_interleaved) */
+    double ik_stream = 0;  /* read / directional, paired by repetition in that loop */
     for (int ki = 0; ki < 4; ++ki) {
         uint32_t k = ks[ki];
         qtool_gen_maps gk = g; /* the first k maps of the unquantised set */
@@ -383,12 +460,12 @@ int qcli_bench_relight(int quick, int csv)
         qibl_shlight_add_dir(&sl, sun_dir, sun_rgb);
         double t[REPS_MAX];
         for (int r = 0; r < reps; ++r) {
-            double t0 = qcli_now();
+            double t0 = qcli_cpu_now();
             qibl_shmap_weights_t w;
             qibl_shmap_weights(&p.m, &sl, &w);
             for (uint32_t y = 0; y < H; ++y)
                 qibl_shmap_relight_span(&p.m, &w, 0, y, W, img + 3 * (size_t)y * W, ws, qibl_shmap_span_workspace_size(W));
-            t[r] = qcli_now() - t0;
+            t[r] = qcli_cpu_now() - t0;
         }
         double td = qcli_median(t, reps);
         for (size_t px = 0; px < np; ++px)
@@ -447,12 +524,12 @@ int qcli_bench_relight(int quick, int csv)
                 lut.face_size = luts[li], lut.k = k, lut.values = vals, lut.size = vs;
             }
             for (int r = 0; r < reps; ++r) {
-                double t0 = qcli_now();
+                double t0 = qcli_cpu_now();
                 qibl_shmap_point_t st;
                 qibl_shmap_point_prepare(&p.m, &pm, li < 3 ? &lut : NULL, &lamp_li, &st);
                 for (uint32_t y = 0; y < H; ++y)
                     qibl_shmap_point_span(&st, 0, y, W, img + 3 * (size_t)y * W, pws, pwn);
-                t[r] = qcli_now() - t0;
+                t[r] = qcli_cpu_now() - t0;
             }
             double tp = qcli_median(t, reps);
             err8 pe = compare8(img, ref, 3 * np), pex = compare8(img, refx, 3 * np);
@@ -470,6 +547,10 @@ int qcli_bench_relight(int quick, int csv)
             free(vals);
         }
         free(pws);
+        if (k == 16 && k16_interleaved(&p, &sl, &pm, &lamp, img, ws, quick ? 5 : 21, ik, &ik_stream) != 0) {
+            fprintf(stderr, "qibl: bench relight: out of memory\n");
+            return 1;
+        }
         free(pbytes);
         unpack(&p);
     }
@@ -520,14 +601,21 @@ int qcli_bench_relight(int quick, int csv)
         printf("relit PSNR vs exact maps (sun, k=16): min/max %.2f dB, robust %.2f dB\n", psnr_scheme[0],
                psnr_scheme[1]);
     }
-    printf("RESULT relight.dir_stream_ratio %.3f\n", stream_k16 / dir_k16);
+    /* the ratios: minima of one interleaved loop (k16_interleaved), not the table's medians, which
+     * come from separate loops; kernels: the set qibl_isa_active() picks (QIBL_ISA restricts it) */
+    printf("k = 16, minima of %d interleaved reps, kernels %s: read %.3f ms, directional %.3f ms, point poly %.3f ms, "
+           "LUT 32^2 %.3f ms, direct SH %.3f ms (table medians: directional %.3f, poly %.3f, LUT 32^2 %.3f, direct %.3f)\n",
+           quick ? 5 : 21, qibl_isa_name(qibl_isa_active()), ik[IK_READ] * 1e3, ik[IK_DIR] * 1e3, ik[IK_POLY] * 1e3,
+           ik[IK_LUT32] * 1e3, ik[IK_DIRECT] * 1e3, dir_k16 * 1e3, point_k16_poly * 1e3, point_k16_lut32 * 1e3,
+           point_k16_direct * 1e3);
+    printf("RESULT relight.dir_stream_ratio %.3f\n", ik_stream);
     /* the default point mode (QIBL_POINT_POLY); the LUT 32^2 figure was the headline before */
-    printf("RESULT relight.point_over_dir %.3f\n", point_k16_poly / dir_k16);
-    printf("RESULT relight.point_lut32_over_dir %.3f\n", point_k16_lut32 / dir_k16);
+    printf("RESULT relight.point_over_dir %.3f\n", ik[IK_POLY] / ik[IK_DIR]);
+    printf("RESULT relight.point_lut32_over_dir %.3f\n", ik[IK_LUT32] / ik[IK_DIR]);
     printf("RESULT relight.point_psnr_k16 %.2f  (poly Q14; LUT 32^2 %.2f dB)\n", psnr_poly_k16, psnr_lut32_k16);
-    printf("RESULT relight.point_direct_over_dir %.3f\n", point_k16_direct / dir_k16);
+    printf("RESULT relight.point_direct_over_dir %.3f\n", ik[IK_DIRECT] / ik[IK_DIR]);
     printf("RESULT relight.psnr_k16 %.2f\n", psnr_k16);
-    printf("RESULT relight.dir_k16_ms %.3f\n", dir_k16 * 1e3);
+    printf("RESULT relight.dir_k16_ms %.3f\n", ik[IK_DIR] * 1e3);
     printf("RESULT relight.pack_minmax_psnr_k16 %.2f\n", psnr_scheme[0]);
     printf("RESULT relight.pack_robust_psnr_k16 %.2f\n", psnr_scheme[1]);
     unpack(&pm), unpack(&pr);

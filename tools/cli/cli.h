@@ -180,7 +180,16 @@ int qcli_parse_layout(const char *s, uint32_t *layout);
 /* Median of n values (sorts v in place). */
 double qcli_median(double *v, int n);
 
+/* Median over the repetitions r < n of num[r] / den[r]: a ratio whose two times were taken next
+ * to each other in one interleaved loop, so a change of machine load between repetitions (a
+ * shared, loaded host) cancels in each pair and outliers fall out of the median. n <= 64. */
+double qcli_paired_ratio(const double *num, const double *den, int n);
+
 /* Monotonic time in seconds, for benchmarks. */
 double qcli_now(void);
+
+/* CPU time of the calling thread in seconds: what the benchmarks' ratios are timed with, so that a
+ * shared, loaded machine (time slices given to other processes) does not enter them. */
+double qcli_cpu_now(void);
 
 #endif

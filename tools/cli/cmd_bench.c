@@ -69,7 +69,7 @@ static int bench_sh(int quick)
     for (int b = 2; b <= 5; ++b) {
         double t[9];
         for (int r = 0; r < reps; ++r) {
-            double t0 = qcli_now();
+            double t0 = qcli_cpu_now();
             int32_t acc = 0;
             for (int i = 0; i < n; ++i) {
                 qibl_q30_t y[25];
@@ -77,7 +77,7 @@ static int bench_sh(int quick)
                 acc ^= y[b * b - 1];
             }
             sink_i = acc;
-            t[r] = (qcli_now() - t0) / n * 1e9;
+            t[r] = (qcli_cpu_now() - t0) / n * 1e9;
         }
         t_int[b - 1] = qcli_median(t, reps);
         printf("%-40s %6d %12.1f %14.3e\n", "qibl_sh_eval (integer)", b, t_int[b - 1], max_err);
@@ -85,7 +85,7 @@ static int bench_sh(int quick)
     {
         double t[9];
         for (int r = 0; r < reps; ++r) {
-            double t0 = qcli_now();
+            double t0 = qcli_cpu_now();
             int32_t acc = 0;
             for (int i = 0; i < n; ++i) {
                 qibl_q30_t y[25];
@@ -93,7 +93,7 @@ static int bench_sh(int quick)
                 acc ^= y[24];
             }
             sink_i = acc;
-            t[r] = (qcli_now() - t0) / n * 1e9;
+            t[r] = (qcli_cpu_now() - t0) / n * 1e9;
         }
         t_unit = qcli_median(t, reps);
         printf("%-40s %6d %12.1f %14.3e\n", "qibl_sh_eval_unit (pre-normalised)", 5, t_unit, max_err);
@@ -101,7 +101,7 @@ static int bench_sh(int quick)
     {
         double t[9];
         for (int r = 0; r < reps; ++r) {
-            double t0 = qcli_now();
+            double t0 = qcli_cpu_now();
             double acc = 0;
             for (int i = 0; i < n; ++i) {
                 double y[25];
@@ -109,7 +109,7 @@ static int bench_sh(int quick)
                 acc += y[24];
             }
             sink_d = acc;
-            t[r] = (qcli_now() - t0) / n * 1e9;
+            t[r] = (qcli_cpu_now() - t0) / n * 1e9;
         }
         t_ref = qcli_median(t, reps);
         printf("%-40s %6d %12.1f %14s\n", "double reference (appendix recursion)", 5, t_ref, "(truth)");

@@ -14,6 +14,8 @@
 #include "cli/cli.h"
 #include "qibl/version.h"
 #include "qibl/shmaps.h"
+#include "qibl/isa.h"
+#include "io/isa_env.h"
 
 int qcli_parse_only; /* see cli.h */
 
@@ -387,7 +389,7 @@ static const qcli_cmd commands[] = {
 static void print_help(FILE *f)
 {
     fprintf(f, "qibl - integer image-based lighting runtime: command-line tool\n\n"
-               "usage: qibl <command> [args]\n       qibl help <command>\n       qibl --version\n\ncommands:\n");
+               "usage: qibl <command> [args]\n       qibl help <command>\n       qibl --version\n       qibl --isa-list\n\ncommands:\n");
     for (size_t i = 0; i < NCMD; ++i)
         fprintf(f, "  %-8s %s\n", commands[i].name, commands[i].summary);
 }
@@ -509,6 +511,22 @@ double qcli_now(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
+double qcli_paired_ratio(const double *num, const double *den, int n)
+{
+    double r[64];
+    n = n > 64 ? 64 : n;
+    for (int i = 0; i < n; ++i)
+        r[i] = num[i] / den[i];
+    return n > 0 ? qcli_median(r, n) : 0.0;
+}
+
+double qcli_cpu_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
 static int cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
@@ -529,8 +547,23 @@ int main(int argc, char **argv)
         print_help(stdout);
         return argc < 2 ? 2 : 0;
     }
+    /* the kernel sets this CPU runs, one per line, lowest first (make golden and make test loop over them) */
+    if (strcmp(argv[1], "--isa-list") == 0) {
+        for (unsigned i = 0; i < QIBL_ISA_COUNT; ++i)
+            if (qibl_isa_available() & QIBL_ISA_BIT(i))
+                printf("%s\n", qibl_isa_name((qibl_isa_t)i));
+        return 0;
+    }
+    /* QIBL_ISA names a kernel set this CPU runs, or nothing runs (io/isa_env.h) */
+    char isa_err[160];
+    if (qtool_isa_env_check(isa_err, sizeof isa_err) != 0) {
+        fprintf(stderr, "qibl: %s\n", isa_err);
+        return 2;
+    }
     if (strcmp(argv[1], "--version") == 0) {
-        printf("qibl %s (config id %08lx)\n", qibl_version(), (unsigned long)qibl_config_id());
+        char isa[160];
+        qtool_isa_describe(isa, sizeof isa);
+        printf("qibl %s (config id %08lx)\nkernels: %s\n", qibl_version(), (unsigned long)qibl_config_id(), isa);
         return qibl_init_check() == QIBL_OK ? 0 : 1;
     }
     if (strcmp(argv[1], "help") == 0) {

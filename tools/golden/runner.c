@@ -21,6 +21,7 @@
 
 #include "golden/cases.h"
 #include "io/sha256.h"
+#include "qibl/isa.h"
 
 typedef struct {
     const char *root;
@@ -224,6 +225,8 @@ int main(int argc, char **argv)
     char hex[65];
     qtool_sha256_final(&r.all, d);
     qtool_sha256_to_hex(d, hex);
+    printf("golden: kernels %s (%s)\n", qibl_isa_name(qibl_isa_active()),
+           qibl_isa_dispatches() ? "run-time dispatch, QIBL_ISA" : "compile-time");
     printf("golden: %s: %d cases, %d failed%s; digest %s\n", config, r.cases, r.failed,
            r.update ? " (--update)" : "", hex);
     for (size_t i = 0; i < r.nnames; ++i)

@@ -219,6 +219,18 @@
 #error "QIBL_CONFIG_SIMD names a path the target does not have (0 scalar, 1 SSE2, 2 AVX2, 3 NEON)"
 #endif
 
+/* QIBL_CONFIG_DISPATCH: 1 on a hosted x86-64 build (GCC or Clang) that carries the scalar, SSE2
+ * and AVX2 copies of the SIMD modules (shmap, srgbe, probe, lightprobe, hemi) and picks one per
+ * call from the CPU (qibl/isa.h). The Makefile's native library sets it on x86-64 hosts and adds
+ * the copies (core/src/x86/: about 2x the .text of those modules); 0 (default): the one path of
+ * QIBL_CONFIG_SIMD, as every freestanding target. Not part of QIBL_CONFIG_ID: same API, same bytes. */
+#ifndef QIBL_CONFIG_DISPATCH
+#define QIBL_CONFIG_DISPATCH 0
+#endif
+#if QIBL_CONFIG_DISPATCH && (!defined(__x86_64__) || !(defined(__GNUC__) || defined(__clang__)))
+#error "QIBL_CONFIG_DISPATCH needs x86-64 and GCC or Clang (__builtin_cpu_supports, target copies)"
+#endif
+
 /* QIBL_RESTRICT: C99's `restrict` in the public headers, which C++ does not have (GCC, Clang and
  * MSVC spell it __restrict there; other C++ compilers get nothing, which only costs speed). The
  * core's own sources are C99 and say `restrict`; the qualifier does not change a function's type. */

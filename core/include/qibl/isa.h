@@ -1,0 +1,63 @@
+/*
+ * qibl/isa.h - which vector kernels this build carries and which one its calls use.
+ *
+ * Freestanding targets select their kernels at compile time (config.h's QIBL_CONFIG_SIMD): one
+ * path, reported here as it is. A hosted x86-64 build with QIBL_CONFIG_DISPATCH=1 (the Makefile's
+ * default library there) carries three copies of the SIMD modules (shmap, srgbe, probe, lightprobe,
+ * hemi): the scalar C twin, SSE2 and AVX2, and every call into their kernels picks one from the
+ * CPU: AVX2 where the CPU and the OS have it, else SSE2. Every choice gives the same bytes (the
+ * goldens and the suites run under each).
+ *
+ * No state in the core: the CPU's features come from the compiler runtime's own record of cpuid
+ * (libgcc/compiler-rt __builtin_cpu_supports, filled once before main; a cpuid instruction per
+ * call would cost about 19 us under a hypervisor that traps it). An application that wants to
+ * restrict the choice (tests, benches: QIBL_ISA in the tools) defines qibl_isa_allowed() below;
+ * the core only calls it, it never reads the environment.
+ */
+#ifndef QIBL_ISA_H
+#define QIBL_ISA_H
+
+#include <stdint.h>
+#include "qibl/config.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* the kernel sets, numbered as config.h's QIBL_SIMD_* */
+typedef enum qibl_isa {
+    QIBL_ISA_SCALAR = QIBL_SIMD_SCALAR, /* portable C (the reference every path equals) */
+    QIBL_ISA_SSE2 = QIBL_SIMD_SSE2,
+    QIBL_ISA_AVX2 = QIBL_SIMD_AVX2,
+    QIBL_ISA_NEON = QIBL_SIMD_NEON
+} qibl_isa_t;
+
+#define QIBL_ISA_BIT(isa) (1u << (unsigned)(isa))
+#define QIBL_ISA_COUNT 4
+
+/* Bit QIBL_ISA_BIT(i) set for every kernel set this build carries and this CPU runs: on a
+ * dispatching build scalar | SSE2, | AVX2 where the CPU and OS have it; elsewhere the one
+ * QIBL_CONFIG_SIMD path. Never 0. */
+uint32_t qibl_isa_available(void);
+
+/* The kernel set calls use now: the highest bit of qibl_isa_available() & qibl_isa_allowed()
+ * (or of qibl_isa_available() alone when the application defines no qibl_isa_allowed, or when
+ * the two masks share no bit: the core never runs code the CPU lacks). */
+qibl_isa_t qibl_isa_active(void);
+
+/* "scalar", "sse2", "avx2", "neon"; "?" for any other value. */
+const char *qibl_isa_name(qibl_isa_t isa);
+
+/* 1 if this build picks its kernels at run time (QIBL_CONFIG_DISPATCH), 0 if at compile time. */
+int qibl_isa_dispatches(void);
+
+/* Optional, defined by the application (a weak reference in the core; not defined by qibl): the
+ * mask of kernel sets it allows. Called on every dispatched call, so it must be cheap and
+ * thread-safe (the tools read QIBL_ISA once). Only dispatching builds call it. */
+uint32_t qibl_isa_allowed(void);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* QIBL_ISA_H */
