@@ -459,7 +459,7 @@ warnings:
 	    $$cc $(CORE_WARN) $(PORTABLE_DEFS) $$o -Icore/include $(PLATFORM_INC) -fsyntax-only $$f || exit 1; \
 	  done; done; echo "warnings: core/ and platform/soft/ clean with $$cc (-O0/-O2/-O3, native and portable paths)"; \
 	  $(if $(filter 1,$(DISPATCH)),for o in -O0 -O2 -O3; do for f in $(CORE_SRC) $(DISPATCH_SRC); do \
-	    $$cc $(CORE_WARN) $$o -Icore/include -DQIBL_CONFIG_DISPATCH=1 $$(case $$f in *_avx2.c) echo -mavx2;; esac) \
+	    $$cc $(CORE_WARN) $$o -Icore/include -DQIBL_CONFIG_DISPATCH=1 $$(case $$f in (*_avx2.c) echo -mavx2;; esac) \
 	      -fsyntax-only $$f || exit 1; \
 	  done; done; echo "warnings: core/ with run-time dispatch (core/src/x86/) clean with $$cc (-O0/-O2/-O3)";,) \
 	  $(if $(HAVE_GLES),for o in -O0 -O2 -O3; do for f in $(GLES_SRC); do \
