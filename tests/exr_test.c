@@ -1010,7 +1010,7 @@ static void test_limits(void **state)
     bput(&f, b.b, 8);
     buf_t cl = {0};
     for (int c = 0; c < QTOOL_EXR_MAX_CHANNELS + 1; ++c) {
-        char n[8];
+        char n[16];
         snprintf(n, sizeof n, "c%02d", c);
         bput(&cl, n, strlen(n) + 1);
         b32(&cl, 1), b32(&cl, 0), b32(&cl, 1), b32(&cl, 1);
