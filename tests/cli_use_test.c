@@ -291,7 +291,7 @@ static void test_relight_linear_outputs(void **state)
     /* before exposure: a light of 2 on albedo < 1 cannot reach 4 x that in the linear frame */
     assert_true(mx > 0.05 && mx < 4.0);
     free(a), free(b);
-    check(run("relight", g, "--sun", "0", "0", "1", NULL), 2, "relight without output", 1, 'e', "--hdr or --pfm");
+    check(run("relight", g, "--sun", "0", "0", "1", NULL), 2, "relight without output", 1, 'e', "--hdr, --pfm or --exr");
 }
 
 int main(void)
