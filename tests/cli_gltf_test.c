@@ -7,27 +7,7 @@
 #include "cliutil.h"
 #include "io/png.h"
 
-static int setup(void **state)
-{
-    (void)state;
-    return cli_setup("/tmp/qibl_cli_gltf_XXXXXX");
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    rm_rf(dir);
-    return 0;
-}
-
-static char *at(const char *name)
-{
-    static char buf[16][512];
-    static int i;
-    i = (i + 1) % 16;
-    snprintf(buf[i], sizeof buf[i], "%s/%s", dir, name);
-    return buf[i];
-}
+CLI_FIXTURES("/tmp/qibl_cli_gltf_XXXXXX")
 
 /* counts pixels that are clearly red (R > 3 G and R > 3 B, R > 20) */
 static int red_pixels(const char *png)

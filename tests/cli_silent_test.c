@@ -17,28 +17,7 @@
 #include "io/hdr_write.h"
 #include "qibl/lightpath.h"
 
-static int setup(void **state)
-{
-    (void)state;
-    return cli_setup("/tmp/qibl_silent_test_XXXXXX");
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    rm_rf(dir);
-    return 0;
-}
-
-/* dir/name; the result stays valid for the next 63 calls */
-static char *at(const char *name)
-{
-    static char buf[64][512];
-    static int i;
-    i = (i + 1) % 64;
-    snprintf(buf[i], sizeof buf[i], "%s/%s", dir, name);
-    return buf[i];
-}
+CLI_FIXTURES("/tmp/qibl_silent_test_XXXXXX")
 
 static int has(const char *log, const char *want)
 {

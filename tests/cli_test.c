@@ -15,18 +15,7 @@
 #include "qibl/asset.h"
 #include "qibl/isa.h"
 
-static int setup(void **state)
-{
-    (void)state;
-    return cli_setup("/tmp/qibl_cli_test_XXXXXX");
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    rm_rf(dir);
-    return 0;
-}
+CLI_FIXTURES("/tmp/qibl_cli_test_XXXXXX")
 
 static char *stderr_text(void)
 {
@@ -52,14 +41,6 @@ static void expect(int want_rc, const char *want, const char *out, const char *f
 }
 
 /* dir/name; the result stays valid for the next 63 calls (more than any one test makes) */
-static char *at(const char *name)
-{
-    static char buf[64][512];
-    static int i;
-    i = (i + 1) % 64;
-    snprintf(buf[i], sizeof buf[i], "%s/%s", dir, name);
-    return buf[i];
-}
 
 /* bakes shard I/N of a tiny bake with ndirs directions and k into name */
 static void shard(const char *name, const char *in, const char *dirs, const char *k)

@@ -13,28 +13,9 @@
 #include "io/pfm.h"
 #include "io/png.h"
 
-static int setup(void **state)
-{
-    (void)state;
-    return cli_setup("/tmp/qibl_cli_use_XXXXXX");
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    rm_rf(dir);
-    return 0;
-}
+CLI_FIXTURES("/tmp/qibl_cli_use_XXXXXX")
 
 /* dir/name; valid for the next 63 calls */
-static char *at(const char *name)
-{
-    static char buf[64][512];
-    static int i;
-    i = (i + 1) % 64;
-    snprintf(buf[i], sizeof buf[i], "%s/%s", dir, name);
-    return buf[i];
-}
 
 /* exit status want, and each of the (stream, text) expectations: stream 'o' or 'e' must contain the
  * text, 'O' or 'E' must not */

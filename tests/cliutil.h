@@ -4,6 +4,7 @@
  *
  * The binary is ../bin/qibl next to the running test's own directory (so build/asan/tests/cli_test
  * runs build/asan/bin/qibl), or $QIBL_BIN. Everything is static: each suite has its own copy.
+ * Used by every suite that runs the program (cli_*, probe_cli, farm, transfer, exr_cli).
  */
 #ifndef QTOOL_TESTS_CLIUTIL_H
 #define QTOOL_TESTS_CLIUTIL_H
@@ -77,6 +78,31 @@ static inline void rm_rf(const char *path)
     if (posix_spawnp(&pid, "rm", NULL, NULL, argv, environ) == 0)
         waitpid(pid, NULL, 0);
 }
+
+/* dir/name in one of 64 rotating buffers: the result stays valid for the next 63 calls */
+static inline char *at(const char *name)
+{
+    static char buf[64][512];
+    static int i;
+    i = (i + 1) % 64;
+    snprintf(buf[i], sizeof buf[i], "%s/%s", dir, name);
+    return buf[i];
+}
+
+/* The suite's CMocka setup and teardown: a fresh scratch directory from the mkdtemp template per
+ * test, removed after it. */
+#define CLI_FIXTURES(template_)                                                                      \
+    static int setup(void **state)                                                                   \
+    {                                                                                                \
+        (void)state;                                                                                 \
+        return cli_setup(template_);                                                                 \
+    }                                                                                                \
+    static int teardown(void **state)                                                                \
+    {                                                                                                \
+        (void)state;                                                                                 \
+        rm_rf(dir);                                                                                  \
+        return 0;                                                                                    \
+    }
 
 /* Runs qibl with the NULL-terminated arguments, stdout to outlog, stderr to errlog. The exit
  * status, or 128 + the signal that killed it. */

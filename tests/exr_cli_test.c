@@ -19,27 +19,7 @@
 #include "io/hdr_write.h"
 #include "io/pfm.h"
 
-static int setup(void **state)
-{
-    (void)state;
-    return cli_setup("/tmp/qibl_exr_cli_XXXXXX");
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    rm_rf(dir);
-    return 0;
-}
-
-static char *at(const char *name)
-{
-    static char buf[16][512];
-    static int i;
-    i = (i + 1) % 16;
-    snprintf(buf[i], sizeof buf[i], "%s/%s", dir, name);
-    return buf[i];
-}
+CLI_FIXTURES("/tmp/qibl_exr_cli_XXXXXX")
 
 static void ok(int rc, const char *what)
 {

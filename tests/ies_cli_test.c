@@ -18,15 +18,6 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-static const char *at(const char *name)
-{
-    static char p[32][256];
-    static int k;
-    k = (k + 1) % 32;
-    snprintf(p[k], sizeof p[k], "%s/%s", dir, name);
-    return p[k];
-}
-
 static void put(const char *path, const char *s)
 {
     FILE *f = fopen(path, "wb");

@@ -21,27 +21,8 @@
 #define PI_ 3.14159265358979323846
 #define FIXTURES "../shared/fixtures/probes"
 
-static int setup(void **state)
-{
-    (void)state;
-    return cli_setup("/tmp/qibl_probe_cli_test_XXXXXX");
-}
+CLI_FIXTURES("/tmp/qibl_probe_cli_test_XXXXXX")
 
-static int teardown(void **state)
-{
-    (void)state;
-    rm_rf(dir);
-    return 0;
-}
-
-static char *at(const char *name)
-{
-    static char buf[64][512];
-    static int i;
-    i = (i + 1) % 64;
-    snprintf(buf[i], sizeof buf[i], "%s/%s", dir, name);
-    return buf[i];
-}
 
 /* exit status and a phrase on stderr (want may be NULL), and out (may be NULL) not created */
 static void expect(int want_rc, const char *want, const char *out, const char *first, ...)

@@ -12,18 +12,7 @@
 #include "io/hdr_write.h"
 #include "io/png.h"
 
-static int setup(void **state)
-{
-    (void)state;
-    return cli_setup("/tmp/qibl_transfer_test_XXXXXX");
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    rm_rf(dir);
-    return 0;
-}
+CLI_FIXTURES("/tmp/qibl_transfer_test_XXXXXX")
 
 static void path_of(char *out, size_t n, const char *name)
 {
