@@ -285,13 +285,17 @@ static void face_normal(const double *a, const double *b, const double *c, doubl
     n[0] = u[1] * v[2] - u[2] * v[1], n[1] = u[2] * v[0] - u[0] * v[2], n[2] = u[0] * v[1] - u[1] * v[0];
 }
 
+/* scaled by the largest component first: a cross product of tiny edges squares to a subnormal
+ * (or 0) and its root would leave a vector that is not of unit length */
 static void unit(double n[3])
 {
-    double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    if (l > 0)
-        n[0] /= l, n[1] /= l, n[2] /= l;
-    else
+    double m = fmax(fabs(n[0]), fmax(fabs(n[1]), fabs(n[2])));
+    if (!(m > 0) || !isfinite(m)) {
         n[0] = n[1] = n[2] = 0;
+        return;
+    }
+    double x = n[0] / m, y = n[1] / m, z = n[2] / m, l = sqrt(x * x + y * y + z * z);
+    n[0] = x / l, n[1] = y / l, n[2] = z / l;
 }
 
 /* triangles (index triples) and vertices into the corner soup with area-weighted vertex normals */
