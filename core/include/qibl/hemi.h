@@ -42,8 +42,8 @@
  *
  * Memory: qibl_hemi_workspace_size(N, F) bytes, any alignment: the two rotations (1328 bytes), the
  * disk mask and unblocked transfer, the basis table (100 N^2 bytes), the pixel centres (4 N^2
- * bytes) and the LUT (3 F^2 masks of 4 N max(1, N/32) bytes). N = 32: F = 48 (the default, the
- * largest within 1 MiB) 969.5 KiB, F = 20 (small, within 256 KiB) 255.5 KiB, F = 60 1455.5 KiB.
+ * bytes) and the LUT (3 F^2 masks of 4 N max(1, N/32) bytes). N = 32: F = QIBL_HEMI_FACE_DEFAULT (48,
+ * the largest within 1 MiB) 969.5 KiB, F = 20 (small, within 256 KiB) 255.5 KiB, F = 60 1455.5 KiB.
  * Init cost: 3 F^2 N^2 exact pixel tests and 65536 SH evaluations.
  */
 #ifndef QIBL_HEMI_H
@@ -61,6 +61,8 @@ extern "C" {
 #endif
 
 #define QIBL_HEMI_COEFFS 25          /* transfer vectors: SH bands 0..4 */
+/* The LUT face size the tools use unless told otherwise: the largest whose N = 32 tables fit 1 MiB. */
+#define QIBL_HEMI_FACE_DEFAULT 48u
 #define QIBL_HEMI_MAX_WORDS 128u     /* uint32 words of the largest mask (64 x 64) */
 #define QIBL_HEMI_MAX_FACE 128       /* largest cube-map face (even sizes 2..128) */
 #define QIBL_HEMI_COORD_MAX 0x3FFFFF /* |position coordinate| limit, Q16.16 (64 units) */

@@ -1,0 +1,19 @@
+/*
+ * tools/qtool.h - what every hosted tools library shares: one pi, one error formatter.
+ * (The core has no floating point; these are for tools/ only.)
+ */
+#ifndef QTOOL_QTOOL_H
+#define QTOOL_QTOOL_H
+
+#include <stddef.h>
+
+#define QTOOL_PI 3.14159265358979323846
+
+/* Formats a message into err (errlen bytes, always terminated; err NULL or errlen 0: nothing is
+ * written) and returns -1, so a reader's error path is one line: `return qtool_errf(err, n, ...)`. */
+#if defined(__GNUC__) || defined(__clang__)
+__attribute__((format(printf, 3, 4)))
+#endif
+int qtool_errf(char *err, size_t errlen, const char *fmt, ...);
+
+#endif
