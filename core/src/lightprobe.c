@@ -1237,7 +1237,7 @@ static void direction(const qibl_lightprobe_t *lp, rect r, uint64_t total, qibl_
     d[1] = qibli_rshr_s64(qibl_mul_s32_s64(st, sp), 30);
     d[2] = ct;
     /* |d| = 1 within a few LSB; renormalise (never zero: |d| > 1/2) */
-    (void)qibl_vec3_normalize_q30(d, dir);
+    QIBL_DROP_STATUS(qibl_vec3_normalize_q30(d, dir));
 }
 
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
