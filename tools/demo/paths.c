@@ -582,20 +582,11 @@ int qtool_demo_paths(const qtool_demo_view *v, uint32_t ndirs, const qtool_demo_
     int rc = bake_paths(c, ndirs);
     if (rc == 0)
         c->bake_s = qtool_demo_now() - t0;
-    if (rc == 0)
-        rc = lamp_occlusion(c);
-    if (rc == 0)
-        rc = path_truths(c);
-    if (rc == 0)
-        rc = score_rows(c);
-    if (rc == 0)
-        rc = score_adaptive(c);
-    if (rc == 0)
-        rc = score_sky(c);
-    if (rc == 0)
-        rc = score_soft(c);
-    if (rc == 0)
-        rc = sheets(c);
+    /* the steps after the bake, in order; each 0, or -1 with c->err */
+    static int (*const steps[])(paths_ctx *) = {lamp_occlusion, path_truths, score_rows, score_adaptive,
+                                                score_sky,      score_soft,  sheets};
+    for (size_t i = 0; rc == 0 && i < sizeof steps / sizeof steps[0]; ++i)
+        rc = steps[i](c);
     if (rc == 0) {
         print_tables(c, v->out);
         print_results(c, v->out);
