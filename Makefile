@@ -525,7 +525,7 @@ study: $(QIBL)
 
 # The main demo: bake the built-in courtyard (or SCENE=path.obj) with the ray tracer, relight it with
 # the core (sun sweep, moving lamp), compare with ground truth; PNGs, APNGs, contact sheet, table and
-# RESULT lines in out/demo/. Sizes (tools/cli/cmd_demo.c): the default 512x128 fits a newcomer's 90 s;
+# RESULT lines in out/demo/. Sizes (tools/demo/demo.c): the default 512x128 fits a newcomer's 90 s;
 # DEMO_SIZE=small is the CI version (256x64, 128 directions); FULL=1 (or DEMO_SIZE=full) the README's
 # pictures at 1024x256 with the full probe-lit truths (minutes of CPU).
 SCENE ?= builtin

@@ -1,5 +1,5 @@
 /*
- * demo_probe.c - the "lit by a real probe" part of `qibl demo`: the scene under three whole probes
+ * demo/probe.c - the "lit by a real probe" part of `qibl demo`: the scene under three whole probes
  * (soft, sunny, indoor), ray-traced with every direction shadowed (render/env.h) and relit by the
  * core three ways: the probe's SH through the shadowed maps, N median-cut lights (as SH) through
  * the same maps, and sun plus SH (the compact bright sources as directional lights through the
