@@ -32,6 +32,8 @@ PLATFORM_SRC := $(wildcard platform/soft/*.c)
 PLATFORM_INC := -Iplatform/soft/include
 TOOL_LIB_SRC := $(wildcard tools/ref/*.c) $(wildcard tools/io/*.c) $(wildcard tools/gles/*.c) $(wildcard tools/gen/*.c) $(wildcard tools/render/*.c) $(wildcard tools/bake/*.c) $(wildcard tools/transfer/*.c)
 TOOL_LIB_SRC += $(wildcard tools/study/*.c) $(wildcard tools/engine/*.c) $(wildcard tools/view/*.c)
+# the demo behind `qibl demo` (tools/demo: bake, relight, light paths, probe-lit rows)
+TOOL_LIB_SRC += $(wildcard tools/demo/*.c)
 # the golden cases (plain C, shared by the suites and the golden runner) and their CMocka-side check
 GOLDEN_CASES_SRC := $(wildcard tools/golden/cases*.c)
 TOOL_LIB_SRC += $(GOLDEN_CASES_SRC) tools/golden/check.c
@@ -532,7 +534,7 @@ study: $(QIBL)
 
 # The main demo: bake the built-in courtyard (or SCENE=path.obj) with the ray tracer, relight it with
 # the core (sun sweep, moving lamp), compare with ground truth; PNGs, APNGs, contact sheet, table and
-# RESULT lines in out/demo/. Sizes (tools/cli/cmd_demo.c): the default 512x128 fits a newcomer's 90 s;
+# RESULT lines in out/demo/. Sizes (tools/demo/demo.c): the default 512x128 fits a newcomer's 90 s;
 # DEMO_SIZE=small is the CI version (256x64, 128 directions); FULL=1 (or DEMO_SIZE=full) the README's
 # pictures at 1024x256 with the full probe-lit truths (minutes of CPU).
 SCENE ?= builtin

@@ -101,33 +101,6 @@ struct qtool_rt_scene;
 #define QCLI_SCENE_MAX_TRIANGLES ((size_t)1 << 20)
 int qcli_scene_load(const qcli_scene *o, struct qtool_rt_scene *s);
 struct qtool_rt_light;
-/* The light-path part of `qibl demo` (demo_paths.c): its table and RESULT lines on stdout,
- * paths_sheet.png in dir. today: the k = 16 shadowed asset (with YLUT). 0, or 1 after a message. */
-struct qtool_bake_sums;
-/* The demo's sizes in one place (cmd_demo.c): `small` is CI's (DEMO_SIZE=small), `default` what
- * `make demo` runs for a newcomer (within 90 s on an idle 2-core machine), `full` the README's
- * pictures (`make demo FULL=1`: the probe-lit truths alone are minutes of CPU). */
-typedef struct qcli_demo_size {
-    const char *name;
-    uint32_t w, h;        /* panorama */
-    long ndirs, frames;   /* bake directions, frames per sweep */
-    uint32_t path_steps;  /* visibility steps along the sun path and lamp track */
-    uint32_t sky_dirs;    /* directions of the ray-traced sky truth */
-    uint32_t probe_spp;   /* samples per pixel in each of the two probe-lit truth renders */
-} qcli_demo_size;
-int qtool_demo_paths(const struct qtool_rt_scene *s, const qcli_scene *so, uint32_t ndirs, int prop,
-                    const qcli_demo_size *sz, const struct qtool_bake_sums *sums, const uint8_t *today,
-                    size_t today_n, const char *dir);
-/* The "lit by a real probe" part of `qibl demo` (demo_probe.c): three probes (../shared's, or
- * procedural ones), ray-traced truth, SH / median-cut lights / sun + SH relit by the core; its table
- * and RESULT lines on stdout, probe_sheet.png in dir. 0, or 1 after a message. */
-/* demo_paths.c, shared with demo_probe.c: the error heat map of a against b (max channel
- * difference, full scale 48 of 255; pixels whose cls is 0 black), and the payload bytes of the
- * index-th chunk of a type in an asset (0 when absent or the asset is bad). */
-void qcli_demo_heat(const uint8_t *a, const uint8_t *b, const uint8_t *cls, size_t np, uint8_t *out);
-double qcli_asset_chunk_bytes(const uint8_t *asset, size_t n, uint32_t type, uint32_t index);
-int qcli_demo_probe(const struct qtool_rt_scene *s, const qcli_scene *so, const qcli_demo_size *sz,
-                    const struct qtool_bake_sums *sums, uint32_t ndirs, const char *dir);
 void qcli_eval_lights(int obj_prop, int ndir, int npoint, struct qtool_rt_light *out);
 
 /* --point without --rgb (point_default.c): C0 = QTOOL_CLI_POINT_GREY * d^falloff, d the median
