@@ -1,5 +1,5 @@
 /*
- * bench_relight.c - `qibl bench relight`: speed against error of the relighting kernels on the
+ * relight.c - `qibl bench relight`: speed against error of the relighting kernels on the
  * procedural courtyard (tools/gen), 1024x256 (the paper's size), k = 4, 9, 16, 25; directional and
  * point lights (cube-map LUT 16^2, 32^2, 64^2 per face, and direct SH evaluation), plus a plain read
  * of the same map bytes timed in the same run, and the two range-packing schemes.
@@ -13,7 +13,7 @@
 
 #include "gen/scene.h"
 #include "io/asset_write.h"
-#include "cli/cli.h"
+#include "bench/bench.h"
 #include "qibl/isa.h"
 #include "qibl/shmap.h"
 #include "ref/psnr.h"
@@ -61,7 +61,7 @@ static double time_stream(const packed *p, int reps)
     size_t n = (size_t)p->m.width * p->m.height * p->m.k * 3;
     double t[REPS_MAX];
     for (int r = 0; r < reps; ++r) {
-        double t0 = qcli_cpu_now();
+        double t0 = qtool_bench_cpu_now();
         uint64_t acc = 0; /* 64-bit words, not a byte sum (that is instruction-bound) */
         for (size_t i = 0; i + 8 <= n; i += 8) {
             uint64_t v;
@@ -69,9 +69,9 @@ static double time_stream(const packed *p, int reps)
             acc += v;
         }
         sink = (uint32_t)acc;
-        t[r] = qcli_cpu_now() - t0;
+        t[r] = qtool_bench_cpu_now() - t0;
     }
-    return qcli_median(t, reps);
+    return qtool_bench_median(t, reps);
 }
 
 /* 8-bit display value of a linear radiance (1.0 = 255), continuous for the reference */
@@ -101,14 +101,6 @@ static double decoded(const qibl_shmaps_t *m, uint32_t i, uint32_t ch, size_t px
 {
     return (qibl_shmaps_bias(m, i, ch) + (double)qibl_shmaps_scale(m, i, ch) * qibl_shmaps_plane(m, i, ch)[px]) /
            16777216.0;
-}
-
-static double min_of(const double *t, int n)
-{
-    double m = t[0];
-    for (int i = 1; i < n; ++i)
-        m = t[i] < m ? t[i] : m;
-    return m;
 }
 
 /* Planar against interleaved layout (shmaps.h), same maps, same light, same run: frames alternate
@@ -154,7 +146,7 @@ static double bench_layouts(const qtool_gen_maps *g, uint32_t W, uint32_t H, int
                 for (int lay = 0; lay < 2; ++lay) {
                     const qibl_shmaps_t *m = lay ? &il : &p.m;
                     int32_t *o = lay ? img2 : img;
-                    double t0 = qcli_cpu_now();
+                    double t0 = qtool_bench_cpu_now();
                     if (light == 0) {
                         qibl_shlight_t sl;
                         qibl_shlight_init(&sl, 25);
@@ -170,12 +162,12 @@ static double bench_layouts(const qtool_gen_maps *g, uint32_t W, uint32_t H, int
                         for (uint32_t y = 0; y < H; ++y)
                             qibl_shmap_point_span(&st, 0, y, W, o + 3 * (size_t)y * W, pws, pwn);
                     }
-                    t[lay][r] = qcli_cpu_now() - t0;
+                    t[lay][r] = qtool_bench_cpu_now() - t0;
                 }
             same = memcmp(img, img2, sizeof(int32_t) * 3 * np) == 0;
-            double mp = min_of(t[0], reps), mi = min_of(t[1], reps);
+            double mp = qtool_bench_min(t[0], reps), mi = qtool_bench_min(t[1], reps);
             printf("%-22s %3u %10.3fms %10.3fms %10.3fms %10.3fms %8.3f %5s\n", light ? "point, LUT 32^2" : "directional",
-                   k, mp * 1e3, qcli_median(t[0], reps) * 1e3, mi * 1e3, qcli_median(t[1], reps) * 1e3, mi / mp,
+                   k, mp * 1e3, qtool_bench_median(t[0], reps) * 1e3, mi * 1e3, qtool_bench_median(t[1], reps) * 1e3, mi / mp,
                    same ? "yes" : "NO");
             if (!same) {
                 fprintf(stderr, "qibl: bench relight: the layouts gave different bytes (k = %u)\n", k);
@@ -266,7 +258,7 @@ static int bench_baselines(const qtool_gen_maps *g, uint32_t W, uint32_t H, int 
     double tc[5][64], td[5][64];
     for (int r = 0; r < creps; ++r)
         for (int kind = 0; kind < 5; ++kind) {
-            double t0 = qcli_cpu_now();
+            double t0 = qtool_bench_cpu_now();
             for (int pass = 0; pass < cpass; ++pass) {
                 if (kind == 0 || kind == 3) /* 3: planar, the first rows of every plane (same bytes) */
                     for (uint32_t y = 0; y < crows; ++y)
@@ -279,7 +271,7 @@ static int bench_baselines(const qtool_gen_maps *g, uint32_t W, uint32_t H, int 
                 else
                     memcpy(dst, copies, cbytes), sink64 = dst[pass];
             }
-            tc[kind][r] = (qcli_cpu_now() - t0) / cpass;
+            tc[kind][r] = (qtool_bench_cpu_now() - t0) / cpass;
         }
     for (int r = 0; r < dreps && r < 64; ++r)
         for (int kind = 0; kind < 5; ++kind) {
@@ -288,7 +280,7 @@ static int bench_baselines(const qtool_gen_maps *g, uint32_t W, uint32_t H, int 
             const uint8_t *src = kind >= 3 ? pcopies + ci * psz : copies + ci * asz;
             qibl_shmaps_t m = kind == 3 ? pl : il;
             m.planes = src;
-            double t0 = qcli_cpu_now();
+            double t0 = qtool_bench_cpu_now();
             if (kind == 0 || kind == 3)
                 for (uint32_t y = 0; y < H; ++y)
                     qibl_shmap_relight_span(&m, &w, 0, y, W, img + 3 * (size_t)y * W, ws,
@@ -299,7 +291,7 @@ static int bench_baselines(const qtool_gen_maps *g, uint32_t W, uint32_t H, int 
                 read_u64_planar(src, (size_t)W * H, p.m.k * 3u, W, H);
             else
                 memcpy(dst, src, asz), sink64 = dst[r];
-            td[kind][r] = qcli_cpu_now() - t0;
+            td[kind][r] = qtool_bench_cpu_now() - t0;
         }
     const int nd = dreps < 64 ? dreps : 64;
     static const char *names[5] = {"directional k=16 (interleaved)", "u64 word read", "memcpy",
@@ -312,12 +304,12 @@ static int bench_baselines(const qtool_gen_maps *g, uint32_t W, uint32_t H, int 
     /* DRAM ratios paired by repetition (the kinds of one repetition run back to back while the
      * memory bus is shared with whatever else runs): the median of those ratios, taken before the
      * medians below sort the times in place */
-    const double dx_read = qcli_paired_ratio(td[1], td[0], nd), dx_memcpy = qcli_paired_ratio(td[2], td[0], nd);
-    const double dx_planar = qcli_paired_ratio(td[1], td[3], nd), dx_order = qcli_paired_ratio(td[1], td[4], nd);
+    const double dx_read = qtool_bench_paired_ratio(td[1], td[0], nd), dx_memcpy = qtool_bench_paired_ratio(td[2], td[0], nd);
+    const double dx_planar = qtool_bench_paired_ratio(td[1], td[3], nd), dx_order = qtool_bench_paired_ratio(td[1], td[4], nd);
     double cmin[5], dmin[5];
     for (int kind = 0; kind < 5; ++kind) {
-        cmin[kind] = min_of(tc[kind], creps), dmin[kind] = min_of(td[kind], nd);
-        double cmed = qcli_median(tc[kind], creps), dmed = qcli_median(td[kind], nd);
+        cmin[kind] = qtool_bench_min(tc[kind], creps), dmin[kind] = qtool_bench_min(td[kind], nd);
+        double cmed = qtool_bench_median(tc[kind], creps), dmed = qtool_bench_median(td[kind], nd);
         printf("%-32s %9.3fns/px %9.3fns/px %9.3fns/px %9.3fns/px\n", names[kind], cmin[kind] / cpx * 1e9,
                cmed / cpx * 1e9, dmin[kind] / ((double)W * H) * 1e9, dmed / ((double)W * H) * 1e9);
     }
@@ -375,7 +367,7 @@ static int k16_interleaved(const packed *p, const qibl_shlight_t *sl, const qibl
         for (int j = 0; j < 2 * IK_N; ++j) {
             /* each kind twice in a row, the second timed: every kind from its own warm caches */
             const int kind = (j / 2 + r) % IK_N;
-            double t0 = qcli_cpu_now();
+            double t0 = qtool_bench_cpu_now();
             if (kind == IK_READ) {
                 size_t n = (size_t)W * H * k * 3;
                 uint64_t acc = 0;
@@ -398,7 +390,7 @@ static int k16_interleaved(const packed *p, const qibl_shlight_t *sl, const qibl
                 for (uint32_t y = 0; y < H; ++y)
                     qibl_shmap_point_span(&st, 0, y, W, img + 3 * (size_t)y * W, pws, pwn);
             }
-            const double dt = qcli_cpu_now() - t0;
+            const double dt = qtool_bench_cpu_now() - t0;
             if (j % 2 == 1) {
                 mn[kind] = dt < mn[kind] ? dt : mn[kind];
                 if (kind == IK_READ)
@@ -409,12 +401,12 @@ static int k16_interleaved(const packed *p, const qibl_shlight_t *sl, const qibl
         }
     /* the read pass is memory-bound: its minima moved by 19 % between runs on the shared host, the
      * ratio of each repetition's pair does not */
-    *read_over_dir = qcli_paired_ratio(tr, tdir, reps);
+    *read_over_dir = qtool_bench_paired_ratio(tr, tdir, reps);
     free(pws), free(vals);
     return 0;
 }
 
-int qcli_bench_relight(int quick, int csv)
+int qtool_bench_relight(int quick, int csv)
 {
     const uint32_t W = quick ? 256 : 1024, H = quick ? 64 : 256;
     const int reps = quick ? 3 : 9;
@@ -460,14 +452,14 @@ int qcli_bench_relight(int quick, int csv)
         qibl_shlight_add_dir(&sl, sun_dir, sun_rgb);
         double t[REPS_MAX];
         for (int r = 0; r < reps; ++r) {
-            double t0 = qcli_cpu_now();
+            double t0 = qtool_bench_cpu_now();
             qibl_shmap_weights_t w;
             qibl_shmap_weights(&p.m, &sl, &w);
             for (uint32_t y = 0; y < H; ++y)
                 qibl_shmap_relight_span(&p.m, &w, 0, y, W, img + 3 * (size_t)y * W, ws, qibl_shmap_span_workspace_size(W));
-            t[r] = qcli_cpu_now() - t0;
+            t[r] = qtool_bench_cpu_now() - t0;
         }
-        double td = qcli_median(t, reps);
+        double td = qtool_bench_median(t, reps);
         for (size_t px = 0; px < np; ++px)
             for (uint32_t ch = 0; ch < 3; ++ch) {
                 double s = 0, sx = 0, lc[25];
@@ -524,14 +516,14 @@ int qcli_bench_relight(int quick, int csv)
                 lut.face_size = luts[li], lut.k = k, lut.values = vals, lut.size = vs;
             }
             for (int r = 0; r < reps; ++r) {
-                double t0 = qcli_cpu_now();
+                double t0 = qtool_bench_cpu_now();
                 qibl_shmap_point_t st;
                 qibl_shmap_point_prepare(&p.m, &pm, li < 3 ? &lut : NULL, &lamp_li, &st);
                 for (uint32_t y = 0; y < H; ++y)
                     qibl_shmap_point_span(&st, 0, y, W, img + 3 * (size_t)y * W, pws, pwn);
-                t[r] = qcli_cpu_now() - t0;
+                t[r] = qtool_bench_cpu_now() - t0;
             }
-            double tp = qcli_median(t, reps);
+            double tp = qtool_bench_median(t, reps);
             err8 pe = compare8(img, ref, 3 * np), pex = compare8(img, refx, 3 * np);
             static const char *names[5] = {"point, LUT 16^2", "point, LUT 32^2", "point, LUT 64^2", "point, direct SH",
                                            "point, poly Q14"};
@@ -635,7 +627,7 @@ int qcli_bench_relight(int quick, int csv)
 
 /* `qibl bench baselines`: only the baselines above, on the full-size courtyard (1024x256; 256x64
  * with --quick), for comparing builds (compilers, flags, QIBL_CONFIG_SIMD) without the error runs. */
-int qcli_bench_relight_baselines(int quick)
+int qtool_bench_relight_baselines(int quick)
 {
     const uint32_t W = quick ? 256 : 1024, H = quick ? 64 : 256;
     qtool_gen_maps g;
