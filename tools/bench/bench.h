@@ -84,6 +84,10 @@ double qtool_bench_median(double *v, int n);
  * shared, loaded host) cancels in each pair and outliers fall out of the median. n <= 64. */
 double qtool_bench_paired_ratio(const double *num, const double *den, int n);
 
+/* The memory-bandwidth floor the kernels are measured against: every whole 64-bit word of p[0..n)
+ * read once (little-endian or not, summed: a sum, not a byte sum, which is instruction-bound). */
+uint64_t qtool_bench_read_u64(const uint8_t *p, size_t n);
+
 /* The smallest of n >= 1 values. */
 double qtool_bench_min(const double *v, int n);
 

@@ -31,18 +31,6 @@ static const char *bp_dir(void)
     return d && *d ? d : "../shared/fixtures/probes";
 }
 
-/* the baseline: read every 64-bit word of the probe once */
-static uint64_t read_words(const uint8_t *p, size_t n)
-{
-    uint64_t acc = 0;
-    for (size_t i = 0; i + 8 <= n; i += 8) {
-        uint64_t w;
-        memcpy(&w, p + i, 8);
-        acc += w;
-    }
-    return acc;
-}
-
 static uint8_t *int_probe(int w, int h)
 {
     uint8_t *px = malloc(4 * (size_t)w * (size_t)h);
@@ -211,7 +199,7 @@ int qtool_bench_probe(int quick)
         return fprintf(stderr, "qibl: bench probe: out of memory\n"), 1;
     qibl_lightprobe_image_t img = {px, (uint32_t)w, (uint32_t)h, 0, QIBL_LIGHTPROBE_RGBE, 0};
     qibl_probe_coeffs_t c;
-    bp_sink = read_words(px, bytes);
+    bp_sink = qtool_bench_read_u64(px, bytes);
     for (int r = 0; r < reps; ++r) { /* interleaved: load the file, read, project, begin only, rotate */
         th[r] = 0.0;
         if (have_file) {
@@ -222,9 +210,9 @@ int qtool_bench_probe(int quick)
                 bp_sink += fp[0], free(fp);
             th[r] = (qtool_bench_cpu_now() - h0) * 1e3;
         }
-        bp_sink += read_words(px, bytes); /* untimed: the bytes in cache, as the baselines of `bench baselines` */
+        bp_sink += qtool_bench_read_u64(px, bytes); /* untimed: the bytes in cache, as the baselines of `bench baselines` */
         double t0 = qtool_bench_cpu_now();
-        bp_sink += read_words(px, bytes);
+        bp_sink += qtool_bench_read_u64(px, bytes);
         double t1 = qtool_bench_cpu_now();
         (void)qibl_probe_sh_project(&img, 5, NULL, ws, n, &c);
         double t2 = qtool_bench_cpu_now();

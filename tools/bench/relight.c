@@ -62,13 +62,7 @@ static double time_stream(const packed *p, int reps)
     double t[REPS_MAX];
     for (int r = 0; r < reps; ++r) {
         double t0 = qtool_bench_cpu_now();
-        uint64_t acc = 0; /* 64-bit words, not a byte sum (that is instruction-bound) */
-        for (size_t i = 0; i + 8 <= n; i += 8) {
-            uint64_t v;
-            memcpy(&v, p->planes + i, 8);
-            acc += v;
-        }
-        sink = (uint32_t)acc;
+        sink = (uint32_t)qtool_bench_read_u64(p->planes, n);
         t[r] = qtool_bench_cpu_now() - t0;
     }
     return qtool_bench_median(t, reps);
@@ -194,17 +188,6 @@ static double bench_layouts(const qtool_gen_maps *g, uint32_t W, uint32_t H, int
  * the minimum is the figure to trust. */
 static volatile uint64_t sink64;
 
-static void read_u64(const uint8_t *b, size_t n)
-{
-    uint64_t s = 0;
-    for (size_t i = 0; i + 8 <= n; i += 8) {
-        uint64_t v;
-        memcpy(&v, b + i, 8);
-        s += v;
-    }
-    sink64 = s;
-}
-
 /* the same u64 read in the planar kernel's order: row by row, 8 planes side by side (what the
  * planar layout allows a row span at best; see shmap.c's passes) */
 static void read_u64_planar(const uint8_t *b, size_t plane, size_t nplanes, size_t W, size_t rows)
@@ -219,6 +202,36 @@ static void read_u64_planar(const uint8_t *b, size_t plane, size_t nplanes, size
                     s += v;
                 }
     sink64 = s;
+}
+
+/* What the five baseline kinds run on: the interleaved and planar maps, the directional weights, the
+ * frame row, the span workspace, memcpy's destination. */
+typedef struct baseline {
+    const qibl_shmaps_t *il, *pl;
+    const qibl_shmap_weights_t *w;
+    int32_t *img;
+    void *ws;
+    uint8_t *dst;
+} baseline;
+
+/* One run of a kind over the first rows of src (bytes of them for the plain reads): 0 directional
+ * interleaved, 1 u64 read, 2 memcpy, 3 directional planar, 4 u64 read in planar row order. */
+static void baseline_kind(const baseline *c, int kind, const uint8_t *src, uint32_t rows, size_t bytes, size_t di)
+{
+    const uint32_t W = c->il->width, H = c->il->height;
+    if (kind == 0 || kind == 3) {
+        qibl_shmaps_t m = kind == 3 ? *c->pl : *c->il;
+        m.planes = src;
+        for (uint32_t y = 0; y < rows; ++y)
+            qibl_shmap_relight_span(&m, c->w, 0, y, W, c->img + 3 * (size_t)y * W, c->ws,
+                                    qibl_shmap_span_workspace_size(W));
+    } else if (kind == 1) {
+        sink64 = qtool_bench_read_u64(src, bytes);
+    } else if (kind == 4) {
+        read_u64_planar(src, (size_t)W * H, c->il->k * 3u, W, rows);
+    } else {
+        memcpy(c->dst, src, bytes), sink64 = c->dst[di];
+    }
 }
 
 static int bench_baselines(const qtool_gen_maps *g, uint32_t W, uint32_t H, int quick, const qibl_q16_t sun_dir[3],
@@ -255,22 +268,13 @@ static int bench_baselines(const qtool_gen_maps *g, uint32_t W, uint32_t H, int 
     const uint32_t crows = H < 8u ? H : 8u;
     const size_t cbytes = rs * crows, cpx = (size_t)W * crows;
     const int cpass = quick ? 20 : 100, creps = quick ? 5 : 31, dreps = (int)(quick ? ncopy : 2 * ncopy);
+    const baseline c = {&il, &pl, &w, img, ws, dst};
     double tc[5][64], td[5][64];
     for (int r = 0; r < creps; ++r)
         for (int kind = 0; kind < 5; ++kind) {
             double t0 = qtool_bench_cpu_now();
-            for (int pass = 0; pass < cpass; ++pass) {
-                if (kind == 0 || kind == 3) /* 3: planar, the first rows of every plane (same bytes) */
-                    for (uint32_t y = 0; y < crows; ++y)
-                        qibl_shmap_relight_span(kind ? &pl : &il, &w, 0, y, W, img + 3 * (size_t)y * W, ws,
-                                                qibl_shmap_span_workspace_size(W));
-                else if (kind == 1)
-                    read_u64(copies, cbytes);
-                else if (kind == 4)
-                    read_u64_planar(pcopies, (size_t)W * H, p.m.k * 3u, W, crows);
-                else
-                    memcpy(dst, copies, cbytes), sink64 = dst[pass];
-            }
+            for (int pass = 0; pass < cpass; ++pass) /* 3: planar, the first rows of every plane (same bytes) */
+                baseline_kind(&c, kind, kind >= 3 ? pcopies : copies, crows, cbytes, (size_t)pass);
             tc[kind][r] = (qtool_bench_cpu_now() - t0) / cpass;
         }
     for (int r = 0; r < dreps && r < 64; ++r)
@@ -278,19 +282,8 @@ static int bench_baselines(const qtool_gen_maps *g, uint32_t W, uint32_t H, int 
             /* each kind starts on a different copy, so none reads what another has just loaded */
             const size_t ci = (size_t)((5 * r + kind) % (int)ncopy);
             const uint8_t *src = kind >= 3 ? pcopies + ci * psz : copies + ci * asz;
-            qibl_shmaps_t m = kind == 3 ? pl : il;
-            m.planes = src;
             double t0 = qtool_bench_cpu_now();
-            if (kind == 0 || kind == 3)
-                for (uint32_t y = 0; y < H; ++y)
-                    qibl_shmap_relight_span(&m, &w, 0, y, W, img + 3 * (size_t)y * W, ws,
-                                            qibl_shmap_span_workspace_size(W));
-            else if (kind == 1)
-                read_u64(src, asz);
-            else if (kind == 4)
-                read_u64_planar(src, (size_t)W * H, p.m.k * 3u, W, H);
-            else
-                memcpy(dst, src, asz), sink64 = dst[r];
+            baseline_kind(&c, kind, src, H, asz, (size_t)r);
             td[kind][r] = qtool_bench_cpu_now() - t0;
         }
     const int nd = dreps < 64 ? dreps : 64;

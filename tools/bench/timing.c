@@ -1,8 +1,10 @@
 /*
- * timing.c - the benchmarks' clocks and their summaries (tools/bench/bench.h). Thread CPU time for
- * ratios (a shared machine's other jobs do not enter it), the monotonic clock for wall time.
+ * timing.c - the benchmarks' clocks, their summaries and the plain-read baseline (bench.h). Thread
+ * CPU time for ratios (a shared machine's other jobs do not enter it), the monotonic clock for wall
+ * time.
  */
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 #include "bench/bench.h"
@@ -40,6 +42,17 @@ double qtool_bench_paired_ratio(const double *num, const double *den, int n)
     for (int i = 0; i < n; ++i)
         r[i] = num[i] / den[i];
     return n > 0 ? qtool_bench_median(r, n) : 0.0;
+}
+
+uint64_t qtool_bench_read_u64(const uint8_t *p, size_t n)
+{
+    uint64_t acc = 0;
+    for (size_t i = 0; i + 8 <= n; i += 8) {
+        uint64_t w;
+        memcpy(&w, p + i, 8);
+        acc += w;
+    }
+    return acc;
 }
 
 double qtool_bench_min(const double *v, int n)
