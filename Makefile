@@ -268,6 +268,11 @@ LP_TESTS := $(BUILD)/tests/lightprobe_test $(BUILD)/tests/lightprobe_test-portab
 $(LP_TESTS): $(LIBTWIN)
 $(LP_TESTS): TEST_EXTRA = $(LIBTWIN)
 
+# bench_test checks the benchmarks library's helpers and the hemi benches' cloth (tools/bench)
+BENCH_TESTS := $(BUILD)/tests/bench_test $(BUILD)/tests/bench_test-portable $(BUILD)/tests/bench_test-avx2
+$(BENCH_TESTS): $(LIBBENCH)
+$(BENCH_TESTS): TEST_EXTRA = $(LIBBENCH)
+
 # view_test grabs the viewer's window with Xlib
 $(BUILD)/tests/view_test $(BUILD)/tests/view_test-portable $(BUILD)/tests/view_test-avx2: TEST_EXTRA = $(X11_LIBS)
 
