@@ -27,7 +27,6 @@
 #include "bench/bench.h"
 #include "bench/cloth.h"
 #include "cli/cli.h" /* qcli_transfer_measure (tools/cli/cmd_transfer.c) */
-#include "qibl/isa.h"
 #include "qibl/hemi.h"
 #include "gen/chess.h"
 #include "io/obj.h"

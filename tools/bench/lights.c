@@ -26,7 +26,6 @@
 
 #include "io/hdr.h"
 #include "bench/bench.h"
-#include "qibl/isa.h"
 #include "qibl/lightprobe.h"
 #include "ref/lightprobe_ref.h"
 
