@@ -38,6 +38,10 @@ TOOL_LIB_SRC += $(wildcard tools/demo/*.c)
 GOLDEN_CASES_SRC := $(wildcard tools/golden/cases*.c)
 TOOL_LIB_SRC += $(GOLDEN_CASES_SRC) tools/golden/check.c
 QIBL_SRC := $(wildcard tools/cli/*.c)
+# tools/bench: the benchmarks library (libqibl-bench.a) `qibl bench` calls; its twin_*.c compare a
+# kernel with its scalar twin (tools/twin) and are built into their own program, qibl-bench
+BENCH_TWIN_SRC := $(wildcard tools/bench/twin_*.c)
+BENCH_SRC := $(filter-out $(BENCH_TWIN_SRC),$(wildcard tools/bench/*.c))
 # tests/gles2_test.c links the GLES backend and EGL: built by its own rule below
 TEST_SRC := $(filter-out tests/gles2_test.c,$(wildcard tests/*_test.c))
 
@@ -75,11 +79,13 @@ CORE_POBJ := $(CORE_SRC:%.c=$(BUILD)/portable/%.o)
 $(PLATFORM_OBJ) $(PLATFORM_POBJ): CORE_CFLAGS += $(PLATFORM_INC)
 TOOL_LIB_OBJ := $(TOOL_LIB_SRC:%.c=$(BUILD)/host/%.o)
 QIBL_OBJ := $(QIBL_SRC:%.c=$(BUILD)/host/%.o)
+BENCH_OBJ := $(BENCH_SRC:%.c=$(BUILD)/host/%.o)
+BENCH_TWIN_OBJ := $(BENCH_TWIN_SRC:%.c=$(BUILD)/host/%.o)
 # the benchmarks name the compiler and the core's flags in their output
-$(QIBL_OBJ): HOST_CFLAGS += -DQIBL_BENCH_CORE_FLAGS='"$(CORE_OPT)"'
+$(BENCH_OBJ) $(BENCH_TWIN_OBJ): HOST_CFLAGS += -DQIBL_BENCH_CORE_FLAGS='"$(CORE_OPT)"'
 # TEMPORARY (r2-status, for the coordinator to remove once tools/cli checks every status): the CLI
 # still drops statuses that QIBL_NODISCARD / QTOOL_NODISCARD now flag; warnings, not errors, there only.
-$(QIBL_OBJ): HOST_CFLAGS += -Wno-error=unused-result
+$(QIBL_OBJ) $(BENCH_OBJ) $(BENCH_TWIN_OBJ): HOST_CFLAGS += -Wno-error=unused-result
 TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%) $(TEST_SRC:tests/%.c=$(BUILD)/tests/%-portable)
 
 # A third flavour where the CPU has AVX2: the core built with -mavx2 (config.h then picks the AVX2
@@ -114,14 +120,16 @@ LIBQIBL_PORTABLE := $(BUILD)/libqibl-portable.a
 LIBSOFT := $(BUILD)/libqibl-soft.a
 LIBSOFT_PORTABLE := $(BUILD)/libqibl-soft-portable.a
 LIBTOOLS := $(BUILD)/libqibl-tools.a
+LIBBENCH := $(BUILD)/libqibl-bench.a
 QIBL := $(BUILD)/bin/qibl
+QIBL_BENCH := $(BUILD)/bin/qibl-bench
 
 .PHONY: study gles all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan examples \
         install check-install check-farm amalgamate check-amalgamate docs-memory
 .PHONY: baremetal baremetal-tables docs-size gba gba-tables
 .DEFAULT_GOAL := all
 
-all: $(LIBQIBL) $(LIBSOFT) $(QIBL)
+all: $(LIBQIBL) $(LIBSOFT) $(QIBL) $(QIBL_BENCH)
 lib: $(LIBQIBL) $(LIBSOFT)
 qibl: $(QIBL)
 
@@ -193,8 +201,12 @@ $(LIBTOOLS): $(TOOL_LIB_OBJ)
 	@mkdir -p $(dir $@)
 	rm -f $@ && $(AR) rcs $@ $^
 
+$(LIBBENCH): $(BENCH_OBJ)
+	@mkdir -p $(dir $@)
+	rm -f $@ && $(AR) rcs $@ $^
+
 # tools/twin: core modules compiled again as their scalar twins (QIBL_CONFIG_SIMD=0, names renamed,
-# the core's flags), so `qibl bench` and the suites run the SIMD path and its reference in one process
+# the core's flags), so qibl-bench and the suites run the SIMD path and its reference in one process
 TWIN_SRC := $(wildcard tools/twin/*.c)
 TWIN_OBJ := $(TWIN_SRC:%.c=$(BUILD)/twin/%.o)
 LIBTWIN := $(BUILD)/libqibl-twin.a
@@ -206,9 +218,14 @@ $(LIBTWIN): $(TWIN_OBJ)
 	@mkdir -p $(dir $@)
 	rm -f $@ && $(AR) rcs $@ $^
 
-$(QIBL): $(QIBL_OBJ) $(LIBTOOLS) $(LIBSOFT) $(LIBQIBL) $(LIBTWIN) $(if $(HAVE_GLES),$(LIBGLES))
+$(QIBL): $(QIBL_OBJ) $(LIBBENCH) $(LIBTOOLS) $(LIBSOFT) $(LIBQIBL) $(if $(HAVE_GLES),$(LIBGLES))
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) $(HOST_LDFLAGS) -o $@ $(QIBL_OBJ) $(LIBTOOLS) $(GLES_LINK) $(LIBSOFT) $(LIBTWIN) $(LIBQIBL) $(X11_LIBS) $(HOST_LIBS)
+	$(CC) $(HOST_CFLAGS) $(HOST_LDFLAGS) -o $@ $(QIBL_OBJ) $(LIBBENCH) $(LIBTOOLS) $(GLES_LINK) $(LIBSOFT) $(LIBQIBL) $(X11_LIBS) $(HOST_LIBS)
+
+# the benches against the scalar twins (tools/bench/twin_*.c): not in the shipped qibl
+$(QIBL_BENCH): $(BENCH_TWIN_OBJ) $(LIBBENCH) $(LIBTOOLS) $(LIBSOFT) $(LIBQIBL) $(LIBTWIN)
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) $(HOST_LDFLAGS) -o $@ $(BENCH_TWIN_OBJ) $(LIBBENCH) $(LIBTOOLS) $(LIBSOFT) $(LIBTWIN) $(LIBQIBL) $(HOST_LIBS)
 
 # ---- platform/gles2 -------------------------------------------------------------------------
 $(BUILD)/gles/%.o: %.c
@@ -255,6 +272,11 @@ LP_TESTS := $(BUILD)/tests/lightprobe_test $(BUILD)/tests/lightprobe_test-portab
             $(BUILD)/tests/hemi_test $(BUILD)/tests/hemi_test-portable $(BUILD)/tests/hemi_test-avx2
 $(LP_TESTS): $(LIBTWIN)
 $(LP_TESTS): TEST_EXTRA = $(LIBTWIN)
+
+# bench_test checks the benchmarks library's helpers and the hemi benches' cloth (tools/bench)
+BENCH_TESTS := $(BUILD)/tests/bench_test $(BUILD)/tests/bench_test-portable $(BUILD)/tests/bench_test-avx2
+$(BENCH_TESTS): $(LIBBENCH)
+$(BENCH_TESTS): TEST_EXTRA = $(LIBBENCH)
 
 # view_test grabs the viewer's window with Xlib
 $(BUILD)/tests/view_test $(BUILD)/tests/view_test-portable $(BUILD)/tests/view_test-avx2: TEST_EXTRA = $(X11_LIBS)
@@ -417,9 +439,9 @@ FUZZ_CFLAGS := -std=c99 -D_POSIX_C_SOURCE=200809L -O1 -g $(FUZZ_SAN) -fsanitize=
 FUZZ_SRC := $(sort $(wildcard tests/fuzz/fuzz_*.c))
 FUZZ_BIN := $(FUZZ_SRC:tests/fuzz/%.c=$(FUZZ_DIR)/bin/%)
 # everything a target may call: core, platform/soft, tools (not the CMocka-side golden check) and
-# the CLI's commands, whose main() is renamed so libFuzzer's main is the only one, and the scalar
-# twins the CLI's benchmarks link (fuzz_cliopts reaches the command table, and so cmd_bench.o)
-FUZZ_LIB_SRC := $(CORE_SRC) $(PLATFORM_SRC) $(filter-out tools/golden/%,$(TOOL_LIB_SRC)) $(QIBL_SRC) $(TWIN_SRC)
+# the CLI's commands, whose main() is renamed so libFuzzer's main is the only one, and the benchmarks
+# library (fuzz_cliopts reaches the command table, and so cmd_bench.o)
+FUZZ_LIB_SRC := $(CORE_SRC) $(PLATFORM_SRC) $(filter-out tools/golden/%,$(TOOL_LIB_SRC)) $(QIBL_SRC) $(BENCH_SRC)
 FUZZ_LIB_OBJ := $(FUZZ_LIB_SRC:%.c=$(FUZZ_DIR)/obj/%.o)
 FUZZ_LIB := $(FUZZ_DIR)/libqibl-fuzz.a
 FUZZ_SEEDS := $(FUZZ_DIR)/bin/fuzz-seeds
@@ -524,8 +546,10 @@ amalgamate:
 check-amalgamate: amalgamate $(QIBL) $(EXAMPLES)
 	@BUILD=$(BUILD) bash tools/scripts/check-amalgamate.sh
 
-bench: $(QIBL)
+# `qibl bench all`, then the kernels against their scalar twins (qibl-bench: the twins stay out of qibl)
+bench: $(QIBL) $(QIBL_BENCH)
 	$(QIBL) bench all
+	$(QIBL_BENCH) all
 
 # The light-probe approximation study (tools/study, `qibl study`): every method on every fixture
 # probe (procedural skies when ../shared is absent); CSV, plots, overlays, summary in out/study/.

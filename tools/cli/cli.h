@@ -10,6 +10,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "bench/bench.h"
+
 /* Set by the option-parsing fuzz target (tests/fuzz/fuzz_cliopts.c) only: every command returns 0
  * once its options are parsed and checked, before it reads, computes or writes anything. */
 extern int qcli_parse_only;
@@ -26,30 +28,6 @@ int qcli_cmd_sh_project(int argc, char **argv); /* cmd_probe.c: `qibl sh project
 int qcli_cmd_bench(int argc, char **argv);
 int qcli_cmd_srgbe(int argc, char **argv);
 
-/* Benchmarks (quick: smaller sizes and fewer repetitions; csv: table as CSV). */
-int qcli_bench_relight(int quick, int csv);
-int qcli_bench_relight_baselines(int quick); /* the u64-read / memcpy baselines alone */
-int qcli_bench_srgbe(int quick); /* bench_srgbe.c */
-int qcli_bench_lights(int quick); /* bench_lights.c */
-int qcli_bench_paths(int quick);  /* bench_paths.c */
-int qcli_bench_asset(int quick);  /* bench_asset.c */
-/* The courtyard asset (w x h, k maps, RGB, P map) serialised in memory; *bytes malloc'ed. 0 or -1. */
-int qcli_bench_make_asset(uint32_t w, uint32_t h, uint32_t k, uint32_t layout, uint8_t **bytes, size_t *n);
-int qcli_bench_memory(int markdown); /* bench_memory.c */
-
-/* What built the benchmarks, for their headers (the Makefile passes the core's flags). */
-#ifndef QIBL_BENCH_CORE_FLAGS
-#define QIBL_BENCH_CORE_FLAGS "(flags not recorded)"
-#endif
-#if defined(__clang__)
-#define QTOOL_BENCH_COMPILER "clang " __clang_version__
-#elif defined(__GNUC__)
-#define QTOOL_BENCH_COMPILER "gcc " __VERSION__
-#else
-#define QTOOL_BENCH_COMPILER "an unknown compiler"
-#endif
-int qcli_bench_probe(int quick);  /* bench_probe.c */
-int qcli_bench_hemi(int quick, const char *svg); /* bench_hemi.c; svg: the cloth's error against fps */
 int qcli_cmd_info(int argc, char **argv);
 int qcli_cmd_gen(int argc, char **argv);
 int qcli_cmd_relight(int argc, char **argv);
@@ -150,19 +128,9 @@ int qcli_parse_int(const char *s, long lo, long hi, long *out);
 /* Parses --layout's argument: "planar" or "interleaved" into a QIBL_SHMAPS_* layout; 0 or -1. */
 int qcli_parse_layout(const char *s, uint32_t *layout);
 
-/* Median of n values (sorts v in place). */
-double qcli_median(double *v, int n);
-
-/* Median over the repetitions r < n of num[r] / den[r]: a ratio whose two times were taken next
- * to each other in one interleaved loop, so a change of machine load between repetitions (a
- * shared, loaded host) cancels in each pair and outliers fall out of the median. n <= 64. */
-double qcli_paired_ratio(const double *num, const double *den, int n);
-
-/* Monotonic time in seconds, for benchmarks. */
-double qcli_now(void);
-
-/* CPU time of the calling thread in seconds: what the benchmarks' ratios are timed with, so that a
- * shared, loaded machine (time slices given to other processes) does not enter them. */
-double qcli_cpu_now(void);
+/* The clocks and median of the benchmarks library (tools/bench/bench.h), which the demo and bake
+ * commands time themselves with too. */
+#define qcli_now qtool_bench_now
+#define qcli_median qtool_bench_median
 
 #endif
