@@ -21,17 +21,13 @@
               "                  [--yaw DEG | --rotate a,b,c,d,e,f,g,h,i] (with --preset gltf)\n" \
               "       qibl lights PROBE.hdr --auto --error P% [--csv | --json | --format c]"
 
-static int parse_method(const char *s, qibl_lightprobe_method_t *m)
+/* the index of s among the n names, or -1: the value of a named option whose enum counts from 0 */
+static int name_index(const char *s, const char *const *names, int n)
 {
-    if (strcmp(s, "mediancut") == 0)
-        *m = QIBL_LIGHTPROBE_MEDIANCUT;
-    else if (strcmp(s, "adaptive") == 0)
-        *m = QIBL_LIGHTPROBE_ADAPTIVE;
-    else if (strcmp(s, "varmin") == 0)
-        *m = QIBL_LIGHTPROBE_VARMIN;
-    else
-        return -1;
-    return 0;
+    for (int i = 0; i < n; ++i)
+        if (strcmp(s, names[i]) == 0)
+            return i;
+    return -1;
 }
 
 /* JSON string body: quotes, backslashes and control bytes escaped */
@@ -109,32 +105,27 @@ static int parse_budget(const char *s, double *out)
     return 0;
 }
 
-static int parse_priority(const char *s, qibl_lightprobe_priority_t *p)
-{
-    static const char *names[] = {"default", "energy", "energy-size", "variance", "levels"};
-    for (int i = 0; i < QIBL_LIGHTPROBE_PRIORITY_COUNT; ++i)
-        if (strcmp(s, names[i]) == 0) {
-            *p = (qibl_lightprobe_priority_t)i;
-            return 0;
-        }
-    return -1;
-}
-
 /* the options that choose what the core computes: 1, 0 (none of them) or 2 */
 static int fit_opt(int argc, char **argv, int *i, qtool_relight_lights_opts *o)
 {
     const char *a = argv[*i];
     if (*i + 1 >= argc)
         return 0;
+    static const char *const methods[] = {"mediancut", "adaptive", "varmin"}; /* qibl_lightprobe_method_t */
+    static const char *const priorities[] = {"default", "energy", "energy-size", "variance", "levels"};
+    static const char *const as[] = {"rgbe", "srgbe", "f32"}; /* qtool_relight_lights_as */
+    int v;
     if (strcmp(a, "--method") == 0) {
-        if (parse_method(argv[++*i], &o->core.method) != 0)
+        if ((v = name_index(argv[++*i], methods, 3)) < 0)
             return qcli_usage_error("--method is mediancut, adaptive or varmin");
+        o->core.method = (qibl_lightprobe_method_t)v;
     } else if (strcmp(a, "-n") == 0 || strcmp(a, "--count") == 0) {
         if (qcli_parse_int(argv[++*i], 1, 1L << 24, &o->n) != 0)
             return qcli_usage_error("-n needs a light count in 1..16777216");
     } else if (strcmp(a, "--priority") == 0) {
-        if (parse_priority(argv[++*i], &o->core.priority) != 0)
+        if ((v = name_index(argv[++*i], priorities, QIBL_LIGHTPROBE_PRIORITY_COUNT)) < 0)
             return qcli_usage_error("--priority is default, energy, energy-size, variance or levels");
+        o->core.priority = (qibl_lightprobe_priority_t)v;
     } else if (strcmp(a, "--place") == 0) {
         const char *p = argv[++*i];
         if (strcmp(p, "centroid") == 0)
@@ -144,15 +135,9 @@ static int fit_opt(int argc, char **argv, int *i, qtool_relight_lights_opts *o)
         else
             return qcli_usage_error("--place is centroid or centre");
     } else if (strcmp(a, "--as") == 0) {
-        const char *as = argv[++*i];
-        if (strcmp(as, "rgbe") == 0)
-            o->as = QTOOL_RELIGHT_LIGHTS_AS_RGBE;
-        else if (strcmp(as, "srgbe") == 0)
-            o->as = QTOOL_RELIGHT_LIGHTS_AS_SRGBE;
-        else if (strcmp(as, "f32") == 0)
-            o->as = QTOOL_RELIGHT_LIGHTS_AS_F32;
-        else
+        if ((v = name_index(argv[++*i], as, 3)) < 0)
             return qcli_usage_error("--as is rgbe, srgbe or f32");
+        o->as = (qtool_relight_lights_as)v;
     } else if (strcmp(a, "--layout") == 0) {
         if (qtool_probe_layout_parse(argv[++*i], &o->layout) != 0)
             return qcli_usage_error("--layout is auto, latlong, angular, ball, vcross or hcross");
