@@ -299,7 +299,9 @@ static void describe(const qtool_relight_opts *o, char *buf, size_t n)
         at += (size_t)snprintf(buf + at, n - at, "%s%s", at ? ", " : "", ll->csv);
     if (ll->probe && at < n)
         snprintf(buf + at, n - at, "%sprobe %s (%s)", at ? ", " : "", ll->probe,
-                 ll->mode == QTOOL_RELIGHT_PROBE_SH ? "SH" : ll->mode == QTOOL_RELIGHT_PROBE_LIGHTS ? "lights" : "sun plus sky");
+                 ll->mode == QTOOL_RELIGHT_PROBE_SH       ? "SH"
+                 : ll->mode == QTOOL_RELIGHT_PROBE_LIGHTS ? "lights"
+                                                          : "sun plus sky");
 }
 
 /* the linear frame (the core's Q16.16 output before exposure and the transfer curve) to each file

@@ -35,7 +35,8 @@ int qtool_relight_ies_load(const char *path, uint32_t n, const int32_t aim[3], c
     int bad = !out->table || qtool_ies_gonio_table(&prof, n, out->table, &out->peak) != 0;
     qtool_ies_free(&prof);
     if (bad) {
-        qtool_errf(err, errlen, "relight: %s: %s", path, out->table ? "the profile is dark (peak 0 cd)" : "out of memory");
+        qtool_errf(err, errlen, "relight: %s: %s", path,
+                   out->table ? "the profile is dark (peak 0 cd)" : "out of memory");
         qtool_relight_ies_free(out);
         return -1;
     }
