@@ -3,7 +3,6 @@
  * PNG through the core kernels and the software framebuffer): the options parsed, tools/relight
  * called, its results written and printed.
  */
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

@@ -99,8 +99,9 @@ typedef struct qtool_relight_point_note {
 } qtool_relight_point_note;
 
 /* The --point sources of o->lights as the core's lamps (pts, QTOOL_RELIGHT_MAX_SOURCES entries), a
- * source without --rgb coloured by qtool_relight_point_default (written back into o->lights, noted in
- * notes[j] for source j). 0, or -1 with err set (out of memory). */
+ * source without --rgb coloured by qtool_relight_point_default (written back into o->lights, so
+ * --gles draws the same lamp, and noted in notes[j] for source j). 0, or -1 with err set (out of
+ * memory: the sources before the failing one may already be coloured and noted; *npts untouched). */
 int qtool_relight_points(qtool_relight_opts *o, const qtool_relight_asset *s, qibl_pointlight_t *pts,
                          uint32_t *npts, qtool_relight_point_note *notes, char *err, size_t errlen);
 
