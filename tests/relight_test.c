@@ -3,7 +3,8 @@
  * directly: the light list's limit and early colour, the rotation check by name, the suns' SH
  * against the core's own and their sum refused beyond Q16.16 with nothing written, the sun regions
  * of a probe, the point lamps' default colour (median distance, sky skipped, falloff, cap) as
- * qtool_relight_points applies it to an asset's P map, the asset's named errors, the light-path
+ * qtool_relight_points applies it to an asset's P map, one light's frame against the bake's own
+ * relight (the same bytes), the asset's named errors, the light-path
  * pick on an asset without paths, and `qibl lights`' picture limits and fit (a black probe is an
  * answer, a lone bright pixel gives the light toward it).
  */
@@ -18,6 +19,7 @@
 #include <unistd.h>
 #include <cmocka.h>
 
+#include "bake/bake.h"
 #include "io/asset_write.h"
 #include "relight/light.h"
 #include "relight/lights.h"
@@ -219,6 +221,47 @@ static void test_asset_and_points(void **state)
     rmdir(dir);
 }
 
+/* One light through qtool_relight_frame gives the bytes qtool_bake_relight8_lin gives (relight.h),
+ * for a sun and for a lamp in each sampling the asset allows (poly, direct SH). */
+static void test_frame_one_light(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/qibl_relight_XXXXXX", path[64], err[600] = "";
+    assert_non_null(mkdtemp(dir));
+    snprintf(path, sizeof path, "%s/a.qibl", dir);
+    write_asset(path);
+    qtool_relight_asset s;
+    assert_int_equal(qtool_relight_asset_open(&s, path, 1, 0, err, sizeof err), 0);
+    const size_t np = (size_t)s.m.width * s.m.height;
+    uint8_t got8[6 * 2 * 3], want8[6 * 2 * 3];
+    float got[6 * 2 * 3], want[6 * 2 * 3];
+    qibl_status_t st;
+    for (int kind = 0; kind < 3; ++kind) {
+        qtool_rt_light l = {.point = kind > 0, .dir = {0.25, -0.5, 1}, .pos = {0.5, 0.25, 0.75}, .rgb = {1.5, 1, 0.5},
+                            .falloff = 1};
+        const qibl_q16_t q[3] = {16384, -32768, 65536}, pos[3] = {32768, 16384, 49152}, rgb[3] = {98304, 65536, 32768};
+        qibl_shlight_t sh;
+        qibl_pointlight_t pl = {{pos[0], pos[1], pos[2]}, {rgb[0], rgb[1], rgb[2]}, QIBL_FALLOFF_INV_DIST, 0,
+                                kind == 1 ? QIBL_POINT_POLY : QIBL_LUT_BILINEAR};
+        assert_int_equal(qibl_shlight_init(&sh, s.m.k), QIBL_OK);
+        assert_int_equal(qibl_shlight_add_dir(&sh, q, rgb), QIBL_OK);
+        memset(got8, 1, sizeof got8), memset(want8, 2, sizeof want8);
+        assert_int_equal(qtool_relight_frame(&s.m, kind ? NULL : &sh, &s.mp, &s.pm, NULL, NULL, &pl, kind ? 1 : 0,
+                                             65536, 1, got8, got, NULL, &st), 0);
+        assert_int_equal(qtool_bake_relight8_lin(s.bytes, s.n, &l, kind == 1 ? 3 : 0, 65536, 1, want8, want, NULL,
+                                                 &st), 0);
+        assert_memory_equal(got8, want8, np * 3);
+        assert_memory_equal(got, want, np * 3 * sizeof(float));
+        int lit = 0; /* not two black frames */
+        for (size_t i = 0; i < np * 3; ++i)
+            lit += got[i] > 0 && got8[i] > 0;
+        assert_true(lit > 3);
+    }
+    qtool_relight_asset_free(&s);
+    unlink(path);
+    rmdir(dir);
+}
+
 /* ---- qibl lights --------------------------------------------------------------------------------- */
 
 static void test_lights_zoom(void **state)
@@ -277,6 +320,7 @@ int main(void)
         cmocka_unit_test(test_probe_suns),
         cmocka_unit_test(test_point_default),
         cmocka_unit_test(test_asset_and_points),
+        cmocka_unit_test(test_frame_one_light),
         cmocka_unit_test(test_lights_zoom),
         cmocka_unit_test(test_lights_fit),
     };

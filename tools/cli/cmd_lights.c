@@ -336,8 +336,8 @@ static int lights_fit(const qtool_relight_lights_opts *o, const qtool_relight_li
     if (r == 1) { /* an all-black probe: a valid answer, no lights; still a document */
         if (o->json)
             printf("{\"width\": %d, \"height\": %d, \"count\": 0, \"lights\": []}\n", p->w, p->h);
-        if (o->gltf)
-            qtool_engine_gltf_lights_write(stdout, NULL, NULL, 0, NULL, 0);
+        if (o->gltf && qtool_engine_gltf_lights_write(stdout, NULL, NULL, 0, err, sizeof err) != 0)
+            return fprintf(stderr, "qibl: lights: %s: %s\n", o->path, err), 1;
         return 0;
     }
     if (r == 0 && o->gltf)

@@ -29,14 +29,14 @@ static int parse3(char **argv, int i, int argc, double lo, int32_t v[3])
 static int add_source(qtool_relight_light_list *ll, char **argv, int argc, int *i, int point)
 {
     int32_t v[3];
-    if (ll->count >= QTOOL_RELIGHT_MAX_SOURCES)
-        return qcli_usage_error("%s: at most %u --sun and --point options", argv[*i], QTOOL_RELIGHT_MAX_SOURCES);
-    if (parse3(argv, *i, argc, -QTOOL_CLI_Q16_MAX, v) != 0)
+    const int full = ll->count >= QTOOL_RELIGHT_MAX_SOURCES; /* said before the numbers are read */
+    if (!full && parse3(argv, *i, argc, -QTOOL_CLI_Q16_MAX, v) != 0)
         return 2;
-    if (!point && v[0] == 0 && v[1] == 0 && v[2] == 0)
+    if (!full && !point && v[0] == 0 && v[1] == 0 && v[2] == 0)
         return qcli_usage_error("--sun needs a non-zero direction: %s %s %s is 0 0 0 in Q16.16", argv[*i + 1],
                                 argv[*i + 2], argv[*i + 3]);
-    qtool_relight_light_list_add(ll, point, v); /* cannot fail: the count is checked above */
+    if (full || qtool_relight_light_list_add(ll, point, v) != 0)
+        return qcli_usage_error("%s: at most %u --sun and --point options", argv[*i], QTOOL_RELIGHT_MAX_SOURCES);
     *i += 3;
     return 1;
 }
