@@ -36,6 +36,9 @@ typedef enum { QTOOL_PROJ_QUADRATURE = 0, QTOOL_PROJ_LSQ } qtool_proj_method;
 
 void qtool_bake_dir(uint32_t j, uint32_t n, double d[3]);
 
+/* Monotonic time in seconds (what the bake's stages and relights are timed with). */
+double qtool_bake_now(void);
+
 /* Renders and accumulates (shard of nshards; 0 of 1 = everything). progress: 1 = a bar on stderr.
  * 0, or -1 (no memory). */
 int qtool_bake_run(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t ndirs, uint32_t k,

@@ -10,6 +10,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "bake/job.h"
+
 /* Set by the option-parsing fuzz target (tests/fuzz/fuzz_cliopts.c) only: every command returns 0
  * once its options are parsed and checked, before it reads, computes or writes anything. */
 extern int qcli_parse_only;
@@ -82,12 +84,10 @@ int qcli_cmd_check(int argc, char **argv);
 int qcli_cmd_demo(int argc, char **argv); /* cmd_demo.c */
 
 /* Scene and panorama options shared by render, bake and demo (cmd_bake.c): --scene builtin|FILE.obj|FILE.ply,
- * --zup, --raw, --size WxH, --equirect, --threads N. */
-typedef struct qcli_scene {
-    const char *scene;
-    int zup, raw, kind, threads;
-    uint32_t w, h;
-} qcli_scene;
+ * --zup, --raw, --size WxH, --equirect, --threads N; the struct, its defaults and the loader are
+ * tools/bake/scene.h's (qcli_scene is qtool_scene_opts). */
+typedef qtool_scene_opts qcli_scene;
+/* QTOOL_SCENE_OPTS_DEFAULT with --threads the job's CPUs (qcli_default_threads) */
 void qcli_scene_defaults(qcli_scene *o);
 /* The default --threads (threads.c): the CPUs of the process's affinity mask (a job's allocation),
  * lowered to SLURM_CPUS_PER_TASK when that is set and smaller; 1..256. _from is the rule on given
@@ -95,10 +95,10 @@ void qcli_scene_defaults(qcli_scene *o);
 int qcli_default_threads(void);
 int qcli_threads_from(long online, long affinity, const char *slurm);
 int qcli_scene_opt(int argc, char **argv, int *i, qcli_scene *o);
-struct qtool_rt_scene;
-/* triangles of a --scene mesh (render, bake, demo), checked before the mesh is allocated: the mesh
- * (144 bytes a triangle) and its BVH stay near 0.3 GiB (docs/robustness.md) */
-#define QCLI_SCENE_MAX_TRIANGLES ((size_t)1 << 20)
+/* old names of what moved to tools/bake (scene.h, job.h) */
+#define QCLI_SCENE_MAX_TRIANGLES QTOOL_SCENE_MAX_TRIANGLES
+#define qcli_eval_lights qtool_bake_eval_lights
+/* qtool_scene_load with its reason printed: 0, or 1 after printing the error */
 int qcli_scene_load(const qcli_scene *o, struct qtool_rt_scene *s);
 struct qtool_rt_light;
 /* The light-path part of `qibl demo` (demo_paths.c): its table and RESULT lines on stdout,
@@ -128,7 +128,6 @@ void qcli_demo_heat(const uint8_t *a, const uint8_t *b, const uint8_t *cls, size
 double qcli_asset_chunk_bytes(const uint8_t *asset, size_t n, uint32_t type, uint32_t index);
 int qcli_demo_probe(const struct qtool_rt_scene *s, const qcli_scene *so, const qcli_demo_size *sz,
                     const struct qtool_bake_sums *sums, uint32_t ndirs, const char *dir);
-void qcli_eval_lights(int obj_prop, int ndir, int npoint, struct qtool_rt_light *out);
 
 /* --point without --rgb (point_default.c): C0 = QTOOL_CLI_POINT_GREY * d^falloff, d the median
  * distance from pos to the n scene points pts (3 doubles each; points QTOOL_CLI_SKY_DIST or more from
