@@ -31,6 +31,25 @@ double qtool_bake_now(void)
     return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
 }
 
+qibl_fb_desc_t qtool_bake_fb_srgb(uint8_t *pix, uint32_t w, uint32_t h)
+{
+    qibl_fb_desc_t fb = {0};
+    fb.pixels = pix, fb.width = w, fb.height = h, fb.format = QIBL_FB_RGBA8888, fb.srgb = 1;
+    return fb;
+}
+
+int qtool_bake_frame_done(qibl_status_t st, double t0, double *ms, const uint8_t *pix, uint32_t w, uint32_t h,
+                          uint8_t *rgb8, qibl_status_t *status)
+{
+    if (ms)
+        *ms = (qtool_bake_now() - t0) * 1e3;
+    for (size_t i = 0; st == QIBL_OK && i < (size_t)w * h; ++i)
+        memcpy(rgb8 + 3 * i, pix + 4 * i, 3);
+    if (status)
+        *status = st;
+    return st == QIBL_OK ? 0 : -1;
+}
+
 void qtool_bake_dir(uint32_t j, uint32_t n, double d[3])
 {
     double z = 1.0 - (2.0 * j + 1.0) / n, r = sqrt(fmax(0.0, 1 - z * z));
@@ -750,8 +769,7 @@ int qtool_bake_relight8_lin(const uint8_t *asset, size_t n, const qtool_rt_light
     fb.pixels = pix, fb.width = w, fb.height = h, fb.format = QIBL_FB_RGBA8888;
     fb.srgb = srgb ? 1 : 0, fb.exposure = exposure;
     qibl_q16_t rgb[3] = {q16(l->rgb[0]), q16(l->rgb[1]), q16(l->rgb[2])};
-    struct timespec t0, t1;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
+    double t0 = qtool_bake_now();
     if (!l->point) {
         qibl_q16_t dir[3] = {q16(l->dir[0]), q16(l->dir[1]), q16(l->dir[2])};
         qibl_shlight_t sl;
@@ -789,15 +807,9 @@ int qtool_bake_relight8_lin(const uint8_t *asset, size_t n, const qtool_rt_light
                 row_linear(lin, row, w, y);
         }
     }
-    clock_gettime(CLOCK_MONOTONIC, &t1);
-    if (ms)
-        *ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
-    for (size_t i = 0; st == QIBL_OK && i < (size_t)w * h; ++i)
-        memcpy(rgb8 + 3 * i, pix + 4 * i, 3);
+    int rc = qtool_bake_frame_done(st, t0, ms, pix, w, h, rgb8, status);
     free(pix), free(row), free(ws);
-    if (status)
-        *status = st;
-    return st == QIBL_OK ? 0 : -1;
+    return rc;
 }
 
 int qtool_bake_relight8(const uint8_t *asset, size_t n, const qtool_rt_light *l, int use_lut, uint8_t *rgb8, double *ms)

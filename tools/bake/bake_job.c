@@ -102,8 +102,8 @@ static double eval_psnr(const evalset *e, const uint8_t *asset, size_t n, int po
 
 /* ---- the asset ----------------------------------------------------------------------------------- */
 
-int qtooli_bake_finish_asset(const qtool_bake_sums *sums, uint32_t k, uint32_t lut, qtool_proj_method method,
-                             uint32_t layout, const char *out, const qtooli_bake_extras *x, FILE *rep, char *err,
+int qtool_bake_finish_asset(const qtool_bake_sums *sums, uint32_t k, uint32_t lut, qtool_proj_method method,
+                             uint32_t layout, const char *out, const qtool_bake_asset_extras *x, FILE *rep, char *err,
                              size_t errlen)
 {
     qtool_gen_maps m;
@@ -158,7 +158,7 @@ static qtool_proj_method method_of(const qtool_bake_opts *o)
 /* ---- the unshadowed maps, light paths and lamp occlusion ---------------------------------------- */
 
 /* The light paths and the lamp occlusion into x (this shard's rows). 0, or -1 with err set. */
-static int bake_paths_box(const qtool_bake_opts *o, const qtool_rt_scene *s, qtooli_bake_extras *x, FILE *log,
+static int bake_paths_box(const qtool_bake_opts *o, const qtool_rt_scene *s, qtool_bake_asset_extras *x, FILE *log,
                           char *err, size_t errlen)
 {
     const qtool_scene_opts *so = &o->scene;
@@ -194,7 +194,7 @@ static int bake_paths_box(const qtool_bake_opts *o, const qtool_rt_scene *s, qto
 
 /* A shard's extras file (SUMS.x): written also with no chunk, so a shard baked without --sun-path
  * is then refused by name at the merge instead of its rows (or the whole path) going missing */
-static int write_shard_extras(const qtool_bake_opts *o, const qtooli_bake_extras *x, const char *path, char *err,
+static int write_shard_extras(const qtool_bake_opts *o, const qtool_bake_asset_extras *x, const char *path, char *err,
                               size_t errlen)
 {
     qtool_extras xf;
@@ -210,15 +210,15 @@ static int write_shard_extras(const qtool_bake_opts *o, const qtooli_bake_extras
 /* What the asset (or a shard) carries beside the shadowed maps. A shard (partial sums, no asset)
  * carries its share of the unshadowed sums in SUMS.u and, from every shard, its rows of the
  * per-pixel chunks in SUMS.x, so qibl merge makes the same asset as one bake. 0, or -1. */
-static int bake_extras(const qtool_bake_opts *o, const qtool_rt_scene *s, qtool_gen_maps *mu, qtooli_bake_extras *x,
+static int bake_extras(const qtool_bake_opts *o, const qtool_rt_scene *s, qtool_gen_maps *mu, qtool_bake_asset_extras *x,
                        FILE *log, char *err, size_t errlen)
 {
     const qtool_scene_opts *so = &o->scene;
     int shard_mode = !o->out && o->sums_out;
     char side[2][4200];
     if (shard_mode)
-        qtooli_bake_side_name(side[0], sizeof side[0], o->sums_out, "u"),
-            qtooli_bake_side_name(side[1], sizeof side[1], o->sums_out, "x");
+        qtool_bake_side_name(side[0], sizeof side[0], o->sums_out, "u"),
+            qtool_bake_side_name(side[1], sizeof side[1], o->sums_out, "x");
     if (!(o->out || shard_mode) || o->uk <= 0) {
         if (shard_mode)
             (void)unlink(side[0]), (void)unlink(side[1]);
@@ -299,7 +299,7 @@ static uint32_t budget_lut(const qtool_bake_opts *o, const qtool_bake_sums *sums
 
 /* --budget: smallest band-complete k (and LUT) whose held-out PSNR reaches the budget, then the asset */
 static int bake_budget(const qtool_bake_opts *o, const qtool_rt_scene *s, const qtool_bake_sums *sums,
-                       const qtooli_bake_extras *x, FILE *rep, char *err, size_t errlen)
+                       const qtool_bake_asset_extras *x, FILE *rep, char *err, size_t errlen)
 {
     evalset e = {0};
     uint8_t *tmp = malloc(sums->w * (size_t)sums->h * 3);
@@ -330,7 +330,7 @@ static int bake_budget(const qtool_bake_opts *o, const qtool_rt_scene *s, const 
         else
             fprintf(rep, "; a %u^2 LUT: the largest tried, none within 0.1 dB of evaluating the SH polynomials per "
                     "pixel\n", chosen_lut);
-        rc = qtooli_bake_finish_asset(sums, chosen, chosen_lut, method_of(o), o->layout, o->out, x, rep, err, errlen);
+        rc = qtool_bake_finish_asset(sums, chosen, chosen_lut, method_of(o), o->layout, o->out, x, rep, err, errlen);
     }
     eval_free(&e);
     free(tmp);
@@ -340,7 +340,7 @@ static int bake_budget(const qtool_bake_opts *o, const qtool_rt_scene *s, const 
 /* ---- the job ------------------------------------------------------------------------------------- */
 
 static int bake_outputs(const qtool_bake_opts *o, const qtool_rt_scene *s, const qtool_bake_sums *sums,
-                        const qtooli_bake_extras *x, FILE *rep, char *err, size_t errlen)
+                        const qtool_bake_asset_extras *x, FILE *rep, char *err, size_t errlen)
 {
     if (o->sums_out) { /* "wrote" only for sums that were written (not after a failure) */
         if (qtool_bake_sums_write(sums, o->sums_out, err, errlen) != 0)
@@ -350,7 +350,7 @@ static int bake_outputs(const qtool_bake_opts *o, const qtool_rt_scene *s, const
     if (o->out && o->budget > 0)
         return bake_budget(o, s, sums, x, rep, err, errlen);
     if (o->out)
-        return qtooli_bake_finish_asset(sums, (uint32_t)o->k, (uint32_t)o->lut, method_of(o), o->layout, o->out, x, rep,
+        return qtool_bake_finish_asset(sums, (uint32_t)o->k, (uint32_t)o->lut, method_of(o), o->layout, o->out, x, rep,
                                         err, errlen);
     return 0;
 }
@@ -374,7 +374,7 @@ int qtool_bake_job(const qtool_bake_opts *o, FILE *out, FILE *log, char *err, si
         fprintf(log, "bake: %ux%u, %ld directions%s, %zu triangles, %.1f s on %d threads\n", so->w, so->h, o->ndirs,
                 o->nshards > 1 ? " (this shard's share)" : "", s.ntri, secs, so->threads);
     /* the unshadowed maps and the light paths, for the asset (shards carry the shadowed sums only) */
-    qtooli_bake_extras x;
+    qtool_bake_asset_extras x;
     qtool_gen_maps mu = {0};
     memset(&x, 0, sizeof x);
     int rc = bake_extras(o, &s, &mu, &x, log, err, errlen);
@@ -389,7 +389,7 @@ int qtool_bake_job(const qtool_bake_opts *o, FILE *out, FILE *log, char *err, si
     return rc;
 }
 
-void qtooli_bake_side_name(char *buf, size_t n, const char *sums, const char *ext)
+void qtool_bake_side_name(char *buf, size_t n, const char *sums, const char *ext)
 {
     snprintf(buf, n, "%s.%s", sums, ext);
 }

@@ -36,7 +36,7 @@ static void side_of(char *buf, size_t n, char *const *in, char *const *side, int
     if (side && side[i])
         snprintf(buf, n, "%s", side[i]);
     else
-        qtooli_bake_side_name(buf, n, in[i], ext);
+        qtool_bake_side_name(buf, n, in[i], ext);
 }
 
 /* A manifest (qibl merge --manifest): one line per shard, "shard I/N SUMS [SUMS.u [SUMS.x]]" ("-"
@@ -287,7 +287,7 @@ static int join_extras(const inputs *v, const int *seen, uint32_t nsh, const qto
 }
 
 /* The joined chunks into the asset's extras x. 0 or -1. */
-static int extras_chunks(const qtool_extras *xx, qtooli_bake_extras *x, char *err, size_t errlen)
+static int extras_chunks(const qtool_extras *xx, qtool_bake_asset_extras *x, char *err, size_t errlen)
 {
     for (uint32_t i = 0; i < xx->count; ++i) {
         if (xx->type[i] == QIBL_CHUNK_LOCC && !x->locc)
@@ -306,7 +306,7 @@ static int write_partial_sides(const char *partial_out, const qtool_bake_sums *t
                                qtool_extras *xx, int hx, char *err, size_t errlen)
 {
     char side[4200];
-    qtooli_bake_side_name(side, sizeof side, partial_out, "u");
+    qtool_bake_side_name(side, sizeof side, partial_out, "u");
     if (have) {
         tu->shard = total->shard, tu->nshards = total->nshards;
         if (qtool_bake_sums_write(tu, side, err, errlen) != 0)
@@ -314,7 +314,7 @@ static int write_partial_sides(const char *partial_out, const qtool_bake_sums *t
     } else {
         (void)unlink(side);
     }
-    qtooli_bake_side_name(side, sizeof side, partial_out, "x");
+    qtool_bake_side_name(side, sizeof side, partial_out, "x");
     if (hx) {
         xx->shard = total->shard, xx->nshards = total->nshards;
         if (qtool_extras_write(xx, side, err, errlen) != 0)
@@ -332,7 +332,7 @@ static int write_partial_sides(const char *partial_out, const qtool_bake_sums *t
  * nothing; project: the unshadowed maps into mu (for an asset). 0, or -1 with err naming the file. */
 static int merge_extras(const inputs *v, const int *seen, uint32_t nsh, const qtool_bake_sums *total, int lsq,
                         const char *partial_out, int project, qtool_gen_maps *mu, qtool_extras *xx,
-                        qtooli_bake_extras *x, char *err, size_t errlen)
+                        qtool_bake_asset_extras *x, char *err, size_t errlen)
 {
     uint32_t given, have = count_sides(v, v->side_u, seen, nsh, "u", &given), hx = 0;
     if (side_missing(v, v->side_u, seen, nsh, "u", "the unshadowed sums", have, given, err, errlen) != 0)
@@ -367,7 +367,7 @@ int qtool_bake_merge(const qtool_merge_opts *o, FILE *out, char *err, size_t err
     qtool_bake_sums total = {0};
     qtool_gen_maps mu = {0};
     qtool_extras xx;
-    qtooli_bake_extras x;
+    qtool_bake_asset_extras x;
     memset(&xx, 0, sizeof xx), memset(&x, 0, sizeof x);
     int *seen = NULL; /* per shard index: 1 + the input it came from, 0 if none yet */
     uint32_t newn, news, given;
@@ -394,7 +394,7 @@ int qtool_bake_merge(const qtool_merge_opts *o, FILE *out, char *err, size_t err
         fprintf(out, newn == 1 ? "wrote %s: the total sums (shard %u/%u, %u input%s)\n"
                                : "wrote %s: partial sums of shard %u/%u (%u input%s)\n", o->sums_out, news, newn, given,
                 given == 1 ? "" : "s");
-    rc = o->out ? qtooli_bake_finish_asset(&total, o->k ? (uint32_t)o->k : (total.k < 16 ? total.k : 16),
+    rc = o->out ? qtool_bake_finish_asset(&total, o->k ? (uint32_t)o->k : (total.k < 16 ? total.k : 16),
                                            (uint32_t)o->lut, o->lsq ? QTOOL_PROJ_LSQ : QTOOL_PROJ_QUADRATURE, o->layout,
                                            o->out, &x, out, err, errlen)
                 : 0;

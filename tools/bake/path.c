@@ -10,13 +10,14 @@
 #include <string.h>
 #include <time.h>
 
+#include "bake/bake.h"
 #include "io/asset_write.h"
 #include "qibl/asset.h"
 #include "qibl/lightpath.h"
 #include "qibl/soft.h"
+#include "qtool.h"
 #include "ref/sh_ref.h"
 
-#define PI 3.14159265358979323846
 
 /* ---- parsing ------------------------------------------------------------------------------------- */
 
@@ -51,11 +52,11 @@ int qtool_bake_path_parse_sun(const char *s, qtool_bake_path *p, char *err, size
     /* the highest the sun gets: elevation falls with |hour angle|, so at the hour angle nearest
      * noon within T0..T1; a path wholly below the horizon would bake frames that are all black */
     double h0 = (v[2] - 12) * 15, h1 = (v[3] - 12) * 15, hn = h0 > 0 ? h0 : h1 < 0 ? h1 : 0;
-    double la = v[0] * PI / 180, de = v[1] * PI / 180;
-    double zmax = sin(de) * sin(la) + cos(de) * cos(la) * cos(hn * PI / 180);
+    double la = v[0] * QTOOL_PI / 180, de = v[1] * QTOOL_PI / 180;
+    double zmax = sin(de) * sin(la) + cos(de) * cos(la) * cos(hn * QTOOL_PI / 180);
     if (!(zmax > 0))
         return snprintf(err, errlen, "--sun-path '%s': the sun never rises between %gh and %gh (highest elevation "
-                        "%.1f degrees): every frame would be unlit", s, v[2], v[3], asin(fmax(-1, fmin(1, zmax))) * 180 / PI),
+                        "%.1f degrees): every frame would be unlit", s, v[2], v[3], asin(fmax(-1, fmin(1, zmax))) * 180 / QTOOL_PI),
                -1;
     p->kind = 0, p->lat = v[0], p->decl = v[1], p->t0 = v[2], p->t1 = v[3];
     return 0;
@@ -98,7 +99,7 @@ void qtool_bake_path_light(const qtool_bake_path *p, double t, qtool_rt_light *o
     memset(out, 0, sizeof *out);
     memcpy(out->rgb, p->rgb, sizeof out->rgb);
     if (p->kind == 0) {
-        double hr = (p->t0 + (p->t1 - p->t0) * t - 12) * 15 * PI / 180, la = p->lat * PI / 180, de = p->decl * PI / 180;
+        double hr = (p->t0 + (p->t1 - p->t0) * t - 12) * 15 * QTOOL_PI / 180, la = p->lat * QTOOL_PI / 180, de = p->decl * QTOOL_PI / 180;
         out->dir[0] = -cos(de) * sin(hr);
         out->dir[1] = sin(de) * cos(la) - cos(de) * sin(la) * cos(hr);
         out->dir[2] = sin(de) * sin(la) + cos(de) * cos(la) * cos(hr);
@@ -393,11 +394,9 @@ int qtool_bake_relight_path8_gonio(const uint8_t *asset, size_t n, const qtool_r
             *status = QIBL_E_NULL_POINTER;
         return -1;
     }
-    qibl_fb_desc_t fb = {0};
-    fb.pixels = pix, fb.width = w, fb.height = h, fb.format = QIBL_FB_RGBA8888, fb.srgb = 1;
+    qibl_fb_desc_t fb = qtool_bake_fb_srgb(pix, w, h);
     qibl_q16_t rgb[3] = {q16(l->rgb[0]), q16(l->rgb[1]), q16(l->rgb[2])};
-    struct timespec t0, t1;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
+    double t0 = qtool_bake_now();
     qibl_shmap_weights_t wt, wsky;
     qibl_shmap_point_t pt;
     const qibl_q16_t lpos[3] = {q16(l->pos[0]), q16(l->pos[1]), q16(l->pos[2])};
@@ -433,15 +432,9 @@ int qtool_bake_relight_path8_gonio(const uint8_t *asset, size_t n, const qtool_r
             for (size_t i = 0; i < (size_t)w * 3; ++i)
                 lin[(size_t)y * w * 3 + i] = row[i] > 0 ? (float)(row[i] / 65536.0) : 0.0f;
     }
-    clock_gettime(CLOCK_MONOTONIC, &t1);
-    if (ms)
-        *ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
-    for (size_t i = 0; st == QIBL_OK && i < (size_t)w * h; ++i)
-        memcpy(rgb8 + 3 * i, pix + 4 * i, 3);
+    int rc = qtool_bake_frame_done(st, t0, ms, pix, w, h, rgb8, status);
     free(pix), free(row), free(prow), free(ws);
-    if (status)
-        *status = st;
-    return st == QIBL_OK ? 0 : -1;
+    return rc;
 }
 
 /* ---- evaluation ---------------------------------------------------------------------------------- */
@@ -504,7 +497,7 @@ void qtool_bake_sky_dir(uint32_t j, uint32_t n, double d[3])
 {
     /* upper-hemisphere Fibonacci set, turned by an irrational offset: not the bake's directions */
     double z = 1.0 - (j + 0.5) / n, r = sqrt(fmax(0.0, 1 - z * z));
-    double phi = fmod(j * (PI * (3.0 - sqrt(5.0))) + 0.7236, 2 * PI);
+    double phi = fmod(j * (QTOOL_PI * (3.0 - sqrt(5.0))) + 0.7236, 2 * QTOOL_PI);
     d[0] = r * cos(phi), d[1] = r * sin(phi), d[2] = z;
 }
 
@@ -519,7 +512,7 @@ typedef struct {
 static void sky_row(void *ctx, uint32_t y)
 {
     const sky_job *j = ctx;
-    double wgt = 2 * PI / (j->ndirs / 2); /* each half is an estimate on its own */
+    double wgt = 2 * QTOOL_PI / (j->ndirs / 2); /* each half is an estimate on its own */
     for (uint32_t x = 0; x < j->w; ++x) {
         double d[3], acc[2][3] = {{0, 0, 0}, {0, 0, 0}};
         qtool_rt_hit hit;
@@ -555,9 +548,9 @@ void qtool_bake_sky_sh(const double rgb[3], uint32_t k, qibl_shlight_t *out)
     enum { NT = 256, NP = 512 };
     double c[25] = {0};
     for (int a = 0; a < NT / 2; ++a) { /* upper hemisphere only: the sky is 0 below */
-        double th = PI * (a + 0.5) / NT, dw = (PI / NT) * (2 * PI / NP) * sin(th);
+        double th = QTOOL_PI * (a + 0.5) / NT, dw = (QTOOL_PI / NT) * (2 * QTOOL_PI / NP) * sin(th);
         for (int b = 0; b < NP; ++b) {
-            double ph = 2 * PI * (b + 0.5) / NP, wv[3] = {sin(th) * cos(ph), sin(th) * sin(ph), cos(th)}, y[25];
+            double ph = 2 * QTOOL_PI * (b + 0.5) / NP, wv[3] = {sin(th) * cos(ph), sin(th) * sin(ph), cos(th)}, y[25];
             qtool_ref_sh_eval(wv[0], wv[1], wv[2], 5, y);
             double L = sky_radiance(wv) * dw;
             for (uint32_t i = 0; i < k; ++i)
@@ -592,24 +585,16 @@ int qtool_bake_relight_env8(const uint8_t *asset, size_t n, const qibl_shlight_t
     void *ws = malloc(wsn);
     if (!pix || !row || !ws)
         st = QIBL_E_NULL_POINTER;
-    qibl_fb_desc_t fb = {0};
-    fb.pixels = pix, fb.width = w, fb.height = h, fb.format = QIBL_FB_RGBA8888, fb.srgb = 1;
-    struct timespec t0, t1;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
+    qibl_fb_desc_t fb = qtool_bake_fb_srgb(pix, w, h);
+    double t0 = qtool_bake_now();
     for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {
         st = qibl_shmap_relight_span(&m, &wt, 0, y, w, row, ws, wsn);
         if (st == QIBL_OK)
             st = qibl_fb_write_row(&fb, 0, y, w, row);
     }
-    clock_gettime(CLOCK_MONOTONIC, &t1);
-    if (ms)
-        *ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
-    for (size_t i = 0; st == QIBL_OK && i < (size_t)w * h; ++i)
-        memcpy(rgb8 + 3 * i, pix + 4 * i, 3);
+    int rc = qtool_bake_frame_done(st, t0, ms, pix, w, h, rgb8, status);
     free(pix), free(row), free(ws);
-    if (status)
-        *status = st;
-    return st == QIBL_OK ? 0 : -1;
+    return rc;
 }
 
 /* ---- lamp occlusion (LOCC) -------------------------------------------------------------------------- */

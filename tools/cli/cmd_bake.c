@@ -194,12 +194,36 @@ int qcli_cmd_render(int argc, char **argv)
 
 /* ---- qibl bake ----------------------------------------------------------------------------------- */
 
+/* The asset options bake and merge share (--k, --lut-size, --layout, --lsq) at argv[*i]: 1 if
+ * consumed, 0 if not ours, -1 after a message on a bad value. */
+static int asset_opt(int argc, char **argv, int *i, long *k, long *lut, uint32_t *layout, int *lsq)
+{
+    const char *a = argv[*i];
+    int r;
+    if (strcmp(a, "--k") == 0 && *i + 1 < argc) {
+        if (qcli_parse_int(argv[++*i], 1, 25, k) != 0)
+            return qcli_usage_error("--k needs an integer in 1..25"), -1;
+    } else if ((r = qcli_lut_size_opt(argc, argv, i, 0, lut)) != 0) {
+        return r < 0 ? -1 : 1;
+    } else if (strcmp(a, "--layout") == 0 && *i + 1 < argc) {
+        if (qcli_parse_layout(argv[++*i], layout) != 0)
+            return qcli_usage_error("--layout is planar or interleaved"), -1;
+    } else if (strcmp(a, "--lsq") == 0) {
+        *lsq = 1;
+    } else {
+        return 0;
+    }
+    return 1;
+}
+
 /* bake's options into o (progress -1: a bar on a terminal, lines elsewhere); 0, or 2 after a message */
 static int bake_parse(int argc, char **argv, qtool_bake_opts *o)
 {
     char perr[400];
     for (int i = 1; i < argc; ++i) {
         int r = qcli_scene_opt(argc, argv, &i, &o->scene);
+        if (r == 0)
+            r = asset_opt(argc, argv, &i, &o->k, &o->lut, &o->layout, &o->lsq);
         if (r < 0)
             return 2;
         if (r)
@@ -207,13 +231,7 @@ static int bake_parse(int argc, char **argv, qtool_bake_opts *o)
         const char *a = argv[i];
         if (strcmp(a, "-o") == 0 && i + 1 < argc)
             o->out = argv[++i];
-        else if (strcmp(a, "--k") == 0 && i + 1 < argc) {
-            if (qcli_parse_int(argv[++i], 1, 25, &o->k) != 0)
-                return qcli_usage_error("--k needs an integer in 1..25");
-        } else if ((r = qcli_lut_size_opt(argc, argv, &i, 0, &o->lut)) != 0) {
-            if (r < 0)
-                return 2;
-        } else if (strcmp(a, "--dirs") == 0 && i + 1 < argc) {
+        else if (strcmp(a, "--dirs") == 0 && i + 1 < argc) {
             if (qcli_parse_int(argv[++i], 16, 65536, &o->ndirs) != 0)
                 return qcli_usage_error("--dirs needs an integer in 16..65536");
         } else if (strcmp(a, "--shard") == 0 && i + 1 < argc) {
@@ -256,18 +274,13 @@ static int bake_parse(int argc, char **argv, qtool_bake_opts *o)
         } else if (strcmp(a, "--lamp-samples") == 0 && i + 1 < argc) {
             if (qcli_parse_int(argv[++i], 1, 4096, &o->lamp_samples) != 0)
                 return qcli_usage_error("--lamp-samples needs an integer in 1..4096");
-        } else if (strcmp(a, "--lsq") == 0)
-            o->lsq = 1;
-        else if (strcmp(a, "--quiet") == 0)
+        } else if (strcmp(a, "--quiet") == 0)
             o->quiet = 1;
         else if (strncmp(a, "--progress=", 11) == 0 || (strcmp(a, "--progress") == 0 && i + 1 < argc)) {
             const char *m = a[10] == '=' ? a + 11 : argv[++i];
             o->progress = strcmp(m, "none") == 0 ? 0 : strcmp(m, "bar") == 0 ? 1 : strcmp(m, "lines") == 0 ? 2 : -2;
             if (o->progress == -2)
                 return qcli_usage_error("--progress is bar, lines or none: '%s'", m);
-        } else if (strcmp(a, "--layout") == 0 && i + 1 < argc) {
-            if (qcli_parse_layout(argv[++i], &o->layout) != 0)
-                return qcli_usage_error("--layout is planar or interleaved");
         } else
             return qcli_usage_error("bake: unknown argument '%s' (see qibl help bake)", a);
     }
@@ -297,8 +310,12 @@ int qcli_cmd_bake(int argc, char **argv)
 
 static int merge_parse(int argc, char **argv, qtool_merge_opts *o)
 {
-    int r;
     for (int i = 1; i < argc; ++i) {
+        int r = asset_opt(argc, argv, &i, &o->k, &o->lut, &o->layout, &o->lsq);
+        if (r < 0)
+            return 2;
+        if (r)
+            continue;
         const char *a = argv[i];
         if (strcmp(a, "-o") == 0 && i + 1 < argc)
             o->out = argv[++i];
@@ -306,17 +323,6 @@ static int merge_parse(int argc, char **argv, qtool_merge_opts *o)
             o->sums_out = argv[++i];
         else if (strcmp(a, "--manifest") == 0 && i + 1 < argc)
             o->manifest = argv[++i];
-        else if (strcmp(a, "--k") == 0 && i + 1 < argc) {
-            if (qcli_parse_int(argv[++i], 1, 25, &o->k) != 0)
-                return qcli_usage_error("--k needs an integer in 1..25");
-        } else if ((r = qcli_lut_size_opt(argc, argv, &i, 0, &o->lut)) != 0) {
-            if (r < 0)
-                return 2;
-        } else if (strcmp(a, "--layout") == 0 && i + 1 < argc) {
-            if (qcli_parse_layout(argv[++i], &o->layout) != 0)
-                return qcli_usage_error("--layout is planar or interleaved");
-        } else if (strcmp(a, "--lsq") == 0)
-            o->lsq = 1;
         else if (a[0] != '-')
             o->in[o->nin++] = argv[i];
         else

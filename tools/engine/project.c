@@ -13,20 +13,6 @@
 
 const char *const qtool_sh_window_names[3] = {"none", "hann", "lanczos"};
 
-/* s as a JSON string body (quotes and backslashes escaped, control bytes as \u00XX) */
-static void json_str(FILE *f, const char *s)
-{
-    for (; *s; ++s) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\')
-            fprintf(f, "\\%c", c);
-        else if (c < 0x20)
-            fprintf(f, "\\u%04x", c);
-        else
-            fputc(c, f);
-    }
-}
-
 /* a float literal C accepts: %.9g, with ".0" when it would read as an integer */
 static void c_float(FILE *f, double v)
 {
@@ -97,7 +83,7 @@ static void write_json(const qtool_sh_project_opts *o, const char *path, int w, 
                        const qtool_engine_sh *e, FILE *out)
 {
     fprintf(out, "{\"probe\": \"");
-    json_str(out, path);
+    qtool_engine_json_str(out, path);
     fprintf(out, "\", \"layout\": \"%s\", \"width\": %d, \"height\": %d, \"bands\": %ld, \"irradiance\": %s, "
             "\"window\": \"%s\",\n \"basis\": \"qibl/sh.h: real SH, index l*l+l+m, %s%s, lat-long phi from +x "
             "toward +y\",\n \"coefficients\": [", lb->layout, w, h, o->bands, o->core.irradiance ? "true" : "false",
