@@ -76,10 +76,12 @@ static void bake_row(void *ctx, uint32_t row)
         size_t pi = (size_t)row * j->w + x;
         double d[3];
         qtool_rt_hit h;
-        qtool_rt_pixel_dir(j->w, j->h, j->kind, x, row, d);
+        double sky[3];
+        qtool_rt_pixel_ray(j->s, j->w, j->h, j->kind, x, row, d);
         qtool_rt_primary(j->s, d, &h);
+        qtool_rt_sky_point(j->s, d, 1000.0, sky);
         for (int c = 0; c < 3; ++c)
-            j->out->pmap[3 * pi + (size_t)c] = (int32_t)lrint((h.hit ? h.p[c] : d[c] * 1000.0) * 65536.0);
+            j->out->pmap[3 * pi + (size_t)c] = (int32_t)lrint((h.hit ? h.p[c] : sky[c]) * 65536.0);
         int64_t *acc = j->out->acc + pi * 3 * k;
         memset(acc, 0, sizeof(int64_t) * 3 * k);
         if (!h.hit)

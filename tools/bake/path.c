@@ -165,7 +165,7 @@ static void path_row(void *ctx, uint32_t y)
     for (uint32_t x = 0; e && x < j->w; ++x) {
         double d[3];
         qtool_rt_hit hit;
-        qtool_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
+        qtool_rt_pixel_ray(j->s, j->w, j->h, j->kind, x, y, d);
         qtool_rt_primary(j->s, d, &hit);
         size_t start = n;
         if (hit.hit) {
@@ -454,7 +454,7 @@ static void cls_row(void *ctx, uint32_t y)
         double d[3], w[3], len = 0, tmax = 1e30;
         qtool_rt_hit h;
         uint8_t *o = j->cls + (size_t)y * j->w + x;
-        qtool_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
+        qtool_rt_pixel_ray(j->s, j->w, j->h, j->kind, x, y, d);
         qtool_rt_primary(j->s, d, &h);
         if (!h.hit) {
             *o = 0;
@@ -516,7 +516,7 @@ static void sky_row(void *ctx, uint32_t y)
     for (uint32_t x = 0; x < j->w; ++x) {
         double d[3], acc[2][3] = {{0, 0, 0}, {0, 0, 0}};
         qtool_rt_hit hit;
-        qtool_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
+        qtool_rt_pixel_ray(j->s, j->w, j->h, j->kind, x, y, d);
         qtool_rt_primary(j->s, d, &hit);
         for (uint32_t l = 0; hit.hit && l < j->ndirs; ++l) {
             double wv[3], df, gl;
@@ -623,7 +623,7 @@ static void occ_row(void *ctx, uint32_t y)
     for (uint32_t x = 0; x < j->w; ++x) {
         double d[3], sw = 0, sv = 0;
         qtool_rt_hit h;
-        qtool_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
+        qtool_rt_pixel_ray(j->s, j->w, j->h, j->kind, x, y, d);
         qtool_rt_primary(j->s, d, &h);
         for (uint32_t i = 0; h.hit && i < j->n; ++i) {
             double p[3] = {halton(i + 1, 2), halton(i + 1, 3), halton(i + 1, 5)}, w[3], len = 0;

@@ -43,10 +43,11 @@ int qtool_render_points(const qtool_rt_scene *s, const qtool_scene_opts *so, dou
         for (uint32_t x = 0; x < so->w; ++x) {
             double dir[3], *q = p + 3 * ((size_t)y * so->w + x);
             qtool_rt_hit h;
-            qtool_rt_pixel_dir(so->w, so->h, (qtool_pano_kind)so->kind, x, y, dir);
+            qtool_rt_pixel_ray(s, so->w, so->h, (qtool_pano_kind)so->kind, x, y, dir);
             qtool_rt_primary(s, dir, &h);
-            for (int c = 0; c < 3; ++c)
-                q[c] = h.hit ? h.p[c] : dir[c] * sky_dist;
+            qtool_rt_sky_point(s, dir, sky_dist, q);
+            if (h.hit)
+                memcpy(q, h.p, sizeof h.p);
         }
     *pts = p;
     return p ? 0 : -1;

@@ -87,6 +87,70 @@ static int job_status(int rc, const char *err)
     return rc == 0 ? 0 : rc == 2 ? 2 : 1;
 }
 
+/* "X,Y,Z" into v (finite numbers); 0 or -1 */
+static int parse_xyz(const char *s, double v[3])
+{
+    char tail;
+    return sscanf(s, "%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &tail) == 3 && isfinite(v[0]) && isfinite(v[1]) &&
+                   isfinite(v[2])
+               ? 0
+               : -1;
+}
+
+/* The fixed-camera options of render and bake at argv[*i]: --camera EYE TARGET UP (each X,Y,Z),
+ * --camera gltf[:N] (the scene file's camera N), --fov DEG. 1 if consumed, 0 if not ours, -1 after
+ * a message. *fov_given: --fov was seen. */
+static int camera_opt(int argc, char **argv, int *i, qcli_scene *o, int *fov_given)
+{
+    const char *a = argv[*i];
+    if (strcmp(a, "--camera") == 0 && *i + 1 < argc && strncmp(argv[*i + 1], "gltf", 4) == 0) {
+        const char *g = argv[++*i] + 4;
+        long n = 0;
+        if (*g && (*g != ':' || qcli_parse_int(g + 1, 0, 255, &n) != 0))
+            return qcli_usage_error("--camera gltf[:N]: N is the file's camera number 0..255, not '%s'", argv[*i]), -1;
+        o->camera = QTOOL_SCENE_GLTF_CAMERA, o->gltf_cam = (int)n;
+    } else if (strcmp(a, "--camera") == 0) {
+        if (*i + 3 >= argc || parse_xyz(argv[*i + 1], o->eye) != 0 || parse_xyz(argv[*i + 2], o->target) != 0 ||
+            parse_xyz(argv[*i + 3], o->up) != 0)
+            return qcli_usage_error("--camera needs EYE TARGET UP, each X,Y,Z (or gltf[:N])"), -1;
+        o->camera = QTOOL_SCENE_CAMERA, *i += 3;
+    } else if (strcmp(a, "--fov") == 0 && *i + 1 < argc) {
+        char *end;
+        o->fov = strtod(argv[++*i], &end);
+        if (*end || !(o->fov > 0 && o->fov < 180))
+            return qcli_usage_error("--fov needs the vertical field of view in degrees, in (0, 180): '%s'", argv[*i]),
+                   -1;
+        *fov_given = 1;
+    } else {
+        return 0;
+    }
+    return 1;
+}
+
+/* the camera options together: 0, or 2 after a message */
+static int camera_check(qcli_scene *o, int fov_given)
+{
+    if (fov_given && o->camera == QTOOL_SCENE_PANORAMA)
+        return qcli_usage_error("--fov is the field of view of a --camera");
+    if (o->camera != QTOOL_SCENE_PANORAMA && o->kind == QTOOL_PANO_EQUIRECT)
+        return qcli_usage_error("--camera makes a perspective frame: --equirect is for panoramas");
+    if (o->camera == QTOOL_SCENE_GLTF_CAMERA && !fov_given)
+        o->fov = 0; /* the file's own yfov */
+    qtool_rt_camera c;
+    char err[256];
+    if (o->camera == QTOOL_SCENE_CAMERA && qtool_rt_camera_init(&c, o->eye, o->target, o->up, o->fov, err, sizeof err) != 0)
+        return qcli_usage_error("%s", err);
+    return 0;
+}
+
+/* the frame's name in the reports */
+static const char *frame_name(const qcli_scene *o)
+{
+    return o->camera != QTOOL_SCENE_PANORAMA ? "fixed-camera frame"
+           : o->kind == QTOOL_PANO_CYLINDRICAL ? "cylindrical panorama"
+                                                : "equirectangular panorama";
+}
+
 /* ---- qibl render --------------------------------------------------------------------------------- */
 
 /* --point without --rgb: C0 from the distance to what the panorama sees, as relight does from the
@@ -112,10 +176,12 @@ static int point_default(const qtool_rt_scene *s, const qcli_scene *so, qtool_rt
 static int render_parse(int argc, char **argv, qtool_render_opts *o)
 {
     qtool_rt_light *l = &o->light;
-    int have = 0, have_aim = 0;
+    int have = 0, have_aim = 0, fov_given = 0;
     long falloff = 1;
     for (int i = 1; i < argc; ++i) {
         int r = qcli_scene_opt(argc, argv, &i, &o->scene);
+        if (r == 0)
+            r = camera_opt(argc, argv, &i, &o->scene, &fov_given);
         if (r < 0)
             return 2;
         if (r)
@@ -163,7 +229,7 @@ static int render_parse(int argc, char **argv, qtool_render_opts *o)
     if (have_aim && !o->ies)
         return qcli_usage_error("render: --aim and --up orient an --ies lamp: give --ies FILE.ies");
     l->falloff = (int)falloff;
-    return 0;
+    return camera_check(&o->scene, fov_given);
 }
 
 int qcli_cmd_render(int argc, char **argv)
@@ -184,8 +250,8 @@ int qcli_cmd_render(int argc, char **argv)
     if (png_written)
         qcli_warn_dark(o.png, j.rgb8, (size_t)o.scene.w * o.scene.h);
     if (rc == 0)
-        printf("rendered %ux%u %s panorama of %s, %zu triangles, %s light, %.0f ms on %d threads\n", o.scene.w,
-               o.scene.h, o.scene.kind == QTOOL_PANO_CYLINDRICAL ? "cylindrical" : "equirectangular",
+        printf("rendered %ux%u %s of %s, %zu triangles, %s light, %.0f ms on %d threads\n", o.scene.w, o.scene.h,
+               frame_name(&o.scene),
                o.scene.scene ? o.scene.scene : "the built-in courtyard", j.s.ntri, o.light.point ? "point" : "directional",
                j.ms, o.scene.threads);
     qtool_render_free(&j);
@@ -220,10 +286,13 @@ static int asset_opt(int argc, char **argv, int *i, long *k, long *lut, uint32_t
 static int bake_parse(int argc, char **argv, qtool_bake_opts *o)
 {
     char perr[400];
+    int fov_given = 0;
     for (int i = 1; i < argc; ++i) {
         int r = qcli_scene_opt(argc, argv, &i, &o->scene);
         if (r == 0)
             r = asset_opt(argc, argv, &i, &o->k, &o->lut, &o->layout, &o->lsq);
+        if (r == 0)
+            r = camera_opt(argc, argv, &i, &o->scene, &fov_given);
         if (r < 0)
             return 2;
         if (r)
@@ -284,7 +353,7 @@ static int bake_parse(int argc, char **argv, qtool_bake_opts *o)
         } else
             return qcli_usage_error("bake: unknown argument '%s' (see qibl help bake)", a);
     }
-    return 0;
+    return camera_check(&o->scene, fov_given);
 }
 
 int qcli_cmd_bake(int argc, char **argv)
