@@ -127,6 +127,13 @@ static int camera_opt(int argc, char **argv, int *i, qcli_scene *o, int *fov_giv
     return 1;
 }
 
+/* the scene, panorama and camera options of render and bake: as qcli_scene_opt */
+static int frame_opt(int argc, char **argv, int *i, qcli_scene *o, int *fov_given)
+{
+    int r = qcli_scene_opt(argc, argv, i, o);
+    return r != 0 ? r : camera_opt(argc, argv, i, o, fov_given);
+}
+
 /* the camera options together: 0, or 2 after a message */
 static int camera_check(qcli_scene *o, int fov_given)
 {
@@ -179,9 +186,7 @@ static int render_parse(int argc, char **argv, qtool_render_opts *o)
     int have = 0, have_aim = 0, fov_given = 0;
     long falloff = 1;
     for (int i = 1; i < argc; ++i) {
-        int r = qcli_scene_opt(argc, argv, &i, &o->scene);
-        if (r == 0)
-            r = camera_opt(argc, argv, &i, &o->scene, &fov_given);
+        int r = frame_opt(argc, argv, &i, &o->scene, &fov_given);
         if (r < 0)
             return 2;
         if (r)
@@ -288,11 +293,9 @@ static int bake_parse(int argc, char **argv, qtool_bake_opts *o)
     char perr[400];
     int fov_given = 0;
     for (int i = 1; i < argc; ++i) {
-        int r = qcli_scene_opt(argc, argv, &i, &o->scene);
+        int r = frame_opt(argc, argv, &i, &o->scene, &fov_given);
         if (r == 0)
             r = asset_opt(argc, argv, &i, &o->k, &o->lut, &o->layout, &o->lsq);
-        if (r == 0)
-            r = camera_opt(argc, argv, &i, &o->scene, &fov_given);
         if (r < 0)
             return 2;
         if (r)
