@@ -3,6 +3,7 @@
  */
 #include <errno.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -12,6 +13,7 @@
 
 #include "qibl/asset.h" /* QIBL_ASSET_MAX_LUT */
 #include "cli/cli.h"
+#include "cli/opt.h"
 #include "qibl/version.h"
 #include "qibl/shmaps.h"
 #include "qibl/isa.h"
@@ -19,22 +21,22 @@
 
 int qcli_parse_only; /* see cli.h */
 
+/* the option tables of the commands on them (cli/opt.h), one per subcommand */
+static const qcli_opt_cmd *const sh_opts[] = {&qcli_opts_sh_eval, &qcli_opts_sh_plot, NULL};
+static const qcli_opt_cmd *const gen_opts[] = {&qcli_opts_gen, NULL};
+static const qcli_opt_cmd *const info_opts[] = {&qcli_opts_info, NULL};
+static const qcli_opt_cmd *const srgbe_opts[] = {&qcli_opts_srgbe_encode, &qcli_opts_srgbe_decode, NULL};
+static const qcli_opt_cmd *const ies_opts[] = {&qcli_opts_ies_info, NULL};
+static const qcli_opt_cmd *const study_opts[] = {&qcli_opts_study, NULL};
+
 static const qcli_cmd commands[] = {
     {"sh", "evaluate the integer SH basis for a direction",
-     "usage: qibl sh eval [--bands B] X Y Z\n"
-     "       qibl sh plot --png FILE [--tile W]\n"
-     "       qibl sh project PROBE.hdr [--bands B] [--irradiance] [--window none|hann|lanczos]\n"
+     /* sh project (cmd_probe.c) is not on an option table yet: its text as it was */
+     "usage: qibl sh project PROBE.hdr [--bands B] [--irradiance] [--window none|hann|lanczos]\n"
      "                       [--layout L] [--format table|json|c] [--name ID] [--frame zup|yup]\n"
      "                       [--yaw DEG | --rotate a,b,c,d,e,f,g,h,i]\n"
      "       qibl sh project PROBE.hdr --preset filament|unity|gltf|raw [--window auto|no|CUTOFF]\n"
      "                       [--yaw DEG | --rotate ...] [--layout L] [--name ID]\n"
-     "  Prints the B*B real SH basis values Y_0 .. Y_{B*B-1} (bands 0..B-1, B in 1..5, default 5),\n"
-     "  one per line as `Y[i] l=L m=M value` (value as %.9f), at the direction (X, Y, Z).\n"
-     "  X, Y, Z are decimals converted to Q16.16; the vector need not be unit length but must not\n"
-     "  be zero. The values are the core's Q2.30 integers divided by 2^30. Convention: Wong et al.\n"
-     "  appendix, index i = l*l + l + m, Condon-Shortley phase (Y_3 = -0.488603 at (1, 0, 0)).\n"
-     "  plot: writes a PNG of every basis function as a lat-long tile (orange > 0, blue < 0),\n"
-     "  evaluated by the integer core; W is the tile width in pixels (default 128).\n"
      "  project: a Radiance probe (layout detected or --layout, resampled to lat-long as qibl lights\n"
      "  does) projected onto bands 0..B-1 by the integer core, row by row (qibl/probe.h): radiance\n"
      "  coefficients, or irradiance (times the clamped-cosine A_l), with an optional Hann or Lanczos\n"
@@ -52,7 +54,7 @@ static const qcli_cmd commands[] = {
      "    raw       the table, as without --preset.\n"
      "  The layout note goes to stderr except for the table. (--format cmgen is refused: it was not\n"
      "  what cmgen writes; use --preset filament.)\n",
-     qcli_cmd_sh},
+     qcli_cmd_sh, sh_opts},
     {"bench", "benchmarks: speed against error, with RESULT lines",
      "usage: qibl bench [all|sh|relight|baselines|srgbe|lights|paths|asset|probe|hemi|memory|gles] [--quick] [--csv] [--markdown]\n"
      "                  [--svg PATH]  (hemi: the cloth's error against frames per second, as an SVG plot)\n"
@@ -81,18 +83,9 @@ static const qcli_cmd commands[] = {
      "      ringing of the irradiance with no window, Hann and Lanczos (RESULT probe.*).\n"
      "  memory: not a timing: the resident-memory table of docs/porting.md (--markdown: as there).\n"
      "  all: every timing benchmark (what `make bench` runs). --quick: fewer repetitions.\n",
-     qcli_cmd_bench},
+     qcli_cmd_bench, NULL},
     {"gen", "write the procedural courtyard's SH maps (and P map, optional Y LUT) as an asset",
-     "usage: qibl gen -o FILE [--size WxH] [--k K] [--lut-size N] [--pack minmax|robust] [--equirect]\n"
-     "                [--layout planar|interleaved]\n"
-     "  Renders the built-in courtyard's light-transport SH maps analytically (Lambert + glossy, no\n"
-     "  shadows; the ray-traced bake is a separate command), packs them to 8 bits per map and channel\n"
-     "  (min/max or the 0.1..99.9 percentile range) and writes SHMP + PMAP (+ YLUT with --lut-size N,\n"
-     "  the cube-map face size). Defaults: 1024x256 cylindrical, k = 16, min/max, no LUT. (The old\n"
-     "  spelling --lut N still works, with a deprecation note: relight's --lut is the sampling mode.)\n"
-     "  --layout interleaved: the maps' bytes row by row in groups of 16 pixels (rows stream from disc\n"
-     "  one at a time; relights to the same bytes as the default planar layout).\n",
-     qcli_cmd_gen},
+     NULL, qcli_cmd_gen, gen_opts},
     {"render", "ray-trace the ground-truth panorama of a scene under one light (PNG, PFM, depth)",
      "usage: qibl render (--sun X Y Z | --point X Y Z) [--rgb R G B] [--falloff 1|2] [--png OUT] [--pfm OUT]\n"
      "                   [--exr OUT.exr] [--depth OUT.pfm] [--scene builtin|FILE.gltf|FILE.glb|FILE.obj|FILE.ply] [--zup]\n"
@@ -114,7 +107,7 @@ static const qcli_cmd commands[] = {
      "  --ies FILE.ies: the --point lamp is goniometric: C0 times I(direction) / I_peak from the IES\n"
      "  profile in double precision (bilinear in its angle grid), oriented by --aim (default 0 0 -1)\n"
      "  and --up (default 1 0 0) as relight --ies orients it: the truth of relight's tables.\n",
-     qcli_cmd_render},
+     qcli_cmd_render, NULL},
     {"transfer", "a mesh self-shadowed by hemispherical rasterization under a probe, beside the ray-cast truth",
      "usage: qibl transfer MESH [MESH...] --probe PROBE.hdr [--layout L] [--png OUT] [--size N] [--mask 16|32|64]\n"
      "                     [--face F] [--rays S] [--coarse T [--ring K]] [--tween N] [--zup] [--flip] [--skip-adjacent]\n"
@@ -138,7 +131,7 @@ static const qcli_cmd commands[] = {
      "  several MESH files are frames of one animation (same triangles): an animated PNG (--tween N: N - 1\n"
      "  frames interpolated between key frames, the last back into the first). Prints ms per\n"
      "  frame on one core (thread CPU time of the hemi calls) and RESULT transfer.* lines.\n",
-     qcli_cmd_transfer},
+     qcli_cmd_transfer, NULL},
     {"bake", "bake a scene into a relightable panorama asset (ray-traced, SH-projected, 8-bit packed)",
      "usage: qibl bake (-o ASSET | --shard I/N --sums FILE) [--k K] [--lut-size N] [--dirs N] [--lsq]\n"
      "                 [--budget DB] [--quiet] [--progress=bar|lines|none]\n"
@@ -172,7 +165,7 @@ static const qcli_cmd commands[] = {
      "  there are none, so merge can refuse a shard baked without the others' paths).\n"
      "  Exit status: 0 done, 1 failed (a file, memory; named on stderr, nothing half-written), 2 bad\n"
      "  arguments.\n",
-     qcli_cmd_bake},
+     qcli_cmd_bake, NULL},
     {"merge", "combine the partial sums of bake shards into an asset",
      "usage: qibl merge (-o ASSET | --sums OUT | both) [--k K] [--lut-size N] [--lsq]\n"
      "                  [--layout planar|interleaved] [--manifest FILE] SUMS...\n"
@@ -189,7 +182,7 @@ static const qcli_cmd commands[] = {
      "  A partial set (tree merges, --sums OUT without -o): shards I, I+M, I+2M, ... of N (M dividing N)\n"
      "  are written as shard I/M with OUT.u and OUT.x, for a later merge; any other partial set is refused.\n"
      "  Exit status: 0 written, 1 refused or failed (named on stderr, nothing written), 2 bad arguments.\n",
-     qcli_cmd_merge},
+     qcli_cmd_merge, NULL},
     {"check", "validate PNG/APNG, PFM, Radiance HDR, OpenEXR and qibl asset files",
      "usage: qibl check FILE...\n"
      "  .png: signature, every chunk CRC, the zlib stream (inflated), Adler-32, APNG frame sequence;\n"
@@ -197,7 +190,7 @@ static const qcli_cmd commands[] = {
      "  flat) decoded, as qibl lights reads it; .exr (or the EXR magic): header and every chunk decoded;\n"
      "  anything else as a qibl asset (qibl_asset_open).\n"
      "  Exit 1 if any is bad.\n",
-     qcli_cmd_check},
+     qcli_cmd_check, NULL},
     {"demo", "the main demo: bake the scene, relight it by the core, compare with ground truth",
      "usage: qibl demo --out DIR [--small | --full] [--dirs N] [--frames F] [scene options as for render]\n"
      "  What `make demo` runs: bakes the scene (built-in courtyard, or --scene FILE.gltf|.glb|.obj|.ply), writes\n"
@@ -207,7 +200,7 @@ static const qcli_cmd commands[] = {
      "  Sizes: default 512x128, 256 directions, 12 frames (`make demo`); --small 256x64, 128 directions,\n"
      "  6 frames (CI); --full 1024x256, 512 directions, 24 frames and the full probe-lit truths (`make demo\n"
      "  FULL=1`, minutes of CPU). --size WxH, --dirs and --frames override the size's values.\n",
-     qcli_cmd_demo},
+     qcli_cmd_demo, NULL},
     {"relight", "relight an asset by suns, lamps, a light list or a whole probe into a PNG (core + soft framebuffer)",
      "usage: qibl relight FILE [--sun X Y Z [--rgb R G B]]... [--point X Y Z [--rgb R G B]]...\n"
      "                    [--lights FILE.csv] [--probe PROBE.hdr [--layout L] [--probe-mode sh|lights|sunsky]\n"
@@ -263,7 +256,7 @@ static const qcli_cmd commands[] = {
      "               [--ies FILE.ies [--aim X Y Z] [--up X Y Z] [--ies-size N]] (--png|--pfm|--exr OUT):\n"
      "  a light on the asset's baked path N (or its first sun path / lamp track) at T in 0..1: unshadowed\n"
      "  SH x visibility(T), soft over [T - R, T + R]; --sky adds the demo's sky through the shadowed maps.\n",
-     qcli_cmd_relight},
+     qcli_cmd_relight, NULL},
     {"view", "a live viewer: drag the sun or a lamp, scrub a baked light path, step probes, yaw, exposure, k (X11)",
      "usage: qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--lamp-rgb C0] [--exposure E] [--truth PNG|DIR]\n"
      "                 [--gles] [--bench [--frames N] [--headless] [--record OUT.png [--turn]]]\n"
@@ -284,28 +277,11 @@ static const qcli_cmd commands[] = {
      "  (--turn: one turn over the frames), then `RESULT view.fps F` (--headless: no window, the\n"
      "  framebuffer and overlay only); --record OUT.png: those frames, overlay included, as an APNG.\n"
      "  The window needs a build with X11 (Debian: apt-get install libx11-dev).\n",
-     qcli_cmd_view},
+     qcli_cmd_view, NULL},
     {"info", "validate a qibl asset file and print its contents",
-     "usage: qibl info FILE\n"
-     "  Validates FILE with the core's qibl_asset_open (magic, version, chunk table, bounds, CRC-32s,\n"
-     "  chunk fields) and prints the header, the chunk table (type, offset, size, CRC) and per known\n"
-     "  chunk its fields: SHMP size, k, channels, per map and channel the Q8.24 scale and bias as\n"
-     "  decimals and the min/max byte of the plane; PMAP size and the bounding box of its points;\n"
-     "  YLUT face size and k. An invalid asset prints `qibl: FILE: <reason>` and exits 1.\n",
-     qcli_cmd_info},
+     NULL, qcli_cmd_info, info_opts},
     {"srgbe", "encode/decode one sRGBE colour (signed shared-exponent RGB in 4 bytes)",
-     "usage: qibl srgbe encode R G B\n"
-     "       qibl srgbe decode HEX8\n"
-     "  encode: R G B are decimals rounded to binary32 (inf and nan accepted); prints the code as\n"
-     "  8 hex digits, bytes R G B E in memory order (Granier et al. 4.2: e = floor(log2 max|c|) + 2,\n"
-     "  X = round(255 (c 2^-e + 1/2)), E = e + 126). The code the codec wrote is always printed; a\n"
-     "  status other than QIBL_OK is named on stderr (`qibl: srgbe encode: QIBL_E_SRGBE_INF: ...`):\n"
-     "  an infinite channel saturates (exit 0); a NaN channel writes the zero code 80808000 (exit 1).\n"
-     "  decode: HEX8 is 8 hex digits as printed by encode; prints the three channels\n"
-     "  (X/255 - 1/2) 2^(E-126), correctly rounded to binary32, as %.9g (E = 255 with X = 0 or 255\n"
-     "  saturates to +-FLT_MAX, printed, with QIBL_E_SRGBE_DECODE_SAT named on stderr; exit 0).\n"
-     "  Bad arguments: one line on stderr, exit status 2.\n",
-     qcli_cmd_srgbe},
+     NULL, qcli_cmd_srgbe, srgbe_opts},
     {"lights", "sample a .hdr light probe (lat-long, angular, ball, cube cross) into directional lights",
      "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv | --json] [--png OUT.png]\n"
      "                   [--priority default|energy|energy-size|variance|levels] [--place centroid|centre]\n"
@@ -342,7 +318,7 @@ static const qcli_cmd commands[] = {
      "  probe is refused: its error would be 0 / 0.\n"
      "  (tools/study): SH irradiance (4/9/16/25), N varmin lights (as sampled, or RGB refitted by NNLS)\n"
      "  or sun plus sky (k lights + SH9); counted in floats stored (6 per light, 3 per coefficient).\n",
-     qcli_cmd_lights},
+     qcli_cmd_lights, NULL},
     {"probe", "describe a light probe and advise how to light with it: SH, N lights, or sun plus SH",
      "usage: qibl probe info PROBE.hdr [--layout auto|latlong|angular|ball|vcross|hcross]\n"
      "  Prints the probe's layout (detected, or --layout) and size, its luminance dynamic range\n"
@@ -356,42 +332,52 @@ static const qcli_cmd commands[] = {
      "  SH (the sun as relight --probe-mode sunsky picks it, lit exactly; the rest as 9 SH\n"
      "  coefficients). Advice: the cheapest scheme (in that order) whose mean error is within 10 %\n"
      "  of the lowest or at most 1 %, with the relight option that uses it.\n",
-     qcli_cmd_probe},
+     qcli_cmd_probe, NULL},
     {"ies", "an IES LM-63 photometric file: header facts, candela range, integrated lumens, polar curves",
-     "usage: qibl ies info FILE.ies [--png OUT.png]\n"
-     "  Reads an IES LM-63 file (1986 unlabelled, 1991, 1995, 2002 or 2019 header; keywords with [MORE];\n"
-     "  TILT=NONE or INCLUDE, TILT=<file> refused by name; photometric type C, B or A; every type C\n"
-     "  symmetry: axial, quadrilateral 0..90, bilateral 0..180, 90..270, full 0..360) and prints its header\n"
-     "  facts, candela_min/candela_max (multiplier applied) and the line `lumens <value>`: the candela\n"
-     "  (times the ballast factor, and up to 1995 the ballast-lamp factor) integrated over the sphere.\n"
-     "  Quadrature (the zonal-lumen method of photometric software): along the latitude-like angle\n"
-     "  (C: vertical from the nadir; A: vertical, B: horizontal, from the equator) each zone between\n"
-     "  two grid angles a, b counts its mean intensity (I_a + I_b) / 2 times cos a - cos b (C) or\n"
-     "  sin b - sin a (A, B), nothing outside the vertical range; along the plane angle the trapezoid\n"
-     "  rule over the grid expanded by its symmetry (axial 2 pi, quadrilateral 4 x, bilateral 2 x).\n"
-     "  Isotropic (4 pi I) and cosine (pi I0) lamps come out exactly. A keyword stating the\n"
-     "  luminaire flux ([LUMINAIREOUTPUT], [_ABSOLUTELUMENS]...) is printed beside it (stated_lumens).\n"
-     "  --png OUT.png: the polar curves of the two principal planes (type C: C0-C180 red, C90-C270 blue),\n"
-     "  nadir down, rings at 25 % of the maximum, labelled. Limits: io/ies.h (docs/robustness.md).\n",
-     qcli_cmd_ies},
+     NULL, qcli_cmd_ies, ies_opts},
     {"study", "the light-probe approximation study: every method, error against N and time",
-     "usage: qibl study [PROBE.hdr ...] --out DIR [--quick] [--threads T]\n"
-     "  Ground-truth irradiance of each lat-long probe at 20000 spherical-Fibonacci normals (Madsen &\n"
-     "  Laursen eq. 4 over every pixel), then median cut, adaptive, variance minimisation, SH 4/9/16/25,\n"
-     "  the NNLS refit of median-cut and varmin directions, sun plus sky, LightGen-style k-means and\n"
-     "  irradiance optimisation (Levenberg-Marquardt) for N = 1..256; writes DIR/study.csv, summary.md\n"
-     "  (N to reach 10/5/2 % mean error), plot_*.svg, time_*.svg and overlay_*.png, and RESULT lines.\n"
-     "  Without probes: procedural skies (said so). --quick: half-size probes, 2000 normals, N <= 64.\n",
-     qcli_cmd_study},
+     NULL, qcli_cmd_study, study_opts},
 };
 #define NCMD (sizeof commands / sizeof commands[0])
+
+/* the flags `qibl` itself takes, in place of a command */
+typedef struct global_opts {
+    int help, version, isa_list;
+} global_opts;
+static const qcli_opt global_table[] = {
+    {.name = "--help", .alias = "-h", .kind = QCLI_OPT_FLAG, .off = offsetof(global_opts, help),
+     .help = "this list (qibl help CMD or qibl CMD --help: a command's options)"},
+    {.name = "--version", .kind = QCLI_OPT_FLAG, .off = offsetof(global_opts, version),
+     .help = "the version, the config id and the kernels this CPU runs"},
+    {.name = "--isa-list", .kind = QCLI_OPT_FLAG, .off = offsetof(global_opts, isa_list),
+     .help = "the kernel sets this CPU runs, one per line (QIBL_ISA takes one)"},
+    {0},
+};
+static const qcli_opt_cmd global_spec = {.name = "", .opts = global_table, .size = sizeof(global_opts)};
 
 static void print_help(FILE *f)
 {
     fprintf(f, "qibl - integer image-based lighting runtime: command-line tool\n\n"
-               "usage: qibl <command> [args]\n       qibl help <command>\n       qibl --version\n       qibl --isa-list\n\ncommands:\n");
+               "usage: qibl <command> [args]\n       qibl help <command>\n       qibl --version\n       qibl --isa-list\n");
+    qcli_opt_help_list(f, &global_spec);
+    fprintf(f, "\ncommands:\n");
     for (size_t i = 0; i < NCMD; ++i)
         fprintf(f, "  %-8s %s\n", commands[i].name, commands[i].summary);
+}
+
+/* `qibl help CMD`: each option table's usage, options and prose, then the text not on a table */
+static void print_cmd_help(FILE *f, const qcli_cmd *c)
+{
+    for (size_t k = 0; c->opts && c->opts[k]; ++k) {
+        if (k > 0)
+            fputc('\n', f);
+        qcli_opt_help(f, c->opts[k]);
+    }
+    if (c->usage) {
+        if (c->opts)
+            fputc('\n', f);
+        fputs(c->usage, f);
+    }
 }
 
 static const qcli_cmd *find(const char *name)
@@ -571,18 +557,27 @@ int main(int argc, char **argv)
             print_help(stdout);
             return 0;
         }
-        const qcli_cmd *c = find(argv[2]);
+        /* --flags CMD: every flag on CMD's tables, "SUBCOMMAND<TAB>--flag" (tests/cli_opts_test.c) */
+        int flags = strcmp(argv[2], "--flags") == 0;
+        if (flags && argc < 4)
+            return qcli_usage_error("help --flags needs a command (see qibl --help)");
+        const qcli_cmd *c = find(argv[2 + flags]);
         if (!c)
-            return qcli_usage_error("no such command '%s' (see qibl --help)", argv[2]);
-        fputs(c->usage, stdout);
+            return qcli_usage_error("no such command '%s' (see qibl --help)", argv[2 + flags]);
+        for (size_t k = 0; flags && c->opts && c->opts[k]; ++k)
+            qcli_opt_flags(stdout, c->opts[k]);
+        if (!flags)
+            print_cmd_help(stdout, c);
         return 0;
     }
+    if (argv[1][0] == '-') /* not one of the flags above */
+        return qcli_usage_error("unknown option '%s'; see qibl --help", argv[1]);
     const qcli_cmd *c = find(argv[1]);
     if (!c)
         return qcli_usage_error("no such command '%s' (see qibl --help)", argv[1]);
     for (int i = 2; i < argc; ++i)
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            fputs(c->usage, stdout);
+            print_cmd_help(stdout, c);
             return 0;
         }
     return c->run(argc - 1, argv + 1);

@@ -1,0 +1,155 @@
+/*
+ * cli/opt.h - one option table per command: its parser, its `qibl help` text and its errors all
+ * come from the table, so help cannot omit a flag and every bad argument gets the same answer:
+ *
+ *     qibl CMD: <what is wrong, naming the flag and the value>; see qibl help CMD      (exit 2)
+ *
+ * How to convert a command (this is `qibl gen`, tools/cli/cmd_gen.c, in full):
+ *
+ *  1. An options struct and its defaults, in one place, designated-initialised. Each kind has
+ *     one C type (below); the table says where a value goes with offsetof.
+ *
+ *         typedef struct gen_opts {
+ *             qcli_opt_list out;            // -o FILE (STR would do; shown as LIST for the example)
+ *             long size[2], k, lut;         // SIZE is two longs, INT one long
+ *             int pack, layout, equirect;   // ENUM: index into names; FLAG: 0 or 1
+ *         } gen_opts;
+ *         static const gen_opts gen_defaults = {.size = {1024, 256}, .k = 16, .lut = 0};
+ *
+ *  2. The table: one entry per flag, with a designated initialiser. The default shown in help is
+ *     read from gen_defaults (say .def = "..." only when the default is computed at run time).
+ *
+ *         static const char *const packs[] = {"minmax", "robust", NULL};
+ *         static const qcli_opt gen_table[] = {
+ *             {.name = "-o", .kind = QCLI_OPT_STR, .off = offsetof(gen_opts, out), .arg = "FILE",
+ *              .required = 1, .help = "the asset to write"},
+ *             {.name = "--size", .kind = QCLI_OPT_SIZE, .off = offsetof(gen_opts, size), .hi = 16384,
+ *              .help = "panorama width x height"},
+ *             {.name = "--k", .kind = QCLI_OPT_INT, .off = offsetof(gen_opts, k), .arg = "K", .lo = 1,
+ *              .hi = 25, .help = "SH maps (bands^2 terms)"},
+ *             {.name = "--pack", .kind = QCLI_OPT_ENUM, .off = offsetof(gen_opts, pack), .names = packs,
+ *              .help = "8-bit packing: min/max or the 0.1..99.9 percentiles"},
+ *             {.name = "--equirect", .kind = QCLI_OPT_FLAG, .off = offsetof(gen_opts, equirect),
+ *              .help = "equirectangular instead of cylindrical"},
+ *             {0}, // the end
+ *         };
+ *         const qcli_opt_cmd qcli_opts_gen = {
+ *             .name = "gen", .opts = gen_table, .defaults = &gen_defaults, .size = sizeof(gen_opts),
+ *             .prose = "  Renders the built-in courtyard's ... (lines of two-space-indented prose)\n"};
+ *
+ *     Positional arguments: .pos = {.names = "X Y Z", .min = 3, .max = 3, .off = offsetof(o, xyz)}
+ *     into a qcli_opt_list; .pos.numbers = 1 when they may be negative numbers ("-1" is then a value,
+ *     not an unknown flag).
+ *
+ *  3. The command parses, checks what the table cannot (cross-option rules, through
+ *     qcli_opt_error so the line has the same shape), then works:
+ *
+ *         gen_opts o;
+ *         int rc = qcli_opt_parse(&qcli_opts_gen, argc, argv, 1, &o);  // 1: argv[1] is the first option
+ *         if (rc != 0)
+ *             return rc;                                                // 2, its line already printed
+ *         if (o.size[0] * o.size[1] > MAX)
+ *             return qcli_opt_error(&qcli_opts_gen, "--size %ldx%ld is above ...", o.size[0], o.size[1]);
+ *
+ *  4. In main.c's command table, point the command at its table(s) instead of a hand-written usage
+ *     (.opts = specs, a NULL-terminated list: one per subcommand), and remove the command from
+ *     tests/cli_opts_test.c's list "not yet on option tables". A command with subcommands has one
+ *     table each (.name = "sh eval", .help_name = "sh") and dispatches with qcli_opt_sub.
+ *
+ * Kinds and the C type at .off: FLAG int (set to 1); INT long in [lo, hi]; NUM double in [lo, hi];
+ * STR const char *; ENUM int (index into names); SIZE long[2] ("WxH", both in 1..hi); TRIPLE double[3]
+ * (three arguments, each in [lo, hi]); LIST qcli_opt_list (the flag repeated, at most hi times, 64 at
+ * most); CALL: call(opts, value) parses it and returns NULL, or what is wrong ("is not a rotation").
+ * A later repetition of a non-LIST flag replaces the earlier value (as the commands always did).
+ * Values are taken verbatim, so `--size -8x4` is a bad size, not a missing value.
+ */
+#ifndef QTOOL_TOOLS_CLI_OPT_H
+#define QTOOL_TOOLS_CLI_OPT_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+typedef enum qcli_opt_kind {
+    QCLI_OPT_END = 0, /* the table's terminating {0} */
+    QCLI_OPT_FLAG,
+    QCLI_OPT_INT,
+    QCLI_OPT_NUM,
+    QCLI_OPT_STR,
+    QCLI_OPT_ENUM,
+    QCLI_OPT_SIZE,
+    QCLI_OPT_TRIPLE,
+    QCLI_OPT_LIST,
+    QCLI_OPT_CALL
+} qcli_opt_kind;
+
+#define QCLI_OPT_LIST_MAX 64
+typedef struct qcli_opt_list {
+    const char *v[QCLI_OPT_LIST_MAX];
+    int n;
+} qcli_opt_list;
+
+typedef struct qcli_opt {
+    const char *name;   /* "--bands", "-o" */
+    const char *alias;  /* another spelling ("-n"), or NULL */
+    qcli_opt_kind kind;
+    size_t off;         /* offsetof(the options struct, field) */
+    const char *arg;    /* the value's name in help ("B", "FILE"); a kind's own when NULL */
+    double lo, hi;      /* INT, NUM, TRIPLE: the range; SIZE: the largest side; LIST: at most this many */
+    const char *what;   /* INT: what the value is in the error ("a face size"; "an integer" when NULL) */
+    const char *why;    /* the range's reason, in the error and in help ("0: no LUT") */
+    const char *const *names; /* ENUM: the values, NULL-terminated */
+    const char *(*call)(void *opts, const char *value); /* CALL */
+    const char *def;    /* the default as help shows it, when the defaults struct cannot say it */
+    const char *renamed; /* a deprecated spelling: the name to use (a note on stderr when used) */
+    const char *note;   /* with renamed: why, in the note */
+    int required;
+    const char *help;   /* one line */
+} qcli_opt;
+
+typedef struct qcli_opt_pos {
+    const char *names; /* as usage shows them: "FILE", "X Y Z", "PROBE.hdr ..." */
+    int min, max;      /* how many (max <= QCLI_OPT_LIST_MAX) */
+    size_t off;        /* a qcli_opt_list in the options struct */
+    int numbers;       /* they may be negative numbers: "-1", "-inf" are values */
+} qcli_opt_pos;
+
+typedef struct qcli_opt_cmd {
+    const char *name;      /* as the errors and usage name it: "info", "sh eval" */
+    const char *help_name; /* `qibl help X`: the command (NULL: name) */
+    const qcli_opt *opts;  /* ended by {0}; NULL: none */
+    qcli_opt_pos pos;
+    const void *defaults;  /* the options struct's defaults (size bytes) */
+    size_t size;
+    const char *prose;     /* after the option list: what the command does, two-space indented */
+} qcli_opt_cmd;
+
+/* The tables of the commands on them, for main.c's command table and `qibl help`. */
+extern const qcli_opt_cmd qcli_opts_gen, qcli_opts_info, qcli_opts_study, qcli_opts_ies_info;
+extern const qcli_opt_cmd qcli_opts_sh_eval, qcli_opts_sh_plot, qcli_opts_srgbe_encode, qcli_opts_srgbe_decode;
+
+/* Parses argv[first..argc-1] into opts (first set to c->defaults). 0, or 2 after one line on stderr. */
+int qcli_opt_parse(const qcli_opt_cmd *c, int argc, char **argv, int first, void *opts);
+
+/* "qibl <c->name>: <fmt ...>; see qibl help <help name>" on stderr; returns 2. */
+int qcli_opt_error(const qcli_opt_cmd *c, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+/* A command made of subcommands: the spec whose name ends in argv[1] (subs NULL-terminated), or
+ * NULL after one line on stderr (naming the bad word or flag, listing the subcommands; `others`
+ * adds subcommands parsed elsewhere, e.g. "project"; may be NULL). cmd: "sh". */
+const qcli_opt_cmd *qcli_opt_sub(const char *cmd, const qcli_opt_cmd *const *subs, const char *others, int argc,
+                                 char **argv);
+
+/* `qibl help CMD`'s part for one table: usage line, the aligned option list, the prose. */
+void qcli_opt_help(FILE *f, const qcli_opt_cmd *c);
+/* The aligned option list alone ("options:" and a line per flag; nothing for an empty table). */
+void qcli_opt_help_list(FILE *f, const qcli_opt_cmd *c);
+
+/* Every flag of a table, one per line "NAME<TAB>--flag" (aliases too): `qibl help --flags CMD`, which
+ * tests/cli_opts_test.c checks against the help text and the parser. */
+void qcli_opt_flags(FILE *f, const qcli_opt_cmd *c);
+
+#endif
