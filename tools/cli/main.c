@@ -557,7 +557,7 @@ int main(int argc, char **argv)
             print_help(stdout);
             return 0;
         }
-        /* --flags CMD: every flag on CMD's tables, "SUBCOMMAND<TAB>--flag" (tests/cli_opts_test.c) */
+        /* --flags CMD: the tables and their flags, as qcli_opt_flags prints them (tests/cli_opts_test.c) */
         int flags = strcmp(argv[2], "--flags") == 0;
         if (flags && argc < 4)
             return qcli_usage_error("help --flags needs a command (see qibl --help)");

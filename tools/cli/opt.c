@@ -460,9 +460,11 @@ void qcli_opt_help_list(FILE *f, const qcli_opt_cmd *c)
 
 void qcli_opt_flags(FILE *f, const qcli_opt_cmd *c)
 {
+    fprintf(f, "%s\n", c->name);
     for (size_t k = 0; c->opts && c->opts[k].kind != QCLI_OPT_END; ++k) {
-        fprintf(f, "%s\t%s\n", c->name, c->opts[k].name);
+        const char *kind = c->opts[k].kind == QCLI_OPT_FLAG ? "flag" : "value";
+        fprintf(f, "%s\t%s\t%s\n", c->name, c->opts[k].name, kind);
         if (c->opts[k].alias)
-            fprintf(f, "%s\t%s\n", c->name, c->opts[k].alias);
+            fprintf(f, "%s\t%s\t%s\n", c->name, c->opts[k].alias, kind);
     }
 }

@@ -4,57 +4,64 @@
  *
  *     qibl CMD: <what is wrong, naming the flag and the value>; see qibl help CMD      (exit 2)
  *
- * How to convert a command (this is `qibl gen`, tools/cli/cmd_gen.c, in full):
+ * How to convert a command (this is `qibl study`, tools/cli/cmd_study.c, as it is):
  *
- *  1. An options struct and its defaults, in one place, designated-initialised. Each kind has
- *     one C type (below); the table says where a value goes with offsetof.
+ *  1. An options struct and its defaults, in one place, designated-initialised. Each kind has one
+ *     C type (below); the table says where a value goes with offsetof.
  *
- *         typedef struct gen_opts {
- *             qcli_opt_list out;            // -o FILE (STR would do; shown as LIST for the example)
- *             long size[2], k, lut;         // SIZE is two longs, INT one long
- *             int pack, layout, equirect;   // ENUM: index into names; FLAG: 0 or 1
- *         } gen_opts;
- *         static const gen_opts gen_defaults = {.size = {1024, 256}, .k = 16, .lut = 0};
+ *         typedef struct study_cli_opts {
+ *             qcli_opt_list probes;   // the positional arguments
+ *             const char *out;        // STR
+ *             long threads;           // INT
+ *             int quick;              // FLAG: 0 or 1
+ *         } study_cli_opts;
+ *         static const study_cli_opts study_defaults = {.out = NULL, .threads = 2, .quick = 0};
  *
- *  2. The table: one entry per flag, with a designated initialiser. The default shown in help is
- *     read from gen_defaults (say .def = "..." only when the default is computed at run time).
+ *  2. The table: one entry per flag, designated initialisers, ended by {0}. Help shows the default
+ *     read from study_defaults (write .def = "..." only for a default computed at run time), the
+ *     range from .lo/.hi, and .help; the errors name the flag, the value and the range.
  *
- *         static const char *const packs[] = {"minmax", "robust", NULL};
- *         static const qcli_opt gen_table[] = {
- *             {.name = "-o", .kind = QCLI_OPT_STR, .off = offsetof(gen_opts, out), .arg = "FILE",
- *              .required = 1, .help = "the asset to write"},
- *             {.name = "--size", .kind = QCLI_OPT_SIZE, .off = offsetof(gen_opts, size), .hi = 16384,
- *              .help = "panorama width x height"},
- *             {.name = "--k", .kind = QCLI_OPT_INT, .off = offsetof(gen_opts, k), .arg = "K", .lo = 1,
- *              .hi = 25, .help = "SH maps (bands^2 terms)"},
- *             {.name = "--pack", .kind = QCLI_OPT_ENUM, .off = offsetof(gen_opts, pack), .names = packs,
- *              .help = "8-bit packing: min/max or the 0.1..99.9 percentiles"},
- *             {.name = "--equirect", .kind = QCLI_OPT_FLAG, .off = offsetof(gen_opts, equirect),
- *              .help = "equirectangular instead of cylindrical"},
- *             {0}, // the end
+ *         static const qcli_opt study_table[] = {
+ *             {.name = "--out", .kind = QCLI_OPT_STR, .off = offsetof(study_cli_opts, out), .arg = "DIR",
+ *              .required = 1, .help = "where study.csv, summary.md, the plots and overlays go"},
+ *             {.name = "--quick", .kind = QCLI_OPT_FLAG, .off = offsetof(study_cli_opts, quick),
+ *              .help = "half-size probes, 2000 normals, N <= 64"},
+ *             {.name = "--threads", .kind = QCLI_OPT_INT, .off = offsetof(study_cli_opts, threads),
+ *              .arg = "T", .lo = 1, .hi = 16, .help = "worker threads"},
+ *             {0},
  *         };
- *         const qcli_opt_cmd qcli_opts_gen = {
- *             .name = "gen", .opts = gen_table, .defaults = &gen_defaults, .size = sizeof(gen_opts),
- *             .prose = "  Renders the built-in courtyard's ... (lines of two-space-indented prose)\n"};
+ *         const qcli_opt_cmd qcli_opts_study = {        // declared below, for main.c
+ *             .name = "study",
+ *             .opts = study_table,
+ *             .pos = {.names = "PROBE.hdr ...", .min = 0, .max = QCLI_OPT_LIST_MAX,
+ *                     .off = offsetof(study_cli_opts, probes)},
+ *             .defaults = &study_defaults,
+ *             .size = sizeof(study_cli_opts),
+ *             .prose = "  Ground-truth irradiance of each lat-long probe ... (two-space indented lines)\n",
+ *         };
  *
- *     Positional arguments: .pos = {.names = "X Y Z", .min = 3, .max = 3, .off = offsetof(o, xyz)}
- *     into a qcli_opt_list; .pos.numbers = 1 when they may be negative numbers ("-1" is then a value,
- *     not an unknown flag).
+ *     More kinds in real tables: ENUM with .names and a SIZE in cmd_gen.c (and a deprecated
+ *     spelling, .renamed/.note), subcommands in cmd_sh.c and cmd_srgbe.c, numeric positionals
+ *     (.pos.numbers = 1: "-1" and "-inf" are values, not unknown flags) in `sh eval`.
  *
- *  3. The command parses, checks what the table cannot (cross-option rules, through
- *     qcli_opt_error so the line has the same shape), then works:
+ *  3. The command parses, checks what the table cannot (cross-option rules) through
+ *     qcli_opt_error so that line has the same shape, then works:
  *
- *         gen_opts o;
- *         int rc = qcli_opt_parse(&qcli_opts_gen, argc, argv, 1, &o);  // 1: argv[1] is the first option
+ *         study_cli_opts c;
+ *         int rc = qcli_opt_parse(&qcli_opts_study, argc, argv, 1, &c); // argv[1]: the first option
  *         if (rc != 0)
- *             return rc;                                                // 2, its line already printed
- *         if (o.size[0] * o.size[1] > MAX)
- *             return qcli_opt_error(&qcli_opts_gen, "--size %ldx%ld is above ...", o.size[0], o.size[1]);
+ *             return rc;                      // 2, after its one line on stderr
+ *         if (qcli_parse_only)                // fuzz_cliopts: the options only
+ *             return 0;
+ *         const qtool_study_opts o = {.quick = c.quick, .threads = (int)c.threads, .out_dir = c.out};
+ *         return qtool_study_run(c.probes.v, c.probes.n, &o);
  *
- *  4. In main.c's command table, point the command at its table(s) instead of a hand-written usage
- *     (.opts = specs, a NULL-terminated list: one per subcommand), and remove the command from
- *     tests/cli_opts_test.c's list "not yet on option tables". A command with subcommands has one
- *     table each (.name = "sh eval", .help_name = "sh") and dispatches with qcli_opt_sub.
+ *  4. main.c: the command's entry points at its tables (`study_opts`, a NULL-terminated list, one
+ *     per subcommand) and its usage text becomes NULL (or only what is not on a table yet, as
+ *     `sh project`'s). Declare the table below. Remove the command from tests/cli_opts_test.c's
+ *     list "not yet on option tables": that suite then checks its unknown-flag line, that help names
+ *     every flag, and that the parser knows each one. A command of subcommands has a table each
+ *     (.name = "sh eval", .help_name = "sh") and picks one with qcli_opt_sub.
  *
  * Kinds and the C type at .off: FLAG int (set to 1); INT long in [lo, hi]; NUM double in [lo, hi];
  * STR const char *; ENUM int (index into names); SIZE long[2] ("WxH", both in 1..hi); TRIPLE double[3]
@@ -148,8 +155,9 @@ void qcli_opt_help(FILE *f, const qcli_opt_cmd *c);
 /* The aligned option list alone ("options:" and a line per flag; nothing for an empty table). */
 void qcli_opt_help_list(FILE *f, const qcli_opt_cmd *c);
 
-/* Every flag of a table, one per line "NAME<TAB>--flag" (aliases too): `qibl help --flags CMD`, which
- * tests/cli_opts_test.c checks against the help text and the parser. */
+/* The table's name on a line ("sh eval"), then each flag (aliases too) as "NAME<TAB>--flag<TAB>KIND",
+ * KIND flag (takes no value) or value: `qibl help --flags CMD`, which tests/cli_opts_test.c checks
+ * against the help text and the parser. */
 void qcli_opt_flags(FILE *f, const qcli_opt_cmd *c);
 
 #endif
