@@ -11,6 +11,7 @@
  * command on option tables, cli/opt.h) "qibl CMD[ SUB]: " and ends "; see qibl help CMD"; the
  * parsers' work is bounded (libFuzzer's timeout).
  */
+#include <stdio.h>
 #include <string.h>
 
 #include "fuzz.h"
@@ -39,12 +40,16 @@ static int refusal_ok(const char *e, const char *cmd)
     size_t n = strlen(cmd);
     if (strncmp(e, "qibl ", 5) != 0 || strncmp(e + 5, cmd, n) != 0)
         return 0;
-    const char *p = e + 5 + n, *nl = strchr(e, '\n'), *see = strstr(e, "; see qibl help ");
+    const char *p = e + 5 + n, *nl = strchr(e, '\n');
     if (*p == ' ') /* a subcommand */
         for (++p; *p >= 'a' && *p <= 'z'; ++p)
             ;
-    return p[0] == ':' && p[1] == ' ' && p[2] != '\0' && p[2] != '\n' && see && (!nl || see < nl) &&
-           strncmp(see + 16, cmd, n) == 0 && (see[16 + n] == '\n' || see[16 + n] == '\0');
+    /* the first line ends "; see qibl help CMD" (a value may hold that text too: the end is what counts) */
+    char tail[64];
+    int tn = snprintf(tail, sizeof tail, "; see qibl help %s", cmd);
+    size_t len = nl ? (size_t)(nl - e) : strlen(e);
+    return p[0] == ':' && p[1] == ' ' && p[2] != '\0' && p[2] != '\n' && tn > 0 && len >= (size_t)tn &&
+           memcmp(e + len - (size_t)tn, tail, (size_t)tn) == 0;
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)

@@ -21,9 +21,21 @@ static const char *help_name(const qcli_opt_cmd *c)
 }
 
 static int vfail(const char *name, const char *help, const char *fmt, va_list ap)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 0)))
+#endif
+    ;
+static int vfail(const char *name, const char *help, const char *fmt, va_list ap)
 {
+    /* formatted first, so a value with a control character (a newline) cannot break the one line */
+    char msg[1024];
+    vsnprintf(msg, sizeof msg, fmt, ap);
     fprintf(stderr, "qibl %s: ", name);
-    vfprintf(stderr, fmt, ap);
+    for (const unsigned char *p = (const unsigned char *)msg; *p; ++p)
+        if (*p < 0x20 || *p == 0x7f)
+            fprintf(stderr, "\\x%02x", (unsigned)*p);
+        else
+            fputc(*p, stderr);
     fprintf(stderr, "; see qibl help %s\n", help);
     return 2;
 }
