@@ -426,18 +426,17 @@ int qcli_parse_int(const char *s, long lo, long hi, long *out)
 
 int qcli_parse_num(const char *opt, const char *s, double lo, double hi, const char *why, double *out)
 {
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || *end != '\0')
+    switch (qcli_opt_num_value(s, lo, hi, out)) {
+    case 0:
+        return 0;
+    case 1:
         return qcli_usage_error("%s: '%s' is not a number", opt, s);
-    if (!isfinite(v)) /* an overflow is HUGE_VAL; an underflow (ERANGE near 0) is taken as the tiny value */
+    case 2:
         return qcli_usage_error("%s: '%s' is not a finite number", opt, s);
-    if (!(v >= lo && v <= hi))
+    default:
         return qcli_usage_error("%s: %s is outside %.10g..%.10g%s%s%s", opt, s, lo, hi, why ? " (" : "",
-                                    why ? why : "", why ? ")" : "");
-    *out = v;
-    return 0;
+                                why ? why : "", why ? ")" : "");
+    }
 }
 
 int qcli_lut_size_opt(int argc, char **argv, int *i, long lo, long *out)
@@ -460,22 +459,10 @@ int qcli_lut_size_opt(int argc, char **argv, int *i, long lo, long *out)
 
 int qcli_parse_size(const char *opt, const char *s, long max, long *w, long *h)
 {
-    const char *p = s;
-    long v[2];
-    for (int i = 0; i < 2; ++i) {
-        if (*p < '0' || *p > '9')
-            return qcli_usage_error("%s needs WxH with both in 1..%ld, got '%s'", opt, max, s);
-        long x = 0;
-        while (*p >= '0' && *p <= '9') {
-            x = x > max ? x : x * 10 + (*p - '0'); /* stops growing past max: no overflow */
-            ++p;
-        }
-        if (x < 1 || x > max || *p != (i == 0 ? 'x' : '\0'))
-            return qcli_usage_error("%s needs WxH with both in 1..%ld, got '%s'", opt, max, s);
-        v[i] = x;
-        ++p;
-    }
-    *w = v[0], *h = v[1];
+    long wh[2];
+    if (qcli_opt_size_value(s, max, wh) != 0)
+        return qcli_usage_error("%s needs WxH with both in 1..%ld, got '%s'", opt, max, s);
+    *w = wh[0], *h = wh[1];
     return 0;
 }
 

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli/cli.h" /* qcli_parse_int */
 #include "cli/opt.h"
 
 #define MAX_OPTS 64 /* entries per table the required-option check tracks */
@@ -132,54 +133,70 @@ static const char *arg_name(const qcli_opt *o, char *buf, size_t n)
     }
 }
 
-static int parse_num(const char *name, const char *help, const qcli_opt *o, const char *s, double *out)
+int qcli_opt_num_value(const char *s, double lo, double hi, double *out)
 {
     char *end;
     errno = 0;
     double v = strtod(s, &end);
     if (end == s || *end != '\0')
-        return fail_named(name, help, "%s: '%s' is not a number", o->name, s);
+        return 1;
     if (!isfinite(v)) /* an overflow is HUGE_VAL; an underflow (ERANGE near 0) is taken as the tiny value */
-        return fail_named(name, help, "%s: '%s' is not a finite number", o->name, s);
-    if (!(v >= o->lo && v <= o->hi))
-        return fail_named(name, help, "%s: %s is outside %.10g..%.10g%s%s%s", o->name, s, o->lo, o->hi,
-                          o->why ? " (" : "", o->why ? o->why : "", o->why ? ")" : "");
+        return 2;
+    if (!(v >= lo && v <= hi))
+        return 3;
     *out = v;
     return 0;
+}
+
+static int parse_num(const char *name, const char *help, const qcli_opt *o, const char *s, double *out)
+{
+    switch (qcli_opt_num_value(s, o->lo, o->hi, out)) {
+    case 0:
+        return 0;
+    case 1:
+        return fail_named(name, help, "%s: '%s' is not a number", o->name, s);
+    case 2:
+        return fail_named(name, help, "%s: '%s' is not a finite number", o->name, s);
+    default:
+        return fail_named(name, help, "%s: %s is outside %.10g..%.10g%s%s%s", o->name, s, o->lo, o->hi,
+                          o->why ? " (" : "", o->why ? o->why : "", o->why ? ")" : "");
+    }
 }
 
 static int parse_int(const char *name, const char *help, const qcli_opt *o, const char *s, long *out)
 {
-    char *end;
-    errno = 0;
-    long v = strtol(s, &end, 10);
-    if (end == s || *end != '\0' || errno == ERANGE || (double)v < o->lo || (double)v > o->hi)
+    if (qcli_parse_int(s, (long)o->lo, (long)o->hi, out) != 0)
         return fail_named(name, help, "%s: '%s' is not %s in %ld..%ld%s%s%s", o->name, s,
                           o->what ? o->what : "an integer", (long)o->lo, (long)o->hi, o->why ? " (" : "",
                           o->why ? o->why : "", o->why ? ")" : "");
-    *out = v;
     return 0;
 }
 
-/* "WxH", decimal digits only, both in 1..max */
-static int parse_size(const char *name, const char *help, const qcli_opt *o, const char *s, long *wh)
+int qcli_opt_size_value(const char *s, long max, long wh[2])
 {
     const char *p = s;
-    long max = (long)o->hi, v[2];
+    long v[2];
     for (int i = 0; i < 2; ++i) {
         long x = 0;
         if (*p < '0' || *p > '9')
-            return fail_named(name, help, "%s needs WxH with both in 1..%ld, got '%s'", o->name, max, s);
+            return -1;
         while (*p >= '0' && *p <= '9') {
             x = x > max ? x : x * 10 + (*p - '0'); /* stops growing past max: no overflow */
             ++p;
         }
         if (x < 1 || x > max || *p != (i == 0 ? 'x' : '\0'))
-            return fail_named(name, help, "%s needs WxH with both in 1..%ld, got '%s'", o->name, max, s);
+            return -1;
         v[i] = x;
         ++p;
     }
     wh[0] = v[0], wh[1] = v[1];
+    return 0;
+}
+
+static int parse_size(const char *name, const char *help, const qcli_opt *o, const char *s, long *wh)
+{
+    if (qcli_opt_size_value(s, (long)o->hi, wh) != 0)
+        return fail_named(name, help, "%s needs WxH with both in 1..%ld, got '%s'", o->name, (long)o->hi, s);
     return 0;
 }
 

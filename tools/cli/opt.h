@@ -150,6 +150,13 @@ int qcli_opt_error(const qcli_opt_cmd *c, const char *fmt, ...)
 const qcli_opt_cmd *qcli_opt_sub(const char *cmd, const qcli_opt_cmd *const *subs, const char *others, int argc,
                                  char **argv);
 
+/* The value checks under the table's kinds, for the hand-written parsers too (cli.h's qcli_parse_num
+ * and qcli_parse_size print their own lines with them). num: 0, or 1 not a number, 2 not finite, 3
+ * outside [lo, hi]; size: "WxH", decimal digits only, both in 1..max, 0 or -1. Nothing written on
+ * failure. */
+int qcli_opt_num_value(const char *s, double lo, double hi, double *out);
+int qcli_opt_size_value(const char *s, long max, long wh[2]);
+
 /* `qibl help CMD`'s part for one table: usage line, the aligned option list, the prose. */
 void qcli_opt_help(FILE *f, const qcli_opt_cmd *c);
 /* The aligned option list alone ("options:" and a line per flag; nothing for an empty table). */
