@@ -17,9 +17,8 @@ extern int qcli_parse_only;
 typedef struct qcli_cmd {
     const char *name;
     const char *summary; /* one line for `qibl --help` */
-    const char *usage;   /* full text for `qibl help <cmd>`; with opts, only what is not on them */
+    const char *usage;   /* full text for `qibl help <cmd>` */
     int (*run)(int argc, char **argv); /* argv[0] is the subcommand name */
-    const struct qcli_opt_cmd *const *opts; /* its option tables (cli/opt.h), NULL-terminated, or NULL */
 } qcli_cmd;
 
 int qcli_cmd_sh(int argc, char **argv);

@@ -29,6 +29,21 @@ static const qcli_opt_cmd *const srgbe_opts[] = {&qcli_opts_srgbe_encode, &qcli_
 static const qcli_opt_cmd *const ies_opts[] = {&qcli_opts_ies_info, NULL};
 static const qcli_opt_cmd *const study_opts[] = {&qcli_opts_study, NULL};
 
+/* which commands are on them: `qibl help CMD` is made from these, not from the command's usage */
+static const struct {
+    const char *cmd;
+    const qcli_opt_cmd *const *opts;
+} tables[] = {{"sh", sh_opts},       {"gen", gen_opts}, {"info", info_opts},
+              {"srgbe", srgbe_opts}, {"ies", ies_opts}, {"study", study_opts}};
+
+static const qcli_opt_cmd *const *tables_of(const char *cmd)
+{
+    for (size_t i = 0; i < sizeof tables / sizeof tables[0]; ++i)
+        if (strcmp(tables[i].cmd, cmd) == 0)
+            return tables[i].opts;
+    return NULL;
+}
+
 static const qcli_cmd commands[] = {
     {"sh", "evaluate the integer SH basis for a direction",
      /* sh project (cmd_probe.c) is not on an option table yet: its text as it was */
@@ -54,7 +69,7 @@ static const qcli_cmd commands[] = {
      "    raw       the table, as without --preset.\n"
      "  The layout note goes to stderr except for the table. (--format cmgen is refused: it was not\n"
      "  what cmgen writes; use --preset filament.)\n",
-     qcli_cmd_sh, sh_opts},
+     qcli_cmd_sh},
     {"bench", "benchmarks: speed against error, with RESULT lines",
      "usage: qibl bench [all|sh|relight|baselines|srgbe|lights|paths|asset|probe|hemi|memory|gles] [--quick] [--csv] [--markdown]\n"
      "                  [--svg PATH]  (hemi: the cloth's error against frames per second, as an SVG plot)\n"
@@ -83,9 +98,9 @@ static const qcli_cmd commands[] = {
      "      ringing of the irradiance with no window, Hann and Lanczos (RESULT probe.*).\n"
      "  memory: not a timing: the resident-memory table of docs/porting.md (--markdown: as there).\n"
      "  all: every timing benchmark (what `make bench` runs). --quick: fewer repetitions.\n",
-     qcli_cmd_bench, NULL},
+     qcli_cmd_bench},
     {"gen", "write the procedural courtyard's SH maps (and P map, optional Y LUT) as an asset",
-     NULL, qcli_cmd_gen, gen_opts},
+     NULL, qcli_cmd_gen},
     {"render", "ray-trace the ground-truth panorama of a scene under one light (PNG, PFM, depth)",
      "usage: qibl render (--sun X Y Z | --point X Y Z) [--rgb R G B] [--falloff 1|2] [--png OUT] [--pfm OUT]\n"
      "                   [--exr OUT.exr] [--depth OUT.pfm] [--scene builtin|FILE.gltf|FILE.glb|FILE.obj|FILE.ply] [--zup]\n"
@@ -107,7 +122,7 @@ static const qcli_cmd commands[] = {
      "  --ies FILE.ies: the --point lamp is goniometric: C0 times I(direction) / I_peak from the IES\n"
      "  profile in double precision (bilinear in its angle grid), oriented by --aim (default 0 0 -1)\n"
      "  and --up (default 1 0 0) as relight --ies orients it: the truth of relight's tables.\n",
-     qcli_cmd_render, NULL},
+     qcli_cmd_render},
     {"transfer", "a mesh self-shadowed by hemispherical rasterization under a probe, beside the ray-cast truth",
      "usage: qibl transfer MESH [MESH...] --probe PROBE.hdr [--layout L] [--png OUT] [--size N] [--mask 16|32|64]\n"
      "                     [--face F] [--rays S] [--coarse T [--ring K]] [--tween N] [--zup] [--flip] [--skip-adjacent]\n"
@@ -131,7 +146,7 @@ static const qcli_cmd commands[] = {
      "  several MESH files are frames of one animation (same triangles): an animated PNG (--tween N: N - 1\n"
      "  frames interpolated between key frames, the last back into the first). Prints ms per\n"
      "  frame on one core (thread CPU time of the hemi calls) and RESULT transfer.* lines.\n",
-     qcli_cmd_transfer, NULL},
+     qcli_cmd_transfer},
     {"bake", "bake a scene into a relightable panorama asset (ray-traced, SH-projected, 8-bit packed)",
      "usage: qibl bake (-o ASSET | --shard I/N --sums FILE) [--k K] [--lut-size N] [--dirs N] [--lsq]\n"
      "                 [--budget DB] [--quiet] [--progress=bar|lines|none]\n"
@@ -165,7 +180,7 @@ static const qcli_cmd commands[] = {
      "  there are none, so merge can refuse a shard baked without the others' paths).\n"
      "  Exit status: 0 done, 1 failed (a file, memory; named on stderr, nothing half-written), 2 bad\n"
      "  arguments.\n",
-     qcli_cmd_bake, NULL},
+     qcli_cmd_bake},
     {"merge", "combine the partial sums of bake shards into an asset",
      "usage: qibl merge (-o ASSET | --sums OUT | both) [--k K] [--lut-size N] [--lsq]\n"
      "                  [--layout planar|interleaved] [--manifest FILE] SUMS...\n"
@@ -182,7 +197,7 @@ static const qcli_cmd commands[] = {
      "  A partial set (tree merges, --sums OUT without -o): shards I, I+M, I+2M, ... of N (M dividing N)\n"
      "  are written as shard I/M with OUT.u and OUT.x, for a later merge; any other partial set is refused.\n"
      "  Exit status: 0 written, 1 refused or failed (named on stderr, nothing written), 2 bad arguments.\n",
-     qcli_cmd_merge, NULL},
+     qcli_cmd_merge},
     {"check", "validate PNG/APNG, PFM, Radiance HDR, OpenEXR and qibl asset files",
      "usage: qibl check FILE...\n"
      "  .png: signature, every chunk CRC, the zlib stream (inflated), Adler-32, APNG frame sequence;\n"
@@ -190,7 +205,7 @@ static const qcli_cmd commands[] = {
      "  flat) decoded, as qibl lights reads it; .exr (or the EXR magic): header and every chunk decoded;\n"
      "  anything else as a qibl asset (qibl_asset_open).\n"
      "  Exit 1 if any is bad.\n",
-     qcli_cmd_check, NULL},
+     qcli_cmd_check},
     {"demo", "the main demo: bake the scene, relight it by the core, compare with ground truth",
      "usage: qibl demo --out DIR [--small | --full] [--dirs N] [--frames F] [scene options as for render]\n"
      "  What `make demo` runs: bakes the scene (built-in courtyard, or --scene FILE.gltf|.glb|.obj|.ply), writes\n"
@@ -200,7 +215,7 @@ static const qcli_cmd commands[] = {
      "  Sizes: default 512x128, 256 directions, 12 frames (`make demo`); --small 256x64, 128 directions,\n"
      "  6 frames (CI); --full 1024x256, 512 directions, 24 frames and the full probe-lit truths (`make demo\n"
      "  FULL=1`, minutes of CPU). --size WxH, --dirs and --frames override the size's values.\n",
-     qcli_cmd_demo, NULL},
+     qcli_cmd_demo},
     {"relight", "relight an asset by suns, lamps, a light list or a whole probe into a PNG (core + soft framebuffer)",
      "usage: qibl relight FILE [--sun X Y Z [--rgb R G B]]... [--point X Y Z [--rgb R G B]]...\n"
      "                    [--lights FILE.csv] [--probe PROBE.hdr [--layout L] [--probe-mode sh|lights|sunsky]\n"
@@ -256,7 +271,7 @@ static const qcli_cmd commands[] = {
      "               [--ies FILE.ies [--aim X Y Z] [--up X Y Z] [--ies-size N]] (--png|--pfm|--exr OUT):\n"
      "  a light on the asset's baked path N (or its first sun path / lamp track) at T in 0..1: unshadowed\n"
      "  SH x visibility(T), soft over [T - R, T + R]; --sky adds the demo's sky through the shadowed maps.\n",
-     qcli_cmd_relight, NULL},
+     qcli_cmd_relight},
     {"view", "a live viewer: drag the sun or a lamp, scrub a baked light path, step probes, yaw, exposure, k (X11)",
      "usage: qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--lamp-rgb C0] [--exposure E] [--truth PNG|DIR]\n"
      "                 [--gles] [--bench [--frames N] [--headless] [--record OUT.png [--turn]]]\n"
@@ -277,11 +292,11 @@ static const qcli_cmd commands[] = {
      "  (--turn: one turn over the frames), then `RESULT view.fps F` (--headless: no window, the\n"
      "  framebuffer and overlay only); --record OUT.png: those frames, overlay included, as an APNG.\n"
      "  The window needs a build with X11 (Debian: apt-get install libx11-dev).\n",
-     qcli_cmd_view, NULL},
+     qcli_cmd_view},
     {"info", "validate a qibl asset file and print its contents",
-     NULL, qcli_cmd_info, info_opts},
+     NULL, qcli_cmd_info},
     {"srgbe", "encode/decode one sRGBE colour (signed shared-exponent RGB in 4 bytes)",
-     NULL, qcli_cmd_srgbe, srgbe_opts},
+     NULL, qcli_cmd_srgbe},
     {"lights", "sample a .hdr light probe (lat-long, angular, ball, cube cross) into directional lights",
      "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv | --json] [--png OUT.png]\n"
      "                   [--priority default|energy|energy-size|variance|levels] [--place centroid|centre]\n"
@@ -318,7 +333,7 @@ static const qcli_cmd commands[] = {
      "  probe is refused: its error would be 0 / 0.\n"
      "  (tools/study): SH irradiance (4/9/16/25), N varmin lights (as sampled, or RGB refitted by NNLS)\n"
      "  or sun plus sky (k lights + SH9); counted in floats stored (6 per light, 3 per coefficient).\n",
-     qcli_cmd_lights, NULL},
+     qcli_cmd_lights},
     {"probe", "describe a light probe and advise how to light with it: SH, N lights, or sun plus SH",
      "usage: qibl probe info PROBE.hdr [--layout auto|latlong|angular|ball|vcross|hcross]\n"
      "  Prints the probe's layout (detected, or --layout) and size, its luminance dynamic range\n"
@@ -332,11 +347,11 @@ static const qcli_cmd commands[] = {
      "  SH (the sun as relight --probe-mode sunsky picks it, lit exactly; the rest as 9 SH\n"
      "  coefficients). Advice: the cheapest scheme (in that order) whose mean error is within 10 %\n"
      "  of the lowest or at most 1 %, with the relight option that uses it.\n",
-     qcli_cmd_probe, NULL},
+     qcli_cmd_probe},
     {"ies", "an IES LM-63 photometric file: header facts, candela range, integrated lumens, polar curves",
-     NULL, qcli_cmd_ies, ies_opts},
+     NULL, qcli_cmd_ies},
     {"study", "the light-probe approximation study: every method, error against N and time",
-     NULL, qcli_cmd_study, study_opts},
+     NULL, qcli_cmd_study},
 };
 #define NCMD (sizeof commands / sizeof commands[0])
 
@@ -353,6 +368,7 @@ static const qcli_opt global_table[] = {
      .help = "the kernel sets this CPU runs, one per line (QIBL_ISA takes one)"},
     {0},
 };
+/* name "": its refusals read "qibl: ...; see qibl --help" */
 static const qcli_opt_cmd global_spec = {.name = "", .opts = global_table, .size = sizeof(global_opts)};
 
 static void print_help(FILE *f)
@@ -368,13 +384,14 @@ static void print_help(FILE *f)
 /* `qibl help CMD`: each option table's usage, options and prose, then the text not on a table */
 static void print_cmd_help(FILE *f, const qcli_cmd *c)
 {
-    for (size_t k = 0; c->opts && c->opts[k]; ++k) {
+    const qcli_opt_cmd *const *t = tables_of(c->name);
+    for (size_t k = 0; t && t[k]; ++k) {
         if (k > 0)
             fputc('\n', f);
-        qcli_opt_help(f, c->opts[k]);
+        qcli_opt_help(f, t[k]);
     }
     if (c->usage) {
-        if (c->opts)
+        if (t)
             fputc('\n', f);
         fputs(c->usage, f);
     }
@@ -516,12 +533,16 @@ int main(int argc, char **argv)
 {
     /* line by line into a pipe or a log too: a farm or `make demo | tee` sees each step as it ends */
     setvbuf(stdout, NULL, _IOLBF, 0);
-    if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
+    /* qibl's own flags come alone, in place of a command: the table reads argv[1] only */
+    global_opts g = {.help = 0};
+    if (argc >= 2 && argv[1][0] == '-' && argv[1][1] != '\0' && qcli_opt_parse(&global_spec, 2, argv, 1, &g) != 0)
+        return 2;
+    if (argc < 2 || g.help) {
         print_help(stdout);
         return argc < 2 ? 2 : 0;
     }
     /* the kernel sets this CPU runs, one per line, lowest first (make golden and make test loop over them) */
-    if (strcmp(argv[1], "--isa-list") == 0) {
+    if (g.isa_list) {
         for (unsigned i = 0; i < QIBL_ISA_COUNT; ++i)
             if (qibl_isa_available() & QIBL_ISA_BIT(i))
                 printf("%s\n", qibl_isa_name((qibl_isa_t)i));
@@ -533,7 +554,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "qibl: %s\n", isa_err);
         return 2;
     }
-    if (strcmp(argv[1], "--version") == 0) {
+    if (g.version) {
         char isa[160];
         qtool_isa_describe(isa, sizeof isa);
         printf("qibl %s (config id %08lx)\nkernels: %s\n", qibl_version(), (unsigned long)qibl_config_id(), isa);
@@ -551,14 +572,13 @@ int main(int argc, char **argv)
         const qcli_cmd *c = find(argv[2 + flags]);
         if (!c)
             return qcli_usage_error("no such command '%s' (see qibl --help)", argv[2 + flags]);
-        for (size_t k = 0; flags && c->opts && c->opts[k]; ++k)
-            qcli_opt_flags(stdout, c->opts[k]);
+        const qcli_opt_cmd *const *t = tables_of(c->name);
+        for (size_t k = 0; flags && t && t[k]; ++k)
+            qcli_opt_flags(stdout, t[k]);
         if (!flags)
             print_cmd_help(stdout, c);
         return 0;
     }
-    if (argv[1][0] == '-') /* not one of the flags above */
-        return qcli_usage_error("unknown option '%s'; see qibl --help", argv[1]);
     const qcli_cmd *c = find(argv[1]);
     if (!c)
         return qcli_usage_error("no such command '%s' (see qibl --help)", argv[1]);

@@ -31,13 +31,16 @@ static int vfail(const char *name, const char *help, const char *fmt, va_list ap
     /* formatted first, so a value with a control character (a newline) cannot break the one line */
     char msg[1024];
     vsnprintf(msg, sizeof msg, fmt, ap);
-    fprintf(stderr, "qibl %s: ", name);
+    fprintf(stderr, "qibl%s%s: ", name[0] ? " " : "", name);
     for (const unsigned char *p = (const unsigned char *)msg; *p; ++p)
         if (*p < 0x20 || *p == 0x7f)
             fprintf(stderr, "\\x%02x", (unsigned)*p);
         else
             fputc(*p, stderr);
-    fprintf(stderr, "; see qibl help %s\n", help);
+    if (help[0])
+        fprintf(stderr, "; see qibl help %s\n", help);
+    else /* qibl's own flags (main.c) */
+        fputs("; see qibl --help\n", stderr);
     return 2;
 }
 

@@ -56,9 +56,9 @@
  *         const qtool_study_opts o = {.quick = c.quick, .threads = (int)c.threads, .out_dir = c.out};
  *         return qtool_study_run(c.probes.v, c.probes.n, &o);
  *
- *  4. main.c: the command's entry points at its tables (`study_opts`, a NULL-terminated list, one
- *     per subcommand) and its usage text becomes NULL (or only what is not on a table yet, as
- *     `sh project`'s). Declare the table below. Remove the command from tests/cli_opts_test.c's
+ *  4. main.c: a row {"study", study_opts} in `tables` (study_opts: a NULL-terminated list, one
+ *     table per subcommand), and the command's usage text in `commands` becomes NULL (or only what
+ *     is not on a table yet, as `sh project`'s). Declare the table below. Remove the command from tests/cli_opts_test.c's
  *     list "not yet on option tables": that suite then checks its unknown-flag line, that help names
  *     every flag, and that the parser knows each one. A command of subcommands has a table each
  *     (.name = "sh eval", .help_name = "sh") and picks one with qcli_opt_sub.
@@ -121,7 +121,7 @@ typedef struct qcli_opt_pos {
 } qcli_opt_pos;
 
 typedef struct qcli_opt_cmd {
-    const char *name;      /* as the errors and usage name it: "info", "sh eval" */
+    const char *name;      /* as the errors and usage name it: "info", "sh eval" ("": qibl's own flags) */
     const char *help_name; /* `qibl help X`: the command (NULL: name) */
     const qcli_opt *opts;  /* ended by {0}; NULL: none */
     qcli_opt_pos pos;
