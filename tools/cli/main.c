@@ -432,13 +432,7 @@ int qcli_parse_q16(const char *s, int32_t *out)
 
 int qcli_parse_int(const char *s, long lo, long hi, long *out)
 {
-    char *end;
-    errno = 0;
-    long v = strtol(s, &end, 10);
-    if (end == s || *end != '\0' || errno == ERANGE || v < lo || v > hi)
-        return -1;
-    *out = v;
-    return 0;
+    return qcli_opt_int_value(s, lo, hi, out);
 }
 
 int qcli_parse_num(const char *opt, const char *s, double lo, double hi, const char *why, double *out)

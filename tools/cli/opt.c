@@ -11,7 +11,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli/cli.h" /* qcli_parse_int */
 #include "cli/opt.h"
 
 #define MAX_OPTS 64 /* entries per table the required-option check tracks */
@@ -166,9 +165,20 @@ static int parse_num(const char *name, const char *help, const qcli_opt *o, cons
     }
 }
 
+int qcli_opt_int_value(const char *s, long lo, long hi, long *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (end == s || *end != '\0' || errno == ERANGE || v < lo || v > hi)
+        return -1;
+    *out = v;
+    return 0;
+}
+
 static int parse_int(const char *name, const char *help, const qcli_opt *o, const char *s, long *out)
 {
-    if (qcli_parse_int(s, (long)o->lo, (long)o->hi, out) != 0)
+    if (qcli_opt_int_value(s, (long)o->lo, (long)o->hi, out) != 0)
         return fail_named(name, help, "%s: '%s' is not %s in %ld..%ld%s%s%s", o->name, s,
                           o->what ? o->what : "an integer", (long)o->lo, (long)o->hi, o->why ? " (" : "",
                           o->why ? o->why : "", o->why ? ")" : "");

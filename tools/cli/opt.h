@@ -150,10 +150,12 @@ int qcli_opt_error(const qcli_opt_cmd *c, const char *fmt, ...)
 const qcli_opt_cmd *qcli_opt_sub(const char *cmd, const qcli_opt_cmd *const *subs, const char *others, int argc,
                                  char **argv);
 
-/* The value checks under the table's kinds, for the hand-written parsers too (cli.h's qcli_parse_num
- * and qcli_parse_size print their own lines with them). num: 0, or 1 not a number, 2 not finite, 3
- * outside [lo, hi]; size: "WxH", decimal digits only, both in 1..max, 0 or -1. Nothing written on
- * failure. */
+/* The value checks under the table's kinds, for the hand-written parsers too (cli.h's qcli_parse_int,
+ * qcli_parse_num and qcli_parse_size are these, with their own lines). int: a decimal in [lo, hi], 0
+ * or -1; num: 0, or 1 not a number, 2 not finite, 3 outside [lo, hi]; size: "WxH", decimal digits
+ * only, both in 1..max, 0 or -1. Nothing written on failure. opt.c needs only libc (a test links it
+ * alone). */
+int qcli_opt_int_value(const char *s, long lo, long hi, long *out);
 int qcli_opt_num_value(const char *s, double lo, double hi, double *out);
 int qcli_opt_size_value(const char *s, long max, long wh[2]);
 
