@@ -291,6 +291,12 @@ $(VERSION_BANDS3): tests/version_bands3.c
 $(BUILD)/tests/version_test $(BUILD)/tests/version_test-portable $(BUILD)/tests/version_test-avx2: $(VERSION_BANDS3)
 $(BUILD)/tests/version_test $(BUILD)/tests/version_test-portable $(BUILD)/tests/version_test-avx2: TEST_EXTRA = $(VERSION_BANDS3)
 
+# cli_opts_test also tests the option-table parser itself (tools/cli/opt.c needs only libc)
+CLI_OPT_O := $(BUILD)/host/tools/cli/opt.o
+CLI_OPTS_TESTS := $(BUILD)/tests/cli_opts_test $(BUILD)/tests/cli_opts_test-portable $(BUILD)/tests/cli_opts_test-avx2
+$(CLI_OPTS_TESTS): $(CLI_OPT_O)
+$(CLI_OPTS_TESTS): TEST_EXTRA = $(CLI_OPT_O)
+
 $(BUILD)/host/tests/%.o: tests/%.c | test-deps
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) $(CMOCKA_CFLAGS) -MMD -MP -c $< -o $@
