@@ -22,6 +22,8 @@ What is exempt, by rule (a definition or a command, not a measurement):
   * hyphenated definitions: "24-byte header", "8-bit maps", "32-bit words", "16-bit" (N-unit);
   * sizes that are a power of two in B/bytes/KiB/MiB/GiB: capacities and limits chosen by design
     (a 256 KiB EWRAM, a 64 MiB cap, a 1 KiB table), never a measured size;
+  * arithmetic written out: a number after an operator and a space ("1216 + 512 = 1728 bytes",
+    "13933 R + 46871 G + 4732 B"), a derivation from definitions;
   * Q formats (Q16.16), versions, dimensions (1024x256) and bare numbers: they carry no unit above.
 Exit status: 0 when no figure remains, 1 otherwise (with --list: one line per figure, file:line).
 """
@@ -80,6 +82,10 @@ def figures_in(line):
         if unit == "B" and m.group(2) == "" :
             continue   # "8B" is a name (e.g. a model or an offset), not the docs' style for sizes
         if unit == "h" and m.group(2) == "":
+            continue
+        # a term or the result of arithmetic written out ("1216 + 512 = 1728 bytes", "4732 B" in a
+        # weighted sum): a derivation from definitions, not a measurement
+        if re.search(r"[+\-=×*/]\s+$", text[:m.start()]):
             continue
         found.append(m.group(0).strip())
     for m in RATIO.finditer(text):
