@@ -9,6 +9,7 @@
 #   docs/api.md            the API index           tools/scripts/api-index.py (from the headers)
 #   README.md  facts       goldens, suites, cases  tools/scripts/docs-facts.sh (sources, qibl-golden)
 #   ARCHITECTURE.md lines  lines per folder        tools/scripts/docs-facts.sh --lines
+#   ARCHITECTURE.md toc    table of contents       tools/scripts/doc-toc.py (from its headings)
 #   README.md  bench       the few timings kept    tools/scripts/bench-block.py docs/results/bench.txt
 #                                                  (the committed log of make docs-bench)
 # Blocks other commands own, checked here from what those commands left in $BUILD (skipped, and
@@ -45,6 +46,8 @@ bash tools/scripts/docs-facts.sh > "$tmp/facts.md"
 block facts README.md "$tmp/facts.md"
 bash tools/scripts/docs-facts.sh --lines > "$tmp/lines.md"
 block lines docs/ARCHITECTURE.md "$tmp/lines.md"
+python3 tools/scripts/doc-toc.py docs/ARCHITECTURE.md > "$tmp/toc.md"
+block toc docs/ARCHITECTURE.md "$tmp/toc.md"
 python3 tools/scripts/bench-block.py docs/results/bench.txt > "$tmp/bench.md"
 block bench README.md "$tmp/bench.md"
 
