@@ -12,7 +12,7 @@ generated blocks (between "<!-- NAME begin" and "<!-- NAME end" lines, or the ol
 
 What counts as a measured figure (outside generated blocks):
   * a number followed by a unit of time, rate, size, ratio or quality: ns us ms s sec seconds min
-    minutes h hours fps Hz KiB MiB GiB kB KB MB GB B bytes %, dB, cycles, insn, instructions, x or
+    minutes h hours fps KiB MiB GiB kB KB MB GB B bytes %, dB, cycles, insn, instructions, x or
     the multiplication sign used as a ratio ("3.9x", "1.25-1.4x"; not a dimension such as 32x32);
   * a number followed by a count of measured things: tests, cases, suites, configurations, lines,
     functions, files, findings, execs, runs;
@@ -22,8 +22,11 @@ What is exempt, by rule (a definition or a command, not a measurement):
   * hyphenated definitions: "24-byte header", "8-bit maps", "32-bit words", "16-bit" (N-unit);
   * sizes that are a power of two in B/bytes/KiB/MiB/GiB: capacities and limits chosen by design
     (a 256 KiB EWRAM, a 64 MiB cap, a 1 KiB table), never a measured size;
+  * goals and limits: a number right after "at most", "goal of", "goal:", "<=" or "≤";
   * arithmetic written out: a number after an operator and a space ("1216 + 512 = 1728 bytes",
     "13933 R + 46871 G + 4732 B"), a derivation from definitions;
+  * zero sizes ("0 bytes of .data": a rule) and clock frequencies (Hz, MHz: the hardware's
+    specification, not counted as a unit);
   * Q formats (Q16.16), versions, dimensions (1024x256) and bare numbers: they carry no unit above.
 Exit status: 0 when no figure remains, 1 otherwise (with --list: one line per figure, file:line).
 """
@@ -32,7 +35,7 @@ import os
 import re
 import sys
 
-UNITS = (r"ns|µs|us|ms|s|sec|secs|seconds?|min|minutes?|h|hours?|fps|Hz|kHz|MHz|GHz|"
+UNITS = (r"ns|µs|us|ms|s|sec|secs|seconds?|min|minutes?|h|hours?|fps|"
          r"KiB|MiB|GiB|kB|KB|MB|GB|B|bytes?|%|dB|cycles?|insn|instructions?|"
          r"tests|cases|suites|configurations|lines|functions|files|findings|execs|runs|"
          r"CPU[- ](?:minutes?|seconds?|hours?)")
@@ -71,6 +74,8 @@ def figures_in(line):
         end = m.end()
         if end < len(text) and text[end] == "-":
             continue
+        if unit in BINARY and float(num.replace(",", "")) == 0:
+            continue   # "0 bytes of .data": a rule (nothing), not a measurement
         if unit in BINARY or unit in ("KiB", "MiB", "GiB"):
             if power_of_two(num) and m.group(0).count(num) == 1 and not re.search(r"[–\-]", m.group(0)):
                 continue
@@ -86,6 +91,10 @@ def figures_in(line):
         # a term or the result of arithmetic written out ("1216 + 512 = 1728 bytes", "4732 B" in a
         # weighted sum): a derivation from definitions, not a measurement
         if re.search(r"[+\-=×*/]\s+$", text[:m.start()]):
+            continue
+        # a goal or a limit the design sets, not a measurement: "at most 200 instructions",
+        # "the goal of 16 KiB", "<= 600 cycles"
+        if re.search(r"(?:\bat most|\bgoal of|\bgoal:|≤|<=)\s*$", text[:m.start()]):
             continue
         found.append(m.group(0).strip())
     for m in RATIO.finditer(text):
