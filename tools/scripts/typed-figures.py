@@ -22,8 +22,9 @@ What is exempt, by rule (a definition or a command, not a measurement):
   * hyphenated definitions: "24-byte header", "8-bit maps", "32-bit words", "16-bit" (N-unit);
   * sizes that are a power of two in B/bytes/KiB/MiB/GiB: capacities and limits chosen by design
     (a 256 KiB EWRAM, a 64 MiB cap, a 1 KiB table), never a measured size;
-  * goals and limits: a number right after "at most", "goal of", "goal:", "<=" or "≤";
-  * arithmetic written out: a number after an operator and a space ("1216 + 512 = 1728 bytes",
+  * goals, limits and defaults: a number right after "at most", "up to", "goal of", "goal:",
+    "default", "<=" or "≤" (a setting the design chooses, not a measurement);
+  * arithmetic written out: a number after an operator (+ - = * / x ·) and a space, or an exponent (2^26 bytes) ("1216 + 512 = 1728 bytes",
     "13933 R + 46871 G + 4732 B"), a derivation from definitions;
   * zero sizes ("0 bytes of .data": a rule) and clock frequencies (Hz, MHz: the hardware's
     specification, not counted as a unit);
@@ -90,11 +91,11 @@ def figures_in(line):
             continue
         # a term or the result of arithmetic written out ("1216 + 512 = 1728 bytes", "4732 B" in a
         # weighted sum): a derivation from definitions, not a measurement
-        if re.search(r"[+\-=×*/]\s+$", text[:m.start()]):
+        if re.search(r"(?:[+=×*/·]\s+|\s-\s+|\bx\s+|\^)$", text[:m.start()]):
             continue
         # a goal or a limit the design sets, not a measurement: "at most 200 instructions",
         # "the goal of 16 KiB", "<= 600 cycles"
-        if re.search(r"(?:\bat most|\bgoal of|\bgoal:|≤|<=)\s*$", text[:m.start()]):
+        if re.search(r"(?:\bat most|\bup to|\bgoal of|\bgoal:|\bdefault|≤|<=)\s*$", text[:m.start()]):
             continue
         found.append(m.group(0).strip())
     for m in RATIO.finditer(text):
