@@ -58,6 +58,11 @@ edit docs/ARCHITECTURE.md 's/(<!-- lines begin.*?\n(?:.*\n)*?\| `core\/src` \| \
 expect_fail "stale lines block (docs/ARCHITECTURE.md)" "lines block differs"
 restore docs/ARCHITECTURE.md
 
+# a heading renamed without make docs: ARCHITECTURE.md's table of contents is stale
+edit docs/ARCHITECTURE.md 's/^## Testing$/## Tests/m'
+expect_fail "stale toc block (docs/ARCHITECTURE.md)" "toc block differs"
+restore docs/ARCHITECTURE.md
+
 # docs/api.md missing a function
 edit docs/api.md 's/^\| `qibl_sh_rotate` \|.*\n//m'
 expect_fail "stale docs/api.md" "docs/api.md differs"
