@@ -79,7 +79,7 @@ static void gmaps_make(gmaps *g, uint32_t w, uint32_t h, uint32_t k)
 {
     const uint32_t ch = 3;
     const int32_t scale_mag = 1 << 17;
-    grng r = {2026};
+    qtool_grng r = {2026};
     memset(&g->m, 0, sizeof g->m); /* zero: the planar layout */
     g->m.width = w, g->m.height = h, g->m.k = k, g->m.channels = ch;
     g->params = malloc(8u * k * ch);
@@ -87,26 +87,26 @@ static void gmaps_make(gmaps *g, uint32_t w, uint32_t h, uint32_t k)
     g->points = malloc((size_t)w * h * 12u);
     assert_non_null(g->params), assert_non_null(g->planes), assert_non_null(g->points);
     for (uint32_t i = 0; i < k * ch; ++i) {
-        int32_t sc = (int32_t)(grng_u32(&r) % (uint32_t)scale_mag) - scale_mag / 2;
-        int32_t bi = -128 * sc + (int32_t)(grng_u32(&r) % 2001u) - 1000;
-        gput_s32(g->params + 8u * i, sc);
-        gput_s32(g->params + 8u * i + 4u, bi);
+        int32_t sc = (int32_t)(qtool_grng_u32(&r) % (uint32_t)scale_mag) - scale_mag / 2;
+        int32_t bi = -128 * sc + (int32_t)(qtool_grng_u32(&r) % 2001u) - 1000;
+        qtool_gput_s32(g->params + 8u * i, sc);
+        qtool_gput_s32(g->params + 8u * i + 4u, bi);
     }
     for (size_t i = 0; i < (size_t)w * h * k * ch; ++i)
-        (void)grng_u32(&r);
+        (void)qtool_grng_u32(&r);
     for (uint32_t pl = 0; pl < k * ch; ++pl)
         for (uint32_t y = 0; y < h; ++y)
             for (uint32_t x = 0; x < w; ++x)
                 g->planes[((size_t)pl * h + y) * w + x] =
-                    (uint8_t)((x * (pl + 3) + y * (2 * pl + 1) + (grng_u32(&r) & 15u)) & 0xFFu);
+                    (uint8_t)((x * (pl + 3) + y * (2 * pl + 1) + (qtool_grng_u32(&r) & 15u)) & 0xFFu);
     g->m.params = g->params;
     g->m.planes = g->planes;
     for (uint32_t y = 0; y < h; ++y)
         for (uint32_t x = 0; x < w; ++x) {
             uint8_t *q = g->points + ((size_t)y * w + x) * 12u;
-            gput_s32(q, (int32_t)(x * 40000u) - (int32_t)(w * 20000u));
-            gput_s32(q + 4, (int32_t)((x * 7u + y * 3u) % 11u) * 30000 - 150000);
-            gput_s32(q + 8, (int32_t)(y * 50000u) - (int32_t)(h * 25000u));
+            qtool_gput_s32(q, (int32_t)(x * 40000u) - (int32_t)(w * 20000u));
+            qtool_gput_s32(q + 4, (int32_t)((x * 7u + y * 3u) % 11u) * 30000 - 150000);
+            qtool_gput_s32(q + 8, (int32_t)(y * 50000u) - (int32_t)(h * 25000u));
         }
     g->p.width = w, g->p.height = h, g->p.points = g->points;
 }
@@ -127,7 +127,7 @@ static void soft_frame(const gmaps *g, const qibl_shmap_weights_t *w, const qibl
         qibl_status_t st = w ? qibl_shmap_relight_span(&g->m, w, 0, y, GW, row, ws, sizeof ws)
                              : qibl_shmap_point_span(pt, 0, y, GW, row, ws, sizeof ws);
         assert_int_equal(st, QIBL_OK);
-        assert_int_equal(qibl_fb_write_row(&fb, 0, y, GW, row), QIBL_OK);
+        assert_int_equal(qibl_soft_fb_write_row(&fb, 0, y, GW, row), QIBL_OK);
     }
 }
 
@@ -262,14 +262,14 @@ static void test_srgbe_shader_matches_codec(void **state)
     assert_int_equal(qibl_gles2_init(&gl, NULL), QIBL_OK);
     enum { N = 4096 };
     static uint8_t codes[4 * N], back[4 * N];
-    grng r = {77};
+    qtool_grng r = {77};
     /* canonical codes of random binary32 colours over 2^-40 .. 2^40, both signs, mixed magnitudes */
     for (uint32_t i = 0; i < N; ++i) {
         uint32_t rgb[3];
-        uint32_t ebase = 87u + grng_u32(&r) % 80u;
+        uint32_t ebase = 87u + qtool_grng_u32(&r) % 80u;
         for (int c = 0; c < 3; ++c) {
-            uint32_t e = ebase - (grng_u32(&r) % 4u == 0 ? grng_u32(&r) % 12u : 0u);
-            rgb[c] = (grng_u32(&r) & 0x80000000u) | e << 23 | (grng_u32(&r) & 0x7FFFFFu);
+            uint32_t e = ebase - (qtool_grng_u32(&r) % 4u == 0 ? qtool_grng_u32(&r) % 12u : 0u);
+            rgb[c] = (qtool_grng_u32(&r) & 0x80000000u) | e << 23 | (qtool_grng_u32(&r) & 0x7FFFFFu);
         }
         assert_int_equal(qibl_srgbe_encode_f32(rgb, codes + 4u * i), QIBL_OK);
     }
@@ -366,6 +366,15 @@ static void test_named_errors(void **state)
             assert_string_not_equal(a, qibl_gles2_status_str((qibl_status_t)(QIBL_STATUS_GLES2_BASE + j)));
     }
     assert_string_equal(qibl_gles2_status_str(QIBL_E_SHMAP_K), qibl_status_str(QIBL_E_SHMAP_K));
+    /* the one list (gles2.h) holds the range in value order, each with the text given above */
+    int n = 0;
+#define CHECK_(name, message) \
+    assert_int_equal((int)(name), (int)QIBL_STATUS_GLES2_BASE + 1 + n); \
+    assert_string_equal(qibl_gles2_status_str(name), message); \
+    ++n;
+    QIBL_GLES2_STATUS_LIST(CHECK_)
+#undef CHECK_
+    assert_int_equal(n, 10);
     gmaps_free(&g);
 }
 

@@ -70,9 +70,9 @@ static void seen_error(void *user, const char *name, const char *what)
     ++r->errors;
 }
 
-/* A case's bytes through every gbuf writer, longer than a handheld's RAM (1 MiB + 7): the hash
- * and count it emits are those of the same bytes laid out in memory, and the gbuf is reusable
- * after gbuf_emit (the next case starts empty). */
+/* A case's bytes through every qtool_gbuf writer, longer than a handheld's RAM (1 MiB + 7): the hash
+ * and count it emits are those of the same bytes laid out in memory, and the qtool_gbuf is reusable
+ * after qtool_gbuf_emit (the next case starts empty). */
 static void test_gbuf_streams(void **state)
 {
     (void)state;
@@ -83,28 +83,28 @@ static void test_gbuf_streams(void **state)
     seen r;
     memset(&r, 0, sizeof r);
     qtool_goldens_sink_t sink = {seen_emit, seen_error, &r};
-    gbuf b = {0};
-    grng g = {42};
+    qtool_gbuf b = {0};
+    qtool_grng g = {42};
     for (int i = 0; i < ROUNDS; ++i) {
-        uint64_t v = grng_next(&g);
-        gbuf_u8(&b, (uint32_t)v), *p++ = (uint8_t)v;
-        gbuf_u16(&b, (uint32_t)(v >> 8)), *p++ = (uint8_t)(v >> 8), *p++ = (uint8_t)(v >> 16);
-        gbuf_s32(&b, gs32((uint32_t)(v >> 24))), gput_u32(p, (uint32_t)(v >> 24)), p += 4;
-        gbuf_u64(&b, v);
+        uint64_t v = qtool_grng_next(&g);
+        qtool_gbuf_u8(&b, (uint32_t)v), *p++ = (uint8_t)v;
+        qtool_gbuf_u16(&b, (uint32_t)(v >> 8)), *p++ = (uint8_t)(v >> 8), *p++ = (uint8_t)(v >> 16);
+        qtool_gbuf_s32(&b, qtool_gs32((uint32_t)(v >> 24))), qtool_gput_u32(p, (uint32_t)(v >> 24)), p += 4;
+        qtool_gbuf_u64(&b, v);
         for (int k = 0; k < 8; ++k)
             *p++ = (uint8_t)(v >> (8 * k));
-        gbuf_bytes(&b, p - 15, 1), *p = p[-15], ++p;
+        qtool_gbuf_bytes(&b, p - 15, 1), *p = p[-15], ++p;
     }
-    gbuf_bytes(&b, "golden!", 7), memcpy(p, "golden!", 7), p += 7;
+    qtool_gbuf_bytes(&b, "golden!", 7), memcpy(p, "golden!", 7), p += 7;
     assert_int_equal((size_t)(p - want), total);
-    assert_int_equal(gbuf_emit(&sink, "streamed", &b), 0);
+    assert_int_equal(qtool_gbuf_emit(&sink, "streamed", &b), 0);
     char hex[65];
     qtool_sha256_hex(want, total, hex);
     assert_string_equal(r.name, "streamed");
     assert_string_equal(r.hex, hex);
     assert_true(r.n == (uint64_t)total);
     /* reused: an empty case is the hash of no bytes */
-    assert_int_equal(gbuf_emit(&sink, "empty", &b), 0);
+    assert_int_equal(qtool_gbuf_emit(&sink, "empty", &b), 0);
     qtool_sha256_hex(want, 0, hex);
     assert_string_equal(r.hex, hex);
     assert_true(r.n == 0);
@@ -121,10 +121,10 @@ static void test_oom_size(void **state)
     seen r;
     memset(&r, 0, sizeof r);
     qtool_goldens_sink_t sink = {seen_emit, seen_error, &r};
-    assert_int_equal(gcase_oom_size(&sink, "big", 329240u), 1);
+    assert_int_equal(qtool_gcase_oom_size(&sink, "big", 329240u), 1);
     assert_string_equal(r.name, "big");
     assert_string_equal(r.what, "out of memory: needs 329240 bytes");
-    assert_int_equal(gcase_oom_size(&sink, "huge", 0u), 1);
+    assert_int_equal(qtool_gcase_oom_size(&sink, "huge", 0u), 1);
     assert_string_equal(r.what, "out of memory: needs more bytes than size_t holds");
     assert_int_equal(r.errors, 2);
     assert_int_equal(r.emits, 0);

@@ -33,8 +33,8 @@ static void target_init(target *g, qibl_fb_format_t f)
     memset(g, 0, sizeof *g);
     g->t.fb.pixels = g->px, g->t.fb.width = W, g->t.fb.height = H, g->t.fb.format = f;
     g->t.depth = g->depth, g->t.depth_count = W * H;
-    assert_int_equal(qibl_fb_clear(&g->t.fb), QIBL_OK);
-    assert_int_equal(qibl_raster_clear_depth(&g->t), QIBL_OK);
+    assert_int_equal(qibl_soft_fb_clear(&g->t.fb), QIBL_OK);
+    assert_int_equal(qibl_soft_raster_clear_depth(&g->t), QIBL_OK);
 }
 
 static qibl_raster_vertex_t vx(int32_t x, int32_t y, int32_t z, int32_t r, int32_t gg, int32_t b)
@@ -114,7 +114,7 @@ static void test_tiling_covers_once(void **state)
                         tris[k][1] = tris[k][2], tris[k][2] = x;
                     }
                     target_init(&g, QIBL_FB_RGBA8888);
-                    assert_int_equal(qibl_raster_triangles(&g.t, v, (N + 1) * (N + 1),
+                    assert_int_equal(qibl_soft_raster_triangles(&g.t, v, (N + 1) * (N + 1),
                                                            (const uint32_t(*)[3])&tris[k], 1), QIBL_OK);
                     for (int y = 0; y < H; ++y)
                         for (int x = 0; x < W; ++x) {
@@ -152,7 +152,7 @@ static void test_planes_match_reference(void **state)
                       rnd(0, 0x7FFFFFFF - 1), rnd(0, ONE), rnd(0, ONE), rnd(0, ONE));
         target_init(&g, QIBL_FB_RGBA8888);
         const uint32_t t[1][3] = {{0, 1, 2}};
-        assert_int_equal(qibl_raster_triangles(&g.t, v, 3, t, 1), QIBL_OK);
+        assert_int_equal(qibl_soft_raster_triangles(&g.t, v, 3, t, 1), QIBL_OK);
         const double x0 = v[0].x, y0 = v[0].y;
         const double ax = v[1].x - x0, ay = v[1].y - y0, bx = v[2].x - x0, by = v[2].y - y0;
         const double area = ax * by - ay * bx;
@@ -191,8 +191,8 @@ static void test_depth_order_independent(void **state)
                       rnd(0, ONE));
         const uint32_t ab[2][3] = {{0, 1, 2}, {3, 4, 5}}, ba[2][3] = {{3, 4, 5}, {0, 1, 2}};
         target_init(&a, QIBL_FB_BGRA8888), target_init(&b, QIBL_FB_BGRA8888);
-        assert_int_equal(qibl_raster_triangles(&a.t, v, 6, ab, 2), QIBL_OK);
-        assert_int_equal(qibl_raster_triangles(&b.t, v, 6, ba, 2), QIBL_OK);
+        assert_int_equal(qibl_soft_raster_triangles(&a.t, v, 6, ab, 2), QIBL_OK);
+        assert_int_equal(qibl_soft_raster_triangles(&b.t, v, 6, ba, 2), QIBL_OK);
         /* odd / even z: no two planes are equal at a pixel except by rounding; compare depth and
          * take pixels where depths differ by more than rounding as the test */
         for (int i = 0; i < W * H; ++i) {
@@ -214,20 +214,20 @@ static void test_cull_and_degenerate(void **state)
     int n = 0;
     target_init(&g, QIBL_FB_RGBA8888);
     g.t.cull = QIBL_RASTER_CULL_CW;
-    assert_int_equal(qibl_raster_triangles(&g.t, v, 5, cw, 1), QIBL_OK);
+    assert_int_equal(qibl_soft_raster_triangles(&g.t, v, 5, cw, 1), QIBL_OK);
     for (int i = 0; i < W * H; ++i)
         n += g.depth[i] != QIBL_RASTER_DEPTH_FAR;
     assert_int_equal(n, 0);
-    assert_int_equal(qibl_raster_triangles(&g.t, v, 5, ccw, 1), QIBL_OK);
+    assert_int_equal(qibl_soft_raster_triangles(&g.t, v, 5, ccw, 1), QIBL_OK);
     for (int i = 0; i < W * H; ++i)
         n += g.depth[i] != QIBL_RASTER_DEPTH_FAR;
     assert_true(n > 100);
     g.t.cull = QIBL_RASTER_CULL_CCW;
     target_init(&g, QIBL_FB_RGBA8888);
     g.t.cull = QIBL_RASTER_CULL_CCW;
-    assert_int_equal(qibl_raster_triangles(&g.t, v, 5, ccw, 1), QIBL_OK);
-    assert_int_equal(qibl_raster_triangles(&g.t, v, 5, line, 1), QIBL_OK); /* collinear: nothing */
-    assert_int_equal(qibl_raster_triangles(&g.t, v, 5, pt, 1), QIBL_OK);   /* a point: nothing */
+    assert_int_equal(qibl_soft_raster_triangles(&g.t, v, 5, ccw, 1), QIBL_OK);
+    assert_int_equal(qibl_soft_raster_triangles(&g.t, v, 5, line, 1), QIBL_OK); /* collinear: nothing */
+    assert_int_equal(qibl_soft_raster_triangles(&g.t, v, 5, pt, 1), QIBL_OK);   /* a point: nothing */
     for (int i = 0; i < W * H; ++i)
         assert_int_equal(g.depth[i], QIBL_RASTER_DEPTH_FAR);
 }
@@ -245,14 +245,14 @@ static void test_guard_band_offscreen_sliver(void **state)
                                  vx(8, 8, 1, ONE, ONE, ONE), vx(630, 400, 1, ONE, ONE, ONE), vx(319, 205, 1, 0, 0, 0)};
     const uint32_t huge[1][3] = {{0, 1, 2}}, off[1][3] = {{3, 4, 5}}, sliver[1][3] = {{6, 7, 8}};
     target_init(&g, QIBL_FB_RGBA8888);
-    assert_int_equal(qibl_raster_triangles(&g.t, v, 9, huge, 1), QIBL_OK);
+    assert_int_equal(qibl_soft_raster_triangles(&g.t, v, 9, huge, 1), QIBL_OK);
     for (int i = 0; i < W * H; ++i) {
         assert_int_equal(g.depth[i], 7);
         assert_int_equal(g.px[4 * i], 128); /* round(255 * 0.5) half up */
     }
     target_init(&g, QIBL_FB_RGBA8888);
-    assert_int_equal(qibl_raster_triangles(&g.t, v, 9, off, 1), QIBL_OK);
-    assert_int_equal(qibl_raster_triangles(&g.t, v, 9, sliver, 1), QIBL_OK);
+    assert_int_equal(qibl_soft_raster_triangles(&g.t, v, 9, off, 1), QIBL_OK);
+    assert_int_equal(qibl_soft_raster_triangles(&g.t, v, 9, sliver, 1), QIBL_OK);
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x)
             assert_int_equal(written(&g, x, y), ref_inside(&v[6], &v[7], &v[8], x, y));
@@ -267,35 +267,35 @@ static void test_errors_write_nothing(void **state)
     const uint32_t t[1][3] = {{0, 1, 2}}, bad_index[1][3] = {{0, 1, 3}};
     target_init(&g, QIBL_FB_RGBA8888);
     before = g;
-    assert_int_equal(qibl_raster_triangles(NULL, v, 3, t, 1), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_soft_raster_triangles(NULL, v, 3, t, 1), QIBL_E_NULL_POINTER);
     qibl_raster_target_t x = g.t;
     x.fb.format = QIBL_FB_ACCUM32;
-    assert_int_equal(qibl_raster_triangles(&x, v, 3, t, 1), QIBL_E_FB_FORMAT);
+    assert_int_equal(qibl_soft_raster_triangles(&x, v, 3, t, 1), QIBL_E_FB_FORMAT);
     x = g.t, x.fb.format = (qibl_fb_format_t)99;
-    assert_int_equal(qibl_raster_triangles(&x, v, 3, t, 1), QIBL_E_FB_FORMAT);
+    assert_int_equal(qibl_soft_raster_triangles(&x, v, 3, t, 1), QIBL_E_FB_FORMAT);
     x = g.t, x.fb.width = 0;
-    assert_int_equal(qibl_raster_triangles(&x, v, 3, t, 1), QIBL_E_FB_SIZE);
+    assert_int_equal(qibl_soft_raster_triangles(&x, v, 3, t, 1), QIBL_E_FB_SIZE);
     x = g.t, x.depth = NULL;
-    assert_int_equal(qibl_raster_triangles(&x, v, 3, t, 1), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_soft_raster_triangles(&x, v, 3, t, 1), QIBL_E_NULL_POINTER);
     x = g.t, x.depth_count = W * H - 1;
-    assert_int_equal(qibl_raster_triangles(&x, v, 3, t, 1), QIBL_E_FB_SIZE);
-    assert_int_equal(qibl_raster_clear_depth(&x), QIBL_E_FB_SIZE);
-    assert_int_equal(qibl_raster_triangles(&g.t, NULL, 3, t, 1), QIBL_E_NULL_POINTER);
-    assert_int_equal(qibl_raster_triangles(&g.t, v, 3, NULL, 1), QIBL_E_NULL_POINTER);
-    assert_int_equal(qibl_raster_triangles(&g.t, v, 3, bad_index, 1), QIBL_E_RASTER_INDEX);
+    assert_int_equal(qibl_soft_raster_triangles(&x, v, 3, t, 1), QIBL_E_FB_SIZE);
+    assert_int_equal(qibl_soft_raster_clear_depth(&x), QIBL_E_FB_SIZE);
+    assert_int_equal(qibl_soft_raster_triangles(&g.t, NULL, 3, t, 1), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_soft_raster_triangles(&g.t, v, 3, NULL, 1), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_soft_raster_triangles(&g.t, v, 3, bad_index, 1), QIBL_E_RASTER_INDEX);
     /* a bad second triangle: the first is not drawn either */
     const uint32_t two[2][3] = {{0, 1, 2}, {0, 1, 5}};
-    assert_int_equal(qibl_raster_triangles(&g.t, v, 3, two, 2), QIBL_E_RASTER_INDEX);
+    assert_int_equal(qibl_soft_raster_triangles(&g.t, v, 3, two, 2), QIBL_E_RASTER_INDEX);
     v[2].x = QIBL_RASTER_COORD_MAX + 1;
-    assert_int_equal(qibl_raster_triangles(&g.t, v, 3, t, 1), QIBL_E_RASTER_RANGE);
+    assert_int_equal(qibl_soft_raster_triangles(&g.t, v, 3, t, 1), QIBL_E_RASTER_RANGE);
     v[2].x = 0, v[2].y = -QIBL_RASTER_COORD_MAX - 1;
-    assert_int_equal(qibl_raster_triangles(&g.t, v, 3, t, 1), QIBL_E_RASTER_RANGE);
+    assert_int_equal(qibl_soft_raster_triangles(&g.t, v, 3, t, 1), QIBL_E_RASTER_RANGE);
     v[2].y = 300, v[2].z = -1;
-    assert_int_equal(qibl_raster_triangles(&g.t, v, 3, t, 1), QIBL_E_RASTER_RANGE);
+    assert_int_equal(qibl_soft_raster_triangles(&g.t, v, 3, t, 1), QIBL_E_RASTER_RANGE);
     assert_memory_equal(g.px, before.px, sizeof g.px);
     assert_memory_equal(g.depth, before.depth, sizeof g.depth);
     /* zero triangles with NULL arrays is a valid empty draw */
-    assert_int_equal(qibl_raster_triangles(&g.t, NULL, 0, NULL, 0), QIBL_OK);
+    assert_int_equal(qibl_soft_raster_triangles(&g.t, NULL, 0, NULL, 0), QIBL_OK);
     assert_string_equal(qibl_soft_status_str(QIBL_E_RASTER_RANGE), "raster: vertex beyond the coordinate or depth range");
     assert_string_equal(qibl_soft_status_str(QIBL_E_RASTER_INDEX), "raster: triangle index beyond the vertex count");
 }

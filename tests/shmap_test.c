@@ -166,7 +166,7 @@ static void test_directional_against_double(void **state)
             maps_make(&b, 37, 5, ks[ki], ch, &r, 1 << 16);
             for (int it = 0; it < 8; ++it) {
                 qibl_shlight_t l;
-                qibl_shlight_init(&l, 25);
+                assert_int_equal(qibl_shlight_init(&l, 25), QIBL_OK);
                 qibl_q16_t d[3] = {tu_s32(&r) >> 4, tu_s32(&r) >> 4, tu_s32(&r) >> 4};
                 qibl_q16_t rgb[3] = {(int32_t)(tu_u32(&r) % (8u << 16)), (int32_t)(tu_u32(&r) % (8u << 16)), 1 << 16};
                 assert_int_equal(qibl_shlight_add_dir(&l, d, rgb), QIBL_OK);
@@ -197,14 +197,14 @@ static void test_environment_and_many_lights(void **state)
     maps_make(&b, 64, 3, 16, 3, &r, 1 << 15);
     /* an environment: arbitrary signed coefficients per channel */
     qibl_shlight_t env;
-    qibl_shlight_init(&env, 16);
+    assert_int_equal(qibl_shlight_init(&env, 16), QIBL_OK);
     for (int ch = 0; ch < 3; ++ch)
         for (int i = 0; i < 16; ++i)
             env.c[ch][i] = (int32_t)(tu_u32(&r) % (4u << 16)) - (2 << 16);
     assert_true(check_relight(&b.m, &env, NULL) <= 1.0);
     /* eight directional lights at once equal their summed coefficients */
     qibl_shlight_t many;
-    qibl_shlight_init(&many, 16);
+    assert_int_equal(qibl_shlight_init(&many, 16), QIBL_OK);
     for (int j = 0; j < 8; ++j) {
         qibl_q16_t d[3] = {tu_s32(&r) >> 8, tu_s32(&r) >> 8, tu_s32(&r) >> 8};
         qibl_q16_t rgb[3] = {1 << 15, 1 << 14, 1 << 16};
@@ -221,9 +221,9 @@ static void test_spans_equal_whole_rows(void **state)
     maps_buf b;
     maps_make(&b, 203, 4, 9, 3, &r, 1 << 16);
     qibl_shlight_t l;
-    qibl_shlight_init(&l, 9);
+    assert_int_equal(qibl_shlight_init(&l, 9), QIBL_OK);
     const qibl_q16_t d[3] = {1 << 16, -(1 << 15), 3 << 14}, rgb[3] = {3 << 16, 2 << 16, 1 << 16};
-    qibl_shlight_add_dir(&l, d, rgb);
+    assert_int_equal(qibl_shlight_add_dir(&l, d, rgb), QIBL_OK);
     qibl_shmap_weights_t w;
     assert_int_equal(qibl_shmap_weights(&b.m, &l, &w), QIBL_OK);
     int32_t whole[203 * 3], part[203 * 3];
@@ -259,7 +259,7 @@ static void test_accumulator_extremes(void **state)
         for (size_t i = 0; i < 8u * 25u; ++i)
             b.planes[i] = 255;
         qibl_shlight_t l;
-        qibl_shlight_init(&l, 25);
+        assert_int_equal(qibl_shlight_init(&l, 25), QIBL_OK);
         for (int ch = 0; ch < 3; ++ch)
             for (int i = 0; i < 25; ++i)
                 l.c[ch][i] = 1 << 4; /* tiny light so the sum stays inside Q16.16 */
@@ -289,7 +289,7 @@ static void test_relight_errors_write_nothing(void **state)
     maps_buf b;
     maps_make(&b, 16, 2, 4, 3, &r, 1 << 16);
     qibl_shlight_t l;
-    qibl_shlight_init(&l, 4);
+    assert_int_equal(qibl_shlight_init(&l, 4), QIBL_OK);
     qibl_shmap_weights_t w;
     assert_int_equal(qibl_shmap_weights(&b.m, &l, &w), QIBL_OK);
     int32_t out[16 * 3], ws[16 * 3];
@@ -317,7 +317,7 @@ static void test_relight_errors_write_nothing(void **state)
     assert_true(tu_guard_intact(out, sizeof out));
     /* weights: a light with fewer coefficients than the maps */
     qibl_shlight_t l3;
-    qibl_shlight_init(&l3, 3);
+    assert_int_equal(qibl_shlight_init(&l3, 3), QIBL_OK);
     qibl_shmap_weights_t wg;
     tu_fill_guard(&wg, sizeof wg);
     assert_int_equal(qibl_shmap_weights(&b.m, &l3, &wg), QIBL_E_SHMAP_LIGHT_K);
@@ -895,7 +895,7 @@ static void test_interleaved_equals_planar(void **state)
         assert_non_null(o2);
         /* directional: a dim, a normal and a saturating light (every finishing path) */
         qibl_shlight_t l;
-        qibl_shlight_init(&l, k);
+        assert_int_equal(qibl_shlight_init(&l, k), QIBL_OK);
         for (uint32_t c = 0; c < 3; ++c)
             for (uint32_t i = 0; i < k; ++i)
                 l.c[c][i] = it % 3 == 0 ? tu_s32(&r) >> 20 : it % 3 == 1 ? tu_s32(&r) >> 12 : tu_s32(&r);
@@ -934,7 +934,7 @@ static void test_interleaved_equals_planar(void **state)
     qibl_shmaps_t bad = b.m;
     bad.layout = 2;
     qibl_shlight_t l;
-    qibl_shlight_init(&l, 4);
+    assert_int_equal(qibl_shlight_init(&l, 4), QIBL_OK);
     qibl_shmap_weights_t w;
     assert_int_equal(qibl_shmap_check(&bad), QIBL_E_SHMAP_LAYOUT);
     assert_int_equal(qibl_shmap_weights(&bad, &l, &w), QIBL_E_SHMAP_LAYOUT);
@@ -1000,9 +1000,9 @@ static void test_stream_rows_from_file(void **state)
 
     /* the reference: planar maps in memory, whole frame */
     qibl_shlight_t l;
-    qibl_shlight_init(&l, K);
+    assert_int_equal(qibl_shlight_init(&l, K), QIBL_OK);
     const qibl_q16_t d[3] = {3 << 15, -(1 << 16), 1 << 14}, rgb[3] = {3 << 16, 2 << 16, 1 << 16};
-    qibl_shlight_add_dir(&l, d, rgb);
+    assert_int_equal(qibl_shlight_add_dir(&l, d, rgb), QIBL_OK);
     qibl_shmap_weights_t w;
     assert_int_equal(qibl_shmap_weights(&b.m, &l, &w), QIBL_OK);
     qibl_ylut_t lut = {8, K, vals, vs};
@@ -1084,9 +1084,9 @@ static void test_workspace_alignment(void **state)
     pmap_buf pb;
     pmap_make(&pb, W, 2, &r);
     qibl_shlight_t l;
-    qibl_shlight_init(&l, K);
+    assert_int_equal(qibl_shlight_init(&l, K), QIBL_OK);
     const qibl_q16_t d[3] = {1 << 16, 1 << 15, -(1 << 14)}, rgb[3] = {1 << 16, 2 << 16, 3 << 16};
-    qibl_shlight_add_dir(&l, d, rgb);
+    assert_int_equal(qibl_shlight_add_dir(&l, d, rgb), QIBL_OK);
     qibl_shmap_weights_t w;
     assert_int_equal(qibl_shmap_weights(&b.m, &l, &w), QIBL_OK);
     const size_t dn = qibl_shmap_span_workspace_size(W), pn = qibl_shmap_point_workspace_size(K, W);

@@ -125,7 +125,7 @@ static void write1(qibl_fb_desc_t fb, int32_t r, int32_t g, int32_t b, uint8_t *
     fb.pixels = out;
     fb.width = fb.height = 1;
     fb.stride = 0;
-    assert_int_equal(qibl_fb_write_row(&fb, 0, 0, 1, rgb), QIBL_OK);
+    assert_int_equal(qibl_soft_fb_write_row(&fb, 0, 0, 1, rgb), QIBL_OK);
 }
 
 static const qibl_fb_format_t eight_bit[] = {QIBL_FB_RGBA8888, QIBL_FB_BGRA8888, QIBL_FB_RGB565};
@@ -135,12 +135,12 @@ static const qibl_fb_format_t eight_bit[] = {QIBL_FB_RGBA8888, QIBL_FB_BGRA8888,
 static void test_bytes_per_pixel(void **state)
 {
     (void)state;
-    assert_int_equal(qibl_fb_bytes_per_pixel(QIBL_FB_RGBA8888), 4);
-    assert_int_equal(qibl_fb_bytes_per_pixel(QIBL_FB_BGRA8888), 4);
-    assert_int_equal(qibl_fb_bytes_per_pixel(QIBL_FB_RGB565), 2);
-    assert_int_equal(qibl_fb_bytes_per_pixel(QIBL_FB_ACCUM32), 12);
-    assert_int_equal(qibl_fb_bytes_per_pixel(QIBL_FB_FORMAT_COUNT), 0);
-    assert_int_equal(qibl_fb_bytes_per_pixel((qibl_fb_format_t)77), 0);
+    assert_int_equal(qibl_soft_fb_bytes_per_pixel(QIBL_FB_RGBA8888), 4);
+    assert_int_equal(qibl_soft_fb_bytes_per_pixel(QIBL_FB_BGRA8888), 4);
+    assert_int_equal(qibl_soft_fb_bytes_per_pixel(QIBL_FB_RGB565), 2);
+    assert_int_equal(qibl_soft_fb_bytes_per_pixel(QIBL_FB_ACCUM32), 12);
+    assert_int_equal(qibl_soft_fb_bytes_per_pixel(QIBL_FB_FORMAT_COUNT), 0);
+    assert_int_equal(qibl_soft_fb_bytes_per_pixel((qibl_fb_format_t)77), 0);
 }
 
 static void test_8888_known_values(void **state)
@@ -205,10 +205,10 @@ static void test_accum32_known_values(void **state)
     fb.srgb = 1;
     fb.dither = 1;
     const int32_t a[3] = {ONE, -2, 0x12345678};
-    assert_int_equal(qibl_fb_write_row(&fb, 0, 0, 1, a), QIBL_OK);
+    assert_int_equal(qibl_soft_fb_write_row(&fb, 0, 0, 1, a), QIBL_OK);
     const uint8_t want[12] = {0x00, 0x00, 0x01, 0x00, 0xFE, 0xFF, 0xFF, 0xFF, 0x78, 0x56, 0x34, 0x12};
     assert_memory_equal(p, want, 12);
-    assert_int_equal(qibl_fb_write_row(&fb, 0, 0, 1, a), QIBL_OK); /* adds */
+    assert_int_equal(qibl_soft_fb_write_row(&fb, 0, 0, 1, a), QIBL_OK); /* adds */
     assert_int_equal(get_s32le(p), 2 * ONE);
     assert_int_equal(get_s32le(p + 4), -4);
     assert_int_equal(get_s32le(p + 8), 0x2468ACF0);
@@ -221,12 +221,12 @@ static void test_accum32_saturates(void **state)
     qibl_fb_desc_t fb = fb_make(p, QIBL_FB_ACCUM32, 1, 1, 0);
     const int32_t big[3] = {INT32_MAX, INT32_MIN, INT32_MAX};
     const int32_t nudge[3] = {1, -1, INT32_MIN};
-    assert_int_equal(qibl_fb_write_row(&fb, 0, 0, 1, big), QIBL_OK);
-    assert_int_equal(qibl_fb_write_row(&fb, 0, 0, 1, nudge), QIBL_OK);
+    assert_int_equal(qibl_soft_fb_write_row(&fb, 0, 0, 1, big), QIBL_OK);
+    assert_int_equal(qibl_soft_fb_write_row(&fb, 0, 0, 1, nudge), QIBL_OK);
     assert_int_equal(get_s32le(p), INT32_MAX);
     assert_int_equal(get_s32le(p + 4), INT32_MIN);
     assert_int_equal(get_s32le(p + 8), -1);
-    assert_int_equal(qibl_fb_write_row(&fb, 0, 0, 1, big), QIBL_OK); /* MAX + MAX, MIN + MIN */
+    assert_int_equal(qibl_soft_fb_write_row(&fb, 0, 0, 1, big), QIBL_OK); /* MAX + MAX, MIN + MIN */
     assert_int_equal(get_s32le(p), INT32_MAX);
     assert_int_equal(get_s32le(p + 4), INT32_MIN);
     assert_int_equal(get_s32le(p + 8), INT32_MAX - 1);
@@ -243,7 +243,7 @@ static void test_accum32_saturates(void **state)
             v[i] = (tu_next(&r) & 3) == 0 ? tu_s32(&r) : (int32_t)(tu_u32(&r) % 0x40000u) - 0x20000;
             want[i] = sat_add(want[i], v[i]);
         }
-        assert_int_equal(qibl_fb_write_row(&fb, 0, 0, N, v), QIBL_OK);
+        assert_int_equal(qibl_soft_fb_write_row(&fb, 0, 0, N, v), QIBL_OK);
         for (int i = 0; i < 3 * N; ++i)
             assert_int_equal(get_s32le(row + 4 * i), want[i]);
     }
@@ -262,7 +262,7 @@ static void sweep(qibl_fb_format_t f, int srgb, uint8_t *out /* 65537 pixels */)
         uint32_t n = 0;
         for (; n < W && v <= ONE; ++n, ++v)
             rgb[3 * n] = rgb[3 * n + 1] = rgb[3 * n + 2] = (int32_t)v;
-        assert_int_equal(qibl_fb_write_row(&fb, 0, y, n, rgb), QIBL_OK);
+        assert_int_equal(qibl_soft_fb_write_row(&fb, 0, y, n, rgb), QIBL_OK);
     }
 }
 
@@ -366,8 +366,8 @@ static void test_exposure(void **state)
         }
         for (int i = 0; i < 3 * N; ++i)
             rgb[i] = (i & 1) ? (int32_t)tu_u32_any_width(&r) >> 1 : (int32_t)(tu_u32(&r) % (3 * ONE)) - ONE / 2;
-        assert_int_equal(qibl_fb_write_row(&f, 0, 0, N, rgb), QIBL_OK);
-        uint32_t bpp = qibl_fb_bytes_per_pixel(f.format);
+        assert_int_equal(qibl_soft_fb_write_row(&f, 0, 0, N, rgb), QIBL_OK);
+        uint32_t bpp = qibl_soft_fb_bytes_per_pixel(f.format);
         for (uint32_t i = 0; i < N; ++i) {
             ref_pixel(&f, i, 0, rgb + 3 * i, want);
             if (memcmp(got + bpp * i, want, bpp) != 0)
@@ -389,7 +389,7 @@ static void flat565(uint8_t *buf, uint32_t w, uint32_t h, int32_t v, int dither,
     for (uint32_t i = 0; i < 3 * w; ++i)
         rgb[i] = v;
     for (uint32_t y = 0; y < h; ++y)
-        assert_int_equal(qibl_fb_write_row(&fb, 0, y, w, rgb), QIBL_OK);
+        assert_int_equal(qibl_soft_fb_write_row(&fb, 0, y, w, rgb), QIBL_OK);
 }
 
 static void test_dither_pattern(void **state)
@@ -464,12 +464,12 @@ static void test_dither_tiles_across_spans(void **state)
         fa.exposure = fp.exposure = ONE + ONE / 3;
         memset(parts, 0, sizeof parts);
         for (uint32_t y = 0; y < H; ++y) {
-            assert_int_equal(qibl_fb_write_row(&fa, 0, y, W, rgb + 3 * W * y), QIBL_OK);
+            assert_int_equal(qibl_soft_fb_write_row(&fa, 0, y, W, rgb + 3 * W * y), QIBL_OK);
             for (uint32_t x = 0; x < W;) { /* spans of 1..7 pixels, rows in reverse order */
                 uint32_t yy = H - 1 - y, n = 1 + tu_u32(&r) % 7;
                 if (n > W - x)
                     n = W - x;
-                assert_int_equal(qibl_fb_write_row(&fp, x, yy, n, rgb + 3 * (W * yy + x)), QIBL_OK);
+                assert_int_equal(qibl_soft_fb_write_row(&fp, x, yy, n, rgb + 3 * (W * yy + x)), QIBL_OK);
                 x += n;
             }
         }
@@ -494,7 +494,7 @@ static void test_resolve_equals_direct_write(void **state)
     int32_t a[3 * W], sum[3 * W * H];
     tu_rng r = {13};
     qibl_fb_desc_t src = fb_make(acc, QIBL_FB_ACCUM32, W, H, W * 12 + 8);
-    assert_int_equal(qibl_fb_clear(&src), QIBL_OK);
+    assert_int_equal(qibl_soft_fb_clear(&src), QIBL_OK);
     memset(sum, 0, sizeof sum);
     for (int pass = 0; pass < 3; ++pass)
         for (uint32_t y = 0; y < H; ++y) {
@@ -502,11 +502,11 @@ static void test_resolve_equals_direct_write(void **state)
                 a[i] = (i % 11 == 0) ? tu_s32(&r) : (int32_t)(tu_u32(&r) % (ONE / 2)) - ONE / 8;
                 sum[3 * W * y + i] = sat_add(sum[3 * W * y + i], a[i]);
             }
-            assert_int_equal(qibl_fb_write_row(&src, 0, y, W, a), QIBL_OK);
+            assert_int_equal(qibl_soft_fb_write_row(&src, 0, y, W, a), QIBL_OK);
         }
     for (int cfg = 0; cfg < 3 * 2 * 2 * 3; ++cfg) {
         qibl_fb_format_t f = eight_bit[cfg % 3];
-        uint32_t bpp = qibl_fb_bytes_per_pixel(f);
+        uint32_t bpp = qibl_soft_fb_bytes_per_pixel(f);
         size_t stride = (size_t)W * bpp + (cfg & 1 ? 5 : 0);
         qibl_fb_desc_t d = fb_make(got, f, W, H, stride), e = fb_make(want, f, W, H, stride);
         d.srgb = e.srgb = (uint8_t)(cfg / 3 % 2);
@@ -514,9 +514,9 @@ static void test_resolve_equals_direct_write(void **state)
         d.exposure = e.exposure = (uint32_t[]){0, ONE * 3 / 2, ONE / 3}[cfg / 12];
         tu_fill_guard(got, sizeof got);
         tu_fill_guard(want, sizeof want);
-        assert_int_equal(qibl_fb_resolve(&d, &src), QIBL_OK);
+        assert_int_equal(qibl_soft_fb_resolve(&d, &src), QIBL_OK);
         for (uint32_t y = 0; y < H; ++y)
-            assert_int_equal(qibl_fb_write_row(&e, 0, y, W, sum + 3 * W * y), QIBL_OK);
+            assert_int_equal(qibl_soft_fb_write_row(&e, 0, y, W, sum + 3 * W * y), QIBL_OK);
         assert_memory_equal(got, want, sizeof got); /* padding bytes too: both untouched */
     }
 }
@@ -534,15 +534,15 @@ static void test_resolve_in_place(void **state)
         qibl_fb_desc_t e = fb_make(ref, eight_bit[fi], W, H, 0);
         dst.srgb = e.srgb = 1;
         dst.dither = e.dither = 1;
-        assert_int_equal(qibl_fb_clear(&src), QIBL_OK);
+        assert_int_equal(qibl_soft_fb_clear(&src), QIBL_OK);
         for (uint32_t y = 0; y < H; ++y) {
             for (int i = 0; i < 3 * W; ++i)
                 rgb[i] = (int32_t)(tu_u32(&r) % (ONE + ONE / 8));
-            assert_int_equal(qibl_fb_write_row(&src, 0, y, W, rgb), QIBL_OK);
-            assert_int_equal(qibl_fb_write_row(&e, 0, y, W, rgb), QIBL_OK);
+            assert_int_equal(qibl_soft_fb_write_row(&src, 0, y, W, rgb), QIBL_OK);
+            assert_int_equal(qibl_soft_fb_write_row(&e, 0, y, W, rgb), QIBL_OK);
         }
-        assert_int_equal(qibl_fb_resolve(&dst, &src), QIBL_OK);
-        assert_memory_equal(acc, ref, (size_t)W * H * qibl_fb_bytes_per_pixel(eight_bit[fi]));
+        assert_int_equal(qibl_soft_fb_resolve(&dst, &src), QIBL_OK);
+        assert_memory_equal(acc, ref, (size_t)W * H * qibl_soft_fb_bytes_per_pixel(eight_bit[fi]));
     }
 }
 
@@ -559,7 +559,7 @@ static void test_stride_and_unaligned_pixels(void **state)
     for (int f = 0; f < QIBL_FB_FORMAT_COUNT; ++f)
         for (size_t off = 0; off < 4; ++off)
             for (size_t pad = 0; pad < 8; pad += 7) {
-                uint32_t bpp = qibl_fb_bytes_per_pixel((qibl_fb_format_t)f);
+                uint32_t bpp = qibl_soft_fb_bytes_per_pixel((qibl_fb_format_t)f);
                 size_t row = (size_t)W * bpp, stride = row + pad;
                 uint8_t tight[W * H * 12], buf[4 + H * (W * 12 + 7) + 16];
                 qibl_fb_desc_t t = fb_make(tight, (qibl_fb_format_t)f, W, H, 0);
@@ -570,11 +570,11 @@ static void test_stride_and_unaligned_pixels(void **state)
                 memset(tight, 0, sizeof tight);
                 tu_fill_guard(buf, sizeof buf);
                 if (f == QIBL_FB_ACCUM32) { /* start from zero in the padded one too */
-                    assert_int_equal(qibl_fb_clear(&b), QIBL_OK);
+                    assert_int_equal(qibl_soft_fb_clear(&b), QIBL_OK);
                 }
                 for (uint32_t y = 0; y < H; ++y) {
-                    assert_int_equal(qibl_fb_write_row(&t, 0, y, W, rgb + 3 * W * y), QIBL_OK);
-                    assert_int_equal(qibl_fb_write_row(&b, 0, y, W, rgb + 3 * W * y), QIBL_OK);
+                    assert_int_equal(qibl_soft_fb_write_row(&t, 0, y, W, rgb + 3 * W * y), QIBL_OK);
+                    assert_int_equal(qibl_soft_fb_write_row(&b, 0, y, W, rgb + 3 * W * y), QIBL_OK);
                 }
                 assert_true(tu_guard_intact(buf, off));
                 for (uint32_t y = 0; y < H; ++y) {
@@ -591,11 +591,11 @@ static void test_clear(void **state)
     enum { W = 5, H = 3, PAD = 3 };
     uint8_t buf[1 + H * (W * 12 + PAD)];
     for (int f = 0; f < QIBL_FB_FORMAT_COUNT; ++f) {
-        uint32_t bpp = qibl_fb_bytes_per_pixel((qibl_fb_format_t)f);
+        uint32_t bpp = qibl_soft_fb_bytes_per_pixel((qibl_fb_format_t)f);
         size_t row = (size_t)W * bpp, stride = row + PAD;
         qibl_fb_desc_t fb = fb_make(buf + 1, (qibl_fb_format_t)f, W, H, stride);
         tu_fill_guard(buf, sizeof buf);
-        assert_int_equal(qibl_fb_clear(&fb), QIBL_OK);
+        assert_int_equal(qibl_soft_fb_clear(&fb), QIBL_OK);
         assert_int_equal(buf[0], TU_GUARD);
         for (uint32_t y = 0; y < H; ++y) {
             const uint8_t *p = buf + 1 + y * stride;
@@ -625,8 +625,8 @@ static void test_errors_write_nothing(void **state)
     tu_fill_guard(acc, sizeof acc);
     qibl_fb_desc_t ok = fb_make(buf, QIBL_FB_RGBA8888, W, H, 0), fb;
     qibl_fb_desc_t src = fb_make(acc, QIBL_FB_ACCUM32, W, H, 0);
-    assert_int_equal(qibl_fb_check(&ok), QIBL_OK);
-    assert_int_equal(qibl_fb_check(&src), QIBL_OK);
+    assert_int_equal(qibl_soft_fb_check(&ok), QIBL_OK);
+    assert_int_equal(qibl_soft_fb_check(&src), QIBL_OK);
 
     /* descriptor errors, through every entry point */
     struct { qibl_fb_desc_t fb; qibl_status_t st; } bad[12];
@@ -643,45 +643,45 @@ static void test_errors_write_nothing(void **state)
     fb = ok, fb.width = UINT32_MAX, fb.height = UINT32_MAX, bad[nb].fb = fb, bad[nb++].st = QIBL_E_FB_STRIDE;
     for (int i = 0; i < nb; ++i) {
         qibl_fb_desc_t d = bad[i].fb;
-        assert_int_equal(qibl_fb_check(&d), bad[i].st);
-        assert_int_equal(qibl_fb_write_row(&d, 0, 0, 1, rgb), bad[i].st);
-        assert_int_equal(qibl_fb_write_row(&d, 0, 0, 1, NULL), bad[i].st); /* descriptor checked first */
-        assert_int_equal(qibl_fb_clear(&d), bad[i].st);
-        assert_int_equal(qibl_fb_resolve(&d, &src), bad[i].st);
+        assert_int_equal(qibl_soft_fb_check(&d), bad[i].st);
+        assert_int_equal(qibl_soft_fb_write_row(&d, 0, 0, 1, rgb), bad[i].st);
+        assert_int_equal(qibl_soft_fb_write_row(&d, 0, 0, 1, NULL), bad[i].st); /* descriptor checked first */
+        assert_int_equal(qibl_soft_fb_clear(&d), bad[i].st);
+        assert_int_equal(qibl_soft_fb_resolve(&d, &src), bad[i].st);
         d.format = QIBL_FB_ACCUM32;
         if (bad[i].st != QIBL_E_FB_FORMAT) /* as a bad source */
-            assert_int_equal(qibl_fb_resolve(&ok, &d), bad[i].st);
+            assert_int_equal(qibl_soft_fb_resolve(&ok, &d), bad[i].st);
     }
-    assert_int_equal(qibl_fb_check(NULL), QIBL_E_NULL_POINTER);
-    assert_int_equal(qibl_fb_write_row(NULL, 0, 0, 1, rgb), QIBL_E_NULL_POINTER);
-    assert_int_equal(qibl_fb_clear(NULL), QIBL_E_NULL_POINTER);
-    assert_int_equal(qibl_fb_resolve(NULL, &src), QIBL_E_NULL_POINTER);
-    assert_int_equal(qibl_fb_resolve(&ok, NULL), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_soft_fb_check(NULL), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_soft_fb_write_row(NULL, 0, 0, 1, rgb), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_soft_fb_clear(NULL), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_soft_fb_resolve(NULL, &src), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_soft_fb_resolve(&ok, NULL), QIBL_E_NULL_POINTER);
 
     /* write_row: rgb NULL, then bounds */
     for (int f = 0; f < QIBL_FB_FORMAT_COUNT; ++f) {
         fb = fb_make(f == QIBL_FB_ACCUM32 ? acc : buf, (qibl_fb_format_t)f, W, H, 0);
-        assert_int_equal(qibl_fb_write_row(&fb, 0, 0, 1, NULL), QIBL_E_NULL_POINTER);
-        assert_int_equal(qibl_fb_write_row(&fb, 0, H, 1, rgb), QIBL_E_FB_BOUNDS);
-        assert_int_equal(qibl_fb_write_row(&fb, 0, UINT32_MAX, 1, rgb), QIBL_E_FB_BOUNDS);
-        assert_int_equal(qibl_fb_write_row(&fb, 0, 0, W + 1, rgb), QIBL_E_FB_BOUNDS);
-        assert_int_equal(qibl_fb_write_row(&fb, 1, 0, W, rgb), QIBL_E_FB_BOUNDS);
-        assert_int_equal(qibl_fb_write_row(&fb, W + 1, 0, 0, rgb), QIBL_E_FB_BOUNDS);
-        assert_int_equal(qibl_fb_write_row(&fb, 2, 1, UINT32_MAX, rgb), QIBL_E_FB_BOUNDS); /* x0 + n wraps */
-        assert_int_equal(qibl_fb_write_row(&fb, UINT32_MAX, 1, 2, rgb), QIBL_E_FB_BOUNDS);
+        assert_int_equal(qibl_soft_fb_write_row(&fb, 0, 0, 1, NULL), QIBL_E_NULL_POINTER);
+        assert_int_equal(qibl_soft_fb_write_row(&fb, 0, H, 1, rgb), QIBL_E_FB_BOUNDS);
+        assert_int_equal(qibl_soft_fb_write_row(&fb, 0, UINT32_MAX, 1, rgb), QIBL_E_FB_BOUNDS);
+        assert_int_equal(qibl_soft_fb_write_row(&fb, 0, 0, W + 1, rgb), QIBL_E_FB_BOUNDS);
+        assert_int_equal(qibl_soft_fb_write_row(&fb, 1, 0, W, rgb), QIBL_E_FB_BOUNDS);
+        assert_int_equal(qibl_soft_fb_write_row(&fb, W + 1, 0, 0, rgb), QIBL_E_FB_BOUNDS);
+        assert_int_equal(qibl_soft_fb_write_row(&fb, 2, 1, UINT32_MAX, rgb), QIBL_E_FB_BOUNDS); /* x0 + n wraps */
+        assert_int_equal(qibl_soft_fb_write_row(&fb, UINT32_MAX, 1, 2, rgb), QIBL_E_FB_BOUNDS);
         /* empty spans are fine and write nothing */
-        assert_int_equal(qibl_fb_write_row(&fb, W, H - 1, 0, rgb), QIBL_OK);
-        assert_int_equal(qibl_fb_write_row(&fb, 0, 0, 0, rgb), QIBL_OK);
+        assert_int_equal(qibl_soft_fb_write_row(&fb, W, H - 1, 0, rgb), QIBL_OK);
+        assert_int_equal(qibl_soft_fb_write_row(&fb, 0, 0, 0, rgb), QIBL_OK);
     }
 
     /* resolve: formats, then sizes */
     qibl_fb_desc_t s8 = fb_make(acc, QIBL_FB_RGBA8888, W, H, 0), dacc = fb_make(buf, QIBL_FB_ACCUM32, W, H, 0);
-    assert_int_equal(qibl_fb_resolve(&ok, &s8), QIBL_E_FB_FORMAT);
-    assert_int_equal(qibl_fb_resolve(&dacc, &src), QIBL_E_FB_FORMAT);
+    assert_int_equal(qibl_soft_fb_resolve(&ok, &s8), QIBL_E_FB_FORMAT);
+    assert_int_equal(qibl_soft_fb_resolve(&dacc, &src), QIBL_E_FB_FORMAT);
     fb = ok, fb.width = W - 1;
-    assert_int_equal(qibl_fb_resolve(&fb, &src), QIBL_E_FB_SIZE);
+    assert_int_equal(qibl_soft_fb_resolve(&fb, &src), QIBL_E_FB_SIZE);
     fb = ok, fb.height = H - 1;
-    assert_int_equal(qibl_fb_resolve(&fb, &src), QIBL_E_FB_SIZE);
+    assert_int_equal(qibl_soft_fb_resolve(&fb, &src), QIBL_E_FB_SIZE);
 
     assert_true(tu_guard_intact(buf, sizeof buf));
     assert_true(tu_guard_intact(acc, sizeof acc));
@@ -716,6 +716,31 @@ static void test_status_range_and_names(void **state)
     assert_string_equal(qibl_soft_status_str(QIBL_E_NULL_POINTER), qibl_status_str(QIBL_E_NULL_POINTER));
 }
 
+/* The one list (soft.h) holds every value of the range in order from base + 1, each with the
+ * message qibl_soft_status_str gives, non-empty and distinct; values are ABI, a few pinned. */
+static void test_status_list(void **state)
+{
+    (void)state;
+    const char *msg[16];
+    unsigned n = 0;
+#define CHECK_(name, message) \
+    assert_int_equal((unsigned)(name), (unsigned)QIBL_STATUS_SOFT_BASE + 1u + n); \
+    assert_string_equal(qibl_soft_status_str(name), message); \
+    assert_true(strlen(message) > 0); \
+    msg[n++] = message;
+    QIBL_SOFT_STATUS_LIST(CHECK_)
+#undef CHECK_
+    assert_int_equal(n, 6);
+    for (unsigned i = 0; i < n; ++i)
+        for (unsigned j = 0; j < i; ++j)
+            assert_string_not_equal(msg[i], msg[j]);
+    assert_int_equal((int)QIBL_E_FB_FORMAT, 0x101);
+    assert_int_equal((int)QIBL_E_RASTER_INDEX, 0x106);
+    /* one past the list: not this backend's */
+    assert_string_equal(qibl_soft_status_str((qibl_status_t)(QIBL_STATUS_SOFT_BASE + 1 + (int)n)),
+                        "platform backend status");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -737,6 +762,7 @@ int main(void)
         cmocka_unit_test(test_errors_write_nothing),
         cmocka_unit_test(test_golden_gradient),
         cmocka_unit_test(test_status_range_and_names),
+        cmocka_unit_test(test_status_list),
     };
     return cmocka_run_group_tests_name("soft", tests, NULL, NULL);
 }

@@ -765,8 +765,8 @@ static void test_sign_symmetry(void **state)
         assert_true(b[0] == 255 - a[0] && b[1] == 255 - a[1] && b[2] == 255 - a[2] && b[3] == a[3]);
         /* and decoding a mirrored code negates exactly */
         uint32_t da[3], db[3];
-        qibl_srgbe_decode_f32(a, da);
-        qibl_srgbe_decode_f32(b, db);
+        const qibl_status_t da_st = qibl_srgbe_decode_f32(a, da), db_st = qibl_srgbe_decode_f32(b, db);
+        assert_int_equal(da_st, db_st); /* saturation is sign-symmetric too */
         for (int i = 0; i < 3; ++i)
             assert_int_equal(db[i], da[i] ^ 0x80000000u);
     }

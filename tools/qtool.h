@@ -9,6 +9,17 @@
 
 #define QTOOL_PI 3.14159265358979323846
 
+/* QTOOL_NODISCARD: on every tools-library function that returns a status enum (qibl_status_t,
+ * qtool_transfer_status), as QIBL_NODISCARD (qibl/status.h) is on the core's: dropping the status is
+ * a warning under GCC and Clang. */
+#ifndef QTOOL_NODISCARD
+#if defined(__GNUC__) || defined(__clang__)
+#define QTOOL_NODISCARD __attribute__((warn_unused_result))
+#else
+#define QTOOL_NODISCARD
+#endif
+#endif
+
 /* Formats a message into err (errlen bytes, always terminated; err NULL or errlen 0: nothing is
  * written) and returns -1, so a reader's error path is one line: `return qtool_errf(err, n, ...)`. */
 #if defined(__GNUC__) || defined(__clang__)

@@ -146,7 +146,7 @@ static void build_basis(uint32_t *basis, uint32_t *full, int32_t n)
                         ++z;
                     const qibl_q30_t u[3] = {Xs * (1 << 22), Ys * (1 << 22), (qibl_q30_t)z};
                     qibl_q30_t y[NC];
-                    (void)qibl_sh_eval_unit(u, 5, y);
+                    QIBL_DROP_STATUS(qibl_sh_eval_unit(u, 5, y));
                     for (int i = 0; i < NC; ++i)
                         acc[i] += y[i];
                 }
@@ -276,7 +276,7 @@ qibl_status_t qibl_hemi_frame_init(qibl_hemi_frame_t *f, const qibl_q16_t p[3], 
     if (u[0] != 0 || u[1] != 0) {
         const int32_t h2[3] = {u[0], u[1], 0};
         qibl_q30_t a[3];
-        (void)qibl_vec3_normalize_q30(h2, a);
+        QIBL_DROP_STATUS(qibl_vec3_normalize_q30(h2, a));
         ca = a[0], sa = a[1];
         const uint64_t r2 = (uint64_t)qibl_mul_s32_s64(u[0], u[0]) + (uint64_t)qibl_mul_s32_s64(u[1], u[1]);
         uint64_t rem;
@@ -952,9 +952,9 @@ qibl_status_t qibl_hemi_to_world(const qibl_hemi_t *h, const qibl_hemi_frame_t *
         return QIBL_E_NULL_POINTER;
     int32_t t[NC];
     /* D(R) = Dz(alpha) D(Rx(-90)) Dz(beta) D(Rx(90)), applied right to left */
-    (void)qibl_sh_rotate(h->rx_pos, in, t);
+    QIBL_DROP_STATUS(qibl_sh_rotate(h->rx_pos, in, t));
     rot_z(t, f->cb, f->sb);
-    (void)qibl_sh_rotate(h->rx_neg, t, out);
+    QIBL_DROP_STATUS(qibl_sh_rotate(h->rx_neg, t, out));
     rot_z(out, f->ca, f->sa);
     return QIBL_OK;
 }
@@ -970,11 +970,11 @@ qibl_status_t qibl_hemi_to_frame(const qibl_hemi_t *h, const qibl_hemi_frame_t *
     for (int i = 0; i < NC; ++i)
         t[i] = in[i];
     rot_z(t, f->ca, -f->sa);
-    (void)qibl_sh_rotate(h->rx_pos, t, out);
+    QIBL_DROP_STATUS(qibl_sh_rotate(h->rx_pos, t, out));
     rot_z(out, f->cb, -f->sb);
     for (int i = 0; i < NC; ++i)
         t[i] = out[i];
-    (void)qibl_sh_rotate(h->rx_neg, t, out);
+    QIBL_DROP_STATUS(qibl_sh_rotate(h->rx_neg, t, out));
     return QIBL_OK;
 }
 

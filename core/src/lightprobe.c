@@ -292,8 +292,6 @@ qibl_status_t qibl_lightprobe_row_weight(uint32_t h, uint32_t v, uint32_t *mant,
 #define LUMA_G QIBL_LIGHTPROBE_LUMA_G
 #define LUMA_B QIBL_LIGHTPROBE_LUMA_B
 
-enum { BAD_NEGATIVE = 1, BAD_NOT_FINITE = 2 };
-
 /* A decoded pixel: P_c = m[c] 2^eps / D. */
 typedef struct {
     uint64_t m[3];
@@ -309,12 +307,12 @@ static size_t pixel_bytes(qibl_lightprobe_format_t f)
 static inline uint32_t srgbe_m(uint32_t x, unsigned *bad)
 {
     if (x < 127u)
-        *bad |= BAD_NEGATIVE;
+        *bad |= QIBLI_PROBE_BAD_NEGATIVE;
     return x > 128u ? 2u * x - 255u : 0u;
 }
 
 /* Decodes the generic formats (sRGBE, LINEAR_I32, LINEAR_F32; RGBE has its own loops); returns
- * the BAD_ flags. p is aligned for the 32-bit formats (checked by build). */
+ * the QIBLI_PROBE_BAD_ flags. p is aligned for the 32-bit formats (checked by build). */
 static unsigned decode(qibl_lightprobe_format_t f, const uint8_t *p, int32_t frac_bits, pixel *o)
 {
     unsigned bad = 0u;
@@ -331,7 +329,7 @@ static unsigned decode(qibl_lightprobe_format_t f, const uint8_t *p, int32_t fra
         const int32_t *q = (const int32_t *)(const void *)p;
         for (int c = 0; c < 3; ++c) {
             if (q[c] < 0)
-                bad |= BAD_NEGATIVE;
+                bad |= QIBLI_PROBE_BAD_NEGATIVE;
             o->m[c] = q[c] < 0 ? 0u : (uint32_t)q[c];
         }
         o->eps = -frac_bits;
@@ -344,10 +342,10 @@ static unsigned decode(qibl_lightprobe_format_t f, const uint8_t *p, int32_t fra
             mant[c] = 0u;
             ex[c] = -149;
             if (e8 == 0xFFu) {
-                bad |= BAD_NOT_FINITE;
+                bad |= QIBLI_PROBE_BAD_NOT_FINITE;
             } else if ((b & 0x7FFFFFFFu) != 0u) {
                 if (b >> 31) {
-                    bad |= BAD_NEGATIVE;
+                    bad |= QIBLI_PROBE_BAD_NEGATIVE;
                 } else {
                     mant[c] = e8 ? fr | 0x800000u : fr;
                     ex[c] = e8 ? (int32_t)e8 - 150 : -149;
@@ -391,7 +389,7 @@ unsigned qibli_lightprobe_decode(qibl_lightprobe_format_t f, const uint8_t *p, i
     unsigned bad = decode(f, p, frac_bits, &px);
     m[0] = px.m[0], m[1] = px.m[1], m[2] = px.m[2];
     *eps = px.eps;
-    return (bad & BAD_NEGATIVE ? QIBLI_PROBE_BAD_NEGATIVE : 0u) | (bad & BAD_NOT_FINITE ? QIBLI_PROBE_BAD_NOT_FINITE : 0u);
+    return bad; /* decode speaks the QIBLI_PROBE_BAD_ flags itself */
 }
 
 void qibli_lightprobe_sin_frac(uint64_t n, uint64_t d, uint32_t *mant, int32_t *kap)
@@ -423,7 +421,7 @@ size_t qibl_lightprobe_workspace_size(uint32_t width, uint32_t height, qibl_ligh
     return n > (uint64_t)SIZE_MAX ? 0u : (size_t)n;
 }
 
-/* First pass: the BAD_ flags over the whole probe (so the status does not depend on pixel order)
+/* First pass: the QIBLI_PROBE_BAD_ flags over the whole probe (so the status does not depend on pixel order)
  * and lb, the bound of lightprobe.c's header (INT32_MIN when every pixel is black). */
 static unsigned scan(const qibl_lightprobe_image_t *img, size_t stride, int32_t *lb_out)
 {
@@ -726,9 +724,9 @@ qibl_status_t qibl_lightprobe_build(qibl_lightprobe_t *lp, const qibl_lightprobe
 
     int32_t lb;
     unsigned bad = scan(img, stride, &lb);
-    if (bad & BAD_NOT_FINITE)
+    if (bad & QIBLI_PROBE_BAD_NOT_FINITE)
         return QIBL_E_PROBE_NOT_FINITE;
-    if (bad & BAD_NEGATIVE)
+    if (bad & QIBLI_PROBE_BAD_NEGATIVE)
         return QIBL_E_PROBE_NEGATIVE;
 
     /* carve the workspace: 8-byte tables first, then the 4-byte row tables */
@@ -1237,7 +1235,7 @@ static void direction(const qibl_lightprobe_t *lp, rect r, uint64_t total, qibl_
     d[1] = qibli_rshr_s64(qibl_mul_s32_s64(st, sp), 30);
     d[2] = ct;
     /* |d| = 1 within a few LSB; renormalise (never zero: |d| > 1/2) */
-    (void)qibl_vec3_normalize_q30(d, dir);
+    QIBL_DROP_STATUS(qibl_vec3_normalize_q30(d, dir));
 }
 
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2

@@ -577,7 +577,7 @@ static void row_factors(const qibl_probe_sh_t *ps, uint32_t v, uint32_t fmag[QIB
     u[0] = (int32_t)rshr_u64(sig, (unsigned)(2 + *kap)); /* sin theta in Q30 */
     u[1] = 0;
     u[2] = cos_pi_q30(2u * (uint64_t)v + 1u, 2u * (uint64_t)ps->height);
-    (void)qibl_sh_eval_unit(u, ps->bands, y);
+    QIBL_DROP_STATUS(qibl_sh_eval_unit(u, ps->bands, y));
     for (int i = 0; i < ps->bands * ps->bands; ++i) {
         uint32_t a = y[i] < 0 ? 0u - (uint32_t)y[i] : (uint32_t)y[i]; /* < 1.1 2^30 */
         fmag[i] = (uint32_t)rshr_u64(qibl_mul_u32_u64(a, sig), 31u); /* < 1.1 2^31 */

@@ -184,7 +184,7 @@ qibl_status_t qibl_sh_rotation_init(qibl_sh_rotation_t *rot, const qibl_q30_t r[
                                      qibl_mul_s32_s64(r[2][i], rot_dirs[k][2]), 30);
         if (qibl_vec3_normalize_q30(v, u) != QIBL_OK) /* cannot happen: |v| > 0.99 */
             return QIBL_E_SH_ROTATION;
-        (void)qibl_sh_eval_unit(u, bands, y[k]);
+        QIBL_DROP_STATUS(qibl_sh_eval_unit(u, bands, y[k]));
     }
     rot->bands = bands;
     rot->d[0] = QIBL_Q30_ONE;

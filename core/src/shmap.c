@@ -918,7 +918,7 @@ qibl_status_t qibl_ylut_build(uint32_t face_size, uint32_t k, uint8_t *values, s
                 int32_t d[3];
                 qibl_q30_t y[QIBL_SH_MAX_COUNT];
                 texel_dir(f, u, v, face_size, d);
-                (void)qibl_sh_eval(d, bands, y); /* d is never zero: one component is +-N */
+                QIBL_DROP_STATUS(qibl_sh_eval(d, bands, y)); /* d is never zero: one component is +-N */
                 for (uint32_t i = 0; i < k; ++i) {
                     int32_t q = qibli_rshr_s64(y[i], 16); /* Q2.30 -> Q2.14, |Y| < 1 */
                     uint32_t b = (uint32_t)q;
@@ -1728,7 +1728,7 @@ qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, u
             lut_sample(pt->lut, u, k, pt->filter == QIBL_LUT_NEAREST, ybuf + px, n);
         } else {
             qibl_q30_t yq[QIBL_SH_MAX_COUNT];
-            (void)qibl_sh_eval_unit(u, (int)pt->bands, yq);
+            QIBL_DROP_STATUS(qibl_sh_eval_unit(u, (int)pt->bands, yq));
             for (uint32_t i = 0; i < k; ++i)
                 ybuf[(size_t)i * n + px] = (int16_t)qibli_rshr_s64(yq[i], 16);
         }

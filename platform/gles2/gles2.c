@@ -21,16 +21,9 @@
 
 const char *qibl_gles2_status_str(qibl_status_t s)
 {
-    if (s == QIBL_E_GLES2_GL_ERROR) return "gles2: GL error (see the log)";
-    if (s == QIBL_E_GLES2_COMPILE) return "gles2: shader compile failed (see the log)";
-    if (s == QIBL_E_GLES2_LINK) return "gles2: program link failed (see the log)";
-    if (s == QIBL_E_GLES2_FRAMEBUFFER) return "gles2: accumulation framebuffer incomplete";
-    if (s == QIBL_E_GLES2_UNITS) return "gles2: too few texture units or uniform vectors";
-    if (s == QIBL_E_GLES2_SIZE) return "gles2: maps or LUT larger than the GL's texture size";
-    if (s == QIBL_E_GLES2_NO_HIGHP) return "gles2: point lights need highp fragment floats";
-    if (s == QIBL_E_GLES2_STATE) return "gles2: not initialised, nothing uploaded, or no P map/LUT";
-    if (s == QIBL_E_GLES2_MISMATCH) return "gles2: weights or light made for other maps";
-    if (s == QIBL_E_GLES2_CONTEXT) return "gles2: no current GL ES context";
+#define QIBL_GLES2_STATUS_IF_(name, message) if (s == name) return message;
+    QIBL_GLES2_STATUS_LIST(QIBL_GLES2_STATUS_IF_)
+#undef QIBL_GLES2_STATUS_IF_
     return qibl_status_str(s);
 }
 

@@ -13,7 +13,7 @@
 #include "qibl/raster.h"
 #include "qibl/soft.h"
 
-#define RUN 64u              /* pixels per qibl_fb_write_row call at most */
+#define RUN 64u              /* pixels per qibl_soft_fb_write_row call at most */
 #define GRAD_FRAC 16u        /* fraction bits of an attribute gradient */
 #define GRAD_QMAX (1u << 24) /* quotients at or above this are capped (slivers) */
 #define NATTR 4              /* z, r, g, b */
@@ -61,7 +61,7 @@ static qibl_status_t check_target(const qibl_raster_target_t *t)
 {
     if (!t)
         return QIBL_E_NULL_POINTER;
-    qibl_status_t s = qibl_fb_check(&t->fb);
+    qibl_status_t s = qibl_soft_fb_check(&t->fb);
     if (s != QIBL_OK)
         return s;
     if (t->fb.format == QIBL_FB_ACCUM32)
@@ -71,11 +71,11 @@ static qibl_status_t check_target(const qibl_raster_target_t *t)
     return depth_fits(t) ? QIBL_OK : QIBL_E_FB_SIZE;
 }
 
-qibl_status_t qibl_raster_clear_depth(const qibl_raster_target_t *t)
+qibl_status_t qibl_soft_raster_clear_depth(const qibl_raster_target_t *t)
 {
     if (!t)
         return QIBL_E_NULL_POINTER;
-    qibl_status_t s = qibl_fb_check(&t->fb);
+    qibl_status_t s = qibl_soft_fb_check(&t->fb);
     if (s != QIBL_OK)
         return s;
     if (!t->depth)
@@ -96,7 +96,7 @@ typedef struct run {
 static void flush(const qibl_fb_desc_t *fb, run_t *r, uint32_t y)
 {
     if (r->n)
-        (void)qibl_fb_write_row(fb, r->x0, y, r->n, r->rgb); /* cannot fail: validated, in bounds */
+        QIBL_DROP_STATUS(qibl_soft_fb_write_row(fb, r->x0, y, r->n, r->rgb)); /* cannot fail: validated, in bounds */
     r->n = 0;
 }
 
@@ -206,7 +206,7 @@ static void draw(const qibl_raster_target_t *t, const qibl_raster_vertex_t *a, c
     }
 }
 
-qibl_status_t qibl_raster_triangles(const qibl_raster_target_t *t, const qibl_raster_vertex_t *v, uint32_t nv,
+qibl_status_t qibl_soft_raster_triangles(const qibl_raster_target_t *t, const qibl_raster_vertex_t *v, uint32_t nv,
                                     const uint32_t (*tri)[3], uint32_t ntri)
 {
     qibl_status_t s = check_target(t);

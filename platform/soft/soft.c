@@ -289,7 +289,7 @@ static void row_accum(uint8_t *p, const int32_t *rgb, uint32_t n)
 
 /* ---- validation --------------------------------------------------------------------------------- */
 
-uint32_t qibl_fb_bytes_per_pixel(qibl_fb_format_t f)
+uint32_t qibl_soft_fb_bytes_per_pixel(qibl_fb_format_t f)
 {
     switch (f) {
     case QIBL_FB_RGBA8888: return 4u;
@@ -324,13 +324,13 @@ static bool mul_size(size_t a, uint32_t b, size_t *out)
 #endif
 }
 
-/* qibl_fb_check, also giving the row stride in bytes (fb->stride or the packed row) */
+/* qibl_soft_fb_check, also giving the row stride in bytes (fb->stride or the packed row) */
 static qibl_status_t check(const qibl_fb_desc_t *fb, size_t *stride)
 {
     size_t row, rows;
     if (fb == NULL || fb->pixels == NULL)
         return QIBL_E_NULL_POINTER;
-    uint32_t bpp = qibl_fb_bytes_per_pixel(fb->format);
+    uint32_t bpp = qibl_soft_fb_bytes_per_pixel(fb->format);
     if (bpp == 0u)
         return QIBL_E_FB_FORMAT;
     if (fb->width == 0u || fb->height == 0u)
@@ -346,7 +346,7 @@ static qibl_status_t check(const qibl_fb_desc_t *fb, size_t *stride)
     return QIBL_OK;
 }
 
-qibl_status_t qibl_fb_check(const qibl_fb_desc_t *fb)
+qibl_status_t qibl_soft_fb_check(const qibl_fb_desc_t *fb)
 {
     size_t stride;
     return check(fb, &stride);
@@ -360,7 +360,7 @@ static void write_span(const qibl_fb_desc_t *fb, size_t stride, uint32_t x0, uin
                        const int32_t *rgb, const expo_t *x)
 {
     qibl_fb_format_t f = fb->format;
-    uint8_t *p = (uint8_t *)fb->pixels + (size_t)y * stride + (size_t)x0 * qibl_fb_bytes_per_pixel(f);
+    uint8_t *p = (uint8_t *)fb->pixels + (size_t)y * stride + (size_t)x0 * qibl_soft_fb_bytes_per_pixel(f);
     if (f == QIBL_FB_ACCUM32) {
         row_accum(p, rgb, n);
         return;
@@ -380,7 +380,7 @@ static void write_span(const qibl_fb_desc_t *fb, size_t stride, uint32_t x0, uin
         row_8888_lin(p, rgb, n, x, ri, 2u - ri);
 }
 
-qibl_status_t qibl_fb_write_row(const qibl_fb_desc_t *fb, uint32_t x0, uint32_t y, uint32_t n,
+qibl_status_t qibl_soft_fb_write_row(const qibl_fb_desc_t *fb, uint32_t x0, uint32_t y, uint32_t n,
                                 const int32_t *rgb)
 {
     size_t stride;
@@ -401,7 +401,7 @@ qibl_status_t qibl_fb_write_row(const qibl_fb_desc_t *fb, uint32_t x0, uint32_t 
  * write it through write_span, so the bytes are exactly those of a direct write. In place, the
  * bytes written for a chunk never reach past the source bytes already read (dst's pixels are at
  * most 4 of the accumulator's 12 bytes, dst's rows no further apart). */
-qibl_status_t qibl_fb_resolve(const qibl_fb_desc_t *dst, const qibl_fb_desc_t *src)
+qibl_status_t qibl_soft_fb_resolve(const qibl_fb_desc_t *dst, const qibl_fb_desc_t *src)
 {
     size_t ds, ss;
     qibl_status_t st = check(dst, &ds);
@@ -430,13 +430,13 @@ qibl_status_t qibl_fb_resolve(const qibl_fb_desc_t *dst, const qibl_fb_desc_t *s
     return QIBL_OK;
 }
 
-qibl_status_t qibl_fb_clear(const qibl_fb_desc_t *fb)
+qibl_status_t qibl_soft_fb_clear(const qibl_fb_desc_t *fb)
 {
     size_t stride;
     qibl_status_t st = check(fb, &stride);
     if (st != QIBL_OK)
         return st;
-    uint32_t bpp = qibl_fb_bytes_per_pixel(fb->format);
+    uint32_t bpp = qibl_soft_fb_bytes_per_pixel(fb->format);
     /* 8888 black is 0, 0, 0, 255 (alpha last in both byte orders); 565 and ACCUM32 are all zero */
     uint8_t last = bpp == 4u ? 0xFFu : 0u;
     size_t row = (size_t)fb->width * bpp; /* fits: checked */
@@ -451,17 +451,8 @@ qibl_status_t qibl_fb_clear(const qibl_fb_desc_t *fb)
 const char *qibl_soft_status_str(qibl_status_t s)
 {
     /* if-chain, not switch: the values are macros outside the core's enumerators */
-    if (s == QIBL_E_FB_FORMAT)
-        return "framebuffer: unknown or unsuitable format";
-    if (s == QIBL_E_FB_SIZE)
-        return "framebuffer: zero or mismatched size";
-    if (s == QIBL_E_FB_STRIDE)
-        return "framebuffer: stride too small or buffer too large";
-    if (s == QIBL_E_FB_BOUNDS)
-        return "framebuffer: span outside the framebuffer";
-    if (s == QIBL_E_RASTER_RANGE)
-        return "raster: vertex beyond the coordinate or depth range";
-    if (s == QIBL_E_RASTER_INDEX)
-        return "raster: triangle index beyond the vertex count";
+#define QIBL_SOFT_STATUS_IF_(name, message) if (s == name) return message;
+    QIBL_SOFT_STATUS_LIST(QIBL_SOFT_STATUS_IF_)
+#undef QIBL_SOFT_STATUS_IF_
     return qibl_status_str(s);
 }

@@ -84,16 +84,16 @@ static void relight_rows(const qibl_shmaps_t *m, const qibl_shmap_weights_t *w, 
     const uint8_t f = fuzz_u8(prm);
     fb.width = n, fb.height = 1, fb.format = (qibl_fb_format_t)(f % QIBL_FB_FORMAT_COUNT);
     fb.exposure = fuzz_u32(prm), fb.srgb = f >> 2 & 1u, fb.dither = f >> 3 & 1u;
-    fb.pixels = malloc((size_t)n * qibl_fb_bytes_per_pixel(fb.format));
-    FUZZ_CHECK(qibl_fb_clear(&fb) == QIBL_OK);
-    FUZZ_CHECK(qibl_fb_write_row(&fb, 0, 0, n, out) == QIBL_OK);
-    FUZZ_CHECK(qibl_fb_write_row(&fb, 0, 0, n, out) == QIBL_OK); /* ACCUM32 saturates */
+    fb.pixels = malloc((size_t)n * qibl_soft_fb_bytes_per_pixel(fb.format));
+    FUZZ_CHECK(qibl_soft_fb_clear(&fb) == QIBL_OK);
+    FUZZ_CHECK(qibl_soft_fb_write_row(&fb, 0, 0, n, out) == QIBL_OK);
+    FUZZ_CHECK(qibl_soft_fb_write_row(&fb, 0, 0, n, out) == QIBL_OK); /* ACCUM32 saturates */
     if (fb.format == QIBL_FB_ACCUM32) {
         acc = fb;
         fb.format = (qibl_fb_format_t)((f >> 4) % 3u);
         void *px8 = malloc((size_t)n * 4u);
         fb.pixels = px8;
-        FUZZ_CHECK(qibl_fb_resolve(&fb, &acc) == QIBL_OK);
+        FUZZ_CHECK(qibl_soft_fb_resolve(&fb, &acc) == QIBL_OK);
         free(px8);
         fb.pixels = acc.pixels;
     }

@@ -308,7 +308,7 @@ static void srgbe_seeds(void)
     c[0] = 0x10, c[1] = 0;
     for (int i = 0; i < 24; ++i) {
         int32_t q[3] = {(int32_t)next() - (1 << 23), (int32_t)(next() >> 4), -(int32_t)(next() >> 12)};
-        qibl_srgbe_encode_q16(q, c + 2 + 4 * i);
+        QIBL_DROP_STATUS(qibl_srgbe_encode_q16(q, c + 2 + 4 * i));
     }
     put("srgbe", "codes", c, sizeof c);
 }
@@ -417,7 +417,8 @@ static void probe_seed(const char *name, uint8_t w, uint8_t h, uint8_t fmt, uint
             } else if (fmt == 1) {
                 uint32_t f[3];
                 memcpy(f, c, 12);
-                qibl_srgbe_encode_f32(f, b + n), n += 4;
+                QIBL_DROP_STATUS(qibl_srgbe_encode_f32(f, b + n));
+                n += 4;
             } else if (fmt == 2) {
                 for (int i = 0; i < 3; ++i) {
                     int32_t x = (int32_t)(c[i] * 256.0f);
@@ -588,7 +589,7 @@ static void sh_probe_seed(const char *name, uint8_t w, uint8_t h, uint8_t fmt, u
             } else if (fmt == 1) {
                 uint32_t f[3];
                 memcpy(f, c, 12);
-                qibl_srgbe_encode_f32(f, b + n);
+                QIBL_DROP_STATUS(qibl_srgbe_encode_f32(f, b + n));
             } else if (fmt == 2) {
                 for (int i = 0; i < 3; ++i) {
                     int32_t x = (int32_t)(c[i] * (float)(1 << (2 * frac2 > 0 ? 2 * frac2 : 0)));

@@ -21,14 +21,14 @@
 #include "qibl/shmap.h"
 #include "qibl/soft.h"
 #include "ref/sh_ref.h"
+#include "qtool.h"
 
-#define PI 3.14159265358979323846
 #define UNIT 4294967296.0 /* 2^32 */
 
 void qtool_bake_dir(uint32_t j, uint32_t n, double d[3])
 {
     double z = 1.0 - (2.0 * j + 1.0) / n, r = sqrt(fmax(0.0, 1 - z * z));
-    double phi = fmod(j * (PI * (3.0 - sqrt(5.0))), 2 * PI);
+    double phi = fmod(j * (QTOOL_PI * (3.0 - sqrt(5.0))), 2 * QTOOL_PI);
     d[0] = r * cos(phi), d[1] = r * sin(phi), d[2] = z;
 }
 
@@ -579,7 +579,7 @@ int qtool_bake_coeffs(const qtool_bake_sums *s, uint32_t k, qtool_proj_method me
     }
     out->width = s->w, out->height = s->h, out->k = k;
     memcpy(out->p, s->pmap, sizeof(int32_t) * np * 3);
-    double wq = 4 * PI / s->ndirs / UNIT;
+    double wq = 4 * QTOOL_PI / s->ndirs / UNIT;
     for (size_t p = 0; p < np; ++p)
         for (uint32_t c = 0; c < 3; ++c) {
             const int64_t *a = s->acc + (p * 3 + c) * s->k;
@@ -670,6 +670,11 @@ static void to_fb(const double *lin, uint32_t w, uint32_t h, uint8_t *rgb8)
 {
     uint8_t *pix = malloc((size_t)w * 4);
     int32_t *row = malloc(sizeof(int32_t) * 3 * w);
+    if (!pix || !row) { /* out of memory: black, never uninitialised bytes */
+        memset(rgb8, 0, (size_t)w * h * 3);
+        free(pix), free(row);
+        return;
+    }
     qibl_fb_desc_t fb = {0};
     fb.pixels = pix, fb.width = w, fb.height = 1, fb.format = QIBL_FB_RGBA8888, fb.srgb = 1;
     for (uint32_t y = 0; y < h; ++y) {
@@ -677,7 +682,8 @@ static void to_fb(const double *lin, uint32_t w, uint32_t h, uint8_t *rgb8)
             double v = lin[(size_t)y * w * 3 + i] * 65536.0;
             row[i] = v > 2e9 ? 2000000000 : v < -2e9 ? -2000000000 : (int32_t)lrint(v);
         }
-        qibl_fb_write_row(&fb, 0, 0, w, row);
+        if (qibl_soft_fb_write_row(&fb, 0, 0, w, row) != QIBL_OK) /* only for w = 0: nothing to copy */
+            memset(pix, 0, (size_t)w * 4);
         for (uint32_t x = 0; x < w; ++x)
             memcpy(rgb8 + ((size_t)y * w + x) * 3, pix + 4 * (size_t)x, 3);
     }
@@ -776,7 +782,7 @@ int qtool_bake_relight8_lin(const uint8_t *asset, size_t n, const qtool_rt_light
         for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {
             st = qibl_shmap_relight_span(&m, &wt, 0, y, w, row, ws, wsn);
             if (st == QIBL_OK)
-                st = qibl_fb_write_row(&fb, 0, y, w, row);
+                st = qibl_soft_fb_write_row(&fb, 0, y, w, row);
             if (st == QIBL_OK)
                 row_linear(lin, row, w, y);
         }
@@ -796,7 +802,7 @@ int qtool_bake_relight8_lin(const uint8_t *asset, size_t n, const qtool_rt_light
             if (st == QIBL_OK && use_occ)
                 st = qibl_lightpath_occl_span(&occ, 0, y, w, row);
             if (st == QIBL_OK)
-                st = qibl_fb_write_row(&fb, 0, y, w, row);
+                st = qibl_soft_fb_write_row(&fb, 0, y, w, row);
             if (st == QIBL_OK)
                 row_linear(lin, row, w, y);
         }

@@ -194,7 +194,7 @@ static int join_chunk(const qtool_extras *const *parts, const char *const *names
         }
         if (type == QIBL_CHUNK_LPTH) {
             qibl_lightpath_t lp;
-            (void)qibl_lightpath_parse(p->data[i], p->size[i], &lp); /* checked above */
+            QIBL_DROP_STATUS(qibl_lightpath_parse(p->data[i], p->size[i], &lp)); /* checked above */
             pw = lp.width, ph = lp.height;
         }
         if (bw && (pw != bw || ph != bh))
@@ -236,7 +236,7 @@ static int join_chunk(const qtool_extras *const *parts, const char *const *names
         if (!parts[y % n])
             continue; /* an absent shard's row: no edges (counts stay 0) */
         qibl_lightpath_t lp;
-        (void)qibl_lightpath_parse(parts[y % n]->data[i], parts[y % n]->size[i], &lp); /* checked above */
+        QIBL_DROP_STATUS(qibl_lightpath_parse(parts[y % n]->data[i], parts[y % n]->size[i], &lp)); /* checked above */
         uint32_t a = qibl_load_u32le(lp.rows + 4 * (size_t)y), e = qibl_load_u32le(lp.rows + 4 * (size_t)y + 4);
         memcpy(cnt + (size_t)y * w, lp.counts + (size_t)y * w, w);
         memcpy(ed + 2 * (size_t)at, lp.edges + 2 * (size_t)a, 2 * (size_t)(e - a));

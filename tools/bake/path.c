@@ -15,8 +15,8 @@
 #include "qibl/lightpath.h"
 #include "qibl/soft.h"
 #include "ref/sh_ref.h"
+#include "qtool.h"
 
-#define PI 3.14159265358979323846
 
 /* ---- parsing ------------------------------------------------------------------------------------- */
 
@@ -51,11 +51,11 @@ int qtool_bake_path_parse_sun(const char *s, qtool_bake_path *p, char *err, size
     /* the highest the sun gets: elevation falls with |hour angle|, so at the hour angle nearest
      * noon within T0..T1; a path wholly below the horizon would bake frames that are all black */
     double h0 = (v[2] - 12) * 15, h1 = (v[3] - 12) * 15, hn = h0 > 0 ? h0 : h1 < 0 ? h1 : 0;
-    double la = v[0] * PI / 180, de = v[1] * PI / 180;
-    double zmax = sin(de) * sin(la) + cos(de) * cos(la) * cos(hn * PI / 180);
+    double la = v[0] * QTOOL_PI / 180, de = v[1] * QTOOL_PI / 180;
+    double zmax = sin(de) * sin(la) + cos(de) * cos(la) * cos(hn * QTOOL_PI / 180);
     if (!(zmax > 0))
         return snprintf(err, errlen, "--sun-path '%s': the sun never rises between %gh and %gh (highest elevation "
-                        "%.1f degrees): every frame would be unlit", s, v[2], v[3], asin(fmax(-1, fmin(1, zmax))) * 180 / PI),
+                        "%.1f degrees): every frame would be unlit", s, v[2], v[3], asin(fmax(-1, fmin(1, zmax))) * 180 / QTOOL_PI),
                -1;
     p->kind = 0, p->lat = v[0], p->decl = v[1], p->t0 = v[2], p->t1 = v[3];
     return 0;
@@ -98,7 +98,7 @@ void qtool_bake_path_light(const qtool_bake_path *p, double t, qtool_rt_light *o
     memset(out, 0, sizeof *out);
     memcpy(out->rgb, p->rgb, sizeof out->rgb);
     if (p->kind == 0) {
-        double hr = (p->t0 + (p->t1 - p->t0) * t - 12) * 15 * PI / 180, la = p->lat * PI / 180, de = p->decl * PI / 180;
+        double hr = (p->t0 + (p->t1 - p->t0) * t - 12) * 15 * QTOOL_PI / 180, la = p->lat * QTOOL_PI / 180, de = p->decl * QTOOL_PI / 180;
         out->dir[0] = -cos(de) * sin(hr);
         out->dir[1] = sin(de) * cos(la) - cos(de) * sin(la) * cos(hr);
         out->dir[2] = sin(de) * sin(la) + cos(de) * cos(la) * cos(hr);
@@ -428,7 +428,7 @@ int qtool_bake_relight_path8_gonio(const uint8_t *asset, size_t n, const qtool_r
         if (st == QIBL_OK)
             st = qibl_lightpath_shade_span(&lp, tq, radius, 0, y, w, prow, row, sky != NULL);
         if (st == QIBL_OK)
-            st = qibl_fb_write_row(&fb, 0, y, w, row);
+            st = qibl_soft_fb_write_row(&fb, 0, y, w, row);
         if (st == QIBL_OK && lin)
             for (size_t i = 0; i < (size_t)w * 3; ++i)
                 lin[(size_t)y * w * 3 + i] = row[i] > 0 ? (float)(row[i] / 65536.0) : 0.0f;
@@ -504,7 +504,7 @@ void qtool_bake_sky_dir(uint32_t j, uint32_t n, double d[3])
 {
     /* upper-hemisphere Fibonacci set, turned by an irrational offset: not the bake's directions */
     double z = 1.0 - (j + 0.5) / n, r = sqrt(fmax(0.0, 1 - z * z));
-    double phi = fmod(j * (PI * (3.0 - sqrt(5.0))) + 0.7236, 2 * PI);
+    double phi = fmod(j * (QTOOL_PI * (3.0 - sqrt(5.0))) + 0.7236, 2 * QTOOL_PI);
     d[0] = r * cos(phi), d[1] = r * sin(phi), d[2] = z;
 }
 
@@ -519,7 +519,7 @@ typedef struct {
 static void sky_row(void *ctx, uint32_t y)
 {
     const sky_job *j = ctx;
-    double wgt = 2 * PI / (j->ndirs / 2); /* each half is an estimate on its own */
+    double wgt = 2 * QTOOL_PI / (j->ndirs / 2); /* each half is an estimate on its own */
     for (uint32_t x = 0; x < j->w; ++x) {
         double d[3], acc[2][3] = {{0, 0, 0}, {0, 0, 0}};
         qtool_rt_hit hit;
@@ -553,18 +553,19 @@ void qtool_bake_sky_sh(const double rgb[3], uint32_t k, qibl_shlight_t *out)
 {
     /* L_i = integral of L(w) Y_i(w) over the sphere, by the midpoint rule on a fine latitude-longitude grid */
     enum { NT = 256, NP = 512 };
+    if (qibl_shlight_init(out, k) != QIBL_OK)
+        return; /* k outside 1..25: out untouched (and c below never overrun) */
     double c[25] = {0};
     for (int a = 0; a < NT / 2; ++a) { /* upper hemisphere only: the sky is 0 below */
-        double th = PI * (a + 0.5) / NT, dw = (PI / NT) * (2 * PI / NP) * sin(th);
+        double th = QTOOL_PI * (a + 0.5) / NT, dw = (QTOOL_PI / NT) * (2 * QTOOL_PI / NP) * sin(th);
         for (int b = 0; b < NP; ++b) {
-            double ph = 2 * PI * (b + 0.5) / NP, wv[3] = {sin(th) * cos(ph), sin(th) * sin(ph), cos(th)}, y[25];
+            double ph = 2 * QTOOL_PI * (b + 0.5) / NP, wv[3] = {sin(th) * cos(ph), sin(th) * sin(ph), cos(th)}, y[25];
             qtool_ref_sh_eval(wv[0], wv[1], wv[2], 5, y);
             double L = sky_radiance(wv) * dw;
             for (uint32_t i = 0; i < k; ++i)
                 c[i] += L * y[i];
         }
     }
-    qibl_shlight_init(out, k);
     for (int ch = 0; ch < 3; ++ch)
         for (uint32_t i = 0; i < k; ++i)
             out->c[ch][i] = (qibl_q16_t)lrint(c[i] * rgb[ch] * 65536.0);
@@ -599,7 +600,7 @@ int qtool_bake_relight_env8(const uint8_t *asset, size_t n, const qibl_shlight_t
     for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {
         st = qibl_shmap_relight_span(&m, &wt, 0, y, w, row, ws, wsn);
         if (st == QIBL_OK)
-            st = qibl_fb_write_row(&fb, 0, y, w, row);
+            st = qibl_soft_fb_write_row(&fb, 0, y, w, row);
     }
     clock_gettime(CLOCK_MONOTONIC, &t1);
     if (ms)

@@ -82,7 +82,8 @@ int qtool_bake_relight_path8_gonio(const uint8_t *asset, size_t n, const qtool_r
 void qtool_bake_sky_dir(uint32_t j, uint32_t n, double d[3]);
 int qtool_bake_sky_truth(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const double rgb[3],
                         uint32_t ndirs, int threads, double *half_a, double *half_b);
-/* The same sky's SH coefficients (first k, Q16.16), integrated in double on a fine grid. */
+/* The same sky's SH coefficients (first k, Q16.16), integrated in double on a fine grid; k outside
+ * 1..25 writes nothing. */
 void qtool_bake_sky_sh(const double rgb[3], uint32_t k, qibl_shlight_t *out);
 
 /* Relights an environment (SH coefficients, k >= the maps') through the shadowed maps (SHMP), as

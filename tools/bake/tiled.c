@@ -182,7 +182,7 @@ int qtool_bake_relight_tiled8(const uint8_t *asset, size_t n, const qtool_rt_lig
             else if (use_occ)
                 st = qibl_lightpath_occl_span(&occ, 0, yy, w, r);
             if (st == QIBL_OK)
-                st = qibl_fb_write_row(&fb, 0, yy, w, r);
+                st = qibl_soft_fb_write_row(&fb, 0, yy, w, r);
         }
     }
     clock_gettime(CLOCK_MONOTONIC, &t1);

@@ -149,7 +149,7 @@ int main(void)
         fb.pixels = fb565, fb.width = W, fb.height = BENCH_ROWS, fb.format = QIBL_FB_RGB565, fb.srgb = 1, fb.dither = 1;
         t0 = bm_insn_clock();
         for (uint32_t y = 0; y < BENCH_ROWS; ++y)
-            check(qibl_fb_write_row(&fb, 0, y, W, row), "fb_write_row");
+            check(qibl_soft_fb_write_row(&fb, 0, y, W, row), "fb_write_row");
         uint64_t fbw = bm_insn_clock() - t0;
         /* point light: direct SH, a 16x16-per-face LUT bilinear and nearest, then Q2.14 polynomials */
         check(qibl_ylut_build(16, k, vals, vs), "ylut_build");

@@ -78,7 +78,7 @@ def insn_table(out):
                  ("k%d_point_lut16_insn_per_px" % k, "point light, 16² LUT bilinear, k = %d" % k),
                  ("k%d_point_lut16_nearest_insn_per_px" % k, "point light, 16² LUT nearest, k = %d" % k),
                  ("k%d_point_poly_insn_per_px" % k, "point light, Q2.14 polynomials (QIBL_POINT_POLY), k = %d" % k)]
-    what += [("k9_fb_rgb565_dither_insn_per_px", "`qibl_fb_write_row`, RGB565 sRGB dithered"),
+    what += [("k9_fb_rgb565_dither_insn_per_px", "`qibl_soft_fb_write_row`, RGB565 sRGB dithered"),
              ("stream_k9_insn_per_px", "streamed rows (below), k = 9, copy included"),
              ("stream_k9_copy_insn_per_px", "of which the row copy (picolibc `memcpy`)")]
     for key, label in what:

@@ -10,6 +10,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "bench/bench.h"
+
 /* Set by the option-parsing fuzz target (tests/fuzz/fuzz_cliopts.c) only: every command returns 0
  * once its options are parsed and checked, before it reads, computes or writes anything. */
 extern int qcli_parse_only;
@@ -26,30 +28,6 @@ int qcli_cmd_sh_project(int argc, char **argv); /* cmd_probe.c: `qibl sh project
 int qcli_cmd_bench(int argc, char **argv);
 int qcli_cmd_srgbe(int argc, char **argv);
 
-/* Benchmarks (quick: smaller sizes and fewer repetitions; csv: table as CSV). */
-int qcli_bench_relight(int quick, int csv);
-int qcli_bench_relight_baselines(int quick); /* the u64-read / memcpy baselines alone */
-int qcli_bench_srgbe(int quick); /* bench_srgbe.c */
-int qcli_bench_lights(int quick); /* bench_lights.c */
-int qcli_bench_paths(int quick);  /* bench_paths.c */
-int qcli_bench_asset(int quick);  /* bench_asset.c */
-/* The courtyard asset (w x h, k maps, RGB, P map) serialised in memory; *bytes malloc'ed. 0 or -1. */
-int qcli_bench_make_asset(uint32_t w, uint32_t h, uint32_t k, uint32_t layout, uint8_t **bytes, size_t *n);
-int qcli_bench_memory(int markdown); /* bench_memory.c */
-
-/* What built the benchmarks, for their headers (the Makefile passes the core's flags). */
-#ifndef QIBL_BENCH_CORE_FLAGS
-#define QIBL_BENCH_CORE_FLAGS "(flags not recorded)"
-#endif
-#if defined(__clang__)
-#define QTOOL_BENCH_COMPILER "clang " __clang_version__
-#elif defined(__GNUC__)
-#define QTOOL_BENCH_COMPILER "gcc " __VERSION__
-#else
-#define QTOOL_BENCH_COMPILER "an unknown compiler"
-#endif
-int qcli_bench_probe(int quick);  /* bench_probe.c */
-int qcli_bench_hemi(int quick, const char *svg); /* bench_hemi.c; svg: the cloth's error against fps */
 int qcli_cmd_info(int argc, char **argv);
 int qcli_cmd_gen(int argc, char **argv);
 int qcli_cmd_relight(int argc, char **argv);
@@ -101,33 +79,6 @@ struct qtool_rt_scene;
 #define QCLI_SCENE_MAX_TRIANGLES ((size_t)1 << 20)
 int qcli_scene_load(const qcli_scene *o, struct qtool_rt_scene *s);
 struct qtool_rt_light;
-/* The light-path part of `qibl demo` (demo_paths.c): its table and RESULT lines on stdout,
- * paths_sheet.png in dir. today: the k = 16 shadowed asset (with YLUT). 0, or 1 after a message. */
-struct qtool_bake_sums;
-/* The demo's sizes in one place (cmd_demo.c): `small` is CI's (DEMO_SIZE=small), `default` what
- * `make demo` runs for a newcomer (within 90 s on an idle 2-core machine), `full` the README's
- * pictures (`make demo FULL=1`: the probe-lit truths alone are minutes of CPU). */
-typedef struct qcli_demo_size {
-    const char *name;
-    uint32_t w, h;        /* panorama */
-    long ndirs, frames;   /* bake directions, frames per sweep */
-    uint32_t path_steps;  /* visibility steps along the sun path and lamp track */
-    uint32_t sky_dirs;    /* directions of the ray-traced sky truth */
-    uint32_t probe_spp;   /* samples per pixel in each of the two probe-lit truth renders */
-} qcli_demo_size;
-int qtool_demo_paths(const struct qtool_rt_scene *s, const qcli_scene *so, uint32_t ndirs, int prop,
-                    const qcli_demo_size *sz, const struct qtool_bake_sums *sums, const uint8_t *today,
-                    size_t today_n, const char *dir);
-/* The "lit by a real probe" part of `qibl demo` (demo_probe.c): three probes (../shared's, or
- * procedural ones), ray-traced truth, SH / median-cut lights / sun + SH relit by the core; its table
- * and RESULT lines on stdout, probe_sheet.png in dir. 0, or 1 after a message. */
-/* demo_paths.c, shared with demo_probe.c: the error heat map of a against b (max channel
- * difference, full scale 48 of 255; pixels whose cls is 0 black), and the payload bytes of the
- * index-th chunk of a type in an asset (0 when absent or the asset is bad). */
-void qcli_demo_heat(const uint8_t *a, const uint8_t *b, const uint8_t *cls, size_t np, uint8_t *out);
-double qcli_asset_chunk_bytes(const uint8_t *asset, size_t n, uint32_t type, uint32_t index);
-int qcli_demo_probe(const struct qtool_rt_scene *s, const qcli_scene *so, const qcli_demo_size *sz,
-                    const struct qtool_bake_sums *sums, uint32_t ndirs, const char *dir);
 void qcli_eval_lights(int obj_prop, int ndir, int npoint, struct qtool_rt_light *out);
 
 /* --point without --rgb (point_default.c): C0 = QTOOL_CLI_POINT_GREY * d^falloff, d the median
@@ -177,19 +128,9 @@ int qcli_parse_int(const char *s, long lo, long hi, long *out);
 /* Parses --layout's argument: "planar" or "interleaved" into a QIBL_SHMAPS_* layout; 0 or -1. */
 int qcli_parse_layout(const char *s, uint32_t *layout);
 
-/* Median of n values (sorts v in place). */
-double qcli_median(double *v, int n);
-
-/* Median over the repetitions r < n of num[r] / den[r]: a ratio whose two times were taken next
- * to each other in one interleaved loop, so a change of machine load between repetitions (a
- * shared, loaded host) cancels in each pair and outliers fall out of the median. n <= 64. */
-double qcli_paired_ratio(const double *num, const double *den, int n);
-
-/* Monotonic time in seconds, for benchmarks. */
-double qcli_now(void);
-
-/* CPU time of the calling thread in seconds: what the benchmarks' ratios are timed with, so that a
- * shared, loaded machine (time slices given to other processes) does not enter them. */
-double qcli_cpu_now(void);
+/* The clocks and median of the benchmarks library (tools/bench/bench.h), which the demo and bake
+ * commands time themselves with too. */
+#define qcli_now qtool_bench_now
+#define qcli_median qtool_bench_median
 
 #endif

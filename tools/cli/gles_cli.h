@@ -1,7 +1,7 @@
 /*
  * qibl/gles_cli.h - the CLI's OpenGL ES 2.0 paths (platform/gles2 on a headless EGL context):
- * `qibl relight --gles` and `qibl bench gles`. Without the EGL/GLES2 headers at build time both
- * print one line saying so and fail (relight) or skip (bench).
+ * `qibl relight --gles` (`qibl bench gles` is tools/bench/gles.c). Without the EGL/GLES2 headers at
+ * build time it prints one line saying so and fails.
  */
 #ifndef QTOOL_TOOLS_GLES_CLI_H
 #define QTOOL_TOOLS_GLES_CLI_H
@@ -23,8 +23,5 @@ typedef struct qtool_gles_relight_req {
 /* Renders the request with platform/gles2 into rgb (w x h x 3 bytes, top row first). 0, or 1 with a
  * one-line message on stderr. *passes and *renderer (64 bytes) describe the run. */
 int qtool_gles_relight(const qtool_gles_relight_req *r, uint8_t *rgb, uint32_t *passes, char *renderer);
-
-/* `qibl bench gles` (bench_gles.c). */
-int qcli_bench_gles(int quick);
 
 #endif

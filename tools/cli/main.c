@@ -8,7 +8,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "qibl/asset.h" /* QIBL_ASSET_MAX_LUT */
 #include "cli/cli.h"
@@ -502,41 +501,6 @@ int qcli_parse_layout(const char *s, uint32_t *layout)
     else
         return -1;
     return 0;
-}
-
-double qcli_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
-double qcli_paired_ratio(const double *num, const double *den, int n)
-{
-    double r[64];
-    n = n > 64 ? 64 : n;
-    for (int i = 0; i < n; ++i)
-        r[i] = num[i] / den[i];
-    return n > 0 ? qcli_median(r, n) : 0.0;
-}
-
-double qcli_cpu_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-double qcli_median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 int main(int argc, char **argv)

@@ -15,19 +15,8 @@
 #include "ref/lightprobe_ref.h"
 #include "ref/probe_ref.h"
 #include "ref/sh_ref.h"
+#include "qtool.h"
 
-#define EN_PI 3.14159265358979323846
-
-static int fail(char *err, size_t n, const char *fmt, ...)
-{
-    if (err && n) {
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(err, n, fmt, ap);
-        va_end(ap);
-    }
-    return -1;
-}
 
 static const char *const preset_names[QTOOL_ENGINE_PRESET_COUNT] = {"raw", "filament", "unity", "gltf"};
 
@@ -83,11 +72,11 @@ int qtool_engine_sh_from_core(const qibl_probe_coeffs_t *c, const double r[3][3]
                               size_t errlen)
 {
     if (!c || !out)
-        return fail(err, errlen, "no coefficients");
+        return qtool_errf(err, errlen, "no coefficients");
     if (c->bands < 1 || c->bands > QIBL_SH_MAX_BANDS)
-        return fail(err, errlen, "bands %d outside 1..%d", (int)c->bands, QIBL_SH_MAX_BANDS);
+        return qtool_errf(err, errlen, "bands %d outside 1..%d", (int)c->bands, QIBL_SH_MAX_BANDS);
     if (c->exp < -1000 || c->exp > 900)
-        return fail(err, errlen, "coefficient exponent 2^%d beyond double", (int)c->exp);
+        return qtool_errf(err, errlen, "coefficient exponent 2^%d beyond double", (int)c->exp);
     int n = c->bands * c->bands;
     int32_t v[3][QIBL_SH_MAX_COUNT];
     int32_t e = c->exp;
@@ -98,7 +87,7 @@ int qtool_engine_sh_from_core(const qibl_probe_coeffs_t *c, const double r[3][3]
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j) {
                 if (!(fabs(r[i][j]) <= 1.0 + 1e-6))
-                    return fail(err, errlen, "rotation entry %g is not in [-1, 1]", r[i][j]);
+                    return qtool_errf(err, errlen, "rotation entry %g is not in [-1, 1]", r[i][j]);
                 rq[i][j] = (qibl_q30_t)lrint(fmax(-1.0, fmin(1.0, r[i][j])) * 1073741824.0);
             }
         qibl_status_t st = qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])rq, c->bands);
@@ -111,7 +100,7 @@ int qtool_engine_sh_from_core(const qibl_probe_coeffs_t *c, const double r[3][3]
             st = qibl_sh_rotate(&rot, in, v[ch]);
         }
         if (st != QIBL_OK)
-            return fail(err, errlen, "rotation: %s", qibl_status_str(st));
+            return qtool_errf(err, errlen, "rotation: %s", qibl_status_str(st));
         e += 2;
     }
     memset(out, 0, sizeof *out);
@@ -126,16 +115,16 @@ int qtool_engine_sh_remap(const qtool_engine_sh *in, const double m[3][3], qtool
                           size_t errlen)
 {
     if (!in || !m || !out)
-        return fail(err, errlen, "no coefficients");
+        return qtool_errf(err, errlen, "no coefficients");
     if (in->bands < 1 || in->bands > 5)
-        return fail(err, errlen, "bands %d outside 1..5", in->bands);
+        return qtool_errf(err, errlen, "bands %d outside 1..5", in->bands);
     for (int p = 0; p < 3; ++p)
         for (int q = 0; q < 3; ++q) {
             double d = -(p == q);
             for (int k = 0; k < 3; ++k)
                 d += m[p][k] * m[q][k];
             if (!(fabs(d) <= 1e-9))
-                return fail(err, errlen, "frame matrix is not orthogonal (m m^T - I off by %g)", d);
+                return qtool_errf(err, errlen, "frame matrix is not orthogonal (m m^T - I off by %g)", d);
         }
     double d[165];
     qtool_ref_sh_rotation(m, in->bands, d);
@@ -154,7 +143,7 @@ int qtool_engine_sh_remap(const qtool_engine_sh *in, const double m[3][3], qtool
 }
 
 /* A_l of the clamped cosine (Ramamoorthi and Hanrahan; cmgen's computeTruncatedCosSh) */
-static const double a_l[3] = {EN_PI, 2.0 * EN_PI / 3.0, EN_PI / 4.0};
+static const double a_l[3] = {QTOOL_PI, 2.0 * QTOOL_PI / 3.0, QTOOL_PI / 4.0};
 
 static int band_of(int i)
 {
@@ -165,7 +154,7 @@ static int band_of(int i)
  * 3z^2 - 1, zx, x^2 - y^2 (cmgen's preprocessSHForShader, HDRP's ks) */
 static void sloan(double s[9])
 {
-    double rp = sqrt(EN_PI);
+    double rp = sqrt(QTOOL_PI);
     s[0] = 1.0 / (2.0 * rp);
     s[1] = -sqrt(3.0) / (2.0 * rp);
     s[2] = sqrt(3.0) / (2.0 * rp);
@@ -183,7 +172,7 @@ double qtool_engine_cmgen_window(int l, double cutoff)
         return 1.0;
     if (l >= cutoff)
         return 0.0;
-    double x = EN_PI * l / cutoff;
+    double x = QTOOL_PI * l / cutoff;
     x = sin(x) / x;
     return x * x * x * x;
 }
@@ -255,13 +244,13 @@ double qtool_engine_cmgen_auto_cutoff(const double f[9], double start)
 static int need3(const qtool_engine_sh *rad, char *err, size_t errlen)
 {
     if (!rad)
-        return fail(err, errlen, "no coefficients");
+        return qtool_errf(err, errlen, "no coefficients");
     if (rad->bands < 3 || rad->bands > 5)
-        return fail(err, errlen, "the engine presets need 3 bands (9 coefficients); got %d", rad->bands);
+        return qtool_errf(err, errlen, "the engine presets need 3 bands (9 coefficients); got %d", rad->bands);
     for (int i = 0; i < 9; ++i)
         for (int ch = 0; ch < 3; ++ch)
             if (!isfinite(rad->c[i][ch]))
-                return fail(err, errlen, "coefficient %d is not finite", i);
+                return qtool_errf(err, errlen, "coefficient %d is not finite", i);
     return 0;
 }
 
@@ -282,10 +271,10 @@ int qtool_engine_filament(const qtool_engine_sh *rad, double window, double out[
 {
     qtool_engine_sh l;
     if (!out)
-        return fail(err, errlen, "no output");
+        return qtool_errf(err, errlen, "no output");
     if (!(window == QTOOL_ENGINE_WINDOW_AUTO || window == QTOOL_ENGINE_WINDOW_NO ||
           (window > 0 && window <= QTOOL_ENGINE_WINDOW_MAX)))
-        return fail(err, errlen, "window %g is not auto, no or a cutoff in (0, %g]", window, QTOOL_ENGINE_WINDOW_MAX);
+        return qtool_errf(err, errlen, "window %g is not auto, no or a cutoff in (0, %g]", window, QTOOL_ENGINE_WINDOW_MAX);
     if (in_frame(rad, QTOOL_ENGINE_FILAMENT, &l, err, errlen) != 0)
         return -1;
     double f[3][9], s[9], cutoff = window;
@@ -301,7 +290,7 @@ int qtool_engine_filament(const qtool_engine_sh *rad, double window, double out[
     for (int i = 0; i < 9; ++i)
         for (int ch = 0; ch < 3; ++ch) {
             double w = window == QTOOL_ENGINE_WINDOW_NO ? 1.0 : qtool_engine_cmgen_window(band_of(i), cutoff);
-            out[i][ch] = f[ch][i] * w * s[i] / EN_PI; /* preprocessSHForShader */
+            out[i][ch] = f[ch][i] * w * s[i] / QTOOL_PI; /* preprocessSHForShader */
         }
     if (cutoff_used)
         *cutoff_used = window == QTOOL_ENGINE_WINDOW_NO ? -1.0 : cutoff;
@@ -322,14 +311,14 @@ int qtool_engine_unity(const qtool_engine_sh *rad, double sh[3][9], double packe
 {
     qtool_engine_sh l;
     if (!sh || !packed)
-        return fail(err, errlen, "no output");
+        return qtool_errf(err, errlen, "no output");
     if (in_frame(rad, QTOOL_ENGINE_UNITY, &l, err, errlen) != 0)
         return -1;
     double s[9];
     sloan(s);
     for (int ch = 0; ch < 3; ++ch)
         for (int i = 0; i < 9; ++i) /* N_i = Y's constant times A_l / pi (kNormalizationConstants) */
-            sh[ch][i] = l.c[i][ch] * s[i] * a_l[band_of(i)] / EN_PI;
+            sh[ch][i] = l.c[i][ch] * s[i] * a_l[band_of(i)] / QTOOL_PI;
     for (int ch = 0; ch < 3; ++ch) {
         const double *u = sh[ch];
         double a[4] = {u[3], u[1], u[2], u[0] - u[6]}, b[4] = {u[4], u[5], 3.0 * u[6], u[7]};
@@ -359,7 +348,7 @@ int qtool_engine_gltf(const qtool_engine_sh *rad, double coef[9][3], char *err, 
 {
     qtool_engine_sh l;
     if (!coef)
-        return fail(err, errlen, "no output");
+        return qtool_errf(err, errlen, "no output");
     if (in_frame(rad, QTOOL_ENGINE_GLTF, &l, err, errlen) != 0)
         return -1;
     for (int i = 0; i < 9; ++i)
@@ -412,14 +401,14 @@ int qtool_engine_gltf_lights_write(FILE *f, const double (*dir)[3], const double
 {
     double m[3][3];
     if (n && (!dir || !rgb))
-        return fail(err, errlen, "no lights");
+        return qtool_errf(err, errlen, "no lights");
     for (uint32_t k = 0; k < n; ++k) {
         double len = sqrt(dir[k][0] * dir[k][0] + dir[k][1] * dir[k][1] + dir[k][2] * dir[k][2]);
         if (!(len > 0) || !isfinite(len))
-            return fail(err, errlen, "light %u: direction is zero or not finite", k);
+            return qtool_errf(err, errlen, "light %u: direction is zero or not finite", k);
         for (int c = 0; c < 3; ++c)
             if (!(rgb[k][c] >= 0) || !isfinite(rgb[k][c]))
-                return fail(err, errlen, "light %u: colour is negative or not finite", k);
+                return qtool_errf(err, errlen, "light %u: colour is negative or not finite", k);
     }
     qtool_engine_frame_matrix(QTOOL_ENGINE_GLTF, QTOOL_ENGINE_FRAME_ZUP, m);
     fprintf(f, "{\"extensionsUsed\": [\"KHR_lights_punctual\"],\n \"extensions\": {\"KHR_lights_punctual\": "
@@ -464,14 +453,14 @@ int qtool_engine_sh9_error(const qtool_engine_sh *rad, const uint8_t *rgbe, int 
     if (need3(rad, err, errlen) != 0)
         return -1;
     if (!rgbe || w < 1 || h < 1 || !mean || !max)
-        return fail(err, errlen, "no probe");
+        return qtool_errf(err, errlen, "no probe");
     size_t np = (size_t)w * (size_t)h;
     double *d = malloc(sizeof *d * 3 * np), (*nrm)[3] = malloc(sizeof *nrm * NN), (*src)[3] = malloc(sizeof *src * NN);
     double *E = malloc(sizeof *E * NN);
     qtool_ref_probe rp;
     int rc = -1;
     if (!d || !nrm || !src || !E) {
-        fail(err, errlen, "out of memory for the SH9 error");
+        qtool_errf(err, errlen, "out of memory for the SH9 error");
         goto out;
     }
     for (size_t i = 0; i < np; ++i)
@@ -480,7 +469,7 @@ int qtool_engine_sh9_error(const qtool_engine_sh *rad, const uint8_t *rgbe, int 
             d[3 * i + (size_t)c] = e ? ldexp(rgbe[4 * i + (size_t)c], e - 136) : 0.0;
         }
     if (qtool_ref_probe_init(&rp, w, h, d) != 0) {
-        fail(err, errlen, "out of memory for the SH9 error");
+        qtool_errf(err, errlen, "out of memory for the SH9 error");
         goto out;
     }
     qtool_ref_sphere_dirs(NN, nrm);

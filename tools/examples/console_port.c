@@ -83,7 +83,7 @@ int main(int argc, char **argv)
     qibl_fb_desc_t fb = {0}; /* zero means default: RGBA8888, packed rows, exposure 1 */
     fb.width = maps.width, fb.height = maps.height, fb.srgb = 1;
     fb.pixels = malloc((size_t)maps.width * maps.height * 4u);
-    if (row == NULL || ws == NULL || fb.pixels == NULL || qibl_fb_check(&fb) != QIBL_OK) {
+    if (row == NULL || ws == NULL || fb.pixels == NULL || qibl_soft_fb_check(&fb) != QIBL_OK) {
         fprintf(stderr, "console_port: out of memory\n");
         return 1;
     }
@@ -104,7 +104,7 @@ int main(int argc, char **argv)
         for (uint32_t y = 0; y < maps.height && st == QIBL_OK; ++y) {
             st = qibl_shmap_relight_span(&maps, &w, 0, y, maps.width, row, ws, ws_size);
             if (st == QIBL_OK)
-                st = qibl_fb_write_row(&fb, 0, y, maps.width, row);
+                st = qibl_soft_fb_write_row(&fb, 0, y, maps.width, row);
         }
         if (st != QIBL_OK) {
             fprintf(stderr, "console_port: frame %d: %s\n", frame, qibl_soft_status_str(st));

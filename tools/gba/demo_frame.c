@@ -51,7 +51,7 @@ qibl_status_t demo_frame(const qibl_shmaps_t *m, uint32_t s, uint32_t y0, uint32
         st = qibl_shmap_relight_span(m, &wt, 0, y, w, b->row, b->ws, sizeof b->ws);
         uint32_t t1 = h->clock ? h->clock(h->user) : 0;
         if (st == QIBL_OK)
-            st = qibl_fb_write_row(&fb, 0, y & 3u, w, b->row);
+            st = qibl_soft_fb_write_row(&fb, 0, y & 3u, w, b->row);
         uint32_t t2 = h->clock ? h->clock(h->user) : 0;
         h->relight_ticks += (uint32_t)(t1 - t0), h->write_ticks += (uint32_t)(t2 - t1);
         if (st == QIBL_OK)

@@ -36,7 +36,7 @@ void demo_sun(uint32_t s, qibl_q16_t dir[3]);
 
 /* Relights rows y0 .. y1 - 1 of frame step s into RGB565 (sRGB, dithered). QIBL_OK or the first
  * failing call's status (the rows before it were handed over). */
-qibl_status_t demo_frame(const qibl_shmaps_t *m, uint32_t s, uint32_t y0, uint32_t y1, demo_buffers_t *b,
+QIBL_NODISCARD qibl_status_t demo_frame(const qibl_shmaps_t *m, uint32_t s, uint32_t y0, uint32_t y1, demo_buffers_t *b,
                          demo_hooks_t *h);
 
 #endif

@@ -76,7 +76,7 @@ int main(int argc, char **argv)
     for (uint32_t y = 0; y < m.height && st == QIBL_OK; ++y) {
         st = qibl_shmap_relight_span(&m, &w, 0, y, m.width, b.row, b.ws, sizeof b.ws);
         if (st == QIBL_OK)
-            st = qibl_fb_write_row(&fb, 0, y, m.width, b.row);
+            st = qibl_soft_fb_write_row(&fb, 0, y, m.width, b.row);
     }
     if (st != QIBL_OK || memcmp(whole, s.frame, 2u * m.width * m.height) != 0) {
         fprintf(stderr, "qibl-gba-demo-ref: the four-row framebuffer differs from the whole frame's\n");

@@ -9,8 +9,8 @@
 #include <string.h>
 
 #include "io/atomic.h"
+#include "qtool.h"
 
-#define PI 3.14159265358979323846
 #define GRID 16     /* board quads per side */
 #define LIFT 0.005  /* pieces stand this far above the board (no vertex shared with it) */
 
@@ -57,7 +57,7 @@ static void piece_pos(const piece *p, int seg, double x, double y, double z, dou
     for (int i = 0; i < pr->n; ++i) {
         const double dx = pr->z[i] > 0.4 ? p->lean * (pr->z[i] - 0.4) : 0;
         for (int s = 0; s < seg; ++s) {
-            const double a = 2 * PI * s / seg;
+            const double a = 2 * QTOOL_PI * s / seg;
             o[0] = x + dx + pr->r[i] * cos(a), o[1] = y + pr->r[i] * sin(a), o[2] = z + LIFT + pr->z[i], o += 3;
         }
     }
@@ -100,7 +100,7 @@ static void place(const piece *p, int i, int f, int nf, double *x, double *y, do
     if (i == 12) /* white e-pawn: e2 -> e4 */
         *y += 2 * t;
     else if (i == 6) /* white g-knight: g1 -> f3, hopping */
-        *x -= t, *y += 2 * t, *z = 0.8 * sin(PI * t);
+        *x -= t, *y += 2 * t, *z = 0.8 * sin(QTOOL_PI * t);
     else if (i == 16 + 8 + 3) /* black d-pawn: d7 -> d5, in the second half */
         *y -= 2 * (t < 0.5 ? 0 : 2 * (t - 0.5));
 }

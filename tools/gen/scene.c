@@ -8,8 +8,8 @@
 #include <string.h>
 
 #include "ref/sh_ref.h"
+#include "qtool.h"
 
-#define PI 3.14159265358979323846
 
 typedef struct {
     double albedo[3], ks, shininess;
@@ -142,7 +142,7 @@ static void zonal(double s, double norm, double out[5])
             }
             acc += norm * pow(z, s) * p;
         }
-        out[l] = 2 * PI * acc / steps;
+        out[l] = 2 * QTOOL_PI * acc / steps;
     }
 }
 
@@ -161,19 +161,19 @@ int qtool_gen_scene(uint32_t width, uint32_t height, uint32_t k, qtool_pano_kind
     }
     out->width = width, out->height = height, out->k = k;
     double diff[5], gloss[sizeof mats / sizeof mats[0]][5];
-    zonal(1, 1 / PI, diff); /* albedo / pi max(0, cos): pi, 2pi/3, pi/4, 0, -pi/24 over pi */
+    zonal(1, 1 / QTOOL_PI, diff); /* albedo / pi max(0, cos): pi, 2pi/3, pi/4, 0, -pi/24 over pi */
     for (size_t m = 0; m < sizeof mats / sizeof mats[0]; ++m)
-        zonal(mats[m].shininess, (mats[m].shininess + 2) / (2 * PI), gloss[m]);
-    double tanv = PI * height / width; /* cylindrical: square pixels */
+        zonal(mats[m].shininess, (mats[m].shininess + 2) / (2 * QTOOL_PI), gloss[m]);
+    double tanv = QTOOL_PI * height / width; /* cylindrical: square pixels */
     for (uint32_t y = 0; y < height; ++y)
         for (uint32_t x = 0; x < width; ++x) {
-            double phi = 2 * PI * (x + 0.5) / width, d[3];
+            double phi = 2 * QTOOL_PI * (x + 0.5) / width, d[3];
             if (kind == QTOOL_PANO_CYLINDRICAL) {
                 double hgt = (0.5 - (y + 0.5) / height) * 2 * tanv;
                 double len = sqrt(1 + hgt * hgt);
                 d[0] = cos(phi) / len, d[1] = sin(phi) / len, d[2] = hgt / len;
             } else {
-                double th = PI * (y + 0.5) / height;
+                double th = QTOOL_PI * (y + 0.5) / height;
                 d[0] = sin(th) * cos(phi), d[1] = sin(th) * sin(phi), d[2] = cos(th);
             }
             size_t pi = (size_t)y * width + x;

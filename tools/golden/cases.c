@@ -58,7 +58,7 @@ int qtool_goldens_run(const char *name, const qtool_goldens_sink_t *s)
 
 /* ---- output bytes, hashed as produced --------------------------------------------------------- */
 
-void gbuf_bytes(gbuf *b, const void *data, size_t n)
+void qtool_gbuf_bytes(qtool_gbuf *b, const void *data, size_t n)
 {
     if (!b->started) {
         qtool_sha256_init(&b->sha);
@@ -68,42 +68,42 @@ void gbuf_bytes(gbuf *b, const void *data, size_t n)
     b->n += n;
 }
 
-void gbuf_u8(gbuf *b, uint32_t v)
+void qtool_gbuf_u8(qtool_gbuf *b, uint32_t v)
 {
     uint8_t c = (uint8_t)v;
-    gbuf_bytes(b, &c, 1);
+    qtool_gbuf_bytes(b, &c, 1);
 }
 
-void gbuf_u16(gbuf *b, uint32_t v)
+void qtool_gbuf_u16(qtool_gbuf *b, uint32_t v)
 {
     uint8_t c[2] = {(uint8_t)v, (uint8_t)(v >> 8)};
-    gbuf_bytes(b, c, 2);
+    qtool_gbuf_bytes(b, c, 2);
 }
 
-void gbuf_u32(gbuf *b, uint32_t v)
+void qtool_gbuf_u32(qtool_gbuf *b, uint32_t v)
 {
     uint8_t c[4];
-    gput_u32(c, v);
-    gbuf_bytes(b, c, 4);
+    qtool_gput_u32(c, v);
+    qtool_gbuf_bytes(b, c, 4);
 }
 
-void gbuf_s32(gbuf *b, int32_t v)
+void qtool_gbuf_s32(qtool_gbuf *b, int32_t v)
 {
-    gbuf_u32(b, (uint32_t)v);
+    qtool_gbuf_u32(b, (uint32_t)v);
 }
 
-void gbuf_u64(gbuf *b, uint64_t v)
+void qtool_gbuf_u64(qtool_gbuf *b, uint64_t v)
 {
-    gbuf_u32(b, (uint32_t)v);
-    gbuf_u32(b, (uint32_t)(v >> 32));
+    qtool_gbuf_u32(b, (uint32_t)v);
+    qtool_gbuf_u32(b, (uint32_t)(v >> 32));
 }
 
-void gbuf_free(gbuf *b)
+void qtool_gbuf_free(qtool_gbuf *b)
 {
     b->n = 0, b->started = 0;
 }
 
-int gbuf_emit(const qtool_goldens_sink_t *s, const char *name, gbuf *b)
+int qtool_gbuf_emit(const qtool_goldens_sink_t *s, const char *name, qtool_gbuf *b)
 {
     uint8_t d[32];
     char hex[65];
@@ -112,11 +112,11 @@ int gbuf_emit(const qtool_goldens_sink_t *s, const char *name, gbuf *b)
     qtool_sha256_final(&b->sha, d);
     qtool_sha256_to_hex(d, hex);
     uint64_t n = b->n;
-    gbuf_free(b);
+    qtool_gbuf_free(b);
     return s->emit(s->user, name, hex, n) != 0;
 }
 
-int gcase_emit(const qtool_goldens_sink_t *s, const char *name, const void *data, size_t n)
+int qtool_gcase_emit(const qtool_goldens_sink_t *s, const char *name, const void *data, size_t n)
 {
     static const uint8_t none = 0;
     char hex[65];
@@ -124,7 +124,7 @@ int gcase_emit(const qtool_goldens_sink_t *s, const char *name, const void *data
     return s->emit(s->user, name, hex, n) != 0;
 }
 
-int gcase_status_error(const qtool_goldens_sink_t *s, const char *name, const char *call, qibl_status_t st)
+int qtool_gcase_status_error(const qtool_goldens_sink_t *s, const char *name, const char *call, qibl_status_t st)
 {
     char what[200];
     snprintf(what, sizeof what, "%s returned %d (%s)", call, (int)st, qibl_status_str(st));
@@ -132,13 +132,13 @@ int gcase_status_error(const qtool_goldens_sink_t *s, const char *name, const ch
     return 1;
 }
 
-int gcase_oom(const qtool_goldens_sink_t *s, const char *name)
+int qtool_gcase_oom(const qtool_goldens_sink_t *s, const char *name)
 {
     s->error(s->user, name, "out of memory");
     return 1;
 }
 
-int gcase_oom_size(const qtool_goldens_sink_t *s, const char *name, size_t bytes)
+int qtool_gcase_oom_size(const qtool_goldens_sink_t *s, const char *name, size_t bytes)
 {
     char what[80];
     if (bytes == 0)
@@ -149,24 +149,24 @@ int gcase_oom_size(const qtool_goldens_sink_t *s, const char *name, size_t bytes
     return 1;
 }
 
-void gput_u32(uint8_t *p, uint32_t v)
+void qtool_gput_u32(uint8_t *p, uint32_t v)
 {
     p[0] = (uint8_t)v, p[1] = (uint8_t)(v >> 8), p[2] = (uint8_t)(v >> 16), p[3] = (uint8_t)(v >> 24);
 }
 
-void gput_s32(uint8_t *p, int32_t v)
+void qtool_gput_s32(uint8_t *p, int32_t v)
 {
-    gput_u32(p, (uint32_t)v);
+    qtool_gput_u32(p, (uint32_t)v);
 }
 
-int32_t gs32(uint32_t u)
+int32_t qtool_gs32(uint32_t u)
 {
     return u <= (uint32_t)INT32_MAX ? (int32_t)u : (int32_t)(u - 0x80000000u) - INT32_MAX - 1;
 }
 
 /* ---- PRNG ------------------------------------------------------------------------------------ */
 
-uint64_t grng_next(grng *r)
+uint64_t qtool_grng_next(qtool_grng *r)
 {
     uint64_t z = (r->s += 0x9E3779B97F4A7C15u);
     z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9u;
@@ -174,7 +174,7 @@ uint64_t grng_next(grng *r)
     return z ^ (z >> 31);
 }
 
-uint32_t grng_u32(grng *r)
+uint32_t qtool_grng_u32(qtool_grng *r)
 {
-    return (uint32_t)(grng_next(r) >> 32);
+    return (uint32_t)(qtool_grng_next(r) >> 32);
 }

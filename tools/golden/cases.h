@@ -32,7 +32,7 @@ typedef struct qtool_goldens_sink {
     /* One finished case: its name (letters, digits, '_'; the fixtures file name without
      * ".sha256"), the SHA-256 of its output bytes as 64 lowercase hex digits and their count.
      * Returns 0 when the case passed (hash as expected). The bytes themselves are not handed over:
-     * a case's output is hashed as it is produced (casesi.h: gbuf), so it needs no memory of its
+     * a case's output is hashed as it is produced (casesi.h: qtool_gbuf), so it needs no memory of its
      * size; some outputs exceed a handheld's whole RAM (the GBA's 256 KiB). */
     int (*emit)(void *user, const char *name, const char *hex, uint64_t n);
     /* A case that could not be produced: a core call returned an unexpected status, or memory ran

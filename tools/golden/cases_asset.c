@@ -49,20 +49,20 @@ static uint32_t serialise(const chunks *c, uint8_t *out)
             return 0;
         }
         uint8_t *e = out + QIBL_ASSET_HEADER_SIZE + QIBL_ASSET_ENTRY_SIZE * i;
-        gput_u32(e, c->type[i]);
-        gput_u32(e + 4, off);
-        gput_u32(e + 8, c->size[i]);
-        gput_u32(e + 12, qibl_crc32(0, c->data[i], c->size[i]));
+        qtool_gput_u32(e, c->type[i]);
+        qtool_gput_u32(e + 4, off);
+        qtool_gput_u32(e + 8, c->size[i]);
+        qtool_gput_u32(e + 12, qibl_crc32(0, c->data[i], c->size[i]));
         if (c->size[i])
             memcpy(out + off, c->data[i], c->size[i]);
         off += c->size[i];
     }
     static const uint8_t magic[8] = {'Q', 'I', 'B', 'L', '\r', '\n', 0x1A, '\n'};
     memcpy(out, magic, 8);
-    gput_u32(out + 8, QIBL_ASSET_VERSION);
-    gput_u32(out + 12, c->count);
-    gput_u32(out + 16, off);
-    gput_u32(out + 20, qibl_crc32(0, out + QIBL_ASSET_HEADER_SIZE, QIBL_ASSET_ENTRY_SIZE * c->count));
+    qtool_gput_u32(out + 8, QIBL_ASSET_VERSION);
+    qtool_gput_u32(out + 12, c->count);
+    qtool_gput_u32(out + 16, off);
+    qtool_gput_u32(out + 20, qibl_crc32(0, out + QIBL_ASSET_HEADER_SIZE, QIBL_ASSET_ENTRY_SIZE * c->count));
     return off;
 }
 
@@ -74,7 +74,7 @@ static uint8_t *entry(uint8_t *a, uint32_t i)
 static void reseal_table(uint8_t *a)
 {
     uint32_t n = qibl_load_u32le(a + 12);
-    gput_u32(a + 20, qibl_crc32(0, a + QIBL_ASSET_HEADER_SIZE, QIBL_ASSET_ENTRY_SIZE * n));
+    qtool_gput_u32(a + 20, qibl_crc32(0, a + QIBL_ASSET_HEADER_SIZE, QIBL_ASSET_ENTRY_SIZE * n));
 }
 
 /* payload CRCs (where the entry stays inside the buffer), then the table CRC */
@@ -85,7 +85,7 @@ static void reseal_all(uint8_t *a, uint32_t n)
         uint8_t *e = entry(a, i);
         uint64_t off = qibl_load_u32le(e + 4), size = qibl_load_u32le(e + 8);
         if (off + size <= n)
-            gput_u32(e + 12, qibl_crc32(0, a + off, (size_t)size));
+            qtool_gput_u32(e + 12, qibl_crc32(0, a + off, (size_t)size));
     }
     reseal_table(a);
 }
@@ -103,19 +103,19 @@ typedef struct {
 
 static void make_fixture(fixture *f)
 {
-    grng r = {0xA55E7};
+    qtool_grng r = {0xA55E7};
     uint8_t *p = f->shmp;
-    gput_u32(p, W), gput_u32(p + 4, H), gput_u32(p + 8, K), gput_u32(p + 12, CH), gput_u32(p + 16, 0);
+    qtool_gput_u32(p, W), qtool_gput_u32(p + 4, H), qtool_gput_u32(p + 8, K), qtool_gput_u32(p + 12, CH), qtool_gput_u32(p + 16, 0);
     for (size_t i = 20; i < sizeof f->shmp; ++i)
-        p[i] = (uint8_t)grng_u32(&r);
+        p[i] = (uint8_t)qtool_grng_u32(&r);
     p = f->pmap;
-    gput_u32(p, W), gput_u32(p + 4, H), gput_u32(p + 8, 0);
+    qtool_gput_u32(p, W), qtool_gput_u32(p + 4, H), qtool_gput_u32(p + 8, 0);
     for (size_t i = 12; i < sizeof f->pmap; ++i)
-        p[i] = (uint8_t)grng_u32(&r);
+        p[i] = (uint8_t)qtool_grng_u32(&r);
     p = f->ylut;
-    gput_u32(p, N), gput_u32(p + 4, LK), gput_u32(p + 8, 0);
+    qtool_gput_u32(p, N), qtool_gput_u32(p + 4, LK), qtool_gput_u32(p + 8, 0);
     for (size_t i = 12; i < sizeof f->ylut; ++i)
-        p[i] = (uint8_t)grng_u32(&r);
+        p[i] = (uint8_t)qtool_grng_u32(&r);
     for (size_t i = 0; i < sizeof f->xtra; ++i)
         f->xtra[i] = (uint8_t)(i * 37u + 1u);
 }
@@ -135,59 +135,59 @@ static uint32_t build_full(const fixture *f, uint8_t *out)
 
 /* ---- what the parser makes of bytes ----------------------------------------------------------- */
 
-static void put_offset(gbuf *b, const uint8_t *base, const uint8_t *p)
+static void put_offset(qtool_gbuf *b, const uint8_t *base, const uint8_t *p)
 {
-    gbuf_u32(b, p == NULL ? 0xFFFFFFFFu : (uint32_t)(p - base));
+    qtool_gbuf_u32(b, p == NULL ? 0xFFFFFFFFu : (uint32_t)(p - base));
 }
 
 /* Status, and for a valid asset every field and accessor value. */
-static void parse(gbuf *b, const uint8_t *bytes, size_t n)
+static void parse(qtool_gbuf *b, const uint8_t *bytes, size_t n)
 {
     qibl_asset_t a;
     memset(&a, 0xA5, sizeof a);
     qibl_status_t st = qibl_asset_open(&a, bytes, n);
-    gbuf_u8(b, (uint32_t)st);
+    qtool_gbuf_u8(b, (uint32_t)st);
     if (st != QIBL_OK)
         return;
-    gbuf_u32(b, a.size), gbuf_u32(b, a.chunk_count);
+    qtool_gbuf_u32(b, a.size), qtool_gbuf_u32(b, a.chunk_count);
     put_offset(b, bytes, a.base);
     static const uint32_t types[] = {QIBL_CHUNK_SHMP, QIBL_CHUNK_PMAP, QIBL_CHUNK_YLUT, XTRA,
                                      QIBL_FOURCC('N', 'O', 'N', 'E')};
     for (size_t i = 0; i < sizeof types / sizeof types[0]; ++i) {
         qibl_chunk_t c = {0, 0, NULL};
-        gbuf_u8(b, (uint32_t)qibl_asset_find(&a, types[i], &c));
-        gbuf_u32(b, c.type), gbuf_u32(b, c.size);
+        qtool_gbuf_u8(b, (uint32_t)qibl_asset_find(&a, types[i], &c));
+        qtool_gbuf_u32(b, c.type), qtool_gbuf_u32(b, c.size);
         put_offset(b, bytes, c.data);
     }
     qibl_shmaps_t m;
     if (qibl_asset_shmaps(&a, &m) == QIBL_OK) {
-        gbuf_u32(b, m.width), gbuf_u32(b, m.height), gbuf_u32(b, m.k), gbuf_u32(b, m.channels);
+        qtool_gbuf_u32(b, m.width), qtool_gbuf_u32(b, m.height), qtool_gbuf_u32(b, m.k), qtool_gbuf_u32(b, m.channels);
         put_offset(b, bytes, m.params), put_offset(b, bytes, m.planes);
         for (uint32_t i = 0; i < m.k; ++i)
             for (uint32_t ch = 0; ch < m.channels; ++ch) {
-                gbuf_s32(b, qibl_shmaps_scale(&m, i, ch));
-                gbuf_s32(b, qibl_shmaps_bias(&m, i, ch));
+                qtool_gbuf_s32(b, qibl_shmaps_scale(&m, i, ch));
+                qtool_gbuf_s32(b, qibl_shmaps_bias(&m, i, ch));
                 put_offset(b, bytes, qibl_shmaps_plane(&m, i, ch));
             }
     }
     qibl_pmap_t p;
     qibl_status_t ps = qibl_asset_pmap(&a, &p);
-    gbuf_u8(b, (uint32_t)ps);
+    qtool_gbuf_u8(b, (uint32_t)ps);
     if (ps == QIBL_OK) {
-        gbuf_u32(b, p.width), gbuf_u32(b, p.height);
+        qtool_gbuf_u32(b, p.width), qtool_gbuf_u32(b, p.height);
         put_offset(b, bytes, p.points);
         for (uint32_t y = 0; y < p.height; ++y)
             for (uint32_t x = 0; x < p.width; ++x) {
                 qibl_q16_t q[3];
                 qibl_pmap_point(&p, x, y, q);
-                gbuf_s32(b, q[0]), gbuf_s32(b, q[1]), gbuf_s32(b, q[2]);
+                qtool_gbuf_s32(b, q[0]), qtool_gbuf_s32(b, q[1]), qtool_gbuf_s32(b, q[2]);
             }
     }
     qibl_ylut_t y;
     qibl_status_t ys = qibl_asset_ylut(&a, &y);
-    gbuf_u8(b, (uint32_t)ys);
+    qtool_gbuf_u8(b, (uint32_t)ys);
     if (ys == QIBL_OK) {
-        gbuf_u32(b, y.face_size), gbuf_u32(b, y.k);
+        qtool_gbuf_u32(b, y.face_size), qtool_gbuf_u32(b, y.k);
         put_offset(b, bytes, y.values);
     }
 }
@@ -196,7 +196,7 @@ static void parse(gbuf *b, const uint8_t *bytes, size_t n)
 
 static int valid(const qtool_goldens_sink_t *s, const fixture *f, uint8_t *a, uint8_t *tmp)
 {
-    gbuf b = {0};
+    qtool_gbuf b = {0};
     uint32_t n = build_full(f, a);
     parse(&b, a, n);
     parse(&b, a, n + 13); /* a longer buffer is fine */
@@ -209,7 +209,7 @@ static int valid(const qtool_goldens_sink_t *s, const fixture *f, uint8_t *a, ui
     /* grey maps, k = 25, 1 x 1, with an empty unknown chunk before it */
     uint8_t grey[20 + 8 * 25 + 25];
     memset(grey, 0, sizeof grey);
-    gput_u32(grey, 1), gput_u32(grey + 4, 1), gput_u32(grey + 8, 25), gput_u32(grey + 12, 1);
+    qtool_gput_u32(grey, 1), qtool_gput_u32(grey + 4, 1), qtool_gput_u32(grey + 8, 25), qtool_gput_u32(grey + 12, 1);
     for (size_t i = 20; i < sizeof grey; ++i)
         grey[i] = (uint8_t)(i * 7u);
     c.count = 0;
@@ -229,7 +229,7 @@ static int valid(const qtool_goldens_sink_t *s, const fixture *f, uint8_t *a, ui
     add(&c, QIBL_CHUNK_SHMP, f->shmp, sizeof f->shmp);
     n = serialise(&c, a);
     parse(&b, a, n);
-    return gbuf_emit(s, "asset_valid", &b);
+    return qtool_gbuf_emit(s, "asset_valid", &b);
 }
 
 /* One edit per status, in the order qibl_asset_open checks them, plus a few that must pass. */
@@ -291,18 +291,18 @@ static const edit edits[] = {
 
 static int damaged(const qtool_goldens_sink_t *s, const fixture *f, uint8_t *a)
 {
-    gbuf b = {0};
+    qtool_gbuf b = {0};
     for (size_t i = 0; i < sizeof edits / sizeof edits[0]; ++i) {
         const edit *e = &edits[i];
         uint32_t n = build_full(f, a);
         if (e->chunk == 0xFF && e->at < 8) /* a magic byte */
             a[e->at] = (uint8_t)e->value;
         else if (e->chunk == 0xFF)
-            gput_u32(a + e->at, e->value);
+            qtool_gput_u32(a + e->at, e->value);
         else if (e->at >= 0x100)
-            gput_u32(a + qibl_load_u32le(entry(a, e->chunk) + 4) + (e->at - 0x100), e->value);
+            qtool_gput_u32(a + qibl_load_u32le(entry(a, e->chunk) + 4) + (e->at - 0x100), e->value);
         else
-            gput_u32(entry(a, e->chunk) + e->at, e->value);
+            qtool_gput_u32(entry(a, e->chunk) + e->at, e->value);
         if (e->how == 1)
             reseal_table(a);
         else if (e->how == 2)
@@ -312,67 +312,67 @@ static int damaged(const qtool_goldens_sink_t *s, const fixture *f, uint8_t *a)
     /* SHMP sizes that overflow 32 bits: 8192 x 8192 pixels x 75 planes */
     uint8_t big[20 + 8 * 25 * 3];
     memset(big, 0, sizeof big);
-    gput_u32(big, 8192), gput_u32(big + 4, 8192), gput_u32(big + 8, 25), gput_u32(big + 12, 3);
+    qtool_gput_u32(big, 8192), qtool_gput_u32(big + 4, 8192), qtool_gput_u32(big + 8, 25), qtool_gput_u32(big + 12, 3);
     chunks c = {0};
     add(&c, QIBL_CHUNK_SHMP, big, sizeof big);
     uint32_t n = serialise(&c, a);
     parse(&b, a, n);
-    gput_u32(big, 16384), gput_u32(big + 4, 16384); /* 2^28 pixels: above the maximum */
+    qtool_gput_u32(big, 16384), qtool_gput_u32(big + 4, 16384); /* 2^28 pixels: above the maximum */
     n = serialise(&c, a);
     parse(&b, a, n);
-    return gbuf_emit(s, "asset_damaged", &b);
+    return qtool_gbuf_emit(s, "asset_damaged", &b);
 }
 
 static int truncations_and_flips(const qtool_goldens_sink_t *s, const fixture *f, uint8_t *a)
 {
-    gbuf b = {0};
+    qtool_gbuf b = {0};
     uint32_t n = build_full(f, a);
     for (uint32_t len = 0; len <= n; ++len) {
         /* a buffer of exactly len bytes, so that a sanitizer build sees any read past it */
         uint8_t *t = malloc(len ? len : 1);
         if (t == NULL) {
-            gbuf_free(&b);
-            return gcase_oom(s, "asset_truncations");
+            qtool_gbuf_free(&b);
+            return qtool_gcase_oom(s, "asset_truncations");
         }
         memcpy(t, a, len);
         parse(&b, t, len);
         free(t);
     }
-    int bad = gbuf_emit(s, "asset_truncations", &b);
+    int bad = qtool_gbuf_emit(s, "asset_truncations", &b);
     uint8_t *t = malloc(n); /* exactly n bytes, as above */
     if (t == NULL)
-        return bad + gcase_oom(s, "asset_bit_flips");
+        return bad + qtool_gcase_oom(s, "asset_bit_flips");
     for (uint32_t bit = 0; bit < 8 * n; ++bit) {
         memcpy(t, a, n);
         t[bit / 8] ^= (uint8_t)(1u << (bit % 8));
         qibl_asset_t as;
-        gbuf_u8(&b, (uint32_t)qibl_asset_open(&as, t, n));
+        qtool_gbuf_u8(&b, (uint32_t)qibl_asset_open(&as, t, n));
     }
     free(t);
-    return bad + gbuf_emit(s, "asset_bit_flips", &b);
+    return bad + qtool_gbuf_emit(s, "asset_bit_flips", &b);
 }
 
 static int crc_and_loads(const qtool_goldens_sink_t *s)
 {
-    gbuf b = {0};
+    qtool_gbuf b = {0};
     uint8_t d[256];
     for (size_t i = 0; i < sizeof d; ++i)
         d[i] = (uint8_t)(i * 131u + 7u);
     for (size_t len = 0; len <= sizeof d; ++len)
-        gbuf_u32(&b, qibl_crc32(0, d, len));
+        qtool_gbuf_u32(&b, qibl_crc32(0, d, len));
     /* continuation: any split gives the one-shot value */
     for (size_t cut = 0; cut <= sizeof d; cut += 17)
-        gbuf_u32(&b, qibl_crc32(qibl_crc32(0, d, cut), d + cut, sizeof d - cut));
-    gbuf_u32(&b, qibl_crc32(0, (const uint8_t *)"123456789", 9)); /* the check value CBF43926 */
-    grng r = {0x10AD};
+        qtool_gbuf_u32(&b, qibl_crc32(qibl_crc32(0, d, cut), d + cut, sizeof d - cut));
+    qtool_gbuf_u32(&b, qibl_crc32(0, (const uint8_t *)"123456789", 9)); /* the check value CBF43926 */
+    qtool_grng r = {0x10AD};
     for (int i = 0; i < 512; ++i) {
         uint8_t p[4];
-        gput_u32(p, i < 4 ? (uint32_t[]){0u, 0x7FFFFFFFu, 0x80000000u, 0xFFFFFFFFu}[i] : grng_u32(&r));
-        gbuf_u32(&b, qibl_load_u32le(p));
-        gbuf_s32(&b, qibl_load_s32le(p));
-        gbuf_u16(&b, (uint32_t)(int32_t)qibl_load_s16le(p + 1));
+        qtool_gput_u32(p, i < 4 ? (uint32_t[]){0u, 0x7FFFFFFFu, 0x80000000u, 0xFFFFFFFFu}[i] : qtool_grng_u32(&r));
+        qtool_gbuf_u32(&b, qibl_load_u32le(p));
+        qtool_gbuf_s32(&b, qibl_load_s32le(p));
+        qtool_gbuf_u16(&b, (uint32_t)(int32_t)qibl_load_s16le(p + 1));
     }
-    return gbuf_emit(s, "asset_crc32_loads", &b);
+    return qtool_gbuf_emit(s, "asset_crc32_loads", &b);
 }
 
 int qtool_goldens_asset(const qtool_goldens_sink_t *s)
@@ -381,7 +381,7 @@ int qtool_goldens_asset(const qtool_goldens_sink_t *s)
     uint8_t *a = malloc(ABUF), *tmp = malloc(ABUF + 1);
     if (a == NULL || tmp == NULL) {
         free(a), free(tmp);
-        return gcase_oom(s, "asset");
+        return qtool_gcase_oom(s, "asset");
     }
     make_fixture(&f);
     int bad = valid(s, &f, a, tmp) + damaged(s, &f, a) + truncations_and_flips(s, &f, a) + crc_and_loads(s);

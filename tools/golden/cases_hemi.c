@@ -20,21 +20,21 @@ static int tables_case(const qtool_goldens_sink_t *s, const char *name, int n, i
     size_t sz = qibl_hemi_workspace_size(n, face);
     *ws = malloc(sz);
     if (*ws == NULL)
-        return gcase_oom_size(s, name, sz);
+        return qtool_gcase_oom_size(s, name, sz);
     qibl_status_t st = qibl_hemi_init(h, n, face, *ws, sz);
     if (st != QIBL_OK)
-        return gcase_status_error(s, name, "qibl_hemi_init", st);
-    gbuf b = {0};
+        return qtool_gcase_status_error(s, name, "qibl_hemi_init", st);
+    qtool_gbuf b = {0};
     const uint32_t lut_words = 3u * (uint32_t)face * (uint32_t)face * h->words;
     for (uint32_t i = 0; i < h->words; ++i)
-        gbuf_u32(&b, h->disk[i]);
+        qtool_gbuf_u32(&b, h->disk[i]);
     for (uint32_t i = 0; i < 25u; ++i)
-        gbuf_u32(&b, h->full[i]);
+        qtool_gbuf_u32(&b, h->full[i]);
     for (uint32_t i = 0; i < (uint32_t)n * (uint32_t)n * 25u; ++i)
-        gbuf_u32(&b, h->basis[i]);
+        qtool_gbuf_u32(&b, h->basis[i]);
     for (uint32_t i = 0; i < lut_words; ++i)
-        gbuf_u32(&b, h->lut[i]);
-    return gbuf_emit(s, name, &b);
+        qtool_gbuf_u32(&b, h->lut[i]);
+    return qtool_gbuf_emit(s, name, &b);
 }
 
 static int masks_case(const qtool_goldens_sink_t *s, const char *name, const qibl_hemi_t *h, uint64_t seed)
@@ -42,16 +42,16 @@ static int masks_case(const qtool_goldens_sink_t *s, const char *name, const qib
     enum { NV = 48, NT = 40 };
     int32_t v[NV][3];
     uint32_t tri[NT][3];
-    grng r = {seed};
+    qtool_grng r = {seed};
     for (int i = 0; i < NV; ++i)
         for (int k = 0; k < 3; ++k) {
             /* mixed scales: near (2^12), mid (2^18), far (2^25) blockers; some below the horizon */
             const int sc = i % 3 == 0 ? 12 : i % 3 == 1 ? 18 : 25;
-            v[i][k] = (int32_t)(grng_u32(&r) >> (31 - sc)) - (int32_t)(1u << (sc - 1));
+            v[i][k] = (int32_t)(qtool_grng_u32(&r) >> (31 - sc)) - (int32_t)(1u << (sc - 1));
         }
     for (int t = 0; t < NT; ++t)
         for (int k = 0; k < 3; ++k)
-            tri[t][k] = grng_u32(&r) % NV;
+            tri[t][k] = qtool_grng_u32(&r) % NV;
     /* hard cases: a vertex at the receiver, a repeated vertex, 1 LSB above, on the horizon */
     v[0][0] = v[0][1] = v[0][2] = 0;
     tri[0][0] = 0;
@@ -61,75 +61,75 @@ static int masks_case(const qtool_goldens_sink_t *s, const char *name, const qib
     tri[2][0] = 1, tri[2][1] = 2, tri[2][2] = 3;
     v[4][2] = 0, v[5][2] = 0;
     tri[3][0] = 4, tri[3][1] = 5;
-    gbuf b = {0};
+    qtool_gbuf b = {0};
     uint32_t m[QIBL_HEMI_MAX_WORDS];
     for (int k = 0; k < NT; k += 4) {
         qibl_hemi_stats_t st = {0, 0, 0};
-        qibl_hemi_clear(h, m);
+        QIBL_DROP_STATUS(qibl_hemi_clear(h, m));
         qibl_status_t rc = qibl_hemi_raster(h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])tri + k, 4, m, &st);
-        gbuf_u8(&b, (uint32_t)rc);
-        gbuf_u32(&b, st.rasterized), gbuf_u32(&b, st.below), gbuf_u32(&b, st.through);
-        qibl_hemi_clip(h, m);
+        qtool_gbuf_u8(&b, (uint32_t)rc);
+        qtool_gbuf_u32(&b, st.rasterized), qtool_gbuf_u32(&b, st.below), qtool_gbuf_u32(&b, st.through);
+        QIBL_DROP_STATUS(qibl_hemi_clip(h, m));
         for (uint32_t i = 0; i < h->words; ++i)
-            gbuf_u32(&b, m[i]);
+            qtool_gbuf_u32(&b, m[i]);
         qibl_q30_t out[25];
         for (int i = 0; i < 25; ++i)
             out[i] = (qibl_q30_t)GUARD;
         rc = qibl_hemi_transfer(h, m, out);
-        gbuf_u8(&b, (uint32_t)rc);
+        qtool_gbuf_u8(&b, (uint32_t)rc);
         for (int i = 0; i < 25; ++i)
-            gbuf_s32(&b, out[i]);
+            qtool_gbuf_s32(&b, out[i]);
     }
     /* a bad index: status only, mask untouched */
     tri[5][2] = NV;
     for (uint32_t i = 0; i < h->words; ++i)
         m[i] = GUARD;
-    gbuf_u8(&b, (uint32_t)qibl_hemi_raster(h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])tri, NT, m, NULL));
+    qtool_gbuf_u8(&b, (uint32_t)qibl_hemi_raster(h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])tri, NT, m, NULL));
     for (uint32_t i = 0; i < h->words; ++i)
-        gbuf_u32(&b, m[i]);
-    return gbuf_emit(s, name, &b);
+        qtool_gbuf_u32(&b, m[i]);
+    return qtool_gbuf_emit(s, name, &b);
 }
 
 static int frames_case(const qtool_goldens_sink_t *s, const char *name, const qibl_hemi_t *h)
 {
-    grng r = {4242};
-    gbuf b = {0};
+    qtool_grng r = {4242};
+    qtool_gbuf b = {0};
     for (int t = 0; t < 64; ++t) {
         int32_t n[3];
         qibl_q16_t p[3], pos[4][3];
         for (int k = 0; k < 3; ++k) {
-            n[k] = (int32_t)(grng_u32(&r) >> 8) - (1 << 23);
-            p[k] = (int32_t)(grng_u32(&r) >> 11) - (1 << 20);
+            n[k] = (int32_t)(qtool_grng_u32(&r) >> 8) - (1 << 23);
+            p[k] = (int32_t)(qtool_grng_u32(&r) >> 11) - (1 << 20);
             for (int j = 0; j < 4; ++j)
-                pos[j][k] = (int32_t)(grng_u32(&r) >> 10) - (1 << 21);
+                pos[j][k] = (int32_t)(qtool_grng_u32(&r) >> 10) - (1 << 21);
         }
         if (t < 3)
             n[0] = n[1] = 0, n[2] = t - 1; /* poles and the zero vector */
         qibl_hemi_frame_t fr;
         qibl_status_t st = qibl_hemi_frame_init(&fr, p, n);
-        gbuf_u8(&b, (uint32_t)st);
+        qtool_gbuf_u8(&b, (uint32_t)st);
         if (st != QIBL_OK)
             continue;
         for (int i = 0; i < 3; ++i)
             for (int k = 0; k < 3; ++k)
-                gbuf_s32(&b, fr.axis[i][k]);
+                qtool_gbuf_s32(&b, fr.axis[i][k]);
         int32_t loc[4][3];
-        gbuf_u8(&b, (uint32_t)qibl_hemi_transform(&fr, (const qibl_q16_t(*)[3])pos, 4, loc));
+        qtool_gbuf_u8(&b, (uint32_t)qibl_hemi_transform(&fr, (const qibl_q16_t(*)[3])pos, 4, loc));
         for (int j = 0; j < 4; ++j)
             for (int k = 0; k < 3; ++k)
-                gbuf_s32(&b, loc[j][k]);
+                qtool_gbuf_s32(&b, loc[j][k]);
         qibl_q30_t in[25], out[25];
         int32_t light[25];
         for (int i = 0; i < 25; ++i)
-            in[i] = (int32_t)(grng_u32(&r) >> 2) - (1 << 29);
-        qibl_hemi_to_world(h, &fr, in, out);
+            in[i] = (int32_t)(qtool_grng_u32(&r) >> 2) - (1 << 29);
+        QIBL_DROP_STATUS(qibl_hemi_to_world(h, &fr, in, out));
         for (int i = 0; i < 25; ++i)
-            gbuf_s32(&b, out[i]);
-        qibl_hemi_to_frame(h, &fr, in, light);
+            qtool_gbuf_s32(&b, out[i]);
+        QIBL_DROP_STATUS(qibl_hemi_to_frame(h, &fr, in, light));
         for (int i = 0; i < 25; ++i)
-            gbuf_s32(&b, light[i]);
+            qtool_gbuf_s32(&b, light[i]);
     }
-    return gbuf_emit(s, name, &b);
+    return qtool_gbuf_emit(s, name, &b);
 }
 
 /* Group bounds of integer-made vertex sets (one vertex, a flat set, random sets, an index list,
@@ -137,19 +137,19 @@ static int frames_case(const qtool_goldens_sink_t *s, const char *name, const qi
  * k = 0.75 .. 4 against random frames. */
 static int bounds_case(const qtool_goldens_sink_t *s, const char *name)
 {
-    grng r = {777};
-    gbuf b = {0};
+    qtool_grng r = {777};
+    qtool_gbuf b = {0};
     for (int t = 0; t < 48; ++t) {
         enum { NV = 9 };
         qibl_q16_t pos[NV][3], p[3];
         int32_t n[3];
         const uint32_t span = 1u << (4 + t % 18);
         for (int k = 0; k < 3; ++k) {
-            const int32_t c = (int32_t)(grng_u32(&r) >> 12) - (1 << 19);
+            const int32_t c = (int32_t)(qtool_grng_u32(&r) >> 12) - (1 << 19);
             for (int j = 0; j < NV; ++j)
-                pos[j][k] = c + (int32_t)(grng_u32(&r) % span) - (int32_t)(span / 2u);
-            p[k] = (int32_t)(grng_u32(&r) >> 12) - (1 << 19);
-            n[k] = (int32_t)(grng_u32(&r) >> 8) - (1 << 23);
+                pos[j][k] = c + (int32_t)(qtool_grng_u32(&r) % span) - (int32_t)(span / 2u);
+            p[k] = (int32_t)(qtool_grng_u32(&r) >> 12) - (1 << 19);
+            n[k] = (int32_t)(qtool_grng_u32(&r) >> 8) - (1 << 23);
         }
         if (t % 8 == 3)
             for (int j = 0; j < NV; ++j)
@@ -157,27 +157,27 @@ static int bounds_case(const qtool_goldens_sink_t *s, const char *name)
         const uint32_t idx[4] = {1, 3, 5, (uint32_t)(t == 7 ? NV : 7)};
         qibl_hemi_bound_t bd = {{(int32_t)GUARD, (int32_t)GUARD, (int32_t)GUARD}, (int32_t)GUARD};
         const uint32_t cnt = t % 6 == 0 ? 1u : t == 5 ? 0u : (uint32_t)NV;
-        gbuf_u8(&b, (uint32_t)(t % 3 == 1 ? qibl_hemi_bound_fit((const qibl_q16_t(*)[3])pos, NV, idx, 4, &bd)
+        qtool_gbuf_u8(&b, (uint32_t)(t % 3 == 1 ? qibl_hemi_bound_fit((const qibl_q16_t(*)[3])pos, NV, idx, 4, &bd)
                                           : qibl_hemi_bound_fit((const qibl_q16_t(*)[3])pos, NV, NULL, cnt, &bd)));
         for (int k = 0; k < 3; ++k)
-            gbuf_s32(&b, bd.c[k]);
-        gbuf_s32(&b, bd.r);
+            qtool_gbuf_s32(&b, bd.c[k]);
+        qtool_gbuf_s32(&b, bd.r);
         qibl_hemi_frame_t fr;
         if (qibl_hemi_frame_init(&fr, p, n) == QIBL_OK)
             for (int q = 0; q < 4; ++q) { /* the frame moved onto the group's centre and off it */
                 qibl_hemi_frame_t g = fr;
                 for (int k = 0; k < 3; ++k)
                     g.p[k] = bd.c[k] + (q - 1) * (int32_t)(span / 4u) * (fr.axis[2][k] / (1 << 28));
-                gbuf_u8(&b, (uint32_t)qibl_hemi_bound_above(&g, &bd));
+                qtool_gbuf_u8(&b, (uint32_t)qibl_hemi_bound_above(&g, &bd));
                 for (uint32_t kq = 192u; kq <= 1024u; kq += 208u) /* k = 0.75 .. 4 */
-                    gbuf_u8(&b, (uint32_t)qibl_hemi_bound_near(&g, &bd, kq));
+                    qtool_gbuf_u8(&b, (uint32_t)qibl_hemi_bound_near(&g, &bd, kq));
             }
     }
     const qibl_q16_t far[1][3] = {{QIBL_HEMI_COORD_MAX + 1, 0, 0}};
     qibl_hemi_bound_t bd = {{1, 2, 3}, 4};
-    gbuf_u8(&b, (uint32_t)qibl_hemi_bound_fit(far, 1, NULL, 1, &bd));
-    gbuf_s32(&b, bd.r);
-    return gbuf_emit(s, name, &b);
+    qtool_gbuf_u8(&b, (uint32_t)qibl_hemi_bound_fit(far, 1, NULL, 1, &bd));
+    qtool_gbuf_s32(&b, bd.r);
+    return qtool_gbuf_emit(s, name, &b);
 }
 
 /* The glossy transfer: random masks, reflection directions (axes, below the horizon, random) and
@@ -185,15 +185,15 @@ static int bounds_case(const qtool_goldens_sink_t *s, const char *name)
 static int phong_case(const qtool_goldens_sink_t *s, const char *name, const qibl_hemi_t *h, uint64_t seed)
 {
     static const uint32_t es[] = {0u, 1u, 2u, 7u, 64u, QIBL_HEMI_MAX_EXPONENT, QIBL_HEMI_MAX_EXPONENT + 1u};
-    grng r = {seed};
-    gbuf b = {0};
+    qtool_grng r = {seed};
+    qtool_gbuf b = {0};
     for (int t = 0; t < 8; ++t) {
         uint32_t m[QIBL_HEMI_MAX_WORDS];
         for (uint32_t i = 0; i < h->words; ++i)
-            m[i] = t == 0 ? 0u : grng_u32(&r) & grng_u32(&r);
+            m[i] = t == 0 ? 0u : qtool_grng_u32(&r) & qtool_grng_u32(&r);
         qibl_q30_t refl[3];
         for (int k = 0; k < 3; ++k)
-            refl[k] = (int32_t)(grng_u32(&r) >> 1) - (1 << 30);
+            refl[k] = (int32_t)(qtool_grng_u32(&r) >> 1) - (1 << 30);
         if (t == 1)
             refl[0] = refl[1] = 0, refl[2] = 1 << 30; /* the normal */
         if (t == 2)
@@ -204,12 +204,12 @@ static int phong_case(const qtool_goldens_sink_t *s, const char *name, const qib
             qibl_q30_t out[25];
             for (int i = 0; i < 25; ++i)
                 out[i] = (qibl_q30_t)GUARD;
-            gbuf_u8(&b, (uint32_t)qibl_hemi_transfer_phong(h, m, refl, es[e], out));
+            qtool_gbuf_u8(&b, (uint32_t)qibl_hemi_transfer_phong(h, m, refl, es[e], out));
             for (int i = 0; i < 25; ++i)
-                gbuf_s32(&b, out[i]);
+                qtool_gbuf_s32(&b, out[i]);
         }
     }
-    return gbuf_emit(s, name, &b);
+    return qtool_gbuf_emit(s, name, &b);
 }
 
 int qtool_goldens_hemi(const qtool_goldens_sink_t *s)
@@ -234,9 +234,9 @@ int qtool_goldens_hemi(const qtool_goldens_sink_t *s)
         } else if (ws == NULL) {
             /* the tables did not fit: the cases that use them cannot run either (same need) */
             size_t sz = qibl_hemi_workspace_size(cfg[c].n, cfg[c].face);
-            fails += gcase_oom_size(s, cfg[c].masks, sz) + gcase_oom_size(s, cfg[c].phong, sz);
+            fails += qtool_gcase_oom_size(s, cfg[c].masks, sz) + qtool_gcase_oom_size(s, cfg[c].phong, sz);
             if (c == 1)
-                fails += gcase_oom_size(s, "hemi_frames", sz);
+                fails += qtool_gcase_oom_size(s, "hemi_frames", sz);
         }
         if (c == 1)
             fails += bounds_case(s, "hemi_bounds"); /* (needs no tables) */

@@ -21,17 +21,17 @@
 size_t qtool_goldens_light_bytes(const qibl_lightprobe_light_t *L, const qibl_lightprobe_result_t *res, uint8_t *out)
 {
     size_t n = 0;
-    gput_u32(out + n, res->count), n += 4;
-    gput_s32(out + n, res->rgb_exp), n += 4;
+    qtool_gput_u32(out + n, res->count), n += 4;
+    qtool_gput_s32(out + n, res->rgb_exp), n += 4;
     for (uint32_t i = 0; i < res->count; ++i) {
         for (int c = 0; c < 3; ++c)
-            gput_s32(out + n, L[i].dir[c]), n += 4;
+            qtool_gput_s32(out + n, L[i].dir[c]), n += 4;
         for (int c = 0; c < 3; ++c)
-            gput_s32(out + n, L[i].rgb[c]), n += 4;
-        gput_u32(out + n, L[i].u0), n += 4;
-        gput_u32(out + n, L[i].v0), n += 4;
-        gput_u32(out + n, L[i].u1), n += 4;
-        gput_u32(out + n, L[i].v1), n += 4;
+            qtool_gput_s32(out + n, L[i].rgb[c]), n += 4;
+        qtool_gput_u32(out + n, L[i].u0), n += 4;
+        qtool_gput_u32(out + n, L[i].v0), n += 4;
+        qtool_gput_u32(out + n, L[i].u1), n += 4;
+        qtool_gput_u32(out + n, L[i].v1), n += 4;
     }
     return n;
 }
@@ -40,17 +40,17 @@ size_t qtool_goldens_light_bytes(const qibl_lightprobe_light_t *L, const qibl_li
  * whose exponent rises by up to 12 (4096x) towards their centres. RGBE bytes. */
 static uint8_t *int_probe(uint64_t seed, int w, int h, int spots)
 {
-    grng r = {seed};
+    qtool_grng r = {seed};
     uint8_t *px = malloc(4 * (size_t)w * (size_t)h);
     if (px == NULL)
         return NULL;
     int su[8], sv[8];
     for (int k = 0; k < spots && k < 8; ++k)
-        su[k] = (int)(grng_u32(&r) % (uint32_t)w), sv[k] = (int)(grng_u32(&r) % (uint32_t)h);
+        su[k] = (int)(qtool_grng_u32(&r) % (uint32_t)w), sv[k] = (int)(qtool_grng_u32(&r) % (uint32_t)h);
     for (int v = 0; v < h; ++v)
         for (int u = 0; u < w; ++u) {
             uint8_t *q = px + 4 * ((size_t)v * (size_t)w + (size_t)u);
-            uint32_t n = grng_u32(&r);
+            uint32_t n = qtool_grng_u32(&r);
             q[0] = (uint8_t)(128 + (u * 97 / w + (int)(n & 15)) % 128);
             q[1] = (uint8_t)(128 + (v * 89 / h + (int)((n >> 4) & 15)) % 128);
             q[2] = (uint8_t)(128 + ((u + v) * 61 / (w + h) + (int)((n >> 8) & 31)) % 128);
@@ -129,8 +129,8 @@ static int check_lights(const qtool_goldens_sink_t *s, const char *name, const q
     o.method = method;
     qibl_status_t st = qibl_lightprobe_lights(lp, &o, L, n, &res);
     if (st != QIBL_OK)
-        return gcase_status_error(s, name, "qibl_lightprobe_lights", st);
-    return gcase_emit(s, name, buf, qtool_goldens_light_bytes(L, &res, buf));
+        return qtool_gcase_status_error(s, name, "qibl_lightprobe_lights", st);
+    return qtool_gcase_emit(s, name, buf, qtool_goldens_light_bytes(L, &res, buf));
 }
 
 /* One light-list case: the probe's tables built for method alone (the least workspace a method
@@ -141,10 +141,10 @@ static int lights_case(const qtool_goldens_sink_t *s, const char *name, const qi
     size_t wn = qibl_lightprobe_workspace_size(img->width, img->height, method);
     void *ws = wn ? malloc(wn) : NULL;
     if (ws == NULL)
-        return gcase_oom_size(s, name, wn);
+        return qtool_gcase_oom_size(s, name, wn);
     qibl_lightprobe_t lp;
     qibl_status_t st = qibl_lightprobe_build(&lp, img, method, ws, wn);
-    int bad = st != QIBL_OK ? gcase_status_error(s, name, "qibl_lightprobe_build", st)
+    int bad = st != QIBL_OK ? qtool_gcase_status_error(s, name, "qibl_lightprobe_build", st)
                             : check_lights(s, name, &lp, method, n);
     free(ws);
     return bad;
@@ -164,7 +164,7 @@ static int probe_cases(const qtool_goldens_sink_t *s, const char *probe, const q
     for (size_t i = 0; i < sizeof m / sizeof m[0]; ++i) {
         snprintf(name, sizeof name, "lightprobe_%s_%s", probe, m[i].suffix);
         bad += img->pixels != NULL ? lights_case(s, name, img, m[i].method, m[i].n)
-                                   : gcase_oom_size(s, name, img->stride * img->height);
+                                   : qtool_gcase_oom_size(s, name, img->stride * img->height);
     }
     return bad;
 }
@@ -182,19 +182,19 @@ static int row_weights(const qtool_goldens_sink_t *s)
 {
     static const uint32_t hs[] = {1, 2, 3, 5, 7, 64, 511, 512, 1000, 2048, 4096, 32768};
     const char *name = "lightprobe_row_weights";
-    gbuf b = {0};
+    qtool_gbuf b = {0};
     for (size_t k = 0; k < sizeof hs / sizeof hs[0]; ++k)
         for (uint32_t v = 0; v < (hs[k] + 1) / 2; ++v) {
             uint32_t m;
             int32_t e;
             qibl_status_t st = qibl_lightprobe_row_weight(hs[k], v, &m, &e);
             if (st != QIBL_OK) {
-                gbuf_free(&b);
-                return gcase_status_error(s, name, "qibl_lightprobe_row_weight", st);
+                qtool_gbuf_free(&b);
+                return qtool_gcase_status_error(s, name, "qibl_lightprobe_row_weight", st);
             }
-            gbuf_u32(&b, m), gbuf_s32(&b, e);
+            qtool_gbuf_u32(&b, m), qtool_gbuf_s32(&b, e);
         }
-    return gbuf_emit(s, name, &b);
+    return qtool_gbuf_emit(s, name, &b);
 }
 
 /* img over px, or, when px is NULL (its allocation failed), an image whose stride * height says
@@ -232,7 +232,7 @@ int qtool_goldens_lightprobe(const qtool_goldens_sink_t *s)
     uint8_t *c = fb ? malloc(4 * (size_t)N) : NULL;
     qibl_status_t st = c ? qibl_srgbe_encode_f32_n(fb, N, c) : QIBL_OK;
     if (st != QIBL_OK) {
-        bad += gcase_status_error(s, "lightprobe_random100_srgbe", "qibl_srgbe_encode_f32_n", st);
+        bad += qtool_gcase_status_error(s, "lightprobe_random100_srgbe", "qibl_srgbe_encode_f32_n", st);
     } else {
         img = probe_image(c, W, H, QIBL_LIGHTPROBE_SRGBE, 4);
         bad += probe_cases(s, "random100_srgbe", &img);

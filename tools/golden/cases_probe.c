@@ -16,36 +16,36 @@
 
 #define GUARD 0x5A5A5A5Au
 
-static void put_coeffs(gbuf *b, qibl_status_t st, const qibl_probe_coeffs_t *c)
+static void put_coeffs(qtool_gbuf *b, qibl_status_t st, const qibl_probe_coeffs_t *c)
 {
-    gbuf_u8(b, (uint32_t)st);
-    gbuf_s32(b, c->bands);
-    gbuf_s32(b, c->exp);
+    qtool_gbuf_u8(b, (uint32_t)st);
+    qtool_gbuf_s32(b, c->bands);
+    qtool_gbuf_s32(b, c->exp);
     for (int ch = 0; ch < 3; ++ch)
         for (int i = 0; i < QIBL_SH_MAX_COUNT; ++i)
-            gbuf_s32(b, c->c[ch][i]);
+            qtool_gbuf_s32(b, c->c[ch][i]);
 }
 
 static void guard(qibl_probe_coeffs_t *c)
 {
-    c->bands = c->exp = gs32(GUARD);
+    c->bands = c->exp = qtool_gs32(GUARD);
     for (int ch = 0; ch < 3; ++ch)
         for (int i = 0; i < QIBL_SH_MAX_COUNT; ++i)
-            c->c[ch][i] = gs32(GUARD);
+            c->c[ch][i] = qtool_gs32(GUARD);
 }
 
 /* RGBE probe from integers: hash-noise mantissas, exponents 110..140 with a bright spot (2^16 x) */
 static uint8_t *make_rgbe(uint64_t seed, uint32_t w, uint32_t h)
 {
-    grng r = {seed};
+    qtool_grng r = {seed};
     uint8_t *px = malloc(4 * (size_t)w * h);
     if (px == NULL)
         return NULL;
-    const uint32_t su = grng_u32(&r) % w, sv = grng_u32(&r) % h;
+    const uint32_t su = qtool_grng_u32(&r) % w, sv = qtool_grng_u32(&r) % h;
     for (uint32_t v = 0; v < h; ++v)
         for (uint32_t u = 0; u < w; ++u) {
             uint8_t *q = px + 4 * ((size_t)v * w + u);
-            uint32_t n = grng_u32(&r);
+            uint32_t n = qtool_grng_u32(&r);
             q[0] = (uint8_t)(128 | n), q[1] = (uint8_t)(128 | (n >> 8)), q[2] = (uint8_t)(n >> 16);
             q[3] = (uint8_t)(125 + (n >> 28) + (u == su && v == sv ? 16 : 0));
             if ((n >> 24 & 15u) == 0u)
@@ -69,14 +69,14 @@ static uint32_t f32_bits(uint32_t m, uint32_t e)
 static int project_case(const qtool_goldens_sink_t *s, const char *name, const qibl_lightprobe_image_t *img,
                         int reverse)
 {
-    gbuf b = {0};
+    qtool_gbuf b = {0};
     static const qibl_probe_sh_opts_t opts[] = {
         {0, QIBL_PROBE_WINDOW_NONE, 0}, {1, QIBL_PROBE_WINDOW_NONE, 0}, {0, QIBL_PROBE_WINDOW_HANN, 0},
         {1, QIBL_PROBE_WINDOW_LANCZOS, 0}};
     size_t n = qibl_probe_sh_workspace_size(img->width, img->height);
     void *ws = malloc(n ? n : 1);
     if (ws == NULL)
-        return gcase_oom(s, name);
+        return qtool_gcase_oom(s, name);
     for (int bands = 1; bands <= QIBL_SH_MAX_BANDS; bands += bands == 1 ? 2 : 2) {
         qibl_probe_sh_t ps;
         qibl_status_t st = qibl_probe_sh_begin(&ps, img->width, img->height, img->format, img->frac_bits, bands,
@@ -85,7 +85,7 @@ static int project_case(const qtool_goldens_sink_t *s, const char *name, const q
         for (uint32_t k = 0; k < img->height && st == QIBL_OK; ++k) {
             uint32_t v = reverse ? img->height - 1u - k : k;
             st = qibl_probe_sh_add_row(&ps, v, (const uint8_t *)img->pixels + (size_t)v * img->width * pb);
-            gbuf_u8(&b, (uint32_t)st);
+            qtool_gbuf_u8(&b, (uint32_t)st);
         }
         for (size_t o = 0; o < sizeof opts / sizeof opts[0]; ++o) {
             qibl_probe_coeffs_t c;
@@ -95,7 +95,7 @@ static int project_case(const qtool_goldens_sink_t *s, const char *name, const q
         }
     }
     free(ws);
-    return gbuf_emit(s, name, &b);
+    return qtool_gbuf_emit(s, name, &b);
 }
 
 static qibl_lightprobe_image_t image(const void *px, uint32_t w, uint32_t h, qibl_lightprobe_format_t f, int32_t fb)
@@ -109,11 +109,11 @@ static int projections(const qtool_goldens_sink_t *s)
     int bad = 0;
     /* sizes: 1 x 1, odd, W % 4 == 0 and not, a 2:1 probe */
     static const uint32_t sz[][2] = {{1, 1}, {2, 1}, {3, 7}, {4, 2}, {5, 3}, {12, 6}, {30, 15}, {64, 32}};
-    gbuf all = {0};
+    qtool_gbuf all = {0};
     for (size_t i = 0; i < sizeof sz / sizeof sz[0]; ++i) {
         uint8_t *px = make_rgbe(100 + i, sz[i][0], sz[i][1]);
         if (px == NULL)
-            return gcase_oom(s, "probe_sh_sizes");
+            return qtool_gcase_oom(s, "probe_sh_sizes");
         qibl_lightprobe_image_t img = image(px, sz[i][0], sz[i][1], QIBL_LIGHTPROBE_RGBE, 0);
         qibl_probe_coeffs_t c;
         guard(&c);
@@ -123,16 +123,16 @@ static int projections(const qtool_goldens_sink_t *s)
         put_coeffs(&all, st, &c);
         free(ws), free(px);
     }
-    bad += gbuf_emit(s, "probe_sh_sizes", &all);
+    bad += qtool_gbuf_emit(s, "probe_sh_sizes", &all);
 
     /* widths for the vector paths (QIBL_CONFIG_SIMD): fewer than 8 column pairs, 8, several steps
      * and flushes, a scalar tail, an odd quarter width; every path must give these bytes */
     static const uint32_t wd[] = {16, 64, 68, 192, 200, 204, 1028};
-    gbuf wide = {0};
+    qtool_gbuf wide = {0};
     for (size_t i = 0; i < sizeof wd / sizeof wd[0]; ++i) {
         uint8_t *px = make_rgbe(200 + i, wd[i], 3);
         if (px == NULL)
-            return gcase_oom(s, "probe_sh_widths");
+            return qtool_gcase_oom(s, "probe_sh_widths");
         for (uint32_t p = 5; p < wd[i] * 3u; p += 13) /* unlit pixels of huge exponent */
             px[4 * p] = px[4 * p + 1] = px[4 * p + 2] = 0, px[4 * p + 3] = 255;
         qibl_lightprobe_image_t img = image(px, wd[i], 3, QIBL_LIGHTPROBE_RGBE, 0);
@@ -144,14 +144,14 @@ static int projections(const qtool_goldens_sink_t *s)
         put_coeffs(&wide, st, &c);
         free(ws), free(px);
     }
-    bad += gbuf_emit(s, "probe_sh_widths", &wide);
+    bad += qtool_gbuf_emit(s, "probe_sh_widths", &wide);
 
     const uint32_t w = 64, h = 32;
     uint8_t *px = make_rgbe(7, w, h);
     uint32_t *f32 = malloc(12 * (size_t)w * h), *i32 = malloc(12 * (size_t)w * h);
     if (px == NULL || f32 == NULL || i32 == NULL) {
         free(px), free(f32), free(i32);
-        return bad + gcase_oom(s, "probe_sh_rgbe64x32");
+        return bad + qtool_gcase_oom(s, "probe_sh_rgbe64x32");
     }
     for (size_t p = 0; p < (size_t)w * h; ++p)
         for (int c = 0; c < 3; ++c) {
@@ -181,7 +181,7 @@ static int projections(const qtool_goldens_sink_t *s)
 /* bad pixels, black probe, poles, argument errors: statuses and what gets written */
 static int hard_cases(const qtool_goldens_sink_t *s)
 {
-    gbuf b = {0};
+    qtool_gbuf b = {0};
     enum { W = 8, H = 4 };
     uint32_t f[3 * W * H];
     static const uint32_t bads[] = {0x7FC00000u, 0x7F800000u, 0xFF800000u, 0x80000001u, 0xBF800000u, 0x00000001u,
@@ -189,7 +189,7 @@ static int hard_cases(const qtool_goldens_sink_t *s)
     size_t n = qibl_probe_sh_workspace_size(W, H);
     void *ws = malloc(n);
     if (ws == NULL)
-        return gcase_oom(s, "probe_sh_hard");
+        return qtool_gcase_oom(s, "probe_sh_hard");
     for (size_t k = 0; k < sizeof bads / sizeof bads[0]; ++k) {
         for (int i = 0; i < 3 * W * H; ++i)
             f[i] = 0x3F800000u; /* 1.0 */
@@ -213,21 +213,21 @@ static int hard_cases(const qtool_goldens_sink_t *s)
     }
     /* argument errors */
     qibl_probe_sh_t ps;
-    gbuf_u8(&b, (uint32_t)qibl_probe_sh_begin(&ps, 0, 4, QIBL_LIGHTPROBE_RGBE, 0, 5, ws, n));
-    gbuf_u8(&b, (uint32_t)qibl_probe_sh_begin(&ps, 8, 4, QIBL_LIGHTPROBE_RGBE, 0, 6, ws, n));
-    gbuf_u8(&b, (uint32_t)qibl_probe_sh_begin(&ps, 8, 4, QIBL_LIGHTPROBE_FORMAT_COUNT, 0, 5, ws, n));
-    gbuf_u8(&b, (uint32_t)qibl_probe_sh_begin(&ps, 8, 4, QIBL_LIGHTPROBE_LINEAR_I32, 129, 5, ws, n));
-    gbuf_u8(&b, (uint32_t)qibl_probe_sh_begin(&ps, 8, 4, QIBL_LIGHTPROBE_RGBE, 0, 5, ws, n - 1));
-    gbuf_u8(&b, (uint32_t)qibl_probe_sh_begin(&ps, 32768, 32768, QIBL_LIGHTPROBE_RGBE, 0, 5, ws, n));
-    gbuf_u8(&b, (uint32_t)qibl_probe_sh_begin(&ps, W, H, QIBL_LIGHTPROBE_LINEAR_F32, 0, 5, ws, n));
-    gbuf_u8(&b, (uint32_t)qibl_probe_sh_add_row(&ps, H, f));
-    gbuf_u8(&b, (uint32_t)qibl_probe_sh_add_row(&ps, 0, f));
-    gbuf_u8(&b, (uint32_t)qibl_probe_sh_add_row(&ps, 0, f));
+    qtool_gbuf_u8(&b, (uint32_t)qibl_probe_sh_begin(&ps, 0, 4, QIBL_LIGHTPROBE_RGBE, 0, 5, ws, n));
+    qtool_gbuf_u8(&b, (uint32_t)qibl_probe_sh_begin(&ps, 8, 4, QIBL_LIGHTPROBE_RGBE, 0, 6, ws, n));
+    qtool_gbuf_u8(&b, (uint32_t)qibl_probe_sh_begin(&ps, 8, 4, QIBL_LIGHTPROBE_FORMAT_COUNT, 0, 5, ws, n));
+    qtool_gbuf_u8(&b, (uint32_t)qibl_probe_sh_begin(&ps, 8, 4, QIBL_LIGHTPROBE_LINEAR_I32, 129, 5, ws, n));
+    qtool_gbuf_u8(&b, (uint32_t)qibl_probe_sh_begin(&ps, 8, 4, QIBL_LIGHTPROBE_RGBE, 0, 5, ws, n - 1));
+    qtool_gbuf_u8(&b, (uint32_t)qibl_probe_sh_begin(&ps, 32768, 32768, QIBL_LIGHTPROBE_RGBE, 0, 5, ws, n));
+    qtool_gbuf_u8(&b, (uint32_t)qibl_probe_sh_begin(&ps, W, H, QIBL_LIGHTPROBE_LINEAR_F32, 0, 5, ws, n));
+    qtool_gbuf_u8(&b, (uint32_t)qibl_probe_sh_add_row(&ps, H, f));
+    qtool_gbuf_u8(&b, (uint32_t)qibl_probe_sh_add_row(&ps, 0, f));
+    qtool_gbuf_u8(&b, (uint32_t)qibl_probe_sh_add_row(&ps, 0, f));
     qibl_probe_coeffs_t c;
     guard(&c);
     put_coeffs(&b, qibl_probe_sh_finish(&ps, NULL, &c), &c);
     free(ws);
-    return gbuf_emit(s, "probe_sh_hard", &b);
+    return qtool_gbuf_emit(s, "probe_sh_hard", &b);
 }
 
 /* rotations: R from the integer quaternion (a, b, c, d), entries integer / n with n = a^2+b^2+c^2+d^2,
@@ -253,27 +253,27 @@ static int rotations(const qtool_goldens_sink_t *s)
     static const int32_t quats[][4] = {
         {1, 0, 0, 0}, {1, 1, 0, 0}, {1, 0, 1, 0}, {1, 0, 0, 1}, {0, 1, 0, 0}, {0, 0, 0, 1},
         {3, 1, -2, 5}, {7, -3, 2, 1}, {1, 2, 3, 4}, {-5, 4, 1, -2}, {100, 1, 0, 0}, {2, 9, -6, 3}};
-    gbuf b = {0};
-    grng r = {0x707};
+    qtool_gbuf b = {0};
+    qtool_grng r = {0x707};
     for (size_t q = 0; q < sizeof quats / sizeof quats[0]; ++q) {
         qibl_q30_t m[3][3];
         quat_rot(quats[q][0], quats[q][1], quats[q][2], quats[q][3], m);
         for (int bands = 1; bands <= QIBL_SH_MAX_BANDS; ++bands) {
             qibl_sh_rotation_t rot;
-            rot.bands = gs32(GUARD);
+            rot.bands = qtool_gs32(GUARD);
             for (int i = 0; i < QIBL_SH_ROT_ENTRIES; ++i)
-                rot.d[i] = gs32(GUARD);
+                rot.d[i] = qtool_gs32(GUARD);
             qibl_status_t st = qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])m, bands);
-            gbuf_u8(&b, (uint32_t)st);
-            gbuf_s32(&b, rot.bands);
+            qtool_gbuf_u8(&b, (uint32_t)st);
+            qtool_gbuf_s32(&b, rot.bands);
             for (int i = 0; i < QIBL_SH_ROT_ENTRIES; ++i)
-                gbuf_s32(&b, rot.d[i]);
+                qtool_gbuf_s32(&b, rot.d[i]);
             int32_t in[QIBL_SH_MAX_COUNT], out[QIBL_SH_MAX_COUNT];
             for (int i = 0; i < QIBL_SH_MAX_COUNT; ++i)
-                in[i] = gs32(grng_u32(&r) >> 2) - (1 << 29), out[i] = gs32(GUARD);
-            gbuf_u8(&b, (uint32_t)qibl_sh_rotate(&rot, in, out));
+                in[i] = qtool_gs32(qtool_grng_u32(&r) >> 2) - (1 << 29), out[i] = qtool_gs32(GUARD);
+            qtool_gbuf_u8(&b, (uint32_t)qibl_sh_rotate(&rot, in, out));
             for (int i = 0; i < QIBL_SH_MAX_COUNT; ++i)
-                gbuf_s32(&b, out[i]);
+                qtool_gbuf_s32(&b, out[i]);
         }
     }
     /* not rotations: a scaled matrix, a reflection, a shear */
@@ -281,13 +281,13 @@ static int rotations(const qtool_goldens_sink_t *s)
     qibl_sh_rotation_t rot;
     rot.bands = 77;
     m[2][2] = -(1 << 30);
-    gbuf_u8(&b, (uint32_t)qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])m, 5));
+    qtool_gbuf_u8(&b, (uint32_t)qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])m, 5));
     m[2][2] = (1 << 30) + (1 << 15);
-    gbuf_u8(&b, (uint32_t)qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])m, 5));
+    qtool_gbuf_u8(&b, (uint32_t)qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])m, 5));
     m[2][2] = 1 << 30, m[0][1] = 1 << 15;
-    gbuf_u8(&b, (uint32_t)qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])m, 5));
-    gbuf_s32(&b, rot.bands);
-    return gbuf_emit(s, "probe_sh_rotate", &b);
+    qtool_gbuf_u8(&b, (uint32_t)qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])m, 5));
+    qtool_gbuf_s32(&b, rot.bands);
+    return qtool_gbuf_emit(s, "probe_sh_rotate", &b);
 }
 
 int qtool_goldens_probe(const qtool_goldens_sink_t *s)

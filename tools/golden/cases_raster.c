@@ -96,7 +96,7 @@ int qtool_goldens_raster(const qtool_goldens_sink_t *s)
     int bad = 0;
     if (!v || !tri || !depth || !out) {
         free(v), free(tri), free(depth), free(out);
-        return gcase_oom(s, "raster_mesh");
+        return qtool_gcase_oom(s, "raster_mesh");
     }
     scene(v, tri);
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
@@ -105,20 +105,20 @@ int qtool_goldens_raster(const qtool_goldens_sink_t *s)
         t.fb.pixels = out, t.fb.width = RW, t.fb.height = RH, t.fb.format = cases[i].f;
         t.fb.srgb = cases[i].srgb, t.fb.dither = cases[i].dither, t.fb.exposure = cases[i].exposure;
         t.depth = depth, t.depth_count = (size_t)RW * RH, t.cull = cases[i].cull;
-        qibl_status_t st = qibl_fb_clear(&t.fb);
+        qibl_status_t st = qibl_soft_fb_clear(&t.fb);
         if (st == QIBL_OK)
-            st = qibl_raster_clear_depth(&t);
+            st = qibl_soft_raster_clear_depth(&t);
         if (st == QIBL_OK)
-            st = qibl_raster_triangles(&t, v, NV, (const uint32_t(*)[3])tri, NT);
+            st = qibl_soft_raster_triangles(&t, v, NV, (const uint32_t(*)[3])tri, NT);
         if (st != QIBL_OK) {
-            bad += gcase_status_error(s, cases[i].name, "qibl_raster_triangles", st);
+            bad += qtool_gcase_status_error(s, cases[i].name, "qibl_soft_raster_triangles", st);
             continue;
         }
-        const size_t fbn = (size_t)RW * RH * qibl_fb_bytes_per_pixel(cases[i].f);
+        const size_t fbn = (size_t)RW * RH * qibl_soft_fb_bytes_per_pixel(cases[i].f);
         for (size_t k = 0; k < (size_t)RW * RH; ++k)
             for (int b = 0; b < 4; ++b)
                 out[fbn + 4 * k + (size_t)b] = (uint8_t)(depth[k] >> (8 * b));
-        bad += gcase_emit(s, cases[i].name, out, fbn + (size_t)RW * RH * 4);
+        bad += qtool_gcase_emit(s, cases[i].name, out, fbn + (size_t)RW * RH * 4);
     }
     free(v), free(tri), free(depth), free(out);
     return bad;

@@ -32,7 +32,7 @@ static int gmaps_make(gmaps *g, uint32_t w, uint32_t h, uint32_t k)
 {
     const uint32_t ch = 3;
     const int32_t scale_mag = 1 << 17;
-    grng r = {2026};
+    qtool_grng r = {2026};
     g->m.width = w, g->m.height = h, g->m.k = k, g->m.channels = ch, g->m.layout = QIBL_SHMAPS_PLANAR;
     g->params = malloc(8u * k * ch);
     g->planes = malloc((size_t)w * h * k * ch);
@@ -40,26 +40,26 @@ static int gmaps_make(gmaps *g, uint32_t w, uint32_t h, uint32_t k)
     if (g->params == NULL || g->planes == NULL || g->points == NULL)
         return -1;
     for (uint32_t i = 0; i < k * ch; ++i) {
-        int32_t sc = (int32_t)(grng_u32(&r) % (uint32_t)scale_mag) - scale_mag / 2;
-        int32_t bi = -128 * sc + (int32_t)(grng_u32(&r) % 2001u) - 1000; /* centred ranges, as packing gives */
-        gput_s32(g->params + 8u * i, sc);
-        gput_s32(g->params + 8u * i + 4u, bi);
+        int32_t sc = (int32_t)(qtool_grng_u32(&r) % (uint32_t)scale_mag) - scale_mag / 2;
+        int32_t bi = -128 * sc + (int32_t)(qtool_grng_u32(&r) % 2001u) - 1000; /* centred ranges, as packing gives */
+        qtool_gput_s32(g->params + 8u * i, sc);
+        qtool_gput_s32(g->params + 8u * i + 4u, bi);
     }
     for (size_t i = 0; i < (size_t)w * h * k * ch; ++i)
-        (void)grng_u32(&r);
+        (void)qtool_grng_u32(&r);
     for (uint32_t pl = 0; pl < k * ch; ++pl)
         for (uint32_t y = 0; y < h; ++y)
             for (uint32_t x = 0; x < w; ++x)
                 g->planes[((size_t)pl * h + y) * w + x] =
-                    (uint8_t)((x * (pl + 3) + y * (2 * pl + 1) + (grng_u32(&r) & 15u)) & 0xFFu);
+                    (uint8_t)((x * (pl + 3) + y * (2 * pl + 1) + (qtool_grng_u32(&r) & 15u)) & 0xFFu);
     g->m.params = g->params;
     g->m.planes = g->planes;
     for (uint32_t y = 0; y < h; ++y)
         for (uint32_t x = 0; x < w; ++x) {
             uint8_t *q = g->points + ((size_t)y * w + x) * 12u;
-            gput_s32(q, (int32_t)(x * 40000u) - (int32_t)(w * 20000u));
-            gput_s32(q + 4, (int32_t)((x * 7u + y * 3u) % 11u) * 30000 - 150000);
-            gput_s32(q + 8, (int32_t)(y * 50000u) - (int32_t)(h * 25000u));
+            qtool_gput_s32(q, (int32_t)(x * 40000u) - (int32_t)(w * 20000u));
+            qtool_gput_s32(q + 4, (int32_t)((x * 7u + y * 3u) % 11u) * 30000 - 150000);
+            qtool_gput_s32(q + 8, (int32_t)(y * 50000u) - (int32_t)(h * 25000u));
         }
     g->p.width = w, g->p.height = h, g->p.points = g->points;
     return 0;
@@ -97,20 +97,20 @@ static int emit_formats(const qtool_goldens_sink_t *s, const char *prefix, row_f
         qibl_fb_desc_t fb = {0};
         fb.width = GW, fb.height = GH, fb.format = fbs[f].fmt;
         fb.srgb = fbs[f].srgb, fb.dither = fbs[f].dither, fb.exposure = fbs[f].exposure;
-        size_t bytes = (size_t)GW * GH * qibl_fb_bytes_per_pixel(fb.format);
+        size_t bytes = (size_t)GW * GH * qibl_soft_fb_bytes_per_pixel(fb.format);
         fb.pixels = calloc(bytes, 1);
         if (fb.pixels == NULL) {
-            bad += gcase_oom(s, name);
+            bad += qtool_gcase_oom(s, name);
             continue;
         }
-        qibl_status_t st = qibl_fb_check(&fb);
-        const char *call = "qibl_fb_check";
+        qibl_status_t st = qibl_soft_fb_check(&fb);
+        const char *call = "qibl_soft_fb_check";
         for (uint32_t y = 0; y < GH && st == QIBL_OK; ++y) {
             st = render(ctx, y, row), call = "relight span";
             if (st == QIBL_OK)
-                st = qibl_fb_write_row(&fb, 0, y, GW, row), call = "qibl_fb_write_row";
+                st = qibl_soft_fb_write_row(&fb, 0, y, GW, row), call = "qibl_soft_fb_write_row";
         }
-        bad += st == QIBL_OK ? gcase_emit(s, name, fb.pixels, bytes) : gcase_status_error(s, name, call, st);
+        bad += st == QIBL_OK ? qtool_gcase_emit(s, name, fb.pixels, bytes) : qtool_gcase_status_error(s, name, call, st);
         free(fb.pixels);
     }
     return bad;
@@ -176,7 +176,7 @@ int qtool_goldens_relight(const qtool_goldens_sink_t *s)
         gmaps g;
         if (gmaps_make(&g, GW, GH, k) != 0 || (il && gmaps_interleave(&g) != 0)) {
             gmaps_free(&g);
-            bad += gcase_oom(s, prefix);
+            bad += qtool_gcase_oom(s, prefix);
             continue;
         }
         /* directional: a warm sun and a cool sky light together */
@@ -193,7 +193,7 @@ int qtool_goldens_relight(const qtool_goldens_sink_t *s)
         if (st == QIBL_OK)
             st = qibl_shmap_weights(&g.m, &l, &dc.w);
         snprintf(prefix, sizeof prefix, "%sdir_k%u", lay, k);
-        bad += st == QIBL_OK ? emit_formats(s, prefix, dir_row, &dc) : gcase_status_error(s, prefix, "weights", st);
+        bad += st == QIBL_OK ? emit_formats(s, prefix, dir_row, &dc) : qtool_gcase_status_error(s, prefix, "weights", st);
         /* point light: direct SH, LUT bilinear, LUT nearest, Q2.14 polynomials; both falloffs */
         size_t vs = qibl_ylut_values_size(16, k);
         uint8_t *vals = malloc(vs);
@@ -208,7 +208,7 @@ int qtool_goldens_relight(const qtool_goldens_sink_t *s)
             snprintf(prefix, sizeof prefix, "%spoint_k%u_%s", lay, k, modes[mode]);
             qibl_status_t pst = st == QIBL_OK ? qibl_shmap_point_prepare(&g.m, &g.p, mode == 1 || mode == 2 ? &lut : NULL, &pl, &pc.st) : st;
             bad += pst == QIBL_OK ? emit_formats(s, prefix, point_row, &pc)
-                                  : gcase_status_error(s, prefix, "ylut_build / point_prepare", pst);
+                                  : qtool_gcase_status_error(s, prefix, "ylut_build / point_prepare", pst);
         }
         free(vals);
         gmaps_free(&g);

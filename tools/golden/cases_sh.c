@@ -16,21 +16,21 @@
 
 #define GUARD 0x5A5A5A5Au
 
-static void eval(gbuf *b, const int32_t d[3], int bands)
+static void eval(qtool_gbuf *b, const int32_t d[3], int bands)
 {
     qibl_q30_t out[QIBL_SH_MAX_COUNT];
     for (int i = 0; i < QIBL_SH_MAX_COUNT; ++i)
-        out[i] = gs32(GUARD);
-    gbuf_u8(b, (uint32_t)qibl_sh_eval(d, bands, out));
+        out[i] = qtool_gs32(GUARD);
+    qtool_gbuf_u8(b, (uint32_t)qibl_sh_eval(d, bands, out));
     for (int i = 0; i < QIBL_SH_MAX_COUNT; ++i)
-        gbuf_s32(b, out[i]);
+        qtool_gbuf_s32(b, out[i]);
 }
 
 /* every lattice point of [-R, R]^3 but the origin, times scale */
 static int lattice(const qtool_goldens_sink_t *s, const char *name, int32_t scale)
 {
     enum { R = 5 };
-    gbuf b = {0};
+    qtool_gbuf b = {0};
     for (int x = -R; x <= R; ++x)
         for (int y = -R; y <= R; ++y)
             for (int z = -R; z <= R; ++z) {
@@ -39,34 +39,34 @@ static int lattice(const qtool_goldens_sink_t *s, const char *name, int32_t scal
                 const int32_t d[3] = {x * scale, y * scale, z * scale};
                 eval(&b, d, QIBL_SH_MAX_BANDS);
             }
-    return gbuf_emit(s, name, &b);
+    return qtool_gbuf_emit(s, name, &b);
 }
 
-static int32_t any_width_s32(grng *r)
+static int32_t any_width_s32(qtool_grng *r)
 {
-    unsigned bits = (unsigned)(grng_next(r) % 33u);
-    uint32_t v = grng_u32(r);
+    unsigned bits = (unsigned)(qtool_grng_next(r) % 33u);
+    uint32_t v = qtool_grng_u32(r);
     uint32_t u = bits == 0 ? 0u : bits == 32 ? v : v >> (32u - bits);
-    return grng_next(r) & 1u ? gs32(0u - u) : gs32(u);
+    return qtool_grng_next(r) & 1u ? qtool_gs32(0u - u) : qtool_gs32(u);
 }
 
 static int random_dirs(const qtool_goldens_sink_t *s)
 {
-    gbuf b = {0};
-    grng r = {0x5B};
+    qtool_gbuf b = {0};
+    qtool_grng r = {0x5B};
     for (int i = 0; i < 3000; ++i) {
         int32_t d[3] = {any_width_s32(&r), any_width_s32(&r), any_width_s32(&r)};
         if (i % 3 == 0) /* same magnitude on every axis: the common case */
-            d[0] = gs32(grng_u32(&r)), d[1] = gs32(grng_u32(&r)), d[2] = gs32(grng_u32(&r));
+            d[0] = qtool_gs32(qtool_grng_u32(&r)), d[1] = qtool_gs32(qtool_grng_u32(&r)), d[2] = qtool_gs32(qtool_grng_u32(&r));
         eval(&b, d, QIBL_SH_MAX_BANDS);
     }
-    return gbuf_emit(s, "sh_basis_random", &b);
+    return qtool_gbuf_emit(s, "sh_basis_random", &b);
 }
 
 static int hard_cases(const qtool_goldens_sink_t *s)
 {
     static const int32_t mags[] = {1, 2, 3, 65536, 0x40000000, INT32_MAX};
-    gbuf b = {0};
+    qtool_gbuf b = {0};
     const int32_t zero[3] = {0, 0, 0};
     eval(&b, zero, QIBL_SH_MAX_BANDS);
     for (size_t m = 0; m < sizeof mags / sizeof mags[0]; ++m)
@@ -95,14 +95,14 @@ static int hard_cases(const qtool_goldens_sink_t *s)
     const int32_t d[3] = {40000, 25000, 52000};
     for (int bands = -1; bands <= QIBL_SH_MAX_BANDS + 1; ++bands)
         eval(&b, d, bands);
-    return gbuf_emit(s, "sh_basis_hard", &b);
+    return qtool_gbuf_emit(s, "sh_basis_hard", &b);
 }
 
 /* qibl_sh_eval_unit on Q2.30 unit vectors from both normalisations */
 static int unit_dirs(const qtool_goldens_sink_t *s)
 {
-    gbuf b = {0};
-    grng r = {0x0117};
+    qtool_gbuf b = {0};
+    qtool_grng r = {0x0117};
     for (int i = 0; i < 1000; ++i) {
         int32_t d[3] = {any_width_s32(&r), any_width_s32(&r), any_width_s32(&r)};
         qibl_q30_t u[3];
@@ -111,12 +111,12 @@ static int unit_dirs(const qtool_goldens_sink_t *s)
             if (st != QIBL_OK)
                 continue; /* the zero vector: covered by sh_basis_hard */
             qibl_q30_t out[QIBL_SH_MAX_COUNT];
-            gbuf_u8(&b, (uint32_t)qibl_sh_eval_unit(u, QIBL_SH_MAX_BANDS, out));
+            qtool_gbuf_u8(&b, (uint32_t)qibl_sh_eval_unit(u, QIBL_SH_MAX_BANDS, out));
             for (int k = 0; k < QIBL_SH_MAX_COUNT; ++k)
-                gbuf_s32(&b, out[k]);
+                qtool_gbuf_s32(&b, out[k]);
         }
     }
-    return gbuf_emit(s, "sh_basis_unit", &b);
+    return qtool_gbuf_emit(s, "sh_basis_unit", &b);
 }
 
 int qtool_goldens_sh(const qtool_goldens_sink_t *s)

@@ -41,7 +41,7 @@ static qibl_status_t write_gradient(const qibl_fb_desc_t *fb, int pass)
             uint32_t n = 1 + (k * 5u) % 13u;
             if (n > GW - x)
                 n = GW - x;
-            qibl_status_t st = qibl_fb_write_row(fb, x, y, n, row + 3 * x);
+            qibl_status_t st = qibl_soft_fb_write_row(fb, x, y, n, row + 3 * x);
             if (st != QIBL_OK)
                 return st;
             x += n;
@@ -79,38 +79,38 @@ int qtool_goldens_soft(const qtool_goldens_sink_t *s)
     uint8_t *px = calloc((size_t)GW * GH, 12), *acc = calloc((size_t)GW * GH, 12);
     if (px == NULL || acc == NULL) {
         free(px), free(acc);
-        return gcase_oom(s, "soft_gradient");
+        return qtool_gcase_oom(s, "soft_gradient");
     }
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         qibl_fb_desc_t fb = fb_make(px, cases[i].f);
         fb.srgb = cases[i].srgb, fb.dither = cases[i].dither, fb.exposure = cases[i].exposure;
-        qibl_status_t st = qibl_fb_clear(&fb);
+        qibl_status_t st = qibl_soft_fb_clear(&fb);
         if (st == QIBL_OK)
             st = write_gradient(&fb, 0);
-        bad += st == QIBL_OK ? gcase_emit(s, cases[i].name, px, (size_t)GW * GH * qibl_fb_bytes_per_pixel(fb.format))
-                             : gcase_status_error(s, cases[i].name, "clear / write_row", st);
+        bad += st == QIBL_OK ? qtool_gcase_emit(s, cases[i].name, px, (size_t)GW * GH * qibl_soft_fb_bytes_per_pixel(fb.format))
+                             : qtool_gcase_status_error(s, cases[i].name, "clear / write_row", st);
     }
     /* the accumulator after two passes, and its resolves */
     qibl_fb_desc_t src = fb_make(acc, QIBL_FB_ACCUM32);
-    qibl_status_t st = qibl_fb_clear(&src);
+    qibl_status_t st = qibl_soft_fb_clear(&src);
     if (st == QIBL_OK)
         st = write_gradient(&src, 0);
     if (st == QIBL_OK)
         st = write_gradient(&src, 1);
     if (st != QIBL_OK) {
         free(px), free(acc);
-        return bad + gcase_status_error(s, "soft_gradient_accum32_2pass", "clear / write_row", st);
+        return bad + qtool_gcase_status_error(s, "soft_gradient_accum32_2pass", "clear / write_row", st);
     }
-    bad += gcase_emit(s, "soft_gradient_accum32_2pass", acc, (size_t)GW * GH * 12);
+    bad += qtool_gcase_emit(s, "soft_gradient_accum32_2pass", acc, (size_t)GW * GH * 12);
     qibl_fb_desc_t d = fb_make(px, QIBL_FB_RGBA8888);
     d.srgb = 1, d.exposure = ONE / 2;
-    st = qibl_fb_resolve(&d, &src);
-    bad += st == QIBL_OK ? gcase_emit(s, "soft_gradient_resolve_rgba8888_srgb_exp05", px, (size_t)GW * GH * 4)
-                         : gcase_status_error(s, "soft_gradient_resolve_rgba8888_srgb_exp05", "qibl_fb_resolve", st);
+    st = qibl_soft_fb_resolve(&d, &src);
+    bad += st == QIBL_OK ? qtool_gcase_emit(s, "soft_gradient_resolve_rgba8888_srgb_exp05", px, (size_t)GW * GH * 4)
+                         : qtool_gcase_status_error(s, "soft_gradient_resolve_rgba8888_srgb_exp05", "qibl_soft_fb_resolve", st);
     d.format = QIBL_FB_RGB565, d.dither = 1;
-    st = qibl_fb_resolve(&d, &src);
-    bad += st == QIBL_OK ? gcase_emit(s, "soft_gradient_resolve_rgb565_srgb_dither_exp05", px, (size_t)GW * GH * 2)
-                         : gcase_status_error(s, "soft_gradient_resolve_rgb565_srgb_dither_exp05", "qibl_fb_resolve", st);
+    st = qibl_soft_fb_resolve(&d, &src);
+    bad += st == QIBL_OK ? qtool_gcase_emit(s, "soft_gradient_resolve_rgb565_srgb_dither_exp05", px, (size_t)GW * GH * 2)
+                         : qtool_gcase_status_error(s, "soft_gradient_resolve_rgb565_srgb_dither_exp05", "qibl_soft_fb_resolve", st);
     free(px), free(acc);
     return bad;
 }

@@ -42,10 +42,10 @@ static uint32_t edge(size_t i, unsigned neg)
     return f32_edges[i] | (neg ? 0x80000000u : 0u);
 }
 
-static void put_code(gbuf *b, qibl_status_t st, const uint8_t c[4])
+static void put_code(qtool_gbuf *b, qibl_status_t st, const uint8_t c[4])
 {
-    gbuf_u8(b, (uint32_t)st);
-    gbuf_bytes(b, c, 4);
+    qtool_gbuf_u8(b, (uint32_t)st);
+    qtool_gbuf_bytes(b, c, 4);
 }
 
 /* The bulk cases run their arrays in chunks of CHUNK pixels, the inputs of each chunk made again
@@ -92,10 +92,10 @@ static int encode_f32_edges(const qtool_goldens_sink_t *s)
     const size_t n = NF32 * NF32 * NF32;
     uint32_t *rgb = malloc(sizeof *rgb * 3 * CHUNK);
     uint8_t *codes = malloc(4 * CHUNK);
-    gbuf b = {0};
+    qtool_gbuf b = {0};
     if (rgb == NULL || codes == NULL) {
         free(rgb), free(codes);
-        return gcase_oom(s, "srgbe_encode_f32_edges");
+        return qtool_gcase_oom(s, "srgbe_encode_f32_edges");
     }
     qibl_status_t st = QIBL_OK;
     for (size_t i0 = 0; i0 < n; i0 += CHUNK) {
@@ -107,28 +107,28 @@ static int encode_f32_edges(const qtool_goldens_sink_t *s)
         }
         st = worse(st, qibl_srgbe_encode_f32_n(rgb, m, codes));
     }
-    int bad = gbuf_emit(s, "srgbe_encode_f32_edges", &b);
-    gbuf_u8(&b, (uint32_t)st);
+    int bad = qtool_gbuf_emit(s, "srgbe_encode_f32_edges", &b);
+    qtool_gbuf_u8(&b, (uint32_t)st);
     for (size_t i0 = 0; i0 < n; i0 += CHUNK) {
         size_t m = n - i0 < CHUNK ? n - i0 : CHUNK;
         for (size_t i = 0; i < m; ++i)
             edges_pixel(i0 + i, rgb + 3 * i);
-        (void)qibl_srgbe_encode_f32_n(rgb, m, codes);
-        gbuf_bytes(&b, codes, 4 * m);
+        QIBL_DROP_STATUS(qibl_srgbe_encode_f32_n(rgb, m, codes));
+        qtool_gbuf_bytes(&b, codes, 4 * m);
     }
-    bad += gbuf_emit(s, "srgbe_encode_f32_n_edges", &b);
+    bad += qtool_gbuf_emit(s, "srgbe_encode_f32_n_edges", &b);
     free(rgb), free(codes);
     return bad;
 }
 
 /* the next m random pixels of r: any exponent, and clusters of nearby exponents (the common case)
  * at even pixel indices (i0 + i) */
-static void random_pixels(grng *r, size_t i0, size_t m, uint32_t *rgb)
+static void random_pixels(qtool_grng *r, size_t i0, size_t m, uint32_t *rgb)
 {
     for (size_t i = 0; i < m; ++i) {
-        uint32_t base = grng_u32(r);
+        uint32_t base = qtool_grng_u32(r);
         for (int c = 0; c < 3; ++c) {
-            uint32_t v = grng_u32(r);
+            uint32_t v = qtool_grng_u32(r);
             if ((i0 + i) % 2 == 0) /* exponent within +-4 of the pixel's base */
                 v = (v & 0x807FFFFFu) | (((base >> 23 & 0xFFu) + (v >> 23 & 7u) - 4u) & 0xFFu) << 23;
             rgb[3 * i + (size_t)c] = v;
@@ -142,12 +142,12 @@ static int encode_f32_random(const qtool_goldens_sink_t *s)
     enum { N = 20000 };
     uint32_t *rgb = malloc(sizeof *rgb * 3 * CHUNK);
     uint8_t *codes = malloc(4 * CHUNK);
-    gbuf b = {0};
+    qtool_gbuf b = {0};
     if (rgb == NULL || codes == NULL) {
         free(rgb), free(codes);
-        return gcase_oom(s, "srgbe_encode_f32_random");
+        return qtool_gcase_oom(s, "srgbe_encode_f32_random");
     }
-    grng r = {0x5E};
+    qtool_grng r = {0x5E};
     qibl_status_t st = QIBL_OK;
     for (size_t i0 = 0; i0 < N; i0 += CHUNK) {
         size_t m = N - i0 < CHUNK ? N - i0 : CHUNK;
@@ -158,16 +158,16 @@ static int encode_f32_random(const qtool_goldens_sink_t *s)
         }
         st = worse(st, qibl_srgbe_encode_f32_n(rgb, m, codes));
     }
-    int bad = gbuf_emit(s, "srgbe_encode_f32_random", &b);
-    gbuf_u8(&b, (uint32_t)st);
+    int bad = qtool_gbuf_emit(s, "srgbe_encode_f32_random", &b);
+    qtool_gbuf_u8(&b, (uint32_t)st);
     r.s = 0x5E; /* the same pixels again */
     for (size_t i0 = 0; i0 < N; i0 += CHUNK) {
         size_t m = N - i0 < CHUNK ? N - i0 : CHUNK;
         random_pixels(&r, i0, m, rgb);
-        (void)qibl_srgbe_encode_f32_n(rgb, m, codes);
-        gbuf_bytes(&b, codes, 4 * m);
+        QIBL_DROP_STATUS(qibl_srgbe_encode_f32_n(rgb, m, codes));
+        qtool_gbuf_bytes(&b, codes, 4 * m);
     }
-    bad += gbuf_emit(s, "srgbe_encode_f32_n_random", &b);
+    bad += qtool_gbuf_emit(s, "srgbe_encode_f32_n_random", &b);
     free(rgb), free(codes);
     return bad;
 }
@@ -180,38 +180,38 @@ static int encode_s32(const qtool_goldens_sink_t *s)
     static const int fracs[] = {-300, -128, -100, -98, -97, -96, -64, -31, -16, -1, 0, 1,
                                 12,   16,   24,   31,  32,  40,  64,  100, 149, 150, 151, 300};
     enum { NE = sizeof ev / sizeof ev[0], NFR = sizeof fracs / sizeof fracs[0], NR = 2000 };
-    gbuf b = {0}, bq = {0};
-    grng r = {0x532};
+    qtool_gbuf b = {0}, bq = {0};
+    qtool_grng r = {0x532};
     int32_t *rgb = malloc(sizeof *rgb * 3 * (NE * NE * NE + NR));
     uint8_t *codes = malloc(4 * (size_t)(NE * NE * NE + NR));
     if (rgb == NULL || codes == NULL) {
         free(rgb), free(codes);
-        return gcase_oom(s, "srgbe_encode_s32");
+        return qtool_gcase_oom(s, "srgbe_encode_s32");
     }
     size_t n = 0;
     for (int i = 0; i < NE * NE * NE; ++i, ++n)
         rgb[3 * n] = ev[i / (NE * NE)], rgb[3 * n + 1] = ev[i / NE % NE], rgb[3 * n + 2] = ev[i % NE];
     for (int i = 0; i < NR; ++i, ++n)
         for (int c = 0; c < 3; ++c) {
-            uint32_t v = grng_u32(&r);
-            rgb[3 * n + (size_t)c] = gs32(v >> (grng_u32(&r) % 32u));
+            uint32_t v = qtool_grng_u32(&r);
+            rgb[3 * n + (size_t)c] = qtool_gs32(v >> (qtool_grng_u32(&r) % 32u));
         }
     for (int f = 0; f < NFR; ++f) {
         for (size_t i = 0; i < n; ++i) {
             uint8_t c[4];
             put_code(&b, qibl_srgbe_encode_s32(rgb + 3 * i, fracs[f], c), c);
         }
-        gbuf_u8(&bq, (uint32_t)qibl_srgbe_encode_s32_n(rgb, n, fracs[f], codes));
-        gbuf_bytes(&bq, codes, 4 * n);
+        qtool_gbuf_u8(&bq, (uint32_t)qibl_srgbe_encode_s32_n(rgb, n, fracs[f], codes));
+        qtool_gbuf_bytes(&bq, codes, 4 * n);
     }
     for (size_t i = 0; i < n; ++i) {
         uint8_t c[4];
         put_code(&b, qibl_srgbe_encode_q16(rgb + 3 * i, c), c);
     }
-    gbuf_u8(&bq, (uint32_t)qibl_srgbe_encode_q16_n(rgb, n, codes));
-    gbuf_bytes(&bq, codes, 4 * n);
-    int bad = gbuf_emit(s, "srgbe_encode_s32", &b);
-    bad += gbuf_emit(s, "srgbe_encode_s32_n", &bq);
+    qtool_gbuf_u8(&bq, (uint32_t)qibl_srgbe_encode_q16_n(rgb, n, codes));
+    qtool_gbuf_bytes(&bq, codes, 4 * n);
+    int bad = qtool_gbuf_emit(s, "srgbe_encode_s32", &b);
+    bad += qtool_gbuf_emit(s, "srgbe_encode_s32_n", &bq);
     free(rgb), free(codes);
     return bad;
 }
@@ -226,7 +226,7 @@ static void sweep_code(uint32_t i, uint8_t c[4])
         c[0] = (uint8_t)i, c[1] = (uint8_t)(255u - (i & 0xFFu)), c[2] = (uint8_t)((i & 0xFFu) ^ 0x55u);
         c[3] = (uint8_t)(i >> 8);
     } else {
-        gput_u32(c, (i - DEC_NE) * 0x9E3779B9u);
+        qtool_gput_u32(c, (i - DEC_NE) * 0x9E3779B9u);
     }
 }
 
@@ -243,12 +243,12 @@ static qibl_status_t decode_chunk(dec_kind k, const uint8_t *codes, size_t m, in
 
 /* one bulk decode over the whole sweep, in chunks: its status, then every step-th output word
  * (counted over the whole array) */
-static void decode_bulk(gbuf *b, dec_kind k, int frac, size_t step, uint8_t *codes, uint32_t *out)
+static void decode_bulk(qtool_gbuf *b, dec_kind k, int frac, size_t step, uint8_t *codes, uint32_t *out)
 {
     qibl_status_t st = QIBL_OK;
     for (int pass = 0; pass < 2; ++pass) {
         if (pass == 1)
-            gbuf_u8(b, (uint32_t)st);
+            qtool_gbuf_u8(b, (uint32_t)st);
         for (size_t i0 = 0; i0 < DEC_N; i0 += CHUNK) {
             size_t m = DEC_N - i0 < CHUNK ? DEC_N - i0 : CHUNK;
             for (size_t i = 0; i < m; ++i)
@@ -260,7 +260,7 @@ static void decode_bulk(gbuf *b, dec_kind k, int frac, size_t step, uint8_t *cod
             }
             size_t w0 = 3 * i0, first = (w0 + step - 1) / step * step;
             for (size_t w = first; w < w0 + 3 * m; w += step)
-                gbuf_u32(b, out[w - w0]);
+                qtool_gbuf_u32(b, out[w - w0]);
         }
     }
 }
@@ -271,42 +271,42 @@ static int decode_sweep(const qtool_goldens_sink_t *s)
     static const int fracs[] = {-140, -20, 0, 8, 16, 30, 31, 40, 160};
     uint8_t *codes = malloc(4 * (size_t)CHUNK);
     uint32_t *out = malloc(sizeof *out * 3 * (size_t)CHUNK);
-    gbuf b = {0}, bn = {0};
+    qtool_gbuf b = {0}, bn = {0};
     if (codes == NULL || out == NULL) {
         free(codes), free(out);
-        return gcase_oom(s, "srgbe_decode");
+        return qtool_gcase_oom(s, "srgbe_decode");
     }
     /* binary32: every code */
     for (uint32_t i = 0; i < DEC_N; ++i) {
         uint8_t c[4];
         uint32_t v[3] = {0xA5A5A5A5u, 0xA5A5A5A5u, 0xA5A5A5A5u};
         sweep_code(i, c);
-        gbuf_u8(&b, (uint32_t)qibl_srgbe_decode_f32(c, v));
+        qtool_gbuf_u8(&b, (uint32_t)qibl_srgbe_decode_f32(c, v));
         for (int k = 0; k < 3; ++k)
-            gbuf_u32(&b, v[k]);
+            qtool_gbuf_u32(&b, v[k]);
     }
     decode_bulk(&bn, DEC_F32, 0, 1, codes, out);
-    int bad = gbuf_emit(s, "srgbe_decode_f32", &b);
-    bad += gbuf_emit(s, "srgbe_decode_f32_n", &bn);
+    int bad = qtool_gbuf_emit(s, "srgbe_decode_f32", &b);
+    bad += qtool_gbuf_emit(s, "srgbe_decode_f32_n", &bn);
     /* Q16.16 and int32 at several frac_bits: every 5th code (every E, most X) */
     for (uint32_t i = 0; i < DEC_N; i += 5) {
         uint8_t c[4];
         int32_t v[3];
         sweep_code(i, c);
-        gbuf_u8(&b, (uint32_t)qibl_srgbe_decode_q16(c, v));
+        qtool_gbuf_u8(&b, (uint32_t)qibl_srgbe_decode_q16(c, v));
         for (int k = 0; k < 3; ++k)
-            gbuf_s32(&b, v[k]);
+            qtool_gbuf_s32(&b, v[k]);
         for (size_t f = 0; f < sizeof fracs / sizeof fracs[0]; ++f) {
-            gbuf_u8(&b, (uint32_t)qibl_srgbe_decode_s32(c, fracs[f], v));
+            qtool_gbuf_u8(&b, (uint32_t)qibl_srgbe_decode_s32(c, fracs[f], v));
             for (int k = 0; k < 3; ++k)
-                gbuf_s32(&b, v[k]);
+                qtool_gbuf_s32(&b, v[k]);
         }
     }
     decode_bulk(&bn, DEC_Q16, 0, 1, codes, out);
     for (size_t f = 0; f < sizeof fracs / sizeof fracs[0]; ++f)
         decode_bulk(&bn, DEC_S32, fracs[f], 7, codes, out);
-    bad += gbuf_emit(s, "srgbe_decode_s32", &b);
-    bad += gbuf_emit(s, "srgbe_decode_s32_n", &bn);
+    bad += qtool_gbuf_emit(s, "srgbe_decode_s32", &b);
+    bad += qtool_gbuf_emit(s, "srgbe_decode_s32_n", &bn);
     free(codes), free(out);
     return bad;
 }

@@ -13,20 +13,10 @@
 #include <sys/types.h>
 #include <time.h>
 #include <unistd.h>
+#include "qtool.h"
 
 /* the longest destination base name copied into the temporary name (keeps it under NAME_MAX) */
 #define BASE_KEEP 180
-
-static int fail(char *err, size_t errlen, const char *fmt, ...)
-{
-    va_list ap;
-    if (err && errlen) {
-        va_start(ap, fmt);
-        vsnprintf(err, errlen, fmt, ap);
-        va_end(ap);
-    }
-    return -1;
-}
 
 static const char *kind_of(mode_t m)
 {
@@ -43,9 +33,9 @@ int qtool_io_check_replaceable(const char *path, char *err, size_t errlen)
 {
     struct stat st;
     if (lstat(path, &st) != 0)
-        return errno == ENOENT ? 0 : fail(err, errlen, "%s: %s", path, strerror(errno));
+        return errno == ENOENT ? 0 : qtool_errf(err, errlen, "%s: %s", path, strerror(errno));
     if (!S_ISREG(st.st_mode))
-        return fail(err, errlen, "%s: refusing to replace %s", path, kind_of(st.st_mode));
+        return qtool_errf(err, errlen, "%s: refusing to replace %s", path, kind_of(st.st_mode));
     return 0;
 }
 
@@ -79,7 +69,7 @@ int qtool_io_atomic_open(qtool_io_atomic *a, const char *path, char *err, size_t
 {
     memset(a, 0, sizeof *a);
     if (!path || !*path)
-        return fail(err, errlen, "(empty path): no file name");
+        return qtool_errf(err, errlen, "(empty path): no file name");
     if (qtool_io_check_replaceable(path, err, errlen) != 0)
         return -1;
     size_t len = strlen(path);
@@ -88,7 +78,7 @@ int qtool_io_atomic_open(qtool_io_atomic *a, const char *path, char *err, size_t
     const char *base = path + dlen;
     size_t blen = strlen(base);
     if (blen == 0)
-        return fail(err, errlen, "%s: no file name (ends in '/')", path);
+        return qtool_errf(err, errlen, "%s: no file name (ends in '/')", path);
     if (blen > BASE_KEEP)
         blen = BASE_KEEP;
     /* dir/.BASE.XXXXXXXXXXXXXXXX.tmp */
@@ -96,7 +86,7 @@ int qtool_io_atomic_open(qtool_io_atomic *a, const char *path, char *err, size_t
     char *tmp = malloc(tl), *dst = malloc(len + 1);
     if (!tmp || !dst) {
         free(tmp), free(dst);
-        return fail(err, errlen, "%s: out of memory", path);
+        return qtool_errf(err, errlen, "%s: out of memory", path);
     }
     memcpy(dst, path, len + 1);
     uint64_t seed = random_bits();
@@ -109,7 +99,7 @@ int qtool_io_atomic_open(qtool_io_atomic *a, const char *path, char *err, size_t
             break;
     }
     if (fd < 0) {
-        fail(err, errlen, "%s: cannot create a temporary file next to it: %s", path, strerror(e));
+        qtool_errf(err, errlen, "%s: cannot create a temporary file next to it: %s", path, strerror(e));
         free(tmp), free(dst);
         return -1;
     }
@@ -118,7 +108,7 @@ int qtool_io_atomic_open(qtool_io_atomic *a, const char *path, char *err, size_t
         e = errno;
         close(fd);
         unlink(tmp);
-        fail(err, errlen, "%s: cannot open the temporary file %s: %s", path, tmp, strerror(e));
+        qtool_errf(err, errlen, "%s: cannot open the temporary file %s: %s", path, tmp, strerror(e));
         free(tmp), free(dst);
         return -1;
     }
@@ -150,7 +140,7 @@ static int sync_fd(int fd)
 int qtool_io_atomic_commit(qtool_io_atomic *a, char *err, size_t errlen)
 {
     if (!a->f)
-        return fail(err, errlen, "%s: not open for writing", a->path ? a->path : "(null)");
+        return qtool_errf(err, errlen, "%s: not open for writing", a->path ? a->path : "(null)");
     int e = errno, bad = ferror(a->f) != 0;
     if (!bad && fflush(a->f) != 0)
         bad = 1, e = errno;
@@ -161,7 +151,7 @@ int qtool_io_atomic_commit(qtool_io_atomic *a, char *err, size_t errlen)
     if (!bad && c != 0)
         bad = 1, e = errno;
     if (bad) {
-        fail(err, errlen, "%s: write failed: %s", a->path, e ? strerror(e) : "I/O error");
+        qtool_errf(err, errlen, "%s: write failed: %s", a->path, e ? strerror(e) : "I/O error");
         unlink(a->tmp);
         release(a);
         return -1;
@@ -174,7 +164,7 @@ int qtool_io_atomic_commit(qtool_io_atomic *a, char *err, size_t errlen)
     }
     if (rename(a->tmp, a->path) != 0) {
         e = errno;
-        fail(err, errlen, "%s: cannot rename the temporary file over it: %s", a->path, strerror(e));
+        qtool_errf(err, errlen, "%s: cannot rename the temporary file over it: %s", a->path, strerror(e));
         unlink(a->tmp);
         release(a);
         return -1;
@@ -206,7 +196,7 @@ int qtool_io_write_atomic(const char *path, const void *data, size_t n, char *er
     if (n > 0 && fwrite(data, 1, n, a.f) != n) {
         int e = errno;
         qtool_io_atomic_abort(&a);
-        return fail(err, errlen, "%s: write failed: %s", path, strerror(e));
+        return qtool_errf(err, errlen, "%s: write failed: %s", path, strerror(e));
     }
     return qtool_io_atomic_commit(&a, err, errlen);
 }

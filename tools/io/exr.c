@@ -25,15 +25,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
-
-static int fail(char *err, size_t errlen, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, errlen, fmt, ap);
-    va_end(ap);
-    return -1;
-}
+#include "qtool.h"
 
 static uint32_t rd32(const uint8_t *p)
 {
@@ -469,16 +461,16 @@ static int parse_header(exr_file *f, qtool_exr_info *info, char *err, size_t err
     const uint8_t *buf = f->buf;
     size_t len = f->len;
     if (len < 8 || !qtool_exr_magic(buf, len))
-        return fail(err, errlen, "not an OpenEXR file (no 76 2f 31 01 magic)");
+        return qtool_errf(err, errlen, "not an OpenEXR file (no 76 2f 31 01 magic)");
     uint32_t ver = rd32(buf + 4);
     if ((ver & 0xFFu) != 2)
-        return fail(err, errlen, "OpenEXR version %u (only 2 is read)", (unsigned)(ver & 0xFFu));
+        return qtool_errf(err, errlen, "OpenEXR version %u (only 2 is read)", (unsigned)(ver & 0xFFu));
     if (ver & 0x1000u)
-        return fail(err, errlen, "multi-part OpenEXR file (only single-part files are read)");
+        return qtool_errf(err, errlen, "multi-part OpenEXR file (only single-part files are read)");
     if (ver & 0x800u)
-        return fail(err, errlen, "deep OpenEXR data (only flat images are read)");
+        return qtool_errf(err, errlen, "deep OpenEXR data (only flat images are read)");
     if (ver & ~0x6FFu)
-        return fail(err, errlen, "unknown OpenEXR version flags 0x%x", (unsigned)(ver >> 8));
+        return qtool_errf(err, errlen, "unknown OpenEXR version flags 0x%x", (unsigned)(ver >> 8));
     int tiled_flag = (ver & 0x200u) != 0;
     size_t pos = 8;
     int have_ch = 0, have_comp = 0, have_dw = 0, have_disp = 0, have_lo = 0, have_tiles = 0, nattr = 0;
@@ -488,71 +480,71 @@ static int parse_header(exr_file *f, qtool_exr_info *info, char *err, size_t err
     char sh[40];
     for (;;) {
         if (pos >= len)
-            return fail(err, errlen, "header truncated (no end of attributes)");
+            return qtool_errf(err, errlen, "header truncated (no end of attributes)");
         if (buf[pos] == 0) {
             ++pos;
             break;
         }
         if (++nattr > QTOOL_EXR_MAX_ATTRIBUTES)
-            return fail(err, errlen, "more than %d header attributes", QTOOL_EXR_MAX_ATTRIBUTES);
+            return qtool_errf(err, errlen, "more than %d header attributes", QTOOL_EXR_MAX_ATTRIBUTES);
         const char *name, *type;
         if (cstr(buf, len, &pos, &name) < 0 || cstr(buf, len, &pos, &type) < 0 || len - pos < 4)
-            return fail(err, errlen, "header attribute %d truncated or its name longer than 255 bytes", nattr);
+            return qtool_errf(err, errlen, "header attribute %d truncated or its name longer than 255 bytes", nattr);
         uint32_t sz = rd32(buf + pos);
         pos += 4;
         if (sz > len - pos)
-            return fail(err, errlen, "attribute %s: %u bytes, past the end of the file", shown(name, sh), (unsigned)sz);
+            return qtool_errf(err, errlen, "attribute %s: %u bytes, past the end of the file", shown(name, sh), (unsigned)sz);
         const uint8_t *v = buf + pos;
 #define ATTR(n_, t_) (strcmp(name, n_) != 0 ? 0 : strcmp(type, t_) == 0 ? 1 : -1) /* -1: known name, wrong type */
         int a;
         if ((a = ATTR("channels", "chlist")) != 0) {
             if (a < 0 || have_ch)
-                return fail(err, errlen, "attribute channels twice or not of type chlist");
+                return qtool_errf(err, errlen, "attribute channels twice or not of type chlist");
             have_ch = 1;
             size_t q = 0;
             while (q < sz && v[q]) {
                 const char *cn;
                 if (f->nch == QTOOL_EXR_MAX_CHANNELS)
-                    return fail(err, errlen, "more than %d channels", QTOOL_EXR_MAX_CHANNELS);
+                    return qtool_errf(err, errlen, "more than %d channels", QTOOL_EXR_MAX_CHANNELS);
                 if (cstr(v, sz, &q, &cn) < 0 || sz - q < 16)
-                    return fail(err, errlen, "channel list truncated");
+                    return qtool_errf(err, errlen, "channel list truncated");
                 channel *c = &f->ch[f->nch++];
                 memcpy(c->name, cn, strlen(cn) + 1);
                 uint32_t t = rd32(v + q);
                 int32_t xs = rds32(v + q + 8), ys = rds32(v + q + 12);
                 q += 16;
                 if (t > 2)
-                    return fail(err, errlen, "channel %s: pixel type %u (0 UINT, 1 HALF, 2 FLOAT)", shown(cn, sh), (unsigned)t);
+                    return qtool_errf(err, errlen, "channel %s: pixel type %u (0 UINT, 1 HALF, 2 FLOAT)", shown(cn, sh), (unsigned)t);
                 if (xs != 1 || ys != 1)
-                    return fail(err, errlen, "channel %s: subsampled %d x %d (only full-resolution channels are read)",
+                    return qtool_errf(err, errlen, "channel %s: subsampled %d x %d (only full-resolution channels are read)",
                                 shown(cn, sh), (int)xs, (int)ys);
                 c->type = (int)t;
                 c->slot = -1;
                 f->bpp += type_bytes(c->type);
             }
             if (q >= sz)
-                return fail(err, errlen, "channel list truncated (no terminating NUL)");
+                return qtool_errf(err, errlen, "channel list truncated (no terminating NUL)");
         } else if ((a = ATTR("compression", "compression")) != 0) {
             if (a < 0 || have_comp || sz != 1)
-                return fail(err, errlen, "attribute compression twice or malformed");
+                return qtool_errf(err, errlen, "attribute compression twice or malformed");
             have_comp = 1;
             f->comp = v[0];
         } else if ((a = ATTR("dataWindow", "box2i")) != 0 || (a = ATTR("displayWindow", "box2i")) != 0) {
             int is_data = name[1] == 'a';
             if (a < 0 || sz != 16 || (is_data ? have_dw : have_disp))
-                return fail(err, errlen, "attribute %s twice or malformed", name);
+                return qtool_errf(err, errlen, "attribute %s twice or malformed", name);
             int32_t *b = is_data ? dw : disp;
             for (int i = 0; i < 4; ++i)
                 b[i] = rds32(v + 4 * i);
             *(is_data ? &have_dw : &have_disp) = 1;
         } else if ((a = ATTR("lineOrder", "lineOrder")) != 0) {
             if (a < 0 || sz != 1 || have_lo || v[0] > 2)
-                return fail(err, errlen, "attribute lineOrder twice or malformed (0, 1 or 2)");
+                return qtool_errf(err, errlen, "attribute lineOrder twice or malformed (0, 1 or 2)");
             have_lo = 1;
             lo = v[0];
         } else if ((a = ATTR("tiles", "tiledesc")) != 0) {
             if (a < 0 || sz != 9 || have_tiles)
-                return fail(err, errlen, "attribute tiles twice or malformed");
+                return qtool_errf(err, errlen, "attribute tiles twice or malformed");
             have_tiles = 1;
             txs = rd32(v), tys = rd32(v + 4), mode = v[8];
         }
@@ -560,25 +552,25 @@ static int parse_header(exr_file *f, qtool_exr_info *info, char *err, size_t err
         pos += sz;
     }
     if (!have_ch || !have_comp || !have_dw || !have_disp || !have_lo)
-        return fail(err, errlen, "header lacks the required attribute %s",
+        return qtool_errf(err, errlen, "header lacks the required attribute %s",
                     !have_ch ? "channels" : !have_comp ? "compression" : !have_dw ? "dataWindow" : !have_disp ? "displayWindow" : "lineOrder");
     if (f->nch == 0)
-        return fail(err, errlen, "no channels");
+        return qtool_errf(err, errlen, "no channels");
     if (f->comp > 4)
-        return fail(err, errlen, "compression %s is not read (NONE, RLE, ZIPS, ZIP and PIZ are)",
+        return qtool_errf(err, errlen, "compression %s is not read (NONE, RLE, ZIPS, ZIP and PIZ are)",
                     f->comp < 10 ? comp_names[f->comp] : "unknown");
     if (tiled_flag != have_tiles)
-        return fail(err, errlen, tiled_flag ? "tiled file without a tiles attribute" : "tiles attribute in a scanline file");
+        return qtool_errf(err, errlen, tiled_flag ? "tiled file without a tiles attribute" : "tiles attribute in a scanline file");
     if (dw[2] < dw[0] || dw[3] < dw[1] || disp[2] < disp[0] || disp[3] < disp[1])
-        return fail(err, errlen, "empty or inverted %s window (%d,%d)-(%d,%d)", dw[2] < dw[0] || dw[3] < dw[1] ? "data" : "display",
+        return qtool_errf(err, errlen, "empty or inverted %s window (%d,%d)-(%d,%d)", dw[2] < dw[0] || dw[3] < dw[1] ? "data" : "display",
                     (int)(dw[2] < dw[0] || dw[3] < dw[1] ? dw : disp)[0], (int)(dw[2] < dw[0] || dw[3] < dw[1] ? dw : disp)[1],
                     (int)(dw[2] < dw[0] || dw[3] < dw[1] ? dw : disp)[2], (int)(dw[2] < dw[0] || dw[3] < dw[1] ? dw : disp)[3]);
     int64_t w = (int64_t)dw[2] - dw[0] + 1, h = (int64_t)dw[3] - dw[1] + 1;
     if (w > QTOOL_EXR_MAX_DIM || h > QTOOL_EXR_MAX_DIM)
-        return fail(err, errlen, "data window %lld x %lld, above %u a side (QTOOL_EXR_MAX_DIM)", (long long)w, (long long)h,
+        return qtool_errf(err, errlen, "data window %lld x %lld, above %u a side (QTOOL_EXR_MAX_DIM)", (long long)w, (long long)h,
                     (unsigned)QTOOL_EXR_MAX_DIM);
     if ((uint64_t)w * (uint64_t)h > QTOOL_EXR_MAX_PIXELS)
-        return fail(err, errlen, "data window %lld x %lld pixels, above the %lu-pixel limit (QTOOL_EXR_MAX_PIXELS)",
+        return qtool_errf(err, errlen, "data window %lld x %lld pixels, above the %lu-pixel limit (QTOOL_EXR_MAX_PIXELS)",
                     (long long)w, (long long)h, (unsigned long)QTOOL_EXR_MAX_PIXELS);
     f->w = (size_t)w, f->h = (size_t)h, f->xmin = dw[0], f->ymin = dw[1];
     int ri = -1, gi = -1, bi = -1, yi = -1;
@@ -586,13 +578,13 @@ static int parse_header(exr_file *f, qtool_exr_info *info, char *err, size_t err
         const char *n = f->ch[i].name;
         int *slot = !strcmp(n, "R") ? &ri : !strcmp(n, "G") ? &gi : !strcmp(n, "B") ? &bi : !strcmp(n, "Y") ? &yi : NULL;
         if (slot && *slot >= 0)
-            return fail(err, errlen, "channel %s twice", n);
+            return qtool_errf(err, errlen, "channel %s twice", n);
         if (slot)
             *slot = i;
     }
     int grey = !(ri >= 0 && gi >= 0 && bi >= 0);
     if (grey && yi < 0)
-        return fail(err, errlen, "no R, G, B channels and no Y channel (the picture channels)");
+        return qtool_errf(err, errlen, "no R, G, B channels and no Y channel (the picture channels)");
     if (grey) {
         f->ch[yi].slot = 3;
     } else {
@@ -600,9 +592,9 @@ static int parse_header(exr_file *f, qtool_exr_info *info, char *err, size_t err
     }
     if (have_tiles) {
         if (txs < 1 || tys < 1 || txs > QTOOL_EXR_MAX_DIM || tys > QTOOL_EXR_MAX_DIM)
-            return fail(err, errlen, "tile size %u x %u (1..%u a side)", (unsigned)txs, (unsigned)tys, (unsigned)QTOOL_EXR_MAX_DIM);
+            return qtool_errf(err, errlen, "tile size %u x %u (1..%u a side)", (unsigned)txs, (unsigned)tys, (unsigned)QTOOL_EXR_MAX_DIM);
         if ((mode & 15) > 2 || (mode >> 4) > 1)
-            return fail(err, errlen, "tile level mode %d, rounding %d (0..2, 0..1)", mode & 15, mode >> 4);
+            return qtool_errf(err, errlen, "tile level mode %d, rounding %d (0..2, 0..1)", mode & 15, mode >> 4);
         f->tiled = 1;
         f->tw = txs, f->th = tys;
         f->ntx = (f->w + txs - 1) / txs, f->nty = (f->h + tys - 1) / tys;
@@ -613,7 +605,7 @@ static int parse_header(exr_file *f, qtool_exr_info *info, char *err, size_t err
         f->nchunks = (f->h + (size_t)f->lines - 1) / (size_t)f->lines;
     }
     if (f->nchunks > (len - pos) / 8)
-        return fail(err, errlen, "chunk offset table (%zu entries) runs past the end of the file", f->nchunks);
+        return qtool_errf(err, errlen, "chunk offset table (%zu entries) runs past the end of the file", f->nchunks);
     f->table = pos;
     if (info) {
         memset(info, 0, sizeof *info);
@@ -636,12 +628,12 @@ static int chunk_at(const exr_file *f, size_t k, const uint8_t **data, size_t *n
     uint64_t off = rd64(f->buf + f->table + 8 * k);
     size_t head = f->tiled ? 20 : 8;
     if (off < f->table + 8 * f->nchunks || off > f->len || f->len - off < head)
-        return fail(err, errlen, "chunk %zu: offset %llu outside the file's chunk area", k, (unsigned long long)off);
+        return qtool_errf(err, errlen, "chunk %zu: offset %llu outside the file's chunk area", k, (unsigned long long)off);
     const uint8_t *c = f->buf + off;
     if (f->tiled) {
         size_t tx = k % f->ntx, ty = k / f->ntx;
         if (rds32(c) != (int32_t)tx || rds32(c + 4) != (int32_t)ty || rds32(c + 8) != 0 || rds32(c + 12) != 0)
-            return fail(err, errlen, "chunk %zu: tile (%d, %d) level (%d, %d), expected tile (%zu, %zu) level (0, 0)", k,
+            return qtool_errf(err, errlen, "chunk %zu: tile (%d, %d) level (%d, %d), expected tile (%zu, %zu) level (0, 0)", k,
                         (int)rds32(c), (int)rds32(c + 4), (int)rds32(c + 8), (int)rds32(c + 12), tx, ty);
         *x0 = tx * f->tw, *y0 = ty * f->th;
         *nx = f->w - *x0 < f->tw ? f->w - *x0 : f->tw;
@@ -649,7 +641,7 @@ static int chunk_at(const exr_file *f, size_t k, const uint8_t **data, size_t *n
     } else {
         int64_t want = (int64_t)f->ymin + (int64_t)(k * (size_t)f->lines);
         if ((int64_t)rds32(c) != want)
-            return fail(err, errlen, "chunk %zu: y %d, expected %lld", k, (int)rds32(c), (long long)want);
+            return qtool_errf(err, errlen, "chunk %zu: y %d, expected %lld", k, (int)rds32(c), (long long)want);
         *x0 = 0, *y0 = k * (size_t)f->lines;
         *nx = f->w;
         *ny = f->h - *y0 < (size_t)f->lines ? f->h - *y0 : (size_t)f->lines;
@@ -657,9 +649,9 @@ static int chunk_at(const exr_file *f, size_t k, const uint8_t **data, size_t *n
     uint32_t sz = rd32(c + head - 4);
     size_t raw = *nx * *ny * f->bpp;
     if (sz == 0 || sz > f->len - off - head)
-        return fail(err, errlen, "chunk %zu: %u bytes of data, past the end of the file (or none)", k, (unsigned)sz);
+        return qtool_errf(err, errlen, "chunk %zu: %u bytes of data, past the end of the file (or none)", k, (unsigned)sz);
     if (sz > raw)
-        return fail(err, errlen, "chunk %zu: %u bytes of data for %zu bytes of pixels", k, (unsigned)sz, raw);
+        return qtool_errf(err, errlen, "chunk %zu: %u bytes of data for %zu bytes of pixels", k, (unsigned)sz, raw);
     *data = c + head, *n = sz;
     return 0;
 }
@@ -688,7 +680,7 @@ static int decode_impl(const uint8_t *buf, size_t len, qtool_exr_info *info_out,
     piz_work *wk = f.comp == QTOOL_EXR_PIZ ? malloc(sizeof *wk) : NULL;
     int rc = -1;
     if (!rgb || !raw || (f.comp != QTOOL_EXR_NONE && !tmp) || (f.comp == QTOOL_EXR_PIZ && !wk)) {
-        fail(err, errlen, "out of memory for %zu x %zu pixels", f.w, f.h);
+        qtool_errf(err, errlen, "out of memory for %zu x %zu pixels", f.w, f.h);
         goto out;
     }
     for (size_t k = 0; k < f.nchunks; ++k) {
@@ -718,7 +710,7 @@ static int decode_impl(const uint8_t *buf, size_t len, qtool_exr_info *info_out,
             why = "NONE chunk smaller than its pixels";
         }
         if (why) {
-            fail(err, errlen, "chunk %zu (%s): %s", k, comp_names[f.comp], why);
+            qtool_errf(err, errlen, "chunk %zu (%s): %s", k, comp_names[f.comp], why);
             goto out;
         }
         size_t o = 0;
@@ -743,7 +735,7 @@ static int decode_impl(const uint8_t *buf, size_t len, qtool_exr_info *info_out,
                             v = (float)u;
                     }
                     if (!isfinite(v)) {
-                        fail(err, errlen, "non-finite sample %s at pixel (%zu, %zu) of the data window, channel %s",
+                        qtool_errf(err, errlen, "non-finite sample %s at pixel (%zu, %zu) of the data window, channel %s",
                              isnan(v) ? "nan" : v > 0 ? "inf" : "-inf", x0 + x, y0 + y, ch->name);
                         goto out;
                     }
@@ -788,7 +780,7 @@ int qtool_exr_read(const char *path, qtool_exr_info *info, float **rgb, char *er
     int rc = decode_impl(buf, n, info, rgb, msg, sizeof msg);
     free(buf);
     if (rc != 0)
-        return fail(err, errlen, "%s: %s", path, msg);
+        return qtool_errf(err, errlen, "%s: %s", path, msg);
     return 0;
 }
 
@@ -824,17 +816,17 @@ int qtool_exr_encode(int w, int h, const float *rgb, int pixel_type, int compres
 {
     if (w < 1 || h < 1 || w > (int)QTOOL_EXR_MAX_DIM || h > (int)QTOOL_EXR_MAX_DIM ||
         (uint64_t)w * (uint64_t)h > QTOOL_EXR_MAX_PIXELS)
-        return fail(err, errlen, "bad image size %dx%d (1..%u a side, %lu pixels)", w, h, (unsigned)QTOOL_EXR_MAX_DIM,
+        return qtool_errf(err, errlen, "bad image size %dx%d (1..%u a side, %lu pixels)", w, h, (unsigned)QTOOL_EXR_MAX_DIM,
                     (unsigned long)QTOOL_EXR_MAX_PIXELS);
     if (pixel_type != QTOOL_EXR_HALF && pixel_type != QTOOL_EXR_FLOAT)
-        return fail(err, errlen, "EXR pixel type %d not written (HALF or FLOAT)", pixel_type);
+        return qtool_errf(err, errlen, "EXR pixel type %d not written (HALF or FLOAT)", pixel_type);
     if (compression != QTOOL_EXR_NONE && compression != QTOOL_EXR_ZIPS && compression != QTOOL_EXR_ZIP)
-        return fail(err, errlen, "EXR compression %d not written (NONE, ZIPS or ZIP)", compression);
+        return qtool_errf(err, errlen, "EXR compression %d not written (NONE, ZIPS or ZIP)", compression);
     size_t np = (size_t)w * (size_t)h, sb = pixel_type == QTOOL_EXR_HALF ? 2 : 4;
     for (size_t i = 0; i < np * 3; ++i) {
         uint16_t hv;
         if (!isfinite(rgb[i]) || (pixel_type == QTOOL_EXR_HALF && float_to_half(rgb[i], &hv) != 0))
-            return fail(err, errlen, "sample %g at pixel (%zu, %zu) channel %c is not %s", (double)rgb[i],
+            return qtool_errf(err, errlen, "sample %g at pixel (%zu, %zu) channel %c is not %s", (double)rgb[i],
                         (i / 3) % (size_t)w, (i / 3) / (size_t)w, "RGB"[i % 3],
                         pixel_type == QTOOL_EXR_HALF ? "a finite value within the half range (|v| < 65520)" : "finite");
     }
@@ -847,7 +839,7 @@ int qtool_exr_encode(int w, int h, const float *rgb, int pixel_type, int compres
     uint8_t *raw = malloc(maxraw), *t = malloc(maxraw);
     if (!o.b || !raw || !t) {
         free(o.b), free(raw), free(t);
-        return fail(err, errlen, "out of memory");
+        return qtool_errf(err, errlen, "out of memory");
     }
     static const uint8_t magic[4] = {0x76, 0x2f, 0x31, 0x01};
     put(&o, magic, 4);
@@ -908,7 +900,7 @@ int qtool_exr_encode(int w, int h, const float *rgb, int pixel_type, int compres
             split_predict(raw, nraw, t);
             if (qtool_zlib_deflate(t, nraw, &z, &zn) != 0) {
                 free(o.b), free(raw), free(t);
-                return fail(err, errlen, "out of memory");
+                return qtool_errf(err, errlen, "out of memory");
             }
             if (zn < nraw)
                 data = z, dn = zn; /* otherwise stored raw, as the format asks */
@@ -930,7 +922,7 @@ int qtool_exr_write(const char *path, int w, int h, const float *rgb, int pixel_
     size_t n;
     char why[256];
     if (qtool_exr_encode(w, h, rgb, pixel_type, compression, &b, &n, why, sizeof why) != 0)
-        return fail(err, errlen, "%s: %s", path, why);
+        return qtool_errf(err, errlen, "%s: %s", path, why);
     int rc = qtool_io_write_atomic(path, b, n, err, errlen);
     free(b);
     return rc;

@@ -14,18 +14,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "qtool.h"
 
-
-static int fail(char *err, size_t errlen, const char *fmt, ...)
-{
-    if (err && errlen) {
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(err, errlen, fmt, ap);
-        va_end(ap);
-    }
-    return -1;
-}
 
 /* next header line [*pos, eol) without the newline; returns its length or -1 at end of buffer */
 static long next_line(const uint8_t *buf, size_t len, size_t *pos, const char **line)
@@ -53,24 +43,24 @@ static int read_scanline(const uint8_t *buf, size_t len, size_t *pos, int w, uin
 {
     size_t p = *pos;
     if (p + 4 > len)
-        return fail(err, errlen, "truncated at scanline %d of the pixel data", row);
+        return qtool_errf(err, errlen, "truncated at scanline %d of the pixel data", row);
     if (w >= 8 && w < 32768 && buf[p] == 2 && buf[p + 1] == 2 && (buf[p + 2] & 0x80) == 0) {
         int enc_w = buf[p + 2] << 8 | buf[p + 3];
         if (enc_w != w)
-            return fail(err, errlen, "scanline %d: RLE width %d differs from the image width %d", row, enc_w, w);
+            return qtool_errf(err, errlen, "scanline %d: RLE width %d differs from the image width %d", row, enc_w, w);
         p += 4;
         for (int c = 0; c < 4; ++c) {
             int x = 0;
             while (x < w) {
                 if (p >= len)
-                    return fail(err, errlen, "truncated in RLE scanline %d", row);
+                    return qtool_errf(err, errlen, "truncated in RLE scanline %d", row);
                 int count = buf[p++];
                 if (count > 128) {
                     count -= 128;
                     if (x + count > w)
-                        return fail(err, errlen, "scanline %d: RLE run past the end of the line", row);
+                        return qtool_errf(err, errlen, "scanline %d: RLE run past the end of the line", row);
                     if (p >= len)
-                        return fail(err, errlen, "truncated in RLE scanline %d", row);
+                        return qtool_errf(err, errlen, "truncated in RLE scanline %d", row);
                     uint8_t v = buf[p++];
                     if (px)
                         for (int k = 0; k < count; ++k)
@@ -78,11 +68,11 @@ static int read_scanline(const uint8_t *buf, size_t len, size_t *pos, int w, uin
                     x += count;
                 } else {
                     if (count == 0)
-                        return fail(err, errlen, "scanline %d: RLE literal of length 0", row);
+                        return qtool_errf(err, errlen, "scanline %d: RLE literal of length 0", row);
                     if (x + count > w)
-                        return fail(err, errlen, "scanline %d: RLE literal past the end of the line", row);
+                        return qtool_errf(err, errlen, "scanline %d: RLE literal past the end of the line", row);
                     if (p + (size_t)count > len)
-                        return fail(err, errlen, "truncated in RLE scanline %d", row);
+                        return qtool_errf(err, errlen, "truncated in RLE scanline %d", row);
                     if (px)
                         for (int k = 0; k < count; ++k)
                             px[4 * (x + k) + c] = buf[p + (size_t)k];
@@ -98,17 +88,17 @@ static int read_scanline(const uint8_t *buf, size_t len, size_t *pos, int w, uin
     int x = 0, shift = 0;
     while (x < w) {
         if (p + 4 > len)
-            return fail(err, errlen, "truncated at scanline %d of the pixel data", row);
+            return qtool_errf(err, errlen, "truncated at scanline %d of the pixel data", row);
         const uint8_t *q = buf + p;
         p += 4;
         if (q[0] == 1 && q[1] == 1 && q[2] == 1) {
             if (x == 0 && !have_prev)
-                return fail(err, errlen, "scanline %d: old-style run with no pixel before it", row);
+                return qtool_errf(err, errlen, "scanline %d: old-style run with no pixel before it", row);
             if (shift > 16)
-                return fail(err, errlen, "scanline %d: old-style run count too large", row);
+                return qtool_errf(err, errlen, "scanline %d: old-style run count too large", row);
             long count = (long)q[3] << shift;
             if (x + count > w)
-                return fail(err, errlen, "scanline %d: old-style run past the end of the line", row);
+                return qtool_errf(err, errlen, "scanline %d: old-style run past the end of the line", row);
             if (px) {
                 uint8_t v[4];
                 memcpy(v, px + 4 * x - 4, 4); /* x = 0: the previous scanline's last pixel */
@@ -135,13 +125,13 @@ int qtool_hdr_decode_rgbe(const uint8_t *buf, size_t len, int *w_out, int *h_out
     const char *line;
     long n = next_line(buf, len, &pos, &line);
     if (n < 2 || line[0] != '#' || line[1] != '?')
-        return fail(err, errlen, "not a Radiance .hdr file (no #? magic line)");
+        return qtool_errf(err, errlen, "not a Radiance .hdr file (no #? magic line)");
     for (;;) {
         if (pos > QIBL_HDR_MAX_HEADER_BYTES)
-            return fail(err, errlen, "header longer than %u bytes (QIBL_HDR_MAX_HEADER_BYTES)", QIBL_HDR_MAX_HEADER_BYTES);
+            return qtool_errf(err, errlen, "header longer than %u bytes (QIBL_HDR_MAX_HEADER_BYTES)", QIBL_HDR_MAX_HEADER_BYTES);
         n = next_line(buf, len, &pos, &line);
         if (n < 0)
-            return fail(err, errlen, "truncated header (no blank line before the resolution)");
+            return qtool_errf(err, errlen, "truncated header (no blank line before the resolution)");
         if (n == 0 || (n == 1 && line[0] == '\r'))
             break;
         if (n >= 7 && memcmp(line, "FORMAT=", 7) == 0) {
@@ -150,12 +140,12 @@ int qtool_hdr_decode_rgbe(const uint8_t *buf, size_t len, int *w_out, int *h_out
             while (vn > 0 && (v[vn - 1] == '\r' || v[vn - 1] == ' ' || v[vn - 1] == '\t'))
                 --vn;
             if (!(vn == 15 && memcmp(v, "32-bit_rle_rgbe", 15) == 0))
-                return fail(err, errlen, "unsupported FORMAT=%.*s (only 32-bit_rle_rgbe)", (int)(vn > 40 ? 40 : vn), v);
+                return qtool_errf(err, errlen, "unsupported FORMAT=%.*s (only 32-bit_rle_rgbe)", (int)(vn > 40 ? 40 : vn), v);
         }
     }
     n = next_line(buf, len, &pos, &line);
     if (n < 0)
-        return fail(err, errlen, "truncated before the resolution line");
+        return qtool_errf(err, errlen, "truncated before the resolution line");
     char res[128];
     size_t rn = (size_t)n < sizeof res - 1 ? (size_t)n : sizeof res - 1;
     memcpy(res, line, rn);
@@ -176,14 +166,14 @@ int qtool_hdr_decode_rgbe(const uint8_t *buf, size_t len, int *w_out, int *h_out
         ww = strtol(tok[3], &e2, 10);
     }
     if (nt != 4 || e1 == tok[1] || *e1 || e2 == tok[3] || *e2 || errno == ERANGE)
-        return fail(err, errlen, "bad resolution line '%.60s'", line_copy);
+        return qtool_errf(err, errlen, "bad resolution line '%.60s'", line_copy);
     if (strcmp(tok[0], "-Y") != 0 || strcmp(tok[2], "+X") != 0)
-        return fail(err, errlen, "unsupported orientation '%.60s' (only -Y H +X W)", line_copy);
+        return qtool_errf(err, errlen, "unsupported orientation '%.60s' (only -Y H +X W)", line_copy);
     if (ww < 1 || hh < 1 || ww > (long)QIBL_HDR_MAX_DIM || hh > (long)QIBL_HDR_MAX_DIM)
-        return fail(err, errlen, "unsupported dimensions %ld x %ld (each 1..%u, QIBL_HDR_MAX_DIM)", ww, hh,
+        return qtool_errf(err, errlen, "unsupported dimensions %ld x %ld (each 1..%u, QIBL_HDR_MAX_DIM)", ww, hh,
                     (unsigned)QIBL_HDR_MAX_DIM);
     if ((uint64_t)ww * (uint64_t)hh > QIBL_HDR_MAX_PIXELS)
-        return fail(err, errlen, "%ld x %ld pixels, above the %lu-pixel limit (QIBL_HDR_MAX_PIXELS)", ww, hh,
+        return qtool_errf(err, errlen, "%ld x %ld pixels, above the %lu-pixel limit (QIBL_HDR_MAX_PIXELS)", ww, hh,
                     (unsigned long)QIBL_HDR_MAX_PIXELS);
     int w = (int)ww, h = (int)hh;
     /* a lying header must not cost memory: every scanline is checked before the pixels exist */
@@ -194,7 +184,7 @@ int qtool_hdr_decode_rgbe(const uint8_t *buf, size_t len, int *w_out, int *h_out
     pos = body;
     uint8_t *px = malloc((size_t)w * (size_t)h * 4);
     if (!px)
-        return fail(err, errlen, "out of memory for %d x %d pixels", w, h);
+        return qtool_errf(err, errlen, "out of memory for %d x %d pixels", w, h);
     for (int y = 0; y < h; ++y)
         if (read_scanline(buf, len, &pos, w, px + (size_t)y * (size_t)w * 4, y > 0, y, err, errlen)) {
             free(px);
@@ -212,7 +202,7 @@ static int to_float(uint8_t *px, int w, int h, float **rgb_out, char *err, size_
     float *rgb = malloc((size_t)w * (size_t)h * 3 * sizeof *rgb);
     if (!rgb) {
         free(px);
-        return fail(err, errlen, "out of memory for %d x %d pixels", w, h);
+        return qtool_errf(err, errlen, "out of memory for %d x %d pixels", w, h);
     }
     for (size_t i = 0; i < (size_t)w * (size_t)h; ++i) {
         const uint8_t *q = px + 4 * i;
@@ -286,7 +276,7 @@ int qtool_hdr_read_rgbe(const char *path, int *w, int *h, uint8_t **rgbe, char *
         uint8_t *px = malloc((size_t)ew * (size_t)eh * 4);
         if (!px) {
             free(rgb);
-            return fail(err, errlen, "%s: out of memory for %d x %d pixels", path, ew, eh);
+            return qtool_errf(err, errlen, "%s: out of memory for %d x %d pixels", path, ew, eh);
         }
         qtool_probe_layout_rgbe_encode(rgb, (size_t)ew * (size_t)eh, px);
         free(rgb);
@@ -299,6 +289,6 @@ int qtool_hdr_read_rgbe(const char *path, int *w, int *h, uint8_t **rgbe, char *
     int rc = qtool_hdr_decode_rgbe(buf, n, w, h, rgbe, msg, sizeof msg);
     free(buf);
     if (rc != 0)
-        return fail(err, errlen, "%s: %s", path, msg);
+        return qtool_errf(err, errlen, "%s: %s", path, msg);
     return 0;
 }

@@ -16,18 +16,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "qtool.h"
 
-static const double PI = 3.14159265358979323846;
-
-static int fail(char *err, size_t errlen, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    if (err && errlen)
-        vsnprintf(err, errlen, fmt, ap);
-    va_end(ap);
-    return -1;
-}
 
 /* ---- header lines ------------------------------------------------------------------------- */
 
@@ -108,15 +98,15 @@ static int num(numstream *s, double *x, const char *what, char *err, size_t errl
     while (s->pos < s->len && is_sep(s->buf[s->pos]))
         ++s->pos;
     if (s->pos >= s->len)
-        return fail(err, errlen, "ends before %s (after %u numbers)", what, s->count);
+        return qtool_errf(err, errlen, "ends before %s (after %u numbers)", what, s->count);
     char tok[64];
     size_t n = 0, at = s->pos;
     while (s->pos < s->len && !is_sep(s->buf[s->pos])) {
         uint8_t c = s->buf[s->pos];
         if (n == sizeof tok - 1)
-            return fail(err, errlen, "%s: a number longer than %zu characters at byte %zu", what, sizeof tok - 1, at);
+            return qtool_errf(err, errlen, "%s: a number longer than %zu characters at byte %zu", what, sizeof tok - 1, at);
         if (!((c >= '0' && c <= '9') || c == '.' || c == '-' || c == '+' || c == 'e' || c == 'E'))
-            return fail(err, errlen, "%s: '%c' (byte 0x%02x) at byte %zu is not part of a number", what,
+            return qtool_errf(err, errlen, "%s: '%c' (byte 0x%02x) at byte %zu is not part of a number", what,
                         (c >= 0x20 && c < 0x7F) ? c : '?', c, s->pos);
         tok[n++] = (char)c;
         ++s->pos;
@@ -126,9 +116,9 @@ static int num(numstream *s, double *x, const char *what, char *err, size_t errl
     errno = 0;
     double v = strtod(tok, &end);
     if (*end != '\0' || end == tok)
-        return fail(err, errlen, "%s: '%s' at byte %zu is not a number", what, tok, at);
+        return qtool_errf(err, errlen, "%s: '%s' at byte %zu is not a number", what, tok, at);
     if (!isfinite(v) || fabs(v) >= 1e15)
-        return fail(err, errlen, "%s: %s at byte %zu is out of range (|x| < 1e15)", what, tok, at);
+        return qtool_errf(err, errlen, "%s: %s at byte %zu is out of range (|x| < 1e15)", what, tok, at);
     ++s->count;
     *x = v;
     return 0;
@@ -141,7 +131,7 @@ static int inum(numstream *s, int *out, long lo, long hi, const char *what, char
     if (num(s, &x, what, err, errlen) != 0)
         return -1;
     if (x != floor(x) || x < (double)lo || x > (double)hi)
-        return fail(err, errlen, "%s %.15g is not an integer in %ld..%ld", what, x, lo, hi);
+        return qtool_errf(err, errlen, "%s %.15g is not an integer in %ld..%ld", what, x, lo, hi);
     *out = (int)x;
     return 0;
 }
@@ -159,9 +149,9 @@ static int read_angles(numstream *s, double *a, uint32_t n, double lo, double hi
         if (num(s, &a[i], what, err, errlen) != 0)
             return -1;
         if (a[i] < lo || a[i] > hi)
-            return fail(err, errlen, "%s angle %u is %g, outside %g..%g", what, i + 1, a[i], lo, hi);
+            return qtool_errf(err, errlen, "%s angle %u is %g, outside %g..%g", what, i + 1, a[i], lo, hi);
         if (i && !(a[i] > a[i - 1]))
-            return fail(err, errlen, "%s angles not increasing: %g after %g (angle %u)", what, a[i], a[i - 1], i + 1);
+            return qtool_errf(err, errlen, "%s angles not increasing: %g after %g (angle %u)", what, a[i], a[i - 1], i + 1);
     }
     return 0;
 }
@@ -171,9 +161,9 @@ static int read_angles(numstream *s, double *a, uint32_t n, double lo, double hi
 static int decode_impl(const uint8_t *buf, size_t len, qtool_ies *o, char *err, size_t errlen)
 {
     if (len == 0)
-        return fail(err, errlen, "empty file");
+        return qtool_errf(err, errlen, "empty file");
     if (len > QTOOL_IES_MAX_FILE_BYTES)
-        return fail(err, errlen, "file of %zu bytes is above the limit of %zu", len, QTOOL_IES_MAX_FILE_BYTES);
+        return qtool_errf(err, errlen, "file of %zu bytes is above the limit of %zu", len, QTOOL_IES_MAX_FILE_BYTES);
     o->version = 1986;
     o->stated_lumens = -1;
     size_t pos = 0, start, n;
@@ -186,9 +176,9 @@ static int decode_impl(const uint8_t *buf, size_t len, qtool_ies *o, char *err, 
         n = next_line(buf, len, &pos, &start);
         const uint8_t *p = buf + start;
         if (memchr(p, 0, n))
-            return fail(err, errlen, "a NUL byte in header line %u (not a text file)", lines + 1);
+            return qtool_errf(err, errlen, "a NUL byte in header line %u (not a text file)", lines + 1);
         if (++lines > QTOOL_IES_MAX_HEADER_LINES)
-            return fail(err, errlen, "no TILT= line in the first %u lines", QTOOL_IES_MAX_HEADER_LINES);
+            return qtool_errf(err, errlen, "no TILT= line in the first %u lines", QTOOL_IES_MAX_HEADER_LINES);
         /* leading blanks are tolerated before TILT= and keywords */
         while (n && (*p == ' ' || *p == '\t'))
             ++p, --n;
@@ -204,7 +194,7 @@ static int decode_impl(const uint8_t *buf, size_t len, qtool_ies *o, char *err, 
             else if (starts(p, n, "IESNA:LM-63-1986"))
                 o->version = 1986;
             else if (starts(p, n, "IESNA") || starts(p, n, "IES:"))
-                return fail(err, errlen, "unknown LM-63 version label '%.*s' (1991, 1995, 2002 or 2019 known)",
+                return qtool_errf(err, errlen, "unknown LM-63 version label '%.*s' (1991, 1995, 2002 or 2019 known)",
                             (int)(n > 40 ? 40 : n), (const char *)p);
             if (o->version != 1986 || starts(p, n, "IESNA:LM-63-1986"))
                 continue;
@@ -219,13 +209,13 @@ static int decode_impl(const uint8_t *buf, size_t len, qtool_ies *o, char *err, 
         if (n && p[0] == '[') {
             const uint8_t *q = memchr(p, ']', n);
             if (!q)
-                return fail(err, errlen, "header line %u: keyword without its closing ']'", lines);
+                return qtool_errf(err, errlen, "header line %u: keyword without its closing ']'", lines);
             char kw[QTOOL_IES_TEXT], val[QTOOL_IES_TEXT];
             keep_text(kw, p + 1, (size_t)(q - p - 1));
             keep_text(val, q + 1, n - (size_t)(q + 1 - p));
             if (strcmp(kw, "MORE") == 0) {
                 if (o->nkeywords == 0)
-                    return fail(err, errlen, "header line %u: [MORE] continues no keyword", lines);
+                    return qtool_errf(err, errlen, "header line %u: [MORE] continues no keyword", lines);
                 continue;
             }
             ++o->nkeywords;
@@ -243,7 +233,7 @@ static int decode_impl(const uint8_t *buf, size_t len, qtool_ies *o, char *err, 
         /* other lines (1986 free text, stray comments) carry nothing the data need */
     }
     if (!have_tilt)
-        return fail(err, errlen, "no TILT= line (not an IES LM-63 file)");
+        return qtool_errf(err, errlen, "no TILT= line (not an IES LM-63 file)");
     /* TILT value: NONE, INCLUDE or a file name */
     const uint8_t *t = buf + tilt_at;
     while (tilt_n && (*t == ' ' || *t == '\t'))
@@ -260,22 +250,22 @@ static int decode_impl(const uint8_t *buf, size_t len, qtool_ies *o, char *err, 
             inum(&s, &ntilt, 1, QTOOL_IES_MAX_TILT, "the tilt angle count", err, errlen) != 0)
             return -1;
         if (!room_for(&s, 2u * (uint64_t)ntilt))
-            return fail(err, errlen, "the tilt block claims %d angles, more than the file holds", ntilt);
+            return qtool_errf(err, errlen, "the tilt block claims %d angles, more than the file holds", ntilt);
         o->ntilt = (uint32_t)ntilt;
         o->tilt_angle = malloc(sizeof(double) * o->ntilt);
         o->tilt_factor = malloc(sizeof(double) * o->ntilt);
         if (!o->tilt_angle || !o->tilt_factor)
-            return fail(err, errlen, "out of memory for %u tilt angles", o->ntilt);
+            return qtool_errf(err, errlen, "out of memory for %u tilt angles", o->ntilt);
         if (read_angles(&s, o->tilt_angle, o->ntilt, 0, 180, "tilt", err, errlen) != 0)
             return -1;
         for (uint32_t i = 0; i < o->ntilt; ++i) {
             if (num(&s, &o->tilt_factor[i], "a tilt multiplying factor", err, errlen) != 0)
                 return -1;
             if (o->tilt_factor[i] < 0)
-                return fail(err, errlen, "tilt multiplying factor %u is negative (%g)", i + 1, o->tilt_factor[i]);
+                return qtool_errf(err, errlen, "tilt multiplying factor %u is negative (%g)", i + 1, o->tilt_factor[i]);
         }
     } else {
-        return fail(err, errlen, "TILT=%.*s: a tilt file beside the .ies is not read (inline it as TILT=INCLUDE)",
+        return qtool_errf(err, errlen, "TILT=%.*s: a tilt file beside the .ies is not read (inline it as TILT=INCLUDE)",
                     (int)(tilt_n > 60 ? 60 : tilt_n), (const char *)t);
     }
     /* the ten-number line and the three-number line */
@@ -295,30 +285,30 @@ static int decode_impl(const uint8_t *buf, size_t len, qtool_ies *o, char *err, 
         num(&s, &o->watts, "the input watts", err, errlen) != 0)
         return -1;
     if (o->lumens_per_lamp < 0 && o->lumens_per_lamp != -1)
-        return fail(err, errlen, "lumens per lamp %g is negative but not -1 (absolute photometry)", o->lumens_per_lamp);
+        return qtool_errf(err, errlen, "lumens per lamp %g is negative but not -1 (absolute photometry)", o->lumens_per_lamp);
     if (!(o->multiplier > 0))
-        return fail(err, errlen, "candela multiplier %g is not positive", o->multiplier);
+        return qtool_errf(err, errlen, "candela multiplier %g is not positive", o->multiplier);
     if (!(o->ballast_factor > 0))
-        return fail(err, errlen, "ballast factor %g is not positive", o->ballast_factor);
+        return qtool_errf(err, errlen, "ballast factor %g is not positive", o->ballast_factor);
     if (o->version <= 1995 && !(o->factor2 > 0))
-        return fail(err, errlen, "ballast-lamp photometric factor %g is not positive", o->factor2);
+        return qtool_errf(err, errlen, "ballast-lamp photometric factor %g is not positive", o->factor2);
     if (nv < 2)
-        return fail(err, errlen, "1 vertical angle: an intensity distribution needs at least 2");
+        return qtool_errf(err, errlen, "1 vertical angle: an intensity distribution needs at least 2");
     if (o->type != QTOOL_IES_TYPE_C && nh < 2)
-        return fail(err, errlen, "1 horizontal angle: type %c photometry needs at least 2",
+        return qtool_errf(err, errlen, "1 horizontal angle: type %c photometry needs at least 2",
                     o->type == QTOOL_IES_TYPE_B ? 'B' : 'A');
     uint64_t nvals = (uint64_t)nv * (uint64_t)nh;
     if (nvals > QTOOL_IES_MAX_VALUES)
-        return fail(err, errlen, "%d x %d candela values, above the limit of %u", nv, nh, QTOOL_IES_MAX_VALUES);
+        return qtool_errf(err, errlen, "%d x %d candela values, above the limit of %u", nv, nh, QTOOL_IES_MAX_VALUES);
     if (!room_for(&s, (uint64_t)nv + (uint64_t)nh + nvals))
-        return fail(err, errlen, "%d x %d angles claim more numbers than the file holds", nv, nh);
+        return qtool_errf(err, errlen, "%d x %d angles claim more numbers than the file holds", nv, nh);
     o->nv = (uint32_t)nv;
     o->nh = (uint32_t)nh;
     o->v = malloc(sizeof(double) * o->nv);
     o->h = malloc(sizeof(double) * o->nh);
     o->cd = malloc(sizeof(double) * (size_t)nvals);
     if (!o->v || !o->h || !o->cd)
-        return fail(err, errlen, "out of memory for %d x %d candela values", nv, nh);
+        return qtool_errf(err, errlen, "out of memory for %d x %d candela values", nv, nh);
     int c = o->type == QTOOL_IES_TYPE_C;
     if (read_angles(&s, o->v, o->nv, c ? 0 : -90, c ? 180 : 90, "vertical", err, errlen) != 0 ||
         read_angles(&s, o->h, o->nh, c ? 0 : -90, c ? 360 : 90, "horizontal", err, errlen) != 0)
@@ -336,7 +326,7 @@ static int decode_impl(const uint8_t *buf, size_t len, qtool_ies *o, char *err, 
         else if (h0 == 0 && h1 > 180)
             o->sym = QTOOL_IES_SYM_FULL; /* up to 360 (a grid stopping short wraps to the 0 plane) */
         else
-            return fail(err, errlen,
+            return qtool_errf(err, errlen,
                         "horizontal angles %g..%g are none of type C's ranges (0, 0..90, 0..180, 90..270, 0..360)",
                         h0, h1);
     } else {
@@ -345,7 +335,7 @@ static int decode_impl(const uint8_t *buf, size_t len, qtool_ies *o, char *err, 
         else if (h0 == -90 && h1 == 90)
             o->sym = QTOOL_IES_SYM_AB_FULL;
         else
-            return fail(err, errlen, "horizontal angles %g..%g are none of type %c's ranges (0..90, -90..90)", h0, h1,
+            return qtool_errf(err, errlen, "horizontal angles %g..%g are none of type %c's ranges (0..90, -90..90)", h0, h1,
                         o->type == QTOOL_IES_TYPE_B ? 'B' : 'A');
     }
     o->cd_min = INFINITY;
@@ -355,7 +345,7 @@ static int decode_impl(const uint8_t *buf, size_t len, qtool_ies *o, char *err, 
         if (num(&s, &x, "a candela value", err, errlen) != 0)
             return -1;
         if (x < 0)
-            return fail(err, errlen, "candela value %g (horizontal angle %g, vertical %g) is negative", x,
+            return qtool_errf(err, errlen, "candela value %g (horizontal angle %g, vertical %g) is negative", x,
                         o->h[k / o->nv], o->v[k % o->nv]);
         x *= o->multiplier;
         o->cd[k] = x;
@@ -383,7 +373,7 @@ int qtool_ies_decode(const uint8_t *buf, size_t len, qtool_ies *out, char *err, 
     qtool_ies o;
     memset(&o, 0, sizeof o);
     if (!buf && len)
-        return fail(err, errlen, "no data");
+        return qtool_errf(err, errlen, "no data");
     if (decode_impl(buf, len, &o, err, errlen) != 0) {
         qtool_ies_free(&o);
         return -1;
@@ -409,7 +399,7 @@ int qtool_ies_read(const char *path, qtool_ies *out, char *err, size_t errlen)
     int rc = qtool_ies_decode(buf, n, out, msg, sizeof msg);
     free(buf);
     if (rc != 0)
-        return fail(err, errlen, "%s: %s", path, msg);
+        return qtool_errf(err, errlen, "%s: %s", path, msg);
     return 0;
 }
 
@@ -445,7 +435,7 @@ static double seg(double a, double b, double ia, double ib, int sin_w)
 
 double qtool_ies_lumens(const qtool_ies *e)
 {
-    const double r = PI / 180;
+    const double r = QTOOL_PI / 180;
     uint32_t nv = e->nv, nh = e->nh;
     double total = 0;
     if (e->type == QTOOL_IES_TYPE_B) {
@@ -479,7 +469,7 @@ double qtool_ies_lumens(const qtool_ies *e)
         prev = l;
     }
     switch (e->sym) {
-    case QTOOL_IES_SYM_AXIAL: total = 2 * PI * first; break;
+    case QTOOL_IES_SYM_AXIAL: total = 2 * QTOOL_PI * first; break;
     case QTOOL_IES_SYM_QUAD: total *= 4; break;
     case QTOOL_IES_SYM_BILATERAL:
     case QTOOL_IES_SYM_BILATERAL90:
@@ -520,7 +510,7 @@ static double clamp1(double x)
 
 double qtool_ies_candela(const qtool_ies *e, const double d[3])
 {
-    const double g = 180 / PI;
+    const double g = 180 / QTOOL_PI;
     double va, ha; /* the grid's vertical and horizontal angles of d */
     if (e->type == QTOOL_IES_TYPE_C) {
         va = acos(clamp1(d[2])) * g;

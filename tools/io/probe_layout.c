@@ -14,8 +14,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "qtool.h"
 
-#define PI 3.14159265358979323846
 #define MAX_DIM 65536
 #define MAX_PIXELS ((size_t)1 << 28)
 /* an unused area is black when its mean luminance is at most this share of the used area's */
@@ -24,19 +24,9 @@
  * Debevec's angular probes carry a copyright caption in a corner, a few per cent of the corners */
 #define DISC_LIT_SHARE 0.05
 
-static int fail(char *err, size_t errlen, const char *fmt, ...)
-{
-    if (err && errlen) {
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(err, errlen, fmt, ap);
-        va_end(ap);
-    }
-    return -1;
-}
-
-static const char *const names[QTOOL_PROBE_LAYOUT_COUNT] = {"auto", "latlong", "angular", "ball", "vcross",
-                                                           "hcross"};
+#define NAME_(id, name, description) name,
+static const char *const names[QTOOL_PROBE_LAYOUT_COUNT] = {QTOOL_PROBE_LAYOUT_LIST(NAME_)};
+#undef NAME_
 
 const char *qtool_probe_layout_name(qtool_probe_layout_t layout)
 {
@@ -45,9 +35,9 @@ const char *qtool_probe_layout_name(qtool_probe_layout_t layout)
 
 const char *qtool_probe_layout_describe(qtool_probe_layout_t layout)
 {
-    static const char *const d[QTOOL_PROBE_LAYOUT_COUNT] = {
-        "detect", "lat-long (equirectangular)", "Debevec angular map", "mirror ball",
-        "vertical cube cross (3:4)", "horizontal cube cross (4:3)"};
+#define DESCRIPTION_(id, name, description) description,
+    static const char *const d[QTOOL_PROBE_LAYOUT_COUNT] = {QTOOL_PROBE_LAYOUT_LIST(DESCRIPTION_)};
+#undef DESCRIPTION_
     return (unsigned)layout < QTOOL_PROBE_LAYOUT_COUNT ? d[layout] : "unknown layout";
 }
 
@@ -148,14 +138,14 @@ int qtool_probe_layout_dir(qtool_probe_layout_t l, int w, int h, double x, doubl
         return -1;
     double v[3];
     if (l == QTOOL_PROBE_LAYOUT_LATLONG) {
-        double th = PI * y / h, ph = 2.0 * PI * x / w;
+        double th = QTOOL_PI * y / h, ph = 2.0 * QTOOL_PI * x / w;
         d[0] = sin(th) * cos(ph), d[1] = sin(th) * sin(ph), d[2] = cos(th);
         return 0;
     } else if (is_disc(l)) {
         double a = 2.0 * x / w - 1.0, b = 1.0 - 2.0 * y / h, rho = sqrt(a * a + b * b);
         if (rho > 1.0)
             return -1;
-        double th = l == QTOOL_PROBE_LAYOUT_ANGULAR ? PI * rho : 2.0 * asin(rho);
+        double th = l == QTOOL_PROBE_LAYOUT_ANGULAR ? QTOOL_PI * rho : 2.0 * asin(rho);
         if (rho == 0) {
             v[0] = 1, v[1] = 0, v[2] = 0;
         } else {
@@ -186,7 +176,7 @@ int qtool_probe_layout_dir(qtool_probe_layout_t l, int w, int h, double x, doubl
 }
 
 /* x into [0, hi]: atan2 at a pole or a disc's rim can land an ulp outside the image (atan2(0, -1) *
- * h / PI is h + 1 ulp), and callers index pixels with the result */
+ * h / QTOOL_PI is h + 1 ulp), and callers index pixels with the result */
 static double clamp_to(double x, double hi)
 {
     return x < 0 ? 0 : x > hi ? hi : x;
@@ -198,18 +188,18 @@ static void pos_of(qtool_probe_layout_t l, int w, int h, const double d[3], doub
     if (l == QTOOL_PROBE_LAYOUT_LATLONG) {
         double ph = atan2(d[1], d[0]);
         if (ph < 0)
-            ph += 2.0 * PI;
-        *x = ph * w / (2.0 * PI);
+            ph += 2.0 * QTOOL_PI;
+        *x = ph * w / (2.0 * QTOOL_PI);
         if (*x >= w)
             *x -= w;
-        *y = clamp_to(atan2(sqrt(d[0] * d[0] + d[1] * d[1]), d[2]) * h / PI, h); /* acos loses bits near the poles */
+        *y = clamp_to(atan2(sqrt(d[0] * d[0] + d[1] * d[1]), d[2]) * h / QTOOL_PI, h); /* acos loses bits near the poles */
         return;
     }
     double v[3] = {-d[0], -d[1], d[2]};
     if (is_disc(l)) {
         double f = v[0], s = sqrt(v[1] * v[1] + v[2] * v[2]), a, b, rho;
         if (l == QTOOL_PROBE_LAYOUT_ANGULAR)
-            rho = atan2(s, f) / PI;
+            rho = atan2(s, f) / QTOOL_PI;
         else /* sin(theta / 2) without trigonometry (a third of the resampling time): s / (2 cos(theta / 2))
               * on the front half, where 1 - f would cancel, sqrt((1 - f) / 2) on the back half */
             rho = f >= 0 ? s / sqrt(2.0 * (1.0 + f)) : sqrt(0.5 * (1.0 - f));
@@ -430,11 +420,11 @@ int qtool_probe_layout_check(qtool_probe_layout_t l, int w, int h, char *err, si
 {
     const char *n = qtool_probe_layout_name(l);
     if (!n || l == QTOOL_PROBE_LAYOUT_AUTO)
-        return fail(err, errlen, "unknown probe layout %d (the layouts: %s)", (int)l, QTOOL_PROBE_LAYOUT_NAMES);
+        return qtool_errf(err, errlen, "unknown probe layout %d (the layouts: %s)", (int)l, QTOOL_PROBE_LAYOUT_NAMES);
     if (w <= 0 || h <= 0)
-        return fail(err, errlen, "empty probe image (%d x %d)", w, h);
+        return qtool_errf(err, errlen, "empty probe image (%d x %d)", w, h);
     if (w > MAX_DIM || h > MAX_DIM || (size_t)w * (size_t)h > MAX_PIXELS)
-        return fail(err, errlen, "probe image %d x %d is too large (at most %d per side, 2^28 pixels)", w, h,
+        return qtool_errf(err, errlen, "probe image %d x %d is too large (at most %d per side, 2^28 pixels)", w, h,
                     MAX_DIM);
     switch (l) {
     case QTOOL_PROBE_LAYOUT_LATLONG:
@@ -442,17 +432,17 @@ int qtool_probe_layout_check(qtool_probe_layout_t l, int w, int h, char *err, si
     case QTOOL_PROBE_LAYOUT_ANGULAR:
     case QTOOL_PROBE_LAYOUT_BALL:
         if (w != h)
-            return fail(err, errlen, "%s needs a square image, not %d x %d", n, w, h);
+            return qtool_errf(err, errlen, "%s needs a square image, not %d x %d", n, w, h);
         if (w < 2)
-            return fail(err, errlen, "%s needs at least 2 x 2 pixels, not %d x %d", n, w, h);
+            return qtool_errf(err, errlen, "%s needs at least 2 x 2 pixels, not %d x %d", n, w, h);
         return 0;
     case QTOOL_PROBE_LAYOUT_VCROSS:
         if (w % 3 != 0 || h % 4 != 0 || w / 3 != h / 4)
-            return fail(err, errlen, "vcross needs 3F x 4F pixels (F x F faces), not %d x %d", w, h);
+            return qtool_errf(err, errlen, "vcross needs 3F x 4F pixels (F x F faces), not %d x %d", w, h);
         return 0;
     default:
         if (w % 4 != 0 || h % 3 != 0 || w / 4 != h / 3)
-            return fail(err, errlen, "hcross needs 4F x 3F pixels (F x F faces), not %d x %d", w, h);
+            return qtool_errf(err, errlen, "hcross needs 4F x 3F pixels (F x F faces), not %d x %d", w, h);
         return 0;
     }
 }
@@ -464,7 +454,7 @@ static int check_samples(int w, int h, const float *rgb, char *err, size_t errle
     for (size_t i = 0; i < n; ++i)
         if (!(rgb[i] >= 0) || !isfinite(rgb[i])) {
             size_t p = i / 3;
-            return fail(err, errlen, "probe pixel (%zu, %zu) has a %s sample (%g)", p % (size_t)w, p / (size_t)w,
+            return qtool_errf(err, errlen, "probe pixel (%zu, %zu) has a %s sample (%g)", p % (size_t)w, p / (size_t)w,
                         isnan(rgb[i]) ? "NaN" : isinf(rgb[i]) ? "infinite" : "negative", (double)rgb[i]);
         }
     return 0;
@@ -539,24 +529,24 @@ static int detect_src(int w, int h, const src *rgb, qtool_probe_layout_t *out, c
          * a bright caption would outweigh the black corners' mean) */
         double lit = disc_lit_share(w, rgb);
         if (lit > DISC_LIT_SHARE)
-            return fail(err, errlen,
+            return qtool_errf(err, errlen,
                         "%d x %d: a square image could be angular or ball, but the corners outside the disc are "
                         "not black (%.1f %% of their pixels lit, at most %.0f %% may be, for a caption), so it fits "
                         "no probe layout by itself; give --layout angular, --layout ball or --layout latlong to "
                         "read it as one (the layouts: %s)",
                         w, h, 100 * lit, 100 * DISC_LIT_SHARE, QTOOL_PROBE_LAYOUT_NAMES);
-        return fail(err, errlen,
+        return qtool_errf(err, errlen,
                     "%d x %d is a disc on black (%.1f %% of the outside lit): it could be angular (an angular "
                     "map) or ball (a mirror ball), which the pixels cannot tell apart; give --layout angular or "
                     "--layout ball (the layouts: %s)",
                     w, h, 100 * lit, QTOOL_PROBE_LAYOUT_NAMES);
     } else {
-        return fail(err, errlen, "%d x %d fits no probe layout (%s); give --layout if it is one of them", w, h,
+        return qtool_errf(err, errlen, "%d x %d fits no probe layout (%s); give --layout if it is one of them", w, h,
                     QTOOL_PROBE_LAYOUT_NAMES);
     }
     double share = unused_share(l, w, h, rgb);
     if (share > BLACK_SHARE)
-        return fail(err, errlen,
+        return qtool_errf(err, errlen,
                     "%d x %d: %s are not black (mean luminance %.3g of the picture's), so it fits no probe "
                     "layout (%s); give --layout to read it as one",
                     w, h, what, share, QTOOL_PROBE_LAYOUT_NAMES);
@@ -567,11 +557,11 @@ static int detect_src(int w, int h, const src *rgb, qtool_probe_layout_t *out, c
 int qtool_probe_layout_detect(int w, int h, const float *rgb, qtool_probe_layout_t *out, char *err, size_t errlen)
 {
     if (!rgb || !out)
-        return fail(err, errlen, "no probe image");
+        return qtool_errf(err, errlen, "no probe image");
     if (w <= 0 || h <= 0)
-        return fail(err, errlen, "empty probe image (%d x %d)", w, h);
+        return qtool_errf(err, errlen, "empty probe image (%d x %d)", w, h);
     if (w > MAX_DIM || h > MAX_DIM || (size_t)w * (size_t)h > MAX_PIXELS)
-        return fail(err, errlen, "probe image %d x %d is too large (at most %d per side, 2^28 pixels)", w, h,
+        return qtool_errf(err, errlen, "probe image %d x %d is too large (at most %d per side, 2^28 pixels)", w, h,
                     MAX_DIM);
     if (check_samples(w, h, rgb, err, errlen) != 0)
         return -1;
@@ -589,7 +579,7 @@ static int horizon_pixels(qtool_probe_layout_t l, int w)
 int qtool_probe_layout_latlong_size(qtool_probe_layout_t l, int w, int h, int *ow, int *oh, char *err, size_t errlen)
 {
     if (!ow || !oh)
-        return fail(err, errlen, "no output size");
+        return qtool_errf(err, errlen, "no output size");
     if (qtool_probe_layout_check(l, w, h, err, errlen) != 0)
         return -1;
     if (l == QTOOL_PROBE_LAYOUT_LATLONG) {
@@ -614,7 +604,7 @@ static int subsamples(int in_pixels, int out_pixels)
 static int alloc_rgb(int w, int h, float **out, char *err, size_t errlen)
 {
     *out = malloc(sizeof **out * 3 * (size_t)w * (size_t)h);
-    return *out ? 0 : fail(err, errlen, "out of memory for a %d x %d probe", w, h);
+    return *out ? 0 : qtool_errf(err, errlen, "out of memory for a %d x %d probe", w, h);
 }
 
 /* Resamples img (a w x h image in layout l, checked) to an ow x oh lat-long one row at a time, into
@@ -628,14 +618,14 @@ static int resample(qtool_probe_layout_t l, int w, int h, const src *img, int ow
     float *row = oe ? malloc(sizeof *row * 3 * (size_t)ow) : NULL;
     if (!cs || !st || (oe && !row)) {
         free(cs), free(st), free(row);
-        return fail(err, errlen, "out of memory for a %d x %d probe", ow, oh);
+        return qtool_errf(err, errlen, "out of memory for a %d x %d probe", ow, oh);
     }
     for (int i = 0; i < ow * s; ++i) {
-        double ph = 2.0 * PI * (i + 0.5) / ((double)ow * s);
+        double ph = 2.0 * QTOOL_PI * (i + 0.5) / ((double)ow * s);
         cs[2 * i] = cos(ph), cs[2 * i + 1] = sin(ph);
     }
     for (int j = 0; j < oh * s; ++j) {
-        double th = PI * (j + 0.5) / ((double)oh * s);
+        double th = QTOOL_PI * (j + 0.5) / ((double)oh * s);
         st[2 * j] = sin(th), st[2 * j + 1] = cos(th);
     }
     double inv = 1.0 / ((double)s * s);
@@ -666,11 +656,11 @@ int qtool_probe_layout_to_latlong(qtool_probe_layout_t l, int w, int h, const fl
                                  char *err, size_t errlen)
 {
     if (!rgb || !out)
-        return fail(err, errlen, "no probe image");
+        return qtool_errf(err, errlen, "no probe image");
     if (qtool_probe_layout_check(l, w, h, err, errlen) != 0)
         return -1;
     if (ow <= 0 || oh <= 0 || ow > 32768 || oh > 32768 || (size_t)ow * (size_t)oh > MAX_PIXELS)
-        return fail(err, errlen, "lat-long output size %d x %d out of range", ow, oh);
+        return qtool_errf(err, errlen, "lat-long output size %d x %d out of range", ow, oh);
     if (check_samples(w, h, rgb, err, errlen) != 0)
         return -1;
     float *o;
@@ -695,7 +685,7 @@ int qtool_probe_layout_from_latlong(qtool_probe_layout_t l, int lw, int lh, cons
                                    float **out, char *err, size_t errlen)
 {
     if (!latlong || !out)
-        return fail(err, errlen, "no probe image");
+        return qtool_errf(err, errlen, "no probe image");
     if (qtool_probe_layout_check(QTOOL_PROBE_LAYOUT_LATLONG, lw, lh, err, errlen) != 0 ||
         qtool_probe_layout_check(l, w, h, err, errlen) != 0)
         return -1;
@@ -707,10 +697,10 @@ int qtool_probe_layout_from_latlong(qtool_probe_layout_t l, int lw, int lh, cons
         return -1;
     if (ll_box_init(&box, latlong, lw, lh) != 0) {
         free(o);
-        return fail(err, errlen, "out of memory for a %d x %d probe", lw, lh);
+        return qtool_errf(err, errlen, "out of memory for a %d x %d probe", lw, lh);
     }
     int s = subsamples(lw, horizon_pixels(l, w));
-    const double col = 2.0 * PI / lw; /* radians per lat-long column on the equator */
+    const double col = 2.0 * QTOOL_PI / lw; /* radians per lat-long column on the equator */
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             float *px = o + 3 * ((size_t)y * (size_t)w + (size_t)x);
@@ -721,7 +711,7 @@ int qtool_probe_layout_from_latlong(qtool_probe_layout_t l, int lw, int lh, cons
                 continue;
             }
             /* the pixel's angular size, from its neighbours (either side), for the box width */
-            double size = 2.0 * PI / horizon_pixels(l, w);
+            double size = 2.0 * QTOOL_PI / horizon_pixels(l, w);
             if (qtool_probe_layout_dir(l, w, h, x + 0.5, y + 0.5, c0) == 0) {
                 double a = 0;
                 for (int k = 0; k < 4; ++k) {
@@ -788,22 +778,22 @@ int qtool_probe_layout_rgbe_to_latlong(qtool_probe_layout_t want, int w, int h, 
                                       size_t errlen)
 {
     if (!rgbe || !used || !ow || !oh || !out)
-        return fail(err, errlen, "no probe image");
+        return qtool_errf(err, errlen, "no probe image");
     if ((unsigned)want >= QTOOL_PROBE_LAYOUT_COUNT)
-        return fail(err, errlen, "unknown probe layout %d (the layouts: %s)", (int)want, QTOOL_PROBE_LAYOUT_NAMES);
+        return qtool_errf(err, errlen, "unknown probe layout %d (the layouts: %s)", (int)want, QTOOL_PROBE_LAYOUT_NAMES);
     if (want != QTOOL_PROBE_LAYOUT_AUTO && qtool_probe_layout_check(want, w, h, err, errlen) != 0)
         return -1;
     if (w <= 0 || h <= 0)
-        return fail(err, errlen, "empty probe image (%d x %d)", w, h);
+        return qtool_errf(err, errlen, "empty probe image (%d x %d)", w, h);
     if (w > MAX_DIM || h > MAX_DIM || (size_t)w * (size_t)h > MAX_PIXELS)
-        return fail(err, errlen, "probe image %d x %d is too large (at most %d per side, 2^28 pixels)", w, h,
+        return qtool_errf(err, errlen, "probe image %d x %d is too large (at most %d per side, 2^28 pixels)", w, h,
                     MAX_DIM);
     size_t np = (size_t)w * (size_t)h;
     qtool_probe_layout_t l = want;
     /* the bytes are sampled where they lie (RGBE has no NaN or negative sample to check) */
     src *sr = malloc(sizeof *sr);
     if (!sr)
-        return fail(err, errlen, "out of memory for a %d x %d probe", w, h);
+        return qtool_errf(err, errlen, "out of memory for a %d x %d probe", w, h);
     src_rgbe(sr, rgbe);
     if (l == QTOOL_PROBE_LAYOUT_AUTO && detect_src(w, h, sr, &l, err, errlen) != 0) {
         free(sr);
@@ -813,7 +803,7 @@ int qtool_probe_layout_rgbe_to_latlong(qtool_probe_layout_t want, int w, int h, 
         free(sr);
         uint8_t *o = malloc(4 * np);
         if (!o)
-            return fail(err, errlen, "out of memory for a %d x %d probe", w, h);
+            return qtool_errf(err, errlen, "out of memory for a %d x %d probe", w, h);
         memcpy(o, rgbe, 4 * np);
         *used = l, *ow = w, *oh = h, *out = o;
         return 0;
@@ -826,7 +816,7 @@ int qtool_probe_layout_rgbe_to_latlong(qtool_probe_layout_t want, int w, int h, 
     uint8_t *o = malloc(4 * (size_t)lw * (size_t)lh);
     if (!o) {
         free(sr);
-        return fail(err, errlen, "out of memory for a %d x %d probe", lw, lh);
+        return qtool_errf(err, errlen, "out of memory for a %d x %d probe", lw, lh);
     }
     if (resample(l, w, h, sr, lw, lh, NULL, o, err, errlen) != 0) {
         free(sr), free(o);

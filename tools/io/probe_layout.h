@@ -70,13 +70,20 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* QTOOL_PROBE_LAYOUT_LIST(X): every layout in value order as X(enum name, name, description), the
+ * one list the enum, qtool_probe_layout_name/_describe and the parser are made from. */
+#define QTOOL_PROBE_LAYOUT_LIST(X) \
+    X(QTOOL_PROBE_LAYOUT_AUTO, "auto", "detect") /* default */ \
+    X(QTOOL_PROBE_LAYOUT_LATLONG, "latlong", "lat-long (equirectangular)") \
+    X(QTOOL_PROBE_LAYOUT_ANGULAR, "angular", "Debevec angular map") \
+    X(QTOOL_PROBE_LAYOUT_BALL, "ball", "mirror ball") \
+    X(QTOOL_PROBE_LAYOUT_VCROSS, "vcross", "vertical cube cross (3:4)") \
+    X(QTOOL_PROBE_LAYOUT_HCROSS, "hcross", "horizontal cube cross (4:3)")
+
 typedef enum qtool_probe_layout {
-    QTOOL_PROBE_LAYOUT_AUTO = 0, /* detect */
-    QTOOL_PROBE_LAYOUT_LATLONG,
-    QTOOL_PROBE_LAYOUT_ANGULAR,
-    QTOOL_PROBE_LAYOUT_BALL,
-    QTOOL_PROBE_LAYOUT_VCROSS,
-    QTOOL_PROBE_LAYOUT_HCROSS,
+#define QTOOL_PROBE_LAYOUT_ENUM_(id, name, description) id,
+    QTOOL_PROBE_LAYOUT_LIST(QTOOL_PROBE_LAYOUT_ENUM_)
+#undef QTOOL_PROBE_LAYOUT_ENUM_
     QTOOL_PROBE_LAYOUT_COUNT
 } qtool_probe_layout_t;
 

@@ -7,8 +7,8 @@
 #include <string.h>
 
 #include "ref/sh_ref.h"
+#include "qtool.h"
 
-#define PI 3.14159265358979323846
 
 /* the estimator of both: each cosine-weighted ray weighted by max(0, refl . l)^e when refl is set */
 static void ref_rays(const qtool_rt_scene *rt, const double p[3], const double ax[3][3], int side, int world,
@@ -28,7 +28,7 @@ static void ref_rays(const qtool_rt_scene *rt, const double p[3], const double a
             const double u1 = (a + (double)(rs >> 40) / 16777216.0) / S;
             rs = rs * 6364136223846793005u + 1442695040888963407u;
             const double u2 = (b + (double)(rs >> 40) / 16777216.0) / S;
-            const double r = sqrt(u1), ph = 2 * PI * u2;
+            const double r = sqrt(u1), ph = 2 * QTOOL_PI * u2;
             const double l[3] = {r * cos(ph), r * sin(ph), sqrt(fmax(0, 1 - u1))};
             double w[3];
             for (int k = 0; k < 3; ++k)
@@ -49,7 +49,7 @@ static void ref_rays(const qtool_rt_scene *rt, const double p[3], const double a
             for (int i = 0; i < 25; ++i)
                 half[(a + b) & 1][i] += g * y[i];
         }
-    const double wgt = PI / (S * S);
+    const double wgt = QTOOL_PI / (S * S);
     double d2 = 0, n2 = 0;
     for (int i = 0; i < 25; ++i) {
         out[i] = (half[0][i] + half[1][i]) * wgt;

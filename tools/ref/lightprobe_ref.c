@@ -7,8 +7,8 @@
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
+#include "qtool.h"
 
-#define PI 3.14159265358979323846
 
 static size_t cell(const qtool_ref_probe *p, int u, int v)
 {
@@ -33,7 +33,7 @@ int qtool_ref_probe_init(qtool_ref_probe *p, int w, int h, const double *rgb)
     }
     memcpy(p->rgb, rgb, 3 * n * sizeof *p->rgb);
     for (int v = 0; v < h; ++v)
-        p->rowsin[v] = sin((v + 0.5) * PI / h);
+        p->rowsin[v] = sin((v + 0.5) * QTOOL_PI / h);
     for (int v = 0; v < h; ++v) {
         long double acc[5] = {0};
         for (int u = 0; u < w; ++u) {
@@ -60,7 +60,7 @@ void qtool_ref_probe_free(qtool_ref_probe *p)
 
 void qtool_ref_probe_dir(const qtool_ref_probe *p, double x, double y, double d[3])
 {
-    double t = y * PI / p->h, f = x * 2.0 * PI / p->w;
+    double t = y * QTOOL_PI / p->h, f = x * 2.0 * QTOOL_PI / p->w;
     d[0] = sin(t) * cos(f);
     d[1] = sin(t) * sin(f);
     d[2] = cos(t);
@@ -84,7 +84,7 @@ void qtool_ref_probe_rgb(const qtool_ref_probe *p, int u0, int v0, int u1, int v
         for (int u = u0; u < u1; ++u)
             for (int c = 0; c < 3; ++c)
                 s[c] += (long double)p->rgb[3 * ((size_t)v * (size_t)p->w + (size_t)u) + (size_t)c] * p->rowsin[v];
-    double k = 2.0 * PI * PI / ((double)p->w * p->h);
+    double k = 2.0 * QTOOL_PI * QTOOL_PI / ((double)p->w * p->h);
     for (int c = 0; c < 3; ++c)
         rgb[c] = (double)s[c] * k;
 }
@@ -165,8 +165,8 @@ static double mean_sin(const qtool_ref_probe *p, int v0, int v1)
 /* angular width and height of a region, in radians */
 static void sides(const qtool_ref_probe *p, rect r, double *aw, double *ah)
 {
-    *aw = (r.u1 - r.u0) * 2.0 * PI / p->w * mean_sin(p, r.v0, r.v1);
-    *ah = (r.v1 - r.v0) * PI / p->h;
+    *aw = (r.u1 - r.u0) * 2.0 * QTOOL_PI / p->w * mean_sin(p, r.v0, r.v1);
+    *ah = (r.v1 - r.v0) * QTOOL_PI / p->h;
 }
 
 static int cut_median(const qtool_ref_probe *p, rect r, rect *a, rect *b)
@@ -211,7 +211,7 @@ static double variance(const qtool_ref_probe *p, rect r)
     if (vv < 0)
         vv = 0;
     /* angular: (sin theta dphi)^2 + dtheta^2 with dphi = du 2 pi / W, dtheta = dv pi / H */
-    double k = 2.0 * PI / p->w * mean_sin(p, r.v0, r.v1), l = PI / p->h;
+    double k = 2.0 * QTOOL_PI / p->w * mean_sin(p, r.v0, r.v1), l = QTOOL_PI / p->h;
     return (double)(vu * k * k + vv * l * l);
 }
 
@@ -378,7 +378,7 @@ int qtool_ref_lights(const qtool_ref_probe *p, int method, int priority, int cen
 
 void qtool_ref_sphere_dirs(int n, double (*d)[3])
 {
-    const double ga = PI * (3.0 - sqrt(5.0));
+    const double ga = QTOOL_PI * (3.0 - sqrt(5.0));
     for (int i = 0; i < n; ++i) {
         double z = 1.0 - (2.0 * i + 1.0) / n, r = sqrt(1.0 - z * z), a = ga * i;
         d[i][0] = r * cos(a);
@@ -424,7 +424,7 @@ void qtool_ref_probe_irradiance(const qtool_ref_probe *p, int n, const double (*
             E[i] = NAN;
         return;
     }
-    double k = 2.0 * PI * PI / ((double)p->w * p->h);
+    double k = 2.0 * QTOOL_PI * QTOOL_PI / ((double)p->w * p->h);
     for (int v = 0; v < p->h; ++v)
         for (int u = 0; u < p->w; ++u) {
             size_t i = (size_t)v * (size_t)p->w + (size_t)u;

@@ -8,8 +8,8 @@
 #include <stdlib.h>
 
 #include "ref/sh_ref.h"
+#include "qtool.h"
 
-#define REF_PI 3.14159265358979323846
 
 void qtool_ref_probe_sh(int w, int h, const double *rgb, int bands, double out[3][25])
 {
@@ -23,13 +23,13 @@ void qtool_ref_probe_sh(int w, int h, const double *rgb, int bands, double out[3
     if (trig == NULL)
         return;
     for (int u = 0; u < w; ++u) {
-        double ph = (u + 0.5) * 2.0 * REF_PI / w;
+        double ph = (u + 0.5) * 2.0 * QTOOL_PI / w;
         trig[9 * u] = 1.0;
         for (int m = 1; m <= 4; ++m)
             trig[9 * u + 2 * m - 1] = cos(m * ph), trig[9 * u + 2 * m] = sin(m * ph);
     }
     for (int v = 0; v < h; ++v) {
-        double t = (v + 0.5) * REF_PI / h, dw = (2.0 * REF_PI / w) * (REF_PI / h) * sin(t), y[25];
+        double t = (v + 0.5) * QTOOL_PI / h, dw = (2.0 * QTOOL_PI / w) * (QTOOL_PI / h) * sin(t), y[25];
         qtool_ref_sh_eval(sin(t), 0.0, cos(t), bands, y);
         double s[3][9] = {{0}};
         for (int u = 0; u < w; ++u) {
@@ -50,9 +50,9 @@ void qtool_ref_probe_sh(int w, int h, const double *rgb, int bands, double out[3
 
 void qtool_ref_probe_band_factors(int bands, int irradiance, int window, double f[5])
 {
-    static const double a[5] = {REF_PI, 2.0 * REF_PI / 3.0, REF_PI / 4.0, 0.0, -REF_PI / 24.0};
+    static const double a[5] = {QTOOL_PI, 2.0 * QTOOL_PI / 3.0, QTOOL_PI / 4.0, 0.0, -QTOOL_PI / 24.0};
     for (int l = 0; l < 5; ++l) {
-        double s = 1.0, x = REF_PI * l / bands;
+        double s = 1.0, x = QTOOL_PI * l / bands;
         if (window == 1)
             s = 0.5 * (1.0 + cos(x));
         else if (window == 2 && l > 0)
@@ -65,7 +65,7 @@ void qtool_ref_probe_band_factors(int bands, int irradiance, int window, double 
 static void gauss_legendre(int n, double *x, double *wt)
 {
     for (int i = 0; i < n; ++i) {
-        double z = cos(REF_PI * (i + 0.75) / (n + 0.5)), dp = 1.0;
+        double z = cos(QTOOL_PI * (i + 0.75) / (n + 0.5)), dp = 1.0;
         for (int it = 0; it < 100; ++it) {
             double p0 = 1.0, p1 = z;
             for (int k = 2; k <= n; ++k) {
@@ -92,13 +92,13 @@ void qtool_ref_sh_rotation(const double r[3][3], int bands, double d[165])
         d[i] = 0.0;
     for (int a = 0; a < NZ; ++a)
         for (int b = 0; b < NP; ++b) {
-            double z = zx[a], s = sqrt(1.0 - z * z), ph = (b + 0.5) * 2.0 * REF_PI / NP;
+            double z = zx[a], s = sqrt(1.0 - z * z), ph = (b + 0.5) * 2.0 * QTOOL_PI / NP;
             double w[3] = {s * cos(ph), s * sin(ph), z}, q[3], y[25], yr[25];
             for (int i = 0; i < 3; ++i)
                 q[i] = r[0][i] * w[0] + r[1][i] * w[1] + r[2][i] * w[2]; /* r^T w */
             qtool_ref_sh_eval(w[0], w[1], w[2], bands, y);
             qtool_ref_sh_eval(q[0], q[1], q[2], bands, yr);
-            double wt = zw[a] * 2.0 * REF_PI / NP;
+            double wt = zw[a] * 2.0 * QTOOL_PI / NP;
             int off = 0;
             for (int l = 0; l < bands; ++l) {
                 int n = 2 * l + 1;

@@ -4,8 +4,8 @@
 #include "ref/sh_ref.h"
 
 #include <math.h>
+#include "qtool.h"
 
-#define QTOOL_REF_PI 3.14159265358979323846
 
 static double factorial(int n)
 {
@@ -38,7 +38,7 @@ int qtool_ref_sh_eval(double x, double y, double z, int bands, double *out)
     for (int l = 0; l < bands; ++l) {
         for (int m = -l; m <= l; ++m) {
             int am = m < 0 ? -m : m;
-            double n = sqrt((2.0 * l + 1) / (2.0 * QTOOL_REF_PI) * factorial(l - am) / factorial(l + am));
+            double n = sqrt((2.0 * l + 1) / (2.0 * QTOOL_PI) * factorial(l - am) / factorial(l + am));
             double q = qtool_ref_sh_q(l, am, ct);
             double v;
             if (m > 0)

@@ -8,8 +8,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "qtool.h"
 
-#define PI 3.14159265358979323846
 
 static double luma(const float *p)
 {
@@ -50,9 +50,9 @@ int qtool_env_build(qtool_env *e, uint32_t w, uint32_t h, const float *rgb, char
     }
     memcpy(e->rgb, rgb, np * 3 * sizeof(float));
     for (uint32_t v = 0; v <= h; ++v)
-        e->row_c[v] = cos(PI * v / h);
+        e->row_c[v] = cos(QTOOL_PI * v / h);
     for (uint32_t v = 0; v < h; ++v)
-        e->row_dw[v] = 2 * PI / w * (e->row_c[v] - e->row_c[v + 1]);
+        e->row_dw[v] = 2 * QTOOL_PI / w * (e->row_c[v] - e->row_c[v + 1]);
     double tot = 0;
     for (size_t i = 0; i < np; ++i)
         tot += luma(rgb + 3 * i) * e->row_dw[i / w];
@@ -62,7 +62,7 @@ int qtool_env_build(qtool_env *e, uint32_t w, uint32_t h, const float *rgb, char
         return -1;
     }
     /* radiance above QTOOL_ENV_BRIGHT x the mean (total / 4 pi) is the bright set */
-    double thr = QTOOL_ENV_BRIGHT * tot / (4 * PI);
+    double thr = QTOOL_ENV_BRIGHT * tot / (4 * QTOOL_PI);
     e->cdf_b[0] = e->cdf_r[0] = 0;
     for (size_t i = 0; i < np; ++i) {
         double y = luma(rgb + 3 * i), en = y * e->row_dw[i / w];
@@ -80,8 +80,8 @@ static size_t pixel_of(const qtool_env *e, const double d[3])
     double z = d[2] < -1 ? -1 : d[2] > 1 ? 1 : d[2];
     double ph = atan2(d[1], d[0]);
     if (ph < 0)
-        ph += 2 * PI;
-    long u = (long)floor(ph / (2 * PI) * e->w), v = (long)floor(acos(z) / PI * e->h);
+        ph += 2 * QTOOL_PI;
+    long u = (long)floor(ph / (2 * QTOOL_PI) * e->w), v = (long)floor(acos(z) / QTOOL_PI * e->h);
     u = u < 0 ? 0 : u >= (long)e->w ? (long)e->w - 1 : u;
     v = v < 0 ? 0 : v >= (long)e->h ? (long)e->h - 1 : v;
     return (size_t)v * e->w + (size_t)u;
@@ -121,11 +121,11 @@ static size_t cdf_sample(const double *cdf, uint32_t w, size_t np, double a, dou
 static void pixel_dir(const qtool_env *e, size_t i, int jitter, double a, double b, double d[3])
 {
     uint32_t u = (uint32_t)(i % e->w), v = (uint32_t)(i / e->w);
-    double ph = (u + (jitter ? a : 0.5)) * 2 * PI / e->w, z, s;
+    double ph = (u + (jitter ? a : 0.5)) * 2 * QTOOL_PI / e->w, z, s;
     if (jitter) {
         z = e->row_c[v] - b * (e->row_c[v] - e->row_c[v + 1]), s = sqrt(fmax(0.0, 1 - z * z));
     } else {
-        double th = (v + 0.5) * PI / e->h;
+        double th = (v + 0.5) * QTOOL_PI / e->h;
         z = cos(th), s = sin(th);
     }
     d[0] = s * cos(ph), d[1] = s * sin(ph), d[2] = z;
@@ -222,7 +222,7 @@ static void env_row(void *ctx, uint32_t y)
             double cn = hh.n[0] * wd[0] + hh.n[1] * wd[1] + hh.n[2] * wd[2];
             if (cn <= 0)
                 continue;
-            double pe = luma(L) / e->e_r, pc = cn / PI;
+            double pe = luma(L) / e->e_r, pc = cn / QTOOL_PI;
             shade(j, &hh, wd, L, 1.0 / (nenv * pe + ncos * pc), o);
         }
         if (ncos) {
@@ -240,14 +240,14 @@ static void env_row(void *ctx, uint32_t y)
                     a = (k % g + unit(&st)) / g, b = (k / g + unit(&st)) / g;
                 else
                     a = (k - g * g + unit(&st)) / (ncos - g * g), b = unit(&st);
-                double r = sqrt(a), ph = 2 * PI * b, cz = sqrt(fmax(0.0, 1 - a));
+                double r = sqrt(a), ph = 2 * QTOOL_PI * b, cz = sqrt(fmax(0.0, 1 - a));
                 for (int c = 0; c < 3; ++c)
                     wd[c] = r * cos(ph) * t1[c] + r * sin(ph) * t2[c] + cz * n[c];
                 size_t i = pixel_of(e, wd);
                 if (e->in_b[i])
                     continue;
                 const float *L = e->rgb + 3 * i;
-                double pe = e->e_r > 0 ? luma(L) / e->e_r : 0, pc = cz / PI;
+                double pe = e->e_r > 0 ? luma(L) / e->e_r : 0, pc = cz / QTOOL_PI;
                 if (pc <= 0 || (L[0] == 0 && L[1] == 0 && L[2] == 0))
                     continue;
                 shade(j, &hh, wd, L, 1.0 / (nenv * pe + ncos * pc), o);

@@ -7,8 +7,8 @@
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
+#include "qtool.h"
 
-#define PI 3.14159265358979323846
 
 /* ---- scene building ------------------------------------------------------------------------------ */
 
@@ -81,7 +81,7 @@ static void add_box(builder *b, const double lo[3], const double hi[3], int mat)
 static void add_cylinder(builder *b, double cx, double cy, double r, double z0, double z1, int seg, int mat)
 {
     for (int i = 0; i < seg; ++i) {
-        double a0 = 2 * PI * i / seg, a1 = 2 * PI * (i + 1) / seg;
+        double a0 = 2 * QTOOL_PI * i / seg, a1 = 2 * QTOOL_PI * (i + 1) / seg;
         double n0[3] = {cos(a0), sin(a0), 0}, n1[3] = {cos(a1), sin(a1), 0};
         double p00[3] = {cx + r * n0[0], cy + r * n0[1], z0}, p01[3] = {cx + r * n0[0], cy + r * n0[1], z1};
         double p10[3] = {cx + r * n1[0], cy + r * n1[1], z0}, p11[3] = {cx + r * n1[0], cy + r * n1[1], z1};
@@ -97,7 +97,7 @@ static void add_sphere(builder *b, const double c[3], double r, int nu, int nv, 
             double n[4][3], p[4][3];
             for (int q = 0; q < 4; ++q) {
                 int ii = i + (q == 1 || q == 2), jj = j + (q >= 2);
-                double th = PI * jj / nv, ph = 2 * PI * ii / nu;
+                double th = QTOOL_PI * jj / nv, ph = 2 * QTOOL_PI * ii / nu;
                 n[q][0] = sin(th) * cos(ph), n[q][1] = sin(th) * sin(ph), n[q][2] = cos(th);
                 for (int k = 0; k < 3; ++k)
                     p[q][k] = c[k] + r * n[q][k];
@@ -117,7 +117,7 @@ static void add_arch(builder *b, double cx, double half, double r, double z0, do
     double th[SEG + 3];
     int n = 0;
     for (int i = 0; i <= SEG; ++i)
-        th[n++] = PI * i / SEG;
+        th[n++] = QTOOL_PI * i / SEG;
     th[n++] = atan2(z1 - z0, half), th[n++] = atan2(z1 - z0, -half);
     for (int i = 1; i < n; ++i) /* insertion sort: the corner angles join the arc samples */
         for (int j = i; j > 0 && th[j] < th[j - 1]; --j) {
@@ -534,14 +534,14 @@ static long trace(const qtool_rt_scene *s, const double o[3], const double d[3],
 
 void qtool_rt_pixel_dir(uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t x, uint32_t y, double d[3])
 {
-    double phi = 2 * PI * (x + 0.5) / w;
+    double phi = 2 * QTOOL_PI * (x + 0.5) / w;
     if (kind == QTOOL_PANO_CYLINDRICAL) {
-        double tanv = PI * h / w;
+        double tanv = QTOOL_PI * h / w;
         double hgt = (0.5 - (y + 0.5) / h) * 2 * tanv;
         double len = sqrt(1 + hgt * hgt);
         d[0] = cos(phi) / len, d[1] = sin(phi) / len, d[2] = hgt / len;
     } else {
-        double th = PI * (y + 0.5) / h;
+        double th = QTOOL_PI * (y + 0.5) / h;
         d[0] = sin(th) * cos(phi), d[1] = sin(th) * sin(phi), d[2] = cos(th);
     }
 }
@@ -633,10 +633,10 @@ int qtool_rt_response(const qtool_rt_scene *s, const qtool_rt_hit *h, const doub
         return 0;
     if (tmax > 0 && qtool_rt_occluded(s, h, w, tmax))
         return 0;
-    *diff = cn / PI;
+    *diff = cn / QTOOL_PI;
     if (h->m->ks > 0) {
         double cr = h->r[0] * w[0] + h->r[1] * w[1] + h->r[2] * w[2];
-        *gloss = cr > 0 ? (h->m->shininess + 2) / (2 * PI) * pow(cr, h->m->shininess) : 0;
+        *gloss = cr > 0 ? (h->m->shininess + 2) / (2 * QTOOL_PI) * pow(cr, h->m->shininess) : 0;
     }
     return 1;
 }

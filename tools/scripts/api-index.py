@@ -20,7 +20,9 @@ ATTR_ONLY = re.compile(r"^\s*[A-Z][A-Z0-9_]*(?:\([^)]*\))?\s*$")
 
 def first_sentence(comment):
     text = " ".join(re.sub(r"(?m)^\s*\*(?!/)", " ", comment).split())
-    m = re.search(r"(?<!\be\.g)(?<!\bi\.e)(?<!\bvs)\.(\s|$)", text)
+    # a sentence ends at a full stop before a capital, a backtick or the end ("v[0 .. n)" and
+    # "e.g." do not end one)
+    m = re.search(r"(?<!\be\.g)(?<!\bi\.e)(?<!\bvs)(?<!\.)\.(?:\s+(?=[A-Z`(])|$)", text)
     if m:
         text = text[:m.start() + 1]
     if len(text) > 160:

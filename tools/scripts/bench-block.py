@@ -16,12 +16,14 @@ KEEP = [  # (RESULT name, what it is, unit)
 
 
 def main(path):
-    head, results = [], {}
+    head, runs, results = [], [], {}
     with open(path, encoding="utf-8") as f:
         for line in f:
             line = line.rstrip("\n")
             if line.startswith("# ") and ":" in line and not line.startswith("# docs/"):
                 head.append(line[2:])
+            elif line.startswith("== bench "):
+                runs.append(line[3:])
             elif line.startswith("RESULT "):
                 parts = line.split()
                 results[parts[1]] = parts[2]
@@ -37,6 +39,8 @@ def main(path):
     for h in head:
         key, _, val = h.partition(": ")
         print(f"- {key}: `{val}`" if key in ("command", "flags") else f"- {key}: {val}")
+    for r in runs:
+        print(f"- {r}")
     return 0
 
 

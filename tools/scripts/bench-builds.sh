@@ -1,5 +1,6 @@
 #!/bin/sh
-# bench-builds.sh [BENCH] - `qibl bench BENCH` (default: baselines) in several builds of the core:
+# bench-builds.sh [BENCH] - `qibl bench BENCH` (default: baselines; lights, hemi and all with
+# qibl-bench's twin comparisons) in several builds of the core:
 # gcc and clang at -O2 and -O3, each with the default kernel path (SSE2 on plain x86-64), -mavx2
 # where the CPU has it, and QIBL_CONFIG_SIMD=0 (the scalar reference, the "before" figures).
 # Builds go to $BUILD/bench-<cc><opt>-<path>/; RESULT lines are printed with the build's name.
@@ -19,10 +20,13 @@ for cc in ${CCS:-gcc clang}; do
             [ "$path" = avx2 ] && [ -z "$avx2" ] && continue
             case $path in default) f="$o" ;; avx2) f="$o -mavx2" ;; scalar) f="$o -DQIBL_CONFIG_SIMD=0" ;; esac
             name="$cc$o-$path"; b="$base/bench-$name"
-            make -s -j2 --no-print-directory BUILD="$b" CC=$cc OPT="$o" CORE_OPT="$f" "$b/bin/qibl" >"$b.log" 2>&1 ||
-                { echo "bench-builds: $name: build failed (see $b.log)"; continue; }
+            make -s -j2 --no-print-directory BUILD="$b" CC=$cc OPT="$o" CORE_OPT="$f" "$b/bin/qibl" "$b/bin/qibl-bench" \
+                >"$b.log" 2>&1 || { echo "bench-builds: $name: build failed (see $b.log)"; continue; }
             echo "== $name (core $f)"
-            "$b/bin/qibl" bench "$what" | sed -n "s/^RESULT \([^ ]*\)/RESULT $name.\1/p"
+            { "$b/bin/qibl" bench "$what"
+              # lights and hemi: also the kernel against its scalar twin (qibl-bench; not in qibl)
+              case $what in lights|hemi|all) "$b/bin/qibl-bench" "$what" ;; esac
+            } | sed -n "s/^RESULT \([^ ]*\)/RESULT $name.\1/p"
         done
     done
 done

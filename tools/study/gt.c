@@ -17,8 +17,8 @@
 #include "ref/lightprobe_ref.h"
 #include "ref/sh_ref.h"
 #include "study/study.h"
+#include "qtool.h"
 
-#define PI 3.14159265358979323846
 
 /* P of RGBE bytes (lightprobe.h: m 2^(E - 136), no +1/2) */
 static double rgbe_p(const uint8_t *px, int c)
@@ -40,7 +40,7 @@ static uint8_t *box_down(int w, int h, const uint8_t *rgbe, int ow, int oh)
         return NULL;
     }
     for (int v = 0; v < h; ++v) {
-        double s = sin((v + 0.5) * PI / h) / ((double)w * h);
+        double s = sin((v + 0.5) * QTOOL_PI / h) / ((double)w * h);
         double *a = acc + 3 * (size_t)ow * (size_t)((long long)v * oh / h);
         for (int u = 0; u < w; ++u) {
             const uint8_t *px = rgbe + 4 * ((size_t)v * (size_t)w + (size_t)u);
@@ -52,7 +52,7 @@ static uint8_t *box_down(int w, int h, const uint8_t *rgbe, int ow, int oh)
         }
     }
     for (int v = 0; v < oh; ++v) {
-        double s = sin((v + 0.5) * PI / oh) / ((double)ow * oh);
+        double s = sin((v + 0.5) * QTOOL_PI / oh) / ((double)ow * oh);
         for (int u = 0; u < ow; ++u)
             for (int c = 0; c < 3; ++c)
                 row[3 * u + c] = (float)(acc[3 * ((size_t)v * (size_t)ow + (size_t)u) + (size_t)c] / s);
@@ -91,9 +91,9 @@ int qtool_study_probe_init(qtool_study_probe *p, int w, int h, const uint8_t *rg
     if (p->rgbe != rgbe)
         memcpy(p->rgbe, rgbe, 4 * np);
     p->w = w, p->h = h;
-    const double k = 2.0 * PI * PI / ((double)w * h);
+    const double k = 2.0 * QTOOL_PI * QTOOL_PI / ((double)w * h);
     for (int v = 0; v < h; ++v) {
-        double s = sin((v + 0.5) * PI / h) * k;
+        double s = sin((v + 0.5) * QTOOL_PI / h) * k;
         for (int u = 0; u < w; ++u) {
             size_t i = (size_t)v * (size_t)w + (size_t)u;
             const uint8_t *px = p->rgbe + 4 * i;
@@ -138,12 +138,12 @@ static void *gt_rows(void *arg)
     if (!pre)
         return (void *)1;
     for (int v = j->v0; v < j->v1; ++v) {
-        const double th = (v + 0.5) * PI / j->p->h, st = sin(th), ct = cos(th);
+        const double th = (v + 0.5) * QTOOL_PI / j->p->h, st = sin(th), ct = cos(th);
         for (int c = 0; c < 3; ++c)
             for (int k = 0; k < 3; ++k)
                 pre[(size_t)(3 * c + k) * (size_t)(w + 1)] = 0.0;
         for (int u = 0; u < w; ++u) {
-            const double ph = (u + 0.5) * 2.0 * PI / w, cp = cos(ph), sp = sin(ph);
+            const double ph = (u + 0.5) * 2.0 * QTOOL_PI / w, cp = cos(ph), sp = sin(ph);
             for (int c = 0; c < 3; ++c) {
                 double q = j->p->q[3 * ((size_t)v * (size_t)w + (size_t)u) + (size_t)c];
                 double *a = pre + (size_t)(3 * c) * (size_t)(w + 1);
@@ -167,7 +167,7 @@ static void *gt_rows(void *arg)
                 if (c0 < -1.0) {
                     s = 0, len = w;
                 } else {
-                    double al = acos(c0), sc = w / (2.0 * PI);
+                    double al = acos(c0), sc = w / (2.0 * QTOOL_PI);
                     double lo = ceil((j->nphi[k] - al) * sc - 0.5), hi = floor((j->nphi[k] + al) * sc - 0.5);
                     if (hi < lo)
                         continue;
@@ -262,9 +262,9 @@ void qtool_study_gt_brute(const qtool_study_probe *p, const double n[3], double 
 {
     long double s[3] = {0, 0, 0};
     for (int v = 0; v < p->h; ++v) {
-        double th = (v + 0.5) * PI / p->h;
+        double th = (v + 0.5) * QTOOL_PI / p->h;
         for (int u = 0; u < p->w; ++u) {
-            double ph = (u + 0.5) * 2.0 * PI / p->w;
+            double ph = (u + 0.5) * 2.0 * QTOOL_PI / p->w;
             double d = n[0] * sin(th) * cos(ph) + n[1] * sin(th) * sin(ph) + n[2] * cos(th);
             if (d <= 0)
                 continue;

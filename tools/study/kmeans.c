@@ -11,8 +11,8 @@
 #include <string.h>
 
 #include "study/study.h"
+#include "qtool.h"
 
-#define PI 3.14159265358979323846
 
 typedef struct {
     double d[3], q[3], e;
@@ -48,7 +48,7 @@ int qtool_study_kmeans(const qtool_study_probe *p, int n, int iters, qtool_study
             for (int v = bv * f; v < bv * f + f; ++v)
                 for (int u = bu * f; u < bu * f + f; ++u) {
                     const double *q = p->q + 3 * ((size_t)v * (size_t)p->w + (size_t)u);
-                    double e = (q[0] + q[1] + q[2]) / 3, th = (v + 0.5) * PI / p->h, ph = (u + 0.5) * 2 * PI / p->w;
+                    double e = (q[0] + q[1] + q[2]) / 3, th = (v + 0.5) * QTOOL_PI / p->h, ph = (u + 0.5) * 2 * QTOOL_PI / p->w;
                     pt.d[0] += e * sin(th) * cos(ph), pt.d[1] += e * sin(th) * sin(ph), pt.d[2] += e * cos(th);
                     for (int c = 0; c < 3; ++c)
                         pt.q[c] += q[c];

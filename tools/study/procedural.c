@@ -8,8 +8,8 @@
 
 #include "io/probe_layout.h"
 #include "study/study.h"
+#include "qtool.h"
 
-#define PI 3.14159265358979323846
 
 uint8_t *qtool_study_procedural(int w, int h, int sunny)
 {
@@ -21,12 +21,12 @@ uint8_t *qtool_study_procedural(int w, int h, int sunny)
         free(f), free(o);
         return NULL;
     }
-    const double sth = (90 - 40) * PI / 180, sph = 1.1;
+    const double sth = (90 - 40) * QTOOL_PI / 180, sph = 1.1;
     const double sd[3] = {sin(sth) * cos(sph), sin(sth) * sin(sph), cos(sth)};
-    const double rad = 0.6 * PI / 180 + 1.5 * PI / h; /* at least a pixel or so */
+    const double rad = 0.6 * QTOOL_PI / 180 + 1.5 * QTOOL_PI / h; /* at least a pixel or so */
     for (int v = 0; v < h; ++v)
         for (int u = 0; u < w; ++u) {
-            double th = (v + 0.5) * PI / h, ph = (u + 0.5) * 2 * PI / w;
+            double th = (v + 0.5) * QTOOL_PI / h, ph = (u + 0.5) * 2 * QTOOL_PI / w;
             double d[3] = {sin(th) * cos(ph), sin(th) * sin(ph), cos(th)};
             float *p = f + 3 * ((size_t)v * (size_t)w + (size_t)u);
             double z = d[2];

@@ -15,8 +15,8 @@
 #include "qibl/lightprobe.h"
 #include "ref/sh_ref.h"
 #include "study/study.h"
+#include "qtool.h"
 
-#define PI 3.14159265358979323846
 #define REGIONS 64
 
 typedef struct {
@@ -57,7 +57,7 @@ static int prepare(const qtool_study_probe *p, sunsky_base *b, char *err, size_t
 
 static void compose(const qtool_study_probe *p, const sunsky_base *b, int k, qtool_study_model *md)
 {
-    static const double A[3] = {PI, 2 * PI / 3, PI / 4};
+    static const double A[3] = {QTOOL_PI, 2 * QTOOL_PI / 3, QTOOL_PI / 4};
     *md = b->sky;
     if (k > b->count)
         k = b->count;
@@ -69,12 +69,12 @@ static void compose(const qtool_study_probe *p, const sunsky_base *b, int k, qto
             md->rgb[i][c] = ldexp(l->rgb[c], b->rgb_exp);
         }
         for (uint32_t v = l->v0; v < l->v1; ++v) {
-            double th = (v + 0.5) * PI / p->h;
+            double th = (v + 0.5) * QTOOL_PI / p->h;
             for (uint32_t u = l->u0; u < l->u1; ++u) {
                 const double *q = p->q + 3 * ((size_t)v * (size_t)p->w + u);
                 if (q[0] == 0 && q[1] == 0 && q[2] == 0)
                     continue;
-                double ph = (u + 0.5) * 2 * PI / p->w, Y[9];
+                double ph = (u + 0.5) * 2 * QTOOL_PI / p->w, Y[9];
                 (void)qtool_ref_sh_eval(sin(th) * cos(ph), sin(th) * sin(ph), cos(th), 3, Y);
                 for (int j = 0; j < 9; ++j) {
                     double a = A[j == 0 ? 0 : j < 4 ? 1 : 2] * Y[j];

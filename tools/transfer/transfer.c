@@ -20,28 +20,11 @@
 const char *qtool_transfer_status_str(qtool_transfer_status st)
 {
     switch (st) {
-    case QTOOL_TRANSFER_OK:
-        return "ok";
-    case QTOOL_TRANSFER_E_NOMEM:
-        return "out of memory";
-    case QTOOL_TRANSFER_E_EMPTY:
-        return "the mesh has no triangles";
-    case QTOOL_TRANSFER_E_TRIANGLES:
-        return "more than 1048576 triangles (QTOOL_TRANSFER_MAX_TRIANGLES)";
-    case QTOOL_TRANSFER_E_VERTICES:
-        return "more than 3145728 vertices (QTOOL_TRANSFER_MAX_VERTICES)";
-    case QTOOL_TRANSFER_E_CORNER:
-        return "a corner position is not finite";
-    case QTOOL_TRANSFER_E_INDEX:
-        return "a triangle indexes past the vertices";
-    case QTOOL_TRANSFER_E_ADJACENCY:
-        return "the triangles around a vertex do not match the triangles";
-    case QTOOL_TRANSFER_E_RING:
-        return "ring outside 1..16";
-    case QTOOL_TRANSFER_E_TOO_BIG:
-        return "the hierarchy or PVS lists would exceed 2^26 entries (QTOOL_TRANSFER_MAX_LIST)";
-    case QTOOL_TRANSFER_E_FRAMES:
-        return "no frames of positions";
+#define QTOOL_TRANSFER_STATUS_CASE_(name, message) case name: return message;
+    QTOOL_TRANSFER_STATUS_LIST(QTOOL_TRANSFER_STATUS_CASE_)
+#undef QTOOL_TRANSFER_STATUS_CASE_
+    case QTOOL_TRANSFER_STATUS_COUNT:
+        break;
     }
     return "unknown transfer status";
 }

@@ -9,7 +9,7 @@
 
 #include "qibl/hemi.h"
 
-qibl_status_t qtool_hemi_raster_scalar(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t nv,
+QIBL_NODISCARD qibl_status_t qtool_hemi_raster_scalar(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t nv,
                                        const uint32_t (*tri)[3], uint32_t ntri, uint32_t *mask,
                                        qibl_hemi_stats_t *stats);
 

@@ -9,9 +9,9 @@
 
 #include "qibl/lightprobe.h"
 
-qibl_status_t qtool_lightprobe_build_scalar(qibl_lightprobe_t *lp, const qibl_lightprobe_image_t *img,
+QIBL_NODISCARD qibl_status_t qtool_lightprobe_build_scalar(qibl_lightprobe_t *lp, const qibl_lightprobe_image_t *img,
                                             qibl_lightprobe_method_t method, void *workspace, size_t workspace_size);
-qibl_status_t qtool_lightprobe_lights_scalar(const qibl_lightprobe_t *lp, const qibl_lightprobe_opts_t *opts,
+QIBL_NODISCARD qibl_status_t qtool_lightprobe_lights_scalar(const qibl_lightprobe_t *lp, const qibl_lightprobe_opts_t *opts,
                                              qibl_lightprobe_light_t *lights, uint32_t max_lights,
                                              qibl_lightprobe_result_t *result);
 

@@ -8,11 +8,11 @@
 
 #include "qibl/shmap.h"
 
-qibl_status_t qtool_shmap_point_prepare_scalar(const qibl_shmaps_t *m, const qibl_pmap_t *p, const qibl_ylut_t *lut,
+QIBL_NODISCARD qibl_status_t qtool_shmap_point_prepare_scalar(const qibl_shmaps_t *m, const qibl_pmap_t *p, const qibl_ylut_t *lut,
                                                const qibl_pointlight_t *light, qibl_shmap_point_t *out);
-qibl_status_t qtool_shmap_point_span_scalar(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n,
+QIBL_NODISCARD qibl_status_t qtool_shmap_point_span_scalar(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n,
                                             int32_t *out, void *ws, size_t ws_size);
-qibl_status_t qtool_shmap_relight_span_scalar(const qibl_shmaps_t *m, const qibl_shmap_weights_t *w, uint32_t x0,
+QIBL_NODISCARD qibl_status_t qtool_shmap_relight_span_scalar(const qibl_shmaps_t *m, const qibl_shmap_weights_t *w, uint32_t x0,
                                               uint32_t y, uint32_t n, int32_t *out, void *ws, size_t ws_size);
 
 #endif /* QTOOL_SHMAP_SCALAR_H */

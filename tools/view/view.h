@@ -16,6 +16,7 @@
 
 #include "qibl/lightpath.h"
 #include "qibl/shmap.h"
+#include "qtool.h"
 
 #define QTOOL_VIEW_MAX_PROBES 8u      /* --probe options (each an SH light, 3 x 25 Q16.16) */
 #define QTOOL_VIEW_OVERLAY_SCALE 2    /* overlay font scale */
@@ -103,7 +104,7 @@ int qtool_view_key(qtool_view *v, int key);
 
 /* The SH light of the current scheme (sun, the probe turned by the yaw, or both), its terms past
  * v->k zeroed: what the frame is relit by. QIBL_OK or the core's status. */
-qibl_status_t qtool_view_light(const qtool_view *v, qibl_shlight_t *l);
+QTOOL_NODISCARD qibl_status_t qtool_view_light(const qtool_view *v, qibl_shlight_t *l);
 
 /* Relights the frame into bgrx (w x h 4-byte pixels B, G, R, 255 at row stride `stride` bytes;
  * w, h the maps'), times it into v->ms. ws: qtool_view_workspace_size bytes. 0, or -1 with *st. */

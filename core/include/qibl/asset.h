@@ -143,27 +143,27 @@ uint32_t qibl_crc32(uint32_t crc, const uint8_t *data, size_t n);
 #define QIBL_CRC32_TABLE_WORDS 2048u
 /* Fills table[0..QIBL_CRC32_TABLE_WORDS) (any memory the caller owns: RAM, or flash written once).
  * QIBL_E_NULL_POINTER, QIBL_E_WORKSPACE (words < QIBL_CRC32_TABLE_WORDS); nothing written then. */
-qibl_status_t qibl_crc32_table_init(uint32_t *table, size_t words);
+QIBL_NODISCARD qibl_status_t qibl_crc32_table_init(uint32_t *table, size_t words);
 /* The same CRC as qibl_crc32, eight bytes per step through a table from qibl_crc32_table_init
  * (byte loads only: any alignment, either byte order). No checks (hot path). */
 uint32_t qibl_crc32_fast(const uint32_t *table, uint32_t crc, const uint8_t *data, size_t n);
 
 /* Validates bytes[0..n) as an asset (every rule above, every CRC) and fills *out.
  * Errors: QIBL_E_NULL_POINTER and the QIBL_E_ASSET_* codes; *out untouched on failure. */
-qibl_status_t qibl_asset_open(qibl_asset_t *out, const void *bytes, size_t n);
+QIBL_NODISCARD qibl_status_t qibl_asset_open(qibl_asset_t *out, const void *bytes, size_t n);
 
 /* qibl_asset_open with the CRCs through a qibl_crc32_table_init table: same checks, same statuses,
  * about a quarter of the instructions. QIBL_E_NULL_POINTER for a NULL table too. */
-qibl_status_t qibl_asset_open_crc_table(qibl_asset_t *out, const void *bytes, size_t n, const uint32_t *crc_table);
+QIBL_NODISCARD qibl_status_t qibl_asset_open_crc_table(qibl_asset_t *out, const void *bytes, size_t n, const uint32_t *crc_table);
 
 /* Header and structure only (see the top of this file): every check of qibl_asset_open except the
  * payload CRCs, so it cost nothing per payload byte. For assets verified at install time; payload
  * bit flips pass undetected. Errors as qibl_asset_open minus QIBL_E_ASSET_CHUNK_CRC. */
-qibl_status_t qibl_asset_open_structure(qibl_asset_t *out, const void *bytes, size_t n);
+QIBL_NODISCARD qibl_status_t qibl_asset_open_structure(qibl_asset_t *out, const void *bytes, size_t n);
 
 /* The chunk of the given type (the first one, for an unknown type that appears more than once).
  * QIBL_E_ASSET_MISSING_CHUNK if absent; *out untouched then. */
-qibl_status_t qibl_asset_find(const qibl_asset_t *a, uint32_t type, qibl_chunk_t *out);
+QIBL_NODISCARD qibl_status_t qibl_asset_find(const qibl_asset_t *a, uint32_t type, qibl_chunk_t *out);
 
 /* ---- streaming by rows ----------------------------------------------------------------------
  * Only the head of the file is resident: header, chunk table and SHMP's fields and params. The
@@ -200,22 +200,22 @@ typedef struct qibl_asset_row_s {
  * table and SHMP's fields become visible; never beyond the end of SHMP's params).
  * Errors: QIBL_E_NULL_POINTER and the header/table/SHMP statuses of qibl_asset_open that the bytes
  * seen so far already show; *need untouched then. */
-qibl_status_t qibl_asset_head_size(const void *head, size_t n, size_t *need);
+QIBL_NODISCARD qibl_status_t qibl_asset_head_size(const void *head, size_t n, size_t *need);
 
 /* Opens the head (the first n bytes of the file, which must outlive *out). Errors: as above,
  * QIBL_E_ASSET_HEAD_SHORT (n below what qibl_asset_head_size asks for), QIBL_E_ASSET_LAYOUT (planar
  * maps: a planar row is k*channels ranges; open the whole asset instead); *out untouched then. */
-qibl_status_t qibl_asset_open_head(qibl_asset_head_t *out, const void *head, size_t n);
+QIBL_NODISCARD qibl_status_t qibl_asset_open_head(qibl_asset_head_t *out, const void *head, size_t n);
 
 /* File offsets and sizes of row y. QIBL_E_NULL_POINTER, QIBL_E_ASSET_ROW (y >= height). */
-qibl_status_t qibl_asset_row(const qibl_asset_head_t *h, uint32_t y, qibl_asset_row_t *out);
+QIBL_NODISCARD qibl_status_t qibl_asset_row(const qibl_asset_head_t *h, uint32_t y, qibl_asset_row_t *out);
 
 /* The P map of an opened head: fields are the PMAP payload's first n bytes (its 12 field bytes lie
  * at file offset h->pmap_offset - 12), checked as qibl_asset_open checks them. *out = the whole
  * image's view with points NULL (rows stream in: qibl_pmap_row_view). Errors: QIBL_E_NULL_POINTER,
  * QIBL_E_ASSET_MISSING_CHUNK (no PMAP), QIBL_E_ASSET_HEAD_SHORT (n < 12), QIBL_E_ASSET_BAD_DIMENSIONS,
  * QIBL_E_ASSET_MISMATCH (not SHMP's width and height), QIBL_E_ASSET_BAD_FLAGS; *out untouched then. */
-qibl_status_t qibl_asset_head_pmap(const qibl_asset_head_t *h, const void *fields, size_t n, qibl_pmap_t *out);
+QIBL_NODISCARD qibl_status_t qibl_asset_head_pmap(const qibl_asset_head_t *h, const void *fields, size_t n, qibl_pmap_t *out);
 
 /* The Y LUT of an opened head: payload holds the n >= h->ylut_size bytes loaded from
  * h->ylut_offset (the whole YLUT payload), checked as qibl_asset_open checks them; *out's values
@@ -224,18 +224,18 @@ qibl_status_t qibl_asset_head_pmap(const qibl_asset_head_t *h, const void *field
  * QIBL_E_ASSET_BAD_DIMENSIONS, QIBL_E_ASSET_BAD_K, QIBL_E_ASSET_MISMATCH (k below SHMP's),
  * QIBL_E_ASSET_BAD_FLAGS, QIBL_E_ASSET_CHUNK_SIZE (ylut_size other than 12 + 12 N N k);
  * *out untouched then. */
-qibl_status_t qibl_asset_head_ylut(const qibl_asset_head_t *h, const void *payload, size_t n, qibl_ylut_t *out);
+QIBL_NODISCARD qibl_status_t qibl_asset_head_ylut(const qibl_asset_head_t *h, const void *payload, size_t n, qibl_ylut_t *out);
 
 /* Typed views of the known chunks of a validated asset (missing chunk -> QIBL_E_ASSET_MISSING_CHUNK). */
-qibl_status_t qibl_asset_shmaps(const qibl_asset_t *a, qibl_shmaps_t *out);
-qibl_status_t qibl_asset_pmap(const qibl_asset_t *a, qibl_pmap_t *out);
-qibl_status_t qibl_asset_ylut(const qibl_asset_t *a, qibl_ylut_t *out);
+QIBL_NODISCARD qibl_status_t qibl_asset_shmaps(const qibl_asset_t *a, qibl_shmaps_t *out);
+QIBL_NODISCARD qibl_status_t qibl_asset_pmap(const qibl_asset_t *a, qibl_pmap_t *out);
+QIBL_NODISCARD qibl_status_t qibl_asset_ylut(const qibl_asset_t *a, qibl_ylut_t *out);
 /* The unshadowed maps (SHMU). qibl_asset_point_shmaps: the maps a free point light should use,
  * SHMU when present, else SHMP (older assets). */
-qibl_status_t qibl_asset_shmaps_unshadowed(const qibl_asset_t *a, qibl_shmaps_t *out);
-qibl_status_t qibl_asset_point_shmaps(const qibl_asset_t *a, qibl_shmaps_t *out);
+QIBL_NODISCARD qibl_status_t qibl_asset_shmaps_unshadowed(const qibl_asset_t *a, qibl_shmaps_t *out);
+QIBL_NODISCARD qibl_status_t qibl_asset_point_shmaps(const qibl_asset_t *a, qibl_shmaps_t *out);
 /* The index-th chunk (0-based) of the given type, for types that may repeat (light paths). */
-qibl_status_t qibl_asset_find_nth(const qibl_asset_t *a, uint32_t type, uint32_t index, qibl_chunk_t *out);
+QIBL_NODISCARD qibl_status_t qibl_asset_find_nth(const qibl_asset_t *a, uint32_t type, uint32_t index, qibl_chunk_t *out);
 
 #ifdef __cplusplus
 }

@@ -181,18 +181,18 @@ qibl_uq16_t qibl_sqrt_uq16(qibl_uq16_t x);
 /* 1/sqrt(x) for x in UQ16.16, result in UQ16.16 (at most 256 = 1/sqrt(2^-16)), correctly rounded
  * (error <= 0.5 LSB; a tie cannot occur).
  * QIBL_E_DIV_BY_ZERO for x == 0, QIBL_E_NULL_POINTER for out == NULL; *out untouched on failure. */
-qibl_status_t qibl_rsqrt_uq16(qibl_uq16_t x, qibl_uq16_t *out);
+QIBL_NODISCARD qibl_status_t qibl_rsqrt_uq16(qibl_uq16_t x, qibl_uq16_t *out);
 
 /* 1/x for x in Q16.16, result in Q16.16, correctly rounded (error <= 0.5 LSB; ties cannot occur).
  * QIBL_E_DIV_BY_ZERO for x == 0; QIBL_E_RANGE when |1/x| does not fit Q16.16 (x = 1 or 2 LSB,
  * x = -1 LSB); QIBL_E_NULL_POINTER for out == NULL. *out untouched on failure. */
-qibl_status_t qibl_recip_q16(qibl_q16_t x, qibl_q16_t *out);
+QIBL_NODISCARD qibl_status_t qibl_recip_q16(qibl_q16_t x, qibl_q16_t *out);
 
 /* v / |v| for any int32 triple v (any common Q format: direction only), result a Q2.30 unit
  * vector. Error <= 1 LSB (2^-30) per component against the exact quotient, for every input
  * including components of 1 LSB and of INT32_MIN. QIBL_E_ZERO_VECTOR for (0, 0, 0),
  * QIBL_E_NULL_POINTER for NULL pointers; out untouched on failure. v and out may alias. */
-qibl_status_t qibl_vec3_normalize_q30(const int32_t v[3], qibl_q30_t out[3]);
+QIBL_NODISCARD qibl_status_t qibl_vec3_normalize_q30(const int32_t v[3], qibl_q30_t out[3]);
 
 /* 1/sqrt(x) for x >= 1, returned as y / 2^*e with y in [2^30, 2^31] and *e in 31..62.
  * Relative error <= 2^-28 (table seed + two Newton steps; measured bound in fixed_test.c).
@@ -203,7 +203,7 @@ uint32_t qibl_rsqrt_u64(uint64_t x, unsigned *e);
  * several times faster than qibl_vec3_normalize_q30 where division is slow. Optionally returns
  * 1/|v| as *len_y / 2^*len_e (either pointer may be NULL), in the reciprocal of v's units.
  * QIBL_E_ZERO_VECTOR, QIBL_E_NULL_POINTER; out and the lengths untouched on failure. */
-qibl_status_t qibl_vec3_normalize_fast_q30(const int32_t v[3], qibl_q30_t out[3], uint32_t *len_y,
+QIBL_NODISCARD qibl_status_t qibl_vec3_normalize_fast_q30(const int32_t v[3], qibl_q30_t out[3], uint32_t *len_y,
                                            unsigned *len_e);
 
 #ifdef __cplusplus

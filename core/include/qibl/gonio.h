@@ -50,7 +50,7 @@ size_t qibl_gonio_table_size(uint32_t n);
  * Errors: QIBL_E_NULL_POINTER; QIBL_E_GONIO_SIZE (n out of range); QIBL_E_GONIO_TABLE (an entry above
  * 32768); QIBL_E_GONIO_AIM (aim zero); QIBL_E_GONIO_UP (up zero, or within 2^-10 rad of parallel to
  * aim). *g untouched on error. Cost: one pass over the table. */
-qibl_status_t qibl_gonio_init(qibl_gonio_t *g, uint32_t n, const uint16_t *table, const int32_t aim[3],
+QIBL_NODISCARD qibl_status_t qibl_gonio_init(qibl_gonio_t *g, uint32_t n, const uint16_t *table, const int32_t aim[3],
                               const int32_t up[3]);
 
 /* The scale (Q1.15, 0 .. 32768) toward world direction d from the lamp (any length: d is only a
@@ -67,7 +67,7 @@ uint32_t qibl_gonio_lookup(const qibl_gonio_t *g, const int64_t d[3]);
  * lamp at pos (Q16.16, the P map's units): out = round(out * scale / 32768), ties away from zero,
  * sign kept (|out| never grows: no saturation needed). Errors: QIBL_E_NULL_POINTER;
  * QIBL_E_GONIO_BOUNDS (span outside p); nothing written on error. */
-qibl_status_t qibl_gonio_scale_span(const qibl_gonio_t *g, const qibl_pmap_t *p, const qibl_q16_t pos[3],
+QIBL_NODISCARD qibl_status_t qibl_gonio_scale_span(const qibl_gonio_t *g, const qibl_pmap_t *p, const qibl_q16_t pos[3],
                                     uint32_t x0, uint32_t y, uint32_t n, int32_t *out);
 
 #ifdef __cplusplus

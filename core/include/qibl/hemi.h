@@ -108,23 +108,23 @@ size_t qibl_hemi_workspace_size(int n, int face);
 /* Builds the tables into workspace (deterministic, integer; any alignment) and fills *h.
  * Errors: QIBL_E_NULL_POINTER, QIBL_E_HEMI_SIZE (n or face), QIBL_E_WORKSPACE; *h untouched on
  * failure (the workspace may have been written). */
-qibl_status_t qibl_hemi_init(qibl_hemi_t *h, int n, int face, void *workspace, size_t workspace_size);
+QIBL_NODISCARD qibl_status_t qibl_hemi_init(qibl_hemi_t *h, int n, int face, void *workspace, size_t workspace_size);
 
 /* The receiver frame at position p (Q16.16, |coordinate| <= QIBL_HEMI_COORD_MAX) with normal nrm
  * (any non-zero int32 vector). Axes within a few LSB of Q2.30 of orthonormal.
  * Errors: QIBL_E_NULL_POINTER, QIBL_E_HEMI_RANGE (p), QIBL_E_ZERO_VECTOR (nrm); *f untouched. */
-qibl_status_t qibl_hemi_frame_init(qibl_hemi_frame_t *f, const qibl_q16_t p[3], const int32_t nrm[3]);
+QIBL_NODISCARD qibl_status_t qibl_hemi_frame_init(qibl_hemi_frame_t *f, const qibl_q16_t p[3], const int32_t nrm[3]);
 
 /* Blocker vertices into the frame: out[k] = R^T (pos[k] - p), Q14.18 (QIBL_HEMI_LOCAL_FRAC),
  * rounded half up; error <= 0.5 LSB + 2^-28 |pos - p| (the axes). Transform each vertex once per
  * receiver, then rasterize any number of triangles that index it.
  * Errors: QIBL_E_NULL_POINTER, QIBL_E_HEMI_RANGE (a coordinate beyond QIBL_HEMI_COORD_MAX);
  * out untouched on failure. */
-qibl_status_t qibl_hemi_transform(const qibl_hemi_frame_t *f, const qibl_q16_t (*pos)[3], uint32_t count,
+QIBL_NODISCARD qibl_status_t qibl_hemi_transform(const qibl_hemi_frame_t *f, const qibl_q16_t (*pos)[3], uint32_t count,
                                   int32_t (*out)[3]);
 
 /* Clears a mask (h->words words). */
-qibl_status_t qibl_hemi_clear(const qibl_hemi_t *h, uint32_t *mask);
+QIBL_NODISCARD qibl_status_t qibl_hemi_clear(const qibl_hemi_t *h, uint32_t *mask);
 
 /* ORs the triangles tri[0..ntri) (indices into the frame-local vertices v[0..nv)) into mask.
  * Faces around the receiver are skipped (their planes pass through it), but at a crease the solid
@@ -136,7 +136,7 @@ qibl_status_t qibl_hemi_clear(const qibl_hemi_t *h, uint32_t *mask);
  * Errors: QIBL_E_NULL_POINTER (h, mask, or v/tri with a non-zero count), QIBL_E_HEMI_INDEX (an
  * index >= nv), QIBL_E_HEMI_RANGE (a coordinate of v[0..nv) beyond QIBL_HEMI_LOCAL_MAX); checked
  * before anything is written: mask and stats untouched on failure. */
-qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t nv, const uint32_t (*tri)[3],
+QIBL_NODISCARD qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t nv, const uint32_t (*tri)[3],
                                uint32_t ntri, uint32_t *mask, qibl_hemi_stats_t *stats);
 
 /* Group culling (the paper's hierarchical culling): a bounding sphere per group of blocker
@@ -150,7 +150,7 @@ typedef struct qibl_hemi_bound {
 /* The bound of pos[idx[0..n)] (idx NULL: pos[0..n)); n = 0 gives the empty group.
  * Errors: QIBL_E_NULL_POINTER, QIBL_E_HEMI_INDEX (idx[k] >= nv), QIBL_E_HEMI_RANGE (a coordinate
  * beyond QIBL_HEMI_COORD_MAX); *out untouched on failure. */
-qibl_status_t qibl_hemi_bound_fit(const qibl_q16_t (*pos)[3], uint32_t nv, const uint32_t *idx, uint32_t n,
+QIBL_NODISCARD qibl_status_t qibl_hemi_bound_fit(const qibl_q16_t (*pos)[3], uint32_t nv, const uint32_t *idx, uint32_t n,
                               qibl_hemi_bound_t *out);
 
 /* 0 when every point of the sphere is at or below the tangent plane of f's receiver, so every
@@ -168,12 +168,12 @@ int qibl_hemi_bound_above(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b
 int qibl_hemi_bound_near(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b, uint32_t k_q8);
 
 /* mask &= the disk (clears bits of pixels outside it: complemented table entries set them). */
-qibl_status_t qibl_hemi_clip(const qibl_hemi_t *h, uint32_t *mask);
+QIBL_NODISCARD qibl_status_t qibl_hemi_clip(const qibl_hemi_t *h, uint32_t *mask);
 
 /* The local transfer vector of a mask (blocked bits outside the disk are ignored): out[i] = V*_i in
  * Q2.30, exact sum of the per-pixel tables (each within 2^-30 plus the sub-sampling of the pixel's
  * integral). Errors: QIBL_E_NULL_POINTER; out untouched. */
-qibl_status_t qibl_hemi_transfer(const qibl_hemi_t *h, const uint32_t *mask, qibl_q30_t out[QIBL_HEMI_COEFFS]);
+QIBL_NODISCARD qibl_status_t qibl_hemi_transfer(const qibl_hemi_t *h, const uint32_t *mask, qibl_q30_t out[QIBL_HEMI_COEFFS]);
 
 /* The glossy (Phong) transfer for one view: out[i] = sum over the visible pixels p of the disk of
  * T[p][i] max(0, r . s_p)^e, r the mirror direction of the view about the normal in the vertex's
@@ -189,25 +189,25 @@ qibl_status_t qibl_hemi_transfer(const qibl_hemi_t *h, const uint32_t *mask, qib
  * (refl); out untouched on failure. Cost: per visible pixel with a non-zero weight, up to
  * 2 log2(e) products and 25 multiply-adds (many times the diffuse transfer, which sums set bits
  * only; `qibl bench hemi` measures both). */
-qibl_status_t qibl_hemi_transfer_phong(const qibl_hemi_t *h, const uint32_t *mask, const qibl_q30_t refl[3],
+QIBL_NODISCARD qibl_status_t qibl_hemi_transfer_phong(const qibl_hemi_t *h, const uint32_t *mask, const qibl_q30_t refl[3],
                                        uint32_t exponent, qibl_q30_t out[QIBL_HEMI_COEFFS]);
 
 /* Transfer out of the frame: world = D(R) local (Q2.30 in and out; in and out may not alias).
  * Error: a few LSB of Q2.30 times the largest |in| (four rotations, each rounded). */
-qibl_status_t qibl_hemi_to_world(const qibl_hemi_t *h, const qibl_hemi_frame_t *f, const qibl_q30_t *in,
+QIBL_NODISCARD qibl_status_t qibl_hemi_to_world(const qibl_hemi_t *h, const qibl_hemi_frame_t *f, const qibl_q30_t *in,
                                  qibl_q30_t *out);
 
 /* Lighting into the frame: local = D(R)^T world, 25 coefficients in any int32 fixed-point format
  * (saturated), one channel per call; the alternative to qibl_hemi_to_world (costs one call per
  * channel instead of one per vertex). in and out may not alias. */
-qibl_status_t qibl_hemi_to_frame(const qibl_hemi_t *h, const qibl_hemi_frame_t *f, const int32_t *in,
+QIBL_NODISCARD qibl_status_t qibl_hemi_to_frame(const qibl_hemi_t *h, const qibl_hemi_frame_t *f, const int32_t *in,
                                  int32_t *out);
 
 /* Shading: out[ch] = sum_i light[ch][i] v[i], light in Q16.16 (radiance SH, as qibl_shlight_t), v
  * in Q2.30 (same frame as the light), out Q16.16 (irradiance; times albedo / pi gives the diffuse
  * exitant radiance), rounded half up, saturated. Each product is truncated by 2^-14 LSB before the
  * sum: error <= 0.5 + 25 * 2^-14 LSB. Errors: QIBL_E_NULL_POINTER. */
-qibl_status_t qibl_hemi_shade(const int32_t light[3][QIBL_HEMI_COEFFS], const qibl_q30_t v[QIBL_HEMI_COEFFS],
+QIBL_NODISCARD qibl_status_t qibl_hemi_shade(const int32_t light[3][QIBL_HEMI_COEFFS], const qibl_q30_t v[QIBL_HEMI_COEFFS],
                               qibl_q16_t out[3]);
 
 #ifdef __cplusplus

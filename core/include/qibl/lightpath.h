@@ -79,7 +79,7 @@ typedef struct qibl_lightpath {
  * QIBL_E_NULL_POINTER, QIBL_E_LIGHTPATH_SIZE (shorter than the header, or size other than the
  * fields imply), QIBL_E_LIGHTPATH_DIMENSIONS, QIBL_E_LIGHTPATH_KIND (kind or flags),
  * QIBL_E_LIGHTPATH_KEYS, QIBL_E_LIGHTPATH_ROWS, QIBL_E_LIGHTPATH_EDGES, checked in that order. */
-qibl_status_t qibl_lightpath_parse(const uint8_t *data, size_t size, qibl_lightpath_t *out);
+QIBL_NODISCARD qibl_status_t qibl_lightpath_parse(const uint8_t *data, size_t size, qibl_lightpath_t *out);
 
 /* Number of LPTH chunks in a validated asset (0 when a is NULL). This and the next need
  * QIBL_USE_ASSET; the rest of the module does not. */
@@ -87,23 +87,23 @@ uint32_t qibl_lightpath_count(const qibl_asset_t *a);
 
 /* The index-th path of a validated asset, parsed, its size checked against SHMP's
  * (QIBL_E_LIGHTPATH_DIMENSIONS). QIBL_E_ASSET_MISSING_CHUNK past the last one. */
-qibl_status_t qibl_lightpath_from_asset(const qibl_asset_t *a, uint32_t index, qibl_lightpath_t *out);
+QIBL_NODISCARD qibl_status_t qibl_lightpath_from_asset(const qibl_asset_t *a, uint32_t index, qibl_lightpath_t *out);
 
 /* The light at parameter t, linear between keys: a direction (not normalised) or a position,
  * Q16.16, rounded to nearest (error <= 0.5 LSB). QIBL_E_NULL_POINTER, QIBL_E_LIGHTPATH_PARAM (t > 65535). */
-qibl_status_t qibl_lightpath_at(const qibl_lightpath_t *p, uint32_t t, qibl_q16_t out[3]);
+QIBL_NODISCARD qibl_status_t qibl_lightpath_at(const qibl_lightpath_t *p, uint32_t t, qibl_q16_t out[3]);
 
 /* Visibility of pixels x0..x0+n-1 of row y at t, UQ16 (0..65536): hard (radius 0) or the fraction
  * of [t - radius, t + radius) lit (radius 1..32767), rounded to nearest (error <= 1 LSB).
  * QIBL_E_NULL_POINTER, QIBL_E_LIGHTPATH_PARAM (t or radius), QIBL_E_LIGHTPATH_BOUNDS; nothing
  * written on error. */
-qibl_status_t qibl_lightpath_visibility_span(const qibl_lightpath_t *p, uint32_t t, uint32_t radius, uint32_t x0,
+QIBL_NODISCARD qibl_status_t qibl_lightpath_visibility_span(const qibl_lightpath_t *p, uint32_t t, uint32_t radius, uint32_t x0,
                                              uint32_t y, uint32_t n, uint32_t *vis);
 
 /* out = light x V(t) (accumulate false) or out += light x V(t) (true, saturating) for the span,
  * 3 int32 per pixel (Q16.16 RGB, as qibl_shmap_relight_span writes them); light may equal out when
  * not accumulating. Products rounded to nearest (<= 0.5 LSB). Errors as the visibility span. */
-qibl_status_t qibl_lightpath_shade_span(const qibl_lightpath_t *p, uint32_t t, uint32_t radius, uint32_t x0,
+QIBL_NODISCARD qibl_status_t qibl_lightpath_shade_span(const qibl_lightpath_t *p, uint32_t t, uint32_t radius, uint32_t x0,
                                         uint32_t y, uint32_t n, const int32_t *light, int32_t *out, bool accumulate);
 
 /* A validated lamp-occlusion chunk as a view of its bytes. */
@@ -115,16 +115,16 @@ typedef struct qibl_lampocc {
 /* Validates a LOCC payload and fills *out (untouched on failure): QIBL_E_NULL_POINTER,
  * QIBL_E_LIGHTPATH_SIZE (shorter than the header or size other than 8 + w h),
  * QIBL_E_LIGHTPATH_DIMENSIONS (zero or too large), checked in that order. */
-qibl_status_t qibl_lightpath_occl_parse(const uint8_t *data, size_t size, qibl_lampocc_t *out);
+QIBL_NODISCARD qibl_status_t qibl_lightpath_occl_parse(const uint8_t *data, size_t size, qibl_lampocc_t *out);
 
 /* The asset's LOCC, parsed, its size checked against SHMP's (QIBL_E_LIGHTPATH_DIMENSIONS);
  * QIBL_E_ASSET_MISSING_CHUNK without one, QIBL_E_ASSET_DUPLICATE_CHUNK with two. Needs QIBL_USE_ASSET. */
-qibl_status_t qibl_lightpath_occl_from_asset(const qibl_asset_t *a, qibl_lampocc_t *out);
+QIBL_NODISCARD qibl_status_t qibl_lightpath_occl_from_asset(const qibl_asset_t *a, qibl_lampocc_t *out);
 
 /* io *= a(p) / 255 for pixels x0..x0+n-1 of row y, 3 int32 per pixel (Q16.16 RGB), rounded to
  * nearest (factor error <= 2^-16 relative; 255 leaves a value unchanged, 0 gives 0).
  * QIBL_E_NULL_POINTER, QIBL_E_LIGHTPATH_BOUNDS; nothing written on error. */
-qibl_status_t qibl_lightpath_occl_span(const qibl_lampocc_t *o, uint32_t x0, uint32_t y, uint32_t n, int32_t *io);
+QIBL_NODISCARD qibl_status_t qibl_lightpath_occl_span(const qibl_lampocc_t *o, uint32_t x0, uint32_t y, uint32_t n, int32_t *io);
 
 #ifdef __cplusplus
 }

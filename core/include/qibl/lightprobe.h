@@ -204,7 +204,7 @@ size_t qibl_lightprobe_workspace_size(uint32_t width, uint32_t height, qibl_ligh
  * before anything is written), QIBL_E_PROBE_BLACK (no pixel has luminance energy: the tables are
  * built, lp is filled and qibl_lightprobe_lights will report the same).
  * On other failures lp is untouched; the workspace may have been written. */
-qibl_status_t qibl_lightprobe_build(qibl_lightprobe_t *lp, const qibl_lightprobe_image_t *img,
+QIBL_NODISCARD qibl_status_t qibl_lightprobe_build(qibl_lightprobe_t *lp, const qibl_lightprobe_image_t *img,
                                     qibl_lightprobe_method_t method, void *workspace, size_t workspace_size);
 
 /* Samples up to max_lights lights from a built probe into lights[], brightest first (luminance
@@ -228,7 +228,7 @@ qibl_status_t qibl_lightprobe_build(qibl_lightprobe_t *lp, const qibl_lightprobe
  * not a power of two for MEDIANCUT / LEVELS), QIBL_E_PROBE_MISMATCH (VARMIN on a probe built
  * without the moment tables), QIBL_E_PROBE_BLACK (an all-black probe: no lights).
  * On failure lights[] and *result are untouched. */
-qibl_status_t qibl_lightprobe_lights(const qibl_lightprobe_t *lp, const qibl_lightprobe_opts_t *opts,
+QIBL_NODISCARD qibl_status_t qibl_lightprobe_lights(const qibl_lightprobe_t *lp, const qibl_lightprobe_opts_t *opts,
                                      qibl_lightprobe_light_t *lights, uint32_t max_lights,
                                      qibl_lightprobe_result_t *result);
 
@@ -236,7 +236,7 @@ qibl_status_t qibl_lightprobe_lights(const qibl_lightprobe_t *lp, const qibl_lig
  * the exact sum of the per-pixel integers, from four SAT reads. An empty region (u0 == u1 or
  * v0 == v1) gives 0. QIBL_E_NULL_POINTER, QIBL_E_PROBE_RECT (u0 > u1, v0 > v1 or past the probe);
  * *energy untouched on failure. */
-qibl_status_t qibl_lightprobe_region_energy(const qibl_lightprobe_t *lp, uint32_t u0, uint32_t v0, uint32_t u1,
+QIBL_NODISCARD qibl_status_t qibl_lightprobe_region_energy(const qibl_lightprobe_t *lp, uint32_t u0, uint32_t v0, uint32_t u1,
                                             uint32_t v1, uint64_t *energy);
 
 /* The row weight table entry: sin((v + 1/2) pi / h) = *mant * 2^-(32 + *kap), *mant in
@@ -244,7 +244,7 @@ qibl_status_t qibl_lightprobe_region_energy(const qibl_lightprobe_t *lp, uint32_
  * <= 2^-30 (the tests measure it against libm for every row of several heights). Identical bits on
  * every port. QIBL_E_NULL_POINTER, QIBL_E_PROBE_SIZE (h 0 or above QIBL_LIGHTPROBE_MAX_DIM,
  * v >= h); outputs untouched on failure. */
-qibl_status_t qibl_lightprobe_row_weight(uint32_t h, uint32_t v, uint32_t *mant, int32_t *kap);
+QIBL_NODISCARD qibl_status_t qibl_lightprobe_row_weight(uint32_t h, uint32_t v, uint32_t *mant, int32_t *kap);
 
 #ifdef __cplusplus
 }

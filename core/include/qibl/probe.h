@@ -106,7 +106,7 @@ size_t qibl_probe_sh_workspace_size(uint32_t width, uint32_t height);
  * (8 sines per folded column from exact rational angles, within 1 LSB of Q2.30).
  * Errors: QIBL_E_NULL_POINTER, QIBL_E_BAD_BANDS, QIBL_E_PROBE_SIZE, QIBL_E_PROBE_OVERFLOW,
  * QIBL_E_PROBE_FORMAT, QIBL_E_WORKSPACE; *ps untouched on failure. */
-qibl_status_t qibl_probe_sh_begin(qibl_probe_sh_t *ps, uint32_t width, uint32_t height,
+QIBL_NODISCARD qibl_status_t qibl_probe_sh_begin(qibl_probe_sh_t *ps, uint32_t width, uint32_t height,
                                   qibl_lightprobe_format_t format, int32_t frac_bits, int bands, void *workspace,
                                   size_t workspace_size);
 
@@ -119,17 +119,17 @@ qibl_status_t qibl_probe_sh_begin(qibl_probe_sh_t *ps, uint32_t width, uint32_t 
  * With QIBL_CONFIG_SIMD == AVX2 the RGBE scan and conversion and the folded sums take 8 columns per
  * instruction (vpsrlvd, vpmuldq; the same integers, so the same bits as the scalar path), faster
  * than scalar/SSE2 (`qibl bench probe` measures both). */
-qibl_status_t qibl_probe_sh_add_row(qibl_probe_sh_t *ps, uint32_t v, const void *row);
+QIBL_NODISCARD qibl_status_t qibl_probe_sh_add_row(qibl_probe_sh_t *ps, uint32_t v, const void *row);
 
 /* The coefficients of the rows added so far, with opts applied (irradiance, window).
  * Errors: QIBL_E_NULL_POINTER (ps or out), QIBL_E_PROBE_ROW (not every row added),
  * QIBL_E_PROBE_METHOD (unknown window); *out untouched on failure. */
-qibl_status_t qibl_probe_sh_finish(const qibl_probe_sh_t *ps, const qibl_probe_sh_opts_t *opts,
+QIBL_NODISCARD qibl_status_t qibl_probe_sh_finish(const qibl_probe_sh_t *ps, const qibl_probe_sh_opts_t *opts,
                                    qibl_probe_coeffs_t *out);
 
 /* begin + every row of img + finish, for a resident image (img->stride as in lightprobe.h).
  * Errors: those of the three, and QIBL_E_PROBE_FORMAT for a bad stride; *out untouched on failure. */
-qibl_status_t qibl_probe_sh_project(const qibl_lightprobe_image_t *img, int bands, const qibl_probe_sh_opts_t *opts,
+QIBL_NODISCARD qibl_status_t qibl_probe_sh_project(const qibl_lightprobe_image_t *img, int bands, const qibl_probe_sh_opts_t *opts,
                                     void *workspace, size_t workspace_size, qibl_probe_coeffs_t *out);
 
 /* ---- into a light ---------------------------------------------------------------------------- */
@@ -138,11 +138,11 @@ qibl_status_t qibl_probe_sh_project(const qibl_lightprobe_image_t *img, int band
  * coefficients as Q16.16 radiance SH. QIBL_E_NULL_POINTER, QIBL_E_SHMAP_K (l not initialised),
  * QIBL_E_BAD_BANDS (c->bands outside 1..5), QIBL_E_RANGE (|scale_log2| > 512 or |c->exp| > 1024),
  * QIBL_E_PROBE_SATURATED (a sum beyond int32: lower scale_log2); l untouched on failure. */
-qibl_status_t qibl_shlight_add_coeffs(qibl_shlight_t *l, const qibl_probe_coeffs_t *c, int32_t scale_log2);
+QIBL_NODISCARD qibl_status_t qibl_shlight_add_coeffs(qibl_shlight_t *l, const qibl_probe_coeffs_t *c, int32_t scale_log2);
 
 /* Projects img onto the bands l->k needs (qibl_probe_sh_project, opts as there) and adds it to l
  * (qibl_shlight_add_coeffs with opts->scale_log2). Errors: those two; l untouched on failure. */
-qibl_status_t qibl_shlight_add_probe(qibl_shlight_t *l, const qibl_lightprobe_image_t *img,
+QIBL_NODISCARD qibl_status_t qibl_shlight_add_probe(qibl_shlight_t *l, const qibl_lightprobe_image_t *img,
                                      const qibl_probe_sh_opts_t *opts, void *workspace, size_t workspace_size);
 
 /* A light list (qibl_lightprobe_lights) as SH: l->c[ch][i] += sum_n rgb_n 2^(rgb_exp + scale_log2)
@@ -150,7 +150,7 @@ qibl_status_t qibl_shlight_add_probe(qibl_shlight_t *l, const qibl_lightprobe_im
  * coefficient: error <= 0.5 LSB + count |rgb|max 2^(rgb_exp + scale_log2) 2^-25 (the basis).
  * QIBL_E_NULL_POINTER, QIBL_E_SHMAP_K, QIBL_E_PROBE_COUNT (count above 2^16),
  * QIBL_E_PROBE_SATURATED; l untouched on failure. */
-qibl_status_t qibl_shlight_add_lights(qibl_shlight_t *l, const qibl_lightprobe_light_t *lights, uint32_t count,
+QIBL_NODISCARD qibl_status_t qibl_shlight_add_lights(qibl_shlight_t *l, const qibl_lightprobe_light_t *lights, uint32_t count,
                                       int32_t rgb_exp, int32_t scale_log2);
 
 /* Sun plus sky in one call: the probe's SH with the regions of the `count` given lights (the
@@ -160,13 +160,13 @@ qibl_status_t qibl_shlight_add_lights(qibl_shlight_t *l, const qibl_lightprobe_l
  * full projection added, within the 2^-62 rounding of each row sum). opts as qibl_shlight_add_probe.
  * Errors: those of qibl_shlight_add_probe and qibl_shlight_add_lights, QIBL_E_PROBE_RECT (a region
  * outside the probe); l untouched on failure. */
-qibl_status_t qibl_shlight_add_sun_sky(qibl_shlight_t *l, const qibl_lightprobe_image_t *img,
+QIBL_NODISCARD qibl_status_t qibl_shlight_add_sun_sky(qibl_shlight_t *l, const qibl_lightprobe_image_t *img,
                                        const qibl_probe_sh_opts_t *opts, const qibl_lightprobe_light_t *sun,
                                        uint32_t count, int32_t rgb_exp, void *workspace, size_t workspace_size);
 
 /* Rotates the light's coefficients in place (per channel, qibl_sh_rotate): QIBL_E_NULL_POINTER,
  * QIBL_E_SHMAP_K, QIBL_E_BAD_BANDS (rot has fewer bands than l->k needs). */
-qibl_status_t qibl_shlight_rotate(qibl_shlight_t *l, const qibl_sh_rotation_t *rot);
+QIBL_NODISCARD qibl_status_t qibl_shlight_rotate(qibl_shlight_t *l, const qibl_sh_rotation_t *rot);
 
 #ifdef __cplusplus
 }

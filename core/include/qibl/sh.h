@@ -44,13 +44,13 @@ extern "C" {
  * Errors: QIBL_E_NULL_POINTER, QIBL_E_BAD_BANDS, QIBL_E_ZERO_VECTOR; out untouched on failure.
  * Cost: one normalisation (three 64/64 divisions and a 64-bit square root) + about 60 32x32->64
  * multiplies for 25 coefficients. */
-qibl_status_t qibl_sh_eval(const qibl_q16_t dir[3], int bands, qibl_q30_t *out);
+QIBL_NODISCARD qibl_status_t qibl_sh_eval(const qibl_q16_t dir[3], int bands, qibl_q30_t *out);
 
 /* As qibl_sh_eval for a direction that is already a Q2.30 unit vector (for instance from
  * qibl_vec3_normalize_q30): skips the normalisation. The caller guarantees |u| = 1 within a few
  * LSB; the error bound above then holds, and out scales with |u|^l otherwise.
  * Errors: QIBL_E_NULL_POINTER, QIBL_E_BAD_BANDS; out untouched on failure. */
-qibl_status_t qibl_sh_eval_unit(const qibl_q30_t u[3], int bands, qibl_q30_t *out);
+QIBL_NODISCARD qibl_status_t qibl_sh_eval_unit(const qibl_q30_t u[3], int bands, qibl_q30_t *out);
 
 /* ---- rotation ------------------------------------------------------------------------------ */
 
@@ -77,13 +77,13 @@ typedef struct qibl_sh_rotation {
  * Errors: QIBL_E_NULL_POINTER, QIBL_E_BAD_BANDS, QIBL_E_SH_ROTATION (not a rotation); rot untouched
  * on failure.
  * Cost: 16 normalisations and SH evaluations, 165 x 16 multiply-adds (once per frame). */
-qibl_status_t qibl_sh_rotation_init(qibl_sh_rotation_t *rot, const qibl_q30_t r[3][3], int bands);
+QIBL_NODISCARD qibl_status_t qibl_sh_rotation_init(qibl_sh_rotation_t *rot, const qibl_q30_t r[3][3], int bands);
 
 /* out = D in per band: bands^2 coefficients in any int32 fixed-point format (in and out the same
  * format; in and out may not alias). out_lm = round(sum_m' D^l[m][m'] in_lm'), saturated to int32.
  * Error: <= 0.5 LSB + sum_m' |D error| |in_lm'| <= 0.5 LSB + 3 * 2^-24 * max |in| of the band.
  * Errors: QIBL_E_NULL_POINTER, QIBL_E_BAD_BANDS (rot not initialised); out untouched on failure. */
-qibl_status_t qibl_sh_rotate(const qibl_sh_rotation_t *rot, const int32_t *in, int32_t *out);
+QIBL_NODISCARD qibl_status_t qibl_sh_rotate(const qibl_sh_rotation_t *rot, const int32_t *in, int32_t *out);
 
 #ifdef __cplusplus
 }

@@ -108,18 +108,18 @@ typedef struct qibl_shmap_point {
 /* ---- light coefficients ---------------------------------------------------------------------- */
 
 /* Zeroes l and sets l->k. QIBL_E_NULL_POINTER, QIBL_E_SHMAP_K (k outside 1..QIBL_SH_MAX_COUNT). */
-qibl_status_t qibl_shlight_init(qibl_shlight_t *l, uint32_t k);
+QIBL_NODISCARD qibl_status_t qibl_shlight_init(qibl_shlight_t *l, uint32_t k);
 
 /* Adds a directional light of colour rgb (Q16.16) from direction dir (any non-zero length):
  * c[ch][i] += rgb[ch] * Y_i(dir), rounded half up, saturating. Error <= 0.5 LSB + |rgb| 2^-25.
  * QIBL_E_NULL_POINTER, QIBL_E_ZERO_VECTOR, QIBL_E_SHMAP_K (l not initialised); l untouched on error. */
-qibl_status_t qibl_shlight_add_dir(qibl_shlight_t *l, const qibl_q16_t dir[3], const qibl_q16_t rgb[3]);
+QIBL_NODISCARD qibl_status_t qibl_shlight_add_dir(qibl_shlight_t *l, const qibl_q16_t dir[3], const qibl_q16_t rgb[3]);
 
 /* ---- directional / environment relighting ---------------------------------------------------- */
 
 /* Checks a maps view (filled by qibl_asset_shmaps or by hand): QIBL_E_NULL_POINTER, QIBL_E_SHMAP_K,
  * QIBL_E_SHMAP_CHANNELS, QIBL_E_SHMAP_SIZE (zero width/height). */
-qibl_status_t qibl_shmap_check(const qibl_shmaps_t *m);
+QIBL_NODISCARD qibl_status_t qibl_shmap_check(const qibl_shmaps_t *m);
 
 /* Per-frame weights from maps and light (light->k must be >= maps->k; extra coefficients are
  * ignored). Each channel's int16 weights share one power-of-two unit, the smallest that keeps the
@@ -128,7 +128,7 @@ qibl_status_t qibl_shmap_check(const qibl_shmaps_t *m);
  * relative error <= k * 2^-16 of the brightest map's full-scale contribution.
  * m->planes may be NULL (only the params are read: the maps view of a streamed asset's head).
  * Errors: those of qibl_shmap_check, QIBL_E_SHMAP_LIGHT_K; *out untouched on error. */
-qibl_status_t qibl_shmap_weights(const qibl_shmaps_t *m, const qibl_shlight_t *light, qibl_shmap_weights_t *out);
+QIBL_NODISCARD qibl_status_t qibl_shmap_weights(const qibl_shmaps_t *m, const qibl_shlight_t *light, qibl_shmap_weights_t *out);
 
 /* Workspace bytes qibl_shmap_relight_span needs for a span of n pixels (4-byte aligned storage). */
 size_t qibl_shmap_span_workspace_size(uint32_t n);
@@ -140,7 +140,7 @@ size_t qibl_shmap_span_workspace_size(uint32_t n);
  * (weights made for other k/channels), QIBL_E_WORKSPACE (ws_size too small), QIBL_E_WORKSPACE_ALIGN
  * (ws not on a 4-byte boundary: declare it as int32_t/uint32_t storage, whatever the layout);
  * nothing written. */
-qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_weights_t *w, uint32_t x0, uint32_t y,
+QIBL_NODISCARD qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_weights_t *w, uint32_t x0, uint32_t y,
                                       uint32_t n, int32_t *out, void *ws, size_t ws_size);
 
 /* ---- point lights ---------------------------------------------------------------------------- */
@@ -151,7 +151,7 @@ qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_w
  * k below the maps' or above 25, face size outside 1..QIBL_YLUT_MAX_FACE), QIBL_E_SHMAP_LUT_SHORT
  * (lut->size below the 12 N N k bytes its fields need), QIBL_E_SHMAP_LIGHT (negative colour or
  * min_dist, unknown falloff or filter); *out untouched then. */
-qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t *p, const qibl_ylut_t *lut,
+QIBL_NODISCARD qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t *p, const qibl_ylut_t *lut,
                                        const qibl_pointlight_t *light, qibl_shmap_point_t *out);
 
 /* Workspace bytes qibl_shmap_point_span needs for a span of n pixels with k maps
@@ -172,7 +172,7 @@ size_t qibl_shmap_point_workspace_size(uint32_t k, uint32_t n);
  * to 15 bits. tests/shmap_test.c measures max error / sum|T Y| att C0 against each mode's bound.
  * Errors: QIBL_E_NULL_POINTER, QIBL_E_SHMAP_BOUNDS, QIBL_E_WORKSPACE, QIBL_E_WORKSPACE_ALIGN (ws not on a
  * 4-byte boundary, whatever the method); nothing written. */
-qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out,
+QIBL_NODISCARD qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out,
                                     void *ws, size_t ws_size);
 
 /* ---- cube-map Y LUTs ------------------------------------------------------------------------- */
@@ -184,14 +184,14 @@ size_t qibl_ylut_values_size(uint32_t face_size, uint32_t k);
  * with Y_0..Y_{k-1} at every texel centre, rounded to nearest from the Q2.30 basis.
  * QIBL_E_NULL_POINTER, QIBL_E_SHMAP_K, QIBL_E_SHMAP_LUT_SIZE (N outside 1..QIBL_YLUT_MAX_FACE),
  * QIBL_E_WORKSPACE (size too small); nothing written on error. */
-qibl_status_t qibl_ylut_build(uint32_t face_size, uint32_t k, uint8_t *values, size_t size);
+QIBL_NODISCARD qibl_status_t qibl_ylut_build(uint32_t face_size, uint32_t k, uint8_t *values, size_t size);
 
 /* Whether view t may be read: QIBL_OK, or QIBL_E_NULL_POINTER (t or its values NULL), QIBL_E_SHMAP_K
  * (k outside 1..25), QIBL_E_SHMAP_LUT_SIZE (face size outside 1..QIBL_YLUT_MAX_FACE),
  * QIBL_E_SHMAP_LUT_SHORT (t->size below the 12 N N k bytes the fields need). The views of
  * qibl_asset_ylut / qibl_asset_head_ylut always pass; check a view built any other way before
  * qibl_ylut_lookup (qibl_shmap_point_prepare checks its LUT itself). */
-qibl_status_t qibl_ylut_check(const qibl_ylut_t *t);
+QIBL_NODISCARD qibl_status_t qibl_ylut_check(const qibl_ylut_t *t);
 
 /* Y_0..Y_{k-1} (Q2.14, bilinear between texel centres, clamped at face edges) for a Q2.30 unit
  * direction u, from LUT t. No checks (hot path): t must pass qibl_ylut_check, k <= t->k. */

@@ -86,17 +86,17 @@ size_t qibl_shmaps_row_size(const qibl_shmaps_t *m);
  * (qibl_shmaps_row_size bytes; planar: the k*channels pieces back to back in plane order).
  * Relighting it at y = 0 gives the bytes row y of the whole image gives.
  * QIBL_E_NULL_POINTER; *out untouched then. */
-qibl_status_t qibl_shmaps_row_view(const qibl_shmaps_t *m, const uint8_t *row, qibl_shmaps_t *out);
+QIBL_NODISCARD qibl_status_t qibl_shmaps_row_view(const qibl_shmaps_t *m, const uint8_t *row, qibl_shmaps_t *out);
 
 /* The same for a P map: row holds the row's 12 * width bytes. */
-qibl_status_t qibl_pmap_row_view(const qibl_pmap_t *p, const uint8_t *row, qibl_pmap_t *out);
+QIBL_NODISCARD qibl_status_t qibl_pmap_row_view(const qibl_pmap_t *p, const uint8_t *row, qibl_pmap_t *out);
 
 /* Writes the map bytes of planar maps m in the interleaved layout into out (height *
  * qibl_shmaps_row_size bytes of the interleaved view; padding pixels 0), for writers and for games
  * that build maps themselves. QIBL_E_NULL_POINTER, QIBL_E_SHMAP_LAYOUT (m not planar),
  * QIBL_E_SHMAP_K, QIBL_E_SHMAP_CHANNELS, QIBL_E_SHMAP_SIZE (width or height 0 or above 16384),
  * QIBL_E_WORKSPACE (out_size too small); nothing written on error. */
-qibl_status_t qibl_shmaps_interleave(const qibl_shmaps_t *m, uint8_t *out, size_t out_size);
+QIBL_NODISCARD qibl_status_t qibl_shmaps_interleave(const qibl_shmaps_t *m, uint8_t *out, size_t out_size);
 
 /* Little-endian loads that need no alignment (also used by the kernels). */
 static inline uint32_t qibl_load_u32le(const uint8_t *p)

@@ -57,15 +57,15 @@ typedef struct qibl_shmtile {
  * QIBL_E_ASSET_BAD_CHANNELS, QIBL_E_ASSET_BAD_FLAGS (tile size, flags, non-zero padding), and
  * QIBL_E_ASSET_CHUNK_SIZE again for an offset other than the running sum. Reads every
  * header, k and offset byte once: O(tiles). */
-qibl_status_t qibl_shmtile_parse(const uint8_t *data, size_t size, qibl_shmtile_t *out);
+QIBL_NODISCARD qibl_status_t qibl_shmtile_parse(const uint8_t *data, size_t size, qibl_shmtile_t *out);
 
 /* The asset's SHMT, parsed, its size checked against SHMP's (QIBL_E_ASSET_MISMATCH);
  * QIBL_E_ASSET_MISSING_CHUNK without one, QIBL_E_ASSET_DUPLICATE_CHUNK with two. Needs QIBL_USE_ASSET. */
-qibl_status_t qibl_shmtile_from_asset(const qibl_asset_t *a, qibl_shmtile_t *out);
+QIBL_NODISCARD qibl_status_t qibl_shmtile_from_asset(const qibl_asset_t *a, qibl_shmtile_t *out);
 
 /* Tile (tx, ty) as a planar maps view and its top-left pixel (*x0, *y0; either may be NULL).
  * QIBL_E_NULL_POINTER, QIBL_E_SHMAP_BOUNDS (tx >= tiles_x or ty >= tiles_y); *view untouched on error. */
-qibl_status_t qibl_shmtile_view(const qibl_shmtile_t *t, uint32_t tx, uint32_t ty, qibl_shmaps_t *view, uint32_t *x0,
+QIBL_NODISCARD qibl_status_t qibl_shmtile_view(const qibl_shmtile_t *t, uint32_t tx, uint32_t ty, qibl_shmaps_t *view, uint32_t *x0,
                                 uint32_t *y0);
 
 #ifdef __cplusplus

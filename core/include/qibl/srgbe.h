@@ -92,7 +92,7 @@ extern "C" {
  * per channel for every finite in-range input.
  * Returns QIBL_OK, or (with the code written as stated above) QIBL_E_SRGBE_NAN or QIBL_E_SRGBE_INF;
  * QIBL_E_NULL_POINTER writes nothing. rgb and code may overlap. */
-qibl_status_t qibl_srgbe_encode_f32(const uint32_t rgb[3], uint8_t code[4]);
+QIBL_NODISCARD qibl_status_t qibl_srgbe_encode_f32(const uint32_t rgb[3], uint8_t code[4]);
 
 /* Encode one pixel of int32 values rgb[i] * 2^-frac_bits. Any frac_bits is accepted (negative
  * means the integers count 2^-frac_bits units); the value is exact, so the code is the nearest one
@@ -101,10 +101,10 @@ qibl_status_t qibl_srgbe_encode_f32(const uint32_t rgb[3], uint8_t code[4]);
  * |channel| at or above 2^128, saturated code written as stated above) or QIBL_E_NULL_POINTER
  * (nothing written).
  * rgb and code may overlap. */
-qibl_status_t qibl_srgbe_encode_s32(const int32_t rgb[3], int frac_bits, uint8_t code[4]);
+QIBL_NODISCARD qibl_status_t qibl_srgbe_encode_s32(const int32_t rgb[3], int frac_bits, uint8_t code[4]);
 
 /* qibl_srgbe_encode_s32 with frac_bits = 16: a Q16.16 colour. Always in range: e is in -14..17. */
-qibl_status_t qibl_srgbe_encode_q16(const qibl_q16_t rgb[3], uint8_t code[4]);
+QIBL_NODISCARD qibl_status_t qibl_srgbe_encode_q16(const qibl_q16_t rgb[3], uint8_t code[4]);
 
 /* ---- decode --------------------------------------------------------------------------------- */
 
@@ -116,7 +116,7 @@ qibl_status_t qibl_srgbe_encode_q16(const qibl_q16_t rgb[3], uint8_t code[4]);
  * written as +-FLT_MAX (7F7FFFFF / FF7FFFFF) and QIBL_E_SRGBE_DECODE_SAT returned, the other
  * channels decoded normally. Never gives Inf, NaN or -0.
  * QIBL_E_NULL_POINTER writes nothing. code and rgb may overlap. */
-qibl_status_t qibl_srgbe_decode_f32(const uint8_t code[4], uint32_t rgb[3]);
+QIBL_NODISCARD qibl_status_t qibl_srgbe_decode_f32(const uint8_t code[4], uint32_t rgb[3]);
 
 /* Decode one code to int32 with frac_bits fraction bits (any int): each channel is
  * round((2X - 255) * 2^(E - 126 + frac_bits) / 510), ties toward +infinity (fixed.h's rule; a tie
@@ -124,10 +124,10 @@ qibl_status_t qibl_srgbe_decode_f32(const uint8_t code[4], uint32_t rgb[3]);
  * Channels beyond [INT32_MIN, INT32_MAX] are saturated to the nearer end and
  * QIBL_E_SRGBE_DECODE_SAT returned, the other channels decoded normally.
  * QIBL_E_NULL_POINTER writes nothing. code and rgb may overlap. */
-qibl_status_t qibl_srgbe_decode_s32(const uint8_t code[4], int frac_bits, int32_t rgb[3]);
+QIBL_NODISCARD qibl_status_t qibl_srgbe_decode_s32(const uint8_t code[4], int frac_bits, int32_t rgb[3]);
 
 /* qibl_srgbe_decode_s32 with frac_bits = 16: Q16.16. Saturation (to +-32768) needs E >= 142. */
-qibl_status_t qibl_srgbe_decode_q16(const uint8_t code[4], qibl_q16_t rgb[3]);
+QIBL_NODISCARD qibl_status_t qibl_srgbe_decode_q16(const uint8_t code[4], qibl_q16_t rgb[3]);
 
 /* ---- bulk: n pixels --------------------------------------------------------------------------
  * Pixel i reads rgb[3i .. 3i+2] and writes codes[4i .. 4i+3] (or the reverse for decode), exactly
@@ -137,17 +137,17 @@ qibl_status_t qibl_srgbe_decode_q16(const uint8_t code[4], qibl_q16_t rgb[3]);
  * the most severe per-pixel status over the array, independent of pixel order:
  * QIBL_E_SRGBE_NAN > QIBL_E_SRGBE_INF > QIBL_E_SRGBE_OVERFLOW > QIBL_OK for encoders,
  * QIBL_E_SRGBE_DECODE_SAT > QIBL_OK for decoders. */
-qibl_status_t qibl_srgbe_encode_f32_n(const uint32_t *QIBL_RESTRICT rgb, size_t n,
+QIBL_NODISCARD qibl_status_t qibl_srgbe_encode_f32_n(const uint32_t *QIBL_RESTRICT rgb, size_t n,
                                       uint8_t *QIBL_RESTRICT codes);
-qibl_status_t qibl_srgbe_encode_s32_n(const int32_t *QIBL_RESTRICT rgb, size_t n, int frac_bits,
+QIBL_NODISCARD qibl_status_t qibl_srgbe_encode_s32_n(const int32_t *QIBL_RESTRICT rgb, size_t n, int frac_bits,
                                       uint8_t *QIBL_RESTRICT codes);
-qibl_status_t qibl_srgbe_encode_q16_n(const qibl_q16_t *QIBL_RESTRICT rgb, size_t n,
+QIBL_NODISCARD qibl_status_t qibl_srgbe_encode_q16_n(const qibl_q16_t *QIBL_RESTRICT rgb, size_t n,
                                       uint8_t *QIBL_RESTRICT codes);
-qibl_status_t qibl_srgbe_decode_f32_n(const uint8_t *QIBL_RESTRICT codes, size_t n,
+QIBL_NODISCARD qibl_status_t qibl_srgbe_decode_f32_n(const uint8_t *QIBL_RESTRICT codes, size_t n,
                                       uint32_t *QIBL_RESTRICT rgb);
-qibl_status_t qibl_srgbe_decode_s32_n(const uint8_t *QIBL_RESTRICT codes, size_t n, int frac_bits,
+QIBL_NODISCARD qibl_status_t qibl_srgbe_decode_s32_n(const uint8_t *QIBL_RESTRICT codes, size_t n, int frac_bits,
                                       int32_t *QIBL_RESTRICT rgb);
-qibl_status_t qibl_srgbe_decode_q16_n(const uint8_t *QIBL_RESTRICT codes, size_t n,
+QIBL_NODISCARD qibl_status_t qibl_srgbe_decode_q16_n(const uint8_t *QIBL_RESTRICT codes, size_t n,
                                       qibl_q16_t *QIBL_RESTRICT rgb);
 
 #ifdef __cplusplus

@@ -72,10 +72,10 @@ uint32_t qibl_config_id(void);
  * QIBL_E_CONFIG_MISMATCH: the caller's structs may not match the library's, and no other qibl
  * call should be made. Cheap (one comparison); call it once at start-up, as qibl_init_check()
  * does. Writes nothing. */
-qibl_status_t qibl_check_config(uint32_t caller_id);
+QIBL_NODISCARD qibl_status_t qibl_check_config(uint32_t caller_id);
 
 /* qibl_check_config with the identity of the code that includes this header. */
-static inline qibl_status_t qibl_init_check(void)
+static inline QIBL_NODISCARD qibl_status_t qibl_init_check(void)
 {
     return qibl_check_config(QIBL_CONFIG_ID);
 }

@@ -89,6 +89,20 @@ extern "C" {
 #define QIBL_E_GLES2_MISMATCH  QIBL_CAST(qibl_status_t, QIBL_STATUS_GLES2_BASE + 9) /* weights or point light made for other maps than uploaded */
 #define QIBL_E_GLES2_CONTEXT   QIBL_CAST(qibl_status_t, QIBL_STATUS_GLES2_BASE + 10) /* no current context (glGetString failed) */
 
+/* QIBL_GLES2_STATUS_LIST(X): the statuses above in value order (base + 1, + 2, ...) as X(name,
+ * message); qibl_gles2_status_str's messages come from it alone. Append only: values are ABI. */
+#define QIBL_GLES2_STATUS_LIST(X) \
+    X(QIBL_E_GLES2_GL_ERROR, "gles2: GL error (see the log)") \
+    X(QIBL_E_GLES2_COMPILE, "gles2: shader compile failed (see the log)") \
+    X(QIBL_E_GLES2_LINK, "gles2: program link failed (see the log)") \
+    X(QIBL_E_GLES2_FRAMEBUFFER, "gles2: accumulation framebuffer incomplete") \
+    X(QIBL_E_GLES2_UNITS, "gles2: too few texture units or uniform vectors") \
+    X(QIBL_E_GLES2_SIZE, "gles2: maps or LUT larger than the GL's texture size") \
+    X(QIBL_E_GLES2_NO_HIGHP, "gles2: point lights need highp fragment floats") \
+    X(QIBL_E_GLES2_STATE, "gles2: not initialised, nothing uploaded, or no P map/LUT") \
+    X(QIBL_E_GLES2_MISMATCH, "gles2: weights or light made for other maps") \
+    X(QIBL_E_GLES2_CONTEXT, "gles2: no current GL ES context")
+
 /* qibl_status_str for this backend's statuses too; never NULL. */
 const char *qibl_gles2_status_str(qibl_status_t s);
 
@@ -136,26 +150,26 @@ typedef struct qibl_gles2 {
 /* Queries the current context's limits and creates the shared objects (vertex shader, quad).
  * Errors: QIBL_E_NULL_POINTER (g), QIBL_E_GLES2_CONTEXT, QIBL_E_GLES2_UNITS (fewer than 2 units or
  * 8 uniform vectors), QIBL_E_GLES2_COMPILE, QIBL_E_GLES2_GL_ERROR. d may be NULL (defaults). */
-qibl_status_t qibl_gles2_init(qibl_gles2_t *g, const qibl_gles2_desc_t *d);
+QIBL_NODISCARD qibl_status_t qibl_gles2_init(qibl_gles2_t *g, const qibl_gles2_desc_t *d);
 
 /* Uploads maps (planar layout, as qibl_asset_shmaps gives), and optionally the P map and the LUT
  * (NULL: none), replacing an earlier upload. Errors: QIBL_E_NULL_POINTER, QIBL_E_GLES2_STATE (not
  * initialised), those of qibl_shmap_check, QIBL_E_SHMAP_MISMATCH (P map size or LUT k), QIBL_E_SHMAP_LUT_SHORT
  * (lut->size below its 12 N N k bytes), QIBL_E_GLES2_SIZE,
  * QIBL_E_GLES2_GL_ERROR. On error nothing stays uploaded. */
-qibl_status_t qibl_gles2_upload(qibl_gles2_t *g, const qibl_shmaps_t *m, const qibl_pmap_t *p, const qibl_ylut_t *lut);
+QIBL_NODISCARD qibl_status_t qibl_gles2_upload(qibl_gles2_t *g, const qibl_shmaps_t *m, const qibl_pmap_t *p, const qibl_ylut_t *lut);
 
 /* Draws the maps relit with weights w (qibl_shmap_weights for the uploaded maps) into the bound
  * framebuffer. out may be NULL (exposure 1, linear). Errors: QIBL_E_NULL_POINTER,
  * QIBL_E_GLES2_STATE, QIBL_E_GLES2_MISMATCH (k or channels differ), QIBL_E_GLES2_UNITS,
  * QIBL_E_GLES2_COMPILE, QIBL_E_GLES2_LINK, QIBL_E_GLES2_FRAMEBUFFER, QIBL_E_GLES2_GL_ERROR. */
-qibl_status_t qibl_gles2_relight(qibl_gles2_t *g, const qibl_shmap_weights_t *w, const qibl_gles2_out_t *out);
+QIBL_NODISCARD qibl_status_t qibl_gles2_relight(qibl_gles2_t *g, const qibl_shmap_weights_t *w, const qibl_gles2_out_t *out);
 
 /* Draws the maps relit by a prepared point light (qibl_shmap_point_prepare on the uploaded maps,
  * P map and, when pt->lut is not NULL, LUT; the uploaded LUT is used, with pt's filter). Errors: those of
  * qibl_gles2_relight, QIBL_E_GLES2_NO_HIGHP, QIBL_E_GLES2_STATE (no P map, or a LUT asked for and
  * none uploaded). */
-qibl_status_t qibl_gles2_point(qibl_gles2_t *g, const qibl_shmap_point_t *pt, const qibl_gles2_out_t *out);
+QIBL_NODISCARD qibl_status_t qibl_gles2_point(qibl_gles2_t *g, const qibl_shmap_point_t *pt, const qibl_gles2_out_t *out);
 
 /* Passes the last successful draw used (1: no accumulation). */
 uint32_t qibl_gles2_passes(const qibl_gles2_t *g);
@@ -166,7 +180,7 @@ const char *qibl_gles2_log(const qibl_gles2_t *g);
 /* Self-check of the GLSL sRGBE codec for ports: for each of n codes (4 bytes each) draws
  * encode(decode(code) * mul) with the shaders the accumulation uses and reads the codes back into
  * out (4 n bytes). n <= GL_MAX_TEXTURE_SIZE. Errors: as qibl_gles2_relight, QIBL_E_GLES2_SIZE. */
-qibl_status_t qibl_gles2_srgbe_check(qibl_gles2_t *g, const uint8_t *codes, uint32_t n, float mul, uint8_t *out);
+QIBL_NODISCARD qibl_status_t qibl_gles2_srgbe_check(qibl_gles2_t *g, const uint8_t *codes, uint32_t n, float mul, uint8_t *out);
 
 /* Deletes every GL object of g and zeroes it; safe on a zeroed or failed g. */
 void qibl_gles2_destroy(qibl_gles2_t *g);

@@ -22,14 +22,14 @@
  *
  * Depth: smaller is nearer; a pixel is written when z < depth buffer (strictly, so the first of
  * equal-depth triangles wins), and the depth buffer then holds z. Colour: Q16.16 linear per channel
- * (negative values clamp to 0), converted exactly as qibl_fb_write_row converts a row (exposure,
+ * (negative values clamp to 0), converted exactly as qibl_soft_fb_write_row converts a row (exposure,
  * sRGB, dither at the absolute pixel position). 8-bit formats only: the accumulator format adds,
  * which overdraw would make meaningless.
  *
  * Cost per triangle: setup of 3 edges and 4 attribute planes (64-bit divisions by the area); per
  * pixel of the bounding box: 3 edge tests (64-bit add, compare); per covered pixel: a depth
  * compare, 4 plane steps and the framebuffer's own packing, written in runs through
- * qibl_fb_write_row. Stack: about 1 KiB (a 64-pixel run buffer).
+ * qibl_soft_fb_write_row. Stack: about 1 KiB (a 64-pixel run buffer).
  */
 #ifndef QIBL_RASTER_H
 #define QIBL_RASTER_H
@@ -44,9 +44,8 @@
 extern "C" {
 #endif
 
-/* This module's statuses, in the soft backend's range (qibl_soft_status_str names them). */
-#define QIBL_E_RASTER_RANGE QIBL_CAST(qibl_status_t, QIBL_STATUS_SOFT_BASE + 5) /* a vertex beyond the coordinate or depth range */
-#define QIBL_E_RASTER_INDEX QIBL_CAST(qibl_status_t, QIBL_STATUS_SOFT_BASE + 6) /* a triangle index >= the vertex count */
+/* This module's statuses QIBL_E_RASTER_RANGE and QIBL_E_RASTER_INDEX are in soft.h, with the rest of
+ * the soft backend's range and its one list of messages. */
 
 #define QIBL_RASTER_SUBPIXEL 4                /* fraction bits of vertex x, y */
 #define QIBL_RASTER_COORD_MAX (8192 * 16)     /* |x|, |y| limit, 1/16 pixel */
@@ -75,18 +74,30 @@ typedef struct qibl_raster_target {
     qibl_raster_cull_t cull;   /* default: none */
 } qibl_raster_target_t;
 
-/* Sets every depth value to QIBL_RASTER_DEPTH_FAR (the colour is cleared by qibl_fb_clear).
- * Errors: those of qibl_fb_check, QIBL_E_NULL_POINTER (depth), QIBL_E_FB_SIZE (depth_count below
- * width * height). */
-qibl_status_t qibl_raster_clear_depth(const qibl_raster_target_t *t);
+/* Sets every depth value to QIBL_RASTER_DEPTH_FAR (the colour is cleared by qibl_soft_fb_clear).
+ * Formats: depth uint32. Bound: exact.
+ * Errors: those of qibl_soft_fb_check, QIBL_E_NULL_POINTER (depth), QIBL_E_FB_SIZE (depth_count below
+ * width * height).
+ * On failure: nothing is written. */
+QIBL_NODISCARD qibl_status_t qibl_soft_raster_clear_depth(const qibl_raster_target_t *t);
 
-/* Draws ntri triangles, tri[k] indexing v[0 .. nv), in order, depth-tested. Everything is
- * validated before the first pixel is written. Errors, in this order: those of qibl_fb_check,
- * QIBL_E_FB_FORMAT (QIBL_FB_ACCUM32), QIBL_E_NULL_POINTER (depth, or v / tri with a non-zero
- * count), QIBL_E_FB_SIZE (depth_count below width * height), QIBL_E_RASTER_INDEX,
- * QIBL_E_RASTER_RANGE (a referenced vertex with |x| or |y| > QIBL_RASTER_COORD_MAX or z < 0). */
-qibl_status_t qibl_raster_triangles(const qibl_raster_target_t *t, const qibl_raster_vertex_t *v, uint32_t nv,
+/* Draws ntri triangles, tri[k] indexing v[0 .. nv), in order, depth-tested.
+ * Formats: vertices as qibl_raster_vertex_t above; colour through qibl_soft_fb_write_row.
+ * Bound: coverage and depth exact (integer edge functions); colour as qibl_soft_fb_write_row.
+ * Errors, in this order: those of qibl_soft_fb_check, QIBL_E_FB_FORMAT (QIBL_FB_ACCUM32),
+ * QIBL_E_NULL_POINTER (depth, or v / tri with a non-zero count), QIBL_E_FB_SIZE (depth_count below
+ * width * height), QIBL_E_RASTER_INDEX, QIBL_E_RASTER_RANGE (a referenced vertex with |x| or |y| >
+ * QIBL_RASTER_COORD_MAX or z < 0).
+ * On failure: nothing is written (everything is validated before the first pixel). */
+QIBL_NODISCARD qibl_status_t qibl_soft_raster_triangles(const qibl_raster_target_t *t, const qibl_raster_vertex_t *v, uint32_t nv,
                                     const uint32_t (*tri)[3], uint32_t ntri);
+
+/* Deprecated since 0.2 (removed in 0.3): the rasterizer's names before the backend took one prefix,
+ * qibl_soft_. Define QIBL_SOFT_NO_DEPRECATED to leave them out. */
+#ifndef QIBL_SOFT_NO_DEPRECATED
+#define qibl_raster_clear_depth qibl_soft_raster_clear_depth /* deprecated */
+#define qibl_raster_triangles qibl_soft_raster_triangles     /* deprecated */
+#endif
 
 #ifdef __cplusplus
 }

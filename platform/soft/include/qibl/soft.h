@@ -64,6 +64,19 @@ extern "C" {
 #define QIBL_E_FB_SIZE   QIBL_CAST(qibl_status_t, QIBL_STATUS_SOFT_BASE + 2) /* width or height 0, or sizes that must match differ */
 #define QIBL_E_FB_STRIDE QIBL_CAST(qibl_status_t, QIBL_STATUS_SOFT_BASE + 3) /* stride below one row, or the size overflows size_t */
 #define QIBL_E_FB_BOUNDS QIBL_CAST(qibl_status_t, QIBL_STATUS_SOFT_BASE + 4) /* row or span outside the framebuffer */
+/* the rasterizer's (raster.h) */
+#define QIBL_E_RASTER_RANGE QIBL_CAST(qibl_status_t, QIBL_STATUS_SOFT_BASE + 5) /* a vertex beyond the coordinate or depth range */
+#define QIBL_E_RASTER_INDEX QIBL_CAST(qibl_status_t, QIBL_STATUS_SOFT_BASE + 6) /* a triangle index >= the vertex count */
+
+/* QIBL_SOFT_STATUS_LIST(X): the statuses above in value order (base + 1, + 2, ...) as X(name,
+ * message); qibl_soft_status_str's messages come from it alone. Append only: values are ABI. */
+#define QIBL_SOFT_STATUS_LIST(X) \
+    X(QIBL_E_FB_FORMAT, "framebuffer: unknown or unsuitable format") \
+    X(QIBL_E_FB_SIZE, "framebuffer: zero or mismatched size") \
+    X(QIBL_E_FB_STRIDE, "framebuffer: stride too small or buffer too large") \
+    X(QIBL_E_FB_BOUNDS, "framebuffer: span outside the framebuffer") \
+    X(QIBL_E_RASTER_RANGE, "raster: vertex beyond the coordinate or depth range") \
+    X(QIBL_E_RASTER_INDEX, "raster: triangle index beyond the vertex count")
 
 /* qibl_status_str for this backend's statuses too: a short constant description, never NULL. */
 const char *qibl_soft_status_str(qibl_status_t s);
@@ -89,34 +102,52 @@ typedef struct qibl_fb_desc {
 } qibl_fb_desc_t;
 
 /* Bytes per pixel of a format: 4, 4, 2, 12 (0 for an unknown one). */
-uint32_t qibl_fb_bytes_per_pixel(qibl_fb_format_t f);
+uint32_t qibl_soft_fb_bytes_per_pixel(qibl_fb_format_t f);
 
-/* Validates a descriptor, in this order: QIBL_E_NULL_POINTER (fb or fb->pixels NULL),
- * QIBL_E_FB_FORMAT (unknown format), QIBL_E_FB_SIZE (zero width or height), QIBL_E_FB_STRIDE
- * (stride != 0 and < width * bytes per pixel, or a row or the whole buffer, stride * (height - 1)
- * + one row, overflows size_t). */
-qibl_status_t qibl_fb_check(const qibl_fb_desc_t *fb);
+/* Validates a descriptor.
+ * Formats: none (reads the descriptor only). Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (fb or fb->pixels NULL), QIBL_E_FB_FORMAT (unknown
+ * format), QIBL_E_FB_SIZE (zero width or height), QIBL_E_FB_STRIDE (stride != 0 and < width * bytes
+ * per pixel, or a row or the whole buffer, stride * (height - 1) + one row, overflows size_t).
+ * On failure: nothing is written (nothing is, ever). */
+QIBL_NODISCARD qibl_status_t qibl_soft_fb_check(const qibl_fb_desc_t *fb);
 
-/* Writes n pixels of rgb (3n int32, Q16.16 linear) at (x0, y) .. (x0 + n - 1, y) of fb, converting
- * to fb's format as described at the top. For QIBL_FB_ACCUM32 the row is added to what is there
- * (per channel, saturating at INT32_MIN / INT32_MAX), for the 8-bit formats it replaces it.
- * n == 0 is a valid empty span. Errors, in this order: those of qibl_fb_check,
- * QIBL_E_NULL_POINTER (rgb NULL), QIBL_E_FB_BOUNDS (y >= height or x0 + n > width); nothing is
- * written on error. */
-qibl_status_t qibl_fb_write_row(const qibl_fb_desc_t *fb, uint32_t x0, uint32_t y, uint32_t n,
+/* Writes n pixels of rgb at (x0, y) .. (x0 + n - 1, y) of fb, converting to fb's format as described
+ * at the top. For QIBL_FB_ACCUM32 the row is added to what is there (per channel, saturating at
+ * INT32_MIN / INT32_MAX), for the 8-bit formats it replaces it. n == 0 is a valid empty span.
+ * Formats: rgb 3n int32, Q16.16 linear; out fb's format (8-bit codes, or Q16.16 for ACCUM32).
+ * Bound: 8-bit <= 0.5 LSB (+ the rounding of x), RGB565 as stated at the top; ACCUM32 exact or saturated.
+ * Errors, in this order: those of qibl_soft_fb_check, QIBL_E_NULL_POINTER (rgb NULL),
+ * QIBL_E_FB_BOUNDS (y >= height or x0 + n > width).
+ * On failure: nothing is written. */
+QIBL_NODISCARD qibl_status_t qibl_soft_fb_write_row(const qibl_fb_desc_t *fb, uint32_t x0, uint32_t y, uint32_t n,
                                 const int32_t *rgb);
 
 /* Converts the accumulator src (QIBL_FB_ACCUM32) into dst (an 8-bit format) with dst's exposure,
- * transfer and dither: the bytes are those qibl_fb_write_row(dst, ...) would write for the
- * accumulated values. Errors, in this order: those of qibl_fb_check for dst then src,
- * QIBL_E_FB_FORMAT (src not ACCUM32 or dst ACCUM32), QIBL_E_FB_SIZE (different width or height).
- * dst may resolve in place over src (dst->pixels == src->pixels and dst's row stride <= src's);
- * any other overlap gives unspecified bytes. */
-qibl_status_t qibl_fb_resolve(const qibl_fb_desc_t *dst, const qibl_fb_desc_t *src);
+ * transfer and dither: the bytes are those qibl_soft_fb_write_row(dst, ...) would write for the
+ * accumulated values. dst may resolve in place over src (dst->pixels == src->pixels and dst's row
+ * stride <= src's); any other overlap gives unspecified bytes.
+ * Formats: src Q16.16 linear (ACCUM32); dst an 8-bit format. Bound: as qibl_soft_fb_write_row.
+ * Errors, in this order: those of qibl_soft_fb_check for dst then src, QIBL_E_FB_FORMAT (src not
+ * ACCUM32 or dst ACCUM32), QIBL_E_FB_SIZE (different width or height).
+ * On failure: nothing is written. */
+QIBL_NODISCARD qibl_status_t qibl_soft_fb_resolve(const qibl_fb_desc_t *dst, const qibl_fb_desc_t *src);
 
 /* Clears a framebuffer to zero (ACCUM32) or to black with alpha 255 (8-bit formats).
- * Errors: those of qibl_fb_check. */
-qibl_status_t qibl_fb_clear(const qibl_fb_desc_t *fb);
+ * Formats: fb's format. Bound: exact.
+ * Errors: those of qibl_soft_fb_check.
+ * On failure: nothing is written. */
+QIBL_NODISCARD qibl_status_t qibl_soft_fb_clear(const qibl_fb_desc_t *fb);
+
+/* Deprecated since 0.2 (removed in 0.3): the names this backend had before it took one prefix,
+ * qibl_soft_. Define QIBL_SOFT_NO_DEPRECATED to leave them out. */
+#ifndef QIBL_SOFT_NO_DEPRECATED
+#define qibl_fb_bytes_per_pixel qibl_soft_fb_bytes_per_pixel /* deprecated */
+#define qibl_fb_check qibl_soft_fb_check                     /* deprecated */
+#define qibl_fb_write_row qibl_soft_fb_write_row             /* deprecated */
+#define qibl_fb_resolve qibl_soft_fb_resolve                 /* deprecated */
+#define qibl_fb_clear qibl_soft_fb_clear                     /* deprecated */
+#endif
 
 #ifdef __cplusplus
 }

@@ -1,5 +1,5 @@
 /*
- * bench_memory.c - `qibl bench memory [--markdown]`: the resident-memory table of docs/porting.md,
+ * memory.c - `qibl bench memory [--markdown]`: the resident-memory table of docs/porting.md,
  * every figure from the core's own size functions (and sizeof of its state structs on this host),
  * so the document is regenerated, never edited (`make docs-memory`; `make test` checks it matches).
  */
@@ -8,7 +8,7 @@
 
 #include "io/asset_write.h"
 #include "qibl/asset.h"
-#include "cli/cli.h"
+#include "bench/bench.h"
 #include "qibl/lightprobe.h"
 #include "qibl/shmap.h"
 
@@ -44,7 +44,7 @@ static void row(const char *what, const size_t v[NK], const char *how)
     printf(" %s |\n", how);
 }
 
-int qcli_bench_memory(int markdown)
+int qtool_bench_memory(int markdown)
 {
     size_t maps[NK], pmap[NK], lut[3][NK], ws[NK], pws[NK], out[NK], wst[NK], pst[NK], head[NK], mrow[NK], prow[NK];
     size_t crc[NK], sdir[NK], spt[NK], rdir[NK], rpt[NK];

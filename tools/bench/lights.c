@@ -1,5 +1,5 @@
 /*
- * bench_lights.c - `qibl bench lights`: light-probe sampling (qibl/lightprobe.h), speed and quality.
+ * lights.c - `qibl bench lights`: light-probe sampling (qibl/lightprobe.h), speed and quality.
  *
  * Speed, on a real 1024 x 512 probe from ../shared/fixtures/probes (quarry_01_1k.hdr, else the first
  * .hdr there; QIBL_PROBE=path overrides; a procedural sun-and-sky probe when there is none) and on
@@ -9,10 +9,8 @@
  * compiled at the tools' -O3 and so vectorised) in the same run:
  * RESULT lights.sat64_over_read.
  *
- * SIMD against scalar: the library (the kernel set qibl_isa_active() picks: AVX2 where the CPU has
- * it, on a dispatching build; QIBL_ISA restricts it) against the scalar twin of the same source (tools/twin, the core's flags, forced scalar),
- * build + 64 median-cut lights, interleaved repetitions in one process, minimum and median:
- * RESULT lights.simd_speedup (scalar time / library time, of the minima).
+ * SIMD against scalar (RESULT lights.simd_speedup) is twin_lights.c, in qibl-bench: the shipped
+ * qibl does not link the scalar twins.
  *
  * Quality, on every real probe: the irradiance error of each method's lights against the probe's
  * exact irradiance (tools/ref: sum over all pixels) over a Fibonacci sphere of normals, as the mean
@@ -27,26 +25,12 @@
 #include <string.h>
 
 #include "io/hdr.h"
-#include "cli/cli.h"
-#include "qibl/isa.h"
+#include "bench/bench.h"
 #include "qibl/lightprobe.h"
 #include "ref/lightprobe_ref.h"
-#include "twin/lightprobe_scalar.h"
 
 #define PROBE_DIR "../shared/fixtures/probes"
 #define PROBE_DEFAULT "quarry_01_1k.hdr"
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 static volatile uint64_t sink;
 
@@ -102,12 +86,12 @@ static int time_run(job *j, qibl_lightprobe_method_t build_for, const qibl_light
     for (int r = 0; r < reps && r < 31; ++r) {
         qibl_lightprobe_t lp;
         qibl_lightprobe_result_t res;
-        double t0 = qcli_cpu_now();
+        double t0 = qtool_bench_cpu_now();
         qibl_status_t st = qibl_lightprobe_build(&lp, &img, build_for, j->ws, j->ws_size);
-        double t1 = qcli_cpu_now();
+        double t1 = qtool_bench_cpu_now();
         if (st == QIBL_OK)
             st = qibl_lightprobe_lights(&lp, o, j->L, n, &res);
-        double t2 = qcli_cpu_now();
+        double t2 = qtool_bench_cpu_now();
         if (st != QIBL_OK) {
             fprintf(stderr, "qibl: bench lights: %s\n", qibl_status_str(st));
             return -1;
@@ -115,8 +99,8 @@ static int time_run(job *j, qibl_lightprobe_method_t build_for, const qibl_light
         tb[r] = (t1 - t0) * 1e3, tl[r] = (t2 - t1) * 1e3;
         *count = res.count;
     }
-    *t_build = median(tb, reps);
-    *t_lights = median(tl, reps);
+    *t_build = qtool_bench_median(tb, reps);
+    *t_lights = qtool_bench_median(tl, reps);
     return 0;
 }
 
@@ -124,11 +108,11 @@ static double time_read(const uint8_t *px, size_t n, int reps)
 {
     double t[31];
     for (int r = 0; r < reps && r < 31; ++r) {
-        double t0 = qcli_cpu_now();
+        double t0 = qtool_bench_cpu_now();
         sink = read_pass(px, n);
-        t[r] = (qcli_cpu_now() - t0) * 1e3;
+        t[r] = (qtool_bench_cpu_now() - t0) * 1e3;
     }
-    return median(t, reps);
+    return qtool_bench_median(t, reps);
 }
 
 /* RESULT lights.sat64_over_read from interleaved minima: the read pass and build + median cut 64
@@ -145,7 +129,7 @@ static double sat64_over_read_interleaved(job *j, int reps, double *min_mc, doub
     for (int r = 0; r < reps; ++r)
         for (int i = 0; i < 4; ++i) {
             const int kind = (i / 2 + r) % 2; /* 0 read, 1 build + cut */
-            double t0 = qcli_cpu_now();
+            double t0 = qtool_bench_cpu_now();
             if (kind == 0) {
                 sink = read_pass(j->px, bytes);
             } else {
@@ -157,7 +141,7 @@ static double sat64_over_read_interleaved(job *j, int reps, double *min_mc, doub
                 if (st != QIBL_OK)
                     return -1;
             }
-            const double dt = (qcli_cpu_now() - t0) * 1e3;
+            const double dt = (qtool_bench_cpu_now() - t0) * 1e3;
             if (i % 2 == 1 && dt < mn[kind])
                 mn[kind] = dt;
         }
@@ -235,78 +219,6 @@ static int speed(int quick, const char *name, const uint8_t *px, int w, int h)
     return 0;
 }
 
-#ifndef QIBL_BENCH_CORE_FLAGS
-#define QIBL_BENCH_CORE_FLAGS "?"
-#endif
-
-/* The library's path against the scalar twin, interleaved: SAT and cut ms, min and median */
-static int simd_vs_scalar(int quick, const char *name, const uint8_t *px, int w, int h)
-{
-    enum { MAXR = 41 };
-    const int reps = quick ? 5 : MAXR;
-    const size_t n = qibl_lightprobe_workspace_size((uint32_t)w, (uint32_t)h, QIBL_LIGHTPROBE_MEDIANCUT);
-    uint8_t *ws[2] = {malloc(n), malloc(n)};
-    qibl_lightprobe_light_t L[2][64];
-    if (!ws[0] || !ws[1]) {
-        free(ws[0]), free(ws[1]);
-        return fprintf(stderr, "qibl: bench lights: out of memory\n"), 1;
-    }
-    memset(ws[0], 0, n), memset(ws[1], 0, n);
-    qibl_lightprobe_image_t img;
-    memset(&img, 0, sizeof img);
-    img.pixels = px, img.width = (uint32_t)w, img.height = (uint32_t)h;
-    const qibl_lightprobe_opts_t mc = {QIBL_LIGHTPROBE_MEDIANCUT, 0, 0};
-    double t[2][2][MAXR]; /* [library, twin][SAT, cut][rep] */
-    qibl_lightprobe_result_t res[2];
-    for (int r = 0; r < reps; ++r)
-        for (int p = 0; p < 2; ++p) {
-            qibl_lightprobe_t lp;
-            double t0 = qcli_cpu_now();
-            qibl_status_t st = p == 0 ? qibl_lightprobe_build(&lp, &img, QIBL_LIGHTPROBE_MEDIANCUT, ws[p], n)
-                                      : qtool_lightprobe_build_scalar(&lp, &img, QIBL_LIGHTPROBE_MEDIANCUT, ws[p], n);
-            double t1 = qcli_cpu_now();
-            if (st == QIBL_OK)
-                st = p == 0 ? qibl_lightprobe_lights(&lp, &mc, L[p], 64, &res[p])
-                            : qtool_lightprobe_lights_scalar(&lp, &mc, L[p], 64, &res[p]);
-            double t2 = qcli_cpu_now();
-            if (st != QIBL_OK) {
-                free(ws[0]), free(ws[1]);
-                return fprintf(stderr, "qibl: bench lights: %s\n", qibl_status_str(st)), 1;
-            }
-            t[p][0][r] = (t1 - t0) * 1e3, t[p][1][r] = (t2 - t1) * 1e3;
-        }
-    /* the same bits, or the comparison means nothing */
-    const int same = res[0].count == res[1].count && res[0].rgb_exp == res[1].rgb_exp &&
-                     memcmp(L[0], L[1], sizeof L[0][0] * res[0].count) == 0 && memcmp(ws[0], ws[1], n) == 0;
-    double mn[2][3], md[2][3];
-    for (int p = 0; p < 2; ++p) {
-        double tot[MAXR];
-        for (int r = 0; r < reps; ++r)
-            tot[r] = t[p][0][r] + t[p][1][r];
-        for (int k = 0; k < 3; ++k) {
-            double *v = k < 2 ? t[p][k] : tot;
-            mn[p][k] = v[0];
-            for (int r = 1; r < reps; ++r)
-                mn[p][k] = v[r] < mn[p][k] ? v[r] : mn[p][k];
-            md[p][k] = median(v, reps);
-        }
-    }
-    const double px_n = (double)w * (double)h;
-    printf("\n== bench lights: SIMD path against the scalar twin, %s, %d x %d, build + median cut 64, %d interleaved reps\n",
-           name, w, h, reps);
-    printf("   built by %s, core %s; library path: %s\n", QTOOL_BENCH_COMPILER, QIBL_BENCH_CORE_FLAGS,
-           qibl_isa_name(qibl_isa_active()));
-    printf("%-22s %16s %16s %16s %10s\n", "path", "SAT ns/px", "cut ns/px", "total ms", "");
-    printf("%-22s %7.2f (%6.2f) %7.2f (%6.2f) %7.3f (%6.3f)   min (median)\n", "library", 1e6 * mn[0][0] / px_n,
-           1e6 * md[0][0] / px_n, 1e6 * mn[0][1] / px_n, 1e6 * md[0][1] / px_n, mn[0][2], md[0][2]);
-    printf("%-22s %7.2f (%6.2f) %7.2f (%6.2f) %7.3f (%6.3f)\n", "scalar twin", 1e6 * mn[1][0] / px_n,
-           1e6 * md[1][0] / px_n, 1e6 * mn[1][1] / px_n, 1e6 * md[1][1] / px_n, mn[1][2], md[1][2]);
-    printf("   identical SAT and lights: %s; speed-up SAT %.2fx, cut %.2fx (medians: total %.2fx)\n", same ? "yes" : "NO",
-           mn[1][0] / mn[0][0], mn[1][1] / mn[0][1], md[1][2] / md[0][2]);
-    printf("RESULT lights.simd_speedup %.2f\n", mn[1][2] / mn[0][2]);
-    free(ws[0]), free(ws[1]);
-    return same ? 0 : (fprintf(stderr, "qibl: bench lights: SIMD and scalar differ\n"), 1);
-}
 
 /* ---- quality -------------------------------------------------------------------------------- */
 
@@ -442,14 +354,13 @@ static int list_probes(char names[][256], int max)
     return n;
 }
 
-int qcli_bench_lights(int quick)
+int qtool_bench_lights_probe(uint8_t **px, int *w, int *h, char *label, size_t label_len)
 {
     static char names[64][256];
-    int np = list_probes(names, 64);
+    const int np = list_probes(names, 64);
     const char *env = getenv("QIBL_PROBE");
-    char path[600], err[512], label[600];
-    int w = 1024, h = 512;
-    uint8_t *px = NULL;
+    char path[600], err[512];
+    *w = 1024, *h = 512, *px = NULL;
     if (env && *env) {
         snprintf(path, sizeof path, "%.590s", env);
     } else if (np > 0) {
@@ -462,18 +373,28 @@ int qcli_bench_lights(int quick)
         path[0] = '\0';
     }
     if (path[0]) {
-        if (qtool_hdr_read_rgbe(path, &w, &h, &px, err, sizeof err) != 0)
+        if (qtool_hdr_read_rgbe(path, w, h, px, err, sizeof err) != 0)
             return fprintf(stderr, "qibl: %s\n", err), 1;
-        snprintf(label, sizeof label, "%.590s", path);
-    } else {
-        px = procedural(w, h);
-        snprintf(label, sizeof label, "procedural sun and sky (no probes in %s)", PROBE_DIR);
-        if (!px)
-            return fprintf(stderr, "qibl: bench lights: out of memory\n"), 1;
+        snprintf(label, label_len, "%.590s", path);
+        return 0;
     }
-    int rc = speed(quick, label, px, w, h);
+    *px = procedural(*w, *h);
+    snprintf(label, label_len, "procedural sun and sky (no probes in %s)", PROBE_DIR);
+    if (!*px)
+        return fprintf(stderr, "qibl: bench lights: out of memory\n"), 1;
+    return 0;
+}
+
+int qtool_bench_lights(int quick)
+{
+    static char names[64][256];
+    const int np = list_probes(names, 64);
+    char label[600];
+    int w, h;
+    uint8_t *px;
+    int rc = qtool_bench_lights_probe(&px, &w, &h, label, sizeof label);
     if (rc == 0)
-        rc = simd_vs_scalar(quick, label, px, w, h);
+        rc = speed(quick, label, px, w, h);
     if (rc == 0) {
         uint8_t *big = upsample4(px, w, h);
         if (big) {

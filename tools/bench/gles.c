@@ -1,16 +1,15 @@
 /*
- * bench_gles.c - `qibl bench gles`: frames per second of platform/gles2 at 1024x256, k = 9/16/25,
+ * gles.c - `qibl bench gles`: frames per second of platform/gles2 at 1024x256, k = 9/16/25,
  * a directional light and a point light (direct SH and cube-map LUT), on whatever GL the headless
  * EGL context gets. Here that is Mesa's llvmpipe, a CPU rasterizer: its figures say nothing about a
  * GPU, only that the path runs and how passes scale. Timing: glFinish around each frame, median.
  */
-#include "cli/gles_cli.h"
+#include "bench/bench.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli/cli.h"
 
 #if QIBL_HAVE_GLES2
 #include <GLES2/gl2.h>
@@ -38,7 +37,7 @@ static int cmp_d(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-int qcli_bench_gles(int quick)
+int qtool_bench_gles(int quick)
 {
     enum { W = 1024, H = 256 };
     const int frames = quick ? 3 : 9;
@@ -101,11 +100,11 @@ int qcli_bench_gles(int quick)
             for (int f = -1; f < frames && st == QIBL_OK; ++f) { /* frame -1 compiles the shaders */
                 glBindFramebuffer(GL_FRAMEBUFFER, c.fbo);
                 glFinish();
-                double t0 = qcli_now();
+                double t0 = qtool_bench_now();
                 st = mode == 0 ? qibl_gles2_relight(&g, &w, NULL) : qibl_gles2_point(&g, &pt, NULL);
                 glFinish();
                 if (f >= 0)
-                    t[f] = qcli_now() - t0;
+                    t[f] = qtool_bench_now() - t0;
             }
             if (st != QIBL_OK)
                 break;
@@ -128,7 +127,7 @@ int qcli_bench_gles(int quick)
     return rc;
 }
 #else
-int qcli_bench_gles(int quick)
+int qtool_bench_gles(int quick)
 {
     (void)quick;
     printf("== bench gles: SKIP (this qibl was built without the EGL/GLES2 headers)\n");

@@ -1,5 +1,5 @@
 /*
- * bench_asset.c - `qibl bench asset`: what opening a 16 MB asset costs on the three paths of
+ * asset.c - `qibl bench asset`: what opening a 16 MB asset costs on the three paths of
  * asset.h (nibble-table CRC, slicing-by-8 CRC from a caller table, header and structure only),
  * against a memcpy of the same bytes, timed in one process with the repetitions interleaved
  * (open, fast, structure, memcpy, open, ...) so a load swing hits every path alike; min and median
@@ -13,20 +13,12 @@
 #include "gen/scene.h"
 #include "io/asset_write.h"
 #include "qibl/asset.h"
-#include "cli/cli.h"
+#include "bench/bench.h"
 
 #define ASSET_REPS_MAX 41
 
-static double min_of(const double *t, int n)
-{
-    double m = t[0];
-    for (int i = 1; i < n; ++i)
-        m = t[i] < m ? t[i] : m;
-    return m;
-}
-
 /* The courtyard asset in memory (serialised, not written): *bytes malloc'ed. 0 or -1. */
-int qcli_bench_make_asset(uint32_t w, uint32_t h, uint32_t k, uint32_t layout, uint8_t **bytes, size_t *n)
+int qtool_bench_make_asset(uint32_t w, uint32_t h, uint32_t k, uint32_t layout, uint8_t **bytes, size_t *n)
 {
     qtool_gen_maps g;
     if (qtool_gen_scene(w, h, k, QTOOL_PANO_CYLINDRICAL, &g) != 0)
@@ -47,12 +39,12 @@ int qcli_bench_make_asset(uint32_t w, uint32_t h, uint32_t k, uint32_t layout, u
     return rc;
 }
 
-int qcli_bench_asset(int quick)
+int qtool_bench_asset(int quick)
 {
     const int reps = quick ? 3 : ASSET_REPS_MAX;
     uint8_t *bytes = NULL;
     size_t n = 0;
-    if (qcli_bench_make_asset(1024, 256, 16, QIBL_SHMAPS_PLANAR, &bytes, &n) != 0) {
+    if (qtool_bench_make_asset(1024, 256, 16, QIBL_SHMAPS_PLANAR, &bytes, &n) != 0) {
         fprintf(stderr, "qibl: bench asset: out of memory\n");
         return 1;
     }
@@ -62,9 +54,9 @@ int qcli_bench_asset(int quick)
         fprintf(stderr, "qibl: bench asset: out of memory\n");
         return 1;
     }
-    double t_init = qcli_cpu_now();
+    double t_init = qtool_bench_cpu_now();
     qibl_crc32_table_init(table, QIBL_CRC32_TABLE_WORDS);
-    t_init = qcli_cpu_now() - t_init;
+    t_init = qtool_bench_cpu_now() - t_init;
     memcpy(copy, bytes, n); /* first touch of the destination, not timed */
     double t[4][ASSET_REPS_MAX];
     int bad = 0;
@@ -72,7 +64,7 @@ int qcli_bench_asset(int quick)
         for (int m = 0; m < 4; ++m) {
             qibl_asset_t a;
             qibl_status_t st = QIBL_OK;
-            double t0 = qcli_cpu_now();
+            double t0 = qtool_bench_cpu_now();
             if (m == 0)
                 st = qibl_asset_open(&a, bytes, n);
             else if (m == 1)
@@ -81,7 +73,7 @@ int qcli_bench_asset(int quick)
                 st = qibl_asset_open_structure(&a, bytes, n);
             else
                 memcpy(copy, bytes, n);
-            t[m][r] = qcli_cpu_now() - t0;
+            t[m][r] = qtool_bench_cpu_now() - t0;
             bad |= st != QIBL_OK || (m == 3 && copy[n / 2] != bytes[n / 2]);
         }
     if (bad) {
@@ -90,8 +82,8 @@ int qcli_bench_asset(int quick)
     }
     double mn[4], md[4];
     for (int m = 0; m < 4; ++m) {
-        mn[m] = min_of(t[m], reps);
-        md[m] = qcli_median(t[m], reps);
+        mn[m] = qtool_bench_min(t[m], reps);
+        md[m] = qtool_bench_median(t[m], reps);
     }
     static const char *names[4] = {"qibl_asset_open (nibble CRC)", "qibl_asset_open_crc_table (slice-by-8)",
                                    "qibl_asset_open_structure", "memcpy of the same bytes"};

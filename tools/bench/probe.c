@@ -1,5 +1,5 @@
 /*
- * bench_probe.c - `qibl bench probe`: SH projection of a 1024 x 512 probe (row by row, integer)
+ * probe.c - `qibl bench probe`: SH projection of a 1024 x 512 probe (row by row, integer)
  * against one plain read pass over the same bytes (64-bit words, in cache: the goal's baseline,
  * RESULT probe.project_over_read) and against loading the .hdr file (open, read, RLE decode: what a
  * tool pays to get the probe, RESULT probe.project_over_hdr_load), min and median of interleaved
@@ -16,12 +16,12 @@
 #include <string.h>
 
 #include "io/hdr.h"
-#include "cli/cli.h"
+#include "bench/bench.h"
+#include "qtool.h"
 #include "qibl/probe.h"
 #include "ref/probe_ref.h"
 #include "ref/sh_ref.h"
 
-#define BP_PI 3.14159265358979323846
 
 static volatile uint64_t bp_sink;
 
@@ -29,18 +29,6 @@ static const char *bp_dir(void)
 {
     const char *d = getenv("QIBL_PROBE_DIR");
     return d && *d ? d : "../shared/fixtures/probes";
-}
-
-/* the baseline: read every 64-bit word of the probe once */
-static uint64_t read_words(const uint8_t *p, size_t n)
-{
-    uint64_t acc = 0;
-    for (size_t i = 0; i + 8 <= n; i += 8) {
-        uint64_t w;
-        memcpy(&w, p + i, 8);
-        acc += w;
-    }
-    return acc;
 }
 
 static uint8_t *int_probe(int w, int h)
@@ -97,17 +85,17 @@ static void ringing(const uint8_t *px, int w, int h, void *ws, size_t n, const c
     enum { NT = 256 };
     double truth[NT], nrm[NT][3];
     for (int k = 0; k < NT; ++k) { /* spherical Fibonacci normals */
-        double z = 1.0 - (2.0 * k + 1.0) / NT, r = sqrt(1.0 - z * z), p = k * BP_PI * (3.0 - sqrt(5.0));
+        double z = 1.0 - (2.0 * k + 1.0) / NT, r = sqrt(1.0 - z * z), p = k * QTOOL_PI * (3.0 - sqrt(5.0));
         nrm[k][0] = r * cos(p), nrm[k][1] = r * sin(p), nrm[k][2] = z, truth[k] = 0.0;
     }
     for (int v = 0; v < h; ++v) {
-        double t = (v + 0.5) * BP_PI / h, dw = (2.0 * BP_PI / w) * (BP_PI / h) * sin(t);
+        double t = (v + 0.5) * QTOOL_PI / h, dw = (2.0 * QTOOL_PI / w) * (QTOOL_PI / h) * sin(t);
         for (int u = 0; u < w; ++u) {
             const double *q = d + 3 * ((size_t)v * (size_t)w + (size_t)u);
             double L = 0.2126 * q[0] + 0.7152 * q[1] + 0.0722 * q[2];
             if (L == 0.0)
                 continue;
-            double ph = (u + 0.5) * 2.0 * BP_PI / w, dir[3] = {sin(t) * cos(ph), sin(t) * sin(ph), cos(t)};
+            double ph = (u + 0.5) * 2.0 * QTOOL_PI / w, dir[3] = {sin(t) * cos(ph), sin(t) * sin(ph), cos(t)};
             for (int k = 0; k < NT; ++k) {
                 double c = dir[0] * nrm[k][0] + dir[1] * nrm[k][1] + dir[2] * nrm[k][2];
                 if (c > 0)
@@ -131,7 +119,7 @@ static void ringing(const uint8_t *px, int w, int h, void *ws, size_t n, const c
                 lum[i] = ldexp(0.2126 * c.c[0][i] + 0.7152 * c.c[1][i] + 0.0722 * c.c[2][i], c.exp);
             double mn = 1e300, mx = -1e300, err = 0.0, tmean = 0.0;
             for (int k = 0; k < 4096; ++k) {
-                double z = 1.0 - (2.0 * k + 1.0) / 4096, r = sqrt(1.0 - z * z), p = k * BP_PI * (3.0 - sqrt(5.0)), y[25];
+                double z = 1.0 - (2.0 * k + 1.0) / 4096, r = sqrt(1.0 - z * z), p = k * QTOOL_PI * (3.0 - sqrt(5.0)), y[25];
                 qtool_ref_sh_eval(r * cos(p), r * sin(p), z, bands, y);
                 double e = 0.0;
                 for (int i = 0; i < bands * bands; ++i)
@@ -187,7 +175,7 @@ static int cmp_double(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-int qcli_bench_probe(int quick)
+int qtool_bench_probe(int quick)
 {
     const int reps = quick ? 7 : 31;
     char path[600], err[512];
@@ -211,33 +199,33 @@ int qcli_bench_probe(int quick)
         return fprintf(stderr, "qibl: bench probe: out of memory\n"), 1;
     qibl_lightprobe_image_t img = {px, (uint32_t)w, (uint32_t)h, 0, QIBL_LIGHTPROBE_RGBE, 0};
     qibl_probe_coeffs_t c;
-    bp_sink = read_words(px, bytes);
+    bp_sink = qtool_bench_read_u64(px, bytes);
     for (int r = 0; r < reps; ++r) { /* interleaved: load the file, read, project, begin only, rotate */
         th[r] = 0.0;
         if (have_file) {
             int fw, fh;
             uint8_t *fp = NULL;
-            double h0 = qcli_cpu_now();
+            double h0 = qtool_bench_cpu_now();
             if (qtool_hdr_read_rgbe(path, &fw, &fh, &fp, err, sizeof err) == 0)
                 bp_sink += fp[0], free(fp);
-            th[r] = (qcli_cpu_now() - h0) * 1e3;
+            th[r] = (qtool_bench_cpu_now() - h0) * 1e3;
         }
-        bp_sink += read_words(px, bytes); /* untimed: the bytes in cache, as the baselines of `bench baselines` */
-        double t0 = qcli_cpu_now();
-        bp_sink += read_words(px, bytes);
-        double t1 = qcli_cpu_now();
+        bp_sink += qtool_bench_read_u64(px, bytes); /* untimed: the bytes in cache, as the baselines of `bench baselines` */
+        double t0 = qtool_bench_cpu_now();
+        bp_sink += qtool_bench_read_u64(px, bytes);
+        double t1 = qtool_bench_cpu_now();
         (void)qibl_probe_sh_project(&img, 5, NULL, ws, n, &c);
-        double t2 = qcli_cpu_now();
+        double t2 = qtool_bench_cpu_now();
         qibl_probe_sh_t ps;
         (void)qibl_probe_sh_begin(&ps, (uint32_t)w, (uint32_t)h, QIBL_LIGHTPROBE_RGBE, 0, 5, ws, n);
-        double t3 = qcli_cpu_now();
+        double t3 = qtool_bench_cpu_now();
         qibl_q30_t rm[3][3] = {{0, -(1 << 30), 0}, {1 << 30, 0, 0}, {0, 0, 1 << 30}};
         qibl_sh_rotation_t rot;
         int32_t out[25];
         (void)qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])rm, 5);
         for (int ch = 0; ch < 3; ++ch)
             (void)qibl_sh_rotate(&rot, c.c[ch], out), bp_sink += (uint64_t)out[3];
-        double t4 = qcli_cpu_now();
+        double t4 = qtool_bench_cpu_now();
         tr[r] = (t1 - t0) * 1e3, tp[r] = (t2 - t1) * 1e3, tb[r] = (t3 - t2) * 1e3, tt[r] = (t4 - t3) * 1e6;
     }
     qsort(tp, (size_t)reps, sizeof *tp, cmp_double), qsort(tr, (size_t)reps, sizeof *tr, cmp_double);
@@ -246,9 +234,6 @@ int qcli_bench_probe(int quick)
     const double npx = (double)w * (double)h;
     printf("== bench probe: SH projection (bands 0..4, 3 channels) of %s, %d interleaved repetitions\n", name, reps);
 #ifdef __VERSION__
-#ifndef QIBL_BENCH_CORE_FLAGS
-#define QIBL_BENCH_CORE_FLAGS "?"
-#endif
     printf("compiler: %s; core flags: %s%s\n", __VERSION__, QIBL_BENCH_CORE_FLAGS,
            QIBL_CONFIG_NATIVE_MUL64 ? "" : ", portable M0 paths");
 #endif

@@ -1,5 +1,5 @@
 /*
- * bench_paths.c - `qibl bench paths`: what a path light costs per frame against today's SH-only
+ * paths.c - `qibl bench paths`: what a path light costs per frame against today's SH-only
  * relighting. Maps of the procedural courtyard (speed depends on k and size, not on the content),
  * a visibility chunk shaped like a sun's over the courtyard (smooth rise and set, round cast shadows;
  * about 1.7 edges per pixel, as the demo's bakes).
@@ -9,25 +9,15 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "bake/path.h"
 #include "gen/scene.h"
 #include "io/asset_write.h"
-#include "cli/cli.h"
+#include "bench/bench.h"
 #include "qibl/lightpath.h"
 #include "qibl/shmap.h"
 
 #define REPS_MAX 15
-
-/* CPU time of this thread: the machine running the bench may be shared, and wall time would count
- * the other processes' turns */
-static double cpu_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
 
 typedef struct {
     qibl_shmaps_t m;
@@ -81,7 +71,7 @@ static double run(const bcase *c, uint32_t w, uint32_t h, int reps, int32_t *row
                               QIBL_LUT_BILINEAR};
     double t[REPS_MAX];
     for (int r = 0; r < reps; ++r) {
-        double t0 = cpu_now();
+        double t0 = qtool_bench_cpu_now();
         qibl_shlight_t sl, sky;
         qibl_shmap_weights_t wl, wsky;
         qibl_shmap_point_t pt;
@@ -109,12 +99,12 @@ static double run(const bcase *c, uint32_t w, uint32_t h, int reps, int32_t *row
             if (c->path)
                 qibl_lightpath_shade_span(c->path, tq, c->radius, 0, y, w, lrow, row, c->sky != NULL);
         }
-        t[r] = cpu_now() - t0;
+        t[r] = qtool_bench_cpu_now() - t0;
     }
-    return qcli_median(t, reps) * 1e3;
+    return qtool_bench_median(t, reps) * 1e3;
 }
 
-int qcli_bench_paths(int quick)
+int qtool_bench_paths(int quick)
 {
     const uint32_t W = quick ? 256 : 1024, H = quick ? 64 : 256;
     const int reps = quick ? 3 : 11;
@@ -179,7 +169,7 @@ int qcli_bench_paths(int quick)
     /* Every scheme and its baseline in one loop: per repetition each scheme's frame right after its
      * baseline's (both run twice in a row, the second timed: their own warm caches), the order of
      * the schemes rotated; a ratio is the median over repetitions of scheme / baseline of the same
-     * repetition (qcli_paired_ratio), so load changes between repetitions cancel. ms: medians. */
+     * repetition (qtool_bench_paired_ratio), so load changes between repetitions cancel. ms: medians. */
     double tt[NC][REPS_MAX], xr[NC];
     for (int r = 0; r < reps; ++r)
         for (int j = 0; j < NC; ++j) {
@@ -201,7 +191,7 @@ int qcli_bench_paths(int quick)
         double v[REPS_MAX];
         for (int r = 0; r < reps; ++r)
             v[r] = tt[i][r];
-        xr[i] = i == base ? 1.0 : qcli_median(v, reps);
+        xr[i] = i == base ? 1.0 : qtool_bench_median(v, reps);
     }
     for (int i = 0; i < NC; ++i) {
         const int base = i < 5 || i == 8 ? 0 : 5;
@@ -209,7 +199,7 @@ int qcli_bench_paths(int quick)
             double v[REPS_MAX];
             for (int r = 0; r < reps; ++r)
                 v[r] = tt[i][r];
-            ms[i] = qcli_median(v, reps);
+            ms[i] = qtool_bench_median(v, reps);
         }
     }
     for (int i = 0; i < NC; ++i) {

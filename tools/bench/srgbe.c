@@ -1,5 +1,5 @@
 /*
- * bench_srgbe.c - `qibl bench srgbe`: the sRGBE codec against Ward's RGBE (frexp/ldexp), RGB9E5
+ * srgbe.c - `qibl bench srgbe`: the sRGBE codec against Ward's RGBE (frexp/ldexp), RGB9E5
  * (EXT_texture_shared_exponent) and plain binary32, on
  *   (a) a real HDR probe from ../shared/fixtures/probes (royal_esplanade_1k.hdr, else the first
  *       .hdr there; QIBL_PROBE=path overrides), or a procedural sky when the directory is absent;
@@ -19,7 +19,8 @@
 #include <dirent.h>
 
 #include "io/hdr.h"
-#include "cli/cli.h"
+#include "bench/bench.h"
+#include "qtool.h"
 #include "qibl/srgbe.h"
 #include "ref/rgb9e5.h"
 #include "ref/sh_ref.h"
@@ -28,7 +29,6 @@
 
 #define PROBE_DIR "../shared/fixtures/probes"
 #define PROBE_DEFAULT "royal_esplanade_1k.hdr"
-#define BENCH_PI 3.14159265358979323846
 
 typedef struct {
     const char *name;
@@ -55,14 +55,6 @@ typedef struct {
     double enc_t[31], dec_t[31]; /* every repetition's times, for ratios paired by repetition */
     int reps;
 } result;
-
-static double min_of(const double *v, int n)
-{
-    double m = v[0];
-    for (int i = 1; i < n; ++i)
-        m = v[i] < m ? v[i] : m;
-    return m;
-}
 
 static void errs_add(errstats *e, const float *in, const float *out, size_t n)
 {
@@ -121,11 +113,11 @@ static void run_codecs(const dataset *d, int reps, result res[NCODEC], float *ou
              * caches (the ratios compare minima, so Ward's baseline must not pay for sRGBE's) */
             encode_with(c, d, buf);
             decode_with(c, d, buf, out, out_bits);
-            double t0 = qcli_cpu_now();
+            double t0 = qtool_bench_cpu_now();
             encode_with(c, d, buf);
-            double t1 = qcli_cpu_now();
+            double t1 = qtool_bench_cpu_now();
             decode_with(c, d, buf, out, out_bits);
-            double t2 = qcli_cpu_now();
+            double t2 = qtool_bench_cpu_now();
             if (k > 0) {
                 te[c][k - 1] = t1 - t0;
                 td[c][k - 1] = t2 - t1;
@@ -141,10 +133,10 @@ static void run_codecs(const dataset *d, int reps, result res[NCODEC], float *ou
         res[c].reps = reps; /* copied before the medians sort te and td in place */
         for (int k = 0; k < reps; ++k)
             res[c].enc_t[k] = te[c][k], res[c].dec_t[k] = td[c][k];
-        res[c].enc_mpx = reps > 0 ? (double)d->n / qcli_median(te[c], reps) / 1e6 : 0.0;
-        res[c].dec_mpx = reps > 0 ? (double)d->n / qcli_median(td[c], reps) / 1e6 : 0.0;
-        res[c].enc_min = reps > 0 ? min_of(te[c], reps) : 0.0;
-        res[c].dec_min = reps > 0 ? min_of(td[c], reps) : 0.0;
+        res[c].enc_mpx = reps > 0 ? (double)d->n / qtool_bench_median(te[c], reps) / 1e6 : 0.0;
+        res[c].dec_mpx = reps > 0 ? (double)d->n / qtool_bench_median(td[c], reps) / 1e6 : 0.0;
+        res[c].enc_min = reps > 0 ? qtool_bench_min(te[c], reps) : 0.0;
+        res[c].dec_min = reps > 0 ? qtool_bench_min(td[c], reps) : 0.0;
 
     }
 }
@@ -212,11 +204,11 @@ static void dataset_sync_bits(dataset *d)
  * of radiance 5e4 with a glow: about 2^30 : 1 like the real probes. */
 static void procedural_sky(float *rgb, int w, int h)
 {
-    const double st = 50.0 * BENCH_PI / 180.0, sp = 1.3; /* sun: 50 degrees from zenith */
+    const double st = 50.0 * QTOOL_PI / 180.0, sp = 1.3; /* sun: 50 degrees from zenith */
     const double sx = sin(st) * cos(sp), sy = sin(st) * sin(sp), sz = cos(st);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
-            double t = (y + 0.5) * BENCH_PI / h, p = (x + 0.5) * 2.0 * BENCH_PI / w;
+            double t = (y + 0.5) * QTOOL_PI / h, p = (x + 0.5) * 2.0 * QTOOL_PI / w;
             double dx = sin(t) * cos(p), dy = sin(t) * sin(p), dz = cos(t);
             double cosg = dx * sx + dy * sy + dz * sz, g = acos(fmax(-1.0, fmin(1.0, cosg)));
             double c[3];
@@ -230,7 +222,7 @@ static void procedural_sky(float *rgb, int w, int h)
             double glow = 40.0 * exp(-g * 12.0) + 3.0 * exp(-g * 3.0);
             for (int k = 0; k < 3; ++k)
                 c[k] += glow * (k == 2 ? 0.8 : 1.0);
-            if (g < 0.5 * BENCH_PI / 180.0)
+            if (g < 0.5 * QTOOL_PI / 180.0)
                 c[0] = 5.2e4, c[1] = 5.0e4, c[2] = 4.6e4;
             float *o = rgb + 3 * ((size_t)y * (size_t)w + (size_t)x);
             o[0] = (float)c[0], o[1] = (float)c[1], o[2] = (float)c[2];
@@ -271,7 +263,7 @@ static int find_probe(char *path, size_t len)
 static void sh_project(const float *rgb, int w, int h, double coef[25][3], float *signed_rgb)
 {
     memset(coef, 0, 25 * 3 * sizeof(double));
-    const double dt = BENCH_PI / h, dp = 2.0 * BENCH_PI / w;
+    const double dt = QTOOL_PI / h, dp = 2.0 * QTOOL_PI / w;
     for (int y = 0; y < h; ++y) {
         double t = (y + 0.5) * dt, dw = sin(t) * dt * dp;
         for (int x = 0; x < w; ++x) {
@@ -302,7 +294,7 @@ static void bench_table(const char *title, const dataset *d, int reps, result re
     printf("  sRGBE error / (2^e/510), exact decode: max %.9f (channels != 0: %.9f)\n", ba, bn);
 }
 
-int qcli_bench_srgbe(int quick)
+int qtool_bench_srgbe(int quick)
 {
     const int reps = quick ? 3 : 31; /* run_codecs keeps at most 31 */
     int w = 1024, h = 512, rc = 0, have_probe = 0;
@@ -377,8 +369,8 @@ int qcli_bench_srgbe(int quick)
      * shared), the ratio of the medians beside them */
     /* RESULT: Ward over sRGBE paired by repetition (each pair timed back to back in one loop), the
      * median of those ratios; the ratio of the minima beside it */
-    double enc_x = qcli_paired_ratio(ra[C_WARD].enc_t, ra[C_SRGBE].enc_t, ra[C_SRGBE].reps),
-           dec_x = qcli_paired_ratio(ra[C_WARD].dec_t, ra[C_SRGBE].dec_t, ra[C_SRGBE].reps);
+    double enc_x = qtool_bench_paired_ratio(ra[C_WARD].enc_t, ra[C_SRGBE].enc_t, ra[C_SRGBE].reps),
+           dec_x = qtool_bench_paired_ratio(ra[C_WARD].dec_t, ra[C_SRGBE].dec_t, ra[C_SRGBE].reps);
     const double enc_xmin = ra[C_WARD].enc_min / ra[C_SRGBE].enc_min, dec_xmin = ra[C_WARD].dec_min / ra[C_SRGBE].dec_min;
     double enc_xm = ra[C_SRGBE].enc_mpx / ra[C_WARD].enc_mpx, dec_xm = ra[C_SRGBE].dec_mpx / ra[C_WARD].dec_mpx;
     double max_rel = fmax(ra[C_SRGBE].err.max_rel, fmax(rb[C_SRGBE].err.max_rel, rc25[C_SRGBE].err.max_rel));

@@ -1,0 +1,152 @@
+/*
+ * demo_test.c - the demo library's own pieces (tools/demo): the sizes table, the heat map's scale,
+ * the sheet blit, the chunk sizes, the output-directory check and the named refusals. The whole demo
+ * runs in cli_test (small sizes) and in CI (`make demo DEMO_SIZE=small`).
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <cmocka.h>
+
+#include "demo/demo.h"
+
+/* the three sizes CI, `make demo` and the README use, and nothing else */
+static void test_sizes_named(void **state)
+{
+    (void)state;
+    const qtool_demo_size *s = qtool_demo_size_named("small"), *d = qtool_demo_size_named("default"),
+                          *f = qtool_demo_size_named("full");
+    assert_non_null(s), assert_non_null(d), assert_non_null(f);
+    assert_string_equal(s->name, "small");
+    assert_int_equal(s->w, 256), assert_int_equal(s->h, 64), assert_int_equal(s->ndirs, 128);
+    assert_int_equal(s->frames, 6);
+    assert_int_equal(d->w, 512), assert_int_equal(d->h, 128), assert_int_equal(d->ndirs, 256);
+    assert_int_equal(f->w, 1024), assert_int_equal(f->h, 256), assert_int_equal(f->ndirs, 512);
+    /* each size costs more than the one before it */
+    assert_true(s->w * s->h < d->w * d->h && d->w * d->h < f->w * f->h);
+    assert_null(qtool_demo_size_named("huge"));
+    assert_null(qtool_demo_size_named(""));
+    assert_null(qtool_demo_size_named("Small"));
+}
+
+/* the heat map's scale: 0 black, 8 of 255 blue, 24 purple, 48 and above the same yellow-white;
+ * masked pixels black whatever their error (round half to even: 127.5 is 128) */
+static void test_heat_scale(void **state)
+{
+    (void)state;
+    enum { N = 6 };
+    uint8_t a[3 * N], b[3 * N] = {0}, out[3 * N];
+    static const uint8_t d[N] = {0, 8, 24, 48, 200, 200};
+    static const uint8_t cls[N] = {1, 1, 1, 1, 1, 0};
+    for (int i = 0; i < N; ++i)
+        a[3 * i] = d[i], a[3 * i + 1] = 0, a[3 * i + 2] = 0;
+    b[3 * 1 + 2] = 3; /* the largest channel difference counts: still 8 */
+    qtool_demo_heat(a, b, cls, N, out);
+    assert_memory_equal(out, ((const uint8_t[]){0, 0, 0}), 3);
+    assert_int_equal(out[3], 0), assert_int_equal(out[4], 0), assert_int_equal(out[5], 128); /* t = 1/6 */
+    assert_int_equal(out[6], 128), assert_int_equal(out[7], 0), assert_int_equal(out[8], 128); /* t = 1/2 */
+    assert_memory_equal(out + 9, ((const uint8_t[]){255, 255, 64}), 3);
+    assert_memory_equal(out + 12, out + 9, 3); /* saturated */
+    assert_memory_equal(out + 15, ((const uint8_t[]){0, 0, 0}), 3);
+}
+
+/* a blit lands where it is told and nowhere else */
+static void test_blit_in_place(void **state)
+{
+    (void)state;
+    enum { SW = 7, SH = 5, W = 3, H = 2 };
+    uint8_t sheet[SW * SH * 3], src[W * H * 3], want[SW * SH * 3];
+    memset(sheet, 0xEE, sizeof sheet);
+    for (size_t i = 0; i < sizeof src; ++i)
+        src[i] = (uint8_t)(i + 1);
+    memcpy(want, sheet, sizeof want);
+    for (int y = 0; y < H; ++y)
+        memcpy(want + ((size_t)(2 + y) * SW + 4) * 3, src + (size_t)y * W * 3, W * 3);
+    qtool_demo_blit(sheet, SW, 4, 2, src, W, H);
+    assert_memory_equal(sheet, want, sizeof want);
+}
+
+/* a bad asset has no chunks: 0 bytes, not a crash */
+static void test_chunk_bytes_of_garbage(void **state)
+{
+    (void)state;
+    static const uint8_t junk[64] = {'n', 'o', 't', ' ', 'a', 'n', ' ', 'a', 's', 's', 'e', 't'};
+    assert_true(qtool_demo_chunk_bytes(junk, sizeof junk, 0x50414D53u, 0) == 0);
+    assert_true(qtool_demo_chunk_bytes(junk, 0, 0x50414D53u, 0) == 0);
+}
+
+/* sRGB decoding and the median the tables use */
+static void test_lin8_and_median(void **state)
+{
+    (void)state;
+    assert_true(qtool_demo_lin8(0) == 0);
+    assert_true(qtool_demo_lin8(255) > 0.999999 && qtool_demo_lin8(255) < 1.000001);
+    assert_true(qtool_demo_lin8(10) < qtool_demo_lin8(11)); /* across the linear segment's end */
+    double odd[5] = {5, 1, 4, 2, 3}, even[4] = {10, 1, 4, 2};
+    assert_true(qtool_demo_median(odd, 5) == 3);
+    assert_true(qtool_demo_median(even, 4) == 3);
+}
+
+/* the output directory: a file in its place is refused by name, a missing one is created */
+static void test_check_out(void **state)
+{
+    (void)state;
+    char base[] = "/tmp/qibl_demo_test_XXXXXX", path[256], err[512];
+    assert_non_null(mkdtemp(base));
+    snprintf(path, sizeof path, "%s/file", base);
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    fclose(f);
+    err[0] = 0;
+    assert_int_equal(qtool_demo_check_out(path, 2, err, sizeof err), -1);
+    assert_non_null(strstr(err, "not a directory"));
+    snprintf(path, sizeof path, "%s/out", base);
+    assert_int_equal(qtool_demo_check_out(path, 2, err, sizeof err), 0);
+    struct stat st;
+    assert_int_equal(stat(path, &st), 0);
+    assert_true(S_ISDIR(st.st_mode));
+    /* a directory where a frame goes (lamp_01.png: the last name of 2 frames) */
+    char frame[300];
+    snprintf(frame, sizeof frame, "%s/lamp_01.png", path);
+    assert_int_equal(mkdir(frame, 0777), 0);
+    assert_int_equal(qtool_demo_check_out(path, 2, err, sizeof err), -1);
+    assert_non_null(strstr(err, "lamp_01.png"));
+    /* with one frame fewer the name is not an output: accepted */
+    assert_int_equal(qtool_demo_check_out(path, 1, err, sizeof err), 0);
+    rmdir(frame), rmdir(path);
+    snprintf(path, sizeof path, "%s/file", base);
+    unlink(path), rmdir(base);
+}
+
+/* parts per extended source outside 1..QTOOL_DEMO_MAX_PARTS: refused by name before any work */
+static void test_probe_parts_refused(void **state)
+{
+    (void)state;
+    qtool_demo_view v = {.w = 4, .h = 2, .threads = 1, .dir = "/nonexistent", .out = stdout};
+    qtool_bake_sums sums;
+    memset(&sums, 0, sizeof sums);
+    char err[256];
+    err[0] = 0;
+    assert_int_equal(qtool_demo_probe(&v, 4, 0, &sums, 16, err, sizeof err), -1);
+    assert_non_null(strstr(err, "parts per extended source"));
+    err[0] = 0;
+    assert_int_equal(qtool_demo_probe(&v, 4, QTOOL_DEMO_MAX_PARTS + 1, &sums, 16, err, sizeof err), -1);
+    assert_non_null(strstr(err, "parts per extended source"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_sizes_named),        cmocka_unit_test(test_heat_scale),
+        cmocka_unit_test(test_blit_in_place),      cmocka_unit_test(test_chunk_bytes_of_garbage),
+        cmocka_unit_test(test_lin8_and_median),    cmocka_unit_test(test_check_out),
+        cmocka_unit_test(test_probe_parts_refused),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
