@@ -31,7 +31,7 @@ CORE_SRC := $(wildcard core/src/*.c)
 PLATFORM_SRC := $(wildcard platform/soft/*.c)
 PLATFORM_INC := -Iplatform/soft/include
 TOOL_LIB_SRC := $(wildcard tools/ref/*.c) $(wildcard tools/io/*.c) $(wildcard tools/gles/*.c) $(wildcard tools/gen/*.c) $(wildcard tools/render/*.c) $(wildcard tools/bake/*.c) $(wildcard tools/transfer/*.c)
-TOOL_LIB_SRC += $(wildcard tools/study/*.c) $(wildcard tools/engine/*.c) $(wildcard tools/view/*.c)
+TOOL_LIB_SRC += $(wildcard tools/study/*.c) $(wildcard tools/engine/*.c) $(wildcard tools/view/*.c) $(wildcard tools/relight/*.c)
 # the demo behind `qibl demo` (tools/demo: bake, relight, light paths, probe-lit rows)
 TOOL_LIB_SRC += $(wildcard tools/demo/*.c)
 # the golden cases (plain C, shared by the suites and the golden runner) and their CMocka-side check

@@ -11,6 +11,7 @@
 #include <stdint.h>
 
 #include "bench/bench.h"
+#include "relight/light.h" /* qtool_relight_point_default, behind qcli_point_default */
 
 /* Set by the option-parsing fuzz target (tests/fuzz/fuzz_cliopts.c) only: every command returns 0
  * once its options are parsed and checked, before it reads, computes or writes anything. */
@@ -81,24 +82,17 @@ int qcli_scene_load(const qcli_scene *o, struct qtool_rt_scene *s);
 struct qtool_rt_light;
 void qcli_eval_lights(int obj_prop, int ndir, int npoint, struct qtool_rt_light *out);
 
-/* --point without --rgb (point_default.c): C0 = QTOOL_CLI_POINT_GREY * d^falloff, d the median
- * distance from pos to the n scene points pts (3 doubles each; points QTOOL_CLI_SKY_DIST or more from
- * the origin are sky and skipped), so the lit scene comes out around mid-grey (Lambert, albedo 0.6,
- * facing the lamp at that distance: 0.6/pi x 2 = 0.38 linear, 166 of 255 through sRGB; the
- * courtyard's median pixel is about 110). *c0 is capped at
- * QTOOL_CLI_Q16_MAX, *dist is d (1 when every point is sky). 0, or -1 (out of memory). */
-#define QTOOL_CLI_POINT_GREY 2.0
-#define QTOOL_CLI_SKY_DIST 1000.0
-int qcli_point_default(const double *pts, size_t n, const double pos[3], int falloff, double *c0, double *dist);
-/* A note on stderr when the 8-bit RGB frame written to path has a mean below QTOOL_CLI_DARK_MEAN. */
-#define QTOOL_CLI_DARK_MEAN 32.0
+/* --point without --rgb: relight/light.h (qtool_relight_point_default); the old names for render and
+ * bake, which still call them from here. */
+#define QTOOL_CLI_POINT_GREY QTOOL_RELIGHT_POINT_GREY
+#define QTOOL_CLI_SKY_DIST QTOOL_RELIGHT_SKY_DIST
+#define qcli_point_default qtool_relight_point_default
+/* A note on stderr when the 8-bit RGB frame written to path has a mean below QTOOL_CLI_DARK_MEAN
+ * (cmd_relight.c). */
+#define QTOOL_CLI_DARK_MEAN QTOOL_RELIGHT_DARK_MEAN
 void qcli_warn_dark(const char *path, const uint8_t *rgb, size_t np);
 
 /* Prints "qibl: <message>" on stderr and returns 2 (the bad-arguments exit status). */
-/* relight_path.c: whether a relight command line names a baked light path (--path), and that relight. */
-int qcli_relight_has_path(int argc, char **argv);
-int qcli_relight_path(int argc, char **argv);
-
 int qcli_usage_error(const char *fmt, ...);
 
 /* Parses a finite decimal into Q16.16, rounding to nearest; 0 on success, -1 if not a number or
