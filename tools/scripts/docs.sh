@@ -17,6 +17,7 @@
 #   docs/porting.md memory-table   tools/scripts/memory-table.sh (qibl bench memory --markdown)
 #   docs/porting.md size-table     make cross ($BUILD/cross/size-table.md); make docs-size rewrites
 #   docs/porting.md make gba       make gba ($BUILD/gba/tables.md); make gba-tables rewrites
+# and, with --check, the header docs' skeleton (tools/scripts/check-header-docs.py).
 # Fast by design (no benchmark, no bake, no cross build): it reuses the binaries make built.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -80,6 +81,11 @@ elif new != doc:
 PY
 else
     echo "docs: the GBA block not checked here: no $BUILD/gba/tables.md (make gba writes it)"
+fi
+
+# the header docs' one skeleton (make check-header-docs), checked here too so CI sees it with the docs
+if [ "$mode" = --check ] && [ -f tools/scripts/check-header-docs.py ]; then
+    python3 tools/scripts/check-header-docs.py >/dev/null || { python3 tools/scripts/check-header-docs.py >&2 || true; fail=1; }
 fi
 
 # no measured figure typed outside a generated block (--write only reports them)
