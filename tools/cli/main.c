@@ -96,6 +96,7 @@ static const qcli_cmd commands[] = {
      "usage: qibl render (--sun X Y Z | --point X Y Z) [--rgb R G B] [--falloff 1|2] [--png OUT] [--pfm OUT]\n"
      "                   [--exr OUT.exr] [--depth OUT.pfm] [--scene builtin|FILE.gltf|FILE.glb|FILE.obj|FILE.ply] [--zup]\n"
      "                   [--raw] [--size WxH] [--equirect] [--threads N] [--ies FILE.ies [--aim X Y Z] [--up X Y Z]]\n"
+     "                   [--camera EX,EY,EZ TX,TY,TZ UX,UY,UZ | --camera gltf[:N]] [--fov DEG]\n"
      "  The reference renderer (BVH ray tracer, hard shadows, Lambert + glossy) from the viewpoint at the\n"
      "  origin: what a light really produces, to compare relit frames with. --sun: directional light\n"
      "  from (X, Y, Z) with irradiance --rgb (default 1 1 1); --point: a lamp at (X, Y, Z) with\n"
@@ -112,7 +113,12 @@ static const qcli_cmd commands[] = {
      "  that it is almost black.\n"
      "  --ies FILE.ies: the --point lamp is goniometric: C0 times I(direction) / I_peak from the IES\n"
      "  profile in double precision (bilinear in its angle grid), oriented by --aim (default 0 0 -1)\n"
-     "  and --up (default 1 0 0) as relight --ies orients it: the truth of relight's tables.\n",
+     "  and --up (default 1 0 0) as relight --ies orients it: the truth of relight's tables.\n"
+     "  --camera EYE TARGET UP: a fixed perspective camera (a pre-rendered background) instead of the\n"
+     "  panorama: --size WxH pixels from EYE looking at TARGET, UP its approximate up, --fov DEG the\n"
+     "  vertical field of view (default 60, in (0, 180)); --camera gltf[:N]: the scene file's camera N\n"
+     "  (default 0, perspective, its yfov unless --fov), placed as the mesh is. A bad camera (EYE =\n"
+     "  TARGET, UP zero or along the view) is named.\n",
      qcli_cmd_render},
     {"transfer", "a mesh self-shadowed by hemispherical rasterization under a probe, beside the ray-cast truth",
      "usage: qibl transfer MESH [MESH...] --probe PROBE.hdr [--layout L] [--png OUT] [--size N] [--mask 16|32|64]\n"
@@ -144,6 +150,7 @@ static const qcli_cmd commands[] = {
      "                 [--layout planar|interleaved] [--unshadowed-k K] [--sun-path LAT,DECL,T0,T1]\n"
      "                 [--lamp-track X,Y,Z;X,Y,Z;...] [--path-steps N]\n"
      "                 [--lamp-box X0,Y0,Z0,X1,Y1,Z1] [--lamp-samples N] [scene options as for render]\n"
+     "                 [--camera EX,EY,EZ TX,TY,TZ UX,UY,UZ | --camera gltf[:N]] [--fov DEG]\n"
      "  Renders the scene under N directional lights (spherical Fibonacci set, equal weights 4 pi / N,\n"
      "  default 512) with hard shadows, projects every pixel's response onto SH (k <= 25, default 16;\n"
      "  quadrature, or --lsq least squares), packs the maps to 8 bits (min/max per map and channel) and\n"
@@ -169,6 +176,8 @@ static const qcli_cmd commands[] = {
      "  lamps through SHMU are scaled by it (their cast shadows on average). A shard also writes its\n"
      "  share of the unshadowed sums (FILE.u) and its rows of the LPTH/LOCC chunks (FILE.x, also when\n"
      "  there are none, so merge can refuse a shard baked without the others' paths).\n"
+     "  --camera, --fov (as for render): the pixels are a fixed camera's rays instead of the panorama's,\n"
+     "  so the maps relight a pre-rendered background seen from one corner (qibl relight as any asset).\n"
      "  Exit status: 0 done, 1 failed (a file, memory; named on stderr, nothing half-written), 2 bad\n"
      "  arguments.\n",
      qcli_cmd_bake},
