@@ -128,6 +128,7 @@ QIBL_BENCH := $(BUILD)/bin/qibl-bench
 .PHONY: study gles all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan examples \
         install check-install check-farm amalgamate check-amalgamate docs-memory
 .PHONY: baremetal baremetal-tables docs-size gba gba-tables
+.PHONY: docs docs-check docs-check-test docs-bench
 .DEFAULT_GOAL := all
 
 all: $(LIBQIBL) $(LIBSOFT) $(QIBL) $(QIBL_BENCH)
@@ -140,6 +141,10 @@ help:
 	@echo "make test       build and run the CMocka suites (installs libcmocka-dev if it can)"
 	@echo "make docs-memory  regenerate the resident-memory table of docs/porting.md (make test checks it)"
 	@echo "make docs-size  rewrite docs/porting.md's size tables from a make cross run (make cross checks them)"
+	@echo "make docs       rewrite every generated block of README.md and docs/ (docs/api.md too: tools/scripts/docs.sh)"
+	@echo "make docs-check fail when a generated block is stale or a measured figure is typed outside one (CI runs it)"
+	@echo "make docs-check-test  show that docs-check fails on a stale block (a copy of the tree, corrupted)"
+	@echo "make docs-bench run the benchmarks the README quotes into docs/results/bench.txt, then make docs"
 	@echo "make cross      freestanding builds for Cortex-M0/M4 and RV64, checks and size table"
 	@echo "make warnings   compile core/, platform/soft/ and platform/gles2/ with gcc and clang under the strict warning set;"
 	@echo "                every public header alone as C99/C11/C++98/11/17 (tools/scripts/headers.sh)"
@@ -357,6 +362,23 @@ golden: $(GOLDEN) $(QIBL)
 # (the CLI makes the asset the integration example runs on in every configuration)
 ports: $(QIBL)
 	@BUILD=$(BUILD) bash tools/scripts/ports.sh
+
+# ---- docs whose figures come from commands (tools/scripts/docs.sh) ---------------------------
+# docs rewrites the generated blocks, docs-check compares them and counts typed figures (fast:
+# no benchmark or bake; it reuses the binaries); docs-bench re-measures the timings the README
+# keeps into the committed log docs/results/bench.txt (machine, compiler, flags, date named).
+docs: $(QIBL) $(GOLDEN)
+	@BUILD=$(BUILD) QIBL=$(QIBL) GOLDEN=$(GOLDEN) bash tools/scripts/docs.sh --write
+
+docs-check: $(QIBL) $(GOLDEN)
+	@BUILD=$(BUILD) QIBL=$(QIBL) GOLDEN=$(GOLDEN) bash tools/scripts/docs.sh --check
+
+docs-check-test: $(QIBL) $(GOLDEN)
+	@BUILD=$(BUILD) QIBL=$(QIBL) GOLDEN=$(GOLDEN) bash tests/docs_check_test.sh
+
+docs-bench: $(QIBL) $(GOLDEN)
+	@QIBL=$(QIBL) CC="$(CC)" HOST_CFLAGS="$(HOST_CFLAGS)" bash tools/scripts/docs-bench.sh docs/results/bench.txt
+	@BUILD=$(BUILD) QIBL=$(QIBL) GOLDEN=$(GOLDEN) bash tools/scripts/docs.sh --write
 
 # Bare metal (tools/baremetal/run.sh): the golden runner for Cortex-M0 code on qemu's mps2-an385,
 # Cortex-M4 code on mps2-an386 and RV32IMAC on virt (picolibc, semihosting); every case must print

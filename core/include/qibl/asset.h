@@ -4,7 +4,7 @@
  *
  * Layout (all integers little-endian whatever the host; offsets from the first byte):
  *
- *   header, 24 bytes
+ *   header (a 24-byte record)
  *     0  u8[8] magic        'Q' 'I' 'B' 'L' '\r' '\n' 0x1A '\n'   (catches text-mode mangling)
  *     8  u32   version      QIBL_ASSET_VERSION (1)
  *    12  u32   chunk_count  1..QIBL_ASSET_MAX_CHUNKS
@@ -70,10 +70,10 @@
  * payload (size 0) overlaps nothing. A failing call writes nothing to its outputs.
  *
  * Three ways to open (same checks in the same order, same statuses, except as said):
- *   qibl_asset_open            every check and every CRC, nibble-table CRC (64 bytes of .rodata,
- *                              about 13 instructions per byte);
+ *   qibl_asset_open            every check and every CRC, nibble-table CRC (64 bytes of .rodata;
+ *                              the slowest of the three per byte);
  *   qibl_asset_open_crc_table  the same result, CRCs by slicing-by-8 with an 8 KiB table the caller
- *                              fills once with qibl_crc32_table_init (about 4x fewer instructions);
+ *                              fills once with qibl_crc32_table_init (a fraction of the instructions);
  *   qibl_asset_open_structure  header and structure only: every check above except the payload
  *                              CRCs (the table CRC is still checked). For assets verified at install
  *                              time (by one of the two above, or by the installer's own hash): it

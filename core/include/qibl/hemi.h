@@ -40,10 +40,10 @@
  * frame cheap: D(R) = Dz(alpha) D(Rx(-90)) Dz(beta) D(Rx(90)), two constant band matrices made at
  * init with qibl_sh_rotation_init and two z rotations (cos/sin m theta by recurrence).
  *
- * Memory: qibl_hemi_workspace_size(N, F) bytes, any alignment: the two rotations (1328 bytes), the
+ * Memory: qibl_hemi_workspace_size(N, F) bytes, any alignment: the two rotations (twice sizeof(qibl_sh_rotation_t)), the
  * disk mask and unblocked transfer, the basis table (100 N^2 bytes), the pixel centres (4 N^2
  * bytes) and the LUT (3 F^2 masks of 4 N max(1, N/32) bytes). N = 32: F = QIBL_HEMI_FACE_DEFAULT (48,
- * the largest within 1 MiB) 969.5 KiB, F = 20 (small, within 256 KiB) 255.5 KiB, F = 60 1455.5 KiB.
+ * the largest whose workspace fits in 1 MiB), F = 20 (small: within 256 KiB).
  * Init cost: 3 F^2 N^2 exact pixel tests and 65536 SH evaluations.
  */
 #ifndef QIBL_HEMI_H
@@ -131,7 +131,7 @@ QIBL_NODISCARD qibl_status_t qibl_hemi_clear(const qibl_hemi_t *h, uint32_t *mas
  * behind them still hides part of the averaged normal's hemisphere: a caller that knows the faces
  * (v, b, c) around the receiver rasterizes the wedges (nadir, b, c) too, the nadir a vertex at
  * (0, 0, -D) (any winding; at a convex vertex the wedges lie below the horizon and cost a test
- * each). `qibl transfer` does; it cuts a box's error against the ray cast from 34 % to 3 %.
+ * each). `qibl transfer` does; it cuts a box's error against the ray cast by an order of magnitude.
  * Culling and skipping as above; a triangle is the same mask whichever way it winds.
  * Errors: QIBL_E_NULL_POINTER (h, mask, or v/tri with a non-zero count), QIBL_E_HEMI_INDEX (an
  * index >= nv), QIBL_E_HEMI_RANGE (a coordinate of v[0..nv) beyond QIBL_HEMI_LOCAL_MAX); checked
@@ -187,8 +187,8 @@ QIBL_NODISCARD qibl_status_t qibl_hemi_transfer(const qibl_hemi_t *h, const uint
  * int64 (|out - the midpoint sum| <= 2^-14 of the sum of |T| over the disk). Errors:
  * QIBL_E_NULL_POINTER, QIBL_E_HEMI_EXPONENT (e > QIBL_HEMI_MAX_EXPONENT), QIBL_E_ZERO_VECTOR
  * (refl); out untouched on failure. Cost: per visible pixel with a non-zero weight, up to
- * 2 log2(e) products and 25 multiply-adds (about 16 us per vertex at 32 x 32, e = 16, gcc -O3 x86:
- * 40x the diffuse transfer, which sums set bits only). */
+ * 2 log2(e) products and 25 multiply-adds (many times the diffuse transfer, which sums set bits
+ * only; `qibl bench hemi` measures both). */
 QIBL_NODISCARD qibl_status_t qibl_hemi_transfer_phong(const qibl_hemi_t *h, const uint32_t *mask, const qibl_q30_t refl[3],
                                        uint32_t exponent, qibl_q30_t out[QIBL_HEMI_COEFFS]);
 

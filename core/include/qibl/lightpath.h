@@ -38,8 +38,8 @@
  *                                    would add (255 = never shadowed)
  *    size = 8 + width height exactly
  * A free lamp relit through the unshadowed maps lights the pixels its cast shadows should darken
- * (measured on the demo: +6.6 % of the truth's light, all in cast-shadow pixels); scaling it by a(p)
- * puts the shadows back on average (brightness 1.057 -> 0.974, PSNR +1.2 dB on the demo).
+ * (the demo measures the excess, all in cast-shadow pixels); scaling it by a(p) puts the shadows
+ * back on average (the demo prints brightness and PSNR with and without it).
  */
 #ifndef QIBL_LIGHTPATH_H
 #define QIBL_LIGHTPATH_H

@@ -18,7 +18,7 @@
  *     direction of its integer centroid, |d| = 1 within 2 LSB) toward the region's energy centroid:
  *     the luminance-energy-weighted mean of the pixel centres' (u, v) inside the region, mapped to
  *     (theta, phi) as above. (Placement QIBL_LIGHTPROBE_PLACE_CENTRE uses the region's geometric
- *     centre instead, for comparison: 4x the irradiance error on the real probes.)
+ *     centre instead, for comparison: a larger irradiance error on the real probes.)
  *   - Regions are rectangles of pixels, kept cropped to the bounding box of their luminance energy
  *     (dark margins carry no light); so every region is lit and every split adds a light.
  *   - The longer side of a region is measured on the sphere: its angular width is
@@ -66,8 +66,8 @@
  *
  * Memory: qibl_lightprobe_workspace_size(W, H, method) bytes, any alignment:
  *   8 (W + 1)(H + 1) for the SAT (48 (W + 1)(H + 1) with the five moment SATs of VARMIN)
- *   + 16 (H + 1) for the row tables + 8 for alignment. 1024 x 512: 4.2 MB (VARMIN 25 MB);
- *   4096 x 2048: 67 MB (VARMIN 403 MB). The lights array doubles as the list of regions while
+ *   + 16 (H + 1) for the row tables + 8 for alignment (docs/porting.md's generated memory
+ *   table lists it for three probe sizes). The lights array doubles as the list of regions while
  *   splitting; the stack use is a few hundred bytes.
  * Limits: W, H in 1..QIBL_LIGHTPROBE_MAX_DIM (32768), W H <= QIBL_LIGHTPROBE_MAX_PIXELS (2^26).
  * All functions are reentrant; the probe pixels must stay unchanged between build and lights.
@@ -133,7 +133,7 @@ typedef enum qibl_lightprobe_place {
 } qibl_lightprobe_place_t;
 
 /* The probe. Zero-initialisable: set pixels, width, height; format 0 is RGBE, stride 0 means rows
- * are tightly packed (4 or 12 bytes per pixel by format). */
+ * are tightly packed (4-byte or 12-byte pixels by format). */
 typedef struct qibl_lightprobe_image {
     const void *pixels;
     uint32_t width, height;

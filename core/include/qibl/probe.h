@@ -30,19 +30,19 @@
  *     |L_lm - exact| <= 2^-26 B' + 2^-29 max |L|,   B' = sum_v W M_v dw_v,
  * M_v the largest channel value of row v (B' <= 4 pi max P; for rows of even brightness it is about
  * the probe's total sum P dw); for RGBE, M_v = 2^(emax_v - 128) from the row's largest lit exponent
- * (the row is scaled from its exponents alone: equal to the largest value within 2x when the largest
+ * (the row is scaled from its exponents alone: equal to the largest value within a factor of two when the largest
  * channel's mantissa is in 128..255, as Radiance's encoders write it; 7 bits lost at worst). Terms: each channel's rounding to its row scale (<= 2^-27 M_v, times
  * |Y| <= 0.85 and W pixels), the Q2.30 trig table and row factors (<= 2^-29 relative per pixel: the
  * basis of sh.h and the row weight's 32-bit sine), the 2^-62 rounding of each row sum, and in
  * finish the 32-bit constants and the output rounding (<= 2^-29 of the largest coefficient).
- * Measured: 3e-8 of max |L| on random probes; on the 11 fixture probes 1.6e-9 .. 3.6e-8, and 2.7e-7
- * on moonless_golf (a night probe: dim rows quantised against a few bright lamps).
+ * Measured errors are far below the bound, largest on night probes (dim rows quantised against a
+ * few bright lamps).
  * tests/probe_test.c measures it against a double reference (tools/ref/probe_ref.c) on every fixture
  * probe and on hard cases; `qibl bench probe` prints RESULT probe.sh_max_rel_err.
  *
  * Memory: qibl_probe_sh_workspace_size(W, H) bytes, any alignment: the accumulators (3 x 25 x 15
  * uint32 = 4500 bytes), the trig table (32 W/4 bytes, or 32 W if W % 4 != 0), one row of channel
- * integers (12 W) and a bitmap of the rows added (H / 8). 1024 x 512: 25 KB. Stack: under 1 KB.
+ * integers (12 W) and a bitmap of the rows added (H / 8). Stack: under 1 KiB.
  */
 #ifndef QIBL_PROBE_H
 #define QIBL_PROBE_H
@@ -117,8 +117,8 @@ QIBL_NODISCARD qibl_status_t qibl_probe_sh_begin(qibl_probe_sh_t *ps, uint32_t w
  * Cost: one pass over the row to find its scale and check it, one to convert it, then 1.5
  * (W % 4 == 0) or 8 multiply-adds per pixel and channel, and 3 x 25 accumulator additions per row.
  * With QIBL_CONFIG_SIMD == AVX2 the RGBE scan and conversion and the folded sums take 8 columns per
- * instruction (vpsrlvd, vpmuldq; the same integers, so the same bits as the scalar path): 1024 x 512
- * RGBE, gcc 12 -O3, ~2.1 ns per pixel against ~5.8 scalar/SSE2 (`qibl bench probe`). */
+ * instruction (vpsrlvd, vpmuldq; the same integers, so the same bits as the scalar path), faster
+ * than scalar/SSE2 (`qibl bench probe` measures both). */
 QIBL_NODISCARD qibl_status_t qibl_probe_sh_add_row(qibl_probe_sh_t *ps, uint32_t v, const void *row);
 
 /* The coefficients of the rows added so far, with opts applied (irradiance, window).

@@ -55,7 +55,7 @@ QIBL_NODISCARD qibl_status_t qibl_sh_eval_unit(const qibl_q30_t u[3], int bands,
 /* ---- rotation ------------------------------------------------------------------------------ */
 
 /* A rotation of SH coefficients, bands 0..bands-1: one (2l+1) x (2l+1) matrix D^l per band, Q2.30,
- * row-major, band after band (1 + 9 + 25 + 49 + 81 = 165 entries for 5 bands). 664 bytes. */
+ * row-major, band after band (1 + 9 + 25 + 49 + 81 = 165 entries for 5 bands): 4 + 4 x 165 = 664 bytes. */
 #define QIBL_SH_ROT_ENTRIES 165
 typedef struct qibl_sh_rotation {
     int32_t bands;

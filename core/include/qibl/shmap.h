@@ -64,8 +64,8 @@ typedef enum qibl_lut_filter {
     QIBL_LUT_NEAREST,      /* the texel the direction falls in: cheapest, error ~ texel size */
     /* No LUT (one passed to prepare is checked, then ignored): Y_i from the SH recurrences with int16
      * operands in Q2.14/Q3.13, 1/|L| from fixed.c's seed table and one Newton step; pixel by pixel,
-     * no workspace traffic. The fastest point mode (Cortex-M4, k = 9: 679 instructions per pixel
-     * against 1800 for direct SH; x86 k = 16: 1036 against 1414 for LUT 32^2) and as accurate as
+     * no workspace traffic. The fastest point mode (fewer instructions per pixel than direct SH on
+     * Cortex-M4 and than LUT 32^2 on x86: docs/porting.md, `qibl bench relight`) and as accurate as
      * direct SH (bounds at qibl_shmap_point_span). Its own goldens (relight_point_k*_poly*). */
     QIBL_POINT_POLY
 } qibl_lut_filter_t;
@@ -146,7 +146,7 @@ QIBL_NODISCARD qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, con
 /* ---- point lights ---------------------------------------------------------------------------- */
 
 /* Prepares a point light for maps m, point map p (same size) and optionally a cube-map LUT (NULL:
- * direct SH evaluation). No workspace: the state holds all it needs (about 400 bytes).
+ * direct SH evaluation). No workspace: the state holds all it needs (sizeof(qibl_shmap_point_t)).
  * Errors: those of qibl_shmap_check, QIBL_E_SHMAP_MISMATCH (P map or LUT does not fit the maps: LUT
  * k below the maps' or above 25, face size outside 1..QIBL_YLUT_MAX_FACE), QIBL_E_SHMAP_LUT_SHORT
  * (lut->size below the 12 N N k bytes its fields need), QIBL_E_SHMAP_LIGHT (negative colour or
@@ -169,7 +169,7 @@ size_t qibl_shmap_point_workspace_size(uint32_t k, uint32_t n);
  * vector to 2 LSB of Q2.14, each Y_i to a few LSB of Q2.14; the factors scale_i and bias_i rounded
  * to 2^-15 and 2^-14 of the channel's largest, then every product summed exactly (int64 for
  * Y scale c, int32 for Y bias: sum |Y_i| <= k / sqrt(4 pi)) and rounded once; C0 and the attenuation
- * to 15 bits. Measured: max error / sum|T Y| att C0 about 1e-5 (direct SH 2e-5, LUT 32^2 1.3e-3).
+ * to 15 bits. tests/shmap_test.c measures max error / sum|T Y| att C0 against each mode's bound.
  * Errors: QIBL_E_NULL_POINTER, QIBL_E_SHMAP_BOUNDS, QIBL_E_WORKSPACE, QIBL_E_WORKSPACE_ALIGN (ws not on a
  * 4-byte boundary, whatever the method); nothing written. */
 QIBL_NODISCARD qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out,

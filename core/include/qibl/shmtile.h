@@ -2,7 +2,7 @@
  * qibl/shmtile.h - SH maps stored per 16x16 tile with the bands each tile needs (adaptive k).
  *
  * The unshadowed transfer (cosine x BRDF) is smooth over most of a panorama: most tiles keep their
- * light to within 1 % with k = 9 and some with k = 4, only tiles on sharp normal or material edges
+ * light to within a percent with k = 9 and some with k = 4, only tiles on sharp normal or material edges
  * need 16. Chunk SHMT stores the unshadowed maps that way (it replaces SHMU in an asset; a reader
  * takes either). Every tile keeps the first k_t of the kmax bands, with the same 8-bit packing
  * (scale, bias per map and channel) as the whole set, so a dropped band is exactly a zero

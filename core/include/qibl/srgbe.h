@@ -11,7 +11,7 @@
  *
  * which is the paper's decode ([R,G,B] - 0.5) * exp2(255 * A - 126) with the texel values
  * [R,G,B] = X / 255 and A = E / 255. A channel is an odd multiple of 2^e / 510 (half the step
- * 2^e / 255 between codes): 2X - 255 runs over -255, -253, ..., 253, 255.
+ * 2^e / 255 between codes): 2X - 255 takes the odd values -255, -253, ..., 253, 255.
  *
  * Encoding follows the paper's rule:
  *     e = floor(log2(max(|r|, |g|, |b|))) + 2,    E = e + 126,
@@ -50,7 +50,7 @@
  * every finite channel c of an in-range pixel, with e the exponent chosen for the pixel,
  *     |c - decode(encode(c))| <= 2^e / 510    (half a step; the exact decoded value),
  * with equality only for zero channels. For the largest channel this is a relative error below
- * 4/510 = 0.79 %. The binary32 decoder adds its own correct rounding (<= 1/2 ulp of the result,
+ * 4/510 of its value. The binary32 decoder adds its own correct rounding (<= 1/2 ulp of the result,
  * at most 2^(e-25)); the fixed-point decoder adds <= 1/2 LSB of its output format.
  *
  * GLES: a shader that samples the RGBA8 texel t and computes (t.rgb - 0.5) * exp2(t.a * 255.0 -
@@ -60,7 +60,7 @@
  * precision (fp32: E <= 253; mediump: far fewer). tests/srgbe_test.c checks this in binary32.
  *
  * Memory: no workspace; one 1 KiB const table (binary32 decode). Codes are byte arrays with no
- * alignment requirement. qibl_srgbe_encode_f32_n uses about 480 bytes of stack where
+ * alignment requirement. qibl_srgbe_encode_f32_n uses a few hundred bytes of stack where
  * QIBL_CONFIG_SRGBE_BLOCKS is 1 and QIBL_CONFIG_SIMD scalar (config.h), a few words elsewhere.
  * All functions are reentrant; inputs may be any values (no precondition beyond valid pointers).
  */

@@ -55,7 +55,7 @@
  * smallest shift that fits the coordinate's range; 0 for scenes up to 256 units across), stored as
  * three bytes of an RGB texture; the shader rebuilds it exactly in highp. Error: 2^(s-1) Q16.16
  * LSB (none for s = 0). sRGBE would cost up to 1/255 of the largest coordinate of the point
- * (0.4 %, i.e. a visible shift of near-light pixels); three textures instead of one is its price.
+ * (a visible shift of near-light pixels); three textures instead of one is its price.
  * LUT encoding: each Q2.14 value as 16 bits (value + 32768) in two channels, two maps per RGBA
  * cube map texture; bilinear filtering is linear, so filtering the bytes then combining them is
  * filtering the value (to the GPU's filter precision).
