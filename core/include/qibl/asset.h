@@ -158,7 +158,7 @@ uint32_t qibl_crc32_fast(const uint32_t *table, uint32_t crc, const uint8_t *dat
  * table); QIBL_E_ASSET_TRUNCATED_TABLE (n below header + table), QIBL_E_ASSET_TRUNCATED (n <
  * file_size); QIBL_E_ASSET_TABLE_CRC; per entry _CHUNK_MISALIGNED, _CHUNK_PAST_END, then against each
  * earlier entry _DUPLICATE_CHUNK (a known type twice) and _CHUNK_OVERLAP; _MISSING_CHUNK (no SHMP);
- * _CHUNK_CRC (first entry in table order); then SHMP's fields (_CHUNK_SIZE for fewer than 20 bytes,
+ * _CHUNK_CRC (first entry in table order); then SHMP's fields (_CHUNK_SIZE short of its 20-byte part,
  * _BAD_DIMENSIONS, _BAD_K, _BAD_CHANNELS, _BAD_FLAGS, _SIZE_OVERFLOW, _CHUNK_SIZE), PMAP's
  * (_CHUNK_SIZE, _BAD_DIMENSIONS, _MISMATCH, _BAD_FLAGS, _CHUNK_SIZE), YLUT's (_CHUNK_SIZE,
  * _BAD_DIMENSIONS, _BAD_K, _MISMATCH (k below SHMP's), _BAD_FLAGS, _CHUNK_SIZE), SHMU's (as SHMP's,
