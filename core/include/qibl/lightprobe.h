@@ -180,7 +180,7 @@ typedef struct qibl_lightprobe {
     int32_t emax;          /* RGBE: the largest exponent byte of a lit pixel (0: none) */
     uint32_t mshift;       /* moment SATs hold sums of e >> mshift */
     uint64_t *sat;         /* (W + 1) (H + 1): row 0 and column 0 are zero */
-    uint64_t *mom;         /* 4 (W + 1) (H + 1) for VARMIN: e u, e u^2, e v, e v^2; else NULL */
+    uint64_t *mom;         /* 5 (W + 1) (H + 1) for VARMIN: em, em u, em u^2, em v, em v^2; else NULL */
     uint32_t *row_sig;     /* H: sin theta_v mantissa in [2^31, 2^32) */
     int32_t *row_kap;      /* H: sin theta_v = row_sig * 2^-(32 + row_kap) */
     uint64_t *row_sum;     /* H + 1: prefix sums of sin theta_v in Q31 (for widths on the sphere) */
