@@ -32,6 +32,7 @@
 #include "study/study.h"
 #include "ref/sh_ref.h"
 #include "render/rt.h"
+#include "transfer/run.h"
 #include "twin/hemi_scalar.h"
 
 #ifndef QIBL_BENCH_CORE_FLAGS
@@ -696,10 +697,17 @@ static void bench_scenes(int quick)
         double best = 0, best_err = 0, base_err = 1e9;
         const char *best_cfg = "";
         for (int hier = 0; hier <= (sc[i].coarse > 0); ++hier) {
-            qcli_transfer_stats st;
-            if (qcli_transfer_measure(files, sc[i].nframes, sc[i].zup, probe, 32, SCENE_FACE, rs, hier ? sc[i].coarse : 0,
-                                      hier ? sc[i].ring : 3, 1, &st) != 0)
+            const qtool_transfer_opts to = {.files = files, .nfiles = sc[i].nframes, .zup = sc[i].zup, .probe = probe,
+                                            .mask = 32, .face = SCENE_FACE, .rays = rs, .coarse = hier ? sc[i].coarse : 0,
+                                            .ring = hier ? sc[i].ring : 3, .pvs = 1, .tween = 1,
+                                            .threads = qcli_default_threads()};
+            qtool_transfer_result st;
+            char terr[600];
+            if (qtool_transfer_measure(&to, &st, terr, sizeof terr) != 0) {
+                fprintf(stderr, "qibl: transfer: %s\n", terr);
                 continue;
+            }
+            qtool_transfer_result_free(&st); /* nothing was kept; the figures stay */
             const double fps = st.ms_per_frame > 0 ? 1e3 / st.ms_per_frame : 0;
             const double fps_pvs = st.pvs_ms_per_frame > 0 ? 1e3 / st.pvs_ms_per_frame : 0;
             /* against the 4096-ray reference of the issue: the ray cast's time scaled from its S x S rays
