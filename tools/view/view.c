@@ -14,8 +14,7 @@
 #include "qibl/probe.h"
 #include "qibl/sh.h"
 #include "qibl/soft.h"
-
-#define VIEW_PI 3.14159265358979323846
+#include "qtool.h"
 
 int qtool_view_init(qtool_view *v, const qibl_shmaps_t *m)
 {
@@ -33,7 +32,7 @@ int qtool_view_init(qtool_view *v, const qibl_shmaps_t *m)
 
 void qtool_view_sun_q16(const qtool_view *v, qibl_q16_t dir[3])
 {
-    double a = (v->az + v->yaw) * VIEW_PI / 180.0, e = v->el * VIEW_PI / 180.0;
+    double a = (v->az + v->yaw) * QTOOL_PI / 180.0, e = v->el * QTOOL_PI / 180.0;
     double d[3] = {cos(e) * cos(a), cos(e) * sin(a), sin(e)};
     for (int c = 0; c < 3; ++c)
         dir[c] = (qibl_q16_t)lrint(d[c] * 65536.0);
@@ -193,7 +192,7 @@ qibl_status_t qtool_view_light(const qtool_view *v, qibl_shlight_t *l)
         qibl_shlight_t p = v->scheme == QTOOL_VIEW_LIGHTS && v->have_lights ? v->probe_lights[v->cur_probe]
                                                                              : v->probe[v->cur_probe];
         if (v->yaw != 0.0) {
-            double t = v->yaw * VIEW_PI / 180.0, c = cos(t), s = sin(t);
+            double t = v->yaw * QTOOL_PI / 180.0, c = cos(t), s = sin(t);
             double r[3][3] = {{c, -s, 0}, {s, c, 0}, {0, 0, 1}}; /* about +z, as relight's --yaw */
             qibl_q30_t q[3][3];
             qibl_sh_rotation_t rot;
