@@ -12,6 +12,7 @@
 #include "cliutil.h"
 #include "io/hdr_write.h"
 #include "io/png.h"
+#include "transfer/export.h"
 #include "transfer/run.h"
 
 CLI_FIXTURES("/tmp/qibl_transfer_test_XXXXXX")
@@ -199,6 +200,67 @@ static void test_measure_refusals(void **state)
         assert_true(err[0] != '\0');
         assert_null(r.sheet), assert_null(r.transfer), assert_int_equal(r.nv, 0);
     }
+}
+
+/* --export: frame 0's transfer, which the core shades (qibl_hemi_xfer_shade_span under the run's
+ * light) to the very values the run's own shading gave, bit for bit; the command writes the bytes
+ * the library makes; refusals write nothing. */
+static void test_export_round_trip(void **state)
+{
+    (void)state;
+    char probe[128], mesh[128], xp[128], f2[128];
+    path_of(probe, sizeof probe, "sun.hdr"), path_of(mesh, sizeof mesh, "xbox.obj"), path_of(xp, sizeof xp, "b.qtr");
+    path_of(f2, sizeof f2, "xbox2.obj");
+    write_probe(probe, 1);
+    write_box(mesh, 1.0, 0, 0), write_box(f2, 0.5, 0.25, 0);
+    qtool_transfer_opts o = opts(0);
+    o.keep_transfer = 1;
+    qtool_transfer_result r = measure(mesh, NULL, probe, o);
+    assert_non_null(r.transfer), assert_non_null(r.shade);
+    uint8_t *b;
+    size_t n;
+    char err[600];
+    assert_int_equal(qtool_transfer_export_bytes((const qibl_q30_t(*)[25])r.transfer, r.nv, 5, &b, &n, err, sizeof err), 0);
+    qibl_hemi_xfer_t x;
+    assert_int_equal(qibl_hemi_xfer_open(&x, b, n), QIBL_OK);
+    assert_int_equal(x.count, r.nv);
+    qibl_q16_t(*out)[3] = malloc(sizeof *out * r.nv);
+    assert_non_null(out);
+    assert_int_equal(qibl_hemi_xfer_shade_span(&x, (const int32_t(*)[25])r.light, 0, r.nv, out), QIBL_OK);
+    assert_memory_equal(out, r.shade, sizeof *out * r.nv);
+    int lit = 0;
+    for (uint32_t v = 0; v < r.nv; ++v)
+        lit += out[v][1] > 0;
+    assert_true(lit > 0); /* not an all-black comparison */
+    if (find_qibl() == 0) { /* the command too, when it is built */
+        assert_int_equal(run("transfer", mesh, "--probe", probe, "--rays", "0", "--export", xp, NULL), 0);
+        uint8_t *fb;
+        size_t fn;
+        assert_int_equal(qtool_transfer_export_read(xp, &fb, &fn, err, sizeof err), 0);
+        assert_int_equal(fn, n);
+        assert_memory_equal(fb, b, n);
+        free(fb);
+        char *log = text(outlog);
+        assert_non_null(strstr(log, "x 25 SH coefficients"));
+        free(log);
+        assert_int_equal(run("transfer", mesh, "--probe", probe, "--rays", "0", "--export", xp, "--export-bands", "3",
+                             NULL), 0);
+        assert_int_equal(qtool_transfer_export_read(xp, &fb, &fn, err, sizeof err), 0);
+        assert_int_equal(qibl_hemi_xfer_open(&x, fb, fn), QIBL_OK);
+        assert_int_equal(x.ncoef, 9);
+        free(fb);
+        remove(xp);
+        assert_int_equal(run("transfer", mesh, "--probe", probe, "--export", xp, "--export-bands", "6", NULL), 2);
+        assert_int_equal(run("transfer", mesh, f2, "--probe", probe, "--export", xp, NULL), 2);
+        assert_int_not_equal(access(xp, F_OK), 0);
+    }
+    /* the tools' reader refuses a file that is not an export, by name */
+    uint8_t *fb = NULL;
+    size_t fn = 0;
+    assert_int_equal(qtool_transfer_export_read(probe, &fb, &fn, err, sizeof err), -1);
+    assert_non_null(strstr(err, "QTRX"));
+    free(out), free(b);
+    qtool_transfer_result_free(&r);
 }
 
 static void test_animation_is_apng(void **state)
@@ -436,6 +498,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_box_floor_shadowed, setup, teardown),
         cmocka_unit_test_setup_teardown(test_pvs, setup, teardown),
         cmocka_unit_test_setup_teardown(test_measure_refusals, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_export_round_trip, setup, teardown),
         cmocka_unit_test_setup_teardown(test_animation_is_apng, setup, teardown),
         cmocka_unit_test_setup_teardown(test_lights, setup, teardown),
         cmocka_unit_test_setup_teardown(test_refusals_write_nothing, setup, teardown),

@@ -87,6 +87,12 @@ const char *qibl_status_str(qibl_status_t s)
     case QIBL_E_GONIO_UP:         return "gonio: up vector zero or parallel to the aim";
     case QIBL_E_GONIO_BOUNDS:     return "gonio: span outside the P map";
     case QIBL_E_WORKSPACE_ALIGN:  return "workspace not 4-byte aligned (declare it as uint32_t or int32_t)";
+    case QIBL_E_HEMI_XFER_SHORT:  return "transfer export shorter than its header";
+    case QIBL_E_HEMI_XFER_MAGIC:  return "not a transfer export (magic)";
+    case QIBL_E_HEMI_XFER_FORMAT: return "transfer export: version, bands, frac_bits, reserved or count unsupported";
+    case QIBL_E_HEMI_XFER_SIZE:   return "transfer export size differs from its fields";
+    case QIBL_E_HEMI_XFER_CRC:    return "transfer export CRC-32 mismatch";
+    case QIBL_E_HEMI_XFER_BOUNDS: return "span outside the exported vertices";
     case QIBL_STATUS_COUNT:   break;
     case QIBL_STATUS_SOFT_BASE: case QIBL_STATUS_GLES2_BASE: case QIBL_STATUS_BACKEND_END: break;
     }

@@ -107,6 +107,13 @@ typedef enum qibl_status {
     QIBL_E_GONIO_BOUNDS,           /* gonio: span outside the P map */
     /* workspaces (appended last so no earlier value moves) */
     QIBL_E_WORKSPACE_ALIGN,        /* caller workspace not on the 4-byte boundary the call needs */
+    /* exported transfer (hemi.h, qibl_hemi_xfer_*) */
+    QIBL_E_HEMI_XFER_SHORT,        /* hemi export: shorter than its 24-byte header */
+    QIBL_E_HEMI_XFER_MAGIC,        /* hemi export: not "QTRX" */
+    QIBL_E_HEMI_XFER_FORMAT,       /* hemi export: version, bands, frac_bits, reserved or count not as documented */
+    QIBL_E_HEMI_XFER_SIZE,         /* hemi export: size not the header plus count * bands^2 * 4 bytes */
+    QIBL_E_HEMI_XFER_CRC,          /* hemi export: payload CRC-32 mismatch */
+    QIBL_E_HEMI_XFER_BOUNDS,       /* hemi export: span past the vertices */
     QIBL_STATUS_COUNT,     /* number of core status values; not a status */
     /* Platform backends (platform/<name>/) return qibl_status_t too, with their errors in their own
      * range of 256 values from their base, defined in the backend's header; the core never returns
