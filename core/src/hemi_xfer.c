@@ -13,7 +13,7 @@
 
 #if QIBL_USE_HEMI && QIBL_USE_ASSET
 
-static uint32_t load_u16le(const uint8_t *p)
+static uint32_t xfer_load_u16le(const uint8_t *p)
 {
     return (uint32_t)p[0] | ((uint32_t)p[1] << 8);
 }
@@ -26,7 +26,7 @@ qibl_status_t qibl_hemi_xfer_open(qibl_hemi_xfer_t *x, const uint8_t *bytes, siz
         return QIBL_E_HEMI_XFER_SHORT;
     if (bytes[0] != 'Q' || bytes[1] != 'T' || bytes[2] != 'R' || bytes[3] != 'X')
         return QIBL_E_HEMI_XFER_MAGIC;
-    const uint32_t version = load_u16le(bytes + 4), bands = load_u16le(bytes + 6);
+    const uint32_t version = xfer_load_u16le(bytes + 4), bands = xfer_load_u16le(bytes + 6);
     const uint32_t count = qibl_load_u32le(bytes + 8), frac = qibl_load_u32le(bytes + 12);
     if (version != QIBL_HEMI_XFER_VERSION || bands < 3u || bands > 5u || frac != 30u ||
         qibl_load_u32le(bytes + 16) != 0u || count == 0u || count > QIBL_HEMI_XFER_MAX_VERTICES)
