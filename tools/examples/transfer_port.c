@@ -14,23 +14,38 @@
  */
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "qibl.h"
 
 /* ---- PLATFORM: however the platform gets bytes (file, ROM, archive); here stdio ------------- */
-static unsigned char *load_file(const char *path, size_t *size)
+/* The header first: the size its count and bands imply (at most the largest valid export) is
+ * checked before anything is allocated, then exactly that is read; the core validates the rest. */
+static unsigned char *load_export(const char *path, size_t *size)
 {
+    unsigned char h[QIBL_HEMI_XFER_HEADER_SIZE], *p = NULL;
     FILE *f = fopen(path, "rb");
-    unsigned char *p = NULL;
-    long n;
-    if (f != NULL && fseek(f, 0, SEEK_END) == 0 && (n = ftell(f)) > 0 && fseek(f, 0, SEEK_SET) == 0 &&
-        (p = malloc((size_t)n)) != NULL && fread(p, 1, (size_t)n, f) != (size_t)n) {
-        free(p);
-        p = NULL;
+    *size = 0;
+    if (f == NULL || fread(h, 1, sizeof h, f) != sizeof h) {
+        if (f != NULL)
+            fclose(f);
+        return NULL;
     }
-    if (f != NULL)
-        fclose(f);
-    *size = p != NULL ? (size_t)n : 0;
+    const unsigned long count = (unsigned long)h[8] | (unsigned long)h[9] << 8 | (unsigned long)h[10] << 16 |
+                                (unsigned long)h[11] << 24;
+    const unsigned bands = (unsigned)h[6] | (unsigned)h[7] << 8;
+    if (count >= 1 && count <= QIBL_HEMI_XFER_MAX_VERTICES && bands >= 3 && bands <= 5) {
+        const size_t n = QIBL_HEMI_XFER_HEADER_SIZE + (size_t)count * bands * bands * 4u;
+        p = malloc(n);
+        if (p != NULL) {
+            memcpy(p, h, sizeof h);
+            if (fread(p + sizeof h, 1, n - sizeof h, f) == n - sizeof h && fgetc(f) == EOF)
+                *size = n;
+            else
+                free(p), p = NULL; /* short, or longer than its fields say */
+        }
+    }
+    fclose(f);
     return p;
 }
 
@@ -70,9 +85,9 @@ int main(int argc, char **argv)
     }
     const int frames = argc == 3 ? atoi(argv[2]) : 8;
     size_t n;
-    unsigned char *bytes = load_file(argv[1], &n);
+    unsigned char *bytes = load_export(argv[1], &n);
     if (bytes == NULL || frames < 1) {
-        fprintf(stderr, "transfer_port: cannot read %s (or FRAMES < 1)\n", argv[1]);
+        fprintf(stderr, "transfer_port: cannot read %s as a transfer export (or FRAMES < 1)\n", argv[1]);
         free(bytes);
         return 1;
     }
