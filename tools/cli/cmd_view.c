@@ -17,21 +17,19 @@
     "usage: qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--lamp-rgb C0] [--exposure E]\n"          \
     "                 [--truth PNG|DIR] [--gles] [--bench [--frames N] [--headless] [--record OUT.png [--turn]]]"
 
-#define VIEW_BENCH_DEFAULT 600L
-#define VIEW_BENCH_MAX 1000000L
 
-/* the options of `qibl view`; defaults in vopts_default */
+/* the options of `qibl view` (the library's defaults: view/view.h) */
 typedef struct vopts {
     const char *in, *truth, *record;
     const char *probes[QTOOL_VIEW_MAX_PROBES];
     uint32_t nprobes;
-    int gles, bench, headless, have_sun, turn;
+    int gles, bench, headless, turn;
     long frames;
-    int32_t sun[3];
-    double exposure, lamp_c0; /* lamp_c0 0: the lamp's default C0 (as relight's --point) */
+    qibl_q16_t sun[3];
+    qtool_view_asset_opts asset; /* exposure, lamp C0 (0: the lamp's default C0, as relight's --point), sun */
 } vopts;
 
-static const vopts vopts_default = {.frames = VIEW_BENCH_DEFAULT, .exposure = 1.0};
+static const vopts vopts_default = {.frames = QTOOL_VIEW_BENCH_FRAMES_DEFAULT, .asset = QTOOL_VIEW_ASSET_OPTS_DEFAULT};
 
 /* --sun X Y Z at argv[i]: 0, or the usage error's status */
 static int parse_sun(char **argv, int i, vopts *o)
@@ -41,7 +39,7 @@ static int parse_sun(char **argv, int i, vopts *o)
             return qcli_usage_error("--sun: '%s' is not a number in the Q16.16 range", argv[i + 1 + c]);
     if (o->sun[0] == 0 && o->sun[1] == 0 && o->sun[2] == 0)
         return qcli_usage_error("--sun needs a non-zero direction");
-    o->have_sun = 1;
+    o->asset.sun = o->sun;
     return 0;
 }
 
@@ -62,10 +60,10 @@ static int parse(int argc, char **argv, vopts *o)
             o->probes[o->nprobes++] = argv[++i];
         } else if (strcmp(a, "--exposure") == 0 && i + 1 < argc) {
             if (qcli_parse_num(a, argv[++i], QTOOL_VIEW_EXPOSURE_MIN / 65536.0, QTOOL_VIEW_EXPOSURE_MAX / 65536.0,
-                               "the viewer's exposure range", &o->exposure) != 0)
+                               "the viewer's exposure range", &o->asset.exposure) != 0)
                 return 2;
         } else if (strcmp(a, "--lamp-rgb") == 0 && i + 1 < argc) {
-            if (qcli_parse_num(a, argv[++i], 1.0 / 65536, QTOOL_CLI_Q16_MAX, QTOOL_CLI_Q16_WHY, &o->lamp_c0) != 0)
+            if (qcli_parse_num(a, argv[++i], 1.0 / 65536, QTOOL_CLI_Q16_MAX, QTOOL_CLI_Q16_WHY, &o->asset.lamp_c0) != 0)
                 return 2;
         } else if (strcmp(a, "--truth") == 0 && i + 1 < argc)
             o->truth = argv[++i];
@@ -80,8 +78,8 @@ static int parse(int argc, char **argv, vopts *o)
         else if (strcmp(a, "--turn") == 0)
             o->turn = 1;
         else if (strcmp(a, "--frames") == 0 && i + 1 < argc) {
-            if (qcli_parse_int(argv[++i], 1, VIEW_BENCH_MAX, &o->frames) != 0)
-                return qcli_usage_error("--frames needs an integer in 1..%ld", VIEW_BENCH_MAX);
+            if (qcli_parse_int(argv[++i], 1, QTOOL_VIEW_BENCH_FRAMES_MAX, &o->frames) != 0)
+                return qcli_usage_error("--frames needs an integer in 1..%ld", QTOOL_VIEW_BENCH_FRAMES_MAX);
         } else if (a[0] != '-' && !o->in)
             o->in = a;
         else
@@ -145,9 +143,8 @@ int qcli_cmd_view(int argc, char **argv)
     }
     int rc = 1;
     qtool_view v;
-    const qtool_view_asset_opts ao = {.exposure = o.exposure, .lamp_c0 = o.lamp_c0, .sun = o.have_sun ? o.sun : NULL,
-                                      .lamp_default = qcli_point_default};
-    const int orc = qtool_view_open_asset(&v, bytes, n, o.in, &ao, note, sizeof note, err, sizeof err);
+    o.asset.lamp_default = qcli_point_default;
+    const int orc = qtool_view_open_asset(&v, bytes, n, o.in, &o.asset, note, sizeof note, err, sizeof err);
     if (note[0])
         fprintf(stderr, "qibl: note: %s\n", note);
     if (orc != 0) {

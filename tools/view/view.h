@@ -166,6 +166,12 @@ typedef struct qtool_view_asset_opts {
     int (*lamp_default)(const double *pts, size_t n, const double pos[3], int falloff, double *c0, double *dist);
 } qtool_view_asset_opts;
 
+/* the defaults of `qibl view`, in one place: exposure 1, the lamp's C0 from lamp_default, the
+ * initial sun; --bench's frame count and its cap */
+#define QTOOL_VIEW_ASSET_OPTS_DEFAULT {.exposure = 1.0, .lamp_c0 = 0, .sun = NULL, .lamp_default = NULL}
+#define QTOOL_VIEW_BENCH_FRAMES_DEFAULT 600L
+#define QTOOL_VIEW_BENCH_FRAMES_MAX 1000000L
+
 /* Fills v (qtool_view_init) for the asset's bytes (caller-owned, kept for the path scheme), name
  * naming it in messages: its maps, exposure, sun, the path scheme, and where it has a P map the lamp
  * (its maps, its occlusion when the LOCC chunk is usable, placed by qtool_view_pick, its C0). A
