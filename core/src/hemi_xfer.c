@@ -3,8 +3,9 @@
  * vectors, as `qibl transfer --export` writes them, validated once and shaded per span of vertices.
  *
  * Invariants: integer only, no heap, no state; every field is read byte by byte in little-endian
- * order (no cast of the caller's bytes, so any alignment works); the size check is done in 64-bit
- * unsigned arithmetic on 32-bit fields, so it cannot wrap. Magnitudes: |light| < 2^31, |v| < 2^31,
+ * order (no cast of the caller's bytes, so any alignment works); the size is computed in 32 bits
+ * after the count is capped (2^24 * 25 * 4 < 2^31: no wrap, and no 64-bit multiply helper on
+ * targets without one). Magnitudes: |light| < 2^31, |v| < 2^31,
  * each product < 2^62, shifted right by 14: < 2^48; 25 of them: < 2^53 in int64.
  */
 #include "qibl/hemi.h"
@@ -31,11 +32,11 @@ qibl_status_t qibl_hemi_xfer_open(qibl_hemi_xfer_t *x, const uint8_t *bytes, siz
     if (version != QIBL_HEMI_XFER_VERSION || bands < 3u || bands > 5u || frac != 30u ||
         qibl_load_u32le(bytes + 16) != 0u || count == 0u || count > QIBL_HEMI_XFER_MAX_VERTICES)
         return QIBL_E_HEMI_XFER_FORMAT;
-    const uint64_t payload = (uint64_t)count * bands * bands * 4u; /* < 2^24 * 25 * 4 < 2^31 */
-    if ((uint64_t)n != QIBL_HEMI_XFER_HEADER_SIZE + payload)
+    const uint32_t payload = count * bands * bands * 4u; /* count <= 2^24: < 2^24 * 100 < 2^31, no wrap */
+    if (n - QIBL_HEMI_XFER_HEADER_SIZE != (size_t)payload) /* n >= the header: no wrap */
         return QIBL_E_HEMI_XFER_SIZE;
     const uint8_t *p = bytes + QIBL_HEMI_XFER_HEADER_SIZE;
-    if (qibl_crc32(0u, p, (size_t)payload) != qibl_load_u32le(bytes + 20))
+    if (qibl_crc32(0u, p, payload) != qibl_load_u32le(bytes + 20))
         return QIBL_E_HEMI_XFER_CRC;
     x->payload = p, x->count = count, x->bands = bands, x->ncoef = bands * bands;
     return QIBL_OK;
