@@ -243,6 +243,25 @@ static void test_export_round_trip(void **state)
         char *log = text(outlog);
         assert_non_null(strstr(log, "x 25 SH coefficients"));
         free(log);
+        /* --export-c: the same bytes as a C array named after the file */
+        char hp[128];
+        path_of(hp, sizeof hp, "9box.h");
+        assert_int_equal(run("transfer", mesh, "--probe", probe, "--rays", "0", "--export-c", hp, NULL), 0);
+        char *h = text(hp);
+        char def[64];
+        snprintf(def, sizeof def, "#define qtr_9box_SIZE %zuu", n);
+        assert_non_null(strstr(h, def));
+        const char *q = strstr(h, "static const unsigned char qtr_9box[qtr_9box_SIZE] = {");
+        assert_non_null(q);
+        q = strchr(q, '{') + 1;
+        for (size_t k = 0; k < n; ++k) {
+            char *end;
+            const unsigned long byte = strtoul(q, &end, 16);
+            assert_true(end != q && byte == b[k]);
+            q = end + (*end == ',');
+        }
+        assert_non_null(strstr(q, "};"));
+        free(h);
         assert_int_equal(run("transfer", mesh, "--probe", probe, "--rays", "0", "--export", xp, "--export-bands", "3",
                              NULL), 0);
         assert_int_equal(qtool_transfer_export_read(xp, &fb, &fn, err, sizeof err), 0);

@@ -3,8 +3,9 @@
  * hemispherical rasterization (qibl/hemi.h) under a real probe's SH, beside the ray-cast reference
  * and the error. The computation is tools/transfer (transfer/run.h: qtool_transfer_measure); this
  * command parses the options into its struct, calls it, prints the report and writes the picture
- * (an APNG when several MESH files are frames of one animation). --export writes a static mesh's
- * per-vertex transfer vectors for an engine to shade (transfer/export.h, qibl_hemi_xfer_*).
+ * (an APNG when several MESH files are frames of one animation). --export (a file) and --export-c
+ * (a C array) write a static mesh's per-vertex transfer vectors for an engine to shade
+ * (transfer/export.h, qibl_hemi_xfer_*).
  */
 #include <math.h>
 #include <stdio.h>
@@ -14,12 +15,13 @@
 #include "cli/cli.h"
 #include "io/png.h"
 #include "transfer/export.h"
+#include "io/atomic.h"
 #include "transfer/run.h"
 
 #define TRANSFER_USAGE                                                                                        \
     "usage: qibl transfer MESH [MESH...] --probe PROBE.hdr [--layout L] [--png OUT] [--size N] [--mask 16|32|64]\n" \
     "                     [--face F] [--rays S] [--coarse T [--ring K]] [--pvs] [--lights N] [--tween N] [--zup] [--flip] [--skip-adjacent] [--view AZ,EL] [--threads N]\n" \
-    "                     [--export FILE.qtr [--export-bands 3|4|5]]"
+    "                     [--export FILE.qtr] [--export-c FILE.h] [--export-bands 3|4|5]"
 
 static int parse_view(const char *s, double *az, double *el)
 {
@@ -87,8 +89,13 @@ static int parse_int_opt(const int_opt *t, int n, int argc, char **argv, int *i,
 }
 
 /* the report of a finished run, as the command has always printed it */
-static void report(const qtool_transfer_opts *o, const qtool_transfer_result *r, const char *png, const char *xp,
-                   int bands)
+/* where --export and --export-c go, and how many bands */
+typedef struct exports {
+    const char *qtr, *c;
+    int bands;
+} exports;
+
+static void report(const qtool_transfer_opts *o, const qtool_transfer_result *r, const char *png, const exports *x)
 {
     printf("transfer: %s%s: %u vertices, %u triangles, %u frame%s; %s%s; probe %s (%s)\n", o->files[0],
            o->nfiles > 1 ? " ..." : "", r->nv, r->nt, r->nframes, r->nframes > 1 ? "s" : "",
@@ -131,21 +138,37 @@ static void report(const qtool_transfer_opts *o, const qtool_transfer_result *r,
     }
     if (png)
         printf("  wrote %s (%dx%d%s)\n", png, r->sheet_w, r->sheet_h, r->nframes > 1 ? ", animated" : "");
-    if (xp)
-        printf("  exported %s: %u vertices x %d SH coefficients, Q2.30 world-space transfer (%u bytes)\n", xp, r->nv,
-               bands * bands, QIBL_HEMI_XFER_HEADER_SIZE + r->nv * (uint32_t)(bands * bands) * 4u);
+    for (int k = 0; k < 2; ++k)
+        if (k ? x->c : x->qtr)
+            printf("  exported %s: %u vertices x %d SH coefficients, Q2.30 world-space transfer (%u bytes%s)\n",
+                   k ? x->c : x->qtr, r->nv, x->bands * x->bands,
+                   QIBL_HEMI_XFER_HEADER_SIZE + r->nv * (uint32_t)(x->bands * x->bands) * 4u, k ? " as a C array" : "");
+}
+
+/* frame 0's transfer into the export file and/or the C header; 0 or -1 with err */
+static int write_exports(const qtool_transfer_result *r, const exports *x, char *err, size_t errlen)
+{
+    uint8_t *b;
+    size_t n;
+    if (qtool_transfer_export_bytes((const qibl_q30_t(*)[QIBL_HEMI_COEFFS])r->transfer, r->nv, x->bands, &b, &n, err,
+                                    errlen) != 0)
+        return -1;
+    int rc = x->qtr ? qtool_io_write_atomic(x->qtr, b, n, err, errlen) : 0;
+    if (rc == 0 && x->c)
+        rc = qtool_transfer_export_write_c(x->c, b, n, NULL, err, errlen);
+    free(b);
+    return rc;
 }
 
 /* the run, the picture and the report; 0 or 1 */
-static int transfer_main(const qtool_transfer_opts *o, const char *png, const char *xp, int bands)
+static int transfer_main(const qtool_transfer_opts *o, const char *png, const exports *x)
 {
     qtool_transfer_result r;
     char err[600];
     if (qtool_transfer_measure(o, &r, err, sizeof err) != 0)
         return fprintf(stderr, "qibl: transfer: %s\n", err), 1;
     int rc = 0;
-    if (xp && qtool_transfer_export_write(xp, (const qibl_q30_t(*)[QIBL_HEMI_COEFFS])r.transfer, r.nv, bands, err,
-                                          sizeof err) != 0)
+    if (o->keep_transfer && write_exports(&r, x, err, sizeof err) != 0)
         fprintf(stderr, "qibl: transfer: %s\n", err), rc = 1;
     if (rc == 0 && png) {
         const int wr = r.nframes > 1 ? qtool_apng_write_rgb8(png, r.sheet_w, r.sheet_h, (int)r.nframes, r.sheet, 1, 8,
@@ -155,7 +178,7 @@ static int transfer_main(const qtool_transfer_opts *o, const char *png, const ch
             fprintf(stderr, "qibl: %s\n", err), rc = 1;
     }
     if (rc == 0)
-        report(o, &r, png, xp, bands);
+        report(o, &r, png, x);
     qtool_transfer_result_free(&r);
     return rc;
 }
@@ -163,8 +186,8 @@ static int transfer_main(const qtool_transfer_opts *o, const char *png, const ch
 int qcli_cmd_transfer(int argc, char **argv)
 {
     char *files[QTOOL_TRANSFER_MAX_FRAMES];
-    const char *png = NULL, *layout = NULL, *xp = NULL;
-    int bands = QTOOL_TRANSFER_EXPORT_BANDS_DEFAULT;
+    const char *png = NULL, *layout = NULL;
+    exports x = {.qtr = NULL, .c = NULL, .bands = QTOOL_TRANSFER_EXPORT_BANDS_DEFAULT};
     qtool_transfer_opts o = QTOOL_TRANSFER_OPTS_DEFAULT;
     o.threads = 0; /* 0 until given: the job's CPUs */
     const int_opt ints[] = {
@@ -177,7 +200,7 @@ int qcli_cmd_transfer(int argc, char **argv)
         {"--face", 2, QIBL_HEMI_MAX_FACE, even, &o.face, "--face needs an even integer in 2.." STR(QIBL_HEMI_MAX_FACE)},
         {"--rays", 0, 256, any, &o.rays, "--rays needs S in 0..256 (S x S rays per vertex; 0: no reference)"},
         {"--threads", 1, 256, any, &o.threads, "--threads needs an integer in 1..256"},
-        {"--export-bands", 3, 5, bands_ok, &bands, "--export-bands needs 3, 4 or 5 (9, 16 or 25 coefficients)"},
+        {"--export-bands", 3, 5, bands_ok, &x.bands, "--export-bands needs 3, 4 or 5 (9, 16 or 25 coefficients)"},
     };
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
@@ -193,7 +216,9 @@ int qcli_cmd_transfer(int argc, char **argv)
         else if (strcmp(a, "--layout") == 0 && more)
             layout = argv[++i];
         else if (strcmp(a, "--export") == 0 && more)
-            xp = argv[++i];
+            x.qtr = argv[++i];
+        else if (strcmp(a, "--export-c") == 0 && more)
+            x.c = argv[++i];
         else if (strcmp(a, "--zup") == 0)
             o.zup = 1;
         else if (strcmp(a, "--flip") == 0)
@@ -215,14 +240,14 @@ int qcli_cmd_transfer(int argc, char **argv)
     }
     if (o.nfiles == 0 || !o.probe)
         return qcli_usage_error(TRANSFER_USAGE);
-    if (xp && o.nfiles > 1)
+    if ((x.qtr || x.c) && o.nfiles > 1)
         return qcli_usage_error("--export is for a static mesh: one MESH, not %d frames", o.nfiles);
     if (qcli_parse_only) /* fuzz_cliopts: the options only */
         return 0;
-    o.files = files, o.sheet = png != NULL, o.keep_transfer = xp != NULL;
+    o.files = files, o.sheet = png != NULL, o.keep_transfer = x.qtr || x.c;
     if (o.threads == 0)
         o.threads = qcli_default_threads();
     if (layout && qtool_probe_layout_parse(layout, &o.layout) != 0)
         return qcli_usage_error("--layout: unknown layout '%s'", layout), 1;
-    return transfer_main(&o, png, xp, bands);
+    return transfer_main(&o, png, &x);
 }

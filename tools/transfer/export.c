@@ -4,6 +4,8 @@
  */
 #include "transfer/export.h"
 
+#include <ctype.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -57,6 +59,41 @@ int qtool_transfer_export_write(const char *path, const qibl_q30_t (*t)[QIBL_HEM
     const int rc = qtool_io_write_atomic(path, b, n, err, errlen);
     free(b);
     return rc;
+}
+
+/* a C identifier from path's stem */
+static void ident_of(const char *path, char *out, size_t cap)
+{
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    size_t k = 0;
+    if (isdigit((unsigned char)base[0]) || base[0] == '.' || base[0] == '\0')
+        k = (size_t)snprintf(out, cap, "qtr_");
+    for (const char *c = base; *c && *c != '.' && k + 1 < cap; ++c)
+        out[k++] = isalnum((unsigned char)*c) ? *c : '_';
+    out[k] = '\0';
+}
+
+int qtool_transfer_export_write_c(const char *path, const uint8_t *bytes, size_t n, const char *ident, char *err,
+                                  size_t errlen)
+{
+    char id[96];
+    if (ident)
+        snprintf(id, sizeof id, "%s", ident);
+    else
+        ident_of(path, id, sizeof id);
+    qtool_io_atomic a;
+    if (qtool_io_atomic_open(&a, path, err, errlen) != 0)
+        return -1;
+    fprintf(a.f, "/* %s: a qibl transfer export (`qibl transfer --export-c`), the layout of qibl/hemi.h;\n"
+                 " * validate with qibl_hemi_xfer_open(&x, %s, %s_SIZE), shade with qibl_hemi_xfer_shade_span. */\n"
+                 "#define %s_SIZE %zuu\n"
+                 "static const unsigned char %s[%s_SIZE] = {",
+            path, id, id, id, n, id, id);
+    for (size_t i = 0; i < n; ++i)
+        fprintf(a.f, "%s0x%02x%s", i % 16 ? " " : "\n    ", bytes[i], i + 1 < n ? "," : "");
+    fprintf(a.f, "\n};\n");
+    return qtool_io_atomic_commit(&a, err, errlen);
 }
 
 static const char *export_magic(const uint8_t *head, size_t n)

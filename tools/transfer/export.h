@@ -24,6 +24,13 @@ int qtool_transfer_export_bytes(const qibl_q30_t (*t)[QIBL_HEMI_COEFFS], uint32_
 int qtool_transfer_export_write(const char *path, const qibl_q30_t (*t)[QIBL_HEMI_COEFFS], uint32_t nv, int bands,
                                 char *err, size_t errlen);
 
+/* The same bytes as a C header for a build without a file system (ROM): `static const unsigned
+ * char IDENT[N]` (N = IDENT_SIZE, a #define) that qibl_hemi_xfer_open takes as it is; IDENT made of
+ * the file name's stem (letters, digits, '_'; "qtr_" before a leading digit) unless ident is given.
+ * Written atomically; 0, or -1 with a one-line reason naming path. */
+int qtool_transfer_export_write_c(const char *path, const uint8_t *bytes, size_t n, const char *ident, char *err,
+                                  size_t errlen);
+
 /* Reads an export (magic checked, at most the largest valid size) into a malloc'd buffer; the core
  * validates the rest (qibl_hemi_xfer_open). 0, or -1 with a one-line reason naming path. */
 int qtool_transfer_export_read(const char *path, uint8_t **buf, size_t *n, char *err, size_t errlen);
