@@ -34,22 +34,7 @@ int qcli_cmd_info(int argc, char **argv);
 int qcli_cmd_gen(int argc, char **argv);
 int qcli_cmd_relight(int argc, char **argv);
 int qcli_cmd_view(int argc, char **argv); /* cmd_view.c */
-int qcli_cmd_transfer(int argc, char **argv); /* cmd_transfer.c */
-/* What `qibl transfer` measures, for the bench: vertices, triangles, frames, hemi ms per frame on
- * one core, mean relative L2 error of V* against the ray cast, its noise, the shading error. */
-typedef struct qcli_transfer_stats {
-    uint32_t nv, nt, nframes;
-    double ms_per_frame, l2err, ref_noise, shade_err;
-    double share[4];          /* of the hemi time: transform, rasterization, integration, other */
-    double ref_ms_per_frame;  /* the ray cast's CPU time (0 without one) */
-    double blockers, rasterized; /* per vertex: triangles tested, rasterized (above the horizon) */
-    double pvs_blockers, pvs_ms_per_frame, pvs_diff; /* with pvs: per vertex, hemi time, masks that differed */
-} qcli_transfer_stats;
-/* `qibl transfer` without pictures or report (rays = S, S x S per vertex; coarse > 0: the two-level
- * hierarchy, coarse triangles + `ring` rings of the full mesh; pvs: also timed from each vertex's PVS over the
- * frames, masks compared); 0, or 1 after printing the error. */
-int qcli_transfer_measure(char **files, int nframes, int zup, const char *probe, int mask, int face, int rays,
-                          int coarse, int ring, int pvs, qcli_transfer_stats *st);
+int qcli_cmd_transfer(int argc, char **argv); /* cmd_transfer.c (the computation: transfer/run.h) */
 int qcli_cmd_lights(int argc, char **argv);
 int qcli_cmd_probe(int argc, char **argv); /* cmd_probe_info.c: `qibl probe info` */
 int qcli_cmd_study(int argc, char **argv); /* cmd_study.c */
