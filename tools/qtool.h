@@ -5,6 +5,7 @@
 #ifndef QTOOL_QTOOL_H
 #define QTOOL_QTOOL_H
 
+#include <stdarg.h>
 #include <stddef.h>
 
 #define QTOOL_PI 3.14159265358979323846
@@ -26,5 +27,18 @@
 __attribute__((format(printf, 3, 4)))
 #endif
 int qtool_errf(char *err, size_t errlen, const char *fmt, ...);
+
+/* As qtool_errf, prefixed by where the fault is: "name:line: message" (line > 0), "name: message"
+ * (line <= 0) or the bare message (name NULL), so each reader names its input one way. */
+#if defined(__GNUC__) || defined(__clang__)
+__attribute__((format(printf, 5, 6)))
+#endif
+int qtool_errf_at(char *err, size_t errlen, const char *name, long line, const char *fmt, ...);
+
+/* qtool_errf_at taking a va_list, for a reader whose own formatter carries its state. */
+#if defined(__GNUC__) || defined(__clang__)
+__attribute__((format(printf, 5, 0)))
+#endif
+int qtool_verrf_at(char *err, size_t errlen, const char *name, long line, const char *fmt, va_list ap);
 
 #endif
