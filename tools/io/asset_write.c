@@ -12,12 +12,13 @@
 
 #include "io/asset_write.h"
 #include "io/atomic.h"
+#include "qtool.h"
 
 static int fail(qtool_asset_builder *b, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(b->err, sizeof b->err, fmt, ap);
+    qtool_verrf_at(b->err, sizeof b->err, NULL, 0, fmt, ap);
     va_end(ap);
     return -1;
 }
