@@ -5,6 +5,8 @@
 #ifndef QTOOL_QTOOL_H
 #define QTOOL_QTOOL_H
 
+#include "qibl/status.h"
+
 #include <stdarg.h>
 #include <stddef.h>
 
@@ -20,6 +22,15 @@
 #define QTOOL_NODISCARD
 #endif
 #endif
+
+/* QTOOL_E_NOMEM: a tools library ran out of memory, where its callers take a qibl_status_t (the core
+ * never allocates, so it has no such status). The last value of the backend range, which no
+ * backend uses; qtool_status_str names it. */
+#define QTOOL_E_NOMEM ((qibl_status_t)(QIBL_STATUS_BACKEND_END - 1))
+
+/* A status's message: "out of memory" for QTOOL_E_NOMEM, else qibl_soft_status_str's (the core's
+ * and platform/soft's messages). */
+const char *qtool_status_str(qibl_status_t st);
 
 /* Formats a message into err (errlen bytes, always terminated; err NULL or errlen 0: nothing is
  * written) and returns -1, so a reader's error path is one line: `return qtool_errf(err, n, ...)`. */

@@ -21,7 +21,6 @@
 #include "qibl/soft.h"
 #include "qtool.h"
 #include "ref/sh_ref.h"
-#include "qtool.h"
 
 #define UNIT 4294967296.0 /* 2^32 */
 
@@ -771,7 +770,7 @@ int qtool_bake_relight8_lin(const uint8_t *asset, size_t n, const qtool_rt_light
     if (!pix || !row || !ws) {
         free(pix), free(row), free(ws);
         if (status)
-            *status = QIBL_E_NULL_POINTER;
+            *status = QTOOL_E_NOMEM;
         return -1;
     }
     qibl_fb_desc_t fb = {0};

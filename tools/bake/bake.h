@@ -126,7 +126,7 @@ void qtool_bake_lin_to8(const double *lin, uint32_t w, uint32_t h, uint8_t *rgb8
 /* The same with every option: lut_mode 0 direct SH, 1 LUT bilinear, 2 LUT nearest, 3 QIBL_POINT_POLY
  * (Q2.14 polynomials, no LUT); exposure UQ16.16
  * (0 = 1.0); srgb 0 = linear output. *status (may be NULL) gets the core's status on failure
- * (QIBL_E_NULL_POINTER stands for out of memory). rgb8 holds width * height * 3 bytes. */
+ * (QTOOL_E_NOMEM, tools/qtool.h, for out of memory). rgb8 holds width * height * 3 bytes. */
 int qtool_bake_relight8_ex(const uint8_t *asset, size_t n, const qtool_rt_light *l, int lut_mode, qibl_uq16_t exposure,
                            int srgb, uint8_t *rgb8, double *ms, qibl_status_t *status);
 /* The same, and when lin is not NULL also the linear frame the core computed (3 floats per pixel,

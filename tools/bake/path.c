@@ -17,7 +17,6 @@
 #include "qibl/soft.h"
 #include "qtool.h"
 #include "ref/sh_ref.h"
-#include "qtool.h"
 
 
 /* ---- parsing ------------------------------------------------------------------------------------- */
@@ -392,7 +391,7 @@ int qtool_bake_relight_path8_gonio(const uint8_t *asset, size_t n, const qtool_r
     if (!pix || !row || !prow || !ws) {
         free(pix), free(row), free(prow), free(ws);
         if (status)
-            *status = QIBL_E_NULL_POINTER;
+            *status = QTOOL_E_NOMEM;
         return -1;
     }
     qibl_fb_desc_t fb = qtool_bake_fb_srgb(pix, w, h);
@@ -586,7 +585,7 @@ int qtool_bake_relight_env8(const uint8_t *asset, size_t n, const qibl_shlight_t
     size_t wsn = qibl_shmap_span_workspace_size(w);
     void *ws = malloc(wsn);
     if (!pix || !row || !ws)
-        st = QIBL_E_NULL_POINTER;
+        st = QTOOL_E_NOMEM;
     qibl_fb_desc_t fb = qtool_bake_fb_srgb(pix, w, h);
     double t0 = qtool_bake_now();
     for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {

@@ -130,7 +130,7 @@ int qtool_bake_relight_tiled8(const uint8_t *asset, size_t n, const qtool_rt_lig
     if (!pix || !ptile || !row || !ws) {
         free(pix), free(ptile), free(row), free(ws);
         if (status)
-            *status = QIBL_E_NULL_POINTER;
+            *status = QTOOL_E_NOMEM;
         return -1;
     }
     qibl_fb_desc_t fb = qtool_bake_fb_srgb(pix, w, h);

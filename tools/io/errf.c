@@ -1,5 +1,6 @@
-/* io/errf.c - qtool_errf and qtool_errf_at (tools/qtool.h): the tools' one error formatter. */
+/* io/errf.c - qtool_errf and qtool_errf_at (tools/qtool.h): the tools' one error formatter; qtool_status_str. */
 #include "qtool.h"
+#include "qibl/soft.h"
 
 #include <stdarg.h>
 #include <stdio.h>
@@ -40,4 +41,9 @@ int qtool_errf_at(char *err, size_t errlen, const char *name, long line, const c
     qtool_verrf_at(err, errlen, name, line, fmt, ap);
     va_end(ap);
     return -1;
+}
+
+const char *qtool_status_str(qibl_status_t st)
+{
+    return st == QTOOL_E_NOMEM ? "out of memory" : qibl_soft_status_str(st);
 }
