@@ -13,8 +13,11 @@
 
 const char *qtool_study_method_name(int method)
 {
-    static const char *names[QTOOL_STUDY_METHOD_COUNT] = {"mediancut", "adaptive", "varmin",  "sh",    "refit-mc",
-                                                          "refit-vm",  "sun+sky",  "kmeans", "irropt"};
+    static const char *const names[QTOOL_STUDY_METHOD_COUNT] = {
+#define QTOOL_STUDY_METHOD_NAME_(name, text) text,
+        QTOOL_STUDY_METHOD_LIST(QTOOL_STUDY_METHOD_NAME_)
+#undef QTOOL_STUDY_METHOD_NAME_
+    };
     return method >= 0 && method < QTOOL_STUDY_METHOD_COUNT ? names[method] : "?";
 }
 

@@ -114,20 +114,27 @@ int qtool_study_refit(qtool_study_model *md, const qtool_study_gt *g);
 
 /* ---- methods (methods.c, kmeans.c, irropt.c, sunsky.c) ---------------------------------------- */
 
+/* The methods in value order (0 up) as X(name, text): the one list the enum and
+ * qtool_study_method_name's names are made from. */
+#define QTOOL_STUDY_METHOD_LIST(X)                                                                        \
+    X(QTOOL_STUDY_MEDIANCUT, "mediancut")                                                                 \
+    X(QTOOL_STUDY_ADAPTIVE, "adaptive")                                                                   \
+    X(QTOOL_STUDY_VARMIN, "varmin")                                                                       \
+    X(QTOOL_STUDY_SH, "sh")                                                                               \
+    X(QTOOL_STUDY_REFIT_MC, "refit-mc")                                                                   \
+    X(QTOOL_STUDY_REFIT_VM, "refit-vm")                                                                   \
+    X(QTOOL_STUDY_SUNSKY, "sun+sky")                                                                      \
+    X(QTOOL_STUDY_KMEANS, "kmeans")                                                                       \
+    X(QTOOL_STUDY_IRROPT, "irropt")
+
 enum {
-    QTOOL_STUDY_MEDIANCUT = 0,
-    QTOOL_STUDY_ADAPTIVE,
-    QTOOL_STUDY_VARMIN,
-    QTOOL_STUDY_SH,
-    QTOOL_STUDY_REFIT_MC,
-    QTOOL_STUDY_REFIT_VM,
-    QTOOL_STUDY_SUNSKY,
-    QTOOL_STUDY_KMEANS,
-    QTOOL_STUDY_IRROPT,
+#define QTOOL_STUDY_METHOD_ENUM_(name, text) name,
+    QTOOL_STUDY_METHOD_LIST(QTOOL_STUDY_METHOD_ENUM_)
+#undef QTOOL_STUDY_METHOD_ENUM_
     QTOOL_STUDY_METHOD_COUNT
 };
 
-/* "mediancut", "adaptive", "varmin", "sh", "refit-mc", "refit-vm", "sun+sky", "kmeans", "irropt" */
+/* the method's name from QTOOL_STUDY_METHOD_LIST, "?" for another number */
 const char *qtool_study_method_name(int method);
 
 /* The core's samplers (method MEDIANCUT, ADAPTIVE, VARMIN) with n lights into md; 0, or -1 with a
