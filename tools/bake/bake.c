@@ -50,6 +50,37 @@ int qtool_bake_frame_done(qibl_status_t st, double t0, double *ms, const uint8_t
     return st == QIBL_OK ? 0 : -1;
 }
 
+int qtool_bake_frame_alloc(qibl_status_t st, uint32_t w, uint32_t h, size_t rows, size_t scratch, size_t wsn,
+                           qtool_bake_frame *f, qibl_status_t *status)
+{
+    *f = (qtool_bake_frame){0};
+    if (status)
+        *status = st;
+    if (st != QIBL_OK)
+        return -1;
+    f->pix = malloc((size_t)w * h * 4);
+    f->row = malloc(sizeof(int32_t) * 3 * w * rows);
+    f->scratch = scratch ? malloc(scratch) : NULL;
+    f->ws = malloc(wsn);
+    f->wsn = wsn;
+    if (f->pix && f->row && (f->scratch || !scratch) && f->ws)
+        return 0;
+    free(f->pix), free(f->row), free(f->scratch), free(f->ws);
+    *f = (qtool_bake_frame){0};
+    if (status)
+        *status = QTOOL_E_NOMEM;
+    return -1;
+}
+
+int qtool_bake_frame_finish(qtool_bake_frame *f, qibl_status_t st, double t0, double *ms, uint32_t w, uint32_t h,
+                            uint8_t *rgb8, qibl_status_t *status)
+{
+    int rc = qtool_bake_frame_done(st, t0, ms, f->pix, w, h, rgb8, status);
+    free(f->pix), free(f->row), free(f->scratch), free(f->ws);
+    *f = (qtool_bake_frame){0};
+    return rc;
+}
+
 void qtool_bake_dir(uint32_t j, uint32_t n, double d[3])
 {
     double z = 1.0 - (2.0 * j + 1.0) / n, r = sqrt(fmax(0.0, 1 - z * z));
@@ -758,21 +789,14 @@ int qtool_bake_relight8_lin(const uint8_t *asset, size_t n, const qtool_rt_light
         st = qibl_asset_pmap(&a, &pm);
     if (st == QIBL_OK && l->point && (lut_mode == 1 || lut_mode == 2))
         st = qibl_asset_ylut(&a, &lut);
-    if (status)
-        *status = st;
-    if (st != QIBL_OK)
+    uint32_t w = st == QIBL_OK ? m.width : 0, h = st == QIBL_OK ? m.height : 0;
+    size_t wsn = st != QIBL_OK ? 0 : l->point ? qibl_shmap_point_workspace_size(m.k, w) : qibl_shmap_span_workspace_size(w);
+    qtool_bake_frame f;
+    if (qtool_bake_frame_alloc(st, w, h, 1, 0, wsn, &f, status) != 0)
         return -1;
-    uint32_t w = m.width, h = m.height;
-    uint8_t *pix = malloc((size_t)w * h * 4);
-    int32_t *row = malloc(sizeof(int32_t) * 3 * w);
-    size_t wsn = l->point ? qibl_shmap_point_workspace_size(m.k, w) : qibl_shmap_span_workspace_size(w);
-    void *ws = malloc(wsn);
-    if (!pix || !row || !ws) {
-        free(pix), free(row), free(ws);
-        if (status)
-            *status = QTOOL_E_NOMEM;
-        return -1;
-    }
+    uint8_t *pix = f.pix;
+    int32_t *row = f.row;
+    void *ws = f.ws;
     qibl_fb_desc_t fb = {0};
     fb.pixels = pix, fb.width = w, fb.height = h, fb.format = QIBL_FB_RGBA8888;
     fb.srgb = srgb ? 1 : 0, fb.exposure = exposure;
@@ -815,9 +839,7 @@ int qtool_bake_relight8_lin(const uint8_t *asset, size_t n, const qtool_rt_light
                 row_linear(lin, row, w, y);
         }
     }
-    int rc = qtool_bake_frame_done(st, t0, ms, pix, w, h, rgb8, status);
-    free(pix), free(row), free(ws);
-    return rc;
+    return qtool_bake_frame_finish(&f, st, t0, ms, w, h, rgb8, status);
 }
 
 int qtool_bake_relight8(const uint8_t *asset, size_t n, const qtool_rt_light *l, int use_lut, uint8_t *rgb8, double *ms)

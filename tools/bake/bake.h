@@ -45,6 +45,22 @@ qibl_fb_desc_t qtool_bake_fb_srgb(uint8_t *pix, uint32_t w, uint32_t h);
  * the RGB of pix into rgb8 when st is QIBL_OK, *status (may be NULL) = st. 0 if st is QIBL_OK, else -1. */
 int qtool_bake_frame_done(qibl_status_t st, double t0, double *ms, const uint8_t *pix, uint32_t w, uint32_t h,
                           uint8_t *rgb8, qibl_status_t *status);
+/* The buffers of a relighting loop: the RGBA frame (w h 4 bytes), rows rows of 3 int32 per pixel
+ * (w wide), a scratch of the caller's size (may be 0 bytes) and the core's workspace of wsn bytes. */
+typedef struct qtool_bake_frame {
+    uint8_t *pix;
+    int32_t *row;
+    void *scratch, *ws;
+    size_t wsn;
+} qtool_bake_frame;
+/* After st, the status of opening the asset: *status (may be NULL) = st, and when st is QIBL_OK the
+ * buffers into f. 0, or -1 when st is not QIBL_OK or memory ran out (*status QTOOL_E_NOMEM,
+ * tools/qtool.h; nothing is held). */
+int qtool_bake_frame_alloc(qibl_status_t st, uint32_t w, uint32_t h, size_t rows, size_t scratch, size_t wsn,
+                           qtool_bake_frame *f, qibl_status_t *status);
+/* qtool_bake_frame_done on f's frame, then f's buffers freed. */
+int qtool_bake_frame_finish(qtool_bake_frame *f, qibl_status_t st, double t0, double *ms, uint32_t w, uint32_t h,
+                            uint8_t *rgb8, qibl_status_t *status);
 
 /* Renders and accumulates (shard of nshards; 0 of 1 = everything). progress: 1 = a bar on stderr.
  * 0, or -1 (no memory). */

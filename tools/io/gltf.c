@@ -361,6 +361,19 @@ static void put32(uint8_t *p, uint32_t u)
     p[0] = (uint8_t)u, p[1] = (uint8_t)(u >> 8), p[2] = (uint8_t)(u >> 16), p[3] = (uint8_t)(u >> 24);
 }
 
+/* one element of a dense copy: an unsigned int (component type 5125) or a float's bits */
+static void put_elem(uint8_t *p, int ot, double v)
+{
+    uint32_t u;
+    if (ot == 5125) {
+        u = (uint32_t)v;
+    } else {
+        float f = (float)v;
+        memcpy(&u, &f, 4);
+    }
+    put32(p, u);
+}
+
 /* n tightly packed elements of esz bytes from byteOffset in a sparse part's bufferView */
 static int sparse_view(G *g, size_t i, tok *o, const char *part, size_t n, size_t esz, const uint8_t **p)
 {
@@ -400,15 +413,7 @@ static int materialize(G *g, size_t i, tok *o, acc *a, const acc *dense, int has
         return fail(g, "out of memory");
     for (size_t k = 0; has_view && k < a->count; ++k)
         for (int c = 0; c < a->ncomp; ++c) {
-            double v = acc_get(dense, k, c);
-            uint32_t u;
-            if (ot == 5125) {
-                u = (uint32_t)v;
-            } else {
-                float f = (float)v;
-                memcpy(&u, &f, 4);
-            }
-            put32(m + k * esz + 4 * (size_t)c, u);
+            put_elem(m + k * esz + 4 * (size_t)c, ot, acc_get(dense, k, c));
         }
     tok *sp = qtool_json_get(&g->d, o, "sparse");
     if (sp) {
@@ -445,15 +450,7 @@ static int materialize(G *g, size_t i, tok *o, acc *a, const acc *dense, int has
             }
             prev = ix;
             for (int c = 0; c < a->ncomp; ++c) {
-                double v = acc_get(&va, k, c);
-                uint32_t u;
-                if (ot == 5125) {
-                    u = (uint32_t)v;
-                } else {
-                    float f = (float)v;
-                    memcpy(&u, &f, 4);
-                }
-                put32(m + (size_t)ix * esz + 4 * (size_t)c, u);
+                put_elem(m + (size_t)ix * esz + 4 * (size_t)c, ot, acc_get(&va, k, c));
             }
         }
     }

@@ -24,33 +24,24 @@ typedef struct {
     size_t n, cap;
 } uvec;
 
-static int upush(uvec *a, uint32_t x)
-{
-    if (a->n == a->cap) {
-        size_t cap = a->cap ? a->cap * 2 : 1024;
-        uint32_t *nv = realloc(a->v, cap * sizeof *nv);
-        if (!nv)
-            return -1;
-        a->v = nv, a->cap = cap;
+/* name(a, x): appends x to a, doubling from 1024; 0, or -1 out of memory (a unchanged) */
+#define DEFINE_PUSH(name, vec_t, elem_t)                                                              \
+    static int name(vec_t *a, elem_t x)                                                               \
+    {                                                                                                 \
+        if (a->n == a->cap) {                                                                         \
+            size_t cap = a->cap ? a->cap * 2 : 1024;                                                  \
+            elem_t *nv = realloc(a->v, cap * sizeof *nv);                                             \
+            if (!nv)                                                                                  \
+                return -1;                                                                            \
+            a->v = nv, a->cap = cap;                                                                  \
+        }                                                                                             \
+        a->v[a->n++] = x;                                                                             \
+        return 0;                                                                                     \
     }
-    a->v[a->n++] = x;
-    return 0;
-}
+DEFINE_PUSH(upush, uvec, uint32_t)
+DEFINE_PUSH(dpush, dvec, double)
 
 #define NO_NORMAL UINT32_MAX
-
-static int dpush(dvec *a, double x)
-{
-    if (a->n == a->cap) {
-        size_t cap = a->cap ? a->cap * 2 : 1024;
-        double *nv = realloc(a->v, cap * sizeof *nv);
-        if (!nv)
-            return -1;
-        a->v = nv, a->cap = cap;
-    }
-    a->v[a->n++] = x;
-    return 0;
-}
 
 /* parses up to max doubles from s; returns how many, or -1 with the offending token in *bad and
  * *why saying what is wrong with it */

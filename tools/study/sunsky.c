@@ -100,16 +100,25 @@ int qtool_study_sunsky(const qtool_study_probe *p, int k, qtool_study_model *md,
     return rc;
 }
 
+/* the base and a trial model, on the heap (both are large) */
+static int scratch(sunsky_base **b, qtool_study_model **t, char *err, size_t errlen)
+{
+    *b = malloc(sizeof **b);
+    *t = malloc(sizeof **t);
+    if (*b && *t)
+        return 0;
+    free(*b), free(*t);
+    snprintf(err, errlen, "sun+sky: out of memory");
+    return -1;
+}
+
 int qtool_study_sunsky_budget(const qtool_study_probe *p, const qtool_study_gt *g, double budget, int kmax,
                               qtool_study_model *md, int *k_out, qtool_study_err *e_out, char *err, size_t errlen)
 {
-    sunsky_base *b = malloc(sizeof *b);
-    qtool_study_model *t = malloc(sizeof *t);
-    if (!b || !t) {
-        free(b), free(t);
-        snprintf(err, errlen, "sun+sky: out of memory");
+    sunsky_base *b;
+    qtool_study_model *t;
+    if (scratch(&b, &t, err, errlen) != 0)
         return -1;
-    }
     int rc = prepare(p, b, err, errlen);
     if (rc == 0) {
         rc = 0;
@@ -145,13 +154,10 @@ static double now_ms(void)
 int qtool_study_sunsky_sweep(const qtool_study_probe *p, const qtool_study_gt *g, int kmax, qtool_study_err *e,
                              double *ms, qtool_study_model *at16, char *err, size_t errlen)
 {
-    sunsky_base *b = malloc(sizeof *b);
-    qtool_study_model *t = malloc(sizeof *t);
-    if (!b || !t) {
-        free(b), free(t);
-        snprintf(err, errlen, "sun+sky: out of memory");
+    sunsky_base *b;
+    qtool_study_model *t;
+    if (scratch(&b, &t, err, errlen) != 0)
         return -1;
-    }
     double t0 = now_ms();
     int rc = prepare(p, b, err, errlen);
     double tp = now_ms() - t0;
