@@ -106,6 +106,9 @@ void qtool_study_model_error(const qtool_study_model *md, const qtool_study_gt *
  * outer iterations, or -1 (n outside 1..QTOOL_STUDY_MAX_LIGHTS, memory, or no convergence in 3 n
  * iterations: x is then the last feasible point). */
 int qtool_study_nnls(int n, const double *G, const double *h, double *x);
+/* Solves L L^T x = b in place (b becomes x): L lower triangular, k x k, row-major, as a Cholesky
+ * factorisation leaves it; forward then back substitution. */
+void qtool_study_chol_solve(const double *L, int k, double *b);
 
 /* Refit: keeps md's directions and sets every light's RGB by NNLS against g's irradiance (rows
  * weighted by 1 / (E_gt + mean E_gt / 10), so relative error dominates where E is large, absolute
