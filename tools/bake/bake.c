@@ -754,9 +754,25 @@ int qtool_bake_truth8(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pan
     return 0;
 }
 
-static qibl_q16_t q16(double v)
+qibl_q16_t qtool_bake_q16(double v)
 {
     return (qibl_q16_t)lrint(v * 65536.0);
+}
+
+qibl_status_t qtool_bake_dir_shlight(const qtool_rt_light *l, uint32_t k, qibl_shlight_t *out)
+{
+    const qibl_q16_t dir[3] = {qtool_bake_q16(l->dir[0]), qtool_bake_q16(l->dir[1]), qtool_bake_q16(l->dir[2])};
+    const qibl_q16_t rgb[3] = {qtool_bake_q16(l->rgb[0]), qtool_bake_q16(l->rgb[1]), qtool_bake_q16(l->rgb[2])};
+    qibl_status_t st = qibl_shlight_init(out, k);
+    return st == QIBL_OK ? qibl_shlight_add_dir(out, dir, rgb) : st;
+}
+
+qibl_pointlight_t qtool_bake_pointlight(const qtool_rt_light *l, qibl_lut_filter_t filter)
+{
+    qibl_pointlight_t pl = {{qtool_bake_q16(l->pos[0]), qtool_bake_q16(l->pos[1]), qtool_bake_q16(l->pos[2])},
+                            {qtool_bake_q16(l->rgb[0]), qtool_bake_q16(l->rgb[1]), qtool_bake_q16(l->rgb[2])},
+                            l->falloff == 2 ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST, 0, filter};
+    return pl;
 }
 
 int qtool_bake_relight8_ex(const uint8_t *asset, size_t n, const qtool_rt_light *l, int lut_mode, qibl_uq16_t exposure,
@@ -800,15 +816,11 @@ int qtool_bake_relight8_lin(const uint8_t *asset, size_t n, const qtool_rt_light
     qibl_fb_desc_t fb = {0};
     fb.pixels = pix, fb.width = w, fb.height = h, fb.format = QIBL_FB_RGBA8888;
     fb.srgb = srgb ? 1 : 0, fb.exposure = exposure;
-    qibl_q16_t rgb[3] = {q16(l->rgb[0]), q16(l->rgb[1]), q16(l->rgb[2])};
     double t0 = qtool_bake_now();
     if (!l->point) {
-        qibl_q16_t dir[3] = {q16(l->dir[0]), q16(l->dir[1]), q16(l->dir[2])};
         qibl_shlight_t sl;
         qibl_shmap_weights_t wt;
-        st = qibl_shlight_init(&sl, m.k);
-        if (st == QIBL_OK)
-            st = qibl_shlight_add_dir(&sl, dir, rgb);
+        st = qtool_bake_dir_shlight(l, m.k, &sl);
         if (st == QIBL_OK)
             st = qibl_shmap_weights(&m, &sl, &wt);
         for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {
@@ -819,9 +831,8 @@ int qtool_bake_relight8_lin(const uint8_t *asset, size_t n, const qtool_rt_light
                 row_linear(lin, row, w, y);
         }
     } else {
-        qibl_pointlight_t pl = {{q16(l->pos[0]), q16(l->pos[1]), q16(l->pos[2])}, {rgb[0], rgb[1], rgb[2]},
-                                l->falloff == 2 ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST, 0,
-                                lut_mode == 2 ? QIBL_LUT_NEAREST : lut_mode == 3 ? QIBL_POINT_POLY : QIBL_LUT_BILINEAR};
+        qibl_pointlight_t pl = qtool_bake_pointlight(
+            l, lut_mode == 2 ? QIBL_LUT_NEAREST : lut_mode == 3 ? QIBL_POINT_POLY : QIBL_LUT_BILINEAR);
         qibl_shmap_point_t pt;
         qibl_lampocc_t occ;
         qibl_chunk_t shmu;

@@ -21,6 +21,7 @@
 
 #include "gen/scene.h"
 #include "qibl/fixed.h"
+#include "qibl/shmap.h"
 #include "qibl/soft.h"
 #include "qibl/status.h"
 #include "render/rt.h"
@@ -45,6 +46,12 @@ qibl_fb_desc_t qtool_bake_fb_srgb(uint8_t *pix, uint32_t w, uint32_t h);
  * the RGB of pix into rgb8 when st is QIBL_OK, *status (may be NULL) = st. 0 if st is QIBL_OK, else -1. */
 int qtool_bake_frame_done(qibl_status_t st, double t0, double *ms, const uint8_t *pix, uint32_t w, uint32_t h,
                           uint8_t *rgb8, qibl_status_t *status);
+/* A value in the core's Q16.16: round(v 2^16). */
+qibl_q16_t qtool_bake_q16(double v);
+/* The directional light l (direction and colour in Q16.16) as a k-coefficient SH light. */
+qibl_status_t qtool_bake_dir_shlight(const qtool_rt_light *l, uint32_t k, qibl_shlight_t *out);
+/* The point light l (position, colour, falloff) as the core's, looked up through filter. */
+qibl_pointlight_t qtool_bake_pointlight(const qtool_rt_light *l, qibl_lut_filter_t filter);
 /* The buffers of a relighting loop: the RGBA frame (w h 4 bytes), rows rows of 3 int32 per pixel
  * (w wide), a scratch of the caller's size (may be 0 bytes) and the core's workspace of wsn bytes. */
 typedef struct qtool_bake_frame {

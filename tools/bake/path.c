@@ -343,11 +343,6 @@ int qtool_bake_path_payload(uint32_t w, uint32_t h, uint32_t kind, uint32_t nkey
 
 /* ---- relighting ---------------------------------------------------------------------------------- */
 
-static qibl_q16_t q16(double v)
-{
-    return (qibl_q16_t)lrint(v * 65536.0);
-}
-
 int qtool_bake_relight_path8(const uint8_t *asset, size_t n, const qtool_rt_light *l, uint32_t path, uint32_t tq,
                             uint32_t radius, const qibl_shlight_t *sky, uint8_t *rgb8, float *lin, double *ms,
                             qibl_status_t *status)
@@ -388,22 +383,16 @@ int qtool_bake_relight_path8_gonio(const uint8_t *asset, size_t n, const qtool_r
     int32_t *row = f.row, *prow = f.scratch;
     void *ws = f.ws;
     qibl_fb_desc_t fb = qtool_bake_fb_srgb(pix, w, h);
-    qibl_q16_t rgb[3] = {q16(l->rgb[0]), q16(l->rgb[1]), q16(l->rgb[2])};
     double t0 = qtool_bake_now();
     qibl_shmap_weights_t wt, wsky;
     qibl_shmap_point_t pt;
-    const qibl_q16_t lpos[3] = {q16(l->pos[0]), q16(l->pos[1]), q16(l->pos[2])};
+    const qibl_pointlight_t pl = qtool_bake_pointlight(l, QIBL_LUT_BILINEAR);
     if (!l->point) {
-        qibl_q16_t dir[3] = {q16(l->dir[0]), q16(l->dir[1]), q16(l->dir[2])};
         qibl_shlight_t sl;
-        st = qibl_shlight_init(&sl, mu.k);
-        if (st == QIBL_OK)
-            st = qibl_shlight_add_dir(&sl, dir, rgb);
+        st = qtool_bake_dir_shlight(l, mu.k, &sl);
         if (st == QIBL_OK)
             st = qibl_shmap_weights(&mu, &sl, &wt);
     } else {
-        qibl_pointlight_t pl = {{q16(l->pos[0]), q16(l->pos[1]), q16(l->pos[2])}, {rgb[0], rgb[1], rgb[2]},
-                                l->falloff == 2 ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST, 0, QIBL_LUT_BILINEAR};
         st = qibl_shmap_point_prepare(&mu, &pm, use_lut ? &lut : NULL, &pl, &pt);
     }
     if (st == QIBL_OK && sky)
@@ -416,7 +405,7 @@ int qtool_bake_relight_path8_gonio(const uint8_t *asset, size_t n, const qtool_r
                           : qibl_shmap_relight_span(&mu, &wt, 0, y, w, prow, ws, wsn);
         /* a goniometric lamp: its intensity toward each pixel's point, before the visibility */
         if (st == QIBL_OK && l->point && gonio)
-            st = qibl_gonio_scale_span(gonio, &pm, lpos, 0, y, w, prow);
+            st = qibl_gonio_scale_span(gonio, &pm, pl.pos, 0, y, w, prow);
         if (st == QIBL_OK)
             st = qibl_lightpath_shade_span(&lp, tq, radius, 0, y, w, prow, row, sky != NULL);
         if (st == QIBL_OK)

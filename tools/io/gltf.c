@@ -1161,15 +1161,23 @@ static int emit_mesh(G *g, size_t mi, const double *M, const double *J, size_t n
     return 0;
 }
 
+/* node ni's index into the array of what ("mesh", "camera"): in range, and the array not empty */
+static int node_ref(G *g, tok *o, size_t ni, const char *what, const arr *a, size_t *out)
+{
+    if (get_uint(g, o, what, (double)a->n - 1, -1, "nodes", ni, out) != 0)
+        return -1;
+    if (a->n == 0)
+        return fail(g, "nodes[%zu]: a %s and no %ss", ni, what, what);
+    return 0;
+}
+
 static int visit(G *g, size_t ni, const double *M, int emit)
 {
     tok *o = g->nodes.t[ni];
     if (qtool_json_get(&g->d, o, "mesh")) {
         size_t mi;
-        if (get_uint(g, o, "mesh", (double)g->meshes.n - 1, -1, "nodes", ni, &mi) != 0)
+        if (node_ref(g, o, ni, "mesh", &g->meshes, &mi) != 0)
             return -1;
-        if (g->meshes.n == 0)
-            return fail(g, "nodes[%zu]: a mesh and no meshes", ni);
         if (!emit) {
             if (check_mesh(g, mi) != 0)
                 return -1;
@@ -1195,10 +1203,8 @@ static int visit(G *g, size_t ni, const double *M, int emit)
     }
     if (qtool_json_get(&g->d, o, "camera")) {
         size_t ci;
-        if (get_uint(g, o, "camera", (double)g->cameras.n - 1, -1, "nodes", ni, &ci) != 0)
+        if (node_ref(g, o, ni, "camera", &g->cameras, &ci) != 0)
             return -1;
-        if (g->cameras.n == 0)
-            return fail(g, "nodes[%zu]: a camera and no cameras", ni);
         if (!emit && ++g->ncam > QTOOL_GLTF_MAX_CAMERAS)
             return fail(g, "more than %d cameras placed (QTOOL_GLTF_MAX_CAMERAS)", QTOOL_GLTF_MAX_CAMERAS);
         qtool_gltf_camera cam = {.node = (uint32_t)ni};
