@@ -169,14 +169,23 @@ static void sides(const qtool_ref_probe *p, rect r, double *aw, double *ah)
     *ah = (r.v1 - r.v0) * QTOOL_PI / p->h;
 }
 
-static int cut_median(const qtool_ref_probe *p, rect r, rect *a, rect *b)
+/* the axis to cut r across: 1 along u (the angularly longer side, or the only one two pixels wide),
+ * 0 along v, -1 when neither side is two pixels wide */
+static int long_axis(const qtool_ref_probe *p, rect r)
 {
     int w = r.u1 - r.u0, h = r.v1 - r.v0;
     if (w < 2 && h < 2)
-        return 0;
+        return -1;
     double aw, ah;
     sides(p, r, &aw, &ah);
-    int along_u = h < 2 || (w >= 2 && aw >= ah);
+    return h < 2 || (w >= 2 && aw >= ah);
+}
+
+static int cut_median(const qtool_ref_probe *p, rect r, rect *a, rect *b)
+{
+    int along_u = long_axis(p, r);
+    if (along_u < 0)
+        return 0;
     int lo = (along_u ? r.u0 : r.v0) + 1, hi = (along_u ? r.u1 : r.v1) - 1;
     long double t = sat_sum(p, r.u0, r.v0, r.u1, r.v1);
     int best = lo;
@@ -217,12 +226,9 @@ static double variance(const qtool_ref_probe *p, rect r)
 
 static int cut_varmin(const qtool_ref_probe *p, rect r, rect *a, rect *b)
 {
-    int w = r.u1 - r.u0, h = r.v1 - r.v0;
-    if (w < 2 && h < 2)
+    int first_u = long_axis(p, r), found = 0;
+    if (first_u < 0)
         return 0;
-    double aw, ah;
-    sides(p, r, &aw, &ah);
-    int first_u = h < 2 || (w >= 2 && aw >= ah), found = 0;
     long double t = sat_sum(p, r.u0, r.v0, r.u1, r.v1);
     double best = 0;
     long double best_imb = 0;

@@ -15,6 +15,8 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "qibl/lightprobe.h"
+
 #define QTOOL_STUDY_MAX_LIGHTS 256
 #define QTOOL_STUDY_SH_MAX 25
 #define QTOOL_STUDY_FLOATS_PER_LIGHT 6 /* dir xyz + rgb, as qibl stores a light */
@@ -140,6 +142,10 @@ enum {
 /* the method's name from QTOOL_STUDY_METHOD_LIST, "?" for another number */
 const char *qtool_study_method_name(int method);
 
+/* The core's lights of p by method m (qibl_lightprobe_build and _lights, workspace on the heap):
+ * at most n into L, *res their count and exponent. 0, or -1 with "what: reason" in err. */
+int qtool_study_probe_lights(const qtool_study_probe *p, qibl_lightprobe_method_t m, qibl_lightprobe_light_t *L, int n,
+                             qibl_lightprobe_result_t *res, const char *what, char *err, size_t errlen);
 /* The core's samplers (method MEDIANCUT, ADAPTIVE, VARMIN) with n lights into md; 0, or -1 with a
  * reason (core status). */
 int qtool_study_core_lights(const qtool_study_probe *p, int method, int n, qtool_study_model *md, char *err,

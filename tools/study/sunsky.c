@@ -30,26 +30,9 @@ static int prepare(const qtool_study_probe *p, sunsky_base *b, char *err, size_t
 {
     if (qtool_study_core_sh(p, 9, &b->sky, err, errlen) != 0)
         return -1;
-    qibl_lightprobe_image_t img;
-    memset(&img, 0, sizeof img);
-    img.pixels = p->rgbe, img.width = (uint32_t)p->w, img.height = (uint32_t)p->h;
-    size_t wsz = qibl_lightprobe_workspace_size(img.width, img.height, QIBL_LIGHTPROBE_VARMIN);
-    void *ws = malloc(wsz ? wsz : 1);
-    if (!ws) {
-        snprintf(err, errlen, "sun+sky: out of memory");
-        return -1;
-    }
-    qibl_lightprobe_t lp;
-    qibl_lightprobe_opts_t o = {QIBL_LIGHTPROBE_VARMIN, 0, 0};
     qibl_lightprobe_result_t res;
-    qibl_status_t st = qibl_lightprobe_build(&lp, &img, QIBL_LIGHTPROBE_VARMIN, ws, wsz);
-    if (st == QIBL_OK)
-        st = qibl_lightprobe_lights(&lp, &o, b->L, REGIONS, &res);
-    free(ws);
-    if (st != QIBL_OK) {
-        snprintf(err, errlen, "sun+sky: %s", qibl_status_str(st));
+    if (qtool_study_probe_lights(p, QIBL_LIGHTPROBE_VARMIN, b->L, REGIONS, &res, "sun+sky", err, errlen) != 0)
         return -1;
-    }
     b->count = (int)res.count;
     b->rgb_exp = res.rgb_exp;
     return 0;
