@@ -288,6 +288,20 @@ static int cmp_bright(const void *x, const void *y)
     return (a->u0 > b->u0) - (a->u0 < b->u0);
 }
 
+/* region i cut in two (cropped): it keeps one half, the other is appended at *n; 1 if it was cut */
+static int split(const qtool_ref_probe *p, int (*cut)(const qtool_ref_probe *, rect, rect *, rect *), rect *R, int i,
+                 int *n)
+{
+    rect a, b;
+    if (!cut(p, R[i], &a, &b))
+        return 0;
+    crop(p, &a);
+    crop(p, &b);
+    R[i] = a;
+    R[(*n)++] = b;
+    return 1;
+}
+
 int qtool_ref_lights(const qtool_ref_probe *p, int method, int priority, int centre, int max, qtool_ref_light *out)
 {
     if (max < 1 || method < 0 || method > 2)
@@ -312,29 +326,14 @@ int qtool_ref_lights(const qtool_ref_probe *p, int method, int priority, int cen
     if (pri == QTOOL_REF_PRI_LEVELS) {
         for (int round = 1; round < max; round <<= 1) {
             int m = n;
-            for (int i = 0; i < m; ++i) {
-                rect a, b;
-                if (!cut(p, R[i], &a, &b))
-                    continue;
-                crop(p, &a);
-                crop(p, &b);
-                R[i] = a;
-                R[n++] = b;
-            }
+            for (int i = 0; i < m; ++i)
+                split(p, cut, R, i, &n);
         }
         /* one-pixel regions skipped their split: split the others in list order up to max */
         for (int grew = 1; grew && n < max;) {
             grew = 0;
-            for (int i = 0; i < n && n < max; ++i) {
-                rect a, b;
-                if (!cut(p, R[i], &a, &b))
-                    continue;
-                crop(p, &a);
-                crop(p, &b);
-                R[i] = a;
-                R[n++] = b;
-                grew = 1;
-            }
+            for (int i = 0; i < n && n < max; ++i)
+                grew |= split(p, cut, R, i, &n);
         }
     } else {
         char *done = calloc((size_t)max, 1); /* regions that cannot split: the next best is split */
@@ -354,17 +353,10 @@ int qtool_ref_lights(const qtool_ref_probe *p, int method, int priority, int cen
                     bk = k;
                 }
             }
-            rect a, b;
             if (best < 0)
                 break;
-            if (!cut(p, R[best], &a, &b)) {
+            if (!split(p, cut, R, best, &n))
                 done[best] = 1;
-                continue;
-            }
-            crop(p, &a);
-            crop(p, &b);
-            R[best] = a;
-            R[n++] = b;
         }
         free(done);
     }
