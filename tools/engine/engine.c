@@ -18,7 +18,11 @@
 #include "qtool.h"
 
 
-static const char *const preset_names[QTOOL_ENGINE_PRESET_COUNT] = {"raw", "filament", "unity", "gltf"};
+static const char *const preset_names[QTOOL_ENGINE_PRESET_COUNT] = {
+#define QTOOL_ENGINE_PRESET_NAME_(name, text) text,
+    QTOOL_ENGINE_PRESET_LIST(QTOOL_ENGINE_PRESET_NAME_)
+#undef QTOOL_ENGINE_PRESET_NAME_
+};
 
 int qtool_engine_preset_parse(const char *s, qtool_engine_preset *out)
 {

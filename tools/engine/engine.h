@@ -48,11 +48,18 @@
 
 #include "qibl/probe.h"
 
+/* The presets in value order as X(name, text): the one list the enum and the names
+ * qtool_engine_preset_parse takes and qtool_engine_preset_name gives are made from. */
+#define QTOOL_ENGINE_PRESET_LIST(X)                                                                       \
+    X(QTOOL_ENGINE_RAW, "raw") /* default (0) */                                                          \
+    X(QTOOL_ENGINE_FILAMENT, "filament")                                                                  \
+    X(QTOOL_ENGINE_UNITY, "unity")                                                                        \
+    X(QTOOL_ENGINE_GLTF, "gltf")
+
 typedef enum qtool_engine_preset {
-    QTOOL_ENGINE_RAW = 0, /* default */
-    QTOOL_ENGINE_FILAMENT,
-    QTOOL_ENGINE_UNITY,
-    QTOOL_ENGINE_GLTF,
+#define QTOOL_ENGINE_PRESET_ENUM_(name, text) name,
+    QTOOL_ENGINE_PRESET_LIST(QTOOL_ENGINE_PRESET_ENUM_)
+#undef QTOOL_ENGINE_PRESET_ENUM_
     QTOOL_ENGINE_PRESET_COUNT
 } qtool_engine_preset;
 
