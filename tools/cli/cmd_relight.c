@@ -24,6 +24,7 @@
 #include "qibl/soft.h"
 #include "relight/gles.h"
 #include "relight/relight.h"
+#include "qtool.h"
 
 /* ---- qibl relight ------------------------------------------------------------------------------ */
 
@@ -305,7 +306,7 @@ static int relight_soft(const relight_cli *c, const qtool_relight_asset *s, cons
     qibl_status_t st;
     if (qtool_relight_render(o, s, qtool_relight_light_list_directional(&o->lights) ? sl : NULL, pts, npts, ies, pix,
                              lin, &ms, &st) != 0) {
-        fprintf(stderr, "qibl: relight: %s\n", st == QIBL_E_NULL_POINTER ? "out of memory" : qibl_soft_status_str(st));
+        fprintf(stderr, "qibl: relight: %s\n", qtool_status_str(st));
         return 1;
     }
     char how[600], tail[640];
