@@ -27,13 +27,15 @@ static const qcli_opt_cmd *const info_opts[] = {&qcli_opts_info, NULL};
 static const qcli_opt_cmd *const srgbe_opts[] = {&qcli_opts_srgbe_encode, &qcli_opts_srgbe_decode, NULL};
 static const qcli_opt_cmd *const ies_opts[] = {&qcli_opts_ies_info, NULL};
 static const qcli_opt_cmd *const study_opts[] = {&qcli_opts_study, NULL};
+static const qcli_opt_cmd *const bench_opts[] = {&qcli_opts_bench, NULL};
 
 /* which commands are on them: `qibl help CMD` is made from these, not from the command's usage */
 static const struct {
     const char *cmd;
     const qcli_opt_cmd *const *opts;
 } tables[] = {{"sh", sh_opts},       {"gen", gen_opts}, {"info", info_opts},
-              {"srgbe", srgbe_opts}, {"ies", ies_opts}, {"study", study_opts}};
+              {"srgbe", srgbe_opts}, {"ies", ies_opts}, {"study", study_opts},
+              {"bench", bench_opts}};
 
 static const qcli_opt_cmd *const *tables_of(const char *cmd)
 {
@@ -69,35 +71,7 @@ static const qcli_cmd commands[] = {
      "  The layout note goes to stderr except for the table. (--format cmgen is refused: it was not\n"
      "  what cmgen writes; use --preset filament.)\n",
      qcli_cmd_sh},
-    {"bench", "benchmarks: speed against error, with RESULT lines",
-     "usage: qibl bench [all|sh|relight|baselines|srgbe|lights|paths|asset|probe|hemi|memory|gles] [--quick] [--csv] [--markdown]\n"
-     "                  [--svg PATH]  (hemi: the cloth's error against frames per second, as an SVG plot)\n"
-     "  sh: integer SH basis against the double reference from Wong et al.'s appendix:\n"
-     "      ns per evaluation (median of 7 runs) and max |error| over a fixed-seed sweep.\n"
-     "  relight: the relighting kernels on the procedural courtyard, 1024x256, k = 4, 9, 16, 25:\n"
-     "      directional and point lights (cube-map LUT 16^2/32^2/64^2, direct SH): ms/frame,\n"
-     "      Mpixel/s, PSNR and max abs error in 8-bit units, a plain read of the same map bytes, the\n"
-     "      two range-packing schemes; --csv prints the table as CSV.\n"
-     "  srgbe: the sRGBE codec against Ward's RGBE (frexp/ldexp), RGB9E5 and binary32 on a real\n"
-     "      probe from ../shared/fixtures/probes (QIBL_PROBE=FILE picks one; a procedural sky\n"
-     "      when absent) and on signed SH data of it: max/mean relative error of the largest\n"
-     "      channel, mean absolute error of the others, encode/decode Mpixel/s (medians).\n"
-     "  lights: light-probe sampling on a 1024x512 probe (QIBL_PROBE=FILE, else quarry_01_1k.hdr from\n"
-     "      ../shared/fixtures/probes, else a procedural sky) and on it upsampled to 4096x2048: SAT and\n"
-     "      cut milliseconds for median cut 64/256, adaptive 64, varmin 64, and the ratio of median cut 64\n"
-     "      (SAT included) to one plain read pass over the probe bytes (RESULT lights.sat64_over_read);\n"
-     "      then the irradiance error of every method and priority on each real probe.\n"
-     "  paths: path lights against today's SH-only relighting, 1024x256, thread CPU time: a sun as\n"
-     "      unshadowed k = 9 or 16 x path visibility (hard, soft), sky + sun, lamps on a track and free.\n"
-     "  asset: opening a 16 MB asset: nibble CRC, slicing-by-8 CRC, structure only, against a memcpy\n"
-     "      of the same bytes (min and median of interleaved repetitions).\n"
-     "  probe: SH projection of a 1024x512 probe (quarry_01_1k.hdr, else an integer-made one) against\n"
-     "      one 64-bit read pass of its bytes (min and median of interleaved runs), the projection's\n"
-     "      error against the double reference on every fixture probe, the rotation's error, and the\n"
-     "      ringing of the irradiance with no window, Hann and Lanczos (RESULT probe.*).\n"
-     "  memory: not a timing: the resident-memory table of docs/porting.md (--markdown: as there).\n"
-     "  all: every timing benchmark (what `make bench` runs). --quick: fewer repetitions.\n",
-     qcli_cmd_bench},
+    {"bench", "benchmarks: speed against error, with RESULT lines", NULL, qcli_cmd_bench},
     {"gen", "write the procedural courtyard's SH maps (and P map, optional Y LUT) as an asset",
      NULL, qcli_cmd_gen},
     {"render", "ray-trace the ground-truth panorama of a scene under one light (PNG, PFM, depth)",
