@@ -513,7 +513,7 @@ static void test_sh_project_presets(void **state)
         /* y up: (x, z, -y) of qibl's */
         assert_true(fabs(yup[2][c] - t9[1][c]) <= s && fabs(yup[1][c] + t9[2][c]) <= s && fabs(yup[3][c] - t9[3][c]) <= s);
     }
-    expect(2, "--preset: 'unreal' is not filament, unity, gltf or raw", NULL, "sh", "project", pr, "--preset", "unreal",
+    expect(2, "--preset: 'unreal' is not raw, filament, unity or gltf", NULL, "sh", "project", pr, "--preset", "unreal",
            NULL);
     expect(2, "the unity preset is not windowed", NULL, "sh", "project", pr, "--preset", "unity", "--window", "auto", NULL);
     expect(2, "--window: '0' is not auto, no or a cutoff", NULL, "sh", "project", pr, "--preset", "filament", "--window",
@@ -525,7 +525,7 @@ static void test_sh_project_presets(void **state)
     expect(2, "--bands 2: the unity preset needs 3 bands", NULL, "sh", "project", pr, "--preset", "unity", "--bands", "2",
            NULL);
     expect(2, "--format is for --preset raw", NULL, "sh", "project", pr, "--preset", "gltf", "--format", "json", NULL);
-    expect(2, "--yaw: give one of --yaw and --rotate, once", NULL, "sh", "project", pr, "--yaw", "1", "--yaw", "2", NULL);
+    expect(2, "--yaw: '2' comes after a --yaw or --rotate: give one of them, once", NULL, "sh", "project", pr, "--yaw", "1", "--yaw", "2", NULL);
     expect(2, "is not a rotation", NULL, "sh", "project", pr, "--rotate", "1,0,0,0,1,0,0,0,-1", NULL);
     /* lights as KHR_lights_punctual */
     OK("lights", pr, "-n", "4", "--preset", "gltf");

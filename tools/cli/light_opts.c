@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "cli/cli.h"
+#include "cli/opt.h"
 #include "cli/relight_light.h"
 
 /* three numbers after argv[i] into Q16.16 (lo..QTOOL_CLI_Q16_MAX); 0 or 2 after a message */
@@ -61,28 +62,54 @@ static int rgb_opt(int argc, char **argv, int *i, qtool_relight_light_list *ll)
     return 1;
 }
 
-static int rotate_opt(char **argv, int *i, qtool_relight_light_list *ll)
+#define QCLI_LAYOUT_NAME_(id, name, description) name,
+const char *const qcli_probe_layout_names[QTOOL_PROBE_LAYOUT_COUNT + 1] = {
+    QTOOL_PROBE_LAYOUT_LIST(QCLI_LAYOUT_NAME_) NULL};
+#undef QCLI_LAYOUT_NAME_
+
+const char *qcli_light_yaw(qtool_relight_light_list *ll, const char *v)
 {
     if (ll->rotate)
-        return qcli_usage_error("--rotate: give one of --yaw and --rotate, once");
-    const char *s = argv[++*i];
-    double v[9], worst, det;
+        return "comes after a --yaw or --rotate: give one of them, once";
+    switch (qcli_opt_num_value(v, -36000.0, 36000.0, &ll->yaw)) {
+    case 0:
+        break;
+    case 1:
+        return "is not a number";
+    case 2:
+        return "is not a finite number";
+    default:
+        return "is outside -36000..36000 (degrees)";
+    }
+    qtool_relight_yaw(ll->yaw, ll->r);
+    ll->rotate = 1;
+    return NULL;
+}
+
+const char *qcli_light_rotate(qtool_relight_light_list *ll, const char *v, char *why, size_t n)
+{
+    if (ll->rotate)
+        return "comes after a --yaw or --rotate: give one of them, once";
+    const char *s = v;
+    double m[9], worst, det;
     char *end;
     for (int k = 0; k < 9; ++k) {
         errno = 0;
-        v[k] = strtod(s, &end);
-        if (end == s || errno == ERANGE || !isfinite(v[k]) || (k < 8 ? *end != ',' : *end != '\0'))
-            return qcli_usage_error("--rotate: '%s' is not nine comma-separated numbers a,b,c,d,e,f,g,h,i", argv[*i]);
+        m[k] = strtod(s, &end);
+        if (end == s || errno == ERANGE || !isfinite(m[k]) || (k < 8 ? *end != ',' : *end != '\0'))
+            return "is not nine comma-separated numbers a,b,c,d,e,f,g,h,i";
         s = end + 1;
     }
     /* the core's condition, said here by name */
-    if (qtool_relight_rotation_check(v, &worst, &det) != 0)
-        return qcli_usage_error("--rotate: '%s' is not a rotation (rows orthonormal within 2^-16: off by %.3g; "
-                                "det %.3g, must be +1)", argv[*i], worst, det);
+    if (qtool_relight_rotation_check(m, &worst, &det) != 0) {
+        snprintf(why, n, "is not a rotation (rows orthonormal within 2^-16: off by %.3g; det %.3g, must be +1)",
+                 worst, det);
+        return why;
+    }
     for (int k = 0; k < 9; ++k)
-        ll->r[k / 3][k % 3] = v[k];
+        ll->r[k / 3][k % 3] = m[k];
     ll->rotate = 2;
-    return 1;
+    return NULL;
 }
 
 /* the probe's options: --lights, --probe, --layout, --probe-mode, -n; 1, 0 (none) or 2 */
@@ -130,17 +157,11 @@ int qcli_light_list_opt(int argc, char **argv, int *i, qtool_relight_light_list 
         return rgb_opt(argc, argv, i, ll);
     if (more && (r = probe_opt(argv, i, ll)) != 0)
         return r;
-    if (strcmp(a, "--yaw") == 0 && more) {
-        if (ll->rotate)
-            return qcli_usage_error("--yaw: give one of --yaw and --rotate, once");
-        if (qcli_parse_num(a, argv[++*i], -36000.0, 36000.0, "degrees", &ll->yaw) != 0)
-            return 2;
-        qtool_relight_yaw(ll->yaw, ll->r);
-        ll->rotate = 1;
-        return 1;
+    if ((strcmp(a, "--yaw") == 0 || strcmp(a, "--rotate") == 0) && more) {
+        char why[192];
+        const char *v = argv[++*i], *bad = a[2] == 'y' ? qcli_light_yaw(ll, v) : qcli_light_rotate(ll, v, why, sizeof why);
+        return bad ? qcli_usage_error("%s: '%s' %s", a, v, bad) : 1;
     }
-    if (strcmp(a, "--rotate") == 0 && more)
-        return rotate_opt(argv, i, ll);
     return 0;
 }
 

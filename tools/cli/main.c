@@ -21,13 +21,14 @@
 int qcli_parse_only; /* see cli.h */
 
 /* the option tables of the commands on them (cli/opt.h), one per subcommand */
-static const qcli_opt_cmd *const sh_opts[] = {&qcli_opts_sh_eval, &qcli_opts_sh_plot, NULL};
+static const qcli_opt_cmd *const sh_opts[] = {&qcli_opts_sh_eval, &qcli_opts_sh_plot, &qcli_opts_sh_project, NULL};
 static const qcli_opt_cmd *const gen_opts[] = {&qcli_opts_gen, NULL};
 static const qcli_opt_cmd *const info_opts[] = {&qcli_opts_info, NULL};
 static const qcli_opt_cmd *const srgbe_opts[] = {&qcli_opts_srgbe_encode, &qcli_opts_srgbe_decode, NULL};
 static const qcli_opt_cmd *const ies_opts[] = {&qcli_opts_ies_info, NULL};
 static const qcli_opt_cmd *const study_opts[] = {&qcli_opts_study, NULL};
 static const qcli_opt_cmd *const bench_opts[] = {&qcli_opts_bench, NULL};
+static const qcli_opt_cmd *const probe_opts[] = {&qcli_opts_probe_info, NULL};
 
 /* which commands are on them: `qibl help CMD` is made from these, not from the command's usage */
 static const struct {
@@ -35,7 +36,7 @@ static const struct {
     const qcli_opt_cmd *const *opts;
 } tables[] = {{"sh", sh_opts},       {"gen", gen_opts}, {"info", info_opts},
               {"srgbe", srgbe_opts}, {"ies", ies_opts}, {"study", study_opts},
-              {"bench", bench_opts}};
+              {"bench", bench_opts}, {"probe", probe_opts}};
 
 static const qcli_opt_cmd *const *tables_of(const char *cmd)
 {
@@ -46,31 +47,7 @@ static const qcli_opt_cmd *const *tables_of(const char *cmd)
 }
 
 static const qcli_cmd commands[] = {
-    {"sh", "evaluate the integer SH basis for a direction",
-     /* sh project (cmd_probe.c) is not on an option table yet: its text as it was */
-     "usage: qibl sh project PROBE.hdr [--bands B] [--irradiance] [--window none|hann|lanczos]\n"
-     "                       [--layout L] [--format table|json|c] [--name ID] [--frame zup|yup]\n"
-     "                       [--yaw DEG | --rotate a,b,c,d,e,f,g,h,i]\n"
-     "       qibl sh project PROBE.hdr --preset filament|unity|gltf|raw [--window auto|no|CUTOFF]\n"
-     "                       [--yaw DEG | --rotate ...] [--layout L] [--name ID]\n"
-     "  project: a Radiance probe (layout detected or --layout, resampled to lat-long as qibl lights\n"
-     "  does) projected onto bands 0..B-1 by the integer core, row by row (qibl/probe.h): radiance\n"
-     "  coefficients, or irradiance (times the clamped-cosine A_l), with an optional Hann or Lanczos\n"
-     "  window. --format table (default: l, m, R, G, B), json, or c (a header: ID_BANDS and\n"
-     "  `static const float ID[B*B][3]` with a band/order comment per row; --name ID, default\n"
-     "  qibl_probe_sh). --frame yup writes them in a y-up frame ((x, z, -y) of qibl's); --yaw DEG\n"
-     "  (positive turns +x toward +y) or --rotate turns the probe first, as qibl relight does.\n"
-     "  --preset writes an engine's own convention (tools/engine/engine.h has each formula):\n"
-     "    filament  cmgen's sh.txt (--deploy): 3 bands of irradiance times A_l, windowed (--window\n"
-     "              auto (default), no or a cutoff band, as cmgen's --sh-window), times Sloan's\n"
-     "              constants / pi, y up mirrored in x as cmgen's cubemap; paste into sh.txt.\n"
-     "    unity     C#: SphericalHarmonicsL2 (Unity's scale and frame) and the unity_SHAr..SHC\n"
-     "              constants ShadeSH9 reads; prints the SH9 truncation error against the probe.\n"
-     "    gltf      an EXT_lights_image_based JSON object (irradianceCoefficients, y up).\n"
-     "    raw       the table, as without --preset.\n"
-     "  The layout note goes to stderr except for the table. (--format cmgen is refused: it was not\n"
-     "  what cmgen writes; use --preset filament.)\n",
-     qcli_cmd_sh},
+    {"sh", "evaluate the integer SH basis for a direction", NULL, qcli_cmd_sh},
     {"bench", "benchmarks: speed against error, with RESULT lines", NULL, qcli_cmd_bench},
     {"gen", "write the procedural courtyard's SH maps (and P map, optional Y LUT) as an asset",
      NULL, qcli_cmd_gen},
@@ -316,19 +293,7 @@ static const qcli_cmd commands[] = {
      "  (tools/study): SH irradiance (4/9/16/25), N varmin lights (as sampled, or RGB refitted by NNLS)\n"
      "  or sun plus sky (k lights + SH9); counted in floats stored (6 per light, 3 per coefficient).\n",
      qcli_cmd_lights},
-    {"probe", "describe a light probe and advise how to light with it: SH, N lights, or sun plus SH",
-     "usage: qibl probe info PROBE.hdr [--layout auto|latlong|angular|ball|vcross|hcross]\n"
-     "  Prints the probe's layout (detected, or --layout) and size, its luminance dynamic range\n"
-     "  (max over the smallest non-zero pixel, in stops), the share of the energy in the brightest\n"
-     "  0.1 % and 1 % of the sphere (pixels weighed by solid angle), and the irradiance error of four\n"
-     "  ways to light with it against the probe's own irradiance (tools/study's one measure, as qibl\n"
-     "  lights --auto prints it: |E - E_probe| / max(E_probe, mean E_probe / 10) per normal and\n"
-     "  channel, mean and max over 4000 normals; probes wider than 1024 are box-averaged to 1024 x\n"
-     "  512 for it, so the cost is one pass over the input plus a fixed amount): its SH (9\n"
-     "  coefficients, the core's projection), 16 and 64 median-cut lights (the core's), and sun plus\n"
-     "  SH (the sun as relight --probe-mode sunsky picks it, lit exactly; the rest as 9 SH\n"
-     "  coefficients). Advice: the cheapest scheme (in that order) whose mean error is within 10 %\n"
-     "  of the lowest or at most 1 %, with the relight option that uses it.\n",
+    {"probe", "describe a light probe and advise how to light with it: SH, N lights, or sun plus SH", NULL,
      qcli_cmd_probe},
     {"ies", "an IES LM-63 photometric file: header facts, candela range, integrated lumens, polar curves",
      NULL, qcli_cmd_ies},

@@ -133,7 +133,7 @@ typedef struct qcli_opt_cmd {
 /* The tables of the commands on them, for main.c's command table and `qibl help`. */
 extern const qcli_opt_cmd qcli_opts_gen, qcli_opts_info, qcli_opts_study, qcli_opts_ies_info;
 extern const qcli_opt_cmd qcli_opts_sh_eval, qcli_opts_sh_plot, qcli_opts_srgbe_encode, qcli_opts_srgbe_decode;
-extern const qcli_opt_cmd qcli_opts_bench;
+extern const qcli_opt_cmd qcli_opts_bench, qcli_opts_probe_info, qcli_opts_sh_project;
 
 /* Parses argv[first..argc-1] into opts (first set to c->defaults). 0, or 2 after one line on stderr. */
 int qcli_opt_parse(const qcli_opt_cmd *c, int argc, char **argv, int first, void *opts);

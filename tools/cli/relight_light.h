@@ -28,6 +28,15 @@
  * and returns 1; 0 if it is none of them; 2 after a one-line message (bad arguments). */
 int qcli_light_list_opt(int argc, char **argv, int *i, qtool_relight_light_list *ll);
 
+/* The probe layouts' names by value (io/probe_layout.h), NULL-ended: an option table's ENUM. */
+extern const char *const qcli_probe_layout_names[QTOOL_PROBE_LAYOUT_COUNT + 1];
+
+/* --yaw DEG and --rotate a,...,i into ll, for option tables' CALL kind (cli/opt.h): NULL, or what is
+ * wrong with the value (a second --yaw or --rotate included). rotate's reason carries numbers:
+ * why (n bytes, the options struct's) holds it. */
+const char *qcli_light_yaw(qtool_relight_light_list *ll, const char *v);
+const char *qcli_light_rotate(qtool_relight_light_list *ll, const char *v, char *why, size_t n);
+
 /* Checks the options together after parsing (an early --rgb with no light, -n without a probe,
  * a rotation without a probe, ...): 0, or 2 after a message. */
 int qcli_light_list_check(const qtool_relight_light_list *ll);
