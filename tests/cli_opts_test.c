@@ -13,7 +13,7 @@ CLI_FIXTURES("/tmp/qibl_cli_opts_test_XXXXXX")
 
 /* not yet on option tables: their parsers are hand-written (shrink this list as they convert) */
 static const char *const not_yet_on_option_tables[] = {
-    "render", "transfer", "bake", "merge", "check", "demo", "relight", "view", "lights",
+    "render", "transfer", "bake", "merge", "check", "demo", "relight", "view",
 };
 
 #define BAD "--no-such-flag"
@@ -395,6 +395,81 @@ static void test_table_sub(void **state)
     }
 }
 
+/* an optional value (CALL .optional, as lights --error [P%]): digits are its value, "bad" is refused,
+ * anything else is not its value and is parsed as the next argument */
+typedef struct o_opts {
+    qcli_opt_list pos;
+    const char *val;
+    int alone;
+} o_opts;
+
+static const char *o_call(void *opts, const char *v)
+{
+    o_opts *o = opts;
+    if (!v)
+        return o->alone++, NULL;
+    if (strcmp(v, "bad") == 0)
+        return "is bad";
+    if (strspn(v, "0123456789") != strlen(v))
+        return qcli_opt_no_value;
+    o->val = v;
+    return NULL;
+}
+
+static const qcli_opt o_table[] = {
+    {.name = "--e", .kind = QCLI_OPT_CALL, .optional = 1, .off = 0, .arg = "V", .call = o_call, .help = "maybe"},
+    {.name = "--f", .kind = QCLI_OPT_FLAG, .off = offsetof(o_opts, alone), .help = "a flag"},
+    {0},
+};
+static const qcli_opt_cmd o_cmd = {.name = "o", .opts = o_table, .size = sizeof(o_opts),
+                                   .pos = {.names = "A", .min = 0, .max = 2, .off = offsetof(o_opts, pos)}};
+
+static int o_parse(o_opts *o, char *err, size_t errn, int argc, char **argv)
+{
+    fflush(stderr);
+    int saved = dup(2), fd = open(errlog, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    assert_true(saved >= 0 && fd >= 0);
+    dup2(fd, 2);
+    int rc = qcli_opt_parse(&o_cmd, argc, argv, 1, o);
+    fflush(stderr);
+    dup2(saved, 2);
+    close(fd), close(saved);
+    char *e = text(errlog);
+    snprintf(err, errn, "%s", e);
+    free(e);
+    return rc;
+}
+
+static void test_table_optional(void **state)
+{
+    (void)state;
+    o_opts o;
+    char err[512];
+    char *a1[] = {"o", "--e", "12", "x"}, *a2[] = {"o", "--e", "x"}, *a3[] = {"o", "x", "--e"},
+         *a4[] = {"o", "--e", "bad"}, *a5[] = {"o", "--e", "--nope"};
+    assert_int_equal(o_parse(&o, err, sizeof err, 4, a1), 0);
+    assert_true(o.val && strcmp(o.val, "12") == 0 && o.alone == 0 && o.pos.n == 1);
+    assert_int_equal(o_parse(&o, err, sizeof err, 3, a2), 0); /* not its value: a positional */
+    assert_true(!o.val && o.alone == 1 && o.pos.n == 1 && strcmp(o.pos.v[0], "x") == 0);
+    assert_int_equal(o_parse(&o, err, sizeof err, 3, a3), 0); /* the last argument: alone */
+    assert_true(!o.val && o.alone == 1 && o.pos.n == 1);
+    assert_int_equal(o_parse(&o, err, sizeof err, 3, a4), 2);
+    assert_string_equal(err, "qibl o: --e: 'bad' is bad; see qibl help o\n");
+    assert_int_equal(o_parse(&o, err, sizeof err, 3, a5), 2); /* the next flag is parsed as one */
+    assert_string_equal(err, "qibl o: unknown option '--nope'; see qibl help o\n");
+    /* help shows the value as optional; --flags lists it as a flag (whole alone) */
+    FILE *f = fopen(outlog, "w");
+    assert_non_null(f);
+    qcli_opt_help(f, &o_cmd);
+    qcli_opt_flags(f, &o_cmd);
+    fclose(f);
+    char *h = text(outlog);
+    assert_non_null(strstr(h, "usage: qibl o [--e [V]] [--f] [A]\n"));
+    assert_non_null(strstr(h, "\n  --e [V]  maybe\n"));
+    assert_non_null(strstr(h, "o\t--e\tflag\n"));
+    free(h);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -406,6 +481,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_table_help, setup, teardown),
         cmocka_unit_test(test_table_values),
         cmocka_unit_test_setup_teardown(test_table_sub, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_table_optional, setup, teardown),
     };
     return cmocka_run_group_tests_name("cli_opts", tests, NULL, NULL);
 }

@@ -29,6 +29,7 @@ static const qcli_opt_cmd *const ies_opts[] = {&qcli_opts_ies_info, NULL};
 static const qcli_opt_cmd *const study_opts[] = {&qcli_opts_study, NULL};
 static const qcli_opt_cmd *const bench_opts[] = {&qcli_opts_bench, NULL};
 static const qcli_opt_cmd *const probe_opts[] = {&qcli_opts_probe_info, NULL};
+static const qcli_opt_cmd *const lights_opts[] = {&qcli_opts_lights, NULL};
 
 /* which commands are on them: `qibl help CMD` is made from these, not from the command's usage */
 static const struct {
@@ -36,7 +37,7 @@ static const struct {
     const qcli_opt_cmd *const *opts;
 } tables[] = {{"sh", sh_opts},       {"gen", gen_opts}, {"info", info_opts},
               {"srgbe", srgbe_opts}, {"ies", ies_opts}, {"study", study_opts},
-              {"bench", bench_opts}, {"probe", probe_opts}};
+              {"bench", bench_opts}, {"probe", probe_opts}, {"lights", lights_opts}};
 
 static const qcli_opt_cmd *const *tables_of(const char *cmd)
 {
@@ -256,42 +257,7 @@ static const qcli_cmd commands[] = {
      NULL, qcli_cmd_info},
     {"srgbe", "encode/decode one sRGBE colour (signed shared-exponent RGB in 4 bytes)",
      NULL, qcli_cmd_srgbe},
-    {"lights", "sample a .hdr light probe (lat-long, angular, ball, cube cross) into directional lights",
-     "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv | --json] [--png OUT.png]\n"
-     "                   [--priority default|energy|energy-size|variance|levels] [--place centroid|centre]\n"
-     "                   [--as rgbe|srgbe|f32] [--zoom Z] [--error]\n"
-     "                   [--layout auto|latlong|angular|ball|vcross|hcross]\n"
-     "                   [--preset gltf [--yaw DEG | --rotate a,b,c,d,e,f,g,h,i]]\n"
-     "  --preset gltf: the lights as KHR_lights_punctual JSON: one directional light per light\n"
-     "  (intensity = its largest channel, lux for a probe in cd/m^2; color = rgb / intensity) and one\n"
-     "  node each whose rotation turns -z to where the light travels, in glTF's y-up frame as\n"
-     "  sh project --preset gltf places the probe; --yaw/--rotate turn them as qibl relight does.\n"
-     "  Turns a W x H lat-long probe (top row theta = 0 = +z, phi = 0 at the left edge, growing to the\n"
-     "  right) into N directional lights with the integer core (qibl/lightprobe.h): median cut\n"
-     "  (Debevec; N a power of two, default 64), adaptive median cut (any N) or variance minimisation\n"
-     "  (Viriyothai & Debevec; any N). Each light is a unit direction (to its region's energy\n"
-     "  centroid), an RGB irradiance (E(n) = sum rgb max(0, n.d) approximates the probe's) and its\n"
-     "  region, brightest first.\n"
-     "  --csv: one line per light, x,y,z,r,g,b,u0,v0,u1,v1 (region: u0 <= u < u1, v0 <= v < v1),\n"
-     "  after a header line (what qibl relight --lights reads). --json: {\"lights\": [{\"dir\", \"rgb\",\n"
-     "  \"region\"}...]} with the probe, size, method and count. Otherwise a table.\n"
-     "  --png: the tone-mapped probe with the regions (green) and light directions (red), zoomed by Z\n"
-     "  (default: to about 1024 pixels wide; the picture may have at most 65535 pixels a side and 2^25\n"
-     "  in all). --error: the lights' irradiance against the probe's over 1024 normals.\n"
-     "  --as: feed the core the probe as RGBE bytes (default), sRGBE or binary32.\n"
-     "  --priority / --place: which region ADAPTIVE/VARMIN split next, centroid or geometric centre.\n"
-     "  An all-black probe prints that it has no lights and exits 0.\n"
-     "  --layout: the probe's layout; by default it is detected (2:1 latlong, 3:4 vcross, 4:3 hcross\n"
-     "  with black empty cells) and printed; a square disc (angular map or mirror ball; a caption may\n"
-     "  light up to 5 % of the corners) needs --layout;\n"
-     "  other shapes are refused. Non-lat-long probes are resampled to lat-long (io/probe_layout.h).\n"
-     "  --auto --error P%: the cheapest representation with mean irradiance error <= P % (the\n"
-     "  measure of qibl probe info: |E - E_probe| / max(E_probe, mean E_probe / 10) per normal and\n"
-     "  channel, floored so near-black normals cannot blow it up; probes box-averaged to <= 1024 wide)\n"
-     "  P is a percentage in (0, 100], the sign optional: --error 2 is 2 %, not 200 %. An all-black\n"
-     "  probe is refused: its error would be 0 / 0.\n"
-     "  (tools/study): SH irradiance (4/9/16/25), N varmin lights (as sampled, or RGB refitted by NNLS)\n"
-     "  or sun plus sky (k lights + SH9); counted in floats stored (6 per light, 3 per coefficient).\n",
+    {"lights", "sample a .hdr light probe (lat-long, angular, ball, cube cross) into directional lights", NULL,
      qcli_cmd_lights},
     {"probe", "describe a light probe and advise how to light with it: SH, N lights, or sun plus SH", NULL,
      qcli_cmd_probe},

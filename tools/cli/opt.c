@@ -15,6 +15,8 @@
 
 #define MAX_OPTS 64 /* entries per table the required-option check tracks */
 
+const char qcli_opt_no_value[] = "is not a value";
+
 static const char *help_name(const qcli_opt_cmd *c)
 {
     return c->help_name ? c->help_name : c->name;
@@ -213,14 +215,28 @@ static int parse_size(const char *name, const char *help, const qcli_opt *o, con
     return 0;
 }
 
-/* one option's value(s) at argv[*i + 1 ...] into its field; *i advanced past them */
-static int take(const qcli_opt_cmd *c, const qcli_opt *o, int argc, char **argv, int *i, char *opts)
+/* one option's value(s) at argv[*i + 1 ...] into its field; *i advanced past them. The errors name
+ * the flag as it was spelled (an alias too). */
+static int take(const qcli_opt_cmd *c, const qcli_opt *table_o, int argc, char **argv, int *i, char *opts)
 {
+    qcli_opt spelled = *table_o;
+    spelled.name = argv[*i];
+    const qcli_opt *o = &spelled;
     const char *name = c->name, *help = help_name(c);
     char buf[256];
     void *dst = opts + o->off;
     if (o->kind == QCLI_OPT_FLAG) {
         *(int *)dst = 1;
+        return 0;
+    }
+    if (o->kind == QCLI_OPT_CALL && o->optional) { /* the next argument, if it is a value; else none */
+        const char *v = *i + 1 < argc ? argv[*i + 1] : NULL, *bad = v ? o->call(opts, v) : qcli_opt_no_value;
+        if (bad == qcli_opt_no_value)
+            v = NULL, bad = o->call(opts, NULL);
+        if (bad)
+            return v ? fail_named(name, help, "%s: '%s' %s", o->name, v, bad)
+                     : fail_named(name, help, "%s %s", o->name, bad);
+        *i += v ? 1 : 0;
         return 0;
     }
     int nv = o->kind == QCLI_OPT_TRIPLE ? 3 : 1;
@@ -420,8 +436,8 @@ static void usage_item(const qcli_opt *o, char *buf, size_t n)
 {
     char a[256];
     const char *an = o->kind == QCLI_OPT_FLAG ? NULL : arg_name(o, a, sizeof a);
-    snprintf(buf, n, "%s%s%s%s%s%s", o->required ? "" : "[", o->name, an ? " " : "", an ? an : "",
-             o->kind == QCLI_OPT_LIST ? "..." : "", o->required ? "" : "]");
+    snprintf(buf, n, "%s%s%s%s%s%s%s%s", o->required ? "" : "[", o->name, an ? " " : "", o->optional ? "[" : "",
+             an ? an : "", o->optional ? "]" : "", o->kind == QCLI_OPT_LIST ? "..." : "", o->required ? "" : "]");
 }
 
 void qcli_opt_help(FILE *f, const qcli_opt_cmd *c)
@@ -454,6 +470,15 @@ void qcli_opt_help(FILE *f, const qcli_opt_cmd *c)
         fputs(c->prose, f);
 }
 
+/* "--k, -k K" (an optional value: "--k [K]") into buf; its length */
+static int list_item(const qcli_opt *o, char *buf, size_t n)
+{
+    char a[256];
+    const char *an = o->kind == QCLI_OPT_FLAG ? "" : arg_name(o, a, sizeof a);
+    return snprintf(buf, n, "%s%s%s%s%s%s%s", o->name, o->alias ? ", " : "", o->alias ? o->alias : "",
+                    o->kind == QCLI_OPT_FLAG ? "" : " ", o->optional ? "[" : "", an, o->optional ? "]" : "");
+}
+
 void qcli_opt_help_list(FILE *f, const qcli_opt_cmd *c)
 {
     char item[384];
@@ -462,17 +487,14 @@ void qcli_opt_help_list(FILE *f, const qcli_opt_cmd *c)
         int w = 0;
         for (size_t k = 0; k < n; ++k) {
             const qcli_opt *o = &c->opts[k];
-            char a[256];
-            int len = snprintf(item, sizeof item, "%s%s%s%s%s", o->name, o->alias ? ", " : "", o->alias ? o->alias : "",
-                               o->kind == QCLI_OPT_FLAG ? "" : " ", o->kind == QCLI_OPT_FLAG ? "" : arg_name(o, a, sizeof a));
+            int len = list_item(o, item, sizeof item);
             w = len > w && len <= 28 ? len : w;
         }
         fputs("options:\n", f);
         for (size_t k = 0; k < n; ++k) {
             const qcli_opt *o = &c->opts[k];
-            char a[256], d[128], range[160] = "";
-            snprintf(item, sizeof item, "%s%s%s%s%s", o->name, o->alias ? ", " : "", o->alias ? o->alias : "",
-                     o->kind == QCLI_OPT_FLAG ? "" : " ", o->kind == QCLI_OPT_FLAG ? "" : arg_name(o, a, sizeof a));
+            char d[128], range[160] = "";
+            list_item(o, item, sizeof item);
             if (o->kind == QCLI_OPT_INT)
                 snprintf(range, sizeof range, "%ld..%ld", (long)o->lo, (long)o->hi);
             else if (o->kind == QCLI_OPT_NUM || o->kind == QCLI_OPT_TRIPLE)
@@ -504,7 +526,8 @@ void qcli_opt_flags(FILE *f, const qcli_opt_cmd *c)
 {
     fprintf(f, "%s\n", c->name);
     for (size_t k = 0; c->opts && c->opts[k].kind != QCLI_OPT_END; ++k) {
-        const char *kind = c->opts[k].kind == QCLI_OPT_FLAG ? "flag" : "value";
+        /* an optional value: the flag alone is whole */
+        const char *kind = c->opts[k].kind == QCLI_OPT_FLAG || c->opts[k].optional ? "flag" : "value";
         fprintf(f, "%s\t%s\t%s\n", c->name, c->opts[k].name, kind);
         if (c->opts[k].alias)
             fprintf(f, "%s\t%s\t%s\n", c->name, c->opts[k].alias, kind);

@@ -67,6 +67,9 @@
  * STR const char *; ENUM int (index into names); SIZE long[2] ("WxH", both in 1..hi); TRIPLE double[3]
  * (three arguments, each in [lo, hi]); LIST qcli_opt_list (the flag repeated, at most hi times, 64 at
  * most); CALL: call(opts, value) parses it and returns NULL, or what is wrong ("is not a rotation").
+ * A CALL with .optional: its value may be absent (`lights --error [P%]`): call(opts, next argument)
+ * returns qcli_opt_no_value when that argument is not its value, and then call(opts, NULL) says the
+ * flag came alone (so does the last argument).
  * A later repetition of a non-LIST flag replaces the earlier value (as the commands always did).
  * Values are taken verbatim, so `--size -8x4` is a bad size, not a missing value.
  */
@@ -110,8 +113,12 @@ typedef struct qcli_opt {
     const char *renamed; /* a deprecated spelling: the name to use (a note on stderr when used) */
     const char *note;   /* with renamed: why, in the note */
     int required;
+    int optional;       /* CALL: the value may be absent (above) */
     const char *help;   /* one line */
 } qcli_opt;
+
+/* What an optional CALL returns for an argument that is not its value (compared by address). */
+extern const char qcli_opt_no_value[];
 
 typedef struct qcli_opt_pos {
     const char *names; /* as usage shows them: "FILE", "X Y Z", "PROBE.hdr ..." */
@@ -133,7 +140,7 @@ typedef struct qcli_opt_cmd {
 /* The tables of the commands on them, for main.c's command table and `qibl help`. */
 extern const qcli_opt_cmd qcli_opts_gen, qcli_opts_info, qcli_opts_study, qcli_opts_ies_info;
 extern const qcli_opt_cmd qcli_opts_sh_eval, qcli_opts_sh_plot, qcli_opts_srgbe_encode, qcli_opts_srgbe_decode;
-extern const qcli_opt_cmd qcli_opts_bench, qcli_opts_probe_info, qcli_opts_sh_project;
+extern const qcli_opt_cmd qcli_opts_bench, qcli_opts_probe_info, qcli_opts_sh_project, qcli_opts_lights;
 
 /* Parses argv[first..argc-1] into opts (first set to c->defaults). 0, or 2 after one line on stderr. */
 int qcli_opt_parse(const qcli_opt_cmd *c, int argc, char **argv, int first, void *opts);
