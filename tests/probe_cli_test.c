@@ -360,7 +360,7 @@ static void test_relight_option_errors(void **state)
     expect(2, "--gles takes exactly one", png, "relight", g, "--sun", "0", "0", "1", "--sun", "1", "0", "0", "--gles",
            "--png", png, NULL);
     expect(2, "there is none", png, "relight", g, "--rgb", "1", "1", "1", "--probe", pr, "--png", png, NULL);
-    expect(2, "--rgb given twice", png, "relight", g, "--sun", "0", "0", "1", "--rgb", "1", "1", "1", "--rgb", "2",
+    expect(2, "--rgb: given twice", png, "relight", g, "--sun", "0", "0", "1", "--rgb", "1", "1", "1", "--rgb", "2",
            "2", "2", "--png", png, NULL);
     expect(2, "relight needs a light", png, "relight", g, "--png", png, NULL);
     expect(1, NULL, png, "relight", g, "--probe", at("missing.hdr"), "--png", png, NULL);

@@ -30,6 +30,7 @@ static const qcli_opt_cmd *const study_opts[] = {&qcli_opts_study, NULL};
 static const qcli_opt_cmd *const bench_opts[] = {&qcli_opts_bench, NULL};
 static const qcli_opt_cmd *const probe_opts[] = {&qcli_opts_probe_info, NULL};
 static const qcli_opt_cmd *const lights_opts[] = {&qcli_opts_lights, NULL};
+static const qcli_opt_cmd *const relight_opts[] = {&qcli_opts_relight, NULL};
 
 /* which commands are on them: `qibl help CMD` is made from these, not from the command's usage */
 static const struct {
@@ -37,7 +38,8 @@ static const struct {
     const qcli_opt_cmd *const *opts;
 } tables[] = {{"sh", sh_opts},       {"gen", gen_opts}, {"info", info_opts},
               {"srgbe", srgbe_opts}, {"ies", ies_opts}, {"study", study_opts},
-              {"bench", bench_opts}, {"probe", probe_opts}, {"lights", lights_opts}};
+              {"bench", bench_opts}, {"probe", probe_opts}, {"lights", lights_opts},
+              {"relight", relight_opts}};
 
 static const qcli_opt_cmd *const *tables_of(const char *cmd)
 {
@@ -177,61 +179,7 @@ static const qcli_cmd commands[] = {
      "  FULL=1`, minutes of CPU). --size WxH, --dirs and --frames override the size's values.\n",
      qcli_cmd_demo},
     {"relight", "relight an asset by suns, lamps, a light list or a whole probe into a PNG (core + soft framebuffer)",
-     "usage: qibl relight FILE [--sun X Y Z [--rgb R G B]]... [--point X Y Z [--rgb R G B]]...\n"
-     "                    [--lights FILE.csv] [--probe PROBE.hdr [--layout L] [--probe-mode sh|lights|sunsky]\n"
-     "                    [-n N] [--yaw DEG | --rotate a,b,c,d,e,f,g,h,i]] [--lut poly|nearest|bilinear|off]\n"
-     "                    [--falloff 1|2] [--exposure E] [--linear] [--gles] [--png OUT] [--hdr OUT.hdr]\n"
-     "                    [--pfm OUT.pfm] [--exr OUT.exr]\n"
-     "  Lights add up: any number of --sun and --point (at most 64 together), --lights and --probe.\n"
-     "  --sun: directional light from direction (X, Y, Z), colour --rgb (default 1 1 1).\n"
-     "  --point: point light at (X, Y, Z) in scene units, C0 = --rgb (default: 2 d, or 2 d^2 with\n"
-     "  --falloff 2, d the median distance from the lamp to the asset's P-map points, with a note);\n"
-     "  per-pixel Y from the SH polynomials in Q2.14 (--lut poly, the default and the fastest), the\n"
-     "  asset's cube-map LUT (--lut nearest or bilinear) or the Q2.30 SH evaluation (--lut off);\n"
-     "  --falloff 1 is C0/|L| (Wong et al.), 2 is C0/|L|^2. (The old\n"
-     "  spellings, a bare --lut for bilinear and --nearest, still work with a deprecation note.)\n"
-     "  --rgb colours the --sun or --point just before it (one given before the first light colours\n"
-     "  that light). Suns sum in SH; each point is relit on its own and the frames sum per pixel in\n"
-     "  64 bits, saturated once.\n"
-     "  --lights FILE.csv: the output of `qibl lights --csv` (header x,y,z,r,g,b,u0,v0,u1,v1; at most\n"
-     "  65536 rows), each row a directional light of colour r,g,b.\n"
-     "  --probe PROBE.hdr: the whole environment (layout detected, or --layout) as the radiance SH\n"
-     "  (PROBE may be an OpenEXR file, known by its magic number, wherever a .hdr is read: its data\n"
-     "  window's R G B or Y, negative samples made 0)\n"
-     "  of the asset's k maps (no irradiance convolution: the maps already hold the cosine and the\n"
-     "  shadows). --probe-mode sh (default): the core's projection; lights: N median-cut lights\n"
-     "  (-n N, a power of two, default 64) projected to SH; sunsky: of N median-cut regions (default\n"
-     "  64) the sun (those whose mean radiance is at least 32 times the probe's; none on an overcast\n"
-     "  sky) as directional lights, the rest of the probe as its SH (qibl_shlight_add_sun_sky).\n"
-     "  --yaw DEG: turns the environment about +z (up): a light at azimuth phi (from +x toward +y)\n"
-     "  comes from phi + DEG: positive yaw turns +x toward +y (counter-clockwise seen from above in\n"
-     "  the right-handed xyz frame), and the probe's lat-long picture slides DEG/360 of its width to\n"
-     "  the right (the picture is mirrored against xyz: seen from inside, +y is left of +x).\n"
-     "  --rotate: the 3x3 rotation r row by row (orthonormal within 2^-16, det +1): light from d\n"
-     "  comes from r d.\n"
-     "  Either is applied once to the probe's SH (qibl_shlight_rotate), not by re-projecting.\n"
-     "  --png: RGBA8888 with sRGB transfer (or --linear), exposure E (default 1), as an RGB PNG; a\n"
-     "  frame whose mean is below 32 of 255 gets a note that it is almost black.\n"
-     "  --hdr / --pfm: the same frame linear, before exposure and transfer (the core's Q16.16 output,\n"
-     "  negative SH ringing clamped to 0), as Radiance RGBE (RLE) or little-endian PFM, for other\n"
-     "  tools; --exr: the same floats as OpenEXR (scanline, ZIP, FLOAT, bit for bit). At least one of\n"
-     "  --png/--hdr/--pfm/--exr.\n"
-     "  --gles: relight with platform/gles2 on a headless EGL context instead (one --sun or --point,\n"
-     "  --png only; the same asset and core weights; within 1 of 255 of the CPU path on Mesa llvmpipe).\n"
-     "  --ies FILE.ies [--aim X Y Z] [--up X Y Z] [--ies-size N]: every --point becomes a goniometric\n"
-     "  lamp with the IES LM-63 file's profile (see `qibl ies info`): its light toward each pixel's point\n"
-     "  of the P map is scaled by I(direction) / I_peak (qibl/gonio.h: the profile resampled into an\n"
-     "  N x N octahedral Q1.15 table, default 64, 2..256, bilinear), so --rgb (C0) is the lamp's peak\n"
-     "  and an isotropic file gives exactly the isotropic lamp. --aim: the profile's axis (type C nadir,\n"
-     "  types A/B the beam centre), default 0 0 -1 (a downlight in the z-up scene); --up: the direction\n"
-     "  of horizontal angle 0 (types A/B: vertical angle 90), made orthogonal to the aim, default 1 0 0.\n"
-     "  Soft framebuffer only (not --gles). With --path lamp (below) the same options make the track's\n"
-     "  lamp goniometric (its light scaled before the track's visibility).\n"
-     "  qibl relight FILE --path N|sun|lamp --t T [--rgb R G B] [--soft R] [--sky R G B]\n"
-     "               [--ies FILE.ies [--aim X Y Z] [--up X Y Z] [--ies-size N]] (--png|--pfm|--exr OUT):\n"
-     "  a light on the asset's baked path N (or its first sun path / lamp track) at T in 0..1: unshadowed\n"
-     "  SH x visibility(T), soft over [T - R, T + R]; --sky adds the demo's sky through the shadowed maps.\n",
-     qcli_cmd_relight},
+     NULL, qcli_cmd_relight},
     {"view", "a live viewer: drag the sun or a lamp, scrub a baked light path, step probes, yaw, exposure, k (X11)",
      "usage: qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--lamp-rgb C0] [--exposure E] [--truth PNG|DIR]\n"
      "                 [--gles] [--bench [--frames N] [--headless] [--record OUT.png [--turn]]]\n"

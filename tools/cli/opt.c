@@ -227,7 +227,8 @@ static int take(const qcli_opt_cmd *c, const qcli_opt *table_o, int argc, char *
     void *dst = opts + o->off;
     if (o->kind == QCLI_OPT_FLAG) {
         *(int *)dst = 1;
-        return 0;
+        const char *bad = o->call ? o->call(opts, NULL) : NULL;
+        return bad ? fail_named(name, help, "%s %s", o->name, bad) : 0;
     }
     if (o->kind == QCLI_OPT_CALL && o->optional) { /* the next argument, if it is a value; else none */
         const char *v = *i + 1 < argc ? argv[*i + 1] : NULL, *bad = v ? o->call(opts, v) : qcli_opt_no_value;
@@ -239,9 +240,16 @@ static int take(const qcli_opt_cmd *c, const qcli_opt *table_o, int argc, char *
         *i += v ? 1 : 0;
         return 0;
     }
-    int nv = o->kind == QCLI_OPT_TRIPLE ? 3 : 1;
+    int nv = o->kind == QCLI_OPT_TRIPLE ? 3 : o->kind == QCLI_OPT_CALL && o->nargs > 1 ? o->nargs : 1;
     if (argc - *i - 1 < nv)
         return fail_named(name, help, "%s needs %s", o->name, arg_name(o, buf, sizeof buf));
+    if (nv > 1 && o->kind == QCLI_OPT_CALL) {
+        const char *bad = o->call_n(opts, argv + *i + 1);
+        if (bad)
+            return fail_named(name, help, "%s: %s", o->name, bad);
+        *i += nv;
+        return 0;
+    }
     const char *v = argv[*i + 1];
     int rc = 0;
     switch (o->kind) {

@@ -70,6 +70,9 @@
  * A CALL with .optional: its value may be absent (`lights --error [P%]`): call(opts, next argument)
  * returns qcli_opt_no_value when that argument is not its value, and then call(opts, NULL) says the
  * flag came alone (so does the last argument).
+ * A CALL with .nargs = N > 1 takes N arguments: call_n(opts, values) (`--sun X Y Z` in the order
+ * relight gives the lights), and its reason names the values itself ("--sun: <reason>").
+ * A FLAG with .call: call(opts, NULL) once it is set (an action: a deprecated spelling's note).
  * A later repetition of a non-LIST flag replaces the earlier value (as the commands always did).
  * Values are taken verbatim, so `--size -8x4` is a bad size, not a missing value.
  */
@@ -114,6 +117,8 @@ typedef struct qcli_opt {
     const char *note;   /* with renamed: why, in the note */
     int required;
     int optional;       /* CALL: the value may be absent (above) */
+    int nargs;          /* CALL: how many arguments call_n takes (0 or 1: call takes one) */
+    const char *(*call_n)(void *opts, char *const *values);
     const char *help;   /* one line */
 } qcli_opt;
 
@@ -140,7 +145,8 @@ typedef struct qcli_opt_cmd {
 /* The tables of the commands on them, for main.c's command table and `qibl help`. */
 extern const qcli_opt_cmd qcli_opts_gen, qcli_opts_info, qcli_opts_study, qcli_opts_ies_info;
 extern const qcli_opt_cmd qcli_opts_sh_eval, qcli_opts_sh_plot, qcli_opts_srgbe_encode, qcli_opts_srgbe_decode;
-extern const qcli_opt_cmd qcli_opts_bench, qcli_opts_probe_info, qcli_opts_sh_project, qcli_opts_lights;
+extern const qcli_opt_cmd qcli_opts_bench, qcli_opts_probe_info, qcli_opts_sh_project, qcli_opts_lights,
+    qcli_opts_relight;
 
 /* Parses argv[first..argc-1] into opts (first set to c->defaults). 0, or 2 after one line on stderr. */
 int qcli_opt_parse(const qcli_opt_cmd *c, int argc, char **argv, int first, void *opts);
