@@ -470,6 +470,74 @@ static void test_table_optional(void **state)
     free(h);
 }
 
+/* a CALL of three arguments (relight's --sun X Y Z, in the order given) and a FLAG with an action */
+typedef struct n_opts {
+    int seen[4][3], n, acted, flag;
+} n_opts;
+
+static const char *n_call(void *opts, char *const *v)
+{
+    n_opts *o = opts;
+    for (int k = 0; k < 3; ++k)
+        if (strspn(v[k], "0123456789") != strlen(v[k]) || !v[k][0])
+            return "wants three digit strings";
+    if (o->n >= 4)
+        return "at most four";
+    for (int k = 0; k < 3; ++k)
+        o->seen[o->n][k] = atoi(v[k]);
+    ++o->n;
+    return NULL;
+}
+
+static const char *act_call(void *opts, const char *v)
+{
+    n_opts *o = opts;
+    assert_null(v);
+    return o->acted++ ? "once only" : NULL;
+}
+
+static const qcli_opt n_table[] = {
+    {.name = "--three", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = n_call, .arg = "A B C", .help = "three"},
+    {.name = "--act", .kind = QCLI_OPT_FLAG, .off = offsetof(n_opts, flag), .call = act_call, .help = "acts"},
+    {0},
+};
+static const qcli_opt_cmd n_cmd = {.name = "n", .opts = n_table, .size = sizeof(n_opts)};
+
+static int n_parse(n_opts *o, char *err, size_t errn, int argc, char **argv)
+{
+    fflush(stderr);
+    int saved = dup(2), fd = open(errlog, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    assert_true(saved >= 0 && fd >= 0);
+    dup2(fd, 2);
+    int rc = qcli_opt_parse(&n_cmd, argc, argv, 1, o);
+    fflush(stderr);
+    dup2(saved, 2);
+    close(fd), close(saved);
+    char *e = text(errlog);
+    snprintf(err, errn, "%s", e);
+    free(e);
+    return rc;
+}
+
+static void test_table_nargs(void **state)
+{
+    (void)state;
+    n_opts o;
+    char err[512];
+    char *a1[] = {"n", "--three", "1", "2", "3", "--act", "--three", "4", "5", "6"},
+         *a2[] = {"n", "--three", "1", "2"}, *a3[] = {"n", "--three", "1", "x", "3"},
+         *a4[] = {"n", "--act", "--act"};
+    assert_int_equal(n_parse(&o, err, sizeof err, 10, a1), 0);
+    assert_true(o.n == 2 && o.seen[0][0] == 1 && o.seen[0][2] == 3 && o.seen[1][0] == 4 && o.seen[1][2] == 6);
+    assert_true(o.flag == 1 && o.acted == 1);
+    assert_int_equal(n_parse(&o, err, sizeof err, 4, a2), 2);
+    assert_string_equal(err, "qibl n: --three needs A B C; see qibl help n\n");
+    assert_int_equal(n_parse(&o, err, sizeof err, 5, a3), 2); /* the reason names the values itself */
+    assert_string_equal(err, "qibl n: --three: wants three digit strings; see qibl help n\n");
+    assert_int_equal(n_parse(&o, err, sizeof err, 3, a4), 2);
+    assert_string_equal(err, "qibl n: --act once only; see qibl help n\n");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -482,6 +550,7 @@ int main(void)
         cmocka_unit_test(test_table_values),
         cmocka_unit_test_setup_teardown(test_table_sub, setup, teardown),
         cmocka_unit_test_setup_teardown(test_table_optional, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_table_nargs, setup, teardown),
     };
     return cmocka_run_group_tests_name("cli_opts", tests, NULL, NULL);
 }
