@@ -5,6 +5,8 @@
  * QTOOL_*_OPTS_DEFAULT hold the defaults), calls the job and prints its reason on failure.
  */
 #include <math.h>
+#include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,7 +14,9 @@
 
 #include "bake/job.h"
 #include "cli/cli.h"
+#include "cli/opt.h"
 #include "qibl/asset.h"
+#include "qibl/shmaps.h"
 
 /* ---- shared options ------------------------------------------------------------------------------ */
 
@@ -380,52 +384,119 @@ int qcli_cmd_bake(int argc, char **argv)
 
 /* ---- qibl merge ---------------------------------------------------------------------------------- */
 
-static int merge_parse(int argc, char **argv, qtool_merge_opts *o)
+static const char *const layouts[] = {"planar", "interleaved", NULL};
+static const uint32_t layout_values[] = {QIBL_SHMAPS_PLANAR, QIBL_SHMAPS_INTERLEAVED};
+
+typedef struct merge_cli {
+    qtool_merge_opts o; /* QTOOL_MERGE_OPTS_DEFAULT; o.in grows as SUMS come (the command frees it) */
+    int layout;         /* index into layouts */
+    size_t room;
+} merge_cli;
+static const merge_cli merge_defaults = {.o = QTOOL_MERGE_OPTS_DEFAULT, .layout = 0};
+
+/* one SUMS file more: any number of them (a farm's shards) */
+static const char *merge_file(void *opts, const char *v)
 {
-    for (int i = 1; i < argc; ++i) {
-        int r = asset_opt(argc, argv, &i, &o->k, &o->lut, &o->layout, &o->lsq);
-        if (r < 0)
-            return 2;
-        if (r)
-            continue;
-        const char *a = argv[i];
-        if (strcmp(a, "-o") == 0 && i + 1 < argc)
-            o->out = argv[++i];
-        else if (strcmp(a, "--sums") == 0 && i + 1 < argc)
-            o->sums_out = argv[++i];
-        else if (strcmp(a, "--manifest") == 0 && i + 1 < argc)
-            o->manifest = argv[++i];
-        else if (a[0] != '-')
-            o->in[o->nin++] = argv[i];
-        else
-            return qcli_usage_error("merge: unknown argument '%s' (see qibl help merge)", a);
+    merge_cli *c = opts;
+    if ((size_t)c->o.nin == c->room) {
+        size_t n = c->room ? 2 * c->room : 16;
+        char **in = realloc(c->o.in, n * sizeof *in);
+        if (!in)
+            return "is one file too many: out of memory";
+        c->o.in = in, c->room = n;
     }
-    if ((o->nin == 0 && !o->manifest) || (!o->out && !o->sums_out))
-        return qcli_usage_error("usage: qibl merge (-o ASSET | --sums OUT | both) [--k K] [--lut-size N] [--lsq] "
-                                "(--manifest FILE | SUMS...)");
-    return 0;
+    c->o.in[c->o.nin++] = (char *)(uintptr_t)v; /* qtool_merge_opts holds argv's own strings */
+    return NULL;
 }
+
+static const qcli_opt merge_table[] = {
+    {.name = "-o", .kind = QCLI_OPT_STR, .off = offsetof(merge_cli, o.out), .arg = "ASSET",
+     .help = "the merged asset"},
+    {.name = "--sums", .kind = QCLI_OPT_STR, .off = offsetof(merge_cli, o.sums_out), .arg = "OUT",
+     .help = "the total sums (merged again later, or baked into an asset)"},
+    {.name = "--manifest", .kind = QCLI_OPT_STR, .off = offsetof(merge_cli, o.manifest), .arg = "FILE",
+     .help = "the SUMS files, one per line (docs/farm.md)"},
+    {.name = "--k", .kind = QCLI_OPT_INT, .off = offsetof(merge_cli, o.k), .arg = "K", .lo = 1, .hi = 25,
+     .def = "the shards' k, at most 16", .help = "the number of SH maps"},
+    {.name = "--lut-size", .kind = QCLI_OPT_INT, .off = offsetof(merge_cli, o.lut), .arg = "N", .lo = 0,
+     .hi = QIBL_ASSET_MAX_LUT, .what = "a face size", .why = "0: no LUT", .help = "the cube-map Y LUT's face size"},
+    {.name = "--lut", .kind = QCLI_OPT_INT, .off = offsetof(merge_cli, o.lut), .arg = "N", .lo = 0,
+     .hi = QIBL_ASSET_MAX_LUT, .what = "a face size", .why = "0: no LUT", .renamed = "--lut-size",
+     .note = "relight's --lut is the sampling mode"},
+    {.name = "--layout", .kind = QCLI_OPT_ENUM, .off = offsetof(merge_cli, layout), .names = layouts,
+     .help = "the maps' byte order in the asset (see qibl help gen)"},
+    {.name = "--lsq", .kind = QCLI_OPT_FLAG, .off = offsetof(merge_cli, o.lsq),
+     .help = "least-squares projection instead of quadrature"},
+    {0},
+};
+
+const qcli_opt_cmd qcli_opts_merge = {
+    .name = "merge",
+    .opts = merge_table,
+    .pos = {.names = "SUMS...", .min = 0, .max = QCLI_OPT_LIST_MAX, .call = merge_file},
+    .defaults = &merge_defaults,
+    .size = sizeof(merge_cli),
+    .prose =
+        "                  [--layout planar|interleaved] [--manifest FILE] SUMS...\n"
+        "  Adds the partial sums written by `qibl bake --shard I/N --sums FILE` (every shard exactly once,\n"
+        "  same bake) and writes the asset as qibl bake would (byte-identical, with the unshadowed maps,\n"
+        "  light paths and lamp occlusion joined from every SUMS.u / SUMS.x when the shards wrote them), and/or the\n"
+        "  total sums.\n"
+        "  Every file is checked before use (version, CRC-32s, counts within the bake's limits, exact size),\n"
+        "  then against the first (split, size, k, directions, P map); sums that would overflow 64 bits, a\n"
+        "  shard given twice or missing, and --k above the shards' k are refused by name; so are shards whose\n"
+        "  light paths or lamp occlusion (SUMS.x) differ (one baked without the others' --sun-path).\n"
+        "  --manifest FILE: the shards named one per line, \"shard I/N SUMS [SUMS.u [SUMS.x]]\" ('-' for a\n"
+        "  side file the shard has not; '#' comments), each file's I/N checked against the line.\n"
+        "  A partial set (tree merges, --sums OUT without -o): shards I, I+M, I+2M, ... of N (M dividing N)\n"
+        "  are written as shard I/M with OUT.u and OUT.x, for a later merge; any other partial set is refused.\n"
+        "  Exit status: 0 written, 1 refused or failed (named on stderr, nothing written), 2 bad arguments.\n",
+};
 
 int qcli_cmd_merge(int argc, char **argv)
 {
-    qtool_merge_opts o = QTOOL_MERGE_OPTS_DEFAULT;
-    o.in = malloc(sizeof(char *) * (size_t)argc);
-    if (!o.in)
-        return 1;
-    int rc = merge_parse(argc, argv, &o);
+    merge_cli c;
+    int rc = qcli_opt_parse(&qcli_opts_merge, argc, argv, 1, &c);
+    if (rc == 0 && ((c.o.nin == 0 && !c.o.manifest) || (!c.o.out && !c.o.sums_out)))
+        rc = qcli_opt_error(&qcli_opts_merge, "needs -o ASSET or --sums OUT (or both), and --manifest FILE or SUMS...");
+    c.o.layout = layout_values[c.layout];
     char err[4400] = "";
     if (rc == 0 && !qcli_parse_only) /* fuzz_cliopts: the options only */
-        rc = job_status(qtool_bake_merge(&o, stdout, err, sizeof err), err);
-    free(o.in);
+        rc = job_status(qtool_bake_merge(&c.o, stdout, err, sizeof err), err);
+    free(c.o.in);
     return rc;
 }
 
 /* ---- qibl check ---------------------------------------------------------------------------------- */
 
+/* the files are argv's own: the table only refuses flags (there are none) */
+static const char *check_file(void *opts, const char *v)
+{
+    (void)v;
+    ++*(int *)opts;
+    return NULL;
+}
+
+const qcli_opt_cmd qcli_opts_check = {
+    .name = "check",
+    .pos = {.names = "FILE...", .min = 1, .max = QCLI_OPT_LIST_MAX, .call = check_file},
+    .size = sizeof(int),
+    .prose =
+        "  .png: signature, every chunk CRC, the zlib stream (inflated), Adler-32, APNG frame sequence;\n"
+        "  .pfm: header and size; .hdr/.pic: Radiance header, resolution line and every scanline (RLE or\n"
+        "  flat) decoded, as qibl lights reads it; .exr (or the EXR magic): header and every chunk decoded;\n"
+        "  anything else as a qibl asset (qibl_asset_open).\n"
+        "  Exit 1 if any is bad.\n",
+};
+
 int qcli_cmd_check(int argc, char **argv)
 {
-    if (argc < 2)
-        return qcli_usage_error("usage: qibl check FILE...");
+    int nfiles;
+    int rc = qcli_opt_parse(&qcli_opts_check, argc, argv, 1, &nfiles);
+    if (rc != 0)
+        return rc;
+    if (nfiles == 0)
+        return qcli_opt_error(&qcli_opts_check, "needs FILE...");
     if (qcli_parse_only) /* fuzz_cliopts: the options only */
         return 0;
     int bad = 0;

@@ -70,19 +70,22 @@ static void note(relight_cli *c, const char *text)
         c->notes[c->nnotes++] = text;
 }
 
-static const char *sun_call(void *o, char *const *v)
+static const char *sun_call(void *o, char *const *v, int n, int *used)
 {
+    (void)n, (void)used;
     return qcli_light_source(&C(o)->r.lights, 0, v, C(o)->why, sizeof C(o)->why);
 }
 
-static const char *point_call(void *o, char *const *v)
+static const char *point_call(void *o, char *const *v, int n, int *used)
 {
+    (void)n, (void)used;
     return qcli_light_source(&C(o)->r.lights, 1, v, C(o)->why, sizeof C(o)->why);
 }
 
 /* --rgb colours the light before it (or, first, the first), or with --path the path's light */
-static const char *rgb_call(void *o, char *const *v)
+static const char *rgb_call(void *o, char *const *v, int n, int *used)
 {
+    (void)n, (void)used;
     relight_cli *c = o;
     if (!c->path_mode)
         return qcli_light_rgb(&c->r.lights, v, c->why, sizeof c->why);
@@ -181,13 +184,15 @@ static const char *frame_call(relight_cli *c, int32_t *q, char *const *v)
     return NULL;
 }
 
-static const char *aim_call(void *o, char *const *v)
+static const char *aim_call(void *o, char *const *v, int n, int *used)
 {
+    (void)n, (void)used;
     return frame_call(o, C(o)->r.aim, v);
 }
 
-static const char *up_call(void *o, char *const *v)
+static const char *up_call(void *o, char *const *v, int n, int *used)
 {
+    (void)n, (void)used;
     return frame_call(o, C(o)->r.up, v);
 }
 

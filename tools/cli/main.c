@@ -31,6 +31,8 @@ static const qcli_opt_cmd *const bench_opts[] = {&qcli_opts_bench, NULL};
 static const qcli_opt_cmd *const probe_opts[] = {&qcli_opts_probe_info, NULL};
 static const qcli_opt_cmd *const lights_opts[] = {&qcli_opts_lights, NULL};
 static const qcli_opt_cmd *const relight_opts[] = {&qcli_opts_relight, NULL};
+static const qcli_opt_cmd *const merge_opts[] = {&qcli_opts_merge, NULL};
+static const qcli_opt_cmd *const check_opts[] = {&qcli_opts_check, NULL};
 
 /* which commands are on them: `qibl help CMD` is made from these, not from the command's usage */
 static const struct {
@@ -39,7 +41,7 @@ static const struct {
 } tables[] = {{"sh", sh_opts},       {"gen", gen_opts}, {"info", info_opts},
               {"srgbe", srgbe_opts}, {"ies", ies_opts}, {"study", study_opts},
               {"bench", bench_opts}, {"probe", probe_opts}, {"lights", lights_opts},
-              {"relight", relight_opts}};
+              {"relight", relight_opts}, {"merge", merge_opts}, {"check", check_opts}};
 
 static const qcli_opt_cmd *const *tables_of(const char *cmd)
 {
@@ -144,30 +146,9 @@ static const qcli_cmd commands[] = {
      "  arguments.\n",
      qcli_cmd_bake},
     {"merge", "combine the partial sums of bake shards into an asset",
-     "usage: qibl merge (-o ASSET | --sums OUT | both) [--k K] [--lut-size N] [--lsq]\n"
-     "                  [--layout planar|interleaved] [--manifest FILE] SUMS...\n"
-     "  Adds the partial sums written by `qibl bake --shard I/N --sums FILE` (every shard exactly once,\n"
-     "  same bake) and writes the asset as qibl bake would (byte-identical, with the unshadowed maps,\n"
-     "  light paths and lamp occlusion joined from every SUMS.u / SUMS.x when the shards wrote them), and/or the\n"
-     "  total sums.\n"
-     "  Every file is checked before use (version, CRC-32s, counts within the bake's limits, exact size),\n"
-     "  then against the first (split, size, k, directions, P map); sums that would overflow 64 bits, a\n"
-     "  shard given twice or missing, and --k above the shards' k are refused by name; so are shards whose\n"
-     "  light paths or lamp occlusion (SUMS.x) differ (one baked without the others' --sun-path).\n"
-     "  --manifest FILE: the shards named one per line, \"shard I/N SUMS [SUMS.u [SUMS.x]]\" ('-' for a\n"
-     "  side file the shard has not; '#' comments), each file's I/N checked against the line.\n"
-     "  A partial set (tree merges, --sums OUT without -o): shards I, I+M, I+2M, ... of N (M dividing N)\n"
-     "  are written as shard I/M with OUT.u and OUT.x, for a later merge; any other partial set is refused.\n"
-     "  Exit status: 0 written, 1 refused or failed (named on stderr, nothing written), 2 bad arguments.\n",
-     qcli_cmd_merge},
+     NULL, qcli_cmd_merge},
     {"check", "validate PNG/APNG, PFM, Radiance HDR, OpenEXR and qibl asset files",
-     "usage: qibl check FILE...\n"
-     "  .png: signature, every chunk CRC, the zlib stream (inflated), Adler-32, APNG frame sequence;\n"
-     "  .pfm: header and size; .hdr/.pic: Radiance header, resolution line and every scanline (RLE or\n"
-     "  flat) decoded, as qibl lights reads it; .exr (or the EXR magic): header and every chunk decoded;\n"
-     "  anything else as a qibl asset (qibl_asset_open).\n"
-     "  Exit 1 if any is bad.\n",
-     qcli_cmd_check},
+     NULL, qcli_cmd_check},
     {"demo", "the main demo: bake the scene, relight it by the core, compare with ground truth",
      "usage: qibl demo --out DIR [--small | --full] [--dirs N] [--frames F] [scene options as for render]\n"
      "  What `make demo` runs: bakes the scene (built-in courtyard, or --scene FILE.gltf|.glb|.obj|.ply), writes\n"

@@ -241,13 +241,15 @@ static int take(const qcli_opt_cmd *c, const qcli_opt *table_o, int argc, char *
         return 0;
     }
     int nv = o->kind == QCLI_OPT_TRIPLE ? 3 : o->kind == QCLI_OPT_CALL && o->nargs > 1 ? o->nargs : 1;
-    if (argc - *i - 1 < nv)
+    int least = o->kind == QCLI_OPT_CALL && o->nargs > 1 && o->nargs_min > 0 ? o->nargs_min : nv;
+    if (argc - *i - 1 < least)
         return fail_named(name, help, "%s needs %s", o->name, arg_name(o, buf, sizeof buf));
     if (nv > 1 && o->kind == QCLI_OPT_CALL) {
-        const char *bad = o->call_n(opts, argv + *i + 1);
+        int n = argc - *i - 1 < nv ? argc - *i - 1 : nv, used = n;
+        const char *bad = o->call_n(opts, argv + *i + 1, n, &used);
         if (bad)
             return fail_named(name, help, "%s: %s", o->name, bad);
-        *i += nv;
+        *i += used >= least && used <= n ? used : n;
         return 0;
     }
     const char *v = argv[*i + 1];
@@ -319,7 +321,7 @@ int qcli_opt_parse(const qcli_opt_cmd *c, int argc, char **argv, int first, void
         memcpy(opts, c->defaults, c->size);
     else
         memset(opts, 0, c->size);
-    qcli_opt_list *pos = c->pos.max > 0 ? (qcli_opt_list *)(void *)(base + c->pos.off) : NULL;
+    qcli_opt_list *pos = c->pos.max > 0 && !c->pos.call ? (qcli_opt_list *)(void *)(base + c->pos.off) : NULL;
     if (pos)
         pos->n = 0;
     for (int i = first; i < argc; ++i) {
@@ -337,6 +339,12 @@ int qcli_opt_parse(const qcli_opt_cmd *c, int argc, char **argv, int first, void
         /* "-" alone is a value (standard input's name); so is "-1" where values may be numbers */
         if (a[0] == '-' && a[1] != '\0' && !(c->pos.numbers && is_number(a)))
             return fail_named(name, help, "unknown option '%s'", a);
+        if (c->pos.call) {
+            const char *bad = c->pos.call(opts, a);
+            if (bad)
+                return fail_named(name, help, "'%s' %s", a, bad);
+            continue;
+        }
         if (!pos)
             return fail_named(name, help, "takes no arguments but options, and '%s' is not one", a);
         if (pos->n >= c->pos.max)

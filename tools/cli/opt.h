@@ -70,8 +70,10 @@
  * A CALL with .optional: its value may be absent (`lights --error [P%]`): call(opts, next argument)
  * returns qcli_opt_no_value when that argument is not its value, and then call(opts, NULL) says the
  * flag came alone (so does the last argument).
- * A CALL with .nargs = N > 1 takes N arguments: call_n(opts, values) (`--sun X Y Z` in the order
- * relight gives the lights), and its reason names the values itself ("--sun: <reason>").
+ * A CALL with .nargs = N > 1 takes N arguments: call_n(opts, values, N, &used) (`--sun X Y Z` in the
+ * order relight gives the lights), and its reason names the values itself ("--sun: <reason>"). With
+ * .nargs_min = M (1..N) it takes M to N: call_n gets the n <= N that follow and sets *used (M..n;
+ * `--camera gltf` or `--camera EYE TARGET UP`).
  * A FLAG with .call: call(opts, NULL) once it is set (an action: a deprecated spelling's note).
  * A later repetition of a non-LIST flag replaces the earlier value (as the commands always did).
  * Values are taken verbatim, so `--size -8x4` is a bad size, not a missing value.
@@ -118,7 +120,8 @@ typedef struct qcli_opt {
     int required;
     int optional;       /* CALL: the value may be absent (above) */
     int nargs;          /* CALL: how many arguments call_n takes (0 or 1: call takes one) */
-    const char *(*call_n)(void *opts, char *const *values);
+    int nargs_min;      /* CALL with nargs: the fewest it takes (0: nargs) */
+    const char *(*call_n)(void *opts, char *const *values, int n, int *used);
     const char *help;   /* one line */
 } qcli_opt;
 
@@ -130,6 +133,9 @@ typedef struct qcli_opt_pos {
     int min, max;      /* how many (max <= QCLI_OPT_LIST_MAX) */
     size_t off;        /* a qcli_opt_list in the options struct */
     int numbers;       /* they may be negative numbers: "-1", "-inf" are values */
+    /* instead of the list (no max: merge's and check's files): call(opts, value) takes each one and
+     * returns NULL or what is wrong; min is then the command's to check */
+    const char *(*call)(void *opts, const char *value);
 } qcli_opt_pos;
 
 typedef struct qcli_opt_cmd {
@@ -146,7 +152,7 @@ typedef struct qcli_opt_cmd {
 extern const qcli_opt_cmd qcli_opts_gen, qcli_opts_info, qcli_opts_study, qcli_opts_ies_info;
 extern const qcli_opt_cmd qcli_opts_sh_eval, qcli_opts_sh_plot, qcli_opts_srgbe_encode, qcli_opts_srgbe_decode;
 extern const qcli_opt_cmd qcli_opts_bench, qcli_opts_probe_info, qcli_opts_sh_project, qcli_opts_lights,
-    qcli_opts_relight;
+    qcli_opts_relight, qcli_opts_merge, qcli_opts_check;
 
 /* Parses argv[first..argc-1] into opts (first set to c->defaults). 0, or 2 after one line on stderr. */
 int qcli_opt_parse(const qcli_opt_cmd *c, int argc, char **argv, int first, void *opts);
