@@ -61,9 +61,9 @@ int qcli_cmd_merge(int argc, char **argv);
 int qcli_cmd_check(int argc, char **argv);
 int qcli_cmd_demo(int argc, char **argv); /* cmd_demo.c */
 
-/* Scene and panorama options shared by render, bake and demo (cmd_bake.c): --scene builtin|FILE.obj|FILE.ply,
- * --zup, --raw, --size WxH, --equirect, --threads N; the struct, its defaults and the loader are
- * tools/bake/scene.h's (qcli_scene is qtool_scene_opts). */
+/* Scene and panorama options shared by render, bake and demo: their option-table entries are
+ * cli/scene_opts.h's; the struct, its defaults and the loader are tools/bake/scene.h's (qcli_scene
+ * is qtool_scene_opts). */
 typedef qtool_scene_opts qcli_scene;
 /* QTOOL_SCENE_OPTS_DEFAULT with --threads the job's CPUs (qcli_default_threads) */
 void qcli_scene_defaults(qcli_scene *o);
@@ -72,7 +72,6 @@ void qcli_scene_defaults(qcli_scene *o);
  * figures (online CPUs, affinity count or 0 if unknown, the variable or NULL), for tests. */
 int qcli_default_threads(void);
 int qcli_threads_from(long online, long affinity, const char *slurm);
-int qcli_scene_opt(int argc, char **argv, int *i, qcli_scene *o);
 /* old names of what moved to tools/bake (scene.h, job.h) */
 #define QCLI_SCENE_MAX_TRIANGLES QTOOL_SCENE_MAX_TRIANGLES
 #define qcli_eval_lights qtool_bake_eval_lights

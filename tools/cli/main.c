@@ -33,6 +33,9 @@ static const qcli_opt_cmd *const lights_opts[] = {&qcli_opts_lights, NULL};
 static const qcli_opt_cmd *const relight_opts[] = {&qcli_opts_relight, NULL};
 static const qcli_opt_cmd *const merge_opts[] = {&qcli_opts_merge, NULL};
 static const qcli_opt_cmd *const check_opts[] = {&qcli_opts_check, NULL};
+static const qcli_opt_cmd *const render_opts[] = {&qcli_opts_render, NULL};
+static const qcli_opt_cmd *const bake_opts[] = {&qcli_opts_bake, NULL};
+static const qcli_opt_cmd *const demo_opts[] = {&qcli_opts_demo, NULL};
 
 /* which commands are on them: `qibl help CMD` is made from these, not from the command's usage */
 static const struct {
@@ -41,7 +44,8 @@ static const struct {
 } tables[] = {{"sh", sh_opts},       {"gen", gen_opts}, {"info", info_opts},
               {"srgbe", srgbe_opts}, {"ies", ies_opts}, {"study", study_opts},
               {"bench", bench_opts}, {"probe", probe_opts}, {"lights", lights_opts},
-              {"relight", relight_opts}, {"merge", merge_opts}, {"check", check_opts}};
+              {"relight", relight_opts}, {"merge", merge_opts}, {"check", check_opts},
+              {"render", render_opts}, {"bake", bake_opts}, {"demo", demo_opts}};
 
 static const qcli_opt_cmd *const *tables_of(const char *cmd)
 {
@@ -57,33 +61,7 @@ static const qcli_cmd commands[] = {
     {"gen", "write the procedural courtyard's SH maps (and P map, optional Y LUT) as an asset",
      NULL, qcli_cmd_gen},
     {"render", "ray-trace the ground-truth panorama of a scene under one light (PNG, PFM, depth)",
-     "usage: qibl render (--sun X Y Z | --point X Y Z) [--rgb R G B] [--falloff 1|2] [--png OUT] [--pfm OUT]\n"
-     "                   [--exr OUT.exr] [--depth OUT.pfm] [--scene builtin|FILE.gltf|FILE.glb|FILE.obj|FILE.ply] [--zup]\n"
-     "                   [--raw] [--size WxH] [--equirect] [--threads N] [--ies FILE.ies [--aim X Y Z] [--up X Y Z]]\n"
-     "                   [--camera EX,EY,EZ TX,TY,TZ UX,UY,UZ | --camera gltf[:N]] [--fov DEG]\n"
-     "  The reference renderer (BVH ray tracer, hard shadows, Lambert + glossy) from the viewpoint at the\n"
-     "  origin: what a light really produces, to compare relit frames with. --sun: directional light\n"
-     "  from (X, Y, Z) with irradiance --rgb (default 1 1 1); --point: a lamp at (X, Y, Z) with\n"
-     "  C0 = --rgb and falloff C0/|L| (or |L|^2); without --rgb, C0 = 2 d (or 2 d^2), d the median\n"
-     "  distance from the lamp to what the panorama sees (a note says so); every number within the Q16.16 range relight takes\n"
-     "  (|v| <= 32767.99998, --rgb >= 0). --png: sRGB 8-bit through the same framebuffer code\n"
-     "  as qibl relight; --pfm: linear RGB floats; --exr: the same floats as OpenEXR (scanline, ZIP, FLOAT\n"
-     "  channels, bit for bit); --depth: depth along each pixel's ray (0 for sky).\n"
-     "  Scenes: the built-in courtyard (default) or a glTF 2.0 (.gltf, .glb), OBJ or PLY mesh placed as a\n"
-     "  prop on a ground plane, 3.5 units along -x: the middle of the panorama, away from its seam at +x\n"
-     "  (Y-up turned to Z-up unless --zup; --raw: as given, nothing added). Materials colour the\n"
-     "  triangles: glTF baseColorFactor and PNG baseColorTexture, OBJ mtllib/usemtl with Kd and map_Kd\n"
-     "  (PNG) and vt. Default 1024x256 cylindrical. A frame whose mean is below 32 of 255 gets a note\n"
-     "  that it is almost black.\n"
-     "  --ies FILE.ies: the --point lamp is goniometric: C0 times I(direction) / I_peak from the IES\n"
-     "  profile in double precision (bilinear in its angle grid), oriented by --aim (default 0 0 -1)\n"
-     "  and --up (default 1 0 0) as relight --ies orients it: the truth of relight's tables.\n"
-     "  --camera EYE TARGET UP: a fixed perspective camera (a pre-rendered background) instead of the\n"
-     "  panorama: --size WxH pixels from EYE looking at TARGET, UP its approximate up, --fov DEG the\n"
-     "  vertical field of view (default 60, in (0, 180)); --camera gltf[:N]: the scene file's camera N\n"
-     "  (default 0, perspective, its yfov unless --fov), placed as the mesh is. A bad camera (EYE =\n"
-     "  TARGET, UP zero or along the view) is named.\n",
-     qcli_cmd_render},
+     NULL, qcli_cmd_render},
     {"transfer", "a mesh self-shadowed by hemispherical rasterization under a probe, beside the ray-cast truth",
      "usage: qibl transfer MESH [MESH...] --probe PROBE.hdr [--layout L] [--png OUT] [--size N] [--mask 16|32|64]\n"
      "                     [--face F] [--rays S] [--coarse T [--ring K]] [--tween N] [--zup] [--flip] [--skip-adjacent]\n"
@@ -109,56 +87,13 @@ static const qcli_cmd commands[] = {
      "  frame on one core (thread CPU time of the hemi calls) and RESULT transfer.* lines.\n",
      qcli_cmd_transfer},
     {"bake", "bake a scene into a relightable panorama asset (ray-traced, SH-projected, 8-bit packed)",
-     "usage: qibl bake (-o ASSET | --shard I/N --sums FILE) [--k K] [--lut-size N] [--dirs N] [--lsq]\n"
-     "                 [--budget DB] [--quiet] [--progress=bar|lines|none]\n"
-     "                 [--layout planar|interleaved] [--unshadowed-k K] [--sun-path LAT,DECL,T0,T1]\n"
-     "                 [--lamp-track X,Y,Z;X,Y,Z;...] [--path-steps N]\n"
-     "                 [--lamp-box X0,Y0,Z0,X1,Y1,Z1] [--lamp-samples N] [scene options as for render]\n"
-     "                 [--camera EX,EY,EZ TX,TY,TZ UX,UY,UZ | --camera gltf[:N]] [--fov DEG]\n"
-     "  Renders the scene under N directional lights (spherical Fibonacci set, equal weights 4 pi / N,\n"
-     "  default 512) with hard shadows, projects every pixel's response onto SH (k <= 25, default 16;\n"
-     "  quadrature, or --lsq least squares), packs the maps to 8 bits (min/max per map and channel) and\n"
-     "  writes SHMP + PMAP (+ a cube-map YLUT of face --lut-size N, default 32; 0 = none). Sums are\n"
-     "  exact integers: the asset is bit-identical for any --threads and any sharding.\n"
-     "  --shard I/N --sums FILE (no -o): bake only the I-th of N shares of the directions (and of the\n"
-     "  rows of the light paths and lamp occlusion), write partial sums for qibl merge (a render farm:\n"
-     "  docs/farm.md). --budget DB: choose the smallest band-complete k whose PSNR against ground truth\n"
-     "  on 8 novel suns reaches DB, and the smallest LUT within 0.1 dB of direct SH evaluation on 4\n"
-     "  lamps, and say so. --progress: a bar on stderr (the default on a terminal), or lines (the\n"
-     "  default elsewhere: one flushed line per step, \"progress: stage=S done=D total=T fraction=F\"),\n"
-     "  or none (also --quiet). --threads defaults to the CPUs the process may run on (its affinity:\n"
-     "  taskset, a job's cgroup), lowered to SLURM_CPUS_PER_TASK where that is set.\n"
-     "  --layout interleaved: SH maps streamable by rows (see qibl help gen).\n"
-     "  --unshadowed-k K (default 9, 0 = none): also the unshadowed transfer (cosine x BRDF, no shadow\n"
-     "  test) as SHMU (planar); free point lights use it (visibility at infinity is wrong for a lamp\n"
-     "  inside the scene). --sun-path LAT,DECL,T0,T1 (degrees, degrees, solar hours; +x east, +y north)\n"
-     "  and --lamp-track \"x,y,z;x,y,z;...\" (a polyline, t by arc length; up to 8 paths): per pixel the\n"
-     "  light's visibility along the path (facing and shadow) as on/off edges of t in 0..65535, sampled\n"
-     "  at N + 1 points (--path-steps, default 64) and bisected to one 16-bit step (LPTH chunks; relit\n"
-     "  as unshadowed SH x visibility, qibl/lightpath.h). --lamp-box: the region free lamps move in;\n"
-     "  per pixel the expected visibility of a lamp there (N Halton positions, default 64), LOCC: free\n"
-     "  lamps through SHMU are scaled by it (their cast shadows on average). A shard also writes its\n"
-     "  share of the unshadowed sums (FILE.u) and its rows of the LPTH/LOCC chunks (FILE.x, also when\n"
-     "  there are none, so merge can refuse a shard baked without the others' paths).\n"
-     "  --camera, --fov (as for render): the pixels are a fixed camera's rays instead of the panorama's,\n"
-     "  so the maps relight a pre-rendered background seen from one corner (qibl relight as any asset).\n"
-     "  Exit status: 0 done, 1 failed (a file, memory; named on stderr, nothing half-written), 2 bad\n"
-     "  arguments.\n",
-     qcli_cmd_bake},
+     NULL, qcli_cmd_bake},
     {"merge", "combine the partial sums of bake shards into an asset",
      NULL, qcli_cmd_merge},
     {"check", "validate PNG/APNG, PFM, Radiance HDR, OpenEXR and qibl asset files",
      NULL, qcli_cmd_check},
     {"demo", "the main demo: bake the scene, relight it by the core, compare with ground truth",
-     "usage: qibl demo --out DIR [--small | --full] [--dirs N] [--frames F] [scene options as for render]\n"
-     "  What `make demo` runs: bakes the scene (built-in courtyard, or --scene FILE.gltf|.glb|.obj|.ply), writes\n"
-     "  the assets for k = 9, 16, 25, relights a sun sweep and a moving lamp with the core (PNG frames and\n"
-     "  APNG), a contact sheet (relit | ground truth | error heat map) for novel lights, and prints the\n"
-     "  table of k, bytes, ms/frame and PSNR with RESULT lines, then the light paths and the probe-lit rows.\n"
-     "  Sizes: default 512x128, 256 directions, 12 frames (`make demo`); --small 256x64, 128 directions,\n"
-     "  6 frames (CI); --full 1024x256, 512 directions, 24 frames and the full probe-lit truths (`make demo\n"
-     "  FULL=1`, minutes of CPU). --size WxH, --dirs and --frames override the size's values.\n",
-     qcli_cmd_demo},
+     NULL, qcli_cmd_demo},
     {"relight", "relight an asset by suns, lamps, a light list or a whole probe into a PNG (core + soft framebuffer)",
      NULL, qcli_cmd_relight},
     {"view", "a live viewer: drag the sun or a lamp, scrub a baked light path, step probes, yaw, exposure, k (X11)",

@@ -84,6 +84,15 @@ static const qcli_opt *find(const qcli_opt *t, const char *a)
     return NULL;
 }
 
+/* the option with .eq named by the first n bytes of a ("--progress" of "--progress=bar") */
+static const qcli_opt *find_eq(const qcli_opt *t, const char *a, size_t n)
+{
+    for (size_t i = 0; t && t[i].kind != QCLI_OPT_END; ++i)
+        if (t[i].eq && strlen(t[i].name) == n && strncmp(t[i].name, a, n) == 0)
+            return &t[i];
+    return NULL;
+}
+
 /* the whole string is a number strtod reads (negative, inf and nan included) */
 static int is_number(const char *s)
 {
@@ -327,6 +336,18 @@ int qcli_opt_parse(const qcli_opt_cmd *c, int argc, char **argv, int first, void
     for (int i = first; i < argc; ++i) {
         const char *a = argv[i];
         const qcli_opt *o = find(c->opts, a);
+        const char *eq = a[0] == '-' ? strchr(a, '=') : NULL;
+        const qcli_opt *oe = !o && eq ? find_eq(c->opts, a, (size_t)(eq - a)) : NULL;
+        if (oe) { /* --name=VALUE: as --name VALUE */
+            char *two[2] = {(char *)(uintptr_t)oe->name, (char *)(uintptr_t)(eq + 1)};
+            int at = 0, rc = take(c, oe, 2, two, &at, base);
+            size_t k = (size_t)(oe - c->opts);
+            if (k < MAX_OPTS)
+                seen[k] = 1;
+            if (rc != 0)
+                return rc;
+            continue;
+        }
         if (o) {
             size_t k = (size_t)(o - c->opts);
             if (k < MAX_OPTS)

@@ -119,6 +119,7 @@ typedef struct qcli_opt {
     const char *note;   /* with renamed: why, in the note */
     int required;
     int optional;       /* CALL: the value may be absent (above) */
+    int eq;             /* one value: also taken as --name=VALUE (bake's --progress=MODE) */
     int nargs;          /* CALL: how many arguments call_n takes (0 or 1: call takes one) */
     int nargs_min;      /* CALL with nargs: the fewest it takes (0: nargs) */
     const char *(*call_n)(void *opts, char *const *values, int n, int *used);
@@ -152,7 +153,8 @@ typedef struct qcli_opt_cmd {
 extern const qcli_opt_cmd qcli_opts_gen, qcli_opts_info, qcli_opts_study, qcli_opts_ies_info;
 extern const qcli_opt_cmd qcli_opts_sh_eval, qcli_opts_sh_plot, qcli_opts_srgbe_encode, qcli_opts_srgbe_decode;
 extern const qcli_opt_cmd qcli_opts_bench, qcli_opts_probe_info, qcli_opts_sh_project, qcli_opts_lights,
-    qcli_opts_relight, qcli_opts_merge, qcli_opts_check;
+    qcli_opts_relight, qcli_opts_merge, qcli_opts_check,
+    qcli_opts_render, qcli_opts_bake, qcli_opts_demo;
 
 /* Parses argv[first..argc-1] into opts (first set to c->defaults). 0, or 2 after one line on stderr. */
 int qcli_opt_parse(const qcli_opt_cmd *c, int argc, char **argv, int first, void *opts);
