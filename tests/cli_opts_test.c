@@ -539,6 +539,73 @@ static void test_table_nargs(void **state)
     assert_string_equal(err, "qibl n: --act once only; see qibl help n\n");
 }
 
+/* --name=VALUE for an option with .eq (bake's --progress=MODE), and positionals through a callback
+ * (merge's and check's any number of files) */
+typedef struct e_opts {
+    int mode, files;
+    long n;
+} e_opts;
+static const char *const e_modes[] = {"none", "bar", "lines", NULL};
+
+static const char *e_file(void *opts, const char *v)
+{
+    if (strcmp(v, "bad") == 0)
+        return "is bad";
+    ((e_opts *)opts)->files++;
+    return NULL;
+}
+
+static const qcli_opt e_table[] = {
+    {.name = "--progress", .kind = QCLI_OPT_ENUM, .eq = 1, .off = offsetof(e_opts, mode), .names = e_modes,
+     .help = "a mode"},
+    {.name = "--n", .kind = QCLI_OPT_INT, .off = offsetof(e_opts, n), .lo = 1, .hi = 9, .help = "no = form"},
+    {0},
+};
+static const qcli_opt_cmd e_cmd = {.name = "e", .opts = e_table, .size = sizeof(e_opts),
+                                   .pos = {.names = "F...", .max = QCLI_OPT_LIST_MAX, .call = e_file}};
+
+static int e_parse(e_opts *o, char *err, size_t errn, int argc, char **argv)
+{
+    fflush(stderr);
+    int saved = dup(2), fd = open(errlog, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    assert_true(saved >= 0 && fd >= 0);
+    dup2(fd, 2);
+    int rc = qcli_opt_parse(&e_cmd, argc, argv, 1, o);
+    fflush(stderr);
+    dup2(saved, 2);
+    close(fd), close(saved);
+    char *e = text(errlog);
+    snprintf(err, errn, "%s", e);
+    free(e);
+    return rc;
+}
+
+static void test_table_eq_and_pos_call(void **state)
+{
+    (void)state;
+    e_opts o;
+    char err[512];
+    char *a1[] = {"e", "--progress=lines"}, *a2[] = {"e", "--progress", "bar"}, *a3[] = {"e", "--progress=zip"},
+         *a4[] = {"e", "--n=3"}, *a5[] = {"e", "x", "bad"};
+    assert_int_equal(e_parse(&o, err, sizeof err, 2, a1), 0);
+    assert_int_equal(o.mode, 2);
+    assert_int_equal(e_parse(&o, err, sizeof err, 3, a2), 0);
+    assert_int_equal(o.mode, 1);
+    assert_int_equal(e_parse(&o, err, sizeof err, 2, a3), 2);
+    assert_string_equal(err, "qibl e: --progress: 'zip' is not none, bar or lines; see qibl help e\n");
+    assert_int_equal(e_parse(&o, err, sizeof err, 2, a4), 2); /* only where the table says .eq */
+    assert_string_equal(err, "qibl e: unknown option '--n=3'; see qibl help e\n");
+    /* more files than a list holds */
+    char *many[QCLI_OPT_LIST_MAX + 11];
+    many[0] = "e";
+    for (int k = 1; k < QCLI_OPT_LIST_MAX + 11; ++k)
+        many[k] = "f";
+    assert_int_equal(e_parse(&o, err, sizeof err, QCLI_OPT_LIST_MAX + 11, many), 0);
+    assert_int_equal(o.files, QCLI_OPT_LIST_MAX + 10);
+    assert_int_equal(e_parse(&o, err, sizeof err, 3, a5), 2);
+    assert_string_equal(err, "qibl e: 'bad' is bad; see qibl help e\n");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -552,6 +619,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_table_sub, setup, teardown),
         cmocka_unit_test_setup_teardown(test_table_optional, setup, teardown),
         cmocka_unit_test_setup_teardown(test_table_nargs, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_table_eq_and_pos_call, setup, teardown),
     };
     return cmocka_run_group_tests_name("cli_opts", tests, NULL, NULL);
 }

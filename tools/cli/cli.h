@@ -108,16 +108,8 @@ int qcli_parse_num(const char *opt, const char *s, double lo, double hi, const c
 /* Parses "WxH" (decimal digits only) with both in 1..max; 0, or 2 after one line naming opt. */
 int qcli_parse_size(const char *opt, const char *s, long max, long *w, long *h);
 
-/* The cube-map LUT face size of gen, bake and merge: `--lut-size N` (N in lo..QIBL_ASSET_MAX_LUT),
- * or the old `--lut N` with a deprecation note on stderr (relight's --lut is a sampling mode).
- * 1 if argv[*i] was one of them (*i advanced past N), 0 if not, -1 after a message on a bad N. */
-int qcli_lut_size_opt(int argc, char **argv, int *i, long lo, long *out);
-
 /* Parses a decimal integer in [lo, hi]; 0 on success, -1 otherwise. */
 int qcli_parse_int(const char *s, long lo, long hi, long *out);
-
-/* Parses --layout's argument: "planar" or "interleaved" into a QIBL_SHMAPS_* layout; 0 or -1. */
-int qcli_parse_layout(const char *s, uint32_t *layout);
 
 /* The clocks and median of the benchmarks library (tools/bench/bench.h), which the demo and bake
  * commands time themselves with too. */

@@ -10,11 +10,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "qibl/asset.h" /* QIBL_ASSET_MAX_LUT */
 #include "cli/cli.h"
 #include "cli/opt.h"
 #include "qibl/version.h"
-#include "qibl/shmaps.h"
 #include "qibl/isa.h"
 #include "io/isa_env.h"
 
@@ -227,41 +225,12 @@ int qcli_parse_num(const char *opt, const char *s, double lo, double hi, const c
     }
 }
 
-int qcli_lut_size_opt(int argc, char **argv, int *i, long lo, long *out)
-{
-    const char *a = argv[*i];
-    int old = strcmp(a, "--lut") == 0;
-    if ((!old && strcmp(a, "--lut-size") != 0) || *i + 1 >= argc)
-        return 0;
-    const char *v = argv[++*i];
-    if (qcli_parse_int(v, lo, (long)QIBL_ASSET_MAX_LUT, out) != 0) {
-        qcli_usage_error("--lut-size: '%s' is not a face size in %ld..%u%s", v, lo, QIBL_ASSET_MAX_LUT,
-                             lo == 0 ? " (0: no LUT)" : "");
-        return -1;
-    }
-    if (old)
-        fprintf(stderr, "qibl: note: --lut N is deprecated here; say --lut-size %s (relight's --lut is the sampling "
-                        "mode)\n", v);
-    return 1;
-}
-
 int qcli_parse_size(const char *opt, const char *s, long max, long *w, long *h)
 {
     long wh[2];
     if (qcli_opt_size_value(s, max, wh) != 0)
         return qcli_usage_error("%s needs WxH with both in 1..%ld, got '%s'", opt, max, s);
     *w = wh[0], *h = wh[1];
-    return 0;
-}
-
-int qcli_parse_layout(const char *s, uint32_t *layout)
-{
-    if (strcmp(s, "planar") == 0)
-        *layout = QIBL_SHMAPS_PLANAR;
-    else if (strcmp(s, "interleaved") == 0)
-        *layout = QIBL_SHMAPS_INTERLEAVED;
-    else
-        return -1;
     return 0;
 }
 
