@@ -42,7 +42,9 @@
  *
  *     More kinds in real tables: ENUM with .names and a SIZE in cmd_gen.c (and a deprecated
  *     spelling, .renamed/.note), subcommands in cmd_sh.c and cmd_srgbe.c, numeric positionals
- *     (.pos.numbers = 1: "-1" and "-inf" are values, not unknown flags) in `sh eval`.
+ *     (.pos.numbers = 1: "-1" and "-inf" are values, not unknown flags) in `sh eval`; callbacks of
+ *     three values in order (relight's --sun/--rgb), of one or three (--camera, cli/scene_opts.h),
+ *     an optional value (lights --error [P%]), --progress=MODE (bake), any number of files (merge).
  *
  *  3. The command parses, checks what the table cannot (cross-option rules) through
  *     qcli_opt_error so that line has the same shape, then works:
@@ -151,6 +153,7 @@ typedef struct qcli_opt_cmd {
 
 /* The tables of the commands on them, for main.c's command table and `qibl help`. */
 extern const qcli_opt_cmd qcli_opts_gen, qcli_opts_info, qcli_opts_study, qcli_opts_ies_info;
+/* (relight, render, bake, merge, check, demo, lights, probe info, sh project, bench: the same) */
 extern const qcli_opt_cmd qcli_opts_sh_eval, qcli_opts_sh_plot, qcli_opts_srgbe_encode, qcli_opts_srgbe_decode;
 extern const qcli_opt_cmd qcli_opts_bench, qcli_opts_probe_info, qcli_opts_sh_project, qcli_opts_lights,
     qcli_opts_relight, qcli_opts_merge, qcli_opts_check,
