@@ -83,7 +83,9 @@ typedef struct qtool_engine_sh {
 /* The Newton loop of cmgen's SH minimum has no bound; here it stops after this many steps. */
 #define QTOOL_ENGINE_NEWTON_MAX 64
 
-/* "raw", "filament", "unity", "gltf" <-> preset; parse: 0 or -1. */
+/* "raw", "filament", "unity", "gltf" <-> preset; parse: 0 or -1. The names by value, NULL-ended
+ * (the CLI's option tables take them as they are). */
+extern const char *const qtool_engine_preset_names[QTOOL_ENGINE_PRESET_COUNT + 1];
 int qtool_engine_preset_parse(const char *s, qtool_engine_preset *out);
 const char *qtool_engine_preset_name(qtool_engine_preset p);
 
