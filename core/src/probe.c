@@ -182,6 +182,7 @@ static int32_t cos_pi_q30(uint64_t n, uint64_t d)
     return sin_pi_q30(2u * n + d, 2u * d); /* cos a = sin(a + pi / 2) */
 }
 
+#ifndef __OPTIMIZE_SIZE__
 /* sin_pi_q30(n, w) from sn[j] = sin_pi_q30(j, w), j = 0..w/2: the same reduction modulo 2w, the
  * sign of the second half turn, and the reflection j -> w - j that sin_frac makes itself */
 static int32_t sin_table(const int32_t *sn, uint32_t n, uint32_t w)
@@ -195,6 +196,7 @@ static int32_t sin_table(const int32_t *sn, uint32_t n, uint32_t w)
         n = w - n;
     return neg ? -sn[n] : sn[n];
 }
+#endif
 
 /* ---- workspace -------------------------------------------------------------------------------- */
 
@@ -255,6 +257,7 @@ qibl_status_t qibl_probe_sh_begin(qibl_probe_sh_t *ps, uint32_t width, uint32_t 
     for (uint32_t i = 0; i < (height + 7u) / 8u; ++i)
         ps->seen[i] = 0u;
     /* phi_u = pi (2u + 1) / W; m phi_u = pi m (2u + 1) / W */
+#ifndef __OPTIMIZE_SIZE__ /* size-optimised builds keep the direct loop below (one less path) */
     if ((width & 1u) == 0u) {
         /* sin_pi_q30 depends on n / W only (sin_frac: a floor of pi n / d, and the reflection
          * n -> d - n made inside it), so every entry is +-sin_pi_q30(j, W) for one j <= W/2, and
@@ -272,6 +275,7 @@ qibl_status_t qibl_probe_sh_begin(qibl_probe_sh_t *ps, uint32_t width, uint32_t 
         }
         return QIBL_OK;
     }
+#endif
     for (uint32_t u = 0; u < tc; ++u) {
         for (uint32_t m = 1; m <= 4u; ++m) {
             uint64_t n = qibl_mul_u32_u64(m, 2u * u + 1u);
@@ -588,6 +592,9 @@ static FOLD_INLINE void folded(const qibl_probe_sh_t *ps, const uint32_t *x, s12
  * and take 6 of the 12 products per column pair, so fewer bands cost less */
 static void row_sums_folded(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s[9])
 {
+#ifdef __OPTIMIZE_SIZE__
+    folded(ps, x, s, ps->bands - 1); /* one copy where size is what counts (the cross builds) */
+#else
     switch (ps->bands) {
     case 1: folded(ps, x, s, 0); break;
     case 2: folded(ps, x, s, 1); break;
@@ -595,6 +602,7 @@ static void row_sums_folded(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s
     case 4: folded(ps, x, s, 3); break;
     default: folded(ps, x, s, 4); break;
     }
+#endif
 }
 
 /* cos and sin of m phi_u (m = 1..4) at any column u, from the table (by quarter turns if folded) */
