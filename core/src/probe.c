@@ -133,6 +133,37 @@ static void mul_64_32(uint64_t a, uint32_t b, uint32_t out[3])
 static void kadd(uint32_t *acc, const uint32_t mag[3], unsigned e, int neg)
 {
     unsigned q = e >> 5, b = e & 31u;
+#if QIBL_CONFIG_NATIVE_SHIFT64
+    {
+        /* the same sum in two 64-bit words where 64-bit shifts are inline: mag 2^b < 2^127 */
+        const uint64_t m01 = (uint64_t)mag[0] | (uint64_t)mag[1] << 32;
+        const uint64_t w0 = m01 << b, w1 = (uint64_t)mag[2] << b | (b ? m01 >> (64u - b) : 0u);
+        uint32_t *a = acc + q;
+        const uint64_t a0 = (uint64_t)a[0] | (uint64_t)a[1] << 32, a1 = (uint64_t)a[2] | (uint64_t)a[3] << 32;
+        uint64_t r0, r1;
+        uint32_t carry;
+        if (!neg) {
+            r0 = a0 + w0, r1 = a1 + w1;
+            carry = (uint32_t)(r1 < w1);
+            const uint32_t c0 = (uint32_t)(r0 < w0);
+            r1 += c0;
+            carry |= (uint32_t)(r1 < c0);
+        } else {
+            r0 = a0 - w0, r1 = a1 - w1;
+            carry = (uint32_t)(a1 < w1); /* borrow */
+            const uint32_t c0 = (uint32_t)(a0 < w0);
+            carry |= (uint32_t)(r1 < c0);
+            r1 -= c0;
+        }
+        a[0] = (uint32_t)r0, a[1] = (uint32_t)(r0 >> 32), a[2] = (uint32_t)r1, a[3] = (uint32_t)(r1 >> 32);
+        if (!neg)
+            for (unsigned i = q + 4u; carry != 0u && i < LIMBS; ++i)
+                carry = ++acc[i] == 0u;
+        else
+            for (unsigned i = q + 4u; carry != 0u && i < LIMBS; ++i)
+                carry = acc[i]-- == 0u;
+    }
+#else
     uint32_t t[4];
     t[0] = mag[0] << b;
     t[1] = b ? (mag[1] << b) | (mag[0] >> (32u - b)) : mag[1];
@@ -158,6 +189,7 @@ static void kadd(uint32_t *acc, const uint32_t mag[3], unsigned e, int neg)
         for (unsigned i = q + 4u; carry != 0u && i < LIMBS; ++i)
             carry = acc[i]-- == 0u;
     }
+#endif
 }
 
 /* sin(pi n / d) in Q2.30 for any n >= 0, 0 < d < 2^31 (within 1 LSB) */
