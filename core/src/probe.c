@@ -133,9 +133,10 @@ static void mul_64_32(uint64_t a, uint32_t b, uint32_t out[3])
 static void kadd(uint32_t *acc, const uint32_t mag[3], unsigned e, int neg)
 {
     unsigned q = e >> 5, b = e & 31u;
-#if QIBL_CONFIG_NATIVE_SHIFT64
+#if QIBL_CONFIG_NATIVE_SHIFT64 && QIBL_CONFIG_NATIVE_DIV64
     {
-        /* the same sum in two 64-bit words where 64-bit shifts are inline: mag 2^b < 2^127 */
+        /* the same sum in two 64-bit words on 64-bit hosts (NATIVE_DIV64 marks them; 64-bit
+         * shifts inline there): mag 2^b < 2^127 */
         const uint64_t m01 = (uint64_t)mag[0] | (uint64_t)mag[1] << 32;
         const uint64_t w0 = m01 << b, w1 = (uint64_t)mag[2] << b | (b ? m01 >> (64u - b) : 0u);
         uint32_t *a = acc + q;
