@@ -84,9 +84,6 @@ BENCH_OBJ := $(BENCH_SRC:%.c=$(BUILD)/host/%.o)
 BENCH_TWIN_OBJ := $(BENCH_TWIN_SRC:%.c=$(BUILD)/host/%.o)
 # the benchmarks name the compiler and the core's flags in their output
 $(BENCH_OBJ) $(BENCH_TWIN_OBJ): HOST_CFLAGS += -DQIBL_BENCH_CORE_FLAGS='"$(CORE_OPT)"'
-# TEMPORARY (r2-status, for the coordinator to remove once tools/cli checks every status): the CLI
-# still drops statuses that QIBL_NODISCARD / QTOOL_NODISCARD now flag; warnings, not errors, there only.
-$(QIBL_OBJ) $(BENCH_OBJ) $(BENCH_TWIN_OBJ): HOST_CFLAGS += -Wno-error=unused-result
 TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%) $(TEST_SRC:tests/%.c=$(BUILD)/tests/%-portable)
 
 # A third flavour where the CPU has AVX2: the core built with -mavx2 (config.h then picks the AVX2

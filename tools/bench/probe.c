@@ -218,6 +218,46 @@ static int cmp_double(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
+/* accuracy: the projection of every fixture probe (or the integer-made one) and the rotation against
+ * their double references */
+static void accuracy(const uint8_t *px, int w, int h, void *ws, size_t n, int quick)
+{
+    char path[600], err[512];
+    double worst = 0.0;
+    int count = 0;
+    DIR *dir = opendir(bp_dir());
+    if (dir) {
+        struct dirent *de;
+        while ((de = readdir(dir)) != NULL) {
+            size_t l = strlen(de->d_name);
+            if (l < 5 || strcmp(de->d_name + l - 4, ".hdr") != 0)
+                continue;
+            int pw, ph;
+            uint8_t *pp;
+            snprintf(path, sizeof path, "%.300s/%.250s", bp_dir(), de->d_name);
+            if (qtool_hdr_read_rgbe(path, &pw, &ph, &pp, err, sizeof err) != 0)
+                continue;
+            size_t pn = qibl_probe_sh_workspace_size((uint32_t)pw, (uint32_t)ph);
+            void *pws = malloc(pn);
+            double e = pws ? sh_rel_err(pp, pw, ph, pws, pn) : -1.0;
+            if (!quick || count < 2)
+                printf("  %-36s max |err| / max |L| %.3e\n", de->d_name, e);
+            worst = fmax(worst, e), ++count;
+            free(pws), free(pp);
+        }
+        closedir(dir);
+    }
+    if (count == 0)
+        worst = sh_rel_err(px, w, h, ws, n), count = 1;
+    double rerr = rotate_err();
+    printf("projection against the double reference (tools/ref/probe_ref.c) on %d probe(s): max |err| / max |L| "
+           "%.3e\n", count, worst);
+    printf("rotation against the double reference (integrated rotated basis), 200 random rotations: max |D - D_ref| "
+           "%.3e (bound 2^-24 = %.3e)\n", rerr, 1.0 / 16777216.0);
+    printf("RESULT probe.sh_max_rel_err %.3e\n", worst);
+    printf("RESULT probe.rotate_max_err %.3e\n", rerr);
+}
+
 int qtool_bench_probe(int quick)
 {
     const int reps = quick ? 7 : 31;
@@ -259,22 +299,22 @@ int qtool_bench_probe(int quick)
         double t0 = qtool_bench_cpu_now();
         bp_sink += qtool_bench_read_u64(px, bytes);
         double t1 = qtool_bench_cpu_now();
-        (void)qibl_probe_sh_project(&img, 5, NULL, ws, n, &c);
+        QTOOL_BENCH_CALL(qibl_probe_sh_project(&img, 5, NULL, ws, n, &c));
         double t2 = qtool_bench_cpu_now();
         qibl_probe_sh_t ps;
-        (void)qibl_probe_sh_begin(&ps, (uint32_t)w, (uint32_t)h, QIBL_LIGHTPROBE_RGBE, 0, 5, ws, n);
+        QTOOL_BENCH_CALL(qibl_probe_sh_begin(&ps, (uint32_t)w, (uint32_t)h, QIBL_LIGHTPROBE_RGBE, 0, 5, ws, n));
         double t3 = qtool_bench_cpu_now();
         qibl_q30_t rm[3][3] = {{0, -(1 << 30), 0}, {1 << 30, 0, 0}, {0, 0, 1 << 30}};
         qibl_sh_rotation_t rot;
         int32_t out[25];
-        (void)qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])rm, 5);
+        QTOOL_BENCH_CALL(qibl_sh_rotation_init(&rot, (const qibl_q30_t(*)[3])rm, 5));
         for (int ch = 0; ch < 3; ++ch)
-            (void)qibl_sh_rotate(&rot, c.c[ch], out), bp_sink += (uint64_t)out[3];
+            QTOOL_BENCH_CALL(qibl_sh_rotate(&rot, c.c[ch], out)), bp_sink += (uint64_t)out[3];
         double t4 = qtool_bench_cpu_now();
         tr[r] = (t1 - t0) * 1e3, tp[r] = (t2 - t1) * 1e3, tb[r] = (t3 - t2) * 1e3, tt[r] = (t4 - t3) * 1e6;
         qibl_probe_coeffs_t c3; /* the same loop: 3 bands, and the separable double loop at 5 and 3 */
         double t5 = qtool_bench_cpu_now();
-        (void)qibl_probe_sh_project(&img, 3, NULL, ws, n, &c3);
+        QTOOL_BENCH_CALL(qibl_probe_sh_project(&img, 3, NULL, ws, n, &c3));
         double t6 = qtool_bench_cpu_now();
         separable_double(px, w, h, 5, strig, sep);
         double t7 = qtool_bench_cpu_now();
@@ -330,40 +370,7 @@ int qtool_bench_probe(int quick)
     printf("RESULT probe.project_ns_per_px %.3f\n", tp[0] * 1e6 / npx);
     printf("RESULT probe.project_ms %.3f\n", tp[0]);
 
-    /* accuracy: every fixture probe, or the integer-made one */
-    double worst = 0.0;
-    int count = 0;
-    DIR *dir = opendir(bp_dir());
-    if (dir) {
-        struct dirent *de;
-        while ((de = readdir(dir)) != NULL) {
-            size_t l = strlen(de->d_name);
-            if (l < 5 || strcmp(de->d_name + l - 4, ".hdr") != 0)
-                continue;
-            int pw, ph;
-            uint8_t *pp;
-            snprintf(path, sizeof path, "%.300s/%.250s", bp_dir(), de->d_name);
-            if (qtool_hdr_read_rgbe(path, &pw, &ph, &pp, err, sizeof err) != 0)
-                continue;
-            size_t pn = qibl_probe_sh_workspace_size((uint32_t)pw, (uint32_t)ph);
-            void *pws = malloc(pn);
-            double e = pws ? sh_rel_err(pp, pw, ph, pws, pn) : -1.0;
-            if (!quick || count < 2)
-                printf("  %-36s max |err| / max |L| %.3e\n", de->d_name, e);
-            worst = fmax(worst, e), ++count;
-            free(pws), free(pp);
-        }
-        closedir(dir);
-    }
-    if (count == 0)
-        worst = sh_rel_err(px, w, h, ws, n), count = 1;
-    double rerr = rotate_err();
-    printf("projection against the double reference (tools/ref/probe_ref.c) on %d probe(s): max |err| / max |L| "
-           "%.3e\n", count, worst);
-    printf("rotation against the double reference (integrated rotated basis), 200 random rotations: max |D - D_ref| "
-           "%.3e (bound 2^-24 = %.3e)\n", rerr, 1.0 / 16777216.0);
-    printf("RESULT probe.sh_max_rel_err %.3e\n", worst);
-    printf("RESULT probe.rotate_max_err %.3e\n", rerr);
+    accuracy(px, w, h, ws, n, quick);
     /* a sun probe: a dim uniform sky (2^-12) and a 3 x 3 sun 2^20 brighter (256), 45 degrees up */
     uint8_t *sun = malloc(bytes);
     if (sun) {

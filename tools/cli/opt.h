@@ -149,6 +149,9 @@ typedef struct qcli_opt_cmd {
     const void *defaults;  /* the options struct's defaults (size bytes) */
     size_t size;
     const char *prose;     /* after the option list: what the command does, two-space indented */
+    /* NULL, or the usage line's leading part for what a table cannot say (alternatives: "(-o ASSET |
+     * --shard I/N --sums FILE)"); the options it names are left out of the bracketed list after it */
+    const char *synopsis;
 } qcli_opt_cmd;
 
 /* The tables of the commands on them, for main.c's command table and `qibl help`. */
