@@ -373,6 +373,7 @@ static const qcli_cmd commands[] = {
      "  --png OUT.png: the polar curves of the two principal planes (type C: C0-C180 red, C90-C270 blue),\n"
      "  nadir down, rings at 25 % of the maximum, labelled. Limits: io/ies.h (docs/robustness.md).\n",
      qcli_cmd_ies},
+    {"luminaire", "near-field light sources: capture, info, render as textured spotlights, study", qcli_luminaire_usage, qcli_cmd_luminaire},
     {"study", "the light-probe approximation study: every method, error against N and time",
      "usage: qibl study [PROBE.hdr ...] --out DIR [--quick] [--threads T]\n"
      "  Ground-truth irradiance of each lat-long probe at 20000 spherical-Fibonacci normals (Madsen &\n"

@@ -1,0 +1,313 @@
+/*
+ * luminaire/render.c - a near-field source as textured spotlights: per support a goniometric point
+ * lamp of the core (qibl/gonio.h) whose table is the support's emission texture seen from its
+ * centre; the far field of the same source as one such lamp; the integer pass-by-pass sum; an asset
+ * frame relit by it.
+ *
+ * Invariants: tables and intensities are made in double once per placement; per pixel everything is
+ * integer (qibl_gonio_lookup, 64-bit products with stated bounds), so a frame is the same bytes on
+ * every host. The cull test only skips directions where the table's bilinear lookup is exactly 0.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "luminaire/luminaire.h"
+#include "qibl/soft.h"
+
+/* The unit direction of octahedral texel position (a, b) (texel units, centres at integers) of an
+ * n x n map, in the lamp's frame; the folded half for |u| + |v| > 1 (gonio.h). */
+static void oct_dir(double a, double b, uint32_t n, double l[3])
+{
+    double u = (2 * a + 1) / n - 1, v = (2 * b + 1) / n - 1;
+    if (fabs(u) + fabs(v) <= 1) {
+        l[0] = u, l[1] = v, l[2] = 1 - fabs(u) - fabs(v);
+    } else {
+        l[0] = (u < 0 ? -1 : 1) * (1 - fabs(v)), l[1] = (v < 0 ? -1 : 1) * (1 - fabs(u));
+        l[2] = -(fabs(u) + fabs(v) - 1);
+    }
+    double r = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+    for (int k = 0; k < 3; ++k)
+        l[k] /= r;
+}
+
+/* Bilinear sample of channel-summed luminance or one channel (ch 0..2; 3: luminance) of support
+ * (ix, iy)'s texture at window coordinates (ta, tb) in -1..1; 0 outside the window. */
+static double tex_sample(const qtool_luminaire *l, uint32_t ix, uint32_t iy, double ta, double tb, int ch)
+{
+    if (fabs(ta) > 1 || fabs(tb) > 1)
+        return 0;
+    const uint32_t r = l->res;
+    double fx = (ta + 1) / 2 * r - 0.5, fy = (tb + 1) / 2 * r - 0.5;
+    fx = fx < 0 ? 0 : fx > r - 1 ? r - 1 : fx;
+    fy = fy < 0 ? 0 : fy > r - 1 ? r - 1 : fy;
+    uint32_t i0 = (uint32_t)fx, j0 = (uint32_t)fy, i1 = i0 + 1 < r ? i0 + 1 : i0, j1 = j0 + 1 < r ? j0 + 1 : j0;
+    double tx = fx - i0, ty = fy - j0;
+    double v[4];
+    const uint32_t ii[4] = {i0, i1, i0, i1}, jj[4] = {j0, j0, j1, j1};
+    for (int k = 0; k < 4; ++k) {
+        const float *t = l->tex + qtool_luminaire_texel(l, ix, iy, ii[k], jj[k]);
+        v[k] = ch < 3 ? t[ch] : 0.2126 * t[0] + 0.7152 * t[1] + 0.0722 * t[2];
+    }
+    return (v[0] * (1 - tx) + v[1] * tx) * (1 - ty) + (v[2] * (1 - tx) + v[3] * tx) * ty;
+}
+
+/* The lamp's frame for aim (0, 0, -1) and up (0, 1, 0) (qibl_gonio_init): x = (-1, 0, 0), so a
+ * lamp-frame direction l is (-l_x, l_y, -l_z) in the source's frame. Intensity of support (ix, iy)
+ * toward lamp-frame l, channel ch: A E'(s, t) cos(theta'). */
+static double spot_intensity(const qtool_luminaire *l, uint32_t ix, uint32_t iy, const double ld[3], int ch)
+{
+    if (ld[2] <= 0)
+        return 0;
+    double tx = -ld[0] / ld[2], ty = ld[1] / ld[2];
+    double A = (double)l->spacing * l->spacing;
+    double e = tex_sample(l, ix, iy, tx / l->half_tan, ty / l->half_tan, ch);
+    return e > 0 ? A * e * ld[2] : 0; /* negative lobes (a dual filter's ringing) are not light */
+}
+
+static uint64_t uabs64(int64_t v)
+{
+    return v < 0 ? (uint64_t)0 - (uint64_t)v : (uint64_t)v;
+}
+
+void qtool_luminaire_spots_free(qtool_luminaire_spots *s)
+{
+    if (!s)
+        return;
+    free(s->tables), free(s->gonio), free(s->pos), free(s->rgb), free(s->cull);
+    memset(s, 0, sizeof *s);
+}
+
+int qtool_luminaire_spots_make(const qtool_luminaire *l, const int32_t pos[3], uint32_t n, int far,
+                               qtool_luminaire_spots *out, char *err, size_t errlen)
+{
+    n = n ? n : 64;
+    const uint32_t ns = l->nx * l->ny, cap = far ? 1 : ns;
+    qtool_luminaire_spots s = {.n = n};
+    memcpy(s.centre, pos, sizeof s.centre);
+    s.cullmax[0] = s.cullmax[1] = 0;
+    s.tables = malloc(sizeof(uint16_t) * n * n * cap);
+    s.gonio = malloc(sizeof *s.gonio * cap);
+    s.pos = malloc(sizeof *s.pos * cap);
+    s.rgb = malloc(sizeof *s.rgb * cap);
+    s.cull = malloc(sizeof *s.cull * cap);
+    double *iv = malloc(sizeof(double) * n * n * 4);
+    if (!s.tables || !s.gonio || !s.pos || !s.rgb || !s.cull || !iv) {
+        free(iv), qtool_luminaire_spots_free(&s);
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    static const int32_t aim[3] = {0, 0, -65536}, up[3] = {0, 65536, 0};
+    for (uint32_t m = 0; m < ns; m += far ? ns : 1) {
+        /* the table in double: luminance and the three channels' sums (far: over every support) */
+        memset(iv, 0, sizeof(double) * n * n * 4);
+        for (uint32_t j = 0; j < n; ++j)
+            for (uint32_t i = 0; i < n; ++i) {
+                double ld[3];
+                oct_dir(i, j, n, ld);
+                for (uint32_t q = far ? 0 : m; q < (far ? ns : m + 1); ++q)
+                    for (int ch = 0; ch < 4; ++ch)
+                        iv[4 * ((size_t)j * n + i) + (size_t)ch] +=
+                            spot_intensity(l, q % l->nx, q / l->nx, ld, ch == 0 ? 3 : ch - 1);
+            }
+        double peak = 0, sum[4] = {0, 0, 0, 0};
+        for (size_t k = 0; k < (size_t)n * n; ++k) {
+            peak = iv[4 * k] > peak ? iv[4 * k] : peak;
+            for (int ch = 0; ch < 4; ++ch)
+                sum[ch] += iv[4 * k + (size_t)ch];
+        }
+        if (peak <= 0)
+            continue; /* a dark support (under the shade): no lamp, no pass */
+        uint32_t c = s.count;
+        uint16_t *t = s.tables + (size_t)c * n * n;
+        double tmax[2] = {0, 0};
+        int nocull = 0;
+        for (uint32_t j = 0; j < n; ++j)
+            for (uint32_t i = 0; i < n; ++i) {
+                double v = iv[4 * ((size_t)j * n + i)] / peak * 32768.0;
+                t[(size_t)j * n + i] = (uint16_t)(v > 32768 ? 32768 : v < 0 ? 0 : lround(v));
+                if (t[(size_t)j * n + i] == 0)
+                    continue;
+                /* the lookup interpolates within one texel of a non-zero one: bound that box's slopes */
+                for (int cy = -1; cy <= 1; cy += 2)
+                    for (int cx = -1; cx <= 1; cx += 2) {
+                        double u = (2.0 * ((double)i + cx) + 1) / n - 1, v2 = (2.0 * ((double)j + cy) + 1) / n - 1;
+                        double lz = 1 - fabs(u) - fabs(v2);
+                        if (lz <= 0) {
+                            nocull = 1;
+                            continue;
+                        }
+                        tmax[0] = fmax(tmax[0], fabs(u) / lz), tmax[1] = fmax(tmax[1], fabs(v2) / lz);
+                    }
+            }
+        for (int k = 0; k < 2; ++k) {
+            double b = ceil(tmax[k] * 1.01 * 65536.0) + 2;
+            s.cull[c][k] = nocull || b > (double)(1u << 30) ? -1 : (int64_t)b;
+        }
+        /* the peak intensity per channel: the luminance peak times the support's colour */
+        for (int ch = 0; ch < 3; ++ch) {
+            double v = peak * (sum[0] > 0 ? sum[ch + 1] / sum[0] : 1) * 65536.0;
+            if (!(v < 2147483647.0)) {
+                free(iv), qtool_luminaire_spots_free(&s);
+                snprintf(err, errlen, "a spotlight's intensity (%.4g) is beyond Q16.16", v / 65536.0);
+                return -1;
+            }
+            s.rgb[c][ch] = (int32_t)lround(v);
+        }
+        double h = l->spacing, ou = far ? 0 : ((m % l->nx) - (l->nx - 1) / 2.0) * h,
+               ov = far ? 0 : ((m / l->nx) - (l->ny - 1) / 2.0) * h;
+        s.pos[c][0] = pos[0] + (int32_t)lround(ou * 65536.0);
+        s.pos[c][1] = pos[1] + (int32_t)lround(ov * 65536.0);
+        s.pos[c][2] = pos[2];
+        if (qibl_gonio_init(&s.gonio[c], n, t, aim, up) != QIBL_OK) {
+            free(iv), qtool_luminaire_spots_free(&s);
+            snprintf(err, errlen, "the core refused a spotlight's table");
+            return -1;
+        }
+        s.count = c + 1;
+        for (int k = 0; k < 2; ++k) {
+            uint64_t r = uabs64((int64_t)s.pos[c][k] - pos[k]);
+            s.reach[k] = r > s.reach[k] ? r : s.reach[k];
+            if (s.cullmax[k] >= 0)
+                s.cullmax[k] = s.cull[c][k] < 0 ? -1 : s.cull[c][k] > s.cullmax[k] ? s.cull[c][k] : s.cullmax[k];
+        }
+    }
+    free(iv);
+    *out = s;
+    return 0;
+}
+
+static unsigned bitlen64(uint64_t v)
+{
+    unsigned b = 0;
+    while (v)
+        ++b, v >>= 1;
+    return b;
+}
+
+/* |d|^2 in (1/256 unit)^2 of a Q16.16 difference (each |component| <= 2^32: <= 3 2^48) */
+static uint64_t d2_256(int64_t dx, int64_t dy, int64_t dz)
+{
+    uint64_t a = uabs64(dx) >> 8, b = uabs64(dy) >> 8, c = uabs64(dz) >> 8;
+    return a * a + b * b + c * c;
+}
+
+void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *base, const int32_t *p, uint32_t n,
+                                int64_t *acc, uint32_t *ws)
+{
+    /* the pixels any spotlight can reach (below S, inside the union of the cull cones), once per
+     * span: every pass then visits only them; integer sums, so the order changes nothing */
+    uint32_t nc = 0;
+    for (uint32_t i = 0; i < n; ++i) {
+        const int32_t *q = p + 3 * (size_t)i;
+        int64_t dz = (int64_t)q[2] - s->centre[2];
+        if (dz >= 0)
+            continue;
+        uint64_t az = uabs64(dz);
+        uint64_t ax = uabs64((int64_t)q[0] - s->centre[0]), ay = uabs64((int64_t)q[1] - s->centre[1]);
+        /* |x - c| <= |x - s_j| + |s_j - c|: beyond cull |dz| + reach no spotlight sees it */
+        if (s->cullmax[0] >= 0 && ax > s->reach[0] && ((ax - s->reach[0]) << 16) > (uint64_t)s->cullmax[0] * az)
+            continue;
+        if (s->cullmax[1] >= 0 && ay > s->reach[1] && ((ay - s->reach[1]) << 16) > (uint64_t)s->cullmax[1] * az)
+            continue;
+        ws[nc++] = i;
+    }
+    for (uint32_t j = 0; j < s->count; ++j) { /* one pass per spotlight */
+        const int32_t *sp = s->pos[j];
+        const int64_t c0 = s->cull[j][0], c1 = s->cull[j][1];
+        const int moved = sp[0] != s->centre[0] || sp[1] != s->centre[1] || sp[2] != s->centre[2];
+        for (uint32_t k = 0; k < nc; ++k) {
+            const uint32_t i = ws[k];
+            const int32_t *q = p + 3 * (size_t)i;
+            int64_t d[3] = {(int64_t)q[0] - sp[0], (int64_t)q[1] - sp[1], (int64_t)q[2] - sp[2]};
+            if (d[2] >= 0)
+                continue; /* at or above S: the table is 0 there (the cull bounds say so) */
+            uint64_t az = uabs64(d[2]);
+            /* |d_x| 2^16 <= 2^48, cull <= 2^30 times |d_z| <= 2^32: both below 2^63 */
+            if (c0 >= 0 && (uabs64(d[0]) << 16) > (uint64_t)c0 * az)
+                continue;
+            if (c1 >= 0 && (uabs64(d[1]) << 16) > (uint64_t)c1 * az)
+                continue;
+            uint32_t sc = qibl_gonio_lookup(&s->gonio[j], d);
+            if (sc == 0)
+                continue;
+            uint64_t w = (uint64_t)sc << 16; /* Q16 weight: the scale (Q1.15) times the distance ratio */
+            if (moved) {
+                uint64_t dc = d2_256((int64_t)q[0] - s->centre[0], (int64_t)q[1] - s->centre[1],
+                                     (int64_t)q[2] - s->centre[2]);
+                uint64_t ds = d2_256(d[0], d[1], d[2]);
+                unsigned b = bitlen64(dc), sh = b > 46 ? b - 46 : 0;
+                dc >>= sh, ds >>= sh;
+                ds = ds ? ds : 1; /* 1/256 unit floor */
+                uint64_t ratio = (dc << 16) / ds;  /* Q16, dc < 2^46 */
+                ratio = ratio > ((uint64_t)1 << 31) ? (uint64_t)1 << 31 : ratio;
+                w = ((uint64_t)sc * ratio + 16384u) >> 15; /* <= 2^46 >> 15 = 2^31 */
+            } else {
+                w = (uint64_t)sc << 1; /* Q1.15 to Q16 */
+            }
+            for (int c = 0; c < 3; ++c) {
+                uint64_t wc = (w * (uint64_t)s->rgb[j][c] + 32768u) >> 16; /* <= 2^62 >> 16 */
+                wc = wc > ((uint64_t)1 << 31) ? (uint64_t)1 << 31 : wc;  /* weight <= 2^15 */
+                int32_t b = base[3 * (size_t)i + (size_t)c];
+                uint64_t mag = ((uint64_t)(b < 0 ? -(int64_t)b : b) * wc + 32768u) >> 16; /* <= 2^62 >> 16 */
+                acc[3 * (size_t)i + (size_t)c] += b < 0 ? -(int64_t)mag : (int64_t)mag;
+            }
+        }
+    }
+}
+
+int qtool_luminaire_relight(const qtool_luminaire_spots *s, const qibl_shmaps_t *mp, const qibl_pmap_t *pm,
+                            const qibl_ylut_t *lut, uint32_t exposure, int srgb, uint8_t *rgb8, float *lin, double *ms,
+                            qibl_status_t *status)
+{
+    const uint32_t w = mp->width, h = mp->height;
+    size_t wsn = qibl_shmap_point_workspace_size(mp->k, w);
+    uint8_t *pix = malloc((size_t)w * h * 4);
+    int32_t *row = malloc(sizeof(int32_t) * 3 * w), *pts = malloc(sizeof(int32_t) * 3 * w);
+    int64_t *acc = malloc(sizeof(int64_t) * 3 * w);
+    void *ws = malloc(wsn ? wsn : 1);
+    uint32_t *idx = malloc(sizeof(uint32_t) * w);
+    qibl_status_t st = QIBL_OK;
+    if (!pix || !row || !pts || !acc || !ws || !idx) {
+        st = QIBL_E_NULL_POINTER;
+        goto out;
+    }
+    qibl_fb_desc_t fb = {.pixels = pix, .width = w, .height = h, .format = QIBL_FB_RGBA8888, .srgb = srgb ? 1 : 0,
+                         .exposure = exposure};
+    /* the centre's unit lamp, 1/d^2: visibility, cosine and albedo for every spotlight */
+    qibl_pointlight_t pl = {.pos = {s->centre[0], s->centre[1], s->centre[2]}, .rgb = {65536, 65536, 65536},
+                            .falloff = QIBL_FALLOFF_INV_DIST2, .filter = lut ? QIBL_LUT_BILINEAR : QIBL_POINT_POLY};
+    qibl_shmap_point_t pt;
+    struct timespec t0, t1;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    st = qibl_shmap_point_prepare(mp, pm, lut, &pl, &pt);
+    for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {
+        st = qibl_shmap_point_span(&pt, 0, y, w, row, ws, wsn);
+        if (st != QIBL_OK)
+            break;
+        for (uint32_t x = 0; x < w; ++x)
+            qibl_pmap_point(pm, x, y, pts + 3 * (size_t)x);
+        memset(acc, 0, sizeof(int64_t) * 3 * w);
+        qtool_luminaire_spots_span(s, row, pts, w, acc, idx);
+        for (size_t i = 0; i < (size_t)w * 3; ++i) /* saturate once: the sum, not each pass */
+            row[i] = acc[i] > INT32_MAX ? INT32_MAX : acc[i] < INT32_MIN ? INT32_MIN : (int32_t)acc[i];
+        st = qibl_fb_write_row(&fb, 0, y, w, row);
+        if (st == QIBL_OK && lin) {
+            float *o = lin + (size_t)y * w * 3;
+            for (size_t i = 0; i < (size_t)w * 3; ++i)
+                o[i] = row[i] > 0 ? (float)(row[i] / 65536.0) : 0.0f;
+        }
+    }
+    clock_gettime(CLOCK_MONOTONIC, &t1);
+    if (ms)
+        *ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
+    for (size_t i = 0; st == QIBL_OK && i < (size_t)w * h; ++i)
+        memcpy(rgb8 + 3 * i, pix + 4 * i, 3);
+out:
+    free(pix), free(row), free(pts), free(acc), free(ws), free(idx);
+    if (status)
+        *status = st;
+    return st == QIBL_OK ? 0 : -1;
+}

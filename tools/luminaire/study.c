@@ -1,0 +1,233 @@
+/*
+ * luminaire/study.c - `qibl luminaire study`: the built-in luminaire captured, then rendered as its
+ * near field (textured spotlights) and as its far field (one gonio lamp) on a ground plane at
+ * several heights, both against the luminaire ray-traced (the truth), and the near field timed on a
+ * 1024 x 256 panorama of the built-in courtyard.
+ *
+ * Invariants: the receiver images share one shading for both renderings (a unit lamp at the
+ * centre, 1/d^2, Lambert; the quantity an asset's point maps give), so the PSNR difference is the
+ * light model's alone; the truth integrates the emitter with its own cosines and visibility.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "luminaire/luminaire.h"
+#include "render/rt.h"
+
+#define PI_ 3.14159265358979323846
+
+typedef struct truth_ctx {
+    const qtool_luminaire_model *m;
+    uint32_t size, ns;
+    double hgt, half; /* the lamp's height above the ground; the image's half side */
+    double *rgb;
+} truth_ctx;
+
+static void ground_point(const truth_ctx *c, uint32_t x, uint32_t y, double p[3])
+{
+    p[0] = -c->half + (x + 0.5) * 2 * c->half / c->size;
+    p[1] = -c->half + (y + 0.5) * 2 * c->half / c->size;
+    p[2] = 0;
+}
+
+static void truth_row(void *vctx, uint32_t y)
+{
+    const truth_ctx *c = vctx;
+    static const double up[3] = {0, 0, 1};
+    for (uint32_t x = 0; x < c->size; ++x) {
+        double p[3], e[3];
+        ground_point(c, x, y, p);
+        p[2] -= c->hgt; /* the source's frame: S at the lamp's height */
+        qtool_luminaire_model_irradiance(c->m, p, up, c->ns, e);
+        for (int k = 0; k < 3; ++k)
+            c->rgb[3 * ((size_t)y * c->size + x) + (size_t)k] = e[k] / PI_; /* albedo 1, Lambert */
+    }
+}
+
+static double psnr(const double *a, const double *t, size_t n)
+{
+    double peak = 0, se = 0;
+    for (size_t i = 0; i < n; ++i)
+        peak = t[i] > peak ? t[i] : peak;
+    for (size_t i = 0; i < n; ++i)
+        se += (a[i] - t[i]) * (a[i] - t[i]);
+    se /= (double)n;
+    return se > 0 ? 10 * log10(peak * peak / se) : 200;
+}
+
+static int32_t q16(double v)
+{
+    v = v * 65536.0;
+    return v >= 2147483647.0 ? INT32_MAX : v <= -2147483647.0 ? -INT32_MAX : (int32_t)lround(v);
+}
+
+/* near and far renderings of the ground image with the lamp at height hgt (Q16.16 integer path) */
+static int render_ground(const qtool_luminaire *l, const truth_ctx *c, int far, double *out)
+{
+    int32_t pos[3] = {0, 0, q16(c->hgt)};
+    qtool_luminaire_spots s;
+    char err[128];
+    if (qtool_luminaire_spots_make(l, pos, 64, far, &s, err, sizeof err) != 0)
+        return -1;
+    const uint32_t n = c->size;
+    int32_t *base = malloc(sizeof(int32_t) * 3 * n), *pts = malloc(sizeof(int32_t) * 3 * n);
+    int64_t *acc = malloc(sizeof(int64_t) * 3 * n);
+    uint32_t *ws = malloc(sizeof(uint32_t) * n);
+    if (!base || !pts || !acc || !ws) {
+        free(base), free(pts), free(acc), free(ws), qtool_luminaire_spots_free(&s);
+        return -1;
+    }
+    for (uint32_t y = 0; y < n; ++y) {
+        for (uint32_t x = 0; x < n; ++x) {
+            double p[3];
+            ground_point(c, x, y, p);
+            double w[3] = {-p[0], -p[1], c->hgt - p[2]}, r2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+            double shade = w[2] / sqrt(r2) / PI_ / r2; /* a unit lamp at the centre, 1/d^2, Lambert */
+            for (int k = 0; k < 3; ++k)
+                base[3 * x + (uint32_t)k] = q16(shade), pts[3 * x + (uint32_t)k] = q16(p[k]);
+        }
+        memset(acc, 0, sizeof(int64_t) * 3 * n);
+        qtool_luminaire_spots_span(&s, base, pts, n, acc, ws);
+        for (size_t i = 0; i < (size_t)3 * n; ++i)
+            out[(size_t)y * 3 * n + i] = (double)acc[i] / 65536.0;
+    }
+    free(base), free(pts), free(acc), free(ws), qtool_luminaire_spots_free(&s);
+    return 0;
+}
+
+static double now_ms(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
+}
+
+/* this thread's CPU time: on a shared machine the wall clock counts other processes' turns */
+static double cpu_ms(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
+}
+
+static int cmp_d(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* The near field on the courtyard panorama: the centre lamp's shading from the ray tracer (as an
+ * asset's point maps would give it), then the spotlight passes, timed alone on one core. */
+static int time_courtyard(const qtool_luminaire *l, FILE *f, int threads, double *fps, uint32_t *spots,
+                          double *lit)
+{
+    const uint32_t W = 1024, H = 256;
+    qtool_rt_scene sc;
+    if (qtool_rt_scene_builtin(&sc) != 0)
+        return -1;
+    /* the lamp 2 lamp sizes above the ground (z = -1.6), 2.5 units along +y from the viewpoint */
+    const double lp[3] = {0, 2.5, -1.6 + 2 * QTOOL_LUMINAIRE_SIZE};
+    qtool_rt_light li = {.point = 1, .pos = {lp[0], lp[1], lp[2]}, .rgb = {1, 1, 1}, .falloff = 2};
+    double *rgb = malloc(sizeof(double) * 3 * W * H);
+    int32_t *pm = malloc(sizeof(int32_t) * 3 * W * H), *base = malloc(sizeof(int32_t) * 3 * W * H);
+    int64_t *acc = malloc(sizeof(int64_t) * 3 * W);
+    uint32_t *ws = malloc(sizeof(uint32_t) * W);
+    int rc = -1;
+    qtool_luminaire_spots s = {0};
+    char err[128];
+    if (!rgb || !pm || !base || !acc || !ws || qtool_rt_render(&sc, W, H, QTOOL_PANO_CYLINDRICAL, &li, threads, rgb, NULL,
+                                                       pm) != 0)
+        goto out;
+    for (size_t i = 0; i < (size_t)3 * W * H; ++i)
+        base[i] = q16(rgb[i]);
+    int32_t pos[3] = {q16(lp[0]), q16(lp[1]), q16(lp[2])};
+    if (qtool_luminaire_spots_make(l, pos, 64, 0, &s, err, sizeof err) != 0)
+        goto out;
+    size_t nlit = 0;
+    double t[7], tw[7];
+    for (int r = 0; r < 7; ++r) {
+        double t0 = cpu_ms(), w0 = now_ms();
+        nlit = 0;
+        for (uint32_t y = 0; y < H; ++y) {
+            memset(acc, 0, sizeof(int64_t) * 3 * W);
+            qtool_luminaire_spots_span(&s, base + (size_t)y * 3 * W, pm + (size_t)y * 3 * W, W, acc, ws);
+            for (uint32_t x = 0; x < W; ++x)
+                nlit += acc[3 * x] > 0 || acc[3 * x + 1] > 0;
+        }
+        t[r] = cpu_ms() - t0, tw[r] = now_ms() - w0;
+    }
+    qsort(t, 7, sizeof t[0], cmp_d);
+    qsort(tw, 7, sizeof tw[0], cmp_d);
+    *fps = 1000.0 / t[3];
+    *spots = s.count;
+    *lit = (double)nlit / ((double)W * H);
+    fprintf(f, "courtyard 1024x256: %u spotlights (of %u supports), %.1f ms CPU per frame on one thread (median "
+               "of 7; wall %.1f ms), %.1f fps, %.1f %% of pixels lit\n", s.count, l->nx * l->ny, t[3], tw[3], *fps,
+            100 * *lit);
+    rc = 0;
+out:
+    qtool_luminaire_spots_free(&s);
+    free(rgb), free(pm), free(base), free(acc), free(ws);
+    qtool_rt_scene_free(&sc);
+    return rc;
+}
+
+int qtool_luminaire_study(const qtool_luminaire_study_opts *o, void *vf)
+{
+    FILE *f = vf;
+    const int threads = o->threads > 0 ? o->threads : 1;
+    qtool_luminaire_model *m = qtool_luminaire_builtin();
+    if (!m)
+        return -1;
+    qtool_luminaire l;
+    qtool_luminaire_capture_opts co = {.grid = o->grid ? o->grid : 8, .res = o->res ? o->res : 32, .threads = threads};
+    double t0 = now_ms();
+    if (qtool_luminaire_capture(m, &co, &l) != 0) {
+        qtool_luminaire_model_free(m);
+        return -1;
+    }
+    fprintf(f, "capture: %ux%u supports, %u^2 texels each, %.0f ms\n", l.nx, l.ny, l.res, now_ms() - t0);
+    static const double hs_full[] = {0.5, 1, 2, 4, 8}, hs_quick[] = {0.5, 1, 4};
+    const double *hs = o->quick ? hs_quick : hs_full;
+    const int nh = o->quick ? 3 : 5;
+    const uint32_t size = o->size ? o->size : 96;
+    double *truth = malloc(sizeof(double) * 3 * size * size), *nearr = malloc(sizeof(double) * 3 * size * size),
+           *farr = malloc(sizeof(double) * 3 * size * size);
+    int rc = truth && nearr && farr ? 0 : -1;
+    double worst_near = 1e9, worst_gain = 1e9;
+    fprintf(f, "%-12s %-8s %-10s %-10s %-8s\n", "height/lamp", "height", "near_dB", "far_dB", "gain_dB");
+    for (int k = 0; rc == 0 && k < nh; ++k) {
+        double hgt = hs[k] * QTOOL_LUMINAIRE_SIZE;
+        truth_ctx c = {.m = m, .size = size, .ns = o->truth_ns ? o->truth_ns : 24, .hgt = hgt,
+                       .half = 1.8 * hgt + QTOOL_LUMINAIRE_SIZE / 2, .rgb = truth};
+        if (qtool_rt_parallel(threads, size, truth_row, &c, NULL) != 0 || render_ground(&l, &c, 0, nearr) != 0 ||
+            render_ground(&l, &c, 1, farr) != 0) {
+            rc = -1;
+            break;
+        }
+        size_t nv = (size_t)3 * size * size;
+        double pn = psnr(nearr, truth, nv), pf = psnr(farr, truth, nv);
+        fprintf(f, "%-12g %-8.3g %-10.2f %-10.2f %-8.2f\n", hs[k], hgt, pn, pf, pn - pf);
+        fprintf(f, "RESULT luminaire.near_psnr_h%g %.2f\nRESULT luminaire.far_psnr_h%g %.2f\n", hs[k], pn, hs[k], pf);
+        if (hs[k] <= 1) {
+            worst_near = pn < worst_near ? pn : worst_near;
+            worst_gain = pn - pf < worst_gain ? pn - pf : worst_gain;
+        }
+    }
+    double fps = 0, lit = 0;
+    uint32_t spots = 0;
+    if (rc == 0)
+        rc = time_courtyard(&l, f, 1, &fps, &spots, &lit);
+    if (rc == 0) {
+        fprintf(f, "RESULT luminaire.near_psnr_within_1_lamp_min %.2f\n", worst_near);
+        fprintf(f, "RESULT luminaire.near_minus_far_db_within_1_lamp_min %.2f\n", worst_gain);
+        fprintf(f, "RESULT luminaire.spotlights %u\nRESULT luminaire.fps_1024x256 %.1f\n", spots, fps);
+    }
+    free(truth), free(nearr), free(farr);
+    qtool_luminaire_free(&l);
+    qtool_luminaire_model_free(m);
+    return rc;
+}
