@@ -122,7 +122,7 @@ static int cmp_d(const void *a, const void *b)
 /* The near field on the courtyard panorama: the centre lamp's shading from the ray tracer (as an
  * asset's point maps would give it), then the spotlight passes, timed alone on one core. */
 static int time_courtyard(const qtool_luminaire *l, FILE *f, int threads, double *fps, uint32_t *spots,
-                          double *lit)
+                          double *lit, double *fps_all)
 {
     const uint32_t W = 1024, H = 256;
     qtool_rt_scene sc;
@@ -167,6 +167,33 @@ static int time_courtyard(const qtool_luminaire *l, FILE *f, int threads, double
     fprintf(f, "courtyard 1024x256: %u spotlights (of %u supports), %.1f ms CPU per frame on one thread (median "
                "of 7; wall %.1f ms), %.1f fps, %.1f %% of pixels lit\n", s.count, l->nx * l->ny, t[3], tw[3], *fps,
             100 * *lit);
+    /* the worst case: every pixel under the lamp (a 1024 x 256 ground patch one lamp size below it,
+     * the lit region's width across), so every pass visits the whole frame's reachable part */
+    qtool_luminaire_spots_free(&s);
+    const double hg = QTOOL_LUMINAIRE_SIZE, half = 1.8 * hg + QTOOL_LUMINAIRE_SIZE / 2;
+    int32_t gpos[3] = {0, 0, q16(hg)};
+    if (qtool_luminaire_spots_make(l, gpos, 64, 0, &s, err, sizeof err) != 0)
+        goto out;
+    for (uint32_t y = 0; y < H; ++y)
+        for (uint32_t x = 0; x < W; ++x) {
+            double p[3] = {-half + (x + 0.5) * 2 * half / W, -half / 4 + (y + 0.5) * half / 2 / H, 0};
+            double w[3] = {-p[0], -p[1], hg}, r2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+            size_t o = 3 * ((size_t)y * W + x);
+            for (int k = 0; k < 3; ++k)
+                base[o + (size_t)k] = q16(hg / sqrt(r2) / PI_ / r2), pm[o + (size_t)k] = q16(p[k]);
+        }
+    for (int r = 0; r < 7; ++r) {
+        double t0 = cpu_ms();
+        for (uint32_t y = 0; y < H; ++y) {
+            memset(acc, 0, sizeof(int64_t) * 3 * W);
+            qtool_luminaire_spots_span(&s, base + (size_t)y * 3 * W, pm + (size_t)y * 3 * W, W, acc, ws);
+        }
+        t[r] = cpu_ms() - t0;
+    }
+    qsort(t, 7, sizeof t[0], cmp_d);
+    *fps_all = 1000.0 / t[3];
+    fprintf(f, "ground patch 1024x256 one lamp size below (every pixel lit): %.1f ms CPU per frame, %.1f fps\n", t[3],
+            *fps_all);
     rc = 0;
 out:
     qtool_luminaire_spots_free(&s);
@@ -217,14 +244,15 @@ int qtool_luminaire_study(const qtool_luminaire_study_opts *o, void *vf)
             worst_gain = pn - pf < worst_gain ? pn - pf : worst_gain;
         }
     }
-    double fps = 0, lit = 0;
+    double fps = 0, lit = 0, fps_all = 0;
     uint32_t spots = 0;
     if (rc == 0)
-        rc = time_courtyard(&l, f, 1, &fps, &spots, &lit);
+        rc = time_courtyard(&l, f, threads, &fps, &spots, &lit, &fps_all);
     if (rc == 0) {
         fprintf(f, "RESULT luminaire.near_psnr_within_1_lamp_min %.2f\n", worst_near);
         fprintf(f, "RESULT luminaire.near_minus_far_db_within_1_lamp_min %.2f\n", worst_gain);
         fprintf(f, "RESULT luminaire.spotlights %u\nRESULT luminaire.fps_1024x256 %.1f\n", spots, fps);
+        fprintf(f, "RESULT luminaire.fps_1024x256_all_lit %.1f\n", fps_all);
     }
     free(truth), free(nearr), free(farr);
     qtool_luminaire_free(&l);
