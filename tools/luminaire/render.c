@@ -120,6 +120,11 @@ int qtool_luminaire_spots_make(const qtool_luminaire *l, const int32_t pos[3], u
         }
         if (peak <= 0)
             continue; /* a dark support (under the shade): no lamp, no pass */
+        if (!isfinite(peak) || !isfinite(sum[0])) {
+            free(iv), qtool_luminaire_spots_free(&s);
+            snprintf(err, errlen, "a spotlight's intensity is beyond Q16.16");
+            return -1;
+        }
         uint32_t c = s.count;
         uint16_t *t = s.tables + (size_t)c * n * n;
         double tmax[2] = {0, 0};
@@ -158,9 +163,13 @@ int qtool_luminaire_spots_make(const qtool_luminaire *l, const int32_t pos[3], u
         }
         double h = l->spacing, ou = far ? 0 : ((m % l->nx) - (l->nx - 1) / 2.0) * h,
                ov = far ? 0 : ((m / l->nx) - (l->ny - 1) / 2.0) * h;
-        s.pos[c][0] = pos[0] + (int32_t)lround(ou * 65536.0);
-        s.pos[c][1] = pos[1] + (int32_t)lround(ov * 65536.0);
-        s.pos[c][2] = pos[2];
+        double px = pos[0] + ou * 65536.0, py = pos[1] + ov * 65536.0;
+        if (!(fabs(px) < 2147483647.0 && fabs(py) < 2147483647.0)) {
+            free(iv), qtool_luminaire_spots_free(&s);
+            snprintf(err, errlen, "a spotlight's position is beyond Q16.16");
+            return -1;
+        }
+        s.pos[c][0] = (int32_t)lround(px), s.pos[c][1] = (int32_t)lround(py), s.pos[c][2] = pos[2];
         if (qibl_gonio_init(&s.gonio[c], n, t, aim, up) != QIBL_OK) {
             free(iv), qtool_luminaire_spots_free(&s);
             snprintf(err, errlen, "the core refused a spotlight's table");
