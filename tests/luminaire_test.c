@@ -259,7 +259,7 @@ static void ground(const qtool_luminaire_spots *s, double hgt, double half, uint
         memset(acc, 0, sizeof(int64_t) * 3 * n);
         qtool_luminaire_spots_span(s, base, pts, n, acc, ws);
         for (uint32_t i = 0; i < 3 * n; ++i)
-            out[(size_t)y * 3 * n + i] = (double)acc[i] / 65536;
+            out[(size_t)y * 3 * n + i] = qtool_luminaire_q16(acc[i]) / 65536.0;
     }
     free(base), free(pts), free(acc), free(ws);
 }

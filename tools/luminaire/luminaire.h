@@ -180,14 +180,19 @@ void qtool_luminaire_spots_free(qtool_luminaire_spots *s);
 
 /* One span: base holds, per pixel, the Q16.16 RGB a unit isotropic point lamp at the centre gives
  * with 1/d^2 falloff (qibl_shmap_point_span of an asset, or a reference renderer), p the pixels'
- * points (Q16.16, 3 per pixel). Pass by pass (one per spotlight), acc (3 per pixel, int64, added
- * to) gets base times the spotlight's intensity toward the pixel (qibl_gonio_lookup, times its
- * peak) times |x - centre|^2 / |x - spot|^2 (1/256 unit floor): the spotlight moved from the centre
- * to its support, visibility and cosine kept from the centre (the paper's per-support estimates,
- * taken at the luminaire's centre). Integer only: weights rounded to 2^-16, saturated at 2^15.
+ * points (Q16.16, 3 per pixel). Pass by pass (one per spotlight), acc (3 per pixel, int64 Q8.24,
+ * added to) gets base times the spotlight's intensity toward the pixel (qibl_gonio_lookup, times
+ * its peak) times |x - centre|^2 / |x - spot|^2 (distances floored to 1/256 unit, the ratio
+ * saturated at 2^15): the spotlight moved from the centre to its support, visibility and cosine
+ * kept from the centre (the paper's per-support estimates, taken at the luminaire's centre).
+ * Integer only: each pass's term rounded once to 2^-24 (after its weight is kept to 31 bits), so
+ * the sum of many faint passes keeps its precision; qtool_luminaire_q16 rounds the sum once.
  * ws: n uint32 of the caller's (the pixels any spotlight reaches, found once per span). */
 void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *base, const int32_t *p, uint32_t n,
                                 int64_t *acc, uint32_t *ws);
+
+/* acc (Q8.24) to Q16.16: rounded to nearest (ties away from zero), saturated to int32. */
+int32_t qtool_luminaire_q16(int64_t acc);
 
 /* An asset frame lit by the source: the centre lamp's span from the asset's point maps mp, P map pm
  * and LUT lut (NULL: direct SH) as `qibl relight --point` would draw it with falloff 2, then

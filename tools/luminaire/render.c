@@ -257,14 +257,37 @@ void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *b
                 w = (uint64_t)sc << 1; /* Q1.15 to Q16 */
             }
             for (int c = 0; c < 3; ++c) {
-                uint64_t wc = (w * (uint64_t)s->rgb[j][c] + 32768u) >> 16; /* <= 2^62 >> 16 */
-                wc = wc > ((uint64_t)1 << 31) ? (uint64_t)1 << 31 : wc;  /* weight <= 2^15 */
+                /* base (Q16.16) times w (Q16) times the peak (Q16.16), into Q8.24 with one rounding:
+                 * t = w rgb < 2^62 kept to its top 31 bits (2^-31 relative), then |base| times that
+                 * < 2^62; a pass adds at most 2^50, so 4096 passes stay below 2^62 */
+                uint64_t t = w * (uint64_t)s->rgb[j][c];
                 int32_t b = base[3 * (size_t)i + (size_t)c];
-                uint64_t mag = ((uint64_t)(b < 0 ? -(int64_t)b : b) * wc + 32768u) >> 16; /* <= 2^62 >> 16 */
+                if (t == 0 || b == 0)
+                    continue;
+                unsigned bl = bitlen64(t), sh = bl > 31 ? bl - 31 : 0;
+                uint64_t pr = (uint64_t)(b < 0 ? -(int64_t)b : b) * (t >> sh), mag;
+                if (sh >= 24) {
+                    unsigned l = sh - 24; /* <= 7 */
+                    mag = pr >= ((uint64_t)1 << (50 - l)) ? (uint64_t)1 << 50 : pr << l;
+                } else {
+                    unsigned r = 24 - sh;
+                    mag = (pr + ((uint64_t)1 << (r - 1))) >> r;
+                    mag = mag > ((uint64_t)1 << 50) ? (uint64_t)1 << 50 : mag;
+                }
                 acc[3 * (size_t)i + (size_t)c] += b < 0 ? -(int64_t)mag : (int64_t)mag;
             }
         }
     }
+}
+
+int32_t qtool_luminaire_q16(int64_t acc)
+{
+    /* round half away from zero by magnitude (no shift of a negative value), then saturate */
+    uint64_t m = acc < 0 ? (uint64_t)0 - (uint64_t)acc : (uint64_t)acc;
+    m = (m + 128u) >> 8;
+    if (m > INT32_MAX)
+        m = INT32_MAX;
+    return acc < 0 ? -(int32_t)m : (int32_t)m;
 }
 
 int qtool_luminaire_relight(const qtool_luminaire_spots *s, const qibl_shmaps_t *mp, const qibl_pmap_t *pm,
@@ -300,8 +323,8 @@ int qtool_luminaire_relight(const qtool_luminaire_spots *s, const qibl_shmaps_t 
             qibl_pmap_point(pm, x, y, pts + 3 * (size_t)x);
         memset(acc, 0, sizeof(int64_t) * 3 * w);
         qtool_luminaire_spots_span(s, row, pts, w, acc, idx);
-        for (size_t i = 0; i < (size_t)w * 3; ++i) /* saturate once: the sum, not each pass */
-            row[i] = acc[i] > INT32_MAX ? INT32_MAX : acc[i] < INT32_MIN ? INT32_MIN : (int32_t)acc[i];
+        for (size_t i = 0; i < (size_t)w * 3; ++i) /* round and saturate once: the sum, not each pass */
+            row[i] = qtool_luminaire_q16(acc[i]);
         st = qibl_fb_write_row(&fb, 0, y, w, row);
         if (st == QIBL_OK && lin) {
             float *o = lin + (size_t)y * w * 3;

@@ -92,7 +92,7 @@ static int render_ground(const qtool_luminaire *l, const truth_ctx *c, int far, 
         memset(acc, 0, sizeof(int64_t) * 3 * n);
         qtool_luminaire_spots_span(&s, base, pts, n, acc, ws);
         for (size_t i = 0; i < (size_t)3 * n; ++i)
-            out[(size_t)y * 3 * n + i] = (double)acc[i] / 65536.0;
+            out[(size_t)y * 3 * n + i] = qtool_luminaire_q16(acc[i]) / 65536.0; /* the frame's Q16.16 */
     }
     free(base), free(pts), free(acc), free(ws), qtool_luminaire_spots_free(&s);
     return 0;
@@ -155,7 +155,7 @@ static int time_courtyard(const qtool_luminaire *l, FILE *f, int threads, double
             memset(acc, 0, sizeof(int64_t) * 3 * W);
             qtool_luminaire_spots_span(&s, base + (size_t)y * 3 * W, pm + (size_t)y * 3 * W, W, acc, ws);
             for (uint32_t x = 0; x < W; ++x)
-                nlit += acc[3 * x] > 0 || acc[3 * x + 1] > 0;
+                nlit += qtool_luminaire_q16(acc[3 * x]) > 0 || qtool_luminaire_q16(acc[3 * x + 1]) > 0;
         }
         t[r] = cpu_ms() - t0, tw[r] = now_ms() - w0;
     }
