@@ -243,17 +243,20 @@ static double psnr(const double *a, const double *t, size_t n)
 
 static void ground(const qtool_luminaire_spots *s, double hgt, double half, uint32_t n, double *out)
 {
-    int32_t *base = malloc(sizeof(int32_t) * 3 * n), *pts = malloc(sizeof(int32_t) * 3 * n);
-    int64_t *acc = malloc(sizeof(int64_t) * 3 * n);
-    uint32_t *ws = malloc(sizeof(uint32_t) * n);
+    const uint32_t na = s->nanchor;
+    int32_t *base = malloc(sizeof(int32_t) * 3 * n * na), *pts = malloc(sizeof(int32_t) * 3 * n);
+    int64_t *acc = malloc(sizeof(int64_t) * 3 * n), *ws = malloc(qtool_luminaire_span_ws_size(n));
     assert_true(base && pts && acc && ws);
     for (uint32_t y = 0; y < n; ++y) {
         for (uint32_t x = 0; x < n; ++x) {
             double p[3] = {-half + (x + 0.5) * 2 * half / n, -half + (y + 0.5) * 2 * half / n, 0};
-            double r2 = p[0] * p[0] + p[1] * p[1] + hgt * hgt;
-            for (int k = 0; k < 3; ++k) {
-                base[3 * x + (uint32_t)k] = (int32_t)lround(hgt / sqrt(r2) / M_PI / r2 * 65536);
+            for (int k = 0; k < 3; ++k)
                 pts[3 * x + (uint32_t)k] = (int32_t)lround(p[k] * 65536);
+            for (uint32_t a = 0; a < na; ++a) {
+                double w[3] = {s->anchor[a][0] / 65536.0 - p[0], s->anchor[a][1] / 65536.0 - p[1], hgt};
+                double r2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+                for (int k = 0; k < 3; ++k)
+                    base[3 * ((size_t)a * n + x) + (size_t)k] = (int32_t)lround(hgt / sqrt(r2) / M_PI / r2 * 65536);
             }
         }
         memset(acc, 0, sizeof(int64_t) * 3 * n);
@@ -305,11 +308,11 @@ static void test_near_field(void **state)
     ground(&sn, hgt, half, n, nc);
     assert_memory_equal(nc, nr, sizeof(double) * 3 * n * n);
     /* points far outside the Q16.16 scene and on the lamp itself: finite, no overflow (UBSan) */
-    int32_t base[12] = {INT32_MAX, INT32_MAX, INT32_MAX, INT32_MIN, INT32_MIN, INT32_MIN, 65536, 65536, 65536, 1, 1, 1};
-    int32_t pts[12] = {INT32_MAX, INT32_MAX, INT32_MIN, INT32_MIN, INT32_MIN, INT32_MIN, 0, 0, pos[2] - 1,
-                       sn.pos[0][0], sn.pos[0][1], sn.pos[0][2] - 1};
-    int64_t acc[12] = {0};
-    uint32_t ws[4];
+    int32_t base[48], pts[12] = {INT32_MAX, INT32_MAX, INT32_MIN, INT32_MIN, INT32_MIN, INT32_MIN, 0, 0, pos[2] - 1,
+                                 sn.pos[0][0], sn.pos[0][1], sn.pos[0][2] - 1};
+    for (int k = 0; k < 48; ++k)
+        base[k] = k % 3 == 0 ? INT32_MAX : k % 3 == 1 ? INT32_MIN : 65536;
+    int64_t acc[12] = {0}, ws[4 * QTOOL_LUMINAIRE_WS_PER_PIXEL];
     qtool_luminaire_spots_span(&sn, base, pts, 4, acc, ws);
     qtool_luminaire_spots_free(&sn), qtool_luminaire_spots_free(&sf);
     free(t), free(nr), free(fr), free(nc);

@@ -79,11 +79,10 @@ static int one(const uint8_t *data, size_t size)
         FUZZ_CHECK(s.count <= (far ? 1u : l.nx * l.ny));
         int32_t pts[6 * 3] = {0, 0, 0, 30000, -20000, -65536, 0, 0, 65536, 0, 0, 65535,
                               INT32_MAX, INT32_MIN, INT32_MIN, INT32_MIN, INT32_MAX, INT32_MAX};
-        int32_t base[6 * 3];
-        for (int k = 0; k < 18; ++k)
+        int32_t base[4 * 6 * 3];
+        for (int k = 0; k < 72; ++k)
             base[k] = k & 1 ? INT32_MIN : INT32_MAX;
-        int64_t acc[18] = {0};
-        uint32_t ws[6];
+        int64_t acc[18] = {0}, ws[6 * QTOOL_LUMINAIRE_WS_PER_PIXEL];
         qtool_luminaire_spots_span(&s, base, pts, 6, acc, ws);
         for (int k = 0; k < 18; ++k) {
             uint64_t m = acc[k] < 0 ? (uint64_t)0 - (uint64_t)acc[k] : (uint64_t)acc[k];

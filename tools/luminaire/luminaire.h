@@ -170,6 +170,9 @@ typedef struct qtool_luminaire_spots {
     int32_t centre[3];         /* pos */
     uint64_t reach[2];         /* max |spot - centre| along x and y, Q16.16 */
     int64_t cullmax[2];        /* max of cull (-1: some spotlight cannot be culled) */
+    uint32_t nanchor;          /* shading anchors: 4 (the corners of the spotlights' box), far 1 */
+    int32_t anchor[4][3];      /* Q16.16 */
+    int32_t (*aw)[4];          /* per spotlight, its bilinear weights among the anchors, Q15 */
 } qtool_luminaire_spots;
 
 /* far 0: the near-field spotlights; far 1: one lamp (the far field). n: gonio table size (0: 64).
@@ -178,24 +181,28 @@ int qtool_luminaire_spots_make(const qtool_luminaire *l, const int32_t pos[3], u
                                qtool_luminaire_spots *out, char *err, size_t errlen);
 void qtool_luminaire_spots_free(qtool_luminaire_spots *s);
 
-/* One span: base holds, per pixel, the Q16.16 RGB a unit isotropic point lamp at the centre gives
- * with 1/d^2 falloff (qibl_shmap_point_span of an asset, or a reference renderer), p the pixels'
- * points (Q16.16, 3 per pixel). Pass by pass (one per spotlight), acc (3 per pixel, int64 Q8.24,
- * added to) gets base times the spotlight's intensity toward the pixel (qibl_gonio_lookup, times
- * its peak) times |x - centre|^2 / |x - spot|^2 (distances floored to 1/256 unit, the ratio
- * saturated at 2^15): the spotlight moved from the centre to its support, visibility and cosine
- * kept from the centre (the paper's per-support estimates, taken at the luminaire's centre).
- * Integer only: each pass's term rounded once to 2^-24 (after its weight is kept to 31 bits), so
- * the sum of many faint passes keeps its precision; qtool_luminaire_q16 rounds the sum once.
- * ws: n uint32 of the caller's (the pixels any spotlight reaches, found once per span). */
+/* One span of n pixels. base: s->nanchor spans (span k at base + 3 n k), each the Q16.16 RGB a
+ * unit isotropic point lamp at anchor k gives with 1/d^2 falloff (qibl_shmap_point_span of an
+ * asset, or a reference renderer): albedo, cosine and visibility there. p: the pixels' points
+ * (Q16.16, 3 per pixel). Pass by pass (one per spotlight), acc (3 per pixel, int64 Q8.24, added
+ * to) gets the spotlight's intensity toward the pixel (qibl_gonio_lookup, times its peak) times
+ * its shading: the anchors' base_k |x - a_k|^3 (the cosine's numerator n.(a - x), linear in a)
+ * interpolated bilinearly at the spotlight and divided by |x - s|^3 (the paper's per-support
+ * estimates of rho, V and f; exact for a Lambertian receiver when the anchors agree on
+ * visibility). Integer only: distances floored to 1/256 unit, distance ratios cubed saturated at
+ * 2^15, each pass's term rounded once to 2^-24 (after its weight is kept to 31 bits), so the sum
+ * of many faint passes keeps its precision; qtool_luminaire_q16 rounds the sum once.
+ * ws: qtool_luminaire_span_ws_size(n) bytes of the caller's (int64-aligned). */
+#define QTOOL_LUMINAIRE_WS_PER_PIXEL 16u
+size_t qtool_luminaire_span_ws_size(uint32_t n);
 void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *base, const int32_t *p, uint32_t n,
-                                int64_t *acc, uint32_t *ws);
+                                int64_t *acc, int64_t *ws);
 
 /* acc (Q8.24) to Q16.16: rounded to nearest (ties away from zero), saturated to int32. */
 int32_t qtool_luminaire_q16(int64_t acc);
 
-/* An asset frame lit by the source: the centre lamp's span from the asset's point maps mp, P map pm
- * and LUT lut (NULL: direct SH) as `qibl relight --point` would draw it with falloff 2, then
+/* An asset frame lit by the source: the anchors' unit lamps from the asset's point maps mp, P map
+ * pm and LUT lut (NULL: direct SH) as `qibl relight --point` would draw them with falloff 2, then
  * qtool_luminaire_spots_span, saturated to int32 once per pixel and written through platform/soft
  * (exposure, srgb) into rgb8 (w h 3); lin (may be NULL) the linear frame. ms: time of the frame.
  * 0, or -1 with *status (QIBL_E_NULL_POINTER for no memory). */

@@ -15,6 +15,7 @@
 #include <time.h>
 
 #include "luminaire/luminaire.h"
+#include "qibl/fixed.h" /* qibl_isqrt_u64 */
 #include "qibl/soft.h"
 
 /* The unit direction of octahedral texel position (a, b) (texel units, centres at integers) of an
@@ -76,7 +77,7 @@ void qtool_luminaire_spots_free(qtool_luminaire_spots *s)
 {
     if (!s)
         return;
-    free(s->tables), free(s->gonio), free(s->pos), free(s->rgb), free(s->cull);
+    free(s->tables), free(s->gonio), free(s->pos), free(s->rgb), free(s->cull), free(s->aw);
     memset(s, 0, sizeof *s);
 }
 
@@ -93,8 +94,9 @@ int qtool_luminaire_spots_make(const qtool_luminaire *l, const int32_t pos[3], u
     s.pos = malloc(sizeof *s.pos * cap);
     s.rgb = malloc(sizeof *s.rgb * cap);
     s.cull = malloc(sizeof *s.cull * cap);
+    s.aw = malloc(sizeof *s.aw * cap);
     double *iv = malloc(sizeof(double) * n * n * 4);
-    if (!s.tables || !s.gonio || !s.pos || !s.rgb || !s.cull || !iv) {
+    if (!s.tables || !s.gonio || !s.pos || !s.rgb || !s.cull || !s.aw || !iv) {
         free(iv), qtool_luminaire_spots_free(&s);
         snprintf(err, errlen, "out of memory");
         return -1;
@@ -184,6 +186,26 @@ int qtool_luminaire_spots_make(const qtool_luminaire *l, const int32_t pos[3], u
         }
     }
     free(iv);
+    /* the shading anchors: the corners of the spotlights' box on S (far: the centre alone), and
+     * each spotlight's bilinear weights among them (Q15, summing to 2^15) */
+    int32_t lo[2] = {pos[0], pos[1]}, hi[2] = {pos[0], pos[1]};
+    for (uint32_t c = 0; c < s.count; ++c)
+        for (int k = 0; k < 2; ++k)
+            lo[k] = s.pos[c][k] < lo[k] ? s.pos[c][k] : lo[k], hi[k] = s.pos[c][k] > hi[k] ? s.pos[c][k] : hi[k];
+    s.nanchor = far ? 1 : 4;
+    for (uint32_t k = 0; k < s.nanchor; ++k) {
+        s.anchor[k][0] = far ? pos[0] : (k & 1) ? hi[0] : lo[0];
+        s.anchor[k][1] = far ? pos[1] : (k & 2) ? hi[1] : lo[1];
+        s.anchor[k][2] = pos[2];
+    }
+    for (uint32_t c = 0; c < s.count; ++c) {
+        double fx = hi[0] > lo[0] ? (double)(s.pos[c][0] - lo[0]) / (hi[0] - lo[0]) : 0;
+        double fy = hi[1] > lo[1] ? (double)(s.pos[c][1] - lo[1]) / (hi[1] - lo[1]) : 0;
+        int32_t w1 = (int32_t)lround(fx * (1 - fy) * 32768), w2 = (int32_t)lround((1 - fx) * fy * 32768),
+                w3 = (int32_t)lround(fx * fy * 32768);
+        s.aw[c][0] = far ? 32768 : 32768 - w1 - w2 - w3, s.aw[c][1] = far ? 0 : w1, s.aw[c][2] = far ? 0 : w2,
+        s.aw[c][3] = far ? 0 : w3;
+    }
     *out = s;
     return 0;
 }
@@ -203,12 +225,39 @@ static uint64_t d2_256(int64_t dx, int64_t dy, int64_t dz)
     return a * a + b * b + c * c;
 }
 
+/* |a|^2 / |b|^2 in Q16 for two (1/256 unit)^2 squared distances (b floored to 1), at most 2^32 */
+static uint64_t ratio_q16(uint64_t a, uint64_t b)
+{
+    unsigned bl = bitlen64(a), sh = bl > 46 ? bl - 46 : 0;
+    a >>= sh, b >>= sh;
+    b = b ? b : 1;
+    uint64_t r = (a << 16) / b; /* a < 2^46 */
+    return r > ((uint64_t)1 << 32) ? (uint64_t)1 << 32 : r;
+}
+
+/* r^(3/2) in Q16 for r in Q16 (<= 2^32), saturated at 2^31: (|a| / |b|)^3 from the squares' ratio */
+static uint64_t pow15_q16(uint64_t r)
+{
+    uint64_t sq = qibl_isqrt_u64(r << 16, NULL); /* Q16, <= 2^24 */
+    uint64_t v = (r * sq + 32768u) >> 16;        /* <= 2^56 >> 16 */
+    return v > ((uint64_t)1 << 31) ? (uint64_t)1 << 31 : v;
+}
+
+size_t qtool_luminaire_span_ws_size(uint32_t n)
+{
+    return (size_t)n * QTOOL_LUMINAIRE_WS_PER_PIXEL * sizeof(int64_t);
+}
+
 void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *base, const int32_t *p, uint32_t n,
-                                int64_t *acc, uint32_t *ws)
+                                int64_t *acc, int64_t *ws)
 {
     /* the pixels any spotlight can reach (below S, inside the union of the cull cones), once per
-     * span: every pass then visits only them; integer sums, so the order changes nothing */
+     * span: every pass then visits only them; integer sums, so the order changes nothing. Per such
+     * pixel: its index, |x - c|^2 and B_k = base_k (|x - a_k| / |x - c|)^3 for each anchor (the
+     * anchors' n.(a_k - x) V rho / pi, scaled by 1/|x - c|^3: linear in a_k, so interpolating it
+     * at a spotlight and multiplying by (|x - c| / |x - s|)^3 gives that spotlight's shading) */
     uint32_t nc = 0;
+    const uint32_t na = s->nanchor;
     for (uint32_t i = 0; i < n; ++i) {
         const int32_t *q = p + 3 * (size_t)i;
         int64_t dz = (int64_t)q[2] - s->centre[2];
@@ -221,14 +270,31 @@ void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *b
             continue;
         if (s->cullmax[1] >= 0 && ay > s->reach[1] && ((ay - s->reach[1]) << 16) > (uint64_t)s->cullmax[1] * az)
             continue;
-        ws[nc++] = i;
+        int64_t *w = ws + (size_t)nc * QTOOL_LUMINAIRE_WS_PER_PIXEL;
+        uint64_t dc = d2_256((int64_t)q[0] - s->centre[0], (int64_t)q[1] - s->centre[1], dz);
+        w[13] = (int64_t)i, w[12] = (int64_t)dc;
+        for (uint32_t k = 0; k < na; ++k) {
+            const int32_t *a = s->anchor[k];
+            uint64_t r3 = na == 1 ? 65536u
+                                  : pow15_q16(ratio_q16(d2_256((int64_t)q[0] - a[0], (int64_t)q[1] - a[1],
+                                                               (int64_t)q[2] - a[2]), dc));
+            for (int c = 0; c < 3; ++c) {
+                int32_t b = base[3 * ((size_t)k * n + i) + (size_t)c];
+                /* |b| r3 <= 2^31 2^31: rounded to Q16, kept within 2^40 */
+                uint64_t m = ((uint64_t)(b < 0 ? -(int64_t)b : b) * r3 + 32768u) >> 16;
+                m = m > ((uint64_t)1 << 40) ? (uint64_t)1 << 40 : m;
+                w[3 * k + (uint32_t)c] = b < 0 ? -(int64_t)m : (int64_t)m;
+            }
+        }
+        ++nc;
     }
     for (uint32_t j = 0; j < s->count; ++j) { /* one pass per spotlight */
         const int32_t *sp = s->pos[j];
         const int64_t c0 = s->cull[j][0], c1 = s->cull[j][1];
-        const int moved = sp[0] != s->centre[0] || sp[1] != s->centre[1] || sp[2] != s->centre[2];
+        const int32_t *aw = s->aw[j];
         for (uint32_t k = 0; k < nc; ++k) {
-            const uint32_t i = ws[k];
+            const int64_t *wp = ws + (size_t)k * QTOOL_LUMINAIRE_WS_PER_PIXEL;
+            const uint32_t i = (uint32_t)wp[13];
             const int32_t *q = p + 3 * (size_t)i;
             int64_t d[3] = {(int64_t)q[0] - sp[0], (int64_t)q[1] - sp[1], (int64_t)q[2] - sp[2]};
             if (d[2] >= 0)
@@ -242,26 +308,22 @@ void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *b
             uint32_t sc = qibl_gonio_lookup(&s->gonio[j], d);
             if (sc == 0)
                 continue;
-            uint64_t w = (uint64_t)sc << 16; /* Q16 weight: the scale (Q1.15) times the distance ratio */
-            if (moved) {
-                uint64_t dc = d2_256((int64_t)q[0] - s->centre[0], (int64_t)q[1] - s->centre[1],
-                                     (int64_t)q[2] - s->centre[2]);
-                uint64_t ds = d2_256(d[0], d[1], d[2]);
-                unsigned b = bitlen64(dc), sh = b > 46 ? b - 46 : 0;
-                dc >>= sh, ds >>= sh;
-                ds = ds ? ds : 1; /* 1/256 unit floor */
-                uint64_t ratio = (dc << 16) / ds;  /* Q16, dc < 2^46 */
-                ratio = ratio > ((uint64_t)1 << 31) ? (uint64_t)1 << 31 : ratio;
-                w = ((uint64_t)sc * ratio + 16384u) >> 15; /* <= 2^46 >> 15 = 2^31 */
-            } else {
-                w = (uint64_t)sc << 1; /* Q1.15 to Q16 */
-            }
+            /* Q16 weight: the scale (Q1.15) times (|x - c| / |x - s|)^3 (<= 2^31) */
+            uint64_t w = na == 1 ? (uint64_t)sc << 1
+                                 : ((uint64_t)sc * pow15_q16(ratio_q16((uint64_t)wp[12], d2_256(d[0], d[1], d[2]))) +
+                                    16384u) >> 15;
             for (int c = 0; c < 3; ++c) {
-                /* base (Q16.16) times w (Q16) times the peak (Q16.16), into Q8.24 with one rounding:
-                 * t = w rgb < 2^62 kept to its top 31 bits (2^-31 relative), then |base| times that
+                /* the shading at the spotlight: the anchors' B interpolated (weights Q15, sum 2^15;
+                 * |B| <= 2^40: the sum < 2^57), an incident cosine below 0 gives no light */
+                int64_t bs = 0;
+                for (uint32_t a = 0; a < na; ++a)
+                    bs += (int64_t)aw[a] * wp[3 * a + (uint32_t)c];
+                bs = bs < 0 ? -(int64_t)(((uint64_t)-bs + 16384u) >> 15) : (int64_t)(((uint64_t)bs + 16384u) >> 15);
+                int32_t b = bs > INT32_MAX ? INT32_MAX : bs < -INT32_MAX ? -INT32_MAX : (int32_t)bs;
+                /* b (Q16.16) times w (Q16) times the peak (Q16.16), into Q8.24 with one rounding:
+                 * t = w rgb < 2^62 kept to its top 31 bits (2^-31 relative), then |b| times that
                  * < 2^62; a pass adds at most 2^50, so 4096 passes stay below 2^62 */
                 uint64_t t = w * (uint64_t)s->rgb[j][c];
-                int32_t b = base[3 * (size_t)i + (size_t)c];
                 if (t == 0 || b == 0)
                     continue;
                 unsigned bl = bitlen64(t), sh = bl > 31 ? bl - 31 : 0;
@@ -297,10 +359,10 @@ int qtool_luminaire_relight(const qtool_luminaire_spots *s, const qibl_shmaps_t 
     const uint32_t w = mp->width, h = mp->height;
     size_t wsn = qibl_shmap_point_workspace_size(mp->k, w);
     uint8_t *pix = malloc((size_t)w * h * 4);
-    int32_t *row = malloc(sizeof(int32_t) * 3 * w), *pts = malloc(sizeof(int32_t) * 3 * w);
+    int32_t *row = malloc(sizeof(int32_t) * 3 * w * 4), *pts = malloc(sizeof(int32_t) * 3 * w);
     int64_t *acc = malloc(sizeof(int64_t) * 3 * w);
     void *ws = malloc(wsn ? wsn : 1);
-    uint32_t *idx = malloc(sizeof(uint32_t) * w);
+    int64_t *idx = malloc(qtool_luminaire_span_ws_size(w));
     qibl_status_t st = QIBL_OK;
     if (!pix || !row || !pts || !acc || !ws || !idx) {
         st = QIBL_E_NULL_POINTER;
@@ -308,15 +370,19 @@ int qtool_luminaire_relight(const qtool_luminaire_spots *s, const qibl_shmaps_t 
     }
     qibl_fb_desc_t fb = {.pixels = pix, .width = w, .height = h, .format = QIBL_FB_RGBA8888, .srgb = srgb ? 1 : 0,
                          .exposure = exposure};
-    /* the centre's unit lamp, 1/d^2: visibility, cosine and albedo for every spotlight */
-    qibl_pointlight_t pl = {.pos = {s->centre[0], s->centre[1], s->centre[2]}, .rgb = {65536, 65536, 65536},
-                            .falloff = QIBL_FALLOFF_INV_DIST2, .filter = lut ? QIBL_LUT_BILINEAR : QIBL_POINT_POLY};
-    qibl_shmap_point_t pt;
+    /* a unit lamp at each shading anchor, 1/d^2: visibility, cosine and albedo for the spotlights */
+    qibl_shmap_point_t pt[4];
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
-    st = qibl_shmap_point_prepare(mp, pm, lut, &pl, &pt);
+    for (uint32_t k = 0; st == QIBL_OK && k < s->nanchor; ++k) {
+        qibl_pointlight_t pl = {.pos = {s->anchor[k][0], s->anchor[k][1], s->anchor[k][2]},
+                                .rgb = {65536, 65536, 65536}, .falloff = QIBL_FALLOFF_INV_DIST2,
+                                .filter = lut ? QIBL_LUT_BILINEAR : QIBL_POINT_POLY};
+        st = qibl_shmap_point_prepare(mp, pm, lut, &pl, &pt[k]);
+    }
     for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {
-        st = qibl_shmap_point_span(&pt, 0, y, w, row, ws, wsn);
+        for (uint32_t k = 0; st == QIBL_OK && k < s->nanchor; ++k)
+            st = qibl_shmap_point_span(&pt[k], 0, y, w, row + (size_t)k * 3 * w, ws, wsn);
         if (st != QIBL_OK)
             break;
         for (uint32_t x = 0; x < w; ++x)

@@ -72,10 +72,9 @@ static int render_ground(const qtool_luminaire *l, const truth_ctx *c, int far, 
     char err[128];
     if (qtool_luminaire_spots_make(l, pos, 64, far, &s, err, sizeof err) != 0)
         return -1;
-    const uint32_t n = c->size;
-    int32_t *base = malloc(sizeof(int32_t) * 3 * n), *pts = malloc(sizeof(int32_t) * 3 * n);
-    int64_t *acc = malloc(sizeof(int64_t) * 3 * n);
-    uint32_t *ws = malloc(sizeof(uint32_t) * n);
+    const uint32_t n = c->size, na = s.nanchor;
+    int32_t *base = malloc(sizeof(int32_t) * 3 * n * na), *pts = malloc(sizeof(int32_t) * 3 * n);
+    int64_t *acc = malloc(sizeof(int64_t) * 3 * n), *ws = malloc(qtool_luminaire_span_ws_size(n));
     if (!base || !pts || !acc || !ws) {
         free(base), free(pts), free(acc), free(ws), qtool_luminaire_spots_free(&s);
         return -1;
@@ -84,10 +83,16 @@ static int render_ground(const qtool_luminaire *l, const truth_ctx *c, int far, 
         for (uint32_t x = 0; x < n; ++x) {
             double p[3];
             ground_point(c, x, y, p);
-            double w[3] = {-p[0], -p[1], c->hgt - p[2]}, r2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
-            double shade = w[2] / sqrt(r2) / PI_ / r2; /* a unit lamp at the centre, 1/d^2, Lambert */
             for (int k = 0; k < 3; ++k)
-                base[3 * x + (uint32_t)k] = q16(shade), pts[3 * x + (uint32_t)k] = q16(p[k]);
+                pts[3 * x + (uint32_t)k] = q16(p[k]);
+            for (uint32_t a = 0; a < na; ++a) {
+                /* a unit lamp at the anchor, 1/d^2, Lambert: what an asset's point maps give */
+                double w[3] = {s.anchor[a][0] / 65536.0 - p[0], s.anchor[a][1] / 65536.0 - p[1],
+                               s.anchor[a][2] / 65536.0 - p[2]};
+                double r2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2], shade = w[2] / sqrt(r2) / PI_ / r2;
+                for (int k = 0; k < 3; ++k)
+                    base[3 * ((size_t)a * n + x) + (size_t)k] = q16(shade);
+            }
         }
         memset(acc, 0, sizeof(int64_t) * 3 * n);
         qtool_luminaire_spots_span(&s, base, pts, n, acc, ws);
@@ -130,30 +135,36 @@ static int time_courtyard(const qtool_luminaire *l, FILE *f, int threads, double
         return -1;
     /* the lamp 2 lamp sizes above the ground (z = -1.6), 2.5 units along +y from the viewpoint */
     const double lp[3] = {0, 2.5, -1.6 + 2 * QTOOL_LUMINAIRE_SIZE};
-    qtool_rt_light li = {.point = 1, .pos = {lp[0], lp[1], lp[2]}, .rgb = {1, 1, 1}, .falloff = 2};
     double *rgb = malloc(sizeof(double) * 3 * W * H);
-    int32_t *pm = malloc(sizeof(int32_t) * 3 * W * H), *base = malloc(sizeof(int32_t) * 3 * W * H);
-    int64_t *acc = malloc(sizeof(int64_t) * 3 * W);
-    uint32_t *ws = malloc(sizeof(uint32_t) * W);
+    int32_t *pm = malloc(sizeof(int32_t) * 3 * W * H), *base = malloc(sizeof(int32_t) * 3 * W * H * 4),
+            *rowb = malloc(sizeof(int32_t) * 3 * W * 4);
+    int64_t *acc = malloc(sizeof(int64_t) * 3 * W), *ws = malloc(qtool_luminaire_span_ws_size(W));
     int rc = -1;
     qtool_luminaire_spots s = {0};
     char err[128];
-    if (!rgb || !pm || !base || !acc || !ws || qtool_rt_render(&sc, W, H, QTOOL_PANO_CYLINDRICAL, &li, threads, rgb, NULL,
-                                                       pm) != 0)
-        goto out;
-    for (size_t i = 0; i < (size_t)3 * W * H; ++i)
-        base[i] = q16(rgb[i]);
     int32_t pos[3] = {q16(lp[0]), q16(lp[1]), q16(lp[2])};
-    if (qtool_luminaire_spots_make(l, pos, 64, 0, &s, err, sizeof err) != 0)
+    if (!rgb || !pm || !base || !rowb || !acc || !ws || qtool_luminaire_spots_make(l, pos, 64, 0, &s, err, sizeof err) != 0)
         goto out;
+    /* each anchor's unit lamp (1/d^2) by the ray tracer: the shading an asset's point maps hold */
+    for (uint32_t a = 0; a < s.nanchor; ++a) {
+        qtool_rt_light li = {.point = 1, .pos = {s.anchor[a][0] / 65536.0, s.anchor[a][1] / 65536.0,
+                                                 s.anchor[a][2] / 65536.0}, .rgb = {1, 1, 1}, .falloff = 2};
+        if (qtool_rt_render(&sc, W, H, QTOOL_PANO_CYLINDRICAL, &li, threads, rgb, NULL, pm) != 0)
+            goto out;
+        for (size_t i = 0; i < (size_t)3 * W * H; ++i)
+            base[(size_t)a * 3 * W * H + i] = q16(rgb[i]);
+    }
     size_t nlit = 0;
     double t[7], tw[7];
     for (int r = 0; r < 7; ++r) {
         double t0 = cpu_ms(), w0 = now_ms();
         nlit = 0;
         for (uint32_t y = 0; y < H; ++y) {
+            for (uint32_t a = 0; a < s.nanchor; ++a) /* the anchors' rows side by side, as an asset gives them */
+                memcpy(rowb + (size_t)a * 3 * W, base + (size_t)a * 3 * W * H + (size_t)y * 3 * W,
+                       sizeof(int32_t) * 3 * W);
             memset(acc, 0, sizeof(int64_t) * 3 * W);
-            qtool_luminaire_spots_span(&s, base + (size_t)y * 3 * W, pm + (size_t)y * 3 * W, W, acc, ws);
+            qtool_luminaire_spots_span(&s, rowb, pm + (size_t)y * 3 * W, W, acc, ws);
             for (uint32_t x = 0; x < W; ++x)
                 nlit += qtool_luminaire_q16(acc[3 * x]) > 0 || qtool_luminaire_q16(acc[3 * x + 1]) > 0;
         }
@@ -177,16 +188,24 @@ static int time_courtyard(const qtool_luminaire *l, FILE *f, int threads, double
     for (uint32_t y = 0; y < H; ++y)
         for (uint32_t x = 0; x < W; ++x) {
             double p[3] = {-half + (x + 0.5) * 2 * half / W, -half / 4 + (y + 0.5) * half / 2 / H, 0};
-            double w[3] = {-p[0], -p[1], hg}, r2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
             size_t o = 3 * ((size_t)y * W + x);
             for (int k = 0; k < 3; ++k)
-                base[o + (size_t)k] = q16(hg / sqrt(r2) / PI_ / r2), pm[o + (size_t)k] = q16(p[k]);
+                pm[o + (size_t)k] = q16(p[k]);
+            for (uint32_t a = 0; a < s.nanchor; ++a) {
+                double w[3] = {s.anchor[a][0] / 65536.0 - p[0], s.anchor[a][1] / 65536.0 - p[1], hg};
+                double r2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+                for (int k = 0; k < 3; ++k)
+                    base[(size_t)a * 3 * W * H + o + (size_t)k] = q16(hg / sqrt(r2) / PI_ / r2);
+            }
         }
     for (int r = 0; r < 7; ++r) {
         double t0 = cpu_ms();
         for (uint32_t y = 0; y < H; ++y) {
+            for (uint32_t a = 0; a < s.nanchor; ++a)
+                memcpy(rowb + (size_t)a * 3 * W, base + (size_t)a * 3 * W * H + (size_t)y * 3 * W,
+                       sizeof(int32_t) * 3 * W);
             memset(acc, 0, sizeof(int64_t) * 3 * W);
-            qtool_luminaire_spots_span(&s, base + (size_t)y * 3 * W, pm + (size_t)y * 3 * W, W, acc, ws);
+            qtool_luminaire_spots_span(&s, rowb, pm + (size_t)y * 3 * W, W, acc, ws);
         }
         t[r] = cpu_ms() - t0;
     }
@@ -197,7 +216,7 @@ static int time_courtyard(const qtool_luminaire *l, FILE *f, int threads, double
     rc = 0;
 out:
     qtool_luminaire_spots_free(&s);
-    free(rgb), free(pm), free(base), free(acc), free(ws);
+    free(rgb), free(pm), free(base), free(rowb), free(acc), free(ws);
     qtool_rt_scene_free(&sc);
     return rc;
 }
