@@ -314,7 +314,8 @@ void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *b
                                     16384u) >> 15;
             for (int c = 0; c < 3; ++c) {
                 /* the shading at the spotlight: the anchors' B interpolated (weights Q15, sum 2^15;
-                 * |B| <= 2^40: the sum < 2^57), an incident cosine below 0 gives no light */
+                 * |B| <= 2^40: the sum < 2^57); an anchor the surface faces away from gives 0, so at
+                 * grazing incidence this is the interpolation of the clamped cosine */
                 int64_t bs = 0;
                 for (uint32_t a = 0; a < na; ++a)
                     bs += (int64_t)aw[a] * wp[3 * a + (uint32_t)c];
