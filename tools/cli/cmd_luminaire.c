@@ -228,7 +228,7 @@ static int cmd_render(int argc, char **argv)
     if (rc != 0)
         fprintf(stderr, "qibl: luminaire render: %s\n", err);
     else
-        printf("wrote %s: %ux%u, %u %s, %.1f ms\n", out, mp.width, mp.height, s.count,
+        printf("wrote %s: %ux%u, %u %s, %.1f ms CPU\n", out, mp.width, mp.height, s.count,
                far ? "far-field lamp" : "spotlights", ms);
     free(rgb), free(bytes), qtool_luminaire_spots_free(&s);
     return rc == 0 ? 0 : 1;

@@ -194,6 +194,9 @@ void qtool_luminaire_spots_free(qtool_luminaire_spots *s);
  * of many faint passes keeps its precision; qtool_luminaire_q16 rounds the sum once.
  * ws: qtool_luminaire_span_ws_size(n) bytes of the caller's (int64-aligned). */
 #define QTOOL_LUMINAIRE_WS_PER_PIXEL 16u
+/* 1 if some spotlight of s can light point q (Q16.16): below S and inside the union of the
+ * spotlights' cull cones (exact: a point it says 0 for gets 0 from every pass). */
+int qtool_luminaire_reaches(const qtool_luminaire_spots *s, const int32_t q[3]);
 size_t qtool_luminaire_span_ws_size(uint32_t n);
 void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *base, const int32_t *p, uint32_t n,
                                 int64_t *acc, int64_t *ws);
@@ -204,7 +207,8 @@ int32_t qtool_luminaire_q16(int64_t acc);
 /* An asset frame lit by the source: the anchors' unit lamps from the asset's point maps mp, P map
  * pm and LUT lut (NULL: direct SH) as `qibl relight --point` would draw them with falloff 2, then
  * qtool_luminaire_spots_span, saturated to int32 once per pixel and written through platform/soft
- * (exposure, srgb) into rgb8 (w h 3); lin (may be NULL) the linear frame. ms: time of the frame.
+ * (exposure, srgb) into rgb8 (w h 3); lin (may be NULL) the linear frame. ms: the frame's CPU time
+ * (this thread's, so a loaded machine does not inflate it).
  * 0, or -1 with *status (QIBL_E_NULL_POINTER for no memory). */
 int qtool_luminaire_relight(const qtool_luminaire_spots *s, const qibl_shmaps_t *mp, const qibl_pmap_t *pm,
                             const qibl_ylut_t *lut, uint32_t exposure, int srgb, uint8_t *rgb8, float *lin, double *ms,

@@ -243,6 +243,22 @@ static uint64_t pow15_q16(uint64_t r)
     return v > ((uint64_t)1 << 31) ? (uint64_t)1 << 31 : v;
 }
 
+int qtool_luminaire_reaches(const qtool_luminaire_spots *s, const int32_t q[3])
+{
+    int64_t dz = (int64_t)q[2] - s->centre[2];
+    if (dz >= 0)
+        return 0; /* at or above S */
+    uint64_t az = uabs64(dz);
+    uint64_t ax = uabs64((int64_t)q[0] - s->centre[0]), ay = uabs64((int64_t)q[1] - s->centre[1]);
+    /* |x - c| <= |x - s_j| + |s_j - c|: beyond cull |dz| + reach no spotlight sees it
+     * (|a| 2^16 <= 2^48; cull <= 2^30 times |dz| <= 2^32) */
+    if (s->cullmax[0] >= 0 && ax > s->reach[0] && ((ax - s->reach[0]) << 16) > (uint64_t)s->cullmax[0] * az)
+        return 0;
+    if (s->cullmax[1] >= 0 && ay > s->reach[1] && ((ay - s->reach[1]) << 16) > (uint64_t)s->cullmax[1] * az)
+        return 0;
+    return 1;
+}
+
 size_t qtool_luminaire_span_ws_size(uint32_t n)
 {
     return (size_t)n * QTOOL_LUMINAIRE_WS_PER_PIXEL * sizeof(int64_t);
@@ -260,16 +276,9 @@ void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *b
     const uint32_t na = s->nanchor;
     for (uint32_t i = 0; i < n; ++i) {
         const int32_t *q = p + 3 * (size_t)i;
+        if (!qtool_luminaire_reaches(s, q))
+            continue;
         int64_t dz = (int64_t)q[2] - s->centre[2];
-        if (dz >= 0)
-            continue;
-        uint64_t az = uabs64(dz);
-        uint64_t ax = uabs64((int64_t)q[0] - s->centre[0]), ay = uabs64((int64_t)q[1] - s->centre[1]);
-        /* |x - c| <= |x - s_j| + |s_j - c|: beyond cull |dz| + reach no spotlight sees it */
-        if (s->cullmax[0] >= 0 && ax > s->reach[0] && ((ax - s->reach[0]) << 16) > (uint64_t)s->cullmax[0] * az)
-            continue;
-        if (s->cullmax[1] >= 0 && ay > s->reach[1] && ((ay - s->reach[1]) << 16) > (uint64_t)s->cullmax[1] * az)
-            continue;
         int64_t *w = ws + (size_t)nc * QTOOL_LUMINAIRE_WS_PER_PIXEL;
         uint64_t dc = d2_256((int64_t)q[0] - s->centre[0], (int64_t)q[1] - s->centre[1], dz);
         w[13] = (int64_t)i, w[12] = (int64_t)dc;
@@ -374,7 +383,7 @@ int qtool_luminaire_relight(const qtool_luminaire_spots *s, const qibl_shmaps_t 
     /* a unit lamp at each shading anchor, 1/d^2: visibility, cosine and albedo for the spotlights */
     qibl_shmap_point_t pt[4];
     struct timespec t0, t1;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t0); /* CPU time: a shared machine's wall clock counts others' turns */
     for (uint32_t k = 0; st == QIBL_OK && k < s->nanchor; ++k) {
         qibl_pointlight_t pl = {.pos = {s->anchor[k][0], s->anchor[k][1], s->anchor[k][2]},
                                 .rgb = {65536, 65536, 65536}, .falloff = QIBL_FALLOFF_INV_DIST2,
@@ -382,14 +391,21 @@ int qtool_luminaire_relight(const qtool_luminaire_spots *s, const qibl_shmaps_t 
         st = qibl_shmap_point_prepare(mp, pm, lut, &pl, &pt[k]);
     }
     for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {
-        for (uint32_t k = 0; st == QIBL_OK && k < s->nanchor; ++k)
-            st = qibl_shmap_point_span(&pt[k], 0, y, w, row + (size_t)k * 3 * w, ws, wsn);
+        /* the anchors' shading only over the row's pixels some spotlight reaches (x0 .. x1 - 1) */
+        uint32_t x0 = w, x1 = 0;
+        for (uint32_t x = 0; x < w; ++x) {
+            qibl_pmap_point(pm, x, y, pts + 3 * (size_t)x);
+            if (qtool_luminaire_reaches(s, pts + 3 * (size_t)x))
+                x0 = x < x0 ? x : x0, x1 = x + 1;
+        }
+        memset(acc, 0, sizeof(int64_t) * 3 * w);
+        const uint32_t nw = x1 > x0 ? x1 - x0 : 0;
+        for (uint32_t k = 0; st == QIBL_OK && nw && k < s->nanchor; ++k)
+            st = qibl_shmap_point_span(&pt[k], x0, y, nw, row + (size_t)k * 3 * nw, ws, wsn);
         if (st != QIBL_OK)
             break;
-        for (uint32_t x = 0; x < w; ++x)
-            qibl_pmap_point(pm, x, y, pts + 3 * (size_t)x);
-        memset(acc, 0, sizeof(int64_t) * 3 * w);
-        qtool_luminaire_spots_span(s, row, pts, w, acc, idx);
+        if (nw)
+            qtool_luminaire_spots_span(s, row, pts + 3 * (size_t)x0, nw, acc + 3 * (size_t)x0, idx);
         for (size_t i = 0; i < (size_t)w * 3; ++i) /* round and saturate once: the sum, not each pass */
             row[i] = qtool_luminaire_q16(acc[i]);
         st = qibl_fb_write_row(&fb, 0, y, w, row);
@@ -399,7 +415,7 @@ int qtool_luminaire_relight(const qtool_luminaire_spots *s, const qibl_shmaps_t 
                 o[i] = row[i] > 0 ? (float)(row[i] / 65536.0) : 0.0f;
         }
     }
-    clock_gettime(CLOCK_MONOTONIC, &t1);
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1);
     if (ms)
         *ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
     for (size_t i = 0; st == QIBL_OK && i < (size_t)w * h; ++i)
