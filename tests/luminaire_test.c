@@ -15,6 +15,7 @@
 #include "testutil.h"
 #include "luminaire/luminaire.h"
 #include "qibl/asset.h"
+#include "qibl/soft.h"
 
 CLI_FIXTURES("/tmp/qibl_lum_XXXXXX")
 
@@ -366,6 +367,79 @@ static void test_cli(void **state)
     assert_int_equal(run("luminaire", "study", "--frob", NULL), 2);
 }
 
+/* qtool_luminaire_relight (anchors' spans only where a spotlight reaches) against the same frame
+ * computed over whole rows here; a one-support source near and far give the same bytes */
+static void test_relight_frame(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *g = at("g.qibl"), *q = at("s.qnf"), *q1 = at("one.qnf");
+    assert_int_equal(run("gen", "-o", g, "--size", "96x24", "--k", "9", "--lut-size", "8", NULL), 0);
+    assert_int_equal(run("luminaire", "capture", "builtin", "--out", q, "--grid", "6", "--res", "8", NULL), 0);
+    uint8_t *bytes;
+    size_t n;
+    char err[256];
+    assert_int_equal(qtool_io_read_asset(g, &bytes, &n, err, sizeof err), 0);
+    qibl_asset_t a;
+    qibl_shmaps_t mp;
+    qibl_pmap_t pm;
+    assert_int_equal(qibl_asset_open(&a, bytes, n), QIBL_OK);
+    assert_int_equal(qibl_asset_point_shmaps(&a, &mp), QIBL_OK);
+    assert_int_equal(qibl_asset_pmap(&a, &pm), QIBL_OK);
+    qtool_luminaire l;
+    assert_int_equal(qtool_luminaire_read(q, &l), QTOOL_LUMINAIRE_OK);
+    const int32_t pos[3] = {0, 65536, -32768};
+    qtool_luminaire_spots s;
+    assert_int_equal(qtool_luminaire_spots_make(&l, pos, 32, 0, &s, err, sizeof err), 0);
+    const uint32_t w = mp.width, h = mp.height;
+    uint8_t *got = malloc((size_t)w * h * 3), *want = malloc((size_t)w * h * 4);
+    int32_t *row = malloc(sizeof(int32_t) * 3 * w * 4), *pts = malloc(sizeof(int32_t) * 3 * w), *o = malloc(12 * w);
+    int64_t *acc = malloc(sizeof(int64_t) * 3 * w), *ws = malloc(qtool_luminaire_span_ws_size(w));
+    size_t wsn = qibl_shmap_point_workspace_size(mp.k, w);
+    void *pws = malloc(wsn);
+    assert_true(got && want && row && pts && o && acc && ws && pws);
+    qibl_status_t st;
+    assert_int_equal(qtool_luminaire_relight(&s, &mp, &pm, NULL, 65536, 1, got, NULL, NULL, &st), 0);
+    qibl_fb_desc_t fb = {.pixels = want, .width = w, .height = h, .format = QIBL_FB_RGBA8888, .srgb = 1,
+                         .exposure = 65536};
+    qibl_shmap_point_t pt[4];
+    for (uint32_t k = 0; k < s.nanchor; ++k) {
+        qibl_pointlight_t pl = {.pos = {s.anchor[k][0], s.anchor[k][1], s.anchor[k][2]}, .rgb = {65536, 65536, 65536},
+                                .falloff = QIBL_FALLOFF_INV_DIST2, .filter = QIBL_POINT_POLY};
+        assert_int_equal(qibl_shmap_point_prepare(&mp, &pm, NULL, &pl, &pt[k]), QIBL_OK);
+    }
+    size_t lit = 0;
+    for (uint32_t y = 0; y < h; ++y) {
+        for (uint32_t k = 0; k < s.nanchor; ++k)
+            assert_int_equal(qibl_shmap_point_span(&pt[k], 0, y, w, row + (size_t)k * 3 * w, pws, wsn), QIBL_OK);
+        for (uint32_t x = 0; x < w; ++x)
+            qibl_pmap_point(&pm, x, y, pts + 3 * (size_t)x);
+        memset(acc, 0, sizeof(int64_t) * 3 * w);
+        qtool_luminaire_spots_span(&s, row, pts, w, acc, ws);
+        for (size_t i = 0; i < (size_t)3 * w; ++i)
+            o[i] = qtool_luminaire_q16(acc[i]), lit += o[i] > 0;
+        assert_int_equal(qibl_fb_write_row(&fb, 0, y, w, o), QIBL_OK);
+    }
+    assert_true(lit > 0);
+    for (size_t i = 0; i < (size_t)w * h; ++i)
+        assert_memory_equal(got + 3 * i, want + 4 * i, 3);
+    qtool_luminaire_spots_free(&s);
+    qtool_luminaire_free(&l);
+    free(got), free(want), free(row), free(pts), free(o), free(acc), free(ws), free(pws), free(bytes);
+    /* one support: its lamp is the far field's */
+    assert_int_equal(run("luminaire", "capture", "builtin", "--out", q1, "--grid", "1", "--res", "8", NULL), 0);
+    assert_int_equal(run("luminaire", "render", g, q1, "--at", "0", "1", "-0.5", "--out", at("n.png"), NULL), 0);
+    assert_non_null(strstr(out_text(), "96x24, 1 spotlights")); /* lit, not two black frames */
+    assert_int_equal(run("luminaire", "render", g, q1, "--at", "0", "1", "-0.5", "--far", "--out", at("f.png"), NULL),
+                     0);
+    size_t nn = 0, nf = 0;
+    uint8_t *pn = qtool_io_read_all(at("n.png"), &nn), *pf = qtool_io_read_all(at("f.png"), &nf);
+    assert_true(pn && pf);
+    assert_int_equal(nn, nf);
+    assert_memory_equal(pn, pf, nn);
+    free(pn), free(pf);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -375,6 +449,7 @@ int main(void)
         cmocka_unit_test(test_capture),
         cmocka_unit_test(test_near_field),
         cmocka_unit_test_setup_teardown(test_cli, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_relight_frame, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
