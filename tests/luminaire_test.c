@@ -352,7 +352,6 @@ static void test_cli(void **state)
     assert_int_equal(run("luminaire", NULL), 2);
     assert_int_equal(run("luminaire", "frob", NULL), 2);
     assert_int_equal(run("luminaire", "capture", "builtin", NULL), 2);
-    assert_int_equal(run("luminaire", "capture", "lamp.obj", "--out", at("z.qnf"), NULL), 2);
     assert_int_equal(run("luminaire", "capture", "builtin", "--out", at("z.qnf"), "--grid", "65", NULL), 2);
     assert_int_equal(run("luminaire", "capture", "builtin", "--out", at("z.qnf"), "--basis", "sinc", NULL), 2);
     assert_int_equal(access(at("z.qnf"), F_OK), -1);
@@ -440,6 +439,79 @@ static void test_relight_frame(void **state)
     free(pn), free(pf);
 }
 
+/* the built-in luminaire's shade written as an OBJ (its triangles, in its order) */
+static void write_builtin_obj(const char *path)
+{
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    int nv = 0;
+    const double H = 0.2, c = 0.1, lo = 0.002, hi = 0.2;
+    /* each quad a, b, c, d as triangles (a, b, c) and (a, c, d) */
+#define QUAD(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz)                                                    \
+    do {                                                                                                      \
+        fprintf(f, "v %.17g %.17g %.17g\nv %.17g %.17g %.17g\nv %.17g %.17g %.17g\nv %.17g %.17g %.17g\n",   \
+                ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz);                                              \
+        fprintf(f, "f %d %d %d\nf %d %d %d\n", nv + 1, nv + 2, nv + 3, nv + 1, nv + 3, nv + 4);                \
+        nv += 4;                                                                                              \
+    } while (0)
+    for (int iy = 0; iy < 4; ++iy)
+        for (int ix = 0; ix < 4; ++ix) {
+            if (((ix + iy) & 1) == 0)
+                continue;
+            double x0 = -H + ix * c, y0 = -H + iy * c, x1 = x0 + c, y1 = y0 + c;
+            QUAD(x0, y0, lo, x1, y0, lo, x1, y1, lo, x0, y1, lo);
+        }
+    const double cx[4] = {-H, H, H, -H}, cy[4] = {-H, -H, H, H};
+    for (int k = 0; k < 4; ++k) {
+        int t = (k + 1) & 3;
+        QUAD(cx[k], cy[k], lo, cx[t], cy[t], lo, cx[t], cy[t], hi, cx[k], cy[k], hi);
+    }
+    QUAD(-H, -H, hi, H, -H, hi, H, H, hi, -H, H, hi);
+#undef QUAD
+    fclose(f);
+}
+
+/* capture from a mesh: the built-in shade as an OBJ with the built-in emitter gives the built-in
+ * capture's bytes; a mesh below S and an emitter outside it are refused, nothing written */
+static void test_capture_mesh(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *obj = at("shade.obj"), *a = at("a.qnf"), *b = at("b.qnf");
+    write_builtin_obj(obj);
+    assert_int_equal(run("luminaire", "capture", "builtin", "--out", a, "--grid", "4", "--res", "8", NULL), 0);
+    assert_int_equal(run("luminaire", "capture", obj, "--emitter", "0.16", "0.08", "--out", b, "--grid", "4", "--res",
+                         "8", NULL), 0);
+    size_t na = 0, nb = 0;
+    uint8_t *pa = qtool_io_read_all(a, &na), *pb = qtool_io_read_all(b, &nb);
+    assert_true(pa && pb && na == nb);
+    assert_memory_equal(pa, pb, na);
+    free(pa), free(pb);
+    /* defaults: the built-in proportions of the mesh's box, the same emitter here */
+    assert_int_equal(run("luminaire", "capture", obj, "--out", b, "--grid", "4", "--res", "8", NULL), 0);
+    pb = qtool_io_read_all(b, &nb);
+    pa = qtool_io_read_all(a, &na);
+    assert_true(pa && pb && na == nb);
+    qtool_luminaire la, lb;
+    assert_int_equal(qtool_luminaire_decode(pa, na, &la), QTOOL_LUMINAIRE_OK);
+    assert_int_equal(qtool_luminaire_decode(pb, nb, &lb), QTOOL_LUMINAIRE_OK);
+    for (size_t k = 0; k < (size_t)16 * 64 * 3; ++k)
+        assert_true(fabs(la.tex[k] - lb.tex[k]) <= 1e-4 * QTOOL_LUMINAIRE_LE);
+    qtool_luminaire_free(&la), qtool_luminaire_free(&lb);
+    free(pa), free(pb);
+    FILE *f = fopen(at("low.obj"), "w");
+    assert_non_null(f);
+    fputs("v 0 0 0.1\nv 1 0 0.1\nv 0 1 -0.1\nf 1 2 3\n", f);
+    fclose(f);
+    const char *z = at("z.qnf");
+    assert_int_equal(run("luminaire", "capture", at("low.obj"), "--out", z, NULL), 1);
+    assert_int_equal(run("luminaire", "capture", obj, "--emitter", "0.5", "0.08", "--out", z, NULL), 1);
+    assert_int_equal(run("luminaire", "capture", obj, "--emitter", "0.1", "0.3", "--out", z, NULL), 1);
+    assert_int_equal(run("luminaire", "capture", at("missing.obj"), "--out", z, NULL), 1);
+    assert_int_equal(run("luminaire", "capture", "builtin", "--emitter", "0.1", "0.05", "--out", z, NULL), 2);
+    assert_int_equal(access(z, F_OK), -1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -450,6 +522,7 @@ int main(void)
         cmocka_unit_test(test_near_field),
         cmocka_unit_test_setup_teardown(test_cli, setup, teardown),
         cmocka_unit_test_setup_teardown(test_relight_frame, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_capture_mesh, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

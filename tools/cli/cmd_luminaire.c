@@ -12,13 +12,15 @@
 
 #include "cli/cli.h"
 #include "io/file.h"
+#include "io/obj.h"
 #include "io/png.h"
 #include "luminaire/luminaire.h"
 #include "qibl/asset.h"
 #include "qibl/soft.h"
 
 const char qcli_luminaire_usage[] =
-    "usage: qibl luminaire capture builtin --out F.qnf [--grid N] [--res R] [--basis box|tent] [--threads T]\n"
+    "usage: qibl luminaire capture builtin|MESH.obj --out F.qnf [--grid N] [--res R] [--basis box|tent]\n"
+    "                                [--emitter Z HALF] [--threads T]\n"
     "       qibl luminaire info F.qnf\n"
     "       qibl luminaire render ASSET F.qnf --at X Y Z --out F.png [--far] [--exposure E] [--table N]\n"
     "       qibl luminaire study [--grid N] [--res R] [--size S] [--quick] [--threads T]\n"
@@ -26,7 +28,10 @@ const char qcli_luminaire_usage[] =
     "  grid of N x N filter supports, each with an R x R emission texture on a measurement plane.\n"
     "  capture: the built-in luminaire (a 0.4 box shade with a checkerboard of holes in its bottom\n"
     "  plate around a square emitter) ray-traced through the paper's acquisition (Figure 1: the\n"
-    "  filter on S, the plane M behind it) into F.qnf (default N 16, R 32, box basis). info: the\n"
+    "  filter on S, the plane M behind it) into F.qnf (default N 16, R 32, box basis). MESH.obj: a shade\n"
+    "  as it is (z up, every vertex above S: z > 0; at most 65536 triangles) around a square emitter\n"
+    "  facing down at height Z with half-size HALF (default: the built-in one's proportions of the\n"
+    "  mesh's box); the grid covers the mesh's extent. info: the\n"
     "  file's header and its flux. render: an asset frame (its point maps and P map) lit by the\n"
     "  source hanging with S's centre at X Y Z, facing down (-z): one textured spotlight per lit\n"
     "  support, each a goniometric lamp of the core (qibl/gonio.h), summed pass by pass in integers;\n"
@@ -47,6 +52,7 @@ static int cmd_capture(int argc, char **argv)
 {
     const char *src = NULL, *out = NULL;
     qtool_luminaire_capture_opts o = {.grid = 16};
+    double ez = 0, eh = 0;
     for (int i = 2; i < argc; ++i) {
         const char *a = argv[i];
         int more = i + 1 < argc;
@@ -63,6 +69,11 @@ static int cmd_capture(int argc, char **argv)
             if (parse_u(a, argv[++i], 1, 256, &t))
                 return 2;
             o.threads = (int)t;
+        } else if (strcmp(a, "--emitter") == 0 && i + 2 < argc) {
+            if (qcli_parse_num(a, argv[i + 1], 1e-6, 1e6, "its height above S", &ez) != 0 ||
+                qcli_parse_num(a, argv[i + 2], 1e-6, 1e6, "its half-size", &eh) != 0)
+                return 2;
+            i += 2;
         } else if (strcmp(a, "--basis") == 0 && more) {
             const char *b = argv[++i];
             if (strcmp(b, "box") == 0)
@@ -79,13 +90,29 @@ static int cmd_capture(int argc, char **argv)
             src = a;
     }
     if (!src || !out)
-        return qcli_usage_error("usage: qibl luminaire capture builtin --out F.qnf [--grid N] [--res R]");
-    if (strcmp(src, "builtin") != 0)
-        return qcli_usage_error("luminaire capture: only the built-in luminaire ('builtin') is captured, not '%s'",
-                                src);
+        return qcli_usage_error("usage: qibl luminaire capture builtin|MESH.obj --out F.qnf [--grid N] [--res R]");
+    int builtin = strcmp(src, "builtin") == 0;
+    if (builtin && (ez > 0 || eh > 0))
+        return qcli_usage_error("luminaire capture: --emitter places the emitter in a mesh, not in 'builtin'");
     if (qcli_parse_only)
         return 0;
-    qtool_luminaire_model *m = qtool_luminaire_builtin();
+    qtool_luminaire_model *m = NULL;
+    char err[512] = "";
+    if (builtin) {
+        m = qtool_luminaire_builtin();
+    } else {
+        qtool_obj_mesh mesh;
+        if (qtool_obj_read_max(src, 1u << 16, &mesh, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: luminaire capture: %s\n", err);
+            return 1;
+        }
+        m = qtool_luminaire_from_mesh(&mesh, ez, eh, err, sizeof err);
+        qtool_obj_free(&mesh);
+        if (!m) {
+            fprintf(stderr, "qibl: luminaire capture: %s: %s\n", src, err);
+            return 1;
+        }
+    }
     qtool_luminaire l;
     if (!m || qtool_luminaire_capture(m, &o, &l) != 0) {
         qtool_luminaire_model_free(m);
@@ -93,7 +120,6 @@ static int cmd_capture(int argc, char **argv)
         return 1;
     }
     qtool_luminaire_model_free(m);
-    char err[512] = "";
     qtool_luminaire_err e = qtool_luminaire_write(out, &l, err, sizeof err);
     if (e != QTOOL_LUMINAIRE_OK) {
         fprintf(stderr, "qibl: luminaire capture: %s: %s\n", out, err[0] ? err : qtool_luminaire_err_str(e));

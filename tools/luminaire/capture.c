@@ -7,6 +7,7 @@
  * count.
  */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -23,6 +24,8 @@
 struct qtool_luminaire_model {
     qtool_rt_scene shade;
     double le[3];
+    double emit_z, emit_half; /* the square emitter facing down */
+    double half;              /* S's grid covers -half..half in x and y */
 };
 
 static void tri(double *pos, double *nrm, size_t *k, const double a[3], const double b[3], const double c[3])
@@ -84,6 +87,37 @@ qtool_luminaire_model *qtool_luminaire_builtin(void)
         return NULL;
     }
     m->le[0] = QTOOL_LUMINAIRE_LE, m->le[1] = 0.9 * QTOOL_LUMINAIRE_LE, m->le[2] = 0.75 * QTOOL_LUMINAIRE_LE;
+    m->emit_z = EMIT_Z, m->emit_half = EMIT_HALF, m->half = HALF;
+    return m;
+}
+
+qtool_luminaire_model *qtool_luminaire_from_mesh(const qtool_obj_mesh *mesh, double emit_z, double emit_half,
+                                                 char *err, size_t errlen)
+{
+    double half = 0, top = 0;
+    for (size_t i = 0; i < mesh->ntri * 3; ++i) {
+        const double *v = mesh->pos + 3 * i;
+        if (!(v[2] > 0)) {
+            snprintf(err, errlen, "a vertex at z = %g: the luminaire must lie above its sampling plane z = 0", v[2]);
+            return NULL;
+        }
+        half = fmax(half, fmax(fabs(v[0]), fabs(v[1]))), top = fmax(top, v[2]);
+    }
+    emit_z = emit_z > 0 ? emit_z : 0.8 * top;         /* the built-in one's proportions */
+    emit_half = emit_half > 0 ? emit_half : 0.4 * half;
+    if (mesh->ntri == 0 || !(emit_z > 0 && emit_z < top) || !(emit_half > 0 && emit_half < half)) {
+        snprintf(err, errlen, "the emitter (z %g, half-size %g) must lie inside the mesh (top %g, half-width %g)",
+                 emit_z, emit_half, top, half);
+        return NULL;
+    }
+    qtool_luminaire_model *m = calloc(1, sizeof *m);
+    if (!m || qtool_rt_scene_from_obj(&m->shade, mesh, 1, 1) != 0) {
+        free(m);
+        snprintf(err, errlen, "out of memory");
+        return NULL;
+    }
+    m->le[0] = QTOOL_LUMINAIRE_LE, m->le[1] = 0.9 * QTOOL_LUMINAIRE_LE, m->le[2] = 0.75 * QTOOL_LUMINAIRE_LE;
+    m->emit_z = emit_z, m->emit_half = emit_half, m->half = half;
     return m;
 }
 
@@ -112,9 +146,9 @@ void qtool_luminaire_model_radiance(const qtool_luminaire_model *m, const double
     rgb[0] = rgb[1] = rgb[2] = 0;
     if (d[2] <= 0)
         return;
-    double t = (EMIT_Z - o[2]) / d[2];
+    double t = (m->emit_z - o[2]) / d[2];
     double x = o[0] + t * d[0], y = o[1] + t * d[1];
-    if (t <= 0 || fabs(x) > EMIT_HALF || fabs(y) > EMIT_HALF || blocked(m, o, d, t))
+    if (t <= 0 || fabs(x) > m->emit_half || fabs(y) > m->emit_half || blocked(m, o, d, t))
         return;
     memcpy(rgb, m->le, sizeof m->le);
 }
@@ -130,12 +164,12 @@ static double jitter(uint32_t k, uint32_t salt)
 void qtool_luminaire_model_irradiance(const qtool_luminaire_model *m, const double p[3], const double nrm[3],
                                       uint32_t ns, double rgb[3])
 {
-    double e = 0, da = (2 * EMIT_HALF / ns) * (2 * EMIT_HALF / ns);
+    const double eh = m->emit_half;
+    double e = 0, da = (2 * eh / ns) * (2 * eh / ns);
     for (uint32_t j = 0; j < ns; ++j)
         for (uint32_t i = 0; i < ns; ++i) {
             uint32_t k = j * ns + i;
-            double q[3] = {-EMIT_HALF + (i + jitter(k, 1)) * 2 * EMIT_HALF / ns,
-                           -EMIT_HALF + (j + jitter(k, 2)) * 2 * EMIT_HALF / ns, EMIT_Z};
+            double q[3] = {-eh + (i + jitter(k, 1)) * 2 * eh / ns, -eh + (j + jitter(k, 2)) * 2 * eh / ns, m->emit_z};
             double w[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
             double r = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
             if (r <= 0)
@@ -207,7 +241,7 @@ int qtool_luminaire_capture(const qtool_luminaire_model *m, const qtool_luminair
     qtool_luminaire l = {.nx = o->grid ? o->grid : 8, .res = o->res ? o->res : 32,
                          .basis = o->basis ? o->basis : QTOOL_LUMINAIRE_BOX};
     l.ny = l.nx;
-    l.spacing = (float)(QTOOL_LUMINAIRE_SIZE / l.nx);
+    l.spacing = (float)(2 * m->half / l.nx);
     l.distance = (float)(o->distance > 0 ? o->distance : 1.0);
     l.half_tan = (float)(o->half_tan > 0 ? o->half_tan : 2.0);
     l.tex = calloc((size_t)l.nx * l.ny * l.res * l.res * 3, sizeof(float));

@@ -119,6 +119,15 @@ typedef struct qtool_luminaire_model qtool_luminaire_model; /* opaque: shade (rt
 
 /* NULL on no memory. */
 qtool_luminaire_model *qtool_luminaire_builtin(void);
+/* A luminaire from a mesh, taken as it is in the source's frame (z up, every vertex above S), as
+ * the shade (opaque, every triangle), around a square emitter of half-size emit_half facing down at
+ * height emit_z (radiance as the built-in one's; 0: 0.8 of the mesh's height and 0.4 of its
+ * half-width, the built-in one's proportions). The grid will cover the mesh's extent in x and y.
+ * NULL with a one-line reason in err (a vertex at or below S, the emitter outside the mesh, no
+ * memory). */
+struct qtool_obj_mesh;
+qtool_luminaire_model *qtool_luminaire_from_mesh(const struct qtool_obj_mesh *mesh, double emit_z, double emit_half,
+                                                 char *err, size_t errlen);
 void qtool_luminaire_model_free(qtool_luminaire_model *m);
 /* The radiance leaving the luminaire along the ray from point o (z <= 0: below S) in unit direction
  * d (d[2] > 0: toward the luminaire): the emitter's radiance when the ray reaches it through a hole,
@@ -144,7 +153,8 @@ typedef struct qtool_luminaire_capture_opts {
 /* The acquisition of Figure 1 in simulation: for each support m and texel (s, t) of M, the
  * irradiance behind the filter Phi'_m, E_m(s, t) = int_S cos^2 / R^2 Phi'_m(u, v) L(u, v -> s, t)
  * du dv (midpoint quadrature, L traced through the luminaire), then E'_m = E_m R_m^2 / cos^2 at the
- * support's centre (eq. 9-10; M's basis a point sample per texel). The grid covers the 0.4 plate.
+ * support's centre (eq. 9-10; M's basis a point sample per texel). The grid covers the luminaire's
+ * extent in x and y (the built-in one's 0.4 plate).
  * 0, or -1 (no memory). out is the caller's to free. */
 int qtool_luminaire_capture(const qtool_luminaire_model *m, const qtool_luminaire_capture_opts *o,
                             qtool_luminaire *out);
