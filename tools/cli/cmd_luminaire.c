@@ -31,13 +31,14 @@ const char qcli_luminaire_usage[] =
     "  filter on S, the plane M behind it) into F.qnf (default N 16, R 32, box basis). MESH.obj: a shade\n"
     "  as it is (z up, every vertex above S: z > 0; at most 65536 triangles) around a square emitter\n"
     "  facing down at height Z with half-size HALF (default: the built-in one's proportions of the\n"
-    "  mesh's box); the grid covers the mesh's extent. info: the\n"
-    "  file's header and its flux. render: an asset frame (its point maps and P map) lit by the\n"
-    "  source hanging with S's centre at X Y Z, facing down (-z): one textured spotlight per lit\n"
-    "  support, each a goniometric lamp of the core (qibl/gonio.h), summed pass by pass in integers;\n"
-    "  --far: the same source as one far-field lamp (IES-like). study: near and far field against\n"
-    "  the ray-traced luminaire on a ground plane at 0.5..8 lamp sizes, and the near field's frame\n"
-    "  rate on a 1024x256 courtyard panorama; RESULT lines. Format: tools/luminaire/luminaire.h.\n";
+    "  mesh's box); the grid covers the mesh's extent. info: the file's header and its flux.\n"
+    "  render: an asset frame (its point maps and P map) lit by the source hanging with S's centre\n"
+    "  at X Y Z, facing down (-z): one textured spotlight per lit support, each a goniometric lamp\n"
+    "  of the core (qibl/gonio.h), shaded from four anchors' point-map spans, summed pass by pass in\n"
+    "  integers; prints the frame's CPU time. --far: the same source as one far-field lamp\n"
+    "  (IES-like). study: near and far field against the ray-traced luminaire on a ground plane at\n"
+    "  0.5..8 lamp sizes (PSNR), and the near field's CPU time per 1024x256 frame (a courtyard\n"
+    "  panorama, and a ground patch lit everywhere); RESULT lines. Format: tools/luminaire/luminaire.h.\n";
 
 static int parse_u(const char *opt, const char *s, long lo, long hi, uint32_t *out)
 {
