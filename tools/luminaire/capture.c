@@ -185,6 +185,28 @@ void qtool_luminaire_model_irradiance(const qtool_luminaire_model *m, const doub
         rgb[c] = m->le[c] * e;
 }
 
+void qtool_luminaire_yard_sample(const qtool_luminaire_model *m, const double p[3], uint32_t ns,
+                                 const qtool_rt_scene *sc, const qtool_rt_hit *h, double rgb[3])
+{
+    const double eh = m->emit_half, da = (2 * eh / ns) * (2 * eh / ns);
+    for (uint32_t j = 0; j < ns; ++j)
+        for (uint32_t i = 0; i < ns; ++i) {
+            uint32_t k = j * ns + i;
+            double q[3] = {-eh + (i + jitter(k, 1)) * 2 * eh / ns, -eh + (j + jitter(k, 2)) * 2 * eh / ns, m->emit_z};
+            double w[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
+            double r = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]), df, gl;
+            if (r <= 0)
+                continue;
+            for (int c = 0; c < 3; ++c)
+                w[c] /= r;
+            if (w[2] <= 0 || blocked(m, p, w, r) || !qtool_rt_response(sc, h, w, r, &df, &gl))
+                continue;
+            double g = w[2] / (r * r) * da; /* the emitter's cosine over r^2, its area */
+            for (int c = 0; c < 3; ++c)
+                rgb[c] += m->le[c] * g * (h->albedo[c] * df + h->m->ks * gl);
+        }
+}
+
 typedef struct cap_ctx {
     const qtool_luminaire_model *m;
     qtool_luminaire *l;

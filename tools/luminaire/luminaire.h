@@ -140,6 +140,15 @@ void qtool_luminaire_model_radiance(const qtool_luminaire_model *m, const double
 void qtool_luminaire_model_irradiance(const qtool_luminaire_model *m, const double p[3], const double nrm[3],
                                       uint32_t ns, double rgb[3]);
 
+/* The truth at a scene hit h (tools/render): the radiance toward the viewer from the luminaire,
+ * added to rgb; p is the hit point in the source's frame. The emitter on an ns x ns stratified
+ * grid, each sample traced through the shade and through the scene (qtool_rt_response: its
+ * shadows, Lambert and gloss, as qtool_rt_render shades a point lamp). */
+struct qtool_rt_scene;
+struct qtool_rt_hit;
+void qtool_luminaire_yard_sample(const qtool_luminaire_model *m, const double p[3], uint32_t ns,
+                                 const struct qtool_rt_scene *sc, const struct qtool_rt_hit *h, double rgb[3]);
+
 typedef struct qtool_luminaire_capture_opts {
     uint32_t grid;     /* nx = ny; 0: 8 (64 spotlights over the plate) */
     uint32_t res;      /* 0: 32 */

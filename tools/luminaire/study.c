@@ -103,6 +103,103 @@ static int render_ground(const qtool_luminaire *l, const truth_ctx *c, int far, 
     return 0;
 }
 
+/* ---- the courtyard: the lamp in the built-in scene (tools/render), its shadows and materials ---- */
+
+typedef struct yard_ctx {
+    const qtool_luminaire_model *m;
+    const qtool_rt_scene *sc;
+    uint32_t w, h, ns;
+    double lp[3];
+    double *rgb;
+} yard_ctx;
+
+/* the truth: every pixel's radiance from the luminaire, the emitter sampled ns x ns, each sample
+ * traced through the shade (source frame) and through the scene (rt.h's response: its shadows,
+ * Lambert and gloss), as qtool_rt_render shades a point lamp */
+static void yard_row(void *vctx, uint32_t y)
+{
+    const yard_ctx *c = vctx;
+    for (uint32_t x = 0; x < c->w; ++x) {
+        double d[3], *o = c->rgb + 3 * ((size_t)y * c->w + x);
+        qtool_rt_hit h;
+        o[0] = o[1] = o[2] = 0;
+        qtool_rt_pixel_dir(c->w, c->h, QTOOL_PANO_CYLINDRICAL, x, y, d);
+        qtool_rt_primary(c->sc, d, &h);
+        if (!h.hit || h.p[2] >= c->lp[2])
+            continue;
+        double ps[3] = {h.p[0] - c->lp[0], h.p[1] - c->lp[1], h.p[2] - c->lp[2]};
+        qtool_luminaire_yard_sample(c->m, ps, c->ns, c->sc, &h, o);
+    }
+}
+
+static int yard_psnr(const qtool_luminaire *l, const qtool_luminaire_model *m, double hl, int threads, double *pn,
+                     double *pf, double *lit)
+{
+    const uint32_t W = 256, H = 64;
+    qtool_rt_scene sc;
+    if (qtool_rt_scene_builtin(&sc) != 0)
+        return -1;
+    const double lp[3] = {0, 2.5, -1.6 + hl * QTOOL_LUMINAIRE_SIZE};
+    const size_t np = (size_t)W * H;
+    double *truth = malloc(sizeof(double) * 3 * np), *rgb = malloc(sizeof(double) * 3 * np),
+           *img = malloc(sizeof(double) * 3 * np), *mask_near = malloc(sizeof(double) * 3 * np);
+    int32_t *pm = malloc(sizeof(int32_t) * 3 * np), *base = malloc(sizeof(int32_t) * 3 * np * 4),
+            *rowb = malloc(sizeof(int32_t) * 3 * W * 4);
+    int64_t *acc = malloc(sizeof(int64_t) * 3 * W), *ws = malloc(qtool_luminaire_span_ws_size(W));
+    int rc = -1;
+    yard_ctx yc = {.m = m, .sc = &sc, .w = W, .h = H, .ns = 16, .lp = {lp[0], lp[1], lp[2]}, .rgb = truth};
+    if (!truth || !rgb || !img || !mask_near || !pm || !base || !rowb || !acc || !ws ||
+        qtool_rt_parallel(threads, H, yard_row, &yc, NULL) != 0)
+        goto out;
+    int32_t pos[3] = {q16(lp[0]), q16(lp[1]), q16(lp[2])};
+    for (int far = 0; far < 2; ++far) {
+        qtool_luminaire_spots s;
+        char err[128];
+        if (qtool_luminaire_spots_make(l, pos, 64, far, &s, err, sizeof err) != 0)
+            goto out;
+        for (uint32_t a = 0; a < s.nanchor; ++a) {
+            qtool_rt_light li = {.point = 1, .pos = {s.anchor[a][0] / 65536.0, s.anchor[a][1] / 65536.0,
+                                                     s.anchor[a][2] / 65536.0}, .rgb = {1, 1, 1}, .falloff = 2};
+            if (qtool_rt_render(&sc, W, H, QTOOL_PANO_CYLINDRICAL, &li, threads, rgb, NULL, pm) != 0) {
+                qtool_luminaire_spots_free(&s);
+                goto out;
+            }
+            for (size_t i = 0; i < 3 * np; ++i)
+                base[(size_t)a * 3 * np + i] = q16(rgb[i]);
+        }
+        for (uint32_t y = 0; y < H; ++y) {
+            for (uint32_t a = 0; a < s.nanchor; ++a)
+                memcpy(rowb + (size_t)a * 3 * W, base + (size_t)a * 3 * np + (size_t)y * 3 * W, sizeof(int32_t) * 3 * W);
+            memset(acc, 0, sizeof(int64_t) * 3 * W);
+            qtool_luminaire_spots_span(&s, rowb, pm + (size_t)y * 3 * W, W, acc, ws);
+            for (size_t i = 0; i < (size_t)3 * W; ++i)
+                img[(size_t)y * 3 * W + i] = qtool_luminaire_q16(acc[i]) / 65536.0;
+        }
+        qtool_luminaire_spots_free(&s);
+        memcpy(far ? rgb : mask_near, img, sizeof(double) * 3 * np); /* rgb: free now */
+    }
+    /* PSNR over the lit region only (truth, near or far above 1/1000 of the truth's peak): the
+     * panorama is mostly dark, and its zeros would inflate the figure */
+    double peak = 0;
+    for (size_t i = 0; i < 3 * np; ++i)
+        peak = truth[i] > peak ? truth[i] : peak;
+    double sn = 0, sf = 0;
+    size_t cnt = 0;
+    for (size_t i = 0; i < 3 * np; ++i)
+        if (truth[i] > 1e-3 * peak || mask_near[i] > 1e-3 * peak || rgb[i] > 1e-3 * peak) {
+            sn += (mask_near[i] - truth[i]) * (mask_near[i] - truth[i]), sf += (rgb[i] - truth[i]) * (rgb[i] - truth[i]);
+            ++cnt;
+        }
+    *pn = cnt && sn > 0 ? 10 * log10(peak * peak * (double)cnt / sn) : 200;
+    *pf = cnt && sf > 0 ? 10 * log10(peak * peak * (double)cnt / sf) : 200;
+    *lit = (double)cnt / (3.0 * (double)np);
+    rc = 0;
+out:
+    free(truth), free(rgb), free(img), free(mask_near), free(pm), free(base), free(rowb), free(acc), free(ws);
+    qtool_rt_scene_free(&sc);
+    return rc;
+}
+
 static double now_ms(void)
 {
     struct timespec t;
@@ -262,6 +359,20 @@ int qtool_luminaire_study(const qtool_luminaire_study_opts *o, void *vf)
             worst_near = pn < worst_near ? pn : worst_near;
             worst_gain = pn - pf < worst_gain ? pn - pf : worst_gain;
         }
+    }
+    /* the same luminaire hanging in the courtyard (2.5 units from the viewpoint, 256 x 64 panorama):
+     * the scene's own shadows and materials, the truth traced through shade and scene */
+    static const double yh[] = {0.5, 1, 2};
+    for (int k = 0; rc == 0 && k < (o->quick ? 2 : 3); ++k) {
+        double pn = 0, pf = 0, yl = 0;
+        if (yard_psnr(&l, m, yh[k], threads, &pn, &pf, &yl) != 0) {
+            rc = -1;
+            break;
+        }
+        fprintf(f, "courtyard, lamp %g lamp sizes above the ground: near %.2f dB, far %.2f dB over the lit %.1f %% "
+                   "of the panorama\n", yh[k], pn, pf, 100 * yl);
+        fprintf(f, "RESULT luminaire.courtyard_near_psnr_h%g %.2f\nRESULT luminaire.courtyard_far_psnr_h%g %.2f\n",
+                yh[k], pn, yh[k], pf);
     }
     double fps = 0, lit = 0, fps_all = 0;
     uint32_t spots = 0;
