@@ -230,6 +230,18 @@ static void test_capture(void **state)
     assert_true(flux[0] > 0);
     if (fabs(flux[0] - tf) > 0.06 * tf)
         fail_msg("flux %.5g against the truth's %.5g", flux[0], tf);
+    /* the tent basis (its filter a quasi-interpolant over two cells): the same flux */
+    qtool_luminaire lt;
+    qtool_luminaire_capture_opts ot = {.grid = 5, .res = 16, .samples = 3, .basis = QTOOL_LUMINAIRE_TENT};
+    assert_int_equal(qtool_luminaire_capture(m, &ot, &lt), 0);
+    assert_int_equal(lt.basis, QTOOL_LUMINAIRE_TENT);
+    assert_true(fabs(lt.spacing - 0.1f) < 1e-7f);
+    double ft[3];
+    qtool_luminaire_flux(&lt, ft);
+    print_message("tent flux %.5g\n", ft[0]);
+    if (fabs(ft[0] - tf) > 0.06 * tf)
+        fail_msg("tent flux %.5g against the truth's %.5g", ft[0], tf);
+    qtool_luminaire_free(&lt);
     qtool_luminaire_free(&l);
     qtool_luminaire_model_free(m);
 }

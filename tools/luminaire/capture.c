@@ -263,7 +263,9 @@ int qtool_luminaire_capture(const qtool_luminaire_model *m, const qtool_luminair
     qtool_luminaire l = {.nx = o->grid ? o->grid : 8, .res = o->res ? o->res : 32,
                          .basis = o->basis ? o->basis : QTOOL_LUMINAIRE_BOX};
     l.ny = l.nx;
-    l.spacing = (float)(2 * m->half / l.nx);
+    /* box: the cells tile the extent; tent: the outer centres on its edges, so the tents sum to 1
+     * over all of it (a partition of unity: no light near the edge is lost) */
+    l.spacing = (float)(l.basis == QTOOL_LUMINAIRE_TENT && l.nx > 1 ? 2 * m->half / (l.nx - 1) : 2 * m->half / l.nx);
     l.distance = (float)(o->distance > 0 ? o->distance : 1.0);
     l.half_tan = (float)(o->half_tan > 0 ? o->half_tan : 2.0);
     l.tex = calloc((size_t)l.nx * l.ny * l.res * l.res * 3, sizeof(float));

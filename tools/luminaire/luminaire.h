@@ -163,7 +163,7 @@ typedef struct qtool_luminaire_capture_opts {
  * irradiance behind the filter Phi'_m, E_m(s, t) = int_S cos^2 / R^2 Phi'_m(u, v) L(u, v -> s, t)
  * du dv (midpoint quadrature, L traced through the luminaire), then E'_m = E_m R_m^2 / cos^2 at the
  * support's centre (eq. 9-10; M's basis a point sample per texel). The grid covers the luminaire's
- * extent in x and y (the built-in one's 0.4 plate).
+ * extent in x and y (the built-in one's 0.4 plate): box cells tile it, tent centres reach its edges.
  * 0, or -1 (no memory). out is the caller's to free. */
 int qtool_luminaire_capture(const qtool_luminaire_model *m, const qtool_luminaire_capture_opts *o,
                             qtool_luminaire *out);
