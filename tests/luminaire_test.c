@@ -307,6 +307,16 @@ static void test_near_field(void **state)
     assert_int_equal(qtool_luminaire_spots_make(&l, pos, 64, 0, &sn, err, sizeof err), 0);
     assert_int_equal(qtool_luminaire_spots_make(&l, pos, 64, 1, &sf, err, sizeof err), 0);
     assert_int_equal(sf.count, 1);
+    /* refusals with a reason: a table size outside the core's range, tables beyond the cap */
+    qtool_luminaire_spots bad;
+    err[0] = 0;
+    assert_int_equal(qtool_luminaire_spots_make(&l, pos, 1, 0, &bad, err, sizeof err), -1);
+    assert_true(strlen(err) > 0);
+    qtool_luminaire big = l;
+    big.nx = big.ny = 64; /* 4096 supports of 256^2 tables: 512 MiB (refused before any texel is read) */
+    err[0] = 0;
+    assert_int_equal(qtool_luminaire_spots_make(&big, pos, 256, 0, &bad, err, sizeof err), -1);
+    assert_non_null(strstr(err, "MiB"));
     assert_true(sn.count >= 16 && sn.count < 64); /* the supports under the solid cells have no lamp */
     ground(&sn, hgt, half, n, nr);
     ground(&sf, hgt, half, n, fr);

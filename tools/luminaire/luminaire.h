@@ -195,7 +195,9 @@ typedef struct qtool_luminaire_spots {
 } qtool_luminaire_spots;
 
 /* far 0: the near-field spotlights; far 1: one lamp (the far field). n: gonio table size (0: 64).
- * 0, or -1 (no memory, or an intensity beyond Q16.16: *err says). */
+ * 0, or -1 with a one-line reason in err: no memory, n outside the core's range, the tables above
+ * QTOOL_LUMINAIRE_MAX_TABLES bytes, an intensity or position beyond Q16.16. */
+#define QTOOL_LUMINAIRE_MAX_TABLES (64u << 20)
 int qtool_luminaire_spots_make(const qtool_luminaire *l, const int32_t pos[3], uint32_t n, int far,
                                qtool_luminaire_spots *out, char *err, size_t errlen);
 void qtool_luminaire_spots_free(qtool_luminaire_spots *s);

@@ -86,6 +86,11 @@ int qtool_luminaire_spots_make(const qtool_luminaire *l, const int32_t pos[3], u
 {
     n = n ? n : 64;
     const uint32_t ns = l->nx * l->ny, cap = far ? 1 : ns;
+    if (n < QIBL_GONIO_MIN_N || n > QIBL_GONIO_MAX_N || (uint64_t)cap * n * n * 2u > QTOOL_LUMINAIRE_MAX_TABLES) {
+        snprintf(err, errlen, "%u spotlights of %ux%u tables: more than %u MiB (a smaller --table)", cap, n, n,
+                 QTOOL_LUMINAIRE_MAX_TABLES >> 20);
+        return -1;
+    }
     qtool_luminaire_spots s = {.n = n};
     memcpy(s.centre, pos, sizeof s.centre);
     s.cullmax[0] = s.cullmax[1] = 0;
