@@ -324,12 +324,26 @@ static void test_near_field(void **state)
     print_message("near %.2f dB, far %.2f dB\n", pn, pf);
     assert_true(pn >= 25);
     assert_true(pn - pf >= 6);
-    /* the cull bounds only skip zeros: the same sums with every cull off */
+    /* the cull bounds and occupancy bits only skip zeros: the same sums with them off, here and
+     * a quarter lamp size below an off-centre lamp (every spotlight's footprint oblique) */
+    qtool_luminaire_spots so;
+    const int32_t pos2[3] = {3000, -7000, (int32_t)lround(0.1 * 65536)};
+    assert_int_equal(qtool_luminaire_spots_make(&l, pos2, 64, 0, &so, err, sizeof err), 0);
+    double *n2 = malloc(sizeof(double) * 3 * n * n), *c2 = malloc(sizeof(double) * 3 * n * n);
+    assert_true(n2 && c2);
+    ground(&so, 0.1, 0.5, n, n2);
     for (uint32_t j = 0; j < sn.count; ++j)
         sn.cull[j][0] = sn.cull[j][1] = -1;
     sn.cullmax[0] = sn.cullmax[1] = -1;
+    for (uint32_t j = 0; j < so.count; ++j)
+        so.cull[j][0] = so.cull[j][1] = -1;
+    so.cullmax[0] = so.cullmax[1] = -1;
     ground(&sn, hgt, half, n, nc);
     assert_memory_equal(nc, nr, sizeof(double) * 3 * n * n);
+    ground(&so, 0.1, 0.5, n, c2);
+    assert_memory_equal(c2, n2, sizeof(double) * 3 * n * n);
+    qtool_luminaire_spots_free(&so);
+    free(n2), free(c2);
     /* points far outside the Q16.16 scene and on the lamp itself: finite, no overflow (UBSan) */
     int32_t base[48], pts[12] = {INT32_MAX, INT32_MAX, INT32_MIN, INT32_MIN, INT32_MIN, INT32_MIN, 0, 0, pos[2] - 1,
                                  sn.pos[0][0], sn.pos[0][1], sn.pos[0][2] - 1};

@@ -189,6 +189,9 @@ typedef struct qtool_luminaire_spots {
     int32_t centre[3];         /* pos */
     uint64_t reach[2];         /* max |spot - centre| along x and y, Q16.16 */
     int64_t cullmax[2];        /* max of cull (-1: some spotlight cannot be culled) */
+    uint32_t (*occ)[32];       /* per spotlight, QTOOL_LUMINAIRE_OCC^2 bits over its cull rectangle in
+                                * (tan_x, tan_y): 0 where its table's lookup is 0 (exact) */
+    uint64_t (*kocc)[2];       /* OCC 2^32 / (2 cull + 1): a tangent's cell by one product */
     uint32_t nanchor;          /* shading anchors: 4 (the corners of the spotlights' box), far 1 */
     int32_t anchor[4][3];      /* Q16.16 */
     int32_t (*aw)[4];          /* per spotlight, its bilinear weights among the anchors, Q15 */
@@ -198,6 +201,7 @@ typedef struct qtool_luminaire_spots {
  * 0, or -1 with a one-line reason in err: no memory, n outside the core's range, the tables above
  * QTOOL_LUMINAIRE_MAX_TABLES bytes, an intensity or position beyond Q16.16. */
 #define QTOOL_LUMINAIRE_MAX_TABLES (64u << 20)
+#define QTOOL_LUMINAIRE_OCC 32
 int qtool_luminaire_spots_make(const qtool_luminaire *l, const int32_t pos[3], uint32_t n, int far,
                                qtool_luminaire_spots *out, char *err, size_t errlen);
 void qtool_luminaire_spots_free(qtool_luminaire_spots *s);

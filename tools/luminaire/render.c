@@ -77,8 +77,50 @@ void qtool_luminaire_spots_free(qtool_luminaire_spots *s)
 {
     if (!s)
         return;
-    free(s->tables), free(s->gonio), free(s->pos), free(s->rgb), free(s->cull), free(s->aw);
+    free(s->tables), free(s->gonio), free(s->pos), free(s->rgb), free(s->cull), free(s->aw), free(s->occ), free(s->kocc);
     memset(s, 0, sizeof *s);
+}
+
+/* The occupancy of spotlight c's table over its cull rectangle: an OCC x OCC grid of cells in
+ * (tan_x, tan_y) = (d_x, d_y) / |d_z|, a bit set where some non-zero texel's lookup footprint (the
+ * box of one texel around it) may fall, each footprint sampled on a 5 x 5 grid (its edges and the
+ * axes it crosses) and padded by a cell: a direction in a clear cell looks up only zeros. */
+static void occupancy(qtool_luminaire_spots *s, uint32_t c, const uint16_t *t, uint32_t n)
+{
+    uint32_t *occ = s->occ[c];
+    memset(occ, 0, sizeof s->occ[c]);
+    if (s->cull[c][0] < 0 || s->cull[c][1] < 0) {
+        memset(occ, 0xFF, sizeof s->occ[c]); /* no rectangle: every cell may be lit */
+        return;
+    }
+    const double T[2] = {s->cull[c][0] / 65536.0, s->cull[c][1] / 65536.0};
+    for (uint32_t j = 0; j < n; ++j)
+        for (uint32_t i = 0; i < n; ++i) {
+            if (t[(size_t)j * n + i] == 0)
+                continue;
+            double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+            for (int b = 0; b <= 4; ++b)
+                for (int a = 0; a <= 4; ++a) {
+                    double u = (2.0 * ((double)i - 1 + a / 2.0) + 1) / n - 1, v = (2.0 * ((double)j - 1 + b / 2.0) + 1) / n - 1;
+                    double lz = 1 - fabs(u) - fabs(v);
+                    /* world tan: x = -l_x (the lamp's x is -x), y = l_y; lz > 0 inside the cull box */
+                    double tx = lz > 0 ? -u / lz : 0, ty = lz > 0 ? v / lz : 0;
+                    lo[0] = fmin(lo[0], tx), hi[0] = fmax(hi[0], tx), lo[1] = fmin(lo[1], ty), hi[1] = fmax(hi[1], ty);
+                }
+            /* the axes inside the box: |tan| is smallest there, not at a sample */
+            for (int k = 0; k < 2; ++k)
+                if (lo[k] < 0 && hi[k] > 0)
+                    lo[k] = fmin(lo[k], 0), hi[k] = fmax(hi[k], 0);
+            int c0[2], c1[2];
+            for (int k = 0; k < 2; ++k) {
+                c0[k] = (int)floor((lo[k] / T[k] + 1) / 2 * QTOOL_LUMINAIRE_OCC) - 1;
+                c1[k] = (int)floor((hi[k] / T[k] + 1) / 2 * QTOOL_LUMINAIRE_OCC) + 1;
+                c0[k] = c0[k] < 0 ? 0 : c0[k], c1[k] = c1[k] >= QTOOL_LUMINAIRE_OCC ? QTOOL_LUMINAIRE_OCC - 1 : c1[k];
+            }
+            for (int y = c0[1]; y <= c1[1]; ++y)
+                for (int x = c0[0]; x <= c1[0]; ++x)
+                    occ[y] |= 1u << x;
+        }
 }
 
 int qtool_luminaire_spots_make(const qtool_luminaire *l, const int32_t pos[3], uint32_t n, int far,
@@ -100,8 +142,10 @@ int qtool_luminaire_spots_make(const qtool_luminaire *l, const int32_t pos[3], u
     s.rgb = malloc(sizeof *s.rgb * cap);
     s.cull = malloc(sizeof *s.cull * cap);
     s.aw = malloc(sizeof *s.aw * cap);
+    s.occ = malloc(sizeof *s.occ * cap);
+    s.kocc = malloc(sizeof *s.kocc * cap);
     double *iv = malloc(sizeof(double) * n * n * 4);
-    if (!s.tables || !s.gonio || !s.pos || !s.rgb || !s.cull || !s.aw || !iv) {
+    if (!s.tables || !s.gonio || !s.pos || !s.rgb || !s.cull || !s.aw || !s.occ || !s.kocc || !iv) {
         free(iv), qtool_luminaire_spots_free(&s);
         snprintf(err, errlen, "out of memory");
         return -1;
@@ -158,6 +202,9 @@ int qtool_luminaire_spots_make(const qtool_luminaire *l, const int32_t pos[3], u
             double b = ceil(tmax[k] * 1.01 * 65536.0) + 2;
             s.cull[c][k] = nocull || b > (double)(1u << 30) ? -1 : (int64_t)b;
         }
+        occupancy(&s, c, t, n);
+        for (int k = 0; k < 2; ++k) /* cell = (tan + T) OCC / (2 T + 1), tan and T in Q16 */
+            s.kocc[c][k] = s.cull[c][k] < 0 ? 0 : ((uint64_t)QTOOL_LUMINAIRE_OCC << 32) / (2u * (uint64_t)s.cull[c][k] + 1u);
         /* the peak intensity per channel: the luminance peak times the support's colour */
         for (int ch = 0; ch < 3; ++ch) {
             double v = peak * (sum[0] > 0 ? sum[ch + 1] / sum[0] : 1) * 65536.0;
@@ -287,6 +334,7 @@ void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *b
         int64_t *w = ws + (size_t)nc * QTOOL_LUMINAIRE_WS_PER_PIXEL;
         uint64_t dc = d2_256((int64_t)q[0] - s->centre[0], (int64_t)q[1] - s->centre[1], dz);
         w[13] = (int64_t)i, w[12] = (int64_t)dc;
+        w[14] = (int64_t)(((uint64_t)1 << 48) / uabs64(dz)); /* 2^48 / |dz|: tangents by one product */
         for (uint32_t k = 0; k < na; ++k) {
             const int32_t *a = s->anchor[k];
             uint64_t r3 = na == 1 ? 65536u
@@ -319,6 +367,20 @@ void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *b
                 continue;
             if (c1 >= 0 && (uabs64(d[1]) << 16) > (uint64_t)c1 * az)
                 continue;
+            if (c0 >= 0 && c1 >= 0) {
+                /* the occupancy cell: tan = |d| / |dz| in Q16 by the pixel's 2^48 / |dz| (below 2^62:
+                 * |d| <= T |dz| with T <= 2^14 after the cull); (tan + T) < 2 T + 1, times kocc
+                 * < OCC 2^32 */
+                uint64_t r = (uint64_t)wp[14];
+                uint64_t tx = (uabs64(d[0]) * r) >> 32, ty = (uabs64(d[1]) * r) >> 32;
+                uint64_t ux = d[0] < 0 ? (uint64_t)c0 - tx : (uint64_t)c0 + tx;
+                uint64_t uy = d[1] < 0 ? (uint64_t)c1 - ty : (uint64_t)c1 + ty;
+                uint32_t cx = (uint32_t)((ux * s->kocc[j][0]) >> 32), cy = (uint32_t)((uy * s->kocc[j][1]) >> 32);
+                cx = cx < QTOOL_LUMINAIRE_OCC ? cx : QTOOL_LUMINAIRE_OCC - 1;
+                cy = cy < QTOOL_LUMINAIRE_OCC ? cy : QTOOL_LUMINAIRE_OCC - 1;
+                if (!(s->occ[j][cy] >> cx & 1u))
+                    continue;
+            }
             uint32_t sc = qibl_gonio_lookup(&s->gonio[j], d);
             if (sc == 0)
                 continue;
