@@ -38,6 +38,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "qibl/gonio.h"
 #include "qibl/shmap.h"
@@ -253,6 +254,6 @@ typedef struct qtool_luminaire_study_opts {
  * compares the near-field and far-field renderings with the ray-traced truth (PSNR, peak the
  * truth's), and times the near-field kernel on a 1024 x 256 frame of the built-in courtyard
  * (tools/render) with the lamp in it. Prints a table and RESULT lines to f. 0, or -1. */
-int qtool_luminaire_study(const qtool_luminaire_study_opts *o, void *f);
+int qtool_luminaire_study(const qtool_luminaire_study_opts *o, FILE *f);
 
 #endif

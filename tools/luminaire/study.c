@@ -318,9 +318,8 @@ out:
     return rc;
 }
 
-int qtool_luminaire_study(const qtool_luminaire_study_opts *o, void *vf)
+int qtool_luminaire_study(const qtool_luminaire_study_opts *o, FILE *f)
 {
-    FILE *f = vf;
     const int threads = o->threads > 0 ? o->threads : 1;
     qtool_luminaire_model *m = qtool_luminaire_builtin();
     if (!m)
