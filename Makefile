@@ -31,9 +31,10 @@ CORE_SRC := $(wildcard core/src/*.c)
 PLATFORM_SRC := $(wildcard platform/soft/*.c)
 PLATFORM_INC := -Iplatform/soft/include
 TOOL_LIB_SRC := $(wildcard tools/ref/*.c) $(wildcard tools/io/*.c) $(wildcard tools/gles/*.c) $(wildcard tools/gen/*.c) $(wildcard tools/render/*.c) $(wildcard tools/bake/*.c) $(wildcard tools/transfer/*.c)
-TOOL_LIB_SRC += $(wildcard tools/study/*.c) $(wildcard tools/engine/*.c) $(wildcard tools/view/*.c)
+TOOL_LIB_SRC += $(wildcard tools/study/*.c) $(wildcard tools/engine/*.c) $(wildcard tools/view/*.c) $(wildcard tools/relight/*.c)
 # the demo behind `qibl demo` (tools/demo: bake, relight, light paths, probe-lit rows)
 TOOL_LIB_SRC += $(wildcard tools/demo/*.c)
+TOOL_LIB_SRC += $(wildcard tools/probe/*.c)
 # near-field light sources (tools/luminaire: the .qnf file, simulated capture, textured spotlights)
 TOOL_LIB_SRC += $(wildcard tools/luminaire/*.c)
 # the golden cases (plain C, shared by the suites and the golden runner) and their CMocka-side check
@@ -129,6 +130,7 @@ QIBL_BENCH := $(BUILD)/bin/qibl-bench
 .PHONY: study gles all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan examples \
         install check-install check-farm amalgamate check-amalgamate docs-memory
 .PHONY: baremetal baremetal-tables docs-size gba gba-tables
+.PHONY: docs docs-check docs-check-test docs-bench
 .DEFAULT_GOAL := all
 
 all: $(LIBQIBL) $(LIBSOFT) $(QIBL) $(QIBL_BENCH)
@@ -141,6 +143,10 @@ help:
 	@echo "make test       build and run the CMocka suites (installs libcmocka-dev if it can)"
 	@echo "make docs-memory  regenerate the resident-memory table of docs/porting.md (make test checks it)"
 	@echo "make docs-size  rewrite docs/porting.md's size tables from a make cross run (make cross checks them)"
+	@echo "make docs       rewrite every generated block of README.md and docs/ (docs/api.md too: tools/scripts/docs.sh)"
+	@echo "make docs-check fail when a generated block is stale or a measured figure is typed outside one (CI runs it)"
+	@echo "make docs-check-test  show that docs-check fails on a stale block (a copy of the tree, corrupted)"
+	@echo "make docs-bench run the benchmarks the README quotes into docs/results/bench.txt, then make docs"
 	@echo "make cross      freestanding builds for Cortex-M0/M4 and RV64, checks and size table"
 	@echo "make warnings   compile core/, platform/soft/ and platform/gles2/ with gcc and clang under the strict warning set;"
 	@echo "                every public header alone as C99/C11/C++98/11/17 (tools/scripts/headers.sh)"
@@ -292,6 +298,12 @@ $(VERSION_BANDS3): tests/version_bands3.c
 $(BUILD)/tests/version_test $(BUILD)/tests/version_test-portable $(BUILD)/tests/version_test-avx2: $(VERSION_BANDS3)
 $(BUILD)/tests/version_test $(BUILD)/tests/version_test-portable $(BUILD)/tests/version_test-avx2: TEST_EXTRA = $(VERSION_BANDS3)
 
+# cli_opts_test also tests the option-table parser itself (tools/cli/opt.c needs only libc)
+CLI_OPT_O := $(BUILD)/host/tools/cli/opt.o
+CLI_OPTS_TESTS := $(BUILD)/tests/cli_opts_test $(BUILD)/tests/cli_opts_test-portable $(BUILD)/tests/cli_opts_test-avx2
+$(CLI_OPTS_TESTS): $(CLI_OPT_O)
+$(CLI_OPTS_TESTS): TEST_EXTRA = $(CLI_OPT_O)
+
 $(BUILD)/host/tests/%.o: tests/%.c | test-deps
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) $(CMOCKA_CFLAGS) -MMD -MP -c $< -o $@
@@ -353,6 +365,23 @@ golden: $(GOLDEN) $(QIBL)
 ports: $(QIBL)
 	@BUILD=$(BUILD) bash tools/scripts/ports.sh
 
+# ---- docs whose figures come from commands (tools/scripts/docs.sh) ---------------------------
+# docs rewrites the generated blocks, docs-check compares them and counts typed figures (fast:
+# no benchmark or bake; it reuses the binaries); docs-bench re-measures the timings the README
+# keeps into the committed log docs/results/bench.txt (machine, compiler, flags, date named).
+docs: $(QIBL) $(GOLDEN)
+	@BUILD=$(BUILD) QIBL=$(QIBL) GOLDEN=$(GOLDEN) bash tools/scripts/docs.sh --write
+
+docs-check: $(QIBL) $(GOLDEN)
+	@BUILD=$(BUILD) QIBL=$(QIBL) GOLDEN=$(GOLDEN) bash tools/scripts/docs.sh --check
+
+docs-check-test: $(QIBL) $(GOLDEN)
+	@BUILD=$(BUILD) QIBL=$(QIBL) GOLDEN=$(GOLDEN) bash tests/docs_check_test.sh
+
+docs-bench: $(QIBL) $(GOLDEN)
+	@QIBL=$(QIBL) CC="$(CC)" HOST_CFLAGS="$(HOST_CFLAGS)" bash tools/scripts/docs-bench.sh docs/results/bench.txt
+	@BUILD=$(BUILD) QIBL=$(QIBL) GOLDEN=$(GOLDEN) bash tools/scripts/docs.sh --write
+
 # Bare metal (tools/baremetal/run.sh): the golden runner for Cortex-M0 code on qemu's mps2-an385,
 # Cortex-M4 code on mps2-an386 and RV32IMAC on virt (picolibc, semihosting); every case must print
 # the hash of fixtures/golden, every wrapped entry point stay under its static stack bound; then the
@@ -377,7 +406,7 @@ gba-tables: $(GOLDEN) $(QIBL) $(LIBQIBL) $(LIBSOFT)
 
 # The integration example for engines (docs/porting.md): core + platform/soft + libc only, plain
 # C99, built with the core's strictness; run on a small courtyard asset made by `qibl gen`.
-EXAMPLES := $(BUILD)/bin/console_port
+EXAMPLES := $(BUILD)/bin/console_port $(BUILD)/bin/transfer_port
 EXAMPLE_CFLAGS := -std=c99 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Werror $(OPT) -g -Icore/include \
                   -Iplatform/soft/include $(SAN)
 
@@ -385,10 +414,19 @@ $(BUILD)/bin/console_port: tools/examples/console_port.c $(LIBSOFT) $(LIBQIBL)
 	@mkdir -p $(dir $@)
 	$(CC) $(EXAMPLE_CFLAGS) -o $@ $< $(LIBSOFT) $(LIBQIBL)
 
+# the transfer export at run time (issue 25): core only
+$(BUILD)/bin/transfer_port: tools/examples/transfer_port.c $(LIBQIBL)
+	@mkdir -p $(dir $@)
+	$(CC) $(EXAMPLE_CFLAGS) -o $@ $< $(LIBQIBL)
+
 examples: $(EXAMPLES) $(QIBL)
 	@mkdir -p $(BUILD)/examples
 	$(QIBL) gen -o $(BUILD)/examples/courtyard.qibl --size 256x64 --k 9
 	$(BUILD)/bin/console_port $(BUILD)/examples/courtyard.qibl 4 $(BUILD)/examples/console_port.ppm
+	@if [ -f ../shared/fixtures/meshes/teapot.obj ]; then \
+	  $(QIBL) transfer ../shared/fixtures/meshes/teapot.obj --probe ../shared/fixtures/probes/quarry_01_1k.hdr --rays 0 \
+	    --coarse 800 --export $(BUILD)/examples/teapot.qtr && $(BUILD)/bin/transfer_port $(BUILD)/examples/teapot.qtr 8; \
+	else echo "examples: transfer_port built, not run (no ../shared/fixtures/meshes/teapot.obj)"; fi
 
 # The suites (native and portable core paths), the golden runner and the qibl CLI (a smoke run of
 # every subcommand on good and bad inputs; tests/cli_test runs it too) under ASan + UBSan, in their own
@@ -499,7 +537,7 @@ warnings:
 	@BUILD=$(BUILD) bash tools/scripts/headers.sh
 
 # Every status-returning public function documented in one skeleton (Formats/Bound/Errors/On failure);
-# tools/scripts/check-header-docs.py lists the headers still pending. (For the coordinator: docs-check runs it.)
+# every public header of core/ and platform/ is checked (no pending list). (For the coordinator: docs-check runs it.)
 .PHONY: check-header-docs
 check-header-docs:
 	@python3 tools/scripts/check-header-docs.py

@@ -10,12 +10,13 @@
 #include <string.h>
 #include <time.h>
 
+#include "bake/bake.h"
 #include "io/asset_write.h"
 #include "qibl/asset.h"
 #include "qibl/lightpath.h"
 #include "qibl/soft.h"
-#include "ref/sh_ref.h"
 #include "qtool.h"
+#include "ref/sh_ref.h"
 
 
 /* ---- parsing ------------------------------------------------------------------------------------- */
@@ -164,7 +165,7 @@ static void path_row(void *ctx, uint32_t y)
     for (uint32_t x = 0; e && x < j->w; ++x) {
         double d[3];
         qtool_rt_hit hit;
-        qtool_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
+        qtool_rt_pixel_ray(j->s, j->w, j->h, j->kind, x, y, d);
         qtool_rt_primary(j->s, d, &hit);
         size_t start = n;
         if (hit.hit) {
@@ -342,11 +343,6 @@ int qtool_bake_path_payload(uint32_t w, uint32_t h, uint32_t kind, uint32_t nkey
 
 /* ---- relighting ---------------------------------------------------------------------------------- */
 
-static qibl_q16_t q16(double v)
-{
-    return (qibl_q16_t)lrint(v * 65536.0);
-}
-
 int qtool_bake_relight_path8(const uint8_t *asset, size_t n, const qtool_rt_light *l, uint32_t path, uint32_t tq,
                             uint32_t radius, const qibl_shlight_t *sky, uint8_t *rgb8, float *lin, double *ms,
                             qibl_status_t *status)
@@ -375,43 +371,28 @@ int qtool_bake_relight_path8_gonio(const uint8_t *asset, size_t n, const qtool_r
         st = qibl_asset_pmap(&a, &pm);
         use_lut = qibl_asset_ylut(&a, &lut) == QIBL_OK && lut.k >= mu.k;
     }
-    if (status)
-        *status = st;
-    if (st != QIBL_OK)
-        return -1;
-    uint32_t w = mu.width, h = mu.height;
-    uint8_t *pix = malloc((size_t)w * h * 4);
-    int32_t *row = malloc(sizeof(int32_t) * 3 * w), *prow = malloc(sizeof(int32_t) * 3 * w);
-    size_t wsn = qibl_shmap_point_workspace_size(mu.k > ms_sh.k ? mu.k : ms_sh.k, w);
+    uint32_t w = st == QIBL_OK ? mu.width : 0, h = st == QIBL_OK ? mu.height : 0;
+    size_t wsn = st != QIBL_OK ? 0 : qibl_shmap_point_workspace_size(mu.k > ms_sh.k ? mu.k : ms_sh.k, w);
     size_t wsd = qibl_shmap_span_workspace_size(w);
     if (wsd > wsn)
         wsn = wsd;
-    void *ws = malloc(wsn);
-    if (!pix || !row || !prow || !ws) {
-        free(pix), free(row), free(prow), free(ws);
-        if (status)
-            *status = QIBL_E_NULL_POINTER;
+    qtool_bake_frame f; /* scratch: the light's own rows before the path's shading */
+    if (qtool_bake_frame_alloc(st, w, h, 1, sizeof(int32_t) * 3 * w, wsn, &f, status) != 0)
         return -1;
-    }
-    qibl_fb_desc_t fb = {0};
-    fb.pixels = pix, fb.width = w, fb.height = h, fb.format = QIBL_FB_RGBA8888, fb.srgb = 1;
-    qibl_q16_t rgb[3] = {q16(l->rgb[0]), q16(l->rgb[1]), q16(l->rgb[2])};
-    struct timespec t0, t1;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
+    uint8_t *pix = f.pix;
+    int32_t *row = f.row, *prow = f.scratch;
+    void *ws = f.ws;
+    qibl_fb_desc_t fb = qtool_bake_fb_srgb(pix, w, h);
+    double t0 = qtool_bake_now();
     qibl_shmap_weights_t wt, wsky;
     qibl_shmap_point_t pt;
-    const qibl_q16_t lpos[3] = {q16(l->pos[0]), q16(l->pos[1]), q16(l->pos[2])};
+    const qibl_pointlight_t pl = qtool_bake_pointlight(l, QIBL_LUT_BILINEAR);
     if (!l->point) {
-        qibl_q16_t dir[3] = {q16(l->dir[0]), q16(l->dir[1]), q16(l->dir[2])};
         qibl_shlight_t sl;
-        st = qibl_shlight_init(&sl, mu.k);
-        if (st == QIBL_OK)
-            st = qibl_shlight_add_dir(&sl, dir, rgb);
+        st = qtool_bake_dir_shlight(l, mu.k, &sl);
         if (st == QIBL_OK)
             st = qibl_shmap_weights(&mu, &sl, &wt);
     } else {
-        qibl_pointlight_t pl = {{q16(l->pos[0]), q16(l->pos[1]), q16(l->pos[2])}, {rgb[0], rgb[1], rgb[2]},
-                                l->falloff == 2 ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST, 0, QIBL_LUT_BILINEAR};
         st = qibl_shmap_point_prepare(&mu, &pm, use_lut ? &lut : NULL, &pl, &pt);
     }
     if (st == QIBL_OK && sky)
@@ -424,7 +405,7 @@ int qtool_bake_relight_path8_gonio(const uint8_t *asset, size_t n, const qtool_r
                           : qibl_shmap_relight_span(&mu, &wt, 0, y, w, prow, ws, wsn);
         /* a goniometric lamp: its intensity toward each pixel's point, before the visibility */
         if (st == QIBL_OK && l->point && gonio)
-            st = qibl_gonio_scale_span(gonio, &pm, lpos, 0, y, w, prow);
+            st = qibl_gonio_scale_span(gonio, &pm, pl.pos, 0, y, w, prow);
         if (st == QIBL_OK)
             st = qibl_lightpath_shade_span(&lp, tq, radius, 0, y, w, prow, row, sky != NULL);
         if (st == QIBL_OK)
@@ -433,15 +414,7 @@ int qtool_bake_relight_path8_gonio(const uint8_t *asset, size_t n, const qtool_r
             for (size_t i = 0; i < (size_t)w * 3; ++i)
                 lin[(size_t)y * w * 3 + i] = row[i] > 0 ? (float)(row[i] / 65536.0) : 0.0f;
     }
-    clock_gettime(CLOCK_MONOTONIC, &t1);
-    if (ms)
-        *ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
-    for (size_t i = 0; st == QIBL_OK && i < (size_t)w * h; ++i)
-        memcpy(rgb8 + 3 * i, pix + 4 * i, 3);
-    free(pix), free(row), free(prow), free(ws);
-    if (status)
-        *status = st;
-    return st == QIBL_OK ? 0 : -1;
+    return qtool_bake_frame_finish(&f, st, t0, ms, w, h, rgb8, status);
 }
 
 /* ---- evaluation ---------------------------------------------------------------------------------- */
@@ -461,7 +434,7 @@ static void cls_row(void *ctx, uint32_t y)
         double d[3], w[3], len = 0, tmax = 1e30;
         qtool_rt_hit h;
         uint8_t *o = j->cls + (size_t)y * j->w + x;
-        qtool_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
+        qtool_rt_pixel_ray(j->s, j->w, j->h, j->kind, x, y, d);
         qtool_rt_primary(j->s, d, &h);
         if (!h.hit) {
             *o = 0;
@@ -523,7 +496,7 @@ static void sky_row(void *ctx, uint32_t y)
     for (uint32_t x = 0; x < j->w; ++x) {
         double d[3], acc[2][3] = {{0, 0, 0}, {0, 0, 0}};
         qtool_rt_hit hit;
-        qtool_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
+        qtool_rt_pixel_ray(j->s, j->w, j->h, j->kind, x, y, d);
         qtool_rt_primary(j->s, d, &hit);
         for (uint32_t l = 0; hit.hit && l < j->ndirs; ++l) {
             double wv[3], df, gl;
@@ -582,35 +555,18 @@ int qtool_bake_relight_env8(const uint8_t *asset, size_t n, const qibl_shlight_t
         st = qibl_asset_shmaps(&a, &m);
     if (st == QIBL_OK)
         st = qibl_shmap_weights(&m, env, &wt);
-    if (status)
-        *status = st;
-    if (st != QIBL_OK)
+    uint32_t w = st == QIBL_OK ? m.width : 0, h = st == QIBL_OK ? m.height : 0;
+    qtool_bake_frame f;
+    if (qtool_bake_frame_alloc(st, w, h, 1, 0, qibl_shmap_span_workspace_size(w), &f, status) != 0)
         return -1;
-    uint32_t w = m.width, h = m.height;
-    uint8_t *pix = malloc((size_t)w * h * 4);
-    int32_t *row = malloc(sizeof(int32_t) * 3 * w);
-    size_t wsn = qibl_shmap_span_workspace_size(w);
-    void *ws = malloc(wsn);
-    if (!pix || !row || !ws)
-        st = QIBL_E_NULL_POINTER;
-    qibl_fb_desc_t fb = {0};
-    fb.pixels = pix, fb.width = w, fb.height = h, fb.format = QIBL_FB_RGBA8888, fb.srgb = 1;
-    struct timespec t0, t1;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
+    qibl_fb_desc_t fb = qtool_bake_fb_srgb(f.pix, w, h);
+    double t0 = qtool_bake_now();
     for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {
-        st = qibl_shmap_relight_span(&m, &wt, 0, y, w, row, ws, wsn);
+        st = qibl_shmap_relight_span(&m, &wt, 0, y, w, f.row, f.ws, f.wsn);
         if (st == QIBL_OK)
-            st = qibl_soft_fb_write_row(&fb, 0, y, w, row);
+            st = qibl_soft_fb_write_row(&fb, 0, y, w, f.row);
     }
-    clock_gettime(CLOCK_MONOTONIC, &t1);
-    if (ms)
-        *ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
-    for (size_t i = 0; st == QIBL_OK && i < (size_t)w * h; ++i)
-        memcpy(rgb8 + 3 * i, pix + 4 * i, 3);
-    free(pix), free(row), free(ws);
-    if (status)
-        *status = st;
-    return st == QIBL_OK ? 0 : -1;
+    return qtool_bake_frame_finish(&f, st, t0, ms, w, h, rgb8, status);
 }
 
 /* ---- lamp occlusion (LOCC) -------------------------------------------------------------------------- */
@@ -639,7 +595,7 @@ static void occ_row(void *ctx, uint32_t y)
     for (uint32_t x = 0; x < j->w; ++x) {
         double d[3], sw = 0, sv = 0;
         qtool_rt_hit h;
-        qtool_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
+        qtool_rt_pixel_ray(j->s, j->w, j->h, j->kind, x, y, d);
         qtool_rt_primary(j->s, d, &h);
         for (uint32_t i = 0; h.hit && i < j->n; ++i) {
             double p[3] = {halton(i + 1, 2), halton(i + 1, 3), halton(i + 1, 5)}, w[3], len = 0;

@@ -1,9 +1,11 @@
 /*
- * cmd_relight.c - `qibl gen` (procedural courtyard -> asset) and `qibl relight` (asset + light ->
- * PNG through the core kernels and the software framebuffer).
+ * cmd_relight.c - `qibl relight` (asset + light -> PNG through the core kernels and the software
+ * framebuffer): the options parsed by its option table (cli/opt.h; the light options' callbacks
+ * are light_opts.c's), tools/relight called, its results written and printed.
+ * `qibl gen` lives in cmd_gen.c.
  */
-#include <errno.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,423 +19,626 @@
 #include "io/pfm.h"
 #include "io/png.h"
 #include "qibl/asset.h"
-#include "cli/gles_cli.h"
-#include "io/file.h"
 #include "cli/cli.h"
+#include "cli/opt.h"
 #include "cli/relight_light.h"
 #include "qibl/gonio.h"
 #include "qibl/shmap.h"
 #include "qibl/soft.h"
-
-/* ---- qibl gen ---------------------------------------------------------------------------------- */
-
-int qcli_cmd_gen(int argc, char **argv)
-{
-    const char *out = NULL;
-    long w = 1024, h = 256, k = 16, lut = 0;
-    int r;
-    uint32_t layout = QIBL_SHMAPS_PLANAR;
-    qtool_pack_scheme scheme = QTOOL_PACK_MINMAX;
-    qtool_pano_kind kind = QTOOL_PANO_CYLINDRICAL;
-    for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i];
-        if (strcmp(a, "-o") == 0 && i + 1 < argc)
-            out = argv[++i];
-        else if (strcmp(a, "--size") == 0 && i + 1 < argc) {
-            if (qcli_parse_size(a, argv[++i], 16384, &w, &h) != 0)
-                return 2;
-            if (w * h > (long)QIBL_ASSET_MAX_PIXELS)
-                return qcli_usage_error("--size %ldx%ld is above the asset's %u pixels", w, h, QIBL_ASSET_MAX_PIXELS);
-        } else if (strcmp(a, "--k") == 0 && i + 1 < argc) {
-            if (qcli_parse_int(argv[++i], 1, 25, &k) != 0)
-                return qcli_usage_error("--k needs an integer in 1..25");
-        } else if ((r = qcli_lut_size_opt(argc, argv, &i, 0, &lut)) != 0) {
-            if (r < 0)
-                return 2;
-        } else if (strcmp(a, "--pack") == 0 && i + 1 < argc) {
-            const char *p = argv[++i];
-            if (strcmp(p, "minmax") == 0)
-                scheme = QTOOL_PACK_MINMAX;
-            else if (strcmp(p, "robust") == 0)
-                scheme = QTOOL_PACK_ROBUST;
-            else
-                return qcli_usage_error("--pack is minmax or robust");
-        } else if (strcmp(a, "--layout") == 0 && i + 1 < argc) {
-            if (qcli_parse_layout(argv[++i], &layout) != 0)
-                return qcli_usage_error("--layout is planar or interleaved");
-        } else if (strcmp(a, "--equirect") == 0)
-            kind = QTOOL_PANO_EQUIRECT;
-        else
-            return qcli_usage_error("usage: qibl gen -o FILE [--size WxH] [--k K] [--lut-size N] [--pack minmax|robust] "
-                                        "[--equirect] [--layout planar|interleaved]");
-    }
-    if (!out)
-        return qcli_usage_error("gen: -o FILE is required");
-    if (qcli_parse_only) /* fuzz_cliopts: the options only */
-        return 0;
-    qtool_gen_maps g;
-    if (qtool_gen_scene((uint32_t)w, (uint32_t)h, (uint32_t)k, kind, &g) != 0) {
-        fprintf(stderr, "qibl: gen: out of memory\n");
-        return 1;
-    }
-    size_t np = (size_t)w * (size_t)h, nplanes = (size_t)k * 3;
-    int32_t *scale = malloc(sizeof(int32_t) * nplanes), *bias = malloc(sizeof(int32_t) * nplanes);
-    uint8_t *planes = malloc(np * nplanes);
-    int16_t *lutv = NULL;
-    qtool_asset_builder b;
-    qtool_asset_builder_init(&b);
-    int rc = 1;
-    qtool_pack_stats st;
-    if (!scale || !bias || !planes || qtool_pack_maps(&g, scheme, scale, bias, planes, &st) != 0) {
-        fprintf(stderr, "qibl: gen: out of memory\n");
-        goto done;
-    }
-    if (qtool_asset_add_shmp_layout(&b, (uint32_t)w, (uint32_t)h, (uint32_t)k, 3, scale, bias, planes, layout) != 0 ||
-        qtool_asset_add_pmap(&b, (uint32_t)w, (uint32_t)h, g.p) != 0) {
-        fprintf(stderr, "qibl: gen: %s\n", b.err);
-        goto done;
-    }
-    if (lut) {
-        size_t vs = qibl_ylut_values_size((uint32_t)lut, (uint32_t)k);
-        uint8_t *le = malloc(vs);
-        lutv = malloc(vs);
-        if (!le || !lutv || qibl_ylut_build((uint32_t)lut, (uint32_t)k, le, vs) != QIBL_OK) {
-            free(le);
-            fprintf(stderr, "qibl: gen: out of memory\n");
-            goto done;
-        }
-        for (size_t i = 0; i < vs / 2; ++i)
-            lutv[i] = qibl_load_s16le(le + 2 * i);
-        free(le);
-        if (qtool_asset_add_ylut(&b, (uint32_t)lut, (uint32_t)k, lutv) != 0) {
-            fprintf(stderr, "qibl: gen: %s\n", b.err);
-            goto done;
-        }
-    }
-    if (qtool_asset_write_file(&b, out, 1) != 0) {
-        fprintf(stderr, "qibl: %s\n", b.err);
-        goto done;
-    }
-    printf("wrote %s: %ldx%ld %s courtyard, k = %ld, %s layout, packing %s (rms %.3e, max %.3e, %llu clipped)%s\n", out, w, h,
-           kind == QTOOL_PANO_CYLINDRICAL ? "cylindrical" : "equirectangular", k,
-           layout == QIBL_SHMAPS_INTERLEAVED ? "interleaved" : "planar", scheme == QTOOL_PACK_MINMAX ? "min/max" : "robust", st.rms, st.max_abs, (unsigned long long)st.clipped,
-           lut ? ", with cube-map Y LUT" : "");
-    rc = 0;
-done:
-    qtool_asset_builder_free(&b);
-    free(scale), free(bias), free(planes), free(lutv);
-    qtool_gen_free(&g);
-    return rc;
-}
+#include "relight/gles.h"
+#include "relight/relight.h"
+#include "qtool.h"
 
 /* ---- qibl relight ------------------------------------------------------------------------------ */
 
-#define RELIGHT_USAGE                                                                                       \
-    "usage: qibl relight FILE [--sun X Y Z [--rgb R G B]]... [--point X Y Z [--rgb R G B]]... [--lights FILE.csv] \
-[--probe PROBE.hdr [--layout L] [--probe-mode sh|lights|sunsky] [-n N] [--yaw DEG | --rotate a,b,c,d,e,f,g,h,i]] \
-[--lut poly|nearest|bilinear|off] [--falloff 1|2] [--exposure E] [--linear] [--gles] \
-[--ies FILE.ies [--aim X Y Z] [--up X Y Z] [--ies-size N]] (--png OUT | --hdr OUT.hdr | --pfm OUT.pfm | --exr OUT.exr)..."
+/* What `qibl relight --path` was asked besides (relight/relight.h: qtool_relight_path). */
+typedef struct path_cli {
+    const char *spec;
+    double t, rgb[3], sky[3], soft; /* t, soft < 0 and sky[0] < 0: not given */
+    int have_sky;
+} path_cli;
 
-/* the P map's points as doubles (n * 3), for the default lamp colour; NULL when out of memory */
-static double *pmap_points(const qibl_pmap_t *pm)
+/* What `qibl relight` was asked: the files, and the library's options (defaults in relight/relight.h). */
+typedef struct relight_cli {
+    qcli_opt_list file;
+    const char *png, *hdr, *pfm, *exr;
+    int have_frame; /* --aim or --up given */
+    qtool_relight_opts r;
+    double exposure; /* r.exposure once parsed */
+    int nearest;     /* --nearest (its note and mode come from its call) */
+    int path_mode;   /* --path somewhere on the line: --rgb colours the path's light */
+    path_cli p;
+    const char *notes[4]; /* deprecation notes, printed once the line is accepted */
+    int nnotes;
+    char why[256];        /* a reason with numbers in it, for the table's line */
+} relight_cli;
+
+void qcli_warn_dark(const char *path, const uint8_t *rgb, size_t np)
 {
-    size_t np = (size_t)pm->width * pm->height;
-    double *p = malloc(np * 3 * sizeof *p);
-    for (uint32_t y = 0; p && y < pm->height; ++y)
-        for (uint32_t x = 0; x < pm->width; ++x) {
-            qibl_q16_t q[3];
-            qibl_pmap_point(pm, x, y, q);
-            for (int c = 0; c < 3; ++c)
-                p[3 * ((size_t)y * pm->width + x) + (size_t)c] = q[c] / 65536.0;
+    double mean = qtool_relight_mean8(rgb, np);
+    if (mean < QTOOL_CLI_DARK_MEAN)
+        fprintf(stderr, "qibl: note: %s is almost black (mean %.1f of 255): try a larger --rgb or --exposure\n", path,
+                mean);
+}
+
+/* ---- the option table (cli/opt.h): the order of --sun, --point and --rgb is the light list's ---- */
+
+#define C(opts) ((relight_cli *)(opts))
+
+static void note(relight_cli *c, const char *text)
+{
+    if (c->nnotes < (int)(sizeof c->notes / sizeof c->notes[0]))
+        c->notes[c->nnotes++] = text;
+}
+
+static const char *sun_call(void *o, char *const *v, int n, int *used)
+{
+    (void)n, (void)used;
+    return qcli_light_source(&C(o)->r.lights, 0, v, C(o)->why, sizeof C(o)->why);
+}
+
+static const char *point_call(void *o, char *const *v, int n, int *used)
+{
+    (void)n, (void)used;
+    return qcli_light_source(&C(o)->r.lights, 1, v, C(o)->why, sizeof C(o)->why);
+}
+
+/* --rgb colours the light before it (or, first, the first), or with --path the path's light */
+static const char *rgb_call(void *o, char *const *v, int n, int *used)
+{
+    (void)n, (void)used;
+    relight_cli *c = o;
+    if (!c->path_mode)
+        return qcli_light_rgb(&c->r.lights, v, c->why, sizeof c->why);
+    double d[3];
+    for (int k = 0; k < 3; ++k) {
+        int r = qcli_opt_num_value(v[k], 0, 32767, &d[k]);
+        if (r == 1 || r == 2)
+            snprintf(c->why, sizeof c->why, "'%s' is not a %snumber", v[k], r == 2 ? "finite " : "");
+        else if (r != 0)
+            snprintf(c->why, sizeof c->why, "%s is outside 0..32767 (a colour component in 0..32767)", v[k]);
+        if (r != 0)
+            return c->why;
+    }
+    memcpy(c->p.rgb, d, sizeof d);
+    return NULL;
+}
+
+static const char *lights_call(void *o, const char *v)
+{
+    return qcli_light_csv(&C(o)->r.lights, v, C(o)->why, sizeof C(o)->why);
+}
+
+static const char *probe_call(void *o, const char *v)
+{
+    return qcli_light_probe(&C(o)->r.lights, v, C(o)->why, sizeof C(o)->why);
+}
+
+static const char *layout_call(void *o, const char *v)
+{
+    return qcli_light_layout(&C(o)->r.lights, v);
+}
+
+static const char *mode_call(void *o, const char *v)
+{
+    return qcli_light_mode(&C(o)->r.lights, v);
+}
+
+static const char *count_call(void *o, const char *v)
+{
+    return qcli_light_count(&C(o)->r.lights, v);
+}
+
+static const char *yaw_call(void *o, const char *v)
+{
+    return qcli_light_yaw(&C(o)->r.lights, v);
+}
+
+static const char *rotate_call(void *o, const char *v)
+{
+    return qcli_light_rotate(&C(o)->r.lights, v, C(o)->why, sizeof C(o)->why);
+}
+
+/* --lut MODE; a bare --lut (the old on/off switch) is bilinear: the next word is then an option or
+ * the asset, never a mode name, so the two spellings cannot be confused */
+static const char *lut_call(void *o, const char *m)
+{
+    relight_cli *c = o;
+    if (!m) {
+        c->r.point_mode = QTOOL_RELIGHT_POINT_BILINEAR;
+        note(c, "a bare --lut is deprecated; say --lut bilinear");
+        return NULL;
+    }
+    if (strcmp(m, "nearest") == 0 || strcmp(m, "bilinear") == 0 || strcmp(m, "off") == 0 || strcmp(m, "poly") == 0) {
+        c->r.point_mode = m[0] == 'n'   ? QTOOL_RELIGHT_POINT_NEAREST
+                          : m[0] == 'b' ? QTOOL_RELIGHT_POINT_BILINEAR
+                          : m[0] == 'p' ? QTOOL_RELIGHT_POINT_POLY
+                                        : QTOOL_RELIGHT_POINT_DIRECT;
+        return NULL;
+    }
+    if (m[0] != '-' && m[0] != '\0' && c->file.n > 0)
+        return "is not a mode (poly, nearest, bilinear or off)";
+    return qcli_opt_no_value; /* the asset or an option: a bare --lut */
+}
+
+static const char *nearest_call(void *o, const char *unused)
+{
+    (void)unused;
+    C(o)->r.point_mode = QTOOL_RELIGHT_POINT_NEAREST;
+    note(C(o), "--nearest is deprecated; say --lut nearest");
+    return NULL;
+}
+
+/* --aim X Y Z, --up X Y Z: the IES lamp's frame, Q16.16 */
+static const char *frame_call(relight_cli *c, int32_t *q, char *const *v)
+{
+    int32_t t[3];
+    for (int k = 0; k < 3; ++k)
+        if (qcli_parse_q16(v[k], &t[k]) != 0) {
+            snprintf(c->why, sizeof c->why, "'%s' is not a number in the Q16.16 range", v[k]);
+            return c->why;
         }
-    return p;
+    if (t[0] == 0 && t[1] == 0 && t[2] == 0)
+        return "the zero vector has no direction";
+    memcpy(q, t, sizeof t);
+    c->have_frame = 1;
+    return NULL;
+}
+
+static const char *aim_call(void *o, char *const *v, int n, int *used)
+{
+    (void)n, (void)used;
+    return frame_call(o, C(o)->r.aim, v);
+}
+
+static const char *up_call(void *o, char *const *v, int n, int *used)
+{
+    (void)n, (void)used;
+    return frame_call(o, C(o)->r.up, v);
+}
+
+static const relight_cli relight_defaults = {.r = QTOOL_RELIGHT_OPTS_DEFAULT, .exposure = 1.0,
+                                             .p = {.t = -1, .rgb = {1, 1, 1}, .sky = {-1, -1, -1}, .soft = -1}};
+static const relight_cli path_defaults = {.r = QTOOL_RELIGHT_OPTS_DEFAULT, .exposure = 1.0, .path_mode = 1,
+                                          .p = {.t = -1, .rgb = {1, 1, 1}, .sky = {-1, -1, -1}, .soft = -1}};
+
+static const qcli_opt relight_table[] = {
+    {.name = "--sun", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = sun_call, .arg = "X Y Z",
+     .help = "a directional light from (X, Y, Z) (repeatable)"},
+    {.name = "--point", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = point_call, .arg = "X Y Z",
+     .help = "a point lamp at (X, Y, Z) (repeatable)"},
+    {.name = "--rgb", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = rgb_call, .arg = "R G B",
+     .help = "the colour of the --sun or --point before it (before the first: the first's), 0..32767.99998; "
+             "with --path the path's light (default 1 1 1)"},
+    {.name = "--lights", .kind = QCLI_OPT_CALL, .call = lights_call, .arg = "FILE.csv",
+     .help = "directional lights from a CSV (qibl lights --csv)"},
+    {.name = "--probe", .kind = QCLI_OPT_CALL, .call = probe_call, .arg = "PROBE.hdr",
+     .help = "light from a Radiance probe"},
+    {.name = "--layout", .kind = QCLI_OPT_CALL, .call = layout_call, .arg = "L",
+     .help = "the probe's layout: auto (default), latlong, angular, ball, vcross or hcross"},
+    {.name = "--probe-mode", .kind = QCLI_OPT_CALL, .call = mode_call, .arg = "sh|lights|sunsky",
+     .help = "the probe as SH (default), N median-cut lights, or its suns plus SH"},
+    {.name = "-n", .kind = QCLI_OPT_CALL, .call = count_call, .arg = "N",
+     .help = "median-cut lights of --probe-mode lights or sunsky (a power of two in 1..65536)"},
+    {.name = "--yaw", .kind = QCLI_OPT_CALL, .call = yaw_call, .arg = "DEG",
+     .help = "turn the probe (positive turns +x toward +y)"},
+    {.name = "--rotate", .kind = QCLI_OPT_CALL, .call = rotate_call, .arg = "a,b,c,d,e,f,g,h,i",
+     .help = "turn the probe by a rotation matrix (rows)"},
+    {.name = "--lut", .kind = QCLI_OPT_CALL, .optional = 1, .call = lut_call, .arg = "poly|nearest|bilinear|off",
+     .help = "how point lamps are evaluated: polynomial (default), the asset's Y LUT, or direct SH (off)"},
+    {.name = "--nearest", .kind = QCLI_OPT_FLAG, .off = offsetof(relight_cli, nearest), .call = nearest_call,
+     .help = "the old spelling of --lut nearest"},
+    {.name = "--falloff", .kind = QCLI_OPT_INT, .off = offsetof(relight_cli, r.falloff), .lo = 1, .hi = 2,
+     .why = "1: C0/|L|, 2: C0/|L|^2", .help = "the point lamps' falloff"},
+    {.name = "--exposure", .kind = QCLI_OPT_NUM, .off = offsetof(relight_cli, exposure), .arg = "E",
+     .lo = 1.0 / 65536, .hi = QTOOL_CLI_Q16_MAX, .why = "a positive Q16.16 factor", .help = "scales the frame"},
+    {.name = "--linear", .kind = QCLI_OPT_FLAG, .off = offsetof(relight_cli, r.linear),
+     .help = "no sRGB curve on the 8-bit frame"},
+    {.name = "--gles", .kind = QCLI_OPT_FLAG, .off = offsetof(relight_cli, r.gles),
+     .help = "platform/gles2 on a headless EGL context instead of platform/soft (one light)"},
+    {.name = "--ies", .kind = QCLI_OPT_STR, .off = offsetof(relight_cli, r.ies), .arg = "FILE.ies",
+     .help = "the --point lamps (or the path's lamp) are goniometric: C0 I(direction) / I_peak"},
+    {.name = "--aim", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = aim_call, .arg = "X Y Z", .def = "0 0 -1",
+     .help = "where the IES lamp's nadir points"},
+    {.name = "--up", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = up_call, .arg = "X Y Z", .def = "1 0 0",
+     .help = "the IES lamp's C = 0 direction (approximate)"},
+    {.name = "--ies-size", .kind = QCLI_OPT_INT, .off = offsetof(relight_cli, r.ies_n), .lo = QIBL_GONIO_MIN_N,
+     .hi = QIBL_GONIO_MAX_N, .what = "a table size", .help = "the goniometric table's side"},
+    {.name = "--png", .kind = QCLI_OPT_STR, .off = offsetof(relight_cli, png), .arg = "OUT",
+     .help = "the 8-bit sRGB frame"},
+    {.name = "--hdr", .kind = QCLI_OPT_STR, .off = offsetof(relight_cli, hdr), .arg = "OUT.hdr",
+     .help = "the linear frame as Radiance RGBE (not with --path)"},
+    {.name = "--pfm", .kind = QCLI_OPT_STR, .off = offsetof(relight_cli, pfm), .arg = "OUT.pfm",
+     .help = "the linear frame as PFM floats"},
+    {.name = "--exr", .kind = QCLI_OPT_STR, .off = offsetof(relight_cli, exr), .arg = "OUT.exr",
+     .help = "the linear frame as OpenEXR (FLOAT, ZIP)"},
+    {.name = "--path", .kind = QCLI_OPT_STR, .off = offsetof(relight_cli, p.spec), .arg = "N|sun|lamp",
+     .help = "a light on the asset's baked path N (or its first sun path / lamp track)"},
+    {.name = "--t", .kind = QCLI_OPT_NUM, .off = offsetof(relight_cli, p.t), .arg = "T", .lo = 0, .hi = 1,
+     .why = "a path parameter in 0..1", .def = "required with --path", .help = "where on the path"},
+    {.name = "--soft", .kind = QCLI_OPT_NUM, .off = offsetof(relight_cli, p.soft), .arg = "R", .lo = 0, .hi = 0.5,
+     .why = "a half-width in path units, 0..0.5", .def = "0", .help = "--path: soft over [T - R, T + R]"},
+    {.name = "--sky", .kind = QCLI_OPT_TRIPLE, .off = offsetof(relight_cli, p.sky), .arg = "R G B", .lo = 0,
+     .hi = 32767, .why = "a colour component in 0..32767", .def = "none",
+     .help = "--path: add the demo's sky through the shadowed maps"},
+    {0},
+};
+
+const qcli_opt_cmd qcli_opts_relight = {
+    .name = "relight",
+    .opts = relight_table,
+    .pos = {.names = "FILE", .min = 0, .max = 1, .off = offsetof(relight_cli, file)},
+    .defaults = &relight_defaults,
+    .size = sizeof(relight_cli),
+    .prose =
+        "  Lights add up: any number of --sun and --point (at most 64 together), --lights and --probe.\n"
+        "  --sun: directional light from direction (X, Y, Z), colour --rgb (default 1 1 1).\n"
+        "  --point: point light at (X, Y, Z) in scene units, C0 = --rgb (default: 2 d, or 2 d^2 with\n"
+        "  --falloff 2, d the median distance from the lamp to the asset's P-map points, with a note);\n"
+        "  per-pixel Y from the SH polynomials in Q2.14 (--lut poly, the default and the fastest), the\n"
+        "  asset's cube-map LUT (--lut nearest or bilinear) or the Q2.30 SH evaluation (--lut off);\n"
+        "  --falloff 1 is C0/|L| (Wong et al.), 2 is C0/|L|^2. (The old\n"
+        "  spellings, a bare --lut for bilinear and --nearest, still work with a deprecation note.)\n"
+        "  --rgb colours the --sun or --point just before it (one given before the first light colours\n"
+        "  that light). Suns sum in SH; each point is relit on its own and the frames sum per pixel in\n"
+        "  64 bits, saturated once.\n"
+        "  --lights FILE.csv: the output of `qibl lights --csv` (header x,y,z,r,g,b,u0,v0,u1,v1; at most\n"
+        "  65536 rows), each row a directional light of colour r,g,b.\n"
+        "  --probe PROBE.hdr: the whole environment (layout detected, or --layout) as the radiance SH\n"
+        "  (PROBE may be an OpenEXR file, known by its magic number, wherever a .hdr is read: its data\n"
+        "  window's R G B or Y, negative samples made 0)\n"
+        "  of the asset's k maps (no irradiance convolution: the maps already hold the cosine and the\n"
+        "  shadows). --probe-mode sh (default): the core's projection; lights: N median-cut lights\n"
+        "  (-n N, a power of two, default 64) projected to SH; sunsky: of N median-cut regions (default\n"
+        "  64) the sun (those whose mean radiance is at least 32 times the probe's; none on an overcast\n"
+        "  sky) as directional lights, the rest of the probe as its SH (qibl_shlight_add_sun_sky).\n"
+        "  --yaw DEG: turns the environment about +z (up): a light at azimuth phi (from +x toward +y)\n"
+        "  comes from phi + DEG: positive yaw turns +x toward +y (counter-clockwise seen from above in\n"
+        "  the right-handed xyz frame), and the probe's lat-long picture slides DEG/360 of its width to\n"
+        "  the right (the picture is mirrored against xyz: seen from inside, +y is left of +x).\n"
+        "  --rotate: the 3x3 rotation r row by row (orthonormal within 2^-16, det +1): light from d\n"
+        "  comes from r d.\n"
+        "  Either is applied once to the probe's SH (qibl_shlight_rotate), not by re-projecting.\n"
+        "  --png: RGBA8888 with sRGB transfer (or --linear), exposure E (default 1), as an RGB PNG; a\n"
+        "  frame whose mean is below 32 of 255 gets a note that it is almost black.\n"
+        "  --hdr / --pfm: the same frame linear, before exposure and transfer (the core's Q16.16 output,\n"
+        "  negative SH ringing clamped to 0), as Radiance RGBE (RLE) or little-endian PFM, for other\n"
+        "  tools; --exr: the same floats as OpenEXR (scanline, ZIP, FLOAT, bit for bit). At least one of\n"
+        "  --png/--hdr/--pfm/--exr.\n"
+        "  --gles: relight with platform/gles2 on a headless EGL context instead (one --sun or --point,\n"
+        "  --png only; the same asset and core weights; within 1 of 255 of the CPU path on Mesa llvmpipe).\n"
+        "  --ies FILE.ies [--aim X Y Z] [--up X Y Z] [--ies-size N]: every --point becomes a goniometric\n"
+        "  lamp with the IES LM-63 file's profile (see `qibl ies info`): its light toward each pixel's point\n"
+        "  of the P map is scaled by I(direction) / I_peak (qibl/gonio.h: the profile resampled into an\n"
+        "  N x N octahedral Q1.15 table, default 64, 2..256, bilinear), so --rgb (C0) is the lamp's peak\n"
+        "  and an isotropic file gives exactly the isotropic lamp. --aim: the profile's axis (type C nadir,\n"
+        "  types A/B the beam centre), default 0 0 -1 (a downlight in the z-up scene); --up: the direction\n"
+        "  of horizontal angle 0 (types A/B: vertical angle 90), made orthogonal to the aim, default 1 0 0.\n"
+        "  Soft framebuffer only (not --gles). With --path lamp (below) the same options make the track's\n"
+        "  lamp goniometric (its light scaled before the track's visibility).\n"
+        "  qibl relight FILE --path N|sun|lamp --t T [--rgb R G B] [--soft R] [--sky R G B]\n"
+        "               [--ies FILE.ies [--aim X Y Z] [--up X Y Z] [--ies-size N]] (--png|--pfm|--exr OUT):\n"
+        "  a light on the asset's baked path N (or its first sun path / lamp track) at T in 0..1: unshadowed\n"
+        "  SH x visibility(T), soft over [T - R, T + R]; --sky adds the demo's sky through the shadowed maps.\n"
+};
+/* the same table when --path is on the line (--rgb is then the path light's colour) */
+static const qcli_opt_cmd relight_path_spec = {
+    .name = "relight",
+    .opts = relight_table,
+    .pos = {.names = "FILE", .min = 0, .max = 1, .off = offsetof(relight_cli, file)},
+    .defaults = &path_defaults,
+    .size = sizeof(relight_cli),
+};
+
+/* the first option given that only relight without --path takes, or NULL */
+static const char *light_only(const relight_cli *c)
+{
+    const qtool_relight_light_list *ll = &c->r.lights;
+    const qtool_relight_opts d = QTOOL_RELIGHT_OPTS_DEFAULT;
+    return ll->count ? (ll->src[0].point ? "--point" : "--sun") : ll->csv ? "--lights" : ll->probe ? "--probe"
+           : ll->rotate ? (ll->rotate == 1 ? "--yaw" : "--rotate") : ll->n ? "-n"
+           : ll->mode != QTOOL_RELIGHT_PROBE_SH ? "--probe-mode" : ll->layout != QTOOL_PROBE_LAYOUT_AUTO ? "--layout"
+           : c->r.point_mode != d.point_mode ? "--lut" : c->exposure != 1.0 ? "--exposure"
+           : c->r.falloff != d.falloff ? "--falloff" : c->r.linear ? "--linear" : c->r.gles ? "--gles"
+           : c->hdr ? "--hdr" : NULL;
+}
+
+/* the options together, after parsing: 0, or 2 after the one line */
+static int relight_check(const relight_cli *c)
+{
+    const qcli_opt_cmd *t = &qcli_opts_relight;
+    const qtool_relight_opts *o = &c->r;
+    const qtool_relight_light_list *ll = &o->lights;
+    const char *bad;
+    if (c->p.t >= 0 || c->p.soft >= 0 || c->p.sky[0] >= 0)
+        return qcli_opt_error(t, "%s is for relight --path", c->p.t >= 0 ? "--t" : c->p.soft >= 0 ? "--soft" : "--sky");
+    if (c->file.n == 0 || (!c->png && !c->hdr && !c->pfm && !c->exr))
+        return qcli_opt_error(t, "relight needs FILE, a light (--sun, --point, --lights or --probe), and --png, "
+                                 "--hdr, --pfm or --exr OUT");
+    if (ll->count == 0 && !ll->csv && !ll->probe)
+        return qcli_opt_error(t, "relight needs a light: --sun, --point, --lights FILE.csv or --probe PROBE.hdr");
+    if ((bad = qcli_light_list_check(ll)) != NULL)
+        return qcli_opt_error(t, "%s", bad);
+    if (o->gles && (ll->count != 1 || ll->csv || ll->probe))
+        return qcli_opt_error(t, "--gles takes exactly one --sun or --point (no --lights or --probe)");
+    if (c->have_frame && !o->ies)
+        return qcli_opt_error(t, "--aim and --up orient an --ies lamp: give --ies FILE.ies");
+    if (o->ies && ll->points == 0)
+        return qcli_opt_error(t, "--ies shapes the --point lamps: give at least one --point X Y Z");
+    if (o->ies && o->gles)
+        return qcli_opt_error(t, "--ies: goniometric lamps are relit on the soft framebuffer only (not --gles)");
+    return 0;
+}
+
+/* --path's line together: 0, or 2 after the one line */
+static int path_check(const relight_cli *c)
+{
+    const qcli_opt_cmd *t = &qcli_opts_relight;
+    const char *bad = light_only(c);
+    if (bad)
+        return qcli_opt_error(t, "%s is for relight without --path (the path is the light)", bad);
+    if (c->file.n == 0 || !c->p.spec || c->p.t < 0 || (!c->png && !c->pfm && !c->exr))
+        return qcli_opt_error(t, "relight --path needs FILE, --path N|sun|lamp, --t T and --png, --pfm or --exr OUT");
+    if (c->have_frame && !c->r.ies)
+        return qcli_opt_error(t, "--aim and --up orient an --ies lamp: give --ies FILE.ies");
+    return 0;
 }
 
 /* "1 sun, 2 points, lights.csv, probe.hdr (SH)" for the messages */
-static void describe(const qcli_light_list *ll, int lut_mode, char *buf, size_t n)
+static void describe(const qtool_relight_opts *o, char *buf, size_t n)
 {
-    size_t o = 0;
+    const qtool_relight_light_list *ll = &o->lights;
+    static const char *const how[] = {"point/poly", "point/direct", "point/LUT nearest", "point/LUT bilinear"};
+    size_t at = 0;
     buf[0] = '\0';
     if (ll->suns)
-        o += (size_t)snprintf(buf + o, n - o, "%u sun%s", ll->suns, ll->suns == 1 ? "" : "s");
-    if (ll->points && o < n)
-        o += (size_t)snprintf(buf + o, n - o, "%s%u point%s (%s)", o ? ", " : "", ll->points,
-                              ll->points == 1 ? "" : "s",
-                              lut_mode == 2   ? "point/LUT nearest"
-                              : lut_mode == 1 ? "point/LUT bilinear"
-                              : lut_mode == 3 ? "point/poly"
-                                              : "point/direct");
-    if (ll->csv && o < n)
-        o += (size_t)snprintf(buf + o, n - o, "%s%s", o ? ", " : "", ll->csv);
-    if (ll->probe && o < n)
-        snprintf(buf + o, n - o, "%sprobe %s (%s)", o ? ", " : "", ll->probe,
-                 ll->mode == QCLI_PROBE_SH ? "SH" : ll->mode == QCLI_PROBE_LIGHTS ? "lights" : "sun plus sky");
+        at += (size_t)snprintf(buf + at, n - at, "%u sun%s", ll->suns, ll->suns == 1 ? "" : "s");
+    if (ll->points && at < n)
+        at += (size_t)snprintf(buf + at, n - at, "%s%u point%s (%s)", at ? ", " : "", ll->points,
+                               ll->points == 1 ? "" : "s", how[o->point_mode]);
+    if (ll->csv && at < n)
+        at += (size_t)snprintf(buf + at, n - at, "%s%s", at ? ", " : "", ll->csv);
+    if (ll->probe && at < n)
+        snprintf(buf + at, n - at, "%sprobe %s (%s)", at ? ", " : "", ll->probe,
+                 ll->mode == QTOOL_RELIGHT_PROBE_SH       ? "SH"
+                 : ll->mode == QTOOL_RELIGHT_PROBE_LIGHTS ? "lights"
+                                                          : "sun plus sky");
+}
+
+/* the linear frame (the core's Q16.16 output before exposure and the transfer curve) to each file
+ * asked for, each with its line ending in tail; 0, or 1 after a message */
+static int write_linear(const relight_cli *c, uint32_t w, uint32_t h, const float *lin, const char *tail)
+{
+    char err[1200];
+    if (c->hdr && qtool_hdr_write(c->hdr, (int)w, (int)h, lin, err, sizeof err) != 0)
+        return fprintf(stderr, "qibl: %s\n", err), 1;
+    if (c->hdr)
+        printf("wrote %s (%ux%u Radiance RGBE, linear, %s)\n", c->hdr, w, h, tail);
+    if (c->pfm && qtool_pfm_write(c->pfm, (int)w, (int)h, 3, lin, err, sizeof err) != 0)
+        return fprintf(stderr, "qibl: %s\n", err), 1;
+    if (c->pfm)
+        printf("wrote %s (%ux%u PFM, linear, %s)\n", c->pfm, w, h, tail);
+    if (c->exr && qtool_exr_write(c->exr, (int)w, (int)h, lin, QTOOL_EXR_FLOAT, QTOOL_EXR_ZIP, err, sizeof err) != 0)
+        return fprintf(stderr, "qibl: %s\n", err), 1;
+    if (c->exr)
+        printf("wrote %s (%ux%u OpenEXR FLOAT ZIP, linear, %s)\n", c->exr, w, h, tail);
+    return 0;
+}
+
+/* the 8-bit frame as c->png (0 when not asked), or 1 after a message */
+static int write_png(const relight_cli *c, uint32_t w, uint32_t h, const uint8_t *pix)
+{
+    char err[1200];
+    if (c->png && qtool_png_write_rgb8(c->png, (int)w, (int)h, pix, err, sizeof err) != 0)
+        return fprintf(stderr, "qibl: %s\n", err), 1;
+    return 0;
+}
+
+/* the IES profile of o, its note on stderr (note != 0); 0, or 1 after a message */
+static int load_ies(const qtool_relight_opts *o, qtool_relight_ies *ies, int note)
+{
+    char err[1200];
+    int r = qtool_relight_ies_load(o->ies, (uint32_t)o->ies_n, o->aim, o->up, ies, err, sizeof err);
+    if (r == -2 && note)
+        fprintf(stderr, "qibl: relight: --aim/--up: %s\n", qibl_status_str(ies->status));
+    else if (r == -2)
+        fprintf(stderr, "qibl: relight: %s: %s\n", o->ies, qibl_status_str(ies->status));
+    else if (r != 0)
+        fprintf(stderr, "qibl: %s\n", err);
+    else if (note)
+        fprintf(stderr, "qibl: note: %s: type %c, %s, peak %.6g cd, %.2f lm; each --point lamp scaled by "
+                        "I / I_peak (%ldx%ld table)\n", o->ies, ies->type, qtool_ies_sym_name(ies->sym), ies->peak,
+                ies->lumens, o->ies_n, o->ies_n);
+    return r != 0;
+}
+
+/* the light's SH part and lamps, their notes printed; 0, or 1 after a message */
+static int relight_lights(relight_cli *c, const qtool_relight_asset *s, qibl_shlight_t *sl, qibl_pointlight_t *pts,
+                          uint32_t *npts)
+{
+    qtool_relight_opts *o = &c->r;
+    qtool_relight_point_note notes[QTOOL_RELIGHT_MAX_SOURCES];
+    char err[600];
+    /* the directional part as one SH light (suns, --lights, --probe); notes on stdout */
+    if (qtool_relight_light_list_directional(&o->lights) && qcli_light_list_sh(&o->lights, s->m.k, stdout, sl) != 0)
+        return 1;
+    memset(notes, 0, sizeof notes);
+    int r = qtool_relight_points(o, s, pts, npts, notes, err, sizeof err);
+    for (uint32_t j = 0; j < o->lights.count; ++j)
+        if (notes[j].set)
+            fprintf(stderr, "qibl: note: --point without --rgb: C0 = %.4g (%.2g x d%s, d = %.3g the median distance "
+                    "from the lamp to the scene); give --rgb R G B to choose\n", notes[j].c0, QTOOL_RELIGHT_POINT_GREY,
+                    o->falloff == 2 ? "^2" : "", notes[j].d);
+    if (r != 0)
+        fprintf(stderr, "qibl: %s\n", err);
+    return r != 0;
+}
+
+/* the GPU path: same asset, same core weights, platform/gles2 (one light) */
+static int relight_gles(const relight_cli *c, const qtool_relight_asset *s, uint8_t *pix)
+{
+    const qtool_relight_opts *o = &c->r;
+    const qtool_relight_source *l = &o->lights.src[0];
+    const int point = o->lights.points > 0;
+    qtool_gles_relight_req req = {&s->m, point ? &s->pm : NULL,
+                                  point && qtool_relight_uses_lut(o->point_mode) ? &s->lut : NULL,
+                                  {l->point ? 0 : l->v[0], l->point ? 0 : l->v[1], l->point ? 0 : l->v[2]},
+                                  {l->point ? l->v[0] : 0, l->point ? l->v[1] : 0, l->point ? l->v[2] : 0},
+                                  {l->rgb[0], l->rgb[1], l->rgb[2]}, (int)o->falloff,
+                                  o->point_mode == QTOOL_RELIGHT_POINT_NEAREST, o->linear, (qibl_uq16_t)o->exposure};
+    uint32_t passes = 0;
+    char renderer[64] = "", err[1200];
+    if (qtool_gles_relight(&req, pix, &passes, renderer) != 0)
+        return 1;
+    if (qtool_png_write_rgb8(c->png, (int)s->m.width, (int)s->m.height, pix, err, sizeof err) != 0)
+        return fprintf(stderr, "qibl: %s\n", err), 1;
+    printf("wrote %s (%ux%u, k = %u, GLES2 on %s, %u pass%s)\n", c->png, s->m.width, s->m.height, s->m.k, renderer,
+           passes, passes == 1 ? "" : "es");
+    return 0;
+}
+
+/* the soft path: the frame, then its files and lines */
+static int relight_soft(const relight_cli *c, const qtool_relight_asset *s, const qibl_shlight_t *sl,
+                        const qibl_pointlight_t *pts, uint32_t npts, const qtool_relight_ies *ies, uint8_t *pix,
+                        float *lin)
+{
+    const qtool_relight_opts *o = &c->r;
+    const uint32_t w = s->m.width, h = s->m.height;
+    double ms = 0;
+    qibl_status_t st;
+    if (qtool_relight_render(o, s, qtool_relight_light_list_directional(&o->lights) ? sl : NULL, pts, npts, ies, pix,
+                             lin, &ms, &st) != 0) {
+        fprintf(stderr, "qibl: relight: %s\n", qtool_status_str(st));
+        return 1;
+    }
+    char how[600], tail[640];
+    describe(o, how, sizeof how);
+    if (write_png(c, w, h, pix) != 0)
+        return 1;
+    if (c->png) {
+        printf("wrote %s (%ux%u, k = %u, %s, %.1f ms incl. framebuffer conversion)\n", c->png, w, h, s->m.k, how, ms);
+        qcli_warn_dark(c->png, pix, (size_t)w * h);
+    }
+    snprintf(tail, sizeof tail, "before exposure, %s", how);
+    return write_linear(c, w, h, lin, tail);
+}
+
+static int relight_run(relight_cli *c)
+{
+    qtool_relight_opts *o = &c->r;
+    qtool_relight_ies ies;
+    qtool_relight_asset s;
+    char err[1200];
+    if (o->ies && load_ies(o, &ies, 1) != 0) /* the profile first: a bad file costs no asset read */
+        return 1;
+    if (qtool_relight_asset_open(&s, c->file.v[0], o->lights.points > 0, qtool_relight_uses_lut(o->point_mode), err,
+                                 sizeof err) != 0) {
+        fprintf(stderr, "qibl: %s\n", err);
+        if (o->ies)
+            qtool_relight_ies_free(&ies);
+        return 1;
+    }
+    if (s.occ_unusable) /* never dropped without a word */
+        fprintf(stderr, "qibl: note: %s: its LOCC chunk is not usable (%s): the lamps are drawn without lamp "
+                        "occlusion\n", c->file.v[0], qibl_soft_status_str(s.occ_status));
+    qibl_shlight_t sl;
+    qibl_pointlight_t pts[QTOOL_RELIGHT_MAX_SOURCES];
+    uint32_t npts = 0;
+    size_t np = (size_t)s.m.width * s.m.height;
+    uint8_t *pix = NULL;
+    float *lin = NULL;
+    int rc = 1;
+    if (relight_lights(c, &s, &sl, pts, &npts) != 0)
+        goto out;
+    pix = malloc(np * 3);
+    lin = c->hdr || c->pfm || c->exr ? malloc(np * 3 * sizeof(float)) : NULL;
+    if (!pix || ((c->hdr || c->pfm || c->exr) && !lin))
+        fprintf(stderr, "qibl: relight: out of memory\n");
+    else if (o->gles)
+        rc = relight_gles(c, &s, pix);
+    else
+        rc = relight_soft(c, &s, &sl, pts, npts, o->ies ? &ies : NULL, pix, lin);
+out:
+    if (o->ies)
+        qtool_relight_ies_free(&ies);
+    qtool_relight_asset_free(&s);
+    free(pix), free(lin);
+    return rc;
+}
+
+/* ---- qibl relight --path: a light on one of the asset's baked paths (LPTH) ------------------------- */
+
+/* the frame's files and lines */
+static int path_write(const relight_cli *c, const path_cli *p, const qibl_shmaps_t *m, const qtool_relight_path_req *q,
+                      int point, const uint8_t *pix, const float *lin, double ms)
+{
+    const char *what = point ? "lamp" : "sun";
+    char tail[64];
+    if (write_png(c, m->width, m->height, pix) != 0)
+        return 1;
+    if (c->png) {
+        printf("wrote %s (%ux%u, %s on path %u at t = %.4f (%u/65535)%s%s, %.1f ms)\n", c->png, m->width, m->height,
+               what, q->index, p->t, q->tq, q->radius ? ", soft" : "", p->have_sky ? ", over the sky" : "", ms);
+        qcli_warn_dark(c->png, pix, (size_t)m->width * m->height); /* as every other relight does */
+    }
+    snprintf(tail, sizeof tail, "%s on path %u", what, q->index);
+    return write_linear(c, m->width, m->height, lin, tail);
+}
+
+static int path_run(const relight_cli *c, const path_cli *p)
+{
+    const qtool_relight_opts *o = &c->r;
+    qtool_relight_ies ies;
+    uint8_t *bytes;
+    size_t n;
+    qibl_asset_t a;
+    qibl_shmaps_t m;
+    char err[1200];
+    if (o->ies && load_ies(o, &ies, 0) != 0)
+        return 1;
+    qtool_relight_path_req q = {.tq = (uint32_t)lrint(p->t * QIBL_LIGHTPATH_T_MAX),
+                                .radius = (uint32_t)lrint(p->soft * QIBL_LIGHTPATH_T_MAX),
+                                .rgb = {p->rgb[0], p->rgb[1], p->rgb[2]}, .sky = p->have_sky ? p->sky : NULL,
+                                .gonio = o->ies ? &ies.gonio : NULL, .lin = c->pfm || c->exr};
+    int rc = qtool_relight_asset_read(c->file.v[0], &bytes, &n, &a, &m, err, sizeof err) != 0 ? 1
+             : qtool_relight_pick_path(&a, c->file.v[0], p->spec, &q.index, err, sizeof err);
+    if (rc != 0) {
+        fprintf(stderr, "qibl: %s\n", err);
+        rc = rc == -2 ? 2 : 1;
+    } else {
+        size_t np = (size_t)m.width * m.height;
+        uint8_t *pix = malloc(np * 3);
+        float *lin = q.lin ? malloc(np * 3 * sizeof(float)) : NULL;
+        double ms = 0;
+        int point = 0;
+        if (qtool_relight_path(bytes, n, &a, c->file.v[0], &q, pix, lin, &ms, &point, err, sizeof err) != 0)
+            rc = 1, fprintf(stderr, "qibl: %s\n", err);
+        else
+            rc = path_write(c, p, &m, &q, point, pix, lin, ms);
+        free(pix), free(lin);
+    }
+    free(bytes);
+    if (o->ies)
+        qtool_relight_ies_free(&ies);
+    return rc;
 }
 
 int qcli_cmd_relight(int argc, char **argv)
 {
-    if (qcli_relight_has_path(argc, argv)) /* a light on a baked path: relight_path.c */
-        return qcli_relight_path(argc, argv);
-    const char *in = NULL, *png = NULL, *hdr = NULL, *pfm = NULL, *exr = NULL;
-    /* poly: the default point mode (QIBL_POINT_POLY, the fastest); off: direct SH in Q2.30 */
-    int use_lut = 0, nearest = 0, linear = 0, poly = 1, r;
-    int gles = 0; /* --gles: platform/gles2 instead of the core + platform/soft (relight_gles.c) */
-    long falloff = 1;
-    qibl_q16_t exposure = 65536;
-    /* --ies: goniometric lamps (qibl/gonio.h); aim and up in Q16.16, the table's size */
-    const char *ies = NULL;
-    int have_aim = 0, have_up = 0;
-    int32_t aim[3] = {0, 0, -65536}, up[3] = {65536, 0, 0};
-    long ies_n = 64;
-    qcli_light_list ll; /* --sun, --point, --rgb, --lights, --probe and its options (relight_light.c) */
-    qcli_light_list_init(&ll);
-    for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i];
-        if ((r = qcli_light_list_opt(argc, argv, &i, &ll)) != 0) {
-            if (r != 1)
-                return 2;
-        } else if (strcmp(a, "--exposure") == 0 && i + 1 < argc) {
-            double e;
-            if (qcli_parse_num(a, argv[++i], 1.0 / 65536, QTOOL_CLI_Q16_MAX, "a positive Q16.16 factor", &e) != 0)
-                return 2;
-            exposure = (qibl_q16_t)nearbyint(e * 65536.0);
-        } else if (strcmp(a, "--falloff") == 0 && i + 1 < argc) {
-            if (qcli_parse_int(argv[++i], 1, 2, &falloff) != 0)
-                return qcli_usage_error("--falloff is 1 (C0/|L|) or 2 (C0/|L|^2)");
-        } else if (strcmp(a, "--lut") == 0) {
-            /* --lut MODE; a bare --lut (the old on/off switch) is bilinear: the next word is then an
-             * option or the asset, never a mode name, so the two spellings cannot be confused */
-            const char *m = i + 1 < argc ? argv[i + 1] : "";
-            if (strcmp(m, "nearest") == 0 || strcmp(m, "bilinear") == 0 || strcmp(m, "off") == 0 ||
-                strcmp(m, "poly") == 0) {
-                use_lut = m[0] == 'n' || m[0] == 'b', nearest = m[0] == 'n', poly = m[0] == 'p', ++i;
-            } else if (m[0] != '-' && m[0] != '\0' && in) {
-                return qcli_usage_error("--lut: '%s' is not a mode (poly, nearest, bilinear or off)", m);
-            } else {
-                use_lut = 1, nearest = 0, poly = 0;
-                fprintf(stderr, "qibl: note: a bare --lut is deprecated; say --lut bilinear\n");
-            }
-        } else if (strcmp(a, "--nearest") == 0) {
-            use_lut = 1, nearest = 1, poly = 0;
-            fprintf(stderr, "qibl: note: --nearest is deprecated; say --lut nearest\n");
-        } else if (strcmp(a, "--linear") == 0)
-            linear = 1;
-        else if (strcmp(a, "--png") == 0 && i + 1 < argc)
-            png = argv[++i];
-        else if (strcmp(a, "--hdr") == 0 && i + 1 < argc)
-            hdr = argv[++i];
-        else if (strcmp(a, "--pfm") == 0 && i + 1 < argc)
-            pfm = argv[++i];
-        else if (strcmp(a, "--exr") == 0 && i + 1 < argc)
-            exr = argv[++i];
-        else if (strcmp(a, "--gles") == 0)
-            gles = 1;
-        else if (strcmp(a, "--ies") == 0 && i + 1 < argc)
-            ies = argv[++i];
-        else if (strcmp(a, "--ies-size") == 0 && i + 1 < argc) {
-            if (qcli_parse_int(argv[++i], QIBL_GONIO_MIN_N, QIBL_GONIO_MAX_N, &ies_n) != 0)
-                return qcli_usage_error("--ies-size is a table size in %u..%u", QIBL_GONIO_MIN_N, QIBL_GONIO_MAX_N);
-        } else if ((strcmp(a, "--aim") == 0 || strcmp(a, "--up") == 0) && i + 3 < argc) {
-            int32_t *v = a[2] == 'a' ? aim : up;
-            for (int k = 0; k < 3; ++k)
-                if (qcli_parse_q16(argv[i + 1 + k], &v[k]) != 0)
-                    return qcli_usage_error("%s: '%s' is not a number in the Q16.16 range", a, argv[i + 1 + k]);
-            if (v[0] == 0 && v[1] == 0 && v[2] == 0)
-                return qcli_usage_error("%s: the zero vector has no direction", a);
-            *(a[2] == 'a' ? &have_aim : &have_up) = 1;
-            i += 3;
-        }
-        else if (a[0] != '-' && !in)
-            in = a;
-        else
-            return qcli_usage_error(RELIGHT_USAGE);
-    }
-    if (!in || (!png && !hdr && !pfm && !exr))
-        return qcli_usage_error("relight needs FILE, a light (--sun, --point, --lights or --probe), and --png, --hdr, "
-                                "--pfm or --exr OUT");
-    if (ll.count == 0 && !ll.csv && !ll.probe)
-        return qcli_usage_error("relight needs a light: --sun, --point, --lights FILE.csv or --probe PROBE.hdr");
-    if (qcli_light_list_check(&ll) != 0)
+    int path = 0;
+    for (int i = 1; i < argc; ++i)
+        path |= strcmp(argv[i], "--path") == 0; /* a light on a baked path */
+    relight_cli c;
+    if (qcli_opt_parse(path ? &relight_path_spec : &qcli_opts_relight, argc, argv, 1, &c) != 0)
         return 2;
-    if (gles && (ll.count != 1 || ll.csv || ll.probe))
-        return qcli_usage_error("--gles takes exactly one --sun or --point (no --lights or --probe)");
-    if ((have_aim || have_up) && !ies)
-        return qcli_usage_error("--aim and --up orient an --ies lamp: give --ies FILE.ies");
-    if (ies && ll.points == 0)
-        return qcli_usage_error("--ies shapes the --point lamps: give at least one --point X Y Z");
-    if (ies && gles)
-        return qcli_usage_error("--ies: goniometric lamps are relit on the soft framebuffer only (not --gles)");
+    if (path ? path_check(&c) != 0 : relight_check(&c) != 0)
+        return 2;
+    for (int k = 0; k < c.nnotes; ++k)
+        fprintf(stderr, "qibl: note: %s\n", c.notes[k]);
     if (qcli_parse_only) /* fuzz_cliopts: the options only */
         return 0;
-    /* the profile first: a bad file costs no asset read; its table and the lamp's frame */
-    qibl_gonio_t gon;
-    uint16_t *gtab = NULL;
-    if (ies) {
-        qtool_ies prof;
-        char ierr[512];
-        if (qtool_ies_read(ies, &prof, ierr, sizeof ierr) != 0) {
-            fprintf(stderr, "qibl: relight: %s\n", ierr);
-            return 1;
-        }
-        double peak = 0, lm = qtool_ies_lumens(&prof);
-        gtab = malloc(qibl_gonio_table_size((uint32_t)ies_n));
-        int bad = !gtab || qtool_ies_gonio_table(&prof, (uint32_t)ies_n, gtab, &peak) != 0;
-        if (bad)
-            fprintf(stderr, "qibl: relight: %s: %s\n", ies, gtab ? "the profile is dark (peak 0 cd)" : "out of memory");
-        qibl_status_t gs = bad ? QIBL_OK : qibl_gonio_init(&gon, (uint32_t)ies_n, gtab, aim, up);
-        if (!bad && gs != QIBL_OK) {
-            fprintf(stderr, "qibl: relight: --aim/--up: %s\n", qibl_status_str(gs));
-            bad = 1;
-        }
-        if (!bad)
-            fprintf(stderr, "qibl: note: %s: type %c, %s, peak %.6g cd, %.2f lm; each --point lamp scaled by "
-                    "I / I_peak (%ldx%ld table)\n", ies, prof.type == QTOOL_IES_TYPE_C ? 'C' :
-                    prof.type == QTOOL_IES_TYPE_B ? 'B' : 'A', qtool_ies_sym_name(prof.sym), peak, lm, ies_n, ies_n);
-        qtool_ies_free(&prof);
-        if (bad) {
-            free(gtab);
-            return 1;
-        }
-    }
-    size_t n;
-    uint8_t *bytes = NULL;
-    char rerr[512];
-    if (qtool_io_read_asset(in, &bytes, &n, rerr, sizeof rerr) != 0) {
-        fprintf(stderr, "qibl: %s\n", rerr);
-        free(gtab);
-        return 1;
-    }
-    qibl_asset_t a;
-    qibl_shmaps_t m, mp;
-    qibl_pmap_t pm;
-    qibl_ylut_t lut;
-    int have_point = ll.points > 0;
-    qibl_status_t st = qibl_asset_open(&a, bytes, n);
-    if (st == QIBL_OK)
-        st = qibl_asset_shmaps(&a, &m);
-    if (st == QIBL_OK && have_point) /* free point lights: the unshadowed set when the asset has one */
-        st = qibl_asset_point_shmaps(&a, &mp);
-    if (st == QIBL_OK && have_point)
-        st = qibl_asset_pmap(&a, &pm);
-    if (st == QIBL_OK && have_point && use_lut)
-        st = qibl_asset_ylut(&a, &lut);
-    /* lamps through the unshadowed maps get the asset's lamp occlusion (LOCC) when it has one */
-    qibl_lampocc_t occ;
-    qibl_chunk_t shmu, locc;
-    const int has_shmu = qibl_asset_find_nth(&a, QIBL_CHUNK_SHMU, 0, &shmu) == QIBL_OK;
-    const int has_locc = qibl_asset_find_nth(&a, QIBL_CHUNK_LOCC, 0, &locc) == QIBL_OK;
-    const qibl_status_t occ_st = has_locc ? qibl_lightpath_occl_from_asset(&a, &occ) : QIBL_E_ASSET_MISSING_CHUNK;
-    const int use_occ = st == QIBL_OK && have_point && has_shmu && occ_st == QIBL_OK;
-    if (st == QIBL_OK && have_point && has_shmu && has_locc && occ_st != QIBL_OK) /* never dropped without a word */
-        fprintf(stderr, "qibl: note: %s: its LOCC chunk is not usable (%s): the lamps are drawn without lamp "
-                        "occlusion\n", in, qibl_soft_status_str(occ_st));
-    if (st != QIBL_OK) {
-        fprintf(stderr, "qibl: %s: %s\n", in, qibl_soft_status_str(st));
-        free(bytes), free(gtab);
-        return 1;
-    }
-    uint32_t w = m.width, h = m.height;
-    size_t np = (size_t)w * h;
-    /* the directional part as one SH light (suns, --lights, --probe); notes on stdout */
-    qibl_shlight_t sl;
-    if (qcli_light_list_directional(&ll) && qcli_light_list_sh(&ll, m.k, stdout, &sl) != 0) {
-        free(bytes), free(gtab);
-        return 1;
-    }
-    qibl_pointlight_t pts[QCLI_RELIGHT_MAX_SOURCES];
-    uint32_t npts = 0;
-    double *pmp = NULL;
-    for (uint32_t j = 0; j < ll.count; ++j) {
-        qcli_relight_source *s = &ll.src[j];
-        if (!s->point)
-            continue;
-        if (!s->have_rgb) {
-            /* C0 = 1 lights a scene a few units away almost black: scale it with the scene's distance */
-            double c0, d, lp[3] = {s->v[0] / 65536.0, s->v[1] / 65536.0, s->v[2] / 65536.0};
-            if (!pmp)
-                pmp = pmap_points(&pm);
-            if (!pmp || qcli_point_default(pmp, np, lp, (int)falloff, &c0, &d) != 0) {
-                fprintf(stderr, "qibl: relight: out of memory\n");
-                free(pmp), free(bytes), free(gtab);
-                return 1;
-            }
-            s->rgb[0] = s->rgb[1] = s->rgb[2] = (qibl_q16_t)nearbyint(c0 * 65536.0);
-            fprintf(stderr, "qibl: note: --point without --rgb: C0 = %.4g (%.2g x d%s, d = %.3g the median distance "
-                    "from the lamp to the scene); give --rgb R G B to choose\n", c0, QTOOL_CLI_POINT_GREY,
-                    falloff == 2 ? "^2" : "", d);
-        }
-        qibl_pointlight_t pl = {{s->v[0], s->v[1], s->v[2]}, {s->rgb[0], s->rgb[1], s->rgb[2]},
-                                falloff == 2 ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST, 0,
-                                use_lut ? (nearest ? QIBL_LUT_NEAREST : QIBL_LUT_BILINEAR)
-                                        : poly ? QIBL_POINT_POLY : QIBL_LUT_BILINEAR};
-        pts[npts++] = pl;
-    }
-    free(pmp);
-    const qibl_gonio_t *gl[QCLI_RELIGHT_MAX_SOURCES];
-    for (uint32_t j = 0; j < npts; ++j)
-        gl[j] = ies ? &gon : NULL;
-    const qibl_gonio_t *const *gptr = ies ? gl : NULL;
-    uint8_t *pix = malloc(np * 3);
-    float *lin = hdr || pfm || exr ? malloc(np * 3 * sizeof(float)) : NULL;
-    if (!pix || ((hdr || pfm || exr) && !lin)) {
-        fprintf(stderr, "qibl: relight: out of memory\n");
-        free(bytes), free(pix), free(lin), free(gtab);
-        return 1;
-    }
-    double ms = 0;
-    int rc = 0;
-    if (gles) { /* the GPU path: same asset, same core weights, platform/gles2 (one light) */
-        const qcli_relight_source *s = &ll.src[0];
-        qtool_gles_relight_req req = {&m, have_point ? &pm : NULL, have_point && use_lut ? &lut : NULL,
-                                     {s->point ? 0 : s->v[0], s->point ? 0 : s->v[1], s->point ? 0 : s->v[2]},
-                                     {s->point ? s->v[0] : 0, s->point ? s->v[1] : 0, s->point ? s->v[2] : 0},
-                                     {s->rgb[0], s->rgb[1], s->rgb[2]}, (int)falloff, nearest, linear,
-                                     (qibl_uq16_t)exposure};
-        uint32_t passes = 0;
-        char renderer[64] = "";
-        char err[512];
-        if (qtool_gles_relight(&req, pix, &passes, renderer) != 0)
-            rc = 1;
-        else if (qtool_png_write_rgb8(png, (int)w, (int)h, pix, err, sizeof err) != 0)
-            fprintf(stderr, "qibl: %s\n", err), rc = 1;
-        else
-            printf("wrote %s (%ux%u, k = %u, GLES2 on %s, %u pass%s)\n", png, w, h, m.k, renderer, passes,
-                   passes == 1 ? "" : "es");
-    } else if (qcli_relight_frame_gonio(&m, qcli_light_list_directional(&ll) ? &sl : NULL, &mp, &pm,
-                                        use_lut ? &lut : NULL, use_occ ? &occ : NULL, pts, gptr, npts,
-                                        (uint32_t)exposure, !linear, pix, lin, &ms, &st) != 0) {
-        fprintf(stderr, "qibl: relight: %s\n", st == QIBL_E_NULL_POINTER ? "out of memory" : qibl_soft_status_str(st));
-        rc = 1;
-    } else {
-        char err[1200], how[600];
-        describe(&ll, use_lut ? (nearest ? 2 : 1) : poly ? 3 : 0, how, sizeof how);
-        if (png && qtool_png_write_rgb8(png, (int)w, (int)h, pix, err, sizeof err) != 0) {
-            fprintf(stderr, "qibl: %s\n", err);
-            rc = 1;
-        } else if (png) {
-            printf("wrote %s (%ux%u, k = %u, %s, %.1f ms incl. framebuffer conversion)\n", png, w, h, m.k, how, ms);
-            qcli_warn_dark(png, pix, np);
-        }
-        /* linear frames: the core's Q16.16 output before exposure and the transfer curve */
-        if (rc == 0 && hdr && qtool_hdr_write(hdr, (int)w, (int)h, lin, err, sizeof err) != 0) {
-            fprintf(stderr, "qibl: %s\n", err);
-            rc = 1;
-        } else if (rc == 0 && hdr) {
-            printf("wrote %s (%ux%u Radiance RGBE, linear, before exposure, %s)\n", hdr, w, h, how);
-        }
-        if (rc == 0 && pfm && qtool_pfm_write(pfm, (int)w, (int)h, 3, lin, err, sizeof err) != 0) {
-            fprintf(stderr, "qibl: %s\n", err);
-            rc = 1;
-        } else if (rc == 0 && pfm) {
-            printf("wrote %s (%ux%u PFM, linear, before exposure, %s)\n", pfm, w, h, how);
-        }
-        if (rc == 0 && exr && qtool_exr_write(exr, (int)w, (int)h, lin, QTOOL_EXR_FLOAT, QTOOL_EXR_ZIP, err, sizeof err) != 0) {
-            fprintf(stderr, "qibl: %s\n", err);
-            rc = 1;
-        } else if (rc == 0 && exr) {
-            printf("wrote %s (%ux%u OpenEXR FLOAT ZIP, linear, before exposure, %s)\n", exr, w, h, how);
-        }
-    }
-    free(bytes), free(pix), free(lin), free(gtab);
-    return rc;
+    c.r.exposure = (qibl_q16_t)nearbyint(c.exposure * 65536.0);
+    c.p.soft = c.p.soft < 0 ? 0 : c.p.soft;
+    c.p.have_sky = c.p.sky[0] >= 0;
+    return path ? path_run(&c, &c.p) : relight_run(&c);
 }

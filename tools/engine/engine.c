@@ -18,12 +18,17 @@
 #include "qtool.h"
 
 
-static const char *const preset_names[QTOOL_ENGINE_PRESET_COUNT] = {"raw", "filament", "unity", "gltf"};
+/* NULL-terminated, for the option tables' enum kind */
+const char *const qtool_engine_preset_names[QTOOL_ENGINE_PRESET_COUNT + 1] = {
+#define QTOOL_ENGINE_PRESET_NAME_(name, text) text,
+    QTOOL_ENGINE_PRESET_LIST(QTOOL_ENGINE_PRESET_NAME_)
+#undef QTOOL_ENGINE_PRESET_NAME_
+    NULL};
 
 int qtool_engine_preset_parse(const char *s, qtool_engine_preset *out)
 {
     for (int i = 0; s && i < QTOOL_ENGINE_PRESET_COUNT; ++i)
-        if (strcmp(s, preset_names[i]) == 0) {
+        if (strcmp(s, qtool_engine_preset_names[i]) == 0) {
             *out = (qtool_engine_preset)i;
             return 0;
         }
@@ -32,7 +37,7 @@ int qtool_engine_preset_parse(const char *s, qtool_engine_preset *out)
 
 const char *qtool_engine_preset_name(qtool_engine_preset p)
 {
-    return (unsigned)p < QTOOL_ENGINE_PRESET_COUNT ? preset_names[p] : "?";
+    return (unsigned)p < QTOOL_ENGINE_PRESET_COUNT ? qtool_engine_preset_names[p] : "?";
 }
 
 int qtool_engine_window_parse(const char *s, double *out)
@@ -357,8 +362,7 @@ int qtool_engine_gltf(const qtool_engine_sh *rad, double coef[9][3], char *err, 
     return 0;
 }
 
-/* s as a JSON string body */
-static void json_str(FILE *f, const char *s)
+void qtool_engine_json_str(FILE *f, const char *s)
 {
     for (; *s; ++s) {
         unsigned char c = (unsigned char)*s;
@@ -375,7 +379,7 @@ void qtool_engine_gltf_write(FILE *f, const char *name, const double coef[9][3])
 {
     fprintf(f, "{\"extensionsUsed\": [\"EXT_lights_image_based\"],\n \"extensions\": {\"EXT_lights_image_based\": "
                "{\"lights\": [{\"name\": \"");
-    json_str(f, name ? name : "qibl");
+    qtool_engine_json_str(f, name ? name : "qibl");
     fprintf(f, "\", \"intensity\": 1.0, \"rotation\": [0.0, 0.0, 0.0, 1.0],\n  \"irradianceCoefficients\": [");
     for (int i = 0; i < 9; ++i)
         fprintf(f, "%s\n   [%.9g, %.9g, %.9g]", i ? "," : "", coef[i][0], coef[i][1], coef[i][2]);

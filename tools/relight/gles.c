@@ -1,8 +1,8 @@
 /*
- * relight_gles.c - `qibl relight --gles`: the same light through platform/gles2 on a headless EGL
- * context, so both paths can be compared by eye or by bytes.
+ * relight/gles.c - `qibl relight --gles` (gles.h): the same light through platform/gles2 on a
+ * headless EGL context, so both paths can be compared by eye or by bytes.
  */
-#include "cli/gles_cli.h"
+#include "relight/gles.h"
 
 #include <stdio.h>
 #include <stdlib.h>
