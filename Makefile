@@ -35,6 +35,8 @@ TOOL_LIB_SRC += $(wildcard tools/study/*.c) $(wildcard tools/engine/*.c) $(wildc
 # the demo behind `qibl demo` (tools/demo: bake, relight, light paths, probe-lit rows)
 TOOL_LIB_SRC += $(wildcard tools/demo/*.c)
 TOOL_LIB_SRC += $(wildcard tools/probe/*.c)
+# near-field light sources (tools/luminaire: the .qnf file, simulated capture, textured spotlights)
+TOOL_LIB_SRC += $(wildcard tools/luminaire/*.c)
 # the golden cases (plain C, shared by the suites and the golden runner) and their CMocka-side check
 GOLDEN_CASES_SRC := $(wildcard tools/golden/cases*.c)
 TOOL_LIB_SRC += $(GOLDEN_CASES_SRC) tools/golden/check.c
