@@ -567,7 +567,7 @@ void qcli_opt_help_list(FILE *f, const qcli_opt_cmd *c)
             if (len < sizeof text && (range[0] || o->why || def[0] || o->required))
                 snprintf(text + len, sizeof text - len, " (%s%s%s%s%s%s%s)", range, range[0] && o->why ? ", " : "",
                          o->why ? o->why : "", (range[0] || o->why) && (def[0] || o->required) ? "; " : "",
-                         def[0] ? "default " : "", def, o->required ? "required" : "");
+                         def[0] && !o->required ? "default " : "", o->required ? "" : def, o->required ? "required" : "");
             fprintf(f, "  %-*s  ", w, item);
             wrap(f, text, 2 + w + 2);
         }
