@@ -174,9 +174,11 @@ static int run(const demo_opts *o, const qtool_rt_scene *s)
         rc = qtool_demo_probe(&v, (uint32_t)o->probe_spp, (int)o->probe_parts, &m.sums, (uint32_t)o->ndirs, err,
                               sizeof err);
     if (rc == 0)
+        rc = qtool_demo_camera(&v, (uint32_t)o->ndirs, o->size, err, sizeof err);
+    if (rc == 0)
         printf("\nwrote %s/: scene_k{9,16,25}.qibl, sun_NN.png and sun_sweep.png (APNG), lamp_NN.png and lamp_sweep.png "
                "(APNG), contact_sheet.png (relit | ground truth | error), relit_sun.png, truth_sun.png, paths_sheet.png, "
-               "paths_readme.png, probe_sheet.png\n",
+               "paths_readme.png, probe_sheet.png, camera_sheet.png\n",
                o->dir);
     else
         fprintf(stderr, "qibl: %s\n", err);
