@@ -257,7 +257,8 @@ static void test_textured_gltf_from_its_camera(void **state)
     size_t sizes[2] = {0, 0}, pn;
     assert_int_equal(qtool_bake_run_unshadowed(&s, w, h, QTOOL_PANO_CYLINDRICAL, 256, 9, 2, &us), 0);
     assert_int_equal(qtool_bake_coeffs(&us, 9, QTOOL_PROJ_QUADRATURE, &mu), 0);
-    assert_int_equal(qtool_bake_path_chunk(&s, w, h, QTOOL_PANO_CYLINDRICAL, &p, 32, 65, 2, &paths[0], &sizes[0], NULL), 0);
+    assert_int_equal(
+        qtool_bake_path_chunk(&s, w, h, QTOOL_PANO_CYLINDRICAL, &p, 32, 65, 2, &paths[0], &sizes[0], NULL), 0);
     assert_int_equal(qtool_bake_asset_full(&mu, &mu, 0, QIBL_SHMAPS_PLANAR, paths, sizes, &passet, &pn), 0);
     double worst = 1e9;
     for (int i = 0; i < 3; ++i) {
@@ -359,7 +360,8 @@ static void test_cli_gles_camera(void **state)
     }
     assert_int_equal(run("relight", at("room.qibl"), "--sun", "0.35", "-0.3", "0.89", "--png", at("s.png"), NULL), 0);
     compare_pngs(at("g.png"), at("s.png"), "sun");
-    assert_int_equal(run("relight", at("room.qibl"), "--gles", "--point", "-3", "1", "0.5", "--png", at("g.png"), NULL), 0);
+    assert_int_equal(
+        run("relight", at("room.qibl"), "--gles", "--point", "-3", "1", "0.5", "--png", at("g.png"), NULL), 0);
     assert_int_equal(run("relight", at("room.qibl"), "--point", "-3", "1", "0.5", "--png", at("s.png"), NULL), 0);
     compare_pngs(at("g.png"), at("s.png"), "lamp");
 }

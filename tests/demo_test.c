@@ -162,10 +162,12 @@ static void test_camera_row(void **state)
         fail_msg("%s", err);
     fclose(out);
     assert_non_null(strstr(buf, "16x12 perspective frame"));
-    const char *a = strstr(buf, "RESULT demo.camera_psnr_sh_k16 "), *b = strstr(buf, "RESULT demo.camera_psnr_path_k9 ");
+    static const char ksh[] = "RESULT demo.camera_psnr_sh_k16 ", kpath[] = "RESULT demo.camera_psnr_path_k9 ";
+    const char *a = strstr(buf, ksh), *b = strstr(buf, kpath);
     assert_non_null(a), assert_non_null(b);
-    double sh = atof(a + strlen("RESULT demo.camera_psnr_sh_k16 ")), pth = atof(b + strlen("RESULT demo.camera_psnr_path_k9 "));
-    print_message("camera row at 16x12: shadowed SH %.2f dB, path %.2f dB (at least %.1f)\n", sh, pth, CAMERA_ROW_PATH_MIN);
+    double sh = atof(a + strlen(ksh)), pth = atof(b + strlen(kpath));
+    print_message("camera row at 16x12: shadowed SH %.2f dB, path %.2f dB (at least %.1f)\n", sh, pth,
+                  CAMERA_ROW_PATH_MIN);
     assert_true(pth >= CAMERA_ROW_PATH_MIN && pth > sh + 5);
     free(buf);
     snprintf(path, sizeof path, "%s/camera_sheet.png", base);

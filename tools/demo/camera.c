@@ -72,7 +72,8 @@ int qtool_demo_camera(const qtool_demo_view *v, uint32_t ndirs, const qtool_demo
         qtool_bake_path_light(&p, t, &l);
         qibl_status_t st;
         if (qtool_bake_truth8(&cs, w, h, QTOOL_PANO_CYLINDRICAL, &l, v->threads, truth, mask) != 0 ||
-            qtool_bake_relight_path8(asset, n, &l, 0, (uint32_t)(t * 65535 + 0.5), 0, NULL, relit, NULL, NULL, &st) != 0 ||
+            qtool_bake_relight_path8(asset, n, &l, 0, (uint32_t)(t * 65535 + 0.5), 0, NULL, relit, NULL, NULL,
+                                     &st) != 0 ||
             qtool_bake_relight8(asset, n, &l, 0, today, NULL) != 0) {
             qtool_errf(err, errlen, "camera: relighting the %ux%u frame failed", w, h);
             goto out;
@@ -92,7 +93,8 @@ int qtool_demo_camera(const qtool_demo_view *v, uint32_t ndirs, const qtool_demo
     fprintf(o, "PSNR against the ray-traced render of the same camera, mean MSE over %d sun positions between the "
                "baked steps of the path 40,15,7,17\n\n", NPOS);
     fprintf(o, "| camera row | PSNR dB |\n|---|---:|\n");
-    fprintf(o, "| sun: shadowed SH k16 | %.2f |\n| sun: unshadowed k9 x path visibility | %.2f |\n", psnr_sh, psnr_path);
+    fprintf(o, "| sun: shadowed SH k16 | %.2f |\n| sun: unshadowed k9 x path visibility | %.2f |\n", psnr_sh,
+            psnr_path);
     fprintf(o, "RESULT demo.camera_psnr_sh_k16 %.2f\nRESULT demo.camera_psnr_path_k9 %.2f\n", psnr_sh, psnr_path);
     rc = qtool_demo_save_png(v->dir, "camera_sheet.png", (int)w, (int)h * 3, sheet, err, errlen);
 out:

@@ -30,15 +30,16 @@ static int emit_frame(const qtool_goldens_sink_t *s, const char *name, const qib
 {
     uint8_t pixels[CW * CH * 4] = {0};
     int32_t row[3 * CW], ws[(CW * (2 * 25 + 32) + 3) / 4]; /* int32 storage: 4-byte aligned workspace */
-    qibl_fb_desc_t fb = {0};
-    fb.width = CW, fb.height = CH, fb.format = QIBL_FB_RGBA8888, fb.srgb = 1, fb.pixels = pixels;
+    qibl_fb_desc_t fb = {.width = CW, .height = CH, .format = QIBL_FB_RGBA8888, .srgb = 1, .pixels = pixels};
     qibl_status_t st = qibl_soft_fb_check(&fb);
     for (uint32_t y = 0; y < CH && st == QIBL_OK; ++y) {
-        st = w ? qibl_shmap_relight_span(m, w, 0, y, CW, row, ws, sizeof ws) : qibl_shmap_point_span(pt, 0, y, CW, row, ws, sizeof ws);
+        st = w ? qibl_shmap_relight_span(m, w, 0, y, CW, row, ws, sizeof ws)
+               : qibl_shmap_point_span(pt, 0, y, CW, row, ws, sizeof ws);
         if (st == QIBL_OK)
             st = qibl_soft_fb_write_row(&fb, 0, y, CW, row);
     }
-    return st == QIBL_OK ? qtool_gcase_emit(s, name, pixels, sizeof pixels) : qtool_gcase_status_error(s, name, "relight", st);
+    return st == QIBL_OK ? qtool_gcase_emit(s, name, pixels, sizeof pixels)
+                         : qtool_gcase_status_error(s, name, "relight", st);
 }
 
 int qtool_goldens_relight_camera(const qtool_goldens_sink_t *s)
