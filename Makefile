@@ -604,7 +604,7 @@ DEMO_THREADS ?= $(shell n=$$(getconf _NPROCESSORS_ONLN 2>/dev/null || echo 2); e
 demo: $(QIBL)
 	@mkdir -p out/demo
 	$(QIBL) demo --out out/demo --scene $(SCENE) --threads $(DEMO_THREADS) $(if $(filter small,$(DEMO_SIZE)),--small)$(if $(filter full,$(DEMO_SIZE)),--full)
-	$(QIBL) check out/demo/scene_k16.qibl out/demo/sun_sweep.png out/demo/lamp_sweep.png out/demo/contact_sheet.png out/demo/probe_sheet.png
+	$(QIBL) check out/demo/scene_k16.qibl out/demo/sun_sweep.png out/demo/lamp_sweep.png out/demo/contact_sheet.png out/demo/probe_sheet.png out/demo/camera_sheet.png
 
 clean:
 	rm -rf $(BUILD) out
