@@ -15,6 +15,7 @@
 #include <stdio.h>
 
 #include "bake/bake.h"
+#include "bake/probesun.h"
 #include "render/rt.h"
 
 /* The demo's sizes in one place: `small` is CI's (DEMO_SIZE=small), `default` what `make demo` runs
@@ -91,7 +92,7 @@ int qtool_demo_paths(const qtool_demo_view *v, uint32_t ndirs, const qtool_demo_
  * ray-traced truth with probe_spp samples per pixel per render, SH / median-cut lights / sun + SH
  * relit by the core (each extended source split into kparts, 1..QTOOL_DEMO_MAX_PARTS); its table,
  * RESULT lines and probe_sheet.png. */
-#define QTOOL_DEMO_MAX_PARTS 8
+#define QTOOL_DEMO_MAX_PARTS QTOOL_PROBESUN_MAX_PARTS
 int qtool_demo_probe(const qtool_demo_view *v, uint32_t probe_spp, int kparts, const qtool_bake_sums *sums,
                      uint32_t ndirs, char *err, size_t errlen);
 
