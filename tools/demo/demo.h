@@ -95,6 +95,11 @@ int qtool_demo_paths(const qtool_demo_view *v, uint32_t ndirs, const qtool_demo_
 #define QTOOL_DEMO_MAX_PARTS QTOOL_PROBESUN_MAX_PARTS
 int qtool_demo_probe(const qtool_demo_view *v, uint32_t probe_spp, int kparts, const qtool_bake_sums *sums,
                      uint32_t ndirs, char *err, size_t errlen);
+/* The same part for one probe file (`qibl demo --probe P`, a 2:1 lat-long .hdr): its rows under the
+ * role "user" (RESULT demo.probe_user_*), truth seeds 1 and 2 (render --probe --seed 0's), and
+ * probe_sheet.png with its one row. */
+int qtool_demo_probe_file(const qtool_demo_view *v, const char *path, uint32_t probe_spp, int kparts,
+                          const qtool_bake_sums *sums, uint32_t ndirs, char *err, size_t errlen);
 
 /* ---- shared by the parts ----------------------------------------------------------------------- */
 

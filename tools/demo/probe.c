@@ -48,7 +48,7 @@ typedef struct {
     const char *role, *file, *what;
 } probe_pick;
 
-static const probe_pick picks[3] = {
+static const probe_pick demo_picks[3] = {
     {"soft", "potsdamer_platz_1k.hdr", "overcast city square, no sun"},
     {"sunny", "quarry_01_1k.hdr", "clear sky, small sun with 53 % of the energy"},
     {"indoor", "studio_small_03_1k.hdr", "photo studio, small bright softboxes"},
@@ -158,6 +158,9 @@ typedef struct {
     size_t errlen;
     double *lin, *ha, *hb;
     uint8_t *truth, *cls, *tmp, *heatb, *best;
+    const probe_pick *picks; /* the probes: the three of picks, or the user's one */
+    int npicks;
+    const char *user;        /* the user's probe file (demo --probe), or NULL */
 } ctx_t;
 
 /* relights the environment five times (the minimum ms: the machine is shared) */
@@ -357,20 +360,33 @@ static void assets_free(probe_assets *pa)
     free(pa->a16), free(pa->a25);
 }
 
-/* probe p: ../shared's file when present, else the procedural stand-in; its label. 0 or -1. */
+/* probe p: the user's file, or ../shared's when present, else the procedural stand-in; its label.
+ * 0 or -1. */
 static int load_probe(ctx_t *c, int have, int p, float **probe, int *pw, int *ph, char *label, size_t labn)
 {
+    if (c->user) {
+        char err[1200];
+        if (qtool_hdr_read(c->user, pw, ph, probe, err, sizeof err) != 0)
+            return qtool_errf(c->err, c->errlen, "demo: %s", err);
+        if ((size_t)*pw != 2 * (size_t)*ph) {
+            free(*probe), *probe = NULL;
+            return qtool_errf(c->err, c->errlen, "demo: --probe %s: %d x %d is not a 2:1 lat-long probe", c->user, *pw,
+                              *ph);
+        }
+        snprintf(label, labn, "%s", c->user);
+        return 0;
+    }
     if (have) {
         char err[1200], path[600];
-        snprintf(path, sizeof path, "%s/%s", PROBE_DIR, picks[p].file);
+        snprintf(path, sizeof path, "%s/%s", PROBE_DIR, c->picks[p].file);
         if (qtool_hdr_read(path, pw, ph, probe, err, sizeof err) != 0)
             return qtool_errf(c->err, c->errlen, "demo: %s", err);
-        snprintf(label, labn, "%s (%s)", picks[p].file, picks[p].what);
+        snprintf(label, labn, "%s (%s)", c->picks[p].file, c->picks[p].what);
         return 0;
     }
     *pw = 1024, *ph = 512;
     *probe = procedural(p, *pw, *ph);
-    snprintf(label, labn, "procedural %s probe (no %s)", picks[p].role, PROBE_DIR);
+    snprintf(label, labn, "procedural %s probe (no %s)", c->picks[p].role, PROBE_DIR);
     return *probe ? 0 : qtool_errf(c->err, c->errlen, "demo: out of memory (probes)");
 }
 
@@ -410,11 +426,11 @@ static void sheet_row(const sheet_t *sh, ctx_t *c, int p, int have, const row_t 
     const uint8_t *src[3] = {c->best, c->truth, c->heatb};
     int y0 = sh->strip + p * (sh->strip + (int)h);
     char lab[200], nm[64];
-    snprintf(nm, sizeof nm, "%s", have ? picks[p].file : "procedural");
+    snprintf(nm, sizeof nm, "%s", have ? c->picks[p].file : "procedural");
     char *cut = strstr(nm, "_1k.hdr");
     if (cut)
         *cut = 0;
-    snprintf(lab, sizeof lab, "%s, %s: %s %.1f dB", picks[p].role, nm, sn[best], rows[best].psnr);
+    snprintf(lab, sizeof lab, "%s, %s: %s %.1f dB", c->picks[p].role, nm, sn[best], rows[best].psnr);
     qtool_text_draw(sh->px, sh->w, sh->h, 4, y0 + ts, lab, ts, sheet_fg);
     snprintf(lab, sizeof lab, "(SH k25 alone: %.1f dB)", rows[S_SH25].psnr);
     qtool_text_draw(sh->px, sh->w, sh->h, (int)w + 4, y0 + ts, lab, ts, sheet_fg);
@@ -437,11 +453,11 @@ static void print_report(FILE *o, const ctx_t *c, const probe_results *r, int ha
                                          "16 median-cut lights as SH k25, shadowed", "sun + SH: parts SHMU k16 x vis., SH k25"};
     fprintf(o, "\nlit by a real probe (%s): truth ray-traced with every direction shadowed, %u samples per pixel in each of "
                "two renders (bright set + MIS of probe CDF and cosine); bake of the unshadowed maps and probes %.1f s\n",
-            have ? PROBE_DIR : "procedural probes", c->spp, qtool_demo_now() - t0);
-    for (int p = 0; p < 3; ++p) {
+            c->user ? c->user : have ? PROBE_DIR : "procedural probes", c->spp, qtool_demo_now() - t0);
+    for (int p = 0; p < c->npicks; ++p) {
         fprintf(o, "%s: %s, scaled x %.4g (irradiance %.1f facing up); truth %.1f s, halves agree to %.2f dB (the mean is "
                    "about 3 dB less noisy); %d compact source%s",
-                picks[p].role, r->label[p], r->scale[p], TARGET_E_UP, r->truth_s[p], r->noise[p], r->nsuns[p],
+                c->picks[p].role, r->label[p], r->scale[p], TARGET_E_UP, r->truth_s[p], r->noise[p], r->nsuns[p],
                 r->nsuns[p] == 1 ? "" : "s");
         for (int k = 0; k < r->nsuns[p]; ++k)
             fprintf(o, "%s %.0f %% of the energy within %.1f deg", k ? ";" : ":", 100 * r->suns[p][k].share,
@@ -455,16 +471,16 @@ static void print_report(FILE *o, const ctx_t *c, const probe_results *r, int ha
             "scheme");
     fprintf(o, "|--------|%s|--------:|---------------:|---------------:|---------------:|-------:|---------:|--------:|\n",
             "--------------------------------------------");
-    for (int p = 0; p < 3; ++p)
+    for (int p = 0; p < c->npicks; ++p)
         for (int q = 0; q < NSCHEME; ++q) {
             const row_t *row = &r->rows[p][q];
             fprintf(o, "| %-6s | %-42s | %7.2f | %6.2f (%4.1f%%) | %6.2f (%4.1f%%) | %6.2f (%4.1f%%) | %6.3f | %8.3f | %7.0f |\n",
-                    picks[p].role, sname[q], row->psnr, row->psnr_cls[1], row->share_cls[1], row->psnr_cls[2],
+                    c->picks[p].role, sname[q], row->psnr, row->psnr_cls[1], row->share_cls[1], row->psnr_cls[2],
                     row->share_cls[2], row->psnr_cls[3], row->share_cls[3], row->bright, row->ms, row->bytes);
         }
     fprintf(o, "\n");
-    for (int p = 0; p < 3; ++p) {
-        const char *role = picks[p].role;
+    for (int p = 0; p < c->npicks; ++p) {
+        const char *role = c->picks[p].role;
         for (int q = 0; q < NSCHEME; ++q)
             fprintf(o, "RESULT demo.probe_%s_%s_psnr %.2f\nRESULT demo.probe_%s_%s_brightness %.3f\n"
                        "RESULT demo.probe_%s_%s_ms %.3f\nRESULT demo.probe_%s_%s_bytes %.0f\n",
@@ -474,14 +490,14 @@ static void print_report(FILE *o, const ctx_t *c, const probe_results *r, int ha
                 r->rows[p][r->best[p]].psnr, role, r->noise[p]);
     }
     fprintf(o, "RESULT demo.probe_s %.2f\n", qtool_demo_now() - t0);
-    fprintf(o, "wrote %s/probe_sheet.png (rows: soft, sunny, indoor; columns: best scheme | truth | error 0..48)\n",
-            c->v->dir);
+    fprintf(o, "wrote %s/probe_sheet.png (rows: %s; columns: best scheme | truth | error 0..48)\n", c->v->dir,
+            c->user ? "your probe" : "soft, sunny, indoor");
 }
 
 /* every probe relit, scored and drawn into its sheet row */
 static int run_probes(ctx_t *c, int have, const sheet_t *sh, probe_results *r)
 {
-    for (int p = 0; p < 3; ++p) {
+    for (int p = 0; p < c->npicks; ++p) {
         float *probe = NULL;
         int pw = 0, ph = 0;
         if (load_probe(c, have, p, &probe, &pw, &ph, r->label[p], sizeof r->label[p]) != 0)
@@ -499,28 +515,29 @@ static int run_probes(ctx_t *c, int have, const sheet_t *sh, probe_results *r)
     return 0;
 }
 
-int qtool_demo_probe(const qtool_demo_view *v, uint32_t probe_spp, int kparts, const qtool_bake_sums *sums,
-                     uint32_t ndirs, char *err, size_t errlen)
+/* the part over the probes of c (picks, npicks, user set) */
+static int probe_part(ctx_t c, const qtool_bake_sums *sums, uint32_t ndirs)
 {
-    size_t np = (size_t)v->w * v->h;
-    if (kparts < 1 || kparts > MAX_PARTS)
-        return qtool_errf(err, errlen, "demo: %d parts per extended source is outside 1..%d", kparts, MAX_PARTS);
-    ctx_t c = {.v = v, .spp = probe_spp, .kparts = kparts, .err = err, .errlen = errlen};
+    const qtool_demo_view *v = c.v;
+    char *err = c.err;
+    size_t errlen = c.errlen, np = (size_t)v->w * v->h;
+    if (c.kparts < 1 || c.kparts > MAX_PARTS)
+        return qtool_errf(err, errlen, "demo: %d parts per extended source is outside 1..%d", c.kparts, MAX_PARTS);
     probe_assets pa;
     memset(&pa, 0, sizeof pa);
     probe_results *r = malloc(sizeof *r);
     c.lin = malloc(np * 3 * sizeof(double)), c.ha = malloc(np * 3 * sizeof(double)), c.hb = malloc(np * 3 * sizeof(double));
     c.truth = malloc(np * 3), c.cls = malloc(np), c.tmp = malloc(np * 3), c.heatb = malloc(np * 3), c.best = malloc(np * 3);
     sheet_t sh = {.ts = v->w >= 768 ? 2 : 1};
-    sh.strip = 10 * sh.ts, sh.w = (int)v->w * 3, sh.h = sh.strip + 3 * (sh.strip + (int)v->h);
+    sh.strip = 10 * sh.ts, sh.w = (int)v->w * 3, sh.h = sh.strip + c.npicks * (sh.strip + (int)v->h);
     sh.px = malloc((size_t)sh.w * (size_t)sh.h * 3);
     double t0 = qtool_demo_now();
     int rc = -1;
     if (!r || !c.lin || !c.ha || !c.hb || !c.truth || !c.cls || !c.tmp || !c.heatb || !c.best || !sh.px)
         qtool_errf(err, errlen, "demo: out of memory (probes)");
     else if (bake_assets(&c, sums, ndirs, &pa) == 0) {
-        DIR *d = opendir(PROBE_DIR);
-        int have = d != NULL;
+        DIR *d = c.user ? NULL : opendir(PROBE_DIR);
+        int have = c.user || d != NULL;
         if (d)
             closedir(d);
         if (run_probes(&c, have, &sh, r) == 0 &&
@@ -533,4 +550,22 @@ int qtool_demo_probe(const qtool_demo_view *v, uint32_t probe_spp, int kparts, c
     free(r), free(sh.px);
     free(c.lin), free(c.ha), free(c.hb), free(c.truth), free(c.cls), free(c.tmp), free(c.heatb), free(c.best);
     return rc;
+}
+
+int qtool_demo_probe(const qtool_demo_view *v, uint32_t probe_spp, int kparts, const qtool_bake_sums *sums,
+                     uint32_t ndirs, char *err, size_t errlen)
+{
+    ctx_t c = {.v = v, .spp = probe_spp, .kparts = kparts, .err = err, .errlen = errlen, .picks = demo_picks,
+               .npicks = 3};
+    return probe_part(c, sums, ndirs);
+}
+
+int qtool_demo_probe_file(const qtool_demo_view *v, const char *path, uint32_t probe_spp, int kparts,
+                          const qtool_bake_sums *sums, uint32_t ndirs, char *err, size_t errlen)
+{
+    const char *base = strrchr(path, '/');
+    const probe_pick user = {"user", base ? base + 1 : path, "your probe"};
+    ctx_t c = {.v = v, .spp = probe_spp, .kparts = kparts, .err = err, .errlen = errlen, .picks = &user,
+               .npicks = 1, .user = path};
+    return probe_part(c, sums, ndirs);
 }
