@@ -71,8 +71,8 @@ static void make_probe(const char *path, double sun, double az)
  * in both the relit frame and the truth) */
 static double psnr_scene(const char *a, const char *b)
 {
-    int w, h, wb, hb, fr;
-    uint8_t *pa, *pb;
+    int w = 0, h = 0, wb = 0, hb = 0, fr = 0;
+    uint8_t *pa = NULL, *pb = NULL;
     char err[512];
     if (qtool_png_read_rgb8(a, &w, &h, &fr, &pa, err, sizeof err) != 0 ||
         qtool_png_read_rgb8(b, &wb, &hb, &fr, &pb, err, sizeof err) != 0)

@@ -31,9 +31,9 @@ int qtool_bake_opts_check(const qtool_bake_opts *o, char *err, size_t errlen)
                    QTOOL_BAKE_BLOCK);
     else if (o->out && o->nshards > 1)
         qtool_errf(err, errlen, "a shard writes partial sums only (--sums); qibl merge writes the asset");
-    else if (o->probe && (o->nshards > 1 || o->sums_out || o->budget > 0 || o->npaths || o->has_box))
-        qtool_errf(err, errlen, "--probe bakes its own light paths and maps in one job: no --shard, --sums, --budget, "
-                   "--sun-path, --lamp-track or --lamp-box with it");
+    else if (o->probe && (o->nshards > 1 || o->sums_out || o->budget > 0 || o->npaths || o->has_box || o->lsq))
+        qtool_errf(err, errlen, "--probe bakes its own light paths and maps (quadrature) in one job: no --shard, --sums, "
+                   "--budget, --lsq, --sun-path, --lamp-track or --lamp-box with it");
     else if (o->yaw != 0 && !o->probe)
         qtool_errf(err, errlen, "--yaw turns a --probe: give --probe PROBE.hdr");
     else if (!(o->yaw >= -QTOOL_PROBESUN_YAW_MAX && o->yaw <= QTOOL_PROBESUN_YAW_MAX))
