@@ -115,6 +115,14 @@ static void log_state(const qtool_view *v, const qtool_view_run_opts *o)
         return;
     qibl_q16_t d[3];
     char l1[160], l2[160];
+    if (v->mesh) { /* the values exactly: `qibl view MESH --probe P --light-yaw .. --png OUT` gives the frame */
+        qtool_view_describe(v, 0, l1, l2, sizeof l1);
+        fprintf((FILE *)o->log, "view: mesh --light-yaw %.17g --light-pitch %.17g --camera %.17g,%.17g --exposure %.17g "
+                "probe %u | %s | %s\n", v->yaw, v->pitch, v->cam_az, v->cam_el, v->exposure / 65536.0, v->cur_probe,
+                l1, l2);
+        fflush((FILE *)o->log);
+        return;
+    }
     qtool_view_sun_q16(v, d);
     qtool_view_describe(v, 0, l1, l2, sizeof l1);
     /* the sun exactly (decimal of the Q16.16 values), so `qibl relight --sun` gives the same light */
@@ -172,7 +180,7 @@ static int x_run(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void
     }
     img->byte_order = LSBFirst; /* B, G, R, X in memory: the pixel 0x00RRGGBB little-endian */
     {
-        int dirty = 1, dragging = 0, lx = 0, ly = 0, moved = 1, running = 1; /* the first frame is logged */
+        int dirty = 1, dragging = 0, orbiting = 0, lx = 0, ly = 0, moved = 1, running = 1; /* the first frame is logged */
         double fps = 0, t_last = view_now(), t0 = t_last;
         long frames = 0;
         for (;;) { /* wait for the window to be mapped */
@@ -199,7 +207,15 @@ static int x_run(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void
                         dirty |= qtool_view_key(v, '-'), moved = 1;
                     else if (ks < 256 && qtool_view_key(v, (int)ks))
                         dirty = 1, moved = 1;
-                } else if (e.type == ButtonPress && e.xbutton.button == Button1) {
+                } else if (e.type == ButtonPress && e.xbutton.button == Button3 && v->mesh && !dragging) {
+                    orbiting = 1, lx = e.xbutton.x, ly = e.xbutton.y; /* mesh mode: the camera orbits */
+                } else if (e.type == MotionNotify && orbiting) {
+                    qtool_view_orbit(v, e.xmotion.x - lx, e.xmotion.y - ly, w, h), dirty = 1;
+                    lx = e.xmotion.x, ly = e.xmotion.y;
+                } else if (e.type == ButtonRelease && e.xbutton.button == Button3 && orbiting) {
+                    qtool_view_orbit(v, e.xbutton.x - lx, e.xbutton.y - ly, w, h);
+                    orbiting = 0, dirty = 1, moved = 1;
+                } else if (e.type == ButtonPress && e.xbutton.button == Button1 && !orbiting) {
                     dragging = 1, lx = e.xbutton.x, ly = e.xbutton.y;
                     if (v->scheme == QTOOL_VIEW_LAMP) /* the lamp: picked under the pointer */
                         dirty |= qtool_view_pick(v, lx, ly);
