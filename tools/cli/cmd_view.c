@@ -21,7 +21,7 @@
     "                 [--truth PNG|DIR] [--gles] [--bench [--frames N] [--headless] [--record OUT.png [--turn]]]\n" \
     "       qibl view MESH.obj|.ply|.gltf --probe P.hdr [--probe P2.hdr]... [--transfer FILE.qtr] [--zup]\n"     \
     "                 [--size N] [--threads N] [--light-yaw DEG] [--light-pitch DEG] [--camera AZ,EL]\n"          \
-    "                 [--exposure E] [--png OUT.png | --bench [--frames N] [--headless] [--record OUT.png]]"
+    "                 [--exposure E] [--png OUT.png | --bench [--frames N] [--headless] [--record OUT.png [--turn]]]"
 
 
 /* the options of `qibl view` (the library's defaults: view/view.h) */
@@ -116,7 +116,7 @@ static int parse(int argc, char **argv, vopts *o)
         const char *a = argv[i];
         int mrc = 0;
         if (!o->asset_only && (strcmp(a, "--sun") == 0 || strcmp(a, "--lamp-rgb") == 0 ||
-                               strcmp(a, "--truth") == 0 || strcmp(a, "--gles") == 0 || strcmp(a, "--turn") == 0))
+                               strcmp(a, "--truth") == 0 || strcmp(a, "--gles") == 0))
             o->asset_only = a;
         if (parse_mesh_opt(argc, argv, &i, o, &mrc)) {
             if (mrc != 0)
@@ -239,7 +239,9 @@ static int view_mesh(vopts *o)
     uint32_t nv, nt, nc;
     qtool_view_mesh_counts(&v, &nv, &nt, &nc);
     qtool_view_run_opts ro = {.title = "qibl view", .bench_frames = o->bench ? o->frames : 0, .bench_fps = &fps,
-                              .headless = o->headless, .log = o->bench ? NULL : stdout, .record = o->record};
+                              .headless = o->headless, .log = o->bench ? NULL : stdout, .record = o->record,
+                              .drag_dx = o->turn ? (int)((v.maps.width + (uint32_t)o->frames - 1) / (uint32_t)o->frames)
+                                                 : 0};
     if (o->png ? write_frame(&v, o->png, err, sizeof err) != 0 : qtool_view_run(&v, &ro, err, sizeof err) != 0) {
         fprintf(stderr, "qibl: %s\n", err);
         goto out;
