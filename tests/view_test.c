@@ -694,6 +694,18 @@ static void test_gles_matches_relight_gles(void **state)
     if (session_start(&ss, extra) != 0)
         goto out;
     log_lines(ss.vlog, sun);
+    { /* which way the frame reached the window: an EGL window surface, or read back where EGL has no
+       * X11 platform; both must equal relight --gles */
+        char *t = text(ss.vlog);
+        const int said = strstr(t, "view: --gles draws into the window") || strstr(t, "view: --gles reads the frames back");
+        if (!said)
+            print_error("view_test: the log does not say how --gles reaches the window:\n%s", t);
+        else if (!strstr(t, "draws into the window"))
+            fprintf(stderr, "view_test: note: --gles read back here (no EGL window surface)\n");
+        free(t);
+        if (!said)
+            goto out;
+    }
     snprintf(png, sizeof png, "%s/relight.png", dir);
     for (int c = 0; c < 3; ++c)
         snprintf(sun_s[c], sizeof sun_s[c], "%.17g", sun[c]);

@@ -312,6 +312,7 @@ int qcli_cmd_view(int argc, char **argv)
     }
     double fps = 0;
     qtool_view_run_opts ro = {.title = "qibl view", .frame = o.gles ? qtool_view_gles_frame : NULL, .user = vg,
+                              .gl = o.gles ? &qtool_view_gles_window : NULL,
                               .truth = tset.one, .ntruths = tset.n, .truths = (const uint8_t *const *)tset.rgb,
                              .truth_dirs = (const double(*)[3])tset.dir, .truth_names = (const char *const *)tset.name,
                              .bench_frames = o.bench ? o.frames : 0, .bench_fps = &fps,

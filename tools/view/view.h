@@ -134,9 +134,21 @@ double qtool_view_psnr(const uint8_t *bgrx, size_t stride, uint32_t w, uint32_t 
  * stride) for v's state; 0, or -1 after a one-line message on stderr. */
 typedef int (*qtool_view_frame_fn)(void *user, qtool_view *v, uint8_t *bgrx, size_t stride);
 
+/* A frame drawer straight into the window (`--gles` with a window): attach gets the native X11
+ * display and a child window (w x h, the frame's area, of visual id `visual`) and makes its GL
+ * current on it (0, or -1 with a one-line reason: the viewer then falls back to `frame`, read back);
+ * draw draws v's frame into it and swaps (0, or -1 after a message on stderr); detach releases it. */
+typedef struct qtool_view_window_gl {
+    int (*attach)(void *user, void *native_display, unsigned long native_window, unsigned long visual, uint32_t w,
+                  uint32_t h, char *err, size_t errlen);
+    int (*draw)(void *user, qtool_view *v);
+    void (*detach)(void *user); /* releases what attach made, before the window and display go */
+} qtool_view_window_gl;
+
 typedef struct qtool_view_run_opts {
     const char *title;         /* window title; NULL: "qibl view" */
     qtool_view_frame_fn frame; /* NULL: qtool_view_render */
+    const qtool_view_window_gl *gl; /* with a window and no recording: frames drawn into it (else frame) */
     void *user;
     const uint8_t *truth;      /* w x h RGB8 (NULL: no PSNR) */
     /* or a set of truth frames, each of a sun direction (--truth DIR): in the sun scheme the PSNR is
@@ -211,6 +223,11 @@ int qtool_view_record_check(const qtool_view *v, long frames, char *err, size_t 
 typedef struct qtool_view_gles qtool_view_gles;
 qtool_view_gles *qtool_view_gles_open(const qtool_view *v, char *err, size_t errlen);
 int qtool_view_gles_frame(void *user, qtool_view *v, uint8_t *bgrx, size_t stride);
+/* --gles in a window: a second EGL context on the X11 display and an EGL window surface on the
+ * viewer's frame area (eglCreatePlatformWindowSurfaceEXT); the maps uploaded again there; each frame
+ * relit into a texture (platform/gles2 draws GL's rows bottom-up) and drawn into the window turned
+ * upright, nearest texels at their centres (the bytes unchanged). user = the qtool_view_gles. */
+extern const qtool_view_window_gl qtool_view_gles_window;
 void qtool_view_gles_close(qtool_view_gles *g);
 
 /* ---- mesh mode (view/mesh.c): `qibl view MESH --probe P` ----------------------------------------
