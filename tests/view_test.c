@@ -863,6 +863,71 @@ static void test_cli(void **state)
 }
 
 
+/* mesh mode's state without a window: the light's rotation convention (band 1 turns as a vector:
+ * yaw about +z, pitch about +x, pitch first), the drags and keys of mesh mode */
+static void test_mesh_state(void **state)
+{
+    (void)state;
+    char tmpl[] = "/tmp/qibl-viewmstate-XXXXXX", mesh[96], probe[96], err[300], note[300];
+    assert_non_null(mkdtemp(tmpl));
+    snprintf(mesh, sizeof mesh, "%s/scene.obj", tmpl), snprintf(probe, sizeof probe, "%s/p.hdr", tmpl);
+    write_mesh(mesh);
+    write_probe(probe);
+    const char *probes[1] = {probe};
+    qtool_view_mesh_opts o = QTOOL_VIEW_MESH_OPTS_DEFAULT;
+    o.mesh = mesh, o.probes = probes, o.nprobes = 1, o.zup = 1, o.size = 64;
+    qtool_view v;
+    if (qtool_view_open_mesh(&v, &o, note, sizeof note, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    int32_t l0[3][25], l[3][25];
+    assert_int_equal(qtool_view_mesh_light(&v, l0), QIBL_OK);
+    /* band 1 (sh.h, Condon-Shortley phase): index 1 ~ -y, 2 ~ z, 3 ~ -x; a turn R maps the light's
+     * vector a to R a: yaw 90 (x, y) -> (-y, x), pitch 90 (y, z) -> (-z, y) */
+    v.yaw = 90;
+    assert_int_equal(qtool_view_mesh_light(&v, l), QIBL_OK);
+    for (int c = 0; c < 3; ++c) {
+        assert_true(abs(l[c][3] + l0[c][1]) <= 4 && abs(l[c][1] - l0[c][3]) <= 4 && abs(l[c][2] - l0[c][2]) <= 4);
+        assert_true(abs(l[c][0] - l0[c][0]) <= 1);
+    }
+    v.yaw = 0, v.pitch = 90;
+    assert_int_equal(qtool_view_mesh_light(&v, l), QIBL_OK);
+    for (int c = 0; c < 3; ++c)
+        assert_true(abs(l[c][3] - l0[c][3]) <= 4 && abs(l[c][1] - l0[c][2]) <= 4 && abs(l[c][2] + l0[c][1]) <= 4);
+    assert_true(abs(l0[0][1]) + abs(l0[0][2]) + abs(l0[0][3]) > 1000); /* the probe is directional */
+    v.pitch = 0;
+    qtool_view_drag(&v, 16, -32, 64, 64); /* a quarter width: +90 of yaw; half a height: -90 of pitch */
+    assert_true(fabs(v.yaw - 90) < 1e-9 && fabs(v.pitch + 90) < 1e-9);
+    qtool_view_drag(&v, -32, -8, 64, 64); /* yaw wraps, pitch clamps */
+    assert_true(fabs(v.yaw - 270) < 1e-9 && v.pitch == -90);
+    qtool_view_orbit(&v, 32, 1000, 64, 64); /* half a width: -180 of azimuth; elevation clamped */
+    assert_true(fabs(v.cam_az - 215) < 1e-9 && v.cam_el == QTOOL_VIEW_CAM_EL_MAX);
+    assert_int_equal(qtool_view_key(&v, ']'), 1);
+    assert_true(fabs(v.cam_az - 230) < 1e-9);
+    assert_int_equal(qtool_view_key(&v, 'p'), 0); /* one probe */
+    assert_int_equal(qtool_view_key(&v, 's'), 0); /* no schemes, SH terms or linear in mesh mode */
+    assert_int_equal(qtool_view_key(&v, 'k'), 0);
+    assert_int_equal(qtool_view_key(&v, 'l'), 0);
+    const uint32_t e = v.exposure;
+    assert_int_equal(qtool_view_key(&v, '+'), 1);
+    assert_int_equal(v.exposure, 2 * e);
+    uint32_t nv, nt, nc;
+    qtool_view_mesh_counts(&v, &nv, &nt, &nc);
+    assert_int_equal(nv, 49 + 8);
+    assert_int_equal(nt, 72 + 12);
+    assert_int_equal(nc, 25);
+    qtool_view_close_mesh(&v);
+    assert_null(v.mesh);
+    /* refusals, nothing kept */
+    o.size = 8;
+    assert_int_equal(qtool_view_open_mesh(&v, &o, note, sizeof note, err, sizeof err), -1);
+    assert_non_null(strstr(err, "--size 8 outside"));
+    assert_null(v.mesh);
+    o.size = 64, o.nprobes = 0;
+    assert_int_equal(qtool_view_open_mesh(&v, &o, note, sizeof note, err, sizeof err), -1);
+    assert_null(v.mesh);
+    rm_rf(tmpl);
+}
+
 #define MESH_SIZE 128
 
 /* the last "view: mesh" line's values (0), or -1 */
@@ -1017,6 +1082,7 @@ int main(void)
         cmocka_unit_test(test_path_scrub_matches_relight),
         cmocka_unit_test(test_truth_dir),
         cmocka_unit_test(test_gles_matches_relight_gles),
+        cmocka_unit_test(test_mesh_state),
         cmocka_unit_test(test_mesh_cli),
         cmocka_unit_test(test_mesh_drag_matches_png),
     };
