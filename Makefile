@@ -35,6 +35,8 @@ TOOL_LIB_SRC += $(wildcard tools/study/*.c) $(wildcard tools/engine/*.c) $(wildc
 # the demo behind `qibl demo` (tools/demo: bake, relight, light paths, probe-lit rows)
 TOOL_LIB_SRC += $(wildcard tools/demo/*.c)
 TOOL_LIB_SRC += $(wildcard tools/probe/*.c)
+# near-field light sources (tools/luminaire: the .qnf file, simulated capture, textured spotlights)
+TOOL_LIB_SRC += $(wildcard tools/luminaire/*.c)
 # the golden cases (plain C, shared by the suites and the golden runner) and their CMocka-side check
 GOLDEN_CASES_SRC := $(wildcard tools/golden/cases*.c)
 TOOL_LIB_SRC += $(GOLDEN_CASES_SRC) tools/golden/check.c
@@ -84,9 +86,6 @@ BENCH_OBJ := $(BENCH_SRC:%.c=$(BUILD)/host/%.o)
 BENCH_TWIN_OBJ := $(BENCH_TWIN_SRC:%.c=$(BUILD)/host/%.o)
 # the benchmarks name the compiler and the core's flags in their output
 $(BENCH_OBJ) $(BENCH_TWIN_OBJ): HOST_CFLAGS += -DQIBL_BENCH_CORE_FLAGS='"$(CORE_OPT)"'
-# TEMPORARY (r2-status, for the coordinator to remove once tools/cli checks every status): the CLI
-# still drops statuses that QIBL_NODISCARD / QTOOL_NODISCARD now flag; warnings, not errors, there only.
-$(QIBL_OBJ) $(BENCH_OBJ) $(BENCH_TWIN_OBJ): HOST_CFLAGS += -Wno-error=unused-result
 TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%) $(TEST_SRC:tests/%.c=$(BUILD)/tests/%-portable)
 
 # A third flavour where the CPU has AVX2: the core built with -mavx2 (config.h then picks the AVX2
@@ -605,7 +604,7 @@ DEMO_THREADS ?= $(shell n=$$(getconf _NPROCESSORS_ONLN 2>/dev/null || echo 2); e
 demo: $(QIBL)
 	@mkdir -p out/demo
 	$(QIBL) demo --out out/demo --scene $(SCENE) --threads $(DEMO_THREADS) $(if $(filter small,$(DEMO_SIZE)),--small)$(if $(filter full,$(DEMO_SIZE)),--full)
-	$(QIBL) check out/demo/scene_k16.qibl out/demo/sun_sweep.png out/demo/lamp_sweep.png out/demo/contact_sheet.png out/demo/probe_sheet.png
+	$(QIBL) check out/demo/scene_k16.qibl out/demo/sun_sweep.png out/demo/lamp_sweep.png out/demo/contact_sheet.png out/demo/probe_sheet.png out/demo/camera_sheet.png
 
 clean:
 	rm -rf $(BUILD) out

@@ -873,6 +873,10 @@ static void cliopts_seeds(void)
          "-1", "--up", "1", "0", "0", "--ies-size", "16", "--png", "o.png");
     SEED("render_ies", "render", "--point", "1", "1", "0.5", "--ies", "l.ies", "--aim", "0.2", "0", "-1", "--up", "0",
          "1", "0", "--pfm", "r.pfm");
+    SEED("luminaire_capture", "luminaire", "capture", "builtin", "--out", "s.qnf", "--grid", "8", "--res", "16", "--basis",
+         "tent", "--threads", "2");
+    SEED("luminaire_render", "luminaire", "render", "g.qibl", "s.qnf", "--at", "0", "1", "-0.5", "--out", "o.png", "--far",
+         "--table", "32", "--exposure", "2");
 #undef SEED
 }
 

@@ -39,6 +39,7 @@ int qcli_cmd_lights(int argc, char **argv);
 int qcli_cmd_probe(int argc, char **argv); /* cmd_probe_info.c: `qibl probe info` */
 int qcli_cmd_study(int argc, char **argv); /* cmd_study.c */
 int qcli_cmd_ies(int argc, char **argv);   /* cmd_ies.c: `qibl ies info` */
+int qcli_cmd_luminaire(int argc, char **argv); /* cmd_luminaire.c: `qibl luminaire` */
 
 int qcli_cmd_render(int argc, char **argv); /* cmd_bake.c */
 int qcli_cmd_bake(int argc, char **argv);

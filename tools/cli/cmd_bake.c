@@ -498,6 +498,7 @@ const qcli_opt_cmd qcli_opts_bake = {
     .opts = bake_table,
     .defaults = &bake_defaults,
     .size = sizeof(bake_cli),
+    .synopsis = "(-o ASSET | --shard I/N --sums FILE)",
     .prose = BAKE_PROSE,
 };
 
@@ -583,8 +584,8 @@ const qcli_opt_cmd qcli_opts_merge = {
     .pos = {.names = "SUMS...", .min = 0, .max = QCLI_OPT_LIST_MAX, .call = merge_file},
     .defaults = &merge_defaults,
     .size = sizeof(merge_cli),
+    .synopsis = "(-o ASSET | --sums OUT | both) (--manifest FILE | SUMS...)",
     .prose =
-        "                  [--layout planar|interleaved] [--manifest FILE] SUMS...\n"
         "  Adds the partial sums written by `qibl bake --shard I/N --sums FILE` (every shard exactly once,\n"
         "  same bake) and writes the asset as qibl bake would (byte-identical, with the unshadowed maps,\n"
         "  light paths and lamp occlusion joined from every SUMS.u / SUMS.x when the shards wrote them), and/or the\n"

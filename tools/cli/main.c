@@ -34,6 +34,8 @@ static const qcli_opt_cmd *const check_opts[] = {&qcli_opts_check, NULL};
 static const qcli_opt_cmd *const render_opts[] = {&qcli_opts_render, NULL};
 static const qcli_opt_cmd *const bake_opts[] = {&qcli_opts_bake, NULL};
 static const qcli_opt_cmd *const demo_opts[] = {&qcli_opts_demo, NULL};
+static const qcli_opt_cmd *const luminaire_opts[] = {&qcli_opts_luminaire_capture, &qcli_opts_luminaire_info,
+                                                     &qcli_opts_luminaire_render, &qcli_opts_luminaire_study, NULL};
 
 /* which commands are on them: `qibl help CMD` is made from these, not from the command's usage */
 static const struct {
@@ -43,7 +45,7 @@ static const struct {
               {"srgbe", srgbe_opts}, {"ies", ies_opts}, {"study", study_opts},
               {"bench", bench_opts}, {"probe", probe_opts}, {"lights", lights_opts},
               {"relight", relight_opts}, {"merge", merge_opts}, {"check", check_opts},
-              {"render", render_opts}, {"bake", bake_opts}, {"demo", demo_opts}};
+              {"render", render_opts}, {"bake", bake_opts}, {"demo", demo_opts}, {"luminaire", luminaire_opts}};
 
 static const qcli_opt_cmd *const *tables_of(const char *cmd)
 {
@@ -138,6 +140,7 @@ static const qcli_cmd commands[] = {
      qcli_cmd_probe},
     {"ies", "an IES LM-63 photometric file: header facts, candela range, integrated lumens, polar curves",
      NULL, qcli_cmd_ies},
+    {"luminaire", "near-field light sources: capture, info, render as textured spotlights, study", NULL, qcli_cmd_luminaire},
     {"study", "the light-probe approximation study: every method, error against N and time",
      NULL, qcli_cmd_study},
 };

@@ -477,19 +477,34 @@ static void usage_item(const qcli_opt *o, char *buf, size_t n)
              an ? an : "", o->optional ? "]" : "", o->kind == QCLI_OPT_LIST ? "..." : "", o->required ? "" : "]");
 }
 
+/* whether the synopsis names the option (as a whole word: "--sums" is not "--sums-x") */
+static int in_synopsis(const char *syn, const char *name)
+{
+    const size_t l = strlen(name);
+    for (const char *p = syn ? strstr(syn, name) : NULL; p; p = strstr(p + 1, name))
+        if ((p == syn || p[-1] == ' ' || p[-1] == '(' || p[-1] == '[' || p[-1] == '|') &&
+            (p[l] == '\0' || p[l] == ' ' || p[l] == ')' || p[l] == ']' || p[l] == '|'))
+            return 1;
+    return 0;
+}
+
 void qcli_opt_help(FILE *f, const qcli_opt_cmd *c)
 {
     char lead[96], item[384];
     int col = snprintf(lead, sizeof lead, "usage: qibl %s", c->name);
     const int indent = col, width = WIDTH;
     fputs(lead, f);
+    if (c->synopsis) {
+        fprintf(f, " %s", c->synopsis);
+        col += 1 + (int)strlen(c->synopsis);
+    }
     size_t n = count(c->opts);
     for (size_t k = 0; k <= n; ++k) {
-        if (k < n && c->opts[k].renamed)
-            continue; /* an old spelling: in the list below, not the usage line */
+        if (k < n && (c->opts[k].renamed || in_synopsis(c->synopsis, c->opts[k].name)))
+            continue; /* an old spelling, or said by the synopsis: in the list below, not the usage line */
         if (k < n)
             usage_item(&c->opts[k], item, sizeof item);
-        else if (c->pos.max > 0)
+        else if (c->pos.max > 0 && !in_synopsis(c->synopsis, c->pos.names))
             snprintf(item, sizeof item, "%s%s%s", c->pos.min == 0 ? "[" : "", c->pos.names, c->pos.min == 0 ? "]" : "");
         else
             break;
@@ -552,7 +567,7 @@ void qcli_opt_help_list(FILE *f, const qcli_opt_cmd *c)
             if (len < sizeof text && (range[0] || o->why || def[0] || o->required))
                 snprintf(text + len, sizeof text - len, " (%s%s%s%s%s%s%s)", range, range[0] && o->why ? ", " : "",
                          o->why ? o->why : "", (range[0] || o->why) && (def[0] || o->required) ? "; " : "",
-                         def[0] ? "default " : "", def, o->required ? "required" : "");
+                         def[0] && !o->required ? "default " : "", o->required ? "" : def, o->required ? "required" : "");
             fprintf(f, "  %-*s  ", w, item);
             wrap(f, text, 2 + w + 2);
         }

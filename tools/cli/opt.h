@@ -149,6 +149,9 @@ typedef struct qcli_opt_cmd {
     const void *defaults;  /* the options struct's defaults (size bytes) */
     size_t size;
     const char *prose;     /* after the option list: what the command does, two-space indented */
+    /* NULL, or the usage line's leading part for what a table cannot say (alternatives: "(-o ASSET |
+     * --shard I/N --sums FILE)"); the options it names are left out of the bracketed list after it */
+    const char *synopsis;
 } qcli_opt_cmd;
 
 /* The tables of the commands on them, for main.c's command table and `qibl help`. */
@@ -158,6 +161,8 @@ extern const qcli_opt_cmd qcli_opts_sh_eval, qcli_opts_sh_plot, qcli_opts_srgbe_
 extern const qcli_opt_cmd qcli_opts_bench, qcli_opts_probe_info, qcli_opts_sh_project, qcli_opts_lights,
     qcli_opts_relight, qcli_opts_merge, qcli_opts_check,
     qcli_opts_render, qcli_opts_bake, qcli_opts_demo;
+extern const qcli_opt_cmd qcli_opts_luminaire_capture, qcli_opts_luminaire_info, qcli_opts_luminaire_render,
+    qcli_opts_luminaire_study;
 
 /* Parses argv[first..argc-1] into opts (first set to c->defaults). 0, or 2 after one line on stderr. */
 int qcli_opt_parse(const qcli_opt_cmd *c, int argc, char **argv, int first, void *opts);
