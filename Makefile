@@ -127,7 +127,7 @@ QIBL_BENCH := $(BUILD)/bin/qibl-bench
 .PHONY: study gles all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan examples \
         install check-install check-farm amalgamate check-amalgamate docs-memory
 .PHONY: baremetal baremetal-tables docs-size gba gba-tables
-.PHONY: docs docs-check docs-check-test docs-bench
+.PHONY: docs docs-check docs-check-test docs-bench docs-probe
 .DEFAULT_GOAL := all
 
 all: $(LIBQIBL) $(LIBSOFT) $(QIBL) $(QIBL_BENCH)
@@ -378,6 +378,11 @@ docs-check-test: $(QIBL) $(GOLDEN)
 docs-bench: $(QIBL) $(GOLDEN)
 	@QIBL=$(QIBL) CC="$(CC)" HOST_CFLAGS="$(HOST_CFLAGS)" bash tools/scripts/docs-bench.sh docs/results/bench.txt
 	@BUILD=$(BUILD) QIBL=$(QIBL) GOLDEN=$(GOLDEN) bash tools/scripts/docs.sh --write
+
+# the README's probe table of a user's probe (demo --probe and the bake/relight/render --probe chain)
+docs-probe: $(QIBL) $(GOLDEN)
+	@QIBL=$(QIBL) bash tools/scripts/docs-probe.sh docs/results/probe.txt
+	@$(MAKE) --no-print-directory docs
 
 # Bare metal (tools/baremetal/run.sh): the golden runner for Cortex-M0 code on qemu's mps2-an385,
 # Cortex-M4 code on mps2-an386 and RV32IMAC on virt (picolibc, semihosting); every case must print

@@ -12,6 +12,7 @@
 #include "bake/extras.h"
 #include "bake/job.h"
 #include "bake/job_internal.h"
+#include "bake/probesun.h"
 #include "io/atomic.h"
 #include "qibl/asset.h"
 #include "qibl/lightpath.h"
@@ -30,6 +31,14 @@ int qtool_bake_opts_check(const qtool_bake_opts *o, char *err, size_t errlen)
                    QTOOL_BAKE_BLOCK);
     else if (o->out && o->nshards > 1)
         qtool_errf(err, errlen, "a shard writes partial sums only (--sums); qibl merge writes the asset");
+    else if (o->probe && (o->nshards > 1 || o->sums_out || o->budget > 0 || o->npaths || o->has_box || o->lsq))
+        qtool_errf(err, errlen, "--probe bakes its own light paths and maps (quadrature) in one job: no --shard, --sums, "
+                   "--budget, --lsq, --sun-path, --lamp-track or --lamp-box with it");
+    else if (o->yaw != 0 && !o->probe)
+        qtool_errf(err, errlen, "--yaw turns a --probe: give --probe PROBE.hdr");
+    else if (!(o->yaw >= -QTOOL_PROBESUN_YAW_MAX && o->yaw <= QTOOL_PROBESUN_YAW_MAX))
+        qtool_errf(err, errlen, "--yaw: %g is outside -%.0f..%.0f degrees", o->yaw, QTOOL_PROBESUN_YAW_MAX,
+                   QTOOL_PROBESUN_YAW_MAX);
     else if ((o->npaths || o->has_box) && o->uk == 0)
         qtool_errf(err, errlen, "light paths and --lamp-box need the unshadowed maps (--unshadowed-k 1..25)");
     else
@@ -355,9 +364,43 @@ static int bake_outputs(const qtool_bake_opts *o, const qtool_rt_scene *s, const
     return 0;
 }
 
+/* --probe: the probe read and its sources found before the bake (a probe without one is refused
+ * first), the shadowed sums for the sky's k, then bake/probesun.h's asset */
+static int bake_probe_job(const qtool_bake_opts *o, FILE *out, FILE *log, char *err, size_t errlen)
+{
+    const qtool_scene_opts *so = &o->scene;
+    qtool_probesun ps;
+    if (qtool_probesun_load(o->probe, o->yaw, QTOOL_PROBESUN_MAX_PARTS, &ps, err, errlen) != 0)
+        return -1;
+    int rc = -1;
+    qtool_rt_scene s;
+    qtool_bake_sums sums;
+    if (ps.nsrc == 0) {
+        rc = qtool_probesun_bake(NULL, 0, 0, 0, 1, NULL, 0, 0, 0, &ps, o->out, out, err, errlen);
+    } else if (qtool_scene_load(so, &s, err, errlen) == 0) {
+        double t0 = qtool_bake_now();
+        if (qtool_bake_run_progress(&s, so->w, so->h, (qtool_pano_kind)so->kind, (uint32_t)o->ndirs,
+                                    QTOOL_PROBESUN_SHADOWED_K, 0, 1, so->threads, o->progress, 0, &sums) != 0) {
+            qtool_errf(err, errlen, "bake: out of memory");
+        } else {
+            if (!o->quiet)
+                fprintf(log, "bake: %ux%u, %ld directions, %zu triangles, %.1f s on %d threads\n", so->w, so->h,
+                        o->ndirs, s.ntri, qtool_bake_now() - t0, so->threads);
+            rc = qtool_probesun_bake(&s, so->w, so->h, (qtool_pano_kind)so->kind, so->threads, &sums,
+                                     (uint32_t)o->ndirs, (uint32_t)o->lut, o->layout, &ps, o->out, out, err, errlen);
+            qtool_bake_sums_free(&sums);
+        }
+        qtool_rt_scene_free(&s);
+    }
+    qtool_probesun_free(&ps);
+    return rc;
+}
+
 int qtool_bake_job(const qtool_bake_opts *o, FILE *out, FILE *log, char *err, size_t errlen)
 {
     const qtool_scene_opts *so = &o->scene;
+    if (o->probe)
+        return bake_probe_job(o, out, log, err, errlen);
     qtool_rt_scene s;
     if (qtool_scene_load(so, &s, err, errlen) != 0)
         return -1;

@@ -28,12 +28,15 @@ typedef struct qtool_render_opts {
     const char *png, *pfm, *exr, *depth; /* outputs, NULL for none (at least one) */
     const char *ies;          /* a goniometric profile for the point lamp, NULL for none */
     double aim[3], up[3];     /* its orientation */
+    const char *probe;        /* --probe P.hdr: the truth under the whole probe instead of light (probesun.h) */
+    double yaw;               /* --yaw DEG: the probe turned (-360..360) */
+    long spp, seed;           /* the probe truth: samples per pixel in each of two renders, their seed pair */
 } qtool_render_opts;
 
 #define QTOOL_RENDER_OPTS_DEFAULT                                                                       \
     {.scene = QTOOL_SCENE_OPTS_DEFAULT,                                                                 \
      .light = {.point = 0, .dir = {0, 0, 1}, .pos = {0, 0, 0}, .rgb = {1, 1, 1}, .falloff = 1},        \
-     .aim = {0, 0, -1}, .up = {1, 0, 0}}
+     .aim = {0, 0, -1}, .up = {1, 0, 0}, .spp = 256}
 
 /* What a render holds between its steps: the profile, the scene and the frames. */
 typedef struct qtool_render_job {
@@ -71,6 +74,8 @@ typedef struct qtool_bake_opts {
     int progress;                /* 0 none, 1 a bar, 2 lines */
     uint32_t layout;             /* QIBL_SHMAPS_* */
     qtool_bake_path paths[QTOOL_BAKE_JOB_MAX_PATHS];
+    const char *probe;           /* --probe P.hdr: a probe-lit (sun + SH) asset, bake/probesun.h */
+    double yaw;                  /* --yaw DEG: the probe turned (-360..360) */
 } qtool_bake_opts;
 
 #define QTOOL_BAKE_OPTS_DEFAULT                                                                         \

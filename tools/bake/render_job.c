@@ -8,6 +8,7 @@
 
 #include "bake/bake.h"
 #include "bake/job.h"
+#include "bake/probesun.h"
 #include "io/exr.h"
 #include "io/pfm.h"
 #include "io/png.h"
@@ -53,13 +54,45 @@ int qtool_render_points(const qtool_rt_scene *s, const qtool_scene_opts *so, dou
     return p ? 0 : -1;
 }
 
-int qtool_render_run(const qtool_render_opts *o, qtool_render_job *j, int *png_written, char *err, size_t errlen)
+/* --pfm and --exr from j->lin */
+static int write_floats(const qtool_render_opts *o, qtool_render_job *j, char *err, size_t errlen)
 {
     const qtool_scene_opts *so = &o->scene;
     size_t np = (size_t)so->w * so->h;
     char werr[512];
+    if (o->pfm || o->exr) {
+        for (size_t i = 0; i < np * 3; ++i)
+            j->f3[i] = (float)j->lin[i];
+        if ((o->pfm && qtool_pfm_write(o->pfm, (int)so->w, (int)so->h, 3, j->f3, werr, sizeof werr) != 0) ||
+            (o->exr && qtool_exr_write(o->exr, (int)so->w, (int)so->h, j->f3, QTOOL_EXR_FLOAT, QTOOL_EXR_ZIP, werr,
+                                       sizeof werr) != 0))
+            return qtool_errf(err, errlen, "%s", werr);
+    }
+    return 0;
+}
+
+int qtool_render_run(const qtool_render_opts *o, qtool_render_job *j, int *png_written, char *err, size_t errlen)
+{
+    const qtool_scene_opts *so = &o->scene;
+    char werr[512];
     *png_written = 0;
     double t0 = qtool_bake_now();
+    if (o->probe) { /* the truth under the whole probe (probesun.h), written as below */
+        qtool_probesun ps;
+        if (qtool_probesun_load(o->probe, o->yaw, 1, &ps, err, errlen) != 0)
+            return -1;
+        int rc = qtool_probesun_truth(&j->s, so->w, so->h, (qtool_pano_kind)so->kind, &ps, (uint32_t)o->spp,
+                                      (uint64_t)o->seed, so->threads, j->lin);
+        qtool_probesun_free(&ps);
+        if (rc != 0)
+            return qtool_errf(err, errlen, "render: the probe's truth failed (out of memory)");
+        j->ms = (qtool_bake_now() - t0) * 1e3;
+        qtool_bake_lin_to8(j->lin, so->w, so->h, j->rgb8);
+        if (o->png && qtool_png_write_rgb8(o->png, (int)so->w, (int)so->h, j->rgb8, werr, sizeof werr) != 0)
+            return qtool_errf(err, errlen, "%s", werr);
+        *png_written = o->png != NULL;
+        return write_floats(o, j, err, errlen);
+    }
     qtool_rt_render_gonio(&j->s, so->w, so->h, (qtool_pano_kind)so->kind, &o->light,
                           j->have_ies ? qtool_ies_lamp_scale : NULL, j->have_ies ? &j->lamp : NULL, so->threads, j->lin,
                           j->dep, NULL);
@@ -73,14 +106,8 @@ int qtool_render_run(const qtool_render_opts *o, qtool_render_job *j, int *png_w
             return qtool_errf(err, errlen, "%s", werr);
         *png_written = 1;
     }
-    if (o->pfm || o->exr) {
-        for (size_t i = 0; i < np * 3; ++i)
-            j->f3[i] = (float)j->lin[i];
-        if ((o->pfm && qtool_pfm_write(o->pfm, (int)so->w, (int)so->h, 3, j->f3, werr, sizeof werr) != 0) ||
-            (o->exr && qtool_exr_write(o->exr, (int)so->w, (int)so->h, j->f3, QTOOL_EXR_FLOAT, QTOOL_EXR_ZIP, werr,
-                                       sizeof werr) != 0))
-            return qtool_errf(err, errlen, "%s", werr);
-    }
+    if (write_floats(o, j, err, errlen) != 0)
+        return -1;
     if (o->depth && qtool_pfm_write(o->depth, (int)so->w, (int)so->h, 1, j->dep, werr, sizeof werr) != 0)
         return qtool_errf(err, errlen, "%s", werr);
     return 0;

@@ -189,7 +189,11 @@ static int point_default(const qtool_rt_scene *s, const qcli_scene *so, qtool_rt
     "  panorama: --size WxH pixels from EYE looking at TARGET, UP its approximate up, --fov DEG the\n" \
     "  vertical field of view (default 60, in (0, 180)); --camera gltf[:N]: the scene file's camera N\n" \
     "  (default 0, perspective, its yfov unless --fov), placed as the mesh is. A bad camera (EYE =\n" \
-    "  TARGET, UP zero or along the view) is named.\n"
+    "  TARGET, UP zero or along the view) is named.\n" \
+    "  --probe PROBE.hdr [--yaw DEG]: the truth under the whole lat-long probe (as the demo's), turned\n" \
+    "  and scaled as bake --probe does (a surface facing up receives 1.6), every direction shadowed:\n" \
+    "  the mean of two importance-sampled renders of --spp samples per pixel (default 256) with seeds\n" \
+    "  2 S + 1 and 2 S + 2 (--seed S, default 0).\n"
 
 
 typedef struct render_cli {
@@ -284,6 +288,14 @@ static const qcli_opt render_table[] = {
      .help = "the --ies lamp's axis, as relight --ies orients it"},
     {.name = "--up", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = render_up, .arg = "X Y Z", .def = "1 0 0",
      .help = "the --ies lamp's horizontal angle 0"},
+    {.name = "--probe", .kind = QCLI_OPT_STR, .off = offsetof(render_cli, o.probe), .arg = "PROBE.hdr",
+     .help = "the truth under the whole probe instead of --sun/--point"},
+    {.name = "--yaw", .kind = QCLI_OPT_NUM, .off = offsetof(render_cli, o.yaw), .arg = "DEG", .lo = -360, .hi = 360,
+     .help = "turn the --probe (positive turns +x toward +y)"},
+    {.name = "--spp", .kind = QCLI_OPT_INT, .off = offsetof(render_cli, o.spp), .arg = "N", .lo = 4, .hi = 1 << 20,
+     .help = "the --probe truth's samples per pixel in each of its two renders"},
+    {.name = "--seed", .kind = QCLI_OPT_INT, .off = offsetof(render_cli, o.seed), .arg = "S", .lo = 0, .hi = 1 << 30,
+     .help = "the --probe truth's renders use seeds 2 S + 1 and 2 S + 2"},
     QCLI_SCENE_OPTS(NULL),
     QCLI_CAMERA_OPTS,
     {0},
@@ -306,8 +318,13 @@ static int render_parse(int argc, char **argv, qtool_render_opts *o)
         return 2;
     qtool_scene_opts scene = o->scene; /* the caller's defaults (the job's CPUs) */
     *o = c.o, o->scene = scene;
-    if (c.have != 1 || (!o->png && !o->pfm && !o->exr && !o->depth))
-        return qcli_opt_error(t, "render needs exactly one of --sun/--point and at least one of --png/--pfm/--exr/--depth");
+    if (o->probe && (c.have || o->depth || o->ies))
+        return qcli_opt_error(t, "--probe is the whole light: no --sun, --point, --ies or --depth with it");
+    if (!o->probe && (o->yaw != 0 || c.o.spp != render_defaults.o.spp || o->seed))
+        return qcli_opt_error(t, "--yaw, --spp and --seed shape a --probe truth: give --probe PROBE.hdr");
+    if ((c.have != 1 && !o->probe) || (!o->png && !o->pfm && !o->exr && !o->depth))
+        return qcli_opt_error(t, "render needs exactly one of --sun/--point/--probe and at least one of "
+                              "--png/--pfm/--exr/--depth");
     if ((o->ies || c.have_aim) && !o->light.point)
         return qcli_opt_error(t, "--ies, --aim and --up shape a --point lamp");
     if (c.have_aim && !o->ies)
@@ -336,7 +353,8 @@ int qcli_cmd_render(int argc, char **argv)
     if (rc == 0)
         printf("rendered %ux%u %s of %s, %zu triangles, %s light, %.0f ms on %d threads\n", o.scene.w, o.scene.h,
                frame_name(&o.scene),
-               o.scene.scene ? o.scene.scene : "the built-in courtyard", j.s.ntri, o.light.point ? "point" : "directional",
+               o.scene.scene ? o.scene.scene : "the built-in courtyard", j.s.ntri,
+               o.probe ? "probe" : o.light.point ? "point" : "directional",
                j.ms, o.scene.threads);
     qtool_render_free(&j);
     return job_status(rc, err);
@@ -372,6 +390,12 @@ int qcli_cmd_render(int argc, char **argv)
     "  there are none, so merge can refuse a shard baked without the others' paths).\n" \
     "  --camera, --fov (as for render): the pixels are a fixed camera's rays instead of the panorama's,\n" \
     "  so the maps relight a pre-rendered background seen from one corner (qibl relight as any asset).\n" \
+    "  --probe PROBE.hdr [--yaw DEG]: a probe-lit asset (the demo's sun + SH): the probe, turned and\n" \
+    "  scaled so a surface facing up receives 1.6, gives its compact bright sources (each split into 8\n" \
+    "  equal-energy parts), each part's visibility baked as a single-direction light path, shadowed maps\n" \
+    "  k = 25 for the rest as SH, unshadowed k = 16 for the sources, and a PSUN chunk naming the probe;\n" \
+    "  --k and --unshadowed-k do not apply. relight ASSET --probe PROBE.hdr uses it. A probe without a\n" \
+    "  compact source is refused (relight it as SH).\n" \
     "  Exit status: 0 done, 1 failed (a file, memory; named on stderr, nothing half-written), 2 bad\n" \
     "  arguments.\n"
 
@@ -488,6 +512,10 @@ static const qcli_opt bake_table[] = {
      .help = "the region free lamps move in (LOCC: their expected visibility)"},
     {.name = "--lamp-samples", .kind = QCLI_OPT_INT, .off = offsetof(bake_cli, o.lamp_samples), .arg = "N",
      .lo = 1, .hi = 4096, .help = "Halton lamp positions in the box"},
+    {.name = "--probe", .kind = QCLI_OPT_STR, .off = offsetof(bake_cli, o.probe), .arg = "PROBE.hdr",
+     .help = "a probe-lit asset: the probe's compact sources as light paths, the rest as SH"},
+    {.name = "--yaw", .kind = QCLI_OPT_NUM, .off = offsetof(bake_cli, o.yaw), .arg = "DEG", .lo = -360, .hi = 360,
+     .help = "turn the --probe (positive turns +x toward +y)"},
     QCLI_SCENE_OPTS(NULL),
     QCLI_CAMERA_OPTS,
     {0},

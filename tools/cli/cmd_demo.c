@@ -19,6 +19,7 @@ typedef struct demo_opts {
     const char *dir;
     long ndirs, frames;
     long probe_parts, probe_spp;
+    const char *probe; /* --probe P.hdr: the bake and the probe-lit rows for P only */
 } demo_opts;
 
 #define DEMO_PROSE \
@@ -29,12 +30,14 @@ typedef struct demo_opts {
     "  a fixed camera's row (the scene from a corner against the ray-traced frame of that camera).\n" \
     "  Sizes: default 512x128, 256 directions, 12 frames (`make demo`); --small 256x64, 128 directions,\n" \
     "  6 frames (CI); --full 1024x256, 512 directions, 24 frames and the full probe-lit truths (`make demo\n" \
-    "  FULL=1`, minutes of CPU). --size WxH, --dirs and --frames override the size's values.\n"
+    "  FULL=1`, minutes of CPU). --size WxH, --dirs and --frames override the size's values.\n" \
+    "  --probe PROBE.hdr: the bake, then the probe-lit table for that probe alone (role \"user\": SH, median-cut\n" \
+    "  lights, sun + SH against the truth under the whole probe; what bake/relight/render --probe give).\n"
 
 /* What the line says (cli/opt.h): 0 for a value the demo size gives (--small, --full, else default). */
 typedef struct demo_cli {
     qcli_scene_cli sc; /* first, as the scene options' table entries expect */
-    const char *dir;
+    const char *dir, *probe;
     long ndirs, frames;
     int small, full, pick; /* pick: the last of --small (1) and --full (2) given */
 } demo_cli;
@@ -65,6 +68,8 @@ static const qcli_opt demo_table[] = {
      .def = "the size's", .help = "bake directions"},
     {.name = "--frames", .kind = QCLI_OPT_INT, .off = offsetof(demo_cli, frames), .arg = "F", .lo = 2, .hi = 240,
      .def = "the size's", .help = "frames per sweep"},
+    {.name = "--probe", .kind = QCLI_OPT_STR, .off = offsetof(demo_cli, probe), .arg = "PROBE.hdr",
+     .help = "the probe-lit table for this probe only"},
     QCLI_SCENE_OPTS("the size's"),
     {0},
 };
@@ -103,7 +108,7 @@ static int parse_opts(int argc, char **argv, demo_opts *o)
     *o = demo_defaults(qtool_demo_size_named(c.pick == 2 ? "full" : c.pick == 1 ? "small" : "default"));
     if (qcli_scene_from(&qcli_opts_demo, &c.sc, &o->scene) != 0)
         return 2;
-    o->dir = c.dir;
+    o->dir = c.dir, o->probe = c.probe;
     o->ndirs = c.ndirs ? c.ndirs : o->ndirs;
     o->frames = c.frames ? c.frames : o->frames;
     /* for studies: parts per extended source, samples per pixel of the probe-lit truths (a value
@@ -160,6 +165,14 @@ static int run(const demo_opts *o, const qtool_rt_scene *s)
            "%d threads\n",
            scene_name, o->size->name, v.w, v.h, so->kind ? "equirectangular" : "cylindrical", o->ndirs, s->ntri, v.threads);
     int rc = qtool_demo_bake(&v, (uint32_t)o->ndirs, &m, err, sizeof err);
+    if (rc == 0 && o->probe) { /* --probe: the probe-lit rows of that probe alone */
+        rc = qtool_demo_probe_file(&v, o->probe, (uint32_t)o->probe_spp, (int)o->probe_parts, &m.sums,
+                                   (uint32_t)o->ndirs, err, sizeof err);
+        if (rc != 0)
+            fprintf(stderr, "qibl: %s\n", err);
+        qtool_demo_main_free(&m);
+        return rc ? 1 : 0;
+    }
     if (rc == 0) {
         printf("bake: %.1f s (reference renders and SH sums for k <= 25)\n", m.bake_s);
         /* the evaluation set: novel suns, then lamps (relight_light.c) */

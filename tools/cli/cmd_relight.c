@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "bake/bake.h"
+#include "bake/probesun.h"
 #include "gen/scene.h"
 #include "io/asset_write.h"
 #include "io/exr.h"
@@ -299,6 +300,10 @@ const qcli_opt_cmd qcli_opts_relight = {
         "  --rotate: the 3x3 rotation r row by row (orthonormal within 2^-16, det +1): light from d\n"
         "  comes from r d.\n"
         "  Either is applied once to the probe's SH (qibl_shlight_rotate), not by re-projecting.\n"
+        "  On a probe-lit asset (bake --probe) --probe alone (with the bake's --yaw) relights sun + SH\n"
+        "  through its baked paths: the probe's compact sources through the unshadowed maps x their\n"
+        "  visibility, the rest as SH, the probe scaled as the bake did (PNG at exposure 1); another\n"
+        "  probe or yaw than the bake's is refused by name. --probe-mode lights or sunsky: without them.\n"
         "  --png: RGBA8888 with sRGB transfer (or --linear), exposure E (default 1), as an RGB PNG; a\n"
         "  frame whose mean is below 32 of 255 gets a note that it is almost black.\n"
         "  --hdr / --pfm: the same frame linear, before exposure and transfer (the core's Q16.16 output,\n"
@@ -523,6 +528,40 @@ static int relight_soft(const relight_cli *c, const qtool_relight_asset *s, cons
     return write_linear(c, w, h, lin, tail);
 }
 
+/* --probe alone (and --yaw) on a probe-lit asset (bake --probe): sun + SH through its baked paths
+ * (relight/relight.h). The exit status, or -1 when that is not the case (the probe as SH). */
+static int relight_probe_lit(const relight_cli *c, const qtool_relight_asset *s)
+{
+    const qtool_relight_opts *o = &c->r;
+    const qtool_relight_light_list *ll = &o->lights;
+    qibl_chunk_t ch;
+    if (!ll->probe || ll->count || ll->csv || ll->mode != QTOOL_RELIGHT_PROBE_SH || ll->rotate == 2 || o->gles ||
+        qibl_asset_find(&s->a, QTOOL_PROBESUN_CHUNK, &ch) != QIBL_OK)
+        return -1;
+    if (c->hdr || c->pfm || c->exr || c->exposure != 1.0 || o->linear)
+        return fprintf(stderr, "qibl: relight: %s is probe-lit (bake --probe): its sun + SH frame is --png at exposure "
+                               "1 (no --hdr, --pfm, --exr, --exposure or --linear)\n", c->file.v[0]), 1;
+    uint32_t w = s->m.width, h = s->m.height;
+    uint8_t *pix = malloc((size_t)w * h * 3);
+    char err[1200];
+    double ms = 0;
+    qtool_relight_probe_paths_note note;
+    int rc = 1;
+    if (!pix)
+        fprintf(stderr, "qibl: relight: out of memory\n");
+    else if (qtool_relight_probe_paths(s, c->file.v[0], ll->probe, ll->rotate == 1 ? ll->yaw : 0, pix, &ms, &note, err,
+                                       sizeof err) != 0)
+        fprintf(stderr, "qibl: %s\n", err);
+    else if (write_png(c, w, h, pix) == 0) {
+        printf("wrote %s (%ux%u, sun + SH of %s: %d compact source%s through %d baked paths, the rest as SH k = %u, "
+               "%.1f ms)\n", c->png, w, h, ll->probe, note.nsrc, note.nsrc == 1 ? "" : "s", note.nparts, s->m.k, ms);
+        qcli_warn_dark(c->png, pix, (size_t)w * h);
+        rc = 0;
+    }
+    free(pix);
+    return rc;
+}
+
 static int relight_run(relight_cli *c)
 {
     qtool_relight_opts *o = &c->r;
@@ -547,7 +586,10 @@ static int relight_run(relight_cli *c)
     size_t np = (size_t)s.m.width * s.m.height;
     uint8_t *pix = NULL;
     float *lin = NULL;
-    int rc = 1;
+    int rc = relight_probe_lit(c, &s);
+    if (rc >= 0)
+        goto out;
+    rc = 1;
     if (relight_lights(c, &s, &sl, pts, &npts) != 0)
         goto out;
     pix = malloc(np * 3);

@@ -15,6 +15,7 @@
 #include <stdio.h>
 
 #include "bake/bake.h"
+#include "bake/probesun.h"
 #include "render/rt.h"
 
 /* The demo's sizes in one place: `small` is CI's (DEMO_SIZE=small), `default` what `make demo` runs
@@ -91,9 +92,14 @@ int qtool_demo_paths(const qtool_demo_view *v, uint32_t ndirs, const qtool_demo_
  * ray-traced truth with probe_spp samples per pixel per render, SH / median-cut lights / sun + SH
  * relit by the core (each extended source split into kparts, 1..QTOOL_DEMO_MAX_PARTS); its table,
  * RESULT lines and probe_sheet.png. */
-#define QTOOL_DEMO_MAX_PARTS 8
+#define QTOOL_DEMO_MAX_PARTS QTOOL_PROBESUN_MAX_PARTS
 int qtool_demo_probe(const qtool_demo_view *v, uint32_t probe_spp, int kparts, const qtool_bake_sums *sums,
                      uint32_t ndirs, char *err, size_t errlen);
+/* The same part for one probe file (`qibl demo --probe P`, a 2:1 lat-long .hdr): its rows under the
+ * role "user" (RESULT demo.probe_user_*), truth seeds 1 and 2 (render --probe --seed 0's), and
+ * probe_sheet.png with its one row. */
+int qtool_demo_probe_file(const qtool_demo_view *v, const char *path, uint32_t probe_spp, int kparts,
+                          const qtool_bake_sums *sums, uint32_t ndirs, char *err, size_t errlen);
 
 /* The fixed-camera part (camera.c): the scene from a corner through a 70-degree perspective camera
  * (v->w / 4 wide, at least 4, 4:3), baked with ndirs directions as shadowed SH k = 16 and unshadowed k = 9

@@ -14,6 +14,7 @@
 
 #include "bake/bake.h"
 #include "bake/path.h"
+#include "bake/probesun.h"
 #include "demo/demo.h"
 #include "io/text.h"
 #include "io/hdr.h"
@@ -30,13 +31,10 @@
 #define PROBE_DIR "../shared/fixtures/probes"
 /* every probe is scaled so that a surface facing up receives this irradiance (the demo's sun
  * delivers 2.6 / 2.4 / 2.1 at the zenith): the courtyard comes out mid-grey */
-#define TARGET_E_UP 1.6
-#define MAX_SUNS 4
-/* a compact source holds at least this share of the energy within SUN_RADIUS degrees */
-#define SUN_SHARE 0.01
-#define SUN_RADIUS 12.0
+#define TARGET_E_UP QTOOL_PROBESUN_TARGET_E_UP
+#define MAX_SUNS QTOOL_PROBESUN_MAX_SRC
 /* bands of the unshadowed maps the sources are relit through */
-#define SHMU_K 16
+#define SHMU_K QTOOL_PROBESUN_UNSHADOWED_K
 /* an extended source (a softbox, a sun with its glow) is split into up to this many equal-energy
  * parts, each a direction with its own baked visibility: a penumbra of that many steps */
 #define MAX_PARTS QTOOL_DEMO_MAX_PARTS
@@ -50,7 +48,7 @@ typedef struct {
     const char *role, *file, *what;
 } probe_pick;
 
-static const probe_pick picks[3] = {
+static const probe_pick demo_picks[3] = {
     {"soft", "potsdamer_platz_1k.hdr", "overcast city square, no sun"},
     {"sunny", "quarry_01_1k.hdr", "clear sky, small sun with 53 % of the energy"},
     {"indoor", "studio_small_03_1k.hdr", "photo studio, small bright softboxes"},
@@ -60,60 +58,6 @@ typedef struct {
     double psnr, bright, ms, bytes, psnr_cls[NCLS], share_cls[NCLS];
 } row_t;
 
-typedef struct {
-    double dir[3], rgb[3], share, radius_deg;
-} sun_t;
-
-typedef struct {
-    double x, y, en, rgb[3], d[3];
-} part_px;
-
-static int cmp_x(const void *a, const void *b)
-{
-    double u = ((const part_px *)a)->x, v = ((const part_px *)b)->x;
-    return u < v ? -1 : u > v;
-}
-
-static int cmp_y(const void *a, const void *b)
-{
-    double u = ((const part_px *)a)->y, v = ((const part_px *)b)->y;
-    return u < v ? -1 : u > v;
-}
-
-/* median cut of a source's pixels (tangent-plane coordinates about its centroid) into k parts
- * (k a power of two) of equal energy; appends them to out. Returns the number appended. */
-static int split_source(part_px *px, size_t n, int k, double tot, sun_t *out)
-{
-    if (n == 0)
-        return 0;
-    if (k <= 1 || n == 1) {
-        double en = 0, c[3] = {0, 0, 0}, rgb[3] = {0, 0, 0};
-        for (size_t i = 0; i < n; ++i) {
-            en += px[i].en;
-            for (int q = 0; q < 3; ++q)
-                c[q] += px[i].en * px[i].d[q], rgb[q] += px[i].rgb[q];
-        }
-        double l = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-        for (int q = 0; q < 3; ++q)
-            out->dir[q] = l > 0 ? c[q] / l : px[0].d[q], out->rgb[q] = rgb[q];
-        out->share = en / tot, out->radius_deg = 0;
-        return 1;
-    }
-    double mx = 0, my = 0, sx = 0, sy = 0, en = 0;
-    for (size_t i = 0; i < n; ++i)
-        en += px[i].en, mx += px[i].en * px[i].x, my += px[i].en * px[i].y;
-    mx /= en, my /= en;
-    for (size_t i = 0; i < n; ++i)
-        sx += px[i].en * (px[i].x - mx) * (px[i].x - mx), sy += px[i].en * (px[i].y - my) * (px[i].y - my);
-    qsort(px, n, sizeof *px, sx >= sy ? cmp_x : cmp_y);
-    size_t m = 0;
-    for (double acc = 0; m < n - 1 && acc + px[m].en <= en / 2; ++m)
-        acc += px[m].en;
-    if (m == 0)
-        m = 1;
-    int a = split_source(px, m, k / 2, tot, out);
-    return a + split_source(px + m, n - m, k / 2, tot, out + a);
-}
 
 static void score(const uint8_t *relit, const uint8_t *truth, const uint8_t *cls, size_t np, row_t *r)
 {
@@ -175,155 +119,6 @@ static float *procedural(int role, int w, int h)
     return p;
 }
 
-/* Compact bright sources: 8-connected components (wrapping in phi) of the pixels at least
- * QTOOL_ENV_BRIGHT x the mean radiance, each holding >= SUN_SHARE of the energy and within
- * SUN_RADIUS degrees of its centroid; each split into kparts equal-energy parts (parts, part_src
- * its source). Their pixels are zeroed in sky. Returns the count (<= MAX_SUNS, largest first). */
-static int find_suns(const qtool_env *e, float *sky, sun_t *suns, sun_t *parts, int *part_src, int *nparts, int kparts)
-{
-    *nparts = 0;
-    uint32_t w = e->w, h = e->h;
-    size_t np = (size_t)w * h;
-    int32_t *lab = malloc(np * sizeof(int32_t));
-    size_t *stack = malloc(np * sizeof(size_t));
-    int ns = 0;
-    if (!lab || !stack) {
-        free(lab), free(stack);
-        return 0;
-    }
-    double tot = e->e_b + e->e_r;
-    for (size_t i = 0; i < np; ++i)
-        lab[i] = -1;
-    int32_t ncomp = 0;
-    sun_t cand[64];
-    int32_t cand_lab[64];
-    int ncand = 0;
-    for (size_t s0 = 0; s0 < np; ++s0) {
-        if (!e->in_b[s0] || lab[s0] >= 0)
-            continue;
-        size_t sp = 0;
-        stack[sp++] = s0, lab[s0] = ncomp;
-        double en = 0, c[3] = {0, 0, 0}, rgb[3] = {0, 0, 0};
-        size_t first = s0;
-        /* first pass: energy, centroid, colour (midpoint solid angle, as the core's lights use) */
-        while (sp) {
-            size_t i = stack[--sp];
-            uint32_t u = (uint32_t)(i % w), v = (uint32_t)(i / w);
-            double th = (v + 0.5) * QTOOL_PI / h, ph = (u + 0.5) * 2 * QTOOL_PI / w, dw = 2 * QTOOL_PI * QTOOL_PI / ((double)w * h) * sin(th);
-            const float *L = e->rgb + 3 * i;
-            double y = (0.2126 * L[0] + 0.7152 * L[1] + 0.0722 * L[2]) * e->row_dw[v];
-            en += y;
-            c[0] += y * sin(th) * cos(ph), c[1] += y * sin(th) * sin(ph), c[2] += y * cos(th);
-            for (int q = 0; q < 3; ++q)
-                rgb[q] += L[q] * dw;
-            for (int dv = -1; dv <= 1; ++dv)
-                for (int du = -1; du <= 1; ++du) {
-                    long vv = (long)v + dv;
-                    if (vv < 0 || vv >= (long)h)
-                        continue;
-                    size_t j = (size_t)vv * w + (size_t)(((long)u + du + (long)w) % (long)w);
-                    if (e->in_b[j] && lab[j] < 0)
-                        lab[j] = ncomp, stack[sp++] = j;
-                }
-        }
-        (void)first;
-        double l = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-        if (en >= SUN_SHARE * tot && l > 0 && ncand < 64) {
-            sun_t *s = &cand[ncand];
-            for (int q = 0; q < 3; ++q)
-                s->dir[q] = c[q] / l, s->rgb[q] = rgb[q];
-            s->share = en / tot, s->radius_deg = 0;
-            cand_lab[ncand++] = ncomp;
-        }
-        ++ncomp;
-    }
-    /* angular radius of each candidate */
-    for (size_t i = 0; i < np; ++i)
-        for (int k = 0; k < ncand; ++k)
-            if (lab[i] == cand_lab[k]) {
-                uint32_t u = (uint32_t)(i % w), v = (uint32_t)(i / w);
-                double th = (v + 0.5) * QTOOL_PI / h, ph = (u + 0.5) * 2 * QTOOL_PI / w;
-                double d = sin(th) * cos(ph) * cand[k].dir[0] + sin(th) * sin(ph) * cand[k].dir[1] + cos(th) * cand[k].dir[2];
-                double a = acos(fmin(1, fmax(-1, d))) * 180 / QTOOL_PI;
-                if (a > cand[k].radius_deg)
-                    cand[k].radius_deg = a;
-            }
-    /* the largest compact ones */
-    int used[64] = {0};
-    while (ns < MAX_SUNS) {
-        int best = -1;
-        for (int k = 0; k < ncand; ++k)
-            if (!used[k] && cand[k].radius_deg <= SUN_RADIUS && (best < 0 || cand[k].share > cand[best].share))
-                best = k;
-        if (best < 0)
-            break;
-        used[best] = 1;
-        suns[ns++] = cand[best];
-        const double *cd = cand[best].dir;
-        double t1[3] = {-cd[1], cd[0], 0}, l1 = sqrt(cd[0] * cd[0] + cd[1] * cd[1]);
-        if (l1 < 1e-6)
-            t1[0] = 1, t1[1] = 0, l1 = 1;
-        for (int q = 0; q < 3; ++q)
-            t1[q] /= l1;
-        double t2[3] = {cd[1] * t1[2] - cd[2] * t1[1], cd[2] * t1[0] - cd[0] * t1[2], cd[0] * t1[1] - cd[1] * t1[0]};
-        size_t npx = 0;
-        part_px *px;
-        for (size_t i = 0; i < np; ++i)
-            npx += lab[i] == cand_lab[best];
-        px = malloc(npx * sizeof *px);
-        npx = 0;
-        for (size_t i = 0; px && i < np; ++i)
-            if (lab[i] == cand_lab[best]) {
-                uint32_t u = (uint32_t)(i % w), v = (uint32_t)(i / w);
-                double th = (v + 0.5) * QTOOL_PI / h, ph = (u + 0.5) * 2 * QTOOL_PI / w, dw = 2 * QTOOL_PI * QTOOL_PI / ((double)w * h) * sin(th);
-                const float *L = e->rgb + 3 * i;
-                part_px *q = &px[npx++];
-                q->d[0] = sin(th) * cos(ph), q->d[1] = sin(th) * sin(ph), q->d[2] = cos(th);
-                q->x = q->d[0] * t1[0] + q->d[1] * t1[1] + q->d[2] * t1[2];
-                q->y = q->d[0] * t2[0] + q->d[1] * t2[1] + q->d[2] * t2[2];
-                q->en = (0.2126 * L[0] + 0.7152 * L[1] + 0.0722 * L[2]) * e->row_dw[v];
-                for (int c = 0; c < 3; ++c)
-                    q->rgb[c] = L[c] * dw;
-                sky[3 * i] = sky[3 * i + 1] = sky[3 * i + 2] = 0;
-            }
-        if (px) {
-            int a = split_source(px, npx, kparts, tot, parts + *nparts);
-            for (int k = 0; k < a; ++k)
-                part_src[*nparts + k] = ns - 1;
-            *nparts += a;
-        }
-        free(px);
-    }
-    free(lab), free(stack);
-    return ns;
-}
-
-/* probe (floats) -> the core's LINEAR_F32 image (bit patterns) */
-static void f32_image(const float *p, uint32_t w, uint32_t h, uint32_t *bits, qibl_lightprobe_image_t *img)
-{
-    memcpy(bits, p, sizeof(float) * 3 * (size_t)w * h);
-    memset(img, 0, sizeof *img);
-    img->pixels = bits, img->width = w, img->height = h, img->format = QIBL_LIGHTPROBE_LINEAR_F32;
-}
-
-static int probe_sh(const float *p, uint32_t w, uint32_t h, uint32_t k, qibl_shlight_t *l, double *ms)
-{
-    uint32_t *bits = malloc(sizeof(float) * 3 * (size_t)w * h);
-    size_t wsn = qibl_probe_sh_workspace_size(w, h);
-    void *ws = malloc(wsn);
-    qibl_lightprobe_image_t img;
-    int rc = -1;
-    if (bits && ws) {
-        f32_image(p, w, h, bits, &img);
-        double t0 = qtool_demo_now();
-        if (qibl_shlight_init(l, k) == QIBL_OK && qibl_shlight_add_probe(l, &img, NULL, ws, wsn) == QIBL_OK)
-            rc = 0;
-        if (ms)
-            *ms = (qtool_demo_now() - t0) * 1e3;
-    }
-    free(bits), free(ws);
-    return rc;
-}
 
 static int probe_lights_sh(const float *p, uint32_t w, uint32_t h, uint32_t k, qibl_shlight_t *l, double *ms)
 {
@@ -336,7 +131,7 @@ static int probe_lights_sh(const float *p, uint32_t w, uint32_t h, uint32_t k, q
     qibl_lightprobe_result_t res;
     int rc = -1;
     if (bits && ws) {
-        f32_image(p, w, h, bits, &img);
+        qtool_probesun_f32_image(p, w, h, bits, &img);
         double t0 = qtool_demo_now();
         if (qibl_lightprobe_build(&lp, &img, QIBL_LIGHTPROBE_MEDIANCUT, ws, wsn) == QIBL_OK &&
             qibl_lightprobe_lights(&lp, NULL, lights, NLIGHTS, &res) == QIBL_OK && qibl_shlight_init(l, k) == QIBL_OK &&
@@ -349,113 +144,6 @@ static int probe_lights_sh(const float *p, uint32_t w, uint32_t h, uint32_t k, q
     return rc;
 }
 
-/* LPTH payload of one fixed direction: each pixel visible (one edge at 0) or not (none) */
-static int sun_path(const qtool_demo_view *v, const sun_t *sun, uint8_t *cls, uint8_t **out, size_t *n)
-{
-    uint32_t w = v->w, h = v->h;
-    size_t np = (size_t)w * h;
-    qtool_rt_light l = {0, {sun->dir[0], sun->dir[1], sun->dir[2]}, {0, 0, 0}, {1, 1, 1}, 1};
-    if (qtool_bake_classify(v->scene, w, h, v->kind, &l, v->threads, cls) != 0)
-        return -1;
-    uint8_t *counts = malloc(np);
-    uint16_t *edges = malloc(np * sizeof(uint16_t));
-    uint32_t kt[2] = {0, 65535}, ne = 0;
-    int32_t kv[6];
-    for (int c = 0; c < 3; ++c)
-        kv[c] = kv[3 + c] = (int32_t)lrint(sun->dir[c] * 65536.0);
-    int rc = -1;
-    if (counts && edges) {
-        for (size_t i = 0; i < np; ++i) {
-            counts[i] = cls[i] == 1;
-            if (counts[i])
-                edges[ne++] = 0;
-        }
-        rc = qtool_bake_path_payload(w, h, 0, 2, kt, kv, counts, edges, ne, out, n);
-    }
-    free(counts), free(edges);
-    return rc;
-}
-
-/* Sun + SH through the core, per row: the sky SH through the shadowed maps (SHMP), then per source
- * one relight of the unshadowed maps (SHMU) under the whole source from its centroid, added once
- * per part scaled by the part's share of the source's colour and times the part's visibility (its
- * single-direction path, LPTH number k): out = sky + sum_k (rgb_k / rgb_src) U_src V_k. One SHMU
- * pass per source however many parts. rgb8 (sRGB, as the other frames). 0, or -1 (err). */
-static int relight_sun_sh(const uint8_t *asset, size_t n, const qibl_shlight_t *sky, const sun_t *src, int nsrc,
-                          const sun_t *parts, const int *part_src, int nparts, uint8_t *rgb8, double *ms, char *err,
-                          size_t errlen)
-{
-    qibl_asset_t a;
-    qibl_shmaps_t mu, msh;
-    qibl_lightpath_t lp[MAX_SUNS * MAX_PARTS];
-    qibl_shmap_weights_t wsky, wsrc[MAX_SUNS];
-    int32_t wq[MAX_SUNS * MAX_PARTS][3];
-    qibl_status_t st = qibl_asset_open(&a, asset, n);
-    if (st == QIBL_OK)
-        st = qibl_asset_shmaps_unshadowed(&a, &mu);
-    if (st == QIBL_OK)
-        st = qibl_asset_shmaps(&a, &msh);
-    for (int k = 0; st == QIBL_OK && k < nparts; ++k) {
-        st = qibl_lightpath_from_asset(&a, (uint32_t)k, &lp[k]);
-        for (int c = 0; c < 3; ++c) /* the part's share of its source's colour, Q16 */
-            wq[k][c] = src[part_src[k]].rgb[c] > 0 ? (int32_t)lrint(65536.0 * parts[k].rgb[c] / src[part_src[k]].rgb[c]) : 0;
-    }
-    if (st == QIBL_OK)
-        st = qibl_shmap_weights(&msh, sky, &wsky);
-    for (int i = 0; st == QIBL_OK && i < nsrc; ++i) {
-        qibl_shlight_t sl;
-        qibl_q16_t dir[3], rgb[3];
-        for (int c = 0; c < 3; ++c)
-            dir[c] = (qibl_q16_t)lrint(src[i].dir[c] * 65536.0), rgb[c] = (qibl_q16_t)lrint(src[i].rgb[c] * 65536.0);
-        st = qibl_shlight_init(&sl, mu.k);
-        if (st == QIBL_OK)
-            st = qibl_shlight_add_dir(&sl, dir, rgb);
-        if (st == QIBL_OK)
-            st = qibl_shmap_weights(&mu, &sl, &wsrc[i]);
-    }
-    if (st != QIBL_OK)
-        return qtool_errf(err, errlen, "demo: sun + SH: %s", qibl_status_str(st));
-    uint32_t w = mu.width, h = mu.height;
-    size_t wsn = qibl_shmap_span_workspace_size(w);
-    uint8_t *pix = malloc((size_t)w * h * 4);
-    int32_t *row = malloc(sizeof(int32_t) * 3 * w), *urow = malloc(sizeof(int32_t) * 3 * w);
-    int32_t *prow = malloc(sizeof(int32_t) * 3 * w);
-    void *ws = malloc(wsn);
-    if (!pix || !row || !urow || !prow || !ws) {
-        free(pix), free(row), free(urow), free(prow), free(ws);
-        return qtool_errf(err, errlen, "demo: out of memory");
-    }
-    qibl_fb_desc_t fb = {0};
-    fb.pixels = pix, fb.width = w, fb.height = h, fb.format = QIBL_FB_RGBA8888, fb.srgb = 1;
-    struct timespec t0, t1;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
-    for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {
-        st = qibl_shmap_relight_span(&msh, &wsky, 0, y, w, row, ws, wsn);
-        for (int i = 0; st == QIBL_OK && i < nsrc; ++i) {
-            st = qibl_shmap_relight_span(&mu, &wsrc[i], 0, y, w, urow, ws, wsn);
-            for (int k = 0; st == QIBL_OK && k < nparts; ++k) {
-                if (part_src[k] != i)
-                    continue;
-                for (uint32_t x = 0; x < w; ++x)
-                    for (int c = 0; c < 3; ++c) {
-                        int64_t v = (int64_t)urow[3 * x + (uint32_t)c] * wq[k][c];
-                        prow[3 * x + (uint32_t)c] = (int32_t)((v + 32768) >> 16);
-                    }
-                st = qibl_lightpath_shade_span(&lp[k], 0, 0, 0, y, w, prow, row, true);
-            }
-        }
-        if (st == QIBL_OK)
-            st = qibl_fb_write_row(&fb, 0, y, w, row);
-    }
-    clock_gettime(CLOCK_MONOTONIC, &t1);
-    *ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
-    for (size_t i = 0; st == QIBL_OK && i < (size_t)w * h; ++i)
-        memcpy(rgb8 + 3 * i, pix + 4 * i, 3);
-    free(pix), free(row), free(urow), free(prow), free(ws);
-    if (st != QIBL_OK)
-        return qtool_errf(err, errlen, "demo: sun + SH: %s", qibl_status_str(st));
-    return 0;
-}
 
 /* ---- the demo part --------------------------------------------------------------------------- */
 
@@ -470,6 +158,9 @@ typedef struct {
     size_t errlen;
     double *lin, *ha, *hb;
     uint8_t *truth, *cls, *tmp, *heatb, *best;
+    const probe_pick *picks; /* the probes: the three of picks, or the user's one */
+    int npicks;
+    const char *user;        /* the user's probe file (demo --probe), or NULL */
 } ctx_t;
 
 /* relights the environment five times (the minimum ms: the machine is shared) */
@@ -484,25 +175,6 @@ static int relight_env(const ctx_t *c, const uint8_t *as, size_t an, const qibl_
         *ms = fmin(*ms, t);
     }
     return 0;
-}
-
-/* scales the probe in place so that a surface facing up receives TARGET_E_UP; returns the factor */
-static double scale_probe(float *probe, uint32_t pw, uint32_t ph)
-{
-    double eup = 0;
-    for (uint32_t v = 0; v < ph; ++v) {
-        double th = (v + 0.5) * QTOOL_PI / ph, cz = cos(th), dw = 2 * QTOOL_PI * QTOOL_PI / ((double)pw * ph) * sin(th);
-        if (cz <= 0)
-            continue;
-        for (uint32_t u = 0; u < pw; ++u) {
-            const float *L = probe + 3 * ((size_t)v * pw + u);
-            eup += (0.2126 * L[0] + 0.7152 * L[1] + 0.0722 * L[2]) * cz * dw;
-        }
-    }
-    double scale = eup > 0 ? TARGET_E_UP / eup : 1;
-    for (size_t i = 0; i < (size_t)pw * ph * 3; ++i)
-        probe[i] = (float)(probe[i] * scale);
-    return scale;
 }
 
 /* the truth: two renders with different seeds into ha and hb, their mean in lin; truth is ha's 8-bit
@@ -526,14 +198,14 @@ static int probe_truth(ctx_t *c, int role, const char *label, const qtool_env *e
 /* The four schemes under one probe (the truth in c->lin, the sky without its suns in sky), scored
  * into rows; c->tmp ends with the sun + SH frame when there are suns. 0 or -1 (c->err). */
 static int score_schemes(ctx_t *c, const float *probe, const float *sky, uint32_t pw, uint32_t ph, row_t rows[NSCHEME],
-                         const sun_t *suns, int ns, const sun_t *parts, const int *part_src, int nparts,
+                         const qtool_probesun_src *suns, int ns, const qtool_probesun_src *parts, const int *part_src, int nparts,
                          uint8_t *const *lp, const size_t *lpn, qibl_shlight_t ls[3])
 {
     size_t np = (size_t)c->v->w * c->v->h;
     double shmp25 = qtool_demo_chunk_bytes(c->a25, c->n25, QIBL_CHUNK_SHMP, 0), prep;
     qibl_shlight_t lsky, *l16 = &ls[0], *l25 = &ls[1], *ll = &ls[2];
     /* (a) the probe's SH */
-    if (probe_sh(probe, pw, ph, 16, l16, &prep) != 0 || probe_sh(probe, pw, ph, 25, l25, &prep) != 0)
+    if (qtool_probesun_sh(probe, pw, ph, 16, l16, &prep) != 0 || qtool_probesun_sh(probe, pw, ph, 25, l25, &prep) != 0)
         return qtool_errf(c->err, c->errlen, "demo: the probe's SH failed (out of memory)");
     if (relight_env(c, c->a16, c->n16, l16, c->tmp, &rows[S_SH16].ms) != 0)
         return -1;
@@ -551,7 +223,7 @@ static int score_schemes(ctx_t *c, const float *probe, const float *sky, uint32_
     score(c->tmp, c->truth, c->cls, np, &rows[S_LIGHTS]);
     rows[S_LIGHTS].bytes = shmp25;
     /* (c) sun + SH: the suns through SHMU x their single-direction paths, the rest as SH k = 25 */
-    if (probe_sh(sky, pw, ph, 25, &lsky, &prep) != 0)
+    if (qtool_probesun_sh(sky, pw, ph, 25, &lsky, &prep) != 0)
         return qtool_errf(c->err, c->errlen, "demo: the sky's SH failed (out of memory)");
     if (ns == 0) {
         rows[S_SUN] = rows[S_SH25];
@@ -564,7 +236,7 @@ static int score_schemes(ctx_t *c, const float *probe, const float *sky, uint32_
     rows[S_SUN].ms = 1e30;
     for (int r = 0; rc == 0 && r < 5; ++r) {
         double ms = 1e30;
-        rc = relight_sun_sh(asset, an, &lsky, suns, ns, parts, part_src, nparts, c->tmp, &ms, c->err, c->errlen);
+        rc = qtool_probesun_relight(asset, an, &lsky, suns, ns, parts, part_src, nparts, c->tmp, &ms, c->err, c->errlen);
         if (rc == 0)
             rows[S_SUN].ms = fmin(rows[S_SUN].ms, ms);
     }
@@ -602,12 +274,12 @@ static int keep_best(ctx_t *c, const row_t rows[NSCHEME], int ns, const qibl_shl
 }
 
 static int run_probe(ctx_t *c, int role, const char *label, float *probe, uint32_t pw, uint32_t ph, row_t rows[NSCHEME],
-                     double *noise, int *nsuns, sun_t *suns, int *nparts_out, double *scale_out, double *truth_s)
+                     double *noise, int *nsuns, qtool_probesun_src *suns, int *nparts_out, double *scale_out, double *truth_s)
 {
     const qtool_demo_view *v = c->v;
     size_t np = (size_t)v->w * v->h, npp = (size_t)pw * ph;
     char err[512];
-    *scale_out = scale_probe(probe, pw, ph);
+    *scale_out = qtool_probesun_scale(probe, pw, ph);
     qtool_env env;
     if (qtool_env_build(&env, pw, ph, probe, err, sizeof err) != 0)
         return qtool_errf(c->err, c->errlen, "demo: %s: %s", label, err);
@@ -620,7 +292,7 @@ static int run_probe(ctx_t *c, int role, const char *label, float *probe, uint32
     enum { LPMAX = MAX_SUNS * MAX_PARTS };
     uint8_t *lp[LPMAX + 1] = {NULL};
     size_t lpn[LPMAX + 1] = {0};
-    sun_t parts[LPMAX];
+    qtool_probesun_src parts[LPMAX];
     int nparts = 0, part_src[LPMAX];
     int rc = -1, ns = 0;
     qibl_shlight_t ls[3];
@@ -629,16 +301,21 @@ static int run_probe(ctx_t *c, int role, const char *label, float *probe, uint32
         goto done;
     }
     memcpy(sky, probe, sizeof(float) * 3 * npp);
-    ns = find_suns(&env, sky, suns, parts, part_src, &nparts, c->kparts);
+    ns = qtool_probesun_find(&env, sky, suns, parts, part_src, &nparts, c->kparts);
+    if (ns < 0) {
+        ns = 0;
+        qtool_errf(c->err, c->errlen, "demo: out of memory (probes)");
+        goto done;
+    }
     *nsuns = ns, *nparts_out = nparts;
     for (int i = 0; i < nparts; ++i)
-        if (sun_path(v, &parts[i], c->cls, &lp[i], &lpn[i]) != 0) {
+        if (qtool_probesun_path(v->scene, v->w, v->h, v->kind, v->threads, &parts[i], c->cls, &lp[i], &lpn[i]) != 0) {
             qtool_errf(c->err, c->errlen, "demo: out of memory (probe light paths)");
             goto done;
         }
     { /* the error split follows the brightest source (the zenith when there is none) */
-        sun_t up = {{0, 0, 1}, {1, 1, 1}, 0, 0};
-        if (sun_path(v, ns ? &suns[0] : &up, c->cls, &lp[LPMAX], &lpn[LPMAX]) != 0) {
+        qtool_probesun_src up = {{0, 0, 1}, {1, 1, 1}, 0, 0};
+        if (qtool_probesun_path(v->scene, v->w, v->h, v->kind, v->threads, ns ? &suns[0] : &up, c->cls, &lp[LPMAX], &lpn[LPMAX]) != 0) {
             qtool_errf(c->err, c->errlen, "demo: out of memory (probe light paths)");
             goto done;
         }
@@ -683,20 +360,33 @@ static void assets_free(probe_assets *pa)
     free(pa->a16), free(pa->a25);
 }
 
-/* probe p: ../shared's file when present, else the procedural stand-in; its label. 0 or -1. */
+/* probe p: the user's file, or ../shared's when present, else the procedural stand-in; its label.
+ * 0 or -1. */
 static int load_probe(ctx_t *c, int have, int p, float **probe, int *pw, int *ph, char *label, size_t labn)
 {
+    if (c->user) {
+        char err[1200];
+        if (qtool_hdr_read(c->user, pw, ph, probe, err, sizeof err) != 0)
+            return qtool_errf(c->err, c->errlen, "demo: %s", err);
+        if ((size_t)*pw != 2 * (size_t)*ph) {
+            free(*probe), *probe = NULL;
+            return qtool_errf(c->err, c->errlen, "demo: --probe %s: %d x %d is not a 2:1 lat-long probe", c->user, *pw,
+                              *ph);
+        }
+        snprintf(label, labn, "%s", c->user);
+        return 0;
+    }
     if (have) {
         char err[1200], path[600];
-        snprintf(path, sizeof path, "%s/%s", PROBE_DIR, picks[p].file);
+        snprintf(path, sizeof path, "%s/%s", PROBE_DIR, c->picks[p].file);
         if (qtool_hdr_read(path, pw, ph, probe, err, sizeof err) != 0)
             return qtool_errf(c->err, c->errlen, "demo: %s", err);
-        snprintf(label, labn, "%s (%s)", picks[p].file, picks[p].what);
+        snprintf(label, labn, "%s (%s)", c->picks[p].file, c->picks[p].what);
         return 0;
     }
     *pw = 1024, *ph = 512;
     *probe = procedural(p, *pw, *ph);
-    snprintf(label, labn, "procedural %s probe (no %s)", picks[p].role, PROBE_DIR);
+    snprintf(label, labn, "procedural %s probe (no %s)", c->picks[p].role, PROBE_DIR);
     return *probe ? 0 : qtool_errf(c->err, c->errlen, "demo: out of memory (probes)");
 }
 
@@ -736,11 +426,11 @@ static void sheet_row(const sheet_t *sh, ctx_t *c, int p, int have, const row_t 
     const uint8_t *src[3] = {c->best, c->truth, c->heatb};
     int y0 = sh->strip + p * (sh->strip + (int)h);
     char lab[200], nm[64];
-    snprintf(nm, sizeof nm, "%s", have ? picks[p].file : "procedural");
+    snprintf(nm, sizeof nm, "%s", have ? c->picks[p].file : "procedural");
     char *cut = strstr(nm, "_1k.hdr");
     if (cut)
         *cut = 0;
-    snprintf(lab, sizeof lab, "%s, %s: %s %.1f dB", picks[p].role, nm, sn[best], rows[best].psnr);
+    snprintf(lab, sizeof lab, "%s, %s: %s %.1f dB", c->picks[p].role, nm, sn[best], rows[best].psnr);
     qtool_text_draw(sh->px, sh->w, sh->h, 4, y0 + ts, lab, ts, sheet_fg);
     snprintf(lab, sizeof lab, "(SH k25 alone: %.1f dB)", rows[S_SH25].psnr);
     qtool_text_draw(sh->px, sh->w, sh->h, (int)w + 4, y0 + ts, lab, ts, sheet_fg);
@@ -753,7 +443,7 @@ typedef struct {
     row_t rows[3][NSCHEME];
     double noise[3], scale[3], truth_s[3];
     int best[3], nsuns[3], nparts[3];
-    sun_t suns[3][MAX_SUNS];
+    qtool_probesun_src suns[3][MAX_SUNS];
     char label[3][300];
 } probe_results;
 
@@ -763,11 +453,11 @@ static void print_report(FILE *o, const ctx_t *c, const probe_results *r, int ha
                                          "16 median-cut lights as SH k25, shadowed", "sun + SH: parts SHMU k16 x vis., SH k25"};
     fprintf(o, "\nlit by a real probe (%s): truth ray-traced with every direction shadowed, %u samples per pixel in each of "
                "two renders (bright set + MIS of probe CDF and cosine); bake of the unshadowed maps and probes %.1f s\n",
-            have ? PROBE_DIR : "procedural probes", c->spp, qtool_demo_now() - t0);
-    for (int p = 0; p < 3; ++p) {
+            c->user ? c->user : have ? PROBE_DIR : "procedural probes", c->spp, qtool_demo_now() - t0);
+    for (int p = 0; p < c->npicks; ++p) {
         fprintf(o, "%s: %s, scaled x %.4g (irradiance %.1f facing up); truth %.1f s, halves agree to %.2f dB (the mean is "
                    "about 3 dB less noisy); %d compact source%s",
-                picks[p].role, r->label[p], r->scale[p], TARGET_E_UP, r->truth_s[p], r->noise[p], r->nsuns[p],
+                c->picks[p].role, r->label[p], r->scale[p], TARGET_E_UP, r->truth_s[p], r->noise[p], r->nsuns[p],
                 r->nsuns[p] == 1 ? "" : "s");
         for (int k = 0; k < r->nsuns[p]; ++k)
             fprintf(o, "%s %.0f %% of the energy within %.1f deg", k ? ";" : ":", 100 * r->suns[p][k].share,
@@ -781,16 +471,16 @@ static void print_report(FILE *o, const ctx_t *c, const probe_results *r, int ha
             "scheme");
     fprintf(o, "|--------|%s|--------:|---------------:|---------------:|---------------:|-------:|---------:|--------:|\n",
             "--------------------------------------------");
-    for (int p = 0; p < 3; ++p)
+    for (int p = 0; p < c->npicks; ++p)
         for (int q = 0; q < NSCHEME; ++q) {
             const row_t *row = &r->rows[p][q];
             fprintf(o, "| %-6s | %-42s | %7.2f | %6.2f (%4.1f%%) | %6.2f (%4.1f%%) | %6.2f (%4.1f%%) | %6.3f | %8.3f | %7.0f |\n",
-                    picks[p].role, sname[q], row->psnr, row->psnr_cls[1], row->share_cls[1], row->psnr_cls[2],
+                    c->picks[p].role, sname[q], row->psnr, row->psnr_cls[1], row->share_cls[1], row->psnr_cls[2],
                     row->share_cls[2], row->psnr_cls[3], row->share_cls[3], row->bright, row->ms, row->bytes);
         }
     fprintf(o, "\n");
-    for (int p = 0; p < 3; ++p) {
-        const char *role = picks[p].role;
+    for (int p = 0; p < c->npicks; ++p) {
+        const char *role = c->picks[p].role;
         for (int q = 0; q < NSCHEME; ++q)
             fprintf(o, "RESULT demo.probe_%s_%s_psnr %.2f\nRESULT demo.probe_%s_%s_brightness %.3f\n"
                        "RESULT demo.probe_%s_%s_ms %.3f\nRESULT demo.probe_%s_%s_bytes %.0f\n",
@@ -800,14 +490,14 @@ static void print_report(FILE *o, const ctx_t *c, const probe_results *r, int ha
                 r->rows[p][r->best[p]].psnr, role, r->noise[p]);
     }
     fprintf(o, "RESULT demo.probe_s %.2f\n", qtool_demo_now() - t0);
-    fprintf(o, "wrote %s/probe_sheet.png (rows: soft, sunny, indoor; columns: best scheme | truth | error 0..48)\n",
-            c->v->dir);
+    fprintf(o, "wrote %s/probe_sheet.png (rows: %s; columns: best scheme | truth | error 0..48)\n", c->v->dir,
+            c->user ? "your probe" : "soft, sunny, indoor");
 }
 
 /* every probe relit, scored and drawn into its sheet row */
 static int run_probes(ctx_t *c, int have, const sheet_t *sh, probe_results *r)
 {
-    for (int p = 0; p < 3; ++p) {
+    for (int p = 0; p < c->npicks; ++p) {
         float *probe = NULL;
         int pw = 0, ph = 0;
         if (load_probe(c, have, p, &probe, &pw, &ph, r->label[p], sizeof r->label[p]) != 0)
@@ -825,28 +515,29 @@ static int run_probes(ctx_t *c, int have, const sheet_t *sh, probe_results *r)
     return 0;
 }
 
-int qtool_demo_probe(const qtool_demo_view *v, uint32_t probe_spp, int kparts, const qtool_bake_sums *sums,
-                     uint32_t ndirs, char *err, size_t errlen)
+/* the part over the probes of c (picks, npicks, user set) */
+static int probe_part(ctx_t c, const qtool_bake_sums *sums, uint32_t ndirs)
 {
-    size_t np = (size_t)v->w * v->h;
-    if (kparts < 1 || kparts > MAX_PARTS)
-        return qtool_errf(err, errlen, "demo: %d parts per extended source is outside 1..%d", kparts, MAX_PARTS);
-    ctx_t c = {.v = v, .spp = probe_spp, .kparts = kparts, .err = err, .errlen = errlen};
+    const qtool_demo_view *v = c.v;
+    char *err = c.err;
+    size_t errlen = c.errlen, np = (size_t)v->w * v->h;
+    if (c.kparts < 1 || c.kparts > MAX_PARTS)
+        return qtool_errf(err, errlen, "demo: %d parts per extended source is outside 1..%d", c.kparts, MAX_PARTS);
     probe_assets pa;
     memset(&pa, 0, sizeof pa);
     probe_results *r = malloc(sizeof *r);
     c.lin = malloc(np * 3 * sizeof(double)), c.ha = malloc(np * 3 * sizeof(double)), c.hb = malloc(np * 3 * sizeof(double));
     c.truth = malloc(np * 3), c.cls = malloc(np), c.tmp = malloc(np * 3), c.heatb = malloc(np * 3), c.best = malloc(np * 3);
     sheet_t sh = {.ts = v->w >= 768 ? 2 : 1};
-    sh.strip = 10 * sh.ts, sh.w = (int)v->w * 3, sh.h = sh.strip + 3 * (sh.strip + (int)v->h);
+    sh.strip = 10 * sh.ts, sh.w = (int)v->w * 3, sh.h = sh.strip + c.npicks * (sh.strip + (int)v->h);
     sh.px = malloc((size_t)sh.w * (size_t)sh.h * 3);
     double t0 = qtool_demo_now();
     int rc = -1;
     if (!r || !c.lin || !c.ha || !c.hb || !c.truth || !c.cls || !c.tmp || !c.heatb || !c.best || !sh.px)
         qtool_errf(err, errlen, "demo: out of memory (probes)");
     else if (bake_assets(&c, sums, ndirs, &pa) == 0) {
-        DIR *d = opendir(PROBE_DIR);
-        int have = d != NULL;
+        DIR *d = c.user ? NULL : opendir(PROBE_DIR);
+        int have = c.user || d != NULL;
         if (d)
             closedir(d);
         if (run_probes(&c, have, &sh, r) == 0 &&
@@ -859,4 +550,22 @@ int qtool_demo_probe(const qtool_demo_view *v, uint32_t probe_spp, int kparts, c
     free(r), free(sh.px);
     free(c.lin), free(c.ha), free(c.hb), free(c.truth), free(c.cls), free(c.tmp), free(c.heatb), free(c.best);
     return rc;
+}
+
+int qtool_demo_probe(const qtool_demo_view *v, uint32_t probe_spp, int kparts, const qtool_bake_sums *sums,
+                     uint32_t ndirs, char *err, size_t errlen)
+{
+    ctx_t c = {.v = v, .spp = probe_spp, .kparts = kparts, .err = err, .errlen = errlen, .picks = demo_picks,
+               .npicks = 3};
+    return probe_part(c, sums, ndirs);
+}
+
+int qtool_demo_probe_file(const qtool_demo_view *v, const char *path, uint32_t probe_spp, int kparts,
+                          const qtool_bake_sums *sums, uint32_t ndirs, char *err, size_t errlen)
+{
+    const char *base = strrchr(path, '/');
+    const probe_pick user = {"user", base ? base + 1 : path, "your probe"};
+    ctx_t c = {.v = v, .spp = probe_spp, .kparts = kparts, .err = err, .errlen = errlen, .picks = &user,
+               .npicks = 1, .user = path};
+    return probe_part(c, sums, ndirs);
 }

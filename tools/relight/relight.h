@@ -156,4 +156,19 @@ int qtool_relight_path(const uint8_t *bytes, size_t n, const qibl_asset_t *a, co
                        const qtool_relight_path_req *r, uint8_t *rgb8, float *lin, double *ms, int *point, char *err,
                        size_t errlen);
 
+/* ---- a probe-lit asset (bake --probe; probe_paths.c) -------------------------------------------- */
+
+typedef struct qtool_relight_probe_paths_note {
+    int nsrc, nparts;    /* the probe's compact sources and the paths they were split into */
+    double share, scale; /* the largest source's share of the energy, the probe's scale */
+} qtool_relight_probe_paths_note;
+
+/* The asset s (in its name) relit under the probe (a lat-long .hdr turned by yaw, scaled as the bake
+ * did) as sun + SH through its baked paths (bake/probesun.h) into rgb8 (sRGB, exposure 1). 0; 1 when
+ * the asset has no PSUN chunk (nothing done, err untouched); -1 with err set (another probe or yaw
+ * than the bake's, a yaw outside -360..360, an unreadable probe, a core error). */
+int qtool_relight_probe_paths(const qtool_relight_asset *s, const char *in, const char *probe, double yaw,
+                              uint8_t *rgb8, double *ms, qtool_relight_probe_paths_note *note, char *err,
+                              size_t errlen);
+
 #endif

@@ -12,6 +12,8 @@
 #   ARCHITECTURE.md toc    table of contents       tools/scripts/doc-toc.py (from its headings)
 #   README.md  bench       the few timings kept    tools/scripts/bench-block.py docs/results/bench.txt
 #                                                  (the committed log of make docs-bench)
+#   README.md  probe       a user's probe table    tools/scripts/probe-block.py docs/results/probe.txt
+#                                                  (the committed log of make docs-probe)
 # Blocks other commands own, checked here from what those commands left in $BUILD (skipped, and
 # said so, when they have not run in this build; CI runs them first):
 #   docs/porting.md memory-table   tools/scripts/memory-table.sh (qibl bench memory --markdown)
@@ -51,6 +53,8 @@ python3 tools/scripts/doc-toc.py docs/ARCHITECTURE.md > "$tmp/toc.md"
 block toc docs/ARCHITECTURE.md "$tmp/toc.md"
 python3 tools/scripts/bench-block.py docs/results/bench.txt > "$tmp/bench.md"
 block bench README.md "$tmp/bench.md"
+python3 tools/scripts/probe-block.py docs/results/probe.txt > "$tmp/probe.md"
+block probe README.md "$tmp/probe.md"
 
 # the blocks of other commands, from their last run in this build
 if [ -x "$QIBL" ]; then
