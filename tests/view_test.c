@@ -39,6 +39,49 @@ static void need(int ok, const char *what)
     skip();
 }
 
+
+/* a small probe: a warm bright patch over a dim blue sky and a dark ground */
+static void write_probe(const char *path)
+{
+    enum { PW = 64, PH = 32 };
+    static float px[PW * PH * 3];
+    for (int y = 0; y < PH; ++y)
+        for (int x = 0; x < PW; ++x) {
+            float *o = px + 3 * (y * PW + x);
+            int sunp = abs(x - 20) < 3 && abs(y - 8) < 3;
+            o[0] = sunp ? 40.0f : y < PH / 2 ? 0.3f : 0.05f;
+            o[1] = sunp ? 30.0f : y < PH / 2 ? 0.4f : 0.05f;
+            o[2] = sunp ? 20.0f : y < PH / 2 ? 0.8f : 0.04f;
+        }
+    char err[256];
+    assert_int_equal(qtool_hdr_write(path, PW, PH, px, err, sizeof err), 0);
+}
+
+/* a z-up OBJ: a 6 x 6 ground grid over [-1, 1]^2 with a box standing on it (the box shadows the
+ * ground, so the transfer is not the unshadowed one) */
+static void write_mesh(const char *path)
+{
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    enum { G = 6 };
+    for (int j = 0; j <= G; ++j)
+        for (int i = 0; i <= G; ++i)
+            fprintf(f, "v %g %g 0\n", -1 + 2.0 * i / G, -1 + 2.0 * j / G);
+    for (int j = 0; j < G; ++j)
+        for (int i = 0; i < G; ++i) {
+            int a = 1 + j * (G + 1) + i, b = a + 1, c = a + G + 1, d = c + 1;
+            fprintf(f, "f %d %d %d\nf %d %d %d\n", a, b, d, a, d, c);
+        }
+    const int o = (G + 1) * (G + 1); /* the box's 8 corners after the grid */
+    for (int k = 0; k < 8; ++k)
+        fprintf(f, "v %g %g %g\n", k & 1 ? 0.3 : -0.3, k & 2 ? 0.3 : -0.3, k & 4 ? 0.6 : 0.01);
+    static const int q[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (int k = 0; k < 6; ++k)
+        fprintf(f, "f %d %d %d\nf %d %d %d\n", o + 1 + q[k][0], o + 1 + q[k][1], o + 1 + q[k][2], o + 1 + q[k][0],
+                o + 1 + q[k][2], o + 1 + q[k][3]);
+    assert_int_equal(fclose(f), 0);
+}
+
 #if QIBL_HAVE_X11
 static int on_path(const char *prog)
 {
@@ -88,7 +131,8 @@ static pid_t spawn_keep(char **argv, int closefd)
     return rc == 0 ? pid : -1;
 }
 
-/* the number of "view: sun" lines in the log, and the last one's direction */
+/* the number of "view: sun" lines in the log, and the last one's direction; plus mesh mode's
+ * "view: mesh" lines (one per settled change, as the sun's) */
 static int log_lines(const char *path, double sun[3])
 {
     char *t = text(path), *p = t;
@@ -98,6 +142,8 @@ static int log_lines(const char *path, double sun[3])
             ++n;
         p += 10;
     }
+    for (p = t; (p = strstr(p, "view: mesh ")) != NULL; p += 11)
+        ++n;
     free(t);
     return n;
 }
@@ -135,7 +181,7 @@ static int xdo_steps(const char *display, const char *vlog, const char *const *s
 
 /* one Xvfb server and one viewer on it */
 typedef struct session {
-    char display[16], asset[128], vlog[128];
+    char display[16], asset[160], vlog[128];
     pid_t xvfb, viewer;
     Display *dpy;
 } session;
@@ -149,18 +195,26 @@ static void need_tools(void)
 
 /* a scratch dir, a 256x64 courtyard, Xvfb on a free display, the viewer with extra arguments
  * (NULL-terminated) showing its first frame; 0, or -1 after a message */
+static int session_launch(session *ss, char **extra);
+
 static int session_start_asset(session *ss, char **extra, int baked)
 {
     memset(ss, 0, sizeof *ss);
     ss->xvfb = ss->viewer = -1;
     assert_int_equal(cli_setup("/tmp/qibl-view-XXXXXX"), 0);
     snprintf(ss->asset, sizeof ss->asset, "%s/a.qibl", dir);
-    snprintf(ss->vlog, sizeof ss->vlog, "%s/view.log", dir);
     if (baked) /* ray-traced, with a sun path (LPTH) */
         assert_int_equal(run("bake", "-o", ss->asset, "--size", "256x64", "--dirs", "16", "--k", "9", "--sun-path",
                              "40,10,8,16", "--path-steps", "8", NULL), 0);
     else
         assert_int_equal(run("gen", "-o", ss->asset, "--size", "256x64", "--k", "9", NULL), 0);
+    return session_launch(ss, extra);
+}
+
+/* Xvfb and the viewer of ss->asset (a file in the scratch dir) with extra arguments */
+static int session_launch(session *ss, char **extra)
+{
+    snprintf(ss->vlog, sizeof ss->vlog, "%s/view.log", dir);
     /* Xvfb picks a free display itself and writes its number to a pipe (-displayfd): no race with
      * other suites or helpers choosing at the same time */
     int fds[2];
@@ -209,8 +263,9 @@ static int session_start(session *ss, char **extra)
     return session_start_asset(ss, extra, 0);
 }
 
-/* the viewer's frame as the X server holds it, compared with a PNG: differing channel values (-1: no window) */
-static long grab_compare(session *ss, const char *png)
+/* the viewer's frame (its top-left W x H) as the X server holds it, compared with a PNG: differing
+ * channel values (-1: no window) */
+static long grab_compare_size(session *ss, const char *png, int W, int H)
 {
     Window root = DefaultRootWindow(ss->dpy), r2, parent, *kids = NULL, win = 0;
     unsigned nk = 0;
@@ -226,31 +281,37 @@ static long grab_compare(session *ss, const char *png)
         XFree(kids);
     if (!win)
         return print_error("view_test: no 'qibl view' window\n"), -1;
-    XImage *img = XGetImage(ss->dpy, win, 0, 0, VIEW_W, VIEW_H, AllPlanes, ZPixmap);
+    XImage *img = XGetImage(ss->dpy, win, 0, 0, (unsigned)W, (unsigned)H, AllPlanes, ZPixmap);
     if (!img)
         return print_error("view_test: XGetImage failed\n"), -1;
     int w, h, fr;
     uint8_t *ref = NULL;
     char err[256];
-    if (qtool_png_read_rgb8(png, &w, &h, &fr, &ref, err, sizeof err) != 0 || w != VIEW_W || h != VIEW_H) {
+    if (qtool_png_read_rgb8(png, &w, &h, &fr, &ref, err, sizeof err) != 0 || w != W || h != H) {
         XDestroyImage(img);
         return print_error("view_test: %s\n", err), -1;
     }
     long diff = 0, maxd = 0;
-    for (int y = 0; y < VIEW_H; ++y)
-        for (int x = 0; x < VIEW_W; ++x) {
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
             unsigned long p = XGetPixel(img, x, y);
             long got[3] = {(long)((p >> 16) & 255), (long)((p >> 8) & 255), (long)(p & 255)};
             for (int c = 0; c < 3; ++c) {
-                long d = labs(got[c] - ref[3 * (y * VIEW_W + x) + c]);
+                long d = labs(got[c] - ref[3 * (y * W + x) + c]);
                 diff += d != 0, maxd = d > maxd ? d : maxd;
             }
         }
     XDestroyImage(img);
     free(ref);
     if (diff)
-        print_error("view_test: the window differs from qibl relight in %ld channel values (max %ld)\n", diff, maxd);
+        print_error("view_test: the window differs from the offline frame in %ld channel values (max %ld)\n", diff,
+                    maxd);
     return diff;
+}
+
+static long grab_compare(session *ss, const char *png)
+{
+    return grab_compare_size(ss, png, VIEW_W, VIEW_H);
 }
 
 /* q quits the viewer with status 0; then everything is stopped; ok: keep no scratch files */
@@ -633,6 +694,18 @@ static void test_gles_matches_relight_gles(void **state)
     if (session_start(&ss, extra) != 0)
         goto out;
     log_lines(ss.vlog, sun);
+    { /* which way the frame reached the window: an EGL window surface, or read back where EGL has no
+       * X11 platform; both must equal relight --gles */
+        char *t = text(ss.vlog);
+        const int said = strstr(t, "view: --gles draws into the window") || strstr(t, "view: --gles reads the frames back");
+        if (!said)
+            print_error("view_test: the log does not say how --gles reaches the window:\n%s", t);
+        else if (!strstr(t, "draws into the window"))
+            fprintf(stderr, "view_test: note: --gles read back here (no EGL window surface)\n");
+        free(t);
+        if (!said)
+            goto out;
+    }
     snprintf(png, sizeof png, "%s/relight.png", dir);
     for (int c = 0; c < 3; ++c)
         snprintf(sun_s[c], sizeof sun_s[c], "%.17g", sun[c]);
@@ -789,6 +862,214 @@ static void test_cli(void **state)
     rm_rf(dir);
 }
 
+
+/* mesh mode's state without a window: the light's rotation convention (band 1 turns as a vector:
+ * yaw about +z, pitch about +x, pitch first), the drags and keys of mesh mode */
+static void test_mesh_state(void **state)
+{
+    (void)state;
+    char tmpl[] = "/tmp/qibl-viewmstate-XXXXXX", mesh[96], probe[96], err[300], note[300];
+    assert_non_null(mkdtemp(tmpl));
+    snprintf(mesh, sizeof mesh, "%s/scene.obj", tmpl), snprintf(probe, sizeof probe, "%s/p.hdr", tmpl);
+    write_mesh(mesh);
+    write_probe(probe);
+    const char *probes[1] = {probe};
+    qtool_view_mesh_opts o = QTOOL_VIEW_MESH_OPTS_DEFAULT;
+    o.mesh = mesh, o.probes = probes, o.nprobes = 1, o.zup = 1, o.size = 64;
+    qtool_view v;
+    if (qtool_view_open_mesh(&v, &o, note, sizeof note, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    int32_t l0[3][25], l[3][25];
+    assert_int_equal(qtool_view_mesh_light(&v, l0), QIBL_OK);
+    /* band 1 (sh.h, Condon-Shortley phase): index 1 ~ -y, 2 ~ z, 3 ~ -x; a turn R maps the light's
+     * vector a to R a: yaw 90 (x, y) -> (-y, x), pitch 90 (y, z) -> (-z, y) */
+    v.yaw = 90;
+    assert_int_equal(qtool_view_mesh_light(&v, l), QIBL_OK);
+    for (int c = 0; c < 3; ++c) {
+        assert_true(abs(l[c][3] + l0[c][1]) <= 4 && abs(l[c][1] - l0[c][3]) <= 4 && abs(l[c][2] - l0[c][2]) <= 4);
+        assert_true(abs(l[c][0] - l0[c][0]) <= 1);
+    }
+    v.yaw = 0, v.pitch = 90;
+    assert_int_equal(qtool_view_mesh_light(&v, l), QIBL_OK);
+    for (int c = 0; c < 3; ++c)
+        assert_true(abs(l[c][3] - l0[c][3]) <= 4 && abs(l[c][1] - l0[c][2]) <= 4 && abs(l[c][2] + l0[c][1]) <= 4);
+    assert_true(abs(l0[0][1]) + abs(l0[0][2]) + abs(l0[0][3]) > 1000); /* the probe is directional */
+    v.pitch = 0;
+    qtool_view_drag(&v, 16, -32, 64, 64); /* a quarter width: +90 of yaw; half a height: -90 of pitch */
+    assert_true(fabs(v.yaw - 90) < 1e-9 && fabs(v.pitch + 90) < 1e-9);
+    qtool_view_drag(&v, -32, -8, 64, 64); /* yaw wraps, pitch clamps */
+    assert_true(fabs(v.yaw - 270) < 1e-9 && v.pitch == -90);
+    qtool_view_orbit(&v, 32, 1000, 64, 64); /* half a width: -180 of azimuth; elevation clamped */
+    assert_true(fabs(v.cam_az - 215) < 1e-9 && v.cam_el == QTOOL_VIEW_CAM_EL_MAX);
+    assert_int_equal(qtool_view_key(&v, ']'), 1);
+    assert_true(fabs(v.cam_az - 230) < 1e-9);
+    assert_int_equal(qtool_view_key(&v, 'p'), 0); /* one probe */
+    assert_int_equal(qtool_view_key(&v, 's'), 0); /* no schemes, SH terms or linear in mesh mode */
+    assert_int_equal(qtool_view_key(&v, 'k'), 0);
+    assert_int_equal(qtool_view_key(&v, 'l'), 0);
+    const uint32_t e = v.exposure;
+    assert_int_equal(qtool_view_key(&v, '+'), 1);
+    assert_int_equal(v.exposure, 2 * e);
+    uint32_t nv, nt, nc;
+    qtool_view_mesh_counts(&v, &nv, &nt, &nc);
+    assert_int_equal(nv, 49 + 8);
+    assert_int_equal(nt, 72 + 12);
+    assert_int_equal(nc, 25);
+    qtool_view_close_mesh(&v);
+    assert_null(v.mesh);
+    /* refusals, nothing kept */
+    o.size = 8;
+    assert_int_equal(qtool_view_open_mesh(&v, &o, note, sizeof note, err, sizeof err), -1);
+    assert_non_null(strstr(err, "--size 8 outside"));
+    assert_null(v.mesh);
+    o.size = 64, o.nprobes = 0;
+    assert_int_equal(qtool_view_open_mesh(&v, &o, note, sizeof note, err, sizeof err), -1);
+    assert_null(v.mesh);
+    rm_rf(tmpl);
+}
+
+#define MESH_SIZE 128
+
+/* the last "view: mesh" line's values (0), or -1 */
+static int mesh_values(const char *vlog, double *yaw, double *pitch, double *az, double *el, double *expo)
+{
+    char *t = text(vlog), *p = t, *last = NULL;
+    while ((p = strstr(p, "view: mesh ")) != NULL)
+        last = p, p += 11;
+    int ok = last && sscanf(last, "view: mesh --light-yaw %lf --light-pitch %lf --camera %lf,%lf --exposure %lf", yaw,
+                            pitch, az, el, expo) == 5;
+    free(t);
+    return ok ? 0 : -1;
+}
+
+/* mesh mode in a window: the lighting dragged (button 1) and stepped (Y), the camera orbited (button
+ * 3) and turned (]), the exposure doubled (+); each value as the inputs mean it, and the window
+ * equals `qibl view MESH --png` of the values the log prints */
+static void test_mesh_drag_matches_png(void **state)
+{
+    (void)state;
+#if !QIBL_HAVE_X11
+    need(0, "qibl was built without X11 (libx11-dev)");
+#else
+    need_tools();
+    session ss;
+    memset(&ss, 0, sizeof ss);
+    ss.xvfb = ss.viewer = -1;
+    assert_int_equal(cli_setup("/tmp/qibl-viewmesh-XXXXXX"), 0);
+    char probe[160], png[160];
+    snprintf(ss.asset, sizeof ss.asset, "%s/scene.obj", dir);
+    snprintf(probe, sizeof probe, "%s/p.hdr", dir);
+    snprintf(png, sizeof png, "%s/frame.png", dir);
+    write_mesh(ss.asset);
+    write_probe(probe);
+    char *extra[] = {"--zup", "--probe", probe, "--size", "128", "--threads", "1", NULL};
+    int ok = 0, lines = 1;
+    double y0, p0, a0, e0, x0, y1, p1, a1, e1, x1;
+    if (session_launch(&ss, extra) != 0 || mesh_values(ss.vlog, &y0, &p0, &a0, &e0, &x0) != 0)
+        goto out;
+    const char *const steps[] = {
+        "mousemove --window %1 40 60 mousedown 1 mousemove --window %1 56 56 mousemove --window %1 72 52 mouseup 1",
+        "key --window %1 Y",
+        "mousemove --window %1 60 60 mousedown 3 mousemove --window %1 50 64 mousemove --window %1 44 68 mouseup 3",
+        "key --window %1 bracketright", "key --window %1 plus", NULL};
+    if (xdo_steps(ss.display, ss.vlog, steps, &lines) != 0 || mesh_values(ss.vlog, &y1, &p1, &a1, &e1, &x1) != 0)
+        goto out;
+    { /* the drag: +32 px of 128 = 90 degrees of yaw, -8 px of 128 = -11.25 of pitch; Y: +15; the orbit:
+       * -16 px = +45 degrees of azimuth, +8 px = +11.25 of elevation; ]: +15 of azimuth; +: exposure x 2 */
+        const double want[5] = {fmod(y0 + 90 + 15, 360), p0 - 11.25, fmod(a0 + 45 + 15, 360), e0 + 11.25, 2 * x0};
+        const double got[5] = {y1, p1, a1, e1, x1};
+        for (int k = 0; k < 5; ++k)
+            if (fabs(got[k] - want[k]) > 1e-9) {
+                print_error("view_test: mesh value %d is %.17g, want %.17g\n", k, got[k], want[k]);
+                goto out;
+            }
+    }
+    char ys[40], ps[40], cam[80], xs[40];
+    snprintf(ys, sizeof ys, "%.17g", y1), snprintf(ps, sizeof ps, "%.17g", p1);
+    snprintf(cam, sizeof cam, "%.17g,%.17g", a1, e1), snprintf(xs, sizeof xs, "%.17g", x1);
+    if (run("view", ss.asset, "--zup", "--probe", probe, "--size", "128", "--threads", "1", "--light-yaw", ys,
+            "--light-pitch", ps, "--camera", cam, "--exposure", xs, "--png", png, NULL) != 0) {
+        print_error("view_test: qibl view --png failed\n");
+        goto out;
+    }
+    ok = grab_compare_size(&ss, png, MESH_SIZE, MESH_SIZE) == 0;
+out:
+    assert_true(session_end(&ss, ok));
+#endif
+}
+
+/* mesh mode without a window: a transfer read from `qibl transfer --export` draws the frame the
+ * computed one draws; turning the light changes it; the bench's figure; each misuse refused by name */
+static void test_mesh_cli(void **state)
+{
+    (void)state;
+    need_qibl();
+    assert_int_equal(cli_setup("/tmp/qibl-viewmcli-XXXXXX"), 0);
+    char mesh[128], probe[128], qtr[128], a[128], b[128], c[128], asset[128];
+    snprintf(mesh, sizeof mesh, "%s/scene.obj", dir), snprintf(probe, sizeof probe, "%s/p.hdr", dir);
+    snprintf(qtr, sizeof qtr, "%s/scene.qtr", dir), snprintf(asset, sizeof asset, "%s/a.qibl", dir);
+    snprintf(a, sizeof a, "%s/a.png", dir), snprintf(b, sizeof b, "%s/b.png", dir), snprintf(c, sizeof c, "%s/c.png", dir);
+    write_mesh(mesh);
+    write_probe(probe);
+    assert_int_equal(run("transfer", mesh, "--zup", "--probe", probe, "--rays", "0", "--threads", "1", "--export", qtr,
+                         NULL), 0);
+    assert_int_equal(run("view", mesh, "--zup", "--probe", probe, "--size", "96", "--threads", "1", "--light-yaw", "30",
+                         "--png", a, NULL), 0);
+    assert_int_equal(run("view", mesh, "--zup", "--probe", probe, "--size", "96", "--transfer", qtr, "--light-yaw", "30",
+                         "--png", b, NULL), 0);
+    assert_int_equal(run("view", mesh, "--zup", "--probe", probe, "--size", "96", "--transfer", qtr, "--light-yaw", "120",
+                         "--png", c, NULL), 0);
+    {
+        int w, h, fr;
+        uint8_t *pa = NULL, *pb = NULL, *pc = NULL;
+        char err[256];
+        assert_int_equal(qtool_png_read_rgb8(a, &w, &h, &fr, &pa, err, sizeof err), 0);
+        assert_int_equal(qtool_png_read_rgb8(b, &w, &h, &fr, &pb, err, sizeof err), 0);
+        assert_int_equal(qtool_png_read_rgb8(c, &w, &h, &fr, &pc, err, sizeof err), 0);
+        assert_int_equal(w, 96);
+        assert_memory_equal(pa, pb, (size_t)w * h * 3);                 /* the export draws as the computation */
+        assert_true(memcmp(pa, pc, (size_t)w * h * 3) != 0);            /* the light's yaw shows */
+        long lit = 0;
+        for (size_t i = 0; i < (size_t)w * h * 3; ++i)
+            lit += pa[i] > 8;
+        assert_true(lit > w * h / 4); /* the scene covers the frame and is lit */
+        free(pa), free(pb), free(pc);
+    }
+    assert_int_equal(run("view", mesh, "--zup", "--probe", probe, "--size", "64", "--bench", "--headless", "--frames",
+                         "3", NULL), 0);
+    char *o = text(outlog);
+    assert_non_null(strstr(o, "RESULT view.mesh_fps "));
+    free(o);
+    assert_int_equal(run("gen", "-o", asset, "--size", "16x8", "--k", "4", NULL), 0);
+    char tri[128];
+    snprintf(tri, sizeof tri, "%s/tri.obj", dir);
+    FILE *tf = fopen(tri, "w");
+    assert_non_null(tf);
+    fputs("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", tf);
+    assert_int_equal(fclose(tf), 0);
+    struct { int rc; const char *msg; const char *args[10]; } cases[] = {
+        {2, "needs --probe P.hdr", {"view", mesh, NULL}},
+        {2, "--gles is for an asset", {"view", mesh, "--probe", probe, "--gles", NULL}},
+        {2, "--light-yaw is for a mesh", {"view", asset, "--light-yaw", "10", NULL}},
+        {2, "--camera needs AZ,EL", {"view", mesh, "--probe", probe, "--camera", "10", NULL}},
+        {2, "--size needs an integer in 64..2048", {"view", mesh, "--probe", probe, "--size", "8", NULL}},
+        {2, "--png writes one frame", {"view", mesh, "--probe", probe, "--bench", "--png", a, NULL}},
+        {1, "holds", {"view", tri, "--probe", probe, "--transfer", qtr, "--png", c, NULL}}, /* not its export */
+        {1, "not a transfer export", {"view", mesh, "--probe", probe, "--transfer", asset, "--png", c, NULL}}, /* not an export */
+    };
+    unlink(c);
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        const char **g = cases[i].args;
+        int rc = run(g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7], g[8], NULL);
+        char *e = text(errlog);
+        if (rc != cases[i].rc || strstr(e, cases[i].msg) == NULL || strncmp(e, "qibl: ", 6) != 0)
+            fail_msg("mesh case %zu: exit %d, stderr '%s' (want %d and '%s')", i, rc, e, cases[i].rc, cases[i].msg);
+        free(e);
+    }
+    assert_int_equal(access(c, F_OK), -1); /* nothing written by a refused command */
+    rm_rf(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -801,6 +1082,9 @@ int main(void)
         cmocka_unit_test(test_path_scrub_matches_relight),
         cmocka_unit_test(test_truth_dir),
         cmocka_unit_test(test_gles_matches_relight_gles),
+        cmocka_unit_test(test_mesh_state),
+        cmocka_unit_test(test_mesh_cli),
+        cmocka_unit_test(test_mesh_drag_matches_png),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -8,14 +8,20 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <math.h>
+
 #include "cli/cli.h"
 #include "cli/relight_light.h"
 #include "io/file.h"
+#include "io/png.h"
 #include "view/view.h"
 
 #define VIEW_USAGE                                                                                    \
     "usage: qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--lamp-rgb C0] [--exposure E]\n"          \
-    "                 [--truth PNG|DIR] [--gles] [--bench [--frames N] [--headless] [--record OUT.png [--turn]]]"
+    "                 [--truth PNG|DIR] [--gles] [--bench [--frames N] [--headless] [--record OUT.png [--turn]]]\n" \
+    "       qibl view MESH.obj|.ply|.gltf --probe P.hdr [--probe P2.hdr]... [--transfer FILE.qtr] [--zup]\n"     \
+    "                 [--size N] [--threads N] [--light-yaw DEG] [--light-pitch DEG] [--camera AZ,EL]\n"          \
+    "                 [--exposure E] [--png OUT.png | --bench [--frames N] [--headless] [--record OUT.png [--turn]]]"
 
 
 /* the options of `qibl view` (the library's defaults: view/view.h) */
@@ -27,9 +33,67 @@ typedef struct vopts {
     long frames;
     qibl_q16_t sun[3];
     qtool_view_asset_opts asset; /* exposure, lamp C0 (0: the lamp's default C0, as relight's --point), sun */
+    /* mesh mode (FILE a mesh): its options, the first mesh-only option seen (refused for an asset),
+     * the first asset-only one (refused for a mesh), --png (the frame without a window) */
+    qtool_view_mesh_opts mesh;
+    const char *mesh_only, *asset_only, *png;
+    int exposure_set;
 } vopts;
 
-static const vopts vopts_default = {.frames = QTOOL_VIEW_BENCH_FRAMES_DEFAULT, .asset = QTOOL_VIEW_ASSET_OPTS_DEFAULT};
+static const vopts vopts_default = {.frames = QTOOL_VIEW_BENCH_FRAMES_DEFAULT, .asset = QTOOL_VIEW_ASSET_OPTS_DEFAULT,
+                                    .mesh = QTOOL_VIEW_MESH_OPTS_DEFAULT};
+
+/* --camera AZ,EL: 0, or the usage error's status */
+static int parse_camera(const char *s, vopts *o)
+{
+    char *end;
+    const double az = strtod(s, &end);
+    if (end != s && *end == ',') {
+        const char *t = end + 1;
+        const double el = strtod(t, &end);
+        if (end != t && !*end && isfinite(az) && isfinite(el) && fabs(el) <= QTOOL_VIEW_CAM_EL_MAX) {
+            o->mesh.cam_az = az, o->mesh.cam_el = el;
+            return 0;
+        }
+    }
+    return qcli_usage_error("--camera needs AZ,EL in degrees (|EL| <= 89), e.g. 35,20");
+}
+
+/* the mesh-only options at argv[i] (1: taken, with *rc 0 or the usage error's status; 0: not one) */
+static int parse_mesh_opt(int argc, char **argv, int *i, vopts *o, int *rc)
+{
+    const char *a = argv[*i];
+    const int more = *i + 1 < argc;
+    long n = 0;
+    *rc = 0;
+    if (strcmp(a, "--zup") == 0)
+        o->mesh.zup = 1;
+    else if (!more)
+        return 0;
+    else if (strcmp(a, "--transfer") == 0)
+        o->mesh.transfer = argv[++*i];
+    else if (strcmp(a, "--png") == 0)
+        o->png = argv[++*i];
+    else if (strcmp(a, "--camera") == 0)
+        *rc = parse_camera(argv[++*i], o);
+    else if (strcmp(a, "--light-yaw") == 0 || strcmp(a, "--light-pitch") == 0)
+        *rc = qcli_parse_num(a, argv[++*i], -360.0, 360.0, "degrees in -360..360",
+                             a[8] == 'y' ? &o->mesh.yaw : &o->mesh.pitch) != 0 ? 2 : 0;
+    else if (strcmp(a, "--size") == 0 || strcmp(a, "--threads") == 0) {
+        const int size = a[2] == 's';
+        const long lo = size ? QTOOL_VIEW_MESH_SIZE_MIN : 1, hi = size ? QTOOL_VIEW_MESH_SIZE_MAX : 256;
+        if (qcli_parse_int(argv[++*i], lo, hi, &n) != 0)
+            *rc = qcli_usage_error("%s needs an integer in %ld..%ld", a, lo, hi);
+        else if (size)
+            o->mesh.size = (uint32_t)n;
+        else
+            o->mesh.threads = (int)n;
+    } else
+        return 0;
+    if (!o->mesh_only)
+        o->mesh_only = a;
+    return 1;
+}
 
 /* --sun X Y Z at argv[i]: 0, or the usage error's status */
 static int parse_sun(char **argv, int i, vopts *o)
@@ -47,9 +111,17 @@ static int parse_sun(char **argv, int i, vopts *o)
 static int parse(int argc, char **argv, vopts *o)
 {
     *o = vopts_default;
+    o->mesh.threads = 0; /* 0 until given: the job's CPUs */
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
-        if (strcmp(a, "--sun") == 0 && i + 3 < argc) {
+        int mrc = 0;
+        if (!o->asset_only && (strcmp(a, "--sun") == 0 || strcmp(a, "--lamp-rgb") == 0 ||
+                               strcmp(a, "--truth") == 0 || strcmp(a, "--gles") == 0))
+            o->asset_only = a;
+        if (parse_mesh_opt(argc, argv, &i, o, &mrc)) {
+            if (mrc != 0)
+                return mrc;
+        } else if (strcmp(a, "--sun") == 0 && i + 3 < argc) {
             const int rc = parse_sun(argv, i, o);
             if (rc != 0)
                 return rc;
@@ -62,6 +134,7 @@ static int parse(int argc, char **argv, vopts *o)
             if (qcli_parse_num(a, argv[++i], QTOOL_VIEW_EXPOSURE_MIN / 65536.0, QTOOL_VIEW_EXPOSURE_MAX / 65536.0,
                                "the viewer's exposure range", &o->asset.exposure) != 0)
                 return 2;
+            o->exposure_set = 1;
         } else if (strcmp(a, "--lamp-rgb") == 0 && i + 1 < argc) {
             if (qcli_parse_num(a, argv[++i], 1.0 / 65536, QTOOL_CLI_Q16_MAX, QTOOL_CLI_Q16_WHY, &o->asset.lamp_c0) != 0)
                 return 2;
@@ -87,6 +160,15 @@ static int parse(int argc, char **argv, vopts *o)
     }
     if (!o->in)
         return qcli_usage_error("view needs an asset FILE (qibl gen or qibl bake makes one)");
+    const int mesh = qtool_view_is_mesh(o->in);
+    if (mesh && o->asset_only)
+        return qcli_usage_error("%s is for an asset: a mesh is lit by --probe and drawn through platform/soft", o->asset_only);
+    if (!mesh && o->mesh_only)
+        return qcli_usage_error("%s is for a mesh (qibl view MESH.obj --probe P.hdr)", o->mesh_only);
+    if (mesh && o->nprobes == 0)
+        return qcli_usage_error("view %s needs --probe P.hdr (the lighting of its transfer)", o->in);
+    if (o->png && o->bench)
+        return qcli_usage_error("--png writes one frame without a window: not with --bench");
     if (o->headless && !o->bench)
         return qcli_usage_error("--headless is for --bench (a window needs a display)");
     if (o->record && !o->bench)
@@ -119,6 +201,70 @@ static int load_probes(const vopts *o, qtool_view *v)
     return 0;
 }
 
+/* --png: the frame alone (no overlay) as the window shows it, in RGB; 0 or -1 with err */
+static int write_frame(qtool_view *v, const char *png, char *err, size_t errlen)
+{
+    const uint32_t w = v->maps.width, h = v->maps.height;
+    uint8_t *bgrx = malloc((size_t)w * h * 4), *rgb = malloc((size_t)w * h * 3);
+    qibl_status_t st = QIBL_OK;
+    int rc = -1;
+    if (!bgrx || !rgb)
+        snprintf(err, errlen, "view: out of memory");
+    else if (qtool_view_render(v, bgrx, (size_t)w * 4, NULL, &st) != 0)
+        snprintf(err, errlen, "view: %s", qibl_status_str(st));
+    else {
+        for (size_t p = 0; p < (size_t)w * h; ++p)
+            rgb[3 * p] = bgrx[4 * p + 2], rgb[3 * p + 1] = bgrx[4 * p + 1], rgb[3 * p + 2] = bgrx[4 * p];
+        rc = qtool_png_write_rgb8(png, (int)w, (int)h, rgb, err, errlen);
+    }
+    free(bgrx), free(rgb);
+    return rc;
+}
+
+/* mesh mode: the transfer once, then the window, the bench or --png; 0 or 1 */
+static int view_mesh(vopts *o)
+{
+    qtool_view v;
+    char err[600], note[600];
+    o->mesh.mesh = o->in, o->mesh.probes = o->probes, o->mesh.nprobes = o->nprobes;
+    o->mesh.exposure = o->exposure_set ? o->asset.exposure : 0;
+    if (o->mesh.threads == 0)
+        o->mesh.threads = qcli_default_threads();
+    if (qtool_view_open_mesh(&v, &o->mesh, note, sizeof note, err, sizeof err) != 0) {
+        fprintf(stderr, "qibl: %s\n", err);
+        return 1;
+    }
+    int rc = 1;
+    double fps = 0;
+    uint32_t nv, nt, nc;
+    qtool_view_mesh_counts(&v, &nv, &nt, &nc);
+    qtool_view_run_opts ro = {.title = "qibl view", .bench_frames = o->bench ? o->frames : 0, .bench_fps = &fps,
+                              .headless = o->headless, .log = o->bench ? NULL : stdout, .record = o->record,
+                              .drag_dx = o->turn ? (int)((v.maps.width + (uint32_t)o->frames - 1) / (uint32_t)o->frames)
+                                                 : 0};
+    if (o->png ? write_frame(&v, o->png, err, sizeof err) != 0 : qtool_view_run(&v, &ro, err, sizeof err) != 0) {
+        fprintf(stderr, "qibl: %s\n", err);
+        goto out;
+    }
+    if (o->png)
+        printf("wrote %s (%ux%u: %s, %u vertices, light yaw %.17g pitch %.17g, camera %.17g,%.17g, exposure %.17g)\n",
+               o->png, v.maps.width, v.maps.height, o->in, nv, v.yaw, v.pitch, v.cam_az, v.cam_el,
+               v.exposure / 65536.0);
+    if (o->bench) {
+        printf("view bench: %s, %u vertices x %u SH, %u triangles, %ux%u, %ld frames with the light turning, %s: %.2f "
+               "ms per frame (last)\n", o->in, nv, nc, nt, v.maps.width, v.maps.height, o->frames,
+               o->headless ? "headless (framebuffer and overlay)" : "shown in an X11 window", v.ms);
+        printf("RESULT view.mesh_fps %.1f\n", fps);
+        if (o->record)
+            printf("wrote %s (%ld frames, %ux%u, the viewer's window with its overlay)\n", o->record, o->frames,
+                   v.maps.width, v.maps.height + QTOOL_VIEW_OVERLAY_H);
+    }
+    rc = 0;
+out:
+    qtool_view_close_mesh(&v);
+    return rc;
+}
+
 int qcli_cmd_view(int argc, char **argv)
 {
     vopts o;
@@ -127,11 +273,13 @@ int qcli_cmd_view(int argc, char **argv)
         return prc;
     if (qcli_parse_only)
         return 0;
-    if (!o.bench && !qtool_view_have_window()) {
+    if (!o.bench && !o.png && !qtool_view_have_window()) {
         fprintf(stderr, "qibl: view: this qibl was built without X11 (Debian: apt-get install libx11-dev, then "
                         "rebuild); --bench --headless still runs\n");
         return 1;
     }
+    if (qtool_view_is_mesh(o.in))
+        return view_mesh(&o);
     uint8_t *bytes = NULL;
     qtool_view_truths tset = {0};
     qtool_view_gles *vg = NULL;
@@ -164,6 +312,7 @@ int qcli_cmd_view(int argc, char **argv)
     }
     double fps = 0;
     qtool_view_run_opts ro = {.title = "qibl view", .frame = o.gles ? qtool_view_gles_frame : NULL, .user = vg,
+                              .gl = o.gles ? &qtool_view_gles_window : NULL,
                               .truth = tset.one, .ntruths = tset.n, .truths = (const uint8_t *const *)tset.rgb,
                              .truth_dirs = (const double(*)[3])tset.dir, .truth_names = (const char *const *)tset.name,
                              .bench_frames = o.bench ? o.frames : 0, .bench_fps = &fps,

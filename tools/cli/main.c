@@ -100,7 +100,8 @@ static const qcli_cmd commands[] = {
      "usage: qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--lamp-rgb C0] [--exposure E] [--truth PNG|DIR]\n"
      "                 [--gles] [--bench [--frames N] [--headless] [--record OUT.png [--turn]]]\n"
      "  A window (X11) showing the asset relit by the core through platform/soft (--gles: platform/gles2\n"
-     "  on a headless EGL context, read back), with an overlay under the frame: scheme, light, k,\n"
+     "  into the window through an EGL window surface; read back from a headless EGL context with\n"
+     "  --headless, --record, --truth or without EGL's X11 platform), with an overlay under the frame: scheme, light, k,\n"
      "  exposure, ms per frame, fps and, with --truth, the PSNR against a `qibl render` PNG of the same\n"
      "  size, or (a directory) against the one of its sun_X_Y_Z.png frames (`qibl render --sun X Y Z`;\n"
      "  at most 64) whose sun is nearest the dragged one, named with the angle between them. Schemes (s cycles; those the asset or options cannot show are skipped): SUN (drag\n"
@@ -115,7 +116,19 @@ static const qcli_cmd commands[] = {
      "  the same frame. --bench: --frames N (default 600) frames with the sun dragged 4 pixels a frame\n"
      "  (--turn: one turn over the frames), then `RESULT view.fps F` (--headless: no window, the\n"
      "  framebuffer and overlay only); --record OUT.png: those frames, overlay included, as an APNG.\n"
-     "  The window needs a build with X11 (Debian: apt-get install libx11-dev).\n",
+     "  The window needs a build with X11 (Debian: apt-get install libx11-dev).\n"
+     "usage: qibl view MESH.obj|.ply|.gltf --probe P.hdr [--probe P2.hdr]... [--transfer FILE.qtr] [--zup]\n"
+     "                 [--size N] [--threads N] [--light-yaw DEG] [--light-pitch DEG] [--camera AZ,EL]\n"
+     "                 [--exposure E] [--png OUT.png | --bench [--frames N] [--headless] [--record OUT.png [--turn]]]\n"
+     "  Mesh mode: the mesh's hemi transfer computed once as `qibl transfer` does (or read from its\n"
+     "  --export file: --transfer), shaded per vertex by the core under the probe's SH turned live and\n"
+     "  drawn by platform/soft's rasterizer (a --size N square, default 512) from an orbit camera\n"
+     "  (--camera AZ,EL, default 35,20). Left drag: the lighting's yaw (a width once around) and pitch\n"
+     "  (a height 180 degrees); right drag: the camera; y / Y light yaw -/+15, [ / ] camera -/+15, p\n"
+     "  next probe, + / - exposure (default: the first frame's 99th percentile at 0.6). Every settled\n"
+     "  change prints `view: mesh --light-yaw Y --light-pitch P --camera AZ,EL --exposure E probe N |\n"
+     "  ...`: those options with that probe and --png OUT.png write the same frame without a window.\n"
+     "  --bench turns the light and prints `RESULT view.mesh_fps F`.\n",
      qcli_cmd_view},
     {"info", "validate a qibl asset file and print its contents",
      NULL, qcli_cmd_info},

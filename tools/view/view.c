@@ -45,6 +45,13 @@ void qtool_view_drag(qtool_view *v, int dx, int dy, uint32_t w, uint32_t h)
 {
     if (w == 0 || h == 0)
         return;
+    if (v->mesh) { /* the lighting turns */
+        v->yaw = fmod(v->yaw + 360.0 * dx / (double)w, 360.0);
+        v->yaw += v->yaw < 0 ? 360.0 : 0;
+        v->pitch += 180.0 * dy / (double)h;
+        v->pitch = v->pitch > 90.0 ? 90.0 : v->pitch < -90.0 ? -90.0 : v->pitch;
+        return;
+    }
     v->az -= 360.0 * dx / (double)w;
     v->az = fmod(v->az, 360.0);
     if (v->az < 0)
@@ -56,7 +63,35 @@ void qtool_view_drag(qtool_view *v, int dx, int dy, uint32_t w, uint32_t h)
         v->el = -QTOOL_VIEW_EL_MAX;
 }
 
+static int key_common(qtool_view *v, int key);
+
+/* mesh mode's keys: probe, yaw, exposure, camera azimuth */
+static int mesh_key(qtool_view *v, int key)
+{
+    switch (key) {
+    case 'p':
+    case 'y':
+    case 'Y':
+    case '+':
+    case '=':
+    case '-':
+        return key_common(v, key);
+    case '[':
+    case ']':
+        v->cam_az = fmod(v->cam_az + (key == ']' ? QTOOL_VIEW_YAW_STEP : 360.0 - QTOOL_VIEW_YAW_STEP), 360.0);
+        return 1;
+    default:
+        return 0;
+    }
+}
+
 int qtool_view_key(qtool_view *v, int key)
+{
+    return v->mesh ? mesh_key(v, key) : key_common(v, key);
+}
+
+/* asset mode's keys (and those mesh mode shares) */
+static int key_common(qtool_view *v, int key)
 {
     switch (key) {
     case 's': /* the next scheme this view can show */
@@ -131,6 +166,8 @@ static size_t span_ws(const qtool_view *v)
 
 size_t qtool_view_workspace_size(const qtool_view *v)
 {
+    if (v->mesh) /* mesh mode holds its own buffers (view/mesh.c) */
+        return 8;
     /* the path scheme's RGB8 frame after the row */
     return span_ws(v) + sizeof(int32_t) * 3 * v->maps.width +
            (v->npaths ? (size_t)v->maps.width * v->maps.height * 3 : 0);
@@ -222,6 +259,8 @@ qibl_status_t qtool_view_light(const qtool_view *v, qibl_shlight_t *l)
 
 int qtool_view_render(qtool_view *v, uint8_t *bgrx, size_t stride, void *ws, qibl_status_t *status)
 {
+    if (v->mesh)
+        return qtool_view_mesh_render(v, bgrx, stride, status);
     const uint32_t w = v->maps.width, h = v->maps.height;
     const size_t wsn = span_ws(v);
     int32_t *row = (int32_t *)(void *)((uint8_t *)ws + wsn); /* after the span workspace, aligned */
@@ -282,6 +321,10 @@ static const char *scheme_name(qtool_view_scheme s)
 
 void qtool_view_describe(const qtool_view *v, double fps, char *line1, char *line2, size_t n)
 {
+    if (v->mesh) {
+        qtool_view_mesh_describe(v, fps, line1, line2, n);
+        return;
+    }
     qibl_q16_t d[3];
     qtool_view_sun_q16(v, d);
     char probe[96] = "";

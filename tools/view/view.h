@@ -70,6 +70,11 @@ typedef struct qtool_view {
     size_t asset_n;
     uint32_t npaths, path_index;
     uint32_t path_t;            /* 0..QIBL_LIGHTPATH_T_MAX */
+    /* mesh mode (qtool_view_open_mesh; NULL: asset mode): the probe's SH turned by yaw (about +z)
+     * then pitch, the mesh seen from cam_az, cam_el; maps holds only the frame's width and height */
+    struct qtool_view_mesh *mesh;
+    double pitch;           /* degrees, the lighting's tilt about +x (applied before the yaw) */
+    double cam_az, cam_el;  /* degrees, the orbit camera (z up) */
 } qtool_view;
 
 #define QTOOL_VIEW_PATH_STEP 2048u /* t per t / T key (1/32 of a path) */
@@ -89,7 +94,9 @@ void qtool_view_sun_q16(const qtool_view *v, qibl_q16_t dir[3]);
 
 /* A pointer drag of (dx, dy) window pixels over a frame w pixels wide, h high: a full width turns
  * the sun once around (azimuth grows to the left, as the panorama's), a full height sweeps 180
- * degrees of elevation (up is up); the elevation is clamped to +-QTOOL_VIEW_EL_MAX. */
+ * degrees of elevation (up is up); the elevation is clamped to +-QTOOL_VIEW_EL_MAX. In mesh mode
+ * the lighting turns instead: a full width adds 360 degrees of yaw, a full height 180 of pitch
+ * (clamped to +-90). */
 void qtool_view_drag(qtool_view *v, int dx, int dy, uint32_t w, uint32_t h);
 
 /* A pointer drag in the path scheme: a full window width scrubs t over the whole path (clamped). */
@@ -127,9 +134,21 @@ double qtool_view_psnr(const uint8_t *bgrx, size_t stride, uint32_t w, uint32_t 
  * stride) for v's state; 0, or -1 after a one-line message on stderr. */
 typedef int (*qtool_view_frame_fn)(void *user, qtool_view *v, uint8_t *bgrx, size_t stride);
 
+/* A frame drawer straight into the window (`--gles` with a window): attach gets the native X11
+ * display and a child window (w x h, the frame's area, of visual id `visual`) and makes its GL
+ * current on it (0, or -1 with a one-line reason: the viewer then falls back to `frame`, read back);
+ * draw draws v's frame into it and swaps (0, or -1 after a message on stderr); detach releases it. */
+typedef struct qtool_view_window_gl {
+    int (*attach)(void *user, void *native_display, unsigned long native_window, unsigned long visual, uint32_t w,
+                  uint32_t h, char *err, size_t errlen);
+    int (*draw)(void *user, qtool_view *v);
+    void (*detach)(void *user); /* releases what attach made, before the window and display go */
+} qtool_view_window_gl;
+
 typedef struct qtool_view_run_opts {
     const char *title;         /* window title; NULL: "qibl view" */
     qtool_view_frame_fn frame; /* NULL: qtool_view_render */
+    const qtool_view_window_gl *gl; /* with a window and no recording: frames drawn into it (else frame) */
     void *user;
     const uint8_t *truth;      /* w x h RGB8 (NULL: no PSNR) */
     /* or a set of truth frames, each of a sun direction (--truth DIR): in the sun scheme the PSNR is
@@ -204,7 +223,66 @@ int qtool_view_record_check(const qtool_view *v, long frames, char *err, size_t 
 typedef struct qtool_view_gles qtool_view_gles;
 qtool_view_gles *qtool_view_gles_open(const qtool_view *v, char *err, size_t errlen);
 int qtool_view_gles_frame(void *user, qtool_view *v, uint8_t *bgrx, size_t stride);
+/* --gles in a window: a second EGL context on the X11 display and an EGL window surface on the
+ * viewer's frame area (eglCreatePlatformWindowSurfaceEXT); the maps uploaded again there; each frame
+ * relit into a texture (platform/gles2 draws GL's rows bottom-up) and drawn into the window turned
+ * upright, nearest texels at their centres (the bytes unchanged). user = the qtool_view_gles. */
+extern const qtool_view_window_gl qtool_view_gles_window;
 void qtool_view_gles_close(qtool_view_gles *g);
+
+/* ---- mesh mode (view/mesh.c): `qibl view MESH --probe P` ----------------------------------------
+ * A static mesh's per-vertex hemi transfer (computed once by tools/transfer as `qibl transfer` does,
+ * or read from a `qibl transfer --export` file) shaded every frame by the core
+ * (qibl_hemi_xfer_shade_span) under a probe's SH turned live (qibl_sh_rotate), drawn by
+ * platform/soft's rasterizer (Gouraud, z-buffered) with an orthographic orbit camera into the
+ * BGRX frame. Keys: p probe, y / Y yaw -/+ QTOOL_VIEW_YAW_STEP, + / - exposure, [ / ] camera
+ * azimuth -/+ QTOOL_VIEW_YAW_STEP; drag (button 1) turns the lighting (a full width: yaw once
+ * around; a full height: 180 degrees of pitch), button 3 orbits the camera. */
+#define QTOOL_VIEW_MESH_SIZE_DEFAULT 512u /* the square frame, pixels */
+#define QTOOL_VIEW_MESH_SIZE_MIN 64u
+#define QTOOL_VIEW_MESH_SIZE_MAX 2048u
+#define QTOOL_VIEW_CAM_EL_MAX 89.0      /* |elevation| of the orbit camera, degrees */
+
+typedef struct qtool_view_mesh_opts {
+    const char *mesh;               /* .obj, .ply or glTF */
+    const char *const *probes;      /* nprobes .hdr files (1..QTOOL_VIEW_MAX_PROBES) */
+    uint32_t nprobes;
+    const char *transfer;           /* a `qibl transfer --export` file of this mesh (NULL: computed) */
+    int zup;                        /* the mesh is z up (else y up, turned; as qibl transfer --zup) */
+    int threads;                    /* for the transfer (>= 1) */
+    uint32_t size;                  /* the frame's side, QTOOL_VIEW_MESH_SIZE_MIN..MAX */
+    double exposure;                /* linear, the viewer's range; 0: the 99th percentile of the first
+                                     * frame's irradiance at 0.6 */
+    double yaw, pitch, cam_az, cam_el; /* degrees: the starting light and camera */
+} qtool_view_mesh_opts;
+
+#define QTOOL_VIEW_MESH_OPTS_DEFAULT \
+    {.size = QTOOL_VIEW_MESH_SIZE_DEFAULT, .threads = 1, .exposure = 0, .cam_az = 35.0, .cam_el = 20.0}
+
+/* 1 if path names a mesh (.obj, .ply, .gltf, .glb: mesh mode) rather than an asset. */
+int qtool_view_is_mesh(const char *path);
+
+/* Fills v for mesh mode: the mesh, its transfer, each probe's SH (as `qibl transfer --probe` makes
+ * it), the camera and light. note: a one-line note ("" if none). 0, or -1 with a one-line reason in
+ * err and nothing kept. qtool_view_close_mesh frees what it holds (safe on any qtool_view). */
+int qtool_view_open_mesh(qtool_view *v, const qtool_view_mesh_opts *o, char *note, size_t notelen, char *err,
+                         size_t errlen);
+void qtool_view_close_mesh(qtool_view *v);
+
+/* The mesh's vertices and triangles, and the transfer's SH coefficients per vertex. */
+void qtool_view_mesh_counts(const qtool_view *v, uint32_t *nv, uint32_t *nt, uint32_t *ncoef);
+
+/* The light of mesh mode: the current probe's SH turned by pitch about +x, then yaw about +z
+ * (Q16.16, 25 terms per channel). QIBL_OK or the core's status. */
+QTOOL_NODISCARD qibl_status_t qtool_view_mesh_light(const qtool_view *v, int32_t light[3][25]);
+
+/* mesh mode's frame and overlay text (qtool_view_render and qtool_view_describe call them) */
+int qtool_view_mesh_render(qtool_view *v, uint8_t *bgrx, size_t stride, qibl_status_t *st);
+void qtool_view_mesh_describe(const qtool_view *v, double fps, char *line1, char *line2, size_t n);
+
+/* A button-3 drag of (dx, dy) window pixels: the camera orbits (a full width once around, a full
+ * height 180 degrees, clamped to +-QTOOL_VIEW_CAM_EL_MAX). */
+void qtool_view_orbit(qtool_view *v, int dx, int dy, uint32_t w, uint32_t h);
 
 /* 1 if this build can open a window (X11 found at build time). */
 int qtool_view_have_window(void);

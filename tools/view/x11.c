@@ -28,13 +28,20 @@ static double view_now(void)
     return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
 }
 
-/* one frame and the overlay into buf (w x (h + overlay) BGRX); 0 or -1 with err */
-static int draw(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void *ws, double fps, char *err, size_t n)
+/* one frame and the overlay into buf (w x (h + overlay) BGRX; direct: the frame straight into the
+ * window through o->gl, the overlay alone into buf); 0 or -1 with err */
+static int draw(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void *ws, double fps, int direct, char *err,
+                size_t n)
 {
     const uint32_t w = v->maps.width, h = v->maps.height;
     const size_t stride = (size_t)w * 4;
     qibl_status_t st = QIBL_OK;
-    if (o->frame) {
+    if (direct) {
+        double t0 = view_now();
+        if (o->gl->draw(o->user, v) != 0)
+            return snprintf(err, n, "view: the frame failed"), -1;
+        v->ms = (view_now() - t0) * 1e3;
+    } else if (o->frame) {
         double t0 = view_now();
         if (o->frame(o->user, v, buf, stride) != 0)
             return snprintf(err, n, "view: the frame failed"), -1;
@@ -42,7 +49,9 @@ static int draw(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void 
     } else if (qtool_view_render(v, buf, stride, ws, &st) != 0) {
         return snprintf(err, n, "view: relight: %s", qibl_status_str(st)), -1;
     }
-    if (o->truth) {
+    if (direct) {
+        /* no pixels here to compare (the truth options are read-back's) */
+    } else if (o->truth) {
         v->psnr = qtool_view_psnr(buf, stride, w, h, o->truth), v->truth_label = NULL;
     } else if (o->ntruths) {
         v->psnr = -1.0, v->truth_label = NULL;
@@ -97,7 +106,7 @@ static int bench_headless(qtool_view *v, const qtool_view_run_opts *o, uint8_t *
     double t0 = view_now(), fps = 0;
     for (long i = 0; i < o->bench_frames; ++i) {
         qtool_view_drag(v, drag_dx(o), (i / 64) % 2 ? 1 : -1, v->maps.width, v->maps.height);
-        if (draw(v, o, buf, ws, fps, err, n) != 0)
+        if (draw(v, o, buf, ws, fps, 0, err, n) != 0)
             return -1;
         fps = (double)(i + 1) / (view_now() - t0);
         if (rec)
@@ -115,6 +124,14 @@ static void log_state(const qtool_view *v, const qtool_view_run_opts *o)
         return;
     qibl_q16_t d[3];
     char l1[160], l2[160];
+    if (v->mesh) { /* the values exactly: `qibl view MESH --probe P --light-yaw .. --png OUT` gives the frame */
+        qtool_view_describe(v, 0, l1, l2, sizeof l1);
+        fprintf((FILE *)o->log, "view: mesh --light-yaw %.17g --light-pitch %.17g --camera %.17g,%.17g --exposure %.17g "
+                "probe %u | %s | %s\n", v->yaw, v->pitch, v->cam_az, v->cam_el, v->exposure / 65536.0, v->cur_probe,
+                l1, l2);
+        fflush((FILE *)o->log);
+        return;
+    }
     qtool_view_sun_q16(v, d);
     qtool_view_describe(v, 0, l1, l2, sizeof l1);
     /* the sun exactly (decimal of the Q16.16 values), so `qibl relight --sun` gives the same light */
@@ -166,13 +183,34 @@ static int x_run(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void
     GC gc = XCreateGC(dpy, win, 0, NULL);
     XImage *img = XCreateImage(dpy, vi.visual, (unsigned)vi.depth, ZPixmap, 0, (char *)buf, w, wh, 32, (int)w * 4);
     int rc = 0;
+    Window gwin = 0; /* --gles in the window: the frame's area */
     if (!img) {
         rc = -1, snprintf(err, n, "view: XCreateImage failed");
         goto out;
     }
     img->byte_order = LSBFirst; /* B, G, R, X in memory: the pixel 0x00RRGGBB little-endian */
+    /* --gles in the window: a child window over the frame's area gets the EGL surface (the overlay
+     * stays XPutImage's); a recording needs the pixels, so it reads back instead */
+    int direct = 0;
+    if (o->gl && o->gl->attach && !(o->record && o->bench_frames) && !o->truth && !o->ntruths) {
+        XSetWindowAttributes ga = {.background_pixel = 0, .border_pixel = 0, .colormap = wa.colormap};
+        gwin = XCreateWindow(dpy, win, 0, 0, w, h, 0, vi.depth, InputOutput, vi.visual,
+                             CWBackPixel | CWBorderPixel | CWColormap, &ga);
+        XMapWindow(dpy, gwin);
+        char why[300];
+        direct = o->gl->attach(o->user, dpy, gwin, vi.visualid, w, h, why, sizeof why) == 0;
+        if (!direct) {
+            XDestroyWindow(dpy, gwin), gwin = 0;
+            fprintf(stderr, "qibl: note: view --gles: %s: the frames are read back instead\n", why);
+        }
+        if (o->log) {
+            fprintf((FILE *)o->log, "view: --gles %s\n", direct ? "draws into the window (EGL window surface)"
+                                                                 : "reads the frames back (headless EGL)");
+            fflush((FILE *)o->log);
+        }
+    }
     {
-        int dirty = 1, dragging = 0, lx = 0, ly = 0, moved = 1, running = 1; /* the first frame is logged */
+        int dirty = 1, dragging = 0, orbiting = 0, lx = 0, ly = 0, moved = 1, running = 1; /* the first frame is logged */
         double fps = 0, t_last = view_now(), t0 = t_last;
         long frames = 0;
         for (;;) { /* wait for the window to be mapped */
@@ -199,7 +237,15 @@ static int x_run(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void
                         dirty |= qtool_view_key(v, '-'), moved = 1;
                     else if (ks < 256 && qtool_view_key(v, (int)ks))
                         dirty = 1, moved = 1;
-                } else if (e.type == ButtonPress && e.xbutton.button == Button1) {
+                } else if (e.type == ButtonPress && e.xbutton.button == Button3 && v->mesh && !dragging) {
+                    orbiting = 1, lx = e.xbutton.x, ly = e.xbutton.y; /* mesh mode: the camera orbits */
+                } else if (e.type == MotionNotify && orbiting) {
+                    qtool_view_orbit(v, e.xmotion.x - lx, e.xmotion.y - ly, w, h), dirty = 1;
+                    lx = e.xmotion.x, ly = e.xmotion.y;
+                } else if (e.type == ButtonRelease && e.xbutton.button == Button3 && orbiting) {
+                    qtool_view_orbit(v, e.xbutton.x - lx, e.xbutton.y - ly, w, h);
+                    orbiting = 0, dirty = 1, moved = 1;
+                } else if (e.type == ButtonPress && e.xbutton.button == Button1 && !orbiting) {
                     dragging = 1, lx = e.xbutton.x, ly = e.xbutton.y;
                     if (v->scheme == QTOOL_VIEW_LAMP) /* the lamp: picked under the pointer */
                         dirty |= qtool_view_pick(v, lx, ly);
@@ -230,11 +276,14 @@ static int x_run(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void
                 dirty = 1;
             }
             if (dirty) {
-                if (draw(v, o, buf, ws, fps, err, n) != 0) {
+                if (draw(v, o, buf, ws, fps, direct, err, n) != 0) {
                     rc = -1;
                     break;
                 }
-                XPutImage(dpy, win, gc, img, 0, 0, 0, 0, w, wh);
+                if (direct) /* the overlay under the GL frame */
+                    XPutImage(dpy, win, gc, img, 0, (int)h, 0, (int)h, w, wh - h);
+                else
+                    XPutImage(dpy, win, gc, img, 0, 0, 0, 0, w, wh);
                 XSync(dpy, False); /* the frame is on the server before it is logged */
                 if (rec && o->bench_frames)
                     record_frame(v, buf, rec, frames);
@@ -255,6 +304,10 @@ static int x_run(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void
     img->data = NULL; /* buf is the caller's */
     XDestroyImage(img);
 out:
+    if (gwin) { /* the GL goes before its window and the display */
+        o->gl->detach(o->user);
+        XDestroyWindow(dpy, gwin);
+    }
     XFreeGC(dpy, gc);
     XDestroyWindow(dpy, win);
     XCloseDisplay(dpy);
