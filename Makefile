@@ -37,6 +37,8 @@ TOOL_LIB_SRC += $(wildcard tools/demo/*.c)
 TOOL_LIB_SRC += $(wildcard tools/probe/*.c)
 # near-field light sources (tools/luminaire: the .qnf file, simulated capture, textured spotlights)
 TOOL_LIB_SRC += $(wildcard tools/luminaire/*.c)
+# the option tables under the CLI's commands (tools/opt: parser, help and error lines from one table)
+TOOL_LIB_SRC += $(wildcard tools/opt/*.c)
 # the golden cases (plain C, shared by the suites and the golden runner) and their CMocka-side check
 GOLDEN_CASES_SRC := $(wildcard tools/golden/cases*.c)
 TOOL_LIB_SRC += $(GOLDEN_CASES_SRC) tools/golden/check.c
@@ -295,11 +297,7 @@ $(VERSION_BANDS3): tests/version_bands3.c
 $(BUILD)/tests/version_test $(BUILD)/tests/version_test-portable $(BUILD)/tests/version_test-avx2: $(VERSION_BANDS3)
 $(BUILD)/tests/version_test $(BUILD)/tests/version_test-portable $(BUILD)/tests/version_test-avx2: TEST_EXTRA = $(VERSION_BANDS3)
 
-# cli_opts_test also tests the option-table parser itself (tools/cli/opt.c needs only libc)
-CLI_OPT_O := $(BUILD)/host/tools/cli/opt.o
-CLI_OPTS_TESTS := $(BUILD)/tests/cli_opts_test $(BUILD)/tests/cli_opts_test-portable $(BUILD)/tests/cli_opts_test-avx2
-$(CLI_OPTS_TESTS): $(CLI_OPT_O)
-$(CLI_OPTS_TESTS): TEST_EXTRA = $(CLI_OPT_O)
+# cli_opts_test also tests the option-table parser itself (tools/opt, in the tools library: libc only)
 
 $(BUILD)/host/tests/%.o: tests/%.c | test-deps
 	@mkdir -p $(dir $@)

@@ -7,7 +7,7 @@
  * defaults and ranges help prints.
  */
 #include "cliutil.h"
-#include "cli/opt.h"
+#include "opt/opt.h"
 
 CLI_FIXTURES("/tmp/qibl_cli_opts_test_XXXXXX")
 
@@ -186,7 +186,7 @@ static void test_values(void **state)
 /* ---- the table module itself ------------------------------------------------------------------ */
 
 typedef struct t_opts {
-    qcli_opt_list pos, files;
+    qtool_opt_list pos, files;
     const char *out, *cb;
     long n, size[2];
     double x, v[3];
@@ -203,23 +203,23 @@ static const char *t_call(void *opts, const char *v)
     return NULL;
 }
 
-static const qcli_opt t_table[] = {
-    {.name = "--flag", .alias = "-f", .kind = QCLI_OPT_FLAG, .off = offsetof(t_opts, flag), .help = "a flag"},
-    {.name = "--n", .kind = QCLI_OPT_INT, .off = offsetof(t_opts, n), .arg = "N", .lo = 1, .hi = 9, .why = "why not",
+static const qtool_opt t_table[] = {
+    {.name = "--flag", .alias = "-f", .kind = QTOOL_OPT_FLAG, .off = offsetof(t_opts, flag), .help = "a flag"},
+    {.name = "--n", .kind = QTOOL_OPT_INT, .off = offsetof(t_opts, n), .arg = "N", .lo = 1, .hi = 9, .why = "why not",
      .help = "an integer"},
-    {.name = "--x", .kind = QCLI_OPT_NUM, .off = offsetof(t_opts, x), .lo = -1, .hi = 1, .help = "a number"},
-    {.name = "-o", .kind = QCLI_OPT_STR, .off = offsetof(t_opts, out), .arg = "FILE", .required = 1,
+    {.name = "--x", .kind = QTOOL_OPT_NUM, .off = offsetof(t_opts, x), .lo = -1, .hi = 1, .help = "a number"},
+    {.name = "-o", .kind = QTOOL_OPT_STR, .off = offsetof(t_opts, out), .arg = "FILE", .required = 1,
      .help = "the output"},
-    {.name = "--mode", .kind = QCLI_OPT_ENUM, .off = offsetof(t_opts, mode), .names = modes, .help = "a mode"},
-    {.name = "--size", .kind = QCLI_OPT_SIZE, .off = offsetof(t_opts, size), .hi = 64, .help = "a size"},
-    {.name = "--v", .kind = QCLI_OPT_TRIPLE, .off = offsetof(t_opts, v), .lo = -2, .hi = 2, .help = "a vector"},
-    {.name = "--file", .kind = QCLI_OPT_LIST, .off = offsetof(t_opts, files), .arg = "F", .hi = 2, .help = "a file"},
-    {.name = "--cb", .kind = QCLI_OPT_CALL, .off = 0, .call = t_call, .help = "a callback"},
-    {.name = "--old", .kind = QCLI_OPT_INT, .off = offsetof(t_opts, n), .arg = "N", .lo = 1, .hi = 9,
+    {.name = "--mode", .kind = QTOOL_OPT_ENUM, .off = offsetof(t_opts, mode), .names = modes, .help = "a mode"},
+    {.name = "--size", .kind = QTOOL_OPT_SIZE, .off = offsetof(t_opts, size), .hi = 64, .help = "a size"},
+    {.name = "--v", .kind = QTOOL_OPT_TRIPLE, .off = offsetof(t_opts, v), .lo = -2, .hi = 2, .help = "a vector"},
+    {.name = "--file", .kind = QTOOL_OPT_LIST, .off = offsetof(t_opts, files), .arg = "F", .hi = 2, .help = "a file"},
+    {.name = "--cb", .kind = QTOOL_OPT_CALL, .off = 0, .call = t_call, .help = "a callback"},
+    {.name = "--old", .kind = QTOOL_OPT_INT, .off = offsetof(t_opts, n), .arg = "N", .lo = 1, .hi = 9,
      .renamed = "--n", .note = "it was renamed"},
     {0},
 };
-static const qcli_opt_cmd t_cmd = {
+static const qtool_opt_cmd t_cmd = {
     .name = "t sub",
     .help_name = "t",
     .opts = t_table,
@@ -243,7 +243,7 @@ static int t_parse(t_opts *o, char *err, size_t errn, ...)
     int saved = dup(2), fd = open(errlog, O_WRONLY | O_CREAT | O_TRUNC, 0644);
     assert_true(saved >= 0 && fd >= 0);
     dup2(fd, 2);
-    int rc = qcli_opt_parse(&t_cmd, argc, argv, 2, o);
+    int rc = qtool_opt_parse(&t_cmd, argc, argv, 2, o);
     fflush(stderr);
     dup2(saved, 2);
     close(fd), close(saved);
@@ -316,7 +316,7 @@ static void test_table_help(void **state)
     size_t n = 0;
     FILE *f = open_memstream(&h, &n);
     assert_non_null(f);
-    qcli_opt_help(f, &t_cmd);
+    qtool_opt_help(f, &t_cmd);
     fclose(f);
     static const char *const want[] = {
         "usage: qibl t sub [--flag] [--n N] [--x X] -o FILE [--mode a|bee|c] [--size WxH] [--v X Y Z]",
@@ -343,35 +343,35 @@ static void test_table_values(void **state)
     (void)state;
     long l = 5, wh[2] = {0, 0};
     double d = 5;
-    assert_int_equal(qcli_opt_int_value("9", 1, 9, &l), 0);
+    assert_int_equal(qtool_opt_int_value("9", 1, 9, &l), 0);
     assert_int_equal(l, 9);
-    assert_int_equal(qcli_opt_int_value("10", 1, 9, &l), -1);
-    assert_int_equal(qcli_opt_int_value("99999999999999999999", 1, 9, &l), -1);
-    assert_int_equal(qcli_opt_int_value("", 1, 9, &l), -1);
+    assert_int_equal(qtool_opt_int_value("10", 1, 9, &l), -1);
+    assert_int_equal(qtool_opt_int_value("99999999999999999999", 1, 9, &l), -1);
+    assert_int_equal(qtool_opt_int_value("", 1, 9, &l), -1);
     assert_int_equal(l, 9); /* nothing written on failure */
-    assert_int_equal(qcli_opt_num_value("-1", -1, 1, &d), 0);
+    assert_int_equal(qtool_opt_num_value("-1", -1, 1, &d), 0);
     assert_true(d == -1);
-    assert_int_equal(qcli_opt_num_value("x", -1, 1, &d), 1);
-    assert_int_equal(qcli_opt_num_value("1e999", -1, 1, &d), 2);
-    assert_int_equal(qcli_opt_num_value("nan", -1, 1, &d), 2);
-    assert_int_equal(qcli_opt_num_value("1.5", -1, 1, &d), 3);
+    assert_int_equal(qtool_opt_num_value("x", -1, 1, &d), 1);
+    assert_int_equal(qtool_opt_num_value("1e999", -1, 1, &d), 2);
+    assert_int_equal(qtool_opt_num_value("nan", -1, 1, &d), 2);
+    assert_int_equal(qtool_opt_num_value("1.5", -1, 1, &d), 3);
     assert_true(d == -1);
-    assert_int_equal(qcli_opt_size_value("3x4", 4, wh), 0);
+    assert_int_equal(qtool_opt_size_value("3x4", 4, wh), 0);
     assert_true(wh[0] == 3 && wh[1] == 4);
-    assert_int_equal(qcli_opt_size_value("5x4", 4, wh), -1);
-    assert_int_equal(qcli_opt_size_value("0x4", 4, wh), -1);
-    assert_int_equal(qcli_opt_size_value("3x", 4, wh), -1);
-    assert_int_equal(qcli_opt_size_value("3x4 ", 4, wh), -1);
-    assert_int_equal(qcli_opt_size_value("99999999999999999999x4", 4, wh), -1);
+    assert_int_equal(qtool_opt_size_value("5x4", 4, wh), -1);
+    assert_int_equal(qtool_opt_size_value("0x4", 4, wh), -1);
+    assert_int_equal(qtool_opt_size_value("3x", 4, wh), -1);
+    assert_int_equal(qtool_opt_size_value("3x4 ", 4, wh), -1);
+    assert_int_equal(qtool_opt_size_value("99999999999999999999x4", 4, wh), -1);
     assert_true(wh[0] == 3 && wh[1] == 4);
 }
 
 static void test_table_sub(void **state)
 {
     (void)state;
-    static const qcli_opt_cmd *const subs[] = {&t_cmd, NULL};
+    static const qtool_opt_cmd *const subs[] = {&t_cmd, NULL};
     char *a1[] = {"t", "sub"}, *a2[] = {"t"}, *a3[] = {"t", "--x"}, *a4[] = {"t", "zap"};
-    assert_ptr_equal(qcli_opt_sub("t", subs, "other", 2, a1), &t_cmd);
+    assert_ptr_equal(qtool_opt_sub("t", subs, "other", 2, a1), &t_cmd);
     const struct {
         int argc;
         char **argv;
@@ -384,7 +384,7 @@ static void test_table_sub(void **state)
         int saved = dup(2), fd = open(errlog, O_WRONLY | O_CREAT | O_TRUNC, 0644);
         assert_true(saved >= 0 && fd >= 0);
         dup2(fd, 2);
-        const qcli_opt_cmd *c = qcli_opt_sub("t", subs, "other", bad[i].argc, bad[i].argv);
+        const qtool_opt_cmd *c = qtool_opt_sub("t", subs, "other", bad[i].argc, bad[i].argv);
         fflush(stderr);
         dup2(saved, 2);
         close(fd), close(saved);
@@ -398,7 +398,7 @@ static void test_table_sub(void **state)
 /* an optional value (CALL .optional, as lights --error [P%]): digits are its value, "bad" is refused,
  * anything else is not its value and is parsed as the next argument */
 typedef struct o_opts {
-    qcli_opt_list pos;
+    qtool_opt_list pos;
     const char *val;
     int alone;
 } o_opts;
@@ -411,17 +411,17 @@ static const char *o_call(void *opts, const char *v)
     if (strcmp(v, "bad") == 0)
         return "is bad";
     if (strspn(v, "0123456789") != strlen(v))
-        return qcli_opt_no_value;
+        return qtool_opt_no_value;
     o->val = v;
     return NULL;
 }
 
-static const qcli_opt o_table[] = {
-    {.name = "--e", .kind = QCLI_OPT_CALL, .optional = 1, .off = 0, .arg = "V", .call = o_call, .help = "maybe"},
-    {.name = "--f", .kind = QCLI_OPT_FLAG, .off = offsetof(o_opts, alone), .help = "a flag"},
+static const qtool_opt o_table[] = {
+    {.name = "--e", .kind = QTOOL_OPT_CALL, .optional = 1, .off = 0, .arg = "V", .call = o_call, .help = "maybe"},
+    {.name = "--f", .kind = QTOOL_OPT_FLAG, .off = offsetof(o_opts, alone), .help = "a flag"},
     {0},
 };
-static const qcli_opt_cmd o_cmd = {.name = "o", .opts = o_table, .size = sizeof(o_opts),
+static const qtool_opt_cmd o_cmd = {.name = "o", .opts = o_table, .size = sizeof(o_opts),
                                    .pos = {.names = "A", .min = 0, .max = 2, .off = offsetof(o_opts, pos)}};
 
 static int o_parse(o_opts *o, char *err, size_t errn, int argc, char **argv)
@@ -430,7 +430,7 @@ static int o_parse(o_opts *o, char *err, size_t errn, int argc, char **argv)
     int saved = dup(2), fd = open(errlog, O_WRONLY | O_CREAT | O_TRUNC, 0644);
     assert_true(saved >= 0 && fd >= 0);
     dup2(fd, 2);
-    int rc = qcli_opt_parse(&o_cmd, argc, argv, 1, o);
+    int rc = qtool_opt_parse(&o_cmd, argc, argv, 1, o);
     fflush(stderr);
     dup2(saved, 2);
     close(fd), close(saved);
@@ -460,8 +460,8 @@ static void test_table_optional(void **state)
     /* help shows the value as optional; --flags lists it as a flag (whole alone) */
     FILE *f = fopen(outlog, "w");
     assert_non_null(f);
-    qcli_opt_help(f, &o_cmd);
-    qcli_opt_flags(f, &o_cmd);
+    qtool_opt_help(f, &o_cmd);
+    qtool_opt_flags(f, &o_cmd);
     fclose(f);
     char *h = text(outlog);
     assert_non_null(strstr(h, "usage: qibl o [--e [V]] [--f] [A]\n"));
@@ -497,12 +497,12 @@ static const char *act_call(void *opts, const char *v)
     return o->acted++ ? "once only" : NULL;
 }
 
-static const qcli_opt n_table[] = {
-    {.name = "--three", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = n_call, .arg = "A B C", .help = "three"},
-    {.name = "--act", .kind = QCLI_OPT_FLAG, .off = offsetof(n_opts, flag), .call = act_call, .help = "acts"},
+static const qtool_opt n_table[] = {
+    {.name = "--three", .kind = QTOOL_OPT_CALL, .nargs = 3, .call_n = n_call, .arg = "A B C", .help = "three"},
+    {.name = "--act", .kind = QTOOL_OPT_FLAG, .off = offsetof(n_opts, flag), .call = act_call, .help = "acts"},
     {0},
 };
-static const qcli_opt_cmd n_cmd = {.name = "n", .opts = n_table, .size = sizeof(n_opts)};
+static const qtool_opt_cmd n_cmd = {.name = "n", .opts = n_table, .size = sizeof(n_opts)};
 
 static int n_parse(n_opts *o, char *err, size_t errn, int argc, char **argv)
 {
@@ -510,7 +510,7 @@ static int n_parse(n_opts *o, char *err, size_t errn, int argc, char **argv)
     int saved = dup(2), fd = open(errlog, O_WRONLY | O_CREAT | O_TRUNC, 0644);
     assert_true(saved >= 0 && fd >= 0);
     dup2(fd, 2);
-    int rc = qcli_opt_parse(&n_cmd, argc, argv, 1, o);
+    int rc = qtool_opt_parse(&n_cmd, argc, argv, 1, o);
     fflush(stderr);
     dup2(saved, 2);
     close(fd), close(saved);
@@ -555,14 +555,14 @@ static const char *e_file(void *opts, const char *v)
     return NULL;
 }
 
-static const qcli_opt e_table[] = {
-    {.name = "--progress", .kind = QCLI_OPT_ENUM, .eq = 1, .off = offsetof(e_opts, mode), .names = e_modes,
+static const qtool_opt e_table[] = {
+    {.name = "--progress", .kind = QTOOL_OPT_ENUM, .eq = 1, .off = offsetof(e_opts, mode), .names = e_modes,
      .help = "a mode"},
-    {.name = "--n", .kind = QCLI_OPT_INT, .off = offsetof(e_opts, n), .lo = 1, .hi = 9, .help = "no = form"},
+    {.name = "--n", .kind = QTOOL_OPT_INT, .off = offsetof(e_opts, n), .lo = 1, .hi = 9, .help = "no = form"},
     {0},
 };
-static const qcli_opt_cmd e_cmd = {.name = "e", .opts = e_table, .size = sizeof(e_opts),
-                                   .pos = {.names = "F...", .max = QCLI_OPT_LIST_MAX, .call = e_file}};
+static const qtool_opt_cmd e_cmd = {.name = "e", .opts = e_table, .size = sizeof(e_opts),
+                                   .pos = {.names = "F...", .max = QTOOL_OPT_LIST_MAX, .call = e_file}};
 
 static int e_parse(e_opts *o, char *err, size_t errn, int argc, char **argv)
 {
@@ -570,7 +570,7 @@ static int e_parse(e_opts *o, char *err, size_t errn, int argc, char **argv)
     int saved = dup(2), fd = open(errlog, O_WRONLY | O_CREAT | O_TRUNC, 0644);
     assert_true(saved >= 0 && fd >= 0);
     dup2(fd, 2);
-    int rc = qcli_opt_parse(&e_cmd, argc, argv, 1, o);
+    int rc = qtool_opt_parse(&e_cmd, argc, argv, 1, o);
     fflush(stderr);
     dup2(saved, 2);
     close(fd), close(saved);
@@ -596,12 +596,12 @@ static void test_table_eq_and_pos_call(void **state)
     assert_int_equal(e_parse(&o, err, sizeof err, 2, a4), 2); /* only where the table says .eq */
     assert_string_equal(err, "qibl e: unknown option '--n=3'; see qibl help e\n");
     /* more files than a list holds */
-    char *many[QCLI_OPT_LIST_MAX + 11];
+    char *many[QTOOL_OPT_LIST_MAX + 11];
     many[0] = "e";
-    for (int k = 1; k < QCLI_OPT_LIST_MAX + 11; ++k)
+    for (int k = 1; k < QTOOL_OPT_LIST_MAX + 11; ++k)
         many[k] = "f";
-    assert_int_equal(e_parse(&o, err, sizeof err, QCLI_OPT_LIST_MAX + 11, many), 0);
-    assert_int_equal(o.files, QCLI_OPT_LIST_MAX + 10);
+    assert_int_equal(e_parse(&o, err, sizeof err, QTOOL_OPT_LIST_MAX + 11, many), 0);
+    assert_int_equal(o.files, QTOOL_OPT_LIST_MAX + 10);
     assert_int_equal(e_parse(&o, err, sizeof err, 3, a5), 2);
     assert_string_equal(err, "qibl e: 'bad' is bad; see qibl help e\n");
 }

@@ -102,4 +102,15 @@ int qcli_parse_int(const char *s, long lo, long hi, long *out);
 #define qcli_now qtool_bench_now
 #define qcli_median qtool_bench_median
 
+#include "opt/opt.h"
+/* The option tables of the commands (tools/opt/opt.h), for main.c's command table and `qibl help`. */
+extern const qtool_opt_cmd qcli_opts_gen, qcli_opts_info, qcli_opts_study, qcli_opts_ies_info;
+/* (relight, render, bake, merge, check, demo, lights, probe info, sh project, bench: the same) */
+extern const qtool_opt_cmd qcli_opts_sh_eval, qcli_opts_sh_plot, qcli_opts_srgbe_encode, qcli_opts_srgbe_decode;
+extern const qtool_opt_cmd qcli_opts_bench, qcli_opts_probe_info, qcli_opts_sh_project, qcli_opts_lights,
+    qcli_opts_relight, qcli_opts_merge, qcli_opts_check,
+    qcli_opts_render, qcli_opts_bake, qcli_opts_demo;
+extern const qtool_opt_cmd qcli_opts_luminaire_capture, qcli_opts_luminaire_info, qcli_opts_luminaire_render,
+    qcli_opts_luminaire_study;
+
 #endif

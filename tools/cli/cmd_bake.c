@@ -14,7 +14,7 @@
 
 #include "bake/job.h"
 #include "cli/cli.h"
-#include "cli/opt.h"
+#include "opt/opt.h"
 #include "cli/scene_opts.h"
 #include "qibl/asset.h"
 #include "qibl/shmaps.h"
@@ -27,7 +27,7 @@ static const char *parse_d3(char *const *v, double lo, double out[3], char *why,
 {
     double d[3];
     for (int j = 0; j < 3; ++j) {
-        int r = qcli_opt_num_value(v[j], lo, QTOOL_CLI_Q16_MAX, &d[j]);
+        int r = qtool_opt_num_value(v[j], lo, QTOOL_CLI_Q16_MAX, &d[j]);
         if (r == 1 || r == 2)
             snprintf(why, n, "'%s' is not a %snumber", v[j], r == 2 ? "finite " : "");
         else if (r != 0)
@@ -106,11 +106,11 @@ const char *qcli_fov_call(void *opts, const char *v)
     return NULL;
 }
 
-int qcli_scene_from(const qcli_opt_cmd *t, const qcli_scene_cli *c, qtool_scene_opts *o)
+int qcli_scene_from(const qtool_opt_cmd *t, const qcli_scene_cli *c, qtool_scene_opts *o)
 {
     if (c->size[0] > 0) {
         if (c->size[0] * c->size[1] > (long)QIBL_ASSET_MAX_PIXELS)
-            return qcli_opt_error(t, "--size %ldx%ld is above the asset's %u pixels", c->size[0], c->size[1],
+            return qtool_opt_error(t, "--size %ldx%ld is above the asset's %u pixels", c->size[0], c->size[1],
                                   QIBL_ASSET_MAX_PIXELS);
         o->w = (uint32_t)c->size[0], o->h = (uint32_t)c->size[1];
     }
@@ -125,15 +125,15 @@ int qcli_scene_from(const qcli_opt_cmd *t, const qcli_scene_cli *c, qtool_scene_
     memcpy(o->eye, c->eye, sizeof o->eye), memcpy(o->target, c->target, sizeof o->target);
     memcpy(o->up, c->up, sizeof o->up);
     if (c->fov_given && o->camera == QTOOL_SCENE_PANORAMA)
-        return qcli_opt_error(t, "--fov is the field of view of a --camera");
+        return qtool_opt_error(t, "--fov is the field of view of a --camera");
     if (o->camera != QTOOL_SCENE_PANORAMA && o->kind == QTOOL_PANO_EQUIRECT)
-        return qcli_opt_error(t, "--camera makes a perspective frame: --equirect is for panoramas");
+        return qtool_opt_error(t, "--camera makes a perspective frame: --equirect is for panoramas");
     if (o->camera == QTOOL_SCENE_GLTF_CAMERA && !c->fov_given)
         o->fov = 0; /* the file's own yfov */
     qtool_rt_camera cam;
     char err[256];
     if (o->camera == QTOOL_SCENE_CAMERA && qtool_rt_camera_init(&cam, o->eye, o->target, o->up, o->fov, err, sizeof err) != 0)
-        return qcli_opt_error(t, "%s", err);
+        return qtool_opt_error(t, "%s", err);
     return 0;
 }
 
@@ -265,43 +265,43 @@ static const char *render_up(void *o, char *const *v, int n, int *used)
     return render_frame(o, v, ((render_cli *)o)->o.up);
 }
 
-static const qcli_opt render_table[] = {
-    {.name = "--sun", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = render_sun, .arg = "X Y Z",
+static const qtool_opt render_table[] = {
+    {.name = "--sun", .kind = QTOOL_OPT_CALL, .nargs = 3, .call_n = render_sun, .arg = "X Y Z",
      .help = "a directional light from (X, Y, Z) of irradiance --rgb (one --sun or --point)"},
-    {.name = "--point", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = render_point, .arg = "X Y Z",
+    {.name = "--point", .kind = QTOOL_OPT_CALL, .nargs = 3, .call_n = render_point, .arg = "X Y Z",
      .help = "a lamp at (X, Y, Z), C0 = --rgb, falloff C0/|L| (or |L|^2)"},
-    {.name = "--rgb", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = render_rgb, .arg = "R G B",
+    {.name = "--rgb", .kind = QTOOL_OPT_CALL, .nargs = 3, .call_n = render_rgb, .arg = "R G B",
      .def = "1 1 1; a --point: 2 d, or 2 d^2", .help = "the light's colour, each in 0..32767.99998"},
-    {.name = "--falloff", .kind = QCLI_OPT_INT, .off = offsetof(render_cli, falloff), .lo = 1, .hi = 2,
+    {.name = "--falloff", .kind = QTOOL_OPT_INT, .off = offsetof(render_cli, falloff), .lo = 1, .hi = 2,
      .why = "1: C0/|L|, 2: C0/|L|^2", .help = "the lamp's falloff"},
-    {.name = "--png", .kind = QCLI_OPT_STR, .off = offsetof(render_cli, o.png), .arg = "OUT",
+    {.name = "--png", .kind = QTOOL_OPT_STR, .off = offsetof(render_cli, o.png), .arg = "OUT",
      .help = "sRGB 8-bit through the same framebuffer code as qibl relight"},
-    {.name = "--pfm", .kind = QCLI_OPT_STR, .off = offsetof(render_cli, o.pfm), .arg = "OUT",
+    {.name = "--pfm", .kind = QTOOL_OPT_STR, .off = offsetof(render_cli, o.pfm), .arg = "OUT",
      .help = "linear RGB floats"},
-    {.name = "--exr", .kind = QCLI_OPT_STR, .off = offsetof(render_cli, o.exr), .arg = "OUT.exr",
+    {.name = "--exr", .kind = QTOOL_OPT_STR, .off = offsetof(render_cli, o.exr), .arg = "OUT.exr",
      .help = "the same floats as OpenEXR (scanline, ZIP, FLOAT channels, bit for bit)"},
-    {.name = "--depth", .kind = QCLI_OPT_STR, .off = offsetof(render_cli, o.depth), .arg = "OUT.pfm",
+    {.name = "--depth", .kind = QTOOL_OPT_STR, .off = offsetof(render_cli, o.depth), .arg = "OUT.pfm",
      .help = "depth along each pixel's ray (0 for sky)"},
-    {.name = "--ies", .kind = QCLI_OPT_STR, .off = offsetof(render_cli, o.ies), .arg = "FILE.ies",
+    {.name = "--ies", .kind = QTOOL_OPT_STR, .off = offsetof(render_cli, o.ies), .arg = "FILE.ies",
      .help = "the --point lamp is goniometric (its IES profile in double precision)"},
-    {.name = "--aim", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = render_aim, .arg = "X Y Z", .def = "0 0 -1",
+    {.name = "--aim", .kind = QTOOL_OPT_CALL, .nargs = 3, .call_n = render_aim, .arg = "X Y Z", .def = "0 0 -1",
      .help = "the --ies lamp's axis, as relight --ies orients it"},
-    {.name = "--up", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = render_up, .arg = "X Y Z", .def = "1 0 0",
+    {.name = "--up", .kind = QTOOL_OPT_CALL, .nargs = 3, .call_n = render_up, .arg = "X Y Z", .def = "1 0 0",
      .help = "the --ies lamp's horizontal angle 0"},
-    {.name = "--probe", .kind = QCLI_OPT_STR, .off = offsetof(render_cli, o.probe), .arg = "PROBE.hdr",
+    {.name = "--probe", .kind = QTOOL_OPT_STR, .off = offsetof(render_cli, o.probe), .arg = "PROBE.hdr",
      .help = "the truth under the whole probe instead of --sun/--point"},
-    {.name = "--yaw", .kind = QCLI_OPT_NUM, .off = offsetof(render_cli, o.yaw), .arg = "DEG", .lo = -360, .hi = 360,
+    {.name = "--yaw", .kind = QTOOL_OPT_NUM, .off = offsetof(render_cli, o.yaw), .arg = "DEG", .lo = -360, .hi = 360,
      .help = "turn the --probe (positive turns +x toward +y)"},
-    {.name = "--spp", .kind = QCLI_OPT_INT, .off = offsetof(render_cli, o.spp), .arg = "N", .lo = 4, .hi = 1 << 20,
+    {.name = "--spp", .kind = QTOOL_OPT_INT, .off = offsetof(render_cli, o.spp), .arg = "N", .lo = 4, .hi = 1 << 20,
      .help = "the --probe truth's samples per pixel in each of its two renders"},
-    {.name = "--seed", .kind = QCLI_OPT_INT, .off = offsetof(render_cli, o.seed), .arg = "S", .lo = 0, .hi = 1 << 30,
+    {.name = "--seed", .kind = QTOOL_OPT_INT, .off = offsetof(render_cli, o.seed), .arg = "S", .lo = 0, .hi = 1 << 30,
      .help = "the --probe truth's renders use seeds 2 S + 1 and 2 S + 2"},
     QCLI_SCENE_OPTS(NULL),
     QCLI_CAMERA_OPTS,
     {0},
 };
 
-const qcli_opt_cmd qcli_opts_render = {
+const qtool_opt_cmd qcli_opts_render = {
     .name = "render",
     .opts = render_table,
     .defaults = &render_defaults,
@@ -312,23 +312,23 @@ const qcli_opt_cmd qcli_opts_render = {
 /* render's options into o; 0, or 2 after the one line */
 static int render_parse(int argc, char **argv, qtool_render_opts *o)
 {
-    const qcli_opt_cmd *t = &qcli_opts_render;
+    const qtool_opt_cmd *t = &qcli_opts_render;
     render_cli c;
-    if (qcli_opt_parse(t, argc, argv, 1, &c) != 0)
+    if (qtool_opt_parse(t, argc, argv, 1, &c) != 0)
         return 2;
     qtool_scene_opts scene = o->scene; /* the caller's defaults (the job's CPUs) */
     *o = c.o, o->scene = scene;
     if (o->probe && (c.have || o->depth || o->ies))
-        return qcli_opt_error(t, "--probe is the whole light: no --sun, --point, --ies or --depth with it");
+        return qtool_opt_error(t, "--probe is the whole light: no --sun, --point, --ies or --depth with it");
     if (!o->probe && (o->yaw != 0 || c.o.spp != render_defaults.o.spp || o->seed))
-        return qcli_opt_error(t, "--yaw, --spp and --seed shape a --probe truth: give --probe PROBE.hdr");
+        return qtool_opt_error(t, "--yaw, --spp and --seed shape a --probe truth: give --probe PROBE.hdr");
     if ((c.have != 1 && !o->probe) || (!o->png && !o->pfm && !o->exr && !o->depth))
-        return qcli_opt_error(t, "render needs exactly one of --sun/--point/--probe and at least one of "
+        return qtool_opt_error(t, "render needs exactly one of --sun/--point/--probe and at least one of "
                               "--png/--pfm/--exr/--depth");
     if ((o->ies || c.have_aim) && !o->light.point)
-        return qcli_opt_error(t, "--ies, --aim and --up shape a --point lamp");
+        return qtool_opt_error(t, "--ies, --aim and --up shape a --point lamp");
     if (c.have_aim && !o->ies)
-        return qcli_opt_error(t, "--aim and --up orient an --ies lamp: give --ies FILE.ies");
+        return qtool_opt_error(t, "--aim and --up orient an --ies lamp: give --ies FILE.ies");
     o->light.falloff = (int)c.falloff;
     return qcli_scene_from(t, &c.sc, &o->scene);
 }
@@ -475,53 +475,53 @@ static const char *bake_lamp_box(void *opts, const char *v)
 
 static const bake_cli bake_defaults = {.sc = QCLI_SCENE_CLI_DEFAULT, .o = QTOOL_BAKE_OPTS_DEFAULT, .progress = -1};
 
-static const qcli_opt bake_table[] = {
-    {.name = "-o", .kind = QCLI_OPT_STR, .off = offsetof(bake_cli, o.out), .arg = "ASSET", .help = "the asset"},
-    {.name = "--shard", .kind = QCLI_OPT_CALL, .call = bake_shard, .arg = "I/N",
+static const qtool_opt bake_table[] = {
+    {.name = "-o", .kind = QTOOL_OPT_STR, .off = offsetof(bake_cli, o.out), .arg = "ASSET", .help = "the asset"},
+    {.name = "--shard", .kind = QTOOL_OPT_CALL, .call = bake_shard, .arg = "I/N",
      .help = "bake only the I-th of N shares (with --sums, no -o; qibl merge joins them)"},
-    {.name = "--sums", .kind = QCLI_OPT_STR, .off = offsetof(bake_cli, o.sums_out), .arg = "FILE",
+    {.name = "--sums", .kind = QTOOL_OPT_STR, .off = offsetof(bake_cli, o.sums_out), .arg = "FILE",
      .help = "the shard's partial sums"},
-    {.name = "--k", .kind = QCLI_OPT_INT, .off = offsetof(bake_cli, o.k), .arg = "K", .lo = 1, .hi = 25,
+    {.name = "--k", .kind = QTOOL_OPT_INT, .off = offsetof(bake_cli, o.k), .arg = "K", .lo = 1, .hi = 25,
      .help = "the number of SH maps"},
-    {.name = "--lut-size", .kind = QCLI_OPT_INT, .off = offsetof(bake_cli, o.lut), .arg = "N", .lo = 0,
+    {.name = "--lut-size", .kind = QTOOL_OPT_INT, .off = offsetof(bake_cli, o.lut), .arg = "N", .lo = 0,
      .hi = QIBL_ASSET_MAX_LUT, .what = "a face size", .why = "0: no LUT", .help = "the cube-map Y LUT's face size"},
-    {.name = "--lut", .kind = QCLI_OPT_INT, .off = offsetof(bake_cli, o.lut), .arg = "N", .lo = 0,
+    {.name = "--lut", .kind = QTOOL_OPT_INT, .off = offsetof(bake_cli, o.lut), .arg = "N", .lo = 0,
      .hi = QIBL_ASSET_MAX_LUT, .what = "a face size", .why = "0: no LUT", .renamed = "--lut-size",
      .note = "relight's --lut is the sampling mode"},
-    {.name = "--dirs", .kind = QCLI_OPT_INT, .off = offsetof(bake_cli, o.ndirs), .arg = "N", .lo = 16, .hi = 65536,
+    {.name = "--dirs", .kind = QTOOL_OPT_INT, .off = offsetof(bake_cli, o.ndirs), .arg = "N", .lo = 16, .hi = 65536,
      .help = "light directions (spherical Fibonacci, equal weights 4 pi / N)"},
-    {.name = "--lsq", .kind = QCLI_OPT_FLAG, .off = offsetof(bake_cli, o.lsq),
+    {.name = "--lsq", .kind = QTOOL_OPT_FLAG, .off = offsetof(bake_cli, o.lsq),
      .help = "least-squares projection instead of quadrature"},
-    {.name = "--budget", .kind = QCLI_OPT_CALL, .call = bake_budget, .arg = "DB",
+    {.name = "--budget", .kind = QTOOL_OPT_CALL, .call = bake_budget, .arg = "DB",
      .help = "the smallest k (and LUT) whose PSNR on held-out lights reaches DB"},
-    {.name = "--quiet", .kind = QCLI_OPT_FLAG, .off = offsetof(bake_cli, o.quiet), .help = "--progress none"},
-    {.name = "--progress", .kind = QCLI_OPT_ENUM, .eq = 1, .off = offsetof(bake_cli, progress),
+    {.name = "--quiet", .kind = QTOOL_OPT_FLAG, .off = offsetof(bake_cli, o.quiet), .help = "--progress none"},
+    {.name = "--progress", .kind = QTOOL_OPT_ENUM, .eq = 1, .off = offsetof(bake_cli, progress),
      .names = progress_names, .def = "bar on a terminal, else lines",
      .help = "progress on stderr (also --progress=MODE)"},
-    {.name = "--layout", .kind = QCLI_OPT_ENUM, .off = offsetof(bake_cli, layout), .names = layouts,
+    {.name = "--layout", .kind = QTOOL_OPT_ENUM, .off = offsetof(bake_cli, layout), .names = layouts,
      .help = "the maps' byte order in the asset (see qibl help gen)"},
-    {.name = "--unshadowed-k", .kind = QCLI_OPT_INT, .off = offsetof(bake_cli, o.uk), .arg = "K", .lo = 0,
+    {.name = "--unshadowed-k", .kind = QTOOL_OPT_INT, .off = offsetof(bake_cli, o.uk), .arg = "K", .lo = 0,
      .hi = 25, .why = "0: no unshadowed maps", .help = "the unshadowed transfer's maps (SHMU), for free lamps"},
-    {.name = "--sun-path", .kind = QCLI_OPT_CALL, .call = bake_sun_path, .arg = "LAT,DECL,T0,T1",
+    {.name = "--sun-path", .kind = QTOOL_OPT_CALL, .call = bake_sun_path, .arg = "LAT,DECL,T0,T1",
      .help = "a sun's path (degrees, degrees, solar hours; +x east, +y north) baked as visibility edges"},
-    {.name = "--lamp-track", .kind = QCLI_OPT_CALL, .call = bake_lamp_track, .arg = "X,Y,Z;X,Y,Z;...",
+    {.name = "--lamp-track", .kind = QTOOL_OPT_CALL, .call = bake_lamp_track, .arg = "X,Y,Z;X,Y,Z;...",
      .help = "a lamp's polyline track (t by arc length) baked as visibility edges"},
-    {.name = "--path-steps", .kind = QCLI_OPT_INT, .off = offsetof(bake_cli, o.steps), .arg = "N", .lo = 2,
+    {.name = "--path-steps", .kind = QTOOL_OPT_INT, .off = offsetof(bake_cli, o.steps), .arg = "N", .lo = 2,
      .hi = 4096, .help = "samples along each path before bisection"},
-    {.name = "--lamp-box", .kind = QCLI_OPT_CALL, .call = bake_lamp_box, .arg = "X0,Y0,Z0,X1,Y1,Z1",
+    {.name = "--lamp-box", .kind = QTOOL_OPT_CALL, .call = bake_lamp_box, .arg = "X0,Y0,Z0,X1,Y1,Z1",
      .help = "the region free lamps move in (LOCC: their expected visibility)"},
-    {.name = "--lamp-samples", .kind = QCLI_OPT_INT, .off = offsetof(bake_cli, o.lamp_samples), .arg = "N",
+    {.name = "--lamp-samples", .kind = QTOOL_OPT_INT, .off = offsetof(bake_cli, o.lamp_samples), .arg = "N",
      .lo = 1, .hi = 4096, .help = "Halton lamp positions in the box"},
-    {.name = "--probe", .kind = QCLI_OPT_STR, .off = offsetof(bake_cli, o.probe), .arg = "PROBE.hdr",
+    {.name = "--probe", .kind = QTOOL_OPT_STR, .off = offsetof(bake_cli, o.probe), .arg = "PROBE.hdr",
      .help = "a probe-lit asset: the probe's compact sources as light paths, the rest as SH"},
-    {.name = "--yaw", .kind = QCLI_OPT_NUM, .off = offsetof(bake_cli, o.yaw), .arg = "DEG", .lo = -360, .hi = 360,
+    {.name = "--yaw", .kind = QTOOL_OPT_NUM, .off = offsetof(bake_cli, o.yaw), .arg = "DEG", .lo = -360, .hi = 360,
      .help = "turn the --probe (positive turns +x toward +y)"},
     QCLI_SCENE_OPTS(NULL),
     QCLI_CAMERA_OPTS,
     {0},
 };
 
-const qcli_opt_cmd qcli_opts_bake = {
+const qtool_opt_cmd qcli_opts_bake = {
     .name = "bake",
     .opts = bake_table,
     .defaults = &bake_defaults,
@@ -533,9 +533,9 @@ const qcli_opt_cmd qcli_opts_bake = {
 /* bake's options into o (progress -1: not given); 0, or 2 after the one line */
 static int bake_parse(int argc, char **argv, qtool_bake_opts *o)
 {
-    const qcli_opt_cmd *t = &qcli_opts_bake;
+    const qtool_opt_cmd *t = &qcli_opts_bake;
     bake_cli c;
-    if (qcli_opt_parse(t, argc, argv, 1, &c) != 0)
+    if (qtool_opt_parse(t, argc, argv, 1, &c) != 0)
         return 2;
     qtool_scene_opts scene = o->scene; /* the caller's defaults (the job's CPUs) */
     *o = c.o, o->scene = scene;
@@ -555,7 +555,7 @@ int qcli_cmd_bake(int argc, char **argv)
         o.progress = isatty(2) ? 1 : 2;
     char err[1400] = "";
     if (qtool_bake_opts_check(&o, err, sizeof err) != 0)
-        return qcli_opt_error(&qcli_opts_bake, "%s", err);
+        return qtool_opt_error(&qcli_opts_bake, "%s", err);
     if (qcli_parse_only) /* fuzz_cliopts: the options only */
         return 0;
     return job_status(qtool_bake_job(&o, stdout, stderr, err, sizeof err), err);
@@ -585,31 +585,31 @@ static const char *merge_file(void *opts, const char *v)
     return NULL;
 }
 
-static const qcli_opt merge_table[] = {
-    {.name = "-o", .kind = QCLI_OPT_STR, .off = offsetof(merge_cli, o.out), .arg = "ASSET",
+static const qtool_opt merge_table[] = {
+    {.name = "-o", .kind = QTOOL_OPT_STR, .off = offsetof(merge_cli, o.out), .arg = "ASSET",
      .help = "the merged asset"},
-    {.name = "--sums", .kind = QCLI_OPT_STR, .off = offsetof(merge_cli, o.sums_out), .arg = "OUT",
+    {.name = "--sums", .kind = QTOOL_OPT_STR, .off = offsetof(merge_cli, o.sums_out), .arg = "OUT",
      .help = "the total sums (merged again later, or baked into an asset)"},
-    {.name = "--manifest", .kind = QCLI_OPT_STR, .off = offsetof(merge_cli, o.manifest), .arg = "FILE",
+    {.name = "--manifest", .kind = QTOOL_OPT_STR, .off = offsetof(merge_cli, o.manifest), .arg = "FILE",
      .help = "the SUMS files, one per line (docs/farm.md)"},
-    {.name = "--k", .kind = QCLI_OPT_INT, .off = offsetof(merge_cli, o.k), .arg = "K", .lo = 1, .hi = 25,
+    {.name = "--k", .kind = QTOOL_OPT_INT, .off = offsetof(merge_cli, o.k), .arg = "K", .lo = 1, .hi = 25,
      .def = "the shards' k, at most 16", .help = "the number of SH maps"},
-    {.name = "--lut-size", .kind = QCLI_OPT_INT, .off = offsetof(merge_cli, o.lut), .arg = "N", .lo = 0,
+    {.name = "--lut-size", .kind = QTOOL_OPT_INT, .off = offsetof(merge_cli, o.lut), .arg = "N", .lo = 0,
      .hi = QIBL_ASSET_MAX_LUT, .what = "a face size", .why = "0: no LUT", .help = "the cube-map Y LUT's face size"},
-    {.name = "--lut", .kind = QCLI_OPT_INT, .off = offsetof(merge_cli, o.lut), .arg = "N", .lo = 0,
+    {.name = "--lut", .kind = QTOOL_OPT_INT, .off = offsetof(merge_cli, o.lut), .arg = "N", .lo = 0,
      .hi = QIBL_ASSET_MAX_LUT, .what = "a face size", .why = "0: no LUT", .renamed = "--lut-size",
      .note = "relight's --lut is the sampling mode"},
-    {.name = "--layout", .kind = QCLI_OPT_ENUM, .off = offsetof(merge_cli, layout), .names = layouts,
+    {.name = "--layout", .kind = QTOOL_OPT_ENUM, .off = offsetof(merge_cli, layout), .names = layouts,
      .help = "the maps' byte order in the asset (see qibl help gen)"},
-    {.name = "--lsq", .kind = QCLI_OPT_FLAG, .off = offsetof(merge_cli, o.lsq),
+    {.name = "--lsq", .kind = QTOOL_OPT_FLAG, .off = offsetof(merge_cli, o.lsq),
      .help = "least-squares projection instead of quadrature"},
     {0},
 };
 
-const qcli_opt_cmd qcli_opts_merge = {
+const qtool_opt_cmd qcli_opts_merge = {
     .name = "merge",
     .opts = merge_table,
-    .pos = {.names = "SUMS...", .min = 0, .max = QCLI_OPT_LIST_MAX, .call = merge_file},
+    .pos = {.names = "SUMS...", .min = 0, .max = QTOOL_OPT_LIST_MAX, .call = merge_file},
     .defaults = &merge_defaults,
     .size = sizeof(merge_cli),
     .synopsis = "(-o ASSET | --sums OUT | both) (--manifest FILE | SUMS...)",
@@ -632,9 +632,9 @@ const qcli_opt_cmd qcli_opts_merge = {
 int qcli_cmd_merge(int argc, char **argv)
 {
     merge_cli c;
-    int rc = qcli_opt_parse(&qcli_opts_merge, argc, argv, 1, &c);
+    int rc = qtool_opt_parse(&qcli_opts_merge, argc, argv, 1, &c);
     if (rc == 0 && ((c.o.nin == 0 && !c.o.manifest) || (!c.o.out && !c.o.sums_out)))
-        rc = qcli_opt_error(&qcli_opts_merge, "needs -o ASSET or --sums OUT (or both), and --manifest FILE or SUMS...");
+        rc = qtool_opt_error(&qcli_opts_merge, "needs -o ASSET or --sums OUT (or both), and --manifest FILE or SUMS...");
     c.o.layout = layout_values[c.layout];
     char err[4400] = "";
     if (rc == 0 && !qcli_parse_only) /* fuzz_cliopts: the options only */
@@ -653,9 +653,9 @@ static const char *check_file(void *opts, const char *v)
     return NULL;
 }
 
-const qcli_opt_cmd qcli_opts_check = {
+const qtool_opt_cmd qcli_opts_check = {
     .name = "check",
-    .pos = {.names = "FILE...", .min = 1, .max = QCLI_OPT_LIST_MAX, .call = check_file},
+    .pos = {.names = "FILE...", .min = 1, .max = QTOOL_OPT_LIST_MAX, .call = check_file},
     .size = sizeof(int),
     .prose =
         "  .png: signature, every chunk CRC, the zlib stream (inflated), Adler-32, APNG frame sequence;\n"
@@ -668,11 +668,11 @@ const qcli_opt_cmd qcli_opts_check = {
 int qcli_cmd_check(int argc, char **argv)
 {
     int nfiles;
-    int rc = qcli_opt_parse(&qcli_opts_check, argc, argv, 1, &nfiles);
+    int rc = qtool_opt_parse(&qcli_opts_check, argc, argv, 1, &nfiles);
     if (rc != 0)
         return rc;
     if (nfiles == 0)
-        return qcli_opt_error(&qcli_opts_check, "needs FILE...");
+        return qtool_opt_error(&qcli_opts_check, "needs FILE...");
     if (qcli_parse_only) /* fuzz_cliopts: the options only */
         return 0;
     int bad = 0;

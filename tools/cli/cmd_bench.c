@@ -7,31 +7,31 @@
 
 #include "bench/bench.h"
 #include "cli/cli.h"
-#include "cli/opt.h"
+#include "opt/opt.h"
 
 typedef struct bench_cli_opts {
-    qcli_opt_list what; /* the benchmark: the last one named counts, as it always did */
+    qtool_opt_list what; /* the benchmark: the last one named counts, as it always did */
     const char *svg;
     int quick, csv, markdown;
 } bench_cli_opts;
 static const bench_cli_opts bench_defaults = {.svg = NULL, .quick = 0, .csv = 0, .markdown = 0};
 
-static const qcli_opt bench_table[] = {
-    {.name = "--quick", .kind = QCLI_OPT_FLAG, .off = offsetof(bench_cli_opts, quick),
+static const qtool_opt bench_table[] = {
+    {.name = "--quick", .kind = QTOOL_OPT_FLAG, .off = offsetof(bench_cli_opts, quick),
      .help = "smaller sizes and fewer repetitions"},
-    {.name = "--csv", .kind = QCLI_OPT_FLAG, .off = offsetof(bench_cli_opts, csv),
+    {.name = "--csv", .kind = QTOOL_OPT_FLAG, .off = offsetof(bench_cli_opts, csv),
      .help = "relight: the table as CSV"},
-    {.name = "--markdown", .kind = QCLI_OPT_FLAG, .off = offsetof(bench_cli_opts, markdown),
+    {.name = "--markdown", .kind = QTOOL_OPT_FLAG, .off = offsetof(bench_cli_opts, markdown),
      .help = "memory: the table as docs/porting.md has it"},
-    {.name = "--svg", .kind = QCLI_OPT_STR, .off = offsetof(bench_cli_opts, svg), .arg = "PATH",
+    {.name = "--svg", .kind = QTOOL_OPT_STR, .off = offsetof(bench_cli_opts, svg), .arg = "PATH",
      .help = "hemi: the cloth's error against frames per second, as an SVG plot"},
     {0},
 };
 
-const qcli_opt_cmd qcli_opts_bench = {
+const qtool_opt_cmd qcli_opts_bench = {
     .name = "bench",
     .opts = bench_table,
-    .pos = {.names = "BENCH", .min = 0, .max = QCLI_OPT_LIST_MAX, .off = offsetof(bench_cli_opts, what)},
+    .pos = {.names = "BENCH", .min = 0, .max = QTOOL_OPT_LIST_MAX, .off = offsetof(bench_cli_opts, what)},
     .defaults = &bench_defaults,
     .size = sizeof(bench_cli_opts),
     .prose =
@@ -71,13 +71,13 @@ const qcli_opt_cmd qcli_opts_bench = {
 int qcli_cmd_bench(int argc, char **argv)
 {
     bench_cli_opts c;
-    int rc = qcli_opt_parse(&qcli_opts_bench, argc, argv, 1, &c);
+    int rc = qtool_opt_parse(&qcli_opts_bench, argc, argv, 1, &c);
     if (rc != 0)
         return rc;
     const qtool_bench_opts o = {.what = c.what.n ? c.what.v[c.what.n - 1] : "all", .quick = c.quick, .csv = c.csv,
                                 .markdown = c.markdown, .svg = c.svg};
     if (!qtool_bench_known(o.what))
-        return qcli_opt_error(&qcli_opts_bench, "unknown benchmark '%s' (" QTOOL_BENCH_NAMES ")", o.what);
+        return qtool_opt_error(&qcli_opts_bench, "unknown benchmark '%s' (" QTOOL_BENCH_NAMES ")", o.what);
     if (qcli_parse_only) /* fuzz_cliopts: the options only */
         return 0;
     return qtool_bench_run(&o);

@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "cli/cli.h"
-#include "cli/opt.h"
+#include "opt/opt.h"
 #include "cli/scene_opts.h"
 #include "demo/demo.h"
 #include "render/rt.h"
@@ -57,24 +57,24 @@ static const char *full_call(void *opts, const char *unused)
 }
 static const demo_cli demo_cli_defaults = {.sc = {.camera = QTOOL_SCENE_PANORAMA, .fov = QTOOL_RT_CAMERA_FOV_DEFAULT}};
 
-static const qcli_opt demo_table[] = {
-    {.name = "--out", .kind = QCLI_OPT_STR, .off = offsetof(demo_cli, dir), .arg = "DIR", .required = 1,
+static const qtool_opt demo_table[] = {
+    {.name = "--out", .kind = QTOOL_OPT_STR, .off = offsetof(demo_cli, dir), .arg = "DIR", .required = 1,
      .help = "where the assets, frames, sheets and sweeps go"},
-    {.name = "--small", .kind = QCLI_OPT_FLAG, .off = offsetof(demo_cli, small), .call = small_call,
+    {.name = "--small", .kind = QTOOL_OPT_FLAG, .off = offsetof(demo_cli, small), .call = small_call,
      .help = "the small size (CI; the last of --small and --full counts)"},
-    {.name = "--full", .kind = QCLI_OPT_FLAG, .off = offsetof(demo_cli, full), .call = full_call,
+    {.name = "--full", .kind = QTOOL_OPT_FLAG, .off = offsetof(demo_cli, full), .call = full_call,
      .help = "the full size and the full probe-lit truths (minutes of CPU)"},
-    {.name = "--dirs", .kind = QCLI_OPT_INT, .off = offsetof(demo_cli, ndirs), .arg = "N", .lo = 16, .hi = 65536,
+    {.name = "--dirs", .kind = QTOOL_OPT_INT, .off = offsetof(demo_cli, ndirs), .arg = "N", .lo = 16, .hi = 65536,
      .def = "the size's", .help = "bake directions"},
-    {.name = "--frames", .kind = QCLI_OPT_INT, .off = offsetof(demo_cli, frames), .arg = "F", .lo = 2, .hi = 240,
+    {.name = "--frames", .kind = QTOOL_OPT_INT, .off = offsetof(demo_cli, frames), .arg = "F", .lo = 2, .hi = 240,
      .def = "the size's", .help = "frames per sweep"},
-    {.name = "--probe", .kind = QCLI_OPT_STR, .off = offsetof(demo_cli, probe), .arg = "PROBE.hdr",
+    {.name = "--probe", .kind = QTOOL_OPT_STR, .off = offsetof(demo_cli, probe), .arg = "PROBE.hdr",
      .help = "the probe-lit table for this probe only"},
     QCLI_SCENE_OPTS("the size's"),
     {0},
 };
 
-const qcli_opt_cmd qcli_opts_demo = {
+const qtool_opt_cmd qcli_opts_demo = {
     .name = "demo",
     .opts = demo_table,
     .defaults = &demo_cli_defaults,
@@ -103,7 +103,7 @@ static demo_opts demo_defaults(const qtool_demo_size *sz)
 static int parse_opts(int argc, char **argv, demo_opts *o)
 {
     demo_cli c;
-    if (qcli_opt_parse(&qcli_opts_demo, argc, argv, 1, &c) != 0)
+    if (qtool_opt_parse(&qcli_opts_demo, argc, argv, 1, &c) != 0)
         return 2;
     *o = demo_defaults(qtool_demo_size_named(c.pick == 2 ? "full" : c.pick == 1 ? "small" : "default"));
     if (qcli_scene_from(&qcli_opts_demo, &c.sc, &o->scene) != 0)

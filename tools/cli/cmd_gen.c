@@ -14,7 +14,7 @@
 #include "qibl/shmap.h"
 #include "qibl/shmaps.h"
 #include "cli/cli.h"
-#include "cli/opt.h"
+#include "opt/opt.h"
 
 typedef struct gen_opts {
     const char *out;
@@ -29,28 +29,28 @@ static const qtool_pack_scheme pack_schemes[] = {QTOOL_PACK_MINMAX, QTOOL_PACK_R
 static const char *const layouts[] = {"planar", "interleaved", NULL};
 static const uint32_t layout_values[] = {QIBL_SHMAPS_PLANAR, QIBL_SHMAPS_INTERLEAVED};
 
-static const qcli_opt gen_table[] = {
-    {.name = "-o", .kind = QCLI_OPT_STR, .off = offsetof(gen_opts, out), .arg = "FILE", .required = 1,
+static const qtool_opt gen_table[] = {
+    {.name = "-o", .kind = QTOOL_OPT_STR, .off = offsetof(gen_opts, out), .arg = "FILE", .required = 1,
      .help = "the asset to write"},
-    {.name = "--size", .kind = QCLI_OPT_SIZE, .off = offsetof(gen_opts, size), .hi = 16384,
+    {.name = "--size", .kind = QTOOL_OPT_SIZE, .off = offsetof(gen_opts, size), .hi = 16384,
      .help = "the panorama's width x height, within an asset's pixel limit (qibl/asset.h)"},
-    {.name = "--k", .kind = QCLI_OPT_INT, .off = offsetof(gen_opts, k), .arg = "K", .lo = 1, .hi = 25,
+    {.name = "--k", .kind = QTOOL_OPT_INT, .off = offsetof(gen_opts, k), .arg = "K", .lo = 1, .hi = 25,
      .help = "the number of SH maps (terms of bands 0..4)"},
-    {.name = "--lut-size", .kind = QCLI_OPT_INT, .off = offsetof(gen_opts, lut), .arg = "N", .lo = 0,
+    {.name = "--lut-size", .kind = QTOOL_OPT_INT, .off = offsetof(gen_opts, lut), .arg = "N", .lo = 0,
      .hi = QIBL_ASSET_MAX_LUT, .what = "a face size", .why = "0: no LUT", .help = "the cube-map Y LUT's face size"},
-    {.name = "--lut", .kind = QCLI_OPT_INT, .off = offsetof(gen_opts, lut), .arg = "N", .lo = 0,
+    {.name = "--lut", .kind = QTOOL_OPT_INT, .off = offsetof(gen_opts, lut), .arg = "N", .lo = 0,
      .hi = QIBL_ASSET_MAX_LUT, .what = "a face size", .why = "0: no LUT", .renamed = "--lut-size",
      .note = "relight's --lut is the sampling mode"},
-    {.name = "--pack", .kind = QCLI_OPT_ENUM, .off = offsetof(gen_opts, pack), .names = packs,
+    {.name = "--pack", .kind = QTOOL_OPT_ENUM, .off = offsetof(gen_opts, pack), .names = packs,
      .help = "8 bits per map and channel over min/max or the 0.1..99.9 percentile range"},
-    {.name = "--equirect", .kind = QCLI_OPT_FLAG, .off = offsetof(gen_opts, equirect),
+    {.name = "--equirect", .kind = QTOOL_OPT_FLAG, .off = offsetof(gen_opts, equirect),
      .help = "an equirectangular panorama instead of the cylindrical one"},
-    {.name = "--layout", .kind = QCLI_OPT_ENUM, .off = offsetof(gen_opts, layout), .names = layouts,
+    {.name = "--layout", .kind = QTOOL_OPT_ENUM, .off = offsetof(gen_opts, layout), .names = layouts,
      .help = "the maps' byte order in the asset"},
     {0},
 };
 
-const qcli_opt_cmd qcli_opts_gen = {
+const qtool_opt_cmd qcli_opts_gen = {
     .name = "gen",
     .opts = gen_table,
     .defaults = &gen_defaults,
@@ -66,11 +66,11 @@ const qcli_opt_cmd qcli_opts_gen = {
 int qcli_cmd_gen(int argc, char **argv)
 {
     gen_opts o;
-    int r = qcli_opt_parse(&qcli_opts_gen, argc, argv, 1, &o);
+    int r = qtool_opt_parse(&qcli_opts_gen, argc, argv, 1, &o);
     if (r != 0)
         return r;
     if (o.size[0] * o.size[1] > (long)QIBL_ASSET_MAX_PIXELS)
-        return qcli_opt_error(&qcli_opts_gen, "--size %ldx%ld is above the asset's %u pixels", o.size[0], o.size[1],
+        return qtool_opt_error(&qcli_opts_gen, "--size %ldx%ld is above the asset's %u pixels", o.size[0], o.size[1],
                               QIBL_ASSET_MAX_PIXELS);
     const char *out = o.out;
     long w = o.size[0], h = o.size[1], k = o.k, lut = o.lut;

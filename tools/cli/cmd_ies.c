@@ -13,7 +13,7 @@
 #include <string.h>
 
 #include "cli/cli.h"
-#include "cli/opt.h"
+#include "opt/opt.h"
 #include "io/ies.h"
 #include "io/png.h"
 #include "io/text.h"
@@ -93,18 +93,18 @@ static int draw_polar(const qtool_ies *e, const char *path, char *err, size_t er
 }
 
 typedef struct ies_opts {
-    qcli_opt_list file;
+    qtool_opt_list file;
     const char *png;
 } ies_opts;
 static const ies_opts ies_defaults = {.png = NULL};
 
-static const qcli_opt ies_table[] = {
-    {.name = "--png", .kind = QCLI_OPT_STR, .off = offsetof(ies_opts, png), .arg = "OUT.png",
+static const qtool_opt ies_table[] = {
+    {.name = "--png", .kind = QTOOL_OPT_STR, .off = offsetof(ies_opts, png), .arg = "OUT.png",
      .help = "the polar curves of the two principal planes"},
     {0},
 };
 
-const qcli_opt_cmd qcli_opts_ies_info = {
+const qtool_opt_cmd qcli_opts_ies_info = {
     .name = "ies info",
     .help_name = "ies",
     .opts = ies_table,
@@ -130,12 +130,12 @@ const qcli_opt_cmd qcli_opts_ies_info = {
 
 int qcli_cmd_ies(int argc, char **argv)
 {
-    static const qcli_opt_cmd *const subs[] = {&qcli_opts_ies_info, NULL};
-    const qcli_opt_cmd *sub = qcli_opt_sub("ies", subs, NULL, argc, argv);
+    static const qtool_opt_cmd *const subs[] = {&qcli_opts_ies_info, NULL};
+    const qtool_opt_cmd *sub = qtool_opt_sub("ies", subs, NULL, argc, argv);
     if (!sub)
         return 2;
     ies_opts o;
-    int prc = qcli_opt_parse(sub, argc, argv, 2, &o);
+    int prc = qtool_opt_parse(sub, argc, argv, 2, &o);
     if (prc != 0)
         return prc;
     const char *path = o.file.v[0], *png = o.png;

@@ -11,14 +11,14 @@
 #include "qibl/lightpath.h"
 #include "io/file.h"
 #include "cli/cli.h"
-#include "cli/opt.h"
+#include "opt/opt.h"
 
 typedef struct info_opts {
-    qcli_opt_list file;
+    qtool_opt_list file;
 } info_opts;
 static const info_opts info_defaults = {.file = {.n = 0}};
 
-const qcli_opt_cmd qcli_opts_info = {
+const qtool_opt_cmd qcli_opts_info = {
     .name = "info",
     .pos = {.names = "FILE", .min = 1, .max = 1, .off = offsetof(info_opts, file)},
     .defaults = &info_defaults,
@@ -84,7 +84,7 @@ static void print_pmap(const qibl_pmap_t *p)
 int qcli_cmd_info(int argc, char **argv)
 {
     info_opts o;
-    int rc = qcli_opt_parse(&qcli_opts_info, argc, argv, 1, &o);
+    int rc = qtool_opt_parse(&qcli_opts_info, argc, argv, 1, &o);
     if (rc != 0)
         return rc;
     const char *path = o.file.v[0];

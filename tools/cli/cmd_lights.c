@@ -13,7 +13,7 @@
 #include <string.h>
 
 #include "cli/cli.h"
-#include "cli/opt.h"
+#include "opt/opt.h"
 #include "cli/relight_light.h"
 #include "engine/engine.h"
 #include "io/png.h"
@@ -97,7 +97,7 @@ static int parse_budget(const char *s, double *out)
 /* The command's options: the library's struct (its defaults), its enums as the table's ints. */
 typedef struct lights_cli {
     qtool_relight_lights_opts o;
-    qcli_opt_list probe;
+    qtool_opt_list probe;
     int method, priority, place, as, layout;
     qcli_light_list rl; /* only its --yaw / --rotate (relight's rotation) */
     char why[192];      /* a reason with numbers in it, for the table's line */
@@ -145,7 +145,7 @@ static const char *error_call(void *opts, const char *v)
         o->error = 1;
         return NULL;
     case -1:
-        return qcli_opt_no_value;
+        return qtool_opt_no_value;
     default:
         return "is not a budget: it is a percentage in (0, 100] (e.g. 2% or 2)";
     }
@@ -171,43 +171,43 @@ static const char *rotate_call(void *opts, const char *v)
     return qcli_light_rotate(&c->rl, v, c->why, sizeof c->why);
 }
 
-static const qcli_opt lights_table[] = {
-    {.name = "--method", .kind = QCLI_OPT_ENUM, .off = offsetof(lights_cli, method), .names = methods,
+static const qtool_opt lights_table[] = {
+    {.name = "--method", .kind = QTOOL_OPT_ENUM, .off = offsetof(lights_cli, method), .names = methods,
      .help = "median cut (N a power of two), adaptive median cut or variance minimisation (any N)"},
-    {.name = "-n", .alias = "--count", .kind = QCLI_OPT_INT, .off = offsetof(lights_cli, o.n), .lo = 1,
+    {.name = "-n", .alias = "--count", .kind = QTOOL_OPT_INT, .off = offsetof(lights_cli, o.n), .lo = 1,
      .hi = 1L << 24, .what = "a light count", .help = "how many lights"},
-    {.name = "--priority", .kind = QCLI_OPT_ENUM, .off = offsetof(lights_cli, priority), .names = priorities,
+    {.name = "--priority", .kind = QTOOL_OPT_ENUM, .off = offsetof(lights_cli, priority), .names = priorities,
      .arg = "P", .help = "default, energy, energy-size, variance or levels: which region adaptive / varmin split next"},
-    {.name = "--place", .kind = QCLI_OPT_ENUM, .off = offsetof(lights_cli, place), .names = places,
+    {.name = "--place", .kind = QTOOL_OPT_ENUM, .off = offsetof(lights_cli, place), .names = places,
      .help = "a light at its region's energy centroid or geometric centre"},
-    {.name = "--as", .kind = QCLI_OPT_ENUM, .off = offsetof(lights_cli, as), .names = as_names,
+    {.name = "--as", .kind = QTOOL_OPT_ENUM, .off = offsetof(lights_cli, as), .names = as_names,
      .help = "feed the core the probe as RGBE bytes, sRGBE or binary32"},
-    {.name = "--layout", .kind = QCLI_OPT_ENUM, .off = offsetof(lights_cli, layout), .names = qcli_probe_layout_names,
+    {.name = "--layout", .kind = QTOOL_OPT_ENUM, .off = offsetof(lights_cli, layout), .names = qcli_probe_layout_names,
      .arg = "L", .help = "the probe's layout: auto (detected, and said so), latlong, angular, ball, vcross or hcross"},
-    {.name = "--csv", .kind = QCLI_OPT_FLAG, .off = offsetof(lights_cli, o.csv),
+    {.name = "--csv", .kind = QTOOL_OPT_FLAG, .off = offsetof(lights_cli, o.csv),
      .help = "one line per light, x,y,z,r,g,b,u0,v0,u1,v1, after a header (what relight --lights reads)"},
-    {.name = "--json", .kind = QCLI_OPT_FLAG, .off = offsetof(lights_cli, o.json),
+    {.name = "--json", .kind = QTOOL_OPT_FLAG, .off = offsetof(lights_cli, o.json),
      .help = "{\"lights\": [{\"dir\", \"rgb\", \"region\"}...]} with the probe, size, method and count"},
-    {.name = "--format", .kind = QCLI_OPT_CALL, .off = offsetof(lights_cli, o), .arg = "c|csv|json",
+    {.name = "--format", .kind = QTOOL_OPT_CALL, .off = offsetof(lights_cli, o), .arg = "c|csv|json",
      .call = format_call, .help = "--auto's pick as a C fragment (or --csv, --json)"},
-    {.name = "--png", .kind = QCLI_OPT_STR, .off = offsetof(lights_cli, o.png), .arg = "OUT.png",
+    {.name = "--png", .kind = QTOOL_OPT_STR, .off = offsetof(lights_cli, o.png), .arg = "OUT.png",
      .help = "the tone-mapped probe with the regions (green) and light directions (red)"},
-    {.name = "--zoom", .kind = QCLI_OPT_INT, .off = offsetof(lights_cli, o.zoom), .arg = "Z", .lo = 1, .hi = 64,
+    {.name = "--zoom", .kind = QTOOL_OPT_INT, .off = offsetof(lights_cli, o.zoom), .arg = "Z", .lo = 1, .hi = 64,
      .def = "to about 1024 pixels wide", .help = "the picture's scale"},
-    {.name = "--error", .kind = QCLI_OPT_CALL, .optional = 1, .off = offsetof(lights_cli, o), .arg = "P%",
+    {.name = "--error", .kind = QTOOL_OPT_CALL, .optional = 1, .off = offsetof(lights_cli, o), .arg = "P%",
      .call = error_call, .help = "the lights' irradiance error against the probe's; with P% the budget of --auto"},
-    {.name = "--auto", .kind = QCLI_OPT_FLAG, .off = offsetof(lights_cli, o.autom),
+    {.name = "--auto", .kind = QTOOL_OPT_FLAG, .off = offsetof(lights_cli, o.autom),
      .help = "the cheapest representation with mean irradiance error <= --error P%"},
-    {.name = "--preset", .kind = QCLI_OPT_CALL, .off = offsetof(lights_cli, o), .arg = "gltf|raw",
+    {.name = "--preset", .kind = QTOOL_OPT_CALL, .off = offsetof(lights_cli, o), .arg = "gltf|raw",
      .call = preset_call, .def = "raw", .help = "gltf: the lights as KHR_lights_punctual JSON"},
-    {.name = "--yaw", .kind = QCLI_OPT_CALL, .off = offsetof(lights_cli, rl), .arg = "DEG", .call = yaw_call,
+    {.name = "--yaw", .kind = QTOOL_OPT_CALL, .off = offsetof(lights_cli, rl), .arg = "DEG", .call = yaw_call,
      .help = "turn --preset gltf's lights, as qibl relight does"},
-    {.name = "--rotate", .kind = QCLI_OPT_CALL, .off = offsetof(lights_cli, rl), .arg = "a,b,c,d,e,f,g,h,i",
+    {.name = "--rotate", .kind = QTOOL_OPT_CALL, .off = offsetof(lights_cli, rl), .arg = "a,b,c,d,e,f,g,h,i",
      .call = rotate_call, .help = "turn --preset gltf's lights by a rotation matrix (rows)"},
     {0},
 };
 
-const qcli_opt_cmd qcli_opts_lights = {
+const qtool_opt_cmd qcli_opts_lights = {
     .name = "lights",
     .opts = lights_table,
     .pos = {.names = "PROBE.hdr", .min = 1, .max = 1, .off = offsetof(lights_cli, probe)},
@@ -242,27 +242,27 @@ const qcli_opt_cmd qcli_opts_lights = {
 /* the options together, after parsing: 0, or 2 after the one line */
 static int lights_check(const qtool_relight_lights_opts *o)
 {
-    const qcli_opt_cmd *t = &qcli_opts_lights;
+    const qtool_opt_cmd *t = &qcli_opts_lights;
     if (o->budget >= 0 && !o->autom)
-        return qcli_opt_error(t, "--error with a budget (%g%%) needs --auto", 100 * o->budget);
+        return qtool_opt_error(t, "--error with a budget (%g%%) needs --auto", 100 * o->budget);
     if (o->autom && o->budget < 0)
-        return qcli_opt_error(t, "--auto needs a budget: --error P%% (mean relative irradiance error, e.g. 2%%)");
+        return qtool_opt_error(t, "--auto needs a budget: --error P%% (mean relative irradiance error, e.g. 2%%)");
     if (o->csv && o->json)
-        return qcli_opt_error(t, "--csv and --json: give one");
+        return qtool_opt_error(t, "--csv and --json: give one");
     if (o->cfmt && (o->csv || o->json))
-        return qcli_opt_error(t, "--format c and --csv/--json: give one");
+        return qtool_opt_error(t, "--format c and --csv/--json: give one");
     if (o->cfmt && !o->autom)
-        return qcli_opt_error(t, "--format c writes the pick of --auto: add --auto --error P%%");
+        return qtool_opt_error(t, "--format c writes the pick of --auto: add --auto --error P%%");
     if (o->gltf && (o->csv || o->json))
-        return qcli_opt_error(t, "--preset gltf writes its own JSON: it does not go with --csv or --json");
+        return qtool_opt_error(t, "--preset gltf writes its own JSON: it does not go with --csv or --json");
     if (o->rotate && !o->gltf)
-        return qcli_opt_error(t, "--yaw and --rotate turn the lights of --preset gltf");
+        return qtool_opt_error(t, "--yaw and --rotate turn the lights of --preset gltf");
     if (o->gltf && (o->autom || o->error))
-        return qcli_opt_error(t, "--preset gltf writes JSON: it does not go with --auto or --error");
+        return qtool_opt_error(t, "--preset gltf writes JSON: it does not go with --auto or --error");
     if (o->json && o->error && !o->autom)
-        return qcli_opt_error(t, "--error prints a line of text: it does not go with --json");
+        return qtool_opt_error(t, "--error prints a line of text: it does not go with --json");
     if (o->core.method == QIBL_LIGHTPROBE_MEDIANCUT && (o->n & (o->n - 1)) != 0)
-        return qcli_opt_error(t, "median cut makes 2^K lights: -n must be a power of two (or use --method "
+        return qtool_opt_error(t, "median cut makes 2^K lights: -n must be a power of two (or use --method "
                                  "adaptive)");
     return 0;
 }
@@ -423,7 +423,7 @@ static int lights_run(const qtool_relight_lights_opts *o)
 int qcli_cmd_lights(int argc, char **argv)
 {
     lights_cli c;
-    int rc = qcli_opt_parse(&qcli_opts_lights, argc, argv, 1, &c);
+    int rc = qtool_opt_parse(&qcli_opts_lights, argc, argv, 1, &c);
     if (rc != 0)
         return rc;
     qtool_relight_lights_opts o = c.o;

@@ -12,7 +12,7 @@
 #include <string.h>
 
 #include "cli/cli.h"
-#include "cli/opt.h"
+#include "opt/opt.h"
 #include "io/file.h"
 #include "io/obj.h"
 #include "io/png.h"
@@ -23,7 +23,7 @@
 /* ---- the option tables (cli/opt.h): one per subcommand ------------------------------------- */
 
 typedef struct capture_cli {
-    qcli_opt_list src; /* builtin or MESH.obj */
+    qtool_opt_list src; /* builtin or MESH.obj */
     const char *out;
     long grid, res, threads;
     int basis; /* 0 box, 1 tent */
@@ -39,7 +39,7 @@ static const char *capture_emitter(void *o, char *const *v, int n, int *used)
     (void)n, (void)used;
     for (int k = 0; k < 2; ++k) {
         double x;
-        if (qcli_opt_num_value(v[k], 1e-6, 1e6, &x) != 0)
+        if (qtool_opt_num_value(v[k], 1e-6, 1e6, &x) != 0)
             return k ? "HALF (its half-size) is not a number in 1e-06..1e+06"
                      : "Z (its height above S) is not a number in 1e-06..1e+06";
         c->emitter[k] = x;
@@ -48,23 +48,23 @@ static const char *capture_emitter(void *o, char *const *v, int n, int *used)
     return NULL;
 }
 
-static const qcli_opt capture_table[] = {
-    {.name = "--out", .kind = QCLI_OPT_STR, .off = offsetof(capture_cli, out), .arg = "F.qnf", .required = 1,
+static const qtool_opt capture_table[] = {
+    {.name = "--out", .kind = QTOOL_OPT_STR, .off = offsetof(capture_cli, out), .arg = "F.qnf", .required = 1,
      .help = "the source file (written atomically)"},
-    {.name = "--grid", .kind = QCLI_OPT_INT, .off = offsetof(capture_cli, grid), .arg = "N", .lo = 1,
+    {.name = "--grid", .kind = QTOOL_OPT_INT, .off = offsetof(capture_cli, grid), .arg = "N", .lo = 1,
      .hi = QTOOL_LUMINAIRE_MAX_GRID, .help = "N x N filter supports on the sampling plane"},
-    {.name = "--res", .kind = QCLI_OPT_INT, .off = offsetof(capture_cli, res), .arg = "R",
+    {.name = "--res", .kind = QTOOL_OPT_INT, .off = offsetof(capture_cli, res), .arg = "R",
      .lo = QTOOL_LUMINAIRE_MIN_RES, .hi = QTOOL_LUMINAIRE_MAX_RES, .help = "R x R texels per emission texture"},
-    {.name = "--basis", .kind = QCLI_OPT_ENUM, .off = offsetof(capture_cli, basis), .names = bases,
+    {.name = "--basis", .kind = QTOOL_OPT_ENUM, .off = offsetof(capture_cli, basis), .names = bases,
      .help = "box: the dual filter of a box basis; tent: a tent filter (a quasi-interpolant)"},
-    {.name = "--emitter", .kind = QCLI_OPT_CALL, .nargs = 2, .call_n = capture_emitter, .arg = "Z HALF",
+    {.name = "--emitter", .kind = QTOOL_OPT_CALL, .nargs = 2, .call_n = capture_emitter, .arg = "Z HALF",
      .def = "0.8 and 0.4 of the mesh's box", .help = "a mesh's square emitter: its height and half-size"},
-    {.name = "--threads", .kind = QCLI_OPT_INT, .off = offsetof(capture_cli, threads), .arg = "T", .lo = 1, .hi = 256,
+    {.name = "--threads", .kind = QTOOL_OPT_INT, .off = offsetof(capture_cli, threads), .arg = "T", .lo = 1, .hi = 256,
      .help = "worker threads (the capture is the same bytes whatever T)"},
     {0},
 };
 
-const qcli_opt_cmd qcli_opts_luminaire_capture = {
+const qtool_opt_cmd qcli_opts_luminaire_capture = {
     .name = "luminaire capture",
     .help_name = "luminaire",
     .opts = capture_table,
@@ -82,11 +82,11 @@ const qcli_opt_cmd qcli_opts_luminaire_capture = {
 };
 
 typedef struct info_cli {
-    qcli_opt_list file;
+    qtool_opt_list file;
 } info_cli;
 static const info_cli info_defaults = {.file = {.n = 0}};
 
-const qcli_opt_cmd qcli_opts_luminaire_info = {
+const qtool_opt_cmd qcli_opts_luminaire_info = {
     .name = "luminaire info",
     .help_name = "luminaire",
     .pos = {.names = "F.qnf", .min = 1, .max = 1, .off = offsetof(info_cli, file)},
@@ -96,7 +96,7 @@ const qcli_opt_cmd qcli_opts_luminaire_info = {
 };
 
 typedef struct render_cli {
-    qcli_opt_list files; /* ASSET F.qnf */
+    qtool_opt_list files; /* ASSET F.qnf */
     double at[3];
     const char *out;
     int far;
@@ -110,26 +110,26 @@ static const char *render_at(void *o, char *const *v, int n, int *used)
     render_cli *c = o;
     (void)n, (void)used;
     for (int k = 0; k < 3; ++k)
-        if (qcli_opt_num_value(v[k], -32767, 32767, &c->at[k]) != 0)
+        if (qtool_opt_num_value(v[k], -32767, 32767, &c->at[k]) != 0)
             return "X Y Z are numbers in -32767..32767 (Q16.16)";
     return NULL;
 }
 
-static const qcli_opt render_table[] = {
-    {.name = "--at", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = render_at, .arg = "X Y Z", .required = 1,
+static const qtool_opt render_table[] = {
+    {.name = "--at", .kind = QTOOL_OPT_CALL, .nargs = 3, .call_n = render_at, .arg = "X Y Z", .required = 1,
      .help = "where S's centre hangs (the asset's units, each in the Q16.16 range; the source faces -z)"},
-    {.name = "--out", .kind = QCLI_OPT_STR, .off = offsetof(render_cli, out), .arg = "F.png", .required = 1,
+    {.name = "--out", .kind = QTOOL_OPT_STR, .off = offsetof(render_cli, out), .arg = "F.png", .required = 1,
      .help = "the frame (written atomically)"},
-    {.name = "--far", .kind = QCLI_OPT_FLAG, .off = offsetof(render_cli, far),
+    {.name = "--far", .kind = QTOOL_OPT_FLAG, .off = offsetof(render_cli, far),
      .help = "the same source as one far-field lamp (IES-like) instead"},
-    {.name = "--exposure", .kind = QCLI_OPT_NUM, .off = offsetof(render_cli, exposure), .arg = "E", .lo = 1.0 / 65536,
+    {.name = "--exposure", .kind = QTOOL_OPT_NUM, .off = offsetof(render_cli, exposure), .arg = "E", .lo = 1.0 / 65536,
      .hi = 65535, .help = "the frame's exposure"},
-    {.name = "--table", .kind = QCLI_OPT_INT, .off = offsetof(render_cli, table), .arg = "N", .lo = QIBL_GONIO_MIN_N,
+    {.name = "--table", .kind = QTOOL_OPT_INT, .off = offsetof(render_cli, table), .arg = "N", .lo = QIBL_GONIO_MIN_N,
      .hi = QIBL_GONIO_MAX_N, .help = "each spotlight's gonio table is N x N"},
     {0},
 };
 
-const qcli_opt_cmd qcli_opts_luminaire_render = {
+const qtool_opt_cmd qcli_opts_luminaire_render = {
     .name = "luminaire render",
     .help_name = "luminaire",
     .opts = render_table,
@@ -148,20 +148,20 @@ typedef struct study_cli {
 } study_cli;
 static const study_cli study_defaults = {.grid = 16, .res = 32, .size = 96, .threads = 1};
 
-static const qcli_opt study_table[] = {
-    {.name = "--grid", .kind = QCLI_OPT_INT, .off = offsetof(study_cli, grid), .arg = "N", .lo = 1,
+static const qtool_opt study_table[] = {
+    {.name = "--grid", .kind = QTOOL_OPT_INT, .off = offsetof(study_cli, grid), .arg = "N", .lo = 1,
      .hi = QTOOL_LUMINAIRE_MAX_GRID, .help = "the capture's N x N supports"},
-    {.name = "--res", .kind = QCLI_OPT_INT, .off = offsetof(study_cli, res), .arg = "R", .lo = QTOOL_LUMINAIRE_MIN_RES,
+    {.name = "--res", .kind = QTOOL_OPT_INT, .off = offsetof(study_cli, res), .arg = "R", .lo = QTOOL_LUMINAIRE_MIN_RES,
      .hi = QTOOL_LUMINAIRE_MAX_RES, .help = "the capture's R x R texels"},
-    {.name = "--size", .kind = QCLI_OPT_INT, .off = offsetof(study_cli, size), .arg = "S", .lo = 8, .hi = 1024,
+    {.name = "--size", .kind = QTOOL_OPT_INT, .off = offsetof(study_cli, size), .arg = "S", .lo = 8, .hi = 1024,
      .help = "the ground images are S x S"},
-    {.name = "--quick", .kind = QCLI_OPT_FLAG, .off = offsetof(study_cli, quick), .help = "fewer distances"},
-    {.name = "--threads", .kind = QCLI_OPT_INT, .off = offsetof(study_cli, threads), .arg = "T", .lo = 1, .hi = 256,
+    {.name = "--quick", .kind = QTOOL_OPT_FLAG, .off = offsetof(study_cli, quick), .help = "fewer distances"},
+    {.name = "--threads", .kind = QTOOL_OPT_INT, .off = offsetof(study_cli, threads), .arg = "T", .lo = 1, .hi = 256,
      .help = "worker threads for the capture and the truth (the timing is on one)"},
     {0},
 };
 
-const qcli_opt_cmd qcli_opts_luminaire_study = {
+const qtool_opt_cmd qcli_opts_luminaire_study = {
     .name = "luminaire study",
     .help_name = "luminaire",
     .opts = study_table,
@@ -177,13 +177,13 @@ const qcli_opt_cmd qcli_opts_luminaire_study = {
 static int cmd_capture(int argc, char **argv)
 {
     capture_cli c;
-    int prc = qcli_opt_parse(&qcli_opts_luminaire_capture, argc, argv, 2, &c);
+    int prc = qtool_opt_parse(&qcli_opts_luminaire_capture, argc, argv, 2, &c);
     if (prc != 0)
         return prc;
     const char *src = c.src.v[0], *out = c.out;
     int builtin = strcmp(src, "builtin") == 0;
     if (builtin && c.have_emitter)
-        return qcli_opt_error(&qcli_opts_luminaire_capture, "--emitter places the emitter in a mesh, not in 'builtin'");
+        return qtool_opt_error(&qcli_opts_luminaire_capture, "--emitter places the emitter in a mesh, not in 'builtin'");
     if (qcli_parse_only)
         return 0;
     qtool_luminaire_capture_opts o = {.grid = (uint32_t)c.grid, .res = (uint32_t)c.res, .threads = (int)c.threads,
@@ -228,7 +228,7 @@ static int cmd_capture(int argc, char **argv)
 static int cmd_info(int argc, char **argv)
 {
     info_cli c;
-    int prc = qcli_opt_parse(&qcli_opts_luminaire_info, argc, argv, 2, &c);
+    int prc = qtool_opt_parse(&qcli_opts_luminaire_info, argc, argv, 2, &c);
     if (prc != 0)
         return prc;
     if (qcli_parse_only)
@@ -268,7 +268,7 @@ static int cmd_info(int argc, char **argv)
 static int cmd_render(int argc, char **argv)
 {
     render_cli c;
-    int prc = qcli_opt_parse(&qcli_opts_luminaire_render, argc, argv, 2, &c);
+    int prc = qtool_opt_parse(&qcli_opts_luminaire_render, argc, argv, 2, &c);
     if (prc != 0)
         return prc;
     if (qcli_parse_only)
@@ -336,7 +336,7 @@ static int cmd_render(int argc, char **argv)
 static int cmd_study(int argc, char **argv)
 {
     study_cli c;
-    int prc = qcli_opt_parse(&qcli_opts_luminaire_study, argc, argv, 2, &c);
+    int prc = qtool_opt_parse(&qcli_opts_luminaire_study, argc, argv, 2, &c);
     if (prc != 0)
         return prc;
     if (qcli_parse_only)
@@ -352,9 +352,9 @@ static int cmd_study(int argc, char **argv)
 
 int qcli_cmd_luminaire(int argc, char **argv)
 {
-    static const qcli_opt_cmd *const subs[] = {&qcli_opts_luminaire_capture, &qcli_opts_luminaire_info,
+    static const qtool_opt_cmd *const subs[] = {&qcli_opts_luminaire_capture, &qcli_opts_luminaire_info,
                                                &qcli_opts_luminaire_render, &qcli_opts_luminaire_study, NULL};
-    const qcli_opt_cmd *sub = qcli_opt_sub("luminaire", subs, NULL, argc, argv);
+    const qtool_opt_cmd *sub = qtool_opt_sub("luminaire", subs, NULL, argc, argv);
     if (!sub)
         return 2;
     if (sub == &qcli_opts_luminaire_capture)

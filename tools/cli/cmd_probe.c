@@ -14,7 +14,7 @@
 #include <string.h>
 
 #include "cli/cli.h"
-#include "cli/opt.h"
+#include "opt/opt.h"
 #include "cli/relight_light.h"
 #include "engine/project.h"
 #include "qibl/probe.h"
@@ -22,7 +22,7 @@
 enum { FMT_TABLE = 0, FMT_JSON, FMT_CMGEN, FMT_C };
 
 typedef struct sh_project_cli {
-    qcli_opt_list probe;
+    qtool_opt_list probe;
     long bands;         /* 0: not given (5, a preset 3) */
     int irradiance;
     const char *window; /* read once --preset is known */
@@ -84,32 +84,32 @@ static const char *rotate_call(void *opts, const char *v)
     return qcli_light_rotate(&c->rl, v, c->why, sizeof c->why);
 }
 
-static const qcli_opt sh_project_table[] = {
-    {.name = "--bands", .kind = QCLI_OPT_INT, .off = offsetof(sh_project_cli, bands), .arg = "B", .lo = 1,
+static const qtool_opt sh_project_table[] = {
+    {.name = "--bands", .kind = QTOOL_OPT_INT, .off = offsetof(sh_project_cli, bands), .arg = "B", .lo = 1,
      .hi = QIBL_SH_MAX_BANDS, .def = "5; a preset 3", .help = "bands 0..B-1 (B*B coefficients)"},
-    {.name = "--irradiance", .kind = QCLI_OPT_FLAG, .off = offsetof(sh_project_cli, irradiance),
+    {.name = "--irradiance", .kind = QTOOL_OPT_FLAG, .off = offsetof(sh_project_cli, irradiance),
      .help = "irradiance (times the clamped-cosine A_l) instead of radiance (--preset raw)"},
-    {.name = "--window", .kind = QCLI_OPT_STR, .off = offsetof(sh_project_cli, window), .arg = "W",
+    {.name = "--window", .kind = QTOOL_OPT_STR, .off = offsetof(sh_project_cli, window), .arg = "W",
      .def = "none; filament auto", .help = "none, hann or lanczos; --preset filament: auto, no or a cutoff band"},
-    {.name = "--preset", .kind = QCLI_OPT_ENUM, .off = offsetof(sh_project_cli, preset),
+    {.name = "--preset", .kind = QTOOL_OPT_ENUM, .off = offsetof(sh_project_cli, preset),
      .names = qtool_engine_preset_names, .help = "an engine's own convention (below)"},
-    {.name = "--format", .kind = QCLI_OPT_CALL, .off = offsetof(sh_project_cli, format), .arg = "table|json|c",
+    {.name = "--format", .kind = QTOOL_OPT_CALL, .off = offsetof(sh_project_cli, format), .arg = "table|json|c",
      .call = format_call, .def = "table", .help = "--preset raw's output: a table, JSON or a C header"},
-    {.name = "--name", .kind = QCLI_OPT_CALL, .off = offsetof(sh_project_cli, name), .arg = "ID", .call = name_call,
+    {.name = "--name", .kind = QTOOL_OPT_CALL, .off = offsetof(sh_project_cli, name), .arg = "ID", .call = name_call,
      .def = "qibl_probe_sh", .help = "the C array (--format c) or the glTF light (--preset gltf)"},
-    {.name = "--frame", .kind = QCLI_OPT_ENUM, .off = offsetof(sh_project_cli, frame), .names = frames,
+    {.name = "--frame", .kind = QTOOL_OPT_ENUM, .off = offsetof(sh_project_cli, frame), .names = frames,
      .def = "zup", .help = "yup: the coefficients in a y-up frame ((x, z, -y) of qibl's; --preset raw)"},
-    {.name = "--yaw", .kind = QCLI_OPT_CALL, .off = offsetof(sh_project_cli, rl), .arg = "DEG", .call = yaw_call,
+    {.name = "--yaw", .kind = QTOOL_OPT_CALL, .off = offsetof(sh_project_cli, rl), .arg = "DEG", .call = yaw_call,
      .help = "turn the probe first (positive turns +x toward +y), as qibl relight does"},
-    {.name = "--rotate", .kind = QCLI_OPT_CALL, .off = offsetof(sh_project_cli, rl), .arg = "a,b,c,d,e,f,g,h,i",
+    {.name = "--rotate", .kind = QTOOL_OPT_CALL, .off = offsetof(sh_project_cli, rl), .arg = "a,b,c,d,e,f,g,h,i",
      .call = rotate_call, .help = "turn the probe first by a rotation matrix (rows), as qibl relight does"},
-    {.name = "--layout", .kind = QCLI_OPT_ENUM, .off = offsetof(sh_project_cli, layout),
+    {.name = "--layout", .kind = QTOOL_OPT_ENUM, .off = offsetof(sh_project_cli, layout),
      .names = qcli_probe_layout_names, .arg = "L",
      .help = "the probe's layout: auto (detected, and said so), latlong, angular, ball, vcross or hcross"},
     {0},
 };
 
-const qcli_opt_cmd qcli_opts_sh_project = {
+const qtool_opt_cmd qcli_opts_sh_project = {
     .name = "sh project",
     .help_name = "sh",
     .opts = sh_project_table,
@@ -141,7 +141,7 @@ const qcli_opt_cmd qcli_opts_sh_project = {
 /* the options together into o, once the table has parsed them: 0, or 2 after the one line */
 static int sh_project_check(const sh_project_cli *c, qtool_sh_project_opts *o)
 {
-    const qcli_opt_cmd *t = &qcli_opts_sh_project;
+    const qtool_opt_cmd *t = &qcli_opts_sh_project;
     const qtool_engine_preset preset = (qtool_engine_preset)c->preset;
     const char *pn = qtool_engine_preset_name(preset);
     long bands = c->bands ? c->bands : o->bands;
@@ -154,20 +154,20 @@ static int sh_project_check(const sh_project_cli *c, qtool_sh_project_opts *o)
         o->name = c->name;
     if (preset != QTOOL_ENGINE_RAW) { /* each engine has its own scale, frame and layout */
         if (c->format >= 0)
-            return qcli_opt_error(t, "--format is for --preset raw; the %s preset writes its own layout", pn);
+            return qtool_opt_error(t, "--format is for --preset raw; the %s preset writes its own layout", pn);
         if (opts.irradiance)
-            return qcli_opt_error(t, "--irradiance: the %s preset has its own scale (see the README)", pn);
+            return qtool_opt_error(t, "--irradiance: the %s preset has its own scale (see the README)", pn);
         if (c->frame >= 0)
-            return qcli_opt_error(t, "--frame: the %s preset writes the engine's own frame; --frame is for --preset raw",
+            return qtool_opt_error(t, "--frame: the %s preset writes the engine's own frame; --frame is for --preset raw",
                                   pn);
         if (c->bands && bands < 3)
-            return qcli_opt_error(t, "--bands %ld: the %s preset needs 3 bands", bands, pn);
+            return qtool_opt_error(t, "--bands %ld: the %s preset needs 3 bands", bands, pn);
         if (c->name && preset != QTOOL_ENGINE_GLTF)
-            return qcli_opt_error(t, "--name names the C array (--format c) or the glTF light, not the %s preset", pn);
+            return qtool_opt_error(t, "--name names the C array (--format c) or the glTF light, not the %s preset", pn);
         if (c->window && preset != QTOOL_ENGINE_FILAMENT)
-            return qcli_opt_error(t, "--window: the %s preset is not windowed (--window is cmgen's for filament)", pn);
+            return qtool_opt_error(t, "--window: the %s preset is not windowed (--window is cmgen's for filament)", pn);
         if (c->window && qtool_engine_window_parse(c->window, &o->engine_window) != 0)
-            return qcli_opt_error(t, "--window: '%s' is not auto, no or a cutoff band in (0, %g] (cmgen's --sh-window)",
+            return qtool_opt_error(t, "--window: '%s' is not auto, no or a cutoff band in (0, %g] (cmgen's --sh-window)",
                                   c->window, QTOOL_ENGINE_WINDOW_MAX);
         bands = 3;
         fmt = FMT_JSON; /* notes on stderr: stdout is only the engine's text */
@@ -179,7 +179,7 @@ static int sh_project_check(const sh_project_cli *c, qtool_sh_project_opts *o)
             if (strcmp(c->window, qtool_sh_window_names[j]) == 0)
                 k = j;
         if (k < 0)
-            return qcli_opt_error(t, "--window: '%s' is not none, hann or lanczos", c->window);
+            return qtool_opt_error(t, "--window: '%s' is not none, hann or lanczos", c->window);
         opts.window = (qibl_probe_window_t)k;
     }
     o->bands = bands, o->preset = preset, o->core = opts;
@@ -191,7 +191,7 @@ int qcli_cmd_sh_project(int argc, char **argv)
 {
     qtool_sh_project_opts o = QTOOL_SH_PROJECT_OPTS_DEFAULT;
     sh_project_cli c;
-    if (qcli_opt_parse(&qcli_opts_sh_project, argc, argv, 2, &c) != 0 || sh_project_check(&c, &o) != 0)
+    if (qtool_opt_parse(&qcli_opts_sh_project, argc, argv, 2, &c) != 0 || sh_project_check(&c, &o) != 0)
         return 2;
     if (qcli_parse_only) /* fuzz_cliopts: the options only */
         return 0;

@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "cli/cli.h"
-#include "cli/opt.h"
+#include "opt/opt.h"
 #include "cli/relight_light.h"
 #include "probe/info.h"
 
@@ -18,19 +18,19 @@
 #endif
 
 typedef struct probe_info_opts {
-    qcli_opt_list probe;
+    qtool_opt_list probe;
     int layout; /* qtool_probe_layout_t */
 } probe_info_opts;
 static const probe_info_opts probe_info_defaults = {.layout = QTOOL_PROBE_LAYOUT_AUTO};
 
-static const qcli_opt probe_info_table[] = {
-    {.name = "--layout", .kind = QCLI_OPT_ENUM, .off = offsetof(probe_info_opts, layout),
+static const qtool_opt probe_info_table[] = {
+    {.name = "--layout", .kind = QTOOL_OPT_ENUM, .off = offsetof(probe_info_opts, layout),
      .names = qcli_probe_layout_names, .arg = "L",
      .help = "the probe's layout: auto (detected, and said so), latlong, angular, ball, vcross or hcross"},
     {0},
 };
 
-const qcli_opt_cmd qcli_opts_probe_info = {
+const qtool_opt_cmd qcli_opts_probe_info = {
     .name = "probe info",
     .help_name = "probe",
     .opts = probe_info_table,
@@ -53,12 +53,12 @@ const qcli_opt_cmd qcli_opts_probe_info = {
 
 int qcli_cmd_probe(int argc, char **argv)
 {
-    static const qcli_opt_cmd *const subs[] = {&qcli_opts_probe_info, NULL};
-    const qcli_opt_cmd *sub = qcli_opt_sub("probe", subs, NULL, argc, argv);
+    static const qtool_opt_cmd *const subs[] = {&qcli_opts_probe_info, NULL};
+    const qtool_opt_cmd *sub = qtool_opt_sub("probe", subs, NULL, argc, argv);
     if (!sub)
         return 2;
     probe_info_opts c;
-    int rc = qcli_opt_parse(sub, argc, argv, 2, &c);
+    int rc = qtool_opt_parse(sub, argc, argv, 2, &c);
     if (rc != 0)
         return rc;
     const char *path = c.probe.v[0];

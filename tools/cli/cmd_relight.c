@@ -21,7 +21,7 @@
 #include "io/png.h"
 #include "qibl/asset.h"
 #include "cli/cli.h"
-#include "cli/opt.h"
+#include "opt/opt.h"
 #include "cli/relight_light.h"
 #include "qibl/gonio.h"
 #include "qibl/shmap.h"
@@ -41,7 +41,7 @@ typedef struct path_cli {
 
 /* What `qibl relight` was asked: the files, and the library's options (defaults in relight/relight.h). */
 typedef struct relight_cli {
-    qcli_opt_list file;
+    qtool_opt_list file;
     const char *png, *hdr, *pfm, *exr;
     int have_frame; /* --aim or --up given */
     qtool_relight_opts r;
@@ -93,7 +93,7 @@ static const char *rgb_call(void *o, char *const *v, int n, int *used)
         return qcli_light_rgb(&c->r.lights, v, c->why, sizeof c->why);
     double d[3];
     for (int k = 0; k < 3; ++k) {
-        int r = qcli_opt_num_value(v[k], 0, 32767, &d[k]);
+        int r = qtool_opt_num_value(v[k], 0, 32767, &d[k]);
         if (r == 1 || r == 2)
             snprintf(c->why, sizeof c->why, "'%s' is not a %snumber", v[k], r == 2 ? "finite " : "");
         else if (r != 0)
@@ -159,7 +159,7 @@ static const char *lut_call(void *o, const char *m)
     }
     if (m[0] != '-' && m[0] != '\0' && c->file.n > 0)
         return "is not a mode (poly, nearest, bilinear or off)";
-    return qcli_opt_no_value; /* the asset or an option: a bare --lut */
+    return qtool_opt_no_value; /* the asset or an option: a bare --lut */
 }
 
 static const char *nearest_call(void *o, const char *unused)
@@ -203,69 +203,69 @@ static const relight_cli relight_defaults = {.r = QTOOL_RELIGHT_OPTS_DEFAULT, .e
 static const relight_cli path_defaults = {.r = QTOOL_RELIGHT_OPTS_DEFAULT, .exposure = 1.0, .path_mode = 1,
                                           .p = {.t = -1, .rgb = {1, 1, 1}, .sky = {-1, -1, -1}, .soft = -1}};
 
-static const qcli_opt relight_table[] = {
-    {.name = "--sun", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = sun_call, .arg = "X Y Z",
+static const qtool_opt relight_table[] = {
+    {.name = "--sun", .kind = QTOOL_OPT_CALL, .nargs = 3, .call_n = sun_call, .arg = "X Y Z",
      .help = "a directional light from (X, Y, Z) (repeatable)"},
-    {.name = "--point", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = point_call, .arg = "X Y Z",
+    {.name = "--point", .kind = QTOOL_OPT_CALL, .nargs = 3, .call_n = point_call, .arg = "X Y Z",
      .help = "a point lamp at (X, Y, Z) (repeatable)"},
-    {.name = "--rgb", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = rgb_call, .arg = "R G B",
+    {.name = "--rgb", .kind = QTOOL_OPT_CALL, .nargs = 3, .call_n = rgb_call, .arg = "R G B",
      .help = "the colour of the --sun or --point before it (before the first: the first's), 0..32767.99998; "
              "with --path the path's light (default 1 1 1)"},
-    {.name = "--lights", .kind = QCLI_OPT_CALL, .call = lights_call, .arg = "FILE.csv",
+    {.name = "--lights", .kind = QTOOL_OPT_CALL, .call = lights_call, .arg = "FILE.csv",
      .help = "directional lights from a CSV (qibl lights --csv)"},
-    {.name = "--probe", .kind = QCLI_OPT_CALL, .call = probe_call, .arg = "PROBE.hdr",
+    {.name = "--probe", .kind = QTOOL_OPT_CALL, .call = probe_call, .arg = "PROBE.hdr",
      .help = "light from a Radiance probe"},
-    {.name = "--layout", .kind = QCLI_OPT_CALL, .call = layout_call, .arg = "L",
+    {.name = "--layout", .kind = QTOOL_OPT_CALL, .call = layout_call, .arg = "L",
      .help = "the probe's layout: auto (default), latlong, angular, ball, vcross or hcross"},
-    {.name = "--probe-mode", .kind = QCLI_OPT_CALL, .call = mode_call, .arg = "sh|lights|sunsky",
+    {.name = "--probe-mode", .kind = QTOOL_OPT_CALL, .call = mode_call, .arg = "sh|lights|sunsky",
      .help = "the probe as SH (default), N median-cut lights, or its suns plus SH"},
-    {.name = "-n", .kind = QCLI_OPT_CALL, .call = count_call, .arg = "N",
+    {.name = "-n", .kind = QTOOL_OPT_CALL, .call = count_call, .arg = "N",
      .help = "median-cut lights of --probe-mode lights or sunsky (a power of two in 1..65536)"},
-    {.name = "--yaw", .kind = QCLI_OPT_CALL, .call = yaw_call, .arg = "DEG",
+    {.name = "--yaw", .kind = QTOOL_OPT_CALL, .call = yaw_call, .arg = "DEG",
      .help = "turn the probe (positive turns +x toward +y)"},
-    {.name = "--rotate", .kind = QCLI_OPT_CALL, .call = rotate_call, .arg = "a,b,c,d,e,f,g,h,i",
+    {.name = "--rotate", .kind = QTOOL_OPT_CALL, .call = rotate_call, .arg = "a,b,c,d,e,f,g,h,i",
      .help = "turn the probe by a rotation matrix (rows)"},
-    {.name = "--lut", .kind = QCLI_OPT_CALL, .optional = 1, .call = lut_call, .arg = "poly|nearest|bilinear|off",
+    {.name = "--lut", .kind = QTOOL_OPT_CALL, .optional = 1, .call = lut_call, .arg = "poly|nearest|bilinear|off",
      .help = "how point lamps are evaluated: polynomial (default), the asset's Y LUT, or direct SH (off)"},
-    {.name = "--nearest", .kind = QCLI_OPT_FLAG, .off = offsetof(relight_cli, nearest), .call = nearest_call,
+    {.name = "--nearest", .kind = QTOOL_OPT_FLAG, .off = offsetof(relight_cli, nearest), .call = nearest_call,
      .help = "the old spelling of --lut nearest"},
-    {.name = "--falloff", .kind = QCLI_OPT_INT, .off = offsetof(relight_cli, r.falloff), .lo = 1, .hi = 2,
+    {.name = "--falloff", .kind = QTOOL_OPT_INT, .off = offsetof(relight_cli, r.falloff), .lo = 1, .hi = 2,
      .why = "1: C0/|L|, 2: C0/|L|^2", .help = "the point lamps' falloff"},
-    {.name = "--exposure", .kind = QCLI_OPT_NUM, .off = offsetof(relight_cli, exposure), .arg = "E",
+    {.name = "--exposure", .kind = QTOOL_OPT_NUM, .off = offsetof(relight_cli, exposure), .arg = "E",
      .lo = 1.0 / 65536, .hi = QTOOL_CLI_Q16_MAX, .why = "a positive Q16.16 factor", .help = "scales the frame"},
-    {.name = "--linear", .kind = QCLI_OPT_FLAG, .off = offsetof(relight_cli, r.linear),
+    {.name = "--linear", .kind = QTOOL_OPT_FLAG, .off = offsetof(relight_cli, r.linear),
      .help = "no sRGB curve on the 8-bit frame"},
-    {.name = "--gles", .kind = QCLI_OPT_FLAG, .off = offsetof(relight_cli, r.gles),
+    {.name = "--gles", .kind = QTOOL_OPT_FLAG, .off = offsetof(relight_cli, r.gles),
      .help = "platform/gles2 on a headless EGL context instead of platform/soft (one light)"},
-    {.name = "--ies", .kind = QCLI_OPT_STR, .off = offsetof(relight_cli, r.ies), .arg = "FILE.ies",
+    {.name = "--ies", .kind = QTOOL_OPT_STR, .off = offsetof(relight_cli, r.ies), .arg = "FILE.ies",
      .help = "the --point lamps (or the path's lamp) are goniometric: C0 I(direction) / I_peak"},
-    {.name = "--aim", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = aim_call, .arg = "X Y Z", .def = "0 0 -1",
+    {.name = "--aim", .kind = QTOOL_OPT_CALL, .nargs = 3, .call_n = aim_call, .arg = "X Y Z", .def = "0 0 -1",
      .help = "where the IES lamp's nadir points"},
-    {.name = "--up", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = up_call, .arg = "X Y Z", .def = "1 0 0",
+    {.name = "--up", .kind = QTOOL_OPT_CALL, .nargs = 3, .call_n = up_call, .arg = "X Y Z", .def = "1 0 0",
      .help = "the IES lamp's C = 0 direction (approximate)"},
-    {.name = "--ies-size", .kind = QCLI_OPT_INT, .off = offsetof(relight_cli, r.ies_n), .lo = QIBL_GONIO_MIN_N,
+    {.name = "--ies-size", .kind = QTOOL_OPT_INT, .off = offsetof(relight_cli, r.ies_n), .lo = QIBL_GONIO_MIN_N,
      .hi = QIBL_GONIO_MAX_N, .what = "a table size", .help = "the goniometric table's side"},
-    {.name = "--png", .kind = QCLI_OPT_STR, .off = offsetof(relight_cli, png), .arg = "OUT",
+    {.name = "--png", .kind = QTOOL_OPT_STR, .off = offsetof(relight_cli, png), .arg = "OUT",
      .help = "the 8-bit sRGB frame"},
-    {.name = "--hdr", .kind = QCLI_OPT_STR, .off = offsetof(relight_cli, hdr), .arg = "OUT.hdr",
+    {.name = "--hdr", .kind = QTOOL_OPT_STR, .off = offsetof(relight_cli, hdr), .arg = "OUT.hdr",
      .help = "the linear frame as Radiance RGBE (not with --path)"},
-    {.name = "--pfm", .kind = QCLI_OPT_STR, .off = offsetof(relight_cli, pfm), .arg = "OUT.pfm",
+    {.name = "--pfm", .kind = QTOOL_OPT_STR, .off = offsetof(relight_cli, pfm), .arg = "OUT.pfm",
      .help = "the linear frame as PFM floats"},
-    {.name = "--exr", .kind = QCLI_OPT_STR, .off = offsetof(relight_cli, exr), .arg = "OUT.exr",
+    {.name = "--exr", .kind = QTOOL_OPT_STR, .off = offsetof(relight_cli, exr), .arg = "OUT.exr",
      .help = "the linear frame as OpenEXR (FLOAT, ZIP)"},
-    {.name = "--path", .kind = QCLI_OPT_STR, .off = offsetof(relight_cli, p.spec), .arg = "N|sun|lamp",
+    {.name = "--path", .kind = QTOOL_OPT_STR, .off = offsetof(relight_cli, p.spec), .arg = "N|sun|lamp",
      .help = "a light on the asset's baked path N (or its first sun path / lamp track)"},
-    {.name = "--t", .kind = QCLI_OPT_NUM, .off = offsetof(relight_cli, p.t), .arg = "T", .lo = 0, .hi = 1,
+    {.name = "--t", .kind = QTOOL_OPT_NUM, .off = offsetof(relight_cli, p.t), .arg = "T", .lo = 0, .hi = 1,
      .why = "a path parameter in 0..1", .def = "required with --path", .help = "where on the path"},
-    {.name = "--soft", .kind = QCLI_OPT_NUM, .off = offsetof(relight_cli, p.soft), .arg = "R", .lo = 0, .hi = 0.5,
+    {.name = "--soft", .kind = QTOOL_OPT_NUM, .off = offsetof(relight_cli, p.soft), .arg = "R", .lo = 0, .hi = 0.5,
      .why = "a half-width in path units, 0..0.5", .def = "0", .help = "--path: soft over [T - R, T + R]"},
-    {.name = "--sky", .kind = QCLI_OPT_TRIPLE, .off = offsetof(relight_cli, p.sky), .arg = "R G B", .lo = 0,
+    {.name = "--sky", .kind = QTOOL_OPT_TRIPLE, .off = offsetof(relight_cli, p.sky), .arg = "R G B", .lo = 0,
      .hi = 32767, .why = "a colour component in 0..32767", .def = "none",
      .help = "--path: add the demo's sky through the shadowed maps"},
     {0},
 };
 
-const qcli_opt_cmd qcli_opts_relight = {
+const qtool_opt_cmd qcli_opts_relight = {
     .name = "relight",
     .opts = relight_table,
     .pos = {.names = "FILE", .min = 0, .max = 1, .off = offsetof(relight_cli, file)},
@@ -327,7 +327,7 @@ const qcli_opt_cmd qcli_opts_relight = {
         "  SH x visibility(T), soft over [T - R, T + R]; --sky adds the demo's sky through the shadowed maps.\n"
 };
 /* the same table when --path is on the line (--rgb is then the path light's colour) */
-static const qcli_opt_cmd relight_path_spec = {
+static const qtool_opt_cmd relight_path_spec = {
     .name = "relight",
     .opts = relight_table,
     .pos = {.names = "FILE", .min = 0, .max = 1, .off = offsetof(relight_cli, file)},
@@ -351,41 +351,41 @@ static const char *light_only(const relight_cli *c)
 /* the options together, after parsing: 0, or 2 after the one line */
 static int relight_check(const relight_cli *c)
 {
-    const qcli_opt_cmd *t = &qcli_opts_relight;
+    const qtool_opt_cmd *t = &qcli_opts_relight;
     const qtool_relight_opts *o = &c->r;
     const qtool_relight_light_list *ll = &o->lights;
     const char *bad;
     if (c->p.t >= 0 || c->p.soft >= 0 || c->p.sky[0] >= 0)
-        return qcli_opt_error(t, "%s is for relight --path", c->p.t >= 0 ? "--t" : c->p.soft >= 0 ? "--soft" : "--sky");
+        return qtool_opt_error(t, "%s is for relight --path", c->p.t >= 0 ? "--t" : c->p.soft >= 0 ? "--soft" : "--sky");
     if (c->file.n == 0 || (!c->png && !c->hdr && !c->pfm && !c->exr))
-        return qcli_opt_error(t, "relight needs FILE, a light (--sun, --point, --lights or --probe), and --png, "
+        return qtool_opt_error(t, "relight needs FILE, a light (--sun, --point, --lights or --probe), and --png, "
                                  "--hdr, --pfm or --exr OUT");
     if (ll->count == 0 && !ll->csv && !ll->probe)
-        return qcli_opt_error(t, "relight needs a light: --sun, --point, --lights FILE.csv or --probe PROBE.hdr");
+        return qtool_opt_error(t, "relight needs a light: --sun, --point, --lights FILE.csv or --probe PROBE.hdr");
     if ((bad = qcli_light_list_check(ll)) != NULL)
-        return qcli_opt_error(t, "%s", bad);
+        return qtool_opt_error(t, "%s", bad);
     if (o->gles && (ll->count != 1 || ll->csv || ll->probe))
-        return qcli_opt_error(t, "--gles takes exactly one --sun or --point (no --lights or --probe)");
+        return qtool_opt_error(t, "--gles takes exactly one --sun or --point (no --lights or --probe)");
     if (c->have_frame && !o->ies)
-        return qcli_opt_error(t, "--aim and --up orient an --ies lamp: give --ies FILE.ies");
+        return qtool_opt_error(t, "--aim and --up orient an --ies lamp: give --ies FILE.ies");
     if (o->ies && ll->points == 0)
-        return qcli_opt_error(t, "--ies shapes the --point lamps: give at least one --point X Y Z");
+        return qtool_opt_error(t, "--ies shapes the --point lamps: give at least one --point X Y Z");
     if (o->ies && o->gles)
-        return qcli_opt_error(t, "--ies: goniometric lamps are relit on the soft framebuffer only (not --gles)");
+        return qtool_opt_error(t, "--ies: goniometric lamps are relit on the soft framebuffer only (not --gles)");
     return 0;
 }
 
 /* --path's line together: 0, or 2 after the one line */
 static int path_check(const relight_cli *c)
 {
-    const qcli_opt_cmd *t = &qcli_opts_relight;
+    const qtool_opt_cmd *t = &qcli_opts_relight;
     const char *bad = light_only(c);
     if (bad)
-        return qcli_opt_error(t, "%s is for relight without --path (the path is the light)", bad);
+        return qtool_opt_error(t, "%s is for relight without --path (the path is the light)", bad);
     if (c->file.n == 0 || !c->p.spec || c->p.t < 0 || (!c->png && !c->pfm && !c->exr))
-        return qcli_opt_error(t, "relight --path needs FILE, --path N|sun|lamp, --t T and --png, --pfm or --exr OUT");
+        return qtool_opt_error(t, "relight --path needs FILE, --path N|sun|lamp, --t T and --png, --pfm or --exr OUT");
     if (c->have_frame && !c->r.ies)
-        return qcli_opt_error(t, "--aim and --up orient an --ies lamp: give --ies FILE.ies");
+        return qtool_opt_error(t, "--aim and --up orient an --ies lamp: give --ies FILE.ies");
     return 0;
 }
 
@@ -671,7 +671,7 @@ int qcli_cmd_relight(int argc, char **argv)
     for (int i = 1; i < argc; ++i)
         path |= strcmp(argv[i], "--path") == 0; /* a light on a baked path */
     relight_cli c;
-    if (qcli_opt_parse(path ? &relight_path_spec : &qcli_opts_relight, argc, argv, 1, &c) != 0)
+    if (qtool_opt_parse(path ? &relight_path_spec : &qcli_opts_relight, argc, argv, 1, &c) != 0)
         return 2;
     if (path ? path_check(&c) != 0 : relight_check(&c) != 0)
         return 2;

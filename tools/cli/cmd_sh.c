@@ -9,7 +9,7 @@
 
 #include "io/png.h"
 #include "cli/cli.h"
-#include "cli/opt.h"
+#include "opt/opt.h"
 #include "qibl/sh.h"
 
 #define M_PI_VALUE 3.14159265358979323846
@@ -22,15 +22,15 @@ typedef struct plot_opts {
 } plot_opts;
 static const plot_opts plot_defaults = {.png = NULL, .tile = 128};
 
-static const qcli_opt plot_table[] = {
-    {.name = "--png", .kind = QCLI_OPT_STR, .off = offsetof(plot_opts, png), .arg = "FILE", .required = 1,
+static const qtool_opt plot_table[] = {
+    {.name = "--png", .kind = QTOOL_OPT_STR, .off = offsetof(plot_opts, png), .arg = "FILE", .required = 1,
      .help = "the picture to write"},
-    {.name = "--tile", .kind = QCLI_OPT_INT, .off = offsetof(plot_opts, tile), .arg = "W", .lo = 8, .hi = 1024,
+    {.name = "--tile", .kind = QTOOL_OPT_INT, .off = offsetof(plot_opts, tile), .arg = "W", .lo = 8, .hi = 1024,
      .what = "a tile width", .help = "each basis function's tile width in pixels"},
     {0},
 };
 
-const qcli_opt_cmd qcli_opts_sh_plot = {
+const qtool_opt_cmd qcli_opts_sh_plot = {
     .name = "sh plot",
     .help_name = "sh",
     .opts = plot_table,
@@ -43,7 +43,7 @@ const qcli_opt_cmd qcli_opts_sh_plot = {
 static int sh_plot(int argc, char **argv)
 {
     plot_opts o;
-    int rc = qcli_opt_parse(&qcli_opts_sh_plot, argc, argv, 2, &o);
+    int rc = qtool_opt_parse(&qcli_opts_sh_plot, argc, argv, 2, &o);
     if (rc != 0)
         return rc;
     const char *path = o.png;
@@ -85,18 +85,18 @@ static int sh_plot(int argc, char **argv)
 }
 
 typedef struct eval_opts {
-    qcli_opt_list xyz;
+    qtool_opt_list xyz;
     long bands;
 } eval_opts;
 static const eval_opts eval_defaults = {.bands = QIBL_SH_MAX_BANDS};
 
-static const qcli_opt eval_table[] = {
-    {.name = "--bands", .kind = QCLI_OPT_INT, .off = offsetof(eval_opts, bands), .arg = "B", .lo = 1,
+static const qtool_opt eval_table[] = {
+    {.name = "--bands", .kind = QTOOL_OPT_INT, .off = offsetof(eval_opts, bands), .arg = "B", .lo = 1,
      .hi = QIBL_SH_MAX_BANDS, .help = "bands 0..B-1: B*B values"},
     {0},
 };
 
-const qcli_opt_cmd qcli_opts_sh_eval = {
+const qtool_opt_cmd qcli_opts_sh_eval = {
     .name = "sh eval",
     .help_name = "sh",
     .opts = eval_table,
@@ -113,8 +113,8 @@ const qcli_opt_cmd qcli_opts_sh_eval = {
 
 int qcli_cmd_sh(int argc, char **argv)
 {
-    static const qcli_opt_cmd *const subs[] = {&qcli_opts_sh_eval, &qcli_opts_sh_plot, &qcli_opts_sh_project, NULL};
-    const qcli_opt_cmd *sub = qcli_opt_sub("sh", subs, NULL, argc, argv);
+    static const qtool_opt_cmd *const subs[] = {&qcli_opts_sh_eval, &qcli_opts_sh_plot, &qcli_opts_sh_project, NULL};
+    const qtool_opt_cmd *sub = qtool_opt_sub("sh", subs, NULL, argc, argv);
     if (!sub)
         return 2;
     if (sub == &qcli_opts_sh_project)
@@ -122,18 +122,18 @@ int qcli_cmd_sh(int argc, char **argv)
     if (sub == &qcli_opts_sh_plot)
         return sh_plot(argc, argv);
     eval_opts o;
-    int rc = qcli_opt_parse(sub, argc, argv, 2, &o);
+    int rc = qtool_opt_parse(sub, argc, argv, 2, &o);
     if (rc != 0)
         return rc;
     long bands = o.bands;
     qibl_q16_t dir[3];
     for (int k = 0; k < 3; ++k)
         if (qcli_parse_q16(o.xyz.v[k], &dir[k]) != 0)
-            return qcli_opt_error(sub, "'%s' is not a number in the Q16.16 range [-32768, 32768)", o.xyz.v[k]);
+            return qtool_opt_error(sub, "'%s' is not a number in the Q16.16 range [-32768, 32768)", o.xyz.v[k]);
     qibl_q30_t y[QIBL_SH_MAX_COUNT];
     qibl_status_t st = qibl_sh_eval(dir, (int)bands, y);
     if (st != QIBL_OK)
-        return qcli_opt_error(sub, "%s", qibl_status_str(st));
+        return qtool_opt_error(sub, "%s", qibl_status_str(st));
     /* one line per basis function, labelled: index i = l*l + l + m, band l, order m */
     for (int l = 0; l < (int)bands; ++l)
         for (int m = -l; m <= l; ++m)

@@ -10,15 +10,15 @@
 #include <string.h>
 
 #include "cli/cli.h"
-#include "cli/opt.h"
+#include "opt/opt.h"
 #include "qibl/srgbe.h"
 
 typedef struct srgbe_opts {
-    qcli_opt_list args;
+    qtool_opt_list args;
 } srgbe_opts;
 static const srgbe_opts srgbe_defaults = {.args = {.n = 0}};
 
-const qcli_opt_cmd qcli_opts_srgbe_encode = {
+const qtool_opt_cmd qcli_opts_srgbe_encode = {
     .name = "srgbe encode",
     .help_name = "srgbe",
     .pos = {.names = "R G B", .min = 3, .max = 3, .off = offsetof(srgbe_opts, args), .numbers = 1},
@@ -32,7 +32,7 @@ const qcli_opt_cmd qcli_opts_srgbe_encode = {
         "  an infinite channel saturates (exit 0); a NaN channel writes the zero code 80808000 (exit 1).\n",
 };
 
-const qcli_opt_cmd qcli_opts_srgbe_decode = {
+const qtool_opt_cmd qcli_opts_srgbe_decode = {
     .name = "srgbe decode",
     .help_name = "srgbe",
     .pos = {.names = "HEX8", .min = 1, .max = 1, .off = offsetof(srgbe_opts, args)},
@@ -97,7 +97,7 @@ static int srgbe_encode(const srgbe_opts *o)
     uint32_t in[3];
     for (int i = 0; i < 3; ++i)
         if (parse_f32(o->args.v[i], &in[i]) != 0)
-            return qcli_opt_error(&qcli_opts_srgbe_encode, "'%s' is not a binary32 number", o->args.v[i]);
+            return qtool_opt_error(&qcli_opts_srgbe_encode, "'%s' is not a binary32 number", o->args.v[i]);
     uint8_t code[4];
     qibl_status_t st = qibl_srgbe_encode_f32(in, code);
     /* the codec writes a code for every status but a NULL pointer: print it, then name the status */
@@ -111,11 +111,11 @@ static int srgbe_decode(const srgbe_opts *o)
     const char *h = o->args.v[0];
     uint8_t code[4];
     if (strlen(h) != 8)
-        return qcli_opt_error(&qcli_opts_srgbe_decode, "'%s' is not 8 hex digits", h);
+        return qtool_opt_error(&qcli_opts_srgbe_decode, "'%s' is not 8 hex digits", h);
     for (int i = 0; i < 4; ++i) {
         int hi = hexval(h[2 * i]), lo = hexval(h[2 * i + 1]);
         if (hi < 0 || lo < 0)
-            return qcli_opt_error(&qcli_opts_srgbe_decode, "'%s' is not 8 hex digits", h);
+            return qtool_opt_error(&qcli_opts_srgbe_decode, "'%s' is not 8 hex digits", h);
         code[i] = (uint8_t)(hi << 4 | lo);
     }
     uint32_t out[3];
@@ -129,12 +129,12 @@ static int srgbe_decode(const srgbe_opts *o)
 
 int qcli_cmd_srgbe(int argc, char **argv)
 {
-    static const qcli_opt_cmd *const subs[] = {&qcli_opts_srgbe_encode, &qcli_opts_srgbe_decode, NULL};
-    const qcli_opt_cmd *sub = qcli_opt_sub("srgbe", subs, NULL, argc, argv);
+    static const qtool_opt_cmd *const subs[] = {&qcli_opts_srgbe_encode, &qcli_opts_srgbe_decode, NULL};
+    const qtool_opt_cmd *sub = qtool_opt_sub("srgbe", subs, NULL, argc, argv);
     if (!sub)
         return 2;
     srgbe_opts o;
-    int rc = qcli_opt_parse(sub, argc, argv, 2, &o);
+    int rc = qtool_opt_parse(sub, argc, argv, 2, &o);
     if (rc != 0)
         return rc;
     return sub == &qcli_opts_srgbe_encode ? srgbe_encode(&o) : srgbe_decode(&o);

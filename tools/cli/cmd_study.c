@@ -8,31 +8,31 @@
 #include <string.h>
 
 #include "cli/cli.h"
-#include "cli/opt.h"
+#include "opt/opt.h"
 #include "study/study.h"
 
 typedef struct study_cli_opts {
-    qcli_opt_list probes;
+    qtool_opt_list probes;
     const char *out;
     long threads;
     int quick;
 } study_cli_opts;
 static const study_cli_opts study_defaults = {.out = NULL, .threads = 2, .quick = 0};
 
-static const qcli_opt study_table[] = {
-    {.name = "--out", .kind = QCLI_OPT_STR, .off = offsetof(study_cli_opts, out), .arg = "DIR", .required = 1,
+static const qtool_opt study_table[] = {
+    {.name = "--out", .kind = QTOOL_OPT_STR, .off = offsetof(study_cli_opts, out), .arg = "DIR", .required = 1,
      .help = "where study.csv, summary.md, the plots and overlays go"},
-    {.name = "--quick", .kind = QCLI_OPT_FLAG, .off = offsetof(study_cli_opts, quick),
+    {.name = "--quick", .kind = QTOOL_OPT_FLAG, .off = offsetof(study_cli_opts, quick),
      .help = "half-size probes, 2000 normals, N <= 64"},
-    {.name = "--threads", .kind = QCLI_OPT_INT, .off = offsetof(study_cli_opts, threads), .arg = "T", .lo = 1,
+    {.name = "--threads", .kind = QTOOL_OPT_INT, .off = offsetof(study_cli_opts, threads), .arg = "T", .lo = 1,
      .hi = 16, .help = "worker threads"},
     {0},
 };
 
-const qcli_opt_cmd qcli_opts_study = {
+const qtool_opt_cmd qcli_opts_study = {
     .name = "study",
     .opts = study_table,
-    .pos = {.names = "PROBE.hdr ...", .min = 0, .max = QCLI_OPT_LIST_MAX, .off = offsetof(study_cli_opts, probes)},
+    .pos = {.names = "PROBE.hdr ...", .min = 0, .max = QTOOL_OPT_LIST_MAX, .off = offsetof(study_cli_opts, probes)},
     .defaults = &study_defaults,
     .size = sizeof(study_cli_opts),
     .prose =
@@ -47,7 +47,7 @@ const qcli_opt_cmd qcli_opts_study = {
 int qcli_cmd_study(int argc, char **argv)
 {
     study_cli_opts c;
-    int rc = qcli_opt_parse(&qcli_opts_study, argc, argv, 1, &c);
+    int rc = qtool_opt_parse(&qcli_opts_study, argc, argv, 1, &c);
     if (rc != 0)
         return rc;
     if (qcli_parse_only) /* fuzz_cliopts: the options only */

@@ -11,7 +11,7 @@
 #include <string.h>
 
 #include "cli/cli.h"
-#include "cli/opt.h"
+#include "opt/opt.h"
 #include "cli/relight_light.h"
 
 /* three numbers into Q16.16 (lo..QTOOL_CLI_Q16_MAX): NULL, or what is wrong (in why) */
@@ -19,7 +19,7 @@ static const char *parse3(char *const *v, double lo, int32_t q[3], char *why, si
 {
     for (int j = 0; j < 3; ++j) {
         double d;
-        int r = qcli_opt_num_value(v[j], lo, QTOOL_CLI_Q16_MAX, &d);
+        int r = qtool_opt_num_value(v[j], lo, QTOOL_CLI_Q16_MAX, &d);
         if (r == 1 || r == 2)
             snprintf(why, n, "'%s' is not a %snumber", v[j], r == 2 ? "finite " : "");
         else if (r != 0)
@@ -126,7 +126,7 @@ const char *qcli_light_yaw(qtool_relight_light_list *ll, const char *v)
 {
     if (ll->rotate)
         return "comes after a --yaw or --rotate: give one of them, once";
-    switch (qcli_opt_num_value(v, -36000.0, 36000.0, &ll->yaw)) {
+    switch (qtool_opt_num_value(v, -36000.0, 36000.0, &ll->yaw)) {
     case 0:
         break;
     case 1:

@@ -11,7 +11,7 @@
 #include <string.h>
 
 #include "cli/cli.h"
-#include "cli/opt.h"
+#include "opt/opt.h"
 #include "qibl/version.h"
 #include "qibl/isa.h"
 #include "io/isa_env.h"
@@ -19,35 +19,35 @@
 int qcli_parse_only; /* see cli.h */
 
 /* the option tables of the commands on them (cli/opt.h), one per subcommand */
-static const qcli_opt_cmd *const sh_opts[] = {&qcli_opts_sh_eval, &qcli_opts_sh_plot, &qcli_opts_sh_project, NULL};
-static const qcli_opt_cmd *const gen_opts[] = {&qcli_opts_gen, NULL};
-static const qcli_opt_cmd *const info_opts[] = {&qcli_opts_info, NULL};
-static const qcli_opt_cmd *const srgbe_opts[] = {&qcli_opts_srgbe_encode, &qcli_opts_srgbe_decode, NULL};
-static const qcli_opt_cmd *const ies_opts[] = {&qcli_opts_ies_info, NULL};
-static const qcli_opt_cmd *const study_opts[] = {&qcli_opts_study, NULL};
-static const qcli_opt_cmd *const bench_opts[] = {&qcli_opts_bench, NULL};
-static const qcli_opt_cmd *const probe_opts[] = {&qcli_opts_probe_info, NULL};
-static const qcli_opt_cmd *const lights_opts[] = {&qcli_opts_lights, NULL};
-static const qcli_opt_cmd *const relight_opts[] = {&qcli_opts_relight, NULL};
-static const qcli_opt_cmd *const merge_opts[] = {&qcli_opts_merge, NULL};
-static const qcli_opt_cmd *const check_opts[] = {&qcli_opts_check, NULL};
-static const qcli_opt_cmd *const render_opts[] = {&qcli_opts_render, NULL};
-static const qcli_opt_cmd *const bake_opts[] = {&qcli_opts_bake, NULL};
-static const qcli_opt_cmd *const demo_opts[] = {&qcli_opts_demo, NULL};
-static const qcli_opt_cmd *const luminaire_opts[] = {&qcli_opts_luminaire_capture, &qcli_opts_luminaire_info,
+static const qtool_opt_cmd *const sh_opts[] = {&qcli_opts_sh_eval, &qcli_opts_sh_plot, &qcli_opts_sh_project, NULL};
+static const qtool_opt_cmd *const gen_opts[] = {&qcli_opts_gen, NULL};
+static const qtool_opt_cmd *const info_opts[] = {&qcli_opts_info, NULL};
+static const qtool_opt_cmd *const srgbe_opts[] = {&qcli_opts_srgbe_encode, &qcli_opts_srgbe_decode, NULL};
+static const qtool_opt_cmd *const ies_opts[] = {&qcli_opts_ies_info, NULL};
+static const qtool_opt_cmd *const study_opts[] = {&qcli_opts_study, NULL};
+static const qtool_opt_cmd *const bench_opts[] = {&qcli_opts_bench, NULL};
+static const qtool_opt_cmd *const probe_opts[] = {&qcli_opts_probe_info, NULL};
+static const qtool_opt_cmd *const lights_opts[] = {&qcli_opts_lights, NULL};
+static const qtool_opt_cmd *const relight_opts[] = {&qcli_opts_relight, NULL};
+static const qtool_opt_cmd *const merge_opts[] = {&qcli_opts_merge, NULL};
+static const qtool_opt_cmd *const check_opts[] = {&qcli_opts_check, NULL};
+static const qtool_opt_cmd *const render_opts[] = {&qcli_opts_render, NULL};
+static const qtool_opt_cmd *const bake_opts[] = {&qcli_opts_bake, NULL};
+static const qtool_opt_cmd *const demo_opts[] = {&qcli_opts_demo, NULL};
+static const qtool_opt_cmd *const luminaire_opts[] = {&qcli_opts_luminaire_capture, &qcli_opts_luminaire_info,
                                                      &qcli_opts_luminaire_render, &qcli_opts_luminaire_study, NULL};
 
 /* which commands are on them: `qibl help CMD` is made from these, not from the command's usage */
 static const struct {
     const char *cmd;
-    const qcli_opt_cmd *const *opts;
+    const qtool_opt_cmd *const *opts;
 } tables[] = {{"sh", sh_opts},       {"gen", gen_opts}, {"info", info_opts},
               {"srgbe", srgbe_opts}, {"ies", ies_opts}, {"study", study_opts},
               {"bench", bench_opts}, {"probe", probe_opts}, {"lights", lights_opts},
               {"relight", relight_opts}, {"merge", merge_opts}, {"check", check_opts},
               {"render", render_opts}, {"bake", bake_opts}, {"demo", demo_opts}, {"luminaire", luminaire_opts}};
 
-static const qcli_opt_cmd *const *tables_of(const char *cmd)
+static const qtool_opt_cmd *const *tables_of(const char *cmd)
 {
     for (size_t i = 0; i < sizeof tables / sizeof tables[0]; ++i)
         if (strcmp(tables[i].cmd, cmd) == 0)
@@ -150,23 +150,23 @@ static const qcli_cmd commands[] = {
 typedef struct global_opts {
     int help, version, isa_list;
 } global_opts;
-static const qcli_opt global_table[] = {
-    {.name = "--help", .alias = "-h", .kind = QCLI_OPT_FLAG, .off = offsetof(global_opts, help),
+static const qtool_opt global_table[] = {
+    {.name = "--help", .alias = "-h", .kind = QTOOL_OPT_FLAG, .off = offsetof(global_opts, help),
      .help = "this list (qibl help CMD or qibl CMD --help: a command's options)"},
-    {.name = "--version", .kind = QCLI_OPT_FLAG, .off = offsetof(global_opts, version),
+    {.name = "--version", .kind = QTOOL_OPT_FLAG, .off = offsetof(global_opts, version),
      .help = "the version, the config id and the kernels this CPU runs"},
-    {.name = "--isa-list", .kind = QCLI_OPT_FLAG, .off = offsetof(global_opts, isa_list),
+    {.name = "--isa-list", .kind = QTOOL_OPT_FLAG, .off = offsetof(global_opts, isa_list),
      .help = "the kernel sets this CPU runs, one per line (QIBL_ISA takes one)"},
     {0},
 };
 /* name "": its refusals read "qibl: ...; see qibl --help" */
-static const qcli_opt_cmd global_spec = {.name = "", .opts = global_table, .size = sizeof(global_opts)};
+static const qtool_opt_cmd global_spec = {.name = "", .opts = global_table, .size = sizeof(global_opts)};
 
 static void print_help(FILE *f)
 {
     fprintf(f, "qibl - integer image-based lighting runtime: command-line tool\n\n"
                "usage: qibl <command> [args]\n       qibl help <command>\n       qibl --version\n       qibl --isa-list\n");
-    qcli_opt_help_list(f, &global_spec);
+    qtool_opt_help_list(f, &global_spec);
     fprintf(f, "\ncommands:\n");
     for (size_t i = 0; i < NCMD; ++i)
         fprintf(f, "  %-8s %s\n", commands[i].name, commands[i].summary);
@@ -175,11 +175,11 @@ static void print_help(FILE *f)
 /* `qibl help CMD`: each option table's usage, options and prose, then the text not on a table */
 static void print_cmd_help(FILE *f, const qcli_cmd *c)
 {
-    const qcli_opt_cmd *const *t = tables_of(c->name);
+    const qtool_opt_cmd *const *t = tables_of(c->name);
     for (size_t k = 0; t && t[k]; ++k) {
         if (k > 0)
             fputc('\n', f);
-        qcli_opt_help(f, t[k]);
+        qtool_opt_help(f, t[k]);
     }
     if (c->usage) {
         if (t)
@@ -223,12 +223,12 @@ int qcli_parse_q16(const char *s, int32_t *out)
 
 int qcli_parse_int(const char *s, long lo, long hi, long *out)
 {
-    return qcli_opt_int_value(s, lo, hi, out);
+    return qtool_opt_int_value(s, lo, hi, out);
 }
 
 int qcli_parse_num(const char *opt, const char *s, double lo, double hi, const char *why, double *out)
 {
-    switch (qcli_opt_num_value(s, lo, hi, out)) {
+    switch (qtool_opt_num_value(s, lo, hi, out)) {
     case 0:
         return 0;
     case 1:
@@ -244,7 +244,7 @@ int qcli_parse_num(const char *opt, const char *s, double lo, double hi, const c
 int qcli_parse_size(const char *opt, const char *s, long max, long *w, long *h)
 {
     long wh[2];
-    if (qcli_opt_size_value(s, max, wh) != 0)
+    if (qtool_opt_size_value(s, max, wh) != 0)
         return qcli_usage_error("%s needs WxH with both in 1..%ld, got '%s'", opt, max, s);
     *w = wh[0], *h = wh[1];
     return 0;
@@ -256,7 +256,7 @@ int main(int argc, char **argv)
     setvbuf(stdout, NULL, _IOLBF, 0);
     /* qibl's own flags come alone, in place of a command: the table reads argv[1] only */
     global_opts g = {.help = 0};
-    if (argc >= 2 && argv[1][0] == '-' && argv[1][1] != '\0' && qcli_opt_parse(&global_spec, 2, argv, 1, &g) != 0)
+    if (argc >= 2 && argv[1][0] == '-' && argv[1][1] != '\0' && qtool_opt_parse(&global_spec, 2, argv, 1, &g) != 0)
         return 2;
     if (argc < 2 || g.help) {
         print_help(stdout);
@@ -286,16 +286,16 @@ int main(int argc, char **argv)
             print_help(stdout);
             return 0;
         }
-        /* --flags CMD: the tables and their flags, as qcli_opt_flags prints them (tests/cli_opts_test.c) */
+        /* --flags CMD: the tables and their flags, as qtool_opt_flags prints them (tests/cli_opts_test.c) */
         int flags = strcmp(argv[2], "--flags") == 0;
         if (flags && argc < 4)
             return qcli_usage_error("help --flags needs a command (see qibl --help)");
         const qcli_cmd *c = find(argv[2 + flags]);
         if (!c)
             return qcli_usage_error("no such command '%s' (see qibl --help)", argv[2 + flags]);
-        const qcli_opt_cmd *const *t = tables_of(c->name);
+        const qtool_opt_cmd *const *t = tables_of(c->name);
         for (size_t k = 0; flags && t && t[k]; ++k)
-            qcli_opt_flags(stdout, t[k]);
+            qtool_opt_flags(stdout, t[k]);
         if (!flags)
             print_cmd_help(stdout, c);
         return 0;

@@ -10,7 +10,7 @@
 #include <stddef.h>
 
 #include "bake/scene.h"
-#include "cli/opt.h"
+#include "opt/opt.h"
 #include "qibl/asset.h"
 
 typedef struct qcli_scene_cli {
@@ -33,30 +33,30 @@ const char *qcli_fov_call(void *opts, const char *v);
 
 /* size_def: --size's default as help shows it (NULL: read from the defaults) */
 #define QCLI_SCENE_OPTS(size_def)                                                                            \
-    {.name = "--scene", .kind = QCLI_OPT_STR, .off = offsetof(qcli_scene_cli, scene),                        \
+    {.name = "--scene", .kind = QTOOL_OPT_STR, .off = offsetof(qcli_scene_cli, scene),                        \
      .arg = "FILE", .def = "builtin",                                                                          \
      .help = "builtin (the courtyard), or a .gltf/.glb/.obj/.ply mesh placed as a prop on a ground plane"},    \
-    {.name = "--zup", .kind = QCLI_OPT_FLAG, .off = offsetof(qcli_scene_cli, zup),                           \
+    {.name = "--zup", .kind = QTOOL_OPT_FLAG, .off = offsetof(qcli_scene_cli, zup),                           \
      .help = "the mesh is Z-up already (not turned from Y-up)"},                                               \
-    {.name = "--raw", .kind = QCLI_OPT_FLAG, .off = offsetof(qcli_scene_cli, raw),                           \
+    {.name = "--raw", .kind = QTOOL_OPT_FLAG, .off = offsetof(qcli_scene_cli, raw),                           \
      .help = "the mesh as given: nothing added, not centred or scaled"},                                        \
-    {.name = "--size", .kind = QCLI_OPT_SIZE, .off = offsetof(qcli_scene_cli, size), .hi = QIBL_ASSET_MAX_DIM, \
+    {.name = "--size", .kind = QTOOL_OPT_SIZE, .off = offsetof(qcli_scene_cli, size), .hi = QIBL_ASSET_MAX_DIM, \
      .def = (size_def), .help = "the panorama's (or the camera frame's) pixels, within an asset's limit"},    \
-    {.name = "--equirect", .kind = QCLI_OPT_FLAG, .off = offsetof(qcli_scene_cli, equirect),                 \
+    {.name = "--equirect", .kind = QTOOL_OPT_FLAG, .off = offsetof(qcli_scene_cli, equirect),                 \
      .help = "an equirectangular panorama instead of the cylindrical one"},                                     \
-    {.name = "--threads", .kind = QCLI_OPT_INT, .off = offsetof(qcli_scene_cli, threads), .arg = "N", .lo = 1, \
+    {.name = "--threads", .kind = QTOOL_OPT_INT, .off = offsetof(qcli_scene_cli, threads), .arg = "N", .lo = 1, \
      .hi = 256, .def = "the CPUs of the process's affinity, or SLURM_CPUS_PER_TASK",                           \
      .help = "worker threads (the result is the same for any)"}
 
 #define QCLI_CAMERA_OPTS                                                                                        \
-    {.name = "--camera", .kind = QCLI_OPT_CALL, .nargs = 3, .nargs_min = 1, .call_n = qcli_camera_call,      \
+    {.name = "--camera", .kind = QTOOL_OPT_CALL, .nargs = 3, .nargs_min = 1, .call_n = qcli_camera_call,      \
      .arg = "EX,EY,EZ TX,TY,TZ UX,UY,UZ|gltf[:N]",                                                            \
      .help = "a fixed perspective camera from EYE toward TARGET (UP about up), or the scene file's camera N"}, \
-    {.name = "--fov", .kind = QCLI_OPT_CALL, .call = qcli_fov_call, .arg = "DEG", .def = "60, or the glTF's",  \
+    {.name = "--fov", .kind = QTOOL_OPT_CALL, .call = qcli_fov_call, .arg = "DEG", .def = "60, or the glTF's",  \
      .help = "the camera's vertical field of view, in (0, 180)"}
 
 /* c (parsed by a table with those entries) into o, over its defaults: 0, or 2 after the line for t
  * (--size above the asset's pixels, --fov or --equirect without a camera, a bad camera). */
-int qcli_scene_from(const qcli_opt_cmd *t, const qcli_scene_cli *c, qtool_scene_opts *o);
+int qcli_scene_from(const qtool_opt_cmd *t, const qcli_scene_cli *c, qtool_scene_opts *o);
 
 #endif

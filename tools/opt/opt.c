@@ -1,5 +1,5 @@
 /*
- * opt.c - the option tables' parser, help text and error lines (cli/opt.h).
+ * opt/opt.c - the option tables' parser, help text and error lines (opt/opt.h).
  *
  * Invariants: every refusal is one line on stderr in one shape and returns 2; the parser writes
  * only into the caller's options struct; help walks the same table the parser does.
@@ -11,13 +11,15 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli/opt.h"
+#include "opt/opt.h"
+
+const char *qtool_opt_program = "qibl";
 
 #define MAX_OPTS 64 /* entries per table the required-option check tracks */
 
-const char qcli_opt_no_value[] = "is not a value";
+const char qtool_opt_no_value[] = "is not a value";
 
-static const char *help_name(const qcli_opt_cmd *c)
+static const char *help_name(const qtool_opt_cmd *c)
 {
     return c->help_name ? c->help_name : c->name;
 }
@@ -32,20 +34,20 @@ static int vfail(const char *name, const char *help, const char *fmt, va_list ap
     /* formatted first, so a value with a control character (a newline) cannot break the one line */
     char msg[1024];
     vsnprintf(msg, sizeof msg, fmt, ap);
-    fprintf(stderr, "qibl%s%s: ", name[0] ? " " : "", name);
+    fprintf(stderr, "%s%s%s: ", qtool_opt_program, name[0] ? " " : "", name);
     for (const unsigned char *p = (const unsigned char *)msg; *p; ++p)
         if (*p < 0x20 || *p == 0x7f)
             fprintf(stderr, "\\x%02x", (unsigned)*p);
         else
             fputc(*p, stderr);
     if (help[0])
-        fprintf(stderr, "; see qibl help %s\n", help);
+        fprintf(stderr, "; see %s help %s\n", qtool_opt_program, help);
     else /* qibl's own flags (main.c) */
-        fputs("; see qibl --help\n", stderr);
+        fprintf(stderr, "; see %s --help\n", qtool_opt_program);
     return 2;
 }
 
-int qcli_opt_error(const qcli_opt_cmd *c, const char *fmt, ...)
+int qtool_opt_error(const qtool_opt_cmd *c, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
@@ -68,26 +70,26 @@ static int fail_named(const char *name, const char *help, const char *fmt, ...)
     return 2;
 }
 
-static size_t count(const qcli_opt *t)
+static size_t count(const qtool_opt *t)
 {
     size_t n = 0;
-    while (t && t[n].kind != QCLI_OPT_END)
+    while (t && t[n].kind != QTOOL_OPT_END)
         ++n;
     return n;
 }
 
-static const qcli_opt *find(const qcli_opt *t, const char *a)
+static const qtool_opt *find(const qtool_opt *t, const char *a)
 {
-    for (size_t i = 0; t && t[i].kind != QCLI_OPT_END; ++i)
+    for (size_t i = 0; t && t[i].kind != QTOOL_OPT_END; ++i)
         if (strcmp(t[i].name, a) == 0 || (t[i].alias && strcmp(t[i].alias, a) == 0))
             return &t[i];
     return NULL;
 }
 
 /* the option with .eq named by the first n bytes of a ("--progress" of "--progress=bar") */
-static const qcli_opt *find_eq(const qcli_opt *t, const char *a, size_t n)
+static const qtool_opt *find_eq(const qtool_opt *t, const char *a, size_t n)
 {
-    for (size_t i = 0; t && t[i].kind != QCLI_OPT_END; ++i)
+    for (size_t i = 0; t && t[i].kind != QTOOL_OPT_END; ++i)
         if (t[i].eq && strlen(t[i].name) == n && strncmp(t[i].name, a, n) == 0)
             return &t[i];
     return NULL;
@@ -119,12 +121,12 @@ static const char *alternatives(const char *const *names, const char *last, char
 }
 
 /* the value's name in usage and errors */
-static const char *arg_name(const qcli_opt *o, char *buf, size_t n)
+static const char *arg_name(const qtool_opt *o, char *buf, size_t n)
 {
     if (o->arg)
         return o->arg;
     switch (o->kind) {
-    case QCLI_OPT_ENUM: {
+    case QTOOL_OPT_ENUM: {
         size_t len = 0;
         buf[0] = '\0';
         for (size_t i = 0; o->names[i] && len < n; ++i) {
@@ -133,20 +135,20 @@ static const char *arg_name(const qcli_opt *o, char *buf, size_t n)
         }
         return buf;
     }
-    case QCLI_OPT_SIZE:
+    case QTOOL_OPT_SIZE:
         return "WxH";
-    case QCLI_OPT_TRIPLE:
+    case QTOOL_OPT_TRIPLE:
         return "X Y Z";
-    case QCLI_OPT_INT:
+    case QTOOL_OPT_INT:
         return "N";
-    case QCLI_OPT_NUM:
+    case QTOOL_OPT_NUM:
         return "X";
     default:
         return "VALUE";
     }
 }
 
-int qcli_opt_num_value(const char *s, double lo, double hi, double *out)
+int qtool_opt_num_value(const char *s, double lo, double hi, double *out)
 {
     char *end;
     errno = 0;
@@ -161,9 +163,9 @@ int qcli_opt_num_value(const char *s, double lo, double hi, double *out)
     return 0;
 }
 
-static int parse_num(const char *name, const char *help, const qcli_opt *o, const char *s, double *out)
+static int parse_num(const char *name, const char *help, const qtool_opt *o, const char *s, double *out)
 {
-    switch (qcli_opt_num_value(s, o->lo, o->hi, out)) {
+    switch (qtool_opt_num_value(s, o->lo, o->hi, out)) {
     case 0:
         return 0;
     case 1:
@@ -176,7 +178,7 @@ static int parse_num(const char *name, const char *help, const qcli_opt *o, cons
     }
 }
 
-int qcli_opt_int_value(const char *s, long lo, long hi, long *out)
+int qtool_opt_int_value(const char *s, long lo, long hi, long *out)
 {
     char *end;
     errno = 0;
@@ -187,16 +189,16 @@ int qcli_opt_int_value(const char *s, long lo, long hi, long *out)
     return 0;
 }
 
-static int parse_int(const char *name, const char *help, const qcli_opt *o, const char *s, long *out)
+static int parse_int(const char *name, const char *help, const qtool_opt *o, const char *s, long *out)
 {
-    if (qcli_opt_int_value(s, (long)o->lo, (long)o->hi, out) != 0)
+    if (qtool_opt_int_value(s, (long)o->lo, (long)o->hi, out) != 0)
         return fail_named(name, help, "%s: '%s' is not %s in %ld..%ld%s%s%s", o->name, s,
                           o->what ? o->what : "an integer", (long)o->lo, (long)o->hi, o->why ? " (" : "",
                           o->why ? o->why : "", o->why ? ")" : "");
     return 0;
 }
 
-int qcli_opt_size_value(const char *s, long max, long wh[2])
+int qtool_opt_size_value(const char *s, long max, long wh[2])
 {
     const char *p = s;
     long v[2];
@@ -217,31 +219,31 @@ int qcli_opt_size_value(const char *s, long max, long wh[2])
     return 0;
 }
 
-static int parse_size(const char *name, const char *help, const qcli_opt *o, const char *s, long *wh)
+static int parse_size(const char *name, const char *help, const qtool_opt *o, const char *s, long *wh)
 {
-    if (qcli_opt_size_value(s, (long)o->hi, wh) != 0)
+    if (qtool_opt_size_value(s, (long)o->hi, wh) != 0)
         return fail_named(name, help, "%s needs WxH with both in 1..%ld, got '%s'", o->name, (long)o->hi, s);
     return 0;
 }
 
 /* one option's value(s) at argv[*i + 1 ...] into its field; *i advanced past them. The errors name
  * the flag as it was spelled (an alias too). */
-static int take(const qcli_opt_cmd *c, const qcli_opt *table_o, int argc, char **argv, int *i, char *opts)
+static int take(const qtool_opt_cmd *c, const qtool_opt *table_o, int argc, char **argv, int *i, char *opts)
 {
-    qcli_opt spelled = *table_o;
+    qtool_opt spelled = *table_o;
     spelled.name = argv[*i];
-    const qcli_opt *o = &spelled;
+    const qtool_opt *o = &spelled;
     const char *name = c->name, *help = help_name(c);
     char buf[256];
     void *dst = opts + o->off;
-    if (o->kind == QCLI_OPT_FLAG) {
+    if (o->kind == QTOOL_OPT_FLAG) {
         *(int *)dst = 1;
         const char *bad = o->call ? o->call(opts, NULL) : NULL;
         return bad ? fail_named(name, help, "%s %s", o->name, bad) : 0;
     }
-    if (o->kind == QCLI_OPT_CALL && o->optional) { /* the next argument, if it is a value; else none */
-        const char *v = *i + 1 < argc ? argv[*i + 1] : NULL, *bad = v ? o->call(opts, v) : qcli_opt_no_value;
-        if (bad == qcli_opt_no_value)
+    if (o->kind == QTOOL_OPT_CALL && o->optional) { /* the next argument, if it is a value; else none */
+        const char *v = *i + 1 < argc ? argv[*i + 1] : NULL, *bad = v ? o->call(opts, v) : qtool_opt_no_value;
+        if (bad == qtool_opt_no_value)
             v = NULL, bad = o->call(opts, NULL);
         if (bad)
             return v ? fail_named(name, help, "%s: '%s' %s", o->name, v, bad)
@@ -249,11 +251,11 @@ static int take(const qcli_opt_cmd *c, const qcli_opt *table_o, int argc, char *
         *i += v ? 1 : 0;
         return 0;
     }
-    int nv = o->kind == QCLI_OPT_TRIPLE ? 3 : o->kind == QCLI_OPT_CALL && o->nargs > 1 ? o->nargs : 1;
-    int least = o->kind == QCLI_OPT_CALL && o->nargs > 1 && o->nargs_min > 0 ? o->nargs_min : nv;
+    int nv = o->kind == QTOOL_OPT_TRIPLE ? 3 : o->kind == QTOOL_OPT_CALL && o->nargs > 1 ? o->nargs : 1;
+    int least = o->kind == QTOOL_OPT_CALL && o->nargs > 1 && o->nargs_min > 0 ? o->nargs_min : nv;
     if (argc - *i - 1 < least)
         return fail_named(name, help, "%s needs %s", o->name, arg_name(o, buf, sizeof buf));
-    if (nv > 1 && o->kind == QCLI_OPT_CALL) {
+    if (nv > 1 && o->kind == QTOOL_OPT_CALL) {
         int n = argc - *i - 1 < nv ? argc - *i - 1 : nv, used = n;
         const char *bad = o->call_n(opts, argv + *i + 1, n, &used);
         if (bad)
@@ -264,16 +266,16 @@ static int take(const qcli_opt_cmd *c, const qcli_opt *table_o, int argc, char *
     const char *v = argv[*i + 1];
     int rc = 0;
     switch (o->kind) {
-    case QCLI_OPT_INT:
+    case QTOOL_OPT_INT:
         rc = parse_int(name, help, o, v, (long *)dst);
         break;
-    case QCLI_OPT_NUM:
+    case QTOOL_OPT_NUM:
         rc = parse_num(name, help, o, v, (double *)dst);
         break;
-    case QCLI_OPT_STR:
+    case QTOOL_OPT_STR:
         *(const char **)dst = v;
         break;
-    case QCLI_OPT_ENUM: {
+    case QTOOL_OPT_ENUM: {
         int k = 0;
         while (o->names[k] && strcmp(o->names[k], v) != 0)
             ++k;
@@ -283,10 +285,10 @@ static int take(const qcli_opt_cmd *c, const qcli_opt *table_o, int argc, char *
         *(int *)dst = k;
         break;
     }
-    case QCLI_OPT_SIZE:
+    case QTOOL_OPT_SIZE:
         rc = parse_size(name, help, o, v, (long *)dst);
         break;
-    case QCLI_OPT_TRIPLE: {
+    case QTOOL_OPT_TRIPLE: {
         double t[3];
         for (int k = 0; k < 3 && rc == 0; ++k)
             rc = parse_num(name, help, o, argv[*i + 1 + k], &t[k]);
@@ -294,15 +296,15 @@ static int take(const qcli_opt_cmd *c, const qcli_opt *table_o, int argc, char *
             memcpy(dst, t, sizeof t);
         break;
     }
-    case QCLI_OPT_LIST: {
-        qcli_opt_list *l = dst;
-        int max = o->hi > 0 && o->hi < QCLI_OPT_LIST_MAX ? (int)o->hi : QCLI_OPT_LIST_MAX;
+    case QTOOL_OPT_LIST: {
+        qtool_opt_list *l = dst;
+        int max = o->hi > 0 && o->hi < QTOOL_OPT_LIST_MAX ? (int)o->hi : QTOOL_OPT_LIST_MAX;
         if (l->n >= max)
             return fail_named(name, help, "%s: at most %d, and '%s' is one more", o->name, max, v);
         l->v[l->n++] = v;
         break;
     }
-    case QCLI_OPT_CALL: {
+    case QTOOL_OPT_CALL: {
         const char *bad = o->call(opts, v);
         if (bad)
             return fail_named(name, help, "%s: '%s' %s", o->name, v, bad);
@@ -314,14 +316,14 @@ static int take(const qcli_opt_cmd *c, const qcli_opt *table_o, int argc, char *
     if (rc != 0)
         return rc;
     if (o->renamed)
-        fprintf(stderr, "qibl: note: %s %s is deprecated here; say %s %s%s%s%s\n", o->name,
+        fprintf(stderr, "%s: note: %s %s is deprecated here; say %s %s%s%s%s\n", qtool_opt_program, o->name,
                 arg_name(o, buf, sizeof buf), o->renamed, v, o->note ? " (" : "", o->note ? o->note : "",
                 o->note ? ")" : "");
     *i += nv;
     return 0;
 }
 
-int qcli_opt_parse(const qcli_opt_cmd *c, int argc, char **argv, int first, void *opts)
+int qtool_opt_parse(const qtool_opt_cmd *c, int argc, char **argv, int first, void *opts)
 {
     const char *name = c->name, *help = help_name(c);
     char *base = opts;
@@ -330,14 +332,14 @@ int qcli_opt_parse(const qcli_opt_cmd *c, int argc, char **argv, int first, void
         memcpy(opts, c->defaults, c->size);
     else
         memset(opts, 0, c->size);
-    qcli_opt_list *pos = c->pos.max > 0 && !c->pos.call ? (qcli_opt_list *)(void *)(base + c->pos.off) : NULL;
+    qtool_opt_list *pos = c->pos.max > 0 && !c->pos.call ? (qtool_opt_list *)(void *)(base + c->pos.off) : NULL;
     if (pos)
         pos->n = 0;
     for (int i = first; i < argc; ++i) {
         const char *a = argv[i];
-        const qcli_opt *o = find(c->opts, a);
+        const qtool_opt *o = find(c->opts, a);
         const char *eq = a[0] == '-' ? strchr(a, '=') : NULL;
-        const qcli_opt *oe = !o && eq ? find_eq(c->opts, a, (size_t)(eq - a)) : NULL;
+        const qtool_opt *oe = !o && eq ? find_eq(c->opts, a, (size_t)(eq - a)) : NULL;
         if (oe) { /* --name=VALUE: as --name VALUE */
             char *two[2] = {(char *)(uintptr_t)oe->name, (char *)(uintptr_t)(eq + 1)};
             int at = 0, rc = take(c, oe, 2, two, &at, base);
@@ -384,7 +386,7 @@ int qcli_opt_parse(const qcli_opt_cmd *c, int argc, char **argv, int first, void
     return 0;
 }
 
-const qcli_opt_cmd *qcli_opt_sub(const char *cmd, const qcli_opt_cmd *const *subs, const char *others, int argc,
+const qtool_opt_cmd *qtool_opt_sub(const char *cmd, const qtool_opt_cmd *const *subs, const char *others, int argc,
                                  char **argv)
 {
     const char *words[16];
@@ -408,7 +410,7 @@ const qcli_opt_cmd *qcli_opt_sub(const char *cmd, const qcli_opt_cmd *const *sub
 }
 
 /* the default as help shows it, read from the defaults struct; "" when there is none to show */
-static const char *default_text(const qcli_opt_cmd *c, const qcli_opt *o, char *buf, size_t n)
+static const char *default_text(const qtool_opt_cmd *c, const qtool_opt *o, char *buf, size_t n)
 {
     buf[0] = '\0';
     if (o->def)
@@ -417,25 +419,25 @@ static const char *default_text(const qcli_opt_cmd *c, const qcli_opt *o, char *
         return buf;
     const char *p = (const char *)c->defaults + o->off;
     switch (o->kind) {
-    case QCLI_OPT_INT:
+    case QTOOL_OPT_INT:
         snprintf(buf, n, "%ld", *(const long *)(const void *)p);
         break;
-    case QCLI_OPT_NUM:
+    case QTOOL_OPT_NUM:
         snprintf(buf, n, "%g", *(const double *)(const void *)p);
         break;
-    case QCLI_OPT_STR:
+    case QTOOL_OPT_STR:
         if (*(const char *const *)(const void *)p)
             snprintf(buf, n, "%s", *(const char *const *)(const void *)p);
         break;
-    case QCLI_OPT_ENUM:
+    case QTOOL_OPT_ENUM:
         snprintf(buf, n, "%s", o->names[*(const int *)(const void *)p]);
         break;
-    case QCLI_OPT_SIZE: {
+    case QTOOL_OPT_SIZE: {
         const long *wh = (const long *)(const void *)p;
         snprintf(buf, n, "%ldx%ld", wh[0], wh[1]);
         break;
     }
-    case QCLI_OPT_TRIPLE: {
+    case QTOOL_OPT_TRIPLE: {
         const double *t = (const double *)(const void *)p;
         snprintf(buf, n, "%g %g %g", t[0], t[1], t[2]);
         break;
@@ -469,12 +471,12 @@ static void wrap(FILE *f, const char *text, int indent)
 }
 
 /* "[--k K]", "-o FILE" into buf */
-static void usage_item(const qcli_opt *o, char *buf, size_t n)
+static void usage_item(const qtool_opt *o, char *buf, size_t n)
 {
     char a[256];
-    const char *an = o->kind == QCLI_OPT_FLAG ? NULL : arg_name(o, a, sizeof a);
+    const char *an = o->kind == QTOOL_OPT_FLAG ? NULL : arg_name(o, a, sizeof a);
     snprintf(buf, n, "%s%s%s%s%s%s%s%s", o->required ? "" : "[", o->name, an ? " " : "", o->optional ? "[" : "",
-             an ? an : "", o->optional ? "]" : "", o->kind == QCLI_OPT_LIST ? "..." : "", o->required ? "" : "]");
+             an ? an : "", o->optional ? "]" : "", o->kind == QTOOL_OPT_LIST ? "..." : "", o->required ? "" : "]");
 }
 
 /* whether the synopsis names the option (as a whole word: "--sums" is not "--sums-x") */
@@ -488,10 +490,10 @@ static int in_synopsis(const char *syn, const char *name)
     return 0;
 }
 
-void qcli_opt_help(FILE *f, const qcli_opt_cmd *c)
+void qtool_opt_help(FILE *f, const qtool_opt_cmd *c)
 {
     char lead[96], item[384];
-    int col = snprintf(lead, sizeof lead, "usage: qibl %s", c->name);
+    int col = snprintf(lead, sizeof lead, "usage: %s %s", qtool_opt_program, c->name);
     const int indent = col, width = WIDTH;
     fputs(lead, f);
     if (c->synopsis) {
@@ -517,45 +519,45 @@ void qcli_opt_help(FILE *f, const qcli_opt_cmd *c)
         col += 1 + len;
     }
     fputc('\n', f);
-    qcli_opt_help_list(f, c);
+    qtool_opt_help_list(f, c);
     if (c->prose)
         fputs(c->prose, f);
 }
 
 /* "--k, -k K" (an optional value: "--k [K]") into buf; its length */
-static int list_item(const qcli_opt *o, char *buf, size_t n)
+static int list_item(const qtool_opt *o, char *buf, size_t n)
 {
     char a[256];
-    const char *an = o->kind == QCLI_OPT_FLAG ? "" : arg_name(o, a, sizeof a);
+    const char *an = o->kind == QTOOL_OPT_FLAG ? "" : arg_name(o, a, sizeof a);
     return snprintf(buf, n, "%s%s%s%s%s%s%s", o->name, o->alias ? ", " : "", o->alias ? o->alias : "",
-                    o->kind == QCLI_OPT_FLAG ? "" : " ", o->optional ? "[" : "", an, o->optional ? "]" : "");
+                    o->kind == QTOOL_OPT_FLAG ? "" : " ", o->optional ? "[" : "", an, o->optional ? "]" : "");
 }
 
-void qcli_opt_help_list(FILE *f, const qcli_opt_cmd *c)
+void qtool_opt_help_list(FILE *f, const qtool_opt_cmd *c)
 {
     char item[384];
     size_t n = count(c->opts);
     if (n > 0) {
         int w = 0;
         for (size_t k = 0; k < n; ++k) {
-            const qcli_opt *o = &c->opts[k];
+            const qtool_opt *o = &c->opts[k];
             int len = list_item(o, item, sizeof item);
             w = len > w && len <= 28 ? len : w;
         }
         fputs("options:\n", f);
         for (size_t k = 0; k < n; ++k) {
-            const qcli_opt *o = &c->opts[k];
+            const qtool_opt *o = &c->opts[k];
             char d[128], range[160] = "";
             list_item(o, item, sizeof item);
-            if (o->kind == QCLI_OPT_INT)
+            if (o->kind == QTOOL_OPT_INT)
                 snprintf(range, sizeof range, "%ld..%ld", (long)o->lo, (long)o->hi);
-            else if (o->kind == QCLI_OPT_NUM || o->kind == QCLI_OPT_TRIPLE)
+            else if (o->kind == QTOOL_OPT_NUM || o->kind == QTOOL_OPT_TRIPLE)
                 snprintf(range, sizeof range, "%.10g..%.10g", o->lo, o->hi);
-            else if (o->kind == QCLI_OPT_SIZE)
+            else if (o->kind == QTOOL_OPT_SIZE)
                 snprintf(range, sizeof range, "sides 1..%ld", (long)o->hi);
-            else if (o->kind == QCLI_OPT_LIST)
+            else if (o->kind == QTOOL_OPT_LIST)
                 snprintf(range, sizeof range, "repeatable, at most %d",
-                         o->hi > 0 && o->hi < QCLI_OPT_LIST_MAX ? (int)o->hi : QCLI_OPT_LIST_MAX);
+                         o->hi > 0 && o->hi < QTOOL_OPT_LIST_MAX ? (int)o->hi : QTOOL_OPT_LIST_MAX);
             const char *def = default_text(c, o, d, sizeof d);
             char text[1024];
             size_t len = 0;
@@ -574,12 +576,12 @@ void qcli_opt_help_list(FILE *f, const qcli_opt_cmd *c)
     }
 }
 
-void qcli_opt_flags(FILE *f, const qcli_opt_cmd *c)
+void qtool_opt_flags(FILE *f, const qtool_opt_cmd *c)
 {
     fprintf(f, "%s\n", c->name);
-    for (size_t k = 0; c->opts && c->opts[k].kind != QCLI_OPT_END; ++k) {
+    for (size_t k = 0; c->opts && c->opts[k].kind != QTOOL_OPT_END; ++k) {
         /* an optional value: the flag alone is whole */
-        const char *kind = c->opts[k].kind == QCLI_OPT_FLAG || c->opts[k].optional ? "flag" : "value";
+        const char *kind = c->opts[k].kind == QTOOL_OPT_FLAG || c->opts[k].optional ? "flag" : "value";
         fprintf(f, "%s\t%s\t%s\n", c->name, c->opts[k].name, kind);
         if (c->opts[k].alias)
             fprintf(f, "%s\t%s\t%s\n", c->name, c->opts[k].alias, kind);

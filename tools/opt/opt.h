@@ -1,5 +1,5 @@
 /*
- * cli/opt.h - one option table per command: its parser, its `qibl help` text and its errors all
+ * opt/opt.h - one option table per command: its parser, its `qibl help` text and its errors all
  * come from the table, so help cannot omit a flag and every bad argument gets the same answer:
  *
  *     qibl CMD: <what is wrong, naming the flag and the value>; see qibl help CMD      (exit 2)
@@ -10,7 +10,7 @@
  *     C type (below); the table says where a value goes with offsetof.
  *
  *         typedef struct study_cli_opts {
- *             qcli_opt_list probes;   // the positional arguments
+ *             qtool_opt_list probes;   // the positional arguments
  *             const char *out;        // STR
  *             long threads;           // INT
  *             int quick;              // FLAG: 0 or 1
@@ -21,19 +21,19 @@
  *     read from study_defaults (write .def = "..." only for a default computed at run time), the
  *     range from .lo/.hi, and .help; the errors name the flag, the value and the range.
  *
- *         static const qcli_opt study_table[] = {
- *             {.name = "--out", .kind = QCLI_OPT_STR, .off = offsetof(study_cli_opts, out), .arg = "DIR",
+ *         static const qtool_opt study_table[] = {
+ *             {.name = "--out", .kind = QTOOL_OPT_STR, .off = offsetof(study_cli_opts, out), .arg = "DIR",
  *              .required = 1, .help = "where study.csv, summary.md, the plots and overlays go"},
- *             {.name = "--quick", .kind = QCLI_OPT_FLAG, .off = offsetof(study_cli_opts, quick),
+ *             {.name = "--quick", .kind = QTOOL_OPT_FLAG, .off = offsetof(study_cli_opts, quick),
  *              .help = "half-size probes, 2000 normals, N <= 64"},
- *             {.name = "--threads", .kind = QCLI_OPT_INT, .off = offsetof(study_cli_opts, threads),
+ *             {.name = "--threads", .kind = QTOOL_OPT_INT, .off = offsetof(study_cli_opts, threads),
  *              .arg = "T", .lo = 1, .hi = 16, .help = "worker threads"},
  *             {0},
  *         };
- *         const qcli_opt_cmd qcli_opts_study = {        // declared below, for main.c
+ *         const qtool_opt_cmd qcli_opts_study = {        // declared below, for main.c
  *             .name = "study",
  *             .opts = study_table,
- *             .pos = {.names = "PROBE.hdr ...", .min = 0, .max = QCLI_OPT_LIST_MAX,
+ *             .pos = {.names = "PROBE.hdr ...", .min = 0, .max = QTOOL_OPT_LIST_MAX,
  *                     .off = offsetof(study_cli_opts, probes)},
  *             .defaults = &study_defaults,
  *             .size = sizeof(study_cli_opts),
@@ -47,10 +47,10 @@
  *     an optional value (lights --error [P%]), --progress=MODE (bake), any number of files (merge).
  *
  *  3. The command parses, checks what the table cannot (cross-option rules) through
- *     qcli_opt_error so that line has the same shape, then works:
+ *     qtool_opt_error so that line has the same shape, then works:
  *
  *         study_cli_opts c;
- *         int rc = qcli_opt_parse(&qcli_opts_study, argc, argv, 1, &c); // argv[1]: the first option
+ *         int rc = qtool_opt_parse(&qcli_opts_study, argc, argv, 1, &c); // argv[1]: the first option
  *         if (rc != 0)
  *             return rc;                      // 2, after its one line on stderr
  *         if (qcli_parse_only)                // fuzz_cliopts: the options only
@@ -63,14 +63,14 @@
  *     is not on a table yet, as `sh project`'s). Declare the table below. Remove the command from tests/cli_opts_test.c's
  *     list "not yet on option tables": that suite then checks its unknown-flag line, that help names
  *     every flag, and that the parser knows each one. A command of subcommands has a table each
- *     (.name = "sh eval", .help_name = "sh") and picks one with qcli_opt_sub.
+ *     (.name = "sh eval", .help_name = "sh") and picks one with qtool_opt_sub.
  *
  * Kinds and the C type at .off: FLAG int (set to 1); INT long in [lo, hi]; NUM double in [lo, hi];
  * STR const char *; ENUM int (index into names); SIZE long[2] ("WxH", both in 1..hi); TRIPLE double[3]
- * (three arguments, each in [lo, hi]); LIST qcli_opt_list (the flag repeated, at most hi times, 64 at
+ * (three arguments, each in [lo, hi]); LIST qtool_opt_list (the flag repeated, at most hi times, 64 at
  * most); CALL: call(opts, value) parses it and returns NULL, or what is wrong ("is not a rotation").
  * A CALL with .optional: its value may be absent (`lights --error [P%]`): call(opts, next argument)
- * returns qcli_opt_no_value when that argument is not its value, and then call(opts, NULL) says the
+ * returns qtool_opt_no_value when that argument is not its value, and then call(opts, NULL) says the
  * flag came alone (so does the last argument).
  * A CALL with .nargs = N > 1 takes N arguments: call_n(opts, values, N, &used) (`--sun X Y Z` in the
  * order relight gives the lights), and its reason names the values itself ("--sun: <reason>"). With
@@ -80,35 +80,35 @@
  * A later repetition of a non-LIST flag replaces the earlier value (as the commands always did).
  * Values are taken verbatim, so `--size -8x4` is a bad size, not a missing value.
  */
-#ifndef QTOOL_TOOLS_CLI_OPT_H
-#define QTOOL_TOOLS_CLI_OPT_H
+#ifndef QTOOL_OPT_OPT_H
+#define QTOOL_OPT_OPT_H
 
 #include <stddef.h>
 #include <stdio.h>
 
-typedef enum qcli_opt_kind {
-    QCLI_OPT_END = 0, /* the table's terminating {0} */
-    QCLI_OPT_FLAG,
-    QCLI_OPT_INT,
-    QCLI_OPT_NUM,
-    QCLI_OPT_STR,
-    QCLI_OPT_ENUM,
-    QCLI_OPT_SIZE,
-    QCLI_OPT_TRIPLE,
-    QCLI_OPT_LIST,
-    QCLI_OPT_CALL
-} qcli_opt_kind;
+typedef enum qtool_opt_kind {
+    QTOOL_OPT_END = 0, /* the table's terminating {0} */
+    QTOOL_OPT_FLAG,
+    QTOOL_OPT_INT,
+    QTOOL_OPT_NUM,
+    QTOOL_OPT_STR,
+    QTOOL_OPT_ENUM,
+    QTOOL_OPT_SIZE,
+    QTOOL_OPT_TRIPLE,
+    QTOOL_OPT_LIST,
+    QTOOL_OPT_CALL
+} qtool_opt_kind;
 
-#define QCLI_OPT_LIST_MAX 64
-typedef struct qcli_opt_list {
-    const char *v[QCLI_OPT_LIST_MAX];
+#define QTOOL_OPT_LIST_MAX 64
+typedef struct qtool_opt_list {
+    const char *v[QTOOL_OPT_LIST_MAX];
     int n;
-} qcli_opt_list;
+} qtool_opt_list;
 
-typedef struct qcli_opt {
+typedef struct qtool_opt {
     const char *name;   /* "--bands", "-o" */
     const char *alias;  /* another spelling ("-n"), or NULL */
-    qcli_opt_kind kind;
+    qtool_opt_kind kind;
     size_t off;         /* offsetof(the options struct, field) */
     const char *arg;    /* the value's name in help ("B", "FILE"); a kind's own when NULL */
     double lo, hi;      /* INT, NUM, TRIPLE: the range; SIZE: the largest side; LIST: at most this many */
@@ -126,49 +126,43 @@ typedef struct qcli_opt {
     int nargs_min;      /* CALL with nargs: the fewest it takes (0: nargs) */
     const char *(*call_n)(void *opts, char *const *values, int n, int *used);
     const char *help;   /* one line */
-} qcli_opt;
+} qtool_opt;
 
 /* What an optional CALL returns for an argument that is not its value (compared by address). */
-extern const char qcli_opt_no_value[];
+extern const char qtool_opt_no_value[];
 
-typedef struct qcli_opt_pos {
+typedef struct qtool_opt_pos {
     const char *names; /* as usage shows them: "FILE", "X Y Z", "PROBE.hdr ..." */
-    int min, max;      /* how many (max <= QCLI_OPT_LIST_MAX) */
-    size_t off;        /* a qcli_opt_list in the options struct */
+    int min, max;      /* how many (max <= QTOOL_OPT_LIST_MAX) */
+    size_t off;        /* a qtool_opt_list in the options struct */
     int numbers;       /* they may be negative numbers: "-1", "-inf" are values */
     /* instead of the list (no max: merge's and check's files): call(opts, value) takes each one and
      * returns NULL or what is wrong; min is then the command's to check */
     const char *(*call)(void *opts, const char *value);
-} qcli_opt_pos;
+} qtool_opt_pos;
 
-typedef struct qcli_opt_cmd {
+typedef struct qtool_opt_cmd {
     const char *name;      /* as the errors and usage name it: "info", "sh eval" ("": qibl's own flags) */
     const char *help_name; /* `qibl help X`: the command (NULL: name) */
-    const qcli_opt *opts;  /* ended by {0}; NULL: none */
-    qcli_opt_pos pos;
+    const qtool_opt *opts;  /* ended by {0}; NULL: none */
+    qtool_opt_pos pos;
     const void *defaults;  /* the options struct's defaults (size bytes) */
     size_t size;
     const char *prose;     /* after the option list: what the command does, two-space indented */
     /* NULL, or the usage line's leading part for what a table cannot say (alternatives: "(-o ASSET |
      * --shard I/N --sums FILE)"); the options it names are left out of the bracketed list after it */
     const char *synopsis;
-} qcli_opt_cmd;
+} qtool_opt_cmd;
 
-/* The tables of the commands on them, for main.c's command table and `qibl help`. */
-extern const qcli_opt_cmd qcli_opts_gen, qcli_opts_info, qcli_opts_study, qcli_opts_ies_info;
-/* (relight, render, bake, merge, check, demo, lights, probe info, sh project, bench: the same) */
-extern const qcli_opt_cmd qcli_opts_sh_eval, qcli_opts_sh_plot, qcli_opts_srgbe_encode, qcli_opts_srgbe_decode;
-extern const qcli_opt_cmd qcli_opts_bench, qcli_opts_probe_info, qcli_opts_sh_project, qcli_opts_lights,
-    qcli_opts_relight, qcli_opts_merge, qcli_opts_check,
-    qcli_opts_render, qcli_opts_bake, qcli_opts_demo;
-extern const qcli_opt_cmd qcli_opts_luminaire_capture, qcli_opts_luminaire_info, qcli_opts_luminaire_render,
-    qcli_opts_luminaire_study;
+/* The program the lines name ("qibl" unless a program sets it first): "usage: PROGRAM CMD ...",
+ * "PROGRAM CMD: ...; see PROGRAM help CMD". */
+extern const char *qtool_opt_program;
 
 /* Parses argv[first..argc-1] into opts (first set to c->defaults). 0, or 2 after one line on stderr. */
-int qcli_opt_parse(const qcli_opt_cmd *c, int argc, char **argv, int first, void *opts);
+int qtool_opt_parse(const qtool_opt_cmd *c, int argc, char **argv, int first, void *opts);
 
-/* "qibl <c->name>: <fmt ...>; see qibl help <help name>" on stderr; returns 2. */
-int qcli_opt_error(const qcli_opt_cmd *c, const char *fmt, ...)
+/* "PROGRAM <c->name>: <fmt ...>; see PROGRAM help <help name>" on stderr; returns 2. */
+int qtool_opt_error(const qtool_opt_cmd *c, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 2, 3)))
 #endif
@@ -177,7 +171,7 @@ int qcli_opt_error(const qcli_opt_cmd *c, const char *fmt, ...)
 /* A command made of subcommands: the spec whose name ends in argv[1] (subs NULL-terminated), or
  * NULL after one line on stderr (naming the bad word or flag, listing the subcommands; `others`
  * adds subcommands parsed elsewhere, e.g. "project"; may be NULL). cmd: "sh". */
-const qcli_opt_cmd *qcli_opt_sub(const char *cmd, const qcli_opt_cmd *const *subs, const char *others, int argc,
+const qtool_opt_cmd *qtool_opt_sub(const char *cmd, const qtool_opt_cmd *const *subs, const char *others, int argc,
                                  char **argv);
 
 /* The value checks under the table's kinds, for the hand-written parsers too (cli.h's qcli_parse_int,
@@ -185,18 +179,18 @@ const qcli_opt_cmd *qcli_opt_sub(const char *cmd, const qcli_opt_cmd *const *sub
  * or -1; num: 0, or 1 not a number, 2 not finite, 3 outside [lo, hi]; size: "WxH", decimal digits
  * only, both in 1..max, 0 or -1. Nothing written on failure. opt.c needs only libc (a test links it
  * alone). */
-int qcli_opt_int_value(const char *s, long lo, long hi, long *out);
-int qcli_opt_num_value(const char *s, double lo, double hi, double *out);
-int qcli_opt_size_value(const char *s, long max, long wh[2]);
+int qtool_opt_int_value(const char *s, long lo, long hi, long *out);
+int qtool_opt_num_value(const char *s, double lo, double hi, double *out);
+int qtool_opt_size_value(const char *s, long max, long wh[2]);
 
 /* `qibl help CMD`'s part for one table: usage line, the aligned option list, the prose. */
-void qcli_opt_help(FILE *f, const qcli_opt_cmd *c);
+void qtool_opt_help(FILE *f, const qtool_opt_cmd *c);
 /* The aligned option list alone ("options:" and a line per flag; nothing for an empty table). */
-void qcli_opt_help_list(FILE *f, const qcli_opt_cmd *c);
+void qtool_opt_help_list(FILE *f, const qtool_opt_cmd *c);
 
 /* The table's name on a line ("sh eval"), then each flag (aliases too) as "NAME<TAB>--flag<TAB>KIND",
  * KIND flag (takes no value) or value: `qibl help --flags CMD`, which tests/cli_opts_test.c checks
  * against the help text and the parser. */
-void qcli_opt_flags(FILE *f, const qcli_opt_cmd *c);
+void qtool_opt_flags(FILE *f, const qtool_opt_cmd *c);
 
 #endif
