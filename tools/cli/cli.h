@@ -12,6 +12,7 @@
 
 #include "bench/bench.h"
 #include "relight/light.h" /* qtool_relight_point_default, behind qcli_point_default */
+#include "relight/spec.h"    /* the light options' rules, QTOOL_RELIGHT_Q16_MAX */
 #include "bake/job.h"
 
 /* Set by the option-parsing fuzz target (tests/fuzz/fuzz_cliopts.c) only: every command returns 0
@@ -88,8 +89,8 @@ int qcli_parse_q16(const char *s, int32_t *out);
 int qcli_parse_num(const char *opt, const char *s, double lo, double hi, const char *why, double *out);
 
 /* The Q16.16 range the core's lights take, for options relight (and render, its ground truth) parse. */
-#define QTOOL_CLI_Q16_MAX (2147483647.0 / 65536.0)
-#define QTOOL_CLI_Q16_WHY "the Q16.16 range of the core's lights"
+#define QTOOL_CLI_Q16_MAX QTOOL_RELIGHT_Q16_MAX /* relight/spec.h */
+#define QTOOL_CLI_Q16_WHY QTOOL_RELIGHT_Q16_WHY
 
 /* Parses "WxH" (decimal digits only) with both in 1..max; 0, or 2 after one line naming opt. */
 int qcli_parse_size(const char *opt, const char *s, long max, long *w, long *h);

@@ -21,24 +21,6 @@
 
 /* ---- shared options ------------------------------------------------------------------------------ */
 
-/* X Y Z, each in lo..QTOOL_CLI_Q16_MAX (render is the ground truth of what relight can take): NULL,
- * or what is wrong, naming the value, in why */
-static const char *parse_d3(char *const *v, double lo, double out[3], char *why, size_t n)
-{
-    double d[3];
-    for (int j = 0; j < 3; ++j) {
-        int r = qtool_opt_num_value(v[j], lo, QTOOL_CLI_Q16_MAX, &d[j]);
-        if (r == 1 || r == 2)
-            snprintf(why, n, "'%s' is not a %snumber", v[j], r == 2 ? "finite " : "");
-        else if (r != 0)
-            snprintf(why, n, "%s is outside %.10g..%.10g (" QTOOL_CLI_Q16_WHY ")", v[j], lo, QTOOL_CLI_Q16_MAX);
-        if (r != 0)
-            return why;
-    }
-    memcpy(out, d, sizeof d);
-    return NULL;
-}
-
 void qcli_scene_defaults(qcli_scene *o)
 {
     *o = (qtool_scene_opts)QTOOL_SCENE_OPTS_DEFAULT;
@@ -210,7 +192,7 @@ static const char *render_light(render_cli *c, int pt, char *const *v)
 {
     qtool_rt_light *l = &c->o.light;
     double *d = pt ? l->pos : l->dir;
-    if (parse_d3(v, -QTOOL_CLI_Q16_MAX, d, c->why, sizeof c->why))
+    if (qtool_relight_spec_xyz(v, -QTOOL_RELIGHT_Q16_MAX, d, c->why, sizeof c->why))
         return c->why;
     /* as relight sees it: a direction that rounds to 0 0 0 in Q16.16 has none */
     if (!pt && fmax(fabs(d[0]), fmax(fabs(d[1]), fabs(d[2]))) < 0.5 / 65536) {
@@ -238,7 +220,7 @@ static const char *render_rgb(void *o, char *const *v, int n, int *used)
 {
     render_cli *c = o;
     (void)n, (void)used;
-    if (parse_d3(v, 0, c->o.light.rgb, c->why, sizeof c->why))
+    if (qtool_relight_spec_xyz(v, 0, c->o.light.rgb, c->why, sizeof c->why))
         return c->why;
     c->o.have_rgb = 1;
     return NULL;
@@ -247,7 +229,7 @@ static const char *render_rgb(void *o, char *const *v, int n, int *used)
 static const char *render_frame(void *o, char *const *v, double *out)
 {
     render_cli *c = o;
-    if (parse_d3(v, -QTOOL_CLI_Q16_MAX, out, c->why, sizeof c->why))
+    if (qtool_relight_spec_xyz(v, -QTOOL_RELIGHT_Q16_MAX, out, c->why, sizeof c->why))
         return c->why;
     c->have_aim = 1;
     return NULL;

@@ -162,13 +162,13 @@ static const char *preset_call(void *opts, const char *v)
 
 static const char *yaw_call(void *opts, const char *v)
 {
-    return qcli_light_yaw(&((lights_cli *)opts)->rl, v);
+    return qtool_relight_spec_yaw(&((lights_cli *)opts)->rl, v);
 }
 
 static const char *rotate_call(void *opts, const char *v)
 {
     lights_cli *c = opts;
-    return qcli_light_rotate(&c->rl, v, c->why, sizeof c->why);
+    return qtool_relight_spec_rotate(&c->rl, v, c->why, sizeof c->why);
 }
 
 static const qtool_opt lights_table[] = {
@@ -182,7 +182,7 @@ static const qtool_opt lights_table[] = {
      .help = "a light at its region's energy centroid or geometric centre"},
     {.name = "--as", .kind = QTOOL_OPT_ENUM, .off = offsetof(lights_cli, as), .names = as_names,
      .help = "feed the core the probe as RGBE bytes, sRGBE or binary32"},
-    {.name = "--layout", .kind = QTOOL_OPT_ENUM, .off = offsetof(lights_cli, layout), .names = qcli_probe_layout_names,
+    {.name = "--layout", .kind = QTOOL_OPT_ENUM, .off = offsetof(lights_cli, layout), .names = qtool_relight_probe_layout_names,
      .arg = "L", .help = "the probe's layout: auto (detected, and said so), latlong, angular, ball, vcross or hcross"},
     {.name = "--csv", .kind = QTOOL_OPT_FLAG, .off = offsetof(lights_cli, o.csv),
      .help = "one line per light, x,y,z,r,g,b,u0,v0,u1,v1, after a header (what relight --lights reads)"},

@@ -75,13 +75,13 @@ static const char *name_call(void *opts, const char *v)
 
 static const char *yaw_call(void *opts, const char *v)
 {
-    return qcli_light_yaw(&((sh_project_cli *)opts)->rl, v);
+    return qtool_relight_spec_yaw(&((sh_project_cli *)opts)->rl, v);
 }
 
 static const char *rotate_call(void *opts, const char *v)
 {
     sh_project_cli *c = opts;
-    return qcli_light_rotate(&c->rl, v, c->why, sizeof c->why);
+    return qtool_relight_spec_rotate(&c->rl, v, c->why, sizeof c->why);
 }
 
 static const qtool_opt sh_project_table[] = {
@@ -104,7 +104,7 @@ static const qtool_opt sh_project_table[] = {
     {.name = "--rotate", .kind = QTOOL_OPT_CALL, .off = offsetof(sh_project_cli, rl), .arg = "a,b,c,d,e,f,g,h,i",
      .call = rotate_call, .help = "turn the probe first by a rotation matrix (rows), as qibl relight does"},
     {.name = "--layout", .kind = QTOOL_OPT_ENUM, .off = offsetof(sh_project_cli, layout),
-     .names = qcli_probe_layout_names, .arg = "L",
+     .names = qtool_relight_probe_layout_names, .arg = "L",
      .help = "the probe's layout: auto (detected, and said so), latlong, angular, ball, vcross or hcross"},
     {0},
 };

@@ -25,7 +25,7 @@ static const probe_info_opts probe_info_defaults = {.layout = QTOOL_PROBE_LAYOUT
 
 static const qtool_opt probe_info_table[] = {
     {.name = "--layout", .kind = QTOOL_OPT_ENUM, .off = offsetof(probe_info_opts, layout),
-     .names = qcli_probe_layout_names, .arg = "L",
+     .names = qtool_relight_probe_layout_names, .arg = "L",
      .help = "the probe's layout: auto (detected, and said so), latlong, angular, ball, vcross or hcross"},
     {0},
 };

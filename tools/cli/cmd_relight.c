@@ -75,13 +75,13 @@ static void note(relight_cli *c, const char *text)
 static const char *sun_call(void *o, char *const *v, int n, int *used)
 {
     (void)n, (void)used;
-    return qcli_light_source(&C(o)->r.lights, 0, v, C(o)->why, sizeof C(o)->why);
+    return qtool_relight_spec_source(&C(o)->r.lights, 0, v, C(o)->why, sizeof C(o)->why);
 }
 
 static const char *point_call(void *o, char *const *v, int n, int *used)
 {
     (void)n, (void)used;
-    return qcli_light_source(&C(o)->r.lights, 1, v, C(o)->why, sizeof C(o)->why);
+    return qtool_relight_spec_source(&C(o)->r.lights, 1, v, C(o)->why, sizeof C(o)->why);
 }
 
 /* --rgb colours the light before it (or, first, the first), or with --path the path's light */
@@ -90,7 +90,7 @@ static const char *rgb_call(void *o, char *const *v, int n, int *used)
     (void)n, (void)used;
     relight_cli *c = o;
     if (!c->path_mode)
-        return qcli_light_rgb(&c->r.lights, v, c->why, sizeof c->why);
+        return qtool_relight_spec_rgb(&c->r.lights, v, c->why, sizeof c->why);
     double d[3];
     for (int k = 0; k < 3; ++k) {
         int r = qtool_opt_num_value(v[k], 0, 32767, &d[k]);
@@ -107,37 +107,37 @@ static const char *rgb_call(void *o, char *const *v, int n, int *used)
 
 static const char *lights_call(void *o, const char *v)
 {
-    return qcli_light_csv(&C(o)->r.lights, v, C(o)->why, sizeof C(o)->why);
+    return qtool_relight_spec_csv(&C(o)->r.lights, v, C(o)->why, sizeof C(o)->why);
 }
 
 static const char *probe_call(void *o, const char *v)
 {
-    return qcli_light_probe(&C(o)->r.lights, v, C(o)->why, sizeof C(o)->why);
+    return qtool_relight_spec_probe(&C(o)->r.lights, v, C(o)->why, sizeof C(o)->why);
 }
 
 static const char *layout_call(void *o, const char *v)
 {
-    return qcli_light_layout(&C(o)->r.lights, v);
+    return qtool_relight_spec_layout(&C(o)->r.lights, v);
 }
 
 static const char *mode_call(void *o, const char *v)
 {
-    return qcli_light_mode(&C(o)->r.lights, v);
+    return qtool_relight_spec_mode(&C(o)->r.lights, v);
 }
 
 static const char *count_call(void *o, const char *v)
 {
-    return qcli_light_count(&C(o)->r.lights, v);
+    return qtool_relight_spec_count(&C(o)->r.lights, v);
 }
 
 static const char *yaw_call(void *o, const char *v)
 {
-    return qcli_light_yaw(&C(o)->r.lights, v);
+    return qtool_relight_spec_yaw(&C(o)->r.lights, v);
 }
 
 static const char *rotate_call(void *o, const char *v)
 {
-    return qcli_light_rotate(&C(o)->r.lights, v, C(o)->why, sizeof C(o)->why);
+    return qtool_relight_spec_rotate(&C(o)->r.lights, v, C(o)->why, sizeof C(o)->why);
 }
 
 /* --lut MODE; a bare --lut (the old on/off switch) is bilinear: the next word is then an option or
@@ -362,7 +362,7 @@ static int relight_check(const relight_cli *c)
                                  "--hdr, --pfm or --exr OUT");
     if (ll->count == 0 && !ll->csv && !ll->probe)
         return qtool_opt_error(t, "relight needs a light: --sun, --point, --lights FILE.csv or --probe PROBE.hdr");
-    if ((bad = qcli_light_list_check(ll)) != NULL)
+    if ((bad = qtool_relight_spec_check(ll)) != NULL)
         return qtool_opt_error(t, "%s", bad);
     if (o->gles && (ll->count != 1 || ll->csv || ll->probe))
         return qtool_opt_error(t, "--gles takes exactly one --sun or --point (no --lights or --probe)");
