@@ -15,6 +15,7 @@ Exit status: the ROM's; 124 when the limit passed first; 125 when DeSmuME ended 
 line; 2 on a usage error, a missing desmume-cli or a ROM whose header CRC is wrong.
 """
 import os
+import resource
 import shutil
 import subprocess
 import sys
@@ -118,13 +119,16 @@ def main(argv):
             proc.kill()
             proc.wait()
     wall = time.monotonic() - t0
+    use = resource.getrusage(resource.RUSAGE_CHILDREN)  # the emulator's own: load-independent
+    cpu = use.ru_utime + use.ru_stime
     if logf:
         logf.close()
     if status is None:
         why = "no exit after %g s (the limit)" % seconds if timed_out else "DeSmuME ended without the exit line"
         print("desmume_run: %s: %s" % (rom, why), file=sys.stderr)
         return 124 if timed_out else 125
-    print("desmume_run: %s: exit %d after %.1f s of wall-clock time" % (rom, status, wall), file=sys.stderr)
+    print("desmume_run: %s: exit %d after %.1f s of wall-clock time, %.1f s of CPU time" % (rom, status, wall, cpu),
+          file=sys.stderr)
     return status
 
 

@@ -9,7 +9,8 @@
 # stack.c and the probes): the static stack bound of every public entry point, the measured stack of
 # each wrapped one against it, and the run's high-water mark. Ends with the RESULT lines
 # nds.golden_match, nds.golden_nofit and nds.golden_total.
-# Env: BUILD (default build; output in $BUILD/nds), NDS_SECONDS (the wall-clock limit, 300),
+# Env: BUILD (default build; output in $BUILD/nds), NDS_SECONDS (the wall-clock limit, 600: a run takes
+# about 50 s on an idle machine),
 # NDS_TABLES (a file whose generated block to rewrite: make nds-tables passes docs/porting.md).
 set -u
 cd "$(dirname "$0")/../.." || exit 1
@@ -91,7 +92,7 @@ python3 tools/nds/ndsrom.py "$rom" "QIBL GOLDEN" "$dir/arm9.bin" 0x02000000 "0x$
 arm-none-eabi-size -A "$elf" > "$dir/size.txt"
 
 t0=$(date +%s)
-python3 tools/nds/desmume_run.py --seconds "${NDS_SECONDS:-300}" --log "$dir/desmume.log" "$rom" > "$dir/run.txt" 2> "$dir/run-err.txt"
+python3 tools/nds/desmume_run.py --seconds "${NDS_SECONDS:-600}" --log "$dir/desmume.log" "$rom" > "$dir/run.txt" 2> "$dir/run-err.txt"
 rc=$? secs=$(( $(date +%s) - t0 ))
 
 # a case that reports "out of memory: needs N bytes" with N above the whole heap (main RAM less
@@ -128,6 +129,7 @@ hw=$(sed -n 's/^stack high-water \([0-9]*\) of.*/\1/p' "$dir/run.txt")
 size=$(sed -n 's/^stack high-water [0-9]* of \([0-9]*\)$/\1/p' "$dir/run.txt")
 [ -n "$hw" ] && [ "$hw" -lt $((size - 512)) ] || err "stack high-water ${hw:-?} of ${size:-?} bytes: too close to the end"
 heap=$(awk '$1 == "case" && $4 == "heap" && $5 + 0 > m {m = $5 + 0; c = $2} END {print m + 0 " B (" c ")"}' "$dir/run.txt")
+cpu=$(sed -n 's/.* \([0-9.]*\) s of CPU time$/\1/p' "$dir/run-err.txt")
 emu=$(awk '$1 == "group" {ms += $(NF - 2)} END {printf "%.1f", ms / 1000}' "$dir/run.txt")
 sec() { awk -v n="$1" '$1 == n {print $2}' "$dir/size.txt"; }
 image=$(stat -c %s "$dir/arm9.bin")
@@ -139,7 +141,7 @@ if [ $rc != 0 ] && ! { [ $rc = 1 ] && [ "${errors:-x}" = $nofit ]; }; then
     err "the run exited with $rc ($(tail -n 2 "$dir/run.txt" "$dir/run-err.txt" | tr '\n' ' '))"
 fi
 [ -f "$dir/nofit.txt" ] && cat "$dir/nofit.txt"
-echo "nds: $ok ok, $bad bad, $nofit do not fit of $total cases; ${emu} s emulated (ARM9 timers) in ${secs} s of wall-clock time;" \
+echo "nds: $ok ok, $bad bad, $nofit do not fit of $total cases; ${emu} s emulated (ARM9 timers) in ${secs} s of wall-clock time (DeSmuME's CPU time ${cpu:-?} s);" \
      "deepest entry point ${deep} B of $probes measured; run stack high-water ${hw:-?} of ${size:-?} B; largest case heap $heap"
 
 # ---- the generated block of docs/porting.md (NDS_TABLES=docs/porting.md rewrites it there)
