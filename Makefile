@@ -34,6 +34,7 @@ TOOL_LIB_SRC := $(wildcard tools/ref/*.c) $(wildcard tools/io/*.c) $(wildcard to
 TOOL_LIB_SRC += $(wildcard tools/study/*.c) $(wildcard tools/engine/*.c) $(wildcard tools/view/*.c) $(wildcard tools/relight/*.c)
 # the demo behind `qibl demo` (tools/demo: bake, relight, light paths, probe-lit rows)
 TOOL_LIB_SRC += $(wildcard tools/demo/*.c)
+TOOL_LIB_SRC += $(wildcard tools/probe/*.c)
 # the golden cases (plain C, shared by the suites and the golden runner) and their CMocka-side check
 GOLDEN_CASES_SRC := $(wildcard tools/golden/cases*.c)
 TOOL_LIB_SRC += $(GOLDEN_CASES_SRC) tools/golden/check.c
@@ -127,6 +128,7 @@ QIBL_BENCH := $(BUILD)/bin/qibl-bench
 .PHONY: study gles all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan examples \
         install check-install check-farm amalgamate check-amalgamate docs-memory
 .PHONY: baremetal baremetal-tables docs-size gba gba-tables nds nds-tables
+.PHONY: docs docs-check docs-check-test docs-bench
 .DEFAULT_GOAL := all
 
 all: $(LIBQIBL) $(LIBSOFT) $(QIBL) $(QIBL_BENCH)
@@ -139,6 +141,10 @@ help:
 	@echo "make test       build and run the CMocka suites (installs libcmocka-dev if it can)"
 	@echo "make docs-memory  regenerate the resident-memory table of docs/porting.md (make test checks it)"
 	@echo "make docs-size  rewrite docs/porting.md's size tables from a make cross run (make cross checks them)"
+	@echo "make docs       rewrite every generated block of README.md and docs/ (docs/api.md too: tools/scripts/docs.sh)"
+	@echo "make docs-check fail when a generated block is stale or a measured figure is typed outside one (CI runs it)"
+	@echo "make docs-check-test  show that docs-check fails on a stale block (a copy of the tree, corrupted)"
+	@echo "make docs-bench run the benchmarks the README quotes into docs/results/bench.txt, then make docs"
 	@echo "make cross      freestanding builds for Cortex-M0/M4 and RV64, checks and size table"
 	@echo "make warnings   compile core/, platform/soft/ and platform/gles2/ with gcc and clang under the strict warning set;"
 	@echo "                every public header alone as C99/C11/C++98/11/17 (tools/scripts/headers.sh)"
@@ -292,6 +298,12 @@ $(VERSION_BANDS3): tests/version_bands3.c
 $(BUILD)/tests/version_test $(BUILD)/tests/version_test-portable $(BUILD)/tests/version_test-avx2: $(VERSION_BANDS3)
 $(BUILD)/tests/version_test $(BUILD)/tests/version_test-portable $(BUILD)/tests/version_test-avx2: TEST_EXTRA = $(VERSION_BANDS3)
 
+# cli_opts_test also tests the option-table parser itself (tools/cli/opt.c needs only libc)
+CLI_OPT_O := $(BUILD)/host/tools/cli/opt.o
+CLI_OPTS_TESTS := $(BUILD)/tests/cli_opts_test $(BUILD)/tests/cli_opts_test-portable $(BUILD)/tests/cli_opts_test-avx2
+$(CLI_OPTS_TESTS): $(CLI_OPT_O)
+$(CLI_OPTS_TESTS): TEST_EXTRA = $(CLI_OPT_O)
+
 $(BUILD)/host/tests/%.o: tests/%.c | test-deps
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) $(CMOCKA_CFLAGS) -MMD -MP -c $< -o $@
@@ -352,6 +364,23 @@ golden: $(GOLDEN) $(QIBL)
 # (the CLI makes the asset the integration example runs on in every configuration)
 ports: $(QIBL)
 	@BUILD=$(BUILD) bash tools/scripts/ports.sh
+
+# ---- docs whose figures come from commands (tools/scripts/docs.sh) ---------------------------
+# docs rewrites the generated blocks, docs-check compares them and counts typed figures (fast:
+# no benchmark or bake; it reuses the binaries); docs-bench re-measures the timings the README
+# keeps into the committed log docs/results/bench.txt (machine, compiler, flags, date named).
+docs: $(QIBL) $(GOLDEN)
+	@BUILD=$(BUILD) QIBL=$(QIBL) GOLDEN=$(GOLDEN) bash tools/scripts/docs.sh --write
+
+docs-check: $(QIBL) $(GOLDEN)
+	@BUILD=$(BUILD) QIBL=$(QIBL) GOLDEN=$(GOLDEN) bash tools/scripts/docs.sh --check
+
+docs-check-test: $(QIBL) $(GOLDEN)
+	@BUILD=$(BUILD) QIBL=$(QIBL) GOLDEN=$(GOLDEN) bash tests/docs_check_test.sh
+
+docs-bench: $(QIBL) $(GOLDEN)
+	@QIBL=$(QIBL) CC="$(CC)" HOST_CFLAGS="$(HOST_CFLAGS)" bash tools/scripts/docs-bench.sh docs/results/bench.txt
+	@BUILD=$(BUILD) QIBL=$(QIBL) GOLDEN=$(GOLDEN) bash tools/scripts/docs.sh --write
 
 # Bare metal (tools/baremetal/run.sh): the golden runner for Cortex-M0 code on qemu's mps2-an385,
 # Cortex-M4 code on mps2-an386 and RV32IMAC on virt (picolibc, semihosting); every case must print
@@ -506,7 +535,7 @@ warnings:
 	@BUILD=$(BUILD) bash tools/scripts/headers.sh
 
 # Every status-returning public function documented in one skeleton (Formats/Bound/Errors/On failure);
-# tools/scripts/check-header-docs.py lists the headers still pending. (For the coordinator: docs-check runs it.)
+# every public header of core/ and platform/ is checked (no pending list). (For the coordinator: docs-check runs it.)
 .PHONY: check-header-docs
 check-header-docs:
 	@python3 tools/scripts/check-header-docs.py

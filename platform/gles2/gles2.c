@@ -378,8 +378,14 @@ static qibl_status_t link_program(qibl_gles2_t *g, const char *fs_src, GLuint *o
         glDeleteProgram(p);
         return QIBL_E_GLES2_LINK;
     }
+    /* a GL error after the link: the program is deleted here, so a failing call hands back nothing */
+    qibl_status_t gst = gl_check(g, "glLinkProgram");
+    if (gst != QIBL_OK) {
+        glDeleteProgram(p);
+        return gst;
+    }
     *out = p;
-    return gl_check(g, "glLinkProgram");
+    return QIBL_OK;
 }
 
 /* ---- init / upload / destroy ----------------------------------------------------------------- */

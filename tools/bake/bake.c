@@ -6,7 +6,6 @@
 
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -20,10 +19,37 @@
 #include "qibl/lightpath.h"
 #include "qibl/shmap.h"
 #include "qibl/soft.h"
+#include "qtool.h"
 #include "ref/sh_ref.h"
 #include "qtool.h"
 
 #define UNIT 4294967296.0 /* 2^32 */
+
+double qtool_bake_now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
+}
+
+qibl_fb_desc_t qtool_bake_fb_srgb(uint8_t *pix, uint32_t w, uint32_t h)
+{
+    qibl_fb_desc_t fb = {0};
+    fb.pixels = pix, fb.width = w, fb.height = h, fb.format = QIBL_FB_RGBA8888, fb.srgb = 1;
+    return fb;
+}
+
+int qtool_bake_frame_done(qibl_status_t st, double t0, double *ms, const uint8_t *pix, uint32_t w, uint32_t h,
+                          uint8_t *rgb8, qibl_status_t *status)
+{
+    if (ms)
+        *ms = (qtool_bake_now() - t0) * 1e3;
+    for (size_t i = 0; st == QIBL_OK && i < (size_t)w * h; ++i)
+        memcpy(rgb8 + 3 * i, pix + 4 * i, 3);
+    if (status)
+        *status = st;
+    return st == QIBL_OK ? 0 : -1;
+}
 
 void qtool_bake_dir(uint32_t j, uint32_t n, double d[3])
 {
@@ -51,10 +77,12 @@ static void bake_row(void *ctx, uint32_t row)
         size_t pi = (size_t)row * j->w + x;
         double d[3];
         qtool_rt_hit h;
-        qtool_rt_pixel_dir(j->w, j->h, j->kind, x, row, d);
+        double sky[3];
+        qtool_rt_pixel_ray(j->s, j->w, j->h, j->kind, x, row, d);
         qtool_rt_primary(j->s, d, &h);
+        qtool_rt_sky_point(j->s, d, 1000.0, sky);
         for (int c = 0; c < 3; ++c)
-            j->out->pmap[3 * pi + (size_t)c] = (int32_t)lrint((h.hit ? h.p[c] : d[c] * 1000.0) * 65536.0);
+            j->out->pmap[3 * pi + (size_t)c] = (int32_t)lrint((h.hit ? h.p[c] : sky[c]) * 65536.0);
         int64_t *acc = j->out->acc + pi * 3 * k;
         memset(acc, 0, sizeof(int64_t) * 3 * k);
         if (!h.hit)
@@ -176,23 +204,6 @@ void qtool_bake_sums_free(qtool_bake_sums *s)
 
 static const uint8_t sums_magic[8] = {'Q', 'I', 'B', 'L', 'S', 'U', 'M', 'S'};
 
-static int efail(char *err, size_t errlen, const char *name, const char *fmt, ...)
-{
-    va_list ap;
-    size_t o = 0;
-    if (!err || !errlen)
-        return -1;
-    err[0] = '\0';
-    if (name) {
-        snprintf(err, errlen, "%s: ", name);
-        o = strlen(err);
-    }
-    va_start(ap, fmt);
-    if (o < errlen)
-        vsnprintf(err + o, errlen - o, fmt, ap);
-    va_end(ap);
-    return -1;
-}
 
 /* body bytes the header's fields claim (fields already in range: cannot overflow 64 bits) */
 static uint64_t body_bytes(const qtool_bake_sums *s)
@@ -208,46 +219,46 @@ static int parse_header(const char *name, const uint8_t *h, size_t avail, qtool_
 {
     memset(s, 0, sizeof *s);
     if (avail >= 8 && memcmp(h, "QIBLSUM1", 8) == 0)
-        return efail(err, errlen, name, "a version 1 partial-sums file (no checksums): re-run its bake shard");
+        return qtool_errf(err, errlen, "%s: a version 1 partial-sums file (no checksums): re-run its bake shard", name);
     if (avail < 8 || memcmp(h, sums_magic, 8) != 0)
-        return efail(err, errlen, name, "not a qibl partial-sums file (bad magic)");
+        return qtool_errf(err, errlen, "%s: not a qibl partial-sums file (bad magic)", name);
     if (avail < 12)
-        return efail(err, errlen, name, "truncated header (%zu of %u bytes)", avail, QTOOL_BAKE_SUMS_HEADER);
+        return qtool_errf(err, errlen, "%s: truncated header (%zu of %u bytes)", name, avail, QTOOL_BAKE_SUMS_HEADER);
     uint32_t version = qibl_load_u32le(h + 8);
     if (version != QTOOL_BAKE_SUMS_VERSION)
-        return efail(err, errlen, name, "unsupported partial-sums version %u (this qibl reads version %u)", version,
+        return qtool_errf(err, errlen, "%s: unsupported partial-sums version %u (this qibl reads version %u)", name, version,
                      QTOOL_BAKE_SUMS_VERSION);
     if (avail < QTOOL_BAKE_SUMS_HEADER)
-        return efail(err, errlen, name, "truncated header (%zu of %u bytes)", avail, QTOOL_BAKE_SUMS_HEADER);
+        return qtool_errf(err, errlen, "%s: truncated header (%zu of %u bytes)", name, avail, QTOOL_BAKE_SUMS_HEADER);
     uint32_t stored = qibl_load_u32le(h + 44), crc = qibl_crc32(0, h, 44);
     if (stored != crc)
-        return efail(err, errlen, name, "header checksum mismatch (stored %08x, computed %08x): the file is damaged",
+        return qtool_errf(err, errlen, "%s: header checksum mismatch (stored %08x, computed %08x): the file is damaged", name,
                      stored, crc);
     uint32_t v[7];
     for (int i = 0; i < 7; ++i)
         v[i] = qibl_load_u32le(h + 12 + 4 * i);
     s->w = v[0], s->h = v[1], s->k = v[2], s->ndirs = v[3], s->kind = v[4], s->shard = v[5], s->nshards = v[6];
     if (s->w < 1 || s->w > QIBL_ASSET_MAX_DIM)
-        return efail(err, errlen, name, "width %u outside 1..%u", s->w, QIBL_ASSET_MAX_DIM);
+        return qtool_errf(err, errlen, "%s: width %u outside 1..%u", name, s->w, QIBL_ASSET_MAX_DIM);
     if (s->h < 1 || s->h > QIBL_ASSET_MAX_DIM)
-        return efail(err, errlen, name, "height %u outside 1..%u", s->h, QIBL_ASSET_MAX_DIM);
+        return qtool_errf(err, errlen, "%s: height %u outside 1..%u", name, s->h, QIBL_ASSET_MAX_DIM);
     if ((uint64_t)s->w * s->h > QIBL_ASSET_MAX_PIXELS)
-        return efail(err, errlen, name, "size %ux%u above %u pixels", s->w, s->h, QIBL_ASSET_MAX_PIXELS);
+        return qtool_errf(err, errlen, "%s: size %ux%u above %u pixels", name, s->w, s->h, QIBL_ASSET_MAX_PIXELS);
     if (s->k < 1 || s->k > 25)
-        return efail(err, errlen, name, "k %u outside 1..25", s->k);
+        return qtool_errf(err, errlen, "%s: k %u outside 1..25", name, s->k);
     if (s->ndirs < 1 || s->ndirs > QTOOL_BAKE_MAX_DIRS)
-        return efail(err, errlen, name, "direction count %u outside 1..%u", s->ndirs, QTOOL_BAKE_MAX_DIRS);
+        return qtool_errf(err, errlen, "%s: direction count %u outside 1..%u", name, s->ndirs, QTOOL_BAKE_MAX_DIRS);
     if (s->kind > 1)
-        return efail(err, errlen, name, "panorama kind %u (0 cylindrical, 1 equirectangular)", s->kind);
+        return qtool_errf(err, errlen, "%s: panorama kind %u (0 cylindrical, 1 equirectangular)", name, s->kind);
     uint32_t nblocks = (s->ndirs + QTOOL_BAKE_BLOCK - 1) / QTOOL_BAKE_BLOCK;
     if (s->nshards < 1 || s->nshards > QTOOL_BAKE_MAX_SHARDS || s->nshards > nblocks)
-        return efail(err, errlen, name, "shard count %u outside 1..%u (and the %u blocks of %u directions)",
+        return qtool_errf(err, errlen, "%s: shard count %u outside 1..%u (and the %u blocks of %u directions)", name,
                      s->nshards, QTOOL_BAKE_MAX_SHARDS, nblocks, QTOOL_BAKE_BLOCK);
     if (s->shard >= s->nshards)
-        return efail(err, errlen, name, "shard index %u not below the shard count %u", s->shard, s->nshards);
+        return qtool_errf(err, errlen, "%s: shard index %u not below the shard count %u", name, s->shard, s->nshards);
     uint64_t b = body_bytes(s);
     if (b > SIZE_MAX - QTOOL_BAKE_SUMS_HEADER)
-        return efail(err, errlen, name, "%ux%u sums do not fit this machine's address space", s->w, s->h);
+        return qtool_errf(err, errlen, "%s: %ux%u sums do not fit this machine's address space", name, s->w, s->h);
     *body = b;
     return 0;
 }
@@ -287,22 +298,22 @@ int qtool_bake_sums_decode(const uint8_t *buf, size_t len, qtool_bake_sums *out,
     qtool_bake_sums s;
     uint64_t body;
     if (!buf || !out)
-        return efail(err, errlen, NULL, "null argument");
+        return qtool_errf(err, errlen, "null argument");
     if (parse_header(NULL, buf, len, &s, &body, err, errlen) != 0)
         return -1;
     size_t have = len - QTOOL_BAKE_SUMS_HEADER;
     if (have < body)
-        return efail(err, errlen, NULL, "truncated: %zu bytes of sums, the header says %llu", have,
+        return qtool_errf(err, errlen, "truncated: %zu bytes of sums, the header says %llu", have,
                      (unsigned long long)body);
     if (have > body)
-        return efail(err, errlen, NULL, "%llu trailing bytes after the sums", (unsigned long long)(have - body));
+        return qtool_errf(err, errlen, "%llu trailing bytes after the sums", (unsigned long long)(have - body));
     const uint8_t *b = buf + QTOOL_BAKE_SUMS_HEADER;
     uint32_t stored = qibl_load_u32le(buf + 40), crc = qibl_crc32(0, b, have);
     if (stored != crc)
-        return efail(err, errlen, NULL, "checksum mismatch in the sums (stored %08x, computed %08x): the file is damaged",
+        return qtool_errf(err, errlen, "checksum mismatch in the sums (stored %08x, computed %08x): the file is damaged",
                      stored, crc);
     if (alloc_arrays(&s) != 0)
-        return efail(err, errlen, NULL, "out of memory");
+        return qtool_errf(err, errlen, "out of memory");
     size_t np = (size_t)s.w * s.h;
     decode_pmap(&s, 0, b, np * 3);
     decode_acc(&s, 0, b + np * 12, np * 3 * s.k);
@@ -314,11 +325,11 @@ int qtool_bake_sums_read(const char *path, qtool_bake_sums *out, char *err, size
 {
     FILE *f = fopen(path, "rb");
     if (!f)
-        return efail(err, errlen, path, "%s", strerror(errno));
+        return qtool_errf(err, errlen, "%s: %s", path, strerror(errno));
     struct stat st;
     if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
         fclose(f);
-        return efail(err, errlen, path, "not a regular file");
+        return qtool_errf(err, errlen, "%s: not a regular file", path);
     }
     uint8_t hdr[QTOOL_BAKE_SUMS_HEADER];
     size_t got = fread(hdr, 1, sizeof hdr, f);
@@ -332,9 +343,9 @@ int qtool_bake_sums_read(const char *path, qtool_bake_sums *out, char *err, size
     uint64_t size = (uint64_t)st.st_size, want = QTOOL_BAKE_SUMS_HEADER + body;
     if (size != want) {
         fclose(f);
-        return size < want ? efail(err, errlen, path, "truncated: %llu bytes, the header says %llu",
+        return size < want ? qtool_errf(err, errlen, "%s: truncated: %llu bytes, the header says %llu", path,
                                    (unsigned long long)size, (unsigned long long)want)
-                           : efail(err, errlen, path, "%llu trailing bytes after the sums",
+                           : qtool_errf(err, errlen, "%s: %llu trailing bytes after the sums", path,
                                    (unsigned long long)(size - want));
     }
     enum { CHUNK = 8 * 3 * 4 * 1024 }; /* a multiple of 12 and of 8 */
@@ -342,7 +353,7 @@ int qtool_bake_sums_read(const char *path, qtool_bake_sums *out, char *err, size
     if (!buf || alloc_arrays(&s) != 0) {
         free(buf);
         fclose(f);
-        return efail(err, errlen, path, "out of memory");
+        return qtool_errf(err, errlen, "%s: out of memory", path);
     }
     size_t nv[2] = {(size_t)s.w * s.h * 3, (size_t)s.w * s.h * 3 * s.k}, vs[2] = {4, 8};
     uint32_t crc = 0;
@@ -368,12 +379,12 @@ int qtool_bake_sums_read(const char *path, qtool_bake_sums *out, char *err, size
     free(buf);
     if (bad || rerr) {
         qtool_bake_sums_free(&s);
-        return efail(err, errlen, path, "%s", rerr ? "read error" : bad == 1 ? "truncated while reading" : "grew while reading");
+        return qtool_errf(err, errlen, "%s: %s", path, rerr ? "read error" : bad == 1 ? "truncated while reading" : "grew while reading");
     }
     uint32_t stored = qibl_load_u32le(hdr + 40);
     if (stored != crc) {
         qtool_bake_sums_free(&s);
-        return efail(err, errlen, path, "checksum mismatch in the sums (stored %08x, computed %08x): the file is damaged",
+        return qtool_errf(err, errlen, "%s: checksum mismatch in the sums (stored %08x, computed %08x): the file is damaged", path,
                      stored, crc);
     }
     *out = s;
@@ -467,14 +478,14 @@ int qtool_bake_sums_write(const qtool_bake_sums *s, const char *path, char *err,
 {
     uint8_t hdr[QTOOL_BAKE_SUMS_HEADER];
     if (make_header(s, hdr) != 0)
-        return efail(err, errlen, path, "out of memory");
+        return qtool_errf(err, errlen, "%s: out of memory", path);
     qtool_io_atomic a;
     if (qtool_io_atomic_open(&a, path, err, errlen) != 0)
         return -1;
     if (fwrite(hdr, 1, sizeof hdr, a.f) != sizeof hdr || emit_body(s, sink_file, a.f) != 0) {
         int e = errno;
         qtool_io_atomic_abort(&a);
-        return efail(err, errlen, path, "write failed: %s", strerror(e));
+        return qtool_errf(err, errlen, "%s: write failed: %s", path, strerror(e));
     }
     return qtool_io_atomic_commit(&a, err, errlen);
 }
@@ -483,18 +494,18 @@ int qtool_bake_sums_compatible(const qtool_bake_sums *a, const qtool_bake_sums *
 {
     /* the split first: it is what a merge of the wrong files most often gets wrong */
     if (a->nshards != b->nshards)
-        return efail(err, errlen, NULL, "shards of different bakes: shard %u/%u against a split into %u", b->shard,
+        return qtool_errf(err, errlen, "shards of different bakes: shard %u/%u against a split into %u", b->shard,
                      b->nshards, a->nshards);
     if (a->w != b->w || a->h != b->h)
-        return efail(err, errlen, NULL, "shards of different bakes: size %ux%u against %ux%u", b->w, b->h, a->w, a->h);
+        return qtool_errf(err, errlen, "shards of different bakes: size %ux%u against %ux%u", b->w, b->h, a->w, a->h);
     if (a->k != b->k)
-        return efail(err, errlen, NULL, "shards of different bakes: k %u against %u", b->k, a->k);
+        return qtool_errf(err, errlen, "shards of different bakes: k %u against %u", b->k, a->k);
     if (a->ndirs != b->ndirs)
-        return efail(err, errlen, NULL, "shards of different bakes: %u directions against %u", b->ndirs, a->ndirs);
+        return qtool_errf(err, errlen, "shards of different bakes: %u directions against %u", b->ndirs, a->ndirs);
     if (a->kind != b->kind)
-        return efail(err, errlen, NULL, "shards of different bakes: panorama kind %u against %u", b->kind, a->kind);
+        return qtool_errf(err, errlen, "shards of different bakes: panorama kind %u against %u", b->kind, a->kind);
     if (memcmp(a->pmap, b->pmap, (size_t)a->w * a->h * 12) != 0)
-        return efail(err, errlen, NULL, "shards of different scenes (P maps differ)");
+        return qtool_errf(err, errlen, "shards of different scenes (P maps differ)");
     return 0;
 }
 
@@ -508,8 +519,7 @@ int qtool_bake_sums_add(qtool_bake_sums *a, const qtool_bake_sums *b, char *err,
         int64_t x = a->acc[i], y = b->acc[i];
         if ((y > 0 && x > INT64_MAX - y) || (y < 0 && x < INT64_MIN - y)) {
             size_t per = 3 * (size_t)a->k, p = i / per;
-            return efail(err, errlen, NULL,
-                         "sums overflow 64 bits at pixel (%zu, %zu), channel %zu, coefficient %zu: not sums of one bake",
+            return qtool_errf(err, errlen, "sums overflow 64 bits at pixel (%zu, %zu), channel %zu, coefficient %zu: not sums of one bake",
                          p % a->w, p / a->w, i % per / a->k, i % a->k);
         }
     }
@@ -768,8 +778,7 @@ int qtool_bake_relight8_lin(const uint8_t *asset, size_t n, const qtool_rt_light
     fb.pixels = pix, fb.width = w, fb.height = h, fb.format = QIBL_FB_RGBA8888;
     fb.srgb = srgb ? 1 : 0, fb.exposure = exposure;
     qibl_q16_t rgb[3] = {q16(l->rgb[0]), q16(l->rgb[1]), q16(l->rgb[2])};
-    struct timespec t0, t1;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
+    double t0 = qtool_bake_now();
     if (!l->point) {
         qibl_q16_t dir[3] = {q16(l->dir[0]), q16(l->dir[1]), q16(l->dir[2])};
         qibl_shlight_t sl;
@@ -807,15 +816,9 @@ int qtool_bake_relight8_lin(const uint8_t *asset, size_t n, const qtool_rt_light
                 row_linear(lin, row, w, y);
         }
     }
-    clock_gettime(CLOCK_MONOTONIC, &t1);
-    if (ms)
-        *ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
-    for (size_t i = 0; st == QIBL_OK && i < (size_t)w * h; ++i)
-        memcpy(rgb8 + 3 * i, pix + 4 * i, 3);
+    int rc = qtool_bake_frame_done(st, t0, ms, pix, w, h, rgb8, status);
     free(pix), free(row), free(ws);
-    if (status)
-        *status = st;
-    return st == QIBL_OK ? 0 : -1;
+    return rc;
 }
 
 int qtool_bake_relight8(const uint8_t *asset, size_t n, const qtool_rt_light *l, int use_lut, uint8_t *rgb8, double *ms)

@@ -21,6 +21,7 @@
 
 #include "gen/scene.h"
 #include "qibl/fixed.h"
+#include "qibl/soft.h"
 #include "qibl/status.h"
 #include "render/rt.h"
 
@@ -35,6 +36,15 @@ typedef struct qtool_bake_sums {
 typedef enum { QTOOL_PROJ_QUADRATURE = 0, QTOOL_PROJ_LSQ } qtool_proj_method;
 
 void qtool_bake_dir(uint32_t j, uint32_t n, double d[3]);
+
+/* Monotonic time in seconds (what the bake's stages and relights are timed with). */
+double qtool_bake_now(void);
+/* The relights' framebuffer: w x h RGBA8888 pixels pix, through sRGB, exposure 1. */
+qibl_fb_desc_t qtool_bake_fb_srgb(uint8_t *pix, uint32_t w, uint32_t h);
+/* The end of a relight into such a framebuffer: *ms (may be NULL) the time since t0 (qtool_bake_now),
+ * the RGB of pix into rgb8 when st is QIBL_OK, *status (may be NULL) = st. 0 if st is QIBL_OK, else -1. */
+int qtool_bake_frame_done(qibl_status_t st, double t0, double *ms, const uint8_t *pix, uint32_t w, uint32_t h,
+                          uint8_t *rgb8, qibl_status_t *status);
 
 /* Renders and accumulates (shard of nshards; 0 of 1 = everything). progress: 1 = a bar on stderr.
  * 0, or -1 (no memory). */

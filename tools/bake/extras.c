@@ -3,7 +3,6 @@
  */
 #include "bake/extras.h"
 
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,22 +12,12 @@
 #include "io/file.h"
 #include "qibl/asset.h"
 #include "qibl/lightpath.h"
+#include "qtool.h"
 
 static const char MAGIC[8] = {'Q', 'I', 'B', 'L', 'X', 'T', 'R', '2'};
 static const char MAGIC1[8] = {'Q', 'I', 'B', 'L', 'X', 'T', 'R', '1'};
 #define HEAD 20u
 
-static int fail(char *err, size_t errlen, const char *name, const char *fmt, ...)
-{
-    char m[400];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(m, sizeof m, fmt, ap);
-    va_end(ap);
-    if (err && errlen)
-        snprintf(err, errlen, "%s: %s", name, m);
-    return -1;
-}
 
 void qtool_extras_free(qtool_extras *x)
 {
@@ -67,40 +56,40 @@ int qtool_extras_decode(const uint8_t *b, size_t n, const char *name, qtool_extr
     qtool_extras t;
     memset(&t, 0, sizeof t);
     if (n >= 8 && memcmp(b, MAGIC1, 8) == 0)
-        return fail(err, errlen, name, "a version 1 extras file (light paths made by shard 0 alone): re-run the bake's "
-                    "shards");
+        return qtool_errf(err, errlen, "%s: a version 1 extras file (light paths made by shard 0 alone): re-run the bake's "
+                    "shards", name);
     if (n < HEAD || memcmp(b, MAGIC, 8) != 0)
-        return fail(err, errlen, name, "not a qibl bake extras file (bad magic or shorter than %u bytes)", HEAD);
+        return qtool_errf(err, errlen, "%s: not a qibl bake extras file (bad magic or shorter than %u bytes)", name, HEAD);
     uint32_t shard = qibl_load_u32le(b + 8), nshards = qibl_load_u32le(b + 12), count = qibl_load_u32le(b + 16);
     if (nshards < 1 || nshards > QTOOL_EXTRAS_MAX_SHARDS || shard >= nshards)
-        return fail(err, errlen, name, "shard %u/%u outside 0 <= shard < shards <= %u", shard, nshards,
+        return qtool_errf(err, errlen, "%s: shard %u/%u outside 0 <= shard < shards <= %u", name, shard, nshards,
                     QTOOL_EXTRAS_MAX_SHARDS);
     if (count > QTOOL_EXTRAS_MAX)
-        return fail(err, errlen, name, "%u chunks (at most %d)", count, QTOOL_EXTRAS_MAX);
+        return qtool_errf(err, errlen, "%s: %u chunks (at most %d)", name, count, QTOOL_EXTRAS_MAX);
     t.shard = shard, t.nshards = nshards;
     size_t at = HEAD;
     for (uint32_t i = 0; i < count; ++i) {
         if (n - at < 12) {
             qtool_extras_free(&t);
-            return fail(err, errlen, name, "truncated at chunk %u of %u", i + 1, count);
+            return qtool_errf(err, errlen, "%s: truncated at chunk %u of %u", name, i + 1, count);
         }
         uint32_t type = qibl_load_u32le(b + at), size = qibl_load_u32le(b + at + 4), crc = qibl_load_u32le(b + at + 8);
         if (type != QIBL_CHUNK_LPTH && type != QIBL_CHUNK_LOCC) {
             qtool_extras_free(&t);
-            return fail(err, errlen, name, "chunk %u has type 0x%08x (only LPTH and LOCC belong here)", i + 1, type);
+            return qtool_errf(err, errlen, "%s: chunk %u has type 0x%08x (only LPTH and LOCC belong here)", name, i + 1, type);
         }
         if (size > n - at - 12) {
             qtool_extras_free(&t);
-            return fail(err, errlen, name, "chunk %u: %u bytes but only %zu left", i + 1, size, n - at - 12);
+            return qtool_errf(err, errlen, "%s: chunk %u: %u bytes but only %zu left", name, i + 1, size, n - at - 12);
         }
         if (qibl_crc32(0, b + at + 12, size) != crc) {
             qtool_extras_free(&t);
-            return fail(err, errlen, name, "chunk %u: CRC-32 mismatch (damaged file)", i + 1);
+            return qtool_errf(err, errlen, "%s: chunk %u: CRC-32 mismatch (damaged file)", name, i + 1);
         }
         t.data[i] = malloc(size ? size : 1);
         if (!t.data[i]) {
             qtool_extras_free(&t);
-            return fail(err, errlen, name, "out of memory");
+            return qtool_errf(err, errlen, "%s: out of memory", name);
         }
         memcpy(t.data[i], b + at + 12, size);
         t.type[i] = type, t.size[i] = size, t.count = i + 1;
@@ -108,7 +97,7 @@ int qtool_extras_decode(const uint8_t *b, size_t n, const char *name, qtool_extr
     }
     if (at != n) {
         qtool_extras_free(&t);
-        return fail(err, errlen, name, "%zu bytes after the last chunk", n - at);
+        return qtool_errf(err, errlen, "%s: %zu bytes after the last chunk", name, n - at);
     }
     *x = t;
     return 0;
@@ -119,7 +108,7 @@ int qtool_extras_write(const qtool_extras *x, const char *path, char *err, size_
     uint8_t *b;
     size_t n;
     if (qtool_extras_encode(x, &b, &n) != 0)
-        return fail(err, errlen, path, "out of memory");
+        return qtool_errf(err, errlen, "%s: out of memory", path);
     int rc = qtool_io_write_atomic(path, b, n, err, errlen);
     free(b);
     return rc;
@@ -164,32 +153,32 @@ static int join_chunk(const qtool_extras *const *parts, const char *const *names
         if (!p)
             continue;
         if (p->type[i] != type)
-            return fail(err, errlen, names[s], "chunk %u is %s, %s's is %s: shards of different bakes", i + 1,
+            return qtool_errf(err, errlen, "%s: chunk %u is %s, %s's is %s: shards of different bakes", names[s], i + 1,
                         chunk_name(p->type[i]), names[r], chunk_name(type));
         if (type == QIBL_CHUNK_LPTH) {
             qibl_lightpath_t lp;
             qibl_status_t st = qibl_lightpath_parse(p->data[i], p->size[i], &lp);
             if (st != QIBL_OK)
-                return fail(err, errlen, names[s], "chunk %u (LPTH) is not usable: %s", i + 1, qibl_status_str(st));
+                return qtool_errf(err, errlen, "%s: chunk %u (LPTH) is not usable: %s", names[s], i + 1, qibl_status_str(st));
             if (s == r)
                 l0 = lp;
             else if (lp.kind != l0.kind || lp.nkeys != l0.nkeys || memcmp(lp.keys, l0.keys, 16u * lp.nkeys) != 0)
-                return fail(err, errlen, names[s], "light path %u is not the one of %s: another --sun-path or "
-                            "--lamp-track (shards of different bakes)", i + 1, names[r]);
+                return qtool_errf(err, errlen, "%s: light path %u is not the one of %s: another --sun-path or "
+                            "--lamp-track (shards of different bakes)", names[s], i + 1, names[r]);
             for (uint32_t y = 0; y < lp.height; ++y) {
                 uint32_t a = qibl_load_u32le(lp.rows + 4 * (size_t)y), b = qibl_load_u32le(lp.rows + 4 * (size_t)y + 4);
                 if (y % n == s)
                     nedges += b - a;
                 else if (b != a)
-                    return fail(err, errlen, names[s], "light path %u has edges in row %u, which shard %u/%u bakes "
-                                "(not a shard of this split)", i + 1, y, y % n, n);
+                    return qtool_errf(err, errlen, "%s: light path %u has edges in row %u, which shard %u/%u bakes "
+                                "(not a shard of this split)", names[s], i + 1, y, y % n, n);
             }
             nkeys = lp.nkeys;
         } else {
             qibl_lampocc_t lo;
             qibl_status_t st = qibl_lightpath_occl_parse(p->data[i], p->size[i], &lo);
             if (st != QIBL_OK)
-                return fail(err, errlen, names[s], "chunk %u (LOCC) is not usable: %s", i + 1, qibl_status_str(st));
+                return qtool_errf(err, errlen, "%s: chunk %u (LOCC) is not usable: %s", names[s], i + 1, qibl_status_str(st));
             pw = lo.width, ph = lo.height;
         }
         if (type == QIBL_CHUNK_LPTH) {
@@ -198,19 +187,19 @@ static int join_chunk(const qtool_extras *const *parts, const char *const *names
             pw = lp.width, ph = lp.height;
         }
         if (bw && (pw != bw || ph != bh))
-            return fail(err, errlen, names[s], "chunk %u (%s) is for a %u x %u bake, the shards are %u x %u (the side "
-                        "file of another bake)", i + 1, chunk_name(type), pw, ph, bw, bh);
+            return qtool_errf(err, errlen, "%s: chunk %u (%s) is for a %u x %u bake, the shards are %u x %u (the side "
+                        "file of another bake)", names[s], i + 1, chunk_name(type), pw, ph, bw, bh);
         if (s == r)
             w = pw, h = ph;
         else if (pw != w || ph != h)
-            return fail(err, errlen, names[s], "chunk %u (%s) is for a %u x %u bake, %s's for %u x %u (shards of "
-                        "different bakes)", i + 1, chunk_name(type), pw, ph, names[r], w, h);
+            return qtool_errf(err, errlen, "%s: chunk %u (%s) is for a %u x %u bake, %s's for %u x %u (shards of "
+                        "different bakes)", names[s], i + 1, chunk_name(type), pw, ph, names[r], w, h);
     }
     size_t np = (size_t)w * h;
     if (type == QIBL_CHUNK_LOCC) {
         uint8_t *b = calloc(QIBL_LAMPOCC_HEADER + np, 1);
         if (!b)
-            return fail(err, errlen, names[r], "out of memory joining the lamp occlusion");
+            return qtool_errf(err, errlen, "%s: out of memory joining the lamp occlusion", names[r]);
         memcpy(b, parts[r]->data[i], QIBL_LAMPOCC_HEADER);
         for (uint32_t y = 0; y < h; ++y)
             if (parts[y % n])
@@ -220,13 +209,13 @@ static int join_chunk(const qtool_extras *const *parts, const char *const *names
         return 0;
     }
     if (nedges > QIBL_LIGHTPATH_MAX_EDGES)
-        return fail(err, errlen, names[r], "light path %u: %llu edges joined (at most %u)", i + 1,
+        return qtool_errf(err, errlen, "%s: light path %u: %llu edges joined (at most %u)", names[r], i + 1,
                     (unsigned long long)nedges, QIBL_LIGHTPATH_MAX_EDGES);
     size_t head = QIBL_LIGHTPATH_HEADER + 16u * (size_t)nkeys;
     size_t size = head + 4u * ((size_t)h + 1) + np + 2u * (size_t)nedges;
     uint8_t *b = calloc(size, 1);
     if (!b)
-        return fail(err, errlen, names[r], "out of memory joining light path %u", i + 1);
+        return qtool_errf(err, errlen, "%s: out of memory joining light path %u", names[r], i + 1);
     memcpy(b, parts[r]->data[i], head); /* size, kind, keys: the same in every part (checked) */
     qtool_store_u32le(b + 20, (uint32_t)nedges);
     uint8_t *rows = b + head, *cnt = rows + 4u * ((size_t)h + 1), *ed = cnt + np;
@@ -254,16 +243,16 @@ int qtool_extras_join(const qtool_extras *const *parts, const char *const *names
     while (r < nshards && !parts[r])
         ++r;
     if (r == nshards)
-        return fail(err, errlen, "merge", "no shards to join");
+        return qtool_errf(err, errlen, "merge: no shards to join");
     for (uint32_t s = r; s < nshards; ++s) {
         if (!parts[s])
             continue;
         if (parts[s]->shard != s || parts[s]->nshards != nshards)
-            return fail(err, errlen, names[s], "the extras of shard %u/%u where shard %u/%u was expected (side file "
-                        "of another split)", parts[s]->shard, parts[s]->nshards, s, nshards);
+            return qtool_errf(err, errlen, "%s: the extras of shard %u/%u where shard %u/%u was expected (side file "
+                        "of another split)", names[s], parts[s]->shard, parts[s]->nshards, s, nshards);
         if (parts[s]->count != parts[r]->count)
-            return fail(err, errlen, names[s], "%u light path/occlusion chunk%s, %s has %u: shards of different "
-                        "bakes (give every shard the same --sun-path, --lamp-track and --lamp-box)",
+            return qtool_errf(err, errlen, "%s: %u light path/occlusion chunk%s, %s has %u: shards of different "
+                        "bakes (give every shard the same --sun-path, --lamp-track and --lamp-box)", names[s],
                         parts[s]->count, parts[s]->count == 1 ? "" : "s", names[r], parts[r]->count);
     }
     qtool_extras t;

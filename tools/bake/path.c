@@ -10,10 +10,12 @@
 #include <string.h>
 #include <time.h>
 
+#include "bake/bake.h"
 #include "io/asset_write.h"
 #include "qibl/asset.h"
 #include "qibl/lightpath.h"
 #include "qibl/soft.h"
+#include "qtool.h"
 #include "ref/sh_ref.h"
 #include "qtool.h"
 
@@ -164,7 +166,7 @@ static void path_row(void *ctx, uint32_t y)
     for (uint32_t x = 0; e && x < j->w; ++x) {
         double d[3];
         qtool_rt_hit hit;
-        qtool_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
+        qtool_rt_pixel_ray(j->s, j->w, j->h, j->kind, x, y, d);
         qtool_rt_primary(j->s, d, &hit);
         size_t start = n;
         if (hit.hit) {
@@ -393,11 +395,9 @@ int qtool_bake_relight_path8_gonio(const uint8_t *asset, size_t n, const qtool_r
             *status = QIBL_E_NULL_POINTER;
         return -1;
     }
-    qibl_fb_desc_t fb = {0};
-    fb.pixels = pix, fb.width = w, fb.height = h, fb.format = QIBL_FB_RGBA8888, fb.srgb = 1;
+    qibl_fb_desc_t fb = qtool_bake_fb_srgb(pix, w, h);
     qibl_q16_t rgb[3] = {q16(l->rgb[0]), q16(l->rgb[1]), q16(l->rgb[2])};
-    struct timespec t0, t1;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
+    double t0 = qtool_bake_now();
     qibl_shmap_weights_t wt, wsky;
     qibl_shmap_point_t pt;
     const qibl_q16_t lpos[3] = {q16(l->pos[0]), q16(l->pos[1]), q16(l->pos[2])};
@@ -433,15 +433,9 @@ int qtool_bake_relight_path8_gonio(const uint8_t *asset, size_t n, const qtool_r
             for (size_t i = 0; i < (size_t)w * 3; ++i)
                 lin[(size_t)y * w * 3 + i] = row[i] > 0 ? (float)(row[i] / 65536.0) : 0.0f;
     }
-    clock_gettime(CLOCK_MONOTONIC, &t1);
-    if (ms)
-        *ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
-    for (size_t i = 0; st == QIBL_OK && i < (size_t)w * h; ++i)
-        memcpy(rgb8 + 3 * i, pix + 4 * i, 3);
+    int rc = qtool_bake_frame_done(st, t0, ms, pix, w, h, rgb8, status);
     free(pix), free(row), free(prow), free(ws);
-    if (status)
-        *status = st;
-    return st == QIBL_OK ? 0 : -1;
+    return rc;
 }
 
 /* ---- evaluation ---------------------------------------------------------------------------------- */
@@ -461,7 +455,7 @@ static void cls_row(void *ctx, uint32_t y)
         double d[3], w[3], len = 0, tmax = 1e30;
         qtool_rt_hit h;
         uint8_t *o = j->cls + (size_t)y * j->w + x;
-        qtool_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
+        qtool_rt_pixel_ray(j->s, j->w, j->h, j->kind, x, y, d);
         qtool_rt_primary(j->s, d, &h);
         if (!h.hit) {
             *o = 0;
@@ -523,7 +517,7 @@ static void sky_row(void *ctx, uint32_t y)
     for (uint32_t x = 0; x < j->w; ++x) {
         double d[3], acc[2][3] = {{0, 0, 0}, {0, 0, 0}};
         qtool_rt_hit hit;
-        qtool_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
+        qtool_rt_pixel_ray(j->s, j->w, j->h, j->kind, x, y, d);
         qtool_rt_primary(j->s, d, &hit);
         for (uint32_t l = 0; hit.hit && l < j->ndirs; ++l) {
             double wv[3], df, gl;
@@ -593,24 +587,16 @@ int qtool_bake_relight_env8(const uint8_t *asset, size_t n, const qibl_shlight_t
     void *ws = malloc(wsn);
     if (!pix || !row || !ws)
         st = QIBL_E_NULL_POINTER;
-    qibl_fb_desc_t fb = {0};
-    fb.pixels = pix, fb.width = w, fb.height = h, fb.format = QIBL_FB_RGBA8888, fb.srgb = 1;
-    struct timespec t0, t1;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
+    qibl_fb_desc_t fb = qtool_bake_fb_srgb(pix, w, h);
+    double t0 = qtool_bake_now();
     for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {
         st = qibl_shmap_relight_span(&m, &wt, 0, y, w, row, ws, wsn);
         if (st == QIBL_OK)
             st = qibl_soft_fb_write_row(&fb, 0, y, w, row);
     }
-    clock_gettime(CLOCK_MONOTONIC, &t1);
-    if (ms)
-        *ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
-    for (size_t i = 0; st == QIBL_OK && i < (size_t)w * h; ++i)
-        memcpy(rgb8 + 3 * i, pix + 4 * i, 3);
+    int rc = qtool_bake_frame_done(st, t0, ms, pix, w, h, rgb8, status);
     free(pix), free(row), free(ws);
-    if (status)
-        *status = st;
-    return st == QIBL_OK ? 0 : -1;
+    return rc;
 }
 
 /* ---- lamp occlusion (LOCC) -------------------------------------------------------------------------- */
@@ -639,7 +625,7 @@ static void occ_row(void *ctx, uint32_t y)
     for (uint32_t x = 0; x < j->w; ++x) {
         double d[3], sw = 0, sv = 0;
         qtool_rt_hit h;
-        qtool_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
+        qtool_rt_pixel_ray(j->s, j->w, j->h, j->kind, x, y, d);
         qtool_rt_primary(j->s, d, &h);
         for (uint32_t i = 0; h.hit && i < j->n; ++i) {
             double p[3] = {halton(i + 1, 2), halton(i + 1, 3), halton(i + 1, 5)}, w[3], len = 0;

@@ -9,11 +9,13 @@
 #include <string.h>
 #include <time.h>
 
+#include "bake/bake.h"
 #include "io/asset_write.h"
 #include "qibl/asset.h"
 #include "qibl/lightpath.h"
 #include "qibl/shmtile.h"
 #include "qibl/soft.h"
+#include "qtool.h"
 
 enum { T = QIBL_SHMTILE_SIZE };
 
@@ -131,11 +133,9 @@ int qtool_bake_relight_tiled8(const uint8_t *asset, size_t n, const qtool_rt_lig
             *status = QIBL_E_NULL_POINTER;
         return -1;
     }
-    qibl_fb_desc_t fb = {0};
-    fb.pixels = pix, fb.width = w, fb.height = h, fb.format = QIBL_FB_RGBA8888, fb.srgb = 1;
+    qibl_fb_desc_t fb = qtool_bake_fb_srgb(pix, w, h);
     qibl_q16_t rgb[3] = {q16(l->rgb[0]), q16(l->rgb[1]), q16(l->rgb[2])};
-    struct timespec t0, t1;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
+    double t0 = qtool_bake_now();
     /* directional: one light, weights per distinct tile k made on first use */
     qibl_shlight_t sl;
     qibl_shmap_weights_t wk[26];
@@ -185,13 +185,7 @@ int qtool_bake_relight_tiled8(const uint8_t *asset, size_t n, const qtool_rt_lig
                 st = qibl_soft_fb_write_row(&fb, 0, yy, w, r);
         }
     }
-    clock_gettime(CLOCK_MONOTONIC, &t1);
-    if (ms)
-        *ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
-    for (size_t i = 0; st == QIBL_OK && i < (size_t)w * h; ++i)
-        memcpy(rgb8 + 3 * i, pix + 4 * i, 3);
+    int rc = qtool_bake_frame_done(st, t0, ms, pix, w, h, rgb8, status);
     free(pix), free(ptile), free(row), free(ws);
-    if (status)
-        *status = st;
-    return st == QIBL_OK ? 0 : -1;
+    return rc;
 }

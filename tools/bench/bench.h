@@ -14,6 +14,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "qibl/status.h" /* QIBL_OK, for QTOOL_BENCH_CALL */
+
 /* What built the benchmarks, for their headers (the Makefile passes the core's flags). */
 #ifndef QIBL_BENCH_CORE_FLAGS
 #define QIBL_BENCH_CORE_FLAGS "(flags not recorded)"
@@ -45,6 +47,13 @@ int qtool_bench_known(const char *name);
 /* Runs the benchmark o->what names ("all": every timing bench, not memory or gles). 0, 1 if any
  * bench failed (after its message), -1 if o->what is not a known name (nothing run). */
 int qtool_bench_run(const qtool_bench_opts *o);
+
+/* A core call inside a timed loop: its status is not dropped but folded into qtool_bench_failed
+ * (a compare and an OR, nothing next to the kernel), which qtool_bench_run and qibl-bench check after
+ * the benches, so a bench never reports the speed of a call that failed. */
+extern int qtool_bench_failed;
+#define QTOOL_BENCH_CALL(call) ((void)(qtool_bench_failed |= ((call) != QIBL_OK)))
+
 
 /* The benches one by one (quick as above). */
 int qtool_bench_sh(int quick);                     /* sh.c */

@@ -56,20 +56,20 @@ static void hemi_frame(const qibl_hemi_t *h, const qtool_bench_cloth *s, const q
     double t0 = qtool_bench_cpu_now(), t_tr = 0, t_ra = 0, t_in = 0, t_ot = 0;
     for (int v = 0; v < s->nv; ++v) {
         qibl_hemi_frame_t fr;
-        qibl_hemi_frame_init(&fr, pos[v], nrm[v]);
+        QTOOL_BENCH_CALL(qibl_hemi_frame_init(&fr, pos[v], nrm[v]));
         const uint32_t nl = qtool_bench_cloth_gather(s, pos, v, v == 0, gp);
         double t1 = qtool_bench_cpu_now();
-        qibl_hemi_transform(&fr, (const qibl_q16_t(*)[3])gp, nl, loc);
+        QTOOL_BENCH_CALL(qibl_hemi_transform(&fr, (const qibl_q16_t(*)[3])gp, nl, loc));
         double t2 = qtool_bench_cpu_now();
-        qibl_hemi_clear(h, mask);
-        qibl_hemi_raster(h, (const int32_t(*)[3])loc, nl, (const uint32_t(*)[3])(s->ringf + s->ring_off[v]),
-                         (uint32_t)s->nring[v], mask, &st);
+        QTOOL_BENCH_CALL(qibl_hemi_clear(h, mask));
+        QTOOL_BENCH_CALL(qibl_hemi_raster(h, (const int32_t(*)[3])loc, nl, (const uint32_t(*)[3])(s->ringf + s->ring_off[v]),
+                         (uint32_t)s->nring[v], mask, &st));
         double t3 = qtool_bench_cpu_now();
         if (masks) /* kept for the integration study */
             memcpy(masks + (size_t)v * h->words, mask, sizeof(uint32_t) * h->words);
-        qibl_hemi_transfer(h, mask, vloc[v]);
+        QTOOL_BENCH_CALL(qibl_hemi_transfer(h, mask, vloc[v]));
         double t4 = qtool_bench_cpu_now();
-        qibl_hemi_to_world(h, &fr, vloc[v], vw[v]);
+        QTOOL_BENCH_CALL(qibl_hemi_to_world(h, &fr, vloc[v], vw[v]));
         double t5 = qtool_bench_cpu_now();
         t_ot += (t1 - t0) + (t5 - t4);
         t_tr += t2 - t1, t_ra += t3 - t2, t_in += t4 - t3;
@@ -93,14 +93,14 @@ static double hemi_frame_time(const qibl_hemi_t *h, const qtool_bench_cloth *s, 
     const double t0 = qtool_bench_cpu_now();
     for (int v = 0; v < s->nv; ++v) {
         qibl_hemi_frame_t fr;
-        qibl_hemi_frame_init(&fr, pos[v], nrm[v]);
+        QTOOL_BENCH_CALL(qibl_hemi_frame_init(&fr, pos[v], nrm[v]));
         const uint32_t nl = qtool_bench_cloth_gather(s, pos, v, v == 0, gp);
-        qibl_hemi_transform(&fr, (const qibl_q16_t(*)[3])gp, nl, loc);
-        qibl_hemi_clear(h, mask);
-        qibl_hemi_raster(h, (const int32_t(*)[3])loc, nl, (const uint32_t(*)[3])(s->ringf + s->ring_off[v]),
-                         (uint32_t)s->nring[v], mask, NULL);
-        qibl_hemi_transfer(h, mask, vloc[v]);
-        qibl_hemi_to_world(h, &fr, vloc[v], vw[v]);
+        QTOOL_BENCH_CALL(qibl_hemi_transform(&fr, (const qibl_q16_t(*)[3])gp, nl, loc));
+        QTOOL_BENCH_CALL(qibl_hemi_clear(h, mask));
+        QTOOL_BENCH_CALL(qibl_hemi_raster(h, (const int32_t(*)[3])loc, nl, (const uint32_t(*)[3])(s->ringf + s->ring_off[v]),
+                         (uint32_t)s->nring[v], mask, NULL));
+        QTOOL_BENCH_CALL(qibl_hemi_transfer(h, mask, vloc[v]));
+        QTOOL_BENCH_CALL(qibl_hemi_to_world(h, &fr, vloc[v], vw[v]));
     }
     return qtool_bench_cpu_now() - t0;
 }
@@ -133,8 +133,8 @@ static void groups_make(const qtool_bench_cloth *s, const qibl_q16_t (*pos)[3], 
                     g->nearv[c][k++] = (uint32_t)((cj * CLOTH_STEP + j) * CLOTH_G + ci * CLOTH_STEP + i);
             g->farv[c][0] = g->nearv[c][0], g->farv[c][1] = g->nearv[c][CLOTH_STEP];
             g->farv[c][2] = g->nearv[c][CLOTH_STEP * (CLOTH_STEP + 1)], g->farv[c][3] = g->nearv[c][(CLOTH_STEP + 1) * (CLOTH_STEP + 1) - 1];
-            qibl_hemi_bound_fit(pos, (uint32_t)s->nv, g->nearv[c], (CLOTH_STEP + 1) * (CLOTH_STEP + 1), &g->nearb[c]);
-            qibl_hemi_bound_fit(pos, (uint32_t)s->nv, g->farv[c], 4, &g->farb[c]);
+            QTOOL_BENCH_CALL(qibl_hemi_bound_fit(pos, (uint32_t)s->nv, g->nearv[c], (CLOTH_STEP + 1) * (CLOTH_STEP + 1), &g->nearb[c]));
+            QTOOL_BENCH_CALL(qibl_hemi_bound_fit(pos, (uint32_t)s->nv, g->farv[c], 4, &g->farb[c]));
         }
 }
 
@@ -189,10 +189,10 @@ static uint32_t groups_mask(const qibl_hemi_t *h, const qtool_bench_cloth *s, co
             nl += NEARV;
         }
     const double t1 = tm ? qtool_bench_cpu_now() : 0;
-    qibl_hemi_transform(fr, (const qibl_q16_t(*)[3])gp, nl, loc);
+    QTOOL_BENCH_CALL(qibl_hemi_transform(fr, (const qibl_q16_t(*)[3])gp, nl, loc));
     const double t2 = tm ? qtool_bench_cpu_now() : 0;
-    qibl_hemi_clear(h, mask);
-    qibl_hemi_raster(h, (const int32_t(*)[3])loc, nl, (const uint32_t(*)[3])tl, nt, mask, st);
+    QTOOL_BENCH_CALL(qibl_hemi_clear(h, mask));
+    QTOOL_BENCH_CALL(qibl_hemi_raster(h, (const int32_t(*)[3])loc, nl, (const uint32_t(*)[3])tl, nt, mask, st));
     if (tm) {
         const double t3 = qtool_bench_cpu_now();
         tm->other += t1 - t0, tm->transform += t2 - t1, tm->raster += t3 - t2;
@@ -213,14 +213,14 @@ static double groups_frame(const qibl_hemi_t *h, const qtool_bench_cloth *s, con
     for (int v = 0; v < s->nv; ++v) {
         const double ta = tm ? qtool_bench_cpu_now() : 0;
         qibl_hemi_frame_t fr;
-        qibl_hemi_frame_init(&fr, pos[v], nrm[v]);
+        QTOOL_BENCH_CALL(qibl_hemi_frame_init(&fr, pos[v], nrm[v]));
         const double tb = tm ? qtool_bench_cpu_now() : 0;
         b += groups_mask(h, s, &g, pos, &fr, v, mask, &st, tm);
         const double tc = tm ? qtool_bench_cpu_now() : 0;
-        qibl_hemi_transfer(h, mask, vloc[v]);
+        QTOOL_BENCH_CALL(qibl_hemi_transfer(h, mask, vloc[v]));
         const double td = tm ? qtool_bench_cpu_now() : 0;
         qibl_q30_t w[25];
-        qibl_hemi_to_world(h, &fr, vloc[v], w);
+        QTOOL_BENCH_CALL(qibl_hemi_to_world(h, &fr, vloc[v], w));
         if (tm)
             tm->other += (tb - ta) + (qtool_bench_cpu_now() - td), tm->transfer += td - tc;
     }
@@ -251,7 +251,7 @@ static void ref_vertex(void *vctx, uint32_t v)
 {
     refctx *c = vctx;
     qibl_hemi_frame_t fr;
-    qibl_hemi_frame_init(&fr, c->pos[v], c->nrm[v]);
+    QTOOL_BENCH_CALL(qibl_hemi_frame_init(&fr, c->pos[v], c->nrm[v]));
     double ax[3][3], p[3];
     for (int i = 0; i < 3; ++i)
         for (int k = 0; k < 3; ++k)
@@ -276,7 +276,7 @@ static void ref_vertex_phong(void *vctx, uint32_t k)
     glossctx *g = vctx;
     const uint32_t v = k * g->stride;
     qibl_hemi_frame_t fr;
-    qibl_hemi_frame_init(&fr, g->c.pos[v], g->c.nrm[v]);
+    QTOOL_BENCH_CALL(qibl_hemi_frame_init(&fr, g->c.pos[v], g->c.nrm[v]));
     double ax[3][3], p[3];
     for (int i = 0; i < 3; ++i)
         for (int q = 0; q < 3; ++q)
@@ -583,13 +583,13 @@ static void integration_study(const qibl_hemi_t *h, const qtool_bench_cloth *s, 
             int32_t sink = 0;
             double t0 = qtool_bench_cpu_now();
             for (size_t v = 0; v < nv; ++v)
-                qibl_hemi_transfer(h, masks + 32 * v, vloc[v]), sink ^= vloc[v][7];
+                QTOOL_BENCH_CALL(qibl_hemi_transfer(h, masks + 32 * v, vloc[v])), sink ^= vloc[v][7];
             double t1 = qtool_bench_cpu_now();
             for (size_t v = 0; v < nv; ++v)
                 down4_transfer(h, d, masks + 32 * v, vd[v]), sink ^= vd[v][7];
             double t2 = qtool_bench_cpu_now();
             for (size_t v = 0; v < nv; ++v)
-                qibl_hemi_transfer_phong(h, masks + 32 * v, refl, 16, vd[v]), sink ^= vd[v][7];
+                QTOOL_BENCH_CALL(qibl_hemi_transfer_phong(h, masks + 32 * v, refl, 16, vd[v])), sink ^= vd[v][7];
             double t3 = qtool_bench_cpu_now();
             t_ex = fmin(t_ex, (t1 - t0) / (double)nv), t_dn = fmin(t_dn, (t2 - t1) / (double)nv);
             t_ph = fmin(t_ph, (t3 - t2) / (double)nv);
@@ -621,7 +621,7 @@ static void integration_study(const qibl_hemi_t *h, const qtool_bench_cloth *s, 
             double dg = 0, ng2 = 0, dd = 0, nd2 = 0;
             for (uint32_t k = 0; k < ng; ++k) {
                 const uint32_t v = k * stride;
-                qibl_hemi_transfer_phong(h, masks + 32 * (size_t)v, refl, 16, vd[v]);
+                QTOOL_BENCH_CALL(qibl_hemi_transfer_phong(h, masks + 32 * (size_t)v, refl, 16, vd[v]));
                 for (int i = 0; i < 25; ++i) {
                     const double a = vd[v][i] / 1073741824.0 - gref[k][i], b = vloc[v][i] / 1073741824.0 - ref[v][i];
                     dg += a * a, ng2 += gref[k][i] * gref[k][i], dd += b * b, nd2 += ref[v][i] * ref[v][i];
@@ -908,17 +908,17 @@ static void rotation_study(const run *r)
         for (int ch = 0; ch < 3; ++ch)
             light[ch][i] = (i + 1) * (ch + 7) * 1000;
     for (size_t v = 0; v < nv; ++v)
-        qibl_hemi_frame_init(&fr[v], r->pos[v], r->nrm[v]);
+        QTOOL_BENCH_CALL(qibl_hemi_frame_init(&fr[v], r->pos[v], r->nrm[v]));
     double tw[9], tl[9];
     int32_t acc = 0;
     for (int k = 0; k < r->reps; ++k) {
         double t0 = qtool_bench_cpu_now();
         for (size_t v = 0; v < nv; ++v)
-            qibl_hemi_to_world(&h, &fr[v], r->vloc[v], out), acc ^= out[24];
+            QTOOL_BENCH_CALL(qibl_hemi_to_world(&h, &fr[v], r->vloc[v], out)), acc ^= out[24];
         double t1 = qtool_bench_cpu_now();
         for (size_t v = 0; v < nv; ++v)
             for (int ch = 0; ch < 3; ++ch)
-                qibl_hemi_to_frame(&h, &fr[v], light[ch], out), acc ^= out[24];
+                QTOOL_BENCH_CALL(qibl_hemi_to_frame(&h, &fr[v], light[ch], out)), acc ^= out[24];
         double t2 = qtool_bench_cpu_now();
         tw[k] = (t1 - t0) / (double)nv * 1e9, tl[k] = (t2 - t1) / (double)nv * 1e9;
     }

@@ -75,29 +75,29 @@ static double run(const bcase *c, uint32_t w, uint32_t h, int reps, int32_t *row
         qibl_shlight_t sl, sky;
         qibl_shmap_weights_t wl, wsky;
         qibl_shmap_point_t pt;
-        qibl_shlight_init(&sl, 25);
-        qibl_shlight_add_dir(&sl, dir, rgb);
+        QTOOL_BENCH_CALL(qibl_shlight_init(&sl, 25));
+        QTOOL_BENCH_CALL(qibl_shlight_add_dir(&sl, dir, rgb));
         if (c->pmap)
-            qibl_shmap_point_prepare(&c->light->m, c->pmap, &c->light->lut, &lamp, &pt);
+            QTOOL_BENCH_CALL(qibl_shmap_point_prepare(&c->light->m, c->pmap, &c->light->lut, &lamp, &pt));
         else
-            qibl_shmap_weights(&c->light->m, &sl, &wl);
+            QTOOL_BENCH_CALL(qibl_shmap_weights(&c->light->m, &sl, &wl));
         if (c->sky) {
             const qibl_q16_t up[3] = {0, 0, 65536}, sc[3] = {20000, 30000, 52000};
-            qibl_shlight_init(&sky, 25);
-            qibl_shlight_add_dir(&sky, up, sc);
-            qibl_shmap_weights(&c->sky->m, &sky, &wsky);
+            QTOOL_BENCH_CALL(qibl_shlight_init(&sky, 25));
+            QTOOL_BENCH_CALL(qibl_shlight_add_dir(&sky, up, sc));
+            QTOOL_BENCH_CALL(qibl_shmap_weights(&c->sky->m, &sky, &wsky));
         }
         uint32_t tq = 20000u + 1000u * (uint32_t)r;
         for (uint32_t y = 0; y < h; ++y) {
             int32_t *dst = c->path ? lrow : row;
             if (c->sky)
-                qibl_shmap_relight_span(&c->sky->m, &wsky, 0, y, w, row, ws, wsn);
+                QTOOL_BENCH_CALL(qibl_shmap_relight_span(&c->sky->m, &wsky, 0, y, w, row, ws, wsn));
             if (c->pmap)
-                qibl_shmap_point_span(&pt, 0, y, w, dst, ws, wsn);
+                QTOOL_BENCH_CALL(qibl_shmap_point_span(&pt, 0, y, w, dst, ws, wsn));
             else
-                qibl_shmap_relight_span(&c->light->m, &wl, 0, y, w, dst, ws, wsn);
+                QTOOL_BENCH_CALL(qibl_shmap_relight_span(&c->light->m, &wl, 0, y, w, dst, ws, wsn));
             if (c->path)
-                qibl_lightpath_shade_span(c->path, tq, c->radius, 0, y, w, lrow, row, c->sky != NULL);
+                QTOOL_BENCH_CALL(qibl_lightpath_shade_span(c->path, tq, c->radius, 0, y, w, lrow, row, c->sky != NULL));
         }
         t[r] = qtool_bench_cpu_now() - t0;
     }

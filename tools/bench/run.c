@@ -1,6 +1,7 @@
 /*
  * run.c - qtool_bench_run: one name to the benches it stands for, in `qibl bench all`'s order.
  */
+#include <stdio.h>
 #include <string.h>
 
 #include "bench/bench.h"
@@ -47,5 +48,9 @@ int qtool_bench_run(const qtool_bench_opts *o)
         rc |= qtool_bench_memory(o->markdown);
     if (strcmp(what, "gles") == 0) /* only when asked: a GL context is not part of `all` */
         rc |= qtool_bench_gles(quick);
+    if (qtool_bench_failed) {
+        fprintf(stderr, "qibl bench: a core call inside a timed loop failed: the figures above are void\n");
+        rc = 1;
+    }
     return rc != 0;
 }

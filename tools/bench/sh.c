@@ -37,7 +37,7 @@ static void pass_int(const sweep *sw, int b)
     int32_t acc = 0;
     for (int i = 0; i < sw->n; ++i) {
         qibl_q30_t y[25];
-        qibl_sh_eval(sw->dir[i], b, y);
+        QTOOL_BENCH_CALL(qibl_sh_eval(sw->dir[i], b, y));
         acc ^= y[b * b - 1];
     }
     sink_i = acc;
@@ -48,7 +48,7 @@ static void pass_unit(const sweep *sw, int b)
     int32_t acc = 0;
     for (int i = 0; i < sw->n; ++i) {
         qibl_q30_t y[25];
-        qibl_sh_eval_unit(sw->unit[i], b, y);
+        QTOOL_BENCH_CALL(qibl_sh_eval_unit(sw->unit[i], b, y));
         acc ^= y[b * b - 1];
     }
     sink_i = acc;
@@ -92,7 +92,7 @@ static void make_sweep(sweep *sw)
             d[2] = 65536;
         for (int k = 0; k < 3; ++k)
             sw->ddir[i][k] = d[k];
-        qibl_vec3_normalize_q30(d, sw->unit[i]);
+        QTOOL_BENCH_CALL(qibl_vec3_normalize_q30(d, sw->unit[i]));
     }
 }
 
@@ -114,7 +114,7 @@ int qtool_bench_sh(int quick)
     for (int i = 0; i < n; ++i) {
         qibl_q30_t y[25];
         double ref[25];
-        qibl_sh_eval(sw.dir[i], 5, y);
+        QTOOL_BENCH_CALL(qibl_sh_eval(sw.dir[i], 5, y));
         qtool_ref_sh_eval(sw.ddir[i][0], sw.ddir[i][1], sw.ddir[i][2], 5, ref);
         for (int k = 0; k < 25; ++k) {
             double e = fabs(y[k] / 1073741824.0 - ref[k]);

@@ -62,3 +62,5 @@ double qtool_bench_min(const double *v, int n)
         m = v[i] < m ? v[i] : m;
     return m;
 }
+
+int qtool_bench_failed;

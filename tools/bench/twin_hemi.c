@@ -26,7 +26,7 @@ static double raster_pass(const qibl_hemi_t *h, const qtool_bench_cloth *s, cons
     uint32_t mask[QIBL_HEMI_MAX_WORDS], x = 0;
     const double t0 = qtool_bench_cpu_now();
     for (int v = 0; v < s->nv; ++v) {
-        qibl_hemi_clear(h, mask);
+        QTOOL_BENCH_CALL(qibl_hemi_clear(h, mask));
         fn(h, loc + loc_off[v], (uint32_t)(loc_off[v + 1] - loc_off[v]), (const uint32_t(*)[3])(s->ringf + s->ring_off[v]),
            (uint32_t)s->nring[v], mask, NULL);
         for (uint32_t k = 0; k < h->words; ++k)
@@ -57,12 +57,12 @@ static int raster_paths(const qibl_hemi_t *h, const qtool_bench_cloth *s, const 
     uint32_t mask[QIBL_HEMI_MAX_WORDS];
     for (int v = 0; v < s->nv; ++v) {
         qibl_hemi_frame_t fr;
-        qibl_hemi_frame_init(&fr, pos[v], nrm[v]);
+        QTOOL_BENCH_CALL(qibl_hemi_frame_init(&fr, pos[v], nrm[v]));
         qtool_bench_cloth_gather(s, pos, v, v == 0, gp);
-        qibl_hemi_transform(&fr, (const qibl_q16_t(*)[3])gp, (uint32_t)(off[v + 1] - off[v]), loc + off[v]);
-        qibl_hemi_clear(h, mask);
-        qibl_hemi_raster(h, (const int32_t(*)[3])(loc + off[v]), (uint32_t)(off[v + 1] - off[v]),
-                         (const uint32_t(*)[3])(s->ringf + s->ring_off[v]), (uint32_t)s->nring[v], mask, &st);
+        QTOOL_BENCH_CALL(qibl_hemi_transform(&fr, (const qibl_q16_t(*)[3])gp, (uint32_t)(off[v + 1] - off[v]), loc + off[v]));
+        QTOOL_BENCH_CALL(qibl_hemi_clear(h, mask));
+        QTOOL_BENCH_CALL(qibl_hemi_raster(h, (const int32_t(*)[3])(loc + off[v]), (uint32_t)(off[v + 1] - off[v]),
+                         (const uint32_t(*)[3])(s->ringf + s->ring_off[v]), (uint32_t)s->nring[v], mask, &st));
     }
     uint32_t ha = 0, hb = 0;
     for (int r = 0; r < reps; ++r) {

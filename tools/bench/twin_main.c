@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "bench/bench.h"
 #include "bench/twin.h"
 #include "io/isa_env.h"
 
@@ -46,5 +47,9 @@ int main(int argc, char **argv)
         rc |= qtool_bench_twin_lights(quick);
     if (all || strcmp(what, "hemi") == 0)
         rc |= qtool_bench_twin_hemi(quick);
+    if (qtool_bench_failed) {
+        fprintf(stderr, "qibl-bench: a core call inside a timed loop failed: the figures above are void\n");
+        rc = 1;
+    }
     return rc != 0;
 }

@@ -12,6 +12,7 @@
 
 #include "bench/bench.h"
 #include "relight/light.h" /* qtool_relight_point_default, behind qcli_point_default */
+#include "bake/job.h"
 
 /* Set by the option-parsing fuzz target (tests/fuzz/fuzz_cliopts.c) only: every command returns 0
  * once its options are parsed and checked, before it reads, computes or writes anything. */
@@ -61,12 +62,10 @@ int qcli_cmd_check(int argc, char **argv);
 int qcli_cmd_demo(int argc, char **argv); /* cmd_demo.c */
 
 /* Scene and panorama options shared by render, bake and demo (cmd_bake.c): --scene builtin|FILE.obj|FILE.ply,
- * --zup, --raw, --size WxH, --equirect, --threads N. */
-typedef struct qcli_scene {
-    const char *scene;
-    int zup, raw, kind, threads;
-    uint32_t w, h;
-} qcli_scene;
+ * --zup, --raw, --size WxH, --equirect, --threads N; the struct, its defaults and the loader are
+ * tools/bake/scene.h's (qcli_scene is qtool_scene_opts). */
+typedef qtool_scene_opts qcli_scene;
+/* QTOOL_SCENE_OPTS_DEFAULT with --threads the job's CPUs (qcli_default_threads) */
 void qcli_scene_defaults(qcli_scene *o);
 /* The default --threads (threads.c): the CPUs of the process's affinity mask (a job's allocation),
  * lowered to SLURM_CPUS_PER_TASK when that is set and smaller; 1..256. _from is the rule on given
@@ -74,13 +73,12 @@ void qcli_scene_defaults(qcli_scene *o);
 int qcli_default_threads(void);
 int qcli_threads_from(long online, long affinity, const char *slurm);
 int qcli_scene_opt(int argc, char **argv, int *i, qcli_scene *o);
-struct qtool_rt_scene;
-/* triangles of a --scene mesh (render, bake, demo), checked before the mesh is allocated: the mesh
- * (144 bytes a triangle) and its BVH stay near 0.3 GiB (docs/robustness.md) */
-#define QCLI_SCENE_MAX_TRIANGLES ((size_t)1 << 20)
+/* old names of what moved to tools/bake (scene.h, job.h) */
+#define QCLI_SCENE_MAX_TRIANGLES QTOOL_SCENE_MAX_TRIANGLES
+#define qcli_eval_lights qtool_bake_eval_lights
+/* qtool_scene_load with its reason printed: 0, or 1 after printing the error */
 int qcli_scene_load(const qcli_scene *o, struct qtool_rt_scene *s);
 struct qtool_rt_light;
-void qcli_eval_lights(int obj_prop, int ndir, int npoint, struct qtool_rt_light *out);
 
 /* --point without --rgb: relight/light.h (qtool_relight_point_default); the old names for render and
  * bake, which still call them from here. */

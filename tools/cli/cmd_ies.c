@@ -7,11 +7,13 @@
  * then is the report printed; a refused file prints one line on stderr and nothing on stdout.
  */
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli/cli.h"
+#include "cli/opt.h"
 #include "io/ies.h"
 #include "io/png.h"
 #include "io/text.h"
@@ -90,26 +92,53 @@ static int draw_polar(const qtool_ies *e, const char *path, char *err, size_t er
     return rc;
 }
 
+typedef struct ies_opts {
+    qcli_opt_list file;
+    const char *png;
+} ies_opts;
+static const ies_opts ies_defaults = {.png = NULL};
+
+static const qcli_opt ies_table[] = {
+    {.name = "--png", .kind = QCLI_OPT_STR, .off = offsetof(ies_opts, png), .arg = "OUT.png",
+     .help = "the polar curves of the two principal planes"},
+    {0},
+};
+
+const qcli_opt_cmd qcli_opts_ies_info = {
+    .name = "ies info",
+    .help_name = "ies",
+    .opts = ies_table,
+    .pos = {.names = "FILE.ies", .min = 1, .max = 1, .off = offsetof(ies_opts, file)},
+    .defaults = &ies_defaults,
+    .size = sizeof(ies_opts),
+    .prose =
+        "  Reads an IES LM-63 file (1986 unlabelled, 1991, 1995, 2002 or 2019 header; keywords with [MORE];\n"
+        "  TILT=NONE or INCLUDE, TILT=<file> refused by name; photometric type C, B or A; every type C\n"
+        "  symmetry: axial, quadrilateral 0..90, bilateral 0..180, 90..270, full 0..360) and prints its header\n"
+        "  facts, candela_min/candela_max (multiplier applied) and the line `lumens <value>`: the candela\n"
+        "  (times the ballast factor, and up to 1995 the ballast-lamp factor) integrated over the sphere.\n"
+        "  Quadrature (the zonal-lumen method of photometric software): along the latitude-like angle\n"
+        "  (C: vertical from the nadir; A: vertical, B: horizontal, from the equator) each zone between\n"
+        "  two grid angles a, b counts its mean intensity (I_a + I_b) / 2 times cos a - cos b (C) or\n"
+        "  sin b - sin a (A, B), nothing outside the vertical range; along the plane angle the trapezoid\n"
+        "  rule over the grid expanded by its symmetry (axial 2 pi, quadrilateral 4 x, bilateral 2 x).\n"
+        "  Isotropic (4 pi I) and cosine (pi I0) lamps come out exactly. A keyword stating the\n"
+        "  luminaire flux ([LUMINAIREOUTPUT], [_ABSOLUTELUMENS]...) is printed beside it (stated_lumens).\n"
+        "  --png OUT.png: the polar curves of the two principal planes (type C: C0-C180 red, C90-C270 blue),\n"
+        "  nadir down, rings at 25 % of the maximum, labelled. Limits: io/ies.h (docs/robustness.md).\n",
+};
+
 int qcli_cmd_ies(int argc, char **argv)
 {
-    if (argc < 2 || strcmp(argv[1], "info") != 0)
-        return qcli_usage_error("usage: qibl ies info FILE.ies [--png OUT.png]");
-    const char *path = NULL, *png = NULL;
-    for (int i = 2; i < argc; ++i) {
-        if (strcmp(argv[i], "--png") == 0) {
-            if (++i >= argc)
-                return qcli_usage_error("ies info: --png needs a file name");
-            png = argv[i];
-        } else if (argv[i][0] == '-' && argv[i][1] != '\0') {
-            return qcli_usage_error("ies info: unknown option '%s'", argv[i]);
-        } else if (path) {
-            return qcli_usage_error("ies info: one file only ('%s' and '%s')", path, argv[i]);
-        } else {
-            path = argv[i];
-        }
-    }
-    if (!path)
-        return qcli_usage_error("usage: qibl ies info FILE.ies [--png OUT.png]");
+    static const qcli_opt_cmd *const subs[] = {&qcli_opts_ies_info, NULL};
+    const qcli_opt_cmd *sub = qcli_opt_sub("ies", subs, NULL, argc, argv);
+    if (!sub)
+        return 2;
+    ies_opts o;
+    int prc = qcli_opt_parse(sub, argc, argv, 2, &o);
+    if (prc != 0)
+        return prc;
+    const char *path = o.file.v[0], *png = o.png;
     if (qcli_parse_only) /* fuzz_cliopts: the options only */
         return 0;
     qtool_ies e;

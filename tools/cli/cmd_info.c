@@ -2,6 +2,7 @@
  * cmd_info.c - `qibl info FILE`: validate an asset with the core and print what it holds.
  */
 #include <errno.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,6 +11,25 @@
 #include "qibl/lightpath.h"
 #include "io/file.h"
 #include "cli/cli.h"
+#include "cli/opt.h"
+
+typedef struct info_opts {
+    qcli_opt_list file;
+} info_opts;
+static const info_opts info_defaults = {.file = {.n = 0}};
+
+const qcli_opt_cmd qcli_opts_info = {
+    .name = "info",
+    .pos = {.names = "FILE", .min = 1, .max = 1, .off = offsetof(info_opts, file)},
+    .defaults = &info_defaults,
+    .size = sizeof(info_opts),
+    .prose =
+        "  Validates FILE with the core's qibl_asset_open (magic, version, chunk table, bounds, CRC-32s,\n"
+        "  chunk fields) and prints the header, the chunk table (type, offset, size, CRC) and per known\n"
+        "  chunk its fields: SHMP size, k, channels, per map and channel the Q8.24 scale and bias as\n"
+        "  decimals and the min/max byte of the plane; PMAP size and the bounding box of its points;\n"
+        "  YLUT face size and k. An invalid asset prints `qibl: FILE: <reason>` and exits 1.\n",
+};
 
 static const char *fourcc(uint32_t t, char s[16])
 {
@@ -63,9 +83,11 @@ static void print_pmap(const qibl_pmap_t *p)
 
 int qcli_cmd_info(int argc, char **argv)
 {
-    if (argc != 2 || argv[1][0] == '-')
-        return qcli_usage_error("usage: qibl info FILE");
-    const char *path = argv[1];
+    info_opts o;
+    int rc = qcli_opt_parse(&qcli_opts_info, argc, argv, 1, &o);
+    if (rc != 0)
+        return rc;
+    const char *path = o.file.v[0];
     size_t n = 0;
     if (qcli_parse_only) /* fuzz_cliopts: the options only */
         return 0;

@@ -1,7 +1,7 @@
 /*
- * cmd_relight.c - `qibl gen` (procedural courtyard -> asset) and `qibl relight` (asset + light ->
- * PNG through the core kernels and the software framebuffer): the options parsed, tools/relight
- * called, its results written and printed.
+ * cmd_relight.c - `qibl relight` (asset + light -> PNG through the core kernels and the software
+ * framebuffer): the options parsed, tools/relight called, its results written and printed.
+ * `qibl gen` lives in cmd_gen.c.
  */
 #include <math.h>
 #include <stdio.h>
@@ -24,107 +24,6 @@
 #include "qibl/soft.h"
 #include "relight/gles.h"
 #include "relight/relight.h"
-
-/* ---- qibl gen ---------------------------------------------------------------------------------- */
-
-int qcli_cmd_gen(int argc, char **argv)
-{
-    const char *out = NULL;
-    long w = 1024, h = 256, k = 16, lut = 0;
-    int r;
-    uint32_t layout = QIBL_SHMAPS_PLANAR;
-    qtool_pack_scheme scheme = QTOOL_PACK_MINMAX;
-    qtool_pano_kind kind = QTOOL_PANO_CYLINDRICAL;
-    for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i];
-        if (strcmp(a, "-o") == 0 && i + 1 < argc)
-            out = argv[++i];
-        else if (strcmp(a, "--size") == 0 && i + 1 < argc) {
-            if (qcli_parse_size(a, argv[++i], 16384, &w, &h) != 0)
-                return 2;
-            if (w * h > (long)QIBL_ASSET_MAX_PIXELS)
-                return qcli_usage_error("--size %ldx%ld is above the asset's %u pixels", w, h, QIBL_ASSET_MAX_PIXELS);
-        } else if (strcmp(a, "--k") == 0 && i + 1 < argc) {
-            if (qcli_parse_int(argv[++i], 1, 25, &k) != 0)
-                return qcli_usage_error("--k needs an integer in 1..25");
-        } else if ((r = qcli_lut_size_opt(argc, argv, &i, 0, &lut)) != 0) {
-            if (r < 0)
-                return 2;
-        } else if (strcmp(a, "--pack") == 0 && i + 1 < argc) {
-            const char *p = argv[++i];
-            if (strcmp(p, "minmax") == 0)
-                scheme = QTOOL_PACK_MINMAX;
-            else if (strcmp(p, "robust") == 0)
-                scheme = QTOOL_PACK_ROBUST;
-            else
-                return qcli_usage_error("--pack is minmax or robust");
-        } else if (strcmp(a, "--layout") == 0 && i + 1 < argc) {
-            if (qcli_parse_layout(argv[++i], &layout) != 0)
-                return qcli_usage_error("--layout is planar or interleaved");
-        } else if (strcmp(a, "--equirect") == 0)
-            kind = QTOOL_PANO_EQUIRECT;
-        else
-            return qcli_usage_error("usage: qibl gen -o FILE [--size WxH] [--k K] [--lut-size N] [--pack minmax|robust] "
-                                        "[--equirect] [--layout planar|interleaved]");
-    }
-    if (!out)
-        return qcli_usage_error("gen: -o FILE is required");
-    if (qcli_parse_only) /* fuzz_cliopts: the options only */
-        return 0;
-    qtool_gen_maps g;
-    if (qtool_gen_scene((uint32_t)w, (uint32_t)h, (uint32_t)k, kind, &g) != 0) {
-        fprintf(stderr, "qibl: gen: out of memory\n");
-        return 1;
-    }
-    size_t np = (size_t)w * (size_t)h, nplanes = (size_t)k * 3;
-    int32_t *scale = malloc(sizeof(int32_t) * nplanes), *bias = malloc(sizeof(int32_t) * nplanes);
-    uint8_t *planes = malloc(np * nplanes);
-    int16_t *lutv = NULL;
-    qtool_asset_builder b;
-    qtool_asset_builder_init(&b);
-    int rc = 1;
-    qtool_pack_stats st;
-    if (!scale || !bias || !planes || qtool_pack_maps(&g, scheme, scale, bias, planes, &st) != 0) {
-        fprintf(stderr, "qibl: gen: out of memory\n");
-        goto done;
-    }
-    if (qtool_asset_add_shmp_layout(&b, (uint32_t)w, (uint32_t)h, (uint32_t)k, 3, scale, bias, planes, layout) != 0 ||
-        qtool_asset_add_pmap(&b, (uint32_t)w, (uint32_t)h, g.p) != 0) {
-        fprintf(stderr, "qibl: gen: %s\n", b.err);
-        goto done;
-    }
-    if (lut) {
-        size_t vs = qibl_ylut_values_size((uint32_t)lut, (uint32_t)k);
-        uint8_t *le = malloc(vs);
-        lutv = malloc(vs);
-        if (!le || !lutv || qibl_ylut_build((uint32_t)lut, (uint32_t)k, le, vs) != QIBL_OK) {
-            free(le);
-            fprintf(stderr, "qibl: gen: out of memory\n");
-            goto done;
-        }
-        for (size_t i = 0; i < vs / 2; ++i)
-            lutv[i] = qibl_load_s16le(le + 2 * i);
-        free(le);
-        if (qtool_asset_add_ylut(&b, (uint32_t)lut, (uint32_t)k, lutv) != 0) {
-            fprintf(stderr, "qibl: gen: %s\n", b.err);
-            goto done;
-        }
-    }
-    if (qtool_asset_write_file(&b, out, 1) != 0) {
-        fprintf(stderr, "qibl: %s\n", b.err);
-        goto done;
-    }
-    printf("wrote %s: %ldx%ld %s courtyard, k = %ld, %s layout, packing %s (rms %.3e, max %.3e, %llu clipped)%s\n", out, w, h,
-           kind == QTOOL_PANO_CYLINDRICAL ? "cylindrical" : "equirectangular", k,
-           layout == QIBL_SHMAPS_INTERLEAVED ? "interleaved" : "planar", scheme == QTOOL_PACK_MINMAX ? "min/max" : "robust", st.rms, st.max_abs, (unsigned long long)st.clipped,
-           lut ? ", with cube-map Y LUT" : "");
-    rc = 0;
-done:
-    qtool_asset_builder_free(&b);
-    free(scale), free(bias), free(planes), free(lutv);
-    qtool_gen_free(&g);
-    return rc;
-}
 
 /* ---- qibl relight ------------------------------------------------------------------------------ */
 

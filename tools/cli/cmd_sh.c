@@ -2,33 +2,52 @@
  * cmd_sh.c - `qibl sh eval`: the core's integer SH basis, printed as decimals.
  */
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "io/png.h"
 #include "cli/cli.h"
+#include "cli/opt.h"
 #include "qibl/sh.h"
 
 #define M_PI_VALUE 3.14159265358979323846
 
 /* `qibl sh plot --png FILE [--tile W]`: every basis function as a lat-long tile (theta down,
  * phi across), orange positive, blue negative, arranged as the usual band pyramid. */
+typedef struct plot_opts {
+    const char *png;
+    long tile;
+} plot_opts;
+static const plot_opts plot_defaults = {.png = NULL, .tile = 128};
+
+static const qcli_opt plot_table[] = {
+    {.name = "--png", .kind = QCLI_OPT_STR, .off = offsetof(plot_opts, png), .arg = "FILE", .required = 1,
+     .help = "the picture to write"},
+    {.name = "--tile", .kind = QCLI_OPT_INT, .off = offsetof(plot_opts, tile), .arg = "W", .lo = 8, .hi = 1024,
+     .what = "a tile width", .help = "each basis function's tile width in pixels"},
+    {0},
+};
+
+const qcli_opt_cmd qcli_opts_sh_plot = {
+    .name = "sh plot",
+    .help_name = "sh",
+    .opts = plot_table,
+    .defaults = &plot_defaults,
+    .size = sizeof(plot_opts),
+    .prose = "  Writes a PNG of every basis function as a lat-long tile (orange > 0, blue < 0), evaluated by\n"
+             "  the integer core.\n",
+};
+
 static int sh_plot(int argc, char **argv)
 {
-    const char *path = NULL;
-    long tw = 128;
-    for (int i = 2; i < argc; ++i) {
-        if (strcmp(argv[i], "--png") == 0 && i + 1 < argc)
-            path = argv[++i];
-        else if (strcmp(argv[i], "--tile") == 0 && i + 1 < argc) {
-            if (qcli_parse_int(argv[++i], 8, 1024, &tw) != 0)
-                return qcli_usage_error("--tile needs an even width in 8..1024");
-        } else
-            return qcli_usage_error("usage: qibl sh plot --png FILE [--tile W]");
-    }
-    if (!path)
-        return qcli_usage_error("usage: qibl sh plot --png FILE [--tile W]");
+    plot_opts o;
+    int rc = qcli_opt_parse(&qcli_opts_sh_plot, argc, argv, 2, &o);
+    if (rc != 0)
+        return rc;
+    const char *path = o.png;
+    long tw = o.tile;
     if (qcli_parse_only) /* fuzz_cliopts: the options only */
         return 0;
     const int B = QIBL_SH_MAX_BANDS, th = (int)tw / 2, pad = 4;
@@ -57,7 +76,7 @@ static int sh_plot(int argc, char **argv)
                 }
         }
     char err[512];
-    int rc = qtool_png_write_rgb8(path, W, H, img, err, sizeof err);
+    rc = qtool_png_write_rgb8(path, W, H, img, err, sizeof err);
     free(img);
     if (rc != 0)
         return fprintf(stderr, "qibl: %s\n", err), 1;
@@ -65,38 +84,56 @@ static int sh_plot(int argc, char **argv)
     return 0;
 }
 
+typedef struct eval_opts {
+    qcli_opt_list xyz;
+    long bands;
+} eval_opts;
+static const eval_opts eval_defaults = {.bands = QIBL_SH_MAX_BANDS};
+
+static const qcli_opt eval_table[] = {
+    {.name = "--bands", .kind = QCLI_OPT_INT, .off = offsetof(eval_opts, bands), .arg = "B", .lo = 1,
+     .hi = QIBL_SH_MAX_BANDS, .help = "bands 0..B-1: B*B values"},
+    {0},
+};
+
+const qcli_opt_cmd qcli_opts_sh_eval = {
+    .name = "sh eval",
+    .help_name = "sh",
+    .opts = eval_table,
+    .pos = {.names = "X Y Z", .min = 3, .max = 3, .off = offsetof(eval_opts, xyz), .numbers = 1},
+    .defaults = &eval_defaults,
+    .size = sizeof(eval_opts),
+    .prose =
+        "  Prints the B*B real SH basis values Y_0 .. Y_{B*B-1} (bands 0..B-1),\n"
+        "  one per line as `Y[i] l=L m=M value` (value as %.9f), at the direction (X, Y, Z).\n"
+        "  X, Y, Z are decimals converted to Q16.16; the vector need not be unit length but must not\n"
+        "  be zero. The values are the core's Q2.30 integers divided by 2^30. Convention: Wong et al.\n"
+        "  appendix, index i = l*l + l + m, Condon-Shortley phase (Y_3 = -0.488603 at (1, 0, 0)).\n",
+};
+
 int qcli_cmd_sh(int argc, char **argv)
 {
-    if (argc >= 2 && strcmp(argv[1], "plot") == 0)
-        return sh_plot(argc, argv);
+    static const qcli_opt_cmd *const subs[] = {&qcli_opts_sh_eval, &qcli_opts_sh_plot, NULL};
     if (argc >= 2 && strcmp(argv[1], "project") == 0)
         return qcli_cmd_sh_project(argc, argv); /* cmd_probe.c */
-    if (argc < 2 || strcmp(argv[1], "eval") != 0)
-        return qcli_usage_error("usage: qibl sh eval [--bands B] X Y Z | qibl sh plot --png FILE");
-    long bands = QIBL_SH_MAX_BANDS;
-    const char *xyz[3];
-    int n = 0;
-    for (int i = 2; i < argc; ++i) {
-        if (strcmp(argv[i], "--bands") == 0) {
-            if (i + 1 >= argc || qcli_parse_int(argv[i + 1], 1, QIBL_SH_MAX_BANDS, &bands) != 0)
-                return qcli_usage_error("--bands needs an integer in 1..%d", QIBL_SH_MAX_BANDS);
-            ++i;
-        } else if (n < 3) {
-            xyz[n++] = argv[i];
-        } else {
-            return qcli_usage_error("sh eval takes exactly three coordinates X Y Z");
-        }
-    }
-    if (n != 3)
-        return qcli_usage_error("sh eval takes exactly three coordinates X Y Z");
+    const qcli_opt_cmd *sub = qcli_opt_sub("sh", subs, "project", argc, argv);
+    if (!sub)
+        return 2;
+    if (sub == &qcli_opts_sh_plot)
+        return sh_plot(argc, argv);
+    eval_opts o;
+    int rc = qcli_opt_parse(sub, argc, argv, 2, &o);
+    if (rc != 0)
+        return rc;
+    long bands = o.bands;
     qibl_q16_t dir[3];
     for (int k = 0; k < 3; ++k)
-        if (qcli_parse_q16(xyz[k], &dir[k]) != 0)
-            return qcli_usage_error("'%s' is not a number in the Q16.16 range [-32768, 32768)", xyz[k]);
+        if (qcli_parse_q16(o.xyz.v[k], &dir[k]) != 0)
+            return qcli_opt_error(sub, "'%s' is not a number in the Q16.16 range [-32768, 32768)", o.xyz.v[k]);
     qibl_q30_t y[QIBL_SH_MAX_COUNT];
     qibl_status_t st = qibl_sh_eval(dir, (int)bands, y);
     if (st != QIBL_OK)
-        return qcli_usage_error("sh eval: %s", qibl_status_str(st));
+        return qcli_opt_error(sub, "%s", qibl_status_str(st));
     /* one line per basis function, labelled: index i = l*l + l + m, band l, order m */
     for (int l = 0; l < (int)bands; ++l)
         for (int m = -l; m <= l; ++m)

@@ -4,14 +4,45 @@
  */
 #include <errno.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli/cli.h"
+#include "cli/opt.h"
 #include "qibl/srgbe.h"
 
-#define SRGBE_USAGE "usage: qibl srgbe encode R G B | qibl srgbe decode HEX8"
+typedef struct srgbe_opts {
+    qcli_opt_list args;
+} srgbe_opts;
+static const srgbe_opts srgbe_defaults = {.args = {.n = 0}};
+
+const qcli_opt_cmd qcli_opts_srgbe_encode = {
+    .name = "srgbe encode",
+    .help_name = "srgbe",
+    .pos = {.names = "R G B", .min = 3, .max = 3, .off = offsetof(srgbe_opts, args), .numbers = 1},
+    .defaults = &srgbe_defaults,
+    .size = sizeof(srgbe_opts),
+    .prose =
+        "  R G B are decimals rounded to binary32 (inf and nan accepted); prints the code as\n"
+        "  8 hex digits, bytes R G B E in memory order (Granier et al. 4.2: e = floor(log2 max|c|) + 2,\n"
+        "  X = round(255 (c 2^-e + 1/2)), E = e + 126). The code the codec wrote is always printed; a\n"
+        "  status other than QIBL_OK is named on stderr (`qibl: srgbe encode: QIBL_E_SRGBE_INF: ...`):\n"
+        "  an infinite channel saturates (exit 0); a NaN channel writes the zero code 80808000 (exit 1).\n",
+};
+
+const qcli_opt_cmd qcli_opts_srgbe_decode = {
+    .name = "srgbe decode",
+    .help_name = "srgbe",
+    .pos = {.names = "HEX8", .min = 1, .max = 1, .off = offsetof(srgbe_opts, args)},
+    .defaults = &srgbe_defaults,
+    .size = sizeof(srgbe_opts),
+    .prose =
+        "  HEX8 is 8 hex digits as printed by encode; prints the three channels\n"
+        "  (X/255 - 1/2) 2^(E-126), correctly rounded to binary32, as %.9g (E = 255 with X = 0 or 255\n"
+        "  saturates to +-FLT_MAX, printed, with QIBL_E_SRGBE_DECODE_SAT named on stderr; exit 0).\n",
+};
 
 /* a decimal (or inf/nan) rounded to binary32; 0, or -1 if not a number or beyond binary32 */
 static int parse_f32(const char *s, uint32_t *bits)
@@ -61,14 +92,12 @@ static void note_status(const char *what, qibl_status_t st)
         fprintf(stderr, "qibl: srgbe %s: %s: %s\n", what, status_name(st), qibl_status_str(st));
 }
 
-static int srgbe_encode(int argc, char **argv)
+static int srgbe_encode(const srgbe_opts *o)
 {
-    if (argc != 5)
-        return qcli_usage_error("srgbe encode needs three values R G B (" SRGBE_USAGE ")");
     uint32_t in[3];
     for (int i = 0; i < 3; ++i)
-        if (parse_f32(argv[2 + i], &in[i]) != 0)
-            return qcli_usage_error("srgbe encode: '%s' is not a binary32 number", argv[2 + i]);
+        if (parse_f32(o->args.v[i], &in[i]) != 0)
+            return qcli_opt_error(&qcli_opts_srgbe_encode, "'%s' is not a binary32 number", o->args.v[i]);
     uint8_t code[4];
     qibl_status_t st = qibl_srgbe_encode_f32(in, code);
     /* the codec writes a code for every status but a NULL pointer: print it, then name the status */
@@ -77,18 +106,16 @@ static int srgbe_encode(int argc, char **argv)
     return st == QIBL_E_SRGBE_NAN ? 1 : 0;
 }
 
-static int srgbe_decode(int argc, char **argv)
+static int srgbe_decode(const srgbe_opts *o)
 {
-    if (argc != 3)
-        return qcli_usage_error("srgbe decode needs one code HEX8 (" SRGBE_USAGE ")");
-    const char *h = argv[2];
+    const char *h = o->args.v[0];
     uint8_t code[4];
     if (strlen(h) != 8)
-        return qcli_usage_error("srgbe decode: '%s' is not 8 hex digits", h);
+        return qcli_opt_error(&qcli_opts_srgbe_decode, "'%s' is not 8 hex digits", h);
     for (int i = 0; i < 4; ++i) {
         int hi = hexval(h[2 * i]), lo = hexval(h[2 * i + 1]);
         if (hi < 0 || lo < 0)
-            return qcli_usage_error("srgbe decode: '%s' is not 8 hex digits", h);
+            return qcli_opt_error(&qcli_opts_srgbe_decode, "'%s' is not 8 hex digits", h);
         code[i] = (uint8_t)(hi << 4 | lo);
     }
     uint32_t out[3];
@@ -102,9 +129,13 @@ static int srgbe_decode(int argc, char **argv)
 
 int qcli_cmd_srgbe(int argc, char **argv)
 {
-    if (argc >= 2 && strcmp(argv[1], "encode") == 0)
-        return srgbe_encode(argc, argv);
-    if (argc >= 2 && strcmp(argv[1], "decode") == 0)
-        return srgbe_decode(argc, argv);
-    return qcli_usage_error(SRGBE_USAGE);
+    static const qcli_opt_cmd *const subs[] = {&qcli_opts_srgbe_encode, &qcli_opts_srgbe_decode, NULL};
+    const qcli_opt_cmd *sub = qcli_opt_sub("srgbe", subs, NULL, argc, argv);
+    if (!sub)
+        return 2;
+    srgbe_opts o;
+    int rc = qcli_opt_parse(sub, argc, argv, 2, &o);
+    if (rc != 0)
+        return rc;
+    return sub == &qcli_opts_srgbe_encode ? srgbe_encode(&o) : srgbe_decode(&o);
 }

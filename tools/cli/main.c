@@ -3,6 +3,7 @@
  */
 #include <errno.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -11,6 +12,7 @@
 
 #include "qibl/asset.h" /* QIBL_ASSET_MAX_LUT */
 #include "cli/cli.h"
+#include "cli/opt.h"
 #include "qibl/version.h"
 #include "qibl/shmaps.h"
 #include "qibl/isa.h"
@@ -18,22 +20,37 @@
 
 int qcli_parse_only; /* see cli.h */
 
+/* the option tables of the commands on them (cli/opt.h), one per subcommand */
+static const qcli_opt_cmd *const sh_opts[] = {&qcli_opts_sh_eval, &qcli_opts_sh_plot, NULL};
+static const qcli_opt_cmd *const gen_opts[] = {&qcli_opts_gen, NULL};
+static const qcli_opt_cmd *const info_opts[] = {&qcli_opts_info, NULL};
+static const qcli_opt_cmd *const srgbe_opts[] = {&qcli_opts_srgbe_encode, &qcli_opts_srgbe_decode, NULL};
+static const qcli_opt_cmd *const ies_opts[] = {&qcli_opts_ies_info, NULL};
+static const qcli_opt_cmd *const study_opts[] = {&qcli_opts_study, NULL};
+
+/* which commands are on them: `qibl help CMD` is made from these, not from the command's usage */
+static const struct {
+    const char *cmd;
+    const qcli_opt_cmd *const *opts;
+} tables[] = {{"sh", sh_opts},       {"gen", gen_opts}, {"info", info_opts},
+              {"srgbe", srgbe_opts}, {"ies", ies_opts}, {"study", study_opts}};
+
+static const qcli_opt_cmd *const *tables_of(const char *cmd)
+{
+    for (size_t i = 0; i < sizeof tables / sizeof tables[0]; ++i)
+        if (strcmp(tables[i].cmd, cmd) == 0)
+            return tables[i].opts;
+    return NULL;
+}
+
 static const qcli_cmd commands[] = {
     {"sh", "evaluate the integer SH basis for a direction",
-     "usage: qibl sh eval [--bands B] X Y Z\n"
-     "       qibl sh plot --png FILE [--tile W]\n"
-     "       qibl sh project PROBE.hdr [--bands B] [--irradiance] [--window none|hann|lanczos]\n"
+     /* sh project (cmd_probe.c) is not on an option table yet: its text as it was */
+     "usage: qibl sh project PROBE.hdr [--bands B] [--irradiance] [--window none|hann|lanczos]\n"
      "                       [--layout L] [--format table|json|c] [--name ID] [--frame zup|yup]\n"
      "                       [--yaw DEG | --rotate a,b,c,d,e,f,g,h,i]\n"
      "       qibl sh project PROBE.hdr --preset filament|unity|gltf|raw [--window auto|no|CUTOFF]\n"
      "                       [--yaw DEG | --rotate ...] [--layout L] [--name ID]\n"
-     "  Prints the B*B real SH basis values Y_0 .. Y_{B*B-1} (bands 0..B-1, B in 1..5, default 5),\n"
-     "  one per line as `Y[i] l=L m=M value` (value as %.9f), at the direction (X, Y, Z).\n"
-     "  X, Y, Z are decimals converted to Q16.16; the vector need not be unit length but must not\n"
-     "  be zero. The values are the core's Q2.30 integers divided by 2^30. Convention: Wong et al.\n"
-     "  appendix, index i = l*l + l + m, Condon-Shortley phase (Y_3 = -0.488603 at (1, 0, 0)).\n"
-     "  plot: writes a PNG of every basis function as a lat-long tile (orange > 0, blue < 0),\n"
-     "  evaluated by the integer core; W is the tile width in pixels (default 128).\n"
      "  project: a Radiance probe (layout detected or --layout, resampled to lat-long as qibl lights\n"
      "  does) projected onto bands 0..B-1 by the integer core, row by row (qibl/probe.h): radiance\n"
      "  coefficients, or irradiance (times the clamped-cosine A_l), with an optional Hann or Lanczos\n"
@@ -82,20 +99,12 @@ static const qcli_cmd commands[] = {
      "  all: every timing benchmark (what `make bench` runs). --quick: fewer repetitions.\n",
      qcli_cmd_bench},
     {"gen", "write the procedural courtyard's SH maps (and P map, optional Y LUT) as an asset",
-     "usage: qibl gen -o FILE [--size WxH] [--k K] [--lut-size N] [--pack minmax|robust] [--equirect]\n"
-     "                [--layout planar|interleaved]\n"
-     "  Renders the built-in courtyard's light-transport SH maps analytically (Lambert + glossy, no\n"
-     "  shadows; the ray-traced bake is a separate command), packs them to 8 bits per map and channel\n"
-     "  (min/max or the 0.1..99.9 percentile range) and writes SHMP + PMAP (+ YLUT with --lut-size N,\n"
-     "  the cube-map face size). Defaults: 1024x256 cylindrical, k = 16, min/max, no LUT. (The old\n"
-     "  spelling --lut N still works, with a deprecation note: relight's --lut is the sampling mode.)\n"
-     "  --layout interleaved: the maps' bytes row by row in groups of 16 pixels (rows stream from disc\n"
-     "  one at a time; relights to the same bytes as the default planar layout).\n",
-     qcli_cmd_gen},
+     NULL, qcli_cmd_gen},
     {"render", "ray-trace the ground-truth panorama of a scene under one light (PNG, PFM, depth)",
      "usage: qibl render (--sun X Y Z | --point X Y Z) [--rgb R G B] [--falloff 1|2] [--png OUT] [--pfm OUT]\n"
      "                   [--exr OUT.exr] [--depth OUT.pfm] [--scene builtin|FILE.gltf|FILE.glb|FILE.obj|FILE.ply] [--zup]\n"
      "                   [--raw] [--size WxH] [--equirect] [--threads N] [--ies FILE.ies [--aim X Y Z] [--up X Y Z]]\n"
+     "                   [--camera EX,EY,EZ TX,TY,TZ UX,UY,UZ | --camera gltf[:N]] [--fov DEG]\n"
      "  The reference renderer (BVH ray tracer, hard shadows, Lambert + glossy) from the viewpoint at the\n"
      "  origin: what a light really produces, to compare relit frames with. --sun: directional light\n"
      "  from (X, Y, Z) with irradiance --rgb (default 1 1 1); --point: a lamp at (X, Y, Z) with\n"
@@ -112,7 +121,12 @@ static const qcli_cmd commands[] = {
      "  that it is almost black.\n"
      "  --ies FILE.ies: the --point lamp is goniometric: C0 times I(direction) / I_peak from the IES\n"
      "  profile in double precision (bilinear in its angle grid), oriented by --aim (default 0 0 -1)\n"
-     "  and --up (default 1 0 0) as relight --ies orients it: the truth of relight's tables.\n",
+     "  and --up (default 1 0 0) as relight --ies orients it: the truth of relight's tables.\n"
+     "  --camera EYE TARGET UP: a fixed perspective camera (a pre-rendered background) instead of the\n"
+     "  panorama: --size WxH pixels from EYE looking at TARGET, UP its approximate up, --fov DEG the\n"
+     "  vertical field of view (default 60, in (0, 180)); --camera gltf[:N]: the scene file's camera N\n"
+     "  (default 0, perspective, its yfov unless --fov), placed as the mesh is. A bad camera (EYE =\n"
+     "  TARGET, UP zero or along the view) is named.\n",
      qcli_cmd_render},
     {"transfer", "a mesh self-shadowed by hemispherical rasterization under a probe, beside the ray-cast truth",
      "usage: qibl transfer MESH [MESH...] --probe PROBE.hdr [--layout L] [--png OUT] [--size N] [--mask 16|32|64]\n"
@@ -144,6 +158,7 @@ static const qcli_cmd commands[] = {
      "                 [--layout planar|interleaved] [--unshadowed-k K] [--sun-path LAT,DECL,T0,T1]\n"
      "                 [--lamp-track X,Y,Z;X,Y,Z;...] [--path-steps N]\n"
      "                 [--lamp-box X0,Y0,Z0,X1,Y1,Z1] [--lamp-samples N] [scene options as for render]\n"
+     "                 [--camera EX,EY,EZ TX,TY,TZ UX,UY,UZ | --camera gltf[:N]] [--fov DEG]\n"
      "  Renders the scene under N directional lights (spherical Fibonacci set, equal weights 4 pi / N,\n"
      "  default 512) with hard shadows, projects every pixel's response onto SH (k <= 25, default 16;\n"
      "  quadrature, or --lsq least squares), packs the maps to 8 bits (min/max per map and channel) and\n"
@@ -169,6 +184,8 @@ static const qcli_cmd commands[] = {
      "  lamps through SHMU are scaled by it (their cast shadows on average). A shard also writes its\n"
      "  share of the unshadowed sums (FILE.u) and its rows of the LPTH/LOCC chunks (FILE.x, also when\n"
      "  there are none, so merge can refuse a shard baked without the others' paths).\n"
+     "  --camera, --fov (as for render): the pixels are a fixed camera's rays instead of the panorama's,\n"
+     "  so the maps relight a pre-rendered background seen from one corner (qibl relight as any asset).\n"
      "  Exit status: 0 done, 1 failed (a file, memory; named on stderr, nothing half-written), 2 bad\n"
      "  arguments.\n",
      qcli_cmd_bake},
@@ -285,26 +302,9 @@ static const qcli_cmd commands[] = {
      "  The window needs a build with X11 (Debian: apt-get install libx11-dev).\n",
      qcli_cmd_view},
     {"info", "validate a qibl asset file and print its contents",
-     "usage: qibl info FILE\n"
-     "  Validates FILE with the core's qibl_asset_open (magic, version, chunk table, bounds, CRC-32s,\n"
-     "  chunk fields) and prints the header, the chunk table (type, offset, size, CRC) and per known\n"
-     "  chunk its fields: SHMP size, k, channels, per map and channel the Q8.24 scale and bias as\n"
-     "  decimals and the min/max byte of the plane; PMAP size and the bounding box of its points;\n"
-     "  YLUT face size and k. An invalid asset prints `qibl: FILE: <reason>` and exits 1.\n",
-     qcli_cmd_info},
+     NULL, qcli_cmd_info},
     {"srgbe", "encode/decode one sRGBE colour (signed shared-exponent RGB in 4 bytes)",
-     "usage: qibl srgbe encode R G B\n"
-     "       qibl srgbe decode HEX8\n"
-     "  encode: R G B are decimals rounded to binary32 (inf and nan accepted); prints the code as\n"
-     "  8 hex digits, bytes R G B E in memory order (Granier et al. 4.2: e = floor(log2 max|c|) + 2,\n"
-     "  X = round(255 (c 2^-e + 1/2)), E = e + 126). The code the codec wrote is always printed; a\n"
-     "  status other than QIBL_OK is named on stderr (`qibl: srgbe encode: QIBL_E_SRGBE_INF: ...`):\n"
-     "  an infinite channel saturates (exit 0); a NaN channel writes the zero code 80808000 (exit 1).\n"
-     "  decode: HEX8 is 8 hex digits as printed by encode; prints the three channels\n"
-     "  (X/255 - 1/2) 2^(E-126), correctly rounded to binary32, as %.9g (E = 255 with X = 0 or 255\n"
-     "  saturates to +-FLT_MAX, printed, with QIBL_E_SRGBE_DECODE_SAT named on stderr; exit 0).\n"
-     "  Bad arguments: one line on stderr, exit status 2.\n",
-     qcli_cmd_srgbe},
+     NULL, qcli_cmd_srgbe},
     {"lights", "sample a .hdr light probe (lat-long, angular, ball, cube cross) into directional lights",
      "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv | --json] [--png OUT.png]\n"
      "                   [--priority default|energy|energy-size|variance|levels] [--place centroid|centre]\n"
@@ -357,40 +357,52 @@ static const qcli_cmd commands[] = {
      "  of the lowest or at most 1 %, with the relight option that uses it.\n",
      qcli_cmd_probe},
     {"ies", "an IES LM-63 photometric file: header facts, candela range, integrated lumens, polar curves",
-     "usage: qibl ies info FILE.ies [--png OUT.png]\n"
-     "  Reads an IES LM-63 file (1986 unlabelled, 1991, 1995, 2002 or 2019 header; keywords with [MORE];\n"
-     "  TILT=NONE or INCLUDE, TILT=<file> refused by name; photometric type C, B or A; every type C\n"
-     "  symmetry: axial, quadrilateral 0..90, bilateral 0..180, 90..270, full 0..360) and prints its header\n"
-     "  facts, candela_min/candela_max (multiplier applied) and the line `lumens <value>`: the candela\n"
-     "  (times the ballast factor, and up to 1995 the ballast-lamp factor) integrated over the sphere.\n"
-     "  Quadrature (the zonal-lumen method of photometric software): along the latitude-like angle\n"
-     "  (C: vertical from the nadir; A: vertical, B: horizontal, from the equator) each zone between\n"
-     "  two grid angles a, b counts its mean intensity (I_a + I_b) / 2 times cos a - cos b (C) or\n"
-     "  sin b - sin a (A, B), nothing outside the vertical range; along the plane angle the trapezoid\n"
-     "  rule over the grid expanded by its symmetry (axial 2 pi, quadrilateral 4 x, bilateral 2 x).\n"
-     "  Isotropic (4 pi I) and cosine (pi I0) lamps come out exactly. A keyword stating the\n"
-     "  luminaire flux ([LUMINAIREOUTPUT], [_ABSOLUTELUMENS]...) is printed beside it (stated_lumens).\n"
-     "  --png OUT.png: the polar curves of the two principal planes (type C: C0-C180 red, C90-C270 blue),\n"
-     "  nadir down, rings at 25 % of the maximum, labelled. Limits: io/ies.h (docs/robustness.md).\n",
-     qcli_cmd_ies},
+     NULL, qcli_cmd_ies},
     {"study", "the light-probe approximation study: every method, error against N and time",
-     "usage: qibl study [PROBE.hdr ...] --out DIR [--quick] [--threads T]\n"
-     "  Ground-truth irradiance of each lat-long probe at 20000 spherical-Fibonacci normals (Madsen &\n"
-     "  Laursen eq. 4 over every pixel), then median cut, adaptive, variance minimisation, SH 4/9/16/25,\n"
-     "  the NNLS refit of median-cut and varmin directions, sun plus sky, LightGen-style k-means and\n"
-     "  irradiance optimisation (Levenberg-Marquardt) for N = 1..256; writes DIR/study.csv, summary.md\n"
-     "  (N to reach 10/5/2 % mean error), plot_*.svg, time_*.svg and overlay_*.png, and RESULT lines.\n"
-     "  Without probes: procedural skies (said so). --quick: half-size probes, 2000 normals, N <= 64.\n",
-     qcli_cmd_study},
+     NULL, qcli_cmd_study},
 };
 #define NCMD (sizeof commands / sizeof commands[0])
+
+/* the flags `qibl` itself takes, in place of a command */
+typedef struct global_opts {
+    int help, version, isa_list;
+} global_opts;
+static const qcli_opt global_table[] = {
+    {.name = "--help", .alias = "-h", .kind = QCLI_OPT_FLAG, .off = offsetof(global_opts, help),
+     .help = "this list (qibl help CMD or qibl CMD --help: a command's options)"},
+    {.name = "--version", .kind = QCLI_OPT_FLAG, .off = offsetof(global_opts, version),
+     .help = "the version, the config id and the kernels this CPU runs"},
+    {.name = "--isa-list", .kind = QCLI_OPT_FLAG, .off = offsetof(global_opts, isa_list),
+     .help = "the kernel sets this CPU runs, one per line (QIBL_ISA takes one)"},
+    {0},
+};
+/* name "": its refusals read "qibl: ...; see qibl --help" */
+static const qcli_opt_cmd global_spec = {.name = "", .opts = global_table, .size = sizeof(global_opts)};
 
 static void print_help(FILE *f)
 {
     fprintf(f, "qibl - integer image-based lighting runtime: command-line tool\n\n"
-               "usage: qibl <command> [args]\n       qibl help <command>\n       qibl --version\n       qibl --isa-list\n\ncommands:\n");
+               "usage: qibl <command> [args]\n       qibl help <command>\n       qibl --version\n       qibl --isa-list\n");
+    qcli_opt_help_list(f, &global_spec);
+    fprintf(f, "\ncommands:\n");
     for (size_t i = 0; i < NCMD; ++i)
         fprintf(f, "  %-8s %s\n", commands[i].name, commands[i].summary);
+}
+
+/* `qibl help CMD`: each option table's usage, options and prose, then the text not on a table */
+static void print_cmd_help(FILE *f, const qcli_cmd *c)
+{
+    const qcli_opt_cmd *const *t = tables_of(c->name);
+    for (size_t k = 0; t && t[k]; ++k) {
+        if (k > 0)
+            fputc('\n', f);
+        qcli_opt_help(f, t[k]);
+    }
+    if (c->usage) {
+        if (t)
+            fputc('\n', f);
+        fputs(c->usage, f);
+    }
 }
 
 static const qcli_cmd *find(const char *name)
@@ -428,29 +440,22 @@ int qcli_parse_q16(const char *s, int32_t *out)
 
 int qcli_parse_int(const char *s, long lo, long hi, long *out)
 {
-    char *end;
-    errno = 0;
-    long v = strtol(s, &end, 10);
-    if (end == s || *end != '\0' || errno == ERANGE || v < lo || v > hi)
-        return -1;
-    *out = v;
-    return 0;
+    return qcli_opt_int_value(s, lo, hi, out);
 }
 
 int qcli_parse_num(const char *opt, const char *s, double lo, double hi, const char *why, double *out)
 {
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || *end != '\0')
+    switch (qcli_opt_num_value(s, lo, hi, out)) {
+    case 0:
+        return 0;
+    case 1:
         return qcli_usage_error("%s: '%s' is not a number", opt, s);
-    if (!isfinite(v)) /* an overflow is HUGE_VAL; an underflow (ERANGE near 0) is taken as the tiny value */
+    case 2:
         return qcli_usage_error("%s: '%s' is not a finite number", opt, s);
-    if (!(v >= lo && v <= hi))
+    default:
         return qcli_usage_error("%s: %s is outside %.10g..%.10g%s%s%s", opt, s, lo, hi, why ? " (" : "",
-                                    why ? why : "", why ? ")" : "");
-    *out = v;
-    return 0;
+                                why ? why : "", why ? ")" : "");
+    }
 }
 
 int qcli_lut_size_opt(int argc, char **argv, int *i, long lo, long *out)
@@ -473,22 +478,10 @@ int qcli_lut_size_opt(int argc, char **argv, int *i, long lo, long *out)
 
 int qcli_parse_size(const char *opt, const char *s, long max, long *w, long *h)
 {
-    const char *p = s;
-    long v[2];
-    for (int i = 0; i < 2; ++i) {
-        if (*p < '0' || *p > '9')
-            return qcli_usage_error("%s needs WxH with both in 1..%ld, got '%s'", opt, max, s);
-        long x = 0;
-        while (*p >= '0' && *p <= '9') {
-            x = x > max ? x : x * 10 + (*p - '0'); /* stops growing past max: no overflow */
-            ++p;
-        }
-        if (x < 1 || x > max || *p != (i == 0 ? 'x' : '\0'))
-            return qcli_usage_error("%s needs WxH with both in 1..%ld, got '%s'", opt, max, s);
-        v[i] = x;
-        ++p;
-    }
-    *w = v[0], *h = v[1];
+    long wh[2];
+    if (qcli_opt_size_value(s, max, wh) != 0)
+        return qcli_usage_error("%s needs WxH with both in 1..%ld, got '%s'", opt, max, s);
+    *w = wh[0], *h = wh[1];
     return 0;
 }
 
@@ -507,12 +500,16 @@ int main(int argc, char **argv)
 {
     /* line by line into a pipe or a log too: a farm or `make demo | tee` sees each step as it ends */
     setvbuf(stdout, NULL, _IOLBF, 0);
-    if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
+    /* qibl's own flags come alone, in place of a command: the table reads argv[1] only */
+    global_opts g = {.help = 0};
+    if (argc >= 2 && argv[1][0] == '-' && argv[1][1] != '\0' && qcli_opt_parse(&global_spec, 2, argv, 1, &g) != 0)
+        return 2;
+    if (argc < 2 || g.help) {
         print_help(stdout);
         return argc < 2 ? 2 : 0;
     }
     /* the kernel sets this CPU runs, one per line, lowest first (make golden and make test loop over them) */
-    if (strcmp(argv[1], "--isa-list") == 0) {
+    if (g.isa_list) {
         for (unsigned i = 0; i < QIBL_ISA_COUNT; ++i)
             if (qibl_isa_available() & QIBL_ISA_BIT(i))
                 printf("%s\n", qibl_isa_name((qibl_isa_t)i));
@@ -524,7 +521,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "qibl: %s\n", isa_err);
         return 2;
     }
-    if (strcmp(argv[1], "--version") == 0) {
+    if (g.version) {
         char isa[160];
         qtool_isa_describe(isa, sizeof isa);
         printf("qibl %s (config id %08lx)\nkernels: %s\n", qibl_version(), (unsigned long)qibl_config_id(), isa);
@@ -535,10 +532,18 @@ int main(int argc, char **argv)
             print_help(stdout);
             return 0;
         }
-        const qcli_cmd *c = find(argv[2]);
+        /* --flags CMD: the tables and their flags, as qcli_opt_flags prints them (tests/cli_opts_test.c) */
+        int flags = strcmp(argv[2], "--flags") == 0;
+        if (flags && argc < 4)
+            return qcli_usage_error("help --flags needs a command (see qibl --help)");
+        const qcli_cmd *c = find(argv[2 + flags]);
         if (!c)
-            return qcli_usage_error("no such command '%s' (see qibl --help)", argv[2]);
-        fputs(c->usage, stdout);
+            return qcli_usage_error("no such command '%s' (see qibl --help)", argv[2 + flags]);
+        const qcli_opt_cmd *const *t = tables_of(c->name);
+        for (size_t k = 0; flags && t && t[k]; ++k)
+            qcli_opt_flags(stdout, t[k]);
+        if (!flags)
+            print_cmd_help(stdout, c);
         return 0;
     }
     const qcli_cmd *c = find(argv[1]);
@@ -546,7 +551,7 @@ int main(int argc, char **argv)
         return qcli_usage_error("no such command '%s' (see qibl --help)", argv[1]);
     for (int i = 2; i < argc; ++i)
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            fputs(c->usage, stdout);
+            print_cmd_help(stdout, c);
             return 0;
         }
     return c->run(argc - 1, argv + 1);

@@ -357,8 +357,7 @@ int qtool_engine_gltf(const qtool_engine_sh *rad, double coef[9][3], char *err, 
     return 0;
 }
 
-/* s as a JSON string body */
-static void json_str(FILE *f, const char *s)
+void qtool_engine_json_str(FILE *f, const char *s)
 {
     for (; *s; ++s) {
         unsigned char c = (unsigned char)*s;
@@ -375,7 +374,7 @@ void qtool_engine_gltf_write(FILE *f, const char *name, const double coef[9][3])
 {
     fprintf(f, "{\"extensionsUsed\": [\"EXT_lights_image_based\"],\n \"extensions\": {\"EXT_lights_image_based\": "
                "{\"lights\": [{\"name\": \"");
-    json_str(f, name ? name : "qibl");
+    qtool_engine_json_str(f, name ? name : "qibl");
     fprintf(f, "\", \"intensity\": 1.0, \"rotation\": [0.0, 0.0, 0.0, 1.0],\n  \"irradianceCoefficients\": [");
     for (int i = 0; i < 9; ++i)
         fprintf(f, "%s\n   [%.9g, %.9g, %.9g]", i ? "," : "", coef[i][0], coef[i][1], coef[i][2]);

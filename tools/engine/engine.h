@@ -126,6 +126,8 @@ void qtool_engine_unity_write(FILE *f, const double sh[3][9], const double packe
 int qtool_engine_gltf(const qtool_engine_sh *rad, double coef[9][3], char *err, size_t errlen);
 /* A JSON object with EXT_lights_image_based (lights[0], named name) and the scene reference. */
 void qtool_engine_gltf_write(FILE *f, const char *name, const double coef[9][3]);
+/* s as a JSON string body: quotes and backslashes escaped, control bytes as \u00XX. */
+void qtool_engine_json_str(FILE *f, const char *s);
 
 /* Directional lights as a KHR_lights_punctual JSON object: dir[k] the unit direction toward light
  * k in qibl's frame, rgb[k] its irradiance (E(n) = rgb max(0, n . dir)); each becomes a light with

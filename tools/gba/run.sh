@@ -222,7 +222,7 @@ cp "$demo/qibl-demo-arm-iwram.gba" "$out/qibl-demo.gba" 2>/dev/null && echo "gba
     echo
     echo "| entry point | bound | measured |"
     echo "|---|---:|---:|"
-    awk '$1 == "stack" && $4 == "bound" {printf "| `%s` | %s | %s |\n", $2, $5, $3}' "$dir/run.txt" | sort
+    awk '$1 == "stack" && $4 == "bound" {printf "| `%s` | %s | %s |\n", $2, $5, $3}' "$dir/run.txt" | LC_ALL=C sort   # one order whatever the locale (docs-check compares the block)
     echo
     echo "</details>"
     echo "<!-- end make gba -->"

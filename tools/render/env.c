@@ -191,7 +191,7 @@ static void env_row(void *ctx, uint32_t y)
         double *o = j->rgb + 3 * pi, d[3];
         o[0] = o[1] = o[2] = 0;
         qtool_rt_hit hh;
-        qtool_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
+        qtool_rt_pixel_ray(j->s, j->w, j->h, j->kind, x, y, d);
         qtool_rt_primary(j->s, d, &hh);
         if (!hh.hit)
             continue;

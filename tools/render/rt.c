@@ -2,12 +2,12 @@
  * render/rt.c - triangle ray tracer with a BVH, the built-in courtyard, panorama rendering.
  */
 #include "render/rt.h"
+#include "qtool.h"
 
 #include <math.h>
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
-#include "qtool.h"
 
 
 /* ---- scene building ------------------------------------------------------------------------------ */
@@ -546,6 +546,64 @@ void qtool_rt_pixel_dir(uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t x
     }
 }
 
+static int finite_in(const double v[3])
+{
+    for (int j = 0; j < 3; ++j)
+        if (!(fabs(v[j]) <= QTOOL_RT_CAMERA_MAX_COORD))
+            return 0;
+    return 1;
+}
+
+int qtool_rt_camera_init(qtool_rt_camera *c, const double eye[3], const double target[3], const double up[3],
+                         double fov_deg, char *err, size_t errlen)
+{
+    if (!finite_in(eye) || !finite_in(target) || !finite_in(up))
+        return qtool_errf(err, errlen, "camera: a coordinate is not a number or beyond %g", QTOOL_RT_CAMERA_MAX_COORD);
+    if (!(fov_deg > 0 && fov_deg < 180))
+        return qtool_errf(err, errlen, "camera: field of view %g degrees is outside (0, 180)", fov_deg);
+    double f[3] = {target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]};
+    double fl = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+    if (!(fl > 1e-9 * (1 + fabs(eye[0]) + fabs(eye[1]) + fabs(eye[2]))))
+        return qtool_errf(err, errlen, "camera: the eye is the target (no view direction)");
+    for (int j = 0; j < 3; ++j)
+        f[j] /= fl;
+    double ul = sqrt(up[0] * up[0] + up[1] * up[1] + up[2] * up[2]);
+    double r[3] = {f[1] * up[2] - f[2] * up[1], f[2] * up[0] - f[0] * up[2], f[0] * up[1] - f[1] * up[0]};
+    double rl = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+    /* degenerate up: zero, or within about 0.06 degrees of the view direction */
+    if (!(ul > 0) || !(rl > 1e-3 * ul))
+        return qtool_errf(err, errlen, "camera: the up vector is zero or parallel to the view direction");
+    for (int j = 0; j < 3; ++j)
+        c->eye[j] = eye[j], c->fwd[j] = f[j], c->right[j] = r[j] / rl;
+    c->up[0] = c->right[1] * f[2] - c->right[2] * f[1];
+    c->up[1] = c->right[2] * f[0] - c->right[0] * f[2];
+    c->up[2] = c->right[0] * f[1] - c->right[1] * f[0];
+    c->tan_half = tan(fov_deg * QTOOL_PI / 360);
+    return 0;
+}
+
+void qtool_rt_pixel_ray(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t x, uint32_t y,
+                        double d[3])
+{
+    if (!s->has_cam) {
+        qtool_rt_pixel_dir(w, h, kind, x, y, d);
+        return;
+    }
+    const qtool_rt_camera *c = &s->cam;
+    double a = (2 * (x + 0.5) / w - 1) * c->tan_half * w / h, b = (1 - 2 * (y + 0.5) / h) * c->tan_half, l = 0;
+    for (int j = 0; j < 3; ++j)
+        d[j] = c->fwd[j] + a * c->right[j] + b * c->up[j], l += d[j] * d[j];
+    l = sqrt(l);
+    for (int j = 0; j < 3; ++j)
+        d[j] /= l;
+}
+
+void qtool_rt_sky_point(const qtool_rt_scene *s, const double d[3], double dist, double out[3])
+{
+    for (int j = 0; j < 3; ++j)
+        out[j] = s->has_cam ? s->cam.eye[j] + d[j] * dist : d[j] * dist;
+}
+
 static double srgb_linear(uint8_t c)
 {
     double x = c / 255.0;
@@ -579,7 +637,8 @@ static void hit_albedo(const qtool_rt_scene *s, size_t tri, double u, double v, 
 
 void qtool_rt_primary(const qtool_rt_scene *s, const double d[3], qtool_rt_hit *h)
 {
-    static const double o[3] = {0, 0, 0};
+    static const double origin[3] = {0, 0, 0};
+    const double *o = s->has_cam ? s->cam.eye : origin;
     double t = 0, u = 0, v = 0;
     long tri = trace(s, o, d, 1e-9, 1e30, 0, &t, &u, &v);
     memset(h, 0, sizeof *h);
@@ -592,7 +651,7 @@ void qtool_rt_primary(const qtool_rt_scene *s, const double d[3], qtool_rt_hit *
     flat_normal(vv, vv + 3, vv + 6, h->ng);
     double l = 0;
     for (int j = 0; j < 3; ++j) {
-        h->p[j] = d[j] * t;
+        h->p[j] = s->has_cam ? o[j] + d[j] * t : d[j] * t;
         h->n[j] = (1 - u - v) * nn[j] + u * nn[3 + j] + v * nn[6 + j];
         l += h->n[j] * h->n[j];
     }
@@ -662,11 +721,14 @@ static void render_row(void *ctx, uint32_t y)
         size_t pi = (size_t)y * j->w + x;
         double d[3];
         qtool_rt_hit h;
-        qtool_rt_pixel_dir(j->w, j->h, j->kind, x, y, d);
+        qtool_rt_pixel_ray(j->s, j->w, j->h, j->kind, x, y, d);
         qtool_rt_primary(j->s, d, &h);
-        if (j->pmap)
+        if (j->pmap) {
+            double sky[3];
+            qtool_rt_sky_point(j->s, d, 1000.0, sky);
             for (int k = 0; k < 3; ++k)
-                j->pmap[3 * pi + (size_t)k] = (int32_t)lrint((h.hit ? h.p[k] : d[k] * 1000.0) * 65536.0);
+                j->pmap[3 * pi + (size_t)k] = (int32_t)lrint((h.hit ? h.p[k] : sky[k]) * 65536.0);
+        }
         if (j->depth)
             j->depth[pi] = h.hit ? (float)h.t : 0.0f;
         if (!j->rgb)

@@ -27,6 +27,24 @@
 
 #define QTOOL_RT_MAX_MATS 16
 
+/* A fixed perspective camera (a pre-rendered background seen from one corner) instead of the
+ * panorama from the origin: pixel (x, y) of a w x h frame looks from eye along the unit vector of
+ *   fwd + (2 (x + 0.5) / w - 1) tan(fov / 2) (w / h) right + (1 - 2 (y + 0.5) / h) tan(fov / 2) up
+ * (fov the vertical field of view, square pixels; right = fwd x up, up made orthogonal to fwd). */
+typedef struct qtool_rt_camera {
+    double eye[3], fwd[3], right[3], up[3]; /* fwd, right, up: orthonormal */
+    double tan_half;                        /* tan(fov / 2) */
+} qtool_rt_camera;
+
+#define QTOOL_RT_CAMERA_FOV_DEFAULT 60.0 /* degrees, vertical */
+#define QTOOL_RT_CAMERA_MAX_COORD 1.0e6  /* |eye|, |target|, |up| components */
+
+/* The camera at eye looking at target, up its approximate up, fov degrees. 0, or -1 with a named
+ * reason in err and c untouched: a coordinate not finite or beyond QTOOL_RT_CAMERA_MAX_COORD, eye
+ * == target, an up that is zero or parallel to the view, a fov outside (0, 180). */
+int qtool_rt_camera_init(qtool_rt_camera *c, const double eye[3], const double target[3], const double up[3],
+                         double fov_deg, char *err, size_t errlen);
+
 typedef struct qtool_rt_material {
     double albedo[3], ks, shininess;
 } qtool_rt_material;
@@ -55,6 +73,10 @@ typedef struct qtool_rt_scene {
     int32_t *tex;
     qtool_mesh_texture *texs;
     size_t ntex;
+    /* has_cam: the frames are cam's perspective (qtool_rt_pixel_ray, qtool_rt_primary), not
+     * panoramas from the origin; 0 after the scene builders, set by the caller. */
+    int has_cam;
+    qtool_rt_camera cam;
 } qtool_rt_scene;
 
 /* The built-in courtyard (no files): ground, walls, two arcades of pillars and round arches, boxes
@@ -88,7 +110,13 @@ typedef struct qtool_rt_hit {
 } qtool_rt_hit;
 
 void qtool_rt_pixel_dir(uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t x, uint32_t y, double d[3]);
+/* The viewing ray of a pixel of s's frames: its camera's when it has one, else the panorama's. */
+void qtool_rt_pixel_ray(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t x, uint32_t y,
+                        double d[3]);
+/* What the ray from the viewpoint (the camera's eye, else the origin) along unit d sees. */
 void qtool_rt_primary(const qtool_rt_scene *s, const double d[3], qtool_rt_hit *h);
+/* The P-map point of a sky pixel: dist along the ray from the viewpoint. */
+void qtool_rt_sky_point(const qtool_rt_scene *s, const double d[3], double dist, double out[3]);
 /* 1 if the segment from the hit point along unit w (up to tmax) is blocked */
 int qtool_rt_occluded(const qtool_rt_scene *s, const qtool_rt_hit *h, const double w[3], double tmax);
 /* Lambert and glossy factors of T for unit w (without albedo / ks); 0 when w is below the surface

@@ -4,7 +4,7 @@
  *
  * Layout (all integers little-endian whatever the host; offsets from the first byte):
  *
- *   header, 24 bytes
+ *   header (a 24-byte record)
  *     0  u8[8] magic        'Q' 'I' 'B' 'L' '\r' '\n' 0x1A '\n'   (catches text-mode mangling)
  *     8  u32   version      QIBL_ASSET_VERSION (1)
  *    12  u32   chunk_count  1..QIBL_ASSET_MAX_CHUNKS
@@ -70,10 +70,10 @@
  * payload (size 0) overlaps nothing. A failing call writes nothing to its outputs.
  *
  * Three ways to open (same checks in the same order, same statuses, except as said):
- *   qibl_asset_open            every check and every CRC, nibble-table CRC (64 bytes of .rodata,
- *                              about 13 instructions per byte);
+ *   qibl_asset_open            every check and every CRC, nibble-table CRC (64 bytes of .rodata;
+ *                              the slowest of the three per byte);
  *   qibl_asset_open_crc_table  the same result, CRCs by slicing-by-8 with an 8 KiB table the caller
- *                              fills once with qibl_crc32_table_init (about 4x fewer instructions);
+ *                              fills once with qibl_crc32_table_init (a fraction of the instructions);
  *   qibl_asset_open_structure  header and structure only: every check above except the payload
  *                              CRCs (the table CRC is still checked). For assets verified at install
  *                              time (by one of the two above, or by the installer's own hash): it
@@ -142,27 +142,52 @@ uint32_t qibl_crc32(uint32_t crc, const uint8_t *data, size_t n);
 /* Slicing-by-8 CRC tables: 8 * 256 u32 (8 KiB) in the caller's memory, filled once. */
 #define QIBL_CRC32_TABLE_WORDS 2048u
 /* Fills table[0..QIBL_CRC32_TABLE_WORDS) (any memory the caller owns: RAM, or flash written once).
- * QIBL_E_NULL_POINTER, QIBL_E_WORKSPACE (words < QIBL_CRC32_TABLE_WORDS); nothing written then. */
+ * Formats: none (CRC register values, native uint32). Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (table NULL), QIBL_E_WORKSPACE (words <
+ * QIBL_CRC32_TABLE_WORDS).
+ * On failure: nothing is written. */
 QIBL_NODISCARD qibl_status_t qibl_crc32_table_init(uint32_t *table, size_t words);
 /* The same CRC as qibl_crc32, eight bytes per step through a table from qibl_crc32_table_init
  * (byte loads only: any alignment, either byte order). No checks (hot path). */
 uint32_t qibl_crc32_fast(const uint32_t *table, uint32_t crc, const uint8_t *data, size_t n);
 
 /* Validates bytes[0..n) as an asset (every rule above, every CRC) and fills *out.
- * Errors: QIBL_E_NULL_POINTER and the QIBL_E_ASSET_* codes; *out untouched on failure. */
+ * Formats: none (little-endian u32 fields, CRC-32; no number is converted). Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (out or bytes NULL); QIBL_E_ASSET_TRUNCATED_HEADER
+ * (n < 24); QIBL_E_ASSET_MAGIC, _VERSION, _CHUNK_COUNT, _TRUNCATED_TABLE (file_size below header +
+ * table); QIBL_E_ASSET_TRUNCATED_TABLE (n below header + table), QIBL_E_ASSET_TRUNCATED (n <
+ * file_size); QIBL_E_ASSET_TABLE_CRC; per entry _CHUNK_MISALIGNED, _CHUNK_PAST_END, then against each
+ * earlier entry _DUPLICATE_CHUNK (a known type twice) and _CHUNK_OVERLAP; _MISSING_CHUNK (no SHMP);
+ * _CHUNK_CRC (first entry in table order); then SHMP's fields (_CHUNK_SIZE short of its 20-byte part,
+ * _BAD_DIMENSIONS, _BAD_K, _BAD_CHANNELS, _BAD_FLAGS, _SIZE_OVERFLOW, _CHUNK_SIZE), PMAP's
+ * (_CHUNK_SIZE, _BAD_DIMENSIONS, _MISMATCH, _BAD_FLAGS, _CHUNK_SIZE), YLUT's (_CHUNK_SIZE,
+ * _BAD_DIMENSIONS, _BAD_K, _MISMATCH (k below SHMP's), _BAD_FLAGS, _CHUNK_SIZE), SHMU's (as SHMP's,
+ * then _MISMATCH for a width or height other than SHMP's).
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_asset_open(qibl_asset_t *out, const void *bytes, size_t n);
 
 /* qibl_asset_open with the CRCs through a qibl_crc32_table_init table: same checks, same statuses,
- * about a quarter of the instructions. QIBL_E_NULL_POINTER for a NULL table too. */
+ * about a quarter of the instructions.
+ * Formats: none (as qibl_asset_open; crc_table as qibl_crc32_table_init fills it). Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (out, bytes or crc_table NULL), then those of
+ * qibl_asset_open in its order (a table not from qibl_crc32_table_init gives QIBL_E_ASSET_CHUNK_CRC).
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_asset_open_crc_table(qibl_asset_t *out, const void *bytes, size_t n, const uint32_t *crc_table);
 
 /* Header and structure only (see the top of this file): every check of qibl_asset_open except the
- * payload CRCs, so it cost nothing per payload byte. For assets verified at install time; payload
- * bit flips pass undetected. Errors as qibl_asset_open minus QIBL_E_ASSET_CHUNK_CRC. */
+ * payload CRCs, so it costs nothing per payload byte. For assets verified at install time; payload
+ * bit flips pass undetected.
+ * Formats: none (as qibl_asset_open). Bound: exact.
+ * Errors: those of qibl_asset_open in its order, minus QIBL_E_ASSET_CHUNK_CRC (the table CRC,
+ * QIBL_E_ASSET_TABLE_CRC, is still checked).
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_asset_open_structure(qibl_asset_t *out, const void *bytes, size_t n);
 
 /* The chunk of the given type (the first one, for an unknown type that appears more than once).
- * QIBL_E_ASSET_MISSING_CHUNK if absent; *out untouched then. */
+ * Formats: none (a view: type, size, data pointer). Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (a or out NULL), QIBL_E_ASSET_MISSING_CHUNK (no chunk
+ * of that type).
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_asset_find(const qibl_asset_t *a, uint32_t type, qibl_chunk_t *out);
 
 /* ---- streaming by rows ----------------------------------------------------------------------
@@ -198,43 +223,70 @@ typedef struct qibl_asset_row_s {
 /* From the first n bytes of an asset file (n may be anything, even 0), *need = how many leading
  * bytes qibl_asset_open_head needs; if *need > n, read that many and ask again (it may grow as the
  * table and SHMP's fields become visible; never beyond the end of SHMP's params).
- * Errors: QIBL_E_NULL_POINTER and the header/table/SHMP statuses of qibl_asset_open that the bytes
- * seen so far already show; *need untouched then. */
+ * Formats: none (byte counts). Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (need NULL, or head NULL with n != 0); then the
+ * header, table and SHMP statuses of qibl_asset_open, in its order, that the bytes seen so far
+ * already show (no TRUNCATED_* and no payload CRC: short bytes are answered with a larger *need).
+ * On failure: nothing is written (*need untouched). */
 QIBL_NODISCARD qibl_status_t qibl_asset_head_size(const void *head, size_t n, size_t *need);
 
-/* Opens the head (the first n bytes of the file, which must outlive *out). Errors: as above,
+/* Opens the head (the first n bytes of the file, which must outlive *out).
+ * Formats: none (file offsets and sizes in bytes; the maps' params stay Q8.24 bytes). Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (out or head NULL), those of qibl_asset_head_size,
  * QIBL_E_ASSET_HEAD_SHORT (n below what qibl_asset_head_size asks for), QIBL_E_ASSET_LAYOUT (planar
- * maps: a planar row is k*channels ranges; open the whole asset instead); *out untouched then. */
+ * maps: a planar row is k*channels ranges; open the whole asset instead), QIBL_E_ASSET_CHUNK_SIZE
+ * (PMAP's size, from the table, other than 12 + 12 width height; YLUT's below 12).
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_asset_open_head(qibl_asset_head_t *out, const void *head, size_t n);
 
-/* File offsets and sizes of row y. QIBL_E_NULL_POINTER, QIBL_E_ASSET_ROW (y >= height). */
+/* File offsets and sizes of row y.
+ * Formats: none (byte offsets and sizes). Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (h or out NULL), QIBL_E_ASSET_ROW (y >= height).
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_asset_row(const qibl_asset_head_t *h, uint32_t y, qibl_asset_row_t *out);
 
 /* The P map of an opened head: fields are the PMAP payload's first n bytes (its 12 field bytes lie
  * at file offset h->pmap_offset - 12), checked as qibl_asset_open checks them. *out = the whole
- * image's view with points NULL (rows stream in: qibl_pmap_row_view). Errors: QIBL_E_NULL_POINTER,
- * QIBL_E_ASSET_MISSING_CHUNK (no PMAP), QIBL_E_ASSET_HEAD_SHORT (n < 12), QIBL_E_ASSET_BAD_DIMENSIONS,
- * QIBL_E_ASSET_MISMATCH (not SHMP's width and height), QIBL_E_ASSET_BAD_FLAGS; *out untouched then. */
+ * image's view with points NULL (rows stream in: qibl_pmap_row_view).
+ * Formats: none (the fields are little-endian u32; the points, Q16.16, are not read). Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (h, fields or out NULL), QIBL_E_ASSET_MISSING_CHUNK (no
+ * PMAP), QIBL_E_ASSET_HEAD_SHORT (n < 12), QIBL_E_ASSET_BAD_DIMENSIONS, QIBL_E_ASSET_MISMATCH (not
+ * SHMP's width and height), QIBL_E_ASSET_BAD_FLAGS.
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_asset_head_pmap(const qibl_asset_head_t *h, const void *fields, size_t n, qibl_pmap_t *out);
 
 /* The Y LUT of an opened head: payload holds the n >= h->ylut_size bytes loaded from
  * h->ylut_offset (the whole YLUT payload), checked as qibl_asset_open checks them; *out's values
- * point into payload (which must outlive it) and out->size covers them. Errors: QIBL_E_NULL_POINTER,
- * QIBL_E_ASSET_MISSING_CHUNK (no YLUT), QIBL_E_ASSET_HEAD_SHORT (n < ylut_size),
- * QIBL_E_ASSET_BAD_DIMENSIONS, QIBL_E_ASSET_BAD_K, QIBL_E_ASSET_MISMATCH (k below SHMP's),
- * QIBL_E_ASSET_BAD_FLAGS, QIBL_E_ASSET_CHUNK_SIZE (ylut_size other than 12 + 12 N N k);
- * *out untouched then. */
+ * point into payload (which must outlive it) and out->size covers them.
+ * Formats: none (fields little-endian u32; the values, Q2.14, are not read). Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (h, payload or out NULL), QIBL_E_ASSET_MISSING_CHUNK
+ * (no YLUT), QIBL_E_ASSET_HEAD_SHORT (n < ylut_size), QIBL_E_ASSET_BAD_DIMENSIONS, QIBL_E_ASSET_BAD_K,
+ * QIBL_E_ASSET_MISMATCH (k below SHMP's), QIBL_E_ASSET_BAD_FLAGS, QIBL_E_ASSET_CHUNK_SIZE (ylut_size
+ * other than 12 + 12 N N k).
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_asset_head_ylut(const qibl_asset_head_t *h, const void *payload, size_t n, qibl_ylut_t *out);
 
-/* Typed views of the known chunks of a validated asset (missing chunk -> QIBL_E_ASSET_MISSING_CHUNK). */
+/* Typed views of the known chunks of a validated asset (SHMP, PMAP, YLUT).
+ * Formats: none (views: params Q8.24, points Q16.16, LUT values Q2.14 stay little-endian bytes).
+ * Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (a or out NULL), QIBL_E_ASSET_MISSING_CHUNK.
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_asset_shmaps(const qibl_asset_t *a, qibl_shmaps_t *out);
 QIBL_NODISCARD qibl_status_t qibl_asset_pmap(const qibl_asset_t *a, qibl_pmap_t *out);
 QIBL_NODISCARD qibl_status_t qibl_asset_ylut(const qibl_asset_t *a, qibl_ylut_t *out);
 /* The unshadowed maps (SHMU). qibl_asset_point_shmaps: the maps a free point light should use,
- * SHMU when present, else SHMP (older assets). */
+ * SHMU when present, else SHMP (older assets).
+ * Formats: none (views, as qibl_asset_shmaps). Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (a or out NULL), QIBL_E_ASSET_MISSING_CHUNK (no SHMU;
+ * for qibl_asset_point_shmaps, neither SHMU nor SHMP).
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_asset_shmaps_unshadowed(const qibl_asset_t *a, qibl_shmaps_t *out);
 QIBL_NODISCARD qibl_status_t qibl_asset_point_shmaps(const qibl_asset_t *a, qibl_shmaps_t *out);
-/* The index-th chunk (0-based) of the given type, for types that may repeat (light paths). */
+/* The index-th chunk (0-based) of the given type, for types that may repeat (light paths).
+ * Formats: none (a view). Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (a or out NULL), QIBL_E_ASSET_MISSING_CHUNK (fewer
+ * than index + 1 chunks of that type).
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_asset_find_nth(const qibl_asset_t *a, uint32_t type, uint32_t index, qibl_chunk_t *out);
 
 #ifdef __cplusplus

@@ -12,8 +12,8 @@
  * (QIBL_USE_HEMI), light paths (QIBL_USE_LIGHTPATH) and goniometric lamps (QIBL_USE_GONIO) default
  * to 0; each can still be set to 1.
  * What stays is runtime relighting: the asset reader, SH, sRGBE, directional and point-light spans,
- * both map layouts (about 14 KiB .text on Cortex-M4 -Os, against the goal of 16 KiB; every module is
- * about 36 KiB: docs/porting.md). Default 1 on ARM M-profile targets (Cortex-M: the compiler
+ * both map layouts (its .text on Cortex-M4 -Os, against the goal of 16 KiB, and that of every module
+ * are in docs/porting.md's size table, which `make cross` checks). Default 1 on ARM M-profile targets (Cortex-M: the compiler
  * defines __ARM_ARCH_PROFILE 'M'), 0 elsewhere. It only changes defaults, so QIBL_CONFIG_ID
  * (version.h) records the modules it leaves out, not this option. */
 #ifndef QIBL_CONFIG_SMALL
@@ -24,34 +24,34 @@
 #endif
 #endif
 
-/* QIBL_USE_SH: 1 builds the SH basis module (sh.c: basis and rotation, about 1.2 KiB .text and
- * 1.8 KiB .rodata (the rotation's sample table) on Cortex-M4 -Os). */
+/* QIBL_USE_SH: 1 builds the SH basis module (sh.c: basis and rotation; .text and .rodata (the
+ * rotation's sample table) per module: docs/porting.md's size table, checked by `make cross`). */
 #ifndef QIBL_USE_SH
 #define QIBL_USE_SH 1
 #endif
 
-/* QIBL_USE_SRGBE: 1 builds the sRGBE signed shared-exponent colour codec (srgbe.c, about 2 KiB
- * .text and 1 KiB .rodata (the binary32 decode table) on Cortex-M4 -Os, no RAM). */
+/* QIBL_USE_SRGBE: 1 builds the sRGBE signed shared-exponent colour codec (srgbe.c; .text in
+ * docs/porting.md's size table, a 1 KiB .rodata table for the binary32 decode, no RAM). */
 #ifndef QIBL_USE_SRGBE
 #define QIBL_USE_SRGBE 1
 #endif
 
 /* QIBL_USE_ASSET: 1 builds the asset container reader (asset.c: validation, CRC-32, chunk views;
- * about 1.4 KiB .text and 72 bytes .rodata on Cortex-M4 -Os, no RAM beyond the caller's structs).
+ * .text in docs/porting.md's size table, no RAM beyond the caller's structs).
  * The views and little-endian load helpers of shmaps.h stay available either way. */
 #ifndef QIBL_USE_ASSET
 #define QIBL_USE_ASSET 1
 #endif
 
 /* QIBL_USE_LIGHTPROBE: 1 builds light-probe sampling (lightprobe.c: SATs, median cut, adaptive
- * median cut, variance minimisation; about 9 KiB .text on Cortex-M4 -Os, no RAM beyond the caller's
+ * median cut, variance minimisation; .text in docs/porting.md's size table, no RAM beyond the caller's
  * workspace: 8 bytes per probe pixel, 48 with the variance tables). Default 1, 0 with QIBL_CONFIG_SMALL. */
 #ifndef QIBL_USE_LIGHTPROBE
 #define QIBL_USE_LIGHTPROBE (!QIBL_CONFIG_SMALL)
 #endif
 
 /* QIBL_USE_SHMAP: 1 builds the relighting kernels (shmap.c: weights, directional/environment and
- * point-light spans, cube-map LUTs; about 4.7 KiB .text on Cortex-M4 -Os, 2.9 KiB of it for point
+ * point-light spans, cube-map LUTs; .text in docs/porting.md's size table, most of it for point
  * lights). Needs QIBL_USE_SH, not QIBL_USE_ASSET: the views it reads (shmaps.h, shmaps.c) are built
  * with either module, so a game that builds or streams its maps itself leaves the parser out.
  * `make cross` prints every module's size and those of combinations. */
@@ -63,7 +63,7 @@
 #endif
 
 /* QIBL_USE_LIGHTPATH: 1 builds light paths (lightpath.c: LPTH chunk validation, per-pixel
- * visibility spans, key interpolation; about 2 KiB .text on Cortex-M4 -Os, no RAM). Needs
+ * visibility spans, key interpolation; .text in docs/porting.md's size table, no RAM). Needs
  * QIBL_USE_SHMAP (path lights are relit through the SH maps); by default on when that is, unless
  * QIBL_CONFIG_SMALL. */
 #ifndef QIBL_USE_LIGHTPATH
@@ -74,7 +74,7 @@
 #endif
 
 /* QIBL_USE_GONIO: 1 builds goniometric lamps (gonio.c: the octahedral intensity table's lookup and
- * the per-span scale after a point light; about 1.4 KiB .text on Cortex-M4 -Os, no RAM; the table is
+ * the per-span scale after a point light; .text in docs/porting.md's size table, no RAM; the table is
  * the caller's, 2 n^2 bytes). Needs QIBL_USE_SHMAP (it scales point-light spans through the P map);
  * by default on when that is, unless QIBL_CONFIG_SMALL. */
 #ifndef QIBL_USE_GONIO
@@ -86,7 +86,7 @@
 
 /* QIBL_USE_INTERLEAVED: 1 builds the interleaved SH-map layout (shmaps.h): its relight and
  * point-light paths in shmap.c, qibl_shmaps_interleave, and streaming by rows in asset.c
- * (qibl_asset_head_size, _open_head, _row); about 2 KiB .text on Cortex-M4 -Os, no RAM. 0: planar
+ * (qibl_asset_head_size, _open_head, _row); .text in docs/porting.md's size table, no RAM. 0: planar
  * maps only; an interleaved view is QIBL_E_SHMAP_LAYOUT and an interleaved asset
  * QIBL_E_ASSET_BAD_FLAGS, as for a reader that predates the layout. */
 #ifndef QIBL_USE_INTERLEAVED
@@ -95,8 +95,8 @@
 
 /* QIBL_USE_PROBE: 1 builds the SH projection of light probes (probe.c: row-by-row projection into
  * exact wide accumulators, irradiance and windows, lights and sun-plus-sky into a qibl_shlight_t;
- * about 6 KiB .text on Cortex-M4 -Os, no RAM beyond the caller's workspace: 4.5 KiB + 20 to 44
- * bytes per probe column). Needs QIBL_USE_SH and QIBL_USE_LIGHTPROBE (pixel decoding); by default on when
+ * .text in docs/porting.md's size table, no RAM beyond the caller's workspace:
+ * qibl_probe_sh_workspace_size, probe.h). Needs QIBL_USE_SH and QIBL_USE_LIGHTPROBE (pixel decoding); by default on when
  * both are. */
 #ifndef QIBL_USE_PROBE
 #define QIBL_USE_PROBE (QIBL_USE_SH && QIBL_USE_LIGHTPROBE)
@@ -116,8 +116,8 @@
 
 /* QIBL_USE_HEMI: 1 builds hemispherical rasterization (hemi.c: plane LUT, triangle masks, SH
  * transfer, frame rotation; see `make cross` for its .text; no RAM beyond the caller's workspace,
- * qibl_hemi_workspace_size: 969.5 KiB for the default 32 x 32 mask with 48 x 48 faces, 255.5 KiB
- * with 20 x 20 faces). Needs QIBL_USE_SH with 5 bands; by default on when that holds, unless
+ * qibl_hemi_workspace_size: within 1 MiB for the default 32 x 32 mask and faces, within 256 KiB
+ * with 20 x 20 faces, hemi.h). Needs QIBL_USE_SH with 5 bands; by default on when that holds, unless
  * QIBL_CONFIG_SMALL. */
 #ifndef QIBL_USE_HEMI
 #define QIBL_USE_HEMI (QIBL_USE_SH && QIBL_SH_MAX_BANDS == 5 && !QIBL_CONFIG_SMALL)
@@ -161,9 +161,9 @@
 
 /* QIBL_CONFIG_SRGBE_BLOCKS: 1 makes qibl_srgbe_encode_f32_n encode blocks of 16 pixels as 16-bit
  * planes, code that compilers vectorise for SSE2, NEON, AltiVec or RVV (used where QIBL_CONFIG_SIMD
- * is scalar; otherwise its intrinsics kernel runs, faster still) (about 2x faster there,
- * 480 bytes of stack; forced on for a Cortex-M4 -Os it would add about 370 bytes of .text and run
- * slower); 0 encodes pixel by pixel. Identical bytes either way. Default: 1 where the compiler
+ * is scalar; otherwise its intrinsics kernel runs, faster still) (faster there, a few hundred
+ * bytes of stack; forced on for a Cortex-M4 -Os it would add .text and run slower: `qibl bench
+ * srgbe` and `make cross` measure both); 0 encodes pixel by pixel. Identical bytes either way. Default: 1 where the compiler
  * targets one of those vector units and multiplies 32x32->64 inline, so the portable flavour of
  * `make test` (QIBL_CONFIG_NATIVE_MUL64=0) covers the other path on the host. */
 #ifndef QIBL_CONFIG_SRGBE_BLOCKS
@@ -177,8 +177,8 @@
 /* QIBL_CONFIG_SHMAP_BLOCKS: the portable (QIBL_CONFIG_SIMD scalar) directional kernel on the
  * planar layout. 1: eight pixels a step with all k maps' products summed in registers from
  * aligned 32-bit words (core/src/shmap.c chan_words), made for 32-bit cores without vector units:
- * ARM7TDMI (Game Boy Advance) 233 instead of 486 cycles per pixel at k = 9, Cortex-M4 98 instead
- * of 152 and Cortex-M0 239 instead of 310 instructions. 0: passes of four planes over the span
+ * fewer cycles per pixel on the ARM7TDMI (Game Boy Advance) and fewer instructions on Cortex-M4
+ * and Cortex-M0 (docs/porting.md's generated GBA and bare-metal tables). 0: passes of four planes over the span
  * through the int32 workspace, loops that compilers vectorise for SSE2, NEON, AltiVec or RVV
  * (on x86-64 about two thirds of the instructions of 1). Identical bytes either way. Default: 0
  * where the compiler targets one of those vector units and multiplies 32x32->64 inline, so the
@@ -222,7 +222,7 @@
 /* QIBL_CONFIG_DISPATCH: 1 on a hosted x86-64 build (GCC or Clang) that carries the scalar, SSE2
  * and AVX2 copies of the SIMD modules (shmap, srgbe, probe, lightprobe, hemi) and picks one per
  * call from the CPU (qibl/isa.h). The Makefile's native library sets it on x86-64 hosts and adds
- * the copies (core/src/x86/: about 2x the .text of those modules); 0 (default): the one path of
+ * the copies (core/src/x86/: a copy of those modules per ISA); 0 (default): the one path of
  * QIBL_CONFIG_SIMD, as every freestanding target. Not part of QIBL_CONFIG_ID: same API, same bytes. */
 #ifndef QIBL_CONFIG_DISPATCH
 #define QIBL_CONFIG_DISPATCH 0

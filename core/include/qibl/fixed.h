@@ -178,20 +178,27 @@ uint32_t qibl_isqrt_u32(uint32_t x);
  * occur). Never fails: the result is at most 256. */
 qibl_uq16_t qibl_sqrt_uq16(qibl_uq16_t x);
 
-/* 1/sqrt(x) for x in UQ16.16, result in UQ16.16 (at most 256 = 1/sqrt(2^-16)), correctly rounded
- * (error <= 0.5 LSB; a tie cannot occur).
- * QIBL_E_DIV_BY_ZERO for x == 0, QIBL_E_NULL_POINTER for out == NULL; *out untouched on failure. */
+/* 1/sqrt(x) for x in UQ16.16, result in UQ16.16 (at most 256 = 1/sqrt(2^-16)), correctly rounded.
+ * Formats: x and *out UQ16.16.
+ * Bound: error <= 0.5 LSB (a tie cannot occur).
+ * Errors, in this order: QIBL_E_NULL_POINTER (out NULL), QIBL_E_DIV_BY_ZERO (x == 0).
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_rsqrt_uq16(qibl_uq16_t x, qibl_uq16_t *out);
 
-/* 1/x for x in Q16.16, result in Q16.16, correctly rounded (error <= 0.5 LSB; ties cannot occur).
- * QIBL_E_DIV_BY_ZERO for x == 0; QIBL_E_RANGE when |1/x| does not fit Q16.16 (x = 1 or 2 LSB,
- * x = -1 LSB); QIBL_E_NULL_POINTER for out == NULL. *out untouched on failure. */
+/* 1/x for x in Q16.16, result in Q16.16, correctly rounded.
+ * Formats: x and *out Q16.16.
+ * Bound: error <= 0.5 LSB (ties cannot occur).
+ * Errors, in this order: QIBL_E_NULL_POINTER (out NULL), QIBL_E_DIV_BY_ZERO (x == 0), QIBL_E_RANGE
+ * (1/x does not fit Q16.16: x = 1 or 2 LSB, x = -1 LSB).
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_recip_q16(qibl_q16_t x, qibl_q16_t *out);
 
-/* v / |v| for any int32 triple v (any common Q format: direction only), result a Q2.30 unit
- * vector. Error <= 1 LSB (2^-30) per component against the exact quotient, for every input
- * including components of 1 LSB and of INT32_MIN. QIBL_E_ZERO_VECTOR for (0, 0, 0),
- * QIBL_E_NULL_POINTER for NULL pointers; out untouched on failure. v and out may alias. */
+/* v / |v| for any int32 triple v, as a Q2.30 unit vector. v and out may alias.
+ * Formats: v any common Q format (a direction only: int32 triple); out Q2.30.
+ * Bound: error <= 1 LSB (2^-30) per component against the exact quotient, for every input
+ * including components of 1 LSB and of INT32_MIN.
+ * Errors, in this order: QIBL_E_NULL_POINTER (v or out NULL), QIBL_E_ZERO_VECTOR (v = (0, 0, 0)).
+ * On failure: nothing is written (out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_vec3_normalize_q30(const int32_t v[3], qibl_q30_t out[3]);
 
 /* 1/sqrt(x) for x >= 1, returned as y / 2^*e with y in [2^30, 2^31] and *e in 31..62.
@@ -199,10 +206,13 @@ QIBL_NODISCARD qibl_status_t qibl_vec3_normalize_q30(const int32_t v[3], qibl_q3
  * x == 0 returns 0 with *e = 0. About 8 multiplies: the fast path for per-pixel normalisation. */
 uint32_t qibl_rsqrt_u64(uint64_t x, unsigned *e);
 
-/* v / |v| as a Q2.30 unit vector through qibl_rsqrt_u64: error <= 4 LSB (2^-28) per component,
- * several times faster than qibl_vec3_normalize_q30 where division is slow. Optionally returns
- * 1/|v| as *len_y / 2^*len_e (either pointer may be NULL), in the reciprocal of v's units.
- * QIBL_E_ZERO_VECTOR, QIBL_E_NULL_POINTER; out and the lengths untouched on failure. */
+/* v / |v| as a Q2.30 unit vector through qibl_rsqrt_u64, several times faster than
+ * qibl_vec3_normalize_q30 where division is slow. Optionally returns 1/|v| as *len_y / 2^*len_e
+ * (either pointer may be NULL), in the reciprocal of v's units.
+ * Formats: v any common Q format (int32 triple); out Q2.30; *len_y / 2^*len_e as qibl_rsqrt_u64.
+ * Bound: error <= 4 LSB (2^-28) per component; 1/|v| to qibl_rsqrt_u64's relative 2^-28.
+ * Errors, in this order: QIBL_E_NULL_POINTER (v or out NULL), QIBL_E_ZERO_VECTOR (v = (0, 0, 0)).
+ * On failure: nothing is written (out and the lengths untouched). */
 QIBL_NODISCARD qibl_status_t qibl_vec3_normalize_fast_q30(const int32_t v[3], qibl_q30_t out[3], uint32_t *len_y,
                                            unsigned *len_e);
 

@@ -46,10 +46,18 @@ typedef struct qibl_gonio {
 size_t qibl_gonio_table_size(uint32_t n);
 
 /* Fills *g from table (n x n) and the lamp's aim and up (any lengths, Q16.16 or any common format).
- * z = aim / |aim|; y = up made orthogonal to z, normalised; x = y cross z (each to a few LSB of Q2.30).
- * Errors: QIBL_E_NULL_POINTER; QIBL_E_GONIO_SIZE (n out of range); QIBL_E_GONIO_TABLE (an entry above
- * 32768); QIBL_E_GONIO_AIM (aim zero); QIBL_E_GONIO_UP (up zero, or within 2^-10 rad of parallel to
- * aim). *g untouched on error. Cost: one pass over the table. */
+ * z = aim / |aim|; y = up made orthogonal to z, normalised; x = y cross z. Cost: one pass over the
+ * table.
+ * Formats: aim, up int32 triples in any common Q format (directions only); table Q1.15 unsigned;
+ * out frame Q2.30 unit vectors.
+ * Bound: z within 1 LSB of Q2.30 per component (qibl_vec3_normalize_q30); y and x, built from
+ * rounded vectors, within a few LSB of Q2.30.
+ * Errors, in this order: QIBL_E_NULL_POINTER (g, table, aim or up NULL); QIBL_E_GONIO_SIZE (n
+ * outside QIBL_GONIO_MIN_N .. QIBL_GONIO_MAX_N); QIBL_E_GONIO_TABLE (an entry above 32768);
+ * QIBL_E_GONIO_AIM (aim zero); QIBL_E_GONIO_UP (up zero, or up so nearly parallel to aim that
+ * every component of up's part orthogonal to aim is below 2^-11, i.e. within about 2^-11 to
+ * 2^-10 rad).
+ * On failure: nothing is written (*g untouched). */
 QIBL_NODISCARD qibl_status_t qibl_gonio_init(qibl_gonio_t *g, uint32_t n, const uint16_t *table, const int32_t aim[3],
                               const int32_t up[3]);
 
@@ -65,8 +73,14 @@ uint32_t qibl_gonio_lookup(const qibl_gonio_t *g, const int64_t d[3]);
 /* Multiplies the Q16.16 RGB of a span (3 n int32, pixels x0 .. x0 + n - 1 of row y, as
  * qibl_shmap_point_span writes it) by the scale toward each pixel's point of the P map p from the
  * lamp at pos (Q16.16, the P map's units): out = round(out * scale / 32768), ties away from zero,
- * sign kept (|out| never grows: no saturation needed). Errors: QIBL_E_NULL_POINTER;
- * QIBL_E_GONIO_BOUNDS (span outside p); nothing written on error. */
+ * sign kept (|out| never grows: no saturation needed). n == 0 is a valid empty span.
+ * Formats: pos and p's points Q16.16; out 3 n int32 in any Q format (Q16.16 RGB), in place;
+ * scales Q1.15.
+ * Bound: each product rounded to nearest (<= 0.5 LSB of out) against the scale qibl_gonio_lookup
+ * returns (itself within 2 LSB of Q1.15, see there); a scale of exactly 1.0 leaves out exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (g, p, p->points, pos or out NULL);
+ * QIBL_E_GONIO_BOUNDS (y >= p's height or x0 + n > p's width).
+ * On failure: nothing is written. */
 QIBL_NODISCARD qibl_status_t qibl_gonio_scale_span(const qibl_gonio_t *g, const qibl_pmap_t *p, const qibl_q16_t pos[3],
                                     uint32_t x0, uint32_t y, uint32_t n, int32_t *out);
 

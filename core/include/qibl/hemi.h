@@ -40,10 +40,10 @@
  * frame cheap: D(R) = Dz(alpha) D(Rx(-90)) Dz(beta) D(Rx(90)), two constant band matrices made at
  * init with qibl_sh_rotation_init and two z rotations (cos/sin m theta by recurrence).
  *
- * Memory: qibl_hemi_workspace_size(N, F) bytes, any alignment: the two rotations (1328 bytes), the
+ * Memory: qibl_hemi_workspace_size(N, F) bytes, any alignment: the two rotations (twice sizeof(qibl_sh_rotation_t)), the
  * disk mask and unblocked transfer, the basis table (100 N^2 bytes), the pixel centres (4 N^2
  * bytes) and the LUT (3 F^2 masks of 4 N max(1, N/32) bytes). N = 32: F = QIBL_HEMI_FACE_DEFAULT (48,
- * the largest within 1 MiB) 969.5 KiB, F = 20 (small, within 256 KiB) 255.5 KiB, F = 60 1455.5 KiB.
+ * the largest whose workspace fits in 1 MiB), F = 20 (small: within 256 KiB).
  * Init cost: 3 F^2 N^2 exact pixel tests and 65536 SH evaluations.
  */
 #ifndef QIBL_HEMI_H
@@ -106,24 +106,37 @@ typedef struct qibl_hemi_stats {
 size_t qibl_hemi_workspace_size(int n, int face);
 
 /* Builds the tables into workspace (deterministic, integer; any alignment) and fills *h.
- * Errors: QIBL_E_NULL_POINTER, QIBL_E_HEMI_SIZE (n or face), QIBL_E_WORKSPACE; *h untouched on
- * failure (the workspace may have been written). */
+ * Formats: tables Q2.30 (basis integrals, unblocked transfer, centre heights), u32 bit masks.
+ * Bound: each basis entry within 2^-30 of the (256 / N)^2-point sub-sampled integral of its pixel.
+ * Errors, in this order: QIBL_E_NULL_POINTER (h or workspace NULL), QIBL_E_HEMI_SIZE (n not 16, 32
+ * or 64, or face not even in 2..128), QIBL_E_WORKSPACE (workspace_size below
+ * qibl_hemi_workspace_size).
+ * On failure: *h and the workspace untouched (every check precedes the first write). */
 QIBL_NODISCARD qibl_status_t qibl_hemi_init(qibl_hemi_t *h, int n, int face, void *workspace, size_t workspace_size);
 
-/* The receiver frame at position p (Q16.16, |coordinate| <= QIBL_HEMI_COORD_MAX) with normal nrm
- * (any non-zero int32 vector). Axes within a few LSB of Q2.30 of orthonormal.
- * Errors: QIBL_E_NULL_POINTER, QIBL_E_HEMI_RANGE (p), QIBL_E_ZERO_VECTOR (nrm); *f untouched. */
+/* The receiver frame at position p (|coordinate| <= QIBL_HEMI_COORD_MAX) with normal nrm (any
+ * non-zero int32 vector).
+ * Formats: p Q16.16; nrm any common Q format (a direction only); axes and angles Q2.30.
+ * Bound: n within 1 LSB of Q2.30 per component; the axes within a few LSB of Q2.30 of orthonormal.
+ * Errors, in this order: QIBL_E_NULL_POINTER (f, p or nrm NULL), QIBL_E_HEMI_RANGE (a coordinate of
+ * p beyond QIBL_HEMI_COORD_MAX), QIBL_E_ZERO_VECTOR (nrm zero).
+ * On failure: nothing is written (*f untouched). */
 QIBL_NODISCARD qibl_status_t qibl_hemi_frame_init(qibl_hemi_frame_t *f, const qibl_q16_t p[3], const int32_t nrm[3]);
 
-/* Blocker vertices into the frame: out[k] = R^T (pos[k] - p), Q14.18 (QIBL_HEMI_LOCAL_FRAC),
- * rounded half up; error <= 0.5 LSB + 2^-28 |pos - p| (the axes). Transform each vertex once per
- * receiver, then rasterize any number of triangles that index it.
- * Errors: QIBL_E_NULL_POINTER, QIBL_E_HEMI_RANGE (a coordinate beyond QIBL_HEMI_COORD_MAX);
- * out untouched on failure. */
+/* Blocker vertices into the frame: out[k] = R^T (pos[k] - p), rounded half up. Transform each
+ * vertex once per receiver, then rasterize any number of triangles that index it.
+ * Formats: pos Q16.16; out Q14.18 (QIBL_HEMI_LOCAL_FRAC); the frame's axes Q2.30.
+ * Bound: error <= 0.5 LSB + 2^-28 |pos - p| (the axes).
+ * Errors, in this order: QIBL_E_NULL_POINTER (f NULL, or pos or out NULL with count != 0),
+ * QIBL_E_HEMI_RANGE (a coordinate of pos beyond QIBL_HEMI_COORD_MAX).
+ * On failure: nothing is written (out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_hemi_transform(const qibl_hemi_frame_t *f, const qibl_q16_t (*pos)[3], uint32_t count,
                                   int32_t (*out)[3]);
 
-/* Clears a mask (h->words words). */
+/* Clears a mask (h->words words).
+ * Formats: mask u32 bit words. Bound: exact.
+ * Errors: QIBL_E_NULL_POINTER (h or mask NULL).
+ * On failure: nothing is written. */
 QIBL_NODISCARD qibl_status_t qibl_hemi_clear(const qibl_hemi_t *h, uint32_t *mask);
 
 /* ORs the triangles tri[0..ntri) (indices into the frame-local vertices v[0..nv)) into mask.
@@ -131,11 +144,14 @@ QIBL_NODISCARD qibl_status_t qibl_hemi_clear(const qibl_hemi_t *h, uint32_t *mas
  * behind them still hides part of the averaged normal's hemisphere: a caller that knows the faces
  * (v, b, c) around the receiver rasterizes the wedges (nadir, b, c) too, the nadir a vertex at
  * (0, 0, -D) (any winding; at a convex vertex the wedges lie below the horizon and cost a test
- * each). `qibl transfer` does; it cuts a box's error against the ray cast from 34 % to 3 %.
+ * each). `qibl transfer` does; it cuts a box's error against the ray cast by an order of magnitude.
  * Culling and skipping as above; a triangle is the same mask whichever way it winds.
- * Errors: QIBL_E_NULL_POINTER (h, mask, or v/tri with a non-zero count), QIBL_E_HEMI_INDEX (an
- * index >= nv), QIBL_E_HEMI_RANGE (a coordinate of v[0..nv) beyond QIBL_HEMI_LOCAL_MAX); checked
- * before anything is written: mask and stats untouched on failure. */
+ * Formats: v Q14.18 (frame-local, from qibl_hemi_transform); mask u32 bit words.
+ * Bound: exact (integer edge-plane tests: the mask is the LUT's, bit for bit, on every port).
+ * Errors, in this order: QIBL_E_NULL_POINTER (h or mask NULL, or v/tri NULL with ntri != 0),
+ * QIBL_E_HEMI_INDEX (an index >= nv), QIBL_E_HEMI_RANGE (a coordinate of v[0..nv) beyond
+ * QIBL_HEMI_LOCAL_MAX).
+ * On failure: nothing is written (checked before anything is: mask and stats untouched). */
 QIBL_NODISCARD qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t nv, const uint32_t (*tri)[3],
                                uint32_t ntri, uint32_t *mask, qibl_hemi_stats_t *stats);
 
@@ -148,8 +164,12 @@ typedef struct qibl_hemi_bound {
 } qibl_hemi_bound_t;
 
 /* The bound of pos[idx[0..n)] (idx NULL: pos[0..n)); n = 0 gives the empty group.
- * Errors: QIBL_E_NULL_POINTER, QIBL_E_HEMI_INDEX (idx[k] >= nv), QIBL_E_HEMI_RANGE (a coordinate
- * beyond QIBL_HEMI_COORD_MAX); *out untouched on failure. */
+ * Formats: pos, out's centre and radius Q16.16.
+ * Bound: centre rounded down, radius rounded up: conservative (no vertex outside the sphere).
+ * Errors, in this order: QIBL_E_NULL_POINTER (out NULL, or pos NULL with n != 0), then vertex by
+ * vertex QIBL_E_HEMI_INDEX (idx[k], or k without idx, >= nv) and QIBL_E_HEMI_RANGE (a coordinate
+ * beyond QIBL_HEMI_COORD_MAX).
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_hemi_bound_fit(const qibl_q16_t (*pos)[3], uint32_t nv, const uint32_t *idx, uint32_t n,
                               qibl_hemi_bound_t *out);
 
@@ -167,12 +187,18 @@ int qibl_hemi_bound_above(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b
  * empty or k = 0: 0; a centre beyond QIBL_HEMI_COORD_MAX: 1. */
 int qibl_hemi_bound_near(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b, uint32_t k_q8);
 
-/* mask &= the disk (clears bits of pixels outside it: complemented table entries set them). */
+/* mask &= the disk (clears bits of pixels outside it: complemented table entries set them).
+ * Formats: mask u32 bit words. Bound: exact.
+ * Errors: QIBL_E_NULL_POINTER (h or mask NULL).
+ * On failure: nothing is written. */
 QIBL_NODISCARD qibl_status_t qibl_hemi_clip(const qibl_hemi_t *h, uint32_t *mask);
 
-/* The local transfer vector of a mask (blocked bits outside the disk are ignored): out[i] = V*_i in
- * Q2.30, exact sum of the per-pixel tables (each within 2^-30 plus the sub-sampling of the pixel's
- * integral). Errors: QIBL_E_NULL_POINTER; out untouched. */
+/* The local transfer vector of a mask (blocked bits outside the disk are ignored): out[i] = V*_i.
+ * Formats: mask u32 bit words; out Q2.30.
+ * Bound: the exact sum of the per-pixel tables (each within 2^-30 plus the sub-sampling of the
+ * pixel's integral).
+ * Errors: QIBL_E_NULL_POINTER (h, mask or out NULL).
+ * On failure: nothing is written (out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_hemi_transfer(const qibl_hemi_t *h, const uint32_t *mask, qibl_q30_t out[QIBL_HEMI_COEFFS]);
 
 /* The glossy (Phong) transfer for one view: out[i] = sum over the visible pixels p of the disk of
@@ -184,29 +210,44 @@ QIBL_NODISCARD qibl_status_t qibl_hemi_transfer(const qibl_hemi_t *h, const uint
  * Times (e + 2) / (2 pi) for the normalised Phong BRDF; dot with the lighting as the diffuse V*.
  * Q2.30 out; arithmetic: r . s_p in Q30 (error <= 2 LSB), its power by squaring in Q30 (each
  * product truncated: error <= 2 log2(e) + 2 LSB), the weight cut to 15 bits, the sum T w exact in
- * int64 (|out - the midpoint sum| <= 2^-14 of the sum of |T| over the disk). Errors:
- * QIBL_E_NULL_POINTER, QIBL_E_HEMI_EXPONENT (e > QIBL_HEMI_MAX_EXPONENT), QIBL_E_ZERO_VECTOR
- * (refl); out untouched on failure. Cost: per visible pixel with a non-zero weight, up to
- * 2 log2(e) products and 25 multiply-adds (about 16 us per vertex at 32 x 32, e = 16, gcc -O3 x86:
- * 40x the diffuse transfer, which sums set bits only). */
+ * int64. Cost: per visible pixel with a non-zero weight, up to 2 log2(e) products and 25
+ * multiply-adds (many times the diffuse transfer, which sums set bits only; `qibl bench hemi`
+ * measures both).
+ * Formats: mask u32 bit words; refl any common Q format (a direction only); out Q2.30.
+ * Bound: |out - the midpoint sum| <= 2^-14 of the sum of |T| over the disk.
+ * Errors, in this order: QIBL_E_NULL_POINTER (h, mask, refl or out NULL), QIBL_E_HEMI_EXPONENT
+ * (e > QIBL_HEMI_MAX_EXPONENT), QIBL_E_ZERO_VECTOR (refl zero).
+ * On failure: nothing is written (out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_hemi_transfer_phong(const qibl_hemi_t *h, const uint32_t *mask, const qibl_q30_t refl[3],
                                        uint32_t exponent, qibl_q30_t out[QIBL_HEMI_COEFFS]);
 
-/* Transfer out of the frame: world = D(R) local (Q2.30 in and out; in and out may not alias).
- * Error: a few LSB of Q2.30 times the largest |in| (four rotations, each rounded). */
+/* Transfer out of the frame: world = D(R) local (in and out may not alias).
+ * Formats: in and out 25 coefficients Q2.30.
+ * Bound: a few LSB of Q2.30 times the largest |in| (four rotations, each rounded).
+ * Errors: QIBL_E_NULL_POINTER (h, f, in or out NULL).
+ * On failure: nothing is written. */
 QIBL_NODISCARD qibl_status_t qibl_hemi_to_world(const qibl_hemi_t *h, const qibl_hemi_frame_t *f, const qibl_q30_t *in,
                                  qibl_q30_t *out);
 
-/* Lighting into the frame: local = D(R)^T world, 25 coefficients in any int32 fixed-point format
- * (saturated), one channel per call; the alternative to qibl_hemi_to_world (costs one call per
- * channel instead of one per vertex). in and out may not alias. */
+/* Lighting into the frame: local = D(R)^T world, one channel per call; the alternative to
+ * qibl_hemi_to_world (costs one call per channel instead of one per vertex). in and out may not
+ * alias.
+ * Formats: in and out 25 coefficients in any int32 fixed-point format, the same for both
+ * (saturated).
+ * Bound: as qibl_hemi_to_world, a few LSB of the format times the largest |in|, unless saturated.
+ * Errors: QIBL_E_NULL_POINTER (h, f, in or out NULL).
+ * On failure: nothing is written. */
 QIBL_NODISCARD qibl_status_t qibl_hemi_to_frame(const qibl_hemi_t *h, const qibl_hemi_frame_t *f, const int32_t *in,
                                  int32_t *out);
 
-/* Shading: out[ch] = sum_i light[ch][i] v[i], light in Q16.16 (radiance SH, as qibl_shlight_t), v
- * in Q2.30 (same frame as the light), out Q16.16 (irradiance; times albedo / pi gives the diffuse
- * exitant radiance), rounded half up, saturated. Each product is truncated by 2^-14 LSB before the
- * sum: error <= 0.5 + 25 * 2^-14 LSB. Errors: QIBL_E_NULL_POINTER. */
+/* Shading: out[ch] = sum_i light[ch][i] v[i] (irradiance; times albedo / pi gives the diffuse
+ * exitant radiance), rounded half up, saturated.
+ * Formats: light Q16.16 (radiance SH, as qibl_shlight_t); v Q2.30 (same frame as the light); out
+ * Q16.16.
+ * Bound: each product is truncated by 2^-14 LSB before the sum: error <= 0.5 + 25 * 2^-14 LSB,
+ * unless saturated.
+ * Errors: QIBL_E_NULL_POINTER (light, v or out NULL).
+ * On failure: nothing is written. */
 QIBL_NODISCARD qibl_status_t qibl_hemi_shade(const int32_t light[3][QIBL_HEMI_COEFFS], const qibl_q30_t v[QIBL_HEMI_COEFFS],
                               qibl_q16_t out[3]);
 

@@ -10,7 +10,7 @@
  *
  * No state in the core: the CPU's features come from the compiler runtime's own record of cpuid
  * (libgcc/compiler-rt __builtin_cpu_supports, filled once before main; a cpuid instruction per
- * call would cost about 19 us under a hypervisor that traps it). An application that wants to
+ * call would cost a trap under a hypervisor that traps it). An application that wants to
  * restrict the choice (tests, benches: QIBL_ISA in the tools) defines qibl_isa_allowed() below;
  * the core only calls it, it never reads the environment.
  */

@@ -38,8 +38,8 @@
  *                                    would add (255 = never shadowed)
  *    size = 8 + width height exactly
  * A free lamp relit through the unshadowed maps lights the pixels its cast shadows should darken
- * (measured on the demo: +6.6 % of the truth's light, all in cast-shadow pixels); scaling it by a(p)
- * puts the shadows back on average (brightness 1.057 -> 0.974, PSNR +1.2 dB on the demo).
+ * (the demo measures the excess, all in cast-shadow pixels); scaling it by a(p) puts the shadows
+ * back on average (the demo prints brightness and PSNR with and without it).
  */
 #ifndef QIBL_LIGHTPATH_H
 #define QIBL_LIGHTPATH_H
@@ -75,34 +75,58 @@ typedef struct qibl_lightpath {
     const uint8_t *keys, *rows, *counts, *edges;
 } qibl_lightpath_t;
 
-/* Validates an LPTH payload (layout above) and fills *out; *out untouched on failure.
- * QIBL_E_NULL_POINTER, QIBL_E_LIGHTPATH_SIZE (shorter than the header, or size other than the
- * fields imply), QIBL_E_LIGHTPATH_DIMENSIONS, QIBL_E_LIGHTPATH_KIND (kind or flags),
- * QIBL_E_LIGHTPATH_KEYS, QIBL_E_LIGHTPATH_ROWS, QIBL_E_LIGHTPATH_EDGES, checked in that order. */
+/* Validates an LPTH payload (layout above) and fills *out.
+ * Formats: none (little-endian fields; keys Q16.16 and u16 edges are checked, not converted).
+ * Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (data or out NULL), QIBL_E_LIGHTPATH_SIZE (shorter
+ * than the header), QIBL_E_LIGHTPATH_DIMENSIONS, QIBL_E_LIGHTPATH_KIND (kind or flags),
+ * QIBL_E_LIGHTPATH_KEYS (nkeys outside 2..QIBL_LIGHTPATH_MAX_KEYS), QIBL_E_LIGHTPATH_SIZE (nedges
+ * above QIBL_LIGHTPATH_MAX_EDGES, or size other than the fields imply), QIBL_E_LIGHTPATH_KEYS (t
+ * not 0 first, not strictly increasing, not 65535 last, or a zero direction key),
+ * QIBL_E_LIGHTPATH_ROWS, QIBL_E_LIGHTPATH_EDGES.
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_lightpath_parse(const uint8_t *data, size_t size, qibl_lightpath_t *out);
 
 /* Number of LPTH chunks in a validated asset (0 when a is NULL). This and the next need
  * QIBL_USE_ASSET; the rest of the module does not. */
 uint32_t qibl_lightpath_count(const qibl_asset_t *a);
 
-/* The index-th path of a validated asset, parsed, its size checked against SHMP's
- * (QIBL_E_LIGHTPATH_DIMENSIONS). QIBL_E_ASSET_MISSING_CHUNK past the last one. */
+/* The index-th path of a validated asset, parsed, its size checked against SHMP's.
+ * Formats: none (as qibl_lightpath_parse). Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (a or out NULL), QIBL_E_ASSET_MISSING_CHUNK (index
+ * past the last LPTH, or no SHMP: a not validated), those of qibl_lightpath_parse,
+ * QIBL_E_LIGHTPATH_DIMENSIONS (width or height other than SHMP's).
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_lightpath_from_asset(const qibl_asset_t *a, uint32_t index, qibl_lightpath_t *out);
 
-/* The light at parameter t, linear between keys: a direction (not normalised) or a position,
- * Q16.16, rounded to nearest (error <= 0.5 LSB). QIBL_E_NULL_POINTER, QIBL_E_LIGHTPATH_PARAM (t > 65535). */
+/* The light at parameter t, linear between keys: a direction (not normalised) or a position.
+ * Formats: t path parameter 0..65535; keys and out Q16.16.
+ * Bound: rounded to nearest, ties away from zero (error <= 0.5 LSB); exact at the keys.
+ * Errors, in this order: QIBL_E_NULL_POINTER (p or out NULL), QIBL_E_LIGHTPATH_PARAM (t > 65535).
+ * On failure: nothing is written. */
 QIBL_NODISCARD qibl_status_t qibl_lightpath_at(const qibl_lightpath_t *p, uint32_t t, qibl_q16_t out[3]);
 
-/* Visibility of pixels x0..x0+n-1 of row y at t, UQ16 (0..65536): hard (radius 0) or the fraction
- * of [t - radius, t + radius) lit (radius 1..32767), rounded to nearest (error <= 1 LSB).
- * QIBL_E_NULL_POINTER, QIBL_E_LIGHTPATH_PARAM (t or radius), QIBL_E_LIGHTPATH_BOUNDS; nothing
- * written on error. */
+/* Visibility of pixels x0..x0+n-1 of row y at t: hard (radius 0) or the fraction of
+ * [t - radius, t + radius) lit (radius 1..32767). n == 0 is a valid empty span.
+ * Formats: t, radius path parameter units; vis UQ16 (0..65536).
+ * Bound: hard: exact (0 or 65536); soft: rounded to nearest, error <= 1 LSB.
+ * Errors, in this order: QIBL_E_NULL_POINTER (p NULL), QIBL_E_LIGHTPATH_PARAM (t > 65535 or
+ * radius > 32767), QIBL_E_LIGHTPATH_BOUNDS (y >= height or x0 + n > width), QIBL_E_NULL_POINTER
+ * (vis NULL).
+ * On failure: nothing is written. */
 QIBL_NODISCARD qibl_status_t qibl_lightpath_visibility_span(const qibl_lightpath_t *p, uint32_t t, uint32_t radius, uint32_t x0,
                                              uint32_t y, uint32_t n, uint32_t *vis);
 
-/* out = light x V(t) (accumulate false) or out += light x V(t) (true, saturating) for the span,
- * 3 int32 per pixel (Q16.16 RGB, as qibl_shmap_relight_span writes them); light may equal out when
- * not accumulating. Products rounded to nearest (<= 0.5 LSB). Errors as the visibility span. */
+/* out = light x V(t) (accumulate false) or out += light x V(t) (true, saturating) for the span;
+ * light may equal out when not accumulating.
+ * Formats: light and out 3 int32 per pixel (Q16.16 RGB, as qibl_shmap_relight_span writes them);
+ * V UQ16 as qibl_lightpath_visibility_span.
+ * Bound: hard (radius 0), and soft pixels fully lit or dark: exact; otherwise each product rounded
+ * to nearest, ties up (<= 0.5 LSB) against V (itself within 1 LSB of UQ16); sums saturate at the
+ * int32 limits.
+ * Errors, in this order: those of qibl_lightpath_visibility_span up to QIBL_E_LIGHTPATH_BOUNDS, then
+ * QIBL_E_NULL_POINTER (light or out NULL).
+ * On failure: nothing is written. */
 QIBL_NODISCARD qibl_status_t qibl_lightpath_shade_span(const qibl_lightpath_t *p, uint32_t t, uint32_t radius, uint32_t x0,
                                         uint32_t y, uint32_t n, const int32_t *light, int32_t *out, bool accumulate);
 
@@ -112,18 +136,29 @@ typedef struct qibl_lampocc {
     const uint8_t *values;
 } qibl_lampocc_t;
 
-/* Validates a LOCC payload and fills *out (untouched on failure): QIBL_E_NULL_POINTER,
- * QIBL_E_LIGHTPATH_SIZE (shorter than the header or size other than 8 + w h),
- * QIBL_E_LIGHTPATH_DIMENSIONS (zero or too large), checked in that order. */
+/* Validates a LOCC payload and fills *out.
+ * Formats: none (little-endian u32 fields; the u8 values are not read). Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (data or out NULL), QIBL_E_LIGHTPATH_SIZE (shorter
+ * than the header), QIBL_E_LIGHTPATH_DIMENSIONS (zero or too large), QIBL_E_LIGHTPATH_SIZE (size
+ * other than 8 + w h).
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_lightpath_occl_parse(const uint8_t *data, size_t size, qibl_lampocc_t *out);
 
-/* The asset's LOCC, parsed, its size checked against SHMP's (QIBL_E_LIGHTPATH_DIMENSIONS);
- * QIBL_E_ASSET_MISSING_CHUNK without one, QIBL_E_ASSET_DUPLICATE_CHUNK with two. Needs QIBL_USE_ASSET. */
+/* The asset's LOCC, parsed, its size checked against SHMP's. Needs QIBL_USE_ASSET.
+ * Formats: none (as qibl_lightpath_occl_parse). Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (a or out NULL), QIBL_E_ASSET_MISSING_CHUNK (no LOCC),
+ * QIBL_E_ASSET_DUPLICATE_CHUNK (two or more), QIBL_E_ASSET_MISSING_CHUNK (no SHMP: a not validated),
+ * those of qibl_lightpath_occl_parse, QIBL_E_LIGHTPATH_DIMENSIONS (width or height other than SHMP's).
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_lightpath_occl_from_asset(const qibl_asset_t *a, qibl_lampocc_t *out);
 
-/* io *= a(p) / 255 for pixels x0..x0+n-1 of row y, 3 int32 per pixel (Q16.16 RGB), rounded to
- * nearest (factor error <= 2^-16 relative; 255 leaves a value unchanged, 0 gives 0).
- * QIBL_E_NULL_POINTER, QIBL_E_LIGHTPATH_BOUNDS; nothing written on error. */
+/* io *= a(p) / 255 for pixels x0..x0+n-1 of row y, in place.
+ * Formats: io 3 int32 per pixel (Q16.16 RGB); a(p) u8, used as the UQ16 factor 257 a + a / 128.
+ * Bound: rounded to nearest, ties up (<= 0.5 LSB) against the factor, whose error is <= 2^-16
+ * relative; 255 leaves a value unchanged, 0 gives 0.
+ * Errors, in this order: QIBL_E_NULL_POINTER (o or io NULL), QIBL_E_LIGHTPATH_BOUNDS (y >= height
+ * or x0 + n > width).
+ * On failure: nothing is written. */
 QIBL_NODISCARD qibl_status_t qibl_lightpath_occl_span(const qibl_lampocc_t *o, uint32_t x0, uint32_t y, uint32_t n, int32_t *io);
 
 #ifdef __cplusplus

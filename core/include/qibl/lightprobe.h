@@ -18,7 +18,7 @@
  *     direction of its integer centroid, |d| = 1 within 2 LSB) toward the region's energy centroid:
  *     the luminance-energy-weighted mean of the pixel centres' (u, v) inside the region, mapped to
  *     (theta, phi) as above. (Placement QIBL_LIGHTPROBE_PLACE_CENTRE uses the region's geometric
- *     centre instead, for comparison: 4x the irradiance error on the real probes.)
+ *     centre instead, for comparison: a larger irradiance error on the real probes.)
  *   - Regions are rectangles of pixels, kept cropped to the bounding box of their luminance energy
  *     (dark margins carry no light); so every region is lit and every split adds a light.
  *   - The longer side of a region is measured on the sphere: its angular width is
@@ -66,8 +66,8 @@
  *
  * Memory: qibl_lightprobe_workspace_size(W, H, method) bytes, any alignment:
  *   8 (W + 1)(H + 1) for the SAT (48 (W + 1)(H + 1) with the five moment SATs of VARMIN)
- *   + 16 (H + 1) for the row tables + 8 for alignment. 1024 x 512: 4.2 MB (VARMIN 25 MB);
- *   4096 x 2048: 67 MB (VARMIN 403 MB). The lights array doubles as the list of regions while
+ *   + 16 (H + 1) for the row tables + 8 for alignment (docs/porting.md's generated memory
+ *   table lists it for three probe sizes). The lights array doubles as the list of regions while
  *   splitting; the stack use is a few hundred bytes.
  * Limits: W, H in 1..QIBL_LIGHTPROBE_MAX_DIM (32768), W H <= QIBL_LIGHTPROBE_MAX_PIXELS (2^26).
  * All functions are reentrant; the probe pixels must stay unchanged between build and lights.
@@ -120,7 +120,7 @@ typedef enum qibl_lightprobe_priority {
     QIBL_LIGHTPROBE_PRIORITY_ENERGY_SIZE, /* energy times the region's diagonal on the sphere: a
                                            * bound on how far its energy is moved to one point */
     QIBL_LIGHTPROBE_PRIORITY_VARIANCE,    /* the largest energy-weighted angular variance
-                                           * (VARMIN only: needs the moment tables) */
+                                           * (needs the moment tables: a probe built for VARMIN) */
     QIBL_LIGHTPROBE_PRIORITY_LEVELS,      /* no priority: split every region once per round, as
                                            * MEDIANCUT does (count must be a power of two) */
     QIBL_LIGHTPROBE_PRIORITY_COUNT
@@ -133,7 +133,7 @@ typedef enum qibl_lightprobe_place {
 } qibl_lightprobe_place_t;
 
 /* The probe. Zero-initialisable: set pixels, width, height; format 0 is RGBE, stride 0 means rows
- * are tightly packed (4 or 12 bytes per pixel by format). */
+ * are tightly packed (4-byte or 12-byte pixels by format). */
 typedef struct qibl_lightprobe_image {
     const void *pixels;
     uint32_t width, height;
@@ -180,7 +180,7 @@ typedef struct qibl_lightprobe {
     int32_t emax;          /* RGBE: the largest exponent byte of a lit pixel (0: none) */
     uint32_t mshift;       /* moment SATs hold sums of e >> mshift */
     uint64_t *sat;         /* (W + 1) (H + 1): row 0 and column 0 are zero */
-    uint64_t *mom;         /* 4 (W + 1) (H + 1) for VARMIN: e u, e u^2, e v, e v^2; else NULL */
+    uint64_t *mom;         /* 5 (W + 1) (H + 1) for VARMIN: em, em u, em u^2, em v, em v^2; else NULL */
     uint32_t *row_sig;     /* H: sin theta_v mantissa in [2^31, 2^32) */
     int32_t *row_kap;      /* H: sin theta_v = row_sig * 2^-(32 + row_kap) */
     uint64_t *row_sum;     /* H + 1: prefix sums of sin theta_v in Q31 (for widths on the sphere) */
@@ -195,15 +195,24 @@ size_t qibl_lightprobe_workspace_size(uint32_t width, uint32_t height, qibl_ligh
  * to img->pixels and the workspace, which must outlive it unchanged.
  * Cost: two reads of the probe, one write of the SAT (plus one read of it and four moment SAT
  * writes for VARMIN), about 20 integer operations per pixel.
- * Errors, in the order checked: QIBL_E_NULL_POINTER (lp, img, img->pixels or workspace),
+ * A black probe (no pixel has luminance energy) builds: QIBL_OK, lp filled, and
+ * qibl_lightprobe_lights reports QIBL_E_PROBE_BLACK.
+ * Formats: pixels RGBE bytes, sRGBE bytes, int32 linear (value x / 2^frac_bits) or IEEE binary32
+ * bit patterns (qibl_lightprobe_format_t); tables: uint64 SATs of per-pixel luminance x sin theta
+ * energies in the unit energy_exp / energy_div give, row weights as qibl_lightprobe_row_weight.
+ * Bound: the SATs are exact sums of the per-pixel integers e = floor(Y s_v 2^k) (above: the floor
+ * loses < 1 unit per pixel, s_v is within 2^-30 relative).
+ * Errors, in this order: QIBL_E_NULL_POINTER (lp, img, img->pixels or workspace),
  * QIBL_E_PROBE_SIZE (W or H zero or above QIBL_LIGHTPROBE_MAX_DIM), QIBL_E_PROBE_OVERFLOW
- * (W H above QIBL_LIGHTPROBE_MAX_PIXELS, or a byte size beyond size_t), QIBL_E_PROBE_FORMAT
- * (unknown format, frac_bits outside -128..128, stride shorter than a row or misaligned),
- * QIBL_E_PROBE_METHOD (unknown method), QIBL_E_WORKSPACE (workspace_size below what
- * qibl_lightprobe_workspace_size asks), QIBL_E_PROBE_NEGATIVE, QIBL_E_PROBE_NOT_FINITE (found
- * before anything is written), QIBL_E_PROBE_BLACK (no pixel has luminance energy: the tables are
- * built, lp is filled and qibl_lightprobe_lights will report the same).
- * On other failures lp is untouched; the workspace may have been written. */
+ * (W H above QIBL_LIGHTPROBE_MAX_PIXELS), QIBL_E_PROBE_FORMAT (unknown format, frac_bits outside
+ * -128..128, stride shorter than a row), QIBL_E_PROBE_OVERFLOW (the image's byte span beyond
+ * size_t), QIBL_E_PROBE_FORMAT (12-byte pixels, or their stride, not 4-byte aligned),
+ * QIBL_E_PROBE_METHOD (unknown method), QIBL_E_PROBE_OVERFLOW (workspace size beyond size_t),
+ * QIBL_E_WORKSPACE (workspace_size below what qibl_lightprobe_workspace_size asks),
+ * QIBL_E_PROBE_NOT_FINITE, QIBL_E_PROBE_NEGATIVE (one scan of the pixels; a probe with both kinds
+ * reports NOT_FINITE).
+ * On failure: nothing is written (lp and the workspace untouched: every check precedes the
+ * first write). */
 QIBL_NODISCARD qibl_status_t qibl_lightprobe_build(qibl_lightprobe_t *lp, const qibl_lightprobe_image_t *img,
                                     qibl_lightprobe_method_t method, void *workspace, size_t workspace_size);
 
@@ -216,34 +225,43 @@ QIBL_NODISCARD qibl_status_t qibl_lightprobe_build(qibl_lightprobe_t *lp, const 
  * max_lights lights whenever the probe has that many lit pixels; fewer only when regions run out
  * (one light per lit pixel; for priority VARIANCE, also when every region's energy sits at one
  * point).
- * Accuracy: rgb within 1 LSB of the list's scale plus the region-sum error above; dir within
- * 3 LSB (Q2.30) of the exact direction of the integer centroid, which is within 2^-32 pixel of the
- * exact centroid of the region's integer energies (and so within (n / T + 2^-29) of the region's
- * extent of the real-valued centroid, n pixels holding T units).
  * Cost: O(count log count) region splits, each O(log(w h)) SAT reads (MEDIANCUT, ADAPTIVE) or
  * O(w + h) (VARMIN, each candidate cut costing a few 128-bit operations), then O(w + h) SAT reads
  * per light for its centroid and one read of the probe pixels for the colours.
- * Errors: QIBL_E_NULL_POINTER (lp, lights or result), QIBL_E_PROBE_METHOD (unknown method,
- * priority or place, or priority VARIANCE without VARMIN), QIBL_E_PROBE_COUNT (max_lights 0, or
- * not a power of two for MEDIANCUT / LEVELS), QIBL_E_PROBE_MISMATCH (VARMIN on a probe built
- * without the moment tables), QIBL_E_PROBE_BLACK (an all-black probe: no lights).
- * On failure lights[] and *result are untouched. */
+ * Formats: dir Q2.30 unit vectors; rgb int32 >= 0 scaled by the list's shared 2^rgb_exp (largest
+ * channel in [2^30, 2^31)); regions in pixel columns and rows.
+ * Bound: rgb within 1 LSB of the list's scale plus the region-sum error above; dir within
+ * 3 LSB (Q2.30) of the exact direction of the integer centroid, which is within 2^-32 pixel of the
+ * exact centroid of the region's integer energies (and so within (n / T + 2^-29) of the region's
+ * extent of the real-valued centroid, n pixels holding T units).
+ * Errors, in this order: QIBL_E_NULL_POINTER (lp, lights or result), QIBL_E_PROBE_METHOD (unknown
+ * method, priority or place, or MEDIANCUT with a priority other than DEFAULT or LEVELS),
+ * QIBL_E_PROBE_COUNT (max_lights 0, or not a power of two for MEDIANCUT / LEVELS),
+ * QIBL_E_PROBE_MISMATCH (VARMIN, or priority VARIANCE with ADAPTIVE, on a probe built without the
+ * moment tables), QIBL_E_PROBE_BLACK (an all-black probe: no lights).
+ * On failure: nothing is written (lights[] and *result untouched). */
 QIBL_NODISCARD qibl_status_t qibl_lightprobe_lights(const qibl_lightprobe_t *lp, const qibl_lightprobe_opts_t *opts,
                                      qibl_lightprobe_light_t *lights, uint32_t max_lights,
                                      qibl_lightprobe_result_t *result);
 
-/* Luminance energy of the region u0 <= u < u1, v0 <= v < v1 in SAT units (see qibl_lightprobe_t):
- * the exact sum of the per-pixel integers, from four SAT reads. An empty region (u0 == u1 or
- * v0 == v1) gives 0. QIBL_E_NULL_POINTER, QIBL_E_PROBE_RECT (u0 > u1, v0 > v1 or past the probe);
- * *energy untouched on failure. */
+/* Luminance energy of the region u0 <= u < u1, v0 <= v < v1 in SAT units (see qibl_lightprobe_t),
+ * from four SAT reads. An empty region (u0 == u1 or v0 == v1) gives 0.
+ * Formats: *energy uint64 in the unit 2^energy_exp / energy_div. Bound: exact (the sum of the
+ * per-pixel integers).
+ * Errors, in this order: QIBL_E_NULL_POINTER (lp or energy NULL), QIBL_E_PROBE_RECT (u0 > u1,
+ * v0 > v1 or past the probe).
+ * On failure: nothing is written (*energy untouched). */
 QIBL_NODISCARD qibl_status_t qibl_lightprobe_region_energy(const qibl_lightprobe_t *lp, uint32_t u0, uint32_t v0, uint32_t u1,
                                             uint32_t v1, uint64_t *energy);
 
-/* The row weight table entry: sin((v + 1/2) pi / h) = *mant * 2^-(32 + *kap), *mant in
- * [2^31, 2^32), computed from the exact rational angle with integer polynomials: relative error
- * <= 2^-30 (the tests measure it against libm for every row of several heights). Identical bits on
- * every port. QIBL_E_NULL_POINTER, QIBL_E_PROBE_SIZE (h 0 or above QIBL_LIGHTPROBE_MAX_DIM,
- * v >= h); outputs untouched on failure. */
+/* The row weight table entry: sin((v + 1/2) pi / h) = *mant * 2^-(32 + *kap), computed from the
+ * exact rational angle with integer polynomials. Identical bits on every port.
+ * Formats: *mant unsigned mantissa in [2^31, 2^32), *kap its exponent offset (a float in integers).
+ * Bound: relative error <= 2^-30 (the tests measure it against libm for every row of several
+ * heights).
+ * Errors, in this order: QIBL_E_NULL_POINTER (mant or kap NULL), QIBL_E_PROBE_SIZE (h 0 or above
+ * QIBL_LIGHTPROBE_MAX_DIM, v >= h).
+ * On failure: nothing is written (*mant, *kap untouched). */
 QIBL_NODISCARD qibl_status_t qibl_lightprobe_row_weight(uint32_t h, uint32_t v, uint32_t *mant, int32_t *kap);
 
 #ifdef __cplusplus

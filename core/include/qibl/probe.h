@@ -30,19 +30,19 @@
  *     |L_lm - exact| <= 2^-26 B' + 2^-29 max |L|,   B' = sum_v W M_v dw_v,
  * M_v the largest channel value of row v (B' <= 4 pi max P; for rows of even brightness it is about
  * the probe's total sum P dw); for RGBE, M_v = 2^(emax_v - 128) from the row's largest lit exponent
- * (the row is scaled from its exponents alone: equal to the largest value within 2x when the largest
+ * (the row is scaled from its exponents alone: equal to the largest value within a factor of two when the largest
  * channel's mantissa is in 128..255, as Radiance's encoders write it; 7 bits lost at worst). Terms: each channel's rounding to its row scale (<= 2^-27 M_v, times
  * |Y| <= 0.85 and W pixels), the Q2.30 trig table and row factors (<= 2^-29 relative per pixel: the
  * basis of sh.h and the row weight's 32-bit sine), the 2^-62 rounding of each row sum, and in
  * finish the 32-bit constants and the output rounding (<= 2^-29 of the largest coefficient).
- * Measured: 3e-8 of max |L| on random probes; on the 11 fixture probes 1.6e-9 .. 3.6e-8, and 2.7e-7
- * on moonless_golf (a night probe: dim rows quantised against a few bright lamps).
+ * Measured errors are far below the bound, largest on night probes (dim rows quantised against a
+ * few bright lamps).
  * tests/probe_test.c measures it against a double reference (tools/ref/probe_ref.c) on every fixture
  * probe and on hard cases; `qibl bench probe` prints RESULT probe.sh_max_rel_err.
  *
  * Memory: qibl_probe_sh_workspace_size(W, H) bytes, any alignment: the accumulators (3 x 25 x 15
  * uint32 = 4500 bytes), the trig table (32 W/4 bytes, or 32 W if W % 4 != 0), one row of channel
- * integers (12 W) and a bitmap of the rows added (H / 8). 1024 x 512: 25 KB. Stack: under 1 KB.
+ * integers (12 W) and a bitmap of the rows added (H / 8). Stack: under 1 KiB.
  */
 #ifndef QIBL_PROBE_H
 #define QIBL_PROBE_H
@@ -103,53 +103,93 @@ size_t qibl_probe_sh_workspace_size(uint32_t width, uint32_t height);
 
 /* Starts a projection onto bands 1..QIBL_SH_MAX_BANDS of a width x height probe in format
  * (frac_bits for LINEAR_I32, -128..128). Clears the accumulators and fills the trig table
- * (8 sines per folded column from exact rational angles, within 1 LSB of Q2.30).
- * Errors: QIBL_E_NULL_POINTER, QIBL_E_BAD_BANDS, QIBL_E_PROBE_SIZE, QIBL_E_PROBE_OVERFLOW,
- * QIBL_E_PROBE_FORMAT, QIBL_E_WORKSPACE; *ps untouched on failure. */
+ * (8 sines per folded column from exact rational angles).
+ * Formats: the probe's pixel format (lightprobe.h); trig table Q2.30.
+ * Bound: trig entries within 1 LSB of Q2.30; the projection's bound is the one at the top.
+ * Errors, in this order: QIBL_E_NULL_POINTER (ps or workspace NULL), QIBL_E_BAD_BANDS (bands
+ * outside 1..QIBL_SH_MAX_BANDS), QIBL_E_PROBE_SIZE (W or H zero or above QIBL_LIGHTPROBE_MAX_DIM),
+ * QIBL_E_PROBE_OVERFLOW (W H above QIBL_LIGHTPROBE_MAX_PIXELS), QIBL_E_PROBE_FORMAT (unknown format
+ * or frac_bits outside -128..128), QIBL_E_PROBE_OVERFLOW (workspace size beyond size_t),
+ * QIBL_E_WORKSPACE (workspace_size below qibl_probe_sh_workspace_size).
+ * On failure: nothing is written (*ps and the workspace untouched). */
 QIBL_NODISCARD qibl_status_t qibl_probe_sh_begin(qibl_probe_sh_t *ps, uint32_t width, uint32_t height,
                                   qibl_lightprobe_format_t format, int32_t frac_bits, int bands, void *workspace,
                                   size_t workspace_size);
 
 /* Adds row v (W pixels in the begin format, 4-byte aligned for the 32-bit formats).
- * Errors: QIBL_E_NULL_POINTER, QIBL_E_PROBE_ROW (v >= H, or row v already added),
- * QIBL_E_PROBE_FORMAT (a 32-bit format row misaligned), QIBL_E_PROBE_NOT_FINITE, QIBL_E_PROBE_NEGATIVE
- * (NaN / Inf first, found before anything is accumulated); on failure the projection is unchanged.
+ * Formats: row in the begin format (RGBE, sRGBE bytes, int32 / 2^frac_bits, binary32 bit patterns);
+ * accumulators exact 480-bit fixed point.
+ * Bound: the row's share of the bound at the top (its rounding to the row scale, 2^-27 M_v per
+ * channel; the accumulation itself is exact).
+ * Errors, in this order: QIBL_E_NULL_POINTER (ps, row or ps->acc NULL), QIBL_E_PROBE_ROW (v >= H,
+ * or row v already added), QIBL_E_PROBE_FORMAT (a 32-bit format row misaligned),
+ * QIBL_E_PROBE_NOT_FINITE, QIBL_E_PROBE_NEGATIVE (one scan of the row: NaN / Inf win over a
+ * negative value).
+ * On failure: the projection is unchanged (nothing is accumulated, the row is not marked).
  * Cost: one pass over the row to find its scale and check it, one to convert it, then 1.5
  * (W % 4 == 0) or 8 multiply-adds per pixel and channel, and 3 x 25 accumulator additions per row.
  * With QIBL_CONFIG_SIMD == AVX2 the RGBE scan and conversion and the folded sums take 8 columns per
- * instruction (vpsrlvd, vpmuldq; the same integers, so the same bits as the scalar path): 1024 x 512
- * RGBE, gcc 12 -O3, ~2.1 ns per pixel against ~5.8 scalar/SSE2 (`qibl bench probe`). */
+ * instruction (vpsrlvd, vpmuldq; the same integers, so the same bits as the scalar path), faster
+ * than scalar/SSE2 (`qibl bench probe` measures both). */
 QIBL_NODISCARD qibl_status_t qibl_probe_sh_add_row(qibl_probe_sh_t *ps, uint32_t v, const void *row);
 
-/* The coefficients of the rows added so far, with opts applied (irradiance, window).
- * Errors: QIBL_E_NULL_POINTER (ps or out), QIBL_E_PROBE_ROW (not every row added),
- * QIBL_E_PROBE_METHOD (unknown window); *out untouched on failure. */
+/* The coefficients of the rows added so far, with opts applied (irradiance, window; scale_log2 is
+ * not used here).
+ * Formats: out c[ch][i] int32 times 2^exp, largest |c| in [2^30, 2^31).
+ * Bound: the bound at the top, |L_lm - exact| <= 2^-26 B' + 2^-29 max |L|.
+ * Errors, in this order: QIBL_E_NULL_POINTER (ps, out or ps->acc NULL), QIBL_E_PROBE_METHOD
+ * (unknown window), QIBL_E_PROBE_ROW (not every row added).
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_probe_sh_finish(const qibl_probe_sh_t *ps, const qibl_probe_sh_opts_t *opts,
                                    qibl_probe_coeffs_t *out);
 
 /* begin + every row of img + finish, for a resident image (img->stride as in lightprobe.h).
- * Errors: those of the three, and QIBL_E_PROBE_FORMAT for a bad stride; *out untouched on failure. */
+ * Formats: img as lightprobe.h; out as qibl_probe_sh_finish.
+ * Bound: as qibl_probe_sh_finish (the bound at the top).
+ * Errors, in this order: QIBL_E_NULL_POINTER (out, img or img->pixels NULL), those of
+ * qibl_probe_sh_begin, QIBL_E_PROBE_FORMAT (stride shorter than a row), QIBL_E_PROBE_OVERFLOW (the
+ * image's byte span beyond size_t), QIBL_E_PROBE_FORMAT (12-byte pixels or their stride not 4-byte
+ * aligned), those of qibl_probe_sh_add_row row by row from the top, those of qibl_probe_sh_finish
+ * (an unknown window is reported only after every row is projected).
+ * On failure: *out untouched; the workspace may have been written. */
 QIBL_NODISCARD qibl_status_t qibl_probe_sh_project(const qibl_lightprobe_image_t *img, int bands, const qibl_probe_sh_opts_t *opts,
                                     void *workspace, size_t workspace_size, qibl_probe_coeffs_t *out);
 
 /* ---- into a light ---------------------------------------------------------------------------- */
 
 /* l->c[ch][i] += round(c[ch][i] 2^(exp + 16 + scale_log2)) for i < min(l->k, bands^2): the
- * coefficients as Q16.16 radiance SH. QIBL_E_NULL_POINTER, QIBL_E_SHMAP_K (l not initialised),
- * QIBL_E_BAD_BANDS (c->bands outside 1..5), QIBL_E_RANGE (|scale_log2| > 512 or |c->exp| > 1024),
- * QIBL_E_PROBE_SATURATED (a sum beyond int32: lower scale_log2); l untouched on failure. */
+ * coefficients as Q16.16 radiance SH.
+ * Formats: c int32 times 2^exp; l's coefficients Q16.16.
+ * Bound: each term rounded half up (<= 0.5 LSB of Q16.16; exact when exp + 16 + scale_log2 >= 0),
+ * the sum exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (l or c NULL), QIBL_E_SHMAP_K (l->k outside
+ * 1..QIBL_SH_MAX_COUNT: l not initialised), QIBL_E_BAD_BANDS (c->bands outside
+ * 1..QIBL_SH_MAX_BANDS), QIBL_E_RANGE (|scale_log2| > 512 or |c->exp| > 1024),
+ * QIBL_E_PROBE_SATURATED (a sum beyond int32: lower scale_log2).
+ * On failure: nothing is written (*l untouched). */
 QIBL_NODISCARD qibl_status_t qibl_shlight_add_coeffs(qibl_shlight_t *l, const qibl_probe_coeffs_t *c, int32_t scale_log2);
 
 /* Projects img onto the bands l->k needs (qibl_probe_sh_project, opts as there) and adds it to l
- * (qibl_shlight_add_coeffs with opts->scale_log2). Errors: those two; l untouched on failure. */
+ * (qibl_shlight_add_coeffs with opts->scale_log2).
+ * Formats: img as lightprobe.h; l's coefficients Q16.16.
+ * Bound: the projection's bound (top) plus qibl_shlight_add_coeffs's 0.5 LSB.
+ * Errors, in this order: QIBL_E_NULL_POINTER (l NULL), QIBL_E_SHMAP_K (l not initialised), those of
+ * qibl_probe_sh_project, those of qibl_shlight_add_coeffs.
+ * On failure: *l untouched; the workspace may have been written. */
 QIBL_NODISCARD qibl_status_t qibl_shlight_add_probe(qibl_shlight_t *l, const qibl_lightprobe_image_t *img,
                                      const qibl_probe_sh_opts_t *opts, void *workspace, size_t workspace_size);
 
 /* A light list (qibl_lightprobe_lights) as SH: l->c[ch][i] += sum_n rgb_n 2^(rgb_exp + scale_log2)
- * Y_i(dir_n) in Q16.16. Each light's products are exact, summed in 64 bits and rounded once per
- * coefficient: error <= 0.5 LSB + count |rgb|max 2^(rgb_exp + scale_log2) 2^-25 (the basis).
- * QIBL_E_NULL_POINTER, QIBL_E_SHMAP_K, QIBL_E_PROBE_COUNT (count above 2^16),
- * QIBL_E_PROBE_SATURATED; l untouched on failure. */
+ * Y_i(dir_n) in Q16.16. Each light's product rgb Y is rounded to 2^-16 of its own unit (2^s LSB of
+ * Q16.16, s = rgb_exp + scale_log2 + 2), summed in 64 bits and rounded once per coefficient. A light
+ * with a zero direction adds nothing.
+ * Formats: lights' dir Q2.30 and rgb int32 times 2^rgb_exp; l's coefficients Q16.16.
+ * Bound: <= 0.5 LSB + count 2^(s - 1) LSB (the per-light rounding) + count |rgb|max
+ * 2^(rgb_exp + scale_log2) 2^-25 (the basis).
+ * Errors, in this order: QIBL_E_NULL_POINTER (l NULL, or lights NULL with count != 0),
+ * QIBL_E_SHMAP_K (l not initialised), QIBL_E_PROBE_COUNT (count above 2^16),
+ * QIBL_E_PROBE_SATURATED (a sum beyond int32).
+ * On failure: nothing is written (*l untouched). */
 QIBL_NODISCARD qibl_status_t qibl_shlight_add_lights(qibl_shlight_t *l, const qibl_lightprobe_light_t *lights, uint32_t count,
                                       int32_t rgb_exp, int32_t scale_log2);
 
@@ -158,14 +198,27 @@ QIBL_NODISCARD qibl_status_t qibl_shlight_add_lights(qibl_shlight_t *l, const qi
  * directional lights (qibl_shlight_add_lights). The regions' pixels are projected again and
  * subtracted from the accumulators (the same per-row quantisation, so what is removed is what the
  * full projection added, within the 2^-62 rounding of each row sum). opts as qibl_shlight_add_probe.
- * Errors: those of qibl_shlight_add_probe and qibl_shlight_add_lights, QIBL_E_PROBE_RECT (a region
- * outside the probe); l untouched on failure. */
+ * The regions of one list must be disjoint (qibl_lightprobe_lights' are); that is not checked.
+ * Formats: img as lightprobe.h; sun as qibl_lightprobe_lights writes it (dir Q2.30, rgb int32 times
+ * 2^rgb_exp); l's coefficients Q16.16.
+ * Bound: the sums of the bounds of qibl_shlight_add_probe and qibl_shlight_add_lights.
+ * Errors, in this order: QIBL_E_NULL_POINTER (l NULL, or sun NULL with count != 0), QIBL_E_SHMAP_K
+ * (l not initialised), those of the projection as in qibl_probe_sh_project up to the rows,
+ * QIBL_E_PROBE_RECT (a region empty or outside the probe), QIBL_E_PROBE_METHOD (unknown window),
+ * those of qibl_shlight_add_coeffs, then those of qibl_shlight_add_lights.
+ * On failure: *l untouched (both additions are made on a copy); the workspace may have been
+ * written. */
 QIBL_NODISCARD qibl_status_t qibl_shlight_add_sun_sky(qibl_shlight_t *l, const qibl_lightprobe_image_t *img,
                                        const qibl_probe_sh_opts_t *opts, const qibl_lightprobe_light_t *sun,
                                        uint32_t count, int32_t rgb_exp, void *workspace, size_t workspace_size);
 
-/* Rotates the light's coefficients in place (per channel, qibl_sh_rotate): QIBL_E_NULL_POINTER,
- * QIBL_E_SHMAP_K, QIBL_E_BAD_BANDS (rot has fewer bands than l->k needs). */
+/* Rotates the light's coefficients in place (per channel, qibl_sh_rotate).
+ * Formats: l's coefficients Q16.16; rot Q2.30.
+ * Bound: qibl_sh_rotate's, <= 0.5 LSB + 3 * 2^-24 * max |c| of the band.
+ * Errors, in this order: QIBL_E_NULL_POINTER (l or rot NULL), QIBL_E_SHMAP_K (l not initialised),
+ * QIBL_E_BAD_BANDS (rot has fewer bands than l->k needs, or more than QIBL_SH_MAX_BANDS: rot not
+ * initialised).
+ * On failure: nothing is written (*l untouched). */
 QIBL_NODISCARD qibl_status_t qibl_shlight_rotate(qibl_shlight_t *l, const qibl_sh_rotation_t *rot);
 
 #ifdef __cplusplus

@@ -64,8 +64,8 @@ typedef enum qibl_lut_filter {
     QIBL_LUT_NEAREST,      /* the texel the direction falls in: cheapest, error ~ texel size */
     /* No LUT (one passed to prepare is checked, then ignored): Y_i from the SH recurrences with int16
      * operands in Q2.14/Q3.13, 1/|L| from fixed.c's seed table and one Newton step; pixel by pixel,
-     * no workspace traffic. The fastest point mode (Cortex-M4, k = 9: 679 instructions per pixel
-     * against 1800 for direct SH; x86 k = 16: 1036 against 1414 for LUT 32^2) and as accurate as
+     * no workspace traffic. The fastest point mode (fewer instructions per pixel than direct SH on
+     * Cortex-M4 and than LUT 32^2 on x86: docs/porting.md, `qibl bench relight`) and as accurate as
      * direct SH (bounds at qibl_shmap_point_span). Its own goldens (relight_point_k*_poly*). */
     QIBL_POINT_POLY
 } qibl_lut_filter_t;
@@ -107,18 +107,30 @@ typedef struct qibl_shmap_point {
 
 /* ---- light coefficients ---------------------------------------------------------------------- */
 
-/* Zeroes l and sets l->k. QIBL_E_NULL_POINTER, QIBL_E_SHMAP_K (k outside 1..QIBL_SH_MAX_COUNT). */
+/* Zeroes l and sets l->k.
+ * Formats: l's coefficients Q16.16 (set to 0). Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (l NULL), QIBL_E_SHMAP_K (k outside
+ * 1..QIBL_SH_MAX_COUNT).
+ * On failure: nothing is written (*l untouched). */
 QIBL_NODISCARD qibl_status_t qibl_shlight_init(qibl_shlight_t *l, uint32_t k);
 
-/* Adds a directional light of colour rgb (Q16.16) from direction dir (any non-zero length):
- * c[ch][i] += rgb[ch] * Y_i(dir), rounded half up, saturating. Error <= 0.5 LSB + |rgb| 2^-25.
- * QIBL_E_NULL_POINTER, QIBL_E_ZERO_VECTOR, QIBL_E_SHMAP_K (l not initialised); l untouched on error. */
+/* Adds a directional light of colour rgb from direction dir (any non-zero length):
+ * c[ch][i] += rgb[ch] * Y_i(dir), rounded half up, saturating.
+ * Formats: rgb and l's coefficients Q16.16; dir any common Q format (a direction only).
+ * Bound: per call and coefficient <= 0.5 LSB + |rgb| 2^-25 (qibl_sh_eval's bound), unless saturated.
+ * Errors, in this order: QIBL_E_NULL_POINTER (l, dir or rgb NULL), QIBL_E_SHMAP_K (l->k outside
+ * 1..QIBL_SH_MAX_COUNT: l not initialised), QIBL_E_ZERO_VECTOR (dir zero).
+ * On failure: nothing is written (*l untouched). */
 QIBL_NODISCARD qibl_status_t qibl_shlight_add_dir(qibl_shlight_t *l, const qibl_q16_t dir[3], const qibl_q16_t rgb[3]);
 
 /* ---- directional / environment relighting ---------------------------------------------------- */
 
-/* Checks a maps view (filled by qibl_asset_shmaps or by hand): QIBL_E_NULL_POINTER, QIBL_E_SHMAP_K,
- * QIBL_E_SHMAP_CHANNELS, QIBL_E_SHMAP_SIZE (zero width/height). */
+/* Checks a maps view (filled by qibl_asset_shmaps or by hand).
+ * Formats: none (reads the view's fields only). Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (m, m->params or m->planes NULL), QIBL_E_SHMAP_K (k
+ * outside 1..QIBL_SH_MAX_COUNT), QIBL_E_SHMAP_CHANNELS (not 1 or 3), QIBL_E_SHMAP_SIZE (zero
+ * width/height), QIBL_E_SHMAP_LAYOUT (unknown layout, or interleaved without QIBL_USE_INTERLEAVED).
+ * On failure: nothing is written (it writes nothing, ever). */
 QIBL_NODISCARD qibl_status_t qibl_shmap_check(const qibl_shmaps_t *m);
 
 /* Per-frame weights from maps and light (light->k must be >= maps->k; extra coefficients are
@@ -127,30 +139,47 @@ QIBL_NODISCARD qibl_status_t qibl_shmap_check(const qibl_shmaps_t *m);
  * exact integer below 16384 in Q40): weight quantisation adds at most 0.5 weight-LSB per map, i.e. a
  * relative error <= k * 2^-16 of the brightest map's full-scale contribution.
  * m->planes may be NULL (only the params are read: the maps view of a streamed asset's head).
- * Errors: those of qibl_shmap_check, QIBL_E_SHMAP_LIGHT_K; *out untouched on error. */
+ * Formats: params Q8.24, light Q16.16; out int16 weights per channel with a power-of-two shift,
+ * bias int64 Q16.16.
+ * Bound: as above, <= 0.5 weight-LSB per map (relative <= k * 2^-16 of the brightest map's
+ * full-scale contribution).
+ * Errors, in this order: those of qibl_shmap_check (m->planes not required), QIBL_E_NULL_POINTER
+ * (light or out NULL), QIBL_E_SHMAP_LIGHT_K (light->k below m->k or above QIBL_SH_MAX_COUNT).
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_shmap_weights(const qibl_shmaps_t *m, const qibl_shlight_t *light, qibl_shmap_weights_t *out);
 
 /* Workspace bytes qibl_shmap_relight_span needs for a span of n pixels (4-byte aligned storage). */
 size_t qibl_shmap_span_workspace_size(uint32_t n);
 
-/* Relights pixels x0 .. x0+n-1 of row y into out (3n int32, Q16.16, RGB interleaved).
- * out = sat32(acc * 2^shift + bias) per channel: exact integer arithmetic, so the only errors are the
- * weights' quantisation (above) and the final rounding (<= 0.5 LSB of Q16.16).
- * Errors: QIBL_E_NULL_POINTER, QIBL_E_SHMAP_BOUNDS (span outside the maps), QIBL_E_SHMAP_MISMATCH
- * (weights made for other k/channels), QIBL_E_WORKSPACE (ws_size too small), QIBL_E_WORKSPACE_ALIGN
- * (ws not on a 4-byte boundary: declare it as int32_t/uint32_t storage, whatever the layout);
- * nothing written. */
+/* Relights pixels x0 .. x0+n-1 of row y into out. out = sat32(acc * 2^shift + bias) per channel.
+ * n == 0 is a valid empty span.
+ * Formats: map bytes u8, weights as qibl_shmap_weights makes them; out 3n int32, Q16.16, RGB
+ * interleaved.
+ * Bound: exact integer arithmetic, so the only errors are the weights' quantisation (above) and the
+ * final rounding (<= 0.5 LSB of Q16.16), unless saturated.
+ * Errors, in this order: those of qibl_shmap_check, QIBL_E_NULL_POINTER (w, out or ws NULL),
+ * QIBL_E_SHMAP_MISMATCH (weights made for other k/channels), QIBL_E_SHMAP_BOUNDS (span outside the
+ * maps), QIBL_E_WORKSPACE (ws_size too small), QIBL_E_WORKSPACE_ALIGN (ws not on a 4-byte boundary:
+ * declare it as int32_t/uint32_t storage, whatever the layout).
+ * On failure: nothing is written (out and the workspace untouched). */
 QIBL_NODISCARD qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_weights_t *w, uint32_t x0, uint32_t y,
                                       uint32_t n, int32_t *out, void *ws, size_t ws_size);
 
 /* ---- point lights ---------------------------------------------------------------------------- */
 
 /* Prepares a point light for maps m, point map p (same size) and optionally a cube-map LUT (NULL:
- * direct SH evaluation). No workspace: the state holds all it needs (about 400 bytes).
- * Errors: those of qibl_shmap_check, QIBL_E_SHMAP_MISMATCH (P map or LUT does not fit the maps: LUT
- * k below the maps' or above 25, face size outside 1..QIBL_YLUT_MAX_FACE), QIBL_E_SHMAP_LUT_SHORT
- * (lut->size below the 12 N N k bytes its fields need), QIBL_E_SHMAP_LIGHT (negative colour or
- * min_dist, unknown falloff or filter); *out untouched then. */
+ * direct SH evaluation). No workspace: the state holds all it needs (sizeof(qibl_shmap_point_t)).
+ * Formats: params Q8.24; light pos, rgb, min_dist Q16.16; out's factors int16 with power-of-two
+ * exponents (see qibl_shmap_point_t).
+ * Bound: the factors scale_i and bias_i rounded to 2^-15 of the channel's largest (POLY: 2^-15 and
+ * 2^-14), as stated at qibl_shmap_point_span.
+ * Errors, in this order: those of qibl_shmap_check, QIBL_E_NULL_POINTER (p, p->points, light or out
+ * NULL), QIBL_E_SHMAP_MISMATCH (P map not the maps' size; or a LUT that does not fit the maps:
+ * values NULL, k below the maps' or above QIBL_SH_MAX_COUNT, face size outside
+ * 1..QIBL_YLUT_MAX_FACE),
+ * QIBL_E_SHMAP_LUT_SHORT (lut->size below the 12 N N k bytes its fields need), QIBL_E_SHMAP_LIGHT
+ * (negative colour or min_dist, unknown falloff or filter).
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_shmap_point_prepare(const qibl_shmaps_t *m, const qibl_pmap_t *p, const qibl_ylut_t *lut,
                                        const qibl_pointlight_t *light, qibl_shmap_point_t *out);
 
@@ -169,9 +198,15 @@ size_t qibl_shmap_point_workspace_size(uint32_t k, uint32_t n);
  * vector to 2 LSB of Q2.14, each Y_i to a few LSB of Q2.14; the factors scale_i and bias_i rounded
  * to 2^-15 and 2^-14 of the channel's largest, then every product summed exactly (int64 for
  * Y scale c, int32 for Y bias: sum |Y_i| <= k / sqrt(4 pi)) and rounded once; C0 and the attenuation
- * to 15 bits. Measured: max error / sum|T Y| att C0 about 1e-5 (direct SH 2e-5, LUT 32^2 1.3e-3).
- * Errors: QIBL_E_NULL_POINTER, QIBL_E_SHMAP_BOUNDS, QIBL_E_WORKSPACE, QIBL_E_WORKSPACE_ALIGN (ws not on a
- * 4-byte boundary, whatever the method); nothing written. */
+ * to 15 bits. tests/shmap_test.c measures max error / sum|T Y| att C0 against each mode's bound.
+ * Formats: pt as qibl_shmap_point_prepare makes it (P map Q16.16, LUT Q2.14); out 3n int32, Q16.16
+ * RGB interleaved.
+ * Bound: as the paragraph above, per mode (no single LSB figure: it scales with sum|T Y| att C0).
+ * Errors, in this order: QIBL_E_NULL_POINTER (pt, out, pt->maps, pt->maps->planes or ws NULL),
+ * QIBL_E_SHMAP_BOUNDS (span outside the maps), QIBL_E_WORKSPACE (ws_size below
+ * qibl_shmap_point_workspace_size), QIBL_E_WORKSPACE_ALIGN (ws not on a 4-byte boundary, whatever
+ * the method).
+ * On failure: nothing is written (out and the workspace untouched). */
 QIBL_NODISCARD qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out,
                                     void *ws, size_t ws_size);
 
@@ -180,17 +215,24 @@ QIBL_NODISCARD qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt,
 /* Bytes of the YLUT values for face size N and k maps (6 N N k int16), 0 if N or k out of range. */
 size_t qibl_ylut_values_size(uint32_t face_size, uint32_t k);
 
-/* Fills values (qibl_ylut_values_size bytes, little-endian int16 Q2.14, the asset.h YLUT layout)
- * with Y_0..Y_{k-1} at every texel centre, rounded to nearest from the Q2.30 basis.
- * QIBL_E_NULL_POINTER, QIBL_E_SHMAP_K, QIBL_E_SHMAP_LUT_SIZE (N outside 1..QIBL_YLUT_MAX_FACE),
- * QIBL_E_WORKSPACE (size too small); nothing written on error. */
+/* Fills values (qibl_ylut_values_size bytes, the asset.h YLUT layout) with Y_0..Y_{k-1} at every
+ * texel centre, rounded to nearest from the Q2.30 basis.
+ * Formats: values little-endian int16 Q2.14.
+ * Bound: <= 0.5 LSB of Q2.14 plus qibl_sh_eval's 2^-25 (texel centres are exact integer directions).
+ * Errors, in this order: QIBL_E_NULL_POINTER (values NULL), QIBL_E_SHMAP_K (k outside
+ * 1..QIBL_SH_MAX_COUNT), QIBL_E_SHMAP_LUT_SIZE (N outside 1..QIBL_YLUT_MAX_FACE), QIBL_E_WORKSPACE
+ * (size below qibl_ylut_values_size).
+ * On failure: nothing is written. */
 QIBL_NODISCARD qibl_status_t qibl_ylut_build(uint32_t face_size, uint32_t k, uint8_t *values, size_t size);
 
-/* Whether view t may be read: QIBL_OK, or QIBL_E_NULL_POINTER (t or its values NULL), QIBL_E_SHMAP_K
- * (k outside 1..25), QIBL_E_SHMAP_LUT_SIZE (face size outside 1..QIBL_YLUT_MAX_FACE),
- * QIBL_E_SHMAP_LUT_SHORT (t->size below the 12 N N k bytes the fields need). The views of
- * qibl_asset_ylut / qibl_asset_head_ylut always pass; check a view built any other way before
- * qibl_ylut_lookup (qibl_shmap_point_prepare checks its LUT itself). */
+/* Whether view t may be read. The views of qibl_asset_ylut / qibl_asset_head_ylut always pass;
+ * check a view built any other way before qibl_ylut_lookup (qibl_shmap_point_prepare checks its
+ * LUT itself).
+ * Formats: none (reads the view's fields only). Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (t or its values NULL), QIBL_E_SHMAP_K (k outside
+ * 1..QIBL_SH_MAX_COUNT), QIBL_E_SHMAP_LUT_SIZE (face size outside 1..QIBL_YLUT_MAX_FACE),
+ * QIBL_E_SHMAP_LUT_SHORT (t->size below the 12 N N k bytes the fields need).
+ * On failure: nothing is written (it writes nothing, ever). */
 QIBL_NODISCARD qibl_status_t qibl_ylut_check(const qibl_ylut_t *t);
 
 /* Y_0..Y_{k-1} (Q2.14, bilinear between texel centres, clamped at face edges) for a Q2.30 unit

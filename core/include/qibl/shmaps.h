@@ -84,18 +84,27 @@ size_t qibl_shmaps_row_size(const qibl_shmaps_t *m);
 
 /* A one-row view (height 1) of maps m whose row bytes the caller loaded into row
  * (qibl_shmaps_row_size bytes; planar: the k*channels pieces back to back in plane order).
- * Relighting it at y = 0 gives the bytes row y of the whole image gives.
- * QIBL_E_NULL_POINTER; *out untouched then. */
+ * Relighting it at y = 0 gives the bytes row y of the whole image gives. m's fields are copied,
+ * not checked (the kernels check the view).
+ * Formats: none (a view; params Q8.24 shared with m). Bound: exact.
+ * Errors: QIBL_E_NULL_POINTER (m, row or out NULL).
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_shmaps_row_view(const qibl_shmaps_t *m, const uint8_t *row, qibl_shmaps_t *out);
 
-/* The same for a P map: row holds the row's 12 * width bytes. */
+/* The same for a P map: row holds the row's 12 * width bytes.
+ * Formats: none (a view; points Q16.16). Bound: exact.
+ * Errors: QIBL_E_NULL_POINTER (p, row or out NULL).
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_pmap_row_view(const qibl_pmap_t *p, const uint8_t *row, qibl_pmap_t *out);
 
 /* Writes the map bytes of planar maps m in the interleaved layout into out (height *
  * qibl_shmaps_row_size bytes of the interleaved view; padding pixels 0), for writers and for games
- * that build maps themselves. QIBL_E_NULL_POINTER, QIBL_E_SHMAP_LAYOUT (m not planar),
- * QIBL_E_SHMAP_K, QIBL_E_SHMAP_CHANNELS, QIBL_E_SHMAP_SIZE (width or height 0 or above 16384),
- * QIBL_E_WORKSPACE (out_size too small); nothing written on error. */
+ * that build maps themselves.
+ * Formats: u8 map bytes in and out, copied unchanged (params untouched). Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (m, out or m->planes NULL), QIBL_E_SHMAP_LAYOUT (m not
+ * planar), QIBL_E_SHMAP_K (k outside 1..25), QIBL_E_SHMAP_CHANNELS (not 1 or 3), QIBL_E_SHMAP_SIZE
+ * (width or height 0 or above 16384), QIBL_E_WORKSPACE (out_size below height * row size).
+ * On failure: nothing is written. */
 QIBL_NODISCARD qibl_status_t qibl_shmaps_interleave(const qibl_shmaps_t *m, uint8_t *out, size_t out_size);
 
 /* Little-endian loads that need no alignment (also used by the kernels). */

@@ -2,7 +2,7 @@
  * qibl/shmtile.h - SH maps stored per 16x16 tile with the bands each tile needs (adaptive k).
  *
  * The unshadowed transfer (cosine x BRDF) is smooth over most of a panorama: most tiles keep their
- * light to within 1 % with k = 9 and some with k = 4, only tiles on sharp normal or material edges
+ * light to within a percent with k = 9 and some with k = 4, only tiles on sharp normal or material edges
  * need 16. Chunk SHMT stores the unshadowed maps that way (it replaces SHMU in an asset; a reader
  * takes either). Every tile keeps the first k_t of the kmax bands, with the same 8-bit packing
  * (scale, bias per map and channel) as the whole set, so a dropped band is exactly a zero
@@ -51,20 +51,33 @@ typedef struct qibl_shmtile {
     const uint8_t *params, *ks, *offsets, *data;
 } qibl_shmtile_t;
 
-/* Validates an SHMT payload and fills *out (untouched on failure): QIBL_E_NULL_POINTER,
- * QIBL_E_ASSET_CHUNK_SIZE (shorter than the fixed part, or any size other than the fields imply),
- * QIBL_E_ASSET_BAD_DIMENSIONS, QIBL_E_ASSET_BAD_K (kmax, or a tile's k outside 1..kmax),
- * QIBL_E_ASSET_BAD_CHANNELS, QIBL_E_ASSET_BAD_FLAGS (tile size, flags, non-zero padding), and
- * QIBL_E_ASSET_CHUNK_SIZE again for an offset other than the running sum. Reads every
- * header, k and offset byte once: O(tiles). */
+/* Validates an SHMT payload and fills *out. Reads every header, k and offset byte once: O(tiles).
+ * Formats: none (little-endian u32 fields; the params, Q8.24, and map bytes are not read).
+ * Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (data or out NULL), QIBL_E_ASSET_CHUNK_SIZE (shorter
+ * than the 24-byte header), QIBL_E_ASSET_BAD_DIMENSIONS, QIBL_E_ASSET_BAD_K (kmax outside 1..25),
+ * QIBL_E_ASSET_BAD_CHANNELS, QIBL_E_ASSET_BAD_FLAGS (tile size not 16, or flags), QIBL_E_ASSET_CHUNK_SIZE
+ * (shorter than params, ks and offsets), QIBL_E_ASSET_BAD_FLAGS (non-zero padding after the ks),
+ * then per tile in row-major order QIBL_E_ASSET_BAD_K (k outside 1..kmax) and QIBL_E_ASSET_CHUNK_SIZE
+ * (an offset other than the running sum), and QIBL_E_ASSET_CHUNK_SIZE (size other than the fields
+ * imply).
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_shmtile_parse(const uint8_t *data, size_t size, qibl_shmtile_t *out);
 
-/* The asset's SHMT, parsed, its size checked against SHMP's (QIBL_E_ASSET_MISMATCH);
- * QIBL_E_ASSET_MISSING_CHUNK without one, QIBL_E_ASSET_DUPLICATE_CHUNK with two. Needs QIBL_USE_ASSET. */
+/* The asset's SHMT, parsed, its size checked against SHMP's. Needs QIBL_USE_ASSET.
+ * Formats: none (as qibl_shmtile_parse). Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (a or out NULL), QIBL_E_ASSET_MISSING_CHUNK (no SHMT),
+ * QIBL_E_ASSET_DUPLICATE_CHUNK (two or more), QIBL_E_ASSET_MISSING_CHUNK (no SHMP: a not validated),
+ * those of qibl_shmtile_parse, QIBL_E_ASSET_MISMATCH (width or height other than SHMP's).
+ * On failure: nothing is written (*out untouched). */
 QIBL_NODISCARD qibl_status_t qibl_shmtile_from_asset(const qibl_asset_t *a, qibl_shmtile_t *out);
 
 /* Tile (tx, ty) as a planar maps view and its top-left pixel (*x0, *y0; either may be NULL).
- * QIBL_E_NULL_POINTER, QIBL_E_SHMAP_BOUNDS (tx >= tiles_x or ty >= tiles_y); *view untouched on error. */
+ * Formats: none (a view: the set's Q8.24 params, the tile's u8 planes; pixel coordinates).
+ * Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (t or view NULL), QIBL_E_SHMAP_BOUNDS (tx >= tiles_x
+ * or ty >= tiles_y).
+ * On failure: nothing is written (*view, *x0, *y0 untouched). */
 QIBL_NODISCARD qibl_status_t qibl_shmtile_view(const qibl_shmtile_t *t, uint32_t tx, uint32_t ty, qibl_shmaps_t *view, uint32_t *x0,
                                 uint32_t *y0);
 

@@ -11,7 +11,7 @@
  *
  * which is the paper's decode ([R,G,B] - 0.5) * exp2(255 * A - 126) with the texel values
  * [R,G,B] = X / 255 and A = E / 255. A channel is an odd multiple of 2^e / 510 (half the step
- * 2^e / 255 between codes): 2X - 255 runs over -255, -253, ..., 253, 255.
+ * 2^e / 255 between codes): 2X - 255 takes the odd values -255, -253, ..., 253, 255.
  *
  * Encoding follows the paper's rule:
  *     e = floor(log2(max(|r|, |g|, |b|))) + 2,    E = e + 126,
@@ -50,7 +50,7 @@
  * every finite channel c of an in-range pixel, with e the exponent chosen for the pixel,
  *     |c - decode(encode(c))| <= 2^e / 510    (half a step; the exact decoded value),
  * with equality only for zero channels. For the largest channel this is a relative error below
- * 4/510 = 0.79 %. The binary32 decoder adds its own correct rounding (<= 1/2 ulp of the result,
+ * 4/510 of its value. The binary32 decoder adds its own correct rounding (<= 1/2 ulp of the result,
  * at most 2^(e-25)); the fixed-point decoder adds <= 1/2 LSB of its output format.
  *
  * GLES: a shader that samples the RGBA8 texel t and computes (t.rgb - 0.5) * exp2(t.a * 255.0 -
@@ -60,7 +60,7 @@
  * precision (fp32: E <= 253; mediump: far fewer). tests/srgbe_test.c checks this in binary32.
  *
  * Memory: no workspace; one 1 KiB const table (binary32 decode). Codes are byte arrays with no
- * alignment requirement. qibl_srgbe_encode_f32_n uses about 480 bytes of stack where
+ * alignment requirement. qibl_srgbe_encode_f32_n uses a few hundred bytes of stack where
  * QIBL_CONFIG_SRGBE_BLOCKS is 1 and QIBL_CONFIG_SIMD scalar (config.h), a few words elsewhere.
  * All functions are reentrant; inputs may be any values (no precondition beyond valid pointers).
  */
@@ -88,22 +88,30 @@ extern "C" {
 /* ---- encode --------------------------------------------------------------------------------- */
 
 /* Encode one pixel given as IEEE-754 binary32 bit patterns (r, g, b), read as integers: no floating
- * point is used. Writes the 4 bytes of code. Rounding, ties and edge cases as above; error <= 2^e/510
- * per channel for every finite in-range input.
- * Returns QIBL_OK, or (with the code written as stated above) QIBL_E_SRGBE_NAN or QIBL_E_SRGBE_INF;
- * QIBL_E_NULL_POINTER writes nothing. rgb and code may overlap. */
+ * point is used. Writes the 4 bytes of code. Rounding, ties and edge cases as above. rgb and code
+ * may overlap.
+ * Formats: rgb binary32 bit patterns (uint32); code sRGBE bytes R, G, B, E.
+ * Bound: error <= 2^e/510 per channel for every finite input (every finite binary32 is in range).
+ * Errors, in this order: QIBL_E_NULL_POINTER (rgb or code NULL), QIBL_E_SRGBE_NAN (a NaN channel),
+ * QIBL_E_SRGBE_INF (an infinite channel, no NaN).
+ * On failure: NULL_POINTER writes nothing; NAN writes the zero code, INF the code stated above. */
 QIBL_NODISCARD qibl_status_t qibl_srgbe_encode_f32(const uint32_t rgb[3], uint8_t code[4]);
 
 /* Encode one pixel of int32 values rgb[i] * 2^-frac_bits. Any frac_bits is accepted (negative
  * means the integers count 2^-frac_bits units); the value is exact, so the code is the nearest one
- * as for binary32. Error <= 2^e/510 per channel when in range.
- * Returns QIBL_OK (including the flush of a pixel below 2^-128), QIBL_E_SRGBE_OVERFLOW (largest
- * |channel| at or above 2^128, saturated code written as stated above) or QIBL_E_NULL_POINTER
- * (nothing written).
- * rgb and code may overlap. */
+ * as for binary32. A pixel below 2^-128 is flushed to the zero code with QIBL_OK.
+ * rgb and code may overlap.
+ * Formats: rgb int32 with frac_bits fraction bits (any int); code sRGBE bytes R, G, B, E.
+ * Bound: error <= 2^e/510 per channel when in range.
+ * Errors, in this order: QIBL_E_NULL_POINTER (rgb or code NULL), QIBL_E_SRGBE_OVERFLOW (largest
+ * |channel| at or above 2^128).
+ * On failure: NULL_POINTER writes nothing; OVERFLOW writes the saturated code stated above. */
 QIBL_NODISCARD qibl_status_t qibl_srgbe_encode_s32(const int32_t rgb[3], int frac_bits, uint8_t code[4]);
 
-/* qibl_srgbe_encode_s32 with frac_bits = 16: a Q16.16 colour. Always in range: e is in -14..17. */
+/* qibl_srgbe_encode_s32 with frac_bits = 16: a Q16.16 colour. Always in range: e is in -14..17.
+ * Formats: rgb Q16.16; code sRGBE bytes. Bound: error <= 2^e/510 per channel.
+ * Errors: QIBL_E_NULL_POINTER (rgb or code NULL); never QIBL_E_SRGBE_OVERFLOW.
+ * On failure: nothing is written. */
 QIBL_NODISCARD qibl_status_t qibl_srgbe_encode_q16(const qibl_q16_t rgb[3], uint8_t code[4]);
 
 /* ---- decode --------------------------------------------------------------------------------- */
@@ -114,19 +122,31 @@ QIBL_NODISCARD qibl_status_t qibl_srgbe_encode_q16(const qibl_q16_t rgb[3], uint
  * Small E gives correctly rounded subnormals (the zero code decodes to 2^-127/255, bits 00004040).
  * The only values beyond binary32 are +-2^128 (E = 255 with X = 255 or 0): such a channel is
  * written as +-FLT_MAX (7F7FFFFF / FF7FFFFF) and QIBL_E_SRGBE_DECODE_SAT returned, the other
- * channels decoded normally. Never gives Inf, NaN or -0.
- * QIBL_E_NULL_POINTER writes nothing. code and rgb may overlap. */
+ * channels decoded normally. Never gives Inf, NaN or -0. code and rgb may overlap.
+ * Formats: code sRGBE bytes; rgb binary32 bit patterns (uint32).
+ * Bound: correctly rounded (<= 1/2 ulp of each channel), except +-2^128 written as +-FLT_MAX.
+ * Errors, in this order: QIBL_E_NULL_POINTER (code or rgb NULL), QIBL_E_SRGBE_DECODE_SAT (E = 255
+ * with a channel X = 255 or 0).
+ * On failure: NULL_POINTER writes nothing; DECODE_SAT writes all three channels as stated. */
 QIBL_NODISCARD qibl_status_t qibl_srgbe_decode_f32(const uint8_t code[4], uint32_t rgb[3]);
 
 /* Decode one code to int32 with frac_bits fraction bits (any int): each channel is
  * round((2X - 255) * 2^(E - 126 + frac_bits) / 510), ties toward +infinity (fixed.h's rule; a tie
  * happens only for X in {0, 255} at E - 126 + frac_bits = 0, i.e. +-1/2 LSB), error <= 1/2 LSB.
  * Channels beyond [INT32_MIN, INT32_MAX] are saturated to the nearer end and
- * QIBL_E_SRGBE_DECODE_SAT returned, the other channels decoded normally.
- * QIBL_E_NULL_POINTER writes nothing. code and rgb may overlap. */
+ * QIBL_E_SRGBE_DECODE_SAT returned, the other channels decoded normally. code and rgb may overlap.
+ * Formats: code sRGBE bytes; rgb int32 with frac_bits fraction bits (any int).
+ * Bound: error <= 1/2 LSB of the output format (saturated channels excepted).
+ * Errors, in this order: QIBL_E_NULL_POINTER (code or rgb NULL), QIBL_E_SRGBE_DECODE_SAT (a channel
+ * beyond the int32 range).
+ * On failure: NULL_POINTER writes nothing; DECODE_SAT writes all three channels as stated. */
 QIBL_NODISCARD qibl_status_t qibl_srgbe_decode_s32(const uint8_t code[4], int frac_bits, int32_t rgb[3]);
 
-/* qibl_srgbe_decode_s32 with frac_bits = 16: Q16.16. Saturation (to +-32768) needs E >= 142. */
+/* qibl_srgbe_decode_s32 with frac_bits = 16: Q16.16. Saturation (to +-32768) needs E >= 142.
+ * Formats: code sRGBE bytes; rgb Q16.16. Bound: error <= 1/2 LSB (saturated channels excepted).
+ * Errors, in this order: QIBL_E_NULL_POINTER (code or rgb NULL), QIBL_E_SRGBE_DECODE_SAT.
+ * On failure: NULL_POINTER writes nothing; DECODE_SAT writes all three channels, saturated ones at
+ * the int32 limits. */
 QIBL_NODISCARD qibl_status_t qibl_srgbe_decode_q16(const uint8_t code[4], qibl_q16_t rgb[3]);
 
 /* ---- bulk: n pixels --------------------------------------------------------------------------
@@ -136,7 +156,15 @@ QIBL_NODISCARD qibl_status_t qibl_srgbe_decode_q16(const uint8_t code[4], qibl_q
  * Returns QIBL_E_NULL_POINTER (nothing written) if a pointer is NULL, even for n = 0; otherwise
  * the most severe per-pixel status over the array, independent of pixel order:
  * QIBL_E_SRGBE_NAN > QIBL_E_SRGBE_INF > QIBL_E_SRGBE_OVERFLOW > QIBL_OK for encoders,
- * QIBL_E_SRGBE_DECODE_SAT > QIBL_OK for decoders. */
+ * QIBL_E_SRGBE_DECODE_SAT > QIBL_OK for decoders.
+ * Formats: as the one-pixel function of the same name (binary32 bit patterns, int32 with
+ * frac_bits, Q16.16; codes sRGBE bytes).
+ * Bound: as the one-pixel function, byte for byte (every SIMD and block path included).
+ * Errors, in this order: QIBL_E_NULL_POINTER (rgb or codes NULL, even for n = 0), then the most
+ * severe per-pixel status as above (encode_f32_n: NAN, INF; encode_s32_n: OVERFLOW; encode_q16_n:
+ * none; decoders: DECODE_SAT).
+ * On failure: NULL_POINTER writes nothing; a per-pixel status still writes every pixel, each as the
+ * one-pixel function writes it. */
 QIBL_NODISCARD qibl_status_t qibl_srgbe_encode_f32_n(const uint32_t *QIBL_RESTRICT rgb, size_t n,
                                       uint8_t *QIBL_RESTRICT codes);
 QIBL_NODISCARD qibl_status_t qibl_srgbe_encode_s32_n(const int32_t *QIBL_RESTRICT rgb, size_t n, int frac_bits,

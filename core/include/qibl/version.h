@@ -71,10 +71,16 @@ uint32_t qibl_config_id(void);
 /* QIBL_OK if caller_id (the caller's QIBL_CONFIG_ID) equals the library's, else
  * QIBL_E_CONFIG_MISMATCH: the caller's structs may not match the library's, and no other qibl
  * call should be made. Cheap (one comparison); call it once at start-up, as qibl_init_check()
- * does. Writes nothing. */
+ * does.
+ * Formats: none (caller_id is a bit pattern, compared whole). Bound: exact.
+ * Errors: QIBL_E_CONFIG_MISMATCH (caller_id != QIBL_CONFIG_ID).
+ * On failure: nothing is written (it has no outputs). */
 QIBL_NODISCARD qibl_status_t qibl_check_config(uint32_t caller_id);
 
-/* qibl_check_config with the identity of the code that includes this header. */
+/* qibl_check_config with the identity of the code that includes this header.
+ * Formats: none. Bound: exact.
+ * Errors: QIBL_E_CONFIG_MISMATCH (this translation unit's QIBL_CONFIG_ID is not the library's).
+ * On failure: nothing is written (it has no outputs). */
 static inline QIBL_NODISCARD qibl_status_t qibl_init_check(void)
 {
     return qibl_check_config(QIBL_CONFIG_ID);

@@ -55,7 +55,7 @@
  * smallest shift that fits the coordinate's range; 0 for scenes up to 256 units across), stored as
  * three bytes of an RGB texture; the shader rebuilds it exactly in highp. Error: 2^(s-1) Q16.16
  * LSB (none for s = 0). sRGBE would cost up to 1/255 of the largest coordinate of the point
- * (0.4 %, i.e. a visible shift of near-light pixels); three textures instead of one is its price.
+ * (a visible shift of near-light pixels); three textures instead of one is its price.
  * LUT encoding: each Q2.14 value as 16 bits (value + 32768) in two channels, two maps per RGBA
  * cube map texture; bilinear filtering is linear, so filtering the bytes then combining them is
  * filtering the value (to the GPU's filter precision).
@@ -148,27 +148,57 @@ typedef struct qibl_gles2 {
 } qibl_gles2_t;
 
 /* Queries the current context's limits and creates the shared objects (vertex shader, quad).
- * Errors: QIBL_E_NULL_POINTER (g), QIBL_E_GLES2_CONTEXT, QIBL_E_GLES2_UNITS (fewer than 2 units or
- * 8 uniform vectors), QIBL_E_GLES2_COMPILE, QIBL_E_GLES2_GL_ERROR. d may be NULL (defaults). */
+ * d may be NULL (defaults).
+ * Formats: none (GL limits and object names). Bound: exact.
+ * Errors, in this order: QIBL_E_NULL_POINTER (g NULL), QIBL_E_GLES2_CONTEXT (no current context),
+ * QIBL_E_GLES2_UNITS (fewer than 2 units or 8 uniform vectors, after desc's caps),
+ * QIBL_E_GLES2_COMPILE (the vertex shader; QIBL_E_GLES2_GL_ERROR if glCreateShader raised one),
+ * QIBL_E_GLES2_GL_ERROR (creating the quad).
+ * On failure: *g is zeroed first, so it holds zeros (or the limits queried before the failure)
+ * and the message in qibl_gles2_log(); no GL object it created is left. */
 QIBL_NODISCARD qibl_status_t qibl_gles2_init(qibl_gles2_t *g, const qibl_gles2_desc_t *d);
 
 /* Uploads maps (planar layout, as qibl_asset_shmaps gives), and optionally the P map and the LUT
- * (NULL: none), replacing an earlier upload. Errors: QIBL_E_NULL_POINTER, QIBL_E_GLES2_STATE (not
- * initialised), those of qibl_shmap_check, QIBL_E_SHMAP_MISMATCH (P map size or LUT k), QIBL_E_SHMAP_LUT_SHORT
- * (lut->size below its 12 N N k bytes), QIBL_E_GLES2_SIZE,
- * QIBL_E_GLES2_GL_ERROR. On error nothing stays uploaded. */
+ * (NULL: none), replacing an earlier upload.
+ * Formats: map bytes u8 with Q8.24 params (kept as floats for the shaders); P map Q16.16 as split
+ * bytes (top of this file); LUT Q2.14 as two bytes.
+ * Bound: maps and LUT exact; the P map within 2^(s-1) Q16.16 LSB (exact for s = 0, see above).
+ * Errors, in this order: QIBL_E_NULL_POINTER (g or m NULL), QIBL_E_GLES2_STATE (not initialised),
+ * those of qibl_shmap_check, QIBL_E_NULL_POINTER (p->points or lut->values NULL),
+ * QIBL_E_SHMAP_MISMATCH (P map size, LUT k below the maps' or above QIBL_SH_MAX_COUNT, LUT face size
+ * outside 1..QIBL_ASSET_MAX_LUT), QIBL_E_SHMAP_LUT_SHORT (lut->size below its 12 N N k bytes),
+ * QIBL_E_GLES2_SIZE (maps or LUT beyond the GL's texture sizes), QIBL_E_GLES2_GL_ERROR.
+ * On failure: the checks before QIBL_E_GLES2_GL_ERROR change nothing (an earlier upload stays
+ * usable; QIBL_E_GLES2_SIZE writes the log); after a GL error nothing stays uploaded. */
 QIBL_NODISCARD qibl_status_t qibl_gles2_upload(qibl_gles2_t *g, const qibl_shmaps_t *m, const qibl_pmap_t *p, const qibl_ylut_t *lut);
 
 /* Draws the maps relit with weights w (qibl_shmap_weights for the uploaded maps) into the bound
- * framebuffer. out may be NULL (exposure 1, linear). Errors: QIBL_E_NULL_POINTER,
- * QIBL_E_GLES2_STATE, QIBL_E_GLES2_MISMATCH (k or channels differ), QIBL_E_GLES2_UNITS,
- * QIBL_E_GLES2_COMPILE, QIBL_E_GLES2_LINK, QIBL_E_GLES2_FRAMEBUFFER, QIBL_E_GLES2_GL_ERROR. */
+ * framebuffer. out may be NULL (exposure 1, linear).
+ * Formats: w as qibl_shmap_weights makes it; out RGBA8 as platform/soft's RGBA8888 (exposure
+ * UQ16.16, linear or sRGB); accumulators sRGBE pairs (or float).
+ * Bound: the GPU's float arithmetic (Precision, above): no LSB bound is promised;
+ * tests/gles2_test.c holds it to 2 levels of RGBA8 per channel against platform/soft.
+ * Errors, in this order: QIBL_E_NULL_POINTER (g or w NULL), QIBL_E_GLES2_STATE (not initialised or
+ * nothing uploaded), QIBL_E_GLES2_MISMATCH (k or channels differ), QIBL_E_GLES2_UNITS (no pass
+ * plan fits), QIBL_E_GLES2_COMPILE, QIBL_E_GLES2_LINK, QIBL_E_GLES2_FRAMEBUFFER,
+ * QIBL_E_GLES2_GL_ERROR.
+ * On failure: the checks up to QIBL_E_GLES2_MISMATCH change nothing; a later failure leaves the GL
+ * state listed at the top changed, the caller's framebuffer binding restored, and that framebuffer
+ * possibly part-drawn (a GL error in the last pass). */
 QIBL_NODISCARD qibl_status_t qibl_gles2_relight(qibl_gles2_t *g, const qibl_shmap_weights_t *w, const qibl_gles2_out_t *out);
 
 /* Draws the maps relit by a prepared point light (qibl_shmap_point_prepare on the uploaded maps,
- * P map and, when pt->lut is not NULL, LUT; the uploaded LUT is used, with pt's filter). Errors: those of
- * qibl_gles2_relight, QIBL_E_GLES2_NO_HIGHP, QIBL_E_GLES2_STATE (no P map, or a LUT asked for and
- * none uploaded). */
+ * P map and, when pt->lut is not NULL, LUT; the uploaded LUT is used, with pt's filter).
+ * Formats: pt as qibl_shmap_point_prepare makes it (Q16.16 position and colour); out as
+ * qibl_gles2_relight.
+ * Bound: the GPU's highp float arithmetic: no LSB bound is promised; tests/gles2_test.c holds
+ * it to 2 levels of RGBA8 per channel against platform/soft (nearest LUT texels may flip at texel
+ * edges).
+ * Errors, in this order: QIBL_E_NULL_POINTER (g or pt NULL), QIBL_E_GLES2_STATE (not initialised or
+ * nothing uploaded), QIBL_E_GLES2_MISMATCH (pt->maps NULL, or k or channels differ),
+ * QIBL_E_GLES2_STATE (no P map, or a LUT asked for and none uploaded), QIBL_E_GLES2_NO_HIGHP, then
+ * those of the draw as in qibl_gles2_relight (UNITS, COMPILE, LINK, FRAMEBUFFER, GL_ERROR).
+ * On failure: as qibl_gles2_relight (the two later checks write the log only). */
 QIBL_NODISCARD qibl_status_t qibl_gles2_point(qibl_gles2_t *g, const qibl_shmap_point_t *pt, const qibl_gles2_out_t *out);
 
 /* Passes the last successful draw used (1: no accumulation). */
@@ -179,7 +209,16 @@ const char *qibl_gles2_log(const qibl_gles2_t *g);
 
 /* Self-check of the GLSL sRGBE codec for ports: for each of n codes (4 bytes each) draws
  * encode(decode(code) * mul) with the shaders the accumulation uses and reads the codes back into
- * out (4 n bytes). n <= GL_MAX_TEXTURE_SIZE. Errors: as qibl_gles2_relight, QIBL_E_GLES2_SIZE. */
+ * out (4 n bytes). n <= GL_MAX_TEXTURE_SIZE. Needs qibl_gles2_init only (no upload).
+ * Formats: codes and out sRGBE bytes; mul a float multiplier.
+ * Bound: the GPU's; tests/gles2_test.c holds each channel within 1 code of the C codec
+ * (qibl_srgbe_*_f32) and the exponent byte equal.
+ * Errors, in this order: QIBL_E_NULL_POINTER (g, codes or out NULL), QIBL_E_GLES2_STATE (not
+ * initialised), QIBL_E_GLES2_SIZE (n == 0 or above GL_MAX_TEXTURE_SIZE), QIBL_E_GLES2_COMPILE,
+ * QIBL_E_GLES2_LINK, QIBL_E_GLES2_FRAMEBUFFER, QIBL_E_GLES2_GL_ERROR.
+ * On failure: out unwritten, except after a GL error reported once the pass was read back (out
+ * then holds what glReadPixels gave); the objects it made are deleted, the caller's framebuffer
+ * binding restored. */
 QIBL_NODISCARD qibl_status_t qibl_gles2_srgbe_check(qibl_gles2_t *g, const uint8_t *codes, uint32_t n, float mul, uint8_t *out);
 
 /* Deletes every GL object of g and zeroes it; safe on a zeroed or failed g. */

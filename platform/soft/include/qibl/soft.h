@@ -24,7 +24,7 @@
  *   sRGB:    c = round(255 * srgb(x))                srgb = the exact IEC 61966-2-1 curve; found
  *                                                    with two const tables (1216 + 512 = 1728 bytes
  *                                                    of .rodata), exhaustively verified against the
- *                                                    curve: error <= 0.5 LSB (measured max 0.49998)
+ *                                                    curve: error <= 0.5 LSB
  * All roundings are half up. Against the unrounded product v * e the 8-bit result is off by at
  * most 0.5 LSB plus the rounding of x (2^-17 of full scale: 0.002 LSB, sRGB near black 0.03 LSB).
  *

@@ -1,0 +1,172 @@
+/*
+ * cli/opt.h - one option table per command: its parser, its `qibl help` text and its errors all
+ * come from the table, so help cannot omit a flag and every bad argument gets the same answer:
+ *
+ *     qibl CMD: <what is wrong, naming the flag and the value>; see qibl help CMD      (exit 2)
+ *
+ * How to convert a command (this is `qibl study`, tools/cli/cmd_study.c, as it is):
+ *
+ *  1. An options struct and its defaults, in one place, designated-initialised. Each kind has one
+ *     C type (below); the table says where a value goes with offsetof.
+ *
+ *         typedef struct study_cli_opts {
+ *             qcli_opt_list probes;   // the positional arguments
+ *             const char *out;        // STR
+ *             long threads;           // INT
+ *             int quick;              // FLAG: 0 or 1
+ *         } study_cli_opts;
+ *         static const study_cli_opts study_defaults = {.out = NULL, .threads = 2, .quick = 0};
+ *
+ *  2. The table: one entry per flag, designated initialisers, ended by {0}. Help shows the default
+ *     read from study_defaults (write .def = "..." only for a default computed at run time), the
+ *     range from .lo/.hi, and .help; the errors name the flag, the value and the range.
+ *
+ *         static const qcli_opt study_table[] = {
+ *             {.name = "--out", .kind = QCLI_OPT_STR, .off = offsetof(study_cli_opts, out), .arg = "DIR",
+ *              .required = 1, .help = "where study.csv, summary.md, the plots and overlays go"},
+ *             {.name = "--quick", .kind = QCLI_OPT_FLAG, .off = offsetof(study_cli_opts, quick),
+ *              .help = "half-size probes, 2000 normals, N <= 64"},
+ *             {.name = "--threads", .kind = QCLI_OPT_INT, .off = offsetof(study_cli_opts, threads),
+ *              .arg = "T", .lo = 1, .hi = 16, .help = "worker threads"},
+ *             {0},
+ *         };
+ *         const qcli_opt_cmd qcli_opts_study = {        // declared below, for main.c
+ *             .name = "study",
+ *             .opts = study_table,
+ *             .pos = {.names = "PROBE.hdr ...", .min = 0, .max = QCLI_OPT_LIST_MAX,
+ *                     .off = offsetof(study_cli_opts, probes)},
+ *             .defaults = &study_defaults,
+ *             .size = sizeof(study_cli_opts),
+ *             .prose = "  Ground-truth irradiance of each lat-long probe ... (two-space indented lines)\n",
+ *         };
+ *
+ *     More kinds in real tables: ENUM with .names and a SIZE in cmd_gen.c (and a deprecated
+ *     spelling, .renamed/.note), subcommands in cmd_sh.c and cmd_srgbe.c, numeric positionals
+ *     (.pos.numbers = 1: "-1" and "-inf" are values, not unknown flags) in `sh eval`.
+ *
+ *  3. The command parses, checks what the table cannot (cross-option rules) through
+ *     qcli_opt_error so that line has the same shape, then works:
+ *
+ *         study_cli_opts c;
+ *         int rc = qcli_opt_parse(&qcli_opts_study, argc, argv, 1, &c); // argv[1]: the first option
+ *         if (rc != 0)
+ *             return rc;                      // 2, after its one line on stderr
+ *         if (qcli_parse_only)                // fuzz_cliopts: the options only
+ *             return 0;
+ *         const qtool_study_opts o = {.quick = c.quick, .threads = (int)c.threads, .out_dir = c.out};
+ *         return qtool_study_run(c.probes.v, c.probes.n, &o);
+ *
+ *  4. main.c: a row {"study", study_opts} in `tables` (study_opts: a NULL-terminated list, one
+ *     table per subcommand), and the command's usage text in `commands` becomes NULL (or only what
+ *     is not on a table yet, as `sh project`'s). Declare the table below. Remove the command from tests/cli_opts_test.c's
+ *     list "not yet on option tables": that suite then checks its unknown-flag line, that help names
+ *     every flag, and that the parser knows each one. A command of subcommands has a table each
+ *     (.name = "sh eval", .help_name = "sh") and picks one with qcli_opt_sub.
+ *
+ * Kinds and the C type at .off: FLAG int (set to 1); INT long in [lo, hi]; NUM double in [lo, hi];
+ * STR const char *; ENUM int (index into names); SIZE long[2] ("WxH", both in 1..hi); TRIPLE double[3]
+ * (three arguments, each in [lo, hi]); LIST qcli_opt_list (the flag repeated, at most hi times, 64 at
+ * most); CALL: call(opts, value) parses it and returns NULL, or what is wrong ("is not a rotation").
+ * A later repetition of a non-LIST flag replaces the earlier value (as the commands always did).
+ * Values are taken verbatim, so `--size -8x4` is a bad size, not a missing value.
+ */
+#ifndef QTOOL_TOOLS_CLI_OPT_H
+#define QTOOL_TOOLS_CLI_OPT_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+typedef enum qcli_opt_kind {
+    QCLI_OPT_END = 0, /* the table's terminating {0} */
+    QCLI_OPT_FLAG,
+    QCLI_OPT_INT,
+    QCLI_OPT_NUM,
+    QCLI_OPT_STR,
+    QCLI_OPT_ENUM,
+    QCLI_OPT_SIZE,
+    QCLI_OPT_TRIPLE,
+    QCLI_OPT_LIST,
+    QCLI_OPT_CALL
+} qcli_opt_kind;
+
+#define QCLI_OPT_LIST_MAX 64
+typedef struct qcli_opt_list {
+    const char *v[QCLI_OPT_LIST_MAX];
+    int n;
+} qcli_opt_list;
+
+typedef struct qcli_opt {
+    const char *name;   /* "--bands", "-o" */
+    const char *alias;  /* another spelling ("-n"), or NULL */
+    qcli_opt_kind kind;
+    size_t off;         /* offsetof(the options struct, field) */
+    const char *arg;    /* the value's name in help ("B", "FILE"); a kind's own when NULL */
+    double lo, hi;      /* INT, NUM, TRIPLE: the range; SIZE: the largest side; LIST: at most this many */
+    const char *what;   /* INT: what the value is in the error ("a face size"; "an integer" when NULL) */
+    const char *why;    /* the range's reason, in the error and in help ("0: no LUT") */
+    const char *const *names; /* ENUM: the values, NULL-terminated */
+    const char *(*call)(void *opts, const char *value); /* CALL */
+    const char *def;    /* the default as help shows it, when the defaults struct cannot say it */
+    const char *renamed; /* a deprecated spelling: the name to use (a note on stderr when used) */
+    const char *note;   /* with renamed: why, in the note */
+    int required;
+    const char *help;   /* one line */
+} qcli_opt;
+
+typedef struct qcli_opt_pos {
+    const char *names; /* as usage shows them: "FILE", "X Y Z", "PROBE.hdr ..." */
+    int min, max;      /* how many (max <= QCLI_OPT_LIST_MAX) */
+    size_t off;        /* a qcli_opt_list in the options struct */
+    int numbers;       /* they may be negative numbers: "-1", "-inf" are values */
+} qcli_opt_pos;
+
+typedef struct qcli_opt_cmd {
+    const char *name;      /* as the errors and usage name it: "info", "sh eval" ("": qibl's own flags) */
+    const char *help_name; /* `qibl help X`: the command (NULL: name) */
+    const qcli_opt *opts;  /* ended by {0}; NULL: none */
+    qcli_opt_pos pos;
+    const void *defaults;  /* the options struct's defaults (size bytes) */
+    size_t size;
+    const char *prose;     /* after the option list: what the command does, two-space indented */
+} qcli_opt_cmd;
+
+/* The tables of the commands on them, for main.c's command table and `qibl help`. */
+extern const qcli_opt_cmd qcli_opts_gen, qcli_opts_info, qcli_opts_study, qcli_opts_ies_info;
+extern const qcli_opt_cmd qcli_opts_sh_eval, qcli_opts_sh_plot, qcli_opts_srgbe_encode, qcli_opts_srgbe_decode;
+
+/* Parses argv[first..argc-1] into opts (first set to c->defaults). 0, or 2 after one line on stderr. */
+int qcli_opt_parse(const qcli_opt_cmd *c, int argc, char **argv, int first, void *opts);
+
+/* "qibl <c->name>: <fmt ...>; see qibl help <help name>" on stderr; returns 2. */
+int qcli_opt_error(const qcli_opt_cmd *c, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+/* A command made of subcommands: the spec whose name ends in argv[1] (subs NULL-terminated), or
+ * NULL after one line on stderr (naming the bad word or flag, listing the subcommands; `others`
+ * adds subcommands parsed elsewhere, e.g. "project"; may be NULL). cmd: "sh". */
+const qcli_opt_cmd *qcli_opt_sub(const char *cmd, const qcli_opt_cmd *const *subs, const char *others, int argc,
+                                 char **argv);
+
+/* The value checks under the table's kinds, for the hand-written parsers too (cli.h's qcli_parse_int,
+ * qcli_parse_num and qcli_parse_size are these, with their own lines). int: a decimal in [lo, hi], 0
+ * or -1; num: 0, or 1 not a number, 2 not finite, 3 outside [lo, hi]; size: "WxH", decimal digits
+ * only, both in 1..max, 0 or -1. Nothing written on failure. opt.c needs only libc (a test links it
+ * alone). */
+int qcli_opt_int_value(const char *s, long lo, long hi, long *out);
+int qcli_opt_num_value(const char *s, double lo, double hi, double *out);
+int qcli_opt_size_value(const char *s, long max, long wh[2]);
+
+/* `qibl help CMD`'s part for one table: usage line, the aligned option list, the prose. */
+void qcli_opt_help(FILE *f, const qcli_opt_cmd *c);
+/* The aligned option list alone ("options:" and a line per flag; nothing for an empty table). */
+void qcli_opt_help_list(FILE *f, const qcli_opt_cmd *c);
+
+/* The table's name on a line ("sh eval"), then each flag (aliases too) as "NAME<TAB>--flag<TAB>KIND",
+ * KIND flag (takes no value) or value: `qibl help --flags CMD`, which tests/cli_opts_test.c checks
+ * against the help text and the parser. */
+void qcli_opt_flags(FILE *f, const qcli_opt_cmd *c);
+
+#endif
