@@ -35,6 +35,8 @@ TOOL_LIB_SRC += $(wildcard tools/study/*.c) $(wildcard tools/engine/*.c) $(wildc
 # the demo behind `qibl demo` (tools/demo: bake, relight, light paths, probe-lit rows)
 TOOL_LIB_SRC += $(wildcard tools/demo/*.c)
 TOOL_LIB_SRC += $(wildcard tools/probe/*.c)
+# near-field light sources (tools/luminaire: the .qnf file, simulated capture, textured spotlights)
+TOOL_LIB_SRC += $(wildcard tools/luminaire/*.c)
 # the golden cases (plain C, shared by the suites and the golden runner) and their CMocka-side check
 GOLDEN_CASES_SRC := $(wildcard tools/golden/cases*.c)
 TOOL_LIB_SRC += $(GOLDEN_CASES_SRC) tools/golden/check.c
@@ -84,9 +86,6 @@ BENCH_OBJ := $(BENCH_SRC:%.c=$(BUILD)/host/%.o)
 BENCH_TWIN_OBJ := $(BENCH_TWIN_SRC:%.c=$(BUILD)/host/%.o)
 # the benchmarks name the compiler and the core's flags in their output
 $(BENCH_OBJ) $(BENCH_TWIN_OBJ): HOST_CFLAGS += -DQIBL_BENCH_CORE_FLAGS='"$(CORE_OPT)"'
-# TEMPORARY (r2-status, for the coordinator to remove once tools/cli checks every status): the CLI
-# still drops statuses that QIBL_NODISCARD / QTOOL_NODISCARD now flag; warnings, not errors, there only.
-$(QIBL_OBJ) $(BENCH_OBJ) $(BENCH_TWIN_OBJ): HOST_CFLAGS += -Wno-error=unused-result
 TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%) $(TEST_SRC:tests/%.c=$(BUILD)/tests/%-portable)
 
 # A third flavour where the CPU has AVX2: the core built with -mavx2 (config.h then picks the AVX2
@@ -413,7 +412,7 @@ nds-tables: $(GOLDEN)
 
 # The integration example for engines (docs/porting.md): core + platform/soft + libc only, plain
 # C99, built with the core's strictness; run on a small courtyard asset made by `qibl gen`.
-EXAMPLES := $(BUILD)/bin/console_port
+EXAMPLES := $(BUILD)/bin/console_port $(BUILD)/bin/transfer_port
 EXAMPLE_CFLAGS := -std=c99 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Werror $(OPT) -g -Icore/include \
                   -Iplatform/soft/include $(SAN)
 
@@ -421,10 +420,19 @@ $(BUILD)/bin/console_port: tools/examples/console_port.c $(LIBSOFT) $(LIBQIBL)
 	@mkdir -p $(dir $@)
 	$(CC) $(EXAMPLE_CFLAGS) -o $@ $< $(LIBSOFT) $(LIBQIBL)
 
+# the transfer export at run time (issue 25): core only
+$(BUILD)/bin/transfer_port: tools/examples/transfer_port.c $(LIBQIBL)
+	@mkdir -p $(dir $@)
+	$(CC) $(EXAMPLE_CFLAGS) -o $@ $< $(LIBQIBL)
+
 examples: $(EXAMPLES) $(QIBL)
 	@mkdir -p $(BUILD)/examples
 	$(QIBL) gen -o $(BUILD)/examples/courtyard.qibl --size 256x64 --k 9
 	$(BUILD)/bin/console_port $(BUILD)/examples/courtyard.qibl 4 $(BUILD)/examples/console_port.ppm
+	@if [ -f ../shared/fixtures/meshes/teapot.obj ]; then \
+	  $(QIBL) transfer ../shared/fixtures/meshes/teapot.obj --probe ../shared/fixtures/probes/quarry_01_1k.hdr --rays 0 \
+	    --coarse 800 --export $(BUILD)/examples/teapot.qtr && $(BUILD)/bin/transfer_port $(BUILD)/examples/teapot.qtr 8; \
+	else echo "examples: transfer_port built, not run (no ../shared/fixtures/meshes/teapot.obj)"; fi
 
 # The suites (native and portable core paths), the golden runner and the qibl CLI (a smoke run of
 # every subcommand on good and bad inputs; tests/cli_test runs it too) under ASan + UBSan, in their own
@@ -605,7 +613,7 @@ DEMO_THREADS ?= $(shell n=$$(getconf _NPROCESSORS_ONLN 2>/dev/null || echo 2); e
 demo: $(QIBL)
 	@mkdir -p out/demo
 	$(QIBL) demo --out out/demo --scene $(SCENE) --threads $(DEMO_THREADS) $(if $(filter small,$(DEMO_SIZE)),--small)$(if $(filter full,$(DEMO_SIZE)),--full)
-	$(QIBL) check out/demo/scene_k16.qibl out/demo/sun_sweep.png out/demo/lamp_sweep.png out/demo/contact_sheet.png out/demo/probe_sheet.png
+	$(QIBL) check out/demo/scene_k16.qibl out/demo/sun_sweep.png out/demo/lamp_sweep.png out/demo/contact_sheet.png out/demo/probe_sheet.png out/demo/camera_sheet.png
 
 clean:
 	rm -rf $(BUILD) out

@@ -1,6 +1,7 @@
 /*
  * demo_test.c - the demo library's own pieces (tools/demo): the sizes table, the heat map's scale,
- * the sheet blit, the chunk sizes, the output-directory check and the named refusals. The whole demo
+ * the sheet blit, the chunk sizes, the output-directory check, the named refusals and the
+ * fixed-camera row. The whole demo
  * runs in cli_test (small sizes) and in CI (`make demo DEMO_SIZE=small`).
  */
 #include <stdarg.h>
@@ -140,13 +141,56 @@ static void test_probe_parts_refused(void **state)
     assert_non_null(strstr(err, "parts per extended source"));
 }
 
+/* The fixed-camera row on the courtyard at a tiny size (a 16 x 12 frame): its table and RESULT lines,
+ * the light path well above the shadowed SH under the same suns (the panorama's ordering, from a
+ * camera), camera_sheet.png written; an output directory that is gone is a failure with the name. */
+#define CAMERA_ROW_PATH_MIN 28.0
+static void test_camera_row(void **state)
+{
+    (void)state;
+    qtool_rt_scene s;
+    assert_int_equal(qtool_rt_scene_builtin(&s), 0);
+    char base[] = "/tmp/qibl_demo_cam_XXXXXX", path[300], err[512], *buf = NULL;
+    assert_non_null(mkdtemp(base));
+    size_t len = 0;
+    FILE *out = open_memstream(&buf, &len);
+    assert_non_null(out);
+    qtool_demo_view v = {.scene = &s, .w = 64, .h = 16, .threads = 2, .dir = base, .out = out};
+    const qtool_demo_size *sz = qtool_demo_size_named("small");
+    err[0] = 0;
+    if (qtool_demo_camera(&v, 64, sz, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    fclose(out);
+    assert_non_null(strstr(buf, "16x12 perspective frame"));
+    static const char ksh[] = "RESULT demo.camera_psnr_sh_k16 ", kpath[] = "RESULT demo.camera_psnr_path_k9 ";
+    const char *a = strstr(buf, ksh), *b = strstr(buf, kpath);
+    assert_non_null(a), assert_non_null(b);
+    double sh = atof(a + strlen(ksh)), pth = atof(b + strlen(kpath));
+    print_message("camera row at 16x12: shadowed SH %.2f dB, path %.2f dB (at least %.1f)\n", sh, pth,
+                  CAMERA_ROW_PATH_MIN);
+    assert_true(pth >= CAMERA_ROW_PATH_MIN && pth > sh + 5);
+    free(buf);
+    snprintf(path, sizeof path, "%s/camera_sheet.png", base);
+    assert_int_equal(access(path, R_OK), 0);
+    unlink(path), rmdir(base);
+    /* the directory removed: the sheet cannot be written, and the error names it */
+    out = fopen("/dev/null", "w");
+    assert_non_null(out);
+    v.out = out;
+    err[0] = 0;
+    assert_int_equal(qtool_demo_camera(&v, 16, sz, err, sizeof err), -1);
+    fclose(out);
+    assert_non_null(strstr(err, "camera_sheet.png"));
+    qtool_rt_scene_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sizes_named),        cmocka_unit_test(test_heat_scale),
         cmocka_unit_test(test_blit_in_place),      cmocka_unit_test(test_chunk_bytes_of_garbage),
         cmocka_unit_test(test_lin8_and_median),    cmocka_unit_test(test_check_out),
-        cmocka_unit_test(test_probe_parts_refused),
+        cmocka_unit_test(test_probe_parts_refused), cmocka_unit_test(test_camera_row),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -22,7 +22,7 @@
 
 #define NC QIBL_HEMI_COEFFS
 
-/* ---- small integer helpers (static here until the shared internal header exists) ------------ */
+/* ---- small integer helpers (only hemi uses them; the shared ones are in qibli.h) --------------- */
 
 
 static int32_t s32_of_u32(uint32_t u)
@@ -438,11 +438,6 @@ typedef struct edge {
 } edge;
 
 #if !HEMI_LANES
-static uint64_t abs_u64(int64_t x)
-{
-    return x < 0 ? 0u - (uint64_t)x : (uint64_t)x;
-}
-
 /* floor(num / den) for den >= 1 and a quotient below 256 (num < 256 den): 8 shift-subtract steps
  * where there is no divide instruction, so no library call is emitted. */
 static uint32_t small_div(uint32_t num, uint32_t den)
@@ -493,7 +488,7 @@ static uint32_t cell(int neg, uint32_t au, uint32_t mm, uint32_t F)
  * neighbouring triangles mostly share a face, and the select form measured 15 % slower. */
 static edge lookup(const qibl_hemi_t *h, const int64_t e[3])
 {
-    const uint64_t ax = abs_u64(e[0]), ay = abs_u64(e[1]), az = abs_u64(e[2]);
+    const uint64_t ax = qibli_abs_u64(e[0]), ay = qibli_abs_u64(e[1]), az = qibli_abs_u64(e[2]);
     const uint32_t F = (uint32_t)h->face;
     int neg;
     uint64_t m, au, av;

@@ -27,6 +27,7 @@ static const struct {
     {"check", qcli_cmd_check},     {"demo", qcli_cmd_demo},     {"relight", qcli_cmd_relight},
     {"info", qcli_cmd_info},       {"srgbe", qcli_cmd_srgbe},   {"lights", qcli_cmd_lights},
     {"probe", qcli_cmd_probe},     {"study", qcli_cmd_study},   {"ies", qcli_cmd_ies},
+    {"luminaire", qcli_cmd_luminaire},
 };
 #define NCMDS (sizeof cmds / sizeof cmds[0])
 #define MAX_ARGS 48

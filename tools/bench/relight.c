@@ -131,7 +131,7 @@ static double bench_layouts(const qtool_gen_maps *g, uint32_t W, uint32_t H, int
         size_t lvs = qibl_ylut_values_size(32, k), pwn = qibl_shmap_point_workspace_size(k, W);
         uint8_t *lv = malloc(lvs);
         void *pws = malloc(pwn);
-        qibl_ylut_build(32, k, lv, lvs);
+        QTOOL_BENCH_CALL(qibl_ylut_build(32, k, lv, lvs));
         qibl_ylut_t lut = {32, k, lv, lvs};
         for (int light = 0; light < 2; ++light) {
             double t[2][REPS_MAX];
@@ -143,18 +143,18 @@ static double bench_layouts(const qtool_gen_maps *g, uint32_t W, uint32_t H, int
                     double t0 = qtool_bench_cpu_now();
                     if (light == 0) {
                         qibl_shlight_t sl;
-                        qibl_shlight_init(&sl, 25);
-                        qibl_shlight_add_dir(&sl, sun_dir, sun_rgb);
+                        QTOOL_BENCH_CALL(qibl_shlight_init(&sl, 25));
+                        QTOOL_BENCH_CALL(qibl_shlight_add_dir(&sl, sun_dir, sun_rgb));
                         qibl_shmap_weights_t w;
-                        qibl_shmap_weights(m, &sl, &w);
+                        QTOOL_BENCH_CALL(qibl_shmap_weights(m, &sl, &w));
                         for (uint32_t y = 0; y < H; ++y)
-                            qibl_shmap_relight_span(m, &w, 0, y, W, o + 3 * (size_t)y * W, ws,
-                                                    qibl_shmap_span_workspace_size(W));
+                            QTOOL_BENCH_CALL(qibl_shmap_relight_span(m, &w, 0, y, W, o + 3 * (size_t)y * W, ws,
+                                                    qibl_shmap_span_workspace_size(W)));
                     } else {
                         qibl_shmap_point_t st;
-                        qibl_shmap_point_prepare(m, &pm, &lut, lamp, &st);
+                        QTOOL_BENCH_CALL(qibl_shmap_point_prepare(m, &pm, &lut, lamp, &st));
                         for (uint32_t y = 0; y < H; ++y)
-                            qibl_shmap_point_span(&st, 0, y, W, o + 3 * (size_t)y * W, pws, pwn);
+                            QTOOL_BENCH_CALL(qibl_shmap_point_span(&st, 0, y, W, o + 3 * (size_t)y * W, pws, pwn));
                     }
                     t[lay][r] = qtool_bench_cpu_now() - t0;
                 }
@@ -223,8 +223,8 @@ static void baseline_kind(const baseline *c, int kind, const uint8_t *src, uint3
         qibl_shmaps_t m = kind == 3 ? *c->pl : *c->il;
         m.planes = src;
         for (uint32_t y = 0; y < rows; ++y)
-            qibl_shmap_relight_span(&m, c->w, 0, y, W, c->img + 3 * (size_t)y * W, c->ws,
-                                    qibl_shmap_span_workspace_size(W));
+            QTOOL_BENCH_CALL(qibl_shmap_relight_span(&m, c->w, 0, y, W, c->img + 3 * (size_t)y * W, c->ws,
+                                    qibl_shmap_span_workspace_size(W)));
     } else if (kind == 1) {
         sink64 = qtool_bench_read_u64(src, bytes);
     } else if (kind == 4) {
@@ -259,11 +259,11 @@ static int bench_baselines(const qtool_gen_maps *g, uint32_t W, uint32_t H, int 
     qibl_shmaps_t pl = p.m;
     pl.planes = pcopies;
     qibl_shlight_t sl;
-    qibl_shlight_init(&sl, 25);
-    qibl_shlight_add_dir(&sl, sun_dir, sun_rgb);
+    QTOOL_BENCH_CALL(qibl_shlight_init(&sl, 25));
+    QTOOL_BENCH_CALL(qibl_shlight_add_dir(&sl, sun_dir, sun_rgb));
     qibl_shmap_weights_t w;
     il.planes = copies;
-    qibl_shmap_weights(&il, &sl, &w);
+    QTOOL_BENCH_CALL(qibl_shmap_weights(&il, &sl, &w));
     /* in cache: the first 8 rows (8 * 1024 px * 48 B = 393 KB at full size), many passes per rep */
     const uint32_t crows = H < 8u ? H : 8u;
     const size_t cbytes = rs * crows, cpx = (size_t)W * crows;
@@ -372,16 +372,16 @@ static int k16_interleaved(const packed *p, const qibl_shlight_t *sl, const qibl
                 sink = (uint32_t)acc;
             } else if (kind == IK_DIR) {
                 qibl_shmap_weights_t w;
-                qibl_shmap_weights(&p->m, sl, &w);
+                QTOOL_BENCH_CALL(qibl_shmap_weights(&p->m, sl, &w));
                 for (uint32_t y = 0; y < H; ++y)
-                    qibl_shmap_relight_span(&p->m, &w, 0, y, W, img + 3 * (size_t)y * W, ws,
-                                            qibl_shmap_span_workspace_size(W));
+                    QTOOL_BENCH_CALL(qibl_shmap_relight_span(&p->m, &w, 0, y, W, img + 3 * (size_t)y * W, ws,
+                                            qibl_shmap_span_workspace_size(W)));
             } else {
                 const int m = kind - IK_POLY; /* 0 poly, 1 LUT 32^2, 2 direct SH */
                 qibl_shmap_point_t st;
-                qibl_shmap_point_prepare(&p->m, pm, m == 1 ? &lut : NULL, &modes[m], &st);
+                QTOOL_BENCH_CALL(qibl_shmap_point_prepare(&p->m, pm, m == 1 ? &lut : NULL, &modes[m], &st));
                 for (uint32_t y = 0; y < H; ++y)
-                    qibl_shmap_point_span(&st, 0, y, W, img + 3 * (size_t)y * W, pws, pwn);
+                    QTOOL_BENCH_CALL(qibl_shmap_point_span(&st, 0, y, W, img + 3 * (size_t)y * W, pws, pwn));
             }
             const double dt = qtool_bench_cpu_now() - t0;
             if (j % 2 == 1) {
@@ -434,9 +434,9 @@ static void dir_rows(relight_run *r, const packed *p, const qtool_gen_maps *gk, 
     for (int i = 0; i < r->reps; ++i) {
         double t0 = qtool_bench_cpu_now();
         qibl_shmap_weights_t w;
-        qibl_shmap_weights(&p->m, sl, &w);
+        QTOOL_BENCH_CALL(qibl_shmap_weights(&p->m, sl, &w));
         for (uint32_t y = 0; y < H; ++y)
-            qibl_shmap_relight_span(&p->m, &w, 0, y, W, r->img + 3 * (size_t)y * W, r->ws, qibl_shmap_span_workspace_size(W));
+            QTOOL_BENCH_CALL(qibl_shmap_relight_span(&p->m, &w, 0, y, W, r->img + 3 * (size_t)y * W, r->ws, qibl_shmap_span_workspace_size(W)));
         t[i] = qtool_bench_cpu_now() - t0;
     }
     double td = qtool_bench_median(t, r->reps);
@@ -503,15 +503,15 @@ static int point_rows(relight_run *r, const packed *p, const qibl_pmap_t *pm)
             size_t vs = qibl_ylut_values_size(luts[li], k);
             if (!(vals = malloc(vs)))
                 return free(pws), -1;
-            qibl_ylut_build(luts[li], k, vals, vs); /* bake-time work, not timed */
+            QTOOL_BENCH_CALL(qibl_ylut_build(luts[li], k, vals, vs)); /* bake-time work, not timed */
             lut.face_size = luts[li], lut.k = k, lut.values = vals, lut.size = vs;
         }
         for (int i = 0; i < r->reps; ++i) {
             double t0 = qtool_bench_cpu_now();
             qibl_shmap_point_t st;
-            qibl_shmap_point_prepare(&p->m, pm, li < 3 ? &lut : NULL, &lamp_li, &st);
+            QTOOL_BENCH_CALL(qibl_shmap_point_prepare(&p->m, pm, li < 3 ? &lut : NULL, &lamp_li, &st));
             for (uint32_t y = 0; y < H; ++y)
-                qibl_shmap_point_span(&st, 0, y, W, r->img + 3 * (size_t)y * W, pws, pwn);
+                QTOOL_BENCH_CALL(qibl_shmap_point_span(&st, 0, y, W, r->img + 3 * (size_t)y * W, pws, pwn));
             t[i] = qtool_bench_cpu_now() - t0;
         }
         double tp = qtool_bench_median(t, r->reps);
@@ -539,8 +539,8 @@ static int k_rows(relight_run *r, uint32_t k)
     if (pack(&r->g, k, QTOOL_PACK_MINMAX, &p) != 0)
         return unpack(&p), -1;
     qibl_shlight_t sl;
-    qibl_shlight_init(&sl, 25);
-    qibl_shlight_add_dir(&sl, SUN_DIR, SUN_RGB);
+    QTOOL_BENCH_CALL(qibl_shlight_init(&sl, 25));
+    QTOOL_BENCH_CALL(qibl_shlight_add_dir(&sl, SUN_DIR, SUN_RGB));
     dir_rows(r, &p, &gk, &sl);
     qibl_pmap_t pm = {r->W, r->H, NULL};
     uint8_t *pbytes = malloc(r->np * 12);
@@ -569,12 +569,12 @@ static int pack_schemes(relight_run *r)
         if (pack(&r->g, 16, s ? QTOOL_PACK_ROBUST : QTOOL_PACK_MINMAX, &p) != 0)
             return unpack(&p), -1;
         qibl_shlight_t sl;
-        qibl_shlight_init(&sl, 25);
-        qibl_shlight_add_dir(&sl, SUN_DIR, SUN_RGB);
+        QTOOL_BENCH_CALL(qibl_shlight_init(&sl, 25));
+        QTOOL_BENCH_CALL(qibl_shlight_add_dir(&sl, SUN_DIR, SUN_RGB));
         qibl_shmap_weights_t w;
-        qibl_shmap_weights(&p.m, &sl, &w);
+        QTOOL_BENCH_CALL(qibl_shmap_weights(&p.m, &sl, &w));
         for (uint32_t y = 0; y < H; ++y)
-            qibl_shmap_relight_span(&p.m, &w, 0, y, W, r->img + 3 * (size_t)y * W, r->ws, qibl_shmap_span_workspace_size(W));
+            QTOOL_BENCH_CALL(qibl_shmap_relight_span(&p.m, &w, 0, y, W, r->img + 3 * (size_t)y * W, r->ws, qibl_shmap_span_workspace_size(W)));
         for (size_t px = 0; px < r->np; ++px)
             for (uint32_t ch = 0; ch < 3; ++ch) {
                 double lc[25];

@@ -85,7 +85,7 @@ static void errs_add(errstats *e, const float *in, const float *out, size_t n)
 static void encode_with(int codec, const dataset *d, void *buf)
 {
     switch (codec) {
-    case C_SRGBE: qibl_srgbe_encode_f32_n(d->bits, d->n, buf); break;
+    case C_SRGBE: QTOOL_BENCH_CALL(qibl_srgbe_encode_f32_n(d->bits, d->n, buf)); break;
     case C_WARD: qtool_ref_rgbe_encode_n(d->rgb, d->n, buf); break;
     case C_RGB9E5: qtool_ref_rgb9e5_encode_n(d->rgb, d->n, buf); break;
     default: memcpy(buf, d->rgb, d->n * 3 * sizeof *d->rgb); break;
@@ -95,7 +95,7 @@ static void encode_with(int codec, const dataset *d, void *buf)
 static void decode_with(int codec, const dataset *d, const void *buf, float *out, uint32_t *out_bits)
 {
     switch (codec) {
-    case C_SRGBE: qibl_srgbe_decode_f32_n(buf, d->n, out_bits); break;
+    case C_SRGBE: QTOOL_BENCH_CALL(qibl_srgbe_decode_f32_n(buf, d->n, out_bits)); break;
     case C_WARD: qtool_ref_rgbe_decode_n(buf, d->n, out); break;
     case C_RGB9E5: qtool_ref_rgb9e5_decode_n(buf, d->n, out); break;
     default: memcpy(out, buf, d->n * 3 * sizeof *out); break;
@@ -167,7 +167,7 @@ static void srgbe_bound(const dataset *d, double *max_all, double *max_nz)
     uint8_t c[4];
     *max_all = *max_nz = 0.0;
     for (size_t p = 0; p < d->n; ++p) {
-        qibl_srgbe_encode_f32(d->bits + 3 * p, c);
+        QTOOL_BENCH_CALL(qibl_srgbe_encode_f32(d->bits + 3 * p, c));
         double mx = fmax(fabs(d->rgb[3 * p]), fmax(fabs(d->rgb[3 * p + 1]), fabs(d->rgb[3 * p + 2])));
         if (mx < 0x1p-128)
             continue; /* flushed: no bound */

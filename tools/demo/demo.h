@@ -95,6 +95,14 @@ int qtool_demo_paths(const qtool_demo_view *v, uint32_t ndirs, const qtool_demo_
 int qtool_demo_probe(const qtool_demo_view *v, uint32_t probe_spp, int kparts, const qtool_bake_sums *sums,
                      uint32_t ndirs, char *err, size_t errlen);
 
+/* The fixed-camera part (camera.c): the scene from a corner through a 70-degree perspective camera
+ * (v->w / 4 wide, at least 4, 4:3), baked with ndirs directions as shadowed SH k = 16 and unshadowed k = 9
+ * x a sun path's visibility (sz->path_steps), relit by the core at 8 sun positions between the baked
+ * steps against the ray-traced render of the same camera; its table, RESULT lines and
+ * camera_sheet.png (relit | truth | error). */
+int qtool_demo_camera(const qtool_demo_view *v, uint32_t ndirs, const qtool_demo_size *sz, char *err,
+                      size_t errlen);
+
 /* ---- shared by the parts ----------------------------------------------------------------------- */
 
 /* The error heat map of a against b (max channel difference, full scale 48 of 255: 0 black .. 8

@@ -4,7 +4,7 @@
  * framebuffer format of platform/soft. Moved here from tests/shmap_test.c (same data, same hashes).
  * relight_il_*: the same maps in the interleaved layout (shmaps.h) through the same calls; their
  * fixtures/golden files hold the planar cases' hashes, so the runner proves both layouts give the
- * same bytes on every port.
+ * same bytes on every port. relight_camera_*: a fixed-camera asset (cases_camera.c).
  */
 #include "golden/casesi.h"
 
@@ -213,6 +213,9 @@ int qtool_goldens_relight(const qtool_goldens_sink_t *s)
         free(vals);
         gmaps_free(&g);
     }
+#if QIBL_USE_ASSET
+    bad += qtool_goldens_relight_camera(s); /* a perspective frame's asset (cases_camera.c) */
+#endif
     return bad;
 }
 

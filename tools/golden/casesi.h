@@ -53,6 +53,10 @@ void qtool_gput_s32(uint8_t *p, int32_t v);
 /* Two's complement reinterpretation without implementation-defined conversion. */
 int32_t qtool_gs32(uint32_t u);
 
+/* The relight group's fixed-camera cases (cases_camera.c: relight_camera_*). Returns the number of
+ * failed cases. */
+int qtool_goldens_relight_camera(const qtool_goldens_sink_t *s);
+
 /* ---- fixed-seed PRNG (splitmix64, the tests' tu_rng sequence) ------------------------------ */
 
 typedef struct qtool_grng {

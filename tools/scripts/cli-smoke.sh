@@ -108,6 +108,11 @@ want 2 "$w/x.png" relight "$w/g.qibl" --point 0.5 0 0.3 --aim 0 0 -1 --png "$w/x
 want 0 - bake -o "$w/lt.qibl" --size 32x8 --k 4 --dirs 32 --quiet --threads 2 --lamp-track "1,1,0.3;-1,1,0.3" --path-steps 4
 want 0 - relight "$w/lt.qibl" --path lamp --t 0.5 --ies "$w/l.ies" --ies-size 8 --png "$w/lt.png"
 want 1 "$w/x.png" relight "$w/lt.qibl" --path lamp --t 0.5 --ies "$w/bad.ies" --png "$w/x.png"
+want 0 - luminaire capture builtin --out "$w/s.qnf" --grid 4 --res 8
+want 0 - luminaire info "$w/s.qnf"
+want 0 - luminaire render "$w/g.qibl" "$w/s.qnf" --at 0.5 0 0.3 --out "$w/lum.png"
+want 1 "$w/x.png" luminaire render "$w/g.qibl" "$w/bad.ies" --at 0.5 0 0.3 --out "$w/x.png"
+want 2 - luminaire render "$w/g.qibl" "$w/s.qnf" --out "$w/x.png"
 ln -s g.qibl "$w/link.png"
 want 1 - relight "$w/g.qibl" --sun 0 0 1 --png "$w/link.png"
 cmp -s "$w/g.qibl" "$w/link.png" || { fails=$((fails + 1)); echo "cli-smoke: FAIL: wrote through a link" >&2; }

@@ -1,0 +1,564 @@
+/*
+ * luminaire_test.c - tools/luminaire: the .qnf file against its documented layout (a file built
+ * here byte by byte, not by the writer), every named error with the output untouched, the atomic
+ * writer; the simulated capture of the built-in luminaire (dark supports under the shade's solid
+ * cells, the emitter's radiance where it is seen whole, flux against the truth integrated over a
+ * plane); the spotlights' cull test exact; the near field against the ray-traced truth (>= 25 dB
+ * and >= 6 dB above the far field at one lamp size); `qibl luminaire` refusals and outputs.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cliutil.h"
+#include "testutil.h"
+#include "luminaire/luminaire.h"
+#include "qibl/asset.h"
+#include "qibl/soft.h"
+
+CLI_FIXTURES("/tmp/qibl_lum_XXXXXX")
+
+static void put32(uint8_t *p, uint32_t v)
+{
+    p[0] = (uint8_t)v, p[1] = (uint8_t)(v >> 8), p[2] = (uint8_t)(v >> 16), p[3] = (uint8_t)(v >> 24);
+}
+
+static void putf(uint8_t *p, float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, 4);
+    put32(p, u);
+}
+
+/* The file of luminaire.h's table: nx 2, ny 1, res 2, box, h 0.5, D 2, w 1.5; texel k of the
+ * payload (in file order) is k + 0.25. 64 + 2 * 4 * 12 = 160 bytes. */
+#define HAND_N (64 + 2 * 4 * 12)
+static void hand_file(uint8_t *b)
+{
+    memset(b, 0, HAND_N);
+    memcpy(b, "QNF1", 4);
+    b[4] = 1, b[5] = 0, b[6] = 64, b[7] = 0;
+    put32(b + 8, 2), put32(b + 12, 1), put32(b + 16, 2), put32(b + 20, 1);
+    putf(b + 24, 0.5f), putf(b + 28, 2.0f), putf(b + 32, 1.5f);
+    put32(b + 36, 3), put32(b + 40, 96);
+    for (int k = 0; k < 24; ++k)
+        putf(b + 64 + 4 * k, (float)k + 0.25f);
+    put32(b + 44, qibl_crc32(0, b + 64, 96));
+    put32(b + 48, qibl_crc32(0, b, 48));
+}
+
+static void test_hand_made_file(void **state)
+{
+    (void)state;
+    uint8_t b[HAND_N];
+    hand_file(b);
+    qtool_luminaire l;
+    assert_int_equal(qtool_luminaire_decode(b, HAND_N, &l), QTOOL_LUMINAIRE_OK);
+    assert_int_equal(l.nx, 2), assert_int_equal(l.ny, 1), assert_int_equal(l.res, 2);
+    assert_int_equal(l.basis, QTOOL_LUMINAIRE_BOX);
+    assert_true(l.spacing == 0.5f && l.distance == 2.0f && l.half_tan == 1.5f);
+    /* support (ix 1, iy 0), row j 1, texel i 0: payload texel 4 + 2 + 0 = 6, floats 18..20 */
+    const float *t = l.tex + qtool_luminaire_texel(&l, 1, 0, 0, 1);
+    assert_true(t[0] == 18.25f && t[1] == 19.25f && t[2] == 20.25f);
+    /* the writer gives the same bytes back */
+    uint8_t *e;
+    size_t n;
+    assert_int_equal(qtool_luminaire_encode(&l, &e, &n), QTOOL_LUMINAIRE_OK);
+    assert_int_equal(n, HAND_N);
+    assert_memory_equal(e, b, HAND_N);
+    free(e);
+    qtool_luminaire_free(&l);
+}
+
+typedef struct {
+    int off;        /* byte to change */
+    uint32_t value; /* new 32-bit little-endian value at off (or byte when width 1) */
+    int width;
+    int fix_hcrc;   /* recompute the header CRC after the change */
+    qtool_luminaire_err want;
+} mutation;
+
+static void expect(const uint8_t *b, size_t n, qtool_luminaire_err want)
+{
+    qtool_luminaire l, before;
+    memset(&l, 0x5A, sizeof l);
+    before = l;
+    qtool_luminaire_err e = qtool_luminaire_decode(b, n, &l);
+    if (e != want)
+        fail_msg("got %d (%s), want %d (%s)", e, qtool_luminaire_err_str(e), want, qtool_luminaire_err_str(want));
+    assert_memory_equal(&l, &before, sizeof l); /* nothing written on failure */
+    assert_true(strlen(qtool_luminaire_err_str(e)) > 2);
+}
+
+static void test_every_error(void **state)
+{
+    (void)state;
+    uint32_t nan_bits = 0x7FC00000u, inf_bits = 0x7F800000u, half = 0x3F000000u /* 0.5f */;
+    const mutation ms[] = {
+        {0, 'X', 1, 0, QTOOL_LUMINAIRE_E_MAGIC},
+        {4, 2, 1, 0, QTOOL_LUMINAIRE_E_VERSION},
+        {6, 63, 1, 0, QTOOL_LUMINAIRE_E_HEADER_SIZE},
+        {8, 0, 4, 0, QTOOL_LUMINAIRE_E_GRID},
+        {12, 65, 4, 0, QTOOL_LUMINAIRE_E_GRID},
+        {16, 1, 4, 0, QTOOL_LUMINAIRE_E_RES},
+        {16, 129, 4, 0, QTOOL_LUMINAIRE_E_RES},
+        {20, 3, 4, 0, QTOOL_LUMINAIRE_E_BASIS},
+        {20, 0, 4, 0, QTOOL_LUMINAIRE_E_BASIS},
+        {24, nan_bits, 4, 0, QTOOL_LUMINAIRE_E_SPACING},
+        {24, 0, 4, 0, QTOOL_LUMINAIRE_E_SPACING},
+        {28, inf_bits, 4, 0, QTOOL_LUMINAIRE_E_DISTANCE},
+        {28, 0xBF800000u /* -1 */, 4, 0, QTOOL_LUMINAIRE_E_DISTANCE},
+        {32, 0x41880000u /* 17 */, 4, 0, QTOOL_LUMINAIRE_E_WINDOW},
+        {32, 0, 4, 0, QTOOL_LUMINAIRE_E_WINDOW},
+        {36, 4, 4, 0, QTOOL_LUMINAIRE_E_CHANNELS},
+        {40, 95, 4, 0, QTOOL_LUMINAIRE_E_PAYLOAD_SIZE},
+        {55, 1, 1, 0, QTOOL_LUMINAIRE_E_RESERVED},
+        {48, 0, 4, 0, QTOOL_LUMINAIRE_E_HEADER_CRC},
+        {24, half + 1, 4, 0, QTOOL_LUMINAIRE_E_HEADER_CRC}, /* a legal spacing, the CRC not updated */
+        {44, 0, 4, 1, QTOOL_LUMINAIRE_E_PAYLOAD_CRC},
+        {64, 0xAA, 1, 0, QTOOL_LUMINAIRE_E_PAYLOAD_CRC}, /* a payload byte changed */
+    };
+    for (size_t k = 0; k < sizeof ms / sizeof ms[0]; ++k) {
+        uint8_t b[HAND_N];
+        hand_file(b);
+        if (ms[k].width == 1)
+            b[ms[k].off] = (uint8_t)ms[k].value;
+        else
+            put32(b + ms[k].off, ms[k].value);
+        if (ms[k].fix_hcrc)
+            put32(b + 48, qibl_crc32(0, b, 48));
+        expect(b, HAND_N, ms[k].want);
+    }
+    /* too many texels in all: 64 x 64 supports of 128^2 (each field alone is legal) */
+    uint8_t b[HAND_N];
+    hand_file(b);
+    put32(b + 8, 64), put32(b + 12, 64), put32(b + 16, 128);
+    expect(b, HAND_N, QTOOL_LUMINAIRE_E_TOO_BIG);
+    /* a texel NaN (CRCs right): VALUE */
+    hand_file(b);
+    put32(b + 64 + 4 * 7, nan_bits);
+    put32(b + 44, qibl_crc32(0, b + 64, 96));
+    put32(b + 48, qibl_crc32(0, b, 48));
+    expect(b, HAND_N, QTOOL_LUMINAIRE_E_VALUE);
+    /* lengths: short header, short payload, one byte too many */
+    hand_file(b);
+    expect(b, 63, QTOOL_LUMINAIRE_E_TRUNCATED);
+    expect(b, HAND_N - 1, QTOOL_LUMINAIRE_E_TRUNCATED);
+    expect(NULL, 0, QTOOL_LUMINAIRE_E_TRUNCATED);
+    uint8_t big[HAND_N + 1];
+    memcpy(big, b, HAND_N), big[HAND_N] = 0;
+    expect(big, HAND_N + 1, QTOOL_LUMINAIRE_E_TRAILING);
+}
+
+static void test_file_io(void **state)
+{
+    (void)state;
+    uint8_t b[HAND_N];
+    hand_file(b);
+    qtool_luminaire l, r;
+    assert_int_equal(qtool_luminaire_decode(b, HAND_N, &l), QTOOL_LUMINAIRE_OK);
+    const char *f = at("a.qnf");
+    char err[256];
+    assert_int_equal(qtool_luminaire_write(f, &l, err, sizeof err), QTOOL_LUMINAIRE_OK);
+    assert_int_equal(qtool_luminaire_read(f, &r), QTOOL_LUMINAIRE_OK);
+    assert_memory_equal(r.tex, l.tex, 96);
+    qtool_luminaire_free(&r);
+    /* a refused source writes nothing and leaves the old file whole */
+    l.tex[3] = NAN;
+    assert_int_equal(qtool_luminaire_write(f, &l, err, sizeof err), QTOOL_LUMINAIRE_E_VALUE);
+    assert_int_equal(qtool_luminaire_read(f, &r), QTOOL_LUMINAIRE_OK);
+    qtool_luminaire_free(&r);
+    l.tex[3] = 1;
+    assert_int_equal(qtool_luminaire_write(at("no/such/dir.qnf"), &l, err, sizeof err), QTOOL_LUMINAIRE_E_WRITE);
+    assert_int_equal(qtool_luminaire_read(at("missing.qnf"), &r), QTOOL_LUMINAIRE_E_IO);
+    /* the reader's own length checks: a file cut short, one with a byte too many */
+    FILE *o = fopen(at("short.qnf"), "wb");
+    assert_non_null(o);
+    assert_int_equal(fwrite(b, 1, HAND_N - 4, o), HAND_N - 4);
+    fclose(o);
+    assert_int_equal(qtool_luminaire_read(at("short.qnf"), &r), QTOOL_LUMINAIRE_E_TRUNCATED);
+    o = fopen(at("long.qnf"), "wb");
+    assert_non_null(o);
+    assert_int_equal(fwrite(b, 1, HAND_N, o), HAND_N);
+    fputc(0, o);
+    fclose(o);
+    assert_int_equal(qtool_luminaire_read(at("long.qnf"), &r), QTOOL_LUMINAIRE_E_TRAILING);
+    qtool_luminaire_free(&l);
+}
+
+/* the built-in luminaire: 4 x 4 supports are its plate's cells, dark exactly under the solid ones */
+static void test_capture(void **state)
+{
+    (void)state;
+    qtool_luminaire_model *m = qtool_luminaire_builtin();
+    assert_non_null(m);
+    qtool_luminaire l;
+    qtool_luminaire_capture_opts o = {.grid = 4, .res = 16, .samples = 4};
+    assert_int_equal(qtool_luminaire_capture(m, &o, &l), 0);
+    assert_int_equal(qtool_luminaire_check(&l), QTOOL_LUMINAIRE_OK);
+    double peak = 0;
+    for (uint32_t iy = 0; iy < 4; ++iy)
+        for (uint32_t ix = 0; ix < 4; ++ix) {
+            double sum = 0;
+            for (uint32_t j = 0; j < 16; ++j)
+                for (uint32_t i = 0; i < 16; ++i) {
+                    const float *t = l.tex + qtool_luminaire_texel(&l, ix, iy, i, j);
+                    sum += t[0];
+                    peak = t[0] > peak ? t[0] : peak;
+                    assert_true(t[0] >= 0 && t[1] <= t[0] && t[2] <= t[1]); /* the emitter's warm white */
+                }
+            if ((ix + iy) & 1)
+                assert_true(sum == 0);
+            else
+                assert_true(sum > 0);
+        }
+    /* straight below a hole the filter sees the emitter whole: E' is its radiance (box filter) */
+    assert_true(fabs(peak - QTOOL_LUMINAIRE_LE) < 0.02 * QTOOL_LUMINAIRE_LE);
+    /* flux: the file's against the truth's irradiance integrated over a large plane 1 below */
+    double flux[3], tf = 0;
+    qtool_luminaire_flux(&l, flux);
+    const int N = 40;
+    const double half = 2.2, up[3] = {0, 0, 1};
+    for (int y = 0; y < N; ++y)
+        for (int x = 0; x < N; ++x) {
+            double p[3] = {-half + (x + 0.5) * 2 * half / N, -half + (y + 0.5) * 2 * half / N, -1}, e[3];
+            qtool_luminaire_model_irradiance(m, p, up, 8, e);
+            tf += e[0] * (2 * half / N) * (2 * half / N);
+        }
+    print_message("flux %.5g, truth %.5g\n", flux[0], tf);
+    assert_true(flux[0] > 0);
+    if (fabs(flux[0] - tf) > 0.06 * tf)
+        fail_msg("flux %.5g against the truth's %.5g", flux[0], tf);
+    /* the tent basis (its filter a quasi-interpolant over two cells): the same flux */
+    qtool_luminaire lt;
+    qtool_luminaire_capture_opts ot = {.grid = 5, .res = 16, .samples = 3, .basis = QTOOL_LUMINAIRE_TENT};
+    assert_int_equal(qtool_luminaire_capture(m, &ot, &lt), 0);
+    assert_int_equal(lt.basis, QTOOL_LUMINAIRE_TENT);
+    assert_true(fabs(lt.spacing - 0.1f) < 1e-7f);
+    double ft[3];
+    qtool_luminaire_flux(&lt, ft);
+    print_message("tent flux %.5g\n", ft[0]);
+    if (fabs(ft[0] - tf) > 0.06 * tf)
+        fail_msg("tent flux %.5g against the truth's %.5g", ft[0], tf);
+    qtool_luminaire_free(&lt);
+    qtool_luminaire_free(&l);
+    qtool_luminaire_model_free(m);
+}
+
+static double psnr(const double *a, const double *t, size_t n)
+{
+    double peak = 0, se = 0;
+    for (size_t i = 0; i < n; ++i)
+        peak = t[i] > peak ? t[i] : peak, se += (a[i] - t[i]) * (a[i] - t[i]);
+    return 10 * log10(peak * peak / (se / (double)n));
+}
+
+static void ground(const qtool_luminaire_spots *s, double hgt, double half, uint32_t n, double *out)
+{
+    const uint32_t na = s->nanchor;
+    int32_t *base = malloc(sizeof(int32_t) * 3 * n * na), *pts = malloc(sizeof(int32_t) * 3 * n);
+    int64_t *acc = malloc(sizeof(int64_t) * 3 * n), *ws = malloc(qtool_luminaire_span_ws_size(n));
+    assert_true(base && pts && acc && ws);
+    for (uint32_t y = 0; y < n; ++y) {
+        for (uint32_t x = 0; x < n; ++x) {
+            double p[3] = {-half + (x + 0.5) * 2 * half / n, -half + (y + 0.5) * 2 * half / n, 0};
+            for (int k = 0; k < 3; ++k)
+                pts[3 * x + (uint32_t)k] = (int32_t)lround(p[k] * 65536);
+            for (uint32_t a = 0; a < na; ++a) {
+                double w[3] = {s->anchor[a][0] / 65536.0 - p[0], s->anchor[a][1] / 65536.0 - p[1], hgt};
+                double r2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+                for (int k = 0; k < 3; ++k)
+                    base[3 * ((size_t)a * n + x) + (size_t)k] = (int32_t)lround(hgt / sqrt(r2) / M_PI / r2 * 65536);
+            }
+        }
+        memset(acc, 0, sizeof(int64_t) * 3 * n);
+        qtool_luminaire_spots_span(s, base, pts, n, acc, ws);
+        for (uint32_t i = 0; i < 3 * n; ++i)
+            out[(size_t)y * 3 * n + i] = qtool_luminaire_q16(acc[i]) / 65536.0;
+    }
+    free(base), free(pts), free(acc), free(ws);
+}
+
+/* near field against the truth one lamp size below, beside the far field; the cull is exact */
+static void test_near_field(void **state)
+{
+    (void)state;
+    qtool_luminaire_model *m = qtool_luminaire_builtin();
+    qtool_luminaire l;
+    qtool_luminaire_capture_opts o = {.grid = 8, .res = 32};
+    assert_int_equal(qtool_luminaire_capture(m, &o, &l), 0);
+    const double hgt = QTOOL_LUMINAIRE_SIZE, half = 1.8 * hgt + QTOOL_LUMINAIRE_SIZE / 2;
+    const uint32_t n = 40;
+    double *t = malloc(sizeof(double) * 3 * n * n), *nr = malloc(sizeof(double) * 3 * n * n),
+           *fr = malloc(sizeof(double) * 3 * n * n), *nc = malloc(sizeof(double) * 3 * n * n);
+    assert_true(t && nr && fr && nc);
+    const double up[3] = {0, 0, 1};
+    for (uint32_t y = 0; y < n; ++y)
+        for (uint32_t x = 0; x < n; ++x) {
+            double p[3] = {-half + (x + 0.5) * 2 * half / n, -half + (y + 0.5) * 2 * half / n, -hgt}, e[3];
+            qtool_luminaire_model_irradiance(m, p, up, 16, e);
+            for (int k = 0; k < 3; ++k)
+                t[3 * ((size_t)y * n + x) + (size_t)k] = e[k] / M_PI;
+        }
+    int32_t pos[3] = {0, 0, (int32_t)lround(hgt * 65536)};
+    qtool_luminaire_spots sn, sf;
+    char err[128];
+    assert_int_equal(qtool_luminaire_spots_make(&l, pos, 64, 0, &sn, err, sizeof err), 0);
+    assert_int_equal(qtool_luminaire_spots_make(&l, pos, 64, 1, &sf, err, sizeof err), 0);
+    assert_int_equal(sf.count, 1);
+    /* refusals with a reason: a table size outside the core's range, tables beyond the cap */
+    qtool_luminaire_spots bad;
+    err[0] = 0;
+    assert_int_equal(qtool_luminaire_spots_make(&l, pos, 1, 0, &bad, err, sizeof err), -1);
+    assert_true(strlen(err) > 0);
+    qtool_luminaire big = l;
+    big.nx = big.ny = 64; /* 4096 supports of 256^2 tables: 512 MiB (refused before any texel is read) */
+    err[0] = 0;
+    assert_int_equal(qtool_luminaire_spots_make(&big, pos, 256, 0, &bad, err, sizeof err), -1);
+    assert_non_null(strstr(err, "MiB"));
+    assert_true(sn.count >= 16 && sn.count < 64); /* the supports under the solid cells have no lamp */
+    ground(&sn, hgt, half, n, nr);
+    ground(&sf, hgt, half, n, fr);
+    double pn = psnr(nr, t, 3 * (size_t)n * n), pf = psnr(fr, t, 3 * (size_t)n * n);
+    print_message("near %.2f dB, far %.2f dB\n", pn, pf);
+    assert_true(pn >= 25);
+    assert_true(pn - pf >= 6);
+    /* the cull bounds and occupancy bits only skip zeros: the same sums with them off, here and
+     * a quarter lamp size below an off-centre lamp (every spotlight's footprint oblique) */
+    qtool_luminaire_spots so;
+    const int32_t pos2[3] = {3000, -7000, (int32_t)lround(0.1 * 65536)};
+    assert_int_equal(qtool_luminaire_spots_make(&l, pos2, 64, 0, &so, err, sizeof err), 0);
+    double *n2 = malloc(sizeof(double) * 3 * n * n), *c2 = malloc(sizeof(double) * 3 * n * n);
+    assert_true(n2 && c2);
+    ground(&so, 0.1, 0.5, n, n2);
+    for (uint32_t j = 0; j < sn.count; ++j)
+        sn.cull[j][0] = sn.cull[j][1] = -1;
+    sn.cullmax[0] = sn.cullmax[1] = -1;
+    for (uint32_t j = 0; j < so.count; ++j)
+        so.cull[j][0] = so.cull[j][1] = -1;
+    so.cullmax[0] = so.cullmax[1] = -1;
+    ground(&sn, hgt, half, n, nc);
+    assert_memory_equal(nc, nr, sizeof(double) * 3 * n * n);
+    ground(&so, 0.1, 0.5, n, c2);
+    assert_memory_equal(c2, n2, sizeof(double) * 3 * n * n);
+    qtool_luminaire_spots_free(&so);
+    free(n2), free(c2);
+    /* points far outside the Q16.16 scene and on the lamp itself: finite, no overflow (UBSan) */
+    int32_t base[48], pts[12] = {INT32_MAX, INT32_MAX, INT32_MIN, INT32_MIN, INT32_MIN, INT32_MIN, 0, 0, pos[2] - 1,
+                                 sn.pos[0][0], sn.pos[0][1], sn.pos[0][2] - 1};
+    for (int k = 0; k < 48; ++k)
+        base[k] = k % 3 == 0 ? INT32_MAX : k % 3 == 1 ? INT32_MIN : 65536;
+    int64_t acc[12] = {0}, ws[4 * QTOOL_LUMINAIRE_WS_PER_PIXEL];
+    qtool_luminaire_spots_span(&sn, base, pts, 4, acc, ws);
+    qtool_luminaire_spots_free(&sn), qtool_luminaire_spots_free(&sf);
+    free(t), free(nr), free(fr), free(nc);
+    qtool_luminaire_free(&l);
+    qtool_luminaire_model_free(m);
+}
+
+static const char *out_text(void)
+{
+    static char buf[4096];
+    FILE *f = fopen(outlog, "r");
+    size_t n = f ? fread(buf, 1, sizeof buf - 1, f) : 0;
+    if (f)
+        fclose(f);
+    buf[n] = 0;
+    return buf;
+}
+
+static void test_cli(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *q = at("s.qnf"), *x = at("x.png"), *g = at("g.qibl");
+    assert_int_equal(run("luminaire", "capture", "builtin", "--out", q, "--grid", "4", "--res", "8", NULL), 0);
+    assert_int_equal(run("luminaire", "info", q, NULL), 0);
+    assert_non_null(strstr(out_text(), "grid 4x4 spacing 0.1\n"));
+    assert_non_null(strstr(out_text(), "supports 16 dark 8\n"));
+    assert_int_equal(run("gen", "-o", g, "--size", "64x16", "--k", "9", "--lut-size", "8", NULL), 0);
+    assert_int_equal(run("luminaire", "render", g, q, "--at", "0", "1", "-0.5", "--out", x, NULL), 0);
+    assert_int_equal(access(x, F_OK), 0);
+    assert_int_equal(run("luminaire", "render", g, q, "--at", "0", "1", "-0.5", "--far", "--out", at("f.png"), NULL),
+                     0);
+    assert_non_null(strstr(out_text(), "1 far-field lamp"));
+    /* refusals: bad arguments (2), a bad file (1), nothing written */
+    const char *y = at("y.png");
+    assert_int_equal(run("luminaire", NULL), 2);
+    assert_int_equal(run("luminaire", "frob", NULL), 2);
+    assert_int_equal(run("luminaire", "capture", "builtin", NULL), 2);
+    assert_int_equal(run("luminaire", "capture", "builtin", "--out", at("z.qnf"), "--grid", "65", NULL), 2);
+    assert_int_equal(run("luminaire", "capture", "builtin", "--out", at("z.qnf"), "--basis", "sinc", NULL), 2);
+    assert_int_equal(access(at("z.qnf"), F_OK), -1);
+    assert_int_equal(run("luminaire", "info", NULL), 2);
+    assert_int_equal(run("luminaire", "info", at("missing.qnf"), NULL), 1);
+    assert_int_equal(run("luminaire", "render", g, q, "--out", y, NULL), 2);
+    assert_int_equal(run("luminaire", "render", g, q, "--at", "0", "0", "nan", "--out", y, NULL), 2);
+    assert_int_equal(run("luminaire", "render", g, q, "--at", "0", "0", "1", "--out", y, "--table", "1", NULL), 2);
+    assert_int_equal(run("luminaire", "render", g, g, "--at", "0", "0", "1", "--out", y, NULL), 1);
+    assert_int_equal(run("luminaire", "render", q, q, "--at", "0", "0", "1", "--out", y, NULL), 1);
+    assert_int_equal(access(y, F_OK), -1);
+    assert_int_equal(run("luminaire", "study", "--frob", NULL), 2);
+}
+
+/* qtool_luminaire_relight (anchors' spans only where a spotlight reaches) against the same frame
+ * computed over whole rows here; a one-support source near and far give the same bytes */
+static void test_relight_frame(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *g = at("g.qibl"), *q = at("s.qnf"), *q1 = at("one.qnf");
+    assert_int_equal(run("gen", "-o", g, "--size", "96x24", "--k", "9", "--lut-size", "8", NULL), 0);
+    assert_int_equal(run("luminaire", "capture", "builtin", "--out", q, "--grid", "6", "--res", "8", NULL), 0);
+    uint8_t *bytes;
+    size_t n;
+    char err[256];
+    assert_int_equal(qtool_io_read_asset(g, &bytes, &n, err, sizeof err), 0);
+    qibl_asset_t a;
+    qibl_shmaps_t mp;
+    qibl_pmap_t pm;
+    assert_int_equal(qibl_asset_open(&a, bytes, n), QIBL_OK);
+    assert_int_equal(qibl_asset_point_shmaps(&a, &mp), QIBL_OK);
+    assert_int_equal(qibl_asset_pmap(&a, &pm), QIBL_OK);
+    qtool_luminaire l;
+    assert_int_equal(qtool_luminaire_read(q, &l), QTOOL_LUMINAIRE_OK);
+    const int32_t pos[3] = {0, 65536, -32768};
+    qtool_luminaire_spots s;
+    assert_int_equal(qtool_luminaire_spots_make(&l, pos, 32, 0, &s, err, sizeof err), 0);
+    const uint32_t w = mp.width, h = mp.height;
+    uint8_t *got = malloc((size_t)w * h * 3), *want = malloc((size_t)w * h * 4);
+    int32_t *row = malloc(sizeof(int32_t) * 3 * w * 4), *pts = malloc(sizeof(int32_t) * 3 * w), *o = malloc(12 * w);
+    int64_t *acc = malloc(sizeof(int64_t) * 3 * w), *ws = malloc(qtool_luminaire_span_ws_size(w));
+    size_t wsn = qibl_shmap_point_workspace_size(mp.k, w);
+    void *pws = malloc(wsn);
+    assert_true(got && want && row && pts && o && acc && ws && pws);
+    qibl_status_t st;
+    assert_int_equal(qtool_luminaire_relight(&s, &mp, &pm, NULL, 65536, 1, got, NULL, NULL, &st), 0);
+    qibl_fb_desc_t fb = {.pixels = want, .width = w, .height = h, .format = QIBL_FB_RGBA8888, .srgb = 1,
+                         .exposure = 65536};
+    qibl_shmap_point_t pt[4];
+    for (uint32_t k = 0; k < s.nanchor; ++k) {
+        qibl_pointlight_t pl = {.pos = {s.anchor[k][0], s.anchor[k][1], s.anchor[k][2]}, .rgb = {65536, 65536, 65536},
+                                .falloff = QIBL_FALLOFF_INV_DIST2, .filter = QIBL_POINT_POLY};
+        assert_int_equal(qibl_shmap_point_prepare(&mp, &pm, NULL, &pl, &pt[k]), QIBL_OK);
+    }
+    size_t lit = 0;
+    for (uint32_t y = 0; y < h; ++y) {
+        for (uint32_t k = 0; k < s.nanchor; ++k)
+            assert_int_equal(qibl_shmap_point_span(&pt[k], 0, y, w, row + (size_t)k * 3 * w, pws, wsn), QIBL_OK);
+        for (uint32_t x = 0; x < w; ++x)
+            qibl_pmap_point(&pm, x, y, pts + 3 * (size_t)x);
+        memset(acc, 0, sizeof(int64_t) * 3 * w);
+        qtool_luminaire_spots_span(&s, row, pts, w, acc, ws);
+        for (size_t i = 0; i < (size_t)3 * w; ++i)
+            o[i] = qtool_luminaire_q16(acc[i]), lit += o[i] > 0;
+        assert_int_equal(qibl_fb_write_row(&fb, 0, y, w, o), QIBL_OK);
+    }
+    assert_true(lit > 0);
+    for (size_t i = 0; i < (size_t)w * h; ++i)
+        assert_memory_equal(got + 3 * i, want + 4 * i, 3);
+    qtool_luminaire_spots_free(&s);
+    qtool_luminaire_free(&l);
+    free(got), free(want), free(row), free(pts), free(o), free(acc), free(ws), free(pws), free(bytes);
+    /* one support: its lamp is the far field's */
+    assert_int_equal(run("luminaire", "capture", "builtin", "--out", q1, "--grid", "1", "--res", "8", NULL), 0);
+    assert_int_equal(run("luminaire", "render", g, q1, "--at", "0", "1", "-0.5", "--out", at("n.png"), NULL), 0);
+    assert_non_null(strstr(out_text(), "96x24, 1 spotlights")); /* lit, not two black frames */
+    assert_int_equal(run("luminaire", "render", g, q1, "--at", "0", "1", "-0.5", "--far", "--out", at("f.png"), NULL),
+                     0);
+    size_t nn = 0, nf = 0;
+    uint8_t *pn = qtool_io_read_all(at("n.png"), &nn), *pf = qtool_io_read_all(at("f.png"), &nf);
+    assert_true(pn && pf);
+    assert_int_equal(nn, nf);
+    assert_memory_equal(pn, pf, nn);
+    free(pn), free(pf);
+}
+
+/* the built-in luminaire's shade written as an OBJ (its triangles, in its order) */
+static void write_builtin_obj(const char *path)
+{
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    int nv = 0;
+    const double H = 0.2, c = 0.1, lo = 0.002, hi = 0.2;
+    /* each quad a, b, c, d as triangles (a, b, c) and (a, c, d) */
+#define QUAD(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz)                                                    \
+    do {                                                                                                      \
+        fprintf(f, "v %.17g %.17g %.17g\nv %.17g %.17g %.17g\nv %.17g %.17g %.17g\nv %.17g %.17g %.17g\n",   \
+                ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz);                                              \
+        fprintf(f, "f %d %d %d\nf %d %d %d\n", nv + 1, nv + 2, nv + 3, nv + 1, nv + 3, nv + 4);                \
+        nv += 4;                                                                                              \
+    } while (0)
+    for (int iy = 0; iy < 4; ++iy)
+        for (int ix = 0; ix < 4; ++ix) {
+            if (((ix + iy) & 1) == 0)
+                continue;
+            double x0 = -H + ix * c, y0 = -H + iy * c, x1 = x0 + c, y1 = y0 + c;
+            QUAD(x0, y0, lo, x1, y0, lo, x1, y1, lo, x0, y1, lo);
+        }
+    const double cx[4] = {-H, H, H, -H}, cy[4] = {-H, -H, H, H};
+    for (int k = 0; k < 4; ++k) {
+        int t = (k + 1) & 3;
+        QUAD(cx[k], cy[k], lo, cx[t], cy[t], lo, cx[t], cy[t], hi, cx[k], cy[k], hi);
+    }
+    QUAD(-H, -H, hi, H, -H, hi, H, H, hi, -H, H, hi);
+#undef QUAD
+    fclose(f);
+}
+
+/* capture from a mesh: the built-in shade as an OBJ with the built-in emitter gives the built-in
+ * capture's bytes; a mesh below S and an emitter outside it are refused, nothing written */
+static void test_capture_mesh(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *obj = at("shade.obj"), *a = at("a.qnf"), *b = at("b.qnf");
+    write_builtin_obj(obj);
+    assert_int_equal(run("luminaire", "capture", "builtin", "--out", a, "--grid", "4", "--res", "8", NULL), 0);
+    assert_int_equal(run("luminaire", "capture", obj, "--emitter", "0.16", "0.08", "--out", b, "--grid", "4", "--res",
+                         "8", NULL), 0);
+    size_t na = 0, nb = 0;
+    uint8_t *pa = qtool_io_read_all(a, &na), *pb = qtool_io_read_all(b, &nb);
+    assert_true(pa && pb && na == nb);
+    assert_memory_equal(pa, pb, na);
+    free(pa), free(pb);
+    /* defaults: the built-in proportions of the mesh's box, the same emitter here */
+    assert_int_equal(run("luminaire", "capture", obj, "--out", b, "--grid", "4", "--res", "8", NULL), 0);
+    pb = qtool_io_read_all(b, &nb);
+    pa = qtool_io_read_all(a, &na);
+    assert_true(pa && pb && na == nb);
+    qtool_luminaire la, lb;
+    assert_int_equal(qtool_luminaire_decode(pa, na, &la), QTOOL_LUMINAIRE_OK);
+    assert_int_equal(qtool_luminaire_decode(pb, nb, &lb), QTOOL_LUMINAIRE_OK);
+    for (size_t k = 0; k < (size_t)16 * 64 * 3; ++k)
+        assert_true(fabs(la.tex[k] - lb.tex[k]) <= 1e-4 * QTOOL_LUMINAIRE_LE);
+    qtool_luminaire_free(&la), qtool_luminaire_free(&lb);
+    free(pa), free(pb);
+    FILE *f = fopen(at("low.obj"), "w");
+    assert_non_null(f);
+    fputs("v 0 0 0.1\nv 1 0 0.1\nv 0 1 -0.1\nf 1 2 3\n", f);
+    fclose(f);
+    const char *z = at("z.qnf");
+    assert_int_equal(run("luminaire", "capture", at("low.obj"), "--out", z, NULL), 1);
+    assert_int_equal(run("luminaire", "capture", obj, "--emitter", "0.5", "0.08", "--out", z, NULL), 1);
+    assert_int_equal(run("luminaire", "capture", obj, "--emitter", "0.1", "0.3", "--out", z, NULL), 1);
+    assert_int_equal(run("luminaire", "capture", at("missing.obj"), "--out", z, NULL), 1);
+    assert_int_equal(run("luminaire", "capture", "builtin", "--emitter", "0.1", "0.05", "--out", z, NULL), 2);
+    assert_int_equal(access(z, F_OK), -1);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_hand_made_file),
+        cmocka_unit_test(test_every_error),
+        cmocka_unit_test_setup_teardown(test_file_io, setup, teardown),
+        cmocka_unit_test(test_capture),
+        cmocka_unit_test(test_near_field),
+        cmocka_unit_test_setup_teardown(test_cli, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_relight_frame, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_capture_mesh, setup, teardown),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

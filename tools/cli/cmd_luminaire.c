@@ -1,0 +1,367 @@
+/*
+ * cmd_luminaire.c - `qibl luminaire capture|info|render|study`: near-field light sources (the
+ * library is tools/luminaire: the .qnf file, the simulated acquisition, the textured spotlights).
+ *
+ * Output is all or nothing: files are written atomically, and a report is printed only once
+ * everything it describes has succeeded.
+ */
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/cli.h"
+#include "cli/opt.h"
+#include "io/file.h"
+#include "io/obj.h"
+#include "io/png.h"
+#include "luminaire/luminaire.h"
+#include "qibl/asset.h"
+#include "qibl/soft.h"
+
+/* ---- the option tables (cli/opt.h): one per subcommand ------------------------------------- */
+
+typedef struct capture_cli {
+    qcli_opt_list src; /* builtin or MESH.obj */
+    const char *out;
+    long grid, res, threads;
+    int basis; /* 0 box, 1 tent */
+    double emitter[2];
+    int have_emitter;
+} capture_cli;
+static const capture_cli capture_defaults = {.grid = 16, .res = 32, .threads = 1};
+static const char *const bases[] = {"box", "tent", NULL};
+
+static const char *capture_emitter(void *o, char *const *v, int n, int *used)
+{
+    capture_cli *c = o;
+    (void)n, (void)used;
+    for (int k = 0; k < 2; ++k) {
+        double x;
+        if (qcli_opt_num_value(v[k], 1e-6, 1e6, &x) != 0)
+            return k ? "HALF (its half-size) is not a number in 1e-06..1e+06"
+                     : "Z (its height above S) is not a number in 1e-06..1e+06";
+        c->emitter[k] = x;
+    }
+    c->have_emitter = 1;
+    return NULL;
+}
+
+static const qcli_opt capture_table[] = {
+    {.name = "--out", .kind = QCLI_OPT_STR, .off = offsetof(capture_cli, out), .arg = "F.qnf", .required = 1,
+     .help = "the source file (written atomically)"},
+    {.name = "--grid", .kind = QCLI_OPT_INT, .off = offsetof(capture_cli, grid), .arg = "N", .lo = 1,
+     .hi = QTOOL_LUMINAIRE_MAX_GRID, .help = "N x N filter supports on the sampling plane"},
+    {.name = "--res", .kind = QCLI_OPT_INT, .off = offsetof(capture_cli, res), .arg = "R",
+     .lo = QTOOL_LUMINAIRE_MIN_RES, .hi = QTOOL_LUMINAIRE_MAX_RES, .help = "R x R texels per emission texture"},
+    {.name = "--basis", .kind = QCLI_OPT_ENUM, .off = offsetof(capture_cli, basis), .names = bases,
+     .help = "box: the dual filter of a box basis; tent: a tent filter (a quasi-interpolant)"},
+    {.name = "--emitter", .kind = QCLI_OPT_CALL, .nargs = 2, .call_n = capture_emitter, .arg = "Z HALF",
+     .def = "0.8 and 0.4 of the mesh's box", .help = "a mesh's square emitter: its height and half-size"},
+    {.name = "--threads", .kind = QCLI_OPT_INT, .off = offsetof(capture_cli, threads), .arg = "T", .lo = 1, .hi = 256,
+     .help = "worker threads (the capture is the same bytes whatever T)"},
+    {0},
+};
+
+const qcli_opt_cmd qcli_opts_luminaire_capture = {
+    .name = "luminaire capture",
+    .help_name = "luminaire",
+    .opts = capture_table,
+    .pos = {.names = "builtin|MESH.obj", .min = 1, .max = 1, .off = offsetof(capture_cli, src)},
+    .defaults = &capture_defaults,
+    .size = sizeof(capture_cli),
+    .prose =
+        "  A near-field light source (Granier et al.): its light on a sampling plane S projected onto a\n"
+        "  grid of N x N filter supports, each with an R x R emission texture on a measurement plane,\n"
+        "  made by ray-tracing the paper's acquisition (Figure 1: the filter on S, the plane M behind\n"
+        "  it). builtin: a 0.4 box shade with a checkerboard of holes in its bottom plate around a square\n"
+        "  emitter. MESH.obj: a shade as it is (z up, every vertex above S: z > 0; at most 65536\n"
+        "  triangles) around a square emitter facing down (--emitter); the grid covers the mesh's\n"
+        "  extent. Format: tools/luminaire/luminaire.h.\n",
+};
+
+typedef struct info_cli {
+    qcli_opt_list file;
+} info_cli;
+static const info_cli info_defaults = {.file = {.n = 0}};
+
+const qcli_opt_cmd qcli_opts_luminaire_info = {
+    .name = "luminaire info",
+    .help_name = "luminaire",
+    .pos = {.names = "F.qnf", .min = 1, .max = 1, .off = offsetof(info_cli, file)},
+    .defaults = &info_defaults,
+    .size = sizeof(info_cli),
+    .prose = "  The source's header (grid, basis, texture, planes), its dark supports, texel range and flux.\n",
+};
+
+typedef struct render_cli {
+    qcli_opt_list files; /* ASSET F.qnf */
+    double at[3];
+    const char *out;
+    int far;
+    double exposure;
+    long table;
+} render_cli;
+static const render_cli render_defaults = {.at = {0, 0, 0}, .exposure = 1, .table = 64};
+
+static const char *render_at(void *o, char *const *v, int n, int *used)
+{
+    render_cli *c = o;
+    (void)n, (void)used;
+    for (int k = 0; k < 3; ++k)
+        if (qcli_opt_num_value(v[k], -32767, 32767, &c->at[k]) != 0)
+            return "X Y Z are numbers in -32767..32767 (Q16.16)";
+    return NULL;
+}
+
+static const qcli_opt render_table[] = {
+    {.name = "--at", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = render_at, .arg = "X Y Z", .required = 1,
+     .help = "where S's centre hangs (the asset's units, each in the Q16.16 range; the source faces -z)"},
+    {.name = "--out", .kind = QCLI_OPT_STR, .off = offsetof(render_cli, out), .arg = "F.png", .required = 1,
+     .help = "the frame (written atomically)"},
+    {.name = "--far", .kind = QCLI_OPT_FLAG, .off = offsetof(render_cli, far),
+     .help = "the same source as one far-field lamp (IES-like) instead"},
+    {.name = "--exposure", .kind = QCLI_OPT_NUM, .off = offsetof(render_cli, exposure), .arg = "E", .lo = 1.0 / 65536,
+     .hi = 65535, .help = "the frame's exposure"},
+    {.name = "--table", .kind = QCLI_OPT_INT, .off = offsetof(render_cli, table), .arg = "N", .lo = QIBL_GONIO_MIN_N,
+     .hi = QIBL_GONIO_MAX_N, .help = "each spotlight's gonio table is N x N"},
+    {0},
+};
+
+const qcli_opt_cmd qcli_opts_luminaire_render = {
+    .name = "luminaire render",
+    .help_name = "luminaire",
+    .opts = render_table,
+    .pos = {.names = "ASSET F.qnf", .min = 2, .max = 2, .off = offsetof(render_cli, files)},
+    .defaults = &render_defaults,
+    .size = sizeof(render_cli),
+    .prose =
+        "  An asset frame (its point maps and P map) lit by the source: one textured spotlight per lit\n"
+        "  support, each a goniometric lamp of the core (qibl/gonio.h), shaded from four anchors'\n"
+        "  point-map spans, summed pass by pass in integers; prints the frame's CPU time.\n",
+};
+
+typedef struct study_cli {
+    long grid, res, size, threads;
+    int quick;
+} study_cli;
+static const study_cli study_defaults = {.grid = 16, .res = 32, .size = 96, .threads = 1};
+
+static const qcli_opt study_table[] = {
+    {.name = "--grid", .kind = QCLI_OPT_INT, .off = offsetof(study_cli, grid), .arg = "N", .lo = 1,
+     .hi = QTOOL_LUMINAIRE_MAX_GRID, .help = "the capture's N x N supports"},
+    {.name = "--res", .kind = QCLI_OPT_INT, .off = offsetof(study_cli, res), .arg = "R", .lo = QTOOL_LUMINAIRE_MIN_RES,
+     .hi = QTOOL_LUMINAIRE_MAX_RES, .help = "the capture's R x R texels"},
+    {.name = "--size", .kind = QCLI_OPT_INT, .off = offsetof(study_cli, size), .arg = "S", .lo = 8, .hi = 1024,
+     .help = "the ground images are S x S"},
+    {.name = "--quick", .kind = QCLI_OPT_FLAG, .off = offsetof(study_cli, quick), .help = "fewer distances"},
+    {.name = "--threads", .kind = QCLI_OPT_INT, .off = offsetof(study_cli, threads), .arg = "T", .lo = 1, .hi = 256,
+     .help = "worker threads for the capture and the truth (the timing is on one)"},
+    {0},
+};
+
+const qcli_opt_cmd qcli_opts_luminaire_study = {
+    .name = "luminaire study",
+    .help_name = "luminaire",
+    .opts = study_table,
+    .defaults = &study_defaults,
+    .size = sizeof(study_cli),
+    .prose =
+        "  The built-in luminaire captured, then its near field (textured spotlights) and far field (one\n"
+        "  gonio lamp) against the luminaire ray-traced: on a ground plane at 0.5..8 lamp sizes and\n"
+        "  hanging in the built-in courtyard (PSNR); the near field's CPU time per 1024x256 frame (the\n"
+        "  courtyard panorama, and a ground patch lit everywhere); RESULT lines.\n",
+};
+
+static int cmd_capture(int argc, char **argv)
+{
+    capture_cli c;
+    int prc = qcli_opt_parse(&qcli_opts_luminaire_capture, argc, argv, 2, &c);
+    if (prc != 0)
+        return prc;
+    const char *src = c.src.v[0], *out = c.out;
+    int builtin = strcmp(src, "builtin") == 0;
+    if (builtin && c.have_emitter)
+        return qcli_opt_error(&qcli_opts_luminaire_capture, "--emitter places the emitter in a mesh, not in 'builtin'");
+    if (qcli_parse_only)
+        return 0;
+    qtool_luminaire_capture_opts o = {.grid = (uint32_t)c.grid, .res = (uint32_t)c.res, .threads = (int)c.threads,
+                                      .basis = c.basis ? QTOOL_LUMINAIRE_TENT : QTOOL_LUMINAIRE_BOX};
+    double ez = c.have_emitter ? c.emitter[0] : 0, eh = c.have_emitter ? c.emitter[1] : 0;
+    qtool_luminaire_model *m = NULL;
+    char err[512] = "";
+    if (builtin) {
+        m = qtool_luminaire_builtin();
+    } else {
+        qtool_obj_mesh mesh;
+        if (qtool_obj_read_max(src, 1u << 16, &mesh, err, sizeof err) != 0) {
+            fprintf(stderr, "qibl: luminaire capture: %s\n", err);
+            return 1;
+        }
+        m = qtool_luminaire_from_mesh(&mesh, ez, eh, err, sizeof err);
+        qtool_obj_free(&mesh);
+        if (!m) {
+            fprintf(stderr, "qibl: luminaire capture: %s: %s\n", src, err);
+            return 1;
+        }
+    }
+    qtool_luminaire l;
+    if (!m || qtool_luminaire_capture(m, &o, &l) != 0) {
+        qtool_luminaire_model_free(m);
+        fprintf(stderr, "qibl: luminaire capture: out of memory\n");
+        return 1;
+    }
+    qtool_luminaire_model_free(m);
+    qtool_luminaire_err e = qtool_luminaire_write(out, &l, err, sizeof err);
+    if (e != QTOOL_LUMINAIRE_OK) {
+        fprintf(stderr, "qibl: luminaire capture: %s: %s\n", out, err[0] ? err : qtool_luminaire_err_str(e));
+        qtool_luminaire_free(&l);
+        return 1;
+    }
+    printf("wrote %s: %ux%u supports, %ux%u texels each, %s basis\n", out, l.nx, l.ny, l.res, l.res,
+           l.basis == QTOOL_LUMINAIRE_TENT ? "tent" : "box");
+    qtool_luminaire_free(&l);
+    return 0;
+}
+
+static int cmd_info(int argc, char **argv)
+{
+    info_cli c;
+    int prc = qcli_opt_parse(&qcli_opts_luminaire_info, argc, argv, 2, &c);
+    if (prc != 0)
+        return prc;
+    if (qcli_parse_only)
+        return 0;
+    const char *path = c.file.v[0];
+    qtool_luminaire l;
+    qtool_luminaire_err e = qtool_luminaire_read(path, &l);
+    if (e != QTOOL_LUMINAIRE_OK) {
+        fprintf(stderr, "qibl: luminaire info: %s: %s\n", path, qtool_luminaire_err_str(e));
+        return 1;
+    }
+    uint32_t dark = 0;
+    float lo = 0, hi = 0;
+    for (uint32_t m = 0; m < l.nx * l.ny; ++m) {
+        int lit = 0;
+        for (size_t k = 0; k < (size_t)l.res * l.res * 3; ++k) {
+            float v = l.tex[(size_t)m * l.res * l.res * 3 + k];
+            lit |= v > 0;
+            lo = v < lo ? v : lo, hi = v > hi ? v : hi;
+        }
+        dark += !lit;
+    }
+    double flux[3];
+    qtool_luminaire_flux(&l, flux);
+    printf("file %s\nformat QNF version %u\n", path, QTOOL_LUMINAIRE_VERSION);
+    printf("grid %ux%u spacing %.6g\n", l.nx, l.ny, (double)l.spacing);
+    printf("basis %s\n", l.basis == QTOOL_LUMINAIRE_TENT ? "tent" : "box");
+    printf("texture %ux%u window_half_tan %.6g plane_distance %.6g\n", l.res, l.res, (double)l.half_tan,
+           (double)l.distance);
+    printf("supports %u dark %u\n", l.nx * l.ny, dark);
+    printf("texel_min %.6g texel_max %.6g\n", (double)lo, (double)hi);
+    printf("flux %.6g %.6g %.6g\n", flux[0], flux[1], flux[2]);
+    qtool_luminaire_free(&l);
+    return 0;
+}
+
+static int cmd_render(int argc, char **argv)
+{
+    render_cli c;
+    int prc = qcli_opt_parse(&qcli_opts_luminaire_render, argc, argv, 2, &c);
+    if (prc != 0)
+        return prc;
+    if (qcli_parse_only)
+        return 0;
+    const char *asset = c.files.v[0], *qnf = c.files.v[1], *out = c.out;
+    int32_t at[3];
+    for (int k = 0; k < 3; ++k)
+        at[k] = (int32_t)lround(c.at[k] * 65536.0);
+    const int far = c.far;
+    const uint32_t table = (uint32_t)c.table;
+    const double expo = c.exposure;
+    qtool_luminaire l;
+    qtool_luminaire_err le = qtool_luminaire_read(qnf, &l);
+    if (le != QTOOL_LUMINAIRE_OK) {
+        fprintf(stderr, "qibl: luminaire render: %s: %s\n", qnf, qtool_luminaire_err_str(le));
+        return 1;
+    }
+    char err[512];
+    qtool_luminaire_spots s;
+    if (qtool_luminaire_spots_make(&l, at, table, far, &s, err, sizeof err) != 0) {
+        fprintf(stderr, "qibl: luminaire render: %s: %s\n", qnf, err);
+        qtool_luminaire_free(&l);
+        return 1;
+    }
+    qtool_luminaire_free(&l);
+    uint8_t *bytes = NULL;
+    size_t n;
+    if (qtool_io_read_asset(asset, &bytes, &n, err, sizeof err) != 0) {
+        fprintf(stderr, "qibl: %s\n", err);
+        qtool_luminaire_spots_free(&s);
+        return 1;
+    }
+    qibl_asset_t a;
+    qibl_shmaps_t mp;
+    qibl_pmap_t pm;
+    qibl_ylut_t lut;
+    qibl_status_t st = qibl_asset_open(&a, bytes, n);
+    if (st == QIBL_OK)
+        st = qibl_asset_point_shmaps(&a, &mp);
+    if (st == QIBL_OK)
+        st = qibl_asset_pmap(&a, &pm);
+    int have_lut = st == QIBL_OK && qibl_asset_ylut(&a, &lut) == QIBL_OK;
+    uint8_t *rgb = st == QIBL_OK ? malloc((size_t)mp.width * mp.height * 3) : NULL;
+    double ms = 0;
+    if (st == QIBL_OK && !rgb)
+        st = QIBL_E_NULL_POINTER;
+    if (st == QIBL_OK)
+        qtool_luminaire_relight(&s, &mp, &pm, have_lut ? &lut : NULL, (uint32_t)lround(expo * 65536), 1, rgb, NULL,
+                                &ms, &st);
+    if (st != QIBL_OK) {
+        fprintf(stderr, "qibl: luminaire render: %s: %s\n", asset, qibl_soft_status_str(st));
+        free(rgb), free(bytes), qtool_luminaire_spots_free(&s);
+        return 1;
+    }
+    int rc = qtool_png_write_rgb8(out, (int)mp.width, (int)mp.height, rgb, err, sizeof err);
+    if (rc != 0)
+        fprintf(stderr, "qibl: luminaire render: %s\n", err);
+    else
+        printf("wrote %s: %ux%u, %u %s, %.1f ms CPU\n", out, mp.width, mp.height, s.count,
+               far ? "far-field lamp" : "spotlights", ms);
+    free(rgb), free(bytes), qtool_luminaire_spots_free(&s);
+    return rc == 0 ? 0 : 1;
+}
+
+static int cmd_study(int argc, char **argv)
+{
+    study_cli c;
+    int prc = qcli_opt_parse(&qcli_opts_luminaire_study, argc, argv, 2, &c);
+    if (prc != 0)
+        return prc;
+    if (qcli_parse_only)
+        return 0;
+    qtool_luminaire_study_opts o = {.grid = (uint32_t)c.grid, .res = (uint32_t)c.res, .size = (uint32_t)c.size,
+                                    .quick = c.quick, .threads = (int)c.threads};
+    if (qtool_luminaire_study(&o, stdout) != 0) {
+        fprintf(stderr, "qibl: luminaire study: out of memory\n");
+        return 1;
+    }
+    return 0;
+}
+
+int qcli_cmd_luminaire(int argc, char **argv)
+{
+    static const qcli_opt_cmd *const subs[] = {&qcli_opts_luminaire_capture, &qcli_opts_luminaire_info,
+                                               &qcli_opts_luminaire_render, &qcli_opts_luminaire_study, NULL};
+    const qcli_opt_cmd *sub = qcli_opt_sub("luminaire", subs, NULL, argc, argv);
+    if (!sub)
+        return 2;
+    if (sub == &qcli_opts_luminaire_capture)
+        return cmd_capture(argc, argv);
+    if (sub == &qcli_opts_luminaire_info)
+        return cmd_info(argc, argv);
+    if (sub == &qcli_opts_luminaire_render)
+        return cmd_render(argc, argv);
+    return cmd_study(argc, argv);
+}

@@ -1,0 +1,495 @@
+/*
+ * luminaire/render.c - a near-field source as textured spotlights: per support a goniometric point
+ * lamp of the core (qibl/gonio.h) whose table is the support's emission texture seen from its
+ * centre; the far field of the same source as one such lamp; the integer pass-by-pass sum; an asset
+ * frame relit by it.
+ *
+ * Invariants: tables and intensities are made in double once per placement; per pixel everything is
+ * integer (qibl_gonio_lookup, 64-bit products with stated bounds), so a frame is the same bytes on
+ * every host. The cull test only skips directions where the table's bilinear lookup is exactly 0.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "luminaire/luminaire.h"
+#include "qibl/fixed.h" /* qibl_isqrt_u64 */
+#include "qibl/soft.h"
+
+/* The unit direction of octahedral texel position (a, b) (texel units, centres at integers) of an
+ * n x n map, in the lamp's frame; the folded half for |u| + |v| > 1 (gonio.h). */
+static void oct_dir(double a, double b, uint32_t n, double l[3])
+{
+    double u = (2 * a + 1) / n - 1, v = (2 * b + 1) / n - 1;
+    if (fabs(u) + fabs(v) <= 1) {
+        l[0] = u, l[1] = v, l[2] = 1 - fabs(u) - fabs(v);
+    } else {
+        l[0] = (u < 0 ? -1 : 1) * (1 - fabs(v)), l[1] = (v < 0 ? -1 : 1) * (1 - fabs(u));
+        l[2] = -(fabs(u) + fabs(v) - 1);
+    }
+    double r = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+    for (int k = 0; k < 3; ++k)
+        l[k] /= r;
+}
+
+/* Bilinear sample of channel-summed luminance or one channel (ch 0..2; 3: luminance) of support
+ * (ix, iy)'s texture at window coordinates (ta, tb) in -1..1; 0 outside the window. */
+static double tex_sample(const qtool_luminaire *l, uint32_t ix, uint32_t iy, double ta, double tb, int ch)
+{
+    if (fabs(ta) > 1 || fabs(tb) > 1)
+        return 0;
+    const uint32_t r = l->res;
+    double fx = (ta + 1) / 2 * r - 0.5, fy = (tb + 1) / 2 * r - 0.5;
+    fx = fx < 0 ? 0 : fx > r - 1 ? r - 1 : fx;
+    fy = fy < 0 ? 0 : fy > r - 1 ? r - 1 : fy;
+    uint32_t i0 = (uint32_t)fx, j0 = (uint32_t)fy, i1 = i0 + 1 < r ? i0 + 1 : i0, j1 = j0 + 1 < r ? j0 + 1 : j0;
+    double tx = fx - i0, ty = fy - j0;
+    double v[4];
+    const uint32_t ii[4] = {i0, i1, i0, i1}, jj[4] = {j0, j0, j1, j1};
+    for (int k = 0; k < 4; ++k) {
+        const float *t = l->tex + qtool_luminaire_texel(l, ix, iy, ii[k], jj[k]);
+        v[k] = ch < 3 ? t[ch] : 0.2126 * t[0] + 0.7152 * t[1] + 0.0722 * t[2];
+    }
+    return (v[0] * (1 - tx) + v[1] * tx) * (1 - ty) + (v[2] * (1 - tx) + v[3] * tx) * ty;
+}
+
+/* The lamp's frame for aim (0, 0, -1) and up (0, 1, 0) (qibl_gonio_init): x = (-1, 0, 0), so a
+ * lamp-frame direction l is (-l_x, l_y, -l_z) in the source's frame. Intensity of support (ix, iy)
+ * toward lamp-frame l, channel ch: A E'(s, t) cos(theta'). */
+static double spot_intensity(const qtool_luminaire *l, uint32_t ix, uint32_t iy, const double ld[3], int ch)
+{
+    if (ld[2] <= 0)
+        return 0;
+    double tx = -ld[0] / ld[2], ty = ld[1] / ld[2];
+    double A = (double)l->spacing * l->spacing;
+    double e = tex_sample(l, ix, iy, tx / l->half_tan, ty / l->half_tan, ch);
+    return e > 0 ? A * e * ld[2] : 0; /* negative lobes (a dual filter's ringing) are not light */
+}
+
+static uint64_t uabs64(int64_t v)
+{
+    return v < 0 ? (uint64_t)0 - (uint64_t)v : (uint64_t)v;
+}
+
+void qtool_luminaire_spots_free(qtool_luminaire_spots *s)
+{
+    if (!s)
+        return;
+    free(s->tables), free(s->gonio), free(s->pos), free(s->rgb), free(s->cull), free(s->aw), free(s->occ), free(s->kocc);
+    memset(s, 0, sizeof *s);
+}
+
+/* The occupancy of spotlight c's table over its cull rectangle: an OCC x OCC grid of cells in
+ * (tan_x, tan_y) = (d_x, d_y) / |d_z|, a bit set where some non-zero texel's lookup footprint (the
+ * box of one texel around it) may fall, each footprint sampled on a 5 x 5 grid (its edges and the
+ * axes it crosses) and padded by a cell: a direction in a clear cell looks up only zeros. */
+static void occupancy(qtool_luminaire_spots *s, uint32_t c, const uint16_t *t, uint32_t n)
+{
+    uint32_t *occ = s->occ[c];
+    memset(occ, 0, sizeof s->occ[c]);
+    if (s->cull[c][0] < 0 || s->cull[c][1] < 0) {
+        memset(occ, 0xFF, sizeof s->occ[c]); /* no rectangle: every cell may be lit */
+        return;
+    }
+    const double T[2] = {s->cull[c][0] / 65536.0, s->cull[c][1] / 65536.0};
+    for (uint32_t j = 0; j < n; ++j)
+        for (uint32_t i = 0; i < n; ++i) {
+            if (t[(size_t)j * n + i] == 0)
+                continue;
+            double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+            for (int b = 0; b <= 4; ++b)
+                for (int a = 0; a <= 4; ++a) {
+                    double u = (2.0 * ((double)i - 1 + a / 2.0) + 1) / n - 1, v = (2.0 * ((double)j - 1 + b / 2.0) + 1) / n - 1;
+                    double lz = 1 - fabs(u) - fabs(v);
+                    /* world tan: x = -l_x (the lamp's x is -x), y = l_y; lz > 0 inside the cull box */
+                    double tx = lz > 0 ? -u / lz : 0, ty = lz > 0 ? v / lz : 0;
+                    lo[0] = fmin(lo[0], tx), hi[0] = fmax(hi[0], tx), lo[1] = fmin(lo[1], ty), hi[1] = fmax(hi[1], ty);
+                }
+            /* the axes inside the box: |tan| is smallest there, not at a sample */
+            for (int k = 0; k < 2; ++k)
+                if (lo[k] < 0 && hi[k] > 0)
+                    lo[k] = fmin(lo[k], 0), hi[k] = fmax(hi[k], 0);
+            int c0[2], c1[2];
+            for (int k = 0; k < 2; ++k) {
+                c0[k] = (int)floor((lo[k] / T[k] + 1) / 2 * QTOOL_LUMINAIRE_OCC) - 1;
+                c1[k] = (int)floor((hi[k] / T[k] + 1) / 2 * QTOOL_LUMINAIRE_OCC) + 1;
+                c0[k] = c0[k] < 0 ? 0 : c0[k], c1[k] = c1[k] >= QTOOL_LUMINAIRE_OCC ? QTOOL_LUMINAIRE_OCC - 1 : c1[k];
+            }
+            for (int y = c0[1]; y <= c1[1]; ++y)
+                for (int x = c0[0]; x <= c1[0]; ++x)
+                    occ[y] |= 1u << x;
+        }
+}
+
+int qtool_luminaire_spots_make(const qtool_luminaire *l, const int32_t pos[3], uint32_t n, int far,
+                               qtool_luminaire_spots *out, char *err, size_t errlen)
+{
+    n = n ? n : 64;
+    const uint32_t ns = l->nx * l->ny, cap = far ? 1 : ns;
+    if (n < QIBL_GONIO_MIN_N || n > QIBL_GONIO_MAX_N || (uint64_t)cap * n * n * 2u > QTOOL_LUMINAIRE_MAX_TABLES) {
+        snprintf(err, errlen, "%u spotlights of %ux%u tables: more than %u MiB (a smaller --table)", cap, n, n,
+                 QTOOL_LUMINAIRE_MAX_TABLES >> 20);
+        return -1;
+    }
+    qtool_luminaire_spots s = {.n = n};
+    memcpy(s.centre, pos, sizeof s.centre);
+    s.cullmax[0] = s.cullmax[1] = 0;
+    s.tables = malloc(sizeof(uint16_t) * n * n * cap);
+    s.gonio = malloc(sizeof *s.gonio * cap);
+    s.pos = malloc(sizeof *s.pos * cap);
+    s.rgb = malloc(sizeof *s.rgb * cap);
+    s.cull = malloc(sizeof *s.cull * cap);
+    s.aw = malloc(sizeof *s.aw * cap);
+    s.occ = malloc(sizeof *s.occ * cap);
+    s.kocc = malloc(sizeof *s.kocc * cap);
+    double *iv = malloc(sizeof(double) * n * n * 4);
+    if (!s.tables || !s.gonio || !s.pos || !s.rgb || !s.cull || !s.aw || !s.occ || !s.kocc || !iv) {
+        free(iv), qtool_luminaire_spots_free(&s);
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    static const int32_t aim[3] = {0, 0, -65536}, up[3] = {0, 65536, 0};
+    for (uint32_t m = 0; m < ns; m += far ? ns : 1) {
+        /* the table in double: luminance and the three channels' sums (far: over every support) */
+        memset(iv, 0, sizeof(double) * n * n * 4);
+        for (uint32_t j = 0; j < n; ++j)
+            for (uint32_t i = 0; i < n; ++i) {
+                double ld[3];
+                oct_dir(i, j, n, ld);
+                for (uint32_t q = far ? 0 : m; q < (far ? ns : m + 1); ++q)
+                    for (int ch = 0; ch < 4; ++ch)
+                        iv[4 * ((size_t)j * n + i) + (size_t)ch] +=
+                            spot_intensity(l, q % l->nx, q / l->nx, ld, ch == 0 ? 3 : ch - 1);
+            }
+        double peak = 0, sum[4] = {0, 0, 0, 0};
+        for (size_t k = 0; k < (size_t)n * n; ++k) {
+            peak = iv[4 * k] > peak ? iv[4 * k] : peak;
+            for (int ch = 0; ch < 4; ++ch)
+                sum[ch] += iv[4 * k + (size_t)ch];
+        }
+        if (peak <= 0)
+            continue; /* a dark support (under the shade): no lamp, no pass */
+        if (!isfinite(peak) || !isfinite(sum[0])) {
+            free(iv), qtool_luminaire_spots_free(&s);
+            snprintf(err, errlen, "a spotlight's intensity is beyond Q16.16");
+            return -1;
+        }
+        uint32_t c = s.count;
+        uint16_t *t = s.tables + (size_t)c * n * n;
+        double tmax[2] = {0, 0};
+        int nocull = 0;
+        for (uint32_t j = 0; j < n; ++j)
+            for (uint32_t i = 0; i < n; ++i) {
+                double v = iv[4 * ((size_t)j * n + i)] / peak * 32768.0;
+                t[(size_t)j * n + i] = (uint16_t)(v > 32768 ? 32768 : v < 0 ? 0 : lround(v));
+                if (t[(size_t)j * n + i] == 0)
+                    continue;
+                /* the lookup interpolates within one texel of a non-zero one: bound that box's slopes */
+                for (int cy = -1; cy <= 1; cy += 2)
+                    for (int cx = -1; cx <= 1; cx += 2) {
+                        double u = (2.0 * ((double)i + cx) + 1) / n - 1, v2 = (2.0 * ((double)j + cy) + 1) / n - 1;
+                        double lz = 1 - fabs(u) - fabs(v2);
+                        if (lz <= 0) {
+                            nocull = 1;
+                            continue;
+                        }
+                        tmax[0] = fmax(tmax[0], fabs(u) / lz), tmax[1] = fmax(tmax[1], fabs(v2) / lz);
+                    }
+            }
+        for (int k = 0; k < 2; ++k) {
+            double b = ceil(tmax[k] * 1.01 * 65536.0) + 2;
+            s.cull[c][k] = nocull || b > (double)(1u << 30) ? -1 : (int64_t)b;
+        }
+        occupancy(&s, c, t, n);
+        for (int k = 0; k < 2; ++k) /* cell = (tan + T) OCC / (2 T + 1), tan and T in Q16 */
+            s.kocc[c][k] = s.cull[c][k] < 0 ? 0 : ((uint64_t)QTOOL_LUMINAIRE_OCC << 32) / (2u * (uint64_t)s.cull[c][k] + 1u);
+        /* the peak intensity per channel: the luminance peak times the support's colour */
+        for (int ch = 0; ch < 3; ++ch) {
+            double v = peak * (sum[0] > 0 ? sum[ch + 1] / sum[0] : 1) * 65536.0;
+            if (!(v < 2147483647.0)) {
+                free(iv), qtool_luminaire_spots_free(&s);
+                snprintf(err, errlen, "a spotlight's intensity (%.4g) is beyond Q16.16", v / 65536.0);
+                return -1;
+            }
+            s.rgb[c][ch] = (int32_t)lround(v);
+        }
+        double h = l->spacing, ou = far ? 0 : ((m % l->nx) - (l->nx - 1) / 2.0) * h,
+               ov = far ? 0 : ((m / l->nx) - (l->ny - 1) / 2.0) * h;
+        double px = pos[0] + ou * 65536.0, py = pos[1] + ov * 65536.0;
+        if (!(fabs(px) < 2147483647.0 && fabs(py) < 2147483647.0)) {
+            free(iv), qtool_luminaire_spots_free(&s);
+            snprintf(err, errlen, "a spotlight's position is beyond Q16.16");
+            return -1;
+        }
+        s.pos[c][0] = (int32_t)lround(px), s.pos[c][1] = (int32_t)lround(py), s.pos[c][2] = pos[2];
+        if (qibl_gonio_init(&s.gonio[c], n, t, aim, up) != QIBL_OK) {
+            free(iv), qtool_luminaire_spots_free(&s);
+            snprintf(err, errlen, "the core refused a spotlight's table");
+            return -1;
+        }
+        s.count = c + 1;
+        for (int k = 0; k < 2; ++k) {
+            uint64_t r = uabs64((int64_t)s.pos[c][k] - pos[k]);
+            s.reach[k] = r > s.reach[k] ? r : s.reach[k];
+            if (s.cullmax[k] >= 0)
+                s.cullmax[k] = s.cull[c][k] < 0 ? -1 : s.cull[c][k] > s.cullmax[k] ? s.cull[c][k] : s.cullmax[k];
+        }
+    }
+    free(iv);
+    /* the shading anchors: the corners of the spotlights' box on S (far: the centre alone), and
+     * each spotlight's bilinear weights among them (Q15, summing to 2^15) */
+    int32_t lo[2] = {pos[0], pos[1]}, hi[2] = {pos[0], pos[1]};
+    for (uint32_t c = 0; c < s.count; ++c)
+        for (int k = 0; k < 2; ++k)
+            lo[k] = s.pos[c][k] < lo[k] ? s.pos[c][k] : lo[k], hi[k] = s.pos[c][k] > hi[k] ? s.pos[c][k] : hi[k];
+    s.nanchor = far ? 1 : 4;
+    for (uint32_t k = 0; k < s.nanchor; ++k) {
+        s.anchor[k][0] = far ? pos[0] : (k & 1) ? hi[0] : lo[0];
+        s.anchor[k][1] = far ? pos[1] : (k & 2) ? hi[1] : lo[1];
+        s.anchor[k][2] = pos[2];
+    }
+    for (uint32_t c = 0; c < s.count; ++c) {
+        double fx = hi[0] > lo[0] ? (double)(s.pos[c][0] - lo[0]) / (hi[0] - lo[0]) : 0;
+        double fy = hi[1] > lo[1] ? (double)(s.pos[c][1] - lo[1]) / (hi[1] - lo[1]) : 0;
+        int32_t w1 = (int32_t)lround(fx * (1 - fy) * 32768), w2 = (int32_t)lround((1 - fx) * fy * 32768),
+                w3 = (int32_t)lround(fx * fy * 32768);
+        s.aw[c][0] = far ? 32768 : 32768 - w1 - w2 - w3, s.aw[c][1] = far ? 0 : w1, s.aw[c][2] = far ? 0 : w2,
+        s.aw[c][3] = far ? 0 : w3;
+    }
+    *out = s;
+    return 0;
+}
+
+static unsigned bitlen64(uint64_t v)
+{
+    unsigned b = 0;
+    while (v)
+        ++b, v >>= 1;
+    return b;
+}
+
+/* |d|^2 in (1/256 unit)^2 of a Q16.16 difference (each |component| <= 2^32: <= 3 2^48) */
+static uint64_t d2_256(int64_t dx, int64_t dy, int64_t dz)
+{
+    uint64_t a = uabs64(dx) >> 8, b = uabs64(dy) >> 8, c = uabs64(dz) >> 8;
+    return a * a + b * b + c * c;
+}
+
+/* |a|^2 / |b|^2 in Q16 for two (1/256 unit)^2 squared distances (b floored to 1), at most 2^32 */
+static uint64_t ratio_q16(uint64_t a, uint64_t b)
+{
+    unsigned bl = bitlen64(a), sh = bl > 46 ? bl - 46 : 0;
+    a >>= sh, b >>= sh;
+    b = b ? b : 1;
+    uint64_t r = (a << 16) / b; /* a < 2^46 */
+    return r > ((uint64_t)1 << 32) ? (uint64_t)1 << 32 : r;
+}
+
+/* r^(3/2) in Q16 for r in Q16 (<= 2^32), saturated at 2^31: (|a| / |b|)^3 from the squares' ratio */
+static uint64_t pow15_q16(uint64_t r)
+{
+    uint64_t sq = qibl_isqrt_u64(r << 16, NULL); /* Q16, <= 2^24 */
+    uint64_t v = (r * sq + 32768u) >> 16;        /* <= 2^56 >> 16 */
+    return v > ((uint64_t)1 << 31) ? (uint64_t)1 << 31 : v;
+}
+
+int qtool_luminaire_reaches(const qtool_luminaire_spots *s, const int32_t q[3])
+{
+    int64_t dz = (int64_t)q[2] - s->centre[2];
+    if (dz >= 0)
+        return 0; /* at or above S */
+    uint64_t az = uabs64(dz);
+    uint64_t ax = uabs64((int64_t)q[0] - s->centre[0]), ay = uabs64((int64_t)q[1] - s->centre[1]);
+    /* |x - c| <= |x - s_j| + |s_j - c|: beyond cull |dz| + reach no spotlight sees it
+     * (|a| 2^16 <= 2^48; cull <= 2^30 times |dz| <= 2^32) */
+    if (s->cullmax[0] >= 0 && ax > s->reach[0] && ((ax - s->reach[0]) << 16) > (uint64_t)s->cullmax[0] * az)
+        return 0;
+    if (s->cullmax[1] >= 0 && ay > s->reach[1] && ((ay - s->reach[1]) << 16) > (uint64_t)s->cullmax[1] * az)
+        return 0;
+    return 1;
+}
+
+size_t qtool_luminaire_span_ws_size(uint32_t n)
+{
+    return (size_t)n * QTOOL_LUMINAIRE_WS_PER_PIXEL * sizeof(int64_t);
+}
+
+void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *base, const int32_t *p, uint32_t n,
+                                int64_t *acc, int64_t *ws)
+{
+    /* the pixels any spotlight can reach (below S, inside the union of the cull cones), once per
+     * span: every pass then visits only them; integer sums, so the order changes nothing. Per such
+     * pixel: its index, |x - c|^2 and B_k = base_k (|x - a_k| / |x - c|)^3 for each anchor (the
+     * anchors' n.(a_k - x) V rho / pi, scaled by 1/|x - c|^3: linear in a_k, so interpolating it
+     * at a spotlight and multiplying by (|x - c| / |x - s|)^3 gives that spotlight's shading) */
+    uint32_t nc = 0;
+    const uint32_t na = s->nanchor;
+    for (uint32_t i = 0; i < n; ++i) {
+        const int32_t *q = p + 3 * (size_t)i;
+        if (!qtool_luminaire_reaches(s, q))
+            continue;
+        int64_t dz = (int64_t)q[2] - s->centre[2];
+        int64_t *w = ws + (size_t)nc * QTOOL_LUMINAIRE_WS_PER_PIXEL;
+        uint64_t dc = d2_256((int64_t)q[0] - s->centre[0], (int64_t)q[1] - s->centre[1], dz);
+        w[13] = (int64_t)i, w[12] = (int64_t)dc;
+        w[14] = (int64_t)(((uint64_t)1 << 48) / uabs64(dz)); /* 2^48 / |dz|: tangents by one product */
+        for (uint32_t k = 0; k < na; ++k) {
+            const int32_t *a = s->anchor[k];
+            uint64_t r3 = na == 1 ? 65536u
+                                  : pow15_q16(ratio_q16(d2_256((int64_t)q[0] - a[0], (int64_t)q[1] - a[1],
+                                                               (int64_t)q[2] - a[2]), dc));
+            for (int c = 0; c < 3; ++c) {
+                int32_t b = base[3 * ((size_t)k * n + i) + (size_t)c];
+                /* |b| r3 <= 2^31 2^31: rounded to Q16, kept within 2^40 */
+                uint64_t m = ((uint64_t)(b < 0 ? -(int64_t)b : b) * r3 + 32768u) >> 16;
+                m = m > ((uint64_t)1 << 40) ? (uint64_t)1 << 40 : m;
+                w[3 * k + (uint32_t)c] = b < 0 ? -(int64_t)m : (int64_t)m;
+            }
+        }
+        ++nc;
+    }
+    for (uint32_t j = 0; j < s->count; ++j) { /* one pass per spotlight */
+        const int32_t *sp = s->pos[j];
+        const int64_t c0 = s->cull[j][0], c1 = s->cull[j][1];
+        const int32_t *aw = s->aw[j];
+        for (uint32_t k = 0; k < nc; ++k) {
+            const int64_t *wp = ws + (size_t)k * QTOOL_LUMINAIRE_WS_PER_PIXEL;
+            const uint32_t i = (uint32_t)wp[13];
+            const int32_t *q = p + 3 * (size_t)i;
+            int64_t d[3] = {(int64_t)q[0] - sp[0], (int64_t)q[1] - sp[1], (int64_t)q[2] - sp[2]};
+            if (d[2] >= 0)
+                continue; /* at or above S: the table is 0 there (the cull bounds say so) */
+            uint64_t az = uabs64(d[2]);
+            /* |d_x| 2^16 <= 2^48, cull <= 2^30 times |d_z| <= 2^32: both below 2^63 */
+            if (c0 >= 0 && (uabs64(d[0]) << 16) > (uint64_t)c0 * az)
+                continue;
+            if (c1 >= 0 && (uabs64(d[1]) << 16) > (uint64_t)c1 * az)
+                continue;
+            if (c0 >= 0 && c1 >= 0) {
+                /* the occupancy cell: tan = |d| / |dz| in Q16 by the pixel's 2^48 / |dz| (below 2^62:
+                 * |d| <= T |dz| with T <= 2^14 after the cull); (tan + T) < 2 T + 1, times kocc
+                 * < OCC 2^32 */
+                uint64_t r = (uint64_t)wp[14];
+                uint64_t tx = (uabs64(d[0]) * r) >> 32, ty = (uabs64(d[1]) * r) >> 32;
+                uint64_t ux = d[0] < 0 ? (uint64_t)c0 - tx : (uint64_t)c0 + tx;
+                uint64_t uy = d[1] < 0 ? (uint64_t)c1 - ty : (uint64_t)c1 + ty;
+                uint32_t cx = (uint32_t)((ux * s->kocc[j][0]) >> 32), cy = (uint32_t)((uy * s->kocc[j][1]) >> 32);
+                cx = cx < QTOOL_LUMINAIRE_OCC ? cx : QTOOL_LUMINAIRE_OCC - 1;
+                cy = cy < QTOOL_LUMINAIRE_OCC ? cy : QTOOL_LUMINAIRE_OCC - 1;
+                if (!(s->occ[j][cy] >> cx & 1u))
+                    continue;
+            }
+            uint32_t sc = qibl_gonio_lookup(&s->gonio[j], d);
+            if (sc == 0)
+                continue;
+            /* Q16 weight: the scale (Q1.15) times (|x - c| / |x - s|)^3 (<= 2^31) */
+            uint64_t w = na == 1 ? (uint64_t)sc << 1
+                                 : ((uint64_t)sc * pow15_q16(ratio_q16((uint64_t)wp[12], d2_256(d[0], d[1], d[2]))) +
+                                    16384u) >> 15;
+            for (int c = 0; c < 3; ++c) {
+                /* the shading at the spotlight: the anchors' B interpolated (weights Q15, sum 2^15;
+                 * |B| <= 2^40: the sum < 2^57); an anchor the surface faces away from gives 0, so at
+                 * grazing incidence this is the interpolation of the clamped cosine */
+                int64_t bs = 0;
+                for (uint32_t a = 0; a < na; ++a)
+                    bs += (int64_t)aw[a] * wp[3 * a + (uint32_t)c];
+                bs = bs < 0 ? -(int64_t)(((uint64_t)-bs + 16384u) >> 15) : (int64_t)(((uint64_t)bs + 16384u) >> 15);
+                int32_t b = bs > INT32_MAX ? INT32_MAX : bs < -INT32_MAX ? -INT32_MAX : (int32_t)bs;
+                /* b (Q16.16) times w (Q16) times the peak (Q16.16), into Q8.24 with one rounding:
+                 * t = w rgb < 2^62 kept to its top 31 bits (2^-31 relative), then |b| times that
+                 * < 2^62; a pass adds at most 2^50, so 4096 passes stay below 2^62 */
+                uint64_t t = w * (uint64_t)s->rgb[j][c];
+                if (t == 0 || b == 0)
+                    continue;
+                unsigned bl = bitlen64(t), sh = bl > 31 ? bl - 31 : 0;
+                uint64_t pr = (uint64_t)(b < 0 ? -(int64_t)b : b) * (t >> sh), mag;
+                if (sh >= 24) {
+                    unsigned l = sh - 24; /* <= 7 */
+                    mag = pr >= ((uint64_t)1 << (50 - l)) ? (uint64_t)1 << 50 : pr << l;
+                } else {
+                    unsigned r = 24 - sh;
+                    mag = (pr + ((uint64_t)1 << (r - 1))) >> r;
+                    mag = mag > ((uint64_t)1 << 50) ? (uint64_t)1 << 50 : mag;
+                }
+                acc[3 * (size_t)i + (size_t)c] += b < 0 ? -(int64_t)mag : (int64_t)mag;
+            }
+        }
+    }
+}
+
+int32_t qtool_luminaire_q16(int64_t acc)
+{
+    /* round half away from zero by magnitude (no shift of a negative value), then saturate */
+    uint64_t m = acc < 0 ? (uint64_t)0 - (uint64_t)acc : (uint64_t)acc;
+    m = (m + 128u) >> 8;
+    if (m > INT32_MAX)
+        m = INT32_MAX;
+    return acc < 0 ? -(int32_t)m : (int32_t)m;
+}
+
+int qtool_luminaire_relight(const qtool_luminaire_spots *s, const qibl_shmaps_t *mp, const qibl_pmap_t *pm,
+                            const qibl_ylut_t *lut, uint32_t exposure, int srgb, uint8_t *rgb8, float *lin, double *ms,
+                            qibl_status_t *status)
+{
+    const uint32_t w = mp->width, h = mp->height;
+    size_t wsn = qibl_shmap_point_workspace_size(mp->k, w);
+    uint8_t *pix = malloc((size_t)w * h * 4);
+    int32_t *row = malloc(sizeof(int32_t) * 3 * w * 4), *pts = malloc(sizeof(int32_t) * 3 * w);
+    int64_t *acc = malloc(sizeof(int64_t) * 3 * w);
+    void *ws = malloc(wsn ? wsn : 1);
+    int64_t *idx = malloc(qtool_luminaire_span_ws_size(w));
+    qibl_status_t st = QIBL_OK;
+    if (!pix || !row || !pts || !acc || !ws || !idx) {
+        st = QIBL_E_NULL_POINTER;
+        goto out;
+    }
+    qibl_fb_desc_t fb = {.pixels = pix, .width = w, .height = h, .format = QIBL_FB_RGBA8888, .srgb = srgb ? 1 : 0,
+                         .exposure = exposure};
+    /* a unit lamp at each shading anchor, 1/d^2: visibility, cosine and albedo for the spotlights */
+    qibl_shmap_point_t pt[4];
+    struct timespec t0, t1;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t0); /* CPU time: a shared machine's wall clock counts others' turns */
+    for (uint32_t k = 0; st == QIBL_OK && k < s->nanchor; ++k) {
+        qibl_pointlight_t pl = {.pos = {s->anchor[k][0], s->anchor[k][1], s->anchor[k][2]},
+                                .rgb = {65536, 65536, 65536}, .falloff = QIBL_FALLOFF_INV_DIST2,
+                                .filter = lut ? QIBL_LUT_BILINEAR : QIBL_POINT_POLY};
+        st = qibl_shmap_point_prepare(mp, pm, lut, &pl, &pt[k]);
+    }
+    for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {
+        /* the anchors' shading only over the row's pixels some spotlight reaches (x0 .. x1 - 1) */
+        uint32_t x0 = w, x1 = 0;
+        for (uint32_t x = 0; x < w; ++x) {
+            qibl_pmap_point(pm, x, y, pts + 3 * (size_t)x);
+            if (qtool_luminaire_reaches(s, pts + 3 * (size_t)x))
+                x0 = x < x0 ? x : x0, x1 = x + 1;
+        }
+        memset(acc, 0, sizeof(int64_t) * 3 * w);
+        const uint32_t nw = x1 > x0 ? x1 - x0 : 0;
+        for (uint32_t k = 0; st == QIBL_OK && nw && k < s->nanchor; ++k)
+            st = qibl_shmap_point_span(&pt[k], x0, y, nw, row + (size_t)k * 3 * nw, ws, wsn);
+        if (st != QIBL_OK)
+            break;
+        if (nw)
+            qtool_luminaire_spots_span(s, row, pts + 3 * (size_t)x0, nw, acc + 3 * (size_t)x0, idx);
+        for (size_t i = 0; i < (size_t)w * 3; ++i) /* round and saturate once: the sum, not each pass */
+            row[i] = qtool_luminaire_q16(acc[i]);
+        st = qibl_fb_write_row(&fb, 0, y, w, row);
+        if (st == QIBL_OK && lin) {
+            float *o = lin + (size_t)y * w * 3;
+            for (size_t i = 0; i < (size_t)w * 3; ++i)
+                o[i] = row[i] > 0 ? (float)(row[i] / 65536.0) : 0.0f;
+        }
+    }
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1);
+    if (ms)
+        *ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
+    for (size_t i = 0; st == QIBL_OK && i < (size_t)w * h; ++i)
+        memcpy(rgb8 + 3 * i, pix + 4 * i, 3);
+out:
+    free(pix), free(row), free(pts), free(acc), free(ws), free(idx);
+    if (status)
+        *status = st;
+    return st == QIBL_OK ? 0 : -1;
+}
