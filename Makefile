@@ -128,7 +128,7 @@ QIBL_BENCH := $(BUILD)/bin/qibl-bench
 
 .PHONY: study gles all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan examples \
         install check-install check-farm amalgamate check-amalgamate docs-memory
-.PHONY: baremetal baremetal-tables docs-size gba gba-tables
+.PHONY: baremetal baremetal-tables docs-size gba gba-tables nds nds-tables
 .PHONY: docs docs-check docs-check-test docs-bench docs-probe
 .DEFAULT_GOAL := all
 
@@ -158,6 +158,8 @@ help:
 	@echo "make baremetal-tables  regenerate the stack and memory tables of docs/porting.md"
 	@echo "make gba        the golden runner and the relight demo on the Game Boy Advance (ROMs run headless over"
 	@echo "                libmgba): hashes, stack, cycles per pixel; gba-tables rewrites docs/porting.md's GBA block"
+	@echo "make nds        the golden runner on the Nintendo DS (a ROM under desmume-cli): hashes, stack;"
+	@echo "                nds-tables rewrites docs/porting.md's DS block"
 	@echo "make test-asan  the suites and the CLI under AddressSanitizer + UndefinedBehaviorSanitizer (in $(BUILD)/asan)"
 	@echo "make fuzz       every libFuzzer target for FUZZ_SECONDS (default 60) each; fuzz-smoke: CI's short run"
 	@echo "make examples   build and run tools/examples/console_port, the integration example (docs/porting.md)"
@@ -403,6 +405,13 @@ gba: $(GOLDEN) $(QIBL) $(LIBQIBL) $(LIBSOFT)
 
 gba-tables: $(GOLDEN) $(QIBL) $(LIBQIBL) $(LIBSOFT)
 	@BUILD=$(BUILD) GBA_TABLES=docs/porting.md bash tools/gba/run.sh
+
+# The golden runner as a Nintendo DS ROM under desmume-cli (tools/nds/run.sh; Debian's desmume)
+nds: $(GOLDEN)
+	@BUILD=$(BUILD) bash tools/nds/run.sh
+
+nds-tables: $(GOLDEN)
+	@BUILD=$(BUILD) NDS_TABLES=docs/porting.md bash tools/nds/run.sh
 
 # The integration example for engines (docs/porting.md): core + platform/soft + libc only, plain
 # C99, built with the core's strictness; run on a small courtyard asset made by `qibl gen`.

@@ -19,6 +19,7 @@
 #   docs/porting.md memory-table   tools/scripts/memory-table.sh (qibl bench memory --markdown)
 #   docs/porting.md size-table     make cross ($BUILD/cross/size-table.md); make docs-size rewrites
 #   docs/porting.md make gba       make gba ($BUILD/gba/tables.md); make gba-tables rewrites
+#   docs/porting.md make nds       make nds ($BUILD/nds/tables.md); make nds-tables rewrites
 # and, with --check, the header docs' skeleton (tools/scripts/check-header-docs.py).
 # Fast by design (no benchmark, no bake, no cross build): it reuses the binaries make built.
 set -euo pipefail
@@ -69,23 +70,29 @@ if [ -f "$BUILD/cross/size-table.md" ]; then
 else
     echo "docs: size-table not checked here: no $BUILD/cross/size-table.md (make cross checks it)"
 fi
-if [ -f "$BUILD/gba/tables.md" ]; then
-    python3 - docs/porting.md "$BUILD/gba/tables.md" "$mode" <<'PY' || { echo "docs: make gba-tables rewrites it" >&2; fail=1; }
+handheld_block() {   # handheld_block gba|nds: porting.md's "make NAME" block from $BUILD/NAME/tables.md
+    local name=$1
+    if [ -f "$BUILD/$name/tables.md" ]; then
+        python3 - docs/porting.md "$BUILD/$name/tables.md" "$mode" "$name" <<'PY' || { echo "docs: make $name-tables rewrites it" >&2; fail=1; }
 import sys
-path, mode = sys.argv[1], sys.argv[3]
+path, mode, name = sys.argv[1], sys.argv[3], sys.argv[4]
 doc, block = open(path).read(), open(sys.argv[2]).read().rstrip("\n")
-a, b = doc.find("<!-- make gba: generated"), doc.find("<!-- end make gba -->")
+start, stop = "<!-- make %s: generated" % name, "<!-- end make %s -->" % name
+a, b = doc.find(start), doc.find(stop)
 if a < 0 or b < a:
-    sys.exit("docs: no <!-- make gba: generated ... <!-- end make gba --> block in " + path)
-new = doc[:a] + block + doc[b + len("<!-- end make gba -->"):]
+    sys.exit("docs: no %s ... %s block in %s" % (start, stop, path))
+new = doc[:a] + block + doc[b + len(stop):]
 if mode == "--write":
     open(path, "w").write(new)
 elif new != doc:
-    sys.exit("docs: " + path + ": the make gba block differs from the last make gba run")
+    sys.exit("docs: " + path + ": the make " + name + " block differs from the last make " + name + " run")
 PY
-else
-    echo "docs: the GBA block not checked here: no $BUILD/gba/tables.md (make gba writes it)"
-fi
+    else
+        echo "docs: the make $name block not checked here: no $BUILD/$name/tables.md (make $name writes it)"
+    fi
+}
+handheld_block gba
+handheld_block nds
 
 # the header docs' one skeleton (make check-header-docs), checked here too so CI sees it with the docs
 if [ "$mode" = --check ] && [ -f tools/scripts/check-header-docs.py ]; then

@@ -1,0 +1,128 @@
+/*
+ * nds/nds_io.c - what a bare-metal run needs from the Nintendo DS's ARM9, behind tools/baremetal/
+ * semi.h (so main.c, heap.c, stack.c and the probes serve the DS as they serve the MCU boards and
+ * the GBA): text out and exit through DeSmuME's debug print (nds_print, crt_nds.S), a clock from
+ * the ARM9's hardware timers, and the C reset that crt_nds.S enters.
+ *
+ * Protocol with tools/nds/desmume_run.py: DeSmuME's standard output mixes the emulator's own
+ * messages with the ROM's, so every line of the ROM goes out whole, as "nds: <line>\n" (one print
+ * per line, 256 bytes at most; a longer line continues in "nds+ <rest>\n" lines); the exit status
+ * is one line "nds-exit <n>", after which the ARM9 halts. On real hardware the prints are an
+ * unknown SWI: the ROM still runs, its text goes nowhere.
+ */
+#include <stdint.h>
+#include <string.h>
+
+#include "semi.h"
+#include "stack.h"
+
+void nds_print(const char *s); /* crt_nds.S: SWI 0xFC */
+
+enum { LINE = 256, PREFIX = 5 };
+static char line[PREFIX + LINE + 2] = "nds: ";
+static unsigned used;
+
+static void send(void)
+{
+    line[PREFIX + used] = '\n';
+    line[PREFIX + used + 1] = '\0';
+    nds_print(line);
+    memcpy(line, "nds+ ", PREFIX); /* what follows continues this line, unless a newline came */
+    used = 0;
+}
+
+void bm_puts(const char *s)
+{
+    for (; *s != '\0'; ++s) {
+        if (*s == '\n') {
+            send();
+            memcpy(line, "nds: ", PREFIX);
+            continue;
+        }
+        if (used == LINE)
+            send();
+        line[PREFIX + used++] = *s;
+    }
+}
+
+void bm_putu(uint32_t v)
+{
+    char b[11];
+    int i = 10;
+    b[i] = '\0';
+    do
+        b[--i] = (char)('0' + v % 10u);
+    while ((v /= 10u) != 0);
+    bm_puts(b + i);
+}
+
+void bm_exit(int status)
+{
+    if (used != 0)
+        bm_puts("\n");
+    static char msg[24] = "nds-exit ";
+    unsigned n = 9;
+    uint32_t u = status < 0 ? 0u - (uint32_t)status : (uint32_t)status;
+    char b[11];
+    int i = 10;
+    do
+        b[--i] = (char)('0' + u % 10u);
+    while ((u /= 10u) != 0);
+    if (status < 0)
+        msg[n++] = '-';
+    while (i < 10)
+        msg[n++] = b[i++];
+    msg[n++] = '\n', msg[n] = '\0';
+    nds_print(msg);
+    for (;;)
+        __asm__ volatile("swi 0x06"); /* Halt: IME is 0, nothing wakes the ARM9 again */
+}
+
+/* Timers 0..2 cascaded: a 48-bit count of the ARM9's bus clock, 33 513 982 Hz (half the CPU's
+ * 67 MHz). Timer 3 stays free. */
+#define TM_L(i) (*(volatile uint16_t *)(0x04000100u + 4u * (i)))
+#define TM_H(i) (*(volatile uint16_t *)(0x04000102u + 4u * (i)))
+enum { BUS_HZ = 33513982 };
+
+void bm_clock_start(void)
+{
+    for (unsigned i = 0; i < 3; ++i)
+        TM_H(i) = 0, TM_L(i) = 0; /* stop, reload value 0 */
+    TM_H(2) = 0x84, TM_H(1) = 0x84; /* enabled, count-up (cascade) */
+    TM_H(0) = 0x80;                 /* enabled, prescaler 1 */
+}
+
+uint64_t bm_insn_clock(void)
+{
+    uint16_t hi, mid, lo;
+    do {
+        hi = TM_L(2), mid = TM_L(1), lo = TM_L(0);
+    } while (hi != TM_L(2) || mid != TM_L(1)); /* a carry between the reads */
+    return (uint64_t)hi << 32 | (uint64_t)mid << 16 | lo;
+}
+
+/* ticks -> ns in two parts, so that no product passes 2^64 (ticks < 2^48, remainder < 2^25) */
+uint64_t bm_clock_ns(void)
+{
+    uint64_t c = bm_insn_clock();
+    return c / BUS_HZ * 1000000000u + c % BUS_HZ * 1000000000u / BUS_HZ;
+}
+
+extern uint32_t __bss_start[], __bss_end[];
+extern char __tls_base[];
+void _init_tls(void *tls);
+void _set_tls(void *tls);
+int main(void);
+void nds_reset(void) __attribute__((noreturn));
+
+void nds_reset(void)
+{
+    *(volatile uint32_t *)0x04000208u = 0; /* IME: no interrupts (there are no handlers) */
+    for (uint32_t *d = __bss_start; d < __bss_end;)
+        *d++ = 0;
+    /* picolibc keeps errno in TLS; without a thread pointer it writes to address 8 */
+    _init_tls(__tls_base);
+    _set_tls(__tls_base);
+    bm_stack_paint();
+    bm_exit(main());
+}
