@@ -257,7 +257,9 @@ int qtool_luminaire_srgbe_frac(uint64_t maxabs);
  * zero to frac_bits) added, re-encoded (qibl_srgbe_encode_s32). Per pass and channel the value moves
  * from the exact sum by at most 2^e / 510 (e the new code's exponent: at most 4/510 of the pixel's
  * largest channel) plus one LSB of frac_bits (the decode's and the term's roundings).
- * QIBL_OK, or the codec's status (QIBL_E_SRGBE_OVERFLOW if frac_bits was too large for the sums). */
+ * QIBL_OK; QIBL_E_RANGE (frac_bits outside -64..24, a term beyond 2^62, or a sum at or beyond 2^31
+ * at frac_bits), or QIBL_E_SRGBE_DECODE_SAT (a code beyond int32 at frac_bits): then nothing is
+ * written (every pixel is checked first). */
 qibl_status_t qtool_luminaire_srgbe_add(uint8_t *codes, const int64_t *term, uint32_t n, int frac_bits);
 /* The same with two targets: hi as above, lo (signed sRGBE: the format's sign is what makes this
  * work) holding what hi's encoding rounded away; each pass adds hi + lo + term, encodes hi, and lo

@@ -52,52 +52,74 @@ static int64_t to_frac(int64_t v, int f)
     return v < 0 ? -(int64_t)m : (int64_t)m;
 }
 
-qibl_status_t qtool_luminaire_srgbe_add(uint8_t *codes, const int64_t *term, uint32_t n, int frac_bits)
+/* hi (+ lo, when not NULL) + term of pixel i at frac_bits into v: QIBL_OK, or QIBL_E_RANGE (a sum at
+ * or beyond 2^31, or frac_bits outside -64..24), or the decoder's status */
+static qibl_status_t pixel_sum(const uint8_t *hi, const uint8_t *lo, const int64_t *term, uint32_t i, int frac_bits,
+                               int32_t v[3])
 {
-    for (uint32_t i = 0; i < n; ++i) {
-        int32_t c[3];
-        qibl_status_t st = qibl_srgbe_decode_s32(codes + 4 * (size_t)i, frac_bits, c);
-        if (st != QIBL_OK)
-            return st;
-        for (int k = 0; k < 3; ++k) {
-            /* |c| and |t| below 2^30 by the caller's choice of frac_bits: the sum fits */
-            int64_t t = to_frac(term[3 * (size_t)i + (size_t)k], frac_bits), v = (int64_t)c[k] + t;
-            if (v > INT32_MAX || v < -INT32_MAX)
-                return QIBL_E_SRGBE_OVERFLOW;
-            c[k] = (int32_t)v;
-        }
-        st = qibl_srgbe_encode_s32(c, frac_bits, codes + 4 * (size_t)i);
-        if (st != QIBL_OK)
-            return st;
+    int32_t h[3], r[3] = {0, 0, 0};
+    if (frac_bits < -64 || frac_bits > 24)
+        return QIBL_E_RANGE;
+    qibl_status_t st = qibl_srgbe_decode_s32(hi + 4 * (size_t)i, frac_bits, h);
+    if (st == QIBL_OK && lo)
+        st = qibl_srgbe_decode_s32(lo + 4 * (size_t)i, frac_bits, r);
+    if (st != QIBL_OK)
+        return st;
+    for (int k = 0; k < 3; ++k) {
+        /* |h|, |r| < 2^31; a term beyond 2^62 is refused before it is rounded */
+        int64_t t = term[3 * (size_t)i + (size_t)k];
+        if (t > ((int64_t)1 << 62) || t < -((int64_t)1 << 62))
+            return QIBL_E_RANGE;
+        t = to_frac(t, frac_bits);
+        int64_t s = (int64_t)h[k] + r[k] + t; /* each below 2^62 in magnitude: no overflow */
+        if (s > INT32_MAX || s < -INT32_MAX)
+            return QIBL_E_RANGE;
+        v[k] = (int32_t)s;
     }
     return QIBL_OK;
 }
 
-qibl_status_t qtool_luminaire_srgbe_add2(uint8_t *hi, uint8_t *lo, const int64_t *term, uint32_t n, int frac_bits)
+qibl_status_t qtool_luminaire_srgbe_add(uint8_t *codes, const int64_t *term, uint32_t n, int frac_bits)
 {
-    for (uint32_t i = 0; i < n; ++i) {
-        int32_t h[3], r[3], c[3], e[3];
-        qibl_status_t st = qibl_srgbe_decode_s32(hi + 4 * (size_t)i, frac_bits, h);
-        if (st == QIBL_OK)
-            st = qibl_srgbe_decode_s32(lo + 4 * (size_t)i, frac_bits, r);
+    int32_t v[3];
+    for (uint32_t i = 0; i < n; ++i) { /* every pixel checked before any is written */
+        qibl_status_t st = pixel_sum(codes, NULL, term, i, frac_bits, v);
         if (st != QIBL_OK)
             return st;
-        for (int k = 0; k < 3; ++k) {
-            /* |h|, |r| and |t| below 2^30 (frac_bits' choice; |r| is a fraction of |h|'s step) */
-            int64_t v = (int64_t)h[k] + r[k] + to_frac(term[3 * (size_t)i + (size_t)k], frac_bits);
-            if (v > INT32_MAX || v < -INT32_MAX)
-                return QIBL_E_SRGBE_OVERFLOW;
-            c[k] = (int32_t)v;
-        }
-        if ((st = qibl_srgbe_encode_s32(c, frac_bits, hi + 4 * (size_t)i)) != QIBL_OK ||
-            (st = qibl_srgbe_decode_s32(hi + 4 * (size_t)i, frac_bits, h)) != QIBL_OK)
-            return st;
-        for (int k = 0; k < 3; ++k)
-            e[k] = c[k] - h[k]; /* at most half hi's step: |e| <= |c| */
-        if ((st = qibl_srgbe_encode_s32(e, frac_bits, lo + 4 * (size_t)i)) != QIBL_OK)
+    }
+    /* an int32 at frac_bits >= -64 is below 2^95, in the codec's range: the checked calls below
+     * cannot fail once the check above passed */
+    qibl_status_t st = QIBL_OK;
+    for (uint32_t i = 0; st == QIBL_OK && i < n; ++i) {
+        st = pixel_sum(codes, NULL, term, i, frac_bits, v);
+        if (st == QIBL_OK)
+            st = qibl_srgbe_encode_s32(v, frac_bits, codes + 4 * (size_t)i);
+    }
+    return st;
+}
+
+qibl_status_t qtool_luminaire_srgbe_add2(uint8_t *hi, uint8_t *lo, const int64_t *term, uint32_t n, int frac_bits)
+{
+    int32_t v[3], h[3], e[3];
+    for (uint32_t i = 0; i < n; ++i) {
+        qibl_status_t st = pixel_sum(hi, lo, term, i, frac_bits, v);
+        if (st != QIBL_OK)
             return st;
     }
-    return QIBL_OK;
+    qibl_status_t st = QIBL_OK;
+    for (uint32_t i = 0; st == QIBL_OK && i < n; ++i) {
+        st = pixel_sum(hi, lo, term, i, frac_bits, v);
+        if (st == QIBL_OK)
+            st = qibl_srgbe_encode_s32(v, frac_bits, hi + 4 * (size_t)i);
+        /* hi's code is within half a step of v, so it decodes without saturating */
+        if (st == QIBL_OK)
+            st = qibl_srgbe_decode_s32(hi + 4 * (size_t)i, frac_bits, h);
+        for (int k = 0; st == QIBL_OK && k < 3; ++k)
+            e[k] = v[k] - h[k]; /* what hi rounded away: at most half its step */
+        if (st == QIBL_OK)
+            st = qibl_srgbe_encode_s32(e, frac_bits, lo + 4 * (size_t)i);
+    }
+    return st;
 }
 
 void qtool_luminaire_srgbe_clear(uint8_t *codes, uint32_t n)
