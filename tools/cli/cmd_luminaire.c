@@ -13,6 +13,7 @@
 
 #include "cli/cli.h"
 #include "cli/opt.h"
+#include "gles/headless.h"
 #include "io/file.h"
 #include "io/obj.h"
 #include "io/png.h"
@@ -176,12 +177,15 @@ const qcli_opt_cmd qcli_opts_luminaire_study = {
 
 typedef struct passes_cli {
     long size;
+    int gles;
 } passes_cli;
 static const passes_cli passes_defaults = {.size = 64};
 
 static const qcli_opt passes_table[] = {
     {.name = "--size", .kind = QCLI_OPT_INT, .off = offsetof(passes_cli, size), .arg = "S", .lo = 8, .hi = 512,
      .help = "the ground images are S x S"},
+    {.name = "--gles", .kind = QCLI_OPT_FLAG, .off = offsetof(passes_cli, gles),
+     .help = "the same passes on GLES2 too (a headless EGL context), against the soft ones"},
     {0},
 };
 
@@ -382,8 +386,19 @@ static int cmd_passes(int argc, char **argv)
         return prc;
     if (qcli_parse_only)
         return 0;
-    if (qtool_luminaire_passes_report((uint32_t)c.size, stdout) != 0) {
-        fprintf(stderr, "qibl: luminaire passes: out of memory\n");
+    char err[256] = "";
+    qt_gles_ctx gl;
+    memset(&gl, 0, sizeof gl);
+    if (c.gles && qt_gles_open(&gl, 1, 1, err, sizeof err) != 0) {
+        fprintf(stderr, "qibl: luminaire passes: --gles: %s\n", err);
+        return 1;
+    }
+    int rc = qtool_luminaire_passes_report((uint32_t)c.size, c.gles ? qtool_luminaire_passes_gles : NULL, stdout, err,
+                                           sizeof err);
+    if (c.gles)
+        qt_gles_close(&gl);
+    if (rc != 0) {
+        fprintf(stderr, "qibl: luminaire passes: %s\n", err);
         return 1;
     }
     return 0;

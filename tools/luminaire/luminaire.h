@@ -286,12 +286,24 @@ typedef struct qtool_luminaire_passes {
     int srgbe_vs_float, srgbe_vs_core, float_vs_core; /* max |difference| of the 8-bit values */
     int srgbe2_vs_float, srgbe2_vs_core;
     double max_rel, max_rel2;           /* max |sRGBE - exact| / the exact sum's peak, linear */
+    uint32_t exposure;                  /* the display's (UQ16.16) */
+    int gles;                           /* 1 once qtool_luminaire_passes_gles has run: */
+    int gles_vs_core, gles_vs_srgbe2;   /* its frame against the core's and the two-target one */
 } qtool_luminaire_passes;
 int qtool_luminaire_passes_run(const qtool_luminaire *l, uint32_t size, double hgt, qtool_luminaire_passes *out);
 void qtool_luminaire_passes_free(qtool_luminaire_passes *r);
+/* The same passes on a GLES2 GPU (passes_gles.c; the caller's context current, e.g. tools/gles/
+ * headless.h): accumulated in RGBA8 sRGBE pairs (the sum's code and the code of what it leaves
+ * out, as platform/gles2 accumulates), ping-ponged, two draws per pass (GLES2 has one colour
+ * attachment), each pass's term uploaded as an sRGBE pair made by the core's codec; read back,
+ * decoded by the core's codec, shown as passes_run's images; sets r->gles and the two differences.
+ * 0, or -1 with a one-line reason in err (no GL, a shader or framebuffer refused, a GL error). */
+int qtool_luminaire_passes_gles(qtool_luminaire_passes *r, char *err, size_t errlen);
 /* `qibl luminaire passes`: synthetic sources of 16, 64 and 256 spotlights at one lamp size above
- * a size x size ground; a table and RESULT lines (8-bit units). 0, or -1 (no memory). */
-int qtool_luminaire_passes_report(uint32_t size, FILE *f);
+ * a size x size ground; a table and RESULT lines (8-bit units). gpu (NULL: none) is run on each
+ * (qtool_luminaire_passes_gles: programs that link GL pass it). 0, or -1 with a reason in err. */
+typedef int (*qtool_luminaire_gpu_fn)(qtool_luminaire_passes *r, char *err, size_t errlen);
+int qtool_luminaire_passes_report(uint32_t size, qtool_luminaire_gpu_fn gpu, FILE *f, char *err, size_t errlen);
 
 /* ---- the study (study.c) ---------------------------------------------------------------------- */
 

@@ -271,8 +271,9 @@ int qtool_luminaire_passes_run(const qtool_luminaire *l, uint32_t size, double h
     /* to 8 bits through platform/soft: sRGB, exposure putting the reference's peak at 1.0; the four
      * images stacked (core, float, sRGBE, two sRGBE) */
     double e = peak > 0 ? 16777216.0 / peak * 65536.0 : 65536.0;
+    r.exposure = (qibl_uq16_t)(e > 4294967295.0 ? 4294967295.0 : e);
     qibl_fb_desc_t fb = {.pixels = r.shown, .width = n, .height = 4 * n, .format = QIBL_FB_RGBA8888, .srgb = 1,
-                         .exposure = (qibl_uq16_t)(e > 4294967295.0 ? 4294967295.0 : e)};
+                         .exposure = r.exposure};
     for (uint32_t y = 0; st == QIBL_OK && y < 4 * n; ++y)
         st = qibl_soft_fb_write_row(&fb, 0, y, n, q + (size_t)y * 3 * n);
     free(q);
@@ -294,14 +295,17 @@ int qtool_luminaire_passes_run(const qtool_luminaire *l, uint32_t size, double h
     return 0;
 }
 
-int qtool_luminaire_passes_report(uint32_t size, FILE *f)
+int qtool_luminaire_passes_report(uint32_t size, qtool_luminaire_gpu_fn gpu, FILE *f, char *err, size_t errlen)
 {
     static const uint32_t counts[] = {16, 64, 256};
     const double hgt = QTOOL_LUMINAIRE_SIZE; /* one lamp size: the near field */
     fprintf(f, "8-bit sRGB differences (max over pixels and channels); srgbe: one target, decode-add-encode per\n"
-               "pass (the paper's); srgbe2: two targets, the second holding the first's rounding (signed)\n");
-    fprintf(f, "%-7s %-10s %-15s %-14s %-16s %-15s %-14s %-10s %-10s\n", "passes", "frac_bits", "srgbe_vs_float",
-            "srgbe_vs_core", "srgbe2_vs_float", "srgbe2_vs_core", "float_vs_core", "rel", "rel2");
+               "pass (the paper's); srgbe2: two targets, the second holding the first's rounding (signed)%s\n",
+            gpu ? ";\ngles: the same pairs on the GPU" : "");
+    fprintf(f, "%-7s %-10s %-15s %-14s %-16s %-15s %-14s %-10s %-10s%s\n", "passes", "frac_bits", "srgbe_vs_float",
+            "srgbe_vs_core", "srgbe2_vs_float", "srgbe2_vs_core", "float_vs_core", "rel", "rel2",
+            gpu ? " gles_vs_core gles_vs_srgbe2" : "");
+    snprintf(err, errlen, "out of memory");
     for (int k = 0; k < 3; ++k) {
         qtool_luminaire l;
         qtool_luminaire_passes r;
@@ -314,15 +318,27 @@ int qtool_luminaire_passes_report(uint32_t size, FILE *f)
         qtool_luminaire_free(&l);
         if (rc != 0)
             return -1;
-        fprintf(f, "%-7u %-10d %-15d %-14d %-16d %-15d %-14d %-10.3g %-10.3g\n", r.passes, r.frac_bits,
+        if (gpu && gpu(&r, err, errlen) != 0) {
+            qtool_luminaire_passes_free(&r);
+            return -1;
+        }
+        fprintf(f, "%-7u %-10d %-15d %-14d %-16d %-15d %-14d %-10.3g %-10.3g", r.passes, r.frac_bits,
                 r.srgbe_vs_float, r.srgbe_vs_core, r.srgbe2_vs_float, r.srgbe2_vs_core, r.float_vs_core, r.max_rel,
                 r.max_rel2);
+        if (gpu)
+            fprintf(f, " %-12d %d", r.gles_vs_core, r.gles_vs_srgbe2);
+        fprintf(f, "\n");
         fprintf(f, "RESULT luminaire.passes%u_srgbe_vs_float_max8 %d\n", counts[k], r.srgbe_vs_float);
         fprintf(f, "RESULT luminaire.passes%u_srgbe_vs_core_max8 %d\n", counts[k], r.srgbe_vs_core);
         fprintf(f, "RESULT luminaire.passes%u_srgbe2_vs_float_max8 %d\n", counts[k], r.srgbe2_vs_float);
         fprintf(f, "RESULT luminaire.passes%u_srgbe2_vs_core_max8 %d\n", counts[k], r.srgbe2_vs_core);
         fprintf(f, "RESULT luminaire.passes%u_float_vs_core_max8 %d\n", counts[k], r.float_vs_core);
+        if (gpu) {
+            fprintf(f, "RESULT luminaire.passes%u_gles_vs_core_max8 %d\n", counts[k], r.gles_vs_core);
+            fprintf(f, "RESULT luminaire.passes%u_gles_vs_srgbe2_max8 %d\n", counts[k], r.gles_vs_srgbe2);
+        }
         qtool_luminaire_passes_free(&r);
     }
+    err[0] = 0;
     return 0;
 }
