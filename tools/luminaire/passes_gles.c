@@ -103,7 +103,9 @@ int qtool_luminaire_passes_gles(qtool_luminaire_passes *r, char *err, size_t err
         goto out;
     }
     glGetIntegerv(GL_FRAMEBUFFER_BINDING, &oldfb);
-    if (!(vs = shader(GL_VERTEX_SHADER, vs_src, err, errlen)) || !(fs = shader(GL_FRAGMENT_SHADER, fs_src, err, errlen)))
+    vs = shader(GL_VERTEX_SHADER, vs_src, err, errlen);
+    fs = vs ? shader(GL_FRAGMENT_SHADER, fs_src, err, errlen) : 0;
+    if (!fs)
         goto out;
     prog = glCreateProgram();
     glAttachShader(prog, vs), glAttachShader(prog, fs);
