@@ -517,6 +517,13 @@ static void test_cli(void **state)
     assert_int_equal(run("luminaire", "passes", "--size", "16", NULL), 0);
     assert_non_null(strstr(out_text(), "RESULT luminaire.passes64_srgbe2_vs_float_max8 "));
     assert_non_null(strstr(out_text(), "RESULT luminaire.passes256_srgbe_vs_core_max8 "));
+    /* the README's picture: three images side by side; refusals write nothing */
+    assert_int_equal(run("luminaire", "picture", "--out", at("p.png"), "--size", "16", NULL), 0);
+    assert_non_null(strstr(out_text(), "56x16 (near field | truth | far field"));
+    assert_int_equal(access(at("p.png"), F_OK), 0);
+    assert_int_equal(run("luminaire", "picture", "--out", at("p2.png"), "--height", "0", NULL), 2);
+    assert_int_equal(run("luminaire", "picture", NULL), 2);
+    assert_int_equal(access(at("p2.png"), F_OK), -1);
 }
 
 /* qtool_luminaire_relight (anchors' spans only where a spotlight reaches) against the same frame

@@ -1,5 +1,5 @@
 /*
- * cmd_luminaire.c - `qibl luminaire capture|info|render|study|passes`: near-field light sources (the
+ * cmd_luminaire.c - `qibl luminaire capture|info|render|study|passes|picture`: near-field light sources (the
  * library is tools/luminaire: the .qnf file, the simulated acquisition, the textured spotlights).
  *
  * Output is all or nothing: files are written atomically, and a report is printed only once
@@ -200,6 +200,35 @@ const qcli_opt_cmd qcli_opts_luminaire_passes = {
         "  ground plane, summed pass by pass in an 8-bit sRGBE target (decode, add, re-encode, integers),\n"
         "  in binary32 and as the core's one-call integer sum; the largest differences of the 8-bit sRGB\n"
         "  frames (exposure: the sum's peak at 1.0), RESULT lines.\n",
+};
+
+typedef struct picture_cli {
+    const char *out;
+    long size, threads;
+    double lamps;
+} picture_cli;
+static const picture_cli picture_defaults = {.size = 128, .threads = 1, .lamps = 1};
+
+static const qcli_opt picture_table[] = {
+    {.name = "--out", .kind = QCLI_OPT_STR, .off = offsetof(picture_cli, out), .arg = "F.png", .required = 1,
+     .help = "the picture (near field | truth | far field)"},
+    {.name = "--height", .kind = QCLI_OPT_NUM, .off = offsetof(picture_cli, lamps), .arg = "H", .lo = 0.1, .hi = 100,
+     .help = "the lamp's height above the ground, in lamp sizes"},
+    {.name = "--size", .kind = QCLI_OPT_INT, .off = offsetof(picture_cli, size), .arg = "S", .lo = 8, .hi = 1024,
+     .help = "each image is S x S"},
+    {.name = "--threads", .kind = QCLI_OPT_INT, .off = offsetof(picture_cli, threads), .arg = "T", .lo = 1, .hi = 256,
+     .help = "worker threads for the capture and the truth"},
+    {0},
+};
+
+const qcli_opt_cmd qcli_opts_luminaire_picture = {
+    .name = "luminaire picture",
+    .help_name = "luminaire",
+    .opts = picture_table,
+    .defaults = &picture_defaults,
+    .size = sizeof(picture_cli),
+    .prose = "  The built-in luminaire above a ground plane: its near field (textured spotlights), the\n"
+             "  luminaire ray-traced, its far field (one gonio lamp), side by side, one exposure.\n",
 };
 
 static int cmd_capture(int argc, char **argv)
@@ -404,11 +433,35 @@ static int cmd_passes(int argc, char **argv)
     return 0;
 }
 
+static int cmd_picture(int argc, char **argv)
+{
+    picture_cli c;
+    int prc = qcli_opt_parse(&qcli_opts_luminaire_picture, argc, argv, 2, &c);
+    if (prc != 0)
+        return prc;
+    if (qcli_parse_only)
+        return 0;
+    qtool_luminaire_study_opts o = {.size = (uint32_t)c.size, .threads = (int)c.threads};
+    uint8_t *rgb = NULL;
+    uint32_t w = 0, h = 0;
+    char err[256] = "out of memory";
+    if (qtool_luminaire_picture(&o, c.lamps, &rgb, &w, &h) != 0 ||
+        qtool_png_write_rgb8(c.out, (int)w, (int)h, rgb, err, sizeof err) != 0) {
+        fprintf(stderr, "qibl: luminaire picture: %s\n", err);
+        free(rgb);
+        return 1;
+    }
+    free(rgb);
+    printf("wrote %s: %ux%u (near field | truth | far field, %g lamp sizes above the ground)\n", c.out, w, h,
+           c.lamps);
+    return 0;
+}
+
 int qcli_cmd_luminaire(int argc, char **argv)
 {
     static const qcli_opt_cmd *const subs[] = {&qcli_opts_luminaire_capture, &qcli_opts_luminaire_info,
                                                &qcli_opts_luminaire_render, &qcli_opts_luminaire_study,
-                                               &qcli_opts_luminaire_passes, NULL};
+                                               &qcli_opts_luminaire_passes, &qcli_opts_luminaire_picture, NULL};
     const qcli_opt_cmd *sub = qcli_opt_sub("luminaire", subs, NULL, argc, argv);
     if (!sub)
         return 2;
@@ -420,5 +473,7 @@ int qcli_cmd_luminaire(int argc, char **argv)
         return cmd_render(argc, argv);
     if (sub == &qcli_opts_luminaire_passes)
         return cmd_passes(argc, argv);
+    if (sub == &qcli_opts_luminaire_picture)
+        return cmd_picture(argc, argv);
     return cmd_study(argc, argv);
 }

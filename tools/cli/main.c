@@ -36,7 +36,7 @@ static const qcli_opt_cmd *const bake_opts[] = {&qcli_opts_bake, NULL};
 static const qcli_opt_cmd *const demo_opts[] = {&qcli_opts_demo, NULL};
 static const qcli_opt_cmd *const luminaire_opts[] = {&qcli_opts_luminaire_capture, &qcli_opts_luminaire_info,
                                                      &qcli_opts_luminaire_render, &qcli_opts_luminaire_study,
-                                                     &qcli_opts_luminaire_passes, NULL};
+                                                     &qcli_opts_luminaire_passes, &qcli_opts_luminaire_picture, NULL};
 
 /* which commands are on them: `qibl help CMD` is made from these, not from the command's usage */
 static const struct {
@@ -128,7 +128,7 @@ static const qcli_cmd commands[] = {
      qcli_cmd_probe},
     {"ies", "an IES LM-63 photometric file: header facts, candela range, integrated lumens, polar curves",
      NULL, qcli_cmd_ies},
-    {"luminaire", "near-field light sources: capture, info, render as textured spotlights, study, passes", NULL, qcli_cmd_luminaire},
+    {"luminaire", "near-field light sources: capture, info, render as textured spotlights, study, passes, picture", NULL, qcli_cmd_luminaire},
     {"study", "the light-probe approximation study: every method, error against N and time",
      NULL, qcli_cmd_study},
 };

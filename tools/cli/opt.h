@@ -162,7 +162,7 @@ extern const qcli_opt_cmd qcli_opts_bench, qcli_opts_probe_info, qcli_opts_sh_pr
     qcli_opts_relight, qcli_opts_merge, qcli_opts_check,
     qcli_opts_render, qcli_opts_bake, qcli_opts_demo;
 extern const qcli_opt_cmd qcli_opts_luminaire_capture, qcli_opts_luminaire_info, qcli_opts_luminaire_render,
-    qcli_opts_luminaire_study, qcli_opts_luminaire_passes;
+    qcli_opts_luminaire_study, qcli_opts_luminaire_passes, qcli_opts_luminaire_picture;
 
 /* Parses argv[first..argc-1] into opts (first set to c->defaults). 0, or 2 after one line on stderr. */
 int qcli_opt_parse(const qcli_opt_cmd *c, int argc, char **argv, int first, void *opts);

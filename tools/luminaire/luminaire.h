@@ -321,4 +321,10 @@ typedef struct qtool_luminaire_study_opts {
  * (tools/render) with the lamp in it. Prints a table and RESULT lines to f. 0, or -1. */
 int qtool_luminaire_study(const qtool_luminaire_study_opts *o, FILE *f);
 
+/* The README's picture: the built-in luminaire (captured with o's grid and res) lamps lamp sizes
+ * above the study's ground plane, side by side: its near field, the ray-traced truth, its far
+ * field; one exposure (the truth's peak at 1.0), sRGB. *rgb (malloc'd, w h 3). 0, or -1. */
+int qtool_luminaire_picture(const qtool_luminaire_study_opts *o, double lamps, uint8_t **rgb, uint32_t *w,
+                            uint32_t *h);
+
 #endif
