@@ -17,6 +17,7 @@
 #include "testutil.h"
 #include "luminaire/luminaire.h"
 #include "qibl/asset.h"
+#include "qibl/fixed.h"
 #include "qibl/soft.h"
 #include "qibl/srgbe.h"
 
@@ -481,6 +482,28 @@ static void test_passes(void **state)
     assert_true(labs((long)v[0] - (1L << 24)) <= (1L << 24) * 4 / 510);
 }
 
+/* the span kernel's square root: qibl_isqrt_u64's floor, bit for bit, at every square, its
+ * neighbours and a fixed-seed sweep up to the kernel's 2^48 (and the documented 2^52) */
+static void test_isqrt_twin(void **state)
+{
+    (void)state;
+    for (uint64_t r = 0; r <= ((uint64_t)1 << 26); r += r < 5000 ? 1 : 9973) {
+        uint64_t sq = r * r;
+        assert_int_equal(qtool_luminaire_isqrt(sq), qibl_isqrt_u64(sq, NULL));
+        if (sq)
+            assert_int_equal(qtool_luminaire_isqrt(sq - 1), qibl_isqrt_u64(sq - 1, NULL));
+        assert_int_equal(qtool_luminaire_isqrt(sq + 1), qibl_isqrt_u64(sq + 1, NULL));
+    }
+    uint64_t x = 0x9E3779B97F4A7C15u;
+    for (int k = 0; k < 200000; ++k) {
+        x ^= x << 13, x ^= x >> 7, x ^= x << 17;
+        uint64_t v = x >> (12 + (unsigned)(k % 40)); /* every magnitude up to 2^52 */
+        assert_int_equal(qtool_luminaire_isqrt(v), qibl_isqrt_u64(v, NULL));
+    }
+    assert_int_equal(qtool_luminaire_isqrt((uint64_t)1 << 52), (uint64_t)1 << 26);
+    assert_int_equal(qtool_luminaire_isqrt(((uint64_t)1 << 52) - 1), ((uint64_t)1 << 26) - 1);
+}
+
 static void test_cli(void **state)
 {
     (void)state;
@@ -681,6 +704,7 @@ int main(void)
         cmocka_unit_test(test_capture),
         cmocka_unit_test(test_near_field),
         cmocka_unit_test(test_passes),
+        cmocka_unit_test(test_isqrt_twin),
         cmocka_unit_test_setup_teardown(test_cli, setup, teardown),
         cmocka_unit_test_setup_teardown(test_relight_frame, setup, teardown),
         cmocka_unit_test_setup_teardown(test_capture_mesh, setup, teardown),

@@ -227,6 +227,10 @@ size_t qtool_luminaire_span_ws_size(uint32_t n);
 void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *base, const int32_t *p, uint32_t n,
                                 int64_t *acc, int64_t *ws);
 
+/* floor(sqrt(x)) for x <= 2^52, exactly qibl_isqrt_u64's result (a double estimate corrected in
+ * integers): the span kernel's square roots. */
+uint64_t qtool_luminaire_isqrt(uint64_t x);
+
 /* acc (Q8.24) to Q16.16: rounded to nearest (ties away from zero), saturated to int32. */
 int32_t qtool_luminaire_q16(int64_t acc);
 
