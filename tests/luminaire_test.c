@@ -504,6 +504,43 @@ static void test_isqrt_twin(void **state)
     assert_int_equal(qtool_luminaire_isqrt(((uint64_t)1 << 52) - 1), ((uint64_t)1 << 26) - 1);
 }
 
+/* the span kernel's bytes on fixed inputs (synthetic sources of 16 and 64 spotlights, 64 x 64 points
+ * below them, anchors' shading varying): FNV-1a of the sums, recorded from the kernel before its
+ * speed-ups (commit 019b602: the core's digit-by-digit square root, a bit loop for bit lengths), so
+ * they changed no byte */
+static void test_span_bytes(void **state)
+{
+    (void)state;
+    uint64_t h = 1469598103934665603u;
+    for (uint32_t g = 4; g <= 8; g += 4) {
+        qtool_luminaire l;
+        qtool_luminaire_spots s;
+        char err[128];
+        assert_int_equal(qtool_luminaire_synthetic(g, &l), 0);
+        const int32_t pos[3] = {0, 0, 26214};
+        assert_int_equal(qtool_luminaire_spots_make(&l, pos, 64, 0, &s, err, sizeof err), 0);
+        const uint32_t n = 64;
+        int32_t base[3 * 64 * 4], pts[3 * 64];
+        int64_t acc[3 * 64], *ws = malloc(qtool_luminaire_span_ws_size(n));
+        assert_non_null(ws);
+        for (uint32_t y = 0; y < n; ++y) {
+            for (uint32_t i = 0; i < n; ++i) {
+                pts[3 * i] = (int32_t)(i * 1700) - 54400, pts[3 * i + 1] = (int32_t)(y * 1700) - 54400;
+                pts[3 * i + 2] = -(int32_t)(y * 37);
+                for (uint32_t k = 0; k < 12; ++k)
+                    base[3 * ((k / 3) * n + i) + k % 3] = (int32_t)(20000 + 1000 * k + 37 * i - 11 * y);
+            }
+            memset(acc, 0, sizeof acc);
+            qtool_luminaire_spots_span(&s, base, pts, n, acc, ws);
+            for (size_t k = 0; k < 3 * 64; ++k) /* little-endian bytes, whatever the host's order */
+                for (unsigned b = 0; b < 64; b += 8)
+                    h = (h ^ (uint8_t)((uint64_t)acc[k] >> b)) * 1099511628211u;
+        }
+        free(ws), qtool_luminaire_spots_free(&s), qtool_luminaire_free(&l);
+    }
+    assert_true(h == 0x5cc420fd563744c4u);
+}
+
 static void test_cli(void **state)
 {
     (void)state;
@@ -705,6 +742,7 @@ int main(void)
         cmocka_unit_test(test_near_field),
         cmocka_unit_test(test_passes),
         cmocka_unit_test(test_isqrt_twin),
+        cmocka_unit_test(test_span_bytes),
         cmocka_unit_test_setup_teardown(test_cli, setup, teardown),
         cmocka_unit_test_setup_teardown(test_relight_frame, setup, teardown),
         cmocka_unit_test_setup_teardown(test_capture_mesh, setup, teardown),

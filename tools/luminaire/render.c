@@ -263,10 +263,14 @@ int qtool_luminaire_spots_make(const qtool_luminaire *l, const int32_t pos[3], u
 
 static unsigned bitlen64(uint64_t v)
 {
+#if defined(__GNUC__) || defined(__clang__)
+    return v ? 64u - (unsigned)__builtin_clzll(v) : 0u; /* one instruction: called per pass, pixel, channel */
+#else
     unsigned b = 0;
     while (v)
         ++b, v >>= 1;
     return b;
+#endif
 }
 
 /* |d|^2 in (1/256 unit)^2 of a Q16.16 difference (each |component| <= 2^32: <= 3 2^48) */
