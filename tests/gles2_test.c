@@ -1,7 +1,8 @@
 /*
  * gles2_test.c - platform/gles2 on a real GL: a headless EGL context on Mesa (llvmpipe here), the
  * golden relight scenes drawn by the backend and by platform/soft, compared pixel by pixel; the
- * GLSL sRGBE codec against the C codec; named errors; no GL object left behind.
+ * GLSL sRGBE codec against the C codec; named errors; no GL object left behind; the near-field
+ * source's passes (tools/luminaire) accumulated in sRGBE pairs on the GPU against soft.
  *
  * Without EGL/GLES2 (headers at build time, or a display at run time) every test skips with one
  * line; QIBL_REQUIRE_GLES=1 (CI) turns that into a failure.
@@ -30,6 +31,7 @@ static int require_gles(void)
 
 #include "gles/headless.h"
 #include "golden/casesi.h"
+#include "luminaire/luminaire.h"
 #include "qibl/gles2.h"
 
 enum { GW = 64, GH = 16 };
@@ -378,6 +380,35 @@ static void test_named_errors(void **state)
     gmaps_free(&g);
 }
 
+/* the near-field source's passes (tools/luminaire) accumulated on the GPU in sRGBE pairs: within
+ * 2 of 255 of the soft two-target sum and of the core's one-call sum, over 16 and 64 passes; the
+ * caller's framebuffer binding restored */
+static void test_luminaire_passes_match_soft(void **state)
+{
+    NEED_GL(state);
+    static const uint32_t grids[] = {4, 8};
+    for (int k = 0; k < 2; ++k) {
+        qtool_luminaire l;
+        qtool_luminaire_passes r;
+        char err[256];
+        assert_int_equal(qtool_luminaire_synthetic(grids[k], &l), 0);
+        assert_int_equal(qtool_luminaire_passes_run(&l, 20, QTOOL_LUMINAIRE_SIZE, &r), 0);
+        assert_int_equal(r.passes, grids[k] * grids[k]);
+        GLint before = 0, after = 0;
+        glGetIntegerv(GL_FRAMEBUFFER_BINDING, &before);
+        r.gles_vs_core = r.gles_vs_srgbe2 = 99;
+        assert_int_equal(qtool_luminaire_passes_gles(&r, err, sizeof err), 0);
+        glGetIntegerv(GL_FRAMEBUFFER_BINDING, &after);
+        assert_int_equal(before, after);
+        assert_int_equal(r.gles, 1);
+        printf("luminaire passes %u: gles vs core %d, vs soft pair %d (8-bit sRGB)\n", r.passes, r.gles_vs_core,
+               r.gles_vs_srgbe2);
+        assert_true(r.gles_vs_core <= 2 && r.gles_vs_srgbe2 <= 2);
+        qtool_luminaire_passes_free(&r);
+        qtool_luminaire_free(&l);
+    }
+}
+
 /* destroy deletes every texture, framebuffer, buffer and program the backend made */
 static void test_nothing_leaks(void **state)
 {
@@ -434,6 +465,7 @@ int main(void)
         cmocka_unit_test(test_srgbe_shader_matches_codec),
         cmocka_unit_test(test_named_errors),
         cmocka_unit_test(test_nothing_leaks),
+        cmocka_unit_test(test_luminaire_passes_match_soft),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -4,7 +4,9 @@
  * writer; the simulated capture of the built-in luminaire (dark supports under the shade's solid
  * cells, the emitter's radiance where it is seen whole, flux against the truth integrated over a
  * plane); the spotlights' cull test exact; the near field against the ray-traced truth (>= 25 dB
- * and >= 6 dB above the far field at one lamp size); `qibl luminaire` refusals and outputs.
+ * and >= 6 dB above the far field at one lamp size); the passes (one at a time summing to the
+ * one-call span, sRGBE accumulation within its stated bound of a double sum pass by pass, the two-
+ * target sum within 2 of 255 over 64 passes); `qibl luminaire` refusals and outputs.
  */
 #include <math.h>
 #include <stdio.h>
@@ -15,7 +17,9 @@
 #include "testutil.h"
 #include "luminaire/luminaire.h"
 #include "qibl/asset.h"
+#include "qibl/fixed.h"
 #include "qibl/soft.h"
+#include "qibl/srgbe.h"
 
 CLI_FIXTURES("/tmp/qibl_lum_XXXXXX")
 
@@ -368,6 +372,175 @@ static const char *out_text(void)
     return buf;
 }
 
+/* The bound qtool_luminaire_srgbe_add(2) state, pass by pass against the exact (double) sum of the
+ * same terms: |decoded - exact| <= sum over passes of (2^e / 510 + 3/2 LSB), e the exponent of the
+ * code that pass wrote (the second target's for add2). */
+static void check_accumulation(const qtool_luminaire_passes *r, int two)
+{
+    const size_t npix = (size_t)r->size * r->size;
+    const int f = r->frac_bits;
+    uint8_t *hi = malloc(4 * npix), *lo = malloc(4 * npix);
+    double *exact = calloc(3 * npix, sizeof(double)), *bound = calloc(3 * npix, sizeof(double));
+    assert_true(hi && lo && exact && bound);
+    qtool_luminaire_srgbe_clear(hi, (uint32_t)npix);
+    qtool_luminaire_srgbe_clear(lo, (uint32_t)npix);
+    double worst = 0, lsb = ldexp(1, -f);
+    for (uint32_t j = 0; j < r->passes; ++j) {
+        const int64_t *t = r->terms + (size_t)j * 3 * npix;
+        assert_int_equal(two ? qtool_luminaire_srgbe_add2(hi, lo, t, (uint32_t)npix, f)
+                             : qtool_luminaire_srgbe_add(hi, t, (uint32_t)npix, f),
+                         QIBL_OK);
+        for (size_t i = 0; i < npix; ++i) {
+            const uint8_t *c = (two ? lo : hi) + 4 * i;
+            int32_t h[3], l[3] = {0, 0, 0};
+            assert_int_equal(qibl_srgbe_decode_s32(hi + 4 * i, f, h), QIBL_OK);
+            if (two)
+                assert_int_equal(qibl_srgbe_decode_s32(lo + 4 * i, f, l), QIBL_OK);
+            for (int k = 0; k < 3; ++k) {
+                size_t x = 3 * i + (size_t)k;
+                exact[x] += ldexp((double)t[x], -24);
+                bound[x] += ldexp(1, c[3] - 126) / 510 + 1.5 * lsb;
+                double err = fabs(ldexp((double)h[k] + l[k], -f) - exact[x]);
+                assert_true(err <= bound[x]);
+                worst = fmax(worst, err / bound[x]);
+            }
+        }
+    }
+    assert_true(worst > 0.01); /* the bound is not vacuous: some pass comes near it */
+    free(hi), free(lo), free(exact), free(bound);
+}
+
+static void test_passes(void **state)
+{
+    (void)state;
+    qtool_luminaire l;
+    assert_int_equal(qtool_luminaire_synthetic(8, &l), 0);
+    /* the passes one at a time sum to the one-call span exactly (any anchors' shading) */
+    qtool_luminaire_spots s;
+    char err[128];
+    const int32_t pos[3] = {0, 0, 26214};
+    assert_int_equal(qtool_luminaire_spots_make(&l, pos, 64, 0, &s, err, sizeof err), 0);
+    assert_int_equal(s.count, 64);
+    const uint32_t n = 32;
+    int32_t *base = malloc(sizeof(int32_t) * 3 * n * 4), *pts = malloc(sizeof(int32_t) * 3 * n);
+    int64_t *a1 = calloc(3 * n, sizeof(int64_t)), *a2 = calloc(3 * n, sizeof(int64_t)),
+            *ws = malloc(qtool_luminaire_span_ws_size(n));
+    assert_true(base && pts && a1 && a2 && ws);
+    for (uint32_t i = 0; i < n; ++i) {
+        pts[3 * i] = (int32_t)(i * 3000) - 48000, pts[3 * i + 1] = 7000, pts[3 * i + 2] = 0;
+        for (uint32_t k = 0; k < 12; ++k)
+            base[3 * ((k / 3) * n + i) + k % 3] = (int32_t)(20000 + 1000 * k + 37 * i);
+    }
+    qtool_luminaire_spots_span(&s, base, pts, n, a1, ws);
+    for (uint32_t j = 0; j < s.count; ++j)
+        qtool_luminaire_spot_pass(&s, j, base, pts, n, a2, ws);
+    assert_memory_equal(a1, a2, sizeof(int64_t) * 3 * n);
+    int lit = 0;
+    for (uint32_t i = 0; i < 3 * n; ++i)
+        lit += a1[i] > 0;
+    assert_true(lit > (int)n);
+    free(base), free(pts), free(a1), free(a2), free(ws), qtool_luminaire_spots_free(&s);
+
+    /* 64 passes: both targets within their stated bound of the double sum, pass by pass; the
+     * two-target sum within 2 of 255 of binary32 accumulation (the issue's goal) */
+    qtool_luminaire_passes r;
+    assert_int_equal(qtool_luminaire_passes_run(&l, 24, QTOOL_LUMINAIRE_SIZE, &r), 0);
+    assert_int_equal(r.passes, 64);
+    check_accumulation(&r, 0);
+    check_accumulation(&r, 1);
+    assert_true(r.srgbe2_vs_float <= 2 && r.srgbe2_vs_core <= 2);
+    assert_true(r.float_vs_core <= 1);
+    assert_true(r.max_rel2 < r.max_rel); /* the second target is what buys the accuracy */
+    qtool_luminaire_passes_free(&r);
+    qtool_luminaire_free(&l);
+
+    /* the working format: the largest frac_bits keeping every sum below 2^30 */
+    assert_int_equal(qtool_luminaire_srgbe_frac(((uint64_t)1 << 30) - 2), 24);
+    assert_int_equal(qtool_luminaire_srgbe_frac(((uint64_t)1 << 30) - 1), 23);
+    assert_int_equal(qtool_luminaire_srgbe_frac((uint64_t)1 << 40), 13);
+
+    /* refusals write nothing: a sum beyond int32 in the second pixel, frac_bits out of range */
+    uint8_t c[8], c0[8], d[8];
+    qtool_luminaire_srgbe_clear(c, 2);
+    int64_t t[6] = {1 << 24, 0, 0, (int64_t)1 << 40, 0, 0};
+    memcpy(c0, c, 8);
+    assert_int_equal(qtool_luminaire_srgbe_add(c, t, 2, 24), QIBL_E_RANGE);
+    assert_memory_equal(c, c0, 8);
+    memcpy(d, c, 8);
+    assert_int_equal(qtool_luminaire_srgbe_add2(c, d, t, 2, 24), QIBL_E_RANGE);
+    assert_memory_equal(c, c0, 8);
+    assert_memory_equal(d, c0, 8);
+    assert_int_equal(qtool_luminaire_srgbe_add(c, t, 2, 25), QIBL_E_RANGE);
+    assert_memory_equal(c, c0, 8);
+    /* a zero pass keeps the zero code; 1.0 then decodes as 1.0 within half a step */
+    int64_t z[6] = {0, 0, 0, 0, 0, 0};
+    assert_int_equal(qtool_luminaire_srgbe_add(c, z, 2, 24), QIBL_OK);
+    assert_memory_equal(c, c0, 8);
+    assert_int_equal(qtool_luminaire_srgbe_add(c, t, 1, 24), QIBL_OK);
+    int32_t v[3];
+    assert_int_equal(qibl_srgbe_decode_s32(c, 24, v), QIBL_OK);
+    assert_true(labs((long)v[0] - (1L << 24)) <= (1L << 24) * 4 / 510);
+}
+
+/* the span kernel's square root: qibl_isqrt_u64's floor, bit for bit, at every square, its
+ * neighbours and a fixed-seed sweep up to the kernel's 2^48 (and the documented 2^52) */
+static void test_isqrt_twin(void **state)
+{
+    (void)state;
+    for (uint64_t r = 0; r <= ((uint64_t)1 << 26); r += r < 5000 ? 1 : 9973) {
+        uint64_t sq = r * r;
+        assert_int_equal(qtool_luminaire_isqrt(sq), qibl_isqrt_u64(sq, NULL));
+        if (sq)
+            assert_int_equal(qtool_luminaire_isqrt(sq - 1), qibl_isqrt_u64(sq - 1, NULL));
+        assert_int_equal(qtool_luminaire_isqrt(sq + 1), qibl_isqrt_u64(sq + 1, NULL));
+    }
+    uint64_t x = 0x9E3779B97F4A7C15u;
+    for (int k = 0; k < 200000; ++k) {
+        x ^= x << 13, x ^= x >> 7, x ^= x << 17;
+        uint64_t v = x >> (12 + (unsigned)(k % 40)); /* every magnitude up to 2^52 */
+        assert_int_equal(qtool_luminaire_isqrt(v), qibl_isqrt_u64(v, NULL));
+    }
+    assert_int_equal(qtool_luminaire_isqrt((uint64_t)1 << 52), (uint64_t)1 << 26);
+    assert_int_equal(qtool_luminaire_isqrt(((uint64_t)1 << 52) - 1), ((uint64_t)1 << 26) - 1);
+}
+
+/* the span kernel's bytes on fixed inputs (synthetic sources of 16 and 64 spotlights, 64 x 64 points
+ * below them, anchors' shading varying): FNV-1a of the sums, recorded from the kernel before its
+ * speed-ups (commit 019b602: the core's digit-by-digit square root, a bit loop for bit lengths), so
+ * they changed no byte */
+static void test_span_bytes(void **state)
+{
+    (void)state;
+    uint64_t h = 1469598103934665603u;
+    for (uint32_t g = 4; g <= 8; g += 4) {
+        qtool_luminaire l;
+        qtool_luminaire_spots s;
+        char err[128];
+        assert_int_equal(qtool_luminaire_synthetic(g, &l), 0);
+        const int32_t pos[3] = {0, 0, 26214};
+        assert_int_equal(qtool_luminaire_spots_make(&l, pos, 64, 0, &s, err, sizeof err), 0);
+        const uint32_t n = 64;
+        int32_t base[3 * 64 * 4], pts[3 * 64];
+        int64_t acc[3 * 64], *ws = malloc(qtool_luminaire_span_ws_size(n));
+        assert_non_null(ws);
+        for (uint32_t y = 0; y < n; ++y) {
+            for (uint32_t i = 0; i < n; ++i) {
+                pts[3 * i] = (int32_t)(i * 1700) - 54400, pts[3 * i + 1] = (int32_t)(y * 1700) - 54400;
+                pts[3 * i + 2] = -(int32_t)(y * 37);
+                for (uint32_t k = 0; k < 12; ++k)
+                    base[3 * ((k / 3) * n + i) + k % 3] = (int32_t)(20000 + 1000 * k + 37 * i - 11 * y);
+            }
+            memset(acc, 0, sizeof acc);
+            qtool_luminaire_spots_span(&s, base, pts, n, acc, ws);
+            for (size_t k = 0; k < 3 * 64; ++k) /* little-endian bytes, whatever the host's order */
+                for (unsigned b = 0; b < 64; b += 8)
+                    h = (h ^ (uint8_t)((uint64_t)acc[k] >> b)) * 1099511628211u;
+        }
+        free(ws), qtool_luminaire_spots_free(&s), qtool_luminaire_free(&l);
+    }
+    assert_true(h == 0x5cc420fd563744c4u);
+}
+
 static void test_cli(void **state)
 {
     (void)state;
@@ -400,6 +573,17 @@ static void test_cli(void **state)
     assert_int_equal(run("luminaire", "render", q, q, "--at", "0", "0", "1", "--out", y, NULL), 1);
     assert_int_equal(access(y, F_OK), -1);
     assert_int_equal(run("luminaire", "study", "--frob", NULL), 2);
+    assert_int_equal(run("luminaire", "passes", "--size", "7", NULL), 2);
+    assert_int_equal(run("luminaire", "passes", "--size", "16", NULL), 0);
+    assert_non_null(strstr(out_text(), "RESULT luminaire.passes64_srgbe2_vs_float_max8 "));
+    assert_non_null(strstr(out_text(), "RESULT luminaire.passes256_srgbe_vs_core_max8 "));
+    /* the README's picture: three images side by side; refusals write nothing */
+    assert_int_equal(run("luminaire", "picture", "--out", at("p.png"), "--size", "16", NULL), 0);
+    assert_non_null(strstr(out_text(), "56x16 (near field | truth | far field"));
+    assert_int_equal(access(at("p.png"), F_OK), 0);
+    assert_int_equal(run("luminaire", "picture", "--out", at("p2.png"), "--height", "0", NULL), 2);
+    assert_int_equal(run("luminaire", "picture", NULL), 2);
+    assert_int_equal(access(at("p2.png"), F_OK), -1);
 }
 
 /* qtool_luminaire_relight (anchors' spans only where a spotlight reaches) against the same frame
@@ -556,6 +740,9 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_file_io, setup, teardown),
         cmocka_unit_test(test_capture),
         cmocka_unit_test(test_near_field),
+        cmocka_unit_test(test_passes),
+        cmocka_unit_test(test_isqrt_twin),
+        cmocka_unit_test(test_span_bytes),
         cmocka_unit_test_setup_teardown(test_cli, setup, teardown),
         cmocka_unit_test_setup_teardown(test_relight_frame, setup, teardown),
         cmocka_unit_test_setup_teardown(test_capture_mesh, setup, teardown),

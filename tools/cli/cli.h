@@ -112,6 +112,6 @@ extern const qtool_opt_cmd qcli_opts_bench, qcli_opts_probe_info, qcli_opts_sh_p
     qcli_opts_relight, qcli_opts_merge, qcli_opts_check,
     qcli_opts_render, qcli_opts_bake, qcli_opts_demo;
 extern const qtool_opt_cmd qcli_opts_luminaire_capture, qcli_opts_luminaire_info, qcli_opts_luminaire_render,
-    qcli_opts_luminaire_study;
+    qcli_opts_luminaire_study, qcli_opts_luminaire_passes, qcli_opts_luminaire_picture;
 
 #endif

@@ -1,5 +1,5 @@
 /*
- * cmd_bench.c - `qibl bench`: the options (its option table, cli/opt.h) into a qtool_bench_opts,
+ * cmd_bench.c - `qibl bench`: the options (its option table, opt/opt.h) into a qtool_bench_opts,
  * then the benchmarks library (tools/bench). Timing lives there, never in tests.
  */
 #include <stddef.h>

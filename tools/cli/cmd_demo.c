@@ -1,5 +1,5 @@
 /*
- * cmd_demo.c - `qibl demo`: options (its option table, cli/opt.h) into a demo_opts, then the demo library (tools/demo) part by
+ * cmd_demo.c - `qibl demo`: options (its option table, opt/opt.h) into a demo_opts, then the demo library (tools/demo) part by
  * part: bake, relight and score (assets, sweeps, contact sheet), light paths, probe-lit rows.
  */
 #include <stddef.h>
@@ -34,7 +34,7 @@ typedef struct demo_opts {
     "  --probe PROBE.hdr: the bake, then the probe-lit table for that probe alone (role \"user\": SH, median-cut\n" \
     "  lights, sun + SH against the truth under the whole probe; what bake/relight/render --probe give).\n"
 
-/* What the line says (cli/opt.h): 0 for a value the demo size gives (--small, --full, else default). */
+/* What the line says (opt/opt.h): 0 for a value the demo size gives (--small, --full, else default). */
 typedef struct demo_cli {
     qcli_scene_cli sc; /* first, as the scene options' table entries expect */
     const char *dir, *probe;

@@ -4,7 +4,7 @@
  * tone-mapped probe as a PNG (like Madsen & Laursen's Figure 3) and checked against the probe's
  * exact irradiance. Probes in other layouts (angular map, mirror ball, cube crosses) are detected
  * or named with --layout and resampled to lat-long first (io/probe_layout.h). The options are
- * parsed here (its option table, cli/opt.h); relight/lights.h computes, this file prints.
+ * parsed here (its option table, opt/opt.h); relight/lights.h computes, this file prints.
  */
 #include <math.h>
 #include <stddef.h>

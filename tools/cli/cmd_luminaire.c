@@ -1,5 +1,5 @@
 /*
- * cmd_luminaire.c - `qibl luminaire capture|info|render|study`: near-field light sources (the
+ * cmd_luminaire.c - `qibl luminaire capture|info|render|study|passes|picture`: near-field light sources (the
  * library is tools/luminaire: the .qnf file, the simulated acquisition, the textured spotlights).
  *
  * Output is all or nothing: files are written atomically, and a report is printed only once
@@ -13,6 +13,7 @@
 
 #include "cli/cli.h"
 #include "opt/opt.h"
+#include "gles/headless.h"
 #include "io/file.h"
 #include "io/obj.h"
 #include "io/png.h"
@@ -20,7 +21,7 @@
 #include "qibl/asset.h"
 #include "qibl/soft.h"
 
-/* ---- the option tables (cli/opt.h): one per subcommand ------------------------------------- */
+/* ---- the option tables (opt/opt.h): one per subcommand ------------------------------------- */
 
 typedef struct capture_cli {
     qtool_opt_list src; /* builtin or MESH.obj */
@@ -172,6 +173,62 @@ const qtool_opt_cmd qcli_opts_luminaire_study = {
         "  gonio lamp) against the luminaire ray-traced: on a ground plane at 0.5..8 lamp sizes and\n"
         "  hanging in the built-in courtyard (PSNR); the near field's CPU time per 1024x256 frame (the\n"
         "  courtyard panorama, and a ground patch lit everywhere); RESULT lines.\n",
+};
+
+typedef struct passes_cli {
+    long size;
+    int gles;
+} passes_cli;
+static const passes_cli passes_defaults = {.size = 64};
+
+static const qtool_opt passes_table[] = {
+    {.name = "--size", .kind = QTOOL_OPT_INT, .off = offsetof(passes_cli, size), .arg = "S", .lo = 8, .hi = 512,
+     .help = "the ground images are S x S"},
+    {.name = "--gles", .kind = QTOOL_OPT_FLAG, .off = offsetof(passes_cli, gles),
+     .help = "the same passes on GLES2 too (a headless EGL context), against the soft ones"},
+    {0},
+};
+
+const qtool_opt_cmd qcli_opts_luminaire_passes = {
+    .name = "luminaire passes",
+    .help_name = "luminaire",
+    .opts = passes_table,
+    .defaults = &passes_defaults,
+    .size = sizeof(passes_cli),
+    .prose =
+        "  Sources of 16, 64 and 256 spotlights (synthetic, every support lit) one lamp size above a\n"
+        "  ground plane, summed pass by pass in an 8-bit sRGBE target (decode, add, re-encode, integers),\n"
+        "  in binary32 and as the core's one-call integer sum; the largest differences of the 8-bit sRGB\n"
+        "  frames (exposure: the sum's peak at 1.0), RESULT lines.\n",
+};
+
+typedef struct picture_cli {
+    const char *out;
+    long size, threads;
+    double lamps;
+} picture_cli;
+static const picture_cli picture_defaults = {.size = 128, .threads = 1, .lamps = 1};
+
+static const qtool_opt picture_table[] = {
+    {.name = "--out", .kind = QTOOL_OPT_STR, .off = offsetof(picture_cli, out), .arg = "F.png", .required = 1,
+     .help = "the picture (near field | truth | far field)"},
+    {.name = "--height", .kind = QTOOL_OPT_NUM, .off = offsetof(picture_cli, lamps), .arg = "H", .lo = 0.1, .hi = 100,
+     .help = "the lamp's height above the ground, in lamp sizes"},
+    {.name = "--size", .kind = QTOOL_OPT_INT, .off = offsetof(picture_cli, size), .arg = "S", .lo = 8, .hi = 1024,
+     .help = "each image is S x S"},
+    {.name = "--threads", .kind = QTOOL_OPT_INT, .off = offsetof(picture_cli, threads), .arg = "T", .lo = 1, .hi = 256,
+     .help = "worker threads for the capture and the truth"},
+    {0},
+};
+
+const qtool_opt_cmd qcli_opts_luminaire_picture = {
+    .name = "luminaire picture",
+    .help_name = "luminaire",
+    .opts = picture_table,
+    .defaults = &picture_defaults,
+    .size = sizeof(picture_cli),
+    .prose = "  The built-in luminaire above a ground plane: its near field (textured spotlights), the\n"
+             "  luminaire ray-traced, its far field (one gonio lamp), side by side, one exposure.\n",
 };
 
 static int cmd_capture(int argc, char **argv)
@@ -350,10 +407,61 @@ static int cmd_study(int argc, char **argv)
     return 0;
 }
 
+static int cmd_passes(int argc, char **argv)
+{
+    passes_cli c;
+    int prc = qtool_opt_parse(&qcli_opts_luminaire_passes, argc, argv, 2, &c);
+    if (prc != 0)
+        return prc;
+    if (qcli_parse_only)
+        return 0;
+    char err[256] = "";
+    qt_gles_ctx gl;
+    memset(&gl, 0, sizeof gl);
+    if (c.gles && qt_gles_open(&gl, 1, 1, err, sizeof err) != 0) {
+        fprintf(stderr, "qibl: luminaire passes: --gles: %s\n", err);
+        return 1;
+    }
+    int rc = qtool_luminaire_passes_report((uint32_t)c.size, c.gles ? qtool_luminaire_passes_gles : NULL, stdout, err,
+                                           sizeof err);
+    if (c.gles)
+        qt_gles_close(&gl);
+    if (rc != 0) {
+        fprintf(stderr, "qibl: luminaire passes: %s\n", err);
+        return 1;
+    }
+    return 0;
+}
+
+static int cmd_picture(int argc, char **argv)
+{
+    picture_cli c;
+    int prc = qtool_opt_parse(&qcli_opts_luminaire_picture, argc, argv, 2, &c);
+    if (prc != 0)
+        return prc;
+    if (qcli_parse_only)
+        return 0;
+    qtool_luminaire_study_opts o = {.size = (uint32_t)c.size, .threads = (int)c.threads};
+    uint8_t *rgb = NULL;
+    uint32_t w = 0, h = 0;
+    char err[256] = "out of memory";
+    if (qtool_luminaire_picture(&o, c.lamps, &rgb, &w, &h) != 0 ||
+        qtool_png_write_rgb8(c.out, (int)w, (int)h, rgb, err, sizeof err) != 0) {
+        fprintf(stderr, "qibl: luminaire picture: %s\n", err);
+        free(rgb);
+        return 1;
+    }
+    free(rgb);
+    printf("wrote %s: %ux%u (near field | truth | far field, %g lamp sizes above the ground)\n", c.out, w, h,
+           c.lamps);
+    return 0;
+}
+
 int qcli_cmd_luminaire(int argc, char **argv)
 {
     static const qtool_opt_cmd *const subs[] = {&qcli_opts_luminaire_capture, &qcli_opts_luminaire_info,
-                                               &qcli_opts_luminaire_render, &qcli_opts_luminaire_study, NULL};
+                                               &qcli_opts_luminaire_render, &qcli_opts_luminaire_study,
+                                               &qcli_opts_luminaire_passes, &qcli_opts_luminaire_picture, NULL};
     const qtool_opt_cmd *sub = qtool_opt_sub("luminaire", subs, NULL, argc, argv);
     if (!sub)
         return 2;
@@ -363,5 +471,9 @@ int qcli_cmd_luminaire(int argc, char **argv)
         return cmd_info(argc, argv);
     if (sub == &qcli_opts_luminaire_render)
         return cmd_render(argc, argv);
+    if (sub == &qcli_opts_luminaire_passes)
+        return cmd_passes(argc, argv);
+    if (sub == &qcli_opts_luminaire_picture)
+        return cmd_picture(argc, argv);
     return cmd_study(argc, argv);
 }

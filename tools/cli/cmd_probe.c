@@ -4,7 +4,7 @@
  * (l, m, R, G, B), JSON or a C header in qibl's basis (--frame, --yaw/--rotate), or in an engine's
  * own convention with --preset filament|unity|gltf (tools/engine: cmgen's sh.txt, Unity's
  * SphericalHarmonicsL2 and ShadeSH9 constants, EXT_lights_image_based). The projection and the
- * writers are tools/engine/project.h's; this file parses the options (its option table, cli/opt.h)
+ * writers are tools/engine/project.h's; this file parses the options (its option table, opt/opt.h)
  * and loads the probe.
  */
 #include <ctype.h>

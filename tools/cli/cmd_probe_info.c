@@ -1,5 +1,5 @@
 /*
- * cmd_probe_info.c - `qibl probe info PROBE` (its option table, cli/opt.h): what a probe is and which lighting scheme fits it
+ * cmd_probe_info.c - `qibl probe info PROBE` (its option table, opt/opt.h): what a probe is and which lighting scheme fits it
  * (tools/probe/info.h measures and reports; the sun is relight's choice, qcli_probe_suns). Output is
  * all or nothing: the report is printed once everything has been computed.
  */

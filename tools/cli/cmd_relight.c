@@ -1,6 +1,6 @@
 /*
  * cmd_relight.c - `qibl relight` (asset + light -> PNG through the core kernels and the software
- * framebuffer): the options parsed by its option table (cli/opt.h; the light options' callbacks
+ * framebuffer): the options parsed by its option table (opt/opt.h; the light options' callbacks
  * are light_opts.c's), tools/relight called, its results written and printed.
  * `qibl gen` lives in cmd_gen.c.
  */
@@ -62,7 +62,7 @@ void qcli_warn_dark(const char *path, const uint8_t *rgb, size_t np)
                 mean);
 }
 
-/* ---- the option table (cli/opt.h): the order of --sun, --point and --rgb is the light list's ---- */
+/* ---- the option table (opt/opt.h): the order of --sun, --point and --rgb is the light list's ---- */
 
 #define C(opts) ((relight_cli *)(opts))
 

@@ -18,7 +18,7 @@
 
 int qcli_parse_only; /* see cli.h */
 
-/* the option tables of the commands on them (cli/opt.h), one per subcommand */
+/* the option tables of the commands on them (opt/opt.h), one per subcommand */
 static const qtool_opt_cmd *const sh_opts[] = {&qcli_opts_sh_eval, &qcli_opts_sh_plot, &qcli_opts_sh_project, NULL};
 static const qtool_opt_cmd *const gen_opts[] = {&qcli_opts_gen, NULL};
 static const qtool_opt_cmd *const info_opts[] = {&qcli_opts_info, NULL};
@@ -35,7 +35,8 @@ static const qtool_opt_cmd *const render_opts[] = {&qcli_opts_render, NULL};
 static const qtool_opt_cmd *const bake_opts[] = {&qcli_opts_bake, NULL};
 static const qtool_opt_cmd *const demo_opts[] = {&qcli_opts_demo, NULL};
 static const qtool_opt_cmd *const luminaire_opts[] = {&qcli_opts_luminaire_capture, &qcli_opts_luminaire_info,
-                                                     &qcli_opts_luminaire_render, &qcli_opts_luminaire_study, NULL};
+                                                     &qcli_opts_luminaire_render, &qcli_opts_luminaire_study,
+                                                     &qcli_opts_luminaire_passes, &qcli_opts_luminaire_picture, NULL};
 
 /* which commands are on them: `qibl help CMD` is made from these, not from the command's usage */
 static const struct {
@@ -140,7 +141,7 @@ static const qcli_cmd commands[] = {
      qcli_cmd_probe},
     {"ies", "an IES LM-63 photometric file: header facts, candela range, integrated lumens, polar curves",
      NULL, qcli_cmd_ies},
-    {"luminaire", "near-field light sources: capture, info, render as textured spotlights, study", NULL, qcli_cmd_luminaire},
+    {"luminaire", "near-field light sources: capture, info, render as textured spotlights, study, passes, picture", NULL, qcli_cmd_luminaire},
     {"study", "the light-probe approximation study: every method, error against N and time",
      NULL, qcli_cmd_study},
 };

@@ -1,6 +1,6 @@
 /*
  * cli/scene_opts.h - the scene, panorama and camera options render, bake and demo share, as
- * entries of their option tables (cli/opt.h): QCLI_SCENE_OPTS(size_def) and QCLI_CAMERA_OPTS
+ * entries of their option tables (opt/opt.h): QCLI_SCENE_OPTS(size_def) and QCLI_CAMERA_OPTS
  * splice them into a table; the command's options struct starts with a qcli_scene_cli (the
  * callbacks find it there), and qcli_scene_from turns it into the library's qtool_scene_opts.
  */

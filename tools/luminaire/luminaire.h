@@ -227,6 +227,10 @@ size_t qtool_luminaire_span_ws_size(uint32_t n);
 void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *base, const int32_t *p, uint32_t n,
                                 int64_t *acc, int64_t *ws);
 
+/* floor(sqrt(x)) for x <= 2^52, exactly qibl_isqrt_u64's result (a double estimate corrected in
+ * integers): the span kernel's square roots. */
+uint64_t qtool_luminaire_isqrt(uint64_t x);
+
 /* acc (Q8.24) to Q16.16: rounded to nearest (ties away from zero), saturated to int32. */
 int32_t qtool_luminaire_q16(int64_t acc);
 
@@ -239,6 +243,71 @@ int32_t qtool_luminaire_q16(int64_t acc);
 int qtool_luminaire_relight(const qtool_luminaire_spots *s, const qibl_shmaps_t *mp, const qibl_pmap_t *pm,
                             const qibl_ylut_t *lut, uint32_t exposure, int srgb, uint8_t *rgb8, float *lin, double *ms,
                             qibl_status_t *status);
+
+/* ---- passes and sRGBE accumulation (passes.c) ----------------------------------------------- */
+
+/* Spotlight j's pass alone: qtool_luminaire_spots_span for spotlight j only (its terms, Q8.24,
+ * added to acc; same ws). The passes' terms sum, in any order, to the one-call sum exactly. */
+void qtool_luminaire_spot_pass(const qtool_luminaire_spots *s, uint32_t j, const int32_t *base, const int32_t *p,
+                               uint32_t n, int64_t *acc, int64_t *ws);
+
+/* An 8-bit sRGBE target (qibl/srgbe.h, 4 bytes per pixel) of n pixels: clear writes the zero code. */
+void qtool_luminaire_srgbe_clear(uint8_t *codes, uint32_t n);
+/* The fraction bits (<= 24) at which every partial sum of terms whose magnitudes sum to at most
+ * maxabs (Q8.24) stays below 2^30: the target's working format, so it never saturates. */
+int qtool_luminaire_srgbe_frac(uint64_t maxabs);
+/* One pass added to the target as the paper's GPU adds it, in integers: each pixel's code decoded
+ * (qibl_srgbe_decode_s32 at frac_bits), the pass's term (3 per pixel, Q8.24, rounded half away from
+ * zero to frac_bits) added, re-encoded (qibl_srgbe_encode_s32). Per pass and channel the value moves
+ * from the exact sum by at most 2^e / 510 (e the new code's exponent: at most 4/510 of the pixel's
+ * largest channel) plus one LSB of frac_bits (the decode's and the term's roundings).
+ * QIBL_OK; QIBL_E_RANGE (frac_bits outside -64..24, a term beyond 2^62, or a sum at or beyond 2^31
+ * at frac_bits), or QIBL_E_SRGBE_DECODE_SAT (a code beyond int32 at frac_bits): then nothing is
+ * written (every pixel is checked first). */
+qibl_status_t qtool_luminaire_srgbe_add(uint8_t *codes, const int64_t *term, uint32_t n, int frac_bits);
+/* The same with two targets: hi as above, lo (signed sRGBE: the format's sign is what makes this
+ * work) holding what hi's encoding rounded away; each pass adds hi + lo + term, encodes hi, and lo
+ * gets the remainder. The sum is decode(hi) + decode(lo); per pass and channel it moves from the
+ * exact sum by at most 2^e' / 510 (e' lo's new exponent, lo's largest channel at most half hi's
+ * step: about (4/510)^2 / 2 of hi's largest channel) plus 3/2 LSB of frac_bits. Statuses as above. */
+qibl_status_t qtool_luminaire_srgbe_add2(uint8_t *hi, uint8_t *lo, const int64_t *term, uint32_t n, int frac_bits);
+
+/* A synthetic source of grid x grid supports, every one lit (a smooth, tinted lobe each): grid^2
+ * passes exactly, the same total light for any grid. 0, or -1 (no memory); out is the caller's. */
+int qtool_luminaire_synthetic(uint32_t grid, qtool_luminaire *out);
+
+/* A ground plane size x size at height hgt below the source (S's centre above its middle), shaded
+ * as the study's, lit pass by pass; the per-pass terms, and the final frame four ways through
+ * platform/soft (sRGB, exposure putting the exact sum's peak at 1.0): the exact integer sum (the
+ * core's one-call sum), a binary32 accumulation (one rounding per pass), the sRGBE target and the
+ * two-target one. */
+typedef struct qtool_luminaire_passes {
+    uint32_t passes, size;
+    int frac_bits;                      /* the sRGBE target's working format */
+    int64_t *terms;                     /* passes size^2 3, Q8.24 (malloc'd) */
+    uint8_t *shown;                     /* four RGBA8 images stacked: core, float, sRGBE, two sRGBE
+                                         * (qtool_luminaire_srgbe_add2) (malloc'd) */
+    int srgbe_vs_float, srgbe_vs_core, float_vs_core; /* max |difference| of the 8-bit values */
+    int srgbe2_vs_float, srgbe2_vs_core;
+    double max_rel, max_rel2;           /* max |sRGBE - exact| / the exact sum's peak, linear */
+    uint32_t exposure;                  /* the display's (UQ16.16) */
+    int gles;                           /* 1 once qtool_luminaire_passes_gles has run: */
+    int gles_vs_core, gles_vs_srgbe2;   /* its frame against the core's and the two-target one */
+} qtool_luminaire_passes;
+int qtool_luminaire_passes_run(const qtool_luminaire *l, uint32_t size, double hgt, qtool_luminaire_passes *out);
+void qtool_luminaire_passes_free(qtool_luminaire_passes *r);
+/* The same passes on a GLES2 GPU (passes_gles.c; the caller's context current, e.g. tools/gles/
+ * headless.h): accumulated in RGBA8 sRGBE pairs (the sum's code and the code of what it leaves
+ * out, as platform/gles2 accumulates), ping-ponged, two draws per pass (GLES2 has one colour
+ * attachment), each pass's term uploaded as an sRGBE pair made by the core's codec; read back,
+ * decoded by the core's codec, shown as passes_run's images; sets r->gles and the two differences.
+ * 0, or -1 with a one-line reason in err (no GL, a shader or framebuffer refused, a GL error). */
+int qtool_luminaire_passes_gles(qtool_luminaire_passes *r, char *err, size_t errlen);
+/* `qibl luminaire passes`: synthetic sources of 16, 64 and 256 spotlights at one lamp size above
+ * a size x size ground; a table and RESULT lines (8-bit units). gpu (NULL: none) is run on each
+ * (qtool_luminaire_passes_gles: programs that link GL pass it). 0, or -1 with a reason in err. */
+typedef int (*qtool_luminaire_gpu_fn)(qtool_luminaire_passes *r, char *err, size_t errlen);
+int qtool_luminaire_passes_report(uint32_t size, qtool_luminaire_gpu_fn gpu, FILE *f, char *err, size_t errlen);
 
 /* ---- the study (study.c) ---------------------------------------------------------------------- */
 
@@ -255,5 +324,11 @@ typedef struct qtool_luminaire_study_opts {
  * truth's), and times the near-field kernel on a 1024 x 256 frame of the built-in courtyard
  * (tools/render) with the lamp in it. Prints a table and RESULT lines to f. 0, or -1. */
 int qtool_luminaire_study(const qtool_luminaire_study_opts *o, FILE *f);
+
+/* The README's picture: the built-in luminaire (captured with o's grid and res) lamps lamp sizes
+ * above the study's ground plane, side by side: its near field, the ray-traced truth, its far
+ * field; one exposure (the truth's peak at 1.0), sRGB. *rgb (malloc'd, w h 3). 0, or -1. */
+int qtool_luminaire_picture(const qtool_luminaire_study_opts *o, double lamps, uint8_t **rgb, uint32_t *w,
+                            uint32_t *h);
 
 #endif

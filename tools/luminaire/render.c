@@ -15,7 +15,6 @@
 #include <time.h>
 
 #include "luminaire/luminaire.h"
-#include "qibl/fixed.h" /* qibl_isqrt_u64 */
 #include "qibl/soft.h"
 
 /* The unit direction of octahedral texel position (a, b) (texel units, centres at integers) of an
@@ -264,10 +263,14 @@ int qtool_luminaire_spots_make(const qtool_luminaire *l, const int32_t pos[3], u
 
 static unsigned bitlen64(uint64_t v)
 {
+#if defined(__GNUC__) || defined(__clang__)
+    return v ? 64u - (unsigned)__builtin_clzll(v) : 0u; /* one instruction: called per pass, pixel, channel */
+#else
     unsigned b = 0;
     while (v)
         ++b, v >>= 1;
     return b;
+#endif
 }
 
 /* |d|^2 in (1/256 unit)^2 of a Q16.16 difference (each |component| <= 2^32: <= 3 2^48) */
@@ -287,10 +290,23 @@ static uint64_t ratio_q16(uint64_t a, uint64_t b)
     return r > ((uint64_t)1 << 32) ? (uint64_t)1 << 32 : r;
 }
 
+uint64_t qtool_luminaire_isqrt(uint64_t x)
+{
+    /* x <= 2^52 is exact in a double and its sqrt correctly rounded, so the estimate is within 1 of
+     * floor(sqrt(x)); the integer steps make it exact (it was the kernel's hottest call as the core's
+     * digit-by-digit qibl_isqrt_u64, 32 steps) */
+    uint64_t r = (uint64_t)sqrt((double)x);
+    while (r * r > x)
+        --r;
+    while ((r + 1) * (r + 1) <= x)
+        ++r;
+    return r;
+}
+
 /* r^(3/2) in Q16 for r in Q16 (<= 2^32), saturated at 2^31: (|a| / |b|)^3 from the squares' ratio */
 static uint64_t pow15_q16(uint64_t r)
 {
-    uint64_t sq = qibl_isqrt_u64(r << 16, NULL); /* Q16, <= 2^24 */
+    uint64_t sq = qtool_luminaire_isqrt(r << 16); /* Q16, <= 2^24 (floor, as qibl_isqrt_u64) */
     uint64_t v = (r * sq + 32768u) >> 16;        /* <= 2^56 >> 16 */
     return v > ((uint64_t)1 << 31) ? (uint64_t)1 << 31 : v;
 }

@@ -318,6 +318,60 @@ out:
     return rc;
 }
 
+/* linear to 8-bit sRGB (IEC 61966-2-1), clamped */
+static uint8_t srgb8(double v)
+{
+    v = v < 0 ? 0 : v > 1 ? 1 : v;
+    v = v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1 / 2.4) - 0.055;
+    return (uint8_t)lround(255 * v);
+}
+
+int qtool_luminaire_picture(const qtool_luminaire_study_opts *o, double lamps, uint8_t **rgb, uint32_t *w,
+                            uint32_t *h)
+{
+    const int threads = o->threads > 0 ? o->threads : 1;
+    const uint32_t size = o->size ? o->size : 96, gap = 4;
+    qtool_luminaire_model *m = qtool_luminaire_builtin();
+    if (!m)
+        return -1;
+    qtool_luminaire l;
+    qtool_luminaire_capture_opts co = {.grid = o->grid ? o->grid : 8, .res = o->res ? o->res : 32, .threads = threads};
+    if (qtool_luminaire_capture(m, &co, &l) != 0) {
+        qtool_luminaire_model_free(m);
+        return -1;
+    }
+    const size_t nv = (size_t)3 * size * size;
+    double *img[3] = {malloc(sizeof(double) * nv), malloc(sizeof(double) * nv), malloc(sizeof(double) * nv)};
+    const uint32_t W = 3 * size + 2 * gap;
+    uint8_t *out = calloc((size_t)W * size * 3, 1);
+    int rc = img[0] && img[1] && img[2] && out ? 0 : -1;
+    const double hgt = lamps * QTOOL_LUMINAIRE_SIZE;
+    truth_ctx c = {.m = m, .size = size, .ns = o->truth_ns ? o->truth_ns : 24, .hgt = hgt,
+                   .half = 1.8 * hgt + QTOOL_LUMINAIRE_SIZE / 2, .rgb = img[1]};
+    /* near field | truth | far field, one exposure: the truth's peak at 1.0 */
+    if (rc == 0 && (qtool_rt_parallel(threads, size, truth_row, &c, NULL) != 0 || render_ground(&l, &c, 0, img[0]) != 0 ||
+                    render_ground(&l, &c, 1, img[2]) != 0))
+        rc = -1;
+    double peak = 0;
+    for (size_t i = 0; rc == 0 && i < nv; ++i)
+        peak = img[1][i] > peak ? img[1][i] : peak;
+    for (int k = 0; rc == 0 && k < 3; ++k)
+        for (uint32_t y = 0; y < size; ++y)
+            for (uint32_t x = 0; x < size; ++x)
+                for (int ch = 0; ch < 3; ++ch)
+                    out[3 * ((size_t)y * W + (uint32_t)k * (size + gap) + x) + (size_t)ch] =
+                        srgb8(peak > 0 ? img[k][3 * ((size_t)y * size + x) + (size_t)ch] / peak : 0);
+    free(img[0]), free(img[1]), free(img[2]);
+    qtool_luminaire_free(&l);
+    qtool_luminaire_model_free(m);
+    if (rc != 0) {
+        free(out);
+        return -1;
+    }
+    *rgb = out, *w = W, *h = size;
+    return 0;
+}
+
 int qtool_luminaire_study(const qtool_luminaire_study_opts *o, FILE *f)
 {
     const int threads = o->threads > 0 ? o->threads : 1;

@@ -113,6 +113,9 @@ want 0 - luminaire info "$w/s.qnf"
 want 0 - luminaire render "$w/g.qibl" "$w/s.qnf" --at 0.5 0 0.3 --out "$w/lum.png"
 want 1 "$w/x.png" luminaire render "$w/g.qibl" "$w/bad.ies" --at 0.5 0 0.3 --out "$w/x.png"
 want 2 - luminaire render "$w/g.qibl" "$w/s.qnf" --out "$w/x.png"
+want 0 - luminaire passes --size 8
+want 0 - luminaire picture --out "$w/lp.png" --size 8
+want 2 "$w/x.png" luminaire picture --out "$w/x.png" --height 0
 ln -s g.qibl "$w/link.png"
 want 1 - relight "$w/g.qibl" --sun 0 0 1 --png "$w/link.png"
 cmp -s "$w/g.qibl" "$w/link.png" || { fails=$((fails + 1)); echo "cli-smoke: FAIL: wrote through a link" >&2; }
