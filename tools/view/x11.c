@@ -152,6 +152,58 @@ int qtool_view_have_window(void)
     return 1;
 }
 
+/* what one X event does to the view and to the loop's state */
+typedef struct x_state {
+    int dirty, dragging, orbiting, lx, ly, moved, running;
+} x_state;
+
+static void x_event(qtool_view *v, XEvent *e, Atom wm_delete, uint32_t w, uint32_t h, x_state *st)
+{
+    if (e->type == Expose)
+        st->dirty = 1;
+    else if (e->type == ClientMessage && (Atom)e->xclient.data.l[0] == wm_delete)
+        st->running = 0;
+    else if (e->type == KeyPress) {
+        KeySym ks = XLookupKeysym(&e->xkey, (e->xkey.state & ShiftMask) ? 1 : 0);
+        if (ks == XK_Escape || ks == XK_q)
+            st->running = 0;
+        else if (ks == XK_plus || ks == XK_KP_Add)
+            st->dirty |= qtool_view_key(v, '+'), st->moved = 1;
+        else if (ks == XK_minus || ks == XK_KP_Subtract)
+            st->dirty |= qtool_view_key(v, '-'), st->moved = 1;
+        else if (ks < 256 && qtool_view_key(v, (int)ks))
+            st->dirty = 1, st->moved = 1;
+    } else if (e->type == ButtonPress && e->xbutton.button == Button3 && v->mesh && !st->dragging) {
+        st->orbiting = 1, st->lx = e->xbutton.x, st->ly = e->xbutton.y; /* mesh mode: the camera orbits */
+    } else if (e->type == MotionNotify && st->orbiting) {
+        qtool_view_orbit(v, e->xmotion.x - st->lx, e->xmotion.y - st->ly, w, h), st->dirty = 1;
+        st->lx = e->xmotion.x, st->ly = e->xmotion.y;
+    } else if (e->type == ButtonRelease && e->xbutton.button == Button3 && st->orbiting) {
+        qtool_view_orbit(v, e->xbutton.x - st->lx, e->xbutton.y - st->ly, w, h);
+        st->orbiting = 0, st->dirty = 1, st->moved = 1;
+    } else if (e->type == ButtonPress && e->xbutton.button == Button1 && !st->orbiting) {
+        st->dragging = 1, st->lx = e->xbutton.x, st->ly = e->xbutton.y;
+        if (v->scheme == QTOOL_VIEW_LAMP) /* the lamp: picked under the pointer */
+            st->dirty |= qtool_view_pick(v, st->lx, st->ly);
+    } else if (e->type == MotionNotify && st->dragging) {
+        if (v->scheme == QTOOL_VIEW_LAMP)
+            st->dirty |= qtool_view_pick(v, e->xmotion.x, e->xmotion.y);
+        else if (v->scheme == QTOOL_VIEW_PATH)
+            qtool_view_scrub(v, e->xmotion.x - st->lx, w), st->dirty = 1;
+        else
+            qtool_view_drag(v, e->xmotion.x - st->lx, e->xmotion.y - st->ly, w, h), st->dirty = 1;
+        st->lx = e->xmotion.x, st->ly = e->xmotion.y;
+    } else if (e->type == ButtonRelease && e->xbutton.button == Button1 && st->dragging) {
+        if (v->scheme == QTOOL_VIEW_LAMP)
+            qtool_view_pick(v, e->xbutton.x, e->xbutton.y);
+        else if (v->scheme == QTOOL_VIEW_PATH)
+            qtool_view_scrub(v, e->xbutton.x - st->lx, w);
+        else
+            qtool_view_drag(v, e->xbutton.x - st->lx, e->xbutton.y - st->ly, w, h);
+        st->dragging = 0, st->dirty = 1, st->moved = 1;
+    }
+}
+
 static int x_run(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void *ws, uint8_t *rec, char *err,
                  size_t n)
 {
@@ -210,7 +262,7 @@ static int x_run(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void
         }
     }
     {
-        int dirty = 1, dragging = 0, orbiting = 0, lx = 0, ly = 0, moved = 1, running = 1; /* the first frame is logged */
+        x_state st = {.dirty = 1, .moved = 1, .running = 1}; /* the first frame is logged */
         double fps = 0, t_last = view_now(), t0 = t_last;
         long frames = 0;
         for (;;) { /* wait for the window to be mapped */
@@ -219,63 +271,21 @@ static int x_run(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void
             if (e.type == MapNotify)
                 break;
         }
-        while (running) {
-            while (XPending(dpy) || (!dirty && !o->bench_frames)) {
+        while (st.running) {
+            while (XPending(dpy) || (!st.dirty && !o->bench_frames)) {
                 XEvent e;
                 XNextEvent(dpy, &e);
-                if (e.type == Expose)
-                    dirty = 1;
-                else if (e.type == ClientMessage && (Atom)e.xclient.data.l[0] == wm_delete)
-                    running = 0;
-                else if (e.type == KeyPress) {
-                    KeySym ks = XLookupKeysym(&e.xkey, (e.xkey.state & ShiftMask) ? 1 : 0);
-                    if (ks == XK_Escape || ks == XK_q)
-                        running = 0;
-                    else if (ks == XK_plus || ks == XK_KP_Add)
-                        dirty |= qtool_view_key(v, '+'), moved = 1;
-                    else if (ks == XK_minus || ks == XK_KP_Subtract)
-                        dirty |= qtool_view_key(v, '-'), moved = 1;
-                    else if (ks < 256 && qtool_view_key(v, (int)ks))
-                        dirty = 1, moved = 1;
-                } else if (e.type == ButtonPress && e.xbutton.button == Button3 && v->mesh && !dragging) {
-                    orbiting = 1, lx = e.xbutton.x, ly = e.xbutton.y; /* mesh mode: the camera orbits */
-                } else if (e.type == MotionNotify && orbiting) {
-                    qtool_view_orbit(v, e.xmotion.x - lx, e.xmotion.y - ly, w, h), dirty = 1;
-                    lx = e.xmotion.x, ly = e.xmotion.y;
-                } else if (e.type == ButtonRelease && e.xbutton.button == Button3 && orbiting) {
-                    qtool_view_orbit(v, e.xbutton.x - lx, e.xbutton.y - ly, w, h);
-                    orbiting = 0, dirty = 1, moved = 1;
-                } else if (e.type == ButtonPress && e.xbutton.button == Button1 && !orbiting) {
-                    dragging = 1, lx = e.xbutton.x, ly = e.xbutton.y;
-                    if (v->scheme == QTOOL_VIEW_LAMP) /* the lamp: picked under the pointer */
-                        dirty |= qtool_view_pick(v, lx, ly);
-                } else if (e.type == MotionNotify && dragging) {
-                    if (v->scheme == QTOOL_VIEW_LAMP)
-                        dirty |= qtool_view_pick(v, e.xmotion.x, e.xmotion.y);
-                    else if (v->scheme == QTOOL_VIEW_PATH)
-                        qtool_view_scrub(v, e.xmotion.x - lx, w), dirty = 1;
-                    else
-                        qtool_view_drag(v, e.xmotion.x - lx, e.xmotion.y - ly, w, h), dirty = 1;
-                    lx = e.xmotion.x, ly = e.xmotion.y;
-                } else if (e.type == ButtonRelease && e.xbutton.button == Button1 && dragging) {
-                    if (v->scheme == QTOOL_VIEW_LAMP)
-                        qtool_view_pick(v, e.xbutton.x, e.xbutton.y);
-                    else if (v->scheme == QTOOL_VIEW_PATH)
-                        qtool_view_scrub(v, e.xbutton.x - lx, w);
-                    else
-                        qtool_view_drag(v, e.xbutton.x - lx, e.xbutton.y - ly, w, h);
-                    dragging = 0, dirty = 1, moved = 1;
-                }
-                if (!running)
+                x_event(v, &e, wm_delete, w, h, &st);
+                if (!st.running)
                     break;
             }
-            if (!running)
+            if (!st.running)
                 break;
             if (o->bench_frames) {
                 qtool_view_drag(v, drag_dx(o), (frames / 64) % 2 ? 1 : -1, w, h);
-                dirty = 1;
+                st.dirty = 1;
             }
-            if (dirty) {
+            if (st.dirty) {
                 if (draw(v, o, buf, ws, fps, direct, err, n) != 0) {
                     rc = -1;
                     break;
@@ -290,9 +300,9 @@ static int x_run(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void
                 double t = view_now();
                 ++frames;
                 fps = o->bench_frames ? frames / (t - t0) : 1.0 / (t - t_last > 1e-6 ? t - t_last : 1e-6);
-                t_last = t, dirty = 0;
-                if (moved)
-                    log_state(v, o), moved = 0;
+                t_last = t, st.dirty = 0;
+                if (st.moved)
+                    log_state(v, o), st.moved = 0;
                 if (o->bench_frames && frames >= o->bench_frames) {
                     if (o->bench_fps)
                         *o->bench_fps = fps;
