@@ -416,16 +416,26 @@ static int cmd_passes(int argc, char **argv)
     if (qcli_parse_only)
         return 0;
     char err[256] = "";
+#if QIBL_HAVE_GLES2
     qt_gles_ctx gl;
     memset(&gl, 0, sizeof gl);
     if (c.gles && qt_gles_open(&gl, 1, 1, err, sizeof err) != 0) {
         fprintf(stderr, "qibl: luminaire passes: --gles: %s\n", err);
         return 1;
     }
+#else
+    if (c.gles) { /* the headless context is tools/gles's, built only where the EGL/GLES2 headers are */
+        fprintf(stderr, "qibl: luminaire passes: --gles: this qibl was built without the EGL/GLES2 headers "
+                        "(Debian: apt-get install libegl-dev libgles-dev)\n");
+        return 1;
+    }
+#endif
     int rc = qtool_luminaire_passes_report((uint32_t)c.size, c.gles ? qtool_luminaire_passes_gles : NULL, stdout, err,
                                            sizeof err);
+#if QIBL_HAVE_GLES2
     if (c.gles)
         qt_gles_close(&gl);
+#endif
     if (rc != 0) {
         fprintf(stderr, "qibl: luminaire passes: %s\n", err);
         return 1;
