@@ -1239,22 +1239,52 @@ static void direction(const qibl_lightprobe_t *lp, rect r, uint64_t total, qibl_
 }
 
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
-/* The RGBE colour sums of one row piece, four pixels at a time: x_c = (m_c sig 2^16) >> (r - E),
- * as the scalar loop (each term below 2^56, sums mod 2^64: the same bits in any order). Returns the
- * pixels done (a multiple of 4). */
+/* Eight pixels' colour terms added to s0..s2: (m_c sig 2^16) >> k written as (m_c sig) >> (k - 16)
+ * when shl16 is 0 (the caller has k >= 16 for every lit pixel of the eight: the same floor without
+ * the left shift), else as the scalar loop has it. k: per-pixel counts in 32-bit lanes, all ones
+ * where E = 0 (black: vpsrlvq gives 0 for counts >= 64). vpmuludq reads the low half of each
+ * 64-bit lane, so the words are split into even and odd pixels. */
+#define RGB8_TERM(m, k, shl16)                                                                                       \
+    (shl16 ? _mm256_srlv_epi64(_mm256_slli_epi64(_mm256_mul_epu32(m, vsig), 16), k)                                  \
+           : _mm256_srlv_epi64(_mm256_mul_epu32(m, vsig), k))
+#define RGB8(px, k, shl16)                                                                                           \
+    do {                                                                                                             \
+        const __m256i ke_ = _mm256_and_si256(k, lo32), ko_ = _mm256_srli_epi64(k, 32);                              \
+        const __m256i po_ = _mm256_srli_epi64(px, 32);                                                               \
+        s0 = _mm256_add_epi64(s0, _mm256_add_epi64(RGB8_TERM(_mm256_and_si256(px, ff), ke_, shl16),                  \
+                                                   RGB8_TERM(_mm256_and_si256(po_, ff), ko_, shl16)));               \
+        s1 = _mm256_add_epi64(s1, _mm256_add_epi64(RGB8_TERM(_mm256_and_si256(_mm256_srli_epi32(px, 8), ff), ke_,   \
+                                                             shl16),                                                 \
+                                                   RGB8_TERM(_mm256_and_si256(_mm256_srli_epi32(po_, 8), ff), ko_,  \
+                                                             shl16)));                                               \
+        s2 = _mm256_add_epi64(s2, _mm256_add_epi64(RGB8_TERM(_mm256_and_si256(_mm256_srli_epi32(px, 16), ff), ke_,  \
+                                                             shl16),                                                 \
+                                                   RGB8_TERM(_mm256_and_si256(_mm256_srli_epi32(po_, 16), ff), ko_, \
+                                                             shl16)));                                               \
+    } while (0)
+
+/* The RGBE colour sums of one row piece, eight pixels at a time: x_c = (m_c sig 2^16) >> (r - E), as
+ * the scalar loop (each term below 2^56, sums mod 2^64: the same bits in any order). Most blocks
+ * have r - E >= 16 for every lit pixel and skip the left shift (RGB8); a block with a pixel within
+ * 16 of r takes the scalar loop's form. Returns the pixels done (a multiple of 8). */
 static uint32_t rgb_row_avx2(const uint8_t *q, uint32_t n, uint32_t sig, uint32_t r, uint64_t a[3])
 {
-    const __m256i vsig = _mm256_set1_epi64x((long long)sig), vr = _mm256_set1_epi64x((long long)r);
-    const __m256i ff = _mm256_set1_epi64x(0xFF);
-    __m256i s0 = _mm256_setzero_si256(), s1 = s0, s2 = s0;
+    const __m256i vsig = _mm256_set1_epi64x((long long)sig), vr = _mm256_set1_epi32((int)r);
+    const __m256i ff = _mm256_set1_epi32(0xFF), lo32 = _mm256_set1_epi64x(0xFFFFFFFFll);
+    const __m256i c16 = _mm256_set1_epi32(16), zero = _mm256_setzero_si256();
+    __m256i s0 = zero, s1 = zero, s2 = zero;
     uint32_t u = 0u;
-    for (; u + 4u <= n; u += 4u, q += 16) {
-        const __m256i px = rgbe4_load(q);
-        const __m256i m0 = _mm256_and_si256(px, ff), m1 = _mm256_and_si256(_mm256_srli_epi64(px, 8), ff),
-                      m2 = _mm256_and_si256(_mm256_srli_epi64(px, 16), ff);
-        s0 = _mm256_add_epi64(s0, rgbe4_shift(_mm256_slli_epi64(_mm256_mul_epu32(m0, vsig), 16), px, vr));
-        s1 = _mm256_add_epi64(s1, rgbe4_shift(_mm256_slli_epi64(_mm256_mul_epu32(m1, vsig), 16), px, vr));
-        s2 = _mm256_add_epi64(s2, rgbe4_shift(_mm256_slli_epi64(_mm256_mul_epu32(m2, vsig), 16), px, vr));
+    for (; u + 8u <= n; u += 8u, q += 32) {
+        const __m256i px = _mm256_loadu_si256((const __m256i *)(const void *)q);
+        const __m256i e = _mm256_srli_epi32(px, 24), black = _mm256_cmpeq_epi32(e, zero);
+        const __m256i k = _mm256_sub_epi32(vr, e), k16 = _mm256_sub_epi32(k, c16); /* r - E <= 255 + r: no wrap */
+        if (_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_andnot_si256(black, k16))) == 0) {
+            const __m256i kk = _mm256_or_si256(k16, black);
+            RGB8(px, kk, 0);
+        } else {
+            const __m256i kk = _mm256_or_si256(k, black);
+            RGB8(px, kk, 1);
+        }
     }
     uint64_t t[3][4];
     _mm256_storeu_si256((__m256i *)(void *)t[0], s0);
@@ -1264,6 +1294,8 @@ static uint32_t rgb_row_avx2(const uint8_t *q, uint32_t n, uint32_t sig, uint32_
         a[c] += t[c][0] + t[c][1] + t[c][2] + t[c][3];
     return u;
 }
+#undef RGB8
+#undef RGB8_TERM
 #elif QIBL_CONFIG_SIMD == QIBL_SIMD_NEON
 /* NEON twin of rgb_row_avx2, two pixels per step: (m sig) shifted by 16 - (r - E) in one vshlq_u64
  * (m sig < 2^40: the left shift is exact, and the right one floors as the scalar (m sig 2^16) >> k) */

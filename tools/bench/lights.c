@@ -9,6 +9,12 @@
  * compiled at the tools' -O3 and so vectorised) in the same run:
  * RESULT lights.sat64_over_read.
  *
+ * Against a common median cut: thefranke's (dirtchamber; written again in C below, see fr_) on the
+ * same probe bytes, in one interleaved loop with qibl's median cut 64 and the read pass, SAT and
+ * cut stage timed apart: RESULT lights.mediancut64_over_thefranke (qibl's time / theirs, SAT
+ * included), lights.cut64_over_thefranke and lights.sat_over_thefranke; the same with suffix _2 on
+ * a second probe (the first in ../shared/fixtures/probes that is not the default).
+ *
  * SIMD against scalar (RESULT lights.simd_speedup) is twin_lights.c, in qibl-bench: the shipped
  * qibl does not link the scalar twins.
  *
@@ -147,6 +153,227 @@ static double sat64_over_read_interleaved(job *j, int reps, double *min_mc, doub
         }
     *min_rd = mn[0], *min_mc = mn[1];
     return mn[1] / mn[0];
+}
+
+/* ---- the baseline: thefranke's median cut ------------------------------------------------------ */
+
+/* Tobias Franke's median cut (github.com/thefranke/dirtchamber, src/dune/summed_area_tables.cpp and
+ * .h), written again in C from its reading, for one comparison in one process. What it follows:
+ * a float SAT of the luminance squared (0.2126 r + 0.7152 g + 0.0722 b, then v * v, as its
+ * luminance() returns), each entry built through I(x, y) with its bounds checks; regions hold their
+ * float sum; a region splits along its longer side in pixels (w > h, else h), by a linear search
+ * from the first column (row) creating the left (top) part until 2 A.sum >= sum, each step a four-read
+ * SAT sum; B starts at A's last column (row), as in its code; the recursion stops at depth n (2^n
+ * regions for n levels) or where w < 2 or h < 2; each light is the centroid from the same two linear
+ * searches, theta and phi from it, and a flux of the centroid pixel times the region's sum. Where it
+ * differs: C instead of C++ (arrays the caller allocates once instead of std::vector pushes and a
+ * resize per call, which only helps it), and the input is the probe's RGBE bytes (qibl's input)
+ * decoded to float through a 256-entry exponent table where it reads 8-bit RGBA. Its sums are floats,
+ * its directions unweighted by sin theta and its colours one pixel's: it is not what qibl computes,
+ * only the work that a common median cut does. */
+typedef struct {
+    int x, y, w, h;
+    float sum;
+} fr_region;
+
+typedef struct {
+    int w, h;
+    float *sat;     /* w x h, inclusive */
+    float exp2[256]; /* 2^(E - 136), 0 for E = 0 */
+} fr_sat;
+
+typedef struct {
+    float theta, phi, pos[2], flux[3];
+} fr_light;
+
+static float fr_I(const fr_sat *s, int x, int y)
+{
+    if (x < 0 || y < 0)
+        return 0;
+    return s->sat[(size_t)y * (size_t)s->w + (size_t)x];
+}
+
+static void fr_create_lum(fr_sat *s, const uint8_t *rgbe)
+{
+    for (int y = 0; y < s->h; ++y)
+        for (int x = 0; x < s->w; ++x) {
+            size_t i = (size_t)y * (size_t)s->w + (size_t)x;
+            const float f = s->exp2[rgbe[4 * i + 3]];
+            const float r = rgbe[4 * i] * f, g = rgbe[4 * i + 1] * f, b = rgbe[4 * i + 2] * f;
+            float v = (float)(0.2126 * r + 0.7152 * g + 0.0722 * b);
+            s->sat[i] = v * v + fr_I(s, x - 1, y) + fr_I(s, x, y - 1) - fr_I(s, x - 1, y - 1);
+        }
+}
+
+static float fr_sum(const fr_sat *s, int ax, int ay, int bx, int by, int cx, int cy, int dx, int dy)
+{
+    return fr_I(s, cx, cy) + fr_I(s, ax, ay) - fr_I(s, bx, by) - fr_I(s, dx, dy);
+}
+
+static void fr_create(fr_region *r, const fr_sat *s, int x, int y, int w, int h, float init_sum)
+{
+    r->x = x, r->y = y, r->w = w, r->h = h, r->sum = init_sum;
+    if (r->sum < 0)
+        r->sum = fr_sum(s, x, y, x + (w - 1), y, x + (w - 1), y + (h - 1), x, y + (h - 1));
+}
+
+static void fr_split_w(const fr_region *r, const fr_sat *s, fr_region *a)
+{
+    *a = *r; /* a region 0 wide (B can be) leaves A unset in its code: here it is the region */
+    for (int w = 1; w <= r->w; ++w) {
+        fr_create(a, s, r->x, r->y, w, r->h, -1);
+        if (a->sum * 2.f >= r->sum)
+            break;
+    }
+}
+
+static void fr_split_h(const fr_region *r, const fr_sat *s, fr_region *a)
+{
+    *a = *r; /* a region 0 wide (B can be) leaves A unset in its code: here it is the region */
+    for (int h = 1; h <= r->h; ++h) {
+        fr_create(a, s, r->x, r->y, r->w, h, -1);
+        if (a->sum * 2.f >= r->sum)
+            break;
+    }
+}
+
+static void fr_split(const fr_region *r, const fr_sat *s, int n, fr_region *out, int *count)
+{
+    if (r->w < 2 || r->h < 2 || n == 0) {
+        out[(*count)++] = *r;
+        return;
+    }
+    fr_region a, b;
+    if (r->w > r->h) {
+        fr_split_w(r, s, &a);
+        fr_create(&b, s, r->x + (a.w - 1), r->y, r->w - a.w, r->h, r->sum - a.sum);
+    } else {
+        fr_split_h(r, s, &a);
+        fr_create(&b, s, r->x, r->y + (a.h - 1), r->w, r->h - a.h, r->sum - a.sum);
+    }
+    fr_split(&a, s, n - 1, out, count);
+    fr_split(&b, s, n - 1, out, count);
+}
+
+/* its cut stage: the regions (depth levels), then one light per region; returns the count */
+static int fr_lights(const fr_sat *s, const uint8_t *rgbe, int levels, fr_region *reg, fr_light *L)
+{
+    int nr = 0, nl = 0;
+    fr_region all;
+    fr_create(&all, s, 0, 0, s->w, s->h, -1);
+    fr_split(&all, s, levels, reg, &nr);
+    for (int i = 0; i < nr; ++i) {
+        fr_region a;
+        fr_light l;
+        fr_split_w(&reg[i], s, &a);
+        l.pos[0] = (float)(a.x + (a.w - 1));
+        fr_split_h(&reg[i], s, &a);
+        l.pos[1] = (float)(a.y + (a.h - 1));
+        l.theta = (float)(2.0 * acos(sqrt(1.0 - l.pos[1])));
+        l.phi = (float)(l.pos[0] * 3.14159265358979);
+        if (l.pos[1] < 0 || l.pos[0] < 0)
+            continue;
+        size_t ci = ((size_t)l.pos[1] * (size_t)s->w + (size_t)l.pos[0]) * 4;
+        const float f = s->exp2[rgbe[ci + 3]];
+        for (int c = 0; c < 3; ++c)
+            l.flux[c] = rgbe[ci + (size_t)c] * f * reg[i].sum;
+        L[nl++] = l;
+    }
+    return nl;
+}
+
+/* qibl's median cut 64 (SAT included) against fr_ (same probe bytes) and the plain read, in one
+ * interleaved loop: each rep runs the three in a rotating order, each twice in a row with the
+ * second run timed (its own warm caches), in thread CPU time. Prints minima and paired medians;
+ * RESULT lines (suffix sfx) from the minima. 0, or 1 after a message. */
+static int versus_thefranke(int quick, const char *name, const uint8_t *px, int w, int h, const char *sfx)
+{
+    enum { REPS = 31 };
+    const int reps = quick ? 5 : 21;
+    const size_t bytes = 4 * (size_t)w * (size_t)h;
+    const size_t wsz = qibl_lightprobe_workspace_size((uint32_t)w, (uint32_t)h, QIBL_LIGHTPROBE_MEDIANCUT);
+    void *ws = malloc(wsz);
+    qibl_lightprobe_light_t *L = malloc(sizeof *L * 64);
+    fr_sat s = {w, h, malloc(sizeof(float) * (size_t)w * (size_t)h), {0}};
+    fr_region *reg = malloc(sizeof *reg * 64);
+    fr_light *fl = malloc(sizeof *fl * 64);
+    int rc = 0;
+    if (!ws || !L || !s.sat || !reg || !fl) {
+        rc = 1;
+        fprintf(stderr, "qibl: bench lights: out of memory\n");
+        goto out;
+    }
+    memset(ws, 0, wsz);
+    memset(s.sat, 0, sizeof(float) * (size_t)w * (size_t)h);
+    for (int e = 1; e < 256; ++e)
+        s.exp2[e] = (float)ldexp(1.0, e - 136);
+    qibl_lightprobe_image_t img;
+    memset(&img, 0, sizeof img);
+    img.pixels = px, img.width = (uint32_t)w, img.height = (uint32_t)h;
+    const qibl_lightprobe_opts_t mc = {QIBL_LIGHTPROBE_MEDIANCUT, 0, 0};
+    /* [kind][rep]: kind 0 read, 1 qibl total, 2 theirs total, 3 qibl SAT, 4 qibl cut, 5 theirs SAT, 6 theirs cut */
+    double t[7][REPS];
+    uint32_t nq = 0;
+    int nf = 0;
+    for (int r = 0; r < reps; ++r)
+        for (int i = 0; i < 6; ++i) {
+            const int kind = (i / 2 + r) % 3;
+            double t0 = qtool_bench_cpu_now(), t1 = t0;
+            if (kind == 0) {
+                sink = read_pass(px, bytes);
+            } else if (kind == 1) {
+                qibl_lightprobe_t lp;
+                qibl_lightprobe_result_t res;
+                qibl_status_t st = qibl_lightprobe_build(&lp, &img, QIBL_LIGHTPROBE_MEDIANCUT, ws, wsz);
+                t1 = qtool_bench_cpu_now();
+                if (st == QIBL_OK)
+                    st = qibl_lightprobe_lights(&lp, &mc, L, 64, &res);
+                if (st != QIBL_OK) {
+                    rc = 1;
+                    fprintf(stderr, "qibl: bench lights: %s\n", qibl_status_str(st));
+                    goto out;
+                }
+                nq = res.count;
+            } else {
+                fr_create_lum(&s, px);
+                t1 = qtool_bench_cpu_now();
+                nf = fr_lights(&s, px, 6, reg, fl);
+                sink += (uint64_t)nf;
+            }
+            const double t2 = qtool_bench_cpu_now();
+            if (i % 2 == 1) {
+                t[kind][r] = (t2 - t0) * 1e3;
+                if (kind > 0)
+                    t[2 * kind + 1][r] = (t1 - t0) * 1e3, t[2 * kind + 2][r] = (t2 - t1) * 1e3;
+            }
+        }
+    double mn[7], md[7];
+    for (int k = 0; k < 7; ++k) {
+        double c[REPS];
+        memcpy(c, t[k], sizeof c);
+        mn[k] = qtool_bench_min(c, reps);
+        md[k] = qtool_bench_median(c, reps);
+    }
+    const double pr_total = qtool_bench_paired_ratio(t[1], t[2], reps), pr_cut = qtool_bench_paired_ratio(t[4], t[6], reps),
+                 pr_sat = qtool_bench_paired_ratio(t[3], t[5], reps);
+    printf("\n== bench lights: qibl's median cut 64 against thefranke's (dirtchamber, float SAT, in C here): %s, "
+           "%d x %d, %d interleaved reps, thread CPU ms\n", name, w, h, reps);
+    printf("%-40s %7s %9s %9s %9s %9s %9s %9s\n", "run", "lights", "SAT min", "SAT med", "cut min", "cut med",
+           "total min", "total med");
+    printf("%-40s %7s %9s %9s %9s %9s %9.3f %9.3f\n", "plain read pass over the probe bytes", "-", "-", "-", "-", "-",
+           mn[0], md[0]);
+    printf("%-40s %7u %9.3f %9.3f %9.3f %9.3f %9.3f %9.3f\n", "qibl median cut 64 (exact, coloured)", nq, mn[3], md[3],
+           mn[4], md[4], mn[1], md[1]);
+    printf("%-40s %7d %9.3f %9.3f %9.3f %9.3f %9.3f %9.3f\n", "thefranke median cut, 6 levels", nf, mn[5], md[5],
+           mn[6], md[6], mn[2], md[2]);
+    printf("qibl / theirs: total %.3f (minima), %.3f (paired medians); SAT %.3f, %.3f; cut %.3f, %.3f\n",
+           mn[1] / mn[2], pr_total, mn[3] / mn[5], pr_sat, mn[4] / mn[6], pr_cut);
+    printf("RESULT lights.mediancut64_over_thefranke%s %.3f\n", sfx, mn[1] / mn[2]);
+    printf("RESULT lights.cut64_over_thefranke%s %.3f\n", sfx, mn[4] / mn[6]);
+    printf("RESULT lights.sat_over_thefranke%s %.3f\n", sfx, mn[3] / mn[5]);
+out:
+    free(ws), free(L), free(s.sat), free(reg), free(fl);
+    return rc;
 }
 
 /* nearest-neighbour 4x upsampling: the 4096 x 2048 case with real content */
@@ -395,6 +622,20 @@ int qtool_bench_lights(int quick)
     int rc = qtool_bench_lights_probe(&px, &w, &h, label, sizeof label);
     if (rc == 0)
         rc = speed(quick, label, px, w, h);
+    if (rc == 0)
+        rc = versus_thefranke(quick, label, px, w, h, "");
+    if (rc == 0 && np > 0) {
+        /* a second probe for the same figure: the first listed one that is not the default */
+        int pick = strcmp(names[0], PROBE_DEFAULT) == 0 && np > 1 ? 1 : 0;
+        char path[600], err[512];
+        int w2, h2;
+        uint8_t *px2;
+        snprintf(path, sizeof path, "%s/%.250s", PROBE_DIR, names[pick]);
+        if (qtool_hdr_read_rgbe(path, &w2, &h2, &px2, err, sizeof err) != 0)
+            return free(px), fprintf(stderr, "qibl: %s\n", err), 1;
+        rc = versus_thefranke(quick, path, px2, w2, h2, "_2");
+        free(px2);
+    }
     if (rc == 0) {
         uint8_t *big = upsample4(px, w, h);
         if (big) {
