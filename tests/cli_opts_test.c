@@ -156,13 +156,13 @@ static void test_values(void **state)
     assert_int_equal(access(at("g.qibl"), F_OK), -1);
     /* what a range cannot say, through qtool_opt_error (refused before any file is read) */
     one_line(run("transfer", "m.obj", "--probe", "p.hdr", "--mask", "48", NULL), "transfer", "transfer",
-             "--mask: 48 is not 16, 32 or 64", "transfer --mask 48");
+             "--mask: '48' is not 16, 32 or 64", "transfer --mask 48");
     one_line(run("transfer", "m.obj", "--probe", "p.hdr", "--lights", "3", NULL), "transfer", "transfer",
              "--lights: 3 is not a power of two", "transfer --lights 3");
     one_line(run("transfer", "m.obj", "--probe", "p.hdr", "--face", "7", NULL), "transfer", "transfer",
              "--face: 7 is not even", "transfer --face 7");
-    one_line(run("transfer", "m.obj", "--png", at("t.png"), NULL), "transfer", "transfer", "--probe PROBE.hdr is required",
-             "transfer without --probe");
+    one_line(run("transfer", "m.obj", "--png", at("t.png"), NULL), "transfer", "transfer",
+             "--probe PROBE.hdr is required", "transfer without --probe");
     one_line(run("transfer", "m.obj", "--probe", "p.hdr", "--view", "0,95", NULL), "transfer", "transfer",
              "--view: '0,95' is not AZ,EL", "transfer --view 0,95");
     /* view: each mode refuses the other's options by name, the first on the line */

@@ -767,7 +767,8 @@ static int refusal_shape(const char *e, int rc)
     const size_t n = strlen(e), tn = strlen(tail);
     if (rc != 2)
         return strncmp(e, "qibl: ", 6) == 0;
-    return strncmp(e, "qibl view: ", 11) == 0 && n >= tn && strcmp(e + n - tn, tail) == 0 && strchr(e, '\n') == e + n - 1;
+    return strncmp(e, "qibl view: ", 11) == 0 && n >= tn && strcmp(e + n - tn, tail) == 0 &&
+           strchr(e, '\n') == e + n - 1;
 }
 
 /* the command's options and limits without a window: each bad one a named one-line error, nothing written */

@@ -118,17 +118,21 @@ static int transfer_main(const qtool_transfer_opts *o, const char *png, const ex
 typedef struct transfer_cli {
     qtool_opt_list mesh;
     qtool_transfer_opts o; /* probe, the switches, the view */
-    long lights, size, mask, face, rays, coarse, ring, tween, threads, bands;
+    long lights, size, face, rays, coarse, ring, tween, threads, bands;
     int layout;            /* index = value (qtool_relight_probe_layout_names) */
+    int mask;              /* index into masks: the side 16 << mask */
     const char *png;
     exports x;
 } transfer_cli;
 
 static const transfer_cli transfer_defaults = {
-    .o = QTOOL_TRANSFER_OPTS_DEFAULT, .size = QTOOL_TRANSFER_SIZE_DEFAULT, .mask = QTOOL_TRANSFER_MASK_DEFAULT,
+    .o = QTOOL_TRANSFER_OPTS_DEFAULT, .size = QTOOL_TRANSFER_SIZE_DEFAULT,
+    .mask = QTOOL_TRANSFER_MASK_DEFAULT / 32, /* 16, 32, 64: index 0, 1, 2 */
     .face = QIBL_HEMI_FACE_DEFAULT, .rays = QTOOL_TRANSFER_RAYS_DEFAULT, .ring = QTOOL_TRANSFER_RING_DEFAULT,
     .tween = QTOOL_TRANSFER_TWEEN_DEFAULT, .threads = 0 /* the job's CPUs */, .layout = QTOOL_PROBE_LAYOUT_AUTO,
     .bands = QTOOL_TRANSFER_EXPORT_BANDS_DEFAULT};
+
+static const char *const masks[] = {"16", "32", "64", NULL};
 
 static const char *view_call(void *opts, const char *v)
 {
@@ -150,7 +154,7 @@ static const qtool_opt transfer_table[] = {
      .help = "the pictures' panels"},
     {.name = "--view", .kind = QTOOL_OPT_CALL, .call = view_call, .arg = "AZ,EL", .def = "35,20",
      .help = "the pictures' orthographic view: azimuth and elevation in degrees"},
-    {.name = "--mask", .kind = QTOOL_OPT_INT, .off = T_(mask), .lo = 16, .hi = 64, .why = "16, 32 or 64",
+    {.name = "--mask", .kind = QTOOL_OPT_ENUM, .off = T_(mask), .names = masks,
      .help = "the hemicube mask's side"},
     {.name = "--face", .kind = QTOOL_OPT_INT, .off = T_(face), .arg = "F", .lo = 2, .hi = QIBL_HEMI_MAX_FACE,
      .why = "even", .help = "the hemi LUT's cube-map face"},
@@ -173,7 +177,7 @@ static const qtool_opt transfer_table[] = {
     {.name = "--export", .kind = QTOOL_OPT_STR, .off = T_(x.qtr), .arg = "FILE.qtr",
      .help = "a static mesh's per-vertex transfer vectors (qibl_hemi_xfer_*), for an engine to shade"},
     {.name = "--export-c", .kind = QTOOL_OPT_STR, .off = T_(x.c), .arg = "FILE.h", .help = "the same as a C array"},
-    {.name = "--export-bands", .kind = QTOOL_OPT_INT, .off = T_(bands), .lo = 3, .hi = 5,
+    {.name = "--export-bands", .kind = QTOOL_OPT_INT, .off = T_(bands), .arg = "3|4|5", .lo = 3, .hi = 5,
      .why = "9, 16 or 25 coefficients", .help = "the SH bands exported"},
     {0},
 };
@@ -184,6 +188,7 @@ const qtool_opt_cmd qcli_opts_transfer = {
     .pos = {.names = "MESH [MESH...]", .min = 1, .max = QTOOL_TRANSFER_MAX_FRAMES, .off = T_(mesh)},
     .defaults = &transfer_defaults,
     .size = sizeof(transfer_cli),
+    .synopsis = "MESH [MESH...] --probe PROBE.hdr",
     .prose =
         "  Per vertex of a glTF (.gltf, .glb: the scene's meshes in world space, skinned; FILE.gltf@T: its\n"
         "  animation at T seconds, so FILE.gltf@0 FILE.gltf@0.5 ... are frames), OBJ or PLY mesh\n"
@@ -218,8 +223,6 @@ int qcli_cmd_transfer(int argc, char **argv)
     /* what a range cannot say */
     if (c.lights & (c.lights - 1))
         return qtool_opt_error(t, "--lights: %ld is not a power of two (median-cut lights of the probe)", c.lights);
-    if (c.mask & (c.mask - 1))
-        return qtool_opt_error(t, "--mask: %ld is not 16, 32 or 64", c.mask);
     if (c.face & 1)
         return qtool_opt_error(t, "--face: %ld is not even", c.face);
     if ((c.x.qtr || c.x.c) && c.mesh.n > 1)
@@ -228,7 +231,7 @@ int qcli_cmd_transfer(int argc, char **argv)
         return 0;
     qtool_transfer_opts o = c.o;
     o.files = (char *const *)c.mesh.v, o.nfiles = c.mesh.n; /* argv's strings */
-    o.layout = (qtool_probe_layout_t)c.layout, o.lights = (int)c.lights, o.size = (int)c.size, o.mask = (int)c.mask;
+    o.layout = (qtool_probe_layout_t)c.layout, o.lights = (int)c.lights, o.size = (int)c.size, o.mask = 16 << c.mask;
     o.face = (int)c.face, o.rays = (int)c.rays, o.coarse = (int)c.coarse, o.ring = (int)c.ring;
     o.tween = (int)c.tween, o.threads = c.threads ? (int)c.threads : qcli_default_threads();
     o.sheet = c.png != NULL, o.keep_transfer = c.x.qtr || c.x.c;

@@ -82,9 +82,9 @@ static const qtool_opt view_table[] = {
     {.name = "--threads", .kind = QTOOL_OPT_INT, .off = V_(threads), .lo = 1, .hi = 256,
      .def = "the CPUs of the process's affinity, or SLURM_CPUS_PER_TASK", .help = "a mesh: the transfer's threads"},
     {.name = "--light-yaw", .kind = QTOOL_OPT_NUM, .off = V_(mesh.yaw), .arg = "DEG", .lo = -360, .hi = 360,
-     .why = "degrees in -360..360", .help = "a mesh: the lighting's starting yaw"},
+     .help = "a mesh: the lighting's starting yaw"},
     {.name = "--light-pitch", .kind = QTOOL_OPT_NUM, .off = V_(mesh.pitch), .arg = "DEG", .lo = -360, .hi = 360,
-     .why = "degrees in -360..360", .help = "a mesh: the lighting's starting pitch"},
+     .help = "a mesh: the lighting's starting pitch"},
     {.name = "--camera", .kind = QTOOL_OPT_CALL, .call = camera_call, .arg = "AZ,EL", .def = "35,20",
      .help = "a mesh: the orbit camera's start, degrees"},
     {.name = "--png", .kind = QTOOL_OPT_STR, .off = V_(png), .arg = "OUT.png",
@@ -105,30 +105,33 @@ const qtool_opt_cmd qcli_opts_view = {
     .pos = {.names = "FILE|MESH", .min = 0, .max = 1, .off = V_(file)},
     .defaults = &view_defaults,
     .size = sizeof(view_cli),
+    .synopsis = "FILE|MESH",
     .prose =
         "  qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--lamp-rgb C0] [--exposure E] [--truth PNG|DIR]\n"
         "                 [--gles] [--bench [--frames N] [--headless] [--record OUT.png [--turn]]]\n"
         "  A window (X11) showing the asset relit by the core through platform/soft (--gles: platform/gles2\n"
         "  into the window through an EGL window surface; read back from a headless EGL context with\n"
-        "  --headless, --record, --truth or without EGL's X11 platform), with an overlay under the frame: scheme, light, k,\n"
-        "  exposure, ms per frame, fps and, with --truth, the PSNR against a `qibl render` PNG of the same\n"
-        "  size, or (a directory) against the one of its sun_X_Y_Z.png frames (`qibl render --sun X Y Z`;\n"
-        "  at most 64) whose sun is nearest the dragged one, named with the angle between them. Schemes (s cycles; those the asset or options cannot show are skipped): SUN (drag\n"
-        "  with the left button: a window width turns the sun once around, its height sweeps 180 degrees of\n"
-        "  elevation), SH / LIGHTS (each --probe's SH or its median-cut lights, as relight --probe and\n"
-        "  --probe-mode lights; p next probe, y / Y yaw -/+15 degrees), SUN+SH, LAMP (a point lamp: the\n"
-        "  drag picks the P map under the pointer and hangs the lamp 1/10 of the way toward the viewpoint;\n"
-        "  C0 --lamp-rgb, default relight --point's), PATH (a baked light path: t / T step 1/32, a drag\n"
-        "  scrubs, P next path; sRGB at exposure 1). Keys: + / - exposure x2 / /2, k fewer SH terms\n"
-        "  (cycles), l linear / sRGB, q or Escape quits. Every settled change prints `view: sun X Y Z | ...`\n"
-        "  (with `| lamp X Y Z rgb R G B` or `| path N tq T`) on stdout: relight with those values gives\n"
-        "  the same frame. --bench: --frames N frames with the sun dragged 4 pixels a frame\n"
-        "  (--turn: one turn over the frames), then `RESULT view.fps F` (--headless: no window, the\n"
-        "  framebuffer and overlay only); --record OUT.png: those frames, overlay included, as an APNG.\n"
-        "  The window needs a build with X11 (Debian: apt-get install libx11-dev).\n"
+        "  --headless, --record, --truth or without EGL's X11 platform), with an overlay under the frame:\n"
+        "  scheme, light, k, exposure, ms per frame, fps and, with --truth, the PSNR against a `qibl\n"
+        "  render` PNG of the same size, or (a directory) against the one of its sun_X_Y_Z.png frames\n"
+        "  (`qibl render --sun X Y Z`; at most 64) whose sun is nearest the dragged one, named with the\n"
+        "  angle between them. Schemes (s cycles; those the asset or options cannot show are skipped): SUN\n"
+        "  (drag with the left button: a window width turns the sun once around, its height sweeps 180\n"
+        "  degrees of elevation), SH / LIGHTS (each --probe's SH or its median-cut lights, as relight\n"
+        "  --probe and --probe-mode lights; p next probe, y / Y yaw -/+15 degrees), SUN+SH, LAMP (a point\n"
+        "  lamp: the drag picks the P map under the pointer and hangs the lamp 1/10 of the way toward the\n"
+        "  viewpoint; C0 --lamp-rgb, default relight --point's), PATH (a baked light path: t / T step 1/32,\n"
+        "  a drag scrubs, P next path; sRGB at exposure 1). Keys: + / - exposure x2 / /2, k fewer SH terms\n"
+        "  (cycles), l linear / sRGB, q or Escape quits. Every settled change prints `view: sun X Y Z |\n"
+        "  ...` (with `| lamp X Y Z rgb R G B` or `| path N tq T`) on stdout: relight with those values\n"
+        "  gives the same frame. --bench: --frames N frames with the sun dragged 4 pixels a frame (--turn:\n"
+        "  one turn over the frames), then `RESULT view.fps F` (--headless: no window, the framebuffer and\n"
+        "  overlay only); --record OUT.png: those frames, overlay included, as an APNG. The window needs a\n"
+        "  build with X11 (Debian: apt-get install libx11-dev).\n"
         "  qibl view MESH.obj|.ply|.gltf --probe P.hdr [--probe P2.hdr]... [--transfer FILE.qtr] [--zup]\n"
         "                 [--size N] [--threads N] [--light-yaw DEG] [--light-pitch DEG] [--camera AZ,EL]\n"
-        "                 [--exposure E] [--png OUT.png | --bench [--frames N] [--headless] [--record OUT.png [--turn]]]\n"
+        "                 [--exposure E] [--png OUT.png | --bench [--frames N] [--headless]\n"
+        "                 [--record OUT.png [--turn]]]\n"
         "  Mesh mode: the mesh's hemi transfer computed once as `qibl transfer` does (or read from its\n"
         "  --export file: --transfer), shaded per vertex by the core under the probe's SH turned live and\n"
         "  drawn by platform/soft's rasterizer (a --size N square) from an orbit camera\n"
