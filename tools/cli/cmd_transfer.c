@@ -2,15 +2,14 @@
  * cmd_transfer.c - `qibl transfer MESH... --probe PROBE.hdr --png OUT`: a mesh self-shadowed by
  * hemispherical rasterization (qibl/hemi.h) under a real probe's SH, beside the ray-cast reference
  * and the error. The computation is tools/transfer (transfer/run.h: qtool_transfer_measure); this
- * command parses the options into its struct, calls it, prints the report and writes the picture
- * (an APNG when several MESH files are frames of one animation). --export (a file) and --export-c
- * (a C array) write a static mesh's per-vertex transfer vectors for an engine to shade
- * (transfer/export.h, qibl_hemi_xfer_*).
+ * command parses the options by its option table (opt/opt.h) into its struct, calls it, prints the
+ * report and writes the picture (an APNG when several MESH files are frames of one animation).
+ * --export (a file) and --export-c (a C array) write a static mesh's per-vertex transfer vectors
+ * for an engine to shade (transfer/export.h, qibl_hemi_xfer_*).
  */
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
 
 #include "cli/cli.h"
 #include "io/png.h"

@@ -1,14 +1,14 @@
 /*
- * cmd_view.c - `qibl view`: the live viewer (tools/view). Parses the options into their struct,
- * reads the asset, has tools/view set it up (qtool_view_open_asset: maps, lamp, sun) and load the
- * truth (qtool_view_truths_load), adds the probes' SH (relight_light.c, as `qibl relight --probe`
- * makes it), then hands over to qtool_view_run and prints the bench's figures.
+ * cmd_view.c - `qibl view`: the live viewer (tools/view). Parses the options by its option table
+ * (opt/opt.h; an asset's and a mesh's options on one) into their struct, reads the asset, has
+ * tools/view set it up (qtool_view_open_asset: maps, lamp, sun) and load the truth
+ * (qtool_view_truths_load), adds the probes' SH (relight_light.c, as `qibl relight --probe` makes
+ * it), then hands over to qtool_view_run and prints the bench's figures.
  */
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-#include <math.h>
 
 #include "cli/cli.h"
 #include "cli/relight_light.h"
