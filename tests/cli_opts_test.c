@@ -11,20 +11,7 @@
 
 CLI_FIXTURES("/tmp/qibl_cli_opts_test_XXXXXX")
 
-/* not yet on option tables: their parsers are hand-written (shrink this list as they convert) */
-static const char *const not_yet_on_option_tables[] = {
-    "transfer", "view",
-};
-
 #define BAD "--no-such-flag"
-
-static int not_yet(const char *cmd)
-{
-    for (size_t i = 0; i < sizeof not_yet_on_option_tables / sizeof *not_yet_on_option_tables; ++i)
-        if (strcmp(not_yet_on_option_tables[i], cmd) == 0)
-            return 1;
-    return 0;
-}
 
 /* the commands `qibl --help` lists: the first word of each line after "commands:" */
 static int list_commands(char names[][32], int max)
@@ -131,23 +118,12 @@ static void test_every_command(void **state)
     (void)state;
     need_qibl();
     char names[64][32];
-    int n = list_commands(names, 64), checked = 0;
+    int n = list_commands(names, 64);
     assert_true(n >= 10);
-    for (int i = 0; i < n; ++i) {
-        if (not_yet(names[i])) {
-            /* still hand-written: once it has a table, it must leave the list */
-            assert_int_equal(run("help", "--flags", names[i], NULL), 0);
-            char *f = text(outlog);
-            if (f[0] != '\0')
-                fail_msg("%s is on option tables now: remove it from not_yet_on_option_tables", names[i]);
-            free(f);
-            continue;
-        }
+    /* every command: none keeps a hand-written parser */
+    for (int i = 0; i < n; ++i)
         check_command(names[i]);
-        ++checked;
-    }
-    print_message("%d commands on option tables, %d not yet\n", checked, n - checked);
-    assert_true(checked >= 6);
+    print_message("%d commands on option tables\n", n);
 }
 
 /* qibl's own flags: an unknown one is named, with where the list is */
@@ -178,6 +154,26 @@ static void test_values(void **state)
              "gen --pack zip");
     one_line(run("study", "--quick", NULL), "study", "study", "--out DIR is required", "study --quick");
     assert_int_equal(access(at("g.qibl"), F_OK), -1);
+    /* what a range cannot say, through qtool_opt_error (refused before any file is read) */
+    one_line(run("transfer", "m.obj", "--probe", "p.hdr", "--mask", "48", NULL), "transfer", "transfer",
+             "--mask: '48' is not 16, 32 or 64", "transfer --mask 48");
+    one_line(run("transfer", "m.obj", "--probe", "p.hdr", "--lights", "3", NULL), "transfer", "transfer",
+             "--lights: 3 is not a power of two", "transfer --lights 3");
+    one_line(run("transfer", "m.obj", "--probe", "p.hdr", "--face", "7", NULL), "transfer", "transfer",
+             "--face: 7 is not even", "transfer --face 7");
+    one_line(run("transfer", "m.obj", "--png", at("t.png"), NULL), "transfer", "transfer",
+             "--probe PROBE.hdr is required", "transfer without --probe");
+    one_line(run("transfer", "m.obj", "--probe", "p.hdr", "--view", "0,95", NULL), "transfer", "transfer",
+             "--view: '0,95' is not AZ,EL", "transfer --view 0,95");
+    /* view: each mode refuses the other's options by name, the first on the line */
+    one_line(run("view", "a.qibl", "--bench", "--light-yaw", "0", "--zup", NULL), "view", "view",
+             "--light-yaw is for a mesh", "view ASSET --light-yaw");
+    one_line(run("view", "m.obj", "--probe", "p.hdr", "--gles", "--sun", "0", "0", "1", NULL), "view", "view",
+             "--gles is for an asset", "view MESH --gles");
+    one_line(run("view", "a.qibl", "--sun", "0", "0", "0", NULL), "view", "view", "--sun: the direction is 0 0 0",
+             "view --sun 0 0 0");
+    one_line(run("view", "m.obj", NULL), "view", "view", "m.obj needs --probe P.hdr", "view MESH");
+    assert_int_equal(access(at("t.png"), F_OK), -1);
     assert_int_equal(run("sh", "eval", "-1", "0", "0", NULL), 0);
     assert_int_equal(run("srgbe", "encode", "-inf", "-1", "1", NULL), 0);
 }

@@ -862,6 +862,10 @@ static void cliopts_seeds(void)
     SEED("transfer", "transfer", "m.obj", "--probe", "p.hdr", "--png", "o.png", "--size", "64", "--mask", "32", "--face",
          "8", "--rays", "4", "--coarse", "1", "--ring", "1", "--tween", "4", "--pvs", "--view", "35,20", "--zup",
          "--flip", "--skip-adjacent");
+    SEED("transfer_export", "transfer", "m.obj", "--probe", "p.hdr", "--layout", "latlong", "--lights", "4",
+         "--threads", "2", "--export", "x.qtr", "--export-c", "x.h", "--export-bands", "4");
+    SEED("view_mesh", "view", "m.obj", "--probe", "p.hdr", "--transfer", "x.qtr", "--zup", "--size", "64", "--threads",
+         "2", "--light-yaw", "30", "--light-pitch", "-10", "--camera", "20,10", "--exposure", "2", "--png", "o.png");
     SEED("demo", "demo", "--out", "d", "--small", "--scene", "x.obj", "--threads", "2");
     SEED("check", "check", "a.png", "b.pfm", "c.hdr", "d.qibl");
     SEED("info", "info", "a.qibl");

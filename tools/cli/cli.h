@@ -83,6 +83,10 @@ int qcli_usage_error(const char *fmt, ...);
  * out of the Q16.16 range. */
 int qcli_parse_q16(const char *s, int32_t *out);
 
+/* Parses "AZ,EL" (degrees, finite, |EL| <= el_max: transfer's --view, view's --camera); 0, or -1
+ * with nothing written. */
+int qcli_parse_azel(const char *s, double el_max, double *az, double *el);
+
 /* Parses a finite decimal in [lo, hi] into *out; 0, or 2 (the bad-arguments exit status) after one
  * line naming the option and the value: "qibl: --rgb: 40000 is outside 0..32767.9999847 (why)"
  * (why may be NULL). */
@@ -113,5 +117,6 @@ extern const qtool_opt_cmd qcli_opts_bench, qcli_opts_probe_info, qcli_opts_sh_p
     qcli_opts_render, qcli_opts_bake, qcli_opts_demo;
 extern const qtool_opt_cmd qcli_opts_luminaire_capture, qcli_opts_luminaire_info, qcli_opts_luminaire_render,
     qcli_opts_luminaire_study, qcli_opts_luminaire_passes, qcli_opts_luminaire_picture;
+extern const qtool_opt_cmd qcli_opts_transfer, qcli_opts_view;
 
 #endif

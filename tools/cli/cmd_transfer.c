@@ -2,91 +2,20 @@
  * cmd_transfer.c - `qibl transfer MESH... --probe PROBE.hdr --png OUT`: a mesh self-shadowed by
  * hemispherical rasterization (qibl/hemi.h) under a real probe's SH, beside the ray-cast reference
  * and the error. The computation is tools/transfer (transfer/run.h: qtool_transfer_measure); this
- * command parses the options into its struct, calls it, prints the report and writes the picture
- * (an APNG when several MESH files are frames of one animation). --export (a file) and --export-c
- * (a C array) write a static mesh's per-vertex transfer vectors for an engine to shade
- * (transfer/export.h, qibl_hemi_xfer_*).
+ * command parses the options by its option table (opt/opt.h) into its struct, calls it, prints the
+ * report and writes the picture (an APNG when several MESH files are frames of one animation).
+ * --export (a file) and --export-c (a C array) write a static mesh's per-vertex transfer vectors
+ * for an engine to shade (transfer/export.h, qibl_hemi_xfer_*).
  */
-#include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
 
 #include "cli/cli.h"
 #include "io/png.h"
 #include "transfer/export.h"
 #include "io/atomic.h"
 #include "transfer/run.h"
-
-#define TRANSFER_USAGE                                                                                        \
-    "usage: qibl transfer MESH [MESH...] --probe PROBE.hdr [--layout L] [--png OUT] [--size N] [--mask 16|32|64]\n" \
-    "                     [--face F] [--rays S] [--coarse T [--ring K]] [--pvs] [--lights N] [--tween N] [--zup] [--flip] [--skip-adjacent] [--view AZ,EL] [--threads N]\n" \
-    "                     [--export FILE.qtr] [--export-c FILE.h] [--export-bands 3|4|5]"
-
-static int parse_view(const char *s, double *az, double *el)
-{
-    char *end;
-    *az = strtod(s, &end);
-    if (end == s || *end != ',' || !isfinite(*az))
-        return -1;
-    const char *t = end + 1;
-    *el = strtod(t, &end);
-    return end == t || *end || !isfinite(*el) || fabs(*el) > 89.9 ? -1 : 0;
-}
-
-static int bands_ok(long v)
-{
-    return v >= 3 && v <= 5;
-}
-
-static int any(long v)
-{
-    return (void)v, 1;
-}
-
-static int pow2(long v)
-{
-    return (v & (v - 1)) == 0;
-}
-
-static int mask_side(long v)
-{
-    return v == 16 || v == 32 || v == 64;
-}
-
-static int even(long v)
-{
-    return (v & 1) == 0;
-}
-
-/* the integer options: name, range and rule, where, what a bad value is told */
-typedef struct int_opt {
-    const char *name;
-    long lo, hi;
-    int (*ok)(long);
-    int *dst;
-    const char *why;
-} int_opt;
-
-#define STR_(x) #x
-#define STR(x) STR_(x)
-
-/* 1 if a is one of the integer options (parsed, or *rc the usage error), else 0 */
-static int parse_int_opt(const int_opt *t, int n, int argc, char **argv, int *i, int *rc)
-{
-    for (int k = 0; k < n; ++k) {
-        if (strcmp(argv[*i], t[k].name) != 0)
-            continue;
-        long v = 0;
-        *rc = 0;
-        if (*i + 1 >= argc || qcli_parse_int(argv[++*i], t[k].lo, t[k].hi, &v) != 0 || !t[k].ok(v))
-            *rc = qcli_usage_error("%s", t[k].why);
-        else
-            *t[k].dst = (int)v;
-        return 1;
-    }
-    return 0;
-}
 
 /* the report of a finished run, as the command has always printed it */
 /* where --export and --export-c go, and how many bands */
@@ -183,71 +112,128 @@ static int transfer_main(const qtool_transfer_opts *o, const char *png, const ex
     return rc;
 }
 
+/* What `qibl transfer` was asked: the library's options (transfer/run.h), with the integers as the
+ * table's longs beside them (copied in once parsed), and what the command writes. */
+typedef struct transfer_cli {
+    qtool_opt_list mesh;
+    qtool_transfer_opts o; /* probe, the switches, the view */
+    long lights, size, face, rays, coarse, ring, tween, threads, bands;
+    int layout;            /* index = value (qtool_relight_probe_layout_names) */
+    int mask;              /* index into masks: the side 16 << mask */
+    const char *png;
+    exports x;
+} transfer_cli;
+
+static const transfer_cli transfer_defaults = {
+    .o = QTOOL_TRANSFER_OPTS_DEFAULT, .size = QTOOL_TRANSFER_SIZE_DEFAULT,
+    .mask = QTOOL_TRANSFER_MASK_DEFAULT / 32, /* 16, 32, 64: index 0, 1, 2 */
+    .face = QIBL_HEMI_FACE_DEFAULT, .rays = QTOOL_TRANSFER_RAYS_DEFAULT, .ring = QTOOL_TRANSFER_RING_DEFAULT,
+    .tween = QTOOL_TRANSFER_TWEEN_DEFAULT, .threads = 0 /* the job's CPUs */, .layout = QTOOL_PROBE_LAYOUT_AUTO,
+    .bands = QTOOL_TRANSFER_EXPORT_BANDS_DEFAULT};
+
+static const char *const masks[] = {"16", "32", "64", NULL};
+
+static const char *view_call(void *opts, const char *v)
+{
+    qtool_transfer_opts *o = &((transfer_cli *)opts)->o;
+    return qcli_parse_azel(v, 89.9, &o->az, &o->el) != 0 ? "is not AZ,EL in degrees (|EL| < 90), e.g. 35,20" : NULL;
+}
+
+#define T_(field) offsetof(transfer_cli, field)
+static const qtool_opt transfer_table[] = {
+    {.name = "--probe", .kind = QTOOL_OPT_STR, .off = T_(o.probe), .arg = "PROBE.hdr", .required = 1,
+     .help = "the light probe whose radiance SH shades the mesh"},
+    {.name = "--layout", .kind = QTOOL_OPT_ENUM, .off = T_(layout), .names = qtool_relight_probe_layout_names,
+     .arg = "L", .help = "the probe's layout: auto (detected), latlong, angular, ball, vcross or hcross"},
+    {.name = "--lights", .kind = QTOOL_OPT_INT, .off = T_(lights), .lo = 1, .hi = 1024, .why = "a power of two",
+     .def = "none: the probe's own SH", .help = "the probe's N median-cut lights projected to SH instead"},
+    {.name = "--png", .kind = QTOOL_OPT_STR, .off = T_(png), .arg = "OUT",
+     .help = "qibl | ray cast | error, side by side (an animated PNG for several MESH)"},
+    {.name = "--size", .kind = QTOOL_OPT_INT, .off = T_(size), .lo = 64, .hi = 2048, .why = "pixels per panel",
+     .help = "the pictures' panels"},
+    {.name = "--view", .kind = QTOOL_OPT_CALL, .call = view_call, .arg = "AZ,EL", .def = "35,20",
+     .help = "the pictures' orthographic view: azimuth and elevation in degrees"},
+    {.name = "--mask", .kind = QTOOL_OPT_ENUM, .off = T_(mask), .names = masks,
+     .help = "the hemicube mask's side"},
+    {.name = "--face", .kind = QTOOL_OPT_INT, .off = T_(face), .arg = "F", .lo = 2, .hi = QIBL_HEMI_MAX_FACE,
+     .why = "even", .help = "the hemi LUT's cube-map face"},
+    {.name = "--rays", .kind = QTOOL_OPT_INT, .off = T_(rays), .arg = "S", .lo = 0, .hi = 256,
+     .why = "0: no reference", .help = "S x S reference rays per vertex"},
+    {.name = "--coarse", .kind = QTOOL_OPT_INT, .off = T_(coarse), .arg = "T", .lo = 0, .hi = 1 << 20,
+     .what = "a triangle count", .why = "0: no hierarchy", .help = "the two-level hierarchy's coarse triangles"},
+    {.name = "--ring", .kind = QTOOL_OPT_INT, .off = T_(ring), .arg = "K", .lo = 1, .hi = QTOOL_TRANSFER_MAX_RING,
+     .help = "with --coarse: the full mesh within K edges of each vertex"},
+    {.name = "--pvs", .kind = QTOOL_OPT_FLAG, .off = T_(o.pvs),
+     .help = "also each vertex from its PVS over the frames: timed, masks compared"},
+    {.name = "--tween", .kind = QTOOL_OPT_INT, .off = T_(tween), .lo = 1, .hi = QTOOL_TRANSFER_MAX_TWEEN,
+     .why = "frames per key frame", .help = "N - 1 frames interpolated between key frames"},
+    {.name = "--zup", .kind = QTOOL_OPT_FLAG, .off = T_(o.zup), .help = "the meshes are Z-up (not turned from Y-up)"},
+    {.name = "--flip", .kind = QTOOL_OPT_FLAG, .off = T_(o.flip), .help = "turn the normals"},
+    {.name = "--skip-adjacent", .kind = QTOOL_OPT_FLAG, .off = T_(o.skip_adjacent),
+     .help = "the paper's rule alone: the faces around a vertex skipped, the solid behind them not"},
+    {.name = "--threads", .kind = QTOOL_OPT_INT, .off = T_(threads), .lo = 1, .hi = 256,
+     .def = "the CPUs of the process's affinity, or SLURM_CPUS_PER_TASK", .help = "worker threads"},
+    {.name = "--export", .kind = QTOOL_OPT_STR, .off = T_(x.qtr), .arg = "FILE.qtr",
+     .help = "a static mesh's per-vertex transfer vectors (qibl_hemi_xfer_*), for an engine to shade"},
+    {.name = "--export-c", .kind = QTOOL_OPT_STR, .off = T_(x.c), .arg = "FILE.h", .help = "the same as a C array"},
+    {.name = "--export-bands", .kind = QTOOL_OPT_INT, .off = T_(bands), .arg = "3|4|5", .lo = 3, .hi = 5,
+     .why = "9, 16 or 25 coefficients", .help = "the SH bands exported"},
+    {0},
+};
+
+const qtool_opt_cmd qcli_opts_transfer = {
+    .name = "transfer",
+    .opts = transfer_table,
+    .pos = {.names = "MESH [MESH...]", .min = 1, .max = QTOOL_TRANSFER_MAX_FRAMES, .off = T_(mesh)},
+    .defaults = &transfer_defaults,
+    .size = sizeof(transfer_cli),
+    .synopsis = "MESH [MESH...] --probe PROBE.hdr",
+    .prose =
+        "  Per vertex of a glTF (.gltf, .glb: the scene's meshes in world space, skinned; FILE.gltf@T: its\n"
+        "  animation at T seconds, so FILE.gltf@0 FILE.gltf@0.5 ... are frames), OBJ or PLY mesh\n"
+        "  (welded by position, centred, largest half-extent 1, Y-up turned\n"
+        "  to Z-up unless --zup; normals point out of counter-clockwise faces, turned by --flip or when a\n"
+        "  mesh with under 2 % open edges has a negative volume), the transfer vector V*\n"
+        "  (bands 0..4) from hemispherical rasterization with every triangle a blocker (qibl/hemi.h: mask\n"
+        "  --mask, LUT face --face), turned to world space and shaded with the\n"
+        "  probe's radiance SH (irradiance; pictures at an automatic exposure). --skip-adjacent: the paper's\n"
+        "  rule alone (faces around a vertex skipped) instead of also blocking the solid behind them at\n"
+        "  creases. Reference: S x S stratified cosine-weighted\n"
+        "  rays per vertex (--rays; 0: none) through a BVH, shaded with the same coefficients.\n"
+        "  --coarse T: the paper's two-level hierarchy instead of every triangle: a coarse mesh of about T\n"
+        "  triangles (quadric-error half-edge collapses, so its vertices are the mesh's and it animates with\n"
+        "  it) plus the full mesh within K edges of each vertex (--ring).\n"
+        "  --png: qibl | ray cast | error (|E - E_ref| / mean E_ref, 0..10 %), drawn by platform/soft's\n"
+        "  integer z-buffer rasterizer, orthographic from azimuth / elevation --view (default 35,20);\n"
+        "  several MESH files are frames of one animation (same triangles, at most 64): an animated PNG\n"
+        "  (--tween N: N - 1 frames interpolated between key frames, the last back into the first). Prints\n"
+        "  ms per frame on one core (thread CPU time of the hemi calls) and RESULT transfer.* lines.\n"
+        "  --pvs: each vertex also rasterized against its potentially visible set over all the frames.\n"
+        "  --export FILE.qtr / --export-c FILE.h: frame 0's world-space transfer of a static mesh (one MESH)\n"
+        "  in Q2.30, --export-bands of them (transfer/export.h), for `qibl view MESH --transfer` or an engine.\n",
+};
+
 int qcli_cmd_transfer(int argc, char **argv)
 {
-    char *files[QTOOL_TRANSFER_MAX_FRAMES];
-    const char *png = NULL, *layout = NULL;
-    exports x = {.qtr = NULL, .c = NULL, .bands = QTOOL_TRANSFER_EXPORT_BANDS_DEFAULT};
-    qtool_transfer_opts o = QTOOL_TRANSFER_OPTS_DEFAULT;
-    o.threads = 0; /* 0 until given: the job's CPUs */
-    const int_opt ints[] = {
-        {"--coarse", 0, 1 << 20, any, &o.coarse, "--coarse needs a triangle count in 0..1048576 (0: no hierarchy)"},
-        {"--lights", 1, 1024, pow2, &o.lights, "--lights needs a power of two in 1..1024 (median-cut lights of the probe)"},
-        {"--tween", 1, QTOOL_TRANSFER_MAX_TWEEN, any, &o.tween, "--tween needs an integer in 1..16 (frames per key frame)"},
-        {"--ring", 1, QTOOL_TRANSFER_MAX_RING, any, &o.ring, "--ring needs an integer in 1..16"},
-        {"--size", 64, 2048, any, &o.size, "--size needs an integer in 64..2048 (pixels per panel)"},
-        {"--mask", 16, 64, mask_side, &o.mask, "--mask needs 16, 32 or 64"},
-        {"--face", 2, QIBL_HEMI_MAX_FACE, even, &o.face, "--face needs an even integer in 2.." STR(QIBL_HEMI_MAX_FACE)},
-        {"--rays", 0, 256, any, &o.rays, "--rays needs S in 0..256 (S x S rays per vertex; 0: no reference)"},
-        {"--threads", 1, 256, any, &o.threads, "--threads needs an integer in 1..256"},
-        {"--export-bands", 3, 5, bands_ok, &x.bands, "--export-bands needs 3, 4 or 5 (9, 16 or 25 coefficients)"},
-    };
-    for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i];
-        const int more = i + 1 < argc;
-        int rc = 0;
-        if (parse_int_opt(ints, (int)(sizeof ints / sizeof ints[0]), argc, argv, &i, &rc)) {
-            if (rc != 0)
-                return rc;
-        } else if (strcmp(a, "--probe") == 0 && more)
-            o.probe = argv[++i];
-        else if (strcmp(a, "--png") == 0 && more)
-            png = argv[++i];
-        else if (strcmp(a, "--layout") == 0 && more)
-            layout = argv[++i];
-        else if (strcmp(a, "--export") == 0 && more)
-            x.qtr = argv[++i];
-        else if (strcmp(a, "--export-c") == 0 && more)
-            x.c = argv[++i];
-        else if (strcmp(a, "--zup") == 0)
-            o.zup = 1;
-        else if (strcmp(a, "--flip") == 0)
-            o.flip = 1;
-        else if (strcmp(a, "--skip-adjacent") == 0)
-            o.skip_adjacent = 1;
-        else if (strcmp(a, "--pvs") == 0)
-            o.pvs = 1;
-        else if (strcmp(a, "--view") == 0) {
-            if (!more || parse_view(argv[++i], &o.az, &o.el) != 0)
-                return qcli_usage_error("--view needs AZ,EL in degrees (|EL| < 90), e.g. 35,20");
-        } else if (a[0] == '-') {
-            return qcli_usage_error("transfer: unknown or incomplete option '%s' (%s)", a, TRANSFER_USAGE);
-        } else if (o.nfiles == QTOOL_TRANSFER_MAX_FRAMES) {
-            return qcli_usage_error("transfer: at most %d frames", QTOOL_TRANSFER_MAX_FRAMES);
-        } else {
-            files[o.nfiles++] = argv[i];
-        }
-    }
-    if (o.nfiles == 0 || !o.probe)
-        return qcli_usage_error(TRANSFER_USAGE);
-    if ((x.qtr || x.c) && o.nfiles > 1)
-        return qcli_usage_error("--export is for a static mesh: one MESH, not %d frames", o.nfiles);
+    const qtool_opt_cmd *t = &qcli_opts_transfer;
+    transfer_cli c;
+    if (qtool_opt_parse(t, argc, argv, 1, &c) != 0)
+        return 2;
+    /* what a range cannot say */
+    if (c.lights & (c.lights - 1))
+        return qtool_opt_error(t, "--lights: %ld is not a power of two (median-cut lights of the probe)", c.lights);
+    if (c.face & 1)
+        return qtool_opt_error(t, "--face: %ld is not even", c.face);
+    if ((c.x.qtr || c.x.c) && c.mesh.n > 1)
+        return qtool_opt_error(t, "--export is for a static mesh: one MESH, not %d frames", c.mesh.n);
     if (qcli_parse_only) /* fuzz_cliopts: the options only */
         return 0;
-    o.files = files, o.sheet = png != NULL, o.keep_transfer = x.qtr || x.c;
-    if (o.threads == 0)
-        o.threads = qcli_default_threads();
-    if (layout && qtool_probe_layout_parse(layout, &o.layout) != 0)
-        return qcli_usage_error("--layout: unknown layout '%s'", layout), 1;
-    return transfer_main(&o, png, &x);
+    qtool_transfer_opts o = c.o;
+    o.files = (char *const *)c.mesh.v, o.nfiles = c.mesh.n; /* argv's strings */
+    o.layout = (qtool_probe_layout_t)c.layout, o.lights = (int)c.lights, o.size = (int)c.size, o.mask = 16 << c.mask;
+    o.face = (int)c.face, o.rays = (int)c.rays, o.coarse = (int)c.coarse, o.ring = (int)c.ring;
+    o.tween = (int)c.tween, o.threads = c.threads ? (int)c.threads : qcli_default_threads();
+    o.sheet = c.png != NULL, o.keep_transfer = c.x.qtr || c.x.c;
+    c.x.bands = (int)c.bands;
+    return transfer_main(&o, c.png, &c.x);
 }

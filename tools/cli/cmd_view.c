@@ -1,14 +1,14 @@
 /*
- * cmd_view.c - `qibl view`: the live viewer (tools/view). Parses the options into their struct,
- * reads the asset, has tools/view set it up (qtool_view_open_asset: maps, lamp, sun) and load the
- * truth (qtool_view_truths_load), adds the probes' SH (relight_light.c, as `qibl relight --probe`
- * makes it), then hands over to qtool_view_run and prints the bench's figures.
+ * cmd_view.c - `qibl view`: the live viewer (tools/view). Parses the options by its option table
+ * (opt/opt.h; an asset's and a mesh's options on one) into their struct, reads the asset, has
+ * tools/view set it up (qtool_view_open_asset: maps, lamp, sun) and load the truth
+ * (qtool_view_truths_load), adds the probes' SH (relight_light.c, as `qibl relight --probe` makes
+ * it), then hands over to qtool_view_run and prints the bench's figures.
  */
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-#include <math.h>
 
 #include "cli/cli.h"
 #include "cli/relight_light.h"
@@ -16,187 +16,209 @@
 #include "io/png.h"
 #include "view/view.h"
 
-#define VIEW_USAGE                                                                                    \
-    "usage: qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--lamp-rgb C0] [--exposure E]\n"          \
-    "                 [--truth PNG|DIR] [--gles] [--bench [--frames N] [--headless] [--record OUT.png [--turn]]]\n" \
-    "       qibl view MESH.obj|.ply|.gltf --probe P.hdr [--probe P2.hdr]... [--transfer FILE.qtr] [--zup]\n"     \
-    "                 [--size N] [--threads N] [--light-yaw DEG] [--light-pitch DEG] [--camera AZ,EL]\n"          \
-    "                 [--exposure E] [--png OUT.png | --bench [--frames N] [--headless] [--record OUT.png [--turn]]]"
-
-
-/* the options of `qibl view` (the library's defaults: view/view.h) */
-typedef struct vopts {
-    const char *in, *truth, *record;
-    const char *probes[QTOOL_VIEW_MAX_PROBES];
-    uint32_t nprobes;
-    int gles, bench, headless, turn;
-    long frames;
+/* What `qibl view` was asked (the library's defaults: view/view.h). An option of one mode only says
+ * so at the start of its help ("a mesh: ...", "an asset: ..."), and the other mode refuses it by name. */
+typedef struct view_cli {
+    qtool_opt_list file, probes;
+    const char *truth, *record, *png;
+    int gles, bench, headless, turn, have_sun;
+    long frames, size, threads; /* threads 0: the job's CPUs */
+    double exposure;            /* 0: not given (an asset's 1, a mesh's automatic) */
     qibl_q16_t sun[3];
-    qtool_view_asset_opts asset; /* exposure, lamp C0 (0: the lamp's default C0, as relight's --point), sun */
-    /* mesh mode (FILE a mesh): its options, the first mesh-only option seen (refused for an asset),
-     * the first asset-only one (refused for a mesh), --png (the frame without a window) */
-    qtool_view_mesh_opts mesh;
-    const char *mesh_only, *asset_only, *png;
-    int exposure_set;
-} vopts;
+    qtool_view_asset_opts asset; /* lamp_c0 */
+    qtool_view_mesh_opts mesh;   /* zup, transfer, yaw, pitch, the camera */
+    char why[96];
+} view_cli;
 
-static const vopts vopts_default = {.frames = QTOOL_VIEW_BENCH_FRAMES_DEFAULT, .asset = QTOOL_VIEW_ASSET_OPTS_DEFAULT,
-                                    .mesh = QTOOL_VIEW_MESH_OPTS_DEFAULT};
+static const view_cli view_defaults = {.frames = QTOOL_VIEW_BENCH_FRAMES_DEFAULT, .size = QTOOL_VIEW_MESH_SIZE_DEFAULT,
+                                       .asset = QTOOL_VIEW_ASSET_OPTS_DEFAULT, .mesh = QTOOL_VIEW_MESH_OPTS_DEFAULT};
 
-/* --camera AZ,EL: 0, or the usage error's status */
-static int parse_camera(const char *s, vopts *o)
+static const char *camera_call(void *opts, const char *v)
 {
-    char *end;
-    const double az = strtod(s, &end);
-    if (end != s && *end == ',') {
-        const char *t = end + 1;
-        const double el = strtod(t, &end);
-        if (end != t && !*end && isfinite(az) && isfinite(el) && fabs(el) <= QTOOL_VIEW_CAM_EL_MAX) {
-            o->mesh.cam_az = az, o->mesh.cam_el = el;
-            return 0;
+    qtool_view_mesh_opts *m = &((view_cli *)opts)->mesh;
+    return qcli_parse_azel(v, QTOOL_VIEW_CAM_EL_MAX, &m->cam_az, &m->cam_el) != 0
+               ? "is not AZ,EL in degrees (|EL| <= 89), e.g. 35,20"
+               : NULL;
+}
+
+static const char *sun_call(void *opts, char *const *v, int n, int *used)
+{
+    view_cli *c = opts;
+    qibl_q16_t s[3];
+    (void)n, (void)used;
+    for (int k = 0; k < 3; ++k)
+        if (qcli_parse_q16(v[k], &s[k]) != 0) {
+            snprintf(c->why, sizeof c->why, "'%.40s' is not a number in the Q16.16 range", v[k]);
+            return c->why;
         }
-    }
-    return qcli_usage_error("--camera needs AZ,EL in degrees (|EL| <= 89), e.g. 35,20");
+    if (s[0] == 0 && s[1] == 0 && s[2] == 0)
+        return "the direction is 0 0 0 in Q16.16";
+    memcpy(c->sun, s, sizeof s), c->have_sun = 1;
+    return NULL;
 }
 
-/* the mesh-only options at argv[i] (1: taken, with *rc 0 or the usage error's status; 0: not one) */
-static int parse_mesh_opt(int argc, char **argv, int *i, vopts *o, int *rc)
+#define V_(field) offsetof(view_cli, field)
+static const qtool_opt view_table[] = {
+    {.name = "--probe", .kind = QTOOL_OPT_LIST, .off = V_(probes), .arg = "P.hdr", .hi = QTOOL_VIEW_MAX_PROBES,
+     .help = "a probe's SH and median-cut lights (p steps through them); a mesh needs one"},
+    {.name = "--exposure", .kind = QTOOL_OPT_NUM, .off = V_(exposure), .arg = "E",
+     .lo = QTOOL_VIEW_EXPOSURE_MIN / 65536.0, .hi = QTOOL_VIEW_EXPOSURE_MAX / 65536.0,
+     .why = "the viewer's exposure range", .def = "1; a mesh: the first frame's 99th percentile at 0.6",
+     .help = "the starting exposure"},
+    {.name = "--bench", .kind = QTOOL_OPT_FLAG, .off = V_(bench),
+     .help = "sweep the light over --frames frames, then print the ms per frame and RESULT view.fps"},
+    {.name = "--frames", .kind = QTOOL_OPT_INT, .off = V_(frames), .lo = 1, .hi = QTOOL_VIEW_BENCH_FRAMES_MAX,
+     .help = "--bench's frames"},
+    {.name = "--headless", .kind = QTOOL_OPT_FLAG, .off = V_(headless),
+     .help = "--bench without a window: the framebuffer and overlay only"},
+    {.name = "--record", .kind = QTOOL_OPT_STR, .off = V_(record), .arg = "OUT.png",
+     .help = "--bench's frames, overlay included, as an animated PNG"},
+    {.name = "--turn", .kind = QTOOL_OPT_FLAG, .off = V_(turn), .help = "--bench: one turn over the frames"},
+    {.name = "--transfer", .kind = QTOOL_OPT_STR, .off = V_(mesh.transfer), .arg = "FILE.qtr",
+     .help = "a mesh: its `qibl transfer --export` file instead of computing the transfer"},
+    {.name = "--zup", .kind = QTOOL_OPT_FLAG, .off = V_(mesh.zup), .help = "a mesh: Z-up (not turned from Y-up)"},
+    {.name = "--size", .kind = QTOOL_OPT_INT, .off = V_(size), .lo = QTOOL_VIEW_MESH_SIZE_MIN,
+     .hi = QTOOL_VIEW_MESH_SIZE_MAX, .help = "a mesh: the square frame's side"},
+    {.name = "--threads", .kind = QTOOL_OPT_INT, .off = V_(threads), .lo = 1, .hi = 256,
+     .def = "the CPUs of the process's affinity, or SLURM_CPUS_PER_TASK", .help = "a mesh: the transfer's threads"},
+    {.name = "--light-yaw", .kind = QTOOL_OPT_NUM, .off = V_(mesh.yaw), .arg = "DEG", .lo = -360, .hi = 360,
+     .help = "a mesh: the lighting's starting yaw"},
+    {.name = "--light-pitch", .kind = QTOOL_OPT_NUM, .off = V_(mesh.pitch), .arg = "DEG", .lo = -360, .hi = 360,
+     .help = "a mesh: the lighting's starting pitch"},
+    {.name = "--camera", .kind = QTOOL_OPT_CALL, .call = camera_call, .arg = "AZ,EL", .def = "35,20",
+     .help = "a mesh: the orbit camera's start, degrees"},
+    {.name = "--png", .kind = QTOOL_OPT_STR, .off = V_(png), .arg = "OUT.png",
+     .help = "a mesh: the first frame without a window (not with --bench)"},
+    {.name = "--sun", .kind = QTOOL_OPT_CALL, .nargs = 3, .call_n = sun_call, .arg = "X Y Z",
+     .help = "an asset: the starting sun's direction"},
+    {.name = "--lamp-rgb", .kind = QTOOL_OPT_NUM, .off = V_(asset.lamp_c0), .arg = "C0", .lo = 1.0 / 65536,
+     .hi = QTOOL_CLI_Q16_MAX, .why = QTOOL_CLI_Q16_WHY, .def = "relight --point's", .help = "an asset: the lamp's C0"},
+    {.name = "--truth", .kind = QTOOL_OPT_STR, .off = V_(truth), .arg = "PNG|DIR",
+     .help = "an asset: the PSNR against a `qibl render` PNG, or the nearest of a directory's sun_X_Y_Z.png"},
+    {.name = "--gles", .kind = QTOOL_OPT_FLAG, .off = V_(gles), .help = "an asset: relit by platform/gles2"},
+    {0},
+};
+
+const qtool_opt_cmd qcli_opts_view = {
+    .name = "view",
+    .opts = view_table,
+    .pos = {.names = "FILE|MESH", .min = 0, .max = 1, .off = V_(file)},
+    .defaults = &view_defaults,
+    .size = sizeof(view_cli),
+    .synopsis = "FILE|MESH",
+    .prose =
+        "  qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--lamp-rgb C0] [--exposure E] [--truth PNG|DIR]\n"
+        "                 [--gles] [--bench [--frames N] [--headless] [--record OUT.png [--turn]]]\n"
+        "  A window (X11) showing the asset relit by the core through platform/soft (--gles: platform/gles2\n"
+        "  into the window through an EGL window surface; read back from a headless EGL context with\n"
+        "  --headless, --record, --truth or without EGL's X11 platform), with an overlay under the frame:\n"
+        "  scheme, light, k, exposure, ms per frame, fps and, with --truth, the PSNR against a `qibl\n"
+        "  render` PNG of the same size, or (a directory) against the one of its sun_X_Y_Z.png frames\n"
+        "  (`qibl render --sun X Y Z`; at most 64) whose sun is nearest the dragged one, named with the\n"
+        "  angle between them. Schemes (s cycles; those the asset or options cannot show are skipped): SUN\n"
+        "  (drag with the left button: a window width turns the sun once around, its height sweeps 180\n"
+        "  degrees of elevation), SH / LIGHTS (each --probe's SH or its median-cut lights, as relight\n"
+        "  --probe and --probe-mode lights; p next probe, y / Y yaw -/+15 degrees), SUN+SH, LAMP (a point\n"
+        "  lamp: the drag picks the P map under the pointer and hangs the lamp 1/10 of the way toward the\n"
+        "  viewpoint; C0 --lamp-rgb, default relight --point's), PATH (a baked light path: t / T step 1/32,\n"
+        "  a drag scrubs, P next path; sRGB at exposure 1). Keys: + / - exposure x2 / /2, k fewer SH terms\n"
+        "  (cycles), l linear / sRGB, q or Escape quits. Every settled change prints `view: sun X Y Z |\n"
+        "  ...` (with `| lamp X Y Z rgb R G B` or `| path N tq T`) on stdout: relight with those values\n"
+        "  gives the same frame. --bench: --frames N frames with the sun dragged 4 pixels a frame (--turn:\n"
+        "  one turn over the frames), then `RESULT view.fps F` (--headless: no window, the framebuffer and\n"
+        "  overlay only); --record OUT.png: those frames, overlay included, as an APNG. The window needs a\n"
+        "  build with X11 (Debian: apt-get install libx11-dev).\n"
+        "  qibl view MESH.obj|.ply|.gltf --probe P.hdr [--probe P2.hdr]... [--transfer FILE.qtr] [--zup]\n"
+        "                 [--size N] [--threads N] [--light-yaw DEG] [--light-pitch DEG] [--camera AZ,EL]\n"
+        "                 [--exposure E] [--png OUT.png | --bench [--frames N] [--headless]\n"
+        "                 [--record OUT.png [--turn]]]\n"
+        "  Mesh mode: the mesh's hemi transfer computed once as `qibl transfer` does (or read from its\n"
+        "  --export file: --transfer), shaded per vertex by the core under the probe's SH turned live and\n"
+        "  drawn by platform/soft's rasterizer (a --size N square) from an orbit camera\n"
+        "  (--camera AZ,EL). Left drag: the lighting's yaw (a width once around) and pitch\n"
+        "  (a height 180 degrees); right drag: the camera; y / Y light yaw -/+15, [ / ] camera -/+15, p\n"
+        "  next probe, + / - exposure (default: the first frame's 99th percentile at 0.6). Every settled\n"
+        "  change prints `view: mesh --light-yaw Y --light-pitch P --camera AZ,EL --exposure E probe N |\n"
+        "  ...`: those options with that probe and --png OUT.png write the same frame without a window.\n"
+        "  --bench turns the light and prints `RESULT view.mesh_fps F`.\n",
+};
+
+/* the first option on the line of a mesh's own and of an asset's own, as their help begins (the line
+ * has parsed, so each option's values are where the table took them) */
+static void modes_seen(int argc, char **argv, const char **mesh_only, const char **asset_only)
 {
-    const char *a = argv[*i];
-    const int more = *i + 1 < argc;
-    long n = 0;
-    *rc = 0;
-    if (strcmp(a, "--zup") == 0)
-        o->mesh.zup = 1;
-    else if (!more)
-        return 0;
-    else if (strcmp(a, "--transfer") == 0)
-        o->mesh.transfer = argv[++*i];
-    else if (strcmp(a, "--png") == 0)
-        o->png = argv[++*i];
-    else if (strcmp(a, "--camera") == 0)
-        *rc = parse_camera(argv[++*i], o);
-    else if (strcmp(a, "--light-yaw") == 0 || strcmp(a, "--light-pitch") == 0)
-        *rc = qcli_parse_num(a, argv[++*i], -360.0, 360.0, "degrees in -360..360",
-                             a[8] == 'y' ? &o->mesh.yaw : &o->mesh.pitch) != 0 ? 2 : 0;
-    else if (strcmp(a, "--size") == 0 || strcmp(a, "--threads") == 0) {
-        const int size = a[2] == 's';
-        const long lo = size ? QTOOL_VIEW_MESH_SIZE_MIN : 1, hi = size ? QTOOL_VIEW_MESH_SIZE_MAX : 256;
-        if (qcli_parse_int(argv[++*i], lo, hi, &n) != 0)
-            *rc = qcli_usage_error("%s needs an integer in %ld..%ld", a, lo, hi);
-        else if (size)
-            o->mesh.size = (uint32_t)n;
-        else
-            o->mesh.threads = (int)n;
-    } else
-        return 0;
-    if (!o->mesh_only)
-        o->mesh_only = a;
-    return 1;
+    *mesh_only = *asset_only = NULL;
+    for (int i = 1; i < argc; ++i)
+        for (int k = 0; view_table[k].name; ++k) {
+            const qtool_opt *e = &view_table[k];
+            if (strcmp(argv[i], e->name) != 0)
+                continue;
+            const char **first = strncmp(e->help, "an asset:", 9) == 0 ? asset_only
+                                 : strncmp(e->help, "a mesh:", 7) == 0    ? mesh_only
+                                                                          : NULL;
+            if (first && !*first)
+                *first = e->name;
+            i += e->kind == QTOOL_OPT_FLAG ? 0 : e->nargs > 1 ? e->nargs : 1;
+            break;
+        }
 }
 
-/* --sun X Y Z at argv[i]: 0, or the usage error's status */
-static int parse_sun(char **argv, int i, vopts *o)
+/* the options into c: 0, or 2 after the one line */
+static int parse(int argc, char **argv, view_cli *c)
 {
-    for (int c = 0; c < 3; ++c)
-        if (qcli_parse_q16(argv[i + 1 + c], &o->sun[c]) != 0)
-            return qcli_usage_error("--sun: '%s' is not a number in the Q16.16 range", argv[i + 1 + c]);
-    if (o->sun[0] == 0 && o->sun[1] == 0 && o->sun[2] == 0)
-        return qcli_usage_error("--sun needs a non-zero direction");
-    o->asset.sun = o->sun;
+    const qtool_opt_cmd *t = &qcli_opts_view;
+    if (qtool_opt_parse(t, argc, argv, 1, c) != 0)
+        return 2;
+    const char *mesh_only, *asset_only;
+    modes_seen(argc, argv, &mesh_only, &asset_only);
+    if (c->file.n == 0)
+        return qtool_opt_error(t, "needs an asset FILE (qibl gen or qibl bake makes one) or a MESH");
+    const char *in = c->file.v[0];
+    const int mesh = qtool_view_is_mesh(in);
+    if (mesh && asset_only)
+        return qtool_opt_error(t, "%s is for an asset: a mesh is lit by --probe and drawn through platform/soft",
+                               asset_only);
+    if (!mesh && mesh_only)
+        return qtool_opt_error(t, "%s is for a mesh (qibl view MESH.obj --probe P.hdr)", mesh_only);
+    if (mesh && c->probes.n == 0)
+        return qtool_opt_error(t, "%s needs --probe P.hdr (the lighting of its transfer)", in);
+    if (c->png && c->bench)
+        return qtool_opt_error(t, "--png writes one frame without a window: not with --bench");
+    if (c->headless && !c->bench)
+        return qtool_opt_error(t, "--headless is for --bench (a window needs a display)");
+    if (c->record && !c->bench)
+        return qtool_opt_error(t, "--record needs --bench (it records the frames the bench sweeps)");
+    if (c->record && c->frames < 2)
+        return qtool_opt_error(t, "--record needs --frames of at least 2 (an animated PNG)");
+    if (c->turn && !c->bench)
+        return qtool_opt_error(t, "--turn is for --bench (one turn of the sun over the frames)");
+    /* into the library's structs */
+    if (c->exposure > 0)
+        c->asset.exposure = c->mesh.exposure = c->exposure;
+    c->asset.sun = c->have_sun ? c->sun : NULL;
+    c->mesh.mesh = in, c->mesh.probes = c->probes.v, c->mesh.nprobes = (uint32_t)c->probes.n;
+    c->mesh.size = (uint32_t)c->size, c->mesh.threads = (int)c->threads;
     return 0;
 }
 
-/* the options into o: -1, or the usage error's status */
-static int parse(int argc, char **argv, vopts *o)
-{
-    *o = vopts_default;
-    o->mesh.threads = 0; /* 0 until given: the job's CPUs */
-    for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i];
-        int mrc = 0;
-        if (!o->asset_only && (strcmp(a, "--sun") == 0 || strcmp(a, "--lamp-rgb") == 0 ||
-                               strcmp(a, "--truth") == 0 || strcmp(a, "--gles") == 0))
-            o->asset_only = a;
-        if (parse_mesh_opt(argc, argv, &i, o, &mrc)) {
-            if (mrc != 0)
-                return mrc;
-        } else if (strcmp(a, "--sun") == 0 && i + 3 < argc) {
-            const int rc = parse_sun(argv, i, o);
-            if (rc != 0)
-                return rc;
-            i += 3;
-        } else if (strcmp(a, "--probe") == 0 && i + 1 < argc) {
-            if (o->nprobes >= QTOOL_VIEW_MAX_PROBES)
-                return qcli_usage_error("--probe: at most %u probes", QTOOL_VIEW_MAX_PROBES);
-            o->probes[o->nprobes++] = argv[++i];
-        } else if (strcmp(a, "--exposure") == 0 && i + 1 < argc) {
-            if (qcli_parse_num(a, argv[++i], QTOOL_VIEW_EXPOSURE_MIN / 65536.0, QTOOL_VIEW_EXPOSURE_MAX / 65536.0,
-                               "the viewer's exposure range", &o->asset.exposure) != 0)
-                return 2;
-            o->exposure_set = 1;
-        } else if (strcmp(a, "--lamp-rgb") == 0 && i + 1 < argc) {
-            if (qcli_parse_num(a, argv[++i], 1.0 / 65536, QTOOL_CLI_Q16_MAX, QTOOL_CLI_Q16_WHY, &o->asset.lamp_c0) != 0)
-                return 2;
-        } else if (strcmp(a, "--truth") == 0 && i + 1 < argc)
-            o->truth = argv[++i];
-        else if (strcmp(a, "--gles") == 0)
-            o->gles = 1;
-        else if (strcmp(a, "--bench") == 0)
-            o->bench = 1;
-        else if (strcmp(a, "--headless") == 0)
-            o->headless = 1;
-        else if (strcmp(a, "--record") == 0 && i + 1 < argc)
-            o->record = argv[++i];
-        else if (strcmp(a, "--turn") == 0)
-            o->turn = 1;
-        else if (strcmp(a, "--frames") == 0 && i + 1 < argc) {
-            if (qcli_parse_int(argv[++i], 1, QTOOL_VIEW_BENCH_FRAMES_MAX, &o->frames) != 0)
-                return qcli_usage_error("--frames needs an integer in 1..%ld", QTOOL_VIEW_BENCH_FRAMES_MAX);
-        } else if (a[0] != '-' && !o->in)
-            o->in = a;
-        else
-            return qcli_usage_error(VIEW_USAGE);
-    }
-    if (!o->in)
-        return qcli_usage_error("view needs an asset FILE (qibl gen or qibl bake makes one)");
-    const int mesh = qtool_view_is_mesh(o->in);
-    if (mesh && o->asset_only)
-        return qcli_usage_error("%s is for an asset: a mesh is lit by --probe and drawn through platform/soft", o->asset_only);
-    if (!mesh && o->mesh_only)
-        return qcli_usage_error("%s is for a mesh (qibl view MESH.obj --probe P.hdr)", o->mesh_only);
-    if (mesh && o->nprobes == 0)
-        return qcli_usage_error("view %s needs --probe P.hdr (the lighting of its transfer)", o->in);
-    if (o->png && o->bench)
-        return qcli_usage_error("--png writes one frame without a window: not with --bench");
-    if (o->headless && !o->bench)
-        return qcli_usage_error("--headless is for --bench (a window needs a display)");
-    if (o->record && !o->bench)
-        return qcli_usage_error("--record needs --bench (it records the frames the bench sweeps)");
-    if (o->record && o->frames < 2)
-        return qcli_usage_error("--record needs --frames of at least 2 (an animated PNG)");
-    if (o->turn && !o->bench)
-        return qcli_usage_error("--turn is for --bench (one turn of the sun over the frames)");
-    return -1;
-}
-
 /* each probe's SH as `qibl relight --probe P` makes it, and its median-cut lights; 0 or -1 */
-static int load_probes(const vopts *o, qtool_view *v)
+static int load_probes(const view_cli *o, qtool_view *v)
 {
-    for (uint32_t j = 0; j < o->nprobes; ++j) {
+    const uint32_t np = (uint32_t)o->probes.n;
+    for (uint32_t j = 0; j < np; ++j) {
         qcli_light_list ll;
         qcli_light_list_init(&ll);
-        ll.probe = o->probes[j];
+        ll.probe = o->probes.v[j];
         if (qcli_light_list_sh(&ll, v->maps.k, stdout, &v->probe[j]) != 0)
             return -1;
         ll.mode = QCLI_PROBE_LIGHTS; /* and its median-cut lights, as relight --probe-mode lights */
         if (qcli_light_list_sh(&ll, v->maps.k, stdout, &v->probe_lights[j]) != 0)
             return -1;
-        const char *slash = strrchr(o->probes[j], '/');
-        v->probe_name[j] = slash ? slash + 1 : o->probes[j]; /* the overlay shows the file's name */
+        const char *slash = strrchr(o->probes.v[j], '/');
+        v->probe_name[j] = slash ? slash + 1 : o->probes.v[j]; /* the overlay shows the file's name */
     }
-    v->nprobes = o->nprobes, v->have_lights = o->nprobes > 0;
-    if (o->nprobes)
+    v->nprobes = np, v->have_lights = np > 0;
+    if (np)
         v->scheme = QTOOL_VIEW_SUN_SH;
     return 0;
 }
@@ -222,12 +244,10 @@ static int write_frame(qtool_view *v, const char *png, char *err, size_t errlen)
 }
 
 /* mesh mode: the transfer once, then the window, the bench or --png; 0 or 1 */
-static int view_mesh(vopts *o)
+static int view_mesh(view_cli *o)
 {
     qtool_view v;
     char err[600], note[600];
-    o->mesh.mesh = o->in, o->mesh.probes = o->probes, o->mesh.nprobes = o->nprobes;
-    o->mesh.exposure = o->exposure_set ? o->asset.exposure : 0;
     if (o->mesh.threads == 0)
         o->mesh.threads = qcli_default_threads();
     if (qtool_view_open_mesh(&v, &o->mesh, note, sizeof note, err, sizeof err) != 0) {
@@ -248,11 +268,11 @@ static int view_mesh(vopts *o)
     }
     if (o->png)
         printf("wrote %s (%ux%u: %s, %u vertices, light yaw %.17g pitch %.17g, camera %.17g,%.17g, exposure %.17g)\n",
-               o->png, v.maps.width, v.maps.height, o->in, nv, v.yaw, v.pitch, v.cam_az, v.cam_el,
+               o->png, v.maps.width, v.maps.height, o->mesh.mesh, nv, v.yaw, v.pitch, v.cam_az, v.cam_el,
                v.exposure / 65536.0);
     if (o->bench) {
         printf("view bench: %s, %u vertices x %u SH, %u triangles, %ux%u, %ld frames with the light turning, %s: %.2f "
-               "ms per frame (last)\n", o->in, nv, nc, nt, v.maps.width, v.maps.height, o->frames,
+               "ms per frame (last)\n", o->mesh.mesh, nv, nc, nt, v.maps.width, v.maps.height, o->frames,
                o->headless ? "headless (framebuffer and overlay)" : "shown in an X11 window", v.ms);
         printf("RESULT view.mesh_fps %.1f\n", fps);
         if (o->record)
@@ -267,10 +287,9 @@ out:
 
 int qcli_cmd_view(int argc, char **argv)
 {
-    vopts o;
-    const int prc = parse(argc, argv, &o);
-    if (prc >= 0)
-        return prc;
+    view_cli o;
+    if (parse(argc, argv, &o) != 0)
+        return 2;
     if (qcli_parse_only)
         return 0;
     if (!o.bench && !o.png && !qtool_view_have_window()) {
@@ -278,21 +297,22 @@ int qcli_cmd_view(int argc, char **argv)
                         "rebuild); --bench --headless still runs\n");
         return 1;
     }
-    if (qtool_view_is_mesh(o.in))
+    const char *in = o.file.v[0];
+    if (qtool_view_is_mesh(in))
         return view_mesh(&o);
     uint8_t *bytes = NULL;
     qtool_view_truths tset = {0};
     qtool_view_gles *vg = NULL;
     size_t n;
     char err[600], note[600];
-    if (qtool_io_read_asset(o.in, &bytes, &n, err, sizeof err) != 0) {
+    if (qtool_io_read_asset(in, &bytes, &n, err, sizeof err) != 0) {
         fprintf(stderr, "qibl: %s\n", err);
         return 1;
     }
     int rc = 1;
     qtool_view v;
     o.asset.lamp_default = qcli_point_default;
-    const int orc = qtool_view_open_asset(&v, bytes, n, o.in, &o.asset, note, sizeof note, err, sizeof err);
+    const int orc = qtool_view_open_asset(&v, bytes, n, in, &o.asset, note, sizeof note, err, sizeof err);
     if (note[0])
         fprintf(stderr, "qibl: note: %s\n", note);
     if (orc != 0) {

@@ -37,6 +37,8 @@ static const qtool_opt_cmd *const demo_opts[] = {&qcli_opts_demo, NULL};
 static const qtool_opt_cmd *const luminaire_opts[] = {&qcli_opts_luminaire_capture, &qcli_opts_luminaire_info,
                                                      &qcli_opts_luminaire_render, &qcli_opts_luminaire_study,
                                                      &qcli_opts_luminaire_passes, &qcli_opts_luminaire_picture, NULL};
+static const qtool_opt_cmd *const transfer_opts[] = {&qcli_opts_transfer, NULL};
+static const qtool_opt_cmd *const view_opts[] = {&qcli_opts_view, NULL};
 
 /* which commands are on them: `qibl help CMD` is made from these, not from the command's usage */
 static const struct {
@@ -46,7 +48,8 @@ static const struct {
               {"srgbe", srgbe_opts}, {"ies", ies_opts}, {"study", study_opts},
               {"bench", bench_opts}, {"probe", probe_opts}, {"lights", lights_opts},
               {"relight", relight_opts}, {"merge", merge_opts}, {"check", check_opts},
-              {"render", render_opts}, {"bake", bake_opts}, {"demo", demo_opts}, {"luminaire", luminaire_opts}};
+              {"render", render_opts}, {"bake", bake_opts}, {"demo", demo_opts}, {"luminaire", luminaire_opts},
+              {"transfer", transfer_opts}, {"view", view_opts}};
 
 static const qtool_opt_cmd *const *tables_of(const char *cmd)
 {
@@ -64,29 +67,7 @@ static const qcli_cmd commands[] = {
     {"render", "ray-trace the ground-truth panorama of a scene under one light (PNG, PFM, depth)",
      NULL, qcli_cmd_render},
     {"transfer", "a mesh self-shadowed by hemispherical rasterization under a probe, beside the ray-cast truth",
-     "usage: qibl transfer MESH [MESH...] --probe PROBE.hdr [--layout L] [--png OUT] [--size N] [--mask 16|32|64]\n"
-     "                     [--face F] [--rays S] [--coarse T [--ring K]] [--tween N] [--zup] [--flip] [--skip-adjacent]\n"
-     "                     [--view AZ,EL] [--threads N]\n"
-     "  Per vertex of a glTF (.gltf, .glb: the scene's meshes in world space, skinned; FILE.gltf@T: its\n"
-     "  animation at T seconds, so FILE.gltf@0 FILE.gltf@0.5 ... are frames), OBJ or PLY mesh\n"
-     "  (welded by position, centred, largest half-extent 1, Y-up turned\n"
-     "  to Z-up unless --zup; normals point out of counter-clockwise faces, turned by --flip or when a\n"
-     "  mesh with under 2 % open edges has a negative volume), the transfer vector V*\n"
-     "  (bands 0..4) from hemispherical rasterization with every triangle a blocker (qibl/hemi.h: mask\n"
-     "  --mask, default 32, LUT face --face, default 64), turned to world space and shaded with the\n"
-     "  probe's radiance SH (irradiance; pictures at an automatic exposure). --skip-adjacent: the paper's\n"
-     "  rule alone (faces around a vertex skipped) instead of also blocking the solid behind them at\n"
-     "  creases. Reference: S x S stratified cosine-weighted\n"
-     "  rays per vertex (--rays, default 32; 0: none) through a BVH, shaded with the same coefficients.\n"
-     "  --coarse T: the paper's two-level hierarchy instead of every triangle: a coarse mesh of about T\n"
-     "  triangles (quadric-error half-edge collapses, so its vertices are the mesh's and it animates with\n"
-     "  it) plus the full mesh within K edges of each vertex (--ring, default 3).\n"
-     "  --png: qibl | ray cast | error (|E - E_ref| / mean E_ref, 0..10 %), drawn by platform/soft's\n"
-     "  integer z-buffer rasterizer, orthographic from azimuth / elevation --view (default 35,20);\n"
-     "  several MESH files are frames of one animation (same triangles): an animated PNG (--tween N: N - 1\n"
-     "  frames interpolated between key frames, the last back into the first). Prints ms per\n"
-     "  frame on one core (thread CPU time of the hemi calls) and RESULT transfer.* lines.\n",
-     qcli_cmd_transfer},
+     NULL, qcli_cmd_transfer},
     {"bake", "bake a scene into a relightable panorama asset (ray-traced, SH-projected, 8-bit packed)",
      NULL, qcli_cmd_bake},
     {"merge", "combine the partial sums of bake shards into an asset",
@@ -98,39 +79,7 @@ static const qcli_cmd commands[] = {
     {"relight", "relight an asset by suns, lamps, a light list or a whole probe into a PNG (core + soft framebuffer)",
      NULL, qcli_cmd_relight},
     {"view", "a live viewer: drag the sun or a lamp, scrub a baked light path, step probes, yaw, exposure, k (X11)",
-     "usage: qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--lamp-rgb C0] [--exposure E] [--truth PNG|DIR]\n"
-     "                 [--gles] [--bench [--frames N] [--headless] [--record OUT.png [--turn]]]\n"
-     "  A window (X11) showing the asset relit by the core through platform/soft (--gles: platform/gles2\n"
-     "  into the window through an EGL window surface; read back from a headless EGL context with\n"
-     "  --headless, --record, --truth or without EGL's X11 platform), with an overlay under the frame: scheme, light, k,\n"
-     "  exposure, ms per frame, fps and, with --truth, the PSNR against a `qibl render` PNG of the same\n"
-     "  size, or (a directory) against the one of its sun_X_Y_Z.png frames (`qibl render --sun X Y Z`;\n"
-     "  at most 64) whose sun is nearest the dragged one, named with the angle between them. Schemes (s cycles; those the asset or options cannot show are skipped): SUN (drag\n"
-     "  with the left button: a window width turns the sun once around, its height sweeps 180 degrees of\n"
-     "  elevation), SH / LIGHTS (each --probe's SH or its median-cut lights, as relight --probe and\n"
-     "  --probe-mode lights; p next probe, y / Y yaw -/+15 degrees), SUN+SH, LAMP (a point lamp: the\n"
-     "  drag picks the P map under the pointer and hangs the lamp 1/10 of the way toward the viewpoint;\n"
-     "  C0 --lamp-rgb, default relight --point's), PATH (a baked light path: t / T step 1/32, a drag\n"
-     "  scrubs, P next path; sRGB at exposure 1). Keys: + / - exposure x2 / /2, k fewer SH terms\n"
-     "  (cycles), l linear / sRGB, q or Escape quits. Every settled change prints `view: sun X Y Z | ...`\n"
-     "  (with `| lamp X Y Z rgb R G B` or `| path N tq T`) on stdout: relight with those values gives\n"
-     "  the same frame. --bench: --frames N (default 600) frames with the sun dragged 4 pixels a frame\n"
-     "  (--turn: one turn over the frames), then `RESULT view.fps F` (--headless: no window, the\n"
-     "  framebuffer and overlay only); --record OUT.png: those frames, overlay included, as an APNG.\n"
-     "  The window needs a build with X11 (Debian: apt-get install libx11-dev).\n"
-     "usage: qibl view MESH.obj|.ply|.gltf --probe P.hdr [--probe P2.hdr]... [--transfer FILE.qtr] [--zup]\n"
-     "                 [--size N] [--threads N] [--light-yaw DEG] [--light-pitch DEG] [--camera AZ,EL]\n"
-     "                 [--exposure E] [--png OUT.png | --bench [--frames N] [--headless] [--record OUT.png [--turn]]]\n"
-     "  Mesh mode: the mesh's hemi transfer computed once as `qibl transfer` does (or read from its\n"
-     "  --export file: --transfer), shaded per vertex by the core under the probe's SH turned live and\n"
-     "  drawn by platform/soft's rasterizer (a --size N square, default 512) from an orbit camera\n"
-     "  (--camera AZ,EL, default 35,20). Left drag: the lighting's yaw (a width once around) and pitch\n"
-     "  (a height 180 degrees); right drag: the camera; y / Y light yaw -/+15, [ / ] camera -/+15, p\n"
-     "  next probe, + / - exposure (default: the first frame's 99th percentile at 0.6). Every settled\n"
-     "  change prints `view: mesh --light-yaw Y --light-pitch P --camera AZ,EL --exposure E probe N |\n"
-     "  ...`: those options with that probe and --png OUT.png write the same frame without a window.\n"
-     "  --bench turns the light and prints `RESULT view.mesh_fps F`.\n",
-     qcli_cmd_view},
+     NULL, qcli_cmd_view},
     {"info", "validate a qibl asset file and print its contents",
      NULL, qcli_cmd_info},
     {"srgbe", "encode/decode one sRGBE colour (signed shared-exponent RGB in 4 bytes)",
@@ -219,6 +168,20 @@ int qcli_parse_q16(const char *s, int32_t *out)
     if (q > 2147483647.0 || q < -2147483648.0)
         return -1;
     *out = (int32_t)q;
+    return 0;
+}
+
+int qcli_parse_azel(const char *s, double el_max, double *az, double *el)
+{
+    char *end;
+    const double a = strtod(s, &end);
+    if (end == s || *end != ',' || !isfinite(a))
+        return -1;
+    const char *t = end + 1;
+    const double e = strtod(t, &end);
+    if (end == t || *end != '\0' || !isfinite(e) || fabs(e) > el_max)
+        return -1;
+    *az = a, *el = e;
     return 0;
 }
 

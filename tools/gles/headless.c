@@ -1,13 +1,13 @@
 /*
  * gles/headless.c - headless EGL + GLES2 context (see headless.h). Built only where the EGL and
- * GLES2 headers exist (QIBL_HAVE_GLES2); elsewhere this file is empty.
+ * GLES2 headers exist (QIBL_HAVE_GLES2); elsewhere its calls fail, saying so.
  */
 #include "gles/headless.h"
 
-#if QIBL_HAVE_GLES2
 #include <stdio.h>
 #include <string.h>
 
+#if QIBL_HAVE_GLES2
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 #include <GLES2/gl2.h>
@@ -123,5 +123,24 @@ void qt_gles_close(qt_gles_ctx *c)
     memset(c, 0, sizeof *c);
 }
 #else
-typedef int qt_gles_headless_off; /* ISO C wants a declaration in every file */
+/* built without EGL/GLES2: every open fails with that reason, so a caller (luminaire passes --gles)
+ * links and says why instead of failing the link */
+int qt_gles_open(qt_gles_ctx *c, uint32_t w, uint32_t h, char *why, size_t why_size)
+{
+    (void)w, (void)h;
+    memset(c, 0, sizeof *c);
+    snprintf(why, why_size, "built without EGL/GLES2");
+    return -1;
+}
+
+int qt_gles_read(const qt_gles_ctx *c, uint8_t *rgba)
+{
+    (void)c, (void)rgba;
+    return -1;
+}
+
+void qt_gles_close(qt_gles_ctx *c)
+{
+    memset(c, 0, sizeof *c);
+}
 #endif

@@ -52,11 +52,18 @@ typedef struct qtool_transfer_opts {
     int keep_transfer;           /* 1: keep frame 0's world transfer vectors (result.transfer) */
 } qtool_transfer_opts;
 
-/* the defaults of `qibl transfer`, in one place */
-#define QTOOL_TRANSFER_OPTS_DEFAULT                                                                            \
+/* the defaults of `qibl transfer`, in one place (the integers named: the command's table reads them) */
+#define QTOOL_TRANSFER_MASK_DEFAULT 32
+#define QTOOL_TRANSFER_RAYS_DEFAULT 32
+#define QTOOL_TRANSFER_RING_DEFAULT 3
+#define QTOOL_TRANSFER_TWEEN_DEFAULT 1
+#define QTOOL_TRANSFER_SIZE_DEFAULT 320
+#define QTOOL_TRANSFER_OPTS_DEFAULT                                                                         \
     {                                                                                                       \
-        .layout = QTOOL_PROBE_LAYOUT_AUTO, .mask = 32, .face = (int)QIBL_HEMI_FACE_DEFAULT, .rays = 32,     \
-        .coarse = 0, .ring = 3, .tween = 1, .threads = 1, .size = 320, .az = 35, .el = 20                   \
+        .layout = QTOOL_PROBE_LAYOUT_AUTO, .mask = QTOOL_TRANSFER_MASK_DEFAULT,                             \
+        .face = (int)QIBL_HEMI_FACE_DEFAULT, .rays = QTOOL_TRANSFER_RAYS_DEFAULT, .coarse = 0,              \
+        .ring = QTOOL_TRANSFER_RING_DEFAULT, .tween = QTOOL_TRANSFER_TWEEN_DEFAULT, .threads = 1,           \
+        .size = QTOOL_TRANSFER_SIZE_DEFAULT, .az = 35, .el = 20                                             \
     }
 
 typedef struct qtool_transfer_result {
