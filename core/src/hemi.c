@@ -693,51 +693,76 @@ static void lane_lookup(__m256i e0, __m256i e1, __m256i e2, __m256i vF, __m256i 
     _mm256_storeu_si256((__m256i *)(void *)cx, ng);
 }
 
-/* The triangles in batches: (1) the horizon cull as a compaction (the kept triangles' numbers are
- * written and the count advances by "not above"); (2) quantisation, edge normals, orientation
- * and look-ups in lanes; (3) the masks. Same masks and counts as the scalar loop. */
-static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], const uint32_t (*tri)[3], uint32_t ntri,
-                           uint32_t *mask, uint32_t *nr, uint32_t *nb, uint32_t *nt)
+/* The triangles in batches: (1) the horizon cull in lanes (the triangles' indices and their
+ * vertices' z gathered eight at a time), the kept triangles' numbers and indices written in order;
+ * (2) their vertices gathered, quantisation, edge normals, orientation and look-ups in lanes;
+ * (3) the masks. Same masks and counts as the scalar loop. Gathers index v with 3 i (int32): the
+ * caller keeps nv below 2^29 (else the scalar compaction). */
+static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t nv, const uint32_t (*tri)[3],
+                           uint32_t ntri, uint32_t *mask, uint32_t *nr, uint32_t *nb, uint32_t *nt)
 {
-    int32_t P[9][HEMI_BATCH + HEMI_VL]; /* a, b, c of the kept triangles: [vertex * 3 + axis][triangle] */
-    uint32_t keep[HEMI_BATCH], li[3][HEMI_BATCH + HEMI_VL], lx[3][HEMI_BATCH + HEMI_VL];
+    uint32_t keep[HEMI_BATCH + HEMI_VL], ki[3][HEMI_BATCH + HEMI_VL], li[3][HEMI_BATCH + HEMI_VL],
+        lx[3][HEMI_BATCH + HEMI_VL];
     uint32_t skip[HEMI_BATCH + HEMI_VL];
     const uint32_t words = h->words;
     const int32_t F = h->face;
     const __m256i vF = _mm256_set1_epi32(F), vF1 = _mm256_set1_epi32(F - 1), vFF = _mm256_set1_epi32(F * F);
-    const __m256i zero = _mm256_setzero_si256();
+    const __m256i zero = _mm256_setzero_si256(), lane3 = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
+    const int *vb = (const int *)(const void *)&v[0][0];
+    const int gather_ok = nv < (1u << 29);
     uint32_t t = 0;
     while (t < ntri) {
         const uint32_t t0 = t;
         uint32_t k = 0;
-        for (; t < ntri && k < HEMI_BATCH; ++t) { /* (1) */
-            const uint32_t *q = tri[t];
-            keep[k] = t;
-            k += (uint32_t)((v[q[0]][2] > 0) | (v[q[1]][2] > 0) | (v[q[2]][2] > 0));
-        }
+        if (gather_ok) /* (1) */
+            while (t + HEMI_VL <= ntri && k + HEMI_VL <= HEMI_BATCH) {
+                const int *ix = (const int *)(const void *)&tri[t][0];
+                uint32_t I[3][HEMI_VL];
+                __m256i above = zero;
+                for (int w = 0; w < 3; ++w) {
+                    const __m256i i = _mm256_i32gather_epi32(ix + w, lane3, 4);
+                    _mm256_storeu_si256((__m256i *)(void *)I[w], i);
+                    const __m256i i3 = _mm256_add_epi32(i, _mm256_add_epi32(i, i));
+                    above = _mm256_or_si256(above, _mm256_cmpgt_epi32(_mm256_i32gather_epi32(vb + 2, i3, 4), zero));
+                }
+                uint32_t bits = (uint32_t)_mm256_movemask_ps(_mm256_castsi256_ps(above));
+                while (bits != 0u) {
+                    const uint32_t l = ctz32(bits);
+                    bits &= bits - 1u;
+                    keep[k] = t + l, ki[0][k] = I[0][l], ki[1][k] = I[1][l], ki[2][k] = I[2][l];
+                    ++k;
+                }
+                t += HEMI_VL;
+            }
+        if (!gather_ok || t + HEMI_VL > ntri)
+            for (; t < ntri && k < HEMI_BATCH; ++t) {
+                const uint32_t *q = tri[t];
+                keep[k] = t, ki[0][k] = q[0], ki[1][k] = q[1], ki[2][k] = q[2];
+                k += (uint32_t)((v[q[0]][2] > 0) | (v[q[1]][2] > 0) | (v[q[2]][2] > 0));
+            }
         *nb += (t - t0) - k;
-        uint32_t kp = k;
-        for (uint32_t j = 0; j < k; ++j) {
-            const uint32_t *q = tri[keep[j]];
-            for (int w = 0; w < 3; ++w)
-                for (int c = 0; c < 3; ++c)
-                    P[3 * w + c][j] = v[q[w]][c];
-        }
-        for (; kp % HEMI_VL != 0u; ++kp) /* pad with a harmless triangle: (1, 0, 1), (0, 1, 1), (0, 0, 1) */
-            for (int r = 0; r < 9; ++r)
-                P[r][kp] = (r == 0 || r == 2 || r == 4 || r == 5 || r == 8) ? 1 : 0;
-        for (uint32_t j = 0; j < kp; j += HEMI_VL) { /* (2) */
-#define LD(r) _mm256_loadu_si256((const __m256i *)(const void *)(P[r] + j))
+        if (k == 0u)
+            continue;
+        for (uint32_t j = k; j % HEMI_VL != 0u; ++j) /* pad with the first kept triangle (ignored) */
+            keep[j] = keep[0], ki[0][j] = ki[0][0], ki[1][j] = ki[1][0], ki[2][j] = ki[2][0];
+        for (uint32_t j = 0; j < k; j += HEMI_VL) { /* (2) */
+#define LDI(w) _mm256_loadu_si256((const __m256i *)(const void *)(ki[w] + j))
 #define MUL(a, b) _mm256_mullo_epi32(a, b)
 #define SUB(a, b) _mm256_sub_epi32(a, b)
-            __m256i ax = LD(0), ay = LD(1), az = LD(2), bx = LD(3), by = LD(4), bz = LD(5), cx = LD(6), cy = LD(7),
-                    cz = LD(8);
+            const __m256i ia = MUL(LDI(0), _mm256_set1_epi32(3)), ib = MUL(LDI(1), _mm256_set1_epi32(3)),
+                          ic = MUL(LDI(2), _mm256_set1_epi32(3));
+            __m256i ax = _mm256_i32gather_epi32(vb, ia, 4), ay = _mm256_i32gather_epi32(vb + 1, ia, 4),
+                    az = _mm256_i32gather_epi32(vb + 2, ia, 4);
+            __m256i bx = _mm256_i32gather_epi32(vb, ib, 4), by = _mm256_i32gather_epi32(vb + 1, ib, 4),
+                    bz = _mm256_i32gather_epi32(vb + 2, ib, 4);
+            __m256i cx = _mm256_i32gather_epi32(vb, ic, 4), cy = _mm256_i32gather_epi32(vb + 1, ic, 4),
+                    cz = _mm256_i32gather_epi32(vb + 2, ic, 4);
             lane_quantise(&ax, &ay, &az), lane_quantise(&bx, &by, &bz), lane_quantise(&cx, &cy, &cz);
             __m256i e00 = SUB(MUL(ay, bz), MUL(az, by)), e01 = SUB(MUL(az, bx), MUL(ax, bz)), e02 = SUB(MUL(ax, by), MUL(ay, bx));
             __m256i e10 = SUB(MUL(by, cz), MUL(bz, cy)), e11 = SUB(MUL(bz, cx), MUL(bx, cz)), e12 = SUB(MUL(bx, cy), MUL(by, cx));
             __m256i e20 = SUB(MUL(cy, az), MUL(cz, ay)), e21 = SUB(MUL(cz, ax), MUL(cx, az)), e22 = SUB(MUL(cx, ay), MUL(cy, ax));
             const __m256i d = _mm256_add_epi32(_mm256_add_epi32(MUL(e00, cx), MUL(e01, cy)), MUL(e02, cz));
-#undef LD
+#undef LDI
 #undef MUL
 #undef SUB
             const __m256i thr = _mm256_cmpeq_epi32(d, zero);
@@ -753,10 +778,12 @@ static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], const ui
             lane_lookup(e10, e11, e12, vF, vF1, vFF, li[1] + j, lx[1] + j);
             lane_lookup(e20, e21, e22, vF, vF1, vFF, li[2] + j, lx[2] + j);
             const uint32_t tm = (uint32_t)_mm256_movemask_ps(_mm256_castsi256_ps(thr));
-            for (uint32_t l = 0; l < HEMI_VL; ++l) {
+            for (uint32_t l = 0; l < HEMI_VL; ++l)
                 skip[j + l] = 0u;
-                if (!((tm >> l) & 1u) || j + l >= k)
-                    continue;
+            for (uint32_t bits = tm; bits != 0u; bits &= bits - 1u) {
+                const uint32_t l = ctz32(bits);
+                if (j + l >= k)
+                    break;
                 const uint32_t *q = tri[keep[j + l]]; /* the exact setup, as the scalar code */
                 int32_t e[3][3];
                 if (tri_exact(v[q[0]], v[q[1]], v[q[2]], e) != TRI_DRAW) {
@@ -804,7 +831,7 @@ qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint
         return QIBL_E_HEMI_RANGE;
     uint32_t nr = 0, nb = 0, nt = 0;
 #if HEMI_LANES
-    raster_batches(h, v, tri, ntri, mask, &nr, &nb, &nt);
+    raster_batches(h, v, nv, tri, ntri, mask, &nr, &nb, &nt);
 #else
     const uint32_t words = h->words;
     for (uint32_t t = 0; t < ntri; ++t) {
