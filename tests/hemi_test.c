@@ -601,6 +601,25 @@ static void test_raster_every_isa(void **state)
             }
             drop(f);
         }
+        /* the transform (AVX2: eight vertices in 64-bit lanes) against the twin's, with a tail */
+        {
+            enum { NP = 45 };
+            qibl_q16_t pos[NP][3];
+            int32_t o1[NP][3], o2[NP][3];
+            qibl_hemi_frame_t fr;
+            const qibl_q16_t p0[3] = {(int32_t)(rng(&seed) % 0x7FFFFFu) - 0x3FFFFF, 0x3FFFFF, -0x3FFFFF};
+            const int32_t nrm[3] = {(int32_t)(rng(&seed) % 2001u) - 1000, -700, 300};
+            assert_int_equal(qibl_hemi_frame_init(&fr, p0, nrm), QIBL_OK);
+            for (int i = 0; i < NP; ++i)
+                for (int k = 0; k < 3; ++k)
+                    pos[i][k] = i < 3 ? (k == i ? -QIBL_HEMI_COORD_MAX : QIBL_HEMI_COORD_MAX)
+                                      : (int32_t)(rng(&seed) % (2u * QIBL_HEMI_COORD_MAX + 1u)) - QIBL_HEMI_COORD_MAX;
+            for (uint32_t n = 1; n <= NP; n += 7u) {
+                assert_int_equal(qibl_hemi_transform(&fr, (const qibl_q16_t(*)[3])pos, n, o1), QIBL_OK);
+                assert_int_equal(qtool_hemi_transform_scalar(&fr, (const qibl_q16_t(*)[3])pos, n, o2), QIBL_OK);
+                assert_memory_equal(o1, o2, sizeof(int32_t) * 3u * n);
+            }
+        }
         /* the roof just above: rasterized (the exact setup), nearly the whole disk */
         fixture *f = make(32, 48);
         const int32_t B = QIBL_HEMI_LOCAL_MAX;
