@@ -404,7 +404,7 @@ gba-tables: $(GOLDEN) $(QIBL) $(LIBQIBL) $(LIBSOFT)
 
 # The integration example for engines (docs/porting.md): core + platform/soft + libc only, plain
 # C99, built with the core's strictness; run on a small courtyard asset made by `qibl gen`.
-EXAMPLES := $(BUILD)/bin/console_port
+EXAMPLES := $(BUILD)/bin/console_port $(BUILD)/bin/transfer_port
 EXAMPLE_CFLAGS := -std=c99 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Werror $(OPT) -g -Icore/include \
                   -Iplatform/soft/include $(SAN)
 
@@ -412,10 +412,19 @@ $(BUILD)/bin/console_port: tools/examples/console_port.c $(LIBSOFT) $(LIBQIBL)
 	@mkdir -p $(dir $@)
 	$(CC) $(EXAMPLE_CFLAGS) -o $@ $< $(LIBSOFT) $(LIBQIBL)
 
+# the transfer export at run time (issue 25): core only
+$(BUILD)/bin/transfer_port: tools/examples/transfer_port.c $(LIBQIBL)
+	@mkdir -p $(dir $@)
+	$(CC) $(EXAMPLE_CFLAGS) -o $@ $< $(LIBQIBL)
+
 examples: $(EXAMPLES) $(QIBL)
 	@mkdir -p $(BUILD)/examples
 	$(QIBL) gen -o $(BUILD)/examples/courtyard.qibl --size 256x64 --k 9
 	$(BUILD)/bin/console_port $(BUILD)/examples/courtyard.qibl 4 $(BUILD)/examples/console_port.ppm
+	@if [ -f ../shared/fixtures/meshes/teapot.obj ]; then \
+	  $(QIBL) transfer ../shared/fixtures/meshes/teapot.obj --probe ../shared/fixtures/probes/quarry_01_1k.hdr --rays 0 \
+	    --coarse 800 --export $(BUILD)/examples/teapot.qtr && $(BUILD)/bin/transfer_port $(BUILD)/examples/teapot.qtr 8; \
+	else echo "examples: transfer_port built, not run (no ../shared/fixtures/meshes/teapot.obj)"; fi
 
 # The suites (native and portable core paths), the golden runner and the qibl CLI (a smoke run of
 # every subcommand on good and bad inputs; tests/cli_test runs it too) under ASan + UBSan, in their own

@@ -13,7 +13,7 @@ CLI_FIXTURES("/tmp/qibl_cli_opts_test_XXXXXX")
 
 /* not yet on option tables: their parsers are hand-written (shrink this list as they convert) */
 static const char *const not_yet_on_option_tables[] = {
-    "bench", "render", "transfer", "bake", "merge", "check", "demo", "relight", "view", "lights", "probe",
+    "transfer", "view",
 };
 
 #define BAD "--no-such-flag"
@@ -395,6 +395,217 @@ static void test_table_sub(void **state)
     }
 }
 
+/* an optional value (CALL .optional, as lights --error [P%]): digits are its value, "bad" is refused,
+ * anything else is not its value and is parsed as the next argument */
+typedef struct o_opts {
+    qcli_opt_list pos;
+    const char *val;
+    int alone;
+} o_opts;
+
+static const char *o_call(void *opts, const char *v)
+{
+    o_opts *o = opts;
+    if (!v)
+        return o->alone++, NULL;
+    if (strcmp(v, "bad") == 0)
+        return "is bad";
+    if (strspn(v, "0123456789") != strlen(v))
+        return qcli_opt_no_value;
+    o->val = v;
+    return NULL;
+}
+
+static const qcli_opt o_table[] = {
+    {.name = "--e", .kind = QCLI_OPT_CALL, .optional = 1, .off = 0, .arg = "V", .call = o_call, .help = "maybe"},
+    {.name = "--f", .kind = QCLI_OPT_FLAG, .off = offsetof(o_opts, alone), .help = "a flag"},
+    {0},
+};
+static const qcli_opt_cmd o_cmd = {.name = "o", .opts = o_table, .size = sizeof(o_opts),
+                                   .pos = {.names = "A", .min = 0, .max = 2, .off = offsetof(o_opts, pos)}};
+
+static int o_parse(o_opts *o, char *err, size_t errn, int argc, char **argv)
+{
+    fflush(stderr);
+    int saved = dup(2), fd = open(errlog, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    assert_true(saved >= 0 && fd >= 0);
+    dup2(fd, 2);
+    int rc = qcli_opt_parse(&o_cmd, argc, argv, 1, o);
+    fflush(stderr);
+    dup2(saved, 2);
+    close(fd), close(saved);
+    char *e = text(errlog);
+    snprintf(err, errn, "%s", e);
+    free(e);
+    return rc;
+}
+
+static void test_table_optional(void **state)
+{
+    (void)state;
+    o_opts o;
+    char err[512];
+    char *a1[] = {"o", "--e", "12", "x"}, *a2[] = {"o", "--e", "x"}, *a3[] = {"o", "x", "--e"},
+         *a4[] = {"o", "--e", "bad"}, *a5[] = {"o", "--e", "--nope"};
+    assert_int_equal(o_parse(&o, err, sizeof err, 4, a1), 0);
+    assert_true(o.val && strcmp(o.val, "12") == 0 && o.alone == 0 && o.pos.n == 1);
+    assert_int_equal(o_parse(&o, err, sizeof err, 3, a2), 0); /* not its value: a positional */
+    assert_true(!o.val && o.alone == 1 && o.pos.n == 1 && strcmp(o.pos.v[0], "x") == 0);
+    assert_int_equal(o_parse(&o, err, sizeof err, 3, a3), 0); /* the last argument: alone */
+    assert_true(!o.val && o.alone == 1 && o.pos.n == 1);
+    assert_int_equal(o_parse(&o, err, sizeof err, 3, a4), 2);
+    assert_string_equal(err, "qibl o: --e: 'bad' is bad; see qibl help o\n");
+    assert_int_equal(o_parse(&o, err, sizeof err, 3, a5), 2); /* the next flag is parsed as one */
+    assert_string_equal(err, "qibl o: unknown option '--nope'; see qibl help o\n");
+    /* help shows the value as optional; --flags lists it as a flag (whole alone) */
+    FILE *f = fopen(outlog, "w");
+    assert_non_null(f);
+    qcli_opt_help(f, &o_cmd);
+    qcli_opt_flags(f, &o_cmd);
+    fclose(f);
+    char *h = text(outlog);
+    assert_non_null(strstr(h, "usage: qibl o [--e [V]] [--f] [A]\n"));
+    assert_non_null(strstr(h, "\n  --e [V]  maybe\n"));
+    assert_non_null(strstr(h, "o\t--e\tflag\n"));
+    free(h);
+}
+
+/* a CALL of three arguments (relight's --sun X Y Z, in the order given) and a FLAG with an action */
+typedef struct n_opts {
+    int seen[4][3], n, acted, flag;
+} n_opts;
+
+static const char *n_call(void *opts, char *const *v, int n, int *used)
+{
+    (void)n, (void)used;
+    n_opts *o = opts;
+    for (int k = 0; k < 3; ++k)
+        if (strspn(v[k], "0123456789") != strlen(v[k]) || !v[k][0])
+            return "wants three digit strings";
+    if (o->n >= 4)
+        return "at most four";
+    for (int k = 0; k < 3; ++k)
+        o->seen[o->n][k] = atoi(v[k]);
+    ++o->n;
+    return NULL;
+}
+
+static const char *act_call(void *opts, const char *v)
+{
+    n_opts *o = opts;
+    assert_null(v);
+    return o->acted++ ? "once only" : NULL;
+}
+
+static const qcli_opt n_table[] = {
+    {.name = "--three", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = n_call, .arg = "A B C", .help = "three"},
+    {.name = "--act", .kind = QCLI_OPT_FLAG, .off = offsetof(n_opts, flag), .call = act_call, .help = "acts"},
+    {0},
+};
+static const qcli_opt_cmd n_cmd = {.name = "n", .opts = n_table, .size = sizeof(n_opts)};
+
+static int n_parse(n_opts *o, char *err, size_t errn, int argc, char **argv)
+{
+    fflush(stderr);
+    int saved = dup(2), fd = open(errlog, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    assert_true(saved >= 0 && fd >= 0);
+    dup2(fd, 2);
+    int rc = qcli_opt_parse(&n_cmd, argc, argv, 1, o);
+    fflush(stderr);
+    dup2(saved, 2);
+    close(fd), close(saved);
+    char *e = text(errlog);
+    snprintf(err, errn, "%s", e);
+    free(e);
+    return rc;
+}
+
+static void test_table_nargs(void **state)
+{
+    (void)state;
+    n_opts o;
+    char err[512];
+    char *a1[] = {"n", "--three", "1", "2", "3", "--act", "--three", "4", "5", "6"},
+         *a2[] = {"n", "--three", "1", "2"}, *a3[] = {"n", "--three", "1", "x", "3"},
+         *a4[] = {"n", "--act", "--act"};
+    assert_int_equal(n_parse(&o, err, sizeof err, 10, a1), 0);
+    assert_true(o.n == 2 && o.seen[0][0] == 1 && o.seen[0][2] == 3 && o.seen[1][0] == 4 && o.seen[1][2] == 6);
+    assert_true(o.flag == 1 && o.acted == 1);
+    assert_int_equal(n_parse(&o, err, sizeof err, 4, a2), 2);
+    assert_string_equal(err, "qibl n: --three needs A B C; see qibl help n\n");
+    assert_int_equal(n_parse(&o, err, sizeof err, 5, a3), 2); /* the reason names the values itself */
+    assert_string_equal(err, "qibl n: --three: wants three digit strings; see qibl help n\n");
+    assert_int_equal(n_parse(&o, err, sizeof err, 3, a4), 2);
+    assert_string_equal(err, "qibl n: --act once only; see qibl help n\n");
+}
+
+/* --name=VALUE for an option with .eq (bake's --progress=MODE), and positionals through a callback
+ * (merge's and check's any number of files) */
+typedef struct e_opts {
+    int mode, files;
+    long n;
+} e_opts;
+static const char *const e_modes[] = {"none", "bar", "lines", NULL};
+
+static const char *e_file(void *opts, const char *v)
+{
+    if (strcmp(v, "bad") == 0)
+        return "is bad";
+    ((e_opts *)opts)->files++;
+    return NULL;
+}
+
+static const qcli_opt e_table[] = {
+    {.name = "--progress", .kind = QCLI_OPT_ENUM, .eq = 1, .off = offsetof(e_opts, mode), .names = e_modes,
+     .help = "a mode"},
+    {.name = "--n", .kind = QCLI_OPT_INT, .off = offsetof(e_opts, n), .lo = 1, .hi = 9, .help = "no = form"},
+    {0},
+};
+static const qcli_opt_cmd e_cmd = {.name = "e", .opts = e_table, .size = sizeof(e_opts),
+                                   .pos = {.names = "F...", .max = QCLI_OPT_LIST_MAX, .call = e_file}};
+
+static int e_parse(e_opts *o, char *err, size_t errn, int argc, char **argv)
+{
+    fflush(stderr);
+    int saved = dup(2), fd = open(errlog, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    assert_true(saved >= 0 && fd >= 0);
+    dup2(fd, 2);
+    int rc = qcli_opt_parse(&e_cmd, argc, argv, 1, o);
+    fflush(stderr);
+    dup2(saved, 2);
+    close(fd), close(saved);
+    char *e = text(errlog);
+    snprintf(err, errn, "%s", e);
+    free(e);
+    return rc;
+}
+
+static void test_table_eq_and_pos_call(void **state)
+{
+    (void)state;
+    e_opts o;
+    char err[512];
+    char *a1[] = {"e", "--progress=lines"}, *a2[] = {"e", "--progress", "bar"}, *a3[] = {"e", "--progress=zip"},
+         *a4[] = {"e", "--n=3"}, *a5[] = {"e", "x", "bad"};
+    assert_int_equal(e_parse(&o, err, sizeof err, 2, a1), 0);
+    assert_int_equal(o.mode, 2);
+    assert_int_equal(e_parse(&o, err, sizeof err, 3, a2), 0);
+    assert_int_equal(o.mode, 1);
+    assert_int_equal(e_parse(&o, err, sizeof err, 2, a3), 2);
+    assert_string_equal(err, "qibl e: --progress: 'zip' is not none, bar or lines; see qibl help e\n");
+    assert_int_equal(e_parse(&o, err, sizeof err, 2, a4), 2); /* only where the table says .eq */
+    assert_string_equal(err, "qibl e: unknown option '--n=3'; see qibl help e\n");
+    /* more files than a list holds */
+    char *many[QCLI_OPT_LIST_MAX + 11];
+    many[0] = "e";
+    for (int k = 1; k < QCLI_OPT_LIST_MAX + 11; ++k)
+        many[k] = "f";
+    assert_int_equal(e_parse(&o, err, sizeof err, QCLI_OPT_LIST_MAX + 11, many), 0);
+    assert_int_equal(o.files, QCLI_OPT_LIST_MAX + 10);
+    assert_int_equal(e_parse(&o, err, sizeof err, 3, a5), 2);
+    assert_string_equal(err, "qibl e: 'bad' is bad; see qibl help e\n");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -406,6 +617,9 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_table_help, setup, teardown),
         cmocka_unit_test(test_table_values),
         cmocka_unit_test_setup_teardown(test_table_sub, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_table_optional, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_table_nargs, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_table_eq_and_pos_call, setup, teardown),
     };
     return cmocka_run_group_tests_name("cli_opts", tests, NULL, NULL);
 }

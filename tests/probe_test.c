@@ -257,6 +257,41 @@ static void test_vector_widths(void **state)
     }
 }
 
+/* Fewer bands sum only the Fourier orders they need (m <= bands - 1, each number of orders its own
+ * copy of the folded kernel): the accumulators of coefficients i < bands^2 are bit for bit those of
+ * a 5-band projection of the same rows, at widths that take the folded vector steps, their scalar
+ * tail, an odd quarter width, the direct path (W % 4 != 0, even and odd) and the even-width trig
+ * table built from W/2 + 1 sines. */
+static void test_band_orders(void **state)
+{
+    (void)state;
+    static const int ws[] = {8, 30, 31, 64, 68, 200, 204, 1028};
+    for (size_t k = 0; k < sizeof ws / sizeof ws[0]; ++k) {
+        const int w = ws[k], h = 4;
+        probe p = random_probe(70 + k, w, h, 110, 30, 1);
+        const size_t n = qibl_probe_sh_workspace_size((uint32_t)w, (uint32_t)h);
+        void *w5 = malloc(n), *wb = malloc(n);
+        assert_non_null(w5);
+        assert_non_null(wb);
+        qibl_probe_sh_t p5, pb;
+        assert_int_equal(qibl_probe_sh_begin(&p5, (uint32_t)w, (uint32_t)h, QIBL_LIGHTPROBE_RGBE, 0, 5, w5, n), QIBL_OK);
+        for (uint32_t v = 0; v < (uint32_t)h; ++v)
+            assert_int_equal(qibl_probe_sh_add_row(&p5, v, p.rgbe + 4 * (size_t)v * (size_t)w), QIBL_OK);
+        for (int bands = 1; bands <= 4; ++bands) {
+            assert_int_equal(qibl_probe_sh_begin(&pb, (uint32_t)w, (uint32_t)h, QIBL_LIGHTPROBE_RGBE, 0, bands, wb, n),
+                             QIBL_OK);
+            for (uint32_t v = 0; v < (uint32_t)h; ++v)
+                assert_int_equal(qibl_probe_sh_add_row(&pb, v, p.rgbe + 4 * (size_t)v * (size_t)w), QIBL_OK);
+            for (size_t c = 0; c < 3; ++c)
+                for (size_t i = 0; i < (size_t)(bands * bands); ++i)
+                    assert_memory_equal(pb.acc + (c * 25 + i) * QIBL_PROBE_ACC_LIMBS,
+                                        p5.acc + (c * 25 + i) * QIBL_PROBE_ACC_LIMBS, 4 * QIBL_PROBE_ACC_LIMBS);
+        }
+        free(w5), free(wb);
+        probe_free(&p);
+    }
+}
+
 /* rows in any order give the same bits (exact integer accumulation) */
 static void test_row_order(void **state)
 {
@@ -988,6 +1023,7 @@ int main(void)
         cmocka_unit_test(test_matches_reference),
         cmocka_unit_test(test_formats),
         cmocka_unit_test(test_vector_widths),
+        cmocka_unit_test(test_band_orders),
         cmocka_unit_test(test_row_order),
         cmocka_unit_test(test_single_bright_pixel),
         cmocka_unit_test(test_poles),

@@ -777,11 +777,13 @@ static void test_sign_symmetry(void **state)
  * scalar reference: random arrays where every pixel is built from edge values (+-0 and ties, the
  * subnormal boundaries, +-Inf, NaNs of any payload and sign, FLT_MAX, powers of two, the largest
  * exponent field em = 6, 7, 254, 255 around the kernel's range) or random channels with exponent
- * fields close to one another (every shift d = 0..8), at every length and output alignment. */
+ * fields close to one another (every shift d = 0..8), at every length and output alignment;
+ * arrays longer than the encoder's prefetch distance (srgbe.c ENC_PF_PX, 1280 pixels), so its
+ * blocks with and without the hint ahead both run. */
 static void test_bulk_kernel_matches_one_pixel_on_edges(void **state)
 {
     (void)state;
-    enum { N = 600 };
+    enum { N = 1600 };
     static const uint32_t edge[] = {0u, 0x80000000u, 1u, 0x80000001u, 0x001FFFFFu, 0x00200000u, 0x003FFFFFu,
                                     0x00400000u, 0x007FFFFFu, 0x00800000u, 0x80800000u, 0x037FFFFFu, 0x03800000u,
                                     0x03FFFFFFu, 0x04000000u, 0x3F800000u, 0xBF800000u, 0x3F7FFFFFu, 0x7EFFFFFFu,

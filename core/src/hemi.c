@@ -17,7 +17,7 @@
 
 #define NC QIBL_HEMI_COEFFS
 
-/* ---- small integer helpers (static here until the shared internal header exists) ------------ */
+/* ---- small integer helpers (only hemi uses them; the shared ones are in qibli.h) --------------- */
 
 
 static int32_t s32_of_u32(uint32_t u)
@@ -499,36 +499,14 @@ static void and3(uint32_t *restrict mask, const edge *ea, const edge *eb, const 
  * in int32, with no 64-bit product, on every port and in every lane width. The masks are those of
  * the quantised triangle: the same bits from the scalar code below and the x86 lanes. */
 
-static uint32_t abs_u32(int32_t x)
-{
-    return x < 0 ? 0u - (uint32_t)x : (uint32_t)x;
-}
-
 #if !HEMI_LANES
-/* bits needed for t < 2^17 (0 for 0) */
-static unsigned bitlen17(uint32_t t)
-{
-    unsigned s = 0u;
-    if (t >> 16)
-        s += 16u, t >>= 16;
-    if (t >> 8)
-        s += 8u, t >>= 8;
-    if (t >> 4)
-        s += 4u, t >>= 4;
-    if (t >> 2)
-        s += 2u, t >>= 2;
-    if (t >> 1)
-        s += 1u, t >>= 1;
-    return s + t;
-}
-
 /* q = round_half_up(v / 2^s), s the fewest bits with max |v_k| >> s < 512 (|v| < 2^26: s <= 17) */
 static void quantise(const int32_t *v, int32_t q[3])
 {
-    uint32_t m = abs_u32(v[0]);
-    m = abs_u32(v[1]) > m ? abs_u32(v[1]) : m;
-    m = abs_u32(v[2]) > m ? abs_u32(v[2]) : m;
-    const unsigned s = bitlen17(m >> 9);
+    uint32_t m = qibli_abs_u32(v[0]);
+    m = qibli_abs_u32(v[1]) > m ? qibli_abs_u32(v[1]) : m;
+    m = qibli_abs_u32(v[2]) > m ? qibli_abs_u32(v[2]) : m;
+    const unsigned s = qibli_bitlen_u32(m >> 9);
     const int32_t half = (int32_t)((1u << s) >> 1);
     for (int k = 0; k < 3; ++k)
         q[k] = qibl_asr_s32(v[k] + half, s);
@@ -587,13 +565,9 @@ static int tri_exact(const int32_t *a, const int32_t *b, const int32_t *c, int32
         return TRI_THROUGH;
     for (int i = 0; i < 3; ++i) {
         uint64_t m = 0u;
-        for (int k = 0; k < 3; ++k) {
-            const uint64_t ak = x[i][k] < 0 ? 0u - (uint64_t)x[i][k] : (uint64_t)x[i][k];
-            m = ak > m ? ak : m;
-        }
-        unsigned sh = 0u;
-        while (qibl_shr_u64(m, sh) >= (1u << 19))
-            ++sh;
+        for (int k = 0; k < 3; ++k)
+            m = qibli_abs_u64(x[i][k]) > m ? qibli_abs_u64(x[i][k]) : m;
+        const unsigned bl = qibli_bitlen_u64_inline(m), sh = bl > 19u ? bl - 19u : 0u; /* m >> sh < 2^19 */
         for (int k = 0; k < 3; ++k) {
             const int32_t q = (int32_t)qibl_asr_s64(x[i][k], sh);
             e[i][k] = s < 0 ? -q : q;
@@ -652,7 +626,7 @@ static uint32_t cell(uint32_t num, uint32_t m, uint32_t F)
  * two cells, and the complement for a - face (its u and v change sign). */
 static edge lookup(const qibl_hemi_t *h, const int32_t e[3])
 {
-    const uint32_t ax = abs_u32(e[0]), ay = abs_u32(e[1]), az = abs_u32(e[2]);
+    const uint32_t ax = qibli_abs_u32(e[0]), ay = qibli_abs_u32(e[1]), az = qibli_abs_u32(e[2]);
     const uint32_t F = (uint32_t)h->face;
     int neg;
     uint32_t m;

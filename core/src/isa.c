@@ -45,14 +45,11 @@ qibl_isa_t qibl_isa_active(void)
 const char *qibl_isa_name(qibl_isa_t isa)
 {
     switch (isa) {
-    case QIBL_ISA_SCALAR:
-        return "scalar";
-    case QIBL_ISA_SSE2:
-        return "sse2";
-    case QIBL_ISA_AVX2:
-        return "avx2";
-    case QIBL_ISA_NEON:
-        return "neon";
+#define QIBL_ISA_CASE_(name, value, label) case name: return label;
+    QIBL_ISA_LIST(QIBL_ISA_CASE_)
+#undef QIBL_ISA_CASE_
+    case QIBL_ISA_COUNT:
+        break;
     }
     return "?";
 }

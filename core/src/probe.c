@@ -46,6 +46,13 @@
 #define TRIG(ps, tc, i, u) ((ps)->trig[8u * (size_t)(u) + (i)])
 #endif
 
+/* the folded sums are written once and inlined per number of orders (a constant there) */
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(__OPTIMIZE_SIZE__)
+#define FOLD_INLINE __attribute__((always_inline)) inline
+#else
+#define FOLD_INLINE inline
+#endif
+
 #define LIMBS QIBL_PROBE_ACC_LIMBS
 #define ACC_LSB (-256)  /* the accumulators' bit 0 is 2^-256 */
 #define XBITS 27        /* channel integers <= 2^27 */
@@ -126,6 +133,38 @@ static void mul_64_32(uint64_t a, uint32_t b, uint32_t out[3])
 static void kadd(uint32_t *acc, const uint32_t mag[3], unsigned e, int neg)
 {
     unsigned q = e >> 5, b = e & 31u;
+#if QIBL_CONFIG_NATIVE_SHIFT64 && QIBL_CONFIG_NATIVE_DIV64
+    {
+        /* the same sum in two 64-bit words on 64-bit hosts (NATIVE_DIV64 marks them; 64-bit
+         * shifts inline there): mag 2^b < 2^127 */
+        const uint64_t m01 = (uint64_t)mag[0] | (uint64_t)mag[1] << 32;
+        const uint64_t w0 = m01 << b, w1 = (uint64_t)mag[2] << b | (b ? m01 >> (64u - b) : 0u);
+        uint32_t *a = acc + q;
+        const uint64_t a0 = (uint64_t)a[0] | (uint64_t)a[1] << 32, a1 = (uint64_t)a[2] | (uint64_t)a[3] << 32;
+        uint64_t r0, r1;
+        uint32_t carry;
+        if (!neg) {
+            r0 = a0 + w0, r1 = a1 + w1;
+            carry = (uint32_t)(r1 < w1);
+            const uint32_t c0 = (uint32_t)(r0 < w0);
+            r1 += c0;
+            carry |= (uint32_t)(r1 < c0);
+        } else {
+            r0 = a0 - w0, r1 = a1 - w1;
+            carry = (uint32_t)(a1 < w1); /* borrow */
+            const uint32_t c0 = (uint32_t)(a0 < w0);
+            carry |= (uint32_t)(r1 < c0);
+            r1 -= c0;
+        }
+        a[0] = (uint32_t)r0, a[1] = (uint32_t)(r0 >> 32), a[2] = (uint32_t)r1, a[3] = (uint32_t)(r1 >> 32);
+        if (!neg)
+            for (unsigned i = q + 4u; carry != 0u && i < LIMBS; ++i)
+                carry = ++acc[i] == 0u;
+        else
+            for (unsigned i = q + 4u; carry != 0u && i < LIMBS; ++i)
+                carry = acc[i]-- == 0u;
+    }
+#else
     uint32_t t[4];
     t[0] = mag[0] << b;
     t[1] = b ? (mag[1] << b) | (mag[0] >> (32u - b)) : mag[1];
@@ -151,6 +190,7 @@ static void kadd(uint32_t *acc, const uint32_t mag[3], unsigned e, int neg)
         for (unsigned i = q + 4u; carry != 0u && i < LIMBS; ++i)
             carry = acc[i]-- == 0u;
     }
+#endif
 }
 
 /* sin(pi n / d) in Q2.30 for any n >= 0, 0 < d < 2^31 (within 1 LSB) */
@@ -174,6 +214,22 @@ static int32_t cos_pi_q30(uint64_t n, uint64_t d)
 {
     return sin_pi_q30(2u * n + d, 2u * d); /* cos a = sin(a + pi / 2) */
 }
+
+#ifndef __OPTIMIZE_SIZE__
+/* sin_pi_q30(n, w) from sn[j] = sin_pi_q30(j, w), j = 0..w/2: the same reduction modulo 2w, the
+ * sign of the second half turn, and the reflection j -> w - j that sin_frac makes itself */
+static int32_t sin_table(const int32_t *sn, uint32_t n, uint32_t w)
+{
+    while (n >= 2u * w) /* n < 9 w here: no division (a library call on Cortex-M0) */
+        n -= 2u * w;
+    const int neg = n >= w;
+    if (neg)
+        n -= w;
+    if (2u * n > w)
+        n = w - n;
+    return neg ? -sn[n] : sn[n];
+}
+#endif
 
 /* ---- workspace -------------------------------------------------------------------------------- */
 
@@ -234,6 +290,25 @@ qibl_status_t qibl_probe_sh_begin(qibl_probe_sh_t *ps, uint32_t width, uint32_t 
     for (uint32_t i = 0; i < (height + 7u) / 8u; ++i)
         ps->seen[i] = 0u;
     /* phi_u = pi (2u + 1) / W; m phi_u = pi m (2u + 1) / W */
+#ifndef __OPTIMIZE_SIZE__ /* size-optimised builds keep the direct loop below (one less path) */
+    if ((width & 1u) == 0u) {
+        /* sin_pi_q30 depends on n / W only (sin_frac: a floor of pi n / d, and the reflection
+         * n -> d - n made inside it), so every entry is +-sin_pi_q30(j, W) for one j <= W/2, and
+         * cos_pi_q30(n, W) = sin_pi_q30(2n + W, 2W) is sin_pi_q30(n + W/2, W) for even W: W/2 + 1
+         * evaluations instead of 8 per column, into the row buffer (unused until the first row) */
+        int32_t *sn = (int32_t *)(void *)ps->x;
+        for (uint32_t j = 0; j <= width / 2u; ++j)
+            sn[j] = sin_pi_q30(j, width);
+        for (uint32_t u = 0; u < tc; ++u) {
+            for (uint32_t m = 1; m <= 4u; ++m) {
+                const uint32_t n = m * (2u * u + 1u); /* < 8 W <= 2^18 */
+                TRIG(ps, tc, 2u * (m - 1u), u) = sin_table(sn, n + width / 2u, width);
+                TRIG(ps, tc, 2u * (m - 1u) + 1u, u) = sin_table(sn, n, width);
+            }
+        }
+        return QIBL_OK;
+    }
+#endif
     for (uint32_t u = 0; u < tc; ++u) {
         for (uint32_t m = 1; m <= 4u; ++m) {
             uint64_t n = qibl_mul_u32_u64(m, 2u * u + 1u);
@@ -386,8 +461,9 @@ static inline __m256i mul2(__m256i a, __m256i t)
 /* The folded sums of row_sums_folded for pairs 0 .. 8 floor(half / 8) - 1, 8 pairs per step (the
  * mirrors loaded backwards), added to s; returns the pairs done. Every product and sum is exact, so
  * the totals are the scalar loop's integers. Per 64-bit lane and step an update is at most
- * 2 2^60 (two pairs), so 3 steps stay below 2^63 before they go into the 128-bit lane sums. */
-static uint32_t row_sums_folded_avx2(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s[9])
+ * 2 2^60 (two pairs), so 3 steps stay below 2^63 before they go into the 128-bit lane sums.
+ * Only the orders m <= mm (a constant where it is inlined) are summed: s[2m - 1], s[2m] stay 0 above. */
+static FOLD_INLINE uint32_t folded_avx2(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s[9], const int mm)
 {
     const uint32_t q = ps->width / 4u, half = q / 2u;
     const int32_t *tr = ps->trig;
@@ -421,20 +497,28 @@ static uint32_t row_sums_folded_avx2(const qibl_probe_sh_t *ps, const uint32_t *
             const __m256i t4 = LD(tr + 4u * q + u), t5 = LD(tr + 5u * q + u), t6 = LD(tr + 6u * q + u),
                           t7 = LD(tr + 7u * q + u);
             a[0] = _mm256_add_epi64(a[0], _mm256_add_epi64(_mm256_and_si256(AA, lo32), _mm256_srli_epi64(AA, 32)));
-            a[1] = _mm256_add_epi64(a[1], _mm256_sub_epi64(mul2(E, t0), mul2(F, t1)));
-            a[2] = _mm256_add_epi64(a[2], _mm256_add_epi64(mul2(G, t1), mul2(H, t0)));
-            a[3] = _mm256_add_epi64(a[3], mul2(_mm256_sub_epi32(B, B2), t2));
-            a[4] = _mm256_add_epi64(a[4], mul2(_mm256_add_epi32(B, B2), t3));
-            a[5] = _mm256_add_epi64(a[5], _mm256_add_epi64(mul2(E, t4), mul2(F, t5)));
-            a[6] = _mm256_add_epi64(a[6], _mm256_sub_epi64(mul2(G, t5), mul2(H, t4)));
-            a[7] = _mm256_add_epi64(a[7], mul2(AA, t6));
-            a[8] = _mm256_add_epi64(a[8], mul2(_mm256_sub_epi32(A, A2), t7));
+            if (mm >= 1) {
+                a[1] = _mm256_add_epi64(a[1], _mm256_sub_epi64(mul2(E, t0), mul2(F, t1)));
+                a[2] = _mm256_add_epi64(a[2], _mm256_add_epi64(mul2(G, t1), mul2(H, t0)));
+            }
+            if (mm >= 2) {
+                a[3] = _mm256_add_epi64(a[3], mul2(_mm256_sub_epi32(B, B2), t2));
+                a[4] = _mm256_add_epi64(a[4], mul2(_mm256_add_epi32(B, B2), t3));
+            }
+            if (mm >= 3) {
+                a[5] = _mm256_add_epi64(a[5], _mm256_add_epi64(mul2(E, t4), mul2(F, t5)));
+                a[6] = _mm256_add_epi64(a[6], _mm256_sub_epi64(mul2(G, t5), mul2(H, t4)));
+            }
+            if (mm >= 4) {
+                a[7] = _mm256_add_epi64(a[7], mul2(AA, t6));
+                a[8] = _mm256_add_epi64(a[8], mul2(_mm256_sub_epi32(A, A2), t7));
+            }
         }
-        for (int i = 0; i < 9; ++i)
+        for (int i = 0; i <= 2 * mm; ++i)
             v128_add(&hi[i], &lo[i], a[i]);
     }
 #undef LD
-    for (int i = 0; i < 9; ++i) {
+    for (int i = 0; i <= 2 * mm; ++i) {
         uint64_t h[4], l[4];
         _mm256_storeu_si256((__m256i *)(void *)h, hi[i]);
         _mm256_storeu_si256((__m256i *)(void *)l, lo[i]);
@@ -448,15 +532,16 @@ static uint32_t row_sums_folded_avx2(const qibl_probe_sh_t *ps, const uint32_t *
 }
 #endif
 
-/* Fourier sums of one channel: s[0] = S_0, s[2m - 1] = S_mc, s[2m] = S_ms (m = 1..4). */
-static void row_sums_folded(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s[9])
+/* Fourier sums of one channel: s[0] = S_0, s[2m - 1] = S_mc, s[2m] = S_ms for m = 1..mm (the orders
+ * the bands need, a constant where it is inlined; the others stay 0). */
+static FOLD_INLINE void folded(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s[9], const int mm)
 {
     const uint32_t q = ps->width / 4u, half = q / 2u;
     for (int i = 0; i < 9; ++i)
         s[i].hi = s[i].lo = 0u;
     uint32_t start = 0u;
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
-    start = row_sums_folded_avx2(ps, x, s);
+    start = folded_avx2(ps, x, s, mm);
 #endif
     /* Quarter column u and its mirror u' = q - 1 - u (phi' = pi/2 - phi) share u's trig values:
      * cos m phi' and sin m phi' are +-sin m phi and +-cos m phi, so the two columns' folds combine
@@ -485,14 +570,22 @@ static void row_sums_folded(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s
             const int32_t A2 = r0 + r1 + r2 + r3, B2 = r0 - r1 + r2 - r3, C2 = r0 - r2, D2 = r1 - r3;
             const int32_t E = C - D2, F = D - C2, G = C + D2, H = D + C2;
             a0 += (int64_t)A + A2;
-            c1 += qibl_mul_s32_s64(E, t[0]) - qibl_mul_s32_s64(F, t[1]);
-            s1 += qibl_mul_s32_s64(G, t[1]) + qibl_mul_s32_s64(H, t[0]);
-            c2 += qibl_mul_s32_s64(B - B2, t[2]);
-            s2 += qibl_mul_s32_s64(B + B2, t[3]);
-            c3 += qibl_mul_s32_s64(E, t[4]) + qibl_mul_s32_s64(F, t[5]);
-            s3 += qibl_mul_s32_s64(G, t[5]) - qibl_mul_s32_s64(H, t[4]);
-            c4 += qibl_mul_s32_s64(A + A2, t[6]);
-            s4 += qibl_mul_s32_s64(A - A2, t[7]);
+            if (mm >= 1) {
+                c1 += qibl_mul_s32_s64(E, t[0]) - qibl_mul_s32_s64(F, t[1]);
+                s1 += qibl_mul_s32_s64(G, t[1]) + qibl_mul_s32_s64(H, t[0]);
+            }
+            if (mm >= 2) {
+                c2 += qibl_mul_s32_s64(B - B2, t[2]);
+                s2 += qibl_mul_s32_s64(B + B2, t[3]);
+            }
+            if (mm >= 3) {
+                c3 += qibl_mul_s32_s64(E, t[4]) + qibl_mul_s32_s64(F, t[5]);
+                s3 += qibl_mul_s32_s64(G, t[5]) - qibl_mul_s32_s64(H, t[4]);
+            }
+            if (mm >= 4) {
+                c4 += qibl_mul_s32_s64(A + A2, t[6]);
+                s4 += qibl_mul_s32_s64(A - A2, t[7]);
+            }
         }
         s128_add64(&s[0], a0);
         s128_add64(&s[1], c1), s128_add64(&s[2], s1);
@@ -509,15 +602,40 @@ static void row_sums_folded(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s
                       p3 = (int32_t)x[u + 3u * q];
         const int32_t A = p0 + p1 + p2 + p3, B = p0 - p1 + p2 - p3, C = p0 - p2, D = p1 - p3;
         s128_add64(&s[0], A);
-        s128_add64(&s[1], qibl_mul_s32_s64(C, t[0]) - qibl_mul_s32_s64(D, t[1]));
-        s128_add64(&s[2], qibl_mul_s32_s64(C, t[1]) + qibl_mul_s32_s64(D, t[0]));
-        s128_add64(&s[3], qibl_mul_s32_s64(B, t[2]));
-        s128_add64(&s[4], qibl_mul_s32_s64(B, t[3]));
-        s128_add64(&s[5], qibl_mul_s32_s64(C, t[4]) + qibl_mul_s32_s64(D, t[5]));
-        s128_add64(&s[6], qibl_mul_s32_s64(C, t[5]) - qibl_mul_s32_s64(D, t[4]));
-        s128_add64(&s[7], qibl_mul_s32_s64(A, t[6]));
-        s128_add64(&s[8], qibl_mul_s32_s64(A, t[7]));
+        if (mm >= 1) {
+            s128_add64(&s[1], qibl_mul_s32_s64(C, t[0]) - qibl_mul_s32_s64(D, t[1]));
+            s128_add64(&s[2], qibl_mul_s32_s64(C, t[1]) + qibl_mul_s32_s64(D, t[0]));
+        }
+        if (mm >= 2) {
+            s128_add64(&s[3], qibl_mul_s32_s64(B, t[2]));
+            s128_add64(&s[4], qibl_mul_s32_s64(B, t[3]));
+        }
+        if (mm >= 3) {
+            s128_add64(&s[5], qibl_mul_s32_s64(C, t[4]) + qibl_mul_s32_s64(D, t[5]));
+            s128_add64(&s[6], qibl_mul_s32_s64(C, t[5]) - qibl_mul_s32_s64(D, t[4]));
+        }
+        if (mm >= 4) {
+            s128_add64(&s[7], qibl_mul_s32_s64(A, t[6]));
+            s128_add64(&s[8], qibl_mul_s32_s64(A, t[7]));
+        }
     }
+}
+
+/* folded() for the orders the projection's bands need (m <= bands - 1): 3 bands sum 5 of the 9
+ * and take 6 of the 12 products per column pair, so fewer bands cost less */
+static void row_sums_folded(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s[9])
+{
+#ifdef __OPTIMIZE_SIZE__
+    folded(ps, x, s, ps->bands - 1); /* one copy where size is what counts (the cross builds) */
+#else
+    switch (ps->bands) {
+    case 1: folded(ps, x, s, 0); break;
+    case 2: folded(ps, x, s, 1); break;
+    case 3: folded(ps, x, s, 2); break;
+    case 4: folded(ps, x, s, 3); break;
+    default: folded(ps, x, s, 4); break;
+    }
+#endif
 }
 
 /* cos and sin of m phi_u (m = 1..4) at any column u, from the table (by quarter turns if folded) */
@@ -546,6 +664,7 @@ static void trig_at(const qibl_probe_sh_t *ps, uint32_t u, int32_t t[8])
 /* Direct sums over columns u0 .. u1-1 (any width; products <= 2^57, chunks of 8 below 2^60). */
 static void row_sums_direct(const qibl_probe_sh_t *ps, const uint32_t *x, uint32_t u0, uint32_t u1, s128 s[9])
 {
+    const int nt = 2 * (ps->bands - 1);
     for (int i = 0; i < 9; ++i)
         s[i].hi = s[i].lo = 0u;
     for (uint32_t c0 = u0; c0 < u1; c0 += CHUNK) {
@@ -558,7 +677,7 @@ static void row_sums_direct(const qibl_probe_sh_t *ps, const uint32_t *x, uint32
             trig_at(ps, u, t);
             const int32_t xv = (int32_t)x[u];
             a[0] += xv;
-            for (int i = 0; i < 8; ++i)
+            for (int i = 0; i < nt; ++i) /* the orders the bands need */
                 a[i + 1] += qibl_mul_s32_s64(xv, t[i]);
         }
         for (int i = 0; i < 9; ++i)

@@ -1536,8 +1536,12 @@ static inline __m256i p8_round14(__m256i ae, __m256i ao)
 
 /* Eight pixels from x (their map bytes contiguous per map and channel at c0); 0 if a lane is rare
  * (nothing written then) */
-static int poly_chunk8(const qibl_shmap_point_t *pt, const uint8_t *pp, const uint8_t *c0, size_t ms, size_t c1,
-                       const uint32_t *seed, const __m256i *sn16, int32_t *out)
+/* The per-pixel front of eight pixels: Y_i and the attenuation am 2^-ae, all in lanes */
+typedef struct p8_front {
+    __m256i yv[QIBL_SH_MAX_COUNT], am, ae;
+} p8_front_t;
+
+static POLY_INLINE int poly_front8(const qibl_shmap_point_t *pt, const uint8_t *pp, const uint32_t *seed, p8_front_t *f)
 {
     const __m256i idx = _mm256_setr_epi32(0, 12, 24, 36, 48, 60, 72, 84);
     const int *pb = (const int *)(const void *)pp;
@@ -1592,25 +1596,50 @@ static int poly_chunk8(const qibl_shmap_point_t *pt, const uint8_t *pp, const ui
         am = _mm256_srli_epi32(P8_MUL(am, am), 15);
         ae = _mm256_sub_epi32(_mm256_add_epi32(ae, ae), P8_C(47));
     }
-    __m256i yv[QIBL_SH_MAX_COUNT];
-    poly_eval8(u0, u1, u2, pt->bands, yv);
+    poly_eval8(u0, u1, u2, pt->bands, f->yv);
+    f->am = am, f->ae = ae;
+    return 1;
+}
+
+/* The sums and the final scaling of eight pixels whose front is f, into out (their map bytes
+ * contiguous per map and channel at c0); 0 if a lane's scaling is rare (nothing written then) */
+static POLY_INLINE int poly_back8(const qibl_shmap_point_t *pt, const p8_front_t *f, const uint8_t *c0, size_t ms,
+                                  size_t c1, const __m256i *sn16, int32_t *out)
+{
     const uint32_t k = pt->maps->k;
+    const __m256i *yv = f->yv, am = f->am, ae = f->ae, zero = _mm256_setzero_si256();
     __m256i e0 = zero, o0 = zero, e1 = zero, o1 = zero, e2 = zero, o2 = zero;
-    const uint8_t *c = c0;
     /* sn_i c: one vpmaddwd (c in the low int16 of each lane, sn_i there and 0 above: c sn_i + 0,
-     * exact, |sn_i c| < 2^23) instead of a two-uop vpmulld */
+     * exact, |sn_i c| < 2^23) instead of a two-uop vpmulld; bs_i from a vector table (one vpaddd
+     * with a memory operand); two maps per step (half the loop overhead) */
     const __m256i *sn0 = sn16, *sn1 = sn16 + QIBL_SH_MAX_COUNT, *sn2 = sn16 + 2 * QIBL_SH_MAX_COUNT;
-    for (uint32_t i = 0; i < k; ++i, c += ms) {
-        const __m256i yi = yv[i], yo = _mm256_srli_epi64(yi, 32);
-        const __m256i t0 = _mm256_add_epi32(_mm256_madd_epi16(_mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)c)), sn0[i]), P8_C(pt->bs[0][i]));
-        const __m256i t1 = _mm256_add_epi32(_mm256_madd_epi16(_mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)(c + c1))), sn1[i]), P8_C(pt->bs[1][i]));
-        const __m256i t2 = _mm256_add_epi32(_mm256_madd_epi16(_mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)(c + 2u * c1))), sn2[i]), P8_C(pt->bs[2][i]));
-        e0 = _mm256_add_epi64(e0, _mm256_mul_epi32(yi, t0)), o0 = _mm256_add_epi64(o0, _mm256_mul_epi32(yo, _mm256_srli_epi64(t0, 32)));
-        e1 = _mm256_add_epi64(e1, _mm256_mul_epi32(yi, t1)), o1 = _mm256_add_epi64(o1, _mm256_mul_epi32(yo, _mm256_srli_epi64(t1, 32)));
-        e2 = _mm256_add_epi64(e2, _mm256_mul_epi32(yi, t2)), o2 = _mm256_add_epi64(o2, _mm256_mul_epi32(yo, _mm256_srli_epi64(t2, 32)));
+    const __m256i *bs0 = sn16 + 3 * QIBL_SH_MAX_COUNT, *bs1 = bs0 + QIBL_SH_MAX_COUNT, *bs2 = bs1 + QIBL_SH_MAX_COUNT;
+#define P8_MAP(i, c)                                                                                                   \
+    do {                                                                                                               \
+        const __m256i yi = yv[i], yo = _mm256_srli_epi64(yi, 32);                                                      \
+        const __m256i t0 = _mm256_add_epi32(                                                                           \
+            _mm256_madd_epi16(_mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)(c))), sn0[i]), bs0[i]); \
+        const __m256i t1 = _mm256_add_epi32(                                                                           \
+            _mm256_madd_epi16(_mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)((c) + c1))), sn1[i]), bs1[i]); \
+        const __m256i t2 = _mm256_add_epi32(                                                                           \
+            _mm256_madd_epi16(_mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)((c) + 2u * c1))), sn2[i]), bs2[i]); \
+        e0 = _mm256_add_epi64(e0, _mm256_mul_epi32(yi, t0));                                                           \
+        o0 = _mm256_add_epi64(o0, _mm256_mul_epi32(yo, _mm256_srli_epi64(t0, 32)));                                    \
+        e1 = _mm256_add_epi64(e1, _mm256_mul_epi32(yi, t1));                                                           \
+        o1 = _mm256_add_epi64(o1, _mm256_mul_epi32(yo, _mm256_srli_epi64(t1, 32)));                                    \
+        e2 = _mm256_add_epi64(e2, _mm256_mul_epi32(yi, t2));                                                           \
+        o2 = _mm256_add_epi64(o2, _mm256_mul_epi32(yo, _mm256_srli_epi64(t2, 32)));                                    \
+    } while (0)
+    uint32_t i = 0;
+    for (const uint8_t *c = c0; i + 2u <= k; i += 2u, c += 2u * ms) {
+        P8_MAP(i, c);
+        P8_MAP(i + 1u, c + ms);
     }
+    if (i < k)
+        P8_MAP(i, c0 + (size_t)i * ms);
+#undef P8_MAP
     const __m256i V[3] = {p8_round14(e0, o0), p8_round14(e1, o1), p8_round14(e2, o2)};
-    int32_t res[3][8];
+    __m256i res[3];
     for (int ch = 0; ch < 3; ++ch) {
         const __m256i g = P8_MUL(am, P8_C(pt->c0m[ch])); /* <= 2^30 */
         const __m256i pe = _mm256_mul_epi32(V[ch], g),
@@ -1623,10 +1652,25 @@ static int poly_chunk8(const qibl_shmap_point_t *pt, const uint8_t *pp, const ui
         const __m256i j = _mm256_sub_epi32(sr, P8_C(33));
         const __m256i o = _mm256_srav_epi32(_mm256_add_epi32(p8_hi(pe, po), _mm256_sllv_epi32(P8_C(1), j)),
                                             _mm256_add_epi32(j, P8_C(1)));
-        _mm256_storeu_si256((__m256i *)(void *)res[ch], o);
+        res[ch] = o;
     }
-    for (int p = 0; p < 8; ++p)
-        out[3 * p] = res[0][p], out[3 * p + 1] = res[1][p], out[3 * p + 2] = res[2][p];
+    /* RGB interleaved: each output vector takes its lanes from R, G and B by one permute each */
+    const __m256i vr = res[0], vg = res[1], vb = res[2];
+    const __m256i w0 = _mm256_blend_epi32(
+        _mm256_blend_epi32(_mm256_permutevar8x32_epi32(vr, _mm256_setr_epi32(0, 0, 0, 1, 0, 0, 2, 0)),
+                           _mm256_permutevar8x32_epi32(vg, _mm256_setr_epi32(0, 0, 0, 0, 1, 0, 0, 2)), 0x92),
+        _mm256_permutevar8x32_epi32(vb, _mm256_setr_epi32(0, 0, 0, 0, 0, 1, 0, 0)), 0x24);
+    const __m256i w1 = _mm256_blend_epi32(
+        _mm256_blend_epi32(_mm256_permutevar8x32_epi32(vr, _mm256_setr_epi32(0, 3, 0, 0, 4, 0, 0, 5)),
+                           _mm256_permutevar8x32_epi32(vg, _mm256_setr_epi32(0, 0, 3, 0, 0, 4, 0, 0)), 0x24),
+        _mm256_permutevar8x32_epi32(vb, _mm256_setr_epi32(2, 0, 0, 3, 0, 0, 4, 0)), 0x49);
+    const __m256i w2 = _mm256_blend_epi32(
+        _mm256_blend_epi32(_mm256_permutevar8x32_epi32(vr, _mm256_setr_epi32(0, 0, 6, 0, 0, 7, 0, 0)),
+                           _mm256_permutevar8x32_epi32(vg, _mm256_setr_epi32(5, 0, 0, 6, 0, 0, 7, 0)), 0x49),
+        _mm256_permutevar8x32_epi32(vb, _mm256_setr_epi32(0, 5, 0, 0, 6, 0, 0, 7)), 0x92);
+    _mm256_storeu_si256((__m256i *)(void *)out, w0);
+    _mm256_storeu_si256((__m256i *)(void *)(out + 8), w1);
+    _mm256_storeu_si256((__m256i *)(void *)(out + 16), w2);
     return 1;
 }
 
@@ -1650,19 +1694,30 @@ static void poly_span_avx2(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y
     uint32_t seed[192];
     for (uint32_t i = 0; i < 192u; ++i)
         seed[i] = qibli_rsqrt_seed[i];
-    __m256i sn16[3 * QIBL_SH_MAX_COUNT]; /* sn_i as the low int16 of every int32 lane, 0 above */
+    /* sn_i as the low int16 of every int32 lane, 0 above (per channel), then bs_i (per channel) */
+    __m256i sn16[6 * QIBL_SH_MAX_COUNT];
     for (uint32_t ch = 0; ch < 3u; ++ch)
-        for (uint32_t i = 0; i < k; ++i)
+        for (uint32_t i = 0; i < k; ++i) {
             sn16[ch * QIBL_SH_MAX_COUNT + i] = _mm256_set1_epi32((int32_t)(uint16_t)pt->sn[ch][i]);
+            sn16[(3u + ch) * QIBL_SH_MAX_COUNT + i] = _mm256_set1_epi32(pt->bs[ch][i]);
+        }
     uint32_t px = 0u;
     if (il && x0 % 8u != 0u) {
         px = 8u - x0 % 8u < n ? 8u - x0 % 8u : n;
         poly_span(pt, x0, y, px, out);
     }
-    for (; px + 8u <= n; px += 8u) {
+    /* software pipeline: the front of the next chunk (a long dependent chain: rsqrt seed, Newton
+     * step, the recurrences) comes before the sums of this one, so the two overlap */
+    p8_front_t fr[2];
+    int fok[2] = {0, 0};
+    if (px + 8u <= n)
+        fok[0] = poly_front8(pt, pt->pmap->points + (off + px) * 12u, seed, &fr[0]);
+    for (unsigned cur = 0u; px + 8u <= n; px += 8u, cur ^= 1u) {
+        if (px + 16u <= n)
+            fok[cur ^ 1u] = poly_front8(pt, pt->pmap->points + (off + px + 8u) * 12u, seed, &fr[cur ^ 1u]);
         const uint32_t x = x0 + px;
         const uint8_t *c0 = il ? row + (size_t)(x / QIBL_SHMAPS_GROUP) * gbytes + x % QIBL_SHMAPS_GROUP : row + px;
-        if (!poly_chunk8(pt, pt->pmap->points + (off + px) * 12u, c0, ms, c1, seed, sn16, out + 3u * px))
+        if (!fok[cur] || !poly_back8(pt, &fr[cur], c0, ms, c1, sn16, out + 3u * px))
             poly_span(pt, x, y, 8u, out + 3u * px);
     }
     if (px < n)

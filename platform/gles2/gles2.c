@@ -714,6 +714,171 @@ typedef struct {
     int lut_linear;
 } drawdesc;
 
+/* Passes accumulate in sRGBE, whose error is relative to the pixel's largest partial sum. The core
+ * folds all the maps' range-packing biases into one B = sum bias_i L_i, which cancels the large sum
+ * of c_i W_i only at the end; so each pass adds the bias of its own planes (W_p 2^shift bias_p /
+ * scale_p) and the first pass the remainder of B, which keeps every partial sum the size of the
+ * decoded terms T_i L_i. */
+static void split_bias(const qibl_gles2_t *g, drawdesc *dd, int mode, uint32_t np)
+{
+    for (uint32_t pass = 0; pass < np; ++pass)
+        dd->pass_bias[pass][0] = dd->pass_bias[pass][1] = dd->pass_bias[pass][2] = 0.0f;
+    for (uint32_t ch = 0; ch < 3u; ++ch) {
+        double rest = (double)dd->bias[ch];
+        if (mode == QIBL_GLES2_MODE_DIR && np > 1u)
+            for (uint32_t pass = 0; pass < np; ++pass)
+                for (uint32_t p = 4u * g->pass_first[mode][pass]; p < 4u * g->pass_first[mode][pass + 1u] && p < g->planes;
+                     ++p) {
+                    if (g->scale[p] == 0.0f || (g->channels == 3u && p % 3u != ch))
+                        continue;
+                    double share = (double)dd->pw[p][ch] * (double)g->bias[p] / (double)g->scale[p];
+                    dd->pass_bias[pass][ch] += (float)share;
+                    rest -= share;
+                }
+        dd->pass_bias[0][ch] += (float)rest;
+    }
+}
+
+/* the pass's program, generated and linked on its first use */
+static qibl_status_t pass_program(qibl_gles2_t *g, int mode, uint32_t pass, GLuint *prog)
+{
+    if (g->prog[mode][pass] == 0u) {
+        char local[SRC_SIZE]; /* on the stack: a static scratch would break reentrancy */
+        sbuf b = {local, 0, sizeof local, 0};
+        if (build_fs(g, mode, pass, &b) != 0) {
+            set_log(g, "generated fragment shader longer than %d bytes", SRC_SIZE);
+            return QIBL_E_GLES2_COMPILE;
+        }
+        GLuint p = 0;
+        qibl_status_t st = link_program(g, local, &p);
+        if (st != QIBL_OK)
+            return st;
+        g->prog[mode][pass] = p;
+    }
+    *prog = g->prog[mode][pass];
+    return QIBL_OK;
+}
+
+/* the point modes' P maps, light and (POINT_LUT) Y tables; *unit the next free texture unit */
+static void point_uniforms(const qibl_gles2_t *g, const drawdesc *dd, int mode, GLuint prog, uint32_t t0, uint32_t t1,
+                           uint32_t *unit)
+{
+    char name[32];
+    for (uint32_t c = 0; c < 3u; ++c) {
+        glActiveTexture(GL_TEXTURE0 + *unit);
+        glBindTexture(GL_TEXTURE_2D, g->p_tex[c]);
+        snprintf(name, sizeof name, "u_p%u", c);
+        set1i(prog, name, (GLint)(*unit)++);
+    }
+    set3f(prog, "u_poff", g->poff);
+    set3f(prog, "u_pscale", g->pscale);
+    set3f(prog, "u_lpos", dd->lpos);
+    set3f(prog, "u_lrgb", dd->lrgb);
+    glUniform2f(glGetUniformLocation(prog, "u_lpar"), dd->lpar[0], dd->lpar[1]);
+    if (mode != QIBL_GLES2_MODE_POINT_LUT)
+        return;
+    GLint ln = glGetUniformLocation(prog, "u_lutn"), lnear = glGetUniformLocation(prog, "u_lutnear");
+    if (ln >= 0)
+        glUniform1f(ln, (float)g->lut_n);
+    if (lnear >= 0)
+        glUniform1f(lnear, dd->lut_linear ? 0.0f : 1.0f);
+    uint32_t i0, i1;
+    pass_maps(g, t0, t1, &i0, &i1);
+    for (uint32_t c = i0 / 2u; c <= (i1 - 1u) / 2u; ++c) {
+        glActiveTexture(GL_TEXTURE0 + *unit);
+        glBindTexture(GL_TEXTURE_CUBE_MAP, g->lut_tex[c]);
+        GLint f = dd->lut_linear ? GL_LINEAR : GL_NEAREST;
+        glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER, f);
+        glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAG_FILTER, f);
+        snprintf(name, sizeof name, "u_y%u", c);
+        set1i(prog, name, (GLint)(*unit)++);
+    }
+}
+
+/* the pass's maps and per-plane weights (directional) or scales and biases (point); *unit the next
+ * free texture unit */
+static void pass_uniforms(const qibl_gles2_t *g, const drawdesc *dd, const qibl_gles2_out_t *out, int mode,
+                          uint32_t pass, GLuint prog, uint32_t *unit)
+{
+    GLint loc = glGetUniformLocation(prog, "u_size");
+    glUniform2f(loc, 1.0f / (float)g->width, 1.0f / (float)g->height);
+    set3f(prog, "u_bias", dd->pass_bias[pass]);
+    loc = glGetUniformLocation(prog, "u_out");
+    if (loc >= 0)
+        glUniform2f(loc, out && out->exposure ? (float)out->exposure / 65536.0f : 1.0f, out && out->srgb ? 1.0f : 0.0f);
+    uint32_t t0 = g->pass_first[mode][pass], t1 = g->pass_first[mode][pass + 1u];
+    char name[32];
+    float vec[75 * 4];
+    for (uint32_t j = 0; j < t1 - t0; ++j) {
+        glActiveTexture(GL_TEXTURE0 + *unit);
+        glBindTexture(GL_TEXTURE_2D, g->map_tex[t0 + j]);
+        snprintf(name, sizeof name, "u_t%u", j);
+        set1i(prog, name, (GLint)(*unit)++);
+        for (uint32_t q = 0; q < 4u; ++q) {
+            uint32_t p = 4u * (t0 + j) + q;
+            int in = p < g->planes;
+            if (mode == QIBL_GLES2_MODE_DIR && g->channels == 3u) {
+                vec[4u * j + q] = in ? dd->pw[p][p % 3u] : 0.0f;
+            } else if (mode == QIBL_GLES2_MODE_DIR) {
+                for (uint32_t ch = 0; ch < 3u; ++ch)
+                    vec[4u * (3u * j + ch) + q] = in ? dd->pw[p][ch] : 0.0f;
+            } else {
+                vec[4u * j + q] = in ? dd->ps[p] : 0.0f;
+                vec[4u * (t1 - t0 + j) + q] = in ? dd->pb[p] : 0.0f;
+            }
+        }
+    }
+    if (mode == QIBL_GLES2_MODE_DIR) {
+        glUniform4fv(glGetUniformLocation(prog, "u_w"), (GLsizei)((t1 - t0) * (g->channels == 3u ? 1u : 3u)), vec);
+    } else {
+        glUniform4fv(glGetUniformLocation(prog, "u_s"), (GLsizei)(t1 - t0), vec);
+        glUniform4fv(glGetUniformLocation(prog, "u_b"), (GLsizei)(t1 - t0), vec + 4u * (t1 - t0));
+        point_uniforms(g, dd, mode, prog, t0, t1, unit);
+    }
+}
+
+/* pass i reads the codes pass i - 1 wrote (acc_tex[2 ((i + 1) % 2) + 0 and 1]) and writes
+ * acc_tex[2 (i % 2) + 0 and 1], high code then low code, each its own draw (GLES2 has one colour
+ * attachment); the last pass draws into the caller's framebuffer */
+static qibl_status_t pass_draws(qibl_gles2_t *g, GLuint prog, uint32_t pass, uint32_t np, uint32_t unit,
+                                GLint caller_fb)
+{
+    int first = pass == 0, last = pass + 1u == np;
+    const uint32_t per = g->float_acc ? 1u : 2u; /* accumulator textures per pass */
+    if (!first) {
+        glActiveTexture(GL_TEXTURE0 + unit);
+        glBindTexture(GL_TEXTURE_2D, g->acc_tex[per * ((pass + 1u) % 2u)]);
+        set1i(prog, "u_acc", (GLint)unit++);
+        if (!g->float_acc) {
+            glActiveTexture(GL_TEXTURE0 + unit);
+            glBindTexture(GL_TEXTURE_2D, g->acc_tex[2u * ((pass + 1u) % 2u) + 1u]);
+            set1i(prog, "u_acclo", (GLint)unit++);
+        }
+    }
+    GLint lo_loc = glGetUniformLocation(prog, "u_lo");
+    for (uint32_t h = 0; h < (last ? 1u : per); ++h) {
+        if (last) {
+            glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)caller_fb);
+        } else {
+            glBindFramebuffer(GL_FRAMEBUFFER, g->fbo[pass % 2u]);
+            glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, g->acc_tex[per * (pass % 2u) + h],
+                                   0);
+            GLenum fs = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+            if (fs != GL_FRAMEBUFFER_COMPLETE) {
+                set_log(g, "glCheckFramebufferStatus 0x%04x for the RGBA8 accumulator", (unsigned)fs);
+                return QIBL_E_GLES2_FRAMEBUFFER;
+            }
+            if (lo_loc >= 0)
+                glUniform1f(lo_loc, (float)h);
+        }
+        glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+        qibl_status_t st = gl_check(g, "a relighting pass");
+        if (st != QIBL_OK)
+            return st;
+    }
+    return QIBL_OK;
+}
+
 static qibl_status_t draw(qibl_gles2_t *g, drawdesc *dd, const qibl_gles2_out_t *out)
 {
     int mode = dd->mode;
@@ -733,149 +898,19 @@ static qibl_status_t draw(qibl_gles2_t *g, drawdesc *dd, const qibl_gles2_out_t 
     glEnableVertexAttribArray(0);
     glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, NULL);
     uint32_t np = g->npass[mode];
-    /* Passes accumulate in sRGBE, whose error is relative to the pixel's largest partial sum. The
-     * core folds all the maps' range-packing biases into one B = sum bias_i L_i, which cancels
-     * the large sum of c_i W_i only at the end; so each pass adds the bias of its own planes
-     * (W_p 2^shift bias_p / scale_p) and the first pass the remainder of B, which keeps every
-     * partial sum the size of the decoded terms T_i L_i. */
-    drawdesc *dw = dd;
-    for (uint32_t pass = 0; pass < np; ++pass)
-        dw->pass_bias[pass][0] = dw->pass_bias[pass][1] = dw->pass_bias[pass][2] = 0.0f;
-    for (uint32_t ch = 0; ch < 3u; ++ch) {
-        double rest = (double)dd->bias[ch];
-        if (mode == QIBL_GLES2_MODE_DIR && np > 1u)
-            for (uint32_t pass = 0; pass < np; ++pass)
-                for (uint32_t p = 4u * g->pass_first[mode][pass]; p < 4u * g->pass_first[mode][pass + 1u] && p < g->planes;
-                     ++p) {
-                    if (g->scale[p] == 0.0f || (g->channels == 3u && p % 3u != ch))
-                        continue;
-                    double share = (double)dd->pw[p][ch] * (double)g->bias[p] / (double)g->scale[p];
-                    dw->pass_bias[pass][ch] += (float)share;
-                    rest -= share;
-                }
-        dw->pass_bias[0][ch] += (float)rest;
-    }
+    split_bias(g, dd, mode, np);
     for (uint32_t pass = 0; pass < np; ++pass) {
-        if (g->prog[mode][pass] == 0u) {
-            char local[SRC_SIZE]; /* on the stack: a static scratch would break reentrancy */
-            sbuf b = {local, 0, sizeof local, 0};
-            if (build_fs(g, mode, pass, &b) != 0) {
-                glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)caller_fb);
-                set_log(g, "generated fragment shader longer than %d bytes", SRC_SIZE);
-                return QIBL_E_GLES2_COMPILE;
-            }
-            GLuint prog = 0;
-            qibl_status_t st = link_program(g, local, &prog);
-            if (st != QIBL_OK) {
-                glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)caller_fb);
-                return st;
-            }
-            g->prog[mode][pass] = prog;
+        GLuint prog = 0;
+        qibl_status_t st = pass_program(g, mode, pass, &prog);
+        if (st == QIBL_OK) {
+            uint32_t unit = 0;
+            glUseProgram(prog);
+            pass_uniforms(g, dd, out, mode, pass, prog, &unit);
+            st = pass_draws(g, prog, pass, np, unit, caller_fb);
         }
-        GLuint prog = g->prog[mode][pass];
-        int first = pass == 0, last = pass + 1u == np;
-        glUseProgram(prog);
-        GLint loc = glGetUniformLocation(prog, "u_size");
-        glUniform2f(loc, 1.0f / (float)g->width, 1.0f / (float)g->height);
-        set3f(prog, "u_bias", dd->pass_bias[pass]);
-        loc = glGetUniformLocation(prog, "u_out");
-        if (loc >= 0)
-            glUniform2f(loc, out && out->exposure ? (float)out->exposure / 65536.0f : 1.0f,
-                        out && out->srgb ? 1.0f : 0.0f);
-        uint32_t t0 = g->pass_first[mode][pass], t1 = g->pass_first[mode][pass + 1u], unit = 0;
-        char name[32];
-        float vec[75 * 4];
-        for (uint32_t j = 0; j < t1 - t0; ++j) {
-            glActiveTexture(GL_TEXTURE0 + unit);
-            glBindTexture(GL_TEXTURE_2D, g->map_tex[t0 + j]);
-            snprintf(name, sizeof name, "u_t%u", j);
-            set1i(prog, name, (GLint)unit++);
-            for (uint32_t q = 0; q < 4u; ++q) {
-                uint32_t p = 4u * (t0 + j) + q;
-                int in = p < g->planes;
-                if (mode == QIBL_GLES2_MODE_DIR && g->channels == 3u) {
-                    vec[4u * j + q] = in ? dd->pw[p][p % 3u] : 0.0f;
-                } else if (mode == QIBL_GLES2_MODE_DIR) {
-                    for (uint32_t ch = 0; ch < 3u; ++ch)
-                        vec[4u * (3u * j + ch) + q] = in ? dd->pw[p][ch] : 0.0f;
-                } else {
-                    vec[4u * j + q] = in ? dd->ps[p] : 0.0f;
-                    vec[4u * (t1 - t0 + j) + q] = in ? dd->pb[p] : 0.0f;
-                }
-            }
-        }
-        if (mode == QIBL_GLES2_MODE_DIR) {
-            glUniform4fv(glGetUniformLocation(prog, "u_w"), (GLsizei)((t1 - t0) * (g->channels == 3u ? 1u : 3u)), vec);
-        } else {
-            glUniform4fv(glGetUniformLocation(prog, "u_s"), (GLsizei)(t1 - t0), vec);
-            glUniform4fv(glGetUniformLocation(prog, "u_b"), (GLsizei)(t1 - t0), vec + 4u * (t1 - t0));
-            for (uint32_t c = 0; c < 3u; ++c) {
-                glActiveTexture(GL_TEXTURE0 + unit);
-                glBindTexture(GL_TEXTURE_2D, g->p_tex[c]);
-                snprintf(name, sizeof name, "u_p%u", c);
-                set1i(prog, name, (GLint)unit++);
-            }
-            set3f(prog, "u_poff", g->poff);
-            set3f(prog, "u_pscale", g->pscale);
-            set3f(prog, "u_lpos", dd->lpos);
-            set3f(prog, "u_lrgb", dd->lrgb);
-            glUniform2f(glGetUniformLocation(prog, "u_lpar"), dd->lpar[0], dd->lpar[1]);
-            if (mode == QIBL_GLES2_MODE_POINT_LUT) {
-                GLint ln = glGetUniformLocation(prog, "u_lutn"), lnear = glGetUniformLocation(prog, "u_lutnear");
-                if (ln >= 0)
-                    glUniform1f(ln, (float)g->lut_n);
-                if (lnear >= 0)
-                    glUniform1f(lnear, dd->lut_linear ? 0.0f : 1.0f);
-                uint32_t i0, i1;
-                pass_maps(g, t0, t1, &i0, &i1);
-                for (uint32_t c = i0 / 2u; c <= (i1 - 1u) / 2u; ++c) {
-                    glActiveTexture(GL_TEXTURE0 + unit);
-                    glBindTexture(GL_TEXTURE_CUBE_MAP, g->lut_tex[c]);
-                    GLint f = dd->lut_linear ? GL_LINEAR : GL_NEAREST;
-                    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER, f);
-                    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAG_FILTER, f);
-                    snprintf(name, sizeof name, "u_y%u", c);
-                    set1i(prog, name, (GLint)unit++);
-                }
-            }
-        }
-        /* pass i reads the codes pass i - 1 wrote (acc_tex[2 ((i + 1) % 2) + 0 and 1]) and writes
-         * acc_tex[2 (i % 2) + 0 and 1], high code then low code, each its own draw (GLES2 has one
-         * colour attachment) */
-        const uint32_t per = g->float_acc ? 1u : 2u; /* accumulator textures per pass */
-        if (!first) {
-            glActiveTexture(GL_TEXTURE0 + unit);
-            glBindTexture(GL_TEXTURE_2D, g->acc_tex[per * ((pass + 1u) % 2u)]);
-            set1i(prog, "u_acc", (GLint)unit++);
-            if (!g->float_acc) {
-                glActiveTexture(GL_TEXTURE0 + unit);
-                glBindTexture(GL_TEXTURE_2D, g->acc_tex[2u * ((pass + 1u) % 2u) + 1u]);
-                set1i(prog, "u_acclo", (GLint)unit++);
-            }
-        }
-        GLint lo_loc = glGetUniformLocation(prog, "u_lo");
-        for (uint32_t h = 0; h < (last ? 1u : per); ++h) {
-            if (last) {
-                glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)caller_fb);
-            } else {
-                glBindFramebuffer(GL_FRAMEBUFFER, g->fbo[pass % 2u]);
-                glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,
-                                       g->acc_tex[per * (pass % 2u) + h], 0);
-                GLenum fs = glCheckFramebufferStatus(GL_FRAMEBUFFER);
-                if (fs != GL_FRAMEBUFFER_COMPLETE) {
-                    glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)caller_fb);
-                    set_log(g, "glCheckFramebufferStatus 0x%04x for the RGBA8 accumulator", (unsigned)fs);
-                    return QIBL_E_GLES2_FRAMEBUFFER;
-                }
-                if (lo_loc >= 0)
-                    glUniform1f(lo_loc, (float)h);
-            }
-            glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
-            qibl_status_t st = gl_check(g, "a relighting pass");
-            if (st != QIBL_OK) {
-                glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)caller_fb);
-                return st;
-            }
+        if (st != QIBL_OK) { /* the caller's framebuffer bound again, as on success */
+            glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)caller_fb);
+            return st;
         }
     }
     glActiveTexture(GL_TEXTURE0);

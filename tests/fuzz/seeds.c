@@ -58,6 +58,7 @@
 #include "qibl/shmap.h"
 #include "qibl/srgbe.h"
 #include "ref/ward_rgbe.h"
+#include "transfer/export.h"
 
 static const char *root;
 static int failed;
@@ -875,6 +876,27 @@ static void cliopts_seeds(void)
 #undef SEED
 }
 
+/* ---- xfer: fuzz_xfer's layout (first, count as u16, a light seed byte) + a transfer export --- */
+static void xfer_seeds(void)
+{
+    static qibl_q30_t t[5][QIBL_HEMI_COEFFS];
+    for (int v = 0; v < 5; ++v)
+        for (int i = 0; i < QIBL_HEMI_COEFFS; ++i)
+            t[v][i] = (qibl_q30_t)((uint32_t)(v * 25 + i) * 40000003u) | (v == 4 && i == 0 ? INT32_MIN : 0);
+    for (int bands = 3; bands <= 5; ++bands) {
+        uint8_t *b, buf[5 + QIBL_HEMI_XFER_HEADER_SIZE + 5 * QIBL_HEMI_COEFFS * 4];
+        size_t n;
+        char err[128], name[32];
+        if (qtool_transfer_export_bytes((const qibl_q30_t(*)[QIBL_HEMI_COEFFS])t, 5, bands, &b, &n, err, sizeof err) != 0)
+            continue;
+        buf[0] = (uint8_t)(bands - 3), buf[1] = 0, buf[2] = (uint8_t)(bands == 4 ? 9 : 2), buf[3] = 0, buf[4] = 7;
+        memcpy(buf + 5, b, n);
+        snprintf(name, sizeof name, "bands%d_5v.bin", bands);
+        put("xfer", name, buf, 5 + n);
+        free(b);
+    }
+}
+
 int main(int argc, char **argv)
 {
     if (argc != 2) {
@@ -906,6 +928,7 @@ int main(int argc, char **argv)
     layout_seeds();
     shard_seeds();
     transfer_seeds();
+    xfer_seeds();
     lightcsv_seeds();
     cliopts_seeds();
     probe_seed("rgbe_mediancut", 16, 8, 0, 0x00, 3, 0, 0);

@@ -21,7 +21,6 @@
 #include "qibl/soft.h"
 #include "qtool.h"
 #include "ref/sh_ref.h"
-#include "qtool.h"
 
 #define UNIT 4294967296.0 /* 2^32 */
 
@@ -49,6 +48,37 @@ int qtool_bake_frame_done(qibl_status_t st, double t0, double *ms, const uint8_t
     if (status)
         *status = st;
     return st == QIBL_OK ? 0 : -1;
+}
+
+int qtool_bake_frame_alloc(qibl_status_t st, uint32_t w, uint32_t h, size_t rows, size_t scratch, size_t wsn,
+                           qtool_bake_frame *f, qibl_status_t *status)
+{
+    *f = (qtool_bake_frame){0};
+    if (status)
+        *status = st;
+    if (st != QIBL_OK)
+        return -1;
+    f->pix = malloc((size_t)w * h * 4);
+    f->row = malloc(sizeof(int32_t) * 3 * w * rows);
+    f->scratch = scratch ? malloc(scratch) : NULL;
+    f->ws = malloc(wsn);
+    f->wsn = wsn;
+    if (f->pix && f->row && (f->scratch || !scratch) && f->ws)
+        return 0;
+    free(f->pix), free(f->row), free(f->scratch), free(f->ws);
+    *f = (qtool_bake_frame){0};
+    if (status)
+        *status = QTOOL_E_NOMEM;
+    return -1;
+}
+
+int qtool_bake_frame_finish(qtool_bake_frame *f, qibl_status_t st, double t0, double *ms, uint32_t w, uint32_t h,
+                            uint8_t *rgb8, qibl_status_t *status)
+{
+    int rc = qtool_bake_frame_done(st, t0, ms, f->pix, w, h, rgb8, status);
+    free(f->pix), free(f->row), free(f->scratch), free(f->ws);
+    *f = (qtool_bake_frame){0};
+    return rc;
 }
 
 void qtool_bake_dir(uint32_t j, uint32_t n, double d[3])
@@ -724,9 +754,25 @@ int qtool_bake_truth8(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pan
     return 0;
 }
 
-static qibl_q16_t q16(double v)
+qibl_q16_t qtool_bake_q16(double v)
 {
     return (qibl_q16_t)lrint(v * 65536.0);
+}
+
+qibl_status_t qtool_bake_dir_shlight(const qtool_rt_light *l, uint32_t k, qibl_shlight_t *out)
+{
+    const qibl_q16_t dir[3] = {qtool_bake_q16(l->dir[0]), qtool_bake_q16(l->dir[1]), qtool_bake_q16(l->dir[2])};
+    const qibl_q16_t rgb[3] = {qtool_bake_q16(l->rgb[0]), qtool_bake_q16(l->rgb[1]), qtool_bake_q16(l->rgb[2])};
+    qibl_status_t st = qibl_shlight_init(out, k);
+    return st == QIBL_OK ? qibl_shlight_add_dir(out, dir, rgb) : st;
+}
+
+qibl_pointlight_t qtool_bake_pointlight(const qtool_rt_light *l, qibl_lut_filter_t filter)
+{
+    qibl_pointlight_t pl = {{qtool_bake_q16(l->pos[0]), qtool_bake_q16(l->pos[1]), qtool_bake_q16(l->pos[2])},
+                            {qtool_bake_q16(l->rgb[0]), qtool_bake_q16(l->rgb[1]), qtool_bake_q16(l->rgb[2])},
+                            l->falloff == 2 ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST, 0, filter};
+    return pl;
 }
 
 int qtool_bake_relight8_ex(const uint8_t *asset, size_t n, const qtool_rt_light *l, int lut_mode, qibl_uq16_t exposure,
@@ -759,33 +805,22 @@ int qtool_bake_relight8_lin(const uint8_t *asset, size_t n, const qtool_rt_light
         st = qibl_asset_pmap(&a, &pm);
     if (st == QIBL_OK && l->point && (lut_mode == 1 || lut_mode == 2))
         st = qibl_asset_ylut(&a, &lut);
-    if (status)
-        *status = st;
-    if (st != QIBL_OK)
+    uint32_t w = st == QIBL_OK ? m.width : 0, h = st == QIBL_OK ? m.height : 0;
+    size_t wsn = st != QIBL_OK ? 0 : l->point ? qibl_shmap_point_workspace_size(m.k, w) : qibl_shmap_span_workspace_size(w);
+    qtool_bake_frame f;
+    if (qtool_bake_frame_alloc(st, w, h, 1, 0, wsn, &f, status) != 0)
         return -1;
-    uint32_t w = m.width, h = m.height;
-    uint8_t *pix = malloc((size_t)w * h * 4);
-    int32_t *row = malloc(sizeof(int32_t) * 3 * w);
-    size_t wsn = l->point ? qibl_shmap_point_workspace_size(m.k, w) : qibl_shmap_span_workspace_size(w);
-    void *ws = malloc(wsn);
-    if (!pix || !row || !ws) {
-        free(pix), free(row), free(ws);
-        if (status)
-            *status = QIBL_E_NULL_POINTER;
-        return -1;
-    }
+    uint8_t *pix = f.pix;
+    int32_t *row = f.row;
+    void *ws = f.ws;
     qibl_fb_desc_t fb = {0};
     fb.pixels = pix, fb.width = w, fb.height = h, fb.format = QIBL_FB_RGBA8888;
     fb.srgb = srgb ? 1 : 0, fb.exposure = exposure;
-    qibl_q16_t rgb[3] = {q16(l->rgb[0]), q16(l->rgb[1]), q16(l->rgb[2])};
     double t0 = qtool_bake_now();
     if (!l->point) {
-        qibl_q16_t dir[3] = {q16(l->dir[0]), q16(l->dir[1]), q16(l->dir[2])};
         qibl_shlight_t sl;
         qibl_shmap_weights_t wt;
-        st = qibl_shlight_init(&sl, m.k);
-        if (st == QIBL_OK)
-            st = qibl_shlight_add_dir(&sl, dir, rgb);
+        st = qtool_bake_dir_shlight(l, m.k, &sl);
         if (st == QIBL_OK)
             st = qibl_shmap_weights(&m, &sl, &wt);
         for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {
@@ -796,9 +831,8 @@ int qtool_bake_relight8_lin(const uint8_t *asset, size_t n, const qtool_rt_light
                 row_linear(lin, row, w, y);
         }
     } else {
-        qibl_pointlight_t pl = {{q16(l->pos[0]), q16(l->pos[1]), q16(l->pos[2])}, {rgb[0], rgb[1], rgb[2]},
-                                l->falloff == 2 ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST, 0,
-                                lut_mode == 2 ? QIBL_LUT_NEAREST : lut_mode == 3 ? QIBL_POINT_POLY : QIBL_LUT_BILINEAR};
+        qibl_pointlight_t pl = qtool_bake_pointlight(
+            l, lut_mode == 2 ? QIBL_LUT_NEAREST : lut_mode == 3 ? QIBL_POINT_POLY : QIBL_LUT_BILINEAR);
         qibl_shmap_point_t pt;
         qibl_lampocc_t occ;
         qibl_chunk_t shmu;
@@ -816,9 +850,7 @@ int qtool_bake_relight8_lin(const uint8_t *asset, size_t n, const qtool_rt_light
                 row_linear(lin, row, w, y);
         }
     }
-    int rc = qtool_bake_frame_done(st, t0, ms, pix, w, h, rgb8, status);
-    free(pix), free(row), free(ws);
-    return rc;
+    return qtool_bake_frame_finish(&f, st, t0, ms, w, h, rgb8, status);
 }
 
 int qtool_bake_relight8(const uint8_t *asset, size_t n, const qtool_rt_light *l, int use_lut, uint8_t *rgb8, double *ms)

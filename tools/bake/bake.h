@@ -21,6 +21,7 @@
 
 #include "gen/scene.h"
 #include "qibl/fixed.h"
+#include "qibl/shmap.h"
 #include "qibl/soft.h"
 #include "qibl/status.h"
 #include "render/rt.h"
@@ -45,6 +46,28 @@ qibl_fb_desc_t qtool_bake_fb_srgb(uint8_t *pix, uint32_t w, uint32_t h);
  * the RGB of pix into rgb8 when st is QIBL_OK, *status (may be NULL) = st. 0 if st is QIBL_OK, else -1. */
 int qtool_bake_frame_done(qibl_status_t st, double t0, double *ms, const uint8_t *pix, uint32_t w, uint32_t h,
                           uint8_t *rgb8, qibl_status_t *status);
+/* A value in the core's Q16.16: round(v 2^16). */
+qibl_q16_t qtool_bake_q16(double v);
+/* The directional light l (direction and colour in Q16.16) as a k-coefficient SH light. */
+qibl_status_t qtool_bake_dir_shlight(const qtool_rt_light *l, uint32_t k, qibl_shlight_t *out);
+/* The point light l (position, colour, falloff) as the core's, looked up through filter. */
+qibl_pointlight_t qtool_bake_pointlight(const qtool_rt_light *l, qibl_lut_filter_t filter);
+/* The buffers of a relighting loop: the RGBA frame (w h 4 bytes), rows rows of 3 int32 per pixel
+ * (w wide), a scratch of the caller's size (may be 0 bytes) and the core's workspace of wsn bytes. */
+typedef struct qtool_bake_frame {
+    uint8_t *pix;
+    int32_t *row;
+    void *scratch, *ws;
+    size_t wsn;
+} qtool_bake_frame;
+/* After st, the status of opening the asset: *status (may be NULL) = st, and when st is QIBL_OK the
+ * buffers into f. 0, or -1 when st is not QIBL_OK or memory ran out (*status QTOOL_E_NOMEM,
+ * tools/qtool.h; nothing is held). */
+int qtool_bake_frame_alloc(qibl_status_t st, uint32_t w, uint32_t h, size_t rows, size_t scratch, size_t wsn,
+                           qtool_bake_frame *f, qibl_status_t *status);
+/* qtool_bake_frame_done on f's frame, then f's buffers freed. */
+int qtool_bake_frame_finish(qtool_bake_frame *f, qibl_status_t st, double t0, double *ms, uint32_t w, uint32_t h,
+                            uint8_t *rgb8, qibl_status_t *status);
 
 /* Renders and accumulates (shard of nshards; 0 of 1 = everything). progress: 1 = a bar on stderr.
  * 0, or -1 (no memory). */
@@ -126,7 +149,7 @@ void qtool_bake_lin_to8(const double *lin, uint32_t w, uint32_t h, uint8_t *rgb8
 /* The same with every option: lut_mode 0 direct SH, 1 LUT bilinear, 2 LUT nearest, 3 QIBL_POINT_POLY
  * (Q2.14 polynomials, no LUT); exposure UQ16.16
  * (0 = 1.0); srgb 0 = linear output. *status (may be NULL) gets the core's status on failure
- * (QIBL_E_NULL_POINTER stands for out of memory). rgb8 holds width * height * 3 bytes. */
+ * (QTOOL_E_NOMEM, tools/qtool.h, for out of memory). rgb8 holds width * height * 3 bytes. */
 int qtool_bake_relight8_ex(const uint8_t *asset, size_t n, const qtool_rt_light *l, int lut_mode, qibl_uq16_t exposure,
                            int srgb, uint8_t *rgb8, double *ms, qibl_status_t *status);
 /* The same, and when lin is not NULL also the linear frame the core computed (3 floats per pixel,

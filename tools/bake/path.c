@@ -17,7 +17,6 @@
 #include "qibl/soft.h"
 #include "qtool.h"
 #include "ref/sh_ref.h"
-#include "qtool.h"
 
 
 /* ---- parsing ------------------------------------------------------------------------------------- */
@@ -344,11 +343,6 @@ int qtool_bake_path_payload(uint32_t w, uint32_t h, uint32_t kind, uint32_t nkey
 
 /* ---- relighting ---------------------------------------------------------------------------------- */
 
-static qibl_q16_t q16(double v)
-{
-    return (qibl_q16_t)lrint(v * 65536.0);
-}
-
 int qtool_bake_relight_path8(const uint8_t *asset, size_t n, const qtool_rt_light *l, uint32_t path, uint32_t tq,
                             uint32_t radius, const qibl_shlight_t *sky, uint8_t *rgb8, float *lin, double *ms,
                             qibl_status_t *status)
@@ -377,41 +371,28 @@ int qtool_bake_relight_path8_gonio(const uint8_t *asset, size_t n, const qtool_r
         st = qibl_asset_pmap(&a, &pm);
         use_lut = qibl_asset_ylut(&a, &lut) == QIBL_OK && lut.k >= mu.k;
     }
-    if (status)
-        *status = st;
-    if (st != QIBL_OK)
-        return -1;
-    uint32_t w = mu.width, h = mu.height;
-    uint8_t *pix = malloc((size_t)w * h * 4);
-    int32_t *row = malloc(sizeof(int32_t) * 3 * w), *prow = malloc(sizeof(int32_t) * 3 * w);
-    size_t wsn = qibl_shmap_point_workspace_size(mu.k > ms_sh.k ? mu.k : ms_sh.k, w);
+    uint32_t w = st == QIBL_OK ? mu.width : 0, h = st == QIBL_OK ? mu.height : 0;
+    size_t wsn = st != QIBL_OK ? 0 : qibl_shmap_point_workspace_size(mu.k > ms_sh.k ? mu.k : ms_sh.k, w);
     size_t wsd = qibl_shmap_span_workspace_size(w);
     if (wsd > wsn)
         wsn = wsd;
-    void *ws = malloc(wsn);
-    if (!pix || !row || !prow || !ws) {
-        free(pix), free(row), free(prow), free(ws);
-        if (status)
-            *status = QIBL_E_NULL_POINTER;
+    qtool_bake_frame f; /* scratch: the light's own rows before the path's shading */
+    if (qtool_bake_frame_alloc(st, w, h, 1, sizeof(int32_t) * 3 * w, wsn, &f, status) != 0)
         return -1;
-    }
+    uint8_t *pix = f.pix;
+    int32_t *row = f.row, *prow = f.scratch;
+    void *ws = f.ws;
     qibl_fb_desc_t fb = qtool_bake_fb_srgb(pix, w, h);
-    qibl_q16_t rgb[3] = {q16(l->rgb[0]), q16(l->rgb[1]), q16(l->rgb[2])};
     double t0 = qtool_bake_now();
     qibl_shmap_weights_t wt, wsky;
     qibl_shmap_point_t pt;
-    const qibl_q16_t lpos[3] = {q16(l->pos[0]), q16(l->pos[1]), q16(l->pos[2])};
+    const qibl_pointlight_t pl = qtool_bake_pointlight(l, QIBL_LUT_BILINEAR);
     if (!l->point) {
-        qibl_q16_t dir[3] = {q16(l->dir[0]), q16(l->dir[1]), q16(l->dir[2])};
         qibl_shlight_t sl;
-        st = qibl_shlight_init(&sl, mu.k);
-        if (st == QIBL_OK)
-            st = qibl_shlight_add_dir(&sl, dir, rgb);
+        st = qtool_bake_dir_shlight(l, mu.k, &sl);
         if (st == QIBL_OK)
             st = qibl_shmap_weights(&mu, &sl, &wt);
     } else {
-        qibl_pointlight_t pl = {{q16(l->pos[0]), q16(l->pos[1]), q16(l->pos[2])}, {rgb[0], rgb[1], rgb[2]},
-                                l->falloff == 2 ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST, 0, QIBL_LUT_BILINEAR};
         st = qibl_shmap_point_prepare(&mu, &pm, use_lut ? &lut : NULL, &pl, &pt);
     }
     if (st == QIBL_OK && sky)
@@ -424,7 +405,7 @@ int qtool_bake_relight_path8_gonio(const uint8_t *asset, size_t n, const qtool_r
                           : qibl_shmap_relight_span(&mu, &wt, 0, y, w, prow, ws, wsn);
         /* a goniometric lamp: its intensity toward each pixel's point, before the visibility */
         if (st == QIBL_OK && l->point && gonio)
-            st = qibl_gonio_scale_span(gonio, &pm, lpos, 0, y, w, prow);
+            st = qibl_gonio_scale_span(gonio, &pm, pl.pos, 0, y, w, prow);
         if (st == QIBL_OK)
             st = qibl_lightpath_shade_span(&lp, tq, radius, 0, y, w, prow, row, sky != NULL);
         if (st == QIBL_OK)
@@ -433,9 +414,7 @@ int qtool_bake_relight_path8_gonio(const uint8_t *asset, size_t n, const qtool_r
             for (size_t i = 0; i < (size_t)w * 3; ++i)
                 lin[(size_t)y * w * 3 + i] = row[i] > 0 ? (float)(row[i] / 65536.0) : 0.0f;
     }
-    int rc = qtool_bake_frame_done(st, t0, ms, pix, w, h, rgb8, status);
-    free(pix), free(row), free(prow), free(ws);
-    return rc;
+    return qtool_bake_frame_finish(&f, st, t0, ms, w, h, rgb8, status);
 }
 
 /* ---- evaluation ---------------------------------------------------------------------------------- */
@@ -576,27 +555,18 @@ int qtool_bake_relight_env8(const uint8_t *asset, size_t n, const qibl_shlight_t
         st = qibl_asset_shmaps(&a, &m);
     if (st == QIBL_OK)
         st = qibl_shmap_weights(&m, env, &wt);
-    if (status)
-        *status = st;
-    if (st != QIBL_OK)
+    uint32_t w = st == QIBL_OK ? m.width : 0, h = st == QIBL_OK ? m.height : 0;
+    qtool_bake_frame f;
+    if (qtool_bake_frame_alloc(st, w, h, 1, 0, qibl_shmap_span_workspace_size(w), &f, status) != 0)
         return -1;
-    uint32_t w = m.width, h = m.height;
-    uint8_t *pix = malloc((size_t)w * h * 4);
-    int32_t *row = malloc(sizeof(int32_t) * 3 * w);
-    size_t wsn = qibl_shmap_span_workspace_size(w);
-    void *ws = malloc(wsn);
-    if (!pix || !row || !ws)
-        st = QIBL_E_NULL_POINTER;
-    qibl_fb_desc_t fb = qtool_bake_fb_srgb(pix, w, h);
+    qibl_fb_desc_t fb = qtool_bake_fb_srgb(f.pix, w, h);
     double t0 = qtool_bake_now();
     for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {
-        st = qibl_shmap_relight_span(&m, &wt, 0, y, w, row, ws, wsn);
+        st = qibl_shmap_relight_span(&m, &wt, 0, y, w, f.row, f.ws, f.wsn);
         if (st == QIBL_OK)
-            st = qibl_soft_fb_write_row(&fb, 0, y, w, row);
+            st = qibl_soft_fb_write_row(&fb, 0, y, w, f.row);
     }
-    int rc = qtool_bake_frame_done(st, t0, ms, pix, w, h, rgb8, status);
-    free(pix), free(row), free(ws);
-    return rc;
+    return qtool_bake_frame_finish(&f, st, t0, ms, w, h, rgb8, status);
 }
 
 /* ---- lamp occlusion (LOCC) -------------------------------------------------------------------------- */

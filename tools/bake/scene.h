@@ -32,8 +32,11 @@ enum { QTOOL_SCENE_PANORAMA = 0, QTOOL_SCENE_CAMERA, QTOOL_SCENE_GLTF_CAMERA };
 
 /* The one home of the defaults: a 1024 x 256 cylindrical panorama of the built-in courtyard, one
  * thread (the CLI sets its job's CPUs). */
+/* the panorama's default size (the CLI's option tables show it from here) */
+#define QTOOL_SCENE_W 1024
+#define QTOOL_SCENE_H 256
 #define QTOOL_SCENE_OPTS_DEFAULT                                                                        \
-    {.scene = NULL, .w = 1024, .h = 256, .kind = QTOOL_PANO_CYLINDRICAL, .threads = 1,                  \
+    {.scene = NULL, .w = QTOOL_SCENE_W, .h = QTOOL_SCENE_H, .kind = QTOOL_PANO_CYLINDRICAL, .threads = 1, \
      .camera = QTOOL_SCENE_PANORAMA, .fov = QTOOL_RT_CAMERA_FOV_DEFAULT}
 
 /* Whether o names a mesh (not the built-in courtyard). */

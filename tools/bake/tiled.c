@@ -92,11 +92,6 @@ done:
     return rc;
 }
 
-static qibl_q16_t q16(double v)
-{
-    return (qibl_q16_t)lrint(v * 65536.0);
-}
-
 int qtool_bake_relight_tiled8(const uint8_t *asset, size_t n, const qtool_rt_light *l, int path, uint32_t tq,
                              uint32_t radius, uint8_t *rgb8, double *ms, qibl_status_t *status)
 {
@@ -117,37 +112,24 @@ int qtool_bake_relight_tiled8(const uint8_t *asset, size_t n, const qtool_rt_lig
         use_lut = qibl_asset_ylut(&a, &lut) == QIBL_OK && lut.k >= t.kmax;
         use_occ = path < 0 && qibl_lightpath_occl_from_asset(&a, &occ) == QIBL_OK;
     }
-    if (status)
-        *status = st;
-    if (st != QIBL_OK)
-        return -1;
-    uint32_t w = t.width, h = t.height;
-    uint8_t *pix = malloc((size_t)w * h * 4), *ptile = malloc(T * T * 12);
-    int32_t *row = malloc(sizeof(int32_t) * 3 * w * T);
-    size_t wsn = qibl_shmap_point_workspace_size(t.kmax, T), wsd = qibl_shmap_span_workspace_size(T);
+    uint32_t w = st == QIBL_OK ? t.width : 0, h = st == QIBL_OK ? t.height : 0;
+    size_t wsn = st == QIBL_OK ? qibl_shmap_point_workspace_size(t.kmax, T) : 0, wsd = qibl_shmap_span_workspace_size(T);
     wsn = wsd > wsn ? wsd : wsn;
-    void *ws = malloc(wsn);
-    if (!pix || !ptile || !row || !ws) {
-        free(pix), free(ptile), free(row), free(ws);
-        if (status)
-            *status = QIBL_E_NULL_POINTER;
+    qtool_bake_frame f; /* rows: a band of tiles; scratch: one tile's P-map points */
+    if (qtool_bake_frame_alloc(st, w, h, T, T * T * 12, wsn, &f, status) != 0)
         return -1;
-    }
+    uint8_t *pix = f.pix, *ptile = f.scratch;
+    int32_t *row = f.row;
+    void *ws = f.ws;
     qibl_fb_desc_t fb = qtool_bake_fb_srgb(pix, w, h);
-    qibl_q16_t rgb[3] = {q16(l->rgb[0]), q16(l->rgb[1]), q16(l->rgb[2])};
     double t0 = qtool_bake_now();
     /* directional: one light, weights per distinct tile k made on first use */
     qibl_shlight_t sl;
     qibl_shmap_weights_t wk[26];
     uint8_t have[26] = {0};
-    if (!l->point) {
-        qibl_q16_t dir[3] = {q16(l->dir[0]), q16(l->dir[1]), q16(l->dir[2])};
-        st = qibl_shlight_init(&sl, t.kmax);
-        if (st == QIBL_OK)
-            st = qibl_shlight_add_dir(&sl, dir, rgb);
-    }
-    qibl_pointlight_t pl = {{q16(l->pos[0]), q16(l->pos[1]), q16(l->pos[2])}, {rgb[0], rgb[1], rgb[2]},
-                            l->falloff == 2 ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST, 0, QIBL_LUT_BILINEAR};
+    if (!l->point)
+        st = qtool_bake_dir_shlight(l, t.kmax, &sl);
+    qibl_pointlight_t pl = qtool_bake_pointlight(l, QIBL_LUT_BILINEAR);
     for (uint32_t ty = 0; st == QIBL_OK && ty < t.tiles_y; ++ty) {
         uint32_t th = 0;
         for (uint32_t tx = 0; st == QIBL_OK && tx < t.tiles_x; ++tx) {
@@ -185,7 +167,5 @@ int qtool_bake_relight_tiled8(const uint8_t *asset, size_t n, const qtool_rt_lig
                 st = qibl_soft_fb_write_row(&fb, 0, yy, w, r);
         }
     }
-    int rc = qtool_bake_frame_done(st, t0, ms, pix, w, h, rgb8, status);
-    free(pix), free(ptile), free(row), free(ws);
-    return rc;
+    return qtool_bake_frame_finish(&f, st, t0, ms, w, h, rgb8, status);
 }

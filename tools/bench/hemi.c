@@ -26,7 +26,6 @@
 
 #include "bench/bench.h"
 #include "bench/cloth.h"
-#include "cli/cli.h" /* qcli_transfer_measure (tools/cli/cmd_transfer.c) */
 #include "qibl/hemi.h"
 #include "gen/chess.h"
 #include "io/obj.h"
@@ -34,6 +33,7 @@
 #include "study/study.h"
 #include "ref/sh_ref.h"
 #include "render/rt.h"
+#include "transfer/run.h"
 
 
 #define SCENE_FACE 64 /* qibl transfer's (the real meshes' small curved triangles want the finer cells) */
@@ -522,10 +522,17 @@ static void bench_scenes(int quick)
         double best = 0, best_err = 0, base_err = 1e9;
         const char *best_cfg = "";
         for (int hier = 0; hier <= (sc[i].coarse > 0); ++hier) {
-            qcli_transfer_stats st;
-            if (qcli_transfer_measure(files, sc[i].nframes, sc[i].zup, probe, 32, SCENE_FACE, rs, hier ? sc[i].coarse : 0,
-                                      hier ? sc[i].ring : 3, 1, &st) != 0)
+            /* one thread: the figures are per core */
+            const qtool_transfer_opts to = {.files = files, .nfiles = sc[i].nframes, .zup = sc[i].zup, .probe = probe,
+                                            .mask = 32, .face = SCENE_FACE, .rays = rs, .coarse = hier ? sc[i].coarse : 0,
+                                            .ring = hier ? sc[i].ring : 3, .pvs = 1, .tween = 1, .threads = 1};
+            qtool_transfer_result st;
+            char terr[600];
+            if (qtool_transfer_measure(&to, &st, terr, sizeof terr) != 0) {
+                fprintf(stderr, "qibl: transfer: %s\n", terr);
                 continue;
+            }
+            qtool_transfer_result_free(&st); /* nothing was kept; the figures stay */
             const double fps = st.ms_per_frame > 0 ? 1e3 / st.ms_per_frame : 0;
             const double fps_pvs = st.pvs_ms_per_frame > 0 ? 1e3 / st.pvs_ms_per_frame : 0;
             /* against the 4096-ray reference of the issue: the ray cast's time scaled from its S x S rays

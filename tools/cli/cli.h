@@ -34,22 +34,7 @@ int qcli_cmd_info(int argc, char **argv);
 int qcli_cmd_gen(int argc, char **argv);
 int qcli_cmd_relight(int argc, char **argv);
 int qcli_cmd_view(int argc, char **argv); /* cmd_view.c */
-int qcli_cmd_transfer(int argc, char **argv); /* cmd_transfer.c */
-/* What `qibl transfer` measures, for the bench: vertices, triangles, frames, hemi ms per frame on
- * one core, mean relative L2 error of V* against the ray cast, its noise, the shading error. */
-typedef struct qcli_transfer_stats {
-    uint32_t nv, nt, nframes;
-    double ms_per_frame, l2err, ref_noise, shade_err;
-    double share[4];          /* of the hemi time: transform, rasterization, integration, other */
-    double ref_ms_per_frame;  /* the ray cast's CPU time (0 without one) */
-    double blockers, rasterized; /* per vertex: triangles tested, rasterized (above the horizon) */
-    double pvs_blockers, pvs_ms_per_frame, pvs_diff; /* with pvs: per vertex, hemi time, masks that differed */
-} qcli_transfer_stats;
-/* `qibl transfer` without pictures or report (rays = S, S x S per vertex; coarse > 0: the two-level
- * hierarchy, coarse triangles + `ring` rings of the full mesh; pvs: also timed from each vertex's PVS over the
- * frames, masks compared); 0, or 1 after printing the error. */
-int qcli_transfer_measure(char **files, int nframes, int zup, const char *probe, int mask, int face, int rays,
-                          int coarse, int ring, int pvs, qcli_transfer_stats *st);
+int qcli_cmd_transfer(int argc, char **argv); /* cmd_transfer.c (the computation: transfer/run.h) */
 int qcli_cmd_lights(int argc, char **argv);
 int qcli_cmd_probe(int argc, char **argv); /* cmd_probe_info.c: `qibl probe info` */
 int qcli_cmd_study(int argc, char **argv); /* cmd_study.c */
@@ -61,9 +46,9 @@ int qcli_cmd_merge(int argc, char **argv);
 int qcli_cmd_check(int argc, char **argv);
 int qcli_cmd_demo(int argc, char **argv); /* cmd_demo.c */
 
-/* Scene and panorama options shared by render, bake and demo (cmd_bake.c): --scene builtin|FILE.obj|FILE.ply,
- * --zup, --raw, --size WxH, --equirect, --threads N; the struct, its defaults and the loader are
- * tools/bake/scene.h's (qcli_scene is qtool_scene_opts). */
+/* Scene and panorama options shared by render, bake and demo: their option-table entries are
+ * cli/scene_opts.h's; the struct, its defaults and the loader are tools/bake/scene.h's (qcli_scene
+ * is qtool_scene_opts). */
 typedef qtool_scene_opts qcli_scene;
 /* QTOOL_SCENE_OPTS_DEFAULT with --threads the job's CPUs (qcli_default_threads) */
 void qcli_scene_defaults(qcli_scene *o);
@@ -72,7 +57,6 @@ void qcli_scene_defaults(qcli_scene *o);
  * figures (online CPUs, affinity count or 0 if unknown, the variable or NULL), for tests. */
 int qcli_default_threads(void);
 int qcli_threads_from(long online, long affinity, const char *slurm);
-int qcli_scene_opt(int argc, char **argv, int *i, qcli_scene *o);
 /* old names of what moved to tools/bake (scene.h, job.h) */
 #define QCLI_SCENE_MAX_TRIANGLES QTOOL_SCENE_MAX_TRIANGLES
 #define qcli_eval_lights qtool_bake_eval_lights
@@ -109,16 +93,8 @@ int qcli_parse_num(const char *opt, const char *s, double lo, double hi, const c
 /* Parses "WxH" (decimal digits only) with both in 1..max; 0, or 2 after one line naming opt. */
 int qcli_parse_size(const char *opt, const char *s, long max, long *w, long *h);
 
-/* The cube-map LUT face size of gen, bake and merge: `--lut-size N` (N in lo..QIBL_ASSET_MAX_LUT),
- * or the old `--lut N` with a deprecation note on stderr (relight's --lut is a sampling mode).
- * 1 if argv[*i] was one of them (*i advanced past N), 0 if not, -1 after a message on a bad N. */
-int qcli_lut_size_opt(int argc, char **argv, int *i, long lo, long *out);
-
 /* Parses a decimal integer in [lo, hi]; 0 on success, -1 otherwise. */
 int qcli_parse_int(const char *s, long lo, long hi, long *out);
-
-/* Parses --layout's argument: "planar" or "interleaved" into a QIBL_SHMAPS_* layout; 0 or -1. */
-int qcli_parse_layout(const char *s, uint32_t *layout);
 
 /* The clocks and median of the benchmarks library (tools/bench/bench.h), which the demo and bake
  * commands time themselves with too. */

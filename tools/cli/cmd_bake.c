@@ -5,6 +5,8 @@
  * QTOOL_*_OPTS_DEFAULT hold the defaults), calls the job and prints its reason on failure.
  */
 #include <math.h>
+#include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,55 +14,29 @@
 
 #include "bake/job.h"
 #include "cli/cli.h"
+#include "cli/opt.h"
+#include "cli/scene_opts.h"
 #include "qibl/asset.h"
+#include "qibl/shmaps.h"
 
 /* ---- shared options ------------------------------------------------------------------------------ */
 
-/* X Y Z after argv[i], each in lo..QTOOL_CLI_Q16_MAX (render is the ground truth of what relight
- * can take); 0, or 2 after a message naming the option and the value */
-static int parse_d3(char **argv, int i, int argc, double lo, double v[3])
+/* X Y Z, each in lo..QTOOL_CLI_Q16_MAX (render is the ground truth of what relight can take): NULL,
+ * or what is wrong, naming the value, in why */
+static const char *parse_d3(char *const *v, double lo, double out[3], char *why, size_t n)
 {
-    if (i + 3 >= argc)
-        return qcli_usage_error("%s needs three numbers", argv[i]);
-    for (int j = 0; j < 3; ++j)
-        if (qcli_parse_num(argv[i], argv[i + 1 + j], lo, QTOOL_CLI_Q16_MAX, QTOOL_CLI_Q16_WHY, &v[j]) != 0)
-            return 2;
-    return 0;
-}
-
-/* Consumes the scene/panorama options at argv[*i]; 1 if consumed, 0 if not ours, -1 on a bad value
- * (message printed). */
-int qcli_scene_opt(int argc, char **argv, int *i, qcli_scene *o)
-{
-    const char *a = argv[*i];
-    if (strcmp(a, "--scene") == 0 && *i + 1 < argc) {
-        o->scene = argv[++*i];
-    } else if (strcmp(a, "--zup") == 0) {
-        o->zup = 1;
-    } else if (strcmp(a, "--raw") == 0) {
-        o->raw = 1;
-    } else if (strcmp(a, "--equirect") == 0) {
-        o->kind = QTOOL_PANO_EQUIRECT;
-    } else if (strcmp(a, "--size") == 0 && *i + 1 < argc) {
-        long w, h;
-        if (qcli_parse_size(a, argv[++*i], QIBL_ASSET_MAX_DIM, &w, &h) != 0)
-            return -1;
-        if (w * h > (long)QIBL_ASSET_MAX_PIXELS) {
-            qcli_usage_error("--size %ldx%ld is above the asset's %u pixels", w, h, QIBL_ASSET_MAX_PIXELS);
-            return -1;
-        }
-        o->w = (uint32_t)w, o->h = (uint32_t)h;
-    } else if (strcmp(a, "--threads") == 0 && *i + 1 < argc) {
-        long t;
-        if (qcli_parse_int(argv[++*i], 1, 256, &t) != 0) {
-            qcli_usage_error("--threads needs an integer in 1..256");
-            return -1;
-        }
-        o->threads = (int)t;
-    } else {
-        return 0;
+    double d[3];
+    for (int j = 0; j < 3; ++j) {
+        int r = qcli_opt_num_value(v[j], lo, QTOOL_CLI_Q16_MAX, &d[j]);
+        if (r == 1 || r == 2)
+            snprintf(why, n, "'%s' is not a %snumber", v[j], r == 2 ? "finite " : "");
+        else if (r != 0)
+            snprintf(why, n, "%s is outside %.10g..%.10g (" QTOOL_CLI_Q16_WHY ")", v[j], lo, QTOOL_CLI_Q16_MAX);
+        if (r != 0)
+            return why;
     }
-    return 1;
+    memcpy(out, d, sizeof d);
+    return NULL;
 }
 
 void qcli_scene_defaults(qcli_scene *o)
@@ -97,56 +73,67 @@ static int parse_xyz(const char *s, double v[3])
                : -1;
 }
 
-/* The fixed-camera options of render and bake at argv[*i]: --camera EYE TARGET UP (each X,Y,Z),
- * --camera gltf[:N] (the scene file's camera N), --fov DEG. 1 if consumed, 0 if not ours, -1 after
- * a message. *fov_given: --fov was seen. */
-static int camera_opt(int argc, char **argv, int *i, qcli_scene *o, int *fov_given)
+/* --camera EYE TARGET UP (each X,Y,Z) or --camera gltf[:N] (the scene file's camera N) */
+const char *qcli_camera_call(void *opts, char *const *v, int n, int *used)
 {
-    const char *a = argv[*i];
-    if (strcmp(a, "--camera") == 0 && *i + 1 < argc && strncmp(argv[*i + 1], "gltf", 4) == 0) {
-        const char *g = argv[++*i] + 4;
-        long n = 0;
-        if (*g && (*g != ':' || qcli_parse_int(g + 1, 0, 255, &n) != 0))
-            return qcli_usage_error("--camera gltf[:N]: N is the file's camera number 0..255, not '%s'", argv[*i]), -1;
-        o->camera = QTOOL_SCENE_GLTF_CAMERA, o->gltf_cam = (int)n;
-    } else if (strcmp(a, "--camera") == 0) {
-        if (*i + 3 >= argc || parse_xyz(argv[*i + 1], o->eye) != 0 || parse_xyz(argv[*i + 2], o->target) != 0 ||
-            parse_xyz(argv[*i + 3], o->up) != 0)
-            return qcli_usage_error("--camera needs EYE TARGET UP, each X,Y,Z (or gltf[:N])"), -1;
-        o->camera = QTOOL_SCENE_CAMERA, *i += 3;
-    } else if (strcmp(a, "--fov") == 0 && *i + 1 < argc) {
-        char *end;
-        o->fov = strtod(argv[++*i], &end);
-        if (*end || !(o->fov > 0 && o->fov < 180))
-            return qcli_usage_error("--fov needs the vertical field of view in degrees, in (0, 180): '%s'", argv[*i]),
-                   -1;
-        *fov_given = 1;
-    } else {
-        return 0;
+    qcli_scene_cli *c = opts; /* the options struct starts with it */
+    if (strncmp(v[0], "gltf", 4) == 0) {
+        const char *g = v[0] + 4;
+        long k = 0;
+        if (*g && (*g != ':' || qcli_parse_int(g + 1, 0, 255, &k) != 0)) {
+            snprintf(c->why, sizeof c->why, "gltf[:N]: N is the file's camera number 0..255, not '%s'", v[0]);
+            return c->why;
+        }
+        c->camera = QTOOL_SCENE_GLTF_CAMERA, c->gltf_cam = (int)k, *used = 1;
+        return NULL;
     }
-    return 1;
+    double e[3], t[3], u[3];
+    if (n < 3 || parse_xyz(v[0], e) != 0 || parse_xyz(v[1], t) != 0 || parse_xyz(v[2], u) != 0)
+        return "needs EYE TARGET UP, each X,Y,Z (or gltf[:N])";
+    memcpy(c->eye, e, sizeof e), memcpy(c->target, t, sizeof t), memcpy(c->up, u, sizeof u);
+    c->camera = QTOOL_SCENE_CAMERA, *used = 3;
+    return NULL;
 }
 
-/* the scene, panorama and camera options of render and bake: as qcli_scene_opt */
-static int frame_opt(int argc, char **argv, int *i, qcli_scene *o, int *fov_given)
+const char *qcli_fov_call(void *opts, const char *v)
 {
-    int r = qcli_scene_opt(argc, argv, i, o);
-    return r != 0 ? r : camera_opt(argc, argv, i, o, fov_given);
+    qcli_scene_cli *c = opts;
+    char *end;
+    double f = strtod(v, &end);
+    if (*end || !(f > 0 && f < 180))
+        return "is not the vertical field of view in degrees, in (0, 180)";
+    c->fov = f, c->fov_given = 1;
+    return NULL;
 }
 
-/* the camera options together: 0, or 2 after a message */
-static int camera_check(qcli_scene *o, int fov_given)
+int qcli_scene_from(const qcli_opt_cmd *t, const qcli_scene_cli *c, qtool_scene_opts *o)
 {
-    if (fov_given && o->camera == QTOOL_SCENE_PANORAMA)
-        return qcli_usage_error("--fov is the field of view of a --camera");
+    if (c->size[0] > 0) {
+        if (c->size[0] * c->size[1] > (long)QIBL_ASSET_MAX_PIXELS)
+            return qcli_opt_error(t, "--size %ldx%ld is above the asset's %u pixels", c->size[0], c->size[1],
+                                  QIBL_ASSET_MAX_PIXELS);
+        o->w = (uint32_t)c->size[0], o->h = (uint32_t)c->size[1];
+    }
+    if (c->scene)
+        o->scene = c->scene;
+    o->zup |= c->zup, o->raw |= c->raw;
+    if (c->equirect)
+        o->kind = QTOOL_PANO_EQUIRECT;
+    if (c->threads > 0)
+        o->threads = (int)c->threads;
+    o->camera = c->camera, o->gltf_cam = c->gltf_cam, o->fov = c->fov;
+    memcpy(o->eye, c->eye, sizeof o->eye), memcpy(o->target, c->target, sizeof o->target);
+    memcpy(o->up, c->up, sizeof o->up);
+    if (c->fov_given && o->camera == QTOOL_SCENE_PANORAMA)
+        return qcli_opt_error(t, "--fov is the field of view of a --camera");
     if (o->camera != QTOOL_SCENE_PANORAMA && o->kind == QTOOL_PANO_EQUIRECT)
-        return qcli_usage_error("--camera makes a perspective frame: --equirect is for panoramas");
-    if (o->camera == QTOOL_SCENE_GLTF_CAMERA && !fov_given)
+        return qcli_opt_error(t, "--camera makes a perspective frame: --equirect is for panoramas");
+    if (o->camera == QTOOL_SCENE_GLTF_CAMERA && !c->fov_given)
         o->fov = 0; /* the file's own yfov */
-    qtool_rt_camera c;
+    qtool_rt_camera cam;
     char err[256];
-    if (o->camera == QTOOL_SCENE_CAMERA && qtool_rt_camera_init(&c, o->eye, o->target, o->up, o->fov, err, sizeof err) != 0)
-        return qcli_usage_error("%s", err);
+    if (o->camera == QTOOL_SCENE_CAMERA && qtool_rt_camera_init(&cam, o->eye, o->target, o->up, o->fov, err, sizeof err) != 0)
+        return qcli_opt_error(t, "%s", err);
     return 0;
 }
 
@@ -179,62 +166,154 @@ static int point_default(const qtool_rt_scene *s, const qcli_scene *so, qtool_rt
     return 0;
 }
 
-/* render's options into o; 0, or 2 after a message */
+/* help's prose after the option list */
+#define RENDER_PROSE \
+    "  The reference renderer (BVH ray tracer, hard shadows, Lambert + glossy) from the viewpoint at the\n" \
+    "  origin: what a light really produces, to compare relit frames with. --sun: directional light\n" \
+    "  from (X, Y, Z) with irradiance --rgb (default 1 1 1); --point: a lamp at (X, Y, Z) with\n" \
+    "  C0 = --rgb and falloff C0/|L| (or |L|^2); without --rgb, C0 = 2 d (or 2 d^2), d the median\n" \
+    "  distance from the lamp to what the panorama sees (a note says so); every number within the Q16.16 range relight takes\n" \
+    "  (|v| <= 32767.99998, --rgb >= 0). --png: sRGB 8-bit through the same framebuffer code\n" \
+    "  as qibl relight; --pfm: linear RGB floats; --exr: the same floats as OpenEXR (scanline, ZIP, FLOAT\n" \
+    "  channels, bit for bit); --depth: depth along each pixel's ray (0 for sky).\n" \
+    "  Scenes: the built-in courtyard (default) or a glTF 2.0 (.gltf, .glb), OBJ or PLY mesh placed as a\n" \
+    "  prop on a ground plane, 3.5 units along -x: the middle of the panorama, away from its seam at +x\n" \
+    "  (Y-up turned to Z-up unless --zup; --raw: as given, nothing added). Materials colour the\n" \
+    "  triangles: glTF baseColorFactor and PNG baseColorTexture, OBJ mtllib/usemtl with Kd and map_Kd\n" \
+    "  (PNG) and vt. Default 1024x256 cylindrical. A frame whose mean is below 32 of 255 gets a note\n" \
+    "  that it is almost black.\n" \
+    "  --ies FILE.ies: the --point lamp is goniometric: C0 times I(direction) / I_peak from the IES\n" \
+    "  profile in double precision (bilinear in its angle grid), oriented by --aim (default 0 0 -1)\n" \
+    "  and --up (default 1 0 0) as relight --ies orients it: the truth of relight's tables.\n" \
+    "  --camera EYE TARGET UP: a fixed perspective camera (a pre-rendered background) instead of the\n" \
+    "  panorama: --size WxH pixels from EYE looking at TARGET, UP its approximate up, --fov DEG the\n" \
+    "  vertical field of view (default 60, in (0, 180)); --camera gltf[:N]: the scene file's camera N\n" \
+    "  (default 0, perspective, its yfov unless --fov), placed as the mesh is. A bad camera (EYE =\n" \
+    "  TARGET, UP zero or along the view) is named.\n"
+
+
+typedef struct render_cli {
+    qcli_scene_cli sc; /* first: the scene options' callbacks find it here */
+    qtool_render_opts o;
+    long falloff;
+    int have, have_aim;
+    char why[256];
+} render_cli;
+static const render_cli render_defaults = {.sc = QCLI_SCENE_CLI_DEFAULT, .o = QTOOL_RENDER_OPTS_DEFAULT, .falloff = 1};
+
+/* --sun X Y Z, --point X Y Z: the one light */
+static const char *render_light(render_cli *c, int pt, char *const *v)
+{
+    qtool_rt_light *l = &c->o.light;
+    double *d = pt ? l->pos : l->dir;
+    if (parse_d3(v, -QTOOL_CLI_Q16_MAX, d, c->why, sizeof c->why))
+        return c->why;
+    /* as relight sees it: a direction that rounds to 0 0 0 in Q16.16 has none */
+    if (!pt && fmax(fabs(d[0]), fmax(fabs(d[1]), fabs(d[2]))) < 0.5 / 65536) {
+        snprintf(c->why, sizeof c->why, "%s %s %s is 0 0 0 in Q16.16: --sun needs a non-zero direction", v[0], v[1],
+                 v[2]);
+        return c->why;
+    }
+    l->point = pt, c->have++;
+    return NULL;
+}
+
+static const char *render_sun(void *o, char *const *v, int n, int *used)
+{
+    (void)n, (void)used;
+    return render_light(o, 0, v);
+}
+
+static const char *render_point(void *o, char *const *v, int n, int *used)
+{
+    (void)n, (void)used;
+    return render_light(o, 1, v);
+}
+
+static const char *render_rgb(void *o, char *const *v, int n, int *used)
+{
+    render_cli *c = o;
+    (void)n, (void)used;
+    if (parse_d3(v, 0, c->o.light.rgb, c->why, sizeof c->why))
+        return c->why;
+    c->o.have_rgb = 1;
+    return NULL;
+}
+
+static const char *render_frame(void *o, char *const *v, double *out)
+{
+    render_cli *c = o;
+    if (parse_d3(v, -QTOOL_CLI_Q16_MAX, out, c->why, sizeof c->why))
+        return c->why;
+    c->have_aim = 1;
+    return NULL;
+}
+
+static const char *render_aim(void *o, char *const *v, int n, int *used)
+{
+    (void)n, (void)used;
+    return render_frame(o, v, ((render_cli *)o)->o.aim);
+}
+
+static const char *render_up(void *o, char *const *v, int n, int *used)
+{
+    (void)n, (void)used;
+    return render_frame(o, v, ((render_cli *)o)->o.up);
+}
+
+static const qcli_opt render_table[] = {
+    {.name = "--sun", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = render_sun, .arg = "X Y Z",
+     .help = "a directional light from (X, Y, Z) of irradiance --rgb (one --sun or --point)"},
+    {.name = "--point", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = render_point, .arg = "X Y Z",
+     .help = "a lamp at (X, Y, Z), C0 = --rgb, falloff C0/|L| (or |L|^2)"},
+    {.name = "--rgb", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = render_rgb, .arg = "R G B",
+     .def = "1 1 1; a --point: 2 d, or 2 d^2", .help = "the light's colour, each in 0..32767.99998"},
+    {.name = "--falloff", .kind = QCLI_OPT_INT, .off = offsetof(render_cli, falloff), .lo = 1, .hi = 2,
+     .why = "1: C0/|L|, 2: C0/|L|^2", .help = "the lamp's falloff"},
+    {.name = "--png", .kind = QCLI_OPT_STR, .off = offsetof(render_cli, o.png), .arg = "OUT",
+     .help = "sRGB 8-bit through the same framebuffer code as qibl relight"},
+    {.name = "--pfm", .kind = QCLI_OPT_STR, .off = offsetof(render_cli, o.pfm), .arg = "OUT",
+     .help = "linear RGB floats"},
+    {.name = "--exr", .kind = QCLI_OPT_STR, .off = offsetof(render_cli, o.exr), .arg = "OUT.exr",
+     .help = "the same floats as OpenEXR (scanline, ZIP, FLOAT channels, bit for bit)"},
+    {.name = "--depth", .kind = QCLI_OPT_STR, .off = offsetof(render_cli, o.depth), .arg = "OUT.pfm",
+     .help = "depth along each pixel's ray (0 for sky)"},
+    {.name = "--ies", .kind = QCLI_OPT_STR, .off = offsetof(render_cli, o.ies), .arg = "FILE.ies",
+     .help = "the --point lamp is goniometric (its IES profile in double precision)"},
+    {.name = "--aim", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = render_aim, .arg = "X Y Z", .def = "0 0 -1",
+     .help = "the --ies lamp's axis, as relight --ies orients it"},
+    {.name = "--up", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = render_up, .arg = "X Y Z", .def = "1 0 0",
+     .help = "the --ies lamp's horizontal angle 0"},
+    QCLI_SCENE_OPTS(NULL),
+    QCLI_CAMERA_OPTS,
+    {0},
+};
+
+const qcli_opt_cmd qcli_opts_render = {
+    .name = "render",
+    .opts = render_table,
+    .defaults = &render_defaults,
+    .size = sizeof(render_cli),
+    .prose = RENDER_PROSE,
+};
+
+/* render's options into o; 0, or 2 after the one line */
 static int render_parse(int argc, char **argv, qtool_render_opts *o)
 {
-    qtool_rt_light *l = &o->light;
-    int have = 0, have_aim = 0, fov_given = 0;
-    long falloff = 1;
-    for (int i = 1; i < argc; ++i) {
-        int r = frame_opt(argc, argv, &i, &o->scene, &fov_given);
-        if (r < 0)
-            return 2;
-        if (r)
-            continue;
-        const char *a = argv[i];
-        if (strcmp(a, "--sun") == 0 || strcmp(a, "--point") == 0) {
-            int pt = a[2] == 'p';
-            double *v = pt ? l->pos : l->dir;
-            if (parse_d3(argv, i, argc, -QTOOL_CLI_Q16_MAX, v) != 0)
-                return 2;
-            /* as relight sees it: a direction that rounds to 0 0 0 in Q16.16 has none */
-            if (!pt && fmax(fabs(v[0]), fmax(fabs(v[1]), fabs(v[2]))) < 0.5 / 65536)
-                return qcli_usage_error("--sun needs a non-zero direction: %s %s %s is 0 0 0 in Q16.16",
-                                        argv[i + 1], argv[i + 2], argv[i + 3]);
-            l->point = pt, have++, i += 3;
-        } else if (strcmp(a, "--rgb") == 0) {
-            if (parse_d3(argv, i, argc, 0, l->rgb) != 0)
-                return 2;
-            o->have_rgb = 1, i += 3;
-        } else if (strcmp(a, "--falloff") == 0 && i + 1 < argc) {
-            if (qcli_parse_int(argv[++i], 1, 2, &falloff) != 0)
-                return qcli_usage_error("--falloff is 1 (C0/|L|) or 2 (C0/|L|^2)");
-        } else if (strcmp(a, "--png") == 0 && i + 1 < argc) {
-            o->png = argv[++i];
-        } else if (strcmp(a, "--pfm") == 0 && i + 1 < argc) {
-            o->pfm = argv[++i];
-        } else if (strcmp(a, "--exr") == 0 && i + 1 < argc) {
-            o->exr = argv[++i];
-        } else if (strcmp(a, "--depth") == 0 && i + 1 < argc) {
-            o->depth = argv[++i];
-        } else if (strcmp(a, "--ies") == 0 && i + 1 < argc) {
-            o->ies = argv[++i]; /* a goniometric lamp (io/ies.h), oriented as relight --ies orients it */
-        } else if (strcmp(a, "--aim") == 0 || strcmp(a, "--up") == 0) {
-            if (parse_d3(argv, i, argc, -QTOOL_CLI_Q16_MAX, a[2] == 'a' ? o->aim : o->up) != 0)
-                return 2;
-            have_aim = 1, i += 3;
-        } else {
-            return qcli_usage_error("render: unknown argument '%s' (see qibl help render)", a);
-        }
-    }
-    if (have != 1 || (!o->png && !o->pfm && !o->exr && !o->depth))
-        return qcli_usage_error("render needs exactly one of --sun/--point and at least one of --png/--pfm/--exr/--depth");
-    if ((o->ies || have_aim) && !l->point)
-        return qcli_usage_error("render: --ies, --aim and --up shape a --point lamp");
-    if (have_aim && !o->ies)
-        return qcli_usage_error("render: --aim and --up orient an --ies lamp: give --ies FILE.ies");
-    l->falloff = (int)falloff;
-    return camera_check(&o->scene, fov_given);
+    const qcli_opt_cmd *t = &qcli_opts_render;
+    render_cli c;
+    if (qcli_opt_parse(t, argc, argv, 1, &c) != 0)
+        return 2;
+    qtool_scene_opts scene = o->scene; /* the caller's defaults (the job's CPUs) */
+    *o = c.o, o->scene = scene;
+    if (c.have != 1 || (!o->png && !o->pfm && !o->exr && !o->depth))
+        return qcli_opt_error(t, "render needs exactly one of --sun/--point and at least one of --png/--pfm/--exr/--depth");
+    if ((o->ies || c.have_aim) && !o->light.point)
+        return qcli_opt_error(t, "--ies, --aim and --up shape a --point lamp");
+    if (c.have_aim && !o->ies)
+        return qcli_opt_error(t, "--aim and --up orient an --ies lamp: give --ies FILE.ies");
+    o->light.falloff = (int)c.falloff;
+    return qcli_scene_from(t, &c.sc, &o->scene);
 }
 
 int qcli_cmd_render(int argc, char **argv)
@@ -265,105 +344,180 @@ int qcli_cmd_render(int argc, char **argv)
 
 /* ---- qibl bake ----------------------------------------------------------------------------------- */
 
-/* The asset options bake and merge share (--k, --lut-size, --layout, --lsq) at argv[*i]: 1 if
- * consumed, 0 if not ours, -1 after a message on a bad value. */
-static int asset_opt(int argc, char **argv, int *i, long *k, long *lut, uint32_t *layout, int *lsq)
+#define BAKE_PROSE \
+    "  Renders the scene under N directional lights (spherical Fibonacci set, equal weights 4 pi / N,\n" \
+    "  default 512) with hard shadows, projects every pixel's response onto SH (k <= 25, default 16;\n" \
+    "  quadrature, or --lsq least squares), packs the maps to 8 bits (min/max per map and channel) and\n" \
+    "  writes SHMP + PMAP (+ a cube-map YLUT of face --lut-size N, default 32; 0 = none). Sums are\n" \
+    "  exact integers: the asset is bit-identical for any --threads and any sharding.\n" \
+    "  --shard I/N --sums FILE (no -o): bake only the I-th of N shares of the directions (and of the\n" \
+    "  rows of the light paths and lamp occlusion), write partial sums for qibl merge (a render farm:\n" \
+    "  docs/farm.md). --budget DB: choose the smallest band-complete k whose PSNR against ground truth\n" \
+    "  on 8 novel suns reaches DB, and the smallest LUT within 0.1 dB of direct SH evaluation on 4\n" \
+    "  lamps, and say so. --progress: a bar on stderr (the default on a terminal), or lines (the\n" \
+    "  default elsewhere: one flushed line per step, \"progress: stage=S done=D total=T fraction=F\"),\n" \
+    "  or none (also --quiet). --threads defaults to the CPUs the process may run on (its affinity:\n" \
+    "  taskset, a job's cgroup), lowered to SLURM_CPUS_PER_TASK where that is set.\n" \
+    "  --layout interleaved: SH maps streamable by rows (see qibl help gen).\n" \
+    "  --unshadowed-k K (default 9, 0 = none): also the unshadowed transfer (cosine x BRDF, no shadow\n" \
+    "  test) as SHMU (planar); free point lights use it (visibility at infinity is wrong for a lamp\n" \
+    "  inside the scene). --sun-path LAT,DECL,T0,T1 (degrees, degrees, solar hours; +x east, +y north)\n" \
+    "  and --lamp-track \"x,y,z;x,y,z;...\" (a polyline, t by arc length; up to 8 paths): per pixel the\n" \
+    "  light's visibility along the path (facing and shadow) as on/off edges of t in 0..65535, sampled\n" \
+    "  at N + 1 points (--path-steps, default 64) and bisected to one 16-bit step (LPTH chunks; relit\n" \
+    "  as unshadowed SH x visibility, qibl/lightpath.h). --lamp-box: the region free lamps move in;\n" \
+    "  per pixel the expected visibility of a lamp there (N Halton positions, default 64), LOCC: free\n" \
+    "  lamps through SHMU are scaled by it (their cast shadows on average). A shard also writes its\n" \
+    "  share of the unshadowed sums (FILE.u) and its rows of the LPTH/LOCC chunks (FILE.x, also when\n" \
+    "  there are none, so merge can refuse a shard baked without the others' paths).\n" \
+    "  --camera, --fov (as for render): the pixels are a fixed camera's rays instead of the panorama's,\n" \
+    "  so the maps relight a pre-rendered background seen from one corner (qibl relight as any asset).\n" \
+    "  Exit status: 0 done, 1 failed (a file, memory; named on stderr, nothing half-written), 2 bad\n" \
+    "  arguments.\n"
+
+
+typedef struct bake_cli {
+    qcli_scene_cli sc; /* first: the scene options' callbacks find it here */
+    qtool_bake_opts o;
+    int layout;        /* index into layouts */
+    int progress;      /* o.progress; -1: not given (a bar on a terminal, lines elsewhere) */
+    char why[400];
+} bake_cli;
+
+static const char *const layouts[] = {"planar", "interleaved", NULL};
+static const uint32_t layout_values[] = {QIBL_SHMAPS_PLANAR, QIBL_SHMAPS_INTERLEAVED};
+static const char *const progress_names[] = {"none", "bar", "lines", NULL}; /* o.progress 0, 1, 2 */
+
+static const char *bake_shard(void *opts, const char *v)
 {
-    const char *a = argv[*i];
-    int r;
-    if (strcmp(a, "--k") == 0 && *i + 1 < argc) {
-        if (qcli_parse_int(argv[++*i], 1, 25, k) != 0)
-            return qcli_usage_error("--k needs an integer in 1..25"), -1;
-    } else if ((r = qcli_lut_size_opt(argc, argv, i, 0, lut)) != 0) {
-        return r < 0 ? -1 : 1;
-    } else if (strcmp(a, "--layout") == 0 && *i + 1 < argc) {
-        if (qcli_parse_layout(argv[++*i], layout) != 0)
-            return qcli_usage_error("--layout is planar or interleaved"), -1;
-    } else if (strcmp(a, "--lsq") == 0) {
-        *lsq = 1;
-    } else {
-        return 0;
-    }
-    return 1;
+    qtool_bake_opts *o = &((bake_cli *)opts)->o;
+    long i, n;
+    char tail;
+    if (sscanf(v, "%ld/%ld%c", &i, &n, &tail) != 2 || n < 1 || n > 4096 || i < 0 || i >= n)
+        return "is not I/N with 0 <= I < N <= 4096";
+    o->shard = i, o->nshards = n;
+    return NULL;
 }
 
-/* bake's options into o (progress -1: a bar on a terminal, lines elsewhere); 0, or 2 after a message */
+static const char *bake_budget(void *opts, const char *v)
+{
+    char *end;
+    double b = strtod(v, &end);
+    if (*end || !(b > 0 && b < 99))
+        return "is not a PSNR in dB (0..99)";
+    ((bake_cli *)opts)->o.budget = b;
+    return NULL;
+}
+
+/* --sun-path LAT,DECL,T0,T1 or --lamp-track X,Y,Z;X,Y,Z;...: one light path more */
+static const char *bake_path(bake_cli *c, int sun, const char *v)
+{
+    qtool_bake_opts *o = &c->o;
+    if (o->npaths == QTOOL_BAKE_JOB_MAX_PATHS)
+        return "is one light path too many: at most 8 per asset";
+    qtool_bake_path *pp = &o->paths[o->npaths];
+    memset(pp, 0, sizeof *pp);
+    int bad = sun ? qtool_bake_path_parse_sun(v, pp, c->why, sizeof c->why)
+                  : qtool_bake_path_parse_track(v, pp, c->why, sizeof c->why);
+    if (bad)
+        return c->why;
+    o->npaths++;
+    return NULL;
+}
+
+static const char *bake_sun_path(void *opts, const char *v)
+{
+    return bake_path(opts, 1, v);
+}
+
+static const char *bake_lamp_track(void *opts, const char *v)
+{
+    return bake_path(opts, 0, v);
+}
+
+static const char *bake_lamp_box(void *opts, const char *v)
+{
+    qtool_bake_opts *o = &((bake_cli *)opts)->o;
+    char tail;
+    double b[6];
+    if (sscanf(v, "%lf,%lf,%lf,%lf,%lf,%lf%c", &b[0], &b[1], &b[2], &b[3], &b[4], &b[5], &tail) != 6 ||
+        !(b[0] <= b[3] && b[1] <= b[4] && b[2] <= b[5]) ||
+        !(fabs(b[0]) < 1e6 && fabs(b[1]) < 1e6 && fabs(b[2]) < 1e6 && fabs(b[3]) < 1e6 && fabs(b[4]) < 1e6 &&
+          fabs(b[5]) < 1e6))
+        return "is not X0,Y0,Z0,X1,Y1,Z1 with X0 <= X1, Y0 <= Y1, Z0 <= Z1 (|v| < 1e6)";
+    memcpy(o->lamp_box, b, sizeof b), o->has_box = 1;
+    return NULL;
+}
+
+static const bake_cli bake_defaults = {.sc = QCLI_SCENE_CLI_DEFAULT, .o = QTOOL_BAKE_OPTS_DEFAULT, .progress = -1};
+
+static const qcli_opt bake_table[] = {
+    {.name = "-o", .kind = QCLI_OPT_STR, .off = offsetof(bake_cli, o.out), .arg = "ASSET", .help = "the asset"},
+    {.name = "--shard", .kind = QCLI_OPT_CALL, .call = bake_shard, .arg = "I/N",
+     .help = "bake only the I-th of N shares (with --sums, no -o; qibl merge joins them)"},
+    {.name = "--sums", .kind = QCLI_OPT_STR, .off = offsetof(bake_cli, o.sums_out), .arg = "FILE",
+     .help = "the shard's partial sums"},
+    {.name = "--k", .kind = QCLI_OPT_INT, .off = offsetof(bake_cli, o.k), .arg = "K", .lo = 1, .hi = 25,
+     .help = "the number of SH maps"},
+    {.name = "--lut-size", .kind = QCLI_OPT_INT, .off = offsetof(bake_cli, o.lut), .arg = "N", .lo = 0,
+     .hi = QIBL_ASSET_MAX_LUT, .what = "a face size", .why = "0: no LUT", .help = "the cube-map Y LUT's face size"},
+    {.name = "--lut", .kind = QCLI_OPT_INT, .off = offsetof(bake_cli, o.lut), .arg = "N", .lo = 0,
+     .hi = QIBL_ASSET_MAX_LUT, .what = "a face size", .why = "0: no LUT", .renamed = "--lut-size",
+     .note = "relight's --lut is the sampling mode"},
+    {.name = "--dirs", .kind = QCLI_OPT_INT, .off = offsetof(bake_cli, o.ndirs), .arg = "N", .lo = 16, .hi = 65536,
+     .help = "light directions (spherical Fibonacci, equal weights 4 pi / N)"},
+    {.name = "--lsq", .kind = QCLI_OPT_FLAG, .off = offsetof(bake_cli, o.lsq),
+     .help = "least-squares projection instead of quadrature"},
+    {.name = "--budget", .kind = QCLI_OPT_CALL, .call = bake_budget, .arg = "DB",
+     .help = "the smallest k (and LUT) whose PSNR on held-out lights reaches DB"},
+    {.name = "--quiet", .kind = QCLI_OPT_FLAG, .off = offsetof(bake_cli, o.quiet), .help = "--progress none"},
+    {.name = "--progress", .kind = QCLI_OPT_ENUM, .eq = 1, .off = offsetof(bake_cli, progress),
+     .names = progress_names, .def = "bar on a terminal, else lines",
+     .help = "progress on stderr (also --progress=MODE)"},
+    {.name = "--layout", .kind = QCLI_OPT_ENUM, .off = offsetof(bake_cli, layout), .names = layouts,
+     .help = "the maps' byte order in the asset (see qibl help gen)"},
+    {.name = "--unshadowed-k", .kind = QCLI_OPT_INT, .off = offsetof(bake_cli, o.uk), .arg = "K", .lo = 0,
+     .hi = 25, .why = "0: no unshadowed maps", .help = "the unshadowed transfer's maps (SHMU), for free lamps"},
+    {.name = "--sun-path", .kind = QCLI_OPT_CALL, .call = bake_sun_path, .arg = "LAT,DECL,T0,T1",
+     .help = "a sun's path (degrees, degrees, solar hours; +x east, +y north) baked as visibility edges"},
+    {.name = "--lamp-track", .kind = QCLI_OPT_CALL, .call = bake_lamp_track, .arg = "X,Y,Z;X,Y,Z;...",
+     .help = "a lamp's polyline track (t by arc length) baked as visibility edges"},
+    {.name = "--path-steps", .kind = QCLI_OPT_INT, .off = offsetof(bake_cli, o.steps), .arg = "N", .lo = 2,
+     .hi = 4096, .help = "samples along each path before bisection"},
+    {.name = "--lamp-box", .kind = QCLI_OPT_CALL, .call = bake_lamp_box, .arg = "X0,Y0,Z0,X1,Y1,Z1",
+     .help = "the region free lamps move in (LOCC: their expected visibility)"},
+    {.name = "--lamp-samples", .kind = QCLI_OPT_INT, .off = offsetof(bake_cli, o.lamp_samples), .arg = "N",
+     .lo = 1, .hi = 4096, .help = "Halton lamp positions in the box"},
+    QCLI_SCENE_OPTS(NULL),
+    QCLI_CAMERA_OPTS,
+    {0},
+};
+
+const qcli_opt_cmd qcli_opts_bake = {
+    .name = "bake",
+    .opts = bake_table,
+    .defaults = &bake_defaults,
+    .size = sizeof(bake_cli),
+    .prose = BAKE_PROSE,
+};
+
+/* bake's options into o (progress -1: not given); 0, or 2 after the one line */
 static int bake_parse(int argc, char **argv, qtool_bake_opts *o)
 {
-    char perr[400];
-    int fov_given = 0;
-    for (int i = 1; i < argc; ++i) {
-        int r = frame_opt(argc, argv, &i, &o->scene, &fov_given);
-        if (r == 0)
-            r = asset_opt(argc, argv, &i, &o->k, &o->lut, &o->layout, &o->lsq);
-        if (r < 0)
-            return 2;
-        if (r)
-            continue;
-        const char *a = argv[i];
-        if (strcmp(a, "-o") == 0 && i + 1 < argc)
-            o->out = argv[++i];
-        else if (strcmp(a, "--dirs") == 0 && i + 1 < argc) {
-            if (qcli_parse_int(argv[++i], 16, 65536, &o->ndirs) != 0)
-                return qcli_usage_error("--dirs needs an integer in 16..65536");
-        } else if (strcmp(a, "--shard") == 0 && i + 1 < argc) {
-            char tail;
-            if (sscanf(argv[++i], "%ld/%ld%c", &o->shard, &o->nshards, &tail) != 2 || o->nshards < 1 ||
-                o->nshards > 4096 || o->shard < 0 || o->shard >= o->nshards)
-                return qcli_usage_error("--shard needs I/N with 0 <= I < N <= 4096");
-        } else if (strcmp(a, "--sums") == 0 && i + 1 < argc)
-            o->sums_out = argv[++i];
-        else if (strcmp(a, "--budget") == 0 && i + 1 < argc) {
-            char *end;
-            o->budget = strtod(argv[++i], &end);
-            if (*end || !(o->budget > 0 && o->budget < 99))
-                return qcli_usage_error("--budget needs a PSNR in dB (0..99)");
-        } else if (strcmp(a, "--unshadowed-k") == 0 && i + 1 < argc) {
-            if (qcli_parse_int(argv[++i], 0, 25, &o->uk) != 0)
-                return qcli_usage_error("--unshadowed-k needs an integer in 0..25 (0: no unshadowed maps)");
-        } else if (strcmp(a, "--path-steps") == 0 && i + 1 < argc) {
-            if (qcli_parse_int(argv[++i], 2, 4096, &o->steps) != 0)
-                return qcli_usage_error("--path-steps needs an integer in 2..4096");
-        } else if ((strcmp(a, "--sun-path") == 0 || strcmp(a, "--lamp-track") == 0) && i + 1 < argc) {
-            if (o->npaths == QTOOL_BAKE_JOB_MAX_PATHS)
-                return qcli_usage_error("%s: at most 8 light paths per asset", a);
-            qtool_bake_path *pp = &o->paths[o->npaths];
-            memset(pp, 0, sizeof *pp);
-            int bad = a[2] == 's' ? qtool_bake_path_parse_sun(argv[++i], pp, perr, sizeof perr)
-                                  : qtool_bake_path_parse_track(argv[++i], pp, perr, sizeof perr);
-            if (bad)
-                return qcli_usage_error("%s", perr);
-            o->npaths++;
-        } else if (strcmp(a, "--lamp-box") == 0 && i + 1 < argc) {
-            char tail;
-            double *b = o->lamp_box;
-            if (sscanf(argv[++i], "%lf,%lf,%lf,%lf,%lf,%lf%c", &b[0], &b[1], &b[2], &b[3], &b[4], &b[5], &tail) != 6 ||
-                !(b[0] <= b[3] && b[1] <= b[4] && b[2] <= b[5]) || !(fabs(b[0]) < 1e6 && fabs(b[1]) < 1e6 &&
-                fabs(b[2]) < 1e6 && fabs(b[3]) < 1e6 && fabs(b[4]) < 1e6 && fabs(b[5]) < 1e6))
-                return qcli_usage_error("--lamp-box needs X0,Y0,Z0,X1,Y1,Z1 with X0 <= X1, Y0 <= Y1, Z0 <= Z1 (|v| < 1e6): "
-                                        "'%s'", argv[i]);
-            o->has_box = 1;
-        } else if (strcmp(a, "--lamp-samples") == 0 && i + 1 < argc) {
-            if (qcli_parse_int(argv[++i], 1, 4096, &o->lamp_samples) != 0)
-                return qcli_usage_error("--lamp-samples needs an integer in 1..4096");
-        } else if (strcmp(a, "--quiet") == 0)
-            o->quiet = 1;
-        else if (strncmp(a, "--progress=", 11) == 0 || (strcmp(a, "--progress") == 0 && i + 1 < argc)) {
-            const char *m = a[10] == '=' ? a + 11 : argv[++i];
-            o->progress = strcmp(m, "none") == 0 ? 0 : strcmp(m, "bar") == 0 ? 1 : strcmp(m, "lines") == 0 ? 2 : -2;
-            if (o->progress == -2)
-                return qcli_usage_error("--progress is bar, lines or none: '%s'", m);
-        } else
-            return qcli_usage_error("bake: unknown argument '%s' (see qibl help bake)", a);
-    }
-    return camera_check(&o->scene, fov_given);
+    const qcli_opt_cmd *t = &qcli_opts_bake;
+    bake_cli c;
+    if (qcli_opt_parse(t, argc, argv, 1, &c) != 0)
+        return 2;
+    qtool_scene_opts scene = o->scene; /* the caller's defaults (the job's CPUs) */
+    *o = c.o, o->scene = scene;
+    o->layout = layout_values[c.layout], o->progress = c.progress;
+    return qcli_scene_from(t, &c.sc, &o->scene);
 }
 
 int qcli_cmd_bake(int argc, char **argv)
 {
     qtool_bake_opts o = QTOOL_BAKE_OPTS_DEFAULT;
     qcli_scene_defaults(&o.scene);
-    o.progress = -1; /* not given: a bar on a terminal, lines elsewhere */
     if (bake_parse(argc, argv, &o) != 0)
         return 2;
     if (o.quiet)
@@ -372,7 +526,7 @@ int qcli_cmd_bake(int argc, char **argv)
         o.progress = isatty(2) ? 1 : 2;
     char err[1400] = "";
     if (qtool_bake_opts_check(&o, err, sizeof err) != 0)
-        return qcli_usage_error("%s", err);
+        return qcli_opt_error(&qcli_opts_bake, "%s", err);
     if (qcli_parse_only) /* fuzz_cliopts: the options only */
         return 0;
     return job_status(qtool_bake_job(&o, stdout, stderr, err, sizeof err), err);
@@ -380,52 +534,116 @@ int qcli_cmd_bake(int argc, char **argv)
 
 /* ---- qibl merge ---------------------------------------------------------------------------------- */
 
-static int merge_parse(int argc, char **argv, qtool_merge_opts *o)
+typedef struct merge_cli {
+    qtool_merge_opts o; /* QTOOL_MERGE_OPTS_DEFAULT; o.in grows as SUMS come (the command frees it) */
+    int layout;         /* index into layouts */
+    size_t room;
+} merge_cli;
+static const merge_cli merge_defaults = {.o = QTOOL_MERGE_OPTS_DEFAULT, .layout = 0};
+
+/* one SUMS file more: any number of them (a farm's shards) */
+static const char *merge_file(void *opts, const char *v)
 {
-    for (int i = 1; i < argc; ++i) {
-        int r = asset_opt(argc, argv, &i, &o->k, &o->lut, &o->layout, &o->lsq);
-        if (r < 0)
-            return 2;
-        if (r)
-            continue;
-        const char *a = argv[i];
-        if (strcmp(a, "-o") == 0 && i + 1 < argc)
-            o->out = argv[++i];
-        else if (strcmp(a, "--sums") == 0 && i + 1 < argc)
-            o->sums_out = argv[++i];
-        else if (strcmp(a, "--manifest") == 0 && i + 1 < argc)
-            o->manifest = argv[++i];
-        else if (a[0] != '-')
-            o->in[o->nin++] = argv[i];
-        else
-            return qcli_usage_error("merge: unknown argument '%s' (see qibl help merge)", a);
+    merge_cli *c = opts;
+    if ((size_t)c->o.nin == c->room) {
+        size_t n = c->room ? 2 * c->room : 16;
+        char **in = realloc(c->o.in, n * sizeof *in);
+        if (!in)
+            return "is one file too many: out of memory";
+        c->o.in = in, c->room = n;
     }
-    if ((o->nin == 0 && !o->manifest) || (!o->out && !o->sums_out))
-        return qcli_usage_error("usage: qibl merge (-o ASSET | --sums OUT | both) [--k K] [--lut-size N] [--lsq] "
-                                "(--manifest FILE | SUMS...)");
-    return 0;
+    c->o.in[c->o.nin++] = (char *)(uintptr_t)v; /* qtool_merge_opts holds argv's own strings */
+    return NULL;
 }
+
+static const qcli_opt merge_table[] = {
+    {.name = "-o", .kind = QCLI_OPT_STR, .off = offsetof(merge_cli, o.out), .arg = "ASSET",
+     .help = "the merged asset"},
+    {.name = "--sums", .kind = QCLI_OPT_STR, .off = offsetof(merge_cli, o.sums_out), .arg = "OUT",
+     .help = "the total sums (merged again later, or baked into an asset)"},
+    {.name = "--manifest", .kind = QCLI_OPT_STR, .off = offsetof(merge_cli, o.manifest), .arg = "FILE",
+     .help = "the SUMS files, one per line (docs/farm.md)"},
+    {.name = "--k", .kind = QCLI_OPT_INT, .off = offsetof(merge_cli, o.k), .arg = "K", .lo = 1, .hi = 25,
+     .def = "the shards' k, at most 16", .help = "the number of SH maps"},
+    {.name = "--lut-size", .kind = QCLI_OPT_INT, .off = offsetof(merge_cli, o.lut), .arg = "N", .lo = 0,
+     .hi = QIBL_ASSET_MAX_LUT, .what = "a face size", .why = "0: no LUT", .help = "the cube-map Y LUT's face size"},
+    {.name = "--lut", .kind = QCLI_OPT_INT, .off = offsetof(merge_cli, o.lut), .arg = "N", .lo = 0,
+     .hi = QIBL_ASSET_MAX_LUT, .what = "a face size", .why = "0: no LUT", .renamed = "--lut-size",
+     .note = "relight's --lut is the sampling mode"},
+    {.name = "--layout", .kind = QCLI_OPT_ENUM, .off = offsetof(merge_cli, layout), .names = layouts,
+     .help = "the maps' byte order in the asset (see qibl help gen)"},
+    {.name = "--lsq", .kind = QCLI_OPT_FLAG, .off = offsetof(merge_cli, o.lsq),
+     .help = "least-squares projection instead of quadrature"},
+    {0},
+};
+
+const qcli_opt_cmd qcli_opts_merge = {
+    .name = "merge",
+    .opts = merge_table,
+    .pos = {.names = "SUMS...", .min = 0, .max = QCLI_OPT_LIST_MAX, .call = merge_file},
+    .defaults = &merge_defaults,
+    .size = sizeof(merge_cli),
+    .prose =
+        "                  [--layout planar|interleaved] [--manifest FILE] SUMS...\n"
+        "  Adds the partial sums written by `qibl bake --shard I/N --sums FILE` (every shard exactly once,\n"
+        "  same bake) and writes the asset as qibl bake would (byte-identical, with the unshadowed maps,\n"
+        "  light paths and lamp occlusion joined from every SUMS.u / SUMS.x when the shards wrote them), and/or the\n"
+        "  total sums.\n"
+        "  Every file is checked before use (version, CRC-32s, counts within the bake's limits, exact size),\n"
+        "  then against the first (split, size, k, directions, P map); sums that would overflow 64 bits, a\n"
+        "  shard given twice or missing, and --k above the shards' k are refused by name; so are shards whose\n"
+        "  light paths or lamp occlusion (SUMS.x) differ (one baked without the others' --sun-path).\n"
+        "  --manifest FILE: the shards named one per line, \"shard I/N SUMS [SUMS.u [SUMS.x]]\" ('-' for a\n"
+        "  side file the shard has not; '#' comments), each file's I/N checked against the line.\n"
+        "  A partial set (tree merges, --sums OUT without -o): shards I, I+M, I+2M, ... of N (M dividing N)\n"
+        "  are written as shard I/M with OUT.u and OUT.x, for a later merge; any other partial set is refused.\n"
+        "  Exit status: 0 written, 1 refused or failed (named on stderr, nothing written), 2 bad arguments.\n",
+};
 
 int qcli_cmd_merge(int argc, char **argv)
 {
-    qtool_merge_opts o = QTOOL_MERGE_OPTS_DEFAULT;
-    o.in = malloc(sizeof(char *) * (size_t)argc);
-    if (!o.in)
-        return 1;
-    int rc = merge_parse(argc, argv, &o);
+    merge_cli c;
+    int rc = qcli_opt_parse(&qcli_opts_merge, argc, argv, 1, &c);
+    if (rc == 0 && ((c.o.nin == 0 && !c.o.manifest) || (!c.o.out && !c.o.sums_out)))
+        rc = qcli_opt_error(&qcli_opts_merge, "needs -o ASSET or --sums OUT (or both), and --manifest FILE or SUMS...");
+    c.o.layout = layout_values[c.layout];
     char err[4400] = "";
     if (rc == 0 && !qcli_parse_only) /* fuzz_cliopts: the options only */
-        rc = job_status(qtool_bake_merge(&o, stdout, err, sizeof err), err);
-    free(o.in);
+        rc = job_status(qtool_bake_merge(&c.o, stdout, err, sizeof err), err);
+    free(c.o.in);
     return rc;
 }
 
 /* ---- qibl check ---------------------------------------------------------------------------------- */
 
+/* the files are argv's own: the table only refuses flags (there are none) */
+static const char *check_file(void *opts, const char *v)
+{
+    (void)v;
+    ++*(int *)opts;
+    return NULL;
+}
+
+const qcli_opt_cmd qcli_opts_check = {
+    .name = "check",
+    .pos = {.names = "FILE...", .min = 1, .max = QCLI_OPT_LIST_MAX, .call = check_file},
+    .size = sizeof(int),
+    .prose =
+        "  .png: signature, every chunk CRC, the zlib stream (inflated), Adler-32, APNG frame sequence;\n"
+        "  .pfm: header and size; .hdr/.pic: Radiance header, resolution line and every scanline (RLE or\n"
+        "  flat) decoded, as qibl lights reads it; .exr (or the EXR magic): header and every chunk decoded;\n"
+        "  anything else as a qibl asset (qibl_asset_open).\n"
+        "  Exit 1 if any is bad.\n",
+};
+
 int qcli_cmd_check(int argc, char **argv)
 {
-    if (argc < 2)
-        return qcli_usage_error("usage: qibl check FILE...");
+    int nfiles;
+    int rc = qcli_opt_parse(&qcli_opts_check, argc, argv, 1, &nfiles);
+    if (rc != 0)
+        return rc;
+    if (nfiles == 0)
+        return qcli_opt_error(&qcli_opts_check, "needs FILE...");
     if (qcli_parse_only) /* fuzz_cliopts: the options only */
         return 0;
     int bad = 0;

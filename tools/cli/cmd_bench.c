@@ -1,31 +1,83 @@
 /*
- * cmd_bench.c - `qibl bench`: the options into a qtool_bench_opts, then the benchmarks library
- * (tools/bench). Timing lives there, never in tests.
+ * cmd_bench.c - `qibl bench`: the options (its option table, cli/opt.h) into a qtool_bench_opts,
+ * then the benchmarks library (tools/bench). Timing lives there, never in tests.
  */
+#include <stddef.h>
 #include <string.h>
 
 #include "bench/bench.h"
 #include "cli/cli.h"
+#include "cli/opt.h"
+
+typedef struct bench_cli_opts {
+    qcli_opt_list what; /* the benchmark: the last one named counts, as it always did */
+    const char *svg;
+    int quick, csv, markdown;
+} bench_cli_opts;
+static const bench_cli_opts bench_defaults = {.svg = NULL, .quick = 0, .csv = 0, .markdown = 0};
+
+static const qcli_opt bench_table[] = {
+    {.name = "--quick", .kind = QCLI_OPT_FLAG, .off = offsetof(bench_cli_opts, quick),
+     .help = "smaller sizes and fewer repetitions"},
+    {.name = "--csv", .kind = QCLI_OPT_FLAG, .off = offsetof(bench_cli_opts, csv),
+     .help = "relight: the table as CSV"},
+    {.name = "--markdown", .kind = QCLI_OPT_FLAG, .off = offsetof(bench_cli_opts, markdown),
+     .help = "memory: the table as docs/porting.md has it"},
+    {.name = "--svg", .kind = QCLI_OPT_STR, .off = offsetof(bench_cli_opts, svg), .arg = "PATH",
+     .help = "hemi: the cloth's error against frames per second, as an SVG plot"},
+    {0},
+};
+
+const qcli_opt_cmd qcli_opts_bench = {
+    .name = "bench",
+    .opts = bench_table,
+    .pos = {.names = "BENCH", .min = 0, .max = QCLI_OPT_LIST_MAX, .off = offsetof(bench_cli_opts, what)},
+    .defaults = &bench_defaults,
+    .size = sizeof(bench_cli_opts),
+    .prose =
+        "  BENCH: " QTOOL_BENCH_NAMES "\n"
+        "  (default all; the last one named runs).\n"
+        "  sh: integer SH basis against the double reference from Wong et al.'s appendix:\n"
+        "      ns per evaluation (median of 7 runs) and max |error| over a fixed-seed sweep.\n"
+        "  relight: the relighting kernels on the procedural courtyard, 1024x256, k = 4, 9, 16, 25:\n"
+        "      directional and point lights (cube-map LUT 16^2/32^2/64^2, direct SH): ms/frame,\n"
+        "      Mpixel/s, PSNR and max abs error in 8-bit units, a plain read of the same map bytes, the\n"
+        "      two range-packing schemes; --csv prints the table as CSV.\n"
+        "  baselines: the relight bench's plain-read and memcpy baselines alone.\n"
+        "  srgbe: the sRGBE codec against Ward's RGBE (frexp/ldexp), RGB9E5 and binary32 on a real\n"
+        "      probe from ../shared/fixtures/probes (QIBL_PROBE=FILE picks one; a procedural sky\n"
+        "      when absent) and on signed SH data of it: max/mean relative error of the largest\n"
+        "      channel, mean absolute error of the others, encode/decode Mpixel/s (medians).\n"
+        "  lights: light-probe sampling on a 1024x512 probe (QIBL_PROBE=FILE, else quarry_01_1k.hdr from\n"
+        "      ../shared/fixtures/probes, else a procedural sky) and on it upsampled to 4096x2048: SAT and\n"
+        "      cut milliseconds for median cut 64/256, adaptive 64, varmin 64, and the ratio of median cut 64\n"
+        "      (SAT included) to one plain read pass over the probe bytes (RESULT lights.sat64_over_read);\n"
+        "      then the irradiance error of every method and priority on each real probe.\n"
+        "  paths: path lights against today's SH-only relighting, 1024x256, thread CPU time: a sun as\n"
+        "      unshadowed k = 9 or 16 x path visibility (hard, soft), sky + sun, lamps on a track and free.\n"
+        "  asset: opening a 16 MB asset: nibble CRC, slicing-by-8 CRC, structure only, against a memcpy\n"
+        "      of the same bytes (min and median of interleaved repetitions).\n"
+        "  probe: SH projection of a 1024x512 probe (quarry_01_1k.hdr, else an integer-made one) against\n"
+        "      one 64-bit read pass of its bytes (min and median of interleaved runs), the projection's\n"
+        "      error against the double reference on every fixture probe, the rotation's error, and the\n"
+        "      ringing of the irradiance with no window, Hann and Lanczos (RESULT probe.*).\n"
+        "  hemi: hemispherical rasterization on an animated cloth (the paper's Tables 1 and 2): frames per\n"
+        "      second on one core, error against a ray cast (--svg PATH: error against fps as an SVG plot).\n"
+        "  memory: not a timing: the resident-memory table of docs/porting.md (--markdown: as there).\n"
+        "  gles: frames per second of platform/gles2 on a headless EGL context (only when asked).\n"
+        "  all: every timing benchmark (what `make bench` runs). --quick: fewer repetitions.\n",
+};
 
 int qcli_cmd_bench(int argc, char **argv)
 {
-    qtool_bench_opts o = {.what = "all"};
-    for (int i = 1; i < argc; ++i) {
-        if (strcmp(argv[i], "--quick") == 0)
-            o.quick = 1;
-        else if (strcmp(argv[i], "--svg") == 0 && i + 1 < argc)
-            o.svg = argv[++i];
-        else if (strcmp(argv[i], "--markdown") == 0)
-            o.markdown = 1;
-        else if (strcmp(argv[i], "--csv") == 0)
-            o.csv = 1;
-        else if (argv[i][0] != '-')
-            o.what = argv[i];
-        else
-            return qcli_usage_error("bench: unknown option '%s'", argv[i]);
-    }
+    bench_cli_opts c;
+    int rc = qcli_opt_parse(&qcli_opts_bench, argc, argv, 1, &c);
+    if (rc != 0)
+        return rc;
+    const qtool_bench_opts o = {.what = c.what.n ? c.what.v[c.what.n - 1] : "all", .quick = c.quick, .csv = c.csv,
+                                .markdown = c.markdown, .svg = c.svg};
     if (!qtool_bench_known(o.what))
-        return qcli_usage_error("bench: unknown benchmark '%s' (" QTOOL_BENCH_NAMES ")", o.what);
+        return qcli_opt_error(&qcli_opts_bench, "unknown benchmark '%s' (" QTOOL_BENCH_NAMES ")", o.what);
     if (qcli_parse_only) /* fuzz_cliopts: the options only */
         return 0;
     return qtool_bench_run(&o);

@@ -1,12 +1,15 @@
 /*
- * cmd_demo.c - `qibl demo`: options into a demo_opts, then the demo library (tools/demo) part by
+ * cmd_demo.c - `qibl demo`: options (its option table, cli/opt.h) into a demo_opts, then the demo library (tools/demo) part by
  * part: bake, relight and score (assets, sweeps, contact sheet), light paths, probe-lit rows.
  */
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli/cli.h"
+#include "cli/opt.h"
+#include "cli/scene_opts.h"
 #include "demo/demo.h"
 #include "render/rt.h"
 
@@ -17,6 +20,61 @@ typedef struct demo_opts {
     long ndirs, frames;
     long probe_parts, probe_spp;
 } demo_opts;
+
+#define DEMO_PROSE \
+    "  What `make demo` runs: bakes the scene (built-in courtyard, or --scene FILE.gltf|.glb|.obj|.ply), writes\n" \
+    "  the assets for k = 9, 16, 25, relights a sun sweep and a moving lamp with the core (PNG frames and\n" \
+    "  APNG), a contact sheet (relit | ground truth | error heat map) for novel lights, and prints the\n" \
+    "  table of k, bytes, ms/frame and PSNR with RESULT lines, then the light paths and the probe-lit rows.\n" \
+    "  Sizes: default 512x128, 256 directions, 12 frames (`make demo`); --small 256x64, 128 directions,\n" \
+    "  6 frames (CI); --full 1024x256, 512 directions, 24 frames and the full probe-lit truths (`make demo\n" \
+    "  FULL=1`, minutes of CPU). --size WxH, --dirs and --frames override the size's values.\n"
+
+/* What the line says (cli/opt.h): 0 for a value the demo size gives (--small, --full, else default). */
+typedef struct demo_cli {
+    qcli_scene_cli sc; /* first, as the scene options' table entries expect */
+    const char *dir;
+    long ndirs, frames;
+    int small, full, pick; /* pick: the last of --small (1) and --full (2) given */
+} demo_cli;
+
+static const char *small_call(void *opts, const char *unused)
+{
+    (void)unused;
+    ((demo_cli *)opts)->pick = 1;
+    return NULL;
+}
+
+static const char *full_call(void *opts, const char *unused)
+{
+    (void)unused;
+    ((demo_cli *)opts)->pick = 2;
+    return NULL;
+}
+static const demo_cli demo_cli_defaults = {.sc = {.camera = QTOOL_SCENE_PANORAMA, .fov = QTOOL_RT_CAMERA_FOV_DEFAULT}};
+
+static const qcli_opt demo_table[] = {
+    {.name = "--out", .kind = QCLI_OPT_STR, .off = offsetof(demo_cli, dir), .arg = "DIR", .required = 1,
+     .help = "where the assets, frames, sheets and sweeps go"},
+    {.name = "--small", .kind = QCLI_OPT_FLAG, .off = offsetof(demo_cli, small), .call = small_call,
+     .help = "the small size (CI; the last of --small and --full counts)"},
+    {.name = "--full", .kind = QCLI_OPT_FLAG, .off = offsetof(demo_cli, full), .call = full_call,
+     .help = "the full size and the full probe-lit truths (minutes of CPU)"},
+    {.name = "--dirs", .kind = QCLI_OPT_INT, .off = offsetof(demo_cli, ndirs), .arg = "N", .lo = 16, .hi = 65536,
+     .def = "the size's", .help = "bake directions"},
+    {.name = "--frames", .kind = QCLI_OPT_INT, .off = offsetof(demo_cli, frames), .arg = "F", .lo = 2, .hi = 240,
+     .def = "the size's", .help = "frames per sweep"},
+    QCLI_SCENE_OPTS("the size's"),
+    {0},
+};
+
+const qcli_opt_cmd qcli_opts_demo = {
+    .name = "demo",
+    .opts = demo_table,
+    .defaults = &demo_cli_defaults,
+    .size = sizeof(demo_cli),
+    .prose = DEMO_PROSE,
+};
 
 /* the defaults in one place: the size's values, the scene options' own defaults */
 static demo_opts demo_defaults(const qtool_demo_size *sz)
@@ -34,38 +92,19 @@ static demo_opts demo_defaults(const qtool_demo_size *sz)
     return o;
 }
 
-/* the size first (--small, --full), then everything else: --size WxH, --dirs and --frames given on
- * the line override the size's values. 0, or 2 after a message. */
+/* the size (the last of --small and --full, else the default), then what the line gives over the size's values
+ * (--size WxH, --dirs, --frames). 0, or 2 after the one line. */
 static int parse_opts(int argc, char **argv, demo_opts *o)
 {
-    const char *size = "default";
-    for (int i = 1; i < argc; ++i) {
-        if (strcmp(argv[i], "--small") == 0)
-            size = "small";
-        else if (strcmp(argv[i], "--full") == 0)
-            size = "full";
-    }
-    *o = demo_defaults(qtool_demo_size_named(size));
-    for (int i = 1; i < argc; ++i) {
-        int r = qcli_scene_opt(argc, argv, &i, &o->scene);
-        if (r < 0)
-            return 2;
-        if (r)
-            continue;
-        if (strcmp(argv[i], "--out") == 0 && i + 1 < argc)
-            o->dir = argv[++i];
-        else if (strcmp(argv[i], "--dirs") == 0 && i + 1 < argc) {
-            if (qcli_parse_int(argv[++i], 16, 65536, &o->ndirs) != 0)
-                return qcli_usage_error("--dirs needs an integer in 16..65536");
-        } else if (strcmp(argv[i], "--frames") == 0 && i + 1 < argc) {
-            if (qcli_parse_int(argv[++i], 2, 240, &o->frames) != 0)
-                return qcli_usage_error("--frames needs an integer in 2..240");
-        } else if (strcmp(argv[i], "--small") != 0 && strcmp(argv[i], "--full") != 0) {
-            return qcli_usage_error("demo: unknown argument '%s' (see qibl help demo)", argv[i]);
-        }
-    }
-    if (!o->dir)
-        return qcli_usage_error("demo needs --out DIR");
+    demo_cli c;
+    if (qcli_opt_parse(&qcli_opts_demo, argc, argv, 1, &c) != 0)
+        return 2;
+    *o = demo_defaults(qtool_demo_size_named(c.pick == 2 ? "full" : c.pick == 1 ? "small" : "default"));
+    if (qcli_scene_from(&qcli_opts_demo, &c.sc, &o->scene) != 0)
+        return 2;
+    o->dir = c.dir;
+    o->ndirs = c.ndirs ? c.ndirs : o->ndirs;
+    o->frames = c.frames ? c.frames : o->frames;
     /* for studies: parts per extended source, samples per pixel of the probe-lit truths (a value
      * that does not parse leaves the default, as it always has) */
     const char *env_k = getenv("QIBL_DEMO_PROBE_PARTS"), *env_spp = getenv("QIBL_DEMO_PROBE_SPP");

@@ -4,31 +4,20 @@
  * tone-mapped probe as a PNG (like Madsen & Laursen's Figure 3) and checked against the probe's
  * exact irradiance. Probes in other layouts (angular map, mirror ball, cube crosses) are detected
  * or named with --layout and resampled to lat-long first (io/probe_layout.h). The options are
- * parsed here; relight/lights.h computes, this file prints.
+ * parsed here (its option table, cli/opt.h); relight/lights.h computes, this file prints.
  */
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli/cli.h"
+#include "cli/opt.h"
 #include "cli/relight_light.h"
 #include "engine/engine.h"
 #include "io/png.h"
 #include "relight/lights.h"
-
-#define USAGE "usage: qibl lights PROBE.hdr [--method mediancut|adaptive|varmin] [-n N] [--csv | --json | --preset gltf] [--png OUT.png] [--layout L]\n" \
-              "                  [--yaw DEG | --rotate a,b,c,d,e,f,g,h,i] (with --preset gltf)\n" \
-              "       qibl lights PROBE.hdr --auto --error P% [--csv | --json | --format c]"
-
-/* the index of s among the n names, or -1: the value of a named option whose enum counts from 0 */
-static int name_index(const char *s, const char *const *names, int n)
-{
-    for (int i = 0; i < n; ++i)
-        if (strcmp(s, names[i]) == 0)
-            return i;
-    return -1;
-}
 
 /* JSON string body: quotes, backslashes and control bytes escaped */
 static void json_str(FILE *f, const char *s)
@@ -105,123 +94,176 @@ static int parse_budget(const char *s, double *out)
     return 0;
 }
 
-/* the options that choose what the core computes: 1, 0 (none of them) or 2 */
-static int fit_opt(int argc, char **argv, int *i, qtool_relight_lights_opts *o)
-{
-    const char *a = argv[*i];
-    if (*i + 1 >= argc)
-        return 0;
-    static const char *const methods[] = {"mediancut", "adaptive", "varmin"}; /* qibl_lightprobe_method_t */
-    static const char *const priorities[] = {"default", "energy", "energy-size", "variance", "levels"};
-    static const char *const as[] = {"rgbe", "srgbe", "f32"}; /* qtool_relight_lights_as */
-    int v;
-    if (strcmp(a, "--method") == 0) {
-        if ((v = name_index(argv[++*i], methods, 3)) < 0)
-            return qcli_usage_error("--method is mediancut, adaptive or varmin");
-        o->core.method = (qibl_lightprobe_method_t)v;
-    } else if (strcmp(a, "-n") == 0 || strcmp(a, "--count") == 0) {
-        if (qcli_parse_int(argv[++*i], 1, 1L << 24, &o->n) != 0)
-            return qcli_usage_error("-n needs a light count in 1..16777216");
-    } else if (strcmp(a, "--priority") == 0) {
-        if ((v = name_index(argv[++*i], priorities, QIBL_LIGHTPROBE_PRIORITY_COUNT)) < 0)
-            return qcli_usage_error("--priority is default, energy, energy-size, variance or levels");
-        o->core.priority = (qibl_lightprobe_priority_t)v;
-    } else if (strcmp(a, "--place") == 0) {
-        const char *p = argv[++*i];
-        if (strcmp(p, "centroid") == 0)
-            o->core.place = QIBL_LIGHTPROBE_PLACE_CENTROID;
-        else if (strcmp(p, "centre") == 0 || strcmp(p, "center") == 0)
-            o->core.place = QIBL_LIGHTPROBE_PLACE_CENTRE;
-        else
-            return qcli_usage_error("--place is centroid or centre");
-    } else if (strcmp(a, "--as") == 0) {
-        if ((v = name_index(argv[++*i], as, 3)) < 0)
-            return qcli_usage_error("--as is rgbe, srgbe or f32");
-        o->as = (qtool_relight_lights_as)v;
-    } else if (strcmp(a, "--layout") == 0) {
-        if (qtool_probe_layout_parse(argv[++*i], &o->layout) != 0)
-            return qcli_usage_error("--layout is auto, latlong, angular, ball, vcross or hcross");
-    } else {
-        return 0;
-    }
-    return 1;
-}
+/* The command's options: the library's struct (its defaults), its enums as the table's ints. */
+typedef struct lights_cli {
+    qtool_relight_lights_opts o;
+    qcli_opt_list probe;
+    int method, priority, place, as, layout;
+    qcli_light_list rl; /* only its --yaw / --rotate (relight's rotation) */
+    char why[192];      /* a reason with numbers in it, for the table's line */
+} lights_cli;
+static const lights_cli lights_defaults = {.o = QTOOL_RELIGHT_LIGHTS_OPTS_DEFAULT,
+                                           .method = QIBL_LIGHTPROBE_MEDIANCUT,
+                                           .priority = QIBL_LIGHTPROBE_PRIORITY_DEFAULT,
+                                           .place = 0,
+                                           .as = QTOOL_RELIGHT_LIGHTS_AS_RGBE,
+                                           .layout = QTOOL_PROBE_LAYOUT_AUTO,
+                                           .rl = QTOOL_RELIGHT_LIGHT_LIST_DEFAULT};
 
-/* the options that choose what is written: 1, 0 (none of them) or 2 */
-static int out_opt(int argc, char **argv, int *i, qtool_relight_lights_opts *o, qtool_relight_light_list *rl)
+/* the enums' names, in the order of their values */
+static const char *const methods[] = {"mediancut", "adaptive", "varmin", NULL}; /* qibl_lightprobe_method_t */
+static const char *const priorities[] = {"default", "energy", "energy-size", "variance", "levels", NULL};
+static const char *const places[] = {"centroid", "centre", "center", NULL}; /* center: centre */
+static const char *const as_names[] = {"rgbe", "srgbe", "f32", NULL};        /* qtool_relight_lights_as */
+
+/* --format: --auto's pick as a C fragment, or csv / json as their own flags say (cumulative: a
+ * second document format is refused with the first, after parsing) */
+static const char *format_call(void *opts, const char *v)
 {
-    const char *a = argv[*i];
-    int more = *i + 1 < argc;
-    if (strcmp(a, "--png") == 0 && more) {
-        o->png = argv[++*i];
-    } else if (strcmp(a, "--zoom") == 0 && more) {
-        if (qcli_parse_int(argv[++*i], 1, 64, &o->zoom) != 0)
-            return qcli_usage_error("--zoom needs an integer in 1..64");
-    } else if (strcmp(a, "--csv") == 0) {
+    qtool_relight_lights_opts *o = &((lights_cli *)opts)->o;
+    if (strcmp(v, "c") == 0)
+        o->cfmt = 1;
+    else if (strcmp(v, "csv") == 0)
         o->csv = 1;
-    } else if (strcmp(a, "--json") == 0) {
+    else if (strcmp(v, "json") == 0)
         o->json = 1;
-    } else if (strcmp(a, "--format") == 0 && more) { /* --auto's pick as a C fragment (or csv/json) */
-        const char *f = argv[++*i];
-        if (strcmp(f, "c") == 0)
-            o->cfmt = 1;
-        else if (strcmp(f, "csv") == 0)
-            o->csv = 1;
-        else if (strcmp(f, "json") == 0)
-            o->json = 1;
-        else
-            return qcli_usage_error("--format is c, csv or json");
-    } else if (strcmp(a, "--error") == 0) {
-        o->error = 1;
-        int pb = more ? parse_budget(argv[*i + 1], &o->budget) : -1;
-        if (pb == -2)
-            return qcli_usage_error("--error %s: the budget is a percentage in (0, 100] (e.g. 2%% or 2)", argv[*i + 1]);
-        if (pb == 0) /* --error 2%: the --auto budget */
-            ++*i;
-    } else if (strcmp(a, "--auto") == 0) {
-        o->autom = 1;
-    } else if (strcmp(a, "--preset") == 0 && more) { /* tools/engine: KHR_lights_punctual */
-        qtool_engine_preset p;
-        if (qtool_engine_preset_parse(argv[++*i], &p) != 0 || (p != QTOOL_ENGINE_GLTF && p != QTOOL_ENGINE_RAW))
-            return qcli_usage_error("--preset: '%s': lights are written for gltf (KHR_lights_punctual) or raw",
-                                    argv[*i]);
-        o->gltf = p == QTOOL_ENGINE_GLTF;
-    } else if ((strcmp(a, "--yaw") == 0 || strcmp(a, "--rotate") == 0) && more) {
-        int rc = qcli_light_list_opt(argc, argv, i, rl); /* relight's parser and rotation */
-        if (rc != 1)
-            return rc == 2 ? 2 : qcli_usage_error("%s", USAGE);
-    } else {
-        return 0;
-    }
-    return 1;
+    else
+        return "is not c, csv or json";
+    return NULL;
 }
 
-/* the options together, after parsing: 0, or 2 after a message */
+/* --error [P%]: the error line, or with a budget --auto's */
+static const char *error_call(void *opts, const char *v)
+{
+    qtool_relight_lights_opts *o = &((lights_cli *)opts)->o;
+    if (!v) {
+        o->error = 1;
+        return NULL;
+    }
+    switch (parse_budget(v, &o->budget)) {
+    case 0:
+        o->error = 1;
+        return NULL;
+    case -1:
+        return qcli_opt_no_value;
+    default:
+        return "is not a budget: it is a percentage in (0, 100] (e.g. 2% or 2)";
+    }
+}
+
+static const char *preset_call(void *opts, const char *v)
+{
+    qtool_engine_preset p;
+    if (qtool_engine_preset_parse(v, &p) != 0 || (p != QTOOL_ENGINE_GLTF && p != QTOOL_ENGINE_RAW))
+        return "is not gltf or raw: lights are written for gltf (KHR_lights_punctual) or raw";
+    ((lights_cli *)opts)->o.gltf = p == QTOOL_ENGINE_GLTF;
+    return NULL;
+}
+
+static const char *yaw_call(void *opts, const char *v)
+{
+    return qcli_light_yaw(&((lights_cli *)opts)->rl, v);
+}
+
+static const char *rotate_call(void *opts, const char *v)
+{
+    lights_cli *c = opts;
+    return qcli_light_rotate(&c->rl, v, c->why, sizeof c->why);
+}
+
+static const qcli_opt lights_table[] = {
+    {.name = "--method", .kind = QCLI_OPT_ENUM, .off = offsetof(lights_cli, method), .names = methods,
+     .help = "median cut (N a power of two), adaptive median cut or variance minimisation (any N)"},
+    {.name = "-n", .alias = "--count", .kind = QCLI_OPT_INT, .off = offsetof(lights_cli, o.n), .lo = 1,
+     .hi = 1L << 24, .what = "a light count", .help = "how many lights"},
+    {.name = "--priority", .kind = QCLI_OPT_ENUM, .off = offsetof(lights_cli, priority), .names = priorities,
+     .arg = "P", .help = "default, energy, energy-size, variance or levels: which region adaptive / varmin split next"},
+    {.name = "--place", .kind = QCLI_OPT_ENUM, .off = offsetof(lights_cli, place), .names = places,
+     .help = "a light at its region's energy centroid or geometric centre"},
+    {.name = "--as", .kind = QCLI_OPT_ENUM, .off = offsetof(lights_cli, as), .names = as_names,
+     .help = "feed the core the probe as RGBE bytes, sRGBE or binary32"},
+    {.name = "--layout", .kind = QCLI_OPT_ENUM, .off = offsetof(lights_cli, layout), .names = qcli_probe_layout_names,
+     .arg = "L", .help = "the probe's layout: auto (detected, and said so), latlong, angular, ball, vcross or hcross"},
+    {.name = "--csv", .kind = QCLI_OPT_FLAG, .off = offsetof(lights_cli, o.csv),
+     .help = "one line per light, x,y,z,r,g,b,u0,v0,u1,v1, after a header (what relight --lights reads)"},
+    {.name = "--json", .kind = QCLI_OPT_FLAG, .off = offsetof(lights_cli, o.json),
+     .help = "{\"lights\": [{\"dir\", \"rgb\", \"region\"}...]} with the probe, size, method and count"},
+    {.name = "--format", .kind = QCLI_OPT_CALL, .off = offsetof(lights_cli, o), .arg = "c|csv|json",
+     .call = format_call, .help = "--auto's pick as a C fragment (or --csv, --json)"},
+    {.name = "--png", .kind = QCLI_OPT_STR, .off = offsetof(lights_cli, o.png), .arg = "OUT.png",
+     .help = "the tone-mapped probe with the regions (green) and light directions (red)"},
+    {.name = "--zoom", .kind = QCLI_OPT_INT, .off = offsetof(lights_cli, o.zoom), .arg = "Z", .lo = 1, .hi = 64,
+     .def = "to about 1024 pixels wide", .help = "the picture's scale"},
+    {.name = "--error", .kind = QCLI_OPT_CALL, .optional = 1, .off = offsetof(lights_cli, o), .arg = "P%",
+     .call = error_call, .help = "the lights' irradiance error against the probe's; with P% the budget of --auto"},
+    {.name = "--auto", .kind = QCLI_OPT_FLAG, .off = offsetof(lights_cli, o.autom),
+     .help = "the cheapest representation with mean irradiance error <= --error P%"},
+    {.name = "--preset", .kind = QCLI_OPT_CALL, .off = offsetof(lights_cli, o), .arg = "gltf|raw",
+     .call = preset_call, .def = "raw", .help = "gltf: the lights as KHR_lights_punctual JSON"},
+    {.name = "--yaw", .kind = QCLI_OPT_CALL, .off = offsetof(lights_cli, rl), .arg = "DEG", .call = yaw_call,
+     .help = "turn --preset gltf's lights, as qibl relight does"},
+    {.name = "--rotate", .kind = QCLI_OPT_CALL, .off = offsetof(lights_cli, rl), .arg = "a,b,c,d,e,f,g,h,i",
+     .call = rotate_call, .help = "turn --preset gltf's lights by a rotation matrix (rows)"},
+    {0},
+};
+
+const qcli_opt_cmd qcli_opts_lights = {
+    .name = "lights",
+    .opts = lights_table,
+    .pos = {.names = "PROBE.hdr", .min = 1, .max = 1, .off = offsetof(lights_cli, probe)},
+    .defaults = &lights_defaults,
+    .size = sizeof(lights_cli),
+    .prose =
+        "  Turns a W x H lat-long probe (top row theta = 0 = +z, phi = 0 at the left edge, growing to the\n"
+        "  right) into N directional lights with the integer core (qibl/lightprobe.h): median cut\n"
+        "  (Debevec; N a power of two, default 64), adaptive median cut (any N) or variance minimisation\n"
+        "  (Viriyothai & Debevec; any N). Each light is a unit direction (to its region's energy\n"
+        "  centroid), an RGB irradiance (E(n) = sum rgb max(0, n.d) approximates the probe's) and its\n"
+        "  region, brightest first. Without --csv or --json: a table.\n"
+        "  --png: the picture may have at most 65535 pixels a side and 2^25 in all. --error: the\n"
+        "  lights' irradiance against the probe's over 1024 normals.\n"
+        "  An all-black probe prints that it has no lights and exits 0.\n"
+        "  --layout: by default detected (2:1 latlong, 3:4 vcross, 4:3 hcross with black empty cells)\n"
+        "  and printed; a square disc (angular map or mirror ball; a caption may light up to 5 % of the\n"
+        "  corners) needs --layout; other shapes are refused. Non-lat-long probes are resampled to\n"
+        "  lat-long (io/probe_layout.h).\n"
+        "  --preset gltf: one directional light per light (intensity = its largest channel, lux for a\n"
+        "  probe in cd/m^2; color = rgb / intensity) and one node each whose rotation turns -z to where\n"
+        "  the light travels, in glTF's y-up frame as sh project --preset gltf places the probe.\n"
+        "  --auto --error P%: the cheapest representation with mean irradiance error <= P % (the\n"
+        "  measure of qibl probe info: |E - E_probe| / max(E_probe, mean E_probe / 10) per normal and\n"
+        "  channel, floored so near-black normals cannot blow it up; probes box-averaged to <= 1024 wide)\n"
+        "  (tools/study): SH irradiance (4/9/16/25), N varmin lights (as sampled, or RGB refitted by NNLS)\n"
+        "  or sun plus sky (k lights + SH9); counted in floats stored (6 per light, 3 per coefficient).\n"
+        "  P is a percentage in (0, 100], the sign optional: --error 2 is 2 %, not 200 %. An all-black\n"
+        "  probe is refused: its error would be 0 / 0. --format c|csv|json: the pick as a document.\n",
+};
+
+/* the options together, after parsing: 0, or 2 after the one line */
 static int lights_check(const qtool_relight_lights_opts *o)
 {
-    if (!o->path)
-        return qcli_usage_error("%s", USAGE);
+    const qcli_opt_cmd *t = &qcli_opts_lights;
     if (o->budget >= 0 && !o->autom)
-        return qcli_usage_error("--error with a budget (%g%%) needs --auto", 100 * o->budget);
+        return qcli_opt_error(t, "--error with a budget (%g%%) needs --auto", 100 * o->budget);
     if (o->autom && o->budget < 0)
-        return qcli_usage_error("--auto needs a budget: --error P%% (mean relative irradiance error, e.g. 2%%)");
+        return qcli_opt_error(t, "--auto needs a budget: --error P%% (mean relative irradiance error, e.g. 2%%)");
     if (o->csv && o->json)
-        return qcli_usage_error("--csv and --json: give one");
+        return qcli_opt_error(t, "--csv and --json: give one");
     if (o->cfmt && (o->csv || o->json))
-        return qcli_usage_error("--format c and --csv/--json: give one");
+        return qcli_opt_error(t, "--format c and --csv/--json: give one");
     if (o->cfmt && !o->autom)
-        return qcli_usage_error("--format c writes the pick of --auto: add --auto --error P%%");
+        return qcli_opt_error(t, "--format c writes the pick of --auto: add --auto --error P%%");
     if (o->gltf && (o->csv || o->json))
-        return qcli_usage_error("--preset gltf writes its own JSON: it does not go with --csv or --json");
+        return qcli_opt_error(t, "--preset gltf writes its own JSON: it does not go with --csv or --json");
     if (o->rotate && !o->gltf)
-        return qcli_usage_error("--yaw and --rotate turn the lights of --preset gltf");
+        return qcli_opt_error(t, "--yaw and --rotate turn the lights of --preset gltf");
     if (o->gltf && (o->autom || o->error))
-        return qcli_usage_error("--preset gltf writes JSON: it does not go with --auto or --error");
+        return qcli_opt_error(t, "--preset gltf writes JSON: it does not go with --auto or --error");
     if (o->json && o->error && !o->autom)
-        return qcli_usage_error("--error prints a line of text: it does not go with --json");
+        return qcli_opt_error(t, "--error prints a line of text: it does not go with --json");
     if (o->core.method == QIBL_LIGHTPROBE_MEDIANCUT && (o->n & (o->n - 1)) != 0)
-        return qcli_usage_error("median cut makes 2^K lights: -n must be a power of two (or use --method "
-                                "adaptive)");
+        return qcli_opt_error(t, "median cut makes 2^K lights: -n must be a power of two (or use --method "
+                                 "adaptive)");
     return 0;
 }
 
@@ -380,21 +422,19 @@ static int lights_run(const qtool_relight_lights_opts *o)
 
 int qcli_cmd_lights(int argc, char **argv)
 {
-    qtool_relight_lights_opts o = QTOOL_RELIGHT_LIGHTS_OPTS_DEFAULT;
-    qtool_relight_light_list rl = QTOOL_RELIGHT_LIGHT_LIST_DEFAULT; /* only its --yaw / --rotate */
-    for (int i = 1; i < argc; ++i) {
-        int r;
-        if ((r = fit_opt(argc, argv, &i, &o)) != 0 || (r = out_opt(argc, argv, &i, &o, &rl)) != 0) {
-            if (r != 1)
-                return 2;
-        } else if (argv[i][0] != '-' && !o.path) {
-            o.path = argv[i];
-        } else {
-            return qcli_usage_error("%s", USAGE);
-        }
-    }
-    o.rotate = rl.rotate;
-    memcpy(o.r, rl.r, sizeof o.r);
+    lights_cli c;
+    int rc = qcli_opt_parse(&qcli_opts_lights, argc, argv, 1, &c);
+    if (rc != 0)
+        return rc;
+    qtool_relight_lights_opts o = c.o;
+    o.path = c.probe.v[0];
+    o.core.method = (qibl_lightprobe_method_t)c.method;
+    o.core.priority = (qibl_lightprobe_priority_t)c.priority;
+    o.core.place = c.place == 0 ? QIBL_LIGHTPROBE_PLACE_CENTROID : QIBL_LIGHTPROBE_PLACE_CENTRE;
+    o.as = (qtool_relight_lights_as)c.as;
+    o.layout = (qtool_probe_layout_t)c.layout;
+    o.rotate = c.rl.rotate;
+    memcpy(o.r, c.rl.r, sizeof o.r);
     if (lights_check(&o) != 0)
         return 2;
     if (qcli_parse_only) /* fuzz_cliopts: the options only */

@@ -4,25 +4,41 @@
  * (l, m, R, G, B), JSON or a C header in qibl's basis (--frame, --yaw/--rotate), or in an engine's
  * own convention with --preset filament|unity|gltf (tools/engine: cmgen's sh.txt, Unity's
  * SphericalHarmonicsL2 and ShadeSH9 constants, EXT_lights_image_based). The projection and the
- * writers are tools/engine/project.h's; this file parses the options and loads the probe.
+ * writers are tools/engine/project.h's; this file parses the options (its option table, cli/opt.h)
+ * and loads the probe.
  */
 #include <ctype.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli/cli.h"
+#include "cli/opt.h"
 #include "cli/relight_light.h"
 #include "engine/project.h"
 #include "qibl/probe.h"
 
-#define SH_PROJECT_USAGE                                                                                   \
-    "usage: qibl sh project PROBE.hdr [--bands B] [--irradiance] [--window none|hann|lanczos] [--layout L] " \
-    "[--format table|json|c] [--name ID] [--frame zup|yup] [--yaw DEG | --rotate a,b,c,d,e,f,g,h,i]\n" \
-    "       qibl sh project PROBE.hdr --preset filament|unity|gltf|raw [--window auto|no|CUTOFF (filament)] " \
-    "[--yaw DEG | --rotate ...] [--layout L] [--name ID (gltf)]"
-
 enum { FMT_TABLE = 0, FMT_JSON, FMT_CMGEN, FMT_C };
+
+typedef struct sh_project_cli {
+    qcli_opt_list probe;
+    long bands;         /* 0: not given (5, a preset 3) */
+    int irradiance;
+    const char *window; /* read once --preset is known */
+    int preset;         /* qtool_engine_preset */
+    int frame;          /* qtool_engine_frame; -1: not given */
+    int format;         /* FMT_*; -1: not given */
+    const char *name;   /* NULL: not given */
+    int layout;         /* qtool_probe_layout_t */
+    qcli_light_list rl; /* only its --yaw / --rotate (relight's rotation) */
+    char why[192];      /* a reason with numbers in it, for the table's line */
+} sh_project_cli;
+static const sh_project_cli sh_project_defaults = {.bands = 0, .preset = QTOOL_ENGINE_RAW, .frame = -1, .format = -1,
+                                                   .name = NULL, .layout = QTOOL_PROBE_LAYOUT_AUTO,
+                                                   .rl = QTOOL_RELIGHT_LIGHT_LIST_DEFAULT};
+
+static const char *const frames[] = {"zup", "yup", NULL}; /* qtool_engine_frame */
 
 static int c_ident(const char *s)
 {
@@ -34,103 +50,136 @@ static int c_ident(const char *s)
     return 1;
 }
 
-/* sh project's options into o, the probe's path and layout into *path, *layout; 0, or 2 after a
- * message. rl: only its --yaw / --rotate (relight's parser and rotation). */
-static int sh_project_parse(int argc, char **argv, qtool_sh_project_opts *o, const char **path,
-                            qtool_probe_layout_t *layout, qcli_light_list *rl)
+static const char *format_call(void *opts, const char *v)
 {
-    static const char *fnames[] = {"table", "json", "cmgen", "c"};
-    const char *window_arg = NULL;
-    int fmt = FMT_TABLE, fmt_given = 0, bands_given = 0, name_given = 0, frame_given = 0;
-    long bands = o->bands;
-    qtool_engine_preset preset = o->preset;
-    qibl_probe_sh_opts_t opts = o->core;
-    for (int i = 2; i < argc; ++i) {
-        if (strcmp(argv[i], "--bands") == 0) {
-            if (i + 1 >= argc || qcli_parse_int(argv[i + 1], 1, QIBL_SH_MAX_BANDS, &bands) != 0)
-                return qcli_usage_error("--bands needs an integer in 1..%d", QIBL_SH_MAX_BANDS);
-            ++i, bands_given = 1;
-        } else if (strcmp(argv[i], "--irradiance") == 0) {
-            opts.irradiance = 1;
-        } else if (strcmp(argv[i], "--window") == 0) { /* read once --preset is known */
-            if (i + 1 >= argc)
-                return qcli_usage_error("--window needs none, hann or lanczos (--preset filament: auto, no or a "
-                                        "cutoff)");
-            window_arg = argv[++i];
-        } else if (strcmp(argv[i], "--preset") == 0) {
-            if (i + 1 >= argc || qtool_engine_preset_parse(argv[i + 1], &preset) != 0)
-                return qcli_usage_error("--preset: '%s' is not filament, unity, gltf or raw",
-                                        i + 1 < argc ? argv[i + 1] : "");
-            ++i;
-        } else if (strcmp(argv[i], "--frame") == 0) {
-            if (i + 1 < argc && strcmp(argv[i + 1], "zup") == 0)
-                o->frame = QTOOL_ENGINE_FRAME_ZUP;
-            else if (i + 1 < argc && strcmp(argv[i + 1], "yup") == 0)
-                o->frame = QTOOL_ENGINE_FRAME_YUP;
-            else
-                return qcli_usage_error("--frame: '%s' is not zup or yup", i + 1 < argc ? argv[i + 1] : "");
-            ++i, frame_given = 1;
-        } else if (strcmp(argv[i], "--yaw") == 0 || strcmp(argv[i], "--rotate") == 0) {
-            int rc = qcli_light_list_opt(argc, argv, &i, rl);
-            if (rc != 1)
-                return rc == 2 ? 2 : qcli_usage_error("%s needs a value (degrees, or nine numbers a,...,i)", argv[i]);
-        } else if (strcmp(argv[i], "--format") == 0) {
-            fmt = -1;
-            for (int j = 0; i + 1 < argc && j < 4; ++j)
-                if (strcmp(argv[i + 1], fnames[j]) == 0)
-                    fmt = j;
-            if (fmt == FMT_CMGEN) /* it wrote qibl's radiance in cmgen's line layout, which Filament misreads */
-                return qcli_usage_error("--format cmgen is gone: it was not what cmgen writes; --preset filament "
-                                        "writes cmgen's sh.txt");
-            if (fmt < 0)
-                return qcli_usage_error("--format: '%s' is not table, json or c", i + 1 < argc ? argv[i + 1] : "");
-            ++i, fmt_given = 1;
-        } else if (strcmp(argv[i], "--layout") == 0) {
-            if (i + 1 >= argc || qtool_probe_layout_parse(argv[i + 1], layout) != 0)
-                return qcli_usage_error("--layout: '%s' is not auto, latlong, angular, ball, vcross or hcross",
-                                        i + 1 < argc ? argv[i + 1] : "");
-            ++i;
-        } else if (strcmp(argv[i], "--name") == 0) {
-            if (i + 1 >= argc || !c_ident(argv[i + 1]))
-                return qcli_usage_error("--name: '%s' is not a C identifier", i + 1 < argc ? argv[i + 1] : "");
-            o->name = argv[++i], name_given = 1;
-        } else if (argv[i][0] == '-' || *path) {
-            return qcli_usage_error("sh project: unexpected '%s' (%s)", argv[i], SH_PROJECT_USAGE);
-        } else {
-            *path = argv[i];
-        }
-    }
-    if (!*path)
-        return qcli_usage_error(SH_PROJECT_USAGE);
+    static const char *const fnames[] = {"table", "json", "cmgen", "c"};
+    int fmt = -1;
+    for (int j = 0; j < 4; ++j)
+        if (strcmp(v, fnames[j]) == 0)
+            fmt = j;
+    if (fmt == FMT_CMGEN) /* it wrote qibl's radiance in cmgen's line layout, which Filament misreads */
+        return "is gone: it was not what cmgen writes; --preset filament writes cmgen's sh.txt";
+    if (fmt < 0)
+        return "is not table, json or c";
+    ((sh_project_cli *)opts)->format = fmt;
+    return NULL;
+}
+
+static const char *name_call(void *opts, const char *v)
+{
+    if (!c_ident(v))
+        return "is not a C identifier";
+    ((sh_project_cli *)opts)->name = v;
+    return NULL;
+}
+
+static const char *yaw_call(void *opts, const char *v)
+{
+    return qcli_light_yaw(&((sh_project_cli *)opts)->rl, v);
+}
+
+static const char *rotate_call(void *opts, const char *v)
+{
+    sh_project_cli *c = opts;
+    return qcli_light_rotate(&c->rl, v, c->why, sizeof c->why);
+}
+
+static const qcli_opt sh_project_table[] = {
+    {.name = "--bands", .kind = QCLI_OPT_INT, .off = offsetof(sh_project_cli, bands), .arg = "B", .lo = 1,
+     .hi = QIBL_SH_MAX_BANDS, .def = "5; a preset 3", .help = "bands 0..B-1 (B*B coefficients)"},
+    {.name = "--irradiance", .kind = QCLI_OPT_FLAG, .off = offsetof(sh_project_cli, irradiance),
+     .help = "irradiance (times the clamped-cosine A_l) instead of radiance (--preset raw)"},
+    {.name = "--window", .kind = QCLI_OPT_STR, .off = offsetof(sh_project_cli, window), .arg = "W",
+     .def = "none; filament auto", .help = "none, hann or lanczos; --preset filament: auto, no or a cutoff band"},
+    {.name = "--preset", .kind = QCLI_OPT_ENUM, .off = offsetof(sh_project_cli, preset),
+     .names = qtool_engine_preset_names, .help = "an engine's own convention (below)"},
+    {.name = "--format", .kind = QCLI_OPT_CALL, .off = offsetof(sh_project_cli, format), .arg = "table|json|c",
+     .call = format_call, .def = "table", .help = "--preset raw's output: a table, JSON or a C header"},
+    {.name = "--name", .kind = QCLI_OPT_CALL, .off = offsetof(sh_project_cli, name), .arg = "ID", .call = name_call,
+     .def = "qibl_probe_sh", .help = "the C array (--format c) or the glTF light (--preset gltf)"},
+    {.name = "--frame", .kind = QCLI_OPT_ENUM, .off = offsetof(sh_project_cli, frame), .names = frames,
+     .def = "zup", .help = "yup: the coefficients in a y-up frame ((x, z, -y) of qibl's; --preset raw)"},
+    {.name = "--yaw", .kind = QCLI_OPT_CALL, .off = offsetof(sh_project_cli, rl), .arg = "DEG", .call = yaw_call,
+     .help = "turn the probe first (positive turns +x toward +y), as qibl relight does"},
+    {.name = "--rotate", .kind = QCLI_OPT_CALL, .off = offsetof(sh_project_cli, rl), .arg = "a,b,c,d,e,f,g,h,i",
+     .call = rotate_call, .help = "turn the probe first by a rotation matrix (rows), as qibl relight does"},
+    {.name = "--layout", .kind = QCLI_OPT_ENUM, .off = offsetof(sh_project_cli, layout),
+     .names = qcli_probe_layout_names, .arg = "L",
+     .help = "the probe's layout: auto (detected, and said so), latlong, angular, ball, vcross or hcross"},
+    {0},
+};
+
+const qcli_opt_cmd qcli_opts_sh_project = {
+    .name = "sh project",
+    .help_name = "sh",
+    .opts = sh_project_table,
+    .pos = {.names = "PROBE.hdr", .min = 1, .max = 1, .off = offsetof(sh_project_cli, probe)},
+    .defaults = &sh_project_defaults,
+    .size = sizeof(sh_project_cli),
+    .prose =
+        "  A Radiance probe (layout detected or --layout, resampled to lat-long as qibl lights does)\n"
+        "  projected onto bands 0..B-1 by the integer core, row by row (qibl/probe.h): radiance\n"
+        "  coefficients, or irradiance (times the clamped-cosine A_l), with an optional Hann or Lanczos\n"
+        "  window. --format table (default: l, m, R, G, B), json, or c (a header: ID_BANDS and\n"
+        "  `static const float ID[B*B][3]` with a band/order comment per row; --name ID, default\n"
+        "  qibl_probe_sh). --frame yup writes them in a y-up frame ((x, z, -y) of qibl's); --yaw DEG\n"
+        "  (positive turns +x toward +y) or --rotate turns the probe first, as qibl relight does.\n"
+        "  --preset writes an engine's own convention (tools/engine/engine.h has each formula); it\n"
+        "  takes --window (filament), --yaw/--rotate, --layout and --name (gltf), not --format,\n"
+        "  --irradiance or --frame:\n"
+        "    filament  cmgen's sh.txt (--deploy): 3 bands of irradiance times A_l, windowed (--window\n"
+        "              auto (default), no or a cutoff band, as cmgen's --sh-window), times Sloan's\n"
+        "              constants / pi, y up mirrored in x as cmgen's cubemap; paste into sh.txt.\n"
+        "    unity     C#: SphericalHarmonicsL2 (Unity's scale and frame) and the unity_SHAr..SHC\n"
+        "              constants ShadeSH9 reads; prints the SH9 truncation error against the probe.\n"
+        "    gltf      an EXT_lights_image_based JSON object (irradianceCoefficients, y up).\n"
+        "    raw       the table, as without --preset.\n"
+        "  The layout note goes to stderr except for the table. (--format cmgen is refused: it was not\n"
+        "  what cmgen writes; use --preset filament.)\n",
+};
+
+/* the options together into o, once the table has parsed them: 0, or 2 after the one line */
+static int sh_project_check(const sh_project_cli *c, qtool_sh_project_opts *o)
+{
+    const qcli_opt_cmd *t = &qcli_opts_sh_project;
+    const qtool_engine_preset preset = (qtool_engine_preset)c->preset;
     const char *pn = qtool_engine_preset_name(preset);
+    long bands = c->bands ? c->bands : o->bands;
+    int fmt = c->format >= 0 ? c->format : FMT_TABLE;
+    qibl_probe_sh_opts_t opts = o->core;
+    opts.irradiance = c->irradiance;
+    if (c->frame >= 0)
+        o->frame = (qtool_engine_frame)c->frame;
+    if (c->name)
+        o->name = c->name;
     if (preset != QTOOL_ENGINE_RAW) { /* each engine has its own scale, frame and layout */
-        if (fmt_given)
-            return qcli_usage_error("--format is for --preset raw; the %s preset writes its own layout", pn);
+        if (c->format >= 0)
+            return qcli_opt_error(t, "--format is for --preset raw; the %s preset writes its own layout", pn);
         if (opts.irradiance)
-            return qcli_usage_error("--irradiance: the %s preset has its own scale (see the README)", pn);
-        if (frame_given)
-            return qcli_usage_error("--frame: the %s preset writes the engine's own frame; --frame is for --preset raw",
-                                    pn);
-        if (bands_given && bands < 3)
-            return qcli_usage_error("--bands %ld: the %s preset needs 3 bands", bands, pn);
-        if (name_given && preset != QTOOL_ENGINE_GLTF)
-            return qcli_usage_error("--name names the C array (--format c) or the glTF light, not the %s preset", pn);
-        if (window_arg && preset != QTOOL_ENGINE_FILAMENT)
-            return qcli_usage_error("--window: the %s preset is not windowed (--window is cmgen's for filament)", pn);
-        if (window_arg && qtool_engine_window_parse(window_arg, &o->engine_window) != 0)
-            return qcli_usage_error("--window: '%s' is not auto, no or a cutoff band in (0, %g] (cmgen's --sh-window)",
-                                    window_arg, QTOOL_ENGINE_WINDOW_MAX);
+            return qcli_opt_error(t, "--irradiance: the %s preset has its own scale (see the README)", pn);
+        if (c->frame >= 0)
+            return qcli_opt_error(t, "--frame: the %s preset writes the engine's own frame; --frame is for --preset raw",
+                                  pn);
+        if (c->bands && bands < 3)
+            return qcli_opt_error(t, "--bands %ld: the %s preset needs 3 bands", bands, pn);
+        if (c->name && preset != QTOOL_ENGINE_GLTF)
+            return qcli_opt_error(t, "--name names the C array (--format c) or the glTF light, not the %s preset", pn);
+        if (c->window && preset != QTOOL_ENGINE_FILAMENT)
+            return qcli_opt_error(t, "--window: the %s preset is not windowed (--window is cmgen's for filament)", pn);
+        if (c->window && qtool_engine_window_parse(c->window, &o->engine_window) != 0)
+            return qcli_opt_error(t, "--window: '%s' is not auto, no or a cutoff band in (0, %g] (cmgen's --sh-window)",
+                                  c->window, QTOOL_ENGINE_WINDOW_MAX);
         bands = 3;
         fmt = FMT_JSON; /* notes on stderr: stdout is only the engine's text */
-        if (!name_given)
+        if (!c->name)
             o->name = NULL; /* gltf: an unnamed light */
-    } else if (window_arg) {
+    } else if (c->window) {
         int k = -1;
         for (int j = 0; j < 3; ++j)
-            if (strcmp(window_arg, qtool_sh_window_names[j]) == 0)
+            if (strcmp(c->window, qtool_sh_window_names[j]) == 0)
                 k = j;
         if (k < 0)
-            return qcli_usage_error("--window needs none, hann or lanczos");
+            return qcli_opt_error(t, "--window: '%s' is not none, hann or lanczos", c->window);
         opts.window = (qibl_probe_window_t)k;
     }
     o->bands = bands, o->preset = preset, o->core = opts;
@@ -141,15 +190,14 @@ static int sh_project_parse(int argc, char **argv, qtool_sh_project_opts *o, con
 int qcli_cmd_sh_project(int argc, char **argv)
 {
     qtool_sh_project_opts o = QTOOL_SH_PROJECT_OPTS_DEFAULT;
-    const char *path = NULL;
-    qtool_probe_layout_t layout = QTOOL_PROBE_LAYOUT_AUTO;
-    qcli_light_list rl;
-    qcli_light_list_init(&rl);
-    if (sh_project_parse(argc, argv, &o, &path, &layout, &rl) != 0)
+    sh_project_cli c;
+    if (qcli_opt_parse(&qcli_opts_sh_project, argc, argv, 2, &c) != 0 || sh_project_check(&c, &o) != 0)
         return 2;
     if (qcli_parse_only) /* fuzz_cliopts: the options only */
         return 0;
-    o.rot = rl.rotate ? (const double(*)[3])rl.r : NULL, o.rot_kind = rl.rotate;
+    o.rot = c.rl.rotate ? (const double(*)[3])c.rl.r : NULL, o.rot_kind = c.rl.rotate;
+    const char *path = c.probe.v[0];
+    const qtool_probe_layout_t layout = (qtool_probe_layout_t)c.layout;
     int w, h;
     uint8_t *px;
     qtool_probe_layout_t used;

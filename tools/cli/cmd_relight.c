@@ -1,9 +1,11 @@
 /*
  * cmd_relight.c - `qibl relight` (asset + light -> PNG through the core kernels and the software
- * framebuffer): the options parsed, tools/relight called, its results written and printed.
+ * framebuffer): the options parsed by its option table (cli/opt.h; the light options' callbacks
+ * are light_opts.c's), tools/relight called, its results written and printed.
  * `qibl gen` lives in cmd_gen.c.
  */
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,38 +20,38 @@
 #include "io/png.h"
 #include "qibl/asset.h"
 #include "cli/cli.h"
+#include "cli/opt.h"
 #include "cli/relight_light.h"
 #include "qibl/gonio.h"
 #include "qibl/shmap.h"
 #include "qibl/soft.h"
 #include "relight/gles.h"
 #include "relight/relight.h"
+#include "qtool.h"
 
 /* ---- qibl relight ------------------------------------------------------------------------------ */
-
-#define RELIGHT_USAGE                                                                                       \
-    "usage: qibl relight FILE [--sun X Y Z [--rgb R G B]]... [--point X Y Z [--rgb R G B]]... [--lights FILE.csv] \
-[--probe PROBE.hdr [--layout L] [--probe-mode sh|lights|sunsky] [-n N] [--yaw DEG | --rotate a,b,c,d,e,f,g,h,i]] \
-[--lut poly|nearest|bilinear|off] [--falloff 1|2] [--exposure E] [--linear] [--gles] \
-[--ies FILE.ies [--aim X Y Z] [--up X Y Z] [--ies-size N]] (--png OUT | --hdr OUT.hdr | --pfm OUT.pfm | --exr OUT.exr)..."
-
-#define PATH_USAGE                                                                                            \
-    "usage: qibl relight FILE --path N|sun|lamp --t T [--rgb R G B] [--soft R] [--sky R G B] " \
-    "[--ies FILE.ies [--aim X Y Z] [--up X Y Z] [--ies-size N]] (--png OUT | --pfm OUT.pfm | --exr OUT.exr)..."
-
-/* What `qibl relight` was asked: the files, and the library's options (defaults in relight/relight.h). */
-typedef struct relight_cli {
-    const char *in, *png, *hdr, *pfm, *exr;
-    int have_frame; /* --aim or --up given */
-    qtool_relight_opts r;
-} relight_cli;
 
 /* What `qibl relight --path` was asked besides (relight/relight.h: qtool_relight_path). */
 typedef struct path_cli {
     const char *spec;
-    double t, rgb[3], sky[3], soft;
+    double t, rgb[3], sky[3], soft; /* t, soft < 0 and sky[0] < 0: not given */
     int have_sky;
 } path_cli;
+
+/* What `qibl relight` was asked: the files, and the library's options (defaults in relight/relight.h). */
+typedef struct relight_cli {
+    qcli_opt_list file;
+    const char *png, *hdr, *pfm, *exr;
+    int have_frame; /* --aim or --up given */
+    qtool_relight_opts r;
+    double exposure; /* r.exposure once parsed */
+    int nearest;     /* --nearest (its note and mode come from its call) */
+    int path_mode;   /* --path somewhere on the line: --rgb colours the path's light */
+    path_cli p;
+    const char *notes[4]; /* deprecation notes, printed once the line is accepted */
+    int nnotes;
+    char why[256];        /* a reason with numbers in it, for the table's line */
+} relight_cli;
 
 void qcli_warn_dark(const char *path, const uint8_t *rgb, size_t np)
 {
@@ -59,125 +61,326 @@ void qcli_warn_dark(const char *path, const uint8_t *rgb, size_t np)
                 mean);
 }
 
-/* --ies, --ies-size, --aim X Y Z, --up X Y Z (relight and relight --path): 1, 0 (none of them) or 2 */
-static int ies_opt(int argc, char **argv, int *i, qtool_relight_opts *o, int *have_frame)
+/* ---- the option table (cli/opt.h): the order of --sun, --point and --rgb is the light list's ---- */
+
+#define C(opts) ((relight_cli *)(opts))
+
+static void note(relight_cli *c, const char *text)
 {
-    const char *a = argv[*i];
-    if (strcmp(a, "--ies") == 0 && *i + 1 < argc) {
-        o->ies = argv[++*i];
-    } else if (strcmp(a, "--ies-size") == 0 && *i + 1 < argc) {
-        if (qcli_parse_int(argv[++*i], QIBL_GONIO_MIN_N, QIBL_GONIO_MAX_N, &o->ies_n) != 0)
-            return qcli_usage_error("--ies-size is a table size in %u..%u", QIBL_GONIO_MIN_N, QIBL_GONIO_MAX_N);
-    } else if ((strcmp(a, "--aim") == 0 || strcmp(a, "--up") == 0) && *i + 3 < argc) {
-        int32_t *v = a[2] == 'a' ? o->aim : o->up;
-        for (int k = 0; k < 3; ++k)
-            if (qcli_parse_q16(argv[*i + 1 + k], &v[k]) != 0)
-                return qcli_usage_error("%s: '%s' is not a number in the Q16.16 range", a, argv[*i + 1 + k]);
-        if (v[0] == 0 && v[1] == 0 && v[2] == 0)
-            return qcli_usage_error("%s: the zero vector has no direction", a);
-        *have_frame = 1, *i += 3;
-    } else {
-        return 0;
-    }
-    return 1;
+    if (c->nnotes < (int)(sizeof c->notes / sizeof c->notes[0]))
+        c->notes[c->nnotes++] = text;
 }
 
-/* --png, --pfm, --exr and (hdr != 0) --hdr: 1 or 0 (none of them) */
-static int out_opt(int argc, char **argv, int *i, relight_cli *c, int hdr)
+static const char *sun_call(void *o, char *const *v, int n, int *used)
 {
-    const char *a = argv[*i], **to = NULL;
-    if (*i + 1 >= argc)
-        return 0;
-    if (strcmp(a, "--png") == 0)
-        to = &c->png;
-    else if (strcmp(a, "--hdr") == 0 && hdr)
-        to = &c->hdr;
-    else if (strcmp(a, "--pfm") == 0)
-        to = &c->pfm;
-    else if (strcmp(a, "--exr") == 0)
-        to = &c->exr;
-    if (to)
-        *to = argv[++*i];
-    return to != NULL;
+    (void)n, (void)used;
+    return qcli_light_source(&C(o)->r.lights, 0, v, C(o)->why, sizeof C(o)->why);
 }
 
-/* --lut MODE, and the deprecated spellings: 1, 0 (none of them) or 2 */
-static int lut_opt(int argc, char **argv, int *i, const char *in, qtool_relight_opts *o)
+static const char *point_call(void *o, char *const *v, int n, int *used)
 {
-    const char *a = argv[*i];
-    if (strcmp(a, "--nearest") == 0) {
-        o->point_mode = QTOOL_RELIGHT_POINT_NEAREST;
-        fprintf(stderr, "qibl: note: --nearest is deprecated; say --lut nearest\n");
-        return 1;
+    (void)n, (void)used;
+    return qcli_light_source(&C(o)->r.lights, 1, v, C(o)->why, sizeof C(o)->why);
+}
+
+/* --rgb colours the light before it (or, first, the first), or with --path the path's light */
+static const char *rgb_call(void *o, char *const *v, int n, int *used)
+{
+    (void)n, (void)used;
+    relight_cli *c = o;
+    if (!c->path_mode)
+        return qcli_light_rgb(&c->r.lights, v, c->why, sizeof c->why);
+    double d[3];
+    for (int k = 0; k < 3; ++k) {
+        int r = qcli_opt_num_value(v[k], 0, 32767, &d[k]);
+        if (r == 1 || r == 2)
+            snprintf(c->why, sizeof c->why, "'%s' is not a %snumber", v[k], r == 2 ? "finite " : "");
+        else if (r != 0)
+            snprintf(c->why, sizeof c->why, "%s is outside 0..32767 (a colour component in 0..32767)", v[k]);
+        if (r != 0)
+            return c->why;
     }
-    if (strcmp(a, "--lut") != 0)
-        return 0;
-    /* --lut MODE; a bare --lut (the old on/off switch) is bilinear: the next word is then an option or
-     * the asset, never a mode name, so the two spellings cannot be confused */
-    const char *m = *i + 1 < argc ? argv[*i + 1] : "";
+    memcpy(c->p.rgb, d, sizeof d);
+    return NULL;
+}
+
+static const char *lights_call(void *o, const char *v)
+{
+    return qcli_light_csv(&C(o)->r.lights, v, C(o)->why, sizeof C(o)->why);
+}
+
+static const char *probe_call(void *o, const char *v)
+{
+    return qcli_light_probe(&C(o)->r.lights, v, C(o)->why, sizeof C(o)->why);
+}
+
+static const char *layout_call(void *o, const char *v)
+{
+    return qcli_light_layout(&C(o)->r.lights, v);
+}
+
+static const char *mode_call(void *o, const char *v)
+{
+    return qcli_light_mode(&C(o)->r.lights, v);
+}
+
+static const char *count_call(void *o, const char *v)
+{
+    return qcli_light_count(&C(o)->r.lights, v);
+}
+
+static const char *yaw_call(void *o, const char *v)
+{
+    return qcli_light_yaw(&C(o)->r.lights, v);
+}
+
+static const char *rotate_call(void *o, const char *v)
+{
+    return qcli_light_rotate(&C(o)->r.lights, v, C(o)->why, sizeof C(o)->why);
+}
+
+/* --lut MODE; a bare --lut (the old on/off switch) is bilinear: the next word is then an option or
+ * the asset, never a mode name, so the two spellings cannot be confused */
+static const char *lut_call(void *o, const char *m)
+{
+    relight_cli *c = o;
+    if (!m) {
+        c->r.point_mode = QTOOL_RELIGHT_POINT_BILINEAR;
+        note(c, "a bare --lut is deprecated; say --lut bilinear");
+        return NULL;
+    }
     if (strcmp(m, "nearest") == 0 || strcmp(m, "bilinear") == 0 || strcmp(m, "off") == 0 || strcmp(m, "poly") == 0) {
-        o->point_mode = m[0] == 'n'   ? QTOOL_RELIGHT_POINT_NEAREST
-                        : m[0] == 'b' ? QTOOL_RELIGHT_POINT_BILINEAR
-                        : m[0] == 'p' ? QTOOL_RELIGHT_POINT_POLY
-                                      : QTOOL_RELIGHT_POINT_DIRECT;
-        ++*i;
-    } else if (m[0] != '-' && m[0] != '\0' && in) {
-        return qcli_usage_error("--lut: '%s' is not a mode (poly, nearest, bilinear or off)", m);
-    } else {
-        o->point_mode = QTOOL_RELIGHT_POINT_BILINEAR;
-        fprintf(stderr, "qibl: note: a bare --lut is deprecated; say --lut bilinear\n");
+        c->r.point_mode = m[0] == 'n'   ? QTOOL_RELIGHT_POINT_NEAREST
+                          : m[0] == 'b' ? QTOOL_RELIGHT_POINT_BILINEAR
+                          : m[0] == 'p' ? QTOOL_RELIGHT_POINT_POLY
+                                        : QTOOL_RELIGHT_POINT_DIRECT;
+        return NULL;
     }
-    return 1;
+    if (m[0] != '-' && m[0] != '\0' && c->file.n > 0)
+        return "is not a mode (poly, nearest, bilinear or off)";
+    return qcli_opt_no_value; /* the asset or an option: a bare --lut */
 }
 
-/* relight's own options after the light's: 1, 0 (none of them) or 2 */
-static int relight_opt(int argc, char **argv, int *i, relight_cli *c)
+static const char *nearest_call(void *o, const char *unused)
 {
-    const char *a = argv[*i];
-    qtool_relight_opts *o = &c->r;
-    int r;
-    if ((r = lut_opt(argc, argv, i, c->in, o)) != 0 || (r = ies_opt(argc, argv, i, o, &c->have_frame)) != 0)
-        return r;
-    if (out_opt(argc, argv, i, c, 1))
-        return 1;
-    if (strcmp(a, "--exposure") == 0 && *i + 1 < argc) {
-        double e;
-        if (qcli_parse_num(a, argv[++*i], 1.0 / 65536, QTOOL_CLI_Q16_MAX, "a positive Q16.16 factor", &e) != 0)
-            return 2;
-        o->exposure = (qibl_q16_t)nearbyint(e * 65536.0);
-    } else if (strcmp(a, "--falloff") == 0 && *i + 1 < argc) {
-        if (qcli_parse_int(argv[++*i], 1, 2, &o->falloff) != 0)
-            return qcli_usage_error("--falloff is 1 (C0/|L|) or 2 (C0/|L|^2)");
-    } else if (strcmp(a, "--linear") == 0) {
-        o->linear = 1;
-    } else if (strcmp(a, "--gles") == 0) {
-        o->gles = 1;
-    } else {
-        return 0;
-    }
-    return 1;
+    (void)unused;
+    C(o)->r.point_mode = QTOOL_RELIGHT_POINT_NEAREST;
+    note(C(o), "--nearest is deprecated; say --lut nearest");
+    return NULL;
 }
 
-/* the options together, after parsing: 0, or 2 after a message */
+/* --aim X Y Z, --up X Y Z: the IES lamp's frame, Q16.16 */
+static const char *frame_call(relight_cli *c, int32_t *q, char *const *v)
+{
+    int32_t t[3];
+    for (int k = 0; k < 3; ++k)
+        if (qcli_parse_q16(v[k], &t[k]) != 0) {
+            snprintf(c->why, sizeof c->why, "'%s' is not a number in the Q16.16 range", v[k]);
+            return c->why;
+        }
+    if (t[0] == 0 && t[1] == 0 && t[2] == 0)
+        return "the zero vector has no direction";
+    memcpy(q, t, sizeof t);
+    c->have_frame = 1;
+    return NULL;
+}
+
+static const char *aim_call(void *o, char *const *v, int n, int *used)
+{
+    (void)n, (void)used;
+    return frame_call(o, C(o)->r.aim, v);
+}
+
+static const char *up_call(void *o, char *const *v, int n, int *used)
+{
+    (void)n, (void)used;
+    return frame_call(o, C(o)->r.up, v);
+}
+
+static const relight_cli relight_defaults = {.r = QTOOL_RELIGHT_OPTS_DEFAULT, .exposure = 1.0,
+                                             .p = {.t = -1, .rgb = {1, 1, 1}, .sky = {-1, -1, -1}, .soft = -1}};
+static const relight_cli path_defaults = {.r = QTOOL_RELIGHT_OPTS_DEFAULT, .exposure = 1.0, .path_mode = 1,
+                                          .p = {.t = -1, .rgb = {1, 1, 1}, .sky = {-1, -1, -1}, .soft = -1}};
+
+static const qcli_opt relight_table[] = {
+    {.name = "--sun", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = sun_call, .arg = "X Y Z",
+     .help = "a directional light from (X, Y, Z) (repeatable)"},
+    {.name = "--point", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = point_call, .arg = "X Y Z",
+     .help = "a point lamp at (X, Y, Z) (repeatable)"},
+    {.name = "--rgb", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = rgb_call, .arg = "R G B",
+     .help = "the colour of the --sun or --point before it (before the first: the first's), 0..32767.99998; "
+             "with --path the path's light (default 1 1 1)"},
+    {.name = "--lights", .kind = QCLI_OPT_CALL, .call = lights_call, .arg = "FILE.csv",
+     .help = "directional lights from a CSV (qibl lights --csv)"},
+    {.name = "--probe", .kind = QCLI_OPT_CALL, .call = probe_call, .arg = "PROBE.hdr",
+     .help = "light from a Radiance probe"},
+    {.name = "--layout", .kind = QCLI_OPT_CALL, .call = layout_call, .arg = "L",
+     .help = "the probe's layout: auto (default), latlong, angular, ball, vcross or hcross"},
+    {.name = "--probe-mode", .kind = QCLI_OPT_CALL, .call = mode_call, .arg = "sh|lights|sunsky",
+     .help = "the probe as SH (default), N median-cut lights, or its suns plus SH"},
+    {.name = "-n", .kind = QCLI_OPT_CALL, .call = count_call, .arg = "N",
+     .help = "median-cut lights of --probe-mode lights or sunsky (a power of two in 1..65536)"},
+    {.name = "--yaw", .kind = QCLI_OPT_CALL, .call = yaw_call, .arg = "DEG",
+     .help = "turn the probe (positive turns +x toward +y)"},
+    {.name = "--rotate", .kind = QCLI_OPT_CALL, .call = rotate_call, .arg = "a,b,c,d,e,f,g,h,i",
+     .help = "turn the probe by a rotation matrix (rows)"},
+    {.name = "--lut", .kind = QCLI_OPT_CALL, .optional = 1, .call = lut_call, .arg = "poly|nearest|bilinear|off",
+     .help = "how point lamps are evaluated: polynomial (default), the asset's Y LUT, or direct SH (off)"},
+    {.name = "--nearest", .kind = QCLI_OPT_FLAG, .off = offsetof(relight_cli, nearest), .call = nearest_call,
+     .help = "the old spelling of --lut nearest"},
+    {.name = "--falloff", .kind = QCLI_OPT_INT, .off = offsetof(relight_cli, r.falloff), .lo = 1, .hi = 2,
+     .why = "1: C0/|L|, 2: C0/|L|^2", .help = "the point lamps' falloff"},
+    {.name = "--exposure", .kind = QCLI_OPT_NUM, .off = offsetof(relight_cli, exposure), .arg = "E",
+     .lo = 1.0 / 65536, .hi = QTOOL_CLI_Q16_MAX, .why = "a positive Q16.16 factor", .help = "scales the frame"},
+    {.name = "--linear", .kind = QCLI_OPT_FLAG, .off = offsetof(relight_cli, r.linear),
+     .help = "no sRGB curve on the 8-bit frame"},
+    {.name = "--gles", .kind = QCLI_OPT_FLAG, .off = offsetof(relight_cli, r.gles),
+     .help = "platform/gles2 on a headless EGL context instead of platform/soft (one light)"},
+    {.name = "--ies", .kind = QCLI_OPT_STR, .off = offsetof(relight_cli, r.ies), .arg = "FILE.ies",
+     .help = "the --point lamps (or the path's lamp) are goniometric: C0 I(direction) / I_peak"},
+    {.name = "--aim", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = aim_call, .arg = "X Y Z", .def = "0 0 -1",
+     .help = "where the IES lamp's nadir points"},
+    {.name = "--up", .kind = QCLI_OPT_CALL, .nargs = 3, .call_n = up_call, .arg = "X Y Z", .def = "1 0 0",
+     .help = "the IES lamp's C = 0 direction (approximate)"},
+    {.name = "--ies-size", .kind = QCLI_OPT_INT, .off = offsetof(relight_cli, r.ies_n), .lo = QIBL_GONIO_MIN_N,
+     .hi = QIBL_GONIO_MAX_N, .what = "a table size", .help = "the goniometric table's side"},
+    {.name = "--png", .kind = QCLI_OPT_STR, .off = offsetof(relight_cli, png), .arg = "OUT",
+     .help = "the 8-bit sRGB frame"},
+    {.name = "--hdr", .kind = QCLI_OPT_STR, .off = offsetof(relight_cli, hdr), .arg = "OUT.hdr",
+     .help = "the linear frame as Radiance RGBE (not with --path)"},
+    {.name = "--pfm", .kind = QCLI_OPT_STR, .off = offsetof(relight_cli, pfm), .arg = "OUT.pfm",
+     .help = "the linear frame as PFM floats"},
+    {.name = "--exr", .kind = QCLI_OPT_STR, .off = offsetof(relight_cli, exr), .arg = "OUT.exr",
+     .help = "the linear frame as OpenEXR (FLOAT, ZIP)"},
+    {.name = "--path", .kind = QCLI_OPT_STR, .off = offsetof(relight_cli, p.spec), .arg = "N|sun|lamp",
+     .help = "a light on the asset's baked path N (or its first sun path / lamp track)"},
+    {.name = "--t", .kind = QCLI_OPT_NUM, .off = offsetof(relight_cli, p.t), .arg = "T", .lo = 0, .hi = 1,
+     .why = "a path parameter in 0..1", .def = "required with --path", .help = "where on the path"},
+    {.name = "--soft", .kind = QCLI_OPT_NUM, .off = offsetof(relight_cli, p.soft), .arg = "R", .lo = 0, .hi = 0.5,
+     .why = "a half-width in path units, 0..0.5", .def = "0", .help = "--path: soft over [T - R, T + R]"},
+    {.name = "--sky", .kind = QCLI_OPT_TRIPLE, .off = offsetof(relight_cli, p.sky), .arg = "R G B", .lo = 0,
+     .hi = 32767, .why = "a colour component in 0..32767", .def = "none",
+     .help = "--path: add the demo's sky through the shadowed maps"},
+    {0},
+};
+
+const qcli_opt_cmd qcli_opts_relight = {
+    .name = "relight",
+    .opts = relight_table,
+    .pos = {.names = "FILE", .min = 0, .max = 1, .off = offsetof(relight_cli, file)},
+    .defaults = &relight_defaults,
+    .size = sizeof(relight_cli),
+    .prose =
+        "  Lights add up: any number of --sun and --point (at most 64 together), --lights and --probe.\n"
+        "  --sun: directional light from direction (X, Y, Z), colour --rgb (default 1 1 1).\n"
+        "  --point: point light at (X, Y, Z) in scene units, C0 = --rgb (default: 2 d, or 2 d^2 with\n"
+        "  --falloff 2, d the median distance from the lamp to the asset's P-map points, with a note);\n"
+        "  per-pixel Y from the SH polynomials in Q2.14 (--lut poly, the default and the fastest), the\n"
+        "  asset's cube-map LUT (--lut nearest or bilinear) or the Q2.30 SH evaluation (--lut off);\n"
+        "  --falloff 1 is C0/|L| (Wong et al.), 2 is C0/|L|^2. (The old\n"
+        "  spellings, a bare --lut for bilinear and --nearest, still work with a deprecation note.)\n"
+        "  --rgb colours the --sun or --point just before it (one given before the first light colours\n"
+        "  that light). Suns sum in SH; each point is relit on its own and the frames sum per pixel in\n"
+        "  64 bits, saturated once.\n"
+        "  --lights FILE.csv: the output of `qibl lights --csv` (header x,y,z,r,g,b,u0,v0,u1,v1; at most\n"
+        "  65536 rows), each row a directional light of colour r,g,b.\n"
+        "  --probe PROBE.hdr: the whole environment (layout detected, or --layout) as the radiance SH\n"
+        "  (PROBE may be an OpenEXR file, known by its magic number, wherever a .hdr is read: its data\n"
+        "  window's R G B or Y, negative samples made 0)\n"
+        "  of the asset's k maps (no irradiance convolution: the maps already hold the cosine and the\n"
+        "  shadows). --probe-mode sh (default): the core's projection; lights: N median-cut lights\n"
+        "  (-n N, a power of two, default 64) projected to SH; sunsky: of N median-cut regions (default\n"
+        "  64) the sun (those whose mean radiance is at least 32 times the probe's; none on an overcast\n"
+        "  sky) as directional lights, the rest of the probe as its SH (qibl_shlight_add_sun_sky).\n"
+        "  --yaw DEG: turns the environment about +z (up): a light at azimuth phi (from +x toward +y)\n"
+        "  comes from phi + DEG: positive yaw turns +x toward +y (counter-clockwise seen from above in\n"
+        "  the right-handed xyz frame), and the probe's lat-long picture slides DEG/360 of its width to\n"
+        "  the right (the picture is mirrored against xyz: seen from inside, +y is left of +x).\n"
+        "  --rotate: the 3x3 rotation r row by row (orthonormal within 2^-16, det +1): light from d\n"
+        "  comes from r d.\n"
+        "  Either is applied once to the probe's SH (qibl_shlight_rotate), not by re-projecting.\n"
+        "  --png: RGBA8888 with sRGB transfer (or --linear), exposure E (default 1), as an RGB PNG; a\n"
+        "  frame whose mean is below 32 of 255 gets a note that it is almost black.\n"
+        "  --hdr / --pfm: the same frame linear, before exposure and transfer (the core's Q16.16 output,\n"
+        "  negative SH ringing clamped to 0), as Radiance RGBE (RLE) or little-endian PFM, for other\n"
+        "  tools; --exr: the same floats as OpenEXR (scanline, ZIP, FLOAT, bit for bit). At least one of\n"
+        "  --png/--hdr/--pfm/--exr.\n"
+        "  --gles: relight with platform/gles2 on a headless EGL context instead (one --sun or --point,\n"
+        "  --png only; the same asset and core weights; within 1 of 255 of the CPU path on Mesa llvmpipe).\n"
+        "  --ies FILE.ies [--aim X Y Z] [--up X Y Z] [--ies-size N]: every --point becomes a goniometric\n"
+        "  lamp with the IES LM-63 file's profile (see `qibl ies info`): its light toward each pixel's point\n"
+        "  of the P map is scaled by I(direction) / I_peak (qibl/gonio.h: the profile resampled into an\n"
+        "  N x N octahedral Q1.15 table, default 64, 2..256, bilinear), so --rgb (C0) is the lamp's peak\n"
+        "  and an isotropic file gives exactly the isotropic lamp. --aim: the profile's axis (type C nadir,\n"
+        "  types A/B the beam centre), default 0 0 -1 (a downlight in the z-up scene); --up: the direction\n"
+        "  of horizontal angle 0 (types A/B: vertical angle 90), made orthogonal to the aim, default 1 0 0.\n"
+        "  Soft framebuffer only (not --gles). With --path lamp (below) the same options make the track's\n"
+        "  lamp goniometric (its light scaled before the track's visibility).\n"
+        "  qibl relight FILE --path N|sun|lamp --t T [--rgb R G B] [--soft R] [--sky R G B]\n"
+        "               [--ies FILE.ies [--aim X Y Z] [--up X Y Z] [--ies-size N]] (--png|--pfm|--exr OUT):\n"
+        "  a light on the asset's baked path N (or its first sun path / lamp track) at T in 0..1: unshadowed\n"
+        "  SH x visibility(T), soft over [T - R, T + R]; --sky adds the demo's sky through the shadowed maps.\n"
+};
+/* the same table when --path is on the line (--rgb is then the path light's colour) */
+static const qcli_opt_cmd relight_path_spec = {
+    .name = "relight",
+    .opts = relight_table,
+    .pos = {.names = "FILE", .min = 0, .max = 1, .off = offsetof(relight_cli, file)},
+    .defaults = &path_defaults,
+    .size = sizeof(relight_cli),
+};
+
+/* the first option given that only relight without --path takes, or NULL */
+static const char *light_only(const relight_cli *c)
+{
+    const qtool_relight_light_list *ll = &c->r.lights;
+    const qtool_relight_opts d = QTOOL_RELIGHT_OPTS_DEFAULT;
+    return ll->count ? (ll->src[0].point ? "--point" : "--sun") : ll->csv ? "--lights" : ll->probe ? "--probe"
+           : ll->rotate ? (ll->rotate == 1 ? "--yaw" : "--rotate") : ll->n ? "-n"
+           : ll->mode != QTOOL_RELIGHT_PROBE_SH ? "--probe-mode" : ll->layout != QTOOL_PROBE_LAYOUT_AUTO ? "--layout"
+           : c->r.point_mode != d.point_mode ? "--lut" : c->exposure != 1.0 ? "--exposure"
+           : c->r.falloff != d.falloff ? "--falloff" : c->r.linear ? "--linear" : c->r.gles ? "--gles"
+           : c->hdr ? "--hdr" : NULL;
+}
+
+/* the options together, after parsing: 0, or 2 after the one line */
 static int relight_check(const relight_cli *c)
 {
+    const qcli_opt_cmd *t = &qcli_opts_relight;
     const qtool_relight_opts *o = &c->r;
     const qtool_relight_light_list *ll = &o->lights;
-    if (!c->in || (!c->png && !c->hdr && !c->pfm && !c->exr))
-        return qcli_usage_error("relight needs FILE, a light (--sun, --point, --lights or --probe), and --png, --hdr, "
-                                "--pfm or --exr OUT");
+    const char *bad;
+    if (c->p.t >= 0 || c->p.soft >= 0 || c->p.sky[0] >= 0)
+        return qcli_opt_error(t, "%s is for relight --path", c->p.t >= 0 ? "--t" : c->p.soft >= 0 ? "--soft" : "--sky");
+    if (c->file.n == 0 || (!c->png && !c->hdr && !c->pfm && !c->exr))
+        return qcli_opt_error(t, "relight needs FILE, a light (--sun, --point, --lights or --probe), and --png, "
+                                 "--hdr, --pfm or --exr OUT");
     if (ll->count == 0 && !ll->csv && !ll->probe)
-        return qcli_usage_error("relight needs a light: --sun, --point, --lights FILE.csv or --probe PROBE.hdr");
-    if (qcli_light_list_check(ll) != 0)
-        return 2;
+        return qcli_opt_error(t, "relight needs a light: --sun, --point, --lights FILE.csv or --probe PROBE.hdr");
+    if ((bad = qcli_light_list_check(ll)) != NULL)
+        return qcli_opt_error(t, "%s", bad);
     if (o->gles && (ll->count != 1 || ll->csv || ll->probe))
-        return qcli_usage_error("--gles takes exactly one --sun or --point (no --lights or --probe)");
+        return qcli_opt_error(t, "--gles takes exactly one --sun or --point (no --lights or --probe)");
     if (c->have_frame && !o->ies)
-        return qcli_usage_error("--aim and --up orient an --ies lamp: give --ies FILE.ies");
+        return qcli_opt_error(t, "--aim and --up orient an --ies lamp: give --ies FILE.ies");
     if (o->ies && ll->points == 0)
-        return qcli_usage_error("--ies shapes the --point lamps: give at least one --point X Y Z");
+        return qcli_opt_error(t, "--ies shapes the --point lamps: give at least one --point X Y Z");
     if (o->ies && o->gles)
-        return qcli_usage_error("--ies: goniometric lamps are relit on the soft framebuffer only (not --gles)");
+        return qcli_opt_error(t, "--ies: goniometric lamps are relit on the soft framebuffer only (not --gles)");
+    return 0;
+}
+
+/* --path's line together: 0, or 2 after the one line */
+static int path_check(const relight_cli *c)
+{
+    const qcli_opt_cmd *t = &qcli_opts_relight;
+    const char *bad = light_only(c);
+    if (bad)
+        return qcli_opt_error(t, "%s is for relight without --path (the path is the light)", bad);
+    if (c->file.n == 0 || !c->p.spec || c->p.t < 0 || (!c->png && !c->pfm && !c->exr))
+        return qcli_opt_error(t, "relight --path needs FILE, --path N|sun|lamp, --t T and --png, --pfm or --exr OUT");
+    if (c->have_frame && !c->r.ies)
+        return qcli_opt_error(t, "--aim and --up orient an --ies lamp: give --ies FILE.ies");
     return 0;
 }
 
@@ -305,7 +508,7 @@ static int relight_soft(const relight_cli *c, const qtool_relight_asset *s, cons
     qibl_status_t st;
     if (qtool_relight_render(o, s, qtool_relight_light_list_directional(&o->lights) ? sl : NULL, pts, npts, ies, pix,
                              lin, &ms, &st) != 0) {
-        fprintf(stderr, "qibl: relight: %s\n", st == QIBL_E_NULL_POINTER ? "out of memory" : qibl_soft_status_str(st));
+        fprintf(stderr, "qibl: relight: %s\n", qtool_status_str(st));
         return 1;
     }
     char how[600], tail[640];
@@ -328,7 +531,7 @@ static int relight_run(relight_cli *c)
     char err[1200];
     if (o->ies && load_ies(o, &ies, 1) != 0) /* the profile first: a bad file costs no asset read */
         return 1;
-    if (qtool_relight_asset_open(&s, c->in, o->lights.points > 0, qtool_relight_uses_lut(o->point_mode), err,
+    if (qtool_relight_asset_open(&s, c->file.v[0], o->lights.points > 0, qtool_relight_uses_lut(o->point_mode), err,
                                  sizeof err) != 0) {
         fprintf(stderr, "qibl: %s\n", err);
         if (o->ies)
@@ -337,7 +540,7 @@ static int relight_run(relight_cli *c)
     }
     if (s.occ_unusable) /* never dropped without a word */
         fprintf(stderr, "qibl: note: %s: its LOCC chunk is not usable (%s): the lamps are drawn without lamp "
-                        "occlusion\n", c->in, qibl_soft_status_str(s.occ_status));
+                        "occlusion\n", c->file.v[0], qibl_soft_status_str(s.occ_status));
     qibl_shlight_t sl;
     qibl_pointlight_t pts[QTOOL_RELIGHT_MAX_SOURCES];
     uint32_t npts = 0;
@@ -364,30 +567,6 @@ out:
 }
 
 /* ---- qibl relight --path: a light on one of the asset's baked paths (LPTH) ------------------------- */
-
-static int path_opt(int argc, char **argv, int *i, path_cli *p)
-{
-    const char *a = argv[*i];
-    if (strcmp(a, "--path") == 0 && *i + 1 < argc) {
-        p->spec = argv[++*i];
-    } else if (strcmp(a, "--t") == 0 && *i + 1 < argc) {
-        if (qcli_parse_num(a, argv[++*i], 0, 1, "a path parameter in 0..1", &p->t) != 0)
-            return 2;
-    } else if (strcmp(a, "--soft") == 0 && *i + 1 < argc) {
-        if (qcli_parse_num(a, argv[++*i], 0, 0.5, "a half-width in path units, 0..0.5", &p->soft) != 0)
-            return 2;
-    } else if ((strcmp(a, "--rgb") == 0 || strcmp(a, "--sky") == 0) && *i + 3 < argc) {
-        double *d = a[2] == 'r' ? p->rgb : p->sky;
-        for (int k = 0; k < 3; ++k)
-            if (qcli_parse_num(a, argv[*i + 1 + k], 0, 32767, "a colour component in 0..32767", &d[k]) != 0)
-                return 2;
-        p->have_sky |= a[2] == 's';
-        *i += 3;
-    } else {
-        return 0;
-    }
-    return 1;
-}
 
 /* the frame's files and lines */
 static int path_write(const relight_cli *c, const path_cli *p, const qibl_shmaps_t *m, const qtool_relight_path_req *q,
@@ -421,8 +600,8 @@ static int path_run(const relight_cli *c, const path_cli *p)
                                 .radius = (uint32_t)lrint(p->soft * QIBL_LIGHTPATH_T_MAX),
                                 .rgb = {p->rgb[0], p->rgb[1], p->rgb[2]}, .sky = p->have_sky ? p->sky : NULL,
                                 .gonio = o->ies ? &ies.gonio : NULL, .lin = c->pfm || c->exr};
-    int rc = qtool_relight_asset_read(c->in, &bytes, &n, &a, &m, err, sizeof err) != 0 ? 1
-             : qtool_relight_pick_path(&a, c->in, p->spec, &q.index, err, sizeof err);
+    int rc = qtool_relight_asset_read(c->file.v[0], &bytes, &n, &a, &m, err, sizeof err) != 0 ? 1
+             : qtool_relight_pick_path(&a, c->file.v[0], p->spec, &q.index, err, sizeof err);
     if (rc != 0) {
         fprintf(stderr, "qibl: %s\n", err);
         rc = rc == -2 ? 2 : 1;
@@ -432,7 +611,7 @@ static int path_run(const relight_cli *c, const path_cli *p)
         float *lin = q.lin ? malloc(np * 3 * sizeof(float)) : NULL;
         double ms = 0;
         int point = 0;
-        if (qtool_relight_path(bytes, n, &a, c->in, &q, pix, lin, &ms, &point, err, sizeof err) != 0)
+        if (qtool_relight_path(bytes, n, &a, c->file.v[0], &q, pix, lin, &ms, &point, err, sizeof err) != 0)
             rc = 1, fprintf(stderr, "qibl: %s\n", err);
         else
             rc = path_write(c, p, &m, &q, point, pix, lin, ms);
@@ -444,52 +623,22 @@ static int path_run(const relight_cli *c, const path_cli *p)
     return rc;
 }
 
-static int relight_path_cmd(int argc, char **argv)
-{
-    relight_cli c = {.r = QTOOL_RELIGHT_OPTS_DEFAULT};
-    path_cli p = {.t = -1, .rgb = {1, 1, 1}};
-    for (int i = 1; i < argc; ++i) {
-        int r;
-        if ((r = path_opt(argc, argv, &i, &p)) != 0 || (r = ies_opt(argc, argv, &i, &c.r, &c.have_frame)) != 0) {
-            if (r != 1)
-                return 2;
-        } else if (out_opt(argc, argv, &i, &c, 0)) {
-            continue;
-        } else if (argv[i][0] != '-' && !c.in) {
-            c.in = argv[i];
-        } else {
-            return qcli_usage_error(PATH_USAGE);
-        }
-    }
-    if (!c.in || !p.spec || p.t < 0 || (!c.png && !c.pfm && !c.exr))
-        return qcli_usage_error("relight --path needs FILE, --path N|sun|lamp, --t T and --png, --pfm or --exr OUT");
-    if (c.have_frame && !c.r.ies)
-        return qcli_usage_error("--aim and --up orient an --ies lamp: give --ies FILE.ies");
-    if (qcli_parse_only) /* fuzz_cliopts: the options only */
-        return 0;
-    return path_run(&c, &p);
-}
-
 int qcli_cmd_relight(int argc, char **argv)
 {
+    int path = 0;
     for (int i = 1; i < argc; ++i)
-        if (strcmp(argv[i], "--path") == 0) /* a light on a baked path */
-            return relight_path_cmd(argc, argv);
-    relight_cli c = {.r = QTOOL_RELIGHT_OPTS_DEFAULT};
-    for (int i = 1; i < argc; ++i) {
-        int r;
-        if ((r = qcli_light_list_opt(argc, argv, &i, &c.r.lights)) != 0 || (r = relight_opt(argc, argv, &i, &c)) != 0) {
-            if (r != 1)
-                return 2;
-        } else if (argv[i][0] != '-' && !c.in) {
-            c.in = argv[i];
-        } else {
-            return qcli_usage_error(RELIGHT_USAGE);
-        }
-    }
-    if (relight_check(&c) != 0)
+        path |= strcmp(argv[i], "--path") == 0; /* a light on a baked path */
+    relight_cli c;
+    if (qcli_opt_parse(path ? &relight_path_spec : &qcli_opts_relight, argc, argv, 1, &c) != 0)
         return 2;
+    if (path ? path_check(&c) != 0 : relight_check(&c) != 0)
+        return 2;
+    for (int k = 0; k < c.nnotes; ++k)
+        fprintf(stderr, "qibl: note: %s\n", c.notes[k]);
     if (qcli_parse_only) /* fuzz_cliopts: the options only */
         return 0;
-    return relight_run(&c);
+    c.r.exposure = (qibl_q16_t)nearbyint(c.exposure * 65536.0);
+    c.p.soft = c.p.soft < 0 ? 0 : c.p.soft;
+    c.p.have_sky = c.p.sky[0] >= 0;
+    return path ? path_run(&c, &c.p) : relight_run(&c);
 }

@@ -113,12 +113,12 @@ const qcli_opt_cmd qcli_opts_sh_eval = {
 
 int qcli_cmd_sh(int argc, char **argv)
 {
-    static const qcli_opt_cmd *const subs[] = {&qcli_opts_sh_eval, &qcli_opts_sh_plot, NULL};
-    if (argc >= 2 && strcmp(argv[1], "project") == 0)
-        return qcli_cmd_sh_project(argc, argv); /* cmd_probe.c */
-    const qcli_opt_cmd *sub = qcli_opt_sub("sh", subs, "project", argc, argv);
+    static const qcli_opt_cmd *const subs[] = {&qcli_opts_sh_eval, &qcli_opts_sh_plot, &qcli_opts_sh_project, NULL};
+    const qcli_opt_cmd *sub = qcli_opt_sub("sh", subs, NULL, argc, argv);
     if (!sub)
         return 2;
+    if (sub == &qcli_opts_sh_project)
+        return qcli_cmd_sh_project(argc, argv); /* cmd_probe.c */
     if (sub == &qcli_opts_sh_plot)
         return sh_plot(argc, argv);
     eval_opts o;

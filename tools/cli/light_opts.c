@@ -1,7 +1,8 @@
 /*
- * light_opts.c - relight's light options parsed into qtool_relight_light_list (relight/light.h), and
- * the library's light calls with their messages printed (cli/relight_light.h). relight parses every
- * option here; lights, probe and view take only --yaw / --rotate.
+ * light_opts.c - relight's light options as option-table callbacks (cli/opt.h's CALL) into
+ * qtool_relight_light_list (relight/light.h), and the library's light calls with their messages
+ * printed (cli/relight_light.h). relight's table takes every one; lights and sh project take only
+ * --yaw / --rotate.
  */
 #include <errno.h>
 #include <math.h>
@@ -10,150 +11,172 @@
 #include <string.h>
 
 #include "cli/cli.h"
+#include "cli/opt.h"
 #include "cli/relight_light.h"
 
-/* three numbers after argv[i] into Q16.16 (lo..QTOOL_CLI_Q16_MAX); 0 or 2 after a message */
-static int parse3(char **argv, int i, int argc, double lo, int32_t v[3])
+/* three numbers into Q16.16 (lo..QTOOL_CLI_Q16_MAX): NULL, or what is wrong (in why) */
+static const char *parse3(char *const *v, double lo, int32_t q[3], char *why, size_t n)
 {
-    if (i + 3 >= argc)
-        return qcli_usage_error("%s needs three numbers", argv[i]);
     for (int j = 0; j < 3; ++j) {
         double d;
-        if (qcli_parse_num(argv[i], argv[i + 1 + j], lo, QTOOL_CLI_Q16_MAX, QTOOL_CLI_Q16_WHY, &d) != 0)
-            return 2;
-        v[j] = (int32_t)nearbyint(d * 65536.0);
+        int r = qcli_opt_num_value(v[j], lo, QTOOL_CLI_Q16_MAX, &d);
+        if (r == 1 || r == 2)
+            snprintf(why, n, "'%s' is not a %snumber", v[j], r == 2 ? "finite " : "");
+        else if (r != 0)
+            snprintf(why, n, "%s is outside %.10g..%.10g (" QTOOL_CLI_Q16_WHY ")", v[j], lo, QTOOL_CLI_Q16_MAX);
+        if (r != 0)
+            return why;
+        q[j] = (int32_t)nearbyint(d * 65536.0);
     }
-    return 0;
+    return NULL;
 }
 
-static int add_source(qtool_relight_light_list *ll, char **argv, int argc, int *i, int point)
+const char *qcli_light_source(qtool_relight_light_list *ll, int point, char *const *v, char *why, size_t n)
 {
-    int32_t v[3];
+    int32_t q[3];
     const int full = ll->count >= QTOOL_RELIGHT_MAX_SOURCES; /* said before the numbers are read */
-    if (!full && parse3(argv, *i, argc, -QTOOL_CLI_Q16_MAX, v) != 0)
-        return 2;
-    if (!full && !point && v[0] == 0 && v[1] == 0 && v[2] == 0)
-        return qcli_usage_error("--sun needs a non-zero direction: %s %s %s is 0 0 0 in Q16.16", argv[*i + 1],
-                                argv[*i + 2], argv[*i + 3]);
-    if (full || qtool_relight_light_list_add(ll, point, v) != 0)
-        return qcli_usage_error("%s: at most %u --sun and --point options", argv[*i], QTOOL_RELIGHT_MAX_SOURCES);
-    *i += 3;
-    return 1;
+    if (!full && parse3(v, -QTOOL_CLI_Q16_MAX, q, why, n))
+        return why;
+    if (!full && !point && q[0] == 0 && q[1] == 0 && q[2] == 0) {
+        snprintf(why, n, "%s %s %s is 0 0 0 in Q16.16: --sun needs a non-zero direction", v[0], v[1], v[2]);
+        return why;
+    }
+    if (full || qtool_relight_light_list_add(ll, point, q) != 0) {
+        snprintf(why, n, "at most %u --sun and --point options", QTOOL_RELIGHT_MAX_SOURCES);
+        return why;
+    }
+    return NULL;
 }
 
-static int rgb_opt(int argc, char **argv, int *i, qtool_relight_light_list *ll)
+const char *qcli_light_rgb(qtool_relight_light_list *ll, char *const *v, char *why, size_t n)
 {
-    int32_t v[3];
-    if (parse3(argv, *i, argc, 0, v) != 0)
-        return 2;
+    int32_t q[3];
+    if (parse3(v, 0, q, why, n))
+        return why;
     if (ll->count == 0) {
         if (ll->early_rgb)
-            return qcli_usage_error("--rgb given twice before the first --sun/--point");
-        ll->early_rgb = 1, memcpy(ll->rgb0, v, sizeof v);
+            return "given twice before the first --sun/--point";
+        ll->early_rgb = 1, memcpy(ll->rgb0, q, sizeof q);
     } else {
         qtool_relight_source *s = &ll->src[ll->count - 1];
-        if (s->have_rgb)
-            return qcli_usage_error("--rgb given twice for the %s at %s", s->point ? "--point" : "--sun",
-                                    argv[*i + 1]);
-        memcpy(s->rgb, v, sizeof v), s->have_rgb = 1;
+        if (s->have_rgb) {
+            snprintf(why, n, "given twice for the %s before it", s->point ? "--point" : "--sun");
+            return why;
+        }
+        memcpy(s->rgb, q, sizeof q), s->have_rgb = 1;
     }
-    *i += 3;
-    return 1;
+    return NULL;
 }
 
-static int rotate_opt(char **argv, int *i, qtool_relight_light_list *ll)
+const char *qcli_light_csv(qtool_relight_light_list *ll, const char *v, char *why, size_t n)
+{
+    if (ll->csv) {
+        snprintf(why, n, "is a second --lights (the first: %s): give one", ll->csv);
+        return why;
+    }
+    ll->csv = v;
+    return NULL;
+}
+
+const char *qcli_light_probe(qtool_relight_light_list *ll, const char *v, char *why, size_t n)
+{
+    if (ll->probe) {
+        snprintf(why, n, "is a second --probe (the first: %s): give one", ll->probe);
+        return why;
+    }
+    ll->probe = v;
+    return NULL;
+}
+
+const char *qcli_light_layout(qtool_relight_light_list *ll, const char *v)
+{
+    return qtool_probe_layout_parse(v, &ll->layout) != 0
+               ? "is not a probe layout (auto, latlong, angular, ball, vcross or hcross)"
+               : NULL;
+}
+
+const char *qcli_light_mode(qtool_relight_light_list *ll, const char *v)
+{
+    if (strcmp(v, "sh") == 0)
+        ll->mode = QTOOL_RELIGHT_PROBE_SH;
+    else if (strcmp(v, "lights") == 0)
+        ll->mode = QTOOL_RELIGHT_PROBE_LIGHTS;
+    else if (strcmp(v, "sunsky") == 0)
+        ll->mode = QTOOL_RELIGHT_PROBE_SUNSKY;
+    else
+        return "is not sh, lights or sunsky";
+    return NULL;
+}
+
+const char *qcli_light_count(qtool_relight_light_list *ll, const char *v)
+{
+    long k;
+    if (qcli_parse_int(v, 1, 65536, &k) != 0 || (k & (k - 1)) != 0)
+        return "is not a power of two in 1..65536 (median-cut lights)";
+    ll->n = k;
+    return NULL;
+}
+
+#define QCLI_LAYOUT_NAME_(id, name, description) name,
+const char *const qcli_probe_layout_names[QTOOL_PROBE_LAYOUT_COUNT + 1] = {
+    QTOOL_PROBE_LAYOUT_LIST(QCLI_LAYOUT_NAME_) NULL};
+#undef QCLI_LAYOUT_NAME_
+
+const char *qcli_light_yaw(qtool_relight_light_list *ll, const char *v)
 {
     if (ll->rotate)
-        return qcli_usage_error("--rotate: give one of --yaw and --rotate, once");
-    const char *s = argv[++*i];
-    double v[9], worst, det;
+        return "comes after a --yaw or --rotate: give one of them, once";
+    switch (qcli_opt_num_value(v, -36000.0, 36000.0, &ll->yaw)) {
+    case 0:
+        break;
+    case 1:
+        return "is not a number";
+    case 2:
+        return "is not a finite number";
+    default:
+        return "is outside -36000..36000 (degrees)";
+    }
+    qtool_relight_yaw(ll->yaw, ll->r);
+    ll->rotate = 1;
+    return NULL;
+}
+
+const char *qcli_light_rotate(qtool_relight_light_list *ll, const char *v, char *why, size_t n)
+{
+    if (ll->rotate)
+        return "comes after a --yaw or --rotate: give one of them, once";
+    const char *s = v;
+    double m[9], worst, det;
     char *end;
     for (int k = 0; k < 9; ++k) {
         errno = 0;
-        v[k] = strtod(s, &end);
-        if (end == s || errno == ERANGE || !isfinite(v[k]) || (k < 8 ? *end != ',' : *end != '\0'))
-            return qcli_usage_error("--rotate: '%s' is not nine comma-separated numbers a,b,c,d,e,f,g,h,i", argv[*i]);
+        m[k] = strtod(s, &end);
+        if (end == s || errno == ERANGE || !isfinite(m[k]) || (k < 8 ? *end != ',' : *end != '\0'))
+            return "is not nine comma-separated numbers a,b,c,d,e,f,g,h,i";
         s = end + 1;
     }
     /* the core's condition, said here by name */
-    if (qtool_relight_rotation_check(v, &worst, &det) != 0)
-        return qcli_usage_error("--rotate: '%s' is not a rotation (rows orthonormal within 2^-16: off by %.3g; "
-                                "det %.3g, must be +1)", argv[*i], worst, det);
+    if (qtool_relight_rotation_check(m, &worst, &det) != 0) {
+        snprintf(why, n, "is not a rotation (rows orthonormal within 2^-16: off by %.3g; det %.3g, must be +1)",
+                 worst, det);
+        return why;
+    }
     for (int k = 0; k < 9; ++k)
-        ll->r[k / 3][k % 3] = v[k];
+        ll->r[k / 3][k % 3] = m[k];
     ll->rotate = 2;
-    return 1;
+    return NULL;
 }
 
-/* the probe's options: --lights, --probe, --layout, --probe-mode, -n; 1, 0 (none) or 2 */
-static int probe_opt(char **argv, int *i, qtool_relight_light_list *ll)
-{
-    const char *a = argv[*i];
-    if (strcmp(a, "--lights") == 0) {
-        if (ll->csv)
-            return qcli_usage_error("--lights given twice (%s and %s)", ll->csv, argv[*i + 1]);
-        ll->csv = argv[++*i];
-    } else if (strcmp(a, "--probe") == 0) {
-        if (ll->probe)
-            return qcli_usage_error("--probe given twice (%s and %s)", ll->probe, argv[*i + 1]);
-        ll->probe = argv[++*i];
-    } else if (strcmp(a, "--layout") == 0) {
-        if (qtool_probe_layout_parse(argv[++*i], &ll->layout) != 0)
-            return qcli_usage_error("--layout: '%s' is not a probe layout (auto, latlong, angular, ball, vcross or "
-                                    "hcross)", argv[*i]);
-    } else if (strcmp(a, "--probe-mode") == 0) {
-        const char *m = argv[++*i];
-        if (strcmp(m, "sh") == 0)
-            ll->mode = QTOOL_RELIGHT_PROBE_SH;
-        else if (strcmp(m, "lights") == 0)
-            ll->mode = QTOOL_RELIGHT_PROBE_LIGHTS;
-        else if (strcmp(m, "sunsky") == 0)
-            ll->mode = QTOOL_RELIGHT_PROBE_SUNSKY;
-        else
-            return qcli_usage_error("--probe-mode: '%s' is not sh, lights or sunsky", m);
-    } else if (strcmp(a, "-n") == 0) {
-        if (qcli_parse_int(argv[++*i], 1, 65536, &ll->n) != 0 || (ll->n & (ll->n - 1)) != 0)
-            return qcli_usage_error("-n: '%s' is not a power of two in 1..65536 (median-cut lights)", argv[*i]);
-    } else {
-        return 0;
-    }
-    return 1;
-}
-
-int qcli_light_list_opt(int argc, char **argv, int *i, qtool_relight_light_list *ll)
-{
-    const char *a = argv[*i];
-    int more = *i + 1 < argc, r;
-    if (strcmp(a, "--sun") == 0 || strcmp(a, "--point") == 0)
-        return add_source(ll, argv, argc, i, a[2] == 'p');
-    if (strcmp(a, "--rgb") == 0)
-        return rgb_opt(argc, argv, i, ll);
-    if (more && (r = probe_opt(argv, i, ll)) != 0)
-        return r;
-    if (strcmp(a, "--yaw") == 0 && more) {
-        if (ll->rotate)
-            return qcli_usage_error("--yaw: give one of --yaw and --rotate, once");
-        if (qcli_parse_num(a, argv[++*i], -36000.0, 36000.0, "degrees", &ll->yaw) != 0)
-            return 2;
-        qtool_relight_yaw(ll->yaw, ll->r);
-        ll->rotate = 1;
-        return 1;
-    }
-    if (strcmp(a, "--rotate") == 0 && more)
-        return rotate_opt(argv, i, ll);
-    return 0;
-}
-
-int qcli_light_list_check(const qtool_relight_light_list *ll)
+const char *qcli_light_list_check(const qtool_relight_light_list *ll)
 {
     if (ll->early_rgb && ll->count == 0)
-        return qcli_usage_error("--rgb colours a --sun or --point; there is none");
+        return "--rgb colours a --sun or --point; there is none";
     if (!ll->probe &&
         (ll->rotate || ll->n || ll->mode != QTOOL_RELIGHT_PROBE_SH || ll->layout != QTOOL_PROBE_LAYOUT_AUTO))
-        return qcli_usage_error("--yaw, --rotate, --probe-mode, -n and --layout need --probe PROBE.hdr");
+        return "--yaw, --rotate, --probe-mode, -n and --layout need --probe PROBE.hdr";
     if (ll->probe && ll->n && ll->mode == QTOOL_RELIGHT_PROBE_SH)
-        return qcli_usage_error("-n counts median-cut lights: it needs --probe-mode lights or sunsky");
-    return 0;
+        return "-n counts median-cut lights: it needs --probe-mode lights or sunsky";
+    return NULL;
 }
 
 int qcli_light_list_sh(const qtool_relight_light_list *ll, uint32_t k, FILE *note, qibl_shlight_t *out)

@@ -15,6 +15,8 @@
 
 #define MAX_OPTS 64 /* entries per table the required-option check tracks */
 
+const char qcli_opt_no_value[] = "is not a value";
+
 static const char *help_name(const qcli_opt_cmd *c)
 {
     return c->help_name ? c->help_name : c->name;
@@ -78,6 +80,15 @@ static const qcli_opt *find(const qcli_opt *t, const char *a)
 {
     for (size_t i = 0; t && t[i].kind != QCLI_OPT_END; ++i)
         if (strcmp(t[i].name, a) == 0 || (t[i].alias && strcmp(t[i].alias, a) == 0))
+            return &t[i];
+    return NULL;
+}
+
+/* the option with .eq named by the first n bytes of a ("--progress" of "--progress=bar") */
+static const qcli_opt *find_eq(const qcli_opt *t, const char *a, size_t n)
+{
+    for (size_t i = 0; t && t[i].kind != QCLI_OPT_END; ++i)
+        if (t[i].eq && strlen(t[i].name) == n && strncmp(t[i].name, a, n) == 0)
             return &t[i];
     return NULL;
 }
@@ -213,19 +224,43 @@ static int parse_size(const char *name, const char *help, const qcli_opt *o, con
     return 0;
 }
 
-/* one option's value(s) at argv[*i + 1 ...] into its field; *i advanced past them */
-static int take(const qcli_opt_cmd *c, const qcli_opt *o, int argc, char **argv, int *i, char *opts)
+/* one option's value(s) at argv[*i + 1 ...] into its field; *i advanced past them. The errors name
+ * the flag as it was spelled (an alias too). */
+static int take(const qcli_opt_cmd *c, const qcli_opt *table_o, int argc, char **argv, int *i, char *opts)
 {
+    qcli_opt spelled = *table_o;
+    spelled.name = argv[*i];
+    const qcli_opt *o = &spelled;
     const char *name = c->name, *help = help_name(c);
     char buf[256];
     void *dst = opts + o->off;
     if (o->kind == QCLI_OPT_FLAG) {
         *(int *)dst = 1;
+        const char *bad = o->call ? o->call(opts, NULL) : NULL;
+        return bad ? fail_named(name, help, "%s %s", o->name, bad) : 0;
+    }
+    if (o->kind == QCLI_OPT_CALL && o->optional) { /* the next argument, if it is a value; else none */
+        const char *v = *i + 1 < argc ? argv[*i + 1] : NULL, *bad = v ? o->call(opts, v) : qcli_opt_no_value;
+        if (bad == qcli_opt_no_value)
+            v = NULL, bad = o->call(opts, NULL);
+        if (bad)
+            return v ? fail_named(name, help, "%s: '%s' %s", o->name, v, bad)
+                     : fail_named(name, help, "%s %s", o->name, bad);
+        *i += v ? 1 : 0;
         return 0;
     }
-    int nv = o->kind == QCLI_OPT_TRIPLE ? 3 : 1;
-    if (argc - *i - 1 < nv)
+    int nv = o->kind == QCLI_OPT_TRIPLE ? 3 : o->kind == QCLI_OPT_CALL && o->nargs > 1 ? o->nargs : 1;
+    int least = o->kind == QCLI_OPT_CALL && o->nargs > 1 && o->nargs_min > 0 ? o->nargs_min : nv;
+    if (argc - *i - 1 < least)
         return fail_named(name, help, "%s needs %s", o->name, arg_name(o, buf, sizeof buf));
+    if (nv > 1 && o->kind == QCLI_OPT_CALL) {
+        int n = argc - *i - 1 < nv ? argc - *i - 1 : nv, used = n;
+        const char *bad = o->call_n(opts, argv + *i + 1, n, &used);
+        if (bad)
+            return fail_named(name, help, "%s: %s", o->name, bad);
+        *i += used >= least && used <= n ? used : n;
+        return 0;
+    }
     const char *v = argv[*i + 1];
     int rc = 0;
     switch (o->kind) {
@@ -295,12 +330,24 @@ int qcli_opt_parse(const qcli_opt_cmd *c, int argc, char **argv, int first, void
         memcpy(opts, c->defaults, c->size);
     else
         memset(opts, 0, c->size);
-    qcli_opt_list *pos = c->pos.max > 0 ? (qcli_opt_list *)(void *)(base + c->pos.off) : NULL;
+    qcli_opt_list *pos = c->pos.max > 0 && !c->pos.call ? (qcli_opt_list *)(void *)(base + c->pos.off) : NULL;
     if (pos)
         pos->n = 0;
     for (int i = first; i < argc; ++i) {
         const char *a = argv[i];
         const qcli_opt *o = find(c->opts, a);
+        const char *eq = a[0] == '-' ? strchr(a, '=') : NULL;
+        const qcli_opt *oe = !o && eq ? find_eq(c->opts, a, (size_t)(eq - a)) : NULL;
+        if (oe) { /* --name=VALUE: as --name VALUE */
+            char *two[2] = {(char *)(uintptr_t)oe->name, (char *)(uintptr_t)(eq + 1)};
+            int at = 0, rc = take(c, oe, 2, two, &at, base);
+            size_t k = (size_t)(oe - c->opts);
+            if (k < MAX_OPTS)
+                seen[k] = 1;
+            if (rc != 0)
+                return rc;
+            continue;
+        }
         if (o) {
             size_t k = (size_t)(o - c->opts);
             if (k < MAX_OPTS)
@@ -313,6 +360,12 @@ int qcli_opt_parse(const qcli_opt_cmd *c, int argc, char **argv, int first, void
         /* "-" alone is a value (standard input's name); so is "-1" where values may be numbers */
         if (a[0] == '-' && a[1] != '\0' && !(c->pos.numbers && is_number(a)))
             return fail_named(name, help, "unknown option '%s'", a);
+        if (c->pos.call) {
+            const char *bad = c->pos.call(opts, a);
+            if (bad)
+                return fail_named(name, help, "'%s' %s", a, bad);
+            continue;
+        }
         if (!pos)
             return fail_named(name, help, "takes no arguments but options, and '%s' is not one", a);
         if (pos->n >= c->pos.max)
@@ -420,8 +473,8 @@ static void usage_item(const qcli_opt *o, char *buf, size_t n)
 {
     char a[256];
     const char *an = o->kind == QCLI_OPT_FLAG ? NULL : arg_name(o, a, sizeof a);
-    snprintf(buf, n, "%s%s%s%s%s%s", o->required ? "" : "[", o->name, an ? " " : "", an ? an : "",
-             o->kind == QCLI_OPT_LIST ? "..." : "", o->required ? "" : "]");
+    snprintf(buf, n, "%s%s%s%s%s%s%s%s", o->required ? "" : "[", o->name, an ? " " : "", o->optional ? "[" : "",
+             an ? an : "", o->optional ? "]" : "", o->kind == QCLI_OPT_LIST ? "..." : "", o->required ? "" : "]");
 }
 
 void qcli_opt_help(FILE *f, const qcli_opt_cmd *c)
@@ -454,6 +507,15 @@ void qcli_opt_help(FILE *f, const qcli_opt_cmd *c)
         fputs(c->prose, f);
 }
 
+/* "--k, -k K" (an optional value: "--k [K]") into buf; its length */
+static int list_item(const qcli_opt *o, char *buf, size_t n)
+{
+    char a[256];
+    const char *an = o->kind == QCLI_OPT_FLAG ? "" : arg_name(o, a, sizeof a);
+    return snprintf(buf, n, "%s%s%s%s%s%s%s", o->name, o->alias ? ", " : "", o->alias ? o->alias : "",
+                    o->kind == QCLI_OPT_FLAG ? "" : " ", o->optional ? "[" : "", an, o->optional ? "]" : "");
+}
+
 void qcli_opt_help_list(FILE *f, const qcli_opt_cmd *c)
 {
     char item[384];
@@ -462,17 +524,14 @@ void qcli_opt_help_list(FILE *f, const qcli_opt_cmd *c)
         int w = 0;
         for (size_t k = 0; k < n; ++k) {
             const qcli_opt *o = &c->opts[k];
-            char a[256];
-            int len = snprintf(item, sizeof item, "%s%s%s%s%s", o->name, o->alias ? ", " : "", o->alias ? o->alias : "",
-                               o->kind == QCLI_OPT_FLAG ? "" : " ", o->kind == QCLI_OPT_FLAG ? "" : arg_name(o, a, sizeof a));
+            int len = list_item(o, item, sizeof item);
             w = len > w && len <= 28 ? len : w;
         }
         fputs("options:\n", f);
         for (size_t k = 0; k < n; ++k) {
             const qcli_opt *o = &c->opts[k];
-            char a[256], d[128], range[160] = "";
-            snprintf(item, sizeof item, "%s%s%s%s%s", o->name, o->alias ? ", " : "", o->alias ? o->alias : "",
-                     o->kind == QCLI_OPT_FLAG ? "" : " ", o->kind == QCLI_OPT_FLAG ? "" : arg_name(o, a, sizeof a));
+            char d[128], range[160] = "";
+            list_item(o, item, sizeof item);
             if (o->kind == QCLI_OPT_INT)
                 snprintf(range, sizeof range, "%ld..%ld", (long)o->lo, (long)o->hi);
             else if (o->kind == QCLI_OPT_NUM || o->kind == QCLI_OPT_TRIPLE)
@@ -504,7 +563,8 @@ void qcli_opt_flags(FILE *f, const qcli_opt_cmd *c)
 {
     fprintf(f, "%s\n", c->name);
     for (size_t k = 0; c->opts && c->opts[k].kind != QCLI_OPT_END; ++k) {
-        const char *kind = c->opts[k].kind == QCLI_OPT_FLAG ? "flag" : "value";
+        /* an optional value: the flag alone is whole */
+        const char *kind = c->opts[k].kind == QCLI_OPT_FLAG || c->opts[k].optional ? "flag" : "value";
         fprintf(f, "%s\t%s\t%s\n", c->name, c->opts[k].name, kind);
         if (c->opts[k].alias)
             fprintf(f, "%s\t%s\t%s\n", c->name, c->opts[k].alias, kind);

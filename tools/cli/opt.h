@@ -42,7 +42,9 @@
  *
  *     More kinds in real tables: ENUM with .names and a SIZE in cmd_gen.c (and a deprecated
  *     spelling, .renamed/.note), subcommands in cmd_sh.c and cmd_srgbe.c, numeric positionals
- *     (.pos.numbers = 1: "-1" and "-inf" are values, not unknown flags) in `sh eval`.
+ *     (.pos.numbers = 1: "-1" and "-inf" are values, not unknown flags) in `sh eval`; callbacks of
+ *     three values in order (relight's --sun/--rgb), of one or three (--camera, cli/scene_opts.h),
+ *     an optional value (lights --error [P%]), --progress=MODE (bake), any number of files (merge).
  *
  *  3. The command parses, checks what the table cannot (cross-option rules) through
  *     qcli_opt_error so that line has the same shape, then works:
@@ -67,6 +69,14 @@
  * STR const char *; ENUM int (index into names); SIZE long[2] ("WxH", both in 1..hi); TRIPLE double[3]
  * (three arguments, each in [lo, hi]); LIST qcli_opt_list (the flag repeated, at most hi times, 64 at
  * most); CALL: call(opts, value) parses it and returns NULL, or what is wrong ("is not a rotation").
+ * A CALL with .optional: its value may be absent (`lights --error [P%]`): call(opts, next argument)
+ * returns qcli_opt_no_value when that argument is not its value, and then call(opts, NULL) says the
+ * flag came alone (so does the last argument).
+ * A CALL with .nargs = N > 1 takes N arguments: call_n(opts, values, N, &used) (`--sun X Y Z` in the
+ * order relight gives the lights), and its reason names the values itself ("--sun: <reason>"). With
+ * .nargs_min = M (1..N) it takes M to N: call_n gets the n <= N that follow and sets *used (M..n;
+ * `--camera gltf` or `--camera EYE TARGET UP`).
+ * A FLAG with .call: call(opts, NULL) once it is set (an action: a deprecated spelling's note).
  * A later repetition of a non-LIST flag replaces the earlier value (as the commands always did).
  * Values are taken verbatim, so `--size -8x4` is a bad size, not a missing value.
  */
@@ -110,14 +120,25 @@ typedef struct qcli_opt {
     const char *renamed; /* a deprecated spelling: the name to use (a note on stderr when used) */
     const char *note;   /* with renamed: why, in the note */
     int required;
+    int optional;       /* CALL: the value may be absent (above) */
+    int eq;             /* one value: also taken as --name=VALUE (bake's --progress=MODE) */
+    int nargs;          /* CALL: how many arguments call_n takes (0 or 1: call takes one) */
+    int nargs_min;      /* CALL with nargs: the fewest it takes (0: nargs) */
+    const char *(*call_n)(void *opts, char *const *values, int n, int *used);
     const char *help;   /* one line */
 } qcli_opt;
+
+/* What an optional CALL returns for an argument that is not its value (compared by address). */
+extern const char qcli_opt_no_value[];
 
 typedef struct qcli_opt_pos {
     const char *names; /* as usage shows them: "FILE", "X Y Z", "PROBE.hdr ..." */
     int min, max;      /* how many (max <= QCLI_OPT_LIST_MAX) */
     size_t off;        /* a qcli_opt_list in the options struct */
     int numbers;       /* they may be negative numbers: "-1", "-inf" are values */
+    /* instead of the list (no max: merge's and check's files): call(opts, value) takes each one and
+     * returns NULL or what is wrong; min is then the command's to check */
+    const char *(*call)(void *opts, const char *value);
 } qcli_opt_pos;
 
 typedef struct qcli_opt_cmd {
@@ -132,7 +153,11 @@ typedef struct qcli_opt_cmd {
 
 /* The tables of the commands on them, for main.c's command table and `qibl help`. */
 extern const qcli_opt_cmd qcli_opts_gen, qcli_opts_info, qcli_opts_study, qcli_opts_ies_info;
+/* (relight, render, bake, merge, check, demo, lights, probe info, sh project, bench: the same) */
 extern const qcli_opt_cmd qcli_opts_sh_eval, qcli_opts_sh_plot, qcli_opts_srgbe_encode, qcli_opts_srgbe_decode;
+extern const qcli_opt_cmd qcli_opts_bench, qcli_opts_probe_info, qcli_opts_sh_project, qcli_opts_lights,
+    qcli_opts_relight, qcli_opts_merge, qcli_opts_check,
+    qcli_opts_render, qcli_opts_bake, qcli_opts_demo;
 
 /* Parses argv[first..argc-1] into opts (first set to c->defaults). 0, or 2 after one line on stderr. */
 int qcli_opt_parse(const qcli_opt_cmd *c, int argc, char **argv, int first, void *opts);

@@ -23,14 +23,30 @@
 #define QCLI_SUN_CONTRAST QTOOL_RELIGHT_SUN_CONTRAST
 #define QCLI_SUN_MAX QTOOL_RELIGHT_SUN_MAX
 
-/* If argv[*i] is one of relight's light options (--sun, --point, --rgb, --lights, --probe,
- * --layout, --probe-mode, -n, --yaw, --rotate), parses it with its values, advances *i past them
- * and returns 1; 0 if it is none of them; 2 after a one-line message (bad arguments). */
-int qcli_light_list_opt(int argc, char **argv, int *i, qtool_relight_light_list *ll);
+/* The probe layouts' names by value (io/probe_layout.h), NULL-ended: an option table's ENUM. */
+extern const char *const qcli_probe_layout_names[QTOOL_PROBE_LAYOUT_COUNT + 1];
 
-/* Checks the options together after parsing (an early --rgb with no light, -n without a probe,
- * a rotation without a probe, ...): 0, or 2 after a message. */
-int qcli_light_list_check(const qtool_relight_light_list *ll);
+/* --yaw DEG and --rotate a,...,i into ll, for option tables' CALL kind (cli/opt.h): NULL, or what is
+ * wrong with the value (a second --yaw or --rotate included). rotate's reason carries numbers:
+ * why (n bytes, the options struct's) holds it. */
+const char *qcli_light_yaw(qtool_relight_light_list *ll, const char *v);
+const char *qcli_light_rotate(qtool_relight_light_list *ll, const char *v, char *why, size_t n);
+
+/* relight's other light options, each as a CALL's body (the order of --sun, --point and --rgb is
+ * the list's: an --rgb colours the light before it, or the first one): NULL, or what is wrong.
+ * values: the option's three arguments; why (n bytes) holds a reason with the value in it, and the
+ * reasons of the three-value options name the value themselves. */
+const char *qcli_light_source(qtool_relight_light_list *ll, int point, char *const *v, char *why, size_t n);
+const char *qcli_light_rgb(qtool_relight_light_list *ll, char *const *v, char *why, size_t n);
+const char *qcli_light_csv(qtool_relight_light_list *ll, const char *v, char *why, size_t n);
+const char *qcli_light_probe(qtool_relight_light_list *ll, const char *v, char *why, size_t n);
+const char *qcli_light_layout(qtool_relight_light_list *ll, const char *v);
+const char *qcli_light_mode(qtool_relight_light_list *ll, const char *v);
+const char *qcli_light_count(qtool_relight_light_list *ll, const char *v);
+
+/* The options together after parsing (an early --rgb with no light, -n without a probe, a
+ * rotation without a probe, ...): NULL, or what is wrong. */
+const char *qcli_light_list_check(const qtool_relight_light_list *ll);
 
 /* qtool_relight_light_sh with its messages on stderr (and the faint-probe note): 0, or 1. */
 int qcli_light_list_sh(const qtool_relight_light_list *ll, uint32_t k, FILE *note, qibl_shlight_t *out);

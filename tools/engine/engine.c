@@ -18,12 +18,17 @@
 #include "qtool.h"
 
 
-static const char *const preset_names[QTOOL_ENGINE_PRESET_COUNT] = {"raw", "filament", "unity", "gltf"};
+/* NULL-terminated, for the option tables' enum kind */
+const char *const qtool_engine_preset_names[QTOOL_ENGINE_PRESET_COUNT + 1] = {
+#define QTOOL_ENGINE_PRESET_NAME_(name, text) text,
+    QTOOL_ENGINE_PRESET_LIST(QTOOL_ENGINE_PRESET_NAME_)
+#undef QTOOL_ENGINE_PRESET_NAME_
+    NULL};
 
 int qtool_engine_preset_parse(const char *s, qtool_engine_preset *out)
 {
     for (int i = 0; s && i < QTOOL_ENGINE_PRESET_COUNT; ++i)
-        if (strcmp(s, preset_names[i]) == 0) {
+        if (strcmp(s, qtool_engine_preset_names[i]) == 0) {
             *out = (qtool_engine_preset)i;
             return 0;
         }
@@ -32,7 +37,7 @@ int qtool_engine_preset_parse(const char *s, qtool_engine_preset *out)
 
 const char *qtool_engine_preset_name(qtool_engine_preset p)
 {
-    return (unsigned)p < QTOOL_ENGINE_PRESET_COUNT ? preset_names[p] : "?";
+    return (unsigned)p < QTOOL_ENGINE_PRESET_COUNT ? qtool_engine_preset_names[p] : "?";
 }
 
 int qtool_engine_window_parse(const char *s, double *out)

@@ -48,11 +48,18 @@
 
 #include "qibl/probe.h"
 
+/* The presets in value order as X(name, text): the one list the enum and the names
+ * qtool_engine_preset_parse takes and qtool_engine_preset_name gives are made from. */
+#define QTOOL_ENGINE_PRESET_LIST(X)                                                                       \
+    X(QTOOL_ENGINE_RAW, "raw") /* default (0) */                                                          \
+    X(QTOOL_ENGINE_FILAMENT, "filament")                                                                  \
+    X(QTOOL_ENGINE_UNITY, "unity")                                                                        \
+    X(QTOOL_ENGINE_GLTF, "gltf")
+
 typedef enum qtool_engine_preset {
-    QTOOL_ENGINE_RAW = 0, /* default */
-    QTOOL_ENGINE_FILAMENT,
-    QTOOL_ENGINE_UNITY,
-    QTOOL_ENGINE_GLTF,
+#define QTOOL_ENGINE_PRESET_ENUM_(name, text) name,
+    QTOOL_ENGINE_PRESET_LIST(QTOOL_ENGINE_PRESET_ENUM_)
+#undef QTOOL_ENGINE_PRESET_ENUM_
     QTOOL_ENGINE_PRESET_COUNT
 } qtool_engine_preset;
 
@@ -76,7 +83,9 @@ typedef struct qtool_engine_sh {
 /* The Newton loop of cmgen's SH minimum has no bound; here it stops after this many steps. */
 #define QTOOL_ENGINE_NEWTON_MAX 64
 
-/* "raw", "filament", "unity", "gltf" <-> preset; parse: 0 or -1. */
+/* "raw", "filament", "unity", "gltf" <-> preset; parse: 0 or -1. The names by value, NULL-ended
+ * (the CLI's option tables take them as they are). */
+extern const char *const qtool_engine_preset_names[QTOOL_ENGINE_PRESET_COUNT + 1];
 int qtool_engine_preset_parse(const char *s, qtool_engine_preset *out);
 const char *qtool_engine_preset_name(qtool_engine_preset p);
 

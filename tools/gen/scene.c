@@ -146,6 +146,20 @@ static void zonal(double s, double norm, double out[5])
     }
 }
 
+void qtool_gen_pano_dir(uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t x, uint32_t y, double d[3])
+{
+    double phi = 2 * QTOOL_PI * (x + 0.5) / w;
+    if (kind == QTOOL_PANO_CYLINDRICAL) {
+        double tanv = QTOOL_PI * h / w;
+        double hgt = (0.5 - (y + 0.5) / h) * 2 * tanv;
+        double len = sqrt(1 + hgt * hgt);
+        d[0] = cos(phi) / len, d[1] = sin(phi) / len, d[2] = hgt / len;
+    } else {
+        double th = QTOOL_PI * (y + 0.5) / h;
+        d[0] = sin(th) * cos(phi), d[1] = sin(th) * sin(phi), d[2] = cos(th);
+    }
+}
+
 int qtool_gen_scene(uint32_t width, uint32_t height, uint32_t k, qtool_pano_kind kind, qtool_gen_maps *out)
 {
     if (width == 0 || height == 0 || width > 16384 || height > 16384 || k < 1 || k > 25)
@@ -164,18 +178,10 @@ int qtool_gen_scene(uint32_t width, uint32_t height, uint32_t k, qtool_pano_kind
     zonal(1, 1 / QTOOL_PI, diff); /* albedo / pi max(0, cos): pi, 2pi/3, pi/4, 0, -pi/24 over pi */
     for (size_t m = 0; m < sizeof mats / sizeof mats[0]; ++m)
         zonal(mats[m].shininess, (mats[m].shininess + 2) / (2 * QTOOL_PI), gloss[m]);
-    double tanv = QTOOL_PI * height / width; /* cylindrical: square pixels */
     for (uint32_t y = 0; y < height; ++y)
         for (uint32_t x = 0; x < width; ++x) {
-            double phi = 2 * QTOOL_PI * (x + 0.5) / width, d[3];
-            if (kind == QTOOL_PANO_CYLINDRICAL) {
-                double hgt = (0.5 - (y + 0.5) / height) * 2 * tanv;
-                double len = sqrt(1 + hgt * hgt);
-                d[0] = cos(phi) / len, d[1] = sin(phi) / len, d[2] = hgt / len;
-            } else {
-                double th = QTOOL_PI * (y + 0.5) / height;
-                d[0] = sin(th) * cos(phi), d[1] = sin(th) * sin(phi), d[2] = cos(th);
-            }
+            double d[3];
+            qtool_gen_pano_dir(width, height, kind, x, y, d);
             size_t pi = (size_t)y * width + x;
             memcpy(out->dir + 3 * pi, d, sizeof d);
             hit h;

@@ -18,6 +18,10 @@
 
 typedef enum { QTOOL_PANO_CYLINDRICAL = 0, QTOOL_PANO_EQUIRECT } qtool_pano_kind;
 
+/* The unit view direction through pixel (x, y)'s centre of a w x h panorama of the kind
+ * (cylindrical: square pixels, so its height spans a tangent of pi h / w). */
+void qtool_gen_pano_dir(uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t x, uint32_t y, double d[3]);
+
 typedef struct qtool_gen_maps {
     uint32_t width, height, k;
     double *t;    /* [i][ch][y * width + x]: k * 3 planes of transfer coefficients */

@@ -2,12 +2,14 @@
  * golden/cases_hemi.c - hemi_*: the plane LUT and basis table of small configurations (16 x 16,
  * 32 x 32 and 64 x 64 masks), masks of integer-made triangles (random, crossing the horizon,
  * degenerate, 1 LSB above the receiver), their transfer vectors, and frames with the transfer
- * rotated out of them. Each entry records the status; outputs start as a guard pattern.
+ * rotated out of them, and exported transfer (hemi_xfer) shaded by span. Each entry records the
+ * status; outputs start as a guard pattern.
  */
 #include "golden/casesi.h"
 
 #include <stdlib.h>
 
+#include "qibl/asset.h"
 #include "qibl/hemi.h"
 
 #if QIBL_USE_HEMI /* the group exists only when config.h builds the module */
@@ -212,6 +214,60 @@ static int phong_case(const qtool_goldens_sink_t *s, const char *name, const qib
     return qtool_gbuf_emit(s, name, &b);
 }
 
+#if QIBL_USE_ASSET
+/* Exported transfer (qibl_hemi_xfer_*): 8 vertices of random Q2.30 transfer (the extremes first)
+ * written in the documented layout for 3, 4 and 5 bands, opened, shaded under random lights in
+ * full and in a middle span; a span past the end, a mangled magic and a flipped payload bit give
+ * their statuses. */
+static int xfer_case(const qtool_goldens_sink_t *s, const char *name)
+{
+    enum { NV = 8 };
+    qtool_grng r = {31337};
+    qtool_gbuf b = {0};
+    for (uint32_t bands = 3; bands <= 5; ++bands) {
+        const uint32_t nc = bands * bands, size = QIBL_HEMI_XFER_HEADER_SIZE + NV * nc * 4u;
+        uint8_t f[QIBL_HEMI_XFER_HEADER_SIZE + NV * 25 * 4];
+        const uint32_t hdr[5] = {1u | (bands << 16), NV, 30u, 0u, 0u}; /* version | bands, count, frac, reserved */
+        f[0] = 'Q', f[1] = 'T', f[2] = 'R', f[3] = 'X';
+        for (uint32_t i = 0; i < NV * nc; ++i) {
+            const uint32_t v = i == 0 ? 0x7FFFFFFFu : i == 1 ? 0x80000000u : qtool_grng_u32(&r);
+            for (int k = 0; k < 4; ++k)
+                f[QIBL_HEMI_XFER_HEADER_SIZE + 4u * i + (uint32_t)k] = (uint8_t)(v >> (8 * k));
+        }
+        for (int w = 0; w < 4; ++w)
+            for (int k = 0; k < 4; ++k)
+                f[4 + 4 * w + k] = (uint8_t)(hdr[w] >> (8 * k));
+        const uint32_t crc = qibl_crc32(0u, f + QIBL_HEMI_XFER_HEADER_SIZE, NV * nc * 4u);
+        for (int k = 0; k < 4; ++k)
+            f[20 + k] = (uint8_t)(crc >> (8 * k));
+        qibl_hemi_xfer_t x;
+        qibl_status_t st = qibl_hemi_xfer_open(&x, f, size);
+        qtool_gbuf_u8(&b, (uint32_t)st);
+        if (st != QIBL_OK)
+            continue;
+        for (int t = 0; t < 4; ++t) {
+            int32_t light[3][QIBL_HEMI_COEFFS];
+            for (int ch = 0; ch < 3; ++ch)
+                for (int i = 0; i < QIBL_HEMI_COEFFS; ++i)
+                    light[ch][i] = (int32_t)(qtool_grng_u32(&r) >> (9 + t)) - (int32_t)(1u << (22 - t));
+            qibl_q16_t out[NV + 3][3]; /* the whole span, then vertices 2..4 again */
+            qtool_gbuf_u8(&b, (uint32_t)qibl_hemi_xfer_shade_span(&x, (const int32_t(*)[QIBL_HEMI_COEFFS])light, 0, NV, out));
+            qtool_gbuf_u8(&b, (uint32_t)qibl_hemi_xfer_shade_span(&x, (const int32_t(*)[QIBL_HEMI_COEFFS])light, 2, 3,
+                                                            out + NV));
+            for (int v = 0; v < NV + 3; ++v)
+                for (int ch = 0; ch < 3; ++ch)
+                    qtool_gbuf_s32(&b, out[v][ch]);
+            qtool_gbuf_u8(&b, (uint32_t)qibl_hemi_xfer_shade_span(&x, (const int32_t(*)[QIBL_HEMI_COEFFS])light, 7, 2, out));
+        }
+        f[QIBL_HEMI_XFER_HEADER_SIZE + 5] ^= 0x10u;
+        qtool_gbuf_u8(&b, (uint32_t)qibl_hemi_xfer_open(&x, f, size));
+        f[0] = 'q';
+        qtool_gbuf_u8(&b, (uint32_t)qibl_hemi_xfer_open(&x, f, size));
+    }
+    return qtool_gbuf_emit(s, name, &b);
+}
+#endif
+
 int qtool_goldens_hemi(const qtool_goldens_sink_t *s)
 {
     static const struct {
@@ -242,6 +298,9 @@ int qtool_goldens_hemi(const qtool_goldens_sink_t *s)
             fails += bounds_case(s, "hemi_bounds"); /* (needs no tables) */
         free(ws);
     }
+#if QIBL_USE_ASSET
+    fails += xfer_case(s, "hemi_xfer"); /* (needs no tables) */
+#endif
     return fails;
 }
 

@@ -104,6 +104,19 @@ static qibl_lightprobe_image_t image(const void *px, uint32_t w, uint32_t h, qib
     return img;
 }
 
+/* the status and coefficients of a w x h RGBE probe's projection at every band (workspace on the heap) */
+static void put_rgbe_projection(qtool_gbuf *b, const uint8_t *px, uint32_t w, uint32_t h)
+{
+    qibl_lightprobe_image_t img = image(px, w, h, QIBL_LIGHTPROBE_RGBE, 0);
+    qibl_probe_coeffs_t c;
+    guard(&c);
+    size_t n = qibl_probe_sh_workspace_size(img.width, img.height);
+    void *ws = malloc(n);
+    qibl_status_t st = ws ? qibl_probe_sh_project(&img, QIBL_SH_MAX_BANDS, NULL, ws, n, &c) : QIBL_E_WORKSPACE;
+    put_coeffs(b, st, &c);
+    free(ws);
+}
+
 static int projections(const qtool_goldens_sink_t *s)
 {
     int bad = 0;
@@ -114,14 +127,8 @@ static int projections(const qtool_goldens_sink_t *s)
         uint8_t *px = make_rgbe(100 + i, sz[i][0], sz[i][1]);
         if (px == NULL)
             return qtool_gcase_oom(s, "probe_sh_sizes");
-        qibl_lightprobe_image_t img = image(px, sz[i][0], sz[i][1], QIBL_LIGHTPROBE_RGBE, 0);
-        qibl_probe_coeffs_t c;
-        guard(&c);
-        size_t n = qibl_probe_sh_workspace_size(img.width, img.height);
-        void *ws = malloc(n);
-        qibl_status_t st = ws ? qibl_probe_sh_project(&img, QIBL_SH_MAX_BANDS, NULL, ws, n, &c) : QIBL_E_WORKSPACE;
-        put_coeffs(&all, st, &c);
-        free(ws), free(px);
+        put_rgbe_projection(&all, px, sz[i][0], sz[i][1]);
+        free(px);
     }
     bad += qtool_gbuf_emit(s, "probe_sh_sizes", &all);
 
@@ -135,14 +142,8 @@ static int projections(const qtool_goldens_sink_t *s)
             return qtool_gcase_oom(s, "probe_sh_widths");
         for (uint32_t p = 5; p < wd[i] * 3u; p += 13) /* unlit pixels of huge exponent */
             px[4 * p] = px[4 * p + 1] = px[4 * p + 2] = 0, px[4 * p + 3] = 255;
-        qibl_lightprobe_image_t img = image(px, wd[i], 3, QIBL_LIGHTPROBE_RGBE, 0);
-        qibl_probe_coeffs_t c;
-        guard(&c);
-        size_t n = qibl_probe_sh_workspace_size(img.width, img.height);
-        void *ws = malloc(n);
-        qibl_status_t st = ws ? qibl_probe_sh_project(&img, QIBL_SH_MAX_BANDS, NULL, ws, n, &c) : QIBL_E_WORKSPACE;
-        put_coeffs(&wide, st, &c);
-        free(ws), free(px);
+        put_rgbe_projection(&wide, px, wd[i], 3);
+        free(px);
     }
     bad += qtool_gbuf_emit(s, "probe_sh_widths", &wide);
 

@@ -86,17 +86,26 @@ static void edges_pixel(size_t i, uint32_t rgb[3])
     rgb[2] = edge(bl, (unsigned)(i % 3u == 0u));
 }
 
+/* a chunk's float triples and their codes; 0, or -1 out of memory (nothing held) */
+static int chunk_buffers(uint32_t **rgb, uint8_t **codes)
+{
+    *rgb = malloc(sizeof **rgb * 3 * CHUNK);
+    *codes = malloc(4 * CHUNK);
+    if (*rgb && *codes)
+        return 0;
+    free(*rgb), free(*codes);
+    return -1;
+}
+
 /* every triple of edge values (signs varied by position), one pixel at a time and in bulk */
 static int encode_f32_edges(const qtool_goldens_sink_t *s)
 {
     const size_t n = NF32 * NF32 * NF32;
-    uint32_t *rgb = malloc(sizeof *rgb * 3 * CHUNK);
-    uint8_t *codes = malloc(4 * CHUNK);
+    uint32_t *rgb;
+    uint8_t *codes;
     qtool_gbuf b = {0};
-    if (rgb == NULL || codes == NULL) {
-        free(rgb), free(codes);
+    if (chunk_buffers(&rgb, &codes) != 0)
         return qtool_gcase_oom(s, "srgbe_encode_f32_edges");
-    }
     qibl_status_t st = QIBL_OK;
     for (size_t i0 = 0; i0 < n; i0 += CHUNK) {
         size_t m = n - i0 < CHUNK ? n - i0 : CHUNK;
@@ -140,13 +149,11 @@ static void random_pixels(qtool_grng *r, size_t i0, size_t m, uint32_t *rgb)
 static int encode_f32_random(const qtool_goldens_sink_t *s)
 {
     enum { N = 20000 };
-    uint32_t *rgb = malloc(sizeof *rgb * 3 * CHUNK);
-    uint8_t *codes = malloc(4 * CHUNK);
+    uint32_t *rgb;
+    uint8_t *codes;
     qtool_gbuf b = {0};
-    if (rgb == NULL || codes == NULL) {
-        free(rgb), free(codes);
+    if (chunk_buffers(&rgb, &codes) != 0)
         return qtool_gcase_oom(s, "srgbe_encode_f32_random");
-    }
     qtool_grng r = {0x5E};
     qibl_status_t st = QIBL_OK;
     for (size_t i0 = 0; i0 < N; i0 += CHUNK) {

@@ -12,12 +12,13 @@
 
 #include "io/asset_write.h"
 #include "io/atomic.h"
+#include "qtool.h"
 
 static int fail(qtool_asset_builder *b, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(b->err, sizeof b->err, fmt, ap);
+    qtool_verrf_at(b->err, sizeof b->err, NULL, 0, fmt, ap);
     va_end(ap);
     return -1;
 }
@@ -101,6 +102,18 @@ static int payload_alloc(qtool_asset_builder *b, const char *what, uint64_t head
     return 0;
 }
 
+/* a PMAP or YLUT payload: its 12-byte head (a, b, 0) written, the items left to the caller */
+static int table_payload(qtool_asset_builder *b, const char *what, uint32_t a, uint32_t bb, uint64_t items,
+                         uint64_t item_size, uint8_t **out, size_t *size)
+{
+    if (payload_alloc(b, what, 12, items, item_size, out, size) != 0)
+        return -1;
+    qtool_store_u32le(*out, a);
+    qtool_store_u32le(*out + 4, bb);
+    qtool_store_u32le(*out + 8, 0);
+    return 0;
+}
+
 int qtool_asset_shmp_payload(qtool_asset_builder *b, uint32_t w, uint32_t h, uint32_t k, uint32_t channels,
                             const int32_t *scale, const int32_t *bias, const uint8_t *planes,
                             uint8_t **out, size_t *size)
@@ -155,17 +168,10 @@ int qtool_asset_pmap_payload(qtool_asset_builder *b, uint32_t w, uint32_t h, con
     if (pixels > UINT32_MAX)
         return fail(b, "asset: PMAP payload does not fit 32 bits");
     uint64_t values = pixels * 3;
-    uint8_t *p = NULL;
-    size_t n = 0;
-    if (payload_alloc(b, "PMAP", 12, values, 4, &p, &n) != 0)
+    if (table_payload(b, "PMAP", w, h, values, 4, out, size) != 0)
         return -1;
-    qtool_store_u32le(p, w);
-    qtool_store_u32le(p + 4, h);
-    qtool_store_u32le(p + 8, 0);
     for (uint64_t i = 0; i < values; ++i)
-        qtool_store_s32le(p + 12 + 4 * i, xyz[i]);
-    *out = p;
-    *size = n;
+        qtool_store_s32le(*out + 12 + 4 * i, xyz[i]);
     return 0;
 }
 
@@ -176,17 +182,10 @@ int qtool_asset_ylut_payload(qtool_asset_builder *b, uint32_t face_size, uint32_
     if (count > UINT32_MAX || 6 * count * k > UINT32_MAX)
         return fail(b, "asset: YLUT payload does not fit 32 bits");
     count *= 6 * (uint64_t)k;
-    uint8_t *p = NULL;
-    size_t n = 0;
-    if (payload_alloc(b, "YLUT", 12, count, 2, &p, &n) != 0)
+    if (table_payload(b, "YLUT", face_size, k, count, 2, out, size) != 0)
         return -1;
-    qtool_store_u32le(p, face_size);
-    qtool_store_u32le(p + 4, k);
-    qtool_store_u32le(p + 8, 0);
     for (uint64_t i = 0; i < count; ++i)
-        qtool_store_s16le(p + 12 + 2 * i, values[i]);
-    *out = p;
-    *size = n;
+        qtool_store_s16le(*out + 12 + 2 * i, values[i]);
     return 0;
 }
 

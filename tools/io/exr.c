@@ -456,6 +456,190 @@ typedef struct {
     size_t w, h, tw, th, ntx, nty, nchunks, table;
 } exr_file;
 
+/* what the header's attributes say, before it is checked as a whole */
+typedef struct {
+    int have_ch, have_comp, have_dw, have_disp, have_lo, have_tiles;
+    int32_t dw[4], disp[4];
+    int lo, mode;
+    uint32_t txs, tys;
+} exr_attrs;
+
+/* the chlist attribute: full-resolution UINT, HALF or FLOAT channels */
+static int read_chlist(exr_file *f, const uint8_t *v, uint32_t sz, char *err, size_t errlen)
+{
+    char sh[40];
+    size_t q = 0;
+    while (q < sz && v[q]) {
+        const char *cn;
+        if (f->nch == QTOOL_EXR_MAX_CHANNELS)
+            return qtool_errf(err, errlen, "more than %d channels", QTOOL_EXR_MAX_CHANNELS);
+        if (cstr(v, sz, &q, &cn) < 0 || sz - q < 16)
+            return qtool_errf(err, errlen, "channel list truncated");
+        channel *c = &f->ch[f->nch++];
+        memcpy(c->name, cn, strlen(cn) + 1);
+        uint32_t t = rd32(v + q);
+        int32_t xs = rds32(v + q + 8), ys = rds32(v + q + 12);
+        q += 16;
+        if (t > 2)
+            return qtool_errf(err, errlen, "channel %s: pixel type %u (0 UINT, 1 HALF, 2 FLOAT)", shown(cn, sh), (unsigned)t);
+        if (xs != 1 || ys != 1)
+            return qtool_errf(err, errlen, "channel %s: subsampled %d x %d (only full-resolution channels are read)",
+                        shown(cn, sh), (int)xs, (int)ys);
+        c->type = (int)t;
+        c->slot = -1;
+        f->bpp += type_bytes(c->type);
+    }
+    if (q >= sz)
+        return qtool_errf(err, errlen, "channel list truncated (no terminating NUL)");
+    return 0;
+}
+
+/* one attribute (name, type, sz bytes at v): the known ones kept in a, the rest skipped */
+static int read_attr(exr_file *f, exr_attrs *at, const char *name, const char *type, const uint8_t *v, uint32_t sz,
+                     char *err, size_t errlen)
+{
+#define ATTR(n_, t_) (strcmp(name, n_) != 0 ? 0 : strcmp(type, t_) == 0 ? 1 : -1) /* -1: known name, wrong type */
+    int a;
+    if ((a = ATTR("channels", "chlist")) != 0) {
+        if (a < 0 || at->have_ch)
+            return qtool_errf(err, errlen, "attribute channels twice or not of type chlist");
+        at->have_ch = 1;
+        return read_chlist(f, v, sz, err, errlen);
+    } else if ((a = ATTR("compression", "compression")) != 0) {
+        if (a < 0 || at->have_comp || sz != 1)
+            return qtool_errf(err, errlen, "attribute compression twice or malformed");
+        at->have_comp = 1;
+        f->comp = v[0];
+    } else if ((a = ATTR("dataWindow", "box2i")) != 0 || (a = ATTR("displayWindow", "box2i")) != 0) {
+        int is_data = name[1] == 'a';
+        if (a < 0 || sz != 16 || (is_data ? at->have_dw : at->have_disp))
+            return qtool_errf(err, errlen, "attribute %s twice or malformed", name);
+        int32_t *b = is_data ? at->dw : at->disp;
+        for (int i = 0; i < 4; ++i)
+            b[i] = rds32(v + 4 * i);
+        *(is_data ? &at->have_dw : &at->have_disp) = 1;
+    } else if ((a = ATTR("lineOrder", "lineOrder")) != 0) {
+        if (a < 0 || sz != 1 || at->have_lo || v[0] > 2)
+            return qtool_errf(err, errlen, "attribute lineOrder twice or malformed (0, 1 or 2)");
+        at->have_lo = 1;
+        at->lo = v[0];
+    } else if ((a = ATTR("tiles", "tiledesc")) != 0) {
+        if (a < 0 || sz != 9 || at->have_tiles)
+            return qtool_errf(err, errlen, "attribute tiles twice or malformed");
+        at->have_tiles = 1;
+        at->txs = rd32(v), at->tys = rd32(v + 4), at->mode = v[8];
+    }
+#undef ATTR
+    return 0;
+}
+
+/* the attributes from *pos to the header's closing NUL (*pos ends past it) */
+static int read_attrs(exr_file *f, size_t *pos, exr_attrs *at, char *err, size_t errlen)
+{
+    const uint8_t *buf = f->buf;
+    size_t len = f->len;
+    int nattr = 0;
+    char sh[40];
+    for (;;) {
+        if (*pos >= len)
+            return qtool_errf(err, errlen, "header truncated (no end of attributes)");
+        if (buf[*pos] == 0) {
+            ++*pos;
+            return 0;
+        }
+        if (++nattr > QTOOL_EXR_MAX_ATTRIBUTES)
+            return qtool_errf(err, errlen, "more than %d header attributes", QTOOL_EXR_MAX_ATTRIBUTES);
+        const char *name, *type;
+        if (cstr(buf, len, pos, &name) < 0 || cstr(buf, len, pos, &type) < 0 || len - *pos < 4)
+            return qtool_errf(err, errlen, "header attribute %d truncated or its name longer than 255 bytes", nattr);
+        uint32_t sz = rd32(buf + *pos);
+        *pos += 4;
+        if (sz > len - *pos)
+            return qtool_errf(err, errlen, "attribute %s: %u bytes, past the end of the file", shown(name, sh), (unsigned)sz);
+        if (read_attr(f, at, name, type, buf + *pos, sz, err, errlen) != 0)
+            return -1;
+        *pos += sz;
+    }
+}
+
+/* the required attributes present, the compression read, the windows sane and within the caps */
+static int check_windows(exr_file *f, const exr_attrs *at, int tiled_flag, char *err, size_t errlen)
+{
+    const int32_t *dw = at->dw, *disp = at->disp;
+    if (!at->have_ch || !at->have_comp || !at->have_dw || !at->have_disp || !at->have_lo)
+        return qtool_errf(err, errlen, "header lacks the required attribute %s",
+                    !at->have_ch ? "channels" : !at->have_comp ? "compression" : !at->have_dw ? "dataWindow" : !at->have_disp ? "displayWindow" : "lineOrder");
+    if (f->nch == 0)
+        return qtool_errf(err, errlen, "no channels");
+    if (f->comp > 4)
+        return qtool_errf(err, errlen, "compression %s is not read (NONE, RLE, ZIPS, ZIP and PIZ are)",
+                    f->comp < 10 ? comp_names[f->comp] : "unknown");
+    if (tiled_flag != at->have_tiles)
+        return qtool_errf(err, errlen, tiled_flag ? "tiled file without a tiles attribute" : "tiles attribute in a scanline file");
+    if (dw[2] < dw[0] || dw[3] < dw[1] || disp[2] < disp[0] || disp[3] < disp[1])
+        return qtool_errf(err, errlen, "empty or inverted %s window (%d,%d)-(%d,%d)", dw[2] < dw[0] || dw[3] < dw[1] ? "data" : "display",
+                    (int)(dw[2] < dw[0] || dw[3] < dw[1] ? dw : disp)[0], (int)(dw[2] < dw[0] || dw[3] < dw[1] ? dw : disp)[1],
+                    (int)(dw[2] < dw[0] || dw[3] < dw[1] ? dw : disp)[2], (int)(dw[2] < dw[0] || dw[3] < dw[1] ? dw : disp)[3]);
+    int64_t w = (int64_t)dw[2] - dw[0] + 1, h = (int64_t)dw[3] - dw[1] + 1;
+    if (w > QTOOL_EXR_MAX_DIM || h > QTOOL_EXR_MAX_DIM)
+        return qtool_errf(err, errlen, "data window %lld x %lld, above %u a side (QTOOL_EXR_MAX_DIM)", (long long)w, (long long)h,
+                    (unsigned)QTOOL_EXR_MAX_DIM);
+    if ((uint64_t)w * (uint64_t)h > QTOOL_EXR_MAX_PIXELS)
+        return qtool_errf(err, errlen, "data window %lld x %lld pixels, above the %lu-pixel limit (QTOOL_EXR_MAX_PIXELS)",
+                    (long long)w, (long long)h, (unsigned long)QTOOL_EXR_MAX_PIXELS);
+    f->w = (size_t)w, f->h = (size_t)h, f->xmin = dw[0], f->ymin = dw[1];
+    return 0;
+}
+
+/* R, G, B (slots 0..2) or else Y (slot 3): *pic the channel whose type is reported */
+static int picture_channels(exr_file *f, int *grey, int *pic, char *err, size_t errlen)
+{
+    int ri = -1, gi = -1, bi = -1, yi = -1;
+    for (int i = 0; i < f->nch; ++i) {
+        const char *n = f->ch[i].name;
+        int *slot = !strcmp(n, "R") ? &ri : !strcmp(n, "G") ? &gi : !strcmp(n, "B") ? &bi : !strcmp(n, "Y") ? &yi : NULL;
+        if (slot && *slot >= 0)
+            return qtool_errf(err, errlen, "channel %s twice", n);
+        if (slot)
+            *slot = i;
+    }
+    *grey = !(ri >= 0 && gi >= 0 && bi >= 0);
+    if (*grey && yi < 0)
+        return qtool_errf(err, errlen, "no R, G, B channels and no Y channel (the picture channels)");
+    if (*grey) {
+        f->ch[yi].slot = 3;
+    } else {
+        f->ch[ri].slot = 0, f->ch[gi].slot = 1, f->ch[bi].slot = 2;
+    }
+    *pic = *grey ? yi : ri;
+    return 0;
+}
+
+/* tiles or scanline blocks, and the chunk offset table that must follow the header at pos */
+static int chunk_layout(exr_file *f, const exr_attrs *at, size_t pos, char *err, size_t errlen)
+{
+    if (at->have_tiles) {
+        uint32_t txs = at->txs, tys = at->tys;
+        int mode = at->mode;
+        if (txs < 1 || tys < 1 || txs > QTOOL_EXR_MAX_DIM || tys > QTOOL_EXR_MAX_DIM)
+            return qtool_errf(err, errlen, "tile size %u x %u (1..%u a side)", (unsigned)txs, (unsigned)tys, (unsigned)QTOOL_EXR_MAX_DIM);
+        if ((mode & 15) > 2 || (mode >> 4) > 1)
+            return qtool_errf(err, errlen, "tile level mode %d, rounding %d (0..2, 0..1)", mode & 15, mode >> 4);
+        f->tiled = 1;
+        f->tw = txs, f->th = tys;
+        f->ntx = (f->w + txs - 1) / txs, f->nty = (f->h + tys - 1) / tys;
+        f->nchunks = f->ntx * f->nty;
+    } else {
+        static const int lines[5] = {1, 1, 1, 16, 32};
+        f->lines = lines[f->comp];
+        f->nchunks = (f->h + (size_t)f->lines - 1) / (size_t)f->lines;
+    }
+    if (f->nchunks > (f->len - pos) / 8)
+        return qtool_errf(err, errlen, "chunk offset table (%zu entries) runs past the end of the file", f->nchunks);
+    f->table = pos;
+    return 0;
+}
+
 static int parse_header(exr_file *f, qtool_exr_info *info, char *err, size_t errlen)
 {
     const uint8_t *buf = f->buf;
@@ -471,152 +655,22 @@ static int parse_header(exr_file *f, qtool_exr_info *info, char *err, size_t err
         return qtool_errf(err, errlen, "deep OpenEXR data (only flat images are read)");
     if (ver & ~0x6FFu)
         return qtool_errf(err, errlen, "unknown OpenEXR version flags 0x%x", (unsigned)(ver >> 8));
-    int tiled_flag = (ver & 0x200u) != 0;
     size_t pos = 8;
-    int have_ch = 0, have_comp = 0, have_dw = 0, have_disp = 0, have_lo = 0, have_tiles = 0, nattr = 0;
-    int32_t dw[4] = {0}, disp[4] = {0};
-    int lo = 0, mode = 0;
-    uint32_t txs = 0, tys = 0;
-    char sh[40];
-    for (;;) {
-        if (pos >= len)
-            return qtool_errf(err, errlen, "header truncated (no end of attributes)");
-        if (buf[pos] == 0) {
-            ++pos;
-            break;
-        }
-        if (++nattr > QTOOL_EXR_MAX_ATTRIBUTES)
-            return qtool_errf(err, errlen, "more than %d header attributes", QTOOL_EXR_MAX_ATTRIBUTES);
-        const char *name, *type;
-        if (cstr(buf, len, &pos, &name) < 0 || cstr(buf, len, &pos, &type) < 0 || len - pos < 4)
-            return qtool_errf(err, errlen, "header attribute %d truncated or its name longer than 255 bytes", nattr);
-        uint32_t sz = rd32(buf + pos);
-        pos += 4;
-        if (sz > len - pos)
-            return qtool_errf(err, errlen, "attribute %s: %u bytes, past the end of the file", shown(name, sh), (unsigned)sz);
-        const uint8_t *v = buf + pos;
-#define ATTR(n_, t_) (strcmp(name, n_) != 0 ? 0 : strcmp(type, t_) == 0 ? 1 : -1) /* -1: known name, wrong type */
-        int a;
-        if ((a = ATTR("channels", "chlist")) != 0) {
-            if (a < 0 || have_ch)
-                return qtool_errf(err, errlen, "attribute channels twice or not of type chlist");
-            have_ch = 1;
-            size_t q = 0;
-            while (q < sz && v[q]) {
-                const char *cn;
-                if (f->nch == QTOOL_EXR_MAX_CHANNELS)
-                    return qtool_errf(err, errlen, "more than %d channels", QTOOL_EXR_MAX_CHANNELS);
-                if (cstr(v, sz, &q, &cn) < 0 || sz - q < 16)
-                    return qtool_errf(err, errlen, "channel list truncated");
-                channel *c = &f->ch[f->nch++];
-                memcpy(c->name, cn, strlen(cn) + 1);
-                uint32_t t = rd32(v + q);
-                int32_t xs = rds32(v + q + 8), ys = rds32(v + q + 12);
-                q += 16;
-                if (t > 2)
-                    return qtool_errf(err, errlen, "channel %s: pixel type %u (0 UINT, 1 HALF, 2 FLOAT)", shown(cn, sh), (unsigned)t);
-                if (xs != 1 || ys != 1)
-                    return qtool_errf(err, errlen, "channel %s: subsampled %d x %d (only full-resolution channels are read)",
-                                shown(cn, sh), (int)xs, (int)ys);
-                c->type = (int)t;
-                c->slot = -1;
-                f->bpp += type_bytes(c->type);
-            }
-            if (q >= sz)
-                return qtool_errf(err, errlen, "channel list truncated (no terminating NUL)");
-        } else if ((a = ATTR("compression", "compression")) != 0) {
-            if (a < 0 || have_comp || sz != 1)
-                return qtool_errf(err, errlen, "attribute compression twice or malformed");
-            have_comp = 1;
-            f->comp = v[0];
-        } else if ((a = ATTR("dataWindow", "box2i")) != 0 || (a = ATTR("displayWindow", "box2i")) != 0) {
-            int is_data = name[1] == 'a';
-            if (a < 0 || sz != 16 || (is_data ? have_dw : have_disp))
-                return qtool_errf(err, errlen, "attribute %s twice or malformed", name);
-            int32_t *b = is_data ? dw : disp;
-            for (int i = 0; i < 4; ++i)
-                b[i] = rds32(v + 4 * i);
-            *(is_data ? &have_dw : &have_disp) = 1;
-        } else if ((a = ATTR("lineOrder", "lineOrder")) != 0) {
-            if (a < 0 || sz != 1 || have_lo || v[0] > 2)
-                return qtool_errf(err, errlen, "attribute lineOrder twice or malformed (0, 1 or 2)");
-            have_lo = 1;
-            lo = v[0];
-        } else if ((a = ATTR("tiles", "tiledesc")) != 0) {
-            if (a < 0 || sz != 9 || have_tiles)
-                return qtool_errf(err, errlen, "attribute tiles twice or malformed");
-            have_tiles = 1;
-            txs = rd32(v), tys = rd32(v + 4), mode = v[8];
-        }
-#undef ATTR
-        pos += sz;
-    }
-    if (!have_ch || !have_comp || !have_dw || !have_disp || !have_lo)
-        return qtool_errf(err, errlen, "header lacks the required attribute %s",
-                    !have_ch ? "channels" : !have_comp ? "compression" : !have_dw ? "dataWindow" : !have_disp ? "displayWindow" : "lineOrder");
-    if (f->nch == 0)
-        return qtool_errf(err, errlen, "no channels");
-    if (f->comp > 4)
-        return qtool_errf(err, errlen, "compression %s is not read (NONE, RLE, ZIPS, ZIP and PIZ are)",
-                    f->comp < 10 ? comp_names[f->comp] : "unknown");
-    if (tiled_flag != have_tiles)
-        return qtool_errf(err, errlen, tiled_flag ? "tiled file without a tiles attribute" : "tiles attribute in a scanline file");
-    if (dw[2] < dw[0] || dw[3] < dw[1] || disp[2] < disp[0] || disp[3] < disp[1])
-        return qtool_errf(err, errlen, "empty or inverted %s window (%d,%d)-(%d,%d)", dw[2] < dw[0] || dw[3] < dw[1] ? "data" : "display",
-                    (int)(dw[2] < dw[0] || dw[3] < dw[1] ? dw : disp)[0], (int)(dw[2] < dw[0] || dw[3] < dw[1] ? dw : disp)[1],
-                    (int)(dw[2] < dw[0] || dw[3] < dw[1] ? dw : disp)[2], (int)(dw[2] < dw[0] || dw[3] < dw[1] ? dw : disp)[3]);
-    int64_t w = (int64_t)dw[2] - dw[0] + 1, h = (int64_t)dw[3] - dw[1] + 1;
-    if (w > QTOOL_EXR_MAX_DIM || h > QTOOL_EXR_MAX_DIM)
-        return qtool_errf(err, errlen, "data window %lld x %lld, above %u a side (QTOOL_EXR_MAX_DIM)", (long long)w, (long long)h,
-                    (unsigned)QTOOL_EXR_MAX_DIM);
-    if ((uint64_t)w * (uint64_t)h > QTOOL_EXR_MAX_PIXELS)
-        return qtool_errf(err, errlen, "data window %lld x %lld pixels, above the %lu-pixel limit (QTOOL_EXR_MAX_PIXELS)",
-                    (long long)w, (long long)h, (unsigned long)QTOOL_EXR_MAX_PIXELS);
-    f->w = (size_t)w, f->h = (size_t)h, f->xmin = dw[0], f->ymin = dw[1];
-    int ri = -1, gi = -1, bi = -1, yi = -1;
-    for (int i = 0; i < f->nch; ++i) {
-        const char *n = f->ch[i].name;
-        int *slot = !strcmp(n, "R") ? &ri : !strcmp(n, "G") ? &gi : !strcmp(n, "B") ? &bi : !strcmp(n, "Y") ? &yi : NULL;
-        if (slot && *slot >= 0)
-            return qtool_errf(err, errlen, "channel %s twice", n);
-        if (slot)
-            *slot = i;
-    }
-    int grey = !(ri >= 0 && gi >= 0 && bi >= 0);
-    if (grey && yi < 0)
-        return qtool_errf(err, errlen, "no R, G, B channels and no Y channel (the picture channels)");
-    if (grey) {
-        f->ch[yi].slot = 3;
-    } else {
-        f->ch[ri].slot = 0, f->ch[gi].slot = 1, f->ch[bi].slot = 2;
-    }
-    if (have_tiles) {
-        if (txs < 1 || tys < 1 || txs > QTOOL_EXR_MAX_DIM || tys > QTOOL_EXR_MAX_DIM)
-            return qtool_errf(err, errlen, "tile size %u x %u (1..%u a side)", (unsigned)txs, (unsigned)tys, (unsigned)QTOOL_EXR_MAX_DIM);
-        if ((mode & 15) > 2 || (mode >> 4) > 1)
-            return qtool_errf(err, errlen, "tile level mode %d, rounding %d (0..2, 0..1)", mode & 15, mode >> 4);
-        f->tiled = 1;
-        f->tw = txs, f->th = tys;
-        f->ntx = (f->w + txs - 1) / txs, f->nty = (f->h + tys - 1) / tys;
-        f->nchunks = f->ntx * f->nty;
-    } else {
-        static const int lines[5] = {1, 1, 1, 16, 32};
-        f->lines = lines[f->comp];
-        f->nchunks = (f->h + (size_t)f->lines - 1) / (size_t)f->lines;
-    }
-    if (f->nchunks > (len - pos) / 8)
-        return qtool_errf(err, errlen, "chunk offset table (%zu entries) runs past the end of the file", f->nchunks);
-    f->table = pos;
+    exr_attrs at = {0};
+    int grey = 0, pic = 0;
+    if (read_attrs(f, &pos, &at, err, errlen) != 0 || check_windows(f, &at, (ver & 0x200u) != 0, err, errlen) != 0 ||
+        picture_channels(f, &grey, &pic, err, errlen) != 0 || chunk_layout(f, &at, pos, err, errlen) != 0)
+        return -1;
     if (info) {
         memset(info, 0, sizeof *info);
         info->w = (int)f->w, info->h = (int)f->h;
-        memcpy(info->data, dw, sizeof dw);
-        memcpy(info->display, disp, sizeof disp);
+        memcpy(info->data, at.dw, sizeof at.dw);
+        memcpy(info->display, at.disp, sizeof at.disp);
         info->compression = f->comp, info->tiled = f->tiled;
         info->tile_w = (int)f->tw, info->tile_h = (int)f->th;
         info->channels = f->nch, info->grey = grey;
-        info->pixel_type = f->ch[grey ? yi : ri].type;
-        info->line_order = lo;
+        info->pixel_type = f->ch[pic].type;
+        info->line_order = at.lo;
     }
     return 0;
 }

@@ -5,6 +5,7 @@
 #include "io/file.h"
 
 #include "qibl/status.h"
+#include "qtool.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -22,15 +23,10 @@ enum { LOAD_OK = 0, LOAD_ERRNO, LOAD_DIR, LOAD_NOT_REGULAR, LOAD_TOO_BIG, LOAD_F
 
 static int fail(int code, char *err, size_t errlen, const char *path, const char *fmt, ...)
 {
-    if (err && errlen) {
-        va_list ap;
-        snprintf(err, errlen, "%s: ", path);
-        size_t o = strlen(err);
-        va_start(ap, fmt);
-        if (o < errlen)
-            vsnprintf(err + o, errlen - o, fmt, ap);
-        va_end(ap);
-    }
+    va_list ap;
+    va_start(ap, fmt);
+    qtool_verrf_at(err, errlen, path, 0, fmt, ap);
+    va_end(ap);
     return code;
 }
 

@@ -9,6 +9,7 @@
 #include "io/json.h"
 #include "io/png.h"
 #include "io/relpath.h"
+#include "qtool.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -89,10 +90,8 @@ typedef struct {
 static int fail(G *g, const char *fmt, ...)
 {
     va_list ap;
-    int o = snprintf(g->err, g->errlen, "%s: ", g->name ? g->name : "gltf");
     va_start(ap, fmt);
-    if (o > 0 && (size_t)o < g->errlen)
-        vsnprintf(g->err + o, g->errlen - (size_t)o, fmt, ap);
+    qtool_verrf_at(g->err, g->errlen, g->name ? g->name : "gltf", 0, fmt, ap);
     va_end(ap);
     return -1;
 }
@@ -362,6 +361,19 @@ static void put32(uint8_t *p, uint32_t u)
     p[0] = (uint8_t)u, p[1] = (uint8_t)(u >> 8), p[2] = (uint8_t)(u >> 16), p[3] = (uint8_t)(u >> 24);
 }
 
+/* one element of a dense copy: an unsigned int (component type 5125) or a float's bits */
+static void put_elem(uint8_t *p, int ot, double v)
+{
+    uint32_t u;
+    if (ot == 5125) {
+        u = (uint32_t)v;
+    } else {
+        float f = (float)v;
+        memcpy(&u, &f, 4);
+    }
+    put32(p, u);
+}
+
 /* n tightly packed elements of esz bytes from byteOffset in a sparse part's bufferView */
 static int sparse_view(G *g, size_t i, tok *o, const char *part, size_t n, size_t esz, const uint8_t **p)
 {
@@ -401,15 +413,7 @@ static int materialize(G *g, size_t i, tok *o, acc *a, const acc *dense, int has
         return fail(g, "out of memory");
     for (size_t k = 0; has_view && k < a->count; ++k)
         for (int c = 0; c < a->ncomp; ++c) {
-            double v = acc_get(dense, k, c);
-            uint32_t u;
-            if (ot == 5125) {
-                u = (uint32_t)v;
-            } else {
-                float f = (float)v;
-                memcpy(&u, &f, 4);
-            }
-            put32(m + k * esz + 4 * (size_t)c, u);
+            put_elem(m + k * esz + 4 * (size_t)c, ot, acc_get(dense, k, c));
         }
     tok *sp = qtool_json_get(&g->d, o, "sparse");
     if (sp) {
@@ -446,15 +450,7 @@ static int materialize(G *g, size_t i, tok *o, acc *a, const acc *dense, int has
             }
             prev = ix;
             for (int c = 0; c < a->ncomp; ++c) {
-                double v = acc_get(&va, k, c);
-                uint32_t u;
-                if (ot == 5125) {
-                    u = (uint32_t)v;
-                } else {
-                    float f = (float)v;
-                    memcpy(&u, &f, 4);
-                }
-                put32(m + (size_t)ix * esz + 4 * (size_t)c, u);
+                put_elem(m + (size_t)ix * esz + 4 * (size_t)c, ot, acc_get(&va, k, c));
             }
         }
     }
@@ -1165,15 +1161,23 @@ static int emit_mesh(G *g, size_t mi, const double *M, const double *J, size_t n
     return 0;
 }
 
+/* node ni's index into the array of what ("mesh", "camera"): in range, and the array not empty */
+static int node_ref(G *g, tok *o, size_t ni, const char *what, const arr *a, size_t *out)
+{
+    if (get_uint(g, o, what, (double)a->n - 1, -1, "nodes", ni, out) != 0)
+        return -1;
+    if (a->n == 0)
+        return fail(g, "nodes[%zu]: a %s and no %ss", ni, what, what);
+    return 0;
+}
+
 static int visit(G *g, size_t ni, const double *M, int emit)
 {
     tok *o = g->nodes.t[ni];
     if (qtool_json_get(&g->d, o, "mesh")) {
         size_t mi;
-        if (get_uint(g, o, "mesh", (double)g->meshes.n - 1, -1, "nodes", ni, &mi) != 0)
+        if (node_ref(g, o, ni, "mesh", &g->meshes, &mi) != 0)
             return -1;
-        if (g->meshes.n == 0)
-            return fail(g, "nodes[%zu]: a mesh and no meshes", ni);
         if (!emit) {
             if (check_mesh(g, mi) != 0)
                 return -1;
@@ -1199,10 +1203,8 @@ static int visit(G *g, size_t ni, const double *M, int emit)
     }
     if (qtool_json_get(&g->d, o, "camera")) {
         size_t ci;
-        if (get_uint(g, o, "camera", (double)g->cameras.n - 1, -1, "nodes", ni, &ci) != 0)
+        if (node_ref(g, o, ni, "camera", &g->cameras, &ci) != 0)
             return -1;
-        if (g->cameras.n == 0)
-            return fail(g, "nodes[%zu]: a camera and no cameras", ni);
         if (!emit && ++g->ncam > QTOOL_GLTF_MAX_CAMERAS)
             return fail(g, "more than %d cameras placed (QTOOL_GLTF_MAX_CAMERAS)", QTOOL_GLTF_MAX_CAMERAS);
         qtool_gltf_camera cam = {.node = (uint32_t)ni};
@@ -1449,6 +1451,147 @@ int qtool_gltf_parse(const char *name, const char *dir, const uint8_t *buf, size
     return qtool_gltf_parse_at(name, dir, buf, len, max_triangles, -1.0, out, err, errlen);
 }
 
+/* a GLB container: the JSON chunk into [*json, *json + *jlen), the BIN chunk (if any) into g */
+static int glb_chunks(G *g, const uint8_t *buf, size_t len, const char **json, size_t *jlen)
+{
+    if (len < 20)
+        return fail(g, "a GLB of %zu bytes (a header and a JSON chunk need 20)", len);
+    uint32_t ver = le32(buf + 4), total = le32(buf + 8);
+    if (ver != 2)
+        return fail(g, "GLB version %u (only 2 is read)", ver);
+    if (total > len || total < 20)
+        return fail(g, "GLB length %u, the data has %zu bytes", total, len);
+    uint32_t cl = le32(buf + 12);
+    if (le32(buf + 16) != 0x4E4F534Au)
+        return fail(g, "GLB: the first chunk is not JSON");
+    if (cl > total - 20)
+        return fail(g, "GLB: JSON chunk of %u bytes past the file's %u", cl, total);
+    *json = (const char *)buf + 20, *jlen = cl;
+    while (*jlen && (*json)[*jlen - 1] == '\0') /* some exporters pad the JSON chunk with NULs, not spaces */
+        --*jlen;
+    size_t at = 20 + (size_t)cl;
+    g->glb = 1;
+    while (at + 8 <= total) { /* the BIN chunk, if any; other chunks are skipped */
+        uint32_t bl = le32(buf + at), ty = le32(buf + at + 4);
+        if (bl > total - at - 8)
+            return fail(g, "GLB: a chunk of %u bytes at byte %zu runs past the file's %u", bl, at, total);
+        if (ty == 0x004E4942u) {
+            g->bin = buf + at + 8, g->binlen = bl;
+            break;
+        }
+        at += 8 + (size_t)bl;
+    }
+    return 0;
+}
+
+/* the top level: an object of known members, glTF 2.x, its arrays indexed */
+static int top_level(G *g)
+{
+    g->root = g->d.tok;
+    if (g->root->type != QTOOL_JSON_OBJECT)
+        return fail(g, "the JSON is not an object");
+    if (check_members(g) != 0 || check_required(g) != 0)
+        return -1;
+    tok *asset = qtool_json_get(&g->d, g->root, "asset");
+    tok *ver = qtool_json_get(&g->d, asset, "version");
+    char vs[32];
+    if (qtool_json_str(&g->d, ver, vs, sizeof vs) < 0)
+        return fail(g, "no asset.version (not a glTF file?)");
+    if (strncmp(vs, "2.", 2) != 0) {
+        char sh[64];
+        return fail(g, "asset.version %s (only glTF 2.x is read)", shown(vs, sh));
+    }
+    if (index_array(g, "nodes", &g->nodes, QTOOL_GLTF_MAX_NODES) != 0 ||
+        index_array(g, "meshes", &g->meshes, QTOOL_JSON_MAX_TOKENS) != 0 ||
+        index_array(g, "accessors", &g->accessors, QTOOL_JSON_MAX_TOKENS) != 0 ||
+        index_array(g, "bufferViews", &g->views, QTOOL_JSON_MAX_TOKENS) != 0 ||
+        index_array(g, "buffers", &g->buffers, QTOOL_GLTF_MAX_BUFFERS) != 0 ||
+        index_array(g, "materials", &g->materials, QTOOL_JSON_MAX_TOKENS) != 0 ||
+        index_array(g, "textures", &g->textures, QTOOL_JSON_MAX_TOKENS) != 0 ||
+        index_array(g, "images", &g->images, QTOOL_JSON_MAX_TOKENS) != 0 ||
+        index_array(g, "cameras", &g->cameras, QTOOL_JSON_MAX_TOKENS) != 0 ||
+        index_array(g, "scenes", &g->scenes, QTOOL_JSON_MAX_TOKENS) != 0 ||
+        index_array(g, "animations", &g->animations, QTOOL_JSON_MAX_TOKENS) != 0 ||
+        index_array(g, "skins", &g->skins, QTOOL_JSON_MAX_TOKENS) != 0)
+        return -1;
+    return 0;
+}
+
+/* the per-buffer, per-image, per-material, per-mesh, per-accessor and per-node tables */
+static int node_tables(G *g)
+{
+    g->bufs = calloc(g->buffers.n + 1, sizeof *g->bufs);
+    g->image_tex = malloc((g->images.n + 1) * sizeof *g->image_tex);
+    g->mats = calloc(g->materials.n + 1, sizeof *g->mats);
+    g->mesh_tri = malloc((g->meshes.n + 1) * sizeof *g->mesh_tri);
+    g->accmat = calloc(g->accessors.n + 1, sizeof *g->accmat);
+    g->visited = malloc(g->nodes.n + 1);
+    g->inscene = calloc(g->nodes.n + 1, 1);
+    g->world = malloc((g->nodes.n + 1) * 16 * sizeof *g->world);
+    g->anim = malloc((g->nodes.n + 1) * 10 * sizeof *g->anim);
+    g->animmask = calloc(g->nodes.n + 1, 1);
+    if (!g->bufs || !g->image_tex || !g->mats || !g->mesh_tri || !g->visited || !g->accmat || !g->inscene ||
+        !g->world || !g->anim || !g->animmask)
+        return fail(g, "out of memory");
+    for (size_t i = 0; i < g->images.n; ++i)
+        g->image_tex[i] = -2;
+    for (size_t i = 0; i < g->meshes.n; ++i)
+        g->mesh_tri[i] = -1;
+    return 0;
+}
+
+/* the second walk: the placed triangles (and cameras) written into m, sized by the first walk */
+static int fill_mesh(G *g, size_t *roots, size_t nroots, qtool_obj_mesh *m)
+{
+    if (g->total_tri == 0)
+        return fail(g, "no triangles in the scene");
+    if (g->total_tri / QTOOL_GLTF_MAX_INSTANCE_RATIO > g->unique_tri)
+        return fail(g, "%zu triangles placed from %zu in the meshes: more than %d instances each (QTOOL_GLTF_MAX_INSTANCE_RATIO)",
+                    g->total_tri, g->unique_tri, QTOOL_GLTF_MAX_INSTANCE_RATIO);
+    size_t nt = g->total_tri;
+    m->pos = malloc(nt * 9 * sizeof(double));
+    m->nrm = malloc(nt * 9 * sizeof(double));
+    int oom = !m->pos || !m->nrm;
+    if (g->any_mat)
+        oom |= !(m->albedo = malloc(nt * 3 * sizeof(double)));
+    if (g->any_tex) {
+        oom |= !(m->uv = malloc(nt * 6 * sizeof(double)));
+        oom |= !(m->tex = malloc(nt * sizeof(int32_t)));
+        oom |= !(m->texs = calloc(g->ntex, sizeof *m->texs));
+    }
+    if (g->ncam)
+        oom |= !(g->cams = calloc(g->ncam, sizeof *g->cams));
+    if (oom)
+        return fail(g, "out of memory");
+    g->m = m, g->ncam = 0;
+    if (walk(g, roots, nroots, 1) != 0)
+        return -1;
+    m->ntri = g->t, m->nvert = g->nvert, m->nnormals_given = g->nnorm;
+    if (g->any_tex) { /* the textures move to the mesh */
+        memcpy(m->texs, g->texs, g->ntex * sizeof *m->texs);
+        m->ntex = g->ntex;
+        g->ntex = 0;
+    }
+    return 0;
+}
+
+static void g_free(G *g)
+{
+    free(g->cams);
+    for (size_t i = 0; g->bufs && i < g->buffers.n; ++i)
+        free(g->bufs[i].own);
+    for (size_t i = 0; g->accmat && i < g->accessors.n; ++i)
+        free(g->accmat[i]);
+    free(g->accmat);
+    for (size_t i = 0; i < g->ntex; ++i)
+        free(g->texs[i].rgb);
+    free(g->bufs), free(g->image_tex), free(g->mats), free(g->mesh_tri), free(g->visited);
+    free(g->inscene), free(g->world), free(g->anim), free(g->animmask), free(g->animations.t), free(g->skins.t);
+    free(g->nodes.t), free(g->meshes.t), free(g->accessors.t), free(g->views.t), free(g->buffers.t);
+    free(g->materials.t), free(g->textures.t), free(g->images.t), free(g->cameras.t), free(g->scenes.t);
+    qtool_json_free(&g->d);
+}
+
 int qtool_gltf_parse_at(const char *name, const char *dir, const uint8_t *buf, size_t len, size_t max_triangles,
                         double time, qtool_gltf_scene *out, char *err, size_t errlen)
 {
@@ -1459,129 +1602,20 @@ int qtool_gltf_parse_at(const char *name, const char *dir, const uint8_t *buf, s
     size_t *roots = NULL, nroots = 0;
     qtool_obj_mesh m = {0};
     int rc = -1;
-    if (qtool_gltf_sniff_glb(buf, len)) {
-        if (len < 20)
-            return fail(&g, "a GLB of %zu bytes (a header and a JSON chunk need 20)", len);
-        uint32_t ver = le32(buf + 4), total = le32(buf + 8);
-        if (ver != 2)
-            return fail(&g, "GLB version %u (only 2 is read)", ver);
-        if (total > len || total < 20)
-            return fail(&g, "GLB length %u, the data has %zu bytes", total, len);
-        uint32_t cl = le32(buf + 12);
-        if (le32(buf + 16) != 0x4E4F534Au)
-            return fail(&g, "GLB: the first chunk is not JSON");
-        if (cl > total - 20)
-            return fail(&g, "GLB: JSON chunk of %u bytes past the file's %u", cl, total);
-        json = (const char *)buf + 20, jlen = cl;
-        while (jlen && json[jlen - 1] == '\0') /* some exporters pad the JSON chunk with NULs, not spaces */
-            --jlen;
-        size_t at = 20 + (size_t)cl;
-        g.glb = 1;
-        while (at + 8 <= total) { /* the BIN chunk, if any; other chunks are skipped */
-            uint32_t bl = le32(buf + at), ty = le32(buf + at + 4);
-            if (bl > total - at - 8)
-                return fail(&g, "GLB: a chunk of %u bytes at byte %zu runs past the file's %u", bl, at, total);
-            if (ty == 0x004E4942u) {
-                g.bin = buf + at + 8, g.binlen = bl;
-                break;
-            }
-            at += 8 + (size_t)bl;
-        }
-    }
+    if (qtool_gltf_sniff_glb(buf, len) && glb_chunks(&g, buf, len, &json, &jlen) != 0)
+        return -1;
     if (qtool_json_parse(json, jlen, &g.d, err, errlen) != 0) {
         char tmp[400];
         snprintf(tmp, sizeof tmp, "%s", err);
         return fail(&g, "%s", tmp);
     }
-    g.root = g.d.tok;
-    if (g.root->type != QTOOL_JSON_OBJECT) {
-        fail(&g, "the JSON is not an object");
+    if (top_level(&g) != 0 || node_tables(&g) != 0)
         goto out;
-    }
-    if (check_members(&g) != 0 || check_required(&g) != 0)
-        goto out;
-    tok *asset = qtool_json_get(&g.d, g.root, "asset");
-    tok *ver = qtool_json_get(&g.d, asset, "version");
-    char vs[32];
-    if (qtool_json_str(&g.d, ver, vs, sizeof vs) < 0) {
-        fail(&g, "no asset.version (not a glTF file?)");
-        goto out;
-    }
-    if (strncmp(vs, "2.", 2) != 0) {
-        char sh[64];
-        fail(&g, "asset.version %s (only glTF 2.x is read)", shown(vs, sh));
-        goto out;
-    }
-    if (index_array(&g, "nodes", &g.nodes, QTOOL_GLTF_MAX_NODES) != 0 ||
-        index_array(&g, "meshes", &g.meshes, QTOOL_JSON_MAX_TOKENS) != 0 ||
-        index_array(&g, "accessors", &g.accessors, QTOOL_JSON_MAX_TOKENS) != 0 ||
-        index_array(&g, "bufferViews", &g.views, QTOOL_JSON_MAX_TOKENS) != 0 ||
-        index_array(&g, "buffers", &g.buffers, QTOOL_GLTF_MAX_BUFFERS) != 0 ||
-        index_array(&g, "materials", &g.materials, QTOOL_JSON_MAX_TOKENS) != 0 ||
-        index_array(&g, "textures", &g.textures, QTOOL_JSON_MAX_TOKENS) != 0 ||
-        index_array(&g, "images", &g.images, QTOOL_JSON_MAX_TOKENS) != 0 ||
-        index_array(&g, "cameras", &g.cameras, QTOOL_JSON_MAX_TOKENS) != 0 ||
-        index_array(&g, "scenes", &g.scenes, QTOOL_JSON_MAX_TOKENS) != 0 ||
-        index_array(&g, "animations", &g.animations, QTOOL_JSON_MAX_TOKENS) != 0 ||
-        index_array(&g, "skins", &g.skins, QTOOL_JSON_MAX_TOKENS) != 0)
-        goto out;
-    g.bufs = calloc(g.buffers.n + 1, sizeof *g.bufs);
-    g.image_tex = malloc((g.images.n + 1) * sizeof *g.image_tex);
-    g.mats = calloc(g.materials.n + 1, sizeof *g.mats);
-    g.mesh_tri = malloc((g.meshes.n + 1) * sizeof *g.mesh_tri);
-    g.accmat = calloc(g.accessors.n + 1, sizeof *g.accmat);
-    g.visited = malloc(g.nodes.n + 1);
-    g.inscene = calloc(g.nodes.n + 1, 1);
-    g.world = malloc((g.nodes.n + 1) * 16 * sizeof *g.world);
-    g.anim = malloc((g.nodes.n + 1) * 10 * sizeof *g.anim);
-    g.animmask = calloc(g.nodes.n + 1, 1);
-    if (!g.bufs || !g.image_tex || !g.mats || !g.mesh_tri || !g.visited || !g.accmat || !g.inscene || !g.world ||
-        !g.anim || !g.animmask) {
-        fail(&g, "out of memory");
-        goto out;
-    }
-    for (size_t i = 0; i < g.images.n; ++i)
-        g.image_tex[i] = -2;
-    for (size_t i = 0; i < g.meshes.n; ++i)
-        g.mesh_tri[i] = -1;
     if (apply_animation(&g) != 0 || scene_roots(&g, &roots, &nroots) != 0 || walk(&g, roots, nroots, 0) != 0)
         goto out;
     memcpy(g.inscene, g.visited, g.nodes.n);
-    if (g.total_tri == 0) {
-        fail(&g, "no triangles in the scene");
+    if (fill_mesh(&g, roots, nroots, &m) != 0)
         goto out;
-    }
-    if (g.total_tri / QTOOL_GLTF_MAX_INSTANCE_RATIO > g.unique_tri) {
-        fail(&g, "%zu triangles placed from %zu in the meshes: more than %d instances each (QTOOL_GLTF_MAX_INSTANCE_RATIO)",
-             g.total_tri, g.unique_tri, QTOOL_GLTF_MAX_INSTANCE_RATIO);
-        goto out;
-    }
-    size_t nt = g.total_tri;
-    m.pos = malloc(nt * 9 * sizeof(double));
-    m.nrm = malloc(nt * 9 * sizeof(double));
-    int oom = !m.pos || !m.nrm;
-    if (g.any_mat)
-        oom |= !(m.albedo = malloc(nt * 3 * sizeof(double)));
-    if (g.any_tex) {
-        oom |= !(m.uv = malloc(nt * 6 * sizeof(double)));
-        oom |= !(m.tex = malloc(nt * sizeof(int32_t)));
-        oom |= !(m.texs = calloc(g.ntex, sizeof *m.texs));
-    }
-    if (g.ncam)
-        oom |= !(g.cams = calloc(g.ncam, sizeof *g.cams));
-    if (oom) {
-        fail(&g, "out of memory");
-        goto out;
-    }
-    g.m = &m, g.ncam = 0;
-    if (walk(&g, roots, nroots, 1) != 0)
-        goto out;
-    m.ntri = g.t, m.nvert = g.nvert, m.nnormals_given = g.nnorm;
-    if (g.any_tex) { /* the textures move to the mesh */
-        memcpy(m.texs, g.texs, g.ntex * sizeof *m.texs);
-        m.ntex = g.ntex;
-        g.ntex = 0;
-    }
     out->mesh = m;
     out->cams = g.cams, out->ncam = g.ncam;
     out->has_anim = g.has_anim, out->anim_start = g.anim_start, out->anim_end = g.anim_end;
@@ -1590,20 +1624,8 @@ int qtool_gltf_parse_at(const char *name, const char *dir, const uint8_t *buf, s
     rc = 0;
 out:
     qtool_obj_free(&m);
-    free(g.cams);
     free(roots);
-    for (size_t i = 0; g.bufs && i < g.buffers.n; ++i)
-        free(g.bufs[i].own);
-    for (size_t i = 0; g.accmat && i < g.accessors.n; ++i)
-        free(g.accmat[i]);
-    free(g.accmat);
-    for (size_t i = 0; i < g.ntex; ++i)
-        free(g.texs[i].rgb);
-    free(g.bufs), free(g.image_tex), free(g.mats), free(g.mesh_tri), free(g.visited);
-    free(g.inscene), free(g.world), free(g.anim), free(g.animmask), free(g.animations.t), free(g.skins.t);
-    free(g.nodes.t), free(g.meshes.t), free(g.accessors.t), free(g.views.t), free(g.buffers.t);
-    free(g.materials.t), free(g.textures.t), free(g.images.t), free(g.cameras.t), free(g.scenes.t);
-    qtool_json_free(&g.d);
+    g_free(&g);
     return rc;
 }
 

@@ -158,22 +158,61 @@ static int read_angles(numstream *s, double *a, uint32_t n, double lo, double hi
 
 /* ---- decode ----------------------------------------------------------------------------------- */
 
-static int decode_impl(const uint8_t *buf, size_t len, qtool_ies *o, char *err, size_t errlen)
+/* the first line's version label: 1 taken (a label), 0 not a label (1986 free text), -1 unknown */
+static int header_version(const uint8_t *p, size_t n, qtool_ies *o, char *err, size_t errlen)
 {
-    if (len == 0)
-        return qtool_errf(err, errlen, "empty file");
-    if (len > QTOOL_IES_MAX_FILE_BYTES)
-        return qtool_errf(err, errlen, "file of %zu bytes is above the limit of %zu", len, QTOOL_IES_MAX_FILE_BYTES);
-    o->version = 1986;
-    o->stated_lumens = -1;
-    size_t pos = 0, start, n;
-    if (len >= 3 && buf[0] == 0xEF && buf[1] == 0xBB && buf[2] == 0xBF)
-        pos = 3; /* a UTF-8 byte-order mark some editors write */
+    if (starts(p, n, "IESNA:LM-63-1995"))
+        o->version = 1995;
+    else if (starts(p, n, "IESNA:LM-63-2002"))
+        o->version = 2002;
+    else if (starts(p, n, "IES:LM-63-2019") || starts(p, n, "IESNA:LM-63-2019") || starts(p, n, "IESNA:LM-63-2018"))
+        o->version = 2019;
+    else if (starts(p, n, "IESNA91") || starts(p, n, "IESNA:LM-63-1991"))
+        o->version = 1991;
+    else if (starts(p, n, "IESNA:LM-63-1986"))
+        o->version = 1986;
+    else if (starts(p, n, "IESNA") || starts(p, n, "IES:"))
+        return qtool_errf(err, errlen, "unknown LM-63 version label '%.*s' (1991, 1995, 2002 or 2019 known)",
+                          (int)(n > 40 ? 40 : n), (const char *)p);
+    return o->version != 1986 || starts(p, n, "IESNA:LM-63-1986");
+}
+
+/* a [KEYWORD] value line: the four text fields kept, the flux noted */
+static int header_keyword(const uint8_t *p, size_t n, uint32_t line, qtool_ies *o, char *err, size_t errlen)
+{
+    const uint8_t *q = memchr(p, ']', n);
+    if (!q)
+        return qtool_errf(err, errlen, "header line %u: keyword without its closing ']'", line);
+    char kw[QTOOL_IES_TEXT], val[QTOOL_IES_TEXT];
+    keep_text(kw, p + 1, (size_t)(q - p - 1));
+    keep_text(val, q + 1, n - (size_t)(q + 1 - p));
+    if (strcmp(kw, "MORE") == 0) {
+        if (o->nkeywords == 0)
+            return qtool_errf(err, errlen, "header line %u: [MORE] continues no keyword", line);
+        return 0;
+    }
+    ++o->nkeywords;
+    if (strcmp(kw, "TEST") == 0)
+        memcpy(o->test, val, sizeof val);
+    else if (strcmp(kw, "MANUFAC") == 0)
+        memcpy(o->manufac, val, sizeof val);
+    else if (strcmp(kw, "LUMINAIRE") == 0)
+        memcpy(o->luminaire, val, sizeof val);
+    else if (strcmp(kw, "LAMP") == 0)
+        memcpy(o->lamp, val, sizeof val);
+    else if (is_flux_keyword(kw) && o->stated_lumens < 0)
+        o->stated_lumens = value_number(val);
+    return 0;
+}
+
+/* the header lines up to TILT=: *pos ends past that line, [*tilt, *tilt + *tilt_n) is its value */
+static int header(const uint8_t *buf, size_t len, size_t *pos, const uint8_t **tilt, size_t *tilt_n, qtool_ies *o,
+                  char *err, size_t errlen)
+{
     uint32_t lines = 0;
-    int have_tilt = 0;
-    size_t tilt_at = 0, tilt_n = 0;
-    while (pos < len) {
-        n = next_line(buf, len, &pos, &start);
+    size_t start, n;
+    while (*pos < len) {
+        n = next_line(buf, len, pos, &start);
         const uint8_t *p = buf + start;
         if (memchr(p, 0, n))
             return qtool_errf(err, errlen, "a NUL byte in header line %u (not a text file)", lines + 1);
@@ -183,106 +222,78 @@ static int decode_impl(const uint8_t *buf, size_t len, qtool_ies *o, char *err, 
         while (n && (*p == ' ' || *p == '\t'))
             ++p, --n;
         if (lines == 1) {
-            if (starts(p, n, "IESNA:LM-63-1995"))
-                o->version = 1995;
-            else if (starts(p, n, "IESNA:LM-63-2002"))
-                o->version = 2002;
-            else if (starts(p, n, "IES:LM-63-2019") || starts(p, n, "IESNA:LM-63-2019") || starts(p, n, "IESNA:LM-63-2018"))
-                o->version = 2019;
-            else if (starts(p, n, "IESNA91") || starts(p, n, "IESNA:LM-63-1991"))
-                o->version = 1991;
-            else if (starts(p, n, "IESNA:LM-63-1986"))
-                o->version = 1986;
-            else if (starts(p, n, "IESNA") || starts(p, n, "IES:"))
-                return qtool_errf(err, errlen, "unknown LM-63 version label '%.*s' (1991, 1995, 2002 or 2019 known)",
-                            (int)(n > 40 ? 40 : n), (const char *)p);
-            if (o->version != 1986 || starts(p, n, "IESNA:LM-63-1986"))
+            int r = header_version(p, n, o, err, errlen);
+            if (r < 0)
+                return -1;
+            if (r)
                 continue;
         }
         if (starts(p, n, "TILT=") || starts(p, n, "TILT =")) {
-            have_tilt = 1;
             const uint8_t *q = memchr(p, '=', n);
-            tilt_at = (size_t)(q + 1 - buf);
-            tilt_n = n - (size_t)(q + 1 - p);
-            break;
+            *tilt = q + 1;
+            *tilt_n = n - (size_t)(q + 1 - p);
+            return 0;
         }
-        if (n && p[0] == '[') {
-            const uint8_t *q = memchr(p, ']', n);
-            if (!q)
-                return qtool_errf(err, errlen, "header line %u: keyword without its closing ']'", lines);
-            char kw[QTOOL_IES_TEXT], val[QTOOL_IES_TEXT];
-            keep_text(kw, p + 1, (size_t)(q - p - 1));
-            keep_text(val, q + 1, n - (size_t)(q + 1 - p));
-            if (strcmp(kw, "MORE") == 0) {
-                if (o->nkeywords == 0)
-                    return qtool_errf(err, errlen, "header line %u: [MORE] continues no keyword", lines);
-                continue;
-            }
-            ++o->nkeywords;
-            if (strcmp(kw, "TEST") == 0)
-                memcpy(o->test, val, sizeof val);
-            else if (strcmp(kw, "MANUFAC") == 0)
-                memcpy(o->manufac, val, sizeof val);
-            else if (strcmp(kw, "LUMINAIRE") == 0)
-                memcpy(o->luminaire, val, sizeof val);
-            else if (strcmp(kw, "LAMP") == 0)
-                memcpy(o->lamp, val, sizeof val);
-            else if (is_flux_keyword(kw) && o->stated_lumens < 0)
-                o->stated_lumens = value_number(val);
-        }
+        if (n && p[0] == '[' && header_keyword(p, n, lines, o, err, errlen) != 0)
+            return -1;
         /* other lines (1986 free text, stray comments) carry nothing the data need */
     }
-    if (!have_tilt)
-        return qtool_errf(err, errlen, "no TILT= line (not an IES LM-63 file)");
-    /* TILT value: NONE, INCLUDE or a file name */
-    const uint8_t *t = buf + tilt_at;
+    return qtool_errf(err, errlen, "no TILT= line (not an IES LM-63 file)");
+}
+
+/* TILT value: NONE, INCLUDE (the tilt block follows in the number stream) or a file name */
+static int tilt_block(numstream *s, const uint8_t *t, size_t tilt_n, qtool_ies *o, char *err, size_t errlen)
+{
     while (tilt_n && (*t == ' ' || *t == '\t'))
         ++t, --tilt_n;
     while (tilt_n && (t[tilt_n - 1] == ' ' || t[tilt_n - 1] == '\t'))
         --tilt_n;
-    numstream s = {.buf = buf, .len = len, .pos = pos};
     if (tilt_n == 4 && memcmp(t, "NONE", 4) == 0) {
         o->tilt = QTOOL_IES_TILT_NONE;
-    } else if (tilt_n == 7 && memcmp(t, "INCLUDE", 7) == 0) {
-        o->tilt = QTOOL_IES_TILT_INCLUDE;
-        int ntilt;
-        if (inum(&s, &o->tilt_geometry, 1, 3, "the tilt block's lamp-to-luminaire geometry", err, errlen) != 0 ||
-            inum(&s, &ntilt, 1, QTOOL_IES_MAX_TILT, "the tilt angle count", err, errlen) != 0)
-            return -1;
-        if (!room_for(&s, 2u * (uint64_t)ntilt))
-            return qtool_errf(err, errlen, "the tilt block claims %d angles, more than the file holds", ntilt);
-        o->ntilt = (uint32_t)ntilt;
-        o->tilt_angle = malloc(sizeof(double) * o->ntilt);
-        o->tilt_factor = malloc(sizeof(double) * o->ntilt);
-        if (!o->tilt_angle || !o->tilt_factor)
-            return qtool_errf(err, errlen, "out of memory for %u tilt angles", o->ntilt);
-        if (read_angles(&s, o->tilt_angle, o->ntilt, 0, 180, "tilt", err, errlen) != 0)
-            return -1;
-        for (uint32_t i = 0; i < o->ntilt; ++i) {
-            if (num(&s, &o->tilt_factor[i], "a tilt multiplying factor", err, errlen) != 0)
-                return -1;
-            if (o->tilt_factor[i] < 0)
-                return qtool_errf(err, errlen, "tilt multiplying factor %u is negative (%g)", i + 1, o->tilt_factor[i]);
-        }
-    } else {
-        return qtool_errf(err, errlen, "TILT=%.*s: a tilt file beside the .ies is not read (inline it as TILT=INCLUDE)",
-                    (int)(tilt_n > 60 ? 60 : tilt_n), (const char *)t);
+        return 0;
     }
-    /* the ten-number line and the three-number line */
-    int nv, nh;
-    if (inum(&s, &o->nlamps, 1, QTOOL_IES_MAX_LAMPS, "the number of lamps", err, errlen) != 0 ||
-        num(&s, &o->lumens_per_lamp, "the lumens per lamp", err, errlen) != 0 ||
-        num(&s, &o->multiplier, "the candela multiplier", err, errlen) != 0 ||
-        inum(&s, &nv, 1, QTOOL_IES_MAX_ANGLES, "the number of vertical angles", err, errlen) != 0 ||
-        inum(&s, &nh, 1, QTOOL_IES_MAX_ANGLES, "the number of horizontal angles", err, errlen) != 0 ||
-        inum(&s, &o->type, 1, 3, "the photometric type", err, errlen) != 0 ||
-        inum(&s, &o->units, 1, 2, "the units type", err, errlen) != 0 ||
-        num(&s, &o->width, "the luminous width", err, errlen) != 0 ||
-        num(&s, &o->length, "the luminous length", err, errlen) != 0 ||
-        num(&s, &o->height, "the luminous height", err, errlen) != 0 ||
-        num(&s, &o->ballast_factor, "the ballast factor", err, errlen) != 0 ||
-        num(&s, &o->factor2, "the ballast-lamp factor (future use / file generation type)", err, errlen) != 0 ||
-        num(&s, &o->watts, "the input watts", err, errlen) != 0)
+    if (!(tilt_n == 7 && memcmp(t, "INCLUDE", 7) == 0))
+        return qtool_errf(err, errlen, "TILT=%.*s: a tilt file beside the .ies is not read (inline it as TILT=INCLUDE)",
+                          (int)(tilt_n > 60 ? 60 : tilt_n), (const char *)t);
+    o->tilt = QTOOL_IES_TILT_INCLUDE;
+    int ntilt;
+    if (inum(s, &o->tilt_geometry, 1, 3, "the tilt block's lamp-to-luminaire geometry", err, errlen) != 0 ||
+        inum(s, &ntilt, 1, QTOOL_IES_MAX_TILT, "the tilt angle count", err, errlen) != 0)
+        return -1;
+    if (!room_for(s, 2u * (uint64_t)ntilt))
+        return qtool_errf(err, errlen, "the tilt block claims %d angles, more than the file holds", ntilt);
+    o->ntilt = (uint32_t)ntilt;
+    o->tilt_angle = malloc(sizeof(double) * o->ntilt);
+    o->tilt_factor = malloc(sizeof(double) * o->ntilt);
+    if (!o->tilt_angle || !o->tilt_factor)
+        return qtool_errf(err, errlen, "out of memory for %u tilt angles", o->ntilt);
+    if (read_angles(s, o->tilt_angle, o->ntilt, 0, 180, "tilt", err, errlen) != 0)
+        return -1;
+    for (uint32_t i = 0; i < o->ntilt; ++i) {
+        if (num(s, &o->tilt_factor[i], "a tilt multiplying factor", err, errlen) != 0)
+            return -1;
+        if (o->tilt_factor[i] < 0)
+            return qtool_errf(err, errlen, "tilt multiplying factor %u is negative (%g)", i + 1, o->tilt_factor[i]);
+    }
+    return 0;
+}
+
+/* the ten-number line and the three-number line; *nv, *nh the angle counts, checked */
+static int photometry_lines(numstream *s, qtool_ies *o, int *nv, int *nh, char *err, size_t errlen)
+{
+    if (inum(s, &o->nlamps, 1, QTOOL_IES_MAX_LAMPS, "the number of lamps", err, errlen) != 0 ||
+        num(s, &o->lumens_per_lamp, "the lumens per lamp", err, errlen) != 0 ||
+        num(s, &o->multiplier, "the candela multiplier", err, errlen) != 0 ||
+        inum(s, nv, 1, QTOOL_IES_MAX_ANGLES, "the number of vertical angles", err, errlen) != 0 ||
+        inum(s, nh, 1, QTOOL_IES_MAX_ANGLES, "the number of horizontal angles", err, errlen) != 0 ||
+        inum(s, &o->type, 1, 3, "the photometric type", err, errlen) != 0 ||
+        inum(s, &o->units, 1, 2, "the units type", err, errlen) != 0 ||
+        num(s, &o->width, "the luminous width", err, errlen) != 0 ||
+        num(s, &o->length, "the luminous length", err, errlen) != 0 ||
+        num(s, &o->height, "the luminous height", err, errlen) != 0 ||
+        num(s, &o->ballast_factor, "the ballast factor", err, errlen) != 0 ||
+        num(s, &o->factor2, "the ballast-lamp factor (future use / file generation type)", err, errlen) != 0 ||
+        num(s, &o->watts, "the input watts", err, errlen) != 0)
         return -1;
     if (o->lumens_per_lamp < 0 && o->lumens_per_lamp != -1)
         return qtool_errf(err, errlen, "lumens per lamp %g is negative but not -1 (absolute photometry)", o->lumens_per_lamp);
@@ -292,29 +303,19 @@ static int decode_impl(const uint8_t *buf, size_t len, qtool_ies *o, char *err, 
         return qtool_errf(err, errlen, "ballast factor %g is not positive", o->ballast_factor);
     if (o->version <= 1995 && !(o->factor2 > 0))
         return qtool_errf(err, errlen, "ballast-lamp photometric factor %g is not positive", o->factor2);
-    if (nv < 2)
+    if (*nv < 2)
         return qtool_errf(err, errlen, "1 vertical angle: an intensity distribution needs at least 2");
-    if (o->type != QTOOL_IES_TYPE_C && nh < 2)
+    if (o->type != QTOOL_IES_TYPE_C && *nh < 2)
         return qtool_errf(err, errlen, "1 horizontal angle: type %c photometry needs at least 2",
-                    o->type == QTOOL_IES_TYPE_B ? 'B' : 'A');
-    uint64_t nvals = (uint64_t)nv * (uint64_t)nh;
-    if (nvals > QTOOL_IES_MAX_VALUES)
-        return qtool_errf(err, errlen, "%d x %d candela values, above the limit of %u", nv, nh, QTOOL_IES_MAX_VALUES);
-    if (!room_for(&s, (uint64_t)nv + (uint64_t)nh + nvals))
-        return qtool_errf(err, errlen, "%d x %d angles claim more numbers than the file holds", nv, nh);
-    o->nv = (uint32_t)nv;
-    o->nh = (uint32_t)nh;
-    o->v = malloc(sizeof(double) * o->nv);
-    o->h = malloc(sizeof(double) * o->nh);
-    o->cd = malloc(sizeof(double) * (size_t)nvals);
-    if (!o->v || !o->h || !o->cd)
-        return qtool_errf(err, errlen, "out of memory for %d x %d candela values", nv, nh);
-    int c = o->type == QTOOL_IES_TYPE_C;
-    if (read_angles(&s, o->v, o->nv, c ? 0 : -90, c ? 180 : 90, "vertical", err, errlen) != 0 ||
-        read_angles(&s, o->h, o->nh, c ? 0 : -90, c ? 360 : 90, "horizontal", err, errlen) != 0)
-        return -1;
+                          o->type == QTOOL_IES_TYPE_B ? 'B' : 'A');
+    return 0;
+}
+
+/* the symmetry the horizontal angles' range states */
+static int symmetry(qtool_ies *o, char *err, size_t errlen)
+{
     double h0 = o->h[0], h1 = o->h[o->nh - 1];
-    if (c) {
+    if (o->type == QTOOL_IES_TYPE_C) {
         if (o->nh == 1)
             o->sym = QTOOL_IES_SYM_AXIAL;
         else if (h0 == 0 && h1 == 90)
@@ -327,26 +328,49 @@ static int decode_impl(const uint8_t *buf, size_t len, qtool_ies *o, char *err, 
             o->sym = QTOOL_IES_SYM_FULL; /* up to 360 (a grid stopping short wraps to the 0 plane) */
         else
             return qtool_errf(err, errlen,
-                        "horizontal angles %g..%g are none of type C's ranges (0, 0..90, 0..180, 90..270, 0..360)",
-                        h0, h1);
+                              "horizontal angles %g..%g are none of type C's ranges (0, 0..90, 0..180, 90..270, 0..360)",
+                              h0, h1);
     } else {
         if (h0 == 0 && h1 == 90)
             o->sym = QTOOL_IES_SYM_AB_HALF;
         else if (h0 == -90 && h1 == 90)
             o->sym = QTOOL_IES_SYM_AB_FULL;
         else
-            return qtool_errf(err, errlen, "horizontal angles %g..%g are none of type %c's ranges (0..90, -90..90)", h0, h1,
-                        o->type == QTOOL_IES_TYPE_B ? 'B' : 'A');
+            return qtool_errf(err, errlen, "horizontal angles %g..%g are none of type %c's ranges (0..90, -90..90)", h0,
+                              h1, o->type == QTOOL_IES_TYPE_B ? 'B' : 'A');
     }
+    return 0;
+}
+
+/* the angles, the symmetry they state and the candela table (scaled by the multiplier) */
+static int candela_table(numstream *s, qtool_ies *o, int nv, int nh, char *err, size_t errlen)
+{
+    uint64_t nvals = (uint64_t)nv * (uint64_t)nh;
+    if (nvals > QTOOL_IES_MAX_VALUES)
+        return qtool_errf(err, errlen, "%d x %d candela values, above the limit of %u", nv, nh, QTOOL_IES_MAX_VALUES);
+    if (!room_for(s, (uint64_t)nv + (uint64_t)nh + nvals))
+        return qtool_errf(err, errlen, "%d x %d angles claim more numbers than the file holds", nv, nh);
+    o->nv = (uint32_t)nv;
+    o->nh = (uint32_t)nh;
+    o->v = malloc(sizeof(double) * o->nv);
+    o->h = malloc(sizeof(double) * o->nh);
+    o->cd = malloc(sizeof(double) * (size_t)nvals);
+    if (!o->v || !o->h || !o->cd)
+        return qtool_errf(err, errlen, "out of memory for %d x %d candela values", nv, nh);
+    int c = o->type == QTOOL_IES_TYPE_C;
+    if (read_angles(s, o->v, o->nv, c ? 0 : -90, c ? 180 : 90, "vertical", err, errlen) != 0 ||
+        read_angles(s, o->h, o->nh, c ? 0 : -90, c ? 360 : 90, "horizontal", err, errlen) != 0 ||
+        symmetry(o, err, errlen) != 0)
+        return -1;
     o->cd_min = INFINITY;
     o->cd_max = 0;
     for (uint64_t k = 0; k < nvals; ++k) {
         double x;
-        if (num(&s, &x, "a candela value", err, errlen) != 0)
+        if (num(s, &x, "a candela value", err, errlen) != 0)
             return -1;
         if (x < 0)
             return qtool_errf(err, errlen, "candela value %g (horizontal angle %g, vertical %g) is negative", x,
-                        o->h[k / o->nv], o->v[k % o->nv]);
+                              o->h[k / o->nv], o->v[k % o->nv]);
         x *= o->multiplier;
         o->cd[k] = x;
         o->cd_min = x < o->cd_min ? x : o->cd_min;
@@ -354,6 +378,27 @@ static int decode_impl(const uint8_t *buf, size_t len, qtool_ies *o, char *err, 
     }
     /* what follows the table (an end marker, a DOS EOF, a signature) carries nothing: ignored */
     return 0;
+}
+
+static int decode_impl(const uint8_t *buf, size_t len, qtool_ies *o, char *err, size_t errlen)
+{
+    if (len == 0)
+        return qtool_errf(err, errlen, "empty file");
+    if (len > QTOOL_IES_MAX_FILE_BYTES)
+        return qtool_errf(err, errlen, "file of %zu bytes is above the limit of %zu", len, QTOOL_IES_MAX_FILE_BYTES);
+    o->version = 1986;
+    o->stated_lumens = -1;
+    size_t pos = 0, tilt_n = 0;
+    const uint8_t *tilt = NULL;
+    if (len >= 3 && buf[0] == 0xEF && buf[1] == 0xBB && buf[2] == 0xBF)
+        pos = 3; /* a UTF-8 byte-order mark some editors write */
+    if (header(buf, len, &pos, &tilt, &tilt_n, o, err, errlen) != 0)
+        return -1;
+    numstream s = {.buf = buf, .len = len, .pos = pos};
+    int nv = 0, nh = 0;
+    if (tilt_block(&s, tilt, tilt_n, o, err, errlen) != 0 || photometry_lines(&s, o, &nv, &nh, err, errlen) != 0)
+        return -1;
+    return candela_table(&s, o, nv, nh, err, errlen);
 }
 
 void qtool_ies_free(qtool_ies *ies)
@@ -406,13 +451,9 @@ int qtool_ies_read(const char *path, qtool_ies *out, char *err, size_t errlen)
 const char *qtool_ies_sym_name(qtool_ies_sym s)
 {
     switch (s) {
-    case QTOOL_IES_SYM_AXIAL: return "axial";
-    case QTOOL_IES_SYM_QUAD: return "quadrilateral";
-    case QTOOL_IES_SYM_BILATERAL: return "bilateral";
-    case QTOOL_IES_SYM_BILATERAL90: return "bilateral-90-270";
-    case QTOOL_IES_SYM_FULL: return "full";
-    case QTOOL_IES_SYM_AB_HALF: return "lateral-half";
-    case QTOOL_IES_SYM_AB_FULL: return "lateral-full";
+#define QTOOL_IES_SYM_CASE_(name, value, label) case name: return label;
+    QTOOL_IES_SYM_LIST(QTOOL_IES_SYM_CASE_)
+#undef QTOOL_IES_SYM_CASE_
     }
     return "unknown";
 }

@@ -39,15 +39,21 @@
 
 enum { QTOOL_IES_TYPE_C = 1, QTOOL_IES_TYPE_B = 2, QTOOL_IES_TYPE_A = 3 };
 enum { QTOOL_IES_TILT_NONE = 0, QTOOL_IES_TILT_INCLUDE = 1 };
-/* Horizontal symmetry of the grid (how the integral and the lookup expand it). */
+/* Horizontal symmetry of the grid (how the integral and the lookup expand it), as X(name, value,
+ * label): the one list from which the enum and qtool_ies_sym_name's labels are made. */
+#define QTOOL_IES_SYM_LIST(X)                                                                             \
+    X(QTOOL_IES_SYM_AXIAL, 1, "axial")                  /* C: one horizontal angle (0) */                 \
+    X(QTOOL_IES_SYM_QUAD, 2, "quadrilateral")           /* C: 0..90, mirrored into the four quadrants */ \
+    X(QTOOL_IES_SYM_BILATERAL, 3, "bilateral")          /* C: 0..180, mirrored about the 0-180 plane */  \
+    X(QTOOL_IES_SYM_BILATERAL90, 4, "bilateral-90-270") /* C: 90..270, mirrored about the 90-270 plane */\
+    X(QTOOL_IES_SYM_FULL, 5, "full")                    /* C: 0..360 */                                  \
+    X(QTOOL_IES_SYM_AB_HALF, 6, "lateral-half")         /* A, B: horizontal 0..90, mirrored about 0 */   \
+    X(QTOOL_IES_SYM_AB_FULL, 7, "lateral-full")         /* A, B: horizontal -90..90 */
+
 typedef enum qtool_ies_sym {
-    QTOOL_IES_SYM_AXIAL = 1,      /* C: one horizontal angle (0) */
-    QTOOL_IES_SYM_QUAD = 2,       /* C: 0..90, mirrored into the four quadrants */
-    QTOOL_IES_SYM_BILATERAL = 3,  /* C: 0..180, mirrored about the 0-180 plane */
-    QTOOL_IES_SYM_BILATERAL90 = 4, /* C: 90..270, mirrored about the 90-270 plane */
-    QTOOL_IES_SYM_FULL = 5,       /* C: 0..360 */
-    QTOOL_IES_SYM_AB_HALF = 6,    /* A, B: horizontal 0..90, mirrored about 0 */
-    QTOOL_IES_SYM_AB_FULL = 7     /* A, B: horizontal -90..90 */
+#define QTOOL_IES_SYM_ENUM_(name, value, label) name = value,
+    QTOOL_IES_SYM_LIST(QTOOL_IES_SYM_ENUM_)
+#undef QTOOL_IES_SYM_ENUM_
 } qtool_ies_sym;
 
 #define QTOOL_IES_TEXT 96 /* bytes kept of each keyword's value (longer ones are cut) */

@@ -3,6 +3,7 @@
  * tokens in a growing array capped before every growth.
  */
 #include "io/json.h"
+#include "qtool.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -21,11 +22,11 @@ typedef struct {
 
 static int fail(parser *p, const char *fmt, ...)
 {
+    char at[48];
+    snprintf(at, sizeof at, "json: byte %zu", p->pos);
     va_list ap;
-    int o = snprintf(p->err, p->errlen, "json: byte %zu: ", p->pos);
     va_start(ap, fmt);
-    if (o > 0 && (size_t)o < p->errlen)
-        vsnprintf(p->err + o, p->errlen - (size_t)o, fmt, ap);
+    qtool_verrf_at(p->err, p->errlen, at, 0, fmt, ap);
     va_end(ap);
     return -1;
 }
@@ -169,6 +170,21 @@ static int literal(parser *p, const char *w, qtool_json_type type)
     return 0;
 }
 
+/* an object member's key and its ':' (the value follows) */
+static int member_key(parser *p)
+{
+    ws(p);
+    if (p->pos >= p->len || p->s[p->pos] != '"')
+        return fail(p, "expected a string key");
+    if (string(p, 1) != 0)
+        return -1;
+    ws(p);
+    if (p->pos >= p->len || p->s[p->pos] != ':')
+        return fail(p, "expected ':' after a key");
+    ++p->pos;
+    return 0;
+}
+
 int qtool_json_parse(const char *text, size_t len, qtool_json_doc *doc, char *err, size_t errlen)
 {
     parser p = {.s = text, .len = len, .err = err, .errlen = errlen};
@@ -218,19 +234,8 @@ int qtool_json_parse(const char *text, size_t len, qtool_json_doc *doc, char *er
         }
         /* an object member: key then ':' before its value */
         if (opened && p.tok[stack[sp - 1]].type == QTOOL_JSON_OBJECT) {
-            ws(&p);
-            if (p.pos >= len || text[p.pos] != '"') {
-                fail(&p, "expected a string key");
+            if (member_key(&p) != 0)
                 goto bad;
-            }
-            if (string(&p, 1) != 0)
-                goto bad;
-            ws(&p);
-            if (p.pos >= len || text[p.pos] != ':') {
-                fail(&p, "expected ':' after a key");
-                goto bad;
-            }
-            ++p.pos;
             ++p.tok[stack[sp - 1]].count;
             continue;
         }
@@ -269,21 +274,8 @@ int qtool_json_parse(const char *text, size_t len, qtool_json_doc *doc, char *er
             }
             ++p.pos;
             ++top->count;
-            if (obj) {
-                ws(&p);
-                if (p.pos >= len || text[p.pos] != '"') {
-                    fail(&p, "expected a string key");
-                    goto bad;
-                }
-                if (string(&p, 1) != 0)
-                    goto bad;
-                ws(&p);
-                if (p.pos >= len || text[p.pos] != ':') {
-                    fail(&p, "expected ':' after a key");
-                    goto bad;
-                }
-                ++p.pos;
-            }
+            if (obj && member_key(&p) != 0)
+                goto bad;
             break;
         }
     }

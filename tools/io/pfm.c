@@ -9,27 +9,13 @@
 #include "io/atomic.h"
 #include "io/file.h"
 
+#include "qtool.h"
+
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-static int fail(char *err, size_t errlen, const char *name, const char *fmt, ...)
-{
-    va_list ap;
-    size_t o = 0;
-    if (name) {
-        snprintf(err, errlen, "%s: ", name);
-        o = strlen(err);
-    }
-    va_start(ap, fmt);
-    if (o < errlen)
-        vsnprintf(err + o, errlen - o, fmt, ap);
-    va_end(ap);
-    return -1;
-}
 
 static int is_ws(uint8_t c)
 {
@@ -59,41 +45,41 @@ static int decode_impl(const char *name, const uint8_t *buf, size_t len, int *w_
                        float **px_out, char *err, size_t errlen)
 {
     if (len < 2 || buf[0] != 'P' || (buf[1] != 'F' && buf[1] != 'f') || (len > 2 && !is_ws(buf[2])))
-        return fail(err, errlen, name, "not a PFM file (magic must be PF or Pf)");
+        return qtool_errf_at(err, errlen, name, 0, "not a PFM file (magic must be PF or Pf)");
     int ch = buf[1] == 'F' ? 3 : 1;
     size_t pos = 2;
     char t[3][64];
     for (int i = 0; i < 3; ++i) {
         int r = token(buf, len, &pos, t[i]);
         if (r == -2)
-            return fail(err, errlen, name, "byte 0x%02x at offset %zu in the header (not text)", buf[pos], pos);
+            return qtool_errf_at(err, errlen, name, 0, "byte 0x%02x at offset %zu in the header (not text)", buf[pos], pos);
         if (r != 0)
-            return fail(err, errlen, name, "truncated or malformed header");
+            return qtool_errf_at(err, errlen, name, 0, "truncated or malformed header");
     }
     char *end;
     errno = 0;
     long w = strtol(t[0], &end, 10);
     if (*end || errno || w < 1 || w > (long)QTOOL_PFM_MAX_DIM)
-        return fail(err, errlen, name, "bad width '%s' (1..%u)", t[0], QTOOL_PFM_MAX_DIM);
+        return qtool_errf_at(err, errlen, name, 0, "bad width '%s' (1..%u)", t[0], QTOOL_PFM_MAX_DIM);
     long h = strtol(t[1], &end, 10);
     if (*end || errno || h < 1 || h > (long)QTOOL_PFM_MAX_DIM)
-        return fail(err, errlen, name, "bad height '%s' (1..%u)", t[1], QTOOL_PFM_MAX_DIM);
+        return qtool_errf_at(err, errlen, name, 0, "bad height '%s' (1..%u)", t[1], QTOOL_PFM_MAX_DIM);
     if ((uint64_t)w * (uint64_t)h > QIBL_PFM_MAX_PIXELS)
-        return fail(err, errlen, name, "%ld x %ld pixels, above the %lu-pixel limit (QIBL_PFM_MAX_PIXELS)", w, h,
+        return qtool_errf_at(err, errlen, name, 0, "%ld x %ld pixels, above the %lu-pixel limit (QIBL_PFM_MAX_PIXELS)", w, h,
                     (unsigned long)QIBL_PFM_MAX_PIXELS);
     double scale = strtod(t[2], &end);
     if (*end || !isfinite(scale) || scale == 0.0)
-        return fail(err, errlen, name, "bad scale '%s' (a non-zero number; negative means little-endian)", t[2]);
+        return qtool_errf_at(err, errlen, name, 0, "bad scale '%s' (a non-zero number; negative means little-endian)", t[2]);
     if (pos >= len || !is_ws(buf[pos]))
-        return fail(err, errlen, name, pos >= QTOOL_PFM_MAX_HEADER_BYTES ? "header longer than %u bytes" : "truncated header",
+        return qtool_errf_at(err, errlen, name, 0, pos >= QTOOL_PFM_MAX_HEADER_BYTES ? "header longer than %u bytes" : "truncated header",
                     QTOOL_PFM_MAX_HEADER_BYTES);
     ++pos; /* the single whitespace byte before the data */
     size_t n = (size_t)w * (size_t)h * (size_t)ch;
     if (len - pos < n * 4)
-        return fail(err, errlen, name, "truncated: %zu bytes of samples, %zu expected", len - pos, n * 4);
+        return qtool_errf_at(err, errlen, name, 0, "truncated: %zu bytes of samples, %zu expected", len - pos, n * 4);
     float *px = malloc(n * sizeof(float));
     if (!px)
-        return fail(err, errlen, name, "out of memory");
+        return qtool_errf_at(err, errlen, name, 0, "out of memory");
     int little = scale < 0;
     size_t row = (size_t)w * (size_t)ch;
     for (long y = 0; y < h; ++y) {
@@ -107,7 +93,7 @@ static int decode_impl(const char *name, const uint8_t *buf, size_t len, int *w_
             memcpy(&f, &u, 4);
             if (!isfinite(f)) {
                 free(px);
-                return fail(err, errlen, name, "non-finite sample %s at column %zu, row %ld from the top, channel %zu",
+                return qtool_errf_at(err, errlen, name, 0, "non-finite sample %s at column %zu, row %ld from the top, channel %zu",
                             isnan(f) ? "nan" : f > 0 ? "inf" : "-inf", i / (size_t)ch, h - 1 - y, i % (size_t)ch);
             }
             dst[i] = f;
@@ -144,16 +130,16 @@ int qtool_pfm_read(const char *path, int *w, int *h, int *channels, float **px, 
 int qtool_pfm_write(const char *path, int w, int h, int channels, const float *px, char *err, size_t errlen)
 {
     if (w < 1 || h < 1 || w > 65535 || h > 65535 || (channels != 1 && channels != 3))
-        return fail(err, errlen, path, "bad PFM size %dx%d or channel count %d", w, h, channels);
+        return qtool_errf_at(err, errlen, path, 0, "bad PFM size %dx%d or channel count %d", w, h, channels);
     size_t row = (size_t)w * (size_t)channels;
     /* a non-finite sample is refused: no reader could tell it from a corrupt file */
     for (size_t i = 0; i < row * (size_t)h; ++i)
         if (!isfinite(px[i]))
-            return fail(err, errlen, path, "refusing to write a non-finite sample (%g at pixel %zu, channel %zu)",
+            return qtool_errf_at(err, errlen, path, 0, "refusing to write a non-finite sample (%g at pixel %zu, channel %zu)",
                         (double)px[i], i / (size_t)channels, i % (size_t)channels);
     uint8_t *line = malloc(row * 4);
     if (!line)
-        return fail(err, errlen, path, "out of memory");
+        return qtool_errf_at(err, errlen, path, 0, "out of memory");
     qtool_io_atomic a;
     if (qtool_io_atomic_open(&a, path, err, errlen) != 0) {
         free(line);
@@ -171,7 +157,7 @@ int qtool_pfm_write(const char *path, int w, int h, int channels, const float *p
     }
     free(line);
     if (bad) {
-        fail(err, errlen, path, "write failed: %s", strerror(errno));
+        qtool_errf_at(err, errlen, path, 0, "write failed: %s", strerror(errno));
         qtool_io_atomic_abort(&a);
         return -1;
     }

@@ -6,9 +6,10 @@
 #include "io/ply.h"
 #include "io/file.h"
 
+#include "qtool.h"
+
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -42,18 +43,6 @@ typedef struct {
     char *err;
     size_t errlen;
 } body;
-
-static int fail(char *err, size_t errlen, const char *name, const char *fmt, ...)
-{
-    va_list ap;
-    snprintf(err, errlen, "%s: ", name ? name : "ply");
-    size_t o = strlen(err);
-    va_start(ap, fmt);
-    if (o < errlen)
-        vsnprintf(err + o, errlen - o, fmt, ap);
-    va_end(ap);
-    return -1;
-}
 
 static ptype type_of(const char *s)
 {
@@ -101,27 +90,27 @@ static int value(body *b, ptype t, double *d, long long *iv, const char *what)
     if (b->fmt == F_ASCII) {
         char tok[64], *end;
         if (token(b, tok) != 0)
-            return fail(b->err, b->errlen, b->name, "%s: the body ends early (or a value is over 63 characters)", what);
+            return qtool_errf_at(b->err, b->errlen, b->name, 0, "%s: the body ends early (or a value is over 63 characters)", what);
         errno = 0;
         if (isint) {
             long long v = strtoll(tok, &end, 10);
             static const long long lo[] = {0, -128, 0, -32768, 0, -2147483648LL, 0};
             static const long long hi[] = {0, 127, 255, 32767, 65535, 2147483647LL, 4294967295LL};
             if (*end || end == tok || errno == ERANGE || v < lo[t] || v > hi[t])
-                return fail(b->err, b->errlen, b->name, "%s: '%s' is not a %d-byte %s integer", what, tok,
+                return qtool_errf_at(b->err, b->errlen, b->name, 0, "%s: '%s' is not a %d-byte %s integer", what, tok,
                             tsize[t], (t == T_I8 || t == T_I16 || t == T_I32) ? "signed" : "unsigned");
             *iv = v, *d = (double)v;
         } else {
             double v = strtod(tok, &end);
             if (*end || end == tok)
-                return fail(b->err, b->errlen, b->name, "%s: '%s' is not a number", what, tok);
+                return qtool_errf_at(b->err, b->errlen, b->name, 0, "%s: '%s' is not a number", what, tok);
             *d = v, *iv = 0;
         }
         return 0;
     }
     size_t sz = tsize[t];
     if (b->n - b->pos < sz)
-        return fail(b->err, b->errlen, b->name, "%s: the body ends early (%zu bytes)", what, b->n);
+        return qtool_errf_at(b->err, b->errlen, b->name, 0, "%s: the body ends early (%zu bytes)", what, b->n);
     uint64_t u = 0;
     for (size_t i = 0; i < sz; ++i) /* explicit byte order */
         u |= (uint64_t)b->p[b->pos + (b->fmt == F_LE ? i : sz - 1 - i)] << (8 * i);
@@ -173,7 +162,7 @@ static int header(const char *name, const uint8_t *buf, size_t len, int *fmt, el
         while (pos < len && pos < QTOOL_PLY_MAX_HEADER && buf[pos] != '\n')
             ++pos;
         if (pos >= len || pos >= QTOOL_PLY_MAX_HEADER)
-            return fail(err, errlen, name, "no end_header within the first %d bytes (or the file ends in the header)",
+            return qtool_errf_at(err, errlen, name, 0, "no end_header within the first %d bytes (or the file ends in the header)",
                         QTOOL_PLY_MAX_HEADER);
         size_t e = pos++;
         if (e > s && buf[e - 1] == '\r')
@@ -181,7 +170,7 @@ static int header(const char *name, const uint8_t *buf, size_t len, int *fmt, el
         ++line;
         if (line == 1) {
             if (e - s != 3 || memcmp(buf + s, "ply", 3) != 0)
-                return fail(err, errlen, name, "not a PLY file (the first line is not 'ply')");
+                return qtool_errf_at(err, errlen, name, 0, "not a PLY file (the first line is not 'ply')");
             continue;
         }
         if ((e - s >= 8 && memcmp(buf + s, "comment", 7) == 0 && (buf[s + 7] == ' ' || buf[s + 7] == '\t')) ||
@@ -190,11 +179,11 @@ static int header(const char *name, const uint8_t *buf, size_t len, int *fmt, el
             continue;
         char l[256], *tok[8];
         if (e - s >= sizeof l)
-            return fail(err, errlen, name, "header line %d is over %zu characters", line, sizeof l - 1);
+            return qtool_errf_at(err, errlen, name, 0, "header line %d is over %zu characters", line, sizeof l - 1);
         memcpy(l, buf + s, e - s);
         l[e - s] = '\0';
         if (memchr(l, '\0', e - s))
-            return fail(err, errlen, name, "header line %d holds a NUL byte", line);
+            return qtool_errf_at(err, errlen, name, 0, "header line %d holds a NUL byte", line);
         int nt = 0;
         char *save = NULL;
         for (char *p = strtok_r(l, " \t", &save); p && nt < 8; p = strtok_r(NULL, " \t", &save))
@@ -207,7 +196,7 @@ static int header(const char *name, const uint8_t *buf, size_t len, int *fmt, el
         }
         if (strcmp(tok[0], "format") == 0) {
             if (have_fmt || nt != 3 || strcmp(tok[2], "1.0") != 0)
-                return fail(err, errlen, name, "header line %d: a format line must come once, as 'format KIND 1.0'",
+                return qtool_errf_at(err, errlen, name, 0, "header line %d: a format line must come once, as 'format KIND 1.0'",
                             line);
             if (strcmp(tok[1], "ascii") == 0)
                 *fmt = F_ASCII;
@@ -216,21 +205,21 @@ static int header(const char *name, const uint8_t *buf, size_t len, int *fmt, el
             else if (strcmp(tok[1], "binary_big_endian") == 0)
                 *fmt = F_BE;
             else
-                return fail(err, errlen, name, "header line %d: unknown format '%s'", line, tok[1]);
+                return qtool_errf_at(err, errlen, name, 0, "header line %d: unknown format '%s'", line, tok[1]);
             have_fmt = 1;
         } else if (strcmp(tok[0], "element") == 0) {
             if (nt != 3)
-                return fail(err, errlen, name, "header line %d: 'element NAME COUNT' expected", line);
+                return qtool_errf_at(err, errlen, name, 0, "header line %d: 'element NAME COUNT' expected", line);
             if (*nel == QTOOL_PLY_MAX_ELEMENTS)
-                return fail(err, errlen, name, "more than %d elements", QTOOL_PLY_MAX_ELEMENTS);
+                return qtool_errf_at(err, errlen, name, 0, "more than %d elements", QTOOL_PLY_MAX_ELEMENTS);
             if (strlen(tok[1]) >= sizeof el->name)
-                return fail(err, errlen, name, "header line %d: element name over 31 characters", line);
+                return qtool_errf_at(err, errlen, name, 0, "header line %d: element name over 31 characters", line);
             uint64_t c = 0;
             const char *q = tok[2];
             for (; *q >= '0' && *q <= '9' && c <= 0xFFFFFFFFu; ++q)
                 c = c * 10 + (uint64_t)(*q - '0');
             if (*q || q == tok[2] || c > 0xFFFFFFFFu)
-                return fail(err, errlen, name, "header line %d: element %s count '%s' is not a count", line, tok[1],
+                return qtool_errf_at(err, errlen, name, 0, "header line %d: element %s count '%s' is not a count", line, tok[1],
                             tok[2]);
             elem *x = &el[(*nel)++];
             memset(x, 0, sizeof *x);
@@ -238,42 +227,42 @@ static int header(const char *name, const uint8_t *buf, size_t len, int *fmt, el
             x->count = c;
         } else if (strcmp(tok[0], "property") == 0) {
             if (*nel == 0)
-                return fail(err, errlen, name, "header line %d: a property before any element", line);
+                return qtool_errf_at(err, errlen, name, 0, "header line %d: a property before any element", line);
             elem *x = &el[*nel - 1];
             if (x->nprop == QTOOL_PLY_MAX_PROPS)
-                return fail(err, errlen, name, "element %s has more than %d properties", x->name, QTOOL_PLY_MAX_PROPS);
+                return qtool_errf_at(err, errlen, name, 0, "element %s has more than %d properties", x->name, QTOOL_PLY_MAX_PROPS);
             prop *p = &x->p[x->nprop];
             const char *pname;
             if (nt == 5 && strcmp(tok[1], "list") == 0) {
                 p->count_type = type_of(tok[2]), p->type = type_of(tok[3]), pname = tok[4];
                 if (p->count_type == T_NONE || p->count_type == T_F32 || p->count_type == T_F64)
-                    return fail(err, errlen, name, "header line %d: list count type '%s' is not an integer type",
+                    return qtool_errf_at(err, errlen, name, 0, "header line %d: list count type '%s' is not an integer type",
                                 line, tok[2]);
             } else if (nt == 3) {
                 p->count_type = T_NONE, p->type = type_of(tok[1]), pname = tok[2];
             } else {
-                return fail(err, errlen, name, "header line %d: 'property TYPE NAME' or 'property list CTYPE TYPE "
+                return qtool_errf_at(err, errlen, name, 0, "header line %d: 'property TYPE NAME' or 'property list CTYPE TYPE "
                             "NAME' expected", line);
             }
             if (p->type == T_NONE)
-                return fail(err, errlen, name, "header line %d: unknown type '%s'", line,
+                return qtool_errf_at(err, errlen, name, 0, "header line %d: unknown type '%s'", line,
                             p->count_type ? tok[3] : tok[1]);
             if (strlen(pname) >= sizeof p->name)
-                return fail(err, errlen, name, "header line %d: property name over 31 characters", line);
+                return qtool_errf_at(err, errlen, name, 0, "header line %d: property name over 31 characters", line);
             for (int j = 0; j < x->nprop; ++j) /* which of two x's would be the vertex's x? */
                 if (strcmp(x->p[j].name, pname) == 0)
-                    return fail(err, errlen, name, "header line %d: element %s has property %s twice", line, x->name,
+                    return qtool_errf_at(err, errlen, name, 0, "header line %d: element %s has property %s twice", line, x->name,
                                 pname);
             strcpy(p->name, pname);
             x->nprop++;
         } else {
-            return fail(err, errlen, name, "header line %d: unknown keyword '%s'", line, tok[0]);
+            return qtool_errf_at(err, errlen, name, 0, "header line %d: unknown keyword '%s'", line, tok[0]);
         }
         if (!have_fmt && strcmp(tok[0], "format") != 0)
-            return fail(err, errlen, name, "header line %d: '%s' before the format line", line, tok[0]);
+            return qtool_errf_at(err, errlen, name, 0, "header line %d: '%s' before the format line", line, tok[0]);
     }
     if (!have_fmt)
-        return fail(err, errlen, name, "no format line");
+        return qtool_errf_at(err, errlen, name, 0, "no format line");
     return 0;
 }
 
@@ -356,7 +345,7 @@ static int body_pass(const char *name, body b, const elem *el, int nel, int vi, 
                         break;
                     if (i == vi && (j == px || j == py || j == pz)) {
                         if (!isfinite(d) || fabs(d) > COORD_MAX) {
-                            rc = fail(err, errlen, name, "%s: %s = %g is not a finite coordinate within +-1e15", what,
+                            rc = qtool_errf_at(err, errlen, name, 0, "%s: %s = %g is not a finite coordinate within +-1e15", what,
                                       p->name, d);
                             break;
                         }
@@ -371,11 +360,11 @@ static int body_pass(const char *name, body b, const elem *el, int nel, int vi, 
                 /* every item takes at least one byte (binary: its size): a count the rest cannot hold is bad */
                 size_t minb = b.fmt == F_ASCII ? 1 : tsize[p->type];
                 if (is_face && (iv < 3 || iv > QTOOL_PLY_MAX_POLY)) {
-                    rc = fail(err, errlen, name, "%s: %lld vertices (a face has 3..%d)", what, iv, QTOOL_PLY_MAX_POLY);
+                    rc = qtool_errf_at(err, errlen, name, 0, "%s: %lld vertices (a face has 3..%d)", what, iv, QTOOL_PLY_MAX_POLY);
                     break;
                 }
                 if (iv < 0 || (uint64_t)iv > (b.n - b.pos) / minb + 1) {
-                    rc = fail(err, errlen, name, "%s: list %s of %lld items runs past the end of the file", what,
+                    rc = qtool_errf_at(err, errlen, name, 0, "%s: list %s of %lld items runs past the end of the file", what,
                               p->name, iv);
                     break;
                 }
@@ -386,7 +375,7 @@ static int body_pass(const char *name, body b, const elem *el, int nel, int vi, 
                         break;
                     if (is_face) {
                         if (iv < 0 || (uint64_t)iv >= nv) {
-                            rc = fail(err, errlen, name, "%s: vertex index %lld outside 0..%lld", what, iv,
+                            rc = qtool_errf_at(err, errlen, name, 0, "%s: vertex index %lld outside 0..%lld", what, iv,
                                       (long long)nv - 1);
                             break;
                         }
@@ -413,12 +402,14 @@ int qtool_ply_parse_max(const char *name, const uint8_t *buf, size_t len, size_t
 {
     if (max_triangles > QTOOL_PLY_MAX_TRIANGLES)
         max_triangles = QTOOL_PLY_MAX_TRIANGLES;
+    if (!name)
+        name = "ply";
     memset(out, 0, sizeof *out);
     int fmt = F_ASCII, nel = 0;
     size_t hlen = 0;
     elem *el = malloc(sizeof *el * QTOOL_PLY_MAX_ELEMENTS);
     if (!el)
-        return fail(err, errlen, name, "out of memory");
+        return qtool_errf_at(err, errlen, name, 0, "out of memory");
     if (header(name, buf, len, &fmt, el, &nel, &hlen, err, errlen) != 0) {
         free(el);
         return -1;
@@ -435,7 +426,7 @@ int qtool_ply_parse_max(const char *name, const uint8_t *buf, size_t len, size_t
         if (strcmp(x->name, "vertex") == 0 || strcmp(x->name, "face") == 0) {
             int isv = x->name[0] == 'v';
             if ((isv ? vi : fi) >= 0) {
-                int r = fail(err, errlen, name, "two %s elements", x->name);
+                int r = qtool_errf_at(err, errlen, name, 0, "two %s elements", x->name);
                 free(el);
                 return r;
             }
@@ -472,7 +463,7 @@ int qtool_ply_parse_max(const char *name, const uint8_t *buf, size_t len, size_t
     else if (!why && (el[fi].p[pf].type == T_F32 || el[fi].p[pf].type == T_F64))
         why = "vertex_indices are not integers";
     if (why) {
-        int r = fail(err, errlen, name, "%s (vertex %llu of at most %d, face %llu of at most %d)", why,
+        int r = qtool_errf_at(err, errlen, name, 0, "%s (vertex %llu of at most %d, face %llu of at most %d)", why,
                      vi >= 0 ? (unsigned long long)el[vi].count : 0ull, QTOOL_PLY_MAX_VERTICES,
                      fi >= 0 ? (unsigned long long)el[fi].count : 0ull, QTOOL_PLY_MAX_FACES);
         free(el);
@@ -480,7 +471,7 @@ int qtool_ply_parse_max(const char *name, const uint8_t *buf, size_t len, size_t
     }
     size_t blen = len - hlen;
     if (need > (uint64_t)blen + (fmt == F_ASCII ? 1 : 0)) {
-        int r = fail(err, errlen, name, "the header's %llu vertices and %llu faces need at least %llu body bytes; the "
+        int r = qtool_errf_at(err, errlen, name, 0, "the header's %llu vertices and %llu faces need at least %llu body bytes; the "
                      "file has %zu", (unsigned long long)el[vi].count, (unsigned long long)el[fi].count,
                      (unsigned long long)need, blen);
         free(el);
@@ -492,22 +483,22 @@ int qtool_ply_parse_max(const char *name, const uint8_t *buf, size_t len, size_t
      * the exact count before anything is allocated for the mesh */
     int rc = body_pass(name, b, el, nel, vi, fi, px, py, pz, pf, nv, NULL, NULL, &ntri, err, errlen);
     if (rc == 0 && ntri == 0)
-        rc = fail(err, errlen, name, "no faces (the face element is empty)");
+        rc = qtool_errf_at(err, errlen, name, 0, "no faces (the face element is empty)");
     if (rc == 0 && ntri > max_triangles)
-        rc = fail(err, errlen, name, "%zu triangles after fan triangulation of %llu faces (at most %zu)", ntri,
+        rc = qtool_errf_at(err, errlen, name, 0, "%zu triangles after fan triangulation of %llu faces (at most %zu)", ntri,
                   (unsigned long long)el[fi].count, max_triangles);
     double *v = NULL;
     uint32_t *tri = NULL;
     if (rc == 0) {
         v = malloc((nv ? nv : 1) * 3 * sizeof *v), tri = malloc(ntri * 3 * sizeof *tri);
         if (!v || !tri)
-            rc = fail(err, errlen, name, "out of memory");
+            rc = qtool_errf_at(err, errlen, name, 0, "out of memory");
     }
     size_t filled = 0;
     if (rc == 0)
         rc = body_pass(name, b, el, nel, vi, fi, px, py, pz, pf, nv, v, tri, &filled, err, errlen);
     if (rc == 0 && build(v, nv, tri, ntri, out) != 0)
-        rc = fail(err, errlen, name, "out of memory");
+        rc = qtool_errf_at(err, errlen, name, 0, "out of memory");
     free(v), free(tri), free(el);
     if (rc != 0)
         memset(out, 0, sizeof *out);
@@ -530,7 +521,7 @@ int qtool_ply_read_max(const char *path, size_t max_triangles, qtool_obj_mesh *o
     uint8_t *b = qtool_io_read_all(path, &n);
     if (!b) {
         memset(out, 0, sizeof *out);
-        return fail(err, errlen, path, "%s", strerror(errno));
+        return qtool_errf_at(err, errlen, path, 0, "%s", strerror(errno));
     }
     int rc = qtool_ply_parse_max(path, b, n, max_triangles, out, err, errlen);
     free(b);

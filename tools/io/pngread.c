@@ -9,26 +9,12 @@
 
 #include "qibl/asset.h" /* qibl_crc32 */
 
+#include "qtool.h"
+
 #include <errno.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-static int fail(char *err, size_t errlen, const char *name, const char *fmt, ...)
-{
-    va_list ap;
-    size_t o = 0;
-    if (name) {
-        snprintf(err, errlen, "%s: ", name);
-        o = strlen(err);
-    }
-    va_start(ap, fmt);
-    if (o < errlen)
-        vsnprintf(err + o, errlen - o, fmt, ap);
-    va_end(ap);
-    return -1;
-}
 
 static uint32_t get32(const uint8_t *p)
 {
@@ -72,208 +58,225 @@ static const char *type_name(const uint8_t *t, char out[16])
     return out;
 }
 
-static int read_impl(const char *name, const uint8_t *buf, size_t len, int *w_out, int *h_out, int *frames_out,
-                     uint8_t **rgb_out, char *err, size_t errlen)
+/* what the chunks read so far say about the image */
+typedef struct {
+    const char *name;
+    char *err;
+    size_t errlen;
+    uint32_t w, h, frames, nfctl, nfdat_frames, seq;
+    uint8_t plte[768];
+    unsigned nplte, ctype;
+    int ch, seen_ihdr, seen_actl, idat_done, last_fdat_frame;
+    uint8_t *idat;
+    size_t idat_n, idat_cap;
+} png_read;
+
+#define PERR(s, ...) qtool_errf_at((s)->err, (s)->errlen, (s)->name, 0, __VA_ARGS__)
+
+static int png_ihdr(png_read *s, const uint8_t *data, uint32_t n)
+{
+    if (s->seen_ihdr || n != 13)
+        return PERR(s, "bad IHDR");
+    uint32_t w = get32(data), h = get32(data + 4);
+    if (w == 0 || h == 0 || w > QTOOL_PNG_MAX_DIM || h > QTOOL_PNG_MAX_DIM)
+        return PERR(s, "bad image size %ux%u (each 1..%u)", w, h, QTOOL_PNG_MAX_DIM);
+    if ((uint64_t)w * h > QIBL_PNG_MAX_PIXELS)
+        return PERR(s, "%ux%u pixels, above the %u-pixel limit (QIBL_PNG_MAX_PIXELS)", w, h,
+                    (unsigned)QIBL_PNG_MAX_PIXELS);
+    /* 8-bit RGB and RGBA (what qibl writes), and for textures 8-bit grey, grey + alpha and
+     * palette images (returned as RGB) */
+    if (data[8] != 8 || (data[9] != 0 && data[9] != 2 && data[9] != 3 && data[9] != 4 && data[9] != 6) || data[10] ||
+        data[11] || data[12])
+        return PERR(s, "unsupported format (bit depth %u, colour type %u, interlace %u): only 8-bit grey, RGB, palette, grey+alpha or RGBA",
+                    data[8], data[9], data[12]);
+    s->w = w, s->h = h;
+    s->ctype = data[9];
+    s->ch = s->ctype == 2 ? 3 : s->ctype == 6 ? 4 : s->ctype == 4 ? 2 : 1;
+    s->seen_ihdr = 1;
+    return 0;
+}
+
+/* APNG's fcTL and fdAT: only full-size frames, in sequence; counted to check acTL */
+static int png_frame(png_read *s, const uint8_t *type, const uint8_t *data, uint32_t n)
+{
+    char tn[16];
+    if (!s->seen_actl || n < 4 || get32(data) != s->seq)
+        return PERR(s, "%s out of sequence or without acTL", type_name(type, tn));
+    s->seq++;
+    if (type[1] == 'c') {
+        if (n != 26 || get32(data + 4) != s->w || get32(data + 8) != s->h || get32(data + 12) || get32(data + 16))
+            return PERR(s, "fcTL %u is not a full-size frame", s->nfctl);
+        s->nfctl++;
+    } else {
+        if (s->nfctl < 2)
+            return PERR(s, "fdAT before the second fcTL");
+        if (s->last_fdat_frame != (int)s->nfctl) {
+            s->nfdat_frames++;
+            s->last_fdat_frame = (int)s->nfctl;
+        }
+    }
+    return 0;
+}
+
+static int png_idat(png_read *s, const uint8_t *data, uint32_t n)
+{
+    if (s->idat_done)
+        return PERR(s, "IDAT chunks are not consecutive");
+    if (s->idat_n + n + 1 > s->idat_cap) { /* doubling: many small IDATs stay linear */
+        size_t cap = s->idat_cap ? s->idat_cap : 65536;
+        while (cap < s->idat_n + n + 1)
+            cap *= 2;
+        uint8_t *nb = realloc(s->idat, cap);
+        if (!nb)
+            return PERR(s, "out of memory");
+        s->idat = nb, s->idat_cap = cap;
+    }
+    memcpy(s->idat + s->idat_n, data, n);
+    s->idat_n += n;
+    return 0;
+}
+
+/* one chunk whose length and CRC are checked: 0 read, 1 IEND, -1 refused */
+static int png_chunk(png_read *s, const uint8_t *type, const uint8_t *data, uint32_t n)
+{
+    char tn[16];
+    int r = 0;
+    if (!s->seen_ihdr && memcmp(type, "IHDR", 4) != 0)
+        return PERR(s, "first chunk is %s, not IHDR", type_name(type, tn));
+    if (memcmp(type, "IHDR", 4) == 0) {
+        r = png_ihdr(s, data, n);
+    } else if (memcmp(type, "PLTE", 4) == 0) {
+        if (s->nplte || n == 0 || n % 3 || n > 768 || s->idat_n)
+            return PERR(s, "bad PLTE (%u bytes)", n);
+        memcpy(s->plte, data, n);
+        s->nplte = n / 3;
+    } else if (memcmp(type, "acTL", 4) == 0) {
+        if (n != 8 || s->idat_n || get32(data) == 0)
+            return PERR(s, "bad acTL");
+        s->frames = get32(data), s->seen_actl = 1;
+    } else if (memcmp(type, "fcTL", 4) == 0 || memcmp(type, "fdAT", 4) == 0) {
+        r = png_frame(s, type, data, n);
+    } else if (memcmp(type, "IDAT", 4) == 0) {
+        r = png_idat(s, data, n);
+    } else if (memcmp(type, "IEND", 4) == 0) {
+        return 1;
+    } else if (!(type[0] & 0x20)) {
+        return PERR(s, "unknown critical chunk %s", type_name(type, tn));
+    }
+    if (s->idat_n && memcmp(type, "IDAT", 4) != 0)
+        s->idat_done = 1;
+    return r;
+}
+
+/* the chunks from the signature to IEND, then what the whole file must hold */
+static int png_chunks(png_read *s, const uint8_t *buf, size_t len)
 {
     static const uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
     if (len < 8 || memcmp(buf, sig, 8) != 0)
-        return fail(err, errlen, name, "not a PNG (bad signature)");
-    size_t pos = 8, idat_n = 0, idat_cap = 0;
-    uint8_t *idat = NULL;
-    uint32_t w = 0, h = 0, frames = 1, nfctl = 0, nfdat_frames = 0, seq = 0;
-    uint8_t plte[768];
-    unsigned nplte = 0, ctype = 0;
-    int ch = 0, seen_ihdr = 0, seen_iend = 0, seen_actl = 0, idat_done = 0, last_fdat_frame = -1;
-    int rc = -1;
+        return PERR(s, "not a PNG (bad signature)");
+    size_t pos = 8;
+    int seen_iend = 0;
     char tn[16];
     while (pos < len) {
-        if (len - pos < 12) {
-            fail(err, errlen, name, "truncated chunk at byte %zu", pos);
-            goto out;
-        }
+        if (len - pos < 12)
+            return PERR(s, "truncated chunk at byte %zu", pos);
         uint32_t n = get32(buf + pos);
         const uint8_t *type = buf + pos + 4, *data = buf + pos + 8;
-        if (n > len - pos - 12) {
-            fail(err, errlen, name, "chunk %s at byte %zu runs past the end of the file", type_name(type, tn), pos);
-            goto out;
-        }
-        if (qibl_crc32(0, type, 4 + (size_t)n) != get32(data + n)) {
-            fail(err, errlen, name, "CRC mismatch in chunk %s at byte %zu", type_name(type, tn), pos);
-            goto out;
-        }
-        if (!seen_ihdr && memcmp(type, "IHDR", 4) != 0) {
-            fail(err, errlen, name, "first chunk is %s, not IHDR", type_name(type, tn));
-            goto out;
-        }
-        if (memcmp(type, "IHDR", 4) == 0) {
-            if (seen_ihdr || n != 13) {
-                fail(err, errlen, name, "bad IHDR");
-                goto out;
-            }
-            w = get32(data), h = get32(data + 4);
-            if (w == 0 || h == 0 || w > QTOOL_PNG_MAX_DIM || h > QTOOL_PNG_MAX_DIM) {
-                fail(err, errlen, name, "bad image size %ux%u (each 1..%u)", w, h, QTOOL_PNG_MAX_DIM);
-                goto out;
-            }
-            if ((uint64_t)w * h > QIBL_PNG_MAX_PIXELS) {
-                fail(err, errlen, name, "%ux%u pixels, above the %u-pixel limit (QIBL_PNG_MAX_PIXELS)", w, h,
-                     (unsigned)QIBL_PNG_MAX_PIXELS);
-                goto out;
-            }
-            /* 8-bit RGB and RGBA (what qibl writes), and for textures 8-bit grey, grey + alpha and
-             * palette images (returned as RGB) */
-            if (data[8] != 8 || (data[9] != 0 && data[9] != 2 && data[9] != 3 && data[9] != 4 && data[9] != 6) ||
-                data[10] || data[11] || data[12]) {
-                fail(err, errlen, name, "unsupported format (bit depth %u, colour type %u, interlace %u): only 8-bit grey, RGB, palette, grey+alpha or RGBA",
-                     data[8], data[9], data[12]);
-                goto out;
-            }
-            ctype = data[9];
-            ch = ctype == 2 ? 3 : ctype == 6 ? 4 : ctype == 4 ? 2 : 1;
-            seen_ihdr = 1;
-        } else if (memcmp(type, "PLTE", 4) == 0) {
-            if (nplte || n == 0 || n % 3 || n > 768 || idat_n) {
-                fail(err, errlen, name, "bad PLTE (%u bytes)", n);
-                goto out;
-            }
-            memcpy(plte, data, n);
-            nplte = n / 3;
-        } else if (memcmp(type, "acTL", 4) == 0) {
-            if (n != 8 || idat_n || get32(data) == 0) {
-                fail(err, errlen, name, "bad acTL");
-                goto out;
-            }
-            frames = get32(data), seen_actl = 1;
-        } else if (memcmp(type, "fcTL", 4) == 0 || memcmp(type, "fdAT", 4) == 0) {
-            int is_fctl = type[1] == 'c';
-            if (!seen_actl || n < 4 || get32(data) != seq) {
-                fail(err, errlen, name, "%s out of sequence or without acTL", type_name(type, tn));
-                goto out;
-            }
-            seq++;
-            if (is_fctl) {
-                if (n != 26 || get32(data + 4) != w || get32(data + 8) != h || get32(data + 12) || get32(data + 16)) {
-                    fail(err, errlen, name, "fcTL %u is not a full-size frame", nfctl);
-                    goto out;
-                }
-                nfctl++;
-            } else {
-                if (nfctl < 2) {
-                    fail(err, errlen, name, "fdAT before the second fcTL");
-                    goto out;
-                }
-                if (last_fdat_frame != (int)nfctl) {
-                    nfdat_frames++;
-                    last_fdat_frame = (int)nfctl;
-                }
-            }
-        } else if (memcmp(type, "IDAT", 4) == 0) {
-            if (idat_done) {
-                fail(err, errlen, name, "IDAT chunks are not consecutive");
-                goto out;
-            }
-            if (idat_n + n + 1 > idat_cap) { /* doubling: many small IDATs stay linear */
-                size_t cap = idat_cap ? idat_cap : 65536;
-                while (cap < idat_n + n + 1)
-                    cap *= 2;
-                uint8_t *nb = realloc(idat, cap);
-                if (!nb) {
-                    fail(err, errlen, name, "out of memory");
-                    goto out;
-                }
-                idat = nb, idat_cap = cap;
-            }
-            memcpy(idat + idat_n, data, n);
-            idat_n += n;
-        } else if (memcmp(type, "IEND", 4) == 0) {
+        if (n > len - pos - 12)
+            return PERR(s, "chunk %s at byte %zu runs past the end of the file", type_name(type, tn), pos);
+        if (qibl_crc32(0, type, 4 + (size_t)n) != get32(data + n))
+            return PERR(s, "CRC mismatch in chunk %s at byte %zu", type_name(type, tn), pos);
+        int r = png_chunk(s, type, data, n);
+        if (r < 0)
+            return -1;
+        if (r == 1) {
             seen_iend = 1;
             break;
-        } else if (!(type[0] & 0x20)) {
-            fail(err, errlen, name, "unknown critical chunk %s", type_name(type, tn));
-            goto out;
         }
-        if (idat_n && memcmp(type, "IDAT", 4) != 0)
-            idat_done = 1;
         pos += 12 + (size_t)n;
     }
-    if (!seen_iend) {
-        fail(err, errlen, name, "no IEND chunk (truncated file?)");
-        goto out;
-    }
-    if (!idat_n) {
-        fail(err, errlen, name, "no image data (IDAT)");
-        goto out;
-    }
-    if (ctype == 3 && !nplte) {
-        fail(err, errlen, name, "a palette image without PLTE");
-        goto out;
-    }
-    if (seen_actl && (nfctl != frames || nfdat_frames + 1 != frames)) {
-        fail(err, errlen, name, "acTL says %u frames but the file holds %u fcTL and %u fdAT frames", frames, nfctl,
-             nfdat_frames + 1);
-        goto out;
-    }
-    {
-        const char *why = NULL;
-        size_t rn = 0;
-        size_t stride = (size_t)w * (size_t)ch;
-        uint8_t *raw = unzlib(idat, idat_n, (stride + 1) * h, &rn, &why);
-        if (!raw) {
-            fail(err, errlen, name, "image data: %s", why);
-            goto out;
+    if (!seen_iend)
+        return PERR(s, "no IEND chunk (truncated file?)");
+    if (!s->idat_n)
+        return PERR(s, "no image data (IDAT)");
+    if (s->ctype == 3 && !s->nplte)
+        return PERR(s, "a palette image without PLTE");
+    if (s->seen_actl && (s->nfctl != s->frames || s->nfdat_frames + 1 != s->frames))
+        return PERR(s, "acTL says %u frames but the file holds %u fcTL and %u fdAT frames", s->frames, s->nfctl,
+                    s->nfdat_frames + 1);
+    return 0;
+}
+
+/* undoes the row filters of raw (each row its filter byte, then stride bytes) into img */
+static int png_unfilter(png_read *s, const uint8_t *raw, size_t stride, uint8_t *img)
+{
+    size_t ch = (size_t)s->ch;
+    for (uint32_t y = 0; y < s->h; ++y) {
+        const uint8_t *r = raw + (size_t)y * (stride + 1) + 1;
+        uint8_t *o = img + (size_t)y * stride, *u = y ? o - stride : NULL;
+        int ft = r[-1];
+        if (ft > 4)
+            return PERR(s, "bad filter type %d on row %u", ft, y);
+        for (size_t x = 0; x < stride; ++x) {
+            int a = x >= ch ? o[x - ch] : 0, b = u ? u[x] : 0, c = u && x >= ch ? u[x - ch] : 0;
+            int p = ft == 0 ? 0 : ft == 1 ? a : ft == 2 ? b : ft == 3 ? (a + b) / 2 : paeth(a, b, c);
+            o[x] = (uint8_t)(r[x] + p);
         }
-        if (rn != (stride + 1) * h) {
-            free(raw);
-            fail(err, errlen, name, "image data holds %zu bytes, expected %zu", rn, (stride + 1) * h);
-            goto out;
-        }
-        uint8_t *img = malloc(stride * h), *rgb = malloc((size_t)w * h * 3);
-        if (!img || !rgb) {
-            free(raw), free(img), free(rgb);
-            fail(err, errlen, name, "out of memory");
-            goto out;
-        }
-        for (uint32_t y = 0; y < h; ++y) {
-            const uint8_t *r = raw + (size_t)y * (stride + 1) + 1;
-            uint8_t *o = img + (size_t)y * stride, *u = y ? o - stride : NULL;
-            int ft = r[-1];
-            if (ft > 4) {
-                free(raw), free(img), free(rgb);
-                fail(err, errlen, name, "bad filter type %d on row %u", ft, y);
-                goto out;
-            }
-            for (size_t x = 0; x < stride; ++x) {
-                int a = x >= (size_t)ch ? o[x - (size_t)ch] : 0, b = u ? u[x] : 0,
-                    c = u && x >= (size_t)ch ? u[x - (size_t)ch] : 0;
-                int p = ft == 0 ? 0 : ft == 1 ? a : ft == 2 ? b : ft == 3 ? (a + b) / 2 : paeth(a, b, c);
-                o[x] = (uint8_t)(r[x] + p);
-            }
-        }
-        for (size_t i = 0; i < (size_t)w * h; ++i) {
-            const uint8_t *px = img + (size_t)ch * i;
-            if (ctype == 3) {
-                if (px[0] >= nplte) {
-                    unsigned bad = px[0];
-                    free(raw), free(img), free(rgb);
-                    fail(err, errlen, name, "palette index %u past the %u PLTE entries (pixel %zu)", bad, nplte, i);
-                    goto out;
-                }
-                memcpy(rgb + 3 * i, plte + 3 * (size_t)px[0], 3);
-            } else if (ch <= 2) {
-                rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = px[0];
-            } else {
-                memcpy(rgb + 3 * i, px, 3);
-            }
-        }
-        free(raw), free(img);
-        *w_out = (int)w, *h_out = (int)h, *rgb_out = rgb;
-        if (frames_out)
-            *frames_out = (int)frames;
-        rc = 0;
     }
-out:
-    free(idat);
-    return rc;
+    return 0;
+}
+
+/* grey, grey + alpha, palette, RGB or RGBA pixels to RGB */
+static int png_to_rgb(png_read *s, const uint8_t *img, uint8_t *rgb)
+{
+    for (size_t i = 0; i < (size_t)s->w * s->h; ++i) {
+        const uint8_t *px = img + (size_t)s->ch * i;
+        if (s->ctype == 3) {
+            if (px[0] >= s->nplte)
+                return PERR(s, "palette index %u past the %u PLTE entries (pixel %zu)", (unsigned)px[0], s->nplte, i);
+            memcpy(rgb + 3 * i, s->plte + 3 * (size_t)px[0], 3);
+        } else if (s->ch <= 2) {
+            rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = px[0];
+        } else {
+            memcpy(rgb + 3 * i, px, 3);
+        }
+    }
+    return 0;
+}
+
+/* the image data inflated, unfiltered and turned to RGB: a new buffer, or NULL with the message */
+static uint8_t *png_pixels(png_read *s)
+{
+    const char *why = NULL;
+    size_t rn = 0, stride = (size_t)s->w * (size_t)s->ch;
+    uint8_t *raw = unzlib(s->idat, s->idat_n, (stride + 1) * s->h, &rn, &why);
+    if (!raw) {
+        PERR(s, "image data: %s", why);
+        return NULL;
+    }
+    uint8_t *img = NULL, *rgb = NULL;
+    if (rn != (stride + 1) * s->h)
+        PERR(s, "image data holds %zu bytes, expected %zu", rn, (stride + 1) * s->h);
+    else if (!(img = malloc(stride * s->h)) || !(rgb = malloc((size_t)s->w * s->h * 3)))
+        PERR(s, "out of memory");
+    else if (png_unfilter(s, raw, stride, img) != 0 || png_to_rgb(s, img, rgb) != 0)
+        free(rgb), rgb = NULL;
+    free(raw), free(img);
+    return rgb;
+}
+
+static int read_impl(const char *name, const uint8_t *buf, size_t len, int *w_out, int *h_out, int *frames_out,
+                     uint8_t **rgb_out, char *err, size_t errlen)
+{
+    png_read s = {.name = name, .err = err, .errlen = errlen, .frames = 1, .last_fdat_frame = -1};
+    uint8_t *rgb = png_chunks(&s, buf, len) == 0 ? png_pixels(&s) : NULL;
+    free(s.idat);
+    if (!rgb)
+        return -1;
+    *w_out = (int)s.w, *h_out = (int)s.h, *rgb_out = rgb;
+    if (frames_out)
+        *frames_out = (int)s.frames;
+    return 0;
 }
 
 int qtool_png_decode_rgb8(const uint8_t *buf, size_t len, int *w, int *h, int *frames, uint8_t **rgb, char *err,

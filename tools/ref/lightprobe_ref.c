@@ -169,14 +169,23 @@ static void sides(const qtool_ref_probe *p, rect r, double *aw, double *ah)
     *ah = (r.v1 - r.v0) * QTOOL_PI / p->h;
 }
 
-static int cut_median(const qtool_ref_probe *p, rect r, rect *a, rect *b)
+/* the axis to cut r across: 1 along u (the angularly longer side, or the only one two pixels wide),
+ * 0 along v, -1 when neither side is two pixels wide */
+static int long_axis(const qtool_ref_probe *p, rect r)
 {
     int w = r.u1 - r.u0, h = r.v1 - r.v0;
     if (w < 2 && h < 2)
-        return 0;
+        return -1;
     double aw, ah;
     sides(p, r, &aw, &ah);
-    int along_u = h < 2 || (w >= 2 && aw >= ah);
+    return h < 2 || (w >= 2 && aw >= ah);
+}
+
+static int cut_median(const qtool_ref_probe *p, rect r, rect *a, rect *b)
+{
+    int along_u = long_axis(p, r);
+    if (along_u < 0)
+        return 0;
     int lo = (along_u ? r.u0 : r.v0) + 1, hi = (along_u ? r.u1 : r.v1) - 1;
     long double t = sat_sum(p, r.u0, r.v0, r.u1, r.v1);
     int best = lo;
@@ -217,12 +226,9 @@ static double variance(const qtool_ref_probe *p, rect r)
 
 static int cut_varmin(const qtool_ref_probe *p, rect r, rect *a, rect *b)
 {
-    int w = r.u1 - r.u0, h = r.v1 - r.v0;
-    if (w < 2 && h < 2)
+    int first_u = long_axis(p, r), found = 0;
+    if (first_u < 0)
         return 0;
-    double aw, ah;
-    sides(p, r, &aw, &ah);
-    int first_u = h < 2 || (w >= 2 && aw >= ah), found = 0;
     long double t = sat_sum(p, r.u0, r.v0, r.u1, r.v1);
     double best = 0;
     long double best_imb = 0;
@@ -282,6 +288,20 @@ static int cmp_bright(const void *x, const void *y)
     return (a->u0 > b->u0) - (a->u0 < b->u0);
 }
 
+/* region i cut in two (cropped): it keeps one half, the other is appended at *n; 1 if it was cut */
+static int split(const qtool_ref_probe *p, int (*cut)(const qtool_ref_probe *, rect, rect *, rect *), rect *R, int i,
+                 int *n)
+{
+    rect a, b;
+    if (!cut(p, R[i], &a, &b))
+        return 0;
+    crop(p, &a);
+    crop(p, &b);
+    R[i] = a;
+    R[(*n)++] = b;
+    return 1;
+}
+
 int qtool_ref_lights(const qtool_ref_probe *p, int method, int priority, int centre, int max, qtool_ref_light *out)
 {
     if (max < 1 || method < 0 || method > 2)
@@ -306,29 +326,14 @@ int qtool_ref_lights(const qtool_ref_probe *p, int method, int priority, int cen
     if (pri == QTOOL_REF_PRI_LEVELS) {
         for (int round = 1; round < max; round <<= 1) {
             int m = n;
-            for (int i = 0; i < m; ++i) {
-                rect a, b;
-                if (!cut(p, R[i], &a, &b))
-                    continue;
-                crop(p, &a);
-                crop(p, &b);
-                R[i] = a;
-                R[n++] = b;
-            }
+            for (int i = 0; i < m; ++i)
+                split(p, cut, R, i, &n);
         }
         /* one-pixel regions skipped their split: split the others in list order up to max */
         for (int grew = 1; grew && n < max;) {
             grew = 0;
-            for (int i = 0; i < n && n < max; ++i) {
-                rect a, b;
-                if (!cut(p, R[i], &a, &b))
-                    continue;
-                crop(p, &a);
-                crop(p, &b);
-                R[i] = a;
-                R[n++] = b;
-                grew = 1;
-            }
+            for (int i = 0; i < n && n < max; ++i)
+                grew |= split(p, cut, R, i, &n);
         }
     } else {
         char *done = calloc((size_t)max, 1); /* regions that cannot split: the next best is split */
@@ -348,17 +353,10 @@ int qtool_ref_lights(const qtool_ref_probe *p, int method, int priority, int cen
                     bk = k;
                 }
             }
-            rect a, b;
             if (best < 0)
                 break;
-            if (!cut(p, R[best], &a, &b)) {
+            if (!split(p, cut, R, best, &n))
                 done[best] = 1;
-                continue;
-            }
-            crop(p, &a);
-            crop(p, &b);
-            R[best] = a;
-            R[n++] = b;
         }
         free(done);
     }

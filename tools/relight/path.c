@@ -83,7 +83,6 @@ int qtool_relight_path(const uint8_t *bytes, size_t n, const qibl_asset_t *a, co
     uint32_t radius = r->radius > QIBL_LIGHTPATH_MAX_RADIUS ? QIBL_LIGHTPATH_MAX_RADIUS : r->radius;
     if (qtool_bake_relight_path8_gonio(bytes, n, &l, r->gonio, r->index, r->tq, radius, r->sky ? &skysh : NULL, rgb8,
                                        lin, ms, &st) != 0)
-        return qtool_errf(err, errlen, "relight: %s: %s", in,
-                          st == QIBL_E_NULL_POINTER ? "out of memory" : qibl_soft_status_str(st));
+        return qtool_errf(err, errlen, "relight: %s: %s", in, qtool_status_str(st));
     return 0;
 }

@@ -189,7 +189,7 @@ int qtool_relight_frame_gonio(const qibl_shmaps_t *m, const qibl_shlight_t *sh, 
     void *ws = malloc(wsn);
     qibl_status_t st = QIBL_OK;
     if (!pix || !row || !acc || !pt || !ws) {
-        st = QIBL_E_NULL_POINTER;
+        st = QTOOL_E_NOMEM;
         goto out;
     }
     qibl_fb_desc_t fb = {0};

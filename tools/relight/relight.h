@@ -111,7 +111,7 @@ int qtool_relight_points(qtool_relight_opts *o, const qtool_relight_asset *s, qi
  * qtool_bake_relight8_lin does); every light's Q16.16 output summed per pixel in 64 bits and
  * saturated to int32 once, then written through platform/soft (exposure, srgb) into rgb8 (w h 3
  * bytes); lin (may be NULL) gets the linear frame as qtool_bake_relight8_lin gives it. One light
- * gives the bytes qtool_bake_relight8_lin gives. 0, or -1 with *status set (QIBL_E_NULL_POINTER
+ * gives the bytes qtool_bake_relight8_lin gives. 0, or -1 with *status set (QTOOL_E_NOMEM
  * for out of memory). */
 int qtool_relight_frame(const qibl_shmaps_t *m, const qibl_shlight_t *sh, const qibl_shmaps_t *mp,
                         const qibl_pmap_t *pm, const qibl_ylut_t *lut, const qibl_lampocc_t *occ,

@@ -144,6 +144,16 @@ static double unit(uint64_t *x)
     return (double)(splitmix(x) >> 11) * (1.0 / 9007199254740992.0);
 }
 
+/* the k-th of n points on the unit square: the first g^2 one per cell of a g x g grid, the rest
+ * stratified in a only; jittered by st */
+static void stratified(uint32_t k, uint32_t n, uint32_t g, uint64_t *st, double *a, double *b)
+{
+    if (k < g * g)
+        *a = (k % g + unit(st)) / g, *b = (k / g + unit(st)) / g;
+    else
+        *a = (k - g * g + unit(st)) / (n - g * g), *b = unit(st);
+}
+
 typedef struct {
     const qtool_rt_scene *s;
     const qtool_env *e;
@@ -202,10 +212,7 @@ static void env_row(void *ctx, uint32_t y)
         uint32_t gb = (uint32_t)floor(sqrt((double)nb));
         for (uint32_t k = 0; k < nb; ++k) {
             double a, b;
-            if (k < gb * gb)
-                a = (k % gb + unit(&st)) / gb, b = (k / gb + unit(&st)) / gb;
-            else
-                a = (k - gb * gb + unit(&st)) / (nb - gb * gb), b = unit(&st);
+            stratified(k, nb, gb, &st, &a, &b);
             size_t i = cdf_sample(e->cdf_b, e->w, np, a, b);
             a = unit(&st), b = unit(&st);
             pixel_dir(e, i, j->jitter, a, b, wd);
@@ -236,10 +243,7 @@ static void env_row(void *ctx, uint32_t y)
             t2[0] = n[1] * t1[2] - n[2] * t1[1], t2[1] = n[2] * t1[0] - n[0] * t1[2], t2[2] = n[0] * t1[1] - n[1] * t1[0];
             for (uint32_t k = 0; k < ncos; ++k) {
                 double a, b;
-                if (k < g * g)
-                    a = (k % g + unit(&st)) / g, b = (k / g + unit(&st)) / g;
-                else
-                    a = (k - g * g + unit(&st)) / (ncos - g * g), b = unit(&st);
+                stratified(k, ncos, g, &st, &a, &b);
                 double r = sqrt(a), ph = 2 * QTOOL_PI * b, cz = sqrt(fmax(0.0, 1 - a));
                 for (int c = 0; c < 3; ++c)
                     wd[c] = r * cos(ph) * t1[c] + r * sin(ph) * t2[c] + cz * n[c];

@@ -534,16 +534,7 @@ static long trace(const qtool_rt_scene *s, const double o[3], const double d[3],
 
 void qtool_rt_pixel_dir(uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t x, uint32_t y, double d[3])
 {
-    double phi = 2 * QTOOL_PI * (x + 0.5) / w;
-    if (kind == QTOOL_PANO_CYLINDRICAL) {
-        double tanv = QTOOL_PI * h / w;
-        double hgt = (0.5 - (y + 0.5) / h) * 2 * tanv;
-        double len = sqrt(1 + hgt * hgt);
-        d[0] = cos(phi) / len, d[1] = sin(phi) / len, d[2] = hgt / len;
-    } else {
-        double th = QTOOL_PI * (y + 0.5) / h;
-        d[0] = sin(th) * cos(phi), d[1] = sin(th) * sin(phi), d[2] = cos(th);
-    }
+    qtool_gen_pano_dir(w, h, kind, x, y, d);
 }
 
 static int finite_in(const double v[3])

@@ -122,18 +122,7 @@ static int cholesky_solve(int P, double *M, double *rhs)
             ri[j] = t / rj[j];
         }
     }
-    for (int i = 0; i < P; ++i) {
-        double s = rhs[i];
-        for (int k = 0; k < i; ++k)
-            s -= M[(size_t)i * (size_t)P + (size_t)k] * rhs[k];
-        rhs[i] = s / M[(size_t)i * (size_t)P + (size_t)i];
-    }
-    for (int i = P; i-- > 0;) {
-        double s = rhs[i];
-        for (int k = i + 1; k < P; ++k)
-            s -= M[(size_t)k * (size_t)P + (size_t)i] * rhs[k];
-        rhs[i] = s / M[(size_t)i * (size_t)P + (size_t)i];
-    }
+    qtool_study_chol_solve(M, P, rhs);
     return 0;
 }
 

@@ -13,8 +13,11 @@
 
 const char *qtool_study_method_name(int method)
 {
-    static const char *names[QTOOL_STUDY_METHOD_COUNT] = {"mediancut", "adaptive", "varmin",  "sh",    "refit-mc",
-                                                          "refit-vm",  "sun+sky",  "kmeans", "irropt"};
+    static const char *const names[QTOOL_STUDY_METHOD_COUNT] = {
+#define QTOOL_STUDY_METHOD_NAME_(name, text) text,
+        QTOOL_STUDY_METHOD_LIST(QTOOL_STUDY_METHOD_NAME_)
+#undef QTOOL_STUDY_METHOD_NAME_
+    };
     return method >= 0 && method < QTOOL_STUDY_METHOD_COUNT ? names[method] : "?";
 }
 
@@ -26,6 +29,29 @@ static qibl_lightprobe_image_t image_of(const qtool_study_probe *p)
     return img;
 }
 
+int qtool_study_probe_lights(const qtool_study_probe *p, qibl_lightprobe_method_t m, qibl_lightprobe_light_t *L, int n,
+                             qibl_lightprobe_result_t *res, const char *what, char *err, size_t errlen)
+{
+    qibl_lightprobe_image_t img = image_of(p);
+    size_t wsz = qibl_lightprobe_workspace_size(img.width, img.height, m);
+    void *ws = malloc(wsz ? wsz : 1);
+    if (!ws) {
+        snprintf(err, errlen, "%s: out of memory", what);
+        return -1;
+    }
+    qibl_lightprobe_t lp;
+    qibl_lightprobe_opts_t o = {m, 0, 0};
+    qibl_status_t st = qibl_lightprobe_build(&lp, &img, m, ws, wsz);
+    if (st == QIBL_OK)
+        st = qibl_lightprobe_lights(&lp, &o, L, (uint32_t)n, res);
+    free(ws);
+    if (st != QIBL_OK) {
+        snprintf(err, errlen, "%s: %s", what, qibl_status_str(st));
+        return -1;
+    }
+    return 0;
+}
+
 int qtool_study_core_lights(const qtool_study_probe *p, int method, int n, qtool_study_model *md, char *err,
                             size_t errlen)
 {
@@ -34,24 +60,14 @@ int qtool_study_core_lights(const qtool_study_probe *p, int method, int n, qtool
         return -1;
     }
     qibl_lightprobe_method_t m = (qibl_lightprobe_method_t)method; /* the same order */
-    qibl_lightprobe_image_t img = image_of(p);
-    size_t wsz = qibl_lightprobe_workspace_size(img.width, img.height, m);
-    void *ws = malloc(wsz ? wsz : 1);
     qibl_lightprobe_light_t *L = malloc(sizeof *L * (size_t)n);
-    if (!ws || !L) {
-        free(ws), free(L);
+    qibl_lightprobe_result_t res;
+    if (!L) {
         snprintf(err, errlen, "core lights: out of memory");
         return -1;
     }
-    qibl_lightprobe_t lp;
-    qibl_lightprobe_opts_t o = {m, 0, 0};
-    qibl_lightprobe_result_t res;
-    qibl_status_t st = qibl_lightprobe_build(&lp, &img, m, ws, wsz);
-    if (st == QIBL_OK)
-        st = qibl_lightprobe_lights(&lp, &o, L, (uint32_t)n, &res);
-    if (st != QIBL_OK) {
-        free(ws), free(L);
-        snprintf(err, errlen, "core lights: %s", qibl_status_str(st));
+    if (qtool_study_probe_lights(p, m, L, n, &res, "core lights", err, errlen) != 0) {
+        free(L);
         return -1;
     }
     memset(md, 0, sizeof *md);
@@ -61,7 +77,7 @@ int qtool_study_core_lights(const qtool_study_probe *p, int method, int n, qtool
             md->dir[i][c] = L[i].dir[c] / 1073741824.0;
             md->rgb[i][c] = ldexp(L[i].rgb[c], res.rgb_exp);
         }
-    free(ws), free(L);
+    free(L);
     return 0;
 }
 

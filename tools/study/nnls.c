@@ -10,6 +10,22 @@
 
 #include "study/study.h"
 
+void qtool_study_chol_solve(const double *L, int k, double *b)
+{
+    for (int i = 0; i < k; ++i) {
+        double s = b[i];
+        for (int t = 0; t < i; ++t)
+            s -= L[(size_t)i * (size_t)k + (size_t)t] * b[t];
+        b[i] = s / L[(size_t)i * (size_t)k + (size_t)i];
+    }
+    for (int i = k; i-- > 0;) {
+        double s = b[i];
+        for (int t = i + 1; t < k; ++t)
+            s -= L[(size_t)t * (size_t)k + (size_t)i] * b[t];
+        b[i] = s / L[(size_t)i * (size_t)k + (size_t)i];
+    }
+}
+
 /* Solves G_PP z = h_P (P: the indices with in[i]) by Cholesky; 0, or -1 if not positive definite. */
 static int solve_passive(int n, const double *G, const double *h, const char *in, double *z, double *L, int *idx)
 {
@@ -31,18 +47,9 @@ static int solve_passive(int n, const double *G, const double *h, const char *in
             }
         }
     double *y = z + n; /* scratch after z */
-    for (int i = 0; i < k; ++i) {
-        double s = h[idx[i]];
-        for (int t = 0; t < i; ++t)
-            s -= L[(size_t)i * (size_t)k + (size_t)t] * y[t];
-        y[i] = s / L[(size_t)i * (size_t)k + (size_t)i];
-    }
-    for (int i = k; i-- > 0;) {
-        double s = y[i];
-        for (int t = i + 1; t < k; ++t)
-            s -= L[(size_t)t * (size_t)k + (size_t)i] * y[t];
-        y[i] = s / L[(size_t)i * (size_t)k + (size_t)i];
-    }
+    for (int i = 0; i < k; ++i)
+        y[i] = h[idx[i]];
+    qtool_study_chol_solve(L, k, y);
     for (int i = 0; i < n; ++i)
         z[i] = 0;
     for (int i = 0; i < k; ++i)

@@ -472,98 +472,114 @@ static int commit_out(qtool_io_atomic *a)
     return 0;
 }
 
-static int run_all(const char *const *paths, int np, const qtool_study_opts *o)
+/* probe i as a 2:1 RGBE lat-long: a procedural sky (no paths) or the file, halved for --quick;
+ * its name into pi. 0, or 1 with the reason on stderr. */
+static int load_probe(const char *const *paths, int i, int procedural, const qtool_study_opts *o, pinfo *pi, int *w_out,
+                      int *h_out, uint8_t **px_out)
 {
-    cfg c = {o->quick, o->threads > 0 ? o->threads : 2, o->quick ? 2000 : 20000, o->quick ? 64 : 256,
-             o->quick ? 16 : 96, o->quick ? 400 : 600, 100, o->quick ? 8 : 20};
-    if (mkdir_p(o->out_dir) != 0)
-        return fprintf(stderr, "qibl: study: cannot create %s: %s\n", o->out_dir, strerror(errno)), 1;
-    double t_all = now_ms();
-    static pinfo info[MAXP + 1];
-    int count = 0, procedural = np == 0;
-    if (np > MAXP)
-        return fprintf(stderr, "qibl: study: %d probes (at most %d)\n", np, MAXP), 1;
-    int total = procedural ? 2 : np;
-    if (procedural)
-        printf("study: no probes given (../shared/fixtures/probes absent?): procedural skies from tools/study "
-               "(a sunny and an overcast sky) stand in\n");
+    int w, h;
+    uint8_t *px = NULL;
+    char err[512];
+    if (procedural) {
+        w = o->quick ? 256 : 1024, h = w / 2;
+        px = qtool_study_procedural(w, h, i == 0);
+        snprintf(pi->name, sizeof pi->name, "procedural_%s", i == 0 ? "sunny" : "overcast");
+        if (!px)
+            return fprintf(stderr, "qibl: study: out of memory\n"), 1;
+    } else {
+        if (qtool_hdr_read_rgbe(paths[i], &w, &h, &px, err, sizeof err) != 0)
+            return fprintf(stderr, "qibl: study: %s\n", err), 1;
+        snprintf(pi->name, sizeof pi->name, "%.120s", base_name(paths[i]));
+        char *dot = strrchr(pi->name, '.');
+        if (dot)
+            *dot = '\0';
+    }
+    if (w != 2 * h) {
+        free(px);
+        return fprintf(stderr, "qibl: study: %s: %d x %d is not a 2:1 lat-long probe\n", procedural ? pi->name : paths[i],
+                       w, h), 1;
+    }
+    if (o->quick && w > 512) { /* --quick: the probe at half size */
+        uint8_t *hp = half_rgbe(px, w, h);
+        free(px);
+        if (!hp)
+            return fprintf(stderr, "qibl: study: out of memory\n"), 1;
+        px = hp, w /= 2, h /= 2;
+    }
+    *w_out = w, *h_out = h, *px_out = px;
+    return 0;
+}
+
+/* one probe's rows, overlay and plot; *count advances when it was studied. 0, or 1 to stop. */
+static int study_one(const qtool_study_probe *p, int w, int h, const cfg *c, const qtool_study_opts *o, pinfo *info,
+                     int *count)
+{
+    int q = *count;
+    info[q].w = w, info[q].h = h;
+    if (run_probe(q, p, c, &info[q], &ovs[q]) != 0)
+        return 0;
+    char path[1024], title[256];
+    snprintf(path, sizeof path, "%s/overlay_%s.png", o->out_dir, info[q].name);
+    snprintf(title, sizeof title, "%s (%d x %d): irradiance error against N", info[q].name, w, h);
+    int bad = write_overlay(path, p, &ovs[q]);
+    snprintf(path, sizeof path, "%s/plot_%s.svg", o->out_dir, info[q].name);
+    if (bad || plot_n(path, title, q, q + 1) != 0)
+        return 1;
+    ++*count;
+    return 0;
+}
+
+/* the speed case: the first probe at 4x (4096 x 2048 for a 1k probe) as row set MAXP */
+static void study_x4(const uint8_t *px, int w, int h, const cfg *c, pinfo *info)
+{
+    uint8_t *big = up4_rgbe(px, w, h);
+    qtool_study_probe pb;
+    char err[512];
+    if (big && qtool_study_probe_init(&pb, 4 * w, 4 * h, big, err, sizeof err) == 0) {
+        snprintf(info[MAXP].name, sizeof info[MAXP].name, "%.100s_x4", info[0].name);
+        info[MAXP].w = 4 * w, info[MAXP].h = 4 * h;
+        if (run_probe(MAXP, &pb, c, &info[MAXP], &ovs[MAXP]) != 0)
+            info[MAXP].w = 0;
+        qtool_study_probe_free(&pb);
+    }
+    free(big);
+}
+
+/* every probe studied in turn; *count how many gave rows */
+static int study_probes(const char *const *paths, int np, const cfg *c, const qtool_study_opts *o, pinfo *info,
+                        int *count)
+{
+    int procedural = np == 0, total = procedural ? 2 : np;
     for (int i = 0; i < total; ++i) {
         int w, h;
         uint8_t *px = NULL;
         char err[512];
-        if (procedural) {
-            w = o->quick ? 256 : 1024, h = w / 2;
-            px = qtool_study_procedural(w, h, i == 0);
-            snprintf(info[count].name, sizeof info[count].name, "procedural_%s", i == 0 ? "sunny" : "overcast");
-            if (!px)
-                return fprintf(stderr, "qibl: study: out of memory\n"), 1;
-        } else {
-            if (qtool_hdr_read_rgbe(paths[i], &w, &h, &px, err, sizeof err) != 0)
-                return fprintf(stderr, "qibl: study: %s\n", err), 1;
-            snprintf(info[count].name, sizeof info[count].name, "%.120s", base_name(paths[i]));
-            char *dot = strrchr(info[count].name, '.');
-            if (dot)
-                *dot = '\0';
-        }
-        if (w != 2 * h) {
-            free(px);
-            return fprintf(stderr, "qibl: study: %s: %d x %d is not a 2:1 lat-long probe\n",
-                           procedural ? info[count].name : paths[i], w, h), 1;
-        }
-        if (o->quick && w > 512) { /* --quick: the probe at half size */
-            uint8_t *hp = half_rgbe(px, w, h);
-            free(px);
-            if (!hp)
-                return fprintf(stderr, "qibl: study: out of memory\n"), 1;
-            px = hp, w /= 2, h /= 2;
-        }
+        if (load_probe(paths, i, procedural, o, &info[*count], &w, &h, &px) != 0)
+            return 1;
         qtool_study_probe p;
         if (qtool_study_probe_init(&p, w, h, px, err, sizeof err) != 0) {
             free(px);
-            return fprintf(stderr, "qibl: study: %s: %s\n", info[count].name, err), 1;
+            return fprintf(stderr, "qibl: study: %s: %s\n", info[*count].name, err), 1;
         }
+        int rc = 0;
         if (qtool_study_probe_lit(&p, err, sizeof err) != 0) {
-            qtool_study_probe_free(&p);
-            free(px);
-            return fprintf(stderr, "qibl: study: %s: %s\n", info[count].name, err), 1;
-        }
-        info[count].w = w, info[count].h = h;
-        if (run_probe(count, &p, &c, &info[count], &ovs[count]) == 0) {
-            char path[1024];
-            snprintf(path, sizeof path, "%s/overlay_%s.png", o->out_dir, info[count].name);
-            char title[256];
-            snprintf(title, sizeof title, "%s (%d x %d): irradiance error against N", info[count].name, w, h);
-            int bad = write_overlay(path, &p, &ovs[count]);
-            snprintf(path, sizeof path, "%s/plot_%s.svg", o->out_dir, info[count].name);
-            if (bad || plot_n(path, title, count, count + 1) != 0) {
-                qtool_study_probe_free(&p);
-                free(px);
-                return 1;
-            }
-            ++count;
-        }
-        /* the speed case: the first probe at 4x (4096 x 2048 for a 1k probe), full runs only */
-        if (i == 0 && !o->quick && w * 4 <= 8192) {
-            uint8_t *big = up4_rgbe(px, w, h);
-            qtool_study_probe pb;
-            if (big && qtool_study_probe_init(&pb, 4 * w, 4 * h, big, err, sizeof err) == 0) {
-                snprintf(info[MAXP].name, sizeof info[MAXP].name, "%.100s_x4", info[0].name);
-                info[MAXP].w = 4 * w, info[MAXP].h = 4 * h;
-                if (run_probe(MAXP, &pb, &c, &info[MAXP], &ovs[MAXP]) != 0)
-                    info[MAXP].w = 0;
-                qtool_study_probe_free(&pb);
-            }
-            free(big);
+            fprintf(stderr, "qibl: study: %s: %s\n", info[*count].name, err);
+            rc = 1;
+        } else if (study_one(&p, w, h, c, o, info, count) != 0) {
+            rc = 1;
+        } else if (i == 0 && !o->quick && w * 4 <= 8192) { /* full runs only */
+            study_x4(px, w, h, c, info);
         }
         qtool_study_probe_free(&p);
         free(px);
+        if (rc)
+            return rc;
     }
-    if (count == 0)
-        return fprintf(stderr, "qibl: study: no probe could be studied\n"), 1;
+    return 0;
+}
 
-    /* CSV */
-    char path[1024];
-    snprintf(path, sizeof path, "%s/study.csv", o->out_dir);
+static int write_csv(const char *path, const pinfo *info)
+{
     qtool_io_atomic at;
     if (open_out(&at, path) != 0)
         return 1;
@@ -576,38 +592,62 @@ static int run_all(const char *const *paths, int np, const qtool_study_opts *o)
                 qtool_study_method_name(r->method), r->nreq, r->n, r->numbers, r->e.mean_rel, r->e.max_rel, r->e.mean_norm,
                 r->e.max_norm, r->ms, r->conv < 0 ? "" : r->conv ? "yes" : "no", r->iters);
     }
-    if (commit_out(&at) != 0)
-        return 1;
-    snprintf(path, sizeof path, "%s/plot_average.svg", o->out_dir);
-    char title[256];
-    snprintf(title, sizeof title, "irradiance error against N, averaged over %d probe%s", count, count > 1 ? "s" : "");
-    if (plot_n(path, title, -1, count) != 0)
-        return 1;
-    snprintf(path, sizeof path, "%s/time_%s.svg", o->out_dir, info[0].name);
-    snprintf(title, sizeof title, "%s (%d x %d): error against time", info[0].name, info[0].w, info[0].h);
-    if (plot_time(path, title, 0) != 0)
-        return 1;
-    if (info[MAXP].w) {
-        snprintf(path, sizeof path, "%s/time_%s.svg", o->out_dir, info[MAXP].name);
-        snprintf(title, sizeof title, "%s (%d x %d): error against time", info[MAXP].name, info[MAXP].w, info[MAXP].h);
-        if (plot_time(path, title, MAXP) != 0)
-            return 1;
-    }
+    return commit_out(&at) != 0;
+}
 
-    /* figures for the words and the RESULT lines */
-    double ratio16 = 0;
-    int nr16 = 0, halved = 0, halved_cases = 0;
+/* a probe's error-against-time plot (rows of set q) */
+static int plot_time_of(const char *dir, const pinfo *pi, int q)
+{
+    char path[1024], title[256];
+    snprintf(path, sizeof path, "%s/time_%s.svg", dir, pi->name);
+    snprintf(title, sizeof title, "%s (%d x %d): error against time", pi->name, pi->w, pi->h);
+    return plot_time(path, title, q);
+}
+
+/* the average plot and the error-against-time plots of the first probe and its 4x case */
+static int write_plots(const char *dir, const pinfo *info, int count)
+{
+    char path[1024], title[256];
+    snprintf(path, sizeof path, "%s/plot_average.svg", dir);
+    snprintf(title, sizeof title, "irradiance error against N, averaged over %d probe%s", count, count > 1 ? "s" : "");
+    if (plot_n(path, title, -1, count) != 0 || plot_time_of(dir, &info[0], 0) != 0)
+        return 1;
+    return info[MAXP].w && plot_time_of(dir, &info[MAXP], MAXP) != 0;
+}
+
+/* the figures the findings and the RESULT lines quote */
+typedef struct {
+    double ratio16, ss_num, io_factor, rio;
+    int count, nr16, halved, halved_cases, io_max_conv, ss_cnt, ss_wins, sunny, fac_cnt, nrio;
+} findings;
+
+static const double thresholds[3] = {0.10, 0.05, 0.02}; /* mean errors the tables and findings ask for */
+
+/* the refit against median cut: mean-error ratio at 16, and how often it at least halves the error */
+static void refit_figures(int count, findings *fd)
+{
     for (int q = 0; q < count; ++q) {
         const row *a = find(q, QTOOL_STUDY_MEDIANCUT, 16), *b = find(q, QTOOL_STUDY_REFIT_MC, 16);
         if (a && b && a->e.mean_rel > 0)
-            ratio16 += b->e.mean_rel / a->e.mean_rel, ++nr16;
+            fd->ratio16 += b->e.mean_rel / a->e.mean_rel, ++fd->nr16;
         for (int n = 1; n <= 64; n *= 2) {
             a = find(q, QTOOL_STUDY_MEDIANCUT, n), b = find(q, QTOOL_STUDY_REFIT_MC, n);
             if (a && b)
-                halved_cases++, halved += b->e.mean_rel <= 0.5 * a->e.mean_rel;
+                fd->halved_cases++, fd->halved += b->e.mean_rel <= 0.5 * a->e.mean_rel;
         }
     }
-    int io_max_conv = 0;
+    /* where the refit lands: its mean error at 16 against irradiance optimisation's */
+    for (int q = 0; q < count; ++q) {
+        const row *a = find(q, QTOOL_STUDY_IRROPT, 16), *b = find(q, QTOOL_STUDY_REFIT_VM, 16);
+        if (a && b && a->e.mean_rel > 0)
+            fd->rio += b->e.mean_rel / a->e.mean_rel, ++fd->nrio;
+    }
+}
+
+/* irradiance optimisation: the largest N converged on every probe, and N_mc / N_io at the
+ * thresholds both reach (geometric mean) */
+static void irropt_figures(int count, findings *fd)
+{
     for (int j = 0; j < NLIST; ++j) {
         int all = 1, any = 0;
         for (int q = 0; q < count; ++q) {
@@ -618,14 +658,27 @@ static int run_all(const char *const *paths, int np, const qtool_study_opts *o)
                 all = 0;
         }
         if (any && all)
-            io_max_conv = nlist[j];
+            fd->io_max_conv = nlist[j];
     }
-    double ss_num = 0;
-    int ss_cnt = 0, ss_wins = 0, sunny = 0;
+    double fac_sum = 0;
+    for (int q = 0; q < count; ++q)
+        for (int t = 0; t < 3; ++t) {
+            int a, b, num;
+            a = n_to_reach(q, QTOOL_STUDY_MEDIANCUT, thresholds[t], &num);
+            b = n_to_reach(q, QTOOL_STUDY_IRROPT, thresholds[t], &num);
+            if (a > 0 && b > 0)
+                fac_sum += log((double)a / b), ++fd->fac_cnt;
+        }
+    fd->io_factor = fd->fac_cnt ? exp(fac_sum / fd->fac_cnt) : NAN;
+}
+
+/* sun plus sky: floats to reach 2 %, and on how many sunny probes no other method needs as few */
+static void sunsky_figures(int count, const pinfo *info, findings *fd)
+{
     for (int q = 0; q < count; ++q) {
         int num;
         if (n_to_reach(q, QTOOL_STUDY_SUNSKY, 0.02, &num) >= 0) {
-            ss_num += num, ++ss_cnt;
+            fd->ss_num += num, ++fd->ss_cnt;
             if (info[q].sunny) {
                 int win = 1;
                 for (int m = 0; m < QTOOL_STUDY_METHOD_COUNT; ++m) {
@@ -635,49 +688,26 @@ static int run_all(const char *const *paths, int np, const qtool_study_opts *o)
                     if (n_to_reach(q, m, 0.02, &nm) >= 0 && nm <= num)
                         win = 0;
                 }
-                ss_wins += win;
+                fd->ss_wins += win;
             }
         }
-        sunny += info[q].sunny;
+        fd->sunny += info[q].sunny;
     }
-    /* irradiance optimisation against median cut: N_mc / N_io at the thresholds both reach */
-    double fac_sum = 0;
-    int fac_cnt = 0;
-    static const double thr[3] = {0.10, 0.05, 0.02};
-    for (int q = 0; q < count; ++q)
-        for (int t = 0; t < 3; ++t) {
-            int a, b, num;
-            a = n_to_reach(q, QTOOL_STUDY_MEDIANCUT, thr[t], &num);
-            b = n_to_reach(q, QTOOL_STUDY_IRROPT, thr[t], &num);
-            if (a > 0 && b > 0)
-                fac_sum += log((double)a / b), ++fac_cnt;
-        }
-    double io_factor = fac_cnt ? exp(fac_sum / fac_cnt) : NAN;
-    /* where the refit lands: its mean error at 16 against irradiance optimisation's */
-    double rio = 0;
-    int nrio = 0;
-    for (int q = 0; q < count; ++q) {
-        const row *a = find(q, QTOOL_STUDY_IRROPT, 16), *b = find(q, QTOOL_STUDY_REFIT_VM, 16);
-        if (a && b && a->e.mean_rel > 0)
-            rio += b->e.mean_rel / a->e.mean_rel, ++nrio;
-    }
+}
 
-    snprintf(path, sizeof path, "%s/summary.md", o->out_dir);
-    if (open_out(&at, path) != 0)
-        return 1;
-    f = at.f;
-    fprintf(f, "# Light-probe approximation study%s\n\n", o->quick ? " (--quick)" : "");
-    fprintf(f, "Ground truth: Madsen & Laursen eq. 4 over every pixel at %d spherical-Fibonacci normals, per channel.\n"
-               "Error: per-normal relative irradiance error |E - E_gt| / max(E_gt, mean E_gt / 10) (floored: "
-               "near-black normals cannot blow it up), mean over normals and RGB "
-               "(study.csv also has the max and the error normalised by the mean irradiance).\n",
-            c.m);
-    if (procedural)
-        fprintf(f, "\n**No fixture probes were found: procedural skies from tools/study stand in.**\n");
-    if (o->quick)
-        fprintf(f, "\n--quick: probes at half size, %d normals, N <= %d, irradiance optimisation N <= %d.\n", c.m, c.nmax,
-                c.io_max);
-    fprintf(f, "\nSunny: the brightest 0.1 %% of the probe's pixels hold over a third of its energy (a sun, or lamps).\n");
+/* a table's "| probe | method ... |" header and its rule */
+static void method_header(FILE *f)
+{
+    for (int m = 0; m < QTOOL_STUDY_METHOD_COUNT; ++m)
+        fprintf(f, " %s |", qtool_study_method_name(m));
+    fprintf(f, "\n|---|");
+    for (int m = 0; m < QTOOL_STUDY_METHOD_COUNT; ++m)
+        fprintf(f, "---|");
+    fprintf(f, "\n");
+}
+
+static void summary_tables(FILE *f, int count, const pinfo *info)
+{
     fprintf(f, "\n## Probes and the accuracy of the ground truth\n\n| probe | size | sunny | gt ms | max rel. diff. to the "
                "plain pixel sum | mean rel. diff. to the probe at half size |\n|---|---|---|---|---|---|\n");
     for (int q = 0; q <= MAXP; ++q) {
@@ -689,19 +719,14 @@ static int run_all(const char *const *paths, int np, const qtool_study_opts *o)
     fprintf(f, "\n## N needed for 10 %% / 5 %% / 2 %% mean error\n\n"
                "Lights for the light methods, coefficients for SH, lights besides the 9 SH coefficients for sun+sky "
                "(0 = SH9 alone); `-` = not reached within the N tried.\n\n| probe |");
-    for (int m = 0; m < QTOOL_STUDY_METHOD_COUNT; ++m)
-        fprintf(f, " %s |", qtool_study_method_name(m));
-    fprintf(f, "\n|---|");
-    for (int m = 0; m < QTOOL_STUDY_METHOD_COUNT; ++m)
-        fprintf(f, "---|");
-    fprintf(f, "\n");
+    method_header(f);
     for (int q = 0; q < count; ++q) {
         fprintf(f, "| %s |", info[q].name);
         for (int m = 0; m < QTOOL_STUDY_METHOD_COUNT; ++m) {
             fprintf(f, " ");
             for (int t = 0; t < 3; ++t) {
-                int num, n = n_to_reach(q, m, thr[t], &num);
-                if (reached(q, m, thr[t]))
+                int num, n = n_to_reach(q, m, thresholds[t], &num);
+                if (reached(q, m, thresholds[t]))
                     fprintf(f, "%s%d", t ? "/" : "", n);
                 else
                     fprintf(f, "%s-", t ? "/" : "");
@@ -711,12 +736,7 @@ static int run_all(const char *const *paths, int np, const qtool_study_opts *o)
         fprintf(f, "\n");
     }
     fprintf(f, "\n## Floats stored to reach 2 %% mean error (6 per light, 3 per SH coefficient)\n\n| probe |");
-    for (int m = 0; m < QTOOL_STUDY_METHOD_COUNT; ++m)
-        fprintf(f, " %s |", qtool_study_method_name(m));
-    fprintf(f, "\n|---|");
-    for (int m = 0; m < QTOOL_STUDY_METHOD_COUNT; ++m)
-        fprintf(f, "---|");
-    fprintf(f, "\n");
+    method_header(f);
     for (int q = 0; q < count; ++q) {
         fprintf(f, "| %s%s |", info[q].name, info[q].sunny ? " (sunny)" : "");
         for (int m = 0; m < QTOOL_STUDY_METHOD_COUNT; ++m) {
@@ -739,34 +759,94 @@ static int run_all(const char *const *paths, int np, const qtool_study_opts *o)
         }
         fprintf(f, " |\n");
     }
+}
+
+static void summary_findings(FILE *f, const cfg *c, const findings *fd)
+{
     fprintf(f, "\n## Findings\n\n");
     fprintf(f, "- Irradiance optimisation against median cut: median cut needs %.2fx the lights of irradiance "
                "optimisation for the same mean error (geometric mean over %d probe-threshold pairs both reach). "
                "Madsen & Laursen's \"2-3x fewer\" is %s here.\n",
-            io_factor, fac_cnt, !(io_factor == io_factor) ? "not testable" : io_factor >= 2 ? "reproduced" : "not reproduced");
+            fd->io_factor, fd->fac_cnt,
+            !(fd->io_factor == fd->io_factor) ? "not testable" : fd->io_factor >= 2 ? "reproduced" : "not reproduced");
     fprintf(f, "- Irradiance optimisation converged on every probe up to N = %d (largest N of the list with convergence "
-               "on all probes; tried up to %d).\n", io_max_conv, c.io_max);
+               "on all probes; tried up to %d).\n", fd->io_max_conv, c->io_max);
     fprintf(f, "- The refit (median-cut directions, NNLS RGB): mean error %.3f of median cut's at N = 16 (averaged over "
                "probes); it at least halves median cut's mean error in %d of %d (probe, N <= 64) cases. The refit of "
                "varmin's directions reaches %.2fx irradiance optimisation's error at N = 16 (averaged), without an "
                "iteration that can fail.\n",
-            nr16 ? ratio16 / nr16 : NAN, halved, halved_cases, nrio ? rio / nrio : NAN);
+            fd->nr16 ? fd->ratio16 / fd->nr16 : NAN, fd->halved, fd->halved_cases, fd->nrio ? fd->rio / fd->nrio : NAN);
     fprintf(f, "- Sun plus sky reaches 2 %% on %d of %d probes, with %.1f floats on average; it needs fewer floats than "
                "every other method on %d of %d sunny probes.\n",
-            ss_cnt, count, ss_cnt ? ss_num / ss_cnt : NAN, ss_wins, sunny);
+            fd->ss_cnt, fd->count, fd->ss_cnt ? fd->ss_num / fd->ss_cnt : NAN, fd->ss_wins, fd->sunny);
     fprintf(f, "\nPlots: plot_average.svg, plot_<probe>.svg, time_<probe>.svg; lights drawn in overlay_<probe>.png (panels "
                "top to bottom: median cut, adaptive, varmin, kmeans, irropt at N = %d, sun+sky with %d lights).\n",
             OVERLAY_N, SUNSKY_KMAX);
-    double wall = (now_ms() - t_all) / 1e3;
-    fprintf(f, "\nWall time of the study: %.1f s.\n", wall);
-    if (commit_out(&at) != 0)
+}
+
+/* summary.md; *wall the study's wall time, as its last line says */
+static int write_summary(const char *path, const cfg *c, const qtool_study_opts *o, const pinfo *info, int procedural,
+                         const findings *fd, double t_all, double *wall)
+{
+    qtool_io_atomic at;
+    if (open_out(&at, path) != 0)
+        return 1;
+    FILE *f = at.f;
+    fprintf(f, "# Light-probe approximation study%s\n\n", o->quick ? " (--quick)" : "");
+    fprintf(f, "Ground truth: Madsen & Laursen eq. 4 over every pixel at %d spherical-Fibonacci normals, per channel.\n"
+               "Error: per-normal relative irradiance error |E - E_gt| / max(E_gt, mean E_gt / 10) (floored: "
+               "near-black normals cannot blow it up), mean over normals and RGB "
+               "(study.csv also has the max and the error normalised by the mean irradiance).\n",
+            c->m);
+    if (procedural)
+        fprintf(f, "\n**No fixture probes were found: procedural skies from tools/study stand in.**\n");
+    if (o->quick)
+        fprintf(f, "\n--quick: probes at half size, %d normals, N <= %d, irradiance optimisation N <= %d.\n", c->m, c->nmax,
+                c->io_max);
+    fprintf(f, "\nSunny: the brightest 0.1 %% of the probe's pixels hold over a third of its energy (a sun, or lamps).\n");
+    summary_tables(f, fd->count, info);
+    summary_findings(f, c, fd);
+    *wall = (now_ms() - t_all) / 1e3;
+    fprintf(f, "\nWall time of the study: %.1f s.\n", *wall);
+    return commit_out(&at) != 0;
+}
+
+static int run_all(const char *const *paths, int np, const qtool_study_opts *o)
+{
+    cfg c = {o->quick, o->threads > 0 ? o->threads : 2, o->quick ? 2000 : 20000, o->quick ? 64 : 256,
+             o->quick ? 16 : 96, o->quick ? 400 : 600, 100, o->quick ? 8 : 20};
+    if (mkdir_p(o->out_dir) != 0)
+        return fprintf(stderr, "qibl: study: cannot create %s: %s\n", o->out_dir, strerror(errno)), 1;
+    double t_all = now_ms();
+    static pinfo info[MAXP + 1];
+    int count = 0, procedural = np == 0;
+    if (np > MAXP)
+        return fprintf(stderr, "qibl: study: %d probes (at most %d)\n", np, MAXP), 1;
+    if (procedural)
+        printf("study: no probes given (../shared/fixtures/probes absent?): procedural skies from tools/study "
+               "(a sunny and an overcast sky) stand in\n");
+    if (study_probes(paths, np, &c, o, info, &count) != 0)
+        return 1;
+    if (count == 0)
+        return fprintf(stderr, "qibl: study: no probe could be studied\n"), 1;
+    char path[1024];
+    snprintf(path, sizeof path, "%s/study.csv", o->out_dir);
+    if (write_csv(path, info) != 0 || write_plots(o->out_dir, info, count) != 0)
+        return 1;
+    findings fd = {.count = count};
+    refit_figures(count, &fd);
+    irropt_figures(count, &fd);
+    sunsky_figures(count, info, &fd);
+    double wall = 0;
+    snprintf(path, sizeof path, "%s/summary.md", o->out_dir);
+    if (write_summary(path, &c, o, info, procedural, &fd, t_all, &wall) != 0)
         return 1;
     printf("study: %d probe%s, %d rows, wall %.1f s; wrote %s/study.csv, summary.md, plot_*.svg, time_*.svg, overlay_*.png\n",
            count, count > 1 ? "s" : "", nrows, wall, o->out_dir);
-    printf("RESULT study.refit_over_mc_n16 %.4f\n", nr16 ? ratio16 / nr16 : NAN);
-    printf("RESULT study.io_converged_max_n %d\n", io_max_conv);
-    printf("RESULT study.sunsky_numbers_at_2pct %.1f\n", ss_cnt ? ss_num / ss_cnt : NAN);
-    printf("RESULT study.io_lights_factor_vs_mc %.2f\n", io_factor);
+    printf("RESULT study.refit_over_mc_n16 %.4f\n", fd.nr16 ? fd.ratio16 / fd.nr16 : NAN);
+    printf("RESULT study.io_converged_max_n %d\n", fd.io_max_conv);
+    printf("RESULT study.sunsky_numbers_at_2pct %.1f\n", fd.ss_cnt ? fd.ss_num / fd.ss_cnt : NAN);
+    printf("RESULT study.io_lights_factor_vs_mc %.2f\n", fd.io_factor);
     printf("RESULT study.wall_s %.1f\n", wall);
     return 0;
 }

@@ -15,6 +15,8 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "qibl/lightprobe.h"
+
 #define QTOOL_STUDY_MAX_LIGHTS 256
 #define QTOOL_STUDY_SH_MAX 25
 #define QTOOL_STUDY_FLOATS_PER_LIGHT 6 /* dir xyz + rgb, as qibl stores a light */
@@ -106,6 +108,9 @@ void qtool_study_model_error(const qtool_study_model *md, const qtool_study_gt *
  * outer iterations, or -1 (n outside 1..QTOOL_STUDY_MAX_LIGHTS, memory, or no convergence in 3 n
  * iterations: x is then the last feasible point). */
 int qtool_study_nnls(int n, const double *G, const double *h, double *x);
+/* Solves L L^T x = b in place (b becomes x): L lower triangular, k x k, row-major, as a Cholesky
+ * factorisation leaves it; forward then back substitution. */
+void qtool_study_chol_solve(const double *L, int k, double *b);
 
 /* Refit: keeps md's directions and sets every light's RGB by NNLS against g's irradiance (rows
  * weighted by 1 / (E_gt + mean E_gt / 10), so relative error dominates where E is large, absolute
@@ -114,22 +119,33 @@ int qtool_study_refit(qtool_study_model *md, const qtool_study_gt *g);
 
 /* ---- methods (methods.c, kmeans.c, irropt.c, sunsky.c) ---------------------------------------- */
 
+/* The methods in value order (0 up) as X(name, text): the one list the enum and
+ * qtool_study_method_name's names are made from. */
+#define QTOOL_STUDY_METHOD_LIST(X)                                                                        \
+    X(QTOOL_STUDY_MEDIANCUT, "mediancut")                                                                 \
+    X(QTOOL_STUDY_ADAPTIVE, "adaptive")                                                                   \
+    X(QTOOL_STUDY_VARMIN, "varmin")                                                                       \
+    X(QTOOL_STUDY_SH, "sh")                                                                               \
+    X(QTOOL_STUDY_REFIT_MC, "refit-mc")                                                                   \
+    X(QTOOL_STUDY_REFIT_VM, "refit-vm")                                                                   \
+    X(QTOOL_STUDY_SUNSKY, "sun+sky")                                                                      \
+    X(QTOOL_STUDY_KMEANS, "kmeans")                                                                       \
+    X(QTOOL_STUDY_IRROPT, "irropt")
+
 enum {
-    QTOOL_STUDY_MEDIANCUT = 0,
-    QTOOL_STUDY_ADAPTIVE,
-    QTOOL_STUDY_VARMIN,
-    QTOOL_STUDY_SH,
-    QTOOL_STUDY_REFIT_MC,
-    QTOOL_STUDY_REFIT_VM,
-    QTOOL_STUDY_SUNSKY,
-    QTOOL_STUDY_KMEANS,
-    QTOOL_STUDY_IRROPT,
+#define QTOOL_STUDY_METHOD_ENUM_(name, text) name,
+    QTOOL_STUDY_METHOD_LIST(QTOOL_STUDY_METHOD_ENUM_)
+#undef QTOOL_STUDY_METHOD_ENUM_
     QTOOL_STUDY_METHOD_COUNT
 };
 
-/* "mediancut", "adaptive", "varmin", "sh", "refit-mc", "refit-vm", "sun+sky", "kmeans", "irropt" */
+/* the method's name from QTOOL_STUDY_METHOD_LIST, "?" for another number */
 const char *qtool_study_method_name(int method);
 
+/* The core's lights of p by method m (qibl_lightprobe_build and _lights, workspace on the heap):
+ * at most n into L, *res their count and exponent. 0, or -1 with "what: reason" in err. */
+int qtool_study_probe_lights(const qtool_study_probe *p, qibl_lightprobe_method_t m, qibl_lightprobe_light_t *L, int n,
+                             qibl_lightprobe_result_t *res, const char *what, char *err, size_t errlen);
 /* The core's samplers (method MEDIANCUT, ADAPTIVE, VARMIN) with n lights into md; 0, or -1 with a
  * reason (core status). */
 int qtool_study_core_lights(const qtool_study_probe *p, int method, int n, qtool_study_model *md, char *err,

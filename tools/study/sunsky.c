@@ -30,26 +30,9 @@ static int prepare(const qtool_study_probe *p, sunsky_base *b, char *err, size_t
 {
     if (qtool_study_core_sh(p, 9, &b->sky, err, errlen) != 0)
         return -1;
-    qibl_lightprobe_image_t img;
-    memset(&img, 0, sizeof img);
-    img.pixels = p->rgbe, img.width = (uint32_t)p->w, img.height = (uint32_t)p->h;
-    size_t wsz = qibl_lightprobe_workspace_size(img.width, img.height, QIBL_LIGHTPROBE_VARMIN);
-    void *ws = malloc(wsz ? wsz : 1);
-    if (!ws) {
-        snprintf(err, errlen, "sun+sky: out of memory");
-        return -1;
-    }
-    qibl_lightprobe_t lp;
-    qibl_lightprobe_opts_t o = {QIBL_LIGHTPROBE_VARMIN, 0, 0};
     qibl_lightprobe_result_t res;
-    qibl_status_t st = qibl_lightprobe_build(&lp, &img, QIBL_LIGHTPROBE_VARMIN, ws, wsz);
-    if (st == QIBL_OK)
-        st = qibl_lightprobe_lights(&lp, &o, b->L, REGIONS, &res);
-    free(ws);
-    if (st != QIBL_OK) {
-        snprintf(err, errlen, "sun+sky: %s", qibl_status_str(st));
+    if (qtool_study_probe_lights(p, QIBL_LIGHTPROBE_VARMIN, b->L, REGIONS, &res, "sun+sky", err, errlen) != 0)
         return -1;
-    }
     b->count = (int)res.count;
     b->rgb_exp = res.rgb_exp;
     return 0;
@@ -100,16 +83,25 @@ int qtool_study_sunsky(const qtool_study_probe *p, int k, qtool_study_model *md,
     return rc;
 }
 
+/* the base and a trial model, on the heap (both are large) */
+static int scratch(sunsky_base **b, qtool_study_model **t, char *err, size_t errlen)
+{
+    *b = malloc(sizeof **b);
+    *t = malloc(sizeof **t);
+    if (*b && *t)
+        return 0;
+    free(*b), free(*t);
+    snprintf(err, errlen, "sun+sky: out of memory");
+    return -1;
+}
+
 int qtool_study_sunsky_budget(const qtool_study_probe *p, const qtool_study_gt *g, double budget, int kmax,
                               qtool_study_model *md, int *k_out, qtool_study_err *e_out, char *err, size_t errlen)
 {
-    sunsky_base *b = malloc(sizeof *b);
-    qtool_study_model *t = malloc(sizeof *t);
-    if (!b || !t) {
-        free(b), free(t);
-        snprintf(err, errlen, "sun+sky: out of memory");
+    sunsky_base *b;
+    qtool_study_model *t;
+    if (scratch(&b, &t, err, errlen) != 0)
         return -1;
-    }
     int rc = prepare(p, b, err, errlen);
     if (rc == 0) {
         rc = 0;
@@ -145,13 +137,10 @@ static double now_ms(void)
 int qtool_study_sunsky_sweep(const qtool_study_probe *p, const qtool_study_gt *g, int kmax, qtool_study_err *e,
                              double *ms, qtool_study_model *at16, char *err, size_t errlen)
 {
-    sunsky_base *b = malloc(sizeof *b);
-    qtool_study_model *t = malloc(sizeof *t);
-    if (!b || !t) {
-        free(b), free(t);
-        snprintf(err, errlen, "sun+sky: out of memory");
+    sunsky_base *b;
+    qtool_study_model *t;
+    if (scratch(&b, &t, err, errlen) != 0)
         return -1;
-    }
     double t0 = now_ms();
     int rc = prepare(p, b, err, errlen);
     double tp = now_ms() - t0;

@@ -152,6 +152,49 @@ typedef struct qtool_view_run_opts {
 #define QTOOL_VIEW_MAX_TRUTHS 64u
 #define QTOOL_VIEW_TRUTH_MAX_BYTES ((size_t)256 << 20)
 
+/* ---- before the window (view/setup.c) ---------------------------------------------------------- */
+
+/* The sun from a direction (Q16.16, not zero): azimuth and elevation, clamped to +-QTOOL_VIEW_EL_MAX. */
+void qtool_view_set_sun(qtool_view *v, const qibl_q16_t sun[3]);
+
+/* What qtool_view_open_asset sets besides the maps. lamp_default: the lamp's default C0 for its
+ * position from the scene's points (as the CLI's `--point` without `--rgb`: qcli_point_default's
+ * signature; 0, or -1 out of memory), used when lamp_c0 is 0. */
+typedef struct qtool_view_asset_opts {
+    double exposure;          /* linear, QTOOL_VIEW_EXPOSURE_MIN..MAX / 65536 */
+    double lamp_c0;           /* the lamp's C0 (0: lamp_default) */
+    const qibl_q16_t *sun;    /* 3 values, not all zero (NULL: qtool_view_init's sun) */
+    int (*lamp_default)(const double *pts, size_t n, const double pos[3], int falloff, double *c0, double *dist);
+} qtool_view_asset_opts;
+
+/* the defaults of `qibl view`, in one place: exposure 1, the lamp's C0 from lamp_default, the
+ * initial sun; --bench's frame count and its cap */
+#define QTOOL_VIEW_ASSET_OPTS_DEFAULT {.exposure = 1.0, .lamp_c0 = 0, .sun = NULL, .lamp_default = NULL}
+#define QTOOL_VIEW_BENCH_FRAMES_DEFAULT 600L
+#define QTOOL_VIEW_BENCH_FRAMES_MAX 1000000L
+
+/* Fills v (qtool_view_init) for the asset's bytes (caller-owned, kept for the path scheme), name
+ * naming it in messages: its maps, exposure, sun, the path scheme, and where it has a P map the lamp
+ * (its maps, its occlusion when the LOCC chunk is usable, placed by qtool_view_pick, its C0). A
+ * one-line note (the LOCC chunk unusable, --lamp-rgb without a P map) goes into note ("" if none).
+ * 0, or -1 with a one-line reason in err. */
+int qtool_view_open_asset(qtool_view *v, const uint8_t *bytes, size_t n, const char *name,
+                          const qtool_view_asset_opts *o, char *note, size_t notelen, char *err, size_t errlen);
+
+/* The truth frames of --truth PATH: one PNG of the maps' w x h (one), or a directory of
+ * sun_X_Y_Z.png frames (n of them, each of the unit sun direction dir and the name stem; at most
+ * QTOOL_VIEW_MAX_TRUTHS and QTOOL_VIEW_TRUTH_MAX_BYTES). 0, or -1 with a one-line reason in err and
+ * nothing kept. */
+typedef struct qtool_view_truths {
+    uint8_t *one;
+    uint32_t n;
+    uint8_t *rgb[QTOOL_VIEW_MAX_TRUTHS];
+    double dir[QTOOL_VIEW_MAX_TRUTHS][3];
+    char *name[QTOOL_VIEW_MAX_TRUTHS];
+} qtool_view_truths;
+int qtool_view_truths_load(const char *path, uint32_t w, uint32_t h, qtool_view_truths *t, char *err, size_t errlen);
+void qtool_view_truths_free(qtool_view_truths *t);
+
 /* Checks a recording's size against QTOOL_VIEW_RECORD_MAX_BYTES: 0, or -1 with a one-line reason. */
 int qtool_view_record_check(const qtool_view *v, long frames, char *err, size_t errlen);
 

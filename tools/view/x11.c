@@ -7,6 +7,7 @@
 #include "view/view.h"
 
 #include "io/png.h"
+#include "qtool.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -57,7 +58,7 @@ static int draw(qtool_view *v, const qtool_view_run_opts *o, uint8_t *buf, void 
             }
             v->psnr = qtool_view_psnr(buf, stride, w, h, o->truths[bi]);
             v->truth_label = o->truth_names[bi];
-            v->truth_angle = acos(best > 1 ? 1 : best < -1 ? -1 : best) * 180.0 / 3.14159265358979323846;
+            v->truth_angle = acos(best > 1 ? 1 : best < -1 ? -1 : best) * 180.0 / QTOOL_PI;
         }
     }
     qtool_view_overlay(v, fps, buf + (size_t)h * stride, w, stride);

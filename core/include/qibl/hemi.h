@@ -251,6 +251,48 @@ QIBL_NODISCARD qibl_status_t qibl_hemi_to_frame(const qibl_hemi_t *h, const qibl
 QIBL_NODISCARD qibl_status_t qibl_hemi_shade(const int32_t light[3][QIBL_HEMI_COEFFS], const qibl_q30_t v[QIBL_HEMI_COEFFS],
                               qibl_q16_t out[3]);
 
+/* ---- exported transfer (`qibl transfer --export FILE.qtr`): PRT at run time ---------------------
+ * A static mesh's per-vertex world-space transfer vectors, shaded by the engine under any (rotated)
+ * SH light: out = transfer . light per vertex, the very sum qibl_hemi_shade makes. The file, all
+ * fields little-endian, 4-byte aligned, exactly QIBL_HEMI_XFER_HEADER_SIZE + count * n * 4 bytes:
+ *   offset size  field
+ *    0      4    magic "QTRX"
+ *    4      2    version, 1
+ *    6      2    bands: 3, 4 or 5 (n = bands^2 = 9, 16 or 25 coefficients per vertex)
+ *    8      4    count: vertices, 1 .. QIBL_HEMI_XFER_MAX_VERTICES
+ *   12      4    frac_bits: 30 (coefficients Q2.30, world frame: qibl_hemi_to_world's output)
+ *   16      4    reserved, 0
+ *   20      4    CRC-32 (qibl_crc32, as the asset's chunks) of the payload bytes
+ *   24      ...  payload: count * n int32, vertex after vertex, coefficient i = l (l + 1) + m
+ * Needs QIBL_USE_ASSET (its CRC-32). No workspace: the calls read the caller's bytes in place. */
+#define QIBL_HEMI_XFER_HEADER_SIZE 24u
+#define QIBL_HEMI_XFER_VERSION 1u
+#define QIBL_HEMI_XFER_MAX_VERTICES 16777216u /* 2^24: the payload stays below 2^31 bytes */
+
+/* A validated export: a view of the caller's bytes (they must outlive it). */
+typedef struct qibl_hemi_xfer_t {
+    const uint8_t *payload; /* count * ncoef int32 little-endian, Q2.30 */
+    uint32_t count;         /* vertices */
+    uint32_t bands, ncoef;  /* 3..5, bands^2 */
+} qibl_hemi_xfer_t;
+
+/* Validates bytes[0 .. n) once (header, size, CRC) and fills x. Errors, one per bad input, x
+ * untouched: QIBL_E_NULL_POINTER, QIBL_E_HEMI_XFER_SHORT (n below the header), QIBL_E_HEMI_XFER_MAGIC,
+ * QIBL_E_HEMI_XFER_FORMAT (version, bands, frac_bits or reserved not as above, count 0 or above
+ * the limit), QIBL_E_HEMI_XFER_SIZE (n not the header plus the payload the fields imply),
+ * QIBL_E_HEMI_XFER_CRC. Cost: one CRC-32 over the payload. */
+qibl_status_t qibl_hemi_xfer_open(qibl_hemi_xfer_t *x, const uint8_t *bytes, size_t n);
+
+/* Shades vertices first .. first + count - 1: out[k][ch] = sum_i light[ch][i] v[i] over the
+ * export's n coefficients, light Q16.16 radiance SH in the export's (world) frame (rotate the light,
+ * not the mesh: qibl_sh_rotate), v Q2.30, out Q16.16 irradiance, rounded half up, saturated; each
+ * product truncated by 2^-14 LSB before the sum, so with 25 coefficients the result is
+ * qibl_hemi_shade's bit for bit (error <= 0.5 + n 2^-14 LSB against the exact sum). Light terms
+ * past n are not read. Errors, out untouched: QIBL_E_NULL_POINTER, QIBL_E_HEMI_XFER_BOUNDS (the
+ * span runs past the vertices; count 0 is a valid empty span). */
+qibl_status_t qibl_hemi_xfer_shade_span(const qibl_hemi_xfer_t *x, const int32_t light[3][QIBL_HEMI_COEFFS],
+                                        uint32_t first, uint32_t count, qibl_q16_t (*out)[3]);
+
 #ifdef __cplusplus
 }
 #endif

@@ -25,15 +25,20 @@ extern "C" {
 #endif
 
 /* the kernel sets, numbered as config.h's QIBL_SIMD_* */
+#define QIBL_ISA_LIST(X) /* X(name, value, label): the enum and qibl_isa_name's labels */                  \
+    X(QIBL_ISA_SCALAR, QIBL_SIMD_SCALAR, "scalar") /* portable C (the reference every path equals) */      \
+    X(QIBL_ISA_SSE2, QIBL_SIMD_SSE2, "sse2")                                                               \
+    X(QIBL_ISA_AVX2, QIBL_SIMD_AVX2, "avx2")                                                               \
+    X(QIBL_ISA_NEON, QIBL_SIMD_NEON, "neon")
+
 typedef enum qibl_isa {
-    QIBL_ISA_SCALAR = QIBL_SIMD_SCALAR, /* portable C (the reference every path equals) */
-    QIBL_ISA_SSE2 = QIBL_SIMD_SSE2,
-    QIBL_ISA_AVX2 = QIBL_SIMD_AVX2,
-    QIBL_ISA_NEON = QIBL_SIMD_NEON
+#define QIBL_ISA_ENUM_(name, value, label) name = value,
+    QIBL_ISA_LIST(QIBL_ISA_ENUM_)
+#undef QIBL_ISA_ENUM_
+    QIBL_ISA_COUNT /* number of kernel sets (4); not a set */
 } qibl_isa_t;
 
 #define QIBL_ISA_BIT(isa) (1u << (unsigned)(isa))
-#define QIBL_ISA_COUNT 4
 
 /* Bit QIBL_ISA_BIT(i) set for every kernel set this build carries and this CPU runs: on a
  * dispatching build scalar | SSE2, | AVX2 where the CPU and OS have it; elsewhere the one

@@ -127,7 +127,8 @@ QIBL_NODISCARD qibl_status_t qibl_probe_sh_begin(qibl_probe_sh_t *ps, uint32_t w
  * negative value).
  * On failure: the projection is unchanged (nothing is accumulated, the row is not marked).
  * Cost: one pass over the row to find its scale and check it, one to convert it, then 1.5
- * (W % 4 == 0) or 8 multiply-adds per pixel and channel, and 3 x 25 accumulator additions per row.
+ * (W % 4 == 0) or 8 multiply-adds per pixel and channel at 5 bands (0.75 or 4 at 3 bands: only the
+ * orders m < bands are summed), and 3 bands^2 accumulator additions per row.
  * With QIBL_CONFIG_SIMD == AVX2 the RGBE scan and conversion and the folded sums take 8 columns per
  * instruction (vpsrlvd, vpmuldq; the same integers, so the same bits as the scalar path), faster
  * than scalar/SSE2 (`qibl bench probe` measures both). */

@@ -205,7 +205,20 @@ extern "C" {
     X(QIBL_E_GONIO_BOUNDS, "gonio: span outside the P map")                                             \
     /* workspaces (appended last so no earlier value moves) */                                          \
     /* caller workspace not on the 4-byte boundary the call needs */                                    \
-    X(QIBL_E_WORKSPACE_ALIGN, "workspace not 4-byte aligned (declare it as uint32_t or int32_t)")
+    X(QIBL_E_WORKSPACE_ALIGN, "workspace not 4-byte aligned (declare it as uint32_t or int32_t)")       \
+    /* exported transfer (hemi.h, qibl_hemi_xfer_*) */                                                  \
+    /* hemi export: shorter than its 24-byte header */                                                  \
+    X(QIBL_E_HEMI_XFER_SHORT, "transfer export shorter than its header")                                \
+    /* hemi export: not "QTRX" */                                                                       \
+    X(QIBL_E_HEMI_XFER_MAGIC, "not a transfer export (magic)")                                          \
+    /* hemi export: version, bands, frac_bits, reserved or count not as documented */                   \
+    X(QIBL_E_HEMI_XFER_FORMAT, "transfer export: version, bands, frac_bits, reserved or count unsupported") \
+    /* hemi export: size not the header plus count * bands^2 * 4 bytes */                               \
+    X(QIBL_E_HEMI_XFER_SIZE, "transfer export size differs from its fields")                            \
+    /* hemi export: payload CRC-32 mismatch */                                                          \
+    X(QIBL_E_HEMI_XFER_CRC, "transfer export CRC-32 mismatch")                                          \
+    /* hemi export: span past the vertices */                                                           \
+    X(QIBL_E_HEMI_XFER_BOUNDS, "span outside the exported vertices")
 
 typedef enum qibl_status {
 #define QIBL_STATUS_ENUM_(name, message) name,
