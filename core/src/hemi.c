@@ -503,9 +503,8 @@ static void and3(uint32_t *restrict mask, const edge *ea, const edge *eb, const 
 /* q = round_half_up(v / 2^s), s the fewest bits with max |v_k| >> s < 512 (|v| < 2^26: s <= 17) */
 static void quantise(const int32_t *v, int32_t q[3])
 {
-    uint32_t m = qibli_abs_u32(v[0]);
-    m = qibli_abs_u32(v[1]) > m ? qibli_abs_u32(v[1]) : m;
-    m = qibli_abs_u32(v[2]) > m ? qibli_abs_u32(v[2]) : m;
+    /* the OR of the magnitudes has the bit length of their maximum */
+    const uint32_t m = qibli_abs_u32(v[0]) | qibli_abs_u32(v[1]) | qibli_abs_u32(v[2]);
     const unsigned s = qibli_bitlen_u32(m >> 9);
     const int32_t half = (int32_t)((1u << s) >> 1);
     for (int k = 0; k < 3; ++k)
