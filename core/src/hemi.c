@@ -657,7 +657,6 @@ static edge lookup(const qibl_hemi_t *h, const int32_t e[3])
 #include <immintrin.h>
 #define HEMI_VL 8
 #define HEMI_BATCH 64u /* triangles set up before their masks are read */
-#define HEMI_AHEAD 6u  /* triangles whose table entries are prefetched ahead of the one ORed */
 
 static __m256i lane_sel(__m256i m, __m256i a, __m256i b) /* m ? a : b */
 {
@@ -811,12 +810,6 @@ static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t
             }
         }
         for (uint32_t j = 0; j < k; ++j) { /* (3) */
-            if (j + HEMI_AHEAD < k) /* the table (larger than L2) a few triangles ahead */
-                for (int i = 0; i < 3; ++i) {
-                    const char *pf = (const char *)(const void *)(h->lut + (size_t)li[i][j + HEMI_AHEAD] * words);
-                    _mm_prefetch(pf, _MM_HINT_T0);
-                    _mm_prefetch(pf + 64, _MM_HINT_T0);
-                }
             if (skip[j]) {
                 ++*nt;
                 continue;
