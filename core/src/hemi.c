@@ -658,9 +658,11 @@ static edge lookup(const qibl_hemi_t *h, const int32_t e[3])
 #define HEMI_VL 8
 #define HEMI_BATCH 64u /* triangles set up before their masks are read */
 
-static __m256i lane_sel(__m256i m, __m256i a, __m256i b) /* m ? a : b */
+/* m ? a : b for whole-lane masks, as and / andnot / or: the vpblendvb form gave other masks under
+ * gcc 12 with -mavx512bw (-march=native on this host; the ports' native build caught it) */
+static __m256i lane_sel(__m256i m, __m256i a, __m256i b)
 {
-    return _mm256_blendv_epi8(b, a, m);
+    return _mm256_or_si256(_mm256_and_si256(m, a), _mm256_andnot_si256(m, b));
 }
 
 static void lane_quantise(__m256i *x, __m256i *y, __m256i *z)
@@ -721,7 +723,7 @@ static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t
     const int32_t F = h->face;
     const __m256i vF = _mm256_set1_epi32(F), vF1 = _mm256_set1_epi32(F - 1), vFF = _mm256_set1_epi32(F * F);
     const __m256i zero = _mm256_setzero_si256(), lane3 = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
-    const int *vb = (const int *)(const void *)&v[0][0];
+    const int *vb = (const int *)(const void *)v; /* no dereference: v may be NULL when ntri = 0 */
     const int gather_ok = nv < (1u << 29);
     uint32_t t = 0;
     while (t < ntri) {
