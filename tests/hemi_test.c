@@ -601,7 +601,7 @@ static void test_raster_every_isa(void **state)
             }
             drop(f);
         }
-        /* the transform (AVX2: eight vertices in 64-bit lanes) against the twin's, with a tail */
+        /* the transform against the twin's, with tails of every length mod 8 */
         {
             enum { NP = 45 };
             qibl_q16_t pos[NP][3];

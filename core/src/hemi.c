@@ -289,37 +289,6 @@ qibl_status_t qibl_hemi_frame_init(qibl_hemi_frame_t *f, const qibl_q16_t p[3], 
     return QIBL_OK;
 }
 
-#if HEMI_LANES
-#include <immintrin.h>
-static void transform8(const qibl_hemi_frame_t *f, const int32_t *pos, int32_t *out, long long bias)
-{
-    const __m256i idx = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21), vb = _mm256_set1_epi64x(bias);
-    const __m256i pick = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
-    const int *pb = (const int *)(const void *)pos;
-    __m256i lo[3], hi[3];
-    for (int c = 0; c < 3; ++c) { /* |d| < 2^23 */
-        const __m256i d = _mm256_sub_epi32(_mm256_i32gather_epi32(pb + c, idx, 4), _mm256_set1_epi32(f->p[c]));
-        lo[c] = _mm256_cvtepi32_epi64(_mm256_castsi256_si128(d));
-        hi[c] = _mm256_cvtepi32_epi64(_mm256_extracti128_si256(d, 1));
-    }
-    int32_t r[3][8];
-    for (int j = 0; j < 3; ++j) {
-        const __m256i a0 = _mm256_set1_epi64x(f->axis[j][0]), a1 = _mm256_set1_epi64x(f->axis[j][1]),
-                      a2 = _mm256_set1_epi64x(f->axis[j][2]);
-        __m256i sl = _mm256_add_epi64(_mm256_add_epi64(_mm256_mul_epi32(lo[0], a0), _mm256_mul_epi32(lo[1], a1)),
-                                      _mm256_mul_epi32(lo[2], a2));
-        __m256i sh = _mm256_add_epi64(_mm256_add_epi64(_mm256_mul_epi32(hi[0], a0), _mm256_mul_epi32(hi[1], a1)),
-                                      _mm256_mul_epi32(hi[2], a2));
-        sl = _mm256_permutevar8x32_epi32(_mm256_srli_epi64(_mm256_add_epi64(sl, vb), 30 - (QIBL_HEMI_LOCAL_FRAC - 16)), pick);
-        sh = _mm256_permutevar8x32_epi32(_mm256_srli_epi64(_mm256_add_epi64(sh, vb), 30 - (QIBL_HEMI_LOCAL_FRAC - 16)), pick);
-        _mm256_storeu_si256((__m256i *)(void *)r[j],
-                            _mm256_inserti128_si256(sl, _mm256_castsi256_si128(sh), 1));
-    }
-    for (int l = 0; l < 8; ++l)
-        out[3 * l] = r[0][l], out[3 * l + 1] = r[1][l], out[3 * l + 2] = r[2][l];
-}
-#endif
-
 qibl_status_t qibl_hemi_transform(const qibl_hemi_frame_t *f, const qibl_q16_t (*pos)[3], uint32_t count,
                                   int32_t (*out)[3])
 {
@@ -333,16 +302,7 @@ qibl_status_t qibl_hemi_transform(const qibl_hemi_frame_t *f, const qibl_q16_t (
     enum { SH = 30 - (QIBL_HEMI_LOCAL_FRAC - 16) };
     const uint64_t bias = ((uint64_t)1 << (SH - 1)) + ((uint64_t)1 << 62);
     const int64_t unbias = (int64_t)1 << (62 - SH);
-    uint32_t k0 = 0;
-#if HEMI_LANES
-    /* eight vertices at a time: the same int64 sums in 64-bit lanes (vpmuldq: exact signed 32 x 32
-     * products), the same biased shift; the low 32 bits of the shifted sum are the result (the
-     * unbias 2^34 has none) */
-    if (count < (1u << 28))
-        for (; k0 + 8u <= count; k0 += 8u)
-            transform8(f, &pos[k0][0], &out[k0][0], (long long)bias);
-#endif
-    for (uint32_t k = k0; k < count; ++k) {
+    for (uint32_t k = 0; k < count; ++k) {
         /* |d| < 2^23: each product < 2^53, the sum < 2^55; the result < sqrt(3) 2^23 2^2 < 2^26;
          * s + 2^27 + 2^62 is positive and below 2^63, so the shift is floor((s + 2^27) / 2^28) */
         const int32_t d0 = pos[k][0] - f->p[0], d1 = pos[k][1] - f->p[1], d2 = pos[k][2] - f->p[2];

@@ -12,7 +12,7 @@
 QIBL_NODISCARD qibl_status_t qtool_hemi_raster_scalar(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t nv,
                                        const uint32_t (*tri)[3], uint32_t ntri, uint32_t *mask,
                                        qibl_hemi_stats_t *stats);
-/* the transform's twin (x86 AVX2: the library's runs eight vertices in 64-bit lanes) */
+/* the transform's twin (compared with the library's under every dispatch choice) */
 QIBL_NODISCARD qibl_status_t qtool_hemi_transform_scalar(const qibl_hemi_frame_t *f, const qibl_q16_t (*pos)[3],
                                                         uint32_t count, int32_t (*out)[3]);
 
