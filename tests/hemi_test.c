@@ -20,6 +20,8 @@
 #include "golden/check.h"
 #include "ref/sh_ref.h"
 #include "twin/hemi_scalar.h"
+#include "io/isa_env.h"
+#include "qibl/isa.h"
 
 #define PI 3.14159265358979323846
 
@@ -538,6 +540,102 @@ static void raster1(const qibl_hemi_t *h, const int32_t v[3][3], uint32_t *m, qi
     assert_int_equal(qibl_hemi_raster(h, v, 3, tri, 1, m, st), QIBL_OK);
 }
 
+/* Every dispatch choice this CPU runs (scalar, SSE2, AVX2: qtool_isa_force) against the scalar
+ * twin, bit for bit, on batches that mix ordinary triangles with the setup's special cases: huge
+ * roofs a few LSB above or below the receiver, whose quantised vertices (|q| <= 512) lie on the
+ * horizon so the quantised orientation is 0 and the exact setup decides (the lanes' fallback),
+ * exactly edge-on ones (through the receiver), a vertex at the receiver, and cells on exact
+ * multiples (small integer coordinates make num F / D an integer: the divide's floor correction). */
+static void test_raster_every_isa(void **state)
+{
+    (void)state;
+    const uint32_t have = qibl_isa_available();
+    const int cfg[][2] = {{32, 48}, {16, 6}, {64, 128}, {32, 20}};
+    int runs = 0;
+    for (unsigned isa = 0; isa < QIBL_ISA_COUNT; ++isa) {
+        if (!(have & QIBL_ISA_BIT(isa)))
+            continue;
+        qtool_isa_force(QIBL_ISA_BIT(isa));
+        uint64_t seed = 0x15A0u; /* the same cases for every choice */
+        for (size_t c = 0; c < sizeof cfg / sizeof cfg[0]; ++c) {
+            fixture *f = make(cfg[c][0], cfg[c][1]);
+            for (int round = 0; round < 30; ++round) {
+                enum { NV = 48, NT = 120 };
+                int32_t v[NV][3];
+                uint32_t tri[NT][3];
+                const int32_t B = QIBL_HEMI_LOCAL_MAX;
+                for (int i = 0; i < NV; i += 3) {
+                    const int kind = (int)(rng(&seed) % 4u);
+                    for (int q = 0; q < 3; ++q) {
+                        const int32_t e = (int32_t)(rng(&seed) % 0x100000u);
+                        if (kind == 0) { /* a roof: z in -2 .. 300 */
+                            v[i + q][0] = q == 0 ? -B + e : q == 1 ? B - e : (int32_t)(rng(&seed) % 2000u) - 1000;
+                            v[i + q][1] = q == 2 ? B - e : -B + e;
+                            v[i + q][2] = (int32_t)(rng(&seed) % 303u) - 2;
+                        } else if (kind == 1) { /* small integers: exact cell boundaries */
+                            for (int k = 0; k < 3; ++k)
+                                v[i + q][k] = (int32_t)(rng(&seed) % 9u) - 4;
+                        } else { /* anywhere, at any magnitude */
+                            const int bitsz = 1 + (int)(rng(&seed) % 26u);
+                            const int32_t lim = bitsz >= 26 ? B : (int32_t)((1u << bitsz) - 1u);
+                            for (int k = 0; k < 3; ++k)
+                                v[i + q][k] = (int32_t)(rng(&seed) % (2u * (uint32_t)lim + 1u)) - lim;
+                        }
+                    }
+                    if (kind == 3) /* edge-on: the third vertex (a + b) / 2, in the plane of 0, a, b */
+                        for (int k = 0; k < 3; ++k) {
+                            v[i][k] -= v[i][k] % 2, v[i + 1][k] -= v[i + 1][k] % 2;
+                            v[i + 2][k] = v[i][k] / 2 + v[i + 1][k] / 2;
+                        }
+                }
+                v[NV - 1][0] = v[NV - 1][1] = v[NV - 1][2] = 0; /* the receiver itself */
+                for (uint32_t t = 0; t < NT; ++t) {
+                    const uint32_t g = 3u * (uint32_t)(rng(&seed) % (NV / 3));
+                    if (t % 4u == 3u)
+                        for (int k = 0; k < 3; ++k)
+                            tri[t][k] = (uint32_t)(rng(&seed) % NV);
+                    else
+                        tri[t][0] = g, tri[t][1] = g + 1u + (uint32_t)(t & 1u), tri[t][2] = g + 2u - (uint32_t)(t & 1u);
+                }
+                raster_both(f, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])tri, NT);
+            }
+            drop(f);
+        }
+        /* the transform against the twin's, with tails of every length mod 8 */
+        {
+            enum { NP = 45 };
+            qibl_q16_t pos[NP][3];
+            int32_t o1[NP][3], o2[NP][3];
+            qibl_hemi_frame_t fr;
+            const qibl_q16_t p0[3] = {(int32_t)(rng(&seed) % 0x7FFFFFu) - 0x3FFFFF, 0x3FFFFF, -0x3FFFFF};
+            const int32_t nrm[3] = {(int32_t)(rng(&seed) % 2001u) - 1000, -700, 300};
+            assert_int_equal(qibl_hemi_frame_init(&fr, p0, nrm), QIBL_OK);
+            for (int i = 0; i < NP; ++i)
+                for (int k = 0; k < 3; ++k)
+                    pos[i][k] = i < 3 ? (k == i ? -QIBL_HEMI_COORD_MAX : QIBL_HEMI_COORD_MAX)
+                                      : (int32_t)(rng(&seed) % (2u * QIBL_HEMI_COORD_MAX + 1u)) - QIBL_HEMI_COORD_MAX;
+            for (uint32_t n = 1; n <= NP; n += 7u) {
+                assert_int_equal(qibl_hemi_transform(&fr, (const qibl_q16_t(*)[3])pos, n, o1), QIBL_OK);
+                assert_int_equal(qtool_hemi_transform_scalar(&fr, (const qibl_q16_t(*)[3])pos, n, o2), QIBL_OK);
+                assert_memory_equal(o1, o2, sizeof(int32_t) * 3u * n);
+            }
+        }
+        /* the roof just above: rasterized (the exact setup), nearly the whole disk */
+        fixture *f = make(32, 48);
+        const int32_t B = QIBL_HEMI_LOCAL_MAX;
+        const int32_t roof[3][3] = {{-B, -B, 3}, {B, -B, 3}, {0, B, 3}};
+        uint32_t m[32];
+        qibl_hemi_stats_t st;
+        raster1(&f->h, roof, m, &st);
+        assert_int_equal(st.rasterized, 1u);
+        assert_true(bits(&f->h, m) >= disk_bits(&f->h) - 4 * 32);
+        drop(f);
+        ++runs;
+    }
+    qtool_isa_force(0u);
+    assert_true(runs >= 1);
+}
+
 static void test_degenerate(void **state)
 {
     (void)state;
@@ -548,9 +646,14 @@ static void test_degenerate(void **state)
     const int32_t col[3][3] = {{1000, 0, 5000}, {2000, 100, 5000}, {3000, 200, 5000}};
     const int32_t rep[3][3] = {{1000, 0, 5000}, {1000, 0, 5000}, {0, 3000, 5000}};
     const int32_t pt[3][3] = {{1000, 0, 5000}, {1000, 0, 5000}, {1000, 0, 5000}};
+    /* collinear points span a plane through the receiver, but each vertex's direction is rounded
+     * to 9 bits first (the int32 setup): here a sliver cone along that plane, a few pixels at most,
+     * all near it */
     raster1(&f->h, col, m, &st);
-    assert_int_equal(st.through, 1u); /* collinear points span a plane through the receiver */
-    assert_int_equal(bits(&f->h, m), 0);
+    assert_int_equal(st.through + st.rasterized, 1u);
+    int cov;
+    assert_int_equal(check_triangle(&f->h, col, 2.3 / 60, &cov), 0);
+    assert_true(cov <= 4);
     raster1(&f->h, rep, m, &st);
     assert_int_equal(st.through, 1u);
     assert_int_equal(bits(&f->h, m), 0);
@@ -1096,6 +1199,7 @@ int main(void)
         cmocka_unit_test(test_random_triangles_16_64),
         cmocka_unit_test(test_lanes_match_twin),
         cmocka_unit_test(test_lanes_edge_on),
+        cmocka_unit_test(test_raster_every_isa),
         cmocka_unit_test(test_group_bounds),
         cmocka_unit_test(test_bound_near),
         cmocka_unit_test(test_winding_and_fusion),

@@ -5,20 +5,15 @@
  * built from exact integer tests (plane LUT) or from qibl_sh_eval_unit at exact sub-sample points
  * (basis table), so every port builds the same bytes. Magnitudes (proved where used):
  *   positions |x| < 2^22 (Q16.16) -> differences < 2^23 -> local coordinates < 2^26 (Q14.18),
- *   edge normals (cross products) < 2^53, the orientation determinant split into two exact sums.
+ *   quantised per vertex to |q| <= 512 for the raster setup: edge normals <= 2^19, det < 2^30.
  */
 #include "qibl/hemi.h"
 #include "qibli.h"
 
 #if QIBL_USE_HEMI
 
-#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
-#include <immintrin.h>
-#elif QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2
-#include <emmintrin.h>
-#endif
-/* the LUT look-ups in double lanes (x86, below); elsewhere the scalar look-up */
-#define HEMI_LANES (QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2 || QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2)
+/* the setup and look-ups in 8-wide lanes (x86 AVX2, below); elsewhere the scalar code, same bits */
+#define HEMI_LANES (QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2)
 
 #define NC QIBL_HEMI_COEFFS
 
@@ -437,82 +432,6 @@ typedef struct edge {
     uint32_t x;
 } edge;
 
-#if !HEMI_LANES
-/* floor(num / den) for den >= 1 and a quotient below 256 (num < 256 den): 8 shift-subtract steps
- * where there is no divide instruction, so no library call is emitted. */
-static uint32_t small_div(uint32_t num, uint32_t den)
-{
-#if QIBL_CONFIG_NATIVE_DIV64 || defined(__ARM_FEATURE_IDIV) || defined(__riscv_div)
-    return num / den;
-#else
-    uint32_t q = 0;
-    for (int k = 7; k >= 0; --k)
-        if ((num >> k) >= den) {
-            num -= den << k;
-            q |= 1u << k;
-        }
-    return q;
-#endif
-}
-
-/* The shift s that brings m below 2^23 in steps of 8 (so (u + m) F < 2^31 fits 32 bits for
- * F <= 128): the smallest multiple of 8 with m >> s < 2^23. Edge normals are below 2^53 (local
- * coordinates below 2^26), so one constant shift and three compares find it; the loop is kept
- * for anything larger. */
-static unsigned norm_shift(uint64_t m)
-{
-    const uint64_t hi = m >> 23;
-    if (hi == 0u)
-        return 0u;
-    if (hi < ((uint64_t)1 << 32)) {
-        const uint32_t h32 = (uint32_t)hi;
-        return h32 < 0x100u ? 8u : h32 < 0x10000u ? 16u : h32 < 0x1000000u ? 24u : 32u;
-    }
-    unsigned s = 40u;
-    while (qibl_shr_u64(m, s) >= (1u << 23))
-        s += 8u;
-    return s;
-}
-
-/* Cell index of u / m in [-1, 1] on F cells: floor((u / m + 1) F / 2), clamped, with m and |u|
- * already shifted right by norm_shift(m) (mm >= 1, au <= mm). */
-static uint32_t cell(int neg, uint32_t au, uint32_t mm, uint32_t F)
-{
-    const uint32_t num = neg ? mm - au : mm + au;
-    const uint32_t i = small_div(num * F, 2u * mm);
-    return i >= F ? F - 1u : i;
-}
-
-/* The LUT entry of the plane with normal e (not zero): the face of its largest component, the
- * two cells, and the complement for a - face (its u and v change sign). Branches, not selects:
- * neighbouring triangles mostly share a face, and the select form measured 15 % slower. */
-static edge lookup(const qibl_hemi_t *h, const int64_t e[3])
-{
-    const uint64_t ax = qibli_abs_u64(e[0]), ay = qibli_abs_u64(e[1]), az = qibli_abs_u64(e[2]);
-    const uint32_t F = (uint32_t)h->face;
-    int neg;
-    uint64_t m, au, av;
-    int64_t u, v;
-    size_t base;
-    if (ax >= ay && ax >= az) /* +-x: u = e1, v = e2 */
-        neg = e[0] < 0, m = ax, au = ay, av = az, u = e[1], v = e[2], base = 0u;
-    else if (ay >= az) /* +-y: u = e0, v = e2 */
-        neg = e[1] < 0, m = ay, au = ax, av = az, u = e[0], v = e[2], base = (size_t)F * F;
-    else /* +-z: u = e1, v = e0 */
-        neg = e[2] < 0, m = az, au = ay, av = ax, u = e[1], v = e[0], base = 2u * (size_t)F * F;
-    /* the - face is the complement of the + face at -e: u and v change sign */
-    const unsigned sh = norm_shift(m);
-    const uint32_t mm = (uint32_t)qibl_shr_u64(m, sh);
-    const uint32_t su = (uint32_t)qibl_shr_u64(au, sh), sv = (uint32_t)qibl_shr_u64(av, sh);
-    edge r;
-    r.x = neg ? 0xFFFFFFFFu : 0u;
-    const size_t idx = base + (size_t)cell(neg ? u > 0 : u < 0, su, mm, F) * F + cell(neg ? v > 0 : v < 0, sv, mm, F);
-    r.m = h->lut + idx * h->words;
-    return r;
-}
-
-#endif /* !HEMI_LANES */
-
 /* mask |= A & B & C with per-entry complement: one straight loop, no branch on the entries
  * (the table folds only the complement, an XOR, so no entry is read in another row order); the
  * word count a constant per mask size, so compilers unroll and vectorise it. */
@@ -531,6 +450,36 @@ static void and3(uint32_t *restrict mask, const edge *ea, const edge *eb, const 
     else
         AND3_BODY(words)
 }
+
+/* ---- the deterministic setup: quantised vertices, int32 edge normals ------------------------
+ *
+ * A plane through the receiver and an edge depends only on the directions of the edge's ends, so
+ * each vertex is first scaled by its own power of two and rounded to |q| <= 512 (same direction
+ * within 2^-9): then every edge normal (|e| <= 2^19) and the orientation (|det| < 2^30) are exact
+ * in int32, with no 64-bit product, on every port and in every lane width. The masks are those of
+ * the quantised triangle: the same bits from the scalar code below and the x86 lanes. */
+
+#if !HEMI_LANES
+/* q = round_half_up(v / 2^s), s the fewest bits with max |v_k| >> s < 512 (|v| < 2^26: s <= 17) */
+static void quantise(const int32_t *v, int32_t q[3])
+{
+    /* the OR of the magnitudes has the bit length of their maximum */
+    const uint32_t m = qibli_abs_u32(v[0]) | qibli_abs_u32(v[1]) | qibli_abs_u32(v[2]);
+    const unsigned s = qibli_bitlen_u32(m >> 9);
+    const int32_t half = (int32_t)((1u << s) >> 1);
+    for (int k = 0; k < 3; ++k)
+        q[k] = qibl_asr_s32(v[k] + half, s);
+}
+
+/* |a|, |b| <= 512: each product <= 2^18, the difference <= 2^19 */
+static void cross32(const int32_t *a, const int32_t *b, int32_t out[3])
+{
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+#endif
 
 static void cross(const int32_t *a, const int32_t *b, int64_t out[3])
 {
@@ -555,212 +504,281 @@ static int dot_sign(const int64_t n[3], const int32_t *c)
     return top > 0 || (top == 0 && low > 0u) ? 1 : top < 0 ? -1 : 0;
 }
 
-/* The setup every path shares: TRI_BELOW (every vertex at or below the horizon), TRI_THROUGH (the
- * plane passes through the receiver, exactly), or TRI_DRAW with e the three edge normals oriented
- * so the triangle's cone lies on their positive sides. */
+/* TRI_BELOW (every vertex at or below the horizon, on the unquantised z), TRI_THROUGH (the plane
+ * passes through the receiver, exactly), or TRI_DRAW with e the three edge normals oriented so
+ * the triangle's cone lies on their positive sides. */
 enum { TRI_BELOW, TRI_THROUGH, TRI_DRAW };
 
-static int tri_setup(const int32_t *a, const int32_t *b, const int32_t *c, int64_t e[3][3])
+/* Where the quantised orientation is 0 (the plane through the receiver, or a triangle so flat
+ * seen from it that rounding its directions made it so: a huge roof just above), the exact setup
+ * on the unquantised vertices: exact int64 normals (< 2^53), the exact sign, each normal then
+ * shifted below 2^19 (direction kept within 2^-18). Rare; the same scalar code under every ISA. */
+static int tri_exact(const int32_t *a, const int32_t *b, const int32_t *c, int32_t e[3][3])
+{
+    int64_t x[3][3];
+    cross(a, b, x[0]);
+    cross(b, c, x[1]);
+    cross(c, a, x[2]);
+    const int s = dot_sign(x[0], c);
+    if (s == 0)
+        return TRI_THROUGH;
+    for (int i = 0; i < 3; ++i) {
+        uint64_t m = 0u;
+        for (int k = 0; k < 3; ++k)
+            m = qibli_abs_u64(x[i][k]) > m ? qibli_abs_u64(x[i][k]) : m;
+        const unsigned bl = qibli_bitlen_u64_inline(m), sh = bl > 19u ? bl - 19u : 0u; /* m >> sh < 2^19 */
+        for (int k = 0; k < 3; ++k) {
+            const int32_t q = (int32_t)qibl_asr_s64(x[i][k], sh);
+            e[i][k] = s < 0 ? -q : q;
+        }
+    }
+    return TRI_DRAW;
+}
+
+#if !HEMI_LANES
+static int tri_setup(const int32_t *a, const int32_t *b, const int32_t *c, int32_t e[3][3])
 {
     if (a[2] <= 0 && b[2] <= 0 && c[2] <= 0)
         return TRI_BELOW;
-    cross(a, b, e[0]);
-    cross(b, c, e[1]);
-    cross(c, a, e[2]);
-    const int s = dot_sign(e[0], c);
-    if (s == 0)
-        return TRI_THROUGH;
-    if (s < 0)
+    int32_t qa[3], qb[3], qc[3];
+    quantise(a, qa), quantise(b, qb), quantise(c, qc);
+    cross32(qa, qb, e[0]);
+    cross32(qb, qc, e[1]);
+    cross32(qc, qa, e[2]);
+    const int32_t d = e[0][0] * qc[0] + e[0][1] * qc[1] + e[0][2] * qc[2]; /* 3 terms <= 2^28 */
+    if (d == 0)
+        return tri_exact(a, b, c, e);
+    if (d < 0)
         for (int i = 0; i < 3; ++i)
             for (int k = 0; k < 3; ++k)
                 e[i][k] = -e[i][k];
     return TRI_DRAW;
 }
-
-#if HEMI_LANES
-/* ---- x86: LUT entries of several edge planes at once, in double lanes, exactly ---------------
- *
- * The scalar lookup above, four (AVX2) or two (SSE2) normals at a time, with no branch and one
- * divide instruction per cell pair instead of two integer divides per normal. Every lane holds an
- * integer and every operation but the divide is exact: |e| < 2^53 converts exactly, |e|, compares,
- * selects and the scaling by 2^-s are exact, floor(m 2^-s) < 2^23 is a truncation to int32 and
- * back, num F < 2^31 and 2 mm < 2^24 are exact. For the divide, floor(fl(N / D)) = floor(N / D) in
- * any rounding mode: when N / D is an integer it is exact, otherwise it is at least 1/D > 2^-24 below
- * the next integer, while the rounding error is below ulp(256) = 2^-44. So the entries are the
- * scalar path's bit for bit (tests/hemi_test.c runs both on the same masks, and the goldens run
- * every path); docs/ARCHITECTURE.md records this use of the FPU. */
-#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
-typedef __m256d hemi_vd;
-#define HEMI_VL 4
-#define VD_LOAD(p) _mm256_loadu_pd(p)
-#define VD_SET1(x) _mm256_set1_pd(x)
-#define VD_ADD(a, b) _mm256_add_pd(a, b)
-#define VD_SUB(a, b) _mm256_sub_pd(a, b)
-#define VD_STORE(p, a) _mm256_storeu_pd(p, a)
-#define VD_MUL(a, b) _mm256_mul_pd(a, b)
-#define VD_DIV(a, b) _mm256_div_pd(a, b)
-#define VD_MIN(a, b) _mm256_min_pd(a, b)
-#define VD_MAX(a, b) _mm256_max_pd(a, b)
-#define VD_AND(a, b) _mm256_and_pd(a, b)
-#define VD_ANDNOT(a, b) _mm256_andnot_pd(a, b)
-#define VD_OR(a, b) _mm256_or_pd(a, b)
-#define VD_XOR(a, b) _mm256_xor_pd(a, b)
-#define VD_GE(a, b) _mm256_cmp_pd(a, b, _CMP_GE_OQ)
-#define VD_LT(a, b) _mm256_cmp_pd(a, b, _CMP_LT_OQ)
-#define VD_SEL(m, a, b) _mm256_blendv_pd(b, a, m) /* m ? a : b */
-#define VD_TRUNC(a) _mm256_cvtepi32_pd(_mm256_cvttpd_epi32(a)) /* toward zero, |a| < 2^31 */
-#define VD_MASK(a) _mm256_movemask_pd(a)
-#define VD_STORE_I32(p, a) _mm_storeu_si128((__m128i *)(void *)(p), _mm256_cvttpd_epi32(a))
-#else
-typedef __m128d hemi_vd;
-#define HEMI_VL 2
-#define VD_LOAD(p) _mm_loadu_pd(p)
-#define VD_SET1(x) _mm_set1_pd(x)
-#define VD_ADD(a, b) _mm_add_pd(a, b)
-#define VD_SUB(a, b) _mm_sub_pd(a, b)
-#define VD_STORE(p, a) _mm_storeu_pd(p, a)
-#define VD_MUL(a, b) _mm_mul_pd(a, b)
-#define VD_DIV(a, b) _mm_div_pd(a, b)
-#define VD_MIN(a, b) _mm_min_pd(a, b)
-#define VD_MAX(a, b) _mm_max_pd(a, b)
-#define VD_AND(a, b) _mm_and_pd(a, b)
-#define VD_ANDNOT(a, b) _mm_andnot_pd(a, b)
-#define VD_OR(a, b) _mm_or_pd(a, b)
-#define VD_XOR(a, b) _mm_xor_pd(a, b)
-#define VD_GE(a, b) _mm_cmpge_pd(a, b)
-#define VD_LT(a, b) _mm_cmplt_pd(a, b)
-#define VD_SEL(m, a, b) _mm_or_pd(_mm_and_pd(m, a), _mm_andnot_pd(m, b))
-#define VD_TRUNC(a) _mm_cvtepi32_pd(_mm_cvttpd_epi32(a))
-#define VD_MASK(a) _mm_movemask_pd(a)
-#define VD_STORE_I32(p, a) _mm_storel_epi64((__m128i *)(void *)(p), _mm_cvttpd_epi32(a))
 #endif
-#define HEMI_BATCH 64u /* triangles set up before their masks are read */
 
-/* The scalar lookup's cells with signs folded in: with s = norm_shift(m), mm = m >> s and
- * au = |u| >> s, "neg ? mm - au : mm + au" is mm + trunc(u 2^-s) for the signed u, a truncation
- * toward zero, which is what cvttpd does. Per face (scalar lookup): first cell u = e1 (x, z) or
- * e0 (y), second v = e2 (x, y) or e0 (z), both negated on the complemented faces (-x, -y, -z). */
-static void lookup_lanes(const qibl_hemi_t *h, const double *e0, const double *e1, const double *e2, uint32_t n,
-                         uint32_t *idx, uint32_t *neg)
+/* floor(num / den) for den >= 1 and a quotient below 256 (num < 256 den): 8 shift-subtract steps
+ * where there is no divide instruction, so no library call is emitted. */
+static uint32_t small_div(uint32_t num, uint32_t den)
 {
-    const int32_t F = h->face;
-    const hemi_vd one = VD_SET1(1.0), sign = VD_SET1(-0.0), vF = VD_SET1((double)F);
-    const hemi_vd vF1 = VD_SET1((double)(F - 1));
-    const hemi_vd bX = VD_SET1(0.0), bY = VD_SET1((double)(F * F)), bZ = VD_SET1((double)(2 * F * F));
-    const hemi_vd t23 = VD_SET1(8388608.0), t31 = VD_SET1(2147483648.0), t39 = VD_SET1(549755813888.0),
-                  t47 = VD_SET1(140737488355328.0);
-    const hemi_vd s8 = VD_SET1(1.0 / 256.0), s16 = VD_SET1(1.0 / 65536.0), s24 = VD_SET1(1.0 / 16777216.0),
-                  s32 = VD_SET1(1.0 / 4294967296.0);
-    for (uint32_t j = 0; j < n; j += HEMI_VL) {
-        const hemi_vd E0 = VD_LOAD(e0 + j), E1 = VD_LOAD(e1 + j), E2 = VD_LOAD(e2 + j);
-        const hemi_vd AX = VD_ANDNOT(sign, E0), AY = VD_ANDNOT(sign, E1), AZ = VD_ANDNOT(sign, E2);
-        const hemi_vd isx = VD_AND(VD_GE(AX, AY), VD_GE(AX, AZ));
-        const hemi_vd isy = VD_ANDNOT(isx, VD_GE(AY, AZ)), isz = VD_ANDNOT(isx, VD_LT(AY, AZ));
-        const hemi_vd M = VD_MAX(VD_MAX(AX, AY), AZ);
-        hemi_vd sc = VD_SEL(VD_GE(M, t23), s8, one); /* 2^-norm_shift(m) */
-        sc = VD_SEL(VD_GE(M, t31), s16, sc);
-        sc = VD_SEL(VD_GE(M, t39), s24, sc);
-        sc = VD_SEL(VD_GE(M, t47), s32, sc);
-        const hemi_vd MM = VD_TRUNC(VD_MUL(M, sc));
-        /* sign bit of the face's own component: the - faces, whose u and v change sign */
-        const hemi_vd ng = VD_AND(VD_OR(VD_OR(VD_AND(isx, E0), VD_AND(isy, E1)), VD_AND(isz, E2)), sign);
-        const hemi_vd U = VD_XOR(VD_SEL(isy, E0, E1), ng), V = VD_XOR(VD_SEL(isz, E0, E2), ng);
-        const hemi_vd NU = VD_ADD(MM, VD_TRUNC(VD_MUL(U, sc))), NV = VD_ADD(MM, VD_TRUNC(VD_MUL(V, sc)));
-        const hemi_vd D = VD_ADD(MM, MM);
-        const hemi_vd C1 = VD_MIN(VD_TRUNC(VD_DIV(VD_MUL(NU, vF), D)), vF1);
-        const hemi_vd C2 = VD_MIN(VD_TRUNC(VD_DIV(VD_MUL(NV, vF), D)), vF1);
-        const hemi_vd base = VD_SEL(isx, bX, VD_SEL(isy, bY, bZ));
-        VD_STORE_I32(idx + j, VD_ADD(VD_ADD(base, VD_MUL(C1, vF)), C2));
-        const int mn = VD_MASK(ng);
-        for (uint32_t l = 0; l < HEMI_VL; ++l)
-            neg[j + l] = (uint32_t)(mn >> l) & 1u;
-    }
+#if QIBL_CONFIG_NATIVE_DIV64 || defined(__ARM_FEATURE_IDIV) || defined(__riscv_div)
+    return num / den;
+#else
+    uint32_t q = 0;
+    for (int k = 7; k >= 0; --k)
+        if ((num >> k) >= den) {
+            num -= den << k;
+            q |= 1u << k;
+        }
+    return q;
+#endif
 }
 
-/* The triangles in batches, each step over every triangle of the batch with no branch on the
- * data: (1) the horizon cull as a compaction (the kept triangles' numbers are written and the
- * count advances by "not below"); (2) the edge normals and the orientation in double lanes;
- * (3) every normal's LUT entry in lanes; (4) the masks. Exact: the coordinates are integers below
- * 2^26, so each product of the cross products is below 2^52 and their difference below 2^53, the
- * integer edge normals of the scalar path, bit for bit. The determinant e0 . c (up to 2^80) is
- * not exact in doubles, so its sign is taken only where it is certain: the sum of three rounded
- * products is within 3 2^-52 (1 + 2^-50) sum |p| of the exact one in any rounding mode, far below
- * the filter's 2^-48 sum |p|; a triangle within the filter (nearly edge-on, in practice never
- * met) falls back to the exact integer setup, which also finds the planes through the receiver.
- * Same masks and counts as the scalar loop. */
-static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], const uint32_t (*tri)[3], uint32_t ntri,
-                           uint32_t *mask, uint32_t *nr, uint32_t *nb, uint32_t *nt)
+/* Cell of u / m in [-1, 1] on F cells: floor((m + u) F / (2 m)), clamped; num = m + u in
+ * [0, 2m], num F < 2^20 2^7 */
+static uint32_t cell(uint32_t num, uint32_t m, uint32_t F)
 {
-    double P[9][HEMI_BATCH + HEMI_VL];    /* a, b, c of the kept triangles: [vertex * 3 + axis][triangle] */
-    double E[3][3][HEMI_BATCH + HEMI_VL]; /* [edge][component][triangle] */
-    uint32_t keep[HEMI_BATCH], li[3][HEMI_BATCH + HEMI_VL], ln[3][HEMI_BATCH + HEMI_VL];
+    const uint32_t i = small_div(num * F, 2u * m);
+    return i >= F ? F - 1u : i;
+}
+
+/* The LUT entry of the plane with normal e (not zero): the face of its largest component, the
+ * two cells, and the complement for a - face (its u and v change sign). */
+static edge lookup(const qibl_hemi_t *h, const int32_t e[3])
+{
+    const uint32_t ax = qibli_abs_u32(e[0]), ay = qibli_abs_u32(e[1]), az = qibli_abs_u32(e[2]);
+    const uint32_t F = (uint32_t)h->face;
+    int neg;
+    uint32_t m;
+    int32_t u, v;
+    size_t base;
+    if (ax >= ay && ax >= az) /* +-x: u = e1, v = e2 */
+        neg = e[0] < 0, m = ax, u = e[1], v = e[2], base = 0u;
+    else if (ay >= az) /* +-y: u = e0, v = e2 */
+        neg = e[1] < 0, m = ay, u = e[0], v = e[2], base = (size_t)F * F;
+    else /* +-z: u = e1, v = e0 */
+        neg = e[2] < 0, m = az, u = e[1], v = e[0], base = 2u * (size_t)F * F;
+    if (neg) /* the - face is the complement of the + face at -e */
+        u = -u, v = -v;
+    edge r;
+    r.x = neg ? 0xFFFFFFFFu : 0u;
+    const size_t idx = base + (size_t)cell((uint32_t)((int32_t)m + u), m, F) * F + cell((uint32_t)((int32_t)m + v), m, F);
+    r.m = h->lut + idx * h->words;
+    return r;
+}
+
+#if HEMI_LANES
+/* ---- x86 AVX2: the same setup and look-ups, eight triangles at a time -----------------------
+ *
+ * int32 lanes for the quantisation (the shift from the exponent of (m >> 9) as a float, exact
+ * below 2^24), the cross products and the orientation, all exact as in the scalar code. The cell's
+ * divide in float32 lanes: est = trunc(fl(fl(num F) / D)) is within 1 of floor(num F / D) (the
+ * quotient is at most 128 and its relative error below 2^-22), and one exact int32 step corrects
+ * it (r = num F - est D, est += (r >= D) - (r < 0)): the scalar code's cells, bit for bit. */
+#include <immintrin.h>
+#define HEMI_VL 8
+#define HEMI_BATCH 64u /* triangles set up before their masks are read */
+
+/* m ? a : b for whole-lane masks, as and / andnot / or: the vpblendvb form gave other masks under
+ * gcc 12 with -mavx512bw (-march=native on this host; the ports' native build caught it) */
+static __m256i lane_sel(__m256i m, __m256i a, __m256i b)
+{
+    return _mm256_or_si256(_mm256_and_si256(m, a), _mm256_andnot_si256(m, b));
+}
+
+static void lane_quantise(__m256i *x, __m256i *y, __m256i *z)
+{
+    const __m256i m = _mm256_max_epi32(_mm256_max_epi32(_mm256_abs_epi32(*x), _mm256_abs_epi32(*y)), _mm256_abs_epi32(*z));
+    const __m256i fb = _mm256_castps_si256(_mm256_cvtepi32_ps(_mm256_srli_epi32(m, 9)));
+    const __m256i s = _mm256_max_epi32(_mm256_sub_epi32(_mm256_srli_epi32(fb, 23), _mm256_set1_epi32(126)),
+                                       _mm256_setzero_si256());
+    const __m256i half = _mm256_srli_epi32(_mm256_sllv_epi32(_mm256_set1_epi32(1), s), 1);
+    *x = _mm256_srav_epi32(_mm256_add_epi32(*x, half), s);
+    *y = _mm256_srav_epi32(_mm256_add_epi32(*y, half), s);
+    *z = _mm256_srav_epi32(_mm256_add_epi32(*z, half), s);
+}
+
+static __m256i lane_cell(__m256i num, __m256i d, __m256i vF, __m256i vF1)
+{
+    const __m256i nF = _mm256_mullo_epi32(num, vF); /* < 2^27 */
+    __m256i q = _mm256_cvttps_epi32(_mm256_div_ps(_mm256_cvtepi32_ps(nF), _mm256_cvtepi32_ps(d)));
+    const __m256i r = _mm256_sub_epi32(nF, _mm256_mullo_epi32(q, d));
+    /* +1 where r >= d, -1 where r < 0 (compare masks are -1) */
+    q = _mm256_sub_epi32(q, _mm256_cmpgt_epi32(r, _mm256_sub_epi32(d, _mm256_set1_epi32(1))));
+    q = _mm256_add_epi32(q, _mm256_cmpgt_epi32(_mm256_setzero_si256(), r));
+    return _mm256_min_epi32(q, vF1);
+}
+
+/* LUT entry numbers and complement words of eight edge normals (none zero) */
+static void lane_lookup(__m256i e0, __m256i e1, __m256i e2, __m256i vF, __m256i vF1, __m256i vFF, uint32_t *idx,
+                        uint32_t *cx)
+{
+    const __m256i ax = _mm256_abs_epi32(e0), ay = _mm256_abs_epi32(e1), az = _mm256_abs_epi32(e2);
+    const __m256i ones = _mm256_set1_epi32(-1);
+    const __m256i isx = _mm256_xor_si256(_mm256_or_si256(_mm256_cmpgt_epi32(ay, ax), _mm256_cmpgt_epi32(az, ax)), ones);
+    const __m256i yge = _mm256_xor_si256(_mm256_cmpgt_epi32(az, ay), ones);
+    const __m256i isy = _mm256_andnot_si256(isx, yge), isz = _mm256_xor_si256(_mm256_or_si256(isx, yge), ones);
+    const __m256i m = _mm256_max_epi32(_mm256_max_epi32(ax, ay), az);
+    const __m256i ng = _mm256_srai_epi32(lane_sel(isx, e0, lane_sel(isy, e1, e2)), 31);
+    const __m256i u = _mm256_sub_epi32(_mm256_xor_si256(lane_sel(isy, e0, e1), ng), ng);
+    const __m256i v = _mm256_sub_epi32(_mm256_xor_si256(lane_sel(isz, e0, e2), ng), ng);
+    const __m256i d = _mm256_add_epi32(m, m);
+    const __m256i cu = lane_cell(_mm256_add_epi32(m, u), d, vF, vF1), cv = lane_cell(_mm256_add_epi32(m, v), d, vF, vF1);
+    const __m256i base = _mm256_add_epi32(_mm256_and_si256(isy, vFF), _mm256_and_si256(isz, _mm256_add_epi32(vFF, vFF)));
+    _mm256_storeu_si256((__m256i *)(void *)idx, _mm256_add_epi32(base, _mm256_add_epi32(_mm256_mullo_epi32(cu, vF), cv)));
+    _mm256_storeu_si256((__m256i *)(void *)cx, ng);
+}
+
+/* The triangles in batches: (1) the horizon cull in lanes (the triangles' indices and their
+ * vertices' z gathered eight at a time), the kept triangles' numbers and indices written in order;
+ * (2) their vertices gathered, quantisation, edge normals, orientation and look-ups in lanes;
+ * (3) the masks. Same masks and counts as the scalar loop. Gathers index v with 3 i (int32): the
+ * caller keeps nv below 2^29 (else the scalar compaction). */
+static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t nv, const uint32_t (*tri)[3],
+                           uint32_t ntri, uint32_t *mask, uint32_t *nr, uint32_t *nb, uint32_t *nt)
+{
+    uint32_t keep[HEMI_BATCH + HEMI_VL], ki[3][HEMI_BATCH + HEMI_VL], li[3][HEMI_BATCH + HEMI_VL],
+        lx[3][HEMI_BATCH + HEMI_VL];
     uint32_t skip[HEMI_BATCH + HEMI_VL];
     const uint32_t words = h->words;
-    const hemi_vd sign = VD_SET1(-0.0), eps = VD_SET1(1.0 / 281474976710656.0); /* 2^-48 */
+    const int32_t F = h->face;
+    const __m256i vF = _mm256_set1_epi32(F), vF1 = _mm256_set1_epi32(F - 1), vFF = _mm256_set1_epi32(F * F);
+    const __m256i zero = _mm256_setzero_si256(), lane3 = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
+    const int *vb = (const int *)(const void *)v; /* no dereference: v may be NULL when ntri = 0 */
+    const int gather_ok = nv < (1u << 29);
     uint32_t t = 0;
     while (t < ntri) {
         const uint32_t t0 = t;
         uint32_t k = 0;
-        for (; t < ntri && k < HEMI_BATCH; ++t) { /* (1) */
-            const uint32_t *q = tri[t];
-            keep[k] = t;
-            k += (uint32_t)((v[q[0]][2] > 0) | (v[q[1]][2] > 0) | (v[q[2]][2] > 0));
-        }
-        *nb += (t - t0) - k;
-        uint32_t kp = k;
-        for (uint32_t j = 0; j < k; ++j) {
-            const uint32_t *q = tri[keep[j]];
-            for (int w = 0; w < 3; ++w)
-                for (int c = 0; c < 3; ++c)
-                    P[3 * w + c][j] = (double)v[q[w]][c];
-            skip[j] = 0u;
-        }
-        for (; kp % HEMI_VL != 0u; ++kp) /* pad with a harmless triangle: (1, 0, 1), (0, 1, 1), (0, 0, 1) */
-            for (int r = 0; r < 9; ++r)
-                P[r][kp] = (r == 0 || r == 2 || r == 4 || r == 5 || r == 8) ? 1.0 : 0.0;
-        for (uint32_t j = 0; j < kp; j += HEMI_VL) { /* (2) */
-            const hemi_vd ax = VD_LOAD(P[0] + j), ay = VD_LOAD(P[1] + j), az = VD_LOAD(P[2] + j);
-            const hemi_vd bx = VD_LOAD(P[3] + j), by = VD_LOAD(P[4] + j), bz = VD_LOAD(P[5] + j);
-            const hemi_vd cx = VD_LOAD(P[6] + j), cy = VD_LOAD(P[7] + j), cz = VD_LOAD(P[8] + j);
-            const hemi_vd e00 = VD_SUB(VD_MUL(ay, bz), VD_MUL(az, by)), e01 = VD_SUB(VD_MUL(az, bx), VD_MUL(ax, bz)),
-                          e02 = VD_SUB(VD_MUL(ax, by), VD_MUL(ay, bx));
-            const hemi_vd e10 = VD_SUB(VD_MUL(by, cz), VD_MUL(bz, cy)), e11 = VD_SUB(VD_MUL(bz, cx), VD_MUL(bx, cz)),
-                          e12 = VD_SUB(VD_MUL(bx, cy), VD_MUL(by, cx));
-            const hemi_vd e20 = VD_SUB(VD_MUL(cy, az), VD_MUL(cz, ay)), e21 = VD_SUB(VD_MUL(cz, ax), VD_MUL(cx, az)),
-                          e22 = VD_SUB(VD_MUL(cx, ay), VD_MUL(cy, ax));
-            const hemi_vd p0 = VD_MUL(e00, cx), p1 = VD_MUL(e01, cy), p2 = VD_MUL(e02, cz);
-            const hemi_vd d = VD_ADD(VD_ADD(p0, p1), p2);
-            const hemi_vd bound = VD_MUL(VD_ADD(VD_ADD(VD_ANDNOT(sign, p0), VD_ANDNOT(sign, p1)), VD_ANDNOT(sign, p2)), eps);
-            const hemi_vd sg = VD_AND(d, sign); /* orient: every normal negated when det < 0 */
-            VD_STORE(E[0][0] + j, VD_XOR(e00, sg)), VD_STORE(E[0][1] + j, VD_XOR(e01, sg)), VD_STORE(E[0][2] + j, VD_XOR(e02, sg));
-            VD_STORE(E[1][0] + j, VD_XOR(e10, sg)), VD_STORE(E[1][1] + j, VD_XOR(e11, sg)), VD_STORE(E[1][2] + j, VD_XOR(e12, sg));
-            VD_STORE(E[2][0] + j, VD_XOR(e20, sg)), VD_STORE(E[2][1] + j, VD_XOR(e21, sg)), VD_STORE(E[2][2] + j, VD_XOR(e22, sg));
-            const int unsure = VD_MASK(VD_GE(bound, VD_ANDNOT(sign, d))) & ((1 << HEMI_VL) - 1);
-            if (unsure != 0) /* the exact integer setup for those lanes */
-                for (uint32_t l = 0; l < HEMI_VL; ++l) {
-                    if (!((unsure >> l) & 1) || j + l >= k)
-                        continue;
-                    const uint32_t *q = tri[keep[j + l]];
-                    int64_t e[3][3];
-                    const int r = tri_setup(v[q[0]], v[q[1]], v[q[2]], e);
-                    if (r != TRI_DRAW) { /* the plane through the receiver (kept: not below) */
-                        skip[j + l] = 1u;
-                        ++*nt;
-                        e[0][0] = e[1][0] = e[2][0] = 1, e[0][1] = e[0][2] = e[1][1] = e[1][2] = e[2][1] = e[2][2] = 0;
-                    }
-                    for (int i = 0; i < 3; ++i)
-                        for (int c = 0; c < 3; ++c)
-                            E[i][c][j + l] = (double)e[i][c]; /* |e| < 2^53: exact */
+        if (gather_ok) /* (1) */
+            while (t + HEMI_VL <= ntri && k + HEMI_VL <= HEMI_BATCH) {
+                const int *ix = (const int *)(const void *)&tri[t][0];
+                uint32_t I[3][HEMI_VL];
+                __m256i above = zero;
+                for (int w = 0; w < 3; ++w) {
+                    const __m256i i = _mm256_i32gather_epi32(ix + w, lane3, 4);
+                    _mm256_storeu_si256((__m256i *)(void *)I[w], i);
+                    const __m256i i3 = _mm256_add_epi32(i, _mm256_add_epi32(i, i));
+                    above = _mm256_or_si256(above, _mm256_cmpgt_epi32(_mm256_i32gather_epi32(vb + 2, i3, 4), zero));
                 }
+                uint32_t bits = (uint32_t)_mm256_movemask_ps(_mm256_castsi256_ps(above));
+                while (bits != 0u) {
+                    const uint32_t l = ctz32(bits);
+                    bits &= bits - 1u;
+                    keep[k] = t + l, ki[0][k] = I[0][l], ki[1][k] = I[1][l], ki[2][k] = I[2][l];
+                    ++k;
+                }
+                t += HEMI_VL;
+            }
+        if (!gather_ok || t + HEMI_VL > ntri)
+            for (; t < ntri && k < HEMI_BATCH; ++t) {
+                const uint32_t *q = tri[t];
+                keep[k] = t, ki[0][k] = q[0], ki[1][k] = q[1], ki[2][k] = q[2];
+                k += (uint32_t)((v[q[0]][2] > 0) | (v[q[1]][2] > 0) | (v[q[2]][2] > 0));
+            }
+        *nb += (t - t0) - k;
+        if (k == 0u)
+            continue;
+        for (uint32_t j = k; j % HEMI_VL != 0u; ++j) /* pad with the first kept triangle (ignored) */
+            keep[j] = keep[0], ki[0][j] = ki[0][0], ki[1][j] = ki[1][0], ki[2][j] = ki[2][0];
+        for (uint32_t j = 0; j < k; j += HEMI_VL) { /* (2) */
+#define LDI(w) _mm256_loadu_si256((const __m256i *)(const void *)(ki[w] + j))
+#define MUL(a, b) _mm256_mullo_epi32(a, b)
+#define SUB(a, b) _mm256_sub_epi32(a, b)
+            const __m256i ia = MUL(LDI(0), _mm256_set1_epi32(3)), ib = MUL(LDI(1), _mm256_set1_epi32(3)),
+                          ic = MUL(LDI(2), _mm256_set1_epi32(3));
+            __m256i ax = _mm256_i32gather_epi32(vb, ia, 4), ay = _mm256_i32gather_epi32(vb + 1, ia, 4),
+                    az = _mm256_i32gather_epi32(vb + 2, ia, 4);
+            __m256i bx = _mm256_i32gather_epi32(vb, ib, 4), by = _mm256_i32gather_epi32(vb + 1, ib, 4),
+                    bz = _mm256_i32gather_epi32(vb + 2, ib, 4);
+            __m256i cx = _mm256_i32gather_epi32(vb, ic, 4), cy = _mm256_i32gather_epi32(vb + 1, ic, 4),
+                    cz = _mm256_i32gather_epi32(vb + 2, ic, 4);
+            lane_quantise(&ax, &ay, &az), lane_quantise(&bx, &by, &bz), lane_quantise(&cx, &cy, &cz);
+            __m256i e00 = SUB(MUL(ay, bz), MUL(az, by)), e01 = SUB(MUL(az, bx), MUL(ax, bz)), e02 = SUB(MUL(ax, by), MUL(ay, bx));
+            __m256i e10 = SUB(MUL(by, cz), MUL(bz, cy)), e11 = SUB(MUL(bz, cx), MUL(bx, cz)), e12 = SUB(MUL(bx, cy), MUL(by, cx));
+            __m256i e20 = SUB(MUL(cy, az), MUL(cz, ay)), e21 = SUB(MUL(cz, ax), MUL(cx, az)), e22 = SUB(MUL(cx, ay), MUL(cy, ax));
+            const __m256i d = _mm256_add_epi32(_mm256_add_epi32(MUL(e00, cx), MUL(e01, cy)), MUL(e02, cz));
+#undef LDI
+#undef MUL
+#undef SUB
+            const __m256i thr = _mm256_cmpeq_epi32(d, zero);
+            const __m256i sg = _mm256_srai_epi32(d, 31); /* orient: every normal negated when det < 0 */
+            /* a plane through the receiver gets the normal (1, 0, 0) so that its look-up is harmless */
+            const __m256i one = _mm256_set1_epi32(1);
+#define ORIENT(e, r) e = lane_sel(thr, r, _mm256_sub_epi32(_mm256_xor_si256(e, sg), sg))
+            ORIENT(e00, one), ORIENT(e01, zero), ORIENT(e02, zero);
+            ORIENT(e10, one), ORIENT(e11, zero), ORIENT(e12, zero);
+            ORIENT(e20, one), ORIENT(e21, zero), ORIENT(e22, zero);
+#undef ORIENT
+            lane_lookup(e00, e01, e02, vF, vF1, vFF, li[0] + j, lx[0] + j);
+            lane_lookup(e10, e11, e12, vF, vF1, vFF, li[1] + j, lx[1] + j);
+            lane_lookup(e20, e21, e22, vF, vF1, vFF, li[2] + j, lx[2] + j);
+            const uint32_t tm = (uint32_t)_mm256_movemask_ps(_mm256_castsi256_ps(thr));
+            for (uint32_t l = 0; l < HEMI_VL; ++l)
+                skip[j + l] = 0u;
+            for (uint32_t bits = tm; bits != 0u; bits &= bits - 1u) {
+                const uint32_t l = ctz32(bits);
+                if (j + l >= k)
+                    break;
+                const uint32_t *q = tri[keep[j + l]]; /* the exact setup, as the scalar code */
+                int32_t e[3][3];
+                if (tri_exact(v[q[0]], v[q[1]], v[q[2]], e) != TRI_DRAW) {
+                    skip[j + l] = 1u;
+                    continue;
+                }
+                for (int i = 0; i < 3; ++i) {
+                    const edge ed = lookup(h, e[i]);
+                    li[i][j + l] = (uint32_t)((size_t)(ed.m - h->lut) / words), lx[i][j + l] = ed.x;
+                }
+            }
         }
-        for (int i = 0; i < 3; ++i) /* (3) */
-            lookup_lanes(h, E[i][0], E[i][1], E[i][2], kp, li[i], ln[i]);
-        for (uint32_t j = 0; j < k; ++j) { /* (4) */
-            if (skip[j])
+        for (uint32_t j = 0; j < k; ++j) { /* (3) */
+            if (skip[j]) {
+                ++*nt;
                 continue;
+            }
             edge ed[3];
             for (int i = 0; i < 3; ++i)
-                ed[i].m = h->lut + (size_t)li[i][j] * words, ed[i].x = 0u - ln[i][j];
+                ed[i].m = h->lut + (size_t)li[i][j] * words, ed[i].x = lx[i][j];
             and3(mask, &ed[0], &ed[1], &ed[2], words);
             ++*nr;
         }
@@ -788,11 +806,11 @@ qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint
         return QIBL_E_HEMI_RANGE;
     uint32_t nr = 0, nb = 0, nt = 0;
 #if HEMI_LANES
-    raster_batches(h, v, tri, ntri, mask, &nr, &nb, &nt);
+    raster_batches(h, v, nv, tri, ntri, mask, &nr, &nb, &nt);
 #else
     const uint32_t words = h->words;
     for (uint32_t t = 0; t < ntri; ++t) {
-        int64_t e[3][3];
+        int32_t e[3][3];
         const int r = tri_setup(v[tri[t][0]], v[tri[t][1]], v[tri[t][2]], e);
         if (r != TRI_DRAW) {
             if (r == TRI_BELOW)

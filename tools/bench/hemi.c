@@ -142,14 +142,17 @@ static void groups_make(const qtool_bench_cloth *s, const qibl_q16_t (*pos)[3], 
  * then the vertices of each kept full-resolution group; one triangle list (the kept coarse
  * cells' 2 triangles, each kept group's fixed template at its offset), one transform, one raster
  * call. Returns the blockers. */
-static uint32_t groups_mask(const qibl_hemi_t *h, const qtool_bench_cloth *s, const groups *g, const qibl_q16_t (*pos)[3],
-                            const qibl_hemi_frame_t *fr, int v, uint32_t *mask, qibl_hemi_stats_t *st, timing *tm)
+enum { NEARV = (CLOTH_STEP + 1) * (CLOTH_STEP + 1), NEART = 2 * CLOTH_STEP * CLOTH_STEP };
+/* one receiver's lists: one per thread */
+typedef struct gscratch {
+    qibl_q16_t gp[CLOTH_CG * CLOTH_CG + NCELL * NEARV][3];
+    int32_t loc[CLOTH_CG * CLOTH_CG + NCELL * NEARV][3];
+    uint32_t tl[NCELL * NEART][3];
+} gscratch;
+static uint32_t tn[NEART][3]; /* a cell's full-resolution triangles (groups_template, before any thread) */
+
+static void groups_template(void)
 {
-    const double t0 = tm ? qtool_bench_cpu_now() : 0;
-    enum { NEARV = (CLOTH_STEP + 1) * (CLOTH_STEP + 1), NEART = 2 * CLOTH_STEP * CLOTH_STEP };
-    static qibl_q16_t gp[CLOTH_CG * CLOTH_CG + NCELL * NEARV][3]; /* static: the bench is single-threaded here */
-    static int32_t loc[CLOTH_CG * CLOTH_CG + NCELL * NEARV][3];
-    static uint32_t tl[NCELL * NEART][3], tn[NEART][3];
     static int init;
     if (!init) {
         int k = 0;
@@ -161,6 +164,16 @@ static uint32_t groups_mask(const qibl_hemi_t *h, const qtool_bench_cloth *s, co
             }
         init = 1;
     }
+}
+
+static uint32_t groups_mask(const qibl_hemi_t *h, const qtool_bench_cloth *s, const groups *g, const qibl_q16_t (*pos)[3],
+                            const qibl_hemi_frame_t *fr, int v, uint32_t *mask, qibl_hemi_stats_t *st, timing *tm, gscratch *sc)
+{
+    const double t0 = tm ? qtool_bench_cpu_now() : 0;
+    qibl_q16_t(*gp)[3] = sc->gp;
+    int32_t(*loc)[3] = sc->loc;
+    uint32_t(*tl)[3] = sc->tl;
+    groups_template();
     int c0, c1, r0, r1;
     qtool_bench_cloth_window(v, s->near, &c0, &c1, &r0, &r1);
     const uint32_t ncv = (uint32_t)s->ncv, kq8 = (uint32_t)(g_lod * 256.0 + 0.5); /* Q8.8 */
@@ -205,6 +218,7 @@ static double groups_frame(const qibl_hemi_t *h, const qtool_bench_cloth *s, con
                            qibl_q30_t (*vloc)[25], double *blk, double *rasterized, timing *tm)
 {
     static groups g;
+    static gscratch sc; /* static: this path is single-threaded (groups_frame_mt has one per thread) */
     uint32_t mask[QIBL_HEMI_MAX_WORDS];
     qibl_hemi_stats_t st = {0, 0, 0};
     const double t0 = qtool_bench_cpu_now();
@@ -215,7 +229,7 @@ static double groups_frame(const qibl_hemi_t *h, const qtool_bench_cloth *s, con
         qibl_hemi_frame_t fr;
         QTOOL_BENCH_CALL(qibl_hemi_frame_init(&fr, pos[v], nrm[v]));
         const double tb = tm ? qtool_bench_cpu_now() : 0;
-        b += groups_mask(h, s, &g, pos, &fr, v, mask, &st, tm);
+        b += groups_mask(h, s, &g, pos, &fr, v, mask, &st, tm, &sc);
         const double tc = tm ? qtool_bench_cpu_now() : 0;
         QTOOL_BENCH_CALL(qibl_hemi_transfer(h, mask, vloc[v]));
         const double td = tm ? qtool_bench_cpu_now() : 0;
@@ -234,6 +248,60 @@ static double groups_frame(const qibl_hemi_t *h, const qtool_bench_cloth *s, con
     return t;
 }
 
+
+/* groups_frame's work with the vertices split into `threads` contiguous parts, one thread each
+ * (the core is reentrant and state-free: each thread has its own lists and mask). Returns the wall
+ * seconds; *crit the critical path in thread CPU time (the bounds plus the slowest part), which a
+ * loaded shared machine does not enter. */
+typedef struct mtjob {
+    const qibl_hemi_t *h;
+    const qtool_bench_cloth *s;
+    const groups *g;
+    const qibl_q16_t (*pos)[3];
+    const int32_t (*nrm)[3];
+    qibl_q30_t (*vloc)[25];
+    gscratch *sc;
+    int parts;
+    double cpu[8];
+} mtjob;
+
+static void mt_part(void *ctx, uint32_t part)
+{
+    mtjob *j = ctx;
+    const double t0 = qtool_bench_cpu_now();
+    const int v0 = (int)((long)j->s->nv * (long)part / j->parts), v1 = (int)((long)j->s->nv * (long)(part + 1) / j->parts);
+    uint32_t mask[QIBL_HEMI_MAX_WORDS];
+    for (int v = v0; v < v1; ++v) {
+        qibl_hemi_frame_t fr;
+        QTOOL_BENCH_CALL(qibl_hemi_frame_init(&fr, j->pos[v], j->nrm[v]));
+        groups_mask(j->h, j->s, j->g, j->pos, &fr, v, mask, NULL, NULL, &j->sc[part]);
+        QTOOL_BENCH_CALL(qibl_hemi_transfer(j->h, mask, j->vloc[v]));
+        qibl_q30_t w[25];
+        QTOOL_BENCH_CALL(qibl_hemi_to_world(j->h, &fr, j->vloc[v], w));
+    }
+    j->cpu[part] = qtool_bench_cpu_now() - t0;
+}
+
+static double groups_frame_mt(const qibl_hemi_t *h, const qtool_bench_cloth *s, const qibl_q16_t (*pos)[3],
+                              const int32_t (*nrm)[3], qibl_q30_t (*vloc)[25], int threads, gscratch *sc, double *crit)
+{
+    static groups g;
+    groups_template();
+    const double w0 = qtool_bench_now(), t0 = qtool_bench_cpu_now();
+    groups_make(s, pos, &g);
+    const double tb = qtool_bench_cpu_now() - t0;
+    mtjob j = {h, s, &g, pos, nrm, vloc, sc, threads, {0}};
+    if (threads == 1)
+        mt_part(&j, 0);
+    else
+        qtool_rt_parallel(threads, (uint32_t)threads, mt_part, &j, NULL);
+    const double wall = qtool_bench_now() - w0;
+    double m = 0;
+    for (int k = 0; k < threads; ++k)
+        m = j.cpu[k] > m ? j.cpu[k] : m;
+    *crit = tb + m;
+    return wall;
+}
 
 /* ---- reference ---------------------------------------------------------------------------------- */
 
@@ -863,6 +931,51 @@ static int hierarchy_study(run *r, const char *svg, setup *lod)
     return rc;
 }
 
+/* The headline setup (3D refinement at lod->k, group culling) on 1 and 2 threads, vertices split
+ * across them, interleaved repetitions; the speed-up from the critical path in thread CPU time
+ * (the bounds, then the slower half), and the wall clock's beside it (which the machine's other
+ * load enters). */
+static void threads_row(run *r, const setup *lod)
+{
+    const int face = (int)QIBL_HEMI_FACE_DEFAULT;
+    const size_t sz = qibl_hemi_workspace_size(32, face), nv = r->nv;
+    void *ws = malloc(sz);
+    gscratch *sc = malloc(sizeof *sc * 2);
+    qibl_q30_t (*v2)[25] = malloc(sizeof *v2 * nv);
+    qibl_hemi_t h;
+    if (!ws || !sc || !v2 || qibl_hemi_init(&h, 32, face, ws, sz) != QIBL_OK) {
+        free(ws), free(sc), free(v2);
+        return;
+    }
+    const int near = r->s.near;
+    g_lod = lod->k, r->s.near = 0;
+    double c1 = 0, c2 = 0, w1 = 0, w2 = 0;
+    size_t same = 0;
+    for (int f = 0; f < r->nframes; ++f) {
+        const qibl_q16_t(*p)[3] = (const qibl_q16_t(*)[3])(r->pos + nv * (size_t)f);
+        const int32_t(*n)[3] = (const int32_t(*)[3])(r->nrm + nv * (size_t)f);
+        double m[4] = {1e30, 1e30, 1e30, 1e30};
+        for (int k = 0; k < r->reps; ++k) {
+            double c, w = groups_frame_mt(&h, &r->s, p, n, r->vloc, 1, sc, &c);
+            m[0] = fmin(m[0], c), m[1] = fmin(m[1], w);
+            w = groups_frame_mt(&h, &r->s, p, n, v2, 2, sc, &c);
+            m[2] = fmin(m[2], c), m[3] = fmin(m[3], w);
+        }
+        c1 += m[0], w1 += m[1], c2 += m[2], w2 += m[3];
+        for (size_t v = 0; v < nv; ++v)
+            same += memcmp(v2[v], r->vloc[v], sizeof v2[v]) == 0;
+    }
+    g_lod = 0, r->s.near = near;
+    const double nf = r->nframes;
+    printf("threads (3D refinement, k = %.2f): 1 thread %.1f fps, 2 threads %.1f fps (critical path in thread CPU\n"
+           "  time: %.2fx); wall clock %.1f / %.1f fps (%.2fx, with this machine's other load); transfer identical on\n"
+           "  %zu of %zu vertex-frames\n",
+           lod->k, nf / c1, nf / c2, c1 / c2, nf / w1, nf / w2, w1 / w2, same, nv * (size_t)r->nframes);
+    printf("RESULT hemi.cloth_mt1_fps %.1f\nRESULT hemi.cloth_mt2_fps %.1f\nRESULT hemi.cloth_mt2_speedup %.2f\n"
+           "RESULT hemi.cloth_mt2_wall_speedup %.2f\n", nf / c1, nf / c2, c1 / c2, w1 / w2);
+    free(ws), free(sc), free(v2);
+}
+
 /* The LUT / mask study: every configuration on the same frames; the default's figures in *def. */
 static void lut_study(run *r, setup *def)
 {
@@ -982,6 +1095,7 @@ int qtool_bench_hemi(int quick, const char *svg)
         run_free(&r);
         return 1;
     }
+    threads_row(&r, &lod);
     lut_study(&r, &def);
     {
         const int face = (int)QIBL_HEMI_FACE_DEFAULT;

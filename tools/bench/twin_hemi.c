@@ -1,6 +1,6 @@
 /*
- * twin_hemi.c - qibl-bench's part of `bench hemi`: the rasterizer's look-up paths (x86: double
- * lanes) against the scalar twin (tools/twin/hemi_scalar.c) on frame 0 of the cloth (cloth.h),
+ * twin_hemi.c - qibl-bench's part of `bench hemi`: the rasterizer's look-up paths (x86 AVX2: 8
+ * int32 / float32 lanes) against the scalar twin (tools/twin/hemi_scalar.c) on frame 0 of the cloth (cloth.h),
  * W = 6, the default tables. Not in the shipped qibl: it links the twin.
  */
 #include <stdio.h>
@@ -14,7 +14,7 @@
 #include "qibl/isa.h"
 #include "twin/hemi_scalar.h"
 
-/* The rasterizer's look-up paths on one cloth frame (W = 6): the library's (x86: double lanes)
+/* The rasterizer's look-up paths on one cloth frame (W = 6): the library's (x86 AVX2: 8 lanes)
  * against the scalar twin, the raster calls alone over every vertex, interleaved repetitions in one
  * process; prints min and median ns per vertex and per rasterized triangle. */
 typedef qibl_status_t (*raster_fn)(const qibl_hemi_t *, const int32_t (*)[3], uint32_t, const uint32_t (*)[3], uint32_t,
@@ -75,8 +75,8 @@ static int raster_paths(const qibl_hemi_t *h, const qtool_bench_cloth *s, const 
 #if defined(__x86_64__) || defined(__i386__)
     /* the kernel set the library picks now (qibl/isa.h: from the CPU, QIBL_ISA restricts it) */
     const qibl_isa_t isa = qibl_isa_active();
-    const char *lib = isa == QIBL_ISA_AVX2   ? "AVX2 double lanes (4)"
-                      : isa == QIBL_ISA_SSE2 ? "SSE2 double lanes (2)"
+    const char *lib = isa == QIBL_ISA_AVX2   ? "AVX2 int32 / float32 lanes (8)"
+                      : isa == QIBL_ISA_SSE2 ? "SSE2 build (integer setup)"
                                              : "library, scalar (integer look-ups)";
 #else
     const char *lib = "library (scalar look-ups here)";

@@ -18,9 +18,14 @@
  * plane's mask comes from a look-up table indexed by a cube-map parameterisation of its normal
  * (F x F cells per face, the cell's centre normal decides: bit set where centre . s > 0); the
  * triangle's mask is the AND of the three and is ORed into the vertex's mask (occluder fusion).
+ * Setup: each vertex's direction is first quantised (scaled by its own power of two, rounded to
+ * |q| <= 512: within 2^-9 rad), so the edge normals and det are exact int32 (no 64-bit product)
+ * and identical on every port and dispatch choice; where the quantised det is 0 the exact int64
+ * setup on the unquantised vertices decides. The masks are the quantised triangle's (a near-
+ * degenerate triangle may become a sliver of a few pixels along its plane).
  * Skipped: triangles with every vertex at or below the horizon (z <= 0), and triangles whose
- * plane passes through the receiver (det = 0, computed exactly: degenerate triangles, triangles
- * sharing the receiver vertex, edge-on triangles).
+ * plane passes through the receiver (exact det = 0: degenerate triangles, triangles sharing the
+ * receiver vertex, edge-on triangles).
  * The table folds one symmetry, so it holds 3 F^2 masks instead of 6 F^2: the plane -p gives the
  * complement of p's mask (the -x, -y and -z faces), an XOR at run time. The disk's mirror
  * symmetries (row reversals) would halve it again but are not folded: a mirrored entry is read in
@@ -147,7 +152,9 @@ QIBL_NODISCARD qibl_status_t qibl_hemi_clear(const qibl_hemi_t *h, uint32_t *mas
  * each). `qibl transfer` does; it cuts a box's error against the ray cast by an order of magnitude.
  * Culling and skipping as above; a triangle is the same mask whichever way it winds.
  * Formats: v Q14.18 (frame-local, from qibl_hemi_transform); mask u32 bit words.
- * Bound: exact (integer edge-plane tests: the mask is the LUT's, bit for bit, on every port).
+ * Bound: the LUT's masks of the quantised triangle's planes (setup above), bit for bit on every
+ * port and dispatch choice (x86 AVX2: 8-wide int32 lanes, the cell divide in float32 lanes with its
+ * floor corrected exactly).
  * Errors, in this order: QIBL_E_NULL_POINTER (h or mask NULL, or v/tri NULL with ntri != 0),
  * QIBL_E_HEMI_INDEX (an index >= nv), QIBL_E_HEMI_RANGE (a coordinate of v[0..nv) beyond
  * QIBL_HEMI_LOCAL_MAX).
