@@ -30,6 +30,7 @@ typedef struct qtool_demo_size {
     uint32_t sky_dirs;    /* directions of the ray-traced sky truth */
     uint32_t probe_spp;   /* samples per pixel in each of the two probe-lit truth renders */
     uint32_t ies_pos;     /* positions of the IES lamp row on the lamp track (one truth render each) */
+    uint32_t nf_grid, nf_size; /* near-field row: capture grid side, ground patch side (< 96: 3 heights) */
 } qtool_demo_size;
 
 /* "small", "default" or "full"; NULL for any other name. */
@@ -98,6 +99,12 @@ int qtool_demo_paths(const qtool_demo_view *v, uint32_t ndirs, const qtool_demo_
 #define QTOOL_DEMO_MAX_IES_POS 64u
 int qtool_demo_ies(const qtool_demo_view *v, const uint8_t *asset, size_t n, uint32_t path,
                    const qtool_bake_path *track, uint32_t npos, char *err, size_t errlen);
+
+/* The near-field row (nearfield.c): `qibl luminaire study` sized by sz (nf_grid, nf_size): the
+ * built-in luminaire's near-field source and its far-field treatment against the ray-traced
+ * luminaire at several heights, the kernel's ms per frame in the courtyard; its lines and RESULT
+ * luminaire.* lines to v->out. 0, or -1 (err). */
+int qtool_demo_nearfield(const qtool_demo_view *v, const qtool_demo_size *sz, char *err, size_t errlen);
 
 /* The "lit by a real probe" part (probe.c): three probes (../shared's, or procedural ones),
  * ray-traced truth with probe_spp samples per pixel per render, SH / median-cut lights / sun + SH
