@@ -241,6 +241,26 @@ static void test_ies_row(void **state)
     qtool_rt_scene_free(&s);
 }
 
+/* the near-field row checks its asset before the study: garbage is refused by name, nothing printed */
+static void test_nearfield_refuses_asset(void **state)
+{
+    (void)state;
+    qtool_rt_scene s;
+    assert_int_equal(qtool_rt_scene_builtin(&s), 0);
+    char *buf = NULL, err[512] = "";
+    size_t len = 0;
+    FILE *out = open_memstream(&buf, &len);
+    assert_non_null(out);
+    qtool_demo_view v = {.scene = &s, .w = 64, .h = 16, .threads = 1, .dir = "/tmp", .out = out};
+    static const uint8_t junk[64] = {1, 2, 3};
+    assert_int_equal(qtool_demo_nearfield(&v, qtool_demo_size_named("small"), junk, sizeof junk, err, sizeof err), -1);
+    fclose(out);
+    assert_non_null(strstr(err, "point maps and P map"));
+    assert_int_equal(len, 0);
+    free(buf);
+    qtool_rt_scene_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -248,7 +268,7 @@ int main(void)
         cmocka_unit_test(test_blit_in_place),      cmocka_unit_test(test_chunk_bytes_of_garbage),
         cmocka_unit_test(test_lin8_and_median),    cmocka_unit_test(test_check_out),
         cmocka_unit_test(test_probe_parts_refused), cmocka_unit_test(test_camera_row),
-        cmocka_unit_test(test_ies_row),
+        cmocka_unit_test(test_ies_row),           cmocka_unit_test(test_nearfield_refuses_asset),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -192,7 +192,7 @@ static int run(const demo_opts *o, const qtool_rt_scene *s)
     if (rc == 0)
         rc = qtool_demo_camera(&v, (uint32_t)o->ndirs, o->size, err, sizeof err);
     if (rc == 0)
-        rc = qtool_demo_nearfield(&v, o->size, err, sizeof err);
+        rc = qtool_demo_nearfield(&v, o->size, m.asset[1], m.asize[1], err, sizeof err);
     if (rc == 0)
         printf("\nwrote %s/: scene_k{9,16,25}.qibl, sun_NN.png and sun_sweep.png (APNG), lamp_NN.png and lamp_sweep.png "
                "(APNG), contact_sheet.png (relit | ground truth | error), relit_sun.png, truth_sun.png, paths_sheet.png, "

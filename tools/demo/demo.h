@@ -102,9 +102,11 @@ int qtool_demo_ies(const qtool_demo_view *v, const uint8_t *asset, size_t n, uin
 
 /* The near-field row (nearfield.c): `qibl luminaire study` sized by sz (nf_grid, nf_size): the
  * built-in luminaire's near-field source and its far-field treatment against the ray-traced
- * luminaire at several heights, the kernel's ms per frame in the courtyard; its lines and RESULT
- * luminaire.* lines to v->out. 0, or -1 (err). */
-int qtool_demo_nearfield(const qtool_demo_view *v, const qtool_demo_size *sz, char *err, size_t errlen);
+ * luminaire at several heights, the kernel's ms per frame in the courtyard; then CPU ms per frame
+ * by pass count (captures on 4x4, 8x8, 16x16 grids) relit on asset (the k = 16 asset, with its P
+ * map); its lines and RESULT luminaire.* and demo.nearfield_* lines to v->out. 0, or -1 (err). */
+int qtool_demo_nearfield(const qtool_demo_view *v, const qtool_demo_size *sz, const uint8_t *asset, size_t n,
+                         char *err, size_t errlen);
 
 /* The "lit by a real probe" part (probe.c): three probes (../shared's, or procedural ones),
  * ray-traced truth with probe_spp samples per pixel per render, SH / median-cut lights / sun + SH
