@@ -184,6 +184,83 @@ static void test_camera_row(void **state)
     qtool_rt_scene_free(&s);
 }
 
+/* The IES lamp row, run at the end of the light-path part on the courtyard at a tiny size: its
+ * table and RESULT lines, the profile's lamp on the baked track at the issue's 30 dB against the
+ * ray-traced lamp of the same profile and well above the same frames with the profile ignored;
+ * a position count outside 1..QTOOL_DEMO_MAX_IES_POS refused by name. */
+#define IES_ROW_MIN_DB 30.0
+static void test_ies_row(void **state)
+{
+    (void)state;
+    qtool_rt_scene s;
+    assert_int_equal(qtool_rt_scene_builtin(&s), 0);
+    char base[] = "/tmp/qibl_demo_ies_XXXXXX", err[512], *buf = NULL;
+    assert_non_null(mkdtemp(base));
+    size_t len = 0;
+    FILE *out = open_memstream(&buf, &len);
+    assert_non_null(out);
+    qtool_demo_view v = {.scene = &s, .w = 64, .h = 16, .threads = 2, .dir = base, .out = out};
+    qtool_demo_size sz = *qtool_demo_size_named("small");
+    sz.path_steps = 16, sz.sky_dirs = 16;
+    qtool_bake_sums sums;
+    assert_int_equal(qtool_bake_run(&s, v.w, v.h, v.kind, 64, 16, 0, 1, 2, 0, &sums), 0);
+    qtool_gen_maps maps;
+    uint8_t *today = NULL;
+    size_t today_n = 0;
+    assert_int_equal(qtool_bake_coeffs(&sums, 16, QTOOL_PROJ_QUADRATURE, &maps), 0);
+    assert_int_equal(qtool_bake_asset(&maps, 32, &today, &today_n), 0);
+    err[0] = 0;
+    if (qtool_demo_paths(&v, 64, &sz, &sums, today, today_n, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    fclose(out);
+    static const char kg[] = "RESULT demo.ies_track_psnr ", ki[] = "RESULT demo.ies_track_isotropic_psnr ";
+    const char *a = strstr(buf, kg), *b = strstr(buf, ki);
+    assert_non_null(a), assert_non_null(b);
+    assert_non_null(strstr(buf, "IES lamp on the lamp track"));
+    double g = atof(a + strlen(kg)), iso = atof(b + strlen(ki));
+    print_message("IES row at 64x16: profile %.2f dB, profile ignored %.2f dB (at least %.1f)\n", g, iso,
+                  IES_ROW_MIN_DB);
+    assert_true(g >= IES_ROW_MIN_DB && g > iso + 6);
+    free(buf);
+    /* the position count is checked before anything is read */
+    out = fopen("/dev/null", "w");
+    assert_non_null(out);
+    v.out = out;
+    qtool_bake_path track = {0};
+    err[0] = 0;
+    assert_int_equal(qtool_demo_ies(&v, today, today_n, 1, &track, 0, err, sizeof err), -1);
+    assert_non_null(strstr(err, "IES positions"));
+    assert_int_equal(qtool_demo_ies(&v, today, today_n, 1, &track, QTOOL_DEMO_MAX_IES_POS + 1, err, sizeof err), -1);
+    fclose(out);
+    free(today);
+    qtool_gen_free(&maps);
+    qtool_bake_sums_free(&sums);
+    char cmd[400];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", base);
+    assert_int_equal(system(cmd), 0);
+    qtool_rt_scene_free(&s);
+}
+
+/* the near-field row checks its asset before the study: garbage is refused by name, nothing printed */
+static void test_nearfield_refuses_asset(void **state)
+{
+    (void)state;
+    qtool_rt_scene s;
+    assert_int_equal(qtool_rt_scene_builtin(&s), 0);
+    char *buf = NULL, err[512] = "";
+    size_t len = 0;
+    FILE *out = open_memstream(&buf, &len);
+    assert_non_null(out);
+    qtool_demo_view v = {.scene = &s, .w = 64, .h = 16, .threads = 1, .dir = "/tmp", .out = out};
+    static const uint8_t junk[64] = {1, 2, 3};
+    assert_int_equal(qtool_demo_nearfield(&v, qtool_demo_size_named("small"), junk, sizeof junk, err, sizeof err), -1);
+    fclose(out);
+    assert_non_null(strstr(err, "point maps and P map"));
+    assert_int_equal(len, 0);
+    free(buf);
+    qtool_rt_scene_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -191,6 +268,7 @@ int main(void)
         cmocka_unit_test(test_blit_in_place),      cmocka_unit_test(test_chunk_bytes_of_garbage),
         cmocka_unit_test(test_lin8_and_median),    cmocka_unit_test(test_check_out),
         cmocka_unit_test(test_probe_parts_refused), cmocka_unit_test(test_camera_row),
+        cmocka_unit_test(test_ies_row),           cmocka_unit_test(test_nearfield_refuses_asset),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

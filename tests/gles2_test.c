@@ -15,7 +15,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <cmocka.h>
+#include <math.h>
 
+#include "qibl/gonio.h"
 #include "qibl/shmap.h"
 #include "qibl/soft.h"
 #include "qibl/srgbe.h"
@@ -256,6 +258,107 @@ static void test_relight_scenes_match_soft(void **state)
     printf("RESULT gles.float_accum_max_diff %u\nRESULT gles.float_accum_mean_diff %.4f\n", worst_max[2], worst_mean[2]);
 }
 
+/* A goniometric lamp's table for the tests: a beam toward the aim with three lobes around it and
+ * a dim back, smooth across the octahedron (n x n, Q1.15). */
+static void gonio_table(uint32_t n, uint16_t *t)
+{
+    for (uint32_t j = 0; j < n; ++j)
+        for (uint32_t i = 0; i < n; ++i) {
+            double u = (2.0 * i + 1.0) / n - 1.0, v = (2.0 * j + 1.0) / n - 1.0, r2 = u * u + v * v;
+            double lobe = 0.75 + 0.25 * cos(3.0 * atan2(v, u));
+            double x = 0.08 + 0.92 * (r2 < 1.0 ? (1.0 - r2) * (1.0 - r2) : 0.0) * lobe;
+            t[(size_t)j * n + i] = (uint16_t)lrint(x * 32768.0);
+        }
+}
+
+/* the soft frame of a goniometric point lamp: qibl_shmap_point_span, then qibl_gonio_scale_span,
+ * as tools/relight does */
+static void soft_gonio_frame(const gmaps *g, const qibl_shmap_point_t *pt, const qibl_q16_t pos[3],
+                             const qibl_gonio_t *go, uint8_t *rgba)
+{
+    qibl_fb_desc_t fb = {0};
+    fb.pixels = rgba, fb.width = GW, fb.height = GH, fb.srgb = 1;
+    int32_t row[3 * GW];
+    static int32_t ws[(GW * (2 * 25 + 32) + 3) / 4];
+    for (uint32_t y = 0; y < GH; ++y) {
+        assert_int_equal(qibl_shmap_point_span(pt, 0, y, GW, row, ws, sizeof ws), QIBL_OK);
+        assert_int_equal(qibl_gonio_scale_span(go, &g->p, pos, 0, y, GW, row), QIBL_OK);
+        assert_int_equal(qibl_soft_fb_write_row(&fb, 0, y, GW, row), QIBL_OK);
+    }
+}
+
+/* qibl_gles2_point_gonio against platform/soft with qibl_gonio_scale_span: the limits of the point
+ * lamps (max 2, mean 0.5 levels), direct SH and LUT, one pass and the capped multipass path, two
+ * lamp frames and table sizes; the lamp's shape must show (the frame differs from the isotropic
+ * lamp's); refusals by name. */
+static void test_gonio_point_matches_soft(void **state)
+{
+    NEED_GL(*state);
+    static uint8_t soft[GW * GH * 4], gpu[GW * GH * 4], iso[GW * GH * 4];
+    static uint16_t table[64 * 64];
+    const qibl_gles2_out_t out = {0, 1};
+    const int32_t frames[2][2][3] = {{{0, 0, 65536}, {65536, 0, 0}}, {{20000, 50000, 40000}, {0, 0, 65536}}};
+    gmaps g;
+    gmaps_make(&g, GW, GH, 16);
+    size_t vs = qibl_ylut_values_size(16, 16);
+    uint8_t *vals = malloc(vs);
+    assert_non_null(vals);
+    assert_int_equal(qibl_ylut_build(16, 16, vals, vs), QIBL_OK);
+    qibl_ylut_t lut = {16, 16, vals, vs};
+    for (int c = 0; c < 2; ++c) {
+        qibl_gles2_t gl;
+        /* capped: 16 uniform vectors force a pass per map texture; the LUT's pass may need 9 units */
+        qibl_gles2_desc_t d = {c ? 10u : 0u, c ? 16u : 0u, 0};
+        assert_int_equal(qibl_gles2_init(&gl, &d), QIBL_OK);
+        assert_int_equal(qibl_gles2_upload(&gl, &g.m, &g.p, &lut), QIBL_OK);
+        for (int f = 0; f < 2; ++f)
+            for (int mode = 0; mode < 2; ++mode) {
+                uint32_t n = f ? 64u : 17u;
+                gonio_table(n, table);
+                qibl_gonio_t go;
+                assert_int_equal(qibl_gonio_init(&go, n, table, frames[f][0], frames[f][1]), QIBL_OK);
+                qibl_shmap_point_t pt;
+                qibl_pointlight_t pl = {{30000, -90000, -60000}, {300000, 240000, 180000},
+                                        mode ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST, 0, QIBL_LUT_BILINEAR};
+                assert_int_equal(qibl_shmap_point_prepare(&g.m, &g.p, mode ? &lut : NULL, &pl, &pt), QIBL_OK);
+                soft_gonio_frame(&g, &pt, pl.pos, &go, soft);
+                soft_frame(&g, NULL, &pt, iso);
+                glBindFramebuffer(GL_FRAMEBUFFER, ctx.fbo);
+                qibl_status_t st = qibl_gles2_point_gonio(&gl, &pt, &go, &out);
+                if (st != QIBL_OK)
+                    fprintf(stderr, "point_gonio: %s: %s\n", qibl_gles2_status_str(st), qibl_gles2_log(&gl));
+                assert_int_equal(st, QIBL_OK);
+                assert_int_equal(qt_gles_read(&ctx, gpu), 0);
+                if (c)
+                    assert_true(qibl_gles2_passes(&gl) > 1u);
+                unsigned shaped = 0;
+                for (size_t i = 0; i < sizeof iso; ++i)
+                    shaped += i % 4u != 3u && abs((int)iso[i] - (int)soft[i]) > 8;
+                assert_true(shaped > GW * GH / 4u); /* the table really shapes the lamp */
+                char label[40];
+                snprintf(label, sizeof label, "gonio%u %s f%d", n, mode ? "lut16" : "direct", f);
+                compare(label, 16, gl.units, qibl_gles2_passes(&gl), soft, gpu);
+            }
+        /* refusals: what qibl_gles2_point refuses, then the table's size */
+        qibl_gonio_t go;
+        assert_int_equal(qibl_gonio_init(&go, 17u, table, frames[0][0], frames[0][1]), QIBL_OK);
+        qibl_shmap_point_t pt;
+        qibl_pointlight_t pl = {{30000, -90000, -60000}, {300000, 240000, 180000}, QIBL_FALLOFF_INV_DIST, 0,
+                                QIBL_LUT_BILINEAR};
+        assert_int_equal(qibl_shmap_point_prepare(&g.m, &g.p, NULL, &pl, &pt), QIBL_OK);
+        assert_int_equal(qibl_gles2_point_gonio(&gl, &pt, NULL, &out), QIBL_E_NULL_POINTER);
+        assert_int_equal(qibl_gles2_point_gonio(NULL, &pt, &go, &out), QIBL_E_NULL_POINTER);
+        qibl_gonio_t bad = go;
+        bad.n = 1;
+        assert_int_equal(qibl_gles2_point_gonio(&gl, &pt, &bad, &out), QIBL_E_GONIO_SIZE);
+        bad.table = NULL;
+        assert_int_equal(qibl_gles2_point_gonio(&gl, &pt, &bad, &out), QIBL_E_NULL_POINTER);
+        qibl_gles2_destroy(&gl);
+    }
+    free(vals);
+    gmaps_free(&g);
+}
+
 /* sRGBE: the GLSL decode/encode pair against the C codec over a sweep of codes. */
 static void test_srgbe_shader_matches_codec(void **state)
 {
@@ -466,6 +569,7 @@ int main(void)
         cmocka_unit_test(test_named_errors),
         cmocka_unit_test(test_nothing_leaks),
         cmocka_unit_test(test_luminaire_passes_match_soft),
+        cmocka_unit_test(test_gonio_point_matches_soft),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -134,6 +134,44 @@ static const char *fs_lut_dir = "uniform float u_lutn, u_lutnear;\n"
                                     "  return u.z >= 0.0 ? vec3(st.x, -st.y, 1.0) : vec3(-st.x, -st.y, -1.0);\n"
                                     "}\n";
 
+/* the point modes that read the LUT, and those with a goniometric table */
+static int mode_lut(int mode)
+{
+    return mode == QIBL_GLES2_MODE_POINT_LUT || mode == QIBL_GLES2_MODE_POINT_LUT_GONIO;
+}
+
+static int mode_gonio(int mode)
+{
+    return mode == QIBL_GLES2_MODE_POINT_SH_GONIO || mode == QIBL_GLES2_MODE_POINT_LUT_GONIO;
+}
+
+/* The goniometric scale toward lamp-frame direction dw (qibl/gonio.h, qibl_gonio_lookup): the
+ * octahedral position, folded below the equator, as a texel position clamped to the outer texel
+ * centres; the four nearest texels fetched exactly (nearest filtering at their centres, the 16 bits
+ * rebuilt from two bytes) and mixed bilinearly; the Q1.15 result rounded as the core rounds it. */
+static const char *fs_gonio = "uniform sampler2D u_g;\n"
+                              "uniform vec3 u_gx, u_gy, u_gz;\n"
+                              "uniform float u_gn;\n"
+                              "float gonio_tex(vec2 ij) {\n"
+                              "  vec4 t = texture2D(u_g, (ij + 0.5) / u_gn);\n"
+                              "  return floor(t.r * 255.0 + 0.5) + 256.0 * floor(t.a * 255.0 + 0.5);\n"
+                              "}\n"
+                              "float gonio(vec3 dw) {\n"
+                              "  vec3 lf = vec3(dot(dw, u_gx), dot(dw, u_gy), dot(dw, u_gz));\n"
+                              "  vec3 al = abs(lf);\n"
+                              "  float s = al.x + al.y + al.z;\n"
+                              "  vec2 a = vec2(0.0);\n"
+                              "  if (s > 0.0) {\n"
+                              "    a = (lf.z >= 0.0 ? al.xy : vec2(s - al.y, s - al.x)) / s;\n"
+                              "    a = vec2(lf.x < 0.0 ? -a.x : a.x, lf.y < 0.0 ? -a.y : a.y);\n"
+                              "  }\n"
+                              "  vec2 f = clamp((a + 1.0) * 0.5 * u_gn - 0.5, 0.0, u_gn - 1.0);\n"
+                              "  vec2 i0 = floor(f), tf = f - i0, i1 = min(i0 + 1.0, u_gn - 1.0);\n"
+                              "  float r0 = mix(gonio_tex(i0), gonio_tex(vec2(i1.x, i0.y)), tf.x);\n"
+                              "  float r1 = mix(gonio_tex(vec2(i0.x, i1.y)), gonio_tex(i1), tf.x);\n"
+                              "  return floor(mix(r0, r1, tf.y) + 0.5) / 32768.0;\n"
+                              "}\n";
+
 static const char swz[4] = {'x', 'y', 'z', 'w'};
 static const char rgbc[3] = {'r', 'g', 'b'};
 
@@ -199,9 +237,9 @@ static void pass_cost(const qibl_gles2_t *g, int mode, uint32_t t0, uint32_t t1,
     if (mode == QIBL_GLES2_MODE_DIR) {
         *uvecs += n * (g->channels == 3u ? 1u : 3u);
     } else {
-        *units += 3u;
-        *uvecs += 2u * n + 5u;
-        if (mode == QIBL_GLES2_MODE_POINT_LUT)
+        *units += 3u + (mode_gonio(mode) ? 1u : 0u);
+        *uvecs += 2u * n + 5u + (mode_gonio(mode) ? 4u : 0u);
+        if (mode_lut(mode))
             *units += (i1 - 1u) / 2u - i0 / 2u + 1u;
     }
 }
@@ -264,11 +302,13 @@ static int build_fs(const qibl_gles2_t *g, int mode, uint32_t pass, sbuf *b)
         emit(b, "uniform vec4 u_s[%u];\nuniform vec4 u_b[%u];\n", n, n);
         emit(b, "uniform sampler2D u_p0, u_p1, u_p2;\nuniform vec3 u_poff, u_pscale, u_lpos, u_lrgb;\n"
                 "uniform vec2 u_lpar;\n"); /* x: min_dist, y: 1 = 1/d^2 */
-        if (mode == QIBL_GLES2_MODE_POINT_LUT) {
+        if (mode_lut(mode)) {
             for (uint32_t c = i0 / 2u; c <= (i1 - 1u) / 2u; ++c)
                 emit(b, "uniform samplerCube u_y%u;\n", c);
             emit(b, "%s", fs_lut_dir);
         }
+        if (mode_gonio(mode))
+            emit(b, "%s", fs_gonio);
     }
     emit(b, "%s%s", fs_srgbe, fs_out);
     emit(b, "void main() {\n  vec2 tc = gl_FragCoord.xy * u_size;\n  vec4 t;\n  vec3 acc = u_bias;\n");
@@ -287,7 +327,7 @@ static int build_fs(const qibl_gles2_t *g, int mode, uint32_t pass, sbuf *b)
                 "  float att = u_lpar.y > 0.5 ? 1.0 / (d * d) : 1.0 / d;\n"
                 "  float y[%u];\n",
              2u * ((i1 - 1u) / 2u) + 2u); /* the LUT fills pairs */
-        if (mode == QIBL_GLES2_MODE_POINT_SH) {
+        if (!mode_lut(mode)) {
             emit_sh(b, i1);
         } else {
             emit(b, "  vec3 ul = lut_dir(u);\n");
@@ -323,7 +363,9 @@ static int build_fs(const qibl_gles2_t *g, int mode, uint32_t pass, sbuf *b)
             }
         }
     }
-    if (mode != QIBL_GLES2_MODE_DIR)
+    if (mode_gonio(mode)) /* the lamp's direction toward the pixel: -l */
+        emit(b, "  acc += s * u_lrgb * att * gonio(-l);\n");
+    else if (mode != QIBL_GLES2_MODE_DIR)
         emit(b, "  acc += s * u_lrgb * att;\n");
     if (!first && g->float_acc)
         emit(b, "  t = texture2D(u_acc, tc);\n  acc += t.rgb;\n");
@@ -400,6 +442,9 @@ static void delete_upload(qibl_gles2_t *g)
                 glDeleteTextures(1, &lists[l][i]);
                 lists[l][i] = 0;
             }
+    if (g->gonio_tex != 0u)
+        glDeleteTextures(1, &g->gonio_tex);
+    g->gonio_tex = g->gonio_n = 0;
     for (int i = 0; i < 4; ++i) {
         if (g->acc_tex[i] != 0u)
             glDeleteTextures(1, &g->acc_tex[i]);
@@ -712,6 +757,7 @@ typedef struct {
     float ps[75], pb[75]; /* point: per plane scale and bias, per byte value */
     float lpos[3], lrgb[3], lpar[2];
     int lut_linear;
+    float gx[3], gy[3], gz[3]; /* the goniometric lamp's frame (gonio modes) */
 } drawdesc;
 
 /* Passes accumulate in sRGBE, whose error is relative to the pixel's largest partial sum. The core
@@ -775,7 +821,16 @@ static void point_uniforms(const qibl_gles2_t *g, const drawdesc *dd, int mode, 
     set3f(prog, "u_lpos", dd->lpos);
     set3f(prog, "u_lrgb", dd->lrgb);
     glUniform2f(glGetUniformLocation(prog, "u_lpar"), dd->lpar[0], dd->lpar[1]);
-    if (mode != QIBL_GLES2_MODE_POINT_LUT)
+    if (mode_gonio(mode)) {
+        glActiveTexture(GL_TEXTURE0 + *unit);
+        glBindTexture(GL_TEXTURE_2D, g->gonio_tex);
+        set1i(prog, "u_g", (GLint)(*unit)++);
+        set3f(prog, "u_gx", dd->gx);
+        set3f(prog, "u_gy", dd->gy);
+        set3f(prog, "u_gz", dd->gz);
+        glUniform1f(glGetUniformLocation(prog, "u_gn"), (float)g->gonio_n);
+    }
+    if (!mode_lut(mode))
         return;
     GLint ln = glGetUniformLocation(prog, "u_lutn"), lnear = glGetUniformLocation(prog, "u_lutnear");
     if (ln >= 0)
@@ -952,7 +1007,8 @@ qibl_status_t qibl_gles2_relight(qibl_gles2_t *g, const qibl_shmap_weights_t *w,
     return draw(g, &dd, out);
 }
 
-qibl_status_t qibl_gles2_point(qibl_gles2_t *g, const qibl_shmap_point_t *pt, const qibl_gles2_out_t *out)
+/* qibl_gles2_point's checks and its draw description */
+static qibl_status_t point_desc(qibl_gles2_t *g, const qibl_shmap_point_t *pt, drawdesc *dd)
 {
     qibl_status_t st = draw_checks(g, pt);
     if (st != QIBL_OK)
@@ -967,19 +1023,80 @@ qibl_status_t qibl_gles2_point(qibl_gles2_t *g, const qibl_shmap_point_t *pt, co
         set_log(g, "GL_HIGH_FLOAT in fragment shaders has under 23 bits: the P map cannot be rebuilt");
         return QIBL_E_GLES2_NO_HIGHP;
     }
-    drawdesc dd;
-    memset(&dd, 0, sizeof dd);
-    dd.mode = pt->lut != NULL ? QIBL_GLES2_MODE_POINT_LUT : QIBL_GLES2_MODE_POINT_SH;
+    memset(dd, 0, sizeof *dd);
+    dd->mode = pt->lut != NULL ? QIBL_GLES2_MODE_POINT_LUT : QIBL_GLES2_MODE_POINT_SH;
     for (uint32_t p = 0; p < g->planes; ++p)
-        dd.ps[p] = g->scale[p], dd.pb[p] = g->bias[p];
+        dd->ps[p] = g->scale[p], dd->pb[p] = g->bias[p];
     for (uint32_t c = 0; c < 3u; ++c) {
-        dd.lpos[c] = (float)((double)pt->pos[c] / 65536.0);
-        dd.lrgb[c] = (float)((double)pt->rgb[c] / 65536.0);
+        dd->lpos[c] = (float)((double)pt->pos[c] / 65536.0);
+        dd->lrgb[c] = (float)((double)pt->rgb[c] / 65536.0);
     }
-    dd.lpar[0] = (float)(sqrt((double)pt->min_d2) / 65536.0);
-    dd.lpar[1] = pt->falloff == (uint32_t)QIBL_FALLOFF_INV_DIST2 ? 1.0f : 0.0f;
-    dd.lut_linear = pt->filter == (uint32_t)QIBL_LUT_BILINEAR;
-    return draw(g, &dd, out);
+    dd->lpar[0] = (float)(sqrt((double)pt->min_d2) / 65536.0);
+    dd->lpar[1] = pt->falloff == (uint32_t)QIBL_FALLOFF_INV_DIST2 ? 1.0f : 0.0f;
+    dd->lut_linear = pt->filter == (uint32_t)QIBL_LUT_BILINEAR;
+    return QIBL_OK;
+}
+
+qibl_status_t qibl_gles2_point(qibl_gles2_t *g, const qibl_shmap_point_t *pt, const qibl_gles2_out_t *out)
+{
+    drawdesc dd;
+    qibl_status_t st = point_desc(g, pt, &dd);
+    return st != QIBL_OK ? st : draw(g, &dd, out);
+}
+
+/* the table as a 16-bit LUMINANCE_ALPHA texture (low byte, high byte), row j of the table on
+ * texture row j; the texture is made once per side and refilled at every draw */
+static qibl_status_t upload_gonio(qibl_gles2_t *g, const qibl_gonio_t *gonio)
+{
+    uint8_t buf[2u * QIBL_GONIO_MAX_N];
+    const uint32_t n = gonio->n;
+    while (glGetError() != GL_NO_ERROR)
+        ;
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    if (g->gonio_tex == 0u || g->gonio_n != n) {
+        if (g->gonio_tex != 0u)
+            glDeleteTextures(1, &g->gonio_tex);
+        g->gonio_tex = new_tex(GL_TEXTURE_2D, GL_NEAREST);
+        g->gonio_n = n;
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_LUMINANCE_ALPHA, (GLsizei)n, (GLsizei)n, 0, GL_LUMINANCE_ALPHA,
+                     GL_UNSIGNED_BYTE, NULL);
+    } else {
+        glBindTexture(GL_TEXTURE_2D, g->gonio_tex);
+    }
+    for (uint32_t j = 0; j < n; ++j) {
+        for (uint32_t i = 0; i < n; ++i) {
+            uint32_t v = gonio->table[(size_t)j * n + i];
+            buf[2u * i] = (uint8_t)v, buf[2u * i + 1u] = (uint8_t)(v >> 8);
+        }
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, (GLint)j, (GLsizei)n, 1, GL_LUMINANCE_ALPHA, GL_UNSIGNED_BYTE, buf);
+    }
+    qibl_status_t st = gl_check(g, "uploading the goniometric table");
+    if (st != QIBL_OK) {
+        glDeleteTextures(1, &g->gonio_tex);
+        g->gonio_tex = g->gonio_n = 0;
+    }
+    return st;
+}
+
+qibl_status_t qibl_gles2_point_gonio(qibl_gles2_t *g, const qibl_shmap_point_t *pt, const qibl_gonio_t *gonio,
+                                     const qibl_gles2_out_t *out)
+{
+    if (g == NULL || pt == NULL || gonio == NULL || gonio->table == NULL)
+        return QIBL_E_NULL_POINTER;
+    drawdesc dd;
+    qibl_status_t st = point_desc(g, pt, &dd);
+    if (st != QIBL_OK)
+        return st;
+    if (gonio->n < QIBL_GONIO_MIN_N || gonio->n > QIBL_GONIO_MAX_N || gonio->n > g->max_tex_size)
+        return QIBL_E_GONIO_SIZE;
+    dd.mode = pt->lut != NULL ? QIBL_GLES2_MODE_POINT_LUT_GONIO : QIBL_GLES2_MODE_POINT_SH_GONIO;
+    for (uint32_t c = 0; c < 3u; ++c) {
+        dd.gx[c] = (float)ldexp((double)gonio->x[c], -30);
+        dd.gy[c] = (float)ldexp((double)gonio->y[c], -30);
+        dd.gz[c] = (float)ldexp((double)gonio->z[c], -30);
+    }
+    st = upload_gonio(g, gonio);
+    return st != QIBL_OK ? st : draw(g, &dd, out);
 }
 
 uint32_t qibl_gles2_passes(const qibl_gles2_t *g)

@@ -27,7 +27,9 @@ typedef struct demo_opts {
     "  the assets for k = 9, 16, 25, relights a sun sweep and a moving lamp with the core (PNG frames and\n" \
     "  APNG), a contact sheet (relit | ground truth | error heat map) for novel lights, and prints the\n" \
     "  table of k, bytes, ms/frame and PSNR with RESULT lines, then the light paths, the probe-lit rows and\n" \
-    "  a fixed camera's row (the scene from a corner against the ray-traced frame of that camera).\n" \
+    "  a fixed camera's row (the scene from a corner against the ray-traced frame of that camera), an IES\n" \
+    "  lamp (a built-in LM-63 profile) on the lamp track against its ray-traced truth, and the near-field\n" \
+    "  source against the luminaire ray-traced beside its far-field treatment (`qibl luminaire study`).\n" \
     "  Sizes: default 512x128, 256 directions, 12 frames (`make demo`); --small 256x64, 128 directions,\n" \
     "  6 frames (CI); --full 1024x256, 512 directions, 24 frames and the full probe-lit truths (`make demo\n" \
     "  FULL=1`, minutes of CPU). --size WxH, --dirs and --frames override the size's values.\n" \
@@ -189,6 +191,8 @@ static int run(const demo_opts *o, const qtool_rt_scene *s)
                               sizeof err);
     if (rc == 0)
         rc = qtool_demo_camera(&v, (uint32_t)o->ndirs, o->size, err, sizeof err);
+    if (rc == 0)
+        rc = qtool_demo_nearfield(&v, o->size, m.asset[1], m.asize[1], err, sizeof err);
     if (rc == 0)
         printf("\nwrote %s/: scene_k{9,16,25}.qibl, sun_NN.png and sun_sweep.png (APNG), lamp_NN.png and lamp_sweep.png "
                "(APNG), contact_sheet.png (relit | ground truth | error), relit_sun.png, truth_sun.png, paths_sheet.png, "

@@ -319,7 +319,8 @@ const qtool_opt_cmd qcli_opts_relight = {
         "  and an isotropic file gives exactly the isotropic lamp. --aim: the profile's axis (type C nadir,\n"
         "  types A/B the beam centre), default 0 0 -1 (a downlight in the z-up scene); --up: the direction\n"
         "  of horizontal angle 0 (types A/B: vertical angle 90), made orthogonal to the aim, default 1 0 0.\n"
-        "  Soft framebuffer only (not --gles). With --path lamp (below) the same options make the track's\n"
+        "  With --gles the table is a texture read per pixel with the core's rounding. With --path lamp\n"
+        "  (below) the same options make the track's\n"
         "  lamp goniometric (its light scaled before the track's visibility).\n"
         "  qibl relight FILE --path N|sun|lamp --t T [--rgb R G B] [--soft R] [--sky R G B]\n"
         "               [--ies FILE.ies [--aim X Y Z] [--up X Y Z] [--ies-size N]] (--png|--pfm|--exr OUT):\n"
@@ -370,8 +371,6 @@ static int relight_check(const relight_cli *c)
         return qtool_opt_error(t, "--aim and --up orient an --ies lamp: give --ies FILE.ies");
     if (o->ies && ll->points == 0)
         return qtool_opt_error(t, "--ies shapes the --point lamps: give at least one --point X Y Z");
-    if (o->ies && o->gles)
-        return qtool_opt_error(t, "--ies: goniometric lamps are relit on the soft framebuffer only (not --gles)");
     return 0;
 }
 
@@ -480,7 +479,8 @@ static int relight_lights(relight_cli *c, const qtool_relight_asset *s, qibl_shl
 }
 
 /* the GPU path: same asset, same core weights, platform/gles2 (one light) */
-static int relight_gles(const relight_cli *c, const qtool_relight_asset *s, uint8_t *pix)
+static int relight_gles(const relight_cli *c, const qtool_relight_asset *s, const qtool_relight_ies *ies,
+                        uint8_t *pix)
 {
     const qtool_relight_opts *o = &c->r;
     const qtool_relight_source *l = &o->lights.src[0];
@@ -490,7 +490,8 @@ static int relight_gles(const relight_cli *c, const qtool_relight_asset *s, uint
                                   {l->point ? 0 : l->v[0], l->point ? 0 : l->v[1], l->point ? 0 : l->v[2]},
                                   {l->point ? l->v[0] : 0, l->point ? l->v[1] : 0, l->point ? l->v[2] : 0},
                                   {l->rgb[0], l->rgb[1], l->rgb[2]}, (int)o->falloff,
-                                  o->point_mode == QTOOL_RELIGHT_POINT_NEAREST, o->linear, (qibl_uq16_t)o->exposure};
+                                  o->point_mode == QTOOL_RELIGHT_POINT_NEAREST, o->linear, (qibl_uq16_t)o->exposure,
+                                  point && ies ? &ies->gonio : NULL};
     uint32_t passes = 0;
     char renderer[64] = "", err[1200];
     if (qtool_gles_relight(&req, pix, &passes, renderer) != 0)
@@ -597,7 +598,7 @@ static int relight_run(relight_cli *c)
     if (!pix || ((c->hdr || c->pfm || c->exr) && !lin))
         fprintf(stderr, "qibl: relight: out of memory\n");
     else if (o->gles)
-        rc = relight_gles(c, &s, pix);
+        rc = relight_gles(c, &s, o->ies ? &ies : NULL, pix);
     else
         rc = relight_soft(c, &s, &sl, pts, npts, o->ies ? &ies : NULL, pix, lin);
 out:

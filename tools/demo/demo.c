@@ -20,9 +20,12 @@
 
 /* The one home of the demo's sizes (demo.h). */
 static const qtool_demo_size demo_sizes[] = {
-    {.name = "small", .w = 256, .h = 64, .ndirs = 128, .frames = 6, .path_steps = 32, .sky_dirs = 128, .probe_spp = 512},
-    {.name = "default", .w = 512, .h = 128, .ndirs = 256, .frames = 12, .path_steps = 32, .sky_dirs = 128, .probe_spp = 256},
-    {.name = "full", .w = 1024, .h = 256, .ndirs = 512, .frames = 24, .path_steps = 64, .sky_dirs = 256, .probe_spp = 256},
+    {.name = "small", .w = 256, .h = 64, .ndirs = 128, .frames = 6, .path_steps = 32, .sky_dirs = 128, .probe_spp = 512,
+     .ies_pos = 4, .nf_grid = 8, .nf_size = 48},
+    {.name = "default", .w = 512, .h = 128, .ndirs = 256, .frames = 12, .path_steps = 32, .sky_dirs = 128, .probe_spp = 256,
+     .ies_pos = 8, .nf_grid = 8, .nf_size = 64},
+    {.name = "full", .w = 1024, .h = 256, .ndirs = 512, .frames = 24, .path_steps = 64, .sky_dirs = 256, .probe_spp = 256,
+     .ies_pos = 16, .nf_grid = 16, .nf_size = 96},
 };
 
 const uint32_t qtool_demo_ks[QTOOL_DEMO_NK] = {9, 16, 25};

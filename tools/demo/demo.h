@@ -15,6 +15,7 @@
 #include <stdio.h>
 
 #include "bake/bake.h"
+#include "bake/path.h"
 #include "bake/probesun.h"
 #include "render/rt.h"
 
@@ -28,6 +29,8 @@ typedef struct qtool_demo_size {
     uint32_t path_steps;  /* visibility steps along the sun path and lamp track */
     uint32_t sky_dirs;    /* directions of the ray-traced sky truth */
     uint32_t probe_spp;   /* samples per pixel in each of the two probe-lit truth renders */
+    uint32_t ies_pos;     /* positions of the IES lamp row on the lamp track (one truth render each) */
+    uint32_t nf_grid, nf_size; /* near-field row: capture grid side, ground patch side (< 96: 3 heights) */
 } qtool_demo_size;
 
 /* "small", "default" or "full"; NULL for any other name. */
@@ -87,6 +90,23 @@ void qtool_demo_main_free(qtool_demo_main *m);
  * paths_sheet.png and paths_readme.png. today: the k = 16 shadowed asset (with YLUT). */
 int qtool_demo_paths(const qtool_demo_view *v, uint32_t ndirs, const qtool_demo_size *sz,
                      const qtool_bake_sums *sums, const uint8_t *today, size_t today_n, char *err, size_t errlen);
+
+/* The IES lamp row (ies.c), run by qtool_demo_paths after its tables: a built-in LM-63 profile on
+ * the lamp track (asset: unshadowed maps and the track as path number path) at npos positions
+ * (1..QTOOL_DEMO_MAX_IES_POS) between the baked steps, relit through the goniometric table against
+ * the ray-traced lamp of the same profile, and with the profile ignored; its table and RESULT
+ * lines (demo.ies_track_*). */
+#define QTOOL_DEMO_MAX_IES_POS 64u
+int qtool_demo_ies(const qtool_demo_view *v, const uint8_t *asset, size_t n, uint32_t path,
+                   const qtool_bake_path *track, uint32_t npos, char *err, size_t errlen);
+
+/* The near-field row (nearfield.c): `qibl luminaire study` sized by sz (nf_grid, nf_size): the
+ * built-in luminaire's near-field source and its far-field treatment against the ray-traced
+ * luminaire at several heights, the kernel's ms per frame in the courtyard; then CPU ms per frame
+ * by pass count (captures on 4x4, 8x8, 16x16 grids) relit on asset (the k = 16 asset, with its P
+ * map); its lines and RESULT luminaire.* and demo.nearfield_* lines to v->out. 0, or -1 (err). */
+int qtool_demo_nearfield(const qtool_demo_view *v, const qtool_demo_size *sz, const uint8_t *asset, size_t n,
+                         char *err, size_t errlen);
 
 /* The "lit by a real probe" part (probe.c): three probes (../shared's, or procedural ones),
  * ray-traced truth with probe_spp samples per pixel per render, SH / median-cut lights / sun + SH

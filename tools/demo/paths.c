@@ -590,6 +590,8 @@ int qtool_demo_paths(const qtool_demo_view *v, uint32_t ndirs, const qtool_demo_
     if (rc == 0) {
         print_tables(c, v->out);
         print_results(c, v->out);
+        /* the IES lamp row on the same track asset (ies.c), after everything this part prints */
+        rc = qtool_demo_ies(v, c->asset16, c->n16, 1, &c->track, sz->ies_pos, err, errlen);
     }
     ctx_free(c);
     return rc;

@@ -45,7 +45,7 @@ int qtool_gles_relight(const qtool_gles_relight_req *r, uint8_t *rgb, uint32_t *
         qibl_shmap_point_t pt;
         st = qibl_shmap_point_prepare(m, r->pmap, r->lut, &pl, &pt);
         if (st == QIBL_OK)
-            st = qibl_gles2_point(&g, &pt, &out);
+            st = r->gonio ? qibl_gles2_point_gonio(&g, &pt, r->gonio, &out) : qibl_gles2_point(&g, &pt, &out);
     }
     int rc = 0;
     if (st != QIBL_OK) {

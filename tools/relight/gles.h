@@ -8,6 +8,7 @@
 
 #include <stdint.h>
 
+#include "qibl/gonio.h"
 #include "qibl/shmap.h"
 
 /* What `qibl relight` asks for, already parsed and taken from the asset. */
@@ -18,6 +19,7 @@ typedef struct qtool_gles_relight_req {
     qibl_q16_t sun[3], pos[3], rgb[3];
     int falloff, nearest, linear;
     qibl_uq16_t exposure;
+    const qibl_gonio_t *gonio; /* a goniometric point lamp (--ies), or NULL */
 } qtool_gles_relight_req;
 
 /* Renders the request with platform/gles2 into rgb (w x h x 3 bytes, top row first). 0, or 1 with a

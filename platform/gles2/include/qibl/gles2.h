@@ -70,6 +70,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include "qibl/fixed.h"
+#include "qibl/gonio.h"
 #include "qibl/shmap.h"
 #include "qibl/status.h"
 
@@ -127,7 +128,15 @@ typedef struct qibl_gles2_out {
     uint8_t srgb;         /* nonzero = sRGB transfer (IEC 61966-2-1), else linear */
 } qibl_gles2_out_t;
 
-enum { QIBL_GLES2_MODE_DIR = 0, QIBL_GLES2_MODE_POINT_SH, QIBL_GLES2_MODE_POINT_LUT, QIBL_GLES2_MODE_COUNT };
+/* Draw modes: the _GONIO ones are the point modes with a goniometric lamp's table (one more unit). */
+enum {
+    QIBL_GLES2_MODE_DIR = 0,
+    QIBL_GLES2_MODE_POINT_SH,
+    QIBL_GLES2_MODE_POINT_LUT,
+    QIBL_GLES2_MODE_POINT_SH_GONIO,
+    QIBL_GLES2_MODE_POINT_LUT_GONIO,
+    QIBL_GLES2_MODE_COUNT
+};
 
 /* Backend state: caller-owned, opaque in practice (fields may change). */
 typedef struct qibl_gles2 {
@@ -143,6 +152,7 @@ typedef struct qibl_gles2 {
     uint32_t npass[QIBL_GLES2_MODE_COUNT];
     uint8_t pass_first[QIBL_GLES2_MODE_COUNT][QIBL_GLES2_MAX_PASSES + 1]; /* map textures of each pass */
     uint32_t prog[QIBL_GLES2_MODE_COUNT][QIBL_GLES2_MAX_PASSES];
+    uint32_t gonio_tex, gonio_n; /* the goniometric table (LUMINANCE_ALPHA: low, high byte), its side */
     uint32_t last_passes;
     char log[QIBL_GLES2_LOG_SIZE];
 } qibl_gles2_t;
@@ -200,6 +210,26 @@ QIBL_NODISCARD qibl_status_t qibl_gles2_relight(qibl_gles2_t *g, const qibl_shma
  * those of the draw as in qibl_gles2_relight (UNITS, COMPILE, LINK, FRAMEBUFFER, GL_ERROR).
  * On failure: as qibl_gles2_relight (the two later checks write the log only). */
 QIBL_NODISCARD qibl_status_t qibl_gles2_point(qibl_gles2_t *g, const qibl_shmap_point_t *pt, const qibl_gles2_out_t *out);
+
+/* qibl_gles2_point with a goniometric lamp: each pixel's light from the lamp scaled by the table
+ * of gonio (qibl/gonio.h) toward the pixel's P-map point, as qibl_gonio_scale_span does after
+ * qibl_shmap_point_span on the soft path. The table (gonio->n squared Q1.15 entries) is uploaded
+ * as a 16-bit LUMINANCE_ALPHA texture at every call (at most 128 KiB; the caller may change it
+ * between frames); the shader takes the lamp-frame direction, its octahedral texel position and
+ * the bilinear mix of the four nearest texels from exact byte fetches (no GPU filtering), rounds
+ * the scale to Q1.15 as the core does, and multiplies the lamp's term by it. One more texture
+ * unit and 4 uniform vectors per pass than qibl_gles2_point: with a LUT, a pass over a map texture
+ * whose planes span two LUT cube maps needs 9 units, one more than GLES2 promises (an 8-unit GPU
+ * then refuses with QIBL_E_GLES2_UNITS; the direct SH mode fits in 8).
+ * Formats: pt as qibl_gles2_point; gonio's table Q1.15 unsigned, frame Q2.30 (sent as floats).
+ * Bound: the GPU's highp arithmetic; tests/gles2_test.c holds it to qibl_gles2_point's 2 levels
+ * (mean 0.5) against platform/soft with qibl_gonio_scale_span.
+ * Errors, in this order: QIBL_E_NULL_POINTER (g, pt, gonio or gonio->table NULL), then those of
+ * qibl_gles2_point up to QIBL_E_GLES2_NO_HIGHP, QIBL_E_GONIO_SIZE (gonio->n outside
+ * QIBL_GONIO_MIN_N .. QIBL_GONIO_MAX_N, or above GL_MAX_TEXTURE_SIZE), then the draw's.
+ * On failure: as qibl_gles2_point. */
+QIBL_NODISCARD qibl_status_t qibl_gles2_point_gonio(qibl_gles2_t *g, const qibl_shmap_point_t *pt,
+                                                    const qibl_gonio_t *gonio, const qibl_gles2_out_t *out);
 
 /* Passes the last successful draw used (1: no accumulation). */
 uint32_t qibl_gles2_passes(const qibl_gles2_t *g);
