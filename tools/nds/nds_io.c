@@ -13,6 +13,7 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "armtimers.h"
 #include "semi.h"
 #include "stack.h"
 
@@ -78,27 +79,18 @@ void bm_exit(int status)
         __asm__ volatile("swi 0x06"); /* Halt: IME is 0, nothing wakes the ARM9 again */
 }
 
-/* Timers 0..2 cascaded: a 48-bit count of the ARM9's bus clock, 33 513 982 Hz (half the CPU's
- * 67 MHz). Timer 3 stays free. */
-#define TM_L(i) (*(volatile uint16_t *)(0x04000100u + 4u * (i)))
-#define TM_H(i) (*(volatile uint16_t *)(0x04000102u + 4u * (i)))
+/* The cascaded timers (armtimers.h): a 48-bit count of the ARM9's bus clock, 33 513 982 Hz
+ * (half the CPU's 67 MHz) */
 enum { BUS_HZ = 33513982 };
 
 void bm_clock_start(void)
 {
-    for (unsigned i = 0; i < 3; ++i)
-        TM_H(i) = 0, TM_L(i) = 0; /* stop, reload value 0 */
-    TM_H(2) = 0x84, TM_H(1) = 0x84; /* enabled, count-up (cascade) */
-    TM_H(0) = 0x80;                 /* enabled, prescaler 1 */
+    bm_armtimers_start();
 }
 
 uint64_t bm_insn_clock(void)
 {
-    uint16_t hi, mid, lo;
-    do {
-        hi = TM_L(2), mid = TM_L(1), lo = TM_L(0);
-    } while (hi != TM_L(2) || mid != TM_L(1)); /* a carry between the reads */
-    return (uint64_t)hi << 32 | (uint64_t)mid << 16 | lo;
+    return bm_armtimers_read();
 }
 
 /* ticks -> ns in two parts, so that no product passes 2^64 (ticks < 2^48, remainder < 2^25) */
