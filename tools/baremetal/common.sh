@@ -1,6 +1,17 @@
 # baremetal/common.sh - sourced by tools/baremetal/run.sh, tools/gba/run.sh and tools/nds/run.sh:
 # the steps the MCU boards and the handhelds share, so that one fix reaches every target. The caller
-# has done `cd` to the top of the tree and defined out (its output folder), fail and err().
+# has done `cd` to the top of the tree, then calls bm_start. Variables pass both ways (flags, opt,
+# t_start in; dir, elf, ok, deep, ... out), as between the parts of one script.
+# shellcheck shell=bash disable=SC2034,SC2154
+
+# bm_start TAG OUT: the runner's output folder OUT (made), fail = 0; err() reports as TAG
+bm_start() {
+    bm_tag=$1 out=$2
+    mkdir -p "$out"
+    fail=0
+}
+err() { echo "$bm_tag: FAIL: $*" >&2; fail=1; }
+have() { command -v "$1" >/dev/null 2>&1; }
 
 core_warn="-std=c99 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wundef -Wdouble-promotion -Wmissing-prototypes -Werror"
 # (-Wno-format: the cases print uint32_t with %u, which is unsigned long on arm-none-eabi; same

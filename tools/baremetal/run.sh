@@ -12,11 +12,9 @@
 # BM_NO_BENCH=1 (skip the instruction counts).
 set -u
 cd "$(dirname "$0")/../.." || exit 1
-out="${BUILD:-build}/baremetal"
-mkdir -p "$out"
-fail=0
-err() { echo "baremetal: FAIL: $*" >&2; fail=1; }
-have() { command -v "$1" >/dev/null 2>&1; }
+# shellcheck source=tools/baremetal/common.sh
+. tools/baremetal/common.sh
+bm_start baremetal "${BUILD:-build}/baremetal"
 
 need() { have "$1" || { err "$1 not found (Debian: apt-get install $2)"; }; }
 need arm-none-eabi-gcc gcc-arm-none-eabi
@@ -29,8 +27,6 @@ for t in arm-none-eabi riscv64-unknown-elf; do
 done
 [ $fail = 0 ] || exit 1
 
-# shellcheck source=tools/baremetal/common.sh
-. tools/baremetal/common.sh
 bm_host_golden
 bm_src="tools/baremetal/main.c tools/baremetal/semi.c tools/baremetal/stack.c tools/baremetal/heap.c tools/baremetal/tls.c"
 

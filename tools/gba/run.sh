@@ -14,14 +14,10 @@
 # GBA_TABLES (a file whose generated block to rewrite: make gba-tables passes docs/porting.md).
 set -u
 cd "$(dirname "$0")/../.." || exit 1
-out="${BUILD:-build}/gba"
-mkdir -p "$out"
-fail=0
-err() { echo "gba: FAIL: $*" >&2; fail=1; }
-have() { command -v "$1" >/dev/null 2>&1; }
-
 # shellcheck source=tools/baremetal/common.sh
 . tools/baremetal/common.sh
+bm_start gba "${BUILD:-build}/gba"
+
 hh_prereqs
 [ -f /usr/include/mgba/core/core.h ] || err "libmgba headers not found (Debian: apt-get install libmgba-dev)"
 [ $fail = 0 ] || exit 1

@@ -14,14 +14,10 @@
 # NDS_TABLES (a file whose generated block to rewrite: make nds-tables passes docs/porting.md).
 set -u
 cd "$(dirname "$0")/../.." || exit 1
-out="${BUILD:-build}/nds"
-mkdir -p "$out"
-fail=0
-err() { echo "nds: FAIL: $*" >&2; fail=1; }
-have() { command -v "$1" >/dev/null 2>&1; }
-
 # shellcheck source=tools/baremetal/common.sh
 . tools/baremetal/common.sh
+bm_start nds "${BUILD:-build}/nds"
+
 hh_prereqs
 have desmume-cli || [ -x /usr/games/desmume-cli ] || err "desmume-cli not found (Debian: apt-get install desmume)"
 [ $fail = 0 ] || exit 1
