@@ -28,7 +28,7 @@ done
 [ $fail = 0 ] || exit 1
 
 bm_host_golden
-bm_src="tools/baremetal/main.c tools/baremetal/semi.c tools/baremetal/stack.c tools/baremetal/heap.c tools/baremetal/tls.c"
+bm_src="tools/baremetal/main.c tools/baremetal/semi.c tools/baremetal/putu.c tools/baremetal/stack.c tools/baremetal/heap.c tools/baremetal/tls.c"
 
 # name | gcc prefix | target flags | -O | qemu command
 # (Cortex-M builds default to QIBL_CONFIG_SMALL=1, config.h; here every module is built and run)
@@ -150,7 +150,7 @@ while IFS='|' read -r name prefix flags opt qemu; do
         $gcc $specs $flags $opt $tool_warn -g -DBM_TAG="\"$tag\"" -Icore/include -Iplatform/soft/include -Itools \
             -Itools/baremetal -c tools/baremetal/bench.c -o "$dir/tools/bench.o" &&
         link_bench "$prefix" "$flags" "$opt" "$dir/bench.elf" "$dir"/core/*.o "$dir/tools/bench.o" "$dir/tools/sha256.o" \
-            "$dir/tools/semi.o" "$dir/tools/stack.o" "${crt_objs[@]}" || err "$name: bench build failed"
+            "$dir/tools/semi.o" "$dir/tools/putu.o" "$dir/tools/stack.o" "${crt_objs[@]}" || err "$name: bench build failed"
         if [ -f "$dir/bench.elf" ]; then
             # shellcheck disable=SC2086
             timeout 300 $qemu $qemu_common -icount shift=0 -kernel "$dir/bench.elf" > "$dir/bench.txt" 2>&1 ||

@@ -53,17 +53,6 @@ void bm_puts(const char *s)
     }
 }
 
-void bm_putu(uint32_t v)
-{
-    char b[11];
-    int i = 10;
-    b[i] = '\0';
-    do
-        b[--i] = (char)('0' + v % 10u);
-    while ((v /= 10u) != 0);
-    bm_puts(b + i);
-}
-
 void bm_exit(int status)
 {
     if (used != 0)
