@@ -14,7 +14,6 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "armtimers.h"
 #include "semi.h"
 #include "stack.h"
 
@@ -69,19 +68,8 @@ void bm_exit(int status)
         ;
 }
 
-/* The cascaded timers (armtimers.h): a 48-bit count of CPU cycles (16 777 216 Hz) */
-
-void bm_clock_start(void)
-{
-    bm_armtimers_start();
-}
-
-uint64_t bm_insn_clock(void)
-{
-    return bm_armtimers_read();
-}
-
-/* cycles -> ns: 10^9 / 2^24 = 1953125 / 2^15; split so that no product passes 2^64 (c < 2^48) */
+/* bm_insn_clock (armtimers.c) counts CPU cycles, 16 777 216 Hz; cycles -> ns: 10^9 / 2^24 =
+ * 1953125 / 2^15; split so that no product passes 2^64 (c < 2^48) */
 uint64_t bm_clock_ns(void)
 {
     uint64_t c = bm_insn_clock();

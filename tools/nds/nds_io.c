@@ -13,7 +13,6 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "armtimers.h"
 #include "semi.h"
 #include "stack.h"
 
@@ -68,19 +67,8 @@ void bm_exit(int status)
         __asm__ volatile("swi 0x06"); /* Halt: IME is 0, nothing wakes the ARM9 again */
 }
 
-/* The cascaded timers (armtimers.h): a 48-bit count of the ARM9's bus clock, 33 513 982 Hz
- * (half the CPU's 67 MHz) */
+/* bm_insn_clock (armtimers.c) counts the ARM9's bus clock, 33 513 982 Hz (half the CPU's 67 MHz) */
 enum { BUS_HZ = 33513982 };
-
-void bm_clock_start(void)
-{
-    bm_armtimers_start();
-}
-
-uint64_t bm_insn_clock(void)
-{
-    return bm_armtimers_read();
-}
 
 /* ticks -> ns in two parts, so that no product passes 2^64 (ticks < 2^48, remainder < 2^25) */
 uint64_t bm_clock_ns(void)
