@@ -182,37 +182,36 @@ $(BUILD)/host/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -MMD -MP -c $< -o $@
 
+# every static library below: its prerequisites archived afresh (no stale members)
+define archive
+@mkdir -p $(dir $@)
+rm -f $@ && $(AR) rcs $@ $^
+endef
+
 $(LIBQIBL): $(CORE_OBJ)
-	@mkdir -p $(dir $@)
-	rm -f $@ && $(AR) rcs $@ $^
+	$(archive)
 
 $(BUILD)/avx2/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(CC) $(CORE_CFLAGS) -mavx2 -MMD -MP -c $< -o $@
 
 $(LIBQIBL_AVX2): $(CORE_AOBJ)
-	@mkdir -p $(dir $@)
-	rm -f $@ && $(AR) rcs $@ $^
+	$(archive)
 
 $(LIBQIBL_PORTABLE): $(CORE_POBJ)
-	@mkdir -p $(dir $@)
-	rm -f $@ && $(AR) rcs $@ $^
+	$(archive)
 
 $(LIBSOFT): $(PLATFORM_OBJ)
-	@mkdir -p $(dir $@)
-	rm -f $@ && $(AR) rcs $@ $^
+	$(archive)
 
 $(LIBSOFT_PORTABLE): $(PLATFORM_POBJ)
-	@mkdir -p $(dir $@)
-	rm -f $@ && $(AR) rcs $@ $^
+	$(archive)
 
 $(LIBTOOLS): $(TOOL_LIB_OBJ)
-	@mkdir -p $(dir $@)
-	rm -f $@ && $(AR) rcs $@ $^
+	$(archive)
 
 $(LIBBENCH): $(BENCH_OBJ)
-	@mkdir -p $(dir $@)
-	rm -f $@ && $(AR) rcs $@ $^
+	$(archive)
 
 # tools/twin: core modules compiled again as their scalar twins (QIBL_CONFIG_SIMD=0, names renamed,
 # the core's flags), so qibl-bench and the suites run the SIMD path and its reference in one process
@@ -224,8 +223,7 @@ $(BUILD)/twin/%.o: %.c
 	$(CC) $(CORE_CFLAGS) -Itools -MMD -MP -c $< -o $@
 
 $(LIBTWIN): $(TWIN_OBJ)
-	@mkdir -p $(dir $@)
-	rm -f $@ && $(AR) rcs $@ $^
+	$(archive)
 
 $(QIBL): $(QIBL_OBJ) $(LIBBENCH) $(LIBTOOLS) $(LIBSOFT) $(LIBQIBL) $(if $(HAVE_GLES),$(LIBGLES))
 	@mkdir -p $(dir $@)
@@ -242,8 +240,7 @@ $(BUILD)/gles/%.o: %.c
 	$(CC) $(GLES_CFLAGS) -MMD -MP -c $< -o $@
 
 $(LIBGLES): $(GLES_OBJ)
-	@mkdir -p $(dir $@)
-	rm -f $@ && $(AR) rcs $@ $^
+	$(archive)
 
 GLES_TEST := $(BUILD)/tests/gles2_test
 $(GLES_TEST): $(BUILD)/host/tests/gles2_test.o $(LIBTOOLS) $(LIBSOFT) $(LIBQIBL) $(if $(HAVE_GLES),$(LIBGLES)) | test-deps

@@ -256,6 +256,11 @@ static void test_csv_directions_and_nul(void **state)
     put(at("z.csv"), "x,y,z,r,g,b,u0,v0,u1,v1\n0,-0,0,1,1,1,0,0,1,1\n");
     assert_int_equal(run("relight", at("g.qibl"), "--lights", at("z.csv"), "--png", at("n.png"), NULL), 1);
     assert_true(says(errlog, "direction 0,0,0 is not a direction"));
+    /* --lights and --probe at most once each (relight/spec.c), the first one named */
+    assert_int_equal(run("relight", at("g.qibl"), "--lights", at("z.csv"), "--lights", at("big.csv"), "--png", at("n.png"), NULL), 2);
+    assert_true(says(errlog, "big.csv' is a second --lights (the first: "));
+    assert_int_equal(run("relight", at("g.qibl"), "--probe", at("a.hdr"), "--probe", at("b.hdr"), "--png", at("n.png"), NULL), 2);
+    assert_true(says(errlog, "b.hdr' is a second --probe (the first: "));
     put(at("big.csv"), "x,y,z,r,g,b,u0,v0,u1,v1\n0,1e999,0,1,1,1,0,0,1,1\n");
     assert_int_equal(run("relight", at("g.qibl"), "--lights", at("big.csv"), "--png", at("n.png"), NULL), 1);
     assert_true(says(errlog, "y '1e999' is beyond double range"));

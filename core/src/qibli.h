@@ -52,19 +52,6 @@ static inline uint64_t qibli_shl_u64(uint64_t x, unsigned n)
 #endif
 }
 
-/* bit length: 0 for 0, floor(log2 x) + 1 otherwise (constant shifts only) */
-static inline unsigned qibli_bitlen_u64_inline(uint64_t x)
-{
-    unsigned n = 0u;
-    if (x >> 32) { x >>= 32; n += 32u; }
-    if (x >> 16) { x >>= 16; n += 16u; }
-    if (x >> 8) { x >>= 8; n += 8u; }
-    if (x >> 4) { x >>= 4; n += 4u; }
-    if (x >> 2) { x >>= 2; n += 2u; }
-    if (x >> 1) { x >>= 1; n += 1u; }
-    return n + (unsigned)x;
-}
-
 /* floor(log2 x) + 1 for a 32-bit x, 0 for 0 (constant shifts only) */
 static inline unsigned qibli_bitlen_u32(uint32_t x)
 {
@@ -75,6 +62,14 @@ static inline unsigned qibli_bitlen_u32(uint32_t x)
     if (x >> 2) { x >>= 2; n += 2u; }
     if (x >> 1) { x >>= 1; n += 1u; }
     return n + x;
+}
+
+/* bit length: 0 for 0, floor(log2 x) + 1 otherwise (the 32-bit steps on the half that holds the
+ * top bit: constant shifts only, and no 64-bit shift beyond the first on 32-bit targets) */
+static inline unsigned qibli_bitlen_u64_inline(uint64_t x)
+{
+    uint32_t hi = (uint32_t)(x >> 32);
+    return hi ? 32u + qibli_bitlen_u32(hi) : qibli_bitlen_u32((uint32_t)x);
 }
 
 /* 1/sqrt seeds (fixed.c): round(2^30 / sqrt((i + 0.5) 2^24)) for i = 64..255, relative error <= 2^-9 */

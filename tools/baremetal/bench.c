@@ -75,6 +75,19 @@ static void make_maps(qibl_shmaps_t *m, qibl_pmap_t *p, uint32_t k, uint8_t *par
     p->width = W, p->height = H, p->points = points;
 }
 
+/* the bench's light: the sun, and with sky a blue sky straight up; its weights for m */
+static void sun_weights(const qibl_shmaps_t *m, uint32_t k, int sky, qibl_shmap_weights_t *w)
+{
+    qibl_shlight_t l;
+    const qibl_q16_t sun[3] = {40000, 25000, 52000}, sun_rgb[3] = {150000, 120000, 90000};
+    const qibl_q16_t up[3] = {0, 0, 65536}, sky_rgb[3] = {20000, 30000, 52000};
+    check(qibl_shlight_init(&l, k), "shlight_init");
+    check(qibl_shlight_add_dir(&l, sun, sun_rgb), "add_dir");
+    if (sky)
+        check(qibl_shlight_add_dir(&l, up, sky_rgb), "add_dir");
+    check(qibl_shmap_weights(m, &l, w), "weights");
+}
+
 static uint64_t calibrate(void)
 {
     /* 100000 iterations of a two-instruction loop */
@@ -132,14 +145,8 @@ int main(void)
         qibl_pmap_t p;
         make_maps(&m, &p, k, params, planes, points);
         /* directional: sun + sky */
-        qibl_shlight_t l;
         qibl_shmap_weights_t w;
-        const qibl_q16_t sun[3] = {40000, 25000, 52000}, sun_rgb[3] = {150000, 120000, 90000};
-        const qibl_q16_t sky[3] = {0, 0, 65536}, sky_rgb[3] = {20000, 30000, 52000};
-        check(qibl_shlight_init(&l, k), "shlight_init");
-        check(qibl_shlight_add_dir(&l, sun, sun_rgb), "add_dir");
-        check(qibl_shlight_add_dir(&l, sky, sky_rgb), "add_dir");
-        check(qibl_shmap_weights(&m, &l, &w), "weights");
+        sun_weights(&m, k, 1, &w);
         uint64_t t0 = bm_insn_clock();
         for (uint32_t y = 0; y < BENCH_ROWS; ++y)
             check(qibl_shmap_relight_span(&m, &w, 0, y, W, row, ws, sizeof ws), "relight_span");
@@ -191,12 +198,8 @@ int main(void)
         qibl_shmaps_t m;
         qibl_pmap_t p;
         make_maps(&m, &p, k, params, planes, points);
-        qibl_shlight_t l;
         qibl_shmap_weights_t w;
-        const qibl_q16_t sun[3] = {40000, 25000, 52000}, sun_rgb[3] = {150000, 120000, 90000};
-        check(qibl_shlight_init(&l, k), "shlight_init");
-        check(qibl_shlight_add_dir(&l, sun, sun_rgb), "add_dir");
-        check(qibl_shmap_weights(&m, &l, &w), "weights");
+        sun_weights(&m, k, 0, &w);
         static uint8_t ramrow[W * 9 * CH];
         qtool_sha256_t direct, streamed;
         qtool_sha256_init(&direct), qtool_sha256_init(&streamed);

@@ -12,11 +12,9 @@
 # BM_NO_BENCH=1 (skip the instruction counts).
 set -u
 cd "$(dirname "$0")/../.." || exit 1
-out="${BUILD:-build}/baremetal"
-mkdir -p "$out"
-fail=0
-err() { echo "baremetal: FAIL: $*" >&2; fail=1; }
-have() { command -v "$1" >/dev/null 2>&1; }
+# shellcheck source=tools/baremetal/common.sh
+. tools/baremetal/common.sh
+bm_start baremetal "${BUILD:-build}/baremetal"
 
 need() { have "$1" || { err "$1 not found (Debian: apt-get install $2)"; }; }
 need arm-none-eabi-gcc gcc-arm-none-eabi
@@ -29,18 +27,8 @@ for t in arm-none-eabi riscv64-unknown-elf; do
 done
 [ $fail = 0 ] || exit 1
 
-golden="${BUILD:-build}/bin/qibl-golden"
-[ -x "$golden" ] || { err "$golden missing (make golden builds it)"; exit 1; }
-"$golden" > "$out/host.txt"
-awk '$1 == "case" {print $2}' "$out/host.txt" > "$out/host-cases.txt"
-
-core_warn="-std=c99 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wundef -Wdouble-promotion -Wmissing-prototypes -Werror"
-# (-Wno-format: the cases print uint32_t with %u, which is unsigned long on arm-none-eabi; same
-# size, so harmless, but -Wformat would flag each one)
-tool_warn="-std=c99 -Wall -Wextra -Wpedantic -Werror -Wno-format"
-core_src=$(ls core/src/*.c platform/soft/*.c)
-tool_src="$(ls tools/golden/cases*.c) tools/io/sha256.c"
-bm_src="tools/baremetal/main.c tools/baremetal/semi.c tools/baremetal/stack.c tools/baremetal/heap.c tools/baremetal/tls.c"
+bm_host_golden
+bm_src="tools/baremetal/main.c tools/baremetal/semi.c tools/baremetal/putu.c tools/baremetal/stack.c tools/baremetal/heap.c tools/baremetal/tls.c"
 
 # name | gcc prefix | target flags | -O | qemu command
 # (Cortex-M builds default to QIBL_CONFIG_SMALL=1, config.h; here every module is built and run)
@@ -153,13 +141,7 @@ while IFS='|' read -r name prefix flags opt qemu; do
     [ -n "$bd" ] && [ "$hd" = "$bd" ] || err "$name: digest ${bd:-missing}, hosted runner ${hd}"
 
     # measured stack of each wrapped entry point against its static bound
-    over=$(awk '$1 == "stack" && $3 + 0 > $5 + 0 {print $2 " used " $3 " > bound " $5}' "$dir/run.txt")
-    [ -z "$over" ] || err "$name: stack over the computed bound: $over"
-    probes=$(grep -c '^stack .* bound ' "$dir/run.txt")
-    deep=$(awk '$1 == "stack" && $4 == "bound" && $3 + 0 > m {m = $3 + 0; f = $2} END {print f " " m}' "$dir/run.txt")
-    hw=$(sed -n 's/^stack high-water \([0-9]*\) of.*/\1/p' "$dir/run.txt")
-    size=$(sed -n 's/^stack high-water [0-9]* of \([0-9]*\)$/\1/p' "$dir/run.txt")
-    [ -n "$hw" ] && [ "$hw" -lt $((size - 1024)) ] || err "$name: stack high-water ${hw:-?} of ${size:-?} bytes: too close to the end"
+    bm_stack_figures "$dir" 1024 "$name: "
     text=$(awk 'NR == 2 {print $1}' "$dir/size.txt")
     # instruction counts per relit pixel and the streaming example (bench.c), under -icount shift=0
     if [ "${BM_NO_BENCH:-0}" != 1 ]; then
@@ -168,7 +150,7 @@ while IFS='|' read -r name prefix flags opt qemu; do
         $gcc $specs $flags $opt $tool_warn -g -DBM_TAG="\"$tag\"" -Icore/include -Iplatform/soft/include -Itools \
             -Itools/baremetal -c tools/baremetal/bench.c -o "$dir/tools/bench.o" &&
         link_bench "$prefix" "$flags" "$opt" "$dir/bench.elf" "$dir"/core/*.o "$dir/tools/bench.o" "$dir/tools/sha256.o" \
-            "$dir/tools/semi.o" "$dir/tools/stack.o" "${crt_objs[@]}" || err "$name: bench build failed"
+            "$dir/tools/semi.o" "$dir/tools/putu.o" "$dir/tools/stack.o" "${crt_objs[@]}" || err "$name: bench build failed"
         if [ -f "$dir/bench.elf" ]; then
             # shellcheck disable=SC2086
             timeout 300 $qemu $qemu_common -icount shift=0 -kernel "$dir/bench.elf" > "$dir/bench.txt" 2>&1 ||

@@ -1,5 +1,6 @@
 /*
- * baremetal/semi.c - semihosting output and exit, and the emulated clock (see semi.h).
+ * baremetal/semi.c - semihosting output and exit, and the emulated clock (see semi.h; bm_putu
+ * is putu.c's).
  */
 #include "semi.h"
 
@@ -29,17 +30,6 @@ static uintptr_t semi_call(uintptr_t op, uintptr_t arg)
 void bm_puts(const char *s)
 {
     (void)semi_call(SYS_WRITE0, (uintptr_t)s);
-}
-
-void bm_putu(uint32_t v)
-{
-    char b[12];
-    int i = 11;
-    b[i] = '\0';
-    do
-        b[--i] = (char)('0' + v % 10u), v /= 10u;
-    while (v != 0);
-    bm_puts(b + i);
 }
 
 void bm_exit(int status)

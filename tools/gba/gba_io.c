@@ -52,17 +52,6 @@ void bm_puts(const char *s)
     }
 }
 
-void bm_putu(uint32_t v)
-{
-    char b[11];
-    int i = 10;
-    b[i] = '\0';
-    do
-        b[--i] = (char)('0' + v % 10u);
-    while ((v /= 10u) != 0);
-    bm_puts(b + i);
-}
-
 void bm_exit(int status)
 {
     if (used != 0)
@@ -79,28 +68,8 @@ void bm_exit(int status)
         ;
 }
 
-/* Timers 0..2 cascaded: a 48-bit count of CPU cycles (16 777 216 Hz). Timer 3 stays free. */
-#define TM_L(i) (*(volatile uint16_t *)(0x04000100u + 4u * (i)))
-#define TM_H(i) (*(volatile uint16_t *)(0x04000102u + 4u * (i)))
-
-void bm_clock_start(void)
-{
-    for (unsigned i = 0; i < 3; ++i)
-        TM_H(i) = 0, TM_L(i) = 0; /* stop, reload value 0 */
-    TM_H(2) = 0x84, TM_H(1) = 0x84; /* enabled, count-up (cascade) */
-    TM_H(0) = 0x80;                 /* enabled, prescaler 1 */
-}
-
-uint64_t bm_insn_clock(void)
-{
-    uint16_t hi, mid, lo;
-    do {
-        hi = TM_L(2), mid = TM_L(1), lo = TM_L(0);
-    } while (hi != TM_L(2) || mid != TM_L(1)); /* a carry between the reads */
-    return (uint64_t)hi << 32 | (uint64_t)mid << 16 | lo;
-}
-
-/* cycles -> ns: 10^9 / 2^24 = 1953125 / 2^15; split so that no product passes 2^64 (c < 2^48) */
+/* bm_insn_clock (armtimers.c) counts CPU cycles, 16 777 216 Hz; cycles -> ns: 10^9 / 2^24 =
+ * 1953125 / 2^15; split so that no product passes 2^64 (c < 2^48) */
 uint64_t bm_clock_ns(void)
 {
     uint64_t c = bm_insn_clock();

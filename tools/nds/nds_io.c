@@ -45,17 +45,6 @@ void bm_puts(const char *s)
     }
 }
 
-void bm_putu(uint32_t v)
-{
-    char b[11];
-    int i = 10;
-    b[i] = '\0';
-    do
-        b[--i] = (char)('0' + v % 10u);
-    while ((v /= 10u) != 0);
-    bm_puts(b + i);
-}
-
 void bm_exit(int status)
 {
     if (used != 0)
@@ -78,28 +67,8 @@ void bm_exit(int status)
         __asm__ volatile("swi 0x06"); /* Halt: IME is 0, nothing wakes the ARM9 again */
 }
 
-/* Timers 0..2 cascaded: a 48-bit count of the ARM9's bus clock, 33 513 982 Hz (half the CPU's
- * 67 MHz). Timer 3 stays free. */
-#define TM_L(i) (*(volatile uint16_t *)(0x04000100u + 4u * (i)))
-#define TM_H(i) (*(volatile uint16_t *)(0x04000102u + 4u * (i)))
+/* bm_insn_clock (armtimers.c) counts the ARM9's bus clock, 33 513 982 Hz (half the CPU's 67 MHz) */
 enum { BUS_HZ = 33513982 };
-
-void bm_clock_start(void)
-{
-    for (unsigned i = 0; i < 3; ++i)
-        TM_H(i) = 0, TM_L(i) = 0; /* stop, reload value 0 */
-    TM_H(2) = 0x84, TM_H(1) = 0x84; /* enabled, count-up (cascade) */
-    TM_H(0) = 0x80;                 /* enabled, prescaler 1 */
-}
-
-uint64_t bm_insn_clock(void)
-{
-    uint16_t hi, mid, lo;
-    do {
-        hi = TM_L(2), mid = TM_L(1), lo = TM_L(0);
-    } while (hi != TM_L(2) || mid != TM_L(1)); /* a carry between the reads */
-    return (uint64_t)hi << 32 | (uint64_t)mid << 16 | lo;
-}
 
 /* ticks -> ns in two parts, so that no product passes 2^64 (ticks < 2^48, remainder < 2^25) */
 uint64_t bm_clock_ns(void)

@@ -76,24 +76,25 @@ const char *qtool_relight_spec_rgb(qtool_relight_light_list *ll, char *const *v,
     return NULL;
 }
 
-const char *qtool_relight_spec_csv(qtool_relight_light_list *ll, const char *v, char *why, size_t n)
+/* a flag given at most once: its value kept in *slot, or why not */
+static const char *once(const char **slot, const char *v, const char *flag, char *why, size_t n)
 {
-    if (ll->csv) {
-        snprintf(why, n, "is a second --lights (the first: %s): give one", ll->csv);
+    if (*slot) {
+        snprintf(why, n, "is a second %s (the first: %s): give one", flag, *slot);
         return why;
     }
-    ll->csv = v;
+    *slot = v;
     return NULL;
+}
+
+const char *qtool_relight_spec_csv(qtool_relight_light_list *ll, const char *v, char *why, size_t n)
+{
+    return once(&ll->csv, v, "--lights", why, n);
 }
 
 const char *qtool_relight_spec_probe(qtool_relight_light_list *ll, const char *v, char *why, size_t n)
 {
-    if (ll->probe) {
-        snprintf(why, n, "is a second --probe (the first: %s): give one", ll->probe);
-        return why;
-    }
-    ll->probe = v;
-    return NULL;
+    return once(&ll->probe, v, "--probe", why, n);
 }
 
 const char *qtool_relight_spec_layout(qtool_relight_light_list *ll, const char *v)

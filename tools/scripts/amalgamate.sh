@@ -22,20 +22,26 @@ mkdir -p "$out"
 version=$(sed -n 's/^#define QIBL_VERSION_STRING "\(.*\)"/\1/p' core/include/qibl/version.h)
 rev=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
 
-# ---- header order: depth-first over the quoted qibl includes, dependencies first -------------
-order=()
-visit() { # header path relative to core/include
-    local h=$1 dep seen
+# ---- header order: depth-first over the quoted includes, dependencies first -------------------
+# visit DIR RE STRICT H: appends H (a path relative to DIR) to $order after the headers it includes
+# (RE: a sed pattern whose \1 is an included path), each once; an included header missing from DIR
+# stops the script when STRICT is 1, else is passed over (the core's headers, seen from the others)
+visit() {
+    local dir=$1 re=$2 strict=$3 h=$4 dep seen
     for seen in "${order[@]+"${order[@]}"}"; do [ "$seen" = "$h" ] && return 0; done
-    [ -f "core/include/$h" ] || { echo "amalgamate: $h is included but not in core/include" >&2; exit 1; }
-    for dep in $(sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"\(qibl[^"]*\.h\)".*/\1/p' "core/include/$h"); do
-        visit "$dep"
-    done
+    if [ ! -f "$dir/$h" ]; then
+        [ "$strict" = 1 ] || return 0
+        echo "amalgamate: $h is included but not in $dir" >&2; exit 1
+    fi
+    for dep in $(sed -n "s/$re/\1/p" "$dir/$h"); do visit "$dir" "$re" "$strict" "$dep"; done
     order+=("$h")
 }
-for h in $(sed -n 's/^#include "\(qibl\/[^"]*\.h\)".*/\1/p' core/include/qibl.h); do visit "$h"; done
+order=()
+core_re='^[[:space:]]*#[[:space:]]*include[[:space:]]*"\(qibl[^"]*\.h\)".*'
+for h in $(sed -n 's/^#include "\(qibl\/[^"]*\.h\)".*/\1/p' core/include/qibl.h); do visit core/include "$core_re" 1 "$h"; done
 # any header qibl.h does not reach is still part of the core's API
-for f in core/include/qibl/*.h; do visit "${f#core/include/}"; done
+for f in core/include/qibl/*.h; do visit core/include "$core_re" 1 "${f#core/include/}"; done
+headers=("${order[@]}")
 
 # (an inlined include becomes an empty line, so the #line numbers below stay those of the file)
 strip_includes() { sed -E 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"qibl(\/[a-z0-9_]+)?\.h".*$//' "$1"; }
@@ -48,7 +54,7 @@ strip_includes() { sed -E 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"qibl(
     echo "#ifndef QIBL_AMALGAMATED_H"
     echo "#define QIBL_AMALGAMATED_H"
     echo "#define QIBL_H /* the umbrella header's guard: this file is the umbrella */"
-    for h in "${order[@]}"; do
+    for h in "${headers[@]}"; do
         echo
         echo "/* ==== $h ==== */"
         strip_includes "core/include/$h"
@@ -58,16 +64,11 @@ strip_includes() { sed -E 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"qibl(
 } > "$out/qibl.h.tmp"
 
 # ---- platform/soft's headers (raster.h includes soft.h), the core's replaced by qibl.h ----------
-sorder=()
-svisit() { # header path relative to platform/soft/include
-    local h=$1 dep seen
-    for seen in "${sorder[@]+"${sorder[@]}"}"; do [ "$seen" = "$h" ] && return 0; done
-    for dep in $(sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"\(qibl\/[^"]*\.h\)".*/\1/p' "platform/soft/include/$h"); do
-        [ -f "platform/soft/include/$dep" ] && svisit "$dep"
-    done
-    sorder+=("$h")
-}
-for f in platform/soft/include/qibl/*.h; do svisit "${f#platform/soft/include/}"; done
+order=()
+for f in platform/soft/include/qibl/*.h; do
+    visit platform/soft/include '^[[:space:]]*#[[:space:]]*include[[:space:]]*"\(qibl\/[^"]*\.h\)".*' 0 "${f#platform/soft/include/}"
+done
+sorder=("${order[@]}")
 {
     echo "/*"
     echo " * qibl_soft.h - amalgamated header of qibl's platform/soft backend $version (git $rev), made by"
@@ -86,16 +87,11 @@ for f in platform/soft/include/qibl/*.h; do svisit "${f#platform/soft/include/}"
 } > "$out/qibl_soft.h.tmp"
 
 # ---- internal headers of core/src, dependencies first --------------------------------------------
-internal=()
-ivisit() { # file name in core/src
-    local h=$1 dep seen
-    for seen in "${internal[@]+"${internal[@]}"}"; do [ "$seen" = "$h" ] && return 0; done
-    for dep in $(sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"\([a-z0-9_]*\.h\)".*/\1/p' "core/src/$h"); do
-        [ -f "core/src/$dep" ] && ivisit "$dep"
-    done
-    internal+=("$h")
-}
-for f in core/src/*.h; do [ -f "$f" ] && ivisit "$(basename "$f")"; done
+order=()
+for f in core/src/*.h; do
+    [ -f "$f" ] && visit core/src '^[[:space:]]*#[[:space:]]*include[[:space:]]*"\([a-z0-9_]*\.h\)".*' 0 "$(basename "$f")"
+done
+internal=("${order[@]+"${order[@]}"}")
 # qibl includes and includes of the internal headers, both inlined above
 strip_all() {
     if [ ${#internal[@]} -gt 0 ]; then
@@ -192,5 +188,5 @@ mv "$out/qibl.h.tmp" "$out/qibl.h"
 mv "$out/qibl.c.tmp" "$out/qibl.c"
 mv "$out/qibl_soft.h.tmp" "$out/qibl_soft.h"
 mv "$out/qibl_soft.c.tmp" "$out/qibl_soft.c"
-echo "amalgamate: $out/qibl.h ($(wc -l < "$out/qibl.h") lines, ${#order[@]} headers), $out/qibl.c ($(wc -l < "$out/qibl.c") lines, ${#internal[@]} internal headers, ${#srcs[@]} sources)"
+echo "amalgamate: $out/qibl.h ($(wc -l < "$out/qibl.h") lines, ${#headers[@]} headers), $out/qibl.c ($(wc -l < "$out/qibl.c") lines, ${#internal[@]} internal headers, ${#srcs[@]} sources)"
 echo "amalgamate: $out/qibl_soft.h ($(wc -l < "$out/qibl_soft.h") lines, ${#sorder[@]} headers), $out/qibl_soft.c ($(wc -l < "$out/qibl_soft.c") lines, ${#ssrcs[@]} sources)"

@@ -102,26 +102,26 @@ if [ -f "$out/cortex-m4/qibl-core.o" ]; then
     printf '  %-12s %8s %8s\n' module .text .rodata
     md="$out/size-table.md"
     printf '| module | .text | .rodata |\n|---|---:|---:|\n' > "$md"
-    total=0; rtotal=0
-    for o in "$out"/cortex-m4/*.o; do
-        m=$(basename "$o" .o); [ "$m" = qibl-core ] && continue
-        t=$(arm-none-eabi-size -A "$o" | awk '$1 ~ /^\.text/ {s += $2} END {print s + 0}')
-        r=$(arm-none-eabi-size -A "$o" | awk '$1 ~ /^\.rodata/ {s += $2} END {print s + 0}')
-        printf '  %-12s %8d %8d\n' "$m" "$t" "$r"
-        printf '| %s | %d | %d |\n' "$m" "$t" "$r" >> "$md"
-        total=$((total + t)); rtotal=$((rtotal + r))
-    done
+    # size_rows DIR SKIP NOTE MDNOTE: a row per object of DIR but SKIP.o, its .text* and .rodata*
+    # bytes (NOTE after it on the terminal, MDNOTE after its name in the table); sets st and sr,
+    # their sums
+    size_rows() {
+        local o m t r
+        st=0; sr=0
+        for o in "$1"/*.o; do
+            m=$(basename "$o" .o); [ "$m" = "$2" ] && continue
+            read -r t r < <(arm-none-eabi-size -A "$o" | awk '$1 ~ /^\.text/ {t += $2} $1 ~ /^\.rodata/ {r += $2} END {print t + 0, r + 0}')
+            printf '  %-12s %8d %8d%s\n' "$m" "$t" "$r" "$3"
+            printf '| %s%s | %d | %d |\n' "$m" "$4" "$t" "$r" >> "$md"
+            st=$((st + t)); sr=$((sr + r))
+        done
+    }
+    size_rows "$out/cortex-m4" qibl-core "" ""
+    total=$st rtotal=$sr
     printf '  %-12s %8d %8d\n' "core total" "$total" "$rtotal"
     printf '| **core** | **%d** | %d |\n' "$total" "$rtotal" >> "$md"
-    stotal=0; srtotal=0
-    for o in "$out"/cortex-m4/platform/soft/*.o; do
-        m=$(basename "$o" .o); [ "$m" = qibl-soft ] && continue
-        t=$(arm-none-eabi-size -A "$o" | awk '$1 ~ /^\.text/ {s += $2} END {print s + 0}')
-        r=$(arm-none-eabi-size -A "$o" | awk '$1 ~ /^\.rodata/ {s += $2} END {print s + 0}')
-        printf '  %-12s %8d %8d   (platform/soft, not in the core total)\n' "$m" "$t" "$r"
-        printf '| %s (platform/soft, not in the core) | %d | %d |\n' "$m" "$t" "$r" >> "$md"
-        stotal=$((stotal + t)); srtotal=$((srtotal + r))
-    done
+    size_rows "$out/cortex-m4/platform/soft" qibl-soft "   (platform/soft, not in the core total)" " (platform/soft, not in the core)"
+    stotal=$st
     echo "RESULT cross.m4_text_bytes_every_module $total"
     echo "RESULT cross.m4_soft_text_bytes $stotal"
 
