@@ -37,6 +37,7 @@
 #endif
 #endif
 
+#ifndef UNDER_SANITIZER /* the helpers of the capped run, which the sanitizers' shadow memory cannot take */
 enum { W = 512, H = 256, K = 4 }; /* a 512 KiB RGBA frame: well above the cap's margin */
 
 /* the procedural scene's maps as an asset with SHMP and SHMT */
@@ -94,6 +95,8 @@ static int capped_child(const uint8_t *asset, size_t n, int tiled, uint8_t *rgb8
         return 2;
     return st == QTOOL_E_NOMEM && strcmp(qtool_status_str(st), "out of memory") == 0 ? 0 : 3;
 }
+
+#endif
 
 static void test_nomem(void **state)
 {
