@@ -527,10 +527,10 @@ static int tri_exact(const int32_t *a, const int32_t *b, const int32_t *c, int32
         for (int k = 0; k < 3; ++k)
             m = qibli_abs_u64(x[i][k]) > m ? qibli_abs_u64(x[i][k]) : m;
         const unsigned bl = qibli_bitlen_u64_inline(m), sh = bl > 19u ? bl - 19u : 0u; /* m >> sh < 2^19 */
-        for (int k = 0; k < 3; ++k) {
-            const int32_t q = (int32_t)qibl_asr_s64(x[i][k], sh);
-            e[i][k] = s < 0 ? -q : q;
-        }
+        /* orient before the shift: floor(-x / 2^sh) is not -floor(x / 2^sh), and the other
+         * winding must give the same normals (|x| < 2^53, so -x is exact) */
+        for (int k = 0; k < 3; ++k)
+            e[i][k] = (int32_t)qibl_asr_s64(s < 0 ? -x[i][k] : x[i][k], sh);
     }
     return TRI_DRAW;
 }
