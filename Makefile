@@ -129,7 +129,7 @@ QIBL_BENCH := $(BUILD)/bin/qibl-bench
 .PHONY: study gles all lib qibl test test-deps cross warnings bench demo clean help check-exhaustive golden ports test-asan examples \
         install check-install check-farm amalgamate check-amalgamate docs-memory
 .PHONY: baremetal baremetal-tables docs-size gba gba-tables nds nds-tables
-.PHONY: docs docs-check docs-check-test docs-bench docs-probe
+.PHONY: docs docs-check docs-check-test docs-bench docs-probe bench-repeat
 .DEFAULT_GOAL := all
 
 all: $(LIBQIBL) $(LIBSOFT) $(QIBL) $(QIBL_BENCH)
@@ -151,6 +151,7 @@ help:
 	@echo "                every public header alone as C99/C11/C++98/11/17 (tools/scripts/headers.sh)"
 	@echo "make gles       build platform/gles2 (libqibl-gles2.a) and run its suite on EGL (Mesa llvmpipe here)"
 	@echo "make bench      benchmarks (speed against error), RESULT lines"
+	@echo "make bench-repeat  make bench twice back to back: each RESULT ratio of both runs and their difference"
 	@echo "make check-exhaustive  sweeps too long for make test (all 2^32 sRGBE codes; CI runs it)"
 	@echo "make golden     run the golden runner natively: one hash per golden case, compared with fixtures/golden"
 	@echo "make ports      the golden runner on every compiler, -O level and architecture (qemu); hashes must agree"
@@ -598,6 +599,11 @@ check-amalgamate: amalgamate $(QIBL) $(EXAMPLES)
 bench: $(QIBL) $(QIBL_BENCH)
 	$(QIBL) bench all
 	$(QIBL_BENCH) all
+
+# make bench twice back to back, every RESULT ratio of the two runs side by side (a report: does a
+# ratio reproduce within 15 %?), the runs' output in out/bench-repeat/
+bench-repeat: $(QIBL) $(QIBL_BENCH)
+	@QIBL=$(QIBL) QIBL_BENCH=$(QIBL_BENCH) sh tools/scripts/bench-repeat.sh out/bench-repeat
 
 # The light-probe approximation study (tools/study, `qibl study`): every method on every fixture
 # probe (procedural skies when ../shared is absent); CSV, plots, overlays, summary in out/study/.
