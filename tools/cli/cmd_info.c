@@ -21,8 +21,7 @@ static const info_opts info_defaults = {.file = {.n = 0}};
 const qtool_opt_cmd qcli_opts_info = {
     .name = "info",
     .pos = {.names = "FILE", .min = 1, .max = 1, .off = offsetof(info_opts, file)},
-    .defaults = &info_defaults,
-    .size = sizeof(info_opts),
+    QTOOL_OPT_TABLE(NULL, info_defaults),
     .prose =
         "  Validates FILE with the core's qibl_asset_open (magic, version, chunk table, bounds, CRC-32s,\n"
         "  chunk fields) and prints the header, the chunk table (type, offset, size, CRC) and per known\n"

@@ -22,8 +22,7 @@ const qtool_opt_cmd qcli_opts_srgbe_encode = {
     .name = "srgbe encode",
     .help_name = "srgbe",
     .pos = {.names = "R G B", .min = 3, .max = 3, .off = offsetof(srgbe_opts, args), .numbers = 1},
-    .defaults = &srgbe_defaults,
-    .size = sizeof(srgbe_opts),
+    QTOOL_OPT_TABLE(NULL, srgbe_defaults),
     .prose =
         "  R G B are decimals rounded to binary32 (inf and nan accepted); prints the code as\n"
         "  8 hex digits, bytes R G B E in memory order (Granier et al. 4.2: e = floor(log2 max|c|) + 2,\n"
@@ -36,8 +35,7 @@ const qtool_opt_cmd qcli_opts_srgbe_decode = {
     .name = "srgbe decode",
     .help_name = "srgbe",
     .pos = {.names = "HEX8", .min = 1, .max = 1, .off = offsetof(srgbe_opts, args)},
-    .defaults = &srgbe_defaults,
-    .size = sizeof(srgbe_opts),
+    QTOOL_OPT_TABLE(NULL, srgbe_defaults),
     .prose =
         "  HEX8 is 8 hex digits as printed by encode; prints the three channels\n"
         "  (X/255 - 1/2) 2^(E-126), correctly rounded to binary32, as %.9g (E = 255 with X = 0 or 255\n"
