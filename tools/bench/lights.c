@@ -31,6 +31,7 @@
 #include <string.h>
 
 #include "io/hdr.h"
+#include "io/probe_layout.h"
 #include "bench/bench.h"
 #include "qibl/lightprobe.h"
 #include "ref/lightprobe_ref.h"
@@ -376,19 +377,6 @@ out:
     return rc;
 }
 
-/* nearest-neighbour 4x upsampling: the 4096 x 2048 case with real content */
-static uint8_t *upsample4(const uint8_t *px, int w, int h)
-{
-    uint8_t *o = malloc(4 * (size_t)w * (size_t)h * 16);
-    if (!o)
-        return NULL;
-    for (int v = 0; v < 4 * h; ++v)
-        for (int u = 0; u < 4 * w; ++u)
-            memcpy(o + 4 * ((size_t)v * 4 * (size_t)w + (size_t)u), px + 4 * ((size_t)(v / 4) * (size_t)w + (size_t)(u / 4)),
-                   4);
-    return o;
-}
-
 static int speed(int quick, const char *name, const uint8_t *px, int w, int h)
 {
     const int reps = quick ? 3 : 15;
@@ -637,7 +625,8 @@ int qtool_bench_lights(int quick)
         free(px2);
     }
     if (rc == 0) {
-        uint8_t *big = upsample4(px, w, h);
+        /* the 4096 x 2048 case with real content */
+        uint8_t *big = qtool_probe_layout_rgbe_up4(px, w, h);
         if (big) {
             char l4[700];
             snprintf(l4, sizeof l4, "%s upsampled 4x", label);
