@@ -569,7 +569,7 @@ static int list_probes(char names[][256], int max)
     return n;
 }
 
-int qtool_bench_lights_probe(uint8_t **px, int *w, int *h, char *label, size_t label_len)
+static int load_probe(uint8_t **px, int *w, int *h, char *label, size_t label_len)
 {
     static char names[64][256];
     const int np = list_probes(names, 64);
@@ -600,16 +600,24 @@ int qtool_bench_lights_probe(uint8_t **px, int *w, int *h, char *label, size_t l
     return 0;
 }
 
-int qtool_bench_lights(int quick)
+int qtool_bench_lights_on_probe(int quick, qtool_bench_probe_run run)
 {
-    static char names[64][256];
-    const int np = list_probes(names, 64);
     char label[600];
     int w, h;
     uint8_t *px;
-    int rc = qtool_bench_lights_probe(&px, &w, &h, label, sizeof label);
+    int rc = load_probe(&px, &w, &h, label, sizeof label);
     if (rc == 0)
-        rc = speed(quick, label, px, w, h);
+        rc = run(quick, label, px, w, h);
+    free(px);
+    return rc;
+}
+
+/* bench lights on its probe: speed, against thefranke there and on a second probe, and upsampled 4x */
+static int on_probe(int quick, const char *label, const uint8_t *px, int w, int h)
+{
+    static char names[64][256];
+    const int np = list_probes(names, 64);
+    int rc = speed(quick, label, px, w, h);
     if (rc == 0)
         rc = versus_thefranke(quick, label, px, w, h, "");
     if (rc == 0 && np > 0) {
@@ -620,7 +628,7 @@ int qtool_bench_lights(int quick)
         uint8_t *px2;
         snprintf(path, sizeof path, "%s/%.250s", PROBE_DIR, names[pick]);
         if (qtool_hdr_read_rgbe(path, &w2, &h2, &px2, err, sizeof err) != 0)
-            return free(px), fprintf(stderr, "qibl: %s\n", err), 1;
+            return fprintf(stderr, "qibl: %s\n", err), 1;
         rc = versus_thefranke(quick, path, px2, w2, h2, "_2");
         free(px2);
     }
@@ -635,7 +643,14 @@ int qtool_bench_lights(int quick)
             free(big);
         }
     }
-    free(px);
+    return rc;
+}
+
+int qtool_bench_lights(int quick)
+{
+    static char names[64][256];
+    const int np = list_probes(names, 64);
+    int rc = qtool_bench_lights_on_probe(quick, on_probe);
     if (rc == 0 && np > 0)
         rc = quality(quick, names, np);
     else if (np == 0)
