@@ -80,16 +80,11 @@ const qtool_opt_cmd qcli_opts_luminaire_capture = {
         "  extent. Format: tools/luminaire/luminaire.h.\n",
 };
 
-typedef struct info_cli {
-    qtool_opt_list file;
-} info_cli;
-static const info_cli info_defaults = {.file = {.n = 0}};
-
 const qtool_opt_cmd qcli_opts_luminaire_info = {
     .name = "luminaire info",
     .help_name = "luminaire",
-    .pos = {.names = "F.qnf", .min = 1, .max = 1, .off = offsetof(info_cli, file)},
-    QTOOL_OPT_TABLE(NULL, info_defaults),
+    .pos = {.names = "F.qnf", .min = 1, .max = 1},
+    QTOOL_OPT_TABLE(NULL, qtool_opt_args),
     .prose = "  The source's header (grid, basis, texture, planes), its dark supports, texel range and flux.\n",
 };
 
@@ -273,13 +268,13 @@ static int cmd_capture(int argc, char **argv)
 
 static int cmd_info(int argc, char **argv)
 {
-    info_cli c;
-    int prc = qtool_opt_parse(&qcli_opts_luminaire_info, argc, argv, 2, &c);
+    qtool_opt_list file;
+    int prc = qtool_opt_parse(&qcli_opts_luminaire_info, argc, argv, 2, &file);
     if (prc != 0)
         return prc;
     if (qcli_parse_only)
         return 0;
-    const char *path = c.file.v[0];
+    const char *path = file.v[0];
     qtool_luminaire l;
     qtool_luminaire_err e = qtool_luminaire_read(path, &l);
     if (e != QTOOL_LUMINAIRE_OK) {
