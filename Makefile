@@ -189,29 +189,18 @@ define archive
 rm -f $@ && $(AR) rcs $@ $^
 endef
 
-$(LIBQIBL): $(CORE_OBJ)
-	$(archive)
-
 $(BUILD)/avx2/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(CC) $(CORE_CFLAGS) -mavx2 -MMD -MP -c $< -o $@
 
+$(LIBQIBL): $(CORE_OBJ)
 $(LIBQIBL_AVX2): $(CORE_AOBJ)
-	$(archive)
-
 $(LIBQIBL_PORTABLE): $(CORE_POBJ)
-	$(archive)
-
 $(LIBSOFT): $(PLATFORM_OBJ)
-	$(archive)
-
 $(LIBSOFT_PORTABLE): $(PLATFORM_POBJ)
-	$(archive)
-
 $(LIBTOOLS): $(TOOL_LIB_OBJ)
-	$(archive)
-
 $(LIBBENCH): $(BENCH_OBJ)
+$(LIBQIBL) $(LIBQIBL_AVX2) $(LIBQIBL_PORTABLE) $(LIBSOFT) $(LIBSOFT_PORTABLE) $(LIBTOOLS) $(LIBBENCH):
 	$(archive)
 
 # tools/twin: core modules compiled again as their scalar twins (QIBL_CONFIG_SIMD=0, names renamed,

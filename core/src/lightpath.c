@@ -8,6 +8,7 @@
  * reciprocal is formed once per span with qibl_udiv_u64.
  */
 #include "qibl/lightpath.h"
+#include "qibli.h"
 
 #if QIBL_USE_LIGHTPATH /* config.h: needs QIBL_USE_SHMAP (path lights are relit through the SH maps) */
 
@@ -314,11 +315,7 @@ qibl_status_t qibl_lightpath_occl_from_asset(const qibl_asset_t *a, qibl_lampocc
     qibl_lampocc_t o;
     if (a == 0 || out == 0)
         return QIBL_E_NULL_POINTER;
-    qibl_status_t st = qibl_asset_find_nth(a, QIBL_CHUNK_LOCC, 0, &c);
-    if (st == QIBL_OK && qibl_asset_find_nth(a, QIBL_CHUNK_LOCC, 1, &c) == QIBL_OK)
-        return QIBL_E_ASSET_DUPLICATE_CHUNK;
-    if (st == QIBL_OK)
-        st = qibl_asset_shmaps(a, &m);
+    qibl_status_t st = qibli_asset_sole_chunk(a, QIBL_CHUNK_LOCC, &c, &m);
     if (st == QIBL_OK)
         st = qibl_lightpath_occl_parse(c.data, c.size, &o);
     if (st != QIBL_OK)

@@ -723,11 +723,9 @@ qibl_status_t qibl_lightprobe_build(qibl_lightprobe_t *lp, const qibl_lightprobe
         return QIBL_E_WORKSPACE;
 
     int32_t lb;
-    unsigned bad = scan(img, stride, &lb);
-    if (bad & QIBLI_PROBE_BAD_NOT_FINITE)
-        return QIBL_E_PROBE_NOT_FINITE;
-    if (bad & QIBLI_PROBE_BAD_NEGATIVE)
-        return QIBL_E_PROBE_NEGATIVE;
+    qibl_status_t st = qibli_probe_bad_status(scan(img, stride, &lb));
+    if (st != QIBL_OK)
+        return st;
 
     /* carve the workspace: 8-byte tables first, then the 4-byte row tables */
     uint8_t *ws = (uint8_t *)workspace;

@@ -18,6 +18,17 @@ extern "C" {
 #define QIBLI_PROBE_BAD_NEGATIVE 1u
 #define QIBLI_PROBE_BAD_NOT_FINITE 2u
 
+/* A probe's status from its pixels' flags (lightprobe and the SH projection refuse alike): a
+ * non-finite channel before a negative one. */
+static inline qibl_status_t qibli_probe_bad_status(unsigned bad)
+{
+    if (bad & QIBLI_PROBE_BAD_NOT_FINITE)
+        return QIBL_E_PROBE_NOT_FINITE;
+    if (bad & QIBLI_PROBE_BAD_NEGATIVE)
+        return QIBL_E_PROBE_NEGATIVE;
+    return QIBL_OK;
+}
+
 /* Bytes per pixel of a format (4 or 12). */
 size_t qibli_lightprobe_pixel_bytes(qibl_lightprobe_format_t f);
 

@@ -744,11 +744,9 @@ static qibl_status_t add_span(qibl_probe_sh_t *ps, uint32_t v, const void *row, 
     if (ps->format >= QIBL_LIGHTPROBE_LINEAR_I32 && ((uintptr_t)p & 3u) != 0u)
         return QIBL_E_PROBE_FORMAT;
     int32_t t;
-    unsigned bad = row_scan(ps, p, &t);
-    if (bad & QIBLI_PROBE_BAD_NOT_FINITE)
-        return QIBL_E_PROBE_NOT_FINITE;
-    if (bad & QIBLI_PROBE_BAD_NEGATIVE)
-        return QIBL_E_PROBE_NEGATIVE;
+    qibl_status_t st = qibli_probe_bad_status(row_scan(ps, p, &t));
+    if (st != QIBL_OK)
+        return st;
     if (t == INT32_MIN)
         return QIBL_OK; /* a black row adds nothing */
     row_convert(ps, p, t);

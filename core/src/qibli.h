@@ -120,4 +120,20 @@ static inline void qibli_unit_q30(const int32_t l[3], uint32_t iy, unsigned e, q
 #define QIBLI_DISPATCH(fn, args) ((void)0)
 #endif
 
+#if QIBL_USE_ASSET
+#include "qibl/asset.h"
+/* An optional chunk's one copy in the asset (a second one: QIBL_E_ASSET_DUPLICATE_CHUNK) and the
+ * asset's SH maps, whose size the chunk must have: the first step of each *_from_asset. */
+static inline qibl_status_t qibli_asset_sole_chunk(const qibl_asset_t *a, uint32_t type, qibl_chunk_t *c,
+                                                   qibl_shmaps_t *m)
+{
+    qibl_status_t st = qibl_asset_find_nth(a, type, 0, c);
+    if (st == QIBL_OK && qibl_asset_find_nth(a, type, 1, c) == QIBL_OK)
+        return QIBL_E_ASSET_DUPLICATE_CHUNK;
+    if (st == QIBL_OK)
+        st = qibl_asset_shmaps(a, m);
+    return st;
+}
+#endif
+
 #endif /* QIBLI_H */

@@ -6,6 +6,7 @@
  * view never leaves the payload. No division in the per-tile code (the tile size is a power of 2).
  */
 #include "qibl/shmtile.h"
+#include "qibli.h"
 
 /* with the light paths (QIBL_USE_LIGHTPATH): the adaptive-k unshadowed maps serve them and free lamps;
  * a small build (QIBL_CONFIG_SMALL) without them stays within its 16 KiB */
@@ -74,11 +75,7 @@ qibl_status_t qibl_shmtile_from_asset(const qibl_asset_t *a, qibl_shmtile_t *out
     qibl_shmtile_t t;
     if (a == 0 || out == 0)
         return QIBL_E_NULL_POINTER;
-    qibl_status_t st = qibl_asset_find_nth(a, QIBL_CHUNK_SHMT, 0, &c);
-    if (st == QIBL_OK && qibl_asset_find_nth(a, QIBL_CHUNK_SHMT, 1, &c) == QIBL_OK)
-        return QIBL_E_ASSET_DUPLICATE_CHUNK;
-    if (st == QIBL_OK)
-        st = qibl_asset_shmaps(a, &m);
+    qibl_status_t st = qibli_asset_sole_chunk(a, QIBL_CHUNK_SHMT, &c, &m);
     if (st == QIBL_OK)
         st = qibl_shmtile_parse(c.data, c.size, &t);
     if (st != QIBL_OK)

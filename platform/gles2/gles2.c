@@ -381,6 +381,21 @@ static int build_fs(const qibl_gles2_t *g, int mode, uint32_t pass, sbuf *b)
     return b->overflow ? -1 : 0;
 }
 
+/* A shader's compile or a program's link status (is, log, del: the shader's or the program's calls):
+ * on failure the object's log is kept in g->log and the object deleted. */
+static int built(qibl_gles2_t *g, GLuint obj, GLenum pname, void(GL_APIENTRY *is)(GLuint, GLenum, GLint *),
+                 void(GL_APIENTRY *log)(GLuint, GLsizei, GLsizei *, GLchar *), void(GL_APIENTRY *del)(GLuint))
+{
+    GLint ok = 0;
+    is(obj, pname, &ok);
+    if (ok)
+        return 1;
+    GLsizei len = 0;
+    log(obj, (GLsizei)sizeof g->log, &len, g->log);
+    del(obj);
+    return 0;
+}
+
 static qibl_status_t compile(qibl_gles2_t *g, GLenum type, const char *src, GLuint *out)
 {
     GLuint s = glCreateShader(type);
@@ -388,14 +403,8 @@ static qibl_status_t compile(qibl_gles2_t *g, GLenum type, const char *src, GLui
         return gl_check(g, "glCreateShader") != QIBL_OK ? QIBL_E_GLES2_GL_ERROR : QIBL_E_GLES2_COMPILE;
     glShaderSource(s, 1, &src, NULL);
     glCompileShader(s);
-    GLint ok = 0;
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        GLsizei len = 0;
-        glGetShaderInfoLog(s, (GLsizei)sizeof g->log, &len, g->log);
-        glDeleteShader(s);
+    if (!built(g, s, GL_COMPILE_STATUS, glGetShaderiv, glGetShaderInfoLog, glDeleteShader))
         return QIBL_E_GLES2_COMPILE;
-    }
     *out = s;
     return QIBL_OK;
 }
@@ -412,14 +421,8 @@ static qibl_status_t link_program(qibl_gles2_t *g, const char *fs_src, GLuint *o
     glBindAttribLocation(p, 0, "a_pos");
     glLinkProgram(p);
     glDeleteShader(fs); /* flagged: freed with the program */
-    GLint ok = 0;
-    glGetProgramiv(p, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        GLsizei len = 0;
-        glGetProgramInfoLog(p, (GLsizei)sizeof g->log, &len, g->log);
-        glDeleteProgram(p);
+    if (!built(g, p, GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog, glDeleteProgram))
         return QIBL_E_GLES2_LINK;
-    }
     /* a GL error after the link: the program is deleted here, so a failing call hands back nothing */
     qibl_status_t gst = gl_check(g, "glLinkProgram");
     if (gst != QIBL_OK) {

@@ -68,10 +68,12 @@ int qtool_bench_hemi(int quick, const char *svg);  /* hemi.c; svg may be NULL */
 int qtool_bench_memory(int markdown);              /* memory.c: not timing, exact */
 int qtool_bench_gles(int quick);                   /* gles.c: skips without EGL/GLES2 at build time */
 
-/* The probe `bench lights` runs on: QIBL_PROBE, else quarry_01_1k.hdr (or the first .hdr) of
- * ../shared/fixtures/probes, else a procedural sun and sky. *px: w x h RGBE bytes, malloc'ed;
- * label (label_len bytes) names it. 0, or 1 after a message. */
-int qtool_bench_lights_probe(uint8_t **px, int *w, int *h, char *label, size_t label_len);
+/* Runs run(quick, label, px, w, h) on the probe `bench lights` runs on: QIBL_PROBE, else
+ * quarry_01_1k.hdr (or the first .hdr) of ../shared/fixtures/probes, else a procedural sun and sky
+ * (px: w x h RGBE bytes, label names it; freed after). run's result, or 1 after a message when the
+ * probe cannot be had. */
+typedef int (*qtool_bench_probe_run)(int quick, const char *label, const uint8_t *px, int w, int h);
+int qtool_bench_lights_on_probe(int quick, qtool_bench_probe_run run);
 
 /* The courtyard asset (w x h, k maps, RGB, P map) serialised in memory; *bytes malloc'ed. 0 or -1. */
 int qtool_bench_make_asset(uint32_t w, uint32_t h, uint32_t k, uint32_t layout, uint8_t **bytes, size_t *n);

@@ -31,6 +31,7 @@
 #include <string.h>
 
 #include "io/hdr.h"
+#include "io/probe_layout.h"
 #include "bench/bench.h"
 #include "qibl/lightprobe.h"
 #include "ref/lightprobe_ref.h"
@@ -376,19 +377,6 @@ out:
     return rc;
 }
 
-/* nearest-neighbour 4x upsampling: the 4096 x 2048 case with real content */
-static uint8_t *upsample4(const uint8_t *px, int w, int h)
-{
-    uint8_t *o = malloc(4 * (size_t)w * (size_t)h * 16);
-    if (!o)
-        return NULL;
-    for (int v = 0; v < 4 * h; ++v)
-        for (int u = 0; u < 4 * w; ++u)
-            memcpy(o + 4 * ((size_t)v * 4 * (size_t)w + (size_t)u), px + 4 * ((size_t)(v / 4) * (size_t)w + (size_t)(u / 4)),
-                   4);
-    return o;
-}
-
 static int speed(int quick, const char *name, const uint8_t *px, int w, int h)
 {
     const int reps = quick ? 3 : 15;
@@ -581,7 +569,7 @@ static int list_probes(char names[][256], int max)
     return n;
 }
 
-int qtool_bench_lights_probe(uint8_t **px, int *w, int *h, char *label, size_t label_len)
+static int load_probe(uint8_t **px, int *w, int *h, char *label, size_t label_len)
 {
     static char names[64][256];
     const int np = list_probes(names, 64);
@@ -612,16 +600,24 @@ int qtool_bench_lights_probe(uint8_t **px, int *w, int *h, char *label, size_t l
     return 0;
 }
 
-int qtool_bench_lights(int quick)
+int qtool_bench_lights_on_probe(int quick, qtool_bench_probe_run run)
 {
-    static char names[64][256];
-    const int np = list_probes(names, 64);
     char label[600];
     int w, h;
     uint8_t *px;
-    int rc = qtool_bench_lights_probe(&px, &w, &h, label, sizeof label);
+    int rc = load_probe(&px, &w, &h, label, sizeof label);
     if (rc == 0)
-        rc = speed(quick, label, px, w, h);
+        rc = run(quick, label, px, w, h);
+    free(px);
+    return rc;
+}
+
+/* bench lights on its probe: speed, against thefranke there and on a second probe, and upsampled 4x */
+static int on_probe(int quick, const char *label, const uint8_t *px, int w, int h)
+{
+    static char names[64][256];
+    const int np = list_probes(names, 64);
+    int rc = speed(quick, label, px, w, h);
     if (rc == 0)
         rc = versus_thefranke(quick, label, px, w, h, "");
     if (rc == 0 && np > 0) {
@@ -632,12 +628,13 @@ int qtool_bench_lights(int quick)
         uint8_t *px2;
         snprintf(path, sizeof path, "%s/%.250s", PROBE_DIR, names[pick]);
         if (qtool_hdr_read_rgbe(path, &w2, &h2, &px2, err, sizeof err) != 0)
-            return free(px), fprintf(stderr, "qibl: %s\n", err), 1;
+            return fprintf(stderr, "qibl: %s\n", err), 1;
         rc = versus_thefranke(quick, path, px2, w2, h2, "_2");
         free(px2);
     }
     if (rc == 0) {
-        uint8_t *big = upsample4(px, w, h);
+        /* the 4096 x 2048 case with real content */
+        uint8_t *big = qtool_probe_layout_rgbe_up4(px, w, h);
         if (big) {
             char l4[700];
             snprintf(l4, sizeof l4, "%s upsampled 4x", label);
@@ -646,7 +643,14 @@ int qtool_bench_lights(int quick)
             free(big);
         }
     }
-    free(px);
+    return rc;
+}
+
+int qtool_bench_lights(int quick)
+{
+    static char names[64][256];
+    const int np = list_probes(names, 64);
+    int rc = qtool_bench_lights_on_probe(quick, on_probe);
     if (rc == 0 && np > 0)
         rc = quality(quick, names, np);
     else if (np == 0)

@@ -8,12 +8,12 @@
 #include <time.h>
 
 #include "bench/bench.h"
+#include "demo/demo.h"
 
+/* the wall clock and the median are the demo library's (libqibl-tools, below this one) */
 double qtool_bench_now(void)
 {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+    return qtool_demo_now();
 }
 
 double qtool_bench_cpu_now(void)
@@ -23,16 +23,9 @@ double qtool_bench_cpu_now(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
 double qtool_bench_median(double *v, int n)
 {
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+    return qtool_demo_median(v, n);
 }
 
 double qtool_bench_paired_ratio(const double *num, const double *den, int n)

@@ -87,12 +87,5 @@ static int simd_vs_scalar(int quick, const char *name, const uint8_t *px, int w,
 
 int qtool_bench_twin_lights(int quick)
 {
-    char label[600];
-    int w, h;
-    uint8_t *px;
-    int rc = qtool_bench_lights_probe(&px, &w, &h, label, sizeof label);
-    if (rc == 0)
-        rc = simd_vs_scalar(quick, label, px, w, h);
-    free(px);
-    return rc;
+    return qtool_bench_lights_on_probe(quick, simd_vs_scalar);
 }

@@ -285,9 +285,7 @@ static const qtool_opt render_table[] = {
 
 const qtool_opt_cmd qcli_opts_render = {
     .name = "render",
-    .opts = render_table,
-    .defaults = &render_defaults,
-    .size = sizeof(render_cli),
+    QTOOL_OPT_TABLE(render_table, render_defaults),
     .prose = RENDER_PROSE,
 };
 
@@ -505,9 +503,7 @@ static const qtool_opt bake_table[] = {
 
 const qtool_opt_cmd qcli_opts_bake = {
     .name = "bake",
-    .opts = bake_table,
-    .defaults = &bake_defaults,
-    .size = sizeof(bake_cli),
+    QTOOL_OPT_TABLE(bake_table, bake_defaults),
     .synopsis = "(-o ASSET | --shard I/N --sums FILE)",
     .prose = BAKE_PROSE,
 };
@@ -590,10 +586,8 @@ static const qtool_opt merge_table[] = {
 
 const qtool_opt_cmd qcli_opts_merge = {
     .name = "merge",
-    .opts = merge_table,
+    QTOOL_OPT_TABLE(merge_table, merge_defaults),
     .pos = {.names = "SUMS...", .min = 0, .max = QTOOL_OPT_LIST_MAX, .call = merge_file},
-    .defaults = &merge_defaults,
-    .size = sizeof(merge_cli),
     .synopsis = "(-o ASSET | --sums OUT | both) (--manifest FILE | SUMS...)",
     .prose =
         "  Adds the partial sums written by `qibl bake --shard I/N --sums FILE` (every shard exactly once,\n"

@@ -30,10 +30,8 @@ static const qtool_opt bench_table[] = {
 
 const qtool_opt_cmd qcli_opts_bench = {
     .name = "bench",
-    .opts = bench_table,
+    QTOOL_OPT_TABLE(bench_table, bench_defaults),
     .pos = {.names = "BENCH", .min = 0, .max = QTOOL_OPT_LIST_MAX, .off = offsetof(bench_cli_opts, what)},
-    .defaults = &bench_defaults,
-    .size = sizeof(bench_cli_opts),
     .prose =
         "  BENCH: " QTOOL_BENCH_NAMES "\n"
         "  (default all; the last one named runs).\n"

@@ -78,9 +78,7 @@ static const qtool_opt demo_table[] = {
 
 const qtool_opt_cmd qcli_opts_demo = {
     .name = "demo",
-    .opts = demo_table,
-    .defaults = &demo_cli_defaults,
-    .size = sizeof(demo_cli),
+    QTOOL_OPT_TABLE(demo_table, demo_cli_defaults),
     .prose = DEMO_PROSE,
 };
 

@@ -52,9 +52,7 @@ static const qtool_opt gen_table[] = {
 
 const qtool_opt_cmd qcli_opts_gen = {
     .name = "gen",
-    .opts = gen_table,
-    .defaults = &gen_defaults,
-    .size = sizeof(gen_opts),
+    QTOOL_OPT_TABLE(gen_table, gen_defaults),
     .prose =
         "  Renders the built-in courtyard's light-transport SH maps analytically (Lambert + glossy, no\n"
         "  shadows; the ray-traced bake is a separate command), packs them to 8 bits per map and channel\n"

@@ -107,10 +107,8 @@ static const qtool_opt ies_table[] = {
 const qtool_opt_cmd qcli_opts_ies_info = {
     .name = "ies info",
     .help_name = "ies",
-    .opts = ies_table,
+    QTOOL_OPT_TABLE(ies_table, ies_defaults),
     .pos = {.names = "FILE.ies", .min = 1, .max = 1, .off = offsetof(ies_opts, file)},
-    .defaults = &ies_defaults,
-    .size = sizeof(ies_opts),
     .prose =
         "  Reads an IES LM-63 file (1986 unlabelled, 1991, 1995, 2002 or 2019 header; keywords with [MORE];\n"
         "  TILT=NONE or INCLUDE, TILT=<file> refused by name; photometric type C, B or A; every type C\n"

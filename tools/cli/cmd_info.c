@@ -13,16 +13,10 @@
 #include "cli/cli.h"
 #include "opt/opt.h"
 
-typedef struct info_opts {
-    qtool_opt_list file;
-} info_opts;
-static const info_opts info_defaults = {.file = {.n = 0}};
-
 const qtool_opt_cmd qcli_opts_info = {
     .name = "info",
-    .pos = {.names = "FILE", .min = 1, .max = 1, .off = offsetof(info_opts, file)},
-    .defaults = &info_defaults,
-    .size = sizeof(info_opts),
+    .pos = {.names = "FILE", .min = 1, .max = 1},
+    QTOOL_OPT_TABLE(NULL, qtool_opt_args),
     .prose =
         "  Validates FILE with the core's qibl_asset_open (magic, version, chunk table, bounds, CRC-32s,\n"
         "  chunk fields) and prints the header, the chunk table (type, offset, size, CRC) and per known\n"
@@ -83,11 +77,11 @@ static void print_pmap(const qibl_pmap_t *p)
 
 int qcli_cmd_info(int argc, char **argv)
 {
-    info_opts o;
-    int rc = qtool_opt_parse(&qcli_opts_info, argc, argv, 1, &o);
+    qtool_opt_list file;
+    int rc = qtool_opt_parse(&qcli_opts_info, argc, argv, 1, &file);
     if (rc != 0)
         return rc;
-    const char *path = o.file.v[0];
+    const char *path = file.v[0];
     size_t n = 0;
     if (qcli_parse_only) /* fuzz_cliopts: the options only */
         return 0;

@@ -209,10 +209,8 @@ static const qtool_opt lights_table[] = {
 
 const qtool_opt_cmd qcli_opts_lights = {
     .name = "lights",
-    .opts = lights_table,
+    QTOOL_OPT_TABLE(lights_table, lights_defaults),
     .pos = {.names = "PROBE.hdr", .min = 1, .max = 1, .off = offsetof(lights_cli, probe)},
-    .defaults = &lights_defaults,
-    .size = sizeof(lights_cli),
     .prose =
         "  Turns a W x H lat-long probe (top row theta = 0 = +z, phi = 0 at the left edge, growing to the\n"
         "  right) into N directional lights with the integer core (qibl/lightprobe.h): median cut\n"

@@ -68,10 +68,8 @@ static const qtool_opt capture_table[] = {
 const qtool_opt_cmd qcli_opts_luminaire_capture = {
     .name = "luminaire capture",
     .help_name = "luminaire",
-    .opts = capture_table,
+    QTOOL_OPT_TABLE(capture_table, capture_defaults),
     .pos = {.names = "builtin|MESH.obj", .min = 1, .max = 1, .off = offsetof(capture_cli, src)},
-    .defaults = &capture_defaults,
-    .size = sizeof(capture_cli),
     .prose =
         "  A near-field light source (Granier et al.): its light on a sampling plane S projected onto a\n"
         "  grid of N x N filter supports, each with an R x R emission texture on a measurement plane,\n"
@@ -82,17 +80,11 @@ const qtool_opt_cmd qcli_opts_luminaire_capture = {
         "  extent. Format: tools/luminaire/luminaire.h.\n",
 };
 
-typedef struct info_cli {
-    qtool_opt_list file;
-} info_cli;
-static const info_cli info_defaults = {.file = {.n = 0}};
-
 const qtool_opt_cmd qcli_opts_luminaire_info = {
     .name = "luminaire info",
     .help_name = "luminaire",
-    .pos = {.names = "F.qnf", .min = 1, .max = 1, .off = offsetof(info_cli, file)},
-    .defaults = &info_defaults,
-    .size = sizeof(info_cli),
+    .pos = {.names = "F.qnf", .min = 1, .max = 1},
+    QTOOL_OPT_TABLE(NULL, qtool_opt_args),
     .prose = "  The source's header (grid, basis, texture, planes), its dark supports, texel range and flux.\n",
 };
 
@@ -133,10 +125,8 @@ static const qtool_opt render_table[] = {
 const qtool_opt_cmd qcli_opts_luminaire_render = {
     .name = "luminaire render",
     .help_name = "luminaire",
-    .opts = render_table,
+    QTOOL_OPT_TABLE(render_table, render_defaults),
     .pos = {.names = "ASSET F.qnf", .min = 2, .max = 2, .off = offsetof(render_cli, files)},
-    .defaults = &render_defaults,
-    .size = sizeof(render_cli),
     .prose =
         "  An asset frame (its point maps and P map) lit by the source: one textured spotlight per lit\n"
         "  support, each a goniometric lamp of the core (qibl/gonio.h), shaded from four anchors'\n"
@@ -165,9 +155,7 @@ static const qtool_opt study_table[] = {
 const qtool_opt_cmd qcli_opts_luminaire_study = {
     .name = "luminaire study",
     .help_name = "luminaire",
-    .opts = study_table,
-    .defaults = &study_defaults,
-    .size = sizeof(study_cli),
+    QTOOL_OPT_TABLE(study_table, study_defaults),
     .prose =
         "  The built-in luminaire captured, then its near field (textured spotlights) and far field (one\n"
         "  gonio lamp) against the luminaire ray-traced: on a ground plane at 0.5..8 lamp sizes and\n"
@@ -192,9 +180,7 @@ static const qtool_opt passes_table[] = {
 const qtool_opt_cmd qcli_opts_luminaire_passes = {
     .name = "luminaire passes",
     .help_name = "luminaire",
-    .opts = passes_table,
-    .defaults = &passes_defaults,
-    .size = sizeof(passes_cli),
+    QTOOL_OPT_TABLE(passes_table, passes_defaults),
     .prose =
         "  Sources of 16, 64 and 256 spotlights (synthetic, every support lit) one lamp size above a\n"
         "  ground plane, summed pass by pass in an 8-bit sRGBE target (decode, add, re-encode, integers),\n"
@@ -224,9 +210,7 @@ static const qtool_opt picture_table[] = {
 const qtool_opt_cmd qcli_opts_luminaire_picture = {
     .name = "luminaire picture",
     .help_name = "luminaire",
-    .opts = picture_table,
-    .defaults = &picture_defaults,
-    .size = sizeof(picture_cli),
+    QTOOL_OPT_TABLE(picture_table, picture_defaults),
     .prose = "  The built-in luminaire above a ground plane: its near field (textured spotlights), the\n"
              "  luminaire ray-traced, its far field (one gonio lamp), side by side, one exposure.\n",
 };
@@ -284,13 +268,13 @@ static int cmd_capture(int argc, char **argv)
 
 static int cmd_info(int argc, char **argv)
 {
-    info_cli c;
-    int prc = qtool_opt_parse(&qcli_opts_luminaire_info, argc, argv, 2, &c);
+    qtool_opt_list file;
+    int prc = qtool_opt_parse(&qcli_opts_luminaire_info, argc, argv, 2, &file);
     if (prc != 0)
         return prc;
     if (qcli_parse_only)
         return 0;
-    const char *path = c.file.v[0];
+    const char *path = file.v[0];
     qtool_luminaire l;
     qtool_luminaire_err e = qtool_luminaire_read(path, &l);
     if (e != QTOOL_LUMINAIRE_OK) {

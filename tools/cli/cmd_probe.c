@@ -112,10 +112,8 @@ static const qtool_opt sh_project_table[] = {
 const qtool_opt_cmd qcli_opts_sh_project = {
     .name = "sh project",
     .help_name = "sh",
-    .opts = sh_project_table,
+    QTOOL_OPT_TABLE(sh_project_table, sh_project_defaults),
     .pos = {.names = "PROBE.hdr", .min = 1, .max = 1, .off = offsetof(sh_project_cli, probe)},
-    .defaults = &sh_project_defaults,
-    .size = sizeof(sh_project_cli),
     .prose =
         "  A Radiance probe (layout detected or --layout, resampled to lat-long as qibl lights does)\n"
         "  projected onto bands 0..B-1 by the integer core, row by row (qibl/probe.h): radiance\n"

@@ -33,10 +33,8 @@ static const qtool_opt probe_info_table[] = {
 const qtool_opt_cmd qcli_opts_probe_info = {
     .name = "probe info",
     .help_name = "probe",
-    .opts = probe_info_table,
+    QTOOL_OPT_TABLE(probe_info_table, probe_info_defaults),
     .pos = {.names = "PROBE.hdr", .min = 1, .max = 1, .off = offsetof(probe_info_opts, probe)},
-    .defaults = &probe_info_defaults,
-    .size = sizeof(probe_info_opts),
     .prose =
         "  Prints the probe's layout (detected, or --layout) and size, its luminance dynamic range\n"
         "  (max over the smallest non-zero pixel, in stops), the share of the energy in the brightest\n"

@@ -267,10 +267,8 @@ static const qtool_opt relight_table[] = {
 
 const qtool_opt_cmd qcli_opts_relight = {
     .name = "relight",
-    .opts = relight_table,
+    QTOOL_OPT_TABLE(relight_table, relight_defaults),
     .pos = {.names = "FILE", .min = 0, .max = 1, .off = offsetof(relight_cli, file)},
-    .defaults = &relight_defaults,
-    .size = sizeof(relight_cli),
     .prose =
         "  Lights add up: any number of --sun and --point (at most 64 together), --lights and --probe.\n"
         "  --sun: directional light from direction (X, Y, Z), colour --rgb (default 1 1 1).\n"
@@ -330,10 +328,8 @@ const qtool_opt_cmd qcli_opts_relight = {
 /* the same table when --path is on the line (--rgb is then the path light's colour) */
 static const qtool_opt_cmd relight_path_spec = {
     .name = "relight",
-    .opts = relight_table,
+    QTOOL_OPT_TABLE(relight_table, path_defaults),
     .pos = {.names = "FILE", .min = 0, .max = 1, .off = offsetof(relight_cli, file)},
-    .defaults = &path_defaults,
-    .size = sizeof(relight_cli),
 };
 
 /* the first option given that only relight without --path takes, or NULL */

@@ -33,9 +33,7 @@ static const qtool_opt plot_table[] = {
 const qtool_opt_cmd qcli_opts_sh_plot = {
     .name = "sh plot",
     .help_name = "sh",
-    .opts = plot_table,
-    .defaults = &plot_defaults,
-    .size = sizeof(plot_opts),
+    QTOOL_OPT_TABLE(plot_table, plot_defaults),
     .prose = "  Writes a PNG of every basis function as a lat-long tile (orange > 0, blue < 0), evaluated by\n"
              "  the integer core.\n",
 };
@@ -99,10 +97,8 @@ static const qtool_opt eval_table[] = {
 const qtool_opt_cmd qcli_opts_sh_eval = {
     .name = "sh eval",
     .help_name = "sh",
-    .opts = eval_table,
+    QTOOL_OPT_TABLE(eval_table, eval_defaults),
     .pos = {.names = "X Y Z", .min = 3, .max = 3, .off = offsetof(eval_opts, xyz), .numbers = 1},
-    .defaults = &eval_defaults,
-    .size = sizeof(eval_opts),
     .prose =
         "  Prints the B*B real SH basis values Y_0 .. Y_{B*B-1} (bands 0..B-1),\n"
         "  one per line as `Y[i] l=L m=M value` (value as %.9f), at the direction (X, Y, Z).\n"

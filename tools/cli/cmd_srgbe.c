@@ -13,17 +13,11 @@
 #include "opt/opt.h"
 #include "qibl/srgbe.h"
 
-typedef struct srgbe_opts {
-    qtool_opt_list args;
-} srgbe_opts;
-static const srgbe_opts srgbe_defaults = {.args = {.n = 0}};
-
 const qtool_opt_cmd qcli_opts_srgbe_encode = {
     .name = "srgbe encode",
     .help_name = "srgbe",
-    .pos = {.names = "R G B", .min = 3, .max = 3, .off = offsetof(srgbe_opts, args), .numbers = 1},
-    .defaults = &srgbe_defaults,
-    .size = sizeof(srgbe_opts),
+    .pos = {.names = "R G B", .min = 3, .max = 3, .numbers = 1},
+    QTOOL_OPT_TABLE(NULL, qtool_opt_args),
     .prose =
         "  R G B are decimals rounded to binary32 (inf and nan accepted); prints the code as\n"
         "  8 hex digits, bytes R G B E in memory order (Granier et al. 4.2: e = floor(log2 max|c|) + 2,\n"
@@ -35,9 +29,8 @@ const qtool_opt_cmd qcli_opts_srgbe_encode = {
 const qtool_opt_cmd qcli_opts_srgbe_decode = {
     .name = "srgbe decode",
     .help_name = "srgbe",
-    .pos = {.names = "HEX8", .min = 1, .max = 1, .off = offsetof(srgbe_opts, args)},
-    .defaults = &srgbe_defaults,
-    .size = sizeof(srgbe_opts),
+    .pos = {.names = "HEX8", .min = 1, .max = 1},
+    QTOOL_OPT_TABLE(NULL, qtool_opt_args),
     .prose =
         "  HEX8 is 8 hex digits as printed by encode; prints the three channels\n"
         "  (X/255 - 1/2) 2^(E-126), correctly rounded to binary32, as %.9g (E = 255 with X = 0 or 255\n"
@@ -92,12 +85,12 @@ static void note_status(const char *what, qibl_status_t st)
         fprintf(stderr, "qibl: srgbe %s: %s: %s\n", what, status_name(st), qibl_status_str(st));
 }
 
-static int srgbe_encode(const srgbe_opts *o)
+static int srgbe_encode(const qtool_opt_list *args)
 {
     uint32_t in[3];
     for (int i = 0; i < 3; ++i)
-        if (parse_f32(o->args.v[i], &in[i]) != 0)
-            return qtool_opt_error(&qcli_opts_srgbe_encode, "'%s' is not a binary32 number", o->args.v[i]);
+        if (parse_f32(args->v[i], &in[i]) != 0)
+            return qtool_opt_error(&qcli_opts_srgbe_encode, "'%s' is not a binary32 number", args->v[i]);
     uint8_t code[4];
     qibl_status_t st = qibl_srgbe_encode_f32(in, code);
     /* the codec writes a code for every status but a NULL pointer: print it, then name the status */
@@ -106,9 +99,9 @@ static int srgbe_encode(const srgbe_opts *o)
     return st == QIBL_E_SRGBE_NAN ? 1 : 0;
 }
 
-static int srgbe_decode(const srgbe_opts *o)
+static int srgbe_decode(const qtool_opt_list *args)
 {
-    const char *h = o->args.v[0];
+    const char *h = args->v[0];
     uint8_t code[4];
     if (strlen(h) != 8)
         return qtool_opt_error(&qcli_opts_srgbe_decode, "'%s' is not 8 hex digits", h);
@@ -133,9 +126,9 @@ int qcli_cmd_srgbe(int argc, char **argv)
     const qtool_opt_cmd *sub = qtool_opt_sub("srgbe", subs, NULL, argc, argv);
     if (!sub)
         return 2;
-    srgbe_opts o;
-    int rc = qtool_opt_parse(sub, argc, argv, 2, &o);
+    qtool_opt_list args;
+    int rc = qtool_opt_parse(sub, argc, argv, 2, &args);
     if (rc != 0)
         return rc;
-    return sub == &qcli_opts_srgbe_encode ? srgbe_encode(&o) : srgbe_decode(&o);
+    return sub == &qcli_opts_srgbe_encode ? srgbe_encode(&args) : srgbe_decode(&args);
 }

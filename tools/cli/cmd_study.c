@@ -31,10 +31,8 @@ static const qtool_opt study_table[] = {
 
 const qtool_opt_cmd qcli_opts_study = {
     .name = "study",
-    .opts = study_table,
+    QTOOL_OPT_TABLE(study_table, study_defaults),
     .pos = {.names = "PROBE.hdr ...", .min = 0, .max = QTOOL_OPT_LIST_MAX, .off = offsetof(study_cli_opts, probes)},
-    .defaults = &study_defaults,
-    .size = sizeof(study_cli_opts),
     .prose =
         "  Ground-truth irradiance of each lat-long probe at 20000 spherical-Fibonacci normals (Madsen &\n"
         "  Laursen eq. 4 over every pixel), then median cut, adaptive, variance minimisation, SH 4/9/16/25,\n"

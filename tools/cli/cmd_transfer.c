@@ -183,10 +183,8 @@ static const qtool_opt transfer_table[] = {
 
 const qtool_opt_cmd qcli_opts_transfer = {
     .name = "transfer",
-    .opts = transfer_table,
+    QTOOL_OPT_TABLE(transfer_table, transfer_defaults),
     .pos = {.names = "MESH [MESH...]", .min = 1, .max = QTOOL_TRANSFER_MAX_FRAMES, .off = T_(mesh)},
-    .defaults = &transfer_defaults,
-    .size = sizeof(transfer_cli),
     .synopsis = "MESH [MESH...] --probe PROBE.hdr",
     .prose =
         "  Per vertex of a glTF (.gltf, .glb: the scene's meshes in world space, skinned; FILE.gltf@T: its\n"

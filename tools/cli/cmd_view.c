@@ -101,10 +101,8 @@ static const qtool_opt view_table[] = {
 
 const qtool_opt_cmd qcli_opts_view = {
     .name = "view",
-    .opts = view_table,
+    QTOOL_OPT_TABLE(view_table, view_defaults),
     .pos = {.names = "FILE|MESH", .min = 0, .max = 1, .off = V_(file)},
-    .defaults = &view_defaults,
-    .size = sizeof(view_cli),
     .synopsis = "FILE|MESH",
     .prose =
         "  qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--lamp-rgb C0] [--exposure E] [--truth PNG|DIR]\n"

@@ -132,6 +132,11 @@ int qtool_gcase_status_error(const qtool_goldens_sink_t *s, const char *name, co
     return 1;
 }
 
+void qtool_gcase_fb_set(qibl_fb_desc_t *fb, const qtool_gcase_fb *c)
+{
+    fb->format = c->format, fb->srgb = c->srgb, fb->dither = c->dither, fb->exposure = c->exposure;
+}
+
 int qtool_gcase_oom(const qtool_goldens_sink_t *s, const char *name)
 {
     s->error(s->user, name, "out of memory");

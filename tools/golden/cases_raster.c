@@ -79,15 +79,12 @@ static void scene(qibl_raster_vertex_t *v, uint32_t (*tri)[3])
 int qtool_goldens_raster(const qtool_goldens_sink_t *s)
 {
     static const struct {
-        const char *name;
-        qibl_fb_format_t f;
-        uint8_t srgb, dither;
-        uint32_t exposure;
+        qtool_gcase_fb fb;
         qibl_raster_cull_t cull;
     } cases[] = {
-        {"raster_mesh_rgba8888_srgb", QIBL_FB_RGBA8888, 1, 0, 0, QIBL_RASTER_CULL_NONE},
-        {"raster_mesh_rgb565_dither_exp2", QIBL_FB_RGB565, 0, 1, 2 * ONE, QIBL_RASTER_CULL_NONE},
-        {"raster_mesh_bgra8888_cull_cw", QIBL_FB_BGRA8888, 0, 0, 0, QIBL_RASTER_CULL_CW},
+        {{"raster_mesh_rgba8888_srgb", QIBL_FB_RGBA8888, 1, 0, 0}, QIBL_RASTER_CULL_NONE},
+        {{"raster_mesh_rgb565_dither_exp2", QIBL_FB_RGB565, 0, 1, 2 * ONE}, QIBL_RASTER_CULL_NONE},
+        {{"raster_mesh_bgra8888_cull_cw", QIBL_FB_BGRA8888, 0, 0, 0}, QIBL_RASTER_CULL_CW},
     };
     qibl_raster_vertex_t *v = malloc(sizeof *v * NV);
     uint32_t(*tri)[3] = malloc(sizeof *tri * NT);
@@ -102,8 +99,8 @@ int qtool_goldens_raster(const qtool_goldens_sink_t *s)
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         qibl_raster_target_t t;
         memset(&t, 0, sizeof t);
-        t.fb.pixels = out, t.fb.width = RW, t.fb.height = RH, t.fb.format = cases[i].f;
-        t.fb.srgb = cases[i].srgb, t.fb.dither = cases[i].dither, t.fb.exposure = cases[i].exposure;
+        t.fb.pixels = out, t.fb.width = RW, t.fb.height = RH;
+        qtool_gcase_fb_set(&t.fb, &cases[i].fb);
         t.depth = depth, t.depth_count = (size_t)RW * RH, t.cull = cases[i].cull;
         qibl_status_t st = qibl_soft_fb_clear(&t.fb);
         if (st == QIBL_OK)
@@ -111,14 +108,14 @@ int qtool_goldens_raster(const qtool_goldens_sink_t *s)
         if (st == QIBL_OK)
             st = qibl_soft_raster_triangles(&t, v, NV, (const uint32_t(*)[3])tri, NT);
         if (st != QIBL_OK) {
-            bad += qtool_gcase_status_error(s, cases[i].name, "qibl_soft_raster_triangles", st);
+            bad += qtool_gcase_status_error(s, cases[i].fb.name, "qibl_soft_raster_triangles", st);
             continue;
         }
-        const size_t fbn = (size_t)RW * RH * qibl_soft_fb_bytes_per_pixel(cases[i].f);
+        const size_t fbn = (size_t)RW * RH * qibl_soft_fb_bytes_per_pixel(cases[i].fb.format);
         for (size_t k = 0; k < (size_t)RW * RH; ++k)
             for (int b = 0; b < 4; ++b)
                 out[fbn + 4 * k + (size_t)b] = (uint8_t)(depth[k] >> (8 * b));
-        bad += qtool_gcase_emit(s, cases[i].name, out, fbn + (size_t)RW * RH * 4);
+        bad += qtool_gcase_emit(s, cases[i].fb.name, out, fbn + (size_t)RW * RH * 4);
     }
     free(v), free(tri), free(depth), free(out);
     return bad;

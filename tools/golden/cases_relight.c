@@ -70,12 +70,7 @@ static void gmaps_free(gmaps *g)
     free(g->params), free(g->planes), free(g->points);
 }
 
-static const struct {
-    const char *name;
-    qibl_fb_format_t fmt;
-    uint8_t srgb, dither;
-    qibl_uq16_t exposure;
-} fbs[] = {
+static const qtool_gcase_fb fbs[] = {
     {"rgba8888_srgb", QIBL_FB_RGBA8888, 1, 0, 0},
     {"bgra8888_linear_exp2", QIBL_FB_BGRA8888, 0, 0, 2u << 16},
     {"rgb565_dither", QIBL_FB_RGB565, 1, 1, 0},
@@ -95,8 +90,8 @@ static int emit_formats(const qtool_goldens_sink_t *s, const char *prefix, row_f
         char name[96];
         snprintf(name, sizeof name, "relight_%s_%s", prefix, fbs[f].name);
         qibl_fb_desc_t fb = {0};
-        fb.width = GW, fb.height = GH, fb.format = fbs[f].fmt;
-        fb.srgb = fbs[f].srgb, fb.dither = fbs[f].dither, fb.exposure = fbs[f].exposure;
+        fb.width = GW, fb.height = GH;
+        qtool_gcase_fb_set(&fb, &fbs[f]);
         size_t bytes = (size_t)GW * GH * qibl_soft_fb_bytes_per_pixel(fb.format);
         fb.pixels = calloc(bytes, 1);
         if (fb.pixels == NULL) {

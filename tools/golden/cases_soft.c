@@ -60,12 +60,7 @@ static qibl_fb_desc_t fb_make(void *pixels, qibl_fb_format_t f)
 
 int qtool_goldens_soft(const qtool_goldens_sink_t *s)
 {
-    static const struct {
-        const char *name;
-        qibl_fb_format_t f;
-        uint8_t srgb, dither;
-        uint32_t exposure;
-    } cases[] = {
+    static const qtool_gcase_fb cases[] = {
         {"soft_gradient_rgba8888_linear", QIBL_FB_RGBA8888, 0, 0, 0},
         {"soft_gradient_rgba8888_srgb", QIBL_FB_RGBA8888, 1, 0, 0},
         {"soft_gradient_bgra8888_linear_exp2", QIBL_FB_BGRA8888, 0, 0, 2 * ONE},
@@ -82,8 +77,8 @@ int qtool_goldens_soft(const qtool_goldens_sink_t *s)
         return qtool_gcase_oom(s, "soft_gradient");
     }
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
-        qibl_fb_desc_t fb = fb_make(px, cases[i].f);
-        fb.srgb = cases[i].srgb, fb.dither = cases[i].dither, fb.exposure = cases[i].exposure;
+        qibl_fb_desc_t fb = fb_make(px, cases[i].format);
+        qtool_gcase_fb_set(&fb, &cases[i]);
         qibl_status_t st = qibl_soft_fb_clear(&fb);
         if (st == QIBL_OK)
             st = write_gradient(&fb, 0);

@@ -10,6 +10,7 @@
 
 #include "golden/cases.h"
 #include "io/sha256.h"
+#include "qibl/soft.h"
 #include "qibl/status.h"
 
 /* ---- output bytes ------------------------------------------------------------------------- */
@@ -45,6 +46,18 @@ int qtool_gcase_oom(const qtool_goldens_sink_t *s, const char *name);
  * "out of memory: needs <bytes> bytes", so that a runner can tell a case that cannot fit its
  * machine's memory from one that should have (tools/gba/run.sh). bytes 0: beyond size_t. */
 int qtool_gcase_oom_size(const qtool_goldens_sink_t *s, const char *name, size_t bytes);
+
+/* A framebuffer a case is emitted for: its name, format and transfer (the soft, raster and relight
+ * groups' tables). */
+typedef struct qtool_gcase_fb {
+    const char *name;
+    qibl_fb_format_t format;
+    uint8_t srgb, dither;
+    qibl_uq16_t exposure;
+} qtool_gcase_fb;
+
+/* fb's format, srgb, dither and exposure from c; the rest of fb as it was. */
+void qtool_gcase_fb_set(qibl_fb_desc_t *fb, const qtool_gcase_fb *c);
 
 /* Little-endian stores into a byte array. */
 void qtool_gput_u32(uint8_t *p, uint32_t v);

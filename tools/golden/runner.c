@@ -102,6 +102,14 @@ static int write_expected(const char *path, const char *hex)
     return 0;
 }
 
+/* A failed case's line, "case NAME HEX " then what went wrong (pre, arg, post), counted; returns 1. */
+static int failed(run *r, const char *name, const char *hex, const char *pre, const char *arg, const char *post)
+{
+    printf("case %s %s %s%s%s\n", name, hex, pre, arg, post);
+    ++r->failed;
+    return 1;
+}
+
 static int emit(void *user, const char *name, const char *hex, uint64_t n)
 {
     run *r = (run *)user;
@@ -112,39 +120,24 @@ static int emit(void *user, const char *name, const char *hex, uint64_t n)
     qtool_sha256_update(&r->all, " ", 1);
     qtool_sha256_update(&r->all, hex, 64);
     qtool_sha256_update(&r->all, "\n", 1);
-    if (!valid_name(name) || seen_before(r, name)) {
-        printf("case %s %s ERROR bad or duplicate case name\n", name, hex);
-        ++r->failed;
-        return 1;
-    }
-    if ((size_t)snprintf(path, sizeof path, "%s/fixtures/golden/%s.sha256", r->root, name) >= sizeof path) {
-        printf("case %s %s ERROR path too long\n", name, hex);
-        ++r->failed;
-        return 1;
-    }
+    if (!valid_name(name) || seen_before(r, name))
+        return failed(r, name, hex, "ERROR bad or duplicate case name", "", "");
+    if ((size_t)snprintf(path, sizeof path, "%s/fixtures/golden/%s.sha256", r->root, name) >= sizeof path)
+        return failed(r, name, hex, "ERROR path too long", "", "");
     if (r->update) {
         if (read_expected(path, want) == 0 && strcmp(want, hex) == 0) {
             printf("case %s %s ok\n", name, hex);
             return 0;
         }
-        if (write_expected(path, hex) != 0) {
-            printf("case %s %s ERROR cannot write %s\n", name, hex, path);
-            ++r->failed;
-            return 1;
-        }
+        if (write_expected(path, hex) != 0)
+            return failed(r, name, hex, "ERROR cannot write ", path, "");
         printf("case %s %s updated\n", name, hex);
         return 0;
     }
-    if (read_expected(path, want) != 0) {
-        printf("case %s %s MISSING (no readable %s; --update writes it)\n", name, hex, path);
-        ++r->failed;
-        return 1;
-    }
-    if (strcmp(want, hex) != 0) {
-        printf("case %s %s MISMATCH (expected %s)\n", name, hex, want);
-        ++r->failed;
-        return 1;
-    }
+    if (read_expected(path, want) != 0)
+        return failed(r, name, hex, "MISSING (no readable ", path, "; --update writes it)");
+    if (strcmp(want, hex) != 0)
+        return failed(r, name, hex, "MISMATCH (expected ", want, ")");
     printf("case %s %s ok\n", name, hex);
     return 0;
 }

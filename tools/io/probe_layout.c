@@ -826,3 +826,14 @@ int qtool_probe_layout_rgbe_to_latlong(qtool_probe_layout_t want, int w, int h, 
     *used = l, *ow = lw, *oh = lh, *out = o;
     return 0;
 }
+
+uint8_t *qtool_probe_layout_rgbe_up4(const uint8_t *px, int w, int h)
+{
+    uint8_t *o = malloc(4 * (size_t)w * (size_t)h * 16);
+    if (!o)
+        return NULL;
+    for (int v = 0; v < 4 * h; ++v)
+        for (int u = 0; u < 4 * w; ++u)
+            memcpy(o + 4 * ((size_t)v * 4 * (size_t)w + (size_t)u), px + 4 * ((size_t)(v / 4) * (size_t)w + (size_t)(u / 4)), 4);
+    return o;
+}

@@ -141,6 +141,10 @@ int qtool_probe_layout_pos(qtool_probe_layout_t layout, int w, int h, const doub
  * writes them), and above 2^127 saturate. */
 void qtool_probe_layout_rgbe_encode(const float *rgb, size_t n, uint8_t *rgbe);
 
+/* A w x h RGBE image (4 bytes a pixel) upsampled 4x by nearest neighbour (16 w h pixels, malloc'd;
+ * NULL when out of memory): a large probe with real content, for the benchmarks and the study. */
+uint8_t *qtool_probe_layout_rgbe_up4(const uint8_t *px, int w, int h);
+
 /* The CLI's path: a Radiance file's RGBE pixels (w x h, 4 bytes each, as qtool_hdr_read_rgbe gives)
  * in the layout `want` (AUTO: detect) to a lat-long of RGBE bytes. *used gets the layout read;
  * for latlong the pixels are copied as they are (bit for bit), otherwise decoded to float,

@@ -18,6 +18,7 @@ const char *qtool_opt_program = "qibl";
 #define MAX_OPTS 64 /* entries per table the required-option check tracks */
 
 const char qtool_opt_no_value[] = "is not a value";
+const qtool_opt_list qtool_opt_args = {.n = 0};
 
 static const char *help_name(const qtool_opt_cmd *c)
 {

@@ -154,6 +154,14 @@ typedef struct qtool_opt_cmd {
     const char *synopsis;
 } qtool_opt_cmd;
 
+/* A command that takes only positionals parses into a qtool_opt_list itself (.pos.off 0):
+ * QTOOL_OPT_TABLE(NULL, qtool_opt_args), an empty list its defaults. */
+extern const qtool_opt_list qtool_opt_args;
+
+/* A command's table and its defaults struct (NULL table: positionals only); the size the parser
+ * copies is taken from the defaults themselves, so the two cannot disagree. */
+#define QTOOL_OPT_TABLE(table, defaults_) .opts = (table), .defaults = &(defaults_), .size = sizeof(defaults_)
+
 /* The program the lines name ("qibl" unless a program sets it first): "usage: PROGRAM CMD ...",
  * "PROGRAM CMD: ...; see PROGRAM help CMD". */
 extern const char *qtool_opt_program;

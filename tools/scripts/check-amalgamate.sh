@@ -14,10 +14,8 @@ set -u
 cd "$(dirname "$0")/../.." || exit 1
 build="${BUILD:-build}"
 am="$build/amalgamated"
-out="$build/check-amalgamate"
-rm -rf "$out"; mkdir -p "$out"
-fail=0
-err() { echo "check-amalgamate: FAIL: $*" >&2; fail=1; }
+. tools/scripts/check-lib.sh
+check_start check-amalgamate "$build/check-amalgamate"
 for f in qibl.c qibl.h qibl_soft.c qibl_soft.h; do
     [ -f "$am/$f" ] || { echo "check-amalgamate: $am/$f missing: run make amalgamate first" >&2; exit 1; }
 done

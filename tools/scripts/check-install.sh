@@ -14,11 +14,9 @@
 set -u
 cd "$(dirname "$0")/../.." || exit 1
 build="${BUILD:-build}"
-out="$build/check-install"
-rm -rf "$out"; mkdir -p "$out"
+. tools/scripts/check-lib.sh
+check_start check-install "$build/check-install"
 out=$(cd "$out" && pwd)
-fail=0
-err() { echo "check-install: FAIL: $*" >&2; fail=1; }
 for tool in pkg-config cmake; do
     command -v $tool >/dev/null 2>&1 || { echo "check-install: $tool not found (Debian: apt-get install $tool)" >&2; exit 1; }
 done

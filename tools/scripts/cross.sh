@@ -13,11 +13,9 @@
 # Then prints .text per module and in total for Cortex-M4 -Os (core total, then platform/soft).
 set -u
 cd "$(dirname "$0")/../.." || exit 1
-out="${BUILD:-build}/cross"
-rm -rf "$out"; mkdir -p "$out"
-fail=0
+. tools/scripts/check-lib.sh
+check_start cross "${BUILD:-build}/cross"
 freestanding_backends="soft"
-err() { echo "cross: FAIL: $*" >&2; fail=1; }
 
 # 1. headers: only the four freestanding ones, and quoted includes of qibl's own headers (core/src's internal ones too).
 bdirs=$(for b in $freestanding_backends; do printf 'platform/%s ' "$b"; done)

@@ -15,10 +15,8 @@
 # second TU per header expands in C++ code outside any extern "C" block.
 set -u
 cd "$(dirname "$0")/../.." || exit 1
-out="${BUILD:-build}/headers"
-rm -rf "$out"; mkdir -p "$out"
-fail=0
-err() { echo "headers: FAIL: $*" >&2; fail=1; }
+. tools/scripts/check-lib.sh
+check_start headers "${BUILD:-build}/headers"
 
 inc="-Icore/include -Iplatform/soft/include -Iplatform/gles2/include"
 common="-Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wsign-conversion -Wundef -Werror"

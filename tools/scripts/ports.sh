@@ -21,11 +21,9 @@
 set -u
 cd "$(dirname "$0")/../.." || exit 1
 root=$(pwd)
-out="${BUILD:-build}/ports"
-rm -rf "$out"; mkdir -p "$out"
+. tools/scripts/check-lib.sh
+check_start ports "${BUILD:-build}/ports"
 jobs=${JOBS:-$(getconf _NPROCESSORS_ONLN 2>/dev/null || echo 2)}
-fail=0
-err() { echo "ports: FAIL: $*" >&2; fail=1; }
 
 core_warn="-std=c99 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wundef -Wdouble-promotion -Wmissing-prototypes -Werror"
 tool_warn="-std=c99 -Wall -Wextra -Wpedantic -Werror"

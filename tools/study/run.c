@@ -98,17 +98,6 @@ static uint8_t *half_rgbe(const uint8_t *px, int w, int h)
     return o;
 }
 
-static uint8_t *up4_rgbe(const uint8_t *px, int w, int h)
-{
-    uint8_t *o = malloc(4 * (size_t)w * (size_t)h * 16);
-    if (!o)
-        return NULL;
-    for (int v = 0; v < 4 * h; ++v)
-        for (int u = 0; u < 4 * w; ++u)
-            memcpy(o + 4 * ((size_t)v * 4 * (size_t)w + (size_t)u), px + 4 * ((size_t)(v / 4) * (size_t)w + (size_t)(u / 4)), 4);
-    return o;
-}
-
 /* A probe is sunny when its brightest 0.1 % of directions hold over a third of its energy. */
 static int is_sunny(const qtool_study_probe *p)
 {
@@ -532,7 +521,7 @@ static int study_one(const qtool_study_probe *p, int w, int h, const cfg *c, con
 /* the speed case: the first probe at 4x (4096 x 2048 for a 1k probe) as row set MAXP */
 static void study_x4(const uint8_t *px, int w, int h, const cfg *c, pinfo *info)
 {
-    uint8_t *big = up4_rgbe(px, w, h);
+    uint8_t *big = qtool_probe_layout_rgbe_up4(px, w, h);
     qtool_study_probe pb;
     char err[512];
     if (big && qtool_study_probe_init(&pb, 4 * w, 4 * h, big, err, sizeof err) == 0) {

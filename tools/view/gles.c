@@ -70,9 +70,9 @@ qtool_view_gles *qtool_view_gles_open(const qtool_view *v, char *err, size_t err
     return vg;
 }
 
-int qtool_view_gles_frame(void *user, qtool_view *v, uint8_t *bgrx, size_t stride)
+/* The view's light relit by g into the framebuffer bound now (the offscreen and the window path). */
+static qibl_status_t relight(qibl_gles2_t *g, const qtool_view *v)
 {
-    qtool_view_gles *vg = user;
     qibl_shlight_t l;
     qibl_shmap_weights_t w;
     const qibl_gles2_out_t out = {v->exposure, (uint8_t)!v->linear};
@@ -80,7 +80,14 @@ int qtool_view_gles_frame(void *user, qtool_view *v, uint8_t *bgrx, size_t strid
     if (st == QIBL_OK)
         st = qibl_shmap_weights(&v->maps, &l, &w);
     if (st == QIBL_OK)
-        st = qibl_gles2_relight(&vg->g, &w, &out);
+        st = qibl_gles2_relight(g, &w, &out);
+    return st;
+}
+
+int qtool_view_gles_frame(void *user, qtool_view *v, uint8_t *bgrx, size_t stride)
+{
+    qtool_view_gles *vg = user;
+    qibl_status_t st = relight(&vg->g, v);
     if (st != QIBL_OK) {
         fprintf(stderr, "qibl: view --gles: %s\n", qibl_gles2_status_str(st));
         return -1;
@@ -243,15 +250,8 @@ static int window_draw(void *user, qtool_view *v)
 {
     qtool_view_gles *vg = user;
     window_gl *W = &vg->win;
-    qibl_shlight_t l;
-    qibl_shmap_weights_t wt;
-    const qibl_gles2_out_t out = {v->exposure, (uint8_t)!v->linear};
-    qibl_status_t st = qtool_view_light(v, &l);
-    if (st == QIBL_OK)
-        st = qibl_shmap_weights(&v->maps, &l, &wt);
     glBindFramebuffer(GL_FRAMEBUFFER, W->fbo);
-    if (st == QIBL_OK)
-        st = qibl_gles2_relight(&W->g, &wt, &out);
+    qibl_status_t st = relight(&W->g, v);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     if (st != QIBL_OK) {
         fprintf(stderr, "qibl: view --gles: %s\n", qibl_gles2_status_str(st));
