@@ -1,0 +1,48 @@
+/*
+ * luminaire/spots_gles.h - the near-field source's spotlights evaluated on a GLES2 GPU, one pass per
+ * spotlight (Granier et al.'s model as the paper runs it): per frame the P map's points and the four
+ * shading anchors' numerators are uploaded once (the anchors' unit point lamps computed by the core
+ * on the CPU, as qtool_luminaire_relight computes them); per spotlight a fragment shader evaluates
+ * its term as qtool_luminaire_spots_span does in meaning (gonio table lookup toward x - s, the
+ * anchors' shading interpolated at s and divided by |x - s|^3, times the peak) and adds it to an
+ * 8-bit sRGBE pair (hi and what hi leaves out), drawn only over the screen tiles its cull cone may
+ * reach. Separate from render.c so that programs without GL need not link it.
+ */
+#ifndef QTOOL_LUMINAIRE_SPOTS_GLES_H
+#define QTOOL_LUMINAIRE_SPOTS_GLES_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "luminaire/luminaire.h"
+
+/* What one GPU frame cost (wall clock: llvmpipe rasterises on threads of its own). */
+typedef struct qtool_luminaire_gles_stats {
+    double prep_ms;    /* CPU: the P map as floats, the anchors' shading (core), the tiles' bounds */
+    double gpu_ms;     /* uploads and every pass, to glFinish */
+    double read_ms;    /* the pair read back, decoded and written through platform/soft */
+    uint32_t passes;   /* spotlights drawn (a spotlight no tile can see is not drawn) */
+    double coverage;   /* fragments shaded / (passes x pixels): what the tile cull saves */
+} qtool_luminaire_gles_stats;
+
+/* The frame of qtool_luminaire_relight (same s, mp, pm, lut, exposure, srgb; rgb8 w h 3) drawn by the
+ * GPU with the caller's context current (tools/gles/headless.h). frames >= 1: the frame is drawn
+ * that many times after one untimed warm-up (the shader's first compile), *st the mean.
+ * 0, or -1 with a one-line reason in err (no GL, no OES_texture_float, fewer than 8 texture units,
+ * a table atlas above GL_MAX_TEXTURE_SIZE, a shader or framebuffer refused, a GL error, no memory,
+ * a status of the core's). Nothing is written to rgb8 on failure. */
+int qtool_luminaire_relight_gles(const qtool_luminaire_spots *s, const qibl_shmaps_t *mp, const qibl_pmap_t *pm,
+                                 const qibl_ylut_t *lut, uint32_t exposure, int srgb, uint32_t frames, uint8_t *rgb8,
+                                 qtool_luminaire_gles_stats *st, char *err, size_t errlen);
+
+/* The same from the points and the anchors' shading given: pts w h 3 Q16.16 (row-major), base
+ * s->nanchor planes of w h 3 Q16.16 (plane k at base + 3 w h k: what the unit lamp at anchor k gives
+ * each pixel, as qtool_luminaire_spots_span's base), e.g. a ray tracer's. Statuses as above. */
+int qtool_luminaire_spots_gles(const qtool_luminaire_spots *s, uint32_t w, uint32_t h, const int32_t *pts,
+                               const int32_t *base, uint32_t exposure, int srgb, uint32_t frames, uint8_t *rgb8,
+                               qtool_luminaire_gles_stats *st, char *err, size_t errlen);
+
+/* The largest and the mean |a - b| over n bytes (8-bit frames). */
+void qtool_luminaire_diff8(const uint8_t *a, const uint8_t *b, size_t n, int *max, double *mean);
+
+#endif
