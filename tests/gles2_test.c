@@ -517,7 +517,7 @@ static void test_luminaire_passes_match_soft(void **state)
  * spotlight, against the soft kernel's frame: the built-in synthetic source of 64 spotlights one lamp
  * size above a ground patch it lights everywhere, each anchor's unit lamp an analytic Lambertian
  * ground with its own tint (so the interpolation among anchors shows); its far field too. Within 2 of
- * 255 and a mean below 0.1 (8-bit sRGB, the exact sum's peak at 1.0). The frame is mostly lit, and
+ * 255 and a mean below 0.1 (8-bit sRGB, the exact sum's peak at 1.0). A third of the frame or more is lit, and
  * each spotlight's term varies over it by far more than that: a shader that dropped the gonio table
  * (each lobe is 0 over most of the patch) or the 1/|x - s|^3 (0.4^-3 .. 1.5^-3 across it) or a
  * spotlight's weights would miss by tens of levels. The caller's framebuffer binding is restored. */
@@ -596,7 +596,7 @@ static void test_luminaire_spots_match_soft(void **state)
                "the soft frame max %d, mean %.4f (8-bit sRGB)\n", far ? "far field" : "near field", gs.passes,
                100 * gs.coverage, lit, W * H, mx, mean);
         assert_int_equal(gs.passes, s.count);
-        assert_true(lit > W * H / 2);
+        assert_true(lit > W * H / 3);
         assert_true(mx <= 2);
         assert_true(mean < 0.1);
         qtool_luminaire_spots_free(&s);
