@@ -101,7 +101,7 @@ typedef struct render_cli {
     qtool_opt_list files; /* ASSET F.qnf */
     double at[3];
     const char *out;
-    int far, gles;
+    int far, gles, gles_core;
     double exposure;
     long table, frames;
 } render_cli;
@@ -133,6 +133,9 @@ static const qtool_opt render_table[] = {
              "difference from the soft frame"},
     {.name = "--frames", .kind = QTOOL_OPT_INT, .off = offsetof(render_cli, frames), .arg = "N", .lo = 1, .hi = 1000,
      .help = "--gles: GPU frames timed, after one untimed warm-up"},
+    {.name = "--gles-core", .kind = QTOOL_OPT_FLAG, .off = offsetof(render_cli, gles_core),
+     .help = "--gles: GLES2's core path only (ping-pong, two draws per pass), even where the GL has "
+             "EXT_draw_buffers and EXT_shader_framebuffer_fetch"},
     {0},
 };
 
@@ -408,8 +411,9 @@ static int cmd_render(int argc, char **argv)
         uint8_t *grgb = malloc(nb);
         int grc = !grgb ? (snprintf(err, sizeof err, "out of memory"), -1) : qt_gles_open(&gl, 1, 1, err, sizeof err);
         if (grc == 0) {
+            const qtool_luminaire_gles_opts go = {.frames = (uint32_t)c.frames, .core_only = c.gles_core};
             grc = qtool_luminaire_relight_gles(&s, &mp, &pm, have_lut ? &lut : NULL, (uint32_t)lround(expo * 65536), 1,
-                                               (uint32_t)c.frames, grgb, &gs, err, sizeof err);
+                                               &go, grgb, &gs, err, sizeof err);
             qt_gles_close(&gl);
         }
         if (grc == 0)
@@ -430,10 +434,11 @@ static int cmd_render(int argc, char **argv)
                far ? "far-field lamp" : "spotlights", ms);
         if (c.gles) {
             const double frame = gs.prep_ms + gs.gpu_ms + gs.read_ms;
-            printf("gles: %u passes (one per spotlight), each over %.1f%% of the frame; per frame %.1f ms (CPU: "
+            printf("gles (%s): %u passes (one per spotlight), each over %.1f%% of the frame; per frame %.1f ms (CPU: "
                    "P map and anchors %.1f; GPU passes %.1f; read back %.1f), %.3f ms per pass; against the soft "
                    "frame max %d mean %.4f (8-bit sRGB)\n",
-                   gs.passes, 100 * gs.coverage, frame, gs.prep_ms, gs.gpu_ms, gs.read_ms,
+                   gs.fetch ? "EXT_draw_buffers + EXT_shader_framebuffer_fetch" : "GLES2 core", gs.passes,
+                   100 * gs.coverage, frame, gs.prep_ms, gs.gpu_ms, gs.read_ms,
                    gs.passes ? gs.gpu_ms / gs.passes : 0, gmax, gmean);
             printf("RESULT luminaire.soft_frame_ms %.3f\n", ms);
             printf("RESULT luminaire.gles_frame_ms %.3f\n", frame);

@@ -34,7 +34,9 @@ void qtool_luminaire_diff8(const uint8_t *a, const uint8_t *b, size_t n, int *ma
 }
 
 #if QIBL_HAVE_GLES2
+#include <EGL/egl.h>
 #include <GLES2/gl2.h>
+#include <GLES2/gl2ext.h>
 
 #define TILE 16u /* screen tiles of the cull: a spotlight is drawn over the tiles it may reach */
 
@@ -45,6 +47,17 @@ static const char *vs_src = "attribute vec2 a_pos;\n"
  * table at u_goff in the atlas) times the peak, times the anchors' numerators interpolated with the
  * spotlight's weights, over |x - s|^3; added to the pair as passes_gles.c adds (the sRGBE codec is
  * platform/gles2's fs_srgbe). Where the term is 0 the codes are written back as read. */
+/* the two ways a pass reads and writes the pair: GLES2's core (ping-pong, one code per draw: u_lo
+ * says which) and EXT_draw_buffers with EXT_shader_framebuffer_fetch (both codes read in place and
+ * written by one draw; a pixel whose term is 0 is discarded) */
+static const char *fs_core = "#define READ_PAIR vec4 ah = texture2D(u_ah, uv), al = texture2D(u_al, uv)\n"
+                             "#define KEEP gl_FragColor = u_lo > 0.5 ? al : ah; return\n"
+                             "#define WRITE(h, l) gl_FragColor = u_lo > 0.5 ? (l) : (h)\n";
+static const char *fs_fetch = "#extension GL_EXT_draw_buffers : require\n"
+                              "#extension GL_EXT_shader_framebuffer_fetch : require\n"
+                              "#define READ_PAIR vec4 ah = gl_LastFragData[0], al = gl_LastFragData[1]\n"
+                              "#define KEEP discard\n"
+                              "#define WRITE(h, l) gl_FragData[0] = (h); gl_FragData[1] = (l)\n";
 static const char *fs_src =
     "#ifdef GL_FRAGMENT_PRECISION_HIGH\n"
     "precision highp float;\n"
@@ -54,7 +67,7 @@ static const char *fs_src =
     "uniform sampler2D u_ah, u_al, u_p, u_s0, u_s1, u_s2, u_s3, u_g;\n"
     "uniform vec3 u_sp, u_rgb, u_gx, u_gy, u_gz;\n"
     "uniform vec4 u_aw;\n"
-    "uniform vec2 u_goff, u_gsz, u_inv;\n"
+    "uniform vec2 u_goff, u_gsz, u_inv, u_cull;\n"
     "uniform float u_gn, u_lo;\n"
     "vec3 dec(vec4 t) {\n"
     "  vec4 x = floor(t * 255.0 + 0.5);\n"
@@ -91,19 +104,20 @@ static const char *fs_src =
     "}\n"
     "void main() {\n"
     "  vec2 uv = gl_FragCoord.xy * u_inv;\n"
-    "  vec4 ah = texture2D(u_ah, uv), al = texture2D(u_al, uv);\n"
+    "  READ_PAIR;\n"
     "  vec3 d = texture2D(u_p, uv).rgb - u_sp;\n"
-    "  float g = d.z < 0.0 ? gonio(d) : 0.0;\n"
-    "  vec3 b = u_aw.x * texture2D(u_s0, uv).rgb + u_aw.y * texture2D(u_s1, uv).rgb\n"
+    "  float g = 0.0;\n"
+    "  if (d.z < 0.0 && all(lessThanEqual(abs(d.xy), u_cull * -d.z))) g = gonio(d);\n"
+    "  vec3 b = vec3(0.0);\n"
+    "  if (g > 0.0) b = u_aw.x * texture2D(u_s0, uv).rgb + u_aw.y * texture2D(u_s1, uv).rgb\n"
     "         + u_aw.z * texture2D(u_s2, uv).rgb + u_aw.w * texture2D(u_s3, uv).rgb;\n"
-    "  if (g <= 0.0 || all(equal(b, vec3(0.0)))) {\n"
-    "    gl_FragColor = u_lo > 0.5 ? al : ah;\n"
-    "    return;\n"
+    "  if (all(equal(b, vec3(0.0)))) {\n"
+    "    KEEP;\n"
     "  }\n"
     "  float r2 = dot(d, d);\n"
     "  vec3 s = dec(ah) + dec(al) + b * u_rgb * (g / (r2 * sqrt(r2)));\n"
     "  vec4 h = enc(s);\n"
-    "  gl_FragColor = u_lo > 0.5 ? enc(s - dec(h)) : h;\n"
+    "  WRITE(h, enc(s - dec(h)));\n"
     "}\n";
 
 static double now_ms(void)
@@ -113,11 +127,12 @@ static double now_ms(void)
     return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
 }
 
-static GLuint shader(GLenum kind, const char *src, char *err, size_t errlen)
+static GLuint shader(GLenum kind, const char *pre, const char *src, char *err, size_t errlen)
 {
     GLuint s = glCreateShader(kind);
     GLint ok = 0;
-    glShaderSource(s, 1, &src, NULL);
+    const char *srcs[2] = {pre, src};
+    glShaderSource(s, 2, srcs, NULL);
     glCompileShader(s);
     glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
     if (!ok) {
@@ -212,8 +227,9 @@ static uint32_t mask_rects(const uint8_t *mask, uint32_t tw, uint32_t th, uint32
 }
 
 typedef struct glstate {
-    GLuint vs, fs, prog, vbo, atlas, ptex, stex[4], acc[4], fbo[4];
-    GLint u_sp, u_rgb, u_gx, u_gy, u_gz, u_aw, u_goff, u_lo;
+    GLuint vs, fs, prog, vbo, atlas, ptex, stex[4], acc[4], fbo[4], mrt; /* mrt: acc 0 and 1 (fetch) */
+    int fetch;
+    GLint u_sp, u_rgb, u_gx, u_gy, u_gz, u_aw, u_goff, u_lo, u_cull;
     uint32_t cols, n;
 } glstate;
 
@@ -227,6 +243,8 @@ static void gl_free(glstate *g)
         if (g->stex[k])
             glDeleteTextures(1, &g->stex[k]);
     }
+    if (g->mrt)
+        glDeleteFramebuffers(1, &g->mrt);
     if (g->ptex)
         glDeleteTextures(1, &g->ptex);
     if (g->atlas)
@@ -243,10 +261,25 @@ static void gl_free(glstate *g)
 
 /* the program, the atlas of every spotlight's table, the pair's four targets (0/1 the canonical
  * hi and lo, 2/3 where a pass draws) and the per-frame textures' storage */
-static int gl_setup(glstate *g, const qtool_luminaire_spots *s, uint32_t w, uint32_t h, char *err, size_t errlen)
+/* an extension named exactly in the GL's list */
+static int has_ext(const char *list, const char *name)
+{
+    const size_t n = strlen(name);
+    for (const char *p = list; p && (p = strstr(p, name)) != NULL; p += n)
+        if ((p == list || p[-1] == ' ') && (p[n] == ' ' || p[n] == 0))
+            return 1;
+    return 0;
+}
+
+static int gl_setup(glstate *g, const qtool_luminaire_spots *s, uint32_t w, uint32_t h, int core_only, char *err,
+                    size_t errlen)
 {
     const char *ext = (const char *)glGetString(GL_EXTENSIONS);
-    if (!ext || !strstr(ext, "GL_OES_texture_float")) {
+    PFNGLDRAWBUFFERSEXTPROC draw_buffers = NULL;
+    if (!core_only && has_ext(ext, "GL_EXT_draw_buffers") && has_ext(ext, "GL_EXT_shader_framebuffer_fetch"))
+        draw_buffers = (PFNGLDRAWBUFFERSEXTPROC)eglGetProcAddress("glDrawBuffersEXT");
+    g->fetch = draw_buffers != NULL;
+    if (!has_ext(ext, "GL_OES_texture_float")) {
         snprintf(err, errlen, "the GL has no OES_texture_float (the P map and the anchors are binary32 textures)");
         return -1;
     }
@@ -266,8 +299,8 @@ static int gl_setup(glstate *g, const qtool_luminaire_spots *s, uint32_t w, uint
         return -1;
     }
     g->cols = cols, g->n = n;
-    g->vs = shader(GL_VERTEX_SHADER, vs_src, err, errlen);
-    g->fs = g->vs ? shader(GL_FRAGMENT_SHADER, fs_src, err, errlen) : 0;
+    g->vs = shader(GL_VERTEX_SHADER, "", vs_src, err, errlen);
+    g->fs = g->vs ? shader(GL_FRAGMENT_SHADER, g->fetch ? fs_fetch : fs_core, fs_src, err, errlen) : 0;
     if (!g->fs)
         return -1;
     g->prog = glCreateProgram();
@@ -291,6 +324,7 @@ static int gl_setup(glstate *g, const qtool_luminaire_spots *s, uint32_t w, uint
     g->u_gx = glGetUniformLocation(g->prog, "u_gx"), g->u_gy = glGetUniformLocation(g->prog, "u_gy");
     g->u_gz = glGetUniformLocation(g->prog, "u_gz"), g->u_aw = glGetUniformLocation(g->prog, "u_aw");
     g->u_goff = glGetUniformLocation(g->prog, "u_goff"), g->u_lo = glGetUniformLocation(g->prog, "u_lo");
+    g->u_cull = glGetUniformLocation(g->prog, "u_cull");
     /* the atlas: table c at column c % cols, row c / cols; 16 bits as low byte (L), high byte (A) */
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     glActiveTexture(GL_TEXTURE7);
@@ -323,6 +357,18 @@ static int gl_setup(glstate *g, const qtool_luminaire_spots *s, uint32_t w, uint
         glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, g->acc[k], 0);
         if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
             snprintf(err, errlen, "an accumulation framebuffer is incomplete");
+            return -1;
+        }
+    }
+    if (g->fetch) {
+        static const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0_EXT, GL_COLOR_ATTACHMENT1_EXT};
+        glGenFramebuffers(1, &g->mrt);
+        glBindFramebuffer(GL_FRAMEBUFFER, g->mrt);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0_EXT, GL_TEXTURE_2D, g->acc[0], 0);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1_EXT, GL_TEXTURE_2D, g->acc[1], 0);
+        draw_buffers(2, bufs);
+        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+            snprintf(err, errlen, "the two-target framebuffer is incomplete");
             return -1;
         }
     }
@@ -429,10 +475,11 @@ static void upload_rgb_float(GLenum unit, GLuint tex, uint32_t w, uint32_t h, co
     glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, (GLsizei)w, (GLsizei)h, GL_RGB, GL_FLOAT, v);
 }
 
-/* Every pass of a frame into the pairs (both cleared first), ping-ponged: pass j reads the current
- * pair and draws the other over its own tiles and the previous pass's (where the other pair missed
- * that pass's term; there and wherever its own term is 0 the codes are copied as read), so the pair
- * it drew holds the whole sum. *cur gets the pair holding it; fragments shaded in *frags. */
+/* Every pass of a frame into the pairs (all cleared first). GLES2's core: ping-ponged, pass j reads
+ * the current pair and draws the other over its own tiles and the previous pass's (where the other
+ * pair missed that pass's term; there and wherever its own term is 0 the codes are copied as read),
+ * so the pair it drew holds the whole sum. Fetch: pair 0 updated in place over the pass's own tiles.
+ * *cur gets the pair holding the sum; fragments shaded in *frags. */
 static void frame_passes(const glstate *g, const qtool_luminaire_spots *s, const frame_buf *fb, uint32_t w,
                          uint32_t h, uint32_t tw, uint32_t th, uint8_t *mask, rect *rects, int32_t *open, float *verts,
                          const uint8_t *zero, uint32_t *passes, double *frags, int *cur)
@@ -446,6 +493,11 @@ static void frame_passes(const glstate *g, const qtool_luminaire_spots *s, const
         glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, (GLsizei)w, (GLsizei)h, GL_RGBA, GL_UNSIGNED_BYTE, zero);
     }
     glActiveTexture(GL_TEXTURE7), glBindTexture(GL_TEXTURE_2D, g->atlas);
+    if (g->fetch) { /* the pair is the target: no sampler may hold it */
+        glActiveTexture(GL_TEXTURE0), glBindTexture(GL_TEXTURE_2D, 0);
+        glActiveTexture(GL_TEXTURE1), glBindTexture(GL_TEXTURE_2D, 0);
+        glBindFramebuffer(GL_FRAMEBUFFER, g->mrt);
+    }
     glUseProgram(g->prog);
     glBindBuffer(GL_ARRAY_BUFFER, g->vbo);
     glViewport(0, 0, (GLsizei)w, (GLsizei)h);
@@ -463,7 +515,7 @@ static void frame_passes(const glstate *g, const qtool_luminaire_spots *s, const
         }
         if (!any)
             continue; /* no tile it may reach: its pass adds nothing, and nothing moves */
-        for (size_t t = 0; t < nt; ++t) {
+        for (size_t t = 0; t < nt && !g->fetch; ++t) { /* ping-pong: the other pair missed the last pass */
             uint8_t m = mask[t];
             mask[t] |= dirty[t];
             dirty[t] = m;
@@ -490,7 +542,16 @@ static void frame_passes(const glstate *g, const qtool_luminaire_spots *s, const
         glUniform3f(g->u_gz, (float)ldexp(go->z[0], -30), (float)ldexp(go->z[1], -30), (float)ldexp(go->z[2], -30));
         glUniform4f(g->u_aw, (float)(s->aw[j][0] / 32768.0), (float)(s->aw[j][1] / 32768.0),
                     (float)(s->aw[j][2] / 32768.0), (float)(s->aw[j][3] / 32768.0));
+        /* the cull's tangent bounds (1% and 2^-15 wider than the table's support: no rounding of
+         * the shader's can drop a lit direction); none: every direction below */
+        glUniform2f(g->u_cull, s->cull[j][0] < 0 ? 1e30f : (float)(s->cull[j][0] / 65536.0),
+                    s->cull[j][1] < 0 ? 1e30f : (float)(s->cull[j][1] / 65536.0));
         glUniform2f(g->u_goff, (float)((j % g->cols) * g->n), (float)((j / g->cols) * g->n));
+        if (g->fetch) { /* both codes read and written in place by one draw */
+            glDrawArrays(GL_TRIANGLES, 0, (GLsizei)(6 * nr));
+            ++*passes;
+            continue;
+        }
         glActiveTexture(GL_TEXTURE0), glBindTexture(GL_TEXTURE_2D, g->acc[2 * c]);
         glActiveTexture(GL_TEXTURE1), glBindTexture(GL_TEXTURE_2D, g->acc[2 * c + 1]);
         /* one colour attachment in GLES2: the sum's code, then what it leaves out */
@@ -536,9 +597,11 @@ static qibl_status_t frame_read(const glstate *g, int cur, uint32_t w, uint32_t 
     return st;
 }
 
-static int run(const qtool_luminaire_spots *s, const frame_src *src, uint32_t exposure, int srgb, uint32_t frames,
-               uint8_t *rgb8, qtool_luminaire_gles_stats *st, char *err, size_t errlen)
+static int run(const qtool_luminaire_spots *s, const frame_src *src, uint32_t exposure, int srgb,
+               const qtool_luminaire_gles_opts *o, uint8_t *rgb8, qtool_luminaire_gles_stats *st, char *err,
+               size_t errlen)
 {
+    uint32_t frames = o && o->frames ? o->frames : 1;
     const uint32_t w = src->w, h = src->h, tw = (w + TILE - 1) / TILE, th = (h + TILE - 1) / TILE;
     const size_t npix = (size_t)w * h;
     glstate g;
@@ -569,11 +632,10 @@ static int run(const qtool_luminaire_spots *s, const frame_src *src, uint32_t ex
     glGetIntegerv(GL_CURRENT_PROGRAM, &oldprog);
     while (glGetError() != GL_NO_ERROR)
         ;
-    if (gl_setup(&g, s, w, h, err, errlen) != 0)
+    if (gl_setup(&g, s, w, h, o && o->core_only, err, errlen) != 0)
         goto done;
     qtool_luminaire_srgbe_clear(zero, (uint32_t)npix); /* the zero code, uploaded at each frame's start */
     qtool_luminaire_gles_stats sum = {0};
-    frames = frames ? frames : 1;
     for (uint32_t f = 0; f <= frames; ++f) { /* frame 0: the warm-up (llvmpipe compiles at first draw) */
         double t0 = now_ms();
         qibl_status_t cs = frame_prep(s, src, &fb, tw);
@@ -605,6 +667,7 @@ static int run(const qtool_luminaire_spots *s, const frame_src *src, uint32_t ex
         }
     }
     sum.prep_ms /= frames, sum.gpu_ms /= frames, sum.read_ms /= frames;
+    sum.fetch = g.fetch;
     memcpy(rgb8, out, 3 * npix);
     if (st)
         *st = sum;
@@ -622,35 +685,35 @@ done:
 }
 
 int qtool_luminaire_relight_gles(const qtool_luminaire_spots *s, const qibl_shmaps_t *mp, const qibl_pmap_t *pm,
-                                 const qibl_ylut_t *lut, uint32_t exposure, int srgb, uint32_t frames, uint8_t *rgb8,
+                                 const qibl_ylut_t *lut, uint32_t exposure, int srgb, const qtool_luminaire_gles_opts *o, uint8_t *rgb8,
                                  qtool_luminaire_gles_stats *st, char *err, size_t errlen)
 {
     const frame_src src = {.mp = mp, .pm = pm, .lut = lut, .w = mp->width, .h = mp->height};
-    return run(s, &src, exposure, srgb, frames, rgb8, st, err, errlen);
+    return run(s, &src, exposure, srgb, o, rgb8, st, err, errlen);
 }
 
 int qtool_luminaire_spots_gles(const qtool_luminaire_spots *s, uint32_t w, uint32_t h, const int32_t *pts,
-                               const int32_t *base, uint32_t exposure, int srgb, uint32_t frames, uint8_t *rgb8,
+                               const int32_t *base, uint32_t exposure, int srgb, const qtool_luminaire_gles_opts *o, uint8_t *rgb8,
                                qtool_luminaire_gles_stats *st, char *err, size_t errlen)
 {
     const frame_src src = {.pts = pts, .base = base, .w = w, .h = h};
-    return run(s, &src, exposure, srgb, frames, rgb8, st, err, errlen);
+    return run(s, &src, exposure, srgb, o, rgb8, st, err, errlen);
 }
 #else
 int qtool_luminaire_relight_gles(const qtool_luminaire_spots *s, const qibl_shmaps_t *mp, const qibl_pmap_t *pm,
-                                 const qibl_ylut_t *lut, uint32_t exposure, int srgb, uint32_t frames, uint8_t *rgb8,
+                                 const qibl_ylut_t *lut, uint32_t exposure, int srgb, const qtool_luminaire_gles_opts *o, uint8_t *rgb8,
                                  qtool_luminaire_gles_stats *st, char *err, size_t errlen)
 {
-    (void)s, (void)mp, (void)pm, (void)lut, (void)exposure, (void)srgb, (void)frames, (void)rgb8, (void)st;
+    (void)s, (void)mp, (void)pm, (void)lut, (void)exposure, (void)srgb, (void)o, (void)rgb8, (void)st;
     snprintf(err, errlen, "built without EGL/GLES2");
     return -1;
 }
 
 int qtool_luminaire_spots_gles(const qtool_luminaire_spots *s, uint32_t w, uint32_t h, const int32_t *pts,
-                               const int32_t *base, uint32_t exposure, int srgb, uint32_t frames, uint8_t *rgb8,
+                               const int32_t *base, uint32_t exposure, int srgb, const qtool_luminaire_gles_opts *o, uint8_t *rgb8,
                                qtool_luminaire_gles_stats *st, char *err, size_t errlen)
 {
-    (void)s, (void)w, (void)h, (void)pts, (void)base, (void)exposure, (void)srgb, (void)frames, (void)rgb8, (void)st;
+    (void)s, (void)w, (void)h, (void)pts, (void)base, (void)exposure, (void)srgb, (void)o, (void)rgb8, (void)st;
     snprintf(err, errlen, "built without EGL/GLES2");
     return -1;
 }

@@ -23,23 +23,33 @@ typedef struct qtool_luminaire_gles_stats {
     double read_ms;    /* the pair read back, decoded and written through platform/soft */
     uint32_t passes;   /* spotlights drawn (a spotlight no tile can see is not drawn) */
     double coverage;   /* fragments shaded / (passes x pixels): what the tile cull saves */
+    int fetch;         /* 1: the extensions' path ran (EXT_draw_buffers, EXT_shader_framebuffer_fetch) */
 } qtool_luminaire_gles_stats;
 
+/* How to draw (zero: the defaults). */
+typedef struct qtool_luminaire_gles_opts {
+    uint32_t frames; /* frames timed after one untimed warm-up (the shader's first compile); 0: 1 */
+    int core_only;   /* 1: GLES2's core path even where the GL has EXT_draw_buffers and
+                      * EXT_shader_framebuffer_fetch (two pairs ping-ponged, two draws per pass, each
+                      * pass drawn over its tiles and the previous pass's); 0: those extensions where
+                      * present (the pair read and written in place, one draw per pass) */
+} qtool_luminaire_gles_opts;
+
 /* The frame of qtool_luminaire_relight (same s, mp, pm, lut, exposure, srgb; rgb8 w h 3) drawn by the
- * GPU with the caller's context current (tools/gles/headless.h). frames >= 1: the frame is drawn
- * that many times after one untimed warm-up (the shader's first compile), *st the mean.
+ * GPU with the caller's context current (tools/gles/headless.h), o (NULL: defaults) saying how; *st
+ * (may be NULL) the mean over o's frames.
  * 0, or -1 with a one-line reason in err (no GL, no OES_texture_float, fewer than 8 texture units,
  * a table atlas above GL_MAX_TEXTURE_SIZE, a shader or framebuffer refused, a GL error, no memory,
  * a status of the core's). Nothing is written to rgb8 on failure. */
 int qtool_luminaire_relight_gles(const qtool_luminaire_spots *s, const qibl_shmaps_t *mp, const qibl_pmap_t *pm,
-                                 const qibl_ylut_t *lut, uint32_t exposure, int srgb, uint32_t frames, uint8_t *rgb8,
+                                 const qibl_ylut_t *lut, uint32_t exposure, int srgb, const qtool_luminaire_gles_opts *o, uint8_t *rgb8,
                                  qtool_luminaire_gles_stats *st, char *err, size_t errlen);
 
 /* The same from the points and the anchors' shading given: pts w h 3 Q16.16 (row-major), base
  * s->nanchor planes of w h 3 Q16.16 (plane k at base + 3 w h k: what the unit lamp at anchor k gives
  * each pixel, as qtool_luminaire_spots_span's base), e.g. a ray tracer's. Statuses as above. */
 int qtool_luminaire_spots_gles(const qtool_luminaire_spots *s, uint32_t w, uint32_t h, const int32_t *pts,
-                               const int32_t *base, uint32_t exposure, int srgb, uint32_t frames, uint8_t *rgb8,
+                               const int32_t *base, uint32_t exposure, int srgb, const qtool_luminaire_gles_opts *o, uint8_t *rgb8,
                                qtool_luminaire_gles_stats *st, char *err, size_t errlen);
 
 /* The largest and the mean |a - b| over n bytes (8-bit frames). */
