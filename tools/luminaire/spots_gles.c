@@ -58,67 +58,66 @@ static const char *fs_fetch = "#extension GL_EXT_draw_buffers : require\n"
                               "#define READ_PAIR vec4 ah = gl_LastFragData[0], al = gl_LastFragData[1]\n"
                               "#define KEEP discard\n"
                               "#define WRITE(h, l) gl_FragData[0] = (h); gl_FragData[1] = (l)\n";
-static const char *fs_src =
-    "#ifdef GL_FRAGMENT_PRECISION_HIGH\n"
-    "precision highp float;\n"
-    "#else\n"
-    "precision mediump float;\n"
-    "#endif\n"
-    "uniform sampler2D u_ah, u_al, u_p, u_s0, u_s1, u_s2, u_s3, u_g;\n"
-    "uniform vec3 u_sp, u_rgb, u_gx, u_gy, u_gz;\n"
-    "uniform vec4 u_aw;\n"
-    "uniform vec2 u_goff, u_gsz, u_inv, u_cull;\n"
-    "uniform float u_gn, u_lo;\n"
-    "vec3 dec(vec4 t) {\n"
-    "  vec4 x = floor(t * 255.0 + 0.5);\n"
-    "  return (x.rgb - 127.5) / 255.0 * exp2(x.a - 126.0);\n"
-    "}\n"
-    "vec4 enc(vec3 c) {\n"
-    "  float m = max(max(abs(c.r), abs(c.g)), abs(c.b));\n"
-    "  if (m < 1.1754944e-38) return vec4(128.0, 128.0, 128.0, 0.0) / 255.0;\n"
-    "  float e = floor(log2(m)) + 2.0;\n"
-    "  if (m * exp2(-e) >= 0.5) e += 1.0;\n"
-    "  if (m * exp2(-e) < 0.25) e -= 1.0;\n"
-    "  e = min(e, 129.0);\n"
-    "  vec3 x = clamp(floor(255.0 * (c * exp2(-e) + 0.5) + 0.5), 0.0, 255.0);\n"
-    "  return vec4(x, e + 126.0) / 255.0;\n"
-    "}\n"
-    "float gonio_tex(vec2 ij) {\n"
-    "  vec4 t = texture2D(u_g, (ij + u_goff + 0.5) / u_gsz);\n"
-    "  return floor(t.r * 255.0 + 0.5) + 256.0 * floor(t.a * 255.0 + 0.5);\n"
-    "}\n"
-    "float gonio(vec3 dw) {\n"
-    "  vec3 lf = vec3(dot(dw, u_gx), dot(dw, u_gy), dot(dw, u_gz));\n"
-    "  vec3 al = abs(lf);\n"
-    "  float s = al.x + al.y + al.z;\n"
-    "  vec2 a = vec2(0.0);\n"
-    "  if (s > 0.0) {\n"
-    "    a = (lf.z >= 0.0 ? al.xy : vec2(s - al.y, s - al.x)) / s;\n"
-    "    a = vec2(lf.x < 0.0 ? -a.x : a.x, lf.y < 0.0 ? -a.y : a.y);\n"
-    "  }\n"
-    "  vec2 f = clamp((a + 1.0) * 0.5 * u_gn - 0.5, 0.0, u_gn - 1.0);\n"
-    "  vec2 i0 = floor(f), tf = f - i0, i1 = min(i0 + 1.0, u_gn - 1.0);\n"
-    "  float r0 = mix(gonio_tex(i0), gonio_tex(vec2(i1.x, i0.y)), tf.x);\n"
-    "  float r1 = mix(gonio_tex(vec2(i0.x, i1.y)), gonio_tex(i1), tf.x);\n"
-    "  return floor(mix(r0, r1, tf.y) + 0.5) / 32768.0;\n"
-    "}\n"
-    "void main() {\n"
-    "  vec2 uv = gl_FragCoord.xy * u_inv;\n"
-    "  READ_PAIR;\n"
-    "  vec3 d = texture2D(u_p, uv).rgb - u_sp;\n"
-    "  float g = 0.0;\n"
-    "  if (d.z < 0.0 && all(lessThanEqual(abs(d.xy), u_cull * -d.z))) g = gonio(d);\n"
-    "  vec3 b = vec3(0.0);\n"
-    "  if (g > 0.0) b = u_aw.x * texture2D(u_s0, uv).rgb + u_aw.y * texture2D(u_s1, uv).rgb\n"
-    "         + u_aw.z * texture2D(u_s2, uv).rgb + u_aw.w * texture2D(u_s3, uv).rgb;\n"
-    "  if (all(equal(b, vec3(0.0)))) {\n"
-    "    KEEP;\n"
-    "  }\n"
-    "  float r2 = dot(d, d);\n"
-    "  vec3 s = dec(ah) + dec(al) + b * u_rgb * (g / (r2 * sqrt(r2)));\n"
-    "  vec4 h = enc(s);\n"
-    "  WRITE(h, enc(s - dec(h)));\n"
-    "}\n";
+static const char *fs_src = "#ifdef GL_FRAGMENT_PRECISION_HIGH\n"
+                            "precision highp float;\n"
+                            "#else\n"
+                            "precision mediump float;\n"
+                            "#endif\n"
+                            "uniform sampler2D u_ah, u_al, u_p, u_s0, u_s1, u_s2, u_s3, u_g;\n"
+                            "uniform vec3 u_sp, u_rgb, u_gx, u_gy, u_gz;\n"
+                            "uniform vec4 u_aw;\n"
+                            "uniform vec2 u_goff, u_gsz, u_inv, u_cull;\n"
+                            "uniform float u_gn, u_lo;\n"
+                            "vec3 dec(vec4 t) {\n"
+                            "  vec4 x = floor(t * 255.0 + 0.5);\n"
+                            "  return (x.rgb - 127.5) / 255.0 * exp2(x.a - 126.0);\n"
+                            "}\n"
+                            "vec4 enc(vec3 c) {\n"
+                            "  float m = max(max(abs(c.r), abs(c.g)), abs(c.b));\n"
+                            "  if (m < 1.1754944e-38) return vec4(128.0, 128.0, 128.0, 0.0) / 255.0;\n"
+                            "  float e = floor(log2(m)) + 2.0;\n"
+                            "  if (m * exp2(-e) >= 0.5) e += 1.0;\n"
+                            "  if (m * exp2(-e) < 0.25) e -= 1.0;\n"
+                            "  e = min(e, 129.0);\n"
+                            "  vec3 x = clamp(floor(255.0 * (c * exp2(-e) + 0.5) + 0.5), 0.0, 255.0);\n"
+                            "  return vec4(x, e + 126.0) / 255.0;\n"
+                            "}\n"
+                            "float gonio_tex(vec2 ij) {\n"
+                            "  vec4 t = texture2D(u_g, (ij + u_goff + 0.5) / u_gsz);\n"
+                            "  return floor(t.r * 255.0 + 0.5) + 256.0 * floor(t.a * 255.0 + 0.5);\n"
+                            "}\n"
+                            "float gonio(vec3 dw) {\n"
+                            "  vec3 lf = vec3(dot(dw, u_gx), dot(dw, u_gy), dot(dw, u_gz));\n"
+                            "  vec3 al = abs(lf);\n"
+                            "  float s = al.x + al.y + al.z;\n"
+                            "  vec2 a = vec2(0.0);\n"
+                            "  if (s > 0.0) {\n"
+                            "    a = (lf.z >= 0.0 ? al.xy : vec2(s - al.y, s - al.x)) / s;\n"
+                            "    a = vec2(lf.x < 0.0 ? -a.x : a.x, lf.y < 0.0 ? -a.y : a.y);\n"
+                            "  }\n"
+                            "  vec2 f = clamp((a + 1.0) * 0.5 * u_gn - 0.5, 0.0, u_gn - 1.0);\n"
+                            "  vec2 i0 = floor(f), tf = f - i0, i1 = min(i0 + 1.0, u_gn - 1.0);\n"
+                            "  float r0 = mix(gonio_tex(i0), gonio_tex(vec2(i1.x, i0.y)), tf.x);\n"
+                            "  float r1 = mix(gonio_tex(vec2(i0.x, i1.y)), gonio_tex(i1), tf.x);\n"
+                            "  return floor(mix(r0, r1, tf.y) + 0.5) / 32768.0;\n"
+                            "}\n"
+                            "void main() {\n"
+                            "  vec2 uv = gl_FragCoord.xy * u_inv;\n"
+                            "  READ_PAIR;\n"
+                            "  vec3 d = texture2D(u_p, uv).rgb - u_sp;\n"
+                            "  float g = 0.0;\n"
+                            "  if (d.z < 0.0 && all(lessThanEqual(abs(d.xy), u_cull * -d.z))) g = gonio(d);\n"
+                            "  vec3 b = vec3(0.0);\n"
+                            "  if (g > 0.0) b = u_aw.x * texture2D(u_s0, uv).rgb + u_aw.y * texture2D(u_s1, uv).rgb\n"
+                            "         + u_aw.z * texture2D(u_s2, uv).rgb + u_aw.w * texture2D(u_s3, uv).rgb;\n"
+                            "  if (all(equal(b, vec3(0.0)))) {\n"
+                            "    KEEP;\n"
+                            "  }\n"
+                            "  float r2 = dot(d, d);\n"
+                            "  vec3 s = dec(ah) + dec(al) + b * u_rgb * (g / (r2 * sqrt(r2)));\n"
+                            "  vec4 h = enc(s);\n"
+                            "  WRITE(h, enc(s - dec(h)));\n"
+                            "}\n";
 
 static double now_ms(void)
 {
@@ -294,8 +293,8 @@ static int gl_setup(glstate *g, const qtool_luminaire_spots *s, uint32_t w, uint
     }
     if ((uint64_t)cols * n > (uint64_t)maxtex || (uint64_t)rows * n > (uint64_t)maxtex || w > (uint32_t)maxtex ||
         h > (uint32_t)maxtex) {
-        snprintf(err, errlen, "the tables' atlas (%ux%u) or the frame (%ux%u) is above GL_MAX_TEXTURE_SIZE %d", cols * n,
-                 rows * n, w, h, (int)maxtex);
+        snprintf(err, errlen, "the tables' atlas (%ux%u) or the frame (%ux%u) is above GL_MAX_TEXTURE_SIZE %d",
+                 cols * n, rows * n, w, h, (int)maxtex);
         return -1;
     }
     g->cols = cols, g->n = n;
@@ -411,7 +410,8 @@ static qibl_status_t frame_prep(const qtool_luminaire_spots *s, const frame_src 
     qibl_status_t st = QIBL_OK;
     for (uint32_t k = 0; st == QIBL_OK && src->mp && k < s->nanchor; ++k) {
         qibl_pointlight_t pl = {.pos = {s->anchor[k][0], s->anchor[k][1], s->anchor[k][2]},
-                                .rgb = {65536, 65536, 65536}, .falloff = QIBL_FALLOFF_INV_DIST2,
+                                .rgb = {65536, 65536, 65536},
+                                .falloff = QIBL_FALLOFF_INV_DIST2,
                                 .filter = src->lut ? QIBL_LUT_BILINEAR : QIBL_POINT_POLY};
         st = qibl_shmap_point_prepare(src->mp, src->pm, src->lut, &pl, &pt[k]);
     }
@@ -480,8 +480,8 @@ static void upload_rgb_float(GLenum unit, GLuint tex, uint32_t w, uint32_t h, co
  * pair missed that pass's term; there and wherever its own term is 0 the codes are copied as read),
  * so the pair it drew holds the whole sum. Fetch: pair 0 updated in place over the pass's own tiles.
  * *cur gets the pair holding the sum; fragments shaded in *frags. */
-static void frame_passes(const glstate *g, const qtool_luminaire_spots *s, const frame_buf *fb, uint32_t w,
-                         uint32_t h, uint32_t tw, uint32_t th, uint8_t *mask, rect *rects, int32_t *open, float *verts,
+static void frame_passes(const glstate *g, const qtool_luminaire_spots *s, const frame_buf *fb, uint32_t w, uint32_t h,
+                         uint32_t tw, uint32_t th, uint8_t *mask, rect *rects, int32_t *open, float *verts,
                          const uint8_t *zero, uint32_t *passes, double *frags, int *cur)
 {
     upload_rgb_float(GL_TEXTURE2, g->ptex, w, h, fb->pts);
@@ -576,8 +576,8 @@ static qibl_status_t frame_read(const glstate *g, int cur, uint32_t w, uint32_t 
         glBindFramebuffer(GL_FRAMEBUFFER, g->fbo[2 * cur + lo]);
         glReadPixels(0, 0, (GLsizei)w, (GLsizei)h, GL_RGBA, GL_UNSIGNED_BYTE, back + 4 * npix * (size_t)lo);
     }
-    qibl_fb_desc_t fb = {.pixels = pix, .width = w, .height = h, .format = QIBL_FB_RGBA8888, .srgb = srgb ? 1 : 0,
-                         .exposure = exposure};
+    qibl_fb_desc_t fb = {
+        .pixels = pix, .width = w, .height = h, .format = QIBL_FB_RGBA8888, .srgb = srgb ? 1 : 0, .exposure = exposure};
     qibl_status_t st = QIBL_OK;
     for (uint32_t y = 0; st == QIBL_OK && y < h; ++y) {
         for (uint32_t x = 0; st == QIBL_OK && x < w; ++x) {
@@ -685,24 +685,26 @@ done:
 }
 
 int qtool_luminaire_relight_gles(const qtool_luminaire_spots *s, const qibl_shmaps_t *mp, const qibl_pmap_t *pm,
-                                 const qibl_ylut_t *lut, uint32_t exposure, int srgb, const qtool_luminaire_gles_opts *o, uint8_t *rgb8,
-                                 qtool_luminaire_gles_stats *st, char *err, size_t errlen)
+                                 const qibl_ylut_t *lut, uint32_t exposure, int srgb,
+                                 const qtool_luminaire_gles_opts *o, uint8_t *rgb8, qtool_luminaire_gles_stats *st,
+                                 char *err, size_t errlen)
 {
     const frame_src src = {.mp = mp, .pm = pm, .lut = lut, .w = mp->width, .h = mp->height};
     return run(s, &src, exposure, srgb, o, rgb8, st, err, errlen);
 }
 
 int qtool_luminaire_spots_gles(const qtool_luminaire_spots *s, uint32_t w, uint32_t h, const int32_t *pts,
-                               const int32_t *base, uint32_t exposure, int srgb, const qtool_luminaire_gles_opts *o, uint8_t *rgb8,
-                               qtool_luminaire_gles_stats *st, char *err, size_t errlen)
+                               const int32_t *base, uint32_t exposure, int srgb, const qtool_luminaire_gles_opts *o,
+                               uint8_t *rgb8, qtool_luminaire_gles_stats *st, char *err, size_t errlen)
 {
     const frame_src src = {.pts = pts, .base = base, .w = w, .h = h};
     return run(s, &src, exposure, srgb, o, rgb8, st, err, errlen);
 }
 #else
 int qtool_luminaire_relight_gles(const qtool_luminaire_spots *s, const qibl_shmaps_t *mp, const qibl_pmap_t *pm,
-                                 const qibl_ylut_t *lut, uint32_t exposure, int srgb, const qtool_luminaire_gles_opts *o, uint8_t *rgb8,
-                                 qtool_luminaire_gles_stats *st, char *err, size_t errlen)
+                                 const qibl_ylut_t *lut, uint32_t exposure, int srgb,
+                                 const qtool_luminaire_gles_opts *o, uint8_t *rgb8, qtool_luminaire_gles_stats *st,
+                                 char *err, size_t errlen)
 {
     (void)s, (void)mp, (void)pm, (void)lut, (void)exposure, (void)srgb, (void)o, (void)rgb8, (void)st;
     snprintf(err, errlen, "built without EGL/GLES2");
@@ -710,8 +712,8 @@ int qtool_luminaire_relight_gles(const qtool_luminaire_spots *s, const qibl_shma
 }
 
 int qtool_luminaire_spots_gles(const qtool_luminaire_spots *s, uint32_t w, uint32_t h, const int32_t *pts,
-                               const int32_t *base, uint32_t exposure, int srgb, const qtool_luminaire_gles_opts *o, uint8_t *rgb8,
-                               qtool_luminaire_gles_stats *st, char *err, size_t errlen)
+                               const int32_t *base, uint32_t exposure, int srgb, const qtool_luminaire_gles_opts *o,
+                               uint8_t *rgb8, qtool_luminaire_gles_stats *st, char *err, size_t errlen)
 {
     (void)s, (void)w, (void)h, (void)pts, (void)base, (void)exposure, (void)srgb, (void)o, (void)rgb8, (void)st;
     snprintf(err, errlen, "built without EGL/GLES2");

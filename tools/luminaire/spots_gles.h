@@ -18,12 +18,12 @@
 
 /* What one GPU frame cost (wall clock: llvmpipe rasterises on threads of its own). */
 typedef struct qtool_luminaire_gles_stats {
-    double prep_ms;    /* CPU: the P map as floats, the anchors' shading (core), the tiles' bounds */
-    double gpu_ms;     /* uploads and every pass, to glFinish */
-    double read_ms;    /* the pair read back, decoded and written through platform/soft */
-    uint32_t passes;   /* spotlights drawn (a spotlight no tile can see is not drawn) */
-    double coverage;   /* fragments shaded / (passes x pixels): what the tile cull saves */
-    int fetch;         /* 1: the extensions' path ran (EXT_draw_buffers, EXT_shader_framebuffer_fetch) */
+    double prep_ms;  /* CPU: the P map as floats, the anchors' shading (core), the tiles' bounds */
+    double gpu_ms;   /* uploads and every pass, to glFinish */
+    double read_ms;  /* the pair read back, decoded and written through platform/soft */
+    uint32_t passes; /* spotlights drawn (a spotlight no tile can see is not drawn) */
+    double coverage; /* fragments shaded / (passes x pixels): what the tile cull saves */
+    int fetch;       /* 1: the extensions' path ran (EXT_draw_buffers, EXT_shader_framebuffer_fetch) */
 } qtool_luminaire_gles_stats;
 
 /* How to draw (zero: the defaults). */
@@ -42,15 +42,16 @@ typedef struct qtool_luminaire_gles_opts {
  * a table atlas above GL_MAX_TEXTURE_SIZE, a shader or framebuffer refused, a GL error, no memory,
  * a status of the core's). Nothing is written to rgb8 on failure. */
 int qtool_luminaire_relight_gles(const qtool_luminaire_spots *s, const qibl_shmaps_t *mp, const qibl_pmap_t *pm,
-                                 const qibl_ylut_t *lut, uint32_t exposure, int srgb, const qtool_luminaire_gles_opts *o, uint8_t *rgb8,
-                                 qtool_luminaire_gles_stats *st, char *err, size_t errlen);
+                                 const qibl_ylut_t *lut, uint32_t exposure, int srgb,
+                                 const qtool_luminaire_gles_opts *o, uint8_t *rgb8, qtool_luminaire_gles_stats *st,
+                                 char *err, size_t errlen);
 
 /* The same from the points and the anchors' shading given: pts w h 3 Q16.16 (row-major), base
  * s->nanchor planes of w h 3 Q16.16 (plane k at base + 3 w h k: what the unit lamp at anchor k gives
  * each pixel, as qtool_luminaire_spots_span's base), e.g. a ray tracer's. Statuses as above. */
 int qtool_luminaire_spots_gles(const qtool_luminaire_spots *s, uint32_t w, uint32_t h, const int32_t *pts,
-                               const int32_t *base, uint32_t exposure, int srgb, const qtool_luminaire_gles_opts *o, uint8_t *rgb8,
-                               qtool_luminaire_gles_stats *st, char *err, size_t errlen);
+                               const int32_t *base, uint32_t exposure, int srgb, const qtool_luminaire_gles_opts *o,
+                               uint8_t *rgb8, qtool_luminaire_gles_stats *st, char *err, size_t errlen);
 
 /* The largest and the mean |a - b| over n bytes (8-bit frames). */
 void qtool_luminaire_diff8(const uint8_t *a, const uint8_t *b, size_t n, int *max, double *mean);
