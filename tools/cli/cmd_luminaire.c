@@ -435,13 +435,14 @@ static int cmd_render(int argc, char **argv)
         if (c.gles) {
             const double frame = gs.prep_ms + gs.gpu_ms + gs.read_ms;
             printf("gles (%s): %u passes (one per spotlight), each over %.1f%% of the frame; per frame %.1f ms (CPU: "
-                   "P map and anchors %.1f; GPU passes %.1f; read back %.1f), %.3f ms per pass; against the soft "
-                   "frame max %d mean %.4f (8-bit sRGB)\n",
+                   "P map and anchors %.1f; GPU passes %.1f; read back %.1f; %.1f ms CPU over all threads), %.3f ms "
+                   "per pass; against the soft frame max %d mean %.4f (8-bit sRGB)\n",
                    gs.fetch ? "EXT_draw_buffers + EXT_shader_framebuffer_fetch" : "GLES2 core", gs.passes,
-                   100 * gs.coverage, frame, gs.prep_ms, gs.gpu_ms, gs.read_ms,
+                   100 * gs.coverage, frame, gs.prep_ms, gs.gpu_ms, gs.read_ms, gs.cpu_ms,
                    gs.passes ? gs.gpu_ms / gs.passes : 0, gmax, gmean);
             printf("RESULT luminaire.soft_frame_ms %.3f\n", ms);
             printf("RESULT luminaire.gles_frame_ms %.3f\n", frame);
+            printf("RESULT luminaire.gles_frame_cpu_ms %.3f\n", gs.cpu_ms);
             printf("RESULT luminaire.gles_pass_ms %.4f\n", gs.passes ? gs.gpu_ms / gs.passes : 0);
             printf("RESULT luminaire.gles_fps %.3f\n", frame > 0 ? 1000 / frame : 0);
             printf("RESULT luminaire.gles_vs_soft_max %d\n", gmax);

@@ -119,11 +119,16 @@ static const char *fs_src = "#ifdef GL_FRAGMENT_PRECISION_HIGH\n"
                             "  WRITE(h, enc(s - dec(h)));\n"
                             "}\n";
 
-static double now_ms(void)
+static double clock_ms(clockid_t id)
 {
     struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
+    clock_gettime(id, &t);
     return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
+}
+
+static double now_ms(void)
+{
+    return clock_ms(CLOCK_MONOTONIC);
 }
 
 static GLuint shader(GLenum kind, const char *pre, const char *src, char *err, size_t errlen)
@@ -637,7 +642,7 @@ static int run(const qtool_luminaire_spots *s, const frame_src *src, uint32_t ex
     qtool_luminaire_srgbe_clear(zero, (uint32_t)npix); /* the zero code, uploaded at each frame's start */
     qtool_luminaire_gles_stats sum = {0};
     for (uint32_t f = 0; f <= frames; ++f) { /* frame 0: the warm-up (llvmpipe compiles at first draw) */
-        double t0 = now_ms();
+        double t0 = now_ms(), c0 = clock_ms(CLOCK_PROCESS_CPUTIME_ID);
         qibl_status_t cs = frame_prep(s, src, &fb, tw);
         if (cs != QIBL_OK) {
             snprintf(err, errlen, "the anchors' shading: %s", qibl_soft_status_str(cs));
@@ -651,7 +656,7 @@ static int run(const qtool_luminaire_spots *s, const frame_src *src, uint32_t ex
         glFinish();
         double t2 = now_ms();
         cs = frame_read(&g, cur, w, h, exposure, srgb, back, fb.row, pix, out);
-        double t3 = now_ms();
+        double t3 = now_ms(), c3 = clock_ms(CLOCK_PROCESS_CPUTIME_ID);
         if (cs != QIBL_OK) {
             snprintf(err, errlen, "the core's codec refused a code: %s", qibl_soft_status_str(cs));
             goto done;
@@ -661,12 +666,12 @@ static int run(const qtool_luminaire_spots *s, const frame_src *src, uint32_t ex
             goto done;
         }
         if (f > 0) {
-            sum.prep_ms += t1 - t0, sum.gpu_ms += t2 - t1, sum.read_ms += t3 - t2;
+            sum.prep_ms += t1 - t0, sum.gpu_ms += t2 - t1, sum.read_ms += t3 - t2, sum.cpu_ms += c3 - c0;
             sum.passes = passes;
             sum.coverage = passes ? frags / ((double)passes * (double)npix) : 0;
         }
     }
-    sum.prep_ms /= frames, sum.gpu_ms /= frames, sum.read_ms /= frames;
+    sum.prep_ms /= frames, sum.gpu_ms /= frames, sum.read_ms /= frames, sum.cpu_ms /= frames;
     sum.fetch = g.fetch;
     memcpy(rgb8, out, 3 * npix);
     if (st)

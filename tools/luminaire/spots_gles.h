@@ -16,11 +16,13 @@
 
 #include "luminaire/luminaire.h"
 
-/* What one GPU frame cost (wall clock: llvmpipe rasterises on threads of its own). */
+/* What one GPU frame cost (wall clock, and CPU time since llvmpipe rasterises on threads of its own). */
 typedef struct qtool_luminaire_gles_stats {
     double prep_ms;  /* CPU: the P map as floats, the anchors' shading (core), the tiles' bounds */
     double gpu_ms;   /* uploads and every pass, to glFinish */
     double read_ms;  /* the pair read back, decoded and written through platform/soft */
+    double cpu_ms;   /* the process's CPU time over the frame, every thread (llvmpipe's included): what
+                      * the frame costs whatever else the machine runs */
     uint32_t passes; /* spotlights drawn (a spotlight no tile can see is not drawn) */
     double coverage; /* fragments shaded / (passes x pixels): what the tile cull saves */
     int fetch;       /* 1: the extensions' path ran (EXT_draw_buffers, EXT_shader_framebuffer_fetch) */
