@@ -5,10 +5,12 @@
  * Invariants: what every pass needs goes up once per frame (the P map's points and the anchors'
  * numerators n.(a_k - x) V rho / pi = base_k |x - a_k|^3, as binary32 textures, OES_texture_float);
  * every spotlight's gonio table sits in one atlas texture, fetched texel by texel as platform/gles2
- * reads a gonio table; a pass writes only inside its tiles and writes a pixel's codes back unchanged
- * where its term is 0, and its tiles are copied back into the canonical pair, so the pair always
- * holds the sum of the passes so far. Eight texture units: the pair (2), the P map, four anchors,
- * the atlas.
+ * reads a gonio table. A pass draws only over the tiles its cull rectangle may reach (a necessary
+ * test: no lit pixel is left out), and after it the pair it wrote holds the sum of the passes so
+ * far: read and written in place (EXT_draw_buffers + EXT_shader_framebuffer_fetch), or on GLES2's
+ * core ping-ponged, each pass also drawn over the previous pass's tiles with a pixel's codes written
+ * back unchanged where its term is 0. At most eight texture units: the pair (2, core way only), the
+ * P map, four anchors, the atlas.
  */
 #include <math.h>
 #include <stdio.h>
@@ -549,8 +551,8 @@ static void frame_passes(const glstate *g, const qtool_luminaire_spots *s, const
                     (float)(s->aw[j][2] / 32768.0), (float)(s->aw[j][3] / 32768.0));
         /* the cull's tangent bounds (1% and 2^-15 wider than the table's support: no rounding of
          * the shader's can drop a lit direction); none: every direction below */
-        glUniform2f(g->u_cull, s->cull[j][0] < 0 ? 1e30f : (float)(s->cull[j][0] / 65536.0),
-                    s->cull[j][1] < 0 ? 1e30f : (float)(s->cull[j][1] / 65536.0));
+        glUniform2f(g->u_cull, s->cull[j][0] < 0 ? 1e30f : (float)((double)s->cull[j][0] / 65536.0),
+                    s->cull[j][1] < 0 ? 1e30f : (float)((double)s->cull[j][1] / 65536.0));
         glUniform2f(g->u_goff, (float)((j % g->cols) * g->n), (float)((j / g->cols) * g->n));
         if (g->fetch) { /* both codes read and written in place by one draw */
             glDrawArrays(GL_TRIANGLES, 0, (GLsizei)(6 * nr));
