@@ -15,6 +15,7 @@
 
 #include "cliutil.h"
 #include "testutil.h"
+#include "io/png.h"
 #include "luminaire/luminaire.h"
 #include "qibl/asset.h"
 #include "qibl/fixed.h"
@@ -586,6 +587,60 @@ static void test_cli(void **state)
     assert_int_equal(access(at("p2.png"), F_OK), -1);
 }
 
+/* luminaire render --gles: the spotlights evaluated on the GPU (EGL; skipped without it unless
+ * QIBL_REQUIRE_GLES=1) on a lit courtyard frame: the RESULT lines within tests/gles2_test.c's bounds
+ * (max 2, mean < 0.1 of 255) on both paths, the PNG still the soft frame's bytes; --frames 0 refused
+ * with nothing written */
+static void test_cli_gles(void **state)
+{
+    (void)state;
+    need_qibl();
+    const char *g = at("g.qibl"), *q = at("s.qnf"), *x = at("x.png"), *y = at("y.png");
+    assert_int_equal(run("gen", "-o", g, "--size", "96x24", "--k", "9", "--lut-size", "8", NULL), 0);
+    assert_int_equal(run("luminaire", "capture", "builtin", "--out", q, "--grid", "6", "--res", "8", NULL), 0);
+    assert_int_equal(run("luminaire", "render", g, q, "--at", "0", "2", "-1", "--exposure", "4", "--out", y, "--gles",
+                         "--frames", "0", NULL),
+                     2);
+    assert_int_equal(access(y, F_OK), -1);
+    assert_int_equal(run("luminaire", "render", g, q, "--at", "0", "2", "-1", "--exposure", "4", "--out", x, NULL), 0);
+    int w, h, fr, lit = 0;
+    uint8_t *px = NULL, *py = NULL;
+    char err[256];
+    assert_int_equal(qtool_png_read_rgb8(x, &w, &h, &fr, &px, err, sizeof err), 0);
+    for (size_t i = 0; i < (size_t)w * h * 3; ++i)
+        lit += px[i] >= 16;
+    assert_true(lit >= 60); /* the comparison is not between two black frames */
+    if (run("luminaire", "render", g, q, "--at", "0", "2", "-1", "--exposure", "4", "--out", y, "--gles", "--frames",
+            "1", NULL) != 0) {
+        const char *r = getenv("QIBL_REQUIRE_GLES");
+        char *e = text(errlog);
+        if (r != NULL && strcmp(r, "1") == 0)
+            fail_msg("QIBL_REQUIRE_GLES=1 and luminaire render --gles failed: %s", e);
+        print_message("SKIP luminaire render --gles: %s", e);
+        free(e), free(px);
+        skip();
+    }
+    for (int core = 0; core < 2; ++core) {
+        assert_int_equal(run("luminaire", "render", g, q, "--at", "0", "2", "-1", "--exposure", "4", "--out", y,
+                             "--gles", "--frames", "1", core ? "--gles-core" : NULL, NULL),
+                         0);
+        const char *o = out_text(), *m = strstr(o, "RESULT luminaire.gles_vs_soft_max "),
+                   *a = strstr(o, "RESULT luminaire.gles_vs_soft_mean ");
+        assert_non_null(m), assert_non_null(a);
+        assert_non_null(strstr(o, "RESULT luminaire.gles_pass_ms "));
+        assert_non_null(strstr(o, "RESULT luminaire.gles_frame_ms "));
+        const int mx = atoi(m + strlen("RESULT luminaire.gles_vs_soft_max "));
+        const double mean = atof(a + strlen("RESULT luminaire.gles_vs_soft_mean "));
+        printf("  luminaire render --gles%s: against the soft frame max %d, mean %.4f\n", core ? " --gles-core" : "",
+               mx, mean);
+        assert_true(mx <= 2 && mean < 0.1);
+        assert_int_equal(qtool_png_read_rgb8(y, &w, &h, &fr, &py, err, sizeof err), 0);
+        assert_memory_equal(px, py, (size_t)w * h * 3);
+        free(py);
+    }
+    free(px);
+}
+
 /* qtool_luminaire_relight (anchors' spans only where a spotlight reaches) against the same frame
  * computed over whole rows here; a one-support source near and far give the same bytes */
 static void test_relight_frame(void **state)
@@ -744,6 +799,7 @@ int main(void)
         cmocka_unit_test(test_isqrt_twin),
         cmocka_unit_test(test_span_bytes),
         cmocka_unit_test_setup_teardown(test_cli, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_cli_gles, setup, teardown),
         cmocka_unit_test_setup_teardown(test_relight_frame, setup, teardown),
         cmocka_unit_test_setup_teardown(test_capture_mesh, setup, teardown),
     };

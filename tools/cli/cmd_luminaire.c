@@ -18,6 +18,7 @@
 #include "io/obj.h"
 #include "io/png.h"
 #include "luminaire/luminaire.h"
+#include "luminaire/spots_gles.h"
 #include "qibl/asset.h"
 #include "qibl/soft.h"
 
@@ -92,11 +93,11 @@ typedef struct render_cli {
     qtool_opt_list files; /* ASSET F.qnf */
     double at[3];
     const char *out;
-    int far;
+    int far, gles, gles_core;
     double exposure;
-    long table;
+    long table, frames;
 } render_cli;
-static const render_cli render_defaults = {.at = {0, 0, 0}, .exposure = 1, .table = 64};
+static const render_cli render_defaults = {.at = {0, 0, 0}, .exposure = 1, .table = 64, .frames = 3};
 
 static const char *render_at(void *o, char *const *v, int n, int *used)
 {
@@ -119,6 +120,14 @@ static const qtool_opt render_table[] = {
      .hi = 65535, .help = "the frame's exposure"},
     {.name = "--table", .kind = QTOOL_OPT_INT, .off = offsetof(render_cli, table), .arg = "N", .lo = QIBL_GONIO_MIN_N,
      .hi = QIBL_GONIO_MAX_N, .help = "each spotlight's gonio table is N x N"},
+    {.name = "--gles", .kind = QTOOL_OPT_FLAG, .off = offsetof(render_cli, gles),
+     .help = "the frame on GLES2 too (a headless EGL context, one pass per spotlight): its times and its "
+             "difference from the soft frame"},
+    {.name = "--frames", .kind = QTOOL_OPT_INT, .off = offsetof(render_cli, frames), .arg = "N", .lo = 1, .hi = 1000,
+     .help = "--gles: GPU frames timed, after one untimed warm-up"},
+    {.name = "--gles-core", .kind = QTOOL_OPT_FLAG, .off = offsetof(render_cli, gles_core),
+     .help = "--gles: GLES2's core path only (ping-pong, two draws per pass), even where the GL has "
+             "EXT_draw_buffers and EXT_shader_framebuffer_fetch"},
     {0},
 };
 
@@ -130,7 +139,9 @@ const qtool_opt_cmd qcli_opts_luminaire_render = {
     .prose =
         "  An asset frame (its point maps and P map) lit by the source: one textured spotlight per lit\n"
         "  support, each a goniometric lamp of the core (qibl/gonio.h), shaded from four anchors'\n"
-        "  point-map spans, summed pass by pass in integers; prints the frame's CPU time.\n",
+        "  point-map spans, summed pass by pass in integers; prints the frame's CPU time. --gles: the\n"
+        "  same frame on the GPU, each spotlight evaluated by a fragment shader into 8-bit sRGBE pairs;\n"
+        "  its time per frame and per pass and its difference from the soft frame, RESULT lines.\n",
 };
 
 typedef struct study_cli {
@@ -321,6 +332,16 @@ static int cmd_render(int argc, char **argv)
     const int far = c.far;
     const uint32_t table = (uint32_t)c.table;
     const double expo = c.exposure;
+#if QIBL_HAVE_GLES2
+    qt_gles_ctx gl;
+    memset(&gl, 0, sizeof gl);
+#else
+    if (c.gles) { /* the headless context is tools/gles's, built only where the EGL/GLES2 headers are */
+        fprintf(stderr, "qibl: luminaire render: --gles: this qibl was built without the EGL/GLES2 headers "
+                        "(Debian: apt-get install libegl-dev libgles-dev)\n");
+        return 1;
+    }
+#endif
     qtool_luminaire l;
     qtool_luminaire_err le = qtool_luminaire_read(qnf, &l);
     if (le != QTOOL_LUMINAIRE_OK) {
@@ -364,12 +385,54 @@ static int cmd_render(int argc, char **argv)
         free(rgb), free(bytes), qtool_luminaire_spots_free(&s);
         return 1;
     }
+    /* the GPU's frame before anything is written: a refusal leaves no file and no report */
+    qtool_luminaire_gles_stats gs = {0};
+    int gmax = 0;
+    double gmean = 0;
+#if QIBL_HAVE_GLES2
+    if (c.gles) {
+        const size_t nb = (size_t)mp.width * mp.height * 3;
+        uint8_t *grgb = malloc(nb);
+        int grc = !grgb ? (snprintf(err, sizeof err, "out of memory"), -1) : qt_gles_open(&gl, 1, 1, err, sizeof err);
+        if (grc == 0) {
+            const qtool_luminaire_gles_opts go = {.frames = (uint32_t)c.frames, .core_only = c.gles_core};
+            grc = qtool_luminaire_relight_gles(&s, &mp, &pm, have_lut ? &lut : NULL, (uint32_t)lround(expo * 65536), 1,
+                                               &go, grgb, &gs, err, sizeof err);
+            qt_gles_close(&gl);
+        }
+        if (grc == 0)
+            qtool_luminaire_diff8(grgb, rgb, nb, &gmax, &gmean);
+        free(grgb);
+        if (grc != 0) {
+            fprintf(stderr, "qibl: luminaire render: --gles: %s\n", err);
+            free(rgb), free(bytes), qtool_luminaire_spots_free(&s);
+            return 1;
+        }
+    }
+#endif
     int rc = qtool_png_write_rgb8(out, (int)mp.width, (int)mp.height, rgb, err, sizeof err);
-    if (rc != 0)
+    if (rc != 0) {
         fprintf(stderr, "qibl: luminaire render: %s\n", err);
-    else
+    } else {
         printf("wrote %s: %ux%u, %u %s, %.1f ms CPU\n", out, mp.width, mp.height, s.count,
                far ? "far-field lamp" : "spotlights", ms);
+        if (c.gles) {
+            const double frame = gs.prep_ms + gs.gpu_ms + gs.read_ms;
+            printf("gles (%s): %u passes (one per spotlight), each over %.1f%% of the frame; per frame %.1f ms (CPU: "
+                   "P map and anchors %.1f; GPU passes %.1f; read back %.1f; %.1f ms CPU over all threads), %.3f ms "
+                   "per pass; against the soft frame max %d mean %.4f (8-bit sRGB)\n",
+                   gs.fetch ? "EXT_draw_buffers + EXT_shader_framebuffer_fetch" : "GLES2 core", gs.passes,
+                   100 * gs.coverage, frame, gs.prep_ms, gs.gpu_ms, gs.read_ms, gs.cpu_ms,
+                   gs.passes ? gs.gpu_ms / gs.passes : 0, gmax, gmean);
+            printf("RESULT luminaire.soft_frame_ms %.3f\n", ms);
+            printf("RESULT luminaire.gles_frame_ms %.3f\n", frame);
+            printf("RESULT luminaire.gles_frame_cpu_ms %.3f\n", gs.cpu_ms);
+            printf("RESULT luminaire.gles_pass_ms %.4f\n", gs.passes ? gs.gpu_ms / gs.passes : 0);
+            printf("RESULT luminaire.gles_fps %.3f\n", frame > 0 ? 1000 / frame : 0);
+            printf("RESULT luminaire.gles_vs_soft_max %d\n", gmax);
+            printf("RESULT luminaire.gles_vs_soft_mean %.5f\n", gmean);
+        }
+    }
     free(rgb), free(bytes), qtool_luminaire_spots_free(&s);
     return rc == 0 ? 0 : 1;
 }
