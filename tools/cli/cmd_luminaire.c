@@ -146,6 +146,7 @@ const qtool_opt_cmd qcli_opts_luminaire_render = {
 typedef struct study_cli {
     long grid, res, size, threads;
     int quick;
+    double tol;
 } study_cli;
 static const study_cli study_defaults = {.grid = 16, .res = 32, .size = 96, .threads = 1};
 
@@ -159,6 +160,9 @@ static const qtool_opt study_table[] = {
     {.name = "--quick", .kind = QTOOL_OPT_FLAG, .off = offsetof(study_cli, quick), .help = "fewer distances"},
     {.name = "--threads", .kind = QTOOL_OPT_INT, .off = offsetof(study_cli, threads), .arg = "T", .lo = 1, .hi = 256,
      .help = "worker threads for the capture and the truth (the timing is on one)"},
+    {.name = "--tol", .kind = QTOOL_OPT_NUM, .off = offsetof(study_cli, tol), .arg = "T", .lo = 0,
+     .hi = QTOOL_LUMINAIRE_MAX_TOL, .help = "the near field's hierarchy: a group of supports merged into one spotlight "
+     "where its side is at most T times its distance (0: none)"},
     {0},
 };
 
@@ -399,7 +403,7 @@ static int cmd_study(int argc, char **argv)
     if (qcli_parse_only)
         return 0;
     qtool_luminaire_study_opts o = {.grid = (uint32_t)c.grid, .res = (uint32_t)c.res, .size = (uint32_t)c.size,
-                                    .quick = c.quick, .threads = (int)c.threads};
+                                    .quick = c.quick, .threads = (int)c.threads, .tol = c.tol};
     if (qtool_luminaire_study(&o, stdout) != 0) {
         fprintf(stderr, "qibl: luminaire study: out of memory\n");
         return 1;

@@ -175,6 +175,9 @@ void qtool_luminaire_flux(const qtool_luminaire *l, double rgb[3]);
 
 /* ---- rendering: textured spotlights through the core's gonio module (render.c) -------------- */
 
+#define QTOOL_LUMINAIRE_MAX_LEVEL 6 /* 2^6 = QTOOL_LUMINAIRE_MAX_GRID */
+#define QTOOL_LUMINAIRE_MAX_TOL 1.0
+
 /* The spotlights of a source placed with S's centre at pos (Q16.16 world units), facing -z, its
  * grid's x along world x: per support a gonio table (n x n, Q1.15 of its own peak), the peak
  * intensity per channel (Q16.16) and its position; far: one lamp at pos with the sum of all the
@@ -196,6 +199,15 @@ typedef struct qtool_luminaire_spots {
     uint32_t nanchor;          /* shading anchors: 4 (the corners of the spotlights' box), far 1 */
     int32_t anchor[4][3];      /* Q16.16 */
     int32_t (*aw)[4];          /* per spotlight, its bilinear weights among the anchors, Q15 */
+    /* the hierarchy (qtool_luminaire_spots_build with tol > 0): the arrays above hold count
+     * spotlights (level 0, the passes), then level L's merged lamps at lfirst[L] .. lfirst[L+1] - 1 */
+    uint32_t total;            /* lamps in the arrays */
+    uint32_t nlevel;           /* coarser levels (0: none) */
+    uint32_t lfirst[QTOOL_LUMINAIRE_MAX_LEVEL + 2];
+    uint64_t lmin[QTOOL_LUMINAIRE_MAX_LEVEL + 1]; /* level L serves a pixel whose distance bound
+                                * (1/256 unit) is at least this: the group's side / tol */
+    uint64_t rad256;           /* the farthest spotlight's distance from centre (1/256 unit), rounded up */
+    double tol;
 } qtool_luminaire_spots;
 
 /* far 0: the near-field spotlights; far 1: one lamp (the far field). n: gonio table size (0: 64).
@@ -206,6 +218,21 @@ typedef struct qtool_luminaire_spots {
 int qtool_luminaire_spots_make(const qtool_luminaire *l, const int32_t pos[3], uint32_t n, int far,
                                qtool_luminaire_spots *out, char *err, size_t errlen);
 void qtool_luminaire_spots_free(qtool_luminaire_spots *s);
+
+/* The same with a hierarchy of merged spotlights (a mip pyramid of lamps, built once per
+ * placement): level L merges each 2^L x 2^L group of supports into one lamp at its lit members'
+ * flux-weighted centroid whose table is the sum of their intensities; per pixel the span kernel
+ * takes the coarsest level whose group side is at most tol times a lower bound on the pixel's
+ * distance to the source (max(|dz|, |x - centre| - the spotlights' radius)). tol 0: no hierarchy,
+ * exactly qtool_luminaire_spots_make's spotlights and sums. The passes (qtool_luminaire_spot_pass)
+ * are always level 0's. 0, or -1 with a reason in err (as spots_make; tol outside 0..1). */
+typedef struct qtool_luminaire_spots_opts {
+    uint32_t n;   /* gonio table size; 0: 64 */
+    int far;      /* 1: the far-field lamp (no hierarchy) */
+    double tol;   /* group side / distance bound at which a merged lamp serves a pixel; 0: none */
+} qtool_luminaire_spots_opts;
+int qtool_luminaire_spots_build(const qtool_luminaire *l, const int32_t pos[3], const qtool_luminaire_spots_opts *o,
+                                qtool_luminaire_spots *out, char *err, size_t errlen);
 
 /* One span of n pixels. base: s->nanchor spans (span k at base + 3 n k), each the Q16.16 RGB a
  * unit isotropic point lamp at anchor k gives with 1/d^2 falloff (qibl_shmap_point_span of an
@@ -230,6 +257,10 @@ void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *b
 /* floor(sqrt(x)) for x <= 2^52, exactly qibl_isqrt_u64's result (a double estimate corrected in
  * integers): the span kernel's square roots. */
 uint64_t qtool_luminaire_isqrt(uint64_t x);
+
+/* qibl_gonio_lookup's result, bit for bit, faster on a host (hardware 64-bit shifts and products, its
+ * two divisions a double quotient corrected exactly in integers): the span kernel's lookup. */
+uint32_t qtool_luminaire_lookup(const qibl_gonio_t *g, const int64_t d[3]);
 
 /* acc (Q8.24) to Q16.16: rounded to nearest (ties away from zero), saturated to int32. */
 int32_t qtool_luminaire_q16(int64_t acc);
@@ -317,6 +348,7 @@ typedef struct qtool_luminaire_study_opts {
     uint32_t truth_ns;    /* emitter samples per axis for the truth; 0: 24 */
     int quick;            /* fewer distances */
     int threads;          /* 0: 1 */
+    double tol;           /* the near field's hierarchy (qtool_luminaire_spots_build); 0: none */
 } qtool_luminaire_study_opts;
 
 /* Captures the built-in luminaire, then at several heights above a ground plane (in lamp sizes)

@@ -122,11 +122,109 @@ static void occupancy(qtool_luminaire_spots *s, uint32_t c, const uint16_t *t, u
         }
 }
 
+/* Spotlight c's cull rectangle, occupancy bits and their cell factors, from its table t. */
+static void cull_of(qtool_luminaire_spots *s, uint32_t c, const uint16_t *t, uint32_t n)
+{
+    double tmax[2] = {0, 0};
+    int nocull = 0;
+    for (uint32_t j = 0; j < n; ++j)
+        for (uint32_t i = 0; i < n; ++i) {
+            if (t[(size_t)j * n + i] == 0)
+                continue;
+            /* the lookup interpolates within one texel of a non-zero one: bound that box's slopes */
+            for (int cy = -1; cy <= 1; cy += 2)
+                for (int cx = -1; cx <= 1; cx += 2) {
+                    double u = (2.0 * ((double)i + cx) + 1) / n - 1, v2 = (2.0 * ((double)j + cy) + 1) / n - 1;
+                    double lz = 1 - fabs(u) - fabs(v2);
+                    if (lz <= 0) {
+                        nocull = 1;
+                        continue;
+                    }
+                    tmax[0] = fmax(tmax[0], fabs(u) / lz), tmax[1] = fmax(tmax[1], fabs(v2) / lz);
+                }
+        }
+    for (int k = 0; k < 2; ++k) {
+        double b = ceil(tmax[k] * 1.01 * 65536.0) + 2;
+        s->cull[c][k] = nocull || b > (double)(1u << 30) ? -1 : (int64_t)b;
+    }
+    occupancy(s, c, t, n);
+    for (int k = 0; k < 2; ++k) /* cell = (tan + T) OCC / (2 T + 1), tan and T in Q16 */
+        s->kocc[c][k] = s->cull[c][k] < 0 ? 0 : ((uint64_t)QTOOL_LUMINAIRE_OCC << 32) / (2u * (uint64_t)s->cull[c][k] + 1u);
+}
+
+/* Appends a lamp at (px, py, pz) (Q16.16, pz exact) whose intensity in double is iv (n n texels of
+ * luminance then the three channels): its table (Q1.15 of its luminance peak), cull, peak colour and
+ * gonio view. 1 added, 0 dark (no lamp), -1 with a reason in err. *peak_out: its luminance peak. */
+static int add_lamp(qtool_luminaire_spots *s, const double *iv, uint32_t n, double px, double py, int32_t pz,
+                    double *peak_out, char *err, size_t errlen)
+{
+    static const int32_t aim[3] = {0, 0, -65536}, up[3] = {0, 65536, 0};
+    double peak = 0, sum[4] = {0, 0, 0, 0};
+    for (size_t k = 0; k < (size_t)n * n; ++k) {
+        peak = iv[4 * k] > peak ? iv[4 * k] : peak;
+        for (int ch = 0; ch < 4; ++ch)
+            sum[ch] += iv[4 * k + (size_t)ch];
+    }
+    if (peak <= 0)
+        return 0; /* a dark support (under the shade): no lamp, no pass */
+    if (!isfinite(peak) || !isfinite(sum[0])) {
+        snprintf(err, errlen, "a spotlight's intensity is beyond Q16.16");
+        return -1;
+    }
+    const uint32_t c = s->total;
+    uint16_t *t = s->tables + (size_t)c * n * n;
+    for (size_t k = 0; k < (size_t)n * n; ++k) {
+        double v = iv[4 * k] / peak * 32768.0;
+        t[k] = (uint16_t)(v > 32768 ? 32768 : v < 0 ? 0 : lround(v));
+    }
+    cull_of(s, c, t, n);
+    /* the peak intensity per channel: the luminance peak times the support's colour */
+    for (int ch = 0; ch < 3; ++ch) {
+        double v = peak * (sum[0] > 0 ? sum[ch + 1] / sum[0] : 1) * 65536.0;
+        if (!(v < 2147483647.0)) {
+            snprintf(err, errlen, "a spotlight's intensity (%.4g) is beyond Q16.16", v / 65536.0);
+            return -1;
+        }
+        s->rgb[c][ch] = (int32_t)lround(v);
+    }
+    if (!(fabs(px) < 2147483647.0 && fabs(py) < 2147483647.0)) {
+        snprintf(err, errlen, "a spotlight's position is beyond Q16.16");
+        return -1;
+    }
+    s->pos[c][0] = (int32_t)lround(px), s->pos[c][1] = (int32_t)lround(py), s->pos[c][2] = pz;
+    if (qibl_gonio_init(&s->gonio[c], n, t, aim, up) != QIBL_OK) {
+        snprintf(err, errlen, "the core refused a spotlight's table");
+        return -1;
+    }
+    s->total = c + 1;
+    *peak_out = peak;
+    return 1;
+}
+
 int qtool_luminaire_spots_make(const qtool_luminaire *l, const int32_t pos[3], uint32_t n, int far,
                                qtool_luminaire_spots *out, char *err, size_t errlen)
 {
-    n = n ? n : 64;
-    const uint32_t ns = l->nx * l->ny, cap = far ? 1 : ns;
+    const qtool_luminaire_spots_opts o = {.n = n, .far = far};
+    return qtool_luminaire_spots_build(l, pos, &o, out, err, errlen);
+}
+
+int qtool_luminaire_spots_build(const qtool_luminaire *l, const int32_t pos[3], const qtool_luminaire_spots_opts *o,
+                                qtool_luminaire_spots *out, char *err, size_t errlen)
+{
+    const uint32_t n = o->n ? o->n : 64;
+    const int far = o->far;
+    const double tol = far ? 0 : o->tol;
+    if (!(tol >= 0 && tol <= QTOOL_LUMINAIRE_MAX_TOL)) {
+        snprintf(err, errlen, "a hierarchy tolerance outside 0..%g", QTOOL_LUMINAIRE_MAX_TOL);
+        return -1;
+    }
+    const uint32_t ns = l->nx * l->ny, side = l->nx > l->ny ? l->nx : l->ny;
+    /* the levels: groups of 2^L x 2^L supports, L = 1 .. until one group holds the grid */
+    uint32_t nlevel = 0, cap = far ? 1 : ns;
+    while (tol > 0 && (1u << nlevel) < side) {
+        ++nlevel;
+        cap += ((l->nx + (1u << nlevel) - 1) >> nlevel) * ((l->ny + (1u << nlevel) - 1) >> nlevel);
+    }
     if (n < QIBL_GONIO_MIN_N || n > QIBL_GONIO_MAX_N || (uint64_t)cap * n * n * 2u > QTOOL_LUMINAIRE_MAX_TABLES) {
         snprintf(err, errlen, "%u spotlights of %ux%u tables: more than %u MiB (a smaller --table)", cap, n, n,
                  QTOOL_LUMINAIRE_MAX_TABLES >> 20);
@@ -143,13 +241,14 @@ int qtool_luminaire_spots_make(const qtool_luminaire *l, const int32_t pos[3], u
     s.aw = malloc(sizeof *s.aw * cap);
     s.occ = malloc(sizeof *s.occ * cap);
     s.kocc = malloc(sizeof *s.kocc * cap);
-    double *iv = malloc(sizeof(double) * n * n * 4);
-    if (!s.tables || !s.gonio || !s.pos || !s.rgb || !s.cull || !s.aw || !s.occ || !s.kocc || !iv) {
-        free(iv), qtool_luminaire_spots_free(&s);
+    double *iv = malloc(sizeof(double) * n * n * 4), *lpk = malloc(sizeof(double) * cap);
+    uint32_t *sup = malloc(sizeof(uint32_t) * cap);
+    if (!s.tables || !s.gonio || !s.pos || !s.rgb || !s.cull || !s.aw || !s.occ || !s.kocc || !iv || !lpk || !sup) {
+        free(iv), free(lpk), free(sup), qtool_luminaire_spots_free(&s);
         snprintf(err, errlen, "out of memory");
         return -1;
     }
-    static const int32_t aim[3] = {0, 0, -65536}, up[3] = {0, 65536, 0};
+    const double h = l->spacing;
     for (uint32_t m = 0; m < ns; m += far ? ns : 1) {
         /* the table in double: luminance and the three channels' sums (far: over every support) */
         memset(iv, 0, sizeof(double) * n * n * 4);
@@ -162,81 +261,72 @@ int qtool_luminaire_spots_make(const qtool_luminaire *l, const int32_t pos[3], u
                         iv[4 * ((size_t)j * n + i) + (size_t)ch] +=
                             spot_intensity(l, q % l->nx, q / l->nx, ld, ch == 0 ? 3 : ch - 1);
             }
-        double peak = 0, sum[4] = {0, 0, 0, 0};
-        for (size_t k = 0; k < (size_t)n * n; ++k) {
-            peak = iv[4 * k] > peak ? iv[4 * k] : peak;
-            for (int ch = 0; ch < 4; ++ch)
-                sum[ch] += iv[4 * k + (size_t)ch];
-        }
-        if (peak <= 0)
-            continue; /* a dark support (under the shade): no lamp, no pass */
-        if (!isfinite(peak) || !isfinite(sum[0])) {
-            free(iv), qtool_luminaire_spots_free(&s);
-            snprintf(err, errlen, "a spotlight's intensity is beyond Q16.16");
+        double ou = far ? 0 : ((m % l->nx) - (l->nx - 1) / 2.0) * h, ov = far ? 0 : ((m / l->nx) - (l->ny - 1) / 2.0) * h;
+        const uint32_t c = s.total;
+        int r = add_lamp(&s, iv, n, pos[0] + ou * 65536.0, pos[1] + ov * 65536.0, pos[2], &lpk[c], err, errlen);
+        if (r < 0) {
+            free(iv), free(lpk), free(sup), qtool_luminaire_spots_free(&s);
             return -1;
         }
-        uint32_t c = s.count;
-        uint16_t *t = s.tables + (size_t)c * n * n;
-        double tmax[2] = {0, 0};
-        int nocull = 0;
-        for (uint32_t j = 0; j < n; ++j)
-            for (uint32_t i = 0; i < n; ++i) {
-                double v = iv[4 * ((size_t)j * n + i)] / peak * 32768.0;
-                t[(size_t)j * n + i] = (uint16_t)(v > 32768 ? 32768 : v < 0 ? 0 : lround(v));
-                if (t[(size_t)j * n + i] == 0)
-                    continue;
-                /* the lookup interpolates within one texel of a non-zero one: bound that box's slopes */
-                for (int cy = -1; cy <= 1; cy += 2)
-                    for (int cx = -1; cx <= 1; cx += 2) {
-                        double u = (2.0 * ((double)i + cx) + 1) / n - 1, v2 = (2.0 * ((double)j + cy) + 1) / n - 1;
-                        double lz = 1 - fabs(u) - fabs(v2);
-                        if (lz <= 0) {
-                            nocull = 1;
-                            continue;
-                        }
-                        tmax[0] = fmax(tmax[0], fabs(u) / lz), tmax[1] = fmax(tmax[1], fabs(v2) / lz);
-                    }
-            }
-        for (int k = 0; k < 2; ++k) {
-            double b = ceil(tmax[k] * 1.01 * 65536.0) + 2;
-            s.cull[c][k] = nocull || b > (double)(1u << 30) ? -1 : (int64_t)b;
-        }
-        occupancy(&s, c, t, n);
-        for (int k = 0; k < 2; ++k) /* cell = (tan + T) OCC / (2 T + 1), tan and T in Q16 */
-            s.kocc[c][k] = s.cull[c][k] < 0 ? 0 : ((uint64_t)QTOOL_LUMINAIRE_OCC << 32) / (2u * (uint64_t)s.cull[c][k] + 1u);
-        /* the peak intensity per channel: the luminance peak times the support's colour */
-        for (int ch = 0; ch < 3; ++ch) {
-            double v = peak * (sum[0] > 0 ? sum[ch + 1] / sum[0] : 1) * 65536.0;
-            if (!(v < 2147483647.0)) {
-                free(iv), qtool_luminaire_spots_free(&s);
-                snprintf(err, errlen, "a spotlight's intensity (%.4g) is beyond Q16.16", v / 65536.0);
-                return -1;
-            }
-            s.rgb[c][ch] = (int32_t)lround(v);
-        }
-        double h = l->spacing, ou = far ? 0 : ((m % l->nx) - (l->nx - 1) / 2.0) * h,
-               ov = far ? 0 : ((m / l->nx) - (l->ny - 1) / 2.0) * h;
-        double px = pos[0] + ou * 65536.0, py = pos[1] + ov * 65536.0;
-        if (!(fabs(px) < 2147483647.0 && fabs(py) < 2147483647.0)) {
-            free(iv), qtool_luminaire_spots_free(&s);
-            snprintf(err, errlen, "a spotlight's position is beyond Q16.16");
-            return -1;
-        }
-        s.pos[c][0] = (int32_t)lround(px), s.pos[c][1] = (int32_t)lround(py), s.pos[c][2] = pos[2];
-        if (qibl_gonio_init(&s.gonio[c], n, t, aim, up) != QIBL_OK) {
-            free(iv), qtool_luminaire_spots_free(&s);
-            snprintf(err, errlen, "the core refused a spotlight's table");
-            return -1;
-        }
+        if (r == 0)
+            continue;
+        sup[c] = m;
         s.count = c + 1;
         for (int k = 0; k < 2; ++k) {
-            uint64_t r = uabs64((int64_t)s.pos[c][k] - pos[k]);
-            s.reach[k] = r > s.reach[k] ? r : s.reach[k];
+            uint64_t rr = uabs64((int64_t)s.pos[c][k] - pos[k]);
+            s.reach[k] = rr > s.reach[k] ? rr : s.reach[k];
             if (s.cullmax[k] >= 0)
                 s.cullmax[k] = s.cull[c][k] < 0 ? -1 : s.cull[c][k] > s.cullmax[k] ? s.cull[c][k] : s.cullmax[k];
         }
     }
-    free(iv);
+    /* the hierarchy: each group of 2^L x 2^L supports as one lamp whose intensity is the sum of its
+     * lit members' (their Q1.15 tables times their peaks: the frames are the same, so the sum is the
+     * group's light toward each direction), at the members' flux-weighted centroid; level L serves a
+     * pixel whose distance bound is at least the group's side over tol */
+    s.lfirst[0] = 0, s.lfirst[1] = s.count;
+    uint64_t rad2 = 0;
+    for (uint32_t c = 0; c < s.count; ++c) {
+        uint64_t dx = uabs64((int64_t)s.pos[c][0] - pos[0]) >> 8, dy = uabs64((int64_t)s.pos[c][1] - pos[1]) >> 8;
+        rad2 = dx * dx + dy * dy > rad2 ? dx * dx + dy * dy : rad2;
+    }
+    s.rad256 = (uint64_t)ceil(sqrt((double)rad2)) + 1;
+    for (uint32_t L = 1; L <= nlevel; ++L) {
+        const uint32_t gs = 1u << L, gx = (l->nx + gs - 1) >> L, gy = (l->ny + gs - 1) >> L;
+        for (uint32_t g = 0; g < gx * gy; ++g) {
+            const uint32_t x0 = (g % gx) << L, y0 = (g / gx) << L;
+            double w = 0, cx = 0, cy = 0;
+            memset(iv, 0, sizeof(double) * n * n * 4);
+            for (uint32_t c = 0; c < s.count; ++c) {
+                const uint32_t mx = sup[c] % l->nx, my = sup[c] / l->nx;
+                if (mx < x0 || mx >= x0 + gs || my < y0 || my >= y0 + gs)
+                    continue;
+                const uint16_t *t = s.tables + (size_t)c * n * n;
+                double f = 0, col[3];
+                for (int ch = 0; ch < 3; ++ch)
+                    col[ch] = s.rgb[c][ch] / 65536.0 / lpk[c];
+                for (size_t k = 0; k < (size_t)n * n; ++k) {
+                    double v = t[k] / 32768.0 * lpk[c];
+                    iv[4 * k] += v, f += v;
+                    for (int ch = 0; ch < 3; ++ch)
+                        iv[4 * k + 1 + (size_t)ch] += v * col[ch];
+                }
+                w += f, cx += f * ((double)s.pos[c][0] - pos[0]), cy += f * ((double)s.pos[c][1] - pos[1]);
+            }
+            if (w <= 0)
+                continue;
+            double pk;
+            if (add_lamp(&s, iv, n, pos[0] + cx / w, pos[1] + cy / w, pos[2], &pk, err, errlen) < 0) {
+                free(iv), free(lpk), free(sup), qtool_luminaire_spots_free(&s);
+                return -1;
+            }
+        }
+        s.lfirst[L + 1] = s.total;
+        /* the group's side in 1/256 unit over tol, rounded up */
+        s.lmin[L] = (uint64_t)ceil(gs * h * 256.0 / tol);
+    }
+    s.nlevel = nlevel;
+    s.tol = tol;
+    free(iv), free(lpk), free(sup);
     /* the shading anchors: the corners of the spotlights' box on S (far: the centre alone), and
      * each spotlight's bilinear weights among them (Q15, summing to 2^15) */
     int32_t lo[2] = {pos[0], pos[1]}, hi[2] = {pos[0], pos[1]};
@@ -249,7 +339,7 @@ int qtool_luminaire_spots_make(const qtool_luminaire *l, const int32_t pos[3], u
         s.anchor[k][1] = far ? pos[1] : (k & 2) ? hi[1] : lo[1];
         s.anchor[k][2] = pos[2];
     }
-    for (uint32_t c = 0; c < s.count; ++c) {
+    for (uint32_t c = 0; c < s.total; ++c) {
         double fx = hi[0] > lo[0] ? (double)(s.pos[c][0] - lo[0]) / (hi[0] - lo[0]) : 0;
         double fy = hi[1] > lo[1] ? (double)(s.pos[c][1] - lo[1]) / (hi[1] - lo[1]) : 0;
         int32_t w1 = (int32_t)lround(fx * (1 - fy) * 32768), w2 = (int32_t)lround((1 - fx) * fy * 32768),
@@ -286,8 +376,86 @@ static uint64_t ratio_q16(uint64_t a, uint64_t b)
     unsigned bl = bitlen64(a), sh = bl > 46 ? bl - 46 : 0;
     a >>= sh, b >>= sh;
     b = b ? b : 1;
-    uint64_t r = (a << 16) / b; /* a < 2^46 */
+    /* floor((a 2^16) / b), a < 2^46: a double quotient corrected exactly (the kernel's hottest
+     * division; the hardware's 64-bit divide was slower); quotients beyond 2^33 saturate anyway */
+    const uint64_t A = a << 16;
+    double qd = (double)A / (double)b;
+    if (qd > 8589934592.0)
+        return (uint64_t)1 << 32;
+    uint64_t r = (uint64_t)qd; /* within 2 of the floor: b (q + 2) < 2^63 */
+    while (r * b > A)
+        --r;
+    while ((r + 1) * b <= A)
+        ++r;
     return r > ((uint64_t)1 << 32) ? (uint64_t)1 << 32 : r;
+}
+
+/* qibl_gonio_lookup's texel position, its division a double quotient corrected exactly: num < 2^54
+ * has at most 41 significant bits ((a + s) <= 2^31 times n <= 2^8, times 2^15), so (double)num is
+ * exact, the quotient (< 2^24) correctly rounded, within 1 of the floor */
+static uint32_t texel_pos_twin(int64_t a, uint64_t s, uint32_t n)
+{
+    uint64_t num = (uint64_t)(a + (int64_t)s) * ((uint64_t)n << 15);
+    uint64_t q = (uint64_t)((double)num / (double)s);
+    if (q * s > num)
+        --q;
+    else if ((q + 1) * s <= num)
+        ++q;
+    uint64_t hi = (uint64_t)(n - 1u) << 16;
+    if (q < 32768u)
+        return 0;
+    q -= 32768u;
+    return (uint32_t)(q > hi ? hi : q);
+}
+
+static int32_t shrink_twin(int64_t v, unsigned sh)
+{
+    uint32_t m = (uint32_t)(uabs64(v) >> sh);
+    return v < 0 ? -(int32_t)m : (int32_t)m;
+}
+
+static int64_t dot3_twin(const int32_t a[3], const int32_t b[3])
+{
+    return (int64_t)a[0] * b[0] + (int64_t)a[1] * b[1] + (int64_t)a[2] * b[2];
+}
+
+/* qibl_gonio_lookup, bit for bit (tests/luminaire_test.c checks the twins on random directions),
+ * with hardware shifts, products and a corrected double quotient for its two divisions */
+uint32_t qtool_luminaire_lookup(const qibl_gonio_t *g, const int64_t d[3])
+{
+    uint64_t m = uabs64(d[0]);
+    m = uabs64(d[1]) > m ? uabs64(d[1]) : m;
+    m = uabs64(d[2]) > m ? uabs64(d[2]) : m;
+    unsigned bl = bitlen64(m), sh = bl > 24u ? bl - 24u : 0u;
+    int32_t w[3] = {shrink_twin(d[0], sh), shrink_twin(d[1], sh), shrink_twin(d[2], sh)};
+    int64_t l[3] = {dot3_twin(w, g->x), dot3_twin(w, g->y), dot3_twin(w, g->z)};
+    uint64_t al[3] = {uabs64(l[0]), uabs64(l[1]), uabs64(l[2])};
+    uint64_t s = al[0] + al[1] + al[2];
+    unsigned sl = bitlen64(s), sh2 = sl > 30u ? sl - 30u : 0u;
+    for (int k = 0; k < 3; ++k)
+        al[k] >>= sh2;
+    s = al[0] + al[1] + al[2];
+    int64_t ax = 0, ay = 0;
+    if (s == 0u) {
+        s = 1u;
+    } else if (l[2] >= 0) {
+        ax = (int64_t)al[0], ay = (int64_t)al[1];
+    } else {
+        ax = (int64_t)(s - al[1]), ay = (int64_t)(s - al[0]);
+    }
+    if (l[0] < 0)
+        ax = -ax;
+    if (l[1] < 0)
+        ay = -ay;
+    const uint32_t n = g->n;
+    uint32_t fx = texel_pos_twin(ax, s, n), fy = texel_pos_twin(ay, s, n);
+    uint32_t i0 = fx >> 16, j0 = fy >> 16, tx = fx & 0xFFFFu, ty = fy & 0xFFFFu;
+    uint32_t i1 = i0 + 1u < n ? i0 + 1u : i0, j1 = j0 + 1u < n ? j0 + 1u : j0;
+    const uint16_t *r0 = g->table + (size_t)j0 * n, *r1 = g->table + (size_t)j1 * n;
+    uint32_t a = r0[i0] * (65536u - tx) + r0[i1] * tx;
+    uint32_t b = r1[i0] * (65536u - tx) + r1[i1] * tx;
+    uint64_t v = (uint64_t)a * (65536u - ty) + (uint64_t)b * ty;
+    return (uint32_t)((v + ((uint64_t)1 << 31)) >> 32);
 }
 
 uint64_t qtool_luminaire_isqrt(uint64_t x)
@@ -332,8 +500,30 @@ size_t qtool_luminaire_span_ws_size(uint32_t n)
     return (size_t)n * QTOOL_LUMINAIRE_WS_PER_PIXEL * sizeof(int64_t);
 }
 
-void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *base, const int32_t *p, uint32_t n,
-                                int64_t *acc, int64_t *ws)
+/* The level of the hierarchy pixel q is shaded at (0: every spotlight; s->nlevel 0: always 0), or -1
+ * when no spotlight reaches it. Level L serves q when a lower bound on q's distance to every
+ * spotlight, max(|dz|, |q - c| - the farthest spotlight's distance from c), is at least s->lmin[L]
+ * (1/256 unit): the group's side is then at most tol times that distance. */
+static int pixel_level(const qtool_luminaire_spots *s, const int32_t q[3], uint64_t *dc)
+{
+    if (!qtool_luminaire_reaches(s, q))
+        return -1;
+    int64_t dz = (int64_t)q[2] - s->centre[2];
+    *dc = d2_256((int64_t)q[0] - s->centre[0], (int64_t)q[1] - s->centre[1], dz);
+    if (s->nlevel == 0)
+        return 0;
+    uint64_t r = qtool_luminaire_isqrt(*dc), az = uabs64(dz) >> 8;
+    uint64_t lb = r > s->rad256 ? r - s->rad256 : 0;
+    lb = lb > az ? lb : az;
+    int L = 0;
+    while ((uint32_t)L < s->nlevel && lb >= s->lmin[L + 1])
+        ++L;
+    return L;
+}
+
+/* The passes of spotlights j0 .. j1 - 1 over the pixels at level L. */
+static void span_level(const qtool_luminaire_spots *s, int L, uint32_t j0, uint32_t j1, const int32_t *base,
+                       const int32_t *p, uint32_t n, int64_t *acc, int64_t *ws)
 {
     /* the pixels any spotlight can reach (below S, inside the union of the cull cones), once per
      * span: every pass then visits only them; integer sums, so the order changes nothing. Per such
@@ -344,11 +534,11 @@ void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *b
     const uint32_t na = s->nanchor;
     for (uint32_t i = 0; i < n; ++i) {
         const int32_t *q = p + 3 * (size_t)i;
-        if (!qtool_luminaire_reaches(s, q))
+        uint64_t dc = 0;
+        if (pixel_level(s, q, &dc) != L)
             continue;
         int64_t dz = (int64_t)q[2] - s->centre[2];
         int64_t *w = ws + (size_t)nc * QTOOL_LUMINAIRE_WS_PER_PIXEL;
-        uint64_t dc = d2_256((int64_t)q[0] - s->centre[0], (int64_t)q[1] - s->centre[1], dz);
         w[13] = (int64_t)i, w[12] = (int64_t)dc;
         w[14] = (int64_t)(((uint64_t)1 << 48) / uabs64(dz)); /* 2^48 / |dz|: tangents by one product */
         for (uint32_t k = 0; k < na; ++k) {
@@ -366,7 +556,7 @@ void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *b
         }
         ++nc;
     }
-    for (uint32_t j = 0; j < s->count; ++j) { /* one pass per spotlight */
+    for (uint32_t j = j0; j < j1; ++j) { /* one pass per spotlight */
         const int32_t *sp = s->pos[j];
         const int64_t c0 = s->cull[j][0], c1 = s->cull[j][1];
         const int32_t *aw = s->aw[j];
@@ -397,7 +587,7 @@ void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *b
                 if (!(s->occ[j][cy] >> cx & 1u))
                     continue;
             }
-            uint32_t sc = qibl_gonio_lookup(&s->gonio[j], d);
+            uint32_t sc = qtool_luminaire_lookup(&s->gonio[j], d);
             if (sc == 0)
                 continue;
             /* Q16 weight: the scale (Q1.15) times (|x - c| / |x - s|)^3 (<= 2^31) */
@@ -432,6 +622,16 @@ void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *b
                 acc[3 * (size_t)i + (size_t)c] += b < 0 ? -(int64_t)mag : (int64_t)mag;
             }
         }
+    }
+}
+
+void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *base, const int32_t *p, uint32_t n,
+                                int64_t *acc, int64_t *ws)
+{
+    for (uint32_t L = 0; L <= s->nlevel; ++L) {
+        const uint32_t j0 = L == 0 ? 0 : s->lfirst[L], j1 = L == 0 ? s->count : s->lfirst[L + 1];
+        if (j1 > j0)
+            span_level(s, (int)L, j0, j1, base, p, n, acc, ws);
     }
 }
 
