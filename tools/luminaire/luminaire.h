@@ -177,6 +177,8 @@ void qtool_luminaire_flux(const qtool_luminaire *l, double rgb[3]);
 
 #define QTOOL_LUMINAIRE_MAX_LEVEL 6 /* 2^6 = QTOOL_LUMINAIRE_MAX_GRID */
 #define QTOOL_LUMINAIRE_MAX_TOL 1.0
+#define QTOOL_LUMINAIRE_BANDS 8     /* merged tables per level, by the receiver's 1 / depth */
+#define QTOOL_LUMINAIRE_KEYS (1 + QTOOL_LUMINAIRE_MAX_LEVEL * QTOOL_LUMINAIRE_BANDS)
 
 /* The spotlights of a source placed with S's centre at pos (Q16.16 world units), facing -z, its
  * grid's x along world x: per support a gonio table (n x n, Q1.15 of its own peak), the peak
@@ -200,12 +202,14 @@ typedef struct qtool_luminaire_spots {
     int32_t anchor[4][3];      /* Q16.16 */
     int32_t (*aw)[4];          /* per spotlight, its bilinear weights among the anchors, Q15 */
     /* the hierarchy (qtool_luminaire_spots_build with tol > 0): the arrays above hold count
-     * spotlights (level 0, the passes), then level L's merged lamps at lfirst[L] .. lfirst[L+1] - 1 */
+     * spotlights (level 0, the passes), then the merged lamps by key (kfirst) */
     uint32_t total;            /* lamps in the arrays */
     uint32_t nlevel;           /* coarser levels (0: none) */
-    uint32_t lfirst[QTOOL_LUMINAIRE_MAX_LEVEL + 2];
+    uint32_t kfirst[QTOOL_LUMINAIRE_KEYS + 1]; /* key k >= 1 (level 1 + (k - 1) / BANDS, its band
+                                * (k - 1) % BANDS): lamps kfirst[k] .. kfirst[k + 1] - 1 */
     uint64_t lmin[QTOOL_LUMINAIRE_MAX_LEVEL + 1]; /* level L serves a pixel whose distance bound
                                 * (1/256 unit) is at least this: the group's side / tol */
+    uint64_t bandk[QTOOL_LUMINAIRE_MAX_LEVEL + 1]; /* level L's band: bandk / |dz| (1/256 unit) */
     uint64_t rad256;           /* the farthest spotlight's distance from centre (1/256 unit), rounded up */
     double tol;
 } qtool_luminaire_spots;

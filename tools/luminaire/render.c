@@ -223,7 +223,8 @@ int qtool_luminaire_spots_build(const qtool_luminaire *l, const int32_t pos[3], 
     uint32_t nlevel = 0, cap = far ? 1 : ns;
     while (tol > 0 && (1u << nlevel) < side) {
         ++nlevel;
-        cap += ((l->nx + (1u << nlevel) - 1) >> nlevel) * ((l->ny + (1u << nlevel) - 1) >> nlevel);
+        cap += ((l->nx + (1u << nlevel) - 1) >> nlevel) * ((l->ny + (1u << nlevel) - 1) >> nlevel) *
+               QTOOL_LUMINAIRE_BANDS;
     }
     if (n < QIBL_GONIO_MIN_N || n > QIBL_GONIO_MAX_N || (uint64_t)cap * n * n * 2u > QTOOL_LUMINAIRE_MAX_TABLES) {
         snprintf(err, errlen, "%u spotlights of %ux%u tables: more than %u MiB (a smaller --table)", cap, n, n,
@@ -279,50 +280,83 @@ int qtool_luminaire_spots_build(const qtool_luminaire *l, const int32_t pos[3], 
                 s.cullmax[k] = s.cull[c][k] < 0 ? -1 : s.cull[c][k] > s.cullmax[k] ? s.cull[c][k] : s.cullmax[k];
         }
     }
-    /* the hierarchy: each group of 2^L x 2^L supports as one lamp whose intensity is the sum of its
-     * lit members' (their Q1.15 tables times their peaks: the frames are the same, so the sum is the
-     * group's light toward each direction), at the members' flux-weighted centroid; level L serves a
-     * pixel whose distance bound is at least the group's side over tol */
-    s.lfirst[0] = 0, s.lfirst[1] = s.count;
+    /* the hierarchy: each group of 2^L x 2^L supports as one lamp at its lit members' flux-weighted
+     * centroid s_g, in QTOOL_LUMINAIRE_BANDS versions by the receiver's depth H = |dz| below S.
+     * Toward tangent tau (direction / H) from s_g, member m (offset e_m) is seen at tau - e_m / H
+     * (the spotlights share the plane and the frame, so the parallax depends on H alone), and the
+     * kernel's (|x - c| / |x - s|)^3 for s_g instead of s_m is off by ((1 + |tau|^2) /
+     * (1 + |tau_m|^2))^(3/2): band b's table sums its members' intensities at those tangents times
+     * that ratio, at its band's middle 1 / H (bands uniform in 1 / H up to the level's shallowest
+     * receiver, (1 + T) / (its distance bound), T the cones' widest tangent). Level L serves a pixel
+     * whose distance bound is at least the group's side over tol. */
+    s.kfirst[0] = 0, s.kfirst[1] = s.count;
     uint64_t rad2 = 0;
     for (uint32_t c = 0; c < s.count; ++c) {
         uint64_t dx = uabs64((int64_t)s.pos[c][0] - pos[0]) >> 8, dy = uabs64((int64_t)s.pos[c][1] - pos[1]) >> 8;
         rad2 = dx * dx + dy * dy > rad2 ? dx * dx + dy * dy : rad2;
     }
     s.rad256 = (uint64_t)ceil(sqrt((double)rad2)) + 1;
+    const double T = s.cullmax[0] >= 0 && s.cullmax[1] >= 0
+                         ? hypot((double)s.cullmax[0], (double)s.cullmax[1]) / 65536.0 : 4.0;
+    const uint32_t NB = QTOOL_LUMINAIRE_BANDS;
     for (uint32_t L = 1; L <= nlevel; ++L) {
         const uint32_t gs = 1u << L, gx = (l->nx + gs - 1) >> L, gy = (l->ny + gs - 1) >> L;
-        for (uint32_t g = 0; g < gx * gy; ++g) {
-            const uint32_t x0 = (g % gx) << L, y0 = (g / gx) << L;
-            double w = 0, cx = 0, cy = 0;
-            memset(iv, 0, sizeof(double) * n * n * 4);
-            for (uint32_t c = 0; c < s.count; ++c) {
-                const uint32_t mx = sup[c] % l->nx, my = sup[c] / l->nx;
-                if (mx < x0 || mx >= x0 + gs || my < y0 || my >= y0 + gs)
-                    continue;
-                const uint16_t *t = s.tables + (size_t)c * n * n;
-                double f = 0, col[3];
-                for (int ch = 0; ch < 3; ++ch)
-                    col[ch] = s.rgb[c][ch] / 65536.0 / lpk[c];
-                for (size_t k = 0; k < (size_t)n * n; ++k) {
-                    double v = t[k] / 32768.0 * lpk[c];
-                    iv[4 * k] += v, f += v;
-                    for (int ch = 0; ch < 3; ++ch)
-                        iv[4 * k + 1 + (size_t)ch] += v * col[ch];
+        s.lmin[L] = (uint64_t)ceil(gs * h * 256.0 / tol); /* the group's side in 1/256 unit over tol */
+        const double umax = (1 + T) / (s.lmin[L] / 256.0), du = umax / NB;
+        s.bandk[L] = (uint64_t)floor(256.0 / du); /* band = bandk / (|dz| in 1/256 unit) */
+        for (uint32_t b = 0; b < NB; ++b) {
+            const double u = (b + 0.5) * du;
+            for (uint32_t g = 0; g < gx * gy; ++g) {
+                const uint32_t x0 = (g % gx) << L, y0 = (g / gx) << L;
+                double w = 0, cx = 0, cy = 0;
+                uint32_t mem[QTOOL_LUMINAIRE_MAX_GRID * QTOOL_LUMINAIRE_MAX_GRID], nm = 0;
+                for (uint32_t c = 0; c < s.count; ++c) {
+                    const uint32_t mx = sup[c] % l->nx, my = sup[c] / l->nx;
+                    if (mx < x0 || mx >= x0 + gs || my < y0 || my >= y0 + gs)
+                        continue;
+                    const uint16_t *t = s.tables + (size_t)c * n * n;
+                    double f = 0;
+                    for (size_t k = 0; k < (size_t)n * n; ++k)
+                        f += t[k] / 32768.0 * lpk[c];
+                    w += f, cx += f * ((double)s.pos[c][0] - pos[0]), cy += f * ((double)s.pos[c][1] - pos[1]);
+                    mem[nm++] = c;
                 }
-                w += f, cx += f * ((double)s.pos[c][0] - pos[0]), cy += f * ((double)s.pos[c][1] - pos[1]);
+                if (w <= 0)
+                    continue;
+                cx /= w, cy /= w;
+                memset(iv, 0, sizeof(double) * n * n * 4);
+                for (uint32_t j = 0; j < n; ++j)
+                    for (uint32_t i = 0; i < n; ++i) {
+                        double ld[3];
+                        oct_dir(i, j, n, ld);
+                        if (ld[2] <= 0)
+                            continue;
+                        const double tx = ld[0] / ld[2], ty = ld[1] / ld[2], t2 = 1 + tx * tx + ty * ty;
+                        double *o = iv + 4 * ((size_t)j * n + i);
+                        for (uint32_t k = 0; k < nm; ++k) {
+                            const uint32_t c = mem[k];
+                            /* the lamp's x is world -x */
+                            const double ex = -((double)s.pos[c][0] - pos[0] - cx) / 65536.0,
+                                         ey = ((double)s.pos[c][1] - pos[1] - cy) / 65536.0;
+                            const double mx = tx - ex * u, my = ty - ey * u, m2 = 1 + mx * mx + my * my, r = sqrt(m2);
+                            const double lm[3] = {mx / r, my / r, 1 / r};
+                            double v = spot_intensity(l, sup[c] % l->nx, sup[c] / l->nx, lm, 3);
+                            if (v <= 0)
+                                continue;
+                            v *= pow(t2 / m2, 1.5);
+                            o[0] += v;
+                            for (int ch = 0; ch < 3; ++ch)
+                                o[1 + ch] += v * (s.rgb[c][ch] / 65536.0 / lpk[c]);
+                        }
+                    }
+                double pk;
+                if (add_lamp(&s, iv, n, pos[0] + cx, pos[1] + cy, pos[2], &pk, err, errlen) < 0) {
+                    free(iv), free(lpk), free(sup), qtool_luminaire_spots_free(&s);
+                    return -1;
+                }
             }
-            if (w <= 0)
-                continue;
-            double pk;
-            if (add_lamp(&s, iv, n, pos[0] + cx / w, pos[1] + cy / w, pos[2], &pk, err, errlen) < 0) {
-                free(iv), free(lpk), free(sup), qtool_luminaire_spots_free(&s);
-                return -1;
-            }
+            s.kfirst[1 + (L - 1) * NB + b + 1] = s.total;
         }
-        s.lfirst[L + 1] = s.total;
-        /* the group's side in 1/256 unit over tol, rounded up */
-        s.lmin[L] = (uint64_t)ceil(gs * h * 256.0 / tol);
     }
     s.nlevel = nlevel;
     s.tol = tol;
@@ -500,11 +534,12 @@ size_t qtool_luminaire_span_ws_size(uint32_t n)
     return (size_t)n * QTOOL_LUMINAIRE_WS_PER_PIXEL * sizeof(int64_t);
 }
 
-/* The level of the hierarchy pixel q is shaded at (0: every spotlight; s->nlevel 0: always 0), or -1
- * when no spotlight reaches it. Level L serves q when a lower bound on q's distance to every
- * spotlight, max(|dz|, |q - c| - the farthest spotlight's distance from c), is at least s->lmin[L]
- * (1/256 unit): the group's side is then at most tol times that distance. */
-static int pixel_level(const qtool_luminaire_spots *s, const int32_t q[3], uint64_t *dc)
+/* The key of pixel q's work (0: every spotlight; s->nlevel 0: always 0), or -1 when no spotlight
+ * reaches it; *dc gets |q - c|^2 (1/256 unit). Level L serves q when a lower bound on q's distance
+ * to every spotlight, max(|dz|, |q - c| - the farthest spotlight's distance from c), is at least
+ * s->lmin[L] (1/256 unit): the group's side is then at most tol times that distance; then its band
+ * by 1 / |dz|, key 1 + (L - 1) BANDS + band. */
+static int pixel_key(const qtool_luminaire_spots *s, const int32_t q[3], uint64_t *dc)
 {
     if (!qtool_luminaire_reaches(s, q))
         return -1;
@@ -515,52 +550,52 @@ static int pixel_level(const qtool_luminaire_spots *s, const int32_t q[3], uint6
     uint64_t r = qtool_luminaire_isqrt(*dc), az = uabs64(dz) >> 8;
     uint64_t lb = r > s->rad256 ? r - s->rad256 : 0;
     lb = lb > az ? lb : az;
-    int L = 0;
-    while ((uint32_t)L < s->nlevel && lb >= s->lmin[L + 1])
+    uint32_t L = 0;
+    while (L < s->nlevel && lb >= s->lmin[L + 1])
         ++L;
-    return L;
+    if (L == 0)
+        return 0;
+    uint64_t b = az ? s->bandk[L] / az : QTOOL_LUMINAIRE_BANDS - 1;
+    b = b < QTOOL_LUMINAIRE_BANDS - 1 ? b : QTOOL_LUMINAIRE_BANDS - 1;
+    return (int)(1 + (L - 1) * QTOOL_LUMINAIRE_BANDS + b);
 }
 
-/* The passes of spotlights j0 .. j1 - 1 over the pixels at level L. */
-static void span_level(const qtool_luminaire_spots *s, int L, uint32_t j0, uint32_t j1, const int32_t *base,
-                       const int32_t *p, uint32_t n, int64_t *acc, int64_t *ws)
+/* Pixel i's record: its index, |x - c|^2 and B_k = base_k (|x - a_k| / |x - c|)^3 for each anchor
+ * (the anchors' n.(a_k - x) V rho / pi, scaled by 1/|x - c|^3: linear in a_k, so interpolating it
+ * at a spotlight and multiplying by (|x - c| / |x - s|)^3 gives that spotlight's shading) */
+static void pixel_record(const qtool_luminaire_spots *s, const int32_t *base, const int32_t *p, uint32_t n, uint32_t i,
+                         uint64_t dc, int64_t *w)
 {
-    /* the pixels any spotlight can reach (below S, inside the union of the cull cones), once per
-     * span: every pass then visits only them; integer sums, so the order changes nothing. Per such
-     * pixel: its index, |x - c|^2 and B_k = base_k (|x - a_k| / |x - c|)^3 for each anchor (the
-     * anchors' n.(a_k - x) V rho / pi, scaled by 1/|x - c|^3: linear in a_k, so interpolating it
-     * at a spotlight and multiplying by (|x - c| / |x - s|)^3 gives that spotlight's shading) */
-    uint32_t nc = 0;
     const uint32_t na = s->nanchor;
-    for (uint32_t i = 0; i < n; ++i) {
-        const int32_t *q = p + 3 * (size_t)i;
-        uint64_t dc = 0;
-        if (pixel_level(s, q, &dc) != L)
-            continue;
-        int64_t dz = (int64_t)q[2] - s->centre[2];
-        int64_t *w = ws + (size_t)nc * QTOOL_LUMINAIRE_WS_PER_PIXEL;
-        w[13] = (int64_t)i, w[12] = (int64_t)dc;
-        w[14] = (int64_t)(((uint64_t)1 << 48) / uabs64(dz)); /* 2^48 / |dz|: tangents by one product */
-        for (uint32_t k = 0; k < na; ++k) {
-            const int32_t *a = s->anchor[k];
-            uint64_t r3 = na == 1 ? 65536u
-                                  : pow15_q16(ratio_q16(d2_256((int64_t)q[0] - a[0], (int64_t)q[1] - a[1],
-                                                               (int64_t)q[2] - a[2]), dc));
-            for (int c = 0; c < 3; ++c) {
-                int32_t b = base[3 * ((size_t)k * n + i) + (size_t)c];
-                /* |b| r3 <= 2^31 2^31: rounded to Q16, kept within 2^40 */
-                uint64_t m = ((uint64_t)(b < 0 ? -(int64_t)b : b) * r3 + 32768u) >> 16;
-                m = m > ((uint64_t)1 << 40) ? (uint64_t)1 << 40 : m;
-                w[3 * k + (uint32_t)c] = b < 0 ? -(int64_t)m : (int64_t)m;
-            }
+    const int32_t *q = p + 3 * (size_t)i;
+    int64_t dz = (int64_t)q[2] - s->centre[2];
+    w[13] = (int64_t)i, w[12] = (int64_t)dc;
+    w[14] = (int64_t)(((uint64_t)1 << 48) / uabs64(dz)); /* 2^48 / |dz|: tangents by one product */
+    for (uint32_t k = 0; k < na; ++k) {
+        const int32_t *a = s->anchor[k];
+        uint64_t r3 = na == 1 ? 65536u
+                              : pow15_q16(ratio_q16(d2_256((int64_t)q[0] - a[0], (int64_t)q[1] - a[1],
+                                                           (int64_t)q[2] - a[2]), dc));
+        for (int c = 0; c < 3; ++c) {
+            int32_t b = base[3 * ((size_t)k * n + i) + (size_t)c];
+            /* |b| r3 <= 2^31 2^31: rounded to Q16, kept within 2^40 */
+            uint64_t m = ((uint64_t)(b < 0 ? -(int64_t)b : b) * r3 + 32768u) >> 16;
+            m = m > ((uint64_t)1 << 40) ? (uint64_t)1 << 40 : m;
+            w[3 * k + (uint32_t)c] = b < 0 ? -(int64_t)m : (int64_t)m;
         }
-        ++nc;
     }
+}
+
+/* The passes of spotlights j0 .. j1 - 1 over the records k0 .. k1 - 1 of ws. */
+static void run_passes(const qtool_luminaire_spots *s, uint32_t j0, uint32_t j1, const int32_t *p, const int64_t *ws,
+                       uint32_t k0, uint32_t k1, int64_t *acc)
+{
+    const uint32_t na = s->nanchor;
     for (uint32_t j = j0; j < j1; ++j) { /* one pass per spotlight */
         const int32_t *sp = s->pos[j];
         const int64_t c0 = s->cull[j][0], c1 = s->cull[j][1];
         const int32_t *aw = s->aw[j];
-        for (uint32_t k = 0; k < nc; ++k) {
+        for (uint32_t k = k0; k < k1; ++k) {
             const int64_t *wp = ws + (size_t)k * QTOOL_LUMINAIRE_WS_PER_PIXEL;
             const uint32_t i = (uint32_t)wp[13];
             const int32_t *q = p + 3 * (size_t)i;
@@ -628,10 +663,33 @@ static void span_level(const qtool_luminaire_spots *s, int L, uint32_t j0, uint3
 void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *base, const int32_t *p, uint32_t n,
                                 int64_t *acc, int64_t *ws)
 {
-    for (uint32_t L = 0; L <= s->nlevel; ++L) {
-        const uint32_t j0 = L == 0 ? 0 : s->lfirst[L], j1 = L == 0 ? s->count : s->lfirst[L + 1];
-        if (j1 > j0)
-            span_level(s, (int)L, j0, j1, base, p, n, acc, ws);
+    /* the pixels any spotlight can reach (below S, inside the union of the cull cones), once per
+     * span, their records grouped by key (a counting sort: the keys are computed twice), so every
+     * pass visits only its own pixels; integer sums, so the order changes nothing */
+    uint32_t cnt[QTOOL_LUMINAIRE_KEYS + 1];
+    memset(cnt, 0, sizeof cnt);
+    const uint32_t nk = s->nlevel ? 1 + s->nlevel * QTOOL_LUMINAIRE_BANDS : 1;
+    uint64_t dc = 0;
+    if (nk > 1)
+        for (uint32_t i = 0; i < n; ++i) {
+            int key = pixel_key(s, p + 3 * (size_t)i, &dc);
+            if (key >= 0)
+                ++cnt[key + 1];
+        }
+    for (uint32_t k = 1; k <= nk; ++k)
+        cnt[k] += cnt[k - 1]; /* cnt[k]: the first record of key k */
+    uint32_t at[QTOOL_LUMINAIRE_KEYS];
+    memcpy(at, cnt, sizeof(uint32_t) * nk);
+    for (uint32_t i = 0; i < n; ++i) {
+        int key = pixel_key(s, p + 3 * (size_t)i, &dc);
+        if (key >= 0)
+            pixel_record(s, base, p, n, i, dc, ws + (size_t)at[key]++ * QTOOL_LUMINAIRE_WS_PER_PIXEL);
+    }
+    for (uint32_t k = 0; k < nk; ++k) {
+        const uint32_t j0 = k == 0 ? 0 : s->kfirst[k], j1 = k == 0 ? s->count : s->kfirst[k + 1];
+        const uint32_t k0 = k == 0 ? 0 : cnt[k], k1 = at[k];
+        if (j1 > j0 && k1 > k0)
+            run_passes(s, j0, j1, p, ws, k0, k1, acc);
     }
 }
 
