@@ -177,7 +177,7 @@ void qtool_luminaire_flux(const qtool_luminaire *l, double rgb[3]);
 
 #define QTOOL_LUMINAIRE_MAX_LEVEL 6 /* 2^6 = QTOOL_LUMINAIRE_MAX_GRID */
 #define QTOOL_LUMINAIRE_MAX_TOL 1.0
-#define QTOOL_LUMINAIRE_BANDS 8     /* merged tables per level, by the receiver's 1 / depth */
+#define QTOOL_LUMINAIRE_BANDS 32     /* merged tables per level, by the receiver's 1 / depth */
 #define QTOOL_LUMINAIRE_KEYS (1 + QTOOL_LUMINAIRE_MAX_LEVEL * QTOOL_LUMINAIRE_BANDS)
 
 /* The spotlights of a source placed with S's centre at pos (Q16.16 world units), facing -z, its

@@ -54,6 +54,20 @@ static double tex_sample(const qtool_luminaire *l, uint32_t ix, uint32_t iy, dou
     return (v[0] * (1 - tx) + v[1] * tx) * (1 - ty) + (v[2] * (1 - tx) + v[3] * tx) * ty;
 }
 
+/* tex_sample's luminance (ch 3) from a support's precomputed luminance texture (res^2) */
+static double lum_sample(const double *lu, uint32_t r, double ta, double tb)
+{
+    if (fabs(ta) > 1 || fabs(tb) > 1)
+        return 0;
+    double fx = (ta + 1) / 2 * r - 0.5, fy = (tb + 1) / 2 * r - 0.5;
+    fx = fx < 0 ? 0 : fx > r - 1 ? r - 1 : fx;
+    fy = fy < 0 ? 0 : fy > r - 1 ? r - 1 : fy;
+    uint32_t i0 = (uint32_t)fx, j0 = (uint32_t)fy, i1 = i0 + 1 < r ? i0 + 1 : i0, j1 = j0 + 1 < r ? j0 + 1 : j0;
+    double tx = fx - i0, ty = fy - j0;
+    const double *r0 = lu + (size_t)j0 * r, *r1 = lu + (size_t)j1 * r;
+    return (r0[i0] * (1 - tx) + r0[i1] * tx) * (1 - ty) + (r1[i0] * (1 - tx) + r1[i1] * tx) * ty;
+}
+
 /* The lamp's frame for aim (0, 0, -1) and up (0, 1, 0) (qibl_gonio_init): x = (-1, 0, 0), so a
  * lamp-frame direction l is (-l_x, l_y, -l_z) in the source's frame. Intensity of support (ix, iy)
  * toward lamp-frame l, channel ch: A E'(s, t) cos(theta'). */
@@ -299,6 +313,20 @@ int qtool_luminaire_spots_build(const qtool_luminaire *l, const int32_t pos[3], 
     const double T = s.cullmax[0] >= 0 && s.cullmax[1] >= 0
                          ? hypot((double)s.cullmax[0], (double)s.cullmax[1]) / 65536.0 : 4.0;
     const uint32_t NB = QTOOL_LUMINAIRE_BANDS;
+    const double A = (double)l->spacing * l->spacing;
+    /* each support's luminance texture, as tex_sample computes it per texel */
+    double *lum = nlevel ? malloc(sizeof(double) * ns * l->res * l->res) : NULL;
+    if (nlevel && !lum) {
+        free(iv), free(lpk), free(sup), qtool_luminaire_spots_free(&s);
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    for (uint32_t m = 0; lum && m < ns; ++m)
+        for (uint32_t j = 0; j < l->res; ++j)
+            for (uint32_t i = 0; i < l->res; ++i) {
+                const float *t = l->tex + qtool_luminaire_texel(l, m % l->nx, m / l->nx, i, j);
+                lum[((size_t)m * l->res + j) * l->res + i] = 0.2126 * t[0] + 0.7152 * t[1] + 0.0722 * t[2];
+            }
     for (uint32_t L = 1; L <= nlevel; ++L) {
         const uint32_t gs = 1u << L, gx = (l->nx + gs - 1) >> L, gy = (l->ny + gs - 1) >> L;
         s.lmin[L] = (uint64_t)ceil(gs * h * 256.0 / tol); /* the group's side in 1/256 unit over tol */
@@ -339,11 +367,12 @@ int qtool_luminaire_spots_build(const qtool_luminaire *l, const int32_t pos[3], 
                             const double ex = -((double)s.pos[c][0] - pos[0] - cx) / 65536.0,
                                          ey = ((double)s.pos[c][1] - pos[1] - cy) / 65536.0;
                             const double mx = tx - ex * u, my = ty - ey * u, m2 = 1 + mx * mx + my * my, r = sqrt(m2);
-                            const double lm[3] = {mx / r, my / r, 1 / r};
-                            double v = spot_intensity(l, sup[c] % l->nx, sup[c] / l->nx, lm, 3);
-                            if (v <= 0)
+                            /* spot_intensity's luminance at lamp-frame direction (mx, my, 1) / r */
+                            double e = lum_sample(lum + (size_t)sup[c] * l->res * l->res, l->res,
+                                                  -mx / l->half_tan, my / l->half_tan);
+                            if (e <= 0)
                                 continue;
-                            v *= pow(t2 / m2, 1.5);
+                            const double q = t2 / m2, v = A * e / r * q * sqrt(q);
                             o[0] += v;
                             for (int ch = 0; ch < 3; ++ch)
                                 o[1 + ch] += v * (s.rgb[c][ch] / 65536.0 / lpk[c]);
@@ -351,7 +380,7 @@ int qtool_luminaire_spots_build(const qtool_luminaire *l, const int32_t pos[3], 
                     }
                 double pk;
                 if (add_lamp(&s, iv, n, pos[0] + cx, pos[1] + cy, pos[2], &pk, err, errlen) < 0) {
-                    free(iv), free(lpk), free(sup), qtool_luminaire_spots_free(&s);
+                    free(iv), free(lpk), free(sup), free(lum), qtool_luminaire_spots_free(&s);
                     return -1;
                 }
             }
@@ -360,7 +389,7 @@ int qtool_luminaire_spots_build(const qtool_luminaire *l, const int32_t pos[3], 
     }
     s.nlevel = nlevel;
     s.tol = tol;
-    free(iv), free(lpk), free(sup);
+    free(iv), free(lpk), free(sup), free(lum);
     /* the shading anchors: the corners of the spotlights' box on S (far: the centre alone), and
      * each spotlight's bilinear weights among them (Q15, summing to 2^15) */
     int32_t lo[2] = {pos[0], pos[1]}, hi[2] = {pos[0], pos[1]};

@@ -410,6 +410,16 @@ int qtool_luminaire_study(const qtool_luminaire_study_opts *o, FILE *f)
         size_t nv = (size_t)3 * size * size;
         double pn = psnr(nearr, truth, nv), pf = psnr(farr, truth, nv);
         fprintf(f, "%-12g %-8.3g %-10.2f %-10.2f %-8.2f\n", hs[k], hgt, pn, pf, pn - pf);
+        if (o->tol > 0) {
+            /* the hierarchy's own error: against the full sum (tol 0), peak the full sum's */
+            if (render_ground(&l, &c, 0, 0, farr) != 0) {
+                rc = -1;
+                break;
+            }
+            double ph = psnr(nearr, farr, nv);
+            fprintf(f, "  hierarchy (tol %g) against the full sum: %.2f dB\nRESULT luminaire.hier_vs_full_psnr_h%g %.2f\n",
+                    o->tol, ph, hs[k], ph);
+        }
         fprintf(f, "RESULT luminaire.near_psnr_h%g %.2f\nRESULT luminaire.far_psnr_h%g %.2f\n", hs[k], pn, hs[k], pf);
         if (hs[k] <= 1) {
             worst_near = pn < worst_near ? pn : worst_near;
