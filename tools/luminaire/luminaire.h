@@ -177,7 +177,7 @@ void qtool_luminaire_flux(const qtool_luminaire *l, double rgb[3]);
 
 #define QTOOL_LUMINAIRE_MAX_LEVEL 6 /* 2^6 = QTOOL_LUMINAIRE_MAX_GRID */
 #define QTOOL_LUMINAIRE_MAX_TOL 1.0
-#define QTOOL_LUMINAIRE_BANDS 32     /* merged tables per level, by the receiver's 1 / depth */
+#define QTOOL_LUMINAIRE_BANDS 64     /* merged tables per level, by the receiver's 1 / depth (at most) */
 #define QTOOL_LUMINAIRE_KEYS (1 + QTOOL_LUMINAIRE_MAX_LEVEL * QTOOL_LUMINAIRE_BANDS)
 
 /* The spotlights of a source placed with S's centre at pos (Q16.16 world units), facing -z, its
@@ -205,7 +205,8 @@ typedef struct qtool_luminaire_spots {
      * spotlights (level 0, the passes), then the merged lamps by key (kfirst) */
     uint32_t total;            /* lamps in the arrays */
     uint32_t nlevel;           /* coarser levels (0: none) */
-    uint32_t kfirst[QTOOL_LUMINAIRE_KEYS + 1]; /* key k >= 1 (level 1 + (k - 1) / BANDS, its band
+    uint32_t nband;            /* tables per level (QTOOL_LUMINAIRE_BANDS, halved to fit the cap) */
+    uint32_t kfirst[QTOOL_LUMINAIRE_KEYS + 1]; /* key k >= 1 (level 1 + (k - 1) / nband, its band
                                 * (k - 1) % BANDS): lamps kfirst[k] .. kfirst[k + 1] - 1 */
     uint64_t lmin[QTOOL_LUMINAIRE_MAX_LEVEL + 1]; /* level L serves a pixel whose distance bound
                                 * (1/256 unit) is at least this: the group's side / tol */

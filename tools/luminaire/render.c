@@ -234,12 +234,15 @@ int qtool_luminaire_spots_build(const qtool_luminaire *l, const int32_t pos[3], 
     }
     const uint32_t ns = l->nx * l->ny, side = l->nx > l->ny ? l->nx : l->ny;
     /* the levels: groups of 2^L x 2^L supports, L = 1 .. until one group holds the grid */
-    uint32_t nlevel = 0, cap = far ? 1 : ns;
+    uint32_t nlevel = 0, groups = 0, nband = QTOOL_LUMINAIRE_BANDS, cap = far ? 1 : ns;
     while (tol > 0 && (1u << nlevel) < side) {
         ++nlevel;
-        cap += ((l->nx + (1u << nlevel) - 1) >> nlevel) * ((l->ny + (1u << nlevel) - 1) >> nlevel) *
-               QTOOL_LUMINAIRE_BANDS;
+        groups += ((l->nx + (1u << nlevel) - 1) >> nlevel) * ((l->ny + (1u << nlevel) - 1) >> nlevel);
     }
+    /* as many bands as the tables' cap allows (halved until they fit: coarser bands, larger error) */
+    while (nband > 1 && (uint64_t)(cap + groups * nband) * n * n * 2u > QTOOL_LUMINAIRE_MAX_TABLES)
+        nband >>= 1;
+    cap += groups * nband;
     if (n < QIBL_GONIO_MIN_N || n > QIBL_GONIO_MAX_N || (uint64_t)cap * n * n * 2u > QTOOL_LUMINAIRE_MAX_TABLES) {
         snprintf(err, errlen, "%u spotlights of %ux%u tables: more than %u MiB (a smaller --table)", cap, n, n,
                  QTOOL_LUMINAIRE_MAX_TABLES >> 20);
@@ -295,7 +298,8 @@ int qtool_luminaire_spots_build(const qtool_luminaire *l, const int32_t pos[3], 
         }
     }
     /* the hierarchy: each group of 2^L x 2^L supports as one lamp at its lit members' flux-weighted
-     * centroid s_g, in QTOOL_LUMINAIRE_BANDS versions by the receiver's depth H = |dz| below S.
+     * centroid s_g, in nband versions (QTOOL_LUMINAIRE_BANDS, fewer where the tables' cap says so)
+     * by the receiver's depth H = |dz| below S.
      * Toward tangent tau (direction / H) from s_g, member m (offset e_m) is seen at tau - e_m / H
      * (the spotlights share the plane and the frame, so the parallax depends on H alone), and the
      * kernel's (|x - c| / |x - s|)^3 for s_g instead of s_m is off by ((1 + |tau|^2) /
@@ -312,7 +316,7 @@ int qtool_luminaire_spots_build(const qtool_luminaire *l, const int32_t pos[3], 
     s.rad256 = (uint64_t)ceil(sqrt((double)rad2)) + 1;
     const double T = s.cullmax[0] >= 0 && s.cullmax[1] >= 0
                          ? hypot((double)s.cullmax[0], (double)s.cullmax[1]) / 65536.0 : 4.0;
-    const uint32_t NB = QTOOL_LUMINAIRE_BANDS;
+    const uint32_t NB = nband;
     const double A = (double)l->spacing * l->spacing;
     /* each support's luminance texture, as tex_sample computes it per texel */
     double *lum = nlevel ? malloc(sizeof(double) * ns * l->res * l->res) : NULL;
@@ -387,7 +391,7 @@ int qtool_luminaire_spots_build(const qtool_luminaire *l, const int32_t pos[3], 
             s.kfirst[1 + (L - 1) * NB + b + 1] = s.total;
         }
     }
-    s.nlevel = nlevel;
+    s.nlevel = nlevel, s.nband = nband;
     s.tol = tol;
     free(iv), free(lpk), free(sup), free(lum);
     /* the shading anchors: the corners of the spotlights' box on S (far: the centre alone), and
@@ -567,7 +571,7 @@ size_t qtool_luminaire_span_ws_size(uint32_t n)
  * reaches it; *dc gets |q - c|^2 (1/256 unit). Level L serves q when a lower bound on q's distance
  * to every spotlight, max(|dz|, |q - c| - the farthest spotlight's distance from c), is at least
  * s->lmin[L] (1/256 unit): the group's side is then at most tol times that distance; then its band
- * by 1 / |dz|, key 1 + (L - 1) BANDS + band. */
+ * by 1 / |dz|, key 1 + (L - 1) nband + band. */
 static int pixel_key(const qtool_luminaire_spots *s, const int32_t q[3], uint64_t *dc)
 {
     if (!qtool_luminaire_reaches(s, q))
@@ -584,9 +588,9 @@ static int pixel_key(const qtool_luminaire_spots *s, const int32_t q[3], uint64_
         ++L;
     if (L == 0)
         return 0;
-    uint64_t b = az ? s->bandk[L] / az : QTOOL_LUMINAIRE_BANDS - 1;
-    b = b < QTOOL_LUMINAIRE_BANDS - 1 ? b : QTOOL_LUMINAIRE_BANDS - 1;
-    return (int)(1 + (L - 1) * QTOOL_LUMINAIRE_BANDS + b);
+    uint64_t b = az ? s->bandk[L] / az : s->nband - 1;
+    b = b < s->nband - 1 ? b : s->nband - 1;
+    return (int)(1 + (L - 1) * s->nband + b);
 }
 
 /* Pixel i's record: its index, |x - c|^2 and B_k = base_k (|x - a_k| / |x - c|)^3 for each anchor
@@ -693,26 +697,28 @@ void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *b
                                 int64_t *acc, int64_t *ws)
 {
     /* the pixels any spotlight can reach (below S, inside the union of the cull cones), once per
-     * span, their records grouped by key (a counting sort: the keys are computed twice), so every
-     * pass visits only its own pixels; integer sums, so the order changes nothing */
+     * span, their records grouped by key (a counting sort), so every pass visits only its own
+     * pixels; integer sums, so the order changes nothing. The first sweep keeps each pixel's key and
+     * |x - c|^2 in its slot's last word (dc < 2^50, key + 1 < 2^8), which no record writes */
     uint32_t cnt[QTOOL_LUMINAIRE_KEYS + 1];
     memset(cnt, 0, sizeof cnt);
-    const uint32_t nk = s->nlevel ? 1 + s->nlevel * QTOOL_LUMINAIRE_BANDS : 1;
-    uint64_t dc = 0;
-    if (nk > 1)
-        for (uint32_t i = 0; i < n; ++i) {
-            int key = pixel_key(s, p + 3 * (size_t)i, &dc);
-            if (key >= 0)
-                ++cnt[key + 1];
-        }
+    const uint32_t nk = s->nlevel ? 1 + s->nlevel * s->nband : 1;
+    for (uint32_t i = 0; i < n; ++i) {
+        uint64_t dc = 0;
+        int key = pixel_key(s, p + 3 * (size_t)i, &dc);
+        ws[(size_t)i * QTOOL_LUMINAIRE_WS_PER_PIXEL + 15] = (int64_t)(dc << 8 | (uint64_t)(key + 1));
+        if (key >= 0)
+            ++cnt[key + 1];
+    }
     for (uint32_t k = 1; k <= nk; ++k)
         cnt[k] += cnt[k - 1]; /* cnt[k]: the first record of key k */
     uint32_t at[QTOOL_LUMINAIRE_KEYS];
     memcpy(at, cnt, sizeof(uint32_t) * nk);
     for (uint32_t i = 0; i < n; ++i) {
-        int key = pixel_key(s, p + 3 * (size_t)i, &dc);
-        if (key >= 0)
-            pixel_record(s, base, p, n, i, dc, ws + (size_t)at[key]++ * QTOOL_LUMINAIRE_WS_PER_PIXEL);
+        const uint64_t kd = (uint64_t)ws[(size_t)i * QTOOL_LUMINAIRE_WS_PER_PIXEL + 15];
+        const uint32_t key1 = (uint32_t)(kd & 0xFFu);
+        if (key1)
+            pixel_record(s, base, p, n, i, kd >> 8, ws + (size_t)at[key1 - 1]++ * QTOOL_LUMINAIRE_WS_PER_PIXEL);
     }
     for (uint32_t k = 0; k < nk; ++k) {
         const uint32_t j0 = k == 0 ? 0 : s->kfirst[k], j1 = k == 0 ? s->count : s->kfirst[k + 1];
