@@ -103,8 +103,10 @@ typedef struct render_cli {
     int far;
     double exposure;
     long table;
+    double tol;
 } render_cli;
-static const render_cli render_defaults = {.at = {0, 0, 0}, .exposure = 1, .table = 64};
+static const render_cli render_defaults = {.at = {0, 0, 0}, .exposure = 1, .table = 64,
+                                           .tol = QTOOL_LUMINAIRE_DEFAULT_TOL};
 
 static const char *render_at(void *o, char *const *v, int n, int *used)
 {
@@ -127,6 +129,9 @@ static const qtool_opt render_table[] = {
      .hi = 65535, .help = "the frame's exposure"},
     {.name = "--table", .kind = QTOOL_OPT_INT, .off = offsetof(render_cli, table), .arg = "N", .lo = QIBL_GONIO_MIN_N,
      .hi = QIBL_GONIO_MAX_N, .help = "each spotlight's gonio table is N x N"},
+    {.name = "--tol", .kind = QTOOL_OPT_NUM, .off = offsetof(render_cli, tol), .arg = "T", .lo = 0,
+     .hi = QTOOL_LUMINAIRE_MAX_TOL, .help = "the hierarchy: a group of supports merged into one spotlight where its "
+     "side is at most T times its distance (0: every spotlight everywhere)"},
     {0},
 };
 
@@ -148,7 +153,8 @@ typedef struct study_cli {
     int quick;
     double tol;
 } study_cli;
-static const study_cli study_defaults = {.grid = 16, .res = 32, .size = 96, .threads = 1};
+static const study_cli study_defaults = {.grid = 16, .res = 32, .size = 96, .threads = 1,
+                                         .tol = QTOOL_LUMINAIRE_DEFAULT_TOL};
 
 static const qtool_opt study_table[] = {
     {.name = "--grid", .kind = QTOOL_OPT_INT, .off = offsetof(study_cli, grid), .arg = "N", .lo = 1,
@@ -162,7 +168,7 @@ static const qtool_opt study_table[] = {
      .help = "worker threads for the capture and the truth (the timing is on one)"},
     {.name = "--tol", .kind = QTOOL_OPT_NUM, .off = offsetof(study_cli, tol), .arg = "T", .lo = 0,
      .hi = QTOOL_LUMINAIRE_MAX_TOL, .help = "the near field's hierarchy: a group of supports merged into one spotlight "
-     "where its side is at most T times its distance (0: none)"},
+     "where its side is at most T times its distance (0: every spotlight everywhere)"},
     {0},
 };
 
@@ -349,7 +355,8 @@ static int cmd_render(int argc, char **argv)
     }
     char err[512];
     qtool_luminaire_spots s;
-    if (qtool_luminaire_spots_make(&l, at, table, far, &s, err, sizeof err) != 0) {
+    const qtool_luminaire_spots_opts so = {.n = table, .far = far, .tol = c.tol};
+    if (qtool_luminaire_spots_build(&l, at, &so, &s, err, sizeof err) != 0) {
         fprintf(stderr, "qibl: luminaire render: %s: %s\n", qnf, err);
         qtool_luminaire_free(&l);
         return 1;

@@ -177,6 +177,7 @@ void qtool_luminaire_flux(const qtool_luminaire *l, double rgb[3]);
 
 #define QTOOL_LUMINAIRE_MAX_LEVEL 6 /* 2^6 = QTOOL_LUMINAIRE_MAX_GRID */
 #define QTOOL_LUMINAIRE_MAX_TOL 1.0
+#define QTOOL_LUMINAIRE_DEFAULT_TOL 0.3 /* the CLI's: the study's PSNRs within 0.3 dB of tol 0 */
 #define QTOOL_LUMINAIRE_BANDS 64     /* merged tables per level, by the receiver's 1 / depth (at most) */
 #define QTOOL_LUMINAIRE_KEYS (1 + QTOOL_LUMINAIRE_MAX_LEVEL * QTOOL_LUMINAIRE_BANDS)
 
