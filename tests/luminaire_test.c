@@ -6,7 +6,9 @@
  * plane); the spotlights' cull test exact; the near field against the ray-traced truth (>= 25 dB
  * and >= 6 dB above the far field at one lamp size); the passes (one at a time summing to the
  * one-call span, sRGBE accumulation within its stated bound of a double sum pass by pass, the two-
- * target sum within 2 of 255 over 64 passes); `qibl luminaire` refusals and outputs.
+ * target sum within 2 of 255 over 64 passes); the kernel's lookup twin bit for bit; the hierarchy
+ * (tol 0 the full sum bit for bit, random sources within a bound of it); `qibl luminaire` refusals
+ * and outputs.
  */
 #include <math.h>
 #include <stdio.h>

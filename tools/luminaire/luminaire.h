@@ -250,7 +250,9 @@ int qtool_luminaire_spots_build(const qtool_luminaire *l, const int32_t pos[3], 
  * estimates of rho, V and f; exact for a Lambertian receiver when the anchors agree on
  * visibility). Integer only: distances floored to 1/256 unit, distance ratios cubed saturated at
  * 2^15, each pass's term rounded once to 2^-24 (after its weight is kept to 31 bits), so the sum
- * of many faint passes keeps its precision; qtool_luminaire_q16 rounds the sum once.
+ * of many faint passes keeps its precision; qtool_luminaire_q16 rounds the sum once. With a
+ * hierarchy (qtool_luminaire_spots_build, tol > 0) each pixel's passes are its level's and band's
+ * lamps instead (level 0: the spotlights).
  * ws: qtool_luminaire_span_ws_size(n) bytes of the caller's (int64-aligned). */
 #define QTOOL_LUMINAIRE_WS_PER_PIXEL 16u
 /* 1 if some spotlight of s can light point q (Q16.16): below S and inside the union of the

@@ -5,8 +5,10 @@
  * frame relit by it.
  *
  * Invariants: tables and intensities are made in double once per placement; per pixel everything is
- * integer (qibl_gonio_lookup, 64-bit products with stated bounds), so a frame is the same bytes on
- * every host. The cull test only skips directions where the table's bilinear lookup is exactly 0.
+ * integer (qibl_gonio_lookup's twin, 64-bit products with stated bounds; the twin's and the distance
+ * ratio's quotients are doubles corrected exactly), so a frame is the same bytes on every host. The
+ * cull test only skips directions where the table's bilinear lookup is exactly 0. The hierarchy
+ * (tol > 0) chooses each pixel's level and band by integer comparisons only.
  */
 #include <math.h>
 #include <stdio.h>
