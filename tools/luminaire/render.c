@@ -217,6 +217,155 @@ static int add_lamp(qtool_luminaire_spots *s, const double *iv, uint32_t n, doub
     return 1;
 }
 
+/* The shading anchors: the corners of the spotlights' box on S (far: the centre alone), and each
+ * lamp's bilinear weights among them (Q15, summing to 2^15). */
+static void set_anchors(qtool_luminaire_spots *s, const int32_t pos[3], int far)
+{
+    int32_t lo[2] = {pos[0], pos[1]}, hi[2] = {pos[0], pos[1]};
+    for (uint32_t c = 0; c < s->count; ++c)
+        for (int k = 0; k < 2; ++k)
+            lo[k] = s->pos[c][k] < lo[k] ? s->pos[c][k] : lo[k], hi[k] = s->pos[c][k] > hi[k] ? s->pos[c][k] : hi[k];
+    s->nanchor = far ? 1 : 4;
+    for (uint32_t k = 0; k < s->nanchor; ++k) {
+        s->anchor[k][0] = far ? pos[0] : (k & 1) ? hi[0] : lo[0];
+        s->anchor[k][1] = far ? pos[1] : (k & 2) ? hi[1] : lo[1];
+        s->anchor[k][2] = pos[2];
+    }
+    for (uint32_t c = 0; c < s->total; ++c) {
+        double fx = hi[0] > lo[0] ? (double)(s->pos[c][0] - lo[0]) / (hi[0] - lo[0]) : 0;
+        double fy = hi[1] > lo[1] ? (double)(s->pos[c][1] - lo[1]) / (hi[1] - lo[1]) : 0;
+        int32_t w1 = (int32_t)lround(fx * (1 - fy) * 32768), w2 = (int32_t)lround((1 - fx) * fy * 32768),
+                w3 = (int32_t)lround(fx * fy * 32768);
+        s->aw[c][0] = far ? 32768 : 32768 - w1 - w2 - w3, s->aw[c][1] = far ? 0 : w1, s->aw[c][2] = far ? 0 : w2,
+        s->aw[c][3] = far ? 0 : w3;
+    }
+}
+
+/* The lit members (level-0 lamps) of the group of supports x0 .. x0 + gs - 1, y0 .. y0 + gs - 1 into
+ * mem, and their flux-weighted centroid relative to pos (Q16.16 units, in double); 0 when none. */
+static uint32_t group_members(const qtool_luminaire_spots *s, const qtool_luminaire *l, const int32_t pos[3],
+                              const uint32_t *sup, const double *lpk, uint32_t x0, uint32_t y0, uint32_t gs,
+                              uint32_t *mem, double *cx, double *cy)
+{
+    const uint32_t n = s->n;
+    double w = 0, sx = 0, sy = 0;
+    uint32_t nm = 0;
+    for (uint32_t c = 0; c < s->count; ++c) {
+        const uint32_t mx = sup[c] % l->nx, my = sup[c] / l->nx;
+        if (mx < x0 || mx >= x0 + gs || my < y0 || my >= y0 + gs)
+            continue;
+        const uint16_t *t = s->tables + (size_t)c * n * n;
+        double f = 0;
+        for (size_t k = 0; k < (size_t)n * n; ++k)
+            f += t[k] / 32768.0 * lpk[c];
+        w += f, sx += f * ((double)s->pos[c][0] - pos[0]), sy += f * ((double)s->pos[c][1] - pos[1]);
+        mem[nm++] = c;
+    }
+    if (w <= 0)
+        return 0;
+    *cx = sx / w, *cy = sy / w;
+    return nm;
+}
+
+/* A merged lamp's intensity (iv: n n texels of luminance then the three channels) for receivers at
+ * 1 / depth u: toward tangent tau from the centroid (cx, cy), member m (offset e_m) is seen at
+ * tau - e_m u, and the kernel's (|x - c| / |x - s|)^3 for the centroid instead of the member is off
+ * by ((1 + |tau|^2) / (1 + |tau_m|^2))^(3/2); lum: the supports' luminance textures. */
+static void merged_table(const qtool_luminaire_spots *s, const qtool_luminaire *l, const int32_t pos[3],
+                         const uint32_t *sup, const double *lpk, const double *lum, const uint32_t *mem, uint32_t nm,
+                         double cx, double cy, double u, double *iv)
+{
+    const uint32_t n = s->n;
+    const double A = (double)l->spacing * l->spacing;
+    memset(iv, 0, sizeof(double) * n * n * 4);
+    for (uint32_t j = 0; j < n; ++j)
+        for (uint32_t i = 0; i < n; ++i) {
+            double ld[3];
+            oct_dir(i, j, n, ld);
+            if (ld[2] <= 0)
+                continue;
+            const double tx = ld[0] / ld[2], ty = ld[1] / ld[2], t2 = 1 + tx * tx + ty * ty;
+            double *o = iv + 4 * ((size_t)j * n + i);
+            for (uint32_t k = 0; k < nm; ++k) {
+                const uint32_t c = mem[k];
+                /* the lamp's x is world -x */
+                const double ex = -((double)s->pos[c][0] - pos[0] - cx) / 65536.0,
+                             ey = ((double)s->pos[c][1] - pos[1] - cy) / 65536.0;
+                const double mx = tx - ex * u, my = ty - ey * u, m2 = 1 + mx * mx + my * my, r = sqrt(m2);
+                /* spot_intensity's luminance at lamp-frame direction (mx, my, 1) / r */
+                double e = lum_sample(lum + (size_t)sup[c] * l->res * l->res, l->res, -mx / l->half_tan,
+                                      my / l->half_tan);
+                if (e <= 0)
+                    continue;
+                const double q = t2 / m2, v = A * e / r * q * sqrt(q);
+                o[0] += v;
+                for (int ch = 0; ch < 3; ++ch)
+                    o[1 + ch] += v * (s->rgb[c][ch] / 65536.0 / lpk[c]);
+            }
+        }
+}
+
+/* The hierarchy: each group of 2^L x 2^L supports as one lamp at its lit members' flux-weighted
+ * centroid, in s->nband versions (QTOOL_LUMINAIRE_BANDS, fewer where the tables' cap says so) by
+ * the receiver's depth H = |dz| below S: band b's table (merged_table) at its band's middle 1 / H
+ * (bands uniform in 1 / H up to the level's shallowest receiver, (1 + T) / (its distance bound), T
+ * the cones' widest tangent). Level L serves a pixel whose distance bound is at least the group's
+ * side over tol. sup, lpk: each level-0 lamp's support and luminance peak; iv: n n 4 doubles of
+ * scratch. 0, or -1 with a reason in err. */
+static int build_levels(qtool_luminaire_spots *s, const qtool_luminaire *l, const int32_t pos[3], double tol,
+                        uint32_t nlevel, const double *lpk, const uint32_t *sup, double *iv, char *err, size_t errlen)
+{
+    const uint32_t n = s->n, ns = l->nx * l->ny, NB = s->nband;
+    s->kfirst[0] = 0, s->kfirst[1] = s->count;
+    uint64_t rad2 = 0;
+    for (uint32_t c = 0; c < s->count; ++c) {
+        uint64_t dx = uabs64((int64_t)s->pos[c][0] - pos[0]) >> 8, dy = uabs64((int64_t)s->pos[c][1] - pos[1]) >> 8;
+        rad2 = dx * dx + dy * dy > rad2 ? dx * dx + dy * dy : rad2;
+    }
+    s->rad256 = (uint64_t)ceil(sqrt((double)rad2)) + 1;
+    s->nlevel = nlevel, s->tol = tol;
+    if (nlevel == 0)
+        return 0;
+    const double T = s->cullmax[0] >= 0 && s->cullmax[1] >= 0
+                         ? hypot((double)s->cullmax[0], (double)s->cullmax[1]) / 65536.0 : 4.0;
+    /* each support's luminance texture, as tex_sample computes it per texel */
+    double *lum = malloc(sizeof(double) * ns * l->res * l->res);
+    uint32_t *mem = malloc(sizeof(uint32_t) * ns);
+    if (!lum || !mem) {
+        free(lum), free(mem);
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    for (uint32_t m = 0; m < ns; ++m)
+        for (uint32_t j = 0; j < l->res; ++j)
+            for (uint32_t i = 0; i < l->res; ++i) {
+                const float *t = l->tex + qtool_luminaire_texel(l, m % l->nx, m / l->nx, i, j);
+                lum[((size_t)m * l->res + j) * l->res + i] = 0.2126 * t[0] + 0.7152 * t[1] + 0.0722 * t[2];
+            }
+    for (uint32_t L = 1; L <= nlevel; ++L) {
+        const uint32_t gs = 1u << L, gx = (l->nx + gs - 1) >> L, gy = (l->ny + gs - 1) >> L;
+        s->lmin[L] = (uint64_t)ceil(gs * (double)l->spacing * 256.0 / tol); /* the side in 1/256 unit / tol */
+        const double umax = (1 + T) / (s->lmin[L] / 256.0), du = umax / NB;
+        s->bandk[L] = (uint64_t)floor(256.0 / du); /* band = bandk / (|dz| in 1/256 unit) */
+        for (uint32_t b = 0; b < NB; ++b) {
+            for (uint32_t g = 0; g < gx * gy; ++g) {
+                double cx = 0, cy = 0, pk;
+                uint32_t nm = group_members(s, l, pos, sup, lpk, (g % gx) << L, (g / gx) << L, gs, mem, &cx, &cy);
+                if (nm == 0)
+                    continue;
+                merged_table(s, l, pos, sup, lpk, lum, mem, nm, cx, cy, (b + 0.5) * du, iv);
+                if (add_lamp(s, iv, n, pos[0] + cx, pos[1] + cy, pos[2], &pk, err, errlen) < 0) {
+                    free(lum), free(mem);
+                    return -1;
+                }
+            }
+            s->kfirst[1 + (L - 1) * NB + b + 1] = s->total;
+        }
+    }
+    free(lum), free(mem);
+    return 0;
+}
+
 int qtool_luminaire_spots_make(const qtool_luminaire *l, const int32_t pos[3], uint32_t n, int far,
                                qtool_luminaire_spots *out, char *err, size_t errlen)
 {
@@ -299,123 +448,13 @@ int qtool_luminaire_spots_build(const qtool_luminaire *l, const int32_t pos[3], 
                 s.cullmax[k] = s.cull[c][k] < 0 ? -1 : s.cull[c][k] > s.cullmax[k] ? s.cull[c][k] : s.cullmax[k];
         }
     }
-    /* the hierarchy: each group of 2^L x 2^L supports as one lamp at its lit members' flux-weighted
-     * centroid s_g, in nband versions (QTOOL_LUMINAIRE_BANDS, fewer where the tables' cap says so)
-     * by the receiver's depth H = |dz| below S.
-     * Toward tangent tau (direction / H) from s_g, member m (offset e_m) is seen at tau - e_m / H
-     * (the spotlights share the plane and the frame, so the parallax depends on H alone), and the
-     * kernel's (|x - c| / |x - s|)^3 for s_g instead of s_m is off by ((1 + |tau|^2) /
-     * (1 + |tau_m|^2))^(3/2): band b's table sums its members' intensities at those tangents times
-     * that ratio, at its band's middle 1 / H (bands uniform in 1 / H up to the level's shallowest
-     * receiver, (1 + T) / (its distance bound), T the cones' widest tangent). Level L serves a pixel
-     * whose distance bound is at least the group's side over tol. */
-    s.kfirst[0] = 0, s.kfirst[1] = s.count;
-    uint64_t rad2 = 0;
-    for (uint32_t c = 0; c < s.count; ++c) {
-        uint64_t dx = uabs64((int64_t)s.pos[c][0] - pos[0]) >> 8, dy = uabs64((int64_t)s.pos[c][1] - pos[1]) >> 8;
-        rad2 = dx * dx + dy * dy > rad2 ? dx * dx + dy * dy : rad2;
-    }
-    s.rad256 = (uint64_t)ceil(sqrt((double)rad2)) + 1;
-    const double T = s.cullmax[0] >= 0 && s.cullmax[1] >= 0
-                         ? hypot((double)s.cullmax[0], (double)s.cullmax[1]) / 65536.0 : 4.0;
-    const uint32_t NB = nband;
-    const double A = (double)l->spacing * l->spacing;
-    /* each support's luminance texture, as tex_sample computes it per texel */
-    double *lum = nlevel ? malloc(sizeof(double) * ns * l->res * l->res) : NULL;
-    if (nlevel && !lum) {
+    s.nband = nband;
+    if (build_levels(&s, l, pos, tol, nlevel, lpk, sup, iv, err, errlen) != 0) {
         free(iv), free(lpk), free(sup), qtool_luminaire_spots_free(&s);
-        snprintf(err, errlen, "out of memory");
         return -1;
     }
-    for (uint32_t m = 0; lum && m < ns; ++m)
-        for (uint32_t j = 0; j < l->res; ++j)
-            for (uint32_t i = 0; i < l->res; ++i) {
-                const float *t = l->tex + qtool_luminaire_texel(l, m % l->nx, m / l->nx, i, j);
-                lum[((size_t)m * l->res + j) * l->res + i] = 0.2126 * t[0] + 0.7152 * t[1] + 0.0722 * t[2];
-            }
-    for (uint32_t L = 1; L <= nlevel; ++L) {
-        const uint32_t gs = 1u << L, gx = (l->nx + gs - 1) >> L, gy = (l->ny + gs - 1) >> L;
-        s.lmin[L] = (uint64_t)ceil(gs * h * 256.0 / tol); /* the group's side in 1/256 unit over tol */
-        const double umax = (1 + T) / (s.lmin[L] / 256.0), du = umax / NB;
-        s.bandk[L] = (uint64_t)floor(256.0 / du); /* band = bandk / (|dz| in 1/256 unit) */
-        for (uint32_t b = 0; b < NB; ++b) {
-            const double u = (b + 0.5) * du;
-            for (uint32_t g = 0; g < gx * gy; ++g) {
-                const uint32_t x0 = (g % gx) << L, y0 = (g / gx) << L;
-                double w = 0, cx = 0, cy = 0;
-                uint32_t mem[QTOOL_LUMINAIRE_MAX_GRID * QTOOL_LUMINAIRE_MAX_GRID], nm = 0;
-                for (uint32_t c = 0; c < s.count; ++c) {
-                    const uint32_t mx = sup[c] % l->nx, my = sup[c] / l->nx;
-                    if (mx < x0 || mx >= x0 + gs || my < y0 || my >= y0 + gs)
-                        continue;
-                    const uint16_t *t = s.tables + (size_t)c * n * n;
-                    double f = 0;
-                    for (size_t k = 0; k < (size_t)n * n; ++k)
-                        f += t[k] / 32768.0 * lpk[c];
-                    w += f, cx += f * ((double)s.pos[c][0] - pos[0]), cy += f * ((double)s.pos[c][1] - pos[1]);
-                    mem[nm++] = c;
-                }
-                if (w <= 0)
-                    continue;
-                cx /= w, cy /= w;
-                memset(iv, 0, sizeof(double) * n * n * 4);
-                for (uint32_t j = 0; j < n; ++j)
-                    for (uint32_t i = 0; i < n; ++i) {
-                        double ld[3];
-                        oct_dir(i, j, n, ld);
-                        if (ld[2] <= 0)
-                            continue;
-                        const double tx = ld[0] / ld[2], ty = ld[1] / ld[2], t2 = 1 + tx * tx + ty * ty;
-                        double *o = iv + 4 * ((size_t)j * n + i);
-                        for (uint32_t k = 0; k < nm; ++k) {
-                            const uint32_t c = mem[k];
-                            /* the lamp's x is world -x */
-                            const double ex = -((double)s.pos[c][0] - pos[0] - cx) / 65536.0,
-                                         ey = ((double)s.pos[c][1] - pos[1] - cy) / 65536.0;
-                            const double mx = tx - ex * u, my = ty - ey * u, m2 = 1 + mx * mx + my * my, r = sqrt(m2);
-                            /* spot_intensity's luminance at lamp-frame direction (mx, my, 1) / r */
-                            double e = lum_sample(lum + (size_t)sup[c] * l->res * l->res, l->res,
-                                                  -mx / l->half_tan, my / l->half_tan);
-                            if (e <= 0)
-                                continue;
-                            const double q = t2 / m2, v = A * e / r * q * sqrt(q);
-                            o[0] += v;
-                            for (int ch = 0; ch < 3; ++ch)
-                                o[1 + ch] += v * (s.rgb[c][ch] / 65536.0 / lpk[c]);
-                        }
-                    }
-                double pk;
-                if (add_lamp(&s, iv, n, pos[0] + cx, pos[1] + cy, pos[2], &pk, err, errlen) < 0) {
-                    free(iv), free(lpk), free(sup), free(lum), qtool_luminaire_spots_free(&s);
-                    return -1;
-                }
-            }
-            s.kfirst[1 + (L - 1) * NB + b + 1] = s.total;
-        }
-    }
-    s.nlevel = nlevel, s.nband = nband;
-    s.tol = tol;
-    free(iv), free(lpk), free(sup), free(lum);
-    /* the shading anchors: the corners of the spotlights' box on S (far: the centre alone), and
-     * each spotlight's bilinear weights among them (Q15, summing to 2^15) */
-    int32_t lo[2] = {pos[0], pos[1]}, hi[2] = {pos[0], pos[1]};
-    for (uint32_t c = 0; c < s.count; ++c)
-        for (int k = 0; k < 2; ++k)
-            lo[k] = s.pos[c][k] < lo[k] ? s.pos[c][k] : lo[k], hi[k] = s.pos[c][k] > hi[k] ? s.pos[c][k] : hi[k];
-    s.nanchor = far ? 1 : 4;
-    for (uint32_t k = 0; k < s.nanchor; ++k) {
-        s.anchor[k][0] = far ? pos[0] : (k & 1) ? hi[0] : lo[0];
-        s.anchor[k][1] = far ? pos[1] : (k & 2) ? hi[1] : lo[1];
-        s.anchor[k][2] = pos[2];
-    }
-    for (uint32_t c = 0; c < s.total; ++c) {
-        double fx = hi[0] > lo[0] ? (double)(s.pos[c][0] - lo[0]) / (hi[0] - lo[0]) : 0;
-        double fy = hi[1] > lo[1] ? (double)(s.pos[c][1] - lo[1]) / (hi[1] - lo[1]) : 0;
-        int32_t w1 = (int32_t)lround(fx * (1 - fy) * 32768), w2 = (int32_t)lround((1 - fx) * fy * 32768),
-                w3 = (int32_t)lround(fx * fy * 32768);
-        s.aw[c][0] = far ? 32768 : 32768 - w1 - w2 - w3, s.aw[c][1] = far ? 0 : w1, s.aw[c][2] = far ? 0 : w2,
-        s.aw[c][3] = far ? 0 : w3;
-    }
+    free(iv), free(lpk), free(sup);
+    set_anchors(&s, pos, far);
     *out = s;
     return 0;
 }
