@@ -639,10 +639,21 @@ static void test_hierarchy(void **state)
     err[0] = 0;
     assert_int_equal(qtool_luminaire_spots_build(&l, pos, &bad, &b, err, sizeof err), -1);
     assert_true(strlen(err) > 0);
+    /* levels whose tables cannot fit the cap with enough bands: refused by name, before any table */
+    {
+        qtool_luminaire l16;
+        assert_int_equal(qtool_luminaire_synthetic(16, &l16), 0);
+        const qtool_luminaire_spots_opts huge = {.n = 256, .tol = 0.3}; /* 85 groups of 256^2 */
+        err[0] = 0;
+        assert_int_equal(qtool_luminaire_spots_build(&l16, pos, &huge, &b, err, sizeof err), -1);
+        assert_non_null(strstr(err, "hierarchy"));
+        qtool_luminaire_free(&l16);
+    }
     /* tol > 0: the passes one at a time still sum to the full (level 0) sum */
     const qtool_luminaire_spots_opts o1 = {.n = 64, .tol = 0.25};
     assert_int_equal(qtool_luminaire_spots_build(&l, pos, &o1, &b, err, sizeof err), 0);
     assert_int_equal(b.nlevel, 3);
+    assert_int_equal(b.nband, QTOOL_LUMINAIRE_BANDS);
     assert_true(b.total > b.count);
     {
         const uint32_t m = 32;

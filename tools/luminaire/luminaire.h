@@ -179,6 +179,7 @@ void qtool_luminaire_flux(const qtool_luminaire *l, double rgb[3]);
 #define QTOOL_LUMINAIRE_MAX_TOL 1.0
 #define QTOOL_LUMINAIRE_DEFAULT_TOL 0.3 /* the CLI's: the study's PSNRs within 0.3 dB of tol 0 */
 #define QTOOL_LUMINAIRE_BANDS 64     /* merged tables per level, by the receiver's 1 / depth (at most) */
+#define QTOOL_LUMINAIRE_MIN_BANDS 16 /* fewer would not fit: the hierarchy is refused */
 #define QTOOL_LUMINAIRE_KEYS (1 + QTOOL_LUMINAIRE_MAX_LEVEL * QTOOL_LUMINAIRE_BANDS)
 
 /* The spotlights of a source placed with S's centre at pos (Q16.16 world units), facing -z, its
@@ -208,7 +209,7 @@ typedef struct qtool_luminaire_spots {
     uint32_t nlevel;           /* coarser levels (0: none) */
     uint32_t nband;            /* tables per level (QTOOL_LUMINAIRE_BANDS, halved to fit the cap) */
     uint32_t kfirst[QTOOL_LUMINAIRE_KEYS + 1]; /* key k >= 1 (level 1 + (k - 1) / nband, its band
-                                * (k - 1) % BANDS): lamps kfirst[k] .. kfirst[k + 1] - 1 */
+                                * (k - 1) % nband): lamps kfirst[k] .. kfirst[k + 1] - 1 */
     uint64_t lmin[QTOOL_LUMINAIRE_MAX_LEVEL + 1]; /* level L serves a pixel whose distance bound
                                 * (1/256 unit) is at least this: the group's side / tol */
     uint64_t bandk[QTOOL_LUMINAIRE_MAX_LEVEL + 1]; /* level L's band: bandk / |dz| (1/256 unit) */
@@ -227,11 +228,14 @@ void qtool_luminaire_spots_free(qtool_luminaire_spots *s);
 
 /* The same with a hierarchy of merged spotlights (a mip pyramid of lamps, built once per
  * placement): level L merges each 2^L x 2^L group of supports into one lamp at its lit members'
- * flux-weighted centroid whose table is the sum of their intensities; per pixel the span kernel
- * takes the coarsest level whose group side is at most tol times a lower bound on the pixel's
- * distance to the source (max(|dz|, |x - centre| - the spotlights' radius)). tol 0: no hierarchy,
- * exactly qtool_luminaire_spots_make's spotlights and sums. The passes (qtool_luminaire_spot_pass)
- * are always level 0's. 0, or -1 with a reason in err (as spots_make; tol outside 0..1). */
+ * flux-weighted centroid whose table is the sum of their intensities as a receiver at depth H below
+ * S sees them (member m, offset e_m, at tangent tau - e_m / H), in nband tables by 1 / H; per pixel
+ * the span kernel takes the coarsest level whose group side is at most tol times a lower bound on
+ * the pixel's distance to the source (max(|dz|, |x - centre| - the spotlights' radius)), and the
+ * band of its depth. tol 0: no hierarchy, exactly qtool_luminaire_spots_make's spotlights and sums.
+ * The passes (qtool_luminaire_spot_pass) are always level 0's. 0, or -1 with a reason in err (as
+ * spots_make; tol outside 0..1; the levels' tables beyond QTOOL_LUMINAIRE_MAX_TABLES even with
+ * QTOOL_LUMINAIRE_MIN_BANDS). */
 typedef struct qtool_luminaire_spots_opts {
     uint32_t n;   /* gonio table size; 0: 64 */
     int far;      /* 1: the far-field lamp (no hierarchy) */

@@ -390,9 +390,15 @@ int qtool_luminaire_spots_build(const qtool_luminaire *l, const int32_t pos[3], 
         ++nlevel;
         groups += ((l->nx + (1u << nlevel) - 1) >> nlevel) * ((l->ny + (1u << nlevel) - 1) >> nlevel);
     }
-    /* as many bands as the tables' cap allows (halved until they fit: coarser bands, larger error) */
-    while (nband > 1 && (uint64_t)(cap + groups * nband) * n * n * 2u > QTOOL_LUMINAIRE_MAX_TABLES)
+    /* as many bands as the tables' cap allows (halved until they fit: coarser bands, larger error),
+     * but never so few that the hierarchy's error bound would not hold: then refused */
+    while (nband > QTOOL_LUMINAIRE_MIN_BANDS && (uint64_t)(cap + groups * nband) * n * n * 2u > QTOOL_LUMINAIRE_MAX_TABLES)
         nband >>= 1;
+    if (groups && (uint64_t)(cap + groups * nband) * n * n * 2u > QTOOL_LUMINAIRE_MAX_TABLES) {
+        snprintf(err, errlen, "the hierarchy's %u x %u lamps of %ux%u tables: more than %u MiB (a smaller --table, "
+                 "or --tol 0)", groups, nband, n, n, QTOOL_LUMINAIRE_MAX_TABLES >> 20);
+        return -1;
+    }
     cap += groups * nband;
     if (n < QIBL_GONIO_MIN_N || n > QIBL_GONIO_MAX_N || (uint64_t)cap * n * n * 2u > QTOOL_LUMINAIRE_MAX_TABLES) {
         snprintf(err, errlen, "%u spotlights of %ux%u tables: more than %u MiB (a smaller --table)", cap, n, n,
