@@ -649,6 +649,13 @@ static void test_hierarchy(void **state)
         assert_non_null(strstr(err, "hierarchy"));
         qtool_luminaire_free(&l16);
     }
+    /* a tolerance so small that no pixel reaches a coarser level: the full sum (and no cast beyond
+     * uint64 under UBSan's float-cast-overflow) */
+    const qtool_luminaire_spots_opts tiny = {.n = 64, .tol = 1e-300};
+    assert_int_equal(qtool_luminaire_spots_build(&l, pos, &tiny, &b, err, sizeof err), 0);
+    ground(&b, 0.4, 1.0, n, fb);
+    assert_memory_equal(fa, fb, sizeof(double) * nv);
+    qtool_luminaire_spots_free(&b);
     /* tol > 0: the passes one at a time still sum to the full (level 0) sum */
     const qtool_luminaire_spots_opts o1 = {.n = 64, .tol = 0.25};
     assert_int_equal(qtool_luminaire_spots_build(&l, pos, &o1, &b, err, sizeof err), 0);

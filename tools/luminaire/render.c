@@ -344,9 +344,12 @@ static int build_levels(qtool_luminaire_spots *s, const qtool_luminaire *l, cons
             }
     for (uint32_t L = 1; L <= nlevel; ++L) {
         const uint32_t gs = 1u << L, gx = (l->nx + gs - 1) >> L, gy = (l->ny + gs - 1) >> L;
-        s->lmin[L] = (uint64_t)ceil(gs * (double)l->spacing * 256.0 / tol); /* the side in 1/256 unit / tol */
-        const double umax = (1 + T) / (s->lmin[L] / 256.0), du = umax / NB;
-        s->bandk[L] = (uint64_t)floor(256.0 / du); /* band = bandk / (|dz| in 1/256 unit) */
+        /* the side in 1/256 unit over tol, and band = bandk / (|dz| in 1/256 unit); both kept below
+         * 2^62 (a tiny tol: a level no pixel reaches, not a cast beyond uint64) */
+        const double lm = fmin(ceil(gs * (double)l->spacing * 256.0 / tol), 4611686018427387904.0);
+        s->lmin[L] = (uint64_t)lm;
+        const double umax = (1 + T) / (lm / 256.0), du = umax / NB;
+        s->bandk[L] = (uint64_t)fmin(floor(256.0 / du), 4611686018427387904.0);
         for (uint32_t b = 0; b < NB; ++b) {
             for (uint32_t g = 0; g < gx * gy; ++g) {
                 double cx = 0, cy = 0, pk;
