@@ -623,6 +623,21 @@ static void test_luminaire_spots_match_soft(void **state)
         }
         qtool_luminaire_spots_free(&s);
     }
+    { /* spotlights merged by the hierarchy (tol > 0): the shader evaluates level 0 only, so they are
+       * refused by name and nothing is written */
+        qtool_luminaire_spots s;
+        char err[256] = "";
+        const int32_t gpos[3] = {0, 0, (int32_t)lround(hg * 65536)};
+        const qtool_luminaire_spots_opts ot = {.n = 64, .tol = 0.25};
+        assert_int_equal(qtool_luminaire_spots_build(&l, gpos, &ot, &s, err, sizeof err), 0);
+        assert_true(s.nlevel > 0u);
+        memset(gpu, 0xA5, 3 * W * H);
+        assert_int_equal(qtool_luminaire_spots_gles(&s, W, H, pts, base, 65536, 1, NULL, gpu, NULL, err, sizeof err), -1);
+        assert_non_null(strstr(err, "hierarchy"));
+        for (size_t i = 0; i < 3 * (size_t)W * H; ++i)
+            assert_int_equal(gpu[i], 0xA5);
+        qtool_luminaire_spots_free(&s);
+    }
     free(pts), free(base), free(row), free(acc), free(ws), free(pix), free(soft), free(gpu);
     qtool_luminaire_free(&l);
 }

@@ -96,8 +96,10 @@ typedef struct render_cli {
     int far, gles, gles_core;
     double exposure;
     long table, frames;
+    double tol;
 } render_cli;
-static const render_cli render_defaults = {.at = {0, 0, 0}, .exposure = 1, .table = 64, .frames = 3};
+static const render_cli render_defaults = {.at = {0, 0, 0}, .exposure = 1, .table = 64, .frames = 3,
+                                           .tol = QTOOL_LUMINAIRE_DEFAULT_TOL};
 
 static const char *render_at(void *o, char *const *v, int n, int *used)
 {
@@ -120,9 +122,12 @@ static const qtool_opt render_table[] = {
      .hi = 65535, .help = "the frame's exposure"},
     {.name = "--table", .kind = QTOOL_OPT_INT, .off = offsetof(render_cli, table), .arg = "N", .lo = QIBL_GONIO_MIN_N,
      .hi = QIBL_GONIO_MAX_N, .help = "each spotlight's gonio table is N x N"},
+    {.name = "--tol", .kind = QTOOL_OPT_NUM, .off = offsetof(render_cli, tol), .arg = "T", .lo = 0,
+     .hi = QTOOL_LUMINAIRE_MAX_TOL, .help = "the hierarchy: a group of supports merged into one spotlight where its "
+     "side is at most T times its distance (0: every spotlight everywhere)"},
     {.name = "--gles", .kind = QTOOL_OPT_FLAG, .off = offsetof(render_cli, gles),
      .help = "the frame on GLES2 too (a headless EGL context, one pass per spotlight): its times and its "
-             "difference from the soft frame"},
+             "difference from the soft frame (every spotlight, no hierarchy: the soft frame too, as --tol 0)"},
     {.name = "--frames", .kind = QTOOL_OPT_INT, .off = offsetof(render_cli, frames), .arg = "N", .lo = 1, .hi = 1000,
      .help = "--gles: GPU frames timed, after one untimed warm-up"},
     {.name = "--gles-core", .kind = QTOOL_OPT_FLAG, .off = offsetof(render_cli, gles_core),
@@ -147,8 +152,10 @@ const qtool_opt_cmd qcli_opts_luminaire_render = {
 typedef struct study_cli {
     long grid, res, size, threads;
     int quick;
+    double tol;
 } study_cli;
-static const study_cli study_defaults = {.grid = 16, .res = 32, .size = 96, .threads = 1};
+static const study_cli study_defaults = {.grid = 16, .res = 32, .size = 96, .threads = 1,
+                                         .tol = QTOOL_LUMINAIRE_DEFAULT_TOL};
 
 static const qtool_opt study_table[] = {
     {.name = "--grid", .kind = QTOOL_OPT_INT, .off = offsetof(study_cli, grid), .arg = "N", .lo = 1,
@@ -160,6 +167,9 @@ static const qtool_opt study_table[] = {
     {.name = "--quick", .kind = QTOOL_OPT_FLAG, .off = offsetof(study_cli, quick), .help = "fewer distances"},
     {.name = "--threads", .kind = QTOOL_OPT_INT, .off = offsetof(study_cli, threads), .arg = "T", .lo = 1, .hi = 256,
      .help = "worker threads for the capture and the truth (the timing is on one)"},
+    {.name = "--tol", .kind = QTOOL_OPT_NUM, .off = offsetof(study_cli, tol), .arg = "T", .lo = 0,
+     .hi = QTOOL_LUMINAIRE_MAX_TOL, .help = "the near field's hierarchy: a group of supports merged into one spotlight "
+     "where its side is at most T times its distance (0: every spotlight everywhere)"},
     {0},
 };
 
@@ -350,7 +360,9 @@ static int cmd_render(int argc, char **argv)
     }
     char err[512];
     qtool_luminaire_spots s;
-    if (qtool_luminaire_spots_make(&l, at, table, far, &s, err, sizeof err) != 0) {
+    /* --gles: the GPU evaluates every spotlight, so the soft frame it is compared with does too */
+    const qtool_luminaire_spots_opts so = {.n = table, .far = far, .tol = c.gles ? 0 : c.tol};
+    if (qtool_luminaire_spots_build(&l, at, &so, &s, err, sizeof err) != 0) {
         fprintf(stderr, "qibl: luminaire render: %s: %s\n", qnf, err);
         qtool_luminaire_free(&l);
         return 1;
@@ -446,7 +458,7 @@ static int cmd_study(int argc, char **argv)
     if (qcli_parse_only)
         return 0;
     qtool_luminaire_study_opts o = {.grid = (uint32_t)c.grid, .res = (uint32_t)c.res, .size = (uint32_t)c.size,
-                                    .quick = c.quick, .threads = (int)c.threads};
+                                    .quick = c.quick, .threads = (int)c.threads, .tol = c.tol};
     if (qtool_luminaire_study(&o, stdout) != 0) {
         fprintf(stderr, "qibl: luminaire study: out of memory\n");
         return 1;

@@ -175,6 +175,13 @@ void qtool_luminaire_flux(const qtool_luminaire *l, double rgb[3]);
 
 /* ---- rendering: textured spotlights through the core's gonio module (render.c) -------------- */
 
+#define QTOOL_LUMINAIRE_MAX_LEVEL 6 /* 2^6 = QTOOL_LUMINAIRE_MAX_GRID */
+#define QTOOL_LUMINAIRE_MAX_TOL 1.0
+#define QTOOL_LUMINAIRE_DEFAULT_TOL 0.3 /* the CLI's: the study's PSNRs within 0.3 dB of tol 0 */
+#define QTOOL_LUMINAIRE_BANDS 64     /* merged tables per level, by the receiver's 1 / depth (at most) */
+#define QTOOL_LUMINAIRE_MIN_BANDS 16 /* fewer would not fit: the hierarchy is refused */
+#define QTOOL_LUMINAIRE_KEYS (1 + QTOOL_LUMINAIRE_MAX_LEVEL * QTOOL_LUMINAIRE_BANDS)
+
 /* The spotlights of a source placed with S's centre at pos (Q16.16 world units), facing -z, its
  * grid's x along world x: per support a gonio table (n x n, Q1.15 of its own peak), the peak
  * intensity per channel (Q16.16) and its position; far: one lamp at pos with the sum of all the
@@ -196,6 +203,18 @@ typedef struct qtool_luminaire_spots {
     uint32_t nanchor;          /* shading anchors: 4 (the corners of the spotlights' box), far 1 */
     int32_t anchor[4][3];      /* Q16.16 */
     int32_t (*aw)[4];          /* per spotlight, its bilinear weights among the anchors, Q15 */
+    /* the hierarchy (qtool_luminaire_spots_build with tol > 0): the arrays above hold count
+     * spotlights (level 0, the passes), then the merged lamps by key (kfirst) */
+    uint32_t total;            /* lamps in the arrays */
+    uint32_t nlevel;           /* coarser levels (0: none) */
+    uint32_t nband;            /* tables per level (QTOOL_LUMINAIRE_BANDS, halved to fit the cap) */
+    uint32_t kfirst[QTOOL_LUMINAIRE_KEYS + 1]; /* key k >= 1 (level 1 + (k - 1) / nband, its band
+                                * (k - 1) % nband): lamps kfirst[k] .. kfirst[k + 1] - 1 */
+    uint64_t lmin[QTOOL_LUMINAIRE_MAX_LEVEL + 1]; /* level L serves a pixel whose distance bound
+                                * (1/256 unit) is at least this: the group's side / tol */
+    uint64_t bandk[QTOOL_LUMINAIRE_MAX_LEVEL + 1]; /* level L's band: bandk / |dz| (1/256 unit) */
+    uint64_t rad256;           /* the farthest spotlight's distance from centre (1/256 unit), rounded up */
+    double tol;
 } qtool_luminaire_spots;
 
 /* far 0: the near-field spotlights; far 1: one lamp (the far field). n: gonio table size (0: 64).
@@ -207,6 +226,24 @@ int qtool_luminaire_spots_make(const qtool_luminaire *l, const int32_t pos[3], u
                                qtool_luminaire_spots *out, char *err, size_t errlen);
 void qtool_luminaire_spots_free(qtool_luminaire_spots *s);
 
+/* The same with a hierarchy of merged spotlights (a mip pyramid of lamps, built once per
+ * placement): level L merges each 2^L x 2^L group of supports into one lamp at its lit members'
+ * flux-weighted centroid whose table is the sum of their intensities as a receiver at depth H below
+ * S sees them (member m, offset e_m, at tangent tau - e_m / H), in nband tables by 1 / H; per pixel
+ * the span kernel takes the coarsest level whose group side is at most tol times a lower bound on
+ * the pixel's distance to the source (max(|dz|, |x - centre| - the spotlights' radius)), and the
+ * band of its depth. tol 0: no hierarchy, exactly qtool_luminaire_spots_make's spotlights and sums.
+ * The passes (qtool_luminaire_spot_pass) are always level 0's. 0, or -1 with a reason in err (as
+ * spots_make; tol outside 0..1; the levels' tables beyond QTOOL_LUMINAIRE_MAX_TABLES even with
+ * QTOOL_LUMINAIRE_MIN_BANDS). */
+typedef struct qtool_luminaire_spots_opts {
+    uint32_t n;   /* gonio table size; 0: 64 */
+    int far;      /* 1: the far-field lamp (no hierarchy) */
+    double tol;   /* group side / distance bound at which a merged lamp serves a pixel; 0: none */
+} qtool_luminaire_spots_opts;
+int qtool_luminaire_spots_build(const qtool_luminaire *l, const int32_t pos[3], const qtool_luminaire_spots_opts *o,
+                                qtool_luminaire_spots *out, char *err, size_t errlen);
+
 /* One span of n pixels. base: s->nanchor spans (span k at base + 3 n k), each the Q16.16 RGB a
  * unit isotropic point lamp at anchor k gives with 1/d^2 falloff (qibl_shmap_point_span of an
  * asset, or a reference renderer): albedo, cosine and visibility there. p: the pixels' points
@@ -217,7 +254,9 @@ void qtool_luminaire_spots_free(qtool_luminaire_spots *s);
  * estimates of rho, V and f; exact for a Lambertian receiver when the anchors agree on
  * visibility). Integer only: distances floored to 1/256 unit, distance ratios cubed saturated at
  * 2^15, each pass's term rounded once to 2^-24 (after its weight is kept to 31 bits), so the sum
- * of many faint passes keeps its precision; qtool_luminaire_q16 rounds the sum once.
+ * of many faint passes keeps its precision; qtool_luminaire_q16 rounds the sum once. With a
+ * hierarchy (qtool_luminaire_spots_build, tol > 0) each pixel's passes are its level's and band's
+ * lamps instead (level 0: the spotlights).
  * ws: qtool_luminaire_span_ws_size(n) bytes of the caller's (int64-aligned). */
 #define QTOOL_LUMINAIRE_WS_PER_PIXEL 16u
 /* 1 if some spotlight of s can light point q (Q16.16): below S and inside the union of the
@@ -230,6 +269,10 @@ void qtool_luminaire_spots_span(const qtool_luminaire_spots *s, const int32_t *b
 /* floor(sqrt(x)) for x <= 2^52, exactly qibl_isqrt_u64's result (a double estimate corrected in
  * integers): the span kernel's square roots. */
 uint64_t qtool_luminaire_isqrt(uint64_t x);
+
+/* qibl_gonio_lookup's result, bit for bit, faster on a host (hardware 64-bit shifts and products, its
+ * two divisions a double quotient corrected exactly in integers): the span kernel's lookup. */
+uint32_t qtool_luminaire_lookup(const qibl_gonio_t *g, const int64_t d[3]);
 
 /* acc (Q8.24) to Q16.16: rounded to nearest (ties away from zero), saturated to int32. */
 int32_t qtool_luminaire_q16(int64_t acc);
@@ -317,6 +360,7 @@ typedef struct qtool_luminaire_study_opts {
     uint32_t truth_ns;    /* emitter samples per axis for the truth; 0: 24 */
     int quick;            /* fewer distances */
     int threads;          /* 0: 1 */
+    double tol;           /* the near field's hierarchy (qtool_luminaire_spots_build); 0: none */
 } qtool_luminaire_study_opts;
 
 /* Captures the built-in luminaire, then at several heights above a ground plane (in lamp sizes)

@@ -25,7 +25,7 @@ void qtool_luminaire_spot_pass(const qtool_luminaire_spots *s, uint32_t j, const
     /* the same spots with spotlight j alone: the union cull (centre, reach, cullmax) and the
      * anchors stay, so each pixel's shading is the one the full call computes */
     qtool_luminaire_spots v = *s;
-    v.count = 1;
+    v.count = 1, v.total = 1, v.nlevel = 0; /* level 0: the passes are the exact sum's */
     v.tables = s->tables + (size_t)j * s->n * s->n;
     v.gonio = s->gonio + j, v.pos = s->pos + j, v.rgb = s->rgb + j, v.cull = s->cull + j;
     v.occ = s->occ + j, v.kocc = s->kocc + j, v.aw = s->aw + j;

@@ -610,6 +610,11 @@ static int run(const qtool_luminaire_spots *s, const frame_src *src, uint32_t ex
                size_t errlen)
 {
     uint32_t frames = o && o->frames ? o->frames : 1;
+    if (s->nlevel != 0u) { /* the shader evaluates level 0 only: a hierarchy's frame would differ */
+        snprintf(err, errlen, "the spotlights were merged by a hierarchy (tol > 0); the GPU evaluates every "
+                              "spotlight: build them with tol 0");
+        return -1;
+    }
     const uint32_t w = src->w, h = src->h, tw = (w + TILE - 1) / TILE, th = (h + TILE - 1) / TILE;
     const size_t npix = (size_t)w * h;
     glstate g;

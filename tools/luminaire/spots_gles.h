@@ -41,7 +41,8 @@ typedef struct qtool_luminaire_gles_opts {
  * GPU with the caller's context current (tools/gles/headless.h), o (NULL: defaults) saying how; *st
  * (may be NULL) the mean over o's frames.
  * 0, or -1 with a one-line reason in err (no GL, no OES_texture_float, fewer than 8 texture units,
- * a table atlas above GL_MAX_TEXTURE_SIZE, a shader or framebuffer refused, a GL error, no memory,
+ * spotlights merged by a hierarchy (qtool_luminaire_spots_build with tol > 0: the GPU evaluates every
+ * spotlight), a table atlas above GL_MAX_TEXTURE_SIZE, a shader or framebuffer refused, a GL error, no memory,
  * a status of the core's). Nothing is written to rgb8 on failure. */
 int qtool_luminaire_relight_gles(const qtool_luminaire_spots *s, const qibl_shmaps_t *mp, const qibl_pmap_t *pm,
                                  const qibl_ylut_t *lut, uint32_t exposure, int srgb,

@@ -65,12 +65,13 @@ static int32_t q16(double v)
 }
 
 /* near and far renderings of the ground image with the lamp at height hgt (Q16.16 integer path) */
-static int render_ground(const qtool_luminaire *l, const truth_ctx *c, int far, double *out)
+static int render_ground(const qtool_luminaire *l, const truth_ctx *c, int far, double tol, double *out)
 {
     int32_t pos[3] = {0, 0, q16(c->hgt)};
     qtool_luminaire_spots s;
     char err[128];
-    if (qtool_luminaire_spots_make(l, pos, 64, far, &s, err, sizeof err) != 0)
+    const qtool_luminaire_spots_opts so = {.n = 64, .far = far, .tol = tol};
+    if (qtool_luminaire_spots_build(l, pos, &so, &s, err, sizeof err) != 0)
         return -1;
     const uint32_t n = c->size, na = s.nanchor;
     int32_t *base = malloc(sizeof(int32_t) * 3 * n * na), *pts = malloc(sizeof(int32_t) * 3 * n);
@@ -132,8 +133,8 @@ static void yard_row(void *vctx, uint32_t y)
     }
 }
 
-static int yard_psnr(const qtool_luminaire *l, const qtool_luminaire_model *m, double hl, int threads, double *pn,
-                     double *pf, double *lit)
+static int yard_psnr(const qtool_luminaire *l, const qtool_luminaire_model *m, double hl, int threads, double tol,
+                     double *pn, double *pf, double *lit)
 {
     const uint32_t W = 256, H = 64;
     qtool_rt_scene sc;
@@ -155,7 +156,8 @@ static int yard_psnr(const qtool_luminaire *l, const qtool_luminaire_model *m, d
     for (int far = 0; far < 2; ++far) {
         qtool_luminaire_spots s;
         char err[128];
-        if (qtool_luminaire_spots_make(l, pos, 64, far, &s, err, sizeof err) != 0)
+        const qtool_luminaire_spots_opts so = {.n = 64, .far = far, .tol = tol};
+        if (qtool_luminaire_spots_build(l, pos, &so, &s, err, sizeof err) != 0)
             goto out;
         for (uint32_t a = 0; a < s.nanchor; ++a) {
             qtool_rt_light li = {.point = 1, .pos = {s.anchor[a][0] / 65536.0, s.anchor[a][1] / 65536.0,
@@ -223,8 +225,8 @@ static int cmp_d(const void *a, const void *b)
 
 /* The near field on the courtyard panorama: the centre lamp's shading from the ray tracer (as an
  * asset's point maps would give it), then the spotlight passes, timed alone on one core. */
-static int time_courtyard(const qtool_luminaire *l, FILE *f, int threads, double *fps, uint32_t *spots,
-                          double *lit, double *fps_all)
+static int time_courtyard(const qtool_luminaire *l, FILE *f, int threads, double tol, double *fps, uint32_t *spots,
+                          double *lit, double *fps_all, double *fps_full)
 {
     const uint32_t W = 1024, H = 256;
     qtool_rt_scene sc;
@@ -240,7 +242,8 @@ static int time_courtyard(const qtool_luminaire *l, FILE *f, int threads, double
     qtool_luminaire_spots s = {0};
     char err[128];
     int32_t pos[3] = {q16(lp[0]), q16(lp[1]), q16(lp[2])};
-    if (!rgb || !pm || !base || !rowb || !acc || !ws || qtool_luminaire_spots_make(l, pos, 64, 0, &s, err, sizeof err) != 0)
+    const qtool_luminaire_spots_opts so = {.n = 64, .tol = tol};
+    if (!rgb || !pm || !base || !rowb || !acc || !ws || qtool_luminaire_spots_build(l, pos, &so, &s, err, sizeof err) != 0)
         goto out;
     /* each anchor's unit lamp (1/d^2) by the ray tracer: the shading an asset's point maps hold */
     for (uint32_t a = 0; a < s.nanchor; ++a) {
@@ -280,7 +283,7 @@ static int time_courtyard(const qtool_luminaire *l, FILE *f, int threads, double
     qtool_luminaire_spots_free(&s);
     const double hg = QTOOL_LUMINAIRE_SIZE, half = 1.8 * hg + QTOOL_LUMINAIRE_SIZE / 2;
     int32_t gpos[3] = {0, 0, q16(hg)};
-    if (qtool_luminaire_spots_make(l, gpos, 64, 0, &s, err, sizeof err) != 0)
+    if (qtool_luminaire_spots_build(l, gpos, &so, &s, err, sizeof err) != 0)
         goto out;
     for (uint32_t y = 0; y < H; ++y)
         for (uint32_t x = 0; x < W; ++x) {
@@ -295,21 +298,38 @@ static int time_courtyard(const qtool_luminaire *l, FILE *f, int threads, double
                     base[(size_t)a * 3 * W * H + o + (size_t)k] = q16(hg / sqrt(r2) / PI_ / r2);
             }
         }
-    for (int r = 0; r < 7; ++r) {
-        double t0 = cpu_ms();
-        for (uint32_t y = 0; y < H; ++y) {
-            for (uint32_t a = 0; a < s.nanchor; ++a)
-                memcpy(rowb + (size_t)a * 3 * W, base + (size_t)a * 3 * W * H + (size_t)y * 3 * W,
-                       sizeof(int32_t) * 3 * W);
-            memset(acc, 0, sizeof(int64_t) * 3 * W);
-            qtool_luminaire_spots_span(&s, rowb, pm + (size_t)y * 3 * W, W, acc, ws);
+    /* with a hierarchy, the full sum (tol 0: the same anchors) timed too, the two interleaved so
+     * a load on the shared machine falls on both alike; minimum and median of 7 each */
+    qtool_luminaire_spots full = {0};
+    const qtool_luminaire_spots_opts fo = {.n = 64};
+    const int both = tol > 0;
+    if (both && qtool_luminaire_spots_build(l, gpos, &fo, &full, err, sizeof err) != 0)
+        goto out;
+    double tf[7];
+    for (int r = 0; r < 7; ++r)
+        for (int v = 0; v <= both; ++v) {
+            const qtool_luminaire_spots *sv = v ? &full : &s;
+            double t0 = cpu_ms();
+            for (uint32_t y = 0; y < H; ++y) {
+                for (uint32_t a = 0; a < sv->nanchor; ++a)
+                    memcpy(rowb + (size_t)a * 3 * W, base + (size_t)a * 3 * W * H + (size_t)y * 3 * W,
+                           sizeof(int32_t) * 3 * W);
+                memset(acc, 0, sizeof(int64_t) * 3 * W);
+                qtool_luminaire_spots_span(sv, rowb, pm + (size_t)y * 3 * W, W, acc, ws);
+            }
+            (v ? tf : t)[r] = cpu_ms() - t0;
         }
-        t[r] = cpu_ms() - t0;
-    }
+    qtool_luminaire_spots_free(&full);
     qsort(t, 7, sizeof t[0], cmp_d);
     *fps_all = 1000.0 / t[3];
     fprintf(f, "ground patch 1024x256 one lamp size below (every pixel lit): %.1f ms CPU per frame, %.1f fps\n", t[3],
             *fps_all);
+    if (both) {
+        qsort(tf, 7, sizeof tf[0], cmp_d);
+        *fps_full = 1000.0 / tf[3];
+        fprintf(f, "  interleaved, ms CPU min / median of 7: hierarchy (tol %g) %.1f / %.1f, full sum %.1f / %.1f\n", tol,
+                t[0], t[3], tf[0], tf[3]);
+    }
     rc = 0;
 out:
     qtool_luminaire_spots_free(&s);
@@ -349,8 +369,8 @@ int qtool_luminaire_picture(const qtool_luminaire_study_opts *o, double lamps, u
     truth_ctx c = {.m = m, .size = size, .ns = o->truth_ns ? o->truth_ns : 24, .hgt = hgt,
                    .half = 1.8 * hgt + QTOOL_LUMINAIRE_SIZE / 2, .rgb = img[1]};
     /* near field | truth | far field, one exposure: the truth's peak at 1.0 */
-    if (rc == 0 && (qtool_rt_parallel(threads, size, truth_row, &c, NULL) != 0 || render_ground(&l, &c, 0, img[0]) != 0 ||
-                    render_ground(&l, &c, 1, img[2]) != 0))
+    if (rc == 0 && (qtool_rt_parallel(threads, size, truth_row, &c, NULL) != 0 || render_ground(&l, &c, 0, o->tol, img[0]) != 0 ||
+                    render_ground(&l, &c, 1, 0, img[2]) != 0))
         rc = -1;
     double peak = 0;
     for (size_t i = 0; rc == 0 && i < nv; ++i)
@@ -399,14 +419,24 @@ int qtool_luminaire_study(const qtool_luminaire_study_opts *o, FILE *f)
         double hgt = hs[k] * QTOOL_LUMINAIRE_SIZE;
         truth_ctx c = {.m = m, .size = size, .ns = o->truth_ns ? o->truth_ns : 24, .hgt = hgt,
                        .half = 1.8 * hgt + QTOOL_LUMINAIRE_SIZE / 2, .rgb = truth};
-        if (qtool_rt_parallel(threads, size, truth_row, &c, NULL) != 0 || render_ground(&l, &c, 0, nearr) != 0 ||
-            render_ground(&l, &c, 1, farr) != 0) {
+        if (qtool_rt_parallel(threads, size, truth_row, &c, NULL) != 0 || render_ground(&l, &c, 0, o->tol, nearr) != 0 ||
+            render_ground(&l, &c, 1, 0, farr) != 0) {
             rc = -1;
             break;
         }
         size_t nv = (size_t)3 * size * size;
         double pn = psnr(nearr, truth, nv), pf = psnr(farr, truth, nv);
         fprintf(f, "%-12g %-8.3g %-10.2f %-10.2f %-8.2f\n", hs[k], hgt, pn, pf, pn - pf);
+        if (o->tol > 0) {
+            /* the hierarchy's own error: against the full sum (tol 0), peak the full sum's */
+            if (render_ground(&l, &c, 0, 0, farr) != 0) {
+                rc = -1;
+                break;
+            }
+            double ph = psnr(nearr, farr, nv);
+            fprintf(f, "  hierarchy (tol %g) against the full sum: %.2f dB\nRESULT luminaire.hier_vs_full_psnr_h%g %.2f\n",
+                    o->tol, ph, hs[k], ph);
+        }
         fprintf(f, "RESULT luminaire.near_psnr_h%g %.2f\nRESULT luminaire.far_psnr_h%g %.2f\n", hs[k], pn, hs[k], pf);
         if (hs[k] <= 1) {
             worst_near = pn < worst_near ? pn : worst_near;
@@ -418,7 +448,7 @@ int qtool_luminaire_study(const qtool_luminaire_study_opts *o, FILE *f)
     static const double yh[] = {0.5, 1, 2};
     for (int k = 0; rc == 0 && k < (o->quick ? 2 : 3); ++k) {
         double pn = 0, pf = 0, yl = 0;
-        if (yard_psnr(&l, m, yh[k], threads, &pn, &pf, &yl) != 0) {
+        if (yard_psnr(&l, m, yh[k], threads, o->tol, &pn, &pf, &yl) != 0) {
             rc = -1;
             break;
         }
@@ -427,15 +457,17 @@ int qtool_luminaire_study(const qtool_luminaire_study_opts *o, FILE *f)
         fprintf(f, "RESULT luminaire.courtyard_near_psnr_h%g %.2f\nRESULT luminaire.courtyard_far_psnr_h%g %.2f\n",
                 yh[k], pn, yh[k], pf);
     }
-    double fps = 0, lit = 0, fps_all = 0;
+    double fps = 0, lit = 0, fps_all = 0, fps_full = 0;
     uint32_t spots = 0;
     if (rc == 0)
-        rc = time_courtyard(&l, f, threads, &fps, &spots, &lit, &fps_all);
+        rc = time_courtyard(&l, f, threads, o->tol, &fps, &spots, &lit, &fps_all, &fps_full);
     if (rc == 0) {
         fprintf(f, "RESULT luminaire.near_psnr_within_1_lamp_min %.2f\n", worst_near);
         fprintf(f, "RESULT luminaire.near_minus_far_db_within_1_lamp_min %.2f\n", worst_gain);
         fprintf(f, "RESULT luminaire.spotlights %u\nRESULT luminaire.fps_1024x256 %.1f\n", spots, fps);
         fprintf(f, "RESULT luminaire.fps_1024x256_all_lit %.1f\n", fps_all);
+        if (o->tol > 0)
+            fprintf(f, "RESULT luminaire.fps_1024x256_all_lit_full_sum %.1f\n", fps_full);
     }
     free(truth), free(nearr), free(farr);
     qtool_luminaire_free(&l);
