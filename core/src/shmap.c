@@ -1463,53 +1463,81 @@ static inline __m256i p8_rs(__m256i v, int s) /* round(v / 2^s), half up, as POL
 }
 #define P8_MUL(a, b) _mm256_mullo_epi32((a), (b))
 #define P8_C(v) _mm256_set1_epi32(v)
+/* poly_eval's products, every operand an int16 value (|z|, |x|, |y|, |T_m| <= 2^14 + 2, |P| < 23300,
+ * rounded A z <= 3 2^13, constants <= 24576), as vpmaddwd (one uop, against vpmulld's two): an
+ * int32 lane holding an int16 value times one whose high half is 0 is lo x lo + hi x 0, the
+ * product; a sum of two products is one vpmaddwd of (a, b) and (c, d) pairs. Same integers. */
+#define P8_CZ(v) _mm256_set1_epi32((int32_t)(uint16_t)(int16_t)(v)) /* v in the low half, 0 above */
+#define P8_LO(v) _mm256_blend_epi16((v), zero, 0xAA)                  /* v's low half, 0 above */
+#define P8_PR(a, b) _mm256_blend_epi16((a), _mm256_slli_epi32((b), 16), 0xAA) /* (a, b) int16 pair */
+#define P8_K(l, m, j) poly_rec[(l) * ((l) + 1) / 2 + (m)][j]
+/* P(l,m) = rs(rs(A z, 14) P1 - B P2, 13): (rs(A z), P2) . (P1, -B) as one vpmaddwd */
 #define P8_REC(l, m, p1, p2)                                                                            \
-    p8_rs(_mm256_sub_epi32(P8_MUL(p8_rs(P8_MUL(P8_C(poly_rec[(l) * ((l) + 1) / 2 + (m)][0]), z), 14), (p1)), \
-                           P8_MUL(P8_C(poly_rec[(l) * ((l) + 1) / 2 + (m)][1]), (p2))), 13)
+    p8_rs(_mm256_madd_epi16(P8_PR(p8_rs(_mm256_madd_epi16(z, P8_CZ(P8_K(l, m, 0))), 14), (p2)),           \
+                            _mm256_blend_epi16((p1), P8_C((int32_t)((uint32_t)(uint16_t)(int16_t)-P8_K(l, m, 1) << 16)), 0xAA)), 13)
+/* P(l,m) with P2 = 0 */
+#define P8_REC0(l, m, p1) p8_rs(_mm256_madd_epi16(p8_rs(_mm256_madd_epi16(z, P8_CZ(P8_K(l, m, 0))), 14), P8_LO(p1)), 13)
+/* Y(l,+-m) = rs(P T_+-m, 13); cz##m, sz##m are T_+-m with 0 above; P8_PAIRK for a constant P */
 #define P8_PAIR(l, m, p)                                                                                \
-    (o[(l) * (l) + (l) + (m)] = p8_rs(P8_MUL((p), c##m), 13), o[(l) * (l) + (l) - (m)] = p8_rs(P8_MUL((p), s##m), 13))
+    (o[(l) * (l) + (l) + (m)] = p8_rs(_mm256_madd_epi16((p), cz##m), 13), o[(l) * (l) + (l) - (m)] = p8_rs(_mm256_madd_epi16((p), sz##m), 13))
+#define P8_PAIRK(l, m, k)                                                                               \
+    (o[(l) * (l) + (l) + (m)] = p8_rs(_mm256_madd_epi16(c##m, P8_CZ(k)), 13), o[(l) * (l) + (l) - (m)] = p8_rs(_mm256_madd_epi16(s##m, P8_CZ(k)), 13))
+/* T_(m+1) = T_m (x + iy): x c - y s = (x, -y) . (c, s), x s + y c = (x, y) . (s, c) */
+#define P8_ROT(m, n)                                                                                    \
+    const __m256i c##n = p8_rs(_mm256_madd_epi16(xny, P8_PR(c##m, s##m)), 14);                          \
+    const __m256i s##n = p8_rs(_mm256_madd_epi16(xy, P8_PR(s##m, c##m)), 14)
 
 /* poly_eval on eight unit vectors (Q2.14 lanes); o[i] = Y_i as int32 lanes */
 static void poly_eval8(__m256i x, __m256i y, __m256i z, uint32_t bands, __m256i *o)
 {
-    const __m256i p00 = P8_C(poly_rec[0][0]), zero = _mm256_setzero_si256();
-    o[0] = _mm256_add_epi32(p00, p00);
+    const __m256i zero = _mm256_setzero_si256();
+    const int32_t p00 = poly_rec[0][0];
+    o[0] = P8_C(2 * p00);
     if (bands < 2u)
         return;
-    const __m256i c1 = x, s1 = y;
-    const __m256i p10 = P8_REC(1, 0, p00, zero), p11 = P8_C(poly_rec[2][0]);
+    const __m256i c1 = x, s1 = y, cz1 = P8_LO(x), sz1 = P8_LO(y);
+    const __m256i p10 = p8_rs(_mm256_madd_epi16(p8_rs(_mm256_madd_epi16(z, P8_CZ(P8_K(1, 0, 0))), 14), P8_CZ(p00)), 13);
     o[2] = _mm256_add_epi32(p10, p10);
-    P8_PAIR(1, 1, p11);
+    P8_PAIRK(1, 1, P8_K(1, 1, 0));
     if (bands < 3u)
         return;
-    const __m256i c2 = p8_rs(_mm256_sub_epi32(P8_MUL(x, c1), P8_MUL(y, s1)), 14);
-    const __m256i s2 = p8_rs(_mm256_add_epi32(P8_MUL(x, s1), P8_MUL(y, c1)), 14);
-    const __m256i p20 = P8_REC(2, 0, p10, p00), p21 = P8_REC(2, 1, p11, zero), p22 = P8_C(poly_rec[5][0]);
+    const __m256i xy = P8_PR(x, y), xny = P8_PR(x, _mm256_sub_epi32(zero, y));
+    P8_ROT(1, 2);
+    const __m256i cz2 = P8_LO(c2), sz2 = P8_LO(s2);
+    const __m256i p20 = P8_REC(2, 0, p10, P8_C(p00));
+    const __m256i p21 = p8_rs(_mm256_madd_epi16(p8_rs(_mm256_madd_epi16(z, P8_CZ(P8_K(2, 1, 0))), 14), P8_CZ(P8_K(1, 1, 0))), 13);
     o[6] = _mm256_add_epi32(p20, p20);
     P8_PAIR(2, 1, p21);
-    P8_PAIR(2, 2, p22);
+    P8_PAIRK(2, 2, P8_K(2, 2, 0));
     if (bands < 4u)
         return;
-    const __m256i c3 = p8_rs(_mm256_sub_epi32(P8_MUL(x, c2), P8_MUL(y, s2)), 14);
-    const __m256i s3 = p8_rs(_mm256_add_epi32(P8_MUL(x, s2), P8_MUL(y, c2)), 14);
-    const __m256i p30 = P8_REC(3, 0, p20, p10), p31 = P8_REC(3, 1, p21, p11), p32 = P8_REC(3, 2, p22, zero);
-    const __m256i p33 = P8_C(poly_rec[9][0]);
+    P8_ROT(2, 3);
+    const __m256i cz3 = P8_LO(c3), sz3 = P8_LO(s3);
+    const __m256i p30 = P8_REC(3, 0, p20, p10), p31 = P8_REC(3, 1, p21, P8_C(P8_K(1, 1, 0)));
+    const __m256i p32 = p8_rs(_mm256_madd_epi16(p8_rs(_mm256_madd_epi16(z, P8_CZ(P8_K(3, 2, 0))), 14), P8_CZ(P8_K(2, 2, 0))), 13);
     o[12] = _mm256_add_epi32(p30, p30);
     P8_PAIR(3, 1, p31);
     P8_PAIR(3, 2, p32);
-    P8_PAIR(3, 3, p33);
+    P8_PAIRK(3, 3, P8_K(3, 3, 0));
     if (bands < 5u)
         return;
-    const __m256i c4 = p8_rs(_mm256_sub_epi32(P8_MUL(x, c3), P8_MUL(y, s3)), 14);
-    const __m256i s4 = p8_rs(_mm256_add_epi32(P8_MUL(x, s3), P8_MUL(y, c3)), 14);
-    const __m256i p40 = P8_REC(4, 0, p30, p20), p41 = P8_REC(4, 1, p31, p21), p42 = P8_REC(4, 2, p32, p22);
-    const __m256i p43 = P8_REC(4, 3, p33, zero), p44 = P8_C(poly_rec[14][0]);
+    P8_ROT(3, 4);
+    const __m256i p40 = P8_REC(4, 0, p30, p20), p41 = P8_REC(4, 1, p31, p21), p42 = P8_REC(4, 2, p32, P8_C(P8_K(2, 2, 0)));
+    const __m256i p43 = p8_rs(_mm256_madd_epi16(p8_rs(_mm256_madd_epi16(z, P8_CZ(P8_K(4, 3, 0))), 14), P8_CZ(P8_K(3, 3, 0))), 13);
     o[20] = _mm256_add_epi32(p40, p40);
     P8_PAIR(4, 1, p41);
     P8_PAIR(4, 2, p42);
     P8_PAIR(4, 3, p43);
-    P8_PAIR(4, 4, p44);
+    P8_PAIRK(4, 4, P8_K(4, 4, 0));
 }
+#undef P8_ROT
+#undef P8_PAIRK
+#undef P8_REC0
+#undef P8_REC
+#undef P8_K
+#undef P8_PR
+#undef P8_LO
+#undef P8_CZ
 
 /* (a b) >> s per uint32 lane, the 64-bit product's bits s .. s + 31 */
 static inline __m256i p8_mulshr(__m256i a, __m256i b, int s)
@@ -1535,10 +1563,18 @@ typedef struct p8_front {
 
 static POLY_INLINE int poly_front8(const qibl_shmap_point_t *pt, const uint8_t *pp, const uint32_t *seed, p8_front_t *f)
 {
-    const __m256i idx = _mm256_setr_epi32(0, 12, 24, 36, 48, 60, 72, 84);
-    const int *pb = (const int *)(const void *)pp;
-    const __m256i P0 = _mm256_i32gather_epi32(pb, idx, 1), P1 = _mm256_i32gather_epi32(pb + 1, idx, 1),
-                  P2 = _mm256_i32gather_epi32(pb + 2, idx, 1);
+    /* the eight points' 96 bytes by three loads, x, y, z separated by blends and one permute each
+     * (no vpgatherdd: microcoded and slow on current x86, more so with the gather-data-sampling fix) */
+    const __m256i w0 = _mm256_loadu_si256((const __m256i *)(const void *)pp),
+                  w1 = _mm256_loadu_si256((const __m256i *)(const void *)(pp + 32)),
+                  w2 = _mm256_loadu_si256((const __m256i *)(const void *)(pp + 64));
+    /* word j of w0 w1 w2 is coordinate j % 3 of point j / 3 (j = 0 .. 23): x at j = 0, 3, .. 21 */
+    const __m256i P0 = _mm256_permutevar8x32_epi32(_mm256_blend_epi32(_mm256_blend_epi32(w0, w1, 0x92), w2, 0x24),
+                                                   _mm256_setr_epi32(0, 3, 6, 1, 4, 7, 2, 5));
+    const __m256i P1 = _mm256_permutevar8x32_epi32(_mm256_blend_epi32(_mm256_blend_epi32(w0, w1, 0x24), w2, 0x49),
+                                                   _mm256_setr_epi32(1, 4, 7, 2, 5, 0, 3, 6));
+    const __m256i P2 = _mm256_permutevar8x32_epi32(_mm256_blend_epi32(_mm256_blend_epi32(w0, w1, 0x49), w2, 0x92),
+                                                   _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7));
     const __m256i S0 = P8_C((int32_t)pt->pos[0]), S1 = P8_C((int32_t)pt->pos[1]), S2 = P8_C((int32_t)pt->pos[2]);
     const __m256i l0 = _mm256_sub_epi32(S0, P0), l1 = _mm256_sub_epi32(S1, P1), l2 = _mm256_sub_epi32(S2, P2);
     /* S - P outside int32 (overflow of the lane's subtraction), or L = 0: poly_span */
