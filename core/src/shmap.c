@@ -1644,8 +1644,9 @@ static POLY_INLINE int poly_front8(const qibl_shmap_point_t *pt, const uint8_t *
  * one int32 accumulator per P8_GROUP pairs (maps 10g .. 10g + 9), each < 2^31: for real orthonormal
  * SH, sum_m Y_lm^2 = (2l + 1) / (4 pi), so n of band l's values have sum |Y| <= sqrt(n (2l + 1) / (4 pi));
  * maps 0-9 (bands 0-2 and one of band 3) 3.29, maps 10-19 (six of band 3, four of band 4) 3.53,
- * maps 20-24 1.90, so sum |Y14| <= 3.53 2^14 + 10 LSB of Y error < 57900 and
- * 57900 * 32640 < 1.89e9 < 2^31. Then V = round(S / 2^14) without 64 bits: per group
+ * maps 20-24 1.90, so sum |Y14| <= 3.53 2^14 + 10 * 16 LSB of Y error < 58000 and
+ * 58000 * 32640 < 1.9e9 < 2^31 (shmap_test's aligned case wraps one sum over all maps). Then
+ * V = round(S / 2^14) without 64 bits: per group
  * 2^8 SA + SB = 2^14 d + e with d = (SA + (SB >> 8)) >> 6 and 0 <= e < 2^14, likewise
  * 2^(14 - pd) SN = 2^14 (SN >> pd) + e', so S + 2^13 = 2^14 Q + R with |Q| < 2^31 and
  * 0 <= R < 2^16: R is exact from wrapping int32 arithmetic, and V = Q + (R >> 14). */
