@@ -1457,10 +1457,17 @@ static void poly_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uin
  * scaling's common case from the product's high words. A chunk with a rare lane (S - P needing 33
  * bits, the light on the surface point, an output scale outside the common case) is done whole by
  * poly_span, before anything of it is written. */
-static inline __m256i p8_rs(__m256i v, int s) /* round(v / 2^s), half up, as POLY_RS */
+/* the rounding terms 2^12, 2^13 of poly_eval8, filled per span out of line and read as memory
+ * operands: as immediates gcc rebuilt them (mov, vmovd, vpbroadcastd) at nearly every use */
+typedef struct p8_half {
+    __m256i h[2];
+} p8_half_t;
+static QIBLI_NOINLINE void p8_half_fill(p8_half_t *k)
 {
-    return _mm256_srai_epi32(_mm256_add_epi32(v, _mm256_set1_epi32(1 << (s - 1))), s);
+    k->h[0] = _mm256_set1_epi32(1 << 12), k->h[1] = _mm256_set1_epi32(1 << 13);
 }
+/* round(v / 2^s), half up, as POLY_RS (s = 13 or 14) */
+#define p8_rs(v, s) _mm256_srai_epi32(_mm256_add_epi32((v), hk->h[(s) - 13]), (s))
 #define P8_MUL(a, b) _mm256_mullo_epi32((a), (b))
 #define P8_C(v) _mm256_set1_epi32(v)
 /* poly_eval's products, every operand an int16 value (|z|, |x|, |y|, |T_m| <= 2^14 + 2, |P| < 23300,
@@ -1487,20 +1494,32 @@ static inline __m256i p8_rs(__m256i v, int s) /* round(v / 2^s), half up, as POL
     const __m256i c##n = p8_rs(_mm256_madd_epi16(xny, P8_PR(c##m, s##m)), 14);                          \
     const __m256i s##n = p8_rs(_mm256_madd_epi16(xy, P8_PR(s##m, c##m)), 14)
 
-/* poly_eval on eight unit vectors (Q2.14 lanes); o[i] = Y_i as int32 lanes */
-static void poly_eval8(__m256i x, __m256i y, __m256i z, uint32_t bands, __m256i *o)
+/* poly_eval on eight unit vectors (Q2.14 lanes) as int16 pairs: yp[j] = (Y_2j, Y_2j+1) (|Y| <= 14746),
+ * an odd count's last with 0 (pairs at constant indices: the values stay in registers) */
+#define P8_OUT(n)                                                                                       \
+    do {                                                                                                \
+        o[(n)] = zero;                                                                                  \
+        for (uint32_t j_ = 0; j_ < ((n) + 1u) / 2u; ++j_)                                               \
+            yp[j_] = _mm256_blend_epi16(o[2u * j_], _mm256_slli_epi32(o[2u * j_ + 1u], 16), 0xAA);        \
+    } while (0)
+static POLY_INLINE void poly_eval8(__m256i x, __m256i y, __m256i z, uint32_t bands, const p8_half_t *hk, __m256i *yp)
 {
     const __m256i zero = _mm256_setzero_si256();
+    __m256i o[QIBL_SH_MAX_COUNT + 1];
     const int32_t p00 = poly_rec[0][0];
     o[0] = P8_C(2 * p00);
-    if (bands < 2u)
+    if (bands < 2u) {
+        P8_OUT(1u);
         return;
+    }
     const __m256i c1 = x, s1 = y, cz1 = P8_LO(x), sz1 = P8_LO(y);
     const __m256i p10 = p8_rs(_mm256_madd_epi16(p8_rs(_mm256_madd_epi16(z, P8_CZ(P8_K(1, 0, 0))), 14), P8_CZ(p00)), 13);
     o[2] = _mm256_add_epi32(p10, p10);
     P8_PAIRK(1, 1, P8_K(1, 1, 0));
-    if (bands < 3u)
+    if (bands < 3u) {
+        P8_OUT(4u);
         return;
+    }
     const __m256i xy = P8_PR(x, y), xny = P8_PR(x, _mm256_sub_epi32(zero, y));
     P8_ROT(1, 2);
     const __m256i cz2 = P8_LO(c2), sz2 = P8_LO(s2);
@@ -1509,8 +1528,10 @@ static void poly_eval8(__m256i x, __m256i y, __m256i z, uint32_t bands, __m256i 
     o[6] = _mm256_add_epi32(p20, p20);
     P8_PAIR(2, 1, p21);
     P8_PAIRK(2, 2, P8_K(2, 2, 0));
-    if (bands < 4u)
+    if (bands < 4u) {
+        P8_OUT(9u);
         return;
+    }
     P8_ROT(2, 3);
     const __m256i cz3 = P8_LO(c3), sz3 = P8_LO(s3);
     const __m256i p30 = P8_REC(3, 0, p20, p10), p31 = P8_REC(3, 1, p21, P8_C(P8_K(1, 1, 0)));
@@ -1519,8 +1540,10 @@ static void poly_eval8(__m256i x, __m256i y, __m256i z, uint32_t bands, __m256i 
     P8_PAIR(3, 1, p31);
     P8_PAIR(3, 2, p32);
     P8_PAIRK(3, 3, P8_K(3, 3, 0));
-    if (bands < 5u)
+    if (bands < 5u) {
+        P8_OUT(16u);
         return;
+    }
     P8_ROT(3, 4);
     const __m256i p40 = P8_REC(4, 0, p30, p20), p41 = P8_REC(4, 1, p31, p21), p42 = P8_REC(4, 2, p32, P8_C(P8_K(2, 2, 0)));
     const __m256i p43 = p8_rs(_mm256_madd_epi16(p8_rs(_mm256_madd_epi16(z, P8_CZ(P8_K(4, 3, 0))), 14), P8_CZ(P8_K(3, 3, 0))), 13);
@@ -1529,7 +1552,9 @@ static void poly_eval8(__m256i x, __m256i y, __m256i z, uint32_t bands, __m256i 
     P8_PAIR(4, 2, p42);
     P8_PAIR(4, 3, p43);
     P8_PAIRK(4, 4, P8_K(4, 4, 0));
+    P8_OUT(25u);
 }
+#undef P8_OUT
 #undef P8_ROT
 #undef P8_PAIRK
 #undef P8_REC0
@@ -1561,7 +1586,8 @@ typedef struct p8_front {
     __m256i yp[P8_PAIRS], am, ae; /* (Y_2j, Y_2j+1) as int16 pairs per int32 lane (an odd k's last with 0) */
 } p8_front_t;
 
-static POLY_INLINE int poly_front8(const qibl_shmap_point_t *pt, const uint8_t *pp, const uint32_t *seed, p8_front_t *f)
+static POLY_INLINE int poly_front8(const qibl_shmap_point_t *pt, const uint8_t *pp, const uint32_t *seed,
+                                   const p8_half_t *hk, p8_front_t *f)
 {
     /* the eight points' 96 bytes by three loads, x, y, z separated by blends and one permute each
      * (no vpgatherdd: microcoded and slow on current x86, more so with the gather-data-sampling fix) */
@@ -1624,13 +1650,8 @@ static POLY_INLINE int poly_front8(const qibl_shmap_point_t *pt, const uint8_t *
         am = _mm256_srli_epi32(P8_MUL(am, am), 15);
         ae = _mm256_sub_epi32(_mm256_add_epi32(ae, ae), P8_C(47));
     }
-    __m256i yv[QIBL_SH_MAX_COUNT];
-    poly_eval8(u0, u1, u2, pt->bands, yv);
-    const uint32_t k = pt->maps->k; /* |Y_i| <= 14746: int16 */
-    for (uint32_t j = 0; j < k / 2u; ++j)
-        f->yp[j] = _mm256_blend_epi16(yv[2u * j], _mm256_slli_epi32(yv[2u * j + 1u], 16), 0xAA);
-    if (k & 1u)
-        f->yp[k / 2u] = _mm256_blend_epi16(yv[k - 1u], zero, 0xAA);
+    /* bands^2 >= k values: a pair past k pairs with factors 0 (p8_tab_fill) */
+    poly_eval8(u0, u1, u2, pt->bands, hk, f->yp);
     f->am = am, f->ae = ae;
     return 1;
 }
@@ -1784,6 +1805,8 @@ static void poly_span_avx2(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y
         seed[i] = qibli_rsqrt_seed[i];
     p8_tab_t tab;
     p8_tab_fill(pt, k, &tab);
+    p8_half_t hk;
+    p8_half_fill(&hk);
     uint32_t px = 0u;
     if (il && x0 % 8u != 0u) {
         px = 8u - x0 % 8u < n ? 8u - x0 % 8u : n;
@@ -1797,7 +1820,7 @@ static void poly_span_avx2(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y
         const uint32_t nb = (n - px) / 8u < P8_BLOCK ? (n - px) / 8u : P8_BLOCK;
         for (uint32_t b = 0; b < nb; ++b) {
             const uint32_t x = x0 + px + 8u * b;
-            ok[b] = poly_front8(pt, pt->pmap->points + (off + px + 8u * b) * 12u, seed, &fr[b]);
+            ok[b] = poly_front8(pt, pt->pmap->points + (off + px + 8u * b) * 12u, seed, &hk, &fr[b]);
             cb[b] = il ? row + (size_t)(x / QIBL_SHMAPS_GROUP) * gbytes + x % QIBL_SHMAPS_GROUP : row + px + 8u * b;
             for (uint32_t ch = 0; ch < 3u; ++ch)
                 q[b][ch] = _mm256_setzero_si256(), r[b][ch] = _mm256_set1_epi32(8192);
