@@ -878,6 +878,124 @@ static void test_point_simd_equals_scalar_twin(void **state)
             }
 }
 
+/* The AVX2 point kernel splits each int16 scale factor as sn = 2^8 a + b (b its low byte, signed)
+ * and sums a c and b c in int32 groups of ten maps: factors at every edge of that split (+-32767,
+ * low bytes 0x80 and 0x7F, 0, +-1), all map bytes 255 or random, lights all around the points (so
+ * Y takes its largest sums), k up to 25 on both layouts: the same int32 outputs as the scalar twin. */
+static void test_point_simd_extreme_factors(void **state)
+{
+    (void)state;
+    tu_rng r = {0x5EED};
+    static const int32_t edge[] = {32767, -32767, -32640, 32640, 32639, -32641, 127, -128, -129, 128, 1, -1, 0, 255, -256};
+    static const uint32_t ks[] = {9, 10, 11, 16, 21, 25};
+    const uint32_t w = 77, h = 2, ne = sizeof edge / sizeof edge[0];
+    for (size_t ki = 0; ki < sizeof ks / sizeof ks[0]; ++ki)
+        for (int fill = 0; fill < 2; ++fill) {
+            const uint32_t k = ks[ki];
+            maps_buf b, il;
+            maps_make(&b, w, h, k, 3, &r, 64);
+            for (uint32_t i = 0; i < k * 3u; ++i) { /* scales in Q8.24 equal to the int16 factors */
+                const int32_t sc = i % 3u == 0u ? edge[(i / 3u) % ne] : edge[(i / 3u + i % 3u + ki) % ne];
+                put_s32(b.params + 8u * i, sc);
+                put_s32(b.params + 8u * i + 4u, (int32_t)(tu_u32(&r) % 2001u) - 1000);
+            }
+            put_s32(b.params, 32767); /* the largest factor 32767: no renormalisation */
+            for (size_t i = 0; i < (size_t)w * h * k * 3u; ++i)
+                b.planes[i] = fill ? (uint8_t)tu_u32(&r) : 255u;
+            interleave(&b, &il);
+            pmap_buf pb;
+            pmap_make(&pb, w, h, &r);
+            for (int lt = 0; lt < 12; ++lt) {
+                qibl_pointlight_t pl = {{(int32_t)(tu_u32(&r) % (24u << 16)) - (12 << 16),
+                                         (int32_t)(tu_u32(&r) % (24u << 16)) - (12 << 16),
+                                         (int32_t)(tu_u32(&r) % (24u << 16)) - (12 << 16)},
+                                        {1 << 16, 3 << 15, 1 << 14},
+                                        (lt & 1) ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST, 0, QIBL_POINT_POLY};
+                for (int lay = 0; lay < 2; ++lay) {
+                    const qibl_shmaps_t *m = lay ? &il.m : &b.m;
+                    qibl_shmap_point_t sa, sb;
+                    assert_int_equal(qibl_shmap_point_prepare(m, &pb.p, NULL, &pl, &sa), QIBL_OK);
+                    assert_int_equal(qtool_shmap_point_prepare_scalar(m, &pb.p, NULL, &pl, &sb), QIBL_OK);
+                    size_t wsn = qibl_shmap_point_workspace_size(k, w);
+                    void *ws = malloc(wsn);
+                    int32_t oa[3 * 77], ob[3 * 77];
+                    assert_non_null(ws);
+                    for (uint32_t y = 0; y < h; ++y) {
+                        assert_int_equal(qibl_shmap_point_span(&sa, 0, y, w, oa, ws, wsn), QIBL_OK);
+                        assert_int_equal(qtool_shmap_point_span_scalar(&sb, 0, y, w, ob, ws, wsn), QIBL_OK);
+                        for (uint32_t i = 0; i < 3u * w; ++i)
+                            if (oa[i] != ob[i])
+                                fail_msg("k %u fill %d light %d layout %d y %u x %u ch %u: SIMD %d scalar %d", k, fill,
+                                         lt, lay, y, i / 3u, i % 3u, oa[i], ob[i]);
+                    }
+                    free(ws);
+                }
+            }
+            free(pb.bytes);
+            maps_free(&b);
+            free(il.planes);
+        }
+}
+
+/* The int32 groups' bound itself: every point at the origin, the light along the direction d
+ * (of 4000 random ones) with the largest sum |Y_i(d)|, every factor +-32767 with Y_i(d)'s sign and
+ * every byte 255, so each group's sum is near its bound (one int32 sum over all 25 maps would wrap):
+ * the same outputs as the scalar twin. */
+static void test_point_simd_aligned_sums(void **state)
+{
+    (void)state;
+    tu_rng r = {0xA11};
+    static const uint32_t ks[] = {16, 25};
+    const uint32_t w = 40, h = 1;
+    for (size_t ki = 0; ki < sizeof ks / sizeof ks[0]; ++ki) {
+        const uint32_t k = ks[ki];
+        const int bands = k > 16u ? 5 : 4;
+        qibl_q16_t best[3] = {0, 0, 1 << 16};
+        int64_t best_sum = -1;
+        for (int it = 0; it < 4000; ++it) {
+            qibl_q16_t d[3] = {tu_s32(&r) >> 8, tu_s32(&r) >> 8, tu_s32(&r) >> 8};
+            qibl_q30_t yv[QIBL_SH_MAX_COUNT];
+            if (qibl_sh_eval(d, bands, yv) != QIBL_OK)
+                continue;
+            int64_t sum = 0;
+            for (uint32_t i = 0; i < k; ++i)
+                sum += yv[i] < 0 ? -(int64_t)yv[i] : yv[i];
+            if (sum > best_sum)
+                best_sum = sum, best[0] = d[0], best[1] = d[1], best[2] = d[2];
+        }
+        qibl_q30_t yb[QIBL_SH_MAX_COUNT];
+        assert_int_equal(qibl_sh_eval(best, bands, yb), QIBL_OK);
+        maps_buf b;
+        maps_make(&b, w, h, k, 3, &r, 64);
+        for (uint32_t i = 0; i < k * 3u; ++i) {
+            put_s32(b.params + 8u * i, yb[i / 3u] < 0 ? -32767 : 32767);
+            put_s32(b.params + 8u * i + 4u, 0);
+        }
+        memset(b.planes, 255, (size_t)w * h * k * 3u);
+        pmap_buf pb;
+        pmap_make(&pb, w, h, &r);
+        memset(pb.bytes, 0, (size_t)w * h * 12u);
+        /* the light 4 units along best (best's largest component is at least 2^15 in Q16.16) */
+        qibl_pointlight_t pl = {{best[0] / 4, best[1] / 4, best[2] / 4}, {1 << 16, 1 << 16, 1 << 16},
+                                QIBL_FALLOFF_INV_DIST, 0, QIBL_POINT_POLY};
+        qibl_shmap_point_t sa, sb;
+        assert_int_equal(qibl_shmap_point_prepare(&b.m, &pb.p, NULL, &pl, &sa), QIBL_OK);
+        assert_int_equal(qtool_shmap_point_prepare_scalar(&b.m, &pb.p, NULL, &pl, &sb), QIBL_OK);
+        size_t wsn = qibl_shmap_point_workspace_size(k, w);
+        void *ws = malloc(wsn);
+        int32_t oa[3 * 40], ob[3 * 40];
+        assert_non_null(ws);
+        assert_int_equal(qibl_shmap_point_span(&sa, 0, 0, w, oa, ws, wsn), QIBL_OK);
+        assert_int_equal(qtool_shmap_point_span_scalar(&sb, 0, 0, w, ob, ws, wsn), QIBL_OK);
+        for (uint32_t i = 0; i < 3u * w; ++i)
+            if (oa[i] != ob[i])
+                fail_msg("k %u x %u ch %u: SIMD %d scalar %d", k, i / 3u, i % 3u, oa[i], ob[i]);
+        free(ws);
+        free(pb.bytes);
+        maps_free(&b);
+    }
+}
+
 static void test_interleaved_equals_planar(void **state)
 {
     (void)state;
@@ -1156,6 +1274,8 @@ int main(void)
         cmocka_unit_test(test_point_light_hard_cases),
         cmocka_unit_test(test_point_poly_exponents),
         cmocka_unit_test(test_point_simd_equals_scalar_twin),
+        cmocka_unit_test(test_point_simd_extreme_factors),
+        cmocka_unit_test(test_point_simd_aligned_sums),
         cmocka_unit_test(test_ylut_build_and_lookup),
         cmocka_unit_test(test_interleaved_equals_planar),
         cmocka_unit_test(test_kernel_path_matches_definition),

@@ -1457,59 +1457,112 @@ static void poly_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uin
  * scaling's common case from the product's high words. A chunk with a rare lane (S - P needing 33
  * bits, the light on the surface point, an output scale outside the common case) is done whole by
  * poly_span, before anything of it is written. */
-static inline __m256i p8_rs(__m256i v, int s) /* round(v / 2^s), half up, as POLY_RS */
+/* the rounding terms 2^12, 2^13 of poly_eval8, filled per span out of line and read as memory
+ * operands: as immediates gcc rebuilt them (mov, vmovd, vpbroadcastd) at nearly every use */
+typedef struct p8_half {
+    __m256i h[2];
+} p8_half_t;
+static QIBLI_NOINLINE void p8_half_fill(p8_half_t *k)
 {
-    return _mm256_srai_epi32(_mm256_add_epi32(v, _mm256_set1_epi32(1 << (s - 1))), s);
+    k->h[0] = _mm256_set1_epi32(1 << 12), k->h[1] = _mm256_set1_epi32(1 << 13);
 }
+/* round(v / 2^s), half up, as POLY_RS (s = 13 or 14) */
+#define p8_rs(v, s) _mm256_srai_epi32(_mm256_add_epi32((v), hk->h[(s) - 13]), (s))
 #define P8_MUL(a, b) _mm256_mullo_epi32((a), (b))
 #define P8_C(v) _mm256_set1_epi32(v)
+/* poly_eval's products, every operand an int16 value (|z|, |x|, |y|, |T_m| <= 2^14 + 2, |P| < 23300,
+ * rounded A z <= 3 2^13, constants <= 24576), as vpmaddwd (one uop, against vpmulld's two): an
+ * int32 lane holding an int16 value times one whose high half is 0 is lo x lo + hi x 0, the
+ * product; a sum of two products is one vpmaddwd of (a, b) and (c, d) pairs. Same integers. */
+#define P8_CZ(v) _mm256_set1_epi32((int32_t)(uint16_t)(int16_t)(v)) /* v in the low half, 0 above */
+#define P8_LO(v) _mm256_blend_epi16((v), zero, 0xAA)                  /* v's low half, 0 above */
+#define P8_PR(a, b) _mm256_blend_epi16((a), _mm256_slli_epi32((b), 16), 0xAA) /* (a, b) int16 pair */
+#define P8_K(l, m, j) poly_rec[(l) * ((l) + 1) / 2 + (m)][j]
+/* P(l,m) = rs(rs(A z, 14) P1 - B P2, 13): (rs(A z), P2) . (P1, -B) as one vpmaddwd */
 #define P8_REC(l, m, p1, p2)                                                                            \
-    p8_rs(_mm256_sub_epi32(P8_MUL(p8_rs(P8_MUL(P8_C(poly_rec[(l) * ((l) + 1) / 2 + (m)][0]), z), 14), (p1)), \
-                           P8_MUL(P8_C(poly_rec[(l) * ((l) + 1) / 2 + (m)][1]), (p2))), 13)
+    p8_rs(_mm256_madd_epi16(P8_PR(p8_rs(_mm256_madd_epi16(z, P8_CZ(P8_K(l, m, 0))), 14), (p2)),           \
+                            _mm256_blend_epi16((p1), P8_C((int32_t)((uint32_t)(uint16_t)(int16_t)-P8_K(l, m, 1) << 16)), 0xAA)), 13)
+/* P(l,m) with P2 = 0 */
+#define P8_REC0(l, m, p1) p8_rs(_mm256_madd_epi16(p8_rs(_mm256_madd_epi16(z, P8_CZ(P8_K(l, m, 0))), 14), P8_LO(p1)), 13)
+/* Y(l,+-m) = rs(P T_+-m, 13); cz##m, sz##m are T_+-m with 0 above; P8_PAIRK for a constant P */
 #define P8_PAIR(l, m, p)                                                                                \
-    (o[(l) * (l) + (l) + (m)] = p8_rs(P8_MUL((p), c##m), 13), o[(l) * (l) + (l) - (m)] = p8_rs(P8_MUL((p), s##m), 13))
+    (o[(l) * (l) + (l) + (m)] = p8_rs(_mm256_madd_epi16((p), cz##m), 13), o[(l) * (l) + (l) - (m)] = p8_rs(_mm256_madd_epi16((p), sz##m), 13))
+#define P8_PAIRK(l, m, k)                                                                               \
+    (o[(l) * (l) + (l) + (m)] = p8_rs(_mm256_madd_epi16(c##m, P8_CZ(k)), 13), o[(l) * (l) + (l) - (m)] = p8_rs(_mm256_madd_epi16(s##m, P8_CZ(k)), 13))
+/* T_(m+1) = T_m (x + iy): x c - y s = (x, -y) . (c, s), x s + y c = (x, y) . (s, c) */
+#define P8_ROT(m, n)                                                                                    \
+    const __m256i c##n = p8_rs(_mm256_madd_epi16(xny, P8_PR(c##m, s##m)), 14);                          \
+    const __m256i s##n = p8_rs(_mm256_madd_epi16(xy, P8_PR(s##m, c##m)), 14)
 
-/* poly_eval on eight unit vectors (Q2.14 lanes); o[i] = Y_i as int32 lanes */
-static void poly_eval8(__m256i x, __m256i y, __m256i z, uint32_t bands, __m256i *o)
+/* poly_eval on eight unit vectors (Q2.14 lanes) as int16 pairs: yp[j] = (Y_2j, Y_2j+1) (|Y| <= 14746),
+ * an odd count's last with 0 (pairs at constant indices: the values stay in registers) */
+#define P8_OUT(n)                                                                                       \
+    do {                                                                                                \
+        o[(n)] = zero;                                                                                  \
+        for (uint32_t j_ = 0; j_ < ((n) + 1u) / 2u; ++j_)                                               \
+            yp[j_] = _mm256_blend_epi16(o[2u * j_], _mm256_slli_epi32(o[2u * j_ + 1u], 16), 0xAA);        \
+    } while (0)
+static POLY_INLINE void poly_eval8(__m256i x, __m256i y, __m256i z, uint32_t bands, const p8_half_t *hk, __m256i *yp)
 {
-    const __m256i p00 = P8_C(poly_rec[0][0]), zero = _mm256_setzero_si256();
-    o[0] = _mm256_add_epi32(p00, p00);
-    if (bands < 2u)
+    const __m256i zero = _mm256_setzero_si256();
+    __m256i o[QIBL_SH_MAX_COUNT + 1];
+    const int32_t p00 = poly_rec[0][0];
+    o[0] = P8_C(2 * p00);
+    if (bands < 2u) {
+        P8_OUT(1u);
         return;
-    const __m256i c1 = x, s1 = y;
-    const __m256i p10 = P8_REC(1, 0, p00, zero), p11 = P8_C(poly_rec[2][0]);
+    }
+    const __m256i c1 = x, s1 = y, cz1 = P8_LO(x), sz1 = P8_LO(y);
+    const __m256i p10 = p8_rs(_mm256_madd_epi16(p8_rs(_mm256_madd_epi16(z, P8_CZ(P8_K(1, 0, 0))), 14), P8_CZ(p00)), 13);
     o[2] = _mm256_add_epi32(p10, p10);
-    P8_PAIR(1, 1, p11);
-    if (bands < 3u)
+    P8_PAIRK(1, 1, P8_K(1, 1, 0));
+    if (bands < 3u) {
+        P8_OUT(4u);
         return;
-    const __m256i c2 = p8_rs(_mm256_sub_epi32(P8_MUL(x, c1), P8_MUL(y, s1)), 14);
-    const __m256i s2 = p8_rs(_mm256_add_epi32(P8_MUL(x, s1), P8_MUL(y, c1)), 14);
-    const __m256i p20 = P8_REC(2, 0, p10, p00), p21 = P8_REC(2, 1, p11, zero), p22 = P8_C(poly_rec[5][0]);
+    }
+    const __m256i xy = P8_PR(x, y), xny = P8_PR(x, _mm256_sub_epi32(zero, y));
+    P8_ROT(1, 2);
+    const __m256i cz2 = P8_LO(c2), sz2 = P8_LO(s2);
+    const __m256i p20 = P8_REC(2, 0, p10, P8_C(p00));
+    const __m256i p21 = p8_rs(_mm256_madd_epi16(p8_rs(_mm256_madd_epi16(z, P8_CZ(P8_K(2, 1, 0))), 14), P8_CZ(P8_K(1, 1, 0))), 13);
     o[6] = _mm256_add_epi32(p20, p20);
     P8_PAIR(2, 1, p21);
-    P8_PAIR(2, 2, p22);
-    if (bands < 4u)
+    P8_PAIRK(2, 2, P8_K(2, 2, 0));
+    if (bands < 4u) {
+        P8_OUT(9u);
         return;
-    const __m256i c3 = p8_rs(_mm256_sub_epi32(P8_MUL(x, c2), P8_MUL(y, s2)), 14);
-    const __m256i s3 = p8_rs(_mm256_add_epi32(P8_MUL(x, s2), P8_MUL(y, c2)), 14);
-    const __m256i p30 = P8_REC(3, 0, p20, p10), p31 = P8_REC(3, 1, p21, p11), p32 = P8_REC(3, 2, p22, zero);
-    const __m256i p33 = P8_C(poly_rec[9][0]);
+    }
+    P8_ROT(2, 3);
+    const __m256i cz3 = P8_LO(c3), sz3 = P8_LO(s3);
+    const __m256i p30 = P8_REC(3, 0, p20, p10), p31 = P8_REC(3, 1, p21, P8_C(P8_K(1, 1, 0)));
+    const __m256i p32 = p8_rs(_mm256_madd_epi16(p8_rs(_mm256_madd_epi16(z, P8_CZ(P8_K(3, 2, 0))), 14), P8_CZ(P8_K(2, 2, 0))), 13);
     o[12] = _mm256_add_epi32(p30, p30);
     P8_PAIR(3, 1, p31);
     P8_PAIR(3, 2, p32);
-    P8_PAIR(3, 3, p33);
-    if (bands < 5u)
+    P8_PAIRK(3, 3, P8_K(3, 3, 0));
+    if (bands < 5u) {
+        P8_OUT(16u);
         return;
-    const __m256i c4 = p8_rs(_mm256_sub_epi32(P8_MUL(x, c3), P8_MUL(y, s3)), 14);
-    const __m256i s4 = p8_rs(_mm256_add_epi32(P8_MUL(x, s3), P8_MUL(y, c3)), 14);
-    const __m256i p40 = P8_REC(4, 0, p30, p20), p41 = P8_REC(4, 1, p31, p21), p42 = P8_REC(4, 2, p32, p22);
-    const __m256i p43 = P8_REC(4, 3, p33, zero), p44 = P8_C(poly_rec[14][0]);
+    }
+    P8_ROT(3, 4);
+    const __m256i p40 = P8_REC(4, 0, p30, p20), p41 = P8_REC(4, 1, p31, p21), p42 = P8_REC(4, 2, p32, P8_C(P8_K(2, 2, 0)));
+    const __m256i p43 = p8_rs(_mm256_madd_epi16(p8_rs(_mm256_madd_epi16(z, P8_CZ(P8_K(4, 3, 0))), 14), P8_CZ(P8_K(3, 3, 0))), 13);
     o[20] = _mm256_add_epi32(p40, p40);
     P8_PAIR(4, 1, p41);
     P8_PAIR(4, 2, p42);
     P8_PAIR(4, 3, p43);
-    P8_PAIR(4, 4, p44);
+    P8_PAIRK(4, 4, P8_K(4, 4, 0));
+    P8_OUT(25u);
 }
+#undef P8_OUT
+#undef P8_ROT
+#undef P8_PAIRK
+#undef P8_REC0
+#undef P8_REC
+#undef P8_K
+#undef P8_PR
+#undef P8_LO
+#undef P8_CZ
 
 /* (a b) >> s per uint32 lane, the 64-bit product's bits s .. s + 31 */
 static inline __m256i p8_mulshr(__m256i a, __m256i b, int s)
@@ -1525,28 +1578,29 @@ static inline __m256i p8_hi(__m256i pe, __m256i po)
     return _mm256_blend_epi32(_mm256_srli_epi64(pe, 32), po, 0xAA);
 }
 
-/* bits 14 .. 45 of (acc + 2^13), as int32 lanes: V = round(acc / 2^14) (|V| < 2^31, so the low word
- * of the logical shift is the arithmetic one's) */
-static inline __m256i p8_round14(__m256i ae, __m256i ao)
-{
-    const __m256i h = _mm256_set1_epi64x(8192);
-    return _mm256_blend_epi32(_mm256_srli_epi64(_mm256_add_epi64(ae, h), 14),
-                              _mm256_slli_epi64(_mm256_srli_epi64(_mm256_add_epi64(ao, h), 14), 32), 0xAA);
-}
-
 /* Eight pixels from x (their map bytes contiguous per map and channel at c0); 0 if a lane is rare
  * (nothing written then) */
 /* The per-pixel front of eight pixels: Y_i and the attenuation am 2^-ae, all in lanes */
+#define P8_PAIRS ((QIBL_SH_MAX_COUNT + 1) / 2)
 typedef struct p8_front {
-    __m256i yv[QIBL_SH_MAX_COUNT], am, ae;
+    __m256i yp[P8_PAIRS], am, ae; /* (Y_2j, Y_2j+1) as int16 pairs per int32 lane (an odd k's last with 0) */
 } p8_front_t;
 
-static POLY_INLINE int poly_front8(const qibl_shmap_point_t *pt, const uint8_t *pp, const uint32_t *seed, p8_front_t *f)
+static POLY_INLINE int poly_front8(const qibl_shmap_point_t *pt, const uint8_t *pp, const uint32_t *seed,
+                                   const p8_half_t *hk, p8_front_t *f)
 {
-    const __m256i idx = _mm256_setr_epi32(0, 12, 24, 36, 48, 60, 72, 84);
-    const int *pb = (const int *)(const void *)pp;
-    const __m256i P0 = _mm256_i32gather_epi32(pb, idx, 1), P1 = _mm256_i32gather_epi32(pb + 1, idx, 1),
-                  P2 = _mm256_i32gather_epi32(pb + 2, idx, 1);
+    /* the eight points' 96 bytes by three loads, x, y, z separated by blends and one permute each
+     * (no vpgatherdd: microcoded and slow on current x86, more so with the gather-data-sampling fix) */
+    const __m256i w0 = _mm256_loadu_si256((const __m256i *)(const void *)pp),
+                  w1 = _mm256_loadu_si256((const __m256i *)(const void *)(pp + 32)),
+                  w2 = _mm256_loadu_si256((const __m256i *)(const void *)(pp + 64));
+    /* word j of w0 w1 w2 is coordinate j % 3 of point j / 3 (j = 0 .. 23): x at j = 0, 3, .. 21 */
+    const __m256i P0 = _mm256_permutevar8x32_epi32(_mm256_blend_epi32(_mm256_blend_epi32(w0, w1, 0x92), w2, 0x24),
+                                                   _mm256_setr_epi32(0, 3, 6, 1, 4, 7, 2, 5));
+    const __m256i P1 = _mm256_permutevar8x32_epi32(_mm256_blend_epi32(_mm256_blend_epi32(w0, w1, 0x24), w2, 0x49),
+                                                   _mm256_setr_epi32(1, 4, 7, 2, 5, 0, 3, 6));
+    const __m256i P2 = _mm256_permutevar8x32_epi32(_mm256_blend_epi32(_mm256_blend_epi32(w0, w1, 0x49), w2, 0x92),
+                                                   _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7));
     const __m256i S0 = P8_C((int32_t)pt->pos[0]), S1 = P8_C((int32_t)pt->pos[1]), S2 = P8_C((int32_t)pt->pos[2]);
     const __m256i l0 = _mm256_sub_epi32(S0, P0), l1 = _mm256_sub_epi32(S1, P1), l2 = _mm256_sub_epi32(S2, P2);
     /* S - P outside int32 (overflow of the lane's subtraction), or L = 0: poly_span */
@@ -1596,49 +1650,100 @@ static POLY_INLINE int poly_front8(const qibl_shmap_point_t *pt, const uint8_t *
         am = _mm256_srli_epi32(P8_MUL(am, am), 15);
         ae = _mm256_sub_epi32(_mm256_add_epi32(ae, ae), P8_C(47));
     }
-    poly_eval8(u0, u1, u2, pt->bands, f->yv);
+    /* bands^2 >= k values: a pair past k pairs with factors 0 (p8_tab_fill) */
+    poly_eval8(u0, u1, u2, pt->bands, hk, f->yp);
     f->am = am, f->ae = ae;
     return 1;
 }
 
-/* The sums and the final scaling of eight pixels whose front is f, into out (their map bytes
- * contiguous per map and channel at c0); 0 if a lane's scaling is rare (nothing written then) */
-static POLY_INLINE int poly_back8(const qibl_shmap_point_t *pt, const p8_front_t *f, const uint8_t *c0, size_t ms,
-                                  size_t c1, const __m256i *sn16, int32_t *out)
+/* The sums of eight pixels in 16-bit products (vpmaddwd), exact in int32 lanes, no int64:
+ *   S = sum_i Y_i (sn_i c_i + bs_i) = 2^8 SA + SB + 2^(14 - pd) SN,
+ *   SA = sum_i Y_i (a_i c_i), SB = sum_i Y_i (b_i c_i), SN = sum_i Y_i bn_i,
+ * with sn_i = 2^8 a_i + b_i, b_i in [-128, 127] (sn's low byte, signed), |a_i| <= 128, so |a_i c|,
+ * |b_i c| <= 32640 are int16 (one vpmullw each) and Y_i (|Y_i| <= 14746) pairs with them: one
+ * vpmaddwd per two maps. Bounds: SN is prepare's (|SN| < 1.9 2^30, any order). SA and SB run in
+ * one int32 accumulator per P8_GROUP pairs (maps 10g .. 10g + 9), each < 2^31: for real orthonormal
+ * SH, sum_m Y_lm^2 = (2l + 1) / (4 pi), so n of band l's values have sum |Y| <= sqrt(n (2l + 1) / (4 pi));
+ * maps 0-9 (bands 0-2 and one of band 3) 3.29, maps 10-19 (six of band 3, four of band 4) 3.53,
+ * maps 20-24 1.90, so sum |Y14| <= 3.53 2^14 + 10 * 16 LSB of Y error < 58000 and
+ * 58000 * 32640 < 1.9e9 < 2^31 (shmap_test's aligned case wraps one sum over all maps). Then
+ * V = round(S / 2^14) without 64 bits: per group
+ * 2^8 SA + SB = 2^14 d + e with d = (SA + (SB >> 8)) >> 6 and 0 <= e < 2^14, likewise
+ * 2^(14 - pd) SN = 2^14 (SN >> pd) + e', so S + 2^13 = 2^14 Q + R with |Q| < 2^31 and
+ * 0 <= R < 2^16: R is exact from wrapping int32 arithmetic, and V = Q + (R >> 14). */
+#define P8_GROUP 5u
+/* the per-span tables of poly_back8: (a_2j, a_2j+1), (b_2j, b_2j+1), (bn_2j, bn_2j+1) as int16
+ * pairs in every int32 lane, [kind][channel][pair] */
+typedef struct p8_tab {
+    __m256i v[3][3][P8_PAIRS];
+} p8_tab_t;
+
+static void p8_tab_fill(const qibl_shmap_point_t *pt, uint32_t k, p8_tab_t *t)
 {
-    const uint32_t k = pt->maps->k;
-    const __m256i *yv = f->yv, am = f->am, ae = f->ae, zero = _mm256_setzero_si256();
-    __m256i e0 = zero, o0 = zero, e1 = zero, o1 = zero, e2 = zero, o2 = zero;
-    /* sn_i c: one vpmaddwd (c in the low int16 of each lane, sn_i there and 0 above: c sn_i + 0,
-     * exact, |sn_i c| < 2^23) instead of a two-uop vpmulld; bs_i from a vector table (one vpaddd
-     * with a memory operand); two maps per step (half the loop overhead) */
-    const __m256i *sn0 = sn16, *sn1 = sn16 + QIBL_SH_MAX_COUNT, *sn2 = sn16 + 2 * QIBL_SH_MAX_COUNT;
-    const __m256i *bs0 = sn16 + 3 * QIBL_SH_MAX_COUNT, *bs1 = bs0 + QIBL_SH_MAX_COUNT, *bs2 = bs1 + QIBL_SH_MAX_COUNT;
-#define P8_MAP(i, c)                                                                                                   \
-    do {                                                                                                               \
-        const __m256i yi = yv[i], yo = _mm256_srli_epi64(yi, 32);                                                      \
-        const __m256i t0 = _mm256_add_epi32(                                                                           \
-            _mm256_madd_epi16(_mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)(c))), sn0[i]), bs0[i]); \
-        const __m256i t1 = _mm256_add_epi32(                                                                           \
-            _mm256_madd_epi16(_mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)((c) + c1))), sn1[i]), bs1[i]); \
-        const __m256i t2 = _mm256_add_epi32(                                                                           \
-            _mm256_madd_epi16(_mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)((c) + 2u * c1))), sn2[i]), bs2[i]); \
-        e0 = _mm256_add_epi64(e0, _mm256_mul_epi32(yi, t0));                                                           \
-        o0 = _mm256_add_epi64(o0, _mm256_mul_epi32(yo, _mm256_srli_epi64(t0, 32)));                                    \
-        e1 = _mm256_add_epi64(e1, _mm256_mul_epi32(yi, t1));                                                           \
-        o1 = _mm256_add_epi64(o1, _mm256_mul_epi32(yo, _mm256_srli_epi64(t1, 32)));                                    \
-        e2 = _mm256_add_epi64(e2, _mm256_mul_epi32(yi, t2));                                                           \
-        o2 = _mm256_add_epi64(o2, _mm256_mul_epi32(yo, _mm256_srli_epi64(t2, 32)));                                    \
+    for (uint32_t ch = 0; ch < 3u; ++ch)
+        for (uint32_t j = 0; j < (k + 1u) / 2u; ++j) {
+            int16_t a[2], b[2], n[2];
+            for (uint32_t h = 0; h < 2u; ++h) {
+                const uint32_t i = 2u * j + h;
+                const int32_t sn = i < k ? pt->sn[ch][i] : 0;
+                b[h] = (int16_t)(((sn + 128) & 255) - 128); /* the low byte, signed */
+                a[h] = (int16_t)((sn - b[h]) / 256);       /* exact */
+                n[h] = i < k ? pt->bn[ch][i] : 0;
+            }
+            t->v[0][ch][j] = _mm256_blend_epi16(_mm256_set1_epi16(a[0]), _mm256_set1_epi16(a[1]), 0xAA);
+            t->v[1][ch][j] = _mm256_blend_epi16(_mm256_set1_epi16(b[0]), _mm256_set1_epi16(b[1]), 0xAA);
+            t->v[2][ch][j] = _mm256_blend_epi16(_mm256_set1_epi16(n[0]), _mm256_set1_epi16(n[1]), 0xAA);
+        }
+}
+
+/* SA and SB of one chunk's maps 2 j0 .. 2 jend - 1 (whole pairs) of one channel (its bytes at c, maps
+ * ms apart; an odd k's last map, tail, pairs with its own bytes), folded into the chunk's q, r */
+static POLY_INLINE void p8_group(const p8_front_t *f, const __m256i *ap, const __m256i *bp, const uint8_t *c, size_t ms,
+                                 uint32_t j0, uint32_t jend, int tail, __m256i *q, __m256i *r)
+{
+    const __m256i zero = _mm256_setzero_si256();
+    __m256i sa = zero, sb = zero;
+#define P8_LD(p) _mm_loadl_epi64((const __m128i *)(const void *)(p))
+#define P8_MP(pc, o2)                                                                                                \
+    do {                                                                                                            \
+        const __m256i cp = _mm256_cvtepu8_epi16(_mm_unpacklo_epi8(P8_LD(pc), P8_LD((pc) + (o2))));                  \
+        sa = _mm256_add_epi32(_mm256_madd_epi16(_mm256_mullo_epi16(cp, ap[j]), f->yp[j]), sa);                      \
+        sb = _mm256_add_epi32(_mm256_madd_epi16(_mm256_mullo_epi16(cp, bp[j]), f->yp[j]), sb);                      \
     } while (0)
-    uint32_t i = 0;
-    for (const uint8_t *c = c0; i + 2u <= k; i += 2u, c += 2u * ms) {
-        P8_MAP(i, c);
-        P8_MAP(i + 1u, c + ms);
+    uint32_t j = j0;
+    for (const uint8_t *pc = c + 2u * j0 * ms; j < jend; ++j, pc += 2u * ms)
+        P8_MP(pc, ms);
+    if (tail)
+        P8_MP(c + 2u * j * ms, 0u);
+#undef P8_MP
+#undef P8_LD
+    const __m256i d = _mm256_srai_epi32(_mm256_add_epi32(sa, _mm256_srai_epi32(sb, 8)), 6);
+    *q = _mm256_add_epi32(*q, d);
+    *r = _mm256_add_epi32(*r, _mm256_sub_epi32(_mm256_add_epi32(_mm256_slli_epi32(sa, 8), sb), _mm256_slli_epi32(d, 14)));
+}
+
+/* SN, V and the final scaling of one chunk whose front is f and whose SA, SB are in q, r (per
+ * channel), into out; 0 if a lane's scaling is rare (nothing written then) */
+static POLY_INLINE int p8_finish(const qibl_shmap_point_t *pt, const p8_front_t *f, const p8_tab_t *tab, const __m256i *q,
+                                 const __m256i *r, int32_t *out)
+{
+    const uint32_t np = (pt->maps->k + 1u) / 2u;
+    const __m256i am = f->am, ae = f->ae, zero = _mm256_setzero_si256();
+    __m256i n0 = zero, n1 = zero, n2 = zero;
+    for (uint32_t j = 0; j < np; ++j) {
+        n0 = _mm256_add_epi32(_mm256_madd_epi16(tab->v[2][0][j], f->yp[j]), n0);
+        n1 = _mm256_add_epi32(_mm256_madd_epi16(tab->v[2][1][j], f->yp[j]), n1);
+        n2 = _mm256_add_epi32(_mm256_madd_epi16(tab->v[2][2][j], f->yp[j]), n2);
     }
-    if (i < k)
-        P8_MAP(i, c0 + (size_t)i * ms);
-#undef P8_MAP
-    const __m256i V[3] = {p8_round14(e0, o0), p8_round14(e1, o1), p8_round14(e2, o2)};
+    /* 2^(14 - pd) SN = 2^14 (SN >> pd) + e', 0 <= e' < 2^14 */
+    __m256i V[3];
+    for (uint32_t ch = 0; ch < 3u; ++ch) {
+        const __m256i sn = ch == 0u ? n0 : ch == 1u ? n1 : n2;
+        const __m256i qn = _mm256_sra_epi32(sn, _mm_cvtsi32_si128(pt->pd[ch]));
+        const __m256i rr = _mm256_add_epi32(r[ch], _mm256_sub_epi32(_mm256_sll_epi32(sn, _mm_cvtsi32_si128(14 - pt->pd[ch])),
+                                                                   _mm256_slli_epi32(qn, 14)));
+        V[ch] = _mm256_add_epi32(_mm256_add_epi32(q[ch], qn), _mm256_srli_epi32(rr, 14));
+    }
     __m256i res[3];
     for (int ch = 0; ch < 3; ++ch) {
         const __m256i g = P8_MUL(am, P8_C(pt->c0m[ch])); /* <= 2^30 */
@@ -1649,9 +1754,9 @@ static POLY_INLINE int poly_back8(const qibl_shmap_point_t *pt, const p8_front_t
         const __m256i ok = _mm256_and_si256(_mm256_cmpgt_epi32(sr, P8_C(32)), _mm256_cmpgt_epi32(P8_C(63), sr));
         if (_mm256_movemask_ps(_mm256_castsi256_ps(ok)) != 0xFF)
             return 0;
-        const __m256i j = _mm256_sub_epi32(sr, P8_C(33));
-        const __m256i o = _mm256_srav_epi32(_mm256_add_epi32(p8_hi(pe, po), _mm256_sllv_epi32(P8_C(1), j)),
-                                            _mm256_add_epi32(j, P8_C(1)));
+        const __m256i sj = _mm256_sub_epi32(sr, P8_C(33));
+        const __m256i o = _mm256_srav_epi32(_mm256_add_epi32(p8_hi(pe, po), _mm256_sllv_epi32(P8_C(1), sj)),
+                                            _mm256_add_epi32(sj, P8_C(1)));
         res[ch] = o;
     }
     /* RGB interleaved: each output vector takes its lanes from R, G and B by one permute each */
@@ -1674,12 +1779,16 @@ static POLY_INLINE int poly_back8(const qibl_shmap_point_t *pt, const p8_front_t
     return 1;
 }
 
-/* poly_span in chunks of eight (interleaved: chunks aligned to half groups, so their bytes are
- * contiguous), the head, the tail and rare chunks by poly_span */
+/* poly_span in blocks of up to P8_BLOCK chunks of eight pixels (interleaved: chunks aligned to half
+ * groups, so their bytes are contiguous): the fronts of the block's chunks, then per channel and
+ * group of maps the sums over the block's chunks (the block's bytes of a plane are one cache line,
+ * read by one pass: the planes of one pixel share an L1 set, so reading all of them per chunk
+ * missed L1), then the finishing; the head, the tail and rare chunks by poly_span */
+#define P8_BLOCK 8u
 static void poly_span_avx2(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out)
 {
     const qibl_shmaps_t *m = pt->maps;
-    const uint32_t k = m->k;
+    const uint32_t k = m->k, np = (k + 1u) / 2u;
     const int il = QIBL_USE_INTERLEAVED && m->layout == QIBL_SHMAPS_INTERLEAVED;
     const size_t ms = il ? QIBL_SHMAPS_GROUP : (size_t)m->channels * m->width * m->height;
     const size_t cs = il ? (size_t)QIBL_SHMAPS_GROUP * k : (size_t)m->width * m->height;
@@ -1694,31 +1803,39 @@ static void poly_span_avx2(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y
     uint32_t seed[192];
     for (uint32_t i = 0; i < 192u; ++i)
         seed[i] = qibli_rsqrt_seed[i];
-    /* sn_i as the low int16 of every int32 lane, 0 above (per channel), then bs_i (per channel) */
-    __m256i sn16[6 * QIBL_SH_MAX_COUNT];
-    for (uint32_t ch = 0; ch < 3u; ++ch)
-        for (uint32_t i = 0; i < k; ++i) {
-            sn16[ch * QIBL_SH_MAX_COUNT + i] = _mm256_set1_epi32((int32_t)(uint16_t)pt->sn[ch][i]);
-            sn16[(3u + ch) * QIBL_SH_MAX_COUNT + i] = _mm256_set1_epi32(pt->bs[ch][i]);
-        }
+    p8_tab_t tab;
+    p8_tab_fill(pt, k, &tab);
+    p8_half_t hk;
+    p8_half_fill(&hk);
     uint32_t px = 0u;
     if (il && x0 % 8u != 0u) {
         px = 8u - x0 % 8u < n ? 8u - x0 % 8u : n;
         poly_span(pt, x0, y, px, out);
     }
-    /* software pipeline: the front of the next chunk (a long dependent chain: rsqrt seed, Newton
-     * step, the recurrences) comes before the sums of this one, so the two overlap */
-    p8_front_t fr[2];
-    int fok[2] = {0, 0};
-    if (px + 8u <= n)
-        fok[0] = poly_front8(pt, pt->pmap->points + (off + px) * 12u, seed, &fr[0]);
-    for (unsigned cur = 0u; px + 8u <= n; px += 8u, cur ^= 1u) {
-        if (px + 16u <= n)
-            fok[cur ^ 1u] = poly_front8(pt, pt->pmap->points + (off + px + 8u) * 12u, seed, &fr[cur ^ 1u]);
-        const uint32_t x = x0 + px;
-        const uint8_t *c0 = il ? row + (size_t)(x / QIBL_SHMAPS_GROUP) * gbytes + x % QIBL_SHMAPS_GROUP : row + px;
-        if (!fok[cur] || !poly_back8(pt, &fr[cur], c0, ms, c1, sn16, out + 3u * px))
-            poly_span(pt, x, y, 8u, out + 3u * px);
+    p8_front_t fr[P8_BLOCK];
+    __m256i q[P8_BLOCK][3], r[P8_BLOCK][3];
+    const uint8_t *cb[P8_BLOCK];
+    int ok[P8_BLOCK];
+    while (px + 8u <= n) {
+        const uint32_t nb = (n - px) / 8u < P8_BLOCK ? (n - px) / 8u : P8_BLOCK;
+        for (uint32_t b = 0; b < nb; ++b) {
+            const uint32_t x = x0 + px + 8u * b;
+            ok[b] = poly_front8(pt, pt->pmap->points + (off + px + 8u * b) * 12u, seed, &hk, &fr[b]);
+            cb[b] = il ? row + (size_t)(x / QIBL_SHMAPS_GROUP) * gbytes + x % QIBL_SHMAPS_GROUP : row + px + 8u * b;
+            for (uint32_t ch = 0; ch < 3u; ++ch)
+                q[b][ch] = _mm256_setzero_si256(), r[b][ch] = _mm256_set1_epi32(8192);
+        }
+        for (uint32_t ch = 0; ch < 3u; ++ch)
+            for (uint32_t j0 = 0; j0 < np; j0 += P8_GROUP) {
+                const uint32_t jend = j0 + P8_GROUP < k / 2u ? j0 + P8_GROUP : k / 2u;
+                const int tail = (k & 1u) && j0 + P8_GROUP >= np;
+                for (uint32_t b = 0; b < nb; ++b)
+                    if (ok[b])
+                        p8_group(&fr[b], tab.v[0][ch], tab.v[1][ch], cb[b] + ch * c1, ms, j0, jend, tail, &q[b][ch], &r[b][ch]);
+            }
+        for (uint32_t b = 0; b < nb; ++b, px += 8u)
+            if (!ok[b] || !p8_finish(pt, &fr[b], &tab, q[b], r[b], out + 3u * px))
+                poly_span(pt, x0 + px, y, 8u, out + 3u * px);
     }
     if (px < n)
         poly_span(pt, x0 + px, y, n - px, out + 3u * px);
