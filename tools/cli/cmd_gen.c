@@ -50,7 +50,7 @@ static const qtool_opt gen_table[] = {
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_gen = {
+static const qtool_opt_cmd gen_spec = {
     .name = "gen",
     QTOOL_OPT_TABLE(gen_table, gen_defaults),
     .prose =
@@ -61,22 +61,24 @@ const qtool_opt_cmd qcli_opts_gen = {
         "  one at a time; relights to the same bytes as the default planar layout).\n",
 };
 
-int qcli_cmd_gen(int argc, char **argv)
+static int gen_check(void *opts, int argc, char **argv)
 {
-    gen_opts o;
-    int r = qtool_opt_parse(&qcli_opts_gen, argc, argv, 1, &o);
-    if (r != 0)
-        return r;
-    if (o.size[0] * o.size[1] > (long)QIBL_ASSET_MAX_PIXELS)
-        return qtool_opt_error(&qcli_opts_gen, "--size %ldx%ld is above the asset's %u pixels", o.size[0], o.size[1],
+    (void)argc, (void)argv;
+    const gen_opts *o = opts;
+    if (o->size[0] * o->size[1] > (long)QIBL_ASSET_MAX_PIXELS)
+        return qtool_opt_error(&gen_spec, "--size %ldx%ld is above the asset's %u pixels", o->size[0], o->size[1],
                               QIBL_ASSET_MAX_PIXELS);
-    const char *out = o.out;
-    long w = o.size[0], h = o.size[1], k = o.k, lut = o.lut;
-    uint32_t layout = layout_values[o.layout];
-    qtool_pack_scheme scheme = pack_schemes[o.pack];
-    qtool_pano_kind kind = o.equirect ? QTOOL_PANO_EQUIRECT : QTOOL_PANO_CYLINDRICAL;
-    if (qcli_parse_only) /* fuzz_cliopts: the options only */
-        return 0;
+    return 0;
+}
+
+static int gen_run(void *opts)
+{
+    const gen_opts *o = opts;
+    const char *out = o->out;
+    long w = o->size[0], h = o->size[1], k = o->k, lut = o->lut;
+    uint32_t layout = layout_values[o->layout];
+    qtool_pack_scheme scheme = pack_schemes[o->pack];
+    qtool_pano_kind kind = o->equirect ? QTOOL_PANO_EQUIRECT : QTOOL_PANO_CYLINDRICAL;
     qtool_gen_maps g;
     if (qtool_gen_scene((uint32_t)w, (uint32_t)h, (uint32_t)k, kind, &g) != 0) {
         fprintf(stderr, "qibl: gen: out of memory\n");
@@ -131,3 +133,5 @@ done:
     qtool_gen_free(&g);
     return rc;
 }
+
+const qcli_sub qcli_sub_gen = {.opts = &gen_spec, .check = gen_check, .run = gen_run};

@@ -207,7 +207,7 @@ static const qtool_opt lights_table[] = {
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_lights = {
+static const qtool_opt_cmd lights_spec = {
     .name = "lights",
     QTOOL_OPT_TABLE(lights_table, lights_defaults),
     .pos = {.names = "PROBE.hdr", .min = 1, .max = 1, .off = offsetof(lights_cli, probe)},
@@ -237,10 +237,21 @@ const qtool_opt_cmd qcli_opts_lights = {
         "  probe is refused: its error would be 0 / 0. --format c|csv|json: the pick as a document.\n",
 };
 
-/* the options together, after parsing: 0, or 2 after the one line */
-static int lights_check(const qtool_relight_lights_opts *o)
+/* the table's ints into c->o, then the options together: 0, or 2 after the one line */
+static int lights_check(void *opts, int argc, char **argv)
 {
-    const qtool_opt_cmd *t = &qcli_opts_lights;
+    (void)argc, (void)argv;
+    lights_cli *c = opts;
+    qtool_relight_lights_opts *o = &c->o;
+    o->path = c->probe.v[0];
+    o->core.method = (qibl_lightprobe_method_t)c->method;
+    o->core.priority = (qibl_lightprobe_priority_t)c->priority;
+    o->core.place = c->place == 0 ? QIBL_LIGHTPROBE_PLACE_CENTROID : QIBL_LIGHTPROBE_PLACE_CENTRE;
+    o->as = (qtool_relight_lights_as)c->as;
+    o->layout = (qtool_probe_layout_t)c->layout;
+    o->rotate = c->rl.rotate;
+    memcpy(o->r, c->rl.r, sizeof o->r);
+    const qtool_opt_cmd *t = &lights_spec;
     if (o->budget >= 0 && !o->autom)
         return qtool_opt_error(t, "--error with a budget (%g%%) needs --auto", 100 * o->budget);
     if (o->autom && o->budget < 0)
@@ -390,8 +401,9 @@ static int lights_fit(const qtool_relight_lights_opts *o, const qtool_relight_li
     return rc;
 }
 
-static int lights_run(const qtool_relight_lights_opts *o)
+static int lights_run(void *opts)
 {
+    const qtool_relight_lights_opts *o = &((const lights_cli *)opts)->o;
     qtool_relight_lights_probe p;
     char note[4200 + 256], err[4200 + 600];
     if (qtool_relight_lights_load(o->path, o->layout, &p, note, sizeof note, err, sizeof err) != 0)
@@ -418,24 +430,4 @@ static int lights_run(const qtool_relight_lights_opts *o)
     return rc;
 }
 
-int qcli_cmd_lights(int argc, char **argv)
-{
-    lights_cli c;
-    int rc = qtool_opt_parse(&qcli_opts_lights, argc, argv, 1, &c);
-    if (rc != 0)
-        return rc;
-    qtool_relight_lights_opts o = c.o;
-    o.path = c.probe.v[0];
-    o.core.method = (qibl_lightprobe_method_t)c.method;
-    o.core.priority = (qibl_lightprobe_priority_t)c.priority;
-    o.core.place = c.place == 0 ? QIBL_LIGHTPROBE_PLACE_CENTROID : QIBL_LIGHTPROBE_PLACE_CENTRE;
-    o.as = (qtool_relight_lights_as)c.as;
-    o.layout = (qtool_probe_layout_t)c.layout;
-    o.rotate = c.rl.rotate;
-    memcpy(o.r, c.rl.r, sizeof o.r);
-    if (lights_check(&o) != 0)
-        return 2;
-    if (qcli_parse_only) /* fuzz_cliopts: the options only */
-        return 0;
-    return lights_run(&o);
-}
+const qcli_sub qcli_sub_lights = {.opts = &lights_spec, .check = lights_check, .run = lights_run};

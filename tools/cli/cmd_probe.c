@@ -33,10 +33,12 @@ typedef struct sh_project_cli {
     int layout;         /* qtool_probe_layout_t */
     qcli_light_list rl; /* only its --yaw / --rotate (relight's rotation) */
     char why[192];      /* a reason with numbers in it, for the table's line */
+    qtool_sh_project_opts o; /* the options together (sh_project_check) */
 } sh_project_cli;
 static const sh_project_cli sh_project_defaults = {.bands = 0, .preset = QTOOL_ENGINE_RAW, .frame = -1, .format = -1,
                                                    .name = NULL, .layout = QTOOL_PROBE_LAYOUT_AUTO,
-                                                   .rl = QTOOL_RELIGHT_LIGHT_LIST_DEFAULT};
+                                                   .rl = QTOOL_RELIGHT_LIGHT_LIST_DEFAULT,
+                                                   .o = QTOOL_SH_PROJECT_OPTS_DEFAULT};
 
 static const char *const frames[] = {"zup", "yup", NULL}; /* qtool_engine_frame */
 
@@ -109,7 +111,7 @@ static const qtool_opt sh_project_table[] = {
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_sh_project = {
+static const qtool_opt_cmd sh_project_spec = {
     .name = "sh project",
     .help_name = "sh",
     QTOOL_OPT_TABLE(sh_project_table, sh_project_defaults),
@@ -136,10 +138,13 @@ const qtool_opt_cmd qcli_opts_sh_project = {
         "  what cmgen writes; use --preset filament.)\n",
 };
 
-/* the options together into o, once the table has parsed them: 0, or 2 after the one line */
-static int sh_project_check(const sh_project_cli *c, qtool_sh_project_opts *o)
+/* the options together into c->o, once the table has parsed them: 0, or 2 after the one line */
+static int sh_project_check(void *cli, int argc, char **argv)
 {
-    const qtool_opt_cmd *t = &qcli_opts_sh_project;
+    (void)argc, (void)argv;
+    const sh_project_cli *c = cli;
+    qtool_sh_project_opts *o = &((sh_project_cli *)cli)->o;
+    const qtool_opt_cmd *t = &sh_project_spec;
     const qtool_engine_preset preset = (qtool_engine_preset)c->preset;
     const char *pn = qtool_engine_preset_name(preset);
     long bands = c->bands ? c->bands : o->bands;
@@ -185,17 +190,13 @@ static int sh_project_check(const sh_project_cli *c, qtool_sh_project_opts *o)
     return 0;
 }
 
-int qcli_cmd_sh_project(int argc, char **argv)
+static int sh_project_run(void *opts)
 {
-    qtool_sh_project_opts o = QTOOL_SH_PROJECT_OPTS_DEFAULT;
-    sh_project_cli c;
-    if (qtool_opt_parse(&qcli_opts_sh_project, argc, argv, 2, &c) != 0 || sh_project_check(&c, &o) != 0)
-        return 2;
-    if (qcli_parse_only) /* fuzz_cliopts: the options only */
-        return 0;
-    o.rot = c.rl.rotate ? (const double(*)[3])c.rl.r : NULL, o.rot_kind = c.rl.rotate;
-    const char *path = c.probe.v[0];
-    const qtool_probe_layout_t layout = (qtool_probe_layout_t)c.layout;
+    sh_project_cli *c = opts;
+    qtool_sh_project_opts o = c->o;
+    o.rot = c->rl.rotate ? (const double(*)[3])c->rl.r : NULL, o.rot_kind = c->rl.rotate;
+    const char *path = c->probe.v[0];
+    const qtool_probe_layout_t layout = (qtool_probe_layout_t)c->layout;
     int w, h;
     uint8_t *px;
     qtool_probe_layout_t used;
@@ -210,3 +211,5 @@ int qcli_cmd_sh_project(int argc, char **argv)
         fprintf(stderr, "qibl: %s\n", err);
     return rc != 0;
 }
+
+const qcli_sub qcli_sub_sh_project = {.opts = &sh_project_spec, .check = sh_project_check, .run = sh_project_run};

@@ -265,7 +265,7 @@ static const qtool_opt relight_table[] = {
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_relight = {
+static const qtool_opt_cmd relight_spec = {
     .name = "relight",
     QTOOL_OPT_TABLE(relight_table, relight_defaults),
     .pos = {.names = "FILE", .min = 0, .max = 1, .off = offsetof(relight_cli, file)},
@@ -348,7 +348,7 @@ static const char *light_only(const relight_cli *c)
 /* the options together, after parsing: 0, or 2 after the one line */
 static int relight_check(const relight_cli *c)
 {
-    const qtool_opt_cmd *t = &qcli_opts_relight;
+    const qtool_opt_cmd *t = &relight_spec;
     const qtool_relight_opts *o = &c->r;
     const qtool_relight_light_list *ll = &o->lights;
     const char *bad;
@@ -373,7 +373,7 @@ static int relight_check(const relight_cli *c)
 /* --path's line together: 0, or 2 after the one line */
 static int path_check(const relight_cli *c)
 {
-    const qtool_opt_cmd *t = &qcli_opts_relight;
+    const qtool_opt_cmd *t = &relight_spec;
     const char *bad = light_only(c);
     if (bad)
         return qtool_opt_error(t, "%s is for relight without --path (the path is the light)", bad);
@@ -662,22 +662,34 @@ static int path_run(const relight_cli *c, const path_cli *p)
     return rc;
 }
 
-int qcli_cmd_relight(int argc, char **argv)
+/* --path anywhere on the line: a light on a baked path, the table with path_defaults */
+static const qtool_opt_cmd *relight_pick(int argc, char **argv)
 {
-    int path = 0;
     for (int i = 1; i < argc; ++i)
-        path |= strcmp(argv[i], "--path") == 0; /* a light on a baked path */
-    relight_cli c;
-    if (qtool_opt_parse(path ? &relight_path_spec : &qcli_opts_relight, argc, argv, 1, &c) != 0)
-        return 2;
-    if (path ? path_check(&c) != 0 : relight_check(&c) != 0)
-        return 2;
-    for (int k = 0; k < c.nnotes; ++k)
-        fprintf(stderr, "qibl: note: %s\n", c.notes[k]);
-    if (qcli_parse_only) /* fuzz_cliopts: the options only */
-        return 0;
-    c.r.exposure = (qibl_q16_t)nearbyint(c.exposure * 65536.0);
-    c.p.soft = c.p.soft < 0 ? 0 : c.p.soft;
-    c.p.have_sky = c.p.sky[0] >= 0;
-    return path ? path_run(&c, &c.p) : relight_run(&c);
+        if (strcmp(argv[i], "--path") == 0)
+            return &relight_path_spec;
+    return &relight_spec;
 }
+
+static int relight_check_line(void *opts, int argc, char **argv)
+{
+    (void)argc, (void)argv;
+    const relight_cli *c = opts;
+    if (c->path_mode ? path_check(c) != 0 : relight_check(c) != 0)
+        return 2;
+    for (int k = 0; k < c->nnotes; ++k)
+        fprintf(stderr, "qibl: note: %s\n", c->notes[k]);
+    return 0;
+}
+
+static int relight_run_line(void *opts)
+{
+    relight_cli *c = opts;
+    c->r.exposure = (qibl_q16_t)nearbyint(c->exposure * 65536.0);
+    c->p.soft = c->p.soft < 0 ? 0 : c->p.soft;
+    c->p.have_sky = c->p.sky[0] >= 0;
+    return c->path_mode ? path_run(c, &c->p) : relight_run(c);
+}
+
+const qcli_sub qcli_sub_relight = {.opts = &relight_spec, .pick = relight_pick, .check = relight_check_line,
+                                   .run = relight_run_line};
