@@ -99,8 +99,7 @@ typedef struct lights_cli {
     qtool_relight_lights_opts o;
     qtool_opt_list probe;
     int method, priority, place, as, layout;
-    qcli_light_list rl; /* only its --yaw / --rotate (relight's rotation) */
-    char why[192];      /* a reason with numbers in it, for the table's line */
+    qcli_turn turn;     /* --yaw / --rotate (relight's rotation) */
 } lights_cli;
 static const lights_cli lights_defaults = {.o = QTOOL_RELIGHT_LIGHTS_OPTS_DEFAULT,
                                            .method = QIBL_LIGHTPROBE_MEDIANCUT,
@@ -108,7 +107,7 @@ static const lights_cli lights_defaults = {.o = QTOOL_RELIGHT_LIGHTS_OPTS_DEFAUL
                                            .place = 0,
                                            .as = QTOOL_RELIGHT_LIGHTS_AS_RGBE,
                                            .layout = QTOOL_PROBE_LAYOUT_AUTO,
-                                           .rl = QTOOL_RELIGHT_LIGHT_LIST_DEFAULT};
+                                           .turn = QCLI_TURN_DEFAULT};
 
 /* the enums' names, in the order of their values */
 static const char *const methods[] = {"mediancut", "adaptive", "varmin", NULL}; /* qibl_lightprobe_method_t */
@@ -160,17 +159,6 @@ static const char *preset_call(void *opts, const char *v)
     return NULL;
 }
 
-static const char *yaw_call(void *opts, const char *v)
-{
-    return qtool_relight_spec_yaw(&((lights_cli *)opts)->rl, v);
-}
-
-static const char *rotate_call(void *opts, const char *v)
-{
-    lights_cli *c = opts;
-    return qtool_relight_spec_rotate(&c->rl, v, c->why, sizeof c->why);
-}
-
 static const qtool_opt lights_table[] = {
     {.name = "--method", .kind = QTOOL_OPT_ENUM, .off = offsetof(lights_cli, method), .names = methods,
      .help = "median cut (N a power of two), adaptive median cut or variance minimisation (any N)"},
@@ -200,10 +188,8 @@ static const qtool_opt lights_table[] = {
      .help = "the cheapest representation with mean irradiance error <= --error P%"},
     {.name = "--preset", .kind = QTOOL_OPT_CALL, .off = offsetof(lights_cli, o), .arg = "gltf|raw",
      .call = preset_call, .def = "raw", .help = "gltf: the lights as KHR_lights_punctual JSON"},
-    {.name = "--yaw", .kind = QTOOL_OPT_CALL, .off = offsetof(lights_cli, rl), .arg = "DEG", .call = yaw_call,
-     .help = "turn --preset gltf's lights, as qibl relight does"},
-    {.name = "--rotate", .kind = QTOOL_OPT_CALL, .off = offsetof(lights_cli, rl), .arg = "a,b,c,d,e,f,g,h,i",
-     .call = rotate_call, .help = "turn --preset gltf's lights by a rotation matrix (rows)"},
+    QCLI_TURN_OPTS(lights_cli, turn, "turn --preset gltf's lights, as qibl relight does",
+                   "turn --preset gltf's lights by a rotation matrix (rows)"),
     {0},
 };
 
@@ -249,8 +235,8 @@ static int lights_check(void *opts, int argc, char **argv)
     o->core.place = c->place == 0 ? QIBL_LIGHTPROBE_PLACE_CENTROID : QIBL_LIGHTPROBE_PLACE_CENTRE;
     o->as = (qtool_relight_lights_as)c->as;
     o->layout = (qtool_probe_layout_t)c->layout;
-    o->rotate = c->rl.rotate;
-    memcpy(o->r, c->rl.r, sizeof o->r);
+    o->rotate = c->turn.ll.rotate;
+    memcpy(o->r, c->turn.ll.r, sizeof o->r);
     const qtool_opt_cmd *t = &lights_spec;
     if (o->budget >= 0 && !o->autom)
         return qtool_opt_error(t, "--error with a budget (%g%%) needs --auto", 100 * o->budget);

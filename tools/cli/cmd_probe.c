@@ -31,13 +31,12 @@ typedef struct sh_project_cli {
     int format;         /* FMT_*; -1: not given */
     const char *name;   /* NULL: not given */
     int layout;         /* qtool_probe_layout_t */
-    qcli_light_list rl; /* only its --yaw / --rotate (relight's rotation) */
-    char why[192];      /* a reason with numbers in it, for the table's line */
+    qcli_turn turn;     /* --yaw / --rotate (relight's rotation) */
     qtool_sh_project_opts o; /* the options together (sh_project_check) */
 } sh_project_cli;
 static const sh_project_cli sh_project_defaults = {.bands = 0, .preset = QTOOL_ENGINE_RAW, .frame = -1, .format = -1,
                                                    .name = NULL, .layout = QTOOL_PROBE_LAYOUT_AUTO,
-                                                   .rl = QTOOL_RELIGHT_LIGHT_LIST_DEFAULT,
+                                                   .turn = QCLI_TURN_DEFAULT,
                                                    .o = QTOOL_SH_PROJECT_OPTS_DEFAULT};
 
 static const char *const frames[] = {"zup", "yup", NULL}; /* qtool_engine_frame */
@@ -75,17 +74,6 @@ static const char *name_call(void *opts, const char *v)
     return NULL;
 }
 
-static const char *yaw_call(void *opts, const char *v)
-{
-    return qtool_relight_spec_yaw(&((sh_project_cli *)opts)->rl, v);
-}
-
-static const char *rotate_call(void *opts, const char *v)
-{
-    sh_project_cli *c = opts;
-    return qtool_relight_spec_rotate(&c->rl, v, c->why, sizeof c->why);
-}
-
 static const qtool_opt sh_project_table[] = {
     {.name = "--bands", .kind = QTOOL_OPT_INT, .off = offsetof(sh_project_cli, bands), .arg = "B", .lo = 1,
      .hi = QIBL_SH_MAX_BANDS, .def = "5; a preset 3", .help = "bands 0..B-1 (B*B coefficients)"},
@@ -101,10 +89,8 @@ static const qtool_opt sh_project_table[] = {
      .def = "qibl_probe_sh", .help = "the C array (--format c) or the glTF light (--preset gltf)"},
     {.name = "--frame", .kind = QTOOL_OPT_ENUM, .off = offsetof(sh_project_cli, frame), .names = frames,
      .def = "zup", .help = "yup: the coefficients in a y-up frame ((x, z, -y) of qibl's; --preset raw)"},
-    {.name = "--yaw", .kind = QTOOL_OPT_CALL, .off = offsetof(sh_project_cli, rl), .arg = "DEG", .call = yaw_call,
-     .help = "turn the probe first (positive turns +x toward +y), as qibl relight does"},
-    {.name = "--rotate", .kind = QTOOL_OPT_CALL, .off = offsetof(sh_project_cli, rl), .arg = "a,b,c,d,e,f,g,h,i",
-     .call = rotate_call, .help = "turn the probe first by a rotation matrix (rows), as qibl relight does"},
+    QCLI_TURN_OPTS(sh_project_cli, turn, "turn the probe first (positive turns +x toward +y), as qibl relight does",
+                   "turn the probe first by a rotation matrix (rows), as qibl relight does"),
     {.name = "--layout", .kind = QTOOL_OPT_ENUM, .off = offsetof(sh_project_cli, layout),
      .names = qtool_relight_probe_layout_names, .arg = "L",
      .help = "the probe's layout: auto (detected, and said so), latlong, angular, ball, vcross or hcross"},
@@ -194,7 +180,8 @@ static int sh_project_run(void *opts)
 {
     sh_project_cli *c = opts;
     qtool_sh_project_opts o = c->o;
-    o.rot = c->rl.rotate ? (const double(*)[3])c->rl.r : NULL, o.rot_kind = c->rl.rotate;
+    const qcli_light_list *turn = &c->turn.ll;
+    o.rot = turn->rotate ? (const double(*)[3])turn->r : NULL, o.rot_kind = turn->rotate;
     const char *path = c->probe.v[0];
     const qtool_probe_layout_t layout = (qtool_probe_layout_t)c->layout;
     int w, h;

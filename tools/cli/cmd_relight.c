@@ -52,6 +52,7 @@ typedef struct relight_cli {
     const char *notes[4]; /* deprecation notes, printed once the line is accepted */
     int nnotes;
     char why[256];        /* a reason with numbers in it, for the table's line */
+    qcli_turn turn;       /* --yaw / --rotate, into r.lights once the line has parsed */
 } relight_cli;
 
 void qcli_warn_dark(const char *path, const uint8_t *rgb, size_t np)
@@ -130,16 +131,6 @@ static const char *count_call(void *o, const char *v)
     return qtool_relight_spec_count(&C(o)->r.lights, v);
 }
 
-static const char *yaw_call(void *o, const char *v)
-{
-    return qtool_relight_spec_yaw(&C(o)->r.lights, v);
-}
-
-static const char *rotate_call(void *o, const char *v)
-{
-    return qtool_relight_spec_rotate(&C(o)->r.lights, v, C(o)->why, sizeof C(o)->why);
-}
-
 /* --lut MODE; a bare --lut (the old on/off switch) is bilinear: the next word is then an option or
  * the asset, never a mode name, so the two spellings cannot be confused */
 static const char *lut_call(void *o, const char *m)
@@ -199,9 +190,11 @@ static const char *up_call(void *o, char *const *v, int n, int *used)
 }
 
 static const relight_cli relight_defaults = {.r = QTOOL_RELIGHT_OPTS_DEFAULT, .exposure = 1.0,
-                                             .p = {.t = -1, .rgb = {1, 1, 1}, .sky = {-1, -1, -1}, .soft = -1}};
+                                             .p = {.t = -1, .rgb = {1, 1, 1}, .sky = {-1, -1, -1}, .soft = -1},
+                                             .turn = QCLI_TURN_DEFAULT};
 static const relight_cli path_defaults = {.r = QTOOL_RELIGHT_OPTS_DEFAULT, .exposure = 1.0, .path_mode = 1,
-                                          .p = {.t = -1, .rgb = {1, 1, 1}, .sky = {-1, -1, -1}, .soft = -1}};
+                                          .p = {.t = -1, .rgb = {1, 1, 1}, .sky = {-1, -1, -1}, .soft = -1},
+                                          .turn = QCLI_TURN_DEFAULT};
 
 static const qtool_opt relight_table[] = {
     {.name = "--sun", .kind = QTOOL_OPT_CALL, .nargs = 3, .call_n = sun_call, .arg = "X Y Z",
@@ -221,10 +214,8 @@ static const qtool_opt relight_table[] = {
      .help = "the probe as SH (default), N median-cut lights, or its suns plus SH"},
     {.name = "-n", .kind = QTOOL_OPT_CALL, .call = count_call, .arg = "N",
      .help = "median-cut lights of --probe-mode lights or sunsky (a power of two in 1..65536)"},
-    {.name = "--yaw", .kind = QTOOL_OPT_CALL, .call = yaw_call, .arg = "DEG",
-     .help = "turn the probe (positive turns +x toward +y)"},
-    {.name = "--rotate", .kind = QTOOL_OPT_CALL, .call = rotate_call, .arg = "a,b,c,d,e,f,g,h,i",
-     .help = "turn the probe by a rotation matrix (rows)"},
+    QCLI_TURN_OPTS(relight_cli, turn, "turn the probe (positive turns +x toward +y)",
+                   "turn the probe by a rotation matrix (rows)"),
     {.name = "--lut", .kind = QTOOL_OPT_CALL, .optional = 1, .call = lut_call, .arg = "poly|nearest|bilinear|off",
      .help = "how point lamps are evaluated: polynomial (default), the asset's Y LUT, or direct SH (off)"},
     {.name = "--nearest", .kind = QTOOL_OPT_FLAG, .off = offsetof(relight_cli, nearest), .call = nearest_call,
@@ -674,7 +665,10 @@ static const qtool_opt_cmd *relight_pick(int argc, char **argv)
 static int relight_check_line(void *opts, int argc, char **argv)
 {
     (void)argc, (void)argv;
-    const relight_cli *c = opts;
+    relight_cli *c = opts;
+    qcli_light_list *ll = &c->r.lights;
+    ll->rotate = c->turn.ll.rotate, ll->yaw = c->turn.ll.yaw;
+    memcpy(ll->r, c->turn.ll.r, sizeof ll->r);
     if (c->path_mode ? path_check(c) != 0 : relight_check(c) != 0)
         return 2;
     for (int k = 0; k < c->nnotes; ++k)

@@ -125,6 +125,8 @@ typedef struct qtool_opt {
     int nargs;          /* CALL: how many arguments call_n takes (0 or 1: call takes one) */
     int nargs_min;      /* CALL with nargs: the fewest it takes (0: nargs) */
     const char *(*call_n)(void *opts, char *const *values, int n, int *used);
+    int field;          /* CALL: call and call_n get the field at .off, not the whole struct (a callback
+                         * several tables share: cli/relight_light.h's --yaw and --rotate) */
     const char *help;   /* one line */
 } qtool_opt;
 
