@@ -30,7 +30,9 @@ typedef struct qcli_sub {
     const qtool_opt_cmd *(*pick)(int argc, char **argv);
     /* NULL, or the rules across options; it may fill the struct's derived fields for run. 0, or 2
      * after the one line */
-    int (*check)(void *o, int argc, char **argv);
+    int (*check)(void *o);
+    /* NULL, or a check that reads the line as spelled too (view: which mode's option came first) */
+    int (*check_line)(void *o, int argc, char **argv);
     int (*run)(void *o); /* the work: 0, 1 failed (said on stderr) or 2 */
     void (*drop)(void *o); /* NULL, or frees what parsing allocated, however it ended (merge's SUMS) */
     int whole; /* runs under qcli_parse_only too: it reads nothing and prints a few numbers (sh eval) */

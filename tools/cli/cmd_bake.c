@@ -290,9 +290,8 @@ static const qtool_opt_cmd render_spec = {
 };
 
 /* render's options together in c->o; 0, or 2 after the one line */
-static int render_check(void *opts, int argc, char **argv)
+static int render_check(void *opts)
 {
-    (void)argc, (void)argv;
     const qtool_opt_cmd *t = &render_spec;
     render_cli *c = opts;
     qtool_render_opts *o = &c->o;
@@ -506,9 +505,8 @@ static const qtool_opt_cmd bake_spec = {
 
 /* bake's options together in c->o (progress -1: not given, a bar on a terminal, lines elsewhere); 0, or 2
  * after the one line */
-static int bake_check(void *opts, int argc, char **argv)
+static int bake_check(void *opts)
 {
-    (void)argc, (void)argv;
     bake_cli *c = opts;
     qtool_bake_opts *o = &c->o;
     qcli_scene_defaults(&o->scene); /* the job's CPUs; the scene options are c->sc's */
@@ -599,9 +597,8 @@ static const qtool_opt_cmd merge_spec = {
         "  Exit status: 0 written, 1 refused or failed (named on stderr, nothing written), 2 bad arguments.\n",
 };
 
-static int merge_check(void *opts, int argc, char **argv)
+static int merge_check(void *opts)
 {
-    (void)argc, (void)argv;
     merge_cli *c = opts;
     if ((c->o.nin == 0 && !c->o.manifest) || (!c->o.out && !c->o.sums_out))
         return qtool_opt_error(&merge_spec, "needs -o ASSET or --sums OUT (or both), and --manifest FILE or SUMS...");
@@ -677,4 +674,4 @@ static int check_run(void *opts)
     return bad;
 }
 
-const qcli_sub qcli_sub_check = {.opts = &check_spec, .check = check_check, .run = check_run};
+const qcli_sub qcli_sub_check = {.opts = &check_spec, .check_line = check_check, .run = check_run};

@@ -72,9 +72,8 @@ static const char *bench_what(const bench_cli_opts *c)
     return c->what.n ? c->what.v[c->what.n - 1] : "all";
 }
 
-static int bench_check(void *opts, int argc, char **argv)
+static int bench_check(void *opts)
 {
-    (void)argc, (void)argv;
     const char *what = bench_what(opts);
     if (!qtool_bench_known(what))
         return qtool_opt_error(&bench_spec, "unknown benchmark '%s' (" QTOOL_BENCH_NAMES ")", what);

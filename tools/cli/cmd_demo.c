@@ -101,9 +101,8 @@ static demo_opts demo_defaults(const qtool_demo_size *sz)
 
 /* the size (the last of --small and --full, else the default), then what the line gives over the size's values
  * (--size WxH, --dirs, --frames). 0, or 2 after the one line. */
-static int demo_check(void *opts, int argc, char **argv)
+static int demo_check(void *opts)
 {
-    (void)argc, (void)argv;
     demo_cli *c = opts;
     demo_opts *o = &c->o;
     *o = demo_defaults(qtool_demo_size_named(c->pick == 2 ? "full" : c->pick == 1 ? "small" : "default"));

@@ -61,9 +61,8 @@ static const qtool_opt_cmd gen_spec = {
         "  one at a time; relights to the same bytes as the default planar layout).\n",
 };
 
-static int gen_check(void *opts, int argc, char **argv)
+static int gen_check(void *opts)
 {
-    (void)argc, (void)argv;
     const gen_opts *o = opts;
     if (o->size[0] * o->size[1] > (long)QIBL_ASSET_MAX_PIXELS)
         return qtool_opt_error(&gen_spec, "--size %ldx%ld is above the asset's %u pixels", o->size[0], o->size[1],

@@ -106,7 +106,6 @@ static const qtool_opt ies_table[] = {
 
 static const qtool_opt_cmd ies_info_spec = {
     .name = "ies info",
-    .help_name = "ies",
     QTOOL_OPT_TABLE(ies_table, ies_defaults),
     .pos = {.names = "FILE.ies", .min = 1, .max = 1, .off = offsetof(ies_opts, file)},
     .prose =

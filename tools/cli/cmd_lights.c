@@ -224,9 +224,8 @@ static const qtool_opt_cmd lights_spec = {
 };
 
 /* the table's ints into c->o, then the options together: 0, or 2 after the one line */
-static int lights_check(void *opts, int argc, char **argv)
+static int lights_check(void *opts)
 {
-    (void)argc, (void)argv;
     lights_cli *c = opts;
     qtool_relight_lights_opts *o = &c->o;
     o->path = c->probe.v[0];

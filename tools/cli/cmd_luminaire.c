@@ -226,9 +226,8 @@ static const qtool_opt_cmd picture_spec = {
              "  luminaire ray-traced, its far field (one gonio lamp), side by side, one exposure.\n",
 };
 
-static int capture_check(void *opts, int argc, char **argv)
+static int capture_check(void *opts)
 {
-    (void)argc, (void)argv;
     const capture_cli *c = opts;
     if (strcmp(c->src.v[0], "builtin") == 0 && c->have_emitter)
         return qtool_opt_error(&capture_spec, "--emitter places the emitter in a mesh, not in 'builtin'");

@@ -99,7 +99,6 @@ static const qtool_opt sh_project_table[] = {
 
 static const qtool_opt_cmd sh_project_spec = {
     .name = "sh project",
-    .help_name = "sh",
     QTOOL_OPT_TABLE(sh_project_table, sh_project_defaults),
     .pos = {.names = "PROBE.hdr", .min = 1, .max = 1, .off = offsetof(sh_project_cli, probe)},
     .prose =
@@ -125,9 +124,8 @@ static const qtool_opt_cmd sh_project_spec = {
 };
 
 /* the options together into c->o, once the table has parsed them: 0, or 2 after the one line */
-static int sh_project_check(void *cli, int argc, char **argv)
+static int sh_project_check(void *cli)
 {
-    (void)argc, (void)argv;
     const sh_project_cli *c = cli;
     qtool_sh_project_opts *o = &((sh_project_cli *)cli)->o;
     const qtool_opt_cmd *t = &sh_project_spec;

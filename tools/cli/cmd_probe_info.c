@@ -32,7 +32,6 @@ static const qtool_opt probe_info_table[] = {
 
 static const qtool_opt_cmd probe_info_spec = {
     .name = "probe info",
-    .help_name = "probe",
     QTOOL_OPT_TABLE(probe_info_table, probe_info_defaults),
     .pos = {.names = "PROBE.hdr", .min = 1, .max = 1, .off = offsetof(probe_info_opts, probe)},
     .prose =

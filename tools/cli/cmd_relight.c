@@ -662,9 +662,8 @@ static const qtool_opt_cmd *relight_pick(int argc, char **argv)
     return &relight_spec;
 }
 
-static int relight_check_line(void *opts, int argc, char **argv)
+static int relight_check_line(void *opts)
 {
-    (void)argc, (void)argv;
     relight_cli *c = opts;
     qcli_light_list *ll = &c->r.lights;
     ll->rotate = c->turn.ll.rotate, ll->yaw = c->turn.ll.yaw;

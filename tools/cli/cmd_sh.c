@@ -32,7 +32,6 @@ static const qtool_opt plot_table[] = {
 
 static const qtool_opt_cmd plot_spec = {
     .name = "sh plot",
-    .help_name = "sh",
     QTOOL_OPT_TABLE(plot_table, plot_defaults),
     .prose = "  Writes a PNG of every basis function as a lat-long tile (orange > 0, blue < 0), evaluated by\n"
              "  the integer core.\n",
@@ -93,7 +92,6 @@ static const qtool_opt eval_table[] = {
 
 static const qtool_opt_cmd eval_spec = {
     .name = "sh eval",
-    .help_name = "sh",
     QTOOL_OPT_TABLE(eval_table, eval_defaults),
     .pos = {.names = "X Y Z", .min = 3, .max = 3, .off = offsetof(eval_opts, xyz), .numbers = 1},
     .prose =

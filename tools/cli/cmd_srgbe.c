@@ -15,7 +15,6 @@
 
 static const qtool_opt_cmd encode_spec = {
     .name = "srgbe encode",
-    .help_name = "srgbe",
     .pos = {.names = "R G B", .min = 3, .max = 3, .numbers = 1},
     QTOOL_OPT_TABLE(NULL, qtool_opt_args),
     .prose =
@@ -28,7 +27,6 @@ static const qtool_opt_cmd encode_spec = {
 
 static const qtool_opt_cmd decode_spec = {
     .name = "srgbe decode",
-    .help_name = "srgbe",
     .pos = {.names = "HEX8", .min = 1, .max = 1},
     QTOOL_OPT_TABLE(NULL, qtool_opt_args),
     .prose =

@@ -212,9 +212,8 @@ static const qtool_opt_cmd transfer_spec = {
 };
 
 /* what a range cannot say */
-static int transfer_check(void *opts, int argc, char **argv)
+static int transfer_check(void *opts)
 {
-    (void)argc, (void)argv;
     const qtool_opt_cmd *t = &transfer_spec;
     const transfer_cli *c = opts;
     if (c->lights & (c->lights - 1))

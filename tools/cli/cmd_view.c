@@ -353,4 +353,4 @@ out:
     return rc;
 }
 
-const qcli_sub qcli_sub_view = {.opts = &view_spec, .check = view_check, .run = view_run};
+const qcli_sub qcli_sub_view = {.opts = &view_spec, .check_line = view_check, .run = view_run};

@@ -131,7 +131,9 @@ int qcli_run(const qcli_cmd *c, int argc, char **argv)
         return fprintf(stderr, "qibl: %s: out of memory\n", c->name), 1;
     int rc = qtool_opt_parse(t, argc, argv, first, o);
     if (rc == 0 && s->check)
-        rc = s->check(o, argc, argv);
+        rc = s->check(o);
+    if (rc == 0 && s->check_line)
+        rc = s->check_line(o, argc, argv);
     if (rc == 0 && (!qcli_parse_only || s->whole)) /* fuzz_cliopts: the options only */
         rc = s->run(o);
     if (s->drop)

@@ -41,8 +41,8 @@ static int vfail(const char *name, const char *help, const char *fmt, va_list ap
             fprintf(stderr, "\\x%02x", (unsigned)*p);
         else
             fputc(*p, stderr);
-    if (help[0])
-        fprintf(stderr, "; see %s help %s\n", qtool_opt_program, help);
+    if (help[0]) /* the command: "sh eval" is helped by `qibl help sh` */
+        fprintf(stderr, "; see %s help %.*s\n", qtool_opt_program, (int)strcspn(help, " "), help);
     else /* qibl's own flags (main.c) */
         fprintf(stderr, "; see %s --help\n", qtool_opt_program);
     return 2;

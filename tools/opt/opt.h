@@ -62,7 +62,7 @@
  *  4. main.c: a row {"study", "<summary>", SUBS(&qcli_sub_study)} in qcli_commands; `qibl help`
  *     and `qibl help --flags` read the same tables, and tests/cli_opts_test.c then checks its
  *     unknown-flag line, that help names every flag, and that the parser knows each one. A command
- *     of subcommands has a table each (.name = "sh eval", .help_name = "sh") and a qcli_sub each in
+ *     of subcommands has a table each (.name = "sh eval": `qibl help sh` is its help) and a qcli_sub each in
  *     its row; qcli_run picks one with qtool_opt_sub.
  *
  * Kinds and the C type at .off: FLAG int (set to 1); INT long in [lo, hi]; NUM double in [lo, hi];
@@ -145,7 +145,7 @@ typedef struct qtool_opt_pos {
 
 typedef struct qtool_opt_cmd {
     const char *name;      /* as the errors and usage name it: "info", "sh eval" ("": qibl's own flags) */
-    const char *help_name; /* `qibl help X`: the command (NULL: name) */
+    const char *help_name; /* `qibl help X`: the command (NULL: name's first word, "sh" of "sh eval") */
     const qtool_opt *opts;  /* ended by {0}; NULL: none */
     qtool_opt_pos pos;
     const void *defaults;  /* the options struct's defaults (size bytes) */
