@@ -662,7 +662,9 @@ static const qtool_opt_cmd *relight_pick(int argc, char **argv)
     return &relight_spec;
 }
 
-static int relight_check_line(void *opts)
+/* relight's or --path's rules (the rotation first into the light list they read); the notes once
+ * the line is accepted */
+static int check_either(void *opts)
 {
     relight_cli *c = opts;
     qcli_light_list *ll = &c->r.lights;
@@ -675,7 +677,8 @@ static int relight_check_line(void *opts)
     return 0;
 }
 
-static int relight_run_line(void *opts)
+/* the exposure into Q16.16, --path's unset values to theirs, then the one or the other */
+static int run_either(void *opts)
 {
     relight_cli *c = opts;
     c->r.exposure = (qibl_q16_t)nearbyint(c->exposure * 65536.0);
@@ -684,5 +687,5 @@ static int relight_run_line(void *opts)
     return c->path_mode ? path_run(c, &c->p) : relight_run(c);
 }
 
-const qcli_sub qcli_sub_relight = {.opts = &relight_spec, .pick = relight_pick, .check = relight_check_line,
-                                   .run = relight_run_line};
+const qcli_sub qcli_sub_relight = {.opts = &relight_spec, .pick = relight_pick, .check = check_either,
+                                   .run = run_either};
