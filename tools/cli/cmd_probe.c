@@ -91,9 +91,7 @@ static const qtool_opt sh_project_table[] = {
      .def = "zup", .help = "yup: the coefficients in a y-up frame ((x, z, -y) of qibl's; --preset raw)"},
     QCLI_TURN_OPTS(sh_project_cli, turn, "turn the probe first (positive turns +x toward +y), as qibl relight does",
                    "turn the probe first by a rotation matrix (rows), as qibl relight does"),
-    {.name = "--layout", .kind = QTOOL_OPT_ENUM, .off = offsetof(sh_project_cli, layout),
-     .names = qtool_relight_probe_layout_names, .arg = "L",
-     .help = "the probe's layout: auto (detected, and said so), latlong, angular, ball, vcross or hcross"},
+    QCLI_LAYOUT_OPT(sh_project_cli, layout),
     {0},
 };
 

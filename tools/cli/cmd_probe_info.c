@@ -24,9 +24,7 @@ typedef struct probe_info_opts {
 static const probe_info_opts probe_info_defaults = {.layout = QTOOL_PROBE_LAYOUT_AUTO};
 
 static const qtool_opt probe_info_table[] = {
-    {.name = "--layout", .kind = QTOOL_OPT_ENUM, .off = offsetof(probe_info_opts, layout),
-     .names = qtool_relight_probe_layout_names, .arg = "L",
-     .help = "the probe's layout: auto (detected, and said so), latlong, angular, ball, vcross or hcross"},
+    QCLI_LAYOUT_OPT(probe_info_opts, layout),
     {0},
 };
 

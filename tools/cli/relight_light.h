@@ -42,6 +42,13 @@ const char *qcli_turn_rotate(void *turn, const char *v);
     {.name = "--rotate", .kind = QTOOL_OPT_CALL, .off = offsetof(type, member), .field = 1,                      \
      .arg = "a,b,c,d,e,f,g,h,i", .call = qcli_turn_rotate, .help = rotate_help}
 
+/* --layout L of lights, probe info and sh project: the probe's layout, an int (qtool_probe_layout_t) at
+ * member of type */
+#define QCLI_LAYOUT_OPT(type, member)                                                                            \
+    {.name = "--layout", .kind = QTOOL_OPT_ENUM, .off = offsetof(type, member),                                 \
+     .names = qtool_relight_probe_layout_names, .arg = "L",                                                      \
+     .help = "the probe's layout: auto (detected, and said so), latlong, angular, ball, vcross or hcross"}
+
 /* qtool_relight_light_sh with its messages on stderr (and the faint-probe note): 0, or 1. */
 int qcli_light_list_sh(const qtool_relight_light_list *ll, uint32_t k, FILE *note, qibl_shlight_t *out);
 
