@@ -60,6 +60,15 @@ extern const qcli_sub qcli_sub_bench, qcli_sub_gen, qcli_sub_render, qcli_sub_tr
     qcli_sub_merge, qcli_sub_check, qcli_sub_demo, qcli_sub_relight, qcli_sub_view, qcli_sub_info, qcli_sub_lights,
     qcli_sub_study;
 
+/* --lut-size N of gen, bake and merge (the cube-map Y LUT's face size, a long at member of type), and
+ * its old spelling --lut (a note says why it was renamed) */
+#define QCLI_LUT_SIZE_OPTS(type, member)                                                                         \
+    {.name = "--lut-size", .kind = QTOOL_OPT_INT, .off = offsetof(type, member), .arg = "N", .lo = 0,             \
+     .hi = QIBL_ASSET_MAX_LUT, .what = "a face size", .why = "0: no LUT", .help = "the cube-map Y LUT's face size"}, \
+    {.name = "--lut", .kind = QTOOL_OPT_INT, .off = offsetof(type, member), .arg = "N", .lo = 0,                  \
+     .hi = QIBL_ASSET_MAX_LUT, .what = "a face size", .why = "0: no LUT", .renamed = "--lut-size",               \
+     .note = "relight's --lut is the sampling mode"}
+
 /* Scene and panorama options shared by render, bake and demo: their option-table entries are
  * cli/scene_opts.h's; the struct, its defaults and the loader are tools/bake/scene.h's (qcli_scene
  * is qtool_scene_opts). */
