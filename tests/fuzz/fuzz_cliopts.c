@@ -1,9 +1,9 @@
 /*
  * fuzz_cliopts.c - libFuzzer target: the qibl CLI's option parsing. The input is an argv (arguments
- * separated by NUL bytes; the first byte picks the command), handed to the command with
+ * separated by NUL bytes; the first byte picks the command), handed to qcli_run with
  * qcli_parse_only set, so every command returns once its options are parsed and checked and
  * never reads a file, bakes or writes (cli.h); `sh eval` and `srgbe`, which only print a few
- * numbers, run whole. When the first argument is a command's name (as the seeds write it) that
+ * numbers, run whole (their qcli_sub's .whole). When the first argument is a command's name (as the seeds write it) that
  * command runs; otherwise the first byte picks one and every argument goes to it.
  *
  * Invariants: no crash, leak or undefined behaviour; the exit status is 0, 1 or 2; a refusal
@@ -17,19 +17,7 @@
 #include "fuzz.h"
 #include "cli/cli.h"
 
-static const struct {
-    const char *name;
-    int (*run)(int, char **);
-} cmds[] = {
-    {"view", qcli_cmd_view},
-    {"bench", qcli_cmd_bench},     {"sh", qcli_cmd_sh},           {"gen", qcli_cmd_gen},       {"render", qcli_cmd_render},
-    {"transfer", qcli_cmd_transfer}, {"bake", qcli_cmd_bake},   {"merge", qcli_cmd_merge},
-    {"check", qcli_cmd_check},     {"demo", qcli_cmd_demo},     {"relight", qcli_cmd_relight},
-    {"info", qcli_cmd_info},       {"srgbe", qcli_cmd_srgbe},   {"lights", qcli_cmd_lights},
-    {"probe", qcli_cmd_probe},     {"study", qcli_cmd_study},   {"ies", qcli_cmd_ies},
-    {"luminaire", qcli_cmd_luminaire},
-};
-#define NCMDS (sizeof cmds / sizeof cmds[0])
+#define NCMDS qcli_ncommands
 #define MAX_ARGS 48
 #define MAX_ARG 256
 
@@ -75,14 +63,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     int named = 0;
     for (size_t j = 0; argc > 1 && j < NCMDS && !named; ++j)
-        if (strcmp(args[1], cmds[j].name) == 0)
+        if (strcmp(args[1], qcli_commands[j].name) == 0)
             c = j, named = 1;
     if (named) { /* the name is argv[0] */
         for (int j = 1; j < argc; ++j)
             argv[j - 1] = argv[j];
         --argc;
     } else {
-        snprintf(args[0], sizeof args[0], "%s", cmds[c].name);
+        snprintf(args[0], sizeof args[0], "%s", qcli_commands[c].name);
         argv[0] = args[0];
     }
     argv[argc] = NULL;
@@ -92,15 +80,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     FUZZ_CHECK(err && out);
     FILE *saved_err = stderr, *saved_out = stdout;
     stderr = err, stdout = out;
-    int rc = cmds[c].run(argc, argv);
+    int rc = qcli_run(&qcli_commands[c], argc, argv);
     fflush(err), fflush(out);
     stderr = saved_err, stdout = saved_out;
     fclose(err), fclose(out);
     FUZZ_CHECK(rc == 0 || rc == 1 || rc == 2);
     if (rc != 0) {
-        if (!refusal_ok(errbuf, cmds[c].name))
-            fprintf(stderr, "%s: exit %d with stderr '%.200s'\n", cmds[c].name, rc, errbuf);
-        FUZZ_CHECK(refusal_ok(errbuf, cmds[c].name));
+        if (!refusal_ok(errbuf, qcli_commands[c].name))
+            fprintf(stderr, "%s: exit %d with stderr '%.200s'\n", qcli_commands[c].name, rc, errbuf);
+        FUZZ_CHECK(refusal_ok(errbuf, qcli_commands[c].name));
     }
     return 0;
 }

@@ -14,39 +14,60 @@
 #include "relight/light.h" /* qtool_relight_point_default, behind qcli_point_default */
 #include "relight/spec.h"    /* the light options' rules, QTOOL_RELIGHT_Q16_MAX */
 #include "bake/job.h"
+#include "opt/opt.h"
 
 /* Set by the option-parsing fuzz target (tests/fuzz/fuzz_cliopts.c) only: every command returns 0
  * once its options are parsed and checked, before it reads, computes or writes anything. */
 extern int qcli_parse_only;
 
+/* One command, or one subcommand, as qcli_run runs it: argv parsed by its option table into a fresh
+ * options struct (opt/opt.h), then check, then, unless qcli_parse_only, run. So a command file holds
+ * its table, its rules and its work, and the parse, the refusals and fuzz_cliopts's stop are here
+ * once. */
+typedef struct qcli_sub {
+    const qtool_opt_cmd *opts;
+    /* NULL, or the table (of the same options struct) argv asks for instead: relight --path */
+    const qtool_opt_cmd *(*pick)(int argc, char **argv);
+    /* NULL, or the rules across options; it may fill the struct's derived fields for run. 0, or 2
+     * after the one line */
+    int (*check)(void *o);
+    /* NULL, or a check that reads the line as spelled too (view: which mode's option came first) */
+    int (*check_line)(void *o, int argc, char **argv);
+    int (*run)(void *o); /* the work: 0, 1 failed (said on stderr) or 2 */
+    void (*drop)(void *o); /* NULL, or frees what parsing allocated, however it ended (merge's SUMS) */
+    int whole; /* runs under qcli_parse_only too: it reads nothing and prints a few numbers (sh eval) */
+} qcli_sub;
+
 typedef struct qcli_cmd {
     const char *name;
     const char *summary; /* one line for `qibl --help` */
-    const char *usage;   /* full text for `qibl help <cmd>` */
-    int (*run)(int argc, char **argv); /* argv[0] is the subcommand name */
+    /* NULL-terminated: the command's own, or a family whose subcommand argv[1] names ("sh eval") */
+    const qcli_sub *const *subs;
 } qcli_cmd;
 
-int qcli_cmd_sh(int argc, char **argv);
-int qcli_cmd_sh_project(int argc, char **argv); /* cmd_probe.c: `qibl sh project` */
-int qcli_cmd_bench(int argc, char **argv);
-int qcli_cmd_srgbe(int argc, char **argv);
+/* The commands (main.c), in `qibl --help`'s order, and the one named; NULL if none. */
+extern const qcli_cmd qcli_commands[];
+extern const size_t qcli_ncommands;
+const qcli_cmd *qcli_find(const char *name);
+/* Runs c on argv (argv[0] its name): the exit status. */
+int qcli_run(const qcli_cmd *c, int argc, char **argv);
 
-int qcli_cmd_info(int argc, char **argv);
-int qcli_cmd_gen(int argc, char **argv);
-int qcli_cmd_relight(int argc, char **argv);
-int qcli_cmd_view(int argc, char **argv); /* cmd_view.c */
-int qcli_cmd_transfer(int argc, char **argv); /* cmd_transfer.c (the computation: transfer/run.h) */
-int qcli_cmd_lights(int argc, char **argv);
-int qcli_cmd_probe(int argc, char **argv); /* cmd_probe_info.c: `qibl probe info` */
-int qcli_cmd_study(int argc, char **argv); /* cmd_study.c */
-int qcli_cmd_ies(int argc, char **argv);   /* cmd_ies.c: `qibl ies info` */
-int qcli_cmd_luminaire(int argc, char **argv); /* cmd_luminaire.c: `qibl luminaire` */
+extern const qcli_sub qcli_sub_sh_eval, qcli_sub_sh_plot, qcli_sub_sh_project, qcli_sub_srgbe_encode,
+    qcli_sub_srgbe_decode, qcli_sub_ies_info, qcli_sub_probe_info;
+extern const qcli_sub qcli_sub_luminaire_capture, qcli_sub_luminaire_info, qcli_sub_luminaire_render,
+    qcli_sub_luminaire_study, qcli_sub_luminaire_passes, qcli_sub_luminaire_picture;
+extern const qcli_sub qcli_sub_bench, qcli_sub_gen, qcli_sub_render, qcli_sub_transfer, qcli_sub_bake,
+    qcli_sub_merge, qcli_sub_check, qcli_sub_demo, qcli_sub_relight, qcli_sub_view, qcli_sub_info, qcli_sub_lights,
+    qcli_sub_study;
 
-int qcli_cmd_render(int argc, char **argv); /* cmd_bake.c */
-int qcli_cmd_bake(int argc, char **argv);
-int qcli_cmd_merge(int argc, char **argv);
-int qcli_cmd_check(int argc, char **argv);
-int qcli_cmd_demo(int argc, char **argv); /* cmd_demo.c */
+/* --lut-size N of gen, bake and merge (the cube-map Y LUT's face size, a long at member of type), and
+ * its old spelling --lut (a note says why it was renamed) */
+#define QCLI_LUT_SIZE_OPTS(type, member)                                                                         \
+    {.name = "--lut-size", .kind = QTOOL_OPT_INT, .off = offsetof(type, member), .arg = "N", .lo = 0,             \
+     .hi = QIBL_ASSET_MAX_LUT, .what = "a face size", .why = "0: no LUT", .help = "the cube-map Y LUT's face size"}, \
+    {.name = "--lut", .kind = QTOOL_OPT_INT, .off = offsetof(type, member), .arg = "N", .lo = 0,                  \
+     .hi = QIBL_ASSET_MAX_LUT, .what = "a face size", .why = "0: no LUT", .renamed = "--lut-size",               \
+     .note = "relight's --lut is the sampling mode"}
 
 /* Scene and panorama options shared by render, bake and demo: their option-table entries are
  * cli/scene_opts.h's; the struct, its defaults and the loader are tools/bake/scene.h's (qcli_scene
@@ -106,17 +127,5 @@ int qcli_parse_int(const char *s, long lo, long hi, long *out);
  * commands time themselves with too. */
 #define qcli_now qtool_bench_now
 #define qcli_median qtool_bench_median
-
-#include "opt/opt.h"
-/* The option tables of the commands (tools/opt/opt.h), for main.c's command table and `qibl help`. */
-extern const qtool_opt_cmd qcli_opts_gen, qcli_opts_info, qcli_opts_study, qcli_opts_ies_info;
-/* (relight, render, bake, merge, check, demo, lights, probe info, sh project, bench: the same) */
-extern const qtool_opt_cmd qcli_opts_sh_eval, qcli_opts_sh_plot, qcli_opts_srgbe_encode, qcli_opts_srgbe_decode;
-extern const qtool_opt_cmd qcli_opts_bench, qcli_opts_probe_info, qcli_opts_sh_project, qcli_opts_lights,
-    qcli_opts_relight, qcli_opts_merge, qcli_opts_check,
-    qcli_opts_render, qcli_opts_bake, qcli_opts_demo;
-extern const qtool_opt_cmd qcli_opts_luminaire_capture, qcli_opts_luminaire_info, qcli_opts_luminaire_render,
-    qcli_opts_luminaire_study, qcli_opts_luminaire_passes, qcli_opts_luminaire_picture;
-extern const qtool_opt_cmd qcli_opts_transfer, qcli_opts_view;
 
 #endif

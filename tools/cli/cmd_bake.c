@@ -283,44 +283,37 @@ static const qtool_opt render_table[] = {
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_render = {
+static const qtool_opt_cmd render_spec = {
     .name = "render",
     QTOOL_OPT_TABLE(render_table, render_defaults),
     .prose = RENDER_PROSE,
 };
 
-/* render's options into o; 0, or 2 after the one line */
-static int render_parse(int argc, char **argv, qtool_render_opts *o)
+/* render's options together in c->o; 0, or 2 after the one line */
+static int render_check(void *opts)
 {
-    const qtool_opt_cmd *t = &qcli_opts_render;
-    render_cli c;
-    if (qtool_opt_parse(t, argc, argv, 1, &c) != 0)
-        return 2;
-    qtool_scene_opts scene = o->scene; /* the caller's defaults (the job's CPUs) */
-    *o = c.o, o->scene = scene;
-    if (o->probe && (c.have || o->depth || o->ies))
+    const qtool_opt_cmd *t = &render_spec;
+    render_cli *c = opts;
+    qtool_render_opts *o = &c->o;
+    qcli_scene_defaults(&o->scene); /* the job's CPUs; the scene options are c->sc's */
+    if (o->probe && (c->have || o->depth || o->ies))
         return qtool_opt_error(t, "--probe is the whole light: no --sun, --point, --ies or --depth with it");
-    if (!o->probe && (o->yaw != 0 || c.o.spp != render_defaults.o.spp || o->seed))
+    if (!o->probe && (o->yaw != 0 || o->spp != render_defaults.o.spp || o->seed))
         return qtool_opt_error(t, "--yaw, --spp and --seed shape a --probe truth: give --probe PROBE.hdr");
-    if ((c.have != 1 && !o->probe) || (!o->png && !o->pfm && !o->exr && !o->depth))
+    if ((c->have != 1 && !o->probe) || (!o->png && !o->pfm && !o->exr && !o->depth))
         return qtool_opt_error(t, "render needs exactly one of --sun/--point/--probe and at least one of "
                               "--png/--pfm/--exr/--depth");
-    if ((o->ies || c.have_aim) && !o->light.point)
+    if ((o->ies || c->have_aim) && !o->light.point)
         return qtool_opt_error(t, "--ies, --aim and --up shape a --point lamp");
-    if (c.have_aim && !o->ies)
+    if (c->have_aim && !o->ies)
         return qtool_opt_error(t, "--aim and --up orient an --ies lamp: give --ies FILE.ies");
-    o->light.falloff = (int)c.falloff;
-    return qcli_scene_from(t, &c.sc, &o->scene);
+    o->light.falloff = (int)c->falloff;
+    return qcli_scene_from(t, &c->sc, &o->scene);
 }
 
-int qcli_cmd_render(int argc, char **argv)
+static int render_run(void *opts)
 {
-    qtool_render_opts o = QTOOL_RENDER_OPTS_DEFAULT;
-    qcli_scene_defaults(&o.scene);
-    if (render_parse(argc, argv, &o) != 0)
-        return 2;
-    if (qcli_parse_only) /* fuzz_cliopts: the options only */
-        return 0;
+    qtool_render_opts o = ((const render_cli *)opts)->o;
     qtool_render_job j;
     char err[1400] = "";
     int png_written = 0, rc = qtool_render_prepare(&o, &j, err, sizeof err);
@@ -339,6 +332,8 @@ int qcli_cmd_render(int argc, char **argv)
     qtool_render_free(&j);
     return job_status(rc, err);
 }
+
+const qcli_sub qcli_sub_render = {.opts = &render_spec, .check = render_check, .run = render_run};
 
 /* ---- qibl bake ----------------------------------------------------------------------------------- */
 
@@ -463,11 +458,7 @@ static const qtool_opt bake_table[] = {
      .help = "the shard's partial sums"},
     {.name = "--k", .kind = QTOOL_OPT_INT, .off = offsetof(bake_cli, o.k), .arg = "K", .lo = 1, .hi = 25,
      .help = "the number of SH maps"},
-    {.name = "--lut-size", .kind = QTOOL_OPT_INT, .off = offsetof(bake_cli, o.lut), .arg = "N", .lo = 0,
-     .hi = QIBL_ASSET_MAX_LUT, .what = "a face size", .why = "0: no LUT", .help = "the cube-map Y LUT's face size"},
-    {.name = "--lut", .kind = QTOOL_OPT_INT, .off = offsetof(bake_cli, o.lut), .arg = "N", .lo = 0,
-     .hi = QIBL_ASSET_MAX_LUT, .what = "a face size", .why = "0: no LUT", .renamed = "--lut-size",
-     .note = "relight's --lut is the sampling mode"},
+    QCLI_LUT_SIZE_OPTS(bake_cli, o.lut),
     {.name = "--dirs", .kind = QTOOL_OPT_INT, .off = offsetof(bake_cli, o.ndirs), .arg = "N", .lo = 16, .hi = 65536,
      .help = "light directions (spherical Fibonacci, equal weights 4 pi / N)"},
     {.name = "--lsq", .kind = QTOOL_OPT_FLAG, .off = offsetof(bake_cli, o.lsq),
@@ -501,43 +492,40 @@ static const qtool_opt bake_table[] = {
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_bake = {
+static const qtool_opt_cmd bake_spec = {
     .name = "bake",
     QTOOL_OPT_TABLE(bake_table, bake_defaults),
     .synopsis = "(-o ASSET | --shard I/N --sums FILE)",
     .prose = BAKE_PROSE,
 };
 
-/* bake's options into o (progress -1: not given); 0, or 2 after the one line */
-static int bake_parse(int argc, char **argv, qtool_bake_opts *o)
+/* bake's options together in c->o (progress -1: not given, a bar on a terminal, lines elsewhere); 0, or 2
+ * after the one line */
+static int bake_check(void *opts)
 {
-    const qtool_opt_cmd *t = &qcli_opts_bake;
-    bake_cli c;
-    if (qtool_opt_parse(t, argc, argv, 1, &c) != 0)
+    bake_cli *c = opts;
+    qtool_bake_opts *o = &c->o;
+    qcli_scene_defaults(&o->scene); /* the job's CPUs; the scene options are c->sc's */
+    o->layout = layout_values[c->layout], o->progress = c->progress;
+    if (qcli_scene_from(&bake_spec, &c->sc, &o->scene) != 0)
         return 2;
-    qtool_scene_opts scene = o->scene; /* the caller's defaults (the job's CPUs) */
-    *o = c.o, o->scene = scene;
-    o->layout = layout_values[c.layout], o->progress = c.progress;
-    return qcli_scene_from(t, &c.sc, &o->scene);
+    if (o->quiet)
+        o->progress = 0;
+    else if (o->progress < 0)
+        o->progress = isatty(2) ? 1 : 2;
+    char err[1400] = "";
+    if (qtool_bake_opts_check(o, err, sizeof err) != 0)
+        return qtool_opt_error(&bake_spec, "%s", err);
+    return 0;
 }
 
-int qcli_cmd_bake(int argc, char **argv)
+static int bake_run(void *opts)
 {
-    qtool_bake_opts o = QTOOL_BAKE_OPTS_DEFAULT;
-    qcli_scene_defaults(&o.scene);
-    if (bake_parse(argc, argv, &o) != 0)
-        return 2;
-    if (o.quiet)
-        o.progress = 0;
-    else if (o.progress < 0)
-        o.progress = isatty(2) ? 1 : 2;
     char err[1400] = "";
-    if (qtool_bake_opts_check(&o, err, sizeof err) != 0)
-        return qtool_opt_error(&qcli_opts_bake, "%s", err);
-    if (qcli_parse_only) /* fuzz_cliopts: the options only */
-        return 0;
-    return job_status(qtool_bake_job(&o, stdout, stderr, err, sizeof err), err);
+    return job_status(qtool_bake_job(&((bake_cli *)opts)->o, stdout, stderr, err, sizeof err), err);
 }
+
+const qcli_sub qcli_sub_bake = {.opts = &bake_spec, .check = bake_check, .run = bake_run};
 
 /* ---- qibl merge ---------------------------------------------------------------------------------- */
 
@@ -572,11 +560,7 @@ static const qtool_opt merge_table[] = {
      .help = "the SUMS files, one per line (docs/farm.md)"},
     {.name = "--k", .kind = QTOOL_OPT_INT, .off = offsetof(merge_cli, o.k), .arg = "K", .lo = 1, .hi = 25,
      .def = "the shards' k, at most 16", .help = "the number of SH maps"},
-    {.name = "--lut-size", .kind = QTOOL_OPT_INT, .off = offsetof(merge_cli, o.lut), .arg = "N", .lo = 0,
-     .hi = QIBL_ASSET_MAX_LUT, .what = "a face size", .why = "0: no LUT", .help = "the cube-map Y LUT's face size"},
-    {.name = "--lut", .kind = QTOOL_OPT_INT, .off = offsetof(merge_cli, o.lut), .arg = "N", .lo = 0,
-     .hi = QIBL_ASSET_MAX_LUT, .what = "a face size", .why = "0: no LUT", .renamed = "--lut-size",
-     .note = "relight's --lut is the sampling mode"},
+    QCLI_LUT_SIZE_OPTS(merge_cli, o.lut),
     {.name = "--layout", .kind = QTOOL_OPT_ENUM, .off = offsetof(merge_cli, layout), .names = layouts,
      .help = "the maps' byte order in the asset (see qibl help gen)"},
     {.name = "--lsq", .kind = QTOOL_OPT_FLAG, .off = offsetof(merge_cli, o.lsq),
@@ -584,7 +568,7 @@ static const qtool_opt merge_table[] = {
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_merge = {
+static const qtool_opt_cmd merge_spec = {
     .name = "merge",
     QTOOL_OPT_TABLE(merge_table, merge_defaults),
     .pos = {.names = "SUMS...", .min = 0, .max = QTOOL_OPT_LIST_MAX, .call = merge_file},
@@ -605,34 +589,48 @@ const qtool_opt_cmd qcli_opts_merge = {
         "  Exit status: 0 written, 1 refused or failed (named on stderr, nothing written), 2 bad arguments.\n",
 };
 
-int qcli_cmd_merge(int argc, char **argv)
+static int merge_check(void *opts)
 {
-    merge_cli c;
-    int rc = qtool_opt_parse(&qcli_opts_merge, argc, argv, 1, &c);
-    if (rc == 0 && ((c.o.nin == 0 && !c.o.manifest) || (!c.o.out && !c.o.sums_out)))
-        rc = qtool_opt_error(&qcli_opts_merge, "needs -o ASSET or --sums OUT (or both), and --manifest FILE or SUMS...");
-    c.o.layout = layout_values[c.layout];
-    char err[4400] = "";
-    if (rc == 0 && !qcli_parse_only) /* fuzz_cliopts: the options only */
-        rc = job_status(qtool_bake_merge(&c.o, stdout, err, sizeof err), err);
-    free(c.o.in);
-    return rc;
+    merge_cli *c = opts;
+    if ((c->o.nin == 0 && !c->o.manifest) || (!c->o.out && !c->o.sums_out))
+        return qtool_opt_error(&merge_spec, "needs -o ASSET or --sums OUT (or both), and --manifest FILE or SUMS...");
+    c->o.layout = layout_values[c->layout];
+    return 0;
 }
+
+static int merge_run(void *opts)
+{
+    char err[4400] = "";
+    return job_status(qtool_bake_merge(&((merge_cli *)opts)->o, stdout, err, sizeof err), err);
+}
+
+static void merge_drop(void *opts)
+{
+    free(((merge_cli *)opts)->o.in);
+}
+
+const qcli_sub qcli_sub_merge = {.opts = &merge_spec, .check = merge_check, .run = merge_run, .drop = merge_drop};
 
 /* ---- qibl check ---------------------------------------------------------------------------------- */
 
 /* the files are argv's own: the table only refuses flags (there are none) */
+typedef struct check_cli {
+    int n;
+    int argc;
+    char **argv;
+} check_cli;
+
 static const char *check_file(void *opts, const char *v)
 {
     (void)v;
-    ++*(int *)opts;
+    ++((check_cli *)opts)->n;
     return NULL;
 }
 
-const qtool_opt_cmd qcli_opts_check = {
+static const qtool_opt_cmd check_spec = {
     .name = "check",
     .pos = {.names = "FILE...", .min = 1, .max = QTOOL_OPT_LIST_MAX, .call = check_file},
-    .size = sizeof(int),
+    .size = sizeof(check_cli),
     .prose =
         "  .png: signature, every chunk CRC, the zlib stream (inflated), Adler-32, APNG frame sequence;\n"
         "  .pfm: header and size; .hdr/.pic: Radiance header, resolution line and every scanline (RLE or\n"
@@ -641,16 +639,20 @@ const qtool_opt_cmd qcli_opts_check = {
         "  Exit 1 if any is bad.\n",
 };
 
-int qcli_cmd_check(int argc, char **argv)
+static int check_check(void *opts, int argc, char **argv)
 {
-    int nfiles;
-    int rc = qtool_opt_parse(&qcli_opts_check, argc, argv, 1, &nfiles);
-    if (rc != 0)
-        return rc;
-    if (nfiles == 0)
-        return qtool_opt_error(&qcli_opts_check, "needs FILE...");
-    if (qcli_parse_only) /* fuzz_cliopts: the options only */
-        return 0;
+    check_cli *c = opts;
+    if (c->n == 0)
+        return qtool_opt_error(&check_spec, "needs FILE...");
+    c->argc = argc, c->argv = argv;
+    return 0;
+}
+
+static int check_run(void *opts)
+{
+    const check_cli *c = opts;
+    int argc = c->argc;
+    char **argv = c->argv;
     int bad = 0;
     for (int i = 1; i < argc; ++i) {
         char line[512], err[512];
@@ -663,3 +665,5 @@ int qcli_cmd_check(int argc, char **argv)
     }
     return bad;
 }
+
+const qcli_sub qcli_sub_check = {.opts = &check_spec, .check_line = check_check, .run = check_run};

@@ -28,7 +28,7 @@ static const qtool_opt bench_table[] = {
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_bench = {
+static const qtool_opt_cmd bench_spec = {
     .name = "bench",
     QTOOL_OPT_TABLE(bench_table, bench_defaults),
     .pos = {.names = "BENCH", .min = 0, .max = QTOOL_OPT_LIST_MAX, .off = offsetof(bench_cli_opts, what)},
@@ -66,17 +66,26 @@ const qtool_opt_cmd qcli_opts_bench = {
         "  all: every timing benchmark (what `make bench` runs). --quick: fewer repetitions.\n",
 };
 
-int qcli_cmd_bench(int argc, char **argv)
+/* the benchmark: the last one named counts, as it always did */
+static const char *bench_what(const bench_cli_opts *c)
 {
-    bench_cli_opts c;
-    int rc = qtool_opt_parse(&qcli_opts_bench, argc, argv, 1, &c);
-    if (rc != 0)
-        return rc;
-    const qtool_bench_opts o = {.what = c.what.n ? c.what.v[c.what.n - 1] : "all", .quick = c.quick, .csv = c.csv,
-                                .markdown = c.markdown, .svg = c.svg};
-    if (!qtool_bench_known(o.what))
-        return qtool_opt_error(&qcli_opts_bench, "unknown benchmark '%s' (" QTOOL_BENCH_NAMES ")", o.what);
-    if (qcli_parse_only) /* fuzz_cliopts: the options only */
-        return 0;
+    return c->what.n ? c->what.v[c->what.n - 1] : "all";
+}
+
+static int bench_check(void *opts)
+{
+    const char *what = bench_what(opts);
+    if (!qtool_bench_known(what))
+        return qtool_opt_error(&bench_spec, "unknown benchmark '%s' (" QTOOL_BENCH_NAMES ")", what);
+    return 0;
+}
+
+static int bench_run(void *opts)
+{
+    const bench_cli_opts *c = opts;
+    const qtool_bench_opts o = {.what = bench_what(c), .quick = c->quick, .csv = c->csv, .markdown = c->markdown,
+                                .svg = c->svg};
     return qtool_bench_run(&o);
 }
+
+const qcli_sub qcli_sub_bench = {.opts = &bench_spec, .check = bench_check, .run = bench_run};

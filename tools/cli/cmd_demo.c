@@ -42,6 +42,7 @@ typedef struct demo_cli {
     const char *dir, *probe;
     long ndirs, frames;
     int small, full, pick; /* pick: the last of --small (1) and --full (2) given */
+    demo_opts o;           /* the options together (demo_check) */
 } demo_cli;
 
 static const char *small_call(void *opts, const char *unused)
@@ -76,7 +77,7 @@ static const qtool_opt demo_table[] = {
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_demo = {
+static const qtool_opt_cmd demo_spec = {
     .name = "demo",
     QTOOL_OPT_TABLE(demo_table, demo_cli_defaults),
     .prose = DEMO_PROSE,
@@ -100,17 +101,16 @@ static demo_opts demo_defaults(const qtool_demo_size *sz)
 
 /* the size (the last of --small and --full, else the default), then what the line gives over the size's values
  * (--size WxH, --dirs, --frames). 0, or 2 after the one line. */
-static int parse_opts(int argc, char **argv, demo_opts *o)
+static int demo_check(void *opts)
 {
-    demo_cli c;
-    if (qtool_opt_parse(&qcli_opts_demo, argc, argv, 1, &c) != 0)
+    demo_cli *c = opts;
+    demo_opts *o = &c->o;
+    *o = demo_defaults(qtool_demo_size_named(c->pick == 2 ? "full" : c->pick == 1 ? "small" : "default"));
+    if (qcli_scene_from(&demo_spec, &c->sc, &o->scene) != 0)
         return 2;
-    *o = demo_defaults(qtool_demo_size_named(c.pick == 2 ? "full" : c.pick == 1 ? "small" : "default"));
-    if (qcli_scene_from(&qcli_opts_demo, &c.sc, &o->scene) != 0)
-        return 2;
-    o->dir = c.dir, o->probe = c.probe;
-    o->ndirs = c.ndirs ? c.ndirs : o->ndirs;
-    o->frames = c.frames ? c.frames : o->frames;
+    o->dir = c->dir, o->probe = c->probe;
+    o->ndirs = c->ndirs ? c->ndirs : o->ndirs;
+    o->frames = c->frames ? c->frames : o->frames;
     /* for studies: parts per extended source, samples per pixel of the probe-lit truths (a value
      * that does not parse leaves the default, as it always has) */
     const char *env_k = getenv("QIBL_DEMO_PROBE_PARTS"), *env_spp = getenv("QIBL_DEMO_PROBE_SPP");
@@ -202,23 +202,20 @@ static int run(const demo_opts *o, const qtool_rt_scene *s)
     return rc ? 1 : 0;
 }
 
-int qcli_cmd_demo(int argc, char **argv)
+static int demo_run(void *opts)
 {
-    demo_opts o;
-    int r = parse_opts(argc, argv, &o);
-    if (r != 0)
-        return r;
-    if (qcli_parse_only) /* fuzz_cliopts: the options only */
-        return 0;
+    const demo_opts *o = &((const demo_cli *)opts)->o;
     char err[1200];
-    if (qtool_demo_check_out(o.dir, o.frames, err, sizeof err) != 0) {
+    if (qtool_demo_check_out(o->dir, o->frames, err, sizeof err) != 0) {
         fprintf(stderr, "qibl: %s\n", err);
         return 1;
     }
     qtool_rt_scene s;
-    if (qcli_scene_load(&o.scene, &s) != 0)
+    if (qcli_scene_load(&o->scene, &s) != 0)
         return 1;
-    int rc = run(&o, &s);
+    int rc = run(o, &s);
     qtool_rt_scene_free(&s);
     return rc;
 }
+
+const qcli_sub qcli_sub_demo = {.opts = &demo_spec, .check = demo_check, .run = demo_run};

@@ -36,11 +36,7 @@ static const qtool_opt gen_table[] = {
      .help = "the panorama's width x height, within an asset's pixel limit (qibl/asset.h)"},
     {.name = "--k", .kind = QTOOL_OPT_INT, .off = offsetof(gen_opts, k), .arg = "K", .lo = 1, .hi = 25,
      .help = "the number of SH maps (terms of bands 0..4)"},
-    {.name = "--lut-size", .kind = QTOOL_OPT_INT, .off = offsetof(gen_opts, lut), .arg = "N", .lo = 0,
-     .hi = QIBL_ASSET_MAX_LUT, .what = "a face size", .why = "0: no LUT", .help = "the cube-map Y LUT's face size"},
-    {.name = "--lut", .kind = QTOOL_OPT_INT, .off = offsetof(gen_opts, lut), .arg = "N", .lo = 0,
-     .hi = QIBL_ASSET_MAX_LUT, .what = "a face size", .why = "0: no LUT", .renamed = "--lut-size",
-     .note = "relight's --lut is the sampling mode"},
+    QCLI_LUT_SIZE_OPTS(gen_opts, lut),
     {.name = "--pack", .kind = QTOOL_OPT_ENUM, .off = offsetof(gen_opts, pack), .names = packs,
      .help = "8 bits per map and channel over min/max or the 0.1..99.9 percentile range"},
     {.name = "--equirect", .kind = QTOOL_OPT_FLAG, .off = offsetof(gen_opts, equirect),
@@ -50,7 +46,7 @@ static const qtool_opt gen_table[] = {
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_gen = {
+static const qtool_opt_cmd gen_spec = {
     .name = "gen",
     QTOOL_OPT_TABLE(gen_table, gen_defaults),
     .prose =
@@ -61,22 +57,23 @@ const qtool_opt_cmd qcli_opts_gen = {
         "  one at a time; relights to the same bytes as the default planar layout).\n",
 };
 
-int qcli_cmd_gen(int argc, char **argv)
+static int gen_check(void *opts)
 {
-    gen_opts o;
-    int r = qtool_opt_parse(&qcli_opts_gen, argc, argv, 1, &o);
-    if (r != 0)
-        return r;
-    if (o.size[0] * o.size[1] > (long)QIBL_ASSET_MAX_PIXELS)
-        return qtool_opt_error(&qcli_opts_gen, "--size %ldx%ld is above the asset's %u pixels", o.size[0], o.size[1],
+    const gen_opts *o = opts;
+    if (o->size[0] * o->size[1] > (long)QIBL_ASSET_MAX_PIXELS)
+        return qtool_opt_error(&gen_spec, "--size %ldx%ld is above the asset's %u pixels", o->size[0], o->size[1],
                               QIBL_ASSET_MAX_PIXELS);
-    const char *out = o.out;
-    long w = o.size[0], h = o.size[1], k = o.k, lut = o.lut;
-    uint32_t layout = layout_values[o.layout];
-    qtool_pack_scheme scheme = pack_schemes[o.pack];
-    qtool_pano_kind kind = o.equirect ? QTOOL_PANO_EQUIRECT : QTOOL_PANO_CYLINDRICAL;
-    if (qcli_parse_only) /* fuzz_cliopts: the options only */
-        return 0;
+    return 0;
+}
+
+static int gen_run(void *opts)
+{
+    const gen_opts *o = opts;
+    const char *out = o->out;
+    long w = o->size[0], h = o->size[1], k = o->k, lut = o->lut;
+    uint32_t layout = layout_values[o->layout];
+    qtool_pack_scheme scheme = pack_schemes[o->pack];
+    qtool_pano_kind kind = o->equirect ? QTOOL_PANO_EQUIRECT : QTOOL_PANO_CYLINDRICAL;
     qtool_gen_maps g;
     if (qtool_gen_scene((uint32_t)w, (uint32_t)h, (uint32_t)k, kind, &g) != 0) {
         fprintf(stderr, "qibl: gen: out of memory\n");
@@ -131,3 +128,5 @@ done:
     qtool_gen_free(&g);
     return rc;
 }
+
+const qcli_sub qcli_sub_gen = {.opts = &gen_spec, .check = gen_check, .run = gen_run};

@@ -104,9 +104,8 @@ static const qtool_opt ies_table[] = {
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_ies_info = {
+static const qtool_opt_cmd ies_info_spec = {
     .name = "ies info",
-    .help_name = "ies",
     QTOOL_OPT_TABLE(ies_table, ies_defaults),
     .pos = {.names = "FILE.ies", .min = 1, .max = 1, .off = offsetof(ies_opts, file)},
     .prose =
@@ -126,19 +125,10 @@ const qtool_opt_cmd qcli_opts_ies_info = {
         "  nadir down, rings at 25 % of the maximum, labelled. Limits: io/ies.h (docs/robustness.md).\n",
 };
 
-int qcli_cmd_ies(int argc, char **argv)
+static int ies_info_run(void *opts)
 {
-    static const qtool_opt_cmd *const subs[] = {&qcli_opts_ies_info, NULL};
-    const qtool_opt_cmd *sub = qtool_opt_sub("ies", subs, NULL, argc, argv);
-    if (!sub)
-        return 2;
-    ies_opts o;
-    int prc = qtool_opt_parse(sub, argc, argv, 2, &o);
-    if (prc != 0)
-        return prc;
-    const char *path = o.file.v[0], *png = o.png;
-    if (qcli_parse_only) /* fuzz_cliopts: the options only */
-        return 0;
+    const ies_opts *o = opts;
+    const char *path = o->file.v[0], *png = o->png;
     qtool_ies e;
     char err[512];
     if (qtool_ies_read(path, &e, err, sizeof err) != 0) {
@@ -195,3 +185,5 @@ int qcli_cmd_ies(int argc, char **argv)
     qtool_ies_free(&e);
     return 0;
 }
+
+const qcli_sub qcli_sub_ies_info = {.opts = &ies_info_spec, .run = ies_info_run};

@@ -13,7 +13,7 @@
 #include "cli/cli.h"
 #include "opt/opt.h"
 
-const qtool_opt_cmd qcli_opts_info = {
+static const qtool_opt_cmd info_spec = {
     .name = "info",
     .pos = {.names = "FILE", .min = 1, .max = 1},
     QTOOL_OPT_TABLE(NULL, qtool_opt_args),
@@ -75,16 +75,10 @@ static void print_pmap(const qibl_pmap_t *p)
         printf("  %c [%.5f, %.5f]\n", "xyz"[c], lo[c] / 65536.0, hi[c] / 65536.0);
 }
 
-int qcli_cmd_info(int argc, char **argv)
+static int info_run(void *opts)
 {
-    qtool_opt_list file;
-    int rc = qtool_opt_parse(&qcli_opts_info, argc, argv, 1, &file);
-    if (rc != 0)
-        return rc;
-    const char *path = file.v[0];
+    const char *path = ((const qtool_opt_list *)opts)->v[0];
     size_t n = 0;
-    if (qcli_parse_only) /* fuzz_cliopts: the options only */
-        return 0;
     uint8_t *buf = NULL;
     char err[512];
     if (qtool_io_read_asset(path, &buf, &n, err, sizeof err) != 0)
@@ -144,3 +138,5 @@ int qcli_cmd_info(int argc, char **argv)
     free(buf);
     return 0;
 }
+
+const qcli_sub qcli_sub_info = {.opts = &info_spec, .run = info_run};

@@ -99,8 +99,7 @@ typedef struct lights_cli {
     qtool_relight_lights_opts o;
     qtool_opt_list probe;
     int method, priority, place, as, layout;
-    qcli_light_list rl; /* only its --yaw / --rotate (relight's rotation) */
-    char why[192];      /* a reason with numbers in it, for the table's line */
+    qcli_turn turn;     /* --yaw / --rotate (relight's rotation) */
 } lights_cli;
 static const lights_cli lights_defaults = {.o = QTOOL_RELIGHT_LIGHTS_OPTS_DEFAULT,
                                            .method = QIBL_LIGHTPROBE_MEDIANCUT,
@@ -108,7 +107,7 @@ static const lights_cli lights_defaults = {.o = QTOOL_RELIGHT_LIGHTS_OPTS_DEFAUL
                                            .place = 0,
                                            .as = QTOOL_RELIGHT_LIGHTS_AS_RGBE,
                                            .layout = QTOOL_PROBE_LAYOUT_AUTO,
-                                           .rl = QTOOL_RELIGHT_LIGHT_LIST_DEFAULT};
+                                           .turn = QCLI_TURN_DEFAULT};
 
 /* the enums' names, in the order of their values */
 static const char *const methods[] = {"mediancut", "adaptive", "varmin", NULL}; /* qibl_lightprobe_method_t */
@@ -160,17 +159,6 @@ static const char *preset_call(void *opts, const char *v)
     return NULL;
 }
 
-static const char *yaw_call(void *opts, const char *v)
-{
-    return qtool_relight_spec_yaw(&((lights_cli *)opts)->rl, v);
-}
-
-static const char *rotate_call(void *opts, const char *v)
-{
-    lights_cli *c = opts;
-    return qtool_relight_spec_rotate(&c->rl, v, c->why, sizeof c->why);
-}
-
 static const qtool_opt lights_table[] = {
     {.name = "--method", .kind = QTOOL_OPT_ENUM, .off = offsetof(lights_cli, method), .names = methods,
      .help = "median cut (N a power of two), adaptive median cut or variance minimisation (any N)"},
@@ -182,8 +170,7 @@ static const qtool_opt lights_table[] = {
      .help = "a light at its region's energy centroid or geometric centre"},
     {.name = "--as", .kind = QTOOL_OPT_ENUM, .off = offsetof(lights_cli, as), .names = as_names,
      .help = "feed the core the probe as RGBE bytes, sRGBE or binary32"},
-    {.name = "--layout", .kind = QTOOL_OPT_ENUM, .off = offsetof(lights_cli, layout), .names = qtool_relight_probe_layout_names,
-     .arg = "L", .help = "the probe's layout: auto (detected, and said so), latlong, angular, ball, vcross or hcross"},
+    QCLI_LAYOUT_OPT(lights_cli, layout),
     {.name = "--csv", .kind = QTOOL_OPT_FLAG, .off = offsetof(lights_cli, o.csv),
      .help = "one line per light, x,y,z,r,g,b,u0,v0,u1,v1, after a header (what relight --lights reads)"},
     {.name = "--json", .kind = QTOOL_OPT_FLAG, .off = offsetof(lights_cli, o.json),
@@ -200,14 +187,12 @@ static const qtool_opt lights_table[] = {
      .help = "the cheapest representation with mean irradiance error <= --error P%"},
     {.name = "--preset", .kind = QTOOL_OPT_CALL, .off = offsetof(lights_cli, o), .arg = "gltf|raw",
      .call = preset_call, .def = "raw", .help = "gltf: the lights as KHR_lights_punctual JSON"},
-    {.name = "--yaw", .kind = QTOOL_OPT_CALL, .off = offsetof(lights_cli, rl), .arg = "DEG", .call = yaw_call,
-     .help = "turn --preset gltf's lights, as qibl relight does"},
-    {.name = "--rotate", .kind = QTOOL_OPT_CALL, .off = offsetof(lights_cli, rl), .arg = "a,b,c,d,e,f,g,h,i",
-     .call = rotate_call, .help = "turn --preset gltf's lights by a rotation matrix (rows)"},
+    QCLI_TURN_OPTS(lights_cli, turn, "turn --preset gltf's lights, as qibl relight does",
+                   "turn --preset gltf's lights by a rotation matrix (rows)"),
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_lights = {
+static const qtool_opt_cmd lights_spec = {
     .name = "lights",
     QTOOL_OPT_TABLE(lights_table, lights_defaults),
     .pos = {.names = "PROBE.hdr", .min = 1, .max = 1, .off = offsetof(lights_cli, probe)},
@@ -237,10 +222,20 @@ const qtool_opt_cmd qcli_opts_lights = {
         "  probe is refused: its error would be 0 / 0. --format c|csv|json: the pick as a document.\n",
 };
 
-/* the options together, after parsing: 0, or 2 after the one line */
-static int lights_check(const qtool_relight_lights_opts *o)
+/* the table's ints into c->o, then the options together: 0, or 2 after the one line */
+static int lights_check(void *opts)
 {
-    const qtool_opt_cmd *t = &qcli_opts_lights;
+    lights_cli *c = opts;
+    qtool_relight_lights_opts *o = &c->o;
+    o->path = c->probe.v[0];
+    o->core.method = (qibl_lightprobe_method_t)c->method;
+    o->core.priority = (qibl_lightprobe_priority_t)c->priority;
+    o->core.place = c->place == 0 ? QIBL_LIGHTPROBE_PLACE_CENTROID : QIBL_LIGHTPROBE_PLACE_CENTRE;
+    o->as = (qtool_relight_lights_as)c->as;
+    o->layout = (qtool_probe_layout_t)c->layout;
+    o->rotate = c->turn.ll.rotate;
+    memcpy(o->r, c->turn.ll.r, sizeof o->r);
+    const qtool_opt_cmd *t = &lights_spec;
     if (o->budget >= 0 && !o->autom)
         return qtool_opt_error(t, "--error with a budget (%g%%) needs --auto", 100 * o->budget);
     if (o->autom && o->budget < 0)
@@ -390,8 +385,9 @@ static int lights_fit(const qtool_relight_lights_opts *o, const qtool_relight_li
     return rc;
 }
 
-static int lights_run(const qtool_relight_lights_opts *o)
+static int lights_run(void *opts)
 {
+    const qtool_relight_lights_opts *o = &((const lights_cli *)opts)->o;
     qtool_relight_lights_probe p;
     char note[4200 + 256], err[4200 + 600];
     if (qtool_relight_lights_load(o->path, o->layout, &p, note, sizeof note, err, sizeof err) != 0)
@@ -418,24 +414,4 @@ static int lights_run(const qtool_relight_lights_opts *o)
     return rc;
 }
 
-int qcli_cmd_lights(int argc, char **argv)
-{
-    lights_cli c;
-    int rc = qtool_opt_parse(&qcli_opts_lights, argc, argv, 1, &c);
-    if (rc != 0)
-        return rc;
-    qtool_relight_lights_opts o = c.o;
-    o.path = c.probe.v[0];
-    o.core.method = (qibl_lightprobe_method_t)c.method;
-    o.core.priority = (qibl_lightprobe_priority_t)c.priority;
-    o.core.place = c.place == 0 ? QIBL_LIGHTPROBE_PLACE_CENTROID : QIBL_LIGHTPROBE_PLACE_CENTRE;
-    o.as = (qtool_relight_lights_as)c.as;
-    o.layout = (qtool_probe_layout_t)c.layout;
-    o.rotate = c.rl.rotate;
-    memcpy(o.r, c.rl.r, sizeof o.r);
-    if (lights_check(&o) != 0)
-        return 2;
-    if (qcli_parse_only) /* fuzz_cliopts: the options only */
-        return 0;
-    return lights_run(&o);
-}
+const qcli_sub qcli_sub_lights = {.opts = &lights_spec, .check = lights_check, .run = lights_run};

@@ -66,7 +66,7 @@ static const qtool_opt capture_table[] = {
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_luminaire_capture = {
+static const qtool_opt_cmd capture_spec = {
     .name = "luminaire capture",
     .help_name = "luminaire",
     QTOOL_OPT_TABLE(capture_table, capture_defaults),
@@ -81,7 +81,7 @@ const qtool_opt_cmd qcli_opts_luminaire_capture = {
         "  extent. Format: tools/luminaire/luminaire.h.\n",
 };
 
-const qtool_opt_cmd qcli_opts_luminaire_info = {
+static const qtool_opt_cmd info_spec = {
     .name = "luminaire info",
     .help_name = "luminaire",
     .pos = {.names = "F.qnf", .min = 1, .max = 1},
@@ -136,7 +136,7 @@ static const qtool_opt render_table[] = {
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_luminaire_render = {
+static const qtool_opt_cmd render_spec = {
     .name = "luminaire render",
     .help_name = "luminaire",
     QTOOL_OPT_TABLE(render_table, render_defaults),
@@ -173,7 +173,7 @@ static const qtool_opt study_table[] = {
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_luminaire_study = {
+static const qtool_opt_cmd study_spec = {
     .name = "luminaire study",
     .help_name = "luminaire",
     QTOOL_OPT_TABLE(study_table, study_defaults),
@@ -198,7 +198,7 @@ static const qtool_opt passes_table[] = {
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_luminaire_passes = {
+static const qtool_opt_cmd passes_spec = {
     .name = "luminaire passes",
     .help_name = "luminaire",
     QTOOL_OPT_TABLE(passes_table, passes_defaults),
@@ -228,7 +228,7 @@ static const qtool_opt picture_table[] = {
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_luminaire_picture = {
+static const qtool_opt_cmd picture_spec = {
     .name = "luminaire picture",
     .help_name = "luminaire",
     QTOOL_OPT_TABLE(picture_table, picture_defaults),
@@ -236,18 +236,19 @@ const qtool_opt_cmd qcli_opts_luminaire_picture = {
              "  luminaire ray-traced, its far field (one gonio lamp), side by side, one exposure.\n",
 };
 
-static int cmd_capture(int argc, char **argv)
+static int capture_check(void *opts)
 {
-    capture_cli c;
-    int prc = qtool_opt_parse(&qcli_opts_luminaire_capture, argc, argv, 2, &c);
-    if (prc != 0)
-        return prc;
+    const capture_cli *c = opts;
+    if (strcmp(c->src.v[0], "builtin") == 0 && c->have_emitter)
+        return qtool_opt_error(&capture_spec, "--emitter places the emitter in a mesh, not in 'builtin'");
+    return 0;
+}
+
+static int cmd_capture(void *opts)
+{
+    const capture_cli c = *(const capture_cli *)opts;
     const char *src = c.src.v[0], *out = c.out;
     int builtin = strcmp(src, "builtin") == 0;
-    if (builtin && c.have_emitter)
-        return qtool_opt_error(&qcli_opts_luminaire_capture, "--emitter places the emitter in a mesh, not in 'builtin'");
-    if (qcli_parse_only)
-        return 0;
     qtool_luminaire_capture_opts o = {.grid = (uint32_t)c.grid, .res = (uint32_t)c.res, .threads = (int)c.threads,
                                       .basis = c.basis ? QTOOL_LUMINAIRE_TENT : QTOOL_LUMINAIRE_BOX};
     double ez = c.have_emitter ? c.emitter[0] : 0, eh = c.have_emitter ? c.emitter[1] : 0;
@@ -287,15 +288,9 @@ static int cmd_capture(int argc, char **argv)
     return 0;
 }
 
-static int cmd_info(int argc, char **argv)
+static int cmd_info(void *opts)
 {
-    qtool_opt_list file;
-    int prc = qtool_opt_parse(&qcli_opts_luminaire_info, argc, argv, 2, &file);
-    if (prc != 0)
-        return prc;
-    if (qcli_parse_only)
-        return 0;
-    const char *path = file.v[0];
+    const char *path = ((const qtool_opt_list *)opts)->v[0];
     qtool_luminaire l;
     qtool_luminaire_err e = qtool_luminaire_read(path, &l);
     if (e != QTOOL_LUMINAIRE_OK) {
@@ -327,14 +322,9 @@ static int cmd_info(int argc, char **argv)
     return 0;
 }
 
-static int cmd_render(int argc, char **argv)
+static int cmd_render(void *opts)
 {
-    render_cli c;
-    int prc = qtool_opt_parse(&qcli_opts_luminaire_render, argc, argv, 2, &c);
-    if (prc != 0)
-        return prc;
-    if (qcli_parse_only)
-        return 0;
+    const render_cli c = *(const render_cli *)opts;
     const char *asset = c.files.v[0], *qnf = c.files.v[1], *out = c.out;
     int32_t at[3];
     for (int k = 0; k < 3; ++k)
@@ -449,14 +439,9 @@ static int cmd_render(int argc, char **argv)
     return rc == 0 ? 0 : 1;
 }
 
-static int cmd_study(int argc, char **argv)
+static int cmd_study(void *opts)
 {
-    study_cli c;
-    int prc = qtool_opt_parse(&qcli_opts_luminaire_study, argc, argv, 2, &c);
-    if (prc != 0)
-        return prc;
-    if (qcli_parse_only)
-        return 0;
+    const study_cli c = *(const study_cli *)opts;
     qtool_luminaire_study_opts o = {.grid = (uint32_t)c.grid, .res = (uint32_t)c.res, .size = (uint32_t)c.size,
                                     .quick = c.quick, .threads = (int)c.threads, .tol = c.tol};
     if (qtool_luminaire_study(&o, stdout) != 0) {
@@ -466,14 +451,9 @@ static int cmd_study(int argc, char **argv)
     return 0;
 }
 
-static int cmd_passes(int argc, char **argv)
+static int cmd_passes(void *opts)
 {
-    passes_cli c;
-    int prc = qtool_opt_parse(&qcli_opts_luminaire_passes, argc, argv, 2, &c);
-    if (prc != 0)
-        return prc;
-    if (qcli_parse_only)
-        return 0;
+    const passes_cli c = *(const passes_cli *)opts;
     char err[256] = "";
 #if QIBL_HAVE_GLES2
     qt_gles_ctx gl;
@@ -502,14 +482,9 @@ static int cmd_passes(int argc, char **argv)
     return 0;
 }
 
-static int cmd_picture(int argc, char **argv)
+static int cmd_picture(void *opts)
 {
-    picture_cli c;
-    int prc = qtool_opt_parse(&qcli_opts_luminaire_picture, argc, argv, 2, &c);
-    if (prc != 0)
-        return prc;
-    if (qcli_parse_only)
-        return 0;
+    const picture_cli c = *(const picture_cli *)opts;
     qtool_luminaire_study_opts o = {.size = (uint32_t)c.size, .threads = (int)c.threads};
     uint8_t *rgb = NULL;
     uint32_t w = 0, h = 0;
@@ -526,23 +501,9 @@ static int cmd_picture(int argc, char **argv)
     return 0;
 }
 
-int qcli_cmd_luminaire(int argc, char **argv)
-{
-    static const qtool_opt_cmd *const subs[] = {&qcli_opts_luminaire_capture, &qcli_opts_luminaire_info,
-                                               &qcli_opts_luminaire_render, &qcli_opts_luminaire_study,
-                                               &qcli_opts_luminaire_passes, &qcli_opts_luminaire_picture, NULL};
-    const qtool_opt_cmd *sub = qtool_opt_sub("luminaire", subs, NULL, argc, argv);
-    if (!sub)
-        return 2;
-    if (sub == &qcli_opts_luminaire_capture)
-        return cmd_capture(argc, argv);
-    if (sub == &qcli_opts_luminaire_info)
-        return cmd_info(argc, argv);
-    if (sub == &qcli_opts_luminaire_render)
-        return cmd_render(argc, argv);
-    if (sub == &qcli_opts_luminaire_passes)
-        return cmd_passes(argc, argv);
-    if (sub == &qcli_opts_luminaire_picture)
-        return cmd_picture(argc, argv);
-    return cmd_study(argc, argv);
-}
+const qcli_sub qcli_sub_luminaire_capture = {.opts = &capture_spec, .check = capture_check, .run = cmd_capture};
+const qcli_sub qcli_sub_luminaire_info = {.opts = &info_spec, .run = cmd_info};
+const qcli_sub qcli_sub_luminaire_render = {.opts = &render_spec, .run = cmd_render};
+const qcli_sub qcli_sub_luminaire_study = {.opts = &study_spec, .run = cmd_study};
+const qcli_sub qcli_sub_luminaire_passes = {.opts = &passes_spec, .run = cmd_passes};
+const qcli_sub qcli_sub_luminaire_picture = {.opts = &picture_spec, .run = cmd_picture};

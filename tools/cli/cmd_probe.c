@@ -31,12 +31,13 @@ typedef struct sh_project_cli {
     int format;         /* FMT_*; -1: not given */
     const char *name;   /* NULL: not given */
     int layout;         /* qtool_probe_layout_t */
-    qcli_light_list rl; /* only its --yaw / --rotate (relight's rotation) */
-    char why[192];      /* a reason with numbers in it, for the table's line */
+    qcli_turn turn;     /* --yaw / --rotate (relight's rotation) */
+    qtool_sh_project_opts o; /* the options together (sh_project_check) */
 } sh_project_cli;
 static const sh_project_cli sh_project_defaults = {.bands = 0, .preset = QTOOL_ENGINE_RAW, .frame = -1, .format = -1,
                                                    .name = NULL, .layout = QTOOL_PROBE_LAYOUT_AUTO,
-                                                   .rl = QTOOL_RELIGHT_LIGHT_LIST_DEFAULT};
+                                                   .turn = QCLI_TURN_DEFAULT,
+                                                   .o = QTOOL_SH_PROJECT_OPTS_DEFAULT};
 
 static const char *const frames[] = {"zup", "yup", NULL}; /* qtool_engine_frame */
 
@@ -73,17 +74,6 @@ static const char *name_call(void *opts, const char *v)
     return NULL;
 }
 
-static const char *yaw_call(void *opts, const char *v)
-{
-    return qtool_relight_spec_yaw(&((sh_project_cli *)opts)->rl, v);
-}
-
-static const char *rotate_call(void *opts, const char *v)
-{
-    sh_project_cli *c = opts;
-    return qtool_relight_spec_rotate(&c->rl, v, c->why, sizeof c->why);
-}
-
 static const qtool_opt sh_project_table[] = {
     {.name = "--bands", .kind = QTOOL_OPT_INT, .off = offsetof(sh_project_cli, bands), .arg = "B", .lo = 1,
      .hi = QIBL_SH_MAX_BANDS, .def = "5; a preset 3", .help = "bands 0..B-1 (B*B coefficients)"},
@@ -99,19 +89,14 @@ static const qtool_opt sh_project_table[] = {
      .def = "qibl_probe_sh", .help = "the C array (--format c) or the glTF light (--preset gltf)"},
     {.name = "--frame", .kind = QTOOL_OPT_ENUM, .off = offsetof(sh_project_cli, frame), .names = frames,
      .def = "zup", .help = "yup: the coefficients in a y-up frame ((x, z, -y) of qibl's; --preset raw)"},
-    {.name = "--yaw", .kind = QTOOL_OPT_CALL, .off = offsetof(sh_project_cli, rl), .arg = "DEG", .call = yaw_call,
-     .help = "turn the probe first (positive turns +x toward +y), as qibl relight does"},
-    {.name = "--rotate", .kind = QTOOL_OPT_CALL, .off = offsetof(sh_project_cli, rl), .arg = "a,b,c,d,e,f,g,h,i",
-     .call = rotate_call, .help = "turn the probe first by a rotation matrix (rows), as qibl relight does"},
-    {.name = "--layout", .kind = QTOOL_OPT_ENUM, .off = offsetof(sh_project_cli, layout),
-     .names = qtool_relight_probe_layout_names, .arg = "L",
-     .help = "the probe's layout: auto (detected, and said so), latlong, angular, ball, vcross or hcross"},
+    QCLI_TURN_OPTS(sh_project_cli, turn, "turn the probe first (positive turns +x toward +y), as qibl relight does",
+                   "turn the probe first by a rotation matrix (rows), as qibl relight does"),
+    QCLI_LAYOUT_OPT(sh_project_cli, layout),
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_sh_project = {
+static const qtool_opt_cmd sh_project_spec = {
     .name = "sh project",
-    .help_name = "sh",
     QTOOL_OPT_TABLE(sh_project_table, sh_project_defaults),
     .pos = {.names = "PROBE.hdr", .min = 1, .max = 1, .off = offsetof(sh_project_cli, probe)},
     .prose =
@@ -136,10 +121,12 @@ const qtool_opt_cmd qcli_opts_sh_project = {
         "  what cmgen writes; use --preset filament.)\n",
 };
 
-/* the options together into o, once the table has parsed them: 0, or 2 after the one line */
-static int sh_project_check(const sh_project_cli *c, qtool_sh_project_opts *o)
+/* the options together into c->o, once the table has parsed them: 0, or 2 after the one line */
+static int sh_project_check(void *cli)
 {
-    const qtool_opt_cmd *t = &qcli_opts_sh_project;
+    const sh_project_cli *c = cli;
+    qtool_sh_project_opts *o = &((sh_project_cli *)cli)->o;
+    const qtool_opt_cmd *t = &sh_project_spec;
     const qtool_engine_preset preset = (qtool_engine_preset)c->preset;
     const char *pn = qtool_engine_preset_name(preset);
     long bands = c->bands ? c->bands : o->bands;
@@ -185,17 +172,14 @@ static int sh_project_check(const sh_project_cli *c, qtool_sh_project_opts *o)
     return 0;
 }
 
-int qcli_cmd_sh_project(int argc, char **argv)
+static int sh_project_run(void *opts)
 {
-    qtool_sh_project_opts o = QTOOL_SH_PROJECT_OPTS_DEFAULT;
-    sh_project_cli c;
-    if (qtool_opt_parse(&qcli_opts_sh_project, argc, argv, 2, &c) != 0 || sh_project_check(&c, &o) != 0)
-        return 2;
-    if (qcli_parse_only) /* fuzz_cliopts: the options only */
-        return 0;
-    o.rot = c.rl.rotate ? (const double(*)[3])c.rl.r : NULL, o.rot_kind = c.rl.rotate;
-    const char *path = c.probe.v[0];
-    const qtool_probe_layout_t layout = (qtool_probe_layout_t)c.layout;
+    sh_project_cli *c = opts;
+    qtool_sh_project_opts o = c->o;
+    const qcli_light_list *turn = &c->turn.ll;
+    o.rot = turn->rotate ? (const double(*)[3])turn->r : NULL, o.rot_kind = turn->rotate;
+    const char *path = c->probe.v[0];
+    const qtool_probe_layout_t layout = (qtool_probe_layout_t)c->layout;
     int w, h;
     uint8_t *px;
     qtool_probe_layout_t used;
@@ -210,3 +194,5 @@ int qcli_cmd_sh_project(int argc, char **argv)
         fprintf(stderr, "qibl: %s\n", err);
     return rc != 0;
 }
+
+const qcli_sub qcli_sub_sh_project = {.opts = &sh_project_spec, .check = sh_project_check, .run = sh_project_run};

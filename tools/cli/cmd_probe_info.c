@@ -24,15 +24,12 @@ typedef struct probe_info_opts {
 static const probe_info_opts probe_info_defaults = {.layout = QTOOL_PROBE_LAYOUT_AUTO};
 
 static const qtool_opt probe_info_table[] = {
-    {.name = "--layout", .kind = QTOOL_OPT_ENUM, .off = offsetof(probe_info_opts, layout),
-     .names = qtool_relight_probe_layout_names, .arg = "L",
-     .help = "the probe's layout: auto (detected, and said so), latlong, angular, ball, vcross or hcross"},
+    QCLI_LAYOUT_OPT(probe_info_opts, layout),
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_probe_info = {
+static const qtool_opt_cmd probe_info_spec = {
     .name = "probe info",
-    .help_name = "probe",
     QTOOL_OPT_TABLE(probe_info_table, probe_info_defaults),
     .pos = {.names = "PROBE.hdr", .min = 1, .max = 1, .off = offsetof(probe_info_opts, probe)},
     .prose =
@@ -49,20 +46,11 @@ const qtool_opt_cmd qcli_opts_probe_info = {
         "  of the lowest or at most 1 %, with the relight option that uses it.\n",
 };
 
-int qcli_cmd_probe(int argc, char **argv)
+static int probe_info_run(void *opts)
 {
-    static const qtool_opt_cmd *const subs[] = {&qcli_opts_probe_info, NULL};
-    const qtool_opt_cmd *sub = qtool_opt_sub("probe", subs, NULL, argc, argv);
-    if (!sub)
-        return 2;
-    probe_info_opts c;
-    int rc = qtool_opt_parse(sub, argc, argv, 2, &c);
-    if (rc != 0)
-        return rc;
-    const char *path = c.probe.v[0];
-    const qtool_probe_layout_t layout = (qtool_probe_layout_t)c.layout;
-    if (qcli_parse_only) /* fuzz_cliopts: the options only */
-        return 0;
+    const probe_info_opts *c = opts;
+    const char *path = c->probe.v[0];
+    const qtool_probe_layout_t layout = (qtool_probe_layout_t)c->layout;
     /* Nothing is printed until everything has been computed: a failure leaves stdout empty. */
     char note[4200 + 256], err[4800];
     int w, h;
@@ -72,10 +60,12 @@ int qcli_cmd_probe(int argc, char **argv)
     qtool_probe_info_opts o = QTOOL_PROBE_INFO_OPTS_DEFAULT;
     o.pick_suns = qcli_probe_suns, o.sun_contrast = QCLI_SUN_CONTRAST;
     qtool_probe_info in;
-    rc = qtool_probe_info_compute(&o, path, px, w, h, &in, err, sizeof err);
+    int rc = qtool_probe_info_compute(&o, path, px, w, h, &in, err, sizeof err);
     free(px);
     if (rc != 0)
         return fprintf(stderr, "qibl: %s\n", err), 1;
     qtool_probe_info_write(&o, &in, path, note, stdout);
     return 0;
 }
+
+const qcli_sub qcli_sub_probe_info = {.opts = &probe_info_spec, .run = probe_info_run};

@@ -52,6 +52,7 @@ typedef struct relight_cli {
     const char *notes[4]; /* deprecation notes, printed once the line is accepted */
     int nnotes;
     char why[256];        /* a reason with numbers in it, for the table's line */
+    qcli_turn turn;       /* --yaw / --rotate, into r.lights once the line has parsed */
 } relight_cli;
 
 void qcli_warn_dark(const char *path, const uint8_t *rgb, size_t np)
@@ -130,16 +131,6 @@ static const char *count_call(void *o, const char *v)
     return qtool_relight_spec_count(&C(o)->r.lights, v);
 }
 
-static const char *yaw_call(void *o, const char *v)
-{
-    return qtool_relight_spec_yaw(&C(o)->r.lights, v);
-}
-
-static const char *rotate_call(void *o, const char *v)
-{
-    return qtool_relight_spec_rotate(&C(o)->r.lights, v, C(o)->why, sizeof C(o)->why);
-}
-
 /* --lut MODE; a bare --lut (the old on/off switch) is bilinear: the next word is then an option or
  * the asset, never a mode name, so the two spellings cannot be confused */
 static const char *lut_call(void *o, const char *m)
@@ -199,9 +190,11 @@ static const char *up_call(void *o, char *const *v, int n, int *used)
 }
 
 static const relight_cli relight_defaults = {.r = QTOOL_RELIGHT_OPTS_DEFAULT, .exposure = 1.0,
-                                             .p = {.t = -1, .rgb = {1, 1, 1}, .sky = {-1, -1, -1}, .soft = -1}};
+                                             .p = {.t = -1, .rgb = {1, 1, 1}, .sky = {-1, -1, -1}, .soft = -1},
+                                             .turn = QCLI_TURN_DEFAULT};
 static const relight_cli path_defaults = {.r = QTOOL_RELIGHT_OPTS_DEFAULT, .exposure = 1.0, .path_mode = 1,
-                                          .p = {.t = -1, .rgb = {1, 1, 1}, .sky = {-1, -1, -1}, .soft = -1}};
+                                          .p = {.t = -1, .rgb = {1, 1, 1}, .sky = {-1, -1, -1}, .soft = -1},
+                                          .turn = QCLI_TURN_DEFAULT};
 
 static const qtool_opt relight_table[] = {
     {.name = "--sun", .kind = QTOOL_OPT_CALL, .nargs = 3, .call_n = sun_call, .arg = "X Y Z",
@@ -221,10 +214,8 @@ static const qtool_opt relight_table[] = {
      .help = "the probe as SH (default), N median-cut lights, or its suns plus SH"},
     {.name = "-n", .kind = QTOOL_OPT_CALL, .call = count_call, .arg = "N",
      .help = "median-cut lights of --probe-mode lights or sunsky (a power of two in 1..65536)"},
-    {.name = "--yaw", .kind = QTOOL_OPT_CALL, .call = yaw_call, .arg = "DEG",
-     .help = "turn the probe (positive turns +x toward +y)"},
-    {.name = "--rotate", .kind = QTOOL_OPT_CALL, .call = rotate_call, .arg = "a,b,c,d,e,f,g,h,i",
-     .help = "turn the probe by a rotation matrix (rows)"},
+    QCLI_TURN_OPTS(relight_cli, turn, "turn the probe (positive turns +x toward +y)",
+                   "turn the probe by a rotation matrix (rows)"),
     {.name = "--lut", .kind = QTOOL_OPT_CALL, .optional = 1, .call = lut_call, .arg = "poly|nearest|bilinear|off",
      .help = "how point lamps are evaluated: polynomial (default), the asset's Y LUT, or direct SH (off)"},
     {.name = "--nearest", .kind = QTOOL_OPT_FLAG, .off = offsetof(relight_cli, nearest), .call = nearest_call,
@@ -265,7 +256,7 @@ static const qtool_opt relight_table[] = {
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_relight = {
+static const qtool_opt_cmd relight_spec = {
     .name = "relight",
     QTOOL_OPT_TABLE(relight_table, relight_defaults),
     .pos = {.names = "FILE", .min = 0, .max = 1, .off = offsetof(relight_cli, file)},
@@ -348,7 +339,7 @@ static const char *light_only(const relight_cli *c)
 /* the options together, after parsing: 0, or 2 after the one line */
 static int relight_check(const relight_cli *c)
 {
-    const qtool_opt_cmd *t = &qcli_opts_relight;
+    const qtool_opt_cmd *t = &relight_spec;
     const qtool_relight_opts *o = &c->r;
     const qtool_relight_light_list *ll = &o->lights;
     const char *bad;
@@ -373,7 +364,7 @@ static int relight_check(const relight_cli *c)
 /* --path's line together: 0, or 2 after the one line */
 static int path_check(const relight_cli *c)
 {
-    const qtool_opt_cmd *t = &qcli_opts_relight;
+    const qtool_opt_cmd *t = &relight_spec;
     const char *bad = light_only(c);
     if (bad)
         return qtool_opt_error(t, "%s is for relight without --path (the path is the light)", bad);
@@ -662,22 +653,39 @@ static int path_run(const relight_cli *c, const path_cli *p)
     return rc;
 }
 
-int qcli_cmd_relight(int argc, char **argv)
+/* --path anywhere on the line: a light on a baked path, the table with path_defaults */
+static const qtool_opt_cmd *relight_pick(int argc, char **argv)
 {
-    int path = 0;
     for (int i = 1; i < argc; ++i)
-        path |= strcmp(argv[i], "--path") == 0; /* a light on a baked path */
-    relight_cli c;
-    if (qtool_opt_parse(path ? &relight_path_spec : &qcli_opts_relight, argc, argv, 1, &c) != 0)
-        return 2;
-    if (path ? path_check(&c) != 0 : relight_check(&c) != 0)
-        return 2;
-    for (int k = 0; k < c.nnotes; ++k)
-        fprintf(stderr, "qibl: note: %s\n", c.notes[k]);
-    if (qcli_parse_only) /* fuzz_cliopts: the options only */
-        return 0;
-    c.r.exposure = (qibl_q16_t)nearbyint(c.exposure * 65536.0);
-    c.p.soft = c.p.soft < 0 ? 0 : c.p.soft;
-    c.p.have_sky = c.p.sky[0] >= 0;
-    return path ? path_run(&c, &c.p) : relight_run(&c);
+        if (strcmp(argv[i], "--path") == 0)
+            return &relight_path_spec;
+    return &relight_spec;
 }
+
+/* relight's or --path's rules (the rotation first into the light list they read); the notes once
+ * the line is accepted */
+static int check_either(void *opts)
+{
+    relight_cli *c = opts;
+    qcli_light_list *ll = &c->r.lights;
+    ll->rotate = c->turn.ll.rotate, ll->yaw = c->turn.ll.yaw;
+    memcpy(ll->r, c->turn.ll.r, sizeof ll->r);
+    if (c->path_mode ? path_check(c) != 0 : relight_check(c) != 0)
+        return 2;
+    for (int k = 0; k < c->nnotes; ++k)
+        fprintf(stderr, "qibl: note: %s\n", c->notes[k]);
+    return 0;
+}
+
+/* the exposure into Q16.16, --path's unset values to theirs, then the one or the other */
+static int run_either(void *opts)
+{
+    relight_cli *c = opts;
+    c->r.exposure = (qibl_q16_t)nearbyint(c->exposure * 65536.0);
+    c->p.soft = c->p.soft < 0 ? 0 : c->p.soft;
+    c->p.have_sky = c->p.sky[0] >= 0;
+    return c->path_mode ? path_run(c, &c->p) : relight_run(c);
+}
+
+const qcli_sub qcli_sub_relight = {.opts = &relight_spec, .pick = relight_pick, .check = check_either,
+                                   .run = run_either};

@@ -30,24 +30,18 @@ static const qtool_opt plot_table[] = {
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_sh_plot = {
+static const qtool_opt_cmd plot_spec = {
     .name = "sh plot",
-    .help_name = "sh",
     QTOOL_OPT_TABLE(plot_table, plot_defaults),
     .prose = "  Writes a PNG of every basis function as a lat-long tile (orange > 0, blue < 0), evaluated by\n"
              "  the integer core.\n",
 };
 
-static int sh_plot(int argc, char **argv)
+static int plot_run(void *opts)
 {
-    plot_opts o;
-    int rc = qtool_opt_parse(&qcli_opts_sh_plot, argc, argv, 2, &o);
-    if (rc != 0)
-        return rc;
-    const char *path = o.png;
-    long tw = o.tile;
-    if (qcli_parse_only) /* fuzz_cliopts: the options only */
-        return 0;
+    const plot_opts *o = opts;
+    const char *path = o->png;
+    long tw = o->tile;
     const int B = QIBL_SH_MAX_BANDS, th = (int)tw / 2, pad = 4;
     const int W = (2 * B - 1) * ((int)tw + pad) + pad, H = B * (th + pad) + pad;
     uint8_t *img = calloc((size_t)W * (size_t)H, 3);
@@ -74,13 +68,15 @@ static int sh_plot(int argc, char **argv)
                 }
         }
     char err[512];
-    rc = qtool_png_write_rgb8(path, W, H, img, err, sizeof err);
+    int rc = qtool_png_write_rgb8(path, W, H, img, err, sizeof err);
     free(img);
     if (rc != 0)
         return fprintf(stderr, "qibl: %s\n", err), 1;
     printf("wrote %s (%dx%d): Y(l,m) for l = 0..%d, m = -l..l left to right\n", path, W, H, B - 1);
     return 0;
 }
+
+const qcli_sub qcli_sub_sh_plot = {.opts = &plot_spec, .run = plot_run};
 
 typedef struct eval_opts {
     qtool_opt_list xyz;
@@ -94,9 +90,8 @@ static const qtool_opt eval_table[] = {
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_sh_eval = {
+static const qtool_opt_cmd eval_spec = {
     .name = "sh eval",
-    .help_name = "sh",
     QTOOL_OPT_TABLE(eval_table, eval_defaults),
     .pos = {.names = "X Y Z", .min = 3, .max = 3, .off = offsetof(eval_opts, xyz), .numbers = 1},
     .prose =
@@ -107,32 +102,25 @@ const qtool_opt_cmd qcli_opts_sh_eval = {
         "  appendix, index i = l*l + l + m, Condon-Shortley phase (Y_3 = -0.488603 at (1, 0, 0)).\n",
 };
 
-int qcli_cmd_sh(int argc, char **argv)
+static int eval_run(void *opts)
 {
-    static const qtool_opt_cmd *const subs[] = {&qcli_opts_sh_eval, &qcli_opts_sh_plot, &qcli_opts_sh_project, NULL};
-    const qtool_opt_cmd *sub = qtool_opt_sub("sh", subs, NULL, argc, argv);
-    if (!sub)
-        return 2;
-    if (sub == &qcli_opts_sh_project)
-        return qcli_cmd_sh_project(argc, argv); /* cmd_probe.c */
-    if (sub == &qcli_opts_sh_plot)
-        return sh_plot(argc, argv);
-    eval_opts o;
-    int rc = qtool_opt_parse(sub, argc, argv, 2, &o);
-    if (rc != 0)
-        return rc;
-    long bands = o.bands;
+    const eval_opts *o = opts;
+    long bands = o->bands;
     qibl_q16_t dir[3];
     for (int k = 0; k < 3; ++k)
-        if (qcli_parse_q16(o.xyz.v[k], &dir[k]) != 0)
-            return qtool_opt_error(sub, "'%s' is not a number in the Q16.16 range [-32768, 32768)", o.xyz.v[k]);
+        if (qcli_parse_q16(o->xyz.v[k], &dir[k]) != 0)
+            return qtool_opt_error(&eval_spec, "'%s' is not a number in the Q16.16 range [-32768, 32768)",
+                                  o->xyz.v[k]);
     qibl_q30_t y[QIBL_SH_MAX_COUNT];
     qibl_status_t st = qibl_sh_eval(dir, (int)bands, y);
     if (st != QIBL_OK)
-        return qtool_opt_error(sub, "%s", qibl_status_str(st));
+        return qtool_opt_error(&eval_spec, "%s", qibl_status_str(st));
     /* one line per basis function, labelled: index i = l*l + l + m, band l, order m */
     for (int l = 0; l < (int)bands; ++l)
         for (int m = -l; m <= l; ++m)
             printf("Y[%2d] l=%d m=%+d %12.9f\n", l * l + l + m, l, m, (double)y[l * l + l + m] / 1073741824.0);
     return 0;
 }
+
+/* it reads nothing and prints a few numbers: fuzz_cliopts runs it whole */
+const qcli_sub qcli_sub_sh_eval = {.opts = &eval_spec, .run = eval_run, .whole = 1};

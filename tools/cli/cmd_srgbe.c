@@ -13,9 +13,8 @@
 #include "opt/opt.h"
 #include "qibl/srgbe.h"
 
-const qtool_opt_cmd qcli_opts_srgbe_encode = {
+static const qtool_opt_cmd encode_spec = {
     .name = "srgbe encode",
-    .help_name = "srgbe",
     .pos = {.names = "R G B", .min = 3, .max = 3, .numbers = 1},
     QTOOL_OPT_TABLE(NULL, qtool_opt_args),
     .prose =
@@ -26,9 +25,8 @@ const qtool_opt_cmd qcli_opts_srgbe_encode = {
         "  an infinite channel saturates (exit 0); a NaN channel writes the zero code 80808000 (exit 1).\n",
 };
 
-const qtool_opt_cmd qcli_opts_srgbe_decode = {
+static const qtool_opt_cmd decode_spec = {
     .name = "srgbe decode",
-    .help_name = "srgbe",
     .pos = {.names = "HEX8", .min = 1, .max = 1},
     QTOOL_OPT_TABLE(NULL, qtool_opt_args),
     .prose =
@@ -85,12 +83,13 @@ static void note_status(const char *what, qibl_status_t st)
         fprintf(stderr, "qibl: srgbe %s: %s: %s\n", what, status_name(st), qibl_status_str(st));
 }
 
-static int srgbe_encode(const qtool_opt_list *args)
+static int srgbe_encode(void *opts)
 {
+    const qtool_opt_list *args = opts;
     uint32_t in[3];
     for (int i = 0; i < 3; ++i)
         if (parse_f32(args->v[i], &in[i]) != 0)
-            return qtool_opt_error(&qcli_opts_srgbe_encode, "'%s' is not a binary32 number", args->v[i]);
+            return qtool_opt_error(&encode_spec, "'%s' is not a binary32 number", args->v[i]);
     uint8_t code[4];
     qibl_status_t st = qibl_srgbe_encode_f32(in, code);
     /* the codec writes a code for every status but a NULL pointer: print it, then name the status */
@@ -99,16 +98,16 @@ static int srgbe_encode(const qtool_opt_list *args)
     return st == QIBL_E_SRGBE_NAN ? 1 : 0;
 }
 
-static int srgbe_decode(const qtool_opt_list *args)
+static int srgbe_decode(void *opts)
 {
-    const char *h = args->v[0];
+    const char *h = ((const qtool_opt_list *)opts)->v[0];
     uint8_t code[4];
     if (strlen(h) != 8)
-        return qtool_opt_error(&qcli_opts_srgbe_decode, "'%s' is not 8 hex digits", h);
+        return qtool_opt_error(&decode_spec, "'%s' is not 8 hex digits", h);
     for (int i = 0; i < 4; ++i) {
         int hi = hexval(h[2 * i]), lo = hexval(h[2 * i + 1]);
         if (hi < 0 || lo < 0)
-            return qtool_opt_error(&qcli_opts_srgbe_decode, "'%s' is not 8 hex digits", h);
+            return qtool_opt_error(&decode_spec, "'%s' is not 8 hex digits", h);
         code[i] = (uint8_t)(hi << 4 | lo);
     }
     uint32_t out[3];
@@ -120,15 +119,6 @@ static int srgbe_decode(const qtool_opt_list *args)
     return 0;
 }
 
-int qcli_cmd_srgbe(int argc, char **argv)
-{
-    static const qtool_opt_cmd *const subs[] = {&qcli_opts_srgbe_encode, &qcli_opts_srgbe_decode, NULL};
-    const qtool_opt_cmd *sub = qtool_opt_sub("srgbe", subs, NULL, argc, argv);
-    if (!sub)
-        return 2;
-    qtool_opt_list args;
-    int rc = qtool_opt_parse(sub, argc, argv, 2, &args);
-    if (rc != 0)
-        return rc;
-    return sub == &qcli_opts_srgbe_encode ? srgbe_encode(&args) : srgbe_decode(&args);
-}
+/* they read nothing and print a few numbers: fuzz_cliopts runs them whole */
+const qcli_sub qcli_sub_srgbe_encode = {.opts = &encode_spec, .run = srgbe_encode, .whole = 1};
+const qcli_sub qcli_sub_srgbe_decode = {.opts = &decode_spec, .run = srgbe_decode, .whole = 1};

@@ -29,7 +29,7 @@ static const qtool_opt study_table[] = {
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_study = {
+static const qtool_opt_cmd study_spec = {
     .name = "study",
     QTOOL_OPT_TABLE(study_table, study_defaults),
     .pos = {.names = "PROBE.hdr ...", .min = 0, .max = QTOOL_OPT_LIST_MAX, .off = offsetof(study_cli_opts, probes)},
@@ -42,14 +42,11 @@ const qtool_opt_cmd qcli_opts_study = {
         "  Without probes: procedural skies (said so). At most 64 probes.\n",
 };
 
-int qcli_cmd_study(int argc, char **argv)
+static int study_run(void *opts)
 {
-    study_cli_opts c;
-    int rc = qtool_opt_parse(&qcli_opts_study, argc, argv, 1, &c);
-    if (rc != 0)
-        return rc;
-    if (qcli_parse_only) /* fuzz_cliopts: the options only */
-        return 0;
-    const qtool_study_opts o = {.quick = c.quick, .threads = (int)c.threads, .out_dir = c.out};
-    return qtool_study_run(c.probes.v, c.probes.n, &o);
+    const study_cli_opts *c = opts;
+    const qtool_study_opts o = {.quick = c->quick, .threads = (int)c->threads, .out_dir = c->out};
+    return qtool_study_run(c->probes.v, c->probes.n, &o);
 }
+
+const qcli_sub qcli_sub_study = {.opts = &study_spec, .run = study_run};

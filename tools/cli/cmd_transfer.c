@@ -181,7 +181,7 @@ static const qtool_opt transfer_table[] = {
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_transfer = {
+static const qtool_opt_cmd transfer_spec = {
     .name = "transfer",
     QTOOL_OPT_TABLE(transfer_table, transfer_defaults),
     .pos = {.names = "MESH [MESH...]", .min = 1, .max = QTOOL_TRANSFER_MAX_FRAMES, .off = T_(mesh)},
@@ -211,27 +211,32 @@ const qtool_opt_cmd qcli_opts_transfer = {
         "  in Q2.30, --export-bands of them (transfer/export.h), for `qibl view MESH --transfer` or an engine.\n",
 };
 
-int qcli_cmd_transfer(int argc, char **argv)
+/* what a range cannot say */
+static int transfer_check(void *opts)
 {
-    const qtool_opt_cmd *t = &qcli_opts_transfer;
-    transfer_cli c;
-    if (qtool_opt_parse(t, argc, argv, 1, &c) != 0)
-        return 2;
-    /* what a range cannot say */
-    if (c.lights & (c.lights - 1))
-        return qtool_opt_error(t, "--lights: %ld is not a power of two (median-cut lights of the probe)", c.lights);
-    if (c.face & 1)
-        return qtool_opt_error(t, "--face: %ld is not even", c.face);
-    if ((c.x.qtr || c.x.c) && c.mesh.n > 1)
-        return qtool_opt_error(t, "--export is for a static mesh: one MESH, not %d frames", c.mesh.n);
-    if (qcli_parse_only) /* fuzz_cliopts: the options only */
-        return 0;
-    qtool_transfer_opts o = c.o;
-    o.files = (char *const *)c.mesh.v, o.nfiles = c.mesh.n; /* argv's strings */
-    o.layout = (qtool_probe_layout_t)c.layout, o.lights = (int)c.lights, o.size = (int)c.size, o.mask = 16 << c.mask;
-    o.face = (int)c.face, o.rays = (int)c.rays, o.coarse = (int)c.coarse, o.ring = (int)c.ring;
-    o.tween = (int)c.tween, o.threads = c.threads ? (int)c.threads : qcli_default_threads();
-    o.sheet = c.png != NULL, o.keep_transfer = c.x.qtr || c.x.c;
-    c.x.bands = (int)c.bands;
-    return transfer_main(&o, c.png, &c.x);
+    const qtool_opt_cmd *t = &transfer_spec;
+    const transfer_cli *c = opts;
+    if (c->lights & (c->lights - 1))
+        return qtool_opt_error(t, "--lights: %ld is not a power of two (median-cut lights of the probe)", c->lights);
+    if (c->face & 1)
+        return qtool_opt_error(t, "--face: %ld is not even", c->face);
+    if ((c->x.qtr || c->x.c) && c->mesh.n > 1)
+        return qtool_opt_error(t, "--export is for a static mesh: one MESH, not %d frames", c->mesh.n);
+    return 0;
 }
+
+static int transfer_run(void *opts)
+{
+    transfer_cli *c = opts;
+    qtool_transfer_opts o = c->o;
+    o.files = (char *const *)c->mesh.v, o.nfiles = c->mesh.n; /* argv's strings */
+    o.layout = (qtool_probe_layout_t)c->layout, o.lights = (int)c->lights, o.size = (int)c->size,
+    o.mask = 16 << c->mask;
+    o.face = (int)c->face, o.rays = (int)c->rays, o.coarse = (int)c->coarse, o.ring = (int)c->ring;
+    o.tween = (int)c->tween, o.threads = c->threads ? (int)c->threads : qcli_default_threads();
+    o.sheet = c->png != NULL, o.keep_transfer = c->x.qtr || c->x.c;
+    c->x.bands = (int)c->bands;
+    return transfer_main(&o, c->png, &c->x);
+}
+
+const qcli_sub qcli_sub_transfer = {.opts = &transfer_spec, .check = transfer_check, .run = transfer_run};

@@ -99,7 +99,7 @@ static const qtool_opt view_table[] = {
     {0},
 };
 
-const qtool_opt_cmd qcli_opts_view = {
+static const qtool_opt_cmd view_spec = {
     .name = "view",
     QTOOL_OPT_TABLE(view_table, view_defaults),
     .pos = {.names = "FILE|MESH", .min = 0, .max = 1, .off = V_(file)},
@@ -161,12 +161,12 @@ static void modes_seen(int argc, char **argv, const char **mesh_only, const char
         }
 }
 
-/* the options into c: 0, or 2 after the one line */
-static int parse(int argc, char **argv, view_cli *c)
+/* what the table cannot say (a mesh's options or an asset's), then c into the library's structs: 0, or 2
+ * after the one line */
+static int view_check(void *opts, int argc, char **argv)
 {
-    const qtool_opt_cmd *t = &qcli_opts_view;
-    if (qtool_opt_parse(t, argc, argv, 1, c) != 0)
-        return 2;
+    const qtool_opt_cmd *t = &view_spec;
+    view_cli *c = opts;
     const char *mesh_only, *asset_only;
     modes_seen(argc, argv, &mesh_only, &asset_only);
     if (c->file.n == 0)
@@ -283,21 +283,17 @@ out:
     return rc;
 }
 
-int qcli_cmd_view(int argc, char **argv)
+static int view_run(void *opts)
 {
-    view_cli o;
-    if (parse(argc, argv, &o) != 0)
-        return 2;
-    if (qcli_parse_only)
-        return 0;
-    if (!o.bench && !o.png && !qtool_view_have_window()) {
+    view_cli *o = opts;
+    if (!o->bench && !o->png && !qtool_view_have_window()) {
         fprintf(stderr, "qibl: view: this qibl was built without X11 (Debian: apt-get install libx11-dev, then "
                         "rebuild); --bench --headless still runs\n");
         return 1;
     }
-    const char *in = o.file.v[0];
+    const char *in = o->file.v[0];
     if (qtool_view_is_mesh(in))
-        return view_mesh(&o);
+        return view_mesh(o);
     uint8_t *bytes = NULL;
     qtool_view_truths tset = {0};
     qtool_view_gles *vg = NULL;
@@ -309,8 +305,8 @@ int qcli_cmd_view(int argc, char **argv)
     }
     int rc = 1;
     qtool_view v;
-    o.asset.lamp_default = qcli_point_default;
-    const int orc = qtool_view_open_asset(&v, bytes, n, in, &o.asset, note, sizeof note, err, sizeof err);
+    o->asset.lamp_default = qcli_point_default;
+    const int orc = qtool_view_open_asset(&v, bytes, n, in, &o->asset, note, sizeof note, err, sizeof err);
     if (note[0])
         fprintf(stderr, "qibl: note: %s\n", note);
     if (orc != 0) {
@@ -318,35 +314,35 @@ int qcli_cmd_view(int argc, char **argv)
         goto out;
     }
     const qibl_shmaps_t m = v.maps;
-    if (load_probes(&o, &v) != 0)
+    if (load_probes(o, &v) != 0)
         goto out;
-    if (o.truth && qtool_view_truths_load(o.truth, m.width, m.height, &tset, err, sizeof err) != 0) {
+    if (o->truth && qtool_view_truths_load(o->truth, m.width, m.height, &tset, err, sizeof err) != 0) {
         fprintf(stderr, "qibl: %s\n", err);
         goto out;
     }
-    if (o.gles && !(vg = qtool_view_gles_open(&v, err, sizeof err))) {
+    if (o->gles && !(vg = qtool_view_gles_open(&v, err, sizeof err))) {
         fprintf(stderr, "qibl: %s\n", err);
         goto out;
     }
     double fps = 0;
-    qtool_view_run_opts ro = {.title = "qibl view", .frame = o.gles ? qtool_view_gles_frame : NULL, .user = vg,
-                              .gl = o.gles ? &qtool_view_gles_window : NULL,
+    qtool_view_run_opts ro = {.title = "qibl view", .frame = o->gles ? qtool_view_gles_frame : NULL, .user = vg,
+                              .gl = o->gles ? &qtool_view_gles_window : NULL,
                               .truth = tset.one, .ntruths = tset.n, .truths = (const uint8_t *const *)tset.rgb,
                              .truth_dirs = (const double(*)[3])tset.dir, .truth_names = (const char *const *)tset.name,
-                             .bench_frames = o.bench ? o.frames : 0, .bench_fps = &fps,
-                             .headless = o.headless, .log = o.bench ? NULL : stdout, .record = o.record,
-                             .drag_dx = o.turn ? (int)((m.width + (uint32_t)o.frames - 1) / (uint32_t)o.frames) : 0};
+                             .bench_frames = o->bench ? o->frames : 0, .bench_fps = &fps,
+                             .headless = o->headless, .log = o->bench ? NULL : stdout, .record = o->record,
+                             .drag_dx = o->turn ? (int)((m.width + (uint32_t)o->frames - 1) / (uint32_t)o->frames) : 0};
     if (qtool_view_run(&v, &ro, err, sizeof err) != 0) {
         fprintf(stderr, "qibl: %s\n", err);
         goto out;
     }
-    if (o.bench) {
+    if (o->bench) {
         printf("view bench: %ux%u, k = %u, %s, %ld frames with the sun dragged, %s: %.2f ms per frame (last)\n",
-               m.width, m.height, m.k, o.gles ? "platform/gles2" : "core + platform/soft", o.frames,
-               o.headless ? "headless (framebuffer and overlay)" : "shown in an X11 window", v.ms);
+               m.width, m.height, m.k, o->gles ? "platform/gles2" : "core + platform/soft", o->frames,
+               o->headless ? "headless (framebuffer and overlay)" : "shown in an X11 window", v.ms);
         printf("RESULT view.fps %.1f\n", fps);
-        if (o.record)
-            printf("wrote %s (%ld frames, %ux%u, the viewer's window with its overlay)\n", o.record, o.frames, m.width,
+        if (o->record)
+            printf("wrote %s (%ld frames, %ux%u, the viewer's window with its overlay)\n", o->record, o->frames, m.width,
                    m.height + QTOOL_VIEW_OVERLAY_H);
     }
     rc = 0;
@@ -356,3 +352,5 @@ out:
     free(bytes);
     return rc;
 }
+
+const qcli_sub qcli_sub_view = {.opts = &view_spec, .check_line = view_check, .run = view_run};

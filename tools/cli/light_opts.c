@@ -24,6 +24,17 @@ int qcli_light_list_sh(const qtool_relight_light_list *ll, uint32_t k, FILE *not
     return rc != 0;
 }
 
+const char *qcli_turn_yaw(void *turn, const char *v)
+{
+    return qtool_relight_spec_yaw(&((qcli_turn *)turn)->ll, v);
+}
+
+const char *qcli_turn_rotate(void *turn, const char *v)
+{
+    qcli_turn *t = turn;
+    return qtool_relight_spec_rotate(&t->ll, v, t->why, sizeof t->why);
+}
+
 int qcli_probe_load_note(const char *path, qtool_probe_layout_t want, char *note, size_t notelen, int *w, int *h,
                          uint8_t **rgbe, qtool_probe_layout_t *used)
 {

@@ -18,83 +18,51 @@
 
 int qcli_parse_only; /* see cli.h */
 
-/* the option tables of the commands on them (opt/opt.h), one per subcommand */
-static const qtool_opt_cmd *const sh_opts[] = {&qcli_opts_sh_eval, &qcli_opts_sh_plot, &qcli_opts_sh_project, NULL};
-static const qtool_opt_cmd *const gen_opts[] = {&qcli_opts_gen, NULL};
-static const qtool_opt_cmd *const info_opts[] = {&qcli_opts_info, NULL};
-static const qtool_opt_cmd *const srgbe_opts[] = {&qcli_opts_srgbe_encode, &qcli_opts_srgbe_decode, NULL};
-static const qtool_opt_cmd *const ies_opts[] = {&qcli_opts_ies_info, NULL};
-static const qtool_opt_cmd *const study_opts[] = {&qcli_opts_study, NULL};
-static const qtool_opt_cmd *const bench_opts[] = {&qcli_opts_bench, NULL};
-static const qtool_opt_cmd *const probe_opts[] = {&qcli_opts_probe_info, NULL};
-static const qtool_opt_cmd *const lights_opts[] = {&qcli_opts_lights, NULL};
-static const qtool_opt_cmd *const relight_opts[] = {&qcli_opts_relight, NULL};
-static const qtool_opt_cmd *const merge_opts[] = {&qcli_opts_merge, NULL};
-static const qtool_opt_cmd *const check_opts[] = {&qcli_opts_check, NULL};
-static const qtool_opt_cmd *const render_opts[] = {&qcli_opts_render, NULL};
-static const qtool_opt_cmd *const bake_opts[] = {&qcli_opts_bake, NULL};
-static const qtool_opt_cmd *const demo_opts[] = {&qcli_opts_demo, NULL};
-static const qtool_opt_cmd *const luminaire_opts[] = {&qcli_opts_luminaire_capture, &qcli_opts_luminaire_info,
-                                                     &qcli_opts_luminaire_render, &qcli_opts_luminaire_study,
-                                                     &qcli_opts_luminaire_passes, &qcli_opts_luminaire_picture, NULL};
-static const qtool_opt_cmd *const transfer_opts[] = {&qcli_opts_transfer, NULL};
-static const qtool_opt_cmd *const view_opts[] = {&qcli_opts_view, NULL};
+/* a command's own table, or a family's subcommands (cli.h: qcli_sub) */
+#define SUBS(...) (const qcli_sub *const[]){__VA_ARGS__, NULL}
 
-/* which commands are on them: `qibl help CMD` is made from these, not from the command's usage */
-static const struct {
-    const char *cmd;
-    const qtool_opt_cmd *const *opts;
-} tables[] = {{"sh", sh_opts},       {"gen", gen_opts}, {"info", info_opts},
-              {"srgbe", srgbe_opts}, {"ies", ies_opts}, {"study", study_opts},
-              {"bench", bench_opts}, {"probe", probe_opts}, {"lights", lights_opts},
-              {"relight", relight_opts}, {"merge", merge_opts}, {"check", check_opts},
-              {"render", render_opts}, {"bake", bake_opts}, {"demo", demo_opts}, {"luminaire", luminaire_opts},
-              {"transfer", transfer_opts}, {"view", view_opts}};
-
-static const qtool_opt_cmd *const *tables_of(const char *cmd)
-{
-    for (size_t i = 0; i < sizeof tables / sizeof tables[0]; ++i)
-        if (strcmp(tables[i].cmd, cmd) == 0)
-            return tables[i].opts;
-    return NULL;
-}
-
-static const qcli_cmd commands[] = {
-    {"sh", "evaluate the integer SH basis for a direction", NULL, qcli_cmd_sh},
-    {"bench", "benchmarks: speed against error, with RESULT lines", NULL, qcli_cmd_bench},
+const qcli_cmd qcli_commands[] = {
+    {"sh", "evaluate the integer SH basis for a direction",
+     SUBS(&qcli_sub_sh_eval, &qcli_sub_sh_plot, &qcli_sub_sh_project)},
+    {"bench", "benchmarks: speed against error, with RESULT lines",
+     SUBS(&qcli_sub_bench)},
     {"gen", "write the procedural courtyard's SH maps (and P map, optional Y LUT) as an asset",
-     NULL, qcli_cmd_gen},
+     SUBS(&qcli_sub_gen)},
     {"render", "ray-trace the ground-truth panorama of a scene under one light (PNG, PFM, depth)",
-     NULL, qcli_cmd_render},
+     SUBS(&qcli_sub_render)},
     {"transfer", "a mesh self-shadowed by hemispherical rasterization under a probe, beside the ray-cast truth",
-     NULL, qcli_cmd_transfer},
+     SUBS(&qcli_sub_transfer)},
     {"bake", "bake a scene into a relightable panorama asset (ray-traced, SH-projected, 8-bit packed)",
-     NULL, qcli_cmd_bake},
+     SUBS(&qcli_sub_bake)},
     {"merge", "combine the partial sums of bake shards into an asset",
-     NULL, qcli_cmd_merge},
+     SUBS(&qcli_sub_merge)},
     {"check", "validate PNG/APNG, PFM, Radiance HDR, OpenEXR and qibl asset files",
-     NULL, qcli_cmd_check},
+     SUBS(&qcli_sub_check)},
     {"demo", "the main demo: bake the scene, relight it by the core, compare with ground truth",
-     NULL, qcli_cmd_demo},
+     SUBS(&qcli_sub_demo)},
     {"relight", "relight an asset by suns, lamps, a light list or a whole probe into a PNG (core + soft framebuffer)",
-     NULL, qcli_cmd_relight},
+     SUBS(&qcli_sub_relight)},
     {"view", "a live viewer: drag the sun or a lamp, scrub a baked light path, step probes, yaw, exposure, k (X11)",
-     NULL, qcli_cmd_view},
+     SUBS(&qcli_sub_view)},
     {"info", "validate a qibl asset file and print its contents",
-     NULL, qcli_cmd_info},
+     SUBS(&qcli_sub_info)},
     {"srgbe", "encode/decode one sRGBE colour (signed shared-exponent RGB in 4 bytes)",
-     NULL, qcli_cmd_srgbe},
-    {"lights", "sample a .hdr light probe (lat-long, angular, ball, cube cross) into directional lights", NULL,
-     qcli_cmd_lights},
-    {"probe", "describe a light probe and advise how to light with it: SH, N lights, or sun plus SH", NULL,
-     qcli_cmd_probe},
+     SUBS(&qcli_sub_srgbe_encode, &qcli_sub_srgbe_decode)},
+    {"lights", "sample a .hdr light probe (lat-long, angular, ball, cube cross) into directional lights",
+     SUBS(&qcli_sub_lights)},
+    {"probe", "describe a light probe and advise how to light with it: SH, N lights, or sun plus SH",
+     SUBS(&qcli_sub_probe_info)},
     {"ies", "an IES LM-63 photometric file: header facts, candela range, integrated lumens, polar curves",
-     NULL, qcli_cmd_ies},
-    {"luminaire", "near-field light sources: capture, info, render as textured spotlights, study, passes, picture", NULL, qcli_cmd_luminaire},
+     SUBS(&qcli_sub_ies_info)},
+    {"luminaire", "near-field light sources: capture, info, render as textured spotlights, study, passes, picture",
+     SUBS(&qcli_sub_luminaire_capture, &qcli_sub_luminaire_info, &qcli_sub_luminaire_render,
+          &qcli_sub_luminaire_study, &qcli_sub_luminaire_passes, &qcli_sub_luminaire_picture)},
     {"study", "the light-probe approximation study: every method, error against N and time",
-     NULL, qcli_cmd_study},
+     SUBS(&qcli_sub_study)},
 };
-#define NCMD (sizeof commands / sizeof commands[0])
+const size_t qcli_ncommands = sizeof qcli_commands / sizeof qcli_commands[0];
+#define NCMD qcli_ncommands
+#define SUBS_MAX 8 /* the most subcommands a family has, and more */
 
 /* the flags `qibl` itself takes, in place of a command */
 typedef struct global_opts {
@@ -119,31 +87,59 @@ static void print_help(FILE *f)
     qtool_opt_help_list(f, &global_spec);
     fprintf(f, "\ncommands:\n");
     for (size_t i = 0; i < NCMD; ++i)
-        fprintf(f, "  %-8s %s\n", commands[i].name, commands[i].summary);
+        fprintf(f, "  %-8s %s\n", qcli_commands[i].name, qcli_commands[i].summary);
 }
 
-/* `qibl help CMD`: each option table's usage, options and prose, then the text not on a table */
+/* `qibl help CMD`: each option table's usage, options and prose */
 static void print_cmd_help(FILE *f, const qcli_cmd *c)
 {
-    const qtool_opt_cmd *const *t = tables_of(c->name);
-    for (size_t k = 0; t && t[k]; ++k) {
+    for (size_t k = 0; c->subs[k]; ++k) {
         if (k > 0)
             fputc('\n', f);
-        qtool_opt_help(f, t[k]);
-    }
-    if (c->usage) {
-        if (t)
-            fputc('\n', f);
-        fputs(c->usage, f);
+        qtool_opt_help(f, c->subs[k]->opts);
     }
 }
 
-static const qcli_cmd *find(const char *name)
+const qcli_cmd *qcli_find(const char *name)
 {
     for (size_t i = 0; i < NCMD; ++i)
-        if (strcmp(commands[i].name, name) == 0)
-            return &commands[i];
+        if (strcmp(qcli_commands[i].name, name) == 0)
+            return &qcli_commands[i];
     return NULL;
+}
+
+int qcli_run(const qcli_cmd *c, int argc, char **argv)
+{
+    const qcli_sub *s = c->subs[0];
+    int first = 1;
+    if (c->subs[1] || strcmp(s->opts->name, c->name) != 0) { /* a family: argv[1] names the subcommand */
+        const qtool_opt_cmd *t[SUBS_MAX + 1];
+        size_t n = 0;
+        for (; c->subs[n] && n < SUBS_MAX; ++n)
+            t[n] = c->subs[n]->opts;
+        t[n] = NULL;
+        const qtool_opt_cmd *sub = qtool_opt_sub(c->name, t, NULL, argc, argv);
+        if (!sub)
+            return 2;
+        for (n = 0; t[n] != sub; ++n)
+            ;
+        s = c->subs[n], first = 2;
+    }
+    const qtool_opt_cmd *t = s->pick ? s->pick(argc, argv) : s->opts;
+    void *o = calloc(1, t->size);
+    if (!o)
+        return fprintf(stderr, "qibl: %s: out of memory\n", c->name), 1;
+    int rc = qtool_opt_parse(t, argc, argv, first, o);
+    if (rc == 0 && s->check)
+        rc = s->check(o);
+    if (rc == 0 && s->check_line)
+        rc = s->check_line(o, argc, argv);
+    if (rc == 0 && (!qcli_parse_only || s->whole)) /* fuzz_cliopts: the options only */
+        rc = s->run(o);
+    if (s->drop)
+        s->drop(o);
+    free(o);
+    return rc;
 }
 
 int qcli_usage_error(const char *fmt, ...)
@@ -254,17 +250,16 @@ int main(int argc, char **argv)
         int flags = strcmp(argv[2], "--flags") == 0;
         if (flags && argc < 4)
             return qcli_usage_error("help --flags needs a command (see qibl --help)");
-        const qcli_cmd *c = find(argv[2 + flags]);
+        const qcli_cmd *c = qcli_find(argv[2 + flags]);
         if (!c)
             return qcli_usage_error("no such command '%s' (see qibl --help)", argv[2 + flags]);
-        const qtool_opt_cmd *const *t = tables_of(c->name);
-        for (size_t k = 0; flags && t && t[k]; ++k)
-            qtool_opt_flags(stdout, t[k]);
+        for (size_t k = 0; flags && c->subs[k]; ++k)
+            qtool_opt_flags(stdout, c->subs[k]->opts);
         if (!flags)
             print_cmd_help(stdout, c);
         return 0;
     }
-    const qcli_cmd *c = find(argv[1]);
+    const qcli_cmd *c = qcli_find(argv[1]);
     if (!c)
         return qcli_usage_error("no such command '%s' (see qibl --help)", argv[1]);
     for (int i = 2; i < argc; ++i)
@@ -272,5 +267,5 @@ int main(int argc, char **argv)
             print_cmd_help(stdout, c);
             return 0;
         }
-    return c->run(argc - 1, argv + 1);
+    return qcli_run(c, argc - 1, argv + 1);
 }

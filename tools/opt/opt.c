@@ -41,8 +41,8 @@ static int vfail(const char *name, const char *help, const char *fmt, va_list ap
             fprintf(stderr, "\\x%02x", (unsigned)*p);
         else
             fputc(*p, stderr);
-    if (help[0])
-        fprintf(stderr, "; see %s help %s\n", qtool_opt_program, help);
+    if (help[0]) /* the command: "sh eval" is helped by `qibl help sh` */
+        fprintf(stderr, "; see %s help %.*s\n", qtool_opt_program, (int)strcspn(help, " "), help);
     else /* qibl's own flags (main.c) */
         fprintf(stderr, "; see %s --help\n", qtool_opt_program);
     return 2;
@@ -237,15 +237,16 @@ static int take(const qtool_opt_cmd *c, const qtool_opt *table_o, int argc, char
     const char *name = c->name, *help = help_name(c);
     char buf[256];
     void *dst = opts + o->off;
+    void *self = o->field ? dst : opts; /* what a CALL's call gets */
     if (o->kind == QTOOL_OPT_FLAG) {
         *(int *)dst = 1;
-        const char *bad = o->call ? o->call(opts, NULL) : NULL;
+        const char *bad = o->call ? o->call(self, NULL) : NULL;
         return bad ? fail_named(name, help, "%s %s", o->name, bad) : 0;
     }
     if (o->kind == QTOOL_OPT_CALL && o->optional) { /* the next argument, if it is a value; else none */
-        const char *v = *i + 1 < argc ? argv[*i + 1] : NULL, *bad = v ? o->call(opts, v) : qtool_opt_no_value;
+        const char *v = *i + 1 < argc ? argv[*i + 1] : NULL, *bad = v ? o->call(self, v) : qtool_opt_no_value;
         if (bad == qtool_opt_no_value)
-            v = NULL, bad = o->call(opts, NULL);
+            v = NULL, bad = o->call(self, NULL);
         if (bad)
             return v ? fail_named(name, help, "%s: '%s' %s", o->name, v, bad)
                      : fail_named(name, help, "%s %s", o->name, bad);
@@ -258,7 +259,7 @@ static int take(const qtool_opt_cmd *c, const qtool_opt *table_o, int argc, char
         return fail_named(name, help, "%s needs %s", o->name, arg_name(o, buf, sizeof buf));
     if (nv > 1 && o->kind == QTOOL_OPT_CALL) {
         int n = argc - *i - 1 < nv ? argc - *i - 1 : nv, used = n;
-        const char *bad = o->call_n(opts, argv + *i + 1, n, &used);
+        const char *bad = o->call_n(self, argv + *i + 1, n, &used);
         if (bad)
             return fail_named(name, help, "%s: %s", o->name, bad);
         *i += used >= least && used <= n ? used : n;
@@ -306,7 +307,7 @@ static int take(const qtool_opt_cmd *c, const qtool_opt *table_o, int argc, char
         break;
     }
     case QTOOL_OPT_CALL: {
-        const char *bad = o->call(opts, v);
+        const char *bad = o->call(self, v);
         if (bad)
             return fail_named(name, help, "%s: '%s' %s", o->name, v, bad);
         break;

@@ -30,7 +30,7 @@
  *              .arg = "T", .lo = 1, .hi = 16, .help = "worker threads"},
  *             {0},
  *         };
- *         const qtool_opt_cmd qcli_opts_study = {        // declared below, for main.c
+ *         static const qtool_opt_cmd study_spec = {
  *             .name = "study",
  *             .opts = study_table,
  *             .pos = {.names = "PROBE.hdr ...", .min = 0, .max = QTOOL_OPT_LIST_MAX,
@@ -46,24 +46,24 @@
  *     three values in order (relight's --sun/--rgb), of one or three (--camera, cli/scene_opts.h),
  *     an optional value (lights --error [P%]), --progress=MODE (bake), any number of files (merge).
  *
- *  3. The command parses, checks what the table cannot (cross-option rules) through
- *     qtool_opt_error so that line has the same shape, then works:
+ *  3. The command's work takes the parsed struct; the CLI (cli/cli.h: qcli_sub, qcli_run) parses
+ *     argv into it, refuses, and stops there for the option fuzzer. What the table cannot say
+ *     (cross-option rules) is a check hook, refusing through qtool_opt_error so that line has the
+ *     same shape:
  *
- *         study_cli_opts c;
- *         int rc = qtool_opt_parse(&qcli_opts_study, argc, argv, 1, &c); // argv[1]: the first option
- *         if (rc != 0)
- *             return rc;                      // 2, after its one line on stderr
- *         if (qcli_parse_only)                // fuzz_cliopts: the options only
- *             return 0;
- *         const qtool_study_opts o = {.quick = c.quick, .threads = (int)c.threads, .out_dir = c.out};
- *         return qtool_study_run(c.probes.v, c.probes.n, &o);
+ *         static int study_run(void *opts)
+ *         {
+ *             const study_cli_opts *c = opts;
+ *             const qtool_study_opts o = {.quick = c->quick, .threads = (int)c->threads, .out_dir = c->out};
+ *             return qtool_study_run(c->probes.v, c->probes.n, &o);
+ *         }
+ *         const qcli_sub qcli_sub_study = {.opts = &study_spec, .run = study_run}; // cli.h declares it
  *
- *  4. main.c: a row {"study", study_opts} in `tables` (study_opts: a NULL-terminated list, one
- *     table per subcommand), and the command's usage text in `commands` becomes NULL (or only what
- *     is not on a table yet, as `sh project`'s). Declare the table below. Remove the command from tests/cli_opts_test.c's
- *     list "not yet on option tables": that suite then checks its unknown-flag line, that help names
- *     every flag, and that the parser knows each one. A command of subcommands has a table each
- *     (.name = "sh eval", .help_name = "sh") and picks one with qtool_opt_sub.
+ *  4. main.c: a row {"study", "<summary>", SUBS(&qcli_sub_study)} in qcli_commands; `qibl help`
+ *     and `qibl help --flags` read the same tables, and tests/cli_opts_test.c then checks its
+ *     unknown-flag line, that help names every flag, and that the parser knows each one. A command
+ *     of subcommands has a table each (.name = "sh eval": `qibl help sh` is its help) and a qcli_sub each in
+ *     its row; qcli_run picks one with qtool_opt_sub.
  *
  * Kinds and the C type at .off: FLAG int (set to 1); INT long in [lo, hi]; NUM double in [lo, hi];
  * STR const char *; ENUM int (index into names); SIZE long[2] ("WxH", both in 1..hi); TRIPLE double[3]
@@ -125,6 +125,8 @@ typedef struct qtool_opt {
     int nargs;          /* CALL: how many arguments call_n takes (0 or 1: call takes one) */
     int nargs_min;      /* CALL with nargs: the fewest it takes (0: nargs) */
     const char *(*call_n)(void *opts, char *const *values, int n, int *used);
+    int field;          /* CALL: call and call_n get the field at .off, not the whole struct (a callback
+                         * several tables share: cli/relight_light.h's --yaw and --rotate) */
     const char *help;   /* one line */
 } qtool_opt;
 
@@ -143,7 +145,7 @@ typedef struct qtool_opt_pos {
 
 typedef struct qtool_opt_cmd {
     const char *name;      /* as the errors and usage name it: "info", "sh eval" ("": qibl's own flags) */
-    const char *help_name; /* `qibl help X`: the command (NULL: name) */
+    const char *help_name; /* `qibl help X`: the command (NULL: name's first word, "sh" of "sh eval") */
     const qtool_opt *opts;  /* ended by {0}; NULL: none */
     qtool_opt_pos pos;
     const void *defaults;  /* the options struct's defaults (size bytes) */
