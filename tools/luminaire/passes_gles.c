@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "luminaire/gl.h"
 #include "luminaire/luminaire.h"
 #include "qibl/soft.h"
 #include "qibl/srgbe.h"
@@ -34,57 +35,15 @@ static const char *fs_src =
     "uniform sampler2D u_ah, u_al, u_th, u_tl;\n"
     "#endif\n"
     "uniform float u_lo;\n"
-    "varying vec2 v_uv;\n"
-    "vec3 dec(vec4 t) {\n"
-    "  vec4 x = floor(t * 255.0 + 0.5);\n"
-    "  return (x.rgb - 127.5) / 255.0 * exp2(x.a - 126.0);\n"
-    "}\n"
-    "vec4 enc(vec3 c) {\n"
-    "  float m = max(max(abs(c.r), abs(c.g)), abs(c.b));\n"
-    "  if (m < 1.1754944e-38) return vec4(128.0, 128.0, 128.0, 0.0) / 255.0;\n"
-    "  float e = floor(log2(m)) + 2.0;\n"
-    "  if (m * exp2(-e) >= 0.5) e += 1.0;\n"
-    "  if (m * exp2(-e) < 0.25) e -= 1.0;\n"
-    "  e = min(e, 129.0);\n"
-    "  vec3 x = clamp(floor(255.0 * (c * exp2(-e) + 0.5) + 0.5), 0.0, 255.0);\n"
-    "  return vec4(x, e + 126.0) / 255.0;\n"
-    "}\n"
+    "varying vec2 v_uv;\n";
+/* (the sRGBE codec in GLSL between the two: luminaire/gl.h) */
+static const char *fs_body =
     "void main() {\n"
     "  vec3 s = dec(texture2D(u_ah, v_uv)) + dec(texture2D(u_al, v_uv))\n"
     "         + dec(texture2D(u_th, v_uv)) + dec(texture2D(u_tl, v_uv));\n"
     "  vec4 h = enc(s);\n"
     "  gl_FragColor = u_lo > 0.5 ? enc(s - dec(h)) : h;\n"
     "}\n";
-
-static GLuint shader(GLenum kind, const char *src, char *err, size_t errlen)
-{
-    GLuint s = glCreateShader(kind);
-    GLint ok = 0;
-    glShaderSource(s, 1, &src, NULL);
-    glCompileShader(s);
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[256] = "";
-        glGetShaderInfoLog(s, sizeof log, NULL, log);
-        snprintf(err, errlen, "a shader did not compile: %s", log);
-        glDeleteShader(s);
-        return 0;
-    }
-    return s;
-}
-
-static GLuint texture(uint32_t n, const uint8_t *rgba)
-{
-    GLuint t;
-    glGenTextures(1, &t);
-    glBindTexture(GL_TEXTURE_2D, t);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, (GLsizei)n, (GLsizei)n, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
-    return t;
-}
 
 int qtool_luminaire_passes_gles(qtool_luminaire_passes *r, char *err, size_t errlen)
 {
@@ -97,14 +56,15 @@ int qtool_luminaire_passes_gles(qtool_luminaire_passes *r, char *err, size_t err
     GLuint vs = 0, fs = 0, prog = 0, vbo = 0, acc[4] = {0, 0, 0, 0}, fbo[4] = {0, 0, 0, 0}, th = 0, tl = 0;
     GLint oldfb = 0;
     int rc = -1;
+    const char *const vparts[1] = {vs_src}, *const fparts[3] = {fs_src, qtool_luminaire_glsl_codec, fs_body};
     err[0] = 0;
     if (!buf || !back || !q || !shown) {
         snprintf(err, errlen, "out of memory");
         goto out;
     }
     glGetIntegerv(GL_FRAMEBUFFER_BINDING, &oldfb);
-    vs = shader(GL_VERTEX_SHADER, vs_src, err, errlen);
-    fs = vs ? shader(GL_FRAGMENT_SHADER, fs_src, err, errlen) : 0;
+    vs = qtool_luminaire_gl_shader(GL_VERTEX_SHADER, vparts, 1, err, errlen);
+    fs = vs ? qtool_luminaire_gl_shader(GL_FRAGMENT_SHADER, fparts, 3, err, errlen) : 0;
     if (!fs)
         goto out;
     prog = glCreateProgram();
@@ -126,7 +86,7 @@ int qtool_luminaire_passes_gles(qtool_luminaire_passes *r, char *err, size_t err
     /* accumulators: 0/1 hi and lo of ping, 2/3 of pong, all the zero code at first */
     qtool_luminaire_srgbe_clear(buf, (uint32_t)npix);
     for (int k = 0; k < 4; ++k) {
-        acc[k] = texture(n, buf);
+        acc[k] = qtool_luminaire_gl_texture(GL_RGBA, GL_UNSIGNED_BYTE, n, n, buf);
         glGenFramebuffers(1, &fbo[k]);
         glBindFramebuffer(GL_FRAMEBUFFER, fbo[k]);
         glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, acc[k], 0);
@@ -135,7 +95,8 @@ int qtool_luminaire_passes_gles(qtool_luminaire_passes *r, char *err, size_t err
             goto out;
         }
     }
-    th = texture(n, NULL), tl = texture(n, NULL);
+    th = qtool_luminaire_gl_texture(GL_RGBA, GL_UNSIGNED_BYTE, n, n, NULL);
+    tl = qtool_luminaire_gl_texture(GL_RGBA, GL_UNSIGNED_BYTE, n, n, NULL);
     glUseProgram(prog);
     glUniform1i(glGetUniformLocation(prog, "u_ah"), 0), glUniform1i(glGetUniformLocation(prog, "u_al"), 1);
     glUniform1i(glGetUniformLocation(prog, "u_th"), 2), glUniform1i(glGetUniformLocation(prog, "u_tl"), 3);

@@ -18,6 +18,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "luminaire/gl.h"
 #include "luminaire/spots_gles.h"
 #include "qibl/soft.h"
 #include "qibl/srgbe.h"
@@ -70,21 +71,9 @@ static const char *fs_src = "#ifdef GL_FRAGMENT_PRECISION_HIGH\n"
                             "uniform vec3 u_sp, u_rgb, u_gx, u_gy, u_gz;\n"
                             "uniform vec4 u_aw;\n"
                             "uniform vec2 u_goff, u_gsz, u_inv, u_cull;\n"
-                            "uniform float u_gn, u_lo;\n"
-                            "vec3 dec(vec4 t) {\n"
-                            "  vec4 x = floor(t * 255.0 + 0.5);\n"
-                            "  return (x.rgb - 127.5) / 255.0 * exp2(x.a - 126.0);\n"
-                            "}\n"
-                            "vec4 enc(vec3 c) {\n"
-                            "  float m = max(max(abs(c.r), abs(c.g)), abs(c.b));\n"
-                            "  if (m < 1.1754944e-38) return vec4(128.0, 128.0, 128.0, 0.0) / 255.0;\n"
-                            "  float e = floor(log2(m)) + 2.0;\n"
-                            "  if (m * exp2(-e) >= 0.5) e += 1.0;\n"
-                            "  if (m * exp2(-e) < 0.25) e -= 1.0;\n"
-                            "  e = min(e, 129.0);\n"
-                            "  vec3 x = clamp(floor(255.0 * (c * exp2(-e) + 0.5) + 0.5), 0.0, 255.0);\n"
-                            "  return vec4(x, e + 126.0) / 255.0;\n"
-                            "}\n"
+                            "uniform float u_gn, u_lo;\n";
+/* (the sRGBE codec in GLSL between the two: luminaire/gl.h) */
+static const char *fs_body =
                             "float gonio_tex(vec2 ij) {\n"
                             "  vec4 t = texture2D(u_g, (ij + u_goff + 0.5) / u_gsz);\n"
                             "  return floor(t.r * 255.0 + 0.5) + 256.0 * floor(t.a * 255.0 + 0.5);\n"
@@ -132,37 +121,6 @@ static double clock_ms(clockid_t id)
 static double now_ms(void)
 {
     return clock_ms(CLOCK_MONOTONIC);
-}
-
-static GLuint shader(GLenum kind, const char *pre, const char *src, char *err, size_t errlen)
-{
-    GLuint s = glCreateShader(kind);
-    GLint ok = 0;
-    const char *srcs[2] = {pre, src};
-    glShaderSource(s, 2, srcs, NULL);
-    glCompileShader(s);
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[256] = "";
-        glGetShaderInfoLog(s, sizeof log, NULL, log);
-        snprintf(err, errlen, "a shader did not compile: %s", log);
-        glDeleteShader(s);
-        return 0;
-    }
-    return s;
-}
-
-static GLuint texture(GLenum format, GLenum type, uint32_t w, uint32_t h, const void *data)
-{
-    GLuint t;
-    glGenTextures(1, &t);
-    glBindTexture(GL_TEXTURE_2D, t);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTexImage2D(GL_TEXTURE_2D, 0, (GLint)format, (GLsizei)w, (GLsizei)h, 0, format, type, data);
-    return t;
 }
 
 /* a screen tile's reached points' bounds (Q16.16), any = 0 when none */
@@ -306,8 +264,10 @@ static int gl_setup(glstate *g, const qtool_luminaire_spots *s, uint32_t w, uint
         return -1;
     }
     g->cols = cols, g->n = n;
-    g->vs = shader(GL_VERTEX_SHADER, "", vs_src, err, errlen);
-    g->fs = g->vs ? shader(GL_FRAGMENT_SHADER, g->fetch ? fs_fetch : fs_core, fs_src, err, errlen) : 0;
+    const char *const vparts[1] = {vs_src}, *const fparts[4] = {g->fetch ? fs_fetch : fs_core, fs_src,
+                                                                 qtool_luminaire_glsl_codec, fs_body};
+    g->vs = qtool_luminaire_gl_shader(GL_VERTEX_SHADER, vparts, 1, err, errlen);
+    g->fs = g->vs ? qtool_luminaire_gl_shader(GL_FRAGMENT_SHADER, fparts, 4, err, errlen) : 0;
     if (!g->fs)
         return -1;
     g->prog = glCreateProgram();
@@ -335,7 +295,7 @@ static int gl_setup(glstate *g, const qtool_luminaire_spots *s, uint32_t w, uint
     /* the atlas: table c at column c % cols, row c / cols; 16 bits as low byte (L), high byte (A) */
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     glActiveTexture(GL_TEXTURE7);
-    g->atlas = texture(GL_LUMINANCE_ALPHA, GL_UNSIGNED_BYTE, cols * n, rows * n, NULL);
+    g->atlas = qtool_luminaire_gl_texture(GL_LUMINANCE_ALPHA, GL_UNSIGNED_BYTE, cols * n, rows * n, NULL);
     uint8_t *buf = malloc(2u * n);
     if (!buf) {
         snprintf(err, errlen, "out of memory");
@@ -351,14 +311,14 @@ static int gl_setup(glstate *g, const qtool_luminaire_spots *s, uint32_t w, uint
         }
     free(buf);
     glActiveTexture(GL_TEXTURE2);
-    g->ptex = texture(GL_RGB, GL_FLOAT, w, h, NULL);
+    g->ptex = qtool_luminaire_gl_texture(GL_RGB, GL_FLOAT, w, h, NULL);
     for (int k = 0; k < 4; ++k) {
         glActiveTexture((GLenum)(GL_TEXTURE3 + k));
-        g->stex[k] = texture(GL_RGB, GL_FLOAT, w, h, NULL);
+        g->stex[k] = qtool_luminaire_gl_texture(GL_RGB, GL_FLOAT, w, h, NULL);
     }
     glActiveTexture(GL_TEXTURE0);
     for (int k = 0; k < 4; ++k) {
-        g->acc[k] = texture(GL_RGBA, GL_UNSIGNED_BYTE, w, h, NULL);
+        g->acc[k] = qtool_luminaire_gl_texture(GL_RGBA, GL_UNSIGNED_BYTE, w, h, NULL);
         glGenFramebuffers(1, &g->fbo[k]);
         glBindFramebuffer(GL_FRAMEBUFFER, g->fbo[k]);
         glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, g->acc[k], 0);
