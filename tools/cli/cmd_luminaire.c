@@ -365,22 +365,15 @@ static int cmd_render(void *opts)
         qtool_luminaire_spots_free(&s);
         return 1;
     }
-    qibl_asset_t a;
-    qibl_shmaps_t mp;
-    qibl_pmap_t pm;
-    qibl_ylut_t lut;
-    qibl_status_t st = qibl_asset_open(&a, bytes, n);
-    if (st == QIBL_OK)
-        st = qibl_asset_point_shmaps(&a, &mp);
-    if (st == QIBL_OK)
-        st = qibl_asset_pmap(&a, &pm);
-    int have_lut = st == QIBL_OK && qibl_asset_ylut(&a, &lut) == QIBL_OK;
+    qtool_luminaire_views av;
+    qibl_status_t st = qtool_luminaire_views_open(bytes, n, &av);
+    const qibl_shmaps_t mp = av.mp;
     uint8_t *rgb = st == QIBL_OK ? malloc((size_t)mp.width * mp.height * 3) : NULL;
     double ms = 0;
     if (st == QIBL_OK && !rgb)
         st = QIBL_E_NULL_POINTER;
     if (st == QIBL_OK)
-        qtool_luminaire_relight(&s, &mp, &pm, have_lut ? &lut : NULL, (uint32_t)lround(expo * 65536), 1, rgb, NULL,
+        qtool_luminaire_relight(&s, &av.mp, &av.pm, av.lut, (uint32_t)lround(expo * 65536), 1, rgb, NULL,
                                 &ms, &st);
     if (st != QIBL_OK) {
         fprintf(stderr, "qibl: luminaire render: %s: %s\n", asset, qibl_soft_status_str(st));
@@ -398,7 +391,7 @@ static int cmd_render(void *opts)
         int grc = !grgb ? (snprintf(err, sizeof err, "out of memory"), -1) : qt_gles_open(&gl, 1, 1, err, sizeof err);
         if (grc == 0) {
             const qtool_luminaire_gles_opts go = {.frames = (uint32_t)c.frames, .core_only = c.gles_core};
-            grc = qtool_luminaire_relight_gles(&s, &mp, &pm, have_lut ? &lut : NULL, (uint32_t)lround(expo * 65536), 1,
+            grc = qtool_luminaire_relight_gles(&s, &av.mp, &av.pm, av.lut, (uint32_t)lround(expo * 65536), 1,
                                                &go, grgb, &gs, err, sizeof err);
             qt_gles_close(&gl);
         }

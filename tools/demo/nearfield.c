@@ -28,16 +28,9 @@ static int cmp_ms(const void *a, const void *b)
  * and LUT, as `qibl luminaire render` does); the median of 3 frames' CPU time on this thread */
 static int pass_times(const qtool_demo_view *v, const uint8_t *asset, size_t n, char *err, size_t errlen)
 {
-    qibl_asset_t a;
-    qibl_shmaps_t mp;
-    qibl_pmap_t pm;
-    qibl_ylut_t lut;
-    qibl_status_t st = qibl_asset_open(&a, asset, n);
-    if (st == QIBL_OK)
-        st = qibl_asset_point_shmaps(&a, &mp);
-    if (st == QIBL_OK)
-        st = qibl_asset_pmap(&a, &pm);
-    int have_lut = st == QIBL_OK && qibl_asset_ylut(&a, &lut) == QIBL_OK;
+    qtool_luminaire_views av;
+    qibl_status_t st = qtool_luminaire_views_open(asset, n, &av);
+    const qibl_shmaps_t mp = av.mp;
     if (st != QIBL_OK)
         return qtool_errf(err, errlen, "demo: near-field passes: the k = 16 asset: %s", qibl_status_str(st));
     qtool_luminaire_model *m = qtool_luminaire_builtin();
@@ -67,8 +60,8 @@ static int pass_times(const qtool_demo_view *v, const uint8_t *asset, size_t n, 
             qtool_luminaire_spots_build(&l, pos, &ho, &hs, err, errlen) != 0)
             rc = -1;
         for (int r = 0; rc == 0 && r < 3; ++r) /* interleaved: full sum, then the hierarchy */
-            if (qtool_luminaire_relight(&s, &mp, &pm, have_lut ? &lut : NULL, 65536, 1, rgb, NULL, &ms[r], &st) != 0 ||
-                qtool_luminaire_relight(&hs, &mp, &pm, have_lut ? &lut : NULL, 65536, 1, rgb, NULL, &msh[r], &st) != 0)
+            if (qtool_luminaire_relight(&s, &av.mp, &av.pm, av.lut, 65536, 1, rgb, NULL, &ms[r], &st) != 0 ||
+                qtool_luminaire_relight(&hs, &av.mp, &av.pm, av.lut, 65536, 1, rgb, NULL, &msh[r], &st) != 0)
                 rc = qtool_errf(err, errlen, "demo: near-field passes: %s", qibl_status_str(st));
         if (rc == 0) {
             qsort(ms, 3, sizeof ms[0], cmp_ms);

@@ -277,6 +277,19 @@ uint32_t qtool_luminaire_lookup(const qibl_gonio_t *g, const int64_t d[3]);
 /* acc (Q8.24) to Q16.16: rounded to nearest (ties away from zero), saturated to int32. */
 int32_t qtool_luminaire_q16(int64_t acc);
 
+/* What qtool_luminaire_relight reads of an asset: its point maps, P map and LUT (lut NULL where the
+ * asset has none: direct SH), views into the asset's bytes. */
+typedef struct qtool_luminaire_views {
+    qibl_shmaps_t mp;
+    qibl_pmap_t pm;
+    qibl_ylut_t lut_view;
+    const qibl_ylut_t *lut; /* &lut_view, or NULL */
+} qtool_luminaire_views;
+
+/* The views of the asset bytes (n): QIBL_OK, or the core's status for a bad asset or one without
+ * point maps or a P map (*v then all zero). */
+qibl_status_t qtool_luminaire_views_open(const uint8_t *asset, size_t n, qtool_luminaire_views *v);
+
 /* An asset frame lit by the source: the anchors' unit lamps from the asset's point maps mp, P map
  * pm and LUT lut (NULL: direct SH) as `qibl relight --point` would draw them with falloff 2, then
  * qtool_luminaire_spots_span, saturated to int32 once per pixel and written through platform/soft

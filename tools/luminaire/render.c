@@ -17,6 +17,7 @@
 #include <time.h>
 
 #include "luminaire/luminaire.h"
+#include "qibl/asset.h"
 #include "qibl/soft.h"
 
 /* The unit direction of octahedral texel position (a, b) (texel units, centres at integers) of an
@@ -786,6 +787,19 @@ int32_t qtool_luminaire_q16(int64_t acc)
     if (m > INT32_MAX)
         m = INT32_MAX;
     return acc < 0 ? -(int32_t)m : (int32_t)m;
+}
+
+qibl_status_t qtool_luminaire_views_open(const uint8_t *asset, size_t n, qtool_luminaire_views *v)
+{
+    qibl_asset_t a;
+    memset(v, 0, sizeof *v);
+    qibl_status_t st = qibl_asset_open(&a, asset, n);
+    if (st == QIBL_OK)
+        st = qibl_asset_point_shmaps(&a, &v->mp);
+    if (st == QIBL_OK)
+        st = qibl_asset_pmap(&a, &v->pm);
+    v->lut = st == QIBL_OK && qibl_asset_ylut(&a, &v->lut_view) == QIBL_OK ? &v->lut_view : NULL;
+    return st;
 }
 
 int qtool_luminaire_relight(const qtool_luminaire_spots *s, const qibl_shmaps_t *mp, const qibl_pmap_t *pm,
