@@ -17,7 +17,9 @@
 
 #include "golden/check.h"
 #include "io/asset_write.h"
+#include "io/isa_env.h"
 #include "qibl/asset.h"
+#include "qibl/isa.h"
 #include "qibl/shmap.h"
 #include "qibl/soft.h"
 #include "ref/sh_ref.h"
@@ -702,6 +704,77 @@ static void test_kernel_path_matches_definition(void **state)
     }
 }
 
+/* The directional kernels under every dispatch choice this CPU runs (qtool_isa_force) against the
+ * scalar twin, bit for bit, on both layouts: every k (the AVX2 interleaved kernel's written-out
+ * pairs and an odd k's last map), one and three channels, spans starting and ending anywhere in a
+ * group (the whole-group path with its rounding term in the accumulators, and partial groups
+ * through the workspace), every branch of the final scaling (left shifts, shift 0, rounded right
+ * shifts, biases beyond +-2^30, saturation), the accumulator bound (bytes 255 under +-32767 and
+ * -32768) and nothing written past the span. */
+static void test_directional_every_isa(void **state)
+{
+    (void)state;
+    const uint32_t have = qibl_isa_available();
+    static const int32_t shifts[] = {2, 1, 0, -1, -9, -30, -31, 3, 31};
+    int runs = 0;
+    for (unsigned isa = 0; isa < QIBL_ISA_COUNT; ++isa) {
+        if (!(have & QIBL_ISA_BIT(isa)))
+            continue;
+        qtool_isa_force(QIBL_ISA_BIT(isa));
+        tu_rng r = {0xD1E5u}; /* the same cases for every choice */
+        for (uint32_t k = 1; k <= (uint32_t)QIBL_SH_MAX_COUNT; ++k)
+            for (uint32_t chn = 1; chn <= 3u; chn += 2u) {
+                const uint32_t w = 53, h = 2;
+                maps_buf b, il;
+                maps_make(&b, w, h, k, chn, &r, 1 << 16);
+                if (k % 4u == 1u) /* the bound: every byte 255 */
+                    memset(b.planes, 255, (size_t)w * h * k * chn);
+                interleave(&b, &il);
+                for (size_t si = 0; si < sizeof shifts / sizeof shifts[0]; ++si) {
+                    qibl_shmap_weights_t wt;
+                    memset(&wt, 0, sizeof wt);
+                    wt.k = k, wt.channels = chn;
+                    for (uint32_t c = 0; c < 3u; ++c) {
+                        for (uint32_t i = 0; i < k; ++i)
+                            wt.w[c][i] = k % 4u == 1u ? (int16_t)((i + c + si) % 3u == 0u ? -32768 : 32767)
+                                                      : (int16_t)((int32_t)(tu_u32(&r) % 65536u) - 32768);
+                        wt.shift[c] = shifts[(si + c * (si / 7u)) % (sizeof shifts / sizeof shifts[0])];
+                        wt.bias[c] = (int64_t)(tu_u32(&r) % 2001u) - 1000;
+                    }
+                    if (si == 5u)
+                        wt.bias[1] = ((int64_t)1 << 30) + 1; /* beyond the int32 path */
+                    size_t wsn = qibl_shmap_span_workspace_size(w);
+                    void *ws = malloc(wsn);
+                    int32_t oa[3 * 53 + 3], ob[3 * 53 + 3];
+                    assert_non_null(ws);
+                    for (int lay = 0; lay < 2; ++lay) {
+                        const qibl_shmaps_t *m = lay ? &il.m : &b.m;
+                        for (uint32_t y = 0; y < h; ++y)
+                            for (uint32_t x0 = 0; x0 < 20u; x0 += 1u + x0 / 4u) {
+                                const uint32_t n = w - x0 - (x0 * 7u) % 18u;
+                                memset(oa, 0x5A, sizeof oa), memset(ob, 0x5A, sizeof ob);
+                                assert_int_equal(qibl_shmap_relight_span(m, &wt, x0, y, n, oa, ws, wsn), QIBL_OK);
+                                assert_int_equal(qtool_shmap_relight_span_scalar(m, &wt, x0, y, n, ob, ws, wsn),
+                                                 QIBL_OK);
+                                for (uint32_t i = 0; i < 3u * n; ++i)
+                                    if (oa[i] != ob[i])
+                                        fail_msg("isa %u k %u ch %u layout %d shift %d y %u x %u ch %u: %d, twin %d",
+                                                 isa, k, chn, lay, wt.shift[i % 3u], y, x0 + i / 3u, i % 3u, oa[i],
+                                                 ob[i]);
+                                assert_int_equal(oa[3u * n], 0x5A5A5A5A); /* nothing past the span */
+                            }
+                    }
+                    free(ws);
+                }
+                free(il.planes);
+                maps_free(&b);
+            }
+        ++runs;
+    }
+    qtool_isa_force(0u);
+    assert_true(runs >= 1);
+}
+
 /* The planar SIMD passes (8 planes each, 16 pixels a step, the last n % 16 pixels apart) against the
  * definition: every k, planes a multiple of 4 KiB apart (4096-pixel rows), whole rows and spans at
  * odd offsets, the accumulator bound itself (all bytes 255 under +-32767) and random bytes, on
@@ -1278,6 +1351,7 @@ int main(void)
         cmocka_unit_test(test_point_simd_aligned_sums),
         cmocka_unit_test(test_ylut_build_and_lookup),
         cmocka_unit_test(test_interleaved_equals_planar),
+        cmocka_unit_test(test_directional_every_isa),
         cmocka_unit_test(test_kernel_path_matches_definition),
         cmocka_unit_test(test_planar_passes_match_definition),
         cmocka_unit_test(test_planar_kernel_alignment_and_strides),

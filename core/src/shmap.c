@@ -386,6 +386,7 @@ static void chan_raw(const chan_t *c, uint32_t n, int32_t *acc)
 typedef struct wprep {
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
     __m256i v[3][SHMAP_PAIRS];
+    __m256i h8[3], b8[3]; /* the fast final scaling's constants in every lane */
 #elif QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2
     __m128i v[3][SHMAP_PAIRS];
 #else
@@ -428,6 +429,10 @@ static void wprep_init(wprep_t *wp, const qibl_shmap_weights_t *w, const finish_
         }
     for (uint32_t ch = 0; ch < 3u; ++ch)
         wp->ws[ch] = w->w[ch];
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+    for (uint32_t ch = 0; ch < 3u; ++ch)
+        wp->h8[ch] = _mm256_set1_epi32(f->h[ch]), wp->b8[ch] = _mm256_set1_epi32(f->b[ch]);
+#endif
 #else
     (void)k;
     for (uint32_t ch = 0; ch < 3u; ++ch)
@@ -448,40 +453,114 @@ static void wprep_init(wprep_t *wp, const qibl_shmap_weights_t *w, const finish_
 #endif /* wprep */
 
 #if QIBL_USE_INTERLEAVED
-/* One group of 16 pixels, one channel (AVX2: all three, group_acc3): acc[p] = sum_i w_i
- * c[16 i + p] over the k maps' 16 adjacent bytes each (the interleaved layout). Same integer sums on every path (exact: every partial sum
- * is inside the int32 bound of shmap.h, whatever the order). */
+/* One group of 16 pixels, one channel (AVX2: all three, group_sums): acc[p] = sum_i w_i
+ * c[16 i + p] over the k maps' 16 adjacent bytes each (the interleaved layout). Same integer sums on
+ * every path (exact: every partial sum is inside the int32 bound of shmap.h, whatever the order). */
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
-/* pairs of maps: bytes of map i and i+1 interleaved, widened to int16, one _mm256_madd_epi16 per
- * 8 pixels (w_i c_i + w_i+1 c_i+1 in each int32 lane); an odd k pairs its last map with itself
- * under weight 0 */
-
-/* the three channels in one loop (six accumulators in registers, written out so that -O2 keeps
- * them there): one loop step per pair of maps */
-static void group_acc3(int32_t (*acc)[QIBL_SHMAPS_GROUP], const uint8_t *c, uint32_t cs, const wprep_t *wp, uint32_t k)
+/* Pairs of maps, the three channels in one pass, their six accumulators in registers. One 32-byte
+ * load holds maps i | i+1; vpermq puts the same eight pixels of both in one lane (pixels 0-7 |
+ * 8-15) and one vpshufb per four pixels makes the zero-extended int16 pairs (c_i, c_i+1) that
+ * vpmaddwd multiplies by (w_i, w_i+1): three shuffles per two vpmaddwd (vpmovzxbw of unpacked
+ * 16-byte halves took four, docs/results/dir-designs.txt), and the lanes hold pixels, not maps, so
+ * nothing is folded at the end. s[ch][0] holds pixels 0-3 | 8-11, s[ch][1] pixels 4-7 | 12-15.
+ * init: the accumulators' start (the final scaling's rounding term, or 0). An odd k's last map
+ * is loaded alone (16 bytes: never past the channel), its partner zero under weight 0. */
+static inline void group_sums(__m256i s[3][2], const uint8_t *c, uint32_t cs, const wprep_t *wp, uint32_t k,
+                              const __m256i init[3])
 {
-    __m256i r0 = _mm256_setzero_si256(), r1 = r0, g0 = r0, g1 = r0, b0 = r0, b1 = r0;
+    const __m256i m0 = _mm256_setr_epi8(0, -1, 8, -1, 1, -1, 9, -1, 2, -1, 10, -1, 3, -1, 11, -1, 0, -1, 8, -1, 1, -1,
+                                        9, -1, 2, -1, 10, -1, 3, -1, 11, -1);
+    const __m256i m1 = _mm256_setr_epi8(4, -1, 12, -1, 5, -1, 13, -1, 6, -1, 14, -1, 7, -1, 15, -1, 4, -1, 12, -1, 5,
+                                        -1, 13, -1, 6, -1, 14, -1, 7, -1, 15, -1);
+    __m256i r0 = init[0], r1 = init[0], g0 = init[1], g1 = init[1], b0 = init[2], b1 = init[2];
     const uint8_t *c1 = c + cs, *c2 = c + 2u * cs;
-    uint32_t i = 0;
-    for (; i + 2u <= k; i += 2u) {
-        const uint32_t o = 16u * i;
-        SHMAP_PAIR_AVX2(r0, r1, SHMAP_LOAD16(c + o), SHMAP_LOAD16(c + o + 16u), wp->v[0][i / 2u]);
-        SHMAP_PAIR_AVX2(g0, g1, SHMAP_LOAD16(c1 + o), SHMAP_LOAD16(c1 + o + 16u), wp->v[1][i / 2u]);
-        SHMAP_PAIR_AVX2(b0, b1, SHMAP_LOAD16(c2 + o), SHMAP_LOAD16(c2 + o + 16u), wp->v[2][i / 2u]);
+#define SHMAP_PAIR3(a0, a1, x, w)                                                                     \
+    do {                                                                                               \
+        const __m256i y_ = _mm256_permute4x64_epi64(x, 0xD8);                                          \
+        a0 = _mm256_add_epi32(a0, _mm256_madd_epi16(_mm256_shuffle_epi8(y_, m0), w));                  \
+        a1 = _mm256_add_epi32(a1, _mm256_madd_epi16(_mm256_shuffle_epi8(y_, m1), w));                  \
+    } while (0)
+#define SHMAP_LOAD32(p) _mm256_loadu_si256((const __m256i *)(const void *)(p))
+#define SHMAP_PAIRS3_AT(j)                                                                             \
+    do {                                                                                               \
+        SHMAP_PAIR3(r0, r1, SHMAP_LOAD32(c + 32u * (j)), wp->v[0][j]);                                 \
+        SHMAP_PAIR3(g0, g1, SHMAP_LOAD32(c1 + 32u * (j)), wp->v[1][j]);                                \
+        SHMAP_PAIR3(b0, b1, SHMAP_LOAD32(c2 + 32u * (j)), wp->v[2][j]);                                \
+    } while (0)
+    /* whole pairs written out (k <= 25): as a loop, gcc copied the six accumulators and rebuilt the
+     * indices at every step */
+    switch (k / 2u) {
+    case 12u:
+        SHMAP_PAIRS3_AT(11u); /* fallthrough */
+    case 11u:
+        SHMAP_PAIRS3_AT(10u); /* fallthrough */
+    case 10u:
+        SHMAP_PAIRS3_AT(9u); /* fallthrough */
+    case 9u:
+        SHMAP_PAIRS3_AT(8u); /* fallthrough */
+    case 8u:
+        SHMAP_PAIRS3_AT(7u); /* fallthrough */
+    case 7u:
+        SHMAP_PAIRS3_AT(6u); /* fallthrough */
+    case 6u:
+        SHMAP_PAIRS3_AT(5u); /* fallthrough */
+    case 5u:
+        SHMAP_PAIRS3_AT(4u); /* fallthrough */
+    case 4u:
+        SHMAP_PAIRS3_AT(3u); /* fallthrough */
+    case 3u:
+        SHMAP_PAIRS3_AT(2u); /* fallthrough */
+    case 2u:
+        SHMAP_PAIRS3_AT(1u); /* fallthrough */
+    case 1u:
+        SHMAP_PAIRS3_AT(0u); /* fallthrough */
+    default:
+        break;
     }
-    if (i < k) {
-        const uint32_t o = 16u * i;
-        const __m128i z = _mm_setzero_si128();
-        SHMAP_PAIR_AVX2(r0, r1, SHMAP_LOAD16(c + o), z, wp->v[0][i / 2u]);
-        SHMAP_PAIR_AVX2(g0, g1, SHMAP_LOAD16(c1 + o), z, wp->v[1][i / 2u]);
-        SHMAP_PAIR_AVX2(b0, b1, SHMAP_LOAD16(c2 + o), z, wp->v[2][i / 2u]);
+    if (k & 1u) { /* an odd k's last map: 16 bytes, zero above them under weight 0 */
+        const uint32_t o = 16u * (k - 1u);
+        const __m256i z = _mm256_setzero_si256();
+        SHMAP_PAIR3(r0, r1, _mm256_inserti128_si256(z, SHMAP_LOAD16(c + o), 0), wp->v[0][k / 2u]);
+        SHMAP_PAIR3(g0, g1, _mm256_inserti128_si256(z, SHMAP_LOAD16(c1 + o), 0), wp->v[1][k / 2u]);
+        SHMAP_PAIR3(b0, b1, _mm256_inserti128_si256(z, SHMAP_LOAD16(c2 + o), 0), wp->v[2][k / 2u]);
     }
-    _mm256_storeu_si256((__m256i *)(void *)acc[0], r0);
-    _mm256_storeu_si256((__m256i *)(void *)(acc[0] + 8), r1);
-    _mm256_storeu_si256((__m256i *)(void *)acc[1], g0);
-    _mm256_storeu_si256((__m256i *)(void *)(acc[1] + 8), g1);
-    _mm256_storeu_si256((__m256i *)(void *)acc[2], b0);
-    _mm256_storeu_si256((__m256i *)(void *)(acc[2] + 8), b1);
+#undef SHMAP_PAIRS3_AT
+#undef SHMAP_LOAD32
+#undef SHMAP_PAIR3
+    s[0][0] = r0, s[0][1] = r1, s[1][0] = g0, s[1][1] = g1, s[2][0] = b0, s[2][1] = b1;
+}
+
+/* The fast final scaling of a whole group from the registers: (s << sl) >> r + b per channel (the
+ * rounding term h already in s; sl > 0 only where r = 0 = h, shl says whether any channel has it),
+ * then per 128-bit lane (4 pixels) the unpacks and shuffles of finish4: lane 0 of s[.][0] and
+ * s[.][1] holds pixels 0-3 and 4-7, lane 1 pixels 8-11 and 12-15, each lane stored as 16 bytes. */
+static inline void group_finish(int32_t *o, __m256i s[3][2], const wprep_t *wp, int shl)
+{
+    for (int half = 0; half < 2; ++half) {
+        __m256i v[3];
+        for (int ch = 0; ch < 3; ++ch) {
+            __m256i a = s[ch][half];
+            if (shl)
+                a = _mm256_sll_epi32(a, wp->sl[ch]);
+            v[ch] = _mm256_add_epi32(_mm256_sra_epi32(a, wp->r[ch]), wp->b8[ch]);
+        }
+        const __m256 rg = _mm256_castsi256_ps(_mm256_unpacklo_epi32(v[0], v[1]));
+        const __m256 rgh = _mm256_castsi256_ps(_mm256_unpackhi_epi32(v[0], v[1]));
+        const __m256 br = _mm256_castsi256_ps(_mm256_unpacklo_epi32(v[2], v[0]));
+        const __m256 brh = _mm256_castsi256_ps(_mm256_unpackhi_epi32(v[2], v[0]));
+        const __m256 gb = _mm256_castsi256_ps(_mm256_unpacklo_epi32(v[1], v[2]));
+        const __m256 gbh = _mm256_castsi256_ps(_mm256_unpackhi_epi32(v[1], v[2]));
+        const __m256i o0 = _mm256_castps_si256(_mm256_shuffle_ps(rg, br, _MM_SHUFFLE(3, 0, 1, 0)));
+        const __m256i o1 = _mm256_castps_si256(_mm256_shuffle_ps(gb, rgh, _MM_SHUFFLE(1, 0, 3, 2)));
+        const __m256i o2 = _mm256_castps_si256(_mm256_shuffle_ps(brh, gbh, _MM_SHUFFLE(3, 2, 3, 0)));
+        int32_t *d = o + 12 * half, *e = d + 24;
+        _mm_storeu_si128((__m128i *)(void *)d, _mm256_castsi256_si128(o0));
+        _mm_storeu_si128((__m128i *)(void *)(d + 4), _mm256_castsi256_si128(o1));
+        _mm_storeu_si128((__m128i *)(void *)(d + 8), _mm256_castsi256_si128(o2));
+        _mm_storeu_si128((__m128i *)(void *)e, _mm256_extracti128_si256(o0, 1));
+        _mm_storeu_si128((__m128i *)(void *)(e + 4), _mm256_extracti128_si256(o1, 1));
+        _mm_storeu_si128((__m128i *)(void *)(e + 8), _mm256_extracti128_si256(o2, 1));
+    }
 }
 #elif QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2
 /* as the AVX2 kernel, 4 pixels per pmaddwd */
@@ -750,12 +829,29 @@ static void relight_interleaved(const qibl_shmaps_t *m, const qibl_shmap_weights
     int32_t acc[3][QIBL_SHMAPS_GROUP];
     wprep_t wp;
     wprep_init(&wp, w, f, k);
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+    const __m256i zero3[3] = {_mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256()};
+    const int shl = f->mu[0] != 1 || f->mu[1] != 1 || f->mu[2] != 1;
+#endif
     for (uint32_t x = x0, end = x0 + n; x < end;) {
         const uint32_t p0 = x % QIBL_SHMAPS_GROUP, left = QIBL_SHMAPS_GROUP - p0;
         const uint32_t cnt = end - x < left ? end - x : left;
         const uint8_t *grp = row + (size_t)(x / QIBL_SHMAPS_GROUP) * gbytes;
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
-        group_acc3(acc, grp, cs, &wp, k);
+        /* the sums in registers, the rounding term in them from the start when the whole group
+         * takes the fast final scaling, which then runs from the registers */
+        __m256i s[3][2];
+        const int whole = cnt == QIBL_SHMAPS_GROUP && f->fast;
+        group_sums(s, grp, cs, &wp, k, whole ? wp.h8 : zero3);
+        if (whole) {
+            group_finish(out + 3u * (x - x0), s, &wp, shl);
+            x += cnt;
+            continue;
+        }
+        for (uint32_t ch = 0; ch < 3u; ++ch) { /* lanes: pixels 0-3 | 8-11 and 4-7 | 12-15 */
+            _mm256_storeu_si256((__m256i *)(void *)acc[ch], _mm256_permute2x128_si256(s[ch][0], s[ch][1], 0x20));
+            _mm256_storeu_si256((__m256i *)(void *)(acc[ch] + 8), _mm256_permute2x128_si256(s[ch][0], s[ch][1], 0x31));
+        }
 #else
         group_acc(acc[0], grp, &wp, 0u, k);
         group_acc(acc[1], grp + cs, &wp, 1u, k);
