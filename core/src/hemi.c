@@ -362,35 +362,44 @@ qibl_status_t qibl_hemi_bound_fit(const qibl_q16_t (*pos)[3], uint32_t nv, const
     return QIBL_OK;
 }
 
-int qibl_hemi_bound_above(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b)
+/* |u| rounded up for the tangent plane's normal u: 2^30 + 256 covers the normaliser's few LSB;
+ * otherwise the exact root + 1 */
+static uint32_t normal_len_up(const int32_t *u)
 {
-    if (f == 0 || b == 0 || b->r < 0)
-        return 0;
-    if (!coord_ok(b->c[0]) || !coord_ok(b->c[1]) || !coord_ok(b->c[2])) /* not a qibl_hemi_bound_fit bound: */
-        return 1;                                                        /* kept, the safe side */
-    const int32_t *u = f->axis[2];
-    /* |u| rounded up: 2^30 + 256 covers the normaliser's few LSB; otherwise the exact root + 1 */
     const uint64_t u2 = (uint64_t)qibl_mul_s32_s64(u[0], u[0]) + (uint64_t)qibl_mul_s32_s64(u[1], u[1]) +
                         (uint64_t)qibl_mul_s32_s64(u[2], u[2]);
     const uint32_t nb = (1u << 30) + 256u;
-    uint32_t ul = nb;
-    if (u2 > qibl_mul_u32_u64(nb, nb)) {
-        uint64_t rem;
-        ul = qibl_isqrt_u64(u2, &rem) + 1u;
-    }
+    if (u2 <= qibl_mul_u32_u64(nb, nb))
+        return nb;
+    uint64_t rem;
+    return qibl_isqrt_u64(u2, &rem) + 1u;
+}
+
+/* qibl_hemi_bound_above for a non-empty b with |u| rounded up given (ul) */
+static int above_ul(const qibl_hemi_frame_t *f, uint32_t ul, const qibl_hemi_bound_t *b)
+{
+    if (!coord_ok(b->c[0]) || !coord_ok(b->c[1]) || !coord_ok(b->c[2])) /* not a qibl_hemi_bound_fit bound: */
+        return 1;                                                        /* kept, the safe side */
     /* s = u . (c - p): |c - p| < 2^23, |u_k| <= 2^30 + 256: |s| < 3 2^53; r ul < 2^24 2^31 */
+    const int32_t *u = f->axis[2];
     int64_t s = 0;
     for (int k = 0; k < 3; ++k)
         s += qibl_mul_s32_s64(u[k], b->c[k] - f->p[k]);
     return s + (int64_t)qibl_mul_u32_u64((uint32_t)b->r, ul) > 0 ? 1 : 0;
 }
 
-/* ---- rasterization --------------------------------------------------------------------------- */
-
-int qibl_hemi_bound_near(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b, uint32_t k_q8)
+int qibl_hemi_bound_above(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b)
 {
-    if (f == 0 || b == 0 || b->r < 0 || k_q8 == 0u)
+    if (f == 0 || b == 0 || b->r < 0)
         return 0;
+    if (!coord_ok(b->c[0]) || !coord_ok(b->c[1]) || !coord_ok(b->c[2]))
+        return 1;
+    return above_ul(f, normal_len_up(f->axis[2]), b);
+}
+
+/* qibl_hemi_bound_near for a non-empty b and k_q8 != 0 */
+static int near_k(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b, uint32_t k_q8)
+{
     if (!coord_ok(b->c[0]) || !coord_ok(b->c[1]) || !coord_ok(b->c[2])) /* not a qibl_hemi_bound_fit bound: */
         return 1;                                                        /* refine, the safe side */
     /* |c - p| <= 2^23 per axis (both within QIBL_HEMI_COORD_MAX): d2 < 3 2^46, d2 2^16 < 2^64 */
@@ -404,6 +413,29 @@ int qibl_hemi_bound_near(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b,
         return 1;
     const uint32_t k32 = (uint32_t)kr;
     return (d2 << 16) < qibl_mul_u32_u64(k32, k32) ? 1 : 0;
+}
+
+/* ---- rasterization --------------------------------------------------------------------------- */
+
+int qibl_hemi_bound_near(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b, uint32_t k_q8)
+{
+    if (f == 0 || b == 0 || b->r < 0 || k_q8 == 0u)
+        return 0;
+    return near_k(f, b, k_q8);
+}
+
+qibl_status_t qibl_hemi_bound_cull(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *near, const qibl_hemi_bound_t *far,
+                                   uint32_t n, uint32_t k_q8, uint8_t *out)
+{
+    if (f == 0 || (n != 0u && (near == 0 || far == 0 || out == 0)))
+        return QIBL_E_NULL_POINTER;
+    const uint32_t ul = normal_len_up(f->axis[2]); /* once per receiver, not per group */
+    for (uint32_t c = 0; c < n; ++c) {
+        const int in = k_q8 != 0u && near[c].r >= 0 && near_k(f, &near[c], k_q8);
+        const qibl_hemi_bound_t *b = in ? &near[c] : &far[c];
+        out[c] = (uint8_t)(b->r >= 0 && above_ul(f, ul, b) ? (in ? 2u : 1u) : 0u);
+    }
+    return QIBL_OK;
 }
 
 qibl_status_t qibl_hemi_clear(const qibl_hemi_t *h, uint32_t *mask)

@@ -157,6 +157,7 @@ typedef struct gscratch {
     int32_t loc[CLOTH_CG * CLOTH_CG + NCELL * NEARV][3];
     uint32_t tl[NCELL * NEART][3];
     uint32_t kept[NCELL]; /* the refined cells kept, in list order */
+    uint8_t cull[NCELL];  /* qibl_hemi_bound_cull's answers */
 } gscratch;
 static uint32_t tn[NEART][3]; /* a cell's full-resolution triangles (groups_template, before any thread) */
 
@@ -187,14 +188,24 @@ static uint32_t groups_mask(const qibl_hemi_t *h, const qtool_bench_cloth *s, co
     qtool_bench_cloth_window(v, s->near, &c0, &c1, &r0, &r1);
     const uint32_t ncv = (uint32_t)s->ncv, kq8 = (uint32_t)(g_lod * 256.0 + 0.5); /* Q8.8 */
     uint32_t nl = ncv, nt = 0, nk = 0;
+    /* no static window: every cell's two tests in one call (refined by distance, in 3D) */
+    if (s->near == 0)
+        QTOOL_BENCH_CALL(qibl_hemi_bound_cull(fr, g->nearb, g->farb, NCELL, kq8, sc->cull));
     for (int cj = 0; cj + 1 < CLOTH_CG; ++cj)
         for (int ci = 0; ci + 1 < CLOTH_CG; ++ci) {
             const int c = cj * (CLOTH_CG - 1) + ci;
-            int in = s->near > 0 && ci >= c0 && ci <= c1 && cj >= r0 && cj <= r1;
-            if (!in && kq8 > 0u) /* a cell that subtends a wide angle from the receiver, in 3D */
-                in = qibl_hemi_bound_near(fr, &g->nearb[c], kq8);
-            if (!qibl_hemi_bound_above(fr, in ? &g->nearb[c] : &g->farb[c]))
-                continue;
+            int in;
+            if (s->near == 0) {
+                if (sc->cull[c] == 0u)
+                    continue;
+                in = sc->cull[c] == 2u;
+            } else {
+                in = ci >= c0 && ci <= c1 && cj >= r0 && cj <= r1;
+                if (!in && kq8 > 0u) /* a cell that subtends a wide angle from the receiver, in 3D */
+                    in = qibl_hemi_bound_near(fr, &g->nearb[c], kq8);
+                if (!qibl_hemi_bound_above(fr, in ? &g->nearb[c] : &g->farb[c]))
+                    continue;
+            }
             if (!in) {
                 for (int q = 0; q < 2; ++q, ++nt)
                     tl[nt][0] = s->ctri[2 * c + q][0], tl[nt][1] = s->ctri[2 * c + q][1], tl[nt][2] = s->ctri[2 * c + q][2];

@@ -14,6 +14,7 @@
 #define qibl_hemi_clip qtool_hemi_clip_scalar
 #define qibl_hemi_bound_fit qtool_hemi_bound_fit_scalar
 #define qibl_hemi_bound_above qtool_hemi_bound_above_scalar
+#define qibl_hemi_bound_cull qtool_hemi_bound_cull_scalar
 #define qibl_hemi_bound_near qtool_hemi_bound_near_scalar
 #define qibl_hemi_raster qtool_hemi_raster_scalar
 #define qibl_hemi_transfer qtool_hemi_transfer_scalar
