@@ -714,7 +714,9 @@ static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t
     const uint32_t words = h->words;
     const int32_t F = h->face;
     const __m256i vF = _mm256_set1_epi32(F), vF1 = _mm256_set1_epi32(F - 1), vFF = _mm256_set1_epi32(F * F);
-    const __m256i zero = _mm256_setzero_si256(), lane3 = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
+    const __m256i zero = _mm256_setzero_si256();
+    const __m256i pa = _mm256_setr_epi32(0, 3, 6, 1, 4, 7, 2, 5), pb = _mm256_setr_epi32(1, 4, 7, 2, 5, 0, 3, 6),
+                  pc = _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7);
     const int *vb = (const int *)(const void *)v; /* no dereference: v may be NULL when ntri = 0 */
     const int gather_ok = nv < (1u << 29);
     uint32_t t = 0;
@@ -723,11 +725,18 @@ static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t
         uint32_t k = 0;
         if (gather_ok) /* (1) */
             while (t + HEMI_VL <= ntri && k + HEMI_VL <= HEMI_BATCH) {
-                const int *ix = (const int *)(const void *)&tri[t][0];
+                /* the 24 indices of eight triangles: three loads, deinterleaved by blends and a
+                 * permute each (cheaper than three strided gathers) */
+                const __m256i *ix = (const __m256i *)(const void *)&tri[t][0];
+                const __m256i L0 = _mm256_loadu_si256(ix), L1 = _mm256_loadu_si256(ix + 1), L2 = _mm256_loadu_si256(ix + 2);
+                const __m256i iw[3] = {
+                    _mm256_permutevar8x32_epi32(_mm256_blend_epi32(_mm256_blend_epi32(L0, L1, 0x92), L2, 0x24), pa),
+                    _mm256_permutevar8x32_epi32(_mm256_blend_epi32(_mm256_blend_epi32(L0, L1, 0x24), L2, 0x49), pb),
+                    _mm256_permutevar8x32_epi32(_mm256_blend_epi32(_mm256_blend_epi32(L0, L1, 0x49), L2, 0x92), pc)};
                 uint32_t I[3][HEMI_VL];
                 __m256i above = zero;
                 for (int w = 0; w < 3; ++w) {
-                    const __m256i i = _mm256_i32gather_epi32(ix + w, lane3, 4);
+                    const __m256i i = iw[w];
                     _mm256_storeu_si256((__m256i *)(void *)I[w], i);
                     const __m256i i3 = _mm256_add_epi32(i, _mm256_add_epi32(i, i));
                     above = _mm256_or_si256(above, _mm256_cmpgt_epi32(_mm256_i32gather_epi32(vb + 2, i3, 4), zero));
