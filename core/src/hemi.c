@@ -812,6 +812,38 @@ static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t
                 }
             }
         }
+        if (words == 32u) { /* (3), the 32 x 32 mask in four registers across the batch */
+            __m256i m0 = _mm256_loadu_si256((const __m256i *)(const void *)mask),
+                    m1 = _mm256_loadu_si256((const __m256i *)(const void *)(mask + 8)),
+                    m2 = _mm256_loadu_si256((const __m256i *)(const void *)(mask + 16)),
+                    m3 = _mm256_loadu_si256((const __m256i *)(const void *)(mask + 24));
+            for (uint32_t j = 0; j < k; ++j) {
+                if (skip[j]) {
+                    ++*nt;
+                    continue;
+                }
+                const __m256i *a = (const __m256i *)(const void *)(h->lut + (size_t)li[0][j] * 32u),
+                              *b = (const __m256i *)(const void *)(h->lut + (size_t)li[1][j] * 32u),
+                              *c = (const __m256i *)(const void *)(h->lut + (size_t)li[2][j] * 32u);
+                const __m256i xa = _mm256_set1_epi32((int)lx[0][j]), xb = _mm256_set1_epi32((int)lx[1][j]),
+                              xc = _mm256_set1_epi32((int)lx[2][j]);
+#define AND3W(m, w)                                                                                           \
+    m = _mm256_or_si256(m, _mm256_and_si256(_mm256_and_si256(_mm256_xor_si256(_mm256_loadu_si256(a + w), xa),     \
+                                                             _mm256_xor_si256(_mm256_loadu_si256(b + w), xb)), \
+                                            _mm256_xor_si256(_mm256_loadu_si256(c + w), xc)))
+                AND3W(m0, 0);
+                AND3W(m1, 1);
+                AND3W(m2, 2);
+                AND3W(m3, 3);
+#undef AND3W
+                ++*nr;
+            }
+            _mm256_storeu_si256((__m256i *)(void *)mask, m0);
+            _mm256_storeu_si256((__m256i *)(void *)(mask + 8), m1);
+            _mm256_storeu_si256((__m256i *)(void *)(mask + 16), m2);
+            _mm256_storeu_si256((__m256i *)(void *)(mask + 24), m3);
+            continue;
+        }
         for (uint32_t j = 0; j < k; ++j) { /* (3) */
             if (skip[j]) {
                 ++*nt;
