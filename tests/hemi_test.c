@@ -679,6 +679,24 @@ static void test_raster_every_isa(void **state)
             }
             drop(f);
         }
+        /* edge normals whose float32 cell estimate (fl(num F) / fl(2 m), truncated) is one off (found
+         * by search): one above at F = 128, one below at F = 126 (num F inexact in float32); only
+         * the lanes' exact correction step gives the twin's cells */
+        for (int fc = 0; fc < 2; ++fc) {
+            static const int32_t abs_[2][6][6] = {
+                {{-493, -188, -223, -358, 8, 403}, {511, 280, 299, -374, 333, -304}, {351, 503, -253, -383, 224, 98},
+                 {-267, -401, 495, -371, -472, -439}, {-430, -474, -343, 69, 299, -400}, {-308, 24, 315, -453, 76, -405}},
+                {{142, 0, -497, 402, 417, -65}, {443, -182, -174, -232, -419, 434}, {478, -75, 302, 239, -468, -95},
+                 {-456, 419, 259, -507, -101, 153}, {130, -359, 378, -454, -359, -279}, {492, -95, -32, 369, 354, 273}}};
+            const int32_t(*ab)[6] = abs_[fc];
+            fixture *f = make(32, fc == 0 ? 128 : 126);
+            for (size_t r = 0; r < 6; ++r) {
+                const int32_t v[4][3] = {{ab[r][0], ab[r][1], ab[r][2]}, {ab[r][3], ab[r][4], ab[r][5]}, {0, 0, 300}, {-5, 7, 200}};
+                const uint32_t tri[4][3] = {{0, 1, 2}, {1, 0, 2}, {0, 1, 3}, {1, 0, 3}};
+                raster_both(f, v, 4, tri, 4);
+            }
+            drop(f);
+        }
         /* the transform against the twin's, with tails of every length mod 8 */
         {
             enum { NP = 45 };

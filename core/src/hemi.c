@@ -12,8 +12,10 @@
 
 #if QIBL_USE_HEMI
 
-/* the setup and look-ups in 8-wide lanes (x86 AVX2, below); elsewhere the scalar code, same bits */
+/* the setup and look-ups in 8-wide lanes (x86 AVX2, below); the look-ups in 4-wide lanes after the
+ * scalar setup (x86 SSE2, below); elsewhere the scalar code; the same bits everywhere */
 #define HEMI_LANES (QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2)
+#define HEMI_LANES4 (QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2)
 
 #define NC QIBL_HEMI_COEFFS
 
@@ -588,6 +590,7 @@ static int tri_setup(const int32_t *a, const int32_t *b, const int32_t *c, int32
 }
 #endif
 
+#if !HEMI_LANES4 /* the SSE2 copy looks up in lanes only */
 /* floor(num / den) for den >= 1 and a quotient below 256 (num < 256 den): 8 shift-subtract steps
  * where there is no divide instruction, so no library call is emitted. */
 static uint32_t small_div(uint32_t num, uint32_t den)
@@ -637,6 +640,7 @@ static edge lookup(const qibl_hemi_t *h, const int32_t e[3])
     r.m = h->lut + idx * h->words;
     return r;
 }
+#endif
 
 #if HEMI_LANES
 /* ---- x86 AVX2: the same setup and look-ups, eight triangles at a time -----------------------
@@ -859,6 +863,119 @@ static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t
 }
 #endif
 
+#if HEMI_LANES4
+/* ---- x86 SSE2: the scalar setup, then the look-ups four edge normals at a time -------------
+ *
+ * The AVX2 copy's look-up with the instructions SSE2 has: abs, max, min and blends from compares
+ * and masks, the 32-bit products (num F < 2^27, q D < 2^28) from two pmuludq; the cell's divide
+ * in float32 lanes corrected by one exact int32 step, as there: the scalar code's cells. */
+#include <emmintrin.h>
+#define HEMI_VL4 4
+#define HEMI_BATCH4 64u
+
+static __m128i lane4_sel(__m128i m, __m128i a, __m128i b)
+{
+    return _mm_or_si128(_mm_and_si128(m, a), _mm_andnot_si128(m, b));
+}
+
+/* the low 32 bits of each lane's product */
+static __m128i lane4_mul(__m128i a, __m128i b)
+{
+    const __m128i p02 = _mm_mul_epu32(a, b), p13 = _mm_mul_epu32(_mm_srli_epi64(a, 32), _mm_srli_epi64(b, 32));
+    return _mm_unpacklo_epi32(_mm_shuffle_epi32(p02, _MM_SHUFFLE(0, 0, 2, 0)), _mm_shuffle_epi32(p13, _MM_SHUFFLE(0, 0, 2, 0)));
+}
+
+static __m128i lane4_abs(__m128i x)
+{
+    const __m128i s = _mm_srai_epi32(x, 31);
+    return _mm_sub_epi32(_mm_xor_si128(x, s), s);
+}
+
+static __m128i lane4_max(__m128i a, __m128i b)
+{
+    return lane4_sel(_mm_cmpgt_epi32(a, b), a, b);
+}
+
+static __m128i lane4_cell(__m128i num, __m128i d, __m128i vF, __m128i vF1)
+{
+    const __m128i nF = lane4_mul(num, vF); /* < 2^27 */
+    __m128i q = _mm_cvttps_epi32(_mm_div_ps(_mm_cvtepi32_ps(nF), _mm_cvtepi32_ps(d)));
+    const __m128i r = _mm_sub_epi32(nF, lane4_mul(q, d));
+    q = _mm_sub_epi32(q, _mm_cmpgt_epi32(r, _mm_sub_epi32(d, _mm_set1_epi32(1))));
+    q = _mm_add_epi32(q, _mm_cmpgt_epi32(_mm_setzero_si128(), r));
+    return lane4_sel(_mm_cmpgt_epi32(q, vF1), vF1, q);
+}
+
+/* LUT entry numbers and complement words of four edge normals (none zero) */
+static void lane4_lookup(__m128i e0, __m128i e1, __m128i e2, __m128i vF, __m128i vF1, __m128i vFF, uint32_t *idx,
+                         uint32_t *cx)
+{
+    const __m128i ax = lane4_abs(e0), ay = lane4_abs(e1), az = lane4_abs(e2);
+    const __m128i ones = _mm_set1_epi32(-1);
+    const __m128i isx = _mm_xor_si128(_mm_or_si128(_mm_cmpgt_epi32(ay, ax), _mm_cmpgt_epi32(az, ax)), ones);
+    const __m128i yge = _mm_xor_si128(_mm_cmpgt_epi32(az, ay), ones);
+    const __m128i isy = _mm_andnot_si128(isx, yge), isz = _mm_xor_si128(_mm_or_si128(isx, yge), ones);
+    const __m128i m = lane4_max(lane4_max(ax, ay), az);
+    const __m128i ng = _mm_srai_epi32(lane4_sel(isx, e0, lane4_sel(isy, e1, e2)), 31);
+    const __m128i u = _mm_sub_epi32(_mm_xor_si128(lane4_sel(isy, e0, e1), ng), ng);
+    const __m128i v = _mm_sub_epi32(_mm_xor_si128(lane4_sel(isz, e0, e2), ng), ng);
+    const __m128i d = _mm_add_epi32(m, m);
+    const __m128i cu = lane4_cell(_mm_add_epi32(m, u), d, vF, vF1), cv = lane4_cell(_mm_add_epi32(m, v), d, vF, vF1);
+    const __m128i base = _mm_or_si128(_mm_and_si128(isy, vFF), _mm_and_si128(isz, _mm_add_epi32(vFF, vFF)));
+    _mm_storeu_si128((__m128i *)(void *)idx, _mm_add_epi32(base, _mm_add_epi32(lane4_mul(cu, vF), cv)));
+    _mm_storeu_si128((__m128i *)(void *)cx, ng);
+}
+
+/* The triangles in batches: (1) the scalar cull and setup, the drawn triangles' edge normals
+ * written in order; (2) their look-ups in lanes; (3) the masks. Same masks and counts as the
+ * scalar loop. */
+static void raster_batches4(const qibl_hemi_t *h, const int32_t (*v)[3], const uint32_t (*tri)[3], uint32_t ntri,
+                            uint32_t *mask, uint32_t *nr, uint32_t *nb, uint32_t *nt)
+{
+    int32_t E[3][3][HEMI_BATCH4 + HEMI_VL4]; /* edge, component, triangle */
+    uint32_t li[3][HEMI_BATCH4 + HEMI_VL4], lx[3][HEMI_BATCH4 + HEMI_VL4];
+    const uint32_t words = h->words;
+    const int32_t F = h->face;
+    const __m128i vF = _mm_set1_epi32(F), vF1 = _mm_set1_epi32(F - 1), vFF = _mm_set1_epi32(F * F);
+    uint32_t t = 0;
+    while (t < ntri) {
+        uint32_t k = 0;
+        for (; t < ntri && k < HEMI_BATCH4; ++t) { /* (1) */
+            int32_t e[3][3];
+            const int r = tri_setup(v[tri[t][0]], v[tri[t][1]], v[tri[t][2]], e);
+            if (r != TRI_DRAW) {
+                if (r == TRI_BELOW)
+                    ++*nb;
+                else
+                    ++*nt;
+                continue;
+            }
+            for (int i = 0; i < 3; ++i)
+                E[i][0][k] = e[i][0], E[i][1][k] = e[i][1], E[i][2][k] = e[i][2];
+            ++k;
+        }
+        if (k == 0u)
+            continue;
+        for (uint32_t j = k; j % HEMI_VL4 != 0u; ++j) /* pad with the first (ignored) */
+            for (int i = 0; i < 3; ++i)
+                E[i][0][j] = E[i][0][0], E[i][1][j] = E[i][1][0], E[i][2][j] = E[i][2][0];
+        for (uint32_t j = 0; j < k; j += HEMI_VL4) /* (2) */
+            for (int i = 0; i < 3; ++i)
+                lane4_lookup(_mm_loadu_si128((const __m128i *)(const void *)(E[i][0] + j)),
+                             _mm_loadu_si128((const __m128i *)(const void *)(E[i][1] + j)),
+                             _mm_loadu_si128((const __m128i *)(const void *)(E[i][2] + j)), vF, vF1, vFF, li[i] + j,
+                             lx[i] + j);
+        for (uint32_t j = 0; j < k; ++j) { /* (3) */
+            edge ed[3];
+            for (int i = 0; i < 3; ++i)
+                ed[i].m = h->lut + (size_t)li[i][j] * words, ed[i].x = lx[i][j];
+            and3(mask, &ed[0], &ed[1], &ed[2], words);
+        }
+        *nr += k;
+    }
+}
+#endif
+
 qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t nv, const uint32_t (*tri)[3],
                                uint32_t ntri, uint32_t *mask, qibl_hemi_stats_t *stats)
 {
@@ -880,6 +997,8 @@ qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint
     uint32_t nr = 0, nb = 0, nt = 0;
 #if HEMI_LANES
     raster_batches(h, v, nv, tri, ntri, mask, &nr, &nb, &nt);
+#elif HEMI_LANES4
+    raster_batches4(h, v, tri, ntri, mask, &nr, &nb, &nt);
 #else
     const uint32_t words = h->words;
     for (uint32_t t = 0; t < ntri; ++t) {
