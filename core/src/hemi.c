@@ -493,7 +493,7 @@ static void and3(uint32_t *restrict mask, const edge *ea, const edge *eb, const 
  * in int32, with no 64-bit product, on every port and in every lane width. The masks are those of
  * the quantised triangle: the same bits from the scalar code below and the x86 lanes. */
 
-#if !HEMI_LANES
+#if !HEMI_LANES && !HEMI_LANES4
 /* q = round_half_up(v / 2^s), s the fewest bits with max |v_k| >> s < 512 (|v| < 2^26: s <= 17) */
 static void quantise(const int32_t *v, int32_t q[3])
 {
@@ -569,7 +569,7 @@ static int tri_exact(const int32_t *a, const int32_t *b, const int32_t *c, int32
     return TRI_DRAW;
 }
 
-#if !HEMI_LANES
+#if !HEMI_LANES && !HEMI_LANES4
 static int tri_setup(const int32_t *a, const int32_t *b, const int32_t *c, int32_t e[3][3])
 {
     if (a[2] <= 0 && b[2] <= 0 && c[2] <= 0)
@@ -926,52 +926,109 @@ static void lane4_lookup(__m128i e0, __m128i e1, __m128i e2, __m128i vF, __m128i
     _mm_storeu_si128((__m128i *)(void *)cx, ng);
 }
 
-/* The triangles in batches: (1) the scalar cull and setup, the drawn triangles' edge normals
- * written in order; (2) their look-ups in lanes; (3) the masks. Same masks and counts as the
- * scalar loop. */
+/* q = round_half_up(v / 2^s) in lanes, s from the float exponent of max|v| >> 9 (exact below
+ * 2^24), as the scalar quantise; the per-lane shift as a product by 2^(17 - s) (|v + half| <
+ * 2^(9 + s), so the product stays below 2^26) and one arithmetic shift by 17 */
+static void lane4_quantise(__m128i *x, __m128i *y, __m128i *z)
+{
+    const __m128i m = lane4_max(lane4_max(lane4_abs(*x), lane4_abs(*y)), lane4_abs(*z));
+    const __m128i fb = _mm_castps_si128(_mm_cvtepi32_ps(_mm_srli_epi32(m, 9)));
+    const __m128i e = _mm_srli_epi32(fb, 23); /* 0 for 0, else 127 + floor(log2) */
+    __m128i s = _mm_sub_epi32(e, _mm_set1_epi32(126));
+    s = _mm_and_si128(s, _mm_cmpgt_epi32(s, _mm_setzero_si128())); /* max(s, 0) */
+    /* 2^(17 - s) and 2^s / 2 from float exponents (s <= 17) */
+    const __m128i p = _mm_cvttps_epi32(_mm_castsi128_ps(_mm_slli_epi32(_mm_sub_epi32(_mm_set1_epi32(127 + 17), s), 23)));
+    const __m128i half = _mm_srli_epi32(_mm_cvttps_epi32(_mm_castsi128_ps(_mm_slli_epi32(_mm_add_epi32(s, _mm_set1_epi32(127)), 23))), 1);
+    *x = _mm_srai_epi32(lane4_mul(_mm_add_epi32(*x, half), p), 17);
+    *y = _mm_srai_epi32(lane4_mul(_mm_add_epi32(*y, half), p), 17);
+    *z = _mm_srai_epi32(lane4_mul(_mm_add_epi32(*z, half), p), 17);
+}
+
+/* The triangles in batches: (1) the horizon cull (scalar), the kept triangles' vertices copied
+ * in order; (2) quantisation, edge normals, orientation and look-ups in lanes (a quantised det of
+ * 0: the exact scalar setup); (3) the masks. Same masks and counts as the scalar loop. */
 static void raster_batches4(const qibl_hemi_t *h, const int32_t (*v)[3], const uint32_t (*tri)[3], uint32_t ntri,
                             uint32_t *mask, uint32_t *nr, uint32_t *nb, uint32_t *nt)
 {
-    int32_t E[3][3][HEMI_BATCH4 + HEMI_VL4]; /* edge, component, triangle */
-    uint32_t li[3][HEMI_BATCH4 + HEMI_VL4], lx[3][HEMI_BATCH4 + HEMI_VL4];
+    int32_t P[3][3][HEMI_BATCH4 + HEMI_VL4]; /* vertex, component, triangle */
+    uint32_t keep[HEMI_BATCH4 + HEMI_VL4], li[3][HEMI_BATCH4 + HEMI_VL4], lx[3][HEMI_BATCH4 + HEMI_VL4];
+    uint32_t skip[HEMI_BATCH4 + HEMI_VL4];
     const uint32_t words = h->words;
     const int32_t F = h->face;
     const __m128i vF = _mm_set1_epi32(F), vF1 = _mm_set1_epi32(F - 1), vFF = _mm_set1_epi32(F * F);
+    const __m128i zero = _mm_setzero_si128(), one = _mm_set1_epi32(1);
     uint32_t t = 0;
     while (t < ntri) {
+        const uint32_t t0 = t;
         uint32_t k = 0;
         for (; t < ntri && k < HEMI_BATCH4; ++t) { /* (1) */
-            int32_t e[3][3];
-            const int r = tri_setup(v[tri[t][0]], v[tri[t][1]], v[tri[t][2]], e);
-            if (r != TRI_DRAW) {
-                if (r == TRI_BELOW)
-                    ++*nb;
-                else
-                    ++*nt;
-                continue;
-            }
-            for (int i = 0; i < 3; ++i)
-                E[i][0][k] = e[i][0], E[i][1][k] = e[i][1], E[i][2][k] = e[i][2];
-            ++k;
+            const int32_t *a = v[tri[t][0]], *b = v[tri[t][1]], *c = v[tri[t][2]];
+            for (int w = 0; w < 3; ++w)
+                P[0][w][k] = a[w], P[1][w][k] = b[w], P[2][w][k] = c[w];
+            keep[k] = t;
+            k += (uint32_t)((a[2] > 0) | (b[2] > 0) | (c[2] > 0));
         }
+        *nb += (t - t0) - k;
         if (k == 0u)
             continue;
-        for (uint32_t j = k; j % HEMI_VL4 != 0u; ++j) /* pad with the first (ignored) */
+        for (uint32_t j = k; j % HEMI_VL4 != 0u; ++j) /* pad with the first kept (ignored) */
             for (int i = 0; i < 3; ++i)
-                E[i][0][j] = E[i][0][0], E[i][1][j] = E[i][1][0], E[i][2][j] = E[i][2][0];
-        for (uint32_t j = 0; j < k; j += HEMI_VL4) /* (2) */
-            for (int i = 0; i < 3; ++i)
-                lane4_lookup(_mm_loadu_si128((const __m128i *)(const void *)(E[i][0] + j)),
-                             _mm_loadu_si128((const __m128i *)(const void *)(E[i][1] + j)),
-                             _mm_loadu_si128((const __m128i *)(const void *)(E[i][2] + j)), vF, vF1, vFF, li[i] + j,
-                             lx[i] + j);
+                P[i][0][j] = P[i][0][0], P[i][1][j] = P[i][1][0], P[i][2][j] = P[i][2][0];
+        for (uint32_t j = 0; j < k; j += HEMI_VL4) { /* (2) */
+#define LD(i, w) _mm_loadu_si128((const __m128i *)(const void *)(P[i][w] + j))
+#define MUL(a, b) lane4_mul(a, b)
+#define SUB(a, b) _mm_sub_epi32(a, b)
+            __m128i ax = LD(0, 0), ay = LD(0, 1), az = LD(0, 2), bx = LD(1, 0), by = LD(1, 1), bz = LD(1, 2);
+            __m128i cx = LD(2, 0), cy = LD(2, 1), cz = LD(2, 2);
+            lane4_quantise(&ax, &ay, &az), lane4_quantise(&bx, &by, &bz), lane4_quantise(&cx, &cy, &cz);
+            __m128i e00 = SUB(MUL(ay, bz), MUL(az, by)), e01 = SUB(MUL(az, bx), MUL(ax, bz)), e02 = SUB(MUL(ax, by), MUL(ay, bx));
+            __m128i e10 = SUB(MUL(by, cz), MUL(bz, cy)), e11 = SUB(MUL(bz, cx), MUL(bx, cz)), e12 = SUB(MUL(bx, cy), MUL(by, cx));
+            __m128i e20 = SUB(MUL(cy, az), MUL(cz, ay)), e21 = SUB(MUL(cz, ax), MUL(cx, az)), e22 = SUB(MUL(cx, ay), MUL(cy, ax));
+            const __m128i d = _mm_add_epi32(_mm_add_epi32(MUL(e00, cx), MUL(e01, cy)), MUL(e02, cz));
+#undef LD
+#undef MUL
+#undef SUB
+            const __m128i thr = _mm_cmpeq_epi32(d, zero);
+            const __m128i sg = _mm_srai_epi32(d, 31); /* orient: every normal negated when det < 0 */
+            /* a plane through the receiver gets the normal (1, 0, 0) so that its look-up is harmless */
+#define ORIENT(e, r) e = lane4_sel(thr, r, _mm_sub_epi32(_mm_xor_si128(e, sg), sg))
+            ORIENT(e00, one), ORIENT(e01, zero), ORIENT(e02, zero);
+            ORIENT(e10, one), ORIENT(e11, zero), ORIENT(e12, zero);
+            ORIENT(e20, one), ORIENT(e21, zero), ORIENT(e22, zero);
+#undef ORIENT
+            lane4_lookup(e00, e01, e02, vF, vF1, vFF, li[0] + j, lx[0] + j);
+            lane4_lookup(e10, e11, e12, vF, vF1, vFF, li[1] + j, lx[1] + j);
+            lane4_lookup(e20, e21, e22, vF, vF1, vFF, li[2] + j, lx[2] + j);
+            const uint32_t tm = (uint32_t)_mm_movemask_ps(_mm_castsi128_ps(thr));
+            for (uint32_t l = 0; l < HEMI_VL4; ++l)
+                skip[j + l] = 0u;
+            for (uint32_t l = 0; l < HEMI_VL4; ++l) {
+                if (!(tm >> l & 1u) || j + l >= k)
+                    continue;
+                const uint32_t *q = tri[keep[j + l]]; /* the exact setup, as the scalar code */
+                int32_t e[3][3];
+                if (tri_exact(v[q[0]], v[q[1]], v[q[2]], e) != TRI_DRAW) {
+                    skip[j + l] = 1u;
+                    continue;
+                }
+                for (int i = 0; i < 3; ++i) {
+                    lane4_lookup(_mm_set1_epi32(e[i][0]), _mm_set1_epi32(e[i][1]), _mm_set1_epi32(e[i][2]), vF, vF1, vFF,
+                                 li[i] + HEMI_BATCH4, lx[i] + HEMI_BATCH4); /* the spare slots past the batch */
+                    li[i][j + l] = li[i][HEMI_BATCH4], lx[i][j + l] = lx[i][HEMI_BATCH4];
+                }
+            }
+        }
         for (uint32_t j = 0; j < k; ++j) { /* (3) */
+            if (skip[j]) {
+                ++*nt;
+                continue;
+            }
             edge ed[3];
             for (int i = 0; i < 3; ++i)
                 ed[i].m = h->lut + (size_t)li[i][j] * words, ed[i].x = lx[i][j];
             and3(mask, &ed[0], &ed[1], &ed[2], words);
+            ++*nr;
         }
-        *nr += k;
     }
 }
 #endif
