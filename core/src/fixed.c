@@ -54,10 +54,12 @@ uint32_t qibl_isqrt_u64(uint64_t x, uint64_t *rem)
     while (bit > x)
         bit >>= 2;
     while (bit != 0u) {
-        /* branch-free: the digit is data-dependent, so a branch on it mispredicts about half the time */
-        const uint64_t t = res + bit, one = 0u - (uint64_t)(x >= t); /* all ones when the digit is 1 */
-        x -= t & one;
-        res = (res >> 1) + (bit & one);
+        if (x >= res + bit) {
+            x -= res + bit;
+            res = (res >> 1) + bit;
+        } else {
+            res >>= 1;
+        }
         bit >>= 2;
     }
     if (rem)
