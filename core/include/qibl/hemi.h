@@ -200,6 +200,9 @@ int qibl_hemi_bound_near(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b,
  * qibl_hemi_bound_above(f, &far[c]) (the coarse group), else 0 (neither: culled). k_q8 = 0: no
  * group is near. The same answers as those calls; the normal's length is rounded up once, not per
  * group.
+ * Formats: the bounds' centres and radii Q16.16 (qibl_hemi_bound_fit), k_q8 Q8.8; out one byte per
+ * group.
+ * Bound: exact integer tests, as qibl_hemi_bound_near and qibl_hemi_bound_above.
  * Errors: QIBL_E_NULL_POINTER (f NULL, or near, far or out NULL with n != 0).
  * On failure: nothing is written. */
 QIBL_NODISCARD qibl_status_t qibl_hemi_bound_cull(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *near,
