@@ -148,9 +148,9 @@ static void groups_make(const qtool_bench_cloth *s, const qibl_q16_t (*pos)[3], 
 }
 
 /* One receiver: the coarse vertices first (transformed once, every coarse triangle indexes them),
- * then the vertices of each kept full-resolution group; one triangle list (the kept coarse
- * cells' 2 triangles, each kept group's fixed template at its offset), one transform, one raster
- * call. Returns the blockers. */
+ * then the vertices of each kept full-resolution group (each transformed from the frame's gathered
+ * block); one triangle list (the kept coarse cells' 2 triangles, each kept group's fixed template
+ * at its offset), one raster call. Returns the blockers. */
 enum { NEARV = (CLOTH_STEP + 1) * (CLOTH_STEP + 1), NEART = 2 * CLOTH_STEP * CLOTH_STEP };
 /* one receiver's lists: one per thread */
 typedef struct gscratch {
@@ -176,10 +176,9 @@ static void groups_template(void)
     }
 }
 
-static uint32_t groups_mask(const qibl_hemi_t *h, const qtool_bench_cloth *s, const groups *g, const qibl_q16_t (*pos)[3],
+static uint32_t groups_mask(const qibl_hemi_t *h, const qtool_bench_cloth *s, const groups *g,
                             const qibl_hemi_frame_t *fr, int v, uint32_t *mask, qibl_hemi_stats_t *st, timing *tm, gscratch *sc)
 {
-    (void)pos;
     const double t0 = tm ? qtool_bench_cpu_now() : 0;
     int32_t(*loc)[3] = sc->loc;
     uint32_t(*tl)[3] = sc->tl;
@@ -248,7 +247,7 @@ static double groups_frame(const qibl_hemi_t *h, const qtool_bench_cloth *s, con
         qibl_hemi_frame_t fr;
         QTOOL_BENCH_CALL(qibl_hemi_frame_init(&fr, pos[v], nrm[v]));
         const double tb = tm ? qtool_bench_cpu_now() : 0;
-        b += groups_mask(h, s, &g, pos, &fr, v, mask, &st, tm, &sc);
+        b += groups_mask(h, s, &g, &fr, v, mask, &st, tm, &sc);
         const double tc = tm ? qtool_bench_cpu_now() : 0;
         QTOOL_BENCH_CALL(qibl_hemi_transfer(h, mask, vloc[v]));
         const double td = tm ? qtool_bench_cpu_now() : 0;
@@ -268,7 +267,9 @@ static double groups_frame(const qibl_hemi_t *h, const qtool_bench_cloth *s, con
 }
 
 
-/* groups_frame's work with the vertices split into `threads` contiguous parts, one thread each
+/* groups_frame's work with the cloth's grid rows dealt out to `threads` parts in turn, one thread
+ * each (rows, not contiguous halves: the folds are not spread evenly over the grid, and the slowest
+ * part is the critical path)
  * (the core is reentrant and state-free: each thread has its own lists and mask). Returns the wall
  * seconds; *crit the critical path in thread CPU time (the bounds plus the slowest part), which a
  * loaded shared machine does not enter. */
@@ -288,12 +289,13 @@ static void mt_part(void *ctx, uint32_t part)
 {
     mtjob *j = ctx;
     const double t0 = qtool_bench_cpu_now();
-    const int v0 = (int)((long)j->s->nv * (long)part / j->parts), v1 = (int)((long)j->s->nv * (long)(part + 1) / j->parts);
     uint32_t mask[QIBL_HEMI_MAX_WORDS];
-    for (int v = v0; v < v1; ++v) {
+    for (int v = 0; v < j->s->nv; ++v) {
+        if ((v / CLOTH_G) % j->parts != (int)part)
+            continue;
         qibl_hemi_frame_t fr;
         QTOOL_BENCH_CALL(qibl_hemi_frame_init(&fr, j->pos[v], j->nrm[v]));
-        groups_mask(j->h, j->s, j->g, j->pos, &fr, v, mask, NULL, NULL, &j->sc[part]);
+        groups_mask(j->h, j->s, j->g, &fr, v, mask, NULL, NULL, &j->sc[part]);
         QTOOL_BENCH_CALL(qibl_hemi_transfer(j->h, mask, j->vloc[v]));
         qibl_q30_t w[25];
         QTOOL_BENCH_CALL(qibl_hemi_to_world(j->h, &fr, j->vloc[v], w));
