@@ -12,8 +12,8 @@
 
 #if QIBL_USE_HEMI
 
-/* the setup and look-ups in 8-wide lanes (x86 AVX2, below); the look-ups in 4-wide lanes after the
- * scalar setup (x86 SSE2, below); elsewhere the scalar code; the same bits everywhere */
+/* the setup and look-ups in 8-wide lanes (x86 AVX2, below) or 4-wide lanes (x86 SSE2, below);
+ * elsewhere the scalar code; the same bits everywhere */
 #define HEMI_LANES (QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2)
 #define HEMI_LANES4 (QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2)
 
@@ -864,11 +864,13 @@ static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t
 #endif
 
 #if HEMI_LANES4
-/* ---- x86 SSE2: the scalar setup, then the look-ups four edge normals at a time -------------
+/* ---- x86 SSE2: the same setup and look-ups, four triangles at a time --------------------------
  *
- * The AVX2 copy's look-up with the instructions SSE2 has: abs, max, min and blends from compares
- * and masks, the 32-bit products (num F < 2^27, q D < 2^28) from two pmuludq; the cell's divide
- * in float32 lanes corrected by one exact int32 step, as there: the scalar code's cells. */
+ * The AVX2 copy's lanes with the instructions SSE2 has: abs, max, min and blends from compares and
+ * masks, the 32-bit products (|q| <= 512 products, num F < 2^27, q D < 2^28) from two pmuludq, the
+ * quantisation's per-lane shift as a product (lane4_quantise); the horizon cull scalar (no
+ * gathers); the cell's divide in float32 lanes corrected by one exact int32 step, as there: the
+ * scalar code's cells. */
 #include <emmintrin.h>
 #define HEMI_VL4 4
 #define HEMI_BATCH4 64u

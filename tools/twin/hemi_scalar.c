@@ -1,6 +1,6 @@
 /*
  * twin/hemi_scalar.c - core/src/hemi.c compiled again as its scalar twin (see hemi_scalar.h): the
- * rasterizer's integer look-ups instead of the x86 double lanes (QIBL_CONFIG_SIMD=0), every
+ * rasterizer's integer setup and look-ups instead of the x86 lanes (QIBL_CONFIG_SIMD=0), every
  * external name renamed, so it links beside the library. Built with the core's flags (Makefile:
  * $(BUILD)/twin).
  */
