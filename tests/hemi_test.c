@@ -407,6 +407,72 @@ static void test_bound_near(void **state)
     assert_int_equal(qibl_hemi_bound_above(&fr, &b), 1);
 }
 
+/* The batched group culling gives the single tests' answers: random receivers (any normal) and
+ * groups at every scale, empty groups, centres beyond the limit, k = 0; the named error and an
+ * untouched output on failure. */
+static void test_bound_cull(void **state)
+{
+    (void)state;
+    enum { NG = 37 };
+    uint64_t seed = 0xC011u;
+    int seen[3] = {0, 0, 0};
+    for (int round = 0; round < 3000; ++round) {
+        const int bits = 1 + (int)(rng(&seed) % 22u);
+        const int32_t lim = bits >= 22 ? QIBL_HEMI_COORD_MAX : (int32_t)((1u << bits) - 1u);
+        qibl_q16_t p[3];
+        int32_t nrm[3];
+        for (int k = 0; k < 3; ++k) {
+            p[k] = (int32_t)(rng(&seed) % (2u * (uint32_t)lim + 1u)) - lim;
+            nrm[k] = (int32_t)(rng(&seed) % 2001u) - 1000;
+        }
+        if (nrm[0] == 0 && nrm[1] == 0 && nrm[2] == 0)
+            nrm[2] = 1;
+        qibl_hemi_frame_t fr;
+        assert_int_equal(qibl_hemi_frame_init(&fr, p, nrm), QIBL_OK);
+        qibl_hemi_bound_t nb[NG], fb[NG];
+        for (int g = 0; g < NG; ++g)
+            for (int w = 0; w < 2; ++w) {
+                qibl_hemi_bound_t *b = w ? &fb[g] : &nb[g];
+                for (int k = 0; k < 3; ++k)
+                    b->c[k] = p[k] + (int32_t)(rng(&seed) % (2u * (uint32_t)lim + 1u)) - lim;
+                for (int k = 0; k < 3; ++k)
+                    b->c[k] = b->c[k] > QIBL_HEMI_COORD_MAX ? QIBL_HEMI_COORD_MAX : b->c[k] < -QIBL_HEMI_COORD_MAX ? -QIBL_HEMI_COORD_MAX : b->c[k];
+                b->r = (int32_t)(rng(&seed) % ((uint32_t)lim + 1u));
+                const uint32_t odd = (uint32_t)(rng(&seed) % 50u);
+                if (odd == 0u)
+                    b->r = -1; /* empty */
+                else if (odd == 1u)
+                    b->c[(int)(rng(&seed) % 3u)] = rng(&seed) & 1u ? 0x7FFFFFFF : -0x7FFFFFFF - 1; /* not fitted */
+            }
+        const uint32_t kq = round % 10 == 0 ? 0u : 1u + (uint32_t)(rng(&seed) % 1023u);
+        uint8_t out[NG + 1];
+        out[NG] = 0xA5u; /* guard */
+        assert_int_equal(qibl_hemi_bound_cull(&fr, nb, fb, NG, kq, out), QIBL_OK);
+        assert_int_equal(out[NG], 0xA5u);
+        for (int g = 0; g < NG; ++g) {
+            const int in = qibl_hemi_bound_near(&fr, &nb[g], kq);
+            const int want = qibl_hemi_bound_above(&fr, in ? &nb[g] : &fb[g]) ? (in ? 2 : 1) : 0;
+            assert_int_equal(out[g], want);
+            ++seen[want];
+        }
+    }
+    assert_true(seen[0] > 1000 && seen[1] > 1000 && seen[2] > 1000);
+    qibl_hemi_frame_t fr;
+    const qibl_q16_t o[3] = {0, 0, 0};
+    const int32_t up[3] = {0, 0, 1};
+    assert_int_equal(qibl_hemi_frame_init(&fr, o, up), QIBL_OK);
+    const qibl_hemi_bound_t b = {{0, 0, 5}, 1};
+    uint8_t out[1] = {7};
+    assert_int_equal(qibl_hemi_bound_cull(NULL, &b, &b, 1, 256u, out), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_hemi_bound_cull(&fr, NULL, &b, 1, 256u, out), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_hemi_bound_cull(&fr, &b, NULL, 1, 256u, out), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_hemi_bound_cull(&fr, &b, &b, 1, 256u, NULL), QIBL_E_NULL_POINTER);
+    assert_int_equal(out[0], 7); /* untouched */
+    assert_int_equal(qibl_hemi_bound_cull(&fr, NULL, NULL, 0, 256u, NULL), QIBL_OK);
+    assert_int_equal(qibl_hemi_bound_cull(&fr, &b, &b, 1, 256u * 8u, out), QIBL_OK);
+    assert_int_equal(out[0], 2); /* 5 < 8 r: near, and above */
+}
+
 /* Group bounds: every vertex inside, the radius tight to one LSB, the named errors; and the
  * culling test sound against the rasterizer: whenever a group is reported at or below a receiver's
  * tangent plane, rasterizing its triangles after the transform culls every one (the mask stays
@@ -610,6 +676,24 @@ static void test_raster_every_isa(void **state)
                         tri[t][0] = g, tri[t][1] = g + 1u + (uint32_t)(t & 1u), tri[t][2] = g + 2u - (uint32_t)(t & 1u);
                 }
                 raster_both(f, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])tri, NT);
+            }
+            drop(f);
+        }
+        /* edge normals whose float32 cell estimate (fl(num F) / fl(2 m), truncated) is one off (found
+         * by search): one above at F = 128, one below at F = 126 (num F inexact in float32); only
+         * the lanes' exact correction step gives the twin's cells */
+        for (int fc = 0; fc < 2; ++fc) {
+            static const int32_t abs_[2][6][6] = {
+                {{-493, -188, -223, -358, 8, 403}, {511, 280, 299, -374, 333, -304}, {351, 503, -253, -383, 224, 98},
+                 {-267, -401, 495, -371, -472, -439}, {-430, -474, -343, 69, 299, -400}, {-308, 24, 315, -453, 76, -405}},
+                {{142, 0, -497, 402, 417, -65}, {443, -182, -174, -232, -419, 434}, {478, -75, 302, 239, -468, -95},
+                 {-456, 419, 259, -507, -101, 153}, {130, -359, 378, -454, -359, -279}, {492, -95, -32, 369, 354, 273}}};
+            const int32_t(*ab)[6] = abs_[fc];
+            fixture *f = make(32, fc == 0 ? 128 : 126);
+            for (size_t r = 0; r < 6; ++r) {
+                const int32_t v[4][3] = {{ab[r][0], ab[r][1], ab[r][2]}, {ab[r][3], ab[r][4], ab[r][5]}, {0, 0, 300}, {-5, 7, 200}};
+                const uint32_t tri[4][3] = {{0, 1, 2}, {1, 0, 2}, {0, 1, 3}, {1, 0, 3}};
+                raster_both(f, v, 4, tri, 4);
             }
             drop(f);
         }
@@ -1214,6 +1298,7 @@ int main(void)
         cmocka_unit_test(test_raster_every_isa),
         cmocka_unit_test(test_group_bounds),
         cmocka_unit_test(test_bound_near),
+        cmocka_unit_test(test_bound_cull),
         cmocka_unit_test(test_winding_and_fusion),
         cmocka_unit_test(test_degenerate),
         cmocka_unit_test(test_sliver),

@@ -12,8 +12,10 @@
 
 #if QIBL_USE_HEMI
 
-/* the setup and look-ups in 8-wide lanes (x86 AVX2, below); elsewhere the scalar code, same bits */
+/* the setup and look-ups in 8-wide lanes (x86 AVX2, below) or 4-wide lanes (x86 SSE2, below);
+ * elsewhere the scalar code; the same bits everywhere */
 #define HEMI_LANES (QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2)
+#define HEMI_LANES4 (QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2)
 
 #define NC QIBL_HEMI_COEFFS
 
@@ -362,35 +364,44 @@ qibl_status_t qibl_hemi_bound_fit(const qibl_q16_t (*pos)[3], uint32_t nv, const
     return QIBL_OK;
 }
 
-int qibl_hemi_bound_above(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b)
+/* |u| rounded up for the tangent plane's normal u: 2^30 + 256 covers the normaliser's few LSB;
+ * otherwise the exact root + 1 */
+static uint32_t normal_len_up(const int32_t *u)
 {
-    if (f == 0 || b == 0 || b->r < 0)
-        return 0;
-    if (!coord_ok(b->c[0]) || !coord_ok(b->c[1]) || !coord_ok(b->c[2])) /* not a qibl_hemi_bound_fit bound: */
-        return 1;                                                        /* kept, the safe side */
-    const int32_t *u = f->axis[2];
-    /* |u| rounded up: 2^30 + 256 covers the normaliser's few LSB; otherwise the exact root + 1 */
     const uint64_t u2 = (uint64_t)qibl_mul_s32_s64(u[0], u[0]) + (uint64_t)qibl_mul_s32_s64(u[1], u[1]) +
                         (uint64_t)qibl_mul_s32_s64(u[2], u[2]);
     const uint32_t nb = (1u << 30) + 256u;
-    uint32_t ul = nb;
-    if (u2 > qibl_mul_u32_u64(nb, nb)) {
-        uint64_t rem;
-        ul = qibl_isqrt_u64(u2, &rem) + 1u;
-    }
+    if (u2 <= qibl_mul_u32_u64(nb, nb))
+        return nb;
+    uint64_t rem;
+    return qibl_isqrt_u64(u2, &rem) + 1u;
+}
+
+/* qibl_hemi_bound_above for a non-empty b with |u| rounded up given (ul) */
+static int above_ul(const qibl_hemi_frame_t *f, uint32_t ul, const qibl_hemi_bound_t *b)
+{
+    if (!coord_ok(b->c[0]) || !coord_ok(b->c[1]) || !coord_ok(b->c[2])) /* not a qibl_hemi_bound_fit bound: */
+        return 1;                                                        /* kept, the safe side */
     /* s = u . (c - p): |c - p| < 2^23, |u_k| <= 2^30 + 256: |s| < 3 2^53; r ul < 2^24 2^31 */
+    const int32_t *u = f->axis[2];
     int64_t s = 0;
     for (int k = 0; k < 3; ++k)
         s += qibl_mul_s32_s64(u[k], b->c[k] - f->p[k]);
     return s + (int64_t)qibl_mul_u32_u64((uint32_t)b->r, ul) > 0 ? 1 : 0;
 }
 
-/* ---- rasterization --------------------------------------------------------------------------- */
-
-int qibl_hemi_bound_near(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b, uint32_t k_q8)
+int qibl_hemi_bound_above(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b)
 {
-    if (f == 0 || b == 0 || b->r < 0 || k_q8 == 0u)
+    if (f == 0 || b == 0 || b->r < 0)
         return 0;
+    if (!coord_ok(b->c[0]) || !coord_ok(b->c[1]) || !coord_ok(b->c[2]))
+        return 1;
+    return above_ul(f, normal_len_up(f->axis[2]), b);
+}
+
+/* qibl_hemi_bound_near for a non-empty b and k_q8 != 0 */
+static int near_k(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b, uint32_t k_q8)
+{
     if (!coord_ok(b->c[0]) || !coord_ok(b->c[1]) || !coord_ok(b->c[2])) /* not a qibl_hemi_bound_fit bound: */
         return 1;                                                        /* refine, the safe side */
     /* |c - p| <= 2^23 per axis (both within QIBL_HEMI_COORD_MAX): d2 < 3 2^46, d2 2^16 < 2^64 */
@@ -404,6 +415,29 @@ int qibl_hemi_bound_near(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b,
         return 1;
     const uint32_t k32 = (uint32_t)kr;
     return (d2 << 16) < qibl_mul_u32_u64(k32, k32) ? 1 : 0;
+}
+
+/* ---- rasterization --------------------------------------------------------------------------- */
+
+int qibl_hemi_bound_near(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b, uint32_t k_q8)
+{
+    if (f == 0 || b == 0 || b->r < 0 || k_q8 == 0u)
+        return 0;
+    return near_k(f, b, k_q8);
+}
+
+qibl_status_t qibl_hemi_bound_cull(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *near, const qibl_hemi_bound_t *far,
+                                   uint32_t n, uint32_t k_q8, uint8_t *out)
+{
+    if (f == 0 || (n != 0u && (near == 0 || far == 0 || out == 0)))
+        return QIBL_E_NULL_POINTER;
+    const uint32_t ul = normal_len_up(f->axis[2]); /* once per receiver, not per group */
+    for (uint32_t c = 0; c < n; ++c) {
+        const int in = k_q8 != 0u && near[c].r >= 0 && near_k(f, &near[c], k_q8);
+        const qibl_hemi_bound_t *b = in ? &near[c] : &far[c];
+        out[c] = (uint8_t)(b->r >= 0 && above_ul(f, ul, b) ? (in ? 2u : 1u) : 0u);
+    }
+    return QIBL_OK;
 }
 
 qibl_status_t qibl_hemi_clear(const qibl_hemi_t *h, uint32_t *mask)
@@ -459,7 +493,7 @@ static void and3(uint32_t *restrict mask, const edge *ea, const edge *eb, const 
  * in int32, with no 64-bit product, on every port and in every lane width. The masks are those of
  * the quantised triangle: the same bits from the scalar code below and the x86 lanes. */
 
-#if !HEMI_LANES
+#if !HEMI_LANES && !HEMI_LANES4
 /* q = round_half_up(v / 2^s), s the fewest bits with max |v_k| >> s < 512 (|v| < 2^26: s <= 17) */
 static void quantise(const int32_t *v, int32_t q[3])
 {
@@ -535,7 +569,7 @@ static int tri_exact(const int32_t *a, const int32_t *b, const int32_t *c, int32
     return TRI_DRAW;
 }
 
-#if !HEMI_LANES
+#if !HEMI_LANES && !HEMI_LANES4
 static int tri_setup(const int32_t *a, const int32_t *b, const int32_t *c, int32_t e[3][3])
 {
     if (a[2] <= 0 && b[2] <= 0 && c[2] <= 0)
@@ -556,6 +590,7 @@ static int tri_setup(const int32_t *a, const int32_t *b, const int32_t *c, int32
 }
 #endif
 
+#if !HEMI_LANES4 /* the SSE2 copy looks up in lanes only */
 /* floor(num / den) for den >= 1 and a quotient below 256 (num < 256 den): 8 shift-subtract steps
  * where there is no divide instruction, so no library call is emitted. */
 static uint32_t small_div(uint32_t num, uint32_t den)
@@ -605,6 +640,7 @@ static edge lookup(const qibl_hemi_t *h, const int32_t e[3])
     r.m = h->lut + idx * h->words;
     return r;
 }
+#endif
 
 #if HEMI_LANES
 /* ---- x86 AVX2: the same setup and look-ups, eight triangles at a time -----------------------
@@ -682,7 +718,9 @@ static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t
     const uint32_t words = h->words;
     const int32_t F = h->face;
     const __m256i vF = _mm256_set1_epi32(F), vF1 = _mm256_set1_epi32(F - 1), vFF = _mm256_set1_epi32(F * F);
-    const __m256i zero = _mm256_setzero_si256(), lane3 = _mm256_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21);
+    const __m256i zero = _mm256_setzero_si256();
+    const __m256i pa = _mm256_setr_epi32(0, 3, 6, 1, 4, 7, 2, 5), pb = _mm256_setr_epi32(1, 4, 7, 2, 5, 0, 3, 6),
+                  pc = _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7);
     const int *vb = (const int *)(const void *)v; /* no dereference: v may be NULL when ntri = 0 */
     const int gather_ok = nv < (1u << 29);
     uint32_t t = 0;
@@ -691,11 +729,18 @@ static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t
         uint32_t k = 0;
         if (gather_ok) /* (1) */
             while (t + HEMI_VL <= ntri && k + HEMI_VL <= HEMI_BATCH) {
-                const int *ix = (const int *)(const void *)&tri[t][0];
+                /* the 24 indices of eight triangles: three loads, deinterleaved by blends and a
+                 * permute each (cheaper than three strided gathers) */
+                const __m256i *ix = (const __m256i *)(const void *)&tri[t][0];
+                const __m256i L0 = _mm256_loadu_si256(ix), L1 = _mm256_loadu_si256(ix + 1), L2 = _mm256_loadu_si256(ix + 2);
+                const __m256i iw[3] = {
+                    _mm256_permutevar8x32_epi32(_mm256_blend_epi32(_mm256_blend_epi32(L0, L1, 0x92), L2, 0x24), pa),
+                    _mm256_permutevar8x32_epi32(_mm256_blend_epi32(_mm256_blend_epi32(L0, L1, 0x24), L2, 0x49), pb),
+                    _mm256_permutevar8x32_epi32(_mm256_blend_epi32(_mm256_blend_epi32(L0, L1, 0x49), L2, 0x92), pc)};
                 uint32_t I[3][HEMI_VL];
                 __m256i above = zero;
                 for (int w = 0; w < 3; ++w) {
-                    const __m256i i = _mm256_i32gather_epi32(ix + w, lane3, 4);
+                    const __m256i i = iw[w];
                     _mm256_storeu_si256((__m256i *)(void *)I[w], i);
                     const __m256i i3 = _mm256_add_epi32(i, _mm256_add_epi32(i, i));
                     above = _mm256_or_si256(above, _mm256_cmpgt_epi32(_mm256_i32gather_epi32(vb + 2, i3, 4), zero));
@@ -771,6 +816,210 @@ static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t
                 }
             }
         }
+        if (words == 32u) { /* (3), the 32 x 32 mask in four registers across the batch */
+            __m256i m0 = _mm256_loadu_si256((const __m256i *)(const void *)mask),
+                    m1 = _mm256_loadu_si256((const __m256i *)(const void *)(mask + 8)),
+                    m2 = _mm256_loadu_si256((const __m256i *)(const void *)(mask + 16)),
+                    m3 = _mm256_loadu_si256((const __m256i *)(const void *)(mask + 24));
+            for (uint32_t j = 0; j < k; ++j) {
+                if (skip[j]) {
+                    ++*nt;
+                    continue;
+                }
+                const __m256i *a = (const __m256i *)(const void *)(h->lut + (size_t)li[0][j] * 32u),
+                              *b = (const __m256i *)(const void *)(h->lut + (size_t)li[1][j] * 32u),
+                              *c = (const __m256i *)(const void *)(h->lut + (size_t)li[2][j] * 32u);
+                const __m256i xa = _mm256_set1_epi32((int)lx[0][j]), xb = _mm256_set1_epi32((int)lx[1][j]),
+                              xc = _mm256_set1_epi32((int)lx[2][j]);
+#define AND3W(m, w)                                                                                           \
+    m = _mm256_or_si256(m, _mm256_and_si256(_mm256_and_si256(_mm256_xor_si256(_mm256_loadu_si256(a + w), xa),     \
+                                                             _mm256_xor_si256(_mm256_loadu_si256(b + w), xb)), \
+                                            _mm256_xor_si256(_mm256_loadu_si256(c + w), xc)))
+                AND3W(m0, 0);
+                AND3W(m1, 1);
+                AND3W(m2, 2);
+                AND3W(m3, 3);
+#undef AND3W
+                ++*nr;
+            }
+            _mm256_storeu_si256((__m256i *)(void *)mask, m0);
+            _mm256_storeu_si256((__m256i *)(void *)(mask + 8), m1);
+            _mm256_storeu_si256((__m256i *)(void *)(mask + 16), m2);
+            _mm256_storeu_si256((__m256i *)(void *)(mask + 24), m3);
+            continue;
+        }
+        for (uint32_t j = 0; j < k; ++j) { /* (3) */
+            if (skip[j]) {
+                ++*nt;
+                continue;
+            }
+            edge ed[3];
+            for (int i = 0; i < 3; ++i)
+                ed[i].m = h->lut + (size_t)li[i][j] * words, ed[i].x = lx[i][j];
+            and3(mask, &ed[0], &ed[1], &ed[2], words);
+            ++*nr;
+        }
+    }
+}
+#endif
+
+#if HEMI_LANES4
+/* ---- x86 SSE2: the same setup and look-ups, four triangles at a time --------------------------
+ *
+ * The AVX2 copy's lanes with the instructions SSE2 has: abs, max, min and blends from compares and
+ * masks, the 32-bit products (|q| <= 512 products, num F < 2^27, q D < 2^28) from two pmuludq, the
+ * quantisation's per-lane shift as a product (lane4_quantise); the horizon cull scalar (no
+ * gathers); the cell's divide in float32 lanes corrected by one exact int32 step, as there: the
+ * scalar code's cells. */
+#include <emmintrin.h>
+#define HEMI_VL4 4
+#define HEMI_BATCH4 64u
+
+static __m128i lane4_sel(__m128i m, __m128i a, __m128i b)
+{
+    return _mm_or_si128(_mm_and_si128(m, a), _mm_andnot_si128(m, b));
+}
+
+/* the low 32 bits of each lane's product */
+static __m128i lane4_mul(__m128i a, __m128i b)
+{
+    const __m128i p02 = _mm_mul_epu32(a, b), p13 = _mm_mul_epu32(_mm_srli_epi64(a, 32), _mm_srli_epi64(b, 32));
+    return _mm_unpacklo_epi32(_mm_shuffle_epi32(p02, _MM_SHUFFLE(0, 0, 2, 0)), _mm_shuffle_epi32(p13, _MM_SHUFFLE(0, 0, 2, 0)));
+}
+
+static __m128i lane4_abs(__m128i x)
+{
+    const __m128i s = _mm_srai_epi32(x, 31);
+    return _mm_sub_epi32(_mm_xor_si128(x, s), s);
+}
+
+static __m128i lane4_max(__m128i a, __m128i b)
+{
+    return lane4_sel(_mm_cmpgt_epi32(a, b), a, b);
+}
+
+static __m128i lane4_cell(__m128i num, __m128i d, __m128i vF, __m128i vF1)
+{
+    const __m128i nF = lane4_mul(num, vF); /* < 2^27 */
+    __m128i q = _mm_cvttps_epi32(_mm_div_ps(_mm_cvtepi32_ps(nF), _mm_cvtepi32_ps(d)));
+    const __m128i r = _mm_sub_epi32(nF, lane4_mul(q, d));
+    q = _mm_sub_epi32(q, _mm_cmpgt_epi32(r, _mm_sub_epi32(d, _mm_set1_epi32(1))));
+    q = _mm_add_epi32(q, _mm_cmpgt_epi32(_mm_setzero_si128(), r));
+    return lane4_sel(_mm_cmpgt_epi32(q, vF1), vF1, q);
+}
+
+/* LUT entry numbers and complement words of four edge normals (none zero) */
+static void lane4_lookup(__m128i e0, __m128i e1, __m128i e2, __m128i vF, __m128i vF1, __m128i vFF, uint32_t *idx,
+                         uint32_t *cx)
+{
+    const __m128i ax = lane4_abs(e0), ay = lane4_abs(e1), az = lane4_abs(e2);
+    const __m128i ones = _mm_set1_epi32(-1);
+    const __m128i isx = _mm_xor_si128(_mm_or_si128(_mm_cmpgt_epi32(ay, ax), _mm_cmpgt_epi32(az, ax)), ones);
+    const __m128i yge = _mm_xor_si128(_mm_cmpgt_epi32(az, ay), ones);
+    const __m128i isy = _mm_andnot_si128(isx, yge), isz = _mm_xor_si128(_mm_or_si128(isx, yge), ones);
+    const __m128i m = lane4_max(lane4_max(ax, ay), az);
+    const __m128i ng = _mm_srai_epi32(lane4_sel(isx, e0, lane4_sel(isy, e1, e2)), 31);
+    const __m128i u = _mm_sub_epi32(_mm_xor_si128(lane4_sel(isy, e0, e1), ng), ng);
+    const __m128i v = _mm_sub_epi32(_mm_xor_si128(lane4_sel(isz, e0, e2), ng), ng);
+    const __m128i d = _mm_add_epi32(m, m);
+    const __m128i cu = lane4_cell(_mm_add_epi32(m, u), d, vF, vF1), cv = lane4_cell(_mm_add_epi32(m, v), d, vF, vF1);
+    const __m128i base = _mm_or_si128(_mm_and_si128(isy, vFF), _mm_and_si128(isz, _mm_add_epi32(vFF, vFF)));
+    _mm_storeu_si128((__m128i *)(void *)idx, _mm_add_epi32(base, _mm_add_epi32(lane4_mul(cu, vF), cv)));
+    _mm_storeu_si128((__m128i *)(void *)cx, ng);
+}
+
+/* q = round_half_up(v / 2^s) in lanes, s from the float exponent of max|v| >> 9 (exact below
+ * 2^24), as the scalar quantise; the per-lane shift as a product by 2^(17 - s) (|v + half| <
+ * 2^(9 + s), so the product stays below 2^26) and one arithmetic shift by 17 */
+static void lane4_quantise(__m128i *x, __m128i *y, __m128i *z)
+{
+    const __m128i m = lane4_max(lane4_max(lane4_abs(*x), lane4_abs(*y)), lane4_abs(*z));
+    const __m128i fb = _mm_castps_si128(_mm_cvtepi32_ps(_mm_srli_epi32(m, 9)));
+    const __m128i e = _mm_srli_epi32(fb, 23); /* 0 for 0, else 127 + floor(log2) */
+    __m128i s = _mm_sub_epi32(e, _mm_set1_epi32(126));
+    s = _mm_and_si128(s, _mm_cmpgt_epi32(s, _mm_setzero_si128())); /* max(s, 0) */
+    /* 2^(17 - s) and 2^s / 2 from float exponents (s <= 17) */
+    const __m128i p = _mm_cvttps_epi32(_mm_castsi128_ps(_mm_slli_epi32(_mm_sub_epi32(_mm_set1_epi32(127 + 17), s), 23)));
+    const __m128i half = _mm_srli_epi32(_mm_cvttps_epi32(_mm_castsi128_ps(_mm_slli_epi32(_mm_add_epi32(s, _mm_set1_epi32(127)), 23))), 1);
+    *x = _mm_srai_epi32(lane4_mul(_mm_add_epi32(*x, half), p), 17);
+    *y = _mm_srai_epi32(lane4_mul(_mm_add_epi32(*y, half), p), 17);
+    *z = _mm_srai_epi32(lane4_mul(_mm_add_epi32(*z, half), p), 17);
+}
+
+/* The triangles in batches: (1) the horizon cull (scalar), the kept triangles' vertices copied
+ * in order; (2) quantisation, edge normals, orientation and look-ups in lanes (a quantised det of
+ * 0: the exact scalar setup); (3) the masks. Same masks and counts as the scalar loop. */
+static void raster_batches4(const qibl_hemi_t *h, const int32_t (*v)[3], const uint32_t (*tri)[3], uint32_t ntri,
+                            uint32_t *mask, uint32_t *nr, uint32_t *nb, uint32_t *nt)
+{
+    int32_t P[3][3][HEMI_BATCH4 + HEMI_VL4]; /* vertex, component, triangle */
+    uint32_t keep[HEMI_BATCH4 + HEMI_VL4], li[3][HEMI_BATCH4 + HEMI_VL4], lx[3][HEMI_BATCH4 + HEMI_VL4];
+    uint32_t skip[HEMI_BATCH4 + HEMI_VL4];
+    const uint32_t words = h->words;
+    const int32_t F = h->face;
+    const __m128i vF = _mm_set1_epi32(F), vF1 = _mm_set1_epi32(F - 1), vFF = _mm_set1_epi32(F * F);
+    const __m128i zero = _mm_setzero_si128(), one = _mm_set1_epi32(1);
+    uint32_t t = 0;
+    while (t < ntri) {
+        const uint32_t t0 = t;
+        uint32_t k = 0;
+        for (; t < ntri && k < HEMI_BATCH4; ++t) { /* (1) */
+            const int32_t *a = v[tri[t][0]], *b = v[tri[t][1]], *c = v[tri[t][2]];
+            for (int w = 0; w < 3; ++w)
+                P[0][w][k] = a[w], P[1][w][k] = b[w], P[2][w][k] = c[w];
+            keep[k] = t;
+            k += (uint32_t)((a[2] > 0) | (b[2] > 0) | (c[2] > 0));
+        }
+        *nb += (t - t0) - k;
+        if (k == 0u)
+            continue;
+        for (uint32_t j = k; j % HEMI_VL4 != 0u; ++j) /* pad with the first kept (ignored) */
+            for (int i = 0; i < 3; ++i)
+                P[i][0][j] = P[i][0][0], P[i][1][j] = P[i][1][0], P[i][2][j] = P[i][2][0];
+        for (uint32_t j = 0; j < k; j += HEMI_VL4) { /* (2) */
+#define LD(i, w) _mm_loadu_si128((const __m128i *)(const void *)(P[i][w] + j))
+#define MUL(a, b) lane4_mul(a, b)
+#define SUB(a, b) _mm_sub_epi32(a, b)
+            __m128i ax = LD(0, 0), ay = LD(0, 1), az = LD(0, 2), bx = LD(1, 0), by = LD(1, 1), bz = LD(1, 2);
+            __m128i cx = LD(2, 0), cy = LD(2, 1), cz = LD(2, 2);
+            lane4_quantise(&ax, &ay, &az), lane4_quantise(&bx, &by, &bz), lane4_quantise(&cx, &cy, &cz);
+            __m128i e00 = SUB(MUL(ay, bz), MUL(az, by)), e01 = SUB(MUL(az, bx), MUL(ax, bz)), e02 = SUB(MUL(ax, by), MUL(ay, bx));
+            __m128i e10 = SUB(MUL(by, cz), MUL(bz, cy)), e11 = SUB(MUL(bz, cx), MUL(bx, cz)), e12 = SUB(MUL(bx, cy), MUL(by, cx));
+            __m128i e20 = SUB(MUL(cy, az), MUL(cz, ay)), e21 = SUB(MUL(cz, ax), MUL(cx, az)), e22 = SUB(MUL(cx, ay), MUL(cy, ax));
+            const __m128i d = _mm_add_epi32(_mm_add_epi32(MUL(e00, cx), MUL(e01, cy)), MUL(e02, cz));
+#undef LD
+#undef MUL
+#undef SUB
+            const __m128i thr = _mm_cmpeq_epi32(d, zero);
+            const __m128i sg = _mm_srai_epi32(d, 31); /* orient: every normal negated when det < 0 */
+            /* a plane through the receiver gets the normal (1, 0, 0) so that its look-up is harmless */
+#define ORIENT(e, r) e = lane4_sel(thr, r, _mm_sub_epi32(_mm_xor_si128(e, sg), sg))
+            ORIENT(e00, one), ORIENT(e01, zero), ORIENT(e02, zero);
+            ORIENT(e10, one), ORIENT(e11, zero), ORIENT(e12, zero);
+            ORIENT(e20, one), ORIENT(e21, zero), ORIENT(e22, zero);
+#undef ORIENT
+            lane4_lookup(e00, e01, e02, vF, vF1, vFF, li[0] + j, lx[0] + j);
+            lane4_lookup(e10, e11, e12, vF, vF1, vFF, li[1] + j, lx[1] + j);
+            lane4_lookup(e20, e21, e22, vF, vF1, vFF, li[2] + j, lx[2] + j);
+            const uint32_t tm = (uint32_t)_mm_movemask_ps(_mm_castsi128_ps(thr));
+            for (uint32_t l = 0; l < HEMI_VL4; ++l)
+                skip[j + l] = 0u;
+            for (uint32_t l = 0; l < HEMI_VL4; ++l) {
+                if (!(tm >> l & 1u) || j + l >= k)
+                    continue;
+                const uint32_t *q = tri[keep[j + l]]; /* the exact setup, as the scalar code */
+                int32_t e[3][3];
+                if (tri_exact(v[q[0]], v[q[1]], v[q[2]], e) != TRI_DRAW) {
+                    skip[j + l] = 1u;
+                    continue;
+                }
+                for (int i = 0; i < 3; ++i) {
+                    lane4_lookup(_mm_set1_epi32(e[i][0]), _mm_set1_epi32(e[i][1]), _mm_set1_epi32(e[i][2]), vF, vF1, vFF,
+                                 li[i] + HEMI_BATCH4, lx[i] + HEMI_BATCH4); /* the spare slots past the batch */
+                    li[i][j + l] = li[i][HEMI_BATCH4], lx[i][j + l] = lx[i][HEMI_BATCH4];
+                }
+            }
+        }
         for (uint32_t j = 0; j < k; ++j) { /* (3) */
             if (skip[j]) {
                 ++*nt;
@@ -807,6 +1056,8 @@ qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint
     uint32_t nr = 0, nb = 0, nt = 0;
 #if HEMI_LANES
     raster_batches(h, v, nv, tri, ntri, mask, &nr, &nb, &nt);
+#elif HEMI_LANES4
+    raster_batches4(h, v, tri, ntri, mask, &nr, &nb, &nt);
 #else
     const uint32_t words = h->words;
     for (uint32_t t = 0; t < ntri; ++t) {

@@ -120,6 +120,9 @@ static double g_fps_median; /* evaluate's frame rate from the median of the repe
 typedef struct groups {
     qibl_hemi_bound_t nearb[NCELL], farb[NCELL];
     uint32_t nearv[NCELL][(CLOTH_STEP + 1) * (CLOTH_STEP + 1)], farv[NCELL][4]; /* full-mesh vertex ids */
+    /* this frame's positions gathered once (not per receiver): the coarse vertices, then each
+     * cell's full-resolution block, each transformed straight from here */
+    qibl_q16_t cpos[CLOTH_CG * CLOTH_CG][3], npos[NCELL][(CLOTH_STEP + 1) * (CLOTH_STEP + 1)][3];
 } groups;
 
 static void groups_make(const qtool_bench_cloth *s, const qibl_q16_t (*pos)[3], groups *g)
@@ -135,19 +138,26 @@ static void groups_make(const qtool_bench_cloth *s, const qibl_q16_t (*pos)[3], 
             g->farv[c][2] = g->nearv[c][CLOTH_STEP * (CLOTH_STEP + 1)], g->farv[c][3] = g->nearv[c][(CLOTH_STEP + 1) * (CLOTH_STEP + 1) - 1];
             QTOOL_BENCH_CALL(qibl_hemi_bound_fit(pos, (uint32_t)s->nv, g->nearv[c], (CLOTH_STEP + 1) * (CLOTH_STEP + 1), &g->nearb[c]));
             QTOOL_BENCH_CALL(qibl_hemi_bound_fit(pos, (uint32_t)s->nv, g->farv[c], 4, &g->farb[c]));
+            for (int k = 0; k < (CLOTH_STEP + 1) * (CLOTH_STEP + 1); ++k)
+                for (int j = 0; j < 3; ++j)
+                    g->npos[c][k][j] = pos[g->nearv[c][k]][j];
         }
+    for (int c = 0; c < s->ncv; ++c)
+        for (int j = 0; j < 3; ++j)
+            g->cpos[c][j] = pos[s->cvert[c]][j];
 }
 
 /* One receiver: the coarse vertices first (transformed once, every coarse triangle indexes them),
- * then the vertices of each kept full-resolution group; one triangle list (the kept coarse
- * cells' 2 triangles, each kept group's fixed template at its offset), one transform, one raster
- * call. Returns the blockers. */
+ * then the vertices of each kept full-resolution group (each transformed from the frame's gathered
+ * block); one triangle list (the kept coarse cells' 2 triangles, each kept group's fixed template
+ * at its offset), one raster call. Returns the blockers. */
 enum { NEARV = (CLOTH_STEP + 1) * (CLOTH_STEP + 1), NEART = 2 * CLOTH_STEP * CLOTH_STEP };
 /* one receiver's lists: one per thread */
 typedef struct gscratch {
-    qibl_q16_t gp[CLOTH_CG * CLOTH_CG + NCELL * NEARV][3];
     int32_t loc[CLOTH_CG * CLOTH_CG + NCELL * NEARV][3];
     uint32_t tl[NCELL * NEART][3];
+    uint32_t kept[NCELL]; /* the refined cells kept, in list order */
+    uint8_t cull[NCELL];  /* qibl_hemi_bound_cull's answers */
 } gscratch;
 static uint32_t tn[NEART][3]; /* a cell's full-resolution triangles (groups_template, before any thread) */
 
@@ -166,43 +176,51 @@ static void groups_template(void)
     }
 }
 
-static uint32_t groups_mask(const qibl_hemi_t *h, const qtool_bench_cloth *s, const groups *g, const qibl_q16_t (*pos)[3],
+static uint32_t groups_mask(const qibl_hemi_t *h, const qtool_bench_cloth *s, const groups *g,
                             const qibl_hemi_frame_t *fr, int v, uint32_t *mask, qibl_hemi_stats_t *st, timing *tm, gscratch *sc)
 {
     const double t0 = tm ? qtool_bench_cpu_now() : 0;
-    qibl_q16_t(*gp)[3] = sc->gp;
     int32_t(*loc)[3] = sc->loc;
     uint32_t(*tl)[3] = sc->tl;
     groups_template();
     int c0, c1, r0, r1;
     qtool_bench_cloth_window(v, s->near, &c0, &c1, &r0, &r1);
     const uint32_t ncv = (uint32_t)s->ncv, kq8 = (uint32_t)(g_lod * 256.0 + 0.5); /* Q8.8 */
-    for (uint32_t c = 0; c < ncv; ++c)
-        gp[c][0] = pos[s->cvert[c]][0], gp[c][1] = pos[s->cvert[c]][1], gp[c][2] = pos[s->cvert[c]][2];
-    uint32_t nl = ncv, nt = 0;
+    uint32_t nl = ncv, nt = 0, nk = 0;
+    /* no static window: every cell's two tests in one call (refined by distance, in 3D) */
+    if (s->near == 0)
+        QTOOL_BENCH_CALL(qibl_hemi_bound_cull(fr, g->nearb, g->farb, NCELL, kq8, sc->cull));
     for (int cj = 0; cj + 1 < CLOTH_CG; ++cj)
         for (int ci = 0; ci + 1 < CLOTH_CG; ++ci) {
             const int c = cj * (CLOTH_CG - 1) + ci;
-            int in = s->near > 0 && ci >= c0 && ci <= c1 && cj >= r0 && cj <= r1;
-            if (!in && kq8 > 0u) /* a cell that subtends a wide angle from the receiver, in 3D */
-                in = qibl_hemi_bound_near(fr, &g->nearb[c], kq8);
-            if (!qibl_hemi_bound_above(fr, in ? &g->nearb[c] : &g->farb[c]))
-                continue;
+            int in;
+            if (s->near == 0) {
+                if (sc->cull[c] == 0u)
+                    continue;
+                in = sc->cull[c] == 2u;
+            } else {
+                in = ci >= c0 && ci <= c1 && cj >= r0 && cj <= r1;
+                if (!in && kq8 > 0u) /* a cell that subtends a wide angle from the receiver, in 3D */
+                    in = qibl_hemi_bound_near(fr, &g->nearb[c], kq8);
+                if (!qibl_hemi_bound_above(fr, in ? &g->nearb[c] : &g->farb[c]))
+                    continue;
+            }
             if (!in) {
                 for (int q = 0; q < 2; ++q, ++nt)
                     tl[nt][0] = s->ctri[2 * c + q][0], tl[nt][1] = s->ctri[2 * c + q][1], tl[nt][2] = s->ctri[2 * c + q][2];
                 continue;
             }
-            for (int k = 0; k < NEARV; ++k) {
-                const uint32_t q = g->nearv[c][k];
-                gp[nl + (uint32_t)k][0] = pos[q][0], gp[nl + (uint32_t)k][1] = pos[q][1], gp[nl + (uint32_t)k][2] = pos[q][2];
-            }
             for (int k = 0; k < NEART; ++k, ++nt)
                 tl[nt][0] = tn[k][0] + nl, tl[nt][1] = tn[k][1] + nl, tl[nt][2] = tn[k][2] + nl;
+            sc->kept[nk++] = (uint32_t)c;
             nl += NEARV;
         }
     const double t1 = tm ? qtool_bench_cpu_now() : 0;
-    QTOOL_BENCH_CALL(qibl_hemi_transform(fr, (const qibl_q16_t(*)[3])gp, nl, loc));
+    /* the same local vertices as one gathered list, transformed block by block from the frame's
+     * gathered positions (the transform is per vertex: same bits) */
+    QTOOL_BENCH_CALL(qibl_hemi_transform(fr, (const qibl_q16_t(*)[3])g->cpos, ncv, loc));
+    for (uint32_t k = 0; k < nk; ++k)
+        QTOOL_BENCH_CALL(qibl_hemi_transform(fr, (const qibl_q16_t(*)[3])g->npos[sc->kept[k]], NEARV, loc + ncv + k * NEARV));
     const double t2 = tm ? qtool_bench_cpu_now() : 0;
     QTOOL_BENCH_CALL(qibl_hemi_clear(h, mask));
     QTOOL_BENCH_CALL(qibl_hemi_raster(h, (const int32_t(*)[3])loc, nl, (const uint32_t(*)[3])tl, nt, mask, st));
@@ -229,7 +247,7 @@ static double groups_frame(const qibl_hemi_t *h, const qtool_bench_cloth *s, con
         qibl_hemi_frame_t fr;
         QTOOL_BENCH_CALL(qibl_hemi_frame_init(&fr, pos[v], nrm[v]));
         const double tb = tm ? qtool_bench_cpu_now() : 0;
-        b += groups_mask(h, s, &g, pos, &fr, v, mask, &st, tm, &sc);
+        b += groups_mask(h, s, &g, &fr, v, mask, &st, tm, &sc);
         const double tc = tm ? qtool_bench_cpu_now() : 0;
         QTOOL_BENCH_CALL(qibl_hemi_transfer(h, mask, vloc[v]));
         const double td = tm ? qtool_bench_cpu_now() : 0;
@@ -249,7 +267,9 @@ static double groups_frame(const qibl_hemi_t *h, const qtool_bench_cloth *s, con
 }
 
 
-/* groups_frame's work with the vertices split into `threads` contiguous parts, one thread each
+/* groups_frame's work with the cloth's grid rows dealt out to `threads` parts in turn, one thread
+ * each (rows, not contiguous halves: the folds are not spread evenly over the grid, and the slowest
+ * part is the critical path)
  * (the core is reentrant and state-free: each thread has its own lists and mask). Returns the wall
  * seconds; *crit the critical path in thread CPU time (the bounds plus the slowest part), which a
  * loaded shared machine does not enter. */
@@ -269,12 +289,13 @@ static void mt_part(void *ctx, uint32_t part)
 {
     mtjob *j = ctx;
     const double t0 = qtool_bench_cpu_now();
-    const int v0 = (int)((long)j->s->nv * (long)part / j->parts), v1 = (int)((long)j->s->nv * (long)(part + 1) / j->parts);
     uint32_t mask[QIBL_HEMI_MAX_WORDS];
-    for (int v = v0; v < v1; ++v) {
+    for (int v = 0; v < j->s->nv; ++v) {
+        if ((v / CLOTH_G) % j->parts != (int)part)
+            continue;
         qibl_hemi_frame_t fr;
         QTOOL_BENCH_CALL(qibl_hemi_frame_init(&fr, j->pos[v], j->nrm[v]));
-        groups_mask(j->h, j->s, j->g, j->pos, &fr, v, mask, NULL, NULL, &j->sc[part]);
+        groups_mask(j->h, j->s, j->g, &fr, v, mask, NULL, NULL, &j->sc[part]);
         QTOOL_BENCH_CALL(qibl_hemi_transfer(j->h, mask, j->vloc[v]));
         qibl_q30_t w[25];
         QTOOL_BENCH_CALL(qibl_hemi_to_world(j->h, &fr, j->vloc[v], w));

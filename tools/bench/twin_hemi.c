@@ -76,7 +76,7 @@ static int raster_paths(const qibl_hemi_t *h, const qtool_bench_cloth *s, const 
     /* the kernel set the library picks now (qibl/isa.h: from the CPU, QIBL_ISA restricts it) */
     const qibl_isa_t isa = qibl_isa_active();
     const char *lib = isa == QIBL_ISA_AVX2   ? "AVX2 int32 / float32 lanes (8)"
-                      : isa == QIBL_ISA_SSE2 ? "SSE2 build (integer setup)"
+                      : isa == QIBL_ISA_SSE2 ? "SSE2 int32 / float32 lanes (4)"
                                              : "library, scalar (integer look-ups)";
 #else
     const char *lib = "library (scalar look-ups here)";

@@ -1,6 +1,6 @@
 /*
  * twin/hemi_scalar.c - core/src/hemi.c compiled again as its scalar twin (see hemi_scalar.h): the
- * rasterizer's integer look-ups instead of the x86 double lanes (QIBL_CONFIG_SIMD=0), every
+ * rasterizer's integer setup and look-ups instead of the x86 lanes (QIBL_CONFIG_SIMD=0), every
  * external name renamed, so it links beside the library. Built with the core's flags (Makefile:
  * $(BUILD)/twin).
  */
@@ -14,6 +14,7 @@
 #define qibl_hemi_clip qtool_hemi_clip_scalar
 #define qibl_hemi_bound_fit qtool_hemi_bound_fit_scalar
 #define qibl_hemi_bound_above qtool_hemi_bound_above_scalar
+#define qibl_hemi_bound_cull qtool_hemi_bound_cull_scalar
 #define qibl_hemi_bound_near qtool_hemi_bound_near_scalar
 #define qibl_hemi_raster qtool_hemi_raster_scalar
 #define qibl_hemi_transfer qtool_hemi_transfer_scalar

@@ -194,6 +194,20 @@ int qibl_hemi_bound_above(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b
  * empty or k = 0: 0; a centre beyond QIBL_HEMI_COORD_MAX: 1. */
 int qibl_hemi_bound_near(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *b, uint32_t k_q8);
 
+/* Both tests for n groups of one receiver in one pass (a mesh's coarse groups far[c] and their
+ * full-resolution groups near[c]): out[c] = 2 when qibl_hemi_bound_near(f, &near[c], k_q8) and
+ * qibl_hemi_bound_above(f, &near[c]) (rasterize the full-resolution group), 1 when not near and
+ * qibl_hemi_bound_above(f, &far[c]) (the coarse group), else 0 (neither: culled). k_q8 = 0: no
+ * group is near. The same answers as those calls; the normal's length is rounded up once, not per
+ * group.
+ * Formats: the bounds' centres and radii Q16.16 (qibl_hemi_bound_fit), k_q8 Q8.8; out one byte per
+ * group.
+ * Bound: exact integer tests, as qibl_hemi_bound_near and qibl_hemi_bound_above.
+ * Errors: QIBL_E_NULL_POINTER (f NULL, or near, far or out NULL with n != 0).
+ * On failure: nothing is written. */
+QIBL_NODISCARD qibl_status_t qibl_hemi_bound_cull(const qibl_hemi_frame_t *f, const qibl_hemi_bound_t *near,
+                                                  const qibl_hemi_bound_t *far, uint32_t n, uint32_t k_q8, uint8_t *out);
+
 /* mask &= the disk (clears bits of pixels outside it: complemented table entries set them).
  * Formats: mask u32 bit words. Bound: exact.
  * Errors: QIBL_E_NULL_POINTER (h or mask NULL).

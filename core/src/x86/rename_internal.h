@@ -65,6 +65,7 @@
 
 /* hemi.c */
 #define qibl_hemi_bound_above QIBLI_ISA_NAME(qibl_hemi_bound_above)
+#define qibl_hemi_bound_cull QIBLI_ISA_NAME(qibl_hemi_bound_cull)
 #define qibl_hemi_bound_fit QIBLI_ISA_NAME(qibl_hemi_bound_fit)
 #define qibl_hemi_bound_near QIBLI_ISA_NAME(qibl_hemi_bound_near)
 #define qibl_hemi_clear QIBLI_ISA_NAME(qibl_hemi_clear)
