@@ -11,6 +11,7 @@
 #define _GNU_SOURCE /* sched_setaffinity for the affinity test */
 #include <math.h>
 #include <sched.h>
+#include <sys/stat.h>
 
 #include "cliutil.h"
 
@@ -408,6 +409,15 @@ static void test_tiles_identical(void **state)
     }
     assert_int_equal(run("merge", "-o", at("lt.qibl"), at("lp1"), at("lp0"), NULL), 0);
     file_eq(at("lsq.qibl"), at("lt.qibl"));
+    /* --cache: pass 2 takes pass 1's exact sums instead of baking again; the same bytes */
+    char cache[600];
+    snprintf(cache, sizeof cache, "%s", at("cache"));
+    assert_int_equal(mkdir(cache, 0755), 0);
+    tiles(2, "c", "--cache", cache);
+    assert_true(says(outlog, "wrote ")), assert_true(says(outlog, "cp_1: tile 1/2, rows 3..6"));
+    assert_true(says(outlog, "(sums from the cache)"));
+    assert_int_equal(run("merge", "-o", at("c.qibl"), at("cp_0"), at("cp_1"), NULL), 0);
+    file_eq(at("whole.qibl"), at("c.qibl"));
 }
 
 /* a copy of file a as b, cut to n bytes (n < 0: whole) and byte at flip (if >= 0) changed */

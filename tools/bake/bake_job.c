@@ -23,8 +23,9 @@
 int qtool_bake_opts_check(const qtool_bake_opts *o, char *err, size_t errlen)
 {
     uint32_t nblocks = (uint32_t)((o->ndirs + QTOOL_BAKE_BLOCK - 1) / QTOOL_BAKE_BLOCK);
-    if (!o->ntiles && (o->ranges_out || o->ranges_in || o->part_out))
-        qtool_errf(err, errlen, "--ranges-out, --ranges and --part are the passes of a tile shard: give --tile I/N");
+    if (!o->ntiles && (o->ranges_out || o->ranges_in || o->part_out || o->cache))
+        qtool_errf(err, errlen, "--ranges-out, --ranges, --part and --cache are the passes of a tile shard: give --tile "
+                   "I/N");
     else if (o->ntiles && (o->out || o->sums_out || o->nshards > 1 || o->budget > 0 || o->probe))
         qtool_errf(err, errlen, "--tile writes --ranges-out FILE (pass 1) or --part FILE (pass 2), and qibl merge the "
                    "asset: no -o, --sums, --shard, --budget or --probe with it");

@@ -79,6 +79,7 @@ typedef struct qtool_bake_opts {
     long tile, ntiles;           /* --tile I/N (ntiles 0: not a tile shard), bake/tile.h */
     const char *ranges_out;      /* --ranges-out FILE: pass 1 of a tile */
     const char *ranges_in, *part_out; /* --ranges FILE --part FILE: pass 2 of a tile */
+    const char *cache;           /* --cache DIR: pass 1 keeps the tile's sums there, pass 2 reuses them */
 } qtool_bake_opts;
 
 #define QTOOL_BAKE_OPTS_DEFAULT                                                                         \

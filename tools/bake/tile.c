@@ -242,23 +242,49 @@ int qtool_tile_ranges_write(const qtool_tile_ranges *r, const char *path, char *
 /* ---- the band's maps ----------------------------------------------------------------------------- */
 
 /* The band's coefficient maps (shadowed, k maps; unshadowed, uk maps when uk) as a single bake makes
- * them for these rows. 0, or -1 with err set. */
-static int band_maps(const qtool_bake_opts *o, const qtool_rt_scene *s, uint32_t y0, uint32_t y1, qtool_gen_maps *m,
-                     qtool_gen_maps *mu, char *err, size_t errlen)
+ * them for these rows. With --cache DIR pass 1 also keeps the band's exact sums there and pass 2
+ * takes them from there when they are this bake's (same name, size, k, directions; CRCs good),
+ * else bakes again. 0, or -1 with err set. */
+static int band_maps(const qtool_bake_opts *o, const qtool_rt_scene *s, const qtool_tile_key *key, uint32_t y0,
+                     uint32_t y1, qtool_gen_maps *m, qtool_gen_maps *mu, int *from_cache, FILE *log, char *err,
+                     size_t errlen)
 {
+    *from_cache = 0;
     const qtool_scene_opts *so = &o->scene;
     qtool_proj_method method = o->lsq ? QTOOL_PROJ_LSQ : QTOOL_PROJ_QUADRATURE;
     for (int u = 0; u < (o->uk > 0 ? 2 : 1); ++u) {
         qtool_bake_sums sums;
         uint32_t k = (uint32_t)(u ? o->uk : o->k);
-        if (qtool_bake_run_rows(s, so->w, so->h, y0, y1, (qtool_pano_kind)so->kind, (uint32_t)o->ndirs, k, so->threads,
-                                o->progress, u, &sums) != 0)
+        char cpath[4200], why[1200];
+        int cached = 0;
+        if (o->cache)
+            snprintf(cpath, sizeof cpath, "%s/qibl-tile-%08x-%ld-of-%ld.sums%s", o->cache, key->fp, o->tile, o->ntiles,
+                     u ? ".u" : "");
+        if (o->cache && o->ranges_in) {
+            if (qtool_bake_sums_read(cpath, &sums, why, sizeof why) != 0) {
+                if (!o->quiet)
+                    fprintf(log, "bake: no cached sums (%s): baking the tile again\n", why);
+            } else if (sums.w != so->w || sums.h != y1 - y0 || sums.k != k || sums.ndirs != (uint32_t)o->ndirs ||
+                       sums.kind != (uint32_t)so->kind || sums.nshards != 1) {
+                qtool_bake_sums_free(&sums);
+                if (!o->quiet)
+                    fprintf(log, "bake: %s is not this tile's sums: baking the tile again\n", cpath);
+            } else {
+                cached = 1, ++*from_cache;
+                if (!o->quiet)
+                    fprintf(log, "bake: the tile's %s sums from the cache %s\n", u ? "unshadowed" : "shadowed", cpath);
+            }
+        }
+        if (!cached && qtool_bake_run_rows(s, so->w, so->h, y0, y1, (qtool_pano_kind)so->kind, (uint32_t)o->ndirs, k,
+                                           so->threads, o->progress, u, &sums) != 0)
             return qtool_errf(err, errlen, "bake: out of memory");
-        int rc = qtool_bake_coeffs(&sums, k, method, u ? mu : m);
+        int rc = o->cache && o->ranges_out ? qtool_bake_sums_write(&sums, cpath, err, errlen) : 0;
+        if (rc == 0 && qtool_bake_coeffs(&sums, k, method, u ? mu : m) != 0)
+            rc = qtool_errf(err, errlen, "bake: cannot project%s",
+                            o->lsq ? " by least squares (too few directions?)" : ": out of memory");
         qtool_bake_sums_free(&sums);
         if (rc != 0)
-            return qtool_errf(err, errlen, "bake: cannot project%s", o->lsq ? " by least squares (too few directions?)"
-                                                                             : ": out of memory");
+            return -1;
     }
     return 0;
 }
@@ -385,7 +411,7 @@ static int ranges_fit(const qtool_bake_opts *o, const qtool_tile_key *key, const
 }
 
 static int tile_pass2(const qtool_bake_opts *o, const qtool_rt_scene *s, const qtool_tile_key *key, uint32_t y0,
-                      uint32_t y1, const qtool_gen_maps *m, const qtool_gen_maps *mu, FILE *out, char *err,
+                      uint32_t y1, const qtool_gen_maps *m, const qtool_gen_maps *mu, int cached, FILE *out, char *err,
                       size_t errlen)
 {
     qtool_tile_ranges r;
@@ -448,8 +474,9 @@ static int tile_pass2(const qtool_bake_opts *o, const qtool_rt_scene *s, const q
     qtool_store_u32le(b + 76, qibl_crc32(0, b, 76));
     rc = qtool_io_write_atomic(o->part_out, b, QTOOL_TILE_PART_HEADER + (size_t)body, err, errlen);
     if (rc == 0)
-        fprintf(out, "wrote %s: tile %ld/%ld, rows %u..%u, %llu bytes\n", o->part_out, o->tile, o->ntiles, y0, y1 - 1,
-                (unsigned long long)(QTOOL_TILE_PART_HEADER + body));
+        fprintf(out, "wrote %s: tile %ld/%ld, rows %u..%u, %llu bytes%s\n", o->part_out, o->tile, o->ntiles, y0, y1 - 1,
+                (unsigned long long)(QTOOL_TILE_PART_HEADER + body),
+                cached == 0 ? "" : cached == (key->uk ? 2 : 1) ? " (sums from the cache)" : " (some sums from the cache)");
 done:
     for (uint32_t p = 0; p < QTOOL_TILE_MAX_PATHS; ++p)
         free(paths[p]);
@@ -469,13 +496,14 @@ int qtool_tile_bake(const qtool_bake_opts *o, FILE *out, FILE *log, char *err, s
     qtool_tile_key key = {so->w, so->h, (uint32_t)o->k, (uint32_t)o->uk, (uint32_t)o->ndirs, fingerprint(o, &s)};
     qtool_gen_maps m = {0}, mu = {0};
     double t0 = qtool_bake_now();
-    int rc = band_maps(o, &s, y0, y1, &m, &mu, err, errlen);
+    int cached;
+    int rc = band_maps(o, &s, &key, y0, y1, &m, &mu, &cached, log, err, errlen);
     if (rc == 0 && !o->quiet)
         fprintf(log, "bake: tile %ld/%ld, rows %u..%u of %ux%u, %ld directions, %zu triangles, %.1f s on %d threads\n",
                 o->tile, o->ntiles, y0, y1 - 1, so->w, so->h, o->ndirs, s.ntri, qtool_bake_now() - t0, so->threads);
     if (rc == 0)
         rc = o->ranges_out ? tile_pass1(o, &key, &m, &mu, out, err, errlen)
-                           : tile_pass2(o, &s, &key, y0, y1, &m, &mu, out, err, errlen);
+                           : tile_pass2(o, &s, &key, y0, y1, &m, &mu, cached, out, err, errlen);
     qtool_gen_free(&m), qtool_gen_free(&mu);
     qtool_rt_scene_free(&s);
     return rc;

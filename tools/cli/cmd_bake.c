@@ -367,7 +367,8 @@ const qcli_sub qcli_sub_render = {.opts = &render_spec, .check = render_check, .
     "  its rows, in two passes (the 8-bit maps' ranges are the whole image's): --ranges-out FILE writes\n" \
     "  the band's map ranges; qibl merge --ranges -o R FILE... reduces every tile's; --ranges R --part P\n" \
     "  bakes the band again and writes its final bytes; qibl merge -o ASSET P... joins the parts, byte\n" \
-    "  for byte this bake's asset (same options in every pass; docs/farm.md).\n" \
+    "  for byte this bake's asset (same options in every pass; docs/farm.md). --cache DIR (a node-local\n" \
+    "  directory): pass 1 keeps the band's exact sums there, pass 2 on the same node reuses them.\n" \
     "  --camera, --fov (as for render): the pixels are a fixed camera's rays instead of the panorama's,\n" \
     "  so the maps relight a pre-rendered background seen from one corner (qibl relight as any asset).\n" \
     "  --probe PROBE.hdr [--yaw DEG]: a probe-lit asset (the demo's sun + SH): the probe, turned and\n" \
@@ -480,6 +481,8 @@ static const qtool_opt bake_table[] = {
      .help = "tile pass 2: every tile's map ranges, reduced"},
     {.name = "--part", .kind = QTOOL_OPT_STR, .off = offsetof(bake_cli, o.part_out), .arg = "FILE",
      .help = "tile pass 2: the band's final bytes (qibl merge -o ASSET PART... joins them)"},
+    {.name = "--cache", .kind = QTOOL_OPT_STR, .off = offsetof(bake_cli, o.cache), .arg = "DIR",
+     .help = "tile passes: pass 1 keeps the band's exact sums in DIR, pass 2 reuses them (no second bake)"},
     {.name = "--k", .kind = QTOOL_OPT_INT, .off = offsetof(bake_cli, o.k), .arg = "K", .lo = 1, .hi = 25,
      .help = "the number of SH maps"},
     QCLI_LUT_SIZE_OPTS(bake_cli, o.lut),
