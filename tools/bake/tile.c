@@ -7,6 +7,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "bake/bake.h"
 #include "bake/job.h"
@@ -278,6 +279,8 @@ static int band_maps(const qtool_bake_opts *o, const qtool_rt_scene *s, const qt
         if (!cached && qtool_bake_run_rows(s, so->w, so->h, y0, y1, (qtool_pano_kind)so->kind, (uint32_t)o->ndirs, k,
                                            so->threads, o->progress, u, &sums) != 0)
             return qtool_errf(err, errlen, "bake: out of memory");
+        if (o->cache && o->ranges_out)
+            (void)mkdir(o->cache, 0777); /* the node-local directory, made when missing (its parent must exist) */
         int rc = o->cache && o->ranges_out ? qtool_bake_sums_write(&sums, cpath, err, errlen) : 0;
         if (rc == 0 && qtool_bake_coeffs(&sums, k, method, u ? mu : m) != 0)
             rc = qtool_errf(err, errlen, "bake: cannot project%s",
