@@ -671,6 +671,12 @@ static int part_decode(uint8_t *b, size_t n, const char *name, tile_part *p, cha
     return 0;
 }
 
+int qtool_tile_part_check(const uint8_t *b, size_t n, const char *name, char *err, size_t errlen)
+{
+    tile_part p;
+    return part_decode((uint8_t *)(uintptr_t)b, n, name, &p, err, errlen); /* p only points into b */
+}
+
 /* a part's other header fields against the first's: the same bake's pass 2 with the same ranges */
 static int part_matches(const tile_part *p, const tile_part *p0, const char *name, const char *name0, char *err,
                         size_t errlen)
@@ -805,7 +811,7 @@ done:
 
 int qtool_tile_merge(const char *out_path, char *const *in, int nin, FILE *out, char *err, size_t errlen)
 {
-    static const qtool_io_kind kind = {"a qibl tile part", 1, (size_t)1 << 34, 0, NULL};
+    static const qtool_io_kind kind = {"a qibl tile part", 1, QTOOL_IO_MAX_FILE_BYTES, 0, NULL};
     tile_part *parts = calloc((size_t)(nin > 0 ? nin : 1), sizeof *parts), **by = NULL;
     int *seen = NULL, rc = -1;
     if (!parts)

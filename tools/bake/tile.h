@@ -93,6 +93,10 @@ int qtool_tile_reduce(const char *out_path, char *const *in, int nin, FILE *out,
 /* `qibl merge -o ASSET PART...`: every tile's part exactly once, one bake, one ranges; the asset. */
 int qtool_tile_merge(const char *out_path, char *const *in, int nin, FILE *out, char *err, size_t errlen);
 
+/* Checks a part's file image as the merge does before use (header, sizes, CRCs, every chunk
+ * parsed); name for messages. 0, or -1 with the reason in err (what fuzz_shard calls). */
+int qtool_tile_part_check(const uint8_t *b, size_t n, const char *name, char *err, size_t errlen);
+
 /* Whether the file at path starts as a part ("QIBLPART"): merge's choice between sums and parts. */
 int qtool_tile_is_part(const char *path);
 
