@@ -11,6 +11,7 @@
 #define _GNU_SOURCE /* sched_setaffinity for the affinity test */
 #include <math.h>
 #include <sched.h>
+#include <dirent.h>
 #include <sys/stat.h>
 
 #include "cliutil.h"
@@ -373,6 +374,37 @@ static void tiles(uint32_t n, const char *tag, const char *o1, const char *v1)
         }
 }
 
+/* a copy of file a as b, cut to n bytes (n < 0: whole) and byte at flip (if >= 0) changed */
+static void copy_bad(const char *a, const char *b, long n, long flip)
+{
+    size_t len;
+    uint8_t *x = qtool_io_read_all(at(a), &len);
+    char err[1200];
+    assert_non_null(x);
+    if (flip >= 0)
+        x[flip] ^= 0x40;
+    if (qtool_io_write_atomic(at(b), x, n >= 0 ? (size_t)n : len, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    free(x);
+}
+
+static long file_size(const char *a)
+{
+    size_t len;
+    uint8_t *x = qtool_io_read_all(at(a), &len);
+    assert_non_null(x);
+    free(x);
+    return (long)len;
+}
+
+/* the exit status 1, the message naming want, and out not written */
+static void refused(int rc, const char *want, const char *out)
+{
+    assert_int_equal(rc, 1);
+    assert_true(says(errlog, want));
+    assert_int_equal(access(at(out), F_OK), -1);
+}
+
 /* every tile split the test names (1, 2, 3 of 7 rows: not divisible; 7: one row a band) merges to the
  * single bake byte for byte, light paths and lamp occlusion included; so does a least-squares,
  * interleaved bake without unshadowed maps */
@@ -418,37 +450,26 @@ static void test_tiles_identical(void **state)
     assert_true(says(outlog, "(sums from the cache)"));
     assert_int_equal(run("merge", "-o", at("c.qibl"), at("cp_0"), at("cp_1"), NULL), 0);
     file_eq(at("whole.qibl"), at("c.qibl"));
-}
-
-/* a copy of file a as b, cut to n bytes (n < 0: whole) and byte at flip (if >= 0) changed */
-static void copy_bad(const char *a, const char *b, long n, long flip)
-{
-    size_t len;
-    uint8_t *x = qtool_io_read_all(at(a), &len);
-    char err[1200];
-    assert_non_null(x);
-    if (flip >= 0)
-        x[flip] ^= 0x40;
-    if (qtool_io_write_atomic(at(b), x, n >= 0 ? (size_t)n : len, err, sizeof err) != 0)
-        fail_msg("%s", err);
-    free(x);
-}
-
-static long file_size(const char *a)
-{
-    size_t len;
-    uint8_t *x = qtool_io_read_all(at(a), &len);
-    assert_non_null(x);
-    free(x);
-    return (long)len;
-}
-
-/* the exit status 1, the message naming want, and out not written */
-static void refused(int rc, const char *want, const char *out)
-{
-    assert_int_equal(rc, 1);
-    assert_true(says(errlog, want));
-    assert_int_equal(access(at(out), F_OK), -1);
+    /* a damaged cached file is not trusted: that set is baked again, the bytes the same */
+    DIR *d = opendir(cache);
+    assert_non_null(d);
+    int damaged = 0;
+    for (struct dirent *e; (e = readdir(d)) != NULL;) {
+        static const char tail[] = "-0-of-2.sums"; /* tile 0's shadowed sums, not its .u */
+        size_t l = strlen(e->d_name);
+        if (l > sizeof tail - 1 && strcmp(e->d_name + l - (sizeof tail - 1), tail) == 0) {
+            char name[700];
+            snprintf(name, sizeof name, "cache/%s", e->d_name);
+            copy_bad(name, name, -1, 100);
+            damaged++;
+        }
+    }
+    closedir(d);
+    assert_int_equal(damaged, 1);
+    assert_int_equal(tile2(0, 2, "cR", "cp_0", "--cache", cache), 0);
+    assert_true(says(outlog, "(some sums from the cache)"));
+    assert_int_equal(run("merge", "-o", at("c2.qibl"), at("cp_0"), at("cp_1"), NULL), 0);
+    file_eq(at("whole.qibl"), at("c2.qibl"));
 }
 
 /* every bad input of the tile steps refused by name, nothing written: ranges and parts truncated or
