@@ -8,7 +8,8 @@
 # byte for byte too. Prints RESULT farm.shard_balance (the slowest shard's CPU time over the mean),
 # farm.tile_output_over_share (the largest part's bytes over its rows' share of the asset's),
 # farm.tile_pass1_cpu_s and farm.tile_pass2_cpu_s (CPU seconds of each pass, all tiles) and
-# farm.tile_cpu_over_shards (both passes' CPU over the direction shards').
+# farm.tile_cpu_over_shards (both passes' CPU over the direction shards'), and with TILE_CACHE (pass 2
+# reading pass 1's sums back) farm.tile_cached_cpu_over_shards.
 # Every wait is bounded (FARM_TIMEOUT seconds, default 240): it never hangs CI.
 # Needs root (slurmd) and Debian's slurm-wlm and munge; skips (exit 0, "SKIP") without them unless
 # QIBL_REQUIRE_FARM=1.
@@ -157,4 +158,15 @@ done | awk -v a="$asset" -v h="$h" -v sh="$(cat "$t"/work/shard-[0-3].cpu | awk 
     printf "RESULT farm.tile_output_over_share %.3f\n", m;
     printf "RESULT farm.tile_pass1_cpu_s %.3f\nRESULT farm.tile_pass2_cpu_s %.3f\n", c1, c2;
     printf "RESULT farm.tile_cpu_over_shards %.3f\n", (c1 + c2) / sh }'
+
+# again with TILE_CACHE: pass 2 reads pass 1's sums back on this one node (CPU of one bake)
+out=$(QIBL=$QIBL CPUS=1 TILE_CACHE="$t/cache" bash "$here/submit_tiles.sh" 4 "$t/work/cached.qibl" "$t/work/cached" \
+    "${args[@]}") || fail "submit_tiles.sh (TILE_CACHE): $out"
+wait_job "$(echo "$out" | awk '$1 == "merge" {print $2}')" "cached tile merge"
+cmp "$t/work/one.qibl" "$t/work/cached.qibl" || fail "the merged tile parts (TILE_CACHE) differ from the single-machine bake"
+grep -q "(sums from the cache)" "$t"/work/cached/tile-0.log2 || fail "pass 2 of tile 0 did not read the cache"
+cat "$t"/work/cached/tile-[0-3].cpu[12] | awk -v sh="$(cat "$t"/work/shard-[0-3].cpu | awk '{ s += $1 + $2 } END { print s }')" '{
+    c += $1 + $2 } END {
+    printf "check-farm: with TILE_CACHE the merged parts equal it too; both passes: %.3f CPU seconds\n", c;
+    printf "RESULT farm.tile_cached_cpu_over_shards %.3f\n", c / sh }'
 
