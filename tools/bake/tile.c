@@ -479,7 +479,9 @@ static int tile_pass2(const qtool_bake_opts *o, const qtool_rt_scene *s, const q
     if (rc == 0)
         fprintf(out, "wrote %s: tile %ld/%ld, rows %u..%u, %llu bytes%s\n", o->part_out, o->tile, o->ntiles, y0, y1 - 1,
                 (unsigned long long)(QTOOL_TILE_PART_HEADER + body),
-                cached == 0 ? "" : cached == (key->uk ? 2 : 1) ? " (sums from the cache)" : " (some sums from the cache)");
+                cached == 0                    ? ""
+                : cached == (key->uk ? 2 : 1) ? " (sums from the cache)"
+                                               : " (some sums from the cache)");
 done:
     for (uint32_t p = 0; p < QTOOL_TILE_MAX_PATHS; ++p)
         free(paths[p]);
@@ -523,8 +525,8 @@ static int same_set(char *const *in, int i, const qtool_tile_key *k, const qtool
     if (key_diff(k, k0, why, sizeof why))
         return qtool_errf(err, errlen, "%s: %s of another bake than %s (%s)", in[i], what, in[0], why);
     if (n != n0)
-        return qtool_errf(err, errlen, "%s: tile %u/%u, %s is of %u tiles: overlapping tiles of another split", in[i], t,
-                          n, in[0], n0);
+        return qtool_errf(err, errlen, "%s: tile %u/%u, %s is of %u tiles: overlapping tiles of another split",
+                          in[i], t, n, in[0], n0);
     if (seen[t])
         return qtool_errf(err, errlen, "%s: tile %u/%u given twice (also %s)", in[i], t, n, in[seen[t] - 1]);
     seen[t] = i + 1;
@@ -687,7 +689,8 @@ static int part_matches(const tile_part *p, const tile_part *p0, const char *nam
     if (p->lut != p0->lut || p->layout != p0->layout || p->npaths != p0->npaths || p->has_locc != p0->has_locc)
         return qtool_errf(err, errlen, "%s: LUT, layout, light paths or lamp occlusion differ from %s (another bake)",
                           name, name0);
-    if (memcmp(p->sh, p0->sh, 24 * (size_t)p->key.k) != 0 || (p->key.uk && memcmp(p->shu, p0->shu, 24 * (size_t)p->key.uk)))
+    if (memcmp(p->sh, p0->sh, 24 * (size_t)p->key.k) != 0 ||
+        (p->key.uk && memcmp(p->shu, p0->shu, 24 * (size_t)p->key.uk) != 0))
         return qtool_errf(err, errlen, "%s: scale and bias differ from %s's (the file is damaged)", name, name0);
     for (uint32_t i = 0; i < p->npaths; ++i) {
         qibl_lightpath_t a, b;
