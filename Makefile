@@ -166,7 +166,7 @@ help:
 	@echo "make examples   build and run tools/examples/console_port, the integration example (docs/porting.md)"
 	@echo "make install    headers, the libraries, the CLI, qibl.pc and the CMake package into PREFIX (default /usr/local; DESTDIR honoured)"
 	@echo "make check-install  install to a temporary prefix and build the example through pkg-config and CMake"
-	@echo "make check-farm     a one-node Slurm cluster here: a bake as an array of 4 shards + merge == one bake"
+	@echo "make check-farm     a one-node Slurm cluster here: a bake as 4 shards, and as 4 tiles, + merge == one bake"
 	@echo "make amalgamate the core as one qibl.h + one qibl.c in $(BUILD)/amalgamated, platform/soft as qibl_soft.h + qibl_soft.c (tools/scripts/amalgamate.sh)"
 	@echo "make check-amalgamate  those pairs under the strict flags as C and C++, freestanding for Cortex-M0/M4, with the goldens and the example on the C and C++ builds"
 	@echo "make clean      remove $(BUILD)/ and out/"
@@ -571,8 +571,9 @@ check-install: $(QIBL) $(EXAMPLES)
 	@BUILD=$(BUILD) bash tools/scripts/check-install.sh
 
 # What CI runs: a one-node Slurm cluster on this machine (slurm-wlm + munge, configured in a temporary
-# directory), a bake as a job array of 4 shards plus the afterok merge, the asset byte for byte the
-# single-machine bake's; RESULT farm.shard_balance. Bounded waits (FARM_TIMEOUT, default 240 s).
+# directory), a bake as a job array of 4 shards plus the afterok merge, then as 4 tile shards (two
+# arrays, reduce and merge), each asset byte for byte the single-machine bake's; RESULT
+# farm.shard_balance, farm.tile_output_over_share. Bounded waits (FARM_TIMEOUT, default 240 s).
 check-farm: $(QIBL)
 	@BUILD=$(BUILD) bash tools/farm/check.sh
 

@@ -11,7 +11,9 @@
  * goes to the extras-file decoder (bake/extras.h, version 2: each shard's rows of the LPTH/LOCC
  * beside its sums): it fails with a message or re-encodes to exactly its bytes; a decoded file of a
  * split into one shard goes through qtool_extras_join, which fails with a message or gives chunks
- * the core's parsers accept, of the same count and types.
+ * the core's parsers accept, of the same count and types. It also goes to the tile shards' decoders
+ * (bake/tile.h), as given and with its CRCs made right (flags bit 2): a ranges file fails with a
+ * message or re-encodes to exactly its bytes; a part fails with a message or passes.
  */
 #include <stdint.h>
 #include <stdio.h>
@@ -20,6 +22,7 @@
 
 #include "bake/bake.h"
 #include "bake/extras.h"
+#include "bake/tile.h"
 #include "qibl/asset.h"
 #include "qibl/lightpath.h"
 
@@ -108,6 +111,35 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         } else if (err[0] == '\0') {
             abort();
         }
+    }
+    {
+        uint8_t *t = malloc(size ? size : 1);
+        if (!t)
+            abort();
+        memcpy(t, data, size);
+        if ((flags >> 2) & 1 && size >= QTOOL_TILE_PART_HEADER && memcmp(t, "QIBLPART", 8) == 0) {
+            store32(t + 72, qibl_crc32(0, t + QTOOL_TILE_PART_HEADER, size - QTOOL_TILE_PART_HEADER));
+            store32(t + 76, qibl_crc32(0, t, 76));
+        } else if ((flags >> 2) & 1 && size >= QTOOL_TILE_RANGES_HEADER) { /* a ranges file's CRC fields */
+            store32(t + 48, qibl_crc32(0, t + QTOOL_TILE_RANGES_HEADER, size - QTOOL_TILE_RANGES_HEADER));
+            store32(t + 52, qibl_crc32(0, t, 52));
+        }
+        qtool_tile_ranges r;
+        char err[512] = "";
+        if (qtool_tile_ranges_decode(t, size, "fuzz", &r, err, sizeof err) == 0) {
+            uint8_t *again;
+            size_t m;
+            if (qtool_tile_ranges_encode(&r, &again, &m) != 0 || m != size || memcmp(again, t, size) != 0)
+                abort();
+            free(again);
+            qtool_tile_ranges_free(&r);
+        } else if (err[0] == '\0') {
+            abort();
+        }
+        err[0] = '\0';
+        if (qtool_tile_part_check(t, size, "fuzz", err, sizeof err) != 0 && err[0] == '\0')
+            abort();
+        free(t);
     }
     size_t n1 = size ? split % (size + 1) : 0;
     qtool_bake_sums a, b;

@@ -13,7 +13,8 @@
  *   fixed       the hard cases of fixed.h (INT32_MIN, 1 and 2 LSB, extremes, directions at a pole)
  *   lightprobe  small probes in each pixel format (sRGBE ones from the core's encoder)
  *   layout      a small sky in each probe layout (qtool_probe_layout_from_latlong, _rgbe_encode)
- *   shard       two shards of one bake (qtool_bake_sums_encode), as fuzz_shard.c reads them
+ *   shard       two shards of one bake (qtool_bake_sums_encode), as fuzz_shard.c reads them, and a
+ *               tile's ranges file (qtool_tile_ranges_encode)
  *   lightpath   t and radius, then LPTH payloads baked by the path baker (qtool_bake_path_chunk: a sun
  *               path and a lamp track over the built-in courtyard), a LOCC payload
  *               (qtool_bake_lamp_occlusion, qtool_bake_locc_payload) and an SHMT payload
@@ -45,6 +46,7 @@
 
 #include "bake/bake.h"
 #include "bake/path.h"
+#include "bake/tile.h"
 #include "bake/tiled.h"
 #include "gen/scene.h"
 #include "render/rt.h"
@@ -399,6 +401,21 @@ static void shard_seeds(void)
         free(b);
     }
     free(img[0]), free(img[1]);
+    /* a tile's ranges file (bake/tile.h), flags asking fuzz_shard to repair its CRCs */
+    double lo[6] = {-1.5, 0, -0.0, 0.25, -3, 1e-9}, hi[6] = {2.5, 0, 0.0, 0.5, 3, 1};
+    qtool_tile_ranges r = {.key = {4, 3, 1, 1, 64, 0x1234abcdu}, .tile = 1, .ntiles = 3, .reduced = 0, .lo = lo, .hi = hi};
+    uint8_t *rb = NULL;
+    size_t rn = 0;
+    if (qtool_tile_ranges_encode(&r, &rb, &rn) == 0) {
+        uint8_t *b = malloc(5 + rn);
+        if (b) {
+            b[0] = 4, b[1] = b[2] = b[3] = b[4] = 0;
+            memcpy(b + 5, rb, rn);
+            put("shard", "tile_ranges", b, 5 + rn);
+        }
+        free(b);
+    }
+    free(rb);
 }
 
 static void probe_seed(const char *name, uint8_t w, uint8_t h, uint8_t fmt, uint8_t method, uint8_t count,

@@ -91,6 +91,7 @@ void qtool_bake_dir(uint32_t j, uint32_t n, double d[3])
 typedef struct {
     const qtool_rt_scene *s;
     uint32_t w, h, k, ndirs, shard, nshards;
+    uint32_t row0, fullh; /* out holds image rows row0 .. row0 + h - 1 of a fullh-row image (a tile) */
     qtool_pano_kind kind;
     double *dirs, *y; /* ndirs * 3, ndirs * 25 */
     qtool_bake_sums *out;
@@ -108,7 +109,7 @@ static void bake_row(void *ctx, uint32_t row)
         double d[3];
         qtool_rt_hit h;
         double sky[3];
-        qtool_rt_pixel_ray(j->s, j->w, j->h, j->kind, x, row, d);
+        qtool_rt_pixel_ray(j->s, j->w, j->fullh, j->kind, x, j->row0 + row, d);
         qtool_rt_primary(j->s, d, &h);
         qtool_rt_sky_point(j->s, d, 1000.0, sky);
         for (int c = 0; c < 3; ++c)
@@ -165,17 +166,20 @@ static void bar(void *ctx, uint32_t done, uint32_t rows)
     fflush(stderr);
 }
 
-static int bake_run(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t ndirs, uint32_t k,
-                    uint32_t shard, uint32_t nshards, int threads, int progress, int unshadowed, qtool_bake_sums *out)
+/* rows y0 .. y1 - 1 of the h-row image (0, h: all of it) into out, which gets y1 - y0 rows */
+static int bake_run(const qtool_rt_scene *s, uint32_t w, uint32_t fullh, uint32_t y0, uint32_t y1, qtool_pano_kind kind,
+                    uint32_t ndirs, uint32_t k, uint32_t shard, uint32_t nshards, int threads, int progress,
+                    int unshadowed, qtool_bake_sums *out)
 {
     if (k < 1 || k > 25 || ndirs < 1 || ndirs > QTOOL_BAKE_MAX_DIRS || nshards < 1 || nshards > QTOOL_BAKE_MAX_SHARDS ||
-        shard >= nshards || w < 1 || h < 1)
+        shard >= nshards || w < 1 || fullh < 1 || y0 >= y1 || y1 > fullh)
         return -1;
     memset(out, 0, sizeof *out);
+    uint32_t h = y1 - y0;
     size_t np = (size_t)w * h;
     out->pmap = malloc(np * 3 * sizeof(int32_t));
     out->acc = malloc(np * 3 * k * sizeof(int64_t));
-    bake_job j = {s, w, h, k, ndirs, shard, nshards, kind, malloc(ndirs * 3 * sizeof(double)),
+    bake_job j = {s, w, h, k, ndirs, shard, nshards, y0, fullh, kind, malloc(ndirs * 3 * sizeof(double)),
                   malloc(ndirs * 25 * sizeof(double)), out, progress == 2 ? 2 : progress && isatty(2), 0, unshadowed};
     if (!out->pmap || !out->acc || !j.dirs || !j.y) {
         free(j.dirs), free(j.y);
@@ -196,27 +200,33 @@ static int bake_run(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_
 int qtool_bake_run(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t ndirs, uint32_t k,
                   uint32_t shard, uint32_t nshards, int threads, int progress, qtool_bake_sums *out)
 {
-    return bake_run(s, w, h, kind, ndirs, k, shard, nshards, threads, progress, 0, out);
+    return bake_run(s, w, h, 0, h, kind, ndirs, k, shard, nshards, threads, progress, 0, out);
 }
 
 int qtool_bake_run_unshadowed(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t ndirs,
                              uint32_t k, int threads, qtool_bake_sums *out)
 {
-    return bake_run(s, w, h, kind, ndirs, k, 0, 1, threads, 0, 1, out);
+    return bake_run(s, w, h, 0, h, kind, ndirs, k, 0, 1, threads, 0, 1, out);
 }
 
 int qtool_bake_run_unshadowed_shard(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind,
                                    uint32_t ndirs, uint32_t k, uint32_t shard, uint32_t nshards, int threads,
                                    qtool_bake_sums *out)
 {
-    return bake_run(s, w, h, kind, ndirs, k, shard, nshards, threads, 0, 1, out);
+    return bake_run(s, w, h, 0, h, kind, ndirs, k, shard, nshards, threads, 0, 1, out);
 }
 
 int qtool_bake_run_progress(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t ndirs,
                             uint32_t k, uint32_t shard, uint32_t nshards, int threads, int progress, int unshadowed,
                             qtool_bake_sums *out)
 {
-    return bake_run(s, w, h, kind, ndirs, k, shard, nshards, threads, progress, unshadowed ? 1 : 0, out);
+    return bake_run(s, w, h, 0, h, kind, ndirs, k, shard, nshards, threads, progress, unshadowed ? 1 : 0, out);
+}
+
+int qtool_bake_run_rows(const qtool_rt_scene *s, uint32_t w, uint32_t h, uint32_t y0, uint32_t y1, qtool_pano_kind kind,
+                        uint32_t ndirs, uint32_t k, int threads, int progress, int unshadowed, qtool_bake_sums *out)
+{
+    return bake_run(s, w, h, y0, y1, kind, ndirs, k, 0, 1, threads, progress, unshadowed ? 1 : 0, out);
 }
 
 void qtool_bake_sums_free(qtool_bake_sums *s)
@@ -658,21 +668,38 @@ int qtool_bake_asset_ex(const qtool_gen_maps *m, const qtool_gen_maps *mu, uint3
 int qtool_bake_asset_full(const qtool_gen_maps *m, const qtool_gen_maps *mu, uint32_t lut, uint32_t layout,
                          uint8_t *const *paths, const size_t *path_sizes, uint8_t **bytes, size_t *n)
 {
-    size_t np = (size_t)m->width * m->height, nplanes = (size_t)m->k * 3;
-    int32_t *scale = malloc(sizeof(int32_t) * nplanes), *bias = malloc(sizeof(int32_t) * nplanes);
-    uint8_t *planes = malloc(np * nplanes);
+    size_t np = (size_t)m->width * m->height, nplanes = (size_t)m->k * 3, up = mu ? (size_t)mu->k * 3 : 0;
+    int32_t *scale = malloc(sizeof(int32_t) * (nplanes + up)), *bias = malloc(sizeof(int32_t) * (nplanes + up));
+    uint8_t *planes = malloc(np * (nplanes + up));
+    int rc = -1;
+    if (!scale || !bias || !planes || qtool_pack_maps(m, QTOOL_PACK_MINMAX, scale, bias, planes, NULL) != 0)
+        goto done;
+    /* the unshadowed set, packed on its own (its own k and ranges) */
+    if (mu && (mu->width != m->width || mu->height != m->height ||
+               qtool_pack_maps(mu, QTOOL_PACK_MINMAX, scale + nplanes, bias + nplanes, planes + np * nplanes, NULL) != 0))
+        goto done;
+    qtool_bake_packed sh = {m->width, m->height, m->k, scale, bias, planes, m->p};
+    qtool_bake_packed shu = {m->width, m->height, mu ? mu->k : 0, scale + nplanes, bias + nplanes, planes + np * nplanes,
+                             NULL};
+    rc = qtool_bake_asset_packed(&sh, mu ? &shu : NULL, lut, layout, paths, path_sizes, bytes, n);
+done:
+    free(scale), free(bias), free(planes);
+    return rc;
+}
+
+int qtool_bake_asset_packed(const qtool_bake_packed *sh, const qtool_bake_packed *shu, uint32_t lut, uint32_t layout,
+                            uint8_t *const *paths, const size_t *path_sizes, uint8_t **bytes, size_t *n)
+{
     int16_t *lutv = NULL;
     uint8_t *le = NULL;
     qtool_asset_builder b;
     qtool_asset_builder_init(&b);
     int rc = -1;
-    if (!scale || !bias || !planes || qtool_pack_maps(m, QTOOL_PACK_MINMAX, scale, bias, planes, NULL) != 0)
-        goto done;
-    if (qtool_asset_add_shmp_layout(&b, m->width, m->height, m->k, 3, scale, bias, planes, layout) != 0 ||
-        qtool_asset_add_pmap(&b, m->width, m->height, m->p) != 0)
+    if (qtool_asset_add_shmp_layout(&b, sh->w, sh->h, sh->k, 3, sh->scale, sh->bias, sh->planes, layout) != 0 ||
+        qtool_asset_add_pmap(&b, sh->w, sh->h, sh->p) != 0)
         goto done;
     if (lut) { /* for the larger k of the two map sets: point lights read either */
-        uint32_t lk = mu && mu->k > m->k ? mu->k : m->k;
+        uint32_t lk = shu && shu->k > sh->k ? shu->k : sh->k;
         size_t vs = qibl_ylut_values_size(lut, lk);
         le = malloc(vs);
         lutv = malloc(vs);
@@ -683,15 +710,8 @@ int qtool_bake_asset_full(const qtool_gen_maps *m, const qtool_gen_maps *mu, uin
         if (qtool_asset_add_ylut(&b, lut, lk, lutv) != 0)
             goto done;
     }
-    if (mu) { /* the unshadowed set, packed on its own (its own k and ranges) */
-        size_t up = (size_t)mu->k * 3;
-        free(scale), free(bias), free(planes);
-        scale = malloc(sizeof(int32_t) * up), bias = malloc(sizeof(int32_t) * up), planes = malloc(np * up);
-        if (!scale || !bias || !planes || mu->width != m->width || mu->height != m->height ||
-            qtool_pack_maps(mu, QTOOL_PACK_MINMAX, scale, bias, planes, NULL) != 0 ||
-            qtool_asset_add_shmu(&b, mu->width, mu->height, mu->k, 3, scale, bias, planes) != 0)
-            goto done;
-    }
+    if (shu && qtool_asset_add_shmu(&b, shu->w, shu->h, shu->k, 3, shu->scale, shu->bias, shu->planes) != 0)
+        goto done;
     for (size_t i = 0; paths && paths[i]; ++i)
         if (qtool_asset_builder_add(&b, QIBL_CHUNK_LPTH, paths[i], path_sizes[i]) != 0)
             goto done;
@@ -700,7 +720,7 @@ int qtool_bake_asset_full(const qtool_gen_maps *m, const qtool_gen_maps *mu, uin
     rc = 0;
 done:
     qtool_asset_builder_free(&b);
-    free(scale), free(bias), free(planes), free(lutv), free(le);
+    free(lutv), free(le);
     return rc;
 }
 

@@ -87,6 +87,10 @@ int qtool_bake_run_unshadowed_shard(const qtool_rt_scene *s, uint32_t w, uint32_
 int qtool_bake_run_progress(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, uint32_t ndirs,
                             uint32_t k, uint32_t shard, uint32_t nshards, int threads, int progress, int unshadowed,
                             qtool_bake_sums *out);
+/* Rows y0 .. y1 - 1 (0 <= y0 < y1 <= h) of the w x h bake, every direction (a tile shard, bake/tile.h):
+ * out gets y1 - y0 rows (out->h), each pixel's sums the very integers of the whole bake's. 0 or -1. */
+int qtool_bake_run_rows(const qtool_rt_scene *s, uint32_t w, uint32_t h, uint32_t y0, uint32_t y1, qtool_pano_kind kind,
+                        uint32_t ndirs, uint32_t k, int threads, int progress, int unshadowed, qtool_bake_sums *out);
 void qtool_bake_sums_free(qtool_bake_sums *s);
 
 /* Partial sums file, version 2 (all little-endian):
@@ -135,6 +139,19 @@ int qtool_bake_asset_ex(const qtool_gen_maps *m, const qtool_gen_maps *mu, uint3
 /* Everything: SHMP in layout + PMAP (+ YLUT) (+ SHMU, planar, when mu) (+ one LPTH per path). */
 int qtool_bake_asset_full(const qtool_gen_maps *m, const qtool_gen_maps *mu, uint32_t lut, uint32_t layout,
                          uint8_t *const *paths, const size_t *path_sizes, uint8_t **bytes, size_t *n);
+/* Maps already packed (qtool_pack_maps): w x h, k maps of 3 channels, scale and bias (k * 3 each),
+ * planes (k * 3 * w * h bytes, plane i * 3 + ch) and, for the shadowed set, the P map p (w h 3 Q16.16;
+ * unused in shu). */
+typedef struct qtool_bake_packed {
+    uint32_t w, h, k;
+    const int32_t *scale, *bias;
+    const uint8_t *planes;
+    const int32_t *p;
+} qtool_bake_packed;
+/* qtool_bake_asset_full's asset from packed maps (shu NULL: no SHMU): the one place the chunks are
+ * put in order, so a tile merge (bake/tile.h) makes the bytes a single bake makes. 0 or -1. */
+int qtool_bake_asset_packed(const qtool_bake_packed *sh, const qtool_bake_packed *shu, uint32_t lut, uint32_t layout,
+                            uint8_t *const *paths, const size_t *path_sizes, uint8_t **bytes, size_t *n);
 /* The same with the SH maps in a chosen layout (QIBL_SHMAPS_PLANAR or QIBL_SHMAPS_INTERLEAVED). */
 int qtool_bake_asset_layout(const qtool_gen_maps *m, uint32_t lut, uint32_t layout, uint8_t **bytes, size_t *n);
 

@@ -13,6 +13,7 @@
 #include "bake/job.h"
 #include "bake/job_internal.h"
 #include "bake/probesun.h"
+#include "bake/tile.h"
 #include "io/atomic.h"
 #include "qibl/asset.h"
 #include "qibl/lightpath.h"
@@ -22,10 +23,22 @@
 int qtool_bake_opts_check(const qtool_bake_opts *o, char *err, size_t errlen)
 {
     uint32_t nblocks = (uint32_t)((o->ndirs + QTOOL_BAKE_BLOCK - 1) / QTOOL_BAKE_BLOCK);
-    if (o->nshards > 1 && !o->sums_out)
+    if (!o->ntiles && (o->ranges_out || o->ranges_in || o->part_out || o->cache))
+        qtool_errf(err, errlen, "--ranges-out, --ranges, --part and --cache are the passes of a tile shard: give --tile "
+                   "I/N");
+    else if (o->ntiles && (o->out || o->sums_out || o->nshards > 1 || o->budget > 0 || o->probe))
+        qtool_errf(err, errlen, "--tile writes --ranges-out FILE (pass 1) or --part FILE (pass 2), and qibl merge the "
+                   "asset: no -o, --sums, --shard, --budget or --probe with it");
+    else if (o->ntiles && !((o->ranges_out && !o->ranges_in && !o->part_out) ||
+                            (!o->ranges_out && o->ranges_in && o->part_out)))
+        qtool_errf(err, errlen, "--tile needs either --ranges-out FILE (pass 1) or --ranges FILE and --part FILE "
+                   "(pass 2)");
+    else if (o->ntiles > (long)o->scene.h)
+        qtool_errf(err, errlen, "--tile: %ld tiles but only %u rows", o->ntiles, o->scene.h);
+    else if (o->nshards > 1 && !o->sums_out)
         qtool_errf(err, errlen, "bake --shard needs --sums FILE (the partial sums for qibl merge)");
-    else if (!o->out && !o->sums_out)
-        qtool_errf(err, errlen, "bake needs -o ASSET (or --sums FILE)");
+    else if (!o->out && !o->sums_out && !o->ntiles)
+        qtool_errf(err, errlen, "bake needs -o ASSET (or --sums FILE, or --tile)");
     else if ((uint32_t)o->nshards > nblocks)
         qtool_errf(err, errlen, "--shard: %ld shards but only %u blocks of %u directions", o->nshards, nblocks,
                    QTOOL_BAKE_BLOCK);
@@ -401,6 +414,8 @@ int qtool_bake_job(const qtool_bake_opts *o, FILE *out, FILE *log, char *err, si
     const qtool_scene_opts *so = &o->scene;
     if (o->probe)
         return bake_probe_job(o, out, log, err, errlen);
+    if (o->ntiles)
+        return qtool_tile_bake(o, out, log, err, errlen);
     qtool_rt_scene s;
     if (qtool_scene_load(so, &s, err, errlen) != 0)
         return -1;

@@ -76,6 +76,10 @@ typedef struct qtool_bake_opts {
     qtool_bake_path paths[QTOOL_BAKE_JOB_MAX_PATHS];
     const char *probe;           /* --probe P.hdr: a probe-lit (sun + SH) asset, bake/probesun.h */
     double yaw;                  /* --yaw DEG: the probe turned (-360..360) */
+    long tile, ntiles;           /* --tile I/N (ntiles 0: not a tile shard), bake/tile.h */
+    const char *ranges_out;      /* --ranges-out FILE: pass 1 of a tile */
+    const char *ranges_in, *part_out; /* --ranges FILE --part FILE: pass 2 of a tile */
+    const char *cache;           /* --cache DIR: pass 1 keeps the tile's sums there, pass 2 reuses them */
 } qtool_bake_opts;
 
 #define QTOOL_BAKE_OPTS_DEFAULT                                                                         \
@@ -102,11 +106,13 @@ typedef struct qtool_merge_opts {
     long lut;
     int lsq;
     uint32_t layout;
+    int ranges;                 /* --ranges: the inputs are tiles' ranges files, -o the reduced ranges */
 } qtool_merge_opts;
 
 #define QTOOL_MERGE_OPTS_DEFAULT {.k = 0, .lut = 32, .lsq = 0, .layout = QIBL_SHMAPS_PLANAR}
 
-/* 0, -1 with err set, or 2 (err set) for a --k above the shards'. */
+/* 0, -1 with err set, or 2 (err set) for a --k above the shards' or options a tile merge refuses.
+ * With --ranges, or when the first input is a tile part, the tile steps of bake/tile.h. */
 int qtool_bake_merge(const qtool_merge_opts *o, FILE *out, char *err, size_t errlen);
 
 /* ---- check: one file (PNG, PFM, OpenEXR, Radiance HDR, else a qibl asset) fully decoded ---------- */

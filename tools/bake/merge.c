@@ -12,6 +12,7 @@
 #include "bake/extras.h"
 #include "bake/job.h"
 #include "bake/job_internal.h"
+#include "bake/tile.h"
 #include "io/file.h"
 #include "qibl/asset.h"
 #include "qibl/lightpath.h"
@@ -372,6 +373,15 @@ int qtool_bake_merge(const qtool_merge_opts *o, FILE *out, char *err, size_t err
     int *seen = NULL; /* per shard index: 1 + the input it came from, 0 if none yet */
     uint32_t newn, news, given;
     int rc = -1;
+    int part = !o->ranges && o->nin > 0 && qtool_tile_is_part(o->in[0]);
+    if (o->ranges || part) { /* the tile steps (bake/tile.h): the inputs are ranges files or parts */
+        if (!o->out || o->sums_out || o->manifest || o->nin < 1)
+            return qtool_errf(err, errlen, "merge %s: -o %s and the files only (no --sums or --manifest)",
+                              o->ranges ? "--ranges" : "of tile parts", o->ranges ? "RANGES" : "ASSET"),
+                   2;
+        return o->ranges ? qtool_tile_reduce(o->out, o->in, o->nin, out, err, errlen)
+                         : qtool_tile_merge(o->out, o->in, o->nin, out, err, errlen);
+    }
     if (inputs_init(o, &v, err, errlen) != 0 || add_sums(&v, &total, &seen, err, errlen) != 0 ||
         partial_set(o, seen, total.nshards, &newn, &news, &given, err, errlen) != 0)
         goto done;

@@ -133,7 +133,7 @@ typedef struct {
     uint32_t *row_n;
     uint32_t clipped;
     int oom;
-    uint32_t shard, nshards; /* the rows y % nshards == shard; the others stay empty */
+    uint32_t shard, nshards; /* the rows shard + i nshards (a band: its first row, 1); the others stay empty */
 } path_job;
 
 /* the truth's lighting condition (rt.c render_row): facing, not shadowed, not at the lamp */
@@ -233,21 +233,44 @@ int qtool_bake_path_chunk(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool
     return qtool_bake_path_chunk_shard(s, w, h, kind, p, steps, nkeys, 0, 1, threads, out, n, stats);
 }
 
+/* the rows first, first + stride, ... (count of them) baked; the others stay empty */
+static int path_chunk_rows(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const qtool_bake_path *p,
+                           uint32_t steps, uint32_t nkeys, uint32_t first, uint32_t stride, uint32_t count, int threads,
+                           uint8_t **out, size_t *n, double stats[2]);
+
 int qtool_bake_path_chunk_shard(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind,
                                const qtool_bake_path *p, uint32_t steps, uint32_t nkeys, uint32_t shard, uint32_t nshards,
                                int threads, uint8_t **out, size_t *n, double stats[2])
 {
-    if (w < 1 || h < 1 || steps < 1 || steps > 65535 || nkeys < 2 || nkeys > QIBL_LIGHTPATH_MAX_KEYS || nshards < 1 ||
-        shard >= nshards)
+    if (nshards < 1 || shard >= nshards)
+        return -1;
+    uint32_t count = shard < h ? (h - shard + nshards - 1) / nshards : 0;
+    return path_chunk_rows(s, w, h, kind, p, steps, nkeys, shard, nshards, count, threads, out, n, stats);
+}
+
+int qtool_bake_path_chunk_band(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind,
+                              const qtool_bake_path *p, uint32_t steps, uint32_t nkeys, uint32_t y0, uint32_t y1,
+                              int threads, uint8_t **out, size_t *n, double stats[2])
+{
+    if (y0 >= y1 || y1 > h)
+        return -1;
+    return path_chunk_rows(s, w, h, kind, p, steps, nkeys, y0, 1, y1 - y0, threads, out, n, stats);
+}
+
+static int path_chunk_rows(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const qtool_bake_path *p,
+                           uint32_t steps, uint32_t nkeys, uint32_t first, uint32_t stride, uint32_t count, int threads,
+                           uint8_t **out, size_t *n, double stats[2])
+{
+    if (w < 1 || h < 1 || steps < 1 || steps > 65535 || nkeys < 2 || nkeys > QIBL_LIGHTPATH_MAX_KEYS)
         return -1;
     size_t np = (size_t)w * h;
     path_job j = {s, p, w, h, steps, kind, calloc(np, 1), calloc(h, sizeof(uint16_t *)), calloc(h, sizeof(uint32_t)), 0, 0,
-                  shard, nshards};
+                  first, stride};
     int rc = -1;
     if (!j.counts || !j.row_edges || !j.row_n)
         goto done;
-    if (shard < h) /* rows of other shards stay empty: counts 0, no edges */
-        qtool_rt_parallel(threads, (h - shard + nshards - 1) / nshards, path_row_shard, &j, NULL);
+    if (count) /* rows of other shards stay empty: counts 0, no edges */
+        qtool_rt_parallel(threads, count, path_row_shard, &j, NULL);
     if (j.oom)
         goto done;
     uint64_t total = 0;
@@ -634,17 +657,35 @@ int qtool_bake_lamp_occlusion(const qtool_rt_scene *s, uint32_t w, uint32_t h, q
     return qtool_bake_lamp_occlusion_shard(s, w, h, kind, box, nsamples, 0, 1, threads, out);
 }
 
+static int occlusion_rows(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const double box[6],
+                          uint32_t nsamples, uint32_t first, uint32_t stride, uint32_t count, int threads, uint8_t *out)
+{
+    if (w < 1 || h < 1 || nsamples < 1 || !box || !out)
+        return -1;
+    occ_job j = {s, w, h, nsamples, kind, box, out, first, stride};
+    memset(out, 0, (size_t)w * h); /* rows of other shards: 0 */
+    if (count == 0)
+        return 0;
+    return qtool_rt_parallel(threads, count, occ_row_shard, &j, NULL);
+}
+
 int qtool_bake_lamp_occlusion_shard(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind,
                                    const double box[6], uint32_t nsamples, uint32_t shard, uint32_t nshards, int threads,
                                    uint8_t *out)
 {
-    if (w < 1 || h < 1 || nsamples < 1 || !box || !out || nshards < 1 || shard >= nshards)
+    if (nshards < 1 || shard >= nshards)
         return -1;
-    occ_job j = {s, w, h, nsamples, kind, box, out, shard, nshards};
-    memset(out, 0, (size_t)w * h); /* rows of other shards: 0 */
-    if (shard >= h)
-        return 0;
-    return qtool_rt_parallel(threads, (h - shard + nshards - 1) / nshards, occ_row_shard, &j, NULL);
+    uint32_t count = shard < h ? (h - shard + nshards - 1) / nshards : 0;
+    return occlusion_rows(s, w, h, kind, box, nsamples, shard, nshards, count, threads, out);
+}
+
+int qtool_bake_lamp_occlusion_band(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind,
+                                  const double box[6], uint32_t nsamples, uint32_t y0, uint32_t y1, int threads,
+                                  uint8_t *out)
+{
+    if (y0 >= y1 || y1 > h)
+        return -1;
+    return occlusion_rows(s, w, h, kind, box, nsamples, y0, 1, y1 - y0, threads, out);
 }
 
 int qtool_bake_locc_payload(uint32_t w, uint32_t h, const uint8_t *values, uint8_t **out, size_t *n)

@@ -54,6 +54,11 @@ int qtool_bake_path_chunk_shard(const qtool_rt_scene *s, uint32_t w, uint32_t h,
                                const qtool_bake_path *p, uint32_t steps, uint32_t nkeys, uint32_t shard, uint32_t nshards,
                                int threads, uint8_t **out, size_t *n, double stats[2]);
 
+/* The same for the band of rows y0 .. y1 - 1 (a tile shard, bake/tile.h); the other rows empty. */
+int qtool_bake_path_chunk_band(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind,
+                              const qtool_bake_path *p, uint32_t steps, uint32_t nkeys, uint32_t y0, uint32_t y1,
+                              int threads, uint8_t **out, size_t *n, double stats[2]);
+
 /* The LPTH payload from plain arrays (keys: nkeys t values and 3 nkeys Q16.16 coordinates; counts
  * w h bytes; edges nedges values, pixel after pixel); the row index is computed from the counts.
  * Checks nothing beyond memory (tests build payloads the core must reject). 0 or -1 (no memory). */
@@ -102,6 +107,11 @@ int qtool_bake_lamp_occlusion(const qtool_rt_scene *s, uint32_t w, uint32_t h, q
 int qtool_bake_lamp_occlusion_shard(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind,
                                    const double box[6], uint32_t nsamples, uint32_t shard, uint32_t nshards, int threads,
                                    uint8_t *out);
+
+/* The same for the band of rows y0 .. y1 - 1; the other rows are set to 0. */
+int qtool_bake_lamp_occlusion_band(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind,
+                                  const double box[6], uint32_t nsamples, uint32_t y0, uint32_t y1, int threads,
+                                  uint8_t *out);
 
 /* The LOCC payload of w h values (*out malloc'ed). 0 or -1 (no memory). */
 int qtool_bake_locc_payload(uint32_t w, uint32_t h, const uint8_t *values, uint8_t **out, size_t *n);

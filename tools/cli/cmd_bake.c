@@ -363,6 +363,12 @@ const qcli_sub qcli_sub_render = {.opts = &render_spec, .check = render_check, .
     "  lamps through SHMU are scaled by it (their cast shadows on average). A shard also writes its\n" \
     "  share of the unshadowed sums (FILE.u) and its rows of the LPTH/LOCC chunks (FILE.x, also when\n" \
     "  there are none, so merge can refuse a shard baked without the others' paths).\n" \
+    "  --tile I/N: a band of rows I h / N .. (I + 1) h / N - 1, every direction, output proportional to\n" \
+    "  its rows, in two passes (the 8-bit maps' ranges are the whole image's): --ranges-out FILE writes\n" \
+    "  the band's map ranges; qibl merge --ranges -o R FILE... reduces every tile's; --ranges R --part P\n" \
+    "  bakes the band again and writes its final bytes; qibl merge -o ASSET P... joins the parts, byte\n" \
+    "  for byte this bake's asset (same options in every pass; docs/farm.md). --cache DIR (a node-local\n" \
+    "  directory): pass 1 keeps the band's exact sums there, pass 2 on the same node reuses them.\n" \
     "  --camera, --fov (as for render): the pixels are a fixed camera's rays instead of the panorama's,\n" \
     "  so the maps relight a pre-rendered background seen from one corner (qibl relight as any asset).\n" \
     "  --probe PROBE.hdr [--yaw DEG]: a probe-lit asset (the demo's sun + SH): the probe, turned and\n" \
@@ -395,6 +401,17 @@ static const char *bake_shard(void *opts, const char *v)
     if (sscanf(v, "%ld/%ld%c", &i, &n, &tail) != 2 || n < 1 || n > 4096 || i < 0 || i >= n)
         return "is not I/N with 0 <= I < N <= 4096";
     o->shard = i, o->nshards = n;
+    return NULL;
+}
+
+static const char *bake_tile(void *opts, const char *v)
+{
+    qtool_bake_opts *o = &((bake_cli *)opts)->o;
+    long i, n;
+    char tail;
+    if (sscanf(v, "%ld/%ld%c", &i, &n, &tail) != 2 || n < 1 || n > QIBL_ASSET_MAX_DIM || i < 0 || i >= n)
+        return "is not I/N with 0 <= I < N (at most the rows)";
+    o->tile = i, o->ntiles = n;
     return NULL;
 }
 
@@ -456,6 +473,16 @@ static const qtool_opt bake_table[] = {
      .help = "bake only the I-th of N shares (with --sums, no -o; qibl merge joins them)"},
     {.name = "--sums", .kind = QTOOL_OPT_STR, .off = offsetof(bake_cli, o.sums_out), .arg = "FILE",
      .help = "the shard's partial sums"},
+    {.name = "--tile", .kind = QTOOL_OPT_CALL, .call = bake_tile, .arg = "I/N",
+     .help = "bake only the I-th of N bands of rows, every direction (--ranges-out, or --ranges and --part)"},
+    {.name = "--ranges-out", .kind = QTOOL_OPT_STR, .off = offsetof(bake_cli, o.ranges_out), .arg = "FILE",
+     .help = "tile pass 1: the band's map ranges (qibl merge --ranges reduces them)"},
+    {.name = "--ranges", .kind = QTOOL_OPT_STR, .off = offsetof(bake_cli, o.ranges_in), .arg = "FILE",
+     .help = "tile pass 2: every tile's map ranges, reduced"},
+    {.name = "--part", .kind = QTOOL_OPT_STR, .off = offsetof(bake_cli, o.part_out), .arg = "FILE",
+     .help = "tile pass 2: the band's final bytes (qibl merge -o ASSET PART... joins them)"},
+    {.name = "--cache", .kind = QTOOL_OPT_STR, .off = offsetof(bake_cli, o.cache), .arg = "DIR",
+     .help = "tile passes: pass 1 keeps the band's exact sums in DIR, pass 2 reuses them (no second bake)"},
     {.name = "--k", .kind = QTOOL_OPT_INT, .off = offsetof(bake_cli, o.k), .arg = "K", .lo = 1, .hi = 25,
      .help = "the number of SH maps"},
     QCLI_LUT_SIZE_OPTS(bake_cli, o.lut),
@@ -495,7 +522,7 @@ static const qtool_opt bake_table[] = {
 static const qtool_opt_cmd bake_spec = {
     .name = "bake",
     QTOOL_OPT_TABLE(bake_table, bake_defaults),
-    .synopsis = "(-o ASSET | --shard I/N --sums FILE)",
+    .synopsis = "(-o ASSET | --shard I/N --sums FILE | --tile I/N (--ranges-out FILE | --ranges FILE --part FILE))",
     .prose = BAKE_PROSE,
 };
 
@@ -565,6 +592,8 @@ static const qtool_opt merge_table[] = {
      .help = "the maps' byte order in the asset (see qibl help gen)"},
     {.name = "--lsq", .kind = QTOOL_OPT_FLAG, .off = offsetof(merge_cli, o.lsq),
      .help = "least-squares projection instead of quadrature"},
+    {.name = "--ranges", .kind = QTOOL_OPT_FLAG, .off = offsetof(merge_cli, o.ranges),
+     .help = "reduce tiles' ranges files (bake --tile --ranges-out) into -o RANGES"},
     {0},
 };
 
@@ -586,6 +615,10 @@ static const qtool_opt_cmd merge_spec = {
         "  side file the shard has not; '#' comments), each file's I/N checked against the line.\n"
         "  A partial set (tree merges, --sums OUT without -o): shards I, I+M, I+2M, ... of N (M dividing N)\n"
         "  are written as shard I/M with OUT.u and OUT.x, for a later merge; any other partial set is refused.\n"
+        "  Tile shards (bake --tile, docs/farm.md): --ranges -o R FILE... reduces every tile's ranges (each\n"
+        "  tile once, one bake); -o ASSET PART... joins every tile's part (bake --tile --ranges --part) into\n"
+        "  the asset, its LUT and layout the parts'; another bake, other ranges, a tile missing, given twice\n"
+        "  or of another split are refused by name.\n"
         "  Exit status: 0 written, 1 refused or failed (named on stderr, nothing written), 2 bad arguments.\n",
 };
 

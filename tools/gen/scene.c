@@ -234,6 +234,23 @@ static int cmp_d(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
+void qtool_pack_range(double lo, double hi, int32_t *scale, int32_t *bias)
+{
+    /* quantise the range to Q8.24 first, then the bytes against the quantised range */
+    int32_t b = (int32_t)lrint(fmax(-128.0, fmin(127.99, lo)) * 16777216.0);
+    int32_t s = (int32_t)lrint((hi - lo) / 255.0 * 16777216.0);
+    if (s == 0 && hi > lo)
+        s = 1;
+    *scale = s, *bias = b;
+}
+
+uint8_t qtool_pack_code(double t, int32_t scale, int32_t bias)
+{
+    double c = scale ? (t * 16777216.0 - bias) / scale : 0.0;
+    long q = lrint(c);
+    return (uint8_t)(q < 0 ? 0 : q > 255 ? 255 : q);
+}
+
 int qtool_pack_maps(const qtool_gen_maps *m, qtool_pack_scheme scheme, int32_t *scale, int32_t *bias, uint8_t *planes,
                    qtool_pack_stats *stats)
 {
@@ -255,20 +272,16 @@ int qtool_pack_maps(const qtool_gen_maps *m, qtool_pack_scheme scheme, int32_t *
             lo = tmp[(size_t)floor(0.001 * (np - 1))];
             hi = tmp[(size_t)ceil(0.999 * (np - 1))];
         }
-        /* quantise the range to Q8.24 first, then the bytes against the quantised range */
-        int32_t b = (int32_t)lrint(fmax(-128.0, fmin(127.99, lo)) * 16777216.0);
-        int32_t s = (int32_t)lrint((hi - lo) / 255.0 * 16777216.0);
-        if (s == 0 && hi > lo)
-            s = 1;
+        int32_t s, b;
+        qtool_pack_range(lo, hi, &s, &b);
         scale[pl] = s, bias[pl] = b;
         uint8_t *o = planes + (size_t)pl * np;
         for (size_t i = 0; i < np; ++i) {
             double c = s ? (t[i] * 16777216.0 - b) / s : 0.0;
             if (c < -0.5 || c > 255.5)
                 ++clipped;
-            long q = lrint(c);
-            q = q < 0 ? 0 : q > 255 ? 255 : q;
-            o[i] = (uint8_t)q;
+            uint8_t q = qtool_pack_code(t[i], s, b);
+            o[i] = q;
             double e = (b + (double)s * q) / 16777216.0 - t[i];
             se += e * e;
             if (fabs(e) > mx)

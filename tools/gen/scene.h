@@ -49,6 +49,12 @@ typedef struct qtool_pack_stats {
 int qtool_pack_maps(const qtool_gen_maps *m, qtool_pack_scheme scheme, int32_t *scale, int32_t *bias, uint8_t *planes,
                    qtool_pack_stats *stats);
 
+/* One plane's packing, as qtool_pack_maps does it: the range [lo, hi] as scale and bias (Q8.24), and
+ * a value's byte against them. A tile of rows packed with the whole image's lo and hi gets the
+ * whole image's bytes (bake/tile.h). */
+void qtool_pack_range(double lo, double hi, int32_t *scale, int32_t *bias);
+uint8_t qtool_pack_code(double t, int32_t scale, int32_t bias);
+
 /* Exact-in-double reconstruction for checks: sum_i T_i L_i at pixel (x, y), channel ch, from the
  * unquantised maps. */
 double qtool_gen_eval(const qtool_gen_maps *m, uint32_t x, uint32_t y, uint32_t ch, const double *l);
