@@ -18,6 +18,7 @@
 #include <stdint.h>
 
 #include "demo_frame.h"
+#include "iwram_relight.h"
 #include "semi.h"
 
 #define REG_DISPCNT (*(volatile uint16_t *)0x04000000u)
@@ -75,11 +76,19 @@ static void put_tenths(uint64_t num, uint64_t den)
  * writes them for every pixel */
 static demo_buffers_t bufs __attribute__((section(".iwram.demo_buffers")));
 
+/* the relight of a row: the core's (NULL), or with DEMO_DMA_ARM the port's own (iwram_relight.c:
+ * the row's map bytes DMA'd into IWRAM, an ARM kernel over them; the same bytes) */
+#if DEMO_DMA_ARM
+#define DEMO_RELIGHT gba_relight_row
+#else
+#define DEMO_RELIGHT NULL
+#endif
+
 /* updates per second of the interactive loop: the cycles of one update (phase 0 at the next step) */
 static void measure_update(const qibl_shmaps_t *m)
 {
     frame_state f = {0};
-    demo_hooks_t h = {to_screen, NULL, &f, 0, 0};
+    demo_hooks_t h = {.row = to_screen, .user = &f, .relight = DEMO_RELIGHT};
     uint32_t t0 = cycles(NULL);
     qibl_status_t st = update(m, DEMO_CHECK_STEP + 1u, 0, &bufs, &h);
     uint32_t t = cycles(NULL) - t0;
@@ -106,7 +115,7 @@ static int open_maps(const uint8_t *a, const uint8_t *end, qibl_asset_t *asset, 
 static int measure(const char *tag, const qibl_shmaps_t *m)
 {
     frame_state f = {0, 1};
-    demo_hooks_t h = {to_screen, cycles, &f, 0, 0};
+    demo_hooks_t h = {.row = to_screen, .clock = cycles, .user = &f, .relight = DEMO_RELIGHT};
     uint32_t t0 = cycles(NULL);
     qibl_status_t st = demo_frame(m, DEMO_CHECK_STEP, 0, m->height, &bufs, &h);
     uint32_t total = cycles(NULL) - t0;
@@ -143,7 +152,7 @@ int main(void)
     if ((REG_KEYINPUT & KEY_SELECT) == 0)
         return 0; /* SELECT held: measured, k = 9 frame on screen */
     frame_state f = {0};
-    demo_hooks_t h = {to_screen, NULL, &f, 0, 0};
+    demo_hooks_t h = {.row = to_screen, .user = &f, .relight = DEMO_RELIGHT};
     for (uint32_t u = PHASES * (DEMO_CHECK_STEP + 1u);; ++u)
         if (update(&m9, u / PHASES % DEMO_SUN_STEPS, u % PHASES, &bufs, &h) != QIBL_OK)
             return 1;
