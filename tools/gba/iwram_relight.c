@@ -15,24 +15,19 @@
 #define DMA3CNT (*(volatile uint32_t *)0x040000DCu)
 #define DMA_ON_32 0x84000000u /* enable, 32-bit units, start now, both addresses increment */
 
-/* relight_arm.S: one channel, 8n pixels; frame as documented there */
-void gba_relight8(const uint8_t *src, const uint32_t *frame);
+/* relight_arm.S: one channel, 8n pixels, one kernel per k; frame as documented there */
+void gba_relight8_k4(const uint8_t *src, const uint32_t *frame);
+void gba_relight8_k9(const uint8_t *src, const uint32_t *frame);
 
-enum { KMAX = 9, PITCH = 240 }; /* relight_arm.S's unrolled maps and its piece pitch */
+enum { KMAX = 9, PITCH = 240 }; /* relight_arm.S's largest k and its piece pitch */
 
-/* one row of every plane: channel c's map at position p (relight_arm.S) at (c * KMAX + p) * PITCH */
+/* one row of every plane: channel c's map i at (c * KMAX + i) * PITCH */
 static uint32_t line[3 * KMAX * PITCH / 4] __attribute__((section(".iwram.line")));
 
 static void dma_words(void *dst, const void *src, uint32_t words)
 {
     DMA3SAD = (uint32_t)(uintptr_t)src, DMA3DAD = (uint32_t)(uintptr_t)dst;
     DMA3CNT = DMA_ON_32 | words; /* the CPU waits while it runs */
-}
-
-/* the kernel's position of map i of k (map 0 first, the others at the end of the unrolled run) */
-static uint32_t position(uint32_t i, uint32_t k)
-{
-    return i == 0u ? 0u : KMAX - k + i;
 }
 
 /* chan_fast's condition (core/src/shmap.c): r = -shift in 1..30 and |bias| <= 2^30 */
@@ -46,7 +41,7 @@ qibl_status_t gba_relight_row(const qibl_shmaps_t *m, const qibl_shmap_weights_t
 {
     const uint32_t n = m->width;
     int ours = qibl_shmap_check(m) == QIBL_OK && w != NULL && m->layout == QIBL_SHMAPS_PLANAR && w->k == m->k &&
-               w->channels == m->channels && m->k <= KMAX && y < m->height && n <= PITCH && n % 8u == 0u &&
+               w->channels == m->channels && (m->k == 4u || m->k == 9u) && y < m->height && n <= PITCH && n % 8u == 0u &&
                (((uintptr_t)m->planes | m->height) & 3u) == 0u;
     for (uint32_t ch = 0; ours && ch < 3u; ++ch)
         ours = fast_channel(w, ch);
@@ -58,22 +53,21 @@ qibl_status_t gba_relight_row(const qibl_shmaps_t *m, const qibl_shmap_weights_t
     uint8_t *blk = (uint8_t *)line;
     for (uint32_t c = 0; c < nc; ++c)
         for (uint32_t i = 0; i < k; ++i)
-            dma_words(blk + (c * KMAX + position(i, k)) * PITCH, p0 + (i * nc + c) * plane, n / 4u);
+            dma_words(blk + (c * KMAX + i) * PITCH, p0 + (i * nc + c) * plane, n / 4u);
+    void (*kernel)(const uint8_t *, const uint32_t *) = k == 4u ? gba_relight8_k4 : gba_relight8_k9;
     for (uint32_t ch = 0; ch < 3u; ++ch) {
         /* chan_fast's constants: u0 = 2^(r-1) + 2^31, bb = bias - 2^(31-r) */
         const uint32_t r = (uint32_t)-w->shift[ch];
         const uint8_t *src = blk + (nc == 3u ? ch : 0u) * KMAX * PITCH;
         /* filled field by field: an initialiser with zeros is a memset call, and picolibc's
          * (Thumb, in ROM) cost more than 4 cycles per pixel here */
-        uint32_t f[6 + KMAX];
+        uint32_t f[5 + KMAX];
         f[0] = (uint32_t)(uintptr_t)(b->row + ch), f[1] = r;
         f[2] = (uint32_t)((int32_t)w->bias[ch] - (int32_t)(0x80000000u >> r));
-        f[3] = (uint32_t)(uintptr_t)(src + n), f[4] = (1u << (r - 1u)) + 0x80000000u, f[5] = k;
-        for (uint32_t p = 1; p + k <= KMAX; ++p)
-            f[6u + p] = 0u; /* the positions k skips: not read */
-        for (uint32_t i = 0; i < k; ++i)
-            f[6u + position(i, k)] = (uint32_t)(int32_t)w->w[ch][i];
-        gba_relight8(src, f);
+        f[3] = (uint32_t)(uintptr_t)(src + n), f[4] = (1u << (r - 1u)) + 0x80000000u;
+        for (uint32_t i = 0; i < KMAX; ++i)
+            f[5u + i] = i < k ? (uint32_t)(int32_t)w->w[ch][i] : 0u;
+        kernel(src, f);
     }
     return QIBL_OK;
 }
