@@ -20,6 +20,7 @@
 #include "demo_frame.h"
 #include "iwram_relight.h"
 #include "semi.h"
+#include "stack.h"
 
 #define REG_DISPCNT (*(volatile uint16_t *)0x04000000u)
 #define REG_KEYINPUT (*(volatile uint16_t *)0x04000130u)
@@ -149,6 +150,10 @@ int main(void)
     if (measure("k4", &m4) != 0 || measure("k9", &m9) != 0)
         return 1;
     measure_update(&m9);
+    /* the stack shares IWRAM with .iwram (the line buffer and kernels of arm-iwram-dma): run.sh
+     * checks this against the stack's size */
+    bm_puts("demo stack high-water "), bm_putu((uint32_t)bm_stack_high_water()), bm_puts(" of "),
+        bm_putu((uint32_t)bm_stack_size()), bm_puts("\n");
     if ((REG_KEYINPUT & KEY_SELECT) == 0)
         return 0; /* SELECT held: measured, k = 9 frame on screen */
     frame_state f = {0};

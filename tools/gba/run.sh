@@ -121,6 +121,9 @@ bad = sum(1 for x, y in zip(a, b) if x >> 3 != y >> 3)
 print("gba: screenshot %s: %d of %d channels differ from the host frame at 5 bits" % (sys.argv[1], bad, len(b)))
 sys.exit(0 if sa == sb and len(a) == len(b) and bad == 0 else 1)
 PY
+    # the demo's stack shares IWRAM with .iwram: at least 512 bytes to spare
+    read -r shw shs < <(sed -n 's/^demo stack high-water \([0-9]*\) of \([0-9]*\)$/\1 \2/p' "$demo/run-$place.txt")
+    [ -n "${shs:-}" ] && [ "$shw" -lt $((shs - 512)) ] || err "demo $place: stack high-water ${shw:-?} of ${shs:-?} bytes: too close to the end"
     r() { awk -v n="RESULT gba.sun_$1" '$1 " " $2 == n {print $3}' "$demo/run-$place.txt"; }
     iw=$(arm-none-eabi-size -A "$delf" | awk '$1 == ".iwram" {print $2}')
     r2() { awk -v n="RESULT gba.$1" '$1 " " $2 == n {print $3}' "$demo/run-$place.txt"; }
