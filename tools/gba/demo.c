@@ -77,9 +77,9 @@ static void put_tenths(uint64_t num, uint64_t den)
  * writes them for every pixel */
 static demo_buffers_t bufs __attribute__((section(".iwram.demo_buffers")));
 
-/* the relight of a row: the core's (NULL), or with DEMO_DMA_ARM the port's own (iwram_relight.c:
- * the row's map bytes DMA'd into IWRAM, an ARM kernel over them; the same bytes) */
-#if DEMO_DMA_ARM
+/* the relight of a row: the core's (NULL), or with DEMO_ARM_KERNEL the port's own (iwram_relight.c,
+ * ARM assembly kernels in IWRAM; the same bytes) */
+#if DEMO_ARM_KERNEL
 #define DEMO_RELIGHT gba_relight_row
 #else
 #define DEMO_RELIGHT NULL
@@ -150,7 +150,7 @@ int main(void)
     if (measure("k4", &m4) != 0 || measure("k9", &m9) != 0)
         return 1;
     measure_update(&m9);
-    /* the stack shares IWRAM with .iwram (the line buffer and kernels of arm-iwram-dma): run.sh
+    /* the stack shares IWRAM with .iwram (more of it with arm-iwram-asm's kernels): run.sh
      * checks this against the stack's size */
     bm_puts("demo stack high-water "), bm_putu((uint32_t)bm_stack_high_water()), bm_puts(" of "),
         bm_putu((uint32_t)bm_stack_size()), bm_puts("\n");

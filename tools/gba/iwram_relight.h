@@ -1,7 +1,7 @@
 /*
- * gba/iwram_relight.h - the demo ROM's own relight of a row (demo_hooks_t.relight): the row's map
- * bytes copied from cartridge ROM into IWRAM by DMA3, then an ARM kernel (relight_arm.S) over
- * them. Same bytes as the core's qibl_shmap_relight_span; rows it does not cover go to the core.
+ * gba/iwram_relight.h - the demo ROM's own relight of a row (demo_hooks_t.relight): ARM kernels
+ * (relight_arm.S) that read the maps from cartridge ROM in sequential bursts. Same bytes as the
+ * core's qibl_shmap_relight_span; rows they do not cover go to the core.
  */
 #ifndef QTOOL_GBA_IWRAM_RELIGHT_H
 #define QTOOL_GBA_IWRAM_RELIGHT_H

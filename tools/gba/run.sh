@@ -59,8 +59,8 @@ echo "gba: $ok ok, $bad bad, $nofit do not fit of $total cases; ${emu:-?} s emul
 # in three placements of the relight and platform/soft's row write (soft.c): the core's
 # (core/src/shmap.c) as Thumb in cartridge ROM, as the golden ROM; the core's and soft.c as ARM in
 # IWRAM (compiled -marm as iwram_shmap.o and iwram_soft.o, which gba.ld places there); and, as
-# that, with the port's own relight (arm-iwram-dma: iwram_relight.c DMAs each row's map bytes
-# into IWRAM, relight_arm.S relights them; the demo ROM). Buffers in IWRAM for all. Each frame's CRC-32 must be the host's (demo_ref.c, same code), and mGBA's screen
+# that, with the port's own relight (arm-iwram-asm: iwram_relight.c and the ARM assembly kernels
+# of relight_arm.S, reading the maps from ROM; the demo ROM). Buffers in IWRAM for all. Each frame's CRC-32 must be the host's (demo_ref.c, same code), and mGBA's screen
 # after the run must be the host frame at the GBA's 5 bits per channel.
 demo="$out/demo"
 rm -rf "$demo"; mkdir -p "$demo"
@@ -78,7 +78,7 @@ done
 dflags="$flags $opt -Icore/include -Iplatform/soft/include -Itools/gba -Itools/baremetal"
 # shellcheck disable=SC2086
 $gcc $specs $dflags $tool_warn -c tools/gba/demo.c -o "$demo/demo.o" &&
-$gcc $specs $dflags $tool_warn -DDEMO_DMA_ARM=1 -c tools/gba/demo.c -o "$demo/demo_dma.o" &&
+$gcc $specs $dflags $tool_warn -DDEMO_ARM_KERNEL=1 -c tools/gba/demo.c -o "$demo/demo_asm.o" &&
 $gcc $specs ${dflags/-mthumb/-marm} $core_warn -ffreestanding -fno-builtin -fno-tree-loop-distribute-patterns \
     -c tools/gba/iwram_relight.c -o "$demo/iwram_relight.o" &&
 $gcc $flags -c tools/gba/relight_arm.S -o "$demo/relight_arm.o" &&
@@ -94,10 +94,10 @@ core_thumb=("$dir"/core/*.o)
 core_arm=("$demo/iwram_shmap.o" "$demo/iwram_soft.o")
 for o in "$dir"/core/*.o; do case $(basename "$o") in shmap.o | soft.o) ;; *) core_arm+=("$o") ;; esac; done
 table_rows=()
-for place in thumb-rom arm-iwram arm-iwram-dma; do
+for place in thumb-rom arm-iwram arm-iwram-asm; do
     if [ $place = thumb-rom ]; then core_objs=("${core_thumb[@]}"); else core_objs=("${core_arm[@]}"); fi
     demo_objs=("${demo_common[@]}" "$demo/demo.o")
-    [ $place = arm-iwram-dma ] && demo_objs=("${demo_common[@]}" "$demo/demo_dma.o" "$demo/iwram_relight.o" "$demo/relight_arm.o")
+    [ $place = arm-iwram-asm ] && demo_objs=("${demo_common[@]}" "$demo/demo_asm.o" "$demo/iwram_relight.o" "$demo/relight_arm.o")
     delf="$demo/qibl-demo-$place.elf" drom="$demo/qibl-demo-$place.gba"
     # shellcheck disable=SC2086
     $gcc $specs $flags $opt -nostartfiles -T tools/gba/gba.ld -Wl,--gc-sections,--no-warn-rwx-segments \
@@ -128,14 +128,14 @@ PY
     iw=$(arm-none-eabi-size -A "$delf" | awk '$1 == ".iwram" {print $2}')
     r2() { awk -v n="RESULT gba.$1" '$1 " " $2 == n {print $3}' "$demo/run-$place.txt"; }
     table_rows+=("| $place | $(r k4_cycles_per_px) | $(r k9_cycles_per_px) | $(r k9_write_cycles_per_px) | $(r k4_frame_ms) | $(r k9_frame_ms) | $(r2 demo_k9_updates_per_s) | $iw |")
-    if [ $place = arm-iwram-dma ]; then
+    if [ $place = arm-iwram-asm ]; then
         grep '^RESULT ' "$demo/run-$place.txt"
     else
         grep '^RESULT ' "$demo/run-$place.txt" | sed "s/^\(RESULT gba\.[a-z0-9_]*\)/\1_${place//-/_}/"
     fi
 done
-cp "$demo/shot-arm-iwram-dma.ppm" "$out/qibl-demo.ppm" 2>/dev/null
-cp "$demo/qibl-demo-arm-iwram-dma.gba" "$out/qibl-demo.gba" 2>/dev/null && echo "gba: the demo ROM: $out/qibl-demo.gba (mgba-qt $out/qibl-demo.gba)"
+cp "$demo/shot-arm-iwram-asm.ppm" "$out/qibl-demo.ppm" 2>/dev/null
+cp "$demo/qibl-demo-arm-iwram-asm.gba" "$out/qibl-demo.gba" 2>/dev/null && echo "gba: the demo ROM: $out/qibl-demo.gba (mgba-qt $out/qibl-demo.gba)"
 
 # ---- the generated block of docs/porting.md (GBA_TABLES=docs/porting.md rewrites it there)
 {
