@@ -123,7 +123,9 @@ sys.exit(0 if sa == sb and len(a) == len(b) and bad == 0 else 1)
 PY
     # the demo's stack shares IWRAM with .iwram: at least 512 bytes to spare
     read -r shw shs < <(sed -n 's/^demo stack high-water \([0-9]*\) of \([0-9]*\)$/\1 \2/p' "$demo/run-$place.txt")
-    [ -n "${shs:-}" ] && [ "$shw" -lt $((shs - 512)) ] || err "demo $place: stack high-water ${shw:-?} of ${shs:-?} bytes: too close to the end"
+    if [ -z "${shs:-}" ] || [ "$shw" -ge $((shs - 512)) ]; then
+        err "demo $place: stack high-water ${shw:-?} of ${shs:-?} bytes: too close to the end"
+    fi
     r() { awk -v n="RESULT gba.sun_$1" '$1 " " $2 == n {print $3}' "$demo/run-$place.txt"; }
     iw=$(arm-none-eabi-size -A "$delf" | awk '$1 == ".iwram" {print $2}')
     r2() { awk -v n="RESULT gba.$1" '$1 " " $2 == n {print $3}' "$demo/run-$place.txt"; }
