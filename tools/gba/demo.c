@@ -18,7 +18,9 @@
 #include <stdint.h>
 
 #include "demo_frame.h"
+#include "iwram_relight.h"
 #include "semi.h"
+#include "stack.h"
 
 #define REG_DISPCNT (*(volatile uint16_t *)0x04000000u)
 #define REG_KEYINPUT (*(volatile uint16_t *)0x04000130u)
@@ -75,11 +77,19 @@ static void put_tenths(uint64_t num, uint64_t den)
  * writes them for every pixel */
 static demo_buffers_t bufs __attribute__((section(".iwram.demo_buffers")));
 
+/* the relight of a row: the core's (NULL), or with DEMO_ARM_KERNEL the port's own (iwram_relight.c,
+ * ARM assembly kernels in IWRAM; the same bytes) */
+#if DEMO_ARM_KERNEL
+#define DEMO_RELIGHT gba_relight_row
+#else
+#define DEMO_RELIGHT NULL
+#endif
+
 /* updates per second of the interactive loop: the cycles of one update (phase 0 at the next step) */
 static void measure_update(const qibl_shmaps_t *m)
 {
     frame_state f = {0};
-    demo_hooks_t h = {to_screen, NULL, &f, 0, 0};
+    demo_hooks_t h = {.row = to_screen, .user = &f, .relight = DEMO_RELIGHT};
     uint32_t t0 = cycles(NULL);
     qibl_status_t st = update(m, DEMO_CHECK_STEP + 1u, 0, &bufs, &h);
     uint32_t t = cycles(NULL) - t0;
@@ -106,7 +116,7 @@ static int open_maps(const uint8_t *a, const uint8_t *end, qibl_asset_t *asset, 
 static int measure(const char *tag, const qibl_shmaps_t *m)
 {
     frame_state f = {0, 1};
-    demo_hooks_t h = {to_screen, cycles, &f, 0, 0};
+    demo_hooks_t h = {.row = to_screen, .clock = cycles, .user = &f, .relight = DEMO_RELIGHT};
     uint32_t t0 = cycles(NULL);
     qibl_status_t st = demo_frame(m, DEMO_CHECK_STEP, 0, m->height, &bufs, &h);
     uint32_t total = cycles(NULL) - t0;
@@ -140,10 +150,14 @@ int main(void)
     if (measure("k4", &m4) != 0 || measure("k9", &m9) != 0)
         return 1;
     measure_update(&m9);
+    /* the stack shares IWRAM with .iwram (more of it with arm-iwram-asm's kernels): run.sh
+     * checks this against the stack's size */
+    bm_puts("demo stack high-water "), bm_putu((uint32_t)bm_stack_high_water()), bm_puts(" of "),
+        bm_putu((uint32_t)bm_stack_size()), bm_puts("\n");
     if ((REG_KEYINPUT & KEY_SELECT) == 0)
         return 0; /* SELECT held: measured, k = 9 frame on screen */
     frame_state f = {0};
-    demo_hooks_t h = {to_screen, NULL, &f, 0, 0};
+    demo_hooks_t h = {.row = to_screen, .user = &f, .relight = DEMO_RELIGHT};
     for (uint32_t u = PHASES * (DEMO_CHECK_STEP + 1u);; ++u)
         if (update(&m9, u / PHASES % DEMO_SUN_STEPS, u % PHASES, &bufs, &h) != QIBL_OK)
             return 1;

@@ -48,7 +48,7 @@ qibl_status_t demo_frame(const qibl_shmaps_t *m, uint32_t s, uint32_t y0, uint32
     fb.format = QIBL_FB_RGB565, fb.srgb = 1, fb.dither = 1;
     for (uint32_t y = y0; y < y1 && st == QIBL_OK; ++y) {
         uint32_t t0 = h->clock ? h->clock(h->user) : 0;
-        st = qibl_shmap_relight_span(m, &wt, 0, y, w, b->row, b->ws, sizeof b->ws);
+        st = h->relight ? h->relight(m, &wt, y, b) : qibl_shmap_relight_span(m, &wt, 0, y, w, b->row, b->ws, sizeof b->ws);
         uint32_t t1 = h->clock ? h->clock(h->user) : 0;
         if (st == QIBL_OK)
             st = qibl_soft_fb_write_row(&fb, 0, y & 3u, w, b->row);

@@ -23,11 +23,14 @@ typedef struct demo_buffers {
 } demo_buffers_t;
 
 /* Called with each finished row; the cycles the relight of the row took come from the caller's
- * clock through the two hooks (NULL: not timed). */
+ * clock through the two hooks (NULL: not timed). relight, when set, replaces the core's
+ * qibl_shmap_relight_span of row y into b->row (a port's own data path or kernel: it must give
+ * the same bytes, which the frame's CRC-32 against the host's checks); it is timed as the relight. */
 typedef struct demo_hooks {
     void (*row)(void *user, uint32_t y, const uint16_t *rgb565, uint32_t n);
     uint32_t (*clock)(void *user); /* a free-running counter */
     void *user;
+    qibl_status_t (*relight)(const qibl_shmaps_t *m, const qibl_shmap_weights_t *w, uint32_t y, struct demo_buffers *b);
     uint64_t relight_ticks, write_ticks; /* summed over the frame's rows */
 } demo_hooks_t;
 

@@ -55,7 +55,7 @@ int main(int argc, char **argv)
     uint32_t step = (uint32_t)strtoul(argv[2], NULL, 10);
     static demo_buffers_t b;
     state s = {0, m.width, m.height, malloc(2u * m.width * m.height)};
-    demo_hooks_t h = {keep, NULL, &s, 0, 0};
+    demo_hooks_t h = {.row = keep, .user = &s};
     if (s.frame == NULL || (st = demo_frame(&m, step, 0, m.height, &b, &h)) != QIBL_OK) {
         fprintf(stderr, "qibl-gba-demo-ref: frame: %s\n", s.frame ? qibl_soft_status_str(st) : "out of memory");
         return 1;

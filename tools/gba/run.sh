@@ -7,8 +7,9 @@
 # memory are hashed as produced (the streaming mode of tools/golden/cases.c). As on the MCU boards
 # (tools/baremetal/run.sh, whose main.c, heap.c, stack.c and probes this reuses): the static stack
 # bound of every public entry point, the measured stack of each wrapped one against it, and the
-# run's high-water mark. Then the relighting demo ROM (demo.c) in two placements, its cycles per
-# pixel (RESULT gba.sun_*), its frames against the host's. Ends with the RESULT lines
+# run's high-water mark. Then the relighting demo ROM (demo.c) in three placements, its cycles per
+# pixel (RESULT gba.sun_*: the port's own relight; _thumb_rom, _arm_iwram: the core's), its frames
+# against the host's. Ends with the RESULT lines
 # gba.golden_match and gba.golden_total.
 # Env: BUILD (default build; output in $BUILD/gba), GBA_SECONDS (the emulated-time limit, 3600),
 # GBA_TABLES (a file whose generated block to rewrite: make gba-tables passes docs/porting.md).
@@ -55,9 +56,11 @@ echo "gba: $ok ok, $bad bad, $nofit do not fit of $total cases; ${emu:-?} s emul
      "run stack high-water ${hw:-?} of ${size:-?} B (IWRAM); largest case heap $heap (EWRAM)"
 
 # ---- the relighting demo (demo.c): the courtyard at 240 x 160 from `qibl gen`, k = 4 and k = 9,
-# in two placements of the core's relight (core/src/shmap.c) and platform/soft's row write
-# (soft.c): Thumb in cartridge ROM, as the golden ROM, and ARM in IWRAM (compiled -marm as
-# iwram_shmap.o and iwram_soft.o, which gba.ld places there); buffers in IWRAM for both. Each frame's CRC-32 must be the host's (demo_ref.c, same code), and mGBA's screen
+# in three placements of the relight and platform/soft's row write (soft.c): the core's
+# (core/src/shmap.c) as Thumb in cartridge ROM, as the golden ROM; the core's and soft.c as ARM in
+# IWRAM (compiled -marm as iwram_shmap.o and iwram_soft.o, which gba.ld places there); and, as
+# that, with the port's own relight (arm-iwram-asm: iwram_relight.c and the ARM assembly kernels
+# of relight_arm.S, reading the maps from ROM; the demo ROM). Buffers in IWRAM for all. Each frame's CRC-32 must be the host's (demo_ref.c, same code), and mGBA's screen
 # after the run must be the host frame at the GBA's 5 bits per channel.
 demo="$out/demo"
 rm -rf "$demo"; mkdir -p "$demo"
@@ -75,6 +78,10 @@ done
 dflags="$flags $opt -Icore/include -Iplatform/soft/include -Itools/gba -Itools/baremetal"
 # shellcheck disable=SC2086
 $gcc $specs $dflags $tool_warn -c tools/gba/demo.c -o "$demo/demo.o" &&
+$gcc $specs $dflags $tool_warn -DDEMO_ARM_KERNEL=1 -c tools/gba/demo.c -o "$demo/demo_asm.o" &&
+$gcc $specs ${dflags/-mthumb/-marm} $core_warn -ffreestanding -fno-builtin -fno-tree-loop-distribute-patterns \
+    -c tools/gba/iwram_relight.c -o "$demo/iwram_relight.o" &&
+$gcc $flags -c tools/gba/relight_arm.S -o "$demo/relight_arm.o" &&
 $gcc $specs $dflags $tool_warn -c tools/gba/demo_frame.c -o "$demo/demo_frame.o" &&
 $gcc $flags -Wa,-I"$demo" -c tools/gba/demo_asset.S -o "$demo/demo_asset.o" &&
 $gcc ${flags/-mthumb/-marm} $opt $core_warn -ffreestanding -fno-builtin -fno-tree-loop-distribute-patterns \
@@ -82,13 +89,15 @@ $gcc ${flags/-mthumb/-marm} $opt $core_warn -ffreestanding -fno-builtin -fno-tre
 $gcc ${flags/-mthumb/-marm} $opt $core_warn -ffreestanding -fno-builtin -fno-tree-loop-distribute-patterns \
     -ffunction-sections -Icore/include -Iplatform/soft/include -c platform/soft/soft.c -o "$demo/iwram_soft.o" ||
     err "demo: compile failed"
-demo_objs=("$dir/tools/crt_gba.o" "$dir/tools/gba_io.o" "$dir/tools/putu.o" "$dir/tools/armtimers.o" "$dir/tools/stack.o" "$demo/demo.o" "$demo/demo_frame.o" "$demo/demo_asset.o")
+demo_common=("$dir/tools/crt_gba.o" "$dir/tools/gba_io.o" "$dir/tools/putu.o" "$dir/tools/armtimers.o" "$dir/tools/stack.o" "$demo/demo_frame.o" "$demo/demo_asset.o")
 core_thumb=("$dir"/core/*.o)
 core_arm=("$demo/iwram_shmap.o" "$demo/iwram_soft.o")
 for o in "$dir"/core/*.o; do case $(basename "$o") in shmap.o | soft.o) ;; *) core_arm+=("$o") ;; esac; done
 table_rows=()
-for place in thumb-rom arm-iwram; do
+for place in thumb-rom arm-iwram arm-iwram-asm; do
     if [ $place = thumb-rom ]; then core_objs=("${core_thumb[@]}"); else core_objs=("${core_arm[@]}"); fi
+    demo_objs=("${demo_common[@]}" "$demo/demo.o")
+    [ $place = arm-iwram-asm ] && demo_objs=("${demo_common[@]}" "$demo/demo_asm.o" "$demo/iwram_relight.o" "$demo/relight_arm.o")
     delf="$demo/qibl-demo-$place.elf" drom="$demo/qibl-demo-$place.gba"
     # shellcheck disable=SC2086
     $gcc $specs $flags $opt -nostartfiles -T tools/gba/gba.ld -Wl,--gc-sections,--no-warn-rwx-segments \
@@ -112,18 +121,23 @@ bad = sum(1 for x, y in zip(a, b) if x >> 3 != y >> 3)
 print("gba: screenshot %s: %d of %d channels differ from the host frame at 5 bits" % (sys.argv[1], bad, len(b)))
 sys.exit(0 if sa == sb and len(a) == len(b) and bad == 0 else 1)
 PY
+    # the demo's stack shares IWRAM with .iwram: at least 512 bytes to spare
+    read -r shw shs < <(sed -n 's/^demo stack high-water \([0-9]*\) of \([0-9]*\)$/\1 \2/p' "$demo/run-$place.txt")
+    if [ -z "${shs:-}" ] || [ "$shw" -ge $((shs - 512)) ]; then
+        err "demo $place: stack high-water ${shw:-?} of ${shs:-?} bytes: too close to the end"
+    fi
     r() { awk -v n="RESULT gba.sun_$1" '$1 " " $2 == n {print $3}' "$demo/run-$place.txt"; }
     iw=$(arm-none-eabi-size -A "$delf" | awk '$1 == ".iwram" {print $2}')
     r2() { awk -v n="RESULT gba.$1" '$1 " " $2 == n {print $3}' "$demo/run-$place.txt"; }
     table_rows+=("| $place | $(r k4_cycles_per_px) | $(r k9_cycles_per_px) | $(r k9_write_cycles_per_px) | $(r k4_frame_ms) | $(r k9_frame_ms) | $(r2 demo_k9_updates_per_s) | $iw |")
-    if [ $place = arm-iwram ]; then
+    if [ $place = arm-iwram-asm ]; then
         grep '^RESULT ' "$demo/run-$place.txt"
     else
-        grep '^RESULT ' "$demo/run-$place.txt" | sed 's/^\(RESULT gba\.[a-z0-9_]*\)/\1_thumb_rom/'
+        grep '^RESULT ' "$demo/run-$place.txt" | sed "s/^\(RESULT gba\.[a-z0-9_]*\)/\1_${place//-/_}/"
     fi
 done
-cp "$demo/shot-arm-iwram.ppm" "$out/qibl-demo.ppm" 2>/dev/null
-cp "$demo/qibl-demo-arm-iwram.gba" "$out/qibl-demo.gba" 2>/dev/null && echo "gba: the demo ROM: $out/qibl-demo.gba (mgba-qt $out/qibl-demo.gba)"
+cp "$demo/shot-arm-iwram-asm.ppm" "$out/qibl-demo.ppm" 2>/dev/null
+cp "$demo/qibl-demo-arm-iwram-asm.gba" "$out/qibl-demo.gba" 2>/dev/null && echo "gba: the demo ROM: $out/qibl-demo.gba (mgba-qt $out/qibl-demo.gba)"
 
 # ---- the generated block of docs/porting.md (GBA_TABLES=docs/porting.md rewrites it there)
 {
