@@ -168,24 +168,9 @@ int qtool_luminaire_passes_gles(qtool_luminaire_passes *r, char *err, size_t err
     rc = 0;
 out:
     glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)oldfb);
-    for (int k = 0; k < 4; ++k) {
-        if (fbo[k])
-            glDeleteFramebuffers(1, &fbo[k]);
-        if (acc[k])
-            glDeleteTextures(1, &acc[k]);
-    }
-    if (th)
-        glDeleteTextures(1, &th);
-    if (tl)
-        glDeleteTextures(1, &tl);
-    if (vbo)
-        glDeleteBuffers(1, &vbo);
-    if (prog)
-        glDeleteProgram(prog);
-    if (vs)
-        glDeleteShader(vs);
-    if (fs)
-        glDeleteShader(fs);
+    /* GL ignores the name 0: what was never made is passed over */
+    glDeleteFramebuffers(4, fbo), glDeleteTextures(4, acc), glDeleteTextures(1, &th), glDeleteTextures(1, &tl);
+    glDeleteBuffers(1, &vbo), glDeleteProgram(prog), glDeleteShader(vs), glDeleteShader(fs);
     if (rc != 0 && !err[0])
         snprintf(err, errlen, "the core's codec refused a value");
     free(buf), free(back), free(q), free(shown);

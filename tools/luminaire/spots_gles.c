@@ -187,30 +187,14 @@ typedef struct glstate {
     uint32_t cols, n;
 } glstate;
 
+/* (GL ignores the name 0: what gl_setup never made is passed over) */
 static void gl_free(glstate *g)
 {
-    for (int k = 0; k < 4; ++k) {
-        if (g->fbo[k])
-            glDeleteFramebuffers(1, &g->fbo[k]);
-        if (g->acc[k])
-            glDeleteTextures(1, &g->acc[k]);
-        if (g->stex[k])
-            glDeleteTextures(1, &g->stex[k]);
-    }
-    if (g->mrt)
-        glDeleteFramebuffers(1, &g->mrt);
-    if (g->ptex)
-        glDeleteTextures(1, &g->ptex);
-    if (g->atlas)
-        glDeleteTextures(1, &g->atlas);
-    if (g->vbo)
-        glDeleteBuffers(1, &g->vbo);
-    if (g->prog)
-        glDeleteProgram(g->prog);
-    if (g->vs)
-        glDeleteShader(g->vs);
-    if (g->fs)
-        glDeleteShader(g->fs);
+    glDeleteFramebuffers(4, g->fbo), glDeleteFramebuffers(1, &g->mrt);
+    glDeleteTextures(4, g->acc), glDeleteTextures(4, g->stex);
+    glDeleteTextures(1, &g->ptex), glDeleteTextures(1, &g->atlas);
+    glDeleteBuffers(1, &g->vbo);
+    glDeleteProgram(g->prog), glDeleteShader(g->vs), glDeleteShader(g->fs);
 }
 
 /* the program, the atlas of every spotlight's table, the pair's four targets (0/1 the canonical

@@ -113,12 +113,8 @@ static void window_close(window_gl *W)
     if (W->ctx && eglMakeCurrent(W->d, W->surf, W->surf, W->ctx)) {
         if (W->have_g)
             qibl_gles2_destroy(&W->g);
-        if (W->fbo)
-            glDeleteFramebuffers(1, &W->fbo);
-        if (W->tex)
-            glDeleteTextures(1, &W->tex);
-        if (W->prog)
-            glDeleteProgram(W->prog);
+        glDeleteFramebuffers(1, &W->fbo), glDeleteTextures(1, &W->tex); /* GL ignores the name 0 */
+        glDeleteProgram(W->prog);
     }
     eglMakeCurrent(W->d, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     if (W->surf)
