@@ -17,7 +17,6 @@
 #include "qibl/soft.h"
 #include "qibl/srgbe.h"
 
-#define PI_ 3.14159265358979323846
 
 void qtool_luminaire_spot_pass(const qtool_luminaire_spots *s, uint32_t j, const int32_t *base, const int32_t *p,
                                uint32_t n, int64_t *acc, int64_t *ws)
@@ -194,16 +193,8 @@ int qtool_luminaire_passes_run(const qtool_luminaire *l, uint32_t size, double h
         /* the ground plane below the source, shaded as the study's (a unit lamp at each anchor,
          * 1/d^2, Lambert, albedo 1) */
         for (uint32_t x = 0; x < n; ++x) {
-            double p[3] = {-half + (x + 0.5) * 2 * half / n, -half + (y + 0.5) * 2 * half / n, 0};
-            for (int k = 0; k < 3; ++k)
-                pts[3 * x + (uint32_t)k] = q16d(p[k]);
-            for (uint32_t a = 0; a < na; ++a) {
-                double w[3] = {s.anchor[a][0] / 65536.0 - p[0], s.anchor[a][1] / 65536.0 - p[1],
-                               s.anchor[a][2] / 65536.0 - p[2]};
-                double r2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2], shade = w[2] / sqrt(r2) / PI_ / r2;
-                for (int k = 0; k < 3; ++k)
-                    base[3 * ((size_t)a * n + x) + (size_t)k] = q16d(shade);
-            }
+            const double p[3] = {-half + (x + 0.5) * 2 * half / n, -half + (y + 0.5) * 2 * half / n, 0};
+            qtool_luminaire_ground_pixel(&s, p, x, n, pts, base);
         }
         for (uint32_t j = 0; j < np; ++j)
             qtool_luminaire_spot_pass(&s, j, base, pts, n, r.terms + ((size_t)j * npix + (size_t)y * n) * 3, ws);
