@@ -78,11 +78,12 @@ static qibl_status_t pixel_sum(const uint8_t *hi, const uint8_t *lo, const int64
     return QIBL_OK;
 }
 
-qibl_status_t qtool_luminaire_srgbe_add(uint8_t *codes, const int64_t *term, uint32_t n, int frac_bits)
+/* srgbe_add (lo NULL) and srgbe_add2 */
+static qibl_status_t add_pass(uint8_t *hi, uint8_t *lo, const int64_t *term, uint32_t n, int frac_bits)
 {
-    int32_t v[3];
+    int32_t v[3], h[3], e[3];
     for (uint32_t i = 0; i < n; ++i) { /* every pixel checked before any is written */
-        qibl_status_t st = pixel_sum(codes, NULL, term, i, frac_bits, v);
+        qibl_status_t st = pixel_sum(hi, lo, term, i, frac_bits, v);
         if (st != QIBL_OK)
             return st;
     }
@@ -90,26 +91,11 @@ qibl_status_t qtool_luminaire_srgbe_add(uint8_t *codes, const int64_t *term, uin
      * cannot fail once the check above passed */
     qibl_status_t st = QIBL_OK;
     for (uint32_t i = 0; st == QIBL_OK && i < n; ++i) {
-        st = pixel_sum(codes, NULL, term, i, frac_bits, v);
-        if (st == QIBL_OK)
-            st = qibl_srgbe_encode_s32(v, frac_bits, codes + 4 * (size_t)i);
-    }
-    return st;
-}
-
-qibl_status_t qtool_luminaire_srgbe_add2(uint8_t *hi, uint8_t *lo, const int64_t *term, uint32_t n, int frac_bits)
-{
-    int32_t v[3], h[3], e[3];
-    for (uint32_t i = 0; i < n; ++i) {
-        qibl_status_t st = pixel_sum(hi, lo, term, i, frac_bits, v);
-        if (st != QIBL_OK)
-            return st;
-    }
-    qibl_status_t st = QIBL_OK;
-    for (uint32_t i = 0; st == QIBL_OK && i < n; ++i) {
         st = pixel_sum(hi, lo, term, i, frac_bits, v);
         if (st == QIBL_OK)
             st = qibl_srgbe_encode_s32(v, frac_bits, hi + 4 * (size_t)i);
+        if (!lo)
+            continue;
         /* hi's code is within half a step of v, so it decodes without saturating */
         if (st == QIBL_OK)
             st = qibl_srgbe_decode_s32(hi + 4 * (size_t)i, frac_bits, h);
@@ -119,6 +105,16 @@ qibl_status_t qtool_luminaire_srgbe_add2(uint8_t *hi, uint8_t *lo, const int64_t
             st = qibl_srgbe_encode_s32(e, frac_bits, lo + 4 * (size_t)i);
     }
     return st;
+}
+
+qibl_status_t qtool_luminaire_srgbe_add(uint8_t *codes, const int64_t *term, uint32_t n, int frac_bits)
+{
+    return add_pass(codes, NULL, term, n, frac_bits);
+}
+
+qibl_status_t qtool_luminaire_srgbe_add2(uint8_t *hi, uint8_t *lo, const int64_t *term, uint32_t n, int frac_bits)
+{
+    return add_pass(hi, lo, term, n, frac_bits);
 }
 
 void qtool_luminaire_srgbe_clear(uint8_t *codes, uint32_t n)
