@@ -409,10 +409,7 @@ int qtool_bake_relight_path8_gonio(const uint8_t *asset, size_t n, const qtool_r
         if (st == QIBL_OK)
             st = qibl_lightpath_shade_span(&lp, tq, radius, 0, y, w, prow, row, sky != NULL);
         if (st == QIBL_OK)
-            st = qibl_soft_fb_write_row(&fb, 0, y, w, row);
-        if (st == QIBL_OK && lin)
-            for (size_t i = 0; i < (size_t)w * 3; ++i)
-                lin[(size_t)y * w * 3 + i] = row[i] > 0 ? (float)(row[i] / 65536.0) : 0.0f;
+            st = qtool_bake_frame_row(&fb, y, w, row, lin);
     }
     return qtool_bake_frame_finish(&f, st, t0, ms, w, h, rgb8, status);
 }

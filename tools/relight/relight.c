@@ -8,6 +8,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "bake/bake.h"
 #include "io/file.h"
 #include "qibl/soft.h"
 #include "qtool.h"
@@ -222,12 +223,7 @@ int qtool_relight_frame_gonio(const qibl_shmaps_t *m, const qibl_shlight_t *sh, 
         for (size_t i = 0; i < (size_t)w * 3; ++i) /* saturate once: the sum, not each light */
             row[i] = acc[i] > INT32_MAX ? INT32_MAX : acc[i] < INT32_MIN ? INT32_MIN : (int32_t)acc[i];
         if (st == QIBL_OK)
-            st = qibl_fb_write_row(&fb, 0, y, w, row);
-        if (st == QIBL_OK && lin) {
-            float *o = lin + (size_t)y * w * 3;
-            for (size_t i = 0; i < (size_t)w * 3; ++i)
-                o[i] = row[i] > 0 ? (float)(row[i] / 65536.0) : 0.0f;
-        }
+            st = qtool_bake_frame_row(&fb, y, w, row, lin);
     }
     clock_gettime(CLOCK_MONOTONIC, &t1);
     if (ms)
