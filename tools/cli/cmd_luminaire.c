@@ -68,6 +68,7 @@ static const qtool_opt capture_table[] = {
 
 static const qtool_opt_cmd capture_spec = {
     .name = "luminaire capture",
+    .help_name = "luminaire",
     QTOOL_OPT_TABLE(capture_table, capture_defaults),
     .pos = {.names = "builtin|MESH.obj", .min = 1, .max = 1, .off = offsetof(capture_cli, src)},
     .prose =
@@ -82,6 +83,7 @@ static const qtool_opt_cmd capture_spec = {
 
 static const qtool_opt_cmd info_spec = {
     .name = "luminaire info",
+    .help_name = "luminaire",
     .pos = {.names = "F.qnf", .min = 1, .max = 1},
     QTOOL_OPT_TABLE(NULL, qtool_opt_args),
     .prose = "  The source's header (grid, basis, texture, planes), its dark supports, texel range and flux.\n",
@@ -136,6 +138,7 @@ static const qtool_opt render_table[] = {
 
 static const qtool_opt_cmd render_spec = {
     .name = "luminaire render",
+    .help_name = "luminaire",
     QTOOL_OPT_TABLE(render_table, render_defaults),
     .pos = {.names = "ASSET F.qnf", .min = 2, .max = 2, .off = offsetof(render_cli, files)},
     .prose =
@@ -172,6 +175,7 @@ static const qtool_opt study_table[] = {
 
 static const qtool_opt_cmd study_spec = {
     .name = "luminaire study",
+    .help_name = "luminaire",
     QTOOL_OPT_TABLE(study_table, study_defaults),
     .prose =
         "  The built-in luminaire captured, then its near field (textured spotlights) and far field (one\n"
@@ -196,6 +200,7 @@ static const qtool_opt passes_table[] = {
 
 static const qtool_opt_cmd passes_spec = {
     .name = "luminaire passes",
+    .help_name = "luminaire",
     QTOOL_OPT_TABLE(passes_table, passes_defaults),
     .prose =
         "  Sources of 16, 64 and 256 spotlights (synthetic, every support lit) one lamp size above a\n"
@@ -225,6 +230,7 @@ static const qtool_opt picture_table[] = {
 
 static const qtool_opt_cmd picture_spec = {
     .name = "luminaire picture",
+    .help_name = "luminaire",
     QTOOL_OPT_TABLE(picture_table, picture_defaults),
     .prose = "  The built-in luminaire above a ground plane: its near field (textured spotlights), the\n"
              "  luminaire ray-traced, its far field (one gonio lamp), side by side, one exposure.\n",
