@@ -6,7 +6,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "bake/bake.h"
 #include "io/file.h"
@@ -196,8 +195,7 @@ int qtool_relight_frame_gonio(const qibl_shmaps_t *m, const qibl_shlight_t *sh, 
     qibl_fb_desc_t fb = {0};
     fb.pixels = pix, fb.width = w, fb.height = h, fb.format = QIBL_FB_RGBA8888;
     fb.srgb = srgb ? 1 : 0, fb.exposure = exposure;
-    struct timespec t0, t1;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
+    const double t0 = qtool_bake_now();
     qibl_shmap_weights_t wt;
     if (sh)
         st = qibl_shmap_weights(m, sh, &wt);
@@ -225,11 +223,7 @@ int qtool_relight_frame_gonio(const qibl_shmaps_t *m, const qibl_shlight_t *sh, 
         if (st == QIBL_OK)
             st = qtool_bake_frame_row(&fb, y, w, row, lin);
     }
-    clock_gettime(CLOCK_MONOTONIC, &t1);
-    if (ms)
-        *ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
-    for (size_t i = 0; st == QIBL_OK && i < (size_t)w * h; ++i)
-        memcpy(rgb8 + 3 * i, pix + 4 * i, 3);
+    qtool_bake_frame_done(st, t0, ms, pix, w, h, rgb8, NULL); /* ms, and rgb8 when st is QIBL_OK */
 out:
     free(pix), free(row), free(acc), free(pt), free(ws);
     if (status)
