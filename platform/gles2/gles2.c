@@ -82,20 +82,20 @@ static const char *fs_head = "#ifdef GL_FRAGMENT_PRECISION_HIGH\n"
  * encode e = floor(log2 max|c|) + 2, corrected by one either way because log2 may be inexact, then
  * X = floor(255 (c 2^-e + 1/2) + 1/2). The RGBA8 store rounds X / 255 back to X exactly. A zero
  * channel writes 128 whatever its sign (the C codec writes 127 for -0); below 2^-126 the zero code. */
-static const char *fs_srgbe = "vec3 srgbe_dec(vec4 t) {\n"
-                              "  vec4 x = floor(t * 255.0 + 0.5);\n"
-                              "  return (x.rgb - 127.5) / 255.0 * exp2(x.a - 126.0);\n"
-                              "}\n"
-                              "vec4 srgbe_enc(vec3 c) {\n"
-                              "  float m = max(max(abs(c.r), abs(c.g)), abs(c.b));\n"
-                              "  if (m < 1.1754944e-38) return vec4(128.0, 128.0, 128.0, 0.0) / 255.0;\n"
-                              "  float e = floor(log2(m)) + 2.0;\n"
-                              "  if (m * exp2(-e) >= 0.5) e += 1.0;\n"
-                              "  if (m * exp2(-e) < 0.25) e -= 1.0;\n"
-                              "  e = min(e, 129.0);\n"
-                              "  vec3 x = clamp(floor(255.0 * (c * exp2(-e) + 0.5) + 0.5), 0.0, 255.0);\n"
-                              "  return vec4(x, e + 126.0) / 255.0;\n"
-                              "}\n";
+const char qibl_gles2_glsl_srgbe[] = "vec3 srgbe_dec(vec4 t) {\n"
+                                     "  vec4 x = floor(t * 255.0 + 0.5);\n"
+                                     "  return (x.rgb - 127.5) / 255.0 * exp2(x.a - 126.0);\n"
+                                     "}\n"
+                                     "vec4 srgbe_enc(vec3 c) {\n"
+                                     "  float m = max(max(abs(c.r), abs(c.g)), abs(c.b));\n"
+                                     "  if (m < 1.1754944e-38) return vec4(128.0, 128.0, 128.0, 0.0) / 255.0;\n"
+                                     "  float e = floor(log2(m)) + 2.0;\n"
+                                     "  if (m * exp2(-e) >= 0.5) e += 1.0;\n"
+                                     "  if (m * exp2(-e) < 0.25) e -= 1.0;\n"
+                                     "  e = min(e, 129.0);\n"
+                                     "  vec3 x = clamp(floor(255.0 * (c * exp2(-e) + 0.5) + 0.5), 0.0, 255.0);\n"
+                                     "  return vec4(x, e + 126.0) / 255.0;\n"
+                                     "}\n";
 
 /* exposure, clamp, IEC 61966-2-1 sRGB or linear; the RGBA8 store rounds to nearest */
 static const char *fs_out = "uniform vec2 u_out;\n" /* x: exposure, y: 1 = sRGB */
@@ -145,32 +145,35 @@ static int mode_gonio(int mode)
     return mode == QIBL_GLES2_MODE_POINT_SH_GONIO || mode == QIBL_GLES2_MODE_POINT_LUT_GONIO;
 }
 
+/* The goniometric table's texel (i, j), fetched exactly (nearest filtering at its centre, the 16 bits
+ * rebuilt from two bytes); qibl_gles2_glsl_gonio mixes four of them. */
+static const char *fs_gonio_tex = "uniform sampler2D u_g;\n"
+                                  "uniform vec3 u_gx, u_gy, u_gz;\n"
+                                  "uniform float u_gn;\n"
+                                  "float gonio_tex(vec2 ij) {\n"
+                                  "  vec4 t = texture2D(u_g, (ij + 0.5) / u_gn);\n"
+                                  "  return floor(t.r * 255.0 + 0.5) + 256.0 * floor(t.a * 255.0 + 0.5);\n"
+                                  "}\n";
+
 /* The goniometric scale toward lamp-frame direction dw (qibl/gonio.h, qibl_gonio_lookup): the
  * octahedral position, folded below the equator, as a texel position clamped to the outer texel
- * centres; the four nearest texels fetched exactly (nearest filtering at their centres, the 16 bits
- * rebuilt from two bytes) and mixed bilinearly; the Q1.15 result rounded as the core rounds it. */
-static const char *fs_gonio = "uniform sampler2D u_g;\n"
-                              "uniform vec3 u_gx, u_gy, u_gz;\n"
-                              "uniform float u_gn;\n"
-                              "float gonio_tex(vec2 ij) {\n"
-                              "  vec4 t = texture2D(u_g, (ij + 0.5) / u_gn);\n"
-                              "  return floor(t.r * 255.0 + 0.5) + 256.0 * floor(t.a * 255.0 + 0.5);\n"
-                              "}\n"
-                              "float gonio(vec3 dw) {\n"
-                              "  vec3 lf = vec3(dot(dw, u_gx), dot(dw, u_gy), dot(dw, u_gz));\n"
-                              "  vec3 al = abs(lf);\n"
-                              "  float s = al.x + al.y + al.z;\n"
-                              "  vec2 a = vec2(0.0);\n"
-                              "  if (s > 0.0) {\n"
-                              "    a = (lf.z >= 0.0 ? al.xy : vec2(s - al.y, s - al.x)) / s;\n"
-                              "    a = vec2(lf.x < 0.0 ? -a.x : a.x, lf.y < 0.0 ? -a.y : a.y);\n"
-                              "  }\n"
-                              "  vec2 f = clamp((a + 1.0) * 0.5 * u_gn - 0.5, 0.0, u_gn - 1.0);\n"
-                              "  vec2 i0 = floor(f), tf = f - i0, i1 = min(i0 + 1.0, u_gn - 1.0);\n"
-                              "  float r0 = mix(gonio_tex(i0), gonio_tex(vec2(i1.x, i0.y)), tf.x);\n"
-                              "  float r1 = mix(gonio_tex(vec2(i0.x, i1.y)), gonio_tex(i1), tf.x);\n"
-                              "  return floor(mix(r0, r1, tf.y) + 0.5) / 32768.0;\n"
-                              "}\n";
+ * centres; the four nearest texels (gonio_tex) mixed bilinearly; the Q1.15 result rounded as the
+ * core rounds it. */
+const char qibl_gles2_glsl_gonio[] = "float gonio(vec3 dw) {\n"
+                                     "  vec3 lf = vec3(dot(dw, u_gx), dot(dw, u_gy), dot(dw, u_gz));\n"
+                                     "  vec3 al = abs(lf);\n"
+                                     "  float s = al.x + al.y + al.z;\n"
+                                     "  vec2 a = vec2(0.0);\n"
+                                     "  if (s > 0.0) {\n"
+                                     "    a = (lf.z >= 0.0 ? al.xy : vec2(s - al.y, s - al.x)) / s;\n"
+                                     "    a = vec2(lf.x < 0.0 ? -a.x : a.x, lf.y < 0.0 ? -a.y : a.y);\n"
+                                     "  }\n"
+                                     "  vec2 f = clamp((a + 1.0) * 0.5 * u_gn - 0.5, 0.0, u_gn - 1.0);\n"
+                                     "  vec2 i0 = floor(f), tf = f - i0, i1 = min(i0 + 1.0, u_gn - 1.0);\n"
+                                     "  float r0 = mix(gonio_tex(i0), gonio_tex(vec2(i1.x, i0.y)), tf.x);\n"
+                                     "  float r1 = mix(gonio_tex(vec2(i0.x, i1.y)), gonio_tex(i1), tf.x);\n"
+                                     "  return floor(mix(r0, r1, tf.y) + 0.5) / 32768.0;\n"
+                                     "}\n";
 
 static const char swz[4] = {'x', 'y', 'z', 'w'};
 static const char rgbc[3] = {'r', 'g', 'b'};
@@ -308,9 +311,9 @@ static int build_fs(const qibl_gles2_t *g, int mode, uint32_t pass, sbuf *b)
             emit(b, "%s", fs_lut_dir);
         }
         if (mode_gonio(mode))
-            emit(b, "%s", fs_gonio);
+            emit(b, "%s%s", fs_gonio_tex, qibl_gles2_glsl_gonio);
     }
-    emit(b, "%s%s", fs_srgbe, fs_out);
+    emit(b, "%s%s", qibl_gles2_glsl_srgbe, fs_out);
     emit(b, "void main() {\n  vec2 tc = gl_FragCoord.xy * u_size;\n  vec4 t;\n  vec3 acc = u_bias;\n");
     if (mode != QIBL_GLES2_MODE_DIR) {
         /* P from three split-byte textures: 24-bit integers, exact in highp */
@@ -1124,7 +1127,7 @@ qibl_status_t qibl_gles2_srgbe_check(qibl_gles2_t *g, const uint8_t *codes, uint
     sbuf b = {src, 0, sizeof src, 0};
     emit(&b, "%s%suniform sampler2D u_in;\nuniform float u_mul;\nuniform vec2 u_size;\n"
              "void main() { gl_FragColor = srgbe_enc(srgbe_dec(texture2D(u_in, gl_FragCoord.xy * u_size)) * u_mul); }\n",
-         fs_head, fs_srgbe);
+         fs_head, qibl_gles2_glsl_srgbe);
     GLuint prog = 0, tex[2] = {0, 0}, fb = 0;
     GLint caller_fb = 0;
     glGetIntegerv(GL_FRAMEBUFFER_BINDING, &caller_fb);

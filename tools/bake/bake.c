@@ -50,6 +50,17 @@ int qtool_bake_frame_done(qibl_status_t st, double t0, double *ms, const uint8_t
     return st == QIBL_OK ? 0 : -1;
 }
 
+qibl_status_t qtool_bake_frame_row(const qibl_fb_desc_t *fb, uint32_t y, uint32_t w, const int32_t *row, float *lin)
+{
+    qibl_status_t st = qibl_soft_fb_write_row(fb, 0, y, w, row);
+    if (st == QIBL_OK && lin) {
+        float *o = lin + (size_t)y * w * 3;
+        for (size_t i = 0; i < (size_t)w * 3; ++i)
+            o[i] = row[i] > 0 ? (float)(row[i] / 65536.0) : 0.0f;
+    }
+    return st;
+}
+
 int qtool_bake_frame_alloc(qibl_status_t st, uint32_t w, uint32_t h, size_t rows, size_t scratch, size_t wsn,
                            qtool_bake_frame *f, qibl_status_t *status)
 {

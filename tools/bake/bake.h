@@ -46,6 +46,10 @@ qibl_fb_desc_t qtool_bake_fb_srgb(uint8_t *pix, uint32_t w, uint32_t h);
  * the RGB of pix into rgb8 when st is QIBL_OK, *status (may be NULL) = st. 0 if st is QIBL_OK, else -1. */
 int qtool_bake_frame_done(qibl_status_t st, double t0, double *ms, const uint8_t *pix, uint32_t w, uint32_t h,
                           uint8_t *rgb8, qibl_status_t *status);
+/* Row y of a relight's Q16.16 RGB (w pixels) into fb (qibl_soft_fb_write_row) and, when lin is not
+ * NULL and the write succeeded, into lin's row y as linear floats (negative as 0): the write's
+ * status. */
+qibl_status_t qtool_bake_frame_row(const qibl_fb_desc_t *fb, uint32_t y, uint32_t w, const int32_t *row, float *lin);
 /* A value in the core's Q16.16: round(v 2^16). */
 qibl_q16_t qtool_bake_q16(double v);
 /* The directional light l (direction and colour in Q16.16) as a k-coefficient SH light. */

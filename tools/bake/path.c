@@ -432,60 +432,9 @@ int qtool_bake_relight_path8_gonio(const uint8_t *asset, size_t n, const qtool_r
         if (st == QIBL_OK)
             st = qibl_lightpath_shade_span(&lp, tq, radius, 0, y, w, prow, row, sky != NULL);
         if (st == QIBL_OK)
-            st = qibl_soft_fb_write_row(&fb, 0, y, w, row);
-        if (st == QIBL_OK && lin)
-            for (size_t i = 0; i < (size_t)w * 3; ++i)
-                lin[(size_t)y * w * 3 + i] = row[i] > 0 ? (float)(row[i] / 65536.0) : 0.0f;
+            st = qtool_bake_frame_row(&fb, y, w, row, lin);
     }
     return qtool_bake_frame_finish(&f, st, t0, ms, w, h, rgb8, status);
-}
-
-/* ---- evaluation ---------------------------------------------------------------------------------- */
-
-typedef struct {
-    const qtool_rt_scene *s;
-    uint32_t w, h;
-    qtool_pano_kind kind;
-    const qtool_rt_light *l;
-    uint8_t *cls;
-} cls_job;
-
-static void cls_row(void *ctx, uint32_t y)
-{
-    const cls_job *j = ctx;
-    for (uint32_t x = 0; x < j->w; ++x) {
-        double d[3], w[3], len = 0, tmax = 1e30;
-        qtool_rt_hit h;
-        uint8_t *o = j->cls + (size_t)y * j->w + x;
-        qtool_rt_pixel_ray(j->s, j->w, j->h, j->kind, x, y, d);
-        qtool_rt_primary(j->s, d, &h);
-        if (!h.hit) {
-            *o = 0;
-            continue;
-        }
-        for (int c = 0; c < 3; ++c) {
-            w[c] = j->l->point ? j->l->pos[c] - h.p[c] : j->l->dir[c];
-            len += w[c] * w[c];
-        }
-        len = sqrt(len);
-        for (int c = 0; c < 3; ++c)
-            w[c] = len > 0 ? w[c] / len : 0;
-        if (j->l->point)
-            tmax = len;
-        double cg = h.ng[0] * w[0] + h.ng[1] * w[1] + h.ng[2] * w[2];
-        double cn = h.n[0] * w[0] + h.n[1] * w[1] + h.n[2] * w[2];
-        if (cg <= 0 || cn <= 0 || len < 1.0 / 256)
-            *o = 3;
-        else
-            *o = qtool_rt_occluded(j->s, &h, w, tmax) ? 2 : 1;
-    }
-}
-
-int qtool_bake_classify(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const qtool_rt_light *l,
-                       int threads, uint8_t *cls)
-{
-    cls_job j = {s, w, h, kind, l, cls};
-    return qtool_rt_parallel(threads, h, cls_row, &j, NULL);
 }
 
 /* ---- sky ----------------------------------------------------------------------------------------- */

@@ -121,8 +121,5 @@ int qtool_bake_locc_payload(uint32_t w, uint32_t h, const uint8_t *values, uint8
 int qtool_bake_asset_add(const uint8_t *asset, size_t n, uint32_t type, const uint8_t *payload, size_t size,
                         uint8_t **out, size_t *outn);
 
-/* Per pixel what the truth does with light l: 0 sky, 1 lit, 2 cast shadow, 3 facing away. 0. */
-int qtool_bake_classify(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const qtool_rt_light *l,
-                       int threads, uint8_t *cls);
 
 #endif

@@ -249,7 +249,7 @@ int qtool_probesun_path(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_p
 {
     size_t np = (size_t)w * h;
     qtool_rt_light l = {0, {sun->dir[0], sun->dir[1], sun->dir[2]}, {0, 0, 0}, {1, 1, 1}, 1};
-    if (qtool_bake_classify(s, w, h, kind, &l, threads, cls) != 0)
+    if (qtool_rt_classify(s, w, h, kind, &l, threads, cls) != 0)
         return -1;
     uint8_t *counts = malloc(np);
     uint16_t *edges = malloc(np * sizeof(uint16_t));

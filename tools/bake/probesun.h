@@ -64,7 +64,7 @@ void qtool_probesun_f32_image(const float *p, uint32_t w, uint32_t h, uint32_t *
 int qtool_probesun_sh(const float *p, uint32_t w, uint32_t h, uint32_t k, qibl_shlight_t *l, double *ms);
 
 /* The LPTH payload of one fixed direction (each pixel visible: one edge at 0; or not: none); cls
- * (w h) gets qtool_bake_classify's classes of that direction. 0 or -1 (out of memory). */
+ * (w h) gets qtool_rt_classify's classes of that direction. 0 or -1 (out of memory). */
 int qtool_probesun_path(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, int threads,
                         const qtool_probesun_src *sun, uint8_t *cls, uint8_t **out, size_t *n);
 

@@ -104,6 +104,13 @@ int qcli_usage_error(const char *fmt, ...);
  * out of the Q16.16 range. */
 int qcli_parse_q16(const char *s, int32_t *out);
 
+/* Parses the three words of a direction option (relight's --aim/--up, view's --sun) into Q16.16:
+ * NULL with out written, or the reason with out untouched: "'<word>' is not a number in the Q16.16
+ * range" in why (at most width characters of the word; -1: all of it), or zero_why when all three
+ * round to 0. */
+const char *qcli_parse_q16_dir(char *const *v, int width, const char *zero_why, int32_t out[3], char *why,
+                               size_t whylen);
+
 /* Parses "AZ,EL" (degrees, finite, |EL| <= el_max: transfer's --view, view's --camera); 0, or -1
  * with nothing written. */
 int qcli_parse_azel(const char *s, double el_max, double *az, double *el);

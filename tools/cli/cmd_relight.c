@@ -164,17 +164,10 @@ static const char *nearest_call(void *o, const char *unused)
 /* --aim X Y Z, --up X Y Z: the IES lamp's frame, Q16.16 */
 static const char *frame_call(relight_cli *c, int32_t *q, char *const *v)
 {
-    int32_t t[3];
-    for (int k = 0; k < 3; ++k)
-        if (qcli_parse_q16(v[k], &t[k]) != 0) {
-            snprintf(c->why, sizeof c->why, "'%s' is not a number in the Q16.16 range", v[k]);
-            return c->why;
-        }
-    if (t[0] == 0 && t[1] == 0 && t[2] == 0)
-        return "the zero vector has no direction";
-    memcpy(q, t, sizeof t);
-    c->have_frame = 1;
-    return NULL;
+    const char *bad = qcli_parse_q16_dir(v, -1, "the zero vector has no direction", q, c->why, sizeof c->why);
+    if (!bad)
+        c->have_frame = 1;
+    return bad;
 }
 
 static const char *aim_call(void *o, char *const *v, int n, int *used)

@@ -44,17 +44,11 @@ static const char *camera_call(void *opts, const char *v)
 static const char *sun_call(void *opts, char *const *v, int n, int *used)
 {
     view_cli *c = opts;
-    qibl_q16_t s[3];
     (void)n, (void)used;
-    for (int k = 0; k < 3; ++k)
-        if (qcli_parse_q16(v[k], &s[k]) != 0) {
-            snprintf(c->why, sizeof c->why, "'%.40s' is not a number in the Q16.16 range", v[k]);
-            return c->why;
-        }
-    if (s[0] == 0 && s[1] == 0 && s[2] == 0)
-        return "the direction is 0 0 0 in Q16.16";
-    memcpy(c->sun, s, sizeof s), c->have_sun = 1;
-    return NULL;
+    const char *bad = qcli_parse_q16_dir(v, 40, "the direction is 0 0 0 in Q16.16", c->sun, c->why, sizeof c->why);
+    if (!bad)
+        c->have_sun = 1;
+    return bad;
 }
 
 #define V_(field) offsetof(view_cli, field)

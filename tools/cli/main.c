@@ -167,6 +167,21 @@ int qcli_parse_q16(const char *s, int32_t *out)
     return 0;
 }
 
+const char *qcli_parse_q16_dir(char *const *v, int width, const char *zero_why, int32_t out[3], char *why,
+                               size_t whylen)
+{
+    int32_t t[3];
+    for (int k = 0; k < 3; ++k)
+        if (qcli_parse_q16(v[k], &t[k]) != 0) {
+            snprintf(why, whylen, "'%.*s' is not a number in the Q16.16 range", width, v[k]);
+            return why;
+        }
+    if (t[0] == 0 && t[1] == 0 && t[2] == 0)
+        return zero_why;
+    memcpy(out, t, sizeof t);
+    return NULL;
+}
+
 int qcli_parse_azel(const char *s, double el_max, double *az, double *el)
 {
     char *end;

@@ -196,7 +196,7 @@ static int path_truths(paths_ctx *c)
         for (int p = 0; p < 2; ++p) {
             size_t f = (size_t)p * NPOS + (size_t)i;
             if (qtool_bake_truth8(v->scene, v->w, v->h, v->kind, &c->L[p][i], v->threads, c->truth + f * np * 3, NULL) != 0 ||
-                qtool_bake_classify(v->scene, v->w, v->h, v->kind, &c->L[p][i], v->threads, c->cls + f * np) != 0)
+                qtool_rt_classify(v->scene, v->w, v->h, v->kind, &c->L[p][i], v->threads, c->cls + f * np) != 0)
                 return qtool_errf(c->err, c->errlen, "demo: out of memory (light-path truth)");
         }
     }

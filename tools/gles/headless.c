@@ -12,6 +12,8 @@
 #include <EGL/eglext.h>
 #include <GLES2/gl2.h>
 
+#include "gles/gl.h"
+
 #ifndef EGL_PLATFORM_SURFACELESS_MESA
 #define EGL_PLATFORM_SURFACELESS_MESA 0x31DD
 #endif
@@ -75,18 +77,8 @@ int qt_gles_open(qt_gles_ctx *c, uint32_t w, uint32_t h, char *why, size_t why_s
     const char *r = (const char *)glGetString(GL_RENDERER);
     snprintf(c->renderer, sizeof c->renderer, "%s", r ? r : "?");
     GLuint tex = 0, fbo = 0;
-    glGenTextures(1, &tex);
-    glBindTexture(GL_TEXTURE_2D, tex);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, (GLsizei)w, (GLsizei)h, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
-    glGenFramebuffers(1, &fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex, 0);
+    GLenum fs = qtool_gles_rgba8_target(w, h, NULL, &tex, &fbo);
     c->tex = tex, c->fbo = fbo, c->width = w, c->height = h;
-    GLenum fs = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     if (fs != GL_FRAMEBUFFER_COMPLETE) {
         snprintf(why, why_size, "RGBA8 framebuffer %ux%u incomplete (0x%x)", w, h, (unsigned)fs);
         qt_gles_close(c);

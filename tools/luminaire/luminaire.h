@@ -388,4 +388,11 @@ int qtool_luminaire_study(const qtool_luminaire_study_opts *o, FILE *f);
 int qtool_luminaire_picture(const qtool_luminaire_study_opts *o, double lamps, uint8_t **rgb, uint32_t *w,
                             uint32_t *h);
 
+/* Pixel x of a span of n on the study's ground plane, at p (z = 0, facing up): its point into pts
+ * (3 per pixel, Q16.16) and, for each of s's anchors a, a unit isotropic lamp at the anchor (1/d^2,
+ * Lambert, albedo 1: what an asset's point maps give) into base (anchor a's span at base + 3 n a),
+ * each value rounded to nearest and saturated to int32 (the study's frames and the passes report's). */
+void qtool_luminaire_ground_pixel(const qtool_luminaire_spots *s, const double p[3], uint32_t x, uint32_t n,
+                                  int32_t *pts, int32_t *base);
+
 #endif

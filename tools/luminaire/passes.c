@@ -17,7 +17,6 @@
 #include "qibl/soft.h"
 #include "qibl/srgbe.h"
 
-#define PI_ 3.14159265358979323846
 
 void qtool_luminaire_spot_pass(const qtool_luminaire_spots *s, uint32_t j, const int32_t *base, const int32_t *p,
                                uint32_t n, int64_t *acc, int64_t *ws)
@@ -79,11 +78,12 @@ static qibl_status_t pixel_sum(const uint8_t *hi, const uint8_t *lo, const int64
     return QIBL_OK;
 }
 
-qibl_status_t qtool_luminaire_srgbe_add(uint8_t *codes, const int64_t *term, uint32_t n, int frac_bits)
+/* srgbe_add (lo NULL) and srgbe_add2 */
+static qibl_status_t add_pass(uint8_t *hi, uint8_t *lo, const int64_t *term, uint32_t n, int frac_bits)
 {
-    int32_t v[3];
+    int32_t v[3], h[3], e[3];
     for (uint32_t i = 0; i < n; ++i) { /* every pixel checked before any is written */
-        qibl_status_t st = pixel_sum(codes, NULL, term, i, frac_bits, v);
+        qibl_status_t st = pixel_sum(hi, lo, term, i, frac_bits, v);
         if (st != QIBL_OK)
             return st;
     }
@@ -91,26 +91,11 @@ qibl_status_t qtool_luminaire_srgbe_add(uint8_t *codes, const int64_t *term, uin
      * cannot fail once the check above passed */
     qibl_status_t st = QIBL_OK;
     for (uint32_t i = 0; st == QIBL_OK && i < n; ++i) {
-        st = pixel_sum(codes, NULL, term, i, frac_bits, v);
-        if (st == QIBL_OK)
-            st = qibl_srgbe_encode_s32(v, frac_bits, codes + 4 * (size_t)i);
-    }
-    return st;
-}
-
-qibl_status_t qtool_luminaire_srgbe_add2(uint8_t *hi, uint8_t *lo, const int64_t *term, uint32_t n, int frac_bits)
-{
-    int32_t v[3], h[3], e[3];
-    for (uint32_t i = 0; i < n; ++i) {
-        qibl_status_t st = pixel_sum(hi, lo, term, i, frac_bits, v);
-        if (st != QIBL_OK)
-            return st;
-    }
-    qibl_status_t st = QIBL_OK;
-    for (uint32_t i = 0; st == QIBL_OK && i < n; ++i) {
         st = pixel_sum(hi, lo, term, i, frac_bits, v);
         if (st == QIBL_OK)
             st = qibl_srgbe_encode_s32(v, frac_bits, hi + 4 * (size_t)i);
+        if (!lo)
+            continue;
         /* hi's code is within half a step of v, so it decodes without saturating */
         if (st == QIBL_OK)
             st = qibl_srgbe_decode_s32(hi + 4 * (size_t)i, frac_bits, h);
@@ -120,6 +105,16 @@ qibl_status_t qtool_luminaire_srgbe_add2(uint8_t *hi, uint8_t *lo, const int64_t
             st = qibl_srgbe_encode_s32(e, frac_bits, lo + 4 * (size_t)i);
     }
     return st;
+}
+
+qibl_status_t qtool_luminaire_srgbe_add(uint8_t *codes, const int64_t *term, uint32_t n, int frac_bits)
+{
+    return add_pass(codes, NULL, term, n, frac_bits);
+}
+
+qibl_status_t qtool_luminaire_srgbe_add2(uint8_t *hi, uint8_t *lo, const int64_t *term, uint32_t n, int frac_bits)
+{
+    return add_pass(hi, lo, term, n, frac_bits);
 }
 
 void qtool_luminaire_srgbe_clear(uint8_t *codes, uint32_t n)
@@ -194,16 +189,8 @@ int qtool_luminaire_passes_run(const qtool_luminaire *l, uint32_t size, double h
         /* the ground plane below the source, shaded as the study's (a unit lamp at each anchor,
          * 1/d^2, Lambert, albedo 1) */
         for (uint32_t x = 0; x < n; ++x) {
-            double p[3] = {-half + (x + 0.5) * 2 * half / n, -half + (y + 0.5) * 2 * half / n, 0};
-            for (int k = 0; k < 3; ++k)
-                pts[3 * x + (uint32_t)k] = q16d(p[k]);
-            for (uint32_t a = 0; a < na; ++a) {
-                double w[3] = {s.anchor[a][0] / 65536.0 - p[0], s.anchor[a][1] / 65536.0 - p[1],
-                               s.anchor[a][2] / 65536.0 - p[2]};
-                double r2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2], shade = w[2] / sqrt(r2) / PI_ / r2;
-                for (int k = 0; k < 3; ++k)
-                    base[3 * ((size_t)a * n + x) + (size_t)k] = q16d(shade);
-            }
+            const double p[3] = {-half + (x + 0.5) * 2 * half / n, -half + (y + 0.5) * 2 * half / n, 0};
+            qtool_luminaire_ground_pixel(&s, p, x, n, pts, base);
         }
         for (uint32_t j = 0; j < np; ++j)
             qtool_luminaire_spot_pass(&s, j, base, pts, n, r.terms + ((size_t)j * npix + (size_t)y * n) * 3, ws);

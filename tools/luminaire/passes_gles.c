@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "luminaire/gl.h"
+#include "gles/gl.h"
 #include "luminaire/luminaire.h"
 #include "qibl/soft.h"
 #include "qibl/srgbe.h"
@@ -21,11 +21,13 @@
 #if QIBL_HAVE_GLES2
 #include <GLES2/gl2.h>
 
+#include "qibl/gles2.h"
+
 static const char *vs_src = "attribute vec2 a_pos;\n"
                             "varying vec2 v_uv;\n"
                             "void main() { v_uv = a_pos * 0.5 + 0.5; gl_Position = vec4(a_pos, 0.0, 1.0); }\n";
 
-/* the GLSL codec is platform/gles2's (its fs_srgbe), exponent fixed up where log2 is inexact */
+/* the GLSL codec is platform/gles2's (qibl_gles2_glsl_srgbe), exponent fixed up where log2 is inexact */
 static const char *fs_src =
     "#ifdef GL_FRAGMENT_PRECISION_HIGH\n"
     "precision highp float;\n"
@@ -36,13 +38,13 @@ static const char *fs_src =
     "#endif\n"
     "uniform float u_lo;\n"
     "varying vec2 v_uv;\n";
-/* (the sRGBE codec in GLSL between the two: luminaire/gl.h) */
+/* (the sRGBE codec in GLSL between the two: qibl_gles2_glsl_srgbe, platform/gles2's) */
 static const char *fs_body =
     "void main() {\n"
-    "  vec3 s = dec(texture2D(u_ah, v_uv)) + dec(texture2D(u_al, v_uv))\n"
-    "         + dec(texture2D(u_th, v_uv)) + dec(texture2D(u_tl, v_uv));\n"
-    "  vec4 h = enc(s);\n"
-    "  gl_FragColor = u_lo > 0.5 ? enc(s - dec(h)) : h;\n"
+    "  vec3 s = srgbe_dec(texture2D(u_ah, v_uv)) + srgbe_dec(texture2D(u_al, v_uv))\n"
+    "         + srgbe_dec(texture2D(u_th, v_uv)) + srgbe_dec(texture2D(u_tl, v_uv));\n"
+    "  vec4 h = srgbe_enc(s);\n"
+    "  gl_FragColor = u_lo > 0.5 ? srgbe_enc(s - srgbe_dec(h)) : h;\n"
     "}\n";
 
 int qtool_luminaire_passes_gles(qtool_luminaire_passes *r, char *err, size_t errlen)
@@ -56,15 +58,15 @@ int qtool_luminaire_passes_gles(qtool_luminaire_passes *r, char *err, size_t err
     GLuint vs = 0, fs = 0, prog = 0, vbo = 0, acc[4] = {0, 0, 0, 0}, fbo[4] = {0, 0, 0, 0}, th = 0, tl = 0;
     GLint oldfb = 0;
     int rc = -1;
-    const char *const vparts[1] = {vs_src}, *const fparts[3] = {fs_src, qtool_luminaire_glsl_codec, fs_body};
+    const char *const vparts[1] = {vs_src}, *const fparts[3] = {fs_src, qibl_gles2_glsl_srgbe, fs_body};
     err[0] = 0;
     if (!buf || !back || !q || !shown) {
         snprintf(err, errlen, "out of memory");
         goto out;
     }
     glGetIntegerv(GL_FRAMEBUFFER_BINDING, &oldfb);
-    vs = qtool_luminaire_gl_shader(GL_VERTEX_SHADER, vparts, 1, err, errlen);
-    fs = vs ? qtool_luminaire_gl_shader(GL_FRAGMENT_SHADER, fparts, 3, err, errlen) : 0;
+    vs = qtool_gles_shader(GL_VERTEX_SHADER, vparts, 1, err, errlen);
+    fs = vs ? qtool_gles_shader(GL_FRAGMENT_SHADER, fparts, 3, err, errlen) : 0;
     if (!fs)
         goto out;
     prog = glCreateProgram();
@@ -86,17 +88,13 @@ int qtool_luminaire_passes_gles(qtool_luminaire_passes *r, char *err, size_t err
     /* accumulators: 0/1 hi and lo of ping, 2/3 of pong, all the zero code at first */
     qtool_luminaire_srgbe_clear(buf, (uint32_t)npix);
     for (int k = 0; k < 4; ++k) {
-        acc[k] = qtool_luminaire_gl_texture(GL_RGBA, GL_UNSIGNED_BYTE, n, n, buf);
-        glGenFramebuffers(1, &fbo[k]);
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo[k]);
-        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, acc[k], 0);
-        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+        if (qtool_gles_rgba8_target(n, n, buf, &acc[k], &fbo[k]) != GL_FRAMEBUFFER_COMPLETE) {
             snprintf(err, errlen, "an accumulation framebuffer is incomplete");
             goto out;
         }
     }
-    th = qtool_luminaire_gl_texture(GL_RGBA, GL_UNSIGNED_BYTE, n, n, NULL);
-    tl = qtool_luminaire_gl_texture(GL_RGBA, GL_UNSIGNED_BYTE, n, n, NULL);
+    th = qtool_gles_texture(GL_RGBA, GL_UNSIGNED_BYTE, n, n, NULL);
+    tl = qtool_gles_texture(GL_RGBA, GL_UNSIGNED_BYTE, n, n, NULL);
     glUseProgram(prog);
     glUniform1i(glGetUniformLocation(prog, "u_ah"), 0), glUniform1i(glGetUniformLocation(prog, "u_al"), 1);
     glUniform1i(glGetUniformLocation(prog, "u_th"), 2), glUniform1i(glGetUniformLocation(prog, "u_tl"), 3);
@@ -170,24 +168,9 @@ int qtool_luminaire_passes_gles(qtool_luminaire_passes *r, char *err, size_t err
     rc = 0;
 out:
     glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)oldfb);
-    for (int k = 0; k < 4; ++k) {
-        if (fbo[k])
-            glDeleteFramebuffers(1, &fbo[k]);
-        if (acc[k])
-            glDeleteTextures(1, &acc[k]);
-    }
-    if (th)
-        glDeleteTextures(1, &th);
-    if (tl)
-        glDeleteTextures(1, &tl);
-    if (vbo)
-        glDeleteBuffers(1, &vbo);
-    if (prog)
-        glDeleteProgram(prog);
-    if (vs)
-        glDeleteShader(vs);
-    if (fs)
-        glDeleteShader(fs);
+    /* GL ignores the name 0: what was never made is passed over */
+    glDeleteFramebuffers(4, fbo), glDeleteTextures(4, acc), glDeleteTextures(1, &th), glDeleteTextures(1, &tl);
+    glDeleteBuffers(1, &vbo), glDeleteProgram(prog), glDeleteShader(vs), glDeleteShader(fs);
     if (rc != 0 && !err[0])
         snprintf(err, errlen, "the core's codec refused a value");
     free(buf), free(back), free(q), free(shown);

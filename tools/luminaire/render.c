@@ -16,6 +16,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "bake/bake.h" /* qtool_bake_frame_row */
 #include "luminaire/luminaire.h"
 #include "qibl/asset.h"
 #include "qibl/soft.h"
@@ -848,12 +849,7 @@ int qtool_luminaire_relight(const qtool_luminaire_spots *s, const qibl_shmaps_t 
             qtool_luminaire_spots_span(s, row, pts + 3 * (size_t)x0, nw, acc + 3 * (size_t)x0, idx);
         for (size_t i = 0; i < (size_t)w * 3; ++i) /* round and saturate once: the sum, not each pass */
             row[i] = qtool_luminaire_q16(acc[i]);
-        st = qibl_fb_write_row(&fb, 0, y, w, row);
-        if (st == QIBL_OK && lin) {
-            float *o = lin + (size_t)y * w * 3;
-            for (size_t i = 0; i < (size_t)w * 3; ++i)
-                o[i] = row[i] > 0 ? (float)(row[i] / 65536.0) : 0.0f;
-        }
+        st = qtool_bake_frame_row(&fb, y, w, row, lin);
     }
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1);
     if (ms)

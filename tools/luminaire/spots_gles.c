@@ -18,7 +18,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "luminaire/gl.h"
+#include "gles/gl.h"
 #include "luminaire/spots_gles.h"
 #include "qibl/soft.h"
 #include "qibl/srgbe.h"
@@ -39,6 +39,8 @@ void qtool_luminaire_diff8(const uint8_t *a, const uint8_t *b, size_t n, int *ma
 #if QIBL_HAVE_GLES2
 #include <EGL/egl.h>
 #include <GLES2/gl2.h>
+
+#include "qibl/gles2.h"
 #include <GLES2/gl2ext.h>
 
 #define TILE 8u /* screen tiles of the cull: a spotlight is drawn over the tiles it may reach (8 rather
@@ -47,10 +49,10 @@ void qtool_luminaire_diff8(const uint8_t *a, const uint8_t *b, size_t n, int *ma
 static const char *vs_src = "attribute vec2 a_pos;\n"
                             "void main() { gl_Position = vec4(a_pos, 0.0, 1.0); }\n";
 
-/* The term of spotlight s at the pixel's point x: gonio(x - s) (platform/gles2's fs_gonio, the
+/* The term of spotlight s at the pixel's point x: gonio(x - s) (platform/gles2's qibl_gles2_glsl_gonio, the
  * table at u_goff in the atlas) times the peak, times the anchors' numerators interpolated with the
  * spotlight's weights, over |x - s|^3; added to the pair as passes_gles.c adds (the sRGBE codec is
- * platform/gles2's fs_srgbe). Where the term is 0 the codes are written back as read. */
+ * platform/gles2's qibl_gles2_glsl_srgbe). Where the term is 0 the codes are written back as read. */
 /* the two ways a pass reads and writes the pair: GLES2's core (ping-pong, one code per draw: u_lo
  * says which) and EXT_draw_buffers with EXT_shader_framebuffer_fetch (both codes read in place and
  * written by one draw; a pixel whose term is 0 is discarded) */
@@ -72,27 +74,14 @@ static const char *fs_src = "#ifdef GL_FRAGMENT_PRECISION_HIGH\n"
                             "uniform vec4 u_aw;\n"
                             "uniform vec2 u_goff, u_gsz, u_inv, u_cull;\n"
                             "uniform float u_gn, u_lo;\n";
-/* (the sRGBE codec in GLSL between the two: luminaire/gl.h) */
-static const char *fs_body =
+/* (the sRGBE codec in GLSL between the two: qibl_gles2_glsl_srgbe, platform/gles2's) */
+static const char *fs_tex =
                             "float gonio_tex(vec2 ij) {\n"
                             "  vec4 t = texture2D(u_g, (ij + u_goff + 0.5) / u_gsz);\n"
                             "  return floor(t.r * 255.0 + 0.5) + 256.0 * floor(t.a * 255.0 + 0.5);\n"
-                            "}\n"
-                            "float gonio(vec3 dw) {\n"
-                            "  vec3 lf = vec3(dot(dw, u_gx), dot(dw, u_gy), dot(dw, u_gz));\n"
-                            "  vec3 al = abs(lf);\n"
-                            "  float s = al.x + al.y + al.z;\n"
-                            "  vec2 a = vec2(0.0);\n"
-                            "  if (s > 0.0) {\n"
-                            "    a = (lf.z >= 0.0 ? al.xy : vec2(s - al.y, s - al.x)) / s;\n"
-                            "    a = vec2(lf.x < 0.0 ? -a.x : a.x, lf.y < 0.0 ? -a.y : a.y);\n"
-                            "  }\n"
-                            "  vec2 f = clamp((a + 1.0) * 0.5 * u_gn - 0.5, 0.0, u_gn - 1.0);\n"
-                            "  vec2 i0 = floor(f), tf = f - i0, i1 = min(i0 + 1.0, u_gn - 1.0);\n"
-                            "  float r0 = mix(gonio_tex(i0), gonio_tex(vec2(i1.x, i0.y)), tf.x);\n"
-                            "  float r1 = mix(gonio_tex(vec2(i0.x, i1.y)), gonio_tex(i1), tf.x);\n"
-                            "  return floor(mix(r0, r1, tf.y) + 0.5) / 32768.0;\n"
-                            "}\n"
+                            "}\n";
+/* (gonio(), qibl_gles2_glsl_gonio, between the two) */
+static const char *fs_body =
                             "void main() {\n"
                             "  vec2 uv = gl_FragCoord.xy * u_inv;\n"
                             "  READ_PAIR;\n"
@@ -106,9 +95,9 @@ static const char *fs_body =
                             "    KEEP;\n"
                             "  }\n"
                             "  float r2 = dot(d, d);\n"
-                            "  vec3 s = dec(ah) + dec(al) + b * u_rgb * (g / (r2 * sqrt(r2)));\n"
-                            "  vec4 h = enc(s);\n"
-                            "  WRITE(h, enc(s - dec(h)));\n"
+                            "  vec3 s = srgbe_dec(ah) + srgbe_dec(al) + b * u_rgb * (g / (r2 * sqrt(r2)));\n"
+                            "  vec4 h = srgbe_enc(s);\n"
+                            "  WRITE(h, srgbe_enc(s - srgbe_dec(h)));\n"
                             "}\n";
 
 static double clock_ms(clockid_t id)
@@ -198,30 +187,14 @@ typedef struct glstate {
     uint32_t cols, n;
 } glstate;
 
+/* (GL ignores the name 0: what gl_setup never made is passed over) */
 static void gl_free(glstate *g)
 {
-    for (int k = 0; k < 4; ++k) {
-        if (g->fbo[k])
-            glDeleteFramebuffers(1, &g->fbo[k]);
-        if (g->acc[k])
-            glDeleteTextures(1, &g->acc[k]);
-        if (g->stex[k])
-            glDeleteTextures(1, &g->stex[k]);
-    }
-    if (g->mrt)
-        glDeleteFramebuffers(1, &g->mrt);
-    if (g->ptex)
-        glDeleteTextures(1, &g->ptex);
-    if (g->atlas)
-        glDeleteTextures(1, &g->atlas);
-    if (g->vbo)
-        glDeleteBuffers(1, &g->vbo);
-    if (g->prog)
-        glDeleteProgram(g->prog);
-    if (g->vs)
-        glDeleteShader(g->vs);
-    if (g->fs)
-        glDeleteShader(g->fs);
+    glDeleteFramebuffers(4, g->fbo), glDeleteFramebuffers(1, &g->mrt);
+    glDeleteTextures(4, g->acc), glDeleteTextures(4, g->stex);
+    glDeleteTextures(1, &g->ptex), glDeleteTextures(1, &g->atlas);
+    glDeleteBuffers(1, &g->vbo);
+    glDeleteProgram(g->prog), glDeleteShader(g->vs), glDeleteShader(g->fs);
 }
 
 /* the program, the atlas of every spotlight's table, the pair's four targets (0/1 the canonical
@@ -264,10 +237,11 @@ static int gl_setup(glstate *g, const qtool_luminaire_spots *s, uint32_t w, uint
         return -1;
     }
     g->cols = cols, g->n = n;
-    const char *const vparts[1] = {vs_src}, *const fparts[4] = {g->fetch ? fs_fetch : fs_core, fs_src,
-                                                                 qtool_luminaire_glsl_codec, fs_body};
-    g->vs = qtool_luminaire_gl_shader(GL_VERTEX_SHADER, vparts, 1, err, errlen);
-    g->fs = g->vs ? qtool_luminaire_gl_shader(GL_FRAGMENT_SHADER, fparts, 4, err, errlen) : 0;
+    const char *const vparts[1] = {vs_src}, *const fparts[6] = {g->fetch ? fs_fetch : fs_core, fs_src,
+                                                                 qibl_gles2_glsl_srgbe, fs_tex,
+                                                                 qibl_gles2_glsl_gonio, fs_body};
+    g->vs = qtool_gles_shader(GL_VERTEX_SHADER, vparts, 1, err, errlen);
+    g->fs = g->vs ? qtool_gles_shader(GL_FRAGMENT_SHADER, fparts, 6, err, errlen) : 0;
     if (!g->fs)
         return -1;
     g->prog = glCreateProgram();
@@ -295,7 +269,7 @@ static int gl_setup(glstate *g, const qtool_luminaire_spots *s, uint32_t w, uint
     /* the atlas: table c at column c % cols, row c / cols; 16 bits as low byte (L), high byte (A) */
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     glActiveTexture(GL_TEXTURE7);
-    g->atlas = qtool_luminaire_gl_texture(GL_LUMINANCE_ALPHA, GL_UNSIGNED_BYTE, cols * n, rows * n, NULL);
+    g->atlas = qtool_gles_texture(GL_LUMINANCE_ALPHA, GL_UNSIGNED_BYTE, cols * n, rows * n, NULL);
     uint8_t *buf = malloc(2u * n);
     if (!buf) {
         snprintf(err, errlen, "out of memory");
@@ -311,18 +285,14 @@ static int gl_setup(glstate *g, const qtool_luminaire_spots *s, uint32_t w, uint
         }
     free(buf);
     glActiveTexture(GL_TEXTURE2);
-    g->ptex = qtool_luminaire_gl_texture(GL_RGB, GL_FLOAT, w, h, NULL);
+    g->ptex = qtool_gles_texture(GL_RGB, GL_FLOAT, w, h, NULL);
     for (int k = 0; k < 4; ++k) {
         glActiveTexture((GLenum)(GL_TEXTURE3 + k));
-        g->stex[k] = qtool_luminaire_gl_texture(GL_RGB, GL_FLOAT, w, h, NULL);
+        g->stex[k] = qtool_gles_texture(GL_RGB, GL_FLOAT, w, h, NULL);
     }
     glActiveTexture(GL_TEXTURE0);
     for (int k = 0; k < 4; ++k) {
-        g->acc[k] = qtool_luminaire_gl_texture(GL_RGBA, GL_UNSIGNED_BYTE, w, h, NULL);
-        glGenFramebuffers(1, &g->fbo[k]);
-        glBindFramebuffer(GL_FRAMEBUFFER, g->fbo[k]);
-        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, g->acc[k], 0);
-        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+        if (qtool_gles_rgba8_target(w, h, NULL, &g->acc[k], &g->fbo[k]) != GL_FRAMEBUFFER_COMPLETE) {
             snprintf(err, errlen, "an accumulation framebuffer is incomplete");
             return -1;
         }

@@ -64,6 +64,20 @@ static int32_t q16(double v)
     return v >= 2147483647.0 ? INT32_MAX : v <= -2147483647.0 ? -INT32_MAX : (int32_t)lround(v);
 }
 
+void qtool_luminaire_ground_pixel(const qtool_luminaire_spots *s, const double p[3], uint32_t x, uint32_t n,
+                                  int32_t *pts, int32_t *base)
+{
+    for (int k = 0; k < 3; ++k)
+        pts[3 * x + (uint32_t)k] = q16(p[k]);
+    for (uint32_t a = 0; a < s->nanchor; ++a) {
+        double w[3] = {s->anchor[a][0] / 65536.0 - p[0], s->anchor[a][1] / 65536.0 - p[1],
+                       s->anchor[a][2] / 65536.0 - p[2]};
+        double r2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2], shade = w[2] / sqrt(r2) / PI_ / r2;
+        for (int k = 0; k < 3; ++k)
+            base[3 * ((size_t)a * n + x) + (size_t)k] = q16(shade);
+    }
+}
+
 /* near and far renderings of the ground image with the lamp at height hgt (Q16.16 integer path) */
 static int render_ground(const qtool_luminaire *l, const truth_ctx *c, int far, double tol, double *out)
 {
@@ -84,16 +98,7 @@ static int render_ground(const qtool_luminaire *l, const truth_ctx *c, int far, 
         for (uint32_t x = 0; x < n; ++x) {
             double p[3];
             ground_point(c, x, y, p);
-            for (int k = 0; k < 3; ++k)
-                pts[3 * x + (uint32_t)k] = q16(p[k]);
-            for (uint32_t a = 0; a < na; ++a) {
-                /* a unit lamp at the anchor, 1/d^2, Lambert: what an asset's point maps give */
-                double w[3] = {s.anchor[a][0] / 65536.0 - p[0], s.anchor[a][1] / 65536.0 - p[1],
-                               s.anchor[a][2] / 65536.0 - p[2]};
-                double r2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2], shade = w[2] / sqrt(r2) / PI_ / r2;
-                for (int k = 0; k < 3; ++k)
-                    base[3 * ((size_t)a * n + x) + (size_t)k] = q16(shade);
-            }
+            qtool_luminaire_ground_pixel(&s, p, x, n, pts, base);
         }
         memset(acc, 0, sizeof(int64_t) * 3 * n);
         qtool_luminaire_spots_span(&s, base, pts, n, acc, ws);

@@ -6,8 +6,8 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "bake/bake.h"
 #include "io/file.h"
 #include "qibl/soft.h"
 #include "qtool.h"
@@ -195,8 +195,7 @@ int qtool_relight_frame_gonio(const qibl_shmaps_t *m, const qibl_shlight_t *sh, 
     qibl_fb_desc_t fb = {0};
     fb.pixels = pix, fb.width = w, fb.height = h, fb.format = QIBL_FB_RGBA8888;
     fb.srgb = srgb ? 1 : 0, fb.exposure = exposure;
-    struct timespec t0, t1;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
+    const double t0 = qtool_bake_now();
     qibl_shmap_weights_t wt;
     if (sh)
         st = qibl_shmap_weights(m, sh, &wt);
@@ -222,18 +221,9 @@ int qtool_relight_frame_gonio(const qibl_shmaps_t *m, const qibl_shlight_t *sh, 
         for (size_t i = 0; i < (size_t)w * 3; ++i) /* saturate once: the sum, not each light */
             row[i] = acc[i] > INT32_MAX ? INT32_MAX : acc[i] < INT32_MIN ? INT32_MIN : (int32_t)acc[i];
         if (st == QIBL_OK)
-            st = qibl_fb_write_row(&fb, 0, y, w, row);
-        if (st == QIBL_OK && lin) {
-            float *o = lin + (size_t)y * w * 3;
-            for (size_t i = 0; i < (size_t)w * 3; ++i)
-                o[i] = row[i] > 0 ? (float)(row[i] / 65536.0) : 0.0f;
-        }
+            st = qtool_bake_frame_row(&fb, y, w, row, lin);
     }
-    clock_gettime(CLOCK_MONOTONIC, &t1);
-    if (ms)
-        *ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
-    for (size_t i = 0; st == QIBL_OK && i < (size_t)w * h; ++i)
-        memcpy(rgb8 + 3 * i, pix + 4 * i, 3);
+    qtool_bake_frame_done(st, t0, ms, pix, w, h, rgb8, NULL); /* ms, and rgb8 when st is QIBL_OK */
 out:
     free(pix), free(row), free(acc), free(pt), free(ws);
     if (status)

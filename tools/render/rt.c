@@ -693,6 +693,7 @@ int qtool_rt_response(const qtool_rt_scene *s, const qtool_rt_hit *h, const doub
 
 /* ---- rendering ----------------------------------------------------------------------------------- */
 
+/* a pass over the panorama's pixels under light l: a render (rgb, depth, pmap) or a classification */
 typedef struct {
     const qtool_rt_scene *s;
     uint32_t w, h;
@@ -703,7 +704,23 @@ typedef struct {
     int32_t *pmap;
     double (*gonio)(const void *ctx, const double d[3]); /* NULL: isotropic */
     const void *gonio_ctx;
+    uint8_t *cls;
 } render_job;
+
+/* The unit direction from p toward l into w, and the distance to a point light (a directional
+ * light: its direction's length); w is 0 when that is 0. */
+static double toward_light(const qtool_rt_light *l, const double p[3], double w[3])
+{
+    double len = 0;
+    for (int c = 0; c < 3; ++c) {
+        w[c] = l->point ? l->pos[c] - p[c] : l->dir[c];
+        len += w[c] * w[c];
+    }
+    len = sqrt(len);
+    for (int c = 0; c < 3; ++c)
+        w[c] = len > 0 ? w[c] / len : 0;
+    return len;
+}
 
 static void render_row(void *ctx, uint32_t y)
 {
@@ -729,25 +746,16 @@ static void render_row(void *ctx, uint32_t y)
         if (!h.hit)
             continue;
         double wv[3], tmax = 1e30, att = 1, df, gl;
+        const double len = toward_light(j->l, h.p, wv);
         if (j->l->point) {
-            double len = 0;
-            for (int k = 0; k < 3; ++k)
-                wv[k] = j->l->pos[k] - h.p[k], len += wv[k] * wv[k];
-            len = sqrt(len);
             if (len < 1.0 / 256)
                 continue;
-            for (int k = 0; k < 3; ++k)
-                wv[k] /= len;
             tmax = len;
             att = j->l->falloff == 2 ? 1 / (len * len) : 1 / len;
             if (j->gonio) {
                 double out_dir[3] = {-wv[0], -wv[1], -wv[2]};
                 att *= j->gonio(j->gonio_ctx, out_dir);
             }
-        } else {
-            double len = sqrt(j->l->dir[0] * j->l->dir[0] + j->l->dir[1] * j->l->dir[1] + j->l->dir[2] * j->l->dir[2]);
-            for (int k = 0; k < 3; ++k)
-                wv[k] = j->l->dir[k] / len;
         }
         if (!qtool_rt_response(j->s, &h, wv, tmax, &df, &gl))
             continue;
@@ -759,7 +767,7 @@ static void render_row(void *ctx, uint32_t y)
 int qtool_rt_render(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const qtool_rt_light *l,
                    int threads, double *rgb, float *depth, int32_t *pmap)
 {
-    render_job j = {s, w, h, kind, l, rgb, depth, pmap, NULL, NULL};
+    render_job j = {s, w, h, kind, l, rgb, depth, pmap, NULL, NULL, NULL};
     return qtool_rt_parallel(threads, h, render_row, &j, NULL);
 }
 
@@ -767,8 +775,38 @@ int qtool_rt_render_gonio(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool
                          const qtool_rt_light *l, double (*gonio)(const void *ctx, const double d[3]),
                          const void *ctx, int threads, double *rgb, float *depth, int32_t *pmap)
 {
-    render_job j = {s, w, h, kind, l, rgb, depth, pmap, gonio, ctx};
+    render_job j = {s, w, h, kind, l, rgb, depth, pmap, gonio, ctx, NULL};
     return qtool_rt_parallel(threads, h, render_row, &j, NULL);
+}
+
+static void classify_row(void *ctx, uint32_t y)
+{
+    const render_job *j = ctx;
+    for (uint32_t x = 0; x < j->w; ++x) {
+        double d[3], w[3];
+        qtool_rt_hit h;
+        uint8_t *o = j->cls + (size_t)y * j->w + x;
+        qtool_rt_pixel_ray(j->s, j->w, j->h, j->kind, x, y, d);
+        qtool_rt_primary(j->s, d, &h);
+        if (!h.hit) {
+            *o = 0;
+            continue;
+        }
+        const double len = toward_light(j->l, h.p, w);
+        double cg = h.ng[0] * w[0] + h.ng[1] * w[1] + h.ng[2] * w[2];
+        double cn = h.n[0] * w[0] + h.n[1] * w[1] + h.n[2] * w[2];
+        if (cg <= 0 || cn <= 0 || len < 1.0 / 256)
+            *o = 3;
+        else
+            *o = qtool_rt_occluded(j->s, &h, w, j->l->point ? len : 1e30) ? 2 : 1;
+    }
+}
+
+int qtool_rt_classify(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const qtool_rt_light *l,
+                      int threads, uint8_t *cls)
+{
+    render_job j = {.s = s, .w = w, .h = h, .kind = kind, .l = l, .cls = cls};
+    return qtool_rt_parallel(threads, h, classify_row, &j, NULL);
 }
 
 /* ---- threads ------------------------------------------------------------------------------------- */

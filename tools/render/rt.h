@@ -141,6 +141,11 @@ int qtool_rt_render_gonio(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool
                          const qtool_rt_light *l, double (*gonio)(const void *ctx, const double d[3]),
                          const void *ctx, int threads, double *rgb, float *depth, int32_t *pmap);
 
+/* Per pixel what the truth does with light l: 0 sky, 1 lit, 2 cast shadow, 3 facing away (or a
+ * point light nearer than 1/256). 0. */
+int qtool_rt_classify(const qtool_rt_scene *s, uint32_t w, uint32_t h, qtool_pano_kind kind, const qtool_rt_light *l,
+                      int threads, uint8_t *cls);
+
 /* Runs fn(ctx, row) for row = 0..rows-1 on threads (>= 1) pthreads, rows handed out in order.
  * progress (may be NULL) is called under a lock with the number of rows done. */
 int qtool_rt_parallel(int threads, uint32_t rows, void (*fn)(void *ctx, uint32_t row), void *ctx,

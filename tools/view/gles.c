@@ -17,6 +17,7 @@
 #include <EGL/eglext.h>
 #include <GLES2/gl2.h>
 
+#include "gles/gl.h"
 #include "gles/headless.h"
 #include "qibl/gles2.h"
 
@@ -112,12 +113,8 @@ static void window_close(window_gl *W)
     if (W->ctx && eglMakeCurrent(W->d, W->surf, W->surf, W->ctx)) {
         if (W->have_g)
             qibl_gles2_destroy(&W->g);
-        if (W->fbo)
-            glDeleteFramebuffers(1, &W->fbo);
-        if (W->tex)
-            glDeleteTextures(1, &W->tex);
-        if (W->prog)
-            glDeleteProgram(W->prog);
+        glDeleteFramebuffers(1, &W->fbo), glDeleteTextures(1, &W->tex); /* GL ignores the name 0 */
+        glDeleteProgram(W->prog);
     }
     eglMakeCurrent(W->d, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     if (W->surf)
@@ -223,18 +220,9 @@ static int window_attach(void *user, void *native_display, unsigned long native_
     if (st == QIBL_OK)
         st = qibl_gles2_upload(&W->g, &vg->maps, NULL, NULL);
     if (st == QIBL_OK) {
-        glGenTextures(1, &W->tex);
-        glBindTexture(GL_TEXTURE_2D, W->tex);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, (GLsizei)w, (GLsizei)h, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
-        glGenFramebuffers(1, &W->fbo);
-        glBindFramebuffer(GL_FRAMEBUFFER, W->fbo);
-        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, W->tex, 0);
+        const GLenum fs = qtool_gles_rgba8_target(w, h, NULL, &W->tex, &W->fbo);
         W->prog = blit_program();
-        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE || !W->prog)
+        if (fs != GL_FRAMEBUFFER_COMPLETE || !W->prog)
             why = "the window's RGBA8 texture or its copy program failed";
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }

@@ -251,6 +251,19 @@ const char *qibl_gles2_log(const qibl_gles2_t *g);
  * binding restored. */
 QIBL_NODISCARD qibl_status_t qibl_gles2_srgbe_check(qibl_gles2_t *g, const uint8_t *codes, uint32_t n, float mul, uint8_t *out);
 
+/* The backend's sRGBE codec in GLSL ES 1.00, for a caller's own shaders that read or write the same
+ * RGBA8 codes (tools/luminaire's spotlights and passes): vec3 srgbe_dec(vec4) and vec4
+ * srgbe_enc(vec3), placed after the precision statement; qibl_gles2_srgbe_check tests these very
+ * functions. */
+extern const char qibl_gles2_glsl_srgbe[];
+
+/* qibl_gonio_lookup in GLSL ES 1.00, the backend's own (qibl_gles2_point_gonio), for a caller's
+ * shaders: float gonio(vec3 dw), the scale toward lamp-frame direction dw. Before it the caller
+ * declares uniform vec3 u_gx, u_gy, u_gz (the lamp's frame), uniform float u_gn (the table's side)
+ * and float gonio_tex(vec2 ij), the table's 16-bit entry at texel (i, j) (where the table lives is
+ * the caller's: tools/luminaire reads it from an atlas). */
+extern const char qibl_gles2_glsl_gonio[];
+
 /* Deletes every GL object of g and zeroes it; safe on a zeroed or failed g. */
 void qibl_gles2_destroy(qibl_gles2_t *g);
 
