@@ -10,22 +10,9 @@
 # bake takes its threads from the allocation), SBATCH_ARGS (more sbatch options, e.g. a partition).
 # Prints "array JOBID" and "merge JOBID". Exit status: 0 submitted, 2 bad arguments, 1 sbatch failed.
 set -euo pipefail
-if [ $# -lt 3 ]; then
-    echo "usage: $0 N ASSET WORKDIR [qibl bake options...]" >&2
-    exit 2
-fi
-n=$1 asset=$2 work=$3
+. "$(cd "$(dirname "$0")" && pwd)/args.sh"
+farm_args "$0" shards "4096" "$@"
 shift 3
-case $n in '' | *[!0-9]*) echo "submit.sh: N must be a number of shards (1..4096): '$n'" >&2; exit 2 ;; esac
-if [ "$n" -lt 1 ] || [ "$n" -gt 4096 ]; then
-    echo "submit.sh: N must be in 1..4096: $n" >&2
-    exit 2
-fi
-qibl=${QIBL:-$(command -v qibl || true)}
-[ -x "$qibl" ] || { echo "submit.sh: no qibl binary (set QIBL=/path/to/qibl)" >&2; exit 2; }
-mkdir -p "$work"
-work=$(cd "$work" && pwd)
-case $asset in /*) ;; *) asset=$(pwd)/$asset ;; esac
 
 # the manifest: every shard's files, named (qibl merge --manifest reads it and checks each I/N)
 : > "$work/manifest.txt"

@@ -15,22 +15,9 @@
 # Prints "ranges JOBID", "reduce JOBID", "parts JOBID" and "merge JOBID". Exit status: 0 submitted,
 # 2 bad arguments, 1 sbatch failed.
 set -euo pipefail
-if [ $# -lt 3 ]; then
-    echo "usage: $0 N ASSET WORKDIR [qibl bake options...]" >&2
-    exit 2
-fi
-n=$1 asset=$2 work=$3
+. "$(cd "$(dirname "$0")" && pwd)/args.sh"
+farm_args "$0" tiles "the rows" "$@"
 shift 3
-case $n in '' | *[!0-9]*) echo "submit_tiles.sh: N must be a number of tiles (1..the rows): '$n'" >&2; exit 2 ;; esac
-if [ "$n" -lt 1 ]; then
-    echo "submit_tiles.sh: N must be at least 1: $n" >&2
-    exit 2
-fi
-qibl=${QIBL:-$(command -v qibl || true)}
-[ -x "$qibl" ] || { echo "submit_tiles.sh: no qibl binary (set QIBL=/path/to/qibl)" >&2; exit 2; }
-mkdir -p "$work"
-work=$(cd "$work" && pwd)
-case $asset in /*) ;; *) asset=$(pwd)/$asset ;; esac
 cache=${TILE_CACHE:+--cache "$TILE_CACHE"}
 
 # one pass of one tile: its CPU time (user, system seconds) to tile-I.cpuP, progress lines to the log
