@@ -40,7 +40,7 @@
 #if QIBL_USE_LIGHTPROBE && QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
 #include <immintrin.h>
 #elif QIBL_USE_LIGHTPROBE && QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2
-#include <xmmintrin.h> /* _mm_prefetch (the colour pass) */
+#include <emmintrin.h> /* _mm_prefetch (the colour pass) */
 #elif QIBL_USE_LIGHTPROBE && QIBL_CONFIG_SIMD == QIBL_SIMD_NEON
 #include <arm_neon.h>
 #endif
