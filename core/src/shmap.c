@@ -1943,7 +1943,7 @@ static void poly_span_avx2(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y
  * poly_span_avx2's integers on 512-bit lanes (see there for every bound): compares into mask
  * registers; each vpmaddwd + vpaddd pair, the rounding terms of poly_eval's products included, as
  * one vpdpwssd (VNNI: the same wrapping int32 sum of two int16 products); the bit length by
- * vplzcntd (CD); the seed by a masked gather. A rare lane (S - P needing 33 bits, the light on the
+ * vplzcntd (CD); the seed by word permutes. A rare lane (S - P needing 33 bits, the light on the
  * surface point, an output scale outside the common case) is stored with the chunk, then redone
  * alone by poly_span: only that pixel takes the slow path. */
 typedef struct p16_half {
@@ -1958,7 +1958,9 @@ static QIBLI_NOINLINE void p16_half_fill(p16_half_t *k)
 #define P16_C(v) _mm512_set1_epi32(v)
 #define P16_CZ(v) _mm512_set1_epi32((int32_t)(uint16_t)(int16_t)(v))                 /* v in the low half */
 #define P16_LO(v) _mm512_maskz_mov_epi16(0x55555555u, (v))                              /* v's low half, 0 above */
-#define P16_PR(a, b) _mm512_mask_blend_epi16(0xAAAAAAAAu, (a), _mm512_slli_epi32((b), 16)) /* (a, b) pair */
+/* (a, b) int16 pair: b's low half moved up by a byte shift (a shuffle-port uop; shifts, multiplies
+ * and vpdpwssd all queue for the one other 512-bit port, which bounds this kernel) */
+#define P16_PR(a, b) _mm512_mask_blend_epi16(0xAAAAAAAAu, (a), _mm512_bslli_epi128((b), 2))
 #define P16_K(l, m, j) poly_rec[(l) * ((l) + 1) / 2 + (m)][j]
 /* P(l,m) = rs(rs(A z, 14) P1 - B P2, 13) */
 #define P16_REC(l, m, p1, p2)                                                                                      \
@@ -2043,12 +2045,13 @@ static POLY_INLINE void poly_eval16(__m512i x, __m512i y, __m512i z, uint32_t ba
 #undef P16_CZ
 #undef P16_RS
 
-/* (a b) >> s per uint32 lane, the 64-bit product's bits s .. s + 31 */
+/* (a b) >> s per uint32 lane (s <= 32), the 64-bit product's bits s .. s + 31: the odd lanes moved
+ * down by a shuffle, their result taken from the high half of the product shifted left by 32 - s */
 static inline __m512i p16_mulshr(__m512i a, __m512i b, int s)
 {
     const __m512i e = _mm512_srli_epi64(_mm512_mul_epu32(a, b), (unsigned)s);
-    const __m512i o = _mm512_srli_epi64(_mm512_mul_epu32(_mm512_srli_epi64(a, 32), _mm512_srli_epi64(b, 32)), (unsigned)s);
-    return _mm512_mask_blend_epi32(0xAAAAu, e, _mm512_slli_epi64(o, 32));
+    const __m512i o = _mm512_mul_epu32(_mm512_shuffle_epi32(a, _MM_PERM_DDBB), _mm512_shuffle_epi32(b, _MM_PERM_DDBB));
+    return _mm512_mask_blend_epi32(0xAAAAu, e, s == 32 ? o : _mm512_slli_epi64(o, (unsigned)(32 - s)));
 }
 
 #define P16_PAIRS ((QIBL_SH_MAX_COUNT + 1) / 2)
@@ -2056,9 +2059,11 @@ typedef struct p16_front {
     __m512i yp[P16_PAIRS], am, ae; /* as p8_front_t */
 } p16_front_t;
 
-/* The front of sixteen pixels (points at pp) into f; returns the lanes poly_span must redo */
-static POLY_INLINE __mmask16 poly_front16(const qibl_shmap_point_t *pt, const uint8_t *pp, const uint32_t *seed,
-                                          const p16_half_t *hk, p16_front_t *f)
+/* The direction (unit vectors u, Q2.14) and attenuation (into f) of sixteen pixels (points at pp);
+ * returns the lanes poly_span must redo. Y comes after, by poly_eval16 over the block's chunks:
+ * two shorter dependency chains per chunk, which out-of-order execution overlaps across chunks. */
+static POLY_INLINE __mmask16 poly_front16(const qibl_shmap_point_t *pt, const uint8_t *pp, const __m512i *seed,
+                                          __m512i *u, p16_front_t *f)
 {
     /* the 192 bytes by three loads; coordinate c of point i is word 3i + c: two permutes each */
     const __m512i w0 = _mm512_loadu_si512((const void *)pp), w1 = _mm512_loadu_si512((const void *)(pp + 64)),
@@ -2094,10 +2099,15 @@ static POLY_INLINE __mmask16 poly_front16(const qibl_shmap_point_t *pt, const ui
     const __mmask16 hm = _mm512_testn_epi32_mask(d2, P16_C((int32_t)0xC0000000u)); /* d2 < 2^30: h = 1 */
     const __m512i h = _mm512_maskz_mov_epi32(hm, P16_C(1));
     const __m512i t = _mm512_mask_slli_epi32(d2, hm, d2, 2);
-    /* the seed of the good lanes only (a bad lane's index may lie outside the table) */
-    const __m512i y0 = _mm512_mask_i32gather_epi32(zero, (__mmask16)~bad, _mm512_sub_epi32(_mm512_srli_epi32(t, 24), P16_C(64)),
-                                                   (const void *)seed, 4);
-    const __m512i hh = p16_mulshr(_mm512_mullo_epi32(y0, y0), t, 32);
+    /* the seed: qibli_rsqrt_seed's 192 int16 values in six registers, looked up 64 at a time by
+     * vpermt2w (index in the low half of each lane; the high half's word is masked off). A gather
+     * cost more (microcoded, slower with the gather-data-sampling fix); a bad lane reads any entry. */
+    const __m512i ix = _mm512_sub_epi32(_mm512_srli_epi32(t, 24), P16_C(64));
+    __m512i y0 = _mm512_permutex2var_epi16(seed[0], ix, seed[1]);
+    y0 = _mm512_mask_mov_epi32(y0, _mm512_cmpge_epu32_mask(ix, P16_C(64)), _mm512_permutex2var_epi16(seed[2], ix, seed[3]));
+    y0 = _mm512_mask_mov_epi32(y0, _mm512_cmpge_epu32_mask(ix, P16_C(128)), _mm512_permutex2var_epi16(seed[4], ix, seed[5]));
+    y0 = _mm512_maskz_mov_epi16(0x55555555u, y0);
+    const __m512i hh = p16_mulshr(_mm512_madd_epi16(y0, y0), t, 32); /* y0 < 2^15, 0 above: y0^2 */
     const __m512i y16 = p16_mulshr(y0, _mm512_sub_epi32(P16_C(0x30000000), hh), 28);
     const __m512i r = _mm512_sub_epi32(P16_C(17), h), half = _mm512_mask_mov_epi32(P16_C(1 << 16), hm, P16_C(1 << 15));
     const __m512i lim = P16_C(16384);
@@ -2120,7 +2130,7 @@ static POLY_INLINE __mmask16 poly_front16(const qibl_shmap_point_t *pt, const ui
         am = _mm512_srli_epi32(_mm512_mullo_epi32(am, am), 15);
         ae = _mm512_sub_epi32(_mm512_add_epi32(ae, ae), P16_C(47));
     }
-    poly_eval16(u0, u1, u2, pt->bands, hk, f->yp);
+    u[0] = u0, u[1] = u1, u[2] = u2;
     f->am = am, f->ae = ae;
     return bad;
 }
@@ -2158,7 +2168,7 @@ static POLY_INLINE void p16_group(const p16_front_t *f, const __m512i *ap, const
 #define P16_LD(p) _mm512_cvtepu8_epi32(_mm_loadu_si128((const __m128i *)(const void *)(p)))
 #define P16_MP(pc, o2)                                                                                              \
     do {                                                                                                            \
-        const __m512i cp = _mm512_or_si512(P16_LD(pc), _mm512_slli_epi32(P16_LD((pc) + (o2)), 16));                \
+        const __m512i cp = _mm512_or_si512(P16_LD(pc), _mm512_bslli_epi128(P16_LD((pc) + (o2)), 2));              \
         sa = _mm512_dpwssd_epi32(sa, _mm512_mullo_epi16(cp, ap[j]), f->yp[j]);                                      \
         sb = _mm512_dpwssd_epi32(sb, _mm512_mullo_epi16(cp, bp[j]), f->yp[j]);                                      \
     } while (0)
@@ -2196,7 +2206,7 @@ static POLY_INLINE __mmask16 p16_finish(const qibl_shmap_point_t *pt, const p16_
         const __m512i V = _mm512_add_epi32(_mm512_add_epi32(q[ch], qn), _mm512_srli_epi32(rr, 14));
         const __m512i g = _mm512_mullo_epi32(am, P16_C(pt->c0m[ch])); /* <= 2^30 */
         const __m512i pe = _mm512_mul_epi32(V, g),
-                      po = _mm512_mul_epi32(_mm512_srli_epi64(V, 32), _mm512_srli_epi64(g, 32));
+                      po = _mm512_mul_epi32(_mm512_shuffle_epi32(V, _MM_PERM_DDBB), _mm512_shuffle_epi32(g, _MM_PERM_DDBB));
         const __m512i sj = _mm512_sub_epi32(_mm512_add_epi32(ae, P16_C(pt->pk[ch])), P16_C(33));
         /* the common case 33 <= sr <= 62 only: round(p / 2^sr) from the high word */
         rare |= _mm512_cmpgt_epu32_mask(sj, P16_C(29));
@@ -2220,7 +2230,10 @@ static POLY_INLINE __mmask16 p16_finish(const qibl_shmap_point_t *pt, const p16_
 /* poly_span_avx2's blocks with chunks of sixteen pixels (interleaved: chunks on whole groups), four
  * chunks a block (64 pixels, as there); each rare lane redone by poly_span after its chunk */
 #define P16_BLOCK 4u
-#define P16_GROUP 5u /* pairs of maps per int32 sum (P8_GROUP's bound) */
+#define P16_GROUP 5u
+#ifndef P16_AHEAD
+#define P16_AHEAD 512u
+#endif /* pairs of maps per int32 sum (P8_GROUP's bound) */
 static void poly_span_avx512(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out)
 {
     const qibl_shmaps_t *m = pt->maps;
@@ -2236,9 +2249,9 @@ static void poly_span_avx512(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t
         poly_span(pt, x0, y, n, out);
         return;
     }
-    uint32_t seed[192];
-    for (uint32_t i = 0; i < 192u; ++i)
-        seed[i] = qibli_rsqrt_seed[i];
+    __m512i seed[6]; /* 384 bytes: qibli_rsqrt_seed's 192 values */
+    for (uint32_t i = 0; i < 6u; ++i)
+        seed[i] = _mm512_loadu_si512((const void *)(qibli_rsqrt_seed + 32u * i));
     p16_tab_t tab;
     p16_tab_fill(pt, k, &tab);
     p16_half_t hk;
@@ -2252,15 +2265,18 @@ static void poly_span_avx512(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t
     __m512i q[P16_BLOCK][3], r[P16_BLOCK][3];
     const uint8_t *cb[P16_BLOCK];
     __mmask16 bad[P16_BLOCK];
+    __m512i u[P16_BLOCK][3];
     while (px + 16u <= n) {
         const uint32_t nb = (n - px) / 16u < P16_BLOCK ? (n - px) / 16u : P16_BLOCK;
         for (uint32_t b = 0; b < nb; ++b) {
             const uint32_t x = x0 + px + 16u * b;
-            bad[b] = poly_front16(pt, pt->pmap->points + (off + px + 16u * b) * 12u, seed, &hk, &fr[b]);
+            bad[b] = poly_front16(pt, pt->pmap->points + (off + px + 16u * b) * 12u, seed, u[b], &fr[b]);
             cb[b] = il ? row + (size_t)(x / QIBL_SHMAPS_GROUP) * gbytes : row + px + 16u * b;
             for (uint32_t ch = 0; ch < 3u; ++ch)
                 q[b][ch] = _mm512_setzero_si512(), r[b][ch] = P16_C(8192);
         }
+        for (uint32_t b = 0; b < nb; ++b)
+            poly_eval16(u[b][0], u[b][1], u[b][2], pt->bands, &hk, fr[b].yp);
         for (uint32_t ch = 0; ch < 3u; ++ch)
             for (uint32_t j0 = 0; j0 < np; j0 += P16_GROUP) {
                 const uint32_t jend = j0 + P16_GROUP < k / 2u ? j0 + P16_GROUP : k / 2u;
