@@ -1,5 +1,5 @@
 /*
- * io/isa_env.h - QIBL_ISA=scalar|sse2|avx2|auto: the tools' choice of the core's kernel set.
+ * io/isa_env.h - QIBL_ISA=scalar|sse2|avx2|avx512|auto: the tools' choice of the core's kernel set.
  *
  * The core never reads the environment: it calls the application's qibl_isa_allowed() (qibl/isa.h)
  * on each dispatched call. The tools define it here: the mask qtool_isa_force() set, else the one
