@@ -1074,7 +1074,8 @@ static void test_point_simd_aligned_sums(void **state)
  * chunks run whole and partial, heads (interleaved: up to the next 16-pixel group) and tails of
  * every length 0..15, and rare lanes at a chunk's first and last lane and several in one chunk
  * (the light on the point, S - P needing 33 bits, a light closer than min_dist, a huge colour whose
- * scaling leaves the common case), each redone alone while its neighbours stay in the vector path. */
+ * scaling leaves the common case), each redone alone while its neighbours stay in the vector path,
+ * and directions whose scaled components reach 2^15. */
 static void test_point_every_isa(void **state)
 {
     (void)state;
@@ -1110,6 +1111,12 @@ static void test_point_every_isa(void **state)
                                                               : pl.pos[j] + (j == 2 ? 7 : 0);    /* closer than min_dist */
                             put_s32(pb.bytes + 12u * rare_at[ri] + 4u * (unsigned)j, v);
                         }
+                    /* |L| scaled to 2^15 in one and in two components (L = -(2^17 - 1) floors to -2^15:
+                     * the squares' int16 edge, d2 = 2^30 and 2^31) */
+                    for (int j = 0; j < 3; ++j) {
+                        put_s32(pb.bytes + 12u * 100u + 4u * (unsigned)j, pl.pos[j] + (j == 0 ? 131071 : 0));
+                        put_s32(pb.bytes + 12u * 101u + 4u * (unsigned)j, pl.pos[j] + (j < 2 ? 131071 : 0));
+                    }
                     for (int lay = 0; lay < 2; ++lay) {
                         const qibl_shmaps_t *m = lay ? &il.m : &b.m;
                         qibl_shmap_point_t sa, sb;

@@ -2045,6 +2045,8 @@ static POLY_INLINE void poly_eval16(__m512i x, __m512i y, __m512i z, uint32_t ba
 #undef P16_CZ
 #undef P16_RS
 
+/* (a, b) int16 pair of two lanes whose high halves are 0 (poly_eval16's P16_PR) */
+#define P16_PRV(a, b) _mm512_mask_blend_epi16(0xAAAAAAAAu, (a), _mm512_bslli_epi128((b), 2))
 /* (a b) >> s per uint32 lane (s <= 32), the 64-bit product's bits s .. s + 31: the odd lanes moved
  * down by a shuffle, their result taken from the high half of the product shifted left by 32 - s */
 static inline __m512i p16_mulshr(__m512i a, __m512i b, int s)
@@ -2094,8 +2096,9 @@ static POLY_INLINE __mmask16 poly_front16(const qibl_shmap_point_t *pt, const ui
     const __m512i v0 = _mm512_sllv_epi32(_mm512_abs_epi32(_mm512_srav_epi32(l0, rs)), ls);
     const __m512i v1 = _mm512_sllv_epi32(_mm512_abs_epi32(_mm512_srav_epi32(l1, rs)), ls);
     const __m512i v2 = _mm512_sllv_epi32(_mm512_abs_epi32(_mm512_srav_epi32(l2, rs)), ls);
-    const __m512i d2 = _mm512_add_epi32(_mm512_add_epi32(_mm512_mullo_epi32(v0, v0), _mm512_mullo_epi32(v1, v1)),
-                                        _mm512_mullo_epi32(v2, v2));
+    /* d2 = v0^2 + v1^2 + v2^2 by one vpmaddwd and one vpdpwssd: v <= 2^15 with 0 above, as int16
+     * -2^15 when it is 2^15, whose square is the same 2^30; the sum wraps as uint32 arithmetic does */
+    const __m512i d2 = _mm512_dpwssd_epi32(_mm512_madd_epi16(P16_PRV(v0, v1), P16_PRV(v0, v1)), v2, v2);
     const __mmask16 hm = _mm512_testn_epi32_mask(d2, P16_C((int32_t)0xC0000000u)); /* d2 < 2^30: h = 1 */
     const __m512i h = _mm512_maskz_mov_epi32(hm, P16_C(1));
     const __m512i t = _mm512_mask_slli_epi32(d2, hm, d2, 2);
@@ -2297,6 +2300,7 @@ static void poly_span_avx512(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t
     if (px < n)
         poly_span(pt, x0 + px, y, n - px, out + 3u * px);
 }
+#undef P16_PRV
 #undef P16_C
 #endif /* QIBLI_SHMAP_AVX512 */
 
