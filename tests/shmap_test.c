@@ -1106,9 +1106,10 @@ static void test_point_every_isa(void **state)
                         pl.rgb[0] = INT32_MAX;
                     for (size_t ri = 0; ri < sizeof rare_at / sizeof rare_at[0]; ++ri)
                         for (int j = 0; j < 3; ++j) {
-                            const int32_t v = ri % 3u == 0u ? pl.pos[j]              /* on the light */
-                                              : ri % 3u == 1u ? (j == 0 ? INT32_MIN : INT32_MAX) /* 33 bits */
-                                                              : pl.pos[j] + (j == 2 ? 7 : 0);    /* closer than min_dist */
+                            /* on the light; S - P needing 33 bits; closer than min_dist */
+                            const int32_t v = ri % 3u == 0u   ? pl.pos[j]
+                                              : ri % 3u == 1u ? (j == 0 ? INT32_MIN : INT32_MAX)
+                                                              : pl.pos[j] + (j == 2 ? 7 : 0);
                             put_s32(pb.bytes + 12u * rare_at[ri] + 4u * (unsigned)j, v);
                         }
                     /* |L| scaled to 2^15 in one and in two components (L = -(2^17 - 1) floors to -2^15:

@@ -1963,13 +1963,16 @@ static QIBLI_NOINLINE void p16_half_fill(p16_half_t *k)
 #define P16_PR(a, b) _mm512_mask_blend_epi16(0xAAAAAAAAu, (a), _mm512_bslli_epi128((b), 2))
 #define P16_K(l, m, j) poly_rec[(l) * ((l) + 1) / 2 + (m)][j]
 /* P(l,m) = rs(rs(A z, 14) P1 - B P2, 13) */
+#define P16_NB(l, m) P16_C((int32_t)((uint32_t)(uint16_t)(int16_t)-P16_K(l, m, 1) << 16)) /* -B in the high half */
 #define P16_REC(l, m, p1, p2)                                                                                      \
     P16_RS(P16_PR(P16_RS(z, P16_CZ(P16_K(l, m, 0)), 14), (p2)),                                                     \
-           _mm512_mask_blend_epi16(0xAAAAAAAAu, (p1), P16_C((int32_t)((uint32_t)(uint16_t)(int16_t)-P16_K(l, m, 1) << 16))), 13)
+           _mm512_mask_blend_epi16(0xAAAAAAAAu, (p1), P16_NB(l, m)), 13)
 /* P(l,m) with P2 = 0 and a constant P1 */
 #define P16_REC0(l, m, k1) P16_RS(P16_RS(z, P16_CZ(P16_K(l, m, 0)), 14), P16_CZ(k1), 13)
-#define P16_PAIR(l, m, p) (o[(l) * (l) + (l) + (m)] = P16_RS((p), cz##m, 13), o[(l) * (l) + (l) - (m)] = P16_RS((p), sz##m, 13))
-#define P16_PAIRK(l, m, k) (o[(l) * (l) + (l) + (m)] = P16_RS(c##m, P16_CZ(k), 13), o[(l) * (l) + (l) - (m)] = P16_RS(s##m, P16_CZ(k), 13))
+#define P16_PAIR(l, m, p)                                                                                          \
+    (o[(l) * (l) + (l) + (m)] = P16_RS((p), cz##m, 13), o[(l) * (l) + (l) - (m)] = P16_RS((p), sz##m, 13))
+#define P16_PAIRK(l, m, k)                                                                                         \
+    (o[(l) * (l) + (l) + (m)] = P16_RS(c##m, P16_CZ(k), 13), o[(l) * (l) + (l) - (m)] = P16_RS(s##m, P16_CZ(k), 13))
 #define P16_ROT(m, n)                                                                                              \
     const __m512i c##n = P16_RS(xny, P16_PR(c##m, s##m), 14);                                                       \
     const __m512i s##n = P16_RS(xy, P16_PR(s##m, c##m), 14)
@@ -2039,6 +2042,7 @@ static POLY_INLINE void poly_eval16(__m512i x, __m512i y, __m512i z, uint32_t ba
 #undef P16_PAIR
 #undef P16_REC0
 #undef P16_REC
+#undef P16_NB
 #undef P16_K
 #undef P16_PR
 #undef P16_LO
@@ -2107,8 +2111,10 @@ static POLY_INLINE __mmask16 poly_front16(const qibl_shmap_point_t *pt, const ui
      * cost more (microcoded, slower with the gather-data-sampling fix); a bad lane reads any entry. */
     const __m512i ix = _mm512_sub_epi32(_mm512_srli_epi32(t, 24), P16_C(64));
     __m512i y0 = _mm512_permutex2var_epi16(seed[0], ix, seed[1]);
-    y0 = _mm512_mask_mov_epi32(y0, _mm512_cmpge_epu32_mask(ix, P16_C(64)), _mm512_permutex2var_epi16(seed[2], ix, seed[3]));
-    y0 = _mm512_mask_mov_epi32(y0, _mm512_cmpge_epu32_mask(ix, P16_C(128)), _mm512_permutex2var_epi16(seed[4], ix, seed[5]));
+    y0 = _mm512_mask_mov_epi32(y0, _mm512_cmpge_epu32_mask(ix, P16_C(64)),
+                               _mm512_permutex2var_epi16(seed[2], ix, seed[3]));
+    y0 = _mm512_mask_mov_epi32(y0, _mm512_cmpge_epu32_mask(ix, P16_C(128)),
+                               _mm512_permutex2var_epi16(seed[4], ix, seed[5]));
     y0 = _mm512_maskz_mov_epi16(0x55555555u, y0);
     const __m512i hh = p16_mulshr(_mm512_madd_epi16(y0, y0), t, 32); /* y0 < 2^15, 0 above: y0^2 */
     const __m512i y16 = p16_mulshr(y0, _mm512_sub_epi32(P16_C(0x30000000), hh), 28);
@@ -2163,8 +2169,8 @@ static void p16_tab_fill(const qibl_shmap_point_t *pt, uint32_t k, p16_tab_t *t)
 }
 
 /* p8_group on sixteen lanes (the same sums and bounds) */
-static POLY_INLINE void p16_group(const p16_front_t *f, const __m512i *ap, const __m512i *bp, const uint8_t *c, size_t ms,
-                                  uint32_t j0, uint32_t jend, int tail, __m512i *q, __m512i *r)
+static POLY_INLINE void p16_group(const p16_front_t *f, const __m512i *ap, const __m512i *bp, const uint8_t *c,
+                                  size_t ms, uint32_t j0, uint32_t jend, int tail, __m512i *q, __m512i *r)
 {
     __m512i sa = _mm512_setzero_si512(), sb = _mm512_setzero_si512();
     /* the bytes of maps 2j and 2j + 1 as (c_2j, c_2j+1) int16 pairs */
@@ -2184,7 +2190,8 @@ static POLY_INLINE void p16_group(const p16_front_t *f, const __m512i *ap, const
 #undef P16_LD
     const __m512i d = _mm512_srai_epi32(_mm512_add_epi32(sa, _mm512_srai_epi32(sb, 8)), 6);
     *q = _mm512_add_epi32(*q, d);
-    *r = _mm512_add_epi32(*r, _mm512_sub_epi32(_mm512_add_epi32(_mm512_slli_epi32(sa, 8), sb), _mm512_slli_epi32(d, 14)));
+    const __m512i e = _mm512_sub_epi32(_mm512_add_epi32(_mm512_slli_epi32(sa, 8), sb), _mm512_slli_epi32(d, 14));
+    *r = _mm512_add_epi32(*r, e);
 }
 
 /* p8_finish on sixteen lanes: stores all of them; returns the lanes whose scaling is rare */
@@ -2204,17 +2211,19 @@ static POLY_INLINE __mmask16 p16_finish(const qibl_shmap_point_t *pt, const p16_
     for (uint32_t ch = 0; ch < 3u; ++ch) {
         const __m512i sn = ch == 0u ? n0 : ch == 1u ? n1 : n2;
         const __m512i qn = _mm512_sra_epi32(sn, _mm_cvtsi32_si128(pt->pd[ch]));
-        const __m512i rr = _mm512_add_epi32(r[ch], _mm512_sub_epi32(_mm512_sll_epi32(sn, _mm_cvtsi32_si128(14 - pt->pd[ch])),
-                                                                   _mm512_slli_epi32(qn, 14)));
+        const __m512i sl = _mm512_sll_epi32(sn, _mm_cvtsi32_si128(14 - pt->pd[ch]));
+        const __m512i rr = _mm512_add_epi32(r[ch], _mm512_sub_epi32(sl, _mm512_slli_epi32(qn, 14)));
         const __m512i V = _mm512_add_epi32(_mm512_add_epi32(q[ch], qn), _mm512_srli_epi32(rr, 14));
         const __m512i g = _mm512_mullo_epi32(am, P16_C(pt->c0m[ch])); /* <= 2^30 */
-        const __m512i pe = _mm512_mul_epi32(V, g),
-                      po = _mm512_mul_epi32(_mm512_shuffle_epi32(V, _MM_PERM_DDBB), _mm512_shuffle_epi32(g, _MM_PERM_DDBB));
+        const __m512i pe = _mm512_mul_epi32(V, g);
+        const __m512i po = _mm512_mul_epi32(_mm512_shuffle_epi32(V, _MM_PERM_DDBB),
+                                            _mm512_shuffle_epi32(g, _MM_PERM_DDBB));
         const __m512i sj = _mm512_sub_epi32(_mm512_add_epi32(ae, P16_C(pt->pk[ch])), P16_C(33));
         /* the common case 33 <= sr <= 62 only: round(p / 2^sr) from the high word */
         rare |= _mm512_cmpgt_epu32_mask(sj, P16_C(29));
         const __m512i hi = _mm512_mask_blend_epi32(0xAAAAu, _mm512_srli_epi64(pe, 32), po);
-        res[ch] = _mm512_srav_epi32(_mm512_add_epi32(hi, _mm512_sllv_epi32(P16_C(1), sj)), _mm512_add_epi32(sj, P16_C(1)));
+        const __m512i sh = _mm512_add_epi32(sj, P16_C(1));
+        res[ch] = _mm512_srav_epi32(_mm512_add_epi32(hi, _mm512_sllv_epi32(P16_C(1), sj)), sh);
     }
     /* RGB interleaved: output word j is channel j % 3 of pixel j / 3, two permutes per vector */
     const __m512i vr = res[0], vg = res[1], vb = res[2];
@@ -2287,7 +2296,8 @@ static void poly_span_avx512(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t
                 const uint32_t jend = j0 + P16_GROUP < k / 2u ? j0 + P16_GROUP : k / 2u;
                 const int tail = (k & 1u) && j0 + P16_GROUP >= np;
                 for (uint32_t b = 0; b < nb; ++b)
-                    p16_group(&fr[b], tab.v[0][ch], tab.v[1][ch], cb[b] + ch * c1, ms, j0, jend, tail, &q[b][ch], &r[b][ch]);
+                    p16_group(&fr[b], tab.v[0][ch], tab.v[1][ch], cb[b] + ch * c1, ms, j0, jend, tail, &q[b][ch],
+                              &r[b][ch]);
             }
         for (uint32_t b = 0; b < nb; ++b, px += 16u) {
             uint32_t redo = (uint32_t)(bad[b] | p16_finish(pt, &fr[b], &tab, q[b], r[b], out + 3u * px));
