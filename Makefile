@@ -102,14 +102,19 @@ AVX2_TESTS := $(if $(AVX2_OK),$(TEST_SRC:tests/%.c=$(BUILD)/tests/%-avx2))
 # library carries the scalar and AVX2 copies of the SIMD modules (core/src/x86/, the AVX2 ones built
 # with -mavx2) beside their SSE2 build, and each kernel call picks one from the CPU; QIBL_ISA
 # (tools/io/isa_env.h) restricts the choice for the suites and benches. DISPATCH=0: compile-time
-# selection, as on every other target.
+# selection, as on every other target. Modules that gain from AVX-512 (DISPATCH_512) add a copy
+# built with AVX512_FLAGS, which the CPU must have all of (isa.c checks each).
 DISPATCH ?= $(shell $(CC) -dumpmachine 2>/dev/null | grep -q '^x86_64' && echo 1)
 DISPATCH_MODS := shmap srgbe probe lightprobe hemi
+DISPATCH_512 := shmap
+AVX512_FLAGS := -mavx2 -mavx512f -mavx512bw -mavx512vl -mavx512cd -mavx512vnni
 ifeq ($(DISPATCH),1)
-DISPATCH_SRC := $(foreach m,$(DISPATCH_MODS),core/src/x86/$(m)_scalar.c core/src/x86/$(m)_avx2.c)
+DISPATCH_SRC := $(foreach m,$(DISPATCH_MODS),core/src/x86/$(m)_scalar.c core/src/x86/$(m)_avx2.c) \
+                $(DISPATCH_512:%=core/src/x86/%_avx512.c)
 DISPATCH_OBJ := $(DISPATCH_SRC:%.c=$(BUILD)/native/%.o)
 $(CORE_OBJ) $(DISPATCH_OBJ): CORE_CFLAGS += -DQIBL_CONFIG_DISPATCH=1
 $(filter %_avx2.o,$(DISPATCH_OBJ)): CORE_CFLAGS += -mavx2
+$(filter %_avx512.o,$(DISPATCH_OBJ)): CORE_CFLAGS += $(AVX512_FLAGS)
 CORE_OBJ += $(DISPATCH_OBJ)
 endif
 # the tools' qibl_isa_allowed (io/isa_env.c) is linked into every host program, referenced or not
@@ -522,7 +527,7 @@ warnings:
 	    $$cc $(CORE_WARN) $(PORTABLE_DEFS) $$o -Icore/include $(PLATFORM_INC) -fsyntax-only $$f || exit 1; \
 	  done; done; echo "warnings: core/ and platform/soft/ clean with $$cc (-O0/-O2/-O3, native and portable paths)"; \
 	  $(if $(filter 1,$(DISPATCH)),for o in -O0 -O2 -O3; do for f in $(CORE_SRC) $(DISPATCH_SRC); do \
-	    $$cc $(CORE_WARN) $$o -Icore/include -DQIBL_CONFIG_DISPATCH=1 $$(case $$f in (*_avx2.c) echo -mavx2;; esac) \
+	    $$cc $(CORE_WARN) $$o -Icore/include -DQIBL_CONFIG_DISPATCH=1 $$(case $$f in (*_avx2.c) echo -mavx2;; (*_avx512.c) echo $(AVX512_FLAGS);; esac) \
 	      -fsyntax-only $$f || exit 1; \
 	  done; done; echo "warnings: core/ with run-time dispatch (core/src/x86/) clean with $$cc (-O0/-O2/-O3)";,) \
 	  $(if $(HAVE_GLES),for o in -O0 -O2 -O3; do for f in $(GLES_SRC); do \

@@ -36,6 +36,10 @@ static void test_parse(void **state)
     assert_int_equal(m, QIBL_ISA_BIT(QIBL_ISA_SSE2));
     assert_int_equal(qtool_isa_parse("avx2", all, &m, err, sizeof err), 0);
     assert_int_equal(m, QIBL_ISA_BIT(QIBL_ISA_AVX2));
+    assert_int_equal(qtool_isa_parse("avx512", all | QIBL_ISA_BIT(QIBL_ISA_AVX512), &m, err, sizeof err), 0);
+    assert_int_equal(m, QIBL_ISA_BIT(QIBL_ISA_AVX512));
+    assert_int_equal(qtool_isa_parse("avx512", all, &m, err, sizeof err), -1);
+    assert_string_equal(err, "QIBL_ISA: avx512: not available here (this CPU and build run: scalar sse2 avx2)");
     /* a CPU without AVX2: refused by name, the mask untouched */
     m = 7u;
     assert_int_equal(qtool_isa_parse("avx2", no_avx2, &m, err, sizeof err), -1);
@@ -44,8 +48,8 @@ static void test_parse(void **state)
     assert_int_equal(qtool_isa_parse("neon", all, &m, err, sizeof err), -1);
     assert_non_null(strstr(err, "neon: not available"));
     /* unknown values, including near misses */
-    assert_int_equal(qtool_isa_parse("avx512", all, &m, err, sizeof err), -1);
-    assert_string_equal(err, "QIBL_ISA: unknown value 'avx512' (scalar, sse2, avx2, neon, auto)");
+    assert_int_equal(qtool_isa_parse("avx1024", all, &m, err, sizeof err), -1);
+    assert_string_equal(err, "QIBL_ISA: unknown value 'avx1024' (scalar, sse2, avx2, avx512, neon, auto)");
     assert_int_equal(qtool_isa_parse("SSE2", all, &m, err, sizeof err), -1);
     assert_int_equal(qtool_isa_parse("sse2 ", all, &m, err, sizeof err), -1);
     assert_int_equal(m, 7u);
@@ -61,12 +65,16 @@ static void test_core_api(void **state)
     assert_string_equal(qibl_isa_name(QIBL_ISA_SSE2), "sse2");
     assert_string_equal(qibl_isa_name(QIBL_ISA_AVX2), "avx2");
     assert_string_equal(qibl_isa_name(QIBL_ISA_NEON), "neon");
+    assert_string_equal(qibl_isa_name(QIBL_ISA_AVX512), "avx512");
     assert_string_equal(qibl_isa_name((qibl_isa_t)9), "?");
     if (qibl_isa_dispatches()) {
         /* hosted x86-64: the scalar twin and SSE2 always, AVX2 where the CPU has it */
         assert_true(have & QIBL_ISA_BIT(QIBL_ISA_SCALAR));
         assert_true(have & QIBL_ISA_BIT(QIBL_ISA_SSE2));
         assert_false(have & QIBL_ISA_BIT(QIBL_ISA_NEON));
+        /* the AVX-512 choice runs AVX2 copies too */
+        if (have & QIBL_ISA_BIT(QIBL_ISA_AVX512))
+            assert_true(have & QIBL_ISA_BIT(QIBL_ISA_AVX2));
     } else {
         assert_int_equal(have & (have - 1u), 0u); /* one compile-time path */
     }

@@ -1069,6 +1069,88 @@ static void test_point_simd_aligned_sums(void **state)
     }
 }
 
+/* The point kernel under every dispatch choice this CPU runs (qtool_isa_force) against the scalar
+ * twin, bit for bit: spans of up to 150 pixels, so the AVX-512 kernel's blocks of four 16-pixel
+ * chunks run whole and partial, heads (interleaved: up to the next 16-pixel group) and tails of
+ * every length 0..15, and rare lanes at a chunk's first and last lane and several in one chunk
+ * (the light on the point, S - P needing 33 bits, a light closer than min_dist, a huge colour whose
+ * scaling leaves the common case), each redone alone while its neighbours stay in the vector path,
+ * and directions whose scaled components reach 2^15. */
+static void test_point_every_isa(void **state)
+{
+    (void)state;
+    const uint32_t have = qibl_isa_available();
+    static const uint32_t ks[] = {1, 4, 9, 11, 16, 25};
+    static const uint32_t rare_at[] = {16, 31, 47, 48, 66, 67, 75, 120};
+    const uint32_t w = 150, h = 1;
+    int runs = 0;
+    for (unsigned isa = 0; isa < QIBL_ISA_COUNT; ++isa) {
+        if (!(have & QIBL_ISA_BIT(isa)))
+            continue;
+        qtool_isa_force(QIBL_ISA_BIT(isa));
+        tu_rng r = {0x16A5u}; /* the same cases for every choice */
+        for (size_t ki = 0; ki < sizeof ks / sizeof ks[0]; ++ki)
+            for (uint32_t chn = 1; chn <= 3u; chn += 2u) {
+                maps_buf b, il;
+                maps_make(&b, w, h, ks[ki], chn, &r, ki & 1u ? 1 << 22 : 64);
+                interleave(&b, &il);
+                pmap_buf pb;
+                pmap_make(&pb, w, h, &r);
+                for (int lt = 0; lt < 4; ++lt) {
+                    qibl_pointlight_t pl = {{(int32_t)(tu_u32(&r) % (16u << 16)) - (8 << 16),
+                                             (int32_t)(tu_u32(&r) % (16u << 16)) - (8 << 16), 2 << 16},
+                                            {(int32_t)(tu_u32(&r) % (4u << 16)), 1 << 16, 1 << 12},
+                                            (lt & 1) ? QIBL_FALLOFF_INV_DIST2 : QIBL_FALLOFF_INV_DIST,
+                                            (lt & 2) ? 1 << 15 : 0, QIBL_POINT_POLY};
+                    if (lt == 3) /* the scaling's rare branches in every lane of some chunks */
+                        pl.rgb[0] = INT32_MAX;
+                    for (size_t ri = 0; ri < sizeof rare_at / sizeof rare_at[0]; ++ri)
+                        for (int j = 0; j < 3; ++j) {
+                            /* on the light; S - P needing 33 bits; closer than min_dist */
+                            const int32_t v = ri % 3u == 0u   ? pl.pos[j]
+                                              : ri % 3u == 1u ? (j == 0 ? INT32_MIN : INT32_MAX)
+                                                              : pl.pos[j] + (j == 2 ? 7 : 0);
+                            put_s32(pb.bytes + 12u * rare_at[ri] + 4u * (unsigned)j, v);
+                        }
+                    /* |L| scaled to 2^15 in one and in two components (L = -(2^17 - 1) floors to -2^15:
+                     * the squares' int16 edge, d2 = 2^30 and 2^31) */
+                    for (int j = 0; j < 3; ++j) {
+                        put_s32(pb.bytes + 12u * 100u + 4u * (unsigned)j, pl.pos[j] + (j == 0 ? 131071 : 0));
+                        put_s32(pb.bytes + 12u * 101u + 4u * (unsigned)j, pl.pos[j] + (j < 2 ? 131071 : 0));
+                    }
+                    for (int lay = 0; lay < 2; ++lay) {
+                        const qibl_shmaps_t *m = lay ? &il.m : &b.m;
+                        qibl_shmap_point_t sa, sb;
+                        assert_int_equal(qibl_shmap_point_prepare(m, &pb.p, NULL, &pl, &sa), QIBL_OK);
+                        assert_int_equal(qtool_shmap_point_prepare_scalar(m, &pb.p, NULL, &pl, &sb), QIBL_OK);
+                        size_t wsn = qibl_shmap_point_workspace_size(m->k, w);
+                        void *ws = malloc(wsn);
+                        int32_t oa[3 * 150 + 3], ob[3 * 150 + 3];
+                        assert_non_null(ws);
+                        for (uint32_t x0 = 0; x0 < 40u; x0 += 1u + x0 / 2u) {
+                            const uint32_t n = w - x0 - (x0 * 5u) % 16u;
+                            memset(oa, 0x5A, sizeof oa), memset(ob, 0x5A, sizeof ob);
+                            assert_int_equal(qibl_shmap_point_span(&sa, x0, 0, n, oa, ws, wsn), QIBL_OK);
+                            assert_int_equal(qtool_shmap_point_span_scalar(&sb, x0, 0, n, ob, ws, wsn), QIBL_OK);
+                            for (uint32_t i = 0; i < 3u * n; ++i)
+                                if (oa[i] != ob[i])
+                                    fail_msg("isa %u k %u ch %u light %d layout %d x0 %u x %u ch %u: %d, twin %d", isa,
+                                             m->k, chn, lt, lay, x0, x0 + i / 3u, i % 3u, oa[i], ob[i]);
+                            assert_int_equal(oa[3u * n], 0x5A5A5A5A); /* nothing past the span */
+                        }
+                        free(ws);
+                    }
+                }
+                free(pb.bytes);
+                free(il.planes);
+                maps_free(&b);
+            }
+        ++runs;
+    }
+    qtool_isa_force(0u);
+    assert_true(runs >= 1);
+}
+
 static void test_interleaved_equals_planar(void **state)
 {
     (void)state;
@@ -1347,6 +1429,7 @@ int main(void)
         cmocka_unit_test(test_point_light_hard_cases),
         cmocka_unit_test(test_point_poly_exponents),
         cmocka_unit_test(test_point_simd_equals_scalar_twin),
+        cmocka_unit_test(test_point_every_isa),
         cmocka_unit_test(test_point_simd_extreme_factors),
         cmocka_unit_test(test_point_simd_aligned_sums),
         cmocka_unit_test(test_ylut_build_and_lookup),

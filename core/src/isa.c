@@ -20,6 +20,12 @@ uint32_t qibl_isa_available(void)
     uint32_t m = QIBL_ISA_BIT(QIBL_ISA_SCALAR) | QIBL_ISA_BIT(QIBL_ISA_SSE2);
     if (__builtin_cpu_supports("avx2"))
         m |= QIBL_ISA_BIT(QIBL_ISA_AVX2);
+    /* every feature the AVX-512 copy uses (its -m flags in the Makefile); the runtime's record
+     * also checks that the OS saves the zmm and mask registers */
+    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+        __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512cd") &&
+        __builtin_cpu_supports("avx512vnni"))
+        m |= QIBL_ISA_BIT(QIBL_ISA_AVX512);
     return m;
 #else
     return QIBL_ISA_BIT(QIBL_CONFIG_SIMD);
@@ -32,6 +38,8 @@ qibl_isa_t qibl_isa_active(void)
     const uint32_t have = qibl_isa_available();
     const uint32_t allow = qibl_isa_allowed != 0 ? qibl_isa_allowed() : have;
     const uint32_t m = (have & allow) != 0u ? have & allow : have;
+    if (m & QIBL_ISA_BIT(QIBL_ISA_AVX512))
+        return QIBL_ISA_AVX512;
     if (m & QIBL_ISA_BIT(QIBL_ISA_AVX2))
         return QIBL_ISA_AVX2;
     if (m & QIBL_ISA_BIT(QIBL_ISA_SSE2))

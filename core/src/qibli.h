@@ -103,14 +103,27 @@ static inline void qibli_unit_q30(const int32_t l[3], uint32_t iy, unsigned e, q
 /* Run-time kernel choice (qibl/isa.h, QIBL_CONFIG_DISPATCH): the first statement of each public
  * function whose work is a SIMD kernel. In the library's own copy of a module (the SSE2 build) it
  * hands the call to the AVX2 or scalar copy (core/src/x86/: the same source, every external name
- * suffixed) when qibl_isa_active() says so; in those copies, in the scalar twins of tools/twin and
- * on every build without dispatch it is nothing. Cost: one qibl_isa_active() per call. */
+ * suffixed) when qibl_isa_active() says so (the AVX-512 choice to the AVX2 copy; QIBLI_DISPATCH512,
+ * for a function whose module has an AVX-512 copy, to that one); in those copies, in the scalar
+ * twins of tools/twin and on every build without dispatch it is nothing. Cost: one
+ * qibl_isa_active() per call. */
 #if QIBL_CONFIG_DISPATCH && QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2 && !defined(QIBLI_ISA_VARIANT)
 #include "qibl/isa.h"
 #define QIBLI_DISPATCH(fn, args)                                                                       \
     do {                                                                                               \
         extern __typeof__(fn) fn##_avx2, fn##_scalar;                                                  \
         const qibl_isa_t isa_ = qibl_isa_active();                                                     \
+        if (isa_ == QIBL_ISA_AVX2 || isa_ == QIBL_ISA_AVX512)                                          \
+            return fn##_avx2 args;                                                                     \
+        if (isa_ == QIBL_ISA_SCALAR)                                                                   \
+            return fn##_scalar args;                                                                   \
+    } while (0)
+#define QIBLI_DISPATCH512(fn, args)                                                                    \
+    do {                                                                                               \
+        extern __typeof__(fn) fn##_avx512, fn##_avx2, fn##_scalar;                                     \
+        const qibl_isa_t isa_ = qibl_isa_active();                                                     \
+        if (isa_ == QIBL_ISA_AVX512)                                                                   \
+            return fn##_avx512 args;                                                                   \
         if (isa_ == QIBL_ISA_AVX2)                                                                     \
             return fn##_avx2 args;                                                                     \
         if (isa_ == QIBL_ISA_SCALAR)                                                                   \
@@ -118,6 +131,7 @@ static inline void qibli_unit_q30(const int32_t l[3], uint32_t iy, unsigned e, q
     } while (0)
 #else
 #define QIBLI_DISPATCH(fn, args) ((void)0)
+#define QIBLI_DISPATCH512(fn, args) ((void)0)
 #endif
 
 #if QIBL_USE_ASSET

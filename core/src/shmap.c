@@ -1545,7 +1545,7 @@ static void poly_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uin
     }
 }
 
-#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2 && !defined(QIBLI_SHMAP_AVX512) /* (that copy: poly_span_avx512) */
 /* ---- QIBL_POINT_POLY, eight pixels at a time (AVX2) -------------------------------------------
  * poly_span's integers lane by lane, so the bytes are the scalar twin's: int32 lanes for the
  * direction, the one-step rsqrt (seed by gather), the attenuation and the Y recurrences; the sums
@@ -1938,10 +1938,386 @@ static void poly_span_avx2(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y
 }
 #endif
 
+#if defined(QIBLI_SHMAP_AVX512)
+/* ---- QIBL_POINT_POLY, sixteen pixels at a time (AVX-512: x86/shmap_avx512.c only) --------------
+ * poly_span_avx2's integers on 512-bit lanes (see there for every bound): compares into mask
+ * registers; each vpmaddwd + vpaddd pair, the rounding terms of poly_eval's products included, as
+ * one vpdpwssd (VNNI: the same wrapping int32 sum of two int16 products); the bit length by
+ * vplzcntd (CD); the seed by word permutes. A rare lane (S - P needing 33 bits, the light on the
+ * surface point, an output scale outside the common case) is stored with the chunk, then redone
+ * alone by poly_span: only that pixel takes the slow path. */
+typedef struct p16_half {
+    __m512i h[2]; /* 2^12, 2^13: read as memory operands (see p8_half_t) */
+} p16_half_t;
+static QIBLI_NOINLINE void p16_half_fill(p16_half_t *k)
+{
+    k->h[0] = _mm512_set1_epi32(1 << 12), k->h[1] = _mm512_set1_epi32(1 << 13);
+}
+/* round((a . b) / 2^s), half up, a . b the pairwise int16 dot product (s = 13 or 14) */
+#define P16_RS(a, b, s) _mm512_srai_epi32(_mm512_dpwssd_epi32(hk->h[(s) - 13], (a), (b)), (s))
+#define P16_C(v) _mm512_set1_epi32(v)
+#define P16_CZ(v) _mm512_set1_epi32((int32_t)(uint16_t)(int16_t)(v))                 /* v in the low half */
+#define P16_LO(v) _mm512_maskz_mov_epi16(0x55555555u, (v))                              /* v's low half, 0 above */
+/* (a, b) int16 pair: b's low half moved up by a byte shift (a shuffle-port uop; shifts, multiplies
+ * and vpdpwssd all queue for the one other 512-bit port, which bounds this kernel) */
+#define P16_PR(a, b) _mm512_mask_blend_epi16(0xAAAAAAAAu, (a), _mm512_bslli_epi128((b), 2))
+#define P16_K(l, m, j) poly_rec[(l) * ((l) + 1) / 2 + (m)][j]
+/* P(l,m) = rs(rs(A z, 14) P1 - B P2, 13) */
+#define P16_NB(l, m) P16_C((int32_t)((uint32_t)(uint16_t)(int16_t)-P16_K(l, m, 1) << 16)) /* -B in the high half */
+#define P16_REC(l, m, p1, p2)                                                                                      \
+    P16_RS(P16_PR(P16_RS(z, P16_CZ(P16_K(l, m, 0)), 14), (p2)),                                                     \
+           _mm512_mask_blend_epi16(0xAAAAAAAAu, (p1), P16_NB(l, m)), 13)
+/* P(l,m) with P2 = 0 and a constant P1 */
+#define P16_REC0(l, m, k1) P16_RS(P16_RS(z, P16_CZ(P16_K(l, m, 0)), 14), P16_CZ(k1), 13)
+#define P16_PAIR(l, m, p)                                                                                          \
+    (o[(l) * (l) + (l) + (m)] = P16_RS((p), cz##m, 13), o[(l) * (l) + (l) - (m)] = P16_RS((p), sz##m, 13))
+#define P16_PAIRK(l, m, k)                                                                                         \
+    (o[(l) * (l) + (l) + (m)] = P16_RS(c##m, P16_CZ(k), 13), o[(l) * (l) + (l) - (m)] = P16_RS(s##m, P16_CZ(k), 13))
+#define P16_ROT(m, n)                                                                                              \
+    const __m512i c##n = P16_RS(xny, P16_PR(c##m, s##m), 14);                                                       \
+    const __m512i s##n = P16_RS(xy, P16_PR(s##m, c##m), 14)
+#define P16_OUT(n)                                                                                                 \
+    do {                                                                                                           \
+        o[(n)] = zero;                                                                                             \
+        for (uint32_t j_ = 0; j_ < ((n) + 1u) / 2u; ++j_)                                                          \
+            yp[j_] = P16_PR(o[2u * j_], o[2u * j_ + 1u]);                                                          \
+    } while (0)
+/* poly_eval8 on sixteen unit vectors: yp[j] = (Y_2j, Y_2j+1) as int16 pairs */
+static POLY_INLINE void poly_eval16(__m512i x, __m512i y, __m512i z, uint32_t bands, const p16_half_t *hk, __m512i *yp)
+{
+    const __m512i zero = _mm512_setzero_si512();
+    __m512i o[QIBL_SH_MAX_COUNT + 1];
+    const int32_t p00 = poly_rec[0][0];
+    o[0] = P16_C(2 * p00);
+    if (bands < 2u) {
+        P16_OUT(1u);
+        return;
+    }
+    const __m512i c1 = x, s1 = y, cz1 = P16_LO(x), sz1 = P16_LO(y);
+    const __m512i p10 = P16_REC0(1, 0, p00);
+    o[2] = _mm512_add_epi32(p10, p10);
+    P16_PAIRK(1, 1, P16_K(1, 1, 0));
+    if (bands < 3u) {
+        P16_OUT(4u);
+        return;
+    }
+    const __m512i xy = P16_PR(x, y), xny = P16_PR(x, _mm512_sub_epi32(zero, y));
+    P16_ROT(1, 2);
+    const __m512i cz2 = P16_LO(c2), sz2 = P16_LO(s2);
+    const __m512i p20 = P16_REC(2, 0, p10, P16_C(p00));
+    const __m512i p21 = P16_REC0(2, 1, P16_K(1, 1, 0));
+    o[6] = _mm512_add_epi32(p20, p20);
+    P16_PAIR(2, 1, p21);
+    P16_PAIRK(2, 2, P16_K(2, 2, 0));
+    if (bands < 4u) {
+        P16_OUT(9u);
+        return;
+    }
+    P16_ROT(2, 3);
+    const __m512i cz3 = P16_LO(c3), sz3 = P16_LO(s3);
+    const __m512i p30 = P16_REC(3, 0, p20, p10), p31 = P16_REC(3, 1, p21, P16_C(P16_K(1, 1, 0)));
+    const __m512i p32 = P16_REC0(3, 2, P16_K(2, 2, 0));
+    o[12] = _mm512_add_epi32(p30, p30);
+    P16_PAIR(3, 1, p31);
+    P16_PAIR(3, 2, p32);
+    P16_PAIRK(3, 3, P16_K(3, 3, 0));
+    if (bands < 5u) {
+        P16_OUT(16u);
+        return;
+    }
+    P16_ROT(3, 4);
+    const __m512i p40 = P16_REC(4, 0, p30, p20), p41 = P16_REC(4, 1, p31, p21);
+    const __m512i p42 = P16_REC(4, 2, p32, P16_C(P16_K(2, 2, 0)));
+    const __m512i p43 = P16_REC0(4, 3, P16_K(3, 3, 0));
+    o[20] = _mm512_add_epi32(p40, p40);
+    P16_PAIR(4, 1, p41);
+    P16_PAIR(4, 2, p42);
+    P16_PAIR(4, 3, p43);
+    P16_PAIRK(4, 4, P16_K(4, 4, 0));
+    P16_OUT(25u);
+}
+#undef P16_OUT
+#undef P16_ROT
+#undef P16_PAIRK
+#undef P16_PAIR
+#undef P16_REC0
+#undef P16_REC
+#undef P16_NB
+#undef P16_K
+#undef P16_PR
+#undef P16_LO
+#undef P16_CZ
+#undef P16_RS
+
+/* (a, b) int16 pair of two lanes whose high halves are 0 (poly_eval16's P16_PR) */
+#define P16_PRV(a, b) _mm512_mask_blend_epi16(0xAAAAAAAAu, (a), _mm512_bslli_epi128((b), 2))
+/* (a b) >> s per uint32 lane (s <= 32), the 64-bit product's bits s .. s + 31: the odd lanes moved
+ * down by a shuffle, their result taken from the high half of the product shifted left by 32 - s */
+static inline __m512i p16_mulshr(__m512i a, __m512i b, int s)
+{
+    const __m512i e = _mm512_srli_epi64(_mm512_mul_epu32(a, b), (unsigned)s);
+    const __m512i o = _mm512_mul_epu32(_mm512_shuffle_epi32(a, _MM_PERM_DDBB), _mm512_shuffle_epi32(b, _MM_PERM_DDBB));
+    return _mm512_mask_blend_epi32(0xAAAAu, e, s == 32 ? o : _mm512_slli_epi64(o, (unsigned)(32 - s)));
+}
+
+#define P16_PAIRS ((QIBL_SH_MAX_COUNT + 1) / 2)
+typedef struct p16_front {
+    __m512i yp[P16_PAIRS], am, ae; /* as p8_front_t */
+} p16_front_t;
+
+/* The direction (unit vectors u, Q2.14) and attenuation (into f) of sixteen pixels (points at pp);
+ * returns the lanes poly_span must redo. Y comes after, by poly_eval16 over the block's chunks:
+ * two shorter dependency chains per chunk, which out-of-order execution overlaps across chunks. */
+static POLY_INLINE __mmask16 poly_front16(const qibl_shmap_point_t *pt, const uint8_t *pp, const __m512i *seed,
+                                          __m512i *u, p16_front_t *f)
+{
+    /* the 192 bytes by three loads; coordinate c of point i is word 3i + c: two permutes each */
+    const __m512i w0 = _mm512_loadu_si512((const void *)pp), w1 = _mm512_loadu_si512((const void *)(pp + 64)),
+                  w2 = _mm512_loadu_si512((const void *)(pp + 128));
+    const __m512i P0 = _mm512_permutex2var_epi32(
+        _mm512_permutex2var_epi32(w0, _mm512_setr_epi32(0, 3, 6, 9, 12, 15, 18, 21, 24, 27, 30, 0, 0, 0, 0, 0), w1),
+        _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 17, 20, 23, 26, 29), w2);
+    const __m512i P1 = _mm512_permutex2var_epi32(
+        _mm512_permutex2var_epi32(w0, _mm512_setr_epi32(1, 4, 7, 10, 13, 16, 19, 22, 25, 28, 31, 0, 0, 0, 0, 0), w1),
+        _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 18, 21, 24, 27, 30), w2);
+    const __m512i P2 = _mm512_permutex2var_epi32(
+        _mm512_permutex2var_epi32(w0, _mm512_setr_epi32(2, 5, 8, 11, 14, 17, 20, 23, 26, 29, 0, 0, 0, 0, 0, 0), w1),
+        _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 16, 19, 22, 25, 28, 31), w2);
+    const __m512i S0 = P16_C((int32_t)pt->pos[0]), S1 = P16_C((int32_t)pt->pos[1]), S2 = P16_C((int32_t)pt->pos[2]);
+    const __m512i l0 = _mm512_sub_epi32(S0, P0), l1 = _mm512_sub_epi32(S1, P1), l2 = _mm512_sub_epi32(S2, P2);
+    const __m512i zero = _mm512_setzero_si512();
+    /* S - P outside int32 (the lane's subtraction overflowed), or L = 0 */
+    const __m512i ovf = _mm512_or_si512(
+        _mm512_or_si512(_mm512_and_si512(_mm512_xor_si512(S0, P0), _mm512_xor_si512(S0, l0)),
+                        _mm512_and_si512(_mm512_xor_si512(S1, P1), _mm512_xor_si512(S1, l1))),
+        _mm512_and_si512(_mm512_xor_si512(S2, P2), _mm512_xor_si512(S2, l2)));
+    const __m512i lor = _mm512_or_si512(_mm512_or_si512(l0, l1), l2);
+    const __mmask16 bad = (__mmask16)(_mm512_cmplt_epi32_mask(ovf, zero) | _mm512_testn_epi32_mask(lor, lor));
+    /* poly_dir: sc = 17 - clz(max |l|) */
+    const __m512i a0 = _mm512_abs_epi32(l0), a1 = _mm512_abs_epi32(l1), a2 = _mm512_abs_epi32(l2);
+    const __m512i sc = _mm512_sub_epi32(P16_C(17), _mm512_lzcnt_epi32(_mm512_or_si512(_mm512_or_si512(a0, a1), a2)));
+    const __m512i rs = _mm512_max_epi32(sc, zero), ls = _mm512_max_epi32(_mm512_sub_epi32(zero, sc), zero);
+    const __m512i v0 = _mm512_sllv_epi32(_mm512_abs_epi32(_mm512_srav_epi32(l0, rs)), ls);
+    const __m512i v1 = _mm512_sllv_epi32(_mm512_abs_epi32(_mm512_srav_epi32(l1, rs)), ls);
+    const __m512i v2 = _mm512_sllv_epi32(_mm512_abs_epi32(_mm512_srav_epi32(l2, rs)), ls);
+    /* d2 = v0^2 + v1^2 + v2^2 by one vpmaddwd and one vpdpwssd: v <= 2^15 with 0 above, as int16
+     * -2^15 when it is 2^15, whose square is the same 2^30; the sum wraps as uint32 arithmetic does */
+    const __m512i d2 = _mm512_dpwssd_epi32(_mm512_madd_epi16(P16_PRV(v0, v1), P16_PRV(v0, v1)), v2, v2);
+    const __mmask16 hm = _mm512_testn_epi32_mask(d2, P16_C((int32_t)0xC0000000u)); /* d2 < 2^30: h = 1 */
+    const __m512i h = _mm512_maskz_mov_epi32(hm, P16_C(1));
+    const __m512i t = _mm512_mask_slli_epi32(d2, hm, d2, 2);
+    /* the seed: qibli_rsqrt_seed's 192 int16 values in six registers, looked up 64 at a time by
+     * vpermt2w (index in the low half of each lane; the high half's word is masked off). A gather
+     * cost more (microcoded, slower with the gather-data-sampling fix); a bad lane reads any entry. */
+    const __m512i ix = _mm512_sub_epi32(_mm512_srli_epi32(t, 24), P16_C(64));
+    __m512i y0 = _mm512_permutex2var_epi16(seed[0], ix, seed[1]);
+    y0 = _mm512_mask_mov_epi32(y0, _mm512_cmpge_epu32_mask(ix, P16_C(64)),
+                               _mm512_permutex2var_epi16(seed[2], ix, seed[3]));
+    y0 = _mm512_mask_mov_epi32(y0, _mm512_cmpge_epu32_mask(ix, P16_C(128)),
+                               _mm512_permutex2var_epi16(seed[4], ix, seed[5]));
+    y0 = _mm512_maskz_mov_epi16(0x55555555u, y0);
+    const __m512i hh = p16_mulshr(_mm512_madd_epi16(y0, y0), t, 32); /* y0 < 2^15, 0 above: y0^2 */
+    const __m512i y16 = p16_mulshr(y0, _mm512_sub_epi32(P16_C(0x30000000), hh), 28);
+    const __m512i r = _mm512_sub_epi32(P16_C(17), h), half = _mm512_mask_mov_epi32(P16_C(1 << 16), hm, P16_C(1 << 15));
+    const __m512i lim = P16_C(16384);
+    const __m512i q0 = _mm512_min_epu32(_mm512_srlv_epi32(_mm512_add_epi32(_mm512_mullo_epi32(v0, y16), half), r), lim);
+    const __m512i q1 = _mm512_min_epu32(_mm512_srlv_epi32(_mm512_add_epi32(_mm512_mullo_epi32(v1, y16), half), r), lim);
+    const __m512i q2 = _mm512_min_epu32(_mm512_srlv_epi32(_mm512_add_epi32(_mm512_mullo_epi32(v2, y16), half), r), lim);
+    const __m512i u0 = _mm512_mask_sub_epi32(q0, _mm512_cmplt_epi32_mask(l0, zero), zero, q0);
+    const __m512i u1 = _mm512_mask_sub_epi32(q1, _mm512_cmplt_epi32_mask(l1, zero), zero, q1);
+    const __m512i u2 = _mm512_mask_sub_epi32(q2, _mm512_cmplt_epi32_mask(l2, zero), zero, q2);
+    __m512i am = _mm512_srli_epi32(y16, 1), ae = _mm512_add_epi32(_mm512_sub_epi32(P16_C(30), h), sc);
+    {
+        const __m512i cae = P16_C(pt->clamp_ae), cam = P16_C(pt->clamp_am);
+        const __mmask16 cl = (__mmask16)(_mm512_cmpgt_epi32_mask(cae, ae) |
+                                         (_mm512_cmpeq_epi32_mask(ae, cae) & _mm512_cmpgt_epi32_mask(am, cam)));
+        am = _mm512_mask_mov_epi32(am, cl, cam), ae = _mm512_mask_mov_epi32(ae, cl, cae);
+    }
+    if (pt->falloff == QIBL_FALLOFF_INV_DIST) {
+        ae = _mm512_sub_epi32(ae, P16_C(16));
+    } else {
+        am = _mm512_srli_epi32(_mm512_mullo_epi32(am, am), 15);
+        ae = _mm512_sub_epi32(_mm512_add_epi32(ae, ae), P16_C(47));
+    }
+    u[0] = u0, u[1] = u1, u[2] = u2;
+    f->am = am, f->ae = ae;
+    return bad;
+}
+
+/* p8_tab_t on sixteen lanes: (x_2j, x_2j+1) int16 pairs, [kind][channel][pair] */
+typedef struct p16_tab {
+    __m512i v[3][3][P16_PAIRS];
+} p16_tab_t;
+
+static void p16_tab_fill(const qibl_shmap_point_t *pt, uint32_t k, p16_tab_t *t)
+{
+    for (uint32_t ch = 0; ch < 3u; ++ch)
+        for (uint32_t j = 0; j < (k + 1u) / 2u; ++j) {
+            uint32_t a = 0u, b = 0u, n = 0u;
+            for (uint32_t h = 0; h < 2u; ++h) {
+                const uint32_t i = 2u * j + h;
+                const int32_t sn = i < k ? pt->sn[ch][i] : 0;
+                const int32_t lo = ((sn + 128) & 255) - 128; /* the low byte, signed */
+                a |= (uint32_t)(uint16_t)(int16_t)((sn - lo) / 256) << (16u * h);
+                b |= (uint32_t)(uint16_t)(int16_t)lo << (16u * h);
+                n |= (uint32_t)(uint16_t)(i < k ? pt->bn[ch][i] : 0) << (16u * h);
+            }
+            t->v[0][ch][j] = _mm512_set1_epi32((int32_t)a);
+            t->v[1][ch][j] = _mm512_set1_epi32((int32_t)b);
+            t->v[2][ch][j] = _mm512_set1_epi32((int32_t)n);
+        }
+}
+
+/* p8_group on sixteen lanes (the same sums and bounds) */
+static POLY_INLINE void p16_group(const p16_front_t *f, const __m512i *ap, const __m512i *bp, const uint8_t *c,
+                                  size_t ms, uint32_t j0, uint32_t jend, int tail, __m512i *q, __m512i *r)
+{
+    __m512i sa = _mm512_setzero_si512(), sb = _mm512_setzero_si512();
+    /* the bytes of maps 2j and 2j + 1 as (c_2j, c_2j+1) int16 pairs */
+#define P16_LD(p) _mm512_cvtepu8_epi32(_mm_loadu_si128((const __m128i *)(const void *)(p)))
+#define P16_MP(pc, o2)                                                                                              \
+    do {                                                                                                            \
+        const __m512i cp = _mm512_or_si512(P16_LD(pc), _mm512_bslli_epi128(P16_LD((pc) + (o2)), 2));              \
+        sa = _mm512_dpwssd_epi32(sa, _mm512_mullo_epi16(cp, ap[j]), f->yp[j]);                                      \
+        sb = _mm512_dpwssd_epi32(sb, _mm512_mullo_epi16(cp, bp[j]), f->yp[j]);                                      \
+    } while (0)
+    uint32_t j = j0;
+    for (const uint8_t *pc = c + 2u * j0 * ms; j < jend; ++j, pc += 2u * ms)
+        P16_MP(pc, ms);
+    if (tail)
+        P16_MP(c + 2u * j * ms, 0u);
+#undef P16_MP
+#undef P16_LD
+    const __m512i d = _mm512_srai_epi32(_mm512_add_epi32(sa, _mm512_srai_epi32(sb, 8)), 6);
+    *q = _mm512_add_epi32(*q, d);
+    const __m512i e = _mm512_sub_epi32(_mm512_add_epi32(_mm512_slli_epi32(sa, 8), sb), _mm512_slli_epi32(d, 14));
+    *r = _mm512_add_epi32(*r, e);
+}
+
+/* p8_finish on sixteen lanes: stores all of them; returns the lanes whose scaling is rare */
+static POLY_INLINE __mmask16 p16_finish(const qibl_shmap_point_t *pt, const p16_front_t *f, const p16_tab_t *tab,
+                                        const __m512i *q, const __m512i *r, int32_t *out)
+{
+    const uint32_t np = (pt->maps->k + 1u) / 2u;
+    const __m512i am = f->am, ae = f->ae;
+    __m512i n0 = _mm512_setzero_si512(), n1 = n0, n2 = n0;
+    for (uint32_t j = 0; j < np; ++j) {
+        n0 = _mm512_dpwssd_epi32(n0, tab->v[2][0][j], f->yp[j]);
+        n1 = _mm512_dpwssd_epi32(n1, tab->v[2][1][j], f->yp[j]);
+        n2 = _mm512_dpwssd_epi32(n2, tab->v[2][2][j], f->yp[j]);
+    }
+    __mmask16 rare = 0;
+    __m512i res[3];
+    for (uint32_t ch = 0; ch < 3u; ++ch) {
+        const __m512i sn = ch == 0u ? n0 : ch == 1u ? n1 : n2;
+        const __m512i qn = _mm512_sra_epi32(sn, _mm_cvtsi32_si128(pt->pd[ch]));
+        const __m512i sl = _mm512_sll_epi32(sn, _mm_cvtsi32_si128(14 - pt->pd[ch]));
+        const __m512i rr = _mm512_add_epi32(r[ch], _mm512_sub_epi32(sl, _mm512_slli_epi32(qn, 14)));
+        const __m512i V = _mm512_add_epi32(_mm512_add_epi32(q[ch], qn), _mm512_srli_epi32(rr, 14));
+        const __m512i g = _mm512_mullo_epi32(am, P16_C(pt->c0m[ch])); /* <= 2^30 */
+        const __m512i pe = _mm512_mul_epi32(V, g);
+        const __m512i po = _mm512_mul_epi32(_mm512_shuffle_epi32(V, _MM_PERM_DDBB),
+                                            _mm512_shuffle_epi32(g, _MM_PERM_DDBB));
+        const __m512i sj = _mm512_sub_epi32(_mm512_add_epi32(ae, P16_C(pt->pk[ch])), P16_C(33));
+        /* the common case 33 <= sr <= 62 only: round(p / 2^sr) from the high word */
+        rare |= _mm512_cmpgt_epu32_mask(sj, P16_C(29));
+        const __m512i hi = _mm512_mask_blend_epi32(0xAAAAu, _mm512_srli_epi64(pe, 32), po);
+        const __m512i sh = _mm512_add_epi32(sj, P16_C(1));
+        res[ch] = _mm512_srav_epi32(_mm512_add_epi32(hi, _mm512_sllv_epi32(P16_C(1), sj)), sh);
+    }
+    /* RGB interleaved: output word j is channel j % 3 of pixel j / 3, two permutes per vector */
+    const __m512i vr = res[0], vg = res[1], vb = res[2];
+    _mm512_storeu_si512((void *)out, _mm512_permutex2var_epi32(
+        _mm512_permutex2var_epi32(vr, _mm512_setr_epi32(0, 16, 0, 1, 17, 0, 2, 18, 0, 3, 19, 0, 4, 20, 0, 5), vg),
+        _mm512_setr_epi32(0, 1, 16, 3, 4, 17, 6, 7, 18, 9, 10, 19, 12, 13, 20, 15), vb));
+    _mm512_storeu_si512((void *)(out + 16), _mm512_permutex2var_epi32(
+        _mm512_permutex2var_epi32(vr, _mm512_setr_epi32(21, 0, 6, 22, 0, 7, 23, 0, 8, 24, 0, 9, 25, 0, 10, 26), vg),
+        _mm512_setr_epi32(0, 21, 2, 3, 22, 5, 6, 23, 8, 9, 24, 11, 12, 25, 14, 15), vb));
+    _mm512_storeu_si512((void *)(out + 32), _mm512_permutex2var_epi32(
+        _mm512_permutex2var_epi32(vr, _mm512_setr_epi32(0, 11, 27, 0, 12, 28, 0, 13, 29, 0, 14, 30, 0, 15, 31, 0), vg),
+        _mm512_setr_epi32(26, 1, 2, 27, 4, 5, 28, 7, 8, 29, 10, 11, 30, 13, 14, 31), vb));
+    return rare;
+}
+
+/* poly_span_avx2's blocks with chunks of sixteen pixels (interleaved: chunks on whole groups), eight
+ * chunks a block (128 pixels: more independent chunks between the phases, whose dependency chains
+ * out-of-order execution overlaps; 2 and 4 chunks measured slower); each rare lane redone by
+ * poly_span after its chunk */
+#define P16_BLOCK 8u
+#define P16_GROUP 5u
+#ifndef P16_AHEAD
+#define P16_AHEAD 512u
+#endif /* pairs of maps per int32 sum (P8_GROUP's bound) */
+static void poly_span_avx512(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out)
+{
+    const qibl_shmaps_t *m = pt->maps;
+    const uint32_t k = m->k, np = (k + 1u) / 2u;
+    const int il = QIBL_USE_INTERLEAVED && m->layout == QIBL_SHMAPS_INTERLEAVED;
+    const size_t ms = il ? QIBL_SHMAPS_GROUP : (size_t)m->channels * m->width * m->height;
+    const size_t cs = il ? (size_t)QIBL_SHMAPS_GROUP * k : (size_t)m->width * m->height;
+    const size_t c1 = m->channels == 3u ? cs : 0u;
+    const size_t gbytes = (size_t)QIBL_SHMAPS_GROUP * k * m->channels;
+    const size_t off = (size_t)y * m->width + x0;
+    const uint8_t *row = m->planes + (il ? (size_t)y * qibl_shmaps_row_size(m) : off);
+    if (pt->pos[0] != (int32_t)pt->pos[0] || pt->pos[1] != (int32_t)pt->pos[1] || pt->pos[2] != (int32_t)pt->pos[2]) {
+        poly_span(pt, x0, y, n, out);
+        return;
+    }
+    __m512i seed[6]; /* 384 bytes: qibli_rsqrt_seed's 192 values */
+    for (uint32_t i = 0; i < 6u; ++i)
+        seed[i] = _mm512_loadu_si512((const void *)(qibli_rsqrt_seed + 32u * i));
+    p16_tab_t tab;
+    p16_tab_fill(pt, k, &tab);
+    p16_half_t hk;
+    p16_half_fill(&hk);
+    uint32_t px = 0u;
+    if (il && x0 % QIBL_SHMAPS_GROUP != 0u) {
+        px = QIBL_SHMAPS_GROUP - x0 % QIBL_SHMAPS_GROUP < n ? QIBL_SHMAPS_GROUP - x0 % QIBL_SHMAPS_GROUP : n;
+        poly_span(pt, x0, y, px, out);
+    }
+    p16_front_t fr[P16_BLOCK];
+    __m512i q[P16_BLOCK][3], r[P16_BLOCK][3];
+    const uint8_t *cb[P16_BLOCK];
+    __mmask16 bad[P16_BLOCK];
+    __m512i u[P16_BLOCK][3];
+    while (px + 16u <= n) {
+        const uint32_t nb = (n - px) / 16u < P16_BLOCK ? (n - px) / 16u : P16_BLOCK;
+        for (uint32_t b = 0; b < nb; ++b) {
+            const uint32_t x = x0 + px + 16u * b;
+            bad[b] = poly_front16(pt, pt->pmap->points + (off + px + 16u * b) * 12u, seed, u[b], &fr[b]);
+            cb[b] = il ? row + (size_t)(x / QIBL_SHMAPS_GROUP) * gbytes : row + px + 16u * b;
+            for (uint32_t ch = 0; ch < 3u; ++ch)
+                q[b][ch] = _mm512_setzero_si512(), r[b][ch] = P16_C(8192);
+        }
+        for (uint32_t b = 0; b < nb; ++b)
+            poly_eval16(u[b][0], u[b][1], u[b][2], pt->bands, &hk, fr[b].yp);
+        for (uint32_t ch = 0; ch < 3u; ++ch)
+            for (uint32_t j0 = 0; j0 < np; j0 += P16_GROUP) {
+                const uint32_t jend = j0 + P16_GROUP < k / 2u ? j0 + P16_GROUP : k / 2u;
+                const int tail = (k & 1u) && j0 + P16_GROUP >= np;
+                for (uint32_t b = 0; b < nb; ++b)
+                    p16_group(&fr[b], tab.v[0][ch], tab.v[1][ch], cb[b] + ch * c1, ms, j0, jend, tail, &q[b][ch],
+                              &r[b][ch]);
+            }
+        for (uint32_t b = 0; b < nb; ++b, px += 16u) {
+            uint32_t redo = (uint32_t)(bad[b] | p16_finish(pt, &fr[b], &tab, q[b], r[b], out + 3u * px));
+            for (; redo != 0u; redo &= redo - 1u) {
+                const uint32_t i = (uint32_t)__builtin_ctz(redo);
+                poly_span(pt, x0 + px + i, y, 1u, out + 3u * (px + i));
+            }
+        }
+    }
+    if (px < n)
+        poly_span(pt, x0 + px, y, n - px, out + 3u * px);
+}
+#undef P16_PRV
+#undef P16_C
+#endif /* QIBLI_SHMAP_AVX512 */
+
 qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out,
                                     void *ws, size_t ws_size)
 {
-    QIBLI_DISPATCH(qibl_shmap_point_span, (pt, x0, y, n, out, ws, ws_size));
+    QIBLI_DISPATCH512(qibl_shmap_point_span, (pt, x0, y, n, out, ws, ws_size));
     if (pt == 0 || out == 0 || pt->maps == 0 || pt->maps->planes == 0 || ws == 0)
         return QIBL_E_NULL_POINTER;
     const qibl_shmaps_t *m = pt->maps;
@@ -1959,7 +2335,9 @@ qibl_status_t qibl_shmap_point_span(const qibl_shmap_point_t *pt, uint32_t x0, u
     const uint8_t *pp = pt->pmap->points + off * 12u;
 
     if (pt->method == 1u) { /* QIBL_POINT_POLY */
-#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+#if defined(QIBLI_SHMAP_AVX512)
+        poly_span_avx512(pt, x0, y, n, out);
+#elif QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
         poly_span_avx2(pt, x0, y, n, out);
 #else
         poly_span(pt, x0, y, n, out);

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *const names[] = {"scalar", "sse2", "avx2", "neon"};
+static const char *const names[] = {"scalar", "sse2", "avx2", "neon", "avx512"};
 
 static void list(uint32_t have, char *out, size_t size)
 {
@@ -39,7 +39,7 @@ int qtool_isa_parse(const char *value, uint32_t have, uint32_t *mask, char *err,
             *mask = QIBL_ISA_BIT(i);
             return 0;
         }
-    snprintf(err, err_size, "QIBL_ISA: unknown value '%.32s' (scalar, sse2, avx2, neon, auto)", value);
+    snprintf(err, err_size, "QIBL_ISA: unknown value '%.32s' (scalar, sse2, avx2, avx512, neon, auto)", value);
     return -1;
 }
 

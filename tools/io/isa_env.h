@@ -1,5 +1,5 @@
 /*
- * io/isa_env.h - QIBL_ISA=scalar|sse2|avx2|auto: the tools' choice of the core's kernel set.
+ * io/isa_env.h - QIBL_ISA=scalar|sse2|avx2|avx512|auto: the tools' choice of the core's kernel set.
  *
  * The core never reads the environment: it calls the application's qibl_isa_allowed() (qibl/isa.h)
  * on each dispatched call. The tools define it here: the mask qtool_isa_force() set, else the one
@@ -17,7 +17,7 @@
 
 /* Parses a QIBL_ISA value against `have` (qibl_isa_available()'s mask): NULL, "" and "auto" give
  * *mask = ~0 (every set); "scalar", "sse2", "avx2", "neon" give that set's bit. Returns 0, or -1
- * with a one-line message in err: "QIBL_ISA: unknown value 'x' (scalar, sse2, avx2, neon, auto)" or
+ * with a one-line message in err: "QIBL_ISA: unknown value 'x' (scalar, sse2, avx2, avx512, neon, auto)" or
  * "QIBL_ISA: avx2: not available here (this CPU and build run: scalar sse2)". */
 int qtool_isa_parse(const char *value, uint32_t have, uint32_t *mask, char *err, size_t err_size);
 

@@ -202,6 +202,9 @@
 #define QIBL_SIMD_SSE2 1
 #define QIBL_SIMD_AVX2 2
 #define QIBL_SIMD_NEON 3
+/* AVX-512 (F, BW, VL, CD, VNNI): a run-time dispatch choice only (qibl/isa.h), never a
+ * QIBL_CONFIG_SIMD value: its copy of shmap is the AVX2 build plus a 16-lane point-light kernel */
+#define QIBL_SIMD_AVX512 4
 #ifndef QIBL_CONFIG_SIMD
 #if defined(__AVX2__)
 #define QIBL_CONFIG_SIMD QIBL_SIMD_AVX2

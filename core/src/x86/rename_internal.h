@@ -1,6 +1,6 @@
 /*
  * x86/rename_internal.h - every external name of the SIMD modules (shmap, srgbe, probe, lightprobe, hemi)
- * with the suffix QIBLI_ISA_VARIANT (_avx2, _scalar), so that their copies link beside the library's
+ * with the suffix QIBLI_ISA_VARIANT (_avx2, _avx512, _scalar), so that their copies link beside the library's
  * own (SSE2) build and call each other. Included by core/src/x86/<module>_<isa>.c before the
  * module's source; a new public function of those modules must be added here (a missing one is a
  * duplicate symbol at link time, never a silent mix).
