@@ -434,7 +434,7 @@ static void test_tiles_identical(void **state)
                          "interleaved", NULL), 0);
     assert_int_equal(run("merge", "--ranges", "-o", at("lR"), at("l0"), at("l1"), NULL), 0);
     for (int i = 0; i < 2; ++i) {
-        char in[8], part[8];
+        char in[32], part[32];
         snprintf(in, sizeof in, "%d/2", i), snprintf(part, sizeof part, "lp%d", i);
         assert_int_equal(run("bake", FARM_ARGS, "--lsq", "--tile", in, "--ranges", at("lR"), "--part", at(part),
                              "--layout", "interleaved", NULL), 0);
