@@ -1545,6 +1545,33 @@ static void poly_span(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uin
     }
 }
 
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2 || defined(QIBLI_SHMAP_AVX512)
+/* What the vector point spans (8 and 16 lanes) need of the maps' layout for row y from x0: the
+ * distance between maps (ms), the second channel's offset (c1), an interleaved group's bytes, the
+ * pixel offset and the row's bytes. 0 if the light's position is outside int32 (the lanes'
+ * subtraction): poly_span takes the span then. */
+typedef struct {
+    int il;
+    size_t ms, c1, gbytes, off;
+    const uint8_t *row;
+} poly_geom_t;
+
+static int poly_geom(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, poly_geom_t *g)
+{
+    const qibl_shmaps_t *m = pt->maps;
+    const uint32_t k = m->k;
+    if (pt->pos[0] != (int32_t)pt->pos[0] || pt->pos[1] != (int32_t)pt->pos[1] || pt->pos[2] != (int32_t)pt->pos[2])
+        return 0;
+    g->il = QIBL_USE_INTERLEAVED && m->layout == QIBL_SHMAPS_INTERLEAVED;
+    g->ms = g->il ? QIBL_SHMAPS_GROUP : (size_t)m->channels * m->width * m->height;
+    g->c1 = m->channels == 3u ? (g->il ? (size_t)QIBL_SHMAPS_GROUP * k : (size_t)m->width * m->height) : 0u;
+    g->gbytes = (size_t)QIBL_SHMAPS_GROUP * k * m->channels;
+    g->off = (size_t)y * m->width + x0;
+    g->row = m->planes + (g->il ? (size_t)y * qibl_shmaps_row_size(m) : g->off);
+    return 1;
+}
+#endif
+
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2 && !defined(QIBLI_SHMAP_AVX512) /* (that copy: poly_span_avx512) */
 /* ---- QIBL_POINT_POLY, eight pixels at a time (AVX2) -------------------------------------------
  * poly_span's integers lane by lane, so the bytes are the scalar twin's: int32 lanes for the
@@ -1883,19 +1910,15 @@ static POLY_INLINE int p8_finish(const qibl_shmap_point_t *pt, const p8_front_t 
 #define P8_BLOCK 8u
 static void poly_span_avx2(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out)
 {
-    const qibl_shmaps_t *m = pt->maps;
-    const uint32_t k = m->k, np = (k + 1u) / 2u;
-    const int il = QIBL_USE_INTERLEAVED && m->layout == QIBL_SHMAPS_INTERLEAVED;
-    const size_t ms = il ? QIBL_SHMAPS_GROUP : (size_t)m->channels * m->width * m->height;
-    const size_t cs = il ? (size_t)QIBL_SHMAPS_GROUP * k : (size_t)m->width * m->height;
-    const size_t c1 = m->channels == 3u ? cs : 0u;
-    const size_t gbytes = (size_t)QIBL_SHMAPS_GROUP * k * m->channels;
-    const size_t off = (size_t)y * m->width + x0;
-    const uint8_t *row = m->planes + (il ? (size_t)y * qibl_shmaps_row_size(m) : off);
-    if (pt->pos[0] != (int32_t)pt->pos[0] || pt->pos[1] != (int32_t)pt->pos[1] || pt->pos[2] != (int32_t)pt->pos[2]) {
+    const uint32_t k = pt->maps->k, np = (k + 1u) / 2u;
+    poly_geom_t g;
+    if (!poly_geom(pt, x0, y, &g)) {
         poly_span(pt, x0, y, n, out);
         return;
     }
+    const int il = g.il;
+    const size_t ms = g.ms, c1 = g.c1, gbytes = g.gbytes, off = g.off;
+    const uint8_t *row = g.row;
     uint32_t seed[192];
     for (uint32_t i = 0; i < 192u; ++i)
         seed[i] = qibli_rsqrt_seed[i];
@@ -2250,19 +2273,15 @@ static POLY_INLINE __mmask16 p16_finish(const qibl_shmap_point_t *pt, const p16_
 #endif /* pairs of maps per int32 sum (P8_GROUP's bound) */
 static void poly_span_avx512(const qibl_shmap_point_t *pt, uint32_t x0, uint32_t y, uint32_t n, int32_t *out)
 {
-    const qibl_shmaps_t *m = pt->maps;
-    const uint32_t k = m->k, np = (k + 1u) / 2u;
-    const int il = QIBL_USE_INTERLEAVED && m->layout == QIBL_SHMAPS_INTERLEAVED;
-    const size_t ms = il ? QIBL_SHMAPS_GROUP : (size_t)m->channels * m->width * m->height;
-    const size_t cs = il ? (size_t)QIBL_SHMAPS_GROUP * k : (size_t)m->width * m->height;
-    const size_t c1 = m->channels == 3u ? cs : 0u;
-    const size_t gbytes = (size_t)QIBL_SHMAPS_GROUP * k * m->channels;
-    const size_t off = (size_t)y * m->width + x0;
-    const uint8_t *row = m->planes + (il ? (size_t)y * qibl_shmaps_row_size(m) : off);
-    if (pt->pos[0] != (int32_t)pt->pos[0] || pt->pos[1] != (int32_t)pt->pos[1] || pt->pos[2] != (int32_t)pt->pos[2]) {
+    const uint32_t k = pt->maps->k, np = (k + 1u) / 2u;
+    poly_geom_t g;
+    if (!poly_geom(pt, x0, y, &g)) {
         poly_span(pt, x0, y, n, out);
         return;
     }
+    const int il = g.il;
+    const size_t ms = g.ms, c1 = g.c1, gbytes = g.gbytes, off = g.off;
+    const uint8_t *row = g.row;
     __m512i seed[6]; /* 384 bytes: qibli_rsqrt_seed's 192 values */
     for (uint32_t i = 0; i < 6u; ++i)
         seed[i] = _mm512_loadu_si512((const void *)(qibli_rsqrt_seed + 32u * i));
