@@ -69,19 +69,8 @@ uint32_t qibl_isqrt_u64(uint64_t x, uint64_t *rem)
 
 uint32_t qibl_isqrt_u32(uint32_t x)
 {
-    uint32_t res = 0u, bit = (uint32_t)1 << 30;
-    while (bit > x)
-        bit >>= 2;
-    while (bit != 0u) {
-        if (x >= res + bit) {
-            x -= res + bit;
-            res = (res >> 1) + bit;
-        } else {
-            res >>= 1;
-        }
-        bit >>= 2;
-    }
-    return res;
+    /* the same digits: the 64-bit loop skips the empty top ones (no kernel calls this one) */
+    return qibl_isqrt_u64(x, 0);
 }
 
 /* round(y) from floor(2y): floor(y + 1/2) = floor((floor(2y) + 1) / 2) for any real y >= 0, and

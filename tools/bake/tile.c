@@ -101,6 +101,31 @@ static int load_key(const uint8_t *b, const char *name, qtool_tile_key *k, char 
     return 0;
 }
 
+/* What a ranges file and a tile part share at their head: the magic, the header's size, the version
+ * at 8, the key at 12 and the header's CRC (the u32 at crc_at, over b[0..crc_at)). */
+typedef struct head_kind {
+    const char *magic; /* 8 bytes */
+    const char *what;  /* "ranges file": the bad-magic line */
+    const char *noun;  /* "ranges": the version line */
+    uint32_t header, version, crc_at;
+} head_kind;
+
+/* b[0..n)'s head checked in that order and its key into *key; 0, or -1 with err set */
+static int load_head(const uint8_t *b, size_t n, const char *name, const head_kind *h, qtool_tile_key *key,
+                     char *err, size_t errlen)
+{
+    if (n < 8 || memcmp(b, h->magic, 8) != 0)
+        return qtool_errf(err, errlen, "%s: not a qibl %s (bad magic)", name, h->what);
+    if (n < h->header)
+        return qtool_errf(err, errlen, "%s: truncated header (%zu of %u bytes)", name, n, h->header);
+    if (qibl_load_u32le(b + 8) != h->version)
+        return qtool_errf(err, errlen, "%s: unsupported %s version %u (this qibl reads version %u)", name, h->noun,
+                          qibl_load_u32le(b + 8), h->version);
+    if (qibl_load_u32le(b + h->crc_at) != qibl_crc32(0, b, h->crc_at))
+        return qtool_errf(err, errlen, "%s: header checksum mismatch: the file is damaged", name);
+    return load_key(b + 12, name, key, err, errlen);
+}
+
 /* the first difference of two keys, named ("k 4 against 9"), into why; 0 when they are equal */
 static int key_diff(const qtool_tile_key *a, const qtool_tile_key *b, char *why, size_t n)
 {
@@ -182,16 +207,9 @@ int qtool_tile_ranges_decode(const uint8_t *b, size_t n, const char *name, qtool
 {
     qtool_tile_ranges r;
     memset(&r, 0, sizeof r);
-    if (n < 8 || memcmp(b, RMAGIC, 8) != 0)
-        return qtool_errf(err, errlen, "%s: not a qibl ranges file (bad magic)", name);
-    if (n < QTOOL_TILE_RANGES_HEADER)
-        return qtool_errf(err, errlen, "%s: truncated header (%zu of %u bytes)", name, n, QTOOL_TILE_RANGES_HEADER);
-    if (qibl_load_u32le(b + 8) != QTOOL_TILE_RANGES_VERSION)
-        return qtool_errf(err, errlen, "%s: unsupported ranges version %u (this qibl reads version %u)", name,
-                          qibl_load_u32le(b + 8), QTOOL_TILE_RANGES_VERSION);
-    if (qibl_load_u32le(b + 52) != qibl_crc32(0, b, 52))
-        return qtool_errf(err, errlen, "%s: header checksum mismatch: the file is damaged", name);
-    if (load_key(b + 12, name, &r.key, err, errlen) != 0)
+    static const head_kind ranges = {RMAGIC, "ranges file", "ranges", QTOOL_TILE_RANGES_HEADER,
+                                     QTOOL_TILE_RANGES_VERSION, 52};
+    if (load_head(b, n, name, &ranges, &r.key, err, errlen) != 0)
         return -1;
     r.tile = qibl_load_u32le(b + 36), r.ntiles = qibl_load_u32le(b + 40), r.reduced = qibl_load_u32le(b + 44);
     if (r.ntiles < 1 || r.ntiles > r.key.h || r.tile >= r.ntiles || r.reduced > 1 || (r.reduced && r.tile != 0))
@@ -610,16 +628,9 @@ int qtool_tile_is_part(const char *path)
 static int part_decode(uint8_t *b, size_t n, const char *name, tile_part *p, char *err, size_t errlen)
 {
     memset(p, 0, sizeof *p);
-    if (n < 8 || memcmp(b, PMAGIC, 8) != 0)
-        return qtool_errf(err, errlen, "%s: not a qibl tile part (bad magic)", name);
-    if (n < QTOOL_TILE_PART_HEADER)
-        return qtool_errf(err, errlen, "%s: truncated header (%zu of %u bytes)", name, n, QTOOL_TILE_PART_HEADER);
-    if (qibl_load_u32le(b + 8) != QTOOL_TILE_PART_VERSION)
-        return qtool_errf(err, errlen, "%s: unsupported part version %u (this qibl reads version %u)", name,
-                          qibl_load_u32le(b + 8), QTOOL_TILE_PART_VERSION);
-    if (qibl_load_u32le(b + 76) != qibl_crc32(0, b, 76))
-        return qtool_errf(err, errlen, "%s: header checksum mismatch: the file is damaged", name);
-    if (load_key(b + 12, name, &p->key, err, errlen) != 0)
+    static const head_kind part = {PMAGIC, "tile part", "part", QTOOL_TILE_PART_HEADER, QTOOL_TILE_PART_VERSION,
+                                   76};
+    if (load_head(b, n, name, &part, &p->key, err, errlen) != 0)
         return -1;
     p->tile = qibl_load_u32le(b + 36), p->ntiles = qibl_load_u32le(b + 40), p->lut = qibl_load_u32le(b + 44);
     p->layout = qibl_load_u32le(b + 48), p->npaths = qibl_load_u32le(b + 52), p->has_locc = qibl_load_u32le(b + 56);

@@ -58,7 +58,7 @@ hh_prereqs() {
 # $dir/qibl-golden.elf; sets gcc, specs, dir, objs and elf; exits on failure
 hh_build_golden() {
     local tag=$1 crt=$2 ld=$3 io=$4 src o f
-    local bm_src="tools/baremetal/main.c tools/baremetal/putu.c tools/baremetal/stack.c tools/baremetal/heap.c tools/baremetal/tls.c tools/baremetal/armtimers.c $io"
+    local bm_src="tools/baremetal/main.c tools/baremetal/putu.c tools/baremetal/stack.c tools/baremetal/heap.c tools/baremetal/tls.c tools/baremetal/armtimers.c tools/handheld/hh_start.c $io"
     gcc=arm-none-eabi-gcc specs="-specs=$specs_file"
     dir="$out/golden"
     rm -rf "$dir"; mkdir -p "$dir/core" "$dir/tools"

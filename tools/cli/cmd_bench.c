@@ -29,9 +29,7 @@ static const qtool_opt bench_table[] = {
 };
 
 static const qtool_opt_cmd bench_spec = {
-    .name = "bench",
-    QTOOL_OPT_TABLE(bench_table, bench_defaults),
-    .pos = {.names = "BENCH", .min = 0, .max = QTOOL_OPT_LIST_MAX, .off = offsetof(bench_cli_opts, what)},
+    QTOOL_OPT_CMD("bench", bench_table, bench_defaults, "BENCH", 0, QTOOL_OPT_LIST_MAX, bench_cli_opts, what),
     .prose =
         "  BENCH: " QTOOL_BENCH_NAMES "\n"
         "  (default all; the last one named runs).\n"

@@ -105,9 +105,7 @@ static const qtool_opt ies_table[] = {
 };
 
 static const qtool_opt_cmd ies_info_spec = {
-    .name = "ies info",
-    QTOOL_OPT_TABLE(ies_table, ies_defaults),
-    .pos = {.names = "FILE.ies", .min = 1, .max = 1, .off = offsetof(ies_opts, file)},
+    QTOOL_OPT_CMD("ies info", ies_table, ies_defaults, "FILE.ies", 1, 1, ies_opts, file),
     .prose =
         "  Reads an IES LM-63 file (1986 unlabelled, 1991, 1995, 2002 or 2019 header; keywords with [MORE];\n"
         "  TILT=NONE or INCLUDE, TILT=<file> refused by name; photometric type C, B or A; every type C\n"

@@ -193,9 +193,7 @@ static const qtool_opt lights_table[] = {
 };
 
 static const qtool_opt_cmd lights_spec = {
-    .name = "lights",
-    QTOOL_OPT_TABLE(lights_table, lights_defaults),
-    .pos = {.names = "PROBE.hdr", .min = 1, .max = 1, .off = offsetof(lights_cli, probe)},
+    QTOOL_OPT_CMD("lights", lights_table, lights_defaults, "PROBE.hdr", 1, 1, lights_cli, probe),
     .prose =
         "  Turns a W x H lat-long probe (top row theta = 0 = +z, phi = 0 at the left edge, growing to the\n"
         "  right) into N directional lights with the integer core (qibl/lightprobe.h): median cut\n"

@@ -67,10 +67,8 @@ static const qtool_opt capture_table[] = {
 };
 
 static const qtool_opt_cmd capture_spec = {
-    .name = "luminaire capture",
+    QTOOL_OPT_CMD("luminaire capture", capture_table, capture_defaults, "builtin|MESH.obj", 1, 1, capture_cli, src),
     .help_name = "luminaire",
-    QTOOL_OPT_TABLE(capture_table, capture_defaults),
-    .pos = {.names = "builtin|MESH.obj", .min = 1, .max = 1, .off = offsetof(capture_cli, src)},
     .prose =
         "  A near-field light source (Granier et al.): its light on a sampling plane S projected onto a\n"
         "  grid of N x N filter supports, each with an R x R emission texture on a measurement plane,\n"
@@ -137,10 +135,8 @@ static const qtool_opt render_table[] = {
 };
 
 static const qtool_opt_cmd render_spec = {
-    .name = "luminaire render",
+    QTOOL_OPT_CMD("luminaire render", render_table, render_defaults, "ASSET F.qnf", 2, 2, render_cli, files),
     .help_name = "luminaire",
-    QTOOL_OPT_TABLE(render_table, render_defaults),
-    .pos = {.names = "ASSET F.qnf", .min = 2, .max = 2, .off = offsetof(render_cli, files)},
     .prose =
         "  An asset frame (its point maps and P map) lit by the source: one textured spotlight per lit\n"
         "  support, each a goniometric lamp of the core (qibl/gonio.h), shaded from four anchors'\n"

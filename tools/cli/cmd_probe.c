@@ -96,9 +96,7 @@ static const qtool_opt sh_project_table[] = {
 };
 
 static const qtool_opt_cmd sh_project_spec = {
-    .name = "sh project",
-    QTOOL_OPT_TABLE(sh_project_table, sh_project_defaults),
-    .pos = {.names = "PROBE.hdr", .min = 1, .max = 1, .off = offsetof(sh_project_cli, probe)},
+    QTOOL_OPT_CMD("sh project", sh_project_table, sh_project_defaults, "PROBE.hdr", 1, 1, sh_project_cli, probe),
     .prose =
         "  A Radiance probe (layout detected or --layout, resampled to lat-long as qibl lights does)\n"
         "  projected onto bands 0..B-1 by the integer core, row by row (qibl/probe.h): radiance\n"

@@ -29,9 +29,7 @@ static const qtool_opt probe_info_table[] = {
 };
 
 static const qtool_opt_cmd probe_info_spec = {
-    .name = "probe info",
-    QTOOL_OPT_TABLE(probe_info_table, probe_info_defaults),
-    .pos = {.names = "PROBE.hdr", .min = 1, .max = 1, .off = offsetof(probe_info_opts, probe)},
+    QTOOL_OPT_CMD("probe info", probe_info_table, probe_info_defaults, "PROBE.hdr", 1, 1, probe_info_opts, probe),
     .prose =
         "  Prints the probe's layout (detected, or --layout) and size, its luminance dynamic range\n"
         "  (max over the smallest non-zero pixel, in stops), the share of the energy in the brightest\n"

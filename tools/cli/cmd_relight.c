@@ -250,9 +250,7 @@ static const qtool_opt relight_table[] = {
 };
 
 static const qtool_opt_cmd relight_spec = {
-    .name = "relight",
-    QTOOL_OPT_TABLE(relight_table, relight_defaults),
-    .pos = {.names = "FILE", .min = 0, .max = 1, .off = offsetof(relight_cli, file)},
+    QTOOL_OPT_CMD("relight", relight_table, relight_defaults, "FILE", 0, 1, relight_cli, file),
     .prose =
         "  Lights add up: any number of --sun and --point (at most 64 together), --lights and --probe.\n"
         "  --sun: directional light from direction (X, Y, Z), colour --rgb (default 1 1 1).\n"
@@ -311,9 +309,7 @@ static const qtool_opt_cmd relight_spec = {
 };
 /* the same table when --path is on the line (--rgb is then the path light's colour) */
 static const qtool_opt_cmd relight_path_spec = {
-    .name = "relight",
-    QTOOL_OPT_TABLE(relight_table, path_defaults),
-    .pos = {.names = "FILE", .min = 0, .max = 1, .off = offsetof(relight_cli, file)},
+    QTOOL_OPT_CMD("relight", relight_table, path_defaults, "FILE", 0, 1, relight_cli, file),
 };
 
 /* the first option given that only relight without --path takes, or NULL */

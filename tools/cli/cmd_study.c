@@ -30,9 +30,8 @@ static const qtool_opt study_table[] = {
 };
 
 static const qtool_opt_cmd study_spec = {
-    .name = "study",
-    QTOOL_OPT_TABLE(study_table, study_defaults),
-    .pos = {.names = "PROBE.hdr ...", .min = 0, .max = QTOOL_OPT_LIST_MAX, .off = offsetof(study_cli_opts, probes)},
+    QTOOL_OPT_CMD("study", study_table, study_defaults, "PROBE.hdr ...", 0, QTOOL_OPT_LIST_MAX, study_cli_opts,
+                  probes),
     .prose =
         "  Ground-truth irradiance of each lat-long probe at 20000 spherical-Fibonacci normals (Madsen &\n"
         "  Laursen eq. 4 over every pixel), then median cut, adaptive, variance minimisation, SH 4/9/16/25,\n"

@@ -182,9 +182,8 @@ static const qtool_opt transfer_table[] = {
 };
 
 static const qtool_opt_cmd transfer_spec = {
-    .name = "transfer",
-    QTOOL_OPT_TABLE(transfer_table, transfer_defaults),
-    .pos = {.names = "MESH [MESH...]", .min = 1, .max = QTOOL_TRANSFER_MAX_FRAMES, .off = T_(mesh)},
+    QTOOL_OPT_CMD("transfer", transfer_table, transfer_defaults, "MESH [MESH...]", 1, QTOOL_TRANSFER_MAX_FRAMES,
+                  transfer_cli, mesh),
     .synopsis = "MESH [MESH...] --probe PROBE.hdr",
     .prose =
         "  Per vertex of a glTF (.gltf, .glb: the scene's meshes in world space, skinned; FILE.gltf@T: its\n"

@@ -94,9 +94,7 @@ static const qtool_opt view_table[] = {
 };
 
 static const qtool_opt_cmd view_spec = {
-    .name = "view",
-    QTOOL_OPT_TABLE(view_table, view_defaults),
-    .pos = {.names = "FILE|MESH", .min = 0, .max = 1, .off = V_(file)},
+    QTOOL_OPT_CMD("view", view_table, view_defaults, "FILE|MESH", 0, 1, view_cli, file),
     .synopsis = "FILE|MESH",
     .prose =
         "  qibl view FILE [--sun X Y Z] [--probe P.hdr]... [--lamp-rgb C0] [--exposure E] [--truth PNG|DIR]\n"

@@ -2,7 +2,7 @@
  * gba/gba_io.c - what a bare-metal run needs from the Game Boy Advance, behind tools/baremetal/
  * semi.h (so main.c, heap.c, stack.c and the probes serve the GBA as they serve the MCU boards):
  * text out and exit through mGBA's debug registers, a cycle clock from the hardware timers, and
- * the C reset (copies, TLS, stack paint) that crt_gba.S enters.
+ * the C reset that crt_gba.S enters (its copies; then handheld/hh_start.c: .bss, TLS, stack paint).
  *
  * mGBA's debug port: writing 0xC0DE to 0x04FFF780 enables it; a message is up to 255 bytes at
  * 0x04FFF600, sent by writing 0x100 | level to 0x04FFF700. Protocol with tools/gba/host.c: a line
@@ -14,8 +14,8 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "handheld/hh_start.h"
 #include "semi.h"
-#include "stack.h"
 
 #define DBG_ENABLE (*(volatile uint16_t *)0x04FFF780u)
 #define DBG_FLAGS (*(volatile uint16_t *)0x04FFF700u)
@@ -76,12 +76,8 @@ uint64_t bm_clock_ns(void)
     return (c >> 15) * 1953125u + ((c & 0x7FFFu) * 1953125u >> 15);
 }
 
-extern uint32_t __data_load[], __data_start[], __data_end[], __bss_start[], __bss_end[];
+extern uint32_t __data_load[], __data_start[], __data_end[];
 extern uint32_t __iwram_load[], __iwram_start[], __iwram_end[];
-extern char __tls_base[];
-void _init_tls(void *tls);
-void _set_tls(void *tls);
-int main(void);
 void gba_reset(void) __attribute__((noreturn));
 
 void gba_reset(void)
@@ -93,11 +89,5 @@ void gba_reset(void)
         *d++ = *s++;
     for (uint32_t *s = __iwram_load, *d = __iwram_start; d < __iwram_end;)
         *d++ = *s++;
-    for (uint32_t *d = __bss_start; d < __bss_end;)
-        *d++ = 0;
-    /* picolibc keeps errno in TLS; without a thread pointer it writes to address 8 (the BIOS) */
-    _init_tls(__tls_base);
-    _set_tls(__tls_base);
-    bm_stack_paint();
-    bm_exit(main());
+    hh_start();
 }

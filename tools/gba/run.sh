@@ -89,7 +89,7 @@ $gcc ${flags/-mthumb/-marm} $opt $core_warn -ffreestanding -fno-builtin -fno-tre
 $gcc ${flags/-mthumb/-marm} $opt $core_warn -ffreestanding -fno-builtin -fno-tree-loop-distribute-patterns \
     -ffunction-sections -Icore/include -Iplatform/soft/include -c platform/soft/soft.c -o "$demo/iwram_soft.o" ||
     err "demo: compile failed"
-demo_common=("$dir/tools/crt_gba.o" "$dir/tools/gba_io.o" "$dir/tools/putu.o" "$dir/tools/armtimers.o" "$dir/tools/stack.o" "$demo/demo_frame.o" "$demo/demo_asset.o")
+demo_common=("$dir/tools/crt_gba.o" "$dir/tools/gba_io.o" "$dir/tools/hh_start.o" "$dir/tools/putu.o" "$dir/tools/armtimers.o" "$dir/tools/stack.o" "$demo/demo_frame.o" "$demo/demo_asset.o")
 core_thumb=("$dir"/core/*.o)
 core_arm=("$demo/iwram_shmap.o" "$demo/iwram_soft.o")
 for o in "$dir"/core/*.o; do case $(basename "$o") in shmap.o | soft.o) ;; *) core_arm+=("$o") ;; esac; done

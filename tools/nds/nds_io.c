@@ -2,7 +2,7 @@
  * nds/nds_io.c - what a bare-metal run needs from the Nintendo DS's ARM9, behind tools/baremetal/
  * semi.h (so main.c, heap.c, stack.c and the probes serve the DS as they serve the MCU boards and
  * the GBA): text out and exit through DeSmuME's debug print (nds_print, crt_nds.S), a clock from
- * the ARM9's hardware timers, and the C reset that crt_nds.S enters.
+ * the ARM9's hardware timers, and the C reset that crt_nds.S enters (then handheld/hh_start.c).
  *
  * Protocol with tools/nds/desmume_run.py: DeSmuME's standard output mixes the emulator's own
  * messages with the ROM's, so every line of the ROM goes out whole, as "nds: <line>\n" (one print
@@ -13,8 +13,8 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "handheld/hh_start.h"
 #include "semi.h"
-#include "stack.h"
 
 void nds_print(const char *s); /* crt_nds.S: SWI 0xFC */
 
@@ -77,21 +77,10 @@ uint64_t bm_clock_ns(void)
     return c / BUS_HZ * 1000000000u + c % BUS_HZ * 1000000000u / BUS_HZ;
 }
 
-extern uint32_t __bss_start[], __bss_end[];
-extern char __tls_base[];
-void _init_tls(void *tls);
-void _set_tls(void *tls);
-int main(void);
 void nds_reset(void) __attribute__((noreturn));
 
 void nds_reset(void)
 {
     *(volatile uint32_t *)0x04000208u = 0; /* IME: no interrupts (there are no handlers) */
-    for (uint32_t *d = __bss_start; d < __bss_end;)
-        *d++ = 0;
-    /* picolibc keeps errno in TLS; without a thread pointer it writes to address 8 */
-    _init_tls(__tls_base);
-    _set_tls(__tls_base);
-    bm_stack_paint();
-    bm_exit(main());
+    hh_start();
 }

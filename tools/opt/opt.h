@@ -31,12 +31,9 @@
  *             {0},
  *         };
  *         static const qtool_opt_cmd study_spec = {
- *             .name = "study",
- *             .opts = study_table,
- *             .pos = {.names = "PROBE.hdr ...", .min = 0, .max = QTOOL_OPT_LIST_MAX,
- *                     .off = offsetof(study_cli_opts, probes)},
- *             .defaults = &study_defaults,
- *             .size = sizeof(study_cli_opts),
+ *             // .name, .opts, .defaults, .size and .pos (PROBE.hdr ...: 0 to 64 of them, into probes)
+ *             QTOOL_OPT_CMD("study", study_table, study_defaults, "PROBE.hdr ...", 0, QTOOL_OPT_LIST_MAX,
+ *                           study_cli_opts, probes),
  *             .prose = "  Ground-truth irradiance of each lat-long probe ... (two-space indented lines)\n",
  *         };
  *
@@ -163,6 +160,12 @@ extern const qtool_opt_list qtool_opt_args;
 /* A command's table and its defaults struct (NULL table: positionals only); the size the parser
  * copies is taken from the defaults themselves, so the two cannot disagree. */
 #define QTOOL_OPT_TABLE(table, defaults_) .opts = (table), .defaults = &(defaults_), .size = sizeof(defaults_)
+
+/* The usual head of a spec in one line: its name, QTOOL_OPT_TABLE, and positionals that fill a
+ * qtool_opt_list, min_ to max_ of them, shown as pos_names, at field of the options struct type. */
+#define QTOOL_OPT_CMD(name_, table, defaults_, pos_names, min_, max_, type, field)                            \
+    .name = (name_), QTOOL_OPT_TABLE(table, defaults_),                                                       \
+    .pos = {.names = (pos_names), .min = (min_), .max = (max_), .off = offsetof(type, field)}
 
 /* The program the lines name ("qibl" unless a program sets it first): "usage: PROGRAM CMD ...",
  * "PROGRAM CMD: ...; see PROGRAM help CMD". */
