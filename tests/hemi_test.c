@@ -17,7 +17,9 @@
 #include <cmocka.h>
 
 #include "qibl/hemi.h"
+#include "golden/cases.h"
 #include "golden/check.h"
+#include "io/golden.h"
 #include "ref/sh_ref.h"
 #include "twin/hemi_scalar.h"
 #include "io/isa_env.h"
@@ -1497,6 +1499,58 @@ static void test_tables_open_errors(void **state)
     assert_string_not_equal(qibl_status_str(QIBL_E_HEMI_TABLES_CRC), "unknown status");
 }
 
+/* The golden group with a port's prebuilt blobs (the sink's hemi_tables hook, as the GBA's ROM):
+ * every case still matches fixtures/golden; a damaged (32, 24) blob fails exactly the three cases
+ * that use it, so they do read the blob. */
+typedef struct blob_sink {
+    uint32_t *blob[3];
+    size_t size[3];
+    int calls, errors;
+} blob_sink;
+
+static const void *blob_hook(void *user, int n, int face, size_t *size)
+{
+    blob_sink *b = (blob_sink *)user;
+    const int k = n == 16 ? 0 : n == 32 ? 1 : 2;
+    assert_int_equal(face, n == 16 ? 16 : n == 32 ? 24 : 8);
+    ++b->calls;
+    *size = b->size[k];
+    return b->blob[k];
+}
+
+static int blob_emit(void *user, const char *name, const char *hex, uint64_t n)
+{
+    (void)user, (void)n;
+    return qtool_golden_check(name, hex);
+}
+
+static void blob_error(void *user, const char *name, const char *what)
+{
+    blob_sink *b = (blob_sink *)user;
+    ++b->errors;
+    assert_non_null(strstr(what, "qibl_hemi_open"));
+    assert_true(strcmp(name, "hemi_masks_32_f24") == 0 || strcmp(name, "hemi_phong_32") == 0 ||
+                strcmp(name, "hemi_frames") == 0);
+}
+
+static void test_goldens_from_blobs(void **state)
+{
+    (void)state;
+    blob_sink b = {{NULL, NULL, NULL}, {0, 0, 0}, 0, 0};
+    const int cfg[3][2] = {{16, 16}, {32, 24}, {64, 8}};
+    for (int k = 0; k < 3; ++k)
+        b.blob[k] = blob_of(cfg[k][0], cfg[k][1], &b.size[k]);
+    const qtool_goldens_sink_t sink = {.emit = blob_emit, .error = blob_error, .user = &b, .hemi_tables = blob_hook};
+    assert_int_equal(qtool_goldens_run("hemi", &sink), 0);
+    assert_int_equal(b.calls, 3);
+    assert_int_equal(b.errors, 0);
+    b.blob[1][8 + 5000] ^= 1u; /* a basis word */
+    assert_int_equal(qtool_goldens_run("hemi", &sink), 3);
+    assert_int_equal(b.errors, 3);
+    for (int k = 0; k < 3; ++k)
+        free(b.blob[k]);
+}
+
 static void test_goldens(void **state)
 {
     (void)state;
@@ -1531,6 +1585,7 @@ int main(void)
         cmocka_unit_test(test_tables_blob_is_init),
         cmocka_unit_test(test_tables_build_errors),
         cmocka_unit_test(test_tables_open_errors),
+        cmocka_unit_test(test_goldens_from_blobs),
         cmocka_unit_test(test_goldens),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
