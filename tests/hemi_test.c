@@ -1406,7 +1406,7 @@ static void test_tables_build_errors(void **state)
     assert_int_equal(qibl_hemi_tables_size(24, 8), 0u);
     assert_int_equal(qibl_hemi_tables_size(32, 7), 0u);
     assert_int_equal(qibl_hemi_tables_size(32, 130), 0u);
-    assert_int_equal(qibl_hemi_tables_size(32, 24), 327940u); /* the documented sizes */
+    assert_int_equal(qibl_hemi_tables_size(32, 24), 327940u); /* 32 + 4 (M + 25 + 26 N^2 + 3 F^2 M) */
     assert_int_equal(qibl_hemi_tables_size(64, 8), 524932u);
     const uint32_t total = (uint32_t)(qibl_hemi_tables_size(16, 8) / 4u);
     uint32_t out[4] = {1u, 2u, 3u, 4u};

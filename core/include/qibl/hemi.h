@@ -145,7 +145,8 @@ QIBL_NODISCARD qibl_status_t qibl_hemi_init(qibl_hemi_t *h, int n, int face, voi
 #define QIBL_HEMI_OPEN_WORKSPACE_SIZE (2u * sizeof(qibl_sh_rotation_t) + 4u)
 
 /* Bytes of the tables blob for mask size n (16, 32, 64) and face size face (even, 2..128); 0 for
- * other sizes. (32, 24): 327,940 B; (64, 8): 524,932 B. */
+ * other sizes: 32 + 4 (M + 25 + 26 N^2 + 3 F^2 M), the workspace of qibl_hemi_init less the
+ * rotations and its slack plus the header. */
 size_t qibl_hemi_tables_size(int n, int face);
 
 /* Words [first, first + count) of the blob for (n, face) into out[0 .. count): any span, so that a
