@@ -49,9 +49,10 @@ static void layout_of(layout *l, int n, int face)
 
 static uint64_t ws_bytes(int n, int face)
 {
-    layout l;
-    layout_of(&l, n, face);
-    return (uint64_t)(2u * (uint32_t)sizeof(qibl_sh_rotation_t)) + 4u * (uint64_t)l.end + 4u; /* + alignment slack */
+    /* the layout's end without the struct (a size query stays cheap in stack); < 2^23 words */
+    const uint32_t un = (uint32_t)n, uf = (uint32_t)face, words = (uint32_t)QIBL_HEMI_MASK_WORDS(un);
+    const uint32_t end = words + NC + NC * un * un + 3u * uf * uf * words + un * un;
+    return (uint64_t)(2u * (uint32_t)sizeof(qibl_sh_rotation_t)) + 4u * (uint64_t)end + 4u; /* + alignment slack */
 }
 
 size_t qibl_hemi_workspace_size(int n, int face)
@@ -296,9 +297,7 @@ size_t qibl_hemi_tables_size(int n, int face)
 {
     if (!sizes_ok(n, face))
         return 0u;
-    layout l;
-    layout_of(&l, n, face);
-    return (size_t)4u * (size_t)(HDR_WORDS + l.end); /* < 2^25 bytes */
+    return (size_t)(ws_bytes(n, face) - 2u * sizeof(qibl_sh_rotation_t) - 4u) + QIBL_HEMI_TABLES_HEADER_SIZE; /* < 2^25 */
 }
 
 /* CRC-32 of count words continuing from crc, each word's four bytes little-endian (the same value
