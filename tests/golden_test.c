@@ -82,7 +82,7 @@ static void test_gbuf_streams(void **state)
     assert_non_null(want);
     seen r;
     memset(&r, 0, sizeof r);
-    qtool_goldens_sink_t sink = {seen_emit, seen_error, &r};
+    qtool_goldens_sink_t sink = {.emit = seen_emit, .error = seen_error, .user = &r};
     qtool_gbuf b = {0};
     qtool_grng g = {42};
     for (int i = 0; i < ROUNDS; ++i) {
@@ -120,7 +120,7 @@ static void test_oom_size(void **state)
     (void)state;
     seen r;
     memset(&r, 0, sizeof r);
-    qtool_goldens_sink_t sink = {seen_emit, seen_error, &r};
+    qtool_goldens_sink_t sink = {.emit = seen_emit, .error = seen_error, .user = &r};
     assert_int_equal(qtool_gcase_oom_size(&sink, "big", 329240u), 1);
     assert_string_equal(r.name, "big");
     assert_string_equal(r.what, "out of memory: needs 329240 bytes");

@@ -17,7 +17,9 @@
 #include <cmocka.h>
 
 #include "qibl/hemi.h"
+#include "golden/cases.h"
 #include "golden/check.h"
+#include "io/golden.h"
 #include "ref/sh_ref.h"
 #include "twin/hemi_scalar.h"
 #include "io/isa_env.h"
@@ -1280,6 +1282,275 @@ static void test_rotation(void **state)
     drop(f);
 }
 
+/* ---- the tables blob (qibl_hemi_tables_*, qibl_hemi_open) ---------------------------------------- */
+
+/* the payload of h's tables in the blob's order: disk, full, basis, lut, zc */
+static void expect_payload(const qibl_hemi_t *h, const uint32_t *p)
+{
+    const uint32_t n2 = (uint32_t)h->n * (uint32_t)h->n, lutw = 3u * (uint32_t)h->face * (uint32_t)h->face * h->words;
+    assert_memory_equal(p, h->disk, 4u * h->words);
+    p += h->words;
+    assert_memory_equal(p, h->full, 4u * 25u);
+    p += 25;
+    assert_memory_equal(p, h->basis, 4u * 25u * n2);
+    p += 25u * n2;
+    assert_memory_equal(p, h->lut, 4u * lutw);
+    p += lutw;
+    assert_memory_equal(p, h->zc, 4u * n2);
+}
+
+/* the blob for (n, face), built whole (malloc'd, words) */
+static uint32_t *blob_of(int n, int face, size_t *size)
+{
+    *size = qibl_hemi_tables_size(n, face);
+    assert_true(*size > 32u && *size % 4u == 0u);
+    uint32_t *b = malloc(*size + 8u);
+    assert_non_null(b);
+    assert_int_equal(qibl_hemi_tables_build(n, face, 0, (uint32_t)(*size / 4u), b), QIBL_OK);
+    return b;
+}
+
+/* qibl_hemi_init = build + open: the blob built whole and in chunks of odd sizes holds init's
+ * tables word for word; the header's CRC word made alone (streamed) is the whole build's; the
+ * opened h gives the same masks, transfers, glossy transfers and rotations as init's. */
+static void test_tables_blob_is_init(void **state)
+{
+    (void)state;
+    const int cfg[][2] = {{16, 8}, {32, 6}, {64, 4}, {32, 24}};
+    uint64_t seed = 0x7AB1Eu;
+    for (size_t c = 0; c < sizeof cfg / sizeof cfg[0]; ++c) {
+        const int n = cfg[c][0], face = cfg[c][1];
+        fixture *f = make(n, face);
+        size_t size;
+        uint32_t *whole = blob_of(n, face, &size);
+        const uint32_t total = (uint32_t)(size / 4u);
+        assert_int_equal(total * 4u, (uint32_t)qibl_hemi_workspace_size(n, face) - 2u * sizeof(qibl_sh_rotation_t) - 4u + 32u);
+        assert_int_equal(whole[0], 0x544D4851u);
+        assert_int_equal(whole[1], QIBL_HEMI_TABLES_VERSION);
+        assert_int_equal(whole[2], (uint32_t)n);
+        assert_int_equal(whole[3], (uint32_t)face);
+        assert_int_equal(whole[4], (uint32_t)size);
+        assert_int_equal(whole[6], 0u);
+        assert_int_equal(whole[7], 0u);
+        expect_payload(&f->h, whole + 8);
+        /* chunks of odd sizes, each followed by a guard word that must stay */
+        static const uint32_t sizes[] = {1u, 7u, 25u, 3u, 97u, 1001u, 5u, 24u, 26u, 4099u};
+        uint32_t *chunked = malloc(size + 4u);
+        assert_non_null(chunked);
+        for (uint32_t first = 0, k = 0; first < total; ++k) {
+            uint32_t cnt = sizes[k % (sizeof sizes / sizeof sizes[0])];
+            cnt = cnt < total - first ? cnt : total - first;
+            chunked[first + cnt] = 0xC0FFEEu;
+            assert_int_equal(qibl_hemi_tables_build(n, face, first, cnt, chunked + first), QIBL_OK);
+            assert_int_equal(chunked[first + cnt], 0xC0FFEEu);
+            first += cnt;
+        }
+        assert_memory_equal(chunked, whole, size);
+        uint32_t crc = 0;
+        assert_int_equal(qibl_hemi_tables_build(n, face, 5, 1, &crc), QIBL_OK); /* the CRC word, streamed */
+        assert_int_equal(crc, whole[5]);
+        free(chunked);
+        /* opened in place: the same tables, the same results */
+        uint32_t rws[(QIBL_HEMI_OPEN_WORKSPACE_SIZE + 3u) / 4u];
+        qibl_hemi_t g;
+        assert_int_equal(qibl_hemi_open(&g, n, face, whole, size, rws, sizeof rws), QIBL_OK);
+        assert_int_equal(g.n, n);
+        assert_int_equal(g.face, face);
+        assert_int_equal(g.words, f->h.words);
+        assert_int_equal(g.wpr, f->h.wpr);
+        expect_payload(&g, whole + 8);
+        assert_memory_equal(g.rx_pos, f->h.rx_pos, sizeof(qibl_sh_rotation_t));
+        assert_memory_equal(g.rx_neg, f->h.rx_neg, sizeof(qibl_sh_rotation_t));
+        for (int round = 0; round < 20; ++round) {
+            enum { NV = 24, NT = 30 };
+            int32_t v[NV][3];
+            uint32_t tri[NT][3];
+            for (int i = 0; i < NV; ++i)
+                for (int k = 0; k < 3; ++k)
+                    v[i][k] = (int32_t)(rng(&seed) % (1u << 21)) - (1 << 20);
+            for (int t = 0; t < NT; ++t)
+                for (int k = 0; k < 3; ++k)
+                    tri[t][k] = (uint32_t)(rng(&seed) % NV);
+            uint32_t ma[QIBL_HEMI_MAX_WORDS], mb[QIBL_HEMI_MAX_WORDS];
+            assert_int_equal(qibl_hemi_clear(&f->h, ma), QIBL_OK);
+            assert_int_equal(qibl_hemi_clear(&g, mb), QIBL_OK);
+            assert_int_equal(qibl_hemi_raster(&f->h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])tri, NT, ma, NULL), QIBL_OK);
+            assert_int_equal(qibl_hemi_raster(&g, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])tri, NT, mb, NULL), QIBL_OK);
+            assert_memory_equal(ma, mb, 4u * f->h.words);
+            qibl_q30_t ta[25], tb[25];
+            assert_int_equal(qibl_hemi_transfer(&f->h, ma, ta), QIBL_OK);
+            assert_int_equal(qibl_hemi_transfer(&g, mb, tb), QIBL_OK);
+            assert_memory_equal(ta, tb, sizeof ta);
+            const qibl_q30_t refl[3] = {(int32_t)(rng(&seed) >> 34) - (1 << 29), (int32_t)(rng(&seed) >> 34) - (1 << 29),
+                                        1 << 29};
+            assert_int_equal(qibl_hemi_transfer_phong(&f->h, ma, refl, 9u, ta), QIBL_OK);
+            assert_int_equal(qibl_hemi_transfer_phong(&g, mb, refl, 9u, tb), QIBL_OK);
+            assert_memory_equal(ta, tb, sizeof ta);
+            const int32_t nrm[3] = {(int32_t)(rng(&seed) >> 40) - (1 << 23), 5, 1 << 22};
+            const qibl_q16_t p[3] = {0, 0, 0};
+            qibl_hemi_frame_t fr;
+            assert_int_equal(qibl_hemi_frame_init(&fr, p, nrm), QIBL_OK);
+            qibl_q30_t wa[25], wb[25];
+            assert_int_equal(qibl_hemi_to_world(&f->h, &fr, ta, wa), QIBL_OK);
+            assert_int_equal(qibl_hemi_to_world(&g, &fr, tb, wb), QIBL_OK);
+            assert_memory_equal(wa, wb, sizeof wa);
+        }
+        free(whole);
+        drop(f);
+    }
+}
+
+static void test_tables_build_errors(void **state)
+{
+    (void)state;
+    assert_int_equal(qibl_hemi_tables_size(24, 8), 0u);
+    assert_int_equal(qibl_hemi_tables_size(32, 7), 0u);
+    assert_int_equal(qibl_hemi_tables_size(32, 130), 0u);
+    assert_int_equal(qibl_hemi_tables_size(32, 24), 327940u); /* 32 + 4 (M + 25 + 26 N^2 + 3 F^2 M) */
+    assert_int_equal(qibl_hemi_tables_size(64, 8), 524932u);
+    const uint32_t total = (uint32_t)(qibl_hemi_tables_size(16, 8) / 4u);
+    uint32_t out[4] = {1u, 2u, 3u, 4u};
+    assert_int_equal(qibl_hemi_tables_build(16, 8, 0, 1, NULL), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_hemi_tables_build(17, 8, 0, 1, out), QIBL_E_HEMI_SIZE);
+    assert_int_equal(qibl_hemi_tables_build(16, 9, 0, 1, out), QIBL_E_HEMI_SIZE);
+    assert_int_equal(qibl_hemi_tables_build(16, 8, total, 1, out), QIBL_E_HEMI_TABLES_BOUNDS);
+    assert_int_equal(qibl_hemi_tables_build(16, 8, total - 3u, 4, out), QIBL_E_HEMI_TABLES_BOUNDS);
+    assert_int_equal(qibl_hemi_tables_build(16, 8, total + 1u, 0, out), QIBL_E_HEMI_TABLES_BOUNDS);
+    assert_int_equal(qibl_hemi_tables_build(16, 8, 2, UINT32_MAX, out), QIBL_E_HEMI_TABLES_BOUNDS);
+    assert_int_equal(out[0] + out[1] + out[2] + out[3], 10u); /* untouched */
+    assert_int_equal(qibl_hemi_tables_build(16, 8, total, 0, NULL), QIBL_OK); /* the empty span at the end */
+    assert_int_equal(qibl_hemi_tables_build(16, 8, total - 3u, 3, out), QIBL_OK);
+    assert_int_equal(out[3], 4u);
+}
+
+/* opening a damaged blob: the named status, *h and the workspace untouched */
+static void expect_open(const uint32_t *b, size_t size, int n, int face, qibl_status_t want)
+{
+    uint32_t rws[(QIBL_HEMI_OPEN_WORKSPACE_SIZE + 3u) / 4u], rws0[sizeof rws / 4u];
+    memset(rws, 0xA5, sizeof rws);
+    memcpy(rws0, rws, sizeof rws);
+    qibl_hemi_t h, before;
+    memset(&h, 0x5A, sizeof h);
+    before = h;
+    assert_int_equal(qibl_hemi_open(&h, n, face, b, size, rws, sizeof rws), want);
+    assert_memory_equal(&h, &before, sizeof h);
+    assert_memory_equal(rws, rws0, sizeof rws);
+}
+
+static void test_tables_open_errors(void **state)
+{
+    (void)state;
+    size_t size;
+    uint32_t *b = blob_of(16, 8, &size);
+    const uint32_t total = (uint32_t)(size / 4u);
+    uint32_t rws[(QIBL_HEMI_OPEN_WORKSPACE_SIZE + 3u) / 4u];
+    qibl_hemi_t h;
+    assert_int_equal(qibl_hemi_open(&h, 16, 8, b, size, rws, sizeof rws), QIBL_OK);
+    assert_int_equal(qibl_hemi_open(NULL, 16, 8, b, size, rws, sizeof rws), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_hemi_open(&h, 16, 8, NULL, size, rws, sizeof rws), QIBL_E_NULL_POINTER);
+    assert_int_equal(qibl_hemi_open(&h, 16, 8, b, size, NULL, sizeof rws), QIBL_E_NULL_POINTER);
+    expect_open(b, size, 17, 8, QIBL_E_HEMI_SIZE);
+    expect_open(b, size, 16, 0, QIBL_E_HEMI_SIZE);
+    assert_int_equal(qibl_hemi_open(&h, 16, 8, b, size, rws, QIBL_HEMI_OPEN_WORKSPACE_SIZE - 1u), QIBL_E_WORKSPACE);
+    /* any workspace alignment */
+    uint8_t wsb[QIBL_HEMI_OPEN_WORKSPACE_SIZE + 3u];
+    assert_int_equal(qibl_hemi_open(&h, 16, 8, b, size, wsb + 1, QIBL_HEMI_OPEN_WORKSPACE_SIZE), QIBL_OK);
+    /* misaligned: the same bytes one byte on */
+    uint8_t *mis = malloc(size + 1u);
+    assert_non_null(mis);
+    memcpy(mis + 1, b, size);
+    expect_open((const uint32_t *)(const void *)(mis + 1), size, 16, 8, QIBL_E_HEMI_TABLES_ALIGN);
+    free(mis);
+    /* truncated, trailing, or made for other sizes */
+    expect_open(b, size - 4u, 16, 8, QIBL_E_HEMI_TABLES_SIZE);
+    expect_open(b, size - 1u, 16, 8, QIBL_E_HEMI_TABLES_SIZE);
+    expect_open(b, size + 4u, 16, 8, QIBL_E_HEMI_TABLES_SIZE);
+    expect_open(b, 16u, 16, 8, QIBL_E_HEMI_TABLES_SIZE);
+    expect_open(b, size, 16, 10, QIBL_E_HEMI_TABLES_SIZE);
+    expect_open(b, size, 32, 8, QIBL_E_HEMI_TABLES_SIZE);
+    /* each header field, then a damaged byte in each table */
+    static const struct {
+        uint32_t word, flip;
+        qibl_status_t want;
+    } bad[] = {
+        {0, 0x20u, QIBL_E_HEMI_TABLES_MAGIC},   {0, 0x544D4851u ^ 0x51484D54u, QIBL_E_HEMI_TABLES_MAGIC}, /* swapped */
+        {1, 3u, QIBL_E_HEMI_TABLES_VERSION},    {2, 48u, QIBL_E_HEMI_TABLES_SHAPE},
+        {3, 2u, QIBL_E_HEMI_TABLES_SHAPE},      {4, 4u, QIBL_E_HEMI_TABLES_HEADER},
+        {6, 1u, QIBL_E_HEMI_TABLES_HEADER},     {7, 0x80000000u, QIBL_E_HEMI_TABLES_HEADER},
+        {5, 1u, QIBL_E_HEMI_TABLES_CRC},        {8, 0x100u, QIBL_E_HEMI_TABLES_CRC},
+        {8 + 16 + 3, 0x10000u, QIBL_E_HEMI_TABLES_CRC}, {8 + 41 + 300, 0x80u, QIBL_E_HEMI_TABLES_CRC},
+        {0, 0u, QIBL_OK}, /* the LUT's last word and the last centre: below */
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; ++k) {
+        const uint32_t w = bad[k].word == 0u && bad[k].flip == 0u ? total - 1u : bad[k].word;
+        const uint32_t flip = bad[k].flip ? bad[k].flip : 0x01000000u;
+        const qibl_status_t want = bad[k].flip ? bad[k].want : QIBL_E_HEMI_TABLES_CRC;
+        b[w] ^= flip;
+        expect_open(b, size, 16, 8, want);
+        b[w] ^= flip;
+        if (!bad[k].flip) { /* the LUT's last word (before the 256 centres) */
+            b[total - 257u] ^= 4u;
+            expect_open(b, size, 16, 8, QIBL_E_HEMI_TABLES_CRC);
+            b[total - 257u] ^= 4u;
+        }
+    }
+    assert_int_equal(qibl_hemi_open(&h, 16, 8, b, size, rws, sizeof rws), QIBL_OK);
+    free(b);
+    assert_string_not_equal(qibl_status_str(QIBL_E_HEMI_TABLES_CRC), "unknown status");
+}
+
+/* The golden group with a port's prebuilt blobs (the sink's hemi_tables hook, as the GBA's ROM):
+ * every case still matches fixtures/golden; a damaged (32, 24) blob fails exactly the three cases
+ * that use it, so they do read the blob. */
+typedef struct blob_sink {
+    uint32_t *blob[3];
+    size_t size[3];
+    int calls, errors;
+} blob_sink;
+
+static const void *blob_hook(void *user, int n, int face, size_t *size)
+{
+    blob_sink *b = (blob_sink *)user;
+    const int k = n == 16 ? 0 : n == 32 ? 1 : 2;
+    assert_int_equal(face, n == 16 ? 16 : n == 32 ? 24 : 8);
+    ++b->calls;
+    *size = b->size[k];
+    return b->blob[k];
+}
+
+static int blob_emit(void *user, const char *name, const char *hex, uint64_t n)
+{
+    (void)user, (void)n;
+    return qtool_golden_check(name, hex);
+}
+
+static void blob_error(void *user, const char *name, const char *what)
+{
+    blob_sink *b = (blob_sink *)user;
+    ++b->errors;
+    assert_non_null(strstr(what, "qibl_hemi_open"));
+    assert_true(strcmp(name, "hemi_masks_32_f24") == 0 || strcmp(name, "hemi_phong_32") == 0 ||
+                strcmp(name, "hemi_frames") == 0);
+}
+
+static void test_goldens_from_blobs(void **state)
+{
+    (void)state;
+    blob_sink b = {{NULL, NULL, NULL}, {0, 0, 0}, 0, 0};
+    const int cfg[3][2] = {{16, 16}, {32, 24}, {64, 8}};
+    for (int k = 0; k < 3; ++k)
+        b.blob[k] = blob_of(cfg[k][0], cfg[k][1], &b.size[k]);
+    const qtool_goldens_sink_t sink = {.emit = blob_emit, .error = blob_error, .user = &b, .hemi_tables = blob_hook};
+    assert_int_equal(qtool_goldens_run("hemi", &sink), 0);
+    assert_int_equal(b.calls, 3);
+    assert_int_equal(b.errors, 0);
+    b.blob[1][8 + 5000] ^= 1u; /* a basis word */
+    assert_int_equal(qtool_goldens_run("hemi", &sink), 3);
+    assert_int_equal(b.errors, 3);
+    for (int k = 0; k < 3; ++k)
+        free(b.blob[k]);
+}
+
 static void test_goldens(void **state)
 {
     (void)state;
@@ -1311,6 +1582,10 @@ int main(void)
         cmocka_unit_test(test_frame),
         cmocka_unit_test(test_transform),
         cmocka_unit_test(test_rotation),
+        cmocka_unit_test(test_tables_blob_is_init),
+        cmocka_unit_test(test_tables_build_errors),
+        cmocka_unit_test(test_tables_open_errors),
+        cmocka_unit_test(test_goldens_from_blobs),
         cmocka_unit_test(test_goldens),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -47,7 +47,9 @@ static void test_status_values_pinned(void **state)
     assert_int_equal(QIBL_E_WORKSPACE_ALIGN, 79);
     assert_int_equal(QIBL_E_HEMI_XFER_SHORT, 80);
     assert_int_equal(QIBL_E_HEMI_XFER_BOUNDS, 85);
-    assert_int_equal(QIBL_STATUS_COUNT, 86);
+    assert_int_equal(QIBL_E_HEMI_TABLES_BOUNDS, 86);
+    assert_int_equal(QIBL_E_HEMI_TABLES_CRC, 93);
+    assert_int_equal(QIBL_STATUS_COUNT, 94);
     assert_int_equal(QIBL_STATUS_SOFT_BASE, 0x100);
     assert_int_equal(QIBL_STATUS_GLES2_BASE, 0x200);
     assert_int_equal(QIBL_STATUS_BACKEND_END, 0x1000);

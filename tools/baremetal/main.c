@@ -26,6 +26,15 @@
 #define BM_CONFIG "baremetal"
 #endif
 
+/* A port with prebuilt hemi tables (BM_HEMI_TABLES: tools/gba/hemi_rom.c, blobs in cartridge ROM)
+ * hands them to the cases; the others build the tables in the heap. */
+#ifdef BM_HEMI_TABLES
+const void *bm_hemi_tables(void *user, int n, int face, size_t *size);
+#define BM_HEMI_TABLES_HOOK bm_hemi_tables
+#else
+#define BM_HEMI_TABLES_HOOK NULL
+#endif
+
 typedef struct {
     int cases, errors;
     qtool_sha256_t all;
@@ -65,7 +74,7 @@ int main(void)
     if (bm_tls_check() != 0) /* errno must land in TLS, not in low memory */
         return 1;
     qtool_sha256_init(&r.all);
-    qtool_goldens_sink_t sink = {emit, error, &r};
+    qtool_goldens_sink_t sink = {.emit = emit, .error = error, .user = &r, .hemi_tables = BM_HEMI_TABLES_HOOK};
     bm_clock_start();
     for (size_t g = 0; g < qtool_goldens_group_count; ++g) {
         int before = r.cases;

@@ -39,6 +39,11 @@ typedef struct qtool_goldens_sink {
      * out. what says which call and why. The case counts as failed. */
     void (*error)(void *user, const char *name, const char *what);
     void *user;
+    /* Optional (NULL on hosts): the port's prebuilt hemi tables for (n, face), the blob of
+     * qibl_hemi_tables_build (e.g. in cartridge ROM), its bytes in *size; NULL when it has none.
+     * The hemi cases that use the tables open it in place (qibl_hemi_open) instead of building the
+     * tables in the heap, so a machine with less RAM than the tables runs them (tools/gba). */
+    const void *(*hemi_tables)(void *user, int n, int face, size_t *size);
 } qtool_goldens_sink_t;
 
 /* A group runs all cases of one module and returns the number that failed (emit returned

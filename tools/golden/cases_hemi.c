@@ -3,7 +3,9 @@
  * 32 x 32 and 64 x 64 masks), masks of integer-made triangles (random, crossing the horizon,
  * degenerate, 1 LSB above the receiver), their transfer vectors, and frames with the transfer
  * rotated out of them, and exported transfer (hemi_xfer) shaded by span. Each entry records the
- * status; outputs start as a guard pattern.
+ * status; outputs start as a guard pattern. Where the tables' workspace does not fit the heap the
+ * tables case builds the same words a chunk at a time, and the cases that use the tables open the
+ * port's prebuilt blob (the sink's hemi_tables: cartridge ROM on the GBA) when it has one.
  */
 #include "golden/casesi.h"
 
@@ -16,16 +18,15 @@
 
 #define GUARD 0x5A5A5A5Au
 
-/* the whole workspace after init: tables are the module's contract with every port */
-static int tables_case(const qtool_goldens_sink_t *s, const char *name, int n, int face, qibl_hemi_t *h, void **ws)
+/* The tables after init: disk, unblocked transfer, basis, LUT (the blob's payload less the
+ * centres), the module's contract with every port. ok: init succeeded (h serves the other cases). */
+static int tables_case(const qtool_goldens_sink_t *s, const char *name, int n, int face, qibl_hemi_t *h, void *ws,
+                       size_t sz, int *ok)
 {
-    size_t sz = qibl_hemi_workspace_size(n, face);
-    *ws = malloc(sz);
-    if (*ws == NULL)
-        return qtool_gcase_oom_size(s, name, sz);
-    qibl_status_t st = qibl_hemi_init(h, n, face, *ws, sz);
+    qibl_status_t st = qibl_hemi_init(h, n, face, ws, sz);
     if (st != QIBL_OK)
         return qtool_gcase_status_error(s, name, "qibl_hemi_init", st);
+    *ok = 1;
     qtool_gbuf b = {0};
     const uint32_t lut_words = 3u * (uint32_t)face * (uint32_t)face * h->words;
     for (uint32_t i = 0; i < h->words; ++i)
@@ -38,6 +39,35 @@ static int tables_case(const qtool_goldens_sink_t *s, const char *name, int n, i
         qtool_gbuf_u32(&b, h->lut[i]);
     return qtool_gbuf_emit(s, name, &b);
 }
+
+#if QIBL_USE_ASSET
+/* The same words when the workspace does not fit the heap: the blob's words from the disk to the
+ * LUT's end, built a chunk at a time (qibl_hemi_tables_build) into a 16 KiB buffer */
+static int tables_chunked_case(const qtool_goldens_sink_t *s, const char *name, int n, int face)
+{
+    enum { CHUNK = 4096 }; /* words */
+    uint32_t *buf = malloc(CHUNK * sizeof(uint32_t));
+    if (buf == NULL)
+        return qtool_gcase_oom_size(s, name, CHUNK * sizeof(uint32_t));
+    const uint32_t un = (uint32_t)n, uf = (uint32_t)face, words = QIBL_HEMI_MASK_WORDS(un);
+    const uint32_t first = QIBL_HEMI_TABLES_HEADER_SIZE / 4u, end = first + words + 25u + 25u * un * un + 3u * uf * uf * words;
+    qtool_gbuf b = {0};
+    for (uint32_t pos = first; pos < end;) {
+        const uint32_t cnt = end - pos < CHUNK ? end - pos : CHUNK;
+        qibl_status_t st = qibl_hemi_tables_build(n, face, pos, cnt, buf);
+        if (st != QIBL_OK) {
+            free(buf);
+            qtool_gbuf_free(&b);
+            return qtool_gcase_status_error(s, name, "qibl_hemi_tables_build", st);
+        }
+        for (uint32_t i = 0; i < cnt; ++i)
+            qtool_gbuf_u32(&b, buf[i]);
+        pos += cnt;
+    }
+    free(buf);
+    return qtool_gbuf_emit(s, name, &b);
+}
+#endif
 
 static int masks_case(const qtool_goldens_sink_t *s, const char *name, const qibl_hemi_t *h, uint64_t seed)
 {
@@ -278,24 +308,51 @@ int qtool_goldens_hemi(const qtool_goldens_sink_t *s)
                {64, 8, "hemi_tables_64_f8", "hemi_masks_64_f8", "hemi_phong_64"}};
     int fails = 0;
     for (size_t c = 0; c < sizeof cfg / sizeof cfg[0]; ++c) {
+        const int n = cfg[c].n, face = cfg[c].face;
+        const size_t sz = qibl_hemi_workspace_size(n, face);
         qibl_hemi_t h;
-        void *ws = NULL;
-        int f = tables_case(s, cfg[c].tables, cfg[c].n, cfg[c].face, &h, &ws);
-        fails += f;
-        if (ws != NULL && h.n == cfg[c].n) {
+        void *ws = malloc(sz), *rws = NULL;
+        int ok = 0; /* h serves the cases below */
+        if (ws != NULL)
+            fails += tables_case(s, cfg[c].tables, n, face, &h, ws, sz, &ok);
+        else
+#if QIBL_USE_ASSET
+            fails += tables_chunked_case(s, cfg[c].tables, n, face);
+#else
+            fails += qtool_gcase_oom_size(s, cfg[c].tables, sz);
+#endif
+        qibl_status_t open_st = QIBL_OK;
+#if QIBL_USE_ASSET
+        /* the port's prebuilt tables (ROM) when it has them: the same bytes, opened in place */
+        size_t bsize = 0;
+        const void *blob = s->hemi_tables != NULL ? s->hemi_tables(s->user, n, face, &bsize) : NULL;
+        if (blob != NULL) {
+            rws = malloc(QIBL_HEMI_OPEN_WORKSPACE_SIZE);
+            open_st = rws == NULL ? QIBL_E_WORKSPACE
+                                  : qibl_hemi_open(&h, n, face, blob, bsize, rws, QIBL_HEMI_OPEN_WORKSPACE_SIZE);
+            ok = open_st == QIBL_OK;
+        }
+#endif
+        if (ok) {
             fails += masks_case(s, cfg[c].masks, &h, 1000u + c);
             fails += phong_case(s, cfg[c].phong, &h, 2000u + c);
             if (c == 1)
                 fails += frames_case(s, "hemi_frames", &h);
+        } else if (open_st != QIBL_OK) {
+            fails += qtool_gcase_status_error(s, cfg[c].masks, "qibl_hemi_open", open_st) +
+                     qtool_gcase_status_error(s, cfg[c].phong, "qibl_hemi_open", open_st);
+            if (c == 1)
+                fails += qtool_gcase_status_error(s, "hemi_frames", "qibl_hemi_open", open_st);
         } else if (ws == NULL) {
-            /* the tables did not fit: the cases that use them cannot run either (same need) */
-            size_t sz = qibl_hemi_workspace_size(cfg[c].n, cfg[c].face);
+            /* the tables did not fit and the port has none prebuilt: the cases that use them
+             * cannot run either (same need) */
             fails += qtool_gcase_oom_size(s, cfg[c].masks, sz) + qtool_gcase_oom_size(s, cfg[c].phong, sz);
             if (c == 1)
                 fails += qtool_gcase_oom_size(s, "hemi_frames", sz);
         }
         if (c == 1)
             fails += bounds_case(s, "hemi_bounds"); /* (needs no tables) */
+        free(rws);
         free(ws);
     }
 #if QIBL_USE_ASSET

@@ -22,7 +22,7 @@ static void error(void *user, const char *name, const char *what)
 
 int qtool_goldens_check(const char *group)
 {
-    qtool_goldens_sink_t s = {emit, error, NULL};
+    qtool_goldens_sink_t s = {.emit = emit, .error = error, .user = NULL};
     int bad = qtool_goldens_run(group, &s);
     if (bad < 0)
         fprintf(stderr, "golden: no group \"%s\"\n", group);

@@ -201,7 +201,7 @@ int main(int argc, char **argv)
         }
     }
     qtool_sha256_init(&r.all);
-    qtool_goldens_sink_t sink = {emit, error, &r};
+    qtool_goldens_sink_t sink = {.emit = emit, .error = error, .user = &r};
     for (size_t g = 0; g < qtool_goldens_group_count; ++g) {
         int wanted = nonly == 0;
         for (int i = 0; i < nonly; ++i)

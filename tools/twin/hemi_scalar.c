@@ -6,8 +6,6 @@
  */
 #undef QIBL_CONFIG_SIMD
 #define QIBL_CONFIG_SIMD 0
-#define qibl_hemi_workspace_size qtool_hemi_workspace_size_scalar
-#define qibl_hemi_init qtool_hemi_init_scalar
 #define qibl_hemi_frame_init qtool_hemi_frame_init_scalar
 #define qibl_hemi_transform qtool_hemi_transform_scalar
 #define qibl_hemi_clear qtool_hemi_clear_scalar

@@ -2,7 +2,8 @@
  * twin/hemi_scalar.h - the hemispherical rasterizer's scalar twin (core/src/hemi.c with
  * QIBL_CONFIG_SIMD=0, names renamed, the core's flags), linked beside the library so that a suite
  * or a benchmark runs the x86 lanes and the integer look-ups in one process. A qibl_hemi_t
- * made by either init serves both (the workspace bytes are the same).
+ * made by qibl_hemi_init or qibl_hemi_open (core/src/hemi_tables.c, not twinned: no lanes) serves
+ * both.
  */
 #ifndef QTOOL_HEMI_SCALAR_H
 #define QTOOL_HEMI_SCALAR_H

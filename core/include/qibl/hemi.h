@@ -46,10 +46,14 @@
  * init with qibl_sh_rotation_init and two z rotations (cos/sin m theta by recurrence).
  *
  * Memory: qibl_hemi_workspace_size(N, F) bytes, any alignment: the two rotations (twice sizeof(qibl_sh_rotation_t)), the
- * disk mask and unblocked transfer, the basis table (100 N^2 bytes), the pixel centres (4 N^2
- * bytes) and the LUT (3 F^2 masks of 4 N max(1, N/32) bytes). N = 32: F = QIBL_HEMI_FACE_DEFAULT (48,
- * the largest whose workspace fits in 1 MiB), F = 20 (small: within 256 KiB).
+ * disk mask and unblocked transfer, the basis table (100 N^2 bytes), the LUT (3 F^2 masks of
+ * 4 N max(1, N/32) bytes) and the pixel centres (4 N^2 bytes). N = 32: F = QIBL_HEMI_FACE_DEFAULT
+ * (48, the largest whose workspace fits in 1 MiB), F = 20 (small: within 256 KiB).
  * Init cost: 3 F^2 N^2 exact pixel tests and 65536 SH evaluations.
+ * All but the rotations are pure functions of (N, F), the same bytes on every port and read-only:
+ * a machine with little RAM keeps them in ROM, flash or a mapped file as one blob
+ * (qibl_hemi_tables_build, any span of its words at a time, e.g. baked on the host) and opens it
+ * in place (qibl_hemi_open), with only the rotations (QIBL_HEMI_OPEN_WORKSPACE_SIZE bytes) in RAM.
  */
 #ifndef QIBL_HEMI_H
 #define QIBL_HEMI_H
@@ -118,6 +122,60 @@ size_t qibl_hemi_workspace_size(int n, int face);
  * qibl_hemi_workspace_size).
  * On failure: *h and the workspace untouched (every check precedes the first write). */
 QIBL_NODISCARD qibl_status_t qibl_hemi_init(qibl_hemi_t *h, int n, int face, void *workspace, size_t workspace_size);
+
+/* ---- the tables as one blob (ROM, flash, a mapped file) -----------------------------------------
+ * The read-only tables of qibl_hemi_init as uint32 words in the machine's byte order, exactly
+ * qibl_hemi_tables_size(n, face) bytes, 4-byte aligned:
+ *   word  field
+ *    0    magic "QHMT" (0x544D4851; another value: another format or the other byte order)
+ *    1    version, QIBL_HEMI_TABLES_VERSION
+ *    2    n (16, 32 or 64)
+ *    3    face (even, 2..128)
+ *    4    size: the blob's bytes
+ *    5    CRC-32 (qibl_crc32, as the asset's chunks) of the payload, each word little-endian
+ *    6-7  reserved, 0
+ *    8..  payload: the disk mask (M = N max(1, N/32) words), the unblocked transfer (25), the
+ *         basis table (25 N^2, pixel after pixel), the LUT (3 F^2 masks of M words: faces +x, +y,
+ *         +z) and the pixel centres' heights (N^2)
+ * Needs QIBL_USE_ASSET (its CRC-32). A port bakes its blobs on the host (`qibl-hemi-tables`,
+ * tools/gba/hemi_tables.c) or builds them itself, a span at a time. */
+#define QIBL_HEMI_TABLES_HEADER_SIZE 32u
+#define QIBL_HEMI_TABLES_VERSION 1u
+/* Workspace bytes of qibl_hemi_open: the two rotations, any alignment. */
+#define QIBL_HEMI_OPEN_WORKSPACE_SIZE (2u * sizeof(qibl_sh_rotation_t) + 4u)
+
+/* Bytes of the tables blob for mask size n (16, 32, 64) and face size face (even, 2..128); 0 for
+ * other sizes: 32 + 4 (M + 25 + 26 N^2 + 3 F^2 M), the workspace of qibl_hemi_init less the
+ * rotations and its slack plus the header. */
+size_t qibl_hemi_tables_size(int n, int face);
+
+/* Words [first, first + count) of the blob for (n, face) into out[0 .. count): any span, so that a
+ * machine with little RAM makes, checks or hashes the blob chunk by chunk; the words do not depend
+ * on how the blob is cut. Cost: each table word asked for is made; the unblocked transfer (words
+ * 8 + M .. 8 + M + 25), or the header's CRC word when the span does not hold the whole payload,
+ * costs one pass over every basis row (65536 SH evaluations) without storing them.
+ * Formats: u32 words as documented above (tables Q2.30 and u32 bit masks, as qibl_hemi_init's).
+ * Bound: exact (qibl_hemi_init's tables, bit for bit).
+ * Errors, in this order: QIBL_E_NULL_POINTER (out NULL with count != 0), QIBL_E_HEMI_SIZE (n not 16,
+ * 32 or 64, or face not even in 2..128), QIBL_E_HEMI_TABLES_BOUNDS (the span runs past the blob's
+ * qibl_hemi_tables_size(n, face) / 4 words; count 0 is a valid empty span).
+ * On failure: nothing is written (out untouched). */
+QIBL_NODISCARD qibl_status_t qibl_hemi_tables_build(int n, int face, uint32_t first, uint32_t count, uint32_t *out);
+
+/* Opens a blob in place (the caller's bytes must outlive *h and stay unchanged): checks every header
+ * field, the size, the alignment and the payload's CRC-32, makes the two rotations in workspace and
+ * fills *h, which then serves every call as qibl_hemi_init's does (the same tables, the same results).
+ * Formats: the blob as documented above. Cost: one CRC-32 over the blob.
+ * Bound: exact (views of the caller's words).
+ * Errors, in this order: QIBL_E_NULL_POINTER (h, tables or workspace NULL), QIBL_E_HEMI_SIZE (n, face
+ * as qibl_hemi_init), QIBL_E_WORKSPACE (workspace_size below QIBL_HEMI_OPEN_WORKSPACE_SIZE),
+ * QIBL_E_HEMI_TABLES_ALIGN (tables not 4-byte aligned), QIBL_E_HEMI_TABLES_SIZE (tables_size not
+ * qibl_hemi_tables_size(n, face)), QIBL_E_HEMI_TABLES_MAGIC, QIBL_E_HEMI_TABLES_VERSION,
+ * QIBL_E_HEMI_TABLES_SHAPE (the header's n or face not those asked for), QIBL_E_HEMI_TABLES_HEADER
+ * (the header's size or reserved words), QIBL_E_HEMI_TABLES_CRC.
+ * On failure: *h and the workspace untouched (every check precedes the first write). */
+QIBL_NODISCARD qibl_status_t qibl_hemi_open(qibl_hemi_t *h, int n, int face, const void *tables, size_t tables_size,
+                                            void *workspace, size_t workspace_size);
 
 /* The receiver frame at position p (|coordinate| <= QIBL_HEMI_COORD_MAX) with normal nrm (any
  * non-zero int32 vector).

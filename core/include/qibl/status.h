@@ -218,7 +218,24 @@ extern "C" {
     /* hemi export: payload CRC-32 mismatch */                                                          \
     X(QIBL_E_HEMI_XFER_CRC, "transfer export CRC-32 mismatch")                                          \
     /* hemi export: span past the vertices */                                                           \
-    X(QIBL_E_HEMI_XFER_BOUNDS, "span outside the exported vertices")
+    X(QIBL_E_HEMI_XFER_BOUNDS, "span outside the exported vertices")                                    \
+    /* hemi tables blob (hemi.h, qibl_hemi_tables_build, qibl_hemi_open) */                             \
+    /* hemi tables: span past the blob's words */                                                      \
+    X(QIBL_E_HEMI_TABLES_BOUNDS, "span outside the hemi tables' words")                                 \
+    /* hemi tables: blob not on a 4-byte boundary (it is read in place as uint32 words) */              \
+    X(QIBL_E_HEMI_TABLES_ALIGN, "hemi tables not 4-byte aligned")                                       \
+    /* hemi tables: size not qibl_hemi_tables_size(n, face) (truncated, or trailing bytes) */          \
+    X(QIBL_E_HEMI_TABLES_SIZE, "hemi tables size differs from qibl_hemi_tables_size")                   \
+    /* hemi tables: not "QHMT" (or another byte order) */                                              \
+    X(QIBL_E_HEMI_TABLES_MAGIC, "not hemi tables (magic)")                                              \
+    /* hemi tables: version not QIBL_HEMI_TABLES_VERSION */                                            \
+    X(QIBL_E_HEMI_TABLES_VERSION, "hemi tables: unsupported version")                                   \
+    /* hemi tables: made for another mask size or face size */                                         \
+    X(QIBL_E_HEMI_TABLES_SHAPE, "hemi tables made for another mask or face size")                       \
+    /* hemi tables: header's size or reserved words not as documented */                               \
+    X(QIBL_E_HEMI_TABLES_HEADER, "hemi tables: header size or reserved words wrong")                    \
+    /* hemi tables: payload CRC-32 mismatch */                                                         \
+    X(QIBL_E_HEMI_TABLES_CRC, "hemi tables CRC-32 mismatch")
 
 typedef enum qibl_status {
 #define QIBL_STATUS_ENUM_(name, message) name,

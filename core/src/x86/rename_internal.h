@@ -71,7 +71,6 @@
 #define qibl_hemi_clear QIBLI_ISA_NAME(qibl_hemi_clear)
 #define qibl_hemi_clip QIBLI_ISA_NAME(qibl_hemi_clip)
 #define qibl_hemi_frame_init QIBLI_ISA_NAME(qibl_hemi_frame_init)
-#define qibl_hemi_init QIBLI_ISA_NAME(qibl_hemi_init)
 #define qibl_hemi_raster QIBLI_ISA_NAME(qibl_hemi_raster)
 #define qibl_hemi_shade QIBLI_ISA_NAME(qibl_hemi_shade)
 #define qibl_hemi_to_frame QIBLI_ISA_NAME(qibl_hemi_to_frame)
@@ -79,6 +78,5 @@
 #define qibl_hemi_transfer QIBLI_ISA_NAME(qibl_hemi_transfer)
 #define qibl_hemi_transfer_phong QIBLI_ISA_NAME(qibl_hemi_transfer_phong)
 #define qibl_hemi_transform QIBLI_ISA_NAME(qibl_hemi_transform)
-#define qibl_hemi_workspace_size QIBLI_ISA_NAME(qibl_hemi_workspace_size)
 
 #endif /* QIBLI_X86_RENAME_H */
