@@ -94,7 +94,7 @@ $gcc $specs ${dflags/-mthumb/-marm} $core_warn -ffreestanding -fno-builtin -fno-
     -c tools/gba/iwram_relight.c -o "$demo/iwram_relight.o" &&
 $gcc $flags -c tools/gba/relight_arm.S -o "$demo/relight_arm.o" &&
 $gcc $specs $dflags $tool_warn -c tools/gba/demo_frame.c -o "$demo/demo_frame.o" &&
-$gcc $flags -Wa,-I"$demo" -c tools/gba/demo_asset.S -o "$demo/demo_asset.o" &&
+$gcc $flags -Itools -Wa,-I"$demo" -c tools/gba/demo_asset.S -o "$demo/demo_asset.o" &&
 $gcc ${flags/-mthumb/-marm} $opt $core_warn -ffreestanding -fno-builtin -fno-tree-loop-distribute-patterns \
     -ffunction-sections -Icore/include -c core/src/shmap.c -o "$demo/iwram_shmap.o" &&
 $gcc ${flags/-mthumb/-marm} $opt $core_warn -ffreestanding -fno-builtin -fno-tree-loop-distribute-patterns \
