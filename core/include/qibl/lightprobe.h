@@ -184,12 +184,22 @@ typedef struct qibl_lightprobe {
     uint32_t *row_sig;     /* H: sin theta_v mantissa in [2^31, 2^32) */
     int32_t *row_kap;      /* H: sin theta_v = row_sig * 2^-(32 + row_kap) */
     uint64_t *row_sum;     /* H + 1: prefix sums of sin theta_v in Q31 (for widths on the sphere) */
+    uint64_t total;        /* the probe's energy: the sum of every pixel's e */
+    uint64_t *marg;        /* the low-memory path (sat NULL): the per-column and per-row marginals
+                            * lights() fills as scratch; NULL on the SAT path */
 } qibl_lightprobe_t;
 
 /* Bytes of workspace qibl_lightprobe_build needs for a W x H probe and a method (VARMIN needs the
  * moment tables; MEDIANCUT and ADAPTIVE the SAT only). 0 if W or H is 0 or above the limits, if
  * W H > QIBL_LIGHTPROBE_MAX_PIXELS, if the method is unknown, or if the size does not fit size_t. */
 size_t qibl_lightprobe_workspace_size(uint32_t width, uint32_t height, qibl_lightprobe_method_t method);
+
+/* Bytes of workspace the low-memory path of qibl_lightprobe_build needs: O(W + H), the marginals
+ * 8 (W + H + 2) (32 (W + H + 2) for VARMIN) plus the row tables 16 (H + 1) + 8. A workspace at
+ * least this large but below qibl_lightprobe_workspace_size builds no SAT: the same lights, bit
+ * for bit, from reads of the probe pixels (see Memory and Cost above). 0 on the arguments
+ * qibl_lightprobe_workspace_size refuses. */
+size_t qibl_lightprobe_workspace_min(uint32_t width, uint32_t height, qibl_lightprobe_method_t method);
 
 /* Validates img, reads every pixel and builds the tables for method in workspace; lp then refers
  * to img->pixels and the workspace, which must outlive it unchanged.
