@@ -1222,13 +1222,15 @@ static int cut_varmin(const qibl_lightprobe_t *lp, const marg *m, rect r, uint64
     int first_u = h < 2u || (w >= 2u && wider(lp, r));
     int found = 0;
     u128 best = {0u, 0u}, vx, vy;
-    uint64_t best_imb = 0u, all[5] = {0u, 0u, 0u, 0u, 0u};
+    uint64_t best_imb = 0u, all[5];
     if (m)
         marg_sums(m, r, all);
     for (int pass = 0; pass < 2; ++pass) {
         int along_u = pass == 0 ? first_u : !first_u;
         uint32_t lo = (along_u ? r.u0 : r.v0) + 1u, hi = along_u ? r.u1 : r.v1;
-        uint64_t run[5] = {0u, 0u, 0u, 0u, 0u}, run_e = 0u;
+        uint64_t run[5], run_e = 0u;
+        for (int j = 0; j < 5; ++j)
+            run[j] = 0u; /* assigned one by one: an initialiser becomes a memset call */
         for (uint32_t c = lo; c < hi; ++c) {
             rect x = r, y = r;
             if (along_u)
@@ -1439,7 +1441,9 @@ static void settle(const qibl_lightprobe_t *lp, const marg *m, qibl_lightprobe_p
                    uint64_t *e)
 {
     const int var = pr == QIBL_LIGHTPROBE_PRIORITY_VARIANCE;
-    uint64_t s[5] = {0u, 0u, 0u, 0u, 0u};
+    uint64_t s[5];
+    for (int j = 0; j < 5; ++j)
+        s[j] = 0u; /* assigned one by one: an initialiser becomes a memset call */
     if (m) {
         const rect scanned = *r;
         *e = marg_scan(lp, m, scanned, var);
