@@ -428,7 +428,8 @@ size_t qibl_lightprobe_workspace_size(uint32_t width, uint32_t height, qibl_ligh
  * energies, four of each with VARMIN's moments (see marg_arrays) */
 static uint64_t marg_entries(uint32_t w, uint32_t h, qibl_lightprobe_method_t method)
 {
-    return (method == QIBL_LIGHTPROBE_VARMIN ? 4u : 1u) * ((uint64_t)w + h + 2u);
+    const uint64_t n = (uint64_t)w + h + 2u;
+    return method == QIBL_LIGHTPROBE_VARMIN ? n << 2 : n;
 }
 
 /* the low-memory path's bytes: the marginals, the row tables, 8 for alignment (0: bad arguments) */
@@ -1445,7 +1446,8 @@ static void settle(const qibl_lightprobe_t *lp, const marg *m, qibl_lightprobe_p
     for (int j = 0; j < 5; ++j)
         s[j] = 0u; /* assigned one by one: an initialiser becomes a memset call */
     if (m) {
-        const rect scanned = *r;
+        rect scanned; /* member by member: a struct copy becomes a memcpy call on some targets */
+        scanned.u0 = r->u0, scanned.v0 = r->v0, scanned.u1 = r->u1, scanned.v1 = r->v1;
         *e = marg_scan(lp, m, scanned, var);
         marg_crop(m, r);
         if (var)
