@@ -517,10 +517,8 @@ static void rgbe_shifts(uint32_t r0, uint8_t sh[256])
 }
 
 /* The per-pixel energies e of n pixels of row v from column u0 into out[], the very integers the
- * SAT rows add up (sat_rgbe, sat_generic): the low-memory path reads the probe through this.
- * sh / *sh_r0 cache the RGBE shift table across calls (*sh_r0 = 0: none yet). */
-static void row_energy(const qibl_lightprobe_t *lp, uint32_t v, uint32_t u0, uint32_t n, uint64_t *out, uint8_t sh[256],
-                       uint32_t *sh_r0)
+ * SAT rows add up (sat_rgbe, sat_generic): the low-memory path reads the probe through this. */
+static void row_energy(const qibl_lightprobe_t *lp, uint32_t v, uint32_t u0, uint32_t n, uint64_t *out)
 {
     const size_t pb = pixel_bytes(lp->format);
     const uint8_t *q = lp->pixels + (size_t)v * lp->stride + (size_t)u0 * pb;
@@ -528,10 +526,14 @@ static void row_energy(const qibl_lightprobe_t *lp, uint32_t v, uint32_t u0, uin
     if (lp->format == QIBL_LIGHTPROBE_RGBE) {
         const int32_t s0 = rshift(lp, v) - 136; /* shift = E + s0 */
         if (s0 + lp->emax <= 0) {
-            if ((uint32_t)-s0 != *sh_r0)
-                rgbe_shifts(*sh_r0 = (uint32_t)-s0, sh);
-            for (uint32_t i = 0; i < n; ++i, q += 4)
-                out[i] = qibl_shr_u64(qibl_mul_u32_u64(LUMA_R * q[0] + LUMA_G * q[1] + LUMA_B * q[2], sig), sh[q[3]]);
+            /* every shift to the right, by r0 - E (rgbe_shifts' table as arithmetic: no 256-byte
+             * table on the stack; y < 2^56, so shifts of 56..63 give 0 as the table's 63 does) */
+            const uint32_t r0 = (uint32_t)-s0;
+            for (uint32_t i = 0; i < n; ++i, q += 4) {
+                const uint32_t k = r0 - q[3];
+                const uint64_t y = qibl_mul_u32_u64(LUMA_R * q[0] + LUMA_G * q[1] + LUMA_B * q[2], sig);
+                out[i] = q[3] != 0u && k < 64u ? qibl_shr_u64(y, k) : 0u;
+            }
         } else {
             for (uint32_t i = 0; i < n; ++i, q += 4) {
                 int32_t s = (int32_t)q[3] + s0;
@@ -553,18 +555,16 @@ static void row_energy(const qibl_lightprobe_t *lp, uint32_t v, uint32_t u0, uin
 }
 
 /* pixels per row_energy call: the stack buffer of the low-memory path's loops */
-#define ROW_CHUNK 32u
+#define ROW_CHUNK 16u
 
 /* Energy of [u0, u1) x [v0, v1) from the pixels (the low-memory path's region sum) */
 static uint64_t pixel_sum(const qibl_lightprobe_t *lp, uint32_t u0, uint32_t v0, uint32_t u1, uint32_t v1)
 {
     uint64_t buf[ROW_CHUNK], s = 0u;
-    uint8_t sh[256];
-    uint32_t sh_r0 = 0u;
     for (uint32_t v = v0; v < v1; ++v)
         for (uint32_t u = u0; u < u1;) {
             uint32_t n = u1 - u < ROW_CHUNK ? u1 - u : ROW_CHUNK;
-            row_energy(lp, v, u, n, buf, sh, &sh_r0);
+            row_energy(lp, v, u, n, buf);
             for (uint32_t i = 0; i < n; ++i)
                 s += buf[i];
             u += n;
@@ -956,8 +956,6 @@ static void marg_arrays(const qibl_lightprobe_t *lp, marg *m)
 static uint64_t marg_scan(const qibl_lightprobe_t *lp, const marg *m, rect r, int mom)
 {
     uint64_t buf[ROW_CHUNK], total = 0u;
-    uint8_t sh[256];
-    uint32_t sh_r0 = 0u;
     const uint32_t w = r.u1 - r.u0, k = lp->mshift;
     for (uint32_t i = 0; i < w; ++i)
         m->ce[i] = 0u;
@@ -969,7 +967,7 @@ static uint64_t marg_scan(const qibl_lightprobe_t *lp, const marg *m, rect r, in
         uint64_t se = 0u, s0 = 0u, s1 = 0u, s2 = 0u;
         for (uint32_t u = r.u0; u < r.u1;) {
             const uint32_t n = r.u1 - u < ROW_CHUNK ? r.u1 - u : ROW_CHUNK, o = u - r.u0;
-            row_energy(lp, v, u, n, buf, sh, &sh_r0);
+            row_energy(lp, v, u, n, buf);
             if (!mom) {
                 for (uint32_t i = 0; i < n; ++i) {
                     m->ce[o + i] += buf[i];
