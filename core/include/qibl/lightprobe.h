@@ -77,9 +77,9 @@
  *   table lists it for three probe sizes). Or, for the low-memory path, as little as
  *   qibl_lightprobe_workspace_min(W, H, method): 8 (W + H + 2) for one column and one row of
  *   sums (32 (W + H + 2) with VARMIN's moment sums) + the same row tables and alignment, O(W + H)
- *   (a 256 x 128 probe: 5 KiB, 14 KiB for VARMIN, against 261 KiB and 1.5 MiB). The lights array
- *   doubles as the list of regions (with their keys and energies) while splitting; the stack use
- *   is a few hundred bytes to 2 KiB by target (docs/porting.md's generated stack tables).
+ *   where the SAT is O(W H). The lights array doubles as the list of regions (with their keys and
+ *   energies) while splitting; the stack use is a few hundred bytes to a few KiB by target
+ *   (docs/porting.md's generated stack tables).
  * Limits: W, H in 1..QIBL_LIGHTPROBE_MAX_DIM (32768), W H <= QIBL_LIGHTPROBE_MAX_PIXELS (2^26).
  * All functions are reentrant; the probe pixels must stay unchanged between build and lights.
  * On the low-memory path qibl_lightprobe_lights uses the workspace's sums as scratch: do not run
