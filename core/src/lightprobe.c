@@ -1292,10 +1292,11 @@ static void region_key(const qibl_lightprobe_t *lp, rect r, qibl_lightprobe_prio
     }
 }
 
-/* While regions split, each light holds its region's key and energy in its dir and rgb members
+/* While regions split, each light holds its region's key and its cut in its dir and rgb members
  * (free until the colours and directions are written): 32-bit pieces, each stored as
- * piece - 2^31 so that an int32 holds it exactly. Energy in dir[1..2] (it outlives the colour
- * pass, which writes rgb and dir[0]), key in dir[0] and rgb[0..2]. */
+ * piece - 2^31 so that an int32 holds it exactly. Key in dir[0] and rgb[0..2], cut in dir[1]
+ * (see cut_code); then, for the sort and the directions, the energy in dir[1..2] (it outlives
+ * the colour pass, which writes rgb and dir[0]). */
 static inline int32_t piece_in(uint64_t x)
 {
     return (int32_t)((int64_t)(uint32_t)x - ((int64_t)1 << 31));
@@ -1306,12 +1307,26 @@ static inline uint64_t piece_out(int32_t x)
     return (uint64_t)((int64_t)x + ((int64_t)1 << 31));
 }
 
-static void put_region(qibl_lightprobe_light_t *l, const rect *r, const u128 *k, uint64_t e)
+static void put_region(qibl_lightprobe_light_t *l, const rect *r, const u128 *k, uint32_t cut)
 {
     set_rect(l, r);
-    l->dir[1] = piece_in(e >> 32), l->dir[2] = piece_in(e);
+    l->dir[1] = piece_in(cut), l->dir[2] = 0;
     l->dir[0] = piece_in(k->hi >> 32), l->rgb[0] = piece_in(k->hi), l->rgb[1] = piece_in(k->lo >> 32);
     l->rgb[2] = piece_in(k->lo);
+}
+
+static void put_energy(qibl_lightprobe_light_t *l, uint64_t e)
+{
+    l->dir[1] = piece_in(e >> 32), l->dir[2] = piece_in(e);
+}
+
+/* A region's cut, decided on the low-memory path when the region is settled (that scan's
+ * marginals are the region's, so no second read of it when it splits): 1 + 2 c + along_u, or 0
+ * for none (one pixel, or the SAT path, which cuts when it splits) */
+static inline uint32_t cut_code(const rect *r, const rect *a)
+{
+    const uint32_t along_u = a->u1 != r->u1;
+    return 1u + 2u * (along_u ? a->u1 : a->v1) + along_u;
 }
 
 static inline uint64_t light_energy(const qibl_lightprobe_light_t *l)
@@ -1434,68 +1449,91 @@ static void crop(const qibl_lightprobe_t *lp, rect *r)
     r->v1 = l;
 }
 
-/* A new region: cropped to its energy's bounding box, its energy *e and its greedy key *k (one
- * scan of it on the low-memory path, m non-NULL) */
-static void settle(const qibl_lightprobe_t *lp, const marg *m, qibl_lightprobe_priority_t pr, rect *r, u128 *k,
-                   uint64_t *e)
+/* A new region: cropped to its energy's bounding box, with its greedy key *k and (low-memory
+ * path, m non-NULL: from the one scan of it) its cut *cut */
+static void settle(const qibl_lightprobe_t *lp, const marg *m, int varmin, qibl_lightprobe_priority_t pr, rect *r,
+                   u128 *k, uint32_t *cut)
 {
     const int var = pr == QIBL_LIGHTPROBE_PRIORITY_VARIANCE;
-    uint64_t s[5];
+    uint64_t s[5], e;
     for (int j = 0; j < 5; ++j)
         s[j] = 0u; /* assigned one by one: an initialiser becomes a memset call */
+    *cut = 0u;
     if (m) {
         rect scanned; /* member by member: a struct copy becomes a memcpy call on some targets */
         scanned.u0 = r->u0, scanned.v0 = r->v0, scanned.u1 = r->u1, scanned.v1 = r->v1;
-        *e = marg_scan(lp, m, scanned, var);
+        e = marg_scan(lp, m, scanned, var || varmin);
         marg_crop(m, r);
         if (var)
             marg_sums(m, scanned, s); /* the cropped margins hold no energy */
+        if (!(r->u1 - r->u0 < 2u && r->v1 - r->v0 < 2u)) {
+            /* the cropped region's marginals: the scan's, from the crop's offsets (the columns
+             * and rows cropped away hold no energy, so the sums are the region's own) */
+            const uint32_t du = r->u0 - scanned.u0, dv = r->v0 - scanned.v0;
+            marg sub;
+            sub.ce = m->ce + du, sub.re = m->re + dv;
+            sub.c0 = sub.c1 = sub.c2 = sub.r0 = sub.r1 = sub.r2 = 0;
+            if (m->c0)
+                sub.c0 = m->c0 + du, sub.c1 = m->c1 + du, sub.c2 = m->c2 + du, sub.r0 = m->r0 + dv,
+                sub.r1 = m->r1 + dv, sub.r2 = m->r2 + dv;
+            rect a, b;
+            int ok;
+            if (varmin) {
+                ok = cut_varmin(lp, &sub, *r, e, &a, &b);
+            } else {
+                prefix(sub.ce, r->u1 - r->u0);
+                prefix(sub.re, r->v1 - r->v0);
+                ok = cut_median(lp, *r, e, sub.ce, sub.re, &a, &b);
+            }
+            if (ok)
+                *cut = cut_code(r, &a);
+        }
     } else {
         crop(lp, r);
-        *e = rect_energy(lp, *r);
+        e = rect_energy(lp, *r);
         if (var && !(r->u1 - r->u0 < 2u && r->v1 - r->v0 < 2u))
             rect_sums(lp, *r, s);
     }
-    region_key(lp, *r, pr, *e, s, k);
+    region_key(lp, *r, pr, e, s, k);
 }
 
-/* Splits a cropped region into two cropped, lit halves with their keys and energies; 0 if it is
- * one pixel. */
-static int split(const qibl_lightprobe_t *lp, const marg *m, int varmin, qibl_lightprobe_priority_t pr, rect r,
-                 qibl_lightprobe_light_t *la, qibl_lightprobe_light_t *lb)
+/* Splits a cropped region (the light src) into two cropped, lit halves with their keys (la and
+ * lb may be src); 0 if it is one pixel. */
+static int split(const qibl_lightprobe_t *lp, const marg *m, int varmin, qibl_lightprobe_priority_t pr,
+                 const qibl_lightprobe_light_t *src, qibl_lightprobe_light_t *la, qibl_lightprobe_light_t *lb)
 {
+    const rect r = light_rect(src);
     if (r.u1 - r.u0 < 2u && r.v1 - r.v0 < 2u)
         return 0;
     rect a, b;
-    int ok;
     if (m) {
-        uint64_t t = marg_scan(lp, m, r, varmin);
-        if (varmin) {
-            ok = cut_varmin(lp, m, r, t, &a, &b);
-        } else {
-            prefix(m->ce, r.u1 - r.u0);
-            prefix(m->re, r.v1 - r.v0);
-            ok = cut_median(lp, r, t, m->ce, m->re, &a, &b);
-        }
+        const uint32_t code = (uint32_t)piece_out(src->dir[1]); /* settle decided it */
+        if (code == 0u)
+            return 0;
+        const uint32_t c = (code - 1u) >> 1;
+        a = r, b = r;
+        if ((code - 1u) & 1u)
+            a.u1 = b.u0 = c;
+        else
+            a.v1 = b.v0 = c;
     } else {
         uint64_t t = rect_energy(lp, r);
-        ok = varmin ? cut_varmin(lp, 0, r, t, &a, &b) : cut_median(lp, r, t, 0, 0, &a, &b);
+        if (!(varmin ? cut_varmin(lp, 0, r, t, &a, &b) : cut_median(lp, r, t, 0, 0, &a, &b)))
+            return 0;
     }
-    if (!ok)
-        return 0;
     u128 ka, kb;
-    uint64_t ea, eb;
-    settle(lp, m, pr, &a, &ka, &ea);
-    settle(lp, m, pr, &b, &kb, &eb);
-    put_region(la, &a, &ka, ea);
-    put_region(lb, &b, &kb, eb);
+    uint32_t ca, cb;
+    settle(lp, m, varmin, pr, &a, &ka, &ca);
+    settle(lp, m, varmin, pr, &b, &kb, &cb);
+    put_region(la, &a, &ka, ca);
+    put_region(lb, &b, &kb, cb);
     return 1;
 }
 
 /* Splits until max_lights regions or nothing splits; returns the count. Every region is the
  * bounding box of its energy (see crop), so each split adds one lit region; a region that cannot
  * split (one pixel) never stops the others, so the count is max_lights whenever the probe has
- * that many lit pixels. Each light holds its region's key and energy (put_region). */
+ * that many lit pixels. Each light holds its region's key and cut (put_region). */
 static uint32_t make_regions(const qibl_lightprobe_t *lp, const marg *m, int varmin, qibl_lightprobe_priority_t pr,
                              qibl_lightprobe_light_t *L, uint32_t max_lights)
 {
@@ -1504,15 +1542,15 @@ static uint32_t make_regions(const qibl_lightprobe_t *lp, const marg *m, int var
     all.u1 = lp->width;
     all.v1 = lp->height;
     u128 k;
-    uint64_t e;
-    settle(lp, m, pr, &all, &k, &e);
-    put_region(&L[0], &all, &k, e);
+    uint32_t cut;
+    settle(lp, m, varmin, pr, &all, &k, &cut);
+    put_region(&L[0], &all, &k, cut);
     uint32_t n = 1u;
     if (pr == QIBL_LIGHTPROBE_PRIORITY_LEVELS) {
         for (uint32_t round = 1u; round < max_lights; round <<= 1) {
             uint32_t cnt = n;
             for (uint32_t i = 0; i < cnt; ++i)
-                if (split(lp, m, varmin, pr, light_rect(&L[i]), &L[i], &L[n]))
+                if (split(lp, m, varmin, pr, &L[i], &L[i], &L[n]))
                     ++n;
         }
         /* One-pixel regions (a tiny sun) skipped a split: split the next splittable regions in
@@ -1521,7 +1559,7 @@ static uint32_t make_regions(const qibl_lightprobe_t *lp, const marg *m, int var
         for (int grew = 1; grew && n < max_lights;) {
             grew = 0;
             for (uint32_t i = 0; i < n && n < max_lights; ++i) {
-                if (!split(lp, m, varmin, pr, light_rect(&L[i]), &L[i], &L[n]))
+                if (!split(lp, m, varmin, pr, &L[i], &L[i], &L[n]))
                     continue;
                 ++n;
                 grew = 1;
@@ -1538,7 +1576,7 @@ static uint32_t make_regions(const qibl_lightprobe_t *lp, const marg *m, int var
         if (top.hi == 0u && top.lo == 0u)
             break; /* the best region gains nothing from a split: none does */
         /* the halves go to L[0] and L[h] (L[h] is free: h + d < max_lights) */
-        if (!split(lp, m, varmin, pr, light_rect(&L[0]), &L[0], &L[h])) {
+        if (!split(lp, m, varmin, pr, &L[0], &L[0], &L[h])) {
             ++d;
             copy_light(&L[max_lights - d], &L[0]);
             copy_light(&L[0], &L[h - 1u]);
@@ -1833,6 +1871,10 @@ qibl_status_t qibl_lightprobe_lights(const qibl_lightprobe_t *lp, const qibl_lig
         mg = &mm;
     }
     uint32_t n = make_regions(lp, mg, varmin, pr, lights, max_lights);
+    for (uint32_t i = 0; i < n; ++i) {
+        const rect r = light_rect(&lights[i]);
+        put_energy(&lights[i], mg ? pixel_sum(lp, r.u0, r.v0, r.u1, r.v1) : rect_energy(lp, r));
+    }
     sort_lights(lights, n);
 
     /* Colours: X_c = A_c K with K = 2 pi^2 2^j / (W H D) in [2^62, 2^64), so that
