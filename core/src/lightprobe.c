@@ -1320,9 +1320,11 @@ static void put_energy(qibl_lightprobe_light_t *l, uint64_t e)
     l->dir[1] = piece_in(e >> 32), l->dir[2] = piece_in(e);
 }
 
-/* A region's cut, decided on the low-memory path when the region is settled (that scan's
+/* A region's median cut, decided on the low-memory path when the region is settled (that scan's
  * marginals are the region's, so no second read of it when it splits): 1 + 2 c + along_u, or 0
- * for none (one pixel, or the SAT path, which cuts when it splits) */
+ * for none yet (one pixel; VARMIN, whose cut costs more than a read of the region on the small
+ * targets and so is made only for the regions that split; the SAT path, which cuts when it
+ * splits) */
 static inline uint32_t cut_code(const rect *r, const rect *a)
 {
     const uint32_t along_u = a->u1 != r->u1;
@@ -1450,7 +1452,7 @@ static void crop(const qibl_lightprobe_t *lp, rect *r)
 }
 
 /* A new region: cropped to its energy's bounding box, with its greedy key *k and (low-memory
- * path, m non-NULL: from the one scan of it) its cut *cut */
+ * path, m non-NULL: from the one scan of it) its median cut *cut (cut_code) */
 static void settle(const qibl_lightprobe_t *lp, const marg *m, int varmin, qibl_lightprobe_priority_t pr, rect *r,
                    u128 *k, uint32_t *cut)
 {
@@ -1462,30 +1464,18 @@ static void settle(const qibl_lightprobe_t *lp, const marg *m, int varmin, qibl_
     if (m) {
         rect scanned; /* member by member: a struct copy becomes a memcpy call on some targets */
         scanned.u0 = r->u0, scanned.v0 = r->v0, scanned.u1 = r->u1, scanned.v1 = r->v1;
-        e = marg_scan(lp, m, scanned, var || varmin);
+        e = marg_scan(lp, m, scanned, var);
         marg_crop(m, r);
         if (var)
             marg_sums(m, scanned, s); /* the cropped margins hold no energy */
-        if (!(r->u1 - r->u0 < 2u && r->v1 - r->v0 < 2u)) {
-            /* the cropped region's marginals: the scan's, from the crop's offsets (the columns
-             * and rows cropped away hold no energy, so the sums are the region's own) */
-            const uint32_t du = r->u0 - scanned.u0, dv = r->v0 - scanned.v0;
-            marg sub;
-            sub.ce = m->ce + du, sub.re = m->re + dv;
-            sub.c0 = sub.c1 = sub.c2 = sub.r0 = sub.r1 = sub.r2 = 0;
-            if (m->c0)
-                sub.c0 = m->c0 + du, sub.c1 = m->c1 + du, sub.c2 = m->c2 + du, sub.r0 = m->r0 + dv,
-                sub.r1 = m->r1 + dv, sub.r2 = m->r2 + dv;
+        if (!varmin && !(r->u1 - r->u0 < 2u && r->v1 - r->v0 < 2u)) {
+            /* the cropped region's marginals are the scan's from the crop's offsets (the columns
+             * and rows cropped away hold no energy) */
+            uint64_t *ce = m->ce + (r->u0 - scanned.u0), *re = m->re + (r->v0 - scanned.v0);
             rect a, b;
-            int ok;
-            if (varmin) {
-                ok = cut_varmin(lp, &sub, *r, e, &a, &b);
-            } else {
-                prefix(sub.ce, r->u1 - r->u0);
-                prefix(sub.re, r->v1 - r->v0);
-                ok = cut_median(lp, *r, e, sub.ce, sub.re, &a, &b);
-            }
-            if (ok)
+            prefix(ce, r->u1 - r->u0);
+            prefix(re, r->v1 - r->v0);
+            if (cut_median(lp, *r, e, ce, re, &a, &b))
                 *cut = cut_code(r, &a);
         }
     } else {
@@ -1506,16 +1496,27 @@ static int split(const qibl_lightprobe_t *lp, const marg *m, int varmin, qibl_li
     if (r.u1 - r.u0 < 2u && r.v1 - r.v0 < 2u)
         return 0;
     rect a, b;
-    if (m) {
-        const uint32_t code = (uint32_t)piece_out(src->dir[1]); /* settle decided it */
-        if (code == 0u)
-            return 0;
+    const uint32_t code = m ? (uint32_t)piece_out(src->dir[1]) : 0u;
+    if (code != 0u) { /* settle decided it */
         const uint32_t c = (code - 1u) >> 1;
         a = r, b = r;
         if ((code - 1u) & 1u)
             a.u1 = b.u0 = c;
         else
             a.v1 = b.v0 = c;
+    } else if (m) {
+        /* VARMIN's cut (settle left it): the region read again, with the moments */
+        const uint64_t t = marg_scan(lp, m, r, varmin);
+        int ok;
+        if (varmin) {
+            ok = cut_varmin(lp, m, r, t, &a, &b);
+        } else {
+            prefix(m->ce, r.u1 - r.u0);
+            prefix(m->re, r.v1 - r.v0);
+            ok = cut_median(lp, r, t, m->ce, m->re, &a, &b);
+        }
+        if (!ok)
+            return 0;
     } else {
         uint64_t t = rect_energy(lp, r);
         if (!(varmin ? cut_varmin(lp, 0, r, t, &a, &b) : cut_median(lp, r, t, 0, 0, &a, &b)))

@@ -254,10 +254,11 @@ QIBL_NODISCARD qibl_status_t qibl_lightprobe_build(qibl_lightprobe_t *lp, const 
  * Cost: O(count log count) region splits, each O(log(w h)) SAT reads (MEDIANCUT, ADAPTIVE) or
  * O(w + h) (VARMIN, each candidate cut costing a few 128-bit operations), then O(w + h) SAT reads
  * per light for its centroid and one read of the probe pixels for the colours. On the
- * low-memory path each new region's pixels are read once (its crop, key and next cut from one
- * set of marginals), and each light's twice more (its energy, its centroid): the regions of one
- * split level are disjoint, so O(W H log count) pixel reads in all, about 20 integer operations
- * each (40 with VARMIN's moments), plus the same per-cut work.
+ * low-memory path each new region's pixels are read once (its crop, key and median cut from one
+ * set of marginals; VARMIN reads a region again when it splits, for its cut), and each light's
+ * twice more (its energy, its centroid): the regions of one split level are disjoint, so
+ * O(W H log count) pixel reads in all, about 20 integer operations each (40 with VARMIN's
+ * moments), plus the same per-cut work.
  * Formats: dir Q2.30 unit vectors; rgb int32 >= 0 scaled by the list's shared 2^rgb_exp (largest
  * channel in [2^30, 2^31)); regions in pixel columns and rows.
  * Bound: rgb within 1 LSB of the list's scale plus the region-sum error above; dir within
