@@ -895,7 +895,10 @@ static void test_argument_errors(void **state)
     bad = img, bad.stride = SIZE_MAX / 4; /* the byte span does not fit size_t */
     assert_int_equal(qibl_lightprobe_build(&lp, &bad, 0, W, ws), QIBL_E_PROBE_OVERFLOW);
     assert_int_equal(qibl_lightprobe_build(&lp, &img, (qibl_lightprobe_method_t)7, W, ws), QIBL_E_PROBE_METHOD);
-    assert_int_equal(qibl_lightprobe_build(&lp, &img, QIBL_LIGHTPROBE_VARMIN, W, ws - 1), QIBL_E_WORKSPACE);
+    /* below the SAT's size the marginal path builds; below its minimum, QIBL_E_WORKSPACE */
+    const size_t least = qibl_lightprobe_workspace_min(16, 8, QIBL_LIGHTPROBE_VARMIN);
+    assert_true(least > 0 && least < ws);
+    assert_int_equal(qibl_lightprobe_build(&lp, &img, QIBL_LIGHTPROBE_VARMIN, W, least - 1), QIBL_E_WORKSPACE);
     /* any workspace alignment works and gives the same lights */
     qibl_lightprobe_light_t A[8], B[8];
     qibl_lightprobe_result_t ra, rb;
@@ -1063,6 +1066,169 @@ static void test_simd_equals_scalar_twin(void **state)
                 }
                 free(px);
             }
+}
+
+/* ---- the low-memory path -------------------------------------------------------------------- */
+
+/* A probe of one format with the pattern kind (0 random, 1 one lit pixel, 2 a huge dynamic range,
+ * 3 black rows and columns, 4 uniform: exact ties everywhere) in pixels (12 bytes per pixel room). */
+static void hard_probe(tu_rng *r, uint32_t *buf, uint32_t w, uint32_t h, qibl_lightprobe_format_t f, int kind,
+                       qibl_lightprobe_image_t *img)
+{
+    memset(img, 0, sizeof *img);
+    img->pixels = buf, img->width = w, img->height = h, img->format = f;
+    const uint32_t lit_u = tu_u32(r) % w, lit_v = tu_u32(r) % h, black_u = tu_u32(r) % w, black_v = tu_u32(r) % h;
+    if (f == QIBL_LIGHTPROBE_LINEAR_I32)
+        img->frac_bits = (int32_t)(tu_u32(r) % 257u) - 128;
+    for (uint32_t v = 0; v < h; ++v)
+        for (uint32_t u = 0; u < w; ++u) {
+            const size_t i = (size_t)v * w + u;
+            uint32_t x = tu_u32(r), y = tu_u32(r);
+            int on = kind != 1 || (u == lit_u && v == lit_v);
+            if (kind == 3 && (u % 3u == black_u % 3u || v % 4u == black_v % 4u || v == 0u))
+                on = 0;
+            if (kind == 4)
+                x = 0x6B5A4933u, y = 0x0123F00Du;
+            uint8_t *q = (uint8_t *)buf + 4u * i;
+            switch (f) {
+            case QIBL_LIGHTPROBE_RGBE:
+                q[0] = (uint8_t)x, q[1] = (uint8_t)(x >> 8), q[2] = (uint8_t)(x >> 16);
+                q[3] = !on ? 0u : kind == 2 ? (uint8_t)(1u + y % 255u) : (uint8_t)(124u + y % 8u);
+                break;
+            case QIBL_LIGHTPROBE_SRGBE: /* X >= 127: no negative channel; 127 and 128 read as 0 */
+                for (int c = 0; c < 3; ++c)
+                    q[c] = on ? (uint8_t)(127u + ((x >> (8 * c)) & 0xFFu) % 129u) : 128u;
+                q[3] = kind == 2 ? (uint8_t)(y % 256u) : (uint8_t)(120u + y % 12u);
+                break;
+            case QIBL_LIGHTPROBE_LINEAR_I32:
+                for (int c = 0; c < 3; ++c) {
+                    uint32_t m = (x >> (5 * c)) & 0x7FFFFFFFu;
+                    buf[3 * i + (size_t)c] = !on ? 0u : kind == 2 ? m >> (y % 31u) : (m >> 8) | 1u;
+                    y = y * 2654435761u + 1u;
+                }
+                break;
+            default: /* binary32 bit patterns: +0, subnormals and normals, no sign, no NaN or Inf */
+                for (int c = 0; c < 3; ++c) {
+                    uint32_t e8 = kind == 2 ? y % 255u : 120u + y % 16u;
+                    buf[3 * i + (size_t)c] = on ? (e8 << 23) | ((x >> c) & 0x7FFFFFu) : 0u;
+                    y = y * 2654435761u + 1u;
+                }
+                break;
+            }
+        }
+}
+
+/* The same lights from the SAT and from the marginals, for every method, priority and placement
+ * (and the same statuses where a combination is refused), and the same region energies. */
+static void compare_paths(tu_rng *r, const qibl_lightprobe_image_t *img, uint32_t *checks)
+{
+    const uint32_t w = img->width, h = img->height;
+    for (int m = 0; m < 3; ++m) {
+        const qibl_lightprobe_method_t method = (qibl_lightprobe_method_t)m;
+        const size_t nf = qibl_lightprobe_workspace_size(w, h, method), nm = qibl_lightprobe_workspace_min(w, h, method);
+        assert_true(nm > 0 && (nm < nf || w * h == 1u)); /* 1 x 1: its SAT is no larger */
+        uint8_t *wf = malloc(nf), *wm = malloc(nm + 64);
+        assert_non_null(wf);
+        assert_non_null(wm);
+        tu_fill_guard(wm + nm, 64);
+        qibl_lightprobe_t a, b;
+        assert_int_equal(qibl_lightprobe_build(&a, img, method, wf, nf), QIBL_OK);
+        assert_int_equal(qibl_lightprobe_build(&b, img, method, wm, nm), QIBL_OK);
+        assert_true(a.sat != NULL && (b.sat == NULL || nm == nf)); /* the two paths, not one twice */
+        assert_true(a.total == b.total && a.mshift == b.mshift && a.gshift == b.gshift);
+        for (int pr = 0; pr < QIBL_LIGHTPROBE_PRIORITY_COUNT; ++pr)
+            for (int lm = 0; lm < 3; ++lm)
+                for (int place = 0; place < 2; ++place) {
+                    static const uint32_t counts[] = {1, 2, 8, 32, 37};
+                    const uint32_t n = counts[tu_u32(r) % 5u];
+                    qibl_lightprobe_light_t la[37], lb[37];
+                    qibl_lightprobe_result_t ra, rb;
+                    memset(la, 0, sizeof la), memset(lb, 0, sizeof lb);
+                    memset(&ra, 0, sizeof ra), memset(&rb, 0, sizeof rb);
+                    qibl_status_t sa = sample(&a, lm, pr, place, n, la, &ra);
+                    assert_int_equal(sample(&b, lm, pr, place, n, lb, &rb), sa);
+                    assert_memory_equal(&ra, &rb, sizeof ra);
+                    assert_memory_equal(la, lb, sizeof la); /* regions, colours, directions */
+                    *checks += sa == QIBL_OK;
+                }
+        for (int k = 0; k < 8; ++k) {
+            uint32_t u0 = tu_u32(r) % (w + 1u), u1 = tu_u32(r) % (w + 1u), v0 = tu_u32(r) % (h + 1u),
+                     v1 = tu_u32(r) % (h + 1u), t;
+            if (u0 > u1)
+                t = u0, u0 = u1, u1 = t;
+            if (v0 > v1)
+                t = v0, v0 = v1, v1 = t;
+            uint64_t ea = 1, eb = 2;
+            assert_int_equal(qibl_lightprobe_region_energy(&a, u0, v0, u1, v1, &ea), QIBL_OK);
+            assert_int_equal(qibl_lightprobe_region_energy(&b, u0, v0, u1, v1, &eb), QIBL_OK);
+            assert_true(ea == eb);
+        }
+        assert_true(tu_guard_intact(wm + nm, 64)); /* nothing past the minimum */
+        free(wf), free(wm);
+    }
+}
+
+static void test_marginal_path_equals_sat(void **state)
+{
+    (void)state;
+    static const uint32_t sizes[][2] = {{1, 1}, {1, 9}, {9, 1}, {2, 2}, {1, 40}, {40, 1}, {3, 5}, {16, 8}, {31, 17}};
+    tu_rng r = {0x4D41524749u};
+    uint32_t checks = 0u, probes = 0u;
+    uint32_t *buf = malloc(12u * 64u * 40u);
+    assert_non_null(buf);
+    for (int f = 0; f < QIBL_LIGHTPROBE_FORMAT_COUNT; ++f)
+        for (int kind = 0; kind < 5; ++kind)
+            for (size_t s = 0; s < sizeof sizes / sizeof sizes[0] + 2u; ++s) {
+                /* the listed sizes, then two random ones up to 64 x 40 */
+                const int listed = s < sizeof sizes / sizeof sizes[0];
+                const uint32_t w = listed ? sizes[s][0] : 1u + tu_u32(&r) % 64u;
+                const uint32_t h = listed ? sizes[s][1] : 1u + tu_u32(&r) % 40u;
+                qibl_lightprobe_image_t img;
+                hard_probe(&r, buf, w, h, (qibl_lightprobe_format_t)f, kind, &img);
+                compare_paths(&r, &img, &checks);
+                ++probes;
+            }
+    /* larger probes: a bright spot over a smooth sky, as the golden cases have */
+    for (int k = 0; k < 2; ++k) {
+        const int w = k ? 256 : 97, h = k ? 128 : 61;
+        uint8_t *px = random_probe(&r, w, h, 3, k ? 1e4 : 300);
+        qibl_lightprobe_image_t big = rgbe_image(px, w, h);
+        compare_paths(&r, &big, &checks);
+        ++probes;
+        free(px);
+    }
+    /* a black probe builds on both paths and is black on both */
+    memset(buf, 0, 4u * 16u * 8u);
+    qibl_lightprobe_image_t img = rgbe_image((const uint8_t *)buf, 16, 8);
+    uint8_t ws[4096];
+    qibl_lightprobe_t lp;
+    qibl_lightprobe_light_t L[4];
+    qibl_lightprobe_result_t res;
+    uint64_t e = 1;
+    assert_true(qibl_lightprobe_workspace_min(16, 8, QIBL_LIGHTPROBE_VARMIN) <= sizeof ws);
+    assert_int_equal(qibl_lightprobe_build(&lp, &img, QIBL_LIGHTPROBE_VARMIN, ws,
+                                           qibl_lightprobe_workspace_min(16, 8, QIBL_LIGHTPROBE_VARMIN)),
+                     QIBL_OK);
+    assert_int_equal(sample(&lp, 2, 0, 0, 4, L, &res), QIBL_E_PROBE_BLACK);
+    assert_int_equal(qibl_lightprobe_region_energy(&lp, 0, 0, 16, 8, &e), QIBL_OK);
+    assert_true(e == 0u);
+    /* below the minimum: QIBL_E_WORKSPACE, and neither lp nor the workspace touched */
+    for (int m = 0; m < 3; ++m) {
+        const size_t least = qibl_lightprobe_workspace_min(16, 8, (qibl_lightprobe_method_t)m);
+        tu_fill_guard(ws, sizeof ws);
+        tu_fill_guard(&lp, sizeof lp);
+        assert_int_equal(qibl_lightprobe_build(&lp, &img, (qibl_lightprobe_method_t)m, ws, least - 1u),
+                         QIBL_E_WORKSPACE);
+        assert_true(tu_guard_intact(ws, sizeof ws));
+        assert_true(tu_guard_intact(&lp, sizeof lp));
+    }
+    assert_int_equal(qibl_lightprobe_workspace_min(0, 8, 0), 0);
+    assert_int_equal(qibl_lightprobe_workspace_min(32768, 2049, 0), 0);
+    assert_int_equal(qibl_lightprobe_workspace_min(16, 8, (qibl_lightprobe_method_t)3), 0);
+    assert_int_equal(qibl_lightprobe_workspace_min(256, 128, QIBL_LIGHTPROBE_VARMIN), 32u * 386u + 16u * 129u + 8u);
+    printf("lightprobe: marginal path = SAT path bit for bit: %u probes (4 formats, 5 kinds, 1 x N and N x 1), "
+           "%u light lists\n", probes, checks);
+    free(buf);
 }
 
 static void test_goldens(void **state)
@@ -1294,6 +1460,7 @@ int main(void)
         cmocka_unit_test(test_tiny_sun_returns_n_lights),
         cmocka_unit_test(test_bad_pixels_named),
         cmocka_unit_test(test_argument_errors),
+        cmocka_unit_test(test_marginal_path_equals_sat),
         cmocka_unit_test(test_tie_median_cut_takes_the_smaller_cut),
         cmocka_unit_test(test_tie_varmin_takes_the_more_balanced_cut),
         cmocka_unit_test(test_tie_light_order_by_v0_then_u0),

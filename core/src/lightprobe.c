@@ -424,6 +424,29 @@ size_t qibl_lightprobe_workspace_size(uint32_t width, uint32_t height, qibl_ligh
     return n > (uint64_t)SIZE_MAX ? 0u : (size_t)n;
 }
 
+/* uint64 entries of the marginal path's scratch: one column (W + 1) and one row (H + 1) array of
+ * energies, four of each with VARMIN's moments (see marg_arrays) */
+static uint64_t marg_entries(uint32_t w, uint32_t h, qibl_lightprobe_method_t method)
+{
+    const uint64_t n = (uint64_t)w + h + 2u;
+    return method == QIBL_LIGHTPROBE_VARMIN ? n << 2 : n;
+}
+
+/* the low-memory path's bytes: the marginals, the row tables, 8 for alignment (0: bad arguments) */
+static uint64_t ws_min_bytes(uint32_t w, uint32_t h, qibl_lightprobe_method_t method)
+{
+    if (!size_ok(w, h) || qibl_mul_u32_u64(w, h) > QIBL_LIGHTPROBE_MAX_PIXELS ||
+        (unsigned)method >= QIBL_LIGHTPROBE_METHOD_COUNT)
+        return 0u;
+    return (marg_entries(w, h, method) << 3) + (((uint64_t)h + 1u) << 4) + 8u;
+}
+
+size_t qibl_lightprobe_workspace_min(uint32_t width, uint32_t height, qibl_lightprobe_method_t method)
+{
+    uint64_t n = ws_min_bytes(width, height, method);
+    return n > (uint64_t)SIZE_MAX ? 0u : (size_t)n;
+}
+
 /* First pass: the QIBLI_PROBE_BAD_ flags over the whole probe (so the status does not depend on pixel order)
  * and lb, the bound of lightprobe.c's header (INT32_MIN when every pixel is black). */
 static unsigned scan(const qibl_lightprobe_image_t *img, size_t stride, int32_t *lb_out)
@@ -491,6 +514,62 @@ static void rgbe_shifts(uint32_t r0, uint8_t sh[256])
     sh[0] = 63u;
     for (uint32_t e = 1u; e < 256u; ++e)
         sh[e] = (uint8_t)(r0 - e > 63u ? 63u : r0 - e);
+}
+
+/* The per-pixel energies e of n pixels of row v from column u0 into out[], the very integers the
+ * SAT rows add up (sat_rgbe, sat_generic): the low-memory path reads the probe through this. */
+static void row_energy(const qibl_lightprobe_t *lp, uint32_t v, uint32_t u0, uint32_t n, uint64_t *out)
+{
+    const size_t pb = pixel_bytes(lp->format);
+    const uint8_t *q = lp->pixels + (size_t)v * lp->stride + (size_t)u0 * pb;
+    const uint32_t sig = lp->row_sig[v];
+    if (lp->format == QIBL_LIGHTPROBE_RGBE) {
+        const int32_t s0 = rshift(lp, v) - 136; /* shift = E + s0 */
+        if (s0 + lp->emax <= 0) {
+            /* every shift to the right, by r0 - E (rgbe_shifts' table as arithmetic: no 256-byte
+             * table on the stack; y < 2^56, so shifts of 56..63 give 0 as the table's 63 does) */
+            const uint32_t r0 = (uint32_t)-s0;
+            for (uint32_t i = 0; i < n; ++i, q += 4) {
+                const uint32_t k = r0 - q[3];
+                const uint64_t y = qibl_mul_u32_u64(LUMA_R * q[0] + LUMA_G * q[1] + LUMA_B * q[2], sig);
+                out[i] = q[3] != 0u && k < 64u ? qibl_shr_u64(y, k) : 0u;
+            }
+        } else {
+            for (uint32_t i = 0; i < n; ++i, q += 4) {
+                int32_t s = (int32_t)q[3] + s0;
+                uint64_t y = qibl_mul_u32_u64(LUMA_R * q[0] + LUMA_G * q[1] + LUMA_B * q[2], sig);
+                uint64_t e = s >= 64 ? 0u : s >= 0 ? qibli_shl_u64(y, (unsigned)s) : s > -64 ? qibl_shr_u64(y, (unsigned)-s) : 0u;
+                out[i] = q[3] ? e : 0u;
+            }
+        }
+        return;
+    }
+    const int32_t s0 = rshift(lp, v);
+    for (uint32_t i = 0; i < n; ++i, q += pb) {
+        pixel px;
+        (void)decode(lp->format, q, lp->frac_bits, &px);
+        u128 y;
+        mul64(luma(px.m), sig, &y);
+        out[i] = shift128_to64(&y, px.eps + s0);
+    }
+}
+
+/* pixels per row_energy call: the stack buffer of the low-memory path's loops */
+#define ROW_CHUNK 16u
+
+/* Energy of [u0, u1) x [v0, v1) from the pixels (the low-memory path's region sum) */
+static uint64_t pixel_sum(const qibl_lightprobe_t *lp, uint32_t u0, uint32_t v0, uint32_t u1, uint32_t v1)
+{
+    uint64_t buf[ROW_CHUNK], s = 0u;
+    for (uint32_t v = v0; v < v1; ++v)
+        for (uint32_t u = u0; u < u1;) {
+            uint32_t n = u1 - u < ROW_CHUNK ? u1 - u : ROW_CHUNK;
+            row_energy(lp, v, u, n, buf);
+            for (uint32_t i = 0; i < n; ++i)
+                s += buf[i];
+            u += n;
+        }
+    return s;
 }
 
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
@@ -646,13 +725,18 @@ static void sat_generic(qibl_lightprobe_t *lp)
 }
 
 /* VARMIN's moment SATs, from the per-pixel energies recovered from the SAT (exact differences). */
+/* k of lightprobe.c's header: em = e >> k keeps every moment sum below 2^64 */
+static uint32_t moment_shift(uint64_t total, uint32_t w, uint32_t h)
+{
+    uint32_t m = (w > h ? w : h) - 1u;
+    int32_t k = (int32_t)qibli_bitlen_u64(total) + 2 * (int32_t)qibli_bitlen_u64(m) - 64;
+    return k > 0 ? (uint32_t)k : 0u;
+}
+
 static void sat_moments(qibl_lightprobe_t *lp)
 {
     const uint32_t w = lp->width, w1 = w + 1u, h = lp->height;
-    const uint64_t total = lp->sat[(size_t)h * w1 + w];
-    uint32_t m = (w > h ? w : h) - 1u;
-    int32_t k = (int32_t)qibli_bitlen_u64(total) + 2 * (int32_t)qibli_bitlen_u64(m) - 64;
-    lp->mshift = k > 0 ? (uint32_t)k : 0u;
+    lp->mshift = moment_shift(lp->total, w, h);
     uint64_t *mom = lp->mom;
     for (uint32_t u = 0; u <= w; ++u)
         for (int j = 0; j < 5; ++j)
@@ -691,7 +775,7 @@ static void copy_probe(qibl_lightprobe_t *d, const qibl_lightprobe_t *s)
     d->format = s->format, d->frac_bits = s->frac_bits, d->built_for = s->built_for;
     d->energy_exp = s->energy_exp, d->energy_div = s->energy_div, d->gshift = s->gshift;
     d->emax = s->emax, d->mshift = s->mshift, d->sat = s->sat, d->mom = s->mom, d->row_sig = s->row_sig;
-    d->row_kap = s->row_kap, d->row_sum = s->row_sum;
+    d->row_kap = s->row_kap, d->row_sum = s->row_sum, d->total = s->total, d->marg = s->marg;
 }
 
 qibl_status_t qibl_lightprobe_build(qibl_lightprobe_t *lp, const qibl_lightprobe_image_t *img,
@@ -719,11 +803,13 @@ qibl_status_t qibl_lightprobe_build(qibl_lightprobe_t *lp, const qibl_lightprobe
         return QIBL_E_PROBE_FORMAT;
     if ((unsigned)method >= QIBL_LIGHTPROBE_METHOD_COUNT)
         return QIBL_E_PROBE_METHOD;
-    uint64_t need = ws_bytes(w, h, method);
-    if (need == 0u || need > (uint64_t)SIZE_MAX)
+    const uint64_t need = ws_bytes(w, h, method), least = ws_min_bytes(w, h, method);
+    if (least == 0u || least > (uint64_t)SIZE_MAX)
         return QIBL_E_PROBE_OVERFLOW;
-    if ((uint64_t)workspace_size < need)
+    if ((uint64_t)workspace_size < least)
         return QIBL_E_WORKSPACE;
+    /* the SAT when the workspace holds it, else the marginals (the same lights, bit for bit) */
+    const int fast = (uint64_t)workspace_size >= need;
 
     int32_t lb;
     qibl_status_t st = qibli_probe_bad_status(scan(img, stride, &lb));
@@ -733,7 +819,7 @@ qibl_status_t qibl_lightprobe_build(qibl_lightprobe_t *lp, const qibl_lightprobe
     /* carve the workspace: 8-byte tables first, then the 4-byte row tables */
     uint8_t *ws = (uint8_t *)workspace;
     ws += (8u - ((uintptr_t)ws & 7u)) & 7u;
-    const size_t cells = (size_t)(w + 1u) * (h + 1u);
+    const size_t cells = fast ? (size_t)(w + 1u) * (h + 1u) : 0u;
     qibl_lightprobe_t t;
     t.pixels = (const uint8_t *)img->pixels;
     t.stride = stride;
@@ -742,9 +828,11 @@ qibl_status_t qibl_lightprobe_build(qibl_lightprobe_t *lp, const qibl_lightprobe
     t.format = img->format;
     t.frac_bits = img->frac_bits;
     t.built_for = method;
-    t.sat = (uint64_t *)(void *)ws;
-    t.mom = method == QIBL_LIGHTPROBE_VARMIN ? t.sat + cells : 0;
-    t.row_sum = t.sat + cells * (method == QIBL_LIGHTPROBE_VARMIN ? 6u : 1u);
+    t.sat = fast ? (uint64_t *)(void *)ws : 0;
+    t.mom = fast && method == QIBL_LIGHTPROBE_VARMIN ? t.sat + cells : 0;
+    t.marg = fast ? 0 : (uint64_t *)(void *)ws;
+    t.row_sum = fast ? t.sat + cells * (method == QIBL_LIGHTPROBE_VARMIN ? 6u : 1u)
+                     : t.marg + (size_t)marg_entries(w, h, method);
     t.row_sig = (uint32_t *)(void *)(t.row_sum + h + 1u);
     t.row_kap = (int32_t *)(void *)(t.row_sig + h);
     t.energy_div = img->format == QIBL_LIGHTPROBE_SRGBE ? 510u : 1u;
@@ -762,6 +850,15 @@ qibl_status_t qibl_lightprobe_build(qibl_lightprobe_t *lp, const qibl_lightprobe
     t.gshift = g;
     t.emax = img->format == QIBL_LIGHTPROBE_RGBE && lb != INT32_MIN ? lb + 128 : 0;
     t.energy_exp = -g;
+    t.total = 0u;
+    if (!fast) {
+        /* the low-memory path: the total alone now (one read), the marginals when lights asks */
+        t.total = lb == INT32_MIN ? 0u : pixel_sum(&t, 0u, 0u, w, h);
+        if (method == QIBL_LIGHTPROBE_VARMIN)
+            t.mshift = moment_shift(t.total, w, h);
+        copy_probe(lp, &t);
+        return QIBL_OK;
+    }
     for (uint32_t u = 0; u <= w; ++u)
         t.sat[u] = 0u;
     if (lb == INT32_MIN) {
@@ -772,6 +869,7 @@ qibl_status_t qibl_lightprobe_build(qibl_lightprobe_t *lp, const qibl_lightprobe
     } else {
         sat_generic(&t);
     }
+    t.total = t.sat[(size_t)h * (w + 1u) + w];
     if (t.mom)
         sat_moments(&t);
     copy_probe(lp, &t);
@@ -816,8 +914,162 @@ qibl_status_t qibl_lightprobe_region_energy(const qibl_lightprobe_t *lp, uint32_
         return QIBL_E_NULL_POINTER;
     if (u0 > u1 || v0 > v1 || u1 > lp->width || v1 > lp->height)
         return QIBL_E_PROBE_RECT;
-    *energy = sat_sum(lp, u0, v0, u1, v1);
+    *energy = lp->sat ? sat_sum(lp, u0, v0, u1, v1) : lp->total ? pixel_sum(lp, u0, v0, u1, v1) : 0u;
     return QIBL_OK;
+}
+
+/* ---- the low-memory path: a region's marginals ------------------------------------------------
+ * Every decision below reads a region only through sums over whole columns or whole rows of it
+ * (cut energies, moment sums, crops, centroids), and every such sum is an exact integer. One read
+ * of a region's pixels into its per-column and per-row sums (its marginals) therefore gives each
+ * of them as the same integer the SAT gives: the same cuts, keys and lights, bit for bit, in
+ * O(W + H) memory, for O(w h) reads each time a region is looked at. */
+
+/* The marginals of the region last scanned, indexed from its corner: per column ce = sum e and,
+ * with the moments, c0 = sum em, c1 = sum em v, c2 = sum em v^2; per row re = sum e, r0 = sum em,
+ * r1 = sum em u, r2 = sum em u^2. u and v are absolute, as in the moment SATs, so every sum is a
+ * part of the probe's sums, below 2^64 (lightprobe.c's header). */
+typedef struct {
+    uint64_t *ce, *re, *c0, *c1, *c2, *r0, *r1, *r2;
+} marg;
+
+/* the arrays in the workspace (marg_entries): W + 1 entries per column array, H + 1 per row one */
+static void marg_arrays(const qibl_lightprobe_t *lp, marg *m)
+{
+    const size_t w1 = (size_t)lp->width + 1u, h1 = (size_t)lp->height + 1u;
+    uint64_t *p = lp->marg;
+    m->ce = p, p += w1;
+    m->re = p, p += h1;
+    m->c0 = m->c1 = m->c2 = m->r0 = m->r1 = m->r2 = 0;
+    if (lp->built_for == QIBL_LIGHTPROBE_VARMIN) {
+        m->c0 = p, p += w1;
+        m->c1 = p, p += w1;
+        m->c2 = p, p += w1;
+        m->r0 = p, p += h1;
+        m->r1 = p, p += h1;
+        m->r2 = p;
+    }
+}
+
+/* One read of r's pixels into the marginals (mom: the moment ones too, for a probe built for
+ * VARMIN); returns r's energy. */
+static uint64_t marg_scan(const qibl_lightprobe_t *lp, const marg *m, rect r, int mom)
+{
+    uint64_t buf[ROW_CHUNK], total = 0u;
+    const uint32_t w = r.u1 - r.u0, k = lp->mshift;
+    for (uint32_t i = 0; i < w; ++i)
+        m->ce[i] = 0u;
+    if (mom)
+        for (uint32_t i = 0; i < w; ++i)
+            m->c0[i] = m->c1[i] = m->c2[i] = 0u;
+    for (uint32_t v = r.v0; v < r.v1; ++v) {
+        const uint32_t vv = v * v; /* < 2^30 */
+        uint64_t se = 0u, s0 = 0u, s1 = 0u, s2 = 0u;
+        for (uint32_t u = r.u0; u < r.u1;) {
+            const uint32_t n = r.u1 - u < ROW_CHUNK ? r.u1 - u : ROW_CHUNK, o = u - r.u0;
+            row_energy(lp, v, u, n, buf);
+            if (!mom) {
+                for (uint32_t i = 0; i < n; ++i) {
+                    m->ce[o + i] += buf[i];
+                    se += buf[i];
+                }
+            } else {
+                for (uint32_t i = 0; i < n; ++i) {
+                    const uint64_t e = buf[i], em = qibl_shr_u64(e, k), emu = mul_lo_u64_u32(em, u + i);
+                    m->ce[o + i] += e;
+                    m->c0[o + i] += em;
+                    m->c1[o + i] += mul_lo_u64_u32(em, v);
+                    m->c2[o + i] += mul_lo_u64_u32(em, vv);
+                    se += e;
+                    s0 += em;
+                    s1 += emu;
+                    s2 += mul_lo_u64_u32(emu, u + i);
+                }
+            }
+            u += n;
+        }
+        m->re[v - r.v0] = se;
+        if (mom)
+            m->r0[v - r.v0] = s0, m->r1[v - r.v0] = s1, m->r2[v - r.v0] = s2;
+        total += se;
+    }
+    return total;
+}
+
+/* a[0 .. n) -> a[0 .. n]: a[i] = the sum of the first i entries (the arrays hold n + 1) */
+static void prefix(uint64_t *a, uint32_t n)
+{
+    uint64_t run = 0u;
+    for (uint32_t i = 0; i < n; ++i) {
+        uint64_t t = a[i];
+        a[i] = run;
+        run += t;
+    }
+    a[n] = run;
+}
+
+/* crop (below) from the marginals of a scan of r: the first and last lit column and row (an
+ * unlit r becomes its last pixel, as crop's searches make it) */
+static void marg_crop(const marg *m, rect *r)
+{
+    const uint32_t w = r->u1 - r->u0, h = r->v1 - r->v0;
+    uint32_t a = 0u, b = w, c = 0u, d = h;
+    while (a + 1u < w && m->ce[a] == 0u)
+        ++a;
+    while (b > a + 1u && m->ce[b - 1u] == 0u)
+        --b;
+    while (c + 1u < h && m->re[c] == 0u)
+        ++c;
+    while (d > c + 1u && m->re[d - 1u] == 0u)
+        --d;
+    r->u1 = r->u0 + b, r->u0 += a;
+    r->v1 = r->v0 + d, r->v0 += c;
+}
+
+/* the moment sums of a column i (absolute u) or a row i (absolute v) added to s (see rect_sums) */
+static inline void add_col(const marg *m, uint32_t i, uint32_t u, uint64_t s[5])
+{
+    const uint64_t a = m->c0[i], au = mul_lo_u64_u32(a, u);
+    s[0] += a;
+    s[1] += au;
+    s[2] += mul_lo_u64_u32(au, u);
+    s[3] += m->c1[i];
+    s[4] += m->c2[i];
+}
+
+static inline void add_row(const marg *m, uint32_t i, uint32_t v, uint64_t s[5])
+{
+    const uint64_t a = m->r0[i], av = mul_lo_u64_u32(a, v);
+    s[0] += a;
+    s[1] += m->r1[i];
+    s[2] += m->r2[i];
+    s[3] += av;
+    s[4] += mul_lo_u64_u32(av, v);
+}
+
+/* the moment sums of the scanned region r */
+static void marg_sums(const marg *m, rect r, uint64_t s[5])
+{
+    for (int j = 0; j < 5; ++j)
+        s[j] = 0u;
+    for (uint32_t i = 0; i < r.u1 - r.u0; ++i)
+        add_col(m, i, r.u0 + i, s);
+}
+
+/* F(c), the energy of a region before the cut c along one axis: from the SAT (pre NULL) or from
+ * the prefix sums of the region's marginal, pre[c - start] */
+typedef struct {
+    const qibl_lightprobe_t *lp;
+    rect r;
+    int along_u;
+    const uint64_t *pre;
+} line;
+
+static inline uint64_t line_f(const line *L, uint32_t c)
+{
+    if (L->pre)
+        return L->pre[c - (L->along_u ? L->r.u0 : L->r.v0)];
+    return L->along_u ? sat_sum(L->lp, L->r.u0, L->r.v0, c, L->r.v1) : sat_sum(L->lp, L->r.u0, L->r.v0, L->r.u1, c);
 }
 
 /* 2H times the mean sin theta over rows [v0, v1), in units of 2^-16, below 2^32: the factor that
@@ -840,19 +1092,24 @@ static int wider(const qibl_lightprobe_t *lp, rect r)
     return aw >= bh;
 }
 
-/* Variance-related quantities of a region from the moment SATs, about its own corner. */
+/* Variance-related quantities of a region, about its own corner. */
 typedef struct {
     uint64_t s0, su, suu, sv, svv;
 } moments;
 
-static void rect_moments(const qibl_lightprobe_t *lp, rect r, moments *m)
+/* The region's moment sums S0 = sum em, S1 = sum em u, S2 = sum em u^2, S3 = sum em v,
+ * S4 = sum em v^2 (absolute u, v) from the moment SATs */
+static void rect_sums(const qibl_lightprobe_t *lp, rect r, uint64_t s[5])
 {
     const size_t w1 = lp->width + 1u;
     const uint64_t *a = lp->mom + 5u * ((size_t)r.v0 * w1), *b = lp->mom + 5u * ((size_t)r.v1 * w1);
-    uint64_t s[5];
     for (int j = 0; j < 5; ++j)
         s[j] = b[5u * r.u1 + (unsigned)j] - b[5u * r.u0 + (unsigned)j] - a[5u * r.u1 + (unsigned)j] +
                a[5u * r.u0 + (unsigned)j];
+}
+
+static void shift_moments(const uint64_t s[5], rect r, moments *m)
+{
     /* shift the origin to (u0, v0): sum e (u - u0) = S1 - u0 S0, sum e (u - u0)^2 = S2 - 2 u0 S1 + u0^2 S0,
      * all mod 2^64, exact since the true values are below 2^64 */
     m->s0 = s[0];
@@ -873,13 +1130,14 @@ static uint64_t variance(uint64_t s0, uint64_t s1, uint64_t s2)
     return s2 > q ? s2 - q : 0u;
 }
 
-/* Energy-weighted angular variance of a region: a^2 Var_u + b^2 Var_v with a = 2H mean_sin and
- * b = W (both in units of 2^-16), proportional to sum e d^2 with d the angular distance to the
- * centroid measured as (sin theta dphi, dtheta). Below 2^127: Var_u <= S0 w^2 / 4 < 2^62. */
-static void rect_variance(const qibl_lightprobe_t *lp, rect r, u128 *out)
+/* Energy-weighted angular variance of a region with moment sums s: a^2 Var_u + b^2 Var_v with
+ * a = 2H mean_sin and b = W (both in units of 2^-16), proportional to sum e d^2 with d the angular
+ * distance to the centroid measured as (sin theta dphi, dtheta). Below 2^127: Var_u <= S0 w^2 / 4
+ * < 2^62. */
+static void sums_variance(const qibl_lightprobe_t *lp, rect r, const uint64_t s[5], u128 *out)
 {
     moments m;
-    rect_moments(lp, r, &m);
+    shift_moments(s, r, &m);
     uint64_t a = width_factor(lp, r.v0, r.v1); /* < 2^32 */
     uint64_t b = (uint64_t)lp->width << 16;    /* <= 2^31 */
     u128 t;
@@ -897,19 +1155,23 @@ static inline uint64_t imbalance(uint64_t f, uint64_t total)
 }
 
 /* Median cut: split along the longer side on the sphere at the cut whose halves' energies are
- * closest (ties: the smaller cut), found by binary search on the SAT. 0 if r cannot split. */
-static int cut_median(const qibl_lightprobe_t *lp, rect r, uint64_t total, rect *a, rect *b)
+ * closest (ties: the smaller cut), found by binary search on F (the SAT, or the prefix sums
+ * pre_u / pre_v of the region's marginals). 0 if r cannot split. */
+static int cut_median(const qibl_lightprobe_t *lp, rect r, uint64_t total, const uint64_t *pre_u,
+                      const uint64_t *pre_v, rect *a, rect *b)
 {
     uint32_t w = r.u1 - r.u0, h = r.v1 - r.v0;
     if (w < 2u && h < 2u)
         return 0;
     int along_u = h < 2u || (w >= 2u && wider(lp, r));
+    line L;
+    L.lp = lp, L.r = r, L.along_u = along_u, L.pre = along_u ? pre_u : pre_v;
     uint32_t lo = (along_u ? r.u0 : r.v0) + 1u, hi = (along_u ? r.u1 : r.v1) - 1u; /* cuts lo..hi */
     /* smallest c in [lo, hi] with F(c) >= T - F(c), else hi */
     uint32_t l = lo, e = hi;
     while (l < e) {
         uint32_t c = l + (e - l) / 2u;
-        uint64_t f = along_u ? sat_sum(lp, r.u0, r.v0, c, r.v1) : sat_sum(lp, r.u0, r.v0, r.u1, c);
+        uint64_t f = line_f(&L, c);
         if (f >= total - f)
             e = c;
         else
@@ -918,8 +1180,8 @@ static int cut_median(const qibl_lightprobe_t *lp, rect r, uint64_t total, rect 
     uint32_t c = l;
     if (c > lo) {
         /* the cut before may be closer to the median: keep the closer one (ties: the smaller) */
-        uint64_t f1 = along_u ? sat_sum(lp, r.u0, r.v0, c, r.v1) : sat_sum(lp, r.u0, r.v0, r.u1, c);
-        uint64_t f0 = along_u ? sat_sum(lp, r.u0, r.v0, c - 1u, r.v1) : sat_sum(lp, r.u0, r.v0, r.u1, c - 1u);
+        uint64_t f1 = line_f(&L, c);
+        uint64_t f0 = line_f(&L, c - 1u);
         if (imbalance(f0, total) <= imbalance(f1, total)) {
             --c;
             f1 = f0;
@@ -930,7 +1192,7 @@ static int cut_median(const qibl_lightprobe_t *lp, rect r, uint64_t total, rect 
         e = c;
         while (l < e) {
             uint32_t m = l + (e - l) / 2u;
-            uint64_t f = along_u ? sat_sum(lp, r.u0, r.v0, m, r.v1) : sat_sum(lp, r.u0, r.v0, r.u1, m);
+            uint64_t f = line_f(&L, m);
             if (f >= f1)
                 e = m;
             else
@@ -949,8 +1211,9 @@ static int cut_median(const qibl_lightprobe_t *lp, rect r, uint64_t total, rect 
 
 /* Variance minimisation: among all cuts of both axes, the one minimising the larger of the two
  * halves' variances (Viriyothai & Debevec); ties: the smaller energy imbalance, then the longer
- * side on the sphere, then the smaller cut. 0 if r cannot split. */
-static int cut_varmin(const qibl_lightprobe_t *lp, rect r, uint64_t total, rect *a, rect *b)
+ * side on the sphere, then the smaller cut. The halves' sums come from the moment SATs (m NULL)
+ * or, cut after cut, from the running sums of the marginals of a scan of r. 0 if r cannot split. */
+static int cut_varmin(const qibl_lightprobe_t *lp, const marg *m, rect r, uint64_t total, rect *a, rect *b)
 {
     uint32_t w = r.u1 - r.u0, h = r.v1 - r.v0;
     if (w < 2u && h < 2u)
@@ -958,20 +1221,43 @@ static int cut_varmin(const qibl_lightprobe_t *lp, rect r, uint64_t total, rect 
     int first_u = h < 2u || (w >= 2u && wider(lp, r));
     int found = 0;
     u128 best = {0u, 0u}, vx, vy;
-    uint64_t best_imb = 0u;
+    uint64_t best_imb = 0u, all[5];
+    if (m)
+        marg_sums(m, r, all);
     for (int pass = 0; pass < 2; ++pass) {
         int along_u = pass == 0 ? first_u : !first_u;
         uint32_t lo = (along_u ? r.u0 : r.v0) + 1u, hi = along_u ? r.u1 : r.v1;
+        uint64_t run[5], run_e = 0u;
+        for (int j = 0; j < 5; ++j)
+            run[j] = 0u; /* assigned one by one: an initialiser becomes a memset call */
         for (uint32_t c = lo; c < hi; ++c) {
             rect x = r, y = r;
             if (along_u)
                 x.u1 = y.u0 = c;
             else
                 x.v1 = y.v0 = c;
-            rect_variance(lp, x, &vx);
-            rect_variance(lp, y, &vy);
+            uint64_t sx[5], sy[5], ex;
+            if (m) {
+                const uint32_t i = c - lo; /* the column or row just before the cut */
+                if (along_u) {
+                    add_col(m, i, c - 1u, run);
+                    run_e += m->ce[i];
+                } else {
+                    add_row(m, i, c - 1u, run);
+                    run_e += m->re[i];
+                }
+                for (int j = 0; j < 5; ++j)
+                    sx[j] = run[j], sy[j] = all[j] - run[j];
+                ex = run_e;
+            } else {
+                rect_sums(lp, x, sx);
+                rect_sums(lp, y, sy);
+                ex = rect_energy(lp, x);
+            }
+            sums_variance(lp, x, sx, &vx);
+            sums_variance(lp, y, sy, &vy);
             const u128 *score = cmp128(&vx, &vy) >= 0 ? &vx : &vy;
-            uint64_t imb = imbalance(rect_energy(lp, x), total);
+            uint64_t imb = imbalance(ex, total);
             int k = found ? cmp128(score, &best) : -1;
             if (k < 0 || (k == 0 && imb < best_imb)) {
                 found = 1;
@@ -988,13 +1274,13 @@ static int cut_varmin(const qibl_lightprobe_t *lp, rect r, uint64_t total, rect 
 
 /* ---- priorities ------------------------------------------------------------------------------- */
 
-/* Greedy key of a region (0: never split it). */
-static void region_key(const qibl_lightprobe_t *lp, rect r, qibl_lightprobe_priority_t pr, u128 *k)
+/* Greedy key of a region with energy e and moment sums s (VARIANCE only) (0: never split it). */
+static void region_key(const qibl_lightprobe_t *lp, rect r, qibl_lightprobe_priority_t pr, uint64_t e,
+                       const uint64_t s[5], u128 *k)
 {
     k->hi = k->lo = 0u;
-    if (r.u1 - r.u0 < 2u && r.v1 - r.v0 < 2u)
+    if (pr == QIBL_LIGHTPROBE_PRIORITY_LEVELS || (r.u1 - r.u0 < 2u && r.v1 - r.v0 < 2u))
         return;
-    uint64_t e = rect_energy(lp, r);
     if (pr == QIBL_LIGHTPROBE_PRIORITY_ENERGY) {
         k->lo = e;
     } else if (pr == QIBL_LIGHTPROBE_PRIORITY_ENERGY_SIZE) {
@@ -1002,12 +1288,70 @@ static void region_key(const qibl_lightprobe_t *lp, rect r, qibl_lightprobe_prio
         uint64_t bh = qibl_mul_u32_u64(lp->width, r.v1 - r.v0) << 16;
         mul64(e, aw > bh ? aw : bh, k); /* energy times the longer side, < 2^111 */
     } else {
-        rect_variance(lp, r, k);
+        sums_variance(lp, r, s, k);
     }
 }
 
-/* Exchanges two lights member by member (a struct assignment would call memcpy on some targets,
- * which a freestanding core does not link). */
+/* While regions split, each light holds its region's key and its cut in its dir and rgb members
+ * (free until the colours and directions are written): 32-bit pieces, each stored as
+ * piece - 2^31 so that an int32 holds it exactly. Key in dir[0] and rgb[0..2], cut in dir[1]
+ * (see cut_code); then, for the sort and the directions, the energy in dir[1..2] (it outlives
+ * the colour pass, which writes rgb and dir[0]). */
+static inline int32_t piece_in(uint64_t x)
+{
+    return (int32_t)((int64_t)(uint32_t)x - ((int64_t)1 << 31));
+}
+
+static inline uint64_t piece_out(int32_t x)
+{
+    return (uint64_t)((int64_t)x + ((int64_t)1 << 31));
+}
+
+static void put_region(qibl_lightprobe_light_t *l, const rect *r, const u128 *k, uint32_t cut)
+{
+    set_rect(l, r);
+    l->dir[1] = piece_in(cut), l->dir[2] = 0;
+    l->dir[0] = piece_in(k->hi >> 32), l->rgb[0] = piece_in(k->hi), l->rgb[1] = piece_in(k->lo >> 32);
+    l->rgb[2] = piece_in(k->lo);
+}
+
+static void put_energy(qibl_lightprobe_light_t *l, uint64_t e)
+{
+    l->dir[1] = piece_in(e >> 32), l->dir[2] = piece_in(e);
+}
+
+/* A region's median cut, decided on the low-memory path when the region is settled (that scan's
+ * marginals are the region's, so no second read of it when it splits): 1 + 2 c + along_u, or 0
+ * for none yet (one pixel; VARMIN, whose cut costs more than a read of the region on the small
+ * targets and so is made only for the regions that split; the SAT path, which cuts when it
+ * splits) */
+static inline uint32_t cut_code(const rect *r, const rect *a)
+{
+    const uint32_t along_u = a->u1 != r->u1;
+    return 1u + 2u * (along_u ? a->u1 : a->v1) + along_u;
+}
+
+static inline uint64_t light_energy(const qibl_lightprobe_light_t *l)
+{
+    return piece_out(l->dir[1]) << 32 | piece_out(l->dir[2]);
+}
+
+static inline void light_key(const qibl_lightprobe_light_t *l, u128 *k)
+{
+    k->hi = piece_out(l->dir[0]) << 32 | piece_out(l->rgb[0]);
+    k->lo = piece_out(l->rgb[1]) << 32 | piece_out(l->rgb[2]);
+}
+
+/* *d = *s member by member (a struct assignment would call memcpy on some targets, which a
+ * freestanding core does not link) */
+static void copy_light(qibl_lightprobe_light_t *d, const qibl_lightprobe_light_t *s)
+{
+    for (int c = 0; c < 3; ++c)
+        d->dir[c] = s->dir[c], d->rgb[c] = s->rgb[c];
+    d->u0 = s->u0, d->v0 = s->v0, d->u1 = s->u1, d->v1 = s->v1;
+}
+
+/* Exchanges two lights member by member */
 static void swap_lights(qibl_lightprobe_light_t *x, qibl_lightprobe_light_t *y)
 {
     for (int c = 0; c < 3; ++c) {
@@ -1023,12 +1367,11 @@ static void swap_lights(qibl_lightprobe_light_t *x, qibl_lightprobe_light_t *y)
 
 /* heap order: larger key first, then smaller v0, then smaller u0 (a total, deterministic order:
  * the regions of one run never overlap) */
-static int before(const qibl_lightprobe_t *lp, qibl_lightprobe_priority_t pr, const qibl_lightprobe_light_t *x,
-                  const qibl_lightprobe_light_t *y)
+static int before(const qibl_lightprobe_light_t *x, const qibl_lightprobe_light_t *y)
 {
     u128 kx, ky;
-    region_key(lp, light_rect(x), pr, &kx);
-    region_key(lp, light_rect(y), pr, &ky);
+    light_key(x, &kx);
+    light_key(y, &ky);
     int k = cmp128(&kx, &ky);
     if (k != 0)
         return k > 0;
@@ -1037,14 +1380,13 @@ static int before(const qibl_lightprobe_t *lp, qibl_lightprobe_priority_t pr, co
     return x->u0 < y->u0;
 }
 
-static void sift_down(const qibl_lightprobe_t *lp, qibl_lightprobe_priority_t pr, qibl_lightprobe_light_t *h,
-                      uint32_t n, uint32_t i)
+static void sift_down(qibl_lightprobe_light_t *h, uint32_t n, uint32_t i)
 {
     for (;;) {
         uint32_t l = 2u * i + 1u, best = i;
-        if (l < n && before(lp, pr, &h[l], &h[best]))
+        if (l < n && before(&h[l], &h[best]))
             best = l;
-        if (l + 1u < n && before(lp, pr, &h[l + 1u], &h[best]))
+        if (l + 1u < n && before(&h[l + 1u], &h[best]))
             best = l + 1u;
         if (best == i)
             return;
@@ -1053,12 +1395,11 @@ static void sift_down(const qibl_lightprobe_t *lp, qibl_lightprobe_priority_t pr
     }
 }
 
-static void sift_up(const qibl_lightprobe_t *lp, qibl_lightprobe_priority_t pr, qibl_lightprobe_light_t *h,
-                    uint32_t i)
+static void sift_up(qibl_lightprobe_light_t *h, uint32_t i)
 {
     while (i > 0u) {
         uint32_t p = (i - 1u) / 2u;
-        if (!before(lp, pr, &h[i], &h[p]))
+        if (!before(&h[i], &h[p]))
             return;
         swap_lights(&h[i], &h[p]);
         i = p;
@@ -1110,41 +1451,108 @@ static void crop(const qibl_lightprobe_t *lp, rect *r)
     r->v1 = l;
 }
 
-/* Splits a cropped region into two cropped, lit halves; 0 if it is one pixel. */
-static int split(const qibl_lightprobe_t *lp, int varmin, rect r, rect *a, rect *b)
+/* A new region: cropped to its energy's bounding box, with its greedy key *k and (low-memory
+ * path, m non-NULL: from the one scan of it) its median cut *cut (cut_code) */
+static void settle(const qibl_lightprobe_t *lp, const marg *m, int varmin, qibl_lightprobe_priority_t pr, rect *r,
+                   u128 *k, uint32_t *cut)
 {
-    uint64_t t = rect_energy(lp, r);
-    if (!(varmin ? cut_varmin(lp, r, t, a, b) : cut_median(lp, r, t, a, b)))
+    const int var = pr == QIBL_LIGHTPROBE_PRIORITY_VARIANCE;
+    uint64_t s[5], e;
+    for (int j = 0; j < 5; ++j)
+        s[j] = 0u; /* assigned one by one: an initialiser becomes a memset call */
+    *cut = 0u;
+    if (m) {
+        rect scanned; /* member by member: a struct copy becomes a memcpy call on some targets */
+        scanned.u0 = r->u0, scanned.v0 = r->v0, scanned.u1 = r->u1, scanned.v1 = r->v1;
+        e = marg_scan(lp, m, scanned, var);
+        marg_crop(m, r);
+        if (var)
+            marg_sums(m, scanned, s); /* the cropped margins hold no energy */
+        if (!varmin && !(r->u1 - r->u0 < 2u && r->v1 - r->v0 < 2u)) {
+            /* the cropped region's marginals are the scan's from the crop's offsets (the columns
+             * and rows cropped away hold no energy) */
+            uint64_t *ce = m->ce + (r->u0 - scanned.u0), *re = m->re + (r->v0 - scanned.v0);
+            rect a, b;
+            prefix(ce, r->u1 - r->u0);
+            prefix(re, r->v1 - r->v0);
+            if (cut_median(lp, *r, e, ce, re, &a, &b))
+                *cut = cut_code(r, &a);
+        }
+    } else {
+        crop(lp, r);
+        e = rect_energy(lp, *r);
+        if (var && !(r->u1 - r->u0 < 2u && r->v1 - r->v0 < 2u))
+            rect_sums(lp, *r, s);
+    }
+    region_key(lp, *r, pr, e, s, k);
+}
+
+/* Splits a cropped region (the light src) into two cropped, lit halves with their keys (la and
+ * lb may be src); 0 if it is one pixel. */
+static int split(const qibl_lightprobe_t *lp, const marg *m, int varmin, qibl_lightprobe_priority_t pr,
+                 const qibl_lightprobe_light_t *src, qibl_lightprobe_light_t *la, qibl_lightprobe_light_t *lb)
+{
+    const rect r = light_rect(src);
+    if (r.u1 - r.u0 < 2u && r.v1 - r.v0 < 2u)
         return 0;
-    crop(lp, a);
-    crop(lp, b);
+    rect a, b;
+    const uint32_t code = m ? (uint32_t)piece_out(src->dir[1]) : 0u;
+    if (code != 0u) { /* settle decided it */
+        const uint32_t c = (code - 1u) >> 1;
+        a = r, b = r;
+        if ((code - 1u) & 1u)
+            a.u1 = b.u0 = c;
+        else
+            a.v1 = b.v0 = c;
+    } else if (m) {
+        /* VARMIN's cut (settle left it): the region read again, with the moments */
+        const uint64_t t = marg_scan(lp, m, r, varmin);
+        int ok;
+        if (varmin) {
+            ok = cut_varmin(lp, m, r, t, &a, &b);
+        } else {
+            prefix(m->ce, r.u1 - r.u0);
+            prefix(m->re, r.v1 - r.v0);
+            ok = cut_median(lp, r, t, m->ce, m->re, &a, &b);
+        }
+        if (!ok)
+            return 0;
+    } else {
+        uint64_t t = rect_energy(lp, r);
+        if (!(varmin ? cut_varmin(lp, 0, r, t, &a, &b) : cut_median(lp, r, t, 0, 0, &a, &b)))
+            return 0;
+    }
+    u128 ka, kb;
+    uint32_t ca, cb;
+    settle(lp, m, varmin, pr, &a, &ka, &ca);
+    settle(lp, m, varmin, pr, &b, &kb, &cb);
+    put_region(la, &a, &ka, ca);
+    put_region(lb, &b, &kb, cb);
     return 1;
 }
 
 /* Splits until max_lights regions or nothing splits; returns the count. Every region is the
  * bounding box of its energy (see crop), so each split adds one lit region; a region that cannot
  * split (one pixel) never stops the others, so the count is max_lights whenever the probe has
- * that many lit pixels. */
-static uint32_t make_regions(const qibl_lightprobe_t *lp, int varmin, qibl_lightprobe_priority_t pr,
+ * that many lit pixels. Each light holds its region's key and cut (put_region). */
+static uint32_t make_regions(const qibl_lightprobe_t *lp, const marg *m, int varmin, qibl_lightprobe_priority_t pr,
                              qibl_lightprobe_light_t *L, uint32_t max_lights)
 {
     rect all;
     all.u0 = all.v0 = 0u;
     all.u1 = lp->width;
     all.v1 = lp->height;
-    crop(lp, &all);
-    set_rect(&L[0], &all);
+    u128 k;
+    uint32_t cut;
+    settle(lp, m, varmin, pr, &all, &k, &cut);
+    put_region(&L[0], &all, &k, cut);
     uint32_t n = 1u;
     if (pr == QIBL_LIGHTPROBE_PRIORITY_LEVELS) {
         for (uint32_t round = 1u; round < max_lights; round <<= 1) {
-            uint32_t m = n;
-            for (uint32_t i = 0; i < m; ++i) {
-                rect a, b;
-                if (!split(lp, varmin, light_rect(&L[i]), &a, &b))
-                    continue;
-                set_rect(&L[i], &a);
-                set_rect(&L[n++], &b);
-            }
+            uint32_t cnt = n;
+            for (uint32_t i = 0; i < cnt; ++i)
+                if (split(lp, m, varmin, pr, &L[i], &L[i], &L[n]))
+                    ++n;
         }
         /* One-pixel regions (a tiny sun) skipped a split: split the next splittable regions in
          * list order instead, so that max_lights lights come back whenever the probe has that
@@ -1152,11 +1560,9 @@ static uint32_t make_regions(const qibl_lightprobe_t *lp, int varmin, qibl_light
         for (int grew = 1; grew && n < max_lights;) {
             grew = 0;
             for (uint32_t i = 0; i < n && n < max_lights; ++i) {
-                rect a, b;
-                if (!split(lp, varmin, light_rect(&L[i]), &a, &b))
+                if (!split(lp, m, varmin, pr, &L[i], &L[i], &L[n]))
                     continue;
-                set_rect(&L[i], &a);
-                set_rect(&L[n++], &b);
+                ++n;
                 grew = 1;
             }
         }
@@ -1167,64 +1573,64 @@ static uint32_t make_regions(const qibl_lightprobe_t *lp, int varmin, qibl_light
     uint32_t h = 1u, d = 0u;
     while (h > 0u && h + d < max_lights) {
         u128 top;
-        region_key(lp, light_rect(&L[0]), pr, &top);
+        light_key(&L[0], &top);
         if (top.hi == 0u && top.lo == 0u)
             break; /* the best region gains nothing from a split: none does */
-        rect a, b;
-        if (!split(lp, varmin, light_rect(&L[0]), &a, &b)) {
-            rect t = light_rect(&L[0]), last = light_rect(&L[h - 1u]);
+        /* the halves go to L[0] and L[h] (L[h] is free: h + d < max_lights) */
+        if (!split(lp, m, varmin, pr, &L[0], &L[0], &L[h])) {
             ++d;
-            set_rect(&L[max_lights - d], &t);
-            set_rect(&L[0], &last);
+            copy_light(&L[max_lights - d], &L[0]);
+            copy_light(&L[0], &L[h - 1u]);
             if (--h > 0u)
-                sift_down(lp, pr, L, h, 0u);
+                sift_down(L, h, 0u);
             continue;
         }
-        set_rect(&L[0], &a);
-        sift_down(lp, pr, L, h, 0u);
-        set_rect(&L[h], &b);
-        sift_up(lp, pr, L, h);
+        sift_down(L, h, 0u);
+        sift_up(L, h);
         ++h;
     }
     /* the set-aside regions back behind the heap (ascending copy: the destination is never
      * after the source) */
-    for (uint32_t i = 0; i < d; ++i) {
-        rect t = light_rect(&L[max_lights - d + i]);
-        set_rect(&L[h + i], &t);
-    }
+    for (uint32_t i = 0; i < d; ++i)
+        copy_light(&L[h + i], &L[max_lights - d + i]);
     return h + d;
 }
 
 /* sum over cuts k in (lo, hi) of the energy beyond k: sum e (x - lo) over the region, < 2^80 */
-static void first_moment(const qibl_lightprobe_t *lp, rect r, int along_u, uint64_t total, u128 *acc)
+static void first_moment(const line *L, uint64_t total, u128 *acc)
 {
     acc->hi = acc->lo = 0u;
-    uint32_t lo = along_u ? r.u0 : r.v0, hi = along_u ? r.u1 : r.v1;
-    for (uint32_t k = lo + 1u; k < hi; ++k) {
-        uint64_t f = along_u ? sat_sum(lp, r.u0, r.v0, k, r.v1) : sat_sum(lp, r.u0, r.v0, r.u1, k);
-        add128_64(acc, total - f);
-    }
+    uint32_t lo = L->along_u ? L->r.u0 : L->r.v0, hi = L->along_u ? L->r.u1 : L->r.v1;
+    for (uint32_t k = lo + 1u; k < hi; ++k)
+        add128_64(acc, total - line_f(L, k));
 }
 
 /* Centroid (or centre) of the region in pixel units, Q32, measured from the left / top edge. */
-static uint64_t place_q32(const qibl_lightprobe_t *lp, rect r, int along_u, uint64_t total,
-                          qibl_lightprobe_place_t place)
+static uint64_t place_q32(const line *L, uint64_t total, qibl_lightprobe_place_t place)
 {
-    uint32_t lo = along_u ? r.u0 : r.v0, hi = along_u ? r.u1 : r.v1;
+    uint32_t lo = L->along_u ? L->r.u0 : L->r.v0, hi = L->along_u ? L->r.u1 : L->r.v1;
     if (place == QIBL_LIGHTPROBE_PLACE_CENTRE)
         return (uint64_t)(lo + hi) << 31;
     /* mean of (x + 1/2) weighted by e = lo + 1/2 + sum e (x - lo) / T; the quotient is < 2^47 */
     u128 m;
-    first_moment(lp, r, along_u, total, &m);
+    first_moment(L, total, &m);
     shl128(&m, 32);
     uint64_t frac = div128(&m, total, 0);
     return ((uint64_t)lo << 32) + ((uint64_t)1 << 31) + frac;
 }
 
-static void direction(const qibl_lightprobe_t *lp, rect r, uint64_t total, qibl_lightprobe_place_t place,
-                      qibl_q30_t dir[3])
+static void direction(const qibl_lightprobe_t *lp, const marg *mg, rect r, uint64_t total,
+                      qibl_lightprobe_place_t place, qibl_q30_t dir[3])
 {
-    uint64_t cu = place_q32(lp, r, 1, total, place), cv = place_q32(lp, r, 0, total, place);
+    line lu, lv;
+    lu.lp = lv.lp = lp, lu.r = lv.r = r, lu.along_u = 1, lv.along_u = 0, lu.pre = lv.pre = 0;
+    if (mg && place != QIBL_LIGHTPROBE_PLACE_CENTRE) {
+        (void)marg_scan(lp, mg, r, 0);
+        prefix(mg->ce, r.u1 - r.u0);
+        prefix(mg->re, r.v1 - r.v0);
+        lu.pre = mg->ce, lv.pre = mg->re;
+    }
+    uint64_t cu = place_q32(&lu, total, place), cv = place_q32(&lv, total, place);
     /* phi / pi = 2 cu / W and theta / pi = cv / H, in Q31 */
     uint32_t fphi = (uint32_t)qibl_udiv_u64(cu + lp->width / 2u, lp->width, 0);
     uint32_t fth = (uint32_t)qibl_udiv_u64(cv + lp->height, 2u * (uint64_t)lp->height, 0);
@@ -1387,9 +1793,9 @@ static void region_rgb(const qibl_lightprobe_t *lp, rect r, uint64_t out[3])
 }
 
 /* heap sort of the lights by energy, brightest first (ties: smaller v0, then u0) */
-static int brighter(const qibl_lightprobe_t *lp, const qibl_lightprobe_light_t *x, const qibl_lightprobe_light_t *y)
+static int brighter(const qibl_lightprobe_light_t *x, const qibl_lightprobe_light_t *y)
 {
-    uint64_t a = rect_energy(lp, light_rect(x)), b = rect_energy(lp, light_rect(y));
+    uint64_t a = light_energy(x), b = light_energy(y);
     if (a != b)
         return a > b;
     if (x->v0 != y->v0)
@@ -1397,14 +1803,14 @@ static int brighter(const qibl_lightprobe_t *lp, const qibl_lightprobe_light_t *
     return x->u0 < y->u0;
 }
 
-static void sort_sift(const qibl_lightprobe_t *lp, qibl_lightprobe_light_t *h, uint32_t n, uint32_t i)
+static void sort_sift(qibl_lightprobe_light_t *h, uint32_t n, uint32_t i)
 {
     /* a heap with the dimmest on top, so that the sorted array ends up brightest first */
     for (;;) {
         uint32_t l = 2u * i + 1u, m = i;
-        if (l < n && brighter(lp, &h[m], &h[l]))
+        if (l < n && brighter(&h[m], &h[l]))
             m = l;
-        if (l + 1u < n && brighter(lp, &h[m], &h[l + 1u]))
+        if (l + 1u < n && brighter(&h[m], &h[l + 1u]))
             m = l + 1u;
         if (m == i)
             return;
@@ -1413,13 +1819,13 @@ static void sort_sift(const qibl_lightprobe_t *lp, qibl_lightprobe_light_t *h, u
     }
 }
 
-static void sort_lights(const qibl_lightprobe_t *lp, qibl_lightprobe_light_t *L, uint32_t n)
+static void sort_lights(qibl_lightprobe_light_t *L, uint32_t n)
 {
     for (uint32_t i = n / 2u; i-- > 0u;)
-        sort_sift(lp, L, n, i);
+        sort_sift(L, n, i);
     for (uint32_t end = n; end > 1u; --end) {
         swap_lights(&L[0], &L[end - 1u]);
-        sort_sift(lp, L, end - 1u, 0u);
+        sort_sift(L, end - 1u, 0u);
     }
 }
 
@@ -1452,15 +1858,25 @@ qibl_status_t qibl_lightprobe_lights(const qibl_lightprobe_t *lp, const qibl_lig
     const int varmin = o.method == QIBL_LIGHTPROBE_VARMIN;
     if (max_lights == 0u || (pr == QIBL_LIGHTPROBE_PRIORITY_LEVELS && (max_lights & (max_lights - 1u)) != 0u))
         return QIBL_E_PROBE_COUNT;
-    if ((varmin || pr == QIBL_LIGHTPROBE_PRIORITY_VARIANCE) && lp->mom == 0)
-        return QIBL_E_PROBE_MISMATCH;
-    const uint64_t total = sat_sum(lp, 0u, 0u, lp->width, lp->height);
-    if (total == 0u)
+    if ((varmin || pr == QIBL_LIGHTPROBE_PRIORITY_VARIANCE) && lp->built_for != QIBL_LIGHTPROBE_VARMIN)
+        return QIBL_E_PROBE_MISMATCH; /* the moment tables (or marginals) are missing */
+    if (lp->total == 0u)
         return QIBL_E_PROBE_BLACK;
 
-    /* No failure is possible from here on: lights[] is the working list of regions. */
-    uint32_t n = make_regions(lp, varmin, pr, lights, max_lights);
-    sort_lights(lp, lights, n);
+    /* No failure is possible from here on: lights[] is the working list of regions. Without a
+     * SAT, the workspace's marginals are the scratch of every region look. */
+    marg mm;
+    const marg *mg = 0;
+    if (lp->sat == 0) {
+        marg_arrays(lp, &mm);
+        mg = &mm;
+    }
+    uint32_t n = make_regions(lp, mg, varmin, pr, lights, max_lights);
+    for (uint32_t i = 0; i < n; ++i) {
+        const rect r = light_rect(&lights[i]);
+        put_energy(&lights[i], mg ? pixel_sum(lp, r.u0, r.v0, r.u1, r.v1) : rect_energy(lp, r));
+    }
+    sort_lights(lights, n);
 
     /* Colours: X_c = A_c K with K = 2 pi^2 2^j / (W H D) in [2^62, 2^64), so that
      * rgb_c = X_c 2^-(g + 58 + j). Each light is first rounded to 31 bits with its own exponent
@@ -1498,7 +1914,7 @@ qibl_status_t qibl_lightprobe_lights(const qibl_lightprobe_t *lp, const qibl_lig
                 lights[i].rgb[c] = (int32_t)m[c];
             break;
         }
-        lights[i].dir[0] = s;
+        lights[i].dir[0] = s; /* the energy stays in dir[1..2] (put_region) */
         if (s > smax)
             smax = s;
     }
@@ -1508,7 +1924,7 @@ qibl_status_t qibl_lightprobe_lights(const qibl_lightprobe_t *lp, const qibl_lig
             uint32_t m = (uint32_t)lights[i].rgb[c];
             lights[i].rgb[c] = d == 0u ? (int32_t)m : d >= 32u ? 0 : (int32_t)((m + (1u << (d - 1u))) >> d);
         }
-        direction(lp, light_rect(&lights[i]), rect_energy(lp, light_rect(&lights[i])), o.place, lights[i].dir);
+        direction(lp, mg, light_rect(&lights[i]), light_energy(&lights[i]), o.place, lights[i].dir);
     }
     result->count = n;
     result->rgb_exp = smax - (lp->gshift + 58 + (int32_t)j);

@@ -95,8 +95,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         FUZZ_CHECK(memcmp(&lp, &lp0, sizeof lp) == 0 || st == QIBL_E_PROBE_BLACK);
         goto done;
     }
-    /* a too-small workspace is refused */
-    FUZZ_CHECK(qibl_lightprobe_build(&lp0, &img, build_m, wbuf + woff, need - 1u) == QIBL_E_WORKSPACE);
+    /* a workspace below the low-memory path's minimum is refused, writing nothing */
+    const size_t least = qibl_lightprobe_workspace_min(w, h, build_m);
+    FUZZ_CHECK(least > 0u && least <= need);
+    FUZZ_CHECK(qibl_lightprobe_build(&lp0, &img, build_m, wbuf + woff, least - 1u) == QIBL_E_WORKSPACE);
+    {
+        qibl_lightprobe_t pattern;
+        memset(&pattern, 0x5A, sizeof pattern);
+        FUZZ_CHECK(memcmp(&lp0, &pattern, sizeof lp0) == 0);
+    }
 
     const uint64_t total = energy(&lp, 0, 0, w, h);
     FUZZ_CHECK((total != 0u) == (any_lit != 0));
@@ -199,6 +206,19 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 found += L[i].u0 <= u && u < L[i].u1 && L[i].v0 <= v && v < L[i].v1;
             FUZZ_CHECK(found == 1);
         }
+    /* the low-memory path (no SAT, a workspace of the minimum): the same lights, bit for bit */
+    {
+        uint8_t *mbuf = malloc(least + woff);
+        qibl_lightprobe_t lm;
+        qibl_lightprobe_light_t *M = malloc(max_lights * sizeof *M);
+        qibl_lightprobe_result_t rm = {0u, 0};
+        FUZZ_CHECK(qibl_lightprobe_build(&lm, &img, build_m, mbuf + woff, least) == QIBL_OK);
+        FUZZ_CHECK(energy(&lm, 0, 0, w, h) == total);
+        FUZZ_CHECK(qibl_lightprobe_lights(&lm, &opts, M, max_lights, &rm) == QIBL_OK);
+        FUZZ_CHECK(rm.count == res.count && rm.rgb_exp == res.rgb_exp && memcmp(M, L, n * sizeof *L) == 0);
+        free(M);
+        free(mbuf);
+    }
     free(L);
 
     /* the row weights: a mantissa in [2^31, 2^32) within 2^-30 of sin((v + 1/2) pi / h) */

@@ -287,8 +287,9 @@ static int fr_lights(const fr_sat *s, const uint8_t *rgbe, int levels, fr_region
     return nl;
 }
 
-/* qibl's median cut 64 (SAT included) against fr_ (same probe bytes) and the plain read, in one
- * interleaved loop: each rep runs the three in a rotating order, each twice in a row with the
+/* qibl's median cut 64 (SAT included) against fr_ (same probe bytes), the plain read and qibl's
+ * low-memory path (qibl_lightprobe_workspace_min: marginals instead of the SAT, the same lights),
+ * in one interleaved loop: each rep runs the four in a rotating order, each twice in a row with the
  * second run timed (its own warm caches), in thread CPU time. Prints minima and paired medians;
  * RESULT lines (suffix sfx) from the minima. 0, or 1 after a message. */
 static int versus_thefranke(int quick, const char *name, const uint8_t *px, int w, int h, const char *sfx)
@@ -297,13 +298,14 @@ static int versus_thefranke(int quick, const char *name, const uint8_t *px, int 
     const int reps = quick ? 5 : 21;
     const size_t bytes = 4 * (size_t)w * (size_t)h;
     const size_t wsz = qibl_lightprobe_workspace_size((uint32_t)w, (uint32_t)h, QIBL_LIGHTPROBE_MEDIANCUT);
+    const size_t wmin = qibl_lightprobe_workspace_min((uint32_t)w, (uint32_t)h, QIBL_LIGHTPROBE_MEDIANCUT);
     void *ws = malloc(wsz);
-    qibl_lightprobe_light_t *L = malloc(sizeof *L * 64);
+    qibl_lightprobe_light_t *L = malloc(sizeof *L * 64), *LM = malloc(sizeof *LM * 64);
     fr_sat s = {w, h, malloc(sizeof(float) * (size_t)w * (size_t)h), {0}};
     fr_region *reg = malloc(sizeof *reg * 64);
     fr_light *fl = malloc(sizeof *fl * 64);
     int rc = 0;
-    if (!ws || !L || !s.sat || !reg || !fl) {
+    if (!ws || !L || !LM || !s.sat || !reg || !fl) {
         rc = 1;
         fprintf(stderr, "qibl: bench lights: out of memory\n");
         goto out;
@@ -316,29 +318,30 @@ static int versus_thefranke(int quick, const char *name, const uint8_t *px, int 
     memset(&img, 0, sizeof img);
     img.pixels = px, img.width = (uint32_t)w, img.height = (uint32_t)h;
     const qibl_lightprobe_opts_t mc = {QIBL_LIGHTPROBE_MEDIANCUT, 0, 0};
-    /* [kind][rep]: kind 0 read, 1 qibl total, 2 theirs total, 3 qibl SAT, 4 qibl cut, 5 theirs SAT, 6 theirs cut */
-    double t[7][REPS];
-    uint32_t nq = 0;
+    /* [kind][rep]: kind 0 read, 1 qibl total, 2 theirs total, 3 qibl SAT, 4 qibl cut, 5 theirs SAT,
+     * 6 theirs cut, 7 qibl low-memory total, 8 its build (the total), 9 its cut */
+    double t[10][REPS];
+    uint32_t nq = 0, nm = 0;
     int nf = 0;
     for (int r = 0; r < reps; ++r)
-        for (int i = 0; i < 6; ++i) {
-            const int kind = (i / 2 + r) % 3;
+        for (int i = 0; i < 8; ++i) {
+            const int kind = (i / 2 + r) % 4;
             double t0 = qtool_bench_cpu_now(), t1 = t0;
             if (kind == 0) {
                 sink = read_pass(px, bytes);
-            } else if (kind == 1) {
+            } else if (kind == 1 || kind == 3) {
                 qibl_lightprobe_t lp;
                 qibl_lightprobe_result_t res;
-                qibl_status_t st = qibl_lightprobe_build(&lp, &img, QIBL_LIGHTPROBE_MEDIANCUT, ws, wsz);
+                qibl_status_t st = qibl_lightprobe_build(&lp, &img, QIBL_LIGHTPROBE_MEDIANCUT, ws, kind == 1 ? wsz : wmin);
                 t1 = qtool_bench_cpu_now();
                 if (st == QIBL_OK)
-                    st = qibl_lightprobe_lights(&lp, &mc, L, 64, &res);
+                    st = qibl_lightprobe_lights(&lp, &mc, kind == 1 ? L : LM, 64, &res);
                 if (st != QIBL_OK) {
                     rc = 1;
                     fprintf(stderr, "qibl: bench lights: %s\n", qibl_status_str(st));
                     goto out;
                 }
-                nq = res.count;
+                *(kind == 1 ? &nq : &nm) = res.count;
             } else {
                 fr_create_lum(&s, px);
                 t1 = qtool_bench_cpu_now();
@@ -347,20 +350,26 @@ static int versus_thefranke(int quick, const char *name, const uint8_t *px, int 
             }
             const double t2 = qtool_bench_cpu_now();
             if (i % 2 == 1) {
-                t[kind][r] = (t2 - t0) * 1e3;
+                const int tot = kind == 3 ? 7 : kind, part = kind == 3 ? 8 : 2 * kind + 1;
+                t[tot][r] = (t2 - t0) * 1e3;
                 if (kind > 0)
-                    t[2 * kind + 1][r] = (t1 - t0) * 1e3, t[2 * kind + 2][r] = (t2 - t1) * 1e3;
+                    t[part][r] = (t1 - t0) * 1e3, t[part + 1][r] = (t2 - t1) * 1e3;
             }
         }
-    double mn[7], md[7];
-    for (int k = 0; k < 7; ++k) {
+    if (nm != nq || memcmp(L, LM, sizeof *L * nq) != 0) {
+        rc = 1;
+        fprintf(stderr, "qibl: bench lights: the low-memory path's lights differ from the SAT path's\n");
+        goto out;
+    }
+    double mn[10], md[10];
+    for (int k = 0; k < 10; ++k) {
         double c[REPS];
         memcpy(c, t[k], sizeof c);
         mn[k] = qtool_bench_min(c, reps);
         md[k] = qtool_bench_median(c, reps);
     }
     const double pr_total = qtool_bench_paired_ratio(t[1], t[2], reps), pr_cut = qtool_bench_paired_ratio(t[4], t[6], reps),
-                 pr_sat = qtool_bench_paired_ratio(t[3], t[5], reps);
+                 pr_sat = qtool_bench_paired_ratio(t[3], t[5], reps), pr_low = qtool_bench_paired_ratio(t[7], t[1], reps);
     printf("\n== bench lights: qibl's median cut 64 against thefranke's (dirtchamber, float SAT, in C here): %s, "
            "%d x %d, %d interleaved reps, thread CPU ms\n", name, w, h, reps);
     printf("%-40s %7s %9s %9s %9s %9s %9s %9s\n", "run", "lights", "SAT min", "SAT med", "cut min", "cut med",
@@ -371,13 +380,18 @@ static int versus_thefranke(int quick, const char *name, const uint8_t *px, int 
            mn[4], md[4], mn[1], md[1]);
     printf("%-40s %7d %9.3f %9.3f %9.3f %9.3f %9.3f %9.3f\n", "thefranke median cut, 6 levels", nf, mn[5], md[5],
            mn[6], md[6], mn[2], md[2]);
+    printf("%-40s %7u %9.3f %9.3f %9.3f %9.3f %9.3f %9.3f\n", "qibl median cut 64, low-memory path", nm, mn[8], md[8],
+           mn[9], md[9], mn[7], md[7]);
     printf("qibl / theirs: total %.3f (minima), %.3f (paired medians); SAT %.3f, %.3f; cut %.3f, %.3f\n",
            mn[1] / mn[2], pr_total, mn[3] / mn[5], pr_sat, mn[4] / mn[6], pr_cut);
     printf("RESULT lights.mediancut64_over_thefranke%s %.3f\n", sfx, mn[1] / mn[2]);
     printf("RESULT lights.cut64_over_thefranke%s %.3f\n", sfx, mn[4] / mn[6]);
     printf("RESULT lights.sat_over_thefranke%s %.3f\n", sfx, mn[3] / mn[5]);
+    printf("low-memory path (%zu B of workspace, not %zu) / SAT path: total %.3f (minima), %.3f (paired medians)\n",
+           wmin, wsz, mn[7] / mn[1], pr_low);
+    printf("RESULT lights.lowmem64_over_sat%s %.3f\n", sfx, mn[7] / mn[1]);
 out:
-    free(ws), free(L), free(s.sat), free(reg), free(fl);
+    free(ws), free(L), free(LM), free(s.sat), free(reg), free(fl);
     return rc;
 }
 

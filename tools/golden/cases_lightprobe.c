@@ -133,13 +133,18 @@ static int check_lights(const qtool_goldens_sink_t *s, const char *name, const q
     return qtool_gcase_emit(s, name, buf, qtool_goldens_light_bytes(L, &res, buf));
 }
 
-/* One light-list case: the probe's tables built for method alone (the least workspace a method
- * needs; the lights depend on the method, not on what else the tables hold), then the lights. */
+/* One light-list case: the probe's tables built for method alone (the lights depend on the
+ * method, not on what else the tables hold), then the lights. The SAT's workspace when it can be
+ * allocated, else the low-memory path's minimum (the GBA's heap): the same bytes either way. */
 static int lights_case(const qtool_goldens_sink_t *s, const char *name, const qibl_lightprobe_image_t *img,
                        qibl_lightprobe_method_t method, uint32_t n)
 {
     size_t wn = qibl_lightprobe_workspace_size(img->width, img->height, method);
     void *ws = wn ? malloc(wn) : NULL;
+    if (ws == NULL) {
+        wn = qibl_lightprobe_workspace_min(img->width, img->height, method);
+        ws = wn ? malloc(wn) : NULL;
+    }
     if (ws == NULL)
         return qtool_gcase_oom_size(s, name, wn);
     qibl_lightprobe_t lp;

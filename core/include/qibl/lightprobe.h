@@ -63,14 +63,27 @@
  *     sin theta taken as the half's mean, is minimised (ties: the more balanced energy).
  *   - Light colours come from one more pass over the probe pixels, region by region (the regions
  *     are disjoint, so it reads each lit pixel at most once).
+ *   - The low-memory path (a workspace below qibl_lightprobe_workspace_size but at least
+ *     qibl_lightprobe_workspace_min) builds no SAT. Every decision above reads a region only
+ *     through sums over its whole columns or whole rows, so one read of the region's pixels (each
+ *     pixel's e decoded exactly as the SAT build does) into its column and row sums, the
+ *     marginals, and their prefix sums give every cut's sums, crops, keys and centroids as the
+ *     same exact integers: the same lights, bit for bit (tests/lightprobe_test.c compares the two
+ *     paths on every format, method, priority and placement).
  *
  * Memory: qibl_lightprobe_workspace_size(W, H, method) bytes, any alignment:
  *   8 (W + 1)(H + 1) for the SAT (48 (W + 1)(H + 1) with the five moment SATs of VARMIN)
  *   + 16 (H + 1) for the row tables + 8 for alignment (docs/porting.md's generated memory
- *   table lists it for three probe sizes). The lights array doubles as the list of regions while
- *   splitting; the stack use is a few hundred bytes.
+ *   table lists it for three probe sizes). Or, for the low-memory path, as little as
+ *   qibl_lightprobe_workspace_min(W, H, method): 8 (W + H + 2) for one column and one row of
+ *   sums (32 (W + H + 2) with VARMIN's moment sums) + the same row tables and alignment, O(W + H)
+ *   where the SAT is O(W H). The lights array doubles as the list of regions (with their keys and
+ *   energies) while splitting; the stack use is a few hundred bytes to a few KiB by target
+ *   (docs/porting.md's generated stack tables).
  * Limits: W, H in 1..QIBL_LIGHTPROBE_MAX_DIM (32768), W H <= QIBL_LIGHTPROBE_MAX_PIXELS (2^26).
  * All functions are reentrant; the probe pixels must stay unchanged between build and lights.
+ * On the low-memory path qibl_lightprobe_lights uses the workspace's sums as scratch: do not run
+ * it on one built probe from two threads at once (the SAT path only reads the workspace).
  */
 #ifndef QIBL_LIGHTPROBE_H
 #define QIBL_LIGHTPROBE_H
@@ -184,6 +197,9 @@ typedef struct qibl_lightprobe {
     uint32_t *row_sig;     /* H: sin theta_v mantissa in [2^31, 2^32) */
     int32_t *row_kap;      /* H: sin theta_v = row_sig * 2^-(32 + row_kap) */
     uint64_t *row_sum;     /* H + 1: prefix sums of sin theta_v in Q31 (for widths on the sphere) */
+    uint64_t total;        /* the probe's energy: the sum of every pixel's e */
+    uint64_t *marg;        /* the low-memory path (sat NULL): the per-column and per-row marginals
+                            * lights() fills as scratch; NULL on the SAT path */
 } qibl_lightprobe_t;
 
 /* Bytes of workspace qibl_lightprobe_build needs for a W x H probe and a method (VARMIN needs the
@@ -191,10 +207,20 @@ typedef struct qibl_lightprobe {
  * W H > QIBL_LIGHTPROBE_MAX_PIXELS, if the method is unknown, or if the size does not fit size_t. */
 size_t qibl_lightprobe_workspace_size(uint32_t width, uint32_t height, qibl_lightprobe_method_t method);
 
+/* Bytes of workspace the low-memory path of qibl_lightprobe_build needs: O(W + H), the marginals
+ * 8 (W + H + 2) (32 (W + H + 2) for VARMIN) plus the row tables 16 (H + 1) + 8. A workspace at
+ * least this large but below qibl_lightprobe_workspace_size builds no SAT: the same lights, bit
+ * for bit, from reads of the probe pixels (see Memory and Cost above). 0 on the arguments
+ * qibl_lightprobe_workspace_size refuses. */
+size_t qibl_lightprobe_workspace_min(uint32_t width, uint32_t height, qibl_lightprobe_method_t method);
+
 /* Validates img, reads every pixel and builds the tables for method in workspace; lp then refers
  * to img->pixels and the workspace, which must outlive it unchanged.
+ * Uses the SAT path when workspace_size >= qibl_lightprobe_workspace_size, else the low-memory
+ * path (no tables but the row ones: see Memory above).
  * Cost: two reads of the probe, one write of the SAT (plus one read of it and four moment SAT
- * writes for VARMIN), about 20 integer operations per pixel.
+ * writes for VARMIN), about 20 integer operations per pixel; the low-memory path: two reads of
+ * the probe and no table.
  * A black probe (no pixel has luminance energy) builds: QIBL_OK, lp filled, and
  * qibl_lightprobe_lights reports QIBL_E_PROBE_BLACK.
  * Formats: pixels RGBE bytes, sRGBE bytes, int32 linear (value x / 2^frac_bits) or IEEE binary32
@@ -208,7 +234,7 @@ size_t qibl_lightprobe_workspace_size(uint32_t width, uint32_t height, qibl_ligh
  * -128..128, stride shorter than a row), QIBL_E_PROBE_OVERFLOW (the image's byte span beyond
  * size_t), QIBL_E_PROBE_FORMAT (12-byte pixels, or their stride, not 4-byte aligned),
  * QIBL_E_PROBE_METHOD (unknown method), QIBL_E_PROBE_OVERFLOW (workspace size beyond size_t),
- * QIBL_E_WORKSPACE (workspace_size below what qibl_lightprobe_workspace_size asks),
+ * QIBL_E_WORKSPACE (workspace_size below what qibl_lightprobe_workspace_min asks),
  * QIBL_E_PROBE_NOT_FINITE, QIBL_E_PROBE_NEGATIVE (one scan of the pixels; a probe with both kinds
  * reports NOT_FINITE).
  * On failure: nothing is written (lp and the workspace untouched: every check precedes the
@@ -227,7 +253,12 @@ QIBL_NODISCARD qibl_status_t qibl_lightprobe_build(qibl_lightprobe_t *lp, const 
  * point).
  * Cost: O(count log count) region splits, each O(log(w h)) SAT reads (MEDIANCUT, ADAPTIVE) or
  * O(w + h) (VARMIN, each candidate cut costing a few 128-bit operations), then O(w + h) SAT reads
- * per light for its centroid and one read of the probe pixels for the colours.
+ * per light for its centroid and one read of the probe pixels for the colours. On the
+ * low-memory path each new region's pixels are read once (its crop, key and median cut from one
+ * set of marginals; VARMIN reads a region again when it splits, for its cut), and each light's
+ * twice more (its energy, its centroid): the regions of one split level are disjoint, so
+ * O(W H log count) pixel reads in all, about 20 integer operations each (40 with VARMIN's
+ * moments), plus the same per-cut work.
  * Formats: dir Q2.30 unit vectors; rgb int32 >= 0 scaled by the list's shared 2^rgb_exp (largest
  * channel in [2^30, 2^31)); regions in pixel columns and rows.
  * Bound: rgb within 1 LSB of the list's scale plus the region-sum error above; dir within
@@ -245,7 +276,8 @@ QIBL_NODISCARD qibl_status_t qibl_lightprobe_lights(const qibl_lightprobe_t *lp,
                                      qibl_lightprobe_result_t *result);
 
 /* Luminance energy of the region u0 <= u < u1, v0 <= v < v1 in SAT units (see qibl_lightprobe_t),
- * from four SAT reads. An empty region (u0 == u1 or v0 == v1) gives 0.
+ * from four SAT reads; on the low-memory path from one read of the region's pixels (O(w h), about
+ * 20 integer operations per pixel). An empty region (u0 == u1 or v0 == v1) gives 0.
  * Formats: *energy uint64 in the unit 2^energy_exp / energy_div. Bound: exact (the sum of the
  * per-pixel integers).
  * Errors, in this order: QIBL_E_NULL_POINTER (lp or energy NULL), QIBL_E_PROBE_RECT (u0 > u1,

@@ -59,6 +59,7 @@
 #define qibl_lightprobe_region_energy QIBLI_ISA_NAME(qibl_lightprobe_region_energy)
 #define qibl_lightprobe_row_weight QIBLI_ISA_NAME(qibl_lightprobe_row_weight)
 #define qibl_lightprobe_workspace_size QIBLI_ISA_NAME(qibl_lightprobe_workspace_size)
+#define qibl_lightprobe_workspace_min QIBLI_ISA_NAME(qibl_lightprobe_workspace_min)
 #define qibli_lightprobe_decode QIBLI_ISA_NAME(qibli_lightprobe_decode)
 #define qibli_lightprobe_pixel_bytes QIBLI_ISA_NAME(qibli_lightprobe_pixel_bytes)
 #define qibli_lightprobe_sin_frac QIBLI_ISA_NAME(qibli_lightprobe_sin_frac)
