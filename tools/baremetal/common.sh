@@ -110,8 +110,9 @@ hh_sym() { arm-none-eabi-nm "$elf" | awk -v n="$1" '$3 == n {print $1}'; }
 
 # hh_cases TAG: every case of $dir/run.txt against fixtures/golden; a case that reports "out of
 # memory: needs N bytes" with N above the whole heap cannot fit the target: counted apart
-# (TAG.golden_nofit) and named in $dir/nofit.txt, not a failure; any other error or a wrong hash
-# fails; the set of cases must be the hosted runner's. Sets heap_cap, ok, bad, nofit and total.
+# (TAG.golden_nofit), named in $dir/nofit.txt, and a failure (every case fits both handhelds);
+# any other error or a wrong hash fails; the set of cases and the digest must be the hosted
+# runner's. Sets heap_cap, ok, bad, nofit and total.
 hh_cases() {
     local tag=$1 case hash rest want need
     heap_cap=$(( 0x$(hh_sym __heap_end) - 0x$(hh_sym __heap_start) ))
@@ -129,6 +130,16 @@ hh_cases() {
     total=$(wc -l < "$out/host-cases.txt")
     if ! cmp -s "$dir/cases.txt" "$out/host-cases.txt"; then
         err "the cases differ from the hosted runner's: $(diff "$out/host-cases.txt" "$dir/cases.txt" | grep '^[<>]' | head -5 | tr '\n' ' ')"
+    fi
+    # every case must run: a workspace that no longer fits is a regression (the core's low-memory
+    # paths and the ROM's hemi tables made all of them fit), and then the run's digest
+    # (tools/golden/runner.c's) must be the hosted runner's
+    [ "$nofit" = 0 ] || err "$nofit cases do not fit the heap ($heap_cap B): $(awk '{print $3}' "$dir/nofit.txt" | tr '\n' ' ')"
+    local digest host_digest
+    digest=$(sed -n 's/^golden: .* digest \([0-9a-f]*\)$/\1/p' "$dir/run.txt")
+    host_digest=$(sed -n 's/^golden: .* digest \([0-9a-f]*\)$/\1/p' "$out/host.txt")
+    if [ "$nofit" = 0 ] && [ "${digest:-x}" != "${host_digest:-y}" ]; then
+        err "the run's digest ${digest:-missing} is not the hosted runner's ${host_digest:-?}"
     fi
 }
 

@@ -53,9 +53,9 @@ t0=$(date +%s)
 "$out/qibl-gba-run" --seconds "${GBA_SECONDS:-3600}" "$rom" > "$dir/run.txt" 2> "$dir/run-err.txt"
 rc=$? secs=$(( $(date +%s) - t0 ))
 
-# a case that does not fit the heap (EWRAM less .data and .bss) is counted apart (gba.golden_nofit)
+# the hashes against fixtures/golden, every case fitting the heap (EWRAM less .data and .bss;
+# gba.golden_nofit counts and names those that do not), the digest the host's
 hh_cases gba
-# (no digest comparison with the hosted runner: the cases that do not fit change it)
 
 bm_stack_figures "$dir" 512
 heap=$(awk '$1 == "case" && $4 == "heap" && $5 + 0 > m {m = $5 + 0; c = $2} END {print m + 0 " B (" c ")"}' "$dir/run.txt")
