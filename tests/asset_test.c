@@ -995,6 +995,14 @@ static void test_every_bit_flip(void **state)
                 walk(&a);
             else
                 assert_true(tu_guard_intact(&a, sizeof a));
+            /* the tools' open (qtool_asset_open: slicing-by-8 CRCs): the same verdict and views */
+            qibl_asset_t t;
+            tu_fill_guard(&t, sizeof t);
+            assert_int_equal(qtool_asset_open(&t, copy, n), st);
+            if (st == QIBL_OK)
+                assert_memory_equal(&t, &a, sizeof t);
+            else
+                assert_true(tu_guard_intact(&t, sizeof t));
             /* the structure-only open: same verdict except on payload CRCs; what it accepts is
              * still safe to walk */
             qibl_status_t ss = check_other_opens(copy, n, st);

@@ -180,6 +180,68 @@ static void test_threads_and_seeds(void **state)
     qtool_rt_scene_free(&s);
 }
 
+/* the first i with cdf[i + 1] > t, or hi - 1: the inverse CDF by a linear scan */
+static size_t linear_find(const double *cdf, size_t lo, size_t hi, double t)
+{
+    for (size_t i = lo; i < hi; ++i)
+        if (cdf[i + 1] > t)
+            return i;
+    return hi - 1;
+}
+
+/* qtool_env_sample's guided search draws exactly the pixel of the plain inverse CDF: probes with
+ * long zero runs (flat CDF), one bright pixel, sizes below and above the guide's size, fractions
+ * on the guide's boundaries, 0 and the largest below 1 (and 1 itself, which rounding can give) */
+static void test_guided_sample_is_the_inverse_cdf(void **state)
+{
+    (void)state;
+    static const uint32_t dims[][2] = {{1, 1}, {2, 1}, {3, 2}, {8, 4}, {64, 32}, {97, 13}, {256, 128}};
+    uint64_t x = 12345;
+    for (size_t d = 0; d < sizeof dims / sizeof dims[0]; ++d) {
+        const uint32_t pw = dims[d][0], ph = dims[d][1];
+        const size_t np = (size_t)pw * ph;
+        for (int kind = 0; kind < 3; ++kind) {
+            float *probe = probe_fill(pw, ph, (const float[3]){0.2f, 0.3f, 0.4f});
+            for (size_t i = 0; i < np; ++i) {
+                x = x * 6364136223846793005ull + 1442695040888963407ull;
+                if (kind == 1 && (x >> 60) < 12) /* three quarters black: flat runs in the CDFs */
+                    probe[3 * i] = probe[3 * i + 1] = probe[3 * i + 2] = 0;
+                if (kind == 2 && (x >> 58) == 0) /* a few bright pixels: a bright set */
+                    probe[3 * i] = probe[3 * i + 1] = probe[3 * i + 2] = 1e4f;
+            }
+            probe[0] = probe[1] = probe[2] = 0.5f; /* never all black */
+            qtool_env e;
+            char err[256];
+            assert_int_equal(qtool_env_build(&e, pw, ph, probe, err, sizeof err), 0);
+            for (int bright = 0; bright < 2; ++bright) {
+                const double *cdf = bright ? e.cdf_b : e.cdf_r;
+                if (!(cdf[np] > 0))
+                    continue;
+                for (int k = 0; k < 4000; ++k) {
+                    double a, b;
+                    x = x * 6364136223846793005ull + 1442695040888963407ull;
+                    a = k < 64 ? (double)(k % 32) / 32 + (k >= 32 ? 0x1p-40 : 0) : (double)(x >> 11) * 0x1p-53;
+                    if (k == 64)
+                        a = 0x1.fffffffffffffp-1;
+                    if (k == 65)
+                        a = 1.0;
+                    x = x * 6364136223846793005ull + 1442695040888963407ull;
+                    b = k % 7 == 0 ? 0.0 : (double)(x >> 11) * 0x1p-53;
+                    size_t i = linear_find(cdf, 0, np, cdf[np] * a), r0 = i / pw * pw, r1 = r0 + pw;
+                    size_t j = linear_find(cdf, r0, r1, cdf[r0] + b * (cdf[r1] - cdf[r0]));
+                    const size_t want = cdf[j + 1] > cdf[j] ? j : i;
+                    const size_t got = qtool_env_sample(&e, bright, a, b);
+                    if (got != want)
+                        fail_msg("%ux%u kind %d set %d: (%a, %a) drew %zu, the inverse CDF %zu", pw, ph, kind, bright,
+                                 a, b, got, want);
+                }
+            }
+            qtool_env_free(&e);
+            free(probe);
+        }
+    }
+}
+
 static void test_bad_inputs_are_named(void **state)
 {
     (void)state;
@@ -218,6 +280,7 @@ int main(void)
         cmocka_unit_test(test_constant_probe_gives_pi_l),
         cmocka_unit_test(test_one_bright_pixel_is_a_directional_light),
         cmocka_unit_test(test_threads_and_seeds),
+        cmocka_unit_test(test_guided_sample_is_the_inverse_cdf),
         cmocka_unit_test(test_bad_inputs_are_named),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

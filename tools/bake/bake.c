@@ -829,7 +829,7 @@ int qtool_bake_relight8_lin(const uint8_t *asset, size_t n, const qtool_rt_light
     qibl_shmaps_t m;
     qibl_pmap_t pm;
     qibl_ylut_t lut;
-    qibl_status_t st = qibl_asset_open(&a, asset, n);
+    qibl_status_t st = qtool_asset_open(&a, asset, n);
     if (st == QIBL_OK) /* free point lights: the unshadowed set when the asset has one */
         st = l->point && lut_mode >= 0 ? qibl_asset_point_shmaps(&a, &m) : qibl_asset_shmaps(&a, &m);
     if (st == QIBL_OK && l->point)

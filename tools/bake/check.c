@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "bake/job.h"
+#include "io/asset_write.h"
 #include "io/exr.h"
 #include "io/file.h"
 #include "io/hdr.h"
@@ -59,7 +60,7 @@ int qtool_bake_check_file(const char *p, char *line, size_t linelen, char *err, 
         if (qtool_io_read_asset(p, &b, &n, err, errlen) != 0)
             return -1;
         qibl_asset_t a;
-        qibl_status_t st = qibl_asset_open(&a, b, n);
+        qibl_status_t st = qtool_asset_open(&a, b, n);
         free(b);
         if (st != QIBL_OK)
             return qtool_errf(err, errlen, "%s: %s", p, qibl_status_str(st));

@@ -383,7 +383,7 @@ int qtool_bake_relight_path8_gonio(const uint8_t *asset, size_t n, const qtool_r
     qibl_ylut_t lut;
     qibl_lightpath_t lp;
     int use_lut = 0;
-    qibl_status_t st = qibl_asset_open(&a, asset, n);
+    qibl_status_t st = qtool_asset_open(&a, asset, n);
     if (st == QIBL_OK)
         st = qibl_asset_shmaps_unshadowed(&a, &mu);
     if (st == QIBL_OK)
@@ -522,7 +522,7 @@ int qtool_bake_relight_env8(const uint8_t *asset, size_t n, const qibl_shlight_t
     qibl_asset_t a;
     qibl_shmaps_t m;
     qibl_shmap_weights_t wt;
-    qibl_status_t st = qibl_asset_open(&a, asset, n);
+    qibl_status_t st = qtool_asset_open(&a, asset, n);
     if (st == QIBL_OK)
         st = qibl_asset_shmaps(&a, &m);
     if (st == QIBL_OK)
@@ -655,7 +655,7 @@ int qtool_bake_asset_add(const uint8_t *asset, size_t n, uint32_t type, const ui
     qibl_asset_t a;
     qtool_asset_builder b;
     uint32_t seen[QIBL_ASSET_MAX_CHUNKS], types[QIBL_ASSET_MAX_CHUNKS];
-    if (qibl_asset_open(&a, asset, n) != QIBL_OK)
+    if (qtool_asset_open(&a, asset, n) != QIBL_OK)
         return -1;
     qtool_asset_builder_init(&b);
     int rc = -1;

@@ -10,6 +10,7 @@
 #include <time.h>
 
 #include "bake/bake.h"
+#include "io/asset_write.h"
 #include "bake/path.h"
 #include "bake/probesun.h"
 #include "io/atomic.h"
@@ -284,7 +285,7 @@ int qtool_probesun_relight(const uint8_t *asset, size_t n, const qibl_shlight_t 
     qibl_lightpath_t lp[QTOOL_PROBESUN_MAX_PATHS];
     qibl_shmap_weights_t wsky, wsrc[QTOOL_PROBESUN_MAX_SRC];
     int32_t wq[QTOOL_PROBESUN_MAX_PATHS][3];
-    qibl_status_t st = qibl_asset_open(&a, asset, n);
+    qibl_status_t st = qtool_asset_open(&a, asset, n);
     if (st == QIBL_OK)
         st = qibl_asset_shmaps_unshadowed(&a, &mu);
     if (st == QIBL_OK)

@@ -102,7 +102,7 @@ int qtool_bake_relight_tiled8(const uint8_t *asset, size_t n, const qtool_rt_lig
     qibl_lightpath_t lp;
     qibl_lampocc_t occ;
     int use_lut = 0, use_occ = 0;
-    qibl_status_t st = qibl_asset_open(&a, asset, n);
+    qibl_status_t st = qtool_asset_open(&a, asset, n);
     if (st == QIBL_OK)
         st = qibl_shmtile_from_asset(&a, &t);
     if (st == QIBL_OK && path >= 0)

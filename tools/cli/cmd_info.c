@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "qibl/asset.h"
+#include "io/asset_write.h"
 #include "qibl/lightpath.h"
 #include "io/file.h"
 #include "cli/cli.h"
@@ -84,7 +85,7 @@ static int info_run(void *opts)
     if (qtool_io_read_asset(path, &buf, &n, err, sizeof err) != 0)
         return fprintf(stderr, "qibl: %s\n", err), 1;
     qibl_asset_t a;
-    qibl_status_t st = qibl_asset_open(&a, buf, n);
+    qibl_status_t st = qtool_asset_open(&a, buf, n);
     if (st != QIBL_OK) {
         fprintf(stderr, "qibl: %s: %s\n", path, qibl_status_str(st));
         free(buf);

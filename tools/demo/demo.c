@@ -11,6 +11,7 @@
 #include <time.h>
 
 #include "demo/demo.h"
+#include "io/asset_write.h"
 #include "io/atomic.h"
 #include "io/png.h"
 #include "io/text.h"
@@ -59,7 +60,7 @@ double qtool_demo_chunk_bytes(const uint8_t *asset, size_t n, uint32_t type, uin
 {
     qibl_asset_t a;
     qibl_chunk_t c;
-    if (qibl_asset_open(&a, asset, n) != QIBL_OK || qibl_asset_find_nth(&a, type, index, &c) != QIBL_OK)
+    if (qtool_asset_open(&a, asset, n) != QIBL_OK || qibl_asset_find_nth(&a, type, index, &c) != QIBL_OK)
         return 0;
     return c.size;
 }

@@ -12,6 +12,7 @@
 #include <time.h>
 
 #include "demo/demo.h"
+#include "io/asset_write.h"
 #include "luminaire/luminaire.h"
 #include "qibl/asset.h"
 #include "qtool.h"
@@ -82,7 +83,7 @@ int qtool_demo_nearfield(const qtool_demo_view *v, const qtool_demo_size *sz, co
     qibl_asset_t a; /* the asset first: a bad one costs no study */
     qibl_shmaps_t mp;
     qibl_pmap_t pm;
-    if (asset == NULL || qibl_asset_open(&a, asset, n) != QIBL_OK || qibl_asset_point_shmaps(&a, &mp) != QIBL_OK ||
+    if (asset == NULL || qtool_asset_open(&a, asset, n) != QIBL_OK || qibl_asset_point_shmaps(&a, &mp) != QIBL_OK ||
         qibl_asset_pmap(&a, &pm) != QIBL_OK)
         return qtool_errf(err, errlen, "demo: near-field row: the k = 16 asset has no usable point maps and P map");
     const int quick = sz->nf_size < 96u;

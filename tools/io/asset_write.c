@@ -5,6 +5,7 @@
  * values go through uint32_t (a well-defined modular conversion), never through type punning.
  */
 #include <errno.h>
+#include <pthread.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -271,6 +272,22 @@ int qtool_asset_serialize(qtool_asset_builder *b, uint8_t **out, size_t *size)
     return 0;
 }
 
+static uint32_t crc_table[QIBL_CRC32_TABLE_WORDS];
+static pthread_once_t crc_once = PTHREAD_ONCE_INIT;
+static qibl_status_t crc_status = QIBL_E_NULL_POINTER;
+
+static void crc_init(void)
+{
+    crc_status = qibl_crc32_table_init(crc_table, QIBL_CRC32_TABLE_WORDS);
+}
+
+qibl_status_t qtool_asset_open(qibl_asset_t *out, const void *bytes, size_t n)
+{
+    (void)pthread_once(&crc_once, crc_init);
+    /* (the table cannot fail to fill; the nibble path keeps the result the same if it did) */
+    return crc_status == QIBL_OK ? qibl_asset_open_crc_table(out, bytes, n, crc_table) : qibl_asset_open(out, bytes, n);
+}
+
 int qtool_asset_write_file(qtool_asset_builder *b, const char *path, int do_fsync)
 {
     uint8_t *buf = NULL;
@@ -281,7 +298,7 @@ int qtool_asset_write_file(qtool_asset_builder *b, const char *path, int do_fsyn
         return fail(b, "%s: %s", path, why);
     }
     qibl_asset_t a;
-    qibl_status_t st = qibl_asset_open(&a, buf, n);
+    qibl_status_t st = qtool_asset_open(&a, buf, n);
     if (st != QIBL_OK) {
         free(buf);
         return fail(b, "%s: refusing to write an invalid asset: %s", path, qibl_status_str(st));

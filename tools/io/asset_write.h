@@ -37,6 +37,11 @@ typedef struct qtool_asset_builder {
 } qtool_asset_builder;
 
 void qtool_asset_builder_init(qtool_asset_builder *b);
+/* qibl_asset_open for hosted tools: the same checks, statuses and views, the CRCs by the core's
+ * slicing-by-8 path (qibl_asset_open_crc_table) with one 8 KiB table made once per process
+ * (thread-safe), several times faster per byte than the nibble table on multi-megabyte assets. */
+qibl_status_t qtool_asset_open(qibl_asset_t *out, const void *bytes, size_t n);
+
 /* Frees every payload; the builder is empty (init state) afterwards. */
 void qtool_asset_builder_free(qtool_asset_builder *b);
 

@@ -17,6 +17,7 @@
 #include <time.h>
 
 #include "bake/bake.h" /* qtool_bake_frame_row */
+#include "io/asset_write.h"
 #include "luminaire/luminaire.h"
 #include "qibl/asset.h"
 #include "qibl/soft.h"
@@ -794,7 +795,7 @@ qibl_status_t qtool_luminaire_views_open(const uint8_t *asset, size_t n, qtool_l
 {
     qibl_asset_t a;
     memset(v, 0, sizeof *v);
-    qibl_status_t st = qibl_asset_open(&a, asset, n);
+    qibl_status_t st = qtool_asset_open(&a, asset, n);
     if (st == QIBL_OK)
         st = qibl_asset_point_shmaps(&a, &v->mp);
     if (st == QIBL_OK)

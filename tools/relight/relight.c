@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "bake/bake.h"
+#include "io/asset_write.h"
 #include "io/file.h"
 #include "qibl/soft.h"
 #include "qtool.h"
@@ -66,7 +67,7 @@ int qtool_relight_asset_read(const char *path, uint8_t **bytes, size_t *n, qibl_
     }
     qibl_status_t st = QIBL_OK;
     if (a)
-        st = qibl_asset_open(a, *bytes, *n);
+        st = qtool_asset_open(a, *bytes, *n);
     if (st == QIBL_OK && a && m)
         st = qibl_asset_shmaps(a, m);
     if (st != QIBL_OK) {

@@ -10,15 +10,29 @@
 #include <string.h>
 #include "qtool.h"
 
-
 static double luma(const float *p)
 {
     return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
 }
 
+/* the first pixel i of [lo, hi) with cdf[i + 1] > t (hi - 1 if none): the inverse CDF */
+static size_t cdf_find(const double *cdf, size_t lo, size_t hi, double t)
+{
+    --hi;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (cdf[mid + 1] > t)
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    return lo;
+}
+
 void qtool_env_free(qtool_env *e)
 {
-    free(e->rgb), free(e->cdf_b), free(e->cdf_r), free(e->row_dw), free(e->row_c), free(e->in_b);
+    free(e->rgb), free(e->cdf_b), free(e->cdf_r), free(e->guide_b), free(e->guide_r);
+    free(e->row_dw), free(e->row_c), free(e->in_b);
     memset(e, 0, sizeof *e);
 }
 
@@ -43,7 +57,11 @@ int qtool_env_build(qtool_env *e, uint32_t w, uint32_t h, const float *rgb, char
     e->row_dw = malloc(h * sizeof(double));
     e->row_c = malloc((h + 1) * sizeof(double));
     e->in_b = malloc(np);
-    if (!e->rgb || !e->cdf_b || !e->cdf_r || !e->row_dw || !e->row_c || !e->in_b) {
+    for (e->guide = 1; e->guide < np / 4; e->guide *= 2) {
+    }
+    e->guide_b = malloc((e->guide + 1) * sizeof(uint32_t));
+    e->guide_r = malloc((e->guide + 1) * sizeof(uint32_t));
+    if (!e->rgb || !e->cdf_b || !e->cdf_r || !e->row_dw || !e->row_c || !e->in_b || !e->guide_b || !e->guide_r) {
         qtool_env_free(e);
         snprintf(err, errlen, "env: out of memory for a %ux%u probe", w, h);
         return -1;
@@ -72,6 +90,11 @@ int qtool_env_build(qtool_env *e, uint32_t w, uint32_t h, const float *rgb, char
         e->cdf_r[i + 1] = e->cdf_r[i] + (e->in_b[i] ? 0 : en);
     }
     e->e_b = e->cdf_b[np], e->e_r = e->cdf_r[np];
+    for (size_t k = 0; k <= e->guide; ++k) {
+        const double f = (double)k / (double)e->guide; /* exact: guide is a power of two */
+        e->guide_b[k] = (uint32_t)cdf_find(e->cdf_b, 0, np, e->cdf_b[np] * f);
+        e->guide_r[k] = (uint32_t)cdf_find(e->cdf_r, 0, np, e->cdf_r[np] * f);
+    }
     return 0;
 }
 
@@ -93,27 +116,25 @@ void qtool_env_lookup(const qtool_env *e, const double d[3], double rgb[3])
     rgb[0] = p[0], rgb[1] = p[1], rgb[2] = p[2];
 }
 
-/* first pixel i in [lo, hi) with cdf[i + 1] > t (hi - 1 if none) */
-static size_t cdf_find(const double *cdf, size_t lo, size_t hi, double t)
-{
-    --hi;
-    while (lo < hi) {
-        size_t mid = lo + (hi - lo) / 2;
-        if (cdf[mid + 1] > t)
-            hi = mid;
-        else
-            lo = mid + 1;
-    }
-    return lo;
-}
-
 /* A pixel drawn proportionally to its energy from (a, b) in [0, 1)^2: a picks the row (marginal),
  * b the pixel within it (conditional), so a stratified grid of (a, b) is stratified on the sphere. */
-static size_t cdf_sample(const double *cdf, uint32_t w, size_t np, double a, double b)
+static size_t cdf_sample(const double *cdf, const uint32_t *guide, size_t ng, uint32_t w, size_t np, double a,
+                         double b)
 {
-    size_t i = cdf_find(cdf, 0, np, cdf[np] * a), r0 = i / w * w, r1 = r0 + w;
+    /* cdf_find over [0, np) gives a pixel between the guide's entries for the fractions k / ng
+     * and (k + 1) / ng around a (it is monotone in t, and cdf[np] * k / ng <= cdf[np] * a by
+     * monotone rounding): the same pixel from a search of that short range */
+    const double ak = a * (double)ng;
+    const size_t k = ak < (double)(ng - 1) ? (size_t)ak : ng - 1;
+    size_t i = cdf_find(cdf, guide[k], (size_t)guide[k + 1] + 1, cdf[np] * a), r0 = i / w * w, r1 = r0 + w;
     size_t j = cdf_find(cdf, r0, r1, cdf[r0] + b * (cdf[r1] - cdf[r0]));
     return cdf[j + 1] > cdf[j] ? j : i; /* rounding at the row's end: keep the marginal's pixel */
+}
+
+size_t qtool_env_sample(const qtool_env *e, int bright, double a, double b)
+{
+    return cdf_sample(bright ? e->cdf_b : e->cdf_r, bright ? e->guide_b : e->guide_r, e->guide, e->w,
+                      (size_t)e->w * e->h, a, b);
 }
 
 /* direction of probe pixel i at fractions (a, b) across it: uniform in phi and in cos theta; without
@@ -213,7 +234,7 @@ static void env_row(void *ctx, uint32_t y)
         for (uint32_t k = 0; k < nb; ++k) {
             double a, b;
             stratified(k, nb, gb, &st, &a, &b);
-            size_t i = cdf_sample(e->cdf_b, e->w, np, a, b);
+            size_t i = cdf_sample(e->cdf_b, e->guide_b, e->guide, e->w, np, a, b);
             a = unit(&st), b = unit(&st);
             pixel_dir(e, i, j->jitter, a, b, wd);
             const float *L = e->rgb + 3 * i;
@@ -222,7 +243,8 @@ static void env_row(void *ctx, uint32_t y)
         /* the rest: balance heuristic of R's CDF and the cosine lobe; every sample contributes
          * L T / (nenv p_env + ncos p_cos) */
         for (uint32_t k = 0; k < nenv; ++k) {
-            size_t i = cdf_sample(e->cdf_r, e->w, np, (k % g + unit(&st)) / g, (k / g + unit(&st)) / g);
+            size_t i =
+                cdf_sample(e->cdf_r, e->guide_r, e->guide, e->w, np, (k % g + unit(&st)) / g, (k / g + unit(&st)) / g);
             double a = unit(&st), b = unit(&st);
             pixel_dir(e, i, j->jitter, a, b, wd);
             const float *L = e->rgb + 3 * i;

@@ -37,6 +37,9 @@ typedef struct qtool_env {
     float *rgb;       /* own copy, w h 3, linear radiance */
     double *cdf_b;    /* w h + 1 cumulative Y dw over B (pixels of R add 0) */
     double *cdf_r;    /* the same over R */
+    uint32_t *guide_b, *guide_r; /* guide + 1 entries each: the pixel that cdf_find gives for the
+                                  * fraction k / guide of the total (cdf_sample's search bounds) */
+    size_t guide;     /* a power of two near w h / 4 */
     double *row_dw;   /* h: exact solid angle of a pixel of row v */
     double *row_c;    /* h + 1: cos(v pi / H) */
     uint8_t *in_b;    /* w h: 1 for the pixels of B */
@@ -48,6 +51,11 @@ typedef struct qtool_env {
  * finite and >= 0: else -1 with the pixel named in err). 0, or -1 (err says why: bad size, bad
  * sample, an all-black probe, no memory). */
 int qtool_env_build(qtool_env *e, uint32_t w, uint32_t h, const float *rgb, char *err, size_t errlen);
+
+/* The pixel that the render's sampling draws for (a, b) in [0, 1]^2 from the bright set's CDF
+ * (bright != 0) or the rest's: a picks the row, b the pixel in it; each the first entry whose
+ * cumulative energy exceeds the fraction (found between the guide's bounds). */
+size_t qtool_env_sample(const qtool_env *e, int bright, double a, double b);
 void qtool_env_free(qtool_env *e);
 
 /* Radiance of the probe along unit d (the pixel d falls in). */

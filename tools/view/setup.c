@@ -7,6 +7,7 @@
  * qtool_view_init reset) and says why in one line.
  */
 #include "view/view.h"
+#include "io/asset_write.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -82,7 +83,7 @@ int qtool_view_open_asset(qtool_view *v, const uint8_t *bytes, size_t n, const c
     qibl_shmaps_t m;
     if (notelen)
         note[0] = '\0';
-    qibl_status_t st = qibl_asset_open(&as, bytes, n);
+    qibl_status_t st = qtool_asset_open(&as, bytes, n);
     if (st == QIBL_OK)
         st = qibl_asset_shmaps(&as, &m);
     if (st != QIBL_OK)

@@ -3,6 +3,7 @@
  * window system: view/x11.c shows what this draws.
  */
 #include "view/view.h"
+#include "io/asset_write.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -187,7 +188,7 @@ static qibl_status_t render_path(const qtool_view *v, uint8_t *bgrx, size_t stri
     qibl_asset_t a;
     qibl_lightpath_t p;
     qibl_q16_t q[3];
-    qibl_status_t st = qibl_asset_open(&a, v->asset, v->asset_n);
+    qibl_status_t st = qtool_asset_open(&a, v->asset, v->asset_n);
     if (st == QIBL_OK)
         st = qibl_lightpath_from_asset(&a, v->path_index, &p);
     if (st == QIBL_OK)
