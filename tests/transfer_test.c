@@ -178,8 +178,8 @@ static void test_measure_refusals(void **state)
     write_probe(probe, 0);
     write_box(mesh, 1.0, 0, 0);
     char *files[1] = {mesh};
-    const char *why[] = {"tween", "lights", "ring", "no probe", "missing mesh"};
-    for (int k = 0; k < 5; ++k) {
+    const char *why[] = {"tween", "lights", "ring", "no probe", "missing mesh", "time_reps"};
+    for (int k = 0; k < 6; ++k) {
         qtool_transfer_opts o = opts(0);
         o.files = files, o.nfiles = 1, o.probe = probe;
         if (k == 0)
@@ -190,6 +190,8 @@ static void test_measure_refusals(void **state)
             o.ring = 0;
         else if (k == 3)
             o.probe = NULL;
+        else if (k == 5)
+            o.time_reps = QTOOL_TRANSFER_MAX_TIME_REPS + 1;
         else
             files[0] = missing;
         qtool_transfer_result r;
@@ -331,6 +333,13 @@ static void test_pvs(void **state)
         assert_true(r.pvs_diff == 0);
         assert_true(r.pvs_blockers > 0 && r.pvs_blockers < 0.8 * r.blockers);
         assert_true(r.pvs_ms_per_frame > 0);
+        /* the benchmarks' block timing: the same masks and figures, only the clocks differ */
+        o.time_reps = 2;
+        const qtool_transfer_result b = measure(f1, f2, probe, o);
+        assert_true(b.pvs_diff == 0);
+        assert_true(b.blockers == r.blockers && b.pvs_blockers == r.pvs_blockers && b.rasterized == r.rasterized);
+        assert_true(b.mean_irradiance == r.mean_irradiance);
+        assert_true(b.ms_per_frame > 0 && b.pvs_ms_per_frame > 0);
     }
 }
 

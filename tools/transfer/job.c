@@ -25,17 +25,19 @@ static double thread_cpu(void)
 }
 
 /* The hemi work of one vertex from hierarchy-style lists (its vertices, its blockers in local
- * indices, local index n the nadir of the crease wedges): the mask and the phase times. */
+ * indices, local index n the nadir of the crease wedges): the mask, and the transform's time
+ * unless t_transform is NULL (no clock read). */
 static qibl_status_t mask_from_lists(const qtool_transfer_job *j, const qtool_transfer_hier *L,
                                      const qibl_hemi_frame_t *fr, uint32_t v, int32_t (*loc)[3], qibl_q16_t (*gp)[3],
                                      uint32_t *mask, qibl_hemi_stats_t *hs, double *t_transform)
 {
-    const double t0 = thread_cpu();
+    const double t0 = t_transform ? thread_cpu() : 0;
     const size_t n = L->voff[v + 1] - L->voff[v];
     for (size_t k = 0; k < n; ++k)
         memcpy(gp[k], j->pos[L->vl[L->voff[v] + k]], sizeof gp[k]);
     qibl_status_t st = qibl_hemi_transform(fr, (const qibl_q16_t(*)[3])gp, (uint32_t)n, loc);
-    *t_transform = thread_cpu() - t0;
+    if (t_transform)
+        *t_transform = thread_cpu() - t0;
     loc[n][0] = 0, loc[n][1] = 0, loc[n][2] = -(1 << 20); /* the nadir of the crease wedges */
     if (st == QIBL_OK)
         st = qibl_hemi_clear(j->h, mask);
@@ -192,4 +194,52 @@ void qtool_transfer_vertex_job(void *ctx, uint32_t v)
     j->l2[v] = j->noise[v] = 0;
     if (j->rt)
         reference(j, &fr, v, ph);
+}
+
+double qtool_transfer_frame_block(const qtool_transfer_job *j, int pvs)
+{
+    const qtool_transfer_mesh *m = j->m;
+    const qtool_transfer_hier *L = pvs ? j->pvs : j->hi;
+    int32_t(*loc)[3] = malloc(sizeof *loc * (m->nv + 1));
+    qibl_q16_t(*gp)[3] = L ? malloc(sizeof *gp * m->nv) : NULL;
+    if (!loc || (L && !gp)) {
+        free(loc), free(gp);
+        return -1;
+    }
+    uint32_t mask[QIBL_HEMI_MAX_WORDS];
+    qibl_q30_t vl[25], vw[25];
+    qibl_q16_t e[3];
+    volatile int32_t sink = 0; /* the shading is used: nothing of the block is dead */
+    const double t0 = thread_cpu();
+    for (uint32_t v = 0; v < m->nv; ++v) {
+        qibl_hemi_frame_t fr;
+        if (qibl_hemi_frame_init(&fr, j->pos[v], j->nrm[v]) != QIBL_OK)
+            continue; /* as the job: no normal, no hemi work */
+        qibl_hemi_stats_t hs = {0, 0, 0};
+        uint32_t nblk = 0;
+        qibl_status_t st;
+        if (L) {
+            st = mask_from_lists(j, L, &fr, v, loc, gp, mask, &hs, NULL);
+        } else {
+            st = qibl_hemi_transform(&fr, j->pos, m->nv, loc);
+            if (st == QIBL_OK)
+                st = qibl_hemi_clear(j->h, mask);
+            if (st == QIBL_OK)
+                st = qibl_hemi_raster(j->h, (const int32_t(*)[3])loc, m->nv, (const uint32_t(*)[3])m->tri, m->nt,
+                                      mask, &hs);
+            if (j->crease && st == QIBL_OK)
+                st = raster_crease(j, v, loc, mask, &hs, &nblk);
+        }
+        if (st == QIBL_OK)
+            st = qibl_hemi_transfer(j->h, mask, vl);
+        if (st == QIBL_OK)
+            st = qibl_hemi_to_world(j->h, &fr, vl, vw);
+        if (st == QIBL_OK)
+            st = qibl_hemi_shade(j->light, vw, e);
+        sink += st == QIBL_OK ? e[0] + e[1] + e[2] : 0;
+    }
+    const double t = thread_cpu() - t0;
+    free(loc), free(gp);
+    (void)sink;
+    return t;
 }

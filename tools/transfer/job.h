@@ -43,6 +43,12 @@ typedef struct qtool_transfer_job {
 /* One vertex of the job (a qtool_rt_parallel row function). */
 void qtool_transfer_vertex_job(void *ctx, uint32_t v);
 
+/* The thread CPU seconds of the hemi work of every vertex of the job's frame (frame, mask,
+ * transfer, world, shade: what the job times per vertex, without its clocks), as one block on the
+ * calling thread: from the PVS lists if pvs (the job must have them), else from every triangle or
+ * the hierarchy as the job does. Writes nothing of the job's; -1 if out of memory. */
+double qtool_transfer_frame_block(const qtool_transfer_job *j, int pvs);
+
 /* The probe's radiance SH (bands 0..4) as Q16.16, scaled so the largest |coefficient| is in
  * [1/4, 1/2); with nlights > 0, its median-cut lights projected to SH instead. desc: its size and
  * layout. 0, or -1 with a one-line reason in err. */

@@ -50,7 +50,13 @@ typedef struct qtool_transfer_opts {
     int size;                    /* pixels per panel of the sheet */
     double az, el;               /* the sheet's view, degrees */
     int keep_transfer;           /* 1: keep frame 0's world transfer vectors (result.transfer) */
+    int time_reps;               /* 0: the frame times are the pass's per-vertex clocks; N > 0 (benchmarks):
+                                    after each frame's pass its hemi work again N times as whole-frame
+                                    blocks on one thread (every-blocker and PVS passes alternated), the
+                                    frame's times their minima (0..QTOOL_TRANSFER_MAX_TIME_REPS) */
 } qtool_transfer_opts;
+
+#define QTOOL_TRANSFER_MAX_TIME_REPS 64
 
 /* the defaults of `qibl transfer`, in one place (the integers named: the command's table reads them) */
 #define QTOOL_TRANSFER_MASK_DEFAULT 32
