@@ -500,6 +500,10 @@ static long trace(const qtool_rt_scene *s, const double o[3], const double d[3],
     double inv[3];
     for (int j = 0; j < 3; ++j)
         inv[j] = d[j] != 0 ? 1.0 / d[j] : (d[j] >= 0 ? 1e300 : -1e300);
+    /* the children's order depends on the ray alone: its largest axis, once per ray */
+    const int axis_first = d[0] * d[0] >= d[1] * d[1] ? (d[0] * d[0] >= d[2] * d[2] ? 0 : 2)
+                                                      : (d[1] * d[1] >= d[2] * d[2] ? 1 : 2);
+    const uint32_t neg = d[axis_first] < 0;
     uint32_t stack[128];
     int sp = 0;
     long best = -1;
@@ -522,11 +526,8 @@ static long trace(const qtool_rt_scene *s, const double o[3], const double d[3],
             }
         } else if (sp + 2 <= 128) {
             /* near child last so it is popped first */
-            int axis_first = d[0] * d[0] >= d[1] * d[1] ? (d[0] * d[0] >= d[2] * d[2] ? 0 : 2)
-                                                         : (d[1] * d[1] >= d[2] * d[2] ? 1 : 2);
-            int neg = d[axis_first] < 0;
-            stack[sp++] = nd->first + (uint32_t)!neg;
-            stack[sp++] = nd->first + (uint32_t)neg;
+            stack[sp++] = nd->first + !neg;
+            stack[sp++] = nd->first + neg;
         }
     }
     return best;
