@@ -260,7 +260,7 @@ qibl_status_t qibl_probe_sh_begin(qibl_probe_sh_t *ps, uint32_t width, uint32_t 
                                   qibl_lightprobe_format_t format, int32_t frac_bits, int bands, void *workspace,
                                   size_t workspace_size)
 {
-    QIBLI_DISPATCH(qibl_probe_sh_begin, (ps, width, height, format, frac_bits, bands, workspace, workspace_size));
+    QIBLI_DISPATCH512(qibl_probe_sh_begin, (ps, width, height, format, frac_bits, bands, workspace, workspace_size));
     if (ps == 0 || workspace == 0)
         return QIBL_E_NULL_POINTER;
     if (bands < 1 || bands > QIBL_SH_MAX_BANDS)
@@ -532,17 +532,130 @@ static FOLD_INLINE uint32_t folded_avx2(const qibl_probe_sh_t *ps, const uint32_
 }
 #endif
 
-/* Fourier sums of one channel: s[0] = S_0, s[2m - 1] = S_mc, s[2m] = S_ms for m = 1..mm (the orders
- * the bands need, a constant where it is inlined; the others stay 0). */
-static FOLD_INLINE void folded(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s[9], const int mm)
+#if defined(QIBLI_PROBE_AVX512)
+/* (hi, lo) += v in each 64-bit lane of a 512-bit vector, as v128_add */
+static inline void v128_add16(__m512i *hi, __m512i *lo, __m512i v)
+{
+    const __m512i nl = _mm512_add_epi64(*lo, v), one = _mm512_set1_epi64(1);
+    const __mmask8 carry = _mm512_cmplt_epu64_mask(nl, *lo), neg = _mm512_cmplt_epi64_mask(v, _mm512_setzero_si512());
+    const __m512i h = _mm512_mask_add_epi64(*hi, carry, *hi, one); /* +1 where lo wrapped */
+    *hi = _mm512_mask_sub_epi64(h, neg, h, one);                     /* -1 where v < 0 */
+    *lo = nl;
+}
+
+/* mul2 on 16 int32 lanes: the even and the odd lanes' products summed per 64-bit lane; todd holds
+ * t's odd lanes already shifted down (shared by the three channels) */
+static inline __m512i mul2x(__m512i a, __m512i t, __m512i todd)
+{
+    return _mm512_add_epi64(_mm512_mul_epi32(a, t), _mm512_mul_epi32(_mm512_srli_epi64(a, 32), todd));
+}
+
+/* row_convert's RGBE integers of 16 pixels, the three channels at once (c19 = 19 - k0): m 2^20 is
+ * the channel byte moved to bits 20..27, pixels with E = 0 give 0 (the masked shift) */
+static inline void rgbe16(const uint8_t *row, uint32_t u, const __m512i *perm, __m512i c19, __m512i x[3])
+{
+    __m512i p = _mm512_loadu_si512((const void *)(row + 4u * (size_t)u));
+    if (perm)
+        p = _mm512_permutexvar_epi32(*perm, p);
+    const __m512i hib = _mm512_set1_epi32(0x0FF00000), one = _mm512_set1_epi32(1);
+    const __mmask16 lit = _mm512_test_epi32_mask(p, _mm512_set1_epi32((int)0xFF000000u));
+    const __m512i k = _mm512_sub_epi32(c19, _mm512_srli_epi32(p, 24));
+    const __m512i m0 = _mm512_srli_epi32(_mm512_slli_epi32(p, 24), 4);
+    const __m512i m1 = _mm512_and_si512(_mm512_slli_epi32(p, 12), hib);
+    const __m512i m2 = _mm512_and_si512(_mm512_slli_epi32(p, 4), hib);
+    x[0] = _mm512_srli_epi32(_mm512_add_epi32(_mm512_maskz_srlv_epi32(lit, m0, k), one), 1);
+    x[1] = _mm512_srli_epi32(_mm512_add_epi32(_mm512_maskz_srlv_epi32(lit, m1, k), one), 1);
+    x[2] = _mm512_srli_epi32(_mm512_add_epi32(_mm512_maskz_srlv_epi32(lit, m2, k), one), 1);
+}
+
+/* folded_avx2 for the three channels of an RGBE row straight from its bytes (the conversion fused,
+ * ps->x not written), 16 column pairs per step: pairs 0 .. 16 floor(half / 16) - 1 added to s[c];
+ * returns the pairs done. The same exact integers as row_convert + folded, so the same sums. Per
+ * 64-bit lane and step an update is at most 2 2^60 (two pairs), 3 steps below 2^63. */
+static FOLD_INLINE uint32_t folded3_avx512(const qibl_probe_sh_t *ps, const uint8_t *row, int32_t t, s128 s[3][9],
+                                           const int mm)
 {
     const uint32_t q = ps->width / 4u, half = q / 2u;
-    for (int i = 0; i < 9; ++i)
-        s[i].hi = s[i].lo = 0u;
-    uint32_t start = 0u;
-#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
-    start = folded_avx2(ps, x, s, mm);
+    const int32_t *tr = ps->trig;
+    const __m512i rev = _mm512_setr_epi32(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0);
+    const __m512i c19 = _mm512_set1_epi32(19 - (XBITS - 136 - t)), lo32 = _mm512_set1_epi64(0xFFFFFFFFll);
+    __m512i hi[3][9], lo[3][9];
+    for (int c = 0; c < 3; ++c)
+        for (int i = 0; i < 9; ++i)
+            hi[c][i] = lo[c][i] = _mm512_setzero_si512();
+#define LD16(p) _mm512_loadu_si512((const void *)(p))
+    uint32_t u = 0;
+    while (half - u >= 16u) {
+        __m512i a[3][9];
+        for (int c = 0; c < 3; ++c)
+            for (int i = 0; i < 9; ++i)
+                a[c][i] = _mm512_setzero_si512();
+        for (int step = 0; step < 3 && half - u >= 16u; ++step, u += 16u) {
+            const uint32_t v = q - 16u - u; /* lanes v .. v+15 reversed: the mirrors of u .. u+15 */
+            __m512i p0[3], p1[3], p2[3], p3[3], r0[3], r1[3], r2[3], r3[3];
+            rgbe16(row, u, 0, c19, p0), rgbe16(row, u + q, 0, c19, p1);
+            rgbe16(row, u + 2u * q, 0, c19, p2), rgbe16(row, u + 3u * q, 0, c19, p3);
+            rgbe16(row, v, &rev, c19, r0), rgbe16(row, v + q, &rev, c19, r1);
+            rgbe16(row, v + 2u * q, &rev, c19, r2), rgbe16(row, v + 3u * q, &rev, c19, r3);
+            __m512i tv[8], to[8];
+            for (int i = 0; i < 8; ++i)
+                tv[i] = i < 2 * mm ? LD16(tr + (size_t)i * q + u) : _mm512_setzero_si512(),
+                to[i] = _mm512_srli_epi64(tv[i], 32);
+            for (int c = 0; c < 3; ++c) {
+                const __m512i s02 = _mm512_add_epi32(p0[c], p2[c]), s13 = _mm512_add_epi32(p1[c], p3[c]);
+                const __m512i z02 = _mm512_add_epi32(r0[c], r2[c]), z13 = _mm512_add_epi32(r1[c], r3[c]);
+                const __m512i A = _mm512_add_epi32(s02, s13), B = _mm512_sub_epi32(s02, s13);
+                const __m512i A2 = _mm512_add_epi32(z02, z13), B2 = _mm512_sub_epi32(z02, z13);
+                const __m512i C = _mm512_sub_epi32(p0[c], p2[c]), D = _mm512_sub_epi32(p1[c], p3[c]);
+                const __m512i C2 = _mm512_sub_epi32(r0[c], r2[c]), D2 = _mm512_sub_epi32(r1[c], r3[c]);
+                const __m512i E = _mm512_sub_epi32(C, D2), F = _mm512_sub_epi32(D, C2);
+                const __m512i G = _mm512_add_epi32(C, D2), H = _mm512_add_epi32(D, C2);
+                const __m512i AA = _mm512_add_epi32(A, A2); /* <= 2^30, non-negative */
+                __m512i *ac = a[c];
+                ac[0] = _mm512_add_epi64(ac[0], _mm512_add_epi64(_mm512_and_si512(AA, lo32), _mm512_srli_epi64(AA, 32)));
+                if (mm >= 1) {
+                    ac[1] = _mm512_add_epi64(ac[1], _mm512_sub_epi64(mul2x(E, tv[0], to[0]), mul2x(F, tv[1], to[1])));
+                    ac[2] = _mm512_add_epi64(ac[2], _mm512_add_epi64(mul2x(G, tv[1], to[1]), mul2x(H, tv[0], to[0])));
+                }
+                if (mm >= 2) {
+                    ac[3] = _mm512_add_epi64(ac[3], mul2x(_mm512_sub_epi32(B, B2), tv[2], to[2]));
+                    ac[4] = _mm512_add_epi64(ac[4], mul2x(_mm512_add_epi32(B, B2), tv[3], to[3]));
+                }
+                if (mm >= 3) {
+                    ac[5] = _mm512_add_epi64(ac[5], _mm512_add_epi64(mul2x(E, tv[4], to[4]), mul2x(F, tv[5], to[5])));
+                    ac[6] = _mm512_add_epi64(ac[6], _mm512_sub_epi64(mul2x(G, tv[5], to[5]), mul2x(H, tv[4], to[4])));
+                }
+                if (mm >= 4) {
+                    ac[7] = _mm512_add_epi64(ac[7], mul2x(AA, tv[6], to[6]));
+                    ac[8] = _mm512_add_epi64(ac[8], mul2x(_mm512_sub_epi32(A, A2), tv[7], to[7]));
+                }
+            }
+        }
+        for (int c = 0; c < 3; ++c)
+            for (int i = 0; i <= 2 * mm; ++i)
+                v128_add16(&hi[c][i], &lo[c][i], a[c][i]);
+    }
+#undef LD16
+    for (int c = 0; c < 3; ++c)
+        for (int i = 0; i <= 2 * mm; ++i) {
+            uint64_t h[8], l[8];
+            _mm512_storeu_si512((void *)h, hi[c][i]);
+            _mm512_storeu_si512((void *)l, lo[c][i]);
+            for (int j = 0; j < 8; ++j) {
+                const uint64_t nl = s[c][i].lo + l[j];
+                s[c][i].hi += h[j] + (nl < l[j]);
+                s[c][i].lo = nl;
+            }
+        }
+    return u;
+}
 #endif
+
+/* The scalar folded sums of pairs start .. half - 1 and the middle column, added to s. */
+static FOLD_INLINE void folded_tail(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s[9], const int mm,
+                                    uint32_t start)
+{
+    const uint32_t q = ps->width / 4u, half = q / 2u;
     /* Quarter column u and its mirror u' = q - 1 - u (phi' = pi/2 - phi) share u's trig values:
      * cos m phi' and sin m phi' are +-sin m phi and +-cos m phi, so the two columns' folds combine
      * before the products (identities in probe.c's header): 12 products per pair and channel, 1.5
@@ -621,6 +734,19 @@ static FOLD_INLINE void folded(const qibl_probe_sh_t *ps, const uint32_t *x, s12
     }
 }
 
+/* Fourier sums of one channel: s[0] = S_0, s[2m - 1] = S_mc, s[2m] = S_ms for m = 1..mm (the orders
+ * the bands need, a constant where it is inlined; the others stay 0). */
+static FOLD_INLINE void folded(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s[9], const int mm)
+{
+    for (int i = 0; i < 9; ++i)
+        s[i].hi = s[i].lo = 0u;
+    uint32_t start = 0u;
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+    start = folded_avx2(ps, x, s, mm);
+#endif
+    folded_tail(ps, x, s, mm, start);
+}
+
 /* folded() for the orders the projection's bands need (m <= bands - 1): 3 bands sum 5 of the 9
  * and take 6 of the 12 products per column pair, so fewer bands cost less */
 static void row_sums_folded(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s[9])
@@ -637,6 +763,34 @@ static void row_sums_folded(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s
     }
 #endif
 }
+
+#if defined(QIBLI_PROBE_AVX512)
+/* The three channels' folded sums of a whole RGBE row from its bytes; the pairs the 16-wide steps
+ * leave (and the middle column) from ps->x, converted only then. */
+static FOLD_INLINE void folded3(const qibl_probe_sh_t *ps, const uint8_t *row, int32_t t, s128 s[3][9], const int mm)
+{
+    for (int c = 0; c < 3; ++c)
+        for (int i = 0; i < 9; ++i)
+            s[c][i].hi = s[c][i].lo = 0u;
+    const uint32_t q = ps->width / 4u, done = folded3_avx512(ps, row, t, s, mm);
+    if (done < q / 2u || (q & 1u)) {
+        row_convert(ps, row, t);
+        for (uint32_t c = 0; c < 3u; ++c)
+            folded_tail(ps, ps->x + (size_t)c * ps->width, s[c], mm, done);
+    }
+}
+
+static void row_sums3(const qibl_probe_sh_t *ps, const uint8_t *row, int32_t t, s128 s[3][9])
+{
+    switch (ps->bands) {
+    case 1: folded3(ps, row, t, s, 0); break;
+    case 2: folded3(ps, row, t, s, 1); break;
+    case 3: folded3(ps, row, t, s, 2); break;
+    case 4: folded3(ps, row, t, s, 3); break;
+    default: folded3(ps, row, t, s, 4); break;
+    }
+}
+#endif
 
 /* cos and sin of m phi_u (m = 1..4) at any column u, from the table (by quarter turns if folded) */
 static void trig_at(const qibl_probe_sh_t *ps, uint32_t u, int32_t t[8])
@@ -749,10 +903,20 @@ static qibl_status_t add_span(qibl_probe_sh_t *ps, uint32_t v, const void *row, 
         return st;
     if (t == INT32_MIN)
         return QIBL_OK; /* a black row adds nothing */
-    row_convert(ps, p, t);
     uint32_t fmag[QIBL_SH_MAX_COUNT];
     int fneg[QIBL_SH_MAX_COUNT];
     int32_t kap;
+#if defined(QIBLI_PROBE_AVX512)
+    if (ps->format == QIBL_LIGHTPROBE_RGBE && u0 == 0u && u1 == ps->width && (ps->width & 3u) == 0u) {
+        s128 s3[3][9]; /* the conversion fused into the fold: ps->x untouched for most widths */
+        row_sums3(ps, p, t, s3);
+        row_factors(ps, v, fmag, fneg, &kap);
+        for (uint32_t c = 0; c < 3u; ++c)
+            row_accumulate(ps, ps->acc + (size_t)c * 25u * LIMBS, s3[c], fmag, fneg, t - XBITS, kap, negate);
+        return QIBL_OK;
+    }
+#endif
+    row_convert(ps, p, t);
     row_factors(ps, v, fmag, fneg, &kap);
     for (uint32_t c = 0; c < 3u; ++c) {
         s128 s[9];
@@ -768,7 +932,7 @@ static qibl_status_t add_span(qibl_probe_sh_t *ps, uint32_t v, const void *row, 
 
 qibl_status_t qibl_probe_sh_add_row(qibl_probe_sh_t *ps, uint32_t v, const void *row)
 {
-    QIBLI_DISPATCH(qibl_probe_sh_add_row, (ps, v, row));
+    QIBLI_DISPATCH512(qibl_probe_sh_add_row, (ps, v, row));
     if (ps == 0 || row == 0 || ps->acc == 0)
         return QIBL_E_NULL_POINTER;
     if (v >= ps->height || ((unsigned)ps->seen[v >> 3] >> (v & 7u)) & 1u)
@@ -899,7 +1063,7 @@ static uint64_t acc_top(const uint32_t *acc, int *neg, int32_t *e)
 qibl_status_t qibl_probe_sh_finish(const qibl_probe_sh_t *ps, const qibl_probe_sh_opts_t *opts,
                                    qibl_probe_coeffs_t *out)
 {
-    QIBLI_DISPATCH(qibl_probe_sh_finish, (ps, opts, out));
+    QIBLI_DISPATCH512(qibl_probe_sh_finish, (ps, opts, out));
     if (ps == 0 || out == 0 || ps->acc == 0)
         return QIBL_E_NULL_POINTER;
     qibl_probe_sh_opts_t o = {0, QIBL_PROBE_WINDOW_NONE, 0};
@@ -987,7 +1151,7 @@ static qibl_status_t project(const qibl_lightprobe_image_t *img, int bands, void
 qibl_status_t qibl_probe_sh_project(const qibl_lightprobe_image_t *img, int bands, const qibl_probe_sh_opts_t *opts,
                                     void *workspace, size_t workspace_size, qibl_probe_coeffs_t *out)
 {
-    QIBLI_DISPATCH(qibl_probe_sh_project, (img, bands, opts, workspace, workspace_size, out));
+    QIBLI_DISPATCH512(qibl_probe_sh_project, (img, bands, opts, workspace, workspace_size, out));
     if (out == 0)
         return QIBL_E_NULL_POINTER;
     qibl_probe_sh_t ps;
@@ -1045,7 +1209,7 @@ qibl_status_t qibl_shlight_add_coeffs(qibl_shlight_t *l, const qibl_probe_coeffs
 qibl_status_t qibl_shlight_add_probe(qibl_shlight_t *l, const qibl_lightprobe_image_t *img,
                                      const qibl_probe_sh_opts_t *opts, void *workspace, size_t workspace_size)
 {
-    QIBLI_DISPATCH(qibl_shlight_add_probe, (l, img, opts, workspace, workspace_size));
+    QIBLI_DISPATCH512(qibl_shlight_add_probe, (l, img, opts, workspace, workspace_size));
     if (l == 0)
         return QIBL_E_NULL_POINTER;
     if (l->k < 1u || l->k > (uint32_t)QIBL_SH_MAX_COUNT)
@@ -1108,7 +1272,7 @@ qibl_status_t qibl_shlight_add_sun_sky(qibl_shlight_t *l, const qibl_lightprobe_
                                        const qibl_probe_sh_opts_t *opts, const qibl_lightprobe_light_t *sun,
                                        uint32_t count, int32_t rgb_exp, void *workspace, size_t workspace_size)
 {
-    QIBLI_DISPATCH(qibl_shlight_add_sun_sky, (l, img, opts, sun, count, rgb_exp, workspace, workspace_size));
+    QIBLI_DISPATCH512(qibl_shlight_add_sun_sky, (l, img, opts, sun, count, rgb_exp, workspace, workspace_size));
     if (l == 0 || (sun == 0 && count))
         return QIBL_E_NULL_POINTER;
     if (l->k < 1u || l->k > (uint32_t)QIBL_SH_MAX_COUNT)
