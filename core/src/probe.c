@@ -543,110 +543,97 @@ static inline void v128_add16(__m512i *hi, __m512i *lo, __m512i v)
     *lo = nl;
 }
 
-/* mul2 on 16 int32 lanes: the even and the odd lanes' products summed per 64-bit lane; todd holds
- * t's odd lanes already shifted down (shared by the three channels) */
-static inline __m512i mul2x(__m512i a, __m512i t, __m512i todd)
+/* mul2 on 16 int32 lanes: the even and the odd lanes' products summed per 64-bit lane */
+static inline __m512i mul2x(__m512i a, __m512i t)
 {
-    return _mm512_add_epi64(_mm512_mul_epi32(a, t), _mm512_mul_epi32(_mm512_srli_epi64(a, 32), todd));
+    return _mm512_add_epi64(_mm512_mul_epi32(a, t), _mm512_mul_epi32(_mm512_srli_epi64(a, 32), _mm512_srli_epi64(t, 32)));
 }
 
-/* row_convert's RGBE integers of 16 pixels, the three channels at once (c19 = 19 - k0): m 2^20 is
- * the channel byte moved to bits 20..27, pixels with E = 0 give 0 (the masked shift) */
-static inline void rgbe16(const uint8_t *row, uint32_t u, const __m512i *perm, __m512i c19, __m512i x[3])
+/* row_convert's RGBE integers of channel c (a constant where inlined) of 16 pixels (c19 = 19 - k0):
+ * m 2^20 is the channel byte moved to bits 20..27, pixels with E = 0 give 0 (the masked shift) */
+static inline __m512i rgbe16(const uint8_t *row, uint32_t u, int reverse, __m512i c19, const int c)
 {
     __m512i p = _mm512_loadu_si512((const void *)(row + 4u * (size_t)u));
-    if (perm)
-        p = _mm512_permutexvar_epi32(*perm, p);
-    const __m512i hib = _mm512_set1_epi32(0x0FF00000), one = _mm512_set1_epi32(1);
+    if (reverse)
+        p = _mm512_permutexvar_epi32(_mm512_setr_epi32(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0), p);
     const __mmask16 lit = _mm512_test_epi32_mask(p, _mm512_set1_epi32((int)0xFF000000u));
     const __m512i k = _mm512_sub_epi32(c19, _mm512_srli_epi32(p, 24));
-    const __m512i m0 = _mm512_srli_epi32(_mm512_slli_epi32(p, 24), 4);
-    const __m512i m1 = _mm512_and_si512(_mm512_slli_epi32(p, 12), hib);
-    const __m512i m2 = _mm512_and_si512(_mm512_slli_epi32(p, 4), hib);
-    x[0] = _mm512_srli_epi32(_mm512_add_epi32(_mm512_maskz_srlv_epi32(lit, m0, k), one), 1);
-    x[1] = _mm512_srli_epi32(_mm512_add_epi32(_mm512_maskz_srlv_epi32(lit, m1, k), one), 1);
-    x[2] = _mm512_srli_epi32(_mm512_add_epi32(_mm512_maskz_srlv_epi32(lit, m2, k), one), 1);
+    const __m512i m = c == 0 ? _mm512_srli_epi32(_mm512_slli_epi32(p, 24), 4)
+                             : _mm512_and_si512(_mm512_slli_epi32(p, c == 1 ? 12 : 4), _mm512_set1_epi32(0x0FF00000));
+    return _mm512_srli_epi32(_mm512_add_epi32(_mm512_maskz_srlv_epi32(lit, m, k), _mm512_set1_epi32(1)), 1);
 }
 
-/* folded_avx2 for the three channels of an RGBE row straight from its bytes (the conversion fused,
- * ps->x not written), 16 column pairs per step: pairs 0 .. 16 floor(half / 16) - 1 added to s[c];
- * returns the pairs done. The same exact integers as row_convert + folded, so the same sums. Per
- * 64-bit lane and step an update is at most 2 2^60 (two pairs), 3 steps below 2^63. */
-static FOLD_INLINE uint32_t folded3_avx512(const qibl_probe_sh_t *ps, const uint8_t *row, int32_t t, s128 s[3][9],
-                                           const int mm)
+/* folded_avx2 for channel c of an RGBE row straight from its bytes (the conversion fused, ps->x not
+ * written), 16 column pairs per step: pairs 0 .. 16 floor(half / 16) - 1 added to s; returns the
+ * pairs done. The same exact integers as row_convert + folded, so the same sums. Per 64-bit lane
+ * and step an update is at most 2 2^60 (two pairs), 3 steps below 2^63. One channel at a time: the
+ * nine sums, eight trig rows and the fold stay in the 32 registers. */
+static FOLD_INLINE uint32_t folded1_avx512(const qibl_probe_sh_t *ps, const uint8_t *row, int32_t t, s128 s[9],
+                                           const int mm, const int c)
 {
     const uint32_t q = ps->width / 4u, half = q / 2u;
     const int32_t *tr = ps->trig;
-    const __m512i rev = _mm512_setr_epi32(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0);
     const __m512i c19 = _mm512_set1_epi32(19 - (XBITS - 136 - t)), lo32 = _mm512_set1_epi64(0xFFFFFFFFll);
-    __m512i hi[3][9], lo[3][9];
-    for (int c = 0; c < 3; ++c)
-        for (int i = 0; i < 9; ++i)
-            hi[c][i] = lo[c][i] = _mm512_setzero_si512();
+    __m512i hi[9], lo[9];
+    for (int i = 0; i < 9; ++i)
+        hi[i] = lo[i] = _mm512_setzero_si512();
 #define LD16(p) _mm512_loadu_si512((const void *)(p))
     uint32_t u = 0;
     while (half - u >= 16u) {
-        __m512i a[3][9];
-        for (int c = 0; c < 3; ++c)
-            for (int i = 0; i < 9; ++i)
-                a[c][i] = _mm512_setzero_si512();
+        __m512i a[9];
+        for (int i = 0; i < 9; ++i)
+            a[i] = _mm512_setzero_si512();
         for (int step = 0; step < 3 && half - u >= 16u; ++step, u += 16u) {
             const uint32_t v = q - 16u - u; /* lanes v .. v+15 reversed: the mirrors of u .. u+15 */
-            __m512i p0[3], p1[3], p2[3], p3[3], r0[3], r1[3], r2[3], r3[3];
-            rgbe16(row, u, 0, c19, p0), rgbe16(row, u + q, 0, c19, p1);
-            rgbe16(row, u + 2u * q, 0, c19, p2), rgbe16(row, u + 3u * q, 0, c19, p3);
-            rgbe16(row, v, &rev, c19, r0), rgbe16(row, v + q, &rev, c19, r1);
-            rgbe16(row, v + 2u * q, &rev, c19, r2), rgbe16(row, v + 3u * q, &rev, c19, r3);
-            __m512i tv[8], to[8];
-            for (int i = 0; i < 8; ++i)
-                tv[i] = i < 2 * mm ? LD16(tr + (size_t)i * q + u) : _mm512_setzero_si512(),
-                to[i] = _mm512_srli_epi64(tv[i], 32);
-            for (int c = 0; c < 3; ++c) {
-                const __m512i s02 = _mm512_add_epi32(p0[c], p2[c]), s13 = _mm512_add_epi32(p1[c], p3[c]);
-                const __m512i z02 = _mm512_add_epi32(r0[c], r2[c]), z13 = _mm512_add_epi32(r1[c], r3[c]);
-                const __m512i A = _mm512_add_epi32(s02, s13), B = _mm512_sub_epi32(s02, s13);
-                const __m512i A2 = _mm512_add_epi32(z02, z13), B2 = _mm512_sub_epi32(z02, z13);
-                const __m512i C = _mm512_sub_epi32(p0[c], p2[c]), D = _mm512_sub_epi32(p1[c], p3[c]);
-                const __m512i C2 = _mm512_sub_epi32(r0[c], r2[c]), D2 = _mm512_sub_epi32(r1[c], r3[c]);
-                const __m512i E = _mm512_sub_epi32(C, D2), F = _mm512_sub_epi32(D, C2);
-                const __m512i G = _mm512_add_epi32(C, D2), H = _mm512_add_epi32(D, C2);
-                const __m512i AA = _mm512_add_epi32(A, A2); /* <= 2^30, non-negative */
-                __m512i *ac = a[c];
-                ac[0] = _mm512_add_epi64(ac[0], _mm512_add_epi64(_mm512_and_si512(AA, lo32), _mm512_srli_epi64(AA, 32)));
-                if (mm >= 1) {
-                    ac[1] = _mm512_add_epi64(ac[1], _mm512_sub_epi64(mul2x(E, tv[0], to[0]), mul2x(F, tv[1], to[1])));
-                    ac[2] = _mm512_add_epi64(ac[2], _mm512_add_epi64(mul2x(G, tv[1], to[1]), mul2x(H, tv[0], to[0])));
-                }
-                if (mm >= 2) {
-                    ac[3] = _mm512_add_epi64(ac[3], mul2x(_mm512_sub_epi32(B, B2), tv[2], to[2]));
-                    ac[4] = _mm512_add_epi64(ac[4], mul2x(_mm512_add_epi32(B, B2), tv[3], to[3]));
-                }
-                if (mm >= 3) {
-                    ac[5] = _mm512_add_epi64(ac[5], _mm512_add_epi64(mul2x(E, tv[4], to[4]), mul2x(F, tv[5], to[5])));
-                    ac[6] = _mm512_add_epi64(ac[6], _mm512_sub_epi64(mul2x(G, tv[5], to[5]), mul2x(H, tv[4], to[4])));
-                }
-                if (mm >= 4) {
-                    ac[7] = _mm512_add_epi64(ac[7], mul2x(AA, tv[6], to[6]));
-                    ac[8] = _mm512_add_epi64(ac[8], mul2x(_mm512_sub_epi32(A, A2), tv[7], to[7]));
-                }
+            const __m512i p0 = rgbe16(row, u, 0, c19, c), p1 = rgbe16(row, u + q, 0, c19, c);
+            const __m512i p2 = rgbe16(row, u + 2u * q, 0, c19, c), p3 = rgbe16(row, u + 3u * q, 0, c19, c);
+            const __m512i r0 = rgbe16(row, v, 1, c19, c), r1 = rgbe16(row, v + q, 1, c19, c);
+            const __m512i r2 = rgbe16(row, v + 2u * q, 1, c19, c), r3 = rgbe16(row, v + 3u * q, 1, c19, c);
+            const __m512i s02 = _mm512_add_epi32(p0, p2), s13 = _mm512_add_epi32(p1, p3);
+            const __m512i z02 = _mm512_add_epi32(r0, r2), z13 = _mm512_add_epi32(r1, r3);
+            const __m512i A = _mm512_add_epi32(s02, s13), B = _mm512_sub_epi32(s02, s13);
+            const __m512i A2 = _mm512_add_epi32(z02, z13), B2 = _mm512_sub_epi32(z02, z13);
+            const __m512i C = _mm512_sub_epi32(p0, p2), D = _mm512_sub_epi32(p1, p3);
+            const __m512i C2 = _mm512_sub_epi32(r0, r2), D2 = _mm512_sub_epi32(r1, r3);
+            const __m512i E = _mm512_sub_epi32(C, D2), F = _mm512_sub_epi32(D, C2);
+            const __m512i G = _mm512_add_epi32(C, D2), H = _mm512_add_epi32(D, C2);
+            const __m512i AA = _mm512_add_epi32(A, A2); /* <= 2^30, non-negative */
+            a[0] = _mm512_add_epi64(a[0], _mm512_add_epi64(_mm512_and_si512(AA, lo32), _mm512_srli_epi64(AA, 32)));
+            if (mm >= 1) {
+                const __m512i t0 = LD16(tr + u), t1 = LD16(tr + q + u);
+                a[1] = _mm512_add_epi64(a[1], _mm512_sub_epi64(mul2x(E, t0), mul2x(F, t1)));
+                a[2] = _mm512_add_epi64(a[2], _mm512_add_epi64(mul2x(G, t1), mul2x(H, t0)));
+            }
+            if (mm >= 2) {
+                const __m512i t2 = LD16(tr + 2u * q + u), t3 = LD16(tr + 3u * q + u);
+                a[3] = _mm512_add_epi64(a[3], mul2x(_mm512_sub_epi32(B, B2), t2));
+                a[4] = _mm512_add_epi64(a[4], mul2x(_mm512_add_epi32(B, B2), t3));
+            }
+            if (mm >= 3) {
+                const __m512i t4 = LD16(tr + 4u * q + u), t5 = LD16(tr + 5u * q + u);
+                a[5] = _mm512_add_epi64(a[5], _mm512_add_epi64(mul2x(E, t4), mul2x(F, t5)));
+                a[6] = _mm512_add_epi64(a[6], _mm512_sub_epi64(mul2x(G, t5), mul2x(H, t4)));
+            }
+            if (mm >= 4) {
+                const __m512i t6 = LD16(tr + 6u * q + u), t7 = LD16(tr + 7u * q + u);
+                a[7] = _mm512_add_epi64(a[7], mul2x(AA, t6));
+                a[8] = _mm512_add_epi64(a[8], mul2x(_mm512_sub_epi32(A, A2), t7));
             }
         }
-        for (int c = 0; c < 3; ++c)
-            for (int i = 0; i <= 2 * mm; ++i)
-                v128_add16(&hi[c][i], &lo[c][i], a[c][i]);
+        for (int i = 0; i <= 2 * mm; ++i)
+            v128_add16(&hi[i], &lo[i], a[i]);
     }
 #undef LD16
-    for (int c = 0; c < 3; ++c)
-        for (int i = 0; i <= 2 * mm; ++i) {
-            uint64_t h[8], l[8];
-            _mm512_storeu_si512((void *)h, hi[c][i]);
-            _mm512_storeu_si512((void *)l, lo[c][i]);
-            for (int j = 0; j < 8; ++j) {
-                const uint64_t nl = s[c][i].lo + l[j];
-                s[c][i].hi += h[j] + (nl < l[j]);
-                s[c][i].lo = nl;
-            }
+    for (int i = 0; i <= 2 * mm; ++i) {
+        uint64_t h[8], l[8];
+        _mm512_storeu_si512((void *)h, hi[i]);
+        _mm512_storeu_si512((void *)l, lo[i]);
+        for (int j = 0; j < 8; ++j) {
+            const uint64_t nl = s[i].lo + l[j];
+            s[i].hi += h[j] + (nl < l[j]);
+            s[i].lo = nl;
         }
+    }
     return u;
 }
 #endif
@@ -772,7 +759,8 @@ static FOLD_INLINE void folded3(const qibl_probe_sh_t *ps, const uint8_t *row, i
     for (int c = 0; c < 3; ++c)
         for (int i = 0; i < 9; ++i)
             s[c][i].hi = s[c][i].lo = 0u;
-    const uint32_t q = ps->width / 4u, done = folded3_avx512(ps, row, t, s, mm);
+    const uint32_t q = ps->width / 4u, done = folded1_avx512(ps, row, t, s[0], mm, 0);
+    (void)folded1_avx512(ps, row, t, s[1], mm, 1), (void)folded1_avx512(ps, row, t, s[2], mm, 2);
     if (done < q / 2u || (q & 1u)) {
         row_convert(ps, row, t);
         for (uint32_t c = 0; c < 3u; ++c)
