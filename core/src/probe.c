@@ -400,6 +400,32 @@ static void row_convert(const qibl_probe_sh_t *ps, const uint8_t *row, int32_t t
             sh[e] = (uint8_t)(e == 0 || d1 > 31 || d1 < 0 ? 31 : d1);
         }
         uint32_t u = 0;
+#if defined(QIBLI_PROBE_AVX512)
+        {
+            /* 16 pixels at once, the same integers as below: each channel byte moved to bits 24..31
+             * by one byte shuffle, m 2^24 >> (k + 4) = m 2^20 >> k, E = 0 by the masked shift */
+            const __m512i c23 = _mm512_set1_epi32(23 - k0), one = _mm512_set1_epi32(1);
+            const __m512i top = _mm512_set1_epi32((int)0xFF000000u);
+            /* byte 3 of dword j (of each 128-bit lane) from byte 4 j + c, bytes 0..2 zero (0x80) */
+#define SHUF(c) _mm512_broadcast_i32x4(_mm_setr_epi32((int)(0x00808080u | (0u + (c)) << 24), \
+                                                       (int)(0x00808080u | (4u + (c)) << 24), \
+                                                       (int)(0x00808080u | (8u + (c)) << 24), \
+                                                       (int)(0x00808080u | (12u + (c)) << 24)))
+            const __m512i b0 = SHUF(0u), b1 = SHUF(1u), b2 = SHUF(2u);
+#undef SHUF
+            for (; u + 16u <= w; u += 16u) {
+                const __m512i p = _mm512_loadu_si512((const void *)(row + 4u * (size_t)u));
+                const __mmask16 lit = _mm512_test_epi32_mask(p, top);
+                const __m512i k = _mm512_sub_epi32(c23, _mm512_srli_epi32(p, 24));
+                _mm512_storeu_si512((void *)(x0 + u), _mm512_srli_epi32(_mm512_add_epi32(
+                    _mm512_maskz_srlv_epi32(lit, _mm512_shuffle_epi8(p, b0), k), one), 1));
+                _mm512_storeu_si512((void *)(x1 + u), _mm512_srli_epi32(_mm512_add_epi32(
+                    _mm512_maskz_srlv_epi32(lit, _mm512_shuffle_epi8(p, b1), k), one), 1));
+                _mm512_storeu_si512((void *)(x2 + u), _mm512_srli_epi32(_mm512_add_epi32(
+                    _mm512_maskz_srlv_epi32(lit, _mm512_shuffle_epi8(p, b2), k), one), 1));
+            }
+        }
+#endif
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
         /* 8 pixels at once, the same integers: the shift 19 - E - k0 straight from the exponent, as
          * vpsrlvd gives 0 for a count >= 32 (the table's 31 gives 0 too: m 2^20 < 2^28 and unlit
@@ -549,31 +575,15 @@ static inline __m512i mul2x(__m512i a, __m512i t)
     return _mm512_add_epi64(_mm512_mul_epi32(a, t), _mm512_mul_epi32(_mm512_srli_epi64(a, 32), _mm512_srli_epi64(t, 32)));
 }
 
-/* row_convert's RGBE integers of channel c (a constant where inlined) of 16 pixels (c19 = 19 - k0):
- * m 2^20 is the channel byte moved to bits 20..27, pixels with E = 0 give 0 (the masked shift) */
-static inline __m512i rgbe16(const uint8_t *row, uint32_t u, int reverse, __m512i c19, const int c)
-{
-    __m512i p = _mm512_loadu_si512((const void *)(row + 4u * (size_t)u));
-    if (reverse)
-        p = _mm512_permutexvar_epi32(_mm512_setr_epi32(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0), p);
-    const __mmask16 lit = _mm512_test_epi32_mask(p, _mm512_set1_epi32((int)0xFF000000u));
-    const __m512i k = _mm512_sub_epi32(c19, _mm512_srli_epi32(p, 24));
-    const __m512i m = c == 0 ? _mm512_srli_epi32(_mm512_slli_epi32(p, 24), 4)
-                             : _mm512_and_si512(_mm512_slli_epi32(p, c == 1 ? 12 : 4), _mm512_set1_epi32(0x0FF00000));
-    return _mm512_srli_epi32(_mm512_add_epi32(_mm512_maskz_srlv_epi32(lit, m, k), _mm512_set1_epi32(1)), 1);
-}
-
-/* folded_avx2 for channel c of an RGBE row straight from its bytes (the conversion fused, ps->x not
- * written), 16 column pairs per step: pairs 0 .. 16 floor(half / 16) - 1 added to s; returns the
- * pairs done. The same exact integers as row_convert + folded, so the same sums. Per 64-bit lane
- * and step an update is at most 2 2^60 (two pairs), 3 steps below 2^63. One channel at a time: the
- * nine sums, eight trig rows and the fold stay in the 32 registers. */
-static FOLD_INLINE uint32_t folded1_avx512(const qibl_probe_sh_t *ps, const uint8_t *row, int32_t t, s128 s[9],
-                                           const int mm, const int c)
+/* folded_avx2 on 16 column pairs per step: pairs 0 .. 16 floor(half / 16) - 1 of one channel's
+ * integers, added to s; returns the pairs done. Every product and sum exact, so the scalar loop's
+ * integers; per 64-bit lane and step an update is at most 2 2^60 (two pairs), 3 steps below 2^63. */
+static FOLD_INLINE uint32_t folded_avx512(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s[9], const int mm)
 {
     const uint32_t q = ps->width / 4u, half = q / 2u;
     const int32_t *tr = ps->trig;
-    const __m512i c19 = _mm512_set1_epi32(19 - (XBITS - 136 - t)), lo32 = _mm512_set1_epi64(0xFFFFFFFFll);
+    const __m512i rev = _mm512_setr_epi32(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0);
+    const __m512i lo32 = _mm512_set1_epi64(0xFFFFFFFFll);
     __m512i hi[9], lo[9];
     for (int i = 0; i < 9; ++i)
         hi[i] = lo[i] = _mm512_setzero_si512();
@@ -585,10 +595,11 @@ static FOLD_INLINE uint32_t folded1_avx512(const qibl_probe_sh_t *ps, const uint
             a[i] = _mm512_setzero_si512();
         for (int step = 0; step < 3 && half - u >= 16u; ++step, u += 16u) {
             const uint32_t v = q - 16u - u; /* lanes v .. v+15 reversed: the mirrors of u .. u+15 */
-            const __m512i p0 = rgbe16(row, u, 0, c19, c), p1 = rgbe16(row, u + q, 0, c19, c);
-            const __m512i p2 = rgbe16(row, u + 2u * q, 0, c19, c), p3 = rgbe16(row, u + 3u * q, 0, c19, c);
-            const __m512i r0 = rgbe16(row, v, 1, c19, c), r1 = rgbe16(row, v + q, 1, c19, c);
-            const __m512i r2 = rgbe16(row, v + 2u * q, 1, c19, c), r3 = rgbe16(row, v + 3u * q, 1, c19, c);
+            const __m512i p0 = LD16(x + u), p1 = LD16(x + u + q), p2 = LD16(x + u + 2u * q), p3 = LD16(x + u + 3u * q);
+            const __m512i r0 = _mm512_permutexvar_epi32(rev, LD16(x + v));
+            const __m512i r1 = _mm512_permutexvar_epi32(rev, LD16(x + v + q));
+            const __m512i r2 = _mm512_permutexvar_epi32(rev, LD16(x + v + 2u * q));
+            const __m512i r3 = _mm512_permutexvar_epi32(rev, LD16(x + v + 3u * q));
             const __m512i s02 = _mm512_add_epi32(p0, p2), s13 = _mm512_add_epi32(p1, p3);
             const __m512i z02 = _mm512_add_epi32(r0, r2), z13 = _mm512_add_epi32(r1, r3);
             const __m512i A = _mm512_add_epi32(s02, s13), B = _mm512_sub_epi32(s02, s13);
@@ -728,7 +739,9 @@ static FOLD_INLINE void folded(const qibl_probe_sh_t *ps, const uint32_t *x, s12
     for (int i = 0; i < 9; ++i)
         s[i].hi = s[i].lo = 0u;
     uint32_t start = 0u;
-#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+#if defined(QIBLI_PROBE_AVX512)
+    start = folded_avx512(ps, x, s, mm);
+#elif QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
     start = folded_avx2(ps, x, s, mm);
 #endif
     folded_tail(ps, x, s, mm, start);
@@ -750,35 +763,6 @@ static void row_sums_folded(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s
     }
 #endif
 }
-
-#if defined(QIBLI_PROBE_AVX512)
-/* The three channels' folded sums of a whole RGBE row from its bytes; the pairs the 16-wide steps
- * leave (and the middle column) from ps->x, converted only then. */
-static FOLD_INLINE void folded3(const qibl_probe_sh_t *ps, const uint8_t *row, int32_t t, s128 s[3][9], const int mm)
-{
-    for (int c = 0; c < 3; ++c)
-        for (int i = 0; i < 9; ++i)
-            s[c][i].hi = s[c][i].lo = 0u;
-    const uint32_t q = ps->width / 4u, done = folded1_avx512(ps, row, t, s[0], mm, 0);
-    (void)folded1_avx512(ps, row, t, s[1], mm, 1), (void)folded1_avx512(ps, row, t, s[2], mm, 2);
-    if (done < q / 2u || (q & 1u)) {
-        row_convert(ps, row, t);
-        for (uint32_t c = 0; c < 3u; ++c)
-            folded_tail(ps, ps->x + (size_t)c * ps->width, s[c], mm, done);
-    }
-}
-
-static void row_sums3(const qibl_probe_sh_t *ps, const uint8_t *row, int32_t t, s128 s[3][9])
-{
-    switch (ps->bands) {
-    case 1: folded3(ps, row, t, s, 0); break;
-    case 2: folded3(ps, row, t, s, 1); break;
-    case 3: folded3(ps, row, t, s, 2); break;
-    case 4: folded3(ps, row, t, s, 3); break;
-    default: folded3(ps, row, t, s, 4); break;
-    }
-}
-#endif
 
 /* cos and sin of m phi_u (m = 1..4) at any column u, from the table (by quarter turns if folded) */
 static void trig_at(const qibl_probe_sh_t *ps, uint32_t u, int32_t t[8])
@@ -903,16 +887,6 @@ static qibl_status_t add_span(qibl_probe_sh_t *ps, uint32_t v, const void *row, 
     uint32_t fmag[QIBL_SH_MAX_COUNT];
     int fneg[QIBL_SH_MAX_COUNT];
     int32_t kap;
-#if defined(QIBLI_PROBE_AVX512)
-    if (ps->format == QIBL_LIGHTPROBE_RGBE && u0 == 0u && u1 == ps->width && (ps->width & 3u) == 0u) {
-        s128 s3[3][9]; /* the conversion fused into the fold: ps->x untouched for most widths */
-        row_sums3(ps, p, t, s3);
-        row_factors(ps, v, fmag, fneg, &kap);
-        for (uint32_t c = 0; c < 3u; ++c)
-            row_accumulate(ps, ps->acc + (size_t)c * 25u * LIMBS, s3[c], fmag, fneg, t - XBITS, kap, negate);
-        return QIBL_OK;
-    }
-#endif
     row_convert(ps, p, t);
     row_factors(ps, v, fmag, fneg, &kap);
     for (uint32_t c = 0; c < 3u; ++c) {
