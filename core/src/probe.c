@@ -649,11 +649,19 @@ static FOLD_INLINE uint32_t folded_avx512(const qibl_probe_sh_t *ps, const uint3
 }
 #endif
 
-/* The scalar folded sums of pairs start .. half - 1 and the middle column, added to s. */
-static FOLD_INLINE void folded_tail(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s[9], const int mm,
-                                    uint32_t start)
+/* Fourier sums of one channel: s[0] = S_0, s[2m - 1] = S_mc, s[2m] = S_ms for m = 1..mm (the orders
+ * the bands need, a constant where it is inlined; the others stay 0). */
+static FOLD_INLINE void folded(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s[9], const int mm)
 {
     const uint32_t q = ps->width / 4u, half = q / 2u;
+    for (int i = 0; i < 9; ++i)
+        s[i].hi = s[i].lo = 0u;
+    uint32_t start = 0u;
+#if defined(QIBLI_PROBE_AVX512)
+    start = folded_avx512(ps, x, s, mm);
+#elif QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+    start = folded_avx2(ps, x, s, mm);
+#endif
     /* Quarter column u and its mirror u' = q - 1 - u (phi' = pi/2 - phi) share u's trig values:
      * cos m phi' and sin m phi' are +-sin m phi and +-cos m phi, so the two columns' folds combine
      * before the products (identities in probe.c's header): 12 products per pair and channel, 1.5
@@ -730,21 +738,6 @@ static FOLD_INLINE void folded_tail(const qibl_probe_sh_t *ps, const uint32_t *x
             s128_add64(&s[8], qibl_mul_s32_s64(A, t[7]));
         }
     }
-}
-
-/* Fourier sums of one channel: s[0] = S_0, s[2m - 1] = S_mc, s[2m] = S_ms for m = 1..mm (the orders
- * the bands need, a constant where it is inlined; the others stay 0). */
-static FOLD_INLINE void folded(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s[9], const int mm)
-{
-    for (int i = 0; i < 9; ++i)
-        s[i].hi = s[i].lo = 0u;
-    uint32_t start = 0u;
-#if defined(QIBLI_PROBE_AVX512)
-    start = folded_avx512(ps, x, s, mm);
-#elif QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
-    start = folded_avx2(ps, x, s, mm);
-#endif
-    folded_tail(ps, x, s, mm, start);
 }
 
 /* folded() for the orders the projection's bands need (m <= bands - 1): 3 bands sum 5 of the 9
@@ -884,10 +877,10 @@ static qibl_status_t add_span(qibl_probe_sh_t *ps, uint32_t v, const void *row, 
         return st;
     if (t == INT32_MIN)
         return QIBL_OK; /* a black row adds nothing */
+    row_convert(ps, p, t);
     uint32_t fmag[QIBL_SH_MAX_COUNT];
     int fneg[QIBL_SH_MAX_COUNT];
     int32_t kap;
-    row_convert(ps, p, t);
     row_factors(ps, v, fmag, fneg, &kap);
     for (uint32_t c = 0; c < 3u; ++c) {
         s128 s[9];
