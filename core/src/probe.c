@@ -140,7 +140,12 @@ static void kadd(uint32_t *acc, const uint32_t mag[3], unsigned e, int neg)
         const uint64_t m01 = (uint64_t)mag[0] | (uint64_t)mag[1] << 32;
         const uint64_t w0 = m01 << b, w1 = (uint64_t)mag[2] << b | (b ? m01 >> (64u - b) : 0u);
         uint32_t *a = acc + q;
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2 && (defined(__GNUC__) || defined(__clang__))
+        uint64_t a0, a1; /* little-endian x86: limbs q, q + 1 are one 64-bit word */
+        __builtin_memcpy(&a0, a, 8), __builtin_memcpy(&a1, a + 2, 8);
+#else
         const uint64_t a0 = (uint64_t)a[0] | (uint64_t)a[1] << 32, a1 = (uint64_t)a[2] | (uint64_t)a[3] << 32;
+#endif
         uint64_t r0, r1;
         uint32_t carry;
         if (!neg) {
@@ -156,7 +161,11 @@ static void kadd(uint32_t *acc, const uint32_t mag[3], unsigned e, int neg)
             carry |= (uint32_t)(r1 < c0);
             r1 -= c0;
         }
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2 && (defined(__GNUC__) || defined(__clang__))
+        __builtin_memcpy(a, &r0, 8), __builtin_memcpy(a + 2, &r1, 8);
+#else
         a[0] = (uint32_t)r0, a[1] = (uint32_t)(r0 >> 32), a[2] = (uint32_t)r1, a[3] = (uint32_t)(r1 >> 32);
+#endif
         if (!neg)
             for (unsigned i = q + 4u; carry != 0u && i < LIMBS; ++i)
                 carry = ++acc[i] == 0u;
