@@ -18,9 +18,11 @@
 #include <string.h>
 #include <cmocka.h>
 
+#include "qibl/isa.h"
 #include "qibl/probe.h"
 #include "golden/check.h"
 #include "io/hdr.h"
+#include "io/isa_env.h"
 #include "ref/probe_ref.h"
 #include "ref/sh_ref.h"
 #include "testutil.h"
@@ -290,6 +292,69 @@ static void test_band_orders(void **state)
         free(w5), free(wb);
         probe_free(&p);
     }
+}
+
+/* Every kernel set this CPU runs (qtool_isa_force: scalar, SSE2, AVX2, and AVX-512 whose RGBE fold
+ * converts the bytes itself, 16 column pairs a step) leaves the scalar set's accumulators bit for bit:
+ * random rows with black pixels (E = 0, mantissas set), unlit ones of exponent 255, E = 1 and lit
+ * E = 255 pixels (a row whose scale pushes the rest far down), at widths of whole 16-pair steps, of a
+ * scalar tail of pairs, of an odd quarter width (its middle column), W % 4 != 0 (the direct path),
+ * for 1 to 5 bands. */
+static void test_every_isa_bits(void **state)
+{
+    (void)state;
+    static const int ws[] = {4, 8, 60, 64, 68, 124, 128, 132, 192, 260, 516, 1024, 1028, 30, 31, 66};
+    const uint32_t have = qibl_isa_available();
+    const size_t nacc = 3u * 25u * QIBL_PROBE_ACC_LIMBS;
+    uint32_t *ref = malloc(4 * nacc);
+    assert_non_null(ref);
+    for (size_t k = 0; k < sizeof ws / sizeof ws[0]; ++k) {
+        const int w = ws[k], h = 4;
+        uint8_t *px = malloc(4 * (size_t)w * h);
+        assert_non_null(px);
+        tu_rng r = {900 + k};
+        for (int i = 0; i < w * h; ++i) {
+            const uint32_t n = tu_u32(&r), v = (uint32_t)(i / w), kind = (n >> 24) & 7u;
+            uint8_t *q = px + 4 * (size_t)i;
+            q[0] = (uint8_t)n, q[1] = (uint8_t)(n >> 8), q[2] = (uint8_t)(n >> 16);
+            q[3] = (uint8_t)(100u + (tu_u32(&r) % 60u)); /* row 0: lit in 100..159 */
+            if (kind == 0)
+                q[3] = 0; /* black, mantissas set */
+            else if (kind == 1)
+                q[0] = q[1] = q[2] = 0, q[3] = 255; /* unlit, exponent above every lit one */
+            else if (kind == 2 && v >= 1)
+                q[3] = 1;
+            else if (kind == 3 && v == 2 && (n & 0x10000000u))
+                q[3] = 255; /* lit at the top exponent: the row's others shift far right */
+            else if (v == 3)
+                q[3] = (uint8_t)(120u + (n >> 29)); /* a narrow range: every bit kept */
+        }
+        for (int bands = 1; bands <= 5; ++bands) {
+            int first = -1;
+            for (unsigned isa = 0; isa < QIBL_ISA_COUNT; ++isa) {
+                if (!(have & QIBL_ISA_BIT(isa)))
+                    continue;
+                qtool_isa_force(QIBL_ISA_BIT(isa));
+                const size_t n = qibl_probe_sh_workspace_size((uint32_t)w, (uint32_t)h);
+                void *wsp = malloc(n);
+                assert_non_null(wsp);
+                qibl_probe_sh_t ps;
+                assert_int_equal(qibl_probe_sh_begin(&ps, (uint32_t)w, (uint32_t)h, QIBL_LIGHTPROBE_RGBE, 0, bands, wsp, n),
+                                 QIBL_OK);
+                for (uint32_t v = 0; v < (uint32_t)h; ++v)
+                    assert_int_equal(qibl_probe_sh_add_row(&ps, v, px + 4 * (size_t)v * (size_t)w), QIBL_OK);
+                if (first < 0) /* scalar where the build dispatches; a compile-time build has one set */
+                    memcpy(ref, ps.acc, 4 * nacc), first = (int)isa;
+                else if (memcmp(ref, ps.acc, 4 * nacc) != 0)
+                    fail_msg("width %d bands %d: %s accumulators differ from %s", w, bands,
+                             qibl_isa_name((qibl_isa_t)isa), qibl_isa_name((qibl_isa_t)first));
+                free(wsp);
+            }
+        }
+        qtool_isa_force(0);
+        free(px);
+    }
+    free(ref);
 }
 
 /* rows in any order give the same bits (exact integer accumulation) */
@@ -1039,6 +1104,7 @@ int main(void)
         cmocka_unit_test(test_sun_sky),
         cmocka_unit_test(test_rotation_reprojection),
         cmocka_unit_test(test_shlight_rotate),
+        cmocka_unit_test(test_every_isa_bits),
         cmocka_unit_test(test_goldens),
         cmocka_unit_test(test_real_probes),
     };

@@ -140,7 +140,12 @@ static void kadd(uint32_t *acc, const uint32_t mag[3], unsigned e, int neg)
         const uint64_t m01 = (uint64_t)mag[0] | (uint64_t)mag[1] << 32;
         const uint64_t w0 = m01 << b, w1 = (uint64_t)mag[2] << b | (b ? m01 >> (64u - b) : 0u);
         uint32_t *a = acc + q;
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2 && (defined(__GNUC__) || defined(__clang__))
+        uint64_t a0, a1; /* little-endian x86: limbs q, q + 1 are one 64-bit word */
+        __builtin_memcpy(&a0, a, 8), __builtin_memcpy(&a1, a + 2, 8);
+#else
         const uint64_t a0 = (uint64_t)a[0] | (uint64_t)a[1] << 32, a1 = (uint64_t)a[2] | (uint64_t)a[3] << 32;
+#endif
         uint64_t r0, r1;
         uint32_t carry;
         if (!neg) {
@@ -156,7 +161,11 @@ static void kadd(uint32_t *acc, const uint32_t mag[3], unsigned e, int neg)
             carry |= (uint32_t)(r1 < c0);
             r1 -= c0;
         }
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2 && (defined(__GNUC__) || defined(__clang__))
+        __builtin_memcpy(a, &r0, 8), __builtin_memcpy(a + 2, &r1, 8);
+#else
         a[0] = (uint32_t)r0, a[1] = (uint32_t)(r0 >> 32), a[2] = (uint32_t)r1, a[3] = (uint32_t)(r1 >> 32);
+#endif
         if (!neg)
             for (unsigned i = q + 4u; carry != 0u && i < LIMBS; ++i)
                 carry = ++acc[i] == 0u;
@@ -260,7 +269,7 @@ qibl_status_t qibl_probe_sh_begin(qibl_probe_sh_t *ps, uint32_t width, uint32_t 
                                   qibl_lightprobe_format_t format, int32_t frac_bits, int bands, void *workspace,
                                   size_t workspace_size)
 {
-    QIBLI_DISPATCH(qibl_probe_sh_begin, (ps, width, height, format, frac_bits, bands, workspace, workspace_size));
+    QIBLI_DISPATCH512(qibl_probe_sh_begin, (ps, width, height, format, frac_bits, bands, workspace, workspace_size));
     if (ps == 0 || workspace == 0)
         return QIBL_E_NULL_POINTER;
     if (bands < 1 || bands > QIBL_SH_MAX_BANDS)
@@ -400,6 +409,32 @@ static void row_convert(const qibl_probe_sh_t *ps, const uint8_t *row, int32_t t
             sh[e] = (uint8_t)(e == 0 || d1 > 31 || d1 < 0 ? 31 : d1);
         }
         uint32_t u = 0;
+#if defined(QIBLI_PROBE_AVX512)
+        {
+            /* 16 pixels at once, the same integers as below: each channel byte moved to bits 24..31
+             * by one byte shuffle, m 2^24 >> (k + 4) = m 2^20 >> k, E = 0 by the masked shift */
+            const __m512i c23 = _mm512_set1_epi32(23 - k0), one = _mm512_set1_epi32(1);
+            const __m512i top = _mm512_set1_epi32((int)0xFF000000u);
+            /* byte 3 of dword j (of each 128-bit lane) from byte 4 j + c, bytes 0..2 zero (0x80) */
+#define SHUF(c) _mm512_broadcast_i32x4(_mm_setr_epi32((int)(0x00808080u | (0u + (c)) << 24), \
+                                                       (int)(0x00808080u | (4u + (c)) << 24), \
+                                                       (int)(0x00808080u | (8u + (c)) << 24), \
+                                                       (int)(0x00808080u | (12u + (c)) << 24)))
+            const __m512i b0 = SHUF(0u), b1 = SHUF(1u), b2 = SHUF(2u);
+#undef SHUF
+            for (; u + 16u <= w; u += 16u) {
+                const __m512i p = _mm512_loadu_si512((const void *)(row + 4u * (size_t)u));
+                const __mmask16 lit = _mm512_test_epi32_mask(p, top);
+                const __m512i k = _mm512_sub_epi32(c23, _mm512_srli_epi32(p, 24));
+                _mm512_storeu_si512((void *)(x0 + u), _mm512_srli_epi32(_mm512_add_epi32(
+                    _mm512_maskz_srlv_epi32(lit, _mm512_shuffle_epi8(p, b0), k), one), 1));
+                _mm512_storeu_si512((void *)(x1 + u), _mm512_srli_epi32(_mm512_add_epi32(
+                    _mm512_maskz_srlv_epi32(lit, _mm512_shuffle_epi8(p, b1), k), one), 1));
+                _mm512_storeu_si512((void *)(x2 + u), _mm512_srli_epi32(_mm512_add_epi32(
+                    _mm512_maskz_srlv_epi32(lit, _mm512_shuffle_epi8(p, b2), k), one), 1));
+            }
+        }
+#endif
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
         /* 8 pixels at once, the same integers: the shift 19 - E - k0 straight from the exponent, as
          * vpsrlvd gives 0 for a count >= 32 (the table's 31 gives 0 too: m 2^20 < 2^28 and unlit
@@ -532,6 +567,97 @@ static FOLD_INLINE uint32_t folded_avx2(const qibl_probe_sh_t *ps, const uint32_
 }
 #endif
 
+#if defined(QIBLI_PROBE_AVX512)
+/* (hi, lo) += v in each 64-bit lane of a 512-bit vector, as v128_add */
+static inline void v128_add16(__m512i *hi, __m512i *lo, __m512i v)
+{
+    const __m512i nl = _mm512_add_epi64(*lo, v), one = _mm512_set1_epi64(1);
+    const __mmask8 carry = _mm512_cmplt_epu64_mask(nl, *lo), neg = _mm512_cmplt_epi64_mask(v, _mm512_setzero_si512());
+    const __m512i h = _mm512_mask_add_epi64(*hi, carry, *hi, one); /* +1 where lo wrapped */
+    *hi = _mm512_mask_sub_epi64(h, neg, h, one);                     /* -1 where v < 0 */
+    *lo = nl;
+}
+
+/* mul2 on 16 int32 lanes: the even and the odd lanes' products summed per 64-bit lane */
+static inline __m512i mul2x(__m512i a, __m512i t)
+{
+    return _mm512_add_epi64(_mm512_mul_epi32(a, t), _mm512_mul_epi32(_mm512_srli_epi64(a, 32), _mm512_srli_epi64(t, 32)));
+}
+
+/* folded_avx2 on 16 column pairs per step: pairs 0 .. 16 floor(half / 16) - 1 of one channel's
+ * integers, added to s; returns the pairs done. Every product and sum exact, so the scalar loop's
+ * integers; per 64-bit lane and step an update is at most 2 2^60 (two pairs), 3 steps below 2^63. */
+static FOLD_INLINE uint32_t folded_avx512(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s[9], const int mm)
+{
+    const uint32_t q = ps->width / 4u, half = q / 2u;
+    const int32_t *tr = ps->trig;
+    const __m512i rev = _mm512_setr_epi32(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0);
+    const __m512i lo32 = _mm512_set1_epi64(0xFFFFFFFFll);
+    __m512i hi[9], lo[9];
+    for (int i = 0; i < 9; ++i)
+        hi[i] = lo[i] = _mm512_setzero_si512();
+#define LD16(p) _mm512_loadu_si512((const void *)(p))
+    uint32_t u = 0;
+    while (half - u >= 16u) {
+        __m512i a[9];
+        for (int i = 0; i < 9; ++i)
+            a[i] = _mm512_setzero_si512();
+        for (int step = 0; step < 3 && half - u >= 16u; ++step, u += 16u) {
+            const uint32_t v = q - 16u - u; /* lanes v .. v+15 reversed: the mirrors of u .. u+15 */
+            const __m512i p0 = LD16(x + u), p1 = LD16(x + u + q), p2 = LD16(x + u + 2u * q), p3 = LD16(x + u + 3u * q);
+            const __m512i r0 = _mm512_permutexvar_epi32(rev, LD16(x + v));
+            const __m512i r1 = _mm512_permutexvar_epi32(rev, LD16(x + v + q));
+            const __m512i r2 = _mm512_permutexvar_epi32(rev, LD16(x + v + 2u * q));
+            const __m512i r3 = _mm512_permutexvar_epi32(rev, LD16(x + v + 3u * q));
+            const __m512i s02 = _mm512_add_epi32(p0, p2), s13 = _mm512_add_epi32(p1, p3);
+            const __m512i z02 = _mm512_add_epi32(r0, r2), z13 = _mm512_add_epi32(r1, r3);
+            const __m512i A = _mm512_add_epi32(s02, s13), B = _mm512_sub_epi32(s02, s13);
+            const __m512i A2 = _mm512_add_epi32(z02, z13), B2 = _mm512_sub_epi32(z02, z13);
+            const __m512i C = _mm512_sub_epi32(p0, p2), D = _mm512_sub_epi32(p1, p3);
+            const __m512i C2 = _mm512_sub_epi32(r0, r2), D2 = _mm512_sub_epi32(r1, r3);
+            const __m512i E = _mm512_sub_epi32(C, D2), F = _mm512_sub_epi32(D, C2);
+            const __m512i G = _mm512_add_epi32(C, D2), H = _mm512_add_epi32(D, C2);
+            const __m512i AA = _mm512_add_epi32(A, A2); /* <= 2^30, non-negative */
+            a[0] = _mm512_add_epi64(a[0], _mm512_add_epi64(_mm512_and_si512(AA, lo32), _mm512_srli_epi64(AA, 32)));
+            if (mm >= 1) {
+                const __m512i t0 = LD16(tr + u), t1 = LD16(tr + q + u);
+                a[1] = _mm512_add_epi64(a[1], _mm512_sub_epi64(mul2x(E, t0), mul2x(F, t1)));
+                a[2] = _mm512_add_epi64(a[2], _mm512_add_epi64(mul2x(G, t1), mul2x(H, t0)));
+            }
+            if (mm >= 2) {
+                const __m512i t2 = LD16(tr + 2u * q + u), t3 = LD16(tr + 3u * q + u);
+                a[3] = _mm512_add_epi64(a[3], mul2x(_mm512_sub_epi32(B, B2), t2));
+                a[4] = _mm512_add_epi64(a[4], mul2x(_mm512_add_epi32(B, B2), t3));
+            }
+            if (mm >= 3) {
+                const __m512i t4 = LD16(tr + 4u * q + u), t5 = LD16(tr + 5u * q + u);
+                a[5] = _mm512_add_epi64(a[5], _mm512_add_epi64(mul2x(E, t4), mul2x(F, t5)));
+                a[6] = _mm512_add_epi64(a[6], _mm512_sub_epi64(mul2x(G, t5), mul2x(H, t4)));
+            }
+            if (mm >= 4) {
+                const __m512i t6 = LD16(tr + 6u * q + u), t7 = LD16(tr + 7u * q + u);
+                a[7] = _mm512_add_epi64(a[7], mul2x(AA, t6));
+                a[8] = _mm512_add_epi64(a[8], mul2x(_mm512_sub_epi32(A, A2), t7));
+            }
+        }
+        for (int i = 0; i <= 2 * mm; ++i)
+            v128_add16(&hi[i], &lo[i], a[i]);
+    }
+#undef LD16
+    for (int i = 0; i <= 2 * mm; ++i) {
+        uint64_t h[8], l[8];
+        _mm512_storeu_si512((void *)h, hi[i]);
+        _mm512_storeu_si512((void *)l, lo[i]);
+        for (int j = 0; j < 8; ++j) {
+            const uint64_t nl = s[i].lo + l[j];
+            s[i].hi += h[j] + (nl < l[j]);
+            s[i].lo = nl;
+        }
+    }
+    return u;
+}
+#endif
+
 /* Fourier sums of one channel: s[0] = S_0, s[2m - 1] = S_mc, s[2m] = S_ms for m = 1..mm (the orders
  * the bands need, a constant where it is inlined; the others stay 0). */
 static FOLD_INLINE void folded(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s[9], const int mm)
@@ -540,7 +666,9 @@ static FOLD_INLINE void folded(const qibl_probe_sh_t *ps, const uint32_t *x, s12
     for (int i = 0; i < 9; ++i)
         s[i].hi = s[i].lo = 0u;
     uint32_t start = 0u;
-#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+#if defined(QIBLI_PROBE_AVX512)
+    start = folded_avx512(ps, x, s, mm);
+#elif QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
     start = folded_avx2(ps, x, s, mm);
 #endif
     /* Quarter column u and its mirror u' = q - 1 - u (phi' = pi/2 - phi) share u's trig values:
@@ -704,6 +832,15 @@ static void row_factors(const qibl_probe_sh_t *ps, uint32_t v, uint32_t fmag[QIB
     }
 }
 
+/* bit length of a non-zero value: on the x86 copies (GCC or Clang) one instruction; the portable
+ * search branches on the data, and S's signs and sizes change from row to row (mispredictions
+ * were about a third of row_accumulate) */
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2 && (defined(__GNUC__) || defined(__clang__))
+#define BITLEN_NZ(x) (64u - (unsigned)__builtin_clzll(x))
+#else
+#define BITLEN_NZ(x) qibli_bitlen_u64(x)
+#endif
+
 /* Adds (or subtracts) S_m f_l|m| 2^(s_v - 61 - kap) for every coefficient of one channel. */
 static void row_accumulate(qibl_probe_sh_t *ps, uint32_t *acc, const s128 s[9], const uint32_t *fmag,
                            const int *fneg, int32_t sv, int32_t kap, int negate)
@@ -713,7 +850,7 @@ static void row_accumulate(qibl_probe_sh_t *ps, uint32_t *acc, const s128 s[9], 
         int neg = s128_abs(&s[sel], &hi, &lo);
         if ((hi | lo) == 0u)
             continue;
-        unsigned bl = hi ? 64u + qibli_bitlen_u64(hi) : qibli_bitlen_u64(lo), r = bl > 62u ? bl - 62u : 0u;
+        unsigned bl = hi ? 64u + BITLEN_NZ(hi) : BITLEN_NZ(lo), r = bl > 62u ? bl - 62u : 0u;
         uint64_t mag; /* round(|S| / 2^r), <= 2^62 */
         if (r == 0u) {
             mag = lo;
@@ -768,7 +905,7 @@ static qibl_status_t add_span(qibl_probe_sh_t *ps, uint32_t v, const void *row, 
 
 qibl_status_t qibl_probe_sh_add_row(qibl_probe_sh_t *ps, uint32_t v, const void *row)
 {
-    QIBLI_DISPATCH(qibl_probe_sh_add_row, (ps, v, row));
+    QIBLI_DISPATCH512(qibl_probe_sh_add_row, (ps, v, row));
     if (ps == 0 || row == 0 || ps->acc == 0)
         return QIBL_E_NULL_POINTER;
     if (v >= ps->height || ((unsigned)ps->seen[v >> 3] >> (v & 7u)) & 1u)
@@ -899,7 +1036,7 @@ static uint64_t acc_top(const uint32_t *acc, int *neg, int32_t *e)
 qibl_status_t qibl_probe_sh_finish(const qibl_probe_sh_t *ps, const qibl_probe_sh_opts_t *opts,
                                    qibl_probe_coeffs_t *out)
 {
-    QIBLI_DISPATCH(qibl_probe_sh_finish, (ps, opts, out));
+    QIBLI_DISPATCH512(qibl_probe_sh_finish, (ps, opts, out));
     if (ps == 0 || out == 0 || ps->acc == 0)
         return QIBL_E_NULL_POINTER;
     qibl_probe_sh_opts_t o = {0, QIBL_PROBE_WINDOW_NONE, 0};
@@ -987,7 +1124,7 @@ static qibl_status_t project(const qibl_lightprobe_image_t *img, int bands, void
 qibl_status_t qibl_probe_sh_project(const qibl_lightprobe_image_t *img, int bands, const qibl_probe_sh_opts_t *opts,
                                     void *workspace, size_t workspace_size, qibl_probe_coeffs_t *out)
 {
-    QIBLI_DISPATCH(qibl_probe_sh_project, (img, bands, opts, workspace, workspace_size, out));
+    QIBLI_DISPATCH512(qibl_probe_sh_project, (img, bands, opts, workspace, workspace_size, out));
     if (out == 0)
         return QIBL_E_NULL_POINTER;
     qibl_probe_sh_t ps;
@@ -1045,7 +1182,7 @@ qibl_status_t qibl_shlight_add_coeffs(qibl_shlight_t *l, const qibl_probe_coeffs
 qibl_status_t qibl_shlight_add_probe(qibl_shlight_t *l, const qibl_lightprobe_image_t *img,
                                      const qibl_probe_sh_opts_t *opts, void *workspace, size_t workspace_size)
 {
-    QIBLI_DISPATCH(qibl_shlight_add_probe, (l, img, opts, workspace, workspace_size));
+    QIBLI_DISPATCH512(qibl_shlight_add_probe, (l, img, opts, workspace, workspace_size));
     if (l == 0)
         return QIBL_E_NULL_POINTER;
     if (l->k < 1u || l->k > (uint32_t)QIBL_SH_MAX_COUNT)
@@ -1108,7 +1245,7 @@ qibl_status_t qibl_shlight_add_sun_sky(qibl_shlight_t *l, const qibl_lightprobe_
                                        const qibl_probe_sh_opts_t *opts, const qibl_lightprobe_light_t *sun,
                                        uint32_t count, int32_t rgb_exp, void *workspace, size_t workspace_size)
 {
-    QIBLI_DISPATCH(qibl_shlight_add_sun_sky, (l, img, opts, sun, count, rgb_exp, workspace, workspace_size));
+    QIBLI_DISPATCH512(qibl_shlight_add_sun_sky, (l, img, opts, sun, count, rgb_exp, workspace, workspace_size));
     if (l == 0 || (sun == 0 && count))
         return QIBL_E_NULL_POINTER;
     if (l->k < 1u || l->k > (uint32_t)QIBL_SH_MAX_COUNT)

@@ -31,7 +31,7 @@ extern "C" {
     X(QIBL_ISA_SSE2, QIBL_SIMD_SSE2, "sse2")                                                               \
     X(QIBL_ISA_AVX2, QIBL_SIMD_AVX2, "avx2")                                                               \
     X(QIBL_ISA_NEON, QIBL_SIMD_NEON, "neon")                                                               \
-    X(QIBL_ISA_AVX512, QIBL_SIMD_AVX512, "avx512") /* AVX2 kernels plus shmap's 16-lane point kernel */
+    X(QIBL_ISA_AVX512, QIBL_SIMD_AVX512, "avx512") /* AVX2 kernels plus 16-lane point light and probe fold */
 
 typedef enum qibl_isa {
 #define QIBL_ISA_ENUM_(name, value, label) name = value,
