@@ -217,16 +217,20 @@ static inline int32_t s32_from_bits(uint32_t u)
 /* ---- row writers: one loop per format and transfer --------------------------------------------
  * p points at the first pixel's first byte; rgb holds 3n channels. */
 
+static inline uint32_t code8(uint32_t x, int srgb)
+{
+    return srgb ? srgb8(x) : lin8(x);
+}
+
 /* srgb is a constant at each call, so the two transfers still get a loop each once inlined */
 static inline void row_8888(uint8_t *p, const int32_t *rgb, uint32_t n, const expo_t *x, unsigned ri, int srgb)
 {
     uint32_t e = x->e, vlim = x->vlim;
     unsigned bi = 2u - ri;
     for (uint32_t i = 0; i < n; ++i, p += 4, rgb += 3) {
-        uint32_t r = expose(rgb[0], e, vlim), g = expose(rgb[1], e, vlim), b = expose(rgb[2], e, vlim);
-        p[ri] = (uint8_t)(srgb ? srgb8(r) : lin8(r));
-        p[1] = (uint8_t)(srgb ? srgb8(g) : lin8(g));
-        p[bi] = (uint8_t)(srgb ? srgb8(b) : lin8(b));
+        p[ri] = (uint8_t)code8(expose(rgb[0], e, vlim), srgb);
+        p[1] = (uint8_t)code8(expose(rgb[1], e, vlim), srgb);
+        p[bi] = (uint8_t)code8(expose(rgb[2], e, vlim), srgb);
         p[3] = 0xFFu;
     }
 }
