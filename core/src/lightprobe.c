@@ -152,9 +152,17 @@ static uint64_t shift128_to64(const u128 *x, int s)
     return shr128_lo(x, (unsigned)-s);
 }
 
+/* div_digit is inlined at both digits, at -Os too: as a call it would cost div128's callers a frame
+ * more on the small cores (the stack bounds in docs/porting.md) */
+#if defined(__GNUC__) || defined(__clang__)
+#define DIGIT_INLINE __attribute__((always_inline)) inline
+#else
+#define DIGIT_INLINE inline
+#endif
+
 /* One quotient digit of algorithm D below: top / vn1 estimated, then corrected down (at most twice)
  * against the divisor's second digit vn0 and the dividend's next digit un. */
-static uint64_t div_digit(uint64_t top, uint32_t un, uint32_t vn1, uint32_t vn0)
+static DIGIT_INLINE uint64_t div_digit(uint64_t top, uint32_t un, uint32_t vn1, uint32_t vn0)
 {
     const uint64_t b = (uint64_t)1 << 32;
     uint64_t rhat = 0; /* always written (vn1 != 0); set for GCC, which sees the d == 0 path when
@@ -1438,29 +1446,33 @@ static uint64_t band_sum(const qibl_lightprobe_t *lp, const rect *r, int along_u
     return along_u ? sat_sum(lp, a, r->v0, b, r->v1) : sat_sum(lp, r->u0, a, r->u1, b);
 }
 
-/* r cut along u (or v) to its first lit line and the end of its last */
-static void crop_axis(const qibl_lightprobe_t *lp, rect *r, int along_u)
+/* r cut along u (or v) to its first lit line and the end of its last (r itself is written only at
+ * the end, so the searches keep their bounds in registers) */
+static inline void crop_axis(const qibl_lightprobe_t *lp, rect *r, int along_u)
 {
-    uint32_t *lo = along_u ? &r->u0 : &r->v0, *hi = along_u ? &r->u1 : &r->v1;
+    const uint32_t lo = along_u ? r->u0 : r->v0, hi = along_u ? r->u1 : r->v1;
     uint32_t l, e;
     /* first lit line: smallest c with energy in [lo, c + 1) */
-    for (l = *lo, e = *hi - 1u; l < e;) {
+    for (l = lo, e = hi - 1u; l < e;) {
         uint32_t c = l + (e - l) / 2u;
-        if (band_sum(lp, r, along_u, *lo, c + 1u) != 0u)
+        if (band_sum(lp, r, along_u, lo, c + 1u) != 0u)
             e = c;
         else
             l = c + 1u;
     }
-    *lo = l;
+    const uint32_t first = l;
     /* end of the last lit line: largest c with energy in [c - 1, hi) */
-    for (l = *lo + 1u, e = *hi; l < e;) {
+    for (l = first + 1u, e = hi; l < e;) {
         uint32_t c = l + (e - l + 1u) / 2u;
-        if (band_sum(lp, r, along_u, c - 1u, *hi) != 0u)
+        if (band_sum(lp, r, along_u, c - 1u, hi) != 0u)
             l = c;
         else
             e = c - 1u;
     }
-    *hi = l;
+    if (along_u)
+        r->u0 = first, r->u1 = l;
+    else
+        r->v0 = first, r->v1 = l;
 }
 
 static void crop(const qibl_lightprobe_t *lp, rect *r)

@@ -217,20 +217,26 @@ static inline int32_t s32_from_bits(uint32_t u)
 /* ---- row writers: one loop per format and transfer --------------------------------------------
  * p points at the first pixel's first byte; rgb holds 3n channels. */
 
-static inline uint32_t code8(uint32_t x, int srgb)
-{
-    return srgb ? srgb8(x) : lin8(x);
-}
-
-/* srgb is a constant at each call, so the two transfers still get a loop each once inlined */
-static inline void row_8888(uint8_t *p, const int32_t *rgb, uint32_t n, const expo_t *x, unsigned ri, int srgb)
+static void row_8888_lin(uint8_t *p, const int32_t *rgb, uint32_t n, const expo_t *x, unsigned ri,
+                         unsigned bi)
 {
     uint32_t e = x->e, vlim = x->vlim;
-    unsigned bi = 2u - ri;
     for (uint32_t i = 0; i < n; ++i, p += 4, rgb += 3) {
-        p[ri] = (uint8_t)code8(expose(rgb[0], e, vlim), srgb);
-        p[1] = (uint8_t)code8(expose(rgb[1], e, vlim), srgb);
-        p[bi] = (uint8_t)code8(expose(rgb[2], e, vlim), srgb);
+        p[ri] = (uint8_t)lin8(expose(rgb[0], e, vlim));
+        p[1] = (uint8_t)lin8(expose(rgb[1], e, vlim));
+        p[bi] = (uint8_t)lin8(expose(rgb[2], e, vlim));
+        p[3] = 0xFFu;
+    }
+}
+
+static void row_8888_srgb(uint8_t *p, const int32_t *rgb, uint32_t n, const expo_t *x, unsigned ri,
+                          unsigned bi)
+{
+    uint32_t e = x->e, vlim = x->vlim;
+    for (uint32_t i = 0; i < n; ++i, p += 4, rgb += 3) {
+        p[ri] = (uint8_t)srgb8(expose(rgb[0], e, vlim));
+        p[1] = (uint8_t)srgb8(expose(rgb[1], e, vlim));
+        p[bi] = (uint8_t)srgb8(expose(rgb[2], e, vlim));
         p[3] = 0xFFu;
     }
 }
@@ -369,9 +375,9 @@ static void write_span(const qibl_fb_desc_t *fb, size_t stride, uint32_t x0, uin
     }
     unsigned ri = f == QIBL_FB_RGBA8888 ? 0u : 2u;
     if (fb->srgb)
-        row_8888(p, rgb, n, x, ri, 1);
+        row_8888_srgb(p, rgb, n, x, ri, 2u - ri);
     else
-        row_8888(p, rgb, n, x, ri, 0);
+        row_8888_lin(p, rgb, n, x, ri, 2u - ri);
 }
 
 qibl_status_t qibl_soft_fb_write_row(const qibl_fb_desc_t *fb, uint32_t x0, uint32_t y, uint32_t n,
