@@ -1436,10 +1436,6 @@ static void sift_up(qibl_lightprobe_light_t *h, uint32_t i)
 
 /* ---- lights ----------------------------------------------------------------------------------- */
 
-/* Shrinks a lit region to the bounding box of its energy (binary searches on the SAT: energy
- * beyond a cut only grows as the cut moves out). Dark margins carry no light, and once they are
- * gone the first and last column and row of a region are lit, so every cut leaves energy on both
- * sides and the place of a cut inside a dark gap makes no difference. */
 /* the energy of r with its range along u (or v) replaced by [a, b) */
 static uint64_t band_sum(const qibl_lightprobe_t *lp, const rect *r, int along_u, uint32_t a, uint32_t b)
 {
@@ -1475,6 +1471,10 @@ static inline void crop_axis(const qibl_lightprobe_t *lp, rect *r, int along_u)
         r->v0 = first, r->v1 = l;
 }
 
+/* Shrinks a lit region to the bounding box of its energy (binary searches on the SAT: energy
+ * beyond a cut only grows as the cut moves out). Dark margins carry no light, and once they are
+ * gone the first and last column and row of a region are lit, so every cut leaves energy on both
+ * sides and the place of a cut inside a dark gap makes no difference. */
 static void crop(const qibl_lightprobe_t *lp, rect *r)
 {
     crop_axis(lp, r, 1);
