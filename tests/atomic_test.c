@@ -418,7 +418,8 @@ static void test_concurrent_writers(void **state)
     }
 }
 
-/* The helper's own contract: bad names, a missing directory, replace a regular file. */
+/* The helpers' own contract: bad names, a missing directory, replace a regular file, an encoder's
+ * bytes or failure. */
 static void test_helper_errors(void **state)
 {
     (void)state;
@@ -440,6 +441,17 @@ static void test_helper_errors(void **state)
     fputs("abandoned", a.f);
     qtool_io_atomic_abort(&a);
     assert_true(file_is(out, "new"));
+    /* qtool_io_write_encoded: a failed encoder is out of memory, named, the file untouched; else
+     * the malloc'ed bytes are written and freed (ASan: no leak) */
+    assert_int_equal(qtool_io_write_encoded(out, -1, NULL, 0, err, sizeof err), -1);
+    assert_non_null(strstr(err, "out of memory"));
+    assert_non_null(strstr(err, out));
+    assert_true(file_is(out, "new"));
+    uint8_t *enc = malloc(7);
+    assert_non_null(enc);
+    memcpy(enc, "encoded", 7);
+    assert_int_equal(qtool_io_write_encoded(out, 0, enc, 7, err, sizeof err), 0);
+    assert_true(file_is(out, "encoded"));
     assert_int_equal(list_dir(d, listing, sizeof listing), 2); /* f and fixtures/ */
     rm_rf(d);
     free(d);

@@ -152,36 +152,46 @@ static uint64_t shift128_to64(const u128 *x, int s)
     return shr128_lo(x, (unsigned)-s);
 }
 
+/* div_digit is inlined at both digits, at -Os too: as a call it would cost div128's callers a frame
+ * more on the small cores (the stack bounds in docs/porting.md) */
+#if defined(__GNUC__) || defined(__clang__)
+#define DIGIT_INLINE __attribute__((always_inline)) inline
+#else
+#define DIGIT_INLINE inline
+#endif
+
+/* One quotient digit of algorithm D below: top / vn1 estimated, then corrected down (at most twice)
+ * against the divisor's second digit vn0 and the dividend's next digit un. */
+static DIGIT_INLINE uint64_t div_digit(uint64_t top, uint32_t un, uint32_t vn1, uint32_t vn0)
+{
+    const uint64_t b = (uint64_t)1 << 32;
+    uint64_t rhat = 0; /* always written (vn1 != 0); set for GCC, which sees the d == 0 path when
+                        * fixed.c is inlined (the amalgamation, LTO) and warns */
+    uint64_t q = qibl_udiv_u64(top, vn1, &rhat);
+    while (q >= b || qibl_mul_u32_u64((uint32_t)q, vn0) > ((rhat << 32) | un)) {
+        --q;
+        rhat += vn1;
+        if (rhat >= b)
+            break;
+    }
+    return q;
+}
+
 /* floor(n / d) for d > 0 and n.hi < d (so the quotient fits 64 bits); *rem gets the remainder.
  * Knuth's algorithm D with two 32-bit digits (Hacker's Delight, divlu): two 64/32 divisions, which
  * are instructions on 64-bit hosts and qibl_udiv_u64's shift-subtract loop elsewhere. */
 static uint64_t div128(const u128 *n, uint64_t d, uint64_t *rem)
 {
-    const uint64_t b = (uint64_t)1 << 32;
     unsigned s = 64u - qibli_bitlen_u64(d);
     d = qibli_shl_u64(d, s);
     uint64_t un32 = s ? qibli_shl_u64(n->hi, s) | qibl_shr_u64(n->lo, 64u - s) : n->hi;
     uint64_t un10 = qibli_shl_u64(n->lo, s);
     uint32_t vn1 = (uint32_t)(d >> 32), vn0 = (uint32_t)d;
     uint32_t un1 = (uint32_t)(un10 >> 32), un0 = (uint32_t)un10;
-    uint64_t rhat = 0; /* always written (vn1 != 0); set for GCC, which sees the d == 0 path when
-                        * fixed.c is inlined (the amalgamation, LTO) and warns */
-    uint64_t q1 = qibl_udiv_u64(un32, vn1, &rhat);
-    while (q1 >= b || qibl_mul_u32_u64((uint32_t)q1, vn0) > ((rhat << 32) | un1)) {
-        --q1;
-        rhat += vn1;
-        if (rhat >= b)
-            break;
-    }
+    uint64_t q1 = div_digit(un32, un1, vn1, vn0);
     /* q1 < 2^32 now; the true value of un21 is below d, so arithmetic mod 2^64 gives it exactly */
     uint64_t un21 = (un32 << 32) + un1 - mul_lo_u64_u32(d, (uint32_t)q1);
-    uint64_t q0 = qibl_udiv_u64(un21, vn1, &rhat);
-    while (q0 >= b || qibl_mul_u32_u64((uint32_t)q0, vn0) > ((rhat << 32) | un0)) {
-        --q0;
-        rhat += vn1;
-        if (rhat >= b)
-            break;
-    }
+    uint64_t q0 = div_digit(un21, un0, vn1, vn0);
     if (rem)
         *rem = qibl_shr_u64((un21 << 32) + un0 - mul_lo_u64_u32(d, (uint32_t)q0), s);
     return (q1 << 32) | q0;
@@ -1365,33 +1375,51 @@ static void swap_lights(qibl_lightprobe_light_t *x, qibl_lightprobe_light_t *y)
     set_rect(y, &r);
 }
 
-/* heap order: larger key first, then smaller v0, then smaller u0 (a total, deterministic order:
- * the regions of one run never overlap) */
+/* Ties of both orders below: smaller v0, then smaller u0 (a total, deterministic order: the regions
+ * of one run never overlap) */
+static int first_of_equals(const qibl_lightprobe_light_t *x, const qibl_lightprobe_light_t *y)
+{
+    if (x->v0 != y->v0)
+        return x->v0 < y->v0;
+    return x->u0 < y->u0;
+}
+
+/* the cut heap's order: larger key first */
 static int before(const qibl_lightprobe_light_t *x, const qibl_lightprobe_light_t *y)
 {
     u128 kx, ky;
     light_key(x, &kx);
     light_key(y, &ky);
     int k = cmp128(&kx, &ky);
-    if (k != 0)
-        return k > 0;
-    if (x->v0 != y->v0)
-        return x->v0 < y->v0;
-    return x->u0 < y->u0;
+    return k != 0 ? k > 0 : first_of_equals(x, y);
 }
 
-static void sift_down(qibl_lightprobe_light_t *h, uint32_t n, uint32_t i)
+/* the result's order: more energy first */
+static int brighter(const qibl_lightprobe_light_t *x, const qibl_lightprobe_light_t *y)
+{
+    uint64_t a = light_energy(x), b = light_energy(y);
+    return a != b ? a > b : first_of_equals(x, y);
+}
+
+/* x goes above y in the cut heap (before) or in the final sort's (the dimmest on top, so that the
+ * sorted array ends up brightest first) */
+static int above(const qibl_lightprobe_light_t *x, const qibl_lightprobe_light_t *y, int dimmest_top)
+{
+    return dimmest_top ? brighter(y, x) : before(x, y);
+}
+
+static void sift_down(qibl_lightprobe_light_t *h, uint32_t n, uint32_t i, int dimmest_top)
 {
     for (;;) {
-        uint32_t l = 2u * i + 1u, best = i;
-        if (l < n && before(&h[l], &h[best]))
-            best = l;
-        if (l + 1u < n && before(&h[l + 1u], &h[best]))
-            best = l + 1u;
-        if (best == i)
+        uint32_t l = 2u * i + 1u, top = i;
+        if (l < n && above(&h[l], &h[top], dimmest_top))
+            top = l;
+        if (l + 1u < n && above(&h[l + 1u], &h[top], dimmest_top))
+            top = l + 1u;
+        if (top == i)
             return;
-        swap_lights(&h[i], &h[best]);
-        i = best;
+        swap_lights(&h[i], &h[top]);
+        i = top;
     }
 }
 
@@ -1408,47 +1436,49 @@ static void sift_up(qibl_lightprobe_light_t *h, uint32_t i)
 
 /* ---- lights ----------------------------------------------------------------------------------- */
 
+/* the energy of r with its range along u (or v) replaced by [a, b) */
+static uint64_t band_sum(const qibl_lightprobe_t *lp, const rect *r, int along_u, uint32_t a, uint32_t b)
+{
+    return along_u ? sat_sum(lp, a, r->v0, b, r->v1) : sat_sum(lp, r->u0, a, r->u1, b);
+}
+
+/* r cut along u (or v) to its first lit line and the end of its last (r itself is written only at
+ * the end, so the searches keep their bounds in registers) */
+static inline void crop_axis(const qibl_lightprobe_t *lp, rect *r, int along_u)
+{
+    const uint32_t lo = along_u ? r->u0 : r->v0, hi = along_u ? r->u1 : r->v1;
+    uint32_t l, e;
+    /* first lit line: smallest c with energy in [lo, c + 1) */
+    for (l = lo, e = hi - 1u; l < e;) {
+        uint32_t c = l + (e - l) / 2u;
+        if (band_sum(lp, r, along_u, lo, c + 1u) != 0u)
+            e = c;
+        else
+            l = c + 1u;
+    }
+    const uint32_t first = l;
+    /* end of the last lit line: largest c with energy in [c - 1, hi) */
+    for (l = first + 1u, e = hi; l < e;) {
+        uint32_t c = l + (e - l + 1u) / 2u;
+        if (band_sum(lp, r, along_u, c - 1u, hi) != 0u)
+            l = c;
+        else
+            e = c - 1u;
+    }
+    if (along_u)
+        r->u0 = first, r->u1 = l;
+    else
+        r->v0 = first, r->v1 = l;
+}
+
 /* Shrinks a lit region to the bounding box of its energy (binary searches on the SAT: energy
  * beyond a cut only grows as the cut moves out). Dark margins carry no light, and once they are
  * gone the first and last column and row of a region are lit, so every cut leaves energy on both
  * sides and the place of a cut inside a dark gap makes no difference. */
 static void crop(const qibl_lightprobe_t *lp, rect *r)
 {
-    uint32_t l, e;
-    /* first lit column: smallest c with energy in [u0, c + 1) */
-    for (l = r->u0, e = r->u1 - 1u; l < e;) {
-        uint32_t c = l + (e - l) / 2u;
-        if (sat_sum(lp, r->u0, r->v0, c + 1u, r->v1) != 0u)
-            e = c;
-        else
-            l = c + 1u;
-    }
-    r->u0 = l;
-    /* end of the last lit column: largest c with energy in [c - 1, u1) */
-    for (l = r->u0 + 1u, e = r->u1; l < e;) {
-        uint32_t c = l + (e - l + 1u) / 2u;
-        if (sat_sum(lp, c - 1u, r->v0, r->u1, r->v1) != 0u)
-            l = c;
-        else
-            e = c - 1u;
-    }
-    r->u1 = l;
-    for (l = r->v0, e = r->v1 - 1u; l < e;) {
-        uint32_t c = l + (e - l) / 2u;
-        if (sat_sum(lp, r->u0, r->v0, r->u1, c + 1u) != 0u)
-            e = c;
-        else
-            l = c + 1u;
-    }
-    r->v0 = l;
-    for (l = r->v0 + 1u, e = r->v1; l < e;) {
-        uint32_t c = l + (e - l + 1u) / 2u;
-        if (sat_sum(lp, r->u0, c - 1u, r->u1, r->v1) != 0u)
-            l = c;
-        else
-            e = c - 1u;
-    }
-    r->v1 = l;
+    crop_axis(lp, r, 1);
+    crop_axis(lp, r, 0);
 }
 
 /* A new region: cropped to its energy's bounding box, with its greedy key *k and (low-memory
@@ -1582,10 +1612,10 @@ static uint32_t make_regions(const qibl_lightprobe_t *lp, const marg *m, int var
             copy_light(&L[max_lights - d], &L[0]);
             copy_light(&L[0], &L[h - 1u]);
             if (--h > 0u)
-                sift_down(L, h, 0u);
+                sift_down(L, h, 0u, 0);
             continue;
         }
-        sift_down(L, h, 0u);
+        sift_down(L, h, 0u, 0);
         sift_up(L, h);
         ++h;
     }
@@ -1793,39 +1823,13 @@ static void region_rgb(const qibl_lightprobe_t *lp, rect r, uint64_t out[3])
 }
 
 /* heap sort of the lights by energy, brightest first (ties: smaller v0, then u0) */
-static int brighter(const qibl_lightprobe_light_t *x, const qibl_lightprobe_light_t *y)
-{
-    uint64_t a = light_energy(x), b = light_energy(y);
-    if (a != b)
-        return a > b;
-    if (x->v0 != y->v0)
-        return x->v0 < y->v0;
-    return x->u0 < y->u0;
-}
-
-static void sort_sift(qibl_lightprobe_light_t *h, uint32_t n, uint32_t i)
-{
-    /* a heap with the dimmest on top, so that the sorted array ends up brightest first */
-    for (;;) {
-        uint32_t l = 2u * i + 1u, m = i;
-        if (l < n && brighter(&h[m], &h[l]))
-            m = l;
-        if (l + 1u < n && brighter(&h[m], &h[l + 1u]))
-            m = l + 1u;
-        if (m == i)
-            return;
-        swap_lights(&h[i], &h[m]);
-        i = m;
-    }
-}
-
 static void sort_lights(qibl_lightprobe_light_t *L, uint32_t n)
 {
     for (uint32_t i = n / 2u; i-- > 0u;)
-        sort_sift(L, n, i);
+        sift_down(L, n, i, 1);
     for (uint32_t end = n; end > 1u; --end) {
         swap_lights(&L[0], &L[end - 1u]);
-        sort_sift(L, end - 1u, 0u);
+        sift_down(L, end - 1u, 0u, 1);
     }
 }
 

@@ -105,13 +105,10 @@ int qtool_extras_decode(const uint8_t *b, size_t n, const char *name, qtool_extr
 
 int qtool_extras_write(const qtool_extras *x, const char *path, char *err, size_t errlen)
 {
-    uint8_t *b;
-    size_t n;
-    if (qtool_extras_encode(x, &b, &n) != 0)
-        return qtool_errf(err, errlen, "%s: out of memory", path);
-    int rc = qtool_io_write_atomic(path, b, n, err, errlen);
-    free(b);
-    return rc;
+    uint8_t *b = NULL;
+    size_t n = 0;
+    int enc = qtool_extras_encode(x, &b, &n);
+    return qtool_io_write_encoded(path, enc, b, n, err, errlen);
 }
 
 static const char *extras_magic(const uint8_t *head, size_t n)

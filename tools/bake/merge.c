@@ -301,27 +301,30 @@ static int extras_chunks(const qtool_extras *xx, qtool_bake_asset_extras *x, cha
     return 0;
 }
 
-/* A partial sum's side files as one shard of the coarser split (a stale one must not reach the
- * next merge: removed when this merge has none). 0 or -1. */
+/* partial_out's side file with that suffix, named into side; when this merge has none (have 0) a
+ * stale one is removed, so that it cannot reach the next merge. Returns have: 1 to write it. */
+static int side_to_write(char *side, size_t n, const char *partial_out, const char *suffix, int have)
+{
+    qtool_bake_side_name(side, n, partial_out, suffix);
+    if (!have)
+        (void)unlink(side);
+    return have;
+}
+
+/* A partial sum's side files as one shard of the coarser split. 0 or -1. */
 static int write_partial_sides(const char *partial_out, const qtool_bake_sums *total, qtool_bake_sums *tu, int have,
                                qtool_extras *xx, int hx, char *err, size_t errlen)
 {
     char side[4200];
-    qtool_bake_side_name(side, sizeof side, partial_out, "u");
-    if (have) {
+    if (side_to_write(side, sizeof side, partial_out, "u", have)) {
         tu->shard = total->shard, tu->nshards = total->nshards;
         if (qtool_bake_sums_write(tu, side, err, errlen) != 0)
             return -1;
-    } else {
-        (void)unlink(side);
     }
-    qtool_bake_side_name(side, sizeof side, partial_out, "x");
-    if (hx) {
+    if (side_to_write(side, sizeof side, partial_out, "x", hx)) {
         xx->shard = total->shard, xx->nshards = total->nshards;
         if (qtool_extras_write(xx, side, err, errlen) != 0)
             return -1;
-    } else {
-        (void)unlink(side);
     }
     return 0;
 }

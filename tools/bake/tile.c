@@ -249,13 +249,10 @@ int qtool_tile_ranges_read(const char *path, qtool_tile_ranges *r, char *err, si
 
 int qtool_tile_ranges_write(const qtool_tile_ranges *r, const char *path, char *err, size_t errlen)
 {
-    uint8_t *b;
-    size_t n;
-    if (qtool_tile_ranges_encode(r, &b, &n) != 0)
-        return qtool_errf(err, errlen, "%s: out of memory", path);
-    int rc = qtool_io_write_atomic(path, b, n, err, errlen);
-    free(b);
-    return rc;
+    uint8_t *b = NULL;
+    size_t n = 0;
+    int enc = qtool_tile_ranges_encode(r, &b, &n);
+    return qtool_io_write_encoded(path, enc, b, n, err, errlen);
 }
 
 /* ---- the band's maps ----------------------------------------------------------------------------- */

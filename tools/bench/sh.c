@@ -31,27 +31,27 @@ typedef struct sweep {
 static volatile int32_t sink_i;
 static volatile double sink_d;
 
-/* One pass of each method over the sweep (bands b); the sinks keep the work. */
-static void pass_int(const sweep *sw, int b)
+/* One pass of each method over the sweep (bands b); the sinks keep the work. unit is a constant
+ * at both calls, so each wrapper times a loop over its own entry point alone. */
+static inline void pass_q30(const sweep *sw, int b, int unit)
 {
     int32_t acc = 0;
     for (int i = 0; i < sw->n; ++i) {
         qibl_q30_t y[25];
-        QTOOL_BENCH_CALL(qibl_sh_eval(sw->dir[i], b, y));
+        QTOOL_BENCH_CALL(unit ? qibl_sh_eval_unit(sw->unit[i], b, y) : qibl_sh_eval(sw->dir[i], b, y));
         acc ^= y[b * b - 1];
     }
     sink_i = acc;
 }
 
+static void pass_int(const sweep *sw, int b)
+{
+    pass_q30(sw, b, 0);
+}
+
 static void pass_unit(const sweep *sw, int b)
 {
-    int32_t acc = 0;
-    for (int i = 0; i < sw->n; ++i) {
-        qibl_q30_t y[25];
-        QTOOL_BENCH_CALL(qibl_sh_eval_unit(sw->unit[i], b, y));
-        acc ^= y[b * b - 1];
-    }
-    sink_i = acc;
+    pass_q30(sw, b, 1);
 }
 
 static void pass_ref(const sweep *sw, int b)

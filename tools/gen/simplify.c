@@ -102,6 +102,18 @@ static int add_face(state *s, uint32_t v, uint32_t f)
     return 0;
 }
 
+/* The next live face on v's list from position *k on, into *f, with *k moved past it; 0 when there
+ * is none left (the lists keep the faces that died: they are skipped here, as read). */
+static int next_live(const state *s, uint32_t v, uint32_t *k, uint32_t *f)
+{
+    while (*k < s->nvf[v]) {
+        *f = s->vf[v][(*k)++];
+        if (s->tri_alive[*f])
+            return 1;
+    }
+    return 0;
+}
+
 static uint64_t edge_key(uint32_t a, uint32_t b)
 {
     return a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
@@ -148,10 +160,7 @@ static int valid(state *s, uint32_t u, uint32_t v)
     /* neighbours of u marked; the faces on uv give the allowed common neighbours */
     ++s->stamp;
     uint32_t shared = 0;
-    for (uint32_t k = 0; k < s->nvf[u]; ++k) {
-        const uint32_t f = s->vf[u][k];
-        if (!s->tri_alive[f])
-            continue;
+    for (uint32_t k = 0, f; next_live(s, u, &k, &f);) {
         const uint32_t *t = s->tri[f];
         for (int j = 0; j < 3; ++j)
             s->mark[t[j]] = s->stamp;
@@ -161,10 +170,7 @@ static int valid(state *s, uint32_t u, uint32_t v)
         return 0;
     ++s->stamp; /* second stamp: common neighbours */
     uint32_t common = 0;
-    for (uint32_t k = 0; k < s->nvf[v]; ++k) {
-        const uint32_t f = s->vf[v][k];
-        if (!s->tri_alive[f])
-            continue;
+    for (uint32_t k = 0, f; next_live(s, v, &k, &f);) {
         for (int j = 0; j < 3; ++j) {
             const uint32_t w = s->tri[f][j];
             if (w == u || w == v)
@@ -178,9 +184,8 @@ static int valid(state *s, uint32_t u, uint32_t v)
     if (common != shared) /* more common neighbours than faces on uv: two sheets would join */
         return 0;
     /* fold-over: u's remaining faces keep their orientation */
-    for (uint32_t k = 0; k < s->nvf[u]; ++k) {
-        const uint32_t f = s->vf[u][k];
-        if (!s->tri_alive[f] || has(s->tri[f], v))
+    for (uint32_t k = 0, f; next_live(s, u, &k, &f);) {
+        if (has(s->tri[f], v))
             continue;
         const double *p[3], *q[3];
         for (int j = 0; j < 3; ++j) {
@@ -199,10 +204,7 @@ static int valid(state *s, uint32_t u, uint32_t v)
 
 static int collapse(state *s, uint32_t u, uint32_t v)
 {
-    for (uint32_t k = 0; k < s->nvf[u]; ++k) {
-        const uint32_t f = s->vf[u][k];
-        if (!s->tri_alive[f])
-            continue;
+    for (uint32_t k = 0, f; next_live(s, u, &k, &f);) {
         uint32_t *t = s->tri[f];
         if (has(t, v)) {
             s->tri_alive[f] = 0, --s->alive;
@@ -219,18 +221,12 @@ static int collapse(state *s, uint32_t u, uint32_t v)
         s->q[v][k] += s->q[u][k];
     /* v and its neighbours changed: fresh candidates both ways on every edge at v */
     ++s->ver[v];
-    for (uint32_t k = 0; k < s->nvf[v]; ++k) {
-        const uint32_t f = s->vf[v][k];
-        if (!s->tri_alive[f])
-            continue;
+    for (uint32_t k = 0, f; next_live(s, v, &k, &f);) {
         for (int j = 0; j < 3; ++j)
             if (s->tri[f][j] != v)
                 ++s->ver[s->tri[f][j]];
     }
-    for (uint32_t k = 0; k < s->nvf[v]; ++k) {
-        const uint32_t f = s->vf[v][k];
-        if (!s->tri_alive[f])
-            continue;
+    for (uint32_t k = 0, f; next_live(s, v, &k, &f);) {
         for (int j = 0; j < 3; ++j) {
             const uint32_t w = s->tri[f][j];
             if (w != v && (push(s, v, w) != 0 || push(s, w, v) != 0))

@@ -143,6 +143,17 @@ int qtool_gcase_oom(const qtool_goldens_sink_t *s, const char *name)
     return 1;
 }
 
+#if QIBL_USE_SHMAP
+qibl_status_t qtool_gcase_dir_lights(qibl_shlight_t *l, uint32_t k, uint32_t n, const qibl_q16_t (*dir)[3],
+                                     const qibl_q16_t (*rgb)[3])
+{
+    qibl_status_t st = qibl_shlight_init(l, k);
+    for (uint32_t i = 0; i < n && st == QIBL_OK; ++i)
+        st = qibl_shlight_add_dir(l, dir[i], rgb[i]);
+    return st;
+}
+#endif
+
 int qtool_gcase_oom_size(const qtool_goldens_sink_t *s, const char *name, size_t bytes)
 {
     char what[80];

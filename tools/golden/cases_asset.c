@@ -140,6 +140,18 @@ static void put_offset(qtool_gbuf *b, const uint8_t *base, const uint8_t *p)
     qtool_gbuf_u32(b, p == NULL ? 0xFFFFFFFFu : (uint32_t)(p - base));
 }
 
+/* A view accessor's status and, when it succeeded, the view's two sizes and where its data starts
+ * (PMAP: width, height; YLUT: face size, k). 1 when it succeeded. */
+static int put_view(qtool_gbuf *b, qibl_status_t st, uint32_t u, uint32_t v, const uint8_t *base, const uint8_t *data)
+{
+    qtool_gbuf_u8(b, (uint32_t)st);
+    if (st != QIBL_OK)
+        return 0;
+    qtool_gbuf_u32(b, u), qtool_gbuf_u32(b, v);
+    put_offset(b, base, data);
+    return 1;
+}
+
 /* Status, and for a valid asset every field and accessor value. */
 static void parse(qtool_gbuf *b, const uint8_t *bytes, size_t n)
 {
@@ -170,26 +182,18 @@ static void parse(qtool_gbuf *b, const uint8_t *bytes, size_t n)
                 put_offset(b, bytes, qibl_shmaps_plane(&m, i, ch));
             }
     }
-    qibl_pmap_t p;
+    qibl_pmap_t p = {0};
     qibl_status_t ps = qibl_asset_pmap(&a, &p);
-    qtool_gbuf_u8(b, (uint32_t)ps);
-    if (ps == QIBL_OK) {
-        qtool_gbuf_u32(b, p.width), qtool_gbuf_u32(b, p.height);
-        put_offset(b, bytes, p.points);
+    if (put_view(b, ps, p.width, p.height, bytes, p.points))
         for (uint32_t y = 0; y < p.height; ++y)
             for (uint32_t x = 0; x < p.width; ++x) {
                 qibl_q16_t q[3];
                 qibl_pmap_point(&p, x, y, q);
                 qtool_gbuf_s32(b, q[0]), qtool_gbuf_s32(b, q[1]), qtool_gbuf_s32(b, q[2]);
             }
-    }
-    qibl_ylut_t y;
+    qibl_ylut_t y = {0};
     qibl_status_t ys = qibl_asset_ylut(&a, &y);
-    qtool_gbuf_u8(b, (uint32_t)ys);
-    if (ys == QIBL_OK) {
-        qtool_gbuf_u32(b, y.face_size), qtool_gbuf_u32(b, y.k);
-        put_offset(b, bytes, y.values);
-    }
+    (void)put_view(b, ys, y.face_size, y.k, bytes, y.values);
 }
 
 /* ---- cases ----------------------------------------------------------------------------------- */

@@ -60,13 +60,9 @@ int qtool_goldens_relight_camera(const qtool_goldens_sink_t *s)
     /* a sun from above the room's open side, and a cool sky light */
     qibl_shlight_t l;
     qibl_shmap_weights_t w;
-    const qibl_q16_t sun[3] = {22938, -19661, 58327}, sun_rgb[3] = {170000, 157000, 137000};
-    const qibl_q16_t sky[3] = {0, 0, 65536}, sky_rgb[3] = {16000, 21000, 30000};
-    st = qibl_shlight_init(&l, CK);
-    if (st == QIBL_OK)
-        st = qibl_shlight_add_dir(&l, sun, sun_rgb);
-    if (st == QIBL_OK)
-        st = qibl_shlight_add_dir(&l, sky, sky_rgb);
+    const qibl_q16_t dirs[2][3] = {{22938, -19661, 58327}, {0, 0, 65536}}; /* sun, sky */
+    const qibl_q16_t rgbs[2][3] = {{170000, 157000, 137000}, {16000, 21000, 30000}};
+    st = qtool_gcase_dir_lights(&l, CK, 2, dirs, rgbs);
     if (st == QIBL_OK)
         st = qibl_shmap_weights(&m, &l, &w);
     bad += st == QIBL_OK ? emit_frame(s, "relight_camera_k9_sun_rgba8888_srgb", &m, &w, NULL)

@@ -124,15 +124,11 @@ static int case_relight(const qtool_goldens_sink_t *s, const qibl_lightpath_t *p
 {
     qibl_shlight_t sun, sky;
     qibl_shmap_weights_t wsun, wsky;
-    const qibl_q16_t dir[3] = {20000, 30000, 52000}, rgb[3] = {150000, 120000, 90000};
-    const qibl_q16_t up[3] = {0, 0, 65536}, skyc[3] = {20000, 30000, 52000};
-    qibl_status_t st = qibl_shlight_init(&sun, LK);
+    const qibl_q16_t dir[1][3] = {{20000, 30000, 52000}}, rgb[1][3] = {{150000, 120000, 90000}};
+    const qibl_q16_t up[1][3] = {{0, 0, 65536}}, skyc[1][3] = {{20000, 30000, 52000}};
+    qibl_status_t st = qtool_gcase_dir_lights(&sun, LK, 1, dir, rgb);
     if (st == QIBL_OK)
-        st = qibl_shlight_add_dir(&sun, dir, rgb);
-    if (st == QIBL_OK)
-        st = qibl_shlight_init(&sky, LK);
-    if (st == QIBL_OK)
-        st = qibl_shlight_add_dir(&sky, up, skyc);
+        st = qtool_gcase_dir_lights(&sky, LK, 1, up, skyc);
     if (st == QIBL_OK)
         st = qibl_shmap_weights(mu, &sun, &wsun);
     if (st == QIBL_OK && msky)
@@ -191,12 +187,10 @@ static int case_shmt(const qtool_goldens_sink_t *s, const qibl_shmaps_t *mu)
     qtool_gbuf g = {0};
     qibl_shmtile_t t;
     qibl_shlight_t sun;
-    const qibl_q16_t dir[3] = {20000, 30000, 52000}, rgb[3] = {150000, 120000, 90000};
+    const qibl_q16_t dir[1][3] = {{20000, 30000, 52000}}, rgb[1][3] = {{150000, 120000, 90000}};
     qibl_status_t st = qibl_shmtile_parse(b, fixed + data, &t);
     if (st == QIBL_OK)
-        st = qibl_shlight_init(&sun, LK);
-    if (st == QIBL_OK)
-        st = qibl_shlight_add_dir(&sun, dir, rgb);
+        st = qtool_gcase_dir_lights(&sun, LK, 1, dir, rgb);
     for (uint32_t i = 0; st == QIBL_OK && i < NT; ++i) {
         qibl_shmaps_t v;
         qibl_shmap_weights_t wt;

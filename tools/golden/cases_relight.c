@@ -178,13 +178,9 @@ int qtool_goldens_relight(const qtool_goldens_sink_t *s)
         dir_ctx dc;
         dc.m = &g.m;
         qibl_shlight_t l;
-        const qibl_q16_t sun[3] = {40000, 25000, 52000}, sun_rgb[3] = {150000, 120000, 90000};
-        const qibl_q16_t sky[3] = {0, 0, 65536}, sky_rgb[3] = {20000, 30000, 52000};
-        qibl_status_t st = qibl_shlight_init(&l, k);
-        if (st == QIBL_OK)
-            st = qibl_shlight_add_dir(&l, sun, sun_rgb);
-        if (st == QIBL_OK)
-            st = qibl_shlight_add_dir(&l, sky, sky_rgb);
+        const qibl_q16_t dirs[2][3] = {{40000, 25000, 52000}, {0, 0, 65536}}; /* sun, sky */
+        const qibl_q16_t rgbs[2][3] = {{150000, 120000, 90000}, {20000, 30000, 52000}};
+        qibl_status_t st = qtool_gcase_dir_lights(&l, k, 2, dirs, rgbs);
         if (st == QIBL_OK)
             st = qibl_shmap_weights(&g.m, &l, &dc.w);
         snprintf(prefix, sizeof prefix, "%sdir_k%u", lay, k);

@@ -10,6 +10,7 @@
 
 #include "golden/cases.h"
 #include "io/sha256.h"
+#include "qibl/shmap.h"
 #include "qibl/soft.h"
 #include "qibl/status.h"
 
@@ -42,6 +43,11 @@ int qtool_gcase_emit(const qtool_goldens_sink_t *s, const char *name, const void
 /* Reports an error for case name ("<call>: <status text>" or "out of memory"); returns 1. */
 int qtool_gcase_status_error(const qtool_goldens_sink_t *s, const char *name, const char *call, qibl_status_t st);
 int qtool_gcase_oom(const qtool_goldens_sink_t *s, const char *name);
+
+/* l = the k-coefficient light of n directional lights, dir[i] of colour rgb[i]: qibl_shlight_init,
+ * then qibl_shlight_add_dir for each in order (the relight cases' suns and skies). Its status. */
+qibl_status_t qtool_gcase_dir_lights(qibl_shlight_t *l, uint32_t k, uint32_t n, const qibl_q16_t (*dir)[3],
+                                     const qibl_q16_t (*rgb)[3]);
 /* The same for a case whose working set of bytes (held at once) could not be allocated:
  * "out of memory: needs <bytes> bytes", so that a runner can tell a case that cannot fit its
  * machine's memory from one that should have (tools/gba/run.sh). bytes 0: beyond size_t. */

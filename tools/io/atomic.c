@@ -200,3 +200,12 @@ int qtool_io_write_atomic(const char *path, const void *data, size_t n, char *er
     }
     return qtool_io_atomic_commit(&a, err, errlen);
 }
+
+int qtool_io_write_encoded(const char *path, int enc, uint8_t *b, size_t n, char *err, size_t errlen)
+{
+    if (enc != 0)
+        return qtool_errf(err, errlen, "%s: out of memory", path);
+    int rc = qtool_io_write_atomic(path, b, n, err, errlen);
+    free(b);
+    return rc;
+}

@@ -26,6 +26,7 @@
 #define QTOOL_IO_ATOMIC_H
 
 #include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 
 typedef struct qtool_io_atomic {
@@ -55,5 +56,10 @@ void qtool_io_atomic_abort(qtool_io_atomic *a);
 
 /* open + one write of n bytes + commit. */
 int qtool_io_write_atomic(const char *path, const void *data, size_t n, char *err, size_t errlen);
+
+/* The last step of a *_write over an encoder that mallocs its bytes and fails only when out of
+ * memory: enc is what the encoder returned (0, or -1 with b unset); on 0 the n bytes at b are
+ * written atomically and b is freed. 0, or -1 with err naming path. */
+int qtool_io_write_encoded(const char *path, int enc, uint8_t *b, size_t n, char *err, size_t errlen);
 
 #endif
