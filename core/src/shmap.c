@@ -562,6 +562,89 @@ static inline void group_finish(int32_t *o, __m256i s[3][2], const wprep_t *wp, 
         _mm_storeu_si128((__m128i *)(void *)(e + 8), _mm256_extracti128_si256(o2, 1));
     }
 }
+#if defined(QIBLI_SHMAP_AVX512)
+/* AVX-512 VNNI (x86/shmap_avx512.c only): a whole group, all three channels, from four maps a
+ * step. One 64-byte load holds maps 4j..4j+3 (16 bytes each); vpermd and vpshufb transpose it so
+ * that dword p holds pixel p's four bytes, one per map, and vpdpbusd sums four byte products a
+ * lane. Its operands are unsigned by signed bytes, so each weight is split w = 256 (w >> 8) +
+ * (w & 255), both parts as bytes: sum c (w >> 8) with the maps' bytes unsigned, and sum (w & 255)
+ * (c - 128) with the low parts unsigned and c ^ 0x80 signed, 128 sum (w & 255) added back in the
+ * start value. Exact for every int16 weight: |sum c (w >> 8)| <= 25 * 255 * 128 < 2^20, so 256
+ * times it and the low sum stay inside int32, and the total is the sum of the AVX2 kernel (its
+ * bound in shmap.h). Three uops on the shuffle port and two multiply-adds per four maps and
+ * channel, against six and four per four maps for the AVX2 pairs. */
+#define SHMAP_QUADS ((QIBL_SH_MAX_COUNT + 3) / 4)
+typedef struct wprep16 {
+    __m512i wh[3][SHMAP_QUADS], wl[3][SHMAP_QUADS]; /* the weights' bytes, four maps in every lane */
+    __m512i init[3], b[3]; /* h + 128 sum (w & 255); the bias */
+} wprep16_t;
+
+static void wprep16_init(wprep16_t *wq, const qibl_shmap_weights_t *w, const finish_t *f, uint32_t k)
+{
+    for (uint32_t ch = 0; ch < 3u; ++ch) {
+        int32_t lsum = 0;
+        for (uint32_t j = 0; j < (k + 3u) / 4u; ++j) {
+            uint32_t hi = 0u, lo = 0u;
+            for (uint32_t b = 0; b < 4u; ++b) {
+                const uint32_t i = 4u * j + b;
+                const uint32_t wu = i < k ? (uint32_t)(uint16_t)w->w[ch][i] : 0u;
+                hi |= (wu >> 8) << (8u * b), lo |= (wu & 255u) << (8u * b); /* w >> 8 as a signed byte */
+                lsum += (int32_t)(wu & 255u);
+            }
+            wq->wh[ch][j] = _mm512_set1_epi32((int32_t)hi), wq->wl[ch][j] = _mm512_set1_epi32((int32_t)lo);
+        }
+        wq->init[ch] = _mm512_set1_epi32(f->h[ch] + 128 * lsum);
+        wq->b[ch] = _mm512_set1_epi32(f->b[ch]);
+    }
+}
+
+/* group_sums and group_finish of one whole group in 512-bit lanes: the same integers */
+static inline void group16(int32_t *o, const uint8_t *c, uint32_t cs, uint32_t k, const wprep16_t *wq,
+                           const wprep_t *wp, int shl)
+{
+    const __m512i tp = _mm512_setr_epi32(0, 4, 8, 12, 1, 5, 9, 13, 2, 6, 10, 14, 3, 7, 11, 15);
+    const __m512i tb = _mm512_broadcast_i32x4(_mm_setr_epi8(0, 4, 8, 12, 1, 5, 9, 13, 2, 6, 10, 14, 3, 7, 11, 15));
+    const __m512i x80 = _mm512_set1_epi32((int32_t)0x80808080u);
+    __m512i ah[3], al[3];
+    for (uint32_t ch = 0; ch < 3u; ++ch)
+        ah[ch] = _mm512_setzero_si512(), al[ch] = wq->init[ch];
+    /* lane L dword m of the transposed load: pixels 4L..4L+3 of map m; then byte m of dword p is
+     * map m of pixel p */
+#define SHMAP_QUAD(ch, x)                                                                               \
+    do {                                                                                                \
+        const __m512i t_ = _mm512_shuffle_epi8(_mm512_permutexvar_epi32(tp, (x)), tb);                  \
+        ah[ch] = _mm512_dpbusd_epi32(ah[ch], t_, wq->wh[ch][j]);                                         \
+        al[ch] = _mm512_dpbusd_epi32(al[ch], wq->wl[ch][j], _mm512_xor_si512(t_, x80));                  \
+    } while (0)
+    uint32_t j = 0;
+    for (; 4u * j + 4u <= k; ++j)
+        for (uint32_t ch = 0; ch < 3u; ++ch)
+            SHMAP_QUAD(ch, _mm512_loadu_si512((const void *)(c + ch * cs + 64u * j)));
+    if (k & 3u) { /* the last 1-3 maps: a masked load (no byte past the channel), zeros under weight 0 */
+        const __mmask64 mk = ((__mmask64)1 << (16u * (k & 3u))) - 1u;
+        for (uint32_t ch = 0; ch < 3u; ++ch)
+            SHMAP_QUAD(ch, _mm512_maskz_loadu_epi8(mk, (const void *)(c + ch * cs + 64u * j)));
+    }
+#undef SHMAP_QUAD
+    __m512i v[3];
+    for (uint32_t ch = 0; ch < 3u; ++ch) {
+        __m512i a = _mm512_add_epi32(_mm512_slli_epi32(ah[ch], 8), al[ch]);
+        if (shl)
+            a = _mm512_sll_epi32(a, wp->sl[ch]);
+        v[ch] = _mm512_add_epi32(_mm512_sra_epi32(a, wp->r[ch]), wq->b[ch]);
+    }
+    /* RGB interleaved: output word j is channel j % 3 of pixel j / 3 (as p16_finish) */
+    _mm512_storeu_si512((void *)o, _mm512_permutex2var_epi32(
+        _mm512_permutex2var_epi32(v[0], _mm512_setr_epi32(0, 16, 0, 1, 17, 0, 2, 18, 0, 3, 19, 0, 4, 20, 0, 5), v[1]),
+        _mm512_setr_epi32(0, 1, 16, 3, 4, 17, 6, 7, 18, 9, 10, 19, 12, 13, 20, 15), v[2]));
+    _mm512_storeu_si512((void *)(o + 16), _mm512_permutex2var_epi32(
+        _mm512_permutex2var_epi32(v[0], _mm512_setr_epi32(21, 0, 6, 22, 0, 7, 23, 0, 8, 24, 0, 9, 25, 0, 10, 26), v[1]),
+        _mm512_setr_epi32(0, 21, 2, 3, 22, 5, 6, 23, 8, 9, 24, 11, 12, 25, 14, 15), v[2]));
+    _mm512_storeu_si512((void *)(o + 32), _mm512_permutex2var_epi32(
+        _mm512_permutex2var_epi32(v[0], _mm512_setr_epi32(0, 11, 27, 0, 12, 28, 0, 13, 29, 0, 14, 30, 0, 15, 31, 0), v[1]),
+        _mm512_setr_epi32(26, 1, 2, 27, 4, 5, 28, 7, 8, 29, 10, 11, 30, 13, 14, 31), v[2]));
+}
+#endif
 #elif QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2
 /* as the AVX2 kernel, 4 pixels per pmaddwd */
 static void group_acc(int32_t *acc, const uint8_t *c, const wprep_t *wp, uint32_t ch, uint32_t k)
@@ -833,6 +916,11 @@ static void relight_interleaved(const qibl_shmaps_t *m, const qibl_shmap_weights
     const __m256i zero3[3] = {_mm256_setzero_si256(), _mm256_setzero_si256(), _mm256_setzero_si256()};
     const int shl = f->mu[0] != 1 || f->mu[1] != 1 || f->mu[2] != 1;
 #endif
+#if defined(QIBLI_SHMAP_AVX512)
+    wprep16_t wq;
+    if (f->fast)
+        wprep16_init(&wq, w, f, k);
+#endif
     for (uint32_t x = x0, end = x0 + n; x < end;) {
         const uint32_t p0 = x % QIBL_SHMAPS_GROUP, left = QIBL_SHMAPS_GROUP - p0;
         const uint32_t cnt = end - x < left ? end - x : left;
@@ -842,6 +930,13 @@ static void relight_interleaved(const qibl_shmaps_t *m, const qibl_shmap_weights
          * takes the fast final scaling, which then runs from the registers */
         __m256i s[3][2];
         const int whole = cnt == QIBL_SHMAPS_GROUP && f->fast;
+#if defined(QIBLI_SHMAP_AVX512)
+        if (whole) {
+            group16(out + 3u * (x - x0), grp, cs, k, &wq, &wp, shl);
+            x += cnt;
+            continue;
+        }
+#endif
         group_sums(s, grp, cs, &wp, k, whole ? wp.h8 : zero3);
         if (whole) {
             group_finish(out + 3u * (x - x0), s, &wp, shl);
@@ -880,7 +975,7 @@ static void relight_interleaved(const qibl_shmaps_t *m, const qibl_shmap_weights
 qibl_status_t qibl_shmap_relight_span(const qibl_shmaps_t *m, const qibl_shmap_weights_t *w, uint32_t x0, uint32_t y,
                                       uint32_t n, int32_t *out, void *ws, size_t ws_size)
 {
-    QIBLI_DISPATCH(qibl_shmap_relight_span, (m, w, x0, y, n, out, ws, ws_size));
+    QIBLI_DISPATCH512(qibl_shmap_relight_span, (m, w, x0, y, n, out, ws, ws_size));
     qibl_status_t st = qibl_shmap_check(m);
     if (st != QIBL_OK)
         return st;

@@ -1,7 +1,7 @@
 /*
  * x86/shmap_avx512.c - core/src/shmap.c again as its avx512 copy for run-time dispatch (qibl/isa.h,
- * QIBL_CONFIG_DISPATCH): the AVX2 kernels plus the 16-lane point-light kernel (QIBLI_SHMAP_AVX512),
- * compiled with -mavx2 and AVX-512 F, BW, VL, CD, VNNI (Makefile), reached only when the CPU has
+ * QIBL_CONFIG_DISPATCH): the AVX2 kernels plus the 16-lane point-light kernel and the vpdpbusd
+ * directional kernel for whole interleaved groups (QIBLI_SHMAP_AVX512), compiled with -mavx2 and AVX-512 F, BW, VL, CD, VNNI (Makefile), reached only when the CPU has
  * them all (isa.c); every external name suffixed _avx512 (x86/rename_internal.h). Built only into
  * the dispatching library.
  */
