@@ -476,8 +476,54 @@ static void row_convert(const qibl_probe_sh_t *ps, const uint8_t *row, int32_t t
 }
 
 #if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
-/* (hi, lo) += v in each 64-bit lane: 128-bit two's complement sums, exact */
-static inline void v128_add(__m256i *hi, __m256i *lo, __m256i v)
+/* The vector fold, written once for both widths: pv_* are 8 int32 lanes (AVX2) or, in the avx512
+ * copy, 16 (AVX-512); the same operations lane for lane, so the same exact integers. */
+#if defined(QIBLI_PROBE_AVX512)
+typedef __m512i pv;
+#define PV_LANES 16u
+#define PV_LD(p) _mm512_loadu_si512((const void *)(p))
+#define PV_ST(p, v) _mm512_storeu_si512((void *)(p), (v))
+#define PV_ZERO() _mm512_setzero_si512()
+#define PV_ADD32 _mm512_add_epi32
+#define PV_SUB32 _mm512_sub_epi32
+#define PV_ADD64 _mm512_add_epi64
+#define PV_SUB64 _mm512_sub_epi64
+#define PV_AND _mm512_and_si512
+#define PV_SRL64 _mm512_srli_epi64
+#define PV_MUL32 _mm512_mul_epi32
+#define PV_SET64(c) _mm512_set1_epi64(c)
+#define PV_REVERSED() _mm512_setr_epi32(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0)
+#define PV_PERMUTE(v, idx) _mm512_permutexvar_epi32((idx), (v))
+
+/* (hi, lo) += v in each 64-bit lane: 128-bit two's complement sums, exact (mask registers) */
+static inline void pv_add128(pv *hi, pv *lo, pv v)
+{
+    const __m512i nl = _mm512_add_epi64(*lo, v), one = _mm512_set1_epi64(1);
+    const __mmask8 carry = _mm512_cmplt_epu64_mask(nl, *lo), neg = _mm512_cmplt_epi64_mask(v, _mm512_setzero_si512());
+    const __m512i h = _mm512_mask_add_epi64(*hi, carry, *hi, one); /* +1 where lo wrapped */
+    *hi = _mm512_mask_sub_epi64(h, neg, h, one);                     /* -1 where v < 0 */
+    *lo = nl;
+}
+#else
+typedef __m256i pv;
+#define PV_LANES 8u
+#define PV_LD(p) _mm256_loadu_si256((const __m256i *)(const void *)(p))
+#define PV_ST(p, v) _mm256_storeu_si256((__m256i *)(void *)(p), (v))
+#define PV_ZERO() _mm256_setzero_si256()
+#define PV_ADD32 _mm256_add_epi32
+#define PV_SUB32 _mm256_sub_epi32
+#define PV_ADD64 _mm256_add_epi64
+#define PV_SUB64 _mm256_sub_epi64
+#define PV_AND _mm256_and_si256
+#define PV_SRL64 _mm256_srli_epi64
+#define PV_MUL32 _mm256_mul_epi32
+#define PV_SET64(c) _mm256_set1_epi64x(c)
+#define PV_REVERSED() _mm256_setr_epi32(7, 6, 5, 4, 3, 2, 1, 0)
+#define PV_PERMUTE(v, idx) _mm256_permutevar8x32_epi32((v), (idx))
+
+/* (hi, lo) += v in each 64-bit lane: 128-bit two's complement sums, exact (AVX2 has no unsigned
+ * compare: both sides biased by 2^63) */
+static inline void pv_add128(pv *hi, pv *lo, pv v)
 {
     const __m256i sb = _mm256_set1_epi64x((long long)INT64_MIN);
     const __m256i nl = _mm256_add_epi64(*lo, v);
@@ -486,169 +532,76 @@ static inline void v128_add(__m256i *hi, __m256i *lo, __m256i v)
     *hi = _mm256_add_epi64(*hi, _mm256_sub_epi64(sgn, carry));
     *lo = nl;
 }
-
-/* a t for the even and the odd int32 lanes, summed per 64-bit lane (two exact products) */
-static inline __m256i mul2(__m256i a, __m256i t)
-{
-    return _mm256_add_epi64(_mm256_mul_epi32(a, t), _mm256_mul_epi32(_mm256_srli_epi64(a, 32), _mm256_srli_epi64(t, 32)));
-}
-
-/* The folded sums of row_sums_folded for pairs 0 .. 8 floor(half / 8) - 1, 8 pairs per step (the
- * mirrors loaded backwards), added to s; returns the pairs done. Every product and sum is exact, so
- * the totals are the scalar loop's integers. Per 64-bit lane and step an update is at most
- * 2 2^60 (two pairs), so 3 steps stay below 2^63 before they go into the 128-bit lane sums.
- * Only the orders m <= mm (a constant where it is inlined) are summed: s[2m - 1], s[2m] stay 0 above. */
-static FOLD_INLINE uint32_t folded_avx2(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s[9], const int mm)
-{
-    const uint32_t q = ps->width / 4u, half = q / 2u;
-    const int32_t *tr = ps->trig;
-    const __m256i rev = _mm256_setr_epi32(7, 6, 5, 4, 3, 2, 1, 0), lo32 = _mm256_set1_epi64x(0xFFFFFFFFll);
-    __m256i hi[9], lo[9];
-    for (int i = 0; i < 9; ++i)
-        hi[i] = lo[i] = _mm256_setzero_si256();
-#define LD(p) _mm256_loadu_si256((const __m256i *)(const void *)(p))
-    uint32_t u = 0;
-    while (half - u >= 8u) {
-        __m256i a[9];
-        for (int i = 0; i < 9; ++i)
-            a[i] = _mm256_setzero_si256();
-        for (int step = 0; step < 3 && half - u >= 8u; ++step, u += 8u) {
-            const uint32_t v = q - 8u - u; /* lanes v .. v+7 reversed: the mirrors of u .. u+7 */
-            const __m256i p0 = LD(x + u), p1 = LD(x + u + q), p2 = LD(x + u + 2u * q), p3 = LD(x + u + 3u * q);
-            const __m256i r0 = _mm256_permutevar8x32_epi32(LD(x + v), rev);
-            const __m256i r1 = _mm256_permutevar8x32_epi32(LD(x + v + q), rev);
-            const __m256i r2 = _mm256_permutevar8x32_epi32(LD(x + v + 2u * q), rev);
-            const __m256i r3 = _mm256_permutevar8x32_epi32(LD(x + v + 3u * q), rev);
-            const __m256i s02 = _mm256_add_epi32(p0, p2), s13 = _mm256_add_epi32(p1, p3);
-            const __m256i z02 = _mm256_add_epi32(r0, r2), z13 = _mm256_add_epi32(r1, r3);
-            const __m256i A = _mm256_add_epi32(s02, s13), B = _mm256_sub_epi32(s02, s13);
-            const __m256i A2 = _mm256_add_epi32(z02, z13), B2 = _mm256_sub_epi32(z02, z13);
-            const __m256i C = _mm256_sub_epi32(p0, p2), D = _mm256_sub_epi32(p1, p3);
-            const __m256i C2 = _mm256_sub_epi32(r0, r2), D2 = _mm256_sub_epi32(r1, r3);
-            const __m256i E = _mm256_sub_epi32(C, D2), F = _mm256_sub_epi32(D, C2);
-            const __m256i G = _mm256_add_epi32(C, D2), H = _mm256_add_epi32(D, C2);
-            const __m256i AA = _mm256_add_epi32(A, A2); /* <= 2^30, non-negative */
-            const __m256i t0 = LD(tr + u), t1 = LD(tr + q + u), t2 = LD(tr + 2u * q + u), t3 = LD(tr + 3u * q + u);
-            const __m256i t4 = LD(tr + 4u * q + u), t5 = LD(tr + 5u * q + u), t6 = LD(tr + 6u * q + u),
-                          t7 = LD(tr + 7u * q + u);
-            a[0] = _mm256_add_epi64(a[0], _mm256_add_epi64(_mm256_and_si256(AA, lo32), _mm256_srli_epi64(AA, 32)));
-            if (mm >= 1) {
-                a[1] = _mm256_add_epi64(a[1], _mm256_sub_epi64(mul2(E, t0), mul2(F, t1)));
-                a[2] = _mm256_add_epi64(a[2], _mm256_add_epi64(mul2(G, t1), mul2(H, t0)));
-            }
-            if (mm >= 2) {
-                a[3] = _mm256_add_epi64(a[3], mul2(_mm256_sub_epi32(B, B2), t2));
-                a[4] = _mm256_add_epi64(a[4], mul2(_mm256_add_epi32(B, B2), t3));
-            }
-            if (mm >= 3) {
-                a[5] = _mm256_add_epi64(a[5], _mm256_add_epi64(mul2(E, t4), mul2(F, t5)));
-                a[6] = _mm256_add_epi64(a[6], _mm256_sub_epi64(mul2(G, t5), mul2(H, t4)));
-            }
-            if (mm >= 4) {
-                a[7] = _mm256_add_epi64(a[7], mul2(AA, t6));
-                a[8] = _mm256_add_epi64(a[8], mul2(_mm256_sub_epi32(A, A2), t7));
-            }
-        }
-        for (int i = 0; i <= 2 * mm; ++i)
-            v128_add(&hi[i], &lo[i], a[i]);
-    }
-#undef LD
-    for (int i = 0; i <= 2 * mm; ++i) {
-        uint64_t h[4], l[4];
-        _mm256_storeu_si256((__m256i *)(void *)h, hi[i]);
-        _mm256_storeu_si256((__m256i *)(void *)l, lo[i]);
-        for (int j = 0; j < 4; ++j) {
-            const uint64_t nl = s[i].lo + l[j];
-            s[i].hi += h[j] + (nl < l[j]);
-            s[i].lo = nl;
-        }
-    }
-    return u;
-}
 #endif
 
-#if defined(QIBLI_PROBE_AVX512)
-/* (hi, lo) += v in each 64-bit lane of a 512-bit vector, as v128_add */
-static inline void v128_add16(__m512i *hi, __m512i *lo, __m512i v)
+/* a t for the even and the odd int32 lanes, summed per 64-bit lane (two exact products) */
+static inline pv pv_mul2(pv a, pv t)
 {
-    const __m512i nl = _mm512_add_epi64(*lo, v), one = _mm512_set1_epi64(1);
-    const __mmask8 carry = _mm512_cmplt_epu64_mask(nl, *lo), neg = _mm512_cmplt_epi64_mask(v, _mm512_setzero_si512());
-    const __m512i h = _mm512_mask_add_epi64(*hi, carry, *hi, one); /* +1 where lo wrapped */
-    *hi = _mm512_mask_sub_epi64(h, neg, h, one);                     /* -1 where v < 0 */
-    *lo = nl;
+    return PV_ADD64(PV_MUL32(a, t), PV_MUL32(PV_SRL64(a, 32), PV_SRL64(t, 32)));
 }
 
-/* mul2 on 16 int32 lanes: the even and the odd lanes' products summed per 64-bit lane */
-static inline __m512i mul2x(__m512i a, __m512i t)
-{
-    return _mm512_add_epi64(_mm512_mul_epi32(a, t), _mm512_mul_epi32(_mm512_srli_epi64(a, 32), _mm512_srli_epi64(t, 32)));
-}
-
-/* folded_avx2 on 16 column pairs per step: pairs 0 .. 16 floor(half / 16) - 1 of one channel's
- * integers, added to s; returns the pairs done. Every product and sum exact, so the scalar loop's
- * integers; per 64-bit lane and step an update is at most 2 2^60 (two pairs), 3 steps below 2^63. */
-static FOLD_INLINE uint32_t folded_avx512(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s[9], const int mm)
+/* The folded sums of row_sums_folded for pairs 0 .. L floor(half / L) - 1 (L = PV_LANES pairs per
+ * step, the mirrors loaded backwards), added to s; returns the pairs done. Every product and sum is
+ * exact, so the totals are the scalar loop's integers. Per 64-bit lane and step an update is at
+ * most 2 2^60 (two pairs), so 3 steps stay below 2^63 before they go into the 128-bit lane sums.
+ * Only the orders m <= mm (a constant where it is inlined) are summed: s[2m - 1], s[2m] stay 0 above. */
+static FOLD_INLINE uint32_t folded_vec(const qibl_probe_sh_t *ps, const uint32_t *x, s128 s[9], const int mm)
 {
     const uint32_t q = ps->width / 4u, half = q / 2u;
     const int32_t *tr = ps->trig;
-    const __m512i rev = _mm512_setr_epi32(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0);
-    const __m512i lo32 = _mm512_set1_epi64(0xFFFFFFFFll);
-    __m512i hi[9], lo[9];
+    const pv rev = PV_REVERSED(), lo32 = PV_SET64(0xFFFFFFFFll);
+    pv hi[9], lo[9];
     for (int i = 0; i < 9; ++i)
-        hi[i] = lo[i] = _mm512_setzero_si512();
-#define LD16(p) _mm512_loadu_si512((const void *)(p))
+        hi[i] = lo[i] = PV_ZERO();
     uint32_t u = 0;
-    while (half - u >= 16u) {
-        __m512i a[9];
+    while (half - u >= PV_LANES) {
+        pv a[9];
         for (int i = 0; i < 9; ++i)
-            a[i] = _mm512_setzero_si512();
-        for (int step = 0; step < 3 && half - u >= 16u; ++step, u += 16u) {
-            const uint32_t v = q - 16u - u; /* lanes v .. v+15 reversed: the mirrors of u .. u+15 */
-            const __m512i p0 = LD16(x + u), p1 = LD16(x + u + q), p2 = LD16(x + u + 2u * q), p3 = LD16(x + u + 3u * q);
-            const __m512i r0 = _mm512_permutexvar_epi32(rev, LD16(x + v));
-            const __m512i r1 = _mm512_permutexvar_epi32(rev, LD16(x + v + q));
-            const __m512i r2 = _mm512_permutexvar_epi32(rev, LD16(x + v + 2u * q));
-            const __m512i r3 = _mm512_permutexvar_epi32(rev, LD16(x + v + 3u * q));
-            const __m512i s02 = _mm512_add_epi32(p0, p2), s13 = _mm512_add_epi32(p1, p3);
-            const __m512i z02 = _mm512_add_epi32(r0, r2), z13 = _mm512_add_epi32(r1, r3);
-            const __m512i A = _mm512_add_epi32(s02, s13), B = _mm512_sub_epi32(s02, s13);
-            const __m512i A2 = _mm512_add_epi32(z02, z13), B2 = _mm512_sub_epi32(z02, z13);
-            const __m512i C = _mm512_sub_epi32(p0, p2), D = _mm512_sub_epi32(p1, p3);
-            const __m512i C2 = _mm512_sub_epi32(r0, r2), D2 = _mm512_sub_epi32(r1, r3);
-            const __m512i E = _mm512_sub_epi32(C, D2), F = _mm512_sub_epi32(D, C2);
-            const __m512i G = _mm512_add_epi32(C, D2), H = _mm512_add_epi32(D, C2);
-            const __m512i AA = _mm512_add_epi32(A, A2); /* <= 2^30, non-negative */
-            a[0] = _mm512_add_epi64(a[0], _mm512_add_epi64(_mm512_and_si512(AA, lo32), _mm512_srli_epi64(AA, 32)));
+            a[i] = PV_ZERO();
+        for (int step = 0; step < 3 && half - u >= PV_LANES; ++step, u += PV_LANES) {
+            const uint32_t v = q - PV_LANES - u; /* lanes v .. v+L-1 reversed: the mirrors of u .. u+L-1 */
+            const pv p0 = PV_LD(x + u), p1 = PV_LD(x + u + q), p2 = PV_LD(x + u + 2u * q), p3 = PV_LD(x + u + 3u * q);
+            const pv r0 = PV_PERMUTE(PV_LD(x + v), rev), r1 = PV_PERMUTE(PV_LD(x + v + q), rev);
+            const pv r2 = PV_PERMUTE(PV_LD(x + v + 2u * q), rev), r3 = PV_PERMUTE(PV_LD(x + v + 3u * q), rev);
+            const pv s02 = PV_ADD32(p0, p2), s13 = PV_ADD32(p1, p3);
+            const pv z02 = PV_ADD32(r0, r2), z13 = PV_ADD32(r1, r3);
+            const pv A = PV_ADD32(s02, s13), B = PV_SUB32(s02, s13);
+            const pv A2 = PV_ADD32(z02, z13), B2 = PV_SUB32(z02, z13);
+            const pv C = PV_SUB32(p0, p2), D = PV_SUB32(p1, p3);
+            const pv C2 = PV_SUB32(r0, r2), D2 = PV_SUB32(r1, r3);
+            const pv E = PV_SUB32(C, D2), F = PV_SUB32(D, C2);
+            const pv G = PV_ADD32(C, D2), H = PV_ADD32(D, C2);
+            const pv AA = PV_ADD32(A, A2); /* <= 2^30, non-negative */
+            a[0] = PV_ADD64(a[0], PV_ADD64(PV_AND(AA, lo32), PV_SRL64(AA, 32)));
             if (mm >= 1) {
-                const __m512i t0 = LD16(tr + u), t1 = LD16(tr + q + u);
-                a[1] = _mm512_add_epi64(a[1], _mm512_sub_epi64(mul2x(E, t0), mul2x(F, t1)));
-                a[2] = _mm512_add_epi64(a[2], _mm512_add_epi64(mul2x(G, t1), mul2x(H, t0)));
+                const pv t0 = PV_LD(tr + u), t1 = PV_LD(tr + q + u);
+                a[1] = PV_ADD64(a[1], PV_SUB64(pv_mul2(E, t0), pv_mul2(F, t1)));
+                a[2] = PV_ADD64(a[2], PV_ADD64(pv_mul2(G, t1), pv_mul2(H, t0)));
             }
             if (mm >= 2) {
-                const __m512i t2 = LD16(tr + 2u * q + u), t3 = LD16(tr + 3u * q + u);
-                a[3] = _mm512_add_epi64(a[3], mul2x(_mm512_sub_epi32(B, B2), t2));
-                a[4] = _mm512_add_epi64(a[4], mul2x(_mm512_add_epi32(B, B2), t3));
+                const pv t2 = PV_LD(tr + 2u * q + u), t3 = PV_LD(tr + 3u * q + u);
+                a[3] = PV_ADD64(a[3], pv_mul2(PV_SUB32(B, B2), t2));
+                a[4] = PV_ADD64(a[4], pv_mul2(PV_ADD32(B, B2), t3));
             }
             if (mm >= 3) {
-                const __m512i t4 = LD16(tr + 4u * q + u), t5 = LD16(tr + 5u * q + u);
-                a[5] = _mm512_add_epi64(a[5], _mm512_add_epi64(mul2x(E, t4), mul2x(F, t5)));
-                a[6] = _mm512_add_epi64(a[6], _mm512_sub_epi64(mul2x(G, t5), mul2x(H, t4)));
+                const pv t4 = PV_LD(tr + 4u * q + u), t5 = PV_LD(tr + 5u * q + u);
+                a[5] = PV_ADD64(a[5], PV_ADD64(pv_mul2(E, t4), pv_mul2(F, t5)));
+                a[6] = PV_ADD64(a[6], PV_SUB64(pv_mul2(G, t5), pv_mul2(H, t4)));
             }
             if (mm >= 4) {
-                const __m512i t6 = LD16(tr + 6u * q + u), t7 = LD16(tr + 7u * q + u);
-                a[7] = _mm512_add_epi64(a[7], mul2x(AA, t6));
-                a[8] = _mm512_add_epi64(a[8], mul2x(_mm512_sub_epi32(A, A2), t7));
+                const pv t6 = PV_LD(tr + 6u * q + u), t7 = PV_LD(tr + 7u * q + u);
+                a[7] = PV_ADD64(a[7], pv_mul2(AA, t6));
+                a[8] = PV_ADD64(a[8], pv_mul2(PV_SUB32(A, A2), t7));
             }
         }
         for (int i = 0; i <= 2 * mm; ++i)
-            v128_add16(&hi[i], &lo[i], a[i]);
+            pv_add128(&hi[i], &lo[i], a[i]);
     }
-#undef LD16
     for (int i = 0; i <= 2 * mm; ++i) {
-        uint64_t h[8], l[8];
-        _mm512_storeu_si512((void *)h, hi[i]);
-        _mm512_storeu_si512((void *)l, lo[i]);
-        for (int j = 0; j < 8; ++j) {
+        uint64_t h[PV_LANES / 2u], l[PV_LANES / 2u];
+        PV_ST(h, hi[i]);
+        PV_ST(l, lo[i]);
+        for (uint32_t j = 0; j < PV_LANES / 2u; ++j) {
             const uint64_t nl = s[i].lo + l[j];
             s[i].hi += h[j] + (nl < l[j]);
             s[i].lo = nl;
@@ -666,10 +619,8 @@ static FOLD_INLINE void folded(const qibl_probe_sh_t *ps, const uint32_t *x, s12
     for (int i = 0; i < 9; ++i)
         s[i].hi = s[i].lo = 0u;
     uint32_t start = 0u;
-#if defined(QIBLI_PROBE_AVX512)
-    start = folded_avx512(ps, x, s, mm);
-#elif QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
-    start = folded_avx2(ps, x, s, mm);
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+    start = folded_vec(ps, x, s, mm); /* 8 or 16 pairs a step */
 #endif
     /* Quarter column u and its mirror u' = q - 1 - u (phi' = pi/2 - phi) share u's trig values:
      * cos m phi' and sin m phi' are +-sin m phi and +-cos m phi, so the two columns' folds combine
