@@ -12,10 +12,9 @@
 
 #if QIBL_USE_HEMI
 
-/* the setup and look-ups in 8-wide lanes (x86 AVX2, below) or 4-wide lanes (x86 SSE2, below);
- * elsewhere the scalar code; the same bits everywhere */
-#define HEMI_LANES (QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2)
-#define HEMI_LANES4 (QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2)
+/* the setup and look-ups in 8-wide (x86 AVX2) or 4-wide (x86 SSE2) lanes, one code for both
+ * (below); elsewhere the scalar code; the same bits everywhere */
+#define HEMI_LANES (QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2 || QIBL_CONFIG_SIMD == QIBL_SIMD_SSE2)
 
 #define NC QIBL_HEMI_COEFFS
 
@@ -297,7 +296,7 @@ static void and3(uint32_t *restrict mask, const edge *ea, const edge *eb, const 
  * in int32, with no 64-bit product, on every port and in every lane width. The masks are those of
  * the quantised triangle: the same bits from the scalar code below and the x86 lanes. */
 
-#if !HEMI_LANES && !HEMI_LANES4
+#if !HEMI_LANES
 /* q = round_half_up(v / 2^s), s the fewest bits with max |v_k| >> s < 512 (|v| < 2^26: s <= 17) */
 static void quantise(const int32_t *v, int32_t q[3])
 {
@@ -373,7 +372,7 @@ static int tri_exact(const int32_t *a, const int32_t *b, const int32_t *c, int32
     return TRI_DRAW;
 }
 
-#if !HEMI_LANES && !HEMI_LANES4
+#if !HEMI_LANES
 static int tri_setup(const int32_t *a, const int32_t *b, const int32_t *c, int32_t e[3][3])
 {
     if (a[2] <= 0 && b[2] <= 0 && c[2] <= 0)
@@ -394,7 +393,6 @@ static int tri_setup(const int32_t *a, const int32_t *b, const int32_t *c, int32
 }
 #endif
 
-#if !HEMI_LANES4 /* the SSE2 copy looks up in lanes only */
 /* floor(num / den) for den >= 1 and a quotient below 256 (num < 256 den): 8 shift-subtract steps
  * where there is no divide instruction, so no library call is emitted. */
 static uint32_t small_div(uint32_t num, uint32_t den)
@@ -444,121 +442,240 @@ static edge lookup(const qibl_hemi_t *h, const int32_t e[3])
     r.m = h->lut + idx * h->words;
     return r;
 }
-#endif
 
 #if HEMI_LANES
-/* ---- x86 AVX2: the same setup and look-ups, eight triangles at a time -----------------------
+/* ---- x86: the same setup and look-ups in lanes, 8 (AVX2) or 4 (SSE2) triangles at a time ------
  *
- * int32 lanes for the quantisation (the shift from the exponent of (m >> 9) as a float, exact
- * below 2^24), the cross products and the orientation, all exact as in the scalar code. The cell's
- * divide in float32 lanes: est = trunc(fl(fl(num F) / D)) is within 1 of floor(num F / D) (the
- * quotient is at most 128 and its relative error below 2^-22), and one exact int32 step corrects
- * it (r = num F - est D, est += (r >= D) - (r < 0)): the scalar code's cells, bit for bit. */
-#include <immintrin.h>
-#define HEMI_VL 8
+ * Written once over hv, 8 int32 lanes (AVX2) or 4 (SSE2), and the hv_* / HV_* operations below;
+ * where SSE2 lacks an instruction its operation emulates it (abs, max, min, the 32-bit products
+ * from two pmuludq, the per-lane shift as a product, gathers as scalar loads) and the horizon cull
+ * stays scalar (HV_GATHER 0). int32 lanes for the quantisation (the shift from the exponent of
+ * (m >> 9) as a float, exact below 2^24), the cross products and the orientation, all exact as in
+ * the scalar code. The cell's divide in float32 lanes: est = trunc(fl(fl(num F) / D)) is within 1
+ * of floor(num F / D) (the quotient is at most 128 and its relative error below 2^-22), and one
+ * exact int32 step corrects it (r = num F - est D, est += (r >= D) - (r < 0)): the scalar code's
+ * cells, bit for bit. */
 #define HEMI_BATCH 64u /* triangles set up before their masks are read */
+
+#if QIBL_CONFIG_SIMD == QIBL_SIMD_AVX2
+#include <immintrin.h>
+typedef __m256i hv;
+#define HV_LANES 8u
+#define HV_GATHER 1
+#define HV_LD(p) _mm256_loadu_si256((const __m256i *)(const void *)(p))
+#define HV_ST(p, x) _mm256_storeu_si256((__m256i *)(void *)(p), (x))
+#define HV_SET1 _mm256_set1_epi32
+#define HV_ZERO _mm256_setzero_si256
+#define HV_ADD _mm256_add_epi32
+#define HV_SUB _mm256_sub_epi32
+#define HV_AND _mm256_and_si256
+#define HV_ANDNOT _mm256_andnot_si256
+#define HV_OR _mm256_or_si256
+#define HV_XOR _mm256_xor_si256
+#define HV_SRAI _mm256_srai_epi32
+#define HV_SRLI _mm256_srli_epi32
+#define HV_GT _mm256_cmpgt_epi32
+#define HV_EQ _mm256_cmpeq_epi32
+#define HV_MUL _mm256_mullo_epi32 /* the low 32 bits of each product */
+#define HV_ABS _mm256_abs_epi32
+#define HV_MAX _mm256_max_epi32
+#define HV_MIN _mm256_min_epi32
+#define HV_FLOAT_BITS(x) _mm256_castps_si256(_mm256_cvtepi32_ps(x))
+#define HV_FDIV_TRUNC(a, b) _mm256_cvttps_epi32(_mm256_div_ps(_mm256_cvtepi32_ps(a), _mm256_cvtepi32_ps(b)))
+#define HV_SIGNS(x) ((uint32_t)_mm256_movemask_ps(_mm256_castsi256_ps(x)))
+
+/* round_half_up(x / 2^s) per lane, 0 <= s <= 17 */
+static inline hv hv_shr_round(hv x, hv s)
+{
+    const hv half = _mm256_srli_epi32(_mm256_sllv_epi32(_mm256_set1_epi32(1), s), 1);
+    return _mm256_srav_epi32(_mm256_add_epi32(x, half), s);
+}
+
+/* the vertices v[ix[l]] of HV_LANES triangle corners, by component (3 ix[l] < 2^31: nv < 2^29) */
+static inline void hv_gather3(const int32_t (*v)[3], const uint32_t *ix, hv *x, hv *y, hv *z)
+{
+    const int *vb = (const int *)(const void *)v;
+    const hv i3 = _mm256_mullo_epi32(HV_LD(ix), _mm256_set1_epi32(3));
+    *x = _mm256_i32gather_epi32(vb, i3, 4), *y = _mm256_i32gather_epi32(vb + 1, i3, 4);
+    *z = _mm256_i32gather_epi32(vb + 2, i3, 4);
+}
+
+/* (1) in lanes, while eight whole triangles are left and the batch has room for them: their 24
+ * indices with three loads deinterleaved by blends and a permute each (cheaper than three strided
+ * gathers), their vertices' z gathered, the kept triangles' numbers and indices appended in order.
+ * Returns the new k; *t advanced. */
+static inline uint32_t hv_cull(const int32_t (*v)[3], const uint32_t (*tri)[3], uint32_t ntri, uint32_t *t, uint32_t k,
+                               uint32_t *keep, uint32_t (*ki)[HEMI_BATCH + HV_LANES])
+{
+    const int *vb = (const int *)(const void *)v;
+    const hv zero = HV_ZERO();
+    const hv pa = _mm256_setr_epi32(0, 3, 6, 1, 4, 7, 2, 5), pb = _mm256_setr_epi32(1, 4, 7, 2, 5, 0, 3, 6),
+             pc = _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7);
+    while (*t + HV_LANES <= ntri && k + HV_LANES <= HEMI_BATCH) {
+        const hv L0 = HV_LD(&tri[*t][0]), L1 = HV_LD(&tri[*t][0] + 8), L2 = HV_LD(&tri[*t][0] + 16);
+        const hv iw[3] = {_mm256_permutevar8x32_epi32(_mm256_blend_epi32(_mm256_blend_epi32(L0, L1, 0x92), L2, 0x24), pa),
+                          _mm256_permutevar8x32_epi32(_mm256_blend_epi32(_mm256_blend_epi32(L0, L1, 0x24), L2, 0x49), pb),
+                          _mm256_permutevar8x32_epi32(_mm256_blend_epi32(_mm256_blend_epi32(L0, L1, 0x49), L2, 0x92), pc)};
+        uint32_t I[3][HV_LANES];
+        hv above = zero;
+        for (int w = 0; w < 3; ++w) {
+            const hv i = iw[w];
+            HV_ST(I[w], i);
+            const hv i3 = HV_ADD(i, HV_ADD(i, i));
+            above = HV_OR(above, HV_GT(_mm256_i32gather_epi32(vb + 2, i3, 4), zero));
+        }
+        for (uint32_t bits = HV_SIGNS(above); bits != 0u; bits &= bits - 1u) {
+            const uint32_t l = ctz32(bits);
+            keep[k] = *t + l, ki[0][k] = I[0][l], ki[1][k] = I[1][l], ki[2][k] = I[2][l];
+            ++k;
+        }
+        *t += HV_LANES;
+    }
+    return k;
+}
+#else
+#include <emmintrin.h>
+typedef __m128i hv;
+#define HV_LANES 4u
+#define HV_GATHER 0 /* no gathers: the horizon cull scalar */
+#define HV_LD(p) _mm_loadu_si128((const __m128i *)(const void *)(p))
+#define HV_ST(p, x) _mm_storeu_si128((__m128i *)(void *)(p), (x))
+#define HV_SET1 _mm_set1_epi32
+#define HV_ZERO _mm_setzero_si128
+#define HV_ADD _mm_add_epi32
+#define HV_SUB _mm_sub_epi32
+#define HV_AND _mm_and_si128
+#define HV_ANDNOT _mm_andnot_si128
+#define HV_OR _mm_or_si128
+#define HV_XOR _mm_xor_si128
+#define HV_SRAI _mm_srai_epi32
+#define HV_SRLI _mm_srli_epi32
+#define HV_GT _mm_cmpgt_epi32
+#define HV_EQ _mm_cmpeq_epi32
+#define HV_MUL hv_mul
+#define HV_ABS hv_abs
+#define HV_MAX hv_max
+#define HV_MIN hv_min
+#define HV_FLOAT_BITS(x) _mm_castps_si128(_mm_cvtepi32_ps(x))
+#define HV_FDIV_TRUNC(a, b) _mm_cvttps_epi32(_mm_div_ps(_mm_cvtepi32_ps(a), _mm_cvtepi32_ps(b)))
+#define HV_SIGNS(x) ((uint32_t)_mm_movemask_ps(_mm_castsi128_ps(x)))
+
+/* the low 32 bits of each lane's product, from two pmuludq */
+static inline hv hv_mul(hv a, hv b)
+{
+    const hv p02 = _mm_mul_epu32(a, b), p13 = _mm_mul_epu32(_mm_srli_epi64(a, 32), _mm_srli_epi64(b, 32));
+    return _mm_unpacklo_epi32(_mm_shuffle_epi32(p02, _MM_SHUFFLE(0, 0, 2, 0)), _mm_shuffle_epi32(p13, _MM_SHUFFLE(0, 0, 2, 0)));
+}
+
+static inline hv hv_abs(hv x)
+{
+    const hv s = _mm_srai_epi32(x, 31);
+    return _mm_sub_epi32(_mm_xor_si128(x, s), s);
+}
+
+static inline hv hv_max(hv a, hv b)
+{
+    const hv g = _mm_cmpgt_epi32(a, b);
+    return _mm_or_si128(_mm_and_si128(g, a), _mm_andnot_si128(g, b));
+}
+
+static inline hv hv_min(hv a, hv b)
+{
+    const hv g = _mm_cmpgt_epi32(a, b);
+    return _mm_or_si128(_mm_and_si128(g, b), _mm_andnot_si128(g, a));
+}
+
+/* round_half_up(x / 2^s) per lane, 0 <= s <= 17, |x| < 2^26: no per-lane shift, so a product by
+ * 2^(17 - s) (|x + half| < 2^(9 + s): below 2^26) and one shift by 17, 2^(17 - s) and 2^s / 2
+ * from float exponents (compilers share them between the three calls with one s) */
+static inline hv hv_shr_round(hv x, hv s)
+{
+    const hv p = _mm_cvttps_epi32(_mm_castsi128_ps(_mm_slli_epi32(_mm_sub_epi32(_mm_set1_epi32(127 + 17), s), 23)));
+    const hv half = _mm_srli_epi32(_mm_cvttps_epi32(_mm_castsi128_ps(_mm_slli_epi32(_mm_add_epi32(s, _mm_set1_epi32(127)), 23))), 1);
+    return _mm_srai_epi32(hv_mul(_mm_add_epi32(x, half), p), 17);
+}
+
+/* the vertices v[ix[l]] of four triangle corners, by component */
+static inline void hv_gather3(const int32_t (*v)[3], const uint32_t *ix, hv *x, hv *y, hv *z)
+{
+    const int32_t *a = v[ix[0]], *b = v[ix[1]], *c = v[ix[2]], *d = v[ix[3]];
+    *x = _mm_setr_epi32(a[0], b[0], c[0], d[0]), *y = _mm_setr_epi32(a[1], b[1], c[1], d[1]);
+    *z = _mm_setr_epi32(a[2], b[2], c[2], d[2]);
+}
+#endif
 
 /* m ? a : b for whole-lane masks, as and / andnot / or: the vpblendvb form gave other masks under
  * gcc 12 with -mavx512bw (-march=native on this host; the ports' native build caught it) */
-static __m256i lane_sel(__m256i m, __m256i a, __m256i b)
+static inline hv hv_sel(hv m, hv a, hv b)
 {
-    return _mm256_or_si256(_mm256_and_si256(m, a), _mm256_andnot_si256(m, b));
+    return HV_OR(HV_AND(m, a), HV_ANDNOT(m, b));
 }
 
-static void lane_quantise(__m256i *x, __m256i *y, __m256i *z)
+/* q = round_half_up(v / 2^s) per lane, s from the float exponent of max |v| >> 9 (exact below
+ * 2^24), as the scalar quantise */
+static inline void hv_quantise(hv *x, hv *y, hv *z)
 {
-    const __m256i m = _mm256_max_epi32(_mm256_max_epi32(_mm256_abs_epi32(*x), _mm256_abs_epi32(*y)), _mm256_abs_epi32(*z));
-    const __m256i fb = _mm256_castps_si256(_mm256_cvtepi32_ps(_mm256_srli_epi32(m, 9)));
-    const __m256i s = _mm256_max_epi32(_mm256_sub_epi32(_mm256_srli_epi32(fb, 23), _mm256_set1_epi32(126)),
-                                       _mm256_setzero_si256());
-    const __m256i half = _mm256_srli_epi32(_mm256_sllv_epi32(_mm256_set1_epi32(1), s), 1);
-    *x = _mm256_srav_epi32(_mm256_add_epi32(*x, half), s);
-    *y = _mm256_srav_epi32(_mm256_add_epi32(*y, half), s);
-    *z = _mm256_srav_epi32(_mm256_add_epi32(*z, half), s);
+    const hv m = HV_MAX(HV_MAX(HV_ABS(*x), HV_ABS(*y)), HV_ABS(*z));
+    const hv e = HV_SRLI(HV_FLOAT_BITS(HV_SRLI(m, 9)), 23); /* 0 for 0, else 127 + floor(log2) */
+    const hv s = HV_MAX(HV_SUB(e, HV_SET1(126)), HV_ZERO());
+    *x = hv_shr_round(*x, s), *y = hv_shr_round(*y, s), *z = hv_shr_round(*z, s);
 }
 
-static __m256i lane_cell(__m256i num, __m256i d, __m256i vF, __m256i vF1)
+static inline hv hv_cell(hv num, hv d, hv vF, hv vF1)
 {
-    const __m256i nF = _mm256_mullo_epi32(num, vF); /* < 2^27 */
-    __m256i q = _mm256_cvttps_epi32(_mm256_div_ps(_mm256_cvtepi32_ps(nF), _mm256_cvtepi32_ps(d)));
-    const __m256i r = _mm256_sub_epi32(nF, _mm256_mullo_epi32(q, d));
+    const hv nF = HV_MUL(num, vF); /* < 2^27 */
+    hv q = HV_FDIV_TRUNC(nF, d);
+    const hv r = HV_SUB(nF, HV_MUL(q, d));
     /* +1 where r >= d, -1 where r < 0 (compare masks are -1) */
-    q = _mm256_sub_epi32(q, _mm256_cmpgt_epi32(r, _mm256_sub_epi32(d, _mm256_set1_epi32(1))));
-    q = _mm256_add_epi32(q, _mm256_cmpgt_epi32(_mm256_setzero_si256(), r));
-    return _mm256_min_epi32(q, vF1);
+    q = HV_SUB(q, HV_GT(r, HV_SUB(d, HV_SET1(1))));
+    q = HV_ADD(q, HV_GT(HV_ZERO(), r));
+    return HV_MIN(q, vF1);
 }
 
-/* LUT entry numbers and complement words of eight edge normals (none zero) */
-static void lane_lookup(__m256i e0, __m256i e1, __m256i e2, __m256i vF, __m256i vF1, __m256i vFF, uint32_t *idx,
-                        uint32_t *cx)
+/* LUT entry numbers and complement words of HV_LANES edge normals (none zero) */
+static inline void hv_lookup(hv e0, hv e1, hv e2, hv vF, hv vF1, hv vFF, uint32_t *idx, uint32_t *cx)
 {
-    const __m256i ax = _mm256_abs_epi32(e0), ay = _mm256_abs_epi32(e1), az = _mm256_abs_epi32(e2);
-    const __m256i ones = _mm256_set1_epi32(-1);
-    const __m256i isx = _mm256_xor_si256(_mm256_or_si256(_mm256_cmpgt_epi32(ay, ax), _mm256_cmpgt_epi32(az, ax)), ones);
-    const __m256i yge = _mm256_xor_si256(_mm256_cmpgt_epi32(az, ay), ones);
-    const __m256i isy = _mm256_andnot_si256(isx, yge), isz = _mm256_xor_si256(_mm256_or_si256(isx, yge), ones);
-    const __m256i m = _mm256_max_epi32(_mm256_max_epi32(ax, ay), az);
-    const __m256i ng = _mm256_srai_epi32(lane_sel(isx, e0, lane_sel(isy, e1, e2)), 31);
-    const __m256i u = _mm256_sub_epi32(_mm256_xor_si256(lane_sel(isy, e0, e1), ng), ng);
-    const __m256i v = _mm256_sub_epi32(_mm256_xor_si256(lane_sel(isz, e0, e2), ng), ng);
-    const __m256i d = _mm256_add_epi32(m, m);
-    const __m256i cu = lane_cell(_mm256_add_epi32(m, u), d, vF, vF1), cv = lane_cell(_mm256_add_epi32(m, v), d, vF, vF1);
-    const __m256i base = _mm256_add_epi32(_mm256_and_si256(isy, vFF), _mm256_and_si256(isz, _mm256_add_epi32(vFF, vFF)));
-    _mm256_storeu_si256((__m256i *)(void *)idx, _mm256_add_epi32(base, _mm256_add_epi32(_mm256_mullo_epi32(cu, vF), cv)));
-    _mm256_storeu_si256((__m256i *)(void *)cx, ng);
+    const hv ax = HV_ABS(e0), ay = HV_ABS(e1), az = HV_ABS(e2);
+    const hv ones = HV_SET1(-1);
+    const hv isx = HV_XOR(HV_OR(HV_GT(ay, ax), HV_GT(az, ax)), ones);
+    const hv yge = HV_XOR(HV_GT(az, ay), ones);
+    const hv isy = HV_ANDNOT(isx, yge), isz = HV_XOR(HV_OR(isx, yge), ones);
+    const hv m = HV_MAX(HV_MAX(ax, ay), az);
+    const hv ng = HV_SRAI(hv_sel(isx, e0, hv_sel(isy, e1, e2)), 31);
+    const hv u = HV_SUB(HV_XOR(hv_sel(isy, e0, e1), ng), ng);
+    const hv v = HV_SUB(HV_XOR(hv_sel(isz, e0, e2), ng), ng);
+    const hv d = HV_ADD(m, m);
+    const hv cu = hv_cell(HV_ADD(m, u), d, vF, vF1), cv = hv_cell(HV_ADD(m, v), d, vF, vF1);
+    const hv base = HV_ADD(HV_AND(isy, vFF), HV_AND(isz, HV_ADD(vFF, vFF)));
+    HV_ST(idx, HV_ADD(base, HV_ADD(HV_MUL(cu, vF), cv)));
+    HV_ST(cx, ng);
 }
 
-/* The triangles in batches: (1) the horizon cull in lanes (the triangles' indices and their
- * vertices' z gathered eight at a time), the kept triangles' numbers and indices written in order;
- * (2) their vertices gathered, quantisation, edge normals, orientation and look-ups in lanes;
- * (3) the masks. Same masks and counts as the scalar loop. Gathers index v with 3 i (int32): the
- * caller keeps nv below 2^29 (else the scalar compaction). */
+/* The triangles in batches: (1) the horizon cull (in lanes where there are gathers, hv_cull; the
+ * rest scalar), the kept triangles' numbers and indices written in order; (2) their vertices
+ * gathered, quantisation, edge normals, orientation and look-ups in lanes (a quantised det of 0:
+ * the exact scalar setup); (3) the masks, a 32 x 32 one held in registers across the batch. Same
+ * masks and counts as the scalar loop. */
 static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t nv, const uint32_t (*tri)[3],
                            uint32_t ntri, uint32_t *mask, uint32_t *nr, uint32_t *nb, uint32_t *nt)
 {
-    uint32_t keep[HEMI_BATCH + HEMI_VL], ki[3][HEMI_BATCH + HEMI_VL], li[3][HEMI_BATCH + HEMI_VL],
-        lx[3][HEMI_BATCH + HEMI_VL];
-    uint32_t skip[HEMI_BATCH + HEMI_VL];
+    uint32_t keep[HEMI_BATCH + HV_LANES], ki[3][HEMI_BATCH + HV_LANES], li[3][HEMI_BATCH + HV_LANES],
+        lx[3][HEMI_BATCH + HV_LANES];
+    uint32_t skip[HEMI_BATCH + HV_LANES];
     const uint32_t words = h->words;
     const int32_t F = h->face;
-    const __m256i vF = _mm256_set1_epi32(F), vF1 = _mm256_set1_epi32(F - 1), vFF = _mm256_set1_epi32(F * F);
-    const __m256i zero = _mm256_setzero_si256();
-    const __m256i pa = _mm256_setr_epi32(0, 3, 6, 1, 4, 7, 2, 5), pb = _mm256_setr_epi32(1, 4, 7, 2, 5, 0, 3, 6),
-                  pc = _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7);
-    const int *vb = (const int *)(const void *)v; /* no dereference: v may be NULL when ntri = 0 */
-    const int gather_ok = nv < (1u << 29);
+    const hv vF = HV_SET1(F), vF1 = HV_SET1(F - 1), vFF = HV_SET1(F * F);
+    const hv zero = HV_ZERO(), one = HV_SET1(1);
+    const int gather_ok = HV_GATHER && nv < (1u << 29); /* the gathers' int32 offsets */
     uint32_t t = 0;
     while (t < ntri) {
         const uint32_t t0 = t;
         uint32_t k = 0;
+#if HV_GATHER
         if (gather_ok) /* (1) */
-            while (t + HEMI_VL <= ntri && k + HEMI_VL <= HEMI_BATCH) {
-                /* the 24 indices of eight triangles: three loads, deinterleaved by blends and a
-                 * permute each (cheaper than three strided gathers) */
-                const __m256i *ix = (const __m256i *)(const void *)&tri[t][0];
-                const __m256i L0 = _mm256_loadu_si256(ix), L1 = _mm256_loadu_si256(ix + 1), L2 = _mm256_loadu_si256(ix + 2);
-                const __m256i iw[3] = {
-                    _mm256_permutevar8x32_epi32(_mm256_blend_epi32(_mm256_blend_epi32(L0, L1, 0x92), L2, 0x24), pa),
-                    _mm256_permutevar8x32_epi32(_mm256_blend_epi32(_mm256_blend_epi32(L0, L1, 0x24), L2, 0x49), pb),
-                    _mm256_permutevar8x32_epi32(_mm256_blend_epi32(_mm256_blend_epi32(L0, L1, 0x49), L2, 0x92), pc)};
-                uint32_t I[3][HEMI_VL];
-                __m256i above = zero;
-                for (int w = 0; w < 3; ++w) {
-                    const __m256i i = iw[w];
-                    _mm256_storeu_si256((__m256i *)(void *)I[w], i);
-                    const __m256i i3 = _mm256_add_epi32(i, _mm256_add_epi32(i, i));
-                    above = _mm256_or_si256(above, _mm256_cmpgt_epi32(_mm256_i32gather_epi32(vb + 2, i3, 4), zero));
-                }
-                uint32_t bits = (uint32_t)_mm256_movemask_ps(_mm256_castsi256_ps(above));
-                while (bits != 0u) {
-                    const uint32_t l = ctz32(bits);
-                    bits &= bits - 1u;
-                    keep[k] = t + l, ki[0][k] = I[0][l], ki[1][k] = I[1][l], ki[2][k] = I[2][l];
-                    ++k;
-                }
-                t += HEMI_VL;
-            }
-        if (!gather_ok || t + HEMI_VL > ntri)
+            k = hv_cull(v, tri, ntri, &t, k, keep, ki);
+#endif
+        if (!gather_ok || t + HV_LANES > ntri)
             for (; t < ntri && k < HEMI_BATCH; ++t) {
                 const uint32_t *q = tri[t];
                 keep[k] = t, ki[0][k] = q[0], ki[1][k] = q[1], ki[2][k] = q[2];
@@ -567,44 +684,36 @@ static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t
         *nb += (t - t0) - k;
         if (k == 0u)
             continue;
-        for (uint32_t j = k; j % HEMI_VL != 0u; ++j) /* pad with the first kept triangle (ignored) */
+        for (uint32_t j = k; j % HV_LANES != 0u; ++j) /* pad with the first kept triangle (ignored) */
             keep[j] = keep[0], ki[0][j] = ki[0][0], ki[1][j] = ki[1][0], ki[2][j] = ki[2][0];
-        for (uint32_t j = 0; j < k; j += HEMI_VL) { /* (2) */
-#define LDI(w) _mm256_loadu_si256((const __m256i *)(const void *)(ki[w] + j))
-#define MUL(a, b) _mm256_mullo_epi32(a, b)
-#define SUB(a, b) _mm256_sub_epi32(a, b)
-            const __m256i ia = MUL(LDI(0), _mm256_set1_epi32(3)), ib = MUL(LDI(1), _mm256_set1_epi32(3)),
-                          ic = MUL(LDI(2), _mm256_set1_epi32(3));
-            __m256i ax = _mm256_i32gather_epi32(vb, ia, 4), ay = _mm256_i32gather_epi32(vb + 1, ia, 4),
-                    az = _mm256_i32gather_epi32(vb + 2, ia, 4);
-            __m256i bx = _mm256_i32gather_epi32(vb, ib, 4), by = _mm256_i32gather_epi32(vb + 1, ib, 4),
-                    bz = _mm256_i32gather_epi32(vb + 2, ib, 4);
-            __m256i cx = _mm256_i32gather_epi32(vb, ic, 4), cy = _mm256_i32gather_epi32(vb + 1, ic, 4),
-                    cz = _mm256_i32gather_epi32(vb + 2, ic, 4);
-            lane_quantise(&ax, &ay, &az), lane_quantise(&bx, &by, &bz), lane_quantise(&cx, &cy, &cz);
-            __m256i e00 = SUB(MUL(ay, bz), MUL(az, by)), e01 = SUB(MUL(az, bx), MUL(ax, bz)), e02 = SUB(MUL(ax, by), MUL(ay, bx));
-            __m256i e10 = SUB(MUL(by, cz), MUL(bz, cy)), e11 = SUB(MUL(bz, cx), MUL(bx, cz)), e12 = SUB(MUL(bx, cy), MUL(by, cx));
-            __m256i e20 = SUB(MUL(cy, az), MUL(cz, ay)), e21 = SUB(MUL(cz, ax), MUL(cx, az)), e22 = SUB(MUL(cx, ay), MUL(cy, ax));
-            const __m256i d = _mm256_add_epi32(_mm256_add_epi32(MUL(e00, cx), MUL(e01, cy)), MUL(e02, cz));
-#undef LDI
+        for (uint32_t j = 0; j < k; j += HV_LANES) { /* (2) */
+            hv ax, ay, az, bx, by, bz, cx, cy, cz;
+            hv_gather3(v, ki[0] + j, &ax, &ay, &az);
+            hv_gather3(v, ki[1] + j, &bx, &by, &bz);
+            hv_gather3(v, ki[2] + j, &cx, &cy, &cz);
+            hv_quantise(&ax, &ay, &az), hv_quantise(&bx, &by, &bz), hv_quantise(&cx, &cy, &cz);
+#define MUL HV_MUL
+#define SUB HV_SUB
+            hv e00 = SUB(MUL(ay, bz), MUL(az, by)), e01 = SUB(MUL(az, bx), MUL(ax, bz)), e02 = SUB(MUL(ax, by), MUL(ay, bx));
+            hv e10 = SUB(MUL(by, cz), MUL(bz, cy)), e11 = SUB(MUL(bz, cx), MUL(bx, cz)), e12 = SUB(MUL(bx, cy), MUL(by, cx));
+            hv e20 = SUB(MUL(cy, az), MUL(cz, ay)), e21 = SUB(MUL(cz, ax), MUL(cx, az)), e22 = SUB(MUL(cx, ay), MUL(cy, ax));
+            const hv d = HV_ADD(HV_ADD(MUL(e00, cx), MUL(e01, cy)), MUL(e02, cz));
 #undef MUL
 #undef SUB
-            const __m256i thr = _mm256_cmpeq_epi32(d, zero);
-            const __m256i sg = _mm256_srai_epi32(d, 31); /* orient: every normal negated when det < 0 */
+            const hv thr = HV_EQ(d, zero);
+            const hv sg = HV_SRAI(d, 31); /* orient: every normal negated when det < 0 */
             /* a plane through the receiver gets the normal (1, 0, 0) so that its look-up is harmless */
-            const __m256i one = _mm256_set1_epi32(1);
-#define ORIENT(e, r) e = lane_sel(thr, r, _mm256_sub_epi32(_mm256_xor_si256(e, sg), sg))
+#define ORIENT(e, r) e = hv_sel(thr, r, HV_SUB(HV_XOR(e, sg), sg))
             ORIENT(e00, one), ORIENT(e01, zero), ORIENT(e02, zero);
             ORIENT(e10, one), ORIENT(e11, zero), ORIENT(e12, zero);
             ORIENT(e20, one), ORIENT(e21, zero), ORIENT(e22, zero);
 #undef ORIENT
-            lane_lookup(e00, e01, e02, vF, vF1, vFF, li[0] + j, lx[0] + j);
-            lane_lookup(e10, e11, e12, vF, vF1, vFF, li[1] + j, lx[1] + j);
-            lane_lookup(e20, e21, e22, vF, vF1, vFF, li[2] + j, lx[2] + j);
-            const uint32_t tm = (uint32_t)_mm256_movemask_ps(_mm256_castsi256_ps(thr));
-            for (uint32_t l = 0; l < HEMI_VL; ++l)
+            hv_lookup(e00, e01, e02, vF, vF1, vFF, li[0] + j, lx[0] + j);
+            hv_lookup(e10, e11, e12, vF, vF1, vFF, li[1] + j, lx[1] + j);
+            hv_lookup(e20, e21, e22, vF, vF1, vFF, li[2] + j, lx[2] + j);
+            for (uint32_t l = 0; l < HV_LANES; ++l)
                 skip[j + l] = 0u;
-            for (uint32_t bits = tm; bits != 0u; bits &= bits - 1u) {
+            for (uint32_t bits = HV_SIGNS(thr); bits != 0u; bits &= bits - 1u) {
                 const uint32_t l = ctz32(bits);
                 if (j + l >= k)
                     break;
@@ -620,209 +729,27 @@ static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t
                 }
             }
         }
-        if (words == 32u) { /* (3), the 32 x 32 mask in four registers across the batch */
-            __m256i m0 = _mm256_loadu_si256((const __m256i *)(const void *)mask),
-                    m1 = _mm256_loadu_si256((const __m256i *)(const void *)(mask + 8)),
-                    m2 = _mm256_loadu_si256((const __m256i *)(const void *)(mask + 16)),
-                    m3 = _mm256_loadu_si256((const __m256i *)(const void *)(mask + 24));
+        if (words == 32u) { /* (3), the 32 x 32 mask in registers across the batch */
+            hv m[32u / HV_LANES];
+            for (uint32_t r = 0; r < 32u / HV_LANES; ++r)
+                m[r] = HV_LD(mask + r * HV_LANES);
             for (uint32_t j = 0; j < k; ++j) {
                 if (skip[j]) {
                     ++*nt;
                     continue;
                 }
-                const __m256i *a = (const __m256i *)(const void *)(h->lut + (size_t)li[0][j] * 32u),
-                              *b = (const __m256i *)(const void *)(h->lut + (size_t)li[1][j] * 32u),
-                              *c = (const __m256i *)(const void *)(h->lut + (size_t)li[2][j] * 32u);
-                const __m256i xa = _mm256_set1_epi32((int)lx[0][j]), xb = _mm256_set1_epi32((int)lx[1][j]),
-                              xc = _mm256_set1_epi32((int)lx[2][j]);
-#define AND3W(m, w)                                                                                           \
-    m = _mm256_or_si256(m, _mm256_and_si256(_mm256_and_si256(_mm256_xor_si256(_mm256_loadu_si256(a + w), xa),     \
-                                                             _mm256_xor_si256(_mm256_loadu_si256(b + w), xb)), \
-                                            _mm256_xor_si256(_mm256_loadu_si256(c + w), xc)))
-                AND3W(m0, 0);
-                AND3W(m1, 1);
-                AND3W(m2, 2);
-                AND3W(m3, 3);
-#undef AND3W
+                const uint32_t *a = h->lut + (size_t)li[0][j] * 32u, *b = h->lut + (size_t)li[1][j] * 32u,
+                               *c = h->lut + (size_t)li[2][j] * 32u;
+                const hv xa = HV_SET1((int)lx[0][j]), xb = HV_SET1((int)lx[1][j]), xc = HV_SET1((int)lx[2][j]);
+                for (uint32_t r = 0; r < 32u / HV_LANES; ++r) {
+                    const uint32_t o = r * HV_LANES;
+                    m[r] = HV_OR(m[r], HV_AND(HV_AND(HV_XOR(HV_LD(a + o), xa), HV_XOR(HV_LD(b + o), xb)), HV_XOR(HV_LD(c + o), xc)));
+                }
                 ++*nr;
             }
-            _mm256_storeu_si256((__m256i *)(void *)mask, m0);
-            _mm256_storeu_si256((__m256i *)(void *)(mask + 8), m1);
-            _mm256_storeu_si256((__m256i *)(void *)(mask + 16), m2);
-            _mm256_storeu_si256((__m256i *)(void *)(mask + 24), m3);
+            for (uint32_t r = 0; r < 32u / HV_LANES; ++r)
+                HV_ST(mask + r * HV_LANES, m[r]);
             continue;
-        }
-        for (uint32_t j = 0; j < k; ++j) { /* (3) */
-            if (skip[j]) {
-                ++*nt;
-                continue;
-            }
-            edge ed[3];
-            for (int i = 0; i < 3; ++i)
-                ed[i].m = h->lut + (size_t)li[i][j] * words, ed[i].x = lx[i][j];
-            and3(mask, &ed[0], &ed[1], &ed[2], words);
-            ++*nr;
-        }
-    }
-}
-#endif
-
-#if HEMI_LANES4
-/* ---- x86 SSE2: the same setup and look-ups, four triangles at a time --------------------------
- *
- * The AVX2 copy's lanes with the instructions SSE2 has: abs, max, min and blends from compares and
- * masks, the 32-bit products (|q| <= 512 products, num F < 2^27, q D < 2^28) from two pmuludq, the
- * quantisation's per-lane shift as a product (lane4_quantise); the horizon cull scalar (no
- * gathers); the cell's divide in float32 lanes corrected by one exact int32 step, as there: the
- * scalar code's cells. */
-#include <emmintrin.h>
-#define HEMI_VL4 4
-#define HEMI_BATCH4 64u
-
-static __m128i lane4_sel(__m128i m, __m128i a, __m128i b)
-{
-    return _mm_or_si128(_mm_and_si128(m, a), _mm_andnot_si128(m, b));
-}
-
-/* the low 32 bits of each lane's product */
-static __m128i lane4_mul(__m128i a, __m128i b)
-{
-    const __m128i p02 = _mm_mul_epu32(a, b), p13 = _mm_mul_epu32(_mm_srli_epi64(a, 32), _mm_srli_epi64(b, 32));
-    return _mm_unpacklo_epi32(_mm_shuffle_epi32(p02, _MM_SHUFFLE(0, 0, 2, 0)), _mm_shuffle_epi32(p13, _MM_SHUFFLE(0, 0, 2, 0)));
-}
-
-static __m128i lane4_abs(__m128i x)
-{
-    const __m128i s = _mm_srai_epi32(x, 31);
-    return _mm_sub_epi32(_mm_xor_si128(x, s), s);
-}
-
-static __m128i lane4_max(__m128i a, __m128i b)
-{
-    return lane4_sel(_mm_cmpgt_epi32(a, b), a, b);
-}
-
-static __m128i lane4_cell(__m128i num, __m128i d, __m128i vF, __m128i vF1)
-{
-    const __m128i nF = lane4_mul(num, vF); /* < 2^27 */
-    __m128i q = _mm_cvttps_epi32(_mm_div_ps(_mm_cvtepi32_ps(nF), _mm_cvtepi32_ps(d)));
-    const __m128i r = _mm_sub_epi32(nF, lane4_mul(q, d));
-    q = _mm_sub_epi32(q, _mm_cmpgt_epi32(r, _mm_sub_epi32(d, _mm_set1_epi32(1))));
-    q = _mm_add_epi32(q, _mm_cmpgt_epi32(_mm_setzero_si128(), r));
-    return lane4_sel(_mm_cmpgt_epi32(q, vF1), vF1, q);
-}
-
-/* LUT entry numbers and complement words of four edge normals (none zero) */
-static void lane4_lookup(__m128i e0, __m128i e1, __m128i e2, __m128i vF, __m128i vF1, __m128i vFF, uint32_t *idx,
-                         uint32_t *cx)
-{
-    const __m128i ax = lane4_abs(e0), ay = lane4_abs(e1), az = lane4_abs(e2);
-    const __m128i ones = _mm_set1_epi32(-1);
-    const __m128i isx = _mm_xor_si128(_mm_or_si128(_mm_cmpgt_epi32(ay, ax), _mm_cmpgt_epi32(az, ax)), ones);
-    const __m128i yge = _mm_xor_si128(_mm_cmpgt_epi32(az, ay), ones);
-    const __m128i isy = _mm_andnot_si128(isx, yge), isz = _mm_xor_si128(_mm_or_si128(isx, yge), ones);
-    const __m128i m = lane4_max(lane4_max(ax, ay), az);
-    const __m128i ng = _mm_srai_epi32(lane4_sel(isx, e0, lane4_sel(isy, e1, e2)), 31);
-    const __m128i u = _mm_sub_epi32(_mm_xor_si128(lane4_sel(isy, e0, e1), ng), ng);
-    const __m128i v = _mm_sub_epi32(_mm_xor_si128(lane4_sel(isz, e0, e2), ng), ng);
-    const __m128i d = _mm_add_epi32(m, m);
-    const __m128i cu = lane4_cell(_mm_add_epi32(m, u), d, vF, vF1), cv = lane4_cell(_mm_add_epi32(m, v), d, vF, vF1);
-    const __m128i base = _mm_or_si128(_mm_and_si128(isy, vFF), _mm_and_si128(isz, _mm_add_epi32(vFF, vFF)));
-    _mm_storeu_si128((__m128i *)(void *)idx, _mm_add_epi32(base, _mm_add_epi32(lane4_mul(cu, vF), cv)));
-    _mm_storeu_si128((__m128i *)(void *)cx, ng);
-}
-
-/* q = round_half_up(v / 2^s) in lanes, s from the float exponent of max|v| >> 9 (exact below
- * 2^24), as the scalar quantise; the per-lane shift as a product by 2^(17 - s) (|v + half| <
- * 2^(9 + s), so the product stays below 2^26) and one arithmetic shift by 17 */
-static void lane4_quantise(__m128i *x, __m128i *y, __m128i *z)
-{
-    const __m128i m = lane4_max(lane4_max(lane4_abs(*x), lane4_abs(*y)), lane4_abs(*z));
-    const __m128i fb = _mm_castps_si128(_mm_cvtepi32_ps(_mm_srli_epi32(m, 9)));
-    const __m128i e = _mm_srli_epi32(fb, 23); /* 0 for 0, else 127 + floor(log2) */
-    __m128i s = _mm_sub_epi32(e, _mm_set1_epi32(126));
-    s = _mm_and_si128(s, _mm_cmpgt_epi32(s, _mm_setzero_si128())); /* max(s, 0) */
-    /* 2^(17 - s) and 2^s / 2 from float exponents (s <= 17) */
-    const __m128i p = _mm_cvttps_epi32(_mm_castsi128_ps(_mm_slli_epi32(_mm_sub_epi32(_mm_set1_epi32(127 + 17), s), 23)));
-    const __m128i half = _mm_srli_epi32(_mm_cvttps_epi32(_mm_castsi128_ps(_mm_slli_epi32(_mm_add_epi32(s, _mm_set1_epi32(127)), 23))), 1);
-    *x = _mm_srai_epi32(lane4_mul(_mm_add_epi32(*x, half), p), 17);
-    *y = _mm_srai_epi32(lane4_mul(_mm_add_epi32(*y, half), p), 17);
-    *z = _mm_srai_epi32(lane4_mul(_mm_add_epi32(*z, half), p), 17);
-}
-
-/* The triangles in batches: (1) the horizon cull (scalar), the kept triangles' vertices copied
- * in order; (2) quantisation, edge normals, orientation and look-ups in lanes (a quantised det of
- * 0: the exact scalar setup); (3) the masks. Same masks and counts as the scalar loop. */
-static void raster_batches4(const qibl_hemi_t *h, const int32_t (*v)[3], const uint32_t (*tri)[3], uint32_t ntri,
-                            uint32_t *mask, uint32_t *nr, uint32_t *nb, uint32_t *nt)
-{
-    int32_t P[3][3][HEMI_BATCH4 + HEMI_VL4]; /* vertex, component, triangle */
-    uint32_t keep[HEMI_BATCH4 + HEMI_VL4], li[3][HEMI_BATCH4 + HEMI_VL4], lx[3][HEMI_BATCH4 + HEMI_VL4];
-    uint32_t skip[HEMI_BATCH4 + HEMI_VL4];
-    const uint32_t words = h->words;
-    const int32_t F = h->face;
-    const __m128i vF = _mm_set1_epi32(F), vF1 = _mm_set1_epi32(F - 1), vFF = _mm_set1_epi32(F * F);
-    const __m128i zero = _mm_setzero_si128(), one = _mm_set1_epi32(1);
-    uint32_t t = 0;
-    while (t < ntri) {
-        const uint32_t t0 = t;
-        uint32_t k = 0;
-        for (; t < ntri && k < HEMI_BATCH4; ++t) { /* (1) */
-            const int32_t *a = v[tri[t][0]], *b = v[tri[t][1]], *c = v[tri[t][2]];
-            for (int w = 0; w < 3; ++w)
-                P[0][w][k] = a[w], P[1][w][k] = b[w], P[2][w][k] = c[w];
-            keep[k] = t;
-            k += (uint32_t)((a[2] > 0) | (b[2] > 0) | (c[2] > 0));
-        }
-        *nb += (t - t0) - k;
-        if (k == 0u)
-            continue;
-        for (uint32_t j = k; j % HEMI_VL4 != 0u; ++j) /* pad with the first kept (ignored) */
-            for (int i = 0; i < 3; ++i)
-                P[i][0][j] = P[i][0][0], P[i][1][j] = P[i][1][0], P[i][2][j] = P[i][2][0];
-        for (uint32_t j = 0; j < k; j += HEMI_VL4) { /* (2) */
-#define LD(i, w) _mm_loadu_si128((const __m128i *)(const void *)(P[i][w] + j))
-#define MUL(a, b) lane4_mul(a, b)
-#define SUB(a, b) _mm_sub_epi32(a, b)
-            __m128i ax = LD(0, 0), ay = LD(0, 1), az = LD(0, 2), bx = LD(1, 0), by = LD(1, 1), bz = LD(1, 2);
-            __m128i cx = LD(2, 0), cy = LD(2, 1), cz = LD(2, 2);
-            lane4_quantise(&ax, &ay, &az), lane4_quantise(&bx, &by, &bz), lane4_quantise(&cx, &cy, &cz);
-            __m128i e00 = SUB(MUL(ay, bz), MUL(az, by)), e01 = SUB(MUL(az, bx), MUL(ax, bz)), e02 = SUB(MUL(ax, by), MUL(ay, bx));
-            __m128i e10 = SUB(MUL(by, cz), MUL(bz, cy)), e11 = SUB(MUL(bz, cx), MUL(bx, cz)), e12 = SUB(MUL(bx, cy), MUL(by, cx));
-            __m128i e20 = SUB(MUL(cy, az), MUL(cz, ay)), e21 = SUB(MUL(cz, ax), MUL(cx, az)), e22 = SUB(MUL(cx, ay), MUL(cy, ax));
-            const __m128i d = _mm_add_epi32(_mm_add_epi32(MUL(e00, cx), MUL(e01, cy)), MUL(e02, cz));
-#undef LD
-#undef MUL
-#undef SUB
-            const __m128i thr = _mm_cmpeq_epi32(d, zero);
-            const __m128i sg = _mm_srai_epi32(d, 31); /* orient: every normal negated when det < 0 */
-            /* a plane through the receiver gets the normal (1, 0, 0) so that its look-up is harmless */
-#define ORIENT(e, r) e = lane4_sel(thr, r, _mm_sub_epi32(_mm_xor_si128(e, sg), sg))
-            ORIENT(e00, one), ORIENT(e01, zero), ORIENT(e02, zero);
-            ORIENT(e10, one), ORIENT(e11, zero), ORIENT(e12, zero);
-            ORIENT(e20, one), ORIENT(e21, zero), ORIENT(e22, zero);
-#undef ORIENT
-            lane4_lookup(e00, e01, e02, vF, vF1, vFF, li[0] + j, lx[0] + j);
-            lane4_lookup(e10, e11, e12, vF, vF1, vFF, li[1] + j, lx[1] + j);
-            lane4_lookup(e20, e21, e22, vF, vF1, vFF, li[2] + j, lx[2] + j);
-            const uint32_t tm = (uint32_t)_mm_movemask_ps(_mm_castsi128_ps(thr));
-            for (uint32_t l = 0; l < HEMI_VL4; ++l)
-                skip[j + l] = 0u;
-            for (uint32_t l = 0; l < HEMI_VL4; ++l) {
-                if (!(tm >> l & 1u) || j + l >= k)
-                    continue;
-                const uint32_t *q = tri[keep[j + l]]; /* the exact setup, as the scalar code */
-                int32_t e[3][3];
-                if (tri_exact(v[q[0]], v[q[1]], v[q[2]], e) != TRI_DRAW) {
-                    skip[j + l] = 1u;
-                    continue;
-                }
-                for (int i = 0; i < 3; ++i) {
-                    lane4_lookup(_mm_set1_epi32(e[i][0]), _mm_set1_epi32(e[i][1]), _mm_set1_epi32(e[i][2]), vF, vF1, vFF,
-                                 li[i] + HEMI_BATCH4, lx[i] + HEMI_BATCH4); /* the spare slots past the batch */
-                    li[i][j + l] = li[i][HEMI_BATCH4], lx[i][j + l] = lx[i][HEMI_BATCH4];
-                }
-            }
         }
         for (uint32_t j = 0; j < k; ++j) { /* (3) */
             if (skip[j]) {
@@ -860,8 +787,6 @@ qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint
     uint32_t nr = 0, nb = 0, nt = 0;
 #if HEMI_LANES
     raster_batches(h, v, nv, tri, ntri, mask, &nr, &nb, &nt);
-#elif HEMI_LANES4
-    raster_batches4(h, v, tri, ntri, mask, &nr, &nb, &nt);
 #else
     const uint32_t words = h->words;
     for (uint32_t t = 0; t < ntri; ++t) {
