@@ -313,6 +313,46 @@ static void test_lanes_match_twin(void **state)
     }
 }
 
+/* Vertex indices whose offsets 3 i pass an int32 (i >= 2^31 / 3: the lanes must not gather them):
+ * triangles over the last vertices of a 3 2^28 + 40 vertex array (calloc'd: its untouched pages
+ * read as zeros) give the masks and counts of the same triangles over a 40-vertex array. Skipped
+ * where 9.7 GB of address space cannot be had. */
+static void test_indices_past_int32_offsets(void **state)
+{
+    (void)state;
+    enum { NV = 40, NT = 150 };
+    const uint32_t base = 3u << 28;
+    int32_t(*big)[3] = calloc((size_t)base + NV, sizeof *big);
+    if (!big)
+        skip();
+    fixture *f = make(32, 60);
+    uint64_t seed = 0xB16u;
+    int32_t v[NV][3];
+    uint32_t tri[NT][3], trib[NT][3];
+    for (int i = 0; i < NV; ++i)
+        for (int k = 0; k < 3; ++k) {
+            v[i][k] = (int32_t)(rng(&seed) % (2u * 4096u + 1u)) - 4096;
+            big[base + (uint32_t)i][k] = v[i][k];
+        }
+    for (uint32_t t = 0; t < NT; ++t)
+        for (int k = 0; k < 3; ++k)
+            tri[t][k] = (uint32_t)(rng(&seed) % NV), trib[t][k] = base + tri[t][k];
+    uint32_t m1[QIBL_HEMI_MAX_WORDS], m2[QIBL_HEMI_MAX_WORDS];
+    qibl_hemi_stats_t s1 = {0, 0, 0}, s2 = {0, 0, 0};
+    assert_int_equal(qibl_hemi_clear(&f->h, m1), QIBL_OK);
+    assert_int_equal(qibl_hemi_clear(&f->h, m2), QIBL_OK);
+    assert_int_equal(qibl_hemi_raster(&f->h, (const int32_t(*)[3])v, NV, (const uint32_t(*)[3])tri, NT, m1, &s1), QIBL_OK);
+    assert_int_equal(qibl_hemi_raster(&f->h, (const int32_t(*)[3])big, base + NV, (const uint32_t(*)[3])trib, NT, m2, &s2),
+                     QIBL_OK);
+    assert_true(s1.rasterized > 0);
+    assert_memory_equal(m1, m2, sizeof(uint32_t) * f->h.words);
+    assert_int_equal(s1.rasterized, s2.rasterized);
+    assert_int_equal(s1.below, s2.below);
+    assert_int_equal(s1.through, s2.through);
+    free(big);
+    drop(f);
+}
+
 /* Nearly edge-on triangles with large coordinates: det = a . (b x c) is -dx B (dx in 0..2, B near
  * 2^23) while the products of the lanes' determinant reach 2^72, so its sign is often not certain
  * in doubles and the lanes fall back to the exact integer setup (tests the filter and the fallback,
@@ -1565,6 +1605,7 @@ int main(void)
         cmocka_unit_test(test_random_triangles_32),
         cmocka_unit_test(test_random_triangles_16_64),
         cmocka_unit_test(test_lanes_match_twin),
+        cmocka_unit_test(test_indices_past_int32_offsets),
         cmocka_unit_test(test_lanes_edge_on),
         cmocka_unit_test(test_raster_every_isa),
         cmocka_unit_test(test_group_bounds),

@@ -48,11 +48,12 @@ static unsigned ctz32(uint32_t w)
 /* ---- frames ----------------------------------------------------------------------------------- */
 
 /* Is any of c[0..n) beyond [-max, max]? One flat pass with no early exit, which compilers
- * vectorise: |x| <= max is (uint32)(x + max) <= 2 max. */
-static uint32_t beyond(const int32_t *c, uint32_t n, int32_t max)
+ * vectorise: |x| <= max is (uint32)(x + max) <= 2 max. n is a size_t: 3 times a uint32_t count
+ * may pass 2^32 (an array that large exists only where size_t is wider). */
+static uint32_t beyond(const int32_t *c, size_t n, int32_t max)
 {
     uint32_t bad = 0;
-    for (uint32_t k = 0; k < n; ++k)
+    for (size_t k = 0; k < n; ++k)
         bad |= (uint32_t)((uint32_t)c[k] + (uint32_t)max > 2u * (uint32_t)max);
     return bad;
 }
@@ -100,7 +101,7 @@ qibl_status_t qibl_hemi_transform(const qibl_hemi_frame_t *f, const qibl_q16_t (
     QIBLI_DISPATCH(qibl_hemi_transform, (f, pos, count, out));
     if (f == 0 || (count != 0u && (pos == 0 || out == 0)))
         return QIBL_E_NULL_POINTER;
-    if (count != 0u && beyond(&pos[0][0], 3u * count, QIBL_HEMI_COORD_MAX))
+    if (count != 0u && beyond(&pos[0][0], 3u * (size_t)count, QIBL_HEMI_COORD_MAX))
         return QIBL_E_HEMI_RANGE;
     /* Q30 x Q16 -> Q14.18: a rounding shift by SH = 28, written with a constant shift on an offset
      * unsigned value (no saturation needed: |result| < 2^26) */
@@ -491,9 +492,17 @@ static inline hv hv_shr_round(hv x, hv s)
     return _mm256_srav_epi32(_mm256_add_epi32(x, half), s);
 }
 
-/* the vertices v[ix[l]] of HV_LANES triangle corners, by component (3 ix[l] < 2^31: nv < 2^29) */
-static inline void hv_gather3(const int32_t (*v)[3], const uint32_t *ix, hv *x, hv *y, hv *z)
+/* the vertices v[ix[l]] of HV_LANES triangle corners, by component: gathered where every offset
+ * 3 ix[l] fits an int32 (gather_ok: nv < 2^29), else loaded one by one */
+static inline void hv_gather3(const int32_t (*v)[3], const uint32_t *ix, int gather_ok, hv *x, hv *y, hv *z)
 {
+    if (!gather_ok) {
+        int32_t c[3][HV_LANES];
+        for (uint32_t l = 0; l < HV_LANES; ++l)
+            c[0][l] = v[ix[l]][0], c[1][l] = v[ix[l]][1], c[2][l] = v[ix[l]][2];
+        *x = HV_LD(c[0]), *y = HV_LD(c[1]), *z = HV_LD(c[2]);
+        return;
+    }
     const int *vb = (const int *)(const void *)v;
     const hv i3 = _mm256_mullo_epi32(HV_LD(ix), _mm256_set1_epi32(3));
     *x = _mm256_i32gather_epi32(vb, i3, 4), *y = _mm256_i32gather_epi32(vb + 1, i3, 4);
@@ -595,9 +604,10 @@ static inline hv hv_shr_round(hv x, hv s)
     return _mm_srai_epi32(hv_mul(_mm_add_epi32(x, half), p), 17);
 }
 
-/* the vertices v[ix[l]] of four triangle corners, by component */
-static inline void hv_gather3(const int32_t (*v)[3], const uint32_t *ix, hv *x, hv *y, hv *z)
+/* the vertices v[ix[l]] of four triangle corners, by component (loads: no offsets to overflow) */
+static inline void hv_gather3(const int32_t (*v)[3], const uint32_t *ix, int gather_ok, hv *x, hv *y, hv *z)
 {
+    (void)gather_ok;
     const int32_t *a = v[ix[0]], *b = v[ix[1]], *c = v[ix[2]], *d = v[ix[3]];
     *x = _mm_setr_epi32(a[0], b[0], c[0], d[0]), *y = _mm_setr_epi32(a[1], b[1], c[1], d[1]);
     *z = _mm_setr_epi32(a[2], b[2], c[2], d[2]);
@@ -688,9 +698,9 @@ static void raster_batches(const qibl_hemi_t *h, const int32_t (*v)[3], uint32_t
             keep[j] = keep[0], ki[0][j] = ki[0][0], ki[1][j] = ki[1][0], ki[2][j] = ki[2][0];
         for (uint32_t j = 0; j < k; j += HV_LANES) { /* (2) */
             hv ax, ay, az, bx, by, bz, cx, cy, cz;
-            hv_gather3(v, ki[0] + j, &ax, &ay, &az);
-            hv_gather3(v, ki[1] + j, &bx, &by, &bz);
-            hv_gather3(v, ki[2] + j, &cx, &cy, &cz);
+            hv_gather3(v, ki[0] + j, gather_ok, &ax, &ay, &az);
+            hv_gather3(v, ki[1] + j, gather_ok, &bx, &by, &bz);
+            hv_gather3(v, ki[2] + j, gather_ok, &cx, &cy, &cz);
             hv_quantise(&ax, &ay, &az), hv_quantise(&bx, &by, &bz), hv_quantise(&cx, &cy, &cz);
 #define MUL HV_MUL
 #define SUB HV_SUB
@@ -777,12 +787,12 @@ qibl_status_t qibl_hemi_raster(const qibl_hemi_t *h, const int32_t (*v)[3], uint
     uint32_t bad = 0;
     if (ntri != 0u) {
         const uint32_t *ix = &tri[0][0];
-        for (uint32_t k = 0; k < 3u * ntri; ++k)
+        for (size_t k = 0; k < 3u * (size_t)ntri; ++k) /* size_t: 3 ntri may pass 2^32 */
             bad |= (uint32_t)(ix[k] >= nv);
     }
     if (bad)
         return QIBL_E_HEMI_INDEX;
-    if (ntri != 0u && beyond(&v[0][0], 3u * nv, QIBL_HEMI_LOCAL_MAX))
+    if (ntri != 0u && beyond(&v[0][0], 3u * (size_t)nv, QIBL_HEMI_LOCAL_MAX))
         return QIBL_E_HEMI_RANGE;
     uint32_t nr = 0, nb = 0, nt = 0;
 #if HEMI_LANES
