@@ -302,6 +302,57 @@ typedef __m128 vf_t;
 #endif
 #define V_SET1(c) V_(set1_epi32)((int32_t)(c))
 
+#if defined(QIBLI_SRGBE_AVX512)
+/* The AVX-512 copy (x86/srgbe_avx512.c): 16 pixels a step, one pixel a 32-bit lane.
+ *   Channels: three 64-byte loads, two vpermt2d per channel (words 0..31, then 32..47).
+ *   q = W >> (25 + d) in one vpsrlvd, W = 255 sig = (sig << 8) - sig with sig = (x & 0x7FFFFF) |
+ *   0x800000 (one vpternlogd), and the count em + 25 - be with no clamp at d = 7: for em - be >= 7
+ *   the count is >= 32, where vpsrlvd gives 0, which is also floor(u / 2^d) (u <= 127).
+ *   q ^ s (s = x >> 31 arithmetic) is a signed byte as in the kernel below; E as em - 127
+ *   (-127..128: only em = 255, a redone pixel, saturates). Codes: vpackssdw, vpacksswb (per 128-bit
+ *   lane: pixels 4L..4L+3, R G B E four bytes each) and one vpshufb to R G B E order, XOR 0x80. */
+static __m512i enc_chan16(__m512i x, __m512i em25)
+{
+    const __m512i be = _mm512_srli_epi32(_mm512_slli_epi32(x, 1), 24);
+    const __m512i sig = _mm512_ternarylogic_epi32(x, _mm512_set1_epi32(0x007FFFFF), _mm512_set1_epi32(0x00800000),
+                                                  0xEA); /* (x & b) | c */
+    const __m512i w = _mm512_sub_epi32(_mm512_slli_epi32(sig, 8), sig);
+    const __m512i q = _mm512_srlv_epi32(w, _mm512_sub_epi32(em25, be));
+    return _mm512_xor_si512(q, _mm512_srai_epi32(x, 31));
+}
+
+/* codes of 16 pixels (rgb at p, codes at o); nonzero if one of them has em outside 7..254 */
+static unsigned enc_simd(const uint32_t *p, uint8_t *o)
+{
+    const __m512i l0 = _mm512_loadu_si512((const void *)p), l1 = _mm512_loadu_si512((const void *)(p + 16));
+    const __m512i l2 = _mm512_loadu_si512((const void *)(p + 32));
+    /* channel c of pixel i is word 3i + c: from l0:l1 where 3i + c < 32, then from l2 */
+#define IDX_A(c) _mm512_setr_epi32(c, 3 + c, 6 + c, 9 + c, 12 + c, 15 + c, 18 + c, 21 + c, 24 + c, 27 + c,    \
+                                   (30 + c) & 31, (33 + c) & 31, (36 + c) & 31, (39 + c) & 31, (42 + c) & 31,         \
+                                   (45 + c) & 31)
+#define IDX_B(c) _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 30 + c < 32 ? 10 : c + 14, c + 17, c + 20,     \
+                                   c + 23, c + 26, c + 29) /* 16 + j: word j of l2 */
+    const __m512i r = _mm512_permutex2var_epi32(_mm512_permutex2var_epi32(l0, IDX_A(0), l1), IDX_B(0), l2);
+    const __m512i g = _mm512_permutex2var_epi32(_mm512_permutex2var_epi32(l0, IDX_A(1), l1), IDX_B(1), l2);
+    const __m512i b = _mm512_permutex2var_epi32(_mm512_permutex2var_epi32(l0, IDX_A(2), l1), IDX_B(2), l2);
+#undef IDX_A
+#undef IDX_B
+    const __m512i em = _mm512_max_epu32(_mm512_max_epu32(_mm512_srli_epi32(_mm512_slli_epi32(r, 1), 24),
+                                                         _mm512_srli_epi32(_mm512_slli_epi32(g, 1), 24)),
+                                        _mm512_srli_epi32(_mm512_slli_epi32(b, 1), 24));
+    const __m512i em25 = _mm512_add_epi32(em, _mm512_set1_epi32(25));
+    const __mmask16 bad = _mm512_cmpge_epu32_mask(_mm512_sub_epi32(em, _mm512_set1_epi32(7)), _mm512_set1_epi32(248));
+    const __m512i rg = _mm512_packs_epi32(enc_chan16(r, em25), enc_chan16(g, em25));
+    const __m512i be = _mm512_packs_epi32(enc_chan16(b, em25), _mm512_sub_epi32(em, _mm512_set1_epi32(127)));
+    const __m512i c = _mm512_shuffle_epi8(_mm512_packs_epi16(rg, be),
+                                          _mm512_broadcast_i32x4(_mm_setr_epi8(0, 4, 8, 12, 1, 5, 9, 13, 2, 6, 10, 14,
+                                                                               3, 7, 11, 15)));
+    _mm512_storeu_si512((void *)o, _mm512_xor_si512(c, _mm512_set1_epi8((char)0x80)));
+    return (unsigned)bad;
+}
+#define ENC_SIMD_PX 16
+#else
+
 /* R, G, B planes of VL pixels (AVX2: pixels 0..3 in the low half, 4..7 in the high half) */
 static void enc_load3(const uint32_t *p, vi_t *r, vi_t *g, vi_t *b)
 {
@@ -404,6 +455,7 @@ static unsigned enc_simd(const uint32_t *p, uint8_t *o)
     return (unsigned)V_(movemask_epi8)(bad);
 }
 #define ENC_SIMD_PX (2 * VL)
+#endif /* QIBLI_SRGBE_AVX512 */
 
 /* The bulk encoder reads 12 bytes and writes 4 a pixel, and a big buffer comes from memory, not
  * cache: there the load stalls, not the arithmetic, set its speed (AVX2, 1024 x 512 pixels: 1.8
@@ -811,7 +863,7 @@ qibl_status_t qibl_srgbe_decode_q16(const uint8_t code[4], qibl_q16_t rgb[3])
 
 qibl_status_t qibl_srgbe_encode_f32_n(const uint32_t *restrict rgb, size_t n, uint8_t *restrict codes)
 {
-    QIBLI_DISPATCH(qibl_srgbe_encode_f32_n, (rgb, n, codes));
+    QIBLI_DISPATCH512(qibl_srgbe_encode_f32_n, (rgb, n, codes));
     if (rgb == 0 || codes == 0)
         return QIBL_E_NULL_POINTER;
     unsigned flags = 0u;
