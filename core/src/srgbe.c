@@ -462,8 +462,14 @@ static unsigned enc_simd(const uint32_t *p, uint8_t *o)
  * ns/px from memory against 0.8 from cache). Each block asks for the input and output lines
  * ENC_PF_PX pixels ahead (hints: no fault, the bytes unchanged; only addresses inside the arrays):
  * `qibl bench srgbe` (a), min of interleaved runs, 1.86 -> 1.38 ns/px with the input 7.5 KB ahead,
- * 1.27 with the output too, ~1.1 at 15 KB ahead (3 KB ahead did not cover the latency). */
+ * 1.27 with the output too, ~1.1 at 15 KB ahead (3 KB ahead did not cover the latency). The
+ * AVX-512 copy, twice as fast in cache, does best 4 KB ahead (a 6 MB buffer alone: 0.58-0.61 ns/px
+ * at 160-320 pixels, 0.63-0.67 at 1280; the bench: round5-designs.txt, round 7). */
+#if defined(QIBLI_SRGBE_AVX512)
+#define ENC_PF_PX 320
+#else
 #define ENC_PF_PX 1280
+#endif
 static void enc_prefetch(const uint32_t *p)
 {
     for (int k = 0; k < 3 * ENC_SIMD_PX; k += 16) /* one hint per 64-byte line */
