@@ -691,6 +691,53 @@ static unsigned dec_px_f32(const uint8_t *code, uint32_t *out)
 #else
 #define V_F(v) _mm_castsi128_ps(v)
 #endif
+#if defined(QIBLI_SRGBE_AVX512)
+/* one channel of 16 codes, as dec_chan below */
+static __m512i dec_chan16(__m512i x2, __m512i base)
+{
+    const __m512i f = _mm512_castps_si512(_mm512_cvtepi32_ps(_mm512_sub_epi32(x2, _mm512_set1_epi32(255))));
+    const __m512i lo7 = _mm512_and_si512(_mm512_srli_epi32(f, 16), _mm512_set1_epi32(0x7F));
+    return _mm512_add_epi32(_mm512_add_epi32(f, base), _mm512_add_epi32(_mm512_slli_epi32(lo7, 8), lo7));
+}
+
+/* 16 codes at c decoded to binary32 words at o (the AVX-512 copy: one 64-byte load, the R, G, B
+ * planes interleaved by two vpermt2d per 64-byte store); nonzero if one has E outside 9..254 */
+static unsigned dec_simd(const uint8_t *c, uint32_t *o)
+{
+    const __m512i w = _mm512_loadu_si512((const void *)c);
+    const __m512i e = _mm512_srli_epi32(w, 24);
+    const __m512i base = _mm512_add_epi32(_mm512_slli_epi32(e, 23), _mm512_set1_epi32(-0x437F7F7F));
+    const __m512i mask = _mm512_set1_epi32(0x1FE);
+    const __m512i r = dec_chan16(_mm512_and_si512(_mm512_slli_epi32(w, 1), mask), base);
+    const __m512i g = dec_chan16(_mm512_and_si512(_mm512_srli_epi32(w, 7), mask), base);
+    const __m512i b = dec_chan16(_mm512_and_si512(_mm512_srli_epi32(w, 15), mask), base);
+    const __mmask16 bad = _mm512_cmpge_epu32_mask(_mm512_sub_epi32(e, _mm512_set1_epi32(9)), _mm512_set1_epi32(246));
+    /* output word j (of 48) is channel j % 3 of pixel j / 3: R and G first (index 16 + i: G of
+     * pixel i; B's lanes get R's placeholder), then B placed over them (16 + i: B of pixel i) */
+#define RG(j0) _mm512_setr_epi32(RG1(j0), RG1(j0 + 1), RG1(j0 + 2), RG1(j0 + 3), RG1(j0 + 4), RG1(j0 + 5),        \
+                                 RG1(j0 + 6), RG1(j0 + 7), RG1(j0 + 8), RG1(j0 + 9), RG1(j0 + 10), RG1(j0 + 11),  \
+                                 RG1(j0 + 12), RG1(j0 + 13), RG1(j0 + 14), RG1(j0 + 15))
+#define RG1(j) ((j) % 3 == 1 ? 16 + (j) / 3 : (j) / 3)
+#define PB(j0) _mm512_setr_epi32(PB1(j0, 0), PB1(j0, 1), PB1(j0, 2), PB1(j0, 3), PB1(j0, 4), PB1(j0, 5),           \
+                                 PB1(j0, 6), PB1(j0, 7), PB1(j0, 8), PB1(j0, 9), PB1(j0, 10), PB1(j0, 11),        \
+                                 PB1(j0, 12), PB1(j0, 13), PB1(j0, 14), PB1(j0, 15))
+#define PB1(j0, k) (((j0) + (k)) % 3 == 2 ? 16 + ((j0) + (k)) / 3 : (k))
+    for (int k = 0; k < 3; ++k) {
+        const __m512i rg = _mm512_permutex2var_epi32(r, k == 0 ? RG(0) : k == 1 ? RG(16) : RG(32), g);
+        const __m512i x = _mm512_permutex2var_epi32(rg, k == 0 ? PB(0) : k == 1 ? PB(16) : PB(32), b);
+        _mm512_storeu_si512((void *)(o + 16 * k), x);
+    }
+#undef RG
+#undef RG1
+#undef PB
+#undef PB1
+    return (unsigned)bad;
+}
+#define DEC_SIMD_PX 16
+/* the input line and the three output lines 320 codes ahead, as the encoder's ENC_PF_PX (512 K codes
+ * alone: 0.59 ns/px against 0.65 without; 160 to 640 ahead alike, 1280 0.60) */
+#define DEC_PF_PX 320
+#else
 /* one channel of VL codes: x2 = 2X, base = (E << 23) + 0x8081 - (135 << 23) */
 static vi_t dec_chan(vi_t x2, vi_t base)
 {
@@ -731,6 +778,7 @@ static unsigned dec_simd(const uint8_t *c, uint32_t *o)
     return (unsigned)V_(movemask_epi8)(bad);
 }
 #define DEC_SIMD_PX VL
+#endif /* QIBLI_SRGBE_AVX512 */
 
 #elif QIBL_CONFIG_SIMD == QIBL_SIMD_NEON
 /* 4 codes at c decoded to binary32 words at o; nonzero if one of them has E outside 9..254 */
@@ -944,18 +992,26 @@ qibl_status_t qibl_srgbe_encode_q16_n(const qibl_q16_t *restrict rgb, size_t n, 
 
 qibl_status_t qibl_srgbe_decode_f32_n(const uint8_t *restrict codes, size_t n, uint32_t *restrict rgb)
 {
-    QIBLI_DISPATCH(qibl_srgbe_decode_f32_n, (codes, n, rgb));
+    QIBLI_DISPATCH512(qibl_srgbe_decode_f32_n, (codes, n, rgb));
     if (codes == 0 || rgb == 0)
         return QIBL_E_NULL_POINTER;
     unsigned flags = 0u;
 #if QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR
     /* groups through dec_simd; codes it does not cover (E <= 8: subnormal results, E = 255:
      * saturation) redone by dec_px_f32, which gives every pixel's final words */
-    for (; n >= DEC_SIMD_PX; n -= DEC_SIMD_PX, codes += 4 * DEC_SIMD_PX, rgb += 3 * DEC_SIMD_PX)
+    for (; n >= DEC_SIMD_PX; n -= DEC_SIMD_PX, codes += 4 * DEC_SIMD_PX, rgb += 3 * DEC_SIMD_PX) {
+#ifdef DEC_PF_PX
+        if (n >= DEC_PF_PX + DEC_SIMD_PX) {
+            _mm_prefetch((const char *)(const void *)(codes + 4 * DEC_PF_PX), _MM_HINT_T0);
+            for (int k = 0; k < 3 * DEC_SIMD_PX; k += 16)
+                _mm_prefetch((const char *)(const void *)(rgb + 3 * DEC_PF_PX + k), _MM_HINT_T0);
+        }
+#endif
         if (dec_simd(codes, rgb))
             for (size_t j = 0; j < DEC_SIMD_PX; ++j)
                 if (codes[4 * j + 3] - 9u >= 246u)
                     flags |= dec_px_f32(codes + 4 * j, rgb + 3 * j);
+    }
 #endif
     for (size_t i = 0; i < n; ++i, codes += 4, rgb += 3)
         flags |= dec_px_f32(codes, rgb);
