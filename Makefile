@@ -106,7 +106,7 @@ AVX2_TESTS := $(if $(AVX2_OK),$(TEST_SRC:tests/%.c=$(BUILD)/tests/%-avx2))
 # built with AVX512_FLAGS, which the CPU must have all of (isa.c checks each).
 DISPATCH ?= $(shell $(CC) -dumpmachine 2>/dev/null | grep -q '^x86_64' && echo 1)
 DISPATCH_MODS := shmap srgbe probe lightprobe hemi
-DISPATCH_512 := shmap probe
+DISPATCH_512 := shmap probe srgbe
 AVX512_FLAGS := -mavx2 -mavx512f -mavx512bw -mavx512vl -mavx512cd -mavx512vnni
 ifeq ($(DISPATCH),1)
 DISPATCH_SRC := $(foreach m,$(DISPATCH_MODS),core/src/x86/$(m)_scalar.c core/src/x86/$(m)_avx2.c) \

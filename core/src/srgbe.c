@@ -302,6 +302,57 @@ typedef __m128 vf_t;
 #endif
 #define V_SET1(c) V_(set1_epi32)((int32_t)(c))
 
+#if defined(QIBLI_SRGBE_AVX512)
+/* The AVX-512 copy (x86/srgbe_avx512.c): 16 pixels a step, one pixel a 32-bit lane.
+ *   Channels: three 64-byte loads, two vpermt2d per channel (words 0..31, then 32..47).
+ *   q = W >> (25 + d) in one vpsrlvd, W = 255 sig = (sig << 8) - sig with sig = (x & 0x7FFFFF) |
+ *   0x800000 (one vpternlogd), and the count em + 25 - be with no clamp at d = 7: for em - be >= 7
+ *   the count is >= 32, where vpsrlvd gives 0, which is also floor(u / 2^d) (u <= 127).
+ *   q ^ s (s = x >> 31 arithmetic) is a signed byte as in the kernel below; E as em - 127
+ *   (-127..128: only em = 255, a redone pixel, saturates). Codes: vpackssdw, vpacksswb (per 128-bit
+ *   lane: pixels 4L..4L+3, R G B E four bytes each) and one vpshufb to R G B E order, XOR 0x80. */
+static __m512i enc_chan16(__m512i x, __m512i em25)
+{
+    const __m512i be = _mm512_srli_epi32(_mm512_slli_epi32(x, 1), 24);
+    const __m512i sig = _mm512_ternarylogic_epi32(x, _mm512_set1_epi32(0x007FFFFF), _mm512_set1_epi32(0x00800000),
+                                                  0xEA); /* (x & b) | c */
+    const __m512i w = _mm512_sub_epi32(_mm512_slli_epi32(sig, 8), sig);
+    const __m512i q = _mm512_srlv_epi32(w, _mm512_sub_epi32(em25, be));
+    return _mm512_xor_si512(q, _mm512_srai_epi32(x, 31));
+}
+
+/* codes of 16 pixels (rgb at p, codes at o); nonzero if one of them has em outside 7..254 */
+static unsigned enc_simd(const uint32_t *p, uint8_t *o)
+{
+    const __m512i l0 = _mm512_loadu_si512((const void *)p), l1 = _mm512_loadu_si512((const void *)(p + 16));
+    const __m512i l2 = _mm512_loadu_si512((const void *)(p + 32));
+    /* channel c of pixel i is word 3i + c: from l0:l1 where 3i + c < 32, then from l2 */
+#define IDX_A(c) _mm512_setr_epi32(c, 3 + c, 6 + c, 9 + c, 12 + c, 15 + c, 18 + c, 21 + c, 24 + c, 27 + c,    \
+                                   (30 + c) & 31, (33 + c) & 31, (36 + c) & 31, (39 + c) & 31, (42 + c) & 31,         \
+                                   (45 + c) & 31)
+#define IDX_B(c) _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 30 + c < 32 ? 10 : c + 14, c + 17, c + 20,     \
+                                   c + 23, c + 26, c + 29) /* 16 + j: word j of l2 */
+    const __m512i r = _mm512_permutex2var_epi32(_mm512_permutex2var_epi32(l0, IDX_A(0), l1), IDX_B(0), l2);
+    const __m512i g = _mm512_permutex2var_epi32(_mm512_permutex2var_epi32(l0, IDX_A(1), l1), IDX_B(1), l2);
+    const __m512i b = _mm512_permutex2var_epi32(_mm512_permutex2var_epi32(l0, IDX_A(2), l1), IDX_B(2), l2);
+#undef IDX_A
+#undef IDX_B
+    const __m512i em = _mm512_max_epu32(_mm512_max_epu32(_mm512_srli_epi32(_mm512_slli_epi32(r, 1), 24),
+                                                         _mm512_srli_epi32(_mm512_slli_epi32(g, 1), 24)),
+                                        _mm512_srli_epi32(_mm512_slli_epi32(b, 1), 24));
+    const __m512i em25 = _mm512_add_epi32(em, _mm512_set1_epi32(25));
+    const __mmask16 bad = _mm512_cmpge_epu32_mask(_mm512_sub_epi32(em, _mm512_set1_epi32(7)), _mm512_set1_epi32(248));
+    const __m512i rg = _mm512_packs_epi32(enc_chan16(r, em25), enc_chan16(g, em25));
+    const __m512i be = _mm512_packs_epi32(enc_chan16(b, em25), _mm512_sub_epi32(em, _mm512_set1_epi32(127)));
+    const __m512i c = _mm512_shuffle_epi8(_mm512_packs_epi16(rg, be),
+                                          _mm512_broadcast_i32x4(_mm_setr_epi8(0, 4, 8, 12, 1, 5, 9, 13, 2, 6, 10, 14,
+                                                                               3, 7, 11, 15)));
+    _mm512_storeu_si512((void *)o, _mm512_xor_si512(c, _mm512_set1_epi8((char)0x80)));
+    return (unsigned)bad;
+}
+#define ENC_SIMD_PX 16
+#else
+
 /* R, G, B planes of VL pixels (AVX2: pixels 0..3 in the low half, 4..7 in the high half) */
 static void enc_load3(const uint32_t *p, vi_t *r, vi_t *g, vi_t *b)
 {
@@ -404,14 +455,21 @@ static unsigned enc_simd(const uint32_t *p, uint8_t *o)
     return (unsigned)V_(movemask_epi8)(bad);
 }
 #define ENC_SIMD_PX (2 * VL)
+#endif /* QIBLI_SRGBE_AVX512 */
 
 /* The bulk encoder reads 12 bytes and writes 4 a pixel, and a big buffer comes from memory, not
  * cache: there the load stalls, not the arithmetic, set its speed (AVX2, 1024 x 512 pixels: 1.8
  * ns/px from memory against 0.8 from cache). Each block asks for the input and output lines
  * ENC_PF_PX pixels ahead (hints: no fault, the bytes unchanged; only addresses inside the arrays):
  * `qibl bench srgbe` (a), min of interleaved runs, 1.86 -> 1.38 ns/px with the input 7.5 KB ahead,
- * 1.27 with the output too, ~1.1 at 15 KB ahead (3 KB ahead did not cover the latency). */
+ * 1.27 with the output too, ~1.1 at 15 KB ahead (3 KB ahead did not cover the latency). The
+ * AVX-512 copy, twice as fast in cache, does best 4 KB ahead (a 6 MB buffer alone: 0.58-0.61 ns/px
+ * at 160-320 pixels, 0.63-0.67 at 1280; the bench: round5-designs.txt, round 7). */
+#if defined(QIBLI_SRGBE_AVX512)
+#define ENC_PF_PX 320
+#else
 #define ENC_PF_PX 1280
+#endif
 static void enc_prefetch(const uint32_t *p)
 {
     for (int k = 0; k < 3 * ENC_SIMD_PX; k += 16) /* one hint per 64-byte line */
@@ -633,6 +691,53 @@ static unsigned dec_px_f32(const uint8_t *code, uint32_t *out)
 #else
 #define V_F(v) _mm_castsi128_ps(v)
 #endif
+#if defined(QIBLI_SRGBE_AVX512)
+/* one channel of 16 codes, as dec_chan below */
+static __m512i dec_chan16(__m512i x2, __m512i base)
+{
+    const __m512i f = _mm512_castps_si512(_mm512_cvtepi32_ps(_mm512_sub_epi32(x2, _mm512_set1_epi32(255))));
+    const __m512i lo7 = _mm512_and_si512(_mm512_srli_epi32(f, 16), _mm512_set1_epi32(0x7F));
+    return _mm512_add_epi32(_mm512_add_epi32(f, base), _mm512_add_epi32(_mm512_slli_epi32(lo7, 8), lo7));
+}
+
+/* 16 codes at c decoded to binary32 words at o (the AVX-512 copy: one 64-byte load, the R, G, B
+ * planes interleaved by two vpermt2d per 64-byte store); nonzero if one has E outside 9..254 */
+static unsigned dec_simd(const uint8_t *c, uint32_t *o)
+{
+    const __m512i w = _mm512_loadu_si512((const void *)c);
+    const __m512i e = _mm512_srli_epi32(w, 24);
+    const __m512i base = _mm512_add_epi32(_mm512_slli_epi32(e, 23), _mm512_set1_epi32(-0x437F7F7F));
+    const __m512i mask = _mm512_set1_epi32(0x1FE);
+    const __m512i r = dec_chan16(_mm512_and_si512(_mm512_slli_epi32(w, 1), mask), base);
+    const __m512i g = dec_chan16(_mm512_and_si512(_mm512_srli_epi32(w, 7), mask), base);
+    const __m512i b = dec_chan16(_mm512_and_si512(_mm512_srli_epi32(w, 15), mask), base);
+    const __mmask16 bad = _mm512_cmpge_epu32_mask(_mm512_sub_epi32(e, _mm512_set1_epi32(9)), _mm512_set1_epi32(246));
+    /* output word j (of 48) is channel j % 3 of pixel j / 3: R and G first (index 16 + i: G of
+     * pixel i; B's lanes get R's placeholder), then B placed over them (16 + i: B of pixel i) */
+#define RG(j0) _mm512_setr_epi32(RG1(j0), RG1(j0 + 1), RG1(j0 + 2), RG1(j0 + 3), RG1(j0 + 4), RG1(j0 + 5),        \
+                                 RG1(j0 + 6), RG1(j0 + 7), RG1(j0 + 8), RG1(j0 + 9), RG1(j0 + 10), RG1(j0 + 11),  \
+                                 RG1(j0 + 12), RG1(j0 + 13), RG1(j0 + 14), RG1(j0 + 15))
+#define RG1(j) ((j) % 3 == 1 ? 16 + (j) / 3 : (j) / 3)
+#define PB(j0) _mm512_setr_epi32(PB1(j0, 0), PB1(j0, 1), PB1(j0, 2), PB1(j0, 3), PB1(j0, 4), PB1(j0, 5),           \
+                                 PB1(j0, 6), PB1(j0, 7), PB1(j0, 8), PB1(j0, 9), PB1(j0, 10), PB1(j0, 11),        \
+                                 PB1(j0, 12), PB1(j0, 13), PB1(j0, 14), PB1(j0, 15))
+#define PB1(j0, k) (((j0) + (k)) % 3 == 2 ? 16 + ((j0) + (k)) / 3 : (k))
+    for (int k = 0; k < 3; ++k) {
+        const __m512i rg = _mm512_permutex2var_epi32(r, k == 0 ? RG(0) : k == 1 ? RG(16) : RG(32), g);
+        const __m512i x = _mm512_permutex2var_epi32(rg, k == 0 ? PB(0) : k == 1 ? PB(16) : PB(32), b);
+        _mm512_storeu_si512((void *)(o + 16 * k), x);
+    }
+#undef RG
+#undef RG1
+#undef PB
+#undef PB1
+    return (unsigned)bad;
+}
+#define DEC_SIMD_PX 16
+/* the input line and the three output lines 320 codes ahead, as the encoder's ENC_PF_PX (512 K codes
+ * alone: 0.59 ns/px against 0.65 without; 160 to 640 ahead alike, 1280 0.60) */
+#define DEC_PF_PX 320
+#else
 /* one channel of VL codes: x2 = 2X, base = (E << 23) + 0x8081 - (135 << 23) */
 static vi_t dec_chan(vi_t x2, vi_t base)
 {
@@ -673,6 +778,7 @@ static unsigned dec_simd(const uint8_t *c, uint32_t *o)
     return (unsigned)V_(movemask_epi8)(bad);
 }
 #define DEC_SIMD_PX VL
+#endif /* QIBLI_SRGBE_AVX512 */
 
 #elif QIBL_CONFIG_SIMD == QIBL_SIMD_NEON
 /* 4 codes at c decoded to binary32 words at o; nonzero if one of them has E outside 9..254 */
@@ -811,7 +917,7 @@ qibl_status_t qibl_srgbe_decode_q16(const uint8_t code[4], qibl_q16_t rgb[3])
 
 qibl_status_t qibl_srgbe_encode_f32_n(const uint32_t *restrict rgb, size_t n, uint8_t *restrict codes)
 {
-    QIBLI_DISPATCH(qibl_srgbe_encode_f32_n, (rgb, n, codes));
+    QIBLI_DISPATCH512(qibl_srgbe_encode_f32_n, (rgb, n, codes));
     if (rgb == 0 || codes == 0)
         return QIBL_E_NULL_POINTER;
     unsigned flags = 0u;
@@ -886,18 +992,26 @@ qibl_status_t qibl_srgbe_encode_q16_n(const qibl_q16_t *restrict rgb, size_t n, 
 
 qibl_status_t qibl_srgbe_decode_f32_n(const uint8_t *restrict codes, size_t n, uint32_t *restrict rgb)
 {
-    QIBLI_DISPATCH(qibl_srgbe_decode_f32_n, (codes, n, rgb));
+    QIBLI_DISPATCH512(qibl_srgbe_decode_f32_n, (codes, n, rgb));
     if (codes == 0 || rgb == 0)
         return QIBL_E_NULL_POINTER;
     unsigned flags = 0u;
 #if QIBL_CONFIG_SIMD != QIBL_SIMD_SCALAR
     /* groups through dec_simd; codes it does not cover (E <= 8: subnormal results, E = 255:
      * saturation) redone by dec_px_f32, which gives every pixel's final words */
-    for (; n >= DEC_SIMD_PX; n -= DEC_SIMD_PX, codes += 4 * DEC_SIMD_PX, rgb += 3 * DEC_SIMD_PX)
+    for (; n >= DEC_SIMD_PX; n -= DEC_SIMD_PX, codes += 4 * DEC_SIMD_PX, rgb += 3 * DEC_SIMD_PX) {
+#ifdef DEC_PF_PX
+        if (n >= DEC_PF_PX + DEC_SIMD_PX) {
+            _mm_prefetch((const char *)(const void *)(codes + 4 * DEC_PF_PX), _MM_HINT_T0);
+            for (int k = 0; k < 3 * DEC_SIMD_PX; k += 16)
+                _mm_prefetch((const char *)(const void *)(rgb + 3 * DEC_PF_PX + k), _MM_HINT_T0);
+        }
+#endif
         if (dec_simd(codes, rgb))
             for (size_t j = 0; j < DEC_SIMD_PX; ++j)
                 if (codes[4 * j + 3] - 9u >= 246u)
                     flags |= dec_px_f32(codes + 4 * j, rgb + 3 * j);
+    }
 #endif
     for (size_t i = 0; i < n; ++i, codes += 4, rgb += 3)
         flags |= dec_px_f32(codes, rgb);

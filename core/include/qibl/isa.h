@@ -6,7 +6,8 @@
  * default library there) carries three copies of the SIMD modules (shmap, srgbe, probe, lightprobe,
  * hemi): the scalar C twin, SSE2 and AVX2, and every call into their kernels picks one from the
  * CPU: AVX-512 (F, BW, VL, CD, VNNI) where the CPU and the OS have it, else AVX2, else SSE2. The
- * AVX-512 choice runs a fourth copy where one gains (shmap's point lights: 16 pixels a chunk) and
+ * AVX-512 choice runs a fourth copy where one gains (shmap's point lights and interleaved
+ * directional groups, probe's projection fold, srgbe's bulk encode and decode: 16 lanes a step) and
  * the AVX2 copy elsewhere. Every choice gives the same bytes (the goldens and the suites run under each).
  *
  * No state in the core: the CPU's features come from the compiler runtime's own record of cpuid
@@ -31,7 +32,7 @@ extern "C" {
     X(QIBL_ISA_SSE2, QIBL_SIMD_SSE2, "sse2")                                                               \
     X(QIBL_ISA_AVX2, QIBL_SIMD_AVX2, "avx2")                                                               \
     X(QIBL_ISA_NEON, QIBL_SIMD_NEON, "neon")                                                               \
-    X(QIBL_ISA_AVX512, QIBL_SIMD_AVX512, "avx512") /* AVX2 kernels plus 16-lane point light and probe fold */
+    X(QIBL_ISA_AVX512, QIBL_SIMD_AVX512, "avx512") /* AVX2 kernels plus 16-lane shmap, probe, srgbe */
 
 typedef enum qibl_isa {
 #define QIBL_ISA_ENUM_(name, value, label) name = value,
