@@ -87,6 +87,12 @@ double qtool_bench_now(void);
  * shared, loaded machine (time slices given to other processes) does not enter them. */
 double qtool_bench_cpu_now(void);
 
+/* Every bench's large arrays from fresh mappings whichever bench ran before (call once, first):
+ * glibc raises its mmap threshold when a large block is freed, so after the relight bench's DRAM
+ * buffers the next benches' arrays came from the reused heap and memory-bound figures depended on
+ * the order (docs/results/round5-designs.txt, sRGBE round 7). No effect off glibc. */
+void qtool_bench_fresh_arrays(void);
+
 /* Median of n values (sorts v in place). */
 double qtool_bench_median(double *v, int n);
 

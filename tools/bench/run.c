@@ -23,6 +23,7 @@ int qtool_bench_run(const qtool_bench_opts *o)
     if (!qtool_bench_known(what))
         return -1;
     const int all = strcmp(what, "all") == 0, quick = o->quick;
+    qtool_bench_fresh_arrays();
     int rc = 0;
     if (all || strcmp(what, "sh") == 0)
         rc |= qtool_bench_sh(quick);

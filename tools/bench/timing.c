@@ -6,6 +6,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#ifdef __GLIBC__
+#include <malloc.h> /* mallopt */
+#endif
 
 #include "bench/bench.h"
 #include "demo/demo.h"
@@ -14,6 +17,13 @@
 double qtool_bench_now(void)
 {
     return qtool_demo_now();
+}
+
+void qtool_bench_fresh_arrays(void)
+{
+#if defined(__GLIBC__) && defined(M_MMAP_THRESHOLD)
+    (void)mallopt(M_MMAP_THRESHOLD, 128 * 1024); /* glibc's default, no longer raised by a free */
+#endif
 }
 
 double qtool_bench_cpu_now(void)

@@ -42,6 +42,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "qibl-bench: %s\n", isa_err);
         return 2;
     }
+    qtool_bench_fresh_arrays();
     int rc = 0;
     if (all || strcmp(what, "lights") == 0)
         rc |= qtool_bench_twin_lights(quick);
